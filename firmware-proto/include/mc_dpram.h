@@ -1,0 +1,226 @@
+/*
+ * mc_dpram.h - the DPRAM register map of the motion card.
+ *
+ * This header is the single source of truth for the host <-> card contract. The Rust bindings in
+ * firmware-proto/src/raw.rs are generated from it (`cargo xtask codegen`) and checked in.
+ *
+ * Conventions
+ * - All multi-byte fields are little-endian, naturally aligned. Floating point is IEEE-754 binary64.
+ * - Every field has exactly one writer: "host" or "card" in the comment before each block.
+ * - Units: positions in encoder counts, time in seconds, velocity counts/s, acceleration
+ *   counts/s^2, jerk counts/s^3, DAC output in volts.
+ * - Rings are single-producer single-consumer with free-running u32 indices; the entry for index
+ *   i is entries[i & (LEN - 1)]. The producer writes the entry, then publishes its index with a
+ *   release store; the consumer loads the peer index with acquire. head - tail <= LEN always.
+ * - Status blocks are seqlocks: the card makes `seq` odd, writes the payload, makes it even.
+ */
+#ifndef MC_DPRAM_H
+#define MC_DPRAM_H
+
+#include <stdint.h>
+
+#define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
+#define MC_LAYOUT_MAJOR 1u
+#define MC_LAYOUT_MINOR 0u
+
+#define MC_MAX_AXES 8u
+#define MC_CMD_RING_LEN 64u
+#define MC_EVT_RING_LEN 256u
+#define MC_CMD_ARGS 14u
+#define MC_STATUS_WORDS 16u
+#define MC_STATUS_CHECK 0xA5A5A5A5A5A5A5A5ull
+
+#define MC_SERVO_RATE_MIN_HZ 1000u
+#define MC_SERVO_RATE_MAX_HZ 20000u
+
+/* identity.capabilities bits */
+#define MC_CAP_SCURVE (1u << 0)
+#define MC_CAP_FFPIV (1u << 1)
+#define MC_CAP_EVENT_IRQ (1u << 2)
+
+/* identity.card_state */
+#define MC_CARD_BOOTING 0u
+#define MC_CARD_RUNNING 1u
+#define MC_CARD_HALTED 2u
+
+/* Command opcodes (mc_cmd.opcode). Every command is answered by exactly one ACK or NACK event
+ * carrying its seq. */
+#define MC_OP_NOP 1u
+#define MC_OP_POWER_ON 2u          /* MC_Power Enable=TRUE */
+#define MC_OP_POWER_OFF 3u         /* MC_Power Enable=FALSE */
+#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7 */
+#define MC_OP_MOVE_RELATIVE 5u     /* args: distance, vmax, amax, dmax, j1, j3, j5, j7 */
+#define MC_OP_HALT 6u              /* args: dmax, jerk. Decelerate, then Standstill */
+#define MC_OP_STOP 7u              /* args: dmax, jerk. Decelerate, stay in Stopping */
+#define MC_OP_STOP_RELEASE 8u      /* leave Stopping once at rest (MC_Stop Execute=FALSE) */
+#define MC_OP_RESET 9u             /* MC_Reset: ErrorStop -> Standstill or Disabled */
+#define MC_OP_APPLY_AXIS_CONFIG 10u /* copy and validate axis_config[axis] */
+#define MC_OP_APPLY_CARD_CONFIG 11u /* copy and validate card_config (axis field ignored) */
+
+/* Event kinds (mc_event.kind) */
+#define MC_EV_ACK 1u
+#define MC_EV_NACK 2u
+#define MC_EV_MOTION_DONE 3u     /* value: final actual position */
+#define MC_EV_STATE_CHANGED 4u   /* code: new state, value: old state */
+#define MC_EV_FAULT 5u           /* code: fault bit, value: a measurement */
+#define MC_EV_MOTION_ABORTED 6u  /* code: reason (a command opcode or fault bit) */
+
+/* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
+#define MC_NACK_UNKNOWN_OPCODE 1
+#define MC_NACK_BAD_AXIS 2
+#define MC_NACK_NOT_FINITE 3
+#define MC_NACK_NON_POSITIVE_LIMIT 4
+#define MC_NACK_AXIS_DISABLED 5
+#define MC_NACK_INVALID_STATE 6
+#define MC_NACK_BAD_CONFIG 7
+#define MC_NACK_INFEASIBLE 8
+#define MC_NACK_OUT_OF_RANGE 9
+#define MC_NACK_AXES_ENABLED 10
+
+/* PLCopen axis states (mc_axis_status_payload.state) */
+#define MC_STATE_DISABLED 0u
+#define MC_STATE_STANDSTILL 1u
+#define MC_STATE_HOMING 2u
+#define MC_STATE_DISCRETE_MOTION 3u
+#define MC_STATE_CONTINUOUS_MOTION 4u
+#define MC_STATE_SYNCHRONIZED_MOTION 5u
+#define MC_STATE_STOPPING 6u
+#define MC_STATE_ERROR_STOP 7u
+
+/* Fault bits (mc_axis_status_payload.faults) */
+#define MC_FAULT_DAC_SATURATED (1u << 0)
+
+/* Servo laws (mc_axis_config.servo_law) */
+#define MC_SERVO_FFPIV 0u
+
+/* card writes once at boot (and servo_rate_hz on APPLY_CARD_CONFIG) */
+struct mc_identity {
+    uint32_t magic;
+    uint16_t layout_major;
+    uint16_t layout_minor;
+    uint32_t fw_version; /* major << 16 | minor << 8 | patch */
+    uint32_t capabilities;
+    uint32_t num_axes;
+    uint32_t servo_rate_hz;
+    uint32_t cmd_ring_len;
+    uint32_t evt_ring_len;
+    uint32_t card_state;
+    uint32_t _reserved[7];
+};
+
+/* host writes */
+struct mc_host_ctrl {
+    uint32_t heartbeat;      /* incremented by the host at least every host_period_us */
+    uint32_t host_period_us; /* the host's declared heartbeat period */
+    uint32_t doorbell;       /* incremented by the host after publishing commands */
+    uint32_t irq_mask;       /* bit (1 << kind) enables the interrupt for that event kind */
+    uint32_t _reserved[12];
+};
+
+/* card writes */
+struct mc_card_ctrl {
+    uint64_t tick;          /* servo ticks since boot */
+    uint32_t irq_count;     /* interrupts raised since boot */
+    uint32_t events_lost;   /* asynchronous events that found the event ring full */
+    uint32_t cmds_accepted; /* commands consumed from the ring */
+    uint32_t _reserved[11];
+};
+
+/* One ring index on its own 64-byte line. Written only by its owner. */
+struct mc_ring_index {
+    uint32_t value;
+    uint32_t _pad[15];
+};
+
+/* host writes (command ring entries) */
+struct mc_cmd {
+    uint32_t seq;
+    uint16_t opcode;
+    uint16_t axis;
+    uint32_t flags;
+    uint32_t _reserved;
+    double args[MC_CMD_ARGS];
+};
+
+/* card writes (event ring entries) */
+struct mc_event {
+    uint32_t seq; /* the command's seq for ACK/NACK, 0 otherwise */
+    uint16_t kind;
+    uint16_t axis;
+    int32_t code;
+    uint32_t _reserved;
+    uint64_t tick;
+    double value;
+};
+
+/* host writes; the card validates and copies on MC_OP_APPLY_AXIS_CONFIG */
+struct mc_axis_config {
+    uint32_t servo_law;
+    uint32_t _reserved0;
+    double kp;            /* position gain, 1/s: velocity command = kp * following error */
+    double ki;            /* velocity-loop integral gain, 1/s */
+    double kv;            /* velocity-loop gain, V per count/s */
+    double kvff;          /* velocity feed-forward into the velocity loop, fraction 0..1 */
+    double kaff;          /* acceleration feed-forward, V per count/s^2 */
+    double vel_filter_hz; /* cut-off of the first-order filter on the measured velocity */
+    double dac_limit_v;   /* output clamp, volts, 0 < limit <= 10 */
+    double in_pos_window; /* |target - actual| for motion done, counts */
+    double in_vel_window; /* |actual velocity| for motion done, counts/s */
+    double settle_time;   /* both windows held this long before motion done, s */
+    double _reserved[5];
+};
+
+/* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */
+struct mc_card_config {
+    uint32_t servo_rate_hz;
+    uint32_t _reserved[15];
+};
+
+/* Axis status payload: copied as MC_STATUS_WORDS 64-bit words. */
+struct mc_axis_status_payload {
+    double cmd_pos;
+    double cmd_vel;
+    double cmd_acc;
+    double act_pos;
+    double act_vel;
+    double ferr;
+    double dac_v;
+    double target;
+    uint32_t state;
+    uint32_t faults;
+    uint32_t last_seq; /* seq of the last command accepted for this axis */
+    uint32_t move_count;
+    uint64_t tick;
+    int64_t encoder;
+    uint64_t _reserved[3];
+    uint64_t checksum; /* MC_STATUS_CHECK xor the wrapping sum of the 15 words before it */
+};
+
+/* card writes */
+struct mc_axis_status {
+    uint32_t seq; /* odd while the card writes the payload */
+    uint32_t _pad;
+    struct mc_axis_status_payload p;
+    uint64_t _reserved[7];
+};
+
+/* The whole window. */
+struct mc_dpram {
+    struct mc_identity identity;
+    struct mc_host_ctrl host;
+    struct mc_card_ctrl card;
+    uint8_t _reserved0[64];
+    struct mc_ring_index cmd_head; /* host writes */
+    struct mc_ring_index cmd_tail; /* card writes */
+    struct mc_ring_index evt_head; /* card writes */
+    struct mc_ring_index evt_tail; /* host writes */
+    struct mc_cmd cmd_ring[MC_CMD_RING_LEN];
+    struct mc_event evt_ring[MC_EVT_RING_LEN];
+    struct mc_card_config card_config;
+    struct mc_axis_config axis_config[MC_MAX_AXES];
+    struct mc_axis_status axis_status[MC_MAX_AXES];
+};
+
+#define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */
+
+#endif /* MC_DPRAM_H */

@@ -1,0 +1,98 @@
+//! Byte offsets of every field of the window, derived from the generated bindings.
+//!
+//! Offsets are `const`s computed with `offset_of!` on the bindgen structs, so the C header stays
+//! the only source of truth; the asserts at the bottom pin the properties the protocol relies on
+//! (entry sizes, one index per cache line, word alignment).
+#![allow(missing_docs)]
+
+use crate::raw::*;
+use core::mem::{offset_of, size_of};
+
+macro_rules! off {
+    ($($path:tt)+) => { offset_of!(mc_dpram, $($path)+) };
+}
+
+// identity (card writes)
+pub const MAGIC: usize = off!(identity.magic);
+/// `layout_major | layout_minor << 16` read as one 32-bit word.
+pub const LAYOUT: usize = off!(identity.layout_major);
+pub const FW_VERSION: usize = off!(identity.fw_version);
+pub const CAPABILITIES: usize = off!(identity.capabilities);
+pub const NUM_AXES: usize = off!(identity.num_axes);
+pub const SERVO_RATE_HZ: usize = off!(identity.servo_rate_hz);
+pub const CMD_RING_LEN: usize = off!(identity.cmd_ring_len);
+pub const EVT_RING_LEN: usize = off!(identity.evt_ring_len);
+pub const CARD_STATE: usize = off!(identity.card_state);
+
+// host control (host writes)
+pub const HEARTBEAT: usize = off!(host.heartbeat);
+pub const HOST_PERIOD_US: usize = off!(host.host_period_us);
+pub const DOORBELL: usize = off!(host.doorbell);
+pub const IRQ_MASK: usize = off!(host.irq_mask);
+
+// card control (card writes)
+pub const TICK: usize = off!(card.tick);
+pub const IRQ_COUNT: usize = off!(card.irq_count);
+pub const EVENTS_LOST: usize = off!(card.events_lost);
+pub const CMDS_ACCEPTED: usize = off!(card.cmds_accepted);
+
+// rings
+pub const CMD_HEAD: usize = off!(cmd_head.value);
+pub const CMD_TAIL: usize = off!(cmd_tail.value);
+pub const EVT_HEAD: usize = off!(evt_head.value);
+pub const EVT_TAIL: usize = off!(evt_tail.value);
+pub const CMD_RING: usize = off!(cmd_ring);
+pub const EVT_RING: usize = off!(evt_ring);
+pub const CMD_BYTES: usize = size_of::<mc_cmd>();
+pub const EVT_BYTES: usize = size_of::<mc_event>();
+
+// configuration (host writes)
+pub const CARD_CONFIG: usize = off!(card_config);
+pub const CARD_CONFIG_SERVO_RATE: usize = off!(card_config.servo_rate_hz);
+pub const AXIS_CONFIG: usize = off!(axis_config);
+pub const AXIS_CONFIG_BYTES: usize = size_of::<mc_axis_config>();
+
+/// Offset of a field of `axis_config[axis]`.
+pub const fn axis_config(axis: usize, field: usize) -> usize {
+    AXIS_CONFIG + axis * AXIS_CONFIG_BYTES + field
+}
+
+pub mod axis_config {
+    use super::*;
+    pub const SERVO_LAW: usize = offset_of!(mc_axis_config, servo_law);
+    pub const KP: usize = offset_of!(mc_axis_config, kp);
+    pub const KI: usize = offset_of!(mc_axis_config, ki);
+    pub const KV: usize = offset_of!(mc_axis_config, kv);
+    pub const KVFF: usize = offset_of!(mc_axis_config, kvff);
+    pub const KAFF: usize = offset_of!(mc_axis_config, kaff);
+    pub const VEL_FILTER_HZ: usize = offset_of!(mc_axis_config, vel_filter_hz);
+    pub const DAC_LIMIT_V: usize = offset_of!(mc_axis_config, dac_limit_v);
+    pub const IN_POS_WINDOW: usize = offset_of!(mc_axis_config, in_pos_window);
+    pub const IN_VEL_WINDOW: usize = offset_of!(mc_axis_config, in_vel_window);
+    pub const SETTLE_TIME: usize = offset_of!(mc_axis_config, settle_time);
+}
+
+// status (card writes)
+pub const AXIS_STATUS: usize = off!(axis_status);
+pub const AXIS_STATUS_BYTES: usize = size_of::<mc_axis_status>();
+pub const STATUS_SEQ: usize = offset_of!(mc_axis_status, seq);
+pub const STATUS_PAYLOAD: usize = offset_of!(mc_axis_status, p);
+pub const STATUS_WORDS: usize = MC_STATUS_WORDS as usize;
+
+/// Offset of the seqlock word of `axis_status[axis]`.
+pub const fn axis_status(axis: usize) -> usize {
+    AXIS_STATUS + axis * AXIS_STATUS_BYTES
+}
+
+const _: () = {
+    assert!(MAGIC == 0);
+    assert!(off!(identity.layout_minor) == LAYOUT + 2);
+    assert!(CMD_BYTES == 128 && EVT_BYTES == 32);
+    assert!(CMD_RING % 64 == 0 && EVT_RING % 64 == 0);
+    assert!(CMD_TAIL - CMD_HEAD == 64 && EVT_HEAD - CMD_TAIL == 64 && EVT_TAIL - EVT_HEAD == 64);
+    assert!(MC_CMD_RING_LEN.is_power_of_two() && MC_EVT_RING_LEN.is_power_of_two());
+    assert!(size_of::<mc_axis_status_payload>() == STATUS_WORDS * 8);
+    assert!(STATUS_PAYLOAD % 8 == 0 && AXIS_STATUS % 64 == 0 && AXIS_STATUS_BYTES % 64 == 0);
+    assert!(AXIS_CONFIG % 8 == 0 && AXIS_CONFIG_BYTES % 8 == 0);
+    assert!(TICK % 8 == 0);
+};

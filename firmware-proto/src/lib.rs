@@ -1,0 +1,60 @@
+//! The motion card's DPRAM contract.
+//!
+//! The register map is written once, as the C header `include/mc_dpram.h`; [`raw`] holds the
+//! Rust bindings bindgen generates from it (`cargo xtask codegen`, checked in, verified by
+//! `cargo xtask codegen --check`). Nothing outside this crate uses [`raw`] directly: the safe
+//! layer here gives
+//!
+//! - [`Mem`], word-addressed shared memory with the access width in each method name, and
+//!   [`Dpram`], its implementation over a mapped window (raw pointers, never references);
+//! - [`layout`], the byte offset of every field, derived from the bindings with `offset_of!` and
+//!   pinned by compile-time asserts;
+//! - [`ring`], the single-producer single-consumer rings (command and event);
+//! - [`seqlock`], the per-axis status blocks;
+//! - [`wire`], the encodings of commands, events and status, and the code enums.
+//!
+//! Memory-ordering rules (see ARCHITECTURE.md): each side loads its own ring index plainly and
+//! the peer's with Acquire, and publishes with Release; every index read from the window is
+//! validated before use, because the other side may be buggy.
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(missing_docs)]
+
+#[cfg(target_endian = "big")]
+compile_error!("the DPRAM layout is little-endian; big-endian hosts need byte swapping");
+
+#[allow(missing_docs)]
+pub mod raw;
+
+pub mod layout;
+pub mod mem;
+pub mod ring;
+pub mod seqlock;
+pub mod wire;
+
+pub use mem::{Dpram, Mem};
+pub use ring::{Consumer, Producer, RingError};
+pub use wire::*;
+
+pub(crate) mod sync {
+    #[cfg(loom)]
+    pub use loom::sync::atomic::{fence, AtomicU32, AtomicU64, Ordering};
+    #[cfg(not(loom))]
+    pub use std::sync::atomic::{fence, AtomicU32, AtomicU64, Ordering};
+}
+
+/// Layout version this build speaks. A card whose major version differs is refused.
+pub const LAYOUT_MAJOR: u16 = raw::MC_LAYOUT_MAJOR as u16;
+/// Minor layout version: additions that older hosts can ignore.
+pub const LAYOUT_MINOR: u16 = raw::MC_LAYOUT_MINOR as u16;
+/// Identity magic.
+pub const MAGIC: u32 = raw::MC_MAGIC;
+/// Axes per card.
+pub const MAX_AXES: usize = raw::MC_MAX_AXES as usize;
+/// Size of the mapped window in bytes.
+pub const DPRAM_SIZE: usize = raw::MC_DPRAM_SIZE as usize;
+/// Servo-rate bounds, Hz.
+pub const SERVO_RATE_MIN_HZ: u32 = raw::MC_SERVO_RATE_MIN_HZ;
+/// Servo-rate bounds, Hz.
+pub const SERVO_RATE_MAX_HZ: u32 = raw::MC_SERVO_RATE_MAX_HZ;
+
+const _: () = assert!(core::mem::size_of::<raw::mc_dpram>() <= DPRAM_SIZE);

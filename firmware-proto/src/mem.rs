@@ -1,0 +1,246 @@
+//! Word-addressed access to the shared window.
+//!
+//! Every access is an atomic load or store of an explicit width, so two processes (or the host
+//! and the card's DSP) can touch the same words without a data race; plain `Relaxed` is used for
+//! payload words and the ordering of a protocol is made with Acquire/Release on its index or
+//! sequence words. No Rust reference to DPRAM memory outlives a single access.
+
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+use core::ptr::NonNull;
+
+/// Shared memory addressed by byte offset. Offsets that are out of range or misaligned are
+/// ignored (loads return 0) instead of touching memory: the layout makes them impossible, and
+/// this keeps a bug from becoming undefined behaviour.
+pub trait Mem {
+    /// Load a 32-bit word.
+    fn load32(&self, off: usize, order: Ordering) -> u32;
+    /// Store a 32-bit word.
+    fn store32(&self, off: usize, val: u32, order: Ordering);
+    /// Load a 64-bit word.
+    fn load64(&self, off: usize, order: Ordering) -> u64;
+    /// Store a 64-bit word.
+    fn store64(&self, off: usize, val: u64, order: Ordering);
+
+    /// Relaxed 32-bit load.
+    fn read32(&self, off: usize) -> u32 {
+        self.load32(off, Ordering::Relaxed)
+    }
+    /// Relaxed 32-bit store.
+    fn write32(&self, off: usize, val: u32) {
+        self.store32(off, val, Ordering::Relaxed)
+    }
+    /// Relaxed 64-bit load.
+    fn read64(&self, off: usize) -> u64 {
+        self.load64(off, Ordering::Relaxed)
+    }
+    /// Relaxed 64-bit store.
+    fn write64(&self, off: usize, val: u64) {
+        self.store64(off, val, Ordering::Relaxed)
+    }
+    /// Relaxed load of an IEEE-754 double.
+    fn read_f64(&self, off: usize) -> f64 {
+        f64::from_bits(self.read64(off))
+    }
+    /// Relaxed store of an IEEE-754 double.
+    fn write_f64(&self, off: usize, val: f64) {
+        self.write64(off, val.to_bits())
+    }
+}
+
+impl<T: Mem + ?Sized> Mem for &T {
+    fn load32(&self, off: usize, order: Ordering) -> u32 {
+        (**self).load32(off, order)
+    }
+    fn store32(&self, off: usize, val: u32, order: Ordering) {
+        (**self).store32(off, val, order)
+    }
+    fn load64(&self, off: usize, order: Ordering) -> u64 {
+        (**self).load64(off, order)
+    }
+    fn store64(&self, off: usize, val: u64, order: Ordering) {
+        (**self).store64(off, val, order)
+    }
+}
+
+impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
+    fn load32(&self, off: usize, order: Ordering) -> u32 {
+        (**self).load32(off, order)
+    }
+    fn store32(&self, off: usize, val: u32, order: Ordering) {
+        (**self).store32(off, val, order)
+    }
+    fn load64(&self, off: usize, order: Ordering) -> u64 {
+        (**self).load64(off, order)
+    }
+    fn store64(&self, off: usize, val: u64, order: Ordering) {
+        (**self).store64(off, val, order)
+    }
+}
+
+/// A mapped DPRAM window: a base pointer and a length. It does not own the mapping; whoever
+/// creates it keeps the mapping alive for as long as the `Dpram` is used.
+#[derive(Debug)]
+pub struct Dpram {
+    base: NonNull<u8>,
+    len: usize,
+}
+
+// SAFETY: all access goes through atomic operations on the shared window, which is designed to
+// be used by several threads and processes at once.
+unsafe impl Send for Dpram {}
+// SAFETY: as above: `&Dpram` only ever performs atomic loads and stores.
+unsafe impl Sync for Dpram {}
+
+/// The window is too small or misaligned for the layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WindowError {
+    /// Bytes available.
+    pub len: usize,
+    /// Bytes the layout needs.
+    pub needed: usize,
+}
+
+impl core::fmt::Display for WindowError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "DPRAM window of {} bytes is smaller than the {} bytes of the layout, or not 8-byte aligned", self.len, self.needed)
+    }
+}
+
+impl std::error::Error for WindowError {}
+
+impl Dpram {
+    /// Wrap a mapped window.
+    ///
+    /// # Safety
+    /// `base` must point to `len` bytes that stay mapped, readable and writable for the whole
+    /// life of the returned value, and that are only ever accessed atomically by others.
+    pub unsafe fn from_raw(base: *mut u8, len: usize) -> Result<Self, WindowError> {
+        let needed = core::mem::size_of::<crate::raw::mc_dpram>();
+        let base = NonNull::new(base).ok_or(WindowError { len, needed })?;
+        if len < needed || (base.as_ptr() as usize) % 8 != 0 {
+            return Err(WindowError { len, needed });
+        }
+        Ok(Self { base, len })
+    }
+
+    /// Length of the window in bytes.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Never true: a window holds at least the layout.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn word_ptr(&self, off: usize, width: usize) -> Option<*mut u8> {
+        if off % width != 0 || off.checked_add(width)? > self.len {
+            return None;
+        }
+        // SAFETY: `off + width <= len`, so the result stays inside the mapping.
+        Some(unsafe { self.base.as_ptr().add(off) })
+    }
+}
+
+impl Mem for Dpram {
+    fn load32(&self, off: usize, order: Ordering) -> u32 {
+        match self.word_ptr(off, 4) {
+            // SAFETY: in bounds and 4-aligned (checked); the memory is only accessed atomically.
+            Some(p) => unsafe { AtomicU32::from_ptr(p.cast()) }.load(order),
+            None => 0,
+        }
+    }
+    fn store32(&self, off: usize, val: u32, order: Ordering) {
+        if let Some(p) = self.word_ptr(off, 4) {
+            // SAFETY: in bounds and 4-aligned (checked); the memory is only accessed atomically.
+            unsafe { AtomicU32::from_ptr(p.cast()) }.store(val, order)
+        }
+    }
+    fn load64(&self, off: usize, order: Ordering) -> u64 {
+        match self.word_ptr(off, 8) {
+            // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
+            Some(p) => unsafe { AtomicU64::from_ptr(p.cast()) }.load(order),
+            None => 0,
+        }
+    }
+    fn store64(&self, off: usize, val: u64, order: Ordering) {
+        if let Some(p) = self.word_ptr(off, 8) {
+            // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
+            unsafe { AtomicU64::from_ptr(p.cast()) }.store(val, order)
+        }
+    }
+}
+
+/// A DPRAM window in ordinary heap memory: the `sim` card and unit tests use it.
+pub struct HeapWindow {
+    // Atomic words: interior mutability, so the raw pointer in `dpram` stays valid while the
+    // Box is moved or borrowed.
+    words: Box<[std::sync::atomic::AtomicU64]>,
+    dpram: Dpram,
+}
+
+impl HeapWindow {
+    /// A zeroed window of [`crate::DPRAM_SIZE`] bytes.
+    pub fn new() -> Self {
+        let words: Box<[std::sync::atomic::AtomicU64]> =
+            (0..crate::DPRAM_SIZE / 8).map(|_| std::sync::atomic::AtomicU64::new(0)).collect();
+        let base = words.as_ptr().cast_mut().cast::<u8>();
+        // SAFETY: the boxed slice lives as long as `self` and is never accessed except through
+        // `dpram` (atomically); moving the Box does not move its heap allocation.
+        let dpram = unsafe { Dpram::from_raw(base, crate::DPRAM_SIZE) }.expect("heap window is large and aligned");
+        Self { words, dpram }
+    }
+
+    /// The window.
+    pub fn dpram(&self) -> &Dpram {
+        let _ = &self.words;
+        &self.dpram
+    }
+}
+
+impl Default for HeapWindow {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Mem for HeapWindow {
+    fn load32(&self, off: usize, order: Ordering) -> u32 {
+        self.dpram.load32(off, order)
+    }
+    fn store32(&self, off: usize, val: u32, order: Ordering) {
+        self.dpram.store32(off, val, order)
+    }
+    fn load64(&self, off: usize, order: Ordering) -> u64 {
+        self.dpram.load64(off, order)
+    }
+    fn store64(&self, off: usize, val: u64, order: Ordering) {
+        self.dpram.store64(off, val, order)
+    }
+}
+
+#[cfg(all(test, not(loom)))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_of_range_and_misaligned_access_is_ignored() {
+        let w = HeapWindow::new();
+        let d = w.dpram();
+        d.write32(d.len(), 7);
+        assert_eq!(d.read32(d.len()), 0);
+        d.write64(4, 7); // misaligned for 64-bit
+        assert_eq!(d.read64(0), 0);
+        d.write64(8, u64::MAX);
+        assert_eq!(d.read64(8), u64::MAX);
+        assert_eq!(d.read32(12), u32::MAX);
+    }
+
+    #[test]
+    fn small_window_refused() {
+        let mut buf = vec![0u64; 16];
+        // SAFETY: buf outlives the call; the result is dropped at once.
+        let r = unsafe { Dpram::from_raw(buf.as_mut_ptr().cast(), 128) };
+        assert_eq!(r.unwrap_err().needed, core::mem::size_of::<crate::raw::mc_dpram>());
+    }
+}

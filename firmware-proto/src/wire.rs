@@ -1,0 +1,364 @@
+//! Encodings of what crosses the window: commands, events, status payloads, and the code enums.
+//!
+//! Each entry is moved as 64-bit words (`to_words` / `from_words`); decoding never fails, and the
+//! meaning of a decoded value (is the opcode known, is the axis in range) is checked by whoever
+//! acts on it.
+
+use crate::raw;
+
+/// Arguments per command.
+pub const CMD_ARGS: usize = raw::MC_CMD_ARGS as usize;
+/// Words per command entry.
+pub const CMD_WORDS: usize = crate::layout::CMD_BYTES / 8;
+/// Words per event entry.
+pub const EVT_WORDS: usize = crate::layout::EVT_BYTES / 8;
+/// Words of a status payload.
+pub const STATUS_WORDS: usize = crate::layout::STATUS_WORDS;
+
+macro_rules! code_enum {
+    ($(#[$m:meta])* $name:ident : $repr:ty { $($(#[$vm:meta])* $variant:ident = $value:expr),+ $(,)? }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[repr($repr)]
+        pub enum $name { $($(#[$vm])* $variant = $value as $repr),+ }
+        impl $name {
+            /// Every value, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$variant),+];
+            /// Decode, or `None` for a value this layout does not define.
+            pub fn from_raw(v: $repr) -> Option<Self> {
+                match v { $(x if x == $value as $repr => Some($name::$variant),)+ _ => None }
+            }
+        }
+    };
+}
+
+code_enum! {
+    /// Command opcodes.
+    Opcode: u16 {
+        /// Does nothing but answer: the round-trip probe.
+        Nop = raw::MC_OP_NOP,
+        /// MC_Power, Enable = TRUE.
+        PowerOn = raw::MC_OP_POWER_ON,
+        /// MC_Power, Enable = FALSE.
+        PowerOff = raw::MC_OP_POWER_OFF,
+        /// MC_MoveAbsolute: args target, vmax, amax, dmax, j1, j3, j5, j7.
+        MoveAbsolute = raw::MC_OP_MOVE_ABSOLUTE,
+        /// MC_MoveRelative: args distance, vmax, amax, dmax, j1, j3, j5, j7.
+        MoveRelative = raw::MC_OP_MOVE_RELATIVE,
+        /// MC_Halt: args dmax, jerk.
+        Halt = raw::MC_OP_HALT,
+        /// MC_Stop (Execute rising): args dmax, jerk.
+        Stop = raw::MC_OP_STOP,
+        /// MC_Stop (Execute falling): leave Stopping once at rest.
+        StopRelease = raw::MC_OP_STOP_RELEASE,
+        /// MC_Reset.
+        Reset = raw::MC_OP_RESET,
+        /// Validate and copy `axis_config[axis]`.
+        ApplyAxisConfig = raw::MC_OP_APPLY_AXIS_CONFIG,
+        /// Validate and copy `card_config`.
+        ApplyCardConfig = raw::MC_OP_APPLY_CARD_CONFIG,
+    }
+}
+
+code_enum! {
+    /// Event kinds.
+    EventKind: u16 {
+        /// A command was accepted.
+        Ack = raw::MC_EV_ACK,
+        /// A command was refused; `code` is a [`NackCode`].
+        Nack = raw::MC_EV_NACK,
+        /// The axis finished its move and is in position.
+        MotionDone = raw::MC_EV_MOTION_DONE,
+        /// The axis changed state; `code` is the new [`AxisState`], `value` the old one.
+        StateChanged = raw::MC_EV_STATE_CHANGED,
+        /// A fault was raised; `code` is the fault bit.
+        Fault = raw::MC_EV_FAULT,
+        /// A move ended before its target; `code` is the opcode or fault that ended it.
+        MotionAborted = raw::MC_EV_MOTION_ABORTED,
+    }
+}
+
+code_enum! {
+    /// Why a command was refused. One code per distinct fault.
+    NackCode: i32 {
+        /// The opcode is not defined by this firmware.
+        UnknownOpcode = raw::MC_NACK_UNKNOWN_OPCODE,
+        /// The axis number is not one of this card's axes.
+        BadAxis = raw::MC_NACK_BAD_AXIS,
+        /// An argument is NaN or infinite.
+        NotFinite = raw::MC_NACK_NOT_FINITE,
+        /// A velocity, acceleration or jerk limit is zero or negative.
+        NonPositiveLimit = raw::MC_NACK_NON_POSITIVE_LIMIT,
+        /// A move was commanded on a disabled axis.
+        AxisDisabled = raw::MC_NACK_AXIS_DISABLED,
+        /// The command is not allowed in the axis's current state.
+        InvalidState = raw::MC_NACK_INVALID_STATE,
+        /// A configuration block holds a value out of its range.
+        BadConfig = raw::MC_NACK_BAD_CONFIG,
+        /// No profile satisfies the request.
+        Infeasible = raw::MC_NACK_INFEASIBLE,
+        /// A position or distance is beyond the card's range.
+        OutOfRange = raw::MC_NACK_OUT_OF_RANGE,
+        /// The card configuration can only change while every axis is disabled.
+        AxesEnabled = raw::MC_NACK_AXES_ENABLED,
+    }
+}
+
+code_enum! {
+    /// PLCopen axis states.
+    AxisState: u32 {
+        /// Power off.
+        Disabled = raw::MC_STATE_DISABLED,
+        /// Powered, at rest, ready.
+        Standstill = raw::MC_STATE_STANDSTILL,
+        /// Homing.
+        Homing = raw::MC_STATE_HOMING,
+        /// A discrete (point-to-point) move.
+        DiscreteMotion = raw::MC_STATE_DISCRETE_MOTION,
+        /// A continuous move (velocity).
+        ContinuousMotion = raw::MC_STATE_CONTINUOUS_MOTION,
+        /// Coupled to another axis or a group.
+        SynchronizedMotion = raw::MC_STATE_SYNCHRONIZED_MOTION,
+        /// MC_Stop in progress or held.
+        Stopping = raw::MC_STATE_STOPPING,
+        /// Stopped by a fault; only MC_Reset leaves it.
+        ErrorStop = raw::MC_STATE_ERROR_STOP,
+    }
+}
+
+/// A command entry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Command {
+    /// Sequence number, echoed by the ack or nack.
+    pub seq: u32,
+    /// Raw opcode ([`Opcode`] when known).
+    pub opcode: u16,
+    /// Axis number.
+    pub axis: u16,
+    /// Flags (none defined yet; must be 0).
+    pub flags: u32,
+    /// Arguments.
+    pub args: [f64; CMD_ARGS],
+}
+
+impl Command {
+    /// A command with all arguments zero.
+    pub fn new(opcode: Opcode, axis: u16) -> Self {
+        Self { seq: 0, opcode: opcode as u16, axis, flags: 0, args: [0.0; CMD_ARGS] }
+    }
+
+    /// With the first arguments set.
+    pub fn with_args(mut self, args: &[f64]) -> Self {
+        for (dst, src) in self.args.iter_mut().zip(args) {
+            *dst = *src;
+        }
+        self
+    }
+
+    /// Encode as words.
+    pub fn to_words(&self) -> [u64; CMD_WORDS] {
+        let mut w = [0u64; CMD_WORDS];
+        w[0] = self.seq as u64 | (self.opcode as u64) << 32 | (self.axis as u64) << 48;
+        w[1] = self.flags as u64;
+        for (dst, a) in w[2..].iter_mut().zip(self.args.iter()) {
+            *dst = a.to_bits();
+        }
+        w
+    }
+
+    /// Decode from words (any bit pattern decodes).
+    pub fn from_words(w: &[u64; CMD_WORDS]) -> Self {
+        let mut args = [0.0; CMD_ARGS];
+        for (dst, src) in args.iter_mut().zip(w[2..].iter()) {
+            *dst = f64::from_bits(*src);
+        }
+        Self { seq: w[0] as u32, opcode: (w[0] >> 32) as u16, axis: (w[0] >> 48) as u16, flags: w[1] as u32, args }
+    }
+}
+
+/// An event entry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Event {
+    /// The command's seq for ack and nack, else 0.
+    pub seq: u32,
+    /// Raw kind ([`EventKind`] when known).
+    pub kind: u16,
+    /// Axis number (or 0xFFFF for card-wide events).
+    pub axis: u16,
+    /// Kind-specific code.
+    pub code: i32,
+    /// Servo tick at which it was raised.
+    pub tick: u64,
+    /// Kind-specific value.
+    pub value: f64,
+}
+
+impl Event {
+    /// Encode as words.
+    pub fn to_words(&self) -> [u64; EVT_WORDS] {
+        [
+            self.seq as u64 | (self.kind as u64) << 32 | (self.axis as u64) << 48,
+            self.code as u32 as u64,
+            self.tick,
+            self.value.to_bits(),
+        ]
+    }
+
+    /// Decode from words (any bit pattern decodes).
+    pub fn from_words(w: &[u64; EVT_WORDS]) -> Self {
+        Self {
+            seq: w[0] as u32,
+            kind: (w[0] >> 32) as u16,
+            axis: (w[0] >> 48) as u16,
+            code: w[1] as u32 as i32,
+            tick: w[2],
+            value: f64::from_bits(w[3]),
+        }
+    }
+
+    /// The kind, if known.
+    pub fn kind(&self) -> Option<EventKind> {
+        EventKind::from_raw(self.kind)
+    }
+}
+
+/// Fault bits of [`AxisStatus::faults`].
+pub mod fault {
+    /// The servo output hit the DAC limit this tick.
+    pub const DAC_SATURATED: u32 = crate::raw::MC_FAULT_DAC_SATURATED;
+}
+
+/// One axis's status: what the card publishes every tick under a seqlock.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisStatus {
+    /// Commanded (profile) position, counts.
+    pub cmd_pos: f64,
+    /// Commanded velocity, counts/s.
+    pub cmd_vel: f64,
+    /// Commanded acceleration, counts/s².
+    pub cmd_acc: f64,
+    /// Actual (encoder) position, counts.
+    pub act_pos: f64,
+    /// Actual velocity (filtered), counts/s.
+    pub act_vel: f64,
+    /// Following error = commanded − actual position, counts.
+    pub ferr: f64,
+    /// DAC output, volts.
+    pub dac_v: f64,
+    /// Target of the current or last move, counts.
+    pub target: f64,
+    /// Raw state ([`AxisState`] when known).
+    pub state: u32,
+    /// Fault bits ([`fault`]).
+    pub faults: u32,
+    /// Seq of the last command accepted for this axis.
+    pub last_seq: u32,
+    /// Moves started since boot.
+    pub move_count: u32,
+    /// Servo tick of this snapshot.
+    pub tick: u64,
+    /// Raw encoder count.
+    pub encoder: i64,
+}
+
+impl AxisStatus {
+    /// Encode as words, with the checksum in the last word.
+    pub fn to_words(&self) -> [u64; STATUS_WORDS] {
+        let mut w = [0u64; STATUS_WORDS];
+        let f = [self.cmd_pos, self.cmd_vel, self.cmd_acc, self.act_pos, self.act_vel, self.ferr, self.dac_v, self.target];
+        for (dst, v) in w.iter_mut().zip(f) {
+            *dst = v.to_bits();
+        }
+        w[8] = self.state as u64 | (self.faults as u64) << 32;
+        w[9] = self.last_seq as u64 | (self.move_count as u64) << 32;
+        w[10] = self.tick;
+        w[11] = self.encoder as u64;
+        w[STATUS_WORDS - 1] = status_checksum(&w);
+        w
+    }
+
+    /// Decode from words; `None` when the checksum does not match (a torn or corrupted copy).
+    pub fn from_words(w: &[u64; STATUS_WORDS]) -> Option<Self> {
+        if status_checksum(w) != w[STATUS_WORDS - 1] {
+            return None;
+        }
+        let f = |i: usize| f64::from_bits(w[i]);
+        Some(Self {
+            cmd_pos: f(0),
+            cmd_vel: f(1),
+            cmd_acc: f(2),
+            act_pos: f(3),
+            act_vel: f(4),
+            ferr: f(5),
+            dac_v: f(6),
+            target: f(7),
+            state: w[8] as u32,
+            faults: (w[8] >> 32) as u32,
+            last_seq: w[9] as u32,
+            move_count: (w[9] >> 32) as u32,
+            tick: w[10],
+            encoder: w[11] as i64,
+        })
+    }
+
+    /// The state, if known.
+    pub fn state(&self) -> Option<AxisState> {
+        AxisState::from_raw(self.state)
+    }
+}
+
+/// The checksum of a status payload: a position-dependent mix of the first 15 words.
+pub fn status_checksum(w: &[u64; STATUS_WORDS]) -> u64 {
+    w[..STATUS_WORDS - 1]
+        .iter()
+        .enumerate()
+        .fold(raw::MC_STATUS_CHECK as u64, |acc, (i, x)| acc.rotate_left(7) ^ x.wrapping_mul(0x9E37_79B9_7F4A_7C15 ^ i as u64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn command_round_trip() {
+        let mut c = Command::new(Opcode::MoveAbsolute, 7).with_args(&[1.5, -2.0, f64::NAN]);
+        c.seq = 0xDEAD_BEEF;
+        c.flags = 3;
+        let d = Command::from_words(&c.to_words());
+        assert_eq!(d.seq, c.seq);
+        assert_eq!(d.opcode, Opcode::MoveAbsolute as u16);
+        assert_eq!(d.axis, 7);
+        assert_eq!(d.flags, 3);
+        assert_eq!(d.args[0], 1.5);
+        assert!(d.args[2].is_nan());
+    }
+
+    #[test]
+    fn event_round_trip_keeps_negative_codes() {
+        let e = Event { seq: 9, kind: EventKind::Nack as u16, axis: 0xFFFF, code: -5, tick: u64::MAX, value: -0.25 };
+        assert_eq!(Event::from_words(&e.to_words()), e);
+    }
+
+    #[test]
+    fn status_checksum_detects_any_single_word_change() {
+        let s = AxisStatus { cmd_pos: 1.0, act_pos: 2.0, state: 3, tick: 99, encoder: -4, ..Default::default() };
+        let w = s.to_words();
+        assert_eq!(AxisStatus::from_words(&w), Some(s));
+        for i in 0..STATUS_WORDS {
+            let mut bad = w;
+            bad[i] ^= 1 << (i % 64);
+            assert_eq!(AxisStatus::from_words(&bad), None, "word {i}");
+        }
+    }
+
+    #[test]
+    fn codes_match_the_header() {
+        assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
+        assert_eq!(Opcode::from_raw(0), None);
+        assert_eq!(NackCode::ALL.len(), 10);
+        let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
+        codes.dedup();
+        assert_eq!(codes.len(), NackCode::ALL.len());
+        assert_eq!(AxisState::from_raw(7), Some(AxisState::ErrorStop));
+    }
+}

@@ -1,0 +1,3 @@
+//! `motioncard`: the umbrella crate of the workspace. It re-exports the SDK so that the
+//! workspace-level examples and tests read like an application would.
+pub use motioncard_sdk::*;
