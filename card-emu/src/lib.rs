@@ -1,1 +1,38 @@
+//! The motion card in software.
+//!
+//! [`firmware`] is the card's complete firmware (command manager, PLCopen axis states, S-curve
+//! profiles, FFPIV servo loops); [`plant`] simulates what hangs off the card (DAC, amplifier,
+//! motor and load, encoder); [`emulator`] puts them behind a DPRAM window with an interrupt
+//! line and drives them on a stepped, free-running or real-time clock; [`server`] serves a card
+//! to another process (`emu:NAME`). The firmware only sees the window, exactly as it would on
+//! the card's DSP.
+#![deny(unsafe_op_in_unsafe_fn)]
 
+pub mod axis;
+pub mod emulator;
+pub mod firmware;
+pub mod plant;
+pub mod scurve;
+pub mod server;
+pub mod servo;
+pub mod shm;
+
+pub use emulator::{Clock, EmuOptions, Emulator, Runner};
+pub use firmware::Firmware;
+pub use plant::{Motor, MotorParams};
+
+use firmware_proto::NackCode;
+
+/// Largest |position| a move may target, counts (2^52: f64 still resolves 1 count there).
+pub const MAX_POSITION: f64 = 4_503_599_627_370_496.0;
+
+/// The nack for a planner refusal.
+pub(crate) fn plan_nack(e: scurve::PlanError) -> NackCode {
+    match e {
+        scurve::PlanError::NonFinite => NackCode::NotFinite,
+        scurve::PlanError::NonPositiveLimit => NackCode::NonPositiveLimit,
+        scurve::PlanError::Infeasible | scurve::PlanError::StartVelocityTooHigh => {
+            NackCode::Infeasible
+        }
+    }
+}

@@ -27,7 +27,7 @@
 #define MC_CMD_RING_LEN 64u
 #define MC_EVT_RING_LEN 256u
 #define MC_CMD_ARGS 14u
-#define MC_STATUS_WORDS 16u
+#define MC_STATUS_WORDS 24u
 #define MC_STATUS_CHECK 0xA5A5A5A5A5A5A5A5ull
 
 #define MC_SERVO_RATE_MIN_HZ 1000u
@@ -192,8 +192,16 @@ struct mc_axis_status_payload {
     uint32_t move_count;
     uint64_t tick;
     int64_t encoder;
-    uint64_t _reserved[3];
-    uint64_t checksum; /* MC_STATUS_CHECK xor the wrapping sum of the 15 words before it */
+    /* statistics of the current or last move, reset when a move starts */
+    double peak_vel;     /* max |commanded velocity| */
+    double peak_acc;     /* max commanded acceleration in the direction of motion */
+    double peak_dec;     /* max commanded deceleration */
+    double peak_jerk;    /* max |commanded jerk| */
+    double max_ferr;     /* max |following error| */
+    double planned_time; /* profile duration, s */
+    double move_time;    /* from start to motion done (in position), s; 0 while moving */
+    uint64_t _reserved[4];
+    uint64_t checksum; /* a mix of the words before it, seeded with MC_STATUS_CHECK */
 };
 
 /* card writes */

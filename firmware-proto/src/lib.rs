@@ -37,9 +37,9 @@ pub use wire::*;
 
 pub(crate) mod sync {
     #[cfg(loom)]
-    pub use loom::sync::atomic::{fence, AtomicU32, AtomicU64, Ordering};
+    pub use loom::sync::atomic::{fence, Ordering};
     #[cfg(not(loom))]
-    pub use std::sync::atomic::{fence, AtomicU32, AtomicU64, Ordering};
+    pub use std::sync::atomic::{fence, Ordering};
 }
 
 /// Layout version this build speaks. A card whose major version differs is refused.

@@ -5,8 +5,8 @@
 //! payload words and the ordering of a protocol is made with Acquire/Release on its index or
 //! sequence words. No Rust reference to DPRAM memory outlives a single access.
 
-use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use core::ptr::NonNull;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 /// Shared memory addressed by byte offset. Offsets that are out of range or misaligned are
 /// ignored (loads return 0) instead of touching memory: the layout makes them impossible, and
@@ -182,12 +182,14 @@ pub struct HeapWindow {
 impl HeapWindow {
     /// A zeroed window of [`crate::DPRAM_SIZE`] bytes.
     pub fn new() -> Self {
-        let words: Box<[std::sync::atomic::AtomicU64]> =
-            (0..crate::DPRAM_SIZE / 8).map(|_| std::sync::atomic::AtomicU64::new(0)).collect();
+        let words: Box<[std::sync::atomic::AtomicU64]> = (0..crate::DPRAM_SIZE / 8)
+            .map(|_| std::sync::atomic::AtomicU64::new(0))
+            .collect();
         let base = words.as_ptr().cast_mut().cast::<u8>();
         // SAFETY: the boxed slice lives as long as `self` and is never accessed except through
         // `dpram` (atomically); moving the Box does not move its heap allocation.
-        let dpram = unsafe { Dpram::from_raw(base, crate::DPRAM_SIZE) }.expect("heap window is large and aligned");
+        let dpram = unsafe { Dpram::from_raw(base, crate::DPRAM_SIZE) }
+            .expect("heap window is large and aligned");
         Self { words, dpram }
     }
 
@@ -241,6 +243,9 @@ mod tests {
         let mut buf = vec![0u64; 16];
         // SAFETY: buf outlives the call; the result is dropped at once.
         let r = unsafe { Dpram::from_raw(buf.as_mut_ptr().cast(), 128) };
-        assert_eq!(r.unwrap_err().needed, core::mem::size_of::<crate::raw::mc_dpram>());
+        assert_eq!(
+            r.unwrap_err().needed,
+            core::mem::size_of::<crate::raw::mc_dpram>()
+        );
     }
 }

@@ -10,7 +10,7 @@ pub const MC_MAX_AXES: u32 = 8;
 pub const MC_CMD_RING_LEN: u32 = 64;
 pub const MC_EVT_RING_LEN: u32 = 256;
 pub const MC_CMD_ARGS: u32 = 14;
-pub const MC_STATUS_WORDS: u32 = 16;
+pub const MC_STATUS_WORDS: u32 = 24;
 pub const MC_STATUS_CHECK: i64 = -6510615555426900571;
 pub const MC_SERVO_RATE_MIN_HZ: u32 = 1000;
 pub const MC_SERVO_RATE_MAX_HZ: u32 = 20000;
@@ -282,12 +282,19 @@ pub struct mc_axis_status_payload {
     pub move_count: u32,
     pub tick: u64,
     pub encoder: i64,
-    pub _reserved: [u64; 3usize],
+    pub peak_vel: f64,
+    pub peak_acc: f64,
+    pub peak_dec: f64,
+    pub peak_jerk: f64,
+    pub max_ferr: f64,
+    pub planned_time: f64,
+    pub move_time: f64,
+    pub _reserved: [u64; 4usize],
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_axis_status_payload"][::core::mem::size_of::<mc_axis_status_payload>() - 128usize];
+    ["Size of mc_axis_status_payload"][::core::mem::size_of::<mc_axis_status_payload>() - 192usize];
     ["Alignment of mc_axis_status_payload"]
         [::core::mem::align_of::<mc_axis_status_payload>() - 8usize];
     ["Offset of field: mc_axis_status_payload::cmd_pos"]
@@ -318,10 +325,24 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, tick) - 80usize];
     ["Offset of field: mc_axis_status_payload::encoder"]
         [::core::mem::offset_of!(mc_axis_status_payload, encoder) - 88usize];
+    ["Offset of field: mc_axis_status_payload::peak_vel"]
+        [::core::mem::offset_of!(mc_axis_status_payload, peak_vel) - 96usize];
+    ["Offset of field: mc_axis_status_payload::peak_acc"]
+        [::core::mem::offset_of!(mc_axis_status_payload, peak_acc) - 104usize];
+    ["Offset of field: mc_axis_status_payload::peak_dec"]
+        [::core::mem::offset_of!(mc_axis_status_payload, peak_dec) - 112usize];
+    ["Offset of field: mc_axis_status_payload::peak_jerk"]
+        [::core::mem::offset_of!(mc_axis_status_payload, peak_jerk) - 120usize];
+    ["Offset of field: mc_axis_status_payload::max_ferr"]
+        [::core::mem::offset_of!(mc_axis_status_payload, max_ferr) - 128usize];
+    ["Offset of field: mc_axis_status_payload::planned_time"]
+        [::core::mem::offset_of!(mc_axis_status_payload, planned_time) - 136usize];
+    ["Offset of field: mc_axis_status_payload::move_time"]
+        [::core::mem::offset_of!(mc_axis_status_payload, move_time) - 144usize];
     ["Offset of field: mc_axis_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_axis_status_payload, _reserved) - 96usize];
+        [::core::mem::offset_of!(mc_axis_status_payload, _reserved) - 152usize];
     ["Offset of field: mc_axis_status_payload::checksum"]
-        [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 120usize];
+        [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 184usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
@@ -333,14 +354,14 @@ pub struct mc_axis_status {
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_axis_status"][::core::mem::size_of::<mc_axis_status>() - 192usize];
+    ["Size of mc_axis_status"][::core::mem::size_of::<mc_axis_status>() - 256usize];
     ["Alignment of mc_axis_status"][::core::mem::align_of::<mc_axis_status>() - 8usize];
     ["Offset of field: mc_axis_status::seq"][::core::mem::offset_of!(mc_axis_status, seq) - 0usize];
     ["Offset of field: mc_axis_status::_pad"]
         [::core::mem::offset_of!(mc_axis_status, _pad) - 4usize];
     ["Offset of field: mc_axis_status::p"][::core::mem::offset_of!(mc_axis_status, p) - 8usize];
     ["Offset of field: mc_axis_status::_reserved"]
-        [::core::mem::offset_of!(mc_axis_status, _reserved) - 136usize];
+        [::core::mem::offset_of!(mc_axis_status, _reserved) - 200usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]
@@ -361,7 +382,7 @@ pub struct mc_dpram {
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 19520usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 20032usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];

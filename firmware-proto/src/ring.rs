@@ -92,7 +92,9 @@ impl core::fmt::Display for RingError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             RingError::Full => write!(f, "ring full"),
-            RingError::Corrupt { head, tail } => write!(f, "ring indices corrupt (head {head}, tail {tail})"),
+            RingError::Corrupt { head, tail } => {
+                write!(f, "ring indices corrupt (head {head}, tail {tail})")
+            }
         }
     }
 }
@@ -117,7 +119,12 @@ impl<M: Mem, const N: usize> Producer<M, N> {
     pub fn attach(mem: M, layout: RingLayout) -> Self {
         let head = mem.load32(layout.head, Ordering::Relaxed);
         let cached_tail = mem.load32(layout.tail, Ordering::Acquire);
-        Self { mem, layout, head, cached_tail }
+        Self {
+            mem,
+            layout,
+            head,
+            cached_tail,
+        }
     }
 
     /// Free slots, reloading the consumer's index.
@@ -125,7 +132,10 @@ impl<M: Mem, const N: usize> Producer<M, N> {
         self.cached_tail = self.mem.load32(self.layout.tail, Ordering::Acquire);
         let used = self.head.wrapping_sub(self.cached_tail);
         if used > self.layout.len {
-            return Err(RingError::Corrupt { head: self.head, tail: self.cached_tail });
+            return Err(RingError::Corrupt {
+                head: self.head,
+                tail: self.cached_tail,
+            });
         }
         Ok(self.layout.len - used)
     }
@@ -141,7 +151,8 @@ impl<M: Mem, const N: usize> Producer<M, N> {
             self.mem.store64(base + 8 * i, *w, Ordering::Relaxed);
         }
         self.head = self.head.wrapping_add(1);
-        self.mem.store32(self.layout.head, self.head, Ordering::Release);
+        self.mem
+            .store32(self.layout.head, self.head, Ordering::Release);
         Ok(())
     }
 
@@ -176,7 +187,10 @@ impl<M: Mem, const N: usize> Consumer<M, N> {
         let head = self.mem.load32(self.layout.head, Ordering::Acquire);
         let avail = head.wrapping_sub(self.tail);
         if avail > self.layout.len {
-            return Err(RingError::Corrupt { head, tail: self.tail });
+            return Err(RingError::Corrupt {
+                head,
+                tail: self.tail,
+            });
         }
         Ok(avail)
     }
@@ -192,7 +206,8 @@ impl<M: Mem, const N: usize> Consumer<M, N> {
             *w = self.mem.load64(base + 8 * i, Ordering::Relaxed);
         }
         self.tail = self.tail.wrapping_add(1);
-        self.mem.store32(self.layout.tail, self.tail, Ordering::Release);
+        self.mem
+            .store32(self.layout.tail, self.tail, Ordering::Release);
         Ok(Some(E::decode(&words)))
     }
 
@@ -200,7 +215,8 @@ impl<M: Mem, const N: usize> Consumer<M, N> {
     /// has been reset).
     pub fn resync(&mut self) {
         self.tail = self.mem.load32(self.layout.head, Ordering::Acquire);
-        self.mem.store32(self.layout.tail, self.tail, Ordering::Release);
+        self.mem
+            .store32(self.layout.tail, self.tail, Ordering::Release);
     }
 
     /// The memory this ring lives in.
@@ -225,7 +241,14 @@ mod tests {
     use crate::wire::{EventKind, Opcode};
 
     fn ev(seq: u32) -> Event {
-        Event { seq, kind: EventKind::Ack as u16, axis: 1, code: 0, tick: seq as u64 * 10, value: seq as f64 }
+        Event {
+            seq,
+            kind: EventKind::Ack as u16,
+            axis: 1,
+            code: 0,
+            tick: seq as u64 * 10,
+            value: seq as f64,
+        }
     }
 
     #[test]
@@ -252,7 +275,9 @@ mod tests {
         assert_eq!(first.seq, 0);
         cmd.seq = 999;
         p.push(&cmd).unwrap();
-        let got: Vec<u32> = std::iter::from_fn(|| c.pop::<Command>().unwrap()).map(|c| c.seq).collect();
+        let got: Vec<u32> = std::iter::from_fn(|| c.pop::<Command>().unwrap())
+            .map(|c| c.seq)
+            .collect();
         let mut want: Vec<u32> = (1..CMD_RING.len).collect();
         want.push(999);
         assert_eq!(got, want);
@@ -284,12 +309,21 @@ mod tests {
         let w = HeapWindow::new();
         let mut c = EvtConsumer::attach(w.dpram(), EVT_RING);
         w.dpram().write32(EVT_RING.head, EVT_RING.len + 1);
-        assert_eq!(c.pop::<Event>(), Err(RingError::Corrupt { head: EVT_RING.len + 1, tail: 0 }));
+        assert_eq!(
+            c.pop::<Event>(),
+            Err(RingError::Corrupt {
+                head: EVT_RING.len + 1,
+                tail: 0
+            })
+        );
         let mut p = CmdProducer::attach(w.dpram(), CMD_RING);
         w.dpram().write32(CMD_RING.tail, 5); // tail ahead of head
         assert_eq!(p.free(), Err(RingError::Corrupt { head: 0, tail: 5 }));
         // Once the producer has seen the bad tail it refuses to write anything.
-        assert!(matches!(p.push(&Command::new(Opcode::Nop, 0)), Err(RingError::Corrupt { .. })));
+        assert!(matches!(
+            p.push(&Command::new(Opcode::Nop, 0)),
+            Err(RingError::Corrupt { .. })
+        ));
     }
 
     #[test]

@@ -48,7 +48,11 @@ pub fn write_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS])
 }
 
 /// Copy a consistent payload, with at most `retries` attempts.
-pub fn read_words<M: Mem>(mem: &M, seq_off: usize, retries: u32) -> Result<[u64; STATUS_WORDS], SnapshotError> {
+pub fn read_words<M: Mem>(
+    mem: &M,
+    seq_off: usize,
+    retries: u32,
+) -> Result<[u64; STATUS_WORDS], SnapshotError> {
     let base = seq_off + layout::STATUS_PAYLOAD;
     for _ in 0..retries.max(1) {
         let s1 = mem.load32(seq_off, Ordering::Acquire);
@@ -91,7 +95,12 @@ mod tests {
     #[test]
     fn round_trip() {
         let w = HeapWindow::new();
-        let s = AxisStatus { cmd_pos: 12.5, state: 3, tick: 7, ..Default::default() };
+        let s = AxisStatus {
+            cmd_pos: 12.5,
+            state: 3,
+            tick: 7,
+            ..Default::default()
+        };
         write_axis_status(w.dpram(), 2, &s);
         assert_eq!(read_axis_status(w.dpram(), 2), Ok(s));
         assert_eq!(w.dpram().read32(layout::axis_status(2)), 2);
@@ -103,14 +112,18 @@ mod tests {
         write_axis_status(w.dpram(), 0, &AxisStatus::default());
         // The writer made seq odd and died.
         w.dpram().write32(layout::axis_status(0), 3);
-        assert_eq!(read_words(w.dpram(), layout::axis_status(0), 10), Err(SnapshotError::Busy));
+        assert_eq!(
+            read_words(w.dpram(), layout::axis_status(0), 10),
+            Err(SnapshotError::Busy)
+        );
     }
 
     #[test]
     fn garbage_payload_fails_checksum() {
         let w = HeapWindow::new();
         write_axis_status(w.dpram(), 1, &AxisStatus::default());
-        w.dpram().write64(layout::axis_status(1) + layout::STATUS_PAYLOAD + 16, 0x1234);
+        w.dpram()
+            .write64(layout::axis_status(1) + layout::STATUS_PAYLOAD + 16, 0x1234);
         assert_eq!(read_axis_status(w.dpram(), 1), Err(SnapshotError::Corrupt));
     }
 
@@ -129,7 +142,15 @@ mod tests {
                 while !stop.load(O::Relaxed) {
                     n += 1;
                     let x = n as f64;
-                    let s = AxisStatus { cmd_pos: x, cmd_vel: x, act_pos: x, ferr: x, tick: n, encoder: n as i64, ..Default::default() };
+                    let s = AxisStatus {
+                        cmd_pos: x,
+                        cmd_vel: x,
+                        act_pos: x,
+                        ferr: x,
+                        tick: n,
+                        encoder: n as i64,
+                        ..Default::default()
+                    };
                     write_axis_status(&*w, 3, &s);
                 }
                 n
@@ -140,7 +161,13 @@ mod tests {
         for _ in 0..200_000 {
             match read_axis_status(&*w, 3) {
                 Ok(s) => {
-                    assert!(s.cmd_pos == s.act_pos && s.cmd_vel == s.ferr && s.tick as f64 == s.cmd_pos && s.encoder as u64 == s.tick, "torn: {s:?}");
+                    assert!(
+                        s.cmd_pos == s.act_pos
+                            && s.cmd_vel == s.ferr
+                            && s.tick as f64 == s.cmd_pos
+                            && s.encoder as u64 == s.tick,
+                        "torn: {s:?}"
+                    );
                     assert!(s.tick >= seen, "went backwards");
                     seen = s.tick;
                 }

@@ -144,7 +144,13 @@ pub struct Command {
 impl Command {
     /// A command with all arguments zero.
     pub fn new(opcode: Opcode, axis: u16) -> Self {
-        Self { seq: 0, opcode: opcode as u16, axis, flags: 0, args: [0.0; CMD_ARGS] }
+        Self {
+            seq: 0,
+            opcode: opcode as u16,
+            axis,
+            flags: 0,
+            args: [0.0; CMD_ARGS],
+        }
     }
 
     /// With the first arguments set.
@@ -172,7 +178,13 @@ impl Command {
         for (dst, src) in args.iter_mut().zip(w[2..].iter()) {
             *dst = f64::from_bits(*src);
         }
-        Self { seq: w[0] as u32, opcode: (w[0] >> 32) as u16, axis: (w[0] >> 48) as u16, flags: w[1] as u32, args }
+        Self {
+            seq: w[0] as u32,
+            opcode: (w[0] >> 32) as u16,
+            axis: (w[0] >> 48) as u16,
+            flags: w[1] as u32,
+            args,
+        }
     }
 }
 
@@ -259,13 +271,36 @@ pub struct AxisStatus {
     pub tick: u64,
     /// Raw encoder count.
     pub encoder: i64,
+    /// Max |commanded velocity| of the current or last move.
+    pub peak_vel: f64,
+    /// Max commanded acceleration (in the direction of motion) of the move.
+    pub peak_acc: f64,
+    /// Max commanded deceleration of the move.
+    pub peak_dec: f64,
+    /// Max |commanded jerk| of the move.
+    pub peak_jerk: f64,
+    /// Max |following error| of the move, counts.
+    pub max_ferr: f64,
+    /// Planned profile duration, s.
+    pub planned_time: f64,
+    /// Time from start to motion done (in position), s; 0 while the move runs.
+    pub move_time: f64,
 }
 
 impl AxisStatus {
     /// Encode as words, with the checksum in the last word.
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
         let mut w = [0u64; STATUS_WORDS];
-        let f = [self.cmd_pos, self.cmd_vel, self.cmd_acc, self.act_pos, self.act_vel, self.ferr, self.dac_v, self.target];
+        let f = [
+            self.cmd_pos,
+            self.cmd_vel,
+            self.cmd_acc,
+            self.act_pos,
+            self.act_vel,
+            self.ferr,
+            self.dac_v,
+            self.target,
+        ];
         for (dst, v) in w.iter_mut().zip(f) {
             *dst = v.to_bits();
         }
@@ -273,6 +308,18 @@ impl AxisStatus {
         w[9] = self.last_seq as u64 | (self.move_count as u64) << 32;
         w[10] = self.tick;
         w[11] = self.encoder as u64;
+        let stats = [
+            self.peak_vel,
+            self.peak_acc,
+            self.peak_dec,
+            self.peak_jerk,
+            self.max_ferr,
+            self.planned_time,
+            self.move_time,
+        ];
+        for (dst, v) in w[12..].iter_mut().zip(stats) {
+            *dst = v.to_bits();
+        }
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
@@ -298,6 +345,13 @@ impl AxisStatus {
             move_count: (w[9] >> 32) as u32,
             tick: w[10],
             encoder: w[11] as i64,
+            peak_vel: f(12),
+            peak_acc: f(13),
+            peak_dec: f(14),
+            peak_jerk: f(15),
+            max_ferr: f(16),
+            planned_time: f(17),
+            move_time: f(18),
         })
     }
 
@@ -312,7 +366,9 @@ pub fn status_checksum(w: &[u64; STATUS_WORDS]) -> u64 {
     w[..STATUS_WORDS - 1]
         .iter()
         .enumerate()
-        .fold(raw::MC_STATUS_CHECK as u64, |acc, (i, x)| acc.rotate_left(7) ^ x.wrapping_mul(0x9E37_79B9_7F4A_7C15 ^ i as u64))
+        .fold(raw::MC_STATUS_CHECK as u64, |acc, (i, x)| {
+            acc.rotate_left(7) ^ x.wrapping_mul(0x9E37_79B9_7F4A_7C15 ^ i as u64)
+        })
 }
 
 #[cfg(test)]
@@ -335,13 +391,27 @@ mod tests {
 
     #[test]
     fn event_round_trip_keeps_negative_codes() {
-        let e = Event { seq: 9, kind: EventKind::Nack as u16, axis: 0xFFFF, code: -5, tick: u64::MAX, value: -0.25 };
+        let e = Event {
+            seq: 9,
+            kind: EventKind::Nack as u16,
+            axis: 0xFFFF,
+            code: -5,
+            tick: u64::MAX,
+            value: -0.25,
+        };
         assert_eq!(Event::from_words(&e.to_words()), e);
     }
 
     #[test]
     fn status_checksum_detects_any_single_word_change() {
-        let s = AxisStatus { cmd_pos: 1.0, act_pos: 2.0, state: 3, tick: 99, encoder: -4, ..Default::default() };
+        let s = AxisStatus {
+            cmd_pos: 1.0,
+            act_pos: 2.0,
+            state: 3,
+            tick: 99,
+            encoder: -4,
+            ..Default::default()
+        };
         let w = s.to_words();
         assert_eq!(AxisStatus::from_words(&w), Some(s));
         for i in 0..STATUS_WORDS {

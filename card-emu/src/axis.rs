@@ -1,0 +1,453 @@
+//! One axis of the firmware: PLCopen state machine, profile execution, in-position detection,
+//! the servo loop and the move statistics the card publishes.
+
+use crate::scurve::{Limits, Profile};
+use crate::servo::{Ffpiv, FfpivGains, Reference};
+use firmware_proto::{fault, AxisState, AxisStatus, NackCode};
+
+/// The validated copy of an axis's configuration block.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisConfig {
+    /// Servo gains.
+    pub gains: FfpivGains,
+    /// Output clamp, volts.
+    pub dac_limit_v: f64,
+    /// |target − actual| for motion done, counts.
+    pub in_pos_window: f64,
+    /// |actual velocity| for motion done, counts/s.
+    pub in_vel_window: f64,
+    /// Both windows held this long before motion done, s.
+    pub settle_time: f64,
+}
+
+impl Default for AxisConfig {
+    fn default() -> Self {
+        Self {
+            gains: FfpivGains::default_tuning(),
+            dac_limit_v: 10.0,
+            in_pos_window: 1.0,
+            in_vel_window: 2000.0,
+            settle_time: 0.002,
+        }
+    }
+}
+
+impl AxisConfig {
+    /// Check every field; the card never runs with a configuration it has not checked.
+    pub fn validate(&self) -> Result<(), NackCode> {
+        let fin = [
+            self.dac_limit_v,
+            self.in_pos_window,
+            self.in_vel_window,
+            self.settle_time,
+        ];
+        if !self.gains.is_valid() || fin.iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::BadConfig);
+        }
+        if !(self.dac_limit_v > 0.0 && self.dac_limit_v <= 10.0)
+            || self.in_pos_window <= 0.0
+            || self.in_vel_window <= 0.0
+            || !(0.0..=10.0).contains(&self.settle_time)
+        {
+            return Err(NackCode::BadConfig);
+        }
+        Ok(())
+    }
+}
+
+/// What the axis's profile is doing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Motion {
+    /// Holding the commanded position.
+    Hold,
+    /// Running a profile; `t` is the time into it. Moves and halts end in Standstill once in
+    /// position; a stop stays in Stopping until released.
+    Profile { profile: Profile, t: f64 },
+}
+
+/// Things the axis tells the command manager after a tick.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TickReport {
+    /// The motion started by command `seq` reached its target and is in position:
+    /// raise motion done with (seq, actual position).
+    pub done: Option<(u32, f64)>,
+    /// The state changed from this one.
+    pub state_from: Option<AxisState>,
+}
+
+/// One axis.
+#[derive(Debug, Clone, Copy)]
+pub struct Axis {
+    /// PLCopen state.
+    pub state: AxisState,
+    /// Active configuration.
+    pub config: AxisConfig,
+    motion: Motion,
+    servo: Ffpiv,
+    cmd: Reference,
+    cmd_jerk: f64,
+    target: f64,
+    act_pos: f64,
+    encoder: i64,
+    ferr: f64,
+    dac_v: f64,
+    faults: u32,
+    last_seq: u32,
+    motion_seq: u32,
+    move_count: u32,
+    settled_for: f64,
+    awaiting_done: bool,
+    stop_released: bool,
+    stats: MoveStats,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct MoveStats {
+    peak_vel: f64,
+    peak_acc: f64,
+    peak_dec: f64,
+    peak_jerk: f64,
+    max_ferr: f64,
+    planned_time: f64,
+    elapsed: f64,
+    move_time: f64,
+}
+
+impl Default for Axis {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Axis {
+    /// A disabled axis at position 0.
+    pub fn new() -> Self {
+        Self {
+            state: AxisState::Disabled,
+            config: AxisConfig::default(),
+            motion: Motion::Hold,
+            servo: Ffpiv::default(),
+            cmd: Reference {
+                pos: 0.0,
+                vel: 0.0,
+                acc: 0.0,
+            },
+            cmd_jerk: 0.0,
+            target: 0.0,
+            act_pos: 0.0,
+            encoder: 0,
+            ferr: 0.0,
+            dac_v: 0.0,
+            faults: 0,
+            last_seq: 0,
+            motion_seq: 0,
+            move_count: 0,
+            settled_for: 0.0,
+            awaiting_done: false,
+            stop_released: false,
+            stats: MoveStats::default(),
+        }
+    }
+
+    /// The commanded reference.
+    pub fn reference(&self) -> Reference {
+        self.cmd
+    }
+
+    /// Record the seq of an accepted command.
+    pub fn accepted(&mut self, seq: u32) {
+        self.last_seq = seq;
+    }
+
+    fn set_state(&mut self, s: AxisState, report: &mut Option<AxisState>) {
+        if self.state != s {
+            report.get_or_insert(self.state);
+            self.state = s;
+        }
+    }
+
+    /// MC_Power.
+    pub fn power(&mut self, on: bool) -> Result<Option<AxisState>, NackCode> {
+        let mut changed = None;
+        if on {
+            match self.state {
+                AxisState::Disabled => {
+                    self.cmd = Reference {
+                        pos: self.act_pos,
+                        vel: 0.0,
+                        acc: 0.0,
+                    };
+                    self.target = self.act_pos;
+                    self.servo.reset_integral();
+                    self.motion = Motion::Hold;
+                    self.set_state(AxisState::Standstill, &mut changed);
+                }
+                AxisState::ErrorStop => return Err(NackCode::InvalidState),
+                _ => {}
+            }
+        } else {
+            self.motion = Motion::Hold;
+            self.awaiting_done = false;
+            self.set_state(AxisState::Disabled, &mut changed);
+        }
+        Ok(changed)
+    }
+
+    /// The seq of the command whose motion is still waiting for its motion-done, if any: a new
+    /// motion command aborts it.
+    pub fn pending_motion(&self) -> Option<u32> {
+        self.awaiting_done.then_some(self.motion_seq)
+    }
+
+    fn check_can_move(&self) -> Result<(), NackCode> {
+        match self.state {
+            AxisState::Standstill => Ok(()),
+            AxisState::Disabled => Err(NackCode::AxisDisabled),
+            _ => Err(NackCode::InvalidState),
+        }
+    }
+
+    /// MC_MoveAbsolute (`relative = false`) or MC_MoveRelative: plan a rest-to-rest S-curve from
+    /// the commanded position.
+    pub fn start_move(
+        &mut self,
+        seq: u32,
+        target_or_distance: f64,
+        relative: bool,
+        limits: &Limits,
+    ) -> Result<Option<AxisState>, NackCode> {
+        self.check_can_move()?;
+        let start = self.cmd.pos;
+        let target = if relative {
+            start + target_or_distance
+        } else {
+            target_or_distance
+        };
+        if !target.is_finite() || target.abs() > crate::MAX_POSITION {
+            return Err(NackCode::OutOfRange);
+        }
+        let profile =
+            Profile::plan(start, target - start, 0.0, 0.0, limits).map_err(crate::plan_nack)?;
+        self.target = target;
+        self.begin_motion(seq, profile.duration());
+        self.motion = Motion::Profile { profile, t: 0.0 };
+        let mut changed = None;
+        self.set_state(AxisState::DiscreteMotion, &mut changed);
+        Ok(changed)
+    }
+
+    /// MC_Halt (`stop = false`) or MC_Stop: a jerk-limited stop from the current commanded state.
+    pub fn start_stop(
+        &mut self,
+        seq: u32,
+        stop: bool,
+        dmax: f64,
+        jerk: f64,
+    ) -> Result<Option<AxisState>, NackCode> {
+        match (self.state, stop) {
+            (AxisState::Disabled, _) => return Err(NackCode::AxisDisabled),
+            (AxisState::ErrorStop, _) => return Err(NackCode::InvalidState),
+            (AxisState::Stopping, false) => return Err(NackCode::InvalidState),
+            _ => {}
+        }
+        let mut changed = None;
+        let limits = Limits {
+            vmax: f64::MAX,
+            amax: dmax,
+            dmax,
+            j1: jerk,
+            j3: jerk,
+            j5: jerk,
+            j7: jerk,
+        };
+        let (v0, a0) = (self.cmd.vel, self.cmd.acc);
+        let profile = match Profile::stop(self.cmd.pos, v0, a0, &limits) {
+            // Late in a deceleration the remaining velocity is smaller than what the given jerk
+            // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
+            // the smallest jerk that stops without reversing (a stop never moves backwards).
+            Err(crate::scurve::PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
+                let j = (a0 * a0 / (2.0 * v0.abs())).max(jerk) * (1.0 + 1e-9);
+                let limits = Limits {
+                    j1: j,
+                    j3: j,
+                    j5: j,
+                    j7: j,
+                    ..limits
+                };
+                Profile::stop(self.cmd.pos, v0, a0, &limits).map_err(crate::plan_nack)?
+            }
+            r => r.map_err(crate::plan_nack)?,
+        };
+        self.target = profile.end_pos();
+        self.begin_motion(seq, profile.duration());
+        self.motion = Motion::Profile { profile, t: 0.0 };
+        if stop {
+            self.stop_released = false;
+            self.set_state(AxisState::Stopping, &mut changed);
+        }
+        Ok(changed)
+    }
+
+    fn begin_motion(&mut self, seq: u32, planned: f64) {
+        self.motion_seq = seq;
+        self.move_count = self.move_count.wrapping_add(1);
+        self.stats = MoveStats {
+            planned_time: planned,
+            ..Default::default()
+        };
+        self.awaiting_done = true;
+        self.settled_for = 0.0;
+    }
+
+    /// MC_Stop with Execute falling: leave Stopping once at rest.
+    pub fn release_stop(&mut self) -> Result<(), NackCode> {
+        if self.state != AxisState::Stopping {
+            return Err(NackCode::InvalidState);
+        }
+        self.stop_released = true;
+        Ok(())
+    }
+
+    /// MC_Reset: only from ErrorStop.
+    pub fn reset(&mut self) -> Result<Option<AxisState>, NackCode> {
+        if self.state != AxisState::ErrorStop {
+            return Err(NackCode::InvalidState);
+        }
+        let mut changed = None;
+        self.faults = 0;
+        self.cmd = Reference {
+            pos: self.act_pos,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        self.motion = Motion::Hold;
+        self.servo.reset_integral();
+        self.set_state(AxisState::Standstill, &mut changed);
+        Ok(changed)
+    }
+
+    /// One servo tick: sensors in, DAC volts out.
+    pub fn tick(&mut self, encoder: i64, ts: f64) -> (f64, TickReport) {
+        let mut report = TickReport::default();
+        self.encoder = encoder;
+        self.act_pos = encoder as f64;
+        let vel = self.servo.measure(encoder, &self.config.gains, ts);
+
+        if self.state == AxisState::Disabled || self.state == AxisState::ErrorStop {
+            // The commanded position follows the actual one, so enabling never jumps.
+            self.cmd = Reference {
+                pos: self.act_pos,
+                vel: 0.0,
+                acc: 0.0,
+            };
+            self.cmd_jerk = 0.0;
+            self.ferr = 0.0;
+            self.dac_v = 0.0;
+            self.faults &= !fault::DAC_SATURATED;
+            return (0.0, report);
+        }
+
+        // Profile generator.
+        if let Motion::Profile { profile, t } = &mut self.motion {
+            *t += ts;
+            let s = profile.sample(*t);
+            let prev_acc = self.cmd.acc;
+            self.cmd = Reference {
+                pos: s.pos,
+                vel: s.vel,
+                acc: s.acc,
+            };
+            self.cmd_jerk = (s.acc - prev_acc) / ts;
+            if *t >= profile.duration() {
+                self.cmd = Reference {
+                    pos: profile.end_pos(),
+                    vel: 0.0,
+                    acc: 0.0,
+                };
+                self.motion = Motion::Hold;
+            }
+        } else {
+            self.cmd_jerk = 0.0;
+        }
+        if self.state == AxisState::Stopping && self.motion == Motion::Hold && self.stop_released {
+            self.set_state(AxisState::Standstill, &mut report.state_from);
+        }
+
+        // Servo loop.
+        self.ferr = self.cmd.pos - self.act_pos;
+        let limit = self.config.dac_limit_v;
+        let u = self
+            .servo
+            .update(&self.cmd, self.act_pos, &self.config.gains, ts, limit);
+        let (volts, saturated) = crate::plant::Dac::output(u);
+        self.dac_v = volts;
+        if saturated || u.abs() >= limit {
+            self.faults |= fault::DAC_SATURATED;
+        } else {
+            self.faults &= !fault::DAC_SATURATED;
+        }
+
+        // Statistics and in-position.
+        if self.awaiting_done {
+            let st = &mut self.stats;
+            st.elapsed += ts;
+            st.peak_vel = st.peak_vel.max(self.cmd.vel.abs());
+            let dir = (self.target - self.cmd.pos).signum();
+            let along = self.cmd.acc
+                * if self.cmd.vel != 0.0 {
+                    self.cmd.vel.signum()
+                } else {
+                    dir
+                };
+            st.peak_acc = st.peak_acc.max(along);
+            st.peak_dec = st.peak_dec.max(-along);
+            st.peak_jerk = st.peak_jerk.max(self.cmd_jerk.abs());
+            st.max_ferr = st.max_ferr.max(self.ferr.abs());
+            let in_pos = self.motion == Motion::Hold
+                && (self.target - self.act_pos).abs() <= self.config.in_pos_window
+                && vel.abs() <= self.config.in_vel_window;
+            if in_pos {
+                self.settled_for += ts;
+                if self.settled_for + 1e-12 >= self.config.settle_time {
+                    self.awaiting_done = false;
+                    st.move_time = st.elapsed;
+                    report.done = Some((self.motion_seq, self.act_pos));
+                    if self.state == AxisState::DiscreteMotion {
+                        self.set_state(AxisState::Standstill, &mut report.state_from);
+                    }
+                }
+            } else {
+                self.settled_for = 0.0;
+            }
+        }
+        (volts, report)
+    }
+
+    /// The status block to publish.
+    pub fn status(&self, tick: u64) -> AxisStatus {
+        let st = &self.stats;
+        AxisStatus {
+            cmd_pos: self.cmd.pos,
+            cmd_vel: self.cmd.vel,
+            cmd_acc: self.cmd.acc,
+            act_pos: self.act_pos,
+            act_vel: self.servo.velocity(),
+            ferr: self.ferr,
+            dac_v: self.dac_v,
+            target: self.target,
+            state: self.state as u32,
+            faults: self.faults,
+            last_seq: self.last_seq,
+            move_count: self.move_count,
+            tick,
+            encoder: self.encoder,
+            peak_vel: st.peak_vel,
+            peak_acc: st.peak_acc,
+            peak_dec: st.peak_dec,
+            peak_jerk: st.peak_jerk,
+            max_ferr: st.max_ferr,
+            planned_time: st.planned_time,
+            move_time: st.move_time,
+        }
+    }
+}

@@ -1,0 +1,252 @@
+//! The emulated card: firmware + plant + interrupt line, and the clocks that drive it.
+//!
+//! One [`Emulator::step`] is one servo period: serve the command channel, read the encoders,
+//! run the firmware's control loop, hold the DAC outputs over the period while the plant
+//! evolves, raise the interrupt. Three clocks drive it:
+//! - **stepped**: whoever owns the emulator calls `step` (tests: identical on every machine);
+//! - **free-running**: a thread steps as fast as the CPU allows;
+//! - **real-time**: a thread steps on absolute deadlines of the servo period
+//!   (`clock_nanosleep(TIMER_ABSTIME)`), serving commands between ticks, optionally
+//!   busy-polling the command ring instead of sleeping (lowest command latency).
+
+use crate::firmware::Firmware;
+use crate::plant::{Motor, MotorParams};
+use crate::shm::MappedWindow;
+use firmware_proto::MAX_AXES;
+use nix::sys::eventfd::{EfdFlags, EventFd};
+use nix::time::{clock_gettime, clock_nanosleep, ClockId, ClockNanosleepFlags};
+use std::os::fd::{AsFd, BorrowedFd};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+/// How the card is built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EmuOptions {
+    /// Axes (1..=8).
+    pub axes: usize,
+    /// Servo rate, Hz (1,000..=20,000).
+    pub servo_rate_hz: u32,
+    /// The plant of every axis.
+    pub motor: MotorParams,
+}
+
+impl Default for EmuOptions {
+    fn default() -> Self {
+        Self {
+            axes: MAX_AXES,
+            servo_rate_hz: 10_000,
+            motor: MotorParams::default_servo(),
+        }
+    }
+}
+
+/// What drives the emulator's time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// The owner calls [`Emulator::step`].
+    Stepped,
+    /// A thread steps as fast as it can.
+    FreeRunning,
+    /// A thread steps on the servo period's absolute deadlines.
+    RealTime,
+}
+
+impl std::str::FromStr for Clock {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "stepped" => Ok(Clock::Stepped),
+            "free" | "free-running" => Ok(Clock::FreeRunning),
+            "realtime" | "real-time" => Ok(Clock::RealTime),
+            _ => Err(format!(
+                "unknown clock '{s}': expected stepped, free-running or realtime"
+            )),
+        }
+    }
+}
+
+/// The card: firmware, plant, interrupt line.
+pub struct Emulator {
+    window: Arc<MappedWindow>,
+    fw: Firmware<Arc<MappedWindow>>,
+    motors: [Motor; MAX_AXES],
+    dac: [f64; MAX_AXES],
+    irq: EventFd,
+    time: f64,
+}
+
+impl Emulator {
+    /// Boot a card in `window`.
+    pub fn new(window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
+        let irq = EventFd::from_value_and_flags(0, EfdFlags::EFD_CLOEXEC | EfdFlags::EFD_NONBLOCK)?;
+        let fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
+        Ok(Self {
+            window,
+            fw,
+            motors: [Motor::new(opts.motor); MAX_AXES],
+            dac: [0.0; MAX_AXES],
+            irq,
+            time: 0.0,
+        })
+    }
+
+    /// A card in a fresh memfd window.
+    pub fn create(name: &str, opts: &EmuOptions) -> std::io::Result<Self> {
+        Self::new(Arc::new(MappedWindow::create(name)?), opts)
+    }
+
+    /// Serve the command channel now (between ticks). Returns the commands served.
+    pub fn serve(&mut self) -> usize {
+        let n = self.fw.serve_commands();
+        self.raise_irq();
+        n
+    }
+
+    /// One servo period.
+    pub fn step(&mut self) {
+        self.fw.serve_commands();
+        let mut enc = [0i64; MAX_AXES];
+        for (e, m) in enc.iter_mut().zip(&self.motors) {
+            *e = m.encoder();
+        }
+        self.fw.tick(&enc, &mut self.dac);
+        let ts = self.fw.ts();
+        for (m, u) in self.motors.iter_mut().zip(self.dac) {
+            m.step(u, ts);
+        }
+        self.time += ts;
+        self.raise_irq();
+    }
+
+    /// `n` servo periods.
+    pub fn step_n(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    fn raise_irq(&mut self) {
+        if self.fw.take_irq() {
+            // A full counter (2^64 − 2 unread interrupts) cannot happen; nothing else fails.
+            let _ = self.irq.write(1);
+        }
+    }
+
+    /// Emulated time since boot, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The interrupt line: an eventfd that becomes readable when the card raises an interrupt.
+    pub fn irq_fd(&self) -> BorrowedFd<'_> {
+        self.irq.as_fd()
+    }
+
+    /// The DPRAM window.
+    pub fn window(&self) -> &Arc<MappedWindow> {
+        &self.window
+    }
+
+    /// The firmware.
+    pub fn firmware(&self) -> &Firmware<Arc<MappedWindow>> {
+        &self.fw
+    }
+
+    /// An axis's plant, to inspect or to inject faults and disturbances.
+    pub fn motor_mut(&mut self, axis: usize) -> Option<&mut Motor> {
+        self.motors.get_mut(axis)
+    }
+
+    /// An axis's plant.
+    pub fn motor(&self, axis: usize) -> Option<&Motor> {
+        self.motors.get(axis)
+    }
+}
+
+/// A thread driving an emulator on a free-running or real-time clock.
+pub struct Runner {
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<Emulator>>,
+}
+
+impl Runner {
+    /// Start driving `emu`. `busy_poll` keeps serving the command ring between real-time ticks
+    /// instead of sleeping.
+    pub fn spawn(mut emu: Emulator, clock: Clock, busy_poll: bool) -> std::io::Result<Self> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name("card-emu".into())
+            .spawn(move || {
+                match clock {
+                    Clock::Stepped => {}
+                    Clock::FreeRunning => {
+                        while !flag.load(Ordering::Relaxed) {
+                            emu.step();
+                        }
+                    }
+                    Clock::RealTime => run_realtime(&mut emu, &flag, busy_poll),
+                }
+                emu
+            })?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+        })
+    }
+
+    /// Stop the thread and take the emulator back.
+    pub fn stop(mut self) -> Option<Emulator> {
+        self.halt()
+    }
+
+    fn halt(&mut self) -> Option<Emulator> {
+        self.stop.store(true, Ordering::Relaxed);
+        self.thread.take().and_then(|t| t.join().ok())
+    }
+}
+
+impl Drop for Runner {
+    fn drop(&mut self) {
+        self.halt();
+    }
+}
+
+fn now_ns() -> i128 {
+    let t = clock_gettime(ClockId::CLOCK_MONOTONIC)
+        .unwrap_or_else(|_| nix::sys::time::TimeSpec::new(0, 0));
+    t.tv_sec() as i128 * 1_000_000_000 + t.tv_nsec() as i128
+}
+
+fn run_realtime(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
+    let mut period = 1_000_000_000i128 / emu.fw.servo_rate_hz() as i128;
+    let mut next = now_ns() + period;
+    while !stop.load(Ordering::Relaxed) {
+        emu.serve();
+        let now = now_ns();
+        if now >= next {
+            emu.step();
+            let p = 1_000_000_000i128 / emu.fw.servo_rate_hz() as i128;
+            if p != period || now - next > 100 * period {
+                // New servo rate, or the machine stalled us: restart the deadline grid.
+                period = p;
+                next = now + period;
+            } else {
+                next += period;
+            }
+        } else if busy_poll {
+            std::hint::spin_loop();
+        } else {
+            let ts = nix::sys::time::TimeSpec::new(
+                (next / 1_000_000_000) as _,
+                (next % 1_000_000_000) as _,
+            );
+            let _ = clock_nanosleep(
+                ClockId::CLOCK_MONOTONIC,
+                ClockNanosleepFlags::TIMER_ABSTIME,
+                &ts,
+            );
+        }
+    }
+}

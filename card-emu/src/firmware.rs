@@ -1,0 +1,397 @@
+//! The firmware: boot, the command manager and the control loop (Thinh Fig 6–7).
+//!
+//! It is pure and deterministic: [`Firmware::serve_commands`] reads the command ring and
+//! answers every command with exactly one ack or nack; [`Firmware::tick`] takes the encoder
+//! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
+//! count; nothing reads a clock, calls the OS, allocates or panics.
+
+use crate::axis::{Axis, AxisConfig};
+use crate::scurve::Limits;
+use crate::servo::FfpivGains;
+use firmware_proto::layout::{self, axis_config as ac};
+use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
+use firmware_proto::{
+    raw, seqlock, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES,
+};
+
+/// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
+pub const FW_VERSION: u32 = 1 << 16;
+
+/// Commands served per call of [`Firmware::serve_commands`], so a flood cannot starve the loop.
+pub const MAX_CMDS_PER_SERVE: usize = 16;
+
+/// Event slots kept free for asynchronous events: a command is only taken from the ring when
+/// its ack and this many events still fit, so acks are never lost.
+pub const EVENT_RESERVE: u32 = 4 * MAX_AXES as u32;
+
+/// The card's firmware over a DPRAM window `M`.
+pub struct Firmware<M: Mem + Clone> {
+    mem: M,
+    cmds: CmdConsumer<M>,
+    events: EvtProducer<M>,
+    axes: [Axis; MAX_AXES],
+    num_axes: usize,
+    servo_rate_hz: u32,
+    tick: u64,
+    irq_pending: bool,
+    events_lost: u32,
+    cmds_accepted: u32,
+}
+
+impl<M: Mem + Clone> Firmware<M> {
+    /// Initialise the window (identity, rings, status) and start.
+    pub fn boot(mem: M, num_axes: usize, servo_rate_hz: u32) -> Self {
+        let num_axes = num_axes.clamp(1, MAX_AXES);
+        let servo_rate_hz = servo_rate_hz.clamp(
+            firmware_proto::SERVO_RATE_MIN_HZ,
+            firmware_proto::SERVO_RATE_MAX_HZ,
+        );
+        mem.write32(layout::CARD_STATE, raw::MC_CARD_BOOTING);
+        for off in [
+            layout::CMD_HEAD,
+            layout::CMD_TAIL,
+            layout::EVT_HEAD,
+            layout::EVT_TAIL,
+        ] {
+            mem.write32(off, 0);
+        }
+        let mut fw = Self {
+            cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
+            events: EvtProducer::attach(mem.clone(), EVT_RING),
+            mem,
+            axes: [Axis::new(); MAX_AXES],
+            num_axes,
+            servo_rate_hz,
+            tick: 0,
+            irq_pending: false,
+            events_lost: 0,
+            cmds_accepted: 0,
+        };
+        let m = &fw.mem;
+        m.write32(layout::MAGIC, firmware_proto::MAGIC);
+        m.write32(
+            layout::LAYOUT,
+            firmware_proto::LAYOUT_MAJOR as u32 | (firmware_proto::LAYOUT_MINOR as u32) << 16,
+        );
+        m.write32(layout::FW_VERSION, FW_VERSION);
+        m.write32(
+            layout::CAPABILITIES,
+            raw::MC_CAP_SCURVE | raw::MC_CAP_FFPIV | raw::MC_CAP_EVENT_IRQ,
+        );
+        m.write32(layout::NUM_AXES, num_axes as u32);
+        m.write32(layout::SERVO_RATE_HZ, servo_rate_hz);
+        m.write32(layout::CMD_RING_LEN, CMD_RING.len);
+        m.write32(layout::EVT_RING_LEN, EVT_RING.len);
+        m.write32(layout::CARD_CONFIG_SERVO_RATE, servo_rate_hz);
+        for a in 0..MAX_AXES {
+            fw.write_axis_config(a, &AxisConfig::default());
+        }
+        fw.publish();
+        fw.mem.store32(
+            layout::CARD_STATE,
+            raw::MC_CARD_RUNNING,
+            std::sync::atomic::Ordering::Release,
+        );
+        fw
+    }
+
+    /// Sample time, s.
+    pub fn ts(&self) -> f64 {
+        1.0 / self.servo_rate_hz as f64
+    }
+
+    /// Servo rate, Hz.
+    pub fn servo_rate_hz(&self) -> u32 {
+        self.servo_rate_hz
+    }
+
+    /// Servo ticks since boot.
+    pub fn tick_count(&self) -> u64 {
+        self.tick
+    }
+
+    /// Axes on this card.
+    pub fn num_axes(&self) -> usize {
+        self.num_axes
+    }
+
+    /// One axis (for inspection by tests and benches).
+    pub fn axis(&self, i: usize) -> Option<&Axis> {
+        self.axes[..self.num_axes].get(i)
+    }
+
+    /// Was an interrupt raised since the last call? Clears the flag.
+    pub fn take_irq(&mut self) -> bool {
+        let raised = core::mem::take(&mut self.irq_pending);
+        if raised {
+            let n = self.mem.read32(layout::IRQ_COUNT).wrapping_add(1);
+            self.mem.write32(layout::IRQ_COUNT, n);
+        }
+        raised
+    }
+
+    /// The command manager: answer up to [`MAX_CMDS_PER_SERVE`] waiting commands. Returns how
+    /// many were served.
+    pub fn serve_commands(&mut self) -> usize {
+        let mut served = 0;
+        while served < MAX_CMDS_PER_SERVE {
+            // Never take a command whose ack might not fit.
+            match self.events.free() {
+                Ok(free) if free > EVENT_RESERVE => {}
+                _ => break,
+            }
+            let cmd: Command = match self.cmds.pop() {
+                Ok(Some(c)) => c,
+                Ok(None) => break,
+                Err(_) => {
+                    // The host's head is beyond anything it could have written: drop what is
+                    // there rather than act on garbage, and tell the host.
+                    self.cmds.resync();
+                    self.post(Event {
+                        seq: 0,
+                        kind: EventKind::Fault as u16,
+                        axis: 0xFFFF,
+                        code: NackCode::OutOfRange as i32,
+                        tick: self.tick,
+                        value: 0.0,
+                    });
+                    break;
+                }
+            };
+            served += 1;
+            self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
+            self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
+            let mut after: [Option<Event>; 2] = [None; 2];
+            let reply = match self.execute(&cmd, &mut after) {
+                Ok(()) => Event {
+                    seq: cmd.seq,
+                    kind: EventKind::Ack as u16,
+                    axis: cmd.axis,
+                    code: 0,
+                    tick: self.tick,
+                    value: 0.0,
+                },
+                Err(code) => Event {
+                    seq: cmd.seq,
+                    kind: EventKind::Nack as u16,
+                    axis: cmd.axis,
+                    code: code as i32,
+                    tick: self.tick,
+                    value: 0.0,
+                },
+            };
+            self.post(reply);
+            for e in after.into_iter().flatten() {
+                self.post(e);
+            }
+        }
+        if served > 0 {
+            self.publish();
+        }
+        served
+    }
+
+    fn execute(&mut self, c: &Command, after: &mut [Option<Event>; 2]) -> Result<(), NackCode> {
+        let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
+        let nargs = match op {
+            Opcode::MoveAbsolute | Opcode::MoveRelative => 8,
+            Opcode::Halt | Opcode::Stop => 2,
+            _ => 0,
+        };
+        if c.args[..nargs].iter().any(|a| !a.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        match op {
+            Opcode::Nop => return Ok(()),
+            Opcode::ApplyCardConfig => return self.apply_card_config(),
+            _ => {}
+        }
+        let ax = c.axis as usize;
+        if ax >= self.num_axes {
+            return Err(NackCode::BadAxis);
+        }
+        let tick = self.tick;
+        let pending = self.axes[ax].pending_motion();
+        if op == Opcode::ApplyAxisConfig {
+            self.axes[ax].config = read_axis_config(&self.mem, ax)?;
+        }
+        let axis = &mut self.axes[ax];
+        let changed = match op {
+            Opcode::PowerOn => axis.power(true)?,
+            Opcode::PowerOff => axis.power(false)?,
+            Opcode::MoveAbsolute | Opcode::MoveRelative => {
+                let a = &c.args;
+                let lim = Limits {
+                    vmax: a[1],
+                    amax: a[2],
+                    dmax: a[3],
+                    j1: a[4],
+                    j3: a[5],
+                    j5: a[6],
+                    j7: a[7],
+                };
+                if a[1..8].iter().any(|x| *x <= 0.0) {
+                    return Err(NackCode::NonPositiveLimit);
+                }
+                axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim)?
+            }
+            Opcode::Halt | Opcode::Stop => {
+                if c.args[0] <= 0.0 || c.args[1] <= 0.0 {
+                    return Err(NackCode::NonPositiveLimit);
+                }
+                axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1])?
+            }
+            Opcode::StopRelease => {
+                axis.release_stop()?;
+                None
+            }
+            Opcode::Reset => axis.reset()?,
+            Opcode::ApplyAxisConfig | Opcode::Nop | Opcode::ApplyCardConfig => None,
+        };
+        let axis = &mut self.axes[ax];
+        axis.accepted(c.seq);
+        // A motion command (or power off) ends the motion still waiting for its done.
+        if let Some(old) = pending {
+            if matches!(
+                op,
+                Opcode::MoveAbsolute
+                    | Opcode::MoveRelative
+                    | Opcode::Halt
+                    | Opcode::Stop
+                    | Opcode::PowerOff
+            ) && old != c.seq
+            {
+                after[0] = Some(Event {
+                    seq: old,
+                    kind: EventKind::MotionAborted as u16,
+                    axis: c.axis,
+                    code: op as i32,
+                    tick,
+                    value: 0.0,
+                });
+            }
+        }
+        if let Some(old) = changed {
+            after[1] = Some(state_event(c.axis, old, axis.state, tick));
+        }
+        Ok(())
+    }
+
+    fn apply_card_config(&mut self) -> Result<(), NackCode> {
+        let rate = self.mem.read32(layout::CARD_CONFIG_SERVO_RATE);
+        if !(firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ).contains(&rate)
+        {
+            return Err(NackCode::BadConfig);
+        }
+        if self.axes[..self.num_axes]
+            .iter()
+            .any(|a| a.state != AxisState::Disabled)
+        {
+            return Err(NackCode::AxesEnabled);
+        }
+        self.servo_rate_hz = rate;
+        self.mem.write32(layout::SERVO_RATE_HZ, rate);
+        Ok(())
+    }
+
+    fn write_axis_config(&self, a: usize, c: &AxisConfig) {
+        let m = &self.mem;
+        let f = |field: usize, v: f64| m.write_f64(layout::axis_config(a, field), v);
+        m.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_FFPIV);
+        f(ac::KP, c.gains.kp);
+        f(ac::KI, c.gains.ki);
+        f(ac::KV, c.gains.kv);
+        f(ac::KVFF, c.gains.kvff);
+        f(ac::KAFF, c.gains.kaff);
+        f(ac::VEL_FILTER_HZ, c.gains.vel_filter_hz);
+        f(ac::DAC_LIMIT_V, c.dac_limit_v);
+        f(ac::IN_POS_WINDOW, c.in_pos_window);
+        f(ac::IN_VEL_WINDOW, c.in_vel_window);
+        f(ac::SETTLE_TIME, c.settle_time);
+    }
+
+    fn post(&mut self, e: Event) {
+        if self.events.push(&e).is_err() {
+            self.events_lost = self.events_lost.wrapping_add(1);
+            self.mem.write32(layout::EVENTS_LOST, self.events_lost);
+            return;
+        }
+        let mask = self.mem.read32(layout::IRQ_MASK);
+        if e.kind < 32 && mask & (1 << e.kind) != 0 {
+            self.irq_pending = true;
+        }
+    }
+
+    /// The control loop: one servo tick. `encoders` are the counts of each axis; the DAC
+    /// voltages are written to `dac`.
+    pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
+        self.tick += 1;
+        let ts = self.ts();
+        for i in 0..self.num_axes {
+            let (volts, report) = self.axes[i].tick(encoders[i], ts);
+            dac[i] = volts;
+            let axis = i as u16;
+            if let Some((seq, pos)) = report.done {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::MotionDone as u16,
+                    axis,
+                    code: 0,
+                    tick: self.tick,
+                    value: pos,
+                });
+            }
+            if let Some(old) = report.state_from {
+                let e = state_event(axis, old, self.axes[i].state, self.tick);
+                self.post(e);
+            }
+        }
+        for d in dac[self.num_axes..].iter_mut() {
+            *d = 0.0;
+        }
+        self.publish();
+    }
+
+    /// Publish the tick counter and every axis's status.
+    fn publish(&mut self) {
+        self.mem.write64(layout::TICK, self.tick);
+        for i in 0..self.num_axes {
+            seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
+        }
+    }
+}
+
+fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
+    Event {
+        seq: 0,
+        kind: EventKind::StateChanged as u16,
+        axis,
+        code: new as i32,
+        tick,
+        value: old as u32 as f64,
+    }
+}
+
+/// Read and validate an axis configuration block written by the host.
+fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
+    let f = |field: usize| m.read_f64(layout::axis_config(a, field));
+    if m.read32(layout::axis_config(a, ac::SERVO_LAW)) != raw::MC_SERVO_FFPIV {
+        return Err(NackCode::BadConfig);
+    }
+    let cfg = AxisConfig {
+        gains: FfpivGains {
+            kp: f(ac::KP),
+            ki: f(ac::KI),
+            kv: f(ac::KV),
+            kvff: f(ac::KVFF),
+            kaff: f(ac::KAFF),
+            vel_filter_hz: f(ac::VEL_FILTER_HZ),
+        },
+        dac_limit_v: f(ac::DAC_LIMIT_V),
+        in_pos_window: f(ac::IN_POS_WINDOW),
+        in_vel_window: f(ac::IN_VEL_WINDOW),
+        settle_time: f(ac::SETTLE_TIME),
+    };
+    cfg.validate()?;
+    Ok(cfg)
+}

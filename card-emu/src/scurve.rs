@@ -1,0 +1,1401 @@
+//! Jerk-limited 7-segment S-curve motion planner (units: counts and seconds, `f64`).
+//!
+//! The profile follows the classic 7-phase constant-jerk S-curve of Thinh 2014 eq 1-28:
+//!
+//! | phase | jerk  | what happens                                   |
+//! |-------|-------|------------------------------------------------|
+//! | 1     | `+J1` | acceleration rises to `Am`                     |
+//! | 2     | `0`   | constant acceleration `Am`                     |
+//! | 3     | `-J3` | acceleration falls back to 0 (peak speed `vp`) |
+//! | 4     | `0`   | cruise at `vp`                                 |
+//! | 5     | `-J5` | deceleration builds to `-Dm`                   |
+//! | 6     | `0`   | constant deceleration `-Dm`                    |
+//! | 7     | `+J7` | deceleration falls back to 0                   |
+//!
+//! Each phase `k` is described by four closed-form equations (jerk, acceleration, velocity,
+//! position); this module numbers them `4k-3 .. 4k` (eq 1-4 for phase 1, ..., eq 25-28 for
+//! phase 7), which is what the `// Thinh eq N` comments in [`Profile::sample`] refer to.
+//!
+//! Acceleration and deceleration have separate limits (`amax`, `dmax`) and every ramp has its
+//! own jerk limit (`j1`, `j3`, `j5`, `j7`).
+//!
+//! ## Method
+//! * All planning happens in a "motion frame" in which the move goes in the positive
+//!   direction; a negative distance is mirrored (`dir = -1`).
+//! * A velocity ramp `vs -> vp` reaches its acceleration limit `A` only if
+//!   `vp - vs >= A^2/2 (1/ja + 1/jb)`; otherwise it is triangular with peak
+//!   `a_p = sqrt(2 (vp - vs) / (1/ja + 1/jb))`.
+//! * The peak speed `vp` is the largest `vp <= vmax` with
+//!   `S_acc(vp) + S_dec(vp) <= |d|`.  `S_acc + S_dec` is strictly increasing in `vp`, and its
+//!   regime only changes at the two saturation speeds, so the root is first bracketed between
+//!   those breakpoints.  Inside a bracket the root is obtained in closed form when possible
+//!   (both ramps saturated: a quadratic; both triangular from/to rest: `S ∝ vp^(3/2)`), and
+//!   is then polished (or, in the mixed regimes, found) by a bracketed Newton iteration with
+//!   bisection fallback, down to the last ulp, rounded so that the distance is never exceeded.
+//! * The cruise duration is finally recomputed from the integrated end position, so the
+//!   profile ends at `p0 + d` to rounding error; durations are never negative.
+//! * Nothing allocates; all state lives in fixed-size arrays and no function panics.
+#![forbid(unsafe_code)]
+
+use core::fmt;
+
+/// Kinematic limits. All values must be finite and strictly positive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Maximum speed (counts/s).
+    pub vmax: f64,
+    /// Maximum acceleration in the direction of motion (counts/s^2).
+    pub amax: f64,
+    /// Maximum deceleration (counts/s^2).
+    pub dmax: f64,
+    /// Jerk limit of phase 1 (acceleration build-up), counts/s^3.
+    pub j1: f64,
+    /// Jerk limit of phase 3 (acceleration ramp-down).
+    pub j3: f64,
+    /// Jerk limit of phase 5 (deceleration build-up).
+    pub j5: f64,
+    /// Jerk limit of phase 7 (deceleration ramp-down).
+    pub j7: f64,
+}
+
+impl Limits {
+    /// Limits with `dmax = amax` and all four jerk limits equal to `jmax`.
+    pub fn symmetric(vmax: f64, amax: f64, jmax: f64) -> Self {
+        Limits {
+            vmax,
+            amax,
+            dmax: amax,
+            j1: jmax,
+            j3: jmax,
+            j5: jmax,
+            j7: jmax,
+        }
+    }
+
+    /// `Err(NonFinite)` if any limit is NaN/inf, `Err(NonPositiveLimit)` if any is `<= 0`.
+    pub fn validate(&self) -> Result<(), PlanError> {
+        let all = [
+            self.vmax, self.amax, self.dmax, self.j1, self.j3, self.j5, self.j7,
+        ];
+        if all.iter().any(|x| !x.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        if all.iter().any(|&x| x <= 0.0) {
+            return Err(PlanError::NonPositiveLimit);
+        }
+        Ok(())
+    }
+}
+
+/// Planning failure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlanError {
+    /// An input or limit is NaN or infinite, or the plan overflowed `f64`.
+    NonFinite,
+    /// A limit is zero or negative.
+    NonPositiveLimit,
+    /// No 7-phase profile satisfies the request (e.g. the end velocity cannot be reached within
+    /// the distance, a velocity is negative or `v1 > vmax`, or a stop would have to reverse).
+    Infeasible,
+    /// `v0 > vmax`.
+    StartVelocityTooHigh,
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = match self {
+            PlanError::NonFinite => "non-finite input or result",
+            PlanError::NonPositiveLimit => "limit is zero or negative",
+            PlanError::Infeasible => "no feasible profile",
+            PlanError::StartVelocityTooHigh => "start velocity exceeds vmax",
+        };
+        f.write_str(s)
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// Kinematic state (world frame, signed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State {
+    pub pos: f64,
+    pub vel: f64,
+    pub acc: f64,
+    pub jerk: f64,
+}
+
+/// A planned profile of 7 constant-jerk segments.
+///
+/// Internally everything is stored in the motion frame (`dir * world`), relative to `p0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Profile {
+    /// World start position.
+    p0: f64,
+    /// +1 or -1: world = p0 + dir * frame.
+    dir: f64,
+    /// Segment durations (s).
+    dur: [f64; 7],
+    /// Segment jerks (motion frame).
+    jerk: [f64; 7],
+    /// Segment start times; `t0[7]` is the total duration.
+    t0: [f64; 8],
+    /// Segment start states in the motion frame (position relative to `p0`).
+    x: [f64; 7],
+    v: [f64; 7],
+    a: [f64; 7],
+    /// World state returned for `t >= duration`.
+    end: State,
+}
+
+/// Segment description in the motion frame; `acc_after[i]` is the exact acceleration at the
+/// end of segment `i` (used to remove rounding drift at the segment boundaries).
+#[derive(Clone, Copy, Debug)]
+struct Segs {
+    dur: [f64; 7],
+    jerk: [f64; 7],
+    acc_after: [f64; 7],
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Integrated {
+    x: [f64; 7],
+    v: [f64; 7],
+    a: [f64; 7],
+    x_end: f64,
+}
+
+/// Exact piecewise-cubic integration of the segments from (x = 0, v0, a0).
+fn integrate(v0: f64, a0: f64, s: &Segs) -> Integrated {
+    let mut out = Integrated {
+        x: [0.0; 7],
+        v: [0.0; 7],
+        a: [0.0; 7],
+        x_end: 0.0,
+    };
+    let (mut x, mut v, mut a) = (0.0, v0, a0);
+    for i in 0..7 {
+        out.x[i] = x;
+        out.v[i] = v;
+        out.a[i] = a;
+        let t = s.dur[i];
+        let j = s.jerk[i];
+        x += t * (v + t * (0.5 * a + t * j / 6.0));
+        v += t * (a + 0.5 * j * t);
+        if t > 0.0 {
+            a = s.acc_after[i];
+        }
+    }
+    out.x_end = x;
+    out
+}
+
+/// One velocity ramp of height `dv >= 0`: jerk `ja` up to peak acceleration, optional
+/// plateau at `amax`, jerk `jb` back down.  Returns `([t_up, t_plateau, t_down], peak)`.
+fn ramp(dv: f64, amax: f64, ja: f64, jb: f64) -> ([f64; 3], f64) {
+    let dv = if dv > 0.0 { dv } else { 0.0 };
+    let half_k = 0.5 / ja + 0.5 / jb;
+    let dv_sat = amax * amax * half_k;
+    if dv >= dv_sat {
+        ([amax / ja, (dv - dv_sat) / amax, amax / jb], amax)
+    } else {
+        let peak = (dv / half_k).sqrt().min(amax);
+        ([peak / ja, 0.0, peak / jb], peak)
+    }
+}
+
+/// Derivative of a ramp's distance with respect to its end speed `vp`
+/// (`vs` = start speed, `dv = vp - vs`).
+fn ramp_distance_slope(vs: f64, dv: f64, amax: f64, ja: f64, jb: f64) -> f64 {
+    let half_k = 0.5 / ja + 0.5 / jb;
+    if dv >= amax * amax * half_k {
+        // S = (vp^2 + vp amax^2/jb)/(2 amax) + const
+        (vs + dv) / amax + 0.5 * amax / jb
+    } else {
+        // S = vs a_p k + c a_p^3,  vp = vs + a_p^2 k / 2
+        let ap = (dv.max(0.0) / half_k).sqrt();
+        if ap <= 0.0 {
+            return f64::INFINITY;
+        }
+        let k = 2.0 * half_k;
+        let c = 1.0 / (6.0 * ja * ja) + 0.5 / (ja * jb) + 1.0 / (3.0 * jb * jb);
+        (vs * k + 3.0 * c * ap * ap) / (ap * k)
+    }
+}
+
+/// Point-to-point problem in the motion frame.
+struct Move {
+    v0: f64,
+    v1: f64,
+    lim: Limits,
+}
+
+impl Move {
+    fn segs(&self, vp: f64) -> Segs {
+        let l = &self.lim;
+        let (ta, ap) = ramp(vp - self.v0, l.amax, l.j1, l.j3);
+        // Deceleration vp -> v1 is the time reverse of a ramp v1 -> vp whose rising jerk is j7.
+        let (td, dp) = ramp(vp - self.v1, l.dmax, l.j7, l.j5);
+        Segs {
+            dur: [ta[0], ta[1], ta[2], 0.0, td[2], td[1], td[0]],
+            jerk: [l.j1, 0.0, -l.j3, 0.0, -l.j5, 0.0, l.j7],
+            acc_after: [ap, ap, 0.0, 0.0, -dp, -dp, 0.0],
+        }
+    }
+
+    /// Distance covered without cruise when peaking at `vp`.
+    fn dist(&self, vp: f64) -> f64 {
+        integrate(self.v0, 0.0, &self.segs(vp)).x_end
+    }
+
+    fn slope(&self, vp: f64) -> f64 {
+        let l = &self.lim;
+        ramp_distance_slope(self.v0, vp - self.v0, l.amax, l.j1, l.j3)
+            + ramp_distance_slope(self.v1, vp - self.v1, l.dmax, l.j7, l.j5)
+    }
+
+    /// Largest `vp` in `[max(v0, v1), vmax]` with `dist(vp) <= target`.
+    fn solve_vp(&self, target: f64) -> Result<f64, PlanError> {
+        let l = &self.lim;
+        let vlo = self.v0.max(self.v1);
+        let f_lo = self.dist(vlo);
+        if f_lo > target || f_lo.is_nan() {
+            // Accept pure rounding-level overshoot; anything else cannot be done.
+            if f_lo - target <= 1e-12 * f_lo {
+                return Ok(vlo);
+            }
+            return Err(if f_lo.is_finite() {
+                PlanError::Infeasible
+            } else {
+                PlanError::NonFinite
+            });
+        }
+        if self.dist(l.vmax) <= target {
+            return Ok(l.vmax);
+        }
+        let (mut lo, mut hi) = (vlo, l.vmax);
+        // Bracket the root between the saturation speeds so the regime is fixed inside.
+        let ba = self.v0 + l.amax * l.amax * (0.5 / l.j1 + 0.5 / l.j3);
+        let bd = self.v1 + l.dmax * l.dmax * (0.5 / l.j5 + 0.5 / l.j7);
+        let (b1, b2) = if ba <= bd { (ba, bd) } else { (bd, ba) };
+        for b in [b1, b2] {
+            if b > lo && b < hi {
+                if self.dist(b) <= target {
+                    lo = b;
+                } else {
+                    hi = b;
+                    break;
+                }
+            }
+        }
+        let guess = if lo >= ba && lo >= bd {
+            // Both ramps saturated: dist is exactly quadratic in vp.
+            let r = target - self.dist(lo);
+            let qa = 0.5 / l.amax + 0.5 / l.dmax;
+            let qb = self.slope(lo);
+            lo + 2.0 * r / (qb + (qb * qb + 4.0 * qa * r).sqrt())
+        } else if hi <= ba && hi <= bd && self.v0 == 0.0 && self.v1 == 0.0 {
+            // Both ramps triangular from/to rest: dist = c * vp^(3/2).
+            let q = target / self.dist(hi);
+            hi * (q * q).cbrt()
+        } else {
+            0.5 * (lo + hi)
+        };
+        let mut x = if guess > lo && guess < hi {
+            guess
+        } else {
+            0.5 * (lo + hi)
+        };
+        for _ in 0..200 {
+            let g = self.dist(x) - target;
+            if g == 0.0 {
+                return Ok(x);
+            }
+            if g < 0.0 {
+                lo = x;
+            } else {
+                hi = x;
+            }
+            let mut nx = x - g / self.slope(x);
+            if !(nx > lo && nx < hi) {
+                nx = lo + 0.5 * (hi - lo);
+                if !(nx > lo && nx < hi) {
+                    break; // bracket collapsed to adjacent floats
+                }
+            }
+            let converged = (nx - x).abs() <= 4.0 * f64::EPSILON * x.abs();
+            x = nx;
+            if converged {
+                break;
+            }
+        }
+        // Round down to a speed whose distance does not exceed the target.
+        let mut y = x;
+        for _ in 0..16 {
+            if y <= lo {
+                break;
+            }
+            if self.dist(y) <= target {
+                return Ok(y);
+            }
+            y = y.next_down();
+        }
+        Ok(lo)
+    }
+}
+
+impl Profile {
+    fn build(
+        p0: f64,
+        dir: f64,
+        v0: f64,
+        a0: f64,
+        segs: &Segs,
+        end: State,
+    ) -> Result<Profile, PlanError> {
+        let it = integrate(v0, a0, segs);
+        let mut t0 = [0.0; 8];
+        for i in 0..7 {
+            t0[i + 1] = t0[i] + segs.dur[i];
+        }
+        let finite = segs.dur.iter().all(|t| t.is_finite() && *t >= 0.0)
+            && t0[7].is_finite()
+            && it
+                .x
+                .iter()
+                .chain(it.v.iter())
+                .chain(it.a.iter())
+                .all(|q| q.is_finite())
+            && it.x_end.is_finite()
+            && end.pos.is_finite()
+            && end.vel.is_finite();
+        if !finite {
+            return Err(PlanError::NonFinite);
+        }
+        Ok(Profile {
+            p0,
+            dir,
+            dur: segs.dur,
+            jerk: segs.jerk,
+            t0,
+            x: it.x,
+            v: it.v,
+            a: it.a,
+            end,
+        })
+    }
+
+    /// Time-optimal (for `v0 = v1 = 0`) point-to-point move from `p0` by signed distance `d`.
+    ///
+    /// `v0`, `v1` are speeds along the direction of motion (`0 <= v <= vmax`); the profile
+    /// starts and ends with zero acceleration.  Among 7-phase profiles the one with the largest
+    /// feasible peak speed `vp >= max(v0, v1)` is returned; `Infeasible` if even
+    /// `vp = max(v0, v1)` needs more than `|d|`.
+    pub fn plan(p0: f64, d: f64, v0: f64, v1: f64, lim: &Limits) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && d.is_finite() && v0.is_finite() && v1.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.validate()?;
+        if v0 > lim.vmax {
+            return Err(PlanError::StartVelocityTooHigh);
+        }
+        if v0 < 0.0 || v1 < 0.0 || v1 > lim.vmax {
+            return Err(PlanError::Infeasible);
+        }
+        let dir = if d < 0.0 { -1.0 } else { 1.0 };
+        let dist = d.abs();
+        let mv = Move { v0, v1, lim: *lim };
+        let vp = mv.solve_vp(dist)?;
+        let mut segs = mv.segs(vp);
+        // Close the position exactly with the cruise phase (never negative).
+        let first = integrate(v0, 0.0, &segs);
+        let vc = first.v[3];
+        let resid = dist - first.x_end;
+        if resid > 0.0 && vc > 0.0 {
+            segs.dur[3] = resid / vc;
+        }
+        let end = State {
+            pos: p0 + d,
+            vel: dir * v1,
+            acc: 0.0,
+            jerk: 0.0,
+        };
+        Profile::build(p0, dir, v0, 0.0, &segs, end)
+    }
+
+    /// Jerk-limited stop from `(p0, v0, a0)` to rest.
+    ///
+    /// Segment slots used (motion frame, where the velocity is `>= 0`):
+    /// * slot 3 (`-j3`): a positive acceleration is first brought to zero;
+    /// * slot 5: `-j5` builds deceleration, or `+j7` if the initial deceleration exceeds
+    ///   `dmax` and must first be reduced to `dmax`;
+    /// * slot 6: constant deceleration `dmax` (if reached); slot 7 (`+j7`) back to zero.
+    ///
+    /// If the current deceleration is so large that even ramping it out at `j7` would drive
+    /// the velocity through zero (`v0 < a0^2 / (2 j7)`), the state cannot be stopped without
+    /// reversing and `Infeasible` is returned.
+    pub fn stop(p0: f64, v0: f64, a0: f64, lim: &Limits) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && v0.is_finite() && a0.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.validate()?;
+        let dir = if v0 > 0.0 || (v0 == 0.0 && a0 >= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let v = v0.abs();
+        let a = dir * a0;
+        let dm = lim.dmax;
+        let mut segs = Segs {
+            dur: [0.0; 7],
+            jerk: [lim.j1, 0.0, -lim.j3, 0.0, -lim.j5, 0.0, lim.j7],
+            acc_after: [0.0; 7],
+        };
+        let (vc, ad) = if a > 0.0 {
+            segs.dur[2] = a / lim.j3;
+            (v + 0.5 * a * a / lim.j3, 0.0)
+        } else {
+            (v, -a)
+        };
+        let vmin = 0.5 * ad * ad / lim.j7;
+        if vc < vmin && vmin - vc > 1e-12 * vmin {
+            return Err(PlanError::Infeasible);
+        }
+        if ad > dm {
+            // Reduce the excess deceleration at the phase-7 jerk limit, then hold and ramp out.
+            segs.jerk[4] = lim.j7;
+            segs.dur[4] = (ad - dm) / lim.j7;
+            let v_after = vc - 0.5 * (ad - dm) * (ad + dm) / lim.j7;
+            segs.dur[5] = ((v_after - 0.5 * dm * dm / lim.j7) / dm).max(0.0);
+            segs.dur[6] = dm / lim.j7;
+            segs.acc_after[4] = -dm;
+            segs.acc_after[5] = -dm;
+        } else {
+            let v_sat = 0.5 * (dm - ad) * (dm + ad) / lim.j5 + 0.5 * dm * dm / lim.j7;
+            let (peak, rise) = if vc >= v_sat {
+                segs.dur[5] = (vc - v_sat) / dm;
+                (dm, dm - ad)
+            } else {
+                // Solve for the decel increase r = peak - ad directly (stable even when
+                // ad^2/j5 >> vc):  q r^2 + 2 q ad r - (vc - ad^2/(2 j7)) = 0,
+                // q = 1/(2 j5) + 1/(2 j7).
+                let q = 0.5 / lim.j5 + 0.5 / lim.j7;
+                let qb = 2.0 * q * ad;
+                let c = (vc - vmin).max(0.0);
+                let r = 2.0 * c / (qb + (qb * qb + 4.0 * q * c).sqrt());
+                let r = if r > 0.0 { r.min(dm - ad) } else { 0.0 };
+                (ad + r, r)
+            };
+            segs.dur[4] = rise / lim.j5;
+            segs.dur[6] = peak / lim.j7;
+            segs.acc_after[4] = -peak;
+            segs.acc_after[5] = -peak;
+        }
+        let it = integrate(v, a, &segs);
+        let end = State {
+            pos: p0 + dir * it.x_end,
+            vel: 0.0,
+            acc: 0.0,
+            jerk: 0.0,
+        };
+        Profile::build(p0, dir, v, a, &segs, end)
+    }
+
+    /// The seven segment durations (s).
+    pub fn phases(&self) -> [f64; 7] {
+        self.dur
+    }
+
+    /// Total duration (s).
+    pub fn duration(&self) -> f64 {
+        self.t0[7]
+    }
+
+    /// Final position.
+    pub fn end_pos(&self) -> f64 {
+        self.end.pos
+    }
+
+    /// Closed-form state at time `t` (clamped to `[0, duration]`; NaN counts as 0).
+    /// For `t >= duration` the exact final state is returned (rest for rest-to-rest moves).
+    pub fn sample(&self, t: f64) -> State {
+        let t = if t > 0.0 { t } else { 0.0 };
+        if t >= self.t0[7] {
+            return self.end;
+        }
+        let mut i = 0;
+        while i < 6 && t >= self.t0[i + 1] {
+            i += 1;
+        }
+        let tau = t - self.t0[i];
+        let (x0, v0, a0) = (self.x[i], self.v[i], self.a[i]);
+        // Segment i is phase k = i + 1 of Thinh 2014 and uses eq 4k-3 .. 4k, e.g. phase 1
+        // (eq 1-4): j = J1, a = J1 t, v = v0 + J1 t^2/2, s = v0 t + J1 t^3/6; phase 2 (eq 5-8):
+        // j = 0, a = Am, ...; phase 7 (eq 25-28): j = J7, a = -Dm + J7 t, ...  The start values
+        // (x0, v0, a0) are the end values of the previous phase, precomputed at plan time.
+        let jerk = self.jerk[i]; // Thinh eq 1, 5, 9, 13, 17, 21, 25 (jerk of phase k)
+        let acc = a0 + jerk * tau; // Thinh eq 2, 6, 10, 14, 18, 22, 26 (acceleration)
+        let vel = v0 + tau * (a0 + 0.5 * jerk * tau); // Thinh eq 3, 7, 11, 15, 19, 23, 27 (velocity)
+        let pos = x0 + tau * (v0 + tau * (0.5 * a0 + tau * jerk / 6.0)); // Thinh eq 4, 8, ..., 28 (position)
+        State {
+            pos: self.p0 + self.dir * pos,
+            vel: self.dir * vel,
+            acc: self.dir * acc,
+            jerk: self.dir * jerk,
+        }
+    }
+
+    /// Largest speed reached (magnitude).
+    pub fn peak_velocity(&self) -> f64 {
+        let mut m = self.end.vel.abs();
+        for i in 0..7 {
+            let (v, a, j, t) = (self.v[i], self.a[i], self.jerk[i], self.dur[i]);
+            m = m.max(v.abs());
+            if j != 0.0 {
+                let tau = -a / j;
+                if tau > 0.0 && tau < t {
+                    m = m.max((v + tau * (a + 0.5 * j * tau)).abs());
+                }
+            }
+        }
+        m
+    }
+
+    /// Largest acceleration in the direction of motion (>= 0).
+    pub fn peak_acceleration(&self) -> f64 {
+        self.acc_extreme(1.0)
+    }
+
+    /// Largest deceleration, i.e. acceleration against the direction of motion (>= 0).
+    pub fn peak_deceleration(&self) -> f64 {
+        self.acc_extreme(-1.0)
+    }
+
+    fn acc_extreme(&self, sign: f64) -> f64 {
+        let mut m: f64 = 0.0;
+        for i in 0..7 {
+            if self.dur[i] > 0.0 {
+                let a = self.a[i];
+                let b = a + self.jerk[i] * self.dur[i];
+                m = m.max(sign * a).max(sign * b);
+            }
+        }
+        m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64* — tiny deterministic RNG.
+    struct Rng(u64);
+
+    impl Rng {
+        fn new(seed: u64) -> Self {
+            Rng(seed | 1)
+        }
+        fn next_u64(&mut self) -> u64 {
+            let mut x = self.0;
+            x ^= x >> 12;
+            x ^= x << 25;
+            x ^= x >> 27;
+            self.0 = x;
+            x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+        fn unit(&mut self) -> f64 {
+            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.unit()
+        }
+        fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
+        }
+        fn chance(&mut self, p: f64) -> bool {
+            self.unit() < p
+        }
+        fn sign(&mut self) -> f64 {
+            if self.chance(0.5) {
+                1.0
+            } else {
+                -1.0
+            }
+        }
+    }
+
+    fn random_limits(rng: &mut Rng) -> Limits {
+        let vmax = rng.log_uniform(1e-2, 1e5);
+        let amax = rng.log_uniform(1e-1, 1e6);
+        let dmax = if rng.chance(0.25) {
+            amax
+        } else {
+            rng.log_uniform(1e-1, 1e6)
+        };
+        if rng.chance(0.25) {
+            let j = rng.log_uniform(1.0, 1e9);
+            Limits {
+                vmax,
+                amax,
+                dmax,
+                j1: j,
+                j3: j,
+                j5: j,
+                j7: j,
+            }
+        } else {
+            Limits {
+                vmax,
+                amax,
+                dmax,
+                j1: rng.log_uniform(1.0, 1e9),
+                j3: rng.log_uniform(1.0, 1e9),
+                j5: rng.log_uniform(1.0, 1e9),
+                j7: rng.log_uniform(1.0, 1e9),
+            }
+        }
+    }
+
+    // ---------------------------------------------------------------------------------------
+    // Independent reference model (written separately from the planner's formulas).
+    //
+    // A ramp of speed change dv has acceleration magnitude a(t) = min(ja t, ap, jb (T - t)),
+    // and the distance it contributes beyond the start speed is  ∫_0^T (T - t) a(t) dt,
+    // evaluated with Simpson's rule on each of the three pieces (exact: the integrand is a
+    // quadratic on each piece).
+    // ---------------------------------------------------------------------------------------
+
+    /// Returns (T, peak, ∫_0^T (T - t) a(t) dt).
+    fn ref_ramp(dv: f64, amax: f64, ja: f64, jb: f64) -> (f64, f64, f64) {
+        if dv <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let h = 0.5 / ja + 0.5 / jb;
+        let ap = if dv >= amax * amax * h {
+            amax
+        } else {
+            (dv / h).sqrt()
+        };
+        let plateau = ((dv - ap * ap * h) / ap).max(0.0);
+        let (ta, tb) = (ap / ja, ap / jb);
+        let total = ta + plateau + tb;
+        let g = |t: f64| (total - t) * (ja * t).min(ap).min(jb * (total - t)).max(0.0);
+        let simpson = |p: f64, q: f64| (q - p) / 6.0 * (g(p) + 4.0 * g(0.5 * (p + q)) + g(q));
+        let m = simpson(0.0, ta) + simpson(ta, ta + plateau) + simpson(ta + plateau, total);
+        (total, ap, m)
+    }
+
+    /// (time without cruise, distance) for peak speed vp.
+    fn ref_dist(v0: f64, v1: f64, vp: f64, l: &Limits) -> (f64, f64) {
+        let (ta, _, ma) = ref_ramp(vp - v0, l.amax, l.j1, l.j3);
+        // deceleration magnitude d(t) = min(j5 t, dp, j7 (T - t)); v = vp - ∫ d
+        let (td, _, md) = ref_ramp(vp - v1, l.dmax, l.j5, l.j7);
+        (ta + td, v0 * ta + ma + vp * td - md)
+    }
+
+    /// Minimum time by bisection on vp (to f64 convergence).  None if infeasible.
+    fn ref_min_time(v0: f64, v1: f64, dist: f64, l: &Limits) -> Option<(f64, f64)> {
+        let vlo = v0.max(v1);
+        if ref_dist(v0, v1, vlo, l).1 > dist {
+            return None;
+        }
+        let vp = if ref_dist(v0, v1, l.vmax, l).1 <= dist {
+            l.vmax
+        } else {
+            let (mut lo, mut hi) = (vlo, l.vmax);
+            for _ in 0..3000 {
+                let mid = 0.5 * (lo + hi);
+                if !(mid > lo && mid < hi) {
+                    break;
+                }
+                if ref_dist(v0, v1, mid, l).1 <= dist {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
+        };
+        let (t, s) = ref_dist(v0, v1, vp, l);
+        let cruise = if vp > 0.0 {
+            (dist - s).max(0.0) / vp
+        } else {
+            0.0
+        };
+        Some((t + cruise, vp))
+    }
+
+    /// Distance drawn so that every regime (triangular / saturated on each side, with and
+    /// without cruise, tiny, huge) is exercised.
+    fn random_distance(rng: &mut Rng, v0: f64, v1: f64, l: &Limits) -> f64 {
+        let vlo = v0.max(v1);
+        let mag = match rng.next_u64() % 8 {
+            0 => rng.log_uniform(1e-9, 1e-3),
+            1 => rng.log_uniform(1.0, 1e12),
+            2 => ref_dist(v0, v1, l.vmax, l).1 * rng.log_uniform(1.0, 1e3),
+            _ => {
+                let lo = (l.vmax * 1e-7).max(vlo);
+                let vp = if lo < l.vmax {
+                    rng.log_uniform(lo, l.vmax)
+                } else {
+                    l.vmax
+                };
+                ref_dist(v0, v1, vp, l).1
+            }
+        };
+        rng.sign() * mag
+    }
+
+    fn segment_of(p: &Profile, t: f64) -> usize {
+        (0..7).find(|&i| t < p.t0[i + 1]).unwrap_or(7)
+    }
+
+    /// Worst values seen by a check.
+    #[derive(Default, Clone, Copy, Debug)]
+    struct Worst {
+        limit_excess: f64,
+        end_pos_err: f64,
+        continuity_err: f64,
+    }
+
+    impl Worst {
+        fn merge(&mut self, o: Worst) {
+            self.limit_excess = self.limit_excess.max(o.limit_excess);
+            self.end_pos_err = self.end_pos_err.max(o.end_pos_err);
+            self.continuity_err = self.continuity_err.max(o.continuity_err);
+        }
+    }
+
+    /// Test-side exact cubic extrapolation of a state by tau.
+    fn extrapolate(s: State, tau: f64) -> State {
+        State {
+            pos: s.pos + s.vel * tau + 0.5 * s.acc * tau * tau + s.jerk * tau * tau * tau / 6.0,
+            vel: s.vel + s.acc * tau + 0.5 * s.jerk * tau * tau,
+            acc: s.acc + s.jerk * tau,
+            jerk: s.jerk,
+        }
+    }
+
+    /// Continuity of position, velocity and acceleration across all segment boundaries,
+    /// checked in the motion frame (relative to p0, so no world-coordinate rounding) with a
+    /// test-side extrapolation.  The last non-empty segment must land on `end`
+    /// (frame position, if given, and velocity; acceleration 0).
+    /// Returns (worst relative error, relative end position error).
+    fn check_continuity(
+        p: &Profile,
+        end: (Option<f64>, f64),
+        scales: (f64, f64, f64),
+    ) -> (f64, f64) {
+        let (pos_scale, vel_scale, acc_scale) = scales;
+        let mut worst: f64 = 0.0;
+        let mut end_err: f64 = 0.0;
+        for i in 0..7 {
+            let d = p.dur[i];
+            if d <= 0.0 {
+                continue;
+            }
+            let start = State {
+                pos: p.x[i],
+                vel: p.v[i],
+                acc: p.a[i],
+                jerk: p.jerk[i],
+            };
+            let left = extrapolate(start, d);
+            // Decide "last" by index, not by time: a segment much shorter than ulp(total)
+            // can vanish from the time axis but still exists in the state chain.
+            let last = p.dur[i + 1..].iter().all(|&t| t <= 0.0);
+            let right = if last {
+                (end.0.unwrap_or(left.pos), end.1, 0.0)
+            } else {
+                (p.x[i + 1], p.v[i + 1], p.a[i + 1])
+            };
+            let ep = (left.pos - right.0).abs() / pos_scale;
+            let ev = (left.vel - right.1).abs() / vel_scale;
+            let ea = (left.acc - right.2).abs() / acc_scale;
+            assert!(
+                ep <= 1e-9 && ev <= 1e-9 && ea <= 1e-9,
+                "discontinuity at boundary {i}: {ep:e} {ev:e} {ea:e} {p:?}"
+            );
+            worst = worst.max(ep).max(ev).max(ea);
+            if last {
+                end_err = end_err.max(ep);
+            }
+        }
+        (worst, end_err)
+    }
+
+    fn check_plan(p: &Profile, l: &Limits, p0: f64, d: f64, v0: f64, v1: f64) -> Worst {
+        let tol = 1e-9;
+        let dir = if d < 0.0 { -1.0 } else { 1.0 };
+        let jlim = [l.j1, 0.0, l.j3, 0.0, l.j5, 0.0, l.j7, 0.0];
+        let total = p.duration();
+        assert!(total.is_finite() && total >= 0.0);
+        assert!(p.phases().iter().all(|&t| t >= 0.0), "{:?}", p.phases());
+        let mut w = Worst::default();
+        let mut visit = |t: f64| {
+            let s = p.sample(t);
+            let seg = segment_of(p, t.max(0.0));
+            let (v, a) = (dir * s.vel, dir * s.acc);
+            assert!(v >= -tol * l.vmax, "velocity reversal {v} at {t}");
+            let ej = if jlim[seg] == 0.0 {
+                assert_eq!(s.jerk, 0.0, "jerk in zero-jerk segment {seg}");
+                0.0
+            } else {
+                s.jerk.abs() / jlim[seg] - 1.0
+            };
+            let ex = (v.abs() / l.vmax - 1.0)
+                .max(a / l.amax - 1.0)
+                .max(-a / l.dmax - 1.0)
+                .max(ej);
+            assert!(
+                ex <= tol,
+                "limit exceeded by {ex:e} at t={t} seg={seg} {s:?} {l:?} d={d}"
+            );
+            w.limit_excess = w.limit_excess.max(ex);
+        };
+        for k in 0..=2000 {
+            visit(total * k as f64 / 2000.0);
+        }
+        for i in 0..8 {
+            visit(p.t0[i]);
+            visit(p.t0[i] * (1.0 - 1e-13));
+        }
+        visit(total * 2.0 + 1.0);
+        // start / end states
+        let s = p.sample(0.0);
+        assert_eq!(s.pos, p0);
+        assert!((s.vel - dir * v0).abs() <= 1e-12 * l.vmax);
+        let e = p.sample(total);
+        assert_eq!(e, p.sample(total + 1.0));
+        assert_eq!(e.pos, p0 + d);
+        assert_eq!(e.vel, dir * v1);
+        assert_eq!((e.acc, e.jerk), (0.0, 0.0));
+        assert_eq!(p.end_pos(), p0 + d);
+        // continuity, including the integrated end (left limit) vs the exact target
+        let pos_scale = d.abs().max(1.0e-9);
+        let scales = (pos_scale, l.vmax, l.amax.max(l.dmax));
+        let (c, end_err) = check_continuity(p, (Some(d.abs()), v1), scales);
+        w.continuity_err = c;
+        w.end_pos_err = end_err;
+        w
+    }
+
+    #[test]
+    fn hand_computed_cases() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-3);
+        // vmax=1000, amax=1e4, j=1e6, d=1e4:
+        //   amax^2/j = 100 <= 1000 -> amax reached; T1 = T3 = amax/j = 0.01,
+        //   T2 = (1000 - 100)/1e4 = 0.09; accel distance = vmax/2 * 0.11 = 55 each side,
+        //   cruise = (1e4 - 110)/1000 = 9.89; total 10.11.
+        let l = Limits::symmetric(1000.0, 1e4, 1e6);
+        let p = Profile::plan(5.0, 1e4, 0.0, 0.0, &l).unwrap();
+        let want = [0.01, 0.09, 0.01, 9.89, 0.01, 0.09, 0.01];
+        for (g, w) in p.phases().iter().zip(want) {
+            assert!(close(*g, w), "{:?}", p.phases());
+        }
+        assert!(close(p.duration(), 10.11));
+        assert!(close(p.peak_velocity(), 1000.0));
+        assert!(close(p.peak_acceleration(), 1e4) && close(p.peak_deceleration(), 1e4));
+        assert_eq!(p.end_pos(), 1e4 + 5.0);
+
+        // Same limits, d = 100 (no cruise, amax reached): each side covers
+        // vp/2 (vp/amax + amax/j), so vp^2/1e4 + 0.01 vp = 100 ->
+        // vp = (-100 + sqrt(4.01e6))/2 = 951.249219725...; T = 2 (0.02 + (vp - 100)/1e4).
+        let vp = (-100.0 + 4.01e6f64.sqrt()) / 2.0;
+        let p = Profile::plan(0.0, 100.0, 0.0, 0.0, &l).unwrap();
+        assert!(close(p.peak_velocity(), vp));
+        assert!(close(p.duration(), 2.0 * (0.02 + (vp - 100.0) / 1e4)));
+        assert!(p.phases()[3] < 1e-12);
+
+        // d = 1 (triangular acceleration): 2 a_p^3 / j^2 = d -> a_p = cbrt(j^2 d / 2) = 7937.005...,
+        // T = 4 a_p / j = 4 cbrt(d/(2j)) = 0.0317480210..., vp = a_p^2 / j.
+        let ap = (1e12f64 / 2.0).cbrt();
+        let p = Profile::plan(0.0, -1.0, 0.0, 0.0, &l).unwrap();
+        assert!(close(p.duration(), 4.0 * (1.0f64 / 2e6).cbrt()));
+        assert!(close(p.peak_acceleration(), ap));
+        assert!(close(p.peak_velocity(), ap * ap / 1e6));
+        assert_eq!(p.end_pos(), -1.0);
+
+        // Asymmetric: dmax = 5e3: T5 = T7 = 0.005, T6 = (1000 - 25)/5e3 = 0.195,
+        // decel distance = 500 * 0.205 = 102.5, cruise = (1e4 - 55 - 102.5)/1000 = 9.8425.
+        let la = Limits { dmax: 5e3, ..l };
+        let p = Profile::plan(0.0, 1e4, 0.0, 0.0, &la).unwrap();
+        let want = [0.01, 0.09, 0.01, 9.8425, 0.005, 0.195, 0.005];
+        for (g, w) in p.phases().iter().zip(want) {
+            assert!(close(*g, w), "{:?}", p.phases());
+        }
+
+        // Non-zero v0 = 100: accel ramp 100 -> 1000 has T1 = T3 = 0.01, T2 = (900 - 100)/1e4 = 0.08,
+        // distance (100 + 1000)/2 * 0.1 = 55 (symmetric jerks); decel 55; cruise 9.89.
+        let p = Profile::plan(0.0, 1e4, 100.0, 0.0, &l).unwrap();
+        assert!(close(p.phases()[1], 0.08));
+        assert!(close(p.phases()[3], (1e4 - 55.0 - 55.0) / 1000.0));
+
+        // stop from 1000 counts/s, a = 0: T5 = T7 = 0.01, T6 = 0.09, distance 55.
+        let s = Profile::stop(1.0, -1000.0, 0.0, &l).unwrap();
+        let want = [0.0, 0.0, 0.0, 0.0, 0.01, 0.09, 0.01];
+        for (g, w) in s.phases().iter().zip(want) {
+            assert!(close(*g, w), "{:?}", s.phases());
+        }
+        assert!(close(s.end_pos(), 1.0 - 55.0));
+
+        // stop from v = 100, a = +5000: T3 = 0.005, v -> 100 + 12.5 = 112.5;
+        // then T5 = T7 = 0.01, T6 = (112.5 - 100)/1e4 = 0.00125.
+        let s = Profile::stop(0.0, 100.0, 5000.0, &l).unwrap();
+        let want = [0.0, 0.0, 0.005, 0.0, 0.01, 0.00125, 0.01];
+        for (g, w) in s.phases().iter().zip(want) {
+            assert!(close(*g, w), "{:?}", s.phases());
+        }
+
+        // stop from v = 1000, a = -2e4 (|a| > dmax): +j7 for 0.01 s (dv = (4e8-1e8)/2e6 = 150),
+        // v = 850; hold (850 - 50)/1e4 = 0.08; ramp-out 0.01.
+        let s = Profile::stop(0.0, 1000.0, -2e4, &l).unwrap();
+        let want = [0.0, 0.0, 0.0, 0.0, 0.01, 0.08, 0.01];
+        for (g, w) in s.phases().iter().zip(want) {
+            assert!(close(*g, w), "{:?}", s.phases());
+        }
+        assert!(s.sample(0.005).jerk > 0.0);
+    }
+
+    #[test]
+    fn limits_end_and_continuity_random() {
+        let mut rng = Rng::new(0x5eed_0001);
+        let mut worst = Worst::default();
+        let mut n = 0;
+        let mut regimes = [0usize; 4]; // [amax reached, dmax reached, cruise, neither]
+        for _ in 0..1500 {
+            let l = random_limits(&mut rng);
+            let (v0, v1) = if rng.chance(0.6) {
+                (0.0, 0.0)
+            } else {
+                (
+                    rng.uniform(0.0, l.vmax) * f64::from(u8::from(rng.chance(0.7))),
+                    rng.uniform(0.0, l.vmax) * f64::from(u8::from(rng.chance(0.7))),
+                )
+            };
+            let d = random_distance(&mut rng, v0, v1, &l);
+            let p0 = rng.uniform(-1e3, 1e3);
+            match Profile::plan(p0, d, v0, v1, &l) {
+                Ok(p) => {
+                    worst.merge(check_plan(&p, &l, p0, d, v0, v1));
+                    n += 1;
+                    let ph = p.phases();
+                    regimes[0] += usize::from(ph[1] > 0.0);
+                    regimes[1] += usize::from(ph[5] > 0.0);
+                    regimes[2] += usize::from(ph[3] > 1e-9 * p.duration());
+                    regimes[3] += usize::from(ph[1] == 0.0 && ph[5] == 0.0);
+                }
+                Err(e) => {
+                    assert_eq!(e, PlanError::Infeasible);
+                    assert!(ref_dist(v0, v1, v0.max(v1), &l).1 > d.abs() * (1.0 - 1e-9));
+                }
+            }
+        }
+        eprintln!("limits: {n} feasible plans, regimes {regimes:?}, worst {worst:?}");
+        assert!(n >= 1000);
+        assert!(regimes.iter().all(|&r| r >= 100), "{regimes:?}");
+    }
+
+    #[test]
+    fn time_optimal_vs_independent_bisection() {
+        let mut rng = Rng::new(0x0071_3e57);
+        let mut worst_rel: f64 = 0.0;
+        let mut worst_vp: f64 = 0.0;
+        let (mut n, mut infeasible) = (0, 0);
+        for case in 0..2000 {
+            let l = random_limits(&mut rng);
+            let (v0, v1) = if case % 2 == 0 {
+                (0.0, 0.0)
+            } else {
+                (rng.uniform(0.0, l.vmax), rng.uniform(0.0, l.vmax))
+            };
+            let d = random_distance(&mut rng, v0, v1, &l) * if case % 7 == 0 { 0.5 } else { 1.0 };
+            let dist = d.abs();
+            let min_dist = ref_dist(v0, v1, v0.max(v1), &l).1;
+            let res = Profile::plan(0.0, d, v0, v1, &l);
+            match ref_min_time(v0, v1, dist, &l) {
+                None => {
+                    if min_dist > dist * (1.0 + 1e-9) {
+                        assert_eq!(res, Err(PlanError::Infeasible));
+                        infeasible += 1;
+                    }
+                }
+                Some((t_ref, vp_ref)) => {
+                    let p =
+                        res.unwrap_or_else(|e| panic!("{e:?} for feasible {l:?} {d} {v0} {v1}"));
+                    let rel = (p.duration() - t_ref).abs() / t_ref.max(1e-300);
+                    assert!(
+                        (p.duration() - t_ref).abs() <= 1e-9 * t_ref + 1e-15,
+                        "duration {} vs reference {t_ref} ({rel:e}) {l:?} d={d} v0={v0} v1={v1}",
+                        p.duration()
+                    );
+                    let evp = (p.peak_velocity() - vp_ref).abs() / l.vmax;
+                    assert!(evp <= 1e-9, "vp {} vs {vp_ref}", p.peak_velocity());
+                    worst_rel = worst_rel.max(rel);
+                    worst_vp = worst_vp.max(evp);
+                    n += 1;
+                }
+            }
+        }
+        eprintln!(
+            "optimality: {n} feasible cases, {infeasible} infeasible; worst rel duration \
+             mismatch {worst_rel:e}, worst vp mismatch/vmax {worst_vp:e}"
+        );
+        assert!(n >= 1000 && infeasible >= 50);
+    }
+
+    #[test]
+    fn derivatives_consistent() {
+        // Central differences of the closed-form samples must reproduce vel/acc/jerk
+        // (pos is cubic: (x(t+h) - x(t-h)) / 2h = v + j h^2/6 exactly; v quadratic; a linear).
+        let mut rng = Rng::new(77);
+        for _ in 0..300 {
+            let l = random_limits(&mut rng);
+            let d = random_distance(&mut rng, 0.0, 0.0, &l);
+            let p = Profile::plan(0.0, d, 0.0, 0.0, &l).unwrap();
+            for i in 0..7 {
+                let dur = p.phases()[i];
+                if dur <= p.duration() * 1e-6 {
+                    continue;
+                }
+                let t = p.t0[i] + dur * rng.uniform(0.3, 0.7);
+                let h = dur * 0.1;
+                let (a, b, c) = (p.sample(t - h), p.sample(t), p.sample(t + h));
+                let x_scale = d.abs() / h;
+                let dv = (c.pos - a.pos) / (2.0 * h) - b.vel - b.jerk * h * h / 6.0;
+                assert!(
+                    dv.abs() <= 1e-9 * x_scale,
+                    "pos/vel mismatch {dv:e} in seg {i}"
+                );
+                let da = (c.vel - a.vel) / (2.0 * h) - b.acc;
+                assert!(da.abs() <= 1e-9 * l.vmax / h, "vel/acc mismatch {da:e}");
+                let dj = (c.acc - a.acc) / (2.0 * h) - b.jerk;
+                assert!(
+                    dj.abs() <= 1e-9 * l.amax.max(l.dmax) / h,
+                    "acc/jerk mismatch"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn degenerate_distances() {
+        let l = Limits {
+            vmax: 3000.0,
+            amax: 2e5,
+            dmax: 5e4,
+            j1: 1e8,
+            j3: 3e7,
+            j5: 2e6,
+            j7: 9e8,
+        };
+        // d = 0: zero-duration, at rest
+        let p = Profile::plan(12.0, 0.0, 0.0, 0.0, &l).unwrap();
+        assert_eq!(p.duration(), 0.0);
+        assert_eq!(p.phases(), [0.0; 7]);
+        let rest = State {
+            pos: 12.0,
+            vel: 0.0,
+            acc: 0.0,
+            jerk: 0.0,
+        };
+        assert_eq!(p.sample(0.0), rest);
+        assert_eq!(p.sample(1.0), rest);
+        assert_eq!(p.sample(f64::NAN), rest);
+        // tiny / huge / mirrored
+        for d in [1e-9, -1e-9, 1e-6, 1e12, -1e12, 0.37] {
+            let p = Profile::plan(-4.0, d, 0.0, 0.0, &l).unwrap();
+            check_plan(&p, &l, -4.0, d, 0.0, 0.0);
+            let (t, _) = ref_min_time(0.0, 0.0, d.abs(), &l).unwrap();
+            assert!((p.duration() - t).abs() <= 1e-9 * t, "{d}");
+            let (p, q) = (
+                Profile::plan(0.0, d, 0.0, 0.0, &l).unwrap(),
+                Profile::plan(0.0, -d, 0.0, 0.0, &l).unwrap(),
+            );
+            assert_eq!(p.phases(), q.phases());
+            for k in 0..=50 {
+                let t = p.duration() * k as f64 / 50.0;
+                let (a, b) = (p.sample(t), q.sample(t));
+                assert_eq!(a.pos, -b.pos);
+                assert_eq!((a.vel, a.acc, a.jerk), (-b.vel, -b.acc, -b.jerk));
+            }
+        }
+        // pure cruise at vmax
+        let p = Profile::plan(0.0, 30.0, 3000.0, 3000.0, &l).unwrap();
+        assert_eq!(p.phases()[3], 0.01);
+        assert_eq!(p.duration(), 0.01);
+        // v0 = v1 > 0 and d = 0: zero duration moving state
+        let p = Profile::plan(1.0, 0.0, 5.0, 5.0, &l).unwrap();
+        assert_eq!(p.duration(), 0.0);
+        assert_eq!(p.sample(3.0).vel, 5.0);
+    }
+
+    #[test]
+    fn nonzero_boundary_velocities() {
+        let mut rng = Rng::new(0xbeef);
+        let (mut ok, mut bad) = (0, 0);
+        for _ in 0..2000 {
+            let l = random_limits(&mut rng);
+            let v0 = rng.uniform(0.0, l.vmax);
+            let v1 = rng.uniform(0.0, l.vmax);
+            let need = ref_dist(v0, v1, v0.max(v1), &l).1;
+            let dist = need * rng.log_uniform(0.01, 100.0);
+            let d = rng.sign() * dist;
+            let r = Profile::plan(3.0, d, v0, v1, &l);
+            if dist >= need * (1.0 + 1e-9) {
+                let p = r.unwrap();
+                check_plan(&p, &l, 3.0, d, v0, v1);
+                let dir = d.signum();
+                assert_eq!(p.sample(p.duration()).vel, dir * v1);
+                // the integrated velocity at the end (left limit) also matches v1
+                let last = (0..7).rev().find(|&i| p.phases()[i] > 0.0).unwrap();
+                let left = extrapolate(p.sample(p.t0[last]), p.phases()[last]);
+                assert!((left.vel - dir * v1).abs() <= 1e-9 * l.vmax);
+                assert!((left.pos - (3.0 + d)).abs() <= 1e-9 * dist + 1e-14);
+                ok += 1;
+            } else if dist <= need * (1.0 - 1e-9) {
+                assert_eq!(r, Err(PlanError::Infeasible), "{l:?} {d} {v0} {v1}");
+                bad += 1;
+            }
+        }
+        assert!(ok >= 500 && bad >= 500, "{ok} {bad}");
+        let l = Limits::symmetric(100.0, 1000.0, 1e5);
+        assert_eq!(
+            Profile::plan(0.0, 1e-3, 100.0, 0.0, &l),
+            Err(PlanError::Infeasible)
+        );
+        assert_eq!(
+            Profile::plan(0.0, 1e-3, 0.0, 100.0, &l),
+            Err(PlanError::Infeasible)
+        );
+    }
+
+    #[test]
+    fn input_errors() {
+        let l = Limits::symmetric(100.0, 1000.0, 1e5);
+        let nan = f64::NAN;
+        let inf = f64::INFINITY;
+        for (p0, d, v0, v1) in [
+            (nan, 1.0, 0.0, 0.0),
+            (0.0, nan, 0.0, 0.0),
+            (0.0, 1.0, nan, 0.0),
+            (0.0, 1.0, 0.0, nan),
+            (inf, 1.0, 0.0, 0.0),
+            (0.0, -inf, 0.0, 0.0),
+            (0.0, 1.0, inf, 0.0),
+        ] {
+            assert_eq!(Profile::plan(p0, d, v0, v1, &l), Err(PlanError::NonFinite));
+        }
+        for (p0, v0, a0) in [(nan, 0.0, 0.0), (0.0, inf, 0.0), (0.0, 1.0, nan)] {
+            assert_eq!(Profile::stop(p0, v0, a0, &l), Err(PlanError::NonFinite));
+        }
+        let fields: [fn(&mut Limits) -> &mut f64; 7] = [
+            |l| &mut l.vmax,
+            |l| &mut l.amax,
+            |l| &mut l.dmax,
+            |l| &mut l.j1,
+            |l| &mut l.j3,
+            |l| &mut l.j5,
+            |l| &mut l.j7,
+        ];
+        for f in fields {
+            for (bad, err) in [
+                (nan, PlanError::NonFinite),
+                (inf, PlanError::NonFinite),
+                (0.0, PlanError::NonPositiveLimit),
+                (-1.0, PlanError::NonPositiveLimit),
+            ] {
+                let mut lb = l;
+                *f(&mut lb) = bad;
+                assert_eq!(lb.validate(), Err(err));
+                assert_eq!(Profile::plan(0.0, 1.0, 0.0, 0.0, &lb), Err(err));
+                assert_eq!(Profile::stop(0.0, 1.0, 0.0, &lb), Err(err));
+            }
+        }
+        assert_eq!(l.validate(), Ok(()));
+        assert_eq!(
+            Profile::plan(0.0, 1.0, 100.0001, 0.0, &l),
+            Err(PlanError::StartVelocityTooHigh)
+        );
+        assert_eq!(
+            Profile::plan(0.0, 1e6, 0.0, 100.0001, &l),
+            Err(PlanError::Infeasible)
+        );
+        assert_eq!(
+            Profile::plan(0.0, 1e6, -1.0, 0.0, &l),
+            Err(PlanError::Infeasible)
+        );
+    }
+
+    fn check_stop(p: &Profile, l: &Limits, p0: f64, v0: f64, a0: f64) -> f64 {
+        let tol = 1e-9;
+        let dir = if v0 > 0.0 || (v0 == 0.0 && a0 >= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let a_start = dir * a0;
+        let total = p.duration();
+        let vscale = p.peak_velocity().max(v0.abs()).max(1e-300);
+        let ascale = a0.abs().max(l.dmax);
+        let mut worst: f64 = 0.0;
+        let mut prev_dec = f64::INFINITY;
+        let mut prev_acc = f64::INFINITY;
+        let n = 2000;
+        for k in 0..=n + 16 {
+            let t = if k <= n {
+                total * k as f64 / n as f64
+            } else {
+                p.t0[(k - n - 1) / 2] * if k % 2 == 0 { 1.0 } else { 1.0 - 1e-13 }
+            };
+            let s = p.sample(t);
+            let seg = segment_of(p, t);
+            let (v, a, j) = (dir * s.vel, dir * s.acc, dir * s.jerk);
+            assert!(v >= -tol * vscale, "velocity sign change {v} ({s:?})");
+            let jl = match seg {
+                2 => l.j3,
+                4 if j > 0.0 => l.j7,
+                4 => l.j5,
+                6 => l.j7,
+                _ => 0.0,
+            };
+            if jl == 0.0 {
+                assert_eq!(j, 0.0, "unexpected jerk in slot {seg}");
+            } else {
+                let ej = j.abs() / jl - 1.0;
+                assert!(ej <= tol, "jerk excess {ej:e}");
+                worst = worst.max(ej);
+            }
+            let dec = -a;
+            if dec > l.dmax * (1.0 + tol) {
+                // still correcting an initial |a| > dmax: only allowed to shrink
+                assert!(
+                    k > n || dec <= prev_dec * (1.0 + 1e-12),
+                    "decel grew above dmax"
+                );
+                assert!(dec <= -a_start * (1.0 + 1e-12) + 1e-12 * ascale);
+            } else if !(seg == 4 && j > 0.0) {
+                // (inside the correction segment the decel is legitimately still >= dmax)
+                worst = worst.max(dec / l.dmax - 1.0);
+            }
+            if a > 0.0 {
+                assert!(a <= a_start * (1.0 + 1e-12));
+                assert!(k > n || a <= prev_acc * (1.0 + 1e-12) + 1e-12 * ascale);
+            }
+            if k <= n {
+                prev_dec = dec;
+                prev_acc = a;
+            }
+        }
+        let e = p.sample(total);
+        assert_eq!((e.vel, e.acc, e.jerk), (0.0, 0.0, 0.0));
+        assert_eq!(e, p.sample(total * 3.0 + 1.0));
+        let s = p.sample(0.0);
+        assert_eq!((s.pos, s.vel), (p0, v0));
+        assert!((s.acc - a0).abs() <= 1e-15 * a0.abs());
+        let pos_scale = p.x[6].abs().max(1e-12);
+        check_continuity(p, (None, 0.0), (pos_scale, vscale, ascale));
+        worst
+    }
+
+    #[test]
+    fn stop_random_states() {
+        let mut rng = Rng::new(0x5709);
+        let mut worst: f64 = 0.0;
+        let mut counts = [0usize; 5]; // ok, infeasible, a>0, |a|>dmax, v0=0
+        for _ in 0..3000 {
+            let l = random_limits(&mut rng);
+            let dir = rng.sign();
+            let a_frame = match rng.next_u64() % 5 {
+                0 => 0.0,
+                1 => rng.uniform(0.0, 3.0) * l.amax,
+                2 => -rng.uniform(0.0, 1.0) * l.dmax,
+                _ => -rng.uniform(1.0, 4.0) * l.dmax,
+            };
+            let need = if a_frame < 0.0 {
+                0.5 * a_frame * a_frame / l.j7
+            } else {
+                0.0
+            };
+            let v = match rng.next_u64() % 4 {
+                0 => 0.0,
+                1 => rng.log_uniform(1e-6, 1.0) * l.vmax,
+                _ if need == 0.0 => rng.log_uniform(1e-6, 1.0) * l.vmax,
+                _ => need * rng.log_uniform(0.3, 100.0),
+            };
+            let (v0, a0) = (dir * v, dir * a_frame);
+            // At v0 = 0 the motion direction is that of a0, so the acceleration is "positive".
+            let (a_frame, need) = if v == 0.0 {
+                (a_frame.abs(), 0.0)
+            } else {
+                (a_frame, need)
+            };
+            let p0 = rng.uniform(-1e3, 1e3);
+            match Profile::stop(p0, v0, a0, &l) {
+                Ok(p) => {
+                    assert!(
+                        v >= need * (1.0 - 1e-9),
+                        "accepted a state that must reverse"
+                    );
+                    worst = worst.max(check_stop(&p, &l, p0, v0, a0));
+                    counts[0] += 1;
+                    counts[2] += usize::from(a_frame > 0.0 && v > 0.0);
+                    counts[3] += usize::from(-a_frame > l.dmax);
+                    counts[4] += usize::from(v == 0.0);
+                }
+                Err(e) => {
+                    assert_eq!(e, PlanError::Infeasible);
+                    assert!(v < need * (1.0 + 1e-9));
+                    counts[1] += 1;
+                }
+            }
+        }
+        eprintln!("stop: counts [ok, infeasible, a>0, |a|>dmax, v0=0] = {counts:?}, worst excess {worst:e}");
+        assert!(counts.iter().all(|&c| c >= 100), "{counts:?}");
+    }
+
+    #[test]
+    fn garbage_inputs_never_panic() {
+        let mut rng = Rng::new(0xdead);
+        fn pick(rng: &mut Rng) -> f64 {
+            match rng.next_u64() % 6 {
+                0 => f64::from_bits(rng.next_u64()),
+                1 => rng.log_uniform(1e-300, 1e300) * rng.sign(),
+                2 => 0.0,
+                3 => f64::MIN_POSITIVE * rng.unit(),
+                _ => rng.log_uniform(1e-3, 1e6),
+            }
+        }
+        for _ in 0..20000 {
+            let l = Limits {
+                vmax: pick(&mut rng),
+                amax: pick(&mut rng),
+                dmax: pick(&mut rng),
+                j1: pick(&mut rng),
+                j3: pick(&mut rng),
+                j5: pick(&mut rng),
+                j7: pick(&mut rng),
+            };
+            let (a, b, c, d) = (
+                pick(&mut rng),
+                pick(&mut rng),
+                pick(&mut rng),
+                pick(&mut rng),
+            );
+            for p in [Profile::plan(a, b, c, d, &l), Profile::stop(a, b, c, &l)]
+                .into_iter()
+                .flatten()
+            {
+                assert!(p.duration().is_finite());
+                for k in 0..=8 {
+                    let _ = p.sample(p.duration() * k as f64 / 8.0);
+                }
+                let _ = (
+                    p.peak_velocity(),
+                    p.peak_acceleration(),
+                    p.peak_deceleration(),
+                );
+            }
+        }
+    }
+}

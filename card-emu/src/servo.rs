@@ -1,0 +1,183 @@
+//! Servo laws. FFPIV after Thinh Fig 5 (eq 29, `u = u_FF + u_PIV`): the position error times
+//! K_P becomes a velocity correction; the velocity loop is P (K_V) plus I (K_I) on the velocity
+//! error; velocity feed-forward enters the velocity command and acceleration feed-forward is
+//! added to the output.
+//!
+//! ```text
+//! v_cmd = K_P·(x_ref − x) + K_VFF·v_ref
+//! e_v   = v_cmd − v̂                       (v̂: filtered encoder velocity)
+//! u     = K_V·(e_v + K_I·∫e_v dt) + K_AFF·a_ref
+//! ```
+//!
+//! Units: counts, seconds, volts. Thinh's published gains (K_P=2.5, K_I=0.02, K_V=50,
+//! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_motor`] derives ours
+//! from the plant instead.
+
+use crate::plant::MotorParams;
+
+/// FFPIV gains and the velocity estimator's cut-off.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FfpivGains {
+    /// Position gain K_P, 1/s.
+    pub kp: f64,
+    /// Velocity-loop integral gain K_I, 1/s.
+    pub ki: f64,
+    /// Velocity-loop gain K_V, V per count/s.
+    pub kv: f64,
+    /// Velocity feed-forward K_VFF (fraction of v_ref added to the velocity command).
+    pub kvff: f64,
+    /// Acceleration feed-forward K_AFF, V per count/s².
+    pub kaff: f64,
+    /// Cut-off of the first-order filter on the differenced encoder velocity, Hz.
+    pub vel_filter_hz: f64,
+}
+
+impl FfpivGains {
+    /// Gains placed from the plant: velocity-loop crossover `wc` (rad/s), K_P = wc/4,
+    /// K_I = wc/6, full velocity feed-forward, ideal acceleration feed-forward.
+    pub fn for_motor(m: &MotorParams, wc: f64) -> Self {
+        let kv = wc / m.accel_per_volt();
+        Self {
+            kp: wc / 4.0,
+            ki: wc / 6.0,
+            kv,
+            kvff: 1.0,
+            kaff: m.volts_per_accel(),
+            vel_filter_hz: 1500.0,
+        }
+    }
+
+    /// The default tuning for [`MotorParams::default_servo`].
+    pub fn default_tuning() -> Self {
+        Self::for_motor(
+            &MotorParams::default_servo(),
+            2.0 * core::f64::consts::PI * 60.0,
+        )
+    }
+
+    /// All gains finite and in range.
+    pub fn is_valid(&self) -> bool {
+        let nonneg = |x: f64| x.is_finite() && x >= 0.0;
+        nonneg(self.kp)
+            && nonneg(self.ki)
+            && nonneg(self.kv)
+            && nonneg(self.kvff)
+            && self.kvff <= 2.0
+            && nonneg(self.kaff)
+            && self.vel_filter_hz.is_finite()
+            && self.vel_filter_hz > 0.0
+    }
+}
+
+/// The FFPIV loop's state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Ffpiv {
+    integral: f64,
+    last_encoder: Option<i64>,
+    vel: f64,
+}
+
+/// One servo update's inputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reference {
+    /// x_ref, counts.
+    pub pos: f64,
+    /// v_ref, counts/s.
+    pub vel: f64,
+    /// a_ref, counts/s².
+    pub acc: f64,
+}
+
+impl Ffpiv {
+    /// Update the velocity estimate from a new encoder reading; returns v̂ (counts/s).
+    pub fn measure(&mut self, encoder: i64, gains: &FfpivGains, ts: f64) -> f64 {
+        let raw = match self.last_encoder {
+            Some(prev) => encoder.wrapping_sub(prev) as f64 / ts,
+            None => 0.0,
+        };
+        self.last_encoder = Some(encoder);
+        // First-order low-pass, exact discretisation of 1/(1 + s/ωf).
+        let alpha = 1.0 - (-2.0 * core::f64::consts::PI * gains.vel_filter_hz * ts).exp();
+        self.vel += alpha * (raw - self.vel);
+        self.vel
+    }
+
+    /// The filtered velocity.
+    pub fn velocity(&self) -> f64 {
+        self.vel
+    }
+
+    /// The control output before the DAC (volts), for measured position `x`.
+    /// `limit` clamps the output; the integrator stops growing while clamped (anti-windup).
+    pub fn update(
+        &mut self,
+        r: &Reference,
+        x: f64,
+        gains: &FfpivGains,
+        ts: f64,
+        limit: f64,
+    ) -> f64 {
+        let v_cmd = gains.kp * (r.pos - x) + gains.kvff * r.vel;
+        let ev = v_cmd - self.vel;
+        let integral = self.integral + ev * ts;
+        let u = gains.kv * (ev + gains.ki * integral) + gains.kaff * r.acc;
+        if u.abs() <= limit {
+            self.integral = integral;
+            u
+        } else {
+            u.clamp(-limit, limit)
+        }
+    }
+
+    /// Forget the integrator (on enable), keep the velocity estimate.
+    pub fn reset_integral(&mut self) {
+        self.integral = 0.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::Motor;
+
+    /// Closed loop on the plant: a step in the reference is followed without overshooting by
+    /// more than a few counts and settles to within one count.
+    #[test]
+    fn default_tuning_settles_a_small_step_within_one_count() {
+        let params = MotorParams::default_servo();
+        let gains = FfpivGains::default_tuning();
+        let ts = 1e-4;
+        let mut m = Motor::new(params);
+        let mut s = Ffpiv::default();
+        let r = Reference {
+            pos: 100.0,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        let mut peak: i64 = 0;
+        for _ in 0..20_000 {
+            let enc = m.encoder();
+            peak = peak.max(enc);
+            s.measure(enc, &gains, ts);
+            let u = s.update(&r, enc as f64, &gains, ts, 10.0);
+            m.step(crate::plant::Dac::output(u).0, ts);
+        }
+        assert!((m.encoder() - 100).abs() <= 1, "settled at {}", m.encoder());
+        assert!(peak <= 140, "overshoot to {peak}");
+    }
+
+    #[test]
+    fn output_clamps_and_integrator_does_not_wind_up() {
+        let gains = FfpivGains::default_tuning();
+        let mut s = Ffpiv::default();
+        let r = Reference {
+            pos: 1e9,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        for _ in 0..1000 {
+            assert_eq!(s.update(&r, 0.0, &gains, 1e-4, 10.0), 10.0);
+        }
+        assert_eq!(s.integral, 0.0);
+    }
+}
