@@ -1,1 +1,41 @@
+//! Host SDK for the motion card.
+//!
+//! Open a card by URI, take its axes, move them, read their status, wait for the card's
+//! interrupts:
+//!
+//! ```no_run
+//! use motioncard_sdk::{Card, MoveLimits};
+//! use std::time::Duration;
+//!
+//! let card = Card::open("sim")?;                 // or emu:NAME, uio:/dev/uio0, pci:0000:03:00.0
+//! let x = card.axis(0)?;
+//! x.enable()?;
+//! let mv = x.move_absolute(10_000.0, &MoveLimits::new(50_000.0, 1e6, 5e7))?;
+//! let reached = mv.wait(Duration::from_secs(5))?;  // motion done: in position
+//! println!("at {reached} counts, status {:?}", x.status()?.state);
+//! # Ok::<(), motioncard_sdk::Error>(())
+//! ```
+//!
+//! Every command is validated here first (NaN, non-positive limits, unknown axes get their
+//! own [`ErrorKind`]) and again by the firmware, which answers each with exactly one ack or
+//! nack. Waits block in `poll()` on the card's interrupt file descriptor, never in sleep loops.
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(missing_docs)]
 
+mod card;
+mod device;
+mod error;
+
+pub use card::{
+    Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
+    ACK_TIMEOUT, EVENT_QUEUE_CAP,
+};
+pub use card_emu::{Clock, EmuOptions, MotorParams};
+pub use device::SimOptions;
+pub use error::{nack_reason, Error, ErrorKind, Result};
+pub use firmware_proto::{AxisState, EventKind, NackCode};
+
+/// Raw protocol types, for tools and tests that talk to the card below the typed API.
+pub mod proto {
+    pub use firmware_proto::{fault, raw, AxisStatus, Command, Event, Opcode};
+}

@@ -1,0 +1,917 @@
+//! Cards, axes, commands and waits.
+
+use crate::device::{self, Backend, Device, SimOptions};
+use crate::error::{nack_reason, Error, Result};
+use card_emu::Emulator;
+use firmware_proto::layout;
+use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
+use firmware_proto::seqlock::{self, SnapshotError};
+use firmware_proto::{
+    raw, AxisState, AxisStatus, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES,
+};
+use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+use std::collections::VecDeque;
+use std::os::fd::BorrowedFd;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+type Window = Arc<card_emu::shm::MappedWindow>;
+
+/// How long a command may wait for its ack before the card counts as not responding.
+pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// Events kept for [`Card::next_event`] before the oldest are dropped (and counted).
+pub const EVENT_QUEUE_CAP: usize = 4096;
+
+/// Outcomes of motions kept for waiters.
+const OUTCOME_CAP: usize = 1024;
+
+/// What the card says about itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CardInfo {
+    /// Firmware version, `major << 16 | minor << 8 | patch`.
+    pub firmware_version: u32,
+    /// DPRAM layout (major, minor).
+    pub layout: (u16, u16),
+    /// Axes on the card.
+    pub axes: usize,
+    /// Servo rate, Hz.
+    pub servo_rate_hz: u32,
+    /// Capability bits (`MC_CAP_*`).
+    pub capabilities: u32,
+}
+
+/// How a motion ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Outcome {
+    /// In position at this actual position (user units).
+    Done(f64),
+    /// Ended early by this command or fault (raw code).
+    Aborted(i32),
+}
+
+/// An event from the card, in user units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CardEvent {
+    /// Kind.
+    pub kind: EventKind,
+    /// Axis (0xFFFF for card-wide events).
+    pub axis: u16,
+    /// Seq of the command it concerns (motion events: the command that started the motion).
+    pub seq: u32,
+    /// Kind-specific code.
+    pub code: i32,
+    /// Servo tick.
+    pub tick: u64,
+    /// Kind-specific value (positions in user units).
+    pub value: f64,
+}
+
+/// The command ring. A command's seq is its ring index + 1: unique across sessions, since
+/// the ring's head carries on from whatever an earlier host left.
+struct Tx {
+    ring: CmdProducer<Window>,
+}
+
+struct Rx {
+    ring: EvtConsumer<Window>,
+    /// Someone is blocked in poll() on the interrupt fd; the others wait on the condvar.
+    polling: bool,
+    acks: VecDeque<(u32, Result<(), NackCode>)>,
+    outcomes: VecDeque<(u32, Outcome)>,
+    events: VecDeque<CardEvent>,
+    events_dropped: u64,
+}
+
+pub(crate) struct Inner {
+    dev: Device,
+    info: CardInfo,
+    tx: Mutex<Tx>,
+    rx: Mutex<Rx>,
+    rx_cond: Condvar,
+    scale: Mutex<[f64; MAX_AXES]>,
+    last_motion: Mutex<[Option<u32>; MAX_AXES]>,
+}
+
+/// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
+/// threads at once.
+#[derive(Clone)]
+pub struct Card {
+    inner: Arc<Inner>,
+}
+
+/// Lock a mutex, recovering from a poisoned one (a panicking user thread must not brick the card).
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl Card {
+    /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
+    /// `emu:NAME` (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware).
+    pub fn open(uri: &str) -> Result<Card> {
+        Self::attach(uri, device::open(uri)?)
+    }
+
+    /// Open an in-process emulated card with explicit options (for example a stepped clock).
+    pub fn open_sim(opts: SimOptions) -> Result<Card> {
+        Self::attach("sim", device::open_sim(&opts)?)
+    }
+
+    fn attach(uri: &str, dev: Device) -> Result<Card> {
+        let w = &dev.window;
+        let magic = w.read32(layout::MAGIC);
+        if magic != firmware_proto::MAGIC {
+            return Err(Error::Protocol(format!(
+                "{uri}: no motion-card signature in the DPRAM (read {magic:#010x})"
+            )));
+        }
+        let deadline = Instant::now() + Duration::from_secs(1);
+        while w.load32(layout::CARD_STATE, std::sync::atomic::Ordering::Acquire)
+            != raw::MC_CARD_RUNNING
+        {
+            if Instant::now() > deadline {
+                return Err(Error::NotResponding(format!(
+                    "{uri}: the card did not finish booting"
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let lv = w.read32(layout::LAYOUT);
+        let (major, minor) = (lv as u16, (lv >> 16) as u16);
+        if major != firmware_proto::LAYOUT_MAJOR {
+            return Err(Error::VersionMismatch {
+                card_major: major,
+                card_minor: minor,
+                lib_major: firmware_proto::LAYOUT_MAJOR,
+                lib_minor: firmware_proto::LAYOUT_MINOR,
+            });
+        }
+        let axes = w.read32(layout::NUM_AXES) as usize;
+        if axes == 0
+            || axes > MAX_AXES
+            || w.read32(layout::CMD_RING_LEN) != CMD_RING.len
+            || w.read32(layout::EVT_RING_LEN) != EVT_RING.len
+        {
+            return Err(Error::Protocol(format!(
+                "{uri}: identity block is inconsistent ({axes} axes)"
+            )));
+        }
+        let info = CardInfo {
+            firmware_version: w.read32(layout::FW_VERSION),
+            layout: (major, minor),
+            axes,
+            servo_rate_hz: w.read32(layout::SERVO_RATE_HZ),
+            capabilities: w.read32(layout::CAPABILITIES),
+        };
+        // Every event kind raises the interrupt.
+        w.write32(layout::IRQ_MASK, u32::MAX);
+        let tx = CmdProducer::attach(w.clone(), CMD_RING);
+        let mut rx = EvtConsumer::attach(w.clone(), EVT_RING);
+        rx.resync(); // events of an earlier session are not ours
+        let inner = Inner {
+            info,
+            tx: Mutex::new(Tx { ring: tx }),
+            rx: Mutex::new(Rx {
+                ring: rx,
+                polling: false,
+                acks: VecDeque::new(),
+                outcomes: VecDeque::new(),
+                events: VecDeque::new(),
+                events_dropped: 0,
+            }),
+            rx_cond: Condvar::new(),
+            scale: Mutex::new([1.0; MAX_AXES]),
+            last_motion: Mutex::new([None; MAX_AXES]),
+            dev,
+        };
+        Ok(Card {
+            inner: Arc::new(inner),
+        })
+    }
+
+    /// Identity of the card.
+    pub fn info(&self) -> CardInfo {
+        let mut i = self.inner.info;
+        i.servo_rate_hz = self.inner.dev.window.read32(layout::SERVO_RATE_HZ);
+        i
+    }
+
+    /// The servo tick counter.
+    pub fn tick(&self) -> u64 {
+        self.inner.dev.window.read64(layout::TICK)
+    }
+
+    /// An axis handle.
+    pub fn axis(&self, index: usize) -> Result<Axis> {
+        if index >= self.inner.info.axes {
+            return Err(Error::BadAxis {
+                axis: index,
+                count: self.inner.info.axes,
+            });
+        }
+        Ok(Axis {
+            card: self.clone(),
+            index,
+        })
+    }
+
+    /// All axes.
+    pub fn axes(&self) -> Vec<Axis> {
+        (0..self.inner.info.axes)
+            .map(|i| Axis {
+                card: self.clone(),
+                index: i,
+            })
+            .collect()
+    }
+
+    /// The interrupt file descriptor, for an application's own epoll loop: it becomes
+    /// readable when the card raises an interrupt; then call [`Card::poll_events`].
+    /// `None` on `pci:` cards, which have no interrupt line.
+    pub fn irq_fd(&self) -> Option<BorrowedFd<'_>> {
+        self.inner.dev.irq.fd()
+    }
+
+    /// The stepping control of a stepped `sim` card.
+    pub fn sim(&self) -> Option<Sim> {
+        match &self.inner.dev.backend {
+            Backend::SimStepped { emu } => Some(Sim {
+                emu: emu.clone(),
+                card: self.clone(),
+            }),
+            _ => None,
+        }
+    }
+
+    /// Change the servo rate (all axes must be disabled).
+    pub fn set_servo_rate(&self, hz: u32) -> Result<()> {
+        self.inner
+            .dev
+            .window
+            .write32(layout::CARD_CONFIG_SERVO_RATE, hz);
+        self.execute(
+            Command::new(Opcode::ApplyCardConfig, 0),
+            "set_servo_rate",
+            0,
+        )
+    }
+
+    /// A command that does nothing but come back: the round trip through the card.
+    pub fn ping(&self) -> Result<()> {
+        self.execute(Command::new(Opcode::Nop, 0), "ping", 0)
+    }
+
+    /// Queue a raw command without waiting for its ack; returns its seq. For tools and tests
+    /// that need to send what the typed API would refuse.
+    pub fn send_raw(&self, mut cmd: Command) -> Result<u32> {
+        let mut tx = lock(&self.inner.tx);
+        cmd.seq = tx.ring.head().wrapping_add(1);
+        match tx.ring.push(&cmd) {
+            Ok(()) => {}
+            Err(RingError::Full) => return Err(Error::RingFull(CMD_RING.len)),
+            Err(RingError::Corrupt { head, tail }) => {
+                return Err(Error::Protocol(format!(
+                    "command ring indices corrupt (head {head}, tail {tail})"
+                )))
+            }
+        }
+        let w = &self.inner.dev.window;
+        w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
+        drop(tx);
+        if let Backend::SimStepped { emu } = &self.inner.dev.backend {
+            // A stepped card serves its channel when the doorbell rings, between ticks.
+            lock(emu).serve();
+        }
+        Ok(cmd.seq)
+    }
+
+    /// Wait for the ack or nack of command `seq`.
+    pub fn wait_ack(&self, seq: u32) -> Result<std::result::Result<(), NackCode>> {
+        let tick0 = self.tick();
+        let r = self.wait_until(Instant::now() + ACK_TIMEOUT, |rx| {
+            let i = rx.acks.iter().position(|(s, _)| *s == seq)?;
+            rx.acks.remove(i).map(|(_, r)| r)
+        });
+        match r {
+            Err(Error::Timeout(_)) => {
+                let tick1 = self.tick();
+                Err(if tick1 == tick0 {
+                    Error::NotResponding(format!("no answer to command {seq} in {ACK_TIMEOUT:?}; the card's tick counter is stuck at {tick1}"))
+                } else {
+                    Error::NotResponding(format!("no answer to command {seq} in {ACK_TIMEOUT:?}"))
+                })
+            }
+            r => r,
+        }
+    }
+
+    fn execute(&self, cmd: Command, what: &'static str, axis: usize) -> Result<()> {
+        self.execute_seq(cmd, what, axis).map(|_| ())
+    }
+
+    fn execute_seq(&self, cmd: Command, what: &'static str, axis: usize) -> Result<u32> {
+        let seq = self.send_raw(cmd)?;
+        match self.wait_ack(seq)? {
+            Ok(()) => Ok(seq),
+            Err(code) => Err(Error::Nack {
+                command: what,
+                axis,
+                code,
+                reason: nack_reason(code),
+            }),
+        }
+    }
+
+    /// Take the next event, waiting up to `timeout` (zero: don't wait).
+    pub fn next_event(&self, timeout: Duration) -> Result<Option<CardEvent>> {
+        match self.wait_until(Instant::now() + timeout, |rx| rx.events.pop_front()) {
+            Ok(e) => Ok(Some(e)),
+            Err(Error::Timeout(_)) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Drain the card's event ring without waiting (call when the irq fd is readable).
+    /// Returns how many events were queued.
+    pub fn poll_events(&self) -> Result<usize> {
+        self.inner.dev.irq.acknowledge();
+        let mut rx = lock(&self.inner.rx);
+        let before = rx.events.len();
+        self.drain(&mut rx)?;
+        Ok(rx.events.len().saturating_sub(before))
+    }
+
+    /// Events dropped because nobody took them from the queue (beyond [`EVENT_QUEUE_CAP`]),
+    /// and events the card could not post because its event ring was full.
+    pub fn events_lost(&self) -> (u64, u32) {
+        (
+            lock(&self.inner.rx).events_dropped,
+            self.inner.dev.window.read32(layout::EVENTS_LOST),
+        )
+    }
+
+    fn drain(&self, rx: &mut Rx) -> Result<()> {
+        loop {
+            let e: Event = match rx.ring.pop() {
+                Ok(Some(e)) => e,
+                Ok(None) => return Ok(()),
+                Err(e) => return Err(Error::Protocol(format!("event ring: {e}"))),
+            };
+            let Some(kind) = e.kind() else { continue };
+            match kind {
+                EventKind::Ack => push_capped(&mut rx.acks, (e.seq, Ok(())), OUTCOME_CAP),
+                EventKind::Nack => {
+                    let code = NackCode::from_raw(e.code).unwrap_or(NackCode::UnknownOpcode);
+                    push_capped(&mut rx.acks, (e.seq, Err(code)), OUTCOME_CAP)
+                }
+                _ => {
+                    let scale = self.scale(e.axis as usize);
+                    let value = if matches!(kind, EventKind::MotionDone) {
+                        e.value / scale
+                    } else {
+                        e.value
+                    };
+                    match kind {
+                        EventKind::MotionDone => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::Done(value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::MotionAborted => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::Aborted(e.code)),
+                            OUTCOME_CAP,
+                        ),
+                        _ => {}
+                    }
+                    if rx.events.len() >= EVENT_QUEUE_CAP {
+                        rx.events.pop_front();
+                        rx.events_dropped += 1;
+                    }
+                    rx.events.push_back(CardEvent {
+                        kind,
+                        axis: e.axis,
+                        seq: e.seq,
+                        code: e.code,
+                        tick: e.tick,
+                        value,
+                    });
+                }
+            }
+        }
+    }
+
+    /// Wait until `check` finds what it wants in the drained events, or `deadline`.
+    ///
+    /// One waiter at a time blocks in poll() on the interrupt fd; the others sleep on a
+    /// condvar and are woken when it has drained the ring. On a stepped `sim` card, waiting
+    /// advances the card's time instead (the deadline is then in emulated time).
+    fn wait_until<T>(
+        &self,
+        deadline: Instant,
+        mut check: impl FnMut(&mut Rx) -> Option<T>,
+    ) -> Result<T> {
+        let start = Instant::now();
+        if let Backend::SimStepped { emu } = &self.inner.dev.backend {
+            return self.wait_stepped(emu, deadline.saturating_duration_since(start), check);
+        }
+        let mut rx = lock(&self.inner.rx);
+        loop {
+            self.drain(&mut rx)?;
+            if let Some(t) = check(&mut rx) {
+                return Ok(t);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Err(Error::Timeout(deadline.saturating_duration_since(start)));
+            }
+            let left = deadline - now;
+            if rx.polling {
+                rx = self
+                    .inner
+                    .rx_cond
+                    .wait_timeout(rx, left)
+                    .map(|(g, _)| g)
+                    .unwrap_or_else(|p| p.into_inner().0);
+                continue;
+            }
+            rx.polling = true;
+            drop(rx);
+            let readable = match self.inner.dev.irq.fd() {
+                Some(fd) => {
+                    let ms = left.as_millis().clamp(1, 60_000) as u16;
+                    let mut fds = [PollFd::new(fd, PollFlags::POLLIN)];
+                    matches!(poll(&mut fds, PollTimeout::from(ms)), Ok(n) if n > 0)
+                }
+                None => {
+                    // pci: no interrupt line; look at the ring again shortly.
+                    std::thread::sleep(left.min(Duration::from_micros(200)));
+                    false
+                }
+            };
+            if readable {
+                self.inner.dev.irq.acknowledge();
+            }
+            rx = lock(&self.inner.rx);
+            rx.polling = false;
+            self.inner.rx_cond.notify_all();
+        }
+    }
+
+    fn wait_stepped<T>(
+        &self,
+        emu: &Mutex<Emulator>,
+        timeout: Duration,
+        mut check: impl FnMut(&mut Rx) -> Option<T>,
+    ) -> Result<T> {
+        let ticks = {
+            let e = lock(emu);
+            (timeout.as_secs_f64() * e.firmware().servo_rate_hz() as f64).ceil() as u64
+        };
+        let mut n = 0u64;
+        loop {
+            {
+                let mut rx = lock(&self.inner.rx);
+                self.drain(&mut rx)?;
+                if let Some(t) = check(&mut rx) {
+                    return Ok(t);
+                }
+            }
+            if n >= ticks {
+                return Err(Error::Timeout(timeout));
+            }
+            lock(emu).step();
+            n += 1;
+        }
+    }
+
+    fn scale(&self, axis: usize) -> f64 {
+        lock(&self.inner.scale).get(axis).copied().unwrap_or(1.0)
+    }
+
+    fn wait_outcome(&self, axis: usize, seq: u32, timeout: Duration) -> Result<f64> {
+        let r = self.wait_until(Instant::now() + timeout, |rx| {
+            rx.outcomes.iter().find(|(s, _)| *s == seq).map(|(_, o)| *o)
+        })?;
+        match r {
+            Outcome::Done(p) => Ok(p),
+            Outcome::Aborted(code) => Err(Error::Aborted {
+                axis,
+                by: abort_reason(code),
+            }),
+        }
+    }
+}
+
+fn abort_reason(code: i32) -> String {
+    match u16::try_from(code).ok().and_then(Opcode::from_raw) {
+        Some(op) => format!("{op:?}"),
+        None => format!("fault {code}"),
+    }
+}
+
+fn push_capped<T>(q: &mut VecDeque<T>, v: T, cap: usize) {
+    if q.len() >= cap {
+        q.pop_front();
+    }
+    q.push_back(v);
+}
+
+/// Stepping control of a stepped `sim` card: time advances only when asked.
+#[derive(Clone)]
+pub struct Sim {
+    emu: Arc<Mutex<Emulator>>,
+    card: Card,
+}
+
+impl Sim {
+    /// Advance `n` servo periods.
+    pub fn step(&self, n: u64) {
+        lock(&self.emu).step_n(n);
+    }
+
+    /// Emulated time since boot, s.
+    pub fn time(&self) -> f64 {
+        lock(&self.emu).time()
+    }
+
+    /// Run `f` on the emulator (plant access, fault injection).
+    pub fn with_emulator<T>(&self, f: impl FnOnce(&mut Emulator) -> T) -> T {
+        f(&mut lock(&self.emu))
+    }
+
+    /// Step one period at a time, calling `f` with the axis statuses after each, for `n`
+    /// periods or until `f` returns false.
+    pub fn trace(&self, axis: usize, n: u64, mut f: impl FnMut(&Status) -> bool) -> Result<()> {
+        let ax = self.card.axis(axis)?;
+        for _ in 0..n {
+            self.step(1);
+            if !f(&ax.status()?) {
+                break;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Limits of a point-to-point move, in user units (see [`Axis::set_scale`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveLimits {
+    /// Maximum velocity.
+    pub velocity: f64,
+    /// Maximum acceleration.
+    pub acceleration: f64,
+    /// Maximum deceleration.
+    pub deceleration: f64,
+    /// Jerk of the seven-segment phases 1, 3 (acceleration) and 5, 7 (deceleration).
+    pub jerk: [f64; 4],
+}
+
+impl MoveLimits {
+    /// Symmetric limits: deceleration = acceleration, one jerk for all phases.
+    pub fn new(velocity: f64, acceleration: f64, jerk: f64) -> Self {
+        Self {
+            velocity,
+            acceleration,
+            deceleration: acceleration,
+            jerk: [jerk; 4],
+        }
+    }
+
+    /// With a different deceleration.
+    pub fn deceleration(mut self, d: f64) -> Self {
+        self.deceleration = d;
+        self
+    }
+
+    /// With a different jerk for the deceleration phases (5 and 7).
+    pub fn decel_jerk(mut self, j: f64) -> Self {
+        self.jerk[2] = j;
+        self.jerk[3] = j;
+        self
+    }
+
+    fn check(&self) -> Result<()> {
+        let named = [
+            ("velocity", self.velocity),
+            ("acceleration", self.acceleration),
+            ("deceleration", self.deceleration),
+            ("jerk (phase 1)", self.jerk[0]),
+            ("jerk (phase 3)", self.jerk[1]),
+            ("jerk (phase 5)", self.jerk[2]),
+            ("jerk (phase 7)", self.jerk[3]),
+        ];
+        for (what, v) in named {
+            finite(what, v)?;
+            if v <= 0.0 {
+                return Err(Error::NonPositive { what, value: v });
+            }
+        }
+        Ok(())
+    }
+}
+
+fn finite(what: &'static str, v: f64) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::NotFinite { what, value: v })
+    }
+}
+
+/// An axis's status, in user units (and the raw counts in `raw`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Status {
+    /// PLCopen state.
+    pub state: AxisState,
+    /// Commanded position.
+    pub command_position: f64,
+    /// Commanded velocity.
+    pub command_velocity: f64,
+    /// Commanded acceleration.
+    pub command_acceleration: f64,
+    /// Actual position.
+    pub actual_position: f64,
+    /// Actual velocity.
+    pub actual_velocity: f64,
+    /// Following error (commanded − actual).
+    pub following_error: f64,
+    /// DAC output, volts.
+    pub dac_volts: f64,
+    /// Fault bits (`firmware_proto::fault`).
+    pub faults: u32,
+    /// Everything the card published, in counts.
+    pub raw: AxisStatus,
+}
+
+/// A handle to one axis of a card.
+#[derive(Clone)]
+pub struct Axis {
+    card: Card,
+    index: usize,
+}
+
+/// A motion in progress; wait for it with [`Motion::wait`].
+#[derive(Clone)]
+pub struct Motion {
+    card: Card,
+    axis: usize,
+    seq: u32,
+}
+
+impl Motion {
+    /// The seq of the command that started it.
+    pub fn seq(&self) -> u32 {
+        self.seq
+    }
+
+    /// Wait until the axis is in position (motion done) and return the actual position, or an
+    /// error when it is aborted or the timeout passes.
+    pub fn wait(&self, timeout: Duration) -> Result<f64> {
+        self.card.wait_outcome(self.axis, self.seq, timeout)
+    }
+}
+
+impl Axis {
+    /// Axis number.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// Counts per user unit (default 1: positions in counts). Affects this host only.
+    pub fn set_scale(&self, counts_per_unit: f64) -> Result<()> {
+        finite("scale", counts_per_unit)?;
+        if counts_per_unit == 0.0 {
+            return Err(Error::NonPositive {
+                what: "scale",
+                value: counts_per_unit,
+            });
+        }
+        lock(&self.card.inner.scale)[self.index] = counts_per_unit;
+        Ok(())
+    }
+
+    fn scale(&self) -> f64 {
+        self.card.scale(self.index)
+    }
+
+    fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
+        self.card.execute_seq(cmd, what, self.index)
+    }
+
+    fn op(&self, op: Opcode) -> Command {
+        Command::new(op, self.index as u16)
+    }
+
+    /// MC_Power on.
+    pub fn enable(&self) -> Result<()> {
+        self.run(self.op(Opcode::PowerOn), "enable").map(|_| ())
+    }
+
+    /// MC_Power off (a moving axis loses power at once).
+    pub fn disable(&self) -> Result<()> {
+        self.run(self.op(Opcode::PowerOff), "disable").map(|_| ())
+    }
+
+    fn start_move(
+        &self,
+        op: Opcode,
+        value: f64,
+        lim: &MoveLimits,
+        what: &'static str,
+    ) -> Result<Motion> {
+        finite(
+            if op == Opcode::MoveAbsolute {
+                "target position"
+            } else {
+                "distance"
+            },
+            value,
+        )?;
+        lim.check()?;
+        let s = self.scale().abs();
+        let args = [
+            value * self.scale(),
+            lim.velocity * s,
+            lim.acceleration * s,
+            lim.deceleration * s,
+            lim.jerk[0] * s,
+            lim.jerk[1] * s,
+            lim.jerk[2] * s,
+            lim.jerk[3] * s,
+        ];
+        let seq = self.run(self.op(op).with_args(&args), what)?;
+        lock(&self.card.inner.last_motion)[self.index] = Some(seq);
+        Ok(Motion {
+            card: self.card.clone(),
+            axis: self.index,
+            seq,
+        })
+    }
+
+    /// MC_MoveAbsolute: a time-optimal S-curve to `target` within `limits`.
+    pub fn move_absolute(&self, target: f64, limits: &MoveLimits) -> Result<Motion> {
+        self.start_move(Opcode::MoveAbsolute, target, limits, "move_absolute")
+    }
+
+    /// MC_MoveRelative: a time-optimal S-curve by `distance` within `limits`.
+    pub fn move_relative(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
+        self.start_move(Opcode::MoveRelative, distance, limits, "move_relative")
+    }
+
+    fn stopping(
+        &self,
+        op: Opcode,
+        deceleration: f64,
+        jerk: f64,
+        what: &'static str,
+    ) -> Result<Motion> {
+        finite("deceleration", deceleration)?;
+        finite("jerk", jerk)?;
+        for (w, v) in [("deceleration", deceleration), ("jerk", jerk)] {
+            if v <= 0.0 {
+                return Err(Error::NonPositive { what: w, value: v });
+            }
+        }
+        let s = self.scale().abs();
+        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
+        lock(&self.card.inner.last_motion)[self.index] = Some(seq);
+        Ok(Motion {
+            card: self.card.clone(),
+            axis: self.index,
+            seq,
+        })
+    }
+
+    /// MC_Halt: decelerate within the limits, then Standstill. The interrupted move is aborted.
+    pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
+        self.stopping(Opcode::Halt, deceleration, jerk, "halt")
+    }
+
+    /// MC_Stop: decelerate and stay in Stopping until [`Axis::release_stop`].
+    pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
+        self.stopping(Opcode::Stop, deceleration, jerk, "stop")
+    }
+
+    /// Leave Stopping (once at rest the axis goes to Standstill).
+    pub fn release_stop(&self) -> Result<()> {
+        self.run(self.op(Opcode::StopRelease), "release_stop")
+            .map(|_| ())
+    }
+
+    /// MC_Reset: ErrorStop → Standstill.
+    pub fn reset(&self) -> Result<()> {
+        self.run(self.op(Opcode::Reset), "reset").map(|_| ())
+    }
+
+    /// Wait for the last motion started through this library on this axis.
+    pub fn wait_done(&self, timeout: Duration) -> Result<f64> {
+        let seq = lock(&self.card.inner.last_motion)[self.index]
+            .ok_or_else(|| Error::Unsupported("no motion was started on this axis".into()))?;
+        self.card.wait_outcome(self.index, seq, timeout)
+    }
+
+    /// A consistent snapshot of the axis's status.
+    pub fn status(&self) -> Result<Status> {
+        let raw = seqlock::read_axis_status(&self.card.inner.dev.window, self.index).map_err(
+            |e| match e {
+                SnapshotError::Busy => {
+                    Error::NotResponding(format!("status of axis {} stayed busy", self.index))
+                }
+                SnapshotError::Corrupt => {
+                    Error::Protocol(format!("status of axis {} failed its checksum", self.index))
+                }
+            },
+        )?;
+        let state = raw.state().ok_or_else(|| {
+            Error::Protocol(format!(
+                "axis {} reports unknown state {}",
+                self.index, raw.state
+            ))
+        })?;
+        let s = self.scale();
+        Ok(Status {
+            state,
+            command_position: raw.cmd_pos / s,
+            command_velocity: raw.cmd_vel / s,
+            command_acceleration: raw.cmd_acc / s,
+            actual_position: raw.act_pos / s,
+            actual_velocity: raw.act_vel / s,
+            following_error: raw.ferr / s,
+            dac_volts: raw.dac_v,
+            faults: raw.faults,
+            raw,
+        })
+    }
+
+    /// Write the servo and in-position configuration and have the card apply it.
+    pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
+        use firmware_proto::layout::axis_config as ac;
+        let w = &self.card.inner.dev.window;
+        let a = self.index;
+        let named = [
+            ("kp", ac::KP, cfg.kp),
+            ("ki", ac::KI, cfg.ki),
+            ("kv", ac::KV, cfg.kv),
+            ("kvff", ac::KVFF, cfg.kvff),
+            ("kaff", ac::KAFF, cfg.kaff),
+            ("velocity filter", ac::VEL_FILTER_HZ, cfg.vel_filter_hz),
+            ("DAC limit", ac::DAC_LIMIT_V, cfg.dac_limit_v),
+            ("in-position window", ac::IN_POS_WINDOW, cfg.in_pos_window),
+            ("in-velocity window", ac::IN_VEL_WINDOW, cfg.in_vel_window),
+            ("settle time", ac::SETTLE_TIME, cfg.settle_time),
+        ];
+        for (what, _, v) in named {
+            finite(what, v)?;
+        }
+        w.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_FFPIV);
+        for (_, off, v) in named {
+            w.write_f64(layout::axis_config(a, off), v);
+        }
+        self.run(self.op(Opcode::ApplyAxisConfig), "configure")
+            .map(|_| ())
+    }
+}
+
+/// Servo gains and in-position windows of an axis (counts, seconds, volts).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisSettings {
+    /// Position gain, 1/s.
+    pub kp: f64,
+    /// Velocity-loop integral gain, 1/s.
+    pub ki: f64,
+    /// Velocity-loop gain, V per count/s.
+    pub kv: f64,
+    /// Velocity feed-forward fraction.
+    pub kvff: f64,
+    /// Acceleration feed-forward, V per count/s².
+    pub kaff: f64,
+    /// Velocity estimator cut-off, Hz.
+    pub vel_filter_hz: f64,
+    /// Output clamp, V.
+    pub dac_limit_v: f64,
+    /// In-position window, counts.
+    pub in_pos_window: f64,
+    /// In-velocity window, counts/s.
+    pub in_vel_window: f64,
+    /// Settle time, s.
+    pub settle_time: f64,
+}
+
+impl Default for AxisSettings {
+    fn default() -> Self {
+        let c = card_emu::axis::AxisConfig::default();
+        Self {
+            kp: c.gains.kp,
+            ki: c.gains.ki,
+            kv: c.gains.kv,
+            kvff: c.gains.kvff,
+            kaff: c.gains.kaff,
+            vel_filter_hz: c.gains.vel_filter_hz,
+            dac_limit_v: c.dac_limit_v,
+            in_pos_window: c.in_pos_window,
+            in_vel_window: c.in_vel_window,
+            settle_time: c.settle_time,
+        }
+    }
+}

@@ -1,0 +1,291 @@
+//! The device layer: one mapped DPRAM window and one interrupt source per card, whatever the
+//! backend. Everything above this module is the same for every backend.
+//!
+//! | URI | window | interrupt |
+//! |---|---|---|
+//! | `sim` | memfd, emulator thread in this process | eventfd |
+//! | `emu:NAME` | memfd received from a `card-emu` process | eventfd received with it |
+//! | `uio:/dev/uioN` | map 0 of the UIO device | the UIO fd (blocking read = count) |
+//! | `pci:DDDD:BB:DD.F` | sysfs `resource0` | none: polling |
+
+use crate::error::{Error, Result};
+use card_emu::server::{self, ConnectError};
+use card_emu::shm::MappedWindow;
+use card_emu::{Clock, EmuOptions, Emulator, Runner};
+use nix::fcntl::{Flock, FlockArg};
+use std::fs::{File, OpenOptions};
+use std::os::fd::{AsFd, BorrowedFd, OwnedFd};
+use std::os::unix::net::UnixStream;
+use std::sync::{Arc, Mutex};
+
+/// How an in-process emulated card (`sim`) is built and driven.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimOptions {
+    /// Real-time (the default), free-running, or stepped (time advances only when the
+    /// application calls [`crate::Sim::step`] or waits; deterministic).
+    pub clock: Clock,
+    /// Axes, servo rate and plant.
+    pub emu: EmuOptions,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        Self {
+            clock: Clock::RealTime,
+            emu: EmuOptions::default(),
+        }
+    }
+}
+
+/// The interrupt source.
+pub(crate) enum Irq {
+    /// An eventfd: read 8 bytes to clear.
+    EventFd(OwnedFd),
+    /// A UIO device: read 4 bytes (the interrupt count); write 1 to re-enable.
+    Uio(File),
+    /// No interrupt line: waits poll the window.
+    None,
+}
+
+impl Irq {
+    pub(crate) fn fd(&self) -> Option<BorrowedFd<'_>> {
+        match self {
+            Irq::EventFd(fd) => Some(fd.as_fd()),
+            Irq::Uio(f) => Some(f.as_fd()),
+            Irq::None => None,
+        }
+    }
+
+    /// Clear a pending interrupt (never blocks: called after poll said readable).
+    pub(crate) fn acknowledge(&self) {
+        match self {
+            Irq::EventFd(fd) => {
+                let mut b = [0u8; 8];
+                let _ = nix::unistd::read(fd, &mut b);
+            }
+            Irq::Uio(f) => {
+                let mut b = [0u8; 4];
+                let _ = nix::unistd::read(f, &mut b);
+                let _ = nix::unistd::write(f, &1u32.to_ne_bytes());
+            }
+            Irq::None => {}
+        }
+    }
+}
+
+/// What keeps a backend alive.
+pub(crate) enum Backend {
+    /// In-process emulator driven by a clock thread.
+    SimRunning { _runner: Runner },
+    /// In-process emulator stepped by the application.
+    SimStepped { emu: Arc<Mutex<Emulator>> },
+    /// A card-emu process; the stream is our lease.
+    Emu { _lease: UnixStream },
+    /// A real card, locked with flock on this file.
+    Hardware { _lock: Flock<File> },
+}
+
+/// An opened device: window + interrupt + backend.
+pub(crate) struct Device {
+    pub window: Arc<MappedWindow>,
+    pub irq: Irq,
+    pub backend: Backend,
+}
+
+/// Parse and open a card URI.
+pub(crate) fn open(uri: &str) -> Result<Device> {
+    if uri == "sim" {
+        return open_sim(&SimOptions::default());
+    }
+    if let Some(name) = uri.strip_prefix("emu:") {
+        if name.is_empty() || name.len() > 100 || name.contains('\0') {
+            return Err(Error::BadUri(uri.into()));
+        }
+        return open_emu(uri, name);
+    }
+    if let Some(path) = uri.strip_prefix("uio:") {
+        let n = path
+            .strip_prefix("/dev/uio")
+            .filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+        return match n {
+            Some(n) => open_uio(uri, path, n),
+            None => Err(Error::BadUri(uri.into())),
+        };
+    }
+    if let Some(addr) = uri.strip_prefix("pci:") {
+        if !is_pci_address(addr) {
+            return Err(Error::BadUri(uri.into()));
+        }
+        return open_pci(uri, addr);
+    }
+    Err(Error::BadUri(uri.into()))
+}
+
+pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
+    let emu = Emulator::create("sim", &opts.emu)
+        .map_err(|e| Error::io("creating the emulated card", e))?;
+    let window = emu.window().clone();
+    let irq = emu
+        .irq_fd()
+        .try_clone_to_owned()
+        .map_err(|e| Error::io("duplicating the interrupt eventfd", e))?;
+    let backend = match opts.clock {
+        Clock::Stepped => Backend::SimStepped {
+            emu: Arc::new(Mutex::new(emu)),
+        },
+        clock => Backend::SimRunning {
+            _runner: Runner::spawn(emu, clock, false)
+                .map_err(|e| Error::io("starting the emulator thread", e))?,
+        },
+    };
+    Ok(Device {
+        window,
+        irq: Irq::EventFd(irq),
+        backend,
+    })
+}
+
+fn open_emu(uri: &str, name: &str) -> Result<Device> {
+    let conn = server::connect(name).map_err(|e| match e {
+        ConnectError::NotFound => Error::NotFound {
+            uri: uri.into(),
+            reason: format!(
+                "no card-emu process is serving '{name}' (start one with `card-emu --name {name}`)"
+            ),
+        },
+        ConnectError::Busy => Error::Busy { uri: uri.into() },
+        ConnectError::Protocol(m) => Error::Protocol(format!("{uri}: {m}")),
+        ConnectError::Io(e) => Error::io(format!("connecting to {uri}"), e),
+    })?;
+    let window = MappedWindow::from_fd(conn.window)
+        .map_err(|e| Error::io(format!("mapping the DPRAM of {uri}"), e))?;
+    Ok(Device {
+        window: Arc::new(window),
+        irq: Irq::EventFd(conn.irq),
+        backend: Backend::Emu { _lease: conn.lease },
+    })
+}
+
+/// Take the card for this process: a second opener gets [`Error::Busy`]. The lock is held
+/// by a duplicate descriptor for as long as the device is open.
+fn lock_exclusive(uri: &str, file: &File) -> Result<Flock<File>> {
+    let dup = file
+        .try_clone()
+        .map_err(|e| Error::io(format!("locking {uri}"), e))?;
+    Flock::lock(dup, FlockArg::LockExclusiveNonblock).map_err(|(_, e)| match e {
+        nix::errno::Errno::EWOULDBLOCK => Error::Busy { uri: uri.into() },
+        e => Error::io(format!("locking {uri}"), e),
+    })
+}
+
+fn not_found(uri: &str, path: &str, e: std::io::Error) -> Error {
+    if e.kind() == std::io::ErrorKind::NotFound {
+        Error::NotFound {
+            uri: uri.into(),
+            reason: format!("{path} does not exist"),
+        }
+    } else {
+        Error::io(format!("opening {path}"), e)
+    }
+}
+
+fn open_uio(uri: &str, path: &str, n: &str) -> Result<Device> {
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)
+        .map_err(|e| not_found(uri, path, e))?;
+    let lock = lock_exclusive(uri, &file)?;
+    let size_path = format!("/sys/class/uio/uio{n}/maps/map0/size");
+    let size = std::fs::read_to_string(&size_path).map_err(|e| not_found(uri, &size_path, e))?;
+    let size = usize::from_str_radix(size.trim().trim_start_matches("0x"), 16)
+        .map_err(|_| Error::Protocol(format!("{size_path}: unreadable size '{}'", size.trim())))?;
+    if size < firmware_proto::DPRAM_SIZE {
+        return Err(Error::Protocol(format!(
+            "{uri}: map0 is {size} bytes, the DPRAM layout needs {}",
+            firmware_proto::DPRAM_SIZE
+        )));
+    }
+    // UIO selects map N with offset N * page size; map 0 is the DPRAM BAR.
+    let irq_file = file
+        .try_clone()
+        .map_err(|e| Error::io(format!("opening {path}"), e))?;
+    let window = MappedWindow::map(file, 0, firmware_proto::DPRAM_SIZE)
+        .map_err(|e| Error::io(format!("mapping {path}"), e))?;
+    // Enable the interrupt (uio_pci_generic and most UIO drivers take a write of 1).
+    let _ = nix::unistd::write(&irq_file, &1u32.to_ne_bytes());
+    Ok(Device {
+        window: Arc::new(window),
+        irq: Irq::Uio(irq_file),
+        backend: Backend::Hardware { _lock: lock },
+    })
+}
+
+fn open_pci(uri: &str, addr: &str) -> Result<Device> {
+    let path = format!("/sys/bus/pci/devices/{addr}/resource0");
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(&path)
+        .map_err(|e| not_found(uri, &path, e))?;
+    let lock = lock_exclusive(uri, &file)?;
+    let window = MappedWindow::map(file, 0, firmware_proto::DPRAM_SIZE)
+        .map_err(|e| Error::io(format!("mapping {path}"), e))?;
+    Ok(Device {
+        window: Arc::new(window),
+        irq: Irq::None,
+        backend: Backend::Hardware { _lock: lock },
+    })
+}
+
+/// `DDDD:BB:DD.F`, hexadecimal, as sysfs names PCI functions.
+fn is_pci_address(s: &str) -> bool {
+    let b = s.as_bytes();
+    let hex = |r: core::ops::Range<usize>| b[r].iter().all(u8::is_ascii_hexdigit);
+    b.len() == 12
+        && b[4] == b':'
+        && b[7] == b':'
+        && b[10] == b'.'
+        && hex(0..4)
+        && hex(5..7)
+        && hex(8..10)
+        && (b'0'..=b'7').contains(&b[11])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::ErrorKind;
+
+    fn kind(uri: &str) -> ErrorKind {
+        match open(uri) {
+            Ok(_) => panic!("{uri} opened"),
+            Err(e) => e.kind(),
+        }
+    }
+
+    #[test]
+    fn uri_parsing() {
+        assert!(is_pci_address("0000:03:00.0"));
+        assert!(!is_pci_address("0000:03:00.8"));
+        assert!(!is_pci_address("0000:3:00.0"));
+        for bad in [
+            "",
+            "simulator",
+            "emu:",
+            "uio:/dev/uio",
+            "uio:/dev/sda",
+            "pci:00:03.0",
+            "http://x",
+        ] {
+            assert_eq!(kind(bad), ErrorKind::BadUri, "{bad}");
+        }
+    }
+
+    #[test]
+    fn absent_hardware_is_not_found() {
+        assert_eq!(kind("uio:/dev/uio987"), ErrorKind::NotFound);
+        assert_eq!(kind("pci:0000:fe:1f.7"), ErrorKind::NotFound);
+        assert_eq!(kind("emu:nobody-serves-this-name"), ErrorKind::NotFound);
+    }
+}
