@@ -228,6 +228,9 @@ impl Axis {
         }
         let profile =
             Profile::plan(start, target - start, 0.0, 0.0, limits).map_err(crate::plan_nack)?;
+        if !(profile.duration() <= crate::MAX_MOVE_TIME) {
+            return Err(NackCode::Infeasible);
+        }
         self.target = target;
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };

@@ -1,0 +1,294 @@
+//! Every command gets exactly one ack or nack; each refusal has its own code; the PLCopen
+//! state machine (Halt, Stop, Reset, Power) behaves as specified.
+mod common;
+
+use common::stepped_card;
+use motioncard::proto::{Command, Opcode};
+use motioncard::{AxisState, Card, ErrorKind, EventKind, MoveLimits, NackCode};
+use std::time::Duration;
+
+fn lim() -> MoveLimits {
+    MoveLimits::new(100_000.0, 1e6, 5e7)
+}
+
+/// Send a raw command and return its nack code (or None when acked).
+fn raw(card: &Card, cmd: Command) -> Option<NackCode> {
+    let seq = card.send_raw(cmd).unwrap();
+    card.wait_ack(seq).unwrap().err()
+}
+
+fn mv(axis: u16, args: &[f64]) -> Command {
+    Command::new(Opcode::MoveAbsolute, axis).with_args(args)
+}
+
+#[test]
+fn every_nack_code_is_provoked_by_its_own_fault() {
+    let card = stepped_card();
+    let good = [1000.0, 1e5, 1e6, 1e6, 1e7, 1e7, 1e7, 1e7];
+    let mut seen = Vec::new();
+    let mut expect = |code: NackCode, got: Option<NackCode>| {
+        assert_eq!(got, Some(code));
+        seen.push(code);
+    };
+    let mut unknown = Command::new(Opcode::Nop, 0);
+    unknown.opcode = 0x7777;
+    expect(NackCode::UnknownOpcode, raw(&card, unknown));
+    expect(NackCode::BadAxis, raw(&card, mv(8, &good)));
+    expect(NackCode::AxisDisabled, raw(&card, mv(0, &good)));
+    assert_eq!(raw(&card, Command::new(Opcode::PowerOn, 0)), None);
+    let mut nan = good;
+    nan[0] = f64::NAN;
+    expect(NackCode::NotFinite, raw(&card, mv(0, &nan)));
+    let mut inf = good;
+    inf[5] = f64::INFINITY;
+    assert_eq!(raw(&card, mv(0, &inf)), Some(NackCode::NotFinite));
+    let mut zero = good;
+    zero[2] = 0.0;
+    expect(NackCode::NonPositiveLimit, raw(&card, mv(0, &zero)));
+    let mut neg = good;
+    neg[7] = -1.0;
+    assert_eq!(raw(&card, mv(0, &neg)), Some(NackCode::NonPositiveLimit));
+    expect(
+        NackCode::InvalidState,
+        raw(&card, Command::new(Opcode::Reset, 0)),
+    );
+    let mut far = good;
+    far[0] = 1e17;
+    expect(NackCode::OutOfRange, raw(&card, mv(0, &far)));
+    let mut crawl = good;
+    crawl[4..8].copy_from_slice(&[1e-12; 4]);
+    crawl[0] = 1e9;
+    expect(NackCode::Infeasible, raw(&card, mv(0, &crawl)));
+    // Card configuration: out of range, then in range but with an axis enabled.
+    assert_eq!(
+        card.set_servo_rate(50).unwrap_err().kind(),
+        ErrorKind::BadConfig
+    );
+    seen.push(NackCode::BadConfig);
+    assert_eq!(
+        card.set_servo_rate(2000).unwrap_err().kind(),
+        ErrorKind::AxesEnabled
+    );
+    seen.push(NackCode::AxesEnabled);
+    for code in NackCode::ALL {
+        assert!(seen.contains(code), "{code:?} never provoked");
+    }
+    // Nothing moved: every refused move left the axis where it was.
+    let s = card.axis(0).unwrap().status().unwrap();
+    assert_eq!((s.state, s.raw.move_count), (AxisState::Standstill, 0));
+}
+
+#[test]
+fn every_command_gets_exactly_one_answer() {
+    let card = stepped_card();
+    let ops = [
+        Opcode::Nop,
+        Opcode::PowerOn,
+        Opcode::MoveAbsolute,
+        Opcode::Halt,
+        Opcode::Reset,
+        Opcode::PowerOff,
+        Opcode::StopRelease,
+    ];
+    let mut seqs = Vec::new();
+    for i in 0..60u16 {
+        let op = ops[i as usize % ops.len()];
+        seqs.push(
+            card.send_raw(
+                Command::new(op, i % 10).with_args(&[5.0, 1e4, 1e5, 1e5, 1e6, 1e6, 1e6, 1e6]),
+            )
+            .unwrap(),
+        );
+    }
+    card.sim().unwrap().step(100);
+    let mut answers = std::collections::HashMap::new();
+    // Acks are consumed by wait_ack; count them per seq.
+    for s in &seqs {
+        card.wait_ack(*s).unwrap().ok();
+        *answers.entry(*s).or_insert(0) += 1;
+    }
+    assert_eq!(answers.len(), seqs.len());
+    // A second wait for an answered seq finds nothing: each was answered once.
+    for s in &seqs[..5] {
+        assert_eq!(
+            card.wait_ack(*s).unwrap_err().kind(),
+            ErrorKind::NotResponding
+        );
+    }
+}
+
+#[test]
+fn sdk_refuses_bad_arguments_before_the_card_sees_them() {
+    let card = stepped_card();
+    let ax = card.axis(0).unwrap();
+    assert_eq!(card.axis(8).err().unwrap().kind(), ErrorKind::BadAxis);
+    ax.enable().unwrap();
+    assert_eq!(
+        ax.move_absolute(f64::NAN, &lim()).err().unwrap().kind(),
+        ErrorKind::NotFinite
+    );
+    let mut l = lim();
+    l.jerk[2] = f64::INFINITY;
+    assert_eq!(
+        ax.move_relative(1.0, &l).err().unwrap().kind(),
+        ErrorKind::NotFinite
+    );
+    assert_eq!(
+        ax.move_relative(1.0, &lim().deceleration(0.0))
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::NonPositiveLimit
+    );
+    assert_eq!(
+        ax.halt(-1.0, 1e6).err().unwrap().kind(),
+        ErrorKind::NonPositiveLimit
+    );
+    assert_eq!(
+        ax.set_scale(0.0).unwrap_err().kind(),
+        ErrorKind::NonPositiveLimit
+    );
+    let mut cfg = motioncard::AxisSettings {
+        kp: f64::NAN,
+        ..Default::default()
+    };
+    assert_eq!(ax.configure(&cfg).unwrap_err().kind(), ErrorKind::NotFinite);
+    cfg.kp = -3.0; // finite but out of range: the card refuses it
+    assert_eq!(ax.configure(&cfg).unwrap_err().kind(), ErrorKind::BadConfig);
+    // Nothing was sent for the host-side refusals: the card accepted only power-on and configure.
+    assert_eq!(ax.status().unwrap().raw.move_count, 0);
+}
+
+#[test]
+fn halt_decelerates_within_limits_then_standstill_and_aborts_the_move() {
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let ax = card.axis(2).unwrap();
+    ax.enable().unwrap();
+    let m = ax.move_absolute(1e6, &lim()).unwrap();
+    sim.step(3000); // cruising at 1e5 counts/s
+    assert_eq!(ax.status().unwrap().state, AxisState::DiscreteMotion);
+    let h = ax.halt(5e5, 2e7).unwrap();
+    assert_eq!(
+        m.wait(Duration::ZERO).unwrap_err().kind(),
+        ErrorKind::Aborted
+    );
+    let mut peak_dec: f64 = 0.0;
+    sim.trace(2, 20_000, |s| {
+        peak_dec = peak_dec.max(-s.command_acceleration);
+        s.state == AxisState::DiscreteMotion
+    })
+    .unwrap();
+    assert!(
+        peak_dec <= 5e5 * (1.0 + 1e-9) && peak_dec > 4.9e5,
+        "peak deceleration {peak_dec}"
+    );
+    let at = h.wait(Duration::from_secs(1)).unwrap();
+    let s = ax.status().unwrap();
+    assert_eq!(s.state, AxisState::Standstill);
+    assert!((at - s.raw.target).abs() <= 1.0 && s.raw.target < 1e6);
+    // Moves work again.
+    ax.move_relative(-1000.0, &lim())
+        .unwrap()
+        .wait(Duration::from_secs(2))
+        .unwrap();
+}
+
+#[test]
+fn stop_holds_stopping_until_released_and_blocks_moves() {
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    ax.move_relative(5e5, &lim()).unwrap();
+    sim.step(2000);
+    let st = ax.stop(1e6, 5e7).unwrap();
+    st.wait(Duration::from_secs(2)).unwrap();
+    sim.step(1000);
+    assert_eq!(ax.status().unwrap().state, AxisState::Stopping);
+    assert_eq!(
+        ax.move_relative(10.0, &lim()).err().unwrap().kind(),
+        ErrorKind::InvalidState
+    );
+    assert_eq!(
+        ax.halt(1e6, 1e7).err().unwrap().kind(),
+        ErrorKind::InvalidState
+    );
+    ax.release_stop().unwrap();
+    sim.step(1);
+    assert_eq!(ax.status().unwrap().state, AxisState::Standstill);
+    assert_eq!(
+        ax.release_stop().unwrap_err().kind(),
+        ErrorKind::InvalidState
+    );
+    ax.move_relative(10.0, &lim())
+        .unwrap()
+        .wait(Duration::from_secs(1))
+        .unwrap();
+}
+
+#[test]
+fn power_off_mid_move_aborts_and_disables() {
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let ax = card.axis(4).unwrap();
+    ax.enable().unwrap();
+    let m = ax.move_relative(5e5, &lim()).unwrap();
+    sim.step(500);
+    ax.disable().unwrap();
+    let err = m.wait(Duration::from_millis(10)).unwrap_err();
+    assert_eq!(err.kind(), ErrorKind::Aborted);
+    assert!(err.to_string().contains("PowerOff"), "{err}");
+    sim.step(10);
+    let s = ax.status().unwrap();
+    assert_eq!((s.state, s.dac_volts), (AxisState::Disabled, 0.0));
+    // State-change events were raised in order: Standstill, DiscreteMotion, Disabled.
+    let states: Vec<i32> = std::iter::from_fn(|| card.next_event(Duration::ZERO).unwrap())
+        .filter(|e| e.kind == EventKind::StateChanged && e.axis == 4)
+        .map(|e| e.code)
+        .collect();
+    assert_eq!(
+        states,
+        vec![
+            AxisState::Standstill as i32,
+            AxisState::DiscreteMotion as i32,
+            AxisState::Disabled as i32
+        ]
+    );
+}
+
+#[test]
+fn servo_rate_is_configurable_between_1_and_20_khz() {
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    for hz in [1000, 20_000, 4000] {
+        card.set_servo_rate(hz).unwrap();
+        assert_eq!(card.info().servo_rate_hz, hz);
+        let ax = card.axis(0).unwrap();
+        ax.enable().unwrap();
+        let t0 = sim.time();
+        let pos = ax
+            .move_relative(20_000.0, &lim())
+            .unwrap()
+            .wait(Duration::from_secs(3))
+            .unwrap();
+        let planned = ax.status().unwrap().raw.planned_time;
+        assert!(
+            sim.time() - t0 >= planned,
+            "{hz} Hz: done before the profile ended"
+        );
+        assert!(
+            (pos - ax.status().unwrap().raw.target).abs() <= 1.0,
+            "{hz} Hz: done at {pos}"
+        );
+        ax.disable().unwrap();
+    }
+    assert_eq!(
+        card.set_servo_rate(20_001).unwrap_err().kind(),
+        ErrorKind::BadConfig
+    );
+    assert_eq!(
+        card.set_servo_rate(999).unwrap_err().kind(),
+        ErrorKind::BadConfig
+    );
+}
