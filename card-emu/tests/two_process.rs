@@ -14,7 +14,12 @@ impl Drop for Emu {
 }
 
 fn start(name: &str, extra: &[&str]) -> Emu {
-    let child = Command::new(env!("CARGO_BIN_EXE_card-emu")).args(["--name", name]).args(extra).stdout(Stdio::null()).spawn().expect("start card-emu");
+    let child = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .args(["--name", name])
+        .args(extra)
+        .stdout(Stdio::null())
+        .spawn()
+        .expect("start card-emu");
     Emu(child)
 }
 
@@ -23,7 +28,9 @@ fn open_when_ready(uri: &str) -> Card {
     loop {
         match Card::open(uri) {
             Ok(c) => return c,
-            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
+            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(10))
+            }
             Err(e) => panic!("opening {uri}: {e}"),
         }
     }
@@ -40,14 +47,19 @@ fn an_axis_moves_through_a_card_emu_process() {
     let ax = card.axis(3).unwrap();
     ax.enable().unwrap();
     let target = -75_000.0;
-    let m = ax.move_absolute(target, &MoveLimits::new(150_000.0, 2e6, 1e8)).unwrap();
+    let m = ax
+        .move_absolute(target, &MoveLimits::new(150_000.0, 2e6, 1e8))
+        .unwrap();
     let reached = m.wait(Duration::from_secs(10)).unwrap();
     assert!((reached - target).abs() <= 1.0, "reached {reached}");
     let s = ax.status().unwrap();
     assert_eq!(s.state, AxisState::Standstill);
     assert!(s.raw.peak_vel <= 150_000.0 * (1.0 + 1e-9) && s.raw.peak_vel > 149_000.0);
     // A second host is refused while this one holds the card.
-    assert_eq!(Card::open(&format!("emu:{name}")).err().unwrap().kind(), ErrorKind::Busy);
+    assert_eq!(
+        Card::open(&format!("emu:{name}")).err().unwrap().kind(),
+        ErrorKind::Busy
+    );
 }
 
 #[test]
@@ -55,7 +67,10 @@ fn a_second_server_of_the_same_name_is_refused() {
     let name = format!("dupname-{}", std::process::id());
     let _emu = start(&name, &[]);
     drop(open_when_ready(&format!("emu:{name}")));
-    let out = Command::new(env!("CARGO_BIN_EXE_card-emu")).args(["--name", &name]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .args(["--name", &name])
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("already being served"));
 }
