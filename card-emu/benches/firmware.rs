@@ -57,7 +57,7 @@ fn tick(c: &mut Criterion) {
             if emu.firmware().axis(7).map(|x| x.state) == Some(AxisState::DiscreteMotion) {
                 moving_ticks += 1;
             }
-            if n % 1024 == 0 {
+            if n.is_multiple_of(1024) {
                 let w = emu.window();
                 use firmware_proto::Mem;
                 let head = w.read32(firmware_proto::layout::EVT_HEAD);

@@ -57,6 +57,7 @@ impl AxisConfig {
 
 /// What the axis's profile is doing.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(clippy::large_enum_variant)] // stored inline on purpose: the firmware never allocates
 enum Motion {
     /// Holding the commanded position.
     Hold,
@@ -228,7 +229,7 @@ impl Axis {
         }
         let profile =
             Profile::plan(start, target - start, 0.0, 0.0, limits).map_err(crate::plan_nack)?;
-        if !(profile.duration() <= crate::MAX_MOVE_TIME) {
+        if !profile.duration().is_finite() || profile.duration() > crate::MAX_MOVE_TIME {
             return Err(NackCode::Infeasible);
         }
         self.target = target;

@@ -88,11 +88,15 @@ const _: () = {
     assert!(MAGIC == 0);
     assert!(off!(identity.layout_minor) == LAYOUT + 2);
     assert!(CMD_BYTES == 128 && EVT_BYTES == 32);
-    assert!(CMD_RING % 64 == 0 && EVT_RING % 64 == 0);
+    assert!(CMD_RING.is_multiple_of(64) && EVT_RING.is_multiple_of(64));
     assert!(CMD_TAIL - CMD_HEAD == 64 && EVT_HEAD - CMD_TAIL == 64 && EVT_TAIL - EVT_HEAD == 64);
     assert!(MC_CMD_RING_LEN.is_power_of_two() && MC_EVT_RING_LEN.is_power_of_two());
     assert!(size_of::<mc_axis_status_payload>() == STATUS_WORDS * 8);
-    assert!(STATUS_PAYLOAD % 8 == 0 && AXIS_STATUS % 64 == 0 && AXIS_STATUS_BYTES % 64 == 0);
-    assert!(AXIS_CONFIG % 8 == 0 && AXIS_CONFIG_BYTES % 8 == 0);
-    assert!(TICK % 8 == 0);
+    assert!(
+        STATUS_PAYLOAD.is_multiple_of(8)
+            && AXIS_STATUS.is_multiple_of(64)
+            && AXIS_STATUS_BYTES.is_multiple_of(64)
+    );
+    assert!(AXIS_CONFIG.is_multiple_of(8) && AXIS_CONFIG_BYTES.is_multiple_of(8));
+    assert!(TICK.is_multiple_of(8));
 };

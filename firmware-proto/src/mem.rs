@@ -117,7 +117,7 @@ impl Dpram {
     pub unsafe fn from_raw(base: *mut u8, len: usize) -> Result<Self, WindowError> {
         let needed = core::mem::size_of::<crate::raw::mc_dpram>();
         let base = NonNull::new(base).ok_or(WindowError { len, needed })?;
-        if len < needed || (base.as_ptr() as usize) % 8 != 0 {
+        if len < needed || !(base.as_ptr() as usize).is_multiple_of(8) {
             return Err(WindowError { len, needed });
         }
         Ok(Self { base, len })
@@ -134,7 +134,7 @@ impl Dpram {
     }
 
     fn word_ptr(&self, off: usize, width: usize) -> Option<*mut u8> {
-        if off % width != 0 || off.checked_add(width)? > self.len {
+        if !off.is_multiple_of(width) || off.checked_add(width)? > self.len {
             return None;
         }
         // SAFETY: `off + width <= len`, so the result stays inside the mapping.
