@@ -257,3 +257,29 @@ fn done_never_before_in_position() {
         .unwrap();
     assert!(sim.time() - t0 < planned + 0.02);
 }
+
+/// Plant parameters are per axis: a heavier axis follows the same profile with a larger
+/// following error, and still ends in position.
+#[test]
+fn plant_parameters_are_per_axis() {
+    let mut emu = motioncard::EmuOptions::default();
+    emu.motors[1].inertia *= 4.0;
+    let card = common::stepped_card_with(emu);
+    let lim = MoveLimits::new(2e5, 3e6, 1e8);
+    let mut ferr = [0.0; 2];
+    for (i, f) in ferr.iter_mut().enumerate() {
+        let ax = card.axis(i).unwrap();
+        ax.enable().unwrap();
+        let pos = ax
+            .move_absolute(50_000.0, &lim)
+            .unwrap()
+            .wait(Duration::from_secs(5))
+            .unwrap();
+        assert!((pos - 50_000.0).abs() <= 1.0);
+        *f = ax.status().unwrap().raw.max_ferr;
+    }
+    assert!(
+        ferr[1] > 1.5 * ferr[0],
+        "following errors {ferr:?}: the heavier axis should lag more (same gains)"
+    );
+}

@@ -27,8 +27,19 @@ pub struct EmuOptions {
     pub axes: usize,
     /// Servo rate, Hz (1,000..=20,000).
     pub servo_rate_hz: u32,
-    /// The plant of every axis.
-    pub motor: MotorParams,
+    /// The plant of each axis.
+    pub motors: [MotorParams; MAX_AXES],
+}
+
+impl EmuOptions {
+    /// `axes` axes with the default plant at `servo_rate_hz`.
+    pub fn new(axes: usize, servo_rate_hz: u32) -> Self {
+        Self {
+            axes,
+            servo_rate_hz,
+            ..Self::default()
+        }
+    }
 }
 
 impl Default for EmuOptions {
@@ -36,7 +47,7 @@ impl Default for EmuOptions {
         Self {
             axes: MAX_AXES,
             servo_rate_hz: 10_000,
-            motor: MotorParams::default_servo(),
+            motors: [MotorParams::default_servo(); MAX_AXES],
         }
     }
 }
@@ -84,7 +95,7 @@ impl Emulator {
         Ok(Self {
             window,
             fw,
-            motors: [Motor::new(opts.motor); MAX_AXES],
+            motors: opts.motors.map(Motor::new),
             dac: [0.0; MAX_AXES],
             irq,
             time: 0.0,
