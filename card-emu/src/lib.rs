@@ -9,7 +9,9 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod axis;
+pub mod circle;
 pub mod emulator;
+pub mod filters;
 pub mod firmware;
 pub mod plant;
 pub mod scurve;
