@@ -87,6 +87,7 @@ pub struct Axis {
     servo: Ffpiv,
     cmd: Reference,
     cmd_jerk: f64,
+    prev_cmd_acc: f64,
     target: f64,
     act_pos: f64,
     encoder: i64,
@@ -134,6 +135,7 @@ impl Axis {
                 acc: 0.0,
             },
             cmd_jerk: 0.0,
+            prev_cmd_acc: 0.0,
             target: 0.0,
             act_pos: 0.0,
             encoder: 0,
@@ -345,6 +347,7 @@ impl Axis {
                 acc: 0.0,
             };
             self.cmd_jerk = 0.0;
+            self.prev_cmd_acc = 0.0;
             self.ferr = 0.0;
             self.dac_v = 0.0;
             self.faults &= !fault::DAC_SATURATED;
@@ -355,13 +358,11 @@ impl Axis {
         if let Motion::Profile { profile, t } = &mut self.motion {
             *t += ts;
             let s = profile.sample(*t);
-            let prev_acc = self.cmd.acc;
             self.cmd = Reference {
                 pos: s.pos,
                 vel: s.vel,
                 acc: s.acc,
             };
-            self.cmd_jerk = (s.acc - prev_acc) / ts;
             if *t >= profile.duration() {
                 self.cmd = Reference {
                     pos: profile.end_pos(),
@@ -370,9 +371,10 @@ impl Axis {
                 };
                 self.motion = Motion::Hold;
             }
-        } else {
-            self.cmd_jerk = 0.0;
         }
+        // Jerk of the reference, whoever set it (own profile or a group).
+        self.cmd_jerk = (self.cmd.acc - self.prev_cmd_acc) / ts;
+        self.prev_cmd_acc = self.cmd.acc;
         if self.state == AxisState::Stopping && self.motion == Motion::Hold && self.stop_released {
             self.set_state(AxisState::Standstill, &mut report.state_from);
         }
@@ -425,6 +427,43 @@ impl Axis {
             }
         }
         (volts, report)
+    }
+
+    /// Set the commanded reference from outside (an axes group drives this axis).
+    pub fn drive(&mut self, r: Reference) {
+        self.cmd = r;
+        self.target = r.pos;
+    }
+
+    /// A group move starts driving this axis: SynchronizedMotion.
+    pub fn join_group_motion(&mut self) -> Option<AxisState> {
+        let mut changed = None;
+        if self.state == AxisState::Standstill {
+            self.set_state(AxisState::SynchronizedMotion, &mut changed);
+        }
+        changed
+    }
+
+    /// The group is at rest again: Standstill.
+    pub fn leave_group_motion(&mut self) -> Option<AxisState> {
+        let mut changed = None;
+        if self.state == AxisState::SynchronizedMotion {
+            self.set_state(AxisState::Standstill, &mut changed);
+        }
+        changed
+    }
+
+    /// The group was disabled or faulted: hold where the reference is.
+    pub fn release_from_group(&mut self) -> Option<AxisState> {
+        self.cmd.vel = 0.0;
+        self.cmd.acc = 0.0;
+        self.leave_group_motion()
+    }
+
+    /// Within the in-position windows of `target` (position and velocity)?
+    pub fn in_position_at(&self, target: f64) -> bool {
+        (target - self.act_pos).abs() <= self.config.in_pos_window
+            && self.servo.velocity().abs() <= self.config.in_vel_window
     }
 
     /// The status block to publish.

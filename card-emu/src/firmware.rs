@@ -6,12 +6,13 @@
 //! count; nothing reads a clock, calls the OS, allocates or panics.
 
 use crate::axis::{Axis, AxisConfig};
+use crate::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use crate::scurve::Limits;
 use crate::servo::FfpivGains;
-use firmware_proto::layout::{self, axis_config as ac};
+use firmware_proto::layout::{self, axis_config as ac, axis_filter as af, group_config as gc};
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
-    raw, seqlock, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES,
+    raw, seqlock, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES, MAX_GROUPS,
 };
 
 /// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
@@ -30,6 +31,9 @@ pub struct Firmware<M: Mem + Clone> {
     cmds: CmdConsumer<M>,
     events: EvtProducer<M>,
     axes: [Axis; MAX_AXES],
+    groups: [Group; MAX_GROUPS],
+    filters: Box<[AxisFilter]>,
+    outbox: Outbox,
     num_axes: usize,
     servo_rate_hz: u32,
     tick: u64,
@@ -60,6 +64,9 @@ impl<M: Mem + Clone> Firmware<M> {
             events: EvtProducer::attach(mem.clone(), EVT_RING),
             mem,
             axes: [Axis::new(); MAX_AXES],
+            groups: core::array::from_fn(Group::new),
+            filters: filter_bank(),
+            outbox: Outbox::default(),
             num_axes,
             servo_rate_hz,
             tick: 0,
@@ -85,6 +92,7 @@ impl<M: Mem + Clone> Firmware<M> {
         m.write32(layout::CARD_CONFIG_SERVO_RATE, servo_rate_hz);
         for a in 0..MAX_AXES {
             fw.write_axis_config(a, &AxisConfig::default());
+            fw.write_axis_filter(a, &FilterConfig::default());
         }
         fw.publish();
         fw.mem.store32(
@@ -161,8 +169,7 @@ impl<M: Mem + Clone> Firmware<M> {
             served += 1;
             self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
             self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
-            let mut after: [Option<Event>; 2] = [None; 2];
-            let reply = match self.execute(&cmd, &mut after) {
+            let reply = match self.execute(&cmd) {
                 Ok(()) => Event {
                     seq: cmd.seq,
                     kind: EventKind::Ack as u16,
@@ -181,9 +188,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 },
             };
             self.post(reply);
-            for e in after.into_iter().flatten() {
-                self.post(e);
-            }
+            self.post_outbox();
         }
         if served > 0 {
             self.publish();
@@ -191,8 +196,11 @@ impl<M: Mem + Clone> Firmware<M> {
         served
     }
 
-    fn execute(&mut self, c: &Command, after: &mut [Option<Event>; 2]) -> Result<(), NackCode> {
+    fn execute(&mut self, c: &Command) -> Result<(), NackCode> {
         let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
+        if is_group_op(op) {
+            return self.execute_group(c, op);
+        }
         let nargs = match op {
             Opcode::MoveAbsolute | Opcode::MoveRelative => 8,
             Opcode::Halt | Opcode::Stop => 2,
@@ -212,8 +220,29 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         let tick = self.tick;
         let pending = self.axes[ax].pending_motion();
-        if op == Opcode::ApplyAxisConfig {
-            self.axes[ax].config = read_axis_config(&self.mem, ax)?;
+        let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
+        match op {
+            Opcode::ApplyAxisConfig => self.axes[ax].config = read_axis_config(&self.mem, ax)?,
+            Opcode::ApplyAxisFilter => {
+                let cfg = read_axis_filter(&self.mem, ax)?;
+                cfg.validate(self.ts())?;
+                if !self.filters[ax].is_settled() {
+                    return Err(NackCode::FilterBusy);
+                }
+                self.filters[ax].config = cfg;
+                return Ok(());
+            }
+            Opcode::MoveAbsolute
+            | Opcode::MoveRelative
+            | Opcode::Halt
+            | Opcode::Stop
+            | Opcode::StopRelease
+            | Opcode::PowerOff
+                if grouped =>
+            {
+                return Err(NackCode::AxisGrouped)
+            }
+            _ => {}
         }
         let axis = &mut self.axes[ax];
         let changed = match op {
@@ -246,7 +275,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 None
             }
             Opcode::Reset => axis.reset()?,
-            Opcode::ApplyAxisConfig | Opcode::Nop | Opcode::ApplyCardConfig => None,
+            _ => None,
         };
         let axis = &mut self.axes[ax];
         axis.accepted(c.seq);
@@ -261,7 +290,7 @@ impl<M: Mem + Clone> Firmware<M> {
                     | Opcode::PowerOff
             ) && old != c.seq
             {
-                after[0] = Some(Event {
+                self.outbox.push(Event {
                     seq: old,
                     kind: EventKind::MotionAborted as u16,
                     axis: c.axis,
@@ -272,9 +301,70 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         }
         if let Some(old) = changed {
-            after[1] = Some(state_event(c.axis, old, axis.state, tick));
+            self.outbox.push(state_event(c.axis, old, axis.state, tick));
         }
         Ok(())
+    }
+
+    fn execute_group(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
+        let g = c.axis as usize;
+        if g >= MAX_GROUPS {
+            return Err(NackCode::BadGroup);
+        }
+        let (tick, ts) = (self.tick, self.ts());
+        if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
+            if !(c.args[0].is_finite() && c.args[1].is_finite()) {
+                return Err(NackCode::NotFinite);
+            }
+            if c.args[0] <= 0.0 || c.args[1] <= 0.0 {
+                return Err(NackCode::NonPositiveLimit);
+            }
+        }
+        let group = &mut self.groups[g];
+        let out = &mut self.outbox;
+        match op {
+            Opcode::GroupConfigure => {
+                let cfg = read_group_config(&self.mem, g, self.num_axes)?;
+                let taken =
+                    self.groups.iter().enumerate().any(|(i, o)| {
+                        i != g && cfg.axes[..cfg.naxes].iter().any(|&a| o.contains(a))
+                    });
+                if taken {
+                    return Err(NackCode::AxisInOtherGroup);
+                }
+                self.groups[g].configure(cfg)
+            }
+            Opcode::GroupEnable => group.enable(&mut self.axes, tick, out),
+            Opcode::GroupDisable => {
+                group.disable(&mut self.axes, &mut self.filters, tick, out);
+                Ok(())
+            }
+            Opcode::GroupReset => group.reset(&mut self.axes, tick, out),
+            Opcode::GroupStop | Opcode::GroupHalt => group.start_stop(
+                c.seq,
+                op == Opcode::GroupStop,
+                c.args[0],
+                c.args[1],
+                tick,
+                out,
+            ),
+            Opcode::GroupStopRelease => group.release_stop(),
+            _ => group.queue_move(c, op, ts, tick, out),
+        }
+    }
+
+    /// An axes group (for inspection by tests and benches).
+    pub fn group(&self, g: usize) -> Option<&Group> {
+        self.groups.get(g)
+    }
+
+    fn post_outbox(&mut self) {
+        for i in 0..self.outbox.len() {
+            if let Some(e) = self.outbox.take(i) {
+                self.post(e);
+            }
+        }
+        self.outbox.clear();
     }
 
     fn apply_card_config(&mut self) -> Result<(), NackCode> {
@@ -310,6 +400,17 @@ impl<M: Mem + Clone> Firmware<M> {
         f(ac::SETTLE_TIME, c.settle_time);
     }
 
+    fn write_axis_filter(&self, a: usize, c: &FilterConfig) {
+        for f in 0..3 {
+            self.mem.write32(
+                layout::axis_filter(a, af::KIND + 4 * f),
+                FilterConfig::kind_to_raw(c.kind[f]),
+            );
+            self.mem
+                .write_f64(layout::axis_filter(a, af::TAU + 8 * f), c.tau[f]);
+        }
+    }
+
     fn post(&mut self, e: Event) {
         if self.events.push(&e).is_err() {
             self.events_lost = self.events_lost.wrapping_add(1);
@@ -327,6 +428,16 @@ impl<M: Mem + Clone> Firmware<M> {
     pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
         self.tick += 1;
         let ts = self.ts();
+        for g in self.groups.iter_mut() {
+            g.tick(
+                &mut self.axes,
+                &mut self.filters,
+                ts,
+                self.tick,
+                &mut self.outbox,
+            );
+        }
+        self.post_outbox();
         for i in 0..self.num_axes {
             let (volts, report) = self.axes[i].tick(encoders[i], ts);
             dac[i] = volts;
@@ -357,6 +468,9 @@ impl<M: Mem + Clone> Firmware<M> {
         self.mem.write64(layout::TICK, self.tick);
         for i in 0..self.num_axes {
             seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
+        }
+        for (g, group) in self.groups.iter().enumerate() {
+            seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
         }
     }
 }
@@ -393,5 +507,86 @@ fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
         settle_time: f(ac::SETTLE_TIME),
     };
     cfg.validate()?;
+    Ok(cfg)
+}
+
+fn is_group_op(op: Opcode) -> bool {
+    matches!(
+        op,
+        Opcode::GroupConfigure
+            | Opcode::GroupEnable
+            | Opcode::GroupDisable
+            | Opcode::GroupStop
+            | Opcode::GroupStopRelease
+            | Opcode::GroupReset
+            | Opcode::GroupHalt
+            | Opcode::GroupMoveLinear
+            | Opcode::GroupMoveCircular
+            | Opcode::GroupMovePtp
+    )
+}
+
+/// Read and validate a group configuration block written by the host.
+fn read_group_config<M: Mem>(m: &M, g: usize, num_axes: usize) -> Result<GroupConfig, NackCode> {
+    let naxes = m.read32(layout::group_config(g, gc::NAXES)) as usize;
+    if naxes == 0 || naxes > MAX_AXES {
+        return Err(NackCode::BadConfig);
+    }
+    let lo = m.read32(layout::group_config(g, gc::AXES)).to_le_bytes();
+    let hi = m
+        .read32(layout::group_config(g, gc::AXES + 4))
+        .to_le_bytes();
+    let mut axes = [0usize; MAX_AXES];
+    for (i, b) in lo.iter().chain(hi.iter()).take(naxes).enumerate() {
+        let a = *b as usize;
+        if a >= num_axes {
+            return Err(NackCode::BadAxis);
+        }
+        if axes[..i].contains(&a) {
+            return Err(NackCode::BadConfig);
+        }
+        axes[i] = a;
+    }
+    let accdec = m.read32(layout::group_config(g, gc::ACCDEC));
+    let interp = m.read32(layout::group_config(g, gc::INTERPOLATOR));
+    let tolerance = m.read_f64(layout::group_config(g, gc::TOLERANCE));
+    if accdec == 0
+        || accdec & !(raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST) != 0
+        || interp > raw::MC_INTERP_REFERENCE_WORD
+        || !(tolerance.is_finite() && tolerance > 0.0)
+    {
+        return Err(NackCode::BadConfig);
+    }
+    let reference_word = interp == raw::MC_INTERP_REFERENCE_WORD;
+    let (pre, post) = (
+        accdec & raw::MC_ACCDEC_PRE != 0,
+        accdec & raw::MC_ACCDEC_POST != 0,
+    );
+    if reference_word && pre {
+        // Kim's interpolator steps a constant angle: its acc/dec must come after it.
+        return Err(NackCode::IncompatibleMode);
+    }
+    Ok(GroupConfig {
+        naxes,
+        axes,
+        pre,
+        post,
+        reference_word,
+        tolerance,
+    })
+}
+
+/// Read and decode an axis filter block written by the host (validated by the caller).
+fn read_axis_filter<M: Mem>(m: &M, a: usize) -> Result<FilterConfig, NackCode> {
+    let mut cfg = FilterConfig::default();
+    for f in 0..3 {
+        cfg.kind[f] =
+            FilterConfig::kind_from_raw(m.read32(layout::axis_filter(a, af::KIND + 4 * f)))
+                .ok_or(NackCode::BadConfig)?;
+        cfg.tau[f] = m.read_f64(layout::axis_filter(a, af::TAU + 8 * f));
+        if !cfg.tau[f].is_finite() {
+            return Err(NackCode::NotFinite);
+        }
+    }
     Ok(cfg)
 }

@@ -13,6 +13,7 @@ pub mod circle;
 pub mod emulator;
 pub mod filters;
 pub mod firmware;
+pub mod group;
 pub mod plant;
 pub mod scurve;
 pub mod server;

@@ -21,9 +21,11 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 0u
+#define MC_LAYOUT_MINOR 1u
 
 #define MC_MAX_AXES 8u
+#define MC_MAX_GROUPS 4u
+#define MC_GROUP_QUEUE_LEN 32u /* buffered group moves per group */
 #define MC_CMD_RING_LEN 64u
 #define MC_EVT_RING_LEN 256u
 #define MC_CMD_ARGS 14u
@@ -56,6 +58,51 @@
 #define MC_OP_RESET 9u             /* MC_Reset: ErrorStop -> Standstill or Disabled */
 #define MC_OP_APPLY_AXIS_CONFIG 10u /* copy and validate axis_config[axis] */
 #define MC_OP_APPLY_CARD_CONFIG 11u /* copy and validate card_config (axis field ignored) */
+/* Axes groups: the command's axis field holds the group index. */
+#define MC_OP_GROUP_CONFIGURE 16u   /* copy and validate group_config[group] (group disabled) */
+#define MC_OP_APPLY_AXIS_FILTER 17u /* copy and validate axis_filter[axis] */
+#define MC_OP_GROUP_ENABLE 18u      /* MC_GroupEnable */
+#define MC_OP_GROUP_DISABLE 19u     /* MC_GroupDisable */
+#define MC_OP_GROUP_STOP 20u        /* MC_GroupStop: args: dmax, jerk (along the path) */
+#define MC_OP_GROUP_STOP_RELEASE 21u
+#define MC_OP_GROUP_RESET 22u       /* MC_GroupReset */
+#define MC_OP_GROUP_HALT 23u        /* MC_GroupHalt: args: dmax, jerk */
+#define MC_OP_GROUP_MOVE_LINEAR 24u /* MC_MoveLinear*: args: v, a, d, j, then one target per group axis */
+#define MC_OP_GROUP_MOVE_CIRCULAR 25u /* MC_MoveCircular*: args: v, a, d, j, end_u, end_v, aux_u, aux_v, then the
+                                       * helical targets of the group's other axes, in group order */
+#define MC_OP_GROUP_MOVE_PTP 26u    /* synchronised point-to-point (Kim eq 10-14): args: v, a, d, j (per axis),
+                                     * then one target per group axis */
+
+/* Flags of the group move opcodes */
+#define MC_MOVE_RELATIVE (1u << 0)
+#define MC_MOVE_BUFFERED (1u << 1)     /* start when the queued moves end (else: group must be at rest) */
+#define MC_CIRC_MODE_SHIFT 2u          /* 2 bits: */
+#define MC_CIRC_BY_CENTRE 0u           /*   aux = centre */
+#define MC_CIRC_BY_RADIUS 1u           /*   aux_u = radius (negative: the arc longer than half a turn) */
+#define MC_CIRC_BY_BORDER 2u           /*   aux = a point on the arc (three-point circle) */
+#define MC_CIRC_CCW (1u << 4)          /* else clockwise (ignored for border-point arcs) */
+#define MC_CIRC_PLANE_SHIFT 5u         /* 2 bits: */
+#define MC_PLANE_XY 0u                 /*   group axes 0, 1 */
+#define MC_PLANE_YZ 1u                 /*   group axes 1, 2 */
+#define MC_PLANE_ZX 2u                 /*   group axes 2, 0 */
+#define MC_FEED_TYPE_SHIFT 8u          /* 2 bits: the feed type selecting the acc/dec filters */
+#define MC_FEED_RAPID 0u
+#define MC_FEED_CUTTING 1u
+#define MC_FEED_JOG 2u
+
+/* group_config.accdec bits */
+#define MC_ACCDEC_PRE (1u << 0)  /* S-curve of the tangential feed along the path */
+#define MC_ACCDEC_POST (1u << 1) /* per-axis acc/dec filters after interpolation */
+
+/* group_config.interpolator */
+#define MC_INTERP_EXACT 0u
+#define MC_INTERP_REFERENCE_WORD 1u /* Kim eq 15-23 for arcs (constant feed: needs MC_ACCDEC_POST only) */
+
+/* axis_filter.kind[] */
+#define MC_FILTER_NONE 0u
+#define MC_FILTER_LINEAR 1u
+#define MC_FILTER_EXPONENTIAL 2u
+#define MC_FILTER_BELL 3u
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
@@ -64,6 +111,9 @@
 #define MC_EV_STATE_CHANGED 4u   /* code: new state, value: old state */
 #define MC_EV_FAULT 5u           /* code: fault bit, value: a measurement */
 #define MC_EV_MOTION_ABORTED 6u  /* code: reason (a command opcode or fault bit) */
+#define MC_EV_GROUP_MOTION_DONE 8u    /* axis: group; seq: the move; value: 1 when the group is at rest in position */
+#define MC_EV_GROUP_STATE_CHANGED 9u  /* axis: group; code: new state, value: old state */
+#define MC_EV_GROUP_MOTION_ABORTED 10u /* axis: group; seq: the move; code: the opcode that ended it */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1
@@ -76,6 +126,19 @@
 #define MC_NACK_INFEASIBLE 8
 #define MC_NACK_OUT_OF_RANGE 9
 #define MC_NACK_AXES_ENABLED 10
+#define MC_NACK_BAD_GROUP 16            /* no such group */
+#define MC_NACK_AXIS_IN_OTHER_GROUP 17  /* an axis already belongs to another group */
+#define MC_NACK_AXIS_NOT_IN_GROUP 18    /* the move needs an axis the group does not have */
+#define MC_NACK_AXIS_BUSY 19            /* a group axis is moving on its own */
+#define MC_NACK_AXIS_GROUPED 20         /* single-axis motion on an axis of an enabled group */
+#define MC_NACK_ZERO_LENGTH_ARC 21
+#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
+#define MC_NACK_RADIUS_TOO_SMALL 23     /* the radius is shorter than half the chord */
+#define MC_NACK_COLLINEAR_POINTS 24     /* the three points of a border-point arc are on one line */
+#define MC_NACK_QUEUE_FULL 25           /* the group's move queue is full */
+#define MC_NACK_INCOMPATIBLE_MODE 26    /* the interpolator cannot run with the group's acc/dec mode */
+#define MC_NACK_GROUP_DISABLED 27       /* a move on a disabled group */
+#define MC_NACK_FILTER_BUSY 28          /* filters can change only while they hold no distance */
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
 #define MC_STATE_DISABLED 0u
@@ -86,6 +149,14 @@
 #define MC_STATE_SYNCHRONIZED_MOTION 5u
 #define MC_STATE_STOPPING 6u
 #define MC_STATE_ERROR_STOP 7u
+
+/* PLCopen group states (mc_group_status_payload.state) */
+#define MC_GROUP_DISABLED 0u
+#define MC_GROUP_STANDBY 1u
+#define MC_GROUP_MOVING 2u
+#define MC_GROUP_HOMING 3u
+#define MC_GROUP_STOPPING 4u
+#define MC_GROUP_ERROR_STOP 5u
 
 /* Fault bits (mc_axis_status_payload.faults) */
 #define MC_FAULT_DAC_SATURATED (1u << 0)
@@ -176,6 +247,47 @@ struct mc_card_config {
     uint32_t _reserved[15];
 };
 
+/* host writes; the card validates and copies on MC_OP_APPLY_AXIS_FILTER. Index: MC_FEED_* */
+struct mc_axis_filter {
+    uint32_t kind[3];  /* MC_FILTER_* per feed type (rapid, cutting, jog) */
+    uint32_t _reserved0;
+    double tau[3];     /* time constant per feed type, s */
+    double _reserved[3];
+};
+
+/* host writes; the card validates and copies on MC_OP_GROUP_CONFIGURE */
+struct mc_group_config {
+    uint32_t naxes;      /* 1..MC_MAX_AXES */
+    uint8_t axes[8];     /* card axis of group axis 0 (X), 1 (Y), 2 (Z), ... */
+    uint32_t accdec;     /* MC_ACCDEC_* bits, at least one */
+    uint32_t interpolator; /* MC_INTERP_* */
+    uint32_t _reserved0;
+    double tolerance;    /* geometry tolerance (centre equidistance, radius), counts */
+    double _reserved[4];
+};
+
+/* Group status payload: MC_STATUS_WORDS words, like the axis status. */
+struct mc_group_status_payload {
+    uint32_t state;
+    uint32_t queued;      /* moves waiting in the queue */
+    uint32_t active_seq;  /* seq of the move being interpolated, 0 if none */
+    uint32_t move_count;  /* group moves started since boot */
+    double path_pos;      /* distance along the active move, counts */
+    double path_len;      /* its length, counts */
+    double feed;          /* tangential velocity before the filters, counts/s */
+    double feed_acc;      /* tangential acceleration before the filters, counts/s^2 */
+    uint64_t tick;
+    uint64_t _reserved[16];
+    uint64_t checksum;
+};
+
+struct mc_group_status {
+    uint32_t seq;
+    uint32_t _pad;
+    struct mc_group_status_payload p;
+    uint64_t _reserved[7];
+};
+
 /* Axis status payload: copied as MC_STATUS_WORDS 64-bit words. */
 struct mc_axis_status_payload {
     double cmd_pos;
@@ -227,6 +339,10 @@ struct mc_dpram {
     struct mc_card_config card_config;
     struct mc_axis_config axis_config[MC_MAX_AXES];
     struct mc_axis_status axis_status[MC_MAX_AXES];
+    /* layout 1.1 */
+    struct mc_axis_filter axis_filter[MC_MAX_AXES];
+    struct mc_group_config group_config[MC_MAX_GROUPS];
+    struct mc_group_status group_status[MC_MAX_GROUPS];
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

@@ -84,6 +84,63 @@ pub const fn axis_status(axis: usize) -> usize {
     AXIS_STATUS + axis * AXIS_STATUS_BYTES
 }
 
+// axis filters, group configuration (host writes) and group status (card writes)
+pub const AXIS_FILTER: usize = off!(axis_filter);
+pub const AXIS_FILTER_BYTES: usize = size_of::<mc_axis_filter>();
+pub const GROUP_CONFIG: usize = off!(group_config);
+pub const GROUP_CONFIG_BYTES: usize = size_of::<mc_group_config>();
+pub const GROUP_STATUS: usize = off!(group_status);
+pub const GROUP_STATUS_BYTES: usize = size_of::<mc_group_status>();
+
+/// Offset of a field of `axis_filter[axis]`.
+pub const fn axis_filter(axis: usize, field: usize) -> usize {
+    AXIS_FILTER + axis * AXIS_FILTER_BYTES + field
+}
+
+pub mod axis_filter {
+    use super::*;
+    pub const KIND: usize = offset_of!(mc_axis_filter, kind);
+    pub const TAU: usize = offset_of!(mc_axis_filter, tau);
+}
+
+/// Offset of a field of `group_config[group]`.
+pub const fn group_config(group: usize, field: usize) -> usize {
+    GROUP_CONFIG + group * GROUP_CONFIG_BYTES + field
+}
+
+pub mod group_config {
+    use super::*;
+    pub const NAXES: usize = offset_of!(mc_group_config, naxes);
+    /// The eight axis bytes, read as two 32-bit words.
+    pub const AXES: usize = offset_of!(mc_group_config, axes);
+    pub const ACCDEC: usize = offset_of!(mc_group_config, accdec);
+    pub const INTERPOLATOR: usize = offset_of!(mc_group_config, interpolator);
+    pub const TOLERANCE: usize = offset_of!(mc_group_config, tolerance);
+}
+
+/// Offset of the seqlock word of `group_status[group]`.
+pub const fn group_status(group: usize) -> usize {
+    GROUP_STATUS + group * GROUP_STATUS_BYTES
+}
+
+const _: () = {
+    assert!(offset_of!(mc_group_status, p) == STATUS_PAYLOAD);
+    assert!(size_of::<mc_group_status_payload>() == STATUS_WORDS * 8);
+    assert!(GROUP_STATUS.is_multiple_of(64) && GROUP_STATUS_BYTES.is_multiple_of(64));
+    assert!(
+        group_config::AXES.is_multiple_of(4)
+            && AXIS_FILTER.is_multiple_of(8)
+            && GROUP_CONFIG.is_multiple_of(8)
+    );
+    // Layout 1.0 offsets are unchanged by the 1.1 additions.
+    assert!(
+        CMD_RING == 512
+            && EVT_RING == 8704
+            && AXIS_STATUS == 17984
+            && AXIS_FILTER == 17984 + 8 * 256
+    );
+};
+
 const _: () = {
     assert!(MAGIC == 0);
     assert!(off!(identity.layout_minor) == LAYOUT + 2);

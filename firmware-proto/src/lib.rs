@@ -50,6 +50,10 @@ pub const LAYOUT_MINOR: u16 = raw::MC_LAYOUT_MINOR as u16;
 pub const MAGIC: u32 = raw::MC_MAGIC;
 /// Axes per card.
 pub const MAX_AXES: usize = raw::MC_MAX_AXES as usize;
+/// Axes groups per card.
+pub const MAX_GROUPS: usize = raw::MC_MAX_GROUPS as usize;
+/// Buffered moves per group.
+pub const GROUP_QUEUE_LEN: usize = raw::MC_GROUP_QUEUE_LEN as usize;
 /// Size of the mapped window in bytes.
 pub const DPRAM_SIZE: usize = raw::MC_DPRAM_SIZE as usize;
 /// Servo-rate bounds, Hz.

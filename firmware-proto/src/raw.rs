@@ -5,8 +5,10 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 0;
+pub const MC_LAYOUT_MINOR: u32 = 1;
 pub const MC_MAX_AXES: u32 = 8;
+pub const MC_MAX_GROUPS: u32 = 4;
+pub const MC_GROUP_QUEUE_LEN: u32 = 32;
 pub const MC_CMD_RING_LEN: u32 = 64;
 pub const MC_EVT_RING_LEN: u32 = 256;
 pub const MC_CMD_ARGS: u32 = 14;
@@ -31,12 +33,49 @@ pub const MC_OP_STOP_RELEASE: u32 = 8;
 pub const MC_OP_RESET: u32 = 9;
 pub const MC_OP_APPLY_AXIS_CONFIG: u32 = 10;
 pub const MC_OP_APPLY_CARD_CONFIG: u32 = 11;
+pub const MC_OP_GROUP_CONFIGURE: u32 = 16;
+pub const MC_OP_APPLY_AXIS_FILTER: u32 = 17;
+pub const MC_OP_GROUP_ENABLE: u32 = 18;
+pub const MC_OP_GROUP_DISABLE: u32 = 19;
+pub const MC_OP_GROUP_STOP: u32 = 20;
+pub const MC_OP_GROUP_STOP_RELEASE: u32 = 21;
+pub const MC_OP_GROUP_RESET: u32 = 22;
+pub const MC_OP_GROUP_HALT: u32 = 23;
+pub const MC_OP_GROUP_MOVE_LINEAR: u32 = 24;
+pub const MC_OP_GROUP_MOVE_CIRCULAR: u32 = 25;
+pub const MC_OP_GROUP_MOVE_PTP: u32 = 26;
+pub const MC_MOVE_RELATIVE: u32 = 1;
+pub const MC_MOVE_BUFFERED: u32 = 2;
+pub const MC_CIRC_MODE_SHIFT: u32 = 2;
+pub const MC_CIRC_BY_CENTRE: u32 = 0;
+pub const MC_CIRC_BY_RADIUS: u32 = 1;
+pub const MC_CIRC_BY_BORDER: u32 = 2;
+pub const MC_CIRC_CCW: u32 = 16;
+pub const MC_CIRC_PLANE_SHIFT: u32 = 5;
+pub const MC_PLANE_XY: u32 = 0;
+pub const MC_PLANE_YZ: u32 = 1;
+pub const MC_PLANE_ZX: u32 = 2;
+pub const MC_FEED_TYPE_SHIFT: u32 = 8;
+pub const MC_FEED_RAPID: u32 = 0;
+pub const MC_FEED_CUTTING: u32 = 1;
+pub const MC_FEED_JOG: u32 = 2;
+pub const MC_ACCDEC_PRE: u32 = 1;
+pub const MC_ACCDEC_POST: u32 = 2;
+pub const MC_INTERP_EXACT: u32 = 0;
+pub const MC_INTERP_REFERENCE_WORD: u32 = 1;
+pub const MC_FILTER_NONE: u32 = 0;
+pub const MC_FILTER_LINEAR: u32 = 1;
+pub const MC_FILTER_EXPONENTIAL: u32 = 2;
+pub const MC_FILTER_BELL: u32 = 3;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
 pub const MC_EV_STATE_CHANGED: u32 = 4;
 pub const MC_EV_FAULT: u32 = 5;
 pub const MC_EV_MOTION_ABORTED: u32 = 6;
+pub const MC_EV_GROUP_MOTION_DONE: u32 = 8;
+pub const MC_EV_GROUP_STATE_CHANGED: u32 = 9;
+pub const MC_EV_GROUP_MOTION_ABORTED: u32 = 10;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -47,6 +86,19 @@ pub const MC_NACK_BAD_CONFIG: u32 = 7;
 pub const MC_NACK_INFEASIBLE: u32 = 8;
 pub const MC_NACK_OUT_OF_RANGE: u32 = 9;
 pub const MC_NACK_AXES_ENABLED: u32 = 10;
+pub const MC_NACK_BAD_GROUP: u32 = 16;
+pub const MC_NACK_AXIS_IN_OTHER_GROUP: u32 = 17;
+pub const MC_NACK_AXIS_NOT_IN_GROUP: u32 = 18;
+pub const MC_NACK_AXIS_BUSY: u32 = 19;
+pub const MC_NACK_AXIS_GROUPED: u32 = 20;
+pub const MC_NACK_ZERO_LENGTH_ARC: u32 = 21;
+pub const MC_NACK_CENTRE_NOT_EQUIDISTANT: u32 = 22;
+pub const MC_NACK_RADIUS_TOO_SMALL: u32 = 23;
+pub const MC_NACK_COLLINEAR_POINTS: u32 = 24;
+pub const MC_NACK_QUEUE_FULL: u32 = 25;
+pub const MC_NACK_INCOMPATIBLE_MODE: u32 = 26;
+pub const MC_NACK_GROUP_DISABLED: u32 = 27;
+pub const MC_NACK_FILTER_BUSY: u32 = 28;
 pub const MC_STATE_DISABLED: u32 = 0;
 pub const MC_STATE_STANDSTILL: u32 = 1;
 pub const MC_STATE_HOMING: u32 = 2;
@@ -55,6 +107,12 @@ pub const MC_STATE_CONTINUOUS_MOTION: u32 = 4;
 pub const MC_STATE_SYNCHRONIZED_MOTION: u32 = 5;
 pub const MC_STATE_STOPPING: u32 = 6;
 pub const MC_STATE_ERROR_STOP: u32 = 7;
+pub const MC_GROUP_DISABLED: u32 = 0;
+pub const MC_GROUP_STANDBY: u32 = 1;
+pub const MC_GROUP_MOVING: u32 = 2;
+pub const MC_GROUP_HOMING: u32 = 3;
+pub const MC_GROUP_STOPPING: u32 = 4;
+pub const MC_GROUP_ERROR_STOP: u32 = 5;
 pub const MC_FAULT_DAC_SATURATED: u32 = 1;
 pub const MC_SERVO_FFPIV: u32 = 0;
 pub const MC_DPRAM_SIZE: u32 = 32768;
@@ -267,6 +325,121 @@ const _: () = {
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
+pub struct mc_axis_filter {
+    pub kind: [u32; 3usize],
+    pub _reserved0: u32,
+    pub tau: [f64; 3usize],
+    pub _reserved: [f64; 3usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_axis_filter"][::core::mem::size_of::<mc_axis_filter>() - 64usize];
+    ["Alignment of mc_axis_filter"][::core::mem::align_of::<mc_axis_filter>() - 8usize];
+    ["Offset of field: mc_axis_filter::kind"]
+        [::core::mem::offset_of!(mc_axis_filter, kind) - 0usize];
+    ["Offset of field: mc_axis_filter::_reserved0"]
+        [::core::mem::offset_of!(mc_axis_filter, _reserved0) - 12usize];
+    ["Offset of field: mc_axis_filter::tau"]
+        [::core::mem::offset_of!(mc_axis_filter, tau) - 16usize];
+    ["Offset of field: mc_axis_filter::_reserved"]
+        [::core::mem::offset_of!(mc_axis_filter, _reserved) - 40usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_group_config {
+    pub naxes: u32,
+    pub axes: [u8; 8usize],
+    pub accdec: u32,
+    pub interpolator: u32,
+    pub _reserved0: u32,
+    pub tolerance: f64,
+    pub _reserved: [f64; 4usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_group_config"][::core::mem::size_of::<mc_group_config>() - 64usize];
+    ["Alignment of mc_group_config"][::core::mem::align_of::<mc_group_config>() - 8usize];
+    ["Offset of field: mc_group_config::naxes"]
+        [::core::mem::offset_of!(mc_group_config, naxes) - 0usize];
+    ["Offset of field: mc_group_config::axes"]
+        [::core::mem::offset_of!(mc_group_config, axes) - 4usize];
+    ["Offset of field: mc_group_config::accdec"]
+        [::core::mem::offset_of!(mc_group_config, accdec) - 12usize];
+    ["Offset of field: mc_group_config::interpolator"]
+        [::core::mem::offset_of!(mc_group_config, interpolator) - 16usize];
+    ["Offset of field: mc_group_config::_reserved0"]
+        [::core::mem::offset_of!(mc_group_config, _reserved0) - 20usize];
+    ["Offset of field: mc_group_config::tolerance"]
+        [::core::mem::offset_of!(mc_group_config, tolerance) - 24usize];
+    ["Offset of field: mc_group_config::_reserved"]
+        [::core::mem::offset_of!(mc_group_config, _reserved) - 32usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_group_status_payload {
+    pub state: u32,
+    pub queued: u32,
+    pub active_seq: u32,
+    pub move_count: u32,
+    pub path_pos: f64,
+    pub path_len: f64,
+    pub feed: f64,
+    pub feed_acc: f64,
+    pub tick: u64,
+    pub _reserved: [u64; 16usize],
+    pub checksum: u64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_group_status_payload"]
+        [::core::mem::size_of::<mc_group_status_payload>() - 192usize];
+    ["Alignment of mc_group_status_payload"]
+        [::core::mem::align_of::<mc_group_status_payload>() - 8usize];
+    ["Offset of field: mc_group_status_payload::state"]
+        [::core::mem::offset_of!(mc_group_status_payload, state) - 0usize];
+    ["Offset of field: mc_group_status_payload::queued"]
+        [::core::mem::offset_of!(mc_group_status_payload, queued) - 4usize];
+    ["Offset of field: mc_group_status_payload::active_seq"]
+        [::core::mem::offset_of!(mc_group_status_payload, active_seq) - 8usize];
+    ["Offset of field: mc_group_status_payload::move_count"]
+        [::core::mem::offset_of!(mc_group_status_payload, move_count) - 12usize];
+    ["Offset of field: mc_group_status_payload::path_pos"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_pos) - 16usize];
+    ["Offset of field: mc_group_status_payload::path_len"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_len) - 24usize];
+    ["Offset of field: mc_group_status_payload::feed"]
+        [::core::mem::offset_of!(mc_group_status_payload, feed) - 32usize];
+    ["Offset of field: mc_group_status_payload::feed_acc"]
+        [::core::mem::offset_of!(mc_group_status_payload, feed_acc) - 40usize];
+    ["Offset of field: mc_group_status_payload::tick"]
+        [::core::mem::offset_of!(mc_group_status_payload, tick) - 48usize];
+    ["Offset of field: mc_group_status_payload::_reserved"]
+        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 56usize];
+    ["Offset of field: mc_group_status_payload::checksum"]
+        [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_group_status {
+    pub seq: u32,
+    pub _pad: u32,
+    pub p: mc_group_status_payload,
+    pub _reserved: [u64; 7usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_group_status"][::core::mem::size_of::<mc_group_status>() - 256usize];
+    ["Alignment of mc_group_status"][::core::mem::align_of::<mc_group_status>() - 8usize];
+    ["Offset of field: mc_group_status::seq"]
+        [::core::mem::offset_of!(mc_group_status, seq) - 0usize];
+    ["Offset of field: mc_group_status::_pad"]
+        [::core::mem::offset_of!(mc_group_status, _pad) - 4usize];
+    ["Offset of field: mc_group_status::p"][::core::mem::offset_of!(mc_group_status, p) - 8usize];
+    ["Offset of field: mc_group_status::_reserved"]
+        [::core::mem::offset_of!(mc_group_status, _reserved) - 200usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
 pub struct mc_axis_status_payload {
     pub cmd_pos: f64,
     pub cmd_vel: f64,
@@ -379,10 +552,13 @@ pub struct mc_dpram {
     pub card_config: mc_card_config,
     pub axis_config: [mc_axis_config; 8usize],
     pub axis_status: [mc_axis_status; 8usize],
+    pub axis_filter: [mc_axis_filter; 8usize],
+    pub group_config: [mc_group_config; 4usize],
+    pub group_status: [mc_group_status; 4usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 20032usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 21824usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -402,6 +578,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, axis_config) - 16960usize];
     ["Offset of field: mc_dpram::axis_status"]
         [::core::mem::offset_of!(mc_dpram, axis_status) - 17984usize];
+    ["Offset of field: mc_dpram::axis_filter"]
+        [::core::mem::offset_of!(mc_dpram, axis_filter) - 20032usize];
+    ["Offset of field: mc_dpram::group_config"]
+        [::core::mem::offset_of!(mc_dpram, group_config) - 20544usize];
+    ["Offset of field: mc_dpram::group_status"]
+        [::core::mem::offset_of!(mc_dpram, group_status) - 20800usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

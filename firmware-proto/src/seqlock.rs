@@ -8,7 +8,7 @@
 use crate::layout;
 use crate::mem::Mem;
 use crate::sync::{fence, Ordering};
-use crate::wire::{AxisStatus, STATUS_WORDS};
+use crate::wire::{AxisStatus, GroupStatus, STATUS_WORDS};
 
 /// A consistent copy could not be taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -180,4 +180,15 @@ mod tests {
         assert!(written > 0);
         assert!(busy < 200_000, "every read was busy");
     }
+}
+
+/// Publish a group's status (card side).
+pub fn write_group_status<M: Mem>(mem: &M, group: usize, status: &GroupStatus) {
+    write_words(mem, layout::group_status(group), &status.to_words());
+}
+
+/// Read a group's status (host side): consistent and checksum-verified.
+pub fn read_group_status<M: Mem>(mem: &M, group: usize) -> Result<GroupStatus, SnapshotError> {
+    let words = read_words(mem, layout::group_status(group), MAX_RETRIES)?;
+    GroupStatus::from_words(&words).ok_or(SnapshotError::Corrupt)
 }

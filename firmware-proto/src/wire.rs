@@ -57,6 +57,28 @@ code_enum! {
         ApplyAxisConfig = raw::MC_OP_APPLY_AXIS_CONFIG,
         /// Validate and copy `card_config`.
         ApplyCardConfig = raw::MC_OP_APPLY_CARD_CONFIG,
+        /// Validate and copy `group_config[group]`.
+        GroupConfigure = raw::MC_OP_GROUP_CONFIGURE,
+        /// Validate and copy `axis_filter[axis]`.
+        ApplyAxisFilter = raw::MC_OP_APPLY_AXIS_FILTER,
+        /// MC_GroupEnable.
+        GroupEnable = raw::MC_OP_GROUP_ENABLE,
+        /// MC_GroupDisable.
+        GroupDisable = raw::MC_OP_GROUP_DISABLE,
+        /// MC_GroupStop (Execute rising): args dmax, jerk.
+        GroupStop = raw::MC_OP_GROUP_STOP,
+        /// MC_GroupStop (Execute falling).
+        GroupStopRelease = raw::MC_OP_GROUP_STOP_RELEASE,
+        /// MC_GroupReset.
+        GroupReset = raw::MC_OP_GROUP_RESET,
+        /// MC_GroupHalt: args dmax, jerk.
+        GroupHalt = raw::MC_OP_GROUP_HALT,
+        /// MC_MoveLinearAbsolute / MC_MoveLinearRelative.
+        GroupMoveLinear = raw::MC_OP_GROUP_MOVE_LINEAR,
+        /// MC_MoveCircularAbsolute / MC_MoveCircularRelative (and helical).
+        GroupMoveCircular = raw::MC_OP_GROUP_MOVE_CIRCULAR,
+        /// Synchronised multi-axis point-to-point (Kim eq 10–14).
+        GroupMovePtp = raw::MC_OP_GROUP_MOVE_PTP,
     }
 }
 
@@ -75,6 +97,12 @@ code_enum! {
         Fault = raw::MC_EV_FAULT,
         /// A move ended before its target; `code` is the opcode or fault that ended it.
         MotionAborted = raw::MC_EV_MOTION_ABORTED,
+        /// A group move finished (`value` 1: the group is at rest and in position).
+        GroupMotionDone = raw::MC_EV_GROUP_MOTION_DONE,
+        /// A group changed state; `code` is the new [`GroupState`], `value` the old one.
+        GroupStateChanged = raw::MC_EV_GROUP_STATE_CHANGED,
+        /// A group move was aborted; `code` is the opcode that ended it.
+        GroupMotionAborted = raw::MC_EV_GROUP_MOTION_ABORTED,
     }
 }
 
@@ -101,6 +129,32 @@ code_enum! {
         OutOfRange = raw::MC_NACK_OUT_OF_RANGE,
         /// The card configuration can only change while every axis is disabled.
         AxesEnabled = raw::MC_NACK_AXES_ENABLED,
+        /// No such group.
+        BadGroup = raw::MC_NACK_BAD_GROUP,
+        /// An axis already belongs to another group.
+        AxisInOtherGroup = raw::MC_NACK_AXIS_IN_OTHER_GROUP,
+        /// The move needs an axis the group does not have.
+        AxisNotInGroup = raw::MC_NACK_AXIS_NOT_IN_GROUP,
+        /// An axis of the group is moving on its own.
+        AxisBusy = raw::MC_NACK_AXIS_BUSY,
+        /// Single-axis motion on an axis of an enabled group.
+        AxisGrouped = raw::MC_NACK_AXIS_GROUPED,
+        /// The arc has zero length (or zero radius).
+        ZeroLengthArc = raw::MC_NACK_ZERO_LENGTH_ARC,
+        /// The centre is not equidistant from start and end within the tolerance.
+        CentreNotEquidistant = raw::MC_NACK_CENTRE_NOT_EQUIDISTANT,
+        /// The radius is shorter than half the chord.
+        RadiusTooSmall = raw::MC_NACK_RADIUS_TOO_SMALL,
+        /// The three points of a border-point arc are on one line.
+        CollinearPoints = raw::MC_NACK_COLLINEAR_POINTS,
+        /// The group's move queue is full.
+        QueueFull = raw::MC_NACK_QUEUE_FULL,
+        /// The interpolator cannot run with the group's acc/dec mode.
+        IncompatibleMode = raw::MC_NACK_INCOMPATIBLE_MODE,
+        /// A move on a disabled group.
+        GroupDisabled = raw::MC_NACK_GROUP_DISABLED,
+        /// Filters can change only while they hold no distance.
+        FilterBusy = raw::MC_NACK_FILTER_BUSY,
     }
 }
 
@@ -124,6 +178,107 @@ code_enum! {
         /// Stopped by a fault; only MC_Reset leaves it.
         ErrorStop = raw::MC_STATE_ERROR_STOP,
     }
+}
+
+code_enum! {
+    /// PLCopen group states.
+    GroupState: u32 {
+        /// Disabled.
+        Disabled = raw::MC_GROUP_DISABLED,
+        /// Enabled, at rest.
+        Standby = raw::MC_GROUP_STANDBY,
+        /// Interpolating.
+        Moving = raw::MC_GROUP_MOVING,
+        /// Homing.
+        Homing = raw::MC_GROUP_HOMING,
+        /// MC_GroupStop in progress or held.
+        Stopping = raw::MC_GROUP_STOPPING,
+        /// Stopped by a fault; only MC_GroupReset leaves it.
+        ErrorStop = raw::MC_GROUP_ERROR_STOP,
+    }
+}
+
+/// A group's status, published under a seqlock like the axes'.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GroupStatus {
+    /// Raw state ([`GroupState`] when known).
+    pub state: u32,
+    /// Moves waiting in the queue.
+    pub queued: u32,
+    /// Seq of the move being interpolated (0: none).
+    pub active_seq: u32,
+    /// Group moves started since boot.
+    pub move_count: u32,
+    /// Distance along the active move, counts.
+    pub path_pos: f64,
+    /// Length of the active move, counts.
+    pub path_len: f64,
+    /// Tangential velocity before the filters, counts/s.
+    pub feed: f64,
+    /// Tangential acceleration before the filters, counts/s².
+    pub feed_acc: f64,
+    /// Servo tick of this snapshot.
+    pub tick: u64,
+}
+
+impl GroupStatus {
+    /// Encode as words, with the checksum in the last word.
+    pub fn to_words(&self) -> [u64; STATUS_WORDS] {
+        let mut w = [0u64; STATUS_WORDS];
+        w[0] = self.state as u64 | (self.queued as u64) << 32;
+        w[1] = self.active_seq as u64 | (self.move_count as u64) << 32;
+        for (dst, v) in
+            w[2..6]
+                .iter_mut()
+                .zip([self.path_pos, self.path_len, self.feed, self.feed_acc])
+        {
+            *dst = v.to_bits();
+        }
+        w[6] = self.tick;
+        w[STATUS_WORDS - 1] = status_checksum(&w);
+        w
+    }
+
+    /// Decode; `None` when the checksum does not match.
+    pub fn from_words(w: &[u64; STATUS_WORDS]) -> Option<Self> {
+        if status_checksum(w) != w[STATUS_WORDS - 1] {
+            return None;
+        }
+        let f = |i: usize| f64::from_bits(w[i]);
+        Some(Self {
+            state: w[0] as u32,
+            queued: (w[0] >> 32) as u32,
+            active_seq: w[1] as u32,
+            move_count: (w[1] >> 32) as u32,
+            path_pos: f(2),
+            path_len: f(3),
+            feed: f(4),
+            feed_acc: f(5),
+            tick: w[6],
+        })
+    }
+
+    /// The state, if known.
+    pub fn state(&self) -> Option<GroupState> {
+        GroupState::from_raw(self.state)
+    }
+}
+
+/// Flags of the group move commands.
+pub mod move_flags {
+    use crate::raw;
+    /// Targets are relative to the start of the move.
+    pub const RELATIVE: u32 = raw::MC_MOVE_RELATIVE;
+    /// Queue behind the moves already queued.
+    pub const BUFFERED: u32 = raw::MC_MOVE_BUFFERED;
+    /// Shift of the 2-bit circle mode (`MC_CIRC_BY_*`).
+    pub const CIRC_MODE_SHIFT: u32 = raw::MC_CIRC_MODE_SHIFT;
+    /// Counter-clockwise (else clockwise).
+    pub const CIRC_CCW: u32 = raw::MC_CIRC_CCW;
+    /// Shift of the 2-bit plane (`MC_PLANE_*`).
+    pub const PLANE_SHIFT: u32 = raw::MC_CIRC_PLANE_SHIFT;
+    /// Shift of the 2-bit feed type (`MC_FEED_*`).
+    pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
 }
 
 /// A command entry.
@@ -425,7 +580,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 10);
+        assert_eq!(NackCode::ALL.len(), 23);
         let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
         codes.dedup();
         assert_eq!(codes.len(), NackCode::ALL.len());

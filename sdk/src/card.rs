@@ -15,7 +15,7 @@ use std::os::fd::BorrowedFd;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-type Window = Arc<card_emu::shm::MappedWindow>;
+pub(crate) type Window = Arc<card_emu::shm::MappedWindow>;
 
 /// How long a command may wait for its ack before the card counts as not responding.
 pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
@@ -84,6 +84,7 @@ struct Rx {
 }
 
 pub(crate) struct Inner {
+    pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
     tx: Mutex<Tx>,
@@ -101,7 +102,7 @@ pub struct Card {
 }
 
 /// Lock a mutex, recovering from a poisoned one (a panicking user thread must not brick the card).
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
@@ -182,11 +183,20 @@ impl Card {
             rx_cond: Condvar::new(),
             scale: Mutex::new([1.0; MAX_AXES]),
             last_motion: Mutex::new([None; MAX_AXES]),
+            last_group_motion: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
         };
         Ok(Card {
             inner: Arc::new(inner),
         })
+    }
+
+    pub(crate) fn window(&self) -> &Window {
+        &self.inner.dev.window
+    }
+
+    pub(crate) fn inner(&self) -> &Inner {
+        &self.inner
     }
 
     /// Identity of the card.
@@ -309,7 +319,7 @@ impl Card {
         self.execute_seq(cmd, what, axis).map(|_| ())
     }
 
-    fn execute_seq(&self, cmd: Command, what: &'static str, axis: usize) -> Result<u32> {
+    pub(crate) fn execute_seq(&self, cmd: Command, what: &'static str, axis: usize) -> Result<u32> {
         let seq = self.send_raw(cmd)?;
         match self.wait_ack(seq)? {
             Ok(()) => Ok(seq),
@@ -372,12 +382,12 @@ impl Card {
                         e.value
                     };
                     match kind {
-                        EventKind::MotionDone => push_capped(
+                        EventKind::MotionDone | EventKind::GroupMotionDone => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::Done(value)),
                             OUTCOME_CAP,
                         ),
-                        EventKind::MotionAborted => push_capped(
+                        EventKind::MotionAborted | EventKind::GroupMotionAborted => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::Aborted(e.code)),
                             OUTCOME_CAP,
@@ -485,11 +495,11 @@ impl Card {
         }
     }
 
-    fn scale(&self, axis: usize) -> f64 {
+    pub(crate) fn scale(&self, axis: usize) -> f64 {
         lock(&self.inner.scale).get(axis).copied().unwrap_or(1.0)
     }
 
-    fn wait_outcome(&self, axis: usize, seq: u32, timeout: Duration) -> Result<f64> {
+    pub(crate) fn wait_outcome(&self, axis: usize, seq: u32, timeout: Duration) -> Result<f64> {
         let r = self.wait_until(Instant::now() + timeout, |rx| {
             rx.outcomes.iter().find(|(s, _)| *s == seq).map(|(_, o)| *o)
         })?;
@@ -611,7 +621,7 @@ impl MoveLimits {
     }
 }
 
-fn finite(what: &'static str, v: f64) -> Result<()> {
+pub(crate) fn finite(what: &'static str, v: f64) -> Result<()> {
     if v.is_finite() {
         Ok(())
     } else {
@@ -673,6 +683,10 @@ impl Motion {
 }
 
 impl Axis {
+    pub(crate) fn card(&self) -> &Card {
+        &self.card
+    }
+
     /// Axis number.
     pub fn index(&self) -> usize {
         self.index

@@ -45,6 +45,32 @@ pub enum ErrorKind {
     AxesEnabled,
     /// The firmware does not know the command.
     UnknownCommand,
+    /// No such axes group.
+    BadGroup,
+    /// An axis already belongs to another group.
+    AxisInOtherGroup,
+    /// The move needs an axis the group does not have.
+    AxisNotInGroup,
+    /// An axis of the group is moving on its own.
+    AxisBusy,
+    /// Single-axis motion on an axis of an enabled group.
+    AxisGrouped,
+    /// The arc has zero length or zero radius.
+    ZeroLengthArc,
+    /// The centre is not equidistant from start and end within the tolerance.
+    CentreNotEquidistant,
+    /// The radius is shorter than half the chord.
+    RadiusTooSmall,
+    /// The three points of a border-point arc are on one line.
+    CollinearPoints,
+    /// The group's move queue is full: nothing was queued.
+    QueueFull,
+    /// The interpolator cannot run with the group's acc/dec mode.
+    IncompatibleMode,
+    /// The group is disabled (or not configured).
+    GroupDisabled,
+    /// Filters can change only while they hold no distance.
+    FilterBusy,
     /// An operating-system call failed.
     Io,
     /// The backend cannot do this (for example interrupts on a `pci:` card).
@@ -64,6 +90,19 @@ impl From<NackCode> for ErrorKind {
             NackCode::Infeasible => ErrorKind::Infeasible,
             NackCode::OutOfRange => ErrorKind::OutOfRange,
             NackCode::AxesEnabled => ErrorKind::AxesEnabled,
+            NackCode::BadGroup => ErrorKind::BadGroup,
+            NackCode::AxisInOtherGroup => ErrorKind::AxisInOtherGroup,
+            NackCode::AxisNotInGroup => ErrorKind::AxisNotInGroup,
+            NackCode::AxisBusy => ErrorKind::AxisBusy,
+            NackCode::AxisGrouped => ErrorKind::AxisGrouped,
+            NackCode::ZeroLengthArc => ErrorKind::ZeroLengthArc,
+            NackCode::CentreNotEquidistant => ErrorKind::CentreNotEquidistant,
+            NackCode::RadiusTooSmall => ErrorKind::RadiusTooSmall,
+            NackCode::CollinearPoints => ErrorKind::CollinearPoints,
+            NackCode::QueueFull => ErrorKind::QueueFull,
+            NackCode::IncompatibleMode => ErrorKind::IncompatibleMode,
+            NackCode::GroupDisabled => ErrorKind::GroupDisabled,
+            NackCode::FilterBusy => ErrorKind::FilterBusy,
         }
     }
 }
@@ -176,6 +215,19 @@ pub fn nack_reason(code: NackCode) -> &'static str {
         NackCode::Infeasible => "no profile satisfies the request",
         NackCode::OutOfRange => "position out of range",
         NackCode::AxesEnabled => "all axes must be disabled first",
+        NackCode::BadGroup => "no such group",
+        NackCode::AxisInOtherGroup => "an axis already belongs to another group",
+        NackCode::AxisNotInGroup => "the move needs an axis the group does not have",
+        NackCode::AxisBusy => "an axis of the group is moving on its own",
+        NackCode::AxisGrouped => "the axis belongs to an enabled group",
+        NackCode::ZeroLengthArc => "the arc has zero length or zero radius",
+        NackCode::CentreNotEquidistant => "the centre is not equidistant from start and end",
+        NackCode::RadiusTooSmall => "the radius is shorter than half the chord",
+        NackCode::CollinearPoints => "the three points are on one line",
+        NackCode::QueueFull => "the group's move queue is full",
+        NackCode::IncompatibleMode => "the interpolator cannot run with this acc/dec mode",
+        NackCode::GroupDisabled => "the group is disabled",
+        NackCode::FilterBusy => "the filter still holds distance",
     }
 }
 

@@ -25,6 +25,7 @@
 mod card;
 mod device;
 mod error;
+mod group;
 
 pub use card::{
     Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
@@ -33,7 +34,14 @@ pub use card::{
 pub use card_emu::{Clock, EmuOptions, MotorParams};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result};
-pub use firmware_proto::{AxisState, EventKind, NackCode};
+pub use firmware_proto::{AxisState, EventKind, GroupState, GroupStatus, NackCode};
+pub use group::{
+    AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
+    Interpolator, MoveOptions, PathLimits, Plane,
+};
+
+/// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
+pub use card_emu::scurve as plan;
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {

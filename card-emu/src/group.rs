@@ -1,0 +1,1127 @@
+//! Axes groups: PLCopen group states, a queue of buffered moves, the interpolators (linear,
+//! circular, helical, synchronised point-to-point) and the tangential feed, feeding the axes
+//! through their post-interpolation acc/dec filters.
+//!
+//! Per servo tick a moving group
+//! 1. advances the tangential feed of its active move: an S-curve of the path length
+//!    (pre-interpolation acc/dec, Thinh eq 1–28), a constant feed (post-interpolation acc/dec
+//!    only, as in Kim), or the reference-word circle of Kim eq 15–23 (constant feed);
+//! 2. evaluates the path at the new arc length and takes each axis's increment (Kim's pulse
+//!    data f_i(k));
+//! 3. passes each increment through the axis's acc/dec filter (Kim eq 1/9, Shin eq 36–40) when
+//!    post-interpolation acc/dec is on, and adds it to the axis's commanded position.
+//!
+//! A synchronised point-to-point move (Kim eq 10–14) is a straight line in axis space whose
+//! length is the largest axis distance: the slowest axis sets the time and the others scale
+//! (`f_iy = P_y/N`, eq 11), so every axis starts and ends on the same tick.
+
+use crate::axis::Axis;
+use crate::circle::{ArcDirection, ExactCircle, ReferenceWordCircle};
+use crate::filters::{AccDecFilter, FilterKind};
+use crate::scurve::{Limits, Profile};
+use crate::servo::Reference;
+use firmware_proto::{
+    move_flags, raw, AxisState, Command, Event, EventKind, GroupState, GroupStatus, NackCode,
+    Opcode, GROUP_QUEUE_LEN, MAX_AXES,
+};
+
+/// A validated group configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroupConfig {
+    /// Axes in the group.
+    pub naxes: usize,
+    /// Card axis of each group axis (X, Y, Z, …).
+    pub axes: [usize; MAX_AXES],
+    /// S-curve of the tangential feed along the path.
+    pub pre: bool,
+    /// Per-axis acc/dec filters after interpolation.
+    pub post: bool,
+    /// Kim's reference-word interpolator for arcs (else exact).
+    pub reference_word: bool,
+    /// Geometry tolerance, counts.
+    pub tolerance: f64,
+}
+
+/// The acc/dec filter configuration of one axis: kind and time constant per feed type.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterConfig {
+    /// Kind per feed type (rapid, cutting, jog).
+    pub kind: [FilterKind; 3],
+    /// Time constant per feed type, s.
+    pub tau: [f64; 3],
+}
+
+impl Default for FilterConfig {
+    /// Shin Table 1 (x/y axes): rapid bell 35 ms, cutting linear 30 ms, jog exponential 50 ms.
+    fn default() -> Self {
+        let p = crate::filters::FilterPreset::shin_table1();
+        Self {
+            kind: [p.rapid.kind, p.cutting.kind, p.jog.kind],
+            tau: [
+                p.rapid.time_constant_s,
+                p.cutting.time_constant_s,
+                p.jog.time_constant_s,
+            ],
+        }
+    }
+}
+
+impl FilterConfig {
+    /// Decode the wire kinds.
+    pub fn kind_from_raw(k: u32) -> Option<FilterKind> {
+        match k {
+            raw::MC_FILTER_NONE => Some(FilterKind::None),
+            raw::MC_FILTER_LINEAR => Some(FilterKind::Linear),
+            raw::MC_FILTER_EXPONENTIAL => Some(FilterKind::Exponential),
+            raw::MC_FILTER_BELL => Some(FilterKind::Bell),
+            _ => None,
+        }
+    }
+
+    /// Encode a kind for the wire.
+    pub fn kind_to_raw(k: FilterKind) -> u32 {
+        match k {
+            FilterKind::None => raw::MC_FILTER_NONE,
+            FilterKind::Linear => raw::MC_FILTER_LINEAR,
+            FilterKind::Exponential => raw::MC_FILTER_EXPONENTIAL,
+            FilterKind::Bell => raw::MC_FILTER_BELL,
+        }
+    }
+
+    /// Every feed type's filter can be built at sample time `ts`.
+    pub fn validate(&self, ts: f64) -> Result<(), NackCode> {
+        for f in 0..3 {
+            AccDecFilter::from_time_constant(self.kind[f], self.tau[f], ts)
+                .map_err(|_| NackCode::BadConfig)?;
+        }
+        Ok(())
+    }
+}
+
+/// One axis's live filter and the (feed type, servo period) it was built for.
+#[derive(Debug, Clone)]
+pub struct AxisFilter {
+    /// Configuration.
+    pub config: FilterConfig,
+    live: AccDecFilter,
+    built_for: Option<(usize, u64)>,
+}
+
+impl AxisFilter {
+    fn new() -> Self {
+        Self {
+            config: FilterConfig::default(),
+            live: AccDecFilter::None,
+            built_for: None,
+        }
+    }
+
+    /// No distance left inside.
+    pub fn is_settled(&self) -> bool {
+        self.live.is_settled()
+    }
+
+    /// Make the live filter the one for `feed` at `ts` (only call when settled).
+    fn select(&mut self, feed: usize, ts: f64) {
+        let key = (feed, ts.to_bits());
+        if self.built_for != Some(key) {
+            // Validated on apply; a failure here can only come from a servo-rate change, and
+            // then the pass-through is the safe choice.
+            self.live =
+                AccDecFilter::from_time_constant(self.config.kind[feed], self.config.tau[feed], ts)
+                    .unwrap_or(AccDecFilter::None);
+            self.built_for = Some(key);
+        }
+    }
+}
+
+/// The path of one move. Points are in group axis order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Geometry {
+    /// `p(s) = start + delta·s/len`; `len` is Euclidean (linear) or the largest axis distance
+    /// (synchronised point-to-point).
+    Line {
+        start: [f64; MAX_AXES],
+        delta: [f64; MAX_AXES],
+        len: f64,
+    },
+    /// An arc in the plane of group axes `(u, v)`, the other axes moving linearly with it.
+    Arc {
+        start: [f64; MAX_AXES],
+        u: usize,
+        v: usize,
+        arc: ExactCircle,
+        helix: [f64; MAX_AXES],
+        len: f64,
+    },
+}
+
+impl Geometry {
+    fn len(&self) -> f64 {
+        match self {
+            Geometry::Line { len, .. } | Geometry::Arc { len, .. } => *len,
+        }
+    }
+
+    fn start(&self) -> [f64; MAX_AXES] {
+        match self {
+            Geometry::Line { start, .. } | Geometry::Arc { start, .. } => *start,
+        }
+    }
+
+    /// The point at arc length `s` (clamped to the move).
+    fn point(&self, s: f64, n: usize) -> [f64; MAX_AXES] {
+        let mut p = self.start();
+        let len = self.len();
+        let f = if len > 0.0 {
+            (s / len).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        match self {
+            Geometry::Line { delta, .. } => {
+                for i in 0..n {
+                    p[i] += delta[i] * f;
+                }
+                if f >= 1.0 {
+                    return self.end(n);
+                }
+            }
+            Geometry::Arc {
+                u, v, arc, helix, ..
+            } => {
+                for i in 0..n {
+                    p[i] += helix[i] * f;
+                }
+                let (pu, pv) = arc.point_at(arc.length() * f).unwrap_or((p[*u], p[*v]));
+                p[*u] = pu;
+                p[*v] = pv;
+            }
+        }
+        p
+    }
+
+    fn end(&self, n: usize) -> [f64; MAX_AXES] {
+        match self {
+            Geometry::Line { start, delta, .. } => {
+                let mut p = *start;
+                for i in 0..n {
+                    p[i] += delta[i];
+                }
+                p
+            }
+            Geometry::Arc {
+                start,
+                u,
+                v,
+                arc,
+                helix,
+                ..
+            } => {
+                let mut p = *start;
+                for i in 0..n {
+                    p[i] += helix[i];
+                }
+                let (pu, pv) = arc.point_at(arc.length()).unwrap_or((p[*u], p[*v]));
+                p[*u] = pu;
+                p[*v] = pv;
+                p
+            }
+        }
+    }
+}
+
+/// How the arc length advances.
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // inline on purpose: the firmware never allocates
+enum Feed {
+    /// Pre-interpolation S-curve of the path length.
+    Profile { profile: Profile, t: f64 },
+    /// Constant feed (post-interpolation acc/dec only).
+    Constant { v: f64 },
+    /// Kim's reference-word arc at constant feed: the plane increments come from it.
+    ReferenceWord(ReferenceWordCircle),
+}
+
+/// A queued move.
+#[derive(Debug, Clone)]
+struct Move {
+    seq: u32,
+    geom: Geometry,
+    feed: Feed,
+    feed_type: usize,
+}
+
+/// The move being interpolated.
+#[derive(Debug, Clone)]
+struct Active {
+    mv: Move,
+    /// Arc length reached.
+    s: f64,
+    /// Last point emitted (group axis order).
+    last: [f64; MAX_AXES],
+    /// A halt or stop replaced the feed: (profile, time into it).
+    stopping: Option<(Profile, f64)>,
+    /// Tangential velocity and acceleration, for status and stopping.
+    v: f64,
+    a: f64,
+}
+
+/// What ends a stop or halt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum StopKind {
+    Halt(u32),
+    Stop,
+}
+
+/// Events raised while serving a command or running a tick, posted by the firmware afterwards
+/// (after the command's ack). Fixed capacity: enough for a group aborting a full queue.
+#[derive(Debug)]
+pub struct Outbox {
+    events: [Option<Event>; 2 * GROUP_QUEUE_LEN + 8],
+    n: usize,
+}
+
+impl Default for Outbox {
+    fn default() -> Self {
+        Self {
+            events: [None; 2 * GROUP_QUEUE_LEN + 8],
+            n: 0,
+        }
+    }
+}
+
+impl Outbox {
+    /// Queue an event (dropped, never panicking, if the outbox were ever full).
+    pub fn push(&mut self, e: Event) {
+        if let Some(slot) = self.events.get_mut(self.n) {
+            *slot = Some(e);
+            self.n += 1;
+        }
+    }
+
+    /// Take event `i` (in the order pushed).
+    pub fn take(&mut self, i: usize) -> Option<Event> {
+        if i < self.n {
+            self.events[i].take()
+        } else {
+            None
+        }
+    }
+
+    /// Events queued.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Nothing queued.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Forget what was taken.
+    pub fn clear(&mut self) {
+        self.n = 0;
+    }
+}
+
+/// One axes group.
+#[derive(Debug, Clone)]
+pub struct Group {
+    index: u16,
+    /// PLCopen group state.
+    pub state: GroupState,
+    /// Configuration (None until configured).
+    pub config: Option<GroupConfig>,
+    queue: [Option<Move>; GROUP_QUEUE_LEN],
+    q_head: usize,
+    q_len: usize,
+    active: Option<Active>,
+    /// Programmed end of everything queued (group axis order).
+    queue_end: [f64; MAX_AXES],
+    /// A move finished interpolating and the group waits to be in position: its seq.
+    final_seq: Option<u32>,
+    settled_for: f64,
+    stop: Option<StopKind>,
+    stop_released: bool,
+    move_count: u32,
+    prev_vel: [f64; MAX_AXES],
+}
+
+impl Group {
+    /// A disabled, unconfigured group.
+    pub fn new(index: usize) -> Self {
+        Self {
+            index: index as u16,
+            state: GroupState::Disabled,
+            config: None,
+            queue: core::array::from_fn(|_| None),
+            q_head: 0,
+            q_len: 0,
+            active: None,
+            queue_end: [0.0; MAX_AXES],
+            final_seq: None,
+            settled_for: 0.0,
+            stop: None,
+            stop_released: false,
+            move_count: 0,
+            prev_vel: [0.0; MAX_AXES],
+        }
+    }
+
+    /// Does the group hold axis `a` (configured and enabled)?
+    pub fn owns_enabled(&self, a: usize) -> bool {
+        self.state != GroupState::Disabled
+            && self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))
+    }
+
+    /// Is axis `a` in this group's configuration?
+    pub fn contains(&self, a: usize) -> bool {
+        self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))
+    }
+
+    fn set_state(&mut self, s: GroupState, tick: u64, out: &mut Outbox) {
+        if self.state != s {
+            out.push(Event {
+                seq: 0,
+                kind: EventKind::GroupStateChanged as u16,
+                axis: self.index,
+                code: s as i32,
+                tick,
+                value: self.state as u32 as f64,
+            });
+            self.state = s;
+        }
+    }
+
+    fn event(&self, kind: EventKind, seq: u32, code: i32, value: f64, tick: u64) -> Event {
+        Event {
+            seq,
+            kind: kind as u16,
+            axis: self.index,
+            code,
+            tick,
+            value,
+        }
+    }
+
+    /// Apply a validated configuration (the group must be disabled).
+    pub fn configure(&mut self, cfg: GroupConfig) -> Result<(), NackCode> {
+        if self.state != GroupState::Disabled {
+            return Err(NackCode::InvalidState);
+        }
+        self.config = Some(cfg);
+        Ok(())
+    }
+
+    /// MC_GroupEnable.
+    pub fn enable(
+        &mut self,
+        axes: &mut [Axis; MAX_AXES],
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        match self.state {
+            GroupState::Disabled => {}
+            GroupState::Standby => return Ok(()),
+            _ => return Err(NackCode::InvalidState),
+        }
+        for &a in &cfg.axes[..cfg.naxes] {
+            match axes[a].state {
+                AxisState::Standstill => {}
+                AxisState::Disabled => return Err(NackCode::AxisDisabled),
+                AxisState::DiscreteMotion
+                | AxisState::ContinuousMotion
+                | AxisState::Stopping
+                | AxisState::Homing => return Err(NackCode::AxisBusy),
+                _ => return Err(NackCode::InvalidState),
+            }
+        }
+        for (i, &a) in cfg.axes[..cfg.naxes].iter().enumerate() {
+            self.queue_end[i] = axes[a].reference().pos;
+        }
+        self.prev_vel = [0.0; MAX_AXES];
+        self.set_state(GroupState::Standby, tick, out);
+        Ok(())
+    }
+
+    /// MC_GroupDisable: abort everything, keep the axes where they are.
+    pub fn disable(
+        &mut self,
+        axes: &mut [Axis; MAX_AXES],
+        filters: &mut [AxisFilter],
+        tick: u64,
+        out: &mut Outbox,
+    ) {
+        self.abort_all(Opcode::GroupDisable, tick, out);
+        if let Some(cfg) = self.config {
+            for &a in &cfg.axes[..cfg.naxes] {
+                filters[a].live.reset();
+                let old = axes[a].release_from_group();
+                axis_event(out, a, old, axes[a].state, tick);
+            }
+        }
+        self.final_seq = None;
+        self.stop = None;
+        self.set_state(GroupState::Disabled, tick, out);
+    }
+
+    /// MC_GroupReset: GroupErrorStop → GroupStandby.
+    pub fn reset(
+        &mut self,
+        axes: &mut [Axis; MAX_AXES],
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        if self.state != GroupState::ErrorStop {
+            return Err(NackCode::InvalidState);
+        }
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        if cfg.axes[..cfg.naxes]
+            .iter()
+            .any(|&a| axes[a].state != AxisState::Standstill)
+        {
+            return Err(NackCode::InvalidState);
+        }
+        for (i, &a) in cfg.axes[..cfg.naxes].iter().enumerate() {
+            self.queue_end[i] = axes[a].reference().pos;
+        }
+        self.set_state(GroupState::Standby, tick, out);
+        Ok(())
+    }
+
+    fn abort_all(&mut self, by: Opcode, tick: u64, out: &mut Outbox) {
+        if let Some(act) = self.active.take() {
+            out.push(self.event(
+                EventKind::GroupMotionAborted,
+                act.mv.seq,
+                by as i32,
+                0.0,
+                tick,
+            ));
+        }
+        self.flush_queue(by, tick, out);
+        if let Some(seq) = self.final_seq.take() {
+            out.push(self.event(EventKind::GroupMotionAborted, seq, by as i32, 0.0, tick));
+        }
+    }
+
+    fn flush_queue(&mut self, by: Opcode, tick: u64, out: &mut Outbox) {
+        while let Some(m) = self.pop() {
+            out.push(self.event(EventKind::GroupMotionAborted, m.seq, by as i32, 0.0, tick));
+        }
+    }
+
+    fn pop(&mut self) -> Option<Move> {
+        if self.q_len == 0 {
+            return None;
+        }
+        let m = self.queue[self.q_head].take();
+        self.q_head = (self.q_head + 1) % GROUP_QUEUE_LEN;
+        self.q_len -= 1;
+        m
+    }
+
+    fn peek(&self) -> Option<&Move> {
+        if self.q_len == 0 {
+            None
+        } else {
+            self.queue[self.q_head].as_ref()
+        }
+    }
+
+    /// MC_GroupHalt (`stop = false`) or MC_GroupStop: decelerate along the path within
+    /// `dmax`/`jerk`. Queued moves are aborted. If the active move ends before the stop
+    /// distance, a pre-interpolated move keeps its own profile (it ends at rest within its
+    /// limits) and a constant-feed move stops at its end, its acceleration then bounded by the
+    /// post-interpolation filters.
+    pub fn start_stop(
+        &mut self,
+        seq: u32,
+        stop: bool,
+        dmax: f64,
+        jerk: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        match (self.state, stop) {
+            (GroupState::Disabled, _) => return Err(NackCode::GroupDisabled),
+            (GroupState::ErrorStop, _) | (GroupState::Stopping, false) => {
+                return Err(NackCode::InvalidState)
+            }
+            _ => {}
+        }
+        let by = if stop {
+            Opcode::GroupStop
+        } else {
+            Opcode::GroupHalt
+        };
+        self.flush_queue(by, tick, out);
+        if let Some(act) = &mut self.active {
+            out.push(Event {
+                seq: act.mv.seq,
+                kind: EventKind::GroupMotionAborted as u16,
+                axis: self.index,
+                code: by as i32,
+                tick,
+                value: 0.0,
+            });
+            let limits = Limits {
+                vmax: f64::MAX,
+                amax: dmax,
+                dmax,
+                j1: jerk,
+                j3: jerk,
+                j5: jerk,
+                j7: jerk,
+            };
+            let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
+            let plan = Profile::stop(act.s, v0, a0, &limits).or_else(|_| {
+                // Late in a deceleration: the smallest jerk that stops without reversing.
+                let j = (a0 * a0 / (2.0 * v0.max(f64::MIN_POSITIVE))).max(jerk) * (1.0 + 1e-9);
+                Profile::stop(
+                    act.s,
+                    v0,
+                    a0,
+                    &Limits {
+                        j1: j,
+                        j3: j,
+                        j5: j,
+                        j7: j,
+                        ..limits
+                    },
+                )
+            });
+            if let Ok(p) = plan {
+                let keep_own =
+                    matches!(act.mv.feed, Feed::Profile { .. }) && p.end_pos() > act.mv.geom.len();
+                if !keep_own {
+                    act.stopping = Some((p, 0.0));
+                }
+            }
+        }
+        if let Some(old) = self.final_seq.take() {
+            out.push(self.event(EventKind::GroupMotionAborted, old, by as i32, 0.0, tick));
+        }
+        self.final_seq = Some(seq);
+        self.settled_for = 0.0;
+        if stop {
+            self.stop = Some(StopKind::Stop);
+            self.stop_released = false;
+            self.set_state(GroupState::Stopping, tick, out);
+        } else {
+            self.stop = Some(StopKind::Halt(seq));
+            if self.state == GroupState::Standby {
+                self.set_state(GroupState::Moving, tick, out);
+            }
+        }
+        self.move_count = self.move_count.wrapping_add(1);
+        Ok(())
+    }
+
+    /// MC_GroupStop, Execute falling.
+    pub fn release_stop(&mut self) -> Result<(), NackCode> {
+        if self.state != GroupState::Stopping {
+            return Err(NackCode::InvalidState);
+        }
+        self.stop_released = true;
+        Ok(())
+    }
+
+    /// Validate a move command and queue it.
+    pub fn queue_move(
+        &mut self,
+        c: &Command,
+        op: Opcode,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        match self.state {
+            GroupState::Disabled => return Err(NackCode::GroupDisabled),
+            GroupState::Standby => {}
+            GroupState::Moving if c.flags & move_flags::BUFFERED != 0 && self.stop.is_none() => {}
+            _ => return Err(NackCode::InvalidState),
+        }
+        if self.q_len >= GROUP_QUEUE_LEN {
+            return Err(NackCode::QueueFull);
+        }
+        let n = cfg.naxes;
+        let a = &c.args;
+        let nargs = match op {
+            Opcode::GroupMoveCircular => 8 + n.saturating_sub(2),
+            _ => 4 + n,
+        };
+        if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) || nargs > a.len() {
+            return Err(NackCode::NotFinite);
+        }
+        if a[..4].iter().any(|x| *x <= 0.0) {
+            return Err(NackCode::NonPositiveLimit);
+        }
+        let limits = Limits {
+            vmax: a[0],
+            amax: a[1],
+            dmax: a[2],
+            j1: a[3],
+            j3: a[3],
+            j5: a[3],
+            j7: a[3],
+        };
+        let feed_type = ((c.flags >> move_flags::FEED_TYPE_SHIFT) & 3) as usize;
+        if feed_type > 2 {
+            return Err(NackCode::BadConfig);
+        }
+        let relative = c.flags & move_flags::RELATIVE != 0;
+        let start = self.queue_end;
+        let target = |i: usize, v: f64| if relative { start[i] + v } else { v };
+        let in_range = |p: &[f64; MAX_AXES]| p[..n].iter().all(|x| x.abs() <= crate::MAX_POSITION);
+        let geom = match op {
+            Opcode::GroupMoveLinear | Opcode::GroupMovePtp => {
+                let mut delta = [0.0; MAX_AXES];
+                let mut end = start;
+                for i in 0..n {
+                    end[i] = target(i, a[4 + i]);
+                    delta[i] = end[i] - start[i];
+                }
+                if !in_range(&end) {
+                    return Err(NackCode::OutOfRange);
+                }
+                let len = if op == Opcode::GroupMovePtp {
+                    delta[..n].iter().fold(0.0f64, |m, d| m.max(d.abs()))
+                } else {
+                    delta[..n].iter().map(|d| d * d).sum::<f64>().sqrt()
+                };
+                Geometry::Line { start, delta, len }
+            }
+            _ => self.arc(&cfg, c, &start, relative)?,
+        };
+        let len = geom.len();
+        let feed = if let (true, Geometry::Arc { arc, u, v, .. }) = (cfg.reference_word, &geom) {
+            let dir = if arc.sweep() > 0.0 {
+                ArcDirection::Ccw
+            } else {
+                ArcDirection::Cw
+            };
+            let end = geom.end(n);
+            // The reference-word circle runs at the constant feed v (Kim eq 21: α = VT/R).
+            let rw = ReferenceWordCircle::new(
+                arc.centre(),
+                (start[*u], start[*v]),
+                (end[*u], end[*v]),
+                dir,
+                limits.vmax,
+                ts,
+            )
+            .map_err(|_| NackCode::Infeasible)?;
+            Feed::ReferenceWord(rw)
+        } else if cfg.pre {
+            let p = Profile::plan(0.0, len, 0.0, 0.0, &limits).map_err(crate::plan_nack)?;
+            if !p.duration().is_finite() || p.duration() > crate::MAX_MOVE_TIME {
+                return Err(NackCode::Infeasible);
+            }
+            Feed::Profile { profile: p, t: 0.0 }
+        } else {
+            if len / limits.vmax > crate::MAX_MOVE_TIME {
+                return Err(NackCode::Infeasible);
+            }
+            Feed::Constant { v: limits.vmax }
+        };
+        self.queue_end = geom.end(n);
+        let slot = (self.q_head + self.q_len) % GROUP_QUEUE_LEN;
+        self.queue[slot] = Some(Move {
+            seq: c.seq,
+            geom,
+            feed,
+            feed_type,
+        });
+        self.q_len += 1;
+        self.move_count = self.move_count.wrapping_add(1);
+        if self.state == GroupState::Standby {
+            self.final_seq = None;
+            self.set_state(GroupState::Moving, tick, out);
+        }
+        Ok(())
+    }
+
+    /// Build and check an arc (circular or helical move).
+    fn arc(
+        &self,
+        cfg: &GroupConfig,
+        c: &Command,
+        start: &[f64; MAX_AXES],
+        relative: bool,
+    ) -> Result<Geometry, NackCode> {
+        let n = cfg.naxes;
+        let a = &c.args;
+        let (u, v) = match (c.flags >> move_flags::PLANE_SHIFT) & 3 {
+            raw::MC_PLANE_XY => (0, 1),
+            raw::MC_PLANE_YZ => (1, 2),
+            raw::MC_PLANE_ZX => (2, 0),
+            _ => return Err(NackCode::BadConfig),
+        };
+        if u >= n || v >= n {
+            return Err(NackCode::AxisNotInGroup);
+        }
+        let tol = cfg.tolerance;
+        let rel = |i: usize, x: f64| if relative { start[i] + x } else { x };
+        let p0 = (start[u], start[v]);
+        let p1 = (rel(u, a[4]), rel(v, a[5]));
+        let ccw = c.flags & move_flags::CIRC_CCW != 0;
+        let dir = if ccw {
+            ArcDirection::Ccw
+        } else {
+            ArcDirection::Cw
+        };
+        let dist = |p: (f64, f64), q: (f64, f64)| (p.0 - q.0).hypot(p.1 - q.1);
+        let (centre, dir) = match (c.flags >> move_flags::CIRC_MODE_SHIFT) & 3 {
+            raw::MC_CIRC_BY_CENTRE => {
+                let centre = (rel(u, a[6]), rel(v, a[7]));
+                let (r0, r1) = (dist(p0, centre), dist(p1, centre));
+                if r0 <= tol {
+                    return Err(NackCode::ZeroLengthArc);
+                }
+                if (r0 - r1).abs() > tol {
+                    return Err(NackCode::CentreNotEquidistant);
+                }
+                (centre, dir)
+            }
+            raw::MC_CIRC_BY_RADIUS => {
+                let r = a[6];
+                let chord = dist(p0, p1);
+                if chord <= tol || r.abs() <= tol {
+                    return Err(NackCode::ZeroLengthArc);
+                }
+                if r.abs() < chord / 2.0 - tol {
+                    return Err(NackCode::RadiusTooSmall);
+                }
+                let h = (r * r - chord * chord / 4.0).max(0.0).sqrt();
+                let mid = ((p0.0 + p1.0) / 2.0, (p0.1 + p1.1) / 2.0);
+                let (dx, dy) = ((p1.0 - p0.0) / chord, (p1.1 - p0.1) / chord);
+                // The centre on the left of start→end gives the short arc when going CCW.
+                let left = (ccw && r > 0.0) || (!ccw && r < 0.0);
+                let s = if left { 1.0 } else { -1.0 };
+                ((mid.0 - s * dy * h, mid.1 + s * dx * h), dir)
+            }
+            raw::MC_CIRC_BY_BORDER => {
+                let b = (rel(u, a[6]), rel(v, a[7]));
+                if dist(p0, p1) <= tol || dist(p0, b) <= tol || dist(b, p1) <= tol {
+                    return Err(NackCode::ZeroLengthArc);
+                }
+                // Circumcentre of start, border point, end.
+                let d = 2.0 * (p0.0 * (b.1 - p1.1) + b.0 * (p1.1 - p0.1) + p1.0 * (p0.1 - b.1));
+                let cross = (b.0 - p0.0) * (p1.1 - p0.1) - (b.1 - p0.1) * (p1.0 - p0.0);
+                // Collinear within the tolerance: the border point is within tol of the chord.
+                if cross.abs() <= tol * dist(p0, p1) || d == 0.0 {
+                    return Err(NackCode::CollinearPoints);
+                }
+                let s0 = p0.0 * p0.0 + p0.1 * p0.1;
+                let sb = b.0 * b.0 + b.1 * b.1;
+                let s1 = p1.0 * p1.0 + p1.1 * p1.1;
+                let centre = (
+                    (s0 * (b.1 - p1.1) + sb * (p1.1 - p0.1) + s1 * (p0.1 - b.1)) / d,
+                    (s0 * (p1.0 - b.0) + sb * (p0.0 - p1.0) + s1 * (b.0 - p0.0)) / d,
+                );
+                // start → border → end turns counter-clockwise when the border point lies to
+                // the right of the chord start → end (cross > 0).
+                (
+                    centre,
+                    if cross > 0.0 {
+                        ArcDirection::Ccw
+                    } else {
+                        ArcDirection::Cw
+                    },
+                )
+            }
+            _ => return Err(NackCode::BadConfig),
+        };
+        let mut arc =
+            ExactCircle::from_points(centre, p0, p1, dir).map_err(|_| NackCode::ZeroLengthArc)?;
+        if (dist(p1, centre) - arc.radius()).abs() > tol {
+            return Err(NackCode::CentreNotEquidistant);
+        }
+        // End exactly on the circle through the start: re-anchor the end angle.
+        arc = ExactCircle::new(centre, arc.radius(), arc.start_angle(), arc.sweep())
+            .map_err(|_| NackCode::ZeroLengthArc)?;
+        // Helical part: the other group axes, in group order.
+        let mut helix = [0.0; MAX_AXES];
+        let mut k = 8;
+        for (i, h) in helix.iter_mut().enumerate().take(n) {
+            if i != u && i != v {
+                *h = rel(i, a[k]) - start[i];
+                k += 1;
+            }
+        }
+        let hl = helix.iter().map(|h| h * h).sum::<f64>();
+        let len = (arc.length() * arc.length() + hl).sqrt();
+        let geom = Geometry::Arc {
+            start: *start,
+            u,
+            v,
+            arc,
+            helix,
+            len,
+        };
+        if !geom.end(n)[..n]
+            .iter()
+            .all(|x| x.abs() <= crate::MAX_POSITION)
+        {
+            return Err(NackCode::OutOfRange);
+        }
+        Ok(geom)
+    }
+
+    /// One servo tick: interpolate, filter, set the axes' references.
+    pub fn tick(
+        &mut self,
+        axes: &mut [Axis; MAX_AXES],
+        filters: &mut [AxisFilter],
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) {
+        let Some(cfg) = self.config else { return };
+        if matches!(self.state, GroupState::Disabled) {
+            return;
+        }
+        let n = cfg.naxes;
+        let members = &cfg.axes[..n];
+        // A member that lost power or faulted takes the group to ErrorStop.
+        if self.state != GroupState::ErrorStop
+            && members
+                .iter()
+                .any(|&a| matches!(axes[a].state, AxisState::ErrorStop | AxisState::Disabled))
+        {
+            self.abort_all(Opcode::GroupDisable, tick, out);
+            self.stop = None;
+            for &a in members {
+                filters[a].live.reset();
+                let old = axes[a].release_from_group();
+                axis_event(out, a, old, axes[a].state, tick);
+            }
+            self.set_state(GroupState::ErrorStop, tick, out);
+            return;
+        }
+        if matches!(self.state, GroupState::Standby | GroupState::ErrorStop) {
+            return;
+        }
+
+        // Activate the next move (filters switch feed type only when empty).
+        if self.active.is_none() && self.stop.is_none() {
+            if let Some(next) = self.peek() {
+                let ft = next.feed_type;
+                let switching = cfg.post
+                    && members
+                        .iter()
+                        .any(|&a| filters[a].built_for.map(|k| k.0) != Some(ft));
+                if !switching || members.iter().all(|&a| filters[a].is_settled()) {
+                    if let Some(mv) = self.pop() {
+                        // The previous move was waiting to be in position: it is done now.
+                        if let Some(seq) = self.final_seq.take() {
+                            out.push(self.event(EventKind::GroupMotionDone, seq, 0, 0.0, tick));
+                        }
+                        if cfg.post {
+                            for &a in members {
+                                filters[a].select(ft, ts);
+                            }
+                        }
+                        for &a in members {
+                            let old = axes[a].join_group_motion();
+                            axis_event(out, a, old, AxisState::SynchronizedMotion, tick);
+                        }
+                        self.active = Some(Active {
+                            last: mv.geom.start(),
+                            mv,
+                            s: 0.0,
+                            stopping: None,
+                            v: 0.0,
+                            a: 0.0,
+                        });
+                    }
+                }
+            }
+        }
+
+        // Interpolate.
+        let mut inc = [0.0; MAX_AXES];
+        let mut finished = false;
+        if let Some(act) = &mut self.active {
+            let len = act.mv.geom.len();
+            let prev_v = act.v;
+            let mut point = None;
+            if let Some((p, t)) = &mut act.stopping {
+                *t += ts;
+                let st = p.sample(*t);
+                act.s = st.pos.min(len);
+                act.v = st.vel;
+                finished = *t >= p.duration() || act.s >= len;
+                if finished {
+                    act.v = 0.0;
+                }
+            } else {
+                match &mut act.mv.feed {
+                    Feed::Profile { profile, t } => {
+                        *t += ts;
+                        let st = profile.sample(*t);
+                        act.s = st.pos.min(len);
+                        act.v = st.vel;
+                        finished = *t >= profile.duration();
+                    }
+                    Feed::Constant { v } => {
+                        act.s = (act.s + *v * ts).min(len);
+                        act.v = *v;
+                        finished = act.s >= len;
+                    }
+                    Feed::ReferenceWord(rw) => {
+                        // Built for arcs only; anything else ends the move.
+                        let (u, v, helix, start) = match act.mv.geom {
+                            Geometry::Arc {
+                                u, v, helix, start, ..
+                            } => (u, v, helix, start),
+                            Geometry::Line { start, .. } => (0, 0, [0.0; MAX_AXES], start),
+                        };
+                        match rw.next_increment().filter(|_| u != v) {
+                            Some((du, dv)) => {
+                                let k = rw.total_steps() - rw.remaining_steps();
+                                let f = k as f64 / rw.total_steps().max(1) as f64;
+                                let mut p = act.last;
+                                p[u] += du;
+                                p[v] += dv;
+                                for i in 0..n {
+                                    if i != u && i != v {
+                                        p[i] = start[i] + helix[i] * f;
+                                    }
+                                }
+                                act.s = len * f;
+                                act.v = rw.feed();
+                                finished = rw.is_done();
+                                point = Some(p);
+                            }
+                            None => finished = true,
+                        }
+                    }
+                }
+            }
+            act.a = (act.v - prev_v) / ts;
+            let p = match point {
+                Some(p) if !finished => p,
+                _ if finished && act.stopping.is_none() => act.mv.geom.end(n),
+                _ => act.mv.geom.point(act.s, n),
+            };
+            for i in 0..n {
+                inc[i] = p[i] - act.last[i];
+            }
+            act.last = p;
+        }
+        if finished {
+            if let Some(act) = self.active.take() {
+                // The programmed position is where the move ended (early, for a stop).
+                if act.stopping.is_some() {
+                    self.queue_end = act.last;
+                }
+                if self.q_len > 0 && self.stop.is_none() {
+                    // More queued: this one is done as soon as the next takes over.
+                    out.push(self.event(EventKind::GroupMotionDone, act.mv.seq, 0, 0.0, tick));
+                } else if self.stop.is_none() {
+                    self.final_seq = Some(act.mv.seq);
+                    self.settled_for = 0.0;
+                }
+            }
+        }
+
+        // Post-interpolation filters, then the axes' references.
+        let mut settled = true;
+        for (i, &a) in members.iter().enumerate() {
+            let d = if cfg.post {
+                filters[a].live.step(inc[i])
+            } else {
+                inc[i]
+            };
+            settled &= !cfg.post || filters[a].is_settled();
+            let r = axes[a].reference();
+            let vel = d / ts;
+            let acc = (vel - self.prev_vel[i]) / ts;
+            self.prev_vel[i] = vel;
+            axes[a].drive(Reference {
+                pos: r.pos + d,
+                vel,
+                acc,
+            });
+        }
+
+        // At rest: snap to the exact programmed end, then wait to be in position.
+        if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
+            for (i, &a) in members.iter().enumerate() {
+                axes[a].drive(Reference {
+                    pos: self.queue_end[i],
+                    vel: 0.0,
+                    acc: 0.0,
+                });
+                self.prev_vel[i] = 0.0;
+            }
+            let in_pos = members
+                .iter()
+                .all(|&a| axes[a].in_position_at(axes[a].reference().pos));
+            self.settled_for = if in_pos { self.settled_for + ts } else { 0.0 };
+            let settle = members
+                .iter()
+                .map(|&a| axes[a].config.settle_time)
+                .fold(0.0, f64::max);
+            if in_pos && self.settled_for + 1e-12 >= settle {
+                if let Some(seq) = self.final_seq.take() {
+                    out.push(self.event(EventKind::GroupMotionDone, seq, 0, 1.0, tick));
+                }
+                match self.stop {
+                    Some(StopKind::Stop) if !self.stop_released => {}
+                    _ => {
+                        self.stop = None;
+                        for &a in members {
+                            let old = axes[a].leave_group_motion();
+                            axis_event(out, a, old, AxisState::Standstill, tick);
+                        }
+                        self.set_state(GroupState::Standby, tick, out);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The status block to publish.
+    pub fn status(&self, tick: u64) -> GroupStatus {
+        let (active_seq, path_pos, path_len, feed, feed_acc) = match &self.active {
+            Some(a) => (a.mv.seq, a.s, a.mv.geom.len(), a.v, a.a),
+            None => (0, 0.0, 0.0, 0.0, 0.0),
+        };
+        GroupStatus {
+            state: self.state as u32,
+            queued: self.q_len as u32,
+            active_seq,
+            move_count: self.move_count,
+            path_pos,
+            path_len,
+            feed,
+            feed_acc,
+            tick,
+        }
+    }
+}
+
+/// The StateChanged event of an axis the group moved from `old` to `new`.
+fn axis_event(out: &mut Outbox, axis: usize, old: Option<AxisState>, new: AxisState, tick: u64) {
+    if let Some(old) = old {
+        out.push(Event {
+            seq: 0,
+            kind: EventKind::StateChanged as u16,
+            axis: axis as u16,
+            code: new as i32,
+            tick,
+            value: old as u32 as f64,
+        });
+    }
+}
+
+/// The filter bank of a card, allocated once at boot (a linear filter holds 4096 taps).
+pub fn filter_bank() -> Box<[AxisFilter]> {
+    (0..MAX_AXES).map(|_| AxisFilter::new()).collect()
+}

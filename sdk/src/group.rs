@@ -1,0 +1,612 @@
+//! Axes groups: coordinated linear, circular and helical moves, synchronised point-to-point
+//! moves, and the per-axis acc/dec filters.
+
+use crate::card::{finite, lock, Axis, Card};
+use crate::error::{Error, Result};
+use firmware_proto::layout::{self, axis_filter as af, group_config as gc};
+use firmware_proto::seqlock::{self, SnapshotError};
+use firmware_proto::{
+    move_flags, raw, Command, GroupState, GroupStatus, Mem, Opcode, MAX_AXES, MAX_GROUPS,
+};
+use std::time::Duration;
+
+pub use card_emu::filters::FilterKind;
+
+/// Where the tangential acceleration comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AccDec {
+    /// An S-curve of the feed along the path (before interpolation).
+    Pre,
+    /// Constant feed along the path, each axis's acc/dec filter after interpolation (Kim, Shin).
+    Post,
+    /// Both: the S-curve, then the filters.
+    Both,
+}
+
+/// Which arc interpolator the group uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Interpolator {
+    /// Points exactly on the circle at each tick's arc length.
+    Exact,
+    /// Kim's reference-word interpolator (eq 15–23): constant angle steps; needs [`AccDec::Post`].
+    ReferenceWord,
+}
+
+/// A group's configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupSettings {
+    /// Card axes of the group's X, Y, Z, … axes (1 to 8).
+    pub axes: Vec<usize>,
+    /// Acc/dec mode.
+    pub accdec: AccDec,
+    /// Arc interpolator.
+    pub interpolator: Interpolator,
+    /// Geometry tolerance (centre equidistance, radius vs chord), in the first axis's units.
+    pub tolerance: f64,
+}
+
+impl GroupSettings {
+    /// A group of `axes`, S-curve feed, exact arcs, tolerance 2 counts (in user units of the
+    /// first axis: set it after [`Axis::set_scale`]).
+    pub fn new(axes: &[usize]) -> Self {
+        Self {
+            axes: axes.to_vec(),
+            accdec: AccDec::Pre,
+            interpolator: Interpolator::Exact,
+            tolerance: 2.0,
+        }
+    }
+}
+
+/// Feed type: selects each axis's acc/dec filter (Shin Table 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FeedType {
+    /// Rapid traverse (G00).
+    Rapid,
+    /// Cutting feed (G01/G02/G03).
+    #[default]
+    Cutting,
+    /// Jog.
+    Jog,
+}
+
+/// Limits of the tangential feed (user units of the group's first axis).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathLimits {
+    /// Feed (path velocity).
+    pub velocity: f64,
+    /// Tangential acceleration (pre-interpolation S-curve).
+    pub acceleration: f64,
+    /// Tangential deceleration.
+    pub deceleration: f64,
+    /// Tangential jerk.
+    pub jerk: f64,
+}
+
+impl PathLimits {
+    /// Feed `v`, acceleration and deceleration `a`, jerk `j`.
+    pub fn new(v: f64, a: f64, j: f64) -> Self {
+        Self {
+            velocity: v,
+            acceleration: a,
+            deceleration: a,
+            jerk: j,
+        }
+    }
+}
+
+/// How a move is queued.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct MoveOptions {
+    /// Targets relative to where the previous move ends.
+    pub relative: bool,
+    /// Queue behind the moves already queued (PLCopen Buffered); else the group must be at rest.
+    pub buffered: bool,
+    /// Feed type.
+    pub feed_type: FeedType,
+}
+
+impl MoveOptions {
+    /// Buffered behind the queued moves.
+    pub fn buffered() -> Self {
+        Self {
+            buffered: true,
+            ..Self::default()
+        }
+    }
+}
+
+/// The plane of an arc, in group axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Plane {
+    /// Group axes 0 and 1.
+    #[default]
+    XY,
+    /// Group axes 1 and 2.
+    YZ,
+    /// Group axes 2 and 0.
+    ZX,
+}
+
+/// An arc, in the coordinates of its plane (`end`, `centre`, `via`: plane coordinates of the
+/// end point, the centre and a point on the arc; `ccw`: counter-clockwise, else clockwise).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(missing_docs)]
+pub enum ArcSpec {
+    /// By centre; `ccw` else clockwise. `end == start` is a full circle.
+    Centre {
+        end: [f64; 2],
+        centre: [f64; 2],
+        ccw: bool,
+    },
+    /// By radius; a negative radius takes the arc longer than half a turn.
+    Radius {
+        end: [f64; 2],
+        radius: f64,
+        ccw: bool,
+    },
+    /// Through a point on the arc (three-point circle); the direction follows the points.
+    Border { end: [f64; 2], via: [f64; 2] },
+}
+
+/// An axes group on a card.
+#[derive(Clone)]
+pub struct Group {
+    card: Card,
+    index: usize,
+}
+
+/// A group move in progress.
+#[derive(Clone)]
+pub struct GroupMotion {
+    card: Card,
+    group: usize,
+    seq: u32,
+}
+
+impl GroupMotion {
+    /// The seq of the command.
+    pub fn seq(&self) -> u32 {
+        self.seq
+    }
+
+    /// Wait for the move's motion done: the last move of a queue is done when the group is at
+    /// rest and in position; an earlier one when the next move takes over.
+    pub fn wait(&self, timeout: Duration) -> Result<()> {
+        self.card
+            .wait_outcome(self.group, self.seq, timeout)
+            .map(|_| ())
+    }
+}
+
+impl Card {
+    /// An axes group handle (`0..MAX_GROUPS`).
+    pub fn group(&self, index: usize) -> Result<Group> {
+        if index >= MAX_GROUPS {
+            return Err(Error::Nack {
+                command: "group",
+                axis: index,
+                code: firmware_proto::NackCode::BadGroup,
+                reason: crate::nack_reason(firmware_proto::NackCode::BadGroup),
+            });
+        }
+        Ok(Group {
+            card: self.clone(),
+            index,
+        })
+    }
+}
+
+impl Group {
+    /// Group number.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    fn op(&self, op: Opcode) -> Command {
+        Command::new(op, self.index as u16)
+    }
+
+    fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
+        self.card.execute_seq(cmd, what, self.index)
+    }
+
+    fn axes(&self) -> Result<(usize, [usize; MAX_AXES])> {
+        let w = self.card.window();
+        let n = w.read32(layout::group_config(self.index, gc::NAXES)) as usize;
+        let mut axes = [0usize; MAX_AXES];
+        let lo = w
+            .read32(layout::group_config(self.index, gc::AXES))
+            .to_le_bytes();
+        let hi = w
+            .read32(layout::group_config(self.index, gc::AXES + 4))
+            .to_le_bytes();
+        for (i, b) in lo.iter().chain(hi.iter()).enumerate() {
+            axes[i] = *b as usize;
+        }
+        Ok((n.min(MAX_AXES), axes))
+    }
+
+    /// Write the configuration and have the card check and apply it (group disabled).
+    pub fn configure(&self, s: &GroupSettings) -> Result<()> {
+        let n = s.axes.len();
+        if n == 0 || n > MAX_AXES {
+            return Err(Error::BadAxis {
+                axis: n,
+                count: MAX_AXES,
+            });
+        }
+        finite("tolerance", s.tolerance)?;
+        let count = self.card.info().axes;
+        let mut bytes = [0u8; 8];
+        for (b, &a) in bytes.iter_mut().zip(&s.axes) {
+            if a >= count {
+                return Err(Error::BadAxis { axis: a, count });
+            }
+            *b = a as u8;
+        }
+        let w = self.card.window();
+        let g = self.index;
+        w.write32(layout::group_config(g, gc::NAXES), n as u32);
+        w.write32(
+            layout::group_config(g, gc::AXES),
+            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
+        );
+        w.write32(
+            layout::group_config(g, gc::AXES + 4),
+            u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
+        );
+        let accdec = match s.accdec {
+            AccDec::Pre => raw::MC_ACCDEC_PRE,
+            AccDec::Post => raw::MC_ACCDEC_POST,
+            AccDec::Both => raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST,
+        };
+        w.write32(layout::group_config(g, gc::ACCDEC), accdec);
+        w.write32(
+            layout::group_config(g, gc::INTERPOLATOR),
+            if s.interpolator == Interpolator::ReferenceWord {
+                raw::MC_INTERP_REFERENCE_WORD
+            } else {
+                raw::MC_INTERP_EXACT
+            },
+        );
+        w.write_f64(
+            layout::group_config(g, gc::TOLERANCE),
+            s.tolerance * self.card.scale(s.axes[0]).abs(),
+        );
+        self.run(self.op(Opcode::GroupConfigure), "group configure")
+            .map(|_| ())
+    }
+
+    /// MC_GroupEnable: every axis must be enabled and at rest.
+    pub fn enable(&self) -> Result<()> {
+        self.run(self.op(Opcode::GroupEnable), "group enable")
+            .map(|_| ())
+    }
+
+    /// MC_GroupDisable: aborts queued moves, leaves the axes enabled where they are.
+    pub fn disable(&self) -> Result<()> {
+        self.run(self.op(Opcode::GroupDisable), "group disable")
+            .map(|_| ())
+    }
+
+    /// MC_GroupReset: GroupErrorStop → GroupStandby.
+    pub fn reset(&self) -> Result<()> {
+        self.run(self.op(Opcode::GroupReset), "group reset")
+            .map(|_| ())
+    }
+
+    fn stopping(
+        &self,
+        op: Opcode,
+        deceleration: f64,
+        jerk: f64,
+        what: &'static str,
+    ) -> Result<GroupMotion> {
+        finite("deceleration", deceleration)?;
+        finite("jerk", jerk)?;
+        for (w, v) in [("deceleration", deceleration), ("jerk", jerk)] {
+            if v <= 0.0 {
+                return Err(Error::NonPositive { what: w, value: v });
+            }
+        }
+        let s = self.path_scale()?;
+        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
+        Ok(self.motion(seq))
+    }
+
+    /// MC_GroupHalt: decelerate along the path, then GroupStandby. Queued moves are aborted.
+    pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<GroupMotion> {
+        self.stopping(Opcode::GroupHalt, deceleration, jerk, "group halt")
+    }
+
+    /// MC_GroupStop: decelerate along the path and stay in GroupStopping until released.
+    pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<GroupMotion> {
+        self.stopping(Opcode::GroupStop, deceleration, jerk, "group stop")
+    }
+
+    /// Leave GroupStopping.
+    pub fn release_stop(&self) -> Result<()> {
+        self.run(self.op(Opcode::GroupStopRelease), "group stop release")
+            .map(|_| ())
+    }
+
+    fn motion(&self, seq: u32) -> GroupMotion {
+        lock(&self.card.inner().last_group_motion)[self.index] = Some(seq);
+        GroupMotion {
+            card: self.card.clone(),
+            group: self.index,
+            seq,
+        }
+    }
+
+    /// Counts per user unit for path quantities: the first group axis's scale.
+    fn path_scale(&self) -> Result<f64> {
+        let (_, axes) = self.axes()?;
+        Ok(self.card.scale(axes[0]).abs())
+    }
+
+    fn path_args(&self, lim: &PathLimits) -> Result<[f64; 4]> {
+        let named = [
+            ("feed", lim.velocity),
+            ("acceleration", lim.acceleration),
+            ("deceleration", lim.deceleration),
+            ("jerk", lim.jerk),
+        ];
+        let s = self.path_scale()?;
+        let mut out = [0.0; 4];
+        for (o, (what, v)) in out.iter_mut().zip(named) {
+            finite(what, v)?;
+            if v <= 0.0 {
+                return Err(Error::NonPositive { what, value: v });
+            }
+            *o = v * s;
+        }
+        Ok(out)
+    }
+
+    fn flags(opts: &MoveOptions) -> u32 {
+        let feed = match opts.feed_type {
+            FeedType::Rapid => raw::MC_FEED_RAPID,
+            FeedType::Cutting => raw::MC_FEED_CUTTING,
+            FeedType::Jog => raw::MC_FEED_JOG,
+        };
+        let mut f = feed << move_flags::FEED_TYPE_SHIFT;
+        if opts.relative {
+            f |= move_flags::RELATIVE;
+        }
+        if opts.buffered {
+            f |= move_flags::BUFFERED;
+        }
+        f
+    }
+
+    fn targets(&self, target: &[f64]) -> Result<Vec<f64>> {
+        let (n, axes) = self.axes()?;
+        if target.len() != n {
+            return Err(Error::BadAxis {
+                axis: target.len(),
+                count: n,
+            });
+        }
+        target
+            .iter()
+            .zip(&axes[..n])
+            .map(|(t, a)| {
+                finite("target", *t)?;
+                Ok(t * self.card.scale(*a))
+            })
+            .collect()
+    }
+
+    fn line(
+        &self,
+        op: Opcode,
+        target: &[f64],
+        lim: &PathLimits,
+        opts: &MoveOptions,
+        what: &'static str,
+    ) -> Result<GroupMotion> {
+        let mut args = self.path_args(lim)?.to_vec();
+        args.extend(self.targets(target)?);
+        let mut cmd = self.op(op).with_args(&args);
+        cmd.flags = Self::flags(opts);
+        let seq = self.run(cmd, what)?;
+        Ok(self.motion(seq))
+    }
+
+    /// MC_MoveLinearAbsolute / Relative: a straight line to `target` (one value per group
+    /// axis) at the feed of `lim`.
+    pub fn move_linear(
+        &self,
+        target: &[f64],
+        lim: &PathLimits,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        self.line(Opcode::GroupMoveLinear, target, lim, &opts, "move linear")
+    }
+
+    /// Synchronised point-to-point (Kim eq 10–14): every axis starts and ends together; the
+    /// axis with the longest distance moves within `lim` and the others scale.
+    pub fn move_ptp(
+        &self,
+        target: &[f64],
+        lim: &PathLimits,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let opts = MoveOptions {
+            feed_type: if opts.feed_type == FeedType::Cutting {
+                FeedType::Rapid
+            } else {
+                opts.feed_type
+            },
+            ..opts
+        };
+        self.line(Opcode::GroupMovePtp, target, lim, &opts, "move ptp")
+    }
+
+    /// MC_MoveCircular: an arc in `plane`; `helix` holds the targets of the group's other axes
+    /// (in group order), which move linearly with the arc (a helix). Empty for a plain arc.
+    pub fn move_circular(
+        &self,
+        arc: &ArcSpec,
+        plane: Plane,
+        helix: &[f64],
+        lim: &PathLimits,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let (n, axes) = self.axes()?;
+        let (u, v) = match plane {
+            Plane::XY => (0, 1),
+            Plane::YZ => (1, 2),
+            Plane::ZX => (2, 0),
+        };
+        let su = self.card.scale(axes[u.min(n.saturating_sub(1))]);
+        let sv = self.card.scale(axes[v.min(n.saturating_sub(1))]);
+        let (mode, end, aux, ccw) = match *arc {
+            ArcSpec::Centre { end, centre, ccw } => (
+                raw::MC_CIRC_BY_CENTRE,
+                end,
+                [centre[0] * su, centre[1] * sv],
+                ccw,
+            ),
+            ArcSpec::Radius { end, radius, ccw } => {
+                (raw::MC_CIRC_BY_RADIUS, end, [radius * su.abs(), 0.0], ccw)
+            }
+            ArcSpec::Border { end, via } => (
+                raw::MC_CIRC_BY_BORDER,
+                end,
+                [via[0] * su, via[1] * sv],
+                false,
+            ),
+        };
+        for x in end.iter().chain(aux.iter()).chain(helix) {
+            finite("arc coordinate", *x)?;
+        }
+        let mut args = self.path_args(lim)?.to_vec();
+        args.extend([end[0] * su, end[1] * sv, aux[0], aux[1]]);
+        let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
+        if helix.len() > others.len() {
+            return Err(Error::BadAxis {
+                axis: helix.len(),
+                count: others.len(),
+            });
+        }
+        for (h, i) in helix.iter().zip(&others) {
+            args.push(h * self.card.scale(axes[*i]));
+        }
+        // Axes without a helical target stay where they are (relative 0 / their current end).
+        if helix.len() < others.len() {
+            if !opts.relative {
+                return Err(Error::Unsupported(
+                    "absolute helical moves need a target for every other group axis".into(),
+                ));
+            }
+            args.extend(std::iter::repeat_n(0.0, others.len() - helix.len()));
+        }
+        let plane_bits = match plane {
+            Plane::XY => raw::MC_PLANE_XY,
+            Plane::YZ => raw::MC_PLANE_YZ,
+            Plane::ZX => raw::MC_PLANE_ZX,
+        };
+        let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
+        cmd.flags = Self::flags(&opts)
+            | mode << move_flags::CIRC_MODE_SHIFT
+            | plane_bits << move_flags::PLANE_SHIFT
+            | if ccw { move_flags::CIRC_CCW } else { 0 };
+        let seq = self.run(cmd, "move circular")?;
+        Ok(self.motion(seq))
+    }
+
+    /// Wait for the last move queued through this library on this group.
+    pub fn wait_done(&self, timeout: Duration) -> Result<()> {
+        let seq = lock(&self.card.inner().last_group_motion)[self.index]
+            .ok_or_else(|| Error::Unsupported("no move was queued on this group".into()))?;
+        self.card.wait_outcome(self.index, seq, timeout).map(|_| ())
+    }
+
+    /// A consistent snapshot of the group's status (path quantities in counts).
+    pub fn status(&self) -> Result<(GroupState, GroupStatus)> {
+        let st =
+            seqlock::read_group_status(self.card.window(), self.index).map_err(|e| match e {
+                SnapshotError::Busy => {
+                    Error::NotResponding(format!("status of group {} stayed busy", self.index))
+                }
+                SnapshotError::Corrupt => Error::Protocol(format!(
+                    "status of group {} failed its checksum",
+                    self.index
+                )),
+            })?;
+        let state = st.state().ok_or_else(|| {
+            Error::Protocol(format!(
+                "group {} reports unknown state {}",
+                self.index, st.state
+            ))
+        })?;
+        Ok((state, st))
+    }
+}
+
+/// An axis's acc/dec filters: kind and time constant (s) per feed type.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterSettings {
+    /// Rapid traverse.
+    pub rapid: (FilterKind, f64),
+    /// Cutting feed.
+    pub cutting: (FilterKind, f64),
+    /// Jog.
+    pub jog: (FilterKind, f64),
+}
+
+impl FilterSettings {
+    /// Shin Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog
+    /// exponential 50 ms (the card's default).
+    pub fn shin_table1() -> Self {
+        Self::from_preset(card_emu::filters::FilterPreset::shin_table1())
+    }
+
+    /// Shin Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
+    pub fn shin_table1_z() -> Self {
+        Self::from_preset(card_emu::filters::FilterPreset::shin_table1_z())
+    }
+
+    /// One filter for every feed type.
+    pub fn all(kind: FilterKind, tau: f64) -> Self {
+        Self {
+            rapid: (kind, tau),
+            cutting: (kind, tau),
+            jog: (kind, tau),
+        }
+    }
+
+    fn from_preset(p: card_emu::filters::FilterPreset) -> Self {
+        Self {
+            rapid: (p.rapid.kind, p.rapid.time_constant_s),
+            cutting: (p.cutting.kind, p.cutting.time_constant_s),
+            jog: (p.jog.kind, p.jog.time_constant_s),
+        }
+    }
+}
+
+impl Axis {
+    /// Set the axis's post-interpolation acc/dec filters (applied when it holds no distance).
+    pub fn set_filters(&self, f: &FilterSettings) -> Result<()> {
+        let w = self.card().window();
+        let a = self.index();
+        for (i, (kind, tau)) in [f.rapid, f.cutting, f.jog].into_iter().enumerate() {
+            finite("filter time constant", tau)?;
+            w.write32(
+                layout::axis_filter(a, af::KIND + 4 * i),
+                card_emu::group::FilterConfig::kind_to_raw(kind),
+            );
+            w.write_f64(layout::axis_filter(a, af::TAU + 8 * i), tau);
+        }
+        self.card()
+            .execute_seq(
+                Command::new(Opcode::ApplyAxisFilter, a as u16),
+                "set filters",
+                a,
+            )
+            .map(|_| ())
+    }
+}
