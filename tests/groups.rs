@@ -79,3 +79,512 @@ fn linear_move_follows_the_line_and_ends_on_target() {
         }
     }
 }
+
+/// Trace the commanded positions of `axes` every tick until the group is at rest.
+fn trace(card: &Card, g: &motioncard::Group, axes: &[usize]) -> Vec<Vec<f64>> {
+    let sim = card.sim().unwrap();
+    let mut out = Vec::new();
+    for _ in 0..2_000_000 {
+        sim.step(1);
+        out.push(axes.iter().map(|&a| cmd(card, a)).collect());
+        if g.status().unwrap().0 != GroupState::Moving {
+            break;
+        }
+    }
+    out
+}
+
+#[test]
+fn arcs_by_centre_radius_and_border_point_in_every_plane() {
+    let r = 20_000.0;
+    // Arcs from the group's position (0, 0) to (-r, r) around the centre (-r, 0), written every
+    // way: a quarter turn counter-clockwise, or three quarters clockwise.
+    let specs = [
+        (
+            ArcSpec::Centre {
+                end: [-r, r],
+                centre: [-r, 0.0],
+                ccw: true,
+            },
+            true,
+        ),
+        (
+            ArcSpec::Radius {
+                end: [-r, r],
+                radius: r,
+                ccw: true,
+            },
+            true,
+        ),
+        (
+            ArcSpec::Border {
+                end: [-r, r],
+                via: [-r + r * 0.5f64.sqrt(), r * 0.5f64.sqrt()],
+            },
+            true,
+        ),
+        (
+            ArcSpec::Centre {
+                end: [-r, r],
+                centre: [-r, 0.0],
+                ccw: false,
+            },
+            false,
+        ),
+        (
+            ArcSpec::Radius {
+                end: [-r, r],
+                radius: -r,
+                ccw: false,
+            },
+            false,
+        ),
+    ];
+    for plane in [Plane::XY, Plane::YZ, Plane::ZX] {
+        let (u, v) = match plane {
+            Plane::XY => (0, 1),
+            Plane::YZ => (1, 2),
+            Plane::ZX => (2, 0),
+        };
+        for (spec, ccw) in specs {
+            let (card, g) = group_card(&[0, 1, 2], AccDec::Pre);
+            let m = g
+                .move_circular(&spec, plane, &[], &lim(), MoveOptions::default())
+                .unwrap();
+            let pts = trace(&card, &g, &[u, v]);
+            m.wait(T).unwrap();
+            let c = (-r, 0.0);
+            let worst = pts
+                .iter()
+                .map(|p| ((p[0] - c.0).hypot(p[1] - c.1) - r).abs())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-6, "{plane:?} {spec:?}: radius error {worst}");
+            // Direction: the first points turn the right way around the centre.
+            let a0 = (pts[pts.len() / 4][1] - c.1).atan2(pts[pts.len() / 4][0] - c.0);
+            assert_eq!(a0 > 0.0, ccw, "{plane:?} {spec:?}: went the wrong way");
+            let end = &pts[pts.len() - 1];
+            assert!(
+                (end[0] + r).abs() < 1e-6 && (end[1] - r).abs() < 1e-6,
+                "{plane:?} {spec:?}: ended at {end:?}"
+            );
+            // The third axis did not move.
+            let w = 3 - u - v;
+            assert_eq!(cmd(&card, w), 0.0);
+            // The long CW way round is three quarters of a turn: longer path, longer time.
+            if !ccw {
+                assert!(
+                    pts.len() > 2 * specs_len_hint(),
+                    "{plane:?} {spec:?}: {} ticks",
+                    pts.len()
+                );
+            }
+        }
+    }
+}
+
+/// Ticks of the quarter arc at the test's feed, as a floor for the three-quarter arcs.
+fn specs_len_hint() -> usize {
+    let l = 20_000.0 * std::f64::consts::FRAC_PI_2;
+    (l / 50_000.0 * 10_000.0) as usize
+}
+
+#[test]
+fn helical_move_climbs_linearly_with_the_angle() {
+    let (card, g) = group_card(&[0, 1, 2], AccDec::Pre);
+    let r = 10_000.0;
+    // A full turn around (r, 0)... from the origin, climbing 5,000 counts in Z.
+    let m = g
+        .move_circular(
+            &ArcSpec::Centre {
+                end: [0.0, 0.0],
+                centre: [r, 0.0],
+                ccw: true,
+            },
+            Plane::XY,
+            &[5_000.0],
+            &lim(),
+            MoveOptions::default(),
+        )
+        .unwrap();
+    let pts = trace(&card, &g, &[0, 1, 2]);
+    m.wait(T).unwrap();
+    for p in &pts {
+        let rad = (p[0] - r).hypot(p[1]);
+        assert!((rad - r).abs() < 1e-6, "radius {rad}");
+        // z / 5000 = swept angle / 2π.
+        let ang = (p[1]).atan2(p[0] - r);
+        let swept = (ang - std::f64::consts::PI).rem_euclid(std::f64::consts::TAU);
+        let want = 5_000.0 * swept / std::f64::consts::TAU;
+        if p[2] > 1.0 && p[2] < 4_999.0 {
+            assert!((p[2] - want).abs() < 1e-3, "z {} vs {want}", p[2]);
+        }
+    }
+    assert_eq!(cmd(&card, 2), 5_000.0);
+}
+
+#[test]
+fn synchronised_ptp_axes_start_and_end_on_the_same_tick() {
+    let (card, g) = group_card(&[0, 1, 2, 3], AccDec::Pre);
+    let sim = card.sim().unwrap();
+    let target = [80_000.0, -20_000.0, 5_000.0, 0.5];
+    let m = g
+        .move_ptp(
+            &target,
+            &PathLimits::new(100_000.0, 1e6, 5e7),
+            MoveOptions::default(),
+        )
+        .unwrap();
+    let mut first = [None; 4];
+    let mut last = [0u64; 4];
+    let mut peak = [0.0f64; 4];
+    for tick in 1..200_000u64 {
+        sim.step(1);
+        for a in 0..4 {
+            let v = card.axis(a).unwrap().status().unwrap().raw.cmd_vel;
+            if v != 0.0 {
+                first[a].get_or_insert(tick);
+                last[a] = tick;
+                peak[a] = peak[a].max(v.abs());
+            }
+        }
+        if g.status().unwrap().0 != GroupState::Moving {
+            break;
+        }
+    }
+    m.wait(T).unwrap();
+    assert!(
+        first.iter().all(|f| *f == first[0]) && first[0].is_some(),
+        "start ticks {first:?}"
+    );
+    assert!(last.iter().all(|l| *l == last[0]), "end ticks {last:?}");
+    // The longest axis runs at the feed; the others scale with their distance (Kim eq 11).
+    assert!((peak[0] - 100_000.0).abs() < 1e-6, "peak {peak:?}");
+    for a in 1..4 {
+        let want = 100_000.0 * (target[a] / target[0]).abs();
+        assert!(
+            (peak[a] - want).abs() < 1e-6 * 100_000.0,
+            "axis {a}: peak {} vs {want}",
+            peak[a]
+        );
+    }
+    for (a, t) in target.iter().enumerate() {
+        assert_eq!(cmd(&card, a), *t);
+    }
+}
+
+#[test]
+fn buffered_moves_run_in_order_and_each_reports_done() {
+    let (card, g) = group_card(&[0, 1], AccDec::Post);
+    let pts = [
+        [10_000.0, 0.0],
+        [10_000.0, 10_000.0],
+        [0.0, 10_000.0],
+        [0.0, 0.0],
+    ];
+    let moves: Vec<_> = pts
+        .iter()
+        .map(|p| g.move_linear(p, &lim(), MoveOptions::buffered()).unwrap())
+        .collect();
+    assert_eq!(g.status().unwrap().1.queued, 4);
+    for m in &moves {
+        m.wait(T).unwrap();
+    }
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    assert_eq!((cmd(&card, 0), cmd(&card, 1)), (0.0, 0.0));
+}
+
+#[test]
+fn group_states_follow_plcopen() {
+    let card = stepped_card();
+    let g = card.group(1).unwrap();
+    let (x, y) = (card.axis(4).unwrap(), card.axis(5).unwrap());
+    g.configure(&GroupSettings::new(&[4, 5])).unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Disabled);
+    assert_eq!(
+        g.move_linear(&[1.0, 1.0], &lim(), MoveOptions::default())
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::GroupDisabled
+    );
+    assert_eq!(g.enable().unwrap_err().kind(), ErrorKind::AxisDisabled);
+    x.enable().unwrap();
+    y.enable().unwrap();
+    // An axis moving on its own keeps the group from enabling.
+    let solo = x
+        .move_relative(50_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap();
+    assert_eq!(g.enable().unwrap_err().kind(), ErrorKind::AxisBusy);
+    solo.wait(T).unwrap();
+    g.enable().unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    // Grouped axes refuse single-axis motion.
+    assert_eq!(
+        x.move_relative(10.0, &MoveLimits::new(1e5, 1e6, 1e8))
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::AxisGrouped
+    );
+    assert_eq!(x.disable().unwrap_err().kind(), ErrorKind::AxisGrouped);
+    assert_eq!(g.reset().unwrap_err().kind(), ErrorKind::InvalidState);
+    // Stop: decelerate along the path, stay Stopping until released; queued moves aborted.
+    let sim = card.sim().unwrap();
+    let m1 = g
+        .move_linear(&[200_000.0, 100_000.0], &lim(), MoveOptions::default())
+        .unwrap();
+    let m2 = g
+        .move_linear(&[0.0, 0.0], &lim(), MoveOptions::buffered())
+        .unwrap();
+    sim.step(5_000);
+    assert_eq!(x.status().unwrap().state, AxisState::SynchronizedMotion);
+    let st = g.stop(1e6, 1e8).unwrap();
+    assert_eq!(m1.wait(T).unwrap_err().kind(), ErrorKind::Aborted);
+    assert_eq!(m2.wait(T).unwrap_err().kind(), ErrorKind::Aborted);
+    st.wait(T).unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Stopping);
+    assert_eq!(
+        g.move_linear(&[0.0, 0.0], &lim(), MoveOptions::default())
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::InvalidState
+    );
+    let stopped_at = (cmd(&card, 4), cmd(&card, 5));
+    // The line from (50000, 0) (where the solo move left X) to (200000, 100000).
+    let off_line = (stopped_at.1 - (stopped_at.0 - 50_000.0) * 2.0 / 3.0).abs();
+    assert!(
+        stopped_at.0 < 200_000.0 && off_line < 1e-6,
+        "stopped off the line at {stopped_at:?}"
+    );
+    g.release_stop().unwrap();
+    sim.step(1);
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    // Halt from motion: back to Standby by itself.
+    g.move_linear(&[0.0, 0.0], &lim(), MoveOptions::default())
+        .unwrap();
+    sim.step(2_000);
+    g.halt(5e5, 5e7).unwrap().wait(T).unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    assert_eq!(x.status().unwrap().state, AxisState::Standstill);
+    g.disable().unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Disabled);
+    x.move_relative(10.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap()
+        .wait(T)
+        .unwrap();
+}
+
+#[test]
+fn every_group_nack_code_is_provoked() {
+    use motioncard::NackCode as N;
+    let mut seen = Vec::new();
+    let mut expect = |want: ErrorKind, code: N, got: ErrorKind| {
+        assert_eq!(got, want, "{code:?}");
+        seen.push(code);
+    };
+    let (card, g) = group_card(&[0, 1], AccDec::Pre);
+    let l = lim();
+    let o = MoveOptions::default();
+    expect(
+        ErrorKind::BadGroup,
+        N::BadGroup,
+        card.group(9).err().unwrap().kind(),
+    );
+    let other = card.group(2).unwrap();
+    expect(
+        ErrorKind::AxisInOtherGroup,
+        N::AxisInOtherGroup,
+        other
+            .configure(&GroupSettings::new(&[1, 2]))
+            .unwrap_err()
+            .kind(),
+    );
+    expect(
+        ErrorKind::GroupDisabled,
+        N::GroupDisabled,
+        other.move_linear(&[1.0, 2.0], &l, o).err().unwrap().kind(),
+    );
+    // The card's own check, below the SDK's: a raw move on a disabled group.
+    let raw_move = motioncard::proto::Command::new(motioncard::proto::Opcode::GroupMoveLinear, 3)
+        .with_args(&[1e4, 1e5, 1e5, 1e6, 1.0]);
+    let seq = card.send_raw(raw_move).unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Err(N::GroupDisabled));
+    expect(
+        ErrorKind::AxisNotInGroup,
+        N::AxisNotInGroup,
+        g.move_circular(
+            &ArcSpec::Radius {
+                end: [1000.0, 1000.0],
+                radius: 1000.0,
+                ccw: true,
+            },
+            Plane::YZ,
+            &[],
+            &l,
+            o,
+        )
+        .err()
+        .unwrap()
+        .kind(),
+    );
+    expect(
+        ErrorKind::AxisGrouped,
+        N::AxisGrouped,
+        card.axis(0).unwrap().halt(1e6, 1e7).err().unwrap().kind(),
+    );
+    expect(
+        ErrorKind::ZeroLengthArc,
+        N::ZeroLengthArc,
+        g.move_circular(
+            &ArcSpec::Centre {
+                end: [0.0, 0.0],
+                centre: [0.0, 0.0],
+                ccw: true,
+            },
+            Plane::XY,
+            &[],
+            &l,
+            o,
+        )
+        .err()
+        .unwrap()
+        .kind(),
+    );
+    expect(
+        ErrorKind::CentreNotEquidistant,
+        N::CentreNotEquidistant,
+        g.move_circular(
+            &ArcSpec::Centre {
+                end: [1000.0, 0.0],
+                centre: [300.0, 0.0],
+                ccw: true,
+            },
+            Plane::XY,
+            &[],
+            &l,
+            o,
+        )
+        .err()
+        .unwrap()
+        .kind(),
+    );
+    expect(
+        ErrorKind::RadiusTooSmall,
+        N::RadiusTooSmall,
+        g.move_circular(
+            &ArcSpec::Radius {
+                end: [1000.0, 0.0],
+                radius: 400.0,
+                ccw: true,
+            },
+            Plane::XY,
+            &[],
+            &l,
+            o,
+        )
+        .err()
+        .unwrap()
+        .kind(),
+    );
+    expect(
+        ErrorKind::CollinearPoints,
+        N::CollinearPoints,
+        g.move_circular(
+            &ArcSpec::Border {
+                end: [1000.0, 0.0],
+                via: [500.0, 0.5],
+            },
+            Plane::XY,
+            &[],
+            &l,
+            o,
+        )
+        .err()
+        .unwrap()
+        .kind(),
+    );
+    // Queue: one active plus GROUP_QUEUE_LEN waiting, then full.
+    let mut full = None;
+    for i in 0..40 {
+        if let Err(e) = g.move_linear(&[i as f64 * 10.0, 0.0], &l, MoveOptions::buffered()) {
+            full = Some(e.kind());
+            break;
+        }
+    }
+    expect(ErrorKind::QueueFull, N::QueueFull, full.unwrap());
+    expect(
+        ErrorKind::InvalidState,
+        N::InvalidState,
+        g.move_linear(&[0.0, 0.0], &l, o).err().unwrap().kind(),
+    );
+    // Filters cannot change while they hold distance (post acc/dec, mid-move).
+    let (card2, g2) = group_card(&[0, 1], AccDec::Post);
+    g2.move_linear(&[100_000.0, 0.0], &l, o).unwrap();
+    card2.sim().unwrap().step(100);
+    expect(
+        ErrorKind::FilterBusy,
+        N::FilterBusy,
+        card2
+            .axis(0)
+            .unwrap()
+            .set_filters(&FilterSettings::all(FilterKind::Linear, 0.01))
+            .unwrap_err()
+            .kind(),
+    );
+    // Kim's reference-word interpolator steps at constant feed: no pre-interpolation S-curve.
+    let g3 = card2.group(3).unwrap();
+    let bad = GroupSettings {
+        interpolator: Interpolator::ReferenceWord,
+        accdec: AccDec::Both,
+        ..GroupSettings::new(&[6, 7])
+    };
+    expect(
+        ErrorKind::IncompatibleMode,
+        N::IncompatibleMode,
+        g3.configure(&bad).unwrap_err().kind(),
+    );
+    // AxisBusy is provoked in group_states_follow_plcopen.
+    seen.push(N::AxisBusy);
+    for code in motioncard::NackCode::ALL
+        .iter()
+        .filter(|c| (**c as i32) >= 16)
+    {
+        assert!(seen.contains(code), "{code:?} never provoked");
+    }
+}
+
+#[test]
+fn filters_conserve_distance_for_every_kind_and_feed_type() {
+    let kinds = [
+        FilterKind::Linear,
+        FilterKind::Exponential,
+        FilterKind::Bell,
+    ];
+    for (i, kind) in kinds.into_iter().enumerate() {
+        let (card, g) = group_card(&[0, 1], AccDec::Post);
+        g.disable().unwrap();
+        for a in 0..2 {
+            card.axis(a)
+                .unwrap()
+                .set_filters(&FilterSettings::all(kind, 0.007 + 0.011 * i as f64))
+                .unwrap();
+        }
+        g.enable().unwrap();
+        let target = [12_345.678, -9_876.5];
+        g.move_linear(
+            &target,
+            &PathLimits::new(33_333.3, 1e6, 1e8),
+            MoveOptions {
+                feed_type: motioncard::FeedType::Jog,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .wait(T)
+        .unwrap();
+        for (a, t) in target.iter().enumerate() {
+            assert_eq!(cmd(&card, a), *t, "{kind:?}: axis {a}");
+        }
+    }
+}

@@ -847,9 +847,14 @@ impl Group {
         // Helical part: the other group axes, in group order.
         let mut helix = [0.0; MAX_AXES];
         let mut k = 8;
+        let helix_relative = relative || c.flags & move_flags::CIRC_HELIX_RELATIVE != 0;
         for (i, h) in helix.iter_mut().enumerate().take(n) {
             if i != u && i != v {
-                *h = rel(i, a[k]) - start[i];
+                *h = if helix_relative {
+                    a[k]
+                } else {
+                    a[k] - start[i]
+                };
                 k += 1;
             }
         }

@@ -119,7 +119,15 @@ impl Ffpiv {
     ) -> f64 {
         let v_cmd = gains.kp * (r.pos - x) + gains.kvff * r.vel;
         let ev = v_cmd - self.vel;
-        let integral = self.integral + ev * ts;
+        // At standstill within one count of the reference the integrator holds its value: the
+        // encoder cannot resolve less, and integrating the quantisation error would make the
+        // axis hunt between two counts around a target that lies between them.
+        let hold = r.vel == 0.0 && r.acc == 0.0 && (r.pos - x).abs() < 1.0;
+        let integral = if hold {
+            self.integral
+        } else {
+            self.integral + ev * ts
+        };
         let u = gains.kv * (ev + gains.ki * integral) + gains.kaff * r.acc;
         if u.abs() <= limit {
             self.integral = integral;
@@ -164,6 +172,39 @@ mod tests {
         }
         assert!((m.encoder() - 100).abs() <= 1, "settled at {}", m.encoder());
         assert!(peak <= 140, "overshoot to {peak}");
+    }
+
+    /// A target between two counts: the axis settles on one of them and stays (no hunting).
+    #[test]
+    fn no_hunting_around_a_fractional_target() {
+        let params = MotorParams::default_servo();
+        let gains = FfpivGains::default_tuning();
+        let ts = 1e-4;
+        let mut m = Motor::new(params);
+        let mut s = Ffpiv::default();
+        let r = Reference {
+            pos: 40.5,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        let mut changes = 0;
+        let mut last = m.encoder();
+        for i in 0..50_000 {
+            let enc = m.encoder();
+            if i > 10_000 && enc != last {
+                changes += 1;
+            }
+            last = enc;
+            s.measure(enc, &gains, ts);
+            let u = s.update(&r, enc as f64, &gains, ts, 10.0);
+            m.step(crate::plant::Dac::output(u).0, ts);
+        }
+        assert!(
+            (m.encoder() as f64 - 40.5).abs() <= 0.5,
+            "settled at {}",
+            m.encoder()
+        );
+        assert_eq!(changes, 0, "the encoder kept changing after settling");
     }
 
     #[test]

@@ -85,6 +85,7 @@
 #define MC_PLANE_XY 0u                 /*   group axes 0, 1 */
 #define MC_PLANE_YZ 1u                 /*   group axes 1, 2 */
 #define MC_PLANE_ZX 2u                 /*   group axes 2, 0 */
+#define MC_CIRC_HELIX_RELATIVE (1u << 7) /* helical targets are distances even in an absolute move */
 #define MC_FEED_TYPE_SHIFT 8u          /* 2 bits: the feed type selecting the acc/dec filters */
 #define MC_FEED_RAPID 0u
 #define MC_FEED_CUTTING 1u

@@ -55,6 +55,7 @@ pub const MC_CIRC_PLANE_SHIFT: u32 = 5;
 pub const MC_PLANE_XY: u32 = 0;
 pub const MC_PLANE_YZ: u32 = 1;
 pub const MC_PLANE_ZX: u32 = 2;
+pub const MC_CIRC_HELIX_RELATIVE: u32 = 128;
 pub const MC_FEED_TYPE_SHIFT: u32 = 8;
 pub const MC_FEED_RAPID: u32 = 0;
 pub const MC_FEED_CUTTING: u32 = 1;

@@ -277,6 +277,8 @@ pub mod move_flags {
     pub const CIRC_CCW: u32 = raw::MC_CIRC_CCW;
     /// Shift of the 2-bit plane (`MC_PLANE_*`).
     pub const PLANE_SHIFT: u32 = raw::MC_CIRC_PLANE_SHIFT;
+    /// Helical targets are distances even in an absolute move.
+    pub const CIRC_HELIX_RELATIVE: u32 = raw::MC_CIRC_HELIX_RELATIVE;
     /// Shift of the 2-bit feed type (`MC_FEED_*`).
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
 }

@@ -84,6 +84,7 @@ struct Rx {
 }
 
 pub(crate) struct Inner {
+    pub(crate) group_axes: Mutex<[Option<(usize, [usize; MAX_AXES])>; firmware_proto::MAX_GROUPS]>,
     pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
@@ -184,6 +185,7 @@ impl Card {
             scale: Mutex::new([1.0; MAX_AXES]),
             last_motion: Mutex::new([None; MAX_AXES]),
             last_group_motion: Mutex::new([None; firmware_proto::MAX_GROUPS]),
+            group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
         };
         Ok(Card {

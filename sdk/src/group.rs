@@ -211,9 +211,27 @@ impl Group {
         self.card.execute_seq(cmd, what, self.index)
     }
 
+    /// The group's axes as the card accepted them: remembered from [`Group::configure`], or,
+    /// for a group configured by an earlier host, read back from the configuration block once
+    /// the card shows the group enabled.
     fn axes(&self) -> Result<(usize, [usize; MAX_AXES])> {
+        if let Some(c) = lock(&self.card.inner().group_axes)[self.index] {
+            return Ok(c);
+        }
+        let not_configured = || Error::Nack {
+            command: "group move",
+            axis: self.index,
+            code: firmware_proto::NackCode::GroupDisabled,
+            reason: "the group is not configured",
+        };
+        if self.status()?.0 == GroupState::Disabled {
+            return Err(not_configured());
+        }
         let w = self.card.window();
         let n = w.read32(layout::group_config(self.index, gc::NAXES)) as usize;
+        if n == 0 || n > MAX_AXES {
+            return Err(not_configured());
+        }
         let mut axes = [0usize; MAX_AXES];
         let lo = w
             .read32(layout::group_config(self.index, gc::AXES))
@@ -224,7 +242,7 @@ impl Group {
         for (i, b) in lo.iter().chain(hi.iter()).enumerate() {
             axes[i] = *b as usize;
         }
-        Ok((n.min(MAX_AXES), axes))
+        Ok((n, axes))
     }
 
     /// Write the configuration and have the card check and apply it (group disabled).
@@ -274,8 +292,11 @@ impl Group {
             layout::group_config(g, gc::TOLERANCE),
             s.tolerance * self.card.scale(s.axes[0]).abs(),
         );
-        self.run(self.op(Opcode::GroupConfigure), "group configure")
-            .map(|_| ())
+        self.run(self.op(Opcode::GroupConfigure), "group configure")?;
+        let mut axes = [0usize; MAX_AXES];
+        axes[..n].copy_from_slice(&s.axes);
+        lock(&self.card.inner().group_axes)[self.index] = Some((n, axes));
+        Ok(())
     }
 
     /// MC_GroupEnable: every axis must be enabled and at rest.
@@ -486,23 +507,20 @@ impl Group {
         let mut args = self.path_args(lim)?.to_vec();
         args.extend([end[0] * su, end[1] * sv, aux[0], aux[1]]);
         let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
-        if helix.len() > others.len() {
+
+        for (h, i) in helix.iter().zip(&others) {
+            args.push(h * self.card.scale(axes[*i]));
+        }
+        // No helical targets: the other axes stay where they are (distance 0).
+        let mut extra = 0;
+        if helix.is_empty() {
+            args.extend(std::iter::repeat_n(0.0, others.len()));
+            extra = move_flags::CIRC_HELIX_RELATIVE;
+        } else if helix.len() != others.len() {
             return Err(Error::BadAxis {
                 axis: helix.len(),
                 count: others.len(),
             });
-        }
-        for (h, i) in helix.iter().zip(&others) {
-            args.push(h * self.card.scale(axes[*i]));
-        }
-        // Axes without a helical target stay where they are (relative 0 / their current end).
-        if helix.len() < others.len() {
-            if !opts.relative {
-                return Err(Error::Unsupported(
-                    "absolute helical moves need a target for every other group axis".into(),
-                ));
-            }
-            args.extend(std::iter::repeat_n(0.0, others.len() - helix.len()));
         }
         let plane_bits = match plane {
             Plane::XY => raw::MC_PLANE_XY,
@@ -511,6 +529,7 @@ impl Group {
         };
         let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
         cmd.flags = Self::flags(&opts)
+            | extra
             | mode << move_flags::CIRC_MODE_SHIFT
             | plane_bits << move_flags::PLANE_SHIFT
             | if ccw { move_flags::CIRC_CCW } else { 0 };
