@@ -83,8 +83,11 @@ struct Rx {
     events_dropped: u64,
 }
 
+/// A group's axis count and card axes, as the card accepted them.
+pub(crate) type GroupAxes = (usize, [usize; MAX_AXES]);
+
 pub(crate) struct Inner {
-    pub(crate) group_axes: Mutex<[Option<(usize, [usize; MAX_AXES])>; firmware_proto::MAX_GROUPS]>,
+    pub(crate) group_axes: Mutex<[Option<GroupAxes>; firmware_proto::MAX_GROUPS]>,
     pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
