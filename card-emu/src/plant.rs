@@ -26,6 +26,36 @@ pub struct MotorParams {
     pub current_limit: f64,
     /// Encoder counts per revolution (after quadrature).
     pub counts_per_rev: u32,
+    /// Optional resonance: a load coupled to the motor through a spring (two-mass model).
+    /// `inertia` is then the motor side; the encoder stays on the motor (semi-closed loop).
+    pub resonance: Option<Resonance>,
+}
+
+/// A compliant coupling to a second inertia: `J_m ω_m' = τ − k(θ_m − θ_l) − c(ω_m − ω_l) − …`,
+/// `J_l ω_l' = k(θ_m − θ_l) + c(ω_m − ω_l)`. Resonance at `sqrt(k (1/J_m + 1/J_l))`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Resonance {
+    /// Load inertia J_l, kg·m².
+    pub load_inertia: f64,
+    /// Coupling stiffness k, N·m/rad.
+    pub stiffness: f64,
+    /// Coupling damping c, N·m·s/rad.
+    pub damping: f64,
+}
+
+impl Resonance {
+    /// A coupling that resonates at `hz` with damping ratio `zeta`, for motor inertia `jm` and
+    /// load inertia `jl`.
+    pub fn at(hz: f64, zeta: f64, jm: f64, jl: f64) -> Self {
+        let w = 2.0 * core::f64::consts::PI * hz;
+        let k = w * w / (1.0 / jm + 1.0 / jl);
+        let j_eq = jm * jl / (jm + jl);
+        Self {
+            load_inertia: jl,
+            stiffness: k,
+            damping: 2.0 * zeta * w * j_eq,
+        }
+    }
 }
 
 impl MotorParams {
@@ -40,6 +70,7 @@ impl MotorParams {
             amp_gain: 1.0,
             current_limit: 10.0,
             counts_per_rev: 10_000,
+            resonance: None,
         }
     }
 
@@ -50,7 +81,24 @@ impl MotorParams {
 
     /// Volts per count/s² that produce an acceleration (ideal acceleration feed-forward).
     pub fn volts_per_accel(&self) -> f64 {
-        self.inertia / (self.counts_per_rad() * self.kt * self.amp_gain)
+        self.total_inertia() / (self.counts_per_rad() * self.kt * self.amp_gain)
+    }
+
+    /// Motor plus load inertia, kg·m².
+    pub fn total_inertia(&self) -> f64 {
+        self.inertia + self.resonance.map_or(0.0, |r| r.load_inertia)
+    }
+
+    /// The machine-tool axis of the Shin corner experiment: the default servo driving a table
+    /// through a compliant coupling that resonates at `hz` (ζ = 0.03); 1 count = 1 µm (10 mm
+    /// lead, 10,000 counts/rev). Motor 2·10⁻⁴, table 3·10⁻⁴ kg·m² (total as the default).
+    pub fn machine_table(hz: f64) -> Self {
+        let (jm, jl) = (2e-4, 3e-4);
+        Self {
+            inertia: jm,
+            resonance: Some(Resonance::at(hz, 0.03, jm, jl)),
+            ..Self::default_servo()
+        }
     }
 
     /// Velocity, counts/s, per volt per second at the motor (loop-gain scale for tuning).
@@ -118,6 +166,10 @@ pub struct Motor {
     pub omega: f64,
     /// External disturbance torque T_d, N·m (opposes positive motion when positive).
     pub disturbance: f64,
+    /// Load angle and speed (two-mass model only; equal to the motor's otherwise).
+    pub load_theta: f64,
+    /// Load speed, rad/s.
+    pub load_omega: f64,
 }
 
 impl Motor {
@@ -128,6 +180,8 @@ impl Motor {
             theta: 0.0,
             omega: 0.0,
             disturbance: 0.0,
+            load_theta: 0.0,
+            load_omega: 0.0,
         }
     }
 
@@ -147,6 +201,11 @@ impl Motor {
         let volts = if volts.is_finite() { volts } else { 0.0 };
         let current = (p.amp_gain * volts).clamp(-p.current_limit, p.current_limit);
         let drive = p.kt * current - self.disturbance;
+        if let Some(r) = p.resonance {
+            self.step_two_mass(drive, &r, dt);
+            return;
+        }
+
         let mut left = dt;
         // At most three pieces: move, stop at zero, break away the other way.
         for _ in 0..3 {
@@ -163,6 +222,48 @@ impl Motor {
                 let sign = self.omega.signum();
                 left -= self.integrate(drive - sign * p.coulomb, sign, left);
             }
+        }
+    }
+
+    /// Two-mass model: semi-implicit Euler in sub-steps of at most 20 µs (the resonance is
+    /// tens of Hz: ω·h ≪ 1). Coulomb friction acts on the motor, with stiction.
+    fn step_two_mass(&mut self, drive: f64, r: &Resonance, dt: f64) {
+        let p = self.params;
+        let n = (dt / 20e-6).ceil().clamp(1.0, 1000.0);
+        let h = dt / n;
+        for _ in 0..n as usize {
+            let coupling = r.stiffness * (self.theta - self.load_theta)
+                + r.damping * (self.omega - self.load_omega);
+            let net = drive - p.damping * self.omega - coupling;
+            let acc_m = if self.omega == 0.0 && net.abs() <= p.coulomb {
+                0.0
+            } else {
+                let sign = if self.omega != 0.0 {
+                    self.omega.signum()
+                } else {
+                    net.signum()
+                };
+                (net - sign * p.coulomb) / p.inertia
+            };
+            let w = self.omega + acc_m * h;
+            // Friction stops the motor; it does not reverse it within a sub-step.
+            self.omega = if self.omega != 0.0 && w.signum() != self.omega.signum() {
+                0.0
+            } else {
+                w
+            };
+            self.load_omega += coupling / r.load_inertia * h;
+            self.theta += self.omega * h;
+            self.load_theta += self.load_omega * h;
+        }
+    }
+
+    /// Where the load is, in encoder counts (the tool of a machine; equal to the motor's
+    /// position for a rigid axis).
+    pub fn load_position_counts(&self) -> f64 {
+        match self.params.resonance {
+            Some(_) => self.load_theta * self.params.counts_per_rad(),
+            None => self.position_counts(),
         }
     }
 
@@ -261,5 +362,40 @@ mod tests {
         assert_eq!(m.encoder(), 1);
         m.theta = -0.5 / m.params.counts_per_rad();
         assert_eq!(m.encoder(), -1);
+    }
+}
+
+#[cfg(test)]
+mod two_mass_tests {
+    use super::*;
+
+    /// Free vibration of the coupling rings at the designed frequency and decays at ζ.
+    #[test]
+    fn coupling_rings_at_its_resonance() {
+        let mut params = MotorParams::machine_table(33.0);
+        params.coulomb = 0.0;
+        params.damping = 0.0;
+        let mut m = Motor::new(params);
+        m.load_theta = 1e-3; // twist the coupling, release
+        let dt = 1e-4;
+        let mut crossings = Vec::new();
+        let mut prev = m.theta - m.load_theta;
+        for k in 0..20_000 {
+            m.step(0.0, dt);
+            let tw = m.theta - m.load_theta;
+            if prev < 0.0 && tw >= 0.0 {
+                crossings.push(k as f64 * dt);
+            }
+            prev = tw;
+        }
+        let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+        assert!(
+            (1.0 / period - 33.0).abs() < 0.2,
+            "rings at {} Hz",
+            1.0 / period
+        );
+        // Momentum is conserved (no external torque): the centre of mass does not drift.
+        let (jm, jl) = (params.inertia, params.resonance.unwrap().load_inertia);
+        assert!((jm * m.omega + jl * m.load_omega).abs() < 1e-9);
     }
 }
