@@ -1,3 +1,6 @@
 //! `motioncard`: the umbrella crate of the workspace. It re-exports the SDK so that the
 //! workspace-level examples and tests read like an application would.
 pub use motioncard_sdk::*;
+
+pub mod papers;
+pub mod plot;
