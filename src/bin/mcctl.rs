@@ -1,0 +1,159 @@
+//! `mcctl`: the motion card from the command line, for machine builders who do not want to
+//! write code.
+//!
+//! ```text
+//! mcctl plan 100000 --vmax 200000 --amax 2e6 --jmax 1e8            # the S-curve the card plans
+//! mcctl plan 100000 --vmax 2e5 --amax 2e6 --dmax 1e6 --jmax 1e8 --jdec 2e7 --json
+//! ```
+use clap::{Parser, Subcommand};
+use motioncard::plan::{Limits, Profile};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "mcctl", version, about = "Motion card command-line tool")]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Print the seven-segment S-curve the card plans for one axis (Thinh eq 1–28): the phase
+    /// durations, total time, peak velocity and acceleration. Units are the caller's (counts and
+    /// seconds on the card).
+    Plan {
+        /// Distance to travel (signed).
+        #[arg(allow_hyphen_values = true)]
+        distance: f64,
+        /// Maximum velocity.
+        #[arg(long)]
+        vmax: f64,
+        /// Maximum acceleration.
+        #[arg(long)]
+        amax: f64,
+        /// Maximum jerk (phases 1 and 3; also 5 and 7 unless --jdec).
+        #[arg(long)]
+        jmax: f64,
+        /// Maximum deceleration (default: --amax).
+        #[arg(long)]
+        dmax: Option<f64>,
+        /// Jerk of the deceleration phases 5 and 7 (default: --jmax).
+        #[arg(long)]
+        jdec: Option<f64>,
+        /// Start velocity, along the direction of motion.
+        #[arg(long, default_value_t = 0.0)]
+        v0: f64,
+        /// End velocity, along the direction of motion.
+        #[arg(long, default_value_t = 0.0)]
+        v1: f64,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn bad(msg: String) -> ExitCode {
+    eprintln!("mcctl: {msg}");
+    ExitCode::from(2)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse(); // clap exits with status 2 on malformed arguments
+    match cli.command {
+        Cmd::Plan {
+            distance,
+            vmax,
+            amax,
+            jmax,
+            dmax,
+            jdec,
+            v0,
+            v1,
+            json,
+        } => {
+            let dmax = dmax.unwrap_or(amax);
+            let jdec = jdec.unwrap_or(jmax);
+            let named = [
+                ("distance", distance),
+                ("--vmax", vmax),
+                ("--amax", amax),
+                ("--jmax", jmax),
+                ("--dmax", dmax),
+                ("--jdec", jdec),
+                ("--v0", v0),
+                ("--v1", v1),
+            ];
+            for (what, v) in named {
+                if !v.is_finite() {
+                    return bad(format!("{what} must be a finite number, got {v}"));
+                }
+            }
+            for (what, v) in &named[1..6] {
+                if *v <= 0.0 {
+                    return bad(format!("{what} must be greater than zero, got {v}"));
+                }
+            }
+            for (what, v) in &named[6..] {
+                if *v < 0.0 || *v > vmax {
+                    return bad(format!(
+                        "{what} must be between 0 and --vmax ({vmax}), got {v}"
+                    ));
+                }
+            }
+            let lim = Limits {
+                vmax,
+                amax,
+                dmax,
+                j1: jmax,
+                j3: jmax,
+                j5: jdec,
+                j7: jdec,
+            };
+            let p = match Profile::plan(0.0, distance, v0, v1, &lim) {
+                Ok(p) => p,
+                Err(e) => return bad(format!("no S-curve satisfies these limits: {e}")),
+            };
+            let phases = p.phases();
+            if json {
+                let j = serde_json::json!({
+                    "distance": distance,
+                    "duration": p.duration(),
+                    "phases": phases,
+                    "peak_velocity": p.peak_velocity(),
+                    "peak_acceleration": p.peak_acceleration(),
+                    "peak_deceleration": p.peak_deceleration(),
+                    "limits": { "vmax": vmax, "amax": amax, "dmax": dmax, "jacc": jmax, "jdec": jdec, "v0": v0, "v1": v1 },
+                });
+                println!("{j}");
+            } else {
+                println!("S-curve for a distance of {distance} (v0 {v0}, v1 {v1})");
+                let names = [
+                    "1 jerk +J1",
+                    "2 constant acc",
+                    "3 jerk -J3",
+                    "4 cruise",
+                    "5 jerk -J5",
+                    "6 constant dec",
+                    "7 jerk +J7",
+                ];
+                for (n, t) in names.iter().zip(phases) {
+                    println!("  phase {n:<16} {t:>14.9} s");
+                }
+                println!("  total                  {:>14.9} s", p.duration());
+                println!(
+                    "  peak velocity          {:>14.6} (limit {vmax})",
+                    p.peak_velocity()
+                );
+                println!(
+                    "  peak acceleration      {:>14.6} (limit {amax})",
+                    p.peak_acceleration()
+                );
+                println!(
+                    "  peak deceleration      {:>14.6} (limit {dmax})",
+                    p.peak_deceleration()
+                );
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}

@@ -1,0 +1,82 @@
+//! `mcctl plan` from the outside: output, JSON, exit codes.
+use std::process::Command;
+
+fn mcctl(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+#[test]
+fn plan_json_matches_the_hand_computed_profile() {
+    // vmax 1000, amax 1e4, jerk 1e6, distance 1e4: ramps of 0.01 + 0.09 + 0.01 s, cruise 9.89 s.
+    let (code, out, _) = mcctl(&[
+        "plan", "10000", "--vmax", "1000", "--amax", "1e4", "--jmax", "1e6", "--json",
+    ]);
+    assert_eq!(code, 0);
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let phases: Vec<f64> = j["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let want = [0.01, 0.09, 0.01, 9.89, 0.01, 0.09, 0.01];
+    for (p, w) in phases.iter().zip(want) {
+        assert!((p - w).abs() < 1e-9, "{phases:?}");
+    }
+    assert!((j["duration"].as_f64().unwrap() - 10.11).abs() < 1e-9);
+    assert!((j["peak_velocity"].as_f64().unwrap() - 1000.0).abs() < 1e-9);
+}
+
+#[test]
+fn plan_table_and_asymmetric_limits() {
+    let (code, out, _) = mcctl(&[
+        "plan", "-5000", "--vmax", "2000", "--amax", "4e4", "--dmax", "1e4", "--jmax", "1e6",
+        "--jdec", "2e5",
+    ]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("phase 6 constant dec") && out.contains("total"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bad_arguments_exit_with_status_2_and_say_why() {
+    for (args, why) in [
+        (
+            vec!["plan", "100", "--vmax", "0", "--amax", "1", "--jmax", "1"],
+            "--vmax must be greater than zero",
+        ),
+        (
+            vec!["plan", "100", "--vmax", "1", "--amax", "nan", "--jmax", "1"],
+            "--amax must be a finite number",
+        ),
+        (
+            vec![
+                "plan", "100", "--vmax", "1", "--amax", "1", "--jmax", "1", "--v1", "5",
+            ],
+            "--v1 must be between 0 and --vmax",
+        ),
+        (
+            vec![
+                "plan", "1", "--vmax", "10", "--amax", "1", "--jmax", "1", "--v0", "10",
+            ],
+            "no S-curve satisfies",
+        ),
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let (code, _, err) = mcctl(&["plan", "100", "--vmax", "abc"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("invalid value"), "{err}");
+}
