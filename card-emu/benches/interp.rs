@@ -112,7 +112,7 @@ fn interpolators(c: &mut Criterion) {
     for (name, n, pre, post, rw, kind) in cases {
         let (mut g, mut axes, mut bank, mut out) = group(n, pre, post, rw, kind);
         let circ = raw::MC_CIRC_BY_CENTRE << move_flags::CIRC_MODE_SHIFT | move_flags::CIRC_CCW;
-        let mut refill = |g: &mut Group, out: &mut Outbox| {
+        let refill = |g: &mut Group, out: &mut Outbox| {
             if n == 8 {
                 queue(
                     g,
