@@ -588,3 +588,54 @@ fn filters_conserve_distance_for_every_kind_and_feed_type() {
         }
     }
 }
+
+/// Kim §4: linear interpolation through any of the filters has no path error (only rounding);
+/// relative targets add to where the previous move ended.
+#[test]
+fn linear_path_is_exact_through_every_filter_kind_and_relative_moves_chain() {
+    for kind in [
+        FilterKind::Linear,
+        FilterKind::Exponential,
+        FilterKind::Bell,
+    ] {
+        let card = stepped_card();
+        for a in 0..2 {
+            let ax = card.axis(a).unwrap();
+            ax.set_filters(&FilterSettings::all(kind, 0.025)).unwrap();
+            ax.enable().unwrap();
+        }
+        let g = card.group(0).unwrap();
+        g.configure(&GroupSettings {
+            accdec: AccDec::Post,
+            ..GroupSettings::new(&[0, 1])
+        })
+        .unwrap();
+        g.enable().unwrap();
+        let sim = card.sim().unwrap();
+        let rel = MoveOptions {
+            relative: true,
+            ..Default::default()
+        };
+        g.move_linear(&[7_000.0, 3_000.0], &lim(), rel)
+            .unwrap()
+            .wait(T)
+            .unwrap();
+        // Second leg, relative: from (7000, 3000) by (-2000, 9000).
+        let m = g.move_linear(&[-2_000.0, 9_000.0], &lim(), rel).unwrap();
+        let (p0, d) = ((7_000.0, 3_000.0), (-2_000.0f64, 9_000.0f64));
+        let len = d.0.hypot(d.1);
+        let mut worst: f64 = 0.0;
+        while g.status().unwrap().0 == GroupState::Moving {
+            sim.step(1);
+            let (x, y) = (cmd(&card, 0) - p0.0, cmd(&card, 1) - p0.1);
+            worst = worst.max((x * d.1 - y * d.0).abs() / len);
+        }
+        m.wait(T).unwrap();
+        assert!(worst < 1e-7, "{kind:?}: {worst} counts off the line");
+        assert_eq!(
+            (cmd(&card, 0), cmd(&card, 1)),
+            (5_000.0, 12_000.0),
+            "{kind:?}"
+        );
+    }
+}
