@@ -14,11 +14,13 @@ pub mod emulator;
 pub mod filters;
 pub mod firmware;
 pub mod group;
+pub mod nurbs;
 pub mod plant;
 pub mod scurve;
 pub mod server;
 pub mod servo;
 pub mod shm;
+pub mod yeh;
 
 pub use emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;

@@ -1,0 +1,955 @@
+//! Rational B-spline (NURBS) curves of degree 1..=5 in 2..=8 dimensions.
+//!
+//! Storage is allocated once, at construction, in fixed-capacity boxed arrays
+//! (`MAX_CTRL` control points); evaluation ([`Nurbs::eval`]) allocates nothing and never
+//! panics. Algorithms follow Piegl & Tiller, *The NURBS Book* (2nd ed.):
+//! A2.1 `FindSpan`, A2.3 `DersBasisFuns`, and the rational-derivative quotient rule of
+//! eq. 4.8 / A4.2 applied to the homogeneous curve `Cw(u) = Σ N_i,p(u) · (w_i P_i, w_i)`.
+//!
+//! Units are whatever the caller uses (in the firmware: encoder counts for points, and
+//! the curve parameter `u` is dimensionless).
+
+use core::fmt;
+use nalgebra::SVector;
+
+/// Highest supported degree p.
+pub const MAX_DEGREE: usize = 5;
+/// Highest supported spatial dimension (number of axes).
+pub const MAX_DIM: usize = 8;
+/// Highest number of control points per curve.
+pub const MAX_CTRL: usize = 1024;
+/// Highest knot-vector length: `MAX_CTRL + MAX_DEGREE + 1`.
+pub const MAX_KNOTS: usize = MAX_CTRL + MAX_DEGREE + 1;
+
+/// Width of a homogeneous control point: `MAX_DIM` weighted coordinates, then the weight.
+const HW: usize = MAX_DIM + 1;
+/// Index of the weight inside a homogeneous point.
+const W: usize = MAX_DIM;
+/// Basis-function table width.
+const PB: usize = MAX_DEGREE + 1;
+
+/// A point (or derivative vector) of a curve; entries `dim..MAX_DIM` are zero.
+pub type Point = SVector<f64, MAX_DIM>;
+
+/// Everything that can be wrong with a NURBS definition or an evaluation request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NurbsError {
+    /// Degree outside `1..=MAX_DEGREE`.
+    BadDegree { degree: usize },
+    /// Dimension outside `2..=MAX_DIM`.
+    BadDimension { dim: usize },
+    /// The flat control-point slice is empty or not a multiple of `dim`.
+    ControlDataLength { len: usize, dim: usize },
+    /// Fewer than `p + 1` control points.
+    TooFewControlPoints { n_ctrl: usize, min: usize },
+    /// More than `MAX_CTRL` control points.
+    TooManyControlPoints { n_ctrl: usize, max: usize },
+    /// `weights.len() != n_ctrl`.
+    WeightCountMismatch { weights: usize, n_ctrl: usize },
+    /// `knots.len() != n_ctrl + p + 1` (= n + p + 2 with n = n_ctrl − 1).
+    KnotCountMismatch { knots: usize, expected: usize },
+    /// A knot is NaN or infinite.
+    NonFiniteKnot { index: usize },
+    /// `knots[index] < knots[index - 1]`.
+    KnotsDecreasing { index: usize },
+    /// A run of equal knots starting at `index` is too long: more than `p` inside, or more
+    /// than `p + 1` at an end.
+    KnotMultiplicity { index: usize, multiplicity: usize },
+    /// The first or last knot is not repeated `p + 1` times (only clamped curves are accepted).
+    NotClamped,
+    /// First knot equals last knot: the parameter domain is empty.
+    EmptyDomain,
+    /// Weight not finite or not > 0.
+    BadWeight { index: usize },
+    /// A control point has a NaN or infinite coordinate.
+    NonFiniteControlPoint { index: usize },
+    /// `eval` called with NaN or ±∞.
+    NonFiniteParameter,
+    /// `eval` called outside `[u_first, u_last]`.
+    ParameterOutOfRange,
+    /// `Nurbs::circle` called with a non-finite centre or a radius that is not finite and > 0.
+    BadCircle,
+}
+
+impl fmt::Display for NurbsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::BadDegree { degree } => write!(f, "degree {degree} not in 1..={MAX_DEGREE}"),
+            Self::BadDimension { dim } => write!(f, "dimension {dim} not in 2..={MAX_DIM}"),
+            Self::ControlDataLength { len, dim } => {
+                write!(
+                    f,
+                    "control data length {len} is not a non-zero multiple of {dim}"
+                )
+            }
+            Self::TooFewControlPoints { n_ctrl, min } => {
+                write!(f, "{n_ctrl} control points, need at least {min}")
+            }
+            Self::TooManyControlPoints { n_ctrl, max } => {
+                write!(f, "{n_ctrl} control points, at most {max}")
+            }
+            Self::WeightCountMismatch { weights, n_ctrl } => {
+                write!(f, "{weights} weights for {n_ctrl} control points")
+            }
+            Self::KnotCountMismatch { knots, expected } => {
+                write!(f, "{knots} knots, expected n + p + 2 = {expected}")
+            }
+            Self::NonFiniteKnot { index } => write!(f, "knot {index} is not finite"),
+            Self::KnotsDecreasing { index } => {
+                write!(f, "knot {index} is below knot {}", index - 1)
+            }
+            Self::KnotMultiplicity {
+                index,
+                multiplicity,
+            } => write!(f, "knot run at {index} has multiplicity {multiplicity}"),
+            Self::NotClamped => write!(f, "knot vector is not clamped (end knots need p+1 copies)"),
+            Self::EmptyDomain => write!(f, "first and last knot are equal"),
+            Self::BadWeight { index } => write!(f, "weight {index} is not finite and positive"),
+            Self::NonFiniteControlPoint { index } => {
+                write!(f, "control point {index} is not finite")
+            }
+            Self::NonFiniteParameter => write!(f, "parameter is not finite"),
+            Self::ParameterOutOfRange => write!(f, "parameter outside the knot domain"),
+            Self::BadCircle => write!(f, "circle needs a finite centre and a finite radius > 0"),
+        }
+    }
+}
+
+impl std::error::Error for NurbsError {}
+
+/// A clamped NURBS curve with fixed-capacity storage.
+#[derive(Clone, Debug)]
+pub struct Nurbs {
+    degree: usize,
+    dim: usize,
+    n_ctrl: usize,
+    /// Homogeneous control points `(w·P, w)`; rows `n_ctrl..` are zero.
+    pw: Box<[[f64; HW]; MAX_CTRL]>,
+    /// Knot vector; entries `n_ctrl + degree + 1..` are unused.
+    knots: Box<[f64; MAX_KNOTS]>,
+}
+
+/// Basis functions and their first two derivatives at one parameter (NURBS Book A2.3 output).
+type BasisDers = [[f64; PB]; 3];
+
+impl Nurbs {
+    /// Builds a curve of `degree` in `dim` dimensions.
+    ///
+    /// `ctrl` is flat, `dim` coordinates per control point (`n_ctrl = ctrl.len() / dim`);
+    /// `weights` has `n_ctrl` entries; `knots` has `n_ctrl + degree + 1` entries, is clamped
+    /// (first and last knot each exactly `degree + 1` times), non-decreasing, with interior
+    /// multiplicities ≤ `degree`.
+    pub fn new(
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+    ) -> Result<Self, NurbsError> {
+        if degree == 0 || degree > MAX_DEGREE {
+            return Err(NurbsError::BadDegree { degree });
+        }
+        if !(2..=MAX_DIM).contains(&dim) {
+            return Err(NurbsError::BadDimension { dim });
+        }
+        if ctrl.is_empty() || ctrl.len() % dim != 0 {
+            return Err(NurbsError::ControlDataLength {
+                len: ctrl.len(),
+                dim,
+            });
+        }
+        let n_ctrl = ctrl.len() / dim;
+        if n_ctrl < degree + 1 {
+            return Err(NurbsError::TooFewControlPoints {
+                n_ctrl,
+                min: degree + 1,
+            });
+        }
+        if n_ctrl > MAX_CTRL {
+            return Err(NurbsError::TooManyControlPoints {
+                n_ctrl,
+                max: MAX_CTRL,
+            });
+        }
+        if weights.len() != n_ctrl {
+            return Err(NurbsError::WeightCountMismatch {
+                weights: weights.len(),
+                n_ctrl,
+            });
+        }
+        validate_knots(degree, n_ctrl, knots)?;
+        for (index, &w) in weights.iter().enumerate() {
+            if !(w.is_finite() && w > 0.0) {
+                return Err(NurbsError::BadWeight { index });
+            }
+        }
+        let mut pw: Box<[[f64; HW]; MAX_CTRL]> = Box::new([[0.0; HW]; MAX_CTRL]);
+        for (index, (row, (p, &w))) in pw
+            .iter_mut()
+            .zip(ctrl.chunks_exact(dim).zip(weights.iter()))
+            .enumerate()
+        {
+            if p.iter().any(|c| !c.is_finite()) {
+                return Err(NurbsError::NonFiniteControlPoint { index });
+            }
+            for (dst, &c) in row.iter_mut().zip(p.iter()) {
+                *dst = c * w;
+            }
+            if row[..dim].iter().any(|c| !c.is_finite()) {
+                // w·P overflowed
+                return Err(NurbsError::NonFiniteControlPoint { index });
+            }
+            row[W] = w;
+        }
+        let mut kb: Box<[f64; MAX_KNOTS]> = Box::new([0.0; MAX_KNOTS]);
+        kb[..knots.len()].copy_from_slice(knots);
+        Ok(Self {
+            degree,
+            dim,
+            n_ctrl,
+            pw,
+            knots: kb,
+        })
+    }
+
+    /// Exact full circle of `radius` around `center` (2-D) from four rational quadratic
+    /// arcs: 9 control points on the circumscribed square, weights 1, √2/2 alternating,
+    /// knots `[0,0,0,¼,¼,½,½,¾,¾,1,1,1]` (NURBS Book §7.5). Starts at angle 0,
+    /// counter-clockwise.
+    pub fn circle(center: [f64; 2], radius: f64) -> Result<Self, NurbsError> {
+        if !(radius.is_finite() && radius > 0.0) || center.iter().any(|c| !c.is_finite()) {
+            return Err(NurbsError::BadCircle);
+        }
+        let s = core::f64::consts::FRAC_1_SQRT_2;
+        let unit: [[f64; 2]; 9] = [
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [-1.0, 1.0],
+            [-1.0, 0.0],
+            [-1.0, -1.0],
+            [0.0, -1.0],
+            [1.0, -1.0],
+            [1.0, 0.0],
+        ];
+        let mut ctrl = [0.0; 18];
+        for (dst, p) in ctrl.chunks_exact_mut(2).zip(unit.iter()) {
+            dst[0] = center[0] + radius * p[0];
+            dst[1] = center[1] + radius * p[1];
+        }
+        let weights = [1.0, s, 1.0, s, 1.0, s, 1.0, s, 1.0];
+        let knots = [
+            0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+        ];
+        Self::new(2, 2, &ctrl, &weights, &knots).map_err(|_| NurbsError::BadCircle)
+    }
+
+    /// Degree p.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+    /// Number of axes.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    /// Number of control points (n + 1).
+    pub fn n_ctrl(&self) -> usize {
+        self.n_ctrl
+    }
+    /// The knot vector (length `n_ctrl + degree + 1`).
+    pub fn knots(&self) -> &[f64] {
+        &self.knots[..self.n_ctrl + self.degree + 1]
+    }
+    /// Parameter domain `[u_first, u_last]`.
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.n_ctrl])
+    }
+    /// Weight of control point `i` (None if out of range).
+    pub fn weight(&self, i: usize) -> Option<f64> {
+        (i < self.n_ctrl).then(|| self.pw[i][W])
+    }
+    /// Cartesian control point `i` (None if out of range).
+    pub fn control_point(&self, i: usize) -> Option<Point> {
+        if i >= self.n_ctrl {
+            return None;
+        }
+        let row = &self.pw[i];
+        let mut p = Point::zeros();
+        for k in 0..self.dim {
+            p[k] = row[k] / row[W];
+        }
+        Some(p)
+    }
+
+    /// NURBS Book A2.1 `FindSpan`: the index `i` with `U[i] <= u < U[i+1]`, the last non-empty
+    /// span for `u >= U[n+1]`, the first one for `u <= U[p]`. `u` must be finite.
+    pub fn find_span(&self, u: f64) -> usize {
+        let p = self.degree;
+        let n = self.n_ctrl - 1;
+        let k = &self.knots;
+        if u >= k[n + 1] {
+            return n; // clamped with end multiplicity exactly p+1 => U[n] < U[n+1]
+        }
+        if u <= k[p] {
+            return p;
+        }
+        let (mut low, mut high) = (p, n + 1);
+        let mut mid = (low + high) / 2;
+        // Invariant U[low] <= u < U[high]; at most log2(MAX_KNOTS)+1 halvings.
+        for _ in 0..64 {
+            if u < k[mid] {
+                high = mid;
+            } else if u >= k[mid + 1] {
+                low = mid;
+            } else {
+                break;
+            }
+            mid = (low + high) / 2;
+        }
+        mid
+    }
+
+    /// NURBS Book A2.3 `DersBasisFuns` for derivatives up to order min(2, p); higher-order
+    /// rows are zero. `ders[k][j]` = k-th derivative of `N_{span-p+j, p}` at `u`.
+    fn ders_basis_funs(&self, span: usize, u: f64) -> BasisDers {
+        let p = self.degree;
+        let k = &self.knots;
+        let mut ders: BasisDers = [[0.0; PB]; 3];
+        let mut ndu = [[0.0; PB]; PB];
+        let mut left = [0.0; PB];
+        let mut right = [0.0; PB];
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = u - k[span + 1 - j];
+            right[j] = k[span + j] - u;
+            let mut saved = 0.0;
+            for r in 0..j {
+                // lower triangle: knot differences
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                // upper triangle: basis functions
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        for j in 0..=p {
+            ders[0][j] = ndu[j][p];
+        }
+        let nd = p.min(2);
+        let mut a = [[0.0; PB]; 2];
+        for r in 0..=p {
+            let (mut s1, mut s2) = (0usize, 1usize);
+            a[0][0] = 1.0;
+            for kk in 1..=nd {
+                let mut d = 0.0;
+                let pk = p - kk;
+                // rk = r - kk may be negative: work with offsets
+                if r >= kk {
+                    let rk = r - kk;
+                    a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+                    d = a[s2][0] * ndu[rk][pk];
+                }
+                // j1 = 1 if rk >= -1 else -rk
+                let j1 = if r + 1 >= kk { 1 } else { kk - r };
+                // j2 = kk-1 if r-1 <= pk else p-r
+                let j2 = if r <= pk + 1 { kk - 1 } else { p - r };
+                for j in j1..=j2 {
+                    // rk + j = r + j - kk >= 0 because j >= j1
+                    let rkj = r + j - kk;
+                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rkj];
+                    d += a[s2][j] * ndu[rkj][pk];
+                }
+                if r <= pk {
+                    a[s2][kk] = -a[s1][kk - 1] / ndu[pk + 1][r];
+                    d += a[s2][kk] * ndu[r][pk];
+                }
+                ders[kk][r] = d;
+                core::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut fac = p as f64;
+        for (kk, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
+            for v in row.iter_mut().take(p + 1) {
+                *v *= fac;
+            }
+            fac *= (p - kk) as f64;
+        }
+        ders
+    }
+
+    /// Point, first and second derivative with respect to `u` (NURBS Book eq 4.8, A4.2),
+    /// evaluated in the span that contains `u` (right-continuous at interior knots).
+    ///
+    /// Errors: `NonFiniteParameter`, `ParameterOutOfRange`. Allocation-free.
+    pub fn eval(&self, u: f64) -> Result<(Point, Point, Point), NurbsError> {
+        if !u.is_finite() {
+            return Err(NurbsError::NonFiniteParameter);
+        }
+        let (a, b) = self.domain();
+        if u < a || u > b {
+            return Err(NurbsError::ParameterOutOfRange);
+        }
+        Ok(self.eval_in_domain(u))
+    }
+
+    /// Like [`eval`](Self::eval) but clamps `u` into the domain (NaN maps to the start).
+    pub fn eval_clamped(&self, u: f64) -> (Point, Point, Point) {
+        let (a, b) = self.domain();
+        let uc = if u.is_nan() { a } else { u.clamp(a, b) };
+        self.eval_in_domain(uc)
+    }
+
+    /// Point only.
+    pub fn point(&self, u: f64) -> Result<Point, NurbsError> {
+        self.eval(u).map(|(c, _, _)| c)
+    }
+
+    fn eval_in_domain(&self, u: f64) -> (Point, Point, Point) {
+        let p = self.degree;
+        let span = self.find_span(u);
+        let nders = self.ders_basis_funs(span, u);
+        // Homogeneous derivatives Aw^(k)(u) = Σ_j N^(k)_{span-p+j}(u) · Pw_{span-p+j}
+        let mut aw = [[0.0; HW]; 3];
+        for (j, row) in self.pw.iter().skip(span - p).take(p + 1).enumerate() {
+            for (k, awk) in aw.iter_mut().enumerate() {
+                let n = nders[k][j];
+                for c in 0..self.dim {
+                    awk[c] += n * row[c];
+                }
+                awk[W] += n * row[W];
+            }
+        }
+        let (w0, w1, w2) = (aw[0][W], aw[1][W], aw[2][W]);
+        // w0 > 0: positive weights, non-negative basis summing to 1.
+        let mut c = Point::zeros();
+        let mut d1 = Point::zeros();
+        let mut d2 = Point::zeros();
+        for i in 0..self.dim {
+            // NURBS Book eq 4.8: C = A/w, C' = (A' - w'C)/w, C'' = (A'' - 2w'C' - w''C)/w
+            c[i] = aw[0][i] / w0;
+            d1[i] = (aw[1][i] - w1 * c[i]) / w0;
+            d2[i] = (aw[2][i] - 2.0 * w1 * d1[i] - w2 * c[i]) / w0;
+        }
+        (c, d1, d2)
+    }
+}
+
+fn validate_knots(p: usize, n_ctrl: usize, knots: &[f64]) -> Result<(), NurbsError> {
+    let expected = n_ctrl + p + 1;
+    if knots.len() != expected {
+        return Err(NurbsError::KnotCountMismatch {
+            knots: knots.len(),
+            expected,
+        });
+    }
+    if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
+        return Err(NurbsError::NonFiniteKnot { index });
+    }
+    if let Some(i) = knots.windows(2).position(|w| w[1] < w[0]) {
+        return Err(NurbsError::KnotsDecreasing { index: i + 1 });
+    }
+    let m = knots.len();
+    if knots[0] == knots[m - 1] {
+        return Err(NurbsError::EmptyDomain);
+    }
+    // Runs of equal knots.
+    let mut start = 0;
+    while start < m {
+        let mut end = start + 1;
+        while end < m && knots[end] == knots[start] {
+            end += 1;
+        }
+        let mult = end - start;
+        let at_start = start == 0;
+        let at_end = end == m;
+        if at_start || at_end {
+            if mult < p + 1 {
+                return Err(NurbsError::NotClamped);
+            }
+            if mult > p + 1 {
+                return Err(NurbsError::KnotMultiplicity {
+                    index: start,
+                    multiplicity: mult,
+                });
+            }
+        } else if mult > p {
+            return Err(NurbsError::KnotMultiplicity {
+                index: start,
+                multiplicity: mult,
+            });
+        }
+        start = end;
+    }
+    Ok(())
+}
+
+/// Clamped uniform knot vector on [0, 1] for `n_ctrl` control points of `degree`:
+/// `p+1` zeros, `n_ctrl-p-1` equally spaced interior knots, `p+1` ones. Host-side helper.
+pub fn clamped_uniform_knots(n_ctrl: usize, degree: usize) -> Result<Vec<f64>, NurbsError> {
+    if degree == 0 || degree > MAX_DEGREE {
+        return Err(NurbsError::BadDegree { degree });
+    }
+    if n_ctrl < degree + 1 {
+        return Err(NurbsError::TooFewControlPoints {
+            n_ctrl,
+            min: degree + 1,
+        });
+    }
+    if n_ctrl > MAX_CTRL {
+        return Err(NurbsError::TooManyControlPoints {
+            n_ctrl,
+            max: MAX_CTRL,
+        });
+    }
+    let segs = n_ctrl - degree; // number of non-empty spans
+    let mut k = Vec::with_capacity(n_ctrl + degree + 1);
+    k.extend(core::iter::repeat_n(0.0, degree + 1));
+    for i in 1..segs {
+        k.push(i as f64 / segs as f64);
+    }
+    k.extend(core::iter::repeat_n(1.0, degree + 1));
+    Ok(k)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// SplitMix64: small seeded generator so the tests need no extra crate.
+    struct Rng(u64);
+    impl Rng {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        fn f(&mut self) -> f64 {
+            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, a: f64, b: f64) -> f64 {
+            a + (b - a) * self.f()
+        }
+        fn int(&mut self, a: usize, b: usize) -> usize {
+            a + (self.next_u64() % (b - a + 1) as u64) as usize
+        }
+    }
+
+    struct Def {
+        p: usize,
+        dim: usize,
+        ctrl: Vec<f64>,
+        w: Vec<f64>,
+        knots: Vec<f64>,
+    }
+
+    fn random_def(r: &mut Rng) -> Def {
+        let p = r.int(1, 5);
+        let dim = r.int(2, 8);
+        let n_ctrl = if r.f() < 0.15 {
+            r.int(p + 1, 200)
+        } else {
+            r.int(p + 1, p + 14)
+        };
+        let ctrl: Vec<f64> = (0..n_ctrl * dim).map(|_| r.range(-100.0, 100.0)).collect();
+        let w: Vec<f64> = (0..n_ctrl).map(|_| r.range(0.2, 5.0)).collect();
+        let n_int = n_ctrl - p - 1;
+        let mut interior = Vec::new();
+        while interior.len() < n_int {
+            let v = r.range(0.02, 0.98);
+            let room = (n_int - interior.len()).min(p);
+            let mult = if r.f() < 0.3 { r.int(1, room) } else { 1 };
+            for _ in 0..mult {
+                interior.push(v);
+            }
+        }
+        interior.sort_by(f64::total_cmp);
+        let a = r.range(-5.0, 5.0);
+        let len = r.range(0.5, 10.0);
+        let mut knots = vec![a; p + 1];
+        knots.extend(interior.iter().map(|t| a + len * t));
+        knots.extend(core::iter::repeat_n(a + len, p + 1));
+        Def {
+            p,
+            dim,
+            ctrl,
+            w,
+            knots,
+        }
+    }
+
+    /// Independent reference: de Boor's algorithm on homogeneous points (NURBS Book A3.1-style
+    /// triangle), span found by linear search with the same right-continuous convention.
+    fn de_boor(p: usize, knots: &[f64], pw: &[Vec<f64>], u: f64) -> Vec<f64> {
+        let n = pw.len() - 1;
+        let mut k = p;
+        if u >= knots[n + 1] {
+            k = n;
+        } else {
+            for i in p..=n {
+                if knots[i] <= u && u < knots[i + 1] {
+                    k = i;
+                }
+            }
+        }
+        let mut d: Vec<Vec<f64>> = (0..=p).map(|j| pw[j + k - p].clone()).collect();
+        for r in 1..=p {
+            for j in (r..=p).rev() {
+                let i = j + k - p;
+                let den = knots[i + p + 1 - r] - knots[i];
+                let alpha = (u - knots[i]) / den;
+                let prev = d[j - 1].clone();
+                for (x, y) in d[j].iter_mut().zip(prev) {
+                    *x = (1.0 - alpha) * y + alpha * *x;
+                }
+            }
+        }
+        d[p].clone()
+    }
+
+    /// Control points and knots of the derivative B-spline (NURBS Book eq 3.7-3.8):
+    /// Q_i = p (P_{i+1} - P_i) / (u_{i+p+1} - u_{i+1}), knots U[1..m-1], degree p-1.
+    fn derivative_spline(p: usize, knots: &[f64], pw: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
+        let q: Vec<Vec<f64>> = (0..pw.len() - 1)
+            .map(|i| {
+                let den = knots[i + p + 1] - knots[i + 1];
+                pw[i + 1]
+                    .iter()
+                    .zip(&pw[i])
+                    .map(|(a, b)| p as f64 * (a - b) / den)
+                    .collect()
+            })
+            .collect();
+        (knots[1..knots.len() - 1].to_vec(), q)
+    }
+
+    fn homogeneous(d: &Def) -> Vec<Vec<f64>> {
+        d.ctrl
+            .chunks(d.dim)
+            .zip(&d.w)
+            .map(|(c, &w)| {
+                let mut v: Vec<f64> = c.iter().map(|x| x * w).collect();
+                v.push(w);
+                v
+            })
+            .collect()
+    }
+
+    /// Reference (C, C', C'') from de Boor on Cw, Cw' and Cw'' and the quotient rule.
+    fn reference(d: &Def, u: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let pw0 = homogeneous(d);
+        let a0 = de_boor(d.p, &d.knots, &pw0, u);
+        let (k1, pw1) = derivative_spline(d.p, &d.knots, &pw0);
+        let a1 = if d.p >= 1 {
+            de_boor(d.p - 1, &k1, &pw1, u)
+        } else {
+            vec![0.0; d.dim + 1]
+        };
+        let a2 = if d.p >= 2 {
+            let (k2, pw2) = derivative_spline(d.p - 1, &k1, &pw1);
+            de_boor(d.p - 2, &k2, &pw2, u)
+        } else {
+            vec![0.0; d.dim + 1]
+        };
+        let (w0, w1, w2) = (a0[d.dim], a1[d.dim], a2[d.dim]);
+        let c: Vec<f64> = (0..d.dim).map(|i| a0[i] / w0).collect();
+        let c1: Vec<f64> = (0..d.dim).map(|i| (a1[i] - w1 * c[i]) / w0).collect();
+        let c2: Vec<f64> = (0..d.dim)
+            .map(|i| (a2[i] - 2.0 * w1 * c1[i] - w2 * c[i]) / w0)
+            .collect();
+        (c, c1, c2)
+    }
+
+    fn max_rel(a: &Point, b: &[f64], scale: f64) -> f64 {
+        b.iter()
+            .enumerate()
+            .map(|(i, &x)| (a[i] - x).abs() / scale)
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn random_curves_match_de_boor_and_finite_differences() {
+        let mut r = Rng(0x5EED_2008);
+        let mut worst = [0.0f64; 3];
+        let mut worst_fd = [0.0f64; 2];
+        let mut n_fd = 0;
+        for _ in 0..400 {
+            let d = random_def(&mut r);
+            let c = Nurbs::new(d.p, d.dim, &d.ctrl, &d.w, &d.knots).expect("valid random curve");
+            let (ua, ub) = c.domain();
+            assert_eq!((ua, ub), (d.knots[0], d.knots[d.knots.len() - 1]));
+            // random parameters, every knot, and the ends
+            let mut us: Vec<f64> = (0..40).map(|_| r.range(ua, ub)).collect();
+            us.extend(d.knots.iter().copied());
+            for &u in &us {
+                let (p0, p1, p2) = c.eval(u).unwrap();
+                let (r0, r1, r2) = reference(&d, u);
+                let s0 = 100.0;
+                let s1 = r1.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                let s2 = r2.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                worst[0] = worst[0].max(max_rel(&p0, &r0, s0));
+                worst[1] = worst[1].max(max_rel(&p1, &r1, s1));
+                worst[2] = worst[2].max(max_rel(&p2, &r2, s2));
+                for i in d.dim..MAX_DIM {
+                    assert_eq!((p0[i], p1[i], p2[i]), (0.0, 0.0, 0.0));
+                }
+                // Fourth-order central differences inside the span: h = 1/64 of the distance
+                // to the nearest knot (at most 1e-3 of the domain), so [u-2h, u+2h] holds no knot.
+                let dk = d
+                    .knots
+                    .iter()
+                    .fold(f64::INFINITY, |m, k| m.min((k - u).abs()));
+                let h = (1e-3 * (ub - ua)).min(dk / 64.0);
+                if dk > 1e-4 * (ub - ua) {
+                    n_fd += 1;
+                    let e = |x: f64| c.eval(x).unwrap();
+                    let (p2p, d2p, _) = e(u + 2.0 * h);
+                    let (p1p, d1p, _) = e(u + h);
+                    let (p1m, d1m, _) = e(u - h);
+                    let (p2m, d2m, _) = e(u - 2.0 * h);
+                    let fd1 = (-p2p + p1p * 8.0 - p1m * 8.0 + p2m) / (12.0 * h);
+                    let fd2 = (-d2p + d1p * 8.0 - d1m * 8.0 + d2m) / (12.0 * h);
+                    worst_fd[0] = worst_fd[0].max((fd1 - p1).amax() / s1);
+                    worst_fd[1] = worst_fd[1].max((fd2 - p2).amax() / s2);
+                }
+            }
+        }
+        println!(
+            "de Boor: worst rel err C {:.2e}, C' {:.2e}, C'' {:.2e}",
+            worst[0], worst[1], worst[2]
+        );
+        println!(
+            "finite differences ({n_fd} pts): worst rel err C' {:.2e}, C'' {:.2e}",
+            worst_fd[0], worst_fd[1]
+        );
+        // Tolerances: same-maths references in f64 -> 1e-9 relative to the magnitude.
+        assert!(worst[0] < 1e-11, "point {}", worst[0]);
+        assert!(worst[1] < 1e-9, "first derivative {}", worst[1]);
+        assert!(worst[2] < 1e-8, "second derivative {}", worst[2]);
+        // O(h^4) truncation (h ≤ span/128, but rational factors with weight ratios up to 25
+        // amplify the fifth derivative) plus rounding ~ eps·|C|/h: an independent sanity
+        // check of the derivative formulas, the de Boor comparison above is the tight one.
+        assert!(worst_fd[0] < 1e-5, "fd first {}", worst_fd[0]);
+        assert!(worst_fd[1] < 1e-4, "fd second {}", worst_fd[1]);
+        assert!(n_fd > 10_000, "{n_fd}");
+    }
+
+    #[test]
+    fn full_circle_is_exact() {
+        for &(cx, cy, rad) in &[
+            (0.0, 0.0, 1.0),
+            (0.3, -0.7, 1.0),
+            (1234.5, -987.0, 10_000.0),
+        ] {
+            let c = Nurbs::circle([cx, cy], rad).unwrap();
+            let centre = Point::from_fn(|i, _| [cx, cy, 0., 0., 0., 0., 0., 0.][i]);
+            let mut worst = 0.0f64;
+            let mut worst_tan = 0.0f64;
+            for i in 0..=10_000 {
+                let u = i as f64 / 10_000.0;
+                let (p, d1, _) = c.eval(u).unwrap();
+                let rel = p - centre;
+                worst = worst.max((rel.norm() - rad).abs() / rad);
+                worst_tan = worst_tan.max(rel.dot(&d1).abs() / (rad * d1.norm()));
+            }
+            println!(
+                "circle r={rad}: worst relative radius error {worst:.2e}, tangent {worst_tan:.2e}"
+            );
+            assert!(worst <= 1e-12, "radius error {worst}");
+            assert!(worst_tan <= 1e-12);
+            let (p0, _, _) = c.eval(0.0).unwrap();
+            assert!((p0[0] - (cx + rad)).abs() < 1e-9 && (p0[1] - cy).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn clamped_uniform_knots_shape() {
+        let k = clamped_uniform_knots(7, 3).unwrap();
+        assert_eq!(
+            k,
+            vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0]
+        );
+        let k = clamped_uniform_knots(2, 1).unwrap();
+        assert_eq!(k, vec![0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(
+            clamped_uniform_knots(3, 3),
+            Err(NurbsError::TooFewControlPoints { n_ctrl: 3, min: 4 })
+        );
+        assert_eq!(
+            clamped_uniform_knots(5, 0),
+            Err(NurbsError::BadDegree { degree: 0 })
+        );
+        assert!(matches!(
+            clamped_uniform_knots(MAX_CTRL + 1, 2),
+            Err(NurbsError::TooManyControlPoints { .. })
+        ));
+        // a curve built on it validates
+        let ctrl: Vec<f64> = (0..14).map(|i| i as f64).collect();
+        let k = clamped_uniform_knots(7, 3).unwrap();
+        assert!(Nurbs::new(3, 2, &ctrl, &[1.0; 7], &k).is_ok());
+    }
+
+    #[test]
+    fn every_validation_error() {
+        use NurbsError::*;
+        let ctrl4 = [0.0, 0.0, 1.0, 1.0, 2.0, 0.0, 3.0, 1.0];
+        let w4 = [1.0; 4];
+        let k4 = [0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0]; // p = 2, 4 points
+        assert!(Nurbs::new(2, 2, &ctrl4, &w4, &k4).is_ok());
+        assert_eq!(
+            Nurbs::new(0, 2, &ctrl4, &w4, &k4).unwrap_err(),
+            BadDegree { degree: 0 }
+        );
+        assert_eq!(
+            Nurbs::new(6, 2, &ctrl4, &w4, &k4).unwrap_err(),
+            BadDegree { degree: 6 }
+        );
+        assert_eq!(
+            Nurbs::new(2, 1, &ctrl4, &w4, &k4).unwrap_err(),
+            BadDimension { dim: 1 }
+        );
+        assert_eq!(
+            Nurbs::new(2, 9, &ctrl4, &w4, &k4).unwrap_err(),
+            BadDimension { dim: 9 }
+        );
+        assert_eq!(
+            Nurbs::new(2, 3, &ctrl4, &w4, &k4).unwrap_err(),
+            ControlDataLength { len: 8, dim: 3 }
+        );
+        assert_eq!(
+            Nurbs::new(2, 2, &[], &[], &k4).unwrap_err(),
+            ControlDataLength { len: 0, dim: 2 }
+        );
+        assert_eq!(
+            Nurbs::new(3, 2, &ctrl4[..6], &w4[..3], &k4).unwrap_err(),
+            TooFewControlPoints { n_ctrl: 3, min: 4 }
+        );
+        let big = vec![0.0; 2 * (MAX_CTRL + 1)];
+        assert_eq!(
+            Nurbs::new(1, 2, &big, &[1.0; MAX_CTRL + 1], &[]).unwrap_err(),
+            TooManyControlPoints {
+                n_ctrl: MAX_CTRL + 1,
+                max: MAX_CTRL
+            }
+        );
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4[..3], &k4).unwrap_err(),
+            WeightCountMismatch {
+                weights: 3,
+                n_ctrl: 4
+            }
+        );
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4, &k4[..6]).unwrap_err(),
+            KnotCountMismatch {
+                knots: 6,
+                expected: 7
+            }
+        );
+        let mut k = k4;
+        k[3] = f64::NAN;
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4, &k).unwrap_err(),
+            NonFiniteKnot { index: 3 }
+        );
+        k[3] = f64::INFINITY;
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4, &k).unwrap_err(),
+            NonFiniteKnot { index: 3 }
+        );
+        let k = [0.0, 0.0, 0.0, 1.5, 1.0, 1.0, 1.0];
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4, &k).unwrap_err(),
+            KnotsDecreasing { index: 4 }
+        );
+        // interior multiplicity p+1 = 3 (p = 2, 6 points -> 9 knots)
+        let ctrl6 = [0.0; 12];
+        let k = [0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0];
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl6, &[1.0; 6], &k).unwrap_err(),
+            KnotMultiplicity {
+                index: 3,
+                multiplicity: 3
+            }
+        );
+        // interior multiplicity p = 2 is fine
+        let k = [0.0, 0.0, 0.0, 0.3, 0.5, 0.5, 1.0, 1.0, 1.0];
+        assert!(Nurbs::new(2, 2, &ctrl6, &[1.0; 6], &k).is_ok());
+        // end run longer than p+1
+        let k = [0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl6, &[1.0; 6], &k).unwrap_err(),
+            KnotMultiplicity {
+                index: 0,
+                multiplicity: 4
+            }
+        );
+        // not clamped (uniform)
+        let k = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        assert_eq!(Nurbs::new(2, 2, &ctrl4, &w4, &k).unwrap_err(), NotClamped);
+        let k = [0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 2.0];
+        assert_eq!(Nurbs::new(2, 2, &ctrl4, &w4, &k).unwrap_err(), NotClamped);
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w4, &[1.0; 7]).unwrap_err(),
+            EmptyDomain
+        );
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let w = [1.0, 1.0, bad, 1.0];
+            assert_eq!(
+                Nurbs::new(2, 2, &ctrl4, &w, &k4).unwrap_err(),
+                BadWeight { index: 2 }
+            );
+        }
+        let mut c = ctrl4;
+        c[3] = f64::NAN;
+        assert_eq!(
+            Nurbs::new(2, 2, &c, &w4, &k4).unwrap_err(),
+            NonFiniteControlPoint { index: 1 }
+        );
+        // finite point whose weighted value overflows
+        let mut c = ctrl4;
+        c[4] = f64::MAX;
+        let w = [1.0, 1.0, 4.0, 1.0];
+        assert_eq!(
+            Nurbs::new(2, 2, &c, &w, &k4).unwrap_err(),
+            NonFiniteControlPoint { index: 2 }
+        );
+        let curve = Nurbs::new(2, 2, &ctrl4, &w4, &k4).unwrap();
+        assert_eq!(curve.eval(f64::NAN).unwrap_err(), NonFiniteParameter);
+        assert_eq!(
+            curve.eval(f64::NEG_INFINITY).unwrap_err(),
+            NonFiniteParameter
+        );
+        assert_eq!(curve.eval(1.0 + 1e-12).unwrap_err(), ParameterOutOfRange);
+        assert_eq!(curve.eval(-1e-12).unwrap_err(), ParameterOutOfRange);
+        let (a, _, _) = curve.eval_clamped(f64::NAN);
+        assert_eq!(a[0], 0.0);
+        for bad in [0.0, -1.0, f64::NAN] {
+            assert_eq!(Nurbs::circle([0.0, 0.0], bad).unwrap_err(), BadCircle);
+        }
+        assert_eq!(Nurbs::circle([f64::NAN, 0.0], 1.0).unwrap_err(), BadCircle);
+        // accessors
+        assert_eq!(curve.weight(4), None);
+        assert_eq!(curve.control_point(9), None);
+        assert_eq!(curve.control_point(1).unwrap()[1], 1.0);
+        // every error has a message
+        for e in [BadDegree { degree: 0 }, NotClamped, EmptyDomain, BadCircle] {
+            assert!(!e.to_string().is_empty());
+        }
+    }
+
+    #[test]
+    fn degree_one_rational_and_span_convention() {
+        let ctrl = [0.0, 0.0, 1.0, 0.0, 1.0, 1.0];
+        let c = Nurbs::new(1, 2, &ctrl, &[1.0, 2.0, 1.0], &[0.0, 0.0, 0.5, 1.0, 1.0]).unwrap();
+        let (p, d1, d2) = c.eval(1.0).unwrap();
+        assert!((p[0] - 1.0).abs() < 1e-15 && (p[1] - 1.0).abs() < 1e-15);
+        assert!(d1[1] > 0.0);
+        assert!(d2[0].is_finite());
+        assert_eq!(c.find_span(1.0), 2);
+        assert_eq!(c.find_span(0.5), 2);
+        assert_eq!(c.find_span(0.0), 1);
+    }
+}

@@ -1,0 +1,2587 @@
+//! Speed-controlled NURBS interpolation with an actuator-saturation-aware feed, after
+//! S.-S. Yeh and J.-T. Sun, "NURBS Interpolation for Motion Systems with Actuator
+//! Saturation", CAD&A 5(6), 2008 (`/work/shared/papers/yeh-2008-…`), with the project's
+//! README corrections of eq 2.2 and eq 3.6.
+//!
+//! # Units
+//! Positions in encoder counts, time in seconds, axis speeds in counts/s, accelerations
+//! in counts/s², jerk in counts/s³. The drive output `u` is in *drive units* (DU): the
+//! plant of eq 2.2 maps 1 DU to a steady motor speed of `K_c` rad/s, i.e. to
+//! `K_c · K_e` counts/s (see [`die_bonder_preset`]).
+//!
+//! # Per-tick rules
+//! [`Interpolator::advance`], [`Interpolator::tick`], [`Interpolator::tick_guarded`],
+//! [`PathSpeedPlanner::next`], [`SaturationAwareFeed::limit_feed`], [`PdPlus::update`] and
+//! [`Plant::step`] allocate nothing and never panic; construction (profile tables, arc
+//! length) allocates once.
+
+use crate::nurbs::{clamped_uniform_knots, Nurbs, NurbsError, Point, MAX_DIM};
+use core::fmt;
+
+/// Capacity of the look-ahead feed profile (samples along the curve).
+pub const MAX_PROFILE: usize = 8192;
+/// Relative margin kept below Umax by the speed window (absorbs rounding).
+pub const GUARD_MARGIN: f64 = 1e-6;
+/// Upper limit of Newton corrections after the Taylor predictor.
+pub const MAX_CORRECTIONS: u32 = 8;
+
+/// Errors of the interpolation layer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum YehError {
+    /// The curve rejected an evaluation.
+    Curve(NurbsError),
+    /// Sample time not finite or not in (0, 1] s.
+    BadSampleTime,
+    /// Feed not finite or not > 0 (or a per-tick feed that is negative / NaN).
+    BadFeed,
+    /// Tangential acceleration limit not finite or not > 0.
+    BadAccel,
+    /// Tangential jerk limit not finite or not > 0.
+    BadJerk,
+    /// Chord tolerance not finite or not > 0.
+    BadChordTolerance,
+    /// `max_corrections > MAX_CORRECTIONS`.
+    BadCorrections,
+    /// The curve has (numerically) zero length.
+    ZeroLengthCurve,
+    /// An axis count does not match the curve / model dimension.
+    DimensionMismatch { expected: usize, got: usize },
+    /// A PD+ gain is negative / not finite, or all of them vanish (axis index).
+    BadGain { axis: usize },
+    /// A plant constant (K_c, τ, K_e) is not finite and > 0 (axis index).
+    BadPlant { axis: usize },
+    /// Umax not finite and > 0 (axis index).
+    BadUmax { axis: usize },
+    /// Planning budget fraction not in (0, 1].
+    BadBudget,
+    /// A measured / predicted state fed to the saturation predictor is NaN or infinite.
+    NonFiniteInput,
+}
+
+impl fmt::Display for YehError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::Curve(e) => write!(f, "curve: {e}"),
+            Self::BadSampleTime => write!(f, "sample time must be finite and in (0, 1] s"),
+            Self::BadFeed => write!(f, "feed must be finite and > 0"),
+            Self::BadAccel => write!(f, "acceleration limit must be finite and > 0"),
+            Self::BadJerk => write!(f, "jerk limit must be finite and > 0"),
+            Self::BadChordTolerance => write!(f, "chord tolerance must be finite and > 0"),
+            Self::BadCorrections => write!(f, "at most {MAX_CORRECTIONS} corrections"),
+            Self::ZeroLengthCurve => write!(f, "curve has zero length"),
+            Self::DimensionMismatch { expected, got } => {
+                write!(f, "expected {expected} axes, got {got}")
+            }
+            Self::BadGain { axis } => write!(f, "axis {axis}: bad PD+ gains"),
+            Self::BadPlant { axis } => write!(f, "axis {axis}: bad plant constants"),
+            Self::BadUmax { axis } => write!(f, "axis {axis}: Umax must be finite and > 0"),
+            Self::BadBudget => write!(f, "budget fraction must be in (0, 1]"),
+            Self::NonFiniteInput => write!(f, "non-finite state input"),
+        }
+    }
+}
+
+impl std::error::Error for YehError {}
+
+impl From<NurbsError> for YehError {
+    fn from(e: NurbsError) -> Self {
+        Self::Curve(e)
+    }
+}
+
+fn pos_finite(x: f64) -> bool {
+    x.is_finite() && x > 0.0
+}
+
+// ---------------------------------------------------------------------------------------
+// Plant (eq 2.1–2.2) and PD+ law (eq 2.12)
+// ---------------------------------------------------------------------------------------
+
+/// First-order motor model of Yeh eq 2.1–2.2 as corrected in the README:
+/// `dw/dt = -w/τ + (K_c/τ)·u`, `dθ/dt = K_e·w` (w in rad/s, θ in counts, u in DU).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plant {
+    /// Electrical gain K_c: steady motor speed per drive unit, (rad/s)/DU.
+    pub k_c: f64,
+    /// Mechanical time constant τ, s.
+    pub tau: f64,
+    /// Mechanical gain K_e, counts/rad (1591.5494 = 10000/2π for a 10000-count encoder).
+    pub k_e: f64,
+}
+
+impl Plant {
+    /// Checks that all constants are finite and > 0 (`axis` only labels the error).
+    pub fn validate(&self, axis: usize) -> Result<(), YehError> {
+        if pos_finite(self.k_c) && pos_finite(self.tau) && pos_finite(self.k_e) {
+            Ok(())
+        } else {
+            Err(YehError::BadPlant { axis })
+        }
+    }
+
+    /// Steady-state axis speed per drive unit, (counts/s)/DU = K_c·K_e.
+    pub fn counts_gain(&self) -> f64 {
+        self.k_c * self.k_e
+    }
+
+    /// One sample of the plant with `u` held (zero-order hold), exact solution of eq 2.2
+    /// written in counts: with `v = K_e·w` (counts/s), `dv/dt = -v/τ + (K_c K_e/τ)·u`,
+    /// `dθ/dt = v`. Returns `(θ, v)` one sample `ts` later.
+    pub fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64) {
+        let g = self.counts_gain();
+        let a = (-ts / self.tau).exp();
+        let one_m_a = -(-ts / self.tau).exp_m1(); // 1 - a, accurate for small ts/τ
+        let vel_next = a * vel + one_m_a * g * u;
+        let theta_next = theta + self.tau * one_m_a * vel + g * u * (ts - self.tau * one_m_a);
+        (theta_next, vel_next)
+    }
+}
+
+/// PD+ gains in counts/seconds form (Yeh eq 2.12):
+/// `u = kp·(θ_d-θ) + kd·(θ̇_d-θ̇) + kv·θ̇_d + ka·θ̈_d`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdPlusGains {
+    /// DU per count of position error (= Table 1 K_p).
+    pub kp: f64,
+    /// DU per count/s of speed error (= Table 1 K_d / K_e, since eq 2.12 applies K_d to w in rad/s).
+    pub kd: f64,
+    /// Speed feed-forward, DU per count/s (= 1/(K_c K_e), eq 2.12 term w_d/K_c).
+    pub kv: f64,
+    /// Acceleration feed-forward, DU per count/s² (= τ/(K_c K_e), eq 2.12 term τ ẇ_d/K_c).
+    pub ka: f64,
+}
+
+impl PdPlusGains {
+    /// Gains from the paper's form: eq 2.12 `u = K_d(w_d-w) + K_p(θ_d-θ) + (τ/K_c)ẇ_d + w_d/K_c`
+    /// with w = θ̇/K_e in rad/s, converted to counts.
+    pub fn from_paper(k_p: f64, k_d: f64, plant: &Plant) -> Self {
+        let g = plant.counts_gain();
+        Self {
+            kp: k_p,
+            kd: k_d / plant.k_e,
+            kv: 1.0 / g,
+            ka: plant.tau / g,
+        }
+    }
+
+    /// Checks finiteness and non-negativity; `axis` labels the error.
+    pub fn validate(&self, axis: usize) -> Result<(), YehError> {
+        let all = [self.kp, self.kd, self.kv, self.ka];
+        if all.iter().all(|g| g.is_finite() && *g >= 0.0) && all.iter().any(|g| *g > 0.0) {
+            Ok(())
+        } else {
+            Err(YehError::BadGain { axis })
+        }
+    }
+
+    /// `k_p' + k_d + k_v + k_a` of Yeh eq 3.5 (the README's corrected denominator of eq 3.6),
+    /// with `k_p' = kp·Ts` and the discrete `k_a = ka/Ts` (eq 3.4's `τ/(K_c T_s)`).
+    pub fn drive_coefficient(&self, ts: f64) -> f64 {
+        self.kp * ts + self.kd + self.kv + self.ka / ts
+    }
+}
+
+/// The PD+ servo law of Yeh eq 2.12 at sample time `ts`; the measured speed is the backward
+/// difference of the measured position (§3.2, `w_a[k] ≈ (θ_a[k]-θ_a[k-1])/T_s`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdPlus {
+    gains: PdPlusGains,
+    ts: f64,
+    prev_meas: f64,
+    primed: bool,
+    fault: bool,
+}
+
+impl PdPlus {
+    /// New controller; the first `update` takes its measured speed as zero.
+    pub fn new(gains: PdPlusGains, ts: f64) -> Result<Self, YehError> {
+        gains.validate(0)?;
+        if !(pos_finite(ts) && ts <= 1.0) {
+            return Err(YehError::BadSampleTime);
+        }
+        Ok(Self {
+            gains,
+            ts,
+            prev_meas: 0.0,
+            primed: false,
+            fault: false,
+        })
+    }
+
+    /// Sets the previous measurement (measured speed zero at the next update).
+    pub fn reset(&mut self, meas_pos: f64) {
+        self.prev_meas = meas_pos;
+        self.primed = meas_pos.is_finite();
+        self.fault = false;
+    }
+
+    /// Gains in use.
+    pub fn gains(&self) -> PdPlusGains {
+        self.gains
+    }
+
+    /// True after an update saw a non-finite input or produced a non-finite output
+    /// (that update returned 0). Cleared by `reset`.
+    pub fn fault(&self) -> bool {
+        self.fault
+    }
+
+    /// Yeh eq 2.12 / 3.3: `u = kp(θ_d-θ_a) + kd(w_d-w_a) + kv·w_d + ka·α_d`, with
+    /// `w_a = (θ_a[k]-θ_a[k-1])/Ts`. Counts, counts/s, counts/s² in; DU out.
+    pub fn update(&mut self, ref_pos: f64, ref_vel: f64, ref_acc: f64, meas_pos: f64) -> f64 {
+        if !meas_pos.is_finite() {
+            self.fault = true;
+            return 0.0;
+        }
+        let w_a = if self.primed {
+            (meas_pos - self.prev_meas) / self.ts
+        } else {
+            0.0
+        };
+        self.prev_meas = meas_pos;
+        self.primed = true;
+        let g = &self.gains;
+        let u =
+            g.kp * (ref_pos - meas_pos) + g.kd * (ref_vel - w_a) + g.kv * ref_vel + g.ka * ref_acc;
+        if u.is_finite() {
+            u
+        } else {
+            self.fault = true;
+            0.0
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Saturation-aware feed (eq 3.3–3.10, §3.4)
+// ---------------------------------------------------------------------------------------
+
+/// One axis for the saturation predictor: PD+ gains, plant, and the drive limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisModel {
+    pub gains: PdPlusGains,
+    pub plant: Plant,
+    /// Drive limit Umax, DU (|u_a| ≤ Umax).
+    pub umax: f64,
+}
+
+impl AxisModel {
+    fn validate(&self, axis: usize) -> Result<(), YehError> {
+        self.gains.validate(axis)?;
+        self.plant.validate(axis)?;
+        if !pos_finite(self.umax) {
+            return Err(YehError::BadUmax { axis });
+        }
+        Ok(())
+    }
+}
+
+/// Plain-data state of one axis at the tick where the candidate reference is consumed
+/// (index k of eq 3.5): the previous reference and the actual (measured or predicted) state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// θ_d\[k-1\], counts.
+    pub theta_d_prev: f64,
+    /// w_d\[k-1\] = (θ_d\[k-1\]-θ_d\[k-2\])/Ts, counts/s.
+    pub w_d_prev: f64,
+    /// θ_a\[k\], counts.
+    pub theta_a: f64,
+    /// w_a\[k\] = (θ_a\[k\]-θ_a\[k-1\])/Ts, counts/s.
+    pub w_a: f64,
+}
+
+impl AxisState {
+    /// State one tick ahead from the plant model: θ_a\[k+1\] from the model state
+    /// `(theta, vel)` at tick k with `u` held, and `w_a[k+1] = (θ_a[k+1]-θ_a[k])/Ts`.
+    /// Use this to predict u_a\[k+1\] when the next reference must be computed before the
+    /// next encoder read.
+    pub fn predicted(
+        plant: &Plant,
+        ts: f64,
+        theta: f64,
+        vel: f64,
+        u: f64,
+        theta_d_prev: f64,
+        w_d_prev: f64,
+    ) -> Self {
+        let (theta_next, _) = plant.step(ts, theta, vel, u);
+        Self {
+            theta_d_prev,
+            w_d_prev,
+            theta_a: theta_next,
+            w_a: (theta_next - theta) / ts,
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        self.theta_d_prev.is_finite()
+            && self.w_d_prev.is_finite()
+            && self.theta_a.is_finite()
+            && self.w_a.is_finite()
+    }
+}
+
+/// Result of one saturation check (§3.4 steps 1–8).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FeedDecision {
+    /// Feed handed to the interpolator, counts/s.
+    pub feed: f64,
+    /// Feed that was asked for.
+    pub requested: f64,
+    /// Feasible feed interval `[v_min, v_max]` from eq 3.6 on every axis (empty when
+    /// `v_min > v_max`).
+    pub v_min: f64,
+    pub v_max: f64,
+    /// Feed lowered below the request (eq 3.10 first case).
+    pub limited: bool,
+    /// Feed raised above the request (eq 3.10 third case: an axis cannot slow down faster).
+    pub raised: bool,
+    /// Some feed keeps every |u_a| ≤ Umax.
+    pub feasible: bool,
+    /// Predicted max over axes of |u_a\[k\]| / Umax at the chosen feed.
+    pub max_drive_ratio: f64,
+}
+
+/// Yeh's saturation-aware feed for up to `MAX_DIM` axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SaturationAwareFeed {
+    axes: [AxisModel; MAX_DIM],
+    dim: usize,
+    ts: f64,
+}
+
+impl SaturationAwareFeed {
+    /// Validates `axes` (1..=MAX_DIM of them) and `ts`.
+    pub fn new(axes: &[AxisModel], ts: f64) -> Result<Self, YehError> {
+        if axes.is_empty() || axes.len() > MAX_DIM {
+            return Err(YehError::DimensionMismatch {
+                expected: MAX_DIM,
+                got: axes.len(),
+            });
+        }
+        if !(pos_finite(ts) && ts <= 1.0) {
+            return Err(YehError::BadSampleTime);
+        }
+        let filler = axes[0];
+        let mut arr = [filler; MAX_DIM];
+        for (i, (dst, a)) in arr.iter_mut().zip(axes.iter()).enumerate() {
+            a.validate(i)?;
+            *dst = *a;
+        }
+        Ok(Self {
+            axes: arr,
+            dim: axes.len(),
+            ts,
+        })
+    }
+
+    /// Number of axes.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    /// Sample time, s.
+    pub fn ts(&self) -> f64 {
+        self.ts
+    }
+    /// Axis `j` (None when out of range).
+    pub fn axis(&self, j: usize) -> Option<&AxisModel> {
+        self.axes[..self.dim].get(j)
+    }
+
+    fn coeff(&self, j: usize) -> f64 {
+        self.axes[j].gains.drive_coefficient(self.ts)
+    }
+
+    /// `v[k] = k_p(θ_d[k-1]-θ_a[k]) - k_d w_a[k] - k_a w_d[k-1]` (Yeh eq 3.5, discrete
+    /// k_a = ka/Ts): the part of u_a\[k\] that does not depend on the new speed command.
+    fn free_part(&self, j: usize, st: &AxisState) -> f64 {
+        let g = &self.axes[j].gains;
+        g.kp * (st.theta_d_prev - st.theta_a) - g.kd * st.w_a - g.ka / self.ts * st.w_d_prev
+    }
+
+    /// Predicted drive output for speed command `w_d` on axis `j` (Yeh eq 3.5):
+    /// `u_a[k] = (k_p'+k_d+k_v+k_a)·w_d[k] + v[k]`. NaN for an axis out of range.
+    pub fn predict_drive(&self, j: usize, st: &AxisState, w_d: f64) -> f64 {
+        if j >= self.dim {
+            return f64::NAN;
+        }
+        self.coeff(j) * w_d + self.free_part(j, st)
+    }
+
+    /// Speed window of axis `j` (Yeh eq 3.6 with the README's denominator):
+    /// `(-Umax - v[k])/(k_p'+k_d+k_v+k_a) ≤ w_d[k] ≤ (Umax - v[k])/(k_p'+k_d+k_v+k_a)`.
+    pub fn speed_window(&self, j: usize, st: &AxisState) -> (f64, f64) {
+        if j >= self.dim {
+            return (f64::NAN, f64::NAN);
+        }
+        let c = self.coeff(j);
+        let v = self.free_part(j, st);
+        let um = self.axes[j].umax * (1.0 - GUARD_MARGIN);
+        ((-um - v) / c, (um - v) / c)
+    }
+
+    /// §3.4 steps 1–8: given the requested feed `v_req` (counts/s), the unit direction of the
+    /// axis speed command (`dir`, eq 3.7: `w_d = dir·V`; Yeh uses `D_i^u/‖D_i^u‖`), the
+    /// per-axis state and a ceiling the feed may not exceed, return the feed closest to the
+    /// request that keeps every predicted |u_a| ≤ Umax (eq 3.10 on every axis, min/max over
+    /// axes as in steps 5–6). If no feed in `[0, v_ceiling]` does, the one that minimises the
+    /// largest relative overshoot is returned with `feasible = false`.
+    pub fn limit_feed(
+        &self,
+        v_req: f64,
+        v_ceiling: f64,
+        dir: &Point,
+        states: &[AxisState],
+    ) -> Result<FeedDecision, YehError> {
+        if states.len() < self.dim {
+            return Err(YehError::DimensionMismatch {
+                expected: self.dim,
+                got: states.len(),
+            });
+        }
+        if !(v_req.is_finite() && v_req >= 0.0 && v_ceiling.is_finite() && v_ceiling >= 0.0) {
+            return Err(YehError::BadFeed);
+        }
+        if dir.iter().any(|d| !d.is_finite()) || states[..self.dim].iter().any(|s| !s.is_finite()) {
+            return Err(YehError::NonFiniteInput);
+        }
+        let ceiling = v_ceiling.max(v_req);
+        let mut v_min = 0.0f64;
+        let mut v_max = ceiling;
+        let mut axis_blocked = false;
+        for j in 0..self.dim {
+            // Step 2–3: axis window (eq 3.6) mapped through w_d^j = V·dir_j (eq 3.7) into a
+            // feed interval (eq 3.10: V ≤ |w^max/D^j| or V ≥ |w^min/D^j|).
+            let (lo, hi) = self.speed_window(j, &states[j]);
+            let d = dir[j];
+            if d > 0.0 {
+                v_min = v_min.max(lo / d);
+                v_max = v_max.min(hi / d);
+            } else if d < 0.0 {
+                v_min = v_min.max(hi / d);
+                v_max = v_max.min(lo / d);
+            } else if !(lo <= 0.0 && 0.0 <= hi) {
+                axis_blocked = true;
+            }
+        }
+        // Step 5–6: the intersection over axes; steps 7–8: modified or unmodified feed.
+        let feasible = !axis_blocked && v_min <= v_max;
+        let feed = if feasible {
+            v_req.clamp(v_min, v_max)
+        } else {
+            self.least_violation(ceiling, dir, states)
+        };
+        Ok(FeedDecision {
+            feed,
+            requested: v_req,
+            v_min,
+            v_max,
+            limited: feed < v_req,
+            raised: feed > v_req,
+            feasible,
+            max_drive_ratio: self.drive_ratio(feed, dir, states),
+        })
+    }
+
+    /// max_j |u_a^j| / Umax_j for the axis speed commands `w_d = dir·v`.
+    fn drive_ratio(&self, v: f64, dir: &Point, states: &[AxisState]) -> f64 {
+        let mut worst = 0.0f64;
+        for j in 0..self.dim.min(states.len()) {
+            let u = self.predict_drive(j, &states[j], v * dir[j]);
+            worst = worst.max(u.abs() / self.axes[j].umax);
+        }
+        worst
+    }
+
+    /// Predicted max_j |u_a^j|/Umax_j for explicit axis speed commands `w_d` (counts/s).
+    pub fn drive_ratio_for(&self, w_d: &Point, states: &[AxisState]) -> f64 {
+        let mut worst = 0.0f64;
+        for j in 0..self.dim.min(states.len()) {
+            let u = self.predict_drive(j, &states[j], w_d[j]);
+            worst = worst.max(u.abs() / self.axes[j].umax);
+        }
+        worst
+    }
+
+    /// Golden-section search of the convex function `V ↦ max_j |u_j(V)|/Umax_j` on [0, hi].
+    fn least_violation(&self, hi: f64, dir: &Point, states: &[AxisState]) -> f64 {
+        let g = 0.618_033_988_749_894_9;
+        let (mut a, mut b) = (0.0, hi);
+        let mut x1 = b - g * (b - a);
+        let mut x2 = a + g * (b - a);
+        let mut f1 = self.drive_ratio(x1, dir, states);
+        let mut f2 = self.drive_ratio(x2, dir, states);
+        for _ in 0..80 {
+            if f1 <= f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = self.drive_ratio(x1, dir, states);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = self.drive_ratio(x2, dir, states);
+            }
+        }
+        let mid = 0.5 * (a + b);
+        // the ends of the interval are candidates too (piecewise-linear, possibly flat)
+        let mut best = (self.drive_ratio(mid, dir, states), mid);
+        for v in [0.0, hi] {
+            let r = self.drive_ratio(v, dir, states);
+            if r < best.0 {
+                best = (r, v);
+            }
+        }
+        best.1
+    }
+
+    /// A tangential deceleration (counts/s²) every axis can give with `budget`·Umax on a
+    /// straight path: braking, |kv·w − ka·d| ≤ budget·Umax holds for any speed when
+    /// d ≤ budget·Umax/ka.
+    pub fn safe_path_decel(&self, budget: f64) -> f64 {
+        let mut best = f64::INFINITY;
+        for a in &self.axes[..self.dim] {
+            if a.gains.ka > 0.0 {
+                best = best.min(budget * a.umax / a.gains.ka);
+            }
+        }
+        best.max(0.0)
+    }
+
+    /// A conservative tangential acceleration (counts/s²) every axis can give at path speed
+    /// `v` with `budget`·Umax (steady-state PD+: u ≈ kv·w + ka·α): the worst axis, worst
+    /// direction. Useful to set `InterpConfig::accel`.
+    pub fn safe_path_accel(&self, v: f64, budget: f64) -> f64 {
+        let mut best = f64::INFINITY;
+        for a in &self.axes[..self.dim] {
+            let room = budget * a.umax - a.gains.kv * v.abs();
+            let acc = if a.gains.ka > 0.0 {
+                room / a.gains.ka
+            } else {
+                f64::INFINITY
+            };
+            best = best.min(acc);
+        }
+        best.max(0.0)
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Path-speed planner (jerk-limited S-curve along the path)
+// ---------------------------------------------------------------------------------------
+
+/// Scalar jerk-limited speed tracker along the path: ramps toward a target speed with
+/// a ∈ [−D, A], |da/dt| ≤ J, and latches a jerk-limited stop when the remaining length is
+/// no more than its stopping distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathSpeedPlanner {
+    ts: f64,
+    amax: f64,
+    dmax: f64,
+    jmax: f64,
+    v: f64,
+    a: f64,
+    stopping: bool,
+}
+
+impl PathSpeedPlanner {
+    /// New planner at rest with acceleration and deceleration limit `amax` and jerk `jmax`.
+    pub fn new(ts: f64, amax: f64, jmax: f64) -> Result<Self, YehError> {
+        if !(pos_finite(ts) && ts <= 1.0) {
+            return Err(YehError::BadSampleTime);
+        }
+        if !pos_finite(amax) {
+            return Err(YehError::BadAccel);
+        }
+        if !pos_finite(jmax) {
+            return Err(YehError::BadJerk);
+        }
+        Ok(Self {
+            ts,
+            amax,
+            dmax: amax,
+            jmax,
+            v: 0.0,
+            a: 0.0,
+            stopping: false,
+        })
+    }
+
+    /// Sets a separate (usually lower) deceleration limit, counts/s².
+    pub fn with_decel(mut self, dmax: f64) -> Result<Self, YehError> {
+        if !pos_finite(dmax) {
+            return Err(YehError::BadAccel);
+        }
+        self.dmax = dmax;
+        Ok(self)
+    }
+
+    /// Current path speed, counts/s.
+    pub fn speed(&self) -> f64 {
+        self.v
+    }
+    /// Current path acceleration, counts/s².
+    pub fn accel(&self) -> f64 {
+        self.a
+    }
+    /// Deceleration limit in use, counts/s².
+    pub fn decel_limit(&self) -> f64 {
+        self.dmax
+    }
+    /// True once the final stop has been latched.
+    pub fn is_stopping(&self) -> bool {
+        self.stopping
+    }
+
+    /// Distance and time to shed `dv ≥ 0` of speed, starting at acceleration `a` and ending
+    /// at a = 0, with deceleration ≤ `dmax` and jerk `jmax`: jerk −J to a peak deceleration,
+    /// hold it, jerk +J back to zero. The distance is relative to a frame moving at the final
+    /// speed (add `v_final · time`).
+    fn brake(dv: f64, a: f64, dmax: f64, j: f64) -> (f64, f64) {
+        let v = dv.max(0.0);
+        // peak deceleration without a constant phase: ap² = J·dv + a²/2
+        let mut ap = (j * v + 0.5 * a * a).sqrt();
+        if a < -ap {
+            // already braking harder than needed: release (jerk +J) until dv = 0
+            let disc = (a * a - 2.0 * j * v).max(0.0);
+            let t = (-a - disc.sqrt()) / j;
+            let d = v * t + 0.5 * a * t * t + j * t * t * t / 6.0;
+            return (d.max(0.0), t.max(0.0));
+        }
+        let mut t2 = 0.0;
+        if ap > dmax {
+            ap = dmax;
+            t2 = ((v + (a * a - 2.0 * ap * ap) / (2.0 * j)) / ap).max(0.0);
+        }
+        let t1 = ((a + ap) / j).max(0.0);
+        let d1 = v * t1 + 0.5 * a * t1 * t1 - j * t1 * t1 * t1 / 6.0;
+        let v1 = v + a * t1 - 0.5 * j * t1 * t1;
+        let d2 = v1 * t2 - 0.5 * ap * t2 * t2;
+        let v2 = v1 - ap * t2;
+        let t3 = ap / j;
+        let d3 = v2 * t3 - 0.5 * ap * t3 * t3 + j * t3 * t3 * t3 / 6.0;
+        let d = d1 + d2 + d3;
+        let t = t1 + t2 + t3;
+        if d.is_finite() && t.is_finite() {
+            (d.max(0.0), t)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// Distance to come to rest (v = 0, a = 0) from speed `v ≥ 0` and acceleration `a`
+    /// with deceleration ≤ `dmax` and jerk `jmax`.
+    pub fn stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
+        Self::brake(v, a, dmax, jmax).0
+    }
+
+    /// Distance needed from the current state to slow to `v_target` (0 when already there).
+    pub fn slowing_distance(&self, v_target: f64) -> f64 {
+        self.slowing_distance_from(self.v, self.a, v_target)
+    }
+
+    /// Distance needed from speed `v` and acceleration `a` to slow to `v_target` with this
+    /// planner's deceleration and jerk limits.
+    pub fn slowing_distance_from(&self, v: f64, a: f64, v_target: f64) -> f64 {
+        let vt = v_target.max(0.0);
+        if v <= vt && a <= 0.0 {
+            return 0.0;
+        }
+        let (d, t) = Self::brake(v - vt, a, self.dmax, self.jmax);
+        d + vt * t
+    }
+
+    /// Jerk-limited tracking of `tgt`: the next (v, a) if no stop is needed.
+    pub fn track(&self, tgt: f64) -> (f64, f64) {
+        let (v, a, j, ts) = (self.v, self.a, self.jmax, self.ts);
+        let jts = j * ts;
+        let a_new = if tgt >= v {
+            // speed still gained while a is brought back to zero: a²/(2J)
+            if a > 0.0 && v + a * a / (2.0 * j) >= tgt {
+                (a - jts).max(0.0)
+            } else {
+                (a + jts).min(self.amax)
+            }
+        } else if a < 0.0 && v - a * a / (2.0 * j) <= tgt {
+            (a + jts).min(0.0)
+        } else {
+            (a - jts).max(-self.dmax)
+        };
+        let mut v_new = v + 0.5 * (a + a_new) * ts;
+        let mut a_out = a_new;
+        if (tgt - v) * (tgt - v_new) <= 0.0 {
+            // reached the target within this tick
+            v_new = tgt;
+            a_out = 0.0;
+        }
+        (v_new, a_out)
+    }
+
+    /// One tick: returns the path speed to use for this sample. `v_target` is the speed
+    /// wanted now (commanded feed lowered by look-ahead limits), `remaining` the path length
+    /// still to go (counts).
+    ///
+    /// While the tracker's next state still leaves room to stop (step + stopping distance ≤
+    /// remaining) it is used; from the first tick where it does not, the planner is in its
+    /// final stop and picks each tick the jerk in {−J, 0, +J} whose predicted stopping point
+    /// is closest to the end without passing it.
+    pub fn next(&mut self, v_target: f64, remaining: f64) -> f64 {
+        let ts = self.ts;
+        let (dmax, j) = (self.dmax, self.jmax);
+        let remaining = if remaining.is_nan() {
+            0.0
+        } else {
+            remaining.max(0.0)
+        };
+        let tgt = if v_target.is_nan() {
+            0.0
+        } else {
+            v_target.max(0.0)
+        };
+        let (v, a) = (self.v, self.a);
+        let predicted = |v_new: f64, a_new: f64| {
+            0.5 * (v + v_new) * ts + Self::stopping_distance(v_new, a_new, dmax, j)
+        };
+        let (mut v_new, mut a_new) = self.track(tgt);
+        if self.stopping || predicted(v_new, a_new) > remaining {
+            self.stopping = true;
+            let mut best: Option<(bool, f64, f64, f64)> = None; // (overshoots, |err|, v, a)
+            for jj in [-j, 0.0, j] {
+                let ac = (a + jj * ts).clamp(-dmax, self.amax);
+                let vc = (v + 0.5 * (a + ac) * ts).max(0.0);
+                let ac = if vc <= 0.0 { ac.max(0.0) } else { ac };
+                if jj > -j && vc > tgt.max(v) {
+                    continue; // never speed up past the target while stopping
+                }
+                let err = predicted(vc, ac) - remaining;
+                let cand = (err > 0.0, err.abs(), vc, ac);
+                if best.is_none_or(|b| (cand.0, cand.1) < (b.0, b.1)) {
+                    best = Some(cand);
+                }
+            }
+            if let Some((_, _, vc, ac)) = best {
+                v_new = vc;
+                a_new = ac;
+            }
+        }
+        if v_new <= 0.0 {
+            v_new = 0.0;
+            a_new = a_new.max(0.0);
+        }
+        self.v = v_new;
+        self.a = a_new;
+        v_new
+    }
+
+    /// Re-synchronises the planner after a downstream limit changed the speed actually used
+    /// (the restore toward the commanded feed then ramps at the planner's A and J).
+    pub fn resync(&mut self, v_used: f64, v_before: f64) {
+        if !v_used.is_finite() || (v_used - self.v).abs() <= 1e-12 * (1.0 + self.v) {
+            return;
+        }
+        let a = ((v_used - v_before) / self.ts).clamp(-self.dmax, self.amax);
+        self.v = v_used.max(0.0);
+        self.a = if a.is_finite() { a } else { 0.0 };
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Interpolator
+// ---------------------------------------------------------------------------------------
+
+/// Interpolator settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InterpConfig {
+    /// Sample time Ts, s.
+    pub ts: f64,
+    /// Commanded feed V, counts/s.
+    pub feed: f64,
+    /// Tangential acceleration limit, counts/s².
+    pub accel: f64,
+    /// Tangential jerk limit, counts/s³.
+    pub jerk: f64,
+    /// Chord-error tolerance δ, counts (1 µm = 1 count on a 1 µm/count scale).
+    pub chord_tol: f64,
+    /// Newton corrections after the eq 3.1 predictor (0 = plain Taylor).
+    pub max_corrections: u32,
+}
+
+impl Default for InterpConfig {
+    fn default() -> Self {
+        Self {
+            ts: 1e-3,
+            feed: 100_000.0,
+            accel: 1e7,
+            jerk: 1e10,
+            chord_tol: 1.0,
+            max_corrections: 3,
+        }
+    }
+}
+
+impl InterpConfig {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), YehError> {
+        if !(pos_finite(self.ts) && self.ts <= 1.0) {
+            return Err(YehError::BadSampleTime);
+        }
+        if !pos_finite(self.feed) {
+            return Err(YehError::BadFeed);
+        }
+        if !pos_finite(self.accel) {
+            return Err(YehError::BadAccel);
+        }
+        if !pos_finite(self.jerk) {
+            return Err(YehError::BadJerk);
+        }
+        if !pos_finite(self.chord_tol) {
+            return Err(YehError::BadChordTolerance);
+        }
+        if self.max_corrections > MAX_CORRECTIONS {
+            return Err(YehError::BadCorrections);
+        }
+        Ok(())
+    }
+}
+
+/// Largest feed whose one-sample chord error ρ − √(ρ² − (V·Ts/2)²) stays ≤ δ:
+/// V ≤ (2/Ts)·√(ρ² − (ρ−δ)²) (= 2ρ/Ts when δ ≥ ρ; ∞ for ρ = ∞).
+pub fn chord_feed_limit(rho: f64, ts: f64, tol: f64) -> f64 {
+    if rho.is_nan() || rho <= 0.0 {
+        return 0.0;
+    }
+    if rho.is_infinite() {
+        return f64::INFINITY;
+    }
+    if tol >= rho {
+        return 2.0 * rho / ts;
+    }
+    2.0 / ts * (tol * (2.0 * rho - tol)).sqrt()
+}
+
+/// Radius of curvature from C' and C'' (any dimension): ρ = |C'|³ / √(|C'|²|C''|² − (C'·C'')²).
+pub fn radius_of_curvature(d1: &Point, d2: &Point) -> f64 {
+    let n1 = d1.norm_squared();
+    if n1 <= 0.0 || !n1.is_finite() {
+        return 0.0;
+    }
+    let dd = d1.dot(d2);
+    let perp2 = (d2.norm_squared() - dd * dd / n1).max(0.0);
+    if perp2 == 0.0 {
+        return f64::INFINITY;
+    }
+    // κ = |C''_⊥| / |C'|²
+    n1 / perp2.sqrt()
+}
+
+/// One interpolation sample (the reference for the servo loops).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tick {
+    /// Curve parameter u_{k}.
+    pub u: f64,
+    /// θ_d\[k\] = C(u_k), counts.
+    pub pos: Point,
+    /// w_d\[k\] = (θ_d\[k\]-θ_d\[k-1\])/Ts, counts/s.
+    pub vel: Point,
+    /// α_d\[k\] = (w_d\[k\]-w_d\[k-1\])/Ts, counts/s².
+    pub acc: Point,
+    /// |θ_d\[k\]-θ_d\[k-1\]|/Ts, counts/s.
+    pub feed: f64,
+    /// The end of the curve has been reached (pos == C(u_end)).
+    pub done: bool,
+    /// Newton corrections used in this step.
+    pub corrections: u32,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct ProfileSample {
+    /// Arc length from the start, counts.
+    s: f64,
+    /// Local limit: feed, chord error (and actuator speed cap), counts/s.
+    raw: f64,
+    /// `raw` after the backward pass (reachable with the deceleration limit, 0 at the end).
+    cap: f64,
+}
+
+/// Samples per block of the block-minimum table used to skip the look-ahead scan.
+const BLOCK: usize = 32;
+
+#[derive(Clone, Copy)]
+struct Step {
+    u: f64,
+    c: Point,
+    d1: Point,
+    d2: Point,
+    chord: f64,
+    landed: bool,
+    corrections: u32,
+}
+
+/// Speed-controlled NURBS interpolator (Yeh eq 3.1 predictor + Newton corrector), with a
+/// look-ahead feed profile (chord-error and optional actuator limits), a jerk-limited path
+/// speed planner and the optional saturation-aware feed of §3.4.
+///
+/// Per tick: [`advance`](Self::advance) (fixed feed, no limits), [`tick`](Self::tick)
+/// (planner + limits) or [`tick_guarded`](Self::tick_guarded) (planner + limits + Yeh's
+/// saturation check). Each returns θ_d\[k\], w_d\[k\], α_d\[k\] for the servo loops.
+#[derive(Clone)]
+pub struct Interpolator {
+    curve: Nurbs,
+    cfg: InterpConfig,
+    profile: Box<[ProfileSample]>,
+    blocks: Box<[f64]>,
+    length: f64,
+    slow: Option<(f64, f64)>,
+    planner: PathSpeedPlanner,
+    u_end: f64,
+    u: f64,
+    pos: Point,
+    d1: Point,
+    d2: Point,
+    prev_vel: Point,
+    s: f64,
+    done: bool,
+    hint: usize,
+}
+
+const GL_X: [f64; 5] = [
+    0.0,
+    -0.538_469_310_105_683_1,
+    0.538_469_310_105_683_1,
+    -0.906_179_845_938_664,
+    0.906_179_845_938_664,
+];
+const GL_W: [f64; 5] = [
+    0.568_888_888_888_888_9,
+    0.478_628_670_499_366_5,
+    0.478_628_670_499_366_5,
+    0.236_926_885_056_189_1,
+    0.236_926_885_056_189_1,
+];
+
+/// 5-point Gauss–Legendre of |C'| on [a, b].
+fn gl5(curve: &Nurbs, a: f64, b: f64) -> f64 {
+    let h = 0.5 * (b - a);
+    let m = 0.5 * (a + b);
+    GL_X.iter()
+        .zip(GL_W.iter())
+        .map(|(x, w)| w * curve.eval_clamped(m + h * x).1.norm())
+        .sum::<f64>()
+        * h
+}
+
+/// Adaptive Gauss–Legendre arc length of `curve` on [a, b]: an interval is accepted when
+/// its two halves agree with the whole within its share of 1e-11 of the estimate (never below
+/// the rounding floor); depth ≤ 30 and at most 4096 accepted pieces, fixed stack.
+pub fn arc_length(curve: &Nurbs, a: f64, b: f64) -> f64 {
+    if b.partial_cmp(&a) != Some(core::cmp::Ordering::Greater) {
+        return 0.0;
+    }
+    let whole0 = gl5(curve, a, b);
+    let floor = 64.0 * f64::EPSILON * whole0.abs();
+    let mut stack = [(0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32); 64];
+    let mut top = 1;
+    stack[0] = (a, b, whole0, 1e-11 * whole0.abs(), 0);
+    let mut total = 0.0;
+    let mut pieces = 0u32;
+    while top > 0 {
+        top -= 1;
+        let (lo, hi, whole, tol, depth) = stack[top];
+        let mid = 0.5 * (lo + hi);
+        let l = gl5(curve, lo, mid);
+        let r = gl5(curve, mid, hi);
+        let done = (l + r - whole).abs() <= tol.max(floor)
+            || depth >= 30
+            || pieces >= 4096
+            || top + 2 > stack.len();
+        if done {
+            total += l + r;
+            pieces += 1;
+        } else {
+            stack[top] = (mid, hi, r, 0.5 * tol, depth + 1);
+            stack[top + 1] = (lo, mid, l, 0.5 * tol, depth + 1);
+            top += 2;
+        }
+    }
+    total
+}
+
+/// Share of the planning budget kept for tangential deceleration; the rest bounds the
+/// speed-and-curvature part `kv·w + ka·v²κ` of the drive.
+pub const DECEL_SHARE: f64 = 0.5;
+
+/// Actuator limits used when building the look-ahead profile.
+#[derive(Clone, Copy)]
+struct ActuatorPlan<'a> {
+    sat: &'a SaturationAwareFeed,
+    budget: f64,
+}
+
+impl ActuatorPlan<'_> {
+    /// Largest V with kv·V·|T_j| + ka·V²·|k_j| ≤ (1−DECEL_SHARE)·budget·Umax on every axis
+    /// (steady PD+ drive without tangential acceleration), so that a tangential deceleration
+    /// of DECEL_SHARE·budget·Umax/ka still fits everywhere.
+    fn speed_cap(&self, t: &Point, k: &Point) -> f64 {
+        let mut cap = f64::INFINITY;
+        for (j, ax) in self.sat.axes[..self.sat.dim].iter().enumerate() {
+            let b = (1.0 - DECEL_SHARE) * self.budget * ax.umax;
+            let qa = ax.gains.ka * k[j].abs();
+            let qb = ax.gains.kv * t[j].abs();
+            // positive root of qa V² + qb V - b = 0
+            cap = cap.min(smallest_positive_root(qa, qb, -b));
+        }
+        cap
+    }
+
+    /// Largest tangential deceleration (≥ 0) at speed V within budget·Umax on every axis.
+    fn decel(&self, t: &Point, k: &Point, v: f64, amax: f64) -> f64 {
+        let mut a_lo = -amax;
+        let mut a_hi = amax;
+        for (j, ax) in self.sat.axes[..self.sat.dim].iter().enumerate() {
+            let g = &ax.gains;
+            let tj = t[j];
+            if g.ka <= 0.0 || tj == 0.0 {
+                continue;
+            }
+            let b = self.budget * ax.umax;
+            let base = g.kv * v * tj + g.ka * v * v * k[j];
+            // -b ≤ base + ka·a·T_j ≤ b
+            let m_lo = (-b - base) / (g.ka * tj);
+            let m_hi = (b - base) / (g.ka * tj);
+            let (lo, hi) = if tj > 0.0 { (m_lo, m_hi) } else { (m_hi, m_lo) };
+            a_lo = a_lo.max(lo);
+            a_hi = a_hi.min(hi);
+        }
+        if a_lo > a_hi {
+            0.0
+        } else {
+            (-a_lo).max(0.0)
+        }
+    }
+}
+
+fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
+    let mut best = f64::INFINITY;
+    if a == 0.0 {
+        if b != 0.0 {
+            let r = -c / b;
+            if r > 0.0 {
+                best = r;
+            }
+        }
+        return best;
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return best;
+    }
+    let sq = disc.sqrt();
+    // numerically stable pair
+    let q = -0.5 * (b + b.signum() * sq);
+    for r in [q / a, if q != 0.0 { c / q } else { f64::NAN }] {
+        if r > 0.0 && r < best {
+            best = r;
+        }
+    }
+    best
+}
+
+fn unit_tangent_and_curvature(d1: &Point, d2: &Point) -> (Point, Point) {
+    let n1 = d1.norm_squared();
+    if n1 <= 0.0 || !n1.is_finite() {
+        return (Point::zeros(), Point::zeros());
+    }
+    let t = d1 / n1.sqrt();
+    // curvature vector d²C/ds² = (C'' - (C''·T)T)/|C'|²
+    let k = (d2 - t * d2.dot(&t)) / n1;
+    (t, k)
+}
+
+impl Interpolator {
+    /// Interpolator with the chord-error / tangential-acceleration look-ahead profile.
+    pub fn new(curve: Nurbs, cfg: InterpConfig) -> Result<Self, YehError> {
+        Self::build(curve, cfg, None)
+    }
+
+    /// Like [`new`](Self::new), but the look-ahead also keeps the steady-state PD+ drive
+    /// `kv·w + ka·α` of every axis within `budget·Umax` (budget in (0, 1]): speed caps use
+    /// `(1 − DECEL_SHARE)·budget·Umax` for `kv·v + ka·v²κ`, and the planner brakes with at
+    /// most `DECEL_SHARE·budget·Umax/ka` (worst axis; `cfg.accel` still bounds speeding up,
+    /// which the per-tick guard trims). The rest of Umax is for the feedback terms; the
+    /// exact |u| ≤ Umax check is [`tick_guarded`](Self::tick_guarded)'s.
+    ///
+    /// Yeh's §3.4 alone is reactive: at a sharp corner an axis may have to stop faster than
+    /// Umax allows, and no feed then exists; this look-ahead keeps it feasible.
+    pub fn with_actuator_limits(
+        curve: Nurbs,
+        cfg: InterpConfig,
+        sat: &SaturationAwareFeed,
+        budget: f64,
+    ) -> Result<Self, YehError> {
+        if !(pos_finite(budget) && budget <= 1.0) {
+            return Err(YehError::BadBudget);
+        }
+        if sat.dim() != curve.dim() {
+            return Err(YehError::DimensionMismatch {
+                expected: curve.dim(),
+                got: sat.dim(),
+            });
+        }
+        Self::build(curve, cfg, Some(ActuatorPlan { sat, budget }))
+    }
+
+    fn build(
+        curve: Nurbs,
+        cfg: InterpConfig,
+        act: Option<ActuatorPlan<'_>>,
+    ) -> Result<Self, YehError> {
+        cfg.validate()?;
+        let mut planner = PathSpeedPlanner::new(cfg.ts, cfg.accel, cfg.jerk)?;
+        if let Some(a) = act {
+            // braking may use DECEL_SHARE of the budget on any axis (the speed caps leave it)
+            planner =
+                planner.with_decel(cfg.accel.min(a.sat.safe_path_decel(DECEL_SHARE * a.budget)))?;
+        }
+        let profile = build_profile(&curve, &cfg, planner.decel_limit(), act)?;
+        let blocks: Box<[f64]> = profile
+            .chunks(BLOCK)
+            .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw)))
+            .collect();
+        let length = profile.last().map_or(0.0, |p| p.s);
+        if !(length.is_finite() && length > 0.0) {
+            return Err(YehError::ZeroLengthCurve);
+        }
+        let (u0, u_end) = curve.domain();
+        let (pos, d1, d2) = curve.eval(u0)?;
+        Ok(Self {
+            curve,
+            cfg,
+            profile,
+            blocks,
+            length,
+            slow: None,
+            planner,
+            u_end,
+            u: u0,
+            pos,
+            d1,
+            d2,
+            prev_vel: Point::zeros(),
+            s: 0.0,
+            done: false,
+            hint: 0,
+        })
+    }
+
+    /// Back to the start of the curve, at rest.
+    pub fn reset(&mut self) {
+        let (u0, _) = self.curve.domain();
+        let (pos, d1, d2) = self.curve.eval_clamped(u0);
+        self.u = u0;
+        self.pos = pos;
+        self.d1 = d1;
+        self.d2 = d2;
+        self.prev_vel = Point::zeros();
+        self.s = 0.0;
+        self.done = false;
+        self.hint = 0;
+        self.slow = None;
+        self.planner.v = 0.0;
+        self.planner.a = 0.0;
+        self.planner.stopping = false;
+    }
+
+    /// The curve.
+    pub fn curve(&self) -> &Nurbs {
+        &self.curve
+    }
+    /// Settings.
+    pub fn config(&self) -> &InterpConfig {
+        &self.cfg
+    }
+    /// Arc length of the whole curve (adaptive Gauss–Legendre), counts.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+    /// Path length covered so far (sum of chords), counts.
+    pub fn travelled(&self) -> f64 {
+        self.s
+    }
+    /// Current parameter.
+    pub fn u(&self) -> f64 {
+        self.u
+    }
+    /// Current reference position θ_d\[k\].
+    pub fn position(&self) -> Point {
+        self.pos
+    }
+    /// Current reference speed command w_d\[k\].
+    pub fn velocity(&self) -> Point {
+        self.prev_vel
+    }
+    /// End reached.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+    /// The path-speed planner's state.
+    pub fn planner(&self) -> &PathSpeedPlanner {
+        &self.planner
+    }
+    /// Look-ahead speed limit at path length `s` (counts/s).
+    pub fn profile_cap(&self, s: f64) -> f64 {
+        let mut h = 0;
+        cap_at(&self.profile, s, &mut h)
+    }
+
+    /// Solves |C(u) − C(u_k)| = len: Yeh eq 3.1 predictor, then safeguarded Newton
+    /// corrections on f(u) = |C(u) − C(u_k)| − len, f'(u) = ⟨C(u)−C(u_k), C'(u)⟩/|C(u)−C(u_k)|.
+    /// Lands on C(u_end) when the end is closer than `len`.
+    fn solve_step(&self, len: f64) -> Step {
+        let (u0, c0) = (self.u, self.pos);
+        let ue = self.u_end;
+        let mut st = Step {
+            u: u0,
+            c: c0,
+            d1: self.d1,
+            d2: self.d2,
+            chord: 0.0,
+            landed: false,
+            corrections: 0,
+        };
+        if len.is_nan() || len <= 0.0 || u0 >= ue {
+            st.landed = u0 >= ue;
+            return st;
+        }
+        let d1 = &self.d1;
+        let d2 = &self.d2;
+        let n1 = d1.norm_squared();
+        // Yeh eq 3.1: u_{i+1} = u_i + V Ts/‖D‖ − ½ ⟨D, D²⟩ V² Ts² / ‖D‖⁴
+        let mut du = if n1 > 0.0 {
+            let du2 = len / n1.sqrt() - 0.5 * d1.dot(d2) * len * len / (n1 * n1);
+            if du2 > 0.0 {
+                du2
+            } else {
+                len / n1.sqrt() // Yeh eq 3.2 (first order) when the second-order term dominates
+            }
+        } else {
+            f64::NAN
+        };
+        if !(du.is_finite() && du > 0.0) {
+            // |C'| = 0 here: C(u) ≈ C0 + ½C''Δu² gives Δu = √(2 len/|C''|)
+            let n2 = d2.norm();
+            du = if n2 > 0.0 {
+                (2.0 * len / n2).sqrt()
+            } else {
+                1e-6 * (ue - u0)
+            };
+        }
+        let mut u = u0 + du;
+        let mut lo = u0;
+        let mut hi = f64::NAN;
+        let tol = 1e-12 * len;
+        let mut corrections = 0;
+        loop {
+            if u.is_nan() || u >= ue {
+                u = ue;
+            }
+            let (c, e1, e2) = self.curve.eval_clamped(u);
+            let chord = c - c0;
+            let dist = chord.norm();
+            let f = dist - len;
+            st = Step {
+                u,
+                c,
+                d1: e1,
+                d2: e2,
+                chord: dist,
+                landed: false,
+                corrections,
+            };
+            if u >= ue && f <= 0.0 {
+                st.landed = true;
+                return st;
+            }
+            if f.abs() <= tol || corrections >= self.cfg.max_corrections {
+                return st;
+            }
+            if f < 0.0 {
+                lo = u;
+            } else {
+                hi = u;
+            }
+            // Newton on f(u) = |C(u) - C(u_k)| - len, kept inside the bracket (lo, hi);
+            // bisection / expansion when the Newton step leaves it.
+            let fp = if dist > 0.0 {
+                chord.dot(&e1) / dist
+            } else {
+                0.0
+            };
+            let upper = if hi.is_finite() { hi } else { ue };
+            let mut un = u - f / fp;
+            if !(fp > 0.0 && un.is_finite() && un > lo && un < upper) {
+                un = if hi.is_finite() {
+                    0.5 * (lo + hi)
+                } else {
+                    (u + 2.0 * (u - u0)).min(ue)
+                };
+            }
+            corrections += 1;
+            u = un;
+        }
+    }
+
+    fn commit(&mut self, st: &Step) -> Tick {
+        let ts = self.cfg.ts;
+        let vel = (st.c - self.pos) / ts;
+        let acc = (vel - self.prev_vel) / ts;
+        self.u = st.u;
+        self.pos = st.c;
+        self.d1 = st.d1;
+        self.d2 = st.d2;
+        self.prev_vel = vel;
+        self.s += st.chord;
+        if st.landed {
+            self.done = true;
+        }
+        Tick {
+            u: st.u,
+            pos: st.c,
+            vel,
+            acc,
+            feed: st.chord / ts,
+            done: self.done,
+            corrections: st.corrections,
+        }
+    }
+
+    fn hold(&mut self) -> Tick {
+        let acc = -self.prev_vel / self.cfg.ts;
+        self.prev_vel = Point::zeros();
+        Tick {
+            u: self.u,
+            pos: self.pos,
+            vel: Point::zeros(),
+            acc,
+            feed: 0.0,
+            done: true,
+            corrections: 0,
+        }
+    }
+
+    /// One sample at feed `v` (counts/s) with no planner and no limits: the chord
+    /// |C(u_{k+1}) − C(u_k)| equals `v·Ts` (to 1e-12 relative when corrections are allowed),
+    /// except the last step, which lands on C(u_end). After the end, holds it.
+    pub fn advance(&mut self, v: f64) -> Result<Tick, YehError> {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(YehError::BadFeed);
+        }
+        if self.done {
+            return Ok(self.hold());
+        }
+        let st = self.solve_step(v * self.cfg.ts);
+        Ok(self.commit(&st))
+    }
+
+    /// Speed limits for this tick: (target for the planner, hard ceiling).
+    ///
+    /// The target is the commanded feed, lowered to the local chord-error limit and to any
+    /// limit ahead that the planner must start slowing for now (distance to it ≤ its
+    /// jerk-limited slowing distance); the ceiling is the local limit (chord error here and
+    /// the backward-passed profile).
+    fn limits(&mut self) -> (f64, f64) {
+        let cfg = self.cfg;
+        let cap_here = cap_at(&self.profile, self.s, &mut self.hint);
+        let chord_here = chord_feed_limit(
+            radius_of_curvature(&self.d1, &self.d2),
+            cfg.ts,
+            cfg.chord_tol,
+        );
+        let ceiling = cfg.feed.min(chord_here).min(cap_here);
+        if matches!(self.slow, Some((sc, _)) if self.s >= sc) {
+            self.slow = None;
+        }
+        let mut target = match self.slow {
+            Some((_, c)) => ceiling.min(c),
+            None => ceiling,
+        };
+        // Check the tracker's next state against every lower limit within reach: if from
+        // that state a limit could no longer be met, slow for it from now on (latched until
+        // it is passed). The lowest violated limit wins.
+        let pl = self.planner;
+        let v = pl.v;
+        for _ in 0..3 {
+            let (vn, an) = pl.track(target);
+            let step = 0.5 * (v + vn) * cfg.ts;
+            let vmax = v.max(vn);
+            let reach = PathSpeedPlanner::stopping_distance(vmax, an.max(pl.a), pl.dmax, pl.jmax)
+                + 2.0 * vmax * cfg.ts;
+            let mut worst: Option<(f64, f64)> = None;
+            let mut i = self.hint + 1;
+            while let Some(smp) = self.profile.get(i) {
+                if smp.s - self.s > reach {
+                    break;
+                }
+                if i % BLOCK == 0 && self.blocks.get(i / BLOCK).is_some_and(|&m| m >= vmax) {
+                    i += BLOCK; // nothing in this block is below the speed
+                    continue;
+                }
+                if smp.raw < vmax && smp.raw < target {
+                    let dist = smp.s - self.s - step;
+                    if dist < pl.slowing_distance_from(vn, an, smp.raw)
+                        && worst.is_none_or(|(_, c)| smp.raw < c)
+                    {
+                        worst = Some((smp.s, smp.raw));
+                    }
+                }
+                i += 1;
+            }
+            match worst {
+                Some((sc, c)) => {
+                    self.slow = Some((sc, c));
+                    target = target.min(c);
+                }
+                None => break,
+            }
+        }
+        (target, ceiling)
+    }
+
+    /// Smallest speed used so the path is always finished: stepping from it to rest takes
+    /// at most J·Ts/2 of acceleration and 10 % of the deceleration limit.
+    fn creep(&self) -> f64 {
+        let ts = self.cfg.ts;
+        (0.5 * self.cfg.jerk * ts * ts)
+            .min(0.1 * self.planner.dmax * ts)
+            .min(self.cfg.feed)
+    }
+
+    /// Planned speed, the ceiling a saturation guard may raise it to, and the step.
+    fn planned_step(&mut self) -> (f64, f64, Step) {
+        let (target, mut ceiling) = self.limits();
+        let remaining = (self.length - self.s).max(0.0);
+        let planned = self.planner.next(target, remaining);
+        let mut v = planned.min(ceiling).max(self.creep());
+        let mut st = self.solve_step(v * self.cfg.ts);
+        if !st.landed {
+            // chord-error cap at the far end of the step as well
+            let cap_next = chord_feed_limit(
+                radius_of_curvature(&st.d1, &st.d2),
+                self.cfg.ts,
+                self.cfg.chord_tol,
+            );
+            ceiling = ceiling.min(cap_next);
+            if v > cap_next {
+                v = cap_next.max(self.creep());
+                st = self.solve_step(v * self.cfg.ts);
+            }
+        }
+        (v, ceiling, st)
+    }
+
+    /// One sample with the path-speed planner (jerk-limited ramps, stop at the end) and
+    /// the look-ahead / chord-error caps. Holds the end point once reached.
+    pub fn tick(&mut self) -> Result<Tick, YehError> {
+        if self.done {
+            return Ok(self.hold());
+        }
+        let v_before = self.planner.v;
+        let (_, _, st) = self.planned_step();
+        let t = self.commit(&st);
+        self.planner.resync(t.feed, v_before);
+        Ok(t)
+    }
+
+    /// One sample with Yeh's saturation-aware feed (§3.4): the planned feed is checked
+    /// against eq 3.5–3.6 on every axis with the actual axis state `theta_a` = θ_a\[k\] and
+    /// `w_a` = w_a\[k\] (measured this tick, or predicted with [`AxisState::predicted`]) and
+    /// lowered (eq 3.8–3.10) — or raised when an axis cannot slow down that fast — before
+    /// the step is taken. The axis speed command is the exact chord over Ts; its direction
+    /// starts as the tangent (eq 3.7) and is refined with the chord of the candidate step.
+    pub fn tick_guarded(
+        &mut self,
+        sat: &SaturationAwareFeed,
+        theta_a: &Point,
+        w_a: &Point,
+    ) -> Result<(Tick, FeedDecision), YehError> {
+        let dim = self.curve.dim();
+        if sat.dim() != dim {
+            return Err(YehError::DimensionMismatch {
+                expected: dim,
+                got: sat.dim(),
+            });
+        }
+        if theta_a.iter().any(|x| !x.is_finite()) || w_a.iter().any(|x| !x.is_finite()) {
+            return Err(YehError::NonFiniteInput);
+        }
+        let mut states = [AxisState::default(); MAX_DIM];
+        for (j, s) in states.iter_mut().enumerate().take(dim) {
+            *s = AxisState {
+                theta_d_prev: self.pos[j],
+                w_d_prev: self.prev_vel[j],
+                theta_a: theta_a[j],
+                w_a: w_a[j],
+            };
+        }
+        if self.done {
+            let t = self.hold();
+            let dec = FeedDecision {
+                feasible: true,
+                max_drive_ratio: sat.drive_ratio_for(&Point::zeros(), &states[..dim]),
+                ..FeedDecision::default()
+            };
+            return Ok((t, dec));
+        }
+        let v_before = self.planner.v;
+        let (v_plan, ceiling, mut st) = self.planned_step();
+        // Step 1–2 (eq 3.7): direction of the axis speed command
+        let mut dir = {
+            let n = self.d1.norm();
+            if n > 0.0 {
+                self.d1 / n
+            } else if st.chord > 0.0 {
+                (st.c - self.pos) / st.chord
+            } else {
+                Point::zeros()
+            }
+        };
+        let mut dec = sat.limit_feed(v_plan, ceiling, &dir, &states[..dim])?;
+        // The chord direction depends (weakly) on the feed: re-solve the step and re-check
+        // with the chord of the candidate until the direction is settled.
+        for _ in 0..8 {
+            if (st.chord / self.cfg.ts - dec.feed).abs() > 1e-12 * (1.0 + dec.feed) {
+                st = self.solve_step(dec.feed * self.cfg.ts);
+            }
+            if st.chord <= 0.0 {
+                break;
+            }
+            let new_dir = (st.c - self.pos) / st.chord;
+            let moved = (new_dir - dir).amax();
+            dir = new_dir;
+            if moved < 1e-14 {
+                break;
+            }
+            dec = sat.limit_feed(v_plan, ceiling, &dir, &states[..dim])?;
+        }
+        if !st.landed && (st.chord / self.cfg.ts - dec.feed).abs() > 1e-12 * (1.0 + dec.feed) {
+            st = self.solve_step(dec.feed * self.cfg.ts);
+        }
+        let t = self.commit(&st);
+        dec.max_drive_ratio = sat.drive_ratio_for(&t.vel, &states[..dim]);
+        // restore toward the commanded feed at the planner's tangential acc/jerk
+        self.planner.resync(t.feed, v_before);
+        Ok((t, dec))
+    }
+}
+
+/// Profile cap at path length `s` (v² interpolated linearly); `hint` is a moving index.
+fn cap_at(p: &[ProfileSample], s: f64, hint: &mut usize) -> f64 {
+    let n = p.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let mut i = (*hint).min(n - 1);
+    while i > 0 && p[i].s > s {
+        i -= 1;
+    }
+    while i + 1 < n && p[i + 1].s <= s {
+        i += 1;
+    }
+    *hint = i;
+    if i + 1 >= n {
+        return p[n - 1].cap;
+    }
+    let (a, b) = (p[i], p[i + 1]);
+    let ds = b.s - a.s;
+    if ds <= 0.0 || s <= a.s {
+        return a.cap;
+    }
+    // interpolate v² (exact for constant deceleration between the samples)
+    let t = ((s - a.s) / ds).clamp(0.0, 1.0);
+    let sq = |c: f64| if c.is_finite() { c * c } else { f64::INFINITY };
+    (sq(a.cap) + t * (sq(b.cap) - sq(a.cap))).sqrt()
+}
+
+fn build_profile(
+    curve: &Nurbs,
+    cfg: &InterpConfig,
+    dmax: f64,
+    act: Option<ActuatorPlan<'_>>,
+) -> Result<Box<[ProfileSample]>, YehError> {
+    let knots = curve.knots();
+    let p = curve.degree();
+    let spans: Vec<(f64, f64)> = knots[p..knots.len() - p]
+        .windows(2)
+        .filter(|w| w[1] > w[0])
+        .map(|w| (w[0], w[1]))
+        .collect();
+    if spans.is_empty() {
+        return Err(YehError::ZeroLengthCurve);
+    }
+    let per_span = ((MAX_PROFILE - 1) / spans.len()).clamp(1, 512);
+    let mut us = Vec::with_capacity(spans.len() * per_span + 1);
+    for &(a, b) in &spans {
+        for i in 0..per_span {
+            us.push(a + (b - a) * i as f64 / per_span as f64);
+        }
+    }
+    us.push(spans[spans.len() - 1].1);
+    // local limits at sample points and midpoints
+    let local = |u: f64| -> (f64, Point, Point) {
+        let (_, d1, d2) = curve.eval_clamped(u);
+        let mut cap = cfg.feed.min(chord_feed_limit(
+            radius_of_curvature(&d1, &d2),
+            cfg.ts,
+            cfg.chord_tol,
+        ));
+        let (t, k) = unit_tangent_and_curvature(&d1, &d2);
+        if let Some(a) = act {
+            cap = cap.min(a.speed_cap(&t, &k));
+        }
+        (cap, t, k)
+    };
+    let n = us.len();
+    let mut samples: Vec<ProfileSample> = Vec::with_capacity(n);
+    let mut tk: Vec<(Point, Point)> = Vec::with_capacity(n);
+    let mut s = 0.0;
+    let mut prev_mid_cap = f64::INFINITY;
+    for i in 0..n {
+        let (cap, t, k) = local(us[i]);
+        let mut c = cap.min(prev_mid_cap);
+        if i + 1 < n {
+            let (mid_cap, _, _) = local(0.5 * (us[i] + us[i + 1]));
+            c = c.min(mid_cap);
+            prev_mid_cap = mid_cap;
+        }
+        if i > 0 {
+            s += arc_length(curve, us[i - 1], us[i]);
+        }
+        samples.push(ProfileSample { s, raw: c, cap: c });
+        tk.push((t, k));
+    }
+    // Backward pass: v_i² ≤ v_{i+1}² + 2·d_i·Δs with d_i the tangential deceleration
+    // available (the planner's limit, and the actuator budget when given). The final stop
+    // is the planner's (jerk-limited, on the remaining length), not part of this table.
+    for i in (0..n.saturating_sub(1)).rev() {
+        let ds = samples[i + 1].s - samples[i].s;
+        let v_next = samples[i + 1].cap;
+        let (t, k) = tk[i];
+        let decel_at = |v: f64| match act {
+            Some(a) => a.decel(&t, &k, v, dmax),
+            None => dmax,
+        };
+        let d0 = decel_at(v_next);
+        let vc = (v_next * v_next + 2.0 * d0 * ds).sqrt();
+        let d = d0.min(decel_at(vc));
+        let v = (v_next * v_next + 2.0 * d * ds).sqrt();
+        if v < samples[i].cap {
+            samples[i].cap = v;
+        }
+    }
+    if samples.iter().any(|x| !(x.s.is_finite() && x.cap >= 0.0)) {
+        return Err(YehError::ZeroLengthCurve);
+    }
+    Ok(samples.into_boxed_slice())
+}
+
+// ---------------------------------------------------------------------------------------
+// Die-bonder preset (Yeh Table 1)
+// ---------------------------------------------------------------------------------------
+
+/// Two-axis die bonder of Yeh Table 1 (X, Y) at Ts = 1 ms.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DieBonderPreset {
+    /// Sample time, s (the paper's 1 ms).
+    pub ts: f64,
+    /// X then Y.
+    pub axes: [AxisModel; 2],
+}
+
+/// Yeh Table 1 in one consistent unit set:
+///
+/// * position θ: encoder counts (10 000 counts/rev); time: s; axis speed: counts/s;
+///   acceleration: counts/s²; 1 count/ms = 1 pulse/ms of Fig 6 = 1000 counts/s.
+/// * plant (eq 2.2 corrected): `dw/dt = -w/τ + (K_c/τ)u`, `dθ/dt = K_e·w` with w in rad/s,
+///   τ in s (X 0.31, Y 0.135), K_e = 1591.5494 counts/rad = 10000/2π, K_c in (rad/s)/DU
+///   (X 2506.17, Y 3156.23). The drive unit DU is defined by the plant: 1 DU held gives a
+///   steady motor speed of K_c rad/s = K_c·K_e counts/s (X 3.989e6, Y 5.023e6 counts/s).
+/// * PD+ (eq 2.12): `u = K_p(θ_d-θ) + K_d(w_d-w) + (τ/K_c)ẇ_d + w_d/K_c` with K_p in DU/count
+///   (X 0.0136, Y 0.00577) and K_d in DU/(rad/s) (X 0.03, Y 0.028), i.e. in counts:
+///   kp = K_p, kd = K_d/K_e, kv = 1/(K_c K_e), ka = τ/(K_c K_e). With this reading the
+///   continuous loop `s² + (1/τ + K_c K_d/τ)s + K_c K_p K_e/τ` has ωn = 418 rad/s, ζ = 0.29
+///   (X) and ωn = 463 rad/s, ζ = 0.71 (Y) — the Y value is the textbook pole-placement
+///   choice, which supports this unit reading.
+/// * Umax = 1 DU on both axes: the paper gives no number; 1 DU is a choice (with it X can
+///   hold about 1.2e7 counts/s² of feed-forward acceleration, Y about 3.6e7).
+pub fn die_bonder_preset() -> DieBonderPreset {
+    let x_plant = Plant {
+        k_c: 2506.17,
+        tau: 0.31,
+        k_e: 1591.5494,
+    };
+    let y_plant = Plant {
+        k_c: 3156.23,
+        tau: 0.135,
+        k_e: 1591.5494,
+    };
+    DieBonderPreset {
+        ts: 1e-3,
+        axes: [
+            AxisModel {
+                gains: PdPlusGains::from_paper(0.0136, 0.03, &x_plant),
+                plant: x_plant,
+                umax: 1.0,
+            },
+            AxisModel {
+                gains: PdPlusGains::from_paper(0.00577, 0.028, &y_plant),
+                plant: y_plant,
+                umax: 1.0,
+            },
+        ],
+    }
+}
+
+/// A die-bonder path with two sharp corners like Yeh Fig 5: up 20,000 counts, across 60,000,
+/// down 20,000, as a cubic B-spline whose corners have a 600-count control-point radius.
+pub fn die_bonder_path() -> Nurbs {
+    let (h, w, r) = (20_000.0, 60_000.0, 600.0);
+    let pts: [[f64; 2]; 15] = [
+        [0.0, 0.0],
+        [0.0, 6_000.0],
+        [0.0, 13_000.0],
+        [0.0, h - r],
+        [0.0, h],
+        [r, h],
+        [15_000.0, h],
+        [30_000.0, h],
+        [45_000.0, h],
+        [w - r, h],
+        [w, h],
+        [w, h - r],
+        [w, 13_000.0],
+        [w, 6_000.0],
+        [w, 0.0],
+    ];
+    let ctrl: Vec<f64> = pts.iter().flatten().copied().collect();
+    let knots = clamped_uniform_knots(15, 3).expect("15 > 3");
+    Nurbs::new(3, 2, &ctrl, &[1.0; 15], &knots).expect("a valid curve")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nurbs::clamped_uniform_knots;
+
+    fn pt(xs: &[f64]) -> Point {
+        let mut p = Point::zeros();
+        for (i, x) in xs.iter().enumerate() {
+            p[i] = *x;
+        }
+        p
+    }
+
+    /// 60 control points, degree 3, 3-D, with two double interior knots.
+    fn many_knot_curve() -> Nurbs {
+        let n = 60;
+        let mut ctrl = Vec::new();
+        for i in 0..n {
+            let t = i as f64;
+            ctrl.extend([
+                20_000.0 * (t / 6.0).cos(),
+                15_000.0 * (t / 5.0).sin(),
+                300.0 * t + 2_000.0 * (t / 3.0).sin(),
+            ]);
+        }
+        let mut knots = clamped_uniform_knots(n, 3).unwrap();
+        // make two interior knots double (drop two others to keep the count)
+        knots[20] = knots[19];
+        knots[40] = knots[39];
+        Nurbs::new(3, 3, &ctrl, &vec![1.0; n], &knots).unwrap()
+    }
+
+    /// Degree-5 rational 2-D curve with varied weights.
+    fn rational_quintic() -> Nurbs {
+        let ctrl = [
+            0.0, 0.0, 8000.0, 15000.0, 20000.0, -6000.0, 32000.0, 9000.0, 41000.0, 30000.0,
+            30000.0, 42000.0, 12000.0, 36000.0, 5000.0, 52000.0, 26000.0, 60000.0,
+        ];
+        let w = [1.0, 2.5, 0.4, 3.0, 0.7, 1.9, 0.5, 4.0, 1.0];
+        let mut knots = vec![0.0; 6];
+        knots.extend([0.2, 0.45, 0.7]);
+        knots.extend([1.0; 6]);
+        Nurbs::new(5, 2, &ctrl, &w, &knots).unwrap()
+    }
+
+    fn circle() -> Nurbs {
+        Nurbs::circle([3000.0, -2000.0], 10_000.0).unwrap()
+    }
+
+    /// Runs `advance(v)` to the end; returns (worst |chord/Ts - V|/V over all but the last
+    /// step, steps, final point error, max corrections used).
+    fn run_constant(curve: Nurbs, v: f64, corr: u32) -> (f64, usize, f64, u32) {
+        let cfg = InterpConfig {
+            feed: v,
+            max_corrections: corr,
+            ..InterpConfig::default()
+        };
+        let end = curve.point(curve.domain().1).unwrap();
+        let mut ip = Interpolator::new(curve, cfg).unwrap();
+        let mut worst = 0.0f64;
+        let mut n = 0;
+        let mut max_corr = 0;
+        loop {
+            let t = ip.advance(v).unwrap();
+            n += 1;
+            max_corr = max_corr.max(t.corrections);
+            if t.done {
+                assert!(t.feed <= v * (1.0 + 1e-9), "last step longer than V·Ts");
+                return (worst, n, (t.pos - end).amax(), max_corr);
+            }
+            worst = worst.max((t.feed - v).abs() / v);
+            assert!(n < 1_000_000);
+        }
+    }
+
+    #[test]
+    fn constant_feed_fluctuation_three_curves() {
+        let cases: [(&str, Nurbs, f64); 3] = [
+            ("circle R=10000 (rational)", circle(), 200_000.0),
+            ("60 ctrl pts, degree 3, 3-D", many_knot_curve(), 300_000.0),
+            ("rational quintic", rational_quintic(), 250_000.0),
+        ];
+        for (name, c, v) in cases {
+            let rho_min = (0..=20_000)
+                .map(|i| {
+                    let (_, d1, d2) = c.eval(i as f64 / 20_000.0).unwrap();
+                    radius_of_curvature(&d1, &d2)
+                })
+                .fold(f64::INFINITY, f64::min);
+            println!(
+                "{name}: min radius of curvature {rho_min:.0} counts, step V·Ts = {:.0} counts",
+                v * 1e-3
+            );
+            let (taylor, _, _, _) = run_constant(c.clone(), v, 0);
+            let (one, _, _, _) = run_constant(c.clone(), v, 1);
+            let (two, _, _, _) = run_constant(c.clone(), v, 2);
+            let (w, n, end_err, mc) = run_constant(c, v, 3);
+            println!(
+                "{name}: V={v} counts/s, {n} steps; worst feed fluctuation: eq 3.1 alone {taylor:.2e}, \
+                 +1 Newton {one:.2e}, +2 Newton {two:.2e}, up to 3 Newton {w:.2e} (max used {mc}); end error {end_err:.1e}"
+            );
+            assert!(w <= 1e-4, "{name}: {w}");
+            assert!(two <= 1e-4, "{name}: two corrections {two}");
+            assert_eq!(end_err, 0.0, "{name}: last step must land on C(u_end)");
+        }
+    }
+
+    /// Max distance between the curve and each chord of a tick sequence.
+    fn chord_errors(curve: &Nurbs, us: &[f64]) -> f64 {
+        let mut worst = 0.0f64;
+        for w in us.windows(2) {
+            let a = curve.point(w[0]).unwrap();
+            let b = curve.point(w[1]).unwrap();
+            let ab = b - a;
+            let l2 = ab.norm_squared();
+            for i in 1..16 {
+                let u = w[0] + (w[1] - w[0]) * i as f64 / 16.0;
+                let p = curve.point(u).unwrap();
+                let t = if l2 > 0.0 {
+                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                worst = worst.max((p - (a + ab * t)).norm());
+            }
+        }
+        worst
+    }
+
+    struct PlanRun {
+        ticks: usize,
+        chord_err: f64,
+        max_acc: f64,
+        max_jerk: f64,
+        last_feed: f64,
+        end_err: f64,
+        peak_feed: f64,
+    }
+
+    fn run_planned(curve: Nurbs, cfg: InterpConfig) -> PlanRun {
+        let end = curve.point(curve.domain().1).unwrap();
+        let mut ip = Interpolator::new(curve.clone(), cfg).unwrap();
+        let mut us = vec![curve.domain().0];
+        let mut feeds = vec![0.0];
+        loop {
+            let t = ip.tick().unwrap();
+            us.push(t.u);
+            feeds.push(t.feed);
+            if t.done {
+                break;
+            }
+            assert!(us.len() < 2_000_000);
+        }
+        feeds.push(0.0);
+        let acc: Vec<f64> = feeds.windows(2).map(|w| (w[1] - w[0]) / cfg.ts).collect();
+        let jerk: Vec<f64> = acc.windows(2).map(|w| (w[1] - w[0]) / cfg.ts).collect();
+        PlanRun {
+            ticks: us.len() - 1,
+            chord_err: chord_errors(&curve, &us),
+            max_acc: acc[..acc.len() - 1].iter().fold(0.0, |m, a| m.max(a.abs())),
+            max_jerk: jerk[..jerk.len() - 1]
+                .iter()
+                .fold(0.0, |m, a| m.max(a.abs())),
+            last_feed: feeds[feeds.len() - 2],
+            end_err: (ip.position() - end).amax(),
+            peak_feed: feeds.iter().fold(0.0, |m, f| m.max(*f)),
+        }
+    }
+
+    #[test]
+    fn planned_feed_chord_error_and_exact_end() {
+        let cases: [(&str, Nurbs, f64); 3] = [
+            ("circle", circle(), 600_000.0),
+            ("60 ctrl pts", many_knot_curve(), 600_000.0),
+            ("rational quintic", rational_quintic(), 600_000.0),
+        ];
+        for (name, c, feed) in cases {
+            let cfg = InterpConfig {
+                feed,
+                accel: 2e7,
+                jerk: 2e10,
+                chord_tol: 1.0,
+                ..InterpConfig::default()
+            };
+            let r = run_planned(c, cfg);
+            println!(
+                "{name}: {} ticks, peak feed {:.0}, max chord error {:.4} counts (tol 1), \
+                 max |dV/dt| {:.3e} (A 2e7), max |d²V/dt²| {:.3e} (J 2e10), last step {:.3} counts/s, end err {:.1e}",
+                r.ticks, r.peak_feed, r.chord_err, r.max_acc, r.max_jerk, r.last_feed, r.end_err
+            );
+            assert!(r.chord_err <= 1.0, "{name}: chord error {}", r.chord_err);
+            assert_eq!(r.end_err, 0.0);
+            assert!(r.max_acc <= 2e7 * 1.05, "{name}: acc {}", r.max_acc);
+        }
+    }
+
+    #[test]
+    fn planner_s_curve_on_a_line() {
+        let line = Nurbs::new(
+            1,
+            2,
+            &[0.0, 0.0, 60_000.0, 80_000.0],
+            &[1.0, 1.0],
+            &[0.0, 0.0, 1.0, 1.0],
+        )
+        .unwrap();
+        let cfg = InterpConfig {
+            feed: 500_000.0,
+            accel: 1e7,
+            jerk: 1e9,
+            chord_tol: 1.0,
+            ..InterpConfig::default()
+        };
+        let r = run_planned(line, cfg);
+        // ideal: ramp 0.05 s + 0.01 s (A/J), cruise, same down: T ≈ L/V + V/A + A/J = 0.2+0.05+0.01
+        println!(
+            "line 100000 counts: {} ticks (ideal 260), peak {:.0}, max |a| {:.4e}, max |j| {:.4e}, last step {:.2} counts/s",
+            r.ticks, r.peak_feed, r.max_acc, r.max_jerk, r.last_feed
+        );
+        assert!((r.peak_feed - 500_000.0).abs() < 1.0);
+        assert!(r.max_acc <= 1e7 * 1.001);
+        assert!(r.max_jerk <= 1e9 * 1.5);
+        assert!((258..=272).contains(&r.ticks), "ticks {}", r.ticks);
+        assert!(r.last_feed < 2_000.0);
+        assert_eq!(r.end_err, 0.0);
+    }
+
+    #[test]
+    fn stopping_distance_matches_simulation() {
+        for &(v, a) in &[
+            (100_000.0, 0.0),
+            (300_000.0, 5e6),
+            (50_000.0, -8e6),
+            (1_000.0, 0.0),
+        ] {
+            let (amax, j, ts) = (1e7, 1e9, 1e-5);
+            let d = PathSpeedPlanner::stopping_distance(v, a, amax, j);
+            let mut p = PathSpeedPlanner::new(ts, amax, j).unwrap();
+            p.v = v;
+            p.a = a;
+            let mut s = 0.0;
+            for _ in 0..10_000_000 {
+                let v0 = p.v;
+                let v1 = p.next(0.0, 1e12);
+                s += 0.5 * (v0 + v1) * ts;
+                if v1 <= 0.0 {
+                    break;
+                }
+            }
+            println!("stop from v={v} a={a}: formula {d:.3}, simulated {s:.3}");
+            assert!((s - d).abs() <= 1e-3 * d.max(1.0) + v * ts, "{s} vs {d}");
+        }
+    }
+
+    #[test]
+    fn pd_plus_equals_eq_3_5_and_window_edges_hit_umax() {
+        let p = die_bonder_preset();
+        let ts = p.ts;
+        let sat = SaturationAwareFeed::new(&p.axes, ts).unwrap();
+        let g = p.axes[0].gains;
+        let mut pd = PdPlus::new(g, ts).unwrap();
+        pd.reset(100.0);
+        let _ = pd.update(110.0, 5_000.0, 1e5, 100.0);
+        // tick k: θ_a[k-1] = 100, θ_a[k] = 104, θ_d[k-1] = 110, w_d[k-1] = 5000
+        let st = AxisState {
+            theta_d_prev: 110.0,
+            w_d_prev: 5_000.0,
+            theta_a: 104.0,
+            w_a: 4_000.0,
+        };
+        let w_d = 7_000.0;
+        let u = pd.update(110.0 + w_d * ts, w_d, (w_d - 5_000.0) / ts, 104.0);
+        let pred = sat.predict_drive(0, &st, w_d);
+        assert!(
+            (u - pred).abs() <= 1e-12 * u.abs().max(1.0),
+            "{u} vs {pred}"
+        );
+        let (lo, hi) = sat.speed_window(0, &st);
+        // the window keeps GUARD_MARGIN (1e-6) below Umax
+        assert!((sat.predict_drive(0, &st, hi) - (1.0 - GUARD_MARGIN)).abs() < 1e-12);
+        assert!((sat.predict_drive(0, &st, lo) + (1.0 - GUARD_MARGIN)).abs() < 1e-12);
+        assert!(sat.predict_drive(5, &st, 1.0).is_nan());
+        // the gains read from Table 1
+        let c = g.drive_coefficient(ts);
+        assert!(
+            (c - (0.0136e-3 + 0.03 / 1591.5494 + (1.0 + 310.0) / (2506.17 * 1591.5494))).abs()
+                < 1e-15
+        );
+    }
+
+    #[test]
+    fn limit_feed_cases_without_plant() {
+        let p = die_bonder_preset();
+        let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
+        let dir = pt(&[0.6, 0.8]);
+        // at rest, on target
+        let rest = [AxisState::default(); 2];
+        let d = sat.limit_feed(1e6, 1e6, &dir, &rest).unwrap();
+        assert!(d.limited && d.feasible && !d.raised);
+        assert!(
+            (d.max_drive_ratio - (1.0 - GUARD_MARGIN)).abs() < 1e-12,
+            "binding axis at Umax: {}",
+            d.max_drive_ratio
+        );
+        let small = sat.limit_feed(1_000.0, 1e6, &dir, &rest).unwrap();
+        assert!(!small.limited && small.feed == 1_000.0 && small.max_drive_ratio < 1.0);
+        // moving fast along +x, previous command 300 000 counts/s: stopping x at once needs a
+        // big negative drive -> the feed is raised (eq 3.10 lower case)
+        let moving = [
+            AxisState {
+                theta_d_prev: 0.0,
+                w_d_prev: 300_000.0,
+                theta_a: 0.0,
+                w_a: 300_000.0,
+            },
+            AxisState::default(),
+        ];
+        let d = sat.limit_feed(0.0, 1e6, &pt(&[1.0, 0.0]), &moving).unwrap();
+        assert!(d.raised && d.feasible && d.feed > 250_000.0 && d.max_drive_ratio <= 1.0 + 1e-12);
+        // perpendicular direction: x must drop to 0 -> impossible; least violation returned
+        let d = sat
+            .limit_feed(100_000.0, 1e6, &pt(&[0.0, 1.0]), &moving)
+            .unwrap();
+        assert!(!d.feasible && d.max_drive_ratio > 1.0);
+        let best = d.max_drive_ratio;
+        for v in [0.0, 1e3, 1e5, 1e6] {
+            assert!(sat.drive_ratio(v, &pt(&[0.0, 1.0]), &moving) >= best - 1e-9);
+        }
+        // bad inputs are errors, not panics
+        assert_eq!(
+            sat.limit_feed(f64::NAN, 1.0, &dir, &rest),
+            Err(YehError::BadFeed)
+        );
+        assert_eq!(
+            sat.limit_feed(1.0, -1.0, &dir, &rest),
+            Err(YehError::BadFeed)
+        );
+        assert_eq!(
+            sat.limit_feed(1.0, 1.0, &pt(&[f64::NAN, 0.0]), &rest),
+            Err(YehError::NonFiniteInput)
+        );
+        let mut bad = rest;
+        bad[1].w_a = f64::INFINITY;
+        assert_eq!(
+            sat.limit_feed(1.0, 1.0, &dir, &bad),
+            Err(YehError::NonFiniteInput)
+        );
+        assert!(matches!(
+            sat.limit_feed(1.0, 1.0, &dir, &rest[..1]),
+            Err(YehError::DimensionMismatch { .. })
+        ));
+    }
+
+    #[test]
+    fn plant_step_is_exact_and_predicted_state_predicts_next_drive() {
+        let p = die_bonder_preset();
+        let ax = p.axes[0];
+        // exact ZOH vs fine RK-free Euler with 1e5 substeps
+        let (th, v) = ax.plant.step(p.ts, 10.0, 2_000.0, 0.3);
+        let (mut th2, mut v2) = (10.0, 2_000.0);
+        let n = 100_000;
+        let h = p.ts / n as f64;
+        for _ in 0..n {
+            let dv = -v2 / ax.plant.tau + ax.plant.counts_gain() / ax.plant.tau * 0.3;
+            th2 += h * (v2 + 0.5 * h * dv);
+            v2 += h * dv;
+        }
+        assert!(
+            (th - th2).abs() < 1e-3 && (v - v2).abs() < 1e-2,
+            "{th} {th2} {v} {v2}"
+        );
+        // u_a[k+1] predicted from the model equals the PD+ output computed one tick later
+        let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
+        let mut pd = PdPlus::new(ax.gains, p.ts).unwrap();
+        let (theta_k, vel_k) = (50.0, 20_000.0);
+        pd.reset(theta_k - vel_k * p.ts);
+        let u_k = pd.update(60.0, 21_000.0, 1e6, theta_k);
+        let st = AxisState::predicted(&ax.plant, p.ts, theta_k, vel_k, u_k, 60.0, 21_000.0);
+        let w_next = 22_000.0;
+        let pred = sat.predict_drive(0, &st, w_next);
+        let (theta_next, _) = ax.plant.step(p.ts, theta_k, vel_k, u_k);
+        let actual = pd.update(
+            60.0 + w_next * p.ts,
+            w_next,
+            (w_next - 21_000.0) / p.ts,
+            theta_next,
+        );
+        assert!((pred - actual).abs() < 1e-12 * actual.abs().max(1.0));
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let c = circle();
+        let ok = InterpConfig::default();
+        let bad = |f: fn(&mut InterpConfig)| {
+            let mut cfg = ok;
+            f(&mut cfg);
+            Interpolator::new(c.clone(), cfg).err()
+        };
+        assert_eq!(bad(|c| c.ts = 0.0), Some(YehError::BadSampleTime));
+        assert_eq!(bad(|c| c.ts = f64::NAN), Some(YehError::BadSampleTime));
+        assert_eq!(bad(|c| c.feed = -1.0), Some(YehError::BadFeed));
+        assert_eq!(bad(|c| c.accel = f64::INFINITY), Some(YehError::BadAccel));
+        assert_eq!(bad(|c| c.jerk = 0.0), Some(YehError::BadJerk));
+        assert_eq!(
+            bad(|c| c.chord_tol = f64::NAN),
+            Some(YehError::BadChordTolerance)
+        );
+        assert_eq!(
+            bad(|c| c.max_corrections = 99),
+            Some(YehError::BadCorrections)
+        );
+        let dot = Nurbs::new(2, 2, &[1.0; 6], &[1.0; 3], &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0]).unwrap();
+        assert_eq!(
+            Interpolator::new(dot, ok).err(),
+            Some(YehError::ZeroLengthCurve)
+        );
+        let mut ip = Interpolator::new(c.clone(), ok).unwrap();
+        assert_eq!(ip.advance(f64::NAN).err(), Some(YehError::BadFeed));
+        assert_eq!(ip.advance(-3.0).err(), Some(YehError::BadFeed));
+        let t = ip.advance(0.0).unwrap();
+        assert!(!t.done && t.feed == 0.0);
+        let p = die_bonder_preset();
+        let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
+        assert_eq!(
+            ip.tick_guarded(&sat, &pt(&[f64::NAN, 0.0]), &Point::zeros())
+                .err(),
+            Some(YehError::NonFiniteInput)
+        );
+        assert_eq!(
+            Interpolator::with_actuator_limits(c.clone(), ok, &sat, 0.0).err(),
+            Some(YehError::BadBudget)
+        );
+        assert!(matches!(
+            Interpolator::with_actuator_limits(many_knot_curve(), ok, &sat, 0.5).err(),
+            Some(YehError::DimensionMismatch { .. })
+        ));
+        let mut ax = p.axes;
+        ax[1].umax = 0.0;
+        assert_eq!(
+            SaturationAwareFeed::new(&ax, 1e-3).err(),
+            Some(YehError::BadUmax { axis: 1 })
+        );
+        let mut ax = p.axes;
+        ax[0].plant.tau = -1.0;
+        assert_eq!(
+            SaturationAwareFeed::new(&ax, 1e-3).err(),
+            Some(YehError::BadPlant { axis: 0 })
+        );
+        let mut ax = p.axes;
+        ax[1].gains.kd = f64::NAN;
+        assert_eq!(
+            SaturationAwareFeed::new(&ax, 1e-3).err(),
+            Some(YehError::BadGain { axis: 1 })
+        );
+        assert!(SaturationAwareFeed::new(&[], 1e-3).is_err());
+        assert_eq!(
+            SaturationAwareFeed::new(&p.axes, 0.0).err(),
+            Some(YehError::BadSampleTime)
+        );
+        let mut pd = PdPlus::new(p.axes[0].gains, 1e-3).unwrap();
+        assert_eq!(pd.update(0.0, 0.0, 0.0, f64::NAN), 0.0);
+        assert!(pd.fault());
+        assert_eq!(pd.update(f64::NAN, 0.0, 0.0, 1.0), 0.0);
+        assert!(PathSpeedPlanner::new(1e-3, 0.0, 1.0).is_err());
+        let mut pl = PathSpeedPlanner::new(1e-3, 1e7, 1e10).unwrap();
+        assert_eq!(pl.next(f64::NAN, f64::NAN), 0.0);
+        assert_eq!(chord_feed_limit(f64::NAN, 1e-3, 1.0), 0.0);
+        assert_eq!(chord_feed_limit(f64::INFINITY, 1e-3, 1.0), f64::INFINITY);
+        assert_eq!(chord_feed_limit(0.5, 1e-3, 1.0), 1000.0);
+        for e in [
+            YehError::BadFeed,
+            YehError::Curve(NurbsError::NotClamped),
+            YehError::BadGain { axis: 1 },
+        ] {
+            assert!(!e.to_string().is_empty());
+        }
+    }
+
+    /// Random valid curves and random feeds/limits: every call returns Ok/Err, nothing
+    /// panics, and every run ends on C(u_end).
+    #[test]
+    fn random_curves_random_settings_never_panic() {
+        let mut seed = 0x1234_5678_9abc_def0u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let p = die_bonder_preset();
+        let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
+        for case in 0..60 {
+            let deg = 1 + (rnd() * 5.0) as usize % 5;
+            let n = deg + 1 + (rnd() * 30.0) as usize;
+            let ctrl: Vec<f64> = (0..2 * n).map(|_| (rnd() - 0.5) * 2e4).collect();
+            let w: Vec<f64> = (0..n).map(|_| 0.2 + 4.8 * rnd()).collect();
+            let knots = clamped_uniform_knots(n, deg).unwrap();
+            let curve = Nurbs::new(deg, 2, &ctrl, &w, &knots).unwrap();
+            let end = curve.point(1.0).unwrap();
+            let cfg = InterpConfig {
+                feed: 2e4 + rnd() * 1e6,
+                accel: 1e5 + rnd() * 1e8,
+                jerk: 1e7 + rnd() * 1e11,
+                chord_tol: 0.01 + rnd() * 10.0,
+                max_corrections: (rnd() * 4.0) as u32,
+                ..InterpConfig::default()
+            };
+            let guarded = case % 2 == 0;
+            let mut ip = if guarded {
+                Interpolator::with_actuator_limits(curve, cfg, &sat, 0.2 + 0.8 * rnd()).unwrap()
+            } else {
+                Interpolator::new(curve, cfg).unwrap()
+            };
+            let mut k = 0;
+            let mut th = ip.position();
+            while !ip.is_done() {
+                let t = if guarded {
+                    let w = (ip.position() - th) / cfg.ts;
+                    th = ip.position();
+                    ip.tick_guarded(&sat, &th, &w).unwrap().0
+                } else {
+                    ip.tick().unwrap()
+                };
+                assert!(t.feed.is_finite() && t.pos.iter().all(|x| x.is_finite()));
+                k += 1;
+                assert!(k < 2_000_000, "case {case} does not finish");
+            }
+            assert_eq!(ip.position(), end);
+        }
+    }
+
+    #[test]
+    fn arc_length_is_exact_on_circle_and_line() {
+        let c = circle();
+        let ip = Interpolator::new(c.clone(), InterpConfig::default()).unwrap();
+        let exact = 2.0 * core::f64::consts::PI * 10_000.0;
+        println!("circle length {:.9} vs 2πR {:.9}", ip.length(), exact);
+        assert!((ip.length() - exact).abs() < 1e-9 * exact);
+        assert!((arc_length(&c, 0.0, 0.25) - exact / 4.0).abs() < 1e-9 * exact);
+        assert_eq!(arc_length(&c, 0.5, 0.5), 0.0);
+        assert_eq!(arc_length(&c, 0.6, 0.5), 0.0);
+        assert_eq!(arc_length(&c, f64::NAN, 0.5), 0.0);
+        let line = Nurbs::new(
+            1,
+            2,
+            &[0.0, 0.0, 3.0, 4.0],
+            &[1.0, 3.0],
+            &[0.0, 0.0, 1.0, 1.0],
+        )
+        .unwrap();
+        assert!((arc_length(&line, 0.0, 1.0) - 5.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn preset_units_and_loop_damping() {
+        let p = die_bonder_preset();
+        assert_eq!(p.ts, 1e-3);
+        let zeta: Vec<f64> = p
+            .axes
+            .iter()
+            .map(|a| {
+                let pl = a.plant;
+                // closed loop in counts: s² + (1/τ + G kd/τ) s + G kp/τ
+                let g = pl.counts_gain();
+                let wn = (g * a.gains.kp / pl.tau).sqrt();
+                (1.0 / pl.tau + g * a.gains.kd / pl.tau) / (2.0 * wn)
+            })
+            .collect();
+        println!("loop damping X {:.3}, Y {:.3}", zeta[0], zeta[1]);
+        assert!((zeta[1] - 0.714).abs() < 0.01);
+        assert!((zeta[0] - 0.294).abs() < 0.01);
+        // kv·(K_c K_e) = 1: the speed feed-forward alone holds a constant speed
+        for a in &p.axes {
+            assert!((a.gains.kv * a.plant.counts_gain() - 1.0).abs() < 1e-12);
+        }
+    }
+
+    // ----------------------------------------------------------------------------------
+    // Closed loop: die-bonder path with two sharp corners (like Yeh Fig 5)
+    // ----------------------------------------------------------------------------------
+
+    /// Distance from q to the curve, searched near parameter u_ref.
+    fn contour_error(curve: &Nurbs, q: &Point, u_ref: f64) -> f64 {
+        let (a, b) = curve.domain();
+        let lo = (u_ref - 0.04).max(a);
+        let hi = (u_ref + 0.01).min(b);
+        let mut best = (f64::INFINITY, u_ref);
+        for i in 0..=400 {
+            let u = lo + (hi - lo) * i as f64 / 400.0;
+            let d = (curve.point(u).unwrap() - q).norm();
+            if d < best.0 {
+                best = (d, u);
+            }
+        }
+        let mut u = best.1;
+        for _ in 0..8 {
+            let (c, d1, d2) = curve.eval_clamped(u);
+            let r = c - q;
+            let g = r.dot(&d1);
+            let gp = d1.norm_squared() + r.dot(&d2);
+            if gp <= 0.0 {
+                break;
+            }
+            u = (u - g / gp).clamp(lo, hi);
+        }
+        best.0.min((curve.point(u).unwrap() - q).norm())
+    }
+
+    #[derive(Clone, Copy, PartialEq, Debug)]
+    enum Mode {
+        /// Planner + chord-error look-ahead, no saturation awareness.
+        Plain,
+        /// Same, but the plant input is clipped to ±Umax (a real saturating drive).
+        PlainClipped,
+        /// Yeh's per-tick guard (§3.4) on the plain planner, no actuator look-ahead.
+        GuardOnly,
+        /// Actuator-aware look-ahead profile + Yeh's per-tick guard.
+        Aware,
+    }
+
+    #[derive(Debug)]
+    struct SimResult {
+        max_u: [f64; 2],
+        ticks_over: usize,
+        contour: f64,
+        follow: [f64; 2],
+        motion_ticks: usize,
+        limited: usize,
+        raised: usize,
+        infeasible: usize,
+        max_pred_err: f64,
+        end_err: f64,
+    }
+
+    /// Closed loop at Ts = 1 ms: plant of eq 2.2 (exact ZOH), PD+ of eq 2.12 per axis, encoder
+    /// read -> interpolation -> control law -> drive output in every tick. With `predicted`,
+    /// the interpolator gets θ_a\[k\], w_a\[k\] from the plant model's one-tick-ahead prediction
+    /// made at tick k-1 (AxisState::predicted) instead of the encoder.
+    fn simulate(mode: Mode, predicted: bool) -> SimResult {
+        let preset = die_bonder_preset();
+        let ts = preset.ts;
+        let sat = SaturationAwareFeed::new(&preset.axes, ts).unwrap();
+        let curve = die_bonder_path();
+        let cfg = InterpConfig {
+            ts,
+            feed: 400_000.0, // 0.4 m/s at 1 µm/count
+            accel: 4e7,      // ≈ 4 g: more than the X drive can give (Umax/ka ≈ 1.29e7)
+            jerk: 4e10,
+            chord_tol: 1.0,
+            max_corrections: 3,
+        };
+        let mut ip = match mode {
+            Mode::Aware => {
+                Interpolator::with_actuator_limits(curve.clone(), cfg, &sat, 0.8).unwrap()
+            }
+            _ => Interpolator::new(curve.clone(), cfg).unwrap(),
+        };
+        let start = curve.point(0.0).unwrap();
+        let end = curve.point(1.0).unwrap();
+        let mut th = [start[0], start[1]];
+        let mut vel = [0.0f64; 2];
+        let (mut th_prev, mut vel_prev) = (th, vel);
+        let mut pd: Vec<PdPlus> = preset
+            .axes
+            .iter()
+            .map(|a| PdPlus::new(a.gains, ts).unwrap())
+            .collect();
+        for (j, c) in pd.iter_mut().enumerate() {
+            c.reset(th[j]);
+        }
+        let mut u_prev = [0.0f64; 2];
+        let mut r = SimResult {
+            max_u: [0.0; 2],
+            ticks_over: 0,
+            contour: 0.0,
+            follow: [0.0; 2],
+            motion_ticks: 0,
+            limited: 0,
+            raised: 0,
+            infeasible: 0,
+            max_pred_err: 0.0,
+            end_err: 0.0,
+        };
+        let mut after = 0;
+        let mut k = 0;
+        while after < 300 {
+            k += 1;
+            assert!(k < 100_000);
+            let (theta_a, w_a) = if predicted && k > 1 {
+                let mut t = Point::zeros();
+                let mut w = Point::zeros();
+                for j in 0..2 {
+                    let a = &preset.axes[j];
+                    let st = AxisState::predicted(
+                        &a.plant,
+                        ts,
+                        th_prev[j],
+                        vel_prev[j],
+                        u_prev[j],
+                        0.0,
+                        0.0,
+                    );
+                    t[j] = st.theta_a;
+                    w[j] = st.w_a;
+                }
+                (t, w)
+            } else {
+                (
+                    pt(&[th[0], th[1]]),
+                    pt(&[(th[0] - th_prev[0]) / ts, (th[1] - th_prev[1]) / ts]),
+                )
+            };
+            let (t, dec) = match mode {
+                Mode::Plain | Mode::PlainClipped => (ip.tick().unwrap(), None),
+                Mode::GuardOnly | Mode::Aware => {
+                    let (t, d) = ip.tick_guarded(&sat, &theta_a, &w_a).unwrap();
+                    (t, Some(d))
+                }
+            };
+            let mut ratio = 0.0f64;
+            for j in 0..2 {
+                let u = pd[j].update(t.pos[j], t.vel[j], t.acc[j], th[j]);
+                r.max_u[j] = r.max_u[j].max(u.abs());
+                ratio = ratio.max(u.abs() / preset.axes[j].umax);
+                u_prev[j] = u;
+                r.follow[j] = r.follow[j].max((t.pos[j] - th[j]).abs());
+            }
+            if let Some(d) = dec {
+                r.max_pred_err = r.max_pred_err.max((d.max_drive_ratio - ratio).abs());
+                r.infeasible += usize::from(!d.feasible);
+                r.limited += usize::from(d.limited);
+                r.raised += usize::from(d.raised);
+            }
+            r.ticks_over += usize::from(ratio > 1.0);
+            r.contour = r
+                .contour
+                .max(contour_error(&curve, &pt(&[th[0], th[1]]), t.u));
+            th_prev = th;
+            vel_prev = vel;
+            for j in 0..2 {
+                let um = preset.axes[j].umax;
+                let u = if mode == Mode::PlainClipped {
+                    u_prev[j].clamp(-um, um)
+                } else {
+                    u_prev[j] // NOT clipped: |u| is what the loop asked for
+                };
+                (th[j], vel[j]) = preset.axes[j].plant.step(ts, th[j], vel[j], u);
+            }
+            if t.done {
+                after += 1;
+            } else {
+                r.motion_ticks += 1;
+            }
+        }
+        r.end_err = ((th[0] - end[0]).powi(2) + (th[1] - end[1]).powi(2)).sqrt();
+        r
+    }
+
+    #[test]
+    fn die_bonder_closed_loop_saturation() {
+        let runs = [
+            ("without (unclipped plant)", simulate(Mode::Plain, false)),
+            (
+                "without, drive clipped at Umax",
+                simulate(Mode::PlainClipped, false),
+            ),
+            ("Yeh per-tick guard only", simulate(Mode::GuardOnly, false)),
+            ("with (look-ahead + guard)", simulate(Mode::Aware, false)),
+            ("with, model-predicted state", simulate(Mode::Aware, true)),
+        ];
+        for (name, r) in &runs {
+            println!(
+                "{name}: max|u| X {:.3} Y {:.3} DU (Umax 1), ticks over Umax {}, guard limited/raised/infeasible \
+                 {}/{}/{}, max contour error {:.2} counts, max following error X {:.1} Y {:.1} counts, \
+                 motion {:.3} s, |predicted-actual| |u|/Umax {:.1e}, final error {:.3} counts",
+                r.max_u[0],
+                r.max_u[1],
+                r.ticks_over,
+                r.limited,
+                r.raised,
+                r.infeasible,
+                r.contour,
+                r.follow[0],
+                r.follow[1],
+                r.motion_ticks as f64 * 1e-3,
+                r.max_pred_err,
+                r.end_err
+            );
+        }
+        let plain = &runs[0].1;
+        let aware = &runs[3].1;
+        let aware_pred = &runs[4].1;
+        assert!(
+            plain.max_u[0] > 1.0 && plain.ticks_over > 0,
+            "without: |u| must exceed Umax"
+        );
+        assert!(
+            aware.max_u[0] <= 1.0 && aware.max_u[1] <= 1.0,
+            "with: |u| ≤ Umax"
+        );
+        assert_eq!(aware.ticks_over, 0);
+        assert_eq!(aware.infeasible, 0);
+        assert!(aware.limited > 0, "the guard must have had work to do");
+        assert!(
+            aware.max_pred_err < 1e-9,
+            "eq 3.5 prediction is exact for PD+"
+        );
+        assert!(aware.contour < 25.0, "contour error {}", aware.contour);
+        assert!(aware.end_err < 1e-3);
+        // one-tick-ahead ordering with the model's prediction gives the same run
+        assert!((aware_pred.max_u[0] - aware.max_u[0]).abs() < 1e-9);
+        assert!((aware_pred.contour - aware.contour).abs() < 1e-6);
+        assert_eq!(aware_pred.ticks_over, 0);
+    }
+}
