@@ -152,7 +152,7 @@ impl Nurbs {
         if !(2..=MAX_DIM).contains(&dim) {
             return Err(NurbsError::BadDimension { dim });
         }
-        if ctrl.is_empty() || ctrl.len() % dim != 0 {
+        if ctrl.is_empty() || !ctrl.len().is_multiple_of(dim) {
             return Err(NurbsError::ControlDataLength {
                 len: ctrl.len(),
                 dim,
