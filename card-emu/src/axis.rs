@@ -3,6 +3,7 @@
 
 use crate::scurve::{Limits, Profile};
 use crate::servo::{Ffpiv, FfpivGains, Reference};
+use crate::yeh::{AxisModel, PdPlus};
 use firmware_proto::{fault, AxisState, AxisStatus, NackCode};
 
 /// The validated copy of an axis's configuration block.
@@ -18,6 +19,8 @@ pub struct AxisConfig {
     pub in_vel_window: f64,
     /// Both windows held this long before motion done, s.
     pub settle_time: f64,
+    /// The PD+ law (Yeh eq 2.12) and its drive model, when selected instead of FFPIV.
+    pub pdplus: Option<AxisModel>,
 }
 
 impl Default for AxisConfig {
@@ -28,6 +31,7 @@ impl Default for AxisConfig {
             in_pos_window: 1.0,
             in_vel_window: 2000.0,
             settle_time: 0.002,
+            pdplus: None,
         }
     }
 }
@@ -88,6 +92,9 @@ pub struct Axis {
     cmd: Reference,
     cmd_jerk: f64,
     prev_cmd_acc: f64,
+    raw_vel: f64,
+    u_request: f64,
+    pd: Option<PdPlus>,
     target: f64,
     act_pos: f64,
     encoder: i64,
@@ -136,6 +143,9 @@ impl Axis {
             },
             cmd_jerk: 0.0,
             prev_cmd_acc: 0.0,
+            raw_vel: 0.0,
+            u_request: 0.0,
+            pd: None,
             target: 0.0,
             act_pos: 0.0,
             encoder: 0,
@@ -182,6 +192,9 @@ impl Axis {
                     };
                     self.target = self.act_pos;
                     self.servo.reset_integral();
+                    if let Some(pd) = &mut self.pd {
+                        pd.reset(self.act_pos);
+                    }
                     self.motion = Motion::Hold;
                     self.set_state(AxisState::Standstill, &mut changed);
                 }
@@ -334,10 +347,38 @@ impl Axis {
 
     /// One servo tick: sensors in, DAC volts out.
     pub fn tick(&mut self, encoder: i64, ts: f64) -> (f64, TickReport) {
-        let mut report = TickReport::default();
+        self.sense(encoder, ts);
+        self.control(ts)
+    }
+
+    /// Read this tick's encoder: actual position, raw and filtered velocity.
+    pub fn sense(&mut self, encoder: i64, ts: f64) {
+        self.raw_vel = encoder.wrapping_sub(self.encoder) as f64 / ts;
         self.encoder = encoder;
         self.act_pos = encoder as f64;
-        let vel = self.servo.measure(encoder, &self.config.gains, ts);
+        self.servo.measure(encoder, &self.config.gains, ts);
+    }
+
+    /// Actual position (counts) and velocity over the last tick (counts/s, unfiltered: the
+    /// w_a[k] of Yeh eq 3.3).
+    pub fn actual(&self) -> (f64, f64) {
+        (self.act_pos, self.raw_vel)
+    }
+
+    /// Select the servo law of the configuration at sample time `ts` (on apply, or when the
+    /// servo rate changes).
+    pub fn apply_config(&mut self, cfg: AxisConfig, ts: f64) {
+        self.config = cfg;
+        self.pd = cfg.pdplus.and_then(|m| PdPlus::new(m.gains, ts).ok());
+        if let Some(pd) = &mut self.pd {
+            pd.reset(self.act_pos);
+        }
+    }
+
+    /// The servo loop and the motion bookkeeping of one tick, after [`Axis::sense`].
+    pub fn control(&mut self, ts: f64) -> (f64, TickReport) {
+        let mut report = TickReport::default();
+        let vel = self.servo.velocity();
 
         if self.state == AxisState::Disabled || self.state == AxisState::ErrorStop {
             // The commanded position follows the actual one, so enabling never jumps.
@@ -382,9 +423,15 @@ impl Axis {
         // Servo loop.
         self.ferr = self.cmd.pos - self.act_pos;
         let limit = self.config.dac_limit_v;
-        let u = self
-            .servo
-            .update(&self.cmd, self.act_pos, &self.config.gains, ts, limit);
+        let u = match &mut self.pd {
+            // Yeh eq 2.12: u = kp e + kd ė + kv v_ref + ka a_ref.
+            Some(pd) => pd.update(self.cmd.pos, self.cmd.vel, self.cmd.acc, self.act_pos),
+            None => self
+                .servo
+                .update(&self.cmd, self.act_pos, &self.config.gains, ts, limit),
+        };
+        self.u_request = u;
+        let u = u.clamp(-limit, limit);
         let (volts, saturated) = crate::plant::Dac::output(u);
         self.dac_v = volts;
         if saturated || u.abs() >= limit {
@@ -491,6 +538,7 @@ impl Axis {
             max_ferr: st.max_ferr,
             planned_time: st.planned_time,
             move_time: st.move_time,
+            u_request: self.u_request,
         }
     }
 }

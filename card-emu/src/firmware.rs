@@ -9,6 +9,7 @@ use crate::axis::{Axis, AxisConfig};
 use crate::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use crate::scurve::Limits;
 use crate::servo::FfpivGains;
+use crate::yeh::{AxisModel, PdPlusGains, Plant};
 use firmware_proto::layout::{self, axis_config as ac, axis_filter as af, group_config as gc};
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
@@ -222,7 +223,11 @@ impl<M: Mem + Clone> Firmware<M> {
         let pending = self.axes[ax].pending_motion();
         let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
         match op {
-            Opcode::ApplyAxisConfig => self.axes[ax].config = read_axis_config(&self.mem, ax)?,
+            Opcode::ApplyAxisConfig => {
+                let cfg = read_axis_config(&self.mem, ax)?;
+                let ts = self.ts();
+                self.axes[ax].apply_config(cfg, ts);
+            }
             Opcode::ApplyAxisFilter => {
                 let cfg = read_axis_filter(&self.mem, ax)?;
                 cfg.validate(self.ts())?;
@@ -349,6 +354,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 out,
             ),
             Opcode::GroupStopRelease => group.release_stop(),
+            Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes),
+            Opcode::NurbsData => group.nurbs_data(c),
+            Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
             _ => group.queue_move(c, op, ts, tick, out),
         }
     }
@@ -380,6 +388,11 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::AxesEnabled);
         }
         self.servo_rate_hz = rate;
+        let ts = self.ts();
+        for axis in self.axes.iter_mut() {
+            let cfg = axis.config;
+            axis.apply_config(cfg, ts);
+        }
         self.mem.write32(layout::SERVO_RATE_HZ, rate);
         Ok(())
     }
@@ -428,6 +441,10 @@ impl<M: Mem + Clone> Firmware<M> {
     pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
         self.tick += 1;
         let ts = self.ts();
+        // Sensors first, so a group's interpolator sees this tick's measurements.
+        for i in 0..self.num_axes {
+            self.axes[i].sense(encoders[i], ts);
+        }
         for g in self.groups.iter_mut() {
             g.tick(
                 &mut self.axes,
@@ -439,7 +456,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.post_outbox();
         for i in 0..self.num_axes {
-            let (volts, report) = self.axes[i].tick(encoders[i], ts);
+            let (volts, report) = self.axes[i].control(ts);
             dac[i] = volts;
             let axis = i as u16;
             if let Some((seq, pos)) = report.done {
@@ -489,9 +506,11 @@ fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
 /// Read and validate an axis configuration block written by the host.
 fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
     let f = |field: usize| m.read_f64(layout::axis_config(a, field));
-    if m.read32(layout::axis_config(a, ac::SERVO_LAW)) != raw::MC_SERVO_FFPIV {
-        return Err(NackCode::BadConfig);
-    }
+    let pdplus = match m.read32(layout::axis_config(a, ac::SERVO_LAW)) {
+        raw::MC_SERVO_FFPIV => None,
+        raw::MC_SERVO_PDPLUS => Some(read_axis_pdplus(m, a)?),
+        _ => return Err(NackCode::BadConfig),
+    };
     let cfg = AxisConfig {
         gains: FfpivGains {
             kp: f(ac::KP),
@@ -505,9 +524,52 @@ fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
         in_pos_window: f(ac::IN_POS_WINDOW),
         in_vel_window: f(ac::IN_VEL_WINDOW),
         settle_time: f(ac::SETTLE_TIME),
+        pdplus,
     };
     cfg.validate()?;
+    if cfg.pdplus.is_some_and(|p| p.umax > cfg.dac_limit_v) {
+        return Err(NackCode::BadConfig);
+    }
     Ok(cfg)
+}
+
+/// Read and validate the PD+ gains and drive model of an axis (Yeh eq 2.12, 2.2).
+fn read_axis_pdplus<M: Mem>(m: &M, a: usize) -> Result<AxisModel, NackCode> {
+    use firmware_proto::layout::axis_pdplus as pp;
+    let f = |field: usize| m.read_f64(layout::axis_pdplus(a, field));
+    let v = [
+        f(pp::KP),
+        f(pp::KD),
+        f(pp::KV),
+        f(pp::KA),
+        f(pp::KC),
+        f(pp::TAU),
+        f(pp::KE),
+        f(pp::UMAX),
+    ];
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(NackCode::NotFinite);
+    }
+    let model = AxisModel {
+        gains: PdPlusGains {
+            kp: v[0],
+            kd: v[1],
+            kv: v[2],
+            ka: v[3],
+        },
+        plant: Plant {
+            k_c: v[4],
+            tau: v[5],
+            k_e: v[6],
+        },
+        umax: v[7],
+    };
+    model.gains.validate(a).map_err(|_| NackCode::BadConfig)?;
+    model.plant.validate(a).map_err(|_| NackCode::BadConfig)?;
+    if model.umax <= 0.0 {
+        return Err(NackCode::BadConfig);
+    }
+    Ok(model)
 }
 
 fn is_group_op(op: Opcode) -> bool {
@@ -523,6 +585,9 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::GroupMoveLinear
             | Opcode::GroupMoveCircular
             | Opcode::GroupMovePtp
+            | Opcode::NurbsBegin
+            | Opcode::NurbsData
+            | Opcode::NurbsEnd
     )
 }
 

@@ -18,8 +18,12 @@
 use crate::axis::Axis;
 use crate::circle::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::filters::{AccDecFilter, FilterKind};
+use crate::nurbs::{Nurbs, NurbsError};
 use crate::scurve::{Limits, Profile};
 use crate::servo::Reference;
+use crate::yeh::{
+    AxisModel, InterpConfig, Interpolator, PdPlusGains, Plant, SaturationAwareFeed, YehError,
+};
 use firmware_proto::{
     move_flags, raw, AxisState, Command, Event, EventKind, GroupState, GroupStatus, NackCode,
     Opcode, GROUP_QUEUE_LEN, MAX_AXES,
@@ -154,18 +158,29 @@ enum Geometry {
         helix: [f64; MAX_AXES],
         len: f64,
     },
+    /// A NURBS curve: its points come from its interpolator ([`Feed::Nurbs`]); the geometry
+    /// keeps its ends and length.
+    Curve {
+        start: [f64; MAX_AXES],
+        end: [f64; MAX_AXES],
+        len: f64,
+    },
 }
 
 impl Geometry {
     fn len(&self) -> f64 {
         match self {
-            Geometry::Line { len, .. } | Geometry::Arc { len, .. } => *len,
+            Geometry::Line { len, .. }
+            | Geometry::Arc { len, .. }
+            | Geometry::Curve { len, .. } => *len,
         }
     }
 
     fn start(&self) -> [f64; MAX_AXES] {
         match self {
-            Geometry::Line { start, .. } | Geometry::Arc { start, .. } => *start,
+            Geometry::Line { start, .. }
+            | Geometry::Arc { start, .. }
+            | Geometry::Curve { start, .. } => *start,
         }
     }
 
@@ -197,6 +212,13 @@ impl Geometry {
                 p[*u] = pu;
                 p[*v] = pv;
             }
+            // Points of a curve come from its interpolator; this is only ever asked for its
+            // ends.
+            Geometry::Curve { end, .. } => {
+                if f >= 1.0 {
+                    return *end;
+                }
+            }
         }
         p
     }
@@ -227,6 +249,7 @@ impl Geometry {
                 p[*v] = pv;
                 p
             }
+            Geometry::Curve { end, .. } => *end,
         }
     }
 }
@@ -241,6 +264,73 @@ enum Feed {
     Constant { v: f64 },
     /// Kim's reference-word arc at constant feed: the plane increments come from it.
     ReferenceWord(ReferenceWordCircle),
+    /// A NURBS curve: Yeh's speed-controlled interpolator, saturation-aware when `sat` is set.
+    Nurbs(Box<NurbsFeed>),
+}
+
+/// The interpolator of a NURBS move and, for the saturation-aware feed, the axes' model.
+#[derive(Clone)]
+struct NurbsFeed {
+    interp: Interpolator,
+    sat: Option<SaturationAwareFeed>,
+}
+
+impl core::fmt::Debug for NurbsFeed {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "NurbsFeed {{ length: {}, saturation-aware: {} }}",
+            self.interp.length(),
+            self.sat.is_some()
+        )
+    }
+}
+
+/// A NURBS transfer in progress: header and the staged data stream.
+#[derive(Debug, Clone, Default)]
+struct NurbsRx {
+    open: bool,
+    degree: usize,
+    n_ctrl: usize,
+    total: usize,
+    received: usize,
+    /// feed, accel, jerk, chord tolerance, saturation budget.
+    params: [f64; 5],
+    saturation: bool,
+    flags: u32,
+    /// Control points, weights, knots: allocated once at boot.
+    stage: Box<[f64]>,
+}
+
+/// Values one transfer can hold: control points of up to 8 axes, weights, knots.
+const STAGE_LEN: usize = crate::nurbs::MAX_CTRL * (MAX_AXES + 1) + crate::nurbs::MAX_KNOTS;
+
+/// An exact non-negative integer carried in an f64 argument.
+fn whole(x: f64) -> Option<usize> {
+    (x.is_finite() && x.fract() == 0.0 && (0.0..=1e9).contains(&x)).then_some(x as usize)
+}
+
+/// The nack for a curve the NURBS module refuses.
+fn nurbs_nack(e: NurbsError) -> NackCode {
+    match e {
+        NurbsError::BadDegree { .. } => NackCode::NurbsDegree,
+        NurbsError::BadDimension { .. } => NackCode::NurbsDimension,
+        NurbsError::ControlDataLength { .. }
+        | NurbsError::TooFewControlPoints { .. }
+        | NurbsError::TooManyControlPoints { .. }
+        | NurbsError::WeightCountMismatch { .. } => NackCode::NurbsCtrlCount,
+        NurbsError::KnotCountMismatch { .. } => NackCode::NurbsKnotCount,
+        NurbsError::KnotsDecreasing { .. } => NackCode::NurbsKnotsDecreasing,
+        NurbsError::KnotMultiplicity { .. } => NackCode::NurbsKnotMultiplicity,
+        NurbsError::NotClamped | NurbsError::EmptyDomain => NackCode::NurbsNotClamped,
+        NurbsError::BadWeight { .. } => NackCode::NurbsWeight,
+        NurbsError::NonFiniteKnot { .. } | NurbsError::NonFiniteControlPoint { .. } => {
+            NackCode::NurbsPoint
+        }
+        NurbsError::NonFiniteParameter
+        | NurbsError::ParameterOutOfRange
+        | NurbsError::BadCircle => NackCode::BadConfig,
+    }
 }
 
 /// A queued move.
@@ -346,6 +436,7 @@ pub struct Group {
     stop_released: bool,
     move_count: u32,
     prev_vel: [f64; MAX_AXES],
+    rx: NurbsRx,
 }
 
 impl Group {
@@ -366,6 +457,10 @@ impl Group {
             stop_released: false,
             move_count: 0,
             prev_vel: [0.0; MAX_AXES],
+            rx: NurbsRx {
+                stage: vec![0.0; STAGE_LEN].into_boxed_slice(),
+                ..NurbsRx::default()
+            },
         }
     }
 
@@ -638,16 +733,7 @@ impl Group {
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
-        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
-        match self.state {
-            GroupState::Disabled => return Err(NackCode::GroupDisabled),
-            GroupState::Standby => {}
-            GroupState::Moving if c.flags & move_flags::BUFFERED != 0 && self.stop.is_none() => {}
-            _ => return Err(NackCode::InvalidState),
-        }
-        if self.q_len >= GROUP_QUEUE_LEN {
-            return Err(NackCode::QueueFull);
-        }
+        let cfg = self.can_queue(c.flags)?;
         let n = cfg.naxes;
         let a = &c.args;
         let nargs = match op {
@@ -728,20 +814,227 @@ impl Group {
             }
             Feed::Constant { v: limits.vmax }
         };
-        self.queue_end = geom.end(n);
+        self.push(
+            Move {
+                seq: c.seq,
+                geom,
+                feed,
+                feed_type,
+            },
+            n,
+            tick,
+            out,
+        );
+        Ok(())
+    }
+
+    /// The group accepts a move now (`flags`: the command's; buffered or not)?
+    fn can_queue(&self, flags: u32) -> Result<GroupConfig, NackCode> {
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        match self.state {
+            GroupState::Disabled => return Err(NackCode::GroupDisabled),
+            GroupState::Standby => {}
+            GroupState::Moving if flags & move_flags::BUFFERED != 0 && self.stop.is_none() => {}
+            _ => return Err(NackCode::InvalidState),
+        }
+        if self.q_len >= GROUP_QUEUE_LEN {
+            return Err(NackCode::QueueFull);
+        }
+        Ok(cfg)
+    }
+
+    fn push(&mut self, mv: Move, n: usize, tick: u64, out: &mut Outbox) {
+        self.queue_end = mv.geom.end(n);
         let slot = (self.q_head + self.q_len) % GROUP_QUEUE_LEN;
-        self.queue[slot] = Some(Move {
-            seq: c.seq,
-            geom,
-            feed,
-            feed_type,
-        });
+        self.queue[slot] = Some(mv);
         self.q_len += 1;
         self.move_count = self.move_count.wrapping_add(1);
         if self.state == GroupState::Standby {
             self.final_seq = None;
             self.set_state(GroupState::Moving, tick, out);
         }
+    }
+
+    /// MC_OP_NURBS_BEGIN: check the header and open the transfer (a new begin replaces an
+    /// unfinished one).
+    pub fn nurbs_begin(&mut self, c: &Command, axes: &[Axis; MAX_AXES]) -> Result<(), NackCode> {
+        self.rx.open = false;
+        let cfg = self.can_queue(c.flags)?;
+        let a = &c.args;
+        if a[..8].iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        let int = |x: f64| (x.fract() == 0.0 && x >= 0.0 && x <= 1e6).then_some(x as usize);
+        let degree = int(a[0])
+            .filter(|d| (1..=crate::nurbs::MAX_DEGREE).contains(d))
+            .ok_or(NackCode::NurbsDegree)?;
+        if cfg.naxes < 2 {
+            return Err(NackCode::NurbsDimension);
+        }
+        let n_ctrl = int(a[1])
+            .filter(|n| (degree + 1..=crate::nurbs::MAX_CTRL).contains(n))
+            .ok_or(NackCode::NurbsCtrlCount)?;
+        if int(a[2]) != Some(n_ctrl + degree + 1) {
+            return Err(NackCode::NurbsKnotCount);
+        }
+        if a[3..7].iter().any(|x| *x <= 0.0) {
+            return Err(NackCode::NonPositiveLimit);
+        }
+        let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
+        if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
+            return Err(NackCode::BadConfig);
+        }
+        if saturation
+            && cfg.axes[..cfg.naxes]
+                .iter()
+                .any(|&ax| axes[ax].config.pdplus.is_none())
+        {
+            // The saturation-aware feed predicts each axis's PD+ drive output (Yeh eq 3.5).
+            return Err(NackCode::IncompatibleMode);
+        }
+        let n = cfg.naxes;
+        self.rx = NurbsRx {
+            open: true,
+            degree,
+            n_ctrl,
+            total: n_ctrl * (n + 1) + n_ctrl + degree + 1,
+            received: 0,
+            params: [a[3], a[4], a[5], a[6], a[7]],
+            saturation,
+            flags: c.flags,
+            stage: core::mem::take(&mut self.rx.stage),
+        };
+        Ok(())
+    }
+
+    /// MC_OP_NURBS_DATA: the next values of the stream, in order.
+    pub fn nurbs_data(&mut self, c: &Command) -> Result<(), NackCode> {
+        let rx = &mut self.rx;
+        let (Some(offset), Some(count)) = (whole(c.args[0]), whole(c.args[1])) else {
+            return Err(NackCode::NurbsSequence);
+        };
+        if !rx.open
+            || offset != rx.received
+            || count == 0
+            || count > firmware_proto::NURBS_DATA_MAX
+            || offset + count > rx.total
+        {
+            return Err(NackCode::NurbsSequence);
+        }
+        let n = self.config.map_or(0, |c| c.naxes);
+        let weights = rx.n_ctrl * n..rx.n_ctrl * (n + 1);
+        for (i, v) in c.args[2..2 + count].iter().enumerate() {
+            let k = offset + i;
+            if !v.is_finite() {
+                return Err(if weights.contains(&k) {
+                    NackCode::NurbsWeight
+                } else {
+                    NackCode::NurbsPoint
+                });
+            }
+        }
+        let Some(dst) = rx.stage.get_mut(offset..offset + count) else {
+            return Err(NackCode::NurbsSequence);
+        };
+        dst.copy_from_slice(&c.args[2..2 + count]);
+        rx.received += count;
+        Ok(())
+    }
+
+    /// MC_OP_NURBS_END: validate the curve (every fault its own code) and queue the move.
+    /// Accepting a curve allocates its storage and look-ahead profile (never in the tick).
+    pub fn nurbs_end(
+        &mut self,
+        c: &Command,
+        axes: &[Axis; MAX_AXES],
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        if !self.rx.open || self.rx.received != self.rx.total {
+            self.rx.open = false;
+            return Err(NackCode::NurbsSequence);
+        }
+        self.rx.open = false;
+        let cfg = self.can_queue(self.rx.flags)?;
+        let n = cfg.naxes;
+        let rx = &self.rx;
+        let (pts, rest) = rx.stage[..rx.total].split_at(rx.n_ctrl * n);
+        let (weights, knots) = rest.split_at(rx.n_ctrl);
+        let curve = Nurbs::new(rx.degree, n, pts, weights, knots).map_err(nurbs_nack)?;
+        let start = curve.eval_clamped(curve.domain().0).0;
+        if (0..n).any(|i| (start[i] - self.queue_end[i]).abs() > cfg.tolerance) {
+            return Err(NackCode::NurbsStart);
+        }
+        let [feed, accel, jerk, chord_tol, budget] = rx.params;
+        let icfg = InterpConfig {
+            ts,
+            feed,
+            accel,
+            jerk,
+            chord_tol,
+            max_corrections: 3,
+        };
+        let yeh_nack = |e: YehError| match e {
+            YehError::ZeroLengthCurve => NackCode::NurbsZeroLength,
+            YehError::Curve(e) => nurbs_nack(e),
+            YehError::BadFeed
+            | YehError::BadAccel
+            | YehError::BadJerk
+            | YehError::BadChordTolerance => NackCode::NonPositiveLimit,
+            _ => NackCode::BadConfig,
+        };
+        let end = curve.eval_clamped(curve.domain().1).0;
+        let (interp, sat) = if rx.saturation {
+            let mut models = [AxisModel {
+                gains: PdPlusGains {
+                    kp: 0.0,
+                    kd: 0.0,
+                    kv: 0.0,
+                    ka: 0.0,
+                },
+                plant: Plant {
+                    k_c: 1.0,
+                    tau: 1.0,
+                    k_e: 1.0,
+                },
+                umax: 1.0,
+            }; MAX_AXES];
+            for (m, &a) in models.iter_mut().zip(&cfg.axes[..n]) {
+                *m = axes[a].config.pdplus.ok_or(NackCode::IncompatibleMode)?;
+            }
+            let sat = SaturationAwareFeed::new(&models[..n], ts).map_err(yeh_nack)?;
+            (
+                Interpolator::with_actuator_limits(curve, icfg, &sat, budget).map_err(yeh_nack)?,
+                Some(sat),
+            )
+        } else {
+            (Interpolator::new(curve, icfg).map_err(yeh_nack)?, None)
+        };
+        let mut s = [0.0; MAX_AXES];
+        let mut e = [0.0; MAX_AXES];
+        for i in 0..n {
+            s[i] = self.queue_end[i];
+            e[i] = end[i];
+        }
+        let len = interp.length();
+        let geom = Geometry::Curve {
+            start: s,
+            end: e,
+            len,
+        };
+        let feed_type = ((rx.flags >> move_flags::FEED_TYPE_SHIFT) & 3).min(2) as usize;
+        self.push(
+            Move {
+                seq: c.seq,
+                geom,
+                feed: Feed::Nurbs(Box::new(NurbsFeed { interp, sat })),
+                feed_type,
+            },
+            n,
+            tick,
+            out,
+        );
         Ok(())
     }
 
@@ -951,11 +1244,43 @@ impl Group {
         // Interpolate.
         let mut inc = [0.0; MAX_AXES];
         let mut finished = false;
+        // This tick's measurements, for the saturation-aware feed (Yeh eq 3.3: θ_a[k], w_a[k]).
+        let mut theta_a = crate::nurbs::Point::zeros();
+        let mut w_a = crate::nurbs::Point::zeros();
+        for (i, &a) in members.iter().enumerate() {
+            (theta_a[i], w_a[i]) = axes[a].actual();
+        }
         if let Some(act) = &mut self.active {
             let len = act.mv.geom.len();
             let prev_v = act.v;
             let mut point = None;
-            if let Some((p, t)) = &mut act.stopping {
+            if let Feed::Nurbs(nf) = &mut act.mv.feed {
+                let mut stopped = false;
+                let step = if let Some((p, t)) = &mut act.stopping {
+                    // Halt/stop along the curve: the stop profile sets the feed.
+                    *t += ts;
+                    stopped = *t >= p.duration();
+                    nf.interp.advance(p.sample(*t).vel.max(0.0))
+                } else if let Some(sat) = &nf.sat {
+                    nf.interp
+                        .tick_guarded(sat, &theta_a, &w_a)
+                        .map(|(tk, _)| tk)
+                } else {
+                    nf.interp.tick()
+                };
+                match step {
+                    Ok(tk) => {
+                        let mut p = act.last;
+                        p[..n].copy_from_slice(&tk.pos.as_slice()[..n]);
+                        point = Some(p);
+                        act.v = if stopped { 0.0 } else { tk.feed };
+                        act.s = (act.s + tk.feed * ts).min(len);
+                        finished = tk.done || stopped;
+                    }
+                    // The interpolator refused to step (it cannot on valid input): hold here.
+                    Err(_) => finished = true,
+                }
+            } else if let Some((p, t)) = &mut act.stopping {
                 *t += ts;
                 let st = p.sample(*t);
                 act.s = st.pos.min(len);
@@ -984,7 +1309,9 @@ impl Group {
                             Geometry::Arc {
                                 u, v, helix, start, ..
                             } => (u, v, helix, start),
-                            Geometry::Line { start, .. } => (0, 0, [0.0; MAX_AXES], start),
+                            Geometry::Line { start, .. } | Geometry::Curve { start, .. } => {
+                                (0, 0, [0.0; MAX_AXES], start)
+                            }
                         };
                         match rw.next_increment().filter(|_| u != v) {
                             Some((du, dv)) => {
@@ -1006,12 +1333,16 @@ impl Group {
                             None => finished = true,
                         }
                     }
+                    // Handled above.
+                    Feed::Nurbs(_) => finished = true,
                 }
             }
             act.a = (act.v - prev_v) / ts;
-            let p = match point {
-                Some(p) if !finished => p,
-                _ if finished && act.stopping.is_none() => act.mv.geom.end(n),
+            let p = match (point, finished, act.stopping.is_some()) {
+                (Some(p), false, _) => p,
+                // A curve stopped early: where its interpolator stopped.
+                (Some(p), true, true) if matches!(act.mv.feed, Feed::Nurbs(_)) => p,
+                (_, true, false) => act.mv.geom.end(n),
                 _ => act.mv.geom.point(act.s, n),
             };
             for i in 0..n {

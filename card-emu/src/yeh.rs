@@ -1424,7 +1424,8 @@ impl Interpolator {
                 if smp.s - self.s > reach {
                     break;
                 }
-                if i.is_multiple_of(BLOCK) && self.blocks.get(i / BLOCK).is_some_and(|&m| m >= vmax) {
+                if i.is_multiple_of(BLOCK) && self.blocks.get(i / BLOCK).is_some_and(|&m| m >= vmax)
+                {
                     i += BLOCK; // nothing in this block is below the speed
                     continue;
                 }

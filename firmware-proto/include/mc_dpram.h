@@ -72,6 +72,15 @@
                                        * helical targets of the group's other axes, in group order */
 #define MC_OP_GROUP_MOVE_PTP 26u    /* synchronised point-to-point (Kim eq 10-14): args: v, a, d, j (per axis),
                                      * then one target per group axis */
+/* A NURBS curve reaches the card in continuation entries: BEGIN, DATA..., END, each answered by
+ * its own ack or nack. The data stream is the control points (n_ctrl x group axes, in group
+ * order, absolute counts), then the n_ctrl weights, then the n_knots knots. */
+#define MC_OP_NURBS_BEGIN 27u /* args: degree, n_ctrl, n_knots, feed, accel, jerk, chord tolerance,
+                               * saturation budget (0..1] ; flags: MC_MOVE_BUFFERED, MC_NURBS_SATURATION */
+#define MC_OP_NURBS_DATA 28u  /* args: offset into the stream, count (1..12), then count values */
+#define MC_OP_NURBS_END 29u   /* validate the curve and queue the move */
+#define MC_NURBS_DATA_MAX 12u
+#define MC_NURBS_SATURATION (1u << 2) /* saturation-aware feed (Yeh 3.4): needs PD+ axes */
 
 /* Flags of the group move opcodes */
 #define MC_MOVE_RELATIVE (1u << 0)
@@ -140,6 +149,19 @@
 #define MC_NACK_INCOMPATIBLE_MODE 26    /* the interpolator cannot run with the group's acc/dec mode */
 #define MC_NACK_GROUP_DISABLED 27       /* a move on a disabled group */
 #define MC_NACK_FILTER_BUSY 28          /* filters can change only while they hold no distance */
+/* NURBS curves: one code per fault */
+#define MC_NACK_NURBS_SEQUENCE 48       /* DATA/END without BEGIN, data out of order or missing */
+#define MC_NACK_NURBS_DEGREE 49         /* degree outside 1..5 */
+#define MC_NACK_NURBS_DIMENSION 50      /* the group has fewer than 2 axes */
+#define MC_NACK_NURBS_CTRL_COUNT 51     /* fewer than degree+1 or more than 1024 control points */
+#define MC_NACK_NURBS_KNOT_COUNT 52     /* n_knots != n_ctrl + degree + 1 */
+#define MC_NACK_NURBS_KNOTS_DECREASING 53
+#define MC_NACK_NURBS_KNOT_MULTIPLICITY 54 /* an interior knot repeated more than degree times */
+#define MC_NACK_NURBS_NOT_CLAMPED 55    /* end knots not repeated degree+1 times, or an empty domain */
+#define MC_NACK_NURBS_WEIGHT 56         /* a weight not finite and > 0 */
+#define MC_NACK_NURBS_POINT 57          /* a control point or knot not finite */
+#define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
+#define MC_NACK_NURBS_ZERO_LENGTH 59
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
 #define MC_STATE_DISABLED 0u
@@ -164,6 +186,7 @@
 
 /* Servo laws (mc_axis_config.servo_law) */
 #define MC_SERVO_FFPIV 0u
+#define MC_SERVO_PDPLUS 1u /* Yeh eq 2.12 with the gains and drive model of axis_pdplus[axis] */
 
 /* card writes once at boot (and servo_rate_hz on APPLY_CARD_CONFIG) */
 struct mc_identity {
@@ -289,6 +312,21 @@ struct mc_group_status {
     uint64_t _reserved[7];
 };
 
+/* host writes; read with axis_config on MC_OP_APPLY_AXIS_CONFIG when servo_law is PD+.
+ * u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s); the drive model
+ * dw/dt = -w/tau + (kc/tau) u, dtheta/dt = ke w predicts u for the saturation-aware feed. */
+struct mc_axis_pdplus {
+    double kp;   /* V/count */
+    double kd;   /* V per count/s */
+    double kv;   /* V per count/s of reference velocity */
+    double ka;   /* V per count/s^2 of reference acceleration */
+    double kc;   /* (rad/s)/V */
+    double tau;  /* s */
+    double ke;   /* counts/rad */
+    double umax; /* drive limit, V (at most the DAC limit) */
+    double _reserved[8];
+};
+
 /* Axis status payload: copied as MC_STATUS_WORDS 64-bit words. */
 struct mc_axis_status_payload {
     double cmd_pos;
@@ -313,7 +351,9 @@ struct mc_axis_status_payload {
     double max_ferr;     /* max |following error| */
     double planned_time; /* profile duration, s */
     double move_time;    /* from start to motion done (in position), s; 0 while moving */
-    uint64_t _reserved[4];
+    uint64_t _reserved19; /* payload word 19: reserved for stop reasons */
+    double u_request;     /* the servo law's output before the DAC clamp, V */
+    uint64_t _reserved[2];
     uint64_t checksum; /* a mix of the words before it, seeded with MC_STATUS_CHECK */
 };
 
@@ -344,6 +384,7 @@ struct mc_dpram {
     struct mc_axis_filter axis_filter[MC_MAX_AXES];
     struct mc_group_config group_config[MC_MAX_GROUPS];
     struct mc_group_status group_status[MC_MAX_GROUPS];
+    struct mc_axis_pdplus axis_pdplus[MC_MAX_AXES];
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

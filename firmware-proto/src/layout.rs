@@ -118,6 +118,26 @@ pub mod group_config {
     pub const TOLERANCE: usize = offset_of!(mc_group_config, tolerance);
 }
 
+/// Offset of a field of `axis_pdplus[axis]`.
+pub const fn axis_pdplus(axis: usize, field: usize) -> usize {
+    AXIS_PDPLUS + axis * AXIS_PDPLUS_BYTES + field
+}
+
+pub const AXIS_PDPLUS: usize = off!(axis_pdplus);
+pub const AXIS_PDPLUS_BYTES: usize = size_of::<mc_axis_pdplus>();
+
+pub mod axis_pdplus {
+    use super::*;
+    pub const KP: usize = offset_of!(mc_axis_pdplus, kp);
+    pub const KD: usize = offset_of!(mc_axis_pdplus, kd);
+    pub const KV: usize = offset_of!(mc_axis_pdplus, kv);
+    pub const KA: usize = offset_of!(mc_axis_pdplus, ka);
+    pub const KC: usize = offset_of!(mc_axis_pdplus, kc);
+    pub const TAU: usize = offset_of!(mc_axis_pdplus, tau);
+    pub const KE: usize = offset_of!(mc_axis_pdplus, ke);
+    pub const UMAX: usize = offset_of!(mc_axis_pdplus, umax);
+}
+
 /// Offset of the seqlock word of `group_status[group]`.
 pub const fn group_status(group: usize) -> usize {
     GROUP_STATUS + group * GROUP_STATUS_BYTES

@@ -44,6 +44,11 @@ pub const MC_OP_GROUP_HALT: u32 = 23;
 pub const MC_OP_GROUP_MOVE_LINEAR: u32 = 24;
 pub const MC_OP_GROUP_MOVE_CIRCULAR: u32 = 25;
 pub const MC_OP_GROUP_MOVE_PTP: u32 = 26;
+pub const MC_OP_NURBS_BEGIN: u32 = 27;
+pub const MC_OP_NURBS_DATA: u32 = 28;
+pub const MC_OP_NURBS_END: u32 = 29;
+pub const MC_NURBS_DATA_MAX: u32 = 12;
+pub const MC_NURBS_SATURATION: u32 = 4;
 pub const MC_MOVE_RELATIVE: u32 = 1;
 pub const MC_MOVE_BUFFERED: u32 = 2;
 pub const MC_CIRC_MODE_SHIFT: u32 = 2;
@@ -100,6 +105,18 @@ pub const MC_NACK_QUEUE_FULL: u32 = 25;
 pub const MC_NACK_INCOMPATIBLE_MODE: u32 = 26;
 pub const MC_NACK_GROUP_DISABLED: u32 = 27;
 pub const MC_NACK_FILTER_BUSY: u32 = 28;
+pub const MC_NACK_NURBS_SEQUENCE: u32 = 48;
+pub const MC_NACK_NURBS_DEGREE: u32 = 49;
+pub const MC_NACK_NURBS_DIMENSION: u32 = 50;
+pub const MC_NACK_NURBS_CTRL_COUNT: u32 = 51;
+pub const MC_NACK_NURBS_KNOT_COUNT: u32 = 52;
+pub const MC_NACK_NURBS_KNOTS_DECREASING: u32 = 53;
+pub const MC_NACK_NURBS_KNOT_MULTIPLICITY: u32 = 54;
+pub const MC_NACK_NURBS_NOT_CLAMPED: u32 = 55;
+pub const MC_NACK_NURBS_WEIGHT: u32 = 56;
+pub const MC_NACK_NURBS_POINT: u32 = 57;
+pub const MC_NACK_NURBS_START: u32 = 58;
+pub const MC_NACK_NURBS_ZERO_LENGTH: u32 = 59;
 pub const MC_STATE_DISABLED: u32 = 0;
 pub const MC_STATE_STANDSTILL: u32 = 1;
 pub const MC_STATE_HOMING: u32 = 2;
@@ -116,6 +133,7 @@ pub const MC_GROUP_STOPPING: u32 = 4;
 pub const MC_GROUP_ERROR_STOP: u32 = 5;
 pub const MC_FAULT_DAC_SATURATED: u32 = 1;
 pub const MC_SERVO_FFPIV: u32 = 0;
+pub const MC_SERVO_PDPLUS: u32 = 1;
 pub const MC_DPRAM_SIZE: u32 = 32768;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
@@ -441,6 +459,36 @@ const _: () = {
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
+pub struct mc_axis_pdplus {
+    pub kp: f64,
+    pub kd: f64,
+    pub kv: f64,
+    pub ka: f64,
+    pub kc: f64,
+    pub tau: f64,
+    pub ke: f64,
+    pub umax: f64,
+    pub _reserved: [f64; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_axis_pdplus"][::core::mem::size_of::<mc_axis_pdplus>() - 128usize];
+    ["Alignment of mc_axis_pdplus"][::core::mem::align_of::<mc_axis_pdplus>() - 8usize];
+    ["Offset of field: mc_axis_pdplus::kp"][::core::mem::offset_of!(mc_axis_pdplus, kp) - 0usize];
+    ["Offset of field: mc_axis_pdplus::kd"][::core::mem::offset_of!(mc_axis_pdplus, kd) - 8usize];
+    ["Offset of field: mc_axis_pdplus::kv"][::core::mem::offset_of!(mc_axis_pdplus, kv) - 16usize];
+    ["Offset of field: mc_axis_pdplus::ka"][::core::mem::offset_of!(mc_axis_pdplus, ka) - 24usize];
+    ["Offset of field: mc_axis_pdplus::kc"][::core::mem::offset_of!(mc_axis_pdplus, kc) - 32usize];
+    ["Offset of field: mc_axis_pdplus::tau"]
+        [::core::mem::offset_of!(mc_axis_pdplus, tau) - 40usize];
+    ["Offset of field: mc_axis_pdplus::ke"][::core::mem::offset_of!(mc_axis_pdplus, ke) - 48usize];
+    ["Offset of field: mc_axis_pdplus::umax"]
+        [::core::mem::offset_of!(mc_axis_pdplus, umax) - 56usize];
+    ["Offset of field: mc_axis_pdplus::_reserved"]
+        [::core::mem::offset_of!(mc_axis_pdplus, _reserved) - 64usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
 pub struct mc_axis_status_payload {
     pub cmd_pos: f64,
     pub cmd_vel: f64,
@@ -463,7 +511,9 @@ pub struct mc_axis_status_payload {
     pub max_ferr: f64,
     pub planned_time: f64,
     pub move_time: f64,
-    pub _reserved: [u64; 4usize],
+    pub _reserved19: u64,
+    pub u_request: f64,
+    pub _reserved: [u64; 2usize],
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -513,8 +563,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, planned_time) - 136usize];
     ["Offset of field: mc_axis_status_payload::move_time"]
         [::core::mem::offset_of!(mc_axis_status_payload, move_time) - 144usize];
+    ["Offset of field: mc_axis_status_payload::_reserved19"]
+        [::core::mem::offset_of!(mc_axis_status_payload, _reserved19) - 152usize];
+    ["Offset of field: mc_axis_status_payload::u_request"]
+        [::core::mem::offset_of!(mc_axis_status_payload, u_request) - 160usize];
     ["Offset of field: mc_axis_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_axis_status_payload, _reserved) - 152usize];
+        [::core::mem::offset_of!(mc_axis_status_payload, _reserved) - 168usize];
     ["Offset of field: mc_axis_status_payload::checksum"]
         [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 184usize];
 };
@@ -556,10 +610,11 @@ pub struct mc_dpram {
     pub axis_filter: [mc_axis_filter; 8usize],
     pub group_config: [mc_group_config; 4usize],
     pub group_status: [mc_group_status; 4usize],
+    pub axis_pdplus: [mc_axis_pdplus; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 21824usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 22848usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -585,6 +640,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, group_config) - 20544usize];
     ["Offset of field: mc_dpram::group_status"]
         [::core::mem::offset_of!(mc_dpram, group_status) - 20800usize];
+    ["Offset of field: mc_dpram::axis_pdplus"]
+        [::core::mem::offset_of!(mc_dpram, axis_pdplus) - 21824usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -12,6 +12,8 @@ pub const CMD_ARGS: usize = raw::MC_CMD_ARGS as usize;
 pub const CMD_WORDS: usize = crate::layout::CMD_BYTES / 8;
 /// Words per event entry.
 pub const EVT_WORDS: usize = crate::layout::EVT_BYTES / 8;
+/// Values per NURBS data entry.
+pub const NURBS_DATA_MAX: usize = raw::MC_NURBS_DATA_MAX as usize;
 /// Words of a status payload.
 pub const STATUS_WORDS: usize = crate::layout::STATUS_WORDS;
 
@@ -79,6 +81,13 @@ code_enum! {
         GroupMoveCircular = raw::MC_OP_GROUP_MOVE_CIRCULAR,
         /// Synchronised multi-axis point-to-point (Kim eq 10–14).
         GroupMovePtp = raw::MC_OP_GROUP_MOVE_PTP,
+        /// Open a NURBS curve transfer: args degree, n_ctrl, n_knots, feed, accel, jerk, chord
+        /// tolerance, saturation budget.
+        NurbsBegin = raw::MC_OP_NURBS_BEGIN,
+        /// Continuation entry: args offset, count, values.
+        NurbsData = raw::MC_OP_NURBS_DATA,
+        /// Validate the curve and queue the move.
+        NurbsEnd = raw::MC_OP_NURBS_END,
     }
 }
 
@@ -155,6 +164,30 @@ code_enum! {
         GroupDisabled = raw::MC_NACK_GROUP_DISABLED,
         /// Filters can change only while they hold no distance.
         FilterBusy = raw::MC_NACK_FILTER_BUSY,
+        /// NURBS data or end without a begin, out of order, or missing.
+        NurbsSequence = raw::MC_NACK_NURBS_SEQUENCE,
+        /// NURBS degree outside 1..5.
+        NurbsDegree = raw::MC_NACK_NURBS_DEGREE,
+        /// NURBS on a group of fewer than 2 axes.
+        NurbsDimension = raw::MC_NACK_NURBS_DIMENSION,
+        /// Too few or too many control points.
+        NurbsCtrlCount = raw::MC_NACK_NURBS_CTRL_COUNT,
+        /// Knot count is not n_ctrl + degree + 1.
+        NurbsKnotCount = raw::MC_NACK_NURBS_KNOT_COUNT,
+        /// Knots decrease.
+        NurbsKnotsDecreasing = raw::MC_NACK_NURBS_KNOTS_DECREASING,
+        /// An interior knot repeated more than degree times.
+        NurbsKnotMultiplicity = raw::MC_NACK_NURBS_KNOT_MULTIPLICITY,
+        /// End knots not repeated degree + 1 times, or an empty domain.
+        NurbsNotClamped = raw::MC_NACK_NURBS_NOT_CLAMPED,
+        /// A weight is not finite and positive.
+        NurbsWeight = raw::MC_NACK_NURBS_WEIGHT,
+        /// A control point or knot is not finite.
+        NurbsPoint = raw::MC_NACK_NURBS_POINT,
+        /// The curve does not start where the group's path is.
+        NurbsStart = raw::MC_NACK_NURBS_START,
+        /// The curve has zero length.
+        NurbsZeroLength = raw::MC_NACK_NURBS_ZERO_LENGTH,
     }
 }
 
@@ -279,6 +312,8 @@ pub mod move_flags {
     pub const PLANE_SHIFT: u32 = raw::MC_CIRC_PLANE_SHIFT;
     /// Helical targets are distances even in an absolute move.
     pub const CIRC_HELIX_RELATIVE: u32 = raw::MC_CIRC_HELIX_RELATIVE;
+    /// Saturation-aware feed for a NURBS move (Yeh §3.4).
+    pub const NURBS_SATURATION: u32 = raw::MC_NURBS_SATURATION;
     /// Shift of the 2-bit feed type (`MC_FEED_*`).
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
 }
@@ -442,6 +477,8 @@ pub struct AxisStatus {
     pub planned_time: f64,
     /// Time from start to motion done (in position), s; 0 while the move runs.
     pub move_time: f64,
+    /// The servo law's output before the DAC clamp, V.
+    pub u_request: f64,
 }
 
 impl AxisStatus {
@@ -477,6 +514,7 @@ impl AxisStatus {
         for (dst, v) in w[12..].iter_mut().zip(stats) {
             *dst = v.to_bits();
         }
+        w[20] = self.u_request.to_bits();
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
@@ -509,6 +547,7 @@ impl AxisStatus {
             max_ferr: f(16),
             planned_time: f(17),
             move_time: f(18),
+            u_request: f(20),
         })
     }
 
@@ -582,7 +621,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 23);
+        assert_eq!(NackCode::ALL.len(), 35);
         let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
         codes.dedup();
         assert_eq!(codes.len(), NackCode::ALL.len());

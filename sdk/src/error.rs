@@ -71,6 +71,30 @@ pub enum ErrorKind {
     GroupDisabled,
     /// Filters can change only while they hold no distance.
     FilterBusy,
+    /// NURBS data or end without a begin, out of order, or missing.
+    NurbsSequence,
+    /// NURBS degree outside 1..5.
+    NurbsDegree,
+    /// NURBS on a group of fewer than 2 axes.
+    NurbsDimension,
+    /// Too few or too many control points.
+    NurbsCtrlCount,
+    /// The knot count is not n_ctrl + degree + 1.
+    NurbsKnotCount,
+    /// The knots decrease.
+    NurbsKnotsDecreasing,
+    /// An interior knot is repeated more than degree times.
+    NurbsKnotMultiplicity,
+    /// The end knots are not repeated degree + 1 times (or the domain is empty).
+    NurbsNotClamped,
+    /// A weight is not finite and positive.
+    NurbsWeight,
+    /// A control point or knot is not finite.
+    NurbsPoint,
+    /// The curve does not start where the group's path is.
+    NurbsStart,
+    /// The curve has zero length.
+    NurbsZeroLength,
     /// An operating-system call failed.
     Io,
     /// The backend cannot do this (for example interrupts on a `pci:` card).
@@ -103,6 +127,18 @@ impl From<NackCode> for ErrorKind {
             NackCode::IncompatibleMode => ErrorKind::IncompatibleMode,
             NackCode::GroupDisabled => ErrorKind::GroupDisabled,
             NackCode::FilterBusy => ErrorKind::FilterBusy,
+            NackCode::NurbsSequence => ErrorKind::NurbsSequence,
+            NackCode::NurbsDegree => ErrorKind::NurbsDegree,
+            NackCode::NurbsDimension => ErrorKind::NurbsDimension,
+            NackCode::NurbsCtrlCount => ErrorKind::NurbsCtrlCount,
+            NackCode::NurbsKnotCount => ErrorKind::NurbsKnotCount,
+            NackCode::NurbsKnotsDecreasing => ErrorKind::NurbsKnotsDecreasing,
+            NackCode::NurbsKnotMultiplicity => ErrorKind::NurbsKnotMultiplicity,
+            NackCode::NurbsNotClamped => ErrorKind::NurbsNotClamped,
+            NackCode::NurbsWeight => ErrorKind::NurbsWeight,
+            NackCode::NurbsPoint => ErrorKind::NurbsPoint,
+            NackCode::NurbsStart => ErrorKind::NurbsStart,
+            NackCode::NurbsZeroLength => ErrorKind::NurbsZeroLength,
         }
     }
 }
@@ -228,6 +264,18 @@ pub fn nack_reason(code: NackCode) -> &'static str {
         NackCode::IncompatibleMode => "the interpolator cannot run with this acc/dec mode",
         NackCode::GroupDisabled => "the group is disabled",
         NackCode::FilterBusy => "the filter still holds distance",
+        NackCode::NurbsSequence => "NURBS data out of sequence (no begin, a gap, or missing data)",
+        NackCode::NurbsDegree => "NURBS degree outside 1..5",
+        NackCode::NurbsDimension => "NURBS curves need a group of at least 2 axes",
+        NackCode::NurbsCtrlCount => "too few or too many NURBS control points",
+        NackCode::NurbsKnotCount => "the knot count must be control points + degree + 1",
+        NackCode::NurbsKnotsDecreasing => "the knots decrease",
+        NackCode::NurbsKnotMultiplicity => "an interior knot is repeated more than degree times",
+        NackCode::NurbsNotClamped => "the knot vector is not clamped",
+        NackCode::NurbsWeight => "a weight is not finite and positive",
+        NackCode::NurbsPoint => "a control point or knot is not finite",
+        NackCode::NurbsStart => "the curve does not start where the group is",
+        NackCode::NurbsZeroLength => "the curve has zero length",
     }
 }
 
