@@ -89,6 +89,26 @@ impl MotorParams {
         self.inertia + self.resonance.map_or(0.0, |r| r.load_inertia)
     }
 
+    /// An axis of Yeh's die bonder (Table 1): the first-order speed model of Yeh eq 2.2,
+    /// `dw/dt = −w/τ + (K_c/τ)·u`, realised as an inertia with viscous damping b = J/τ and a
+    /// torque constant K_c·b per volt; no friction; 10,000 counts/rev (K_e = 10000/2π). `kc_per_volt`
+    /// is K_c in (rad/s)/V: Table 1's K_c in (rad/s)/DU divided by 10 (1 DU = 10 V, the DAC's
+    /// full scale, so Umax = 1 DU = 10 V).
+    pub fn die_bonder(kc_per_volt: f64, tau: f64) -> Self {
+        let inertia = 1e-4;
+        let damping = inertia / tau;
+        Self {
+            inertia,
+            damping,
+            kt: kc_per_volt * damping,
+            coulomb: 0.0,
+            amp_gain: 1.0,
+            current_limit: 1e9,
+            counts_per_rev: 10_000,
+            resonance: None,
+        }
+    }
+
     /// The machine-tool axis of the Shin corner experiment: the default servo driving a table
     /// through a compliant coupling that resonates at `hz` (ζ = 0.03); 1 count = 1 µm (10 mm
     /// lead, 10,000 counts/rev). Motor 2·10⁻⁴, table 3·10⁻⁴ kg·m² (total as the default).

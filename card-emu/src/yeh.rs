@@ -1717,6 +1717,25 @@ pub struct DieBonderPreset {
 /// * Umax = 1 DU on both axes: the paper gives no number; 1 DU is a choice (with it X can
 ///   hold about 1.2e7 counts/s² of feed-forward acceleration, Y about 3.6e7).
 pub fn die_bonder_preset() -> DieBonderPreset {
+    die_bonder_in_du()
+}
+
+/// The die bonder in the card's units: volts instead of drive units, 1 DU = 10 V (the DAC's
+/// full scale), so gains ×10, K_c ÷10 and Umax = 10 V; positions in counts, time in s.
+pub fn die_bonder_volts() -> DieBonderPreset {
+    let mut p = die_bonder_in_du();
+    for a in p.axes.iter_mut() {
+        a.gains.kp *= 10.0;
+        a.gains.kd *= 10.0;
+        a.gains.kv *= 10.0;
+        a.gains.ka *= 10.0;
+        a.plant.k_c /= 10.0;
+        a.umax *= 10.0;
+    }
+    p
+}
+
+fn die_bonder_in_du() -> DieBonderPreset {
     let x_plant = Plant {
         k_c: 2506.17,
         tau: 0.31,

@@ -245,6 +245,26 @@ impl Group {
         Ok((n, axes))
     }
 
+    pub(crate) fn axes_pub(&self) -> Result<(usize, [usize; MAX_AXES])> {
+        self.axes()
+    }
+
+    pub(crate) fn path_scale_pub(&self) -> Result<f64> {
+        self.path_scale()
+    }
+
+    pub(crate) fn card_pub(&self) -> &Card {
+        &self.card
+    }
+
+    pub(crate) fn flags_pub(opts: &MoveOptions) -> u32 {
+        Self::flags(opts)
+    }
+
+    pub(crate) fn motion_pub(&self, seq: u32) -> GroupMotion {
+        self.motion(seq)
+    }
+
     /// Write the configuration and have the card check and apply it (group disabled).
     pub fn configure(&self, s: &GroupSettings) -> Result<()> {
         let n = s.axes.len();

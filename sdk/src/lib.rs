@@ -26,6 +26,7 @@ mod card;
 mod device;
 mod error;
 mod group;
+mod nurbs;
 
 pub use card::{
     Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
@@ -39,11 +40,14 @@ pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
 };
+pub use nurbs::{
+    clamped_uniform_knots, die_bonder_plant, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
+};
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
 pub use card_emu::scurve as plan;
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {
-    pub use firmware_proto::{fault, raw, AxisStatus, Command, Event, Opcode};
+    pub use firmware_proto::{fault, move_flags, raw, AxisStatus, Command, Event, Opcode};
 }

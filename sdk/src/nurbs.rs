@@ -1,0 +1,263 @@
+//! NURBS moves: the curve type, PD+ configuration, and streaming a curve to the card.
+
+use crate::card::{finite, Axis};
+use crate::error::{Error, Result};
+use crate::group::{Group, GroupMotion, MoveOptions};
+use firmware_proto::layout::{self, axis_config as ac, axis_pdplus as pp};
+use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA_MAX};
+use std::time::Duration;
+
+pub use card_emu::nurbs::{clamped_uniform_knots, Nurbs, NurbsError};
+
+/// PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2) in counts,
+/// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/τ + (kc/τ)·u`,
+/// `dθ/dt = ke·w`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdPlusSettings {
+    /// V/count.
+    pub kp: f64,
+    /// V per count/s.
+    pub kd: f64,
+    /// V per count/s of reference velocity.
+    pub kv: f64,
+    /// V per count/s² of reference acceleration.
+    pub ka: f64,
+    /// (rad/s)/V.
+    pub kc: f64,
+    /// s.
+    pub tau: f64,
+    /// counts/rad.
+    pub ke: f64,
+    /// Drive limit, V.
+    pub umax: f64,
+}
+
+impl PdPlusSettings {
+    /// Yeh Table 1, axis 0 (X) or 1 (Y), in volts (1 DU = 10 V).
+    pub fn die_bonder(axis: usize) -> Self {
+        let m = card_emu::yeh::die_bonder_volts().axes[axis.min(1)];
+        Self {
+            kp: m.gains.kp,
+            kd: m.gains.kd,
+            kv: m.gains.kv,
+            ka: m.gains.ka,
+            kc: m.plant.k_c,
+            tau: m.plant.tau,
+            ke: m.plant.k_e,
+            umax: m.umax,
+        }
+    }
+}
+
+/// The plant of Yeh's die bonder, axis 0 (X) or 1 (Y), for an emulated card.
+pub fn die_bonder_plant(axis: usize) -> card_emu::MotorParams {
+    let m = card_emu::yeh::die_bonder_volts().axes[axis.min(1)];
+    card_emu::MotorParams::die_bonder(m.plant.k_c, m.plant.tau)
+}
+
+impl Axis {
+    /// Switch the axis to the PD+ servo law with these gains and drive model.
+    pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
+        let w = self.card().window();
+        let a = self.index();
+        let named = [
+            ("kp", pp::KP, s.kp),
+            ("kd", pp::KD, s.kd),
+            ("kv", pp::KV, s.kv),
+            ("ka", pp::KA, s.ka),
+            ("kc", pp::KC, s.kc),
+            ("tau", pp::TAU, s.tau),
+            ("ke", pp::KE, s.ke),
+            ("umax", pp::UMAX, s.umax),
+        ];
+        for (what, _, v) in named {
+            finite(what, v)?;
+        }
+        for (_, off, v) in named {
+            w.write_f64(layout::axis_pdplus(a, off), v);
+        }
+        w.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_PDPLUS);
+        self.card()
+            .execute_seq(
+                Command::new(Opcode::ApplyAxisConfig, a as u16),
+                "configure PD+",
+                a,
+            )
+            .map(|_| ())
+    }
+}
+
+/// How a NURBS curve is followed (path units of the group's first axis).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NurbsFeed {
+    /// Feed along the curve.
+    pub feed: f64,
+    /// Tangential acceleration limit.
+    pub accel: f64,
+    /// Tangential jerk limit.
+    pub jerk: f64,
+    /// Chord error tolerance (the feed is lowered where the curvature needs it).
+    pub chord_tolerance: f64,
+    /// Saturation-aware feed (Yeh §3.4): the fraction of Umax the look-ahead may plan with
+    /// (e.g. 0.8); `None` for no saturation awareness. Needs PD+ on every group axis.
+    pub saturation: Option<f64>,
+}
+
+impl NurbsFeed {
+    /// Feed `v`, acceleration `a`, jerk `j`, chord tolerance 1 count, no saturation awareness.
+    pub fn new(v: f64, a: f64, j: f64) -> Self {
+        Self {
+            feed: v,
+            accel: a,
+            jerk: j,
+            chord_tolerance: 1.0,
+            saturation: None,
+        }
+    }
+}
+
+impl Group {
+    /// Move along a NURBS curve (control points in the group's axis order and user units,
+    /// absolute; the curve must start where the group's path is). The curve reaches the card in
+    /// continuation entries: a begin, data entries of up to 12 values, an end; each is answered
+    /// by its own ack or nack.
+    pub fn move_nurbs(
+        &self,
+        curve: &Nurbs,
+        f: &NurbsFeed,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let (n, axes) = self.axes_pub()?;
+        if curve.dim() != n {
+            return Err(Error::Nack {
+                command: "move nurbs",
+                axis: self.index(),
+                code: NackCode::NurbsDimension,
+                reason: "the curve's dimension differs from the group's axis count",
+            });
+        }
+        let s = self.path_scale_pub()?;
+        for (what, v) in [
+            ("feed", f.feed),
+            ("acceleration", f.accel),
+            ("jerk", f.jerk),
+            ("chord tolerance", f.chord_tolerance),
+        ] {
+            finite(what, v)?;
+            if v <= 0.0 {
+                return Err(Error::NonPositive { what, value: v });
+            }
+        }
+        let budget = f.saturation.unwrap_or(0.0);
+        finite("saturation budget", budget)?;
+        // The stream: control points (scaled per axis), weights, knots.
+        let mut stream = Vec::with_capacity(curve.n_ctrl() * (n + 1) + curve.knots().len());
+        for i in 0..curve.n_ctrl() {
+            let p = curve.control_point(i).unwrap_or_default();
+            for (j, &a) in axes[..n].iter().enumerate() {
+                stream.push(p[j] * self.card_pub().scale(a));
+            }
+        }
+        stream.extend((0..curve.n_ctrl()).map(|i| curve.weight(i).unwrap_or(0.0)));
+        stream.extend_from_slice(curve.knots());
+        let mut flags = Self::flags_pub(&opts);
+        if f.saturation.is_some() {
+            flags |= move_flags::NURBS_SATURATION;
+        }
+        let header = [
+            curve.degree() as f64,
+            curve.n_ctrl() as f64,
+            curve.knots().len() as f64,
+            f.feed * s,
+            f.accel * s,
+            f.jerk * s,
+            f.chord_tolerance * s,
+            budget,
+        ];
+        let mut begin = Command::new(Opcode::NurbsBegin, self.index() as u16).with_args(&header);
+        begin.flags = flags;
+        self.card_pub()
+            .execute_seq(begin, "nurbs begin", self.index())?;
+        self.send_data(&stream)?;
+        let seq = self.card_pub().execute_seq(
+            Command::new(Opcode::NurbsEnd, self.index() as u16),
+            "nurbs end",
+            self.index(),
+        )?;
+        Ok(self.motion_pub(seq))
+    }
+
+    /// Stream `values` as data entries, keeping at most 32 unanswered.
+    fn send_data(&self, values: &[f64]) -> Result<()> {
+        let card = self.card_pub();
+        let mut pending = std::collections::VecDeque::new();
+        let check = |seq: u32| -> Result<()> {
+            match card.wait_ack(seq)? {
+                Ok(()) => Ok(()),
+                Err(code) => Err(Error::Nack {
+                    command: "nurbs data",
+                    axis: self.index(),
+                    code,
+                    reason: crate::nack_reason(code),
+                }),
+            }
+        };
+        for (k, chunk) in values.chunks(NURBS_DATA_MAX).enumerate() {
+            let mut args = vec![(k * NURBS_DATA_MAX) as f64, chunk.len() as f64];
+            args.extend_from_slice(chunk);
+            let cmd = Command::new(Opcode::NurbsData, self.index() as u16).with_args(&args);
+            loop {
+                match card.send_raw(cmd) {
+                    Ok(seq) => {
+                        pending.push_back(seq);
+                        break;
+                    }
+                    Err(e) if e.kind() == crate::ErrorKind::RingFull => match pending.pop_front() {
+                        Some(seq) => check(seq)?,
+                        None => return Err(e),
+                    },
+                    Err(e) => return Err(e),
+                }
+            }
+            if pending.len() >= 32 {
+                if let Some(seq) = pending.pop_front() {
+                    check(seq)?;
+                }
+            }
+        }
+        while let Some(seq) = pending.pop_front() {
+            check(seq)?;
+        }
+        Ok(())
+    }
+
+    /// A path longer than the card holds: queue the pieces one after another, waiting for
+    /// earlier pieces to finish whenever the group's queue is full. Each piece starts and ends
+    /// at rest (Yeh's planner runs per curve). Returns the motion of the last piece.
+    pub fn move_nurbs_path(
+        &self,
+        pieces: &[Nurbs],
+        f: &NurbsFeed,
+        timeout: Duration,
+    ) -> Result<GroupMotion> {
+        let mut queued: std::collections::VecDeque<GroupMotion> = std::collections::VecDeque::new();
+        let mut last = None;
+        for piece in pieces {
+            loop {
+                match self.move_nurbs(piece, f, MoveOptions::buffered()) {
+                    Ok(m) => {
+                        queued.push_back(m.clone());
+                        last = Some(m);
+                        break;
+                    }
+                    Err(e) if e.kind() == crate::ErrorKind::QueueFull => match queued.pop_front() {
+                        Some(m) => m.wait(timeout)?,
+                        None => return Err(e),
+                    },
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+        last.ok_or_else(|| Error::Unsupported("an empty NURBS path".into()))
+    }
+}
