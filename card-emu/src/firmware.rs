@@ -442,8 +442,8 @@ impl<M: Mem + Clone> Firmware<M> {
         self.tick += 1;
         let ts = self.ts();
         // Sensors first, so a group's interpolator sees this tick's measurements.
-        for i in 0..self.num_axes {
-            self.axes[i].sense(encoders[i], ts);
+        for (axis, enc) in self.axes[..self.num_axes].iter_mut().zip(encoders) {
+            axis.sense(*enc, ts);
         }
         for g in self.groups.iter_mut() {
             g.tick(
@@ -455,6 +455,7 @@ impl<M: Mem + Clone> Firmware<M> {
             );
         }
         self.post_outbox();
+        #[allow(clippy::needless_range_loop)] // i indexes axes, dac and names the axis in events
         for i in 0..self.num_axes {
             let (volts, report) = self.axes[i].control(ts);
             dac[i] = volts;

@@ -864,7 +864,7 @@ impl Group {
         if a[..8].iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let int = |x: f64| (x.fract() == 0.0 && x >= 0.0 && x <= 1e6).then_some(x as usize);
+        let int = |x: f64| whole(x).filter(|n| *n <= 1_000_000);
         let degree = int(a[0])
             .filter(|d| (1..=crate::nurbs::MAX_DEGREE).contains(d))
             .ok_or(NackCode::NurbsDegree)?;
