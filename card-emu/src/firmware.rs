@@ -5,7 +5,7 @@
 //! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
 //! count; nothing reads a clock, calls the OS, allocates or panics.
 
-use crate::axis::{Axis, AxisConfig};
+use crate::axis::{Axis, AxisConfig, TickReport};
 use crate::scurve::Limits;
 use crate::servo::FfpivGains;
 use firmware_proto::layout::{self, axis_config as ac};
@@ -180,13 +180,15 @@ impl<M: Mem + Clone> Firmware<M> {
                     value: 0.0,
                 },
             };
+            if reply.kind == EventKind::Ack as u16 {
+                // The status first, then the events about it: a host that has the ack reads
+                // the state the command left (see `tick`).
+                self.publish();
+            }
             self.post(reply);
             for e in after.into_iter().flatten() {
                 self.post(e);
             }
-        }
-        if served > 0 {
-            self.publish();
         }
         served
     }
@@ -327,9 +329,19 @@ impl<M: Mem + Clone> Firmware<M> {
     pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
         self.tick += 1;
         let ts = self.ts();
+        let mut reports = [TickReport::default(); MAX_AXES];
         for i in 0..self.num_axes {
             let (volts, report) = self.axes[i].tick(encoders[i], ts);
             dac[i] = volts;
+            reports[i] = report;
+        }
+        for d in dac[self.num_axes..].iter_mut() {
+            *d = 0.0;
+        }
+        // The status first, then the events about it: a host that takes motion done (or a state
+        // change) and then reads the status sees this tick's, never the one before.
+        self.publish();
+        for (i, report) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;
             if let Some((seq, pos)) = report.done {
                 self.post(Event {
@@ -346,10 +358,6 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.post(e);
             }
         }
-        for d in dac[self.num_axes..].iter_mut() {
-            *d = 0.0;
-        }
-        self.publish();
     }
 
     /// Publish the tick counter and every axis's status.
