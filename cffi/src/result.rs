@@ -1,0 +1,310 @@
+//! Result codes, the per-thread message of the last failure, and the panic boundary.
+
+use motioncard_sdk::{Error, ErrorKind};
+use std::cell::RefCell;
+use std::ffi::{c_char, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
+/// failure. The codes are stable: a code keeps its number in every later version.
+#[allow(non_camel_case_types)]
+pub type mc_result = i32;
+
+/// Success.
+pub const MC_OK: mc_result = 0;
+/// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F` (or not UTF-8).
+pub const MC_ERR_BAD_URI: mc_result = -1;
+/// No card at that URI.
+pub const MC_ERR_NOT_FOUND: mc_result = -2;
+/// Another process has the card open.
+pub const MC_ERR_BUSY: mc_result = -3;
+/// The card's DPRAM layout major version differs from this library's.
+pub const MC_ERR_VERSION_MISMATCH: mc_result = -4;
+/// The card does not answer.
+pub const MC_ERR_NOT_RESPONDING: mc_result = -5;
+/// The card broke the protocol (corrupt ring indices, bad signature, torn status).
+pub const MC_ERR_PROTOCOL: mc_result = -6;
+/// The command ring is full: nothing was queued.
+pub const MC_ERR_RING_FULL: mc_result = -7;
+/// A wait ran out of time.
+pub const MC_ERR_TIMEOUT: mc_result = -8;
+/// The motion waited for was aborted by another command or a fault.
+pub const MC_ERR_ABORTED: mc_result = -9;
+/// The card has no such axis.
+pub const MC_ERR_BAD_AXIS: mc_result = -10;
+/// An argument is NaN or infinite.
+pub const MC_ERR_NOT_FINITE: mc_result = -11;
+/// A limit (or the scale) is zero or negative.
+pub const MC_ERR_NON_POSITIVE_LIMIT: mc_result = -12;
+/// The axis is disabled.
+pub const MC_ERR_AXIS_DISABLED: mc_result = -13;
+/// The command is not allowed in the axis's current state.
+pub const MC_ERR_INVALID_STATE: mc_result = -14;
+/// A configuration value is out of range.
+pub const MC_ERR_BAD_CONFIG: mc_result = -15;
+/// No motion profile satisfies the request.
+pub const MC_ERR_INFEASIBLE: mc_result = -16;
+/// A position is beyond the card's range.
+pub const MC_ERR_OUT_OF_RANGE: mc_result = -17;
+/// The card configuration can only change while all axes are disabled.
+pub const MC_ERR_AXES_ENABLED: mc_result = -18;
+/// The firmware does not know the command.
+pub const MC_ERR_UNKNOWN_COMMAND: mc_result = -19;
+/// An operating-system call failed.
+pub const MC_ERR_IO: mc_result = -20;
+/// The card or backend cannot do this (for example stepping a card that is not a stepped sim).
+pub const MC_ERR_UNSUPPORTED: mc_result = -21;
+/// The card handle (or motion) is unknown: never opened, or already closed.
+pub const MC_ERR_BAD_HANDLE: mc_result = -100;
+/// A pointer argument that must not be NULL was NULL.
+pub const MC_ERR_NULL_POINTER: mc_result = -101;
+/// The buffer is too small; the size needed (with the terminating NUL) was written to `*needed`.
+pub const MC_ERR_BUFFER_TOO_SMALL: mc_result = -102;
+/// The library panicked (a bug in libmotioncard); the call had no effect on the caller's
+/// outputs. The message is in `mc_last_error_message`.
+pub const MC_ERR_PANIC: mc_result = -103;
+
+/// The code of an SDK error kind: one code per kind. An exhaustive match, so that a new kind
+/// does not compile until it has its code.
+pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
+    match kind {
+        ErrorKind::BadUri => MC_ERR_BAD_URI,
+        ErrorKind::NotFound => MC_ERR_NOT_FOUND,
+        ErrorKind::Busy => MC_ERR_BUSY,
+        ErrorKind::VersionMismatch => MC_ERR_VERSION_MISMATCH,
+        ErrorKind::NotResponding => MC_ERR_NOT_RESPONDING,
+        ErrorKind::Protocol => MC_ERR_PROTOCOL,
+        ErrorKind::RingFull => MC_ERR_RING_FULL,
+        ErrorKind::Timeout => MC_ERR_TIMEOUT,
+        ErrorKind::Aborted => MC_ERR_ABORTED,
+        ErrorKind::BadAxis => MC_ERR_BAD_AXIS,
+        ErrorKind::NotFinite => MC_ERR_NOT_FINITE,
+        ErrorKind::NonPositiveLimit => MC_ERR_NON_POSITIVE_LIMIT,
+        ErrorKind::AxisDisabled => MC_ERR_AXIS_DISABLED,
+        ErrorKind::InvalidState => MC_ERR_INVALID_STATE,
+        ErrorKind::BadConfig => MC_ERR_BAD_CONFIG,
+        ErrorKind::Infeasible => MC_ERR_INFEASIBLE,
+        ErrorKind::OutOfRange => MC_ERR_OUT_OF_RANGE,
+        ErrorKind::AxesEnabled => MC_ERR_AXES_ENABLED,
+        ErrorKind::UnknownCommand => MC_ERR_UNKNOWN_COMMAND,
+        ErrorKind::Io => MC_ERR_IO,
+        ErrorKind::Unsupported => MC_ERR_UNSUPPORTED,
+    }
+}
+
+/// The static description of a code (`mc_result_str`).
+pub(crate) fn describe(code: mc_result) -> &'static CStr {
+    match code {
+        MC_OK => c"success",
+        MC_ERR_BAD_URI => c"bad card URI",
+        MC_ERR_NOT_FOUND => c"no card at that URI",
+        MC_ERR_BUSY => c"the card is in use by another process",
+        MC_ERR_VERSION_MISMATCH => c"the card's DPRAM layout version differs from the library's",
+        MC_ERR_NOT_RESPONDING => c"the card does not respond",
+        MC_ERR_PROTOCOL => c"the card broke the protocol",
+        MC_ERR_RING_FULL => c"the command ring is full",
+        MC_ERR_TIMEOUT => c"timed out",
+        MC_ERR_ABORTED => c"the motion was aborted",
+        MC_ERR_BAD_AXIS => c"no such axis",
+        MC_ERR_NOT_FINITE => c"an argument is NaN or infinite",
+        MC_ERR_NON_POSITIVE_LIMIT => c"a limit is zero or negative",
+        MC_ERR_AXIS_DISABLED => c"the axis is disabled",
+        MC_ERR_INVALID_STATE => c"not allowed in the axis's current state",
+        MC_ERR_BAD_CONFIG => c"a configuration value is out of range",
+        MC_ERR_INFEASIBLE => c"no motion profile satisfies the request",
+        MC_ERR_OUT_OF_RANGE => c"position out of range",
+        MC_ERR_AXES_ENABLED => c"all axes must be disabled first",
+        MC_ERR_UNKNOWN_COMMAND => c"the firmware does not know the command",
+        MC_ERR_IO => c"an operating-system call failed",
+        MC_ERR_UNSUPPORTED => c"not supported by this card",
+        MC_ERR_BAD_HANDLE => c"unknown or closed handle",
+        MC_ERR_NULL_POINTER => c"a required pointer is NULL",
+        MC_ERR_BUFFER_TOO_SMALL => c"the buffer is too small",
+        MC_ERR_PANIC => c"internal error in libmotioncard (panic)",
+        _ => c"unknown result code",
+    }
+}
+
+/// Why a call failed: its code and the detailed message kept for `mc_last_error_message`.
+#[derive(Debug)]
+pub(crate) struct Failure {
+    pub code: mc_result,
+    pub message: String,
+}
+
+impl Failure {
+    pub(crate) fn new(code: mc_result, message: impl Into<String>) -> Self {
+        Self {
+            code,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn null(what: &str) -> Self {
+        Self::new(MC_ERR_NULL_POINTER, format!("{what} is NULL"))
+    }
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Self::new(code_of(e.kind()), e.to_string())
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// Keep `message` as this thread's last failure.
+fn set_last_error(message: String) {
+    // During thread exit the slot may be gone; the message is then lost, nothing else.
+    let _ = LAST_ERROR.try_with(|m| *m.borrow_mut() = message);
+}
+
+/// This thread's last failure ("" when there was none).
+pub(crate) fn last_error() -> String {
+    LAST_ERROR
+        .try_with(|m| m.borrow().clone())
+        .unwrap_or_default()
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> &str {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        s
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s
+    } else {
+        "(no message)"
+    }
+}
+
+/// The panic boundary: every exported function runs its body in here. A failure becomes its
+/// code and this thread's last-error message; a panic becomes `MC_ERR_PANIC`.
+pub(crate) fn guard(body: impl FnOnce() -> Result<(), Failure>) -> mc_result {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => MC_OK,
+        Ok(Err(f)) => {
+            set_last_error(f.message);
+            f.code
+        }
+        Err(payload) => {
+            set_last_error(format!(
+                "libmotioncard panicked: {}",
+                panic_message(&*payload)
+            ));
+            MC_ERR_PANIC
+        }
+    }
+}
+
+/// [`guard`] for the calls that read the last error: their own failures must not replace the
+/// message the caller is trying to read.
+pub(crate) fn guard_quiet(body: impl FnOnce() -> Result<(), Failure>) -> mc_result {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => MC_OK,
+        Ok(Err(f)) => f.code,
+        Err(_) => MC_ERR_PANIC,
+    }
+}
+
+/// The description of a code as a C string.
+pub(crate) fn describe_ptr(code: mc_result) -> *const c_char {
+    describe(code).as_ptr()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const KINDS: [ErrorKind; 21] = [
+        ErrorKind::BadUri,
+        ErrorKind::NotFound,
+        ErrorKind::Busy,
+        ErrorKind::VersionMismatch,
+        ErrorKind::NotResponding,
+        ErrorKind::Protocol,
+        ErrorKind::RingFull,
+        ErrorKind::Timeout,
+        ErrorKind::Aborted,
+        ErrorKind::BadAxis,
+        ErrorKind::NotFinite,
+        ErrorKind::NonPositiveLimit,
+        ErrorKind::AxisDisabled,
+        ErrorKind::InvalidState,
+        ErrorKind::BadConfig,
+        ErrorKind::Infeasible,
+        ErrorKind::OutOfRange,
+        ErrorKind::AxesEnabled,
+        ErrorKind::UnknownCommand,
+        ErrorKind::Io,
+        ErrorKind::Unsupported,
+    ];
+
+    #[test]
+    fn codes_are_one_to_one_with_kinds_and_described() {
+        let mut codes: Vec<mc_result> = KINDS.iter().map(|k| code_of(*k)).collect();
+        codes.extend([
+            MC_ERR_BAD_HANDLE,
+            MC_ERR_NULL_POINTER,
+            MC_ERR_BUFFER_TOO_SMALL,
+            MC_ERR_PANIC,
+        ]);
+        let mut seen = std::collections::HashSet::new();
+        for c in &codes {
+            assert!(*c < 0, "{c} is not negative");
+            assert!(seen.insert(*c), "code {c} used twice");
+            let d = describe(*c).to_str().unwrap();
+            assert_ne!(d, "unknown result code", "code {c} has no description");
+        }
+        let descriptions: std::collections::HashSet<_> =
+            codes.iter().map(|c| describe(*c)).collect();
+        assert_eq!(
+            descriptions.len(),
+            codes.len(),
+            "two codes share a description"
+        );
+        assert_eq!(describe(MC_OK).to_str().unwrap(), "success");
+        assert_eq!(describe(-9999).to_str().unwrap(), "unknown result code");
+        assert_eq!(describe(7).to_str().unwrap(), "unknown result code");
+    }
+
+    #[test]
+    fn a_panic_becomes_mc_err_panic_with_its_message() {
+        let r = guard(|| panic!("deliberate test panic {}", 42));
+        assert_eq!(r, MC_ERR_PANIC);
+        assert!(
+            last_error().contains("deliberate test panic 42"),
+            "{}",
+            last_error()
+        );
+        assert_eq!(guard_quiet(|| panic!("quiet")), MC_ERR_PANIC);
+        assert!(last_error().contains("deliberate test panic 42"));
+    }
+
+    #[test]
+    fn failures_set_the_per_thread_message_and_quiet_ones_do_not() {
+        assert_eq!(
+            guard(|| Err(Failure::new(MC_ERR_BAD_AXIS, "axis 9 on thread A"))),
+            MC_ERR_BAD_AXIS
+        );
+        std::thread::spawn(|| {
+            assert_eq!(last_error(), "");
+            guard(|| Err(Failure::null("thread B's pointer")));
+            assert_eq!(last_error(), "thread B's pointer is NULL");
+        })
+        .join()
+        .unwrap();
+        assert_eq!(last_error(), "axis 9 on thread A");
+        assert_eq!(
+            guard_quiet(|| Err(Failure::new(MC_ERR_BUFFER_TOO_SMALL, "x"))),
+            MC_ERR_BUFFER_TOO_SMALL
+        );
+        assert_eq!(last_error(), "axis 9 on thread A");
+        assert_eq!(guard(|| Ok(())), MC_OK);
+        assert_eq!(
+            last_error(),
+            "axis 9 on thread A",
+            "success keeps the last failure"
+        );
+    }
+}
