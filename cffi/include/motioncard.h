@@ -36,9 +36,11 @@
  *
  * Which calls block
  * - Never block: mc_result_str, mc_last_error_message, mc_version, mc_version_string,
- *   mc_get_info, mc_get_tick, mc_get_status, mc_set_scale, mc_events_lost, mc_irq_fd,
- *   mc_poll_events, mc_set_event_callback, mc_axis_settings_default,
- *   mc_move_limits_symmetric, mc_sim_time.
+ *   mc_get_info, mc_get_tick, mc_set_scale, mc_events_lost, mc_irq_fd, mc_poll_events,
+ *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time.
+ * - mc_get_status does not wait for the card; it retries while the card is rewriting the
+ *   status block (well under a microsecond on a running card; after 100 ms of a block that
+ *   stays busy, MC_ERR_NOT_RESPONDING).
  * - Block until the card answers the command (microseconds on a running card; at most 2 s,
  *   then MC_ERR_NOT_RESPONDING): mc_enable, mc_disable, mc_configure, mc_move_absolute,
  *   mc_move_relative, mc_halt, mc_stop, mc_release_stop, mc_reset, mc_ping,
@@ -488,8 +490,9 @@ mc_result mc_release_stop(mc_card card, uint32_t axis);
 // the card answers.
 mc_result mc_reset(mc_card card, uint32_t axis);
 
-// A consistent snapshot of an axis's status. Never blocks on the card (it reads the status
-// block the card publishes every servo tick).
+// A consistent snapshot of an axis's status, read from the block the card publishes every
+// servo tick (and before each event it posts). Does not wait for the card; see the header's
+// notes on blocking.
 mc_result mc_get_status(mc_card card, uint32_t axis, struct mc_status *status);
 
 // Wait until a motion is done (in position) and write the actual position to `*position`.

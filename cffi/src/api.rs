@@ -395,8 +395,9 @@ pub extern "C" fn mc_reset(card: mc_card, axis: u32) -> mc_result {
     guard(|| Ok(axis_of(card, axis)?.1.reset()?))
 }
 
-/// A consistent snapshot of an axis's status. Never blocks on the card (it reads the status
-/// block the card publishes every servo tick).
+/// A consistent snapshot of an axis's status, read from the block the card publishes every
+/// servo tick (and before each event it posts). Does not wait for the card; see the header's
+/// notes on blocking.
 #[no_mangle]
 pub unsafe extern "C" fn mc_get_status(
     card: mc_card,
@@ -607,4 +608,84 @@ pub unsafe extern "C" fn mc_sim_time(card: mc_card, seconds: *mut f64) -> mc_res
         unsafe { out.write(t) };
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::result::{MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL, MC_OK};
+    use firmware_proto::{layout, Mem};
+
+    fn stepped() -> mc_card {
+        let mut h = 0;
+        // SAFETY: a valid out pointer.
+        assert_eq!(unsafe { mc_open_sim_stepped(2, 10_000, &mut h) }, MC_OK);
+        h
+    }
+
+    fn status(h: mc_card) -> (mc_result, mc_status) {
+        let mut s = mc_status::default();
+        // SAFETY: a valid out pointer.
+        let r = unsafe { mc_get_status(h, 0, &mut s) };
+        (r, s)
+    }
+
+    /// Write into the card's DPRAM behind the library's back.
+    fn scribble(h: mc_card, f: impl FnOnce(&dyn Mem)) {
+        let sim = registry::get(h).unwrap().sim.clone().unwrap();
+        sim.with_emulator(|e| f(&**e.window()));
+    }
+
+    #[test]
+    fn a_stalled_or_corrupt_status_block_gives_its_code() {
+        let h = stepped();
+        assert_eq!(status(h).0, MC_OK);
+        let seq = layout::axis_status(0);
+        // The writer died mid-write: seq stays odd.
+        scribble(h, |w| w.write32(seq, w.read32(seq) | 1));
+        let (r, s) = status(h);
+        assert_eq!((r, s), (MC_ERR_NOT_RESPONDING, mc_status::default()));
+        assert!(last_error().contains("stayed busy"), "{}", last_error());
+        // A consistent copy that fails its checksum.
+        scribble(h, |w| {
+            w.write32(seq, (w.read32(seq) & !1) + 2);
+            w.write64(seq + layout::STATUS_PAYLOAD + 16, 0x1234);
+        });
+        assert_eq!(status(h).0, MC_ERR_PROTOCOL);
+        assert!(last_error().contains("checksum"), "{}", last_error());
+        // The next tick rewrites the block.
+        assert_eq!(mc_sim_step(h, 1), MC_OK);
+        assert_eq!(status(h).0, MC_OK);
+        assert_eq!(mc_close(h), MC_OK);
+    }
+
+    unsafe extern "C" fn close_own_card(card: mc_card, event: *const mc_event, user: *mut c_void) {
+        // SAFETY: `user` is the counter the test registered; `event` is valid during the call.
+        let (n, e) = unsafe { (&mut *user.cast::<u32>(), *event) };
+        *n += 1;
+        assert_eq!(e.kind, crate::types::MC_EVENT_STATE_CHANGED);
+        assert_eq!(
+            mc_close(card),
+            if *n == 1 { MC_OK } else { MC_ERR_BAD_HANDLE }
+        );
+    }
+
+    #[test]
+    fn a_callback_may_close_its_own_card() {
+        let h = stepped();
+        assert_eq!(mc_enable(h, 0), MC_OK);
+        assert_eq!(mc_enable(h, 1), MC_OK); // two state-change events queued
+        let mut calls = 0u32;
+        let user = (&mut calls as *mut u32).cast::<c_void>();
+        // SAFETY: the callback matches the contract; `calls` outlives the dispatch below.
+        assert_eq!(
+            unsafe { mc_set_event_callback(h, Some(close_own_card), user) },
+            MC_OK
+        );
+        let mut n = 0;
+        // SAFETY: a valid out pointer.
+        assert_eq!(unsafe { mc_dispatch_events(h, 0, &mut n) }, MC_OK);
+        assert_eq!((n, calls), (2, 2), "every queued event is still delivered");
+        assert_eq!(mc_close(h), MC_ERR_BAD_HANDLE);
+    }
 }
