@@ -5,7 +5,7 @@
 //! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
 //! count; nothing reads a clock, calls the OS, allocates or panics.
 
-use crate::axis::{Axis, AxisConfig};
+use crate::axis::{Axis, AxisConfig, TickReport};
 use crate::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use crate::scurve::Limits;
 use crate::servo::FfpivGains;
@@ -188,11 +188,13 @@ impl<M: Mem + Clone> Firmware<M> {
                     value: 0.0,
                 },
             };
+            if reply.kind == EventKind::Ack as u16 {
+                // The status first, then the events about it: a host that has the ack reads
+                // the state the command left (see `tick`).
+                self.publish();
+            }
             self.post(reply);
             self.post_outbox();
-        }
-        if served > 0 {
-            self.publish();
         }
         served
     }
@@ -454,11 +456,24 @@ impl<M: Mem + Clone> Firmware<M> {
                 &mut self.outbox,
             );
         }
-        self.post_outbox();
-        #[allow(clippy::needless_range_loop)] // i indexes axes, dac and names the axis in events
-        for i in 0..self.num_axes {
-            let (volts, report) = self.axes[i].control(ts);
+        let mut reports = [TickReport::default(); MAX_AXES];
+        for (i, (axis, report)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(reports.iter_mut())
+            .enumerate()
+        {
+            let (volts, r) = axis.control(ts);
             dac[i] = volts;
+            *report = r;
+        }
+        for d in dac[self.num_axes..].iter_mut() {
+            *d = 0.0;
+        }
+        // The status first, then the events about it: a host that takes motion done (or a
+        // state change) and then reads the status sees this tick's, never the one before.
+        self.publish();
+        self.post_outbox();
+        for (i, report) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;
             if let Some((seq, pos)) = report.done {
                 self.post(Event {
@@ -475,10 +490,6 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.post(e);
             }
         }
-        for d in dac[self.num_axes..].iter_mut() {
-            *d = 0.0;
-        }
-        self.publish();
     }
 
     /// Publish the tick counter and every axis's status.

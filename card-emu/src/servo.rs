@@ -117,17 +117,17 @@ impl Ffpiv {
         ts: f64,
         limit: f64,
     ) -> f64 {
-        let v_cmd = gains.kp * (r.pos - x) + gains.kvff * r.vel;
-        let ev = v_cmd - self.vel;
-        // At standstill within one count of the reference the integrator holds its value: the
-        // encoder cannot resolve less, and integrating the quantisation error would make the
-        // axis hunt between two counts around a target that lies between them.
-        let hold = r.vel == 0.0 && r.acc == 0.0 && (r.pos - x).abs() < 1.0;
-        let integral = if hold {
-            self.integral
+        // At standstill the reference is the nearest whole count: the encoder resolves no less,
+        // and integrating a half-count error would make the axis hunt between the two counts
+        // around a target that lies between them.
+        let pos = if r.vel == 0.0 && r.acc == 0.0 {
+            r.pos.round()
         } else {
-            self.integral + ev * ts
+            r.pos
         };
+        let v_cmd = gains.kp * (pos - x) + gains.kvff * r.vel;
+        let ev = v_cmd - self.vel;
+        let integral = self.integral + ev * ts;
         let u = gains.kv * (ev + gains.ki * integral) + gains.kaff * r.acc;
         if u.abs() <= limit {
             self.integral = integral;

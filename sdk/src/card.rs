@@ -20,6 +20,10 @@ pub(crate) type Window = Arc<card_emu::shm::MappedWindow>;
 /// How long a command may wait for its ack before the card counts as not responding.
 pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
 
+/// How long an axis status block may stay busy (mid-write) before `Axis::status` gives
+/// `Error::NotResponding`.
+const STATUS_BUSY_TIMEOUT: Duration = Duration::from_millis(100);
+
 /// Events kept for [`Card::next_event`] before the oldest are dropped (and counted).
 pub const EVENT_QUEUE_CAP: usize = 4096;
 
@@ -831,17 +835,33 @@ impl Axis {
     }
 
     /// A consistent snapshot of the axis's status.
+    ///
+    /// When the block stays busy through the seqlock's spins, the reader yields and tries
+    /// again for up to 100 ms: an emulated card's writer is a thread that the OS can deschedule
+    /// mid-write, which is a stall, not a dead card.
     pub fn status(&self) -> Result<Status> {
-        let raw = seqlock::read_axis_status(&self.card.inner.dev.window, self.index).map_err(
-            |e| match e {
-                SnapshotError::Busy => {
-                    Error::NotResponding(format!("status of axis {} stayed busy", self.index))
+        let window = &self.card.inner.dev.window;
+        let mut deadline = None;
+        let raw = loop {
+            match seqlock::read_axis_status(window, self.index) {
+                Err(SnapshotError::Busy)
+                    if Instant::now()
+                        < *deadline.get_or_insert_with(|| Instant::now() + STATUS_BUSY_TIMEOUT) =>
+                {
+                    std::thread::yield_now()
                 }
-                SnapshotError::Corrupt => {
-                    Error::Protocol(format!("status of axis {} failed its checksum", self.index))
-                }
-            },
-        )?;
+                r => break r,
+            }
+        }
+        .map_err(|e| match e {
+            SnapshotError::Busy => Error::NotResponding(format!(
+                "status of axis {} stayed busy for {STATUS_BUSY_TIMEOUT:?}",
+                self.index
+            )),
+            SnapshotError::Corrupt => {
+                Error::Protocol(format!("status of axis {} failed its checksum", self.index))
+            }
+        })?;
         let state = raw.state().ok_or_else(|| {
             Error::Protocol(format!(
                 "axis {} reports unknown state {}",

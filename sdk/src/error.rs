@@ -4,8 +4,10 @@ use firmware_proto::NackCode;
 use std::time::Duration;
 
 /// What went wrong, as a flat code: one-to-one with the C ABI's result codes.
+///
+/// Deliberately not `#[non_exhaustive]`: the C ABI (`cffi/`) matches it exhaustively, so a new
+/// kind does not compile until it has its own `MC_ERR_` code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
 pub enum ErrorKind {
     /// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
     BadUri,

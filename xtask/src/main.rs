@@ -1,5 +1,10 @@
 //! `cargo xtask codegen [--check]`: regenerate the checked-in generated files, or (with
 //! `--check`) fail when they are stale. Needs libclang (Debian: `libclang-dev`).
+//!
+//! `cargo xtask install --prefix DIR`: build libmotioncard in release and install it for C
+//! users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
+
+mod install;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -31,18 +36,75 @@ fn dpram_bindings(root: &Path) -> Result<String, String> {
     Ok(bindings.to_string())
 }
 
+/// The C header of libmotioncard, from the cffi crate's source and `cffi/cbindgen.toml`.
+fn c_header(root: &Path) -> Result<String, String> {
+    let dir = root.join("cffi");
+    let config = cbindgen::Config::from_file(dir.join("cbindgen.toml"))?;
+    let bindings = cbindgen::Builder::new()
+        .with_crate(&dir)
+        .with_config(config)
+        .generate()
+        .map_err(|e| format!("cbindgen failed on {}: {e}", dir.display()))?;
+    let mut out = Vec::new();
+    bindings.write(&mut out);
+    String::from_utf8(out).map_err(|e| format!("cbindgen wrote non-UTF-8: {e}"))
+}
+
+const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask install --prefix DIR";
+
+/// Build libmotioncard (release) and install it under the prefix.
+fn install_command(args: &[String]) -> ExitCode {
+    let prefix = match args {
+        [flag, dir] if flag == "--prefix" => PathBuf::from(dir),
+        [arg] if arg.starts_with("--prefix=") => PathBuf::from(&arg["--prefix=".len()..]),
+        _ => {
+            eprintln!("{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    let root = workspace_root();
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(|t| root.join(t))
+        .unwrap_or_else(|| root.join("target"));
+    // The workspace version: xtask and motioncard-cffi share it.
+    let version = env!("CARGO_PKG_VERSION");
+    let header = root.join("cffi/include/motioncard.h");
+    let installed = install::build(&cargo, &root, "release", &target)
+        .and_then(|()| install::install(&target.join("release"), &header, &prefix, version));
+    match installed {
+        Ok(()) => {
+            let p = std::path::absolute(&prefix).unwrap_or(prefix);
+            println!("installed libmotioncard {version} under {}", p.display());
+            println!(
+                "  build with: PKG_CONFIG_PATH={}/lib/pkgconfig cc app.c $(pkg-config --cflags --libs motioncard)",
+                p.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let check = args.iter().any(|a| a == "--check");
     match args.first().map(String::as_str) {
         Some("codegen") => {}
+        Some("install") => return install_command(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask codegen [--check]");
+            eprintln!("{USAGE}");
             return ExitCode::from(2);
         }
     }
     let root = workspace_root();
-    let outputs = [("firmware-proto/src/raw.rs", dpram_bindings(&root))];
+    let outputs = [
+        ("firmware-proto/src/raw.rs", dpram_bindings(&root)),
+        ("cffi/include/motioncard.h", c_header(&root)),
+    ];
     let mut stale = false;
     for (rel, generated) in outputs {
         let generated = match generated {

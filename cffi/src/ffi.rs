@@ -1,0 +1,103 @@
+//! Pointers from C: checked for NULL before anything happens, written only at the end.
+//!
+//! Reads and writes are unaligned (`read_unaligned` / `write_unaligned`), so a misaligned
+//! pointer from C is not undefined behaviour on our side either.
+
+use crate::result::{Failure, MC_ERR_BAD_URI, MC_ERR_BUFFER_TOO_SMALL};
+use std::ffi::{c_char, CStr};
+
+/// A checked, non-NULL output pointer. Check every output first, compute, then write: a
+/// failed call leaves the caller's outputs untouched.
+pub(crate) struct Out<T>(*mut T);
+
+impl<T> Out<T> {
+    /// Check `p`; `what` names the parameter in the error message.
+    pub(crate) fn new(p: *mut T, what: &str) -> Result<Self, Failure> {
+        if p.is_null() {
+            Err(Failure::null(what))
+        } else {
+            Ok(Out(p))
+        }
+    }
+
+    /// Store the result.
+    ///
+    /// # Safety
+    /// The pointer given to [`Out::new`] is valid for a write of a `T` (the caller's side of
+    /// the function's contract).
+    pub(crate) unsafe fn write(self, value: T) {
+        // SAFETY: non-NULL (checked in `new`), valid for writes by the caller's contract;
+        // unaligned writes need no alignment.
+        unsafe { self.0.write_unaligned(value) }
+    }
+}
+
+/// Read an input struct.
+///
+/// # Safety
+/// `p` is NULL or valid for a read of a `T`, and every bit pattern is a valid `T` (plain
+/// numbers).
+pub(crate) unsafe fn read_in<T: Copy>(p: *const T, what: &str) -> Result<T, Failure> {
+    if p.is_null() {
+        return Err(Failure::null(what));
+    }
+    // SAFETY: non-NULL, valid for reads by the caller's contract; any bits are a valid `T`.
+    Ok(unsafe { p.read_unaligned() })
+}
+
+/// Borrow a NUL-terminated UTF-8 string (a URI).
+///
+/// # Safety
+/// `p` is NULL or points to a NUL-terminated string that stays alive and unchanged for `'a`.
+pub(crate) unsafe fn uri<'a>(p: *const c_char, what: &str) -> Result<&'a str, Failure> {
+    if p.is_null() {
+        return Err(Failure::null(what));
+    }
+    // SAFETY: non-NULL and NUL-terminated by the caller's contract.
+    let s = unsafe { CStr::from_ptr(p) };
+    s.to_str()
+        .map_err(|_| Failure::new(MC_ERR_BAD_URI, format!("{what} is not valid UTF-8")))
+}
+
+/// A caller's string buffer: `buf` of `len` bytes, and `needed` for the size the string takes
+/// (bytes + the terminating NUL). `buf` may be NULL only when `len` is 0 (a size query).
+pub(crate) struct StrBuf {
+    buf: *mut c_char,
+    len: usize,
+    needed: Out<usize>,
+}
+
+impl StrBuf {
+    pub(crate) fn new(buf: *mut c_char, len: usize, needed: *mut usize) -> Result<Self, Failure> {
+        let needed = Out::new(needed, "needed")?;
+        if buf.is_null() && len > 0 {
+            return Err(Failure::null("buf"));
+        }
+        Ok(Self { buf, len, needed })
+    }
+
+    /// Copy `s` and a NUL into the buffer and its size into `*needed`; or, when it does not
+    /// fit, only the size into `*needed` and `MC_ERR_BUFFER_TOO_SMALL`.
+    ///
+    /// # Safety
+    /// `buf` is valid for writes of `len` bytes and `needed` for a write of a `size_t`.
+    pub(crate) unsafe fn fill(self, s: &str) -> Result<(), Failure> {
+        let n = s.len() + 1;
+        if n > self.len {
+            // SAFETY: `needed` was checked non-NULL; valid by the caller's contract.
+            unsafe { self.needed.write(n) };
+            return Err(Failure::new(
+                MC_ERR_BUFFER_TOO_SMALL,
+                format!("the buffer holds {} bytes, {n} are needed", self.len),
+            ));
+        }
+        // SAFETY: n <= len, so `buf` (non-NULL, since len > 0) has room for the n bytes; the
+        // source is a Rust string, which cannot overlap the caller's buffer.
+        unsafe {
+            std::ptr::copy_nonoverlapping(s.as_ptr(), self.buf.cast::<u8>(), s.len());
+            self.buf.add(s.len()).write(0);
+            self.needed.write(n);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,31 @@
+//! The C ABI of the motion-card SDK: `libmotioncard.so` / `libmotioncard.a` and the header
+//! `include/motioncard.h` that cbindgen generates from this crate (`cargo xtask codegen`).
+//!
+//! A thin skin over [`motioncard_sdk`], after rustls-ffi's conventions:
+//!
+//! - every function returns an `mc_result` (0 = `MC_OK`, negative = an `MC_ERR_` code, one per
+//!   [`motioncard_sdk::ErrorKind`] plus four of the ABI's own); `mc_last_error_message` gives
+//!   the calling thread's detailed message of its last failure;
+//! - outputs are written only on success; every pointer is checked for NULL first;
+//! - cards are integer handles (`mc_card`) in a process-wide table with generation counters:
+//!   an unknown or closed handle is `MC_ERR_BAD_HANDLE`, never undefined behaviour;
+//! - each function body runs inside a panic boundary ([`result::guard`]): a panic becomes
+//!   `MC_ERR_PANIC`, and cbindgen sees plain signatures;
+//! - no thread calls into the application: callbacks run inside `mc_dispatch_events`.
+//!
+//! The contract of every `unsafe` function is the one stated in the header: each pointer is
+//! NULL or valid for the access its documentation describes, for the duration of the call.
+#![deny(unsafe_op_in_unsafe_fn)]
+// The safety contract is common to every function and stated once, above and in the header.
+#![allow(clippy::missing_safety_doc)]
+
+pub mod api;
+mod ffi;
+pub mod registry;
+pub mod result;
+pub mod types;
+
+pub use api::*;
+pub use registry::{mc_card, mc_event_callback};
+pub use result::*;
+pub use types::*;

@@ -1,0 +1,410 @@
+//! Result codes, the per-thread message of the last failure, and the panic boundary.
+
+use motioncard_sdk::{Error, ErrorKind};
+use std::cell::RefCell;
+use std::ffi::{c_char, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
+/// failure. The codes are stable: a code keeps its number in every later version.
+#[allow(non_camel_case_types)]
+pub type mc_result = i32;
+
+/// Success.
+pub const MC_OK: mc_result = 0;
+/// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F` (or not UTF-8).
+pub const MC_ERR_BAD_URI: mc_result = -1;
+/// No card at that URI.
+pub const MC_ERR_NOT_FOUND: mc_result = -2;
+/// Another process has the card open.
+pub const MC_ERR_BUSY: mc_result = -3;
+/// The card's DPRAM layout major version differs from this library's.
+pub const MC_ERR_VERSION_MISMATCH: mc_result = -4;
+/// The card does not answer.
+pub const MC_ERR_NOT_RESPONDING: mc_result = -5;
+/// The card broke the protocol (corrupt ring indices, bad signature, torn status).
+pub const MC_ERR_PROTOCOL: mc_result = -6;
+/// The command ring is full: nothing was queued.
+pub const MC_ERR_RING_FULL: mc_result = -7;
+/// A wait ran out of time.
+pub const MC_ERR_TIMEOUT: mc_result = -8;
+/// The motion waited for was aborted by another command or a fault.
+pub const MC_ERR_ABORTED: mc_result = -9;
+/// The card has no such axis.
+pub const MC_ERR_BAD_AXIS: mc_result = -10;
+/// An argument is NaN or infinite.
+pub const MC_ERR_NOT_FINITE: mc_result = -11;
+/// A limit (or the scale) is zero or negative.
+pub const MC_ERR_NON_POSITIVE_LIMIT: mc_result = -12;
+/// The axis is disabled.
+pub const MC_ERR_AXIS_DISABLED: mc_result = -13;
+/// The command is not allowed in the axis's current state.
+pub const MC_ERR_INVALID_STATE: mc_result = -14;
+/// A configuration value is out of range.
+pub const MC_ERR_BAD_CONFIG: mc_result = -15;
+/// No motion profile satisfies the request.
+pub const MC_ERR_INFEASIBLE: mc_result = -16;
+/// A position is beyond the card's range.
+pub const MC_ERR_OUT_OF_RANGE: mc_result = -17;
+/// The card configuration can only change while all axes are disabled.
+pub const MC_ERR_AXES_ENABLED: mc_result = -18;
+/// The firmware does not know the command.
+pub const MC_ERR_UNKNOWN_COMMAND: mc_result = -19;
+/// An operating-system call failed.
+pub const MC_ERR_IO: mc_result = -20;
+/// The card or backend cannot do this (for example stepping a card that is not a stepped sim).
+pub const MC_ERR_UNSUPPORTED: mc_result = -21;
+/// No such axes group.
+pub const MC_ERR_BAD_GROUP: mc_result = -22;
+/// An axis already belongs to another group.
+pub const MC_ERR_AXIS_IN_OTHER_GROUP: mc_result = -23;
+/// The move needs an axis the group does not have.
+pub const MC_ERR_AXIS_NOT_IN_GROUP: mc_result = -24;
+/// An axis of the group is moving on its own.
+pub const MC_ERR_AXIS_BUSY: mc_result = -25;
+/// The axis belongs to an enabled group.
+pub const MC_ERR_AXIS_GROUPED: mc_result = -26;
+/// The arc has zero length or zero radius.
+pub const MC_ERR_ZERO_LENGTH_ARC: mc_result = -27;
+/// The centre is not equidistant from start and end.
+pub const MC_ERR_CENTRE_NOT_EQUIDISTANT: mc_result = -28;
+/// The radius is shorter than half the chord.
+pub const MC_ERR_RADIUS_TOO_SMALL: mc_result = -29;
+/// The three points of the arc are on one line.
+pub const MC_ERR_COLLINEAR_POINTS: mc_result = -30;
+/// The group's move queue is full.
+pub const MC_ERR_QUEUE_FULL: mc_result = -31;
+/// The interpolator cannot run with this acc/dec mode.
+pub const MC_ERR_INCOMPATIBLE_MODE: mc_result = -32;
+/// The group is disabled or not configured.
+pub const MC_ERR_GROUP_DISABLED: mc_result = -33;
+/// The filter still holds distance.
+pub const MC_ERR_FILTER_BUSY: mc_result = -34;
+/// NURBS data out of sequence.
+pub const MC_ERR_NURBS_SEQUENCE: mc_result = -35;
+/// NURBS degree outside 1..5.
+pub const MC_ERR_NURBS_DEGREE: mc_result = -36;
+/// NURBS curves need a group of at least 2 axes.
+pub const MC_ERR_NURBS_DIMENSION: mc_result = -37;
+/// Too few or too many NURBS control points.
+pub const MC_ERR_NURBS_CTRL_COUNT: mc_result = -38;
+/// The knot count must be control points + degree + 1.
+pub const MC_ERR_NURBS_KNOT_COUNT: mc_result = -39;
+/// The knots decrease.
+pub const MC_ERR_NURBS_KNOTS_DECREASING: mc_result = -40;
+/// An interior knot is repeated more than degree times.
+pub const MC_ERR_NURBS_KNOT_MULTIPLICITY: mc_result = -41;
+/// The knot vector is not clamped.
+pub const MC_ERR_NURBS_NOT_CLAMPED: mc_result = -42;
+/// A NURBS weight is not finite and positive.
+pub const MC_ERR_NURBS_WEIGHT: mc_result = -43;
+/// A control point or knot is not finite.
+pub const MC_ERR_NURBS_POINT: mc_result = -44;
+/// The curve does not start where the group is.
+pub const MC_ERR_NURBS_START: mc_result = -45;
+/// The curve has zero length.
+pub const MC_ERR_NURBS_ZERO_LENGTH: mc_result = -46;
+/// The card handle (or motion) is unknown: never opened, or already closed.
+pub const MC_ERR_BAD_HANDLE: mc_result = -100;
+/// A pointer argument that must not be NULL was NULL.
+pub const MC_ERR_NULL_POINTER: mc_result = -101;
+/// The buffer is too small; the size needed (with the terminating NUL) was written to `*needed`.
+pub const MC_ERR_BUFFER_TOO_SMALL: mc_result = -102;
+/// The library panicked (a bug in libmotioncard); the call had no effect on the caller's
+/// outputs. The message is in `mc_last_error_message`.
+pub const MC_ERR_PANIC: mc_result = -103;
+
+/// The code of an SDK error kind: one code per kind. An exhaustive match, so that a new kind
+/// does not compile until it has its code.
+pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
+    match kind {
+        ErrorKind::BadUri => MC_ERR_BAD_URI,
+        ErrorKind::NotFound => MC_ERR_NOT_FOUND,
+        ErrorKind::Busy => MC_ERR_BUSY,
+        ErrorKind::VersionMismatch => MC_ERR_VERSION_MISMATCH,
+        ErrorKind::NotResponding => MC_ERR_NOT_RESPONDING,
+        ErrorKind::Protocol => MC_ERR_PROTOCOL,
+        ErrorKind::RingFull => MC_ERR_RING_FULL,
+        ErrorKind::Timeout => MC_ERR_TIMEOUT,
+        ErrorKind::Aborted => MC_ERR_ABORTED,
+        ErrorKind::BadAxis => MC_ERR_BAD_AXIS,
+        ErrorKind::NotFinite => MC_ERR_NOT_FINITE,
+        ErrorKind::NonPositiveLimit => MC_ERR_NON_POSITIVE_LIMIT,
+        ErrorKind::AxisDisabled => MC_ERR_AXIS_DISABLED,
+        ErrorKind::InvalidState => MC_ERR_INVALID_STATE,
+        ErrorKind::BadConfig => MC_ERR_BAD_CONFIG,
+        ErrorKind::Infeasible => MC_ERR_INFEASIBLE,
+        ErrorKind::OutOfRange => MC_ERR_OUT_OF_RANGE,
+        ErrorKind::AxesEnabled => MC_ERR_AXES_ENABLED,
+        ErrorKind::UnknownCommand => MC_ERR_UNKNOWN_COMMAND,
+        ErrorKind::Io => MC_ERR_IO,
+        ErrorKind::Unsupported => MC_ERR_UNSUPPORTED,
+        ErrorKind::BadGroup => MC_ERR_BAD_GROUP,
+        ErrorKind::AxisInOtherGroup => MC_ERR_AXIS_IN_OTHER_GROUP,
+        ErrorKind::AxisNotInGroup => MC_ERR_AXIS_NOT_IN_GROUP,
+        ErrorKind::AxisBusy => MC_ERR_AXIS_BUSY,
+        ErrorKind::AxisGrouped => MC_ERR_AXIS_GROUPED,
+        ErrorKind::ZeroLengthArc => MC_ERR_ZERO_LENGTH_ARC,
+        ErrorKind::CentreNotEquidistant => MC_ERR_CENTRE_NOT_EQUIDISTANT,
+        ErrorKind::RadiusTooSmall => MC_ERR_RADIUS_TOO_SMALL,
+        ErrorKind::CollinearPoints => MC_ERR_COLLINEAR_POINTS,
+        ErrorKind::QueueFull => MC_ERR_QUEUE_FULL,
+        ErrorKind::IncompatibleMode => MC_ERR_INCOMPATIBLE_MODE,
+        ErrorKind::GroupDisabled => MC_ERR_GROUP_DISABLED,
+        ErrorKind::FilterBusy => MC_ERR_FILTER_BUSY,
+        ErrorKind::NurbsSequence => MC_ERR_NURBS_SEQUENCE,
+        ErrorKind::NurbsDegree => MC_ERR_NURBS_DEGREE,
+        ErrorKind::NurbsDimension => MC_ERR_NURBS_DIMENSION,
+        ErrorKind::NurbsCtrlCount => MC_ERR_NURBS_CTRL_COUNT,
+        ErrorKind::NurbsKnotCount => MC_ERR_NURBS_KNOT_COUNT,
+        ErrorKind::NurbsKnotsDecreasing => MC_ERR_NURBS_KNOTS_DECREASING,
+        ErrorKind::NurbsKnotMultiplicity => MC_ERR_NURBS_KNOT_MULTIPLICITY,
+        ErrorKind::NurbsNotClamped => MC_ERR_NURBS_NOT_CLAMPED,
+        ErrorKind::NurbsWeight => MC_ERR_NURBS_WEIGHT,
+        ErrorKind::NurbsPoint => MC_ERR_NURBS_POINT,
+        ErrorKind::NurbsStart => MC_ERR_NURBS_START,
+        ErrorKind::NurbsZeroLength => MC_ERR_NURBS_ZERO_LENGTH,
+    }
+}
+
+/// The static description of a code (`mc_result_str`).
+pub(crate) fn describe(code: mc_result) -> &'static CStr {
+    match code {
+        MC_OK => c"success",
+        MC_ERR_BAD_URI => c"bad card URI",
+        MC_ERR_NOT_FOUND => c"no card at that URI",
+        MC_ERR_BUSY => c"the card is in use by another process",
+        MC_ERR_VERSION_MISMATCH => c"the card's DPRAM layout version differs from the library's",
+        MC_ERR_NOT_RESPONDING => c"the card does not respond",
+        MC_ERR_PROTOCOL => c"the card broke the protocol",
+        MC_ERR_RING_FULL => c"the command ring is full",
+        MC_ERR_TIMEOUT => c"timed out",
+        MC_ERR_ABORTED => c"the motion was aborted",
+        MC_ERR_BAD_AXIS => c"no such axis",
+        MC_ERR_NOT_FINITE => c"an argument is NaN or infinite",
+        MC_ERR_NON_POSITIVE_LIMIT => c"a limit is zero or negative",
+        MC_ERR_AXIS_DISABLED => c"the axis is disabled",
+        MC_ERR_INVALID_STATE => c"not allowed in the axis's current state",
+        MC_ERR_BAD_CONFIG => c"a configuration value is out of range",
+        MC_ERR_INFEASIBLE => c"no motion profile satisfies the request",
+        MC_ERR_OUT_OF_RANGE => c"position out of range",
+        MC_ERR_AXES_ENABLED => c"all axes must be disabled first",
+        MC_ERR_UNKNOWN_COMMAND => c"the firmware does not know the command",
+        MC_ERR_IO => c"an operating-system call failed",
+        MC_ERR_UNSUPPORTED => c"not supported by this card",
+        MC_ERR_BAD_GROUP => c"no such axes group",
+        MC_ERR_AXIS_IN_OTHER_GROUP => c"an axis already belongs to another group",
+        MC_ERR_AXIS_NOT_IN_GROUP => c"the move needs an axis the group does not have",
+        MC_ERR_AXIS_BUSY => c"an axis of the group is moving on its own",
+        MC_ERR_AXIS_GROUPED => c"the axis belongs to an enabled group",
+        MC_ERR_ZERO_LENGTH_ARC => c"the arc has zero length or zero radius",
+        MC_ERR_CENTRE_NOT_EQUIDISTANT => c"the centre is not equidistant from start and end",
+        MC_ERR_RADIUS_TOO_SMALL => c"the radius is shorter than half the chord",
+        MC_ERR_COLLINEAR_POINTS => c"the three points of the arc are on one line",
+        MC_ERR_QUEUE_FULL => c"the group's move queue is full",
+        MC_ERR_INCOMPATIBLE_MODE => c"the interpolator cannot run with this acc/dec mode",
+        MC_ERR_GROUP_DISABLED => c"the group is disabled or not configured",
+        MC_ERR_FILTER_BUSY => c"the filter still holds distance",
+        MC_ERR_NURBS_SEQUENCE => c"NURBS data out of sequence",
+        MC_ERR_NURBS_DEGREE => c"NURBS degree outside 1..5",
+        MC_ERR_NURBS_DIMENSION => c"NURBS curves need a group of at least 2 axes",
+        MC_ERR_NURBS_CTRL_COUNT => c"too few or too many NURBS control points",
+        MC_ERR_NURBS_KNOT_COUNT => c"the knot count must be control points + degree + 1",
+        MC_ERR_NURBS_KNOTS_DECREASING => c"the knots decrease",
+        MC_ERR_NURBS_KNOT_MULTIPLICITY => c"an interior knot is repeated more than degree times",
+        MC_ERR_NURBS_NOT_CLAMPED => c"the knot vector is not clamped",
+        MC_ERR_NURBS_WEIGHT => c"a NURBS weight is not finite and positive",
+        MC_ERR_NURBS_POINT => c"a control point or knot is not finite",
+        MC_ERR_NURBS_START => c"the curve does not start where the group is",
+        MC_ERR_NURBS_ZERO_LENGTH => c"the curve has zero length",
+        MC_ERR_BAD_HANDLE => c"unknown or closed handle",
+        MC_ERR_NULL_POINTER => c"a required pointer is NULL",
+        MC_ERR_BUFFER_TOO_SMALL => c"the buffer is too small",
+        MC_ERR_PANIC => c"internal error in libmotioncard (panic)",
+        _ => c"unknown result code",
+    }
+}
+
+/// Why a call failed: its code and the detailed message kept for `mc_last_error_message`.
+#[derive(Debug)]
+pub(crate) struct Failure {
+    pub code: mc_result,
+    pub message: String,
+}
+
+impl Failure {
+    pub(crate) fn new(code: mc_result, message: impl Into<String>) -> Self {
+        Self {
+            code,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn null(what: &str) -> Self {
+        Self::new(MC_ERR_NULL_POINTER, format!("{what} is NULL"))
+    }
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Self::new(code_of(e.kind()), e.to_string())
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// Keep `message` as this thread's last failure.
+fn set_last_error(message: String) {
+    // During thread exit the slot may be gone; the message is then lost, nothing else.
+    let _ = LAST_ERROR.try_with(|m| *m.borrow_mut() = message);
+}
+
+/// This thread's last failure ("" when there was none).
+pub(crate) fn last_error() -> String {
+    LAST_ERROR
+        .try_with(|m| m.borrow().clone())
+        .unwrap_or_default()
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> &str {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        s
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s
+    } else {
+        "(no message)"
+    }
+}
+
+/// The panic boundary: every exported function runs its body in here. A failure becomes its
+/// code and this thread's last-error message; a panic becomes `MC_ERR_PANIC`.
+pub(crate) fn guard(body: impl FnOnce() -> Result<(), Failure>) -> mc_result {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => MC_OK,
+        Ok(Err(f)) => {
+            set_last_error(f.message);
+            f.code
+        }
+        Err(payload) => {
+            set_last_error(format!(
+                "libmotioncard panicked: {}",
+                panic_message(&*payload)
+            ));
+            MC_ERR_PANIC
+        }
+    }
+}
+
+/// [`guard`] for the calls that read the last error: their own failures must not replace the
+/// message the caller is trying to read.
+pub(crate) fn guard_quiet(body: impl FnOnce() -> Result<(), Failure>) -> mc_result {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => MC_OK,
+        Ok(Err(f)) => f.code,
+        Err(_) => MC_ERR_PANIC,
+    }
+}
+
+/// The description of a code as a C string.
+pub(crate) fn describe_ptr(code: mc_result) -> *const c_char {
+    describe(code).as_ptr()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const KINDS: [ErrorKind; 21] = [
+        ErrorKind::BadUri,
+        ErrorKind::NotFound,
+        ErrorKind::Busy,
+        ErrorKind::VersionMismatch,
+        ErrorKind::NotResponding,
+        ErrorKind::Protocol,
+        ErrorKind::RingFull,
+        ErrorKind::Timeout,
+        ErrorKind::Aborted,
+        ErrorKind::BadAxis,
+        ErrorKind::NotFinite,
+        ErrorKind::NonPositiveLimit,
+        ErrorKind::AxisDisabled,
+        ErrorKind::InvalidState,
+        ErrorKind::BadConfig,
+        ErrorKind::Infeasible,
+        ErrorKind::OutOfRange,
+        ErrorKind::AxesEnabled,
+        ErrorKind::UnknownCommand,
+        ErrorKind::Io,
+        ErrorKind::Unsupported,
+    ];
+
+    #[test]
+    fn codes_are_one_to_one_with_kinds_and_described() {
+        let mut codes: Vec<mc_result> = KINDS.iter().map(|k| code_of(*k)).collect();
+        codes.extend([
+            MC_ERR_BAD_HANDLE,
+            MC_ERR_NULL_POINTER,
+            MC_ERR_BUFFER_TOO_SMALL,
+            MC_ERR_PANIC,
+        ]);
+        let mut seen = std::collections::HashSet::new();
+        for c in &codes {
+            assert!(*c < 0, "{c} is not negative");
+            assert!(seen.insert(*c), "code {c} used twice");
+            let d = describe(*c).to_str().unwrap();
+            assert_ne!(d, "unknown result code", "code {c} has no description");
+        }
+        let descriptions: std::collections::HashSet<_> =
+            codes.iter().map(|c| describe(*c)).collect();
+        assert_eq!(
+            descriptions.len(),
+            codes.len(),
+            "two codes share a description"
+        );
+        assert_eq!(describe(MC_OK).to_str().unwrap(), "success");
+        assert_eq!(describe(-9999).to_str().unwrap(), "unknown result code");
+        assert_eq!(describe(7).to_str().unwrap(), "unknown result code");
+    }
+
+    #[test]
+    fn a_panic_becomes_mc_err_panic_with_its_message() {
+        let r = guard(|| panic!("deliberate test panic {}", 42));
+        assert_eq!(r, MC_ERR_PANIC);
+        assert!(
+            last_error().contains("deliberate test panic 42"),
+            "{}",
+            last_error()
+        );
+        assert_eq!(guard_quiet(|| panic!("quiet")), MC_ERR_PANIC);
+        assert!(last_error().contains("deliberate test panic 42"));
+    }
+
+    #[test]
+    fn failures_set_the_per_thread_message_and_quiet_ones_do_not() {
+        assert_eq!(
+            guard(|| Err(Failure::new(MC_ERR_BAD_AXIS, "axis 9 on thread A"))),
+            MC_ERR_BAD_AXIS
+        );
+        std::thread::spawn(|| {
+            assert_eq!(last_error(), "");
+            guard(|| Err(Failure::null("thread B's pointer")));
+            assert_eq!(last_error(), "thread B's pointer is NULL");
+        })
+        .join()
+        .unwrap();
+        assert_eq!(last_error(), "axis 9 on thread A");
+        assert_eq!(
+            guard_quiet(|| Err(Failure::new(MC_ERR_BUFFER_TOO_SMALL, "x"))),
+            MC_ERR_BUFFER_TOO_SMALL
+        );
+        assert_eq!(last_error(), "axis 9 on thread A");
+        assert_eq!(guard(|| Ok(())), MC_OK);
+        assert_eq!(
+            last_error(),
+            "axis 9 on thread A",
+            "success keeps the last failure"
+        );
+    }
+}

@@ -1,0 +1,341 @@
+//! The C programs of `cffi/examples/c/`, built the way a C user builds them: the library is
+//! installed under a temporary prefix by the install code of `cargo xtask install`, each
+//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
+//! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
+//! (real-time) and `stepped`. One program is also linked statically, one runs under valgrind.
+//!
+//! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
+//! asserts on time: the child processes only have a generous limit so a hang fails instead of
+//! stalling the suite.
+
+#[path = "../../xtask/src/install.rs"]
+mod install;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::{Mutex, OnceLock};
+use std::time::{Duration, Instant};
+
+const CFLAGS: &[&str] = &["-std=c11", "-Wall", "-Wextra", "-Werror", "-O1", "-g"];
+
+/// Longest a program may run before it counts as hung (valgrind included).
+const HANG_LIMIT: Duration = Duration::from_secs(300);
+
+struct Installed {
+    prefix: PathBuf,
+    work: PathBuf,
+}
+
+/// Install once per test run, under `target/tmp/c-abi/`.
+fn installed() -> &'static Installed {
+    static INSTALLED: OnceLock<Installed> = OnceLock::new();
+    INSTALLED.get_or_init(|| {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-abi");
+        let _ = std::fs::remove_dir_all(&root);
+        let prefix = root.join("prefix");
+        let work = root.join("bin");
+        std::fs::create_dir_all(&work).unwrap();
+        // This test's executable is TARGET/PROFILE_DIR/deps/c_programs-HASH. `cargo test`
+        // does not build the cdylib and staticlib (nothing links the library), so build them
+        // as `cargo xtask install` does, with this test's profile, into the same directory.
+        let exe = std::env::current_exe().unwrap();
+        let artifacts = exe.parent().and_then(Path::parent).unwrap();
+        let target_dir = artifacts.parent().unwrap();
+        let profile = match artifacts.file_name().and_then(|n| n.to_str()) {
+            Some("debug") => "dev",
+            Some(p) => p,
+            None => panic!("unexpected test location {}", exe.display()),
+        };
+        let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        install::build(&cargo, crate_dir.parent().unwrap(), profile, target_dir)
+            .expect("build libmotioncard");
+        install::install(
+            artifacts,
+            &crate_dir.join("include/motioncard.h"),
+            &prefix,
+            env!("CARGO_PKG_VERSION"),
+        )
+        .expect("install libmotioncard");
+        Installed { prefix, work }
+    })
+}
+
+fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/c")
+}
+
+/// `pkg-config ARGS motioncard` against the installed .pc file, split into words.
+fn pkg_config(args: &[&str]) -> Vec<String> {
+    let inst = installed();
+    let out = Command::new("pkg-config")
+        .args(args)
+        .arg("motioncard")
+        .env("PKG_CONFIG_PATH", inst.prefix.join("lib/pkgconfig"))
+        .output()
+        .expect("pkg-config is needed (apt-get install pkg-config)");
+    assert!(
+        out.status.success(),
+        "pkg-config {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .split_whitespace()
+        .map(String::from)
+        .collect()
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+enum Link {
+    Shared,
+    Static,
+}
+
+/// Compile `examples/c/NAME.c` once per link mode; returns the executable.
+fn compile(name: &str, link: Link) -> PathBuf {
+    static BUILT: OnceLock<Mutex<HashMap<(String, Link), PathBuf>>> = OnceLock::new();
+    let built = BUILT.get_or_init(Default::default);
+    let mut built = built.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(p) = built.get(&(name.to_string(), link)) {
+        return p.clone();
+    }
+    let inst = installed();
+    let exe = inst.work.join(match link {
+        Link::Shared => name.to_string(),
+        Link::Static => format!("{name}-static"),
+    });
+    let mut cmd = Command::new("gcc");
+    cmd.args(CFLAGS)
+        .arg(examples_dir().join(format!("{name}.c")))
+        .arg("-o")
+        .arg(&exe)
+        .args(pkg_config(&["--cflags"]));
+    match link {
+        Link::Shared => {
+            cmd.args(pkg_config(&["--libs"]));
+        }
+        Link::Static => {
+            // The archive itself, then what it needs (Libs.private), less -lmotioncard.
+            let libdir = pkg_config(&["--variable=libdir"]).join("");
+            cmd.arg(Path::new(&libdir).join("libmotioncard.a")).args(
+                pkg_config(&["--static", "--libs-only-l"])
+                    .into_iter()
+                    .filter(|l| l != "-lmotioncard"),
+            );
+        }
+    }
+    cmd.args(["-lpthread", "-lm"]);
+    let out = cmd.output().expect("gcc is needed (apt-get install gcc)");
+    assert!(
+        out.status.success(),
+        "compiling {name}.c ({link:?}) failed:\n{:?}\n{}",
+        cmd,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    built.insert((name.to_string(), link), exe.clone());
+    exe
+}
+
+/// Run a command to completion (killed after [`HANG_LIMIT`]).
+fn run_to_end(mut cmd: Command) -> Output {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("spawning {cmd:?}: {e}"));
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > HANG_LIMIT {
+            let _ = child.kill();
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Run a compiled program with the installed library on its path; returns its stdout.
+fn run(exe: &Path, args: &[&str], wrapper: &[&str]) -> String {
+    let inst = installed();
+    let mut cmd = match wrapper.split_first() {
+        Some((w, rest)) => {
+            let mut c = Command::new(w);
+            c.args(rest).arg(exe);
+            c
+        }
+        None => Command::new(exe),
+    };
+    cmd.args(args)
+        .env("LD_LIBRARY_PATH", inst.prefix.join("lib"));
+    let out = run_to_end(cmd);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "{} {args:?} exited with {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        exe.display(),
+        out.status
+    );
+    stdout
+}
+
+/// Run a program on a real-time `sim` card and on a stepped one; both must pass.
+fn run_both(name: &str) -> [String; 2] {
+    let exe = compile(name, Link::Shared);
+    ["sim", "stepped"].map(|card| {
+        let out = run(&exe, &[card], &[]);
+        assert!(
+            out.contains(&format!("PASS {name}\n")),
+            "{name} {card}:\n{out}"
+        );
+        out
+    })
+}
+
+#[test]
+fn install_lays_out_library_header_and_pkg_config() {
+    let inst = installed();
+    for f in [
+        "lib/libmotioncard.so",
+        "lib/libmotioncard.a",
+        "include/motioncard.h",
+        "lib/pkgconfig/motioncard.pc",
+    ] {
+        assert!(inst.prefix.join(f).is_file(), "{f} not installed");
+    }
+    assert_eq!(pkg_config(&["--modversion"]), [env!("CARGO_PKG_VERSION")]);
+    assert_eq!(
+        pkg_config(&["--cflags"]),
+        [format!("-I{}", inst.prefix.join("include").display())]
+    );
+    assert_eq!(
+        pkg_config(&["--libs"]),
+        [
+            format!("-L{}", inst.prefix.join("lib").display()),
+            "-lmotioncard".to_string()
+        ]
+    );
+    // The installed header is the checked-in one.
+    assert_eq!(
+        std::fs::read(inst.prefix.join("include/motioncard.h")).unwrap(),
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/motioncard.h")).unwrap()
+    );
+}
+
+#[test]
+fn header_compiles_alone_as_strict_c_and_as_cxx() {
+    let inst = installed();
+    let src = inst.work.join("header_only.c");
+    std::fs::write(
+        &src,
+        "#include <motioncard.h>\n\
+         mc_result (*const fns[])(mc_card) = {mc_close, mc_ping};\n",
+    )
+    .unwrap();
+    let include = format!("-I{}", inst.prefix.join("include").display());
+    for (compiler, std, lang) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++11", "c++")] {
+        let out = Command::new(compiler)
+            .args([
+                std,
+                "-pedantic",
+                "-Wall",
+                "-Wextra",
+                "-Werror",
+                "-fsyntax-only",
+            ])
+            .args(["-x", lang])
+            .arg(&include)
+            .arg(&src)
+            .output()
+            .unwrap_or_else(|e| panic!("{compiler} is needed: {e}"));
+        assert!(
+            out.status.success(),
+            "{compiler} {std}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn move_an_axis_and_wait_for_done() {
+    for out in run_both("move") {
+        assert!(out.contains("moved axis 0 to 24.99"), "{out}");
+        assert!(out.contains("moved axis 0 back to 20.00"), "{out}");
+        let layout = format!(
+            "layout {}.{}, 8 axes",
+            motioncard_sdk::proto::raw::MC_LAYOUT_MAJOR,
+            motioncard_sdk::proto::raw::MC_LAYOUT_MINOR
+        );
+        assert!(
+            out.contains("firmware 1.0.0") && out.contains(&layout),
+            "{out}"
+        );
+    }
+}
+
+#[test]
+fn read_status_in_a_loop() {
+    for out in run_both("status_loop") {
+        assert!(out.contains("done at 20000.0"), "{out}");
+    }
+}
+
+#[test]
+fn events_through_epoll_callbacks_and_waits() {
+    for out in run_both("events") {
+        assert!(out.contains("epoll: "), "{out}");
+        assert!(out.contains("mc_wait_event: "), "{out}");
+    }
+}
+
+#[test]
+fn several_threads_on_one_card() {
+    for out in run_both("threads") {
+        assert!(out.contains("4 threads moved 20 times"), "{out}");
+    }
+}
+
+#[test]
+fn every_error_path_and_misuse() {
+    let out = run(&compile("errors", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS errors\n"), "{out}");
+}
+
+#[test]
+fn misuse_program_is_clean_under_valgrind() {
+    // Definite and indirect leaks are errors; "possibly lost" and "still reachable" are not
+    // (the card table and Rust's thread-locals live until exit). No suppressions are needed.
+    let out = run(
+        &compile("errors", Link::Shared),
+        &[],
+        &[
+            "valgrind",
+            "--error-exitcode=1",
+            "--leak-check=full",
+            "--errors-for-leak-kinds=definite,indirect",
+            "--show-leak-kinds=definite,indirect",
+            "-q",
+        ],
+    );
+    assert!(out.contains("PASS errors\n"), "{out}");
+}
+
+#[test]
+fn a_statically_linked_program_runs_without_the_shared_library() {
+    let exe = compile("move", Link::Static);
+    // No LD_LIBRARY_PATH: the program must not need libmotioncard.so.
+    let out = run_to_end({
+        let mut c = Command::new(&exe);
+        c.arg("stepped").env_remove("LD_LIBRARY_PATH");
+        c
+    });
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("PASS move\n"),
+        "{:?}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -1,0 +1,93 @@
+//! Building and installing libmotioncard for C users: `lib/libmotioncard.{so,a}`,
+//! `include/motioncard.h` and `lib/pkgconfig/motioncard.pc` under a prefix. Used by
+//! `cargo xtask install` and, through `#[path]`, by the C tests in `cffi/tests/c_programs.rs`,
+//! so both build and install the same way. Standard library only.
+
+use std::ffi::OsStr;
+use std::path::Path;
+use std::process::Command;
+
+/// Build the library (`cargo build --package motioncard-cffi`) with `cargo`, in the workspace
+/// at `workspace`, with cargo profile `profile` ("release", "dev"…), into `target_dir`. The
+/// libraries are then in `target_dir/<profile directory>` (`release`, `debug`…).
+pub fn build(
+    cargo: &OsStr,
+    workspace: &Path,
+    profile: &str,
+    target_dir: &Path,
+) -> Result<(), String> {
+    let status = Command::new(cargo)
+        .current_dir(workspace)
+        .args([
+            "build",
+            "--package",
+            "motioncard-cffi",
+            "--lib",
+            "--profile",
+            profile,
+        ])
+        .arg("--target-dir")
+        .arg(target_dir)
+        .status()
+        .map_err(|e| format!("running cargo: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("building libmotioncard failed ({status})"))
+    }
+}
+
+/// The native libraries a program linked against `libmotioncard.a` needs as well
+/// (`rustc --print native-static-libs`, less those the C compiler links by default).
+pub const STATIC_LIBS: &str = "-lpthread -ldl -lm -lrt -lutil";
+
+/// The pkg-config file for a library installed under `prefix`.
+pub fn pkg_config_file(prefix: &Path, version: &str) -> String {
+    format!(
+        "prefix={}\n\
+         exec_prefix=${{prefix}}\n\
+         libdir=${{exec_prefix}}/lib\n\
+         includedir=${{prefix}}/include\n\
+         \n\
+         Name: motioncard\n\
+         Description: C ABI of the motion-card SDK: open a card, move axes, read status, wait for events\n\
+         Version: {version}\n\
+         Libs: -L${{libdir}} -lmotioncard\n\
+         Libs.private: {STATIC_LIBS}\n\
+         Cflags: -I${{includedir}}\n",
+        prefix.display()
+    )
+}
+
+/// Copy the built libraries from `artifacts` (the cargo profile directory, e.g.
+/// `target/release`) and the header from `header`, and write the pkg-config file, under
+/// `prefix` (made absolute).
+pub fn install(
+    artifacts: &Path,
+    header: &Path,
+    prefix: &Path,
+    version: &str,
+) -> Result<(), String> {
+    let prefix =
+        std::path::absolute(prefix).map_err(|e| format!("prefix {}: {e}", prefix.display()))?;
+    let lib = prefix.join("lib");
+    let include = prefix.join("include");
+    let pkgconfig = lib.join("pkgconfig");
+    for d in [&lib, &include, &pkgconfig] {
+        std::fs::create_dir_all(d).map_err(|e| format!("creating {}: {e}", d.display()))?;
+    }
+    let copy = |from: &Path, to: &Path| {
+        // Replace, never write through: a running program may have the old library mapped.
+        let _ = std::fs::remove_file(to);
+        std::fs::copy(from, to)
+            .map(|_| ())
+            .map_err(|e| format!("copying {} to {}: {e}", from.display(), to.display()))
+    };
+    for name in ["libmotioncard.so", "libmotioncard.a"] {
+        copy(&artifacts.join(name), &lib.join(name))?;
+    }
+    copy(header, &include.join("motioncard.h"))?;
+    let pc = pkgconfig.join("motioncard.pc");
+    std::fs::write(&pc, pkg_config_file(&prefix, version))
+        .map_err(|e| format!("writing {}: {e}", pc.display()))
+}
