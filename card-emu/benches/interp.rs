@@ -154,5 +154,101 @@ fn interpolators(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, filters, interpolators);
+/// One NURBS interpolation step (Yeh eq 3.1 + Newton corrections, knot-span search, point and
+/// derivatives), plain and saturation-aware, on a long cubic with 1000 control points.
+fn nurbs_step(c: &mut Criterion) {
+    use card_emu::nurbs::{clamped_uniform_knots, Nurbs, Point};
+    use card_emu::yeh::{die_bonder_volts, InterpConfig, Interpolator, SaturationAwareFeed};
+    let n = 1000;
+    let mut ctrl = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        ctrl.push(i as f64 * 20_000.0);
+        ctrl.push(if i % 2 == 0 { 0.0 } else { 15_000.0 });
+    }
+    let curve = Nurbs::new(
+        3,
+        2,
+        &ctrl,
+        &vec![1.0; n],
+        &clamped_uniform_knots(n, 3).unwrap(),
+    )
+    .unwrap();
+    let cfg = InterpConfig {
+        ts: 1e-3,
+        feed: 50_000.0,
+        accel: 1e7,
+        jerk: 1e10,
+        chord_tol: 1.0,
+        max_corrections: 3,
+    };
+    // Time steps in blocks, rebuilding the interpolator (untimed) whenever it reaches the end,
+    // so every timed step is a real step along the curve.
+    let die = card_emu::yeh::die_bonder_path();
+    let run = |b: &mut criterion::Bencher, curve: &Nurbs, cfg: InterpConfig, guarded: bool| {
+        let preset = die_bonder_volts();
+        let sat = SaturationAwareFeed::new(&preset.axes, 1e-3).unwrap();
+        let build = || {
+            if guarded {
+                Interpolator::with_actuator_limits(curve.clone(), cfg, &sat, 0.8).unwrap()
+            } else {
+                Interpolator::new(curve.clone(), cfg).unwrap()
+            }
+        };
+        let mut it = build();
+        // The axes track their command: θ_a = θ_d, w_a = w_d of the previous step.
+        let (mut theta, mut w) = (Point::zeros(), Point::zeros());
+        b.iter_custom(|iters| {
+            let mut total = std::time::Duration::ZERO;
+            let mut left = iters;
+            while left > 0 {
+                let block = left.min(1000);
+                let t0 = std::time::Instant::now();
+                let mut done = false;
+                for _ in 0..block {
+                    let t = if guarded {
+                        it.tick_guarded(&sat, &theta, &w).map(|(t, _)| t)
+                    } else {
+                        it.tick()
+                    }
+                    .unwrap();
+                    theta = t.pos;
+                    w = t.vel;
+                    done |= t.done;
+                }
+                total += t0.elapsed();
+                left -= block;
+                if done {
+                    it = build();
+                    (theta, w) = (Point::zeros(), Point::zeros());
+                }
+            }
+            total
+        })
+    };
+    let die_cfg = InterpConfig {
+        ts: 1e-3,
+        feed: 400_000.0,
+        accel: 4e7,
+        jerk: 4e10,
+        chord_tol: 1.0,
+        max_corrections: 3,
+    };
+    c.bench_function("NURBS step: speed-controlled, die-bonder path", |b| {
+        run(b, &die, die_cfg, false)
+    });
+    c.bench_function(
+        "NURBS step: saturation-aware (Yeh 3.4), die-bonder path",
+        |b| run(b, &die, die_cfg, true),
+    );
+    c.bench_function(
+        "NURBS step: speed-controlled, 1000-point zigzag cubic",
+        |b| run(b, &curve, cfg, false),
+    );
+    c.bench_function(
+        "NURBS step: saturation-aware (Yeh 3.4), 1000-point zigzag cubic",
+        |b| run(b, &curve, cfg, true),
+    );
+}
+
+criterion_group!(benches, filters, interpolators, nurbs_step);
 criterion_main!(benches);
