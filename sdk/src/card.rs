@@ -620,14 +620,19 @@ impl MoveLimits {
             ("jerk (phase 5)", self.jerk[2]),
             ("jerk (phase 7)", self.jerk[3]),
         ];
-        for (what, v) in named {
-            finite(what, v)?;
-            if v <= 0.0 {
-                return Err(Error::NonPositive { what, value: v });
-            }
-        }
-        Ok(())
+        named
+            .into_iter()
+            .try_for_each(|(what, v)| positive(what, v))
     }
+}
+
+/// Finite and greater than zero (a limit): `NotFinite` or `NonPositiveLimit` otherwise.
+pub(crate) fn positive(what: &'static str, v: f64) -> Result<()> {
+    finite(what, v)?;
+    if v <= 0.0 {
+        return Err(Error::NonPositive { what, value: v });
+    }
+    Ok(())
 }
 
 pub(crate) fn finite(what: &'static str, v: f64) -> Result<()> {
@@ -789,13 +794,8 @@ impl Axis {
         jerk: f64,
         what: &'static str,
     ) -> Result<Motion> {
-        finite("deceleration", deceleration)?;
-        finite("jerk", jerk)?;
-        for (w, v) in [("deceleration", deceleration), ("jerk", jerk)] {
-            if v <= 0.0 {
-                return Err(Error::NonPositive { what: w, value: v });
-            }
-        }
+        positive("deceleration", deceleration)?;
+        positive("jerk", jerk)?;
         let s = self.scale().abs();
         let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
         lock(&self.card.inner.last_motion)[self.index] = Some(seq);

@@ -1,7 +1,7 @@
 //! Axes groups: coordinated linear, circular and helical moves, synchronised point-to-point
 //! moves, and the per-axis acc/dec filters.
 
-use crate::card::{finite, lock, Axis, Card};
+use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result};
 use firmware_proto::layout::{self, axis_filter as af, group_config as gc};
 use firmware_proto::seqlock::{self, SnapshotError};
@@ -344,13 +344,8 @@ impl Group {
         jerk: f64,
         what: &'static str,
     ) -> Result<GroupMotion> {
-        finite("deceleration", deceleration)?;
-        finite("jerk", jerk)?;
-        for (w, v) in [("deceleration", deceleration), ("jerk", jerk)] {
-            if v <= 0.0 {
-                return Err(Error::NonPositive { what: w, value: v });
-            }
-        }
+        positive("deceleration", deceleration)?;
+        positive("jerk", jerk)?;
         let s = self.path_scale()?;
         let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
         Ok(self.motion(seq))
@@ -397,10 +392,7 @@ impl Group {
         let s = self.path_scale()?;
         let mut out = [0.0; 4];
         for (o, (what, v)) in out.iter_mut().zip(named) {
-            finite(what, v)?;
-            if v <= 0.0 {
-                return Err(Error::NonPositive { what, value: v });
-            }
+            positive(what, v)?;
             *o = v * s;
         }
         Ok(out)

@@ -1,6 +1,6 @@
 //! NURBS moves: the curve type, PD+ configuration, and streaming a curve to the card.
 
-use crate::card::{finite, Axis};
+use crate::card::{finite, positive, Axis};
 use crate::error::{Error, Result};
 use crate::group::{Group, GroupMotion, MoveOptions};
 use firmware_proto::layout::{self, axis_config as ac, axis_pdplus as pp};
@@ -143,10 +143,7 @@ impl Group {
             ("jerk", f.jerk),
             ("chord tolerance", f.chord_tolerance),
         ] {
-            finite(what, v)?;
-            if v <= 0.0 {
-                return Err(Error::NonPositive { what, value: v });
-            }
+            positive(what, v)?;
         }
         let budget = f.saturation.unwrap_or(0.0);
         finite("saturation budget", budget)?;
