@@ -310,8 +310,9 @@ fn whole(x: f64) -> Option<usize> {
     (x.is_finite() && x.fract() == 0.0 && (0.0..=1e9).contains(&x)).then_some(x as usize)
 }
 
-/// The nack for a curve the NURBS module refuses.
-fn nurbs_nack(e: NurbsError) -> NackCode {
+/// The nack for a curve the NURBS module refuses: one code per fault. Public so that the host
+/// SDK reports a curve it refuses before sending it with the code the card would give.
+pub fn nurbs_nack(e: NurbsError) -> NackCode {
     match e {
         NurbsError::BadDegree { .. } => NackCode::NurbsDegree,
         NurbsError::BadDimension { .. } => NackCode::NurbsDimension,

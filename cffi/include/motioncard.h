@@ -37,16 +37,23 @@
  * Which calls block
  * - Never block: mc_result_str, mc_last_error_message, mc_version, mc_version_string,
  *   mc_get_info, mc_get_tick, mc_set_scale, mc_events_lost, mc_irq_fd, mc_poll_events,
- *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time.
- * - mc_get_status does not wait for the card; it retries while the card is rewriting the
- *   status block (well under a microsecond on a running card; after 100 ms of a block that
- *   stays busy, MC_ERR_NOT_RESPONDING).
+ *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time,
+ *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
+ *   mc_pdplus_settings_die_bonder.
+ * - mc_get_status and mc_group_get_status do not wait for the card; they retry while the card
+ *   is rewriting the status block (well under a microsecond on a running card; after 100 ms
+ *   of a block that stays busy, MC_ERR_NOT_RESPONDING).
  * - Block until the card answers the command (microseconds on a running card; at most 2 s,
  *   then MC_ERR_NOT_RESPONDING): mc_enable, mc_disable, mc_configure, mc_move_absolute,
  *   mc_move_relative, mc_halt, mc_stop, mc_release_stop, mc_reset, mc_ping,
- *   mc_set_servo_rate. A move call returns when the card has accepted it, not when it is done.
- * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_wait_event,
- *   mc_dispatch_events.
+ *   mc_set_servo_rate, mc_group_configure, mc_group_enable, mc_group_disable, mc_group_reset,
+ *   mc_group_halt, mc_group_stop, mc_group_release_stop, mc_group_move_linear,
+ *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
+ *   mc_axis_configure_pdplus. mc_group_move_nurbs sends the curve as several commands (a
+ *   begin, data entries, an end) and blocks until the card has answered each. A move call
+ *   returns when the card has accepted it, not when it is done.
+ * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_group_motion_wait,
+ *   mc_group_wait_done, mc_wait_event, mc_dispatch_events.
  * - mc_open blocks until the card has booted (about a second at most); mc_close blocks while
  *   an emulated card's thread stops; mc_sim_step computes the ticks asked for.
  *
@@ -132,6 +139,90 @@
 
 // `mc_event.axis` of an event about the whole card.
 #define MC_EVENT_CARD_WIDE 65535
+
+// Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
+#define MC_GROUP_COUNT 4
+
+// Most axes in one group (`mc_group_settings.axes`).
+#define MC_GROUP_MAX_AXES 8
+
+// Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
+// GroupDisabled.
+#define MC_GROUP_STATE_DISABLED 0
+
+// GroupStandby: enabled, at rest, ready for a move.
+#define MC_GROUP_STATE_STANDBY 1
+
+// GroupMoving: interpolating.
+#define MC_GROUP_STATE_MOVING 2
+
+// GroupHoming.
+#define MC_GROUP_STATE_HOMING 3
+
+// GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
+#define MC_GROUP_STATE_STOPPING 4
+
+// GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
+#define MC_GROUP_STATE_ERROR_STOP 5
+
+// Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
+// interpolation.
+#define MC_GROUP_ACCDEC_PRE 1
+
+// Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
+// interpolation.
+#define MC_GROUP_ACCDEC_POST 2
+
+// Both: the S-curve, then the filters.
+#define MC_GROUP_ACCDEC_BOTH 3
+
+// Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
+#define MC_GROUP_INTERP_EXACT 0
+
+// Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
+#define MC_GROUP_INTERP_REFERENCE_WORD 1
+
+// Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
+// feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+#define MC_FEED_TYPE_CUTTING 0
+
+// Rapid traverse (G00).
+#define MC_FEED_TYPE_RAPID 1
+
+// Jog.
+#define MC_FEED_TYPE_JOG 2
+
+// Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
+#define MC_ARC_PLANE_XY 0
+
+// Group axes 1 and 2.
+#define MC_ARC_PLANE_YZ 1
+
+// Group axes 2 and 0.
+#define MC_ARC_PLANE_ZX 2
+
+// Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
+// full circle.
+#define MC_ARC_BY_CENTRE 0
+
+// Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
+#define MC_ARC_BY_RADIUS 1
+
+// Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
+// is ignored).
+#define MC_ARC_BY_BORDER 2
+
+// Acc/dec filter kind (`mc_filter.kind`): pass-through.
+#define MC_FILTER_KIND_NONE 0
+
+// Moving average (linear acc/dec; Kim eq 1).
+#define MC_FILTER_KIND_LINEAR 1
+
+// First order (exponential acc/dec; Kim eq 7–9).
+#define MC_FILTER_KIND_EXPONENTIAL 2
+
+// Linear followed by exponential (bell-shaped; Shin eq 40).
+#define MC_FILTER_KIND_BELL 3
 
 // What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
 // failure. The codes are stable: a code keeps its number in every later version.
@@ -247,6 +338,8 @@ typedef struct mc_raw_status {
   double planned_time;
   // Time from start to motion done (in position), s; 0 while the move runs.
   double move_time;
+  // The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
+  double u_request;
 } mc_raw_status;
 
 // A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
@@ -295,6 +388,148 @@ typedef struct mc_event {
 // per event. `event` is valid only during the call. `user` is the pointer given to
 // `mc_set_event_callback`.
 typedef void (*mc_event_callback)(mc_card card, const struct mc_event *event, void *user);
+
+// A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
+typedef struct mc_group_settings {
+  // Card axes of the group's X, Y, Z, … axes; the first `naxes` are used.
+  uint32_t axes[8];
+  // Axes in the group, 1..8.
+  uint32_t naxes;
+  // `MC_GROUP_ACCDEC_` value.
+  uint32_t accdec;
+  // `MC_GROUP_INTERP_` value.
+  uint32_t interpolator;
+  // Geometry tolerance (centre equidistance, radius against chord), in user units of the
+  // group's first axis.
+  double tolerance;
+} mc_group_settings;
+
+// A group move started by `mc_group_move_linear`, `_ptp`, `_circular`, `_nurbs`,
+// `mc_group_halt` or `mc_group_stop`; wait for it with `mc_group_motion_wait`.
+typedef struct mc_group_motion {
+  // The group.
+  uint32_t group;
+  // The seq of the command that started it (`MC_EVENT_GROUP_` events carry the same seq).
+  uint32_t seq;
+} mc_group_motion;
+
+// Limits of the tangential feed of a group move, in user units of the group's first axis.
+// Every value must be finite and greater than zero.
+typedef struct mc_path_limits {
+  // Feed (path velocity).
+  double velocity;
+  // Tangential acceleration.
+  double acceleration;
+  // Tangential deceleration.
+  double deceleration;
+  // Tangential jerk.
+  double jerk;
+} mc_path_limits;
+
+// How a group move is queued. All zero (`{0}`) is the default: absolute targets, the group
+// must be at rest, cutting feed.
+typedef struct mc_move_options {
+  // Non-zero: targets relative to where the previous move ends.
+  uint32_t relative;
+  // Non-zero: queue behind the moves already queued (PLCopen Buffered); else the group
+  // must be at rest.
+  uint32_t buffered;
+  // `MC_FEED_TYPE_` value.
+  uint32_t feed_type;
+} mc_move_options;
+
+// An arc in the coordinates of its plane (user units): the end point, and per `mode`
+// (`MC_ARC_BY_`) the centre, the radius (`aux[0]`) or a point on the arc.
+typedef struct mc_arc {
+  // `MC_ARC_BY_` value.
+  uint32_t mode;
+  // Non-zero: counter-clockwise; zero: clockwise (ignored by `MC_ARC_BY_BORDER`).
+  uint32_t ccw;
+  // End point.
+  double end[2];
+  // The centre (`MC_ARC_BY_CENTRE`), the radius in `aux[0]` (`MC_ARC_BY_RADIUS`), or a
+  // point on the arc (`MC_ARC_BY_BORDER`).
+  double aux[2];
+} mc_arc;
+
+// How a NURBS curve is followed, in user units of the group's first axis.
+typedef struct mc_nurbs_feed {
+  // Feed along the curve.
+  double feed;
+  // Tangential acceleration limit.
+  double accel;
+  // Tangential jerk limit.
+  double jerk;
+  // Chord error tolerance (the feed is lowered where the curvature needs it).
+  double chord_tolerance;
+  // Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
+  // may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
+  // otherwise). 0: not saturation-aware.
+  double saturation_budget;
+} mc_nurbs_feed;
+
+// A consistent snapshot of a group's status. Path quantities are in counts of the group's
+// first axis (no scale applied), as the card publishes them.
+typedef struct mc_group_status {
+  // `MC_GROUP_STATE_` value.
+  uint32_t state;
+  // Moves waiting in the queue.
+  uint32_t queued;
+  // Seq of the move being interpolated (0: none).
+  uint32_t active_seq;
+  // Group moves started since boot.
+  uint32_t move_count;
+  // Distance along the active move, counts.
+  double path_pos;
+  // Length of the active move, counts.
+  double path_len;
+  // Tangential velocity before the filters, counts/s.
+  double feed;
+  // Tangential acceleration before the filters, counts/s².
+  double feed_acc;
+  // Servo tick of this snapshot.
+  uint64_t tick;
+} mc_group_status;
+
+// One acc/dec filter: kind and time constant.
+typedef struct mc_filter {
+  // `MC_FILTER_KIND_` value.
+  uint32_t kind;
+  // Time constant, s.
+  double tau;
+} mc_filter;
+
+// An axis's post-interpolation acc/dec filters, one per feed type.
+typedef struct mc_filter_settings {
+  // Rapid traverse (`MC_FEED_TYPE_RAPID`).
+  struct mc_filter rapid;
+  // Cutting feed (`MC_FEED_TYPE_CUTTING`).
+  struct mc_filter cutting;
+  // Jog (`MC_FEED_TYPE_JOG`).
+  struct mc_filter jog;
+} mc_filter_settings;
+
+// The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
+// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
+// `dθ/dt = ke·w`.
+typedef struct mc_pdplus_settings {
+  // V/count.
+  double kp;
+  // V per count/s.
+  double kd;
+  // V per count/s of reference velocity.
+  double kv;
+  // V per count/s² of reference acceleration.
+  double ka;
+  // (rad/s)/V.
+  double kc;
+  // s.
+  double tau;
+  // counts/rad.
+  double ke;
+  // Drive limit, V (at most the axis's `dac_limit_v`).
+  double umax;
+} mc_pdplus_settings;
 
 // Success.
 #define MC_OK 0
@@ -626,6 +861,164 @@ mc_result mc_sim_step(mc_card card, uint64_t ticks);
 
 // Emulated time of a stepped sim card since boot, in seconds.
 mc_result mc_sim_time(mc_card card, double *seconds);
+
+// Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):
+// S-curve feed (`MC_GROUP_ACCDEC_PRE`), exact arcs, tolerance 2 (user units of the first axis:
+// adjust it after `mc_set_scale`). `naxes` is 1..8 (`MC_ERR_BAD_AXIS`); the axis numbers are
+// checked by `mc_group_configure`. Never blocks.
+mc_result mc_group_settings_new(const uint32_t *axes,
+                                size_t naxes,
+                                struct mc_group_settings *settings);
+
+// Configure a group: its axes, acc/dec mode, arc interpolator and tolerance. The group must be
+// disabled; the card checks every value (`MC_ERR_BAD_AXIS`, `MC_ERR_AXIS_IN_OTHER_GROUP`,
+// `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` / `MC_GROUP_INTERP_` values are
+// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+mc_result mc_group_configure(mc_card card,
+                             uint32_t group,
+                             const struct mc_group_settings *settings);
+
+// MC_GroupEnable: GroupDisabled → GroupStandby. Every axis of the group must be enabled and at
+// rest. Blocks until the card answers.
+mc_result mc_group_enable(mc_card card, uint32_t group);
+
+// MC_GroupDisable: aborts the queued moves and leaves the axes enabled where they are. Blocks
+// until the card answers.
+mc_result mc_group_disable(mc_card card, uint32_t group);
+
+// MC_GroupReset: GroupErrorStop → GroupStandby (`MC_ERR_INVALID_STATE` in any other state).
+// Blocks until the card answers.
+mc_result mc_group_reset(mc_card card, uint32_t group);
+
+// MC_GroupHalt: decelerate along the path (at most `deceleration`, with `jerk`, user units
+// of the first axis), then GroupStandby; the queued moves are aborted. `motion` (may be NULL)
+// receives the halt, done when the group is at rest. Blocks until the card answers.
+mc_result mc_group_halt(mc_card card,
+                        uint32_t group,
+                        double deceleration,
+                        double jerk,
+                        struct mc_group_motion *motion);
+
+// MC_GroupStop: decelerate along the path and stay in GroupStopping (moves refused) until
+// `mc_group_release_stop`. Otherwise as `mc_group_halt`.
+mc_result mc_group_stop(mc_card card,
+                        uint32_t group,
+                        double deceleration,
+                        double jerk,
+                        struct mc_group_motion *motion);
+
+// Leave GroupStopping (once at rest the group goes to GroupStandby). Blocks until the card
+// answers.
+mc_result mc_group_release_stop(mc_card card, uint32_t group);
+
+// MC_MoveLinearAbsolute / Relative: a straight line to `target` (`n` values, one per group
+// axis in group order, user units; `MC_ERR_BAD_AXIS` when `n` is not the group's axis count)
+// at the tangential feed of `*limits`. `options->buffered` queues it behind the moves already
+// queued (up to 32); otherwise the group must be at rest. `motion` may be NULL; otherwise it
+// receives the move to wait for. Blocks until the card has accepted or refused the move, not
+// until it is done.
+mc_result mc_group_move_linear(mc_card card,
+                               uint32_t group,
+                               const double *target,
+                               size_t n,
+                               const struct mc_path_limits *limits,
+                               const struct mc_move_options *options,
+                               struct mc_group_motion *motion);
+
+// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together; the
+// axis with the longest distance moves within `*limits` and the others scale. The cutting feed
+// type becomes rapid. Otherwise as `mc_group_move_linear`.
+mc_result mc_group_move_ptp(mc_card card,
+                            uint32_t group,
+                            const double *target,
+                            size_t n,
+                            const struct mc_path_limits *limits,
+                            const struct mc_move_options *options,
+                            struct mc_group_motion *motion);
+
+// MC_MoveCircular: an arc in `plane` (`MC_ARC_PLANE_`), described by `*arc` in the plane's
+// coordinates. `helix` holds `nhelix` targets of the group's other axes (in group order),
+// which move linearly with the arc (a helix); `nhelix` 0 (helix may then be NULL) keeps them
+// where they are. The card checks the geometry: `MC_ERR_ZERO_LENGTH_ARC`,
+// `MC_ERR_CENTRE_NOT_EQUIDISTANT`, `MC_ERR_RADIUS_TOO_SMALL`, `MC_ERR_COLLINEAR_POINTS`.
+// Otherwise as `mc_group_move_linear`.
+mc_result mc_group_move_circular(mc_card card,
+                                 uint32_t group,
+                                 const struct mc_arc *arc,
+                                 uint32_t plane,
+                                 const double *helix,
+                                 size_t nhelix,
+                                 const struct mc_path_limits *limits,
+                                 const struct mc_move_options *options,
+                                 struct mc_group_motion *motion);
+
+// Move along a NURBS curve of `degree` (1..5) in `dim` dimensions (the group's axis count):
+// `n_ctrl` control points in `ctrl` (`n_ctrl * dim` doubles, point after point, in group axis
+// order and user units, absolute; `options->relative` is ignored), `n_ctrl` weights (finite
+// and positive) and `n_knots` = `n_ctrl + degree + 1` knots (clamped, non-decreasing). The
+// curve must start where the group's path is (`MC_ERR_NURBS_START`). A curve the library
+// refuses gets the code the card gives for the same fault (`MC_ERR_NURBS_DEGREE`, `_DIMENSION`,
+// `_CTRL_COUNT`, `_KNOT_COUNT`, `_KNOTS_DECREASING`, `_KNOT_MULTIPLICITY`, `_NOT_CLAMPED`,
+// `_WEIGHT`, `_POINT`). `motion` may be NULL; otherwise it receives the move to wait for.
+//
+// Blocks while the curve is sent: a begin, data entries of up to 12 values and an end, each
+// answered by the card (at most 32 entries in flight; a long curve takes many round trips),
+// not until the move is done.
+mc_result mc_group_move_nurbs(mc_card card,
+                              uint32_t group,
+                              uint32_t degree,
+                              const double *ctrl,
+                              size_t n_ctrl,
+                              uint32_t dim,
+                              const double *weights,
+                              const double *knots,
+                              size_t n_knots,
+                              const struct mc_nurbs_feed *feed,
+                              const struct mc_move_options *options,
+                              struct mc_group_motion *motion);
+
+// Wait until a group move is done: the last move of a queue when the group is at rest and in
+// position, an earlier one when the next move takes over. `MC_ERR_ABORTED` when a halt, stop,
+// disable or fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A move can be
+// waited for more than once. `MC_ERR_BAD_HANDLE` for a motion not started on this card (the
+// last 1024 group motions are kept). Blocks.
+mc_result mc_group_motion_wait(mc_card card, struct mc_group_motion motion, uint32_t timeout_ms);
+
+// Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
+// `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+mc_result mc_group_wait_done(mc_card card, uint32_t group, uint32_t timeout_ms);
+
+// A consistent snapshot of a group's status (state, queue, active move, path position and
+// feed in counts). Does not wait for the card, as `mc_get_status`.
+mc_result mc_group_get_status(mc_card card, uint32_t group, struct mc_group_status *status);
+
+// Shin's Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog exponential
+// 50 ms (the card's default). Never blocks.
+mc_result mc_filter_settings_shin_table1(struct mc_filter_settings *settings);
+
+// Shin's Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
+// Never blocks.
+mc_result mc_filter_settings_shin_table1_z(struct mc_filter_settings *settings);
+
+// Set an axis's post-interpolation acc/dec filters (used by groups with
+// `MC_GROUP_ACCDEC_POST` or `_BOTH`; the move's feed type picks one). Refused while the filters
+// still hold distance (`MC_ERR_FILTER_BUSY`); an unknown `MC_FILTER_KIND_` is
+// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+mc_result mc_axis_set_filters(mc_card card,
+                              uint32_t axis,
+                              const struct mc_filter_settings *settings);
+
+// The PD+ gains and drive model of Yeh's die bonder (Table 1), axis 0 (X) or 1 (Y), in volts
+// (`MC_ERR_BAD_AXIS` for any other axis). Never blocks.
+mc_result mc_pdplus_settings_die_bonder(uint32_t axis, struct mc_pdplus_settings *settings);
+
+// Switch an axis to the PD+ servo law with these gains and drive model (NaN or infinity:
+// `MC_ERR_NOT_FINITE`; the card refuses gains or a model it cannot use, and a `umax` above the
+// axis's `dac_limit_v`: `MC_ERR_BAD_CONFIG`). Needed on every group axis for a
+// saturation-aware NURBS feed. Blocks until the card answers.
+mc_result mc_axis_configure_pdplus(mc_card card,
+                                   uint32_t axis,
+                                   const struct mc_pdplus_settings *settings);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -45,6 +45,29 @@ pub(crate) unsafe fn read_in<T: Copy>(p: *const T, what: &str) -> Result<T, Fail
     Ok(unsafe { p.read_unaligned() })
 }
 
+/// Copy an input array of `n` elements. `p` may be NULL only when `n` is 0. The caller bounds
+/// `n` first (the copy allocates `n` elements).
+///
+/// # Safety
+/// `p` is NULL or valid for reads of `n` consecutive `T`s, and every bit pattern is a valid `T`.
+pub(crate) unsafe fn read_slice<T: Copy>(
+    p: *const T,
+    n: usize,
+    what: &str,
+) -> Result<Vec<T>, Failure> {
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    if p.is_null() {
+        return Err(Failure::null(what));
+    }
+    // SAFETY: non-NULL, valid for reads of `n` elements by the caller's contract, so every
+    // `p.add(i)` with i < n stays inside that range; unaligned reads need no alignment.
+    Ok((0..n)
+        .map(|i| unsafe { p.add(i).read_unaligned() })
+        .collect())
+}
+
 /// Borrow a NUL-terminated UTF-8 string (a URI).
 ///
 /// # Safety

@@ -21,11 +21,13 @@
 
 pub mod api;
 mod ffi;
+pub mod group;
 pub mod registry;
 pub mod result;
 pub mod types;
 
 pub use api::*;
+pub use group::*;
 pub use registry::{mc_card, mc_event_callback};
 pub use result::*;
 pub use types::*;

@@ -10,7 +10,7 @@
 
 use crate::result::{Failure, MC_ERR_BAD_HANDLE, MC_ERR_UNSUPPORTED};
 use crate::types::mc_event;
-use motioncard_sdk::{Card, Motion, Sim};
+use motioncard_sdk::{Card, GroupMotion, Motion, Sim};
 use std::collections::VecDeque;
 use std::ffi::c_void;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -26,7 +26,8 @@ pub type mc_card = u32;
 pub type mc_event_callback =
     Option<unsafe extern "C" fn(card: mc_card, event: *const mc_event, user: *mut c_void)>;
 
-/// Motions kept per card for `mc_motion_wait` (the SDK keeps as many outcomes).
+/// Motions kept per card for `mc_motion_wait`, and group motions for `mc_group_motion_wait`
+/// (the SDK keeps as many outcomes).
 pub(crate) const MOTIONS_KEPT: usize = 1024;
 
 /// A callback and its user pointer. The pointer is the application's: we only hand it back.
@@ -43,6 +44,8 @@ pub(crate) struct Entry {
     pub callback: Mutex<Option<Callback>>,
     /// Motions started through this handle, with their axis, for `mc_motion_wait`.
     pub motions: Mutex<VecDeque<(u32, Motion)>>,
+    /// Group motions started through this handle, with their group, for `mc_group_motion_wait`.
+    pub group_motions: Mutex<VecDeque<(u32, GroupMotion)>>,
 }
 
 impl Entry {
@@ -52,6 +55,7 @@ impl Entry {
             card,
             callback: Mutex::new(None),
             motions: Mutex::new(VecDeque::new()),
+            group_motions: Mutex::new(VecDeque::new()),
         }
     }
 
@@ -70,6 +74,24 @@ impl Entry {
             .iter()
             .rev()
             .find(|(a, m)| *a == axis && m.seq() == seq)
+            .map(|(_, m)| m.clone())
+    }
+
+    /// Keep a group motion for `mc_group_motion_wait`.
+    pub(crate) fn remember_group(&self, group: u32, m: GroupMotion) {
+        let mut q = lock(&self.group_motions);
+        if q.len() >= MOTIONS_KEPT {
+            q.pop_front();
+        }
+        q.push_back((group, m));
+    }
+
+    /// A group motion kept by [`Entry::remember_group`].
+    pub(crate) fn group_motion(&self, group: u32, seq: u32) -> Option<GroupMotion> {
+        lock(&self.group_motions)
+            .iter()
+            .rev()
+            .find(|(g, m)| *g == group && m.seq() == seq)
             .map(|(_, m)| m.clone())
     }
 }

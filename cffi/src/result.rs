@@ -316,7 +316,7 @@ pub(crate) fn describe_ptr(code: mc_result) -> *const c_char {
 mod tests {
     use super::*;
 
-    const KINDS: [ErrorKind; 21] = [
+    const KINDS: [ErrorKind; 46] = [
         ErrorKind::BadUri,
         ErrorKind::NotFound,
         ErrorKind::Busy,
@@ -338,6 +338,31 @@ mod tests {
         ErrorKind::UnknownCommand,
         ErrorKind::Io,
         ErrorKind::Unsupported,
+        ErrorKind::BadGroup,
+        ErrorKind::AxisInOtherGroup,
+        ErrorKind::AxisNotInGroup,
+        ErrorKind::AxisBusy,
+        ErrorKind::AxisGrouped,
+        ErrorKind::ZeroLengthArc,
+        ErrorKind::CentreNotEquidistant,
+        ErrorKind::RadiusTooSmall,
+        ErrorKind::CollinearPoints,
+        ErrorKind::QueueFull,
+        ErrorKind::IncompatibleMode,
+        ErrorKind::GroupDisabled,
+        ErrorKind::FilterBusy,
+        ErrorKind::NurbsSequence,
+        ErrorKind::NurbsDegree,
+        ErrorKind::NurbsDimension,
+        ErrorKind::NurbsCtrlCount,
+        ErrorKind::NurbsKnotCount,
+        ErrorKind::NurbsKnotsDecreasing,
+        ErrorKind::NurbsKnotMultiplicity,
+        ErrorKind::NurbsNotClamped,
+        ErrorKind::NurbsWeight,
+        ErrorKind::NurbsPoint,
+        ErrorKind::NurbsStart,
+        ErrorKind::NurbsZeroLength,
     ];
 
     #[test]

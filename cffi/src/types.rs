@@ -4,7 +4,15 @@
 //! library does not know would be undefined behaviour in C++). The constants are literals for
 //! cbindgen; the tests check them against the SDK.
 
-use motioncard_sdk::{AxisSettings, AxisState, CardEvent, CardInfo, EventKind, MoveLimits, Status};
+use crate::result::{Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_CONFIG};
+use motioncard_sdk::{
+    AccDec, ArcSpec, AxisSettings, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
+    FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
+    NurbsFeed, PathLimits, PdPlusSettings, Plane, Status,
+};
+
+/// Most axes in a group, as a length.
+const MAX_AXES: usize = MC_GROUP_MAX_AXES as usize;
 
 /// Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
 pub const MC_AXIS_STATE_DISABLED: u32 = 0;
@@ -234,6 +242,8 @@ pub struct mc_raw_status {
     pub planned_time: f64,
     /// Time from start to motion done (in position), s; 0 while the move runs.
     pub move_time: f64,
+    /// The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
+    pub u_request: f64,
 }
 
 /// A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
@@ -328,6 +338,7 @@ impl From<&Status> for mc_status {
                 max_ferr: r.max_ferr,
                 planned_time: r.planned_time,
                 move_time: r.move_time,
+                u_request: r.u_request,
             },
         }
     }
@@ -378,6 +389,480 @@ pub struct mc_motion {
     pub seq: u32,
 }
 
+// ---------------------------------------------------------------------------------------------
+// Axes groups, filters, PD+, NURBS
+// ---------------------------------------------------------------------------------------------
+
+/// Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
+pub const MC_GROUP_COUNT: u32 = 4;
+/// Most axes in one group (`mc_group_settings.axes`).
+pub const MC_GROUP_MAX_AXES: u32 = 8;
+
+/// Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
+/// GroupDisabled.
+pub const MC_GROUP_STATE_DISABLED: u32 = 0;
+/// GroupStandby: enabled, at rest, ready for a move.
+pub const MC_GROUP_STATE_STANDBY: u32 = 1;
+/// GroupMoving: interpolating.
+pub const MC_GROUP_STATE_MOVING: u32 = 2;
+/// GroupHoming.
+pub const MC_GROUP_STATE_HOMING: u32 = 3;
+/// GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
+pub const MC_GROUP_STATE_STOPPING: u32 = 4;
+/// GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
+pub const MC_GROUP_STATE_ERROR_STOP: u32 = 5;
+
+/// Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
+/// interpolation.
+pub const MC_GROUP_ACCDEC_PRE: u32 = 1;
+/// Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
+/// interpolation.
+pub const MC_GROUP_ACCDEC_POST: u32 = 2;
+/// Both: the S-curve, then the filters.
+pub const MC_GROUP_ACCDEC_BOTH: u32 = 3;
+
+/// Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
+pub const MC_GROUP_INTERP_EXACT: u32 = 0;
+/// Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
+pub const MC_GROUP_INTERP_REFERENCE_WORD: u32 = 1;
+
+/// Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
+/// feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+pub const MC_FEED_TYPE_CUTTING: u32 = 0;
+/// Rapid traverse (G00).
+pub const MC_FEED_TYPE_RAPID: u32 = 1;
+/// Jog.
+pub const MC_FEED_TYPE_JOG: u32 = 2;
+
+/// Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
+pub const MC_ARC_PLANE_XY: u32 = 0;
+/// Group axes 1 and 2.
+pub const MC_ARC_PLANE_YZ: u32 = 1;
+/// Group axes 2 and 0.
+pub const MC_ARC_PLANE_ZX: u32 = 2;
+
+/// Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
+/// full circle.
+pub const MC_ARC_BY_CENTRE: u32 = 0;
+/// Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
+pub const MC_ARC_BY_RADIUS: u32 = 1;
+/// Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
+/// is ignored).
+pub const MC_ARC_BY_BORDER: u32 = 2;
+
+/// Acc/dec filter kind (`mc_filter.kind`): pass-through.
+pub const MC_FILTER_KIND_NONE: u32 = 0;
+/// Moving average (linear acc/dec; Kim eq 1).
+pub const MC_FILTER_KIND_LINEAR: u32 = 1;
+/// First order (exponential acc/dec; Kim eq 7–9).
+pub const MC_FILTER_KIND_EXPONENTIAL: u32 = 2;
+/// Linear followed by exponential (bell-shaped; Shin eq 40).
+pub const MC_FILTER_KIND_BELL: u32 = 3;
+
+/// An unknown enumeration value from C.
+fn unknown(what: &str, v: u32) -> Failure {
+    Failure::new(MC_ERR_BAD_CONFIG, format!("unknown {what} {v}"))
+}
+
+/// A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_group_settings {
+    /// Card axes of the group's X, Y, Z, … axes; the first `naxes` are used.
+    pub axes: [u32; 8],
+    /// Axes in the group, 1..8.
+    pub naxes: u32,
+    /// `MC_GROUP_ACCDEC_` value.
+    pub accdec: u32,
+    /// `MC_GROUP_INTERP_` value.
+    pub interpolator: u32,
+    /// Geometry tolerance (centre equidistance, radius against chord), in user units of the
+    /// group's first axis.
+    pub tolerance: f64,
+}
+
+impl mc_group_settings {
+    pub(crate) fn to_sdk(self) -> Result<GroupSettings, Failure> {
+        let n = self.naxes as usize;
+        if n == 0 || n > MAX_AXES {
+            return Err(Failure::new(
+                MC_ERR_BAD_AXIS,
+                format!("naxes = {n}: a group has 1 to {MAX_AXES} axes"),
+            ));
+        }
+        let axes: Vec<usize> = self.axes[..n].iter().map(|&a| a as usize).collect();
+        let accdec = match self.accdec {
+            MC_GROUP_ACCDEC_PRE => AccDec::Pre,
+            MC_GROUP_ACCDEC_POST => AccDec::Post,
+            MC_GROUP_ACCDEC_BOTH => AccDec::Both,
+            v => return Err(unknown("acc/dec mode", v)),
+        };
+        let interpolator = match self.interpolator {
+            MC_GROUP_INTERP_EXACT => Interpolator::Exact,
+            MC_GROUP_INTERP_REFERENCE_WORD => Interpolator::ReferenceWord,
+            v => return Err(unknown("interpolator", v)),
+        };
+        Ok(GroupSettings {
+            axes,
+            accdec,
+            interpolator,
+            tolerance: self.tolerance,
+        })
+    }
+}
+
+impl From<&GroupSettings> for mc_group_settings {
+    /// The SDK's settings of at most 8 axes.
+    fn from(s: &GroupSettings) -> Self {
+        let mut axes = [0u32; 8];
+        for (d, a) in axes.iter_mut().zip(&s.axes) {
+            *d = *a as u32;
+        }
+        Self {
+            axes,
+            naxes: s.axes.len().min(MAX_AXES) as u32,
+            accdec: match s.accdec {
+                AccDec::Pre => MC_GROUP_ACCDEC_PRE,
+                AccDec::Post => MC_GROUP_ACCDEC_POST,
+                AccDec::Both => MC_GROUP_ACCDEC_BOTH,
+            },
+            interpolator: match s.interpolator {
+                Interpolator::Exact => MC_GROUP_INTERP_EXACT,
+                Interpolator::ReferenceWord => MC_GROUP_INTERP_REFERENCE_WORD,
+            },
+            tolerance: s.tolerance,
+        }
+    }
+}
+
+/// Limits of the tangential feed of a group move, in user units of the group's first axis.
+/// Every value must be finite and greater than zero.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_path_limits {
+    /// Feed (path velocity).
+    pub velocity: f64,
+    /// Tangential acceleration.
+    pub acceleration: f64,
+    /// Tangential deceleration.
+    pub deceleration: f64,
+    /// Tangential jerk.
+    pub jerk: f64,
+}
+
+impl From<mc_path_limits> for PathLimits {
+    fn from(l: mc_path_limits) -> Self {
+        PathLimits {
+            velocity: l.velocity,
+            acceleration: l.acceleration,
+            deceleration: l.deceleration,
+            jerk: l.jerk,
+        }
+    }
+}
+
+/// How a group move is queued. All zero (`{0}`) is the default: absolute targets, the group
+/// must be at rest, cutting feed.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_move_options {
+    /// Non-zero: targets relative to where the previous move ends.
+    pub relative: u32,
+    /// Non-zero: queue behind the moves already queued (PLCopen Buffered); else the group
+    /// must be at rest.
+    pub buffered: u32,
+    /// `MC_FEED_TYPE_` value.
+    pub feed_type: u32,
+}
+
+impl mc_move_options {
+    pub(crate) fn to_sdk(self) -> Result<MoveOptions, Failure> {
+        Ok(MoveOptions {
+            relative: self.relative != 0,
+            buffered: self.buffered != 0,
+            feed_type: match self.feed_type {
+                MC_FEED_TYPE_CUTTING => FeedType::Cutting,
+                MC_FEED_TYPE_RAPID => FeedType::Rapid,
+                MC_FEED_TYPE_JOG => FeedType::Jog,
+                v => return Err(unknown("feed type", v)),
+            },
+        })
+    }
+}
+
+/// An arc in the coordinates of its plane (user units): the end point, and per `mode`
+/// (`MC_ARC_BY_`) the centre, the radius (`aux[0]`) or a point on the arc.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_arc {
+    /// `MC_ARC_BY_` value.
+    pub mode: u32,
+    /// Non-zero: counter-clockwise; zero: clockwise (ignored by `MC_ARC_BY_BORDER`).
+    pub ccw: u32,
+    /// End point.
+    pub end: [f64; 2],
+    /// The centre (`MC_ARC_BY_CENTRE`), the radius in `aux[0]` (`MC_ARC_BY_RADIUS`), or a
+    /// point on the arc (`MC_ARC_BY_BORDER`).
+    pub aux: [f64; 2],
+}
+
+impl mc_arc {
+    pub(crate) fn to_sdk(self) -> Result<ArcSpec, Failure> {
+        let ccw = self.ccw != 0;
+        Ok(match self.mode {
+            MC_ARC_BY_CENTRE => ArcSpec::Centre {
+                end: self.end,
+                centre: self.aux,
+                ccw,
+            },
+            MC_ARC_BY_RADIUS => ArcSpec::Radius {
+                end: self.end,
+                radius: self.aux[0],
+                ccw,
+            },
+            MC_ARC_BY_BORDER => ArcSpec::Border {
+                end: self.end,
+                via: self.aux,
+            },
+            v => return Err(unknown("arc mode", v)),
+        })
+    }
+}
+
+/// The plane of an `MC_ARC_PLANE_` value.
+pub(crate) fn plane_of(v: u32) -> Result<Plane, Failure> {
+    match v {
+        MC_ARC_PLANE_XY => Ok(Plane::XY),
+        MC_ARC_PLANE_YZ => Ok(Plane::YZ),
+        MC_ARC_PLANE_ZX => Ok(Plane::ZX),
+        v => Err(unknown("plane", v)),
+    }
+}
+
+/// A group move started by `mc_group_move_linear`, `_ptp`, `_circular`, `_nurbs`,
+/// `mc_group_halt` or `mc_group_stop`; wait for it with `mc_group_motion_wait`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_group_motion {
+    /// The group.
+    pub group: u32,
+    /// The seq of the command that started it (`MC_EVENT_GROUP_` events carry the same seq).
+    pub seq: u32,
+}
+
+/// A consistent snapshot of a group's status. Path quantities are in counts of the group's
+/// first axis (no scale applied), as the card publishes them.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_group_status {
+    /// `MC_GROUP_STATE_` value.
+    pub state: u32,
+    /// Moves waiting in the queue.
+    pub queued: u32,
+    /// Seq of the move being interpolated (0: none).
+    pub active_seq: u32,
+    /// Group moves started since boot.
+    pub move_count: u32,
+    /// Distance along the active move, counts.
+    pub path_pos: f64,
+    /// Length of the active move, counts.
+    pub path_len: f64,
+    /// Tangential velocity before the filters, counts/s.
+    pub feed: f64,
+    /// Tangential acceleration before the filters, counts/s².
+    pub feed_acc: f64,
+    /// Servo tick of this snapshot.
+    pub tick: u64,
+}
+
+/// The `MC_GROUP_STATE_` value of a group state.
+pub(crate) fn group_state_code(s: GroupState) -> u32 {
+    match s {
+        GroupState::Disabled => MC_GROUP_STATE_DISABLED,
+        GroupState::Standby => MC_GROUP_STATE_STANDBY,
+        GroupState::Moving => MC_GROUP_STATE_MOVING,
+        GroupState::Homing => MC_GROUP_STATE_HOMING,
+        GroupState::Stopping => MC_GROUP_STATE_STOPPING,
+        GroupState::ErrorStop => MC_GROUP_STATE_ERROR_STOP,
+    }
+}
+
+impl From<(GroupState, GroupStatus)> for mc_group_status {
+    fn from((state, s): (GroupState, GroupStatus)) -> Self {
+        Self {
+            state: group_state_code(state),
+            queued: s.queued,
+            active_seq: s.active_seq,
+            move_count: s.move_count,
+            path_pos: s.path_pos,
+            path_len: s.path_len,
+            feed: s.feed,
+            feed_acc: s.feed_acc,
+            tick: s.tick,
+        }
+    }
+}
+
+/// One acc/dec filter: kind and time constant.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_filter {
+    /// `MC_FILTER_KIND_` value.
+    pub kind: u32,
+    /// Time constant, s.
+    pub tau: f64,
+}
+
+/// An axis's post-interpolation acc/dec filters, one per feed type.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_filter_settings {
+    /// Rapid traverse (`MC_FEED_TYPE_RAPID`).
+    pub rapid: mc_filter,
+    /// Cutting feed (`MC_FEED_TYPE_CUTTING`).
+    pub cutting: mc_filter,
+    /// Jog (`MC_FEED_TYPE_JOG`).
+    pub jog: mc_filter,
+}
+
+fn filter_kind(v: u32) -> Result<FilterKind, Failure> {
+    match v {
+        MC_FILTER_KIND_NONE => Ok(FilterKind::None),
+        MC_FILTER_KIND_LINEAR => Ok(FilterKind::Linear),
+        MC_FILTER_KIND_EXPONENTIAL => Ok(FilterKind::Exponential),
+        MC_FILTER_KIND_BELL => Ok(FilterKind::Bell),
+        v => Err(unknown("filter kind", v)),
+    }
+}
+
+fn filter_code(k: FilterKind) -> u32 {
+    match k {
+        FilterKind::None => MC_FILTER_KIND_NONE,
+        FilterKind::Linear => MC_FILTER_KIND_LINEAR,
+        FilterKind::Exponential => MC_FILTER_KIND_EXPONENTIAL,
+        FilterKind::Bell => MC_FILTER_KIND_BELL,
+    }
+}
+
+impl mc_filter_settings {
+    pub(crate) fn to_sdk(self) -> Result<FilterSettings, Failure> {
+        let f = |c: mc_filter| Ok::<_, Failure>((filter_kind(c.kind)?, c.tau));
+        Ok(FilterSettings {
+            rapid: f(self.rapid)?,
+            cutting: f(self.cutting)?,
+            jog: f(self.jog)?,
+        })
+    }
+}
+
+impl From<FilterSettings> for mc_filter_settings {
+    fn from(s: FilterSettings) -> Self {
+        let f = |(kind, tau): (FilterKind, f64)| mc_filter {
+            kind: filter_code(kind),
+            tau,
+        };
+        Self {
+            rapid: f(s.rapid),
+            cutting: f(s.cutting),
+            jog: f(s.jog),
+        }
+    }
+}
+
+/// The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
+/// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
+/// `dθ/dt = ke·w`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_pdplus_settings {
+    /// V/count.
+    pub kp: f64,
+    /// V per count/s.
+    pub kd: f64,
+    /// V per count/s of reference velocity.
+    pub kv: f64,
+    /// V per count/s² of reference acceleration.
+    pub ka: f64,
+    /// (rad/s)/V.
+    pub kc: f64,
+    /// s.
+    pub tau: f64,
+    /// counts/rad.
+    pub ke: f64,
+    /// Drive limit, V (at most the axis's `dac_limit_v`).
+    pub umax: f64,
+}
+
+impl From<mc_pdplus_settings> for PdPlusSettings {
+    fn from(s: mc_pdplus_settings) -> Self {
+        PdPlusSettings {
+            kp: s.kp,
+            kd: s.kd,
+            kv: s.kv,
+            ka: s.ka,
+            kc: s.kc,
+            tau: s.tau,
+            ke: s.ke,
+            umax: s.umax,
+        }
+    }
+}
+
+impl From<PdPlusSettings> for mc_pdplus_settings {
+    fn from(s: PdPlusSettings) -> Self {
+        Self {
+            kp: s.kp,
+            kd: s.kd,
+            kv: s.kv,
+            ka: s.ka,
+            kc: s.kc,
+            tau: s.tau,
+            ke: s.ke,
+            umax: s.umax,
+        }
+    }
+}
+
+/// How a NURBS curve is followed, in user units of the group's first axis.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_nurbs_feed {
+    /// Feed along the curve.
+    pub feed: f64,
+    /// Tangential acceleration limit.
+    pub accel: f64,
+    /// Tangential jerk limit.
+    pub jerk: f64,
+    /// Chord error tolerance (the feed is lowered where the curvature needs it).
+    pub chord_tolerance: f64,
+    /// Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
+    /// may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
+    /// otherwise). 0: not saturation-aware.
+    pub saturation_budget: f64,
+}
+
+impl From<mc_nurbs_feed> for NurbsFeed {
+    fn from(f: mc_nurbs_feed) -> Self {
+        NurbsFeed {
+            feed: f.feed,
+            accel: f.accel,
+            jerk: f.jerk,
+            chord_tolerance: f.chord_tolerance,
+            saturation: (f.saturation_budget != 0.0).then_some(f.saturation_budget),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -395,6 +880,136 @@ mod tests {
         assert_eq!(MC_CARD_CAP_SCURVE, raw::MC_CAP_SCURVE);
         assert_eq!(MC_CARD_CAP_FFPIV, raw::MC_CAP_FFPIV);
         assert_eq!(MC_CARD_CAP_EVENT_IRQ, raw::MC_CAP_EVENT_IRQ);
+        for s in GroupState::ALL {
+            assert_eq!(group_state_code(*s), *s as u32, "{s:?}");
+        }
+        assert_eq!(MC_GROUP_COUNT, raw::MC_MAX_GROUPS);
+        assert_eq!(MC_GROUP_MAX_AXES, raw::MC_MAX_AXES);
+        assert_eq!(MC_GROUP_ACCDEC_PRE, raw::MC_ACCDEC_PRE);
+        assert_eq!(MC_GROUP_ACCDEC_POST, raw::MC_ACCDEC_POST);
+        assert_eq!(
+            MC_GROUP_ACCDEC_BOTH,
+            raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST
+        );
+        assert_eq!(MC_GROUP_INTERP_EXACT, raw::MC_INTERP_EXACT);
+        assert_eq!(
+            MC_GROUP_INTERP_REFERENCE_WORD,
+            raw::MC_INTERP_REFERENCE_WORD
+        );
+        assert_eq!(MC_ARC_PLANE_XY, raw::MC_PLANE_XY);
+        assert_eq!(MC_ARC_PLANE_YZ, raw::MC_PLANE_YZ);
+        assert_eq!(MC_ARC_PLANE_ZX, raw::MC_PLANE_ZX);
+        assert_eq!(MC_ARC_BY_CENTRE, raw::MC_CIRC_BY_CENTRE);
+        assert_eq!(MC_ARC_BY_RADIUS, raw::MC_CIRC_BY_RADIUS);
+        assert_eq!(MC_ARC_BY_BORDER, raw::MC_CIRC_BY_BORDER);
+        assert_eq!(MC_FILTER_KIND_NONE, raw::MC_FILTER_NONE);
+        assert_eq!(MC_FILTER_KIND_LINEAR, raw::MC_FILTER_LINEAR);
+        assert_eq!(MC_FILTER_KIND_EXPONENTIAL, raw::MC_FILTER_EXPONENTIAL);
+        assert_eq!(MC_FILTER_KIND_BELL, raw::MC_FILTER_BELL);
+    }
+
+    #[test]
+    fn group_types_round_trip_and_unknown_values_are_refused() {
+        let s = GroupSettings {
+            accdec: AccDec::Both,
+            interpolator: Interpolator::ReferenceWord,
+            ..GroupSettings::new(&[3, 1, 2])
+        };
+        let c = mc_group_settings::from(&s);
+        assert_eq!(c.naxes, 3);
+        assert_eq!(c.to_sdk().unwrap(), s);
+        for (field, v) in [(0, 0), (0, 4), (1, 2)] {
+            let mut bad = c;
+            match field {
+                0 => bad.accdec = v,
+                _ => bad.interpolator = v,
+            }
+            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG, "{bad:?}");
+        }
+        for n in [0, 9, u32::MAX] {
+            let bad = mc_group_settings { naxes: n, ..c };
+            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_AXIS, "naxes {n}");
+        }
+
+        for f in [
+            FilterSettings::shin_table1(),
+            FilterSettings::shin_table1_z(),
+        ] {
+            assert_eq!(mc_filter_settings::from(f).to_sdk().unwrap(), f);
+        }
+        let mut f = mc_filter_settings::from(FilterSettings::shin_table1());
+        f.jog.kind = 4;
+        assert_eq!(f.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+        let p = PdPlusSettings::die_bonder(1);
+        assert_eq!(PdPlusSettings::from(mc_pdplus_settings::from(p)), p);
+
+        // A zeroed mc_move_options is the SDK's default.
+        assert_eq!(
+            mc_move_options::default().to_sdk().unwrap(),
+            MoveOptions::default()
+        );
+        let o = mc_move_options {
+            relative: 7,
+            buffered: 1,
+            feed_type: MC_FEED_TYPE_JOG,
+        };
+        assert_eq!(
+            o.to_sdk().unwrap(),
+            MoveOptions {
+                relative: true,
+                buffered: true,
+                feed_type: FeedType::Jog
+            }
+        );
+        let bad = mc_move_options { feed_type: 3, ..o };
+        assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+
+        let arc = |mode| mc_arc {
+            mode,
+            ccw: 1,
+            end: [1.0, 2.0],
+            aux: [3.0, 4.0],
+        };
+        assert_eq!(
+            arc(MC_ARC_BY_CENTRE).to_sdk().unwrap(),
+            ArcSpec::Centre {
+                end: [1.0, 2.0],
+                centre: [3.0, 4.0],
+                ccw: true
+            }
+        );
+        assert_eq!(
+            arc(MC_ARC_BY_RADIUS).to_sdk().unwrap(),
+            ArcSpec::Radius {
+                end: [1.0, 2.0],
+                radius: 3.0,
+                ccw: true
+            }
+        );
+        assert_eq!(
+            arc(MC_ARC_BY_BORDER).to_sdk().unwrap(),
+            ArcSpec::Border {
+                end: [1.0, 2.0],
+                via: [3.0, 4.0]
+            }
+        );
+        assert_eq!(arc(3).to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+        assert_eq!(plane_of(MC_ARC_PLANE_ZX).unwrap(), Plane::ZX);
+        assert_eq!(plane_of(3).unwrap_err().code, MC_ERR_BAD_CONFIG);
+
+        let feed = mc_nurbs_feed {
+            feed: 1.0,
+            accel: 2.0,
+            jerk: 3.0,
+            chord_tolerance: 4.0,
+            saturation_budget: 0.0,
+        };
+        assert_eq!(NurbsFeed::from(feed).saturation, None);
+        let aware = mc_nurbs_feed {
+            saturation_budget: 0.8,
+            ..feed
+        };
+        assert_eq!(NurbsFeed::from(aware).saturation, Some(0.8));
     }
 
     #[test]

@@ -2,7 +2,8 @@
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped`. One program is also linked statically, one runs under valgrind.
+//! (real-time) and `stepped` (`groups` and `errors` on a stepped card only). One program is also
+//! linked statically; `errors` and `groups` also run under valgrind.
 //!
 //! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
 //! asserts on time: the child processes only have a generous limit so a hang fails instead of
@@ -298,17 +299,25 @@ fn several_threads_on_one_card() {
 }
 
 #[test]
+fn groups_arcs_filters_and_nurbs() {
+    let out = run(&compile("groups", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS groups\n"), "{out}");
+    assert!(out.contains("circle: "), "{out}");
+    assert!(out.contains("NURBS quarter circle: "), "{out}");
+}
+
+#[test]
 fn every_error_path_and_misuse() {
     let out = run(&compile("errors", Link::Shared), &[], &[]);
     assert!(out.contains("PASS errors\n"), "{out}");
 }
 
-#[test]
-fn misuse_program_is_clean_under_valgrind() {
-    // Definite and indirect leaks are errors; "possibly lost" and "still reachable" are not
-    // (the card table and Rust's thread-locals live until exit). No suppressions are needed.
-    let out = run(
-        &compile("errors", Link::Shared),
+/// Run a program under valgrind. Definite and indirect leaks are errors; "possibly lost" and
+/// "still reachable" are not (the card table and Rust's thread-locals live until exit). No
+/// suppressions are needed.
+fn run_under_valgrind(name: &str) -> String {
+    run(
+        &compile(name, Link::Shared),
         &[],
         &[
             "valgrind",
@@ -318,8 +327,19 @@ fn misuse_program_is_clean_under_valgrind() {
             "--show-leak-kinds=definite,indirect",
             "-q",
         ],
-    );
+    )
+}
+
+#[test]
+fn misuse_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("errors");
     assert!(out.contains("PASS errors\n"), "{out}");
+}
+
+#[test]
+fn groups_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("groups");
+    assert!(out.contains("PASS groups\n"), "{out}");
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! The SDK's one error type.
 
+use card_emu::nurbs::NurbsError;
 use firmware_proto::NackCode;
 use std::time::Duration;
 
@@ -145,6 +146,15 @@ impl From<NackCode> for ErrorKind {
     }
 }
 
+impl From<NurbsError> for ErrorKind {
+    /// The kind of a curve fault: the kind of the nack the card gives for the same fault, so a
+    /// curve refused by [`crate::Nurbs::new`] on the host and one refused by the card have one
+    /// code.
+    fn from(e: NurbsError) -> Self {
+        card_emu::group::nurbs_nack(e).into()
+    }
+}
+
 /// An SDK error. [`Error::kind`] gives the flat code.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -199,6 +209,10 @@ pub enum Error {
         code: NackCode,
         reason: &'static str,
     },
+    /// A NURBS curve that [`crate::Nurbs::new`] refuses (kind: see `From<NurbsError> for
+    /// ErrorKind`).
+    #[error("bad NURBS curve: {0}")]
+    Nurbs(#[from] NurbsError),
     /// See [`ErrorKind::Io`].
     #[error("{context}: {source}")]
     Io {
@@ -227,6 +241,7 @@ impl Error {
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,
             Error::Nack { code, .. } => (*code).into(),
+            Error::Nurbs(e) => (*e).into(),
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
         }
@@ -283,3 +298,84 @@ pub fn nack_reason(code: NackCode) -> &'static str {
 
 /// Result with the SDK's error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_nurbs_fault_has_its_own_kind() {
+        use NurbsError as N;
+        let cases = [
+            (N::BadDegree { degree: 9 }, ErrorKind::NurbsDegree),
+            (N::BadDimension { dim: 1 }, ErrorKind::NurbsDimension),
+            (
+                N::ControlDataLength { len: 3, dim: 2 },
+                ErrorKind::NurbsCtrlCount,
+            ),
+            (
+                N::TooFewControlPoints { n_ctrl: 2, min: 3 },
+                ErrorKind::NurbsCtrlCount,
+            ),
+            (
+                N::TooManyControlPoints {
+                    n_ctrl: 2000,
+                    max: 1024,
+                },
+                ErrorKind::NurbsCtrlCount,
+            ),
+            (
+                N::WeightCountMismatch {
+                    weights: 2,
+                    n_ctrl: 3,
+                },
+                ErrorKind::NurbsCtrlCount,
+            ),
+            (
+                N::KnotCountMismatch {
+                    knots: 5,
+                    expected: 6,
+                },
+                ErrorKind::NurbsKnotCount,
+            ),
+            (N::NonFiniteKnot { index: 1 }, ErrorKind::NurbsPoint),
+            (
+                N::KnotsDecreasing { index: 3 },
+                ErrorKind::NurbsKnotsDecreasing,
+            ),
+            (
+                N::KnotMultiplicity {
+                    index: 3,
+                    multiplicity: 4,
+                },
+                ErrorKind::NurbsKnotMultiplicity,
+            ),
+            (N::NotClamped, ErrorKind::NurbsNotClamped),
+            (N::EmptyDomain, ErrorKind::NurbsNotClamped),
+            (N::BadWeight { index: 0 }, ErrorKind::NurbsWeight),
+            (N::NonFiniteControlPoint { index: 0 }, ErrorKind::NurbsPoint),
+            (N::NonFiniteParameter, ErrorKind::BadConfig),
+            (N::ParameterOutOfRange, ErrorKind::BadConfig),
+            (N::BadCircle, ErrorKind::BadConfig),
+        ];
+        for (e, kind) in cases {
+            let err = Error::from(e);
+            assert_eq!(err.kind(), kind, "{e:?}");
+            assert!(err.to_string().contains(&e.to_string()), "{err}");
+        }
+        // A refused knot vector through `?`, as an application writes it.
+        let bad = || -> Result<crate::Nurbs> {
+            Ok(crate::Nurbs::new(
+                2,
+                2,
+                &[0.0, 0.0, 1.0, 1.0, 2.0, 0.0],
+                &[1.0; 3],
+                &[0.0, 0.0, 0.0, 1.0, 0.5, 1.0],
+            )?)
+        };
+        assert_eq!(
+            bad().err().map(|e| e.kind()),
+            Some(ErrorKind::NurbsKnotsDecreasing)
+        );
+    }
+}

@@ -42,6 +42,7 @@ pub use group::{
 };
 pub use nurbs::{
     clamped_uniform_knots, die_bonder_plant, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
+    NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).

@@ -8,6 +8,11 @@ use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA
 use std::time::Duration;
 
 pub use card_emu::nurbs::{clamped_uniform_knots, Nurbs, NurbsError};
+/// Limits of a [`Nurbs`] curve: degree, dimension (axes), control points, knots.
+pub use card_emu::nurbs::{
+    MAX_CTRL as NURBS_MAX_CTRL, MAX_DEGREE as NURBS_MAX_DEGREE, MAX_DIM as NURBS_MAX_DIM,
+    MAX_KNOTS as NURBS_MAX_KNOTS,
+};
 
 /// PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2) in counts,
 /// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/τ + (kc/τ)·u`,
