@@ -70,7 +70,8 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
         ErrorKind::AxesEnabled
     );
     seen.push(NackCode::AxesEnabled);
-    for code in NackCode::ALL {
+    // The safety codes (32..47) are provoked one by one in tests/safety.rs.
+    for code in NackCode::ALL.iter().filter(|c| (**c as i32) < 32) {
         assert!(seen.contains(code), "{code:?} never provoked");
     }
     // Nothing moved: every refused move left the axis where it was.
