@@ -25,17 +25,19 @@
 mod card;
 mod device;
 mod error;
+mod safety;
 
 pub use card::{
     Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
     ACK_TIMEOUT, EVENT_QUEUE_CAP,
 };
-pub use card_emu::{Clock, EmuOptions, MotorParams};
+pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result};
-pub use firmware_proto::{AxisState, EventKind, NackCode};
+pub use firmware_proto::{AxisState, EventKind, NackCode, StopCategory, StopReason};
+pub use safety::{SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US};
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {
-    pub use firmware_proto::{fault, raw, AxisStatus, Command, Event, Opcode};
+    pub use firmware_proto::{fault, io, raw, AxisStatus, Command, Event, Opcode};
 }
