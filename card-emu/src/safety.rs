@@ -3,7 +3,7 @@
 //!
 //! The anchors:
 //! - **Watchdog** (Mesa hostmot2): the host increments `host.heartbeat`; once the card has seen
-//!   it change (the watchdog is then *armed*), a heartbeat older than the configured timeout
+//!   it change (the watchdog is then *armed*), a heartbeat as old as the configured timeout
 //!   (default 5 ms; 0 or under 1.5 × the host's declared period is refused) makes every powered
 //!   axis do a category 1 stop. The fault latches: nothing moves again until the host sends
 //!   `MC_OP_SAFETY_RESET` with its heartbeat alive, even if the heartbeat came back.
@@ -429,7 +429,7 @@ impl Safety {
         let age_us = self.heartbeat(mem, tick, rate_hz);
         if self.armed
             && self.latched & raw::MC_CARD_FAULT_WATCHDOG == 0
-            && age_us > self.config.watchdog_timeout_us as u64
+            && age_us >= self.config.watchdog_timeout_us as u64
         {
             self.latch(mem, raw::MC_CARD_FAULT_WATCHDOG);
             mem.write64(ss::WATCHDOG_TRIP_TICK, tick);
@@ -734,11 +734,11 @@ impl Safety {
             }
             Opcode::SafetyReset => {
                 let age_us = self.heartbeat(mem, tick, rate_hz);
-                if self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
-                    && age_us > self.config.watchdog_timeout_us as u64
-                {
-                    Err(NackCode::CauseActive)
-                } else if self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop {
+                let heartbeat_dead = self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
+                    && age_us >= self.config.watchdog_timeout_us as u64;
+                let estop_held =
+                    self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop;
+                if heartbeat_dead || estop_held {
                     Err(NackCode::CauseActive)
                 } else {
                     self.latched = 0;
@@ -858,7 +858,8 @@ fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>;
         }
     }
     // Following error (LinuxCNC): on every axis whose servo ran this tick. NaN trips too.
-    if powered && !(ferr.abs() <= c.ferror_limit(r.vel)) {
+    let within = ferr.abs() <= c.ferror_limit(r.vel);
+    if powered && !within {
         out[3] = cat0(StopReason::FollowingError, fault::FOLLOWING_ERROR, ferr);
     }
     out

@@ -151,7 +151,9 @@ const _: () = {
     assert!(offset_of!(mc_axis_status_payload, io) == 19 * 8 + 4);
     assert!(offset_of!(mc_axis_status_payload, checksum) == 23 * 8);
     assert!(AXIS_SAFETY_BYTES == 128 && AXIS_SAFETY.is_multiple_of(64));
-    assert!(SAFETY_STATUS.is_multiple_of(64) && safety_status::LAST_HEARTBEAT_TICK % 8 == 0);
+    assert!(
+        SAFETY_STATUS.is_multiple_of(64) && safety_status::LAST_HEARTBEAT_TICK.is_multiple_of(8)
+    );
 };
 
 const _: () = {
