@@ -56,6 +56,7 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     // the heartbeat is 5 ms old.
     assert_eq!(tripped, Some(timeout), "tripped after {tripped:?} ticks");
     assert_eq!(st.watchdog_trip_tick - st.last_heartbeat_tick, timeout);
+    assert_eq!(st.trip_heartbeat_tick, st.last_heartbeat_tick);
     for m in &moves {
         let e = m.wait(Duration::ZERO).unwrap_err();
         assert_eq!(e.kind(), ErrorKind::Aborted);

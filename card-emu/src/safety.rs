@@ -357,6 +357,7 @@ impl Safety {
         mem.write32(ss::WATCHDOG_ARMED, 0);
         mem.write64(ss::LAST_HEARTBEAT_TICK, 0);
         mem.write64(ss::WATCHDOG_TRIP_TICK, 0);
+        mem.write64(ss::TRIP_HEARTBEAT_TICK, 0);
         mem.write32(ss::PROTOCOL_ERRORS, 0);
         for a in 0..MAX_AXES {
             mem.write64(ss::stop_tick(a), 0);
@@ -433,6 +434,7 @@ impl Safety {
         {
             self.latch(mem, raw::MC_CARD_FAULT_WATCHDOG);
             mem.write64(ss::WATCHDOG_TRIP_TICK, tick);
+            mem.write64(ss::TRIP_HEARTBEAT_TICK, self.last_heartbeat_tick);
             let trip = Trip {
                 category: StopCategory::Cat1,
                 reason: StopReason::Watchdog,

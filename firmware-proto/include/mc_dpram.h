@@ -334,7 +334,8 @@ struct mc_safety_status {
     uint64_t stop_tick[MC_MAX_AXES]; /* tick the axis's last safety stop began */
     uint64_t rest_tick[MC_MAX_AXES]; /* tick it reached rest after it (0 while stopping) */
     double ramp_time[MC_MAX_AXES];   /* planned duration of that stop's deceleration, s */
-    uint64_t _reserved[4];
+    uint64_t trip_heartbeat_tick;    /* last_heartbeat_tick when the watchdog last tripped */
+    uint64_t _reserved[3];
 };
 
 /* The whole window. */

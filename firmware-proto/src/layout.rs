@@ -120,6 +120,7 @@ pub mod safety_status {
     pub const LAST_HEARTBEAT_TICK: usize = B + offset_of!(mc_safety_status, last_heartbeat_tick);
     pub const WATCHDOG_TRIP_TICK: usize = B + offset_of!(mc_safety_status, watchdog_trip_tick);
     pub const PROTOCOL_ERRORS: usize = B + offset_of!(mc_safety_status, protocol_errors);
+    pub const TRIP_HEARTBEAT_TICK: usize = B + offset_of!(mc_safety_status, trip_heartbeat_tick);
     const STOP_TICK: usize = B + offset_of!(mc_safety_status, stop_tick);
     const REST_TICK: usize = B + offset_of!(mc_safety_status, rest_tick);
     const RAMP_TIME: usize = B + offset_of!(mc_safety_status, ramp_time);

@@ -505,7 +505,8 @@ pub struct mc_safety_status {
     pub stop_tick: [u64; 8usize],
     pub rest_tick: [u64; 8usize],
     pub ramp_time: [f64; 8usize],
-    pub _reserved: [u64; 4usize],
+    pub trip_heartbeat_tick: u64,
+    pub _reserved: [u64; 3usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -529,8 +530,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_safety_status, rest_tick) - 96usize];
     ["Offset of field: mc_safety_status::ramp_time"]
         [::core::mem::offset_of!(mc_safety_status, ramp_time) - 160usize];
+    ["Offset of field: mc_safety_status::trip_heartbeat_tick"]
+        [::core::mem::offset_of!(mc_safety_status, trip_heartbeat_tick) - 224usize];
     ["Offset of field: mc_safety_status::_reserved"]
-        [::core::mem::offset_of!(mc_safety_status, _reserved) - 224usize];
+        [::core::mem::offset_of!(mc_safety_status, _reserved) - 232usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]

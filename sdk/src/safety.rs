@@ -127,6 +127,8 @@ pub struct SafetyStatus {
     pub last_heartbeat_tick: u64,
     /// Servo tick of the last watchdog trip (0: never).
     pub watchdog_trip_tick: u64,
+    /// The tick of the last heartbeat the card saw before that trip.
+    pub trip_heartbeat_tick: u64,
     /// Protocol errors (corrupt ring indices) the card detected since boot.
     pub protocol_errors: u32,
 }
@@ -260,6 +262,7 @@ impl Card {
             watchdog_armed: w.read32(ss::WATCHDOG_ARMED) != 0,
             last_heartbeat_tick: w.read64(ss::LAST_HEARTBEAT_TICK),
             watchdog_trip_tick: w.read64(ss::WATCHDOG_TRIP_TICK),
+            trip_heartbeat_tick: w.read64(ss::TRIP_HEARTBEAT_TICK),
             protocol_errors: w.read32(ss::PROTOCOL_ERRORS),
         }
     }
