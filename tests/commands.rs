@@ -70,7 +70,8 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
         ErrorKind::AxesEnabled
     );
     seen.push(NackCode::AxesEnabled);
-    // Axis and card codes here; the group codes (16 and up) in tests/groups.rs.
+    // Axis and card codes here; the group codes (16..31, 48..63) in tests/groups.rs and
+    // tests/nurbs.rs, the safety codes (32..47) in tests/safety.rs.
     for code in NackCode::ALL.iter().filter(|c| (**c as i32) < 16) {
         assert!(seen.contains(code), "{code:?} never provoked");
     }

@@ -213,6 +213,8 @@ fn done_never_before_in_position() {
         ..Default::default()
     };
     ax.configure(&cfg).unwrap();
+    // The axis lags far behind on purpose: widen its following-error limit.
+    ax.configure_safety(&lagging()).unwrap();
     ax.enable().unwrap();
     let m = ax
         .move_absolute(200_000.0, &MoveLimits::new(200_000.0, 4e6, 1e9))
@@ -269,6 +271,7 @@ fn plant_parameters_are_per_axis() {
     let mut ferr = [0.0; 2];
     for (i, f) in ferr.iter_mut().enumerate() {
         let ax = card.axis(i).unwrap();
+        ax.configure_safety(&lagging()).unwrap(); // the heavier axis lags on purpose
         ax.enable().unwrap();
         let pos = ax
             .move_absolute(50_000.0, &lim)
@@ -282,4 +285,13 @@ fn plant_parameters_are_per_axis() {
         ferr[1] > 1.5 * ferr[0],
         "following errors {ferr:?}: the heavier axis should lag more (same gains)"
     );
+}
+
+/// A following-error limit wide enough for an axis made to lag on purpose.
+fn lagging() -> motioncard::SafetySettings {
+    motioncard::SafetySettings {
+        ferror: 1e7,
+        min_ferror: 1e6,
+        ..Default::default()
+    }
 }

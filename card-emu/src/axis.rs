@@ -1,10 +1,11 @@
 //! One axis of the firmware: PLCopen state machine, profile execution, in-position detection,
 //! the servo loop and the move statistics the card publishes.
 
+use crate::safety::AxisSafety;
 use crate::scurve::{Limits, Profile};
 use crate::servo::{Ffpiv, FfpivGains, Reference};
 use crate::yeh::{AxisModel, PdPlus};
-use firmware_proto::{fault, AxisState, AxisStatus, NackCode};
+use firmware_proto::{fault, AxisState, AxisStatus, NackCode, StopReason};
 
 /// The validated copy of an axis's configuration block.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,6 +88,8 @@ pub struct Axis {
     pub state: AxisState,
     /// Active configuration.
     pub config: AxisConfig,
+    /// Safety configuration and state (safety.rs).
+    pub safety: AxisSafety,
     motion: Motion,
     servo: Ffpiv,
     cmd: Reference,
@@ -134,6 +137,7 @@ impl Axis {
         Self {
             state: AxisState::Disabled,
             config: AxisConfig::default(),
+            safety: AxisSafety::new(),
             motion: Motion::Hold,
             servo: Ffpiv::default(),
             cmd: Reference {
@@ -204,6 +208,14 @@ impl Axis {
         } else {
             self.motion = Motion::Hold;
             self.awaiting_done = false;
+            // [safety] ErrorStop is left only by MC_Reset: power off removes power, keeps the state.
+            if self.state == AxisState::ErrorStop {
+                self.safety.powered = false;
+                return Ok(None);
+            }
+            if self.state != AxisState::Disabled {
+                self.safety.stop_reason = StopReason::PowerOff;
+            }
             self.set_state(AxisState::Disabled, &mut changed);
         }
         Ok(changed)
@@ -270,36 +282,15 @@ impl Axis {
             _ => {}
         }
         let mut changed = None;
-        let limits = Limits {
-            vmax: f64::MAX,
-            amax: dmax,
-            dmax,
-            j1: jerk,
-            j3: jerk,
-            j5: jerk,
-            j7: jerk,
-        };
-        let (v0, a0) = (self.cmd.vel, self.cmd.acc);
-        let profile = match Profile::stop(self.cmd.pos, v0, a0, &limits) {
-            // Late in a deceleration the remaining velocity is smaller than what the given jerk
-            // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
-            // the smallest jerk that stops without reversing (a stop never moves backwards).
-            Err(crate::scurve::PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
-                let j = (a0 * a0 / (2.0 * v0.abs())).max(jerk) * (1.0 + 1e-9);
-                let limits = Limits {
-                    j1: j,
-                    j3: j,
-                    j5: j,
-                    j7: j,
-                    ..limits
-                };
-                Profile::stop(self.cmd.pos, v0, a0, &limits).map_err(crate::plan_nack)?
-            }
-            r => r.map_err(crate::plan_nack)?,
-        };
+        let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)?;
         self.target = profile.end_pos();
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };
+        self.safety.stop_reason = if stop {
+            StopReason::Stop
+        } else {
+            StopReason::Halt
+        };
         if stop {
             self.stop_released = false;
             self.set_state(AxisState::Stopping, &mut changed);
@@ -308,6 +299,7 @@ impl Axis {
     }
 
     fn begin_motion(&mut self, seq: u32, planned: f64) {
+        self.safety.stop_reason = StopReason::None;
         self.motion_seq = seq;
         self.move_count = self.move_count.wrapping_add(1);
         self.stats = MoveStats {
@@ -341,7 +333,16 @@ impl Axis {
         };
         self.motion = Motion::Hold;
         self.servo.reset_integral();
-        self.set_state(AxisState::Standstill, &mut changed);
+        // [safety] clear the latches; an axis whose drive was disabled by the stop goes to Disabled.
+        let powered = self.safety.reset();
+        self.set_state(
+            if powered {
+                AxisState::Standstill
+            } else {
+                AxisState::Disabled
+            },
+            &mut changed,
+        );
         Ok(changed)
     }
 
@@ -380,7 +381,9 @@ impl Axis {
         let mut report = TickReport::default();
         let vel = self.servo.velocity();
 
-        if self.state == AxisState::Disabled || self.state == AxisState::ErrorStop {
+        if self.state == AxisState::Disabled
+            || (self.state == AxisState::ErrorStop && !self.safety.powered)
+        {
             // The commanded position follows the actual one, so enabling never jumps.
             self.cmd = Reference {
                 pos: self.act_pos,
@@ -405,12 +408,25 @@ impl Axis {
                 acc: s.acc,
             };
             if *t >= profile.duration() {
-                self.cmd = Reference {
-                    pos: profile.end_pos(),
-                    vel: 0.0,
-                    acc: 0.0,
-                };
-                self.motion = Motion::Hold;
+                let end = profile.sample(*t);
+                if end.vel != 0.0 || end.acc != 0.0 {
+                    // [safety] the profile ends moving and nothing follows it (a queue ran
+                    // dry): a planned stop from where it ended, never a jump to rest.
+                    let stop = crate::safety::starvation_stop(&self.safety, &end);
+                    self.target = stop.map_or(end.pos, |p| p.end_pos());
+                    self.motion = match stop {
+                        Some(profile) => Motion::Profile { profile, t: 0.0 },
+                        None => Motion::Hold,
+                    };
+                    self.safety.stop_reason = StopReason::Starvation;
+                } else {
+                    self.cmd = Reference {
+                        pos: profile.end_pos(),
+                        vel: 0.0,
+                        acc: 0.0,
+                    };
+                    self.motion = Motion::Hold;
+                }
             }
         }
         // Jerk of the reference, whoever set it (own profile or a group).
@@ -464,6 +480,9 @@ impl Axis {
                 if self.settled_for + 1e-12 >= self.config.settle_time {
                     self.awaiting_done = false;
                     st.move_time = st.elapsed;
+                    if self.safety.stop_reason == StopReason::None {
+                        self.safety.stop_reason = StopReason::Done;
+                    }
                     report.done = Some((self.motion_seq, self.act_pos));
                     if self.state == AxisState::DiscreteMotion {
                         self.set_state(AxisState::Standstill, &mut report.state_from);
@@ -526,7 +545,7 @@ impl Axis {
             dac_v: self.dac_v,
             target: self.target,
             state: self.state as u32,
-            faults: self.faults,
+            faults: self.faults | self.safety.faults,
             last_seq: self.last_seq,
             move_count: self.move_count,
             tick,
@@ -539,6 +558,106 @@ impl Axis {
             planned_time: st.planned_time,
             move_time: st.move_time,
             u_request: self.u_request,
+            stop_reason: self.safety.stop_reason as u32,
+            io: self.safety.io,
         }
+    }
+}
+
+/// A jerk-limited stop from (pos, vel, acc) within `dmax` and `jerk` (MC_Halt, MC_Stop and the
+/// category 1 and 2 safety stops).
+pub(crate) fn plan_stop(
+    pos: f64,
+    v0: f64,
+    a0: f64,
+    dmax: f64,
+    jerk: f64,
+) -> Result<Profile, NackCode> {
+    let limits = Limits {
+        vmax: f64::MAX,
+        amax: dmax,
+        dmax,
+        j1: jerk,
+        j3: jerk,
+        j5: jerk,
+        j7: jerk,
+    };
+    match Profile::stop(pos, v0, a0, &limits) {
+        // Late in a deceleration the remaining velocity is smaller than what the given jerk
+        // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
+        // the smallest jerk that stops without reversing (a stop never moves backwards).
+        Err(crate::scurve::PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
+            let j = (a0 * a0 / (2.0 * v0.abs())).max(jerk) * (1.0 + 1e-9);
+            let limits = Limits {
+                j1: j,
+                j3: j,
+                j5: j,
+                j7: j,
+                ..limits
+            };
+            Profile::stop(pos, v0, a0, &limits).map_err(crate::plan_nack)
+        }
+        r => r.map_err(crate::plan_nack),
+    }
+}
+
+// ---- Safety hooks: what safety.rs needs from an axis (the rules live there) ----
+impl Axis {
+    /// Enter ErrorStop. `ramp`: the stop profile of a category 1 or 2 stop, run with the drive
+    /// powered; `None`: category 0, the drive loses power now. Returns the old state if it
+    /// changed.
+    pub(crate) fn enter_error_stop(&mut self, ramp: Option<Profile>) -> Option<AxisState> {
+        let mut changed = None;
+        self.awaiting_done = false;
+        match ramp {
+            Some(profile) => {
+                self.target = profile.end_pos();
+                self.motion = Motion::Profile { profile, t: 0.0 };
+                self.safety.powered = true;
+            }
+            None => self.remove_power(),
+        }
+        self.set_state(AxisState::ErrorStop, &mut changed);
+        changed
+    }
+
+    /// Category 0 (or the end of a category 1 stop): the drive loses power now.
+    pub(crate) fn remove_power(&mut self) {
+        self.motion = Motion::Hold;
+        self.safety.powered = false;
+        self.dac_v = 0.0;
+    }
+
+    /// Is a profile (move or stop ramp) still running?
+    pub(crate) fn profile_running(&self) -> bool {
+        matches!(self.motion, Motion::Profile { .. })
+    }
+
+    /// Does the drive get the servo output this tick?
+    pub(crate) fn is_powered(&self) -> bool {
+        match self.state {
+            AxisState::Disabled => false,
+            AxisState::ErrorStop => self.safety.powered,
+            _ => true,
+        }
+    }
+
+    /// The filtered measured velocity, counts/s.
+    pub(crate) fn measured_velocity(&self) -> f64 {
+        self.servo.velocity()
+    }
+
+    /// The following error of the last tick, counts.
+    pub(crate) fn following_error(&self) -> f64 {
+        self.ferr
+    }
+
+    /// Run `profile` from now, as a queue would (tests of the starvation rule).
+    #[cfg(test)]
+    pub(crate) fn run_profile(&mut self, seq: u32, profile: Profile) {
+        self.target = profile.end_pos();
+        self.begin_motion(seq, profile.duration());
+        self.motion = Motion::Profile { profile, t: 0.0 };
+        self.state = AxisState::DiscreteMotion;
     }
 }

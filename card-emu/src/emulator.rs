@@ -9,6 +9,7 @@
 //!   (`clock_nanosleep(TIMER_ABSTIME)`), serving commands between ticks, optionally
 //!   busy-polling the command ring instead of sleeping (lowest command latency).
 
+use crate::faults::FaultInjector;
 use crate::firmware::Firmware;
 use crate::plant::{Motor, MotorParams};
 use crate::shm::MappedWindow;
@@ -85,6 +86,7 @@ pub struct Emulator {
     dac: [f64; MAX_AXES],
     irq: EventFd,
     time: f64,
+    faults: FaultInjector,
 }
 
 impl Emulator {
@@ -99,6 +101,7 @@ impl Emulator {
             dac: [0.0; MAX_AXES],
             irq,
             time: 0.0,
+            faults: FaultInjector::default(),
         })
     }
 
@@ -118,13 +121,13 @@ impl Emulator {
     pub fn step(&mut self) {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
-        for (e, m) in enc.iter_mut().zip(&self.motors) {
-            *e = m.encoder();
-        }
+        // [faults] encoders and switch inputs as the card sees them, through injected faults
+        let inputs = self.faults.sense(&self.motors, &mut enc);
+        self.fw.set_inputs(inputs);
         self.fw.tick(&enc, &mut self.dac);
         let ts = self.fw.ts();
-        for (m, u) in self.motors.iter_mut().zip(self.dac) {
-            m.step(u, ts);
+        for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
+            self.faults.step_motor(i, m, u, ts);
         }
         self.time += ts;
         self.raise_irq();
@@ -172,6 +175,19 @@ impl Emulator {
     /// An axis's plant.
     pub fn motor(&self, axis: usize) -> Option<&Motor> {
         self.motors.get(axis)
+    }
+
+    /// The fault injector: switches, alarms, encoder faults, actuator faults, e-stop input.
+    pub fn faults(&mut self) -> &mut FaultInjector {
+        &mut self.faults
+    }
+
+    /// Lose (or restore) the encoder signal of `axis`: the count freezes where it is now.
+    pub fn lose_encoder(&mut self, axis: usize, lost: bool) {
+        if let Some(m) = self.motors.get(axis) {
+            let m = *m;
+            self.faults.lose_encoder(axis, lost, &m);
+        }
     }
 }
 
@@ -239,8 +255,11 @@ fn run_realtime(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
         if now >= next {
             emu.step();
             let p = 1_000_000_000i128 / emu.fw.servo_rate_hz() as i128;
-            if p != period || now - next > 100 * period {
-                // New servo rate, or the machine stalled us: restart the deadline grid.
+            if p != period || now - next > 2 * period {
+                // New servo rate, or the OS stalled this thread: restart the deadline grid.
+                // Emulated time pauses with the thread, as a real card's would not stall at
+                // all; running the missed ticks back to back would age the host's heartbeat
+                // (a wall-clock thread) by many ticks at once and trip the watchdog falsely.
                 period = p;
                 next = now + period;
             } else {

@@ -7,6 +7,7 @@
 
 use crate::axis::{Axis, AxisConfig, TickReport};
 use crate::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
+use crate::safety::{Inputs, Safety};
 use crate::scurve::Limits;
 use crate::servo::FfpivGains;
 use crate::yeh::{AxisModel, PdPlusGains, Plant};
@@ -41,6 +42,7 @@ pub struct Firmware<M: Mem + Clone> {
     irq_pending: bool,
     events_lost: u32,
     cmds_accepted: u32,
+    safety: Safety,
 }
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -60,7 +62,9 @@ impl<M: Mem + Clone> Firmware<M> {
         ] {
             mem.write32(off, 0);
         }
+        let safety = Safety::boot(&mem);
         let mut fw = Self {
+            safety,
             cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
             events: EvtProducer::attach(mem.clone(), EVT_RING),
             mem,
@@ -129,6 +133,26 @@ impl<M: Mem + Clone> Firmware<M> {
         self.axes[..self.num_axes].get(i)
     }
 
+    /// The safety layer (watchdog, latches, configuration).
+    pub fn safety(&self) -> &Safety {
+        &self.safety
+    }
+
+    /// The card's inputs (limit, home and alarm switches, encoder fault, e-stop) for the next
+    /// tick, as the FPGA samples them.
+    pub fn set_inputs(&mut self, inputs: Inputs) {
+        self.safety.set_inputs(inputs);
+    }
+
+    fn post_safety_events(&mut self) {
+        for k in 0..self.safety.events.len() {
+            if let Some(e) = self.safety.events.get(k) {
+                self.post(e);
+            }
+        }
+        self.safety.events.clear();
+    }
+
     /// Was an interrupt raised since the last call? Clears the flag.
     pub fn take_irq(&mut self) -> bool {
         let raised = core::mem::take(&mut self.irq_pending);
@@ -152,18 +176,23 @@ impl<M: Mem + Clone> Firmware<M> {
             let cmd: Command = match self.cmds.pop() {
                 Ok(Some(c)) => c,
                 Ok(None) => break,
-                Err(_) => {
+                Err(e) => {
                     // The host's head is beyond anything it could have written: drop what is
-                    // there rather than act on garbage, and tell the host.
+                    // there rather than act on garbage, stop the axes, and tell the host.
                     self.cmds.resync();
-                    self.post(Event {
-                        seq: 0,
-                        kind: EventKind::Fault as u16,
-                        axis: 0xFFFF,
-                        code: NackCode::OutOfRange as i32,
-                        tick: self.tick,
-                        value: 0.0,
-                    });
+                    let head = match e {
+                        firmware_proto::RingError::Corrupt { head, .. } => head,
+                        firmware_proto::RingError::Full => 0,
+                    };
+                    // [safety] category 1 stop of every axis, protocol-error event
+                    self.safety.protocol_error(
+                        &self.mem,
+                        self.tick,
+                        &mut self.axes[..self.num_axes],
+                        raw::MC_PROTO_CMD_RING as i32,
+                        head,
+                    );
+                    self.post_safety_events();
                     break;
                 }
             };
@@ -195,6 +224,7 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             self.post(reply);
             self.post_outbox();
+            self.post_safety_events(); // [safety] events of the command (e-stop)
         }
         served
     }
@@ -217,10 +247,23 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::ApplyCardConfig => return self.apply_card_config(),
             _ => {}
         }
+        // [safety] opcodes 32..47 (safety.rs)
+        if let Some(r) = self.safety.command(
+            &self.mem,
+            c,
+            op,
+            self.tick,
+            self.servo_rate_hz,
+            &mut self.axes[..self.num_axes],
+        ) {
+            return r;
+        }
         let ax = c.axis as usize;
         if ax >= self.num_axes {
             return Err(NackCode::BadAxis);
         }
+        // [safety] card-wide latches, causes still present, limits (safety.rs)
+        self.safety.check_command(op, &c.args, &self.axes[ax])?;
         let tick = self.tick;
         let pending = self.axes[ax].pending_motion();
         let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
@@ -469,9 +512,21 @@ impl<M: Mem + Clone> Firmware<M> {
         for d in dac[self.num_axes..].iter_mut() {
             *d = 0.0;
         }
+        // [safety] watchdog, e-stop, limits, following error, input faults (safety.rs)
+        let evt_ring_ok = self.events.free().is_ok();
+        self.safety.tick(
+            &self.mem,
+            self.tick,
+            self.servo_rate_hz,
+            &mut self.axes[..self.num_axes],
+            encoders,
+            dac,
+            evt_ring_ok,
+        );
         // The status first, then the events about it: a host that takes motion done (or a
         // state change) and then reads the status sees this tick's, never the one before.
         self.publish();
+        self.post_safety_events();
         self.post_outbox();
         for (i, report) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;

@@ -3,7 +3,9 @@
 //! [`firmware`] is the card's complete firmware (command manager, PLCopen axis states, S-curve
 //! profiles, FFPIV servo loops); [`plant`] simulates what hangs off the card (DAC, amplifier,
 //! motor and load, encoder); [`emulator`] puts them behind a DPRAM window with an interrupt
-//! line and drives them on a stepped, free-running or real-time clock; [`server`] serves a card
+//! line and drives them on a stepped, free-running or real-time clock; [`safety`] is the
+//! firmware's safety layer (watchdog, limits, following error, e-stop) and [`faults`] the fault
+//! injector tests drive; [`server`] serves a card
 //! to another process (`emu:NAME`). The firmware only sees the window, exactly as it would on
 //! the card's DSP.
 #![deny(unsafe_op_in_unsafe_fn)]
@@ -11,11 +13,13 @@
 pub mod axis;
 pub mod circle;
 pub mod emulator;
+pub mod faults;
 pub mod filters;
 pub mod firmware;
 pub mod group;
 pub mod nurbs;
 pub mod plant;
+pub mod safety;
 pub mod scurve;
 pub mod server;
 pub mod servo;
@@ -24,7 +28,7 @@ pub mod yeh;
 
 pub use emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;
-pub use plant::{Motor, MotorParams};
+pub use plant::{Motor, MotorParams, Switches};
 
 use firmware_proto::NackCode;
 

@@ -1,5 +1,5 @@
 //! The simulated plant of one axis: 12-bit ±10 V DAC, current-mode amplifier, motor and load,
-//! quantised incremental encoder.
+//! quantised incremental encoder, limit and home switches.
 //!
 //! The motor is the rigid body of Thinh Fig 5: `J dω/dt = K_t·i − b·ω − T_c·sgn(ω) − T_d`, with
 //! the amplifier `i = clamp(K_a·u, ±I_max)`. Over one servo period the input is held (zero-order
@@ -325,6 +325,59 @@ impl Motor {
     }
 }
 
+/// The switches along an axis's travel, at positions in encoder counts. A limit switch is
+/// active at and beyond its position; the home switch within `home_width / 2` of `home`.
+/// Infinite positions (the default) mean no switch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Switches {
+    /// Positive limit switch, counts (`+∞`: none).
+    pub limit_pos: f64,
+    /// Negative limit switch, counts (`−∞`: none).
+    pub limit_neg: f64,
+    /// Home switch centre, counts (NaN: none).
+    pub home: f64,
+    /// Home switch width, counts.
+    pub home_width: f64,
+}
+
+impl Default for Switches {
+    fn default() -> Self {
+        Self {
+            limit_pos: f64::INFINITY,
+            limit_neg: f64::NEG_INFINITY,
+            home: f64::NAN,
+            home_width: 0.0,
+        }
+    }
+}
+
+impl Switches {
+    /// Limits at `neg` and `pos`, no home switch.
+    pub fn limits(neg: f64, pos: f64) -> Self {
+        Self {
+            limit_neg: neg,
+            limit_pos: pos,
+            ..Self::default()
+        }
+    }
+
+    /// The `MC_IO_*` input bits at position `counts`.
+    pub fn inputs(&self, counts: f64) -> u32 {
+        use firmware_proto::io;
+        let mut bits = 0;
+        if counts >= self.limit_pos {
+            bits |= io::LIMIT_POS;
+        }
+        if counts <= self.limit_neg {
+            bits |= io::LIMIT_NEG;
+        }
+        if (counts - self.home).abs() <= 0.5 * self.home_width {
+            bits |= io::HOME;
+        }
+        bits
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -373,6 +426,21 @@ mod tests {
         // Coasting distance with friction and damping is positive and bounded by ω²J/(2T_c).
         let bound = m.params.inertia / (2.0 * m.params.coulomb);
         assert!(m.theta > 0.0 && m.theta <= bound);
+    }
+
+    #[test]
+    fn switches_follow_position() {
+        use firmware_proto::io;
+        let s = Switches {
+            home: 0.0,
+            home_width: 10.0,
+            ..Switches::limits(-1000.0, 2000.0)
+        };
+        assert_eq!(s.inputs(0.0), io::HOME);
+        assert_eq!(s.inputs(500.0), 0);
+        assert_eq!(s.inputs(2000.0), io::LIMIT_POS);
+        assert_eq!(s.inputs(-1e9), io::LIMIT_NEG);
+        assert_eq!(Switches::default().inputs(1e300), 0);
     }
 
     #[test]

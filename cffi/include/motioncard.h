@@ -137,6 +137,16 @@
 // A group move was aborted (`axis`: the group).
 #define MC_EVENT_GROUP_MOTION_ABORTED 10
 
+// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
+// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
+#define MC_EVENT_SAFETY_STOP 16
+
+// A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
+#define MC_EVENT_AT_REST 17
+
+// The host broke the protocol (`code`: what, `value`: the index).
+#define MC_EVENT_PROTOCOL_ERROR 18
+
 // `mc_event.axis` of an event about the whole card.
 #define MC_EVENT_CARD_WIDE 65535
 
@@ -671,6 +681,27 @@ typedef struct mc_pdplus_settings {
 
 // The curve has zero length.
 #define MC_ERR_NURBS_ZERO_LENGTH -46
+
+// The host watchdog tripped: reset the card's faults first.
+#define MC_ERR_WATCHDOG_TRIPPED -47
+
+// An e-stop is latched: reset the card's faults first.
+#define MC_ERR_ESTOP_ACTIVE -48
+
+// The move goes further into an active limit switch.
+#define MC_ERR_HARD_LIMIT -49
+
+// The move goes further beyond a soft limit.
+#define MC_ERR_SOFT_LIMIT -50
+
+// The cause of the fault is still present.
+#define MC_ERR_CAUSE_ACTIVE -51
+
+// Watchdog timeout zero or under 1.5 x the host's heartbeat period.
+#define MC_ERR_WATCHDOG_TIMEOUT -52
+
+// Stop category must be 0, 1 or 2.
+#define MC_ERR_BAD_CATEGORY -53
 
 // The card handle (or motion) is unknown: never opened, or already closed.
 #define MC_ERR_BAD_HANDLE -100

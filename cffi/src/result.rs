@@ -104,6 +104,20 @@ pub const MC_ERR_NURBS_POINT: mc_result = -44;
 pub const MC_ERR_NURBS_START: mc_result = -45;
 /// The curve has zero length.
 pub const MC_ERR_NURBS_ZERO_LENGTH: mc_result = -46;
+/// The host watchdog tripped: reset the card's faults first.
+pub const MC_ERR_WATCHDOG_TRIPPED: mc_result = -47;
+/// An e-stop is latched: reset the card's faults first.
+pub const MC_ERR_ESTOP_ACTIVE: mc_result = -48;
+/// The move goes further into an active limit switch.
+pub const MC_ERR_HARD_LIMIT: mc_result = -49;
+/// The move goes further beyond a soft limit.
+pub const MC_ERR_SOFT_LIMIT: mc_result = -50;
+/// The cause of the fault is still present.
+pub const MC_ERR_CAUSE_ACTIVE: mc_result = -51;
+/// Watchdog timeout zero or under 1.5 x the host's heartbeat period.
+pub const MC_ERR_WATCHDOG_TIMEOUT: mc_result = -52;
+/// Stop category must be 0, 1 or 2.
+pub const MC_ERR_BAD_CATEGORY: mc_result = -53;
 /// The card handle (or motion) is unknown: never opened, or already closed.
 pub const MC_ERR_BAD_HANDLE: mc_result = -100;
 /// A pointer argument that must not be NULL was NULL.
@@ -164,6 +178,13 @@ pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
         ErrorKind::NurbsPoint => MC_ERR_NURBS_POINT,
         ErrorKind::NurbsStart => MC_ERR_NURBS_START,
         ErrorKind::NurbsZeroLength => MC_ERR_NURBS_ZERO_LENGTH,
+        ErrorKind::WatchdogTripped => MC_ERR_WATCHDOG_TRIPPED,
+        ErrorKind::EStopActive => MC_ERR_ESTOP_ACTIVE,
+        ErrorKind::HardLimit => MC_ERR_HARD_LIMIT,
+        ErrorKind::SoftLimit => MC_ERR_SOFT_LIMIT,
+        ErrorKind::CauseActive => MC_ERR_CAUSE_ACTIVE,
+        ErrorKind::WatchdogTimeout => MC_ERR_WATCHDOG_TIMEOUT,
+        ErrorKind::BadCategory => MC_ERR_BAD_CATEGORY,
     }
 }
 
@@ -217,6 +238,15 @@ pub(crate) fn describe(code: mc_result) -> &'static CStr {
         MC_ERR_NURBS_POINT => c"a control point or knot is not finite",
         MC_ERR_NURBS_START => c"the curve does not start where the group is",
         MC_ERR_NURBS_ZERO_LENGTH => c"the curve has zero length",
+        MC_ERR_WATCHDOG_TRIPPED => c"the host watchdog tripped: reset the card's faults first",
+        MC_ERR_ESTOP_ACTIVE => c"an e-stop is latched: reset the card's faults first",
+        MC_ERR_HARD_LIMIT => c"the move goes further into an active limit switch",
+        MC_ERR_SOFT_LIMIT => c"the move goes further beyond a soft limit",
+        MC_ERR_CAUSE_ACTIVE => c"the cause of the fault is still present",
+        MC_ERR_WATCHDOG_TIMEOUT => {
+            c"watchdog timeout zero or under 1.5 x the host's heartbeat period"
+        }
+        MC_ERR_BAD_CATEGORY => c"stop category must be 0, 1 or 2",
         MC_ERR_BAD_HANDLE => c"unknown or closed handle",
         MC_ERR_NULL_POINTER => c"a required pointer is NULL",
         MC_ERR_BUFFER_TOO_SMALL => c"the buffer is too small",

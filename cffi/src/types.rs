@@ -59,6 +59,13 @@ pub const MC_EVENT_GROUP_MOTION_DONE: u32 = 8;
 pub const MC_EVENT_GROUP_STATE_CHANGED: u32 = 9;
 /// A group move was aborted (`axis`: the group).
 pub const MC_EVENT_GROUP_MOTION_ABORTED: u32 = 10;
+/// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
+/// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
+pub const MC_EVENT_SAFETY_STOP: u32 = 16;
+/// A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
+pub const MC_EVENT_AT_REST: u32 = 17;
+/// The host broke the protocol (`code`: what, `value`: the index).
+pub const MC_EVENT_PROTOCOL_ERROR: u32 = 18;
 
 /// `mc_event.axis` of an event about the whole card.
 pub const MC_EVENT_CARD_WIDE: u32 = 0xFFFF;
@@ -300,6 +307,9 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::GroupMotionDone => MC_EVENT_GROUP_MOTION_DONE,
         EventKind::GroupStateChanged => MC_EVENT_GROUP_STATE_CHANGED,
         EventKind::GroupMotionAborted => MC_EVENT_GROUP_MOTION_ABORTED,
+        EventKind::SafetyStop => MC_EVENT_SAFETY_STOP,
+        EventKind::AtRest => MC_EVENT_AT_REST,
+        EventKind::ProtocolError => MC_EVENT_PROTOCOL_ERROR,
     }
 }
 

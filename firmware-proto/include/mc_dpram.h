@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 1u
+#define MC_LAYOUT_MINOR 1u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -113,6 +113,12 @@
 #define MC_FILTER_LINEAR 1u
 #define MC_FILTER_EXPONENTIAL 2u
 #define MC_FILTER_BELL 3u
+/* Safety opcodes (32..47). */
+#define MC_OP_APPLY_SAFETY_CONFIG 32u /* copy and validate safety (axis field ignored) */
+#define MC_OP_APPLY_AXIS_SAFETY 33u   /* copy and validate axis_safety[axis] */
+#define MC_OP_ESTOP 34u               /* args: category (0, 1 or 2). Every axis; latched */
+#define MC_OP_SAFETY_RESET 35u        /* clear the card-wide latches (watchdog, e-stop) once their
+                                       * causes are gone; axes then leave ErrorStop by MC_RESET */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
@@ -124,6 +130,13 @@
 #define MC_EV_GROUP_MOTION_DONE 8u    /* axis: group; seq: the move; value: 1 when the group is at rest in position */
 #define MC_EV_GROUP_STATE_CHANGED 9u  /* axis: group; code: new state, value: old state */
 #define MC_EV_GROUP_MOTION_ABORTED 10u /* axis: group; seq: the move; code: the opcode that ended it */
+/* Safety events (16..23). */
+#define MC_EV_SAFETY_STOP 16u    /* a safety stop began. code: MC_STOP_* reason, value: the
+                                  * measurement (following error, position, heartbeat age s);
+                                  * axis 0xFFFF for the card-wide cause (watchdog, e-stop) */
+#define MC_EV_AT_REST 17u        /* the stopped axis reached rest (and, category 1, its drive was
+                                  * disabled). code: MC_STOP_* reason, value: s since the stop began */
+#define MC_EV_PROTOCOL_ERROR 18u /* the host broke the protocol. code: MC_PROTO_*, value: index */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1
@@ -162,6 +175,15 @@
 #define MC_NACK_NURBS_POINT 57          /* a control point or knot not finite */
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
 #define MC_NACK_NURBS_ZERO_LENGTH 59
+/* Safety nack codes (32..47). */
+#define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
+#define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */
+#define MC_NACK_HARD_LIMIT 34       /* the move goes further into an active limit switch */
+#define MC_NACK_SOFT_LIMIT 35       /* the move goes further beyond a soft limit */
+#define MC_NACK_CAUSE_ACTIVE 36     /* reset refused: the cause (alarm, encoder fault, e-stop input,
+                                     * missing heartbeat) is still present */
+#define MC_NACK_WATCHDOG_TIMEOUT 37 /* watchdog timeout 0 or under 1.5 x host.host_period_us */
+#define MC_NACK_BAD_CATEGORY 38     /* a stop category other than 0, 1 or 2 */
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
 #define MC_STATE_DISABLED 0u
@@ -183,6 +205,71 @@
 
 /* Fault bits (mc_axis_status_payload.faults) */
 #define MC_FAULT_DAC_SATURATED (1u << 0)
+/* Safety fault bits (8..31): latched until MC_RESET (limits: while the input or position is
+ * beyond the limit). */
+#define MC_FAULT_WATCHDOG (1u << 8)
+#define MC_FAULT_ESTOP (1u << 9)
+#define MC_FAULT_HARD_LIMIT_POS (1u << 10)
+#define MC_FAULT_HARD_LIMIT_NEG (1u << 11)
+#define MC_FAULT_SOFT_LIMIT_POS (1u << 12)
+#define MC_FAULT_SOFT_LIMIT_NEG (1u << 13)
+#define MC_FAULT_FOLLOWING_ERROR (1u << 14)
+#define MC_FAULT_AMP_ALARM (1u << 15)
+#define MC_FAULT_ENCODER (1u << 16)
+#define MC_FAULT_PROTOCOL (1u << 17)
+
+/* Stop categories (IEC 60204-1) */
+#define MC_STOP_CAT_0 0u /* remove power now */
+#define MC_STOP_CAT_1 1u /* controlled stop, then remove power */
+#define MC_STOP_CAT_2 2u /* controlled stop, power kept */
+
+/* Stop reasons (mc_axis_status_payload.stop_reason): why the axis's last motion ended.
+ * 0 while a motion runs (or none has run). */
+#define MC_STOP_NONE 0u
+#define MC_STOP_DONE 1u           /* reached its target, in position */
+#define MC_STOP_HALT 2u           /* MC_Halt */
+#define MC_STOP_STOP 3u           /* MC_Stop */
+#define MC_STOP_POWER_OFF 4u      /* MC_Power off by the host */
+#define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
+#define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
+#define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
+#define MC_STOP_HARD_LIMIT_POS 19u
+#define MC_STOP_HARD_LIMIT_NEG 20u
+#define MC_STOP_SOFT_LIMIT_POS 21u
+#define MC_STOP_SOFT_LIMIT_NEG 22u
+#define MC_STOP_FOLLOWING_ERROR 23u
+#define MC_STOP_AMP_ALARM 24u
+#define MC_STOP_ENCODER_LOSS 25u  /* the encoder's line-break detector */
+#define MC_STOP_ENCODER_JUMP 26u  /* a count change larger than physically possible */
+#define MC_STOP_STARVATION 27u    /* queued motion ran out: planned stop at the end of the queue */
+#define MC_STOP_CMD_RING 28u      /* command ring indices corrupt */
+#define MC_STOP_EVT_RING 29u      /* event ring indices corrupt */
+#define MC_STOP_GROUP 30u         /* another axis of its group tripped */
+
+/* Axis I/O bits (mc_axis_status_payload.io): the FPGA's inputs and the drive-enable output */
+#define MC_IO_LIMIT_POS (1u << 0)
+#define MC_IO_LIMIT_NEG (1u << 1)
+#define MC_IO_HOME (1u << 2)
+#define MC_IO_AMP_ALARM (1u << 3)
+#define MC_IO_ENCODER_FAULT (1u << 4)
+#define MC_IO_ESTOP (1u << 5)        /* the card's e-stop input, mirrored on every axis */
+#define MC_IO_DRIVE_ENABLE (1u << 8) /* output: the amplifier is enabled */
+
+/* Card-wide safety latches (mc_safety_status.faults) */
+#define MC_CARD_FAULT_WATCHDOG (1u << 0)
+#define MC_CARD_FAULT_ESTOP_COMMAND (1u << 1)
+#define MC_CARD_FAULT_ESTOP_INPUT (1u << 2)
+
+/* mc_axis_safety.flags */
+#define MC_AXSAFE_SOFT_LIMITS (1u << 0) /* enforce soft_limit_neg..soft_limit_pos */
+#define MC_AXSAFE_HARD_LIMITS (1u << 1) /* honour the limit switch inputs */
+#define MC_AXSAFE_AMP_ALARM (1u << 2)   /* honour the amplifier alarm input */
+#define MC_AXSAFE_ENCODER (1u << 3)     /* honour encoder loss and jumps */
+#define MC_AXSAFE_ALL 0xFu
+
+/* Protocol errors (MC_EV_PROTOCOL_ERROR code) */
+#define MC_PROTO_CMD_RING 1 /* cmd_head - cmd_tail > MC_CMD_RING_LEN */
+#define MC_PROTO_EVT_RING 2 /* evt_head - evt_tail > MC_EVT_RING_LEN */
 
 /* Servo laws (mc_axis_config.servo_law) */
 #define MC_SERVO_FFPIV 0u
@@ -351,8 +438,9 @@ struct mc_axis_status_payload {
     double max_ferr;     /* max |following error| */
     double planned_time; /* profile duration, s */
     double move_time;    /* from start to motion done (in position), s; 0 while moving */
-    uint64_t _reserved19; /* payload word 19: reserved for stop reasons */
-    double u_request;     /* the servo law's output before the DAC clamp, V */
+    uint32_t stop_reason; /* payload word 19: MC_STOP_*: why the last motion ended */
+    uint32_t io;          /* MC_IO_* bits */
+    double u_request;     /* payload word 20: the servo law's output before the DAC clamp, V */
     uint64_t _reserved[2];
     uint64_t checksum; /* a mix of the words before it, seeded with MC_STATUS_CHECK */
 };
@@ -363,6 +451,43 @@ struct mc_axis_status {
     uint32_t _pad;
     struct mc_axis_status_payload p;
     uint64_t _reserved[7];
+};
+
+/* host writes; the card validates and copies on MC_OP_APPLY_SAFETY_CONFIG */
+struct mc_safety_config {
+    uint32_t watchdog_timeout_us;  /* > 0 and >= 1.5 x host.host_period_us (default 5000) */
+    uint32_t estop_input_category; /* MC_STOP_CAT_*: the stop the e-stop input makes (default 1) */
+    uint32_t _reserved[14];
+};
+
+/* host writes; the card validates and copies on MC_OP_APPLY_AXIS_SAFETY */
+struct mc_axis_safety {
+    uint32_t flags;               /* MC_AXSAFE_* (default MC_AXSAFE_ALL & ~MC_AXSAFE_SOFT_LIMITS) */
+    uint32_t limit_category;      /* MC_STOP_CAT_*: the stop a hard or soft limit makes (default 1) */
+    double soft_limit_neg;        /* counts, < soft_limit_pos */
+    double soft_limit_pos;        /* counts */
+    double ferror;                /* following-error limit at max_velocity, counts (LinuxCNC FERROR) */
+    double min_ferror;            /* the limit at rest, counts (MIN_FERROR), 0 < min <= ferror */
+    double max_velocity;          /* the velocity ferror applies at, counts/s */
+    double stop_decel;            /* deceleration of category 1 and 2 stops, counts/s^2 */
+    double stop_jerk;             /* jerk of those stops, counts/s^3 */
+    double encoder_max_velocity;  /* counts/s: a larger change in one tick is an encoder jump */
+    double _reserved[7];
+};
+
+/* card writes; independent words (not a snapshot), each written when its event happens */
+struct mc_safety_status {
+    uint32_t faults;              /* MC_CARD_FAULT_* latched */
+    uint32_t watchdog_armed;      /* 1 once a heartbeat was seen (after boot or a reset) */
+    uint64_t last_heartbeat_tick; /* tick the card last saw host.heartbeat change */
+    uint64_t watchdog_trip_tick;  /* tick the watchdog last tripped (0: never) */
+    uint32_t protocol_errors;     /* MC_EV_PROTOCOL_ERROR raised since boot */
+    uint32_t _reserved0;
+    uint64_t stop_tick[MC_MAX_AXES]; /* tick the axis's last safety stop began */
+    uint64_t rest_tick[MC_MAX_AXES]; /* tick it reached rest after it (0 while stopping) */
+    double ramp_time[MC_MAX_AXES];   /* planned duration of that stop's deceleration, s */
+    uint64_t trip_heartbeat_tick;    /* last_heartbeat_tick when the watchdog last tripped */
+    uint64_t _reserved[3];
 };
 
 /* The whole window. */
@@ -385,6 +510,9 @@ struct mc_dpram {
     struct mc_group_config group_config[MC_MAX_GROUPS];
     struct mc_group_status group_status[MC_MAX_GROUPS];
     struct mc_axis_pdplus axis_pdplus[MC_MAX_AXES];
+    struct mc_safety_config safety;                  /* host writes */
+    struct mc_axis_safety axis_safety[MC_MAX_AXES];  /* host writes */
+    struct mc_safety_status safety_status;           /* card writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

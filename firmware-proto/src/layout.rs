@@ -159,6 +159,80 @@ const _: () = {
             && AXIS_STATUS == 17984
             && AXIS_FILTER == 17984 + 8 * 256
     );
+    assert!(offset_of!(mc_axis_status_payload, u_request) == 20 * 8);
+};
+
+// safety (layout 1.1, appended after the group blocks)
+pub const SAFETY_CONFIG: usize = off!(safety);
+pub const WATCHDOG_TIMEOUT_US: usize = off!(safety.watchdog_timeout_us);
+pub const ESTOP_INPUT_CATEGORY: usize = off!(safety.estop_input_category);
+pub const AXIS_SAFETY: usize = off!(axis_safety);
+pub const AXIS_SAFETY_BYTES: usize = size_of::<mc_axis_safety>();
+pub const SAFETY_STATUS: usize = off!(safety_status);
+
+/// Offset of a field of `axis_safety[axis]`.
+pub const fn axis_safety(axis: usize, field: usize) -> usize {
+    AXIS_SAFETY + axis * AXIS_SAFETY_BYTES + field
+}
+
+pub mod axis_safety {
+    use super::*;
+    pub const FLAGS: usize = offset_of!(mc_axis_safety, flags);
+    pub const LIMIT_CATEGORY: usize = offset_of!(mc_axis_safety, limit_category);
+    pub const SOFT_LIMIT_NEG: usize = offset_of!(mc_axis_safety, soft_limit_neg);
+    pub const SOFT_LIMIT_POS: usize = offset_of!(mc_axis_safety, soft_limit_pos);
+    pub const FERROR: usize = offset_of!(mc_axis_safety, ferror);
+    pub const MIN_FERROR: usize = offset_of!(mc_axis_safety, min_ferror);
+    pub const MAX_VELOCITY: usize = offset_of!(mc_axis_safety, max_velocity);
+    pub const STOP_DECEL: usize = offset_of!(mc_axis_safety, stop_decel);
+    pub const STOP_JERK: usize = offset_of!(mc_axis_safety, stop_jerk);
+    pub const ENCODER_MAX_VELOCITY: usize = offset_of!(mc_axis_safety, encoder_max_velocity);
+}
+
+/// The card-written safety status block (`mc_safety_status`).
+pub mod safety_status {
+    use super::*;
+    const B: usize = off!(safety_status);
+    pub const FAULTS: usize = B + offset_of!(mc_safety_status, faults);
+    pub const WATCHDOG_ARMED: usize = B + offset_of!(mc_safety_status, watchdog_armed);
+    pub const LAST_HEARTBEAT_TICK: usize = B + offset_of!(mc_safety_status, last_heartbeat_tick);
+    pub const WATCHDOG_TRIP_TICK: usize = B + offset_of!(mc_safety_status, watchdog_trip_tick);
+    pub const PROTOCOL_ERRORS: usize = B + offset_of!(mc_safety_status, protocol_errors);
+    pub const TRIP_HEARTBEAT_TICK: usize = B + offset_of!(mc_safety_status, trip_heartbeat_tick);
+    const STOP_TICK: usize = B + offset_of!(mc_safety_status, stop_tick);
+    const REST_TICK: usize = B + offset_of!(mc_safety_status, rest_tick);
+    const RAMP_TIME: usize = B + offset_of!(mc_safety_status, ramp_time);
+    /// `stop_tick[axis]`.
+    pub const fn stop_tick(axis: usize) -> usize {
+        STOP_TICK + 8 * axis
+    }
+    /// `rest_tick[axis]`.
+    pub const fn rest_tick(axis: usize) -> usize {
+        REST_TICK + 8 * axis
+    }
+    /// `ramp_time[axis]`.
+    pub const fn ramp_time(axis: usize) -> usize {
+        RAMP_TIME + 8 * axis
+    }
+}
+
+// Layout 1.1 only appended: every offset of layout 1.0 is where it was.
+const _: () = {
+    assert!(HEARTBEAT == 64 && HOST_PERIOD_US == 68 && DOORBELL == 72 && IRQ_MASK == 76);
+    assert!(TICK == 128 && IRQ_COUNT == 136 && EVENTS_LOST == 140 && CMDS_ACCEPTED == 144);
+    assert!(CMD_HEAD == 256 && CMD_TAIL == 320 && EVT_HEAD == 384 && EVT_TAIL == 448);
+    assert!(CMD_RING == 512 && EVT_RING == 8704);
+    assert!(CARD_CONFIG == 16896 && AXIS_CONFIG == 16960 && AXIS_CONFIG_BYTES == 128);
+    assert!(AXIS_STATUS == 17984 && AXIS_STATUS_BYTES == 256 && STATUS_PAYLOAD == 8);
+    assert!(SAFETY_CONFIG > AXIS_PDPLUS && SAFETY_CONFIG.is_multiple_of(8));
+    assert!(offset_of!(mc_axis_status_payload, move_time) == 18 * 8);
+    assert!(offset_of!(mc_axis_status_payload, stop_reason) == 19 * 8);
+    assert!(offset_of!(mc_axis_status_payload, io) == 19 * 8 + 4);
+    assert!(offset_of!(mc_axis_status_payload, checksum) == 23 * 8);
+    assert!(AXIS_SAFETY_BYTES == 128 && AXIS_SAFETY.is_multiple_of(64));
+    assert!(
+        SAFETY_STATUS.is_multiple_of(64) && safety_status::LAST_HEARTBEAT_TICK.is_multiple_of(8)
+    );
 };
 
 const _: () = {

@@ -73,6 +73,10 @@ pub const MC_FILTER_NONE: u32 = 0;
 pub const MC_FILTER_LINEAR: u32 = 1;
 pub const MC_FILTER_EXPONENTIAL: u32 = 2;
 pub const MC_FILTER_BELL: u32 = 3;
+pub const MC_OP_APPLY_SAFETY_CONFIG: u32 = 32;
+pub const MC_OP_APPLY_AXIS_SAFETY: u32 = 33;
+pub const MC_OP_ESTOP: u32 = 34;
+pub const MC_OP_SAFETY_RESET: u32 = 35;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -82,6 +86,9 @@ pub const MC_EV_MOTION_ABORTED: u32 = 6;
 pub const MC_EV_GROUP_MOTION_DONE: u32 = 8;
 pub const MC_EV_GROUP_STATE_CHANGED: u32 = 9;
 pub const MC_EV_GROUP_MOTION_ABORTED: u32 = 10;
+pub const MC_EV_SAFETY_STOP: u32 = 16;
+pub const MC_EV_AT_REST: u32 = 17;
+pub const MC_EV_PROTOCOL_ERROR: u32 = 18;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -117,6 +124,13 @@ pub const MC_NACK_NURBS_WEIGHT: u32 = 56;
 pub const MC_NACK_NURBS_POINT: u32 = 57;
 pub const MC_NACK_NURBS_START: u32 = 58;
 pub const MC_NACK_NURBS_ZERO_LENGTH: u32 = 59;
+pub const MC_NACK_WATCHDOG_TRIPPED: u32 = 32;
+pub const MC_NACK_ESTOP_ACTIVE: u32 = 33;
+pub const MC_NACK_HARD_LIMIT: u32 = 34;
+pub const MC_NACK_SOFT_LIMIT: u32 = 35;
+pub const MC_NACK_CAUSE_ACTIVE: u32 = 36;
+pub const MC_NACK_WATCHDOG_TIMEOUT: u32 = 37;
+pub const MC_NACK_BAD_CATEGORY: u32 = 38;
 pub const MC_STATE_DISABLED: u32 = 0;
 pub const MC_STATE_STANDSTILL: u32 = 1;
 pub const MC_STATE_HOMING: u32 = 2;
@@ -132,6 +146,56 @@ pub const MC_GROUP_HOMING: u32 = 3;
 pub const MC_GROUP_STOPPING: u32 = 4;
 pub const MC_GROUP_ERROR_STOP: u32 = 5;
 pub const MC_FAULT_DAC_SATURATED: u32 = 1;
+pub const MC_FAULT_WATCHDOG: u32 = 256;
+pub const MC_FAULT_ESTOP: u32 = 512;
+pub const MC_FAULT_HARD_LIMIT_POS: u32 = 1024;
+pub const MC_FAULT_HARD_LIMIT_NEG: u32 = 2048;
+pub const MC_FAULT_SOFT_LIMIT_POS: u32 = 4096;
+pub const MC_FAULT_SOFT_LIMIT_NEG: u32 = 8192;
+pub const MC_FAULT_FOLLOWING_ERROR: u32 = 16384;
+pub const MC_FAULT_AMP_ALARM: u32 = 32768;
+pub const MC_FAULT_ENCODER: u32 = 65536;
+pub const MC_FAULT_PROTOCOL: u32 = 131072;
+pub const MC_STOP_CAT_0: u32 = 0;
+pub const MC_STOP_CAT_1: u32 = 1;
+pub const MC_STOP_CAT_2: u32 = 2;
+pub const MC_STOP_NONE: u32 = 0;
+pub const MC_STOP_DONE: u32 = 1;
+pub const MC_STOP_HALT: u32 = 2;
+pub const MC_STOP_STOP: u32 = 3;
+pub const MC_STOP_POWER_OFF: u32 = 4;
+pub const MC_STOP_WATCHDOG: u32 = 16;
+pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
+pub const MC_STOP_ESTOP_INPUT: u32 = 18;
+pub const MC_STOP_HARD_LIMIT_POS: u32 = 19;
+pub const MC_STOP_HARD_LIMIT_NEG: u32 = 20;
+pub const MC_STOP_SOFT_LIMIT_POS: u32 = 21;
+pub const MC_STOP_SOFT_LIMIT_NEG: u32 = 22;
+pub const MC_STOP_FOLLOWING_ERROR: u32 = 23;
+pub const MC_STOP_AMP_ALARM: u32 = 24;
+pub const MC_STOP_ENCODER_LOSS: u32 = 25;
+pub const MC_STOP_ENCODER_JUMP: u32 = 26;
+pub const MC_STOP_STARVATION: u32 = 27;
+pub const MC_STOP_CMD_RING: u32 = 28;
+pub const MC_STOP_EVT_RING: u32 = 29;
+pub const MC_STOP_GROUP: u32 = 30;
+pub const MC_IO_LIMIT_POS: u32 = 1;
+pub const MC_IO_LIMIT_NEG: u32 = 2;
+pub const MC_IO_HOME: u32 = 4;
+pub const MC_IO_AMP_ALARM: u32 = 8;
+pub const MC_IO_ENCODER_FAULT: u32 = 16;
+pub const MC_IO_ESTOP: u32 = 32;
+pub const MC_IO_DRIVE_ENABLE: u32 = 256;
+pub const MC_CARD_FAULT_WATCHDOG: u32 = 1;
+pub const MC_CARD_FAULT_ESTOP_COMMAND: u32 = 2;
+pub const MC_CARD_FAULT_ESTOP_INPUT: u32 = 4;
+pub const MC_AXSAFE_SOFT_LIMITS: u32 = 1;
+pub const MC_AXSAFE_HARD_LIMITS: u32 = 2;
+pub const MC_AXSAFE_AMP_ALARM: u32 = 4;
+pub const MC_AXSAFE_ENCODER: u32 = 8;
+pub const MC_AXSAFE_ALL: u32 = 15;
+pub const MC_PROTO_CMD_RING: u32 = 1;
+pub const MC_PROTO_EVT_RING: u32 = 2;
 pub const MC_SERVO_FFPIV: u32 = 0;
 pub const MC_SERVO_PDPLUS: u32 = 1;
 pub const MC_DPRAM_SIZE: u32 = 32768;
@@ -511,7 +575,8 @@ pub struct mc_axis_status_payload {
     pub max_ferr: f64,
     pub planned_time: f64,
     pub move_time: f64,
-    pub _reserved19: u64,
+    pub stop_reason: u32,
+    pub io: u32,
     pub u_request: f64,
     pub _reserved: [u64; 2usize],
     pub checksum: u64,
@@ -563,8 +628,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, planned_time) - 136usize];
     ["Offset of field: mc_axis_status_payload::move_time"]
         [::core::mem::offset_of!(mc_axis_status_payload, move_time) - 144usize];
-    ["Offset of field: mc_axis_status_payload::_reserved19"]
-        [::core::mem::offset_of!(mc_axis_status_payload, _reserved19) - 152usize];
+    ["Offset of field: mc_axis_status_payload::stop_reason"]
+        [::core::mem::offset_of!(mc_axis_status_payload, stop_reason) - 152usize];
+    ["Offset of field: mc_axis_status_payload::io"]
+        [::core::mem::offset_of!(mc_axis_status_payload, io) - 156usize];
     ["Offset of field: mc_axis_status_payload::u_request"]
         [::core::mem::offset_of!(mc_axis_status_payload, u_request) - 160usize];
     ["Offset of field: mc_axis_status_payload::_reserved"]
@@ -592,6 +659,108 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status, _reserved) - 200usize];
 };
 #[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_safety_config {
+    pub watchdog_timeout_us: u32,
+    pub estop_input_category: u32,
+    pub _reserved: [u32; 14usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_safety_config"][::core::mem::size_of::<mc_safety_config>() - 64usize];
+    ["Alignment of mc_safety_config"][::core::mem::align_of::<mc_safety_config>() - 4usize];
+    ["Offset of field: mc_safety_config::watchdog_timeout_us"]
+        [::core::mem::offset_of!(mc_safety_config, watchdog_timeout_us) - 0usize];
+    ["Offset of field: mc_safety_config::estop_input_category"]
+        [::core::mem::offset_of!(mc_safety_config, estop_input_category) - 4usize];
+    ["Offset of field: mc_safety_config::_reserved"]
+        [::core::mem::offset_of!(mc_safety_config, _reserved) - 8usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_axis_safety {
+    pub flags: u32,
+    pub limit_category: u32,
+    pub soft_limit_neg: f64,
+    pub soft_limit_pos: f64,
+    pub ferror: f64,
+    pub min_ferror: f64,
+    pub max_velocity: f64,
+    pub stop_decel: f64,
+    pub stop_jerk: f64,
+    pub encoder_max_velocity: f64,
+    pub _reserved: [f64; 7usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_axis_safety"][::core::mem::size_of::<mc_axis_safety>() - 128usize];
+    ["Alignment of mc_axis_safety"][::core::mem::align_of::<mc_axis_safety>() - 8usize];
+    ["Offset of field: mc_axis_safety::flags"]
+        [::core::mem::offset_of!(mc_axis_safety, flags) - 0usize];
+    ["Offset of field: mc_axis_safety::limit_category"]
+        [::core::mem::offset_of!(mc_axis_safety, limit_category) - 4usize];
+    ["Offset of field: mc_axis_safety::soft_limit_neg"]
+        [::core::mem::offset_of!(mc_axis_safety, soft_limit_neg) - 8usize];
+    ["Offset of field: mc_axis_safety::soft_limit_pos"]
+        [::core::mem::offset_of!(mc_axis_safety, soft_limit_pos) - 16usize];
+    ["Offset of field: mc_axis_safety::ferror"]
+        [::core::mem::offset_of!(mc_axis_safety, ferror) - 24usize];
+    ["Offset of field: mc_axis_safety::min_ferror"]
+        [::core::mem::offset_of!(mc_axis_safety, min_ferror) - 32usize];
+    ["Offset of field: mc_axis_safety::max_velocity"]
+        [::core::mem::offset_of!(mc_axis_safety, max_velocity) - 40usize];
+    ["Offset of field: mc_axis_safety::stop_decel"]
+        [::core::mem::offset_of!(mc_axis_safety, stop_decel) - 48usize];
+    ["Offset of field: mc_axis_safety::stop_jerk"]
+        [::core::mem::offset_of!(mc_axis_safety, stop_jerk) - 56usize];
+    ["Offset of field: mc_axis_safety::encoder_max_velocity"]
+        [::core::mem::offset_of!(mc_axis_safety, encoder_max_velocity) - 64usize];
+    ["Offset of field: mc_axis_safety::_reserved"]
+        [::core::mem::offset_of!(mc_axis_safety, _reserved) - 72usize];
+};
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone)]
+pub struct mc_safety_status {
+    pub faults: u32,
+    pub watchdog_armed: u32,
+    pub last_heartbeat_tick: u64,
+    pub watchdog_trip_tick: u64,
+    pub protocol_errors: u32,
+    pub _reserved0: u32,
+    pub stop_tick: [u64; 8usize],
+    pub rest_tick: [u64; 8usize],
+    pub ramp_time: [f64; 8usize],
+    pub trip_heartbeat_tick: u64,
+    pub _reserved: [u64; 3usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_safety_status"][::core::mem::size_of::<mc_safety_status>() - 256usize];
+    ["Alignment of mc_safety_status"][::core::mem::align_of::<mc_safety_status>() - 8usize];
+    ["Offset of field: mc_safety_status::faults"]
+        [::core::mem::offset_of!(mc_safety_status, faults) - 0usize];
+    ["Offset of field: mc_safety_status::watchdog_armed"]
+        [::core::mem::offset_of!(mc_safety_status, watchdog_armed) - 4usize];
+    ["Offset of field: mc_safety_status::last_heartbeat_tick"]
+        [::core::mem::offset_of!(mc_safety_status, last_heartbeat_tick) - 8usize];
+    ["Offset of field: mc_safety_status::watchdog_trip_tick"]
+        [::core::mem::offset_of!(mc_safety_status, watchdog_trip_tick) - 16usize];
+    ["Offset of field: mc_safety_status::protocol_errors"]
+        [::core::mem::offset_of!(mc_safety_status, protocol_errors) - 24usize];
+    ["Offset of field: mc_safety_status::_reserved0"]
+        [::core::mem::offset_of!(mc_safety_status, _reserved0) - 28usize];
+    ["Offset of field: mc_safety_status::stop_tick"]
+        [::core::mem::offset_of!(mc_safety_status, stop_tick) - 32usize];
+    ["Offset of field: mc_safety_status::rest_tick"]
+        [::core::mem::offset_of!(mc_safety_status, rest_tick) - 96usize];
+    ["Offset of field: mc_safety_status::ramp_time"]
+        [::core::mem::offset_of!(mc_safety_status, ramp_time) - 160usize];
+    ["Offset of field: mc_safety_status::trip_heartbeat_tick"]
+        [::core::mem::offset_of!(mc_safety_status, trip_heartbeat_tick) - 224usize];
+    ["Offset of field: mc_safety_status::_reserved"]
+        [::core::mem::offset_of!(mc_safety_status, _reserved) - 232usize];
+};
+#[repr(C)]
 #[derive(Debug, Copy, Clone)]
 pub struct mc_dpram {
     pub identity: mc_identity,
@@ -611,10 +780,13 @@ pub struct mc_dpram {
     pub group_config: [mc_group_config; 4usize],
     pub group_status: [mc_group_status; 4usize],
     pub axis_pdplus: [mc_axis_pdplus; 8usize],
+    pub safety: mc_safety_config,
+    pub axis_safety: [mc_axis_safety; 8usize],
+    pub safety_status: mc_safety_status,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 22848usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 24192usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -642,6 +814,11 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, group_status) - 20800usize];
     ["Offset of field: mc_dpram::axis_pdplus"]
         [::core::mem::offset_of!(mc_dpram, axis_pdplus) - 21824usize];
+    ["Offset of field: mc_dpram::safety"][::core::mem::offset_of!(mc_dpram, safety) - 22848usize];
+    ["Offset of field: mc_dpram::axis_safety"]
+        [::core::mem::offset_of!(mc_dpram, axis_safety) - 22912usize];
+    ["Offset of field: mc_dpram::safety_status"]
+        [::core::mem::offset_of!(mc_dpram, safety_status) - 23936usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -88,6 +88,14 @@ code_enum! {
         NurbsData = raw::MC_OP_NURBS_DATA,
         /// Validate the curve and queue the move.
         NurbsEnd = raw::MC_OP_NURBS_END,
+        /// Validate and copy `safety` (watchdog timeout, e-stop input category).
+        ApplySafetyConfig = raw::MC_OP_APPLY_SAFETY_CONFIG,
+        /// Validate and copy `axis_safety[axis]` (limits, following error, stop ramp).
+        ApplyAxisSafety = raw::MC_OP_APPLY_AXIS_SAFETY,
+        /// E-stop every axis: arg category (0, 1 or 2). Latched.
+        EStop = raw::MC_OP_ESTOP,
+        /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone.
+        SafetyReset = raw::MC_OP_SAFETY_RESET,
     }
 }
 
@@ -112,6 +120,13 @@ code_enum! {
         GroupStateChanged = raw::MC_EV_GROUP_STATE_CHANGED,
         /// A group move was aborted; `code` is the opcode that ended it.
         GroupMotionAborted = raw::MC_EV_GROUP_MOTION_ABORTED,
+        /// A safety stop began; `code` is the [`StopReason`], `value` the measurement.
+        SafetyStop = raw::MC_EV_SAFETY_STOP,
+        /// A safety-stopped axis reached rest; `code` is the [`StopReason`], `value` the
+        /// seconds since the stop began.
+        AtRest = raw::MC_EV_AT_REST,
+        /// The host broke the protocol; `code` is a `MC_PROTO_*` value.
+        ProtocolError = raw::MC_EV_PROTOCOL_ERROR,
     }
 }
 
@@ -188,6 +203,20 @@ code_enum! {
         NurbsStart = raw::MC_NACK_NURBS_START,
         /// The curve has zero length.
         NurbsZeroLength = raw::MC_NACK_NURBS_ZERO_LENGTH,
+        /// The host watchdog fault is latched: reset it first.
+        WatchdogTripped = raw::MC_NACK_WATCHDOG_TRIPPED,
+        /// An e-stop is latched: reset it first.
+        EStopActive = raw::MC_NACK_ESTOP_ACTIVE,
+        /// The move goes further into an active limit switch.
+        HardLimit = raw::MC_NACK_HARD_LIMIT,
+        /// The move goes further beyond a soft limit.
+        SoftLimit = raw::MC_NACK_SOFT_LIMIT,
+        /// A reset was refused: its cause is still present.
+        CauseActive = raw::MC_NACK_CAUSE_ACTIVE,
+        /// A watchdog timeout of 0 or under 1.5 × the host's declared period.
+        WatchdogTimeout = raw::MC_NACK_WATCHDOG_TIMEOUT,
+        /// A stop category other than 0, 1 or 2.
+        BadCategory = raw::MC_NACK_BAD_CATEGORY,
     }
 }
 
@@ -318,6 +347,72 @@ pub mod move_flags {
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
 }
 
+code_enum! {
+    /// IEC 60204-1 stop categories.
+    StopCategory: u32 {
+        /// Remove power now.
+        Cat0 = raw::MC_STOP_CAT_0,
+        /// Controlled stop, then remove power.
+        Cat1 = raw::MC_STOP_CAT_1,
+        /// Controlled stop, power kept.
+        Cat2 = raw::MC_STOP_CAT_2,
+    }
+}
+
+code_enum! {
+    /// Why an axis's last motion ended (`AxisStatus::stop_reason`), after
+    /// `dmc_get_stop_reason` / `APS_get_stop_code`.
+    StopReason: u32 {
+        /// A motion runs, or none has run.
+        None = raw::MC_STOP_NONE,
+        /// The move reached its target and is in position.
+        Done = raw::MC_STOP_DONE,
+        /// MC_Halt.
+        Halt = raw::MC_STOP_HALT,
+        /// MC_Stop.
+        Stop = raw::MC_STOP_STOP,
+        /// MC_Power off by the host.
+        PowerOff = raw::MC_STOP_POWER_OFF,
+        /// The host heartbeat stopped (watchdog).
+        Watchdog = raw::MC_STOP_WATCHDOG,
+        /// The host's e-stop command.
+        EStopCommand = raw::MC_STOP_ESTOP_COMMAND,
+        /// The card's e-stop input.
+        EStopInput = raw::MC_STOP_ESTOP_INPUT,
+        /// The positive limit switch.
+        HardLimitPos = raw::MC_STOP_HARD_LIMIT_POS,
+        /// The negative limit switch.
+        HardLimitNeg = raw::MC_STOP_HARD_LIMIT_NEG,
+        /// The positive soft limit.
+        SoftLimitPos = raw::MC_STOP_SOFT_LIMIT_POS,
+        /// The negative soft limit.
+        SoftLimitNeg = raw::MC_STOP_SOFT_LIMIT_NEG,
+        /// Following error beyond its limit.
+        FollowingError = raw::MC_STOP_FOLLOWING_ERROR,
+        /// The amplifier's alarm input.
+        AmpAlarm = raw::MC_STOP_AMP_ALARM,
+        /// The encoder's line-break detector.
+        EncoderLoss = raw::MC_STOP_ENCODER_LOSS,
+        /// An encoder count change larger than physically possible.
+        EncoderJump = raw::MC_STOP_ENCODER_JUMP,
+        /// Queued motion ran out: a planned stop at the end of what was queued.
+        Starvation = raw::MC_STOP_STARVATION,
+        /// The command ring's indices were corrupt.
+        CmdRing = raw::MC_STOP_CMD_RING,
+        /// The event ring's indices were corrupt.
+        EvtRing = raw::MC_STOP_EVT_RING,
+        /// Another axis of its group tripped.
+        Group = raw::MC_STOP_GROUP,
+    }
+}
+
+impl StopReason {
+    /// A stop made by the safety layer (not by a command or the end of a move).
+    pub fn is_safety(self) -> bool {
+        self as u32 >= raw::MC_STOP_WATCHDOG
+    }
+}
+
 /// A command entry.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Command {
@@ -430,6 +525,44 @@ impl Event {
 pub mod fault {
     /// The servo output hit the DAC limit this tick.
     pub const DAC_SATURATED: u32 = crate::raw::MC_FAULT_DAC_SATURATED;
+    /// The host watchdog tripped.
+    pub const WATCHDOG: u32 = crate::raw::MC_FAULT_WATCHDOG;
+    /// An e-stop (command or input) stopped the axis.
+    pub const ESTOP: u32 = crate::raw::MC_FAULT_ESTOP;
+    /// At or beyond the positive limit switch.
+    pub const HARD_LIMIT_POS: u32 = crate::raw::MC_FAULT_HARD_LIMIT_POS;
+    /// At or beyond the negative limit switch.
+    pub const HARD_LIMIT_NEG: u32 = crate::raw::MC_FAULT_HARD_LIMIT_NEG;
+    /// Beyond the positive soft limit.
+    pub const SOFT_LIMIT_POS: u32 = crate::raw::MC_FAULT_SOFT_LIMIT_POS;
+    /// Beyond the negative soft limit.
+    pub const SOFT_LIMIT_NEG: u32 = crate::raw::MC_FAULT_SOFT_LIMIT_NEG;
+    /// Following error beyond its limit.
+    pub const FOLLOWING_ERROR: u32 = crate::raw::MC_FAULT_FOLLOWING_ERROR;
+    /// The amplifier's alarm input.
+    pub const AMP_ALARM: u32 = crate::raw::MC_FAULT_AMP_ALARM;
+    /// Encoder loss or jump.
+    pub const ENCODER: u32 = crate::raw::MC_FAULT_ENCODER;
+    /// The host broke the protocol (corrupt ring indices).
+    pub const PROTOCOL: u32 = crate::raw::MC_FAULT_PROTOCOL;
+}
+
+/// Bits of [`AxisStatus::io`]: the card's inputs for the axis and its drive-enable output.
+pub mod io {
+    /// Positive limit switch.
+    pub const LIMIT_POS: u32 = crate::raw::MC_IO_LIMIT_POS;
+    /// Negative limit switch.
+    pub const LIMIT_NEG: u32 = crate::raw::MC_IO_LIMIT_NEG;
+    /// Home switch.
+    pub const HOME: u32 = crate::raw::MC_IO_HOME;
+    /// Amplifier alarm.
+    pub const AMP_ALARM: u32 = crate::raw::MC_IO_AMP_ALARM;
+    /// Encoder line-break detector.
+    pub const ENCODER_FAULT: u32 = crate::raw::MC_IO_ENCODER_FAULT;
+    /// The card's e-stop input (the same on every axis).
+    pub const ESTOP: u32 = crate::raw::MC_IO_ESTOP;
+    /// Output: the amplifier is enabled.
+    pub const DRIVE_ENABLE: u32 = crate::raw::MC_IO_DRIVE_ENABLE;
 }
 
 /// One axis's status: what the card publishes every tick under a seqlock.
@@ -479,6 +612,10 @@ pub struct AxisStatus {
     pub move_time: f64,
     /// The servo law's output before the DAC clamp, V.
     pub u_request: f64,
+    /// Why the last motion ended (raw [`StopReason`]).
+    pub stop_reason: u32,
+    /// Input and drive-enable bits ([`io`]).
+    pub io: u32,
 }
 
 impl AxisStatus {
@@ -515,6 +652,7 @@ impl AxisStatus {
             *dst = v.to_bits();
         }
         w[20] = self.u_request.to_bits();
+        w[19] = self.stop_reason as u64 | (self.io as u64) << 32;
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
@@ -548,12 +686,19 @@ impl AxisStatus {
             planned_time: f(17),
             move_time: f(18),
             u_request: f(20),
+            stop_reason: w[19] as u32,
+            io: (w[19] >> 32) as u32,
         })
     }
 
     /// The state, if known.
     pub fn state(&self) -> Option<AxisState> {
         AxisState::from_raw(self.state)
+    }
+
+    /// The stop reason, if known.
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        StopReason::from_raw(self.stop_reason)
     }
 }
 
@@ -606,6 +751,8 @@ mod tests {
             state: 3,
             tick: 99,
             encoder: -4,
+            stop_reason: 23,
+            io: 0x101,
             ..Default::default()
         };
         let w = s.to_words();
@@ -621,7 +768,10 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 35);
+        assert_eq!(NackCode::ALL.len(), 42);
+        assert_eq!(Opcode::from_raw(34), Some(Opcode::EStop));
+        assert_eq!(StopReason::from_raw(23), Some(StopReason::FollowingError));
+        assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());
         let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
         codes.dedup();
         assert_eq!(codes.len(), NackCode::ALL.len());

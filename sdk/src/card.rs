@@ -100,6 +100,7 @@ pub(crate) struct Inner {
     rx_cond: Condvar,
     scale: Mutex<[f64; MAX_AXES]>,
     last_motion: Mutex<[Option<u32>; MAX_AXES]>,
+    heartbeat: crate::safety::Heartbeat,
 }
 
 /// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
@@ -177,7 +178,9 @@ impl Card {
         let tx = CmdProducer::attach(w.clone(), CMD_RING);
         let mut rx = EvtConsumer::attach(w.clone(), EVT_RING);
         rx.resync(); // events of an earlier session are not ours
+        let heartbeat = crate::safety::Heartbeat::start(&dev)?; // [safety] the host heartbeat
         let inner = Inner {
+            heartbeat,
             info,
             tx: Mutex::new(Tx { ring: tx }),
             rx: Mutex::new(Rx {
@@ -206,6 +209,16 @@ impl Card {
 
     pub(crate) fn inner(&self) -> &Inner {
         &self.inner
+    }
+
+    pub(crate) fn heartbeat(&self) -> &crate::safety::Heartbeat {
+        &self.inner.heartbeat
+    }
+
+    /// One servo tick of a stepped card, with the host's heartbeat before it.
+    fn step_stepped(&self, emu: &mut Emulator) {
+        self.inner.heartbeat.beat();
+        emu.step();
     }
 
     /// Identity of the card.
@@ -324,7 +337,7 @@ impl Card {
         }
     }
 
-    fn execute(&self, cmd: Command, what: &'static str, axis: usize) -> Result<()> {
+    pub(crate) fn execute(&self, cmd: Command, what: &'static str, axis: usize) -> Result<()> {
         self.execute_seq(cmd, what, axis).map(|_| ())
     }
 
@@ -499,7 +512,7 @@ impl Card {
             if n >= ticks {
                 return Err(Error::Timeout(timeout));
             }
-            lock(emu).step();
+            self.step_stepped(&mut lock(emu));
             n += 1;
         }
     }
@@ -525,7 +538,7 @@ impl Card {
 fn abort_reason(code: i32) -> String {
     match u16::try_from(code).ok().and_then(Opcode::from_raw) {
         Some(op) => format!("{op:?}"),
-        None => format!("fault {code}"),
+        None => crate::safety::fault_name(code).map_or(format!("fault {code}"), String::from),
     }
 }
 
@@ -544,9 +557,12 @@ pub struct Sim {
 }
 
 impl Sim {
-    /// Advance `n` servo periods.
+    /// Advance `n` servo periods (the host's heartbeat beats once per period).
     pub fn step(&self, n: u64) {
-        lock(&self.emu).step_n(n);
+        let mut emu = lock(&self.emu);
+        for _ in 0..n {
+            self.card.step_stepped(&mut emu);
+        }
     }
 
     /// Emulated time since boot, s.
@@ -719,7 +735,7 @@ impl Axis {
         Ok(())
     }
 
-    fn scale(&self) -> f64 {
+    pub(crate) fn scale(&self) -> f64 {
         self.card.scale(self.index)
     }
 

@@ -102,6 +102,21 @@ pub enum ErrorKind {
     Io,
     /// The backend cannot do this (for example interrupts on a `pci:` card).
     Unsupported,
+    /// The host watchdog tripped and is latched: [`crate::Card::reset_faults`] first.
+    WatchdogTripped,
+    /// An e-stop is latched: [`crate::Card::reset_faults`] first.
+    EStopActive,
+    /// The move would go further into an active limit switch.
+    HardLimit,
+    /// The move would go further beyond a soft limit.
+    SoftLimit,
+    /// A reset was refused because its cause (alarm, encoder fault, e-stop input, missing
+    /// heartbeat) is still present.
+    CauseActive,
+    /// A watchdog timeout of zero or under 1.5 × the host's heartbeat period.
+    WatchdogTimeout,
+    /// A stop category other than 0, 1 or 2.
+    BadCategory,
 }
 
 impl From<NackCode> for ErrorKind {
@@ -142,6 +157,13 @@ impl From<NackCode> for ErrorKind {
             NackCode::NurbsPoint => ErrorKind::NurbsPoint,
             NackCode::NurbsStart => ErrorKind::NurbsStart,
             NackCode::NurbsZeroLength => ErrorKind::NurbsZeroLength,
+            NackCode::WatchdogTripped => ErrorKind::WatchdogTripped,
+            NackCode::EStopActive => ErrorKind::EStopActive,
+            NackCode::HardLimit => ErrorKind::HardLimit,
+            NackCode::SoftLimit => ErrorKind::SoftLimit,
+            NackCode::CauseActive => ErrorKind::CauseActive,
+            NackCode::WatchdogTimeout => ErrorKind::WatchdogTimeout,
+            NackCode::BadCategory => ErrorKind::BadCategory,
         }
     }
 }
@@ -293,6 +315,15 @@ pub fn nack_reason(code: NackCode) -> &'static str {
         NackCode::NurbsPoint => "a control point or knot is not finite",
         NackCode::NurbsStart => "the curve does not start where the group is",
         NackCode::NurbsZeroLength => "the curve has zero length",
+        NackCode::WatchdogTripped => "the host watchdog tripped: reset the card's faults first",
+        NackCode::EStopActive => "an e-stop is latched: reset the card's faults first",
+        NackCode::HardLimit => "the move goes further into an active limit switch",
+        NackCode::SoftLimit => "the move goes further beyond a soft limit",
+        NackCode::CauseActive => "the cause of the fault is still present",
+        NackCode::WatchdogTimeout => {
+            "watchdog timeout is zero or under 1.5 x the host's heartbeat period"
+        }
+        NackCode::BadCategory => "stop category must be 0, 1 or 2",
     }
 }
 

@@ -27,15 +27,18 @@ mod device;
 mod error;
 mod group;
 mod nurbs;
+mod safety;
 
 pub use card::{
     Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
     ACK_TIMEOUT, EVENT_QUEUE_CAP,
 };
-pub use card_emu::{Clock, EmuOptions, MotorParams};
+pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result};
-pub use firmware_proto::{AxisState, EventKind, GroupState, GroupStatus, NackCode};
+pub use firmware_proto::{
+    AxisState, EventKind, GroupState, GroupStatus, NackCode, StopCategory, StopReason,
+};
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
@@ -44,11 +47,12 @@ pub use nurbs::{
     clamped_uniform_knots, die_bonder_plant, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
     NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
+pub use safety::{SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US};
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
 pub use card_emu::scurve as plan;
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {
-    pub use firmware_proto::{fault, move_flags, raw, AxisStatus, Command, Event, Opcode};
+    pub use firmware_proto::{fault, io, move_flags, raw, AxisStatus, Command, Event, Opcode};
 }

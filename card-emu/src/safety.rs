@@ -1,0 +1,1010 @@
+//! Safety: the host watchdog, hard and soft limits, following error, amplifier alarm and
+//! encoder faults, e-stop, IEC 60204-1 stop categories, and the per-axis stop reason.
+//!
+//! The anchors:
+//! - **Watchdog** (Mesa hostmot2): the host increments `host.heartbeat`; once the card has seen
+//!   it change (the watchdog is then *armed*), a heartbeat as old as the configured timeout
+//!   (default 5 ms; 0 or under 1.5 × the host's declared period is refused) makes every powered
+//!   axis do a category 1 stop. The fault latches: nothing moves again until the host sends
+//!   `MC_OP_SAFETY_RESET` with its heartbeat alive, even if the heartbeat came back.
+//! - **Following error** (LinuxCNC `control.c`): the limit is `FERROR · |v_cmd| / v_max`,
+//!   never below `MIN_FERROR`, checked every servo tick on every powered axis; a trip is a
+//!   category 0 stop into ErrorStop.
+//! - **ErrorStop** (PLCopen): every safety stop ends in ErrorStop, left only by MC_Reset, which
+//!   is refused while the cause is present.
+//! - **Stop categories** (IEC 60204-1): 0 removes power now; 1 decelerates along a jerk-limited
+//!   ramp (`stop_decel`, `stop_jerk` of the axis, planned by `Profile::stop`), then removes
+//!   power once at rest; 2 decelerates the same way and keeps power, holding position.
+//!
+//! Hooks elsewhere, each marked `[safety]`: one call per servo tick
+//! ([`Safety::tick`], from `Firmware::tick`), one check per command
+//! ([`Safety::check_command`], from `Firmware::execute`), the safety opcodes
+//! ([`Safety::command`]), the ring-corruption report ([`Safety::protocol_error`]), and in
+//! `axis.rs` the ErrorStop power flag, MC_Reset and the starvation stop at the end of a profile
+//! that ends moving ([`starvation_stop`]).
+//!
+//! Like the rest of the firmware: no allocation, no panic, no clock; time is the tick count.
+
+use crate::axis::{plan_stop, Axis};
+use crate::scurve::{Profile, State};
+use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
+use firmware_proto::{
+    fault, io, raw, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, StopCategory,
+    StopReason, MAX_AXES,
+};
+
+/// Axis number of card-wide events.
+pub const CARD_WIDE: u16 = 0xFFFF;
+
+/// A cat-1 stop whose axis does not come to rest disables the drive this long after its ramp
+/// ended anyway, s.
+pub const REST_TIMEOUT: f64 = 1.0;
+
+/// The card's inputs for one tick (the FPGA's input register), sampled from the plant by the
+/// emulator: per axis `MC_IO_*` input bits, and the card's e-stop input.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Inputs {
+    /// `MC_IO_LIMIT_POS | MC_IO_LIMIT_NEG | MC_IO_HOME | MC_IO_AMP_ALARM | MC_IO_ENCODER_FAULT`.
+    pub axis: [u32; MAX_AXES],
+    /// The e-stop input (active: stop).
+    pub estop: bool,
+}
+
+/// The validated copy of the card-wide safety configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SafetyConfig {
+    /// Watchdog timeout, µs.
+    pub watchdog_timeout_us: u32,
+    /// The stop the e-stop input makes.
+    pub estop_input_category: StopCategory,
+}
+
+impl Default for SafetyConfig {
+    fn default() -> Self {
+        Self {
+            watchdog_timeout_us: 5000,
+            estop_input_category: StopCategory::Cat1,
+        }
+    }
+}
+
+/// The validated copy of an axis's safety configuration (counts, seconds).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisSafetyConfig {
+    /// `MC_AXSAFE_*` bits.
+    pub flags: u32,
+    /// The stop a hard or soft limit makes.
+    pub limit_category: StopCategory,
+    /// Soft limits, counts (enforced with `MC_AXSAFE_SOFT_LIMITS`).
+    pub soft_limit_neg: f64,
+    /// Soft limits, counts.
+    pub soft_limit_pos: f64,
+    /// LinuxCNC FERROR: the following-error limit at `max_velocity`, counts.
+    pub ferror: f64,
+    /// LinuxCNC MIN_FERROR: the limit at rest, counts.
+    pub min_ferror: f64,
+    /// The velocity FERROR applies at, counts/s.
+    pub max_velocity: f64,
+    /// Deceleration of category 1 and 2 stops, counts/s².
+    pub stop_decel: f64,
+    /// Jerk of those stops, counts/s³.
+    pub stop_jerk: f64,
+    /// Fastest physically possible encoder velocity, counts/s: a larger change in one tick is
+    /// an encoder jump.
+    pub encoder_max_velocity: f64,
+}
+
+impl Default for AxisSafetyConfig {
+    /// For the default plant (10,000 counts/rev, about 9.5·10⁶ counts/s² at full output):
+    /// FERROR one revolution at 10⁶ counts/s (6,000 rpm), MIN_FERROR 0.1 revolution, stops at
+    /// 5·10⁶ counts/s² and 5·10⁸ counts/s³, encoder jumps beyond 5·10⁷ counts/s.
+    fn default() -> Self {
+        Self {
+            flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+            limit_category: StopCategory::Cat1,
+            soft_limit_neg: -crate::MAX_POSITION,
+            soft_limit_pos: crate::MAX_POSITION,
+            ferror: 10_000.0,
+            min_ferror: 1_000.0,
+            max_velocity: 1e6,
+            stop_decel: 5e6,
+            stop_jerk: 5e8,
+            encoder_max_velocity: 5e7,
+        }
+    }
+}
+
+impl AxisSafetyConfig {
+    /// Check every field.
+    pub fn validate(&self) -> Result<(), NackCode> {
+        let all = [
+            self.soft_limit_neg,
+            self.soft_limit_pos,
+            self.ferror,
+            self.min_ferror,
+            self.max_velocity,
+            self.stop_decel,
+            self.stop_jerk,
+            self.encoder_max_velocity,
+        ];
+        if self.flags & !raw::MC_AXSAFE_ALL != 0 || all.iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::BadConfig);
+        }
+        let positive = [
+            self.min_ferror,
+            self.max_velocity,
+            self.stop_decel,
+            self.stop_jerk,
+            self.encoder_max_velocity,
+        ];
+        if positive.iter().any(|x| *x <= 0.0)
+            || self.ferror < self.min_ferror
+            || self.soft_limit_neg >= self.soft_limit_pos
+        {
+            return Err(NackCode::BadConfig);
+        }
+        Ok(())
+    }
+
+    /// LinuxCNC's following-error limit at commanded velocity `v`:
+    /// `FERROR · |v| / v_max`, never below `MIN_FERROR`.
+    pub fn ferror_limit(&self, v: f64) -> f64 {
+        (self.ferror * v.abs() / self.max_velocity).max(self.min_ferror)
+    }
+
+    fn has(&self, flag: u32) -> bool {
+        self.flags & flag != 0
+    }
+}
+
+/// A safety stop in progress or held.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ActiveStop {
+    /// Its category.
+    pub category: StopCategory,
+    /// Tick it began.
+    pub started: u64,
+    /// Planned duration of its ramp, s (0 for category 0).
+    pub ramp: f64,
+    /// The axis has reached rest since.
+    pub at_rest: bool,
+}
+
+/// One axis's safety configuration and state (a field of [`Axis`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisSafety {
+    /// Active configuration.
+    pub config: AxisSafetyConfig,
+    /// Why the last motion ended.
+    pub stop_reason: StopReason,
+    /// The safety stop in progress or held, if any.
+    pub stop: Option<ActiveStop>,
+    /// In ErrorStop: the drive is still powered (a category 1 ramp, or category 2 holding).
+    pub powered: bool,
+    /// Latched and live safety fault bits (`MC_FAULT_*`, bits 8..31).
+    pub faults: u32,
+    /// `MC_IO_*` bits of the last tick.
+    pub io: u32,
+    last_encoder: Option<i64>,
+}
+
+impl Default for AxisSafety {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Fault bits that follow their input (or position) instead of latching.
+const LIVE_FAULTS: u32 =
+    fault::HARD_LIMIT_POS | fault::HARD_LIMIT_NEG | fault::SOFT_LIMIT_POS | fault::SOFT_LIMIT_NEG;
+
+impl AxisSafety {
+    /// Defaults, no stop.
+    pub const fn new() -> Self {
+        Self {
+            config: AxisSafetyConfig {
+                flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+                limit_category: StopCategory::Cat1,
+                soft_limit_neg: -crate::MAX_POSITION,
+                soft_limit_pos: crate::MAX_POSITION,
+                ferror: 10_000.0,
+                min_ferror: 1_000.0,
+                max_velocity: 1e6,
+                stop_decel: 5e6,
+                stop_jerk: 5e8,
+                encoder_max_velocity: 5e7,
+            },
+            stop_reason: StopReason::None,
+            stop: None,
+            powered: false,
+            faults: 0,
+            io: 0,
+            last_encoder: None,
+        }
+    }
+
+    /// MC_Reset (the checks were made by [`Safety::check_command`]): clear the latches and the
+    /// stop. Returns whether the drive is still powered.
+    pub(crate) fn reset(&mut self) -> bool {
+        self.faults &= LIVE_FAULTS;
+        self.stop = None;
+        core::mem::take(&mut self.powered)
+    }
+}
+
+/// Events raised by the safety layer, posted by the firmware after the hook returns. Sized for
+/// the worst tick: per axis an abort, a state change, a stop and a rest event, plus card-wide
+/// events.
+#[derive(Debug, Clone, Copy)]
+pub struct EventBuf {
+    ev: [Event; Self::CAP],
+    n: usize,
+}
+
+impl EventBuf {
+    /// Capacity.
+    pub const CAP: usize = 8 * MAX_AXES + 8;
+
+    /// Empty.
+    pub const fn new() -> Self {
+        const E: Event = Event {
+            seq: 0,
+            kind: 0,
+            axis: 0,
+            code: 0,
+            tick: 0,
+            value: 0.0,
+        };
+        Self {
+            ev: [E; Self::CAP],
+            n: 0,
+        }
+    }
+
+    fn push(&mut self, e: Event) {
+        if let Some(slot) = self.ev.get_mut(self.n) {
+            *slot = e;
+            self.n += 1;
+        }
+    }
+
+    /// Events waiting.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// None waiting.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Event `k` (in the order raised).
+    pub fn get(&self, k: usize) -> Option<Event> {
+        self.ev[..self.n].get(k).copied()
+    }
+
+    /// Forget them (after posting).
+    pub fn clear(&mut self) {
+        self.n = 0;
+    }
+}
+
+impl Default for EventBuf {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+fn event(kind: EventKind, axis: u16, code: i32, tick: u64, value: f64) -> Event {
+    Event {
+        seq: 0,
+        kind: kind as u16,
+        axis,
+        code,
+        tick,
+        value,
+    }
+}
+
+/// What tripped, and how hard to stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Trip {
+    category: StopCategory,
+    reason: StopReason,
+    fault: u32,
+    value: f64,
+}
+
+/// The card-wide safety state: configuration, watchdog, latches, inputs.
+#[derive(Debug, Clone)]
+pub struct Safety {
+    config: SafetyConfig,
+    inputs: Inputs,
+    armed: bool,
+    last_heartbeat: u32,
+    last_heartbeat_tick: u64,
+    latched: u32,
+    evt_ring_bad: bool,
+    protocol_errors: u32,
+    /// Events waiting to be posted by the firmware.
+    pub events: EventBuf,
+}
+
+impl Safety {
+    /// Boot: write the default configuration blocks and a clean status into the window.
+    pub fn boot<M: Mem>(mem: &M) -> Self {
+        let config = SafetyConfig::default();
+        mem.write32(layout::WATCHDOG_TIMEOUT_US, config.watchdog_timeout_us);
+        mem.write32(
+            layout::ESTOP_INPUT_CATEGORY,
+            config.estop_input_category as u32,
+        );
+        for a in 0..MAX_AXES {
+            write_axis_safety(mem, a, &AxisSafetyConfig::default());
+        }
+        let s = Self {
+            config,
+            inputs: Inputs::default(),
+            armed: false,
+            last_heartbeat: mem.read32(layout::HEARTBEAT),
+            last_heartbeat_tick: 0,
+            latched: 0,
+            evt_ring_bad: false,
+            protocol_errors: 0,
+            events: EventBuf::new(),
+        };
+        mem.write32(ss::FAULTS, 0);
+        mem.write32(ss::WATCHDOG_ARMED, 0);
+        mem.write64(ss::LAST_HEARTBEAT_TICK, 0);
+        mem.write64(ss::WATCHDOG_TRIP_TICK, 0);
+        mem.write64(ss::TRIP_HEARTBEAT_TICK, 0);
+        mem.write32(ss::PROTOCOL_ERRORS, 0);
+        for a in 0..MAX_AXES {
+            mem.write64(ss::stop_tick(a), 0);
+            mem.write64(ss::rest_tick(a), 0);
+            mem.write_f64(ss::ramp_time(a), 0.0);
+        }
+        s
+    }
+
+    /// The active card-wide configuration.
+    pub fn config(&self) -> &SafetyConfig {
+        &self.config
+    }
+
+    /// Latched card-wide faults (`MC_CARD_FAULT_*`).
+    pub fn latched(&self) -> u32 {
+        self.latched
+    }
+
+    /// Has the watchdog seen a heartbeat (since boot or the last reset)?
+    pub fn watchdog_armed(&self) -> bool {
+        self.armed
+    }
+
+    /// The inputs of the coming tick (the emulator samples them from the plant).
+    pub fn set_inputs(&mut self, inputs: Inputs) {
+        self.inputs = inputs;
+    }
+
+    /// Track the heartbeat word. Returns the heartbeat's age in µs.
+    fn heartbeat<M: Mem>(&mut self, mem: &M, tick: u64, rate_hz: u32) -> u64 {
+        let hb = mem.read32(layout::HEARTBEAT);
+        if hb != self.last_heartbeat {
+            self.last_heartbeat = hb;
+            self.last_heartbeat_tick = tick;
+            mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
+            if !self.armed {
+                self.armed = true;
+                mem.write32(ss::WATCHDOG_ARMED, 1);
+            }
+        }
+        tick.saturating_sub(self.last_heartbeat_tick)
+            .saturating_mul(1_000_000)
+            / rate_hz.max(1) as u64
+    }
+
+    fn latch<M: Mem>(&mut self, mem: &M, bit: u32) {
+        self.latched |= bit;
+        mem.write32(ss::FAULTS, self.latched);
+    }
+
+    /// The servo-tick hook, after every axis has run its tick: watchdog, e-stop input, encoder
+    /// and amplifier faults, hard and soft limits, following error, and the progress of the
+    /// stops. A category 0 stop zeroes the axis's output in `dac` this very tick.
+    /// `evt_ring_ok`: the event ring's indices are consistent (else the card cannot talk to the
+    /// host, and stops every axis).
+    #[allow(clippy::too_many_arguments)]
+    pub fn tick<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        rate_hz: u32,
+        axes: &mut [Axis],
+        encoders: &[i64; MAX_AXES],
+        dac: &mut [f64; MAX_AXES],
+        evt_ring_ok: bool,
+    ) {
+        let ts = 1.0 / rate_hz.max(1) as f64;
+        // Host watchdog.
+        let age_us = self.heartbeat(mem, tick, rate_hz);
+        if self.armed
+            && self.latched & raw::MC_CARD_FAULT_WATCHDOG == 0
+            && age_us >= self.config.watchdog_timeout_us as u64
+        {
+            self.latch(mem, raw::MC_CARD_FAULT_WATCHDOG);
+            mem.write64(ss::WATCHDOG_TRIP_TICK, tick);
+            mem.write64(ss::TRIP_HEARTBEAT_TICK, self.last_heartbeat_tick);
+            let trip = Trip {
+                category: StopCategory::Cat1,
+                reason: StopReason::Watchdog,
+                fault: fault::WATCHDOG,
+                value: age_us as f64 * 1e-6,
+            };
+            self.trip_all(mem, tick, axes, trip);
+        }
+        // E-stop input.
+        if self.inputs.estop && self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT == 0 {
+            self.latch(mem, raw::MC_CARD_FAULT_ESTOP_INPUT);
+            let trip = Trip {
+                category: self.config.estop_input_category,
+                reason: StopReason::EStopInput,
+                fault: fault::ESTOP,
+                value: 0.0,
+            };
+            self.trip_all(mem, tick, axes, trip);
+        }
+        // A card that cannot post events cannot tell the host anything: stop.
+        if !evt_ring_ok && !self.evt_ring_bad {
+            self.protocol_errors = self.protocol_errors.wrapping_add(1);
+            mem.write32(ss::PROTOCOL_ERRORS, self.protocol_errors);
+            let trip = Trip {
+                category: StopCategory::Cat1,
+                reason: StopReason::EvtRing,
+                fault: fault::PROTOCOL,
+                value: 0.0,
+            };
+            self.trip_all(mem, tick, axes, trip);
+        }
+        self.evt_ring_bad = !evt_ring_ok;
+
+        for (i, axis) in axes.iter_mut().enumerate() {
+            let enc = encoders[i];
+            let mut inputs = self.inputs.axis[i]
+                & (io::LIMIT_POS | io::LIMIT_NEG | io::HOME | io::AMP_ALARM | io::ENCODER_FAULT);
+            if self.inputs.estop {
+                inputs |= io::ESTOP;
+            }
+            for trip in axis_trips(axis, inputs, enc, ts).into_iter().flatten() {
+                self.trip_axis(mem, tick, i, axis, trip);
+            }
+            axis.safety.last_encoder = Some(enc);
+            self.follow_stop(mem, tick, ts, i, axis);
+            if !axis.is_powered() {
+                dac[i] = 0.0;
+            }
+            axis.safety.io = inputs
+                | if axis.is_powered() {
+                    io::DRIVE_ENABLE
+                } else {
+                    0
+                };
+        }
+    }
+
+    /// A stop in progress: category 1 disables the drive once at rest (or [`REST_TIMEOUT`]
+    /// after its ramp); every category reports reaching rest once.
+    fn follow_stop<M: Mem>(&mut self, mem: &M, tick: u64, ts: f64, i: usize, axis: &mut Axis) {
+        let Some(mut stop) = axis.safety.stop else {
+            return;
+        };
+        if stop.at_rest {
+            return;
+        }
+        let elapsed = tick.saturating_sub(stop.started) as f64 * ts;
+        let still = axis.measured_velocity().abs() <= axis.config.in_vel_window;
+        let ramp_done = !axis.profile_running();
+        let rest = ramp_done && (still || elapsed > stop.ramp + REST_TIMEOUT);
+        if !rest {
+            return;
+        }
+        if stop.category == StopCategory::Cat1 && axis.state == AxisState::ErrorStop {
+            axis.remove_power();
+        }
+        stop.at_rest = true;
+        axis.safety.stop = Some(stop);
+        mem.write64(ss::rest_tick(i), tick);
+        self.events.push(event(
+            EventKind::AtRest,
+            i as u16,
+            axis.safety.stop_reason as i32,
+            tick,
+            elapsed,
+        ));
+    }
+
+    fn trip_all<M: Mem>(&mut self, mem: &M, tick: u64, axes: &mut [Axis], trip: Trip) {
+        self.events.push(event(
+            EventKind::SafetyStop,
+            CARD_WIDE,
+            trip.reason as i32,
+            tick,
+            trip.value,
+        ));
+        for (i, axis) in axes.iter_mut().enumerate() {
+            if axis.state != AxisState::Disabled {
+                self.trip_axis(mem, tick, i, axis, trip);
+            }
+        }
+    }
+
+    /// Stop one axis. A disabled axis only goes to ErrorStop for a fault of its own (alarm,
+    /// encoder). An axis already stopping only changes to a harsher category.
+    fn trip_axis<M: Mem>(&mut self, mem: &M, tick: u64, i: usize, axis: &mut Axis, trip: Trip) {
+        axis.safety.faults |= trip.fault;
+        let harsher = match axis.safety.stop {
+            Some(s) if axis.state == AxisState::ErrorStop => {
+                (trip.category as u32) < (s.category as u32) && axis.is_powered()
+            }
+            _ => true,
+        };
+        if !harsher {
+            return;
+        }
+        if axis.state == AxisState::Disabled
+            && !matches!(
+                trip.reason,
+                StopReason::AmpAlarm | StopReason::EncoderLoss | StopReason::EncoderJump
+            )
+        {
+            return;
+        }
+        let axis_no = i as u16;
+        if let Some(seq) = axis.pending_motion() {
+            self.events.push(Event {
+                seq,
+                ..event(
+                    EventKind::MotionAborted,
+                    axis_no,
+                    trip.fault as i32,
+                    tick,
+                    0.0,
+                )
+            });
+        }
+        let r = axis.reference();
+        let ramp = match trip.category {
+            StopCategory::Cat0 => None,
+            _ if !axis.is_powered() => None,
+            _ => plan_stop(
+                r.pos,
+                r.vel,
+                r.acc,
+                axis.safety.config.stop_decel,
+                axis.safety.config.stop_jerk,
+            )
+            .ok(),
+        };
+        // A ramp that cannot be planned (it cannot happen with a validated configuration)
+        // falls back to category 0: removing power is always possible.
+        let category = if ramp.is_none() {
+            StopCategory::Cat0
+        } else {
+            trip.category
+        };
+        let ramp_time = ramp.map_or(0.0, |p: Profile| p.duration());
+        let old = axis.enter_error_stop(ramp);
+        axis.safety.stop_reason = trip.reason;
+        axis.safety.stop = Some(ActiveStop {
+            category,
+            started: tick,
+            ramp: ramp_time,
+            at_rest: false,
+        });
+        mem.write64(ss::stop_tick(i), tick);
+        mem.write64(ss::rest_tick(i), 0);
+        mem.write_f64(ss::ramp_time(i), ramp_time);
+        self.events.push(event(
+            EventKind::SafetyStop,
+            axis_no,
+            trip.reason as i32,
+            tick,
+            trip.value,
+        ));
+        if let Some(old) = old {
+            self.events.push(event(
+                EventKind::StateChanged,
+                axis_no,
+                AxisState::ErrorStop as i32,
+                tick,
+                old as u32 as f64,
+            ));
+        }
+    }
+
+    /// The host broke the command ring (its head is beyond anything it could have written):
+    /// every powered axis makes a category 1 stop, and the host is told.
+    pub fn protocol_error<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        axes: &mut [Axis],
+        code: i32,
+        index: u32,
+    ) {
+        self.protocol_errors = self.protocol_errors.wrapping_add(1);
+        mem.write32(ss::PROTOCOL_ERRORS, self.protocol_errors);
+        self.events.push(event(
+            EventKind::ProtocolError,
+            CARD_WIDE,
+            code,
+            tick,
+            index as f64,
+        ));
+        let trip = Trip {
+            category: StopCategory::Cat1,
+            reason: StopReason::CmdRing,
+            fault: fault::PROTOCOL,
+            value: index as f64,
+        };
+        self.trip_all(mem, tick, axes, trip);
+    }
+
+    /// The check every command passes before it acts on axis `axis` (already validated):
+    /// card-wide latches for power-on and reset, causes still present for reset, and limits
+    /// for moves. Commands that move an axis to a target (this firmware's MC_MoveAbsolute and
+    /// MC_MoveRelative; a group or queued move for each of its axes) must pass
+    /// [`check_target`] with the axis's start and target.
+    pub fn check_command(&self, op: Opcode, args: &[f64], axis: &Axis) -> Result<(), NackCode> {
+        let latch = || {
+            if self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0 {
+                Err(NackCode::WatchdogTripped)
+            } else if self.latched
+                & (raw::MC_CARD_FAULT_ESTOP_COMMAND | raw::MC_CARD_FAULT_ESTOP_INPUT)
+                != 0
+            {
+                Err(NackCode::EStopActive)
+            } else {
+                Ok(())
+            }
+        };
+        match op {
+            Opcode::PowerOn => latch(),
+            Opcode::Reset if axis.state == AxisState::ErrorStop => {
+                latch()?;
+                let s = &axis.safety;
+                if s.stop.is_some_and(|st| !st.at_rest) {
+                    return Err(NackCode::InvalidState);
+                }
+                let c = &s.config;
+                if (c.has(raw::MC_AXSAFE_AMP_ALARM) && s.io & io::AMP_ALARM != 0)
+                    || (c.has(raw::MC_AXSAFE_ENCODER) && s.io & io::ENCODER_FAULT != 0)
+                {
+                    return Err(NackCode::CauseActive);
+                }
+                Ok(())
+            }
+            Opcode::MoveAbsolute | Opcode::MoveRelative => {
+                let start = axis.reference().pos;
+                let target = if op == Opcode::MoveRelative {
+                    start + args.first().copied().unwrap_or(0.0)
+                } else {
+                    args.first().copied().unwrap_or(start)
+                };
+                check_target(axis, start, target)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The safety opcodes. `None` for any other opcode.
+    pub fn command<M: Mem>(
+        &mut self,
+        mem: &M,
+        c: &Command,
+        op: Opcode,
+        tick: u64,
+        rate_hz: u32,
+        axes: &mut [Axis],
+    ) -> Option<Result<(), NackCode>> {
+        Some(match op {
+            Opcode::ApplySafetyConfig => self.apply_config(mem),
+            Opcode::ApplyAxisSafety => match axes.get_mut(c.axis as usize) {
+                None => Err(NackCode::BadAxis),
+                Some(axis) => read_axis_safety(mem, c.axis as usize).map(|cfg| {
+                    axis.safety.config = cfg;
+                }),
+            },
+            Opcode::EStop => {
+                let a = c.args[0];
+                if !a.is_finite() {
+                    return Some(Err(NackCode::NotFinite));
+                }
+                let Some(category) = StopCategory::ALL.iter().find(|k| **k as u32 as f64 == a)
+                else {
+                    return Some(Err(NackCode::BadCategory));
+                };
+                self.latch(mem, raw::MC_CARD_FAULT_ESTOP_COMMAND);
+                let trip = Trip {
+                    category: *category,
+                    reason: StopReason::EStopCommand,
+                    fault: fault::ESTOP,
+                    value: a,
+                };
+                self.trip_all(mem, tick, axes, trip);
+                Ok(())
+            }
+            Opcode::SafetyReset => {
+                let age_us = self.heartbeat(mem, tick, rate_hz);
+                let heartbeat_dead = self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
+                    && age_us >= self.config.watchdog_timeout_us as u64;
+                let estop_held =
+                    self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop;
+                if heartbeat_dead || estop_held {
+                    Err(NackCode::CauseActive)
+                } else {
+                    self.latched = 0;
+                    mem.write32(ss::FAULTS, 0);
+                    Ok(())
+                }
+            }
+            _ => return None,
+        })
+    }
+
+    fn apply_config<M: Mem>(&mut self, mem: &M) -> Result<(), NackCode> {
+        let timeout = mem.read32(layout::WATCHDOG_TIMEOUT_US);
+        let period = mem.read32(layout::HOST_PERIOD_US) as u64;
+        // 0 is refused, and so is anything under 1.5 x the host's declared period.
+        if timeout == 0 || 2 * (timeout as u64) < 3 * period {
+            return Err(NackCode::WatchdogTimeout);
+        }
+        let category = StopCategory::from_raw(mem.read32(layout::ESTOP_INPUT_CATEGORY))
+            .ok_or(NackCode::BadCategory)?;
+        self.config = SafetyConfig {
+            watchdog_timeout_us: timeout,
+            estop_input_category: category,
+        };
+        Ok(())
+    }
+}
+
+/// Would a move of `axis` from `start` to `target` go further into an active limit? Moving out
+/// of a limit is always allowed.
+pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode> {
+    let s = &axis.safety;
+    let c = &s.config;
+    if c.has(raw::MC_AXSAFE_HARD_LIMITS)
+        && ((s.io & io::LIMIT_POS != 0 && target > start)
+            || (s.io & io::LIMIT_NEG != 0 && target < start))
+    {
+        return Err(NackCode::HardLimit);
+    }
+    if c.has(raw::MC_AXSAFE_SOFT_LIMITS)
+        && ((target > c.soft_limit_pos && target > start)
+            || (target < c.soft_limit_neg && target < start))
+    {
+        return Err(NackCode::SoftLimit);
+    }
+    Ok(())
+}
+
+/// Everything that trips an axis this tick, given its inputs and encoder reading. Also
+/// refreshes the live limit fault bits.
+fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>; 4] {
+    let c = axis.safety.config;
+    let r = axis.reference();
+    let powered = axis.is_powered();
+    let ferr = axis.following_error();
+    let s = &mut axis.safety;
+    let mut out = [None; 4];
+    let cat0 = |reason, fault, value| {
+        Some(Trip {
+            category: StopCategory::Cat0,
+            reason,
+            fault,
+            value,
+        })
+    };
+    // Encoder: the line-break detector, or a jump no motor can make in one tick.
+    if c.has(raw::MC_AXSAFE_ENCODER) {
+        let step = s
+            .last_encoder
+            .map_or(0, |p| enc.wrapping_sub(p))
+            .unsigned_abs() as f64;
+        if inputs & io::ENCODER_FAULT != 0 {
+            out[0] = cat0(StopReason::EncoderLoss, fault::ENCODER, enc as f64);
+        } else if step > c.encoder_max_velocity * ts + 2.0 {
+            out[0] = cat0(StopReason::EncoderJump, fault::ENCODER, step);
+        }
+    }
+    if c.has(raw::MC_AXSAFE_AMP_ALARM) && inputs & io::AMP_ALARM != 0 {
+        out[1] = cat0(StopReason::AmpAlarm, fault::AMP_ALARM, enc as f64);
+    }
+    // Limits: live fault bits; a trip only while the axis is driven into the limit.
+    s.faults &= !LIVE_FAULTS;
+    let limit = |reason, fault| {
+        Some(Trip {
+            category: c.limit_category,
+            reason,
+            fault,
+            value: r.pos,
+        })
+    };
+    if c.has(raw::MC_AXSAFE_HARD_LIMITS) {
+        if inputs & io::LIMIT_POS != 0 {
+            s.faults |= fault::HARD_LIMIT_POS;
+            if powered && r.vel > 0.0 {
+                out[2] = limit(StopReason::HardLimitPos, fault::HARD_LIMIT_POS);
+            }
+        }
+        if inputs & io::LIMIT_NEG != 0 {
+            s.faults |= fault::HARD_LIMIT_NEG;
+            if powered && r.vel < 0.0 {
+                out[2] = limit(StopReason::HardLimitNeg, fault::HARD_LIMIT_NEG);
+            }
+        }
+    }
+    if c.has(raw::MC_AXSAFE_SOFT_LIMITS) {
+        if r.pos > c.soft_limit_pos {
+            s.faults |= fault::SOFT_LIMIT_POS;
+            if powered && r.vel > 0.0 && out[2].is_none() {
+                out[2] = limit(StopReason::SoftLimitPos, fault::SOFT_LIMIT_POS);
+            }
+        }
+        if r.pos < c.soft_limit_neg {
+            s.faults |= fault::SOFT_LIMIT_NEG;
+            if powered && r.vel < 0.0 && out[2].is_none() {
+                out[2] = limit(StopReason::SoftLimitNeg, fault::SOFT_LIMIT_NEG);
+            }
+        }
+    }
+    // Following error (LinuxCNC): on every axis whose servo ran this tick. NaN trips too.
+    let within = ferr.abs() <= c.ferror_limit(r.vel);
+    if powered && !within {
+        out[3] = cat0(StopReason::FollowingError, fault::FOLLOWING_ERROR, ferr);
+    }
+    out
+}
+
+/// The starvation rule: a profile that ends moving with nothing queued after it continues as a
+/// jerk-limited stop from its end state with the axis's stop ramp. `None` if even that cannot
+/// be planned (then the axis holds the end position: it cannot happen with a validated
+/// configuration).
+///
+/// A motion queue calls this when it runs dry: with the state (position, velocity,
+/// acceleration) at the end of the last queued segment, it replaces the missing successor with
+/// the returned profile and sets the stop reason to `StopReason::Starvation`.
+pub fn starvation_stop(safety: &AxisSafety, end: &State) -> Option<Profile> {
+    let c = &safety.config;
+    plan_stop(end.pos, end.vel, end.acc, c.stop_decel, c.stop_jerk).ok()
+}
+
+fn write_axis_safety<M: Mem>(mem: &M, a: usize, c: &AxisSafetyConfig) {
+    let f = |field: usize, v: f64| mem.write_f64(layout::axis_safety(a, field), v);
+    mem.write32(layout::axis_safety(a, asf::FLAGS), c.flags);
+    mem.write32(
+        layout::axis_safety(a, asf::LIMIT_CATEGORY),
+        c.limit_category as u32,
+    );
+    f(asf::SOFT_LIMIT_NEG, c.soft_limit_neg);
+    f(asf::SOFT_LIMIT_POS, c.soft_limit_pos);
+    f(asf::FERROR, c.ferror);
+    f(asf::MIN_FERROR, c.min_ferror);
+    f(asf::MAX_VELOCITY, c.max_velocity);
+    f(asf::STOP_DECEL, c.stop_decel);
+    f(asf::STOP_JERK, c.stop_jerk);
+    f(asf::ENCODER_MAX_VELOCITY, c.encoder_max_velocity);
+}
+
+/// Read and validate `axis_safety[a]`.
+fn read_axis_safety<M: Mem>(mem: &M, a: usize) -> Result<AxisSafetyConfig, NackCode> {
+    let f = |field: usize| mem.read_f64(layout::axis_safety(a, field));
+    let cfg = AxisSafetyConfig {
+        flags: mem.read32(layout::axis_safety(a, asf::FLAGS)),
+        limit_category: StopCategory::from_raw(
+            mem.read32(layout::axis_safety(a, asf::LIMIT_CATEGORY)),
+        )
+        .ok_or(NackCode::BadCategory)?,
+        soft_limit_neg: f(asf::SOFT_LIMIT_NEG),
+        soft_limit_pos: f(asf::SOFT_LIMIT_POS),
+        ferror: f(asf::FERROR),
+        min_ferror: f(asf::MIN_FERROR),
+        max_velocity: f(asf::MAX_VELOCITY),
+        stop_decel: f(asf::STOP_DECEL),
+        stop_jerk: f(asf::STOP_JERK),
+        encoder_max_velocity: f(asf::ENCODER_MAX_VELOCITY),
+    };
+    cfg.validate()?;
+    Ok(cfg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scurve::Limits;
+
+    #[test]
+    fn ferror_limit_is_linuxcnc_rule() {
+        let c = AxisSafetyConfig {
+            ferror: 100.0,
+            min_ferror: 10.0,
+            max_velocity: 1000.0,
+            ..AxisSafetyConfig::default()
+        };
+        assert_eq!(c.ferror_limit(0.0), 10.0);
+        assert_eq!(c.ferror_limit(50.0), 10.0);
+        assert_eq!(c.ferror_limit(-500.0), 50.0);
+        assert_eq!(c.ferror_limit(2000.0), 200.0);
+    }
+
+    #[test]
+    fn defaults_validate_and_garbage_does_not() {
+        assert_eq!(AxisSafetyConfig::default().validate(), Ok(()));
+        assert_eq!(AxisSafety::new().config, AxisSafetyConfig::default());
+        let bad = [
+            AxisSafetyConfig {
+                ferror: f64::NAN,
+                ..Default::default()
+            },
+            AxisSafetyConfig {
+                min_ferror: 0.0,
+                ..Default::default()
+            },
+            AxisSafetyConfig {
+                ferror: 1.0,
+                min_ferror: 2.0,
+                ..Default::default()
+            },
+            AxisSafetyConfig {
+                soft_limit_neg: 5.0,
+                soft_limit_pos: 5.0,
+                ..Default::default()
+            },
+            AxisSafetyConfig {
+                flags: 1 << 9,
+                ..Default::default()
+            },
+            AxisSafetyConfig {
+                stop_jerk: -1.0,
+                ..Default::default()
+            },
+        ];
+        for c in bad {
+            assert_eq!(c.validate(), Err(NackCode::BadConfig), "{c:?}");
+        }
+    }
+
+    /// A profile that ends moving (a queue that ran dry) continues as a planned stop: the
+    /// commanded velocity never jumps, and the axis comes to rest with reason Starvation.
+    #[test]
+    fn starvation_ends_in_a_planned_stop_not_a_jump() {
+        let mut ax = Axis::new();
+        ax.power(true).unwrap();
+        let lim = Limits::symmetric(2e5, 2e6, 1e8);
+        let p = Profile::plan(0.0, 50_000.0, 0.0, 1e5, &lim).unwrap();
+        ax.run_profile(7, p);
+        let ts = 1e-4;
+        let mut prev = ax.reference();
+        let mut peak_dv: f64 = 0.0;
+        let mut enc = 0i64;
+        for _ in 0..20_000 {
+            ax.tick(enc, ts);
+            let r = ax.reference();
+            peak_dv = peak_dv.max((r.vel - prev.vel).abs());
+            enc = r.pos.round() as i64; // an ideal drive
+            prev = r;
+        }
+        let r = ax.reference();
+        assert_eq!((r.vel, r.acc), (0.0, 0.0));
+        assert!(
+            r.pos > 50_000.0,
+            "stopped past the end of the queue at {}",
+            r.pos
+        );
+        // Per tick the velocity changes by at most a·ts (plus the jerk term): no jump.
+        assert!(peak_dv <= 5e6 * ts * 1.01, "velocity jumped by {peak_dv}");
+        assert_eq!(ax.safety.stop_reason, StopReason::Starvation);
+        assert_eq!(ax.state, AxisState::Standstill);
+    }
+}

@@ -1,0 +1,401 @@
+//! Safety: the host heartbeat, the card's watchdog, limits, following error, e-stop, stop
+//! reasons, and fault reset.
+//!
+//! **The heartbeat.** While a card is open the SDK keeps `host.heartbeat` moving on its own and
+//! declares its period (`host.host_period_us` = [`HEARTBEAT_PERIOD_US`]). On a real-time card
+//! (`sim`, `emu:`, `uio:`, `pci:`) a thread owned by the card writes it every half period and
+//! stops when the last clone of the [`Card`] is dropped; it asks for `SCHED_FIFO` priority
+//! (best effort: without the privilege it runs at normal priority). On a stepped `sim` card
+//! there is no thread: the heartbeat advances once per emulated servo tick the SDK steps
+//! ([`crate::Sim::step`], waits), so stepped cards stay deterministic and their watchdog is on
+//! like any other card's. (Stepping the emulator directly through `Sim::with_emulator` does
+//! not beat: that is how a test makes a host hang, besides [`Card::set_heartbeat`].)
+//!
+//! The card arms its watchdog at the first heartbeat it sees, so closing a card (or a host
+//! dying) with axes enabled makes them do a category 1 stop after the timeout and latches the
+//! watchdog fault: the next host calls [`Card::reset_faults`].
+
+use crate::card::{Axis, Card, Status};
+use crate::device::{Backend, Device};
+use crate::error::{Error, Result};
+use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
+use firmware_proto::{
+    fault, io, raw, AxisState, Command, Mem, Opcode, StopCategory, StopReason, MAX_AXES,
+};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+type Window = Arc<card_emu::shm::MappedWindow>;
+
+/// The heartbeat period the SDK declares to the card, µs. The real-time heartbeat thread
+/// writes twice per period.
+pub const HEARTBEAT_PERIOD_US: u32 = 1000;
+
+/// The host side of the watchdog: keeps `host.heartbeat` moving while the card is open.
+pub(crate) struct Heartbeat {
+    window: Window,
+    enabled: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
+    count: AtomicU32,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Heartbeat {
+    /// Declare the period and start beating: a thread for real-time cards, nothing for a
+    /// stepped `sim` (it beats as it steps).
+    pub(crate) fn start(dev: &Device) -> Result<Self> {
+        let window = dev.window.clone();
+        window.write32(layout::HOST_PERIOD_US, HEARTBEAT_PERIOD_US);
+        let count = window.read32(layout::HEARTBEAT).wrapping_add(1);
+        window.write32(layout::HEARTBEAT, count);
+        let enabled = Arc::new(AtomicBool::new(true));
+        let stop = Arc::new(AtomicBool::new(false));
+        let thread = match dev.backend {
+            Backend::SimStepped { .. } => None,
+            _ => {
+                let (w, on, stop) = (window.clone(), enabled.clone(), stop.clone());
+                let t = std::thread::Builder::new()
+                    .name("motioncard-heartbeat".into())
+                    .spawn(move || beat_thread(w, on, stop, count))
+                    .map_err(|e| Error::io("starting the heartbeat thread", e))?;
+                Some(t)
+            }
+        };
+        Ok(Self {
+            window,
+            enabled,
+            stop,
+            count: AtomicU32::new(count),
+            thread,
+        })
+    }
+
+    /// One beat (stepped cards: before each emulated tick).
+    pub(crate) fn beat(&self) {
+        if self.thread.is_none() && self.enabled.load(Ordering::Relaxed) {
+            let c = self.count.fetch_add(1, Ordering::Relaxed).wrapping_add(1);
+            self.window.write32(layout::HEARTBEAT, c);
+        }
+    }
+}
+
+impl Drop for Heartbeat {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn beat_thread(w: Window, enabled: Arc<AtomicBool>, stop: Arc<AtomicBool>, mut count: u32) {
+    raise_priority();
+    let half = Duration::from_micros(HEARTBEAT_PERIOD_US as u64 / 2);
+    while !stop.load(Ordering::Relaxed) {
+        if enabled.load(Ordering::Relaxed) {
+            count = count.wrapping_add(1);
+            w.write32(layout::HEARTBEAT, count);
+        }
+        std::thread::sleep(half);
+    }
+}
+
+/// Ask for SCHED_FIFO priority 10 for the calling (heartbeat) thread, so a busy machine does
+/// not starve it into a watchdog trip. Best effort: ignored without the privilege.
+fn raise_priority() {
+    use nix::libc;
+    let param = libc::sched_param { sched_priority: 10 };
+    // SAFETY: pthread_self() is the calling thread, `param` is a valid sched_param that
+    // outlives the call; the call only changes this thread's scheduling attributes.
+    let _ = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+}
+
+/// The card-wide safety state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SafetyStatus {
+    /// The host watchdog tripped; latched until [`Card::reset_faults`].
+    pub watchdog_tripped: bool,
+    /// The host's e-stop command is latched.
+    pub estop_command: bool,
+    /// The e-stop input tripped; latched until reset with the input released.
+    pub estop_input: bool,
+    /// The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+    pub watchdog_armed: bool,
+    /// Servo tick at which the card last saw the heartbeat change.
+    pub last_heartbeat_tick: u64,
+    /// Servo tick of the last watchdog trip (0: never).
+    pub watchdog_trip_tick: u64,
+    /// The tick of the last heartbeat the card saw before that trip.
+    pub trip_heartbeat_tick: u64,
+    /// Protocol errors (corrupt ring indices) the card detected since boot.
+    pub protocol_errors: u32,
+}
+
+/// How an axis's last safety stop went, measured by the card.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StopInfo {
+    /// Why the last motion ended.
+    pub reason: StopReason,
+    /// Servo tick at which the last safety stop began (0: none since boot).
+    pub stop_tick: u64,
+    /// Servo tick at which the axis came to rest after it (`None` while still stopping).
+    pub rest_tick: Option<u64>,
+    /// Planned duration of the stop's deceleration ramp (0 for category 0).
+    pub ramp_time: Duration,
+}
+
+/// An axis's safety configuration, in user units (see [`Axis::set_scale`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SafetySettings {
+    /// Soft limits (negative, positive), or `None`.
+    pub soft_limits: Option<(f64, f64)>,
+    /// Honour the limit switch inputs.
+    pub hard_limits: bool,
+    /// Honour the amplifier alarm input.
+    pub amp_alarm: bool,
+    /// Honour encoder loss and jumps.
+    pub encoder_checks: bool,
+    /// The stop a hard or soft limit makes.
+    pub limit_stop: StopCategory,
+    /// Following-error limit at `max_velocity` (LinuxCNC FERROR).
+    pub ferror: f64,
+    /// Following-error limit at rest (LinuxCNC MIN_FERROR).
+    pub min_ferror: f64,
+    /// The velocity `ferror` applies at.
+    pub max_velocity: f64,
+    /// Deceleration of category 1 and 2 stops.
+    pub stop_deceleration: f64,
+    /// Jerk of those stops.
+    pub stop_jerk: f64,
+    /// Fastest physically possible encoder velocity: a larger change in one tick is a fault.
+    pub encoder_max_velocity: f64,
+}
+
+impl Default for SafetySettings {
+    /// The card's defaults, in counts.
+    fn default() -> Self {
+        let c = card_emu::safety::AxisSafetyConfig::default();
+        let has = |f: u32| c.flags & f != 0;
+        Self {
+            soft_limits: has(raw::MC_AXSAFE_SOFT_LIMITS)
+                .then_some((c.soft_limit_neg, c.soft_limit_pos)),
+            hard_limits: has(raw::MC_AXSAFE_HARD_LIMITS),
+            amp_alarm: has(raw::MC_AXSAFE_AMP_ALARM),
+            encoder_checks: has(raw::MC_AXSAFE_ENCODER),
+            limit_stop: c.limit_category,
+            ferror: c.ferror,
+            min_ferror: c.min_ferror,
+            max_velocity: c.max_velocity,
+            stop_deceleration: c.stop_decel,
+            stop_jerk: c.stop_jerk,
+            encoder_max_velocity: c.encoder_max_velocity,
+        }
+    }
+}
+
+impl Card {
+    /// Stop (`false`) or resume the heartbeat. A stopped heartbeat is a hung host to the card:
+    /// its watchdog trips after the timeout. For tests of the watchdog.
+    pub fn set_heartbeat(&self, on: bool) {
+        self.heartbeat().enabled.store(on, Ordering::Relaxed);
+    }
+
+    /// Set the card's watchdog timeout (default 5 ms). The card refuses zero and anything under
+    /// 1.5 × the heartbeat period ([`HEARTBEAT_PERIOD_US`]) with
+    /// [`crate::ErrorKind::WatchdogTimeout`].
+    pub fn set_watchdog_timeout(&self, timeout: Duration) -> Result<()> {
+        let us = u32::try_from(timeout.as_micros()).unwrap_or(u32::MAX);
+        self.window().write32(layout::WATCHDOG_TIMEOUT_US, us);
+        self.execute(
+            Command::new(Opcode::ApplySafetyConfig, 0),
+            "set_watchdog_timeout",
+            0,
+        )
+    }
+
+    /// The stop the card's e-stop input makes (default category 1).
+    pub fn set_estop_input_category(&self, category: StopCategory) -> Result<()> {
+        self.window()
+            .write32(layout::ESTOP_INPUT_CATEGORY, category as u32);
+        self.execute(
+            Command::new(Opcode::ApplySafetyConfig, 0),
+            "set_estop_input_category",
+            0,
+        )
+    }
+
+    /// E-stop every axis with the given stop category. Latched: nothing moves again until
+    /// [`Card::reset_faults`].
+    pub fn estop(&self, category: StopCategory) -> Result<()> {
+        self.execute(
+            Command::new(Opcode::EStop, 0).with_args(&[category as u32 as f64]),
+            "estop",
+            0,
+        )
+    }
+
+    /// Clear the card-wide latches (watchdog, e-stop: refused with
+    /// [`crate::ErrorKind::CauseActive`] while the heartbeat is not alive or the e-stop input is
+    /// pressed), then MC_Reset every axis in ErrorStop (refused while an axis's alarm or encoder
+    /// fault persists). Axes whose drive was disabled by their stop end Disabled; the others
+    /// Standstill.
+    pub fn reset_faults(&self) -> Result<()> {
+        self.execute(Command::new(Opcode::SafetyReset, 0), "reset_faults", 0)?;
+        for ax in self.axes() {
+            if ax.status()?.state == AxisState::ErrorStop {
+                ax.reset()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The card-wide safety state.
+    pub fn safety_status(&self) -> SafetyStatus {
+        let w = self.window();
+        let faults = w.read32(ss::FAULTS);
+        SafetyStatus {
+            watchdog_tripped: faults & raw::MC_CARD_FAULT_WATCHDOG != 0,
+            estop_command: faults & raw::MC_CARD_FAULT_ESTOP_COMMAND != 0,
+            estop_input: faults & raw::MC_CARD_FAULT_ESTOP_INPUT != 0,
+            watchdog_armed: w.read32(ss::WATCHDOG_ARMED) != 0,
+            last_heartbeat_tick: w.read64(ss::LAST_HEARTBEAT_TICK),
+            watchdog_trip_tick: w.read64(ss::WATCHDOG_TRIP_TICK),
+            trip_heartbeat_tick: w.read64(ss::TRIP_HEARTBEAT_TICK),
+            protocol_errors: w.read32(ss::PROTOCOL_ERRORS),
+        }
+    }
+}
+
+impl Axis {
+    /// Write the axis's safety configuration and have the card apply it (limits, following
+    /// error, stop ramp), converting user units through the axis's scale.
+    pub fn configure_safety(&self, s: &SafetySettings) -> Result<()> {
+        let scale = self.scale();
+        let k = scale.abs();
+        let (neg, pos) = s.soft_limits.unwrap_or((-f64::MAX, f64::MAX));
+        let named = [
+            ("soft limit", neg),
+            ("soft limit", pos),
+            ("ferror", s.ferror),
+            ("min_ferror", s.min_ferror),
+            ("max velocity", s.max_velocity),
+            ("stop deceleration", s.stop_deceleration),
+            ("stop jerk", s.stop_jerk),
+            ("encoder max velocity", s.encoder_max_velocity),
+        ];
+        for (what, v) in named {
+            if !v.is_finite() {
+                return Err(Error::NotFinite { what, value: v });
+            }
+        }
+        let (neg, pos) = match s.soft_limits {
+            Some((a, b)) => {
+                let (a, b) = (a * scale, b * scale);
+                (a.min(b), a.max(b))
+            }
+            None => (-card_emu::MAX_POSITION, card_emu::MAX_POSITION),
+        };
+        let mut flags = 0;
+        for (on, bit) in [
+            (s.soft_limits.is_some(), raw::MC_AXSAFE_SOFT_LIMITS),
+            (s.hard_limits, raw::MC_AXSAFE_HARD_LIMITS),
+            (s.amp_alarm, raw::MC_AXSAFE_AMP_ALARM),
+            (s.encoder_checks, raw::MC_AXSAFE_ENCODER),
+        ] {
+            if on {
+                flags |= bit;
+            }
+        }
+        let w = self.card().window();
+        let a = self.index();
+        w.write32(layout::axis_safety(a, asf::FLAGS), flags);
+        w.write32(
+            layout::axis_safety(a, asf::LIMIT_CATEGORY),
+            s.limit_stop as u32,
+        );
+        for (off, v) in [
+            (asf::SOFT_LIMIT_NEG, neg),
+            (asf::SOFT_LIMIT_POS, pos),
+            (asf::FERROR, s.ferror * k),
+            (asf::MIN_FERROR, s.min_ferror * k),
+            (asf::MAX_VELOCITY, s.max_velocity * k),
+            (asf::STOP_DECEL, s.stop_deceleration * k),
+            (asf::STOP_JERK, s.stop_jerk * k),
+            (asf::ENCODER_MAX_VELOCITY, s.encoder_max_velocity * k),
+        ] {
+            w.write_f64(layout::axis_safety(a, off), v);
+        }
+        self.card().execute(
+            Command::new(Opcode::ApplyAxisSafety, a as u16),
+            "configure_safety",
+            a,
+        )
+    }
+
+    /// Why the axis's last motion ended (`dmc_get_stop_reason`).
+    pub fn stop_reason(&self) -> Result<StopReason> {
+        let s = self.status()?;
+        s.stop_reason().ok_or_else(|| {
+            Error::Protocol(format!(
+                "axis {} reports unknown stop reason {}",
+                self.index(),
+                s.raw.stop_reason
+            ))
+        })
+    }
+
+    /// The stop reason and the card's timing of the axis's last safety stop.
+    pub fn stop_info(&self) -> Result<StopInfo> {
+        let a = self.index();
+        let w = self.card().window();
+        let rest = w.read64(ss::rest_tick(a));
+        let ramp = w.read_f64(ss::ramp_time(a));
+        Ok(StopInfo {
+            reason: self.stop_reason()?,
+            stop_tick: w.read64(ss::stop_tick(a)),
+            rest_tick: (rest != 0).then_some(rest),
+            ramp_time: Duration::try_from_secs_f64(ramp).unwrap_or_default(),
+        })
+    }
+}
+
+impl Status {
+    /// Why the axis's last motion ended (`None`: a reason this library does not know).
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        self.raw.stop_reason()
+    }
+
+    /// The axis's input bits and drive-enable output (`motioncard::proto::io`).
+    pub fn io(&self) -> u32 {
+        self.raw.io
+    }
+
+    /// Is the axis's drive (amplifier) enabled?
+    pub fn drive_enabled(&self) -> bool {
+        self.raw.io & io::DRIVE_ENABLE != 0
+    }
+}
+
+/// The name of a fault bit (as carried by a motion-aborted event), if it is one.
+pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
+    let names = [
+        (fault::WATCHDOG, "the host watchdog"),
+        (fault::ESTOP, "an e-stop"),
+        (fault::HARD_LIMIT_POS, "the positive limit switch"),
+        (fault::HARD_LIMIT_NEG, "the negative limit switch"),
+        (fault::SOFT_LIMIT_POS, "the positive soft limit"),
+        (fault::SOFT_LIMIT_NEG, "the negative soft limit"),
+        (fault::FOLLOWING_ERROR, "a following error"),
+        (fault::AMP_ALARM, "an amplifier alarm"),
+        (fault::ENCODER, "an encoder fault"),
+        (fault::PROTOCOL, "a protocol error"),
+    ];
+    names
+        .iter()
+        .find(|(bit, _)| *bit as i32 == code)
+        .map(|(_, n)| *n)
+}
+
+const _: () = assert!(MAX_AXES <= 8);
