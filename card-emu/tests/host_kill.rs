@@ -226,3 +226,54 @@ fn waits_return_by_their_timeout_when_the_card_process_dies() {
         ErrorKind::Timeout
     );
 }
+
+/// Every wait with a timeout returns by its timeout while the card process is stopped
+/// (SIGSTOP) mid-wait, and the card carries on where it was once it continues.
+#[test]
+fn waits_return_by_their_timeout_while_the_card_process_is_stopped() {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    let name = format!("stoppedcard-{}", std::process::id());
+    let emu = Proc(
+        Command::new(env!("CARGO_BIN_EXE_card-emu"))
+            .args(["--name", &name, "--axes", "2"])
+            .stdout(Stdio::null())
+            .spawn()
+            .expect("start card-emu"),
+    );
+    let pid = Pid::from_raw(emu.0.id() as i32);
+    let card = open_when_ready(&format!("emu:{name}"));
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    let m = ax
+        .move_relative(20_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap();
+    kill(pid, Signal::SIGSTOP).unwrap();
+    let tick = card.tick();
+    let generous = Duration::from_secs(5);
+    let t = Duration::from_millis(300);
+    let t0 = Instant::now();
+    assert_eq!(m.wait(t).unwrap_err().kind(), ErrorKind::Timeout);
+    let waited = t0.elapsed();
+    assert!(waited >= t && waited < t + generous, "{waited:?}");
+    while card.next_event(Duration::ZERO).unwrap().is_some() {} // what it said before
+    let t0 = Instant::now();
+    assert_eq!(card.next_event(Duration::from_millis(100)).unwrap(), None);
+    assert!(t0.elapsed() >= Duration::from_millis(100) && t0.elapsed() < generous);
+    let t0 = Instant::now();
+    assert_eq!(card.ping().unwrap_err().kind(), ErrorKind::NotResponding);
+    let waited = t0.elapsed();
+    assert!(
+        waited >= motioncard_sdk::ACK_TIMEOUT && waited < motioncard_sdk::ACK_TIMEOUT + generous
+    );
+    assert_eq!(card.tick(), tick, "a stopped card does not tick");
+
+    // Continued: the command the host gave up on is still answered (its ack is simply late),
+    // the move finishes on its target, and the card answers again.
+    kill(pid, Signal::SIGCONT).unwrap();
+    m.wait(Duration::from_secs(5)).unwrap();
+    let s = ax.status().unwrap();
+    assert!((s.actual_position - 20_000.0).abs() <= 1.0, "{s:?}");
+    card.ping().unwrap();
+    drop(emu);
+}
