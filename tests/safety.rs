@@ -685,3 +685,121 @@ fn corrupt_command_ring_stops_the_axes_with_its_own_reason() {
     assert_eq!(s.stop_reason(), Some(StopReason::CmdRing));
     assert_eq!(card.safety_status().protocol_errors, 1);
 }
+
+/// A member of a moving group trips: the other members make the same category of stop in the
+/// same tick (reason Group), never left driving on or frozen on the spot; the group goes to
+/// GroupErrorStop and comes back through the axes' and the group's resets.
+#[test]
+fn a_member_trip_stops_its_whole_group_the_same_way() {
+    use motioncard::{AccDec, GroupSettings, GroupState, MoveOptions, PathLimits};
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let (x, y) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    for ax in [&x, &y] {
+        ax.enable().unwrap();
+    }
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings {
+        accdec: AccDec::Pre,
+        ..GroupSettings::new(&[0, 1])
+    })
+    .unwrap();
+    g.enable().unwrap();
+    let feed = PathLimits::new(200_000.0, 2e6, 1e8);
+
+    // Category 0: the following error of a stalled Y.
+    let m = g
+        .move_linear(&[400_000.0, 300_000.0], &feed, MoveOptions::default())
+        .unwrap();
+    sim.step(2000);
+    assert!(x.status().unwrap().command_velocity > 100_000.0);
+    sim.with_emulator(|e| e.faults().stall(1, true));
+    let mut ticks = 0;
+    while y.status().unwrap().state != AxisState::ErrorStop {
+        assert_eq!(x.status().unwrap().state, AxisState::SynchronizedMotion);
+        sim.step(1);
+        ticks += 1;
+        assert!(ticks < 20_000, "Y never tripped");
+    }
+    let (sx, sy) = (x.status().unwrap(), y.status().unwrap());
+    assert_eq!(sy.stop_reason(), Some(StopReason::FollowingError));
+    assert_eq!(sx.state, AxisState::ErrorStop, "X kept going");
+    assert_eq!(sx.stop_reason(), Some(StopReason::Group));
+    assert!(
+        !sx.drive_enabled() && sx.dac_volts == 0.0,
+        "X not category 0"
+    );
+    let ev = events(&card);
+    let stop_x = ev
+        .iter()
+        .find(|e| e.kind == EventKind::SafetyStop && e.axis == 0)
+        .expect("safety stop of X");
+    assert_eq!((stop_x.code, stop_x.value), (StopReason::Group as i32, 1.0));
+    assert_eq!(stop_x.tick, sy.raw.tick);
+    sim.step(1);
+    assert_eq!(g.status().unwrap().0, GroupState::ErrorStop);
+    assert_eq!(
+        m.wait(Duration::ZERO).unwrap_err().kind(),
+        ErrorKind::Aborted
+    );
+
+    // Back: the axes' resets, power, then the group's reset.
+    sim.with_emulator(|e| e.faults().stall(1, false));
+    sim.step(ticks_of(&card, 1.5)); // X coasts to rest
+    assert_eq!(g.reset().unwrap_err().kind(), ErrorKind::InvalidState);
+    for ax in [&x, &y] {
+        ax.reset().unwrap();
+        ax.enable().unwrap();
+    }
+    g.reset().unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+
+    // Category 1: X reaches its limit switch; Y decelerates on its own stop ramp, its
+    // commanded velocity changing by no more than the ramp allows in any tick, then is
+    // disabled at rest.
+    let start = x.status().unwrap().command_position;
+    let y_start = y.status().unwrap().command_position;
+    sim.with_emulator(|e| {
+        e.faults()
+            .set_switches(0, Switches::limits(-1e9, start + 150_000.0))
+    });
+    let s = SafetySettings::default();
+    let m = g
+        .move_linear(
+            &[start + 400_000.0, y_start + 300_000.0],
+            &feed,
+            MoveOptions::default(),
+        )
+        .unwrap();
+    let mut prev_v = y.status().unwrap().command_velocity;
+    let mut worst_dv: f64 = 0.0;
+    let mut tripped_at = None;
+    for _ in 0..ticks_of(&card, 3.0) {
+        sim.step(1);
+        let sy = y.status().unwrap();
+        worst_dv = worst_dv.max((sy.command_velocity - prev_v).abs());
+        prev_v = sy.command_velocity;
+        if tripped_at.is_none() && sy.state == AxisState::ErrorStop {
+            let sx = x.status().unwrap();
+            assert_eq!(sx.stop_reason(), Some(StopReason::HardLimitPos));
+            assert_eq!(sx.raw.tick, sy.raw.tick);
+            assert!(sy.drive_enabled(), "category 1 keeps power while it ramps");
+            assert!(sy.command_velocity.abs() > 10_000.0, "Y was moving");
+            tripped_at = Some(sy.raw.tick);
+        }
+    }
+    assert!(tripped_at.is_some(), "X never reached its limit");
+    let ts = 1.0 / card.info().servo_rate_hz as f64;
+    // Under the feed's own acceleration or the stop ramp's deceleration, whichever is larger.
+    assert!(
+        worst_dv <= 2e6_f64.max(s.stop_deceleration) * ts * (1.0 + 1e-9),
+        "Y's velocity jumped by {worst_dv} counts/s in one tick"
+    );
+    let sy = y.status().unwrap();
+    assert_eq!(sy.stop_reason(), Some(StopReason::Group));
+    assert_eq!((sy.command_velocity, sy.drive_enabled()), (0.0, false));
+    assert_eq!(
+        m.wait(Duration::ZERO).unwrap_err().kind(),
+        ErrorKind::Aborted
+    );
+}

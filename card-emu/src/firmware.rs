@@ -523,6 +523,18 @@ impl<M: Mem + Clone> Firmware<M> {
             dac,
             evt_ring_ok,
         );
+        // [safety] a member that tripped stops the rest of its moving group the same way
+        for g in &self.groups {
+            if let Some(members) = g.moving_members() {
+                self.safety.trip_group(
+                    &self.mem,
+                    self.tick,
+                    &mut self.axes[..self.num_axes],
+                    members,
+                    dac,
+                );
+            }
+        }
         // The status first, then the events about it: a host that takes motion done (or a
         // state change) and then reads the status sees this tick's, never the one before.
         self.publish();

@@ -471,6 +471,14 @@ impl Group {
             && self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))
     }
 
+    /// The member axes while the group moves (GroupMoving or GroupStopping).
+    pub fn moving_members(&self) -> Option<&[usize]> {
+        match (&self.config, self.state) {
+            (Some(c), GroupState::Moving | GroupState::Stopping) => Some(&c.axes[..c.naxes]),
+            _ => None,
+        }
+    }
+
     /// Is axis `a` in this group's configuration?
     pub fn contains(&self, a: usize) -> bool {
         self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))

@@ -622,6 +622,55 @@ impl Safety {
         }
     }
 
+    /// A member of a moving group made a safety stop: the members still in synchronised
+    /// motion make the same category of stop (the harshest among the members that tripped),
+    /// with reason [`StopReason::Group`] and the first tripped axis as the event value, so a
+    /// coordinated move never leaves healthy axes driving on or frozen on the spot. A category
+    /// 0 stop zeroes their output in `dac` and their drive enable this very tick. The group
+    /// itself goes to
+    /// GroupErrorStop on its next tick.
+    pub fn trip_group<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        axes: &mut [Axis],
+        members: &[usize],
+        dac: &mut [f64; MAX_AXES],
+    ) {
+        let mut first = None;
+        let mut category = None::<StopCategory>;
+        for &a in members {
+            let Some(axis) = axes.get(a) else { continue };
+            if let (AxisState::ErrorStop, Some(stop)) = (axis.state, axis.safety.stop) {
+                first.get_or_insert(a);
+                if category.is_none_or(|c| (stop.category as u32) < (c as u32)) {
+                    category = Some(stop.category);
+                }
+            }
+        }
+        let (Some(first), Some(category)) = (first, category) else {
+            return;
+        };
+        let trip = Trip {
+            category,
+            reason: StopReason::Group,
+            fault: 0,
+            value: first as f64,
+        };
+        for &a in members {
+            let Some(axis) = axes.get_mut(a) else {
+                continue;
+            };
+            if axis.state == AxisState::SynchronizedMotion {
+                self.trip_axis(mem, tick, a, axis, trip);
+                if !axis.is_powered() {
+                    dac[a] = 0.0;
+                    axis.safety.io &= !io::DRIVE_ENABLE;
+                }
+            }
+        }
+    }
+
     /// The host broke the command ring (its head is beyond anything it could have written):
     /// every powered axis makes a category 1 stop, and the host is told.
     pub fn protocol_error<M: Mem>(
