@@ -80,43 +80,91 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
     assert_eq!((s.state, s.raw.move_count), (AxisState::Standstill, 0));
 }
 
+/// On the bare firmware, with the host's view of the event ring: 1,000 commands (valid,
+/// refused, unknown opcodes, bad axes, NaN) sent in bursts that wrap both rings many times.
+/// Every seq gets exactly one answer, an ack or a nack, and no answer names a seq that was not
+/// sent.
 #[test]
 fn every_command_gets_exactly_one_answer() {
-    let card = stepped_card();
+    use card_emu::Firmware;
+    use firmware_proto::mem::HeapWindow;
+    use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
+    use firmware_proto::{Event, MAX_AXES};
+    use std::collections::HashMap;
+
+    let w = std::sync::Arc::new(HeapWindow::new());
+    let mut fw = Firmware::boot(w.clone(), 4, 10_000);
+    let mut tx = CmdProducer::attach(w.clone(), CMD_RING);
+    let mut rx = EvtConsumer::attach(w.clone(), EVT_RING);
     let ops = [
         Opcode::Nop,
         Opcode::PowerOn,
         Opcode::MoveAbsolute,
+        Opcode::MoveRelative,
         Opcode::Halt,
+        Opcode::Stop,
+        Opcode::StopRelease,
         Opcode::Reset,
         Opcode::PowerOff,
-        Opcode::StopRelease,
     ];
-    let mut seqs = Vec::new();
-    for i in 0..60u16 {
-        let op = ops[i as usize % ops.len()];
-        seqs.push(
-            card.send_raw(
-                Command::new(op, i % 10).with_args(&[5.0, 1e4, 1e5, 1e5, 1e6, 1e6, 1e6, 1e6]),
-            )
-            .unwrap(),
-        );
+    let mut rng = common::Rng::new(7);
+    let mut answers: HashMap<u32, (u32, u32)> = HashMap::new(); // seq -> (acks, nacks)
+    let take = |rx: &mut EvtConsumer<_>, answers: &mut HashMap<u32, (u32, u32)>| {
+        while let Some(e) = rx.pop::<Event>().unwrap() {
+            match e.kind() {
+                Some(EventKind::Ack) => answers.entry(e.seq).or_default().0 += 1,
+                Some(EventKind::Nack) => answers.entry(e.seq).or_default().1 += 1,
+                _ => {}
+            }
+        }
+    };
+    let (enc, mut dac) = ([0i64; MAX_AXES], [0.0; MAX_AXES]);
+    let mut sent = Vec::new();
+    while sent.len() < 1000 {
+        // A burst of up to a ring's worth, then the card serves and ticks.
+        let burst = 1 + rng.next_u64() % CMD_RING.len as u64;
+        for _ in 0..burst {
+            let op = ops[(rng.next_u64() % ops.len() as u64) as usize];
+            let axis = (rng.next_u64() % 6) as u16; // 4 and 5 do not exist
+            let pick = |r: &mut common::Rng| match r.next_u64() % 8 {
+                0 => f64::NAN,
+                1 => -1.0,
+                _ => r.log_uniform(1e2, 1e7),
+            };
+            let args: Vec<f64> = (0..8).map(|_| pick(&mut rng)).collect();
+            let mut c = Command::new(op, axis).with_args(&args);
+            if rng.next_u64() % 16 == 0 {
+                c.opcode = 200 + (rng.next_u64() % 50) as u16; // unknown
+            }
+            c.seq = tx.head().wrapping_add(1);
+            if tx.push(&c).is_err() {
+                break; // full: the card has not taken them yet
+            }
+            sent.push(c.seq);
+        }
+        while fw.serve_commands() > 0 {
+            take(&mut rx, &mut answers);
+        }
+        fw.tick(&enc, &mut dac);
+        take(&mut rx, &mut answers);
     }
-    card.sim().unwrap().step(100);
-    let mut answers = std::collections::HashMap::new();
-    // Acks are consumed by wait_ack; count them per seq.
-    for s in &seqs {
-        card.wait_ack(*s).unwrap().ok();
-        *answers.entry(*s).or_insert(0) += 1;
+    for _ in 0..10 {
+        fw.serve_commands();
+        fw.tick(&enc, &mut dac);
     }
-    assert_eq!(answers.len(), seqs.len());
-    // A second wait for an answered seq finds nothing: each was answered once.
-    for s in &seqs[..5] {
-        assert_eq!(
-            card.wait_ack(*s).unwrap_err().kind(),
-            ErrorKind::NotResponding
-        );
+    take(&mut rx, &mut answers);
+    let (mut acks, mut nacks) = (0, 0);
+    for s in &sent {
+        let (a, n) = answers.remove(s).unwrap_or_default();
+        assert_eq!(a + n, 1, "seq {s}: {a} acks and {n} nacks");
+        acks += a;
+        nacks += n;
     }
+    assert!(
+        answers.is_empty(),
+        "answers to seqs never sent: {answers:?}"
+    );
+    assert!(acks > 50 && nacks > 50, "{acks} acks, {nacks} nacks");
 }
 
 #[test]
