@@ -100,7 +100,7 @@ fn main() -> Result<(), Error> {
         "peak v / limit",
         "peak a / limit",
         "peak d / limit",
-        "peak j / limit",
+        "peak |j| / max j",
         "|ferr|"
     );
     let mut worst_miss: f64 = 0.0;
@@ -130,6 +130,7 @@ fn main() -> Result<(), Error> {
     }
     println!();
     println!("positions and following errors in encoder counts; exec = start to in-position (motion done)");
+    println!("peak |j| is the largest jerk of the move, against the largest of its four phase jerks");
     println!("worst |final - target| = {worst_miss} counts");
     for axis in &axes {
         axis.disable()?;
