@@ -39,23 +39,33 @@
  *   mc_get_info, mc_get_tick, mc_set_scale, mc_events_lost, mc_irq_fd, mc_poll_events,
  *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time,
  *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
- *   mc_pdplus_settings_die_bonder.
- * - mc_get_status and mc_group_get_status do not wait for the card; they retry while the card
- *   is rewriting the status block (well under a microsecond on a running card; after 100 ms
- *   of a block that stays busy, MC_ERR_NOT_RESPONDING).
+ *   mc_pdplus_settings_die_bonder, mc_set_heartbeat, mc_get_safety_status,
+ *   mc_safety_settings_default.
+ * - mc_get_status, mc_get_stop_info and mc_group_get_status do not wait for the card; they
+ *   retry while the card is rewriting the status block (well under a microsecond on a running
+ *   card; after 100 ms of a block that stays busy, MC_ERR_NOT_RESPONDING).
  * - Block until the card answers the command (microseconds on a running card; at most 2 s,
  *   then MC_ERR_NOT_RESPONDING): mc_enable, mc_disable, mc_configure, mc_move_absolute,
  *   mc_move_relative, mc_halt, mc_stop, mc_release_stop, mc_reset, mc_ping,
  *   mc_set_servo_rate, mc_group_configure, mc_group_enable, mc_group_disable, mc_group_reset,
  *   mc_group_halt, mc_group_stop, mc_group_release_stop, mc_group_move_linear,
  *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
- *   mc_axis_configure_pdplus. mc_group_move_nurbs sends the curve as several commands (a
- *   begin, data entries, an end) and blocks until the card has answered each. A move call
- *   returns when the card has accepted it, not when it is done.
+ *   mc_axis_configure_pdplus, mc_set_watchdog_timeout, mc_set_estop_input_category, mc_estop,
+ *   mc_configure_safety. mc_group_move_nurbs sends the curve as several commands (a begin,
+ *   data entries, an end) and blocks until the card has answered each; mc_reset_faults sends
+ *   one command, then one MC_Reset per axis in ErrorStop. A move call returns when the card
+ *   has accepted it, not when it is done.
  * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_group_motion_wait,
  *   mc_group_wait_done, mc_wait_event, mc_dispatch_events.
  * - mc_open blocks until the card has booted (about a second at most); mc_close blocks while
  *   an emulated card's thread stops; mc_sim_step computes the ticks asked for.
+ *
+ * Safety: while a card is open the library writes a heartbeat the card's watchdog watches (a
+ * thread on a real-time card; once per emulated tick on a stepped sim). If it stops (the
+ * process hangs or dies, or mc_set_heartbeat(card, 0)), every axis stops after the watchdog
+ * timeout and the trip stays latched (MC_ERR_WATCHDOG_TRIPPED) until mc_reset_faults. Safety
+ * stops end in MC_AXIS_STATE_ERROR_STOP with their MC_STOP_REASON_ in mc_status.stop_reason
+ * and an MC_EVENT_SAFETY_STOP event.
  *
  * Event loop: put the descriptor of mc_irq_fd in your poll/epoll set (level-triggered);
  * when it is readable, call mc_dispatch_events(card, 0, &n). Waits in other threads
@@ -100,6 +110,36 @@
 
 // Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
 #define MC_AXIS_FAULT_DAC_SATURATED 1
+
+// Fault bit: the host watchdog tripped (the heartbeat stopped).
+#define MC_AXIS_FAULT_WATCHDOG 256
+
+// Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
+#define MC_AXIS_FAULT_ESTOP 512
+
+// Fault bit: at or beyond the positive limit switch.
+#define MC_AXIS_FAULT_HARD_LIMIT_POS 1024
+
+// Fault bit: at or beyond the negative limit switch.
+#define MC_AXIS_FAULT_HARD_LIMIT_NEG 2048
+
+// Fault bit: beyond the positive soft limit.
+#define MC_AXIS_FAULT_SOFT_LIMIT_POS 4096
+
+// Fault bit: beyond the negative soft limit.
+#define MC_AXIS_FAULT_SOFT_LIMIT_NEG 8192
+
+// Fault bit: the following error exceeded its limit.
+#define MC_AXIS_FAULT_FOLLOWING_ERROR 16384
+
+// Fault bit: the amplifier's alarm input.
+#define MC_AXIS_FAULT_AMP_ALARM 32768
+
+// Fault bit: encoder loss or a jump.
+#define MC_AXIS_FAULT_ENCODER 65536
+
+// Fault bit: the host broke the protocol (corrupt ring indices).
+#define MC_AXIS_FAULT_PROTOCOL 131072
 
 // Capability bit of `mc_card_info.capabilities`: S-curve profiles.
 #define MC_CARD_CAP_SCURVE 1
@@ -234,6 +274,98 @@
 // Linear followed by exponential (bell-shaped; Shin eq 40).
 #define MC_FILTER_KIND_BELL 3
 
+// Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
+// `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
+#define MC_STOP_REASON_NONE 0
+
+// The move reached its target and is in position.
+#define MC_STOP_REASON_DONE 1
+
+// `mc_halt`.
+#define MC_STOP_REASON_HALT 2
+
+// `mc_stop`.
+#define MC_STOP_REASON_STOP 3
+
+// `mc_disable` by the host.
+#define MC_STOP_REASON_POWER_OFF 4
+
+// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
+#define MC_STOP_REASON_WATCHDOG 16
+
+// The host's e-stop (`mc_estop`).
+#define MC_STOP_REASON_ESTOP_COMMAND 17
+
+// The card's e-stop input.
+#define MC_STOP_REASON_ESTOP_INPUT 18
+
+// The positive limit switch.
+#define MC_STOP_REASON_HARD_LIMIT_POS 19
+
+// The negative limit switch.
+#define MC_STOP_REASON_HARD_LIMIT_NEG 20
+
+// The positive soft limit.
+#define MC_STOP_REASON_SOFT_LIMIT_POS 21
+
+// The negative soft limit.
+#define MC_STOP_REASON_SOFT_LIMIT_NEG 22
+
+// The following error exceeded its limit.
+#define MC_STOP_REASON_FOLLOWING_ERROR 23
+
+// The amplifier's alarm input.
+#define MC_STOP_REASON_AMP_ALARM 24
+
+// The encoder's line-break detector.
+#define MC_STOP_REASON_ENCODER_LOSS 25
+
+// An encoder count change larger than physically possible.
+#define MC_STOP_REASON_ENCODER_JUMP 26
+
+// Queued motion ran out: a planned stop at the end of what was queued.
+#define MC_STOP_REASON_STARVATION 27
+
+// The command ring's indices were corrupt.
+#define MC_STOP_REASON_CMD_RING 28
+
+// The event ring's indices were corrupt.
+#define MC_STOP_REASON_EVT_RING 29
+
+// Another axis of its group tripped.
+#define MC_STOP_REASON_GROUP 30
+
+// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
+// `mc_safety_settings.limit_stop`): remove power at once.
+#define MC_STOP_CATEGORY_0 0
+
+// A controlled stop, then power removed.
+#define MC_STOP_CATEGORY_1 1
+
+// A controlled stop, power kept (the axis holds its position).
+#define MC_STOP_CATEGORY_2 2
+
+// Bit of `mc_status.io`: the positive limit switch input.
+#define MC_IO_LIMIT_POS 1
+
+// The negative limit switch input.
+#define MC_IO_LIMIT_NEG 2
+
+// The home switch input.
+#define MC_IO_HOME 4
+
+// The amplifier alarm input.
+#define MC_IO_AMP_ALARM 8
+
+// The encoder line-break detector.
+#define MC_IO_ENCODER_FAULT 16
+
+// The card's e-stop input (the same on every axis).
+#define MC_IO_ESTOP 32
+
+// Output: the axis's amplifier is enabled.
+#define MC_IO_DRIVE_ENABLE 256
+
 // What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
 // failure. The codes are stable: a code keeps its number in every later version.
 typedef int32_t mc_result;
@@ -350,6 +482,10 @@ typedef struct mc_raw_status {
   double move_time;
   // The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
   double u_request;
+  // Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
+  uint32_t stop_reason;
+  // The axis's input bits and drive-enable output (`MC_IO_` bits).
+  uint32_t io;
 } mc_raw_status;
 
 // A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
@@ -375,6 +511,12 @@ typedef struct mc_status {
   double dac_volts;
   // The same snapshot in counts, with the card's per-move statistics.
   struct mc_raw_status raw;
+  // Why the last motion ended (`MC_STOP_REASON_` value; a newer card may report one this
+  // library has no constant for).
+  uint32_t stop_reason;
+  // The axis's limit switch, home, amplifier alarm, encoder fault and e-stop inputs and its
+  // drive-enable output (`MC_IO_` bits).
+  uint32_t io;
 } mc_status;
 
 // An event from the card, in user units.
@@ -540,6 +682,73 @@ typedef struct mc_pdplus_settings {
   // Drive limit, V (at most the axis's `dac_limit_v`).
   double umax;
 } mc_pdplus_settings;
+
+// The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
+typedef struct mc_safety_status {
+  // The host watchdog tripped; latched until `mc_reset_faults`.
+  uint32_t watchdog_tripped;
+  // The host's e-stop (`mc_estop`) is latched.
+  uint32_t estop_command;
+  // The e-stop input tripped; latched until reset with the input released.
+  uint32_t estop_input;
+  // The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+  uint32_t watchdog_armed;
+  // Servo tick at which the card last saw the heartbeat change.
+  uint64_t last_heartbeat_tick;
+  // Servo tick of the last watchdog trip (0: never).
+  uint64_t watchdog_trip_tick;
+  // The tick of the last heartbeat the card saw before that trip.
+  uint64_t trip_heartbeat_tick;
+  // Protocol errors (corrupt ring indices) the card detected since boot.
+  uint32_t protocol_errors;
+} mc_safety_status;
+
+// An axis's safety configuration (`mc_configure_safety`), in user units (see `mc_set_scale`).
+// Start from `mc_safety_settings_default`. Flags: non-zero is on.
+typedef struct mc_safety_settings {
+  // Enforce `soft_limit_neg` .. `soft_limit_pos` (off by default).
+  uint32_t soft_limits;
+  // Honour the limit switch inputs.
+  uint32_t hard_limits;
+  // Honour the amplifier alarm input.
+  uint32_t amp_alarm;
+  // Honour encoder loss and jumps.
+  uint32_t encoder_checks;
+  // The stop a hard or soft limit makes (`MC_STOP_CATEGORY_`).
+  uint32_t limit_stop;
+  // Negative soft limit (used when `soft_limits` is on; 0 in the defaults).
+  double soft_limit_neg;
+  // Positive soft limit (used when `soft_limits` is on; 0 in the defaults).
+  double soft_limit_pos;
+  // Following-error limit at `max_velocity` (LinuxCNC FERROR); the limit at velocity v is
+  // `max(ferror * |v| / max_velocity, min_ferror)`.
+  double ferror;
+  // Following-error limit at rest (LinuxCNC MIN_FERROR).
+  double min_ferror;
+  // The velocity `ferror` applies at.
+  double max_velocity;
+  // Deceleration of category 1 and 2 stops.
+  double stop_deceleration;
+  // Jerk of those stops.
+  double stop_jerk;
+  // Fastest physically possible encoder velocity: a larger change in one tick is a fault.
+  double encoder_max_velocity;
+} mc_safety_settings;
+
+// How an axis's last safety stop went, measured by the card (`mc_get_stop_info`).
+typedef struct mc_stop_info {
+  // Why the last motion ended (`MC_STOP_REASON_` value).
+  uint32_t reason;
+  // 1 when the axis has come to rest after its last safety stop (`rest_tick` is valid), 0
+  // while it is still stopping or when there was none.
+  uint32_t at_rest;
+  // Servo tick at which the last safety stop began (0: none since boot).
+  uint64_t stop_tick;
+  // Servo tick at which the axis came to rest after it (0 while still stopping).
+  uint64_t rest_tick;
+  // Planned duration of the stop's deceleration ramp, s (0 for category 0).
+  double ramp_time;
+} mc_stop_info;
 
 // Success.
 #define MC_OK 0
@@ -1050,6 +1259,60 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, struct mc_pdplus_settings
 mc_result mc_axis_configure_pdplus(mc_card card,
                                    uint32_t axis,
                                    const struct mc_pdplus_settings *settings);
+
+// Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
+// heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
+// a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
+// library thread writes the heartbeat; on a stepped sim it beats once per emulated tick, so
+// stepping with the heartbeat off trips the watchdog deterministically. For tests of the
+// watchdog; the heartbeat is on from `mc_open`. Never blocks.
+mc_result mc_set_heartbeat(mc_card card, uint32_t on);
+
+// Set the card's watchdog timeout, µs (default 5000). The card refuses zero and anything under
+// 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
+// card answers.
+mc_result mc_set_watchdog_timeout(mc_card card, uint32_t timeout_us);
+
+// The stop the card's e-stop input makes (`MC_STOP_CATEGORY_`; default 1; any other value is
+// `MC_ERR_BAD_CATEGORY`). Blocks until the card answers.
+mc_result mc_set_estop_input_category(mc_card card, uint32_t category);
+
+// E-stop every axis with the given stop category (`MC_STOP_CATEGORY_`; any other value is
+// `MC_ERR_BAD_CATEGORY`). Latched: moves, enables and resets are refused with
+// `MC_ERR_ESTOP_ACTIVE` until `mc_reset_faults`. Blocks until the card answers.
+mc_result mc_estop(mc_card card, uint32_t category);
+
+// Clear the card-wide latches (watchdog, e-stop), then MC_Reset every axis in ErrorStop.
+// `MC_ERR_CAUSE_ACTIVE` while the cause is still there (no live heartbeat, the e-stop input
+// pressed, an axis's alarm or encoder fault). Axes whose stop removed power end Disabled, the
+// others Standstill. Blocks until the card has answered each command (one, plus one per axis
+// in ErrorStop).
+mc_result mc_reset_faults(mc_card card);
+
+// The card-wide safety state: watchdog and e-stop latches, heartbeat ticks, protocol errors.
+// Reads the card's window; never blocks.
+mc_result mc_get_safety_status(mc_card card, struct mc_safety_status *status);
+
+// The card's default safety configuration of an axis, in counts: hard limits, amplifier alarm
+// and encoder checks on, soft limits off, limit stops category 1, following error 10,000
+// counts at 10⁶ counts/s and 1,000 at rest, stops at 5·10⁶ counts/s² and 5·10⁸ counts/s³.
+// Never blocks.
+mc_result mc_safety_settings_default(struct mc_safety_settings *settings);
+
+// Write an axis's safety configuration (limits, following error, stop ramp; user units
+// converted through the axis's scale) and have the card apply it. NaN or infinity:
+// `MC_ERR_NOT_FINITE`; an unknown `limit_stop`: `MC_ERR_BAD_CATEGORY`; values the card cannot
+// use (soft limits not increasing, `ferror` under `min_ferror`, a non-positive limit):
+// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+mc_result mc_configure_safety(mc_card card,
+                              uint32_t axis,
+                              const struct mc_safety_settings *settings);
+
+// Why the axis's last motion ended, and the card's timing of its last safety stop: the tick
+// it began, the tick the axis came to rest (`at_rest` 0 while still stopping), the planned
+// ramp. Reads the status block as `mc_get_status` does (`MC_ERR_PROTOCOL` for a stop reason
+// this library does not know); does not wait for the card.
+mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
 
 #ifdef __cplusplus
 }  // extern "C"

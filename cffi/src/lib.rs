@@ -24,10 +24,12 @@ mod ffi;
 pub mod group;
 pub mod registry;
 pub mod result;
+pub mod safety;
 pub mod types;
 
 pub use api::*;
 pub use group::*;
 pub use registry::{mc_card, mc_event_callback};
 pub use result::*;
+pub use safety::*;
 pub use types::*;

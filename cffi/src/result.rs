@@ -346,57 +346,82 @@ pub(crate) fn describe_ptr(code: mc_result) -> *const c_char {
 mod tests {
     use super::*;
 
-    const KINDS: [ErrorKind; 46] = [
-        ErrorKind::BadUri,
-        ErrorKind::NotFound,
-        ErrorKind::Busy,
-        ErrorKind::VersionMismatch,
-        ErrorKind::NotResponding,
-        ErrorKind::Protocol,
-        ErrorKind::RingFull,
-        ErrorKind::Timeout,
-        ErrorKind::Aborted,
-        ErrorKind::BadAxis,
-        ErrorKind::NotFinite,
-        ErrorKind::NonPositiveLimit,
-        ErrorKind::AxisDisabled,
-        ErrorKind::InvalidState,
-        ErrorKind::BadConfig,
-        ErrorKind::Infeasible,
-        ErrorKind::OutOfRange,
-        ErrorKind::AxesEnabled,
-        ErrorKind::UnknownCommand,
-        ErrorKind::Io,
-        ErrorKind::Unsupported,
-        ErrorKind::BadGroup,
-        ErrorKind::AxisInOtherGroup,
-        ErrorKind::AxisNotInGroup,
-        ErrorKind::AxisBusy,
-        ErrorKind::AxisGrouped,
-        ErrorKind::ZeroLengthArc,
-        ErrorKind::CentreNotEquidistant,
-        ErrorKind::RadiusTooSmall,
-        ErrorKind::CollinearPoints,
-        ErrorKind::QueueFull,
-        ErrorKind::IncompatibleMode,
-        ErrorKind::GroupDisabled,
-        ErrorKind::FilterBusy,
-        ErrorKind::NurbsSequence,
-        ErrorKind::NurbsDegree,
-        ErrorKind::NurbsDimension,
-        ErrorKind::NurbsCtrlCount,
-        ErrorKind::NurbsKnotCount,
-        ErrorKind::NurbsKnotsDecreasing,
-        ErrorKind::NurbsKnotMultiplicity,
-        ErrorKind::NurbsNotClamped,
-        ErrorKind::NurbsWeight,
-        ErrorKind::NurbsPoint,
-        ErrorKind::NurbsStart,
-        ErrorKind::NurbsZeroLength,
-    ];
+    /// Every `ErrorKind`, listed once and used twice: as the array the test walks, and as the
+    /// arms of a match the compiler checks for exhaustiveness. A kind added to the SDK does not
+    /// compile here until it is listed, so the list cannot go stale.
+    macro_rules! every_kind {
+        ($($k:ident),+ $(,)?) => {
+            const KINDS: &[ErrorKind] = &[$(ErrorKind::$k),+];
+            #[allow(dead_code)]
+            fn listed(k: ErrorKind) {
+                match k {
+                    $(ErrorKind::$k => {})+
+                }
+            }
+        };
+    }
+
+    every_kind!(
+        BadUri,
+        NotFound,
+        Busy,
+        VersionMismatch,
+        NotResponding,
+        Protocol,
+        RingFull,
+        Timeout,
+        Aborted,
+        BadAxis,
+        NotFinite,
+        NonPositiveLimit,
+        AxisDisabled,
+        InvalidState,
+        BadConfig,
+        Infeasible,
+        OutOfRange,
+        AxesEnabled,
+        UnknownCommand,
+        Io,
+        Unsupported,
+        BadGroup,
+        AxisInOtherGroup,
+        AxisNotInGroup,
+        AxisBusy,
+        AxisGrouped,
+        ZeroLengthArc,
+        CentreNotEquidistant,
+        RadiusTooSmall,
+        CollinearPoints,
+        QueueFull,
+        IncompatibleMode,
+        GroupDisabled,
+        FilterBusy,
+        NurbsSequence,
+        NurbsDegree,
+        NurbsDimension,
+        NurbsCtrlCount,
+        NurbsKnotCount,
+        NurbsKnotsDecreasing,
+        NurbsKnotMultiplicity,
+        NurbsNotClamped,
+        NurbsWeight,
+        NurbsPoint,
+        NurbsStart,
+        NurbsZeroLength,
+        WatchdogTripped,
+        EStopActive,
+        HardLimit,
+        SoftLimit,
+        CauseActive,
+        WatchdogTimeout,
+        BadCategory,
+    );
 
     #[test]
     fn codes_are_one_to_one_with_kinds_and_described() {
+        // Listed once each (a kind listed twice would also pass the match).
+        let distinct: std::collections::HashSet<_> = KINDS.iter().collect();
+        assert_eq!(distinct.len(), KINDS.len(), "a kind is listed twice");
         let mut codes: Vec<mc_result> = KINDS.iter().map(|k| code_of(*k)).collect();
         codes.extend([
             MC_ERR_BAD_HANDLE,

@@ -4,11 +4,12 @@
 //! library does not know would be undefined behaviour in C++). The constants are literals for
 //! cbindgen; the tests check them against the SDK.
 
-use crate::result::{Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_CONFIG};
+use crate::result::{Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_CATEGORY, MC_ERR_BAD_CONFIG};
 use motioncard_sdk::{
     AccDec, ArcSpec, AxisSettings, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
     FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
-    NurbsFeed, PathLimits, PdPlusSettings, Plane, Status,
+    NurbsFeed, PathLimits, PdPlusSettings, Plane, SafetySettings, SafetyStatus, Status,
+    StopCategory, StopInfo, StopReason,
 };
 
 /// Most axes in a group, as a length.
@@ -33,6 +34,26 @@ pub const MC_AXIS_STATE_ERROR_STOP: u32 = 7;
 
 /// Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
 pub const MC_AXIS_FAULT_DAC_SATURATED: u32 = 1;
+/// Fault bit: the host watchdog tripped (the heartbeat stopped).
+pub const MC_AXIS_FAULT_WATCHDOG: u32 = 0x100;
+/// Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
+pub const MC_AXIS_FAULT_ESTOP: u32 = 0x200;
+/// Fault bit: at or beyond the positive limit switch.
+pub const MC_AXIS_FAULT_HARD_LIMIT_POS: u32 = 0x400;
+/// Fault bit: at or beyond the negative limit switch.
+pub const MC_AXIS_FAULT_HARD_LIMIT_NEG: u32 = 0x800;
+/// Fault bit: beyond the positive soft limit.
+pub const MC_AXIS_FAULT_SOFT_LIMIT_POS: u32 = 0x1000;
+/// Fault bit: beyond the negative soft limit.
+pub const MC_AXIS_FAULT_SOFT_LIMIT_NEG: u32 = 0x2000;
+/// Fault bit: the following error exceeded its limit.
+pub const MC_AXIS_FAULT_FOLLOWING_ERROR: u32 = 0x4000;
+/// Fault bit: the amplifier's alarm input.
+pub const MC_AXIS_FAULT_AMP_ALARM: u32 = 0x8000;
+/// Fault bit: encoder loss or a jump.
+pub const MC_AXIS_FAULT_ENCODER: u32 = 0x10000;
+/// Fault bit: the host broke the protocol (corrupt ring indices).
+pub const MC_AXIS_FAULT_PROTOCOL: u32 = 0x20000;
 
 /// Capability bit of `mc_card_info.capabilities`: S-curve profiles.
 pub const MC_CARD_CAP_SCURVE: u32 = 1;
@@ -251,6 +272,10 @@ pub struct mc_raw_status {
     pub move_time: f64,
     /// The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
     pub u_request: f64,
+    /// Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
+    pub stop_reason: u32,
+    /// The axis's input bits and drive-enable output (`MC_IO_` bits).
+    pub io: u32,
 }
 
 /// A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
@@ -279,6 +304,12 @@ pub struct mc_status {
     pub dac_volts: f64,
     /// The same snapshot in counts, with the card's per-move statistics.
     pub raw: mc_raw_status,
+    /// Why the last motion ended (`MC_STOP_REASON_` value; a newer card may report one this
+    /// library has no constant for).
+    pub stop_reason: u32,
+    /// The axis's limit switch, home, amplifier alarm, encoder fault and e-stop inputs and its
+    /// drive-enable output (`MC_IO_` bits).
+    pub io: u32,
 }
 
 /// The `MC_AXIS_STATE_` value of a state.
@@ -349,7 +380,11 @@ impl From<&Status> for mc_status {
                 planned_time: r.planned_time,
                 move_time: r.move_time,
                 u_request: r.u_request,
+                stop_reason: r.stop_reason,
+                io: r.io,
             },
+            stop_reason: s.stop_reason().map_or(r.stop_reason, stop_reason_code),
+            io: s.io(),
         }
     }
 }
@@ -873,6 +908,267 @@ impl From<mc_nurbs_feed> for NurbsFeed {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Safety
+// ---------------------------------------------------------------------------------------------
+
+/// Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
+/// `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
+pub const MC_STOP_REASON_NONE: u32 = 0;
+/// The move reached its target and is in position.
+pub const MC_STOP_REASON_DONE: u32 = 1;
+/// `mc_halt`.
+pub const MC_STOP_REASON_HALT: u32 = 2;
+/// `mc_stop`.
+pub const MC_STOP_REASON_STOP: u32 = 3;
+/// `mc_disable` by the host.
+pub const MC_STOP_REASON_POWER_OFF: u32 = 4;
+/// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
+pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
+/// The host's e-stop (`mc_estop`).
+pub const MC_STOP_REASON_ESTOP_COMMAND: u32 = 17;
+/// The card's e-stop input.
+pub const MC_STOP_REASON_ESTOP_INPUT: u32 = 18;
+/// The positive limit switch.
+pub const MC_STOP_REASON_HARD_LIMIT_POS: u32 = 19;
+/// The negative limit switch.
+pub const MC_STOP_REASON_HARD_LIMIT_NEG: u32 = 20;
+/// The positive soft limit.
+pub const MC_STOP_REASON_SOFT_LIMIT_POS: u32 = 21;
+/// The negative soft limit.
+pub const MC_STOP_REASON_SOFT_LIMIT_NEG: u32 = 22;
+/// The following error exceeded its limit.
+pub const MC_STOP_REASON_FOLLOWING_ERROR: u32 = 23;
+/// The amplifier's alarm input.
+pub const MC_STOP_REASON_AMP_ALARM: u32 = 24;
+/// The encoder's line-break detector.
+pub const MC_STOP_REASON_ENCODER_LOSS: u32 = 25;
+/// An encoder count change larger than physically possible.
+pub const MC_STOP_REASON_ENCODER_JUMP: u32 = 26;
+/// Queued motion ran out: a planned stop at the end of what was queued.
+pub const MC_STOP_REASON_STARVATION: u32 = 27;
+/// The command ring's indices were corrupt.
+pub const MC_STOP_REASON_CMD_RING: u32 = 28;
+/// The event ring's indices were corrupt.
+pub const MC_STOP_REASON_EVT_RING: u32 = 29;
+/// Another axis of its group tripped.
+pub const MC_STOP_REASON_GROUP: u32 = 30;
+
+/// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
+/// `mc_safety_settings.limit_stop`): remove power at once.
+pub const MC_STOP_CATEGORY_0: u32 = 0;
+/// A controlled stop, then power removed.
+pub const MC_STOP_CATEGORY_1: u32 = 1;
+/// A controlled stop, power kept (the axis holds its position).
+pub const MC_STOP_CATEGORY_2: u32 = 2;
+
+/// Bit of `mc_status.io`: the positive limit switch input.
+pub const MC_IO_LIMIT_POS: u32 = 0x1;
+/// The negative limit switch input.
+pub const MC_IO_LIMIT_NEG: u32 = 0x2;
+/// The home switch input.
+pub const MC_IO_HOME: u32 = 0x4;
+/// The amplifier alarm input.
+pub const MC_IO_AMP_ALARM: u32 = 0x8;
+/// The encoder line-break detector.
+pub const MC_IO_ENCODER_FAULT: u32 = 0x10;
+/// The card's e-stop input (the same on every axis).
+pub const MC_IO_ESTOP: u32 = 0x20;
+/// Output: the axis's amplifier is enabled.
+pub const MC_IO_DRIVE_ENABLE: u32 = 0x100;
+
+/// The `MC_STOP_REASON_` value of a stop reason.
+pub(crate) fn stop_reason_code(r: StopReason) -> u32 {
+    match r {
+        StopReason::None => MC_STOP_REASON_NONE,
+        StopReason::Done => MC_STOP_REASON_DONE,
+        StopReason::Halt => MC_STOP_REASON_HALT,
+        StopReason::Stop => MC_STOP_REASON_STOP,
+        StopReason::PowerOff => MC_STOP_REASON_POWER_OFF,
+        StopReason::Watchdog => MC_STOP_REASON_WATCHDOG,
+        StopReason::EStopCommand => MC_STOP_REASON_ESTOP_COMMAND,
+        StopReason::EStopInput => MC_STOP_REASON_ESTOP_INPUT,
+        StopReason::HardLimitPos => MC_STOP_REASON_HARD_LIMIT_POS,
+        StopReason::HardLimitNeg => MC_STOP_REASON_HARD_LIMIT_NEG,
+        StopReason::SoftLimitPos => MC_STOP_REASON_SOFT_LIMIT_POS,
+        StopReason::SoftLimitNeg => MC_STOP_REASON_SOFT_LIMIT_NEG,
+        StopReason::FollowingError => MC_STOP_REASON_FOLLOWING_ERROR,
+        StopReason::AmpAlarm => MC_STOP_REASON_AMP_ALARM,
+        StopReason::EncoderLoss => MC_STOP_REASON_ENCODER_LOSS,
+        StopReason::EncoderJump => MC_STOP_REASON_ENCODER_JUMP,
+        StopReason::Starvation => MC_STOP_REASON_STARVATION,
+        StopReason::CmdRing => MC_STOP_REASON_CMD_RING,
+        StopReason::EvtRing => MC_STOP_REASON_EVT_RING,
+        StopReason::Group => MC_STOP_REASON_GROUP,
+    }
+}
+
+/// The `MC_STOP_CATEGORY_` value of a stop category.
+pub(crate) fn category_code(c: StopCategory) -> u32 {
+    match c {
+        StopCategory::Cat0 => MC_STOP_CATEGORY_0,
+        StopCategory::Cat1 => MC_STOP_CATEGORY_1,
+        StopCategory::Cat2 => MC_STOP_CATEGORY_2,
+    }
+}
+
+/// The stop category of an `MC_STOP_CATEGORY_` value; any other value is
+/// `MC_ERR_BAD_CATEGORY`, the code the card gives for one.
+pub(crate) fn stop_category(v: u32) -> Result<StopCategory, Failure> {
+    match v {
+        MC_STOP_CATEGORY_0 => Ok(StopCategory::Cat0),
+        MC_STOP_CATEGORY_1 => Ok(StopCategory::Cat1),
+        MC_STOP_CATEGORY_2 => Ok(StopCategory::Cat2),
+        v => Err(Failure::new(
+            MC_ERR_BAD_CATEGORY,
+            format!("unknown stop category {v}: expected MC_STOP_CATEGORY_0, _1 or _2"),
+        )),
+    }
+}
+
+/// The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_safety_status {
+    /// The host watchdog tripped; latched until `mc_reset_faults`.
+    pub watchdog_tripped: u32,
+    /// The host's e-stop (`mc_estop`) is latched.
+    pub estop_command: u32,
+    /// The e-stop input tripped; latched until reset with the input released.
+    pub estop_input: u32,
+    /// The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+    pub watchdog_armed: u32,
+    /// Servo tick at which the card last saw the heartbeat change.
+    pub last_heartbeat_tick: u64,
+    /// Servo tick of the last watchdog trip (0: never).
+    pub watchdog_trip_tick: u64,
+    /// The tick of the last heartbeat the card saw before that trip.
+    pub trip_heartbeat_tick: u64,
+    /// Protocol errors (corrupt ring indices) the card detected since boot.
+    pub protocol_errors: u32,
+}
+
+impl From<SafetyStatus> for mc_safety_status {
+    fn from(s: SafetyStatus) -> Self {
+        Self {
+            watchdog_tripped: s.watchdog_tripped.into(),
+            estop_command: s.estop_command.into(),
+            estop_input: s.estop_input.into(),
+            watchdog_armed: s.watchdog_armed.into(),
+            last_heartbeat_tick: s.last_heartbeat_tick,
+            watchdog_trip_tick: s.watchdog_trip_tick,
+            trip_heartbeat_tick: s.trip_heartbeat_tick,
+            protocol_errors: s.protocol_errors,
+        }
+    }
+}
+
+/// An axis's safety configuration (`mc_configure_safety`), in user units (see `mc_set_scale`).
+/// Start from `mc_safety_settings_default`. Flags: non-zero is on.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_safety_settings {
+    /// Enforce `soft_limit_neg` .. `soft_limit_pos` (off by default).
+    pub soft_limits: u32,
+    /// Honour the limit switch inputs.
+    pub hard_limits: u32,
+    /// Honour the amplifier alarm input.
+    pub amp_alarm: u32,
+    /// Honour encoder loss and jumps.
+    pub encoder_checks: u32,
+    /// The stop a hard or soft limit makes (`MC_STOP_CATEGORY_`).
+    pub limit_stop: u32,
+    /// Negative soft limit (used when `soft_limits` is on; 0 in the defaults).
+    pub soft_limit_neg: f64,
+    /// Positive soft limit (used when `soft_limits` is on; 0 in the defaults).
+    pub soft_limit_pos: f64,
+    /// Following-error limit at `max_velocity` (LinuxCNC FERROR); the limit at velocity v is
+    /// `max(ferror * |v| / max_velocity, min_ferror)`.
+    pub ferror: f64,
+    /// Following-error limit at rest (LinuxCNC MIN_FERROR).
+    pub min_ferror: f64,
+    /// The velocity `ferror` applies at.
+    pub max_velocity: f64,
+    /// Deceleration of category 1 and 2 stops.
+    pub stop_deceleration: f64,
+    /// Jerk of those stops.
+    pub stop_jerk: f64,
+    /// Fastest physically possible encoder velocity: a larger change in one tick is a fault.
+    pub encoder_max_velocity: f64,
+}
+
+impl mc_safety_settings {
+    pub(crate) fn to_sdk(self) -> Result<SafetySettings, Failure> {
+        Ok(SafetySettings {
+            soft_limits: (self.soft_limits != 0)
+                .then_some((self.soft_limit_neg, self.soft_limit_pos)),
+            hard_limits: self.hard_limits != 0,
+            amp_alarm: self.amp_alarm != 0,
+            encoder_checks: self.encoder_checks != 0,
+            limit_stop: stop_category(self.limit_stop)?,
+            ferror: self.ferror,
+            min_ferror: self.min_ferror,
+            max_velocity: self.max_velocity,
+            stop_deceleration: self.stop_deceleration,
+            stop_jerk: self.stop_jerk,
+            encoder_max_velocity: self.encoder_max_velocity,
+        })
+    }
+}
+
+impl From<SafetySettings> for mc_safety_settings {
+    fn from(s: SafetySettings) -> Self {
+        let (neg, pos) = s.soft_limits.unwrap_or((0.0, 0.0));
+        Self {
+            soft_limits: s.soft_limits.is_some().into(),
+            hard_limits: s.hard_limits.into(),
+            amp_alarm: s.amp_alarm.into(),
+            encoder_checks: s.encoder_checks.into(),
+            limit_stop: category_code(s.limit_stop),
+            soft_limit_neg: neg,
+            soft_limit_pos: pos,
+            ferror: s.ferror,
+            min_ferror: s.min_ferror,
+            max_velocity: s.max_velocity,
+            stop_deceleration: s.stop_deceleration,
+            stop_jerk: s.stop_jerk,
+            encoder_max_velocity: s.encoder_max_velocity,
+        }
+    }
+}
+
+/// How an axis's last safety stop went, measured by the card (`mc_get_stop_info`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_stop_info {
+    /// Why the last motion ended (`MC_STOP_REASON_` value).
+    pub reason: u32,
+    /// 1 when the axis has come to rest after its last safety stop (`rest_tick` is valid), 0
+    /// while it is still stopping or when there was none.
+    pub at_rest: u32,
+    /// Servo tick at which the last safety stop began (0: none since boot).
+    pub stop_tick: u64,
+    /// Servo tick at which the axis came to rest after it (0 while still stopping).
+    pub rest_tick: u64,
+    /// Planned duration of the stop's deceleration ramp, s (0 for category 0).
+    pub ramp_time: f64,
+}
+
+impl From<StopInfo> for mc_stop_info {
+    fn from(i: StopInfo) -> Self {
+        Self {
+            reason: stop_reason_code(i.reason),
+            at_rest: i.rest_tick.is_some().into(),
+            stop_tick: i.stop_tick,
+            rest_tick: i.rest_tick.unwrap_or(0),
+            ramp_time: i.ramp_time.as_secs_f64(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -886,7 +1182,36 @@ mod tests {
         for k in EventKind::ALL {
             assert_eq!(event_code(*k), *k as u32, "{k:?}");
         }
-        assert_eq!(MC_AXIS_FAULT_DAC_SATURATED, raw::MC_FAULT_DAC_SATURATED);
+        for r in StopReason::ALL {
+            assert_eq!(stop_reason_code(*r), *r as u32, "{r:?}");
+        }
+        for c in StopCategory::ALL {
+            assert_eq!(category_code(*c), *c as u32, "{c:?}");
+            assert_eq!(stop_category(category_code(*c)).unwrap(), *c);
+        }
+        use motioncard_sdk::proto::{fault, io};
+        for (ours, card) in [
+            (MC_AXIS_FAULT_DAC_SATURATED, fault::DAC_SATURATED),
+            (MC_AXIS_FAULT_WATCHDOG, fault::WATCHDOG),
+            (MC_AXIS_FAULT_ESTOP, fault::ESTOP),
+            (MC_AXIS_FAULT_HARD_LIMIT_POS, fault::HARD_LIMIT_POS),
+            (MC_AXIS_FAULT_HARD_LIMIT_NEG, fault::HARD_LIMIT_NEG),
+            (MC_AXIS_FAULT_SOFT_LIMIT_POS, fault::SOFT_LIMIT_POS),
+            (MC_AXIS_FAULT_SOFT_LIMIT_NEG, fault::SOFT_LIMIT_NEG),
+            (MC_AXIS_FAULT_FOLLOWING_ERROR, fault::FOLLOWING_ERROR),
+            (MC_AXIS_FAULT_AMP_ALARM, fault::AMP_ALARM),
+            (MC_AXIS_FAULT_ENCODER, fault::ENCODER),
+            (MC_AXIS_FAULT_PROTOCOL, fault::PROTOCOL),
+            (MC_IO_LIMIT_POS, io::LIMIT_POS),
+            (MC_IO_LIMIT_NEG, io::LIMIT_NEG),
+            (MC_IO_HOME, io::HOME),
+            (MC_IO_AMP_ALARM, io::AMP_ALARM),
+            (MC_IO_ENCODER_FAULT, io::ENCODER_FAULT),
+            (MC_IO_ESTOP, io::ESTOP),
+            (MC_IO_DRIVE_ENABLE, io::DRIVE_ENABLE),
+        ] {
+            assert_eq!(ours, card, "{ours:#x}");
+        }
         assert_eq!(MC_CARD_CAP_SCURVE, raw::MC_CAP_SCURVE);
         assert_eq!(MC_CARD_CAP_FFPIV, raw::MC_CAP_FFPIV);
         assert_eq!(MC_CARD_CAP_EVENT_IRQ, raw::MC_CAP_EVENT_IRQ);
@@ -1020,6 +1345,55 @@ mod tests {
             ..feed
         };
         assert_eq!(NurbsFeed::from(aware).saturation, Some(0.8));
+    }
+
+    #[test]
+    fn safety_types_round_trip_and_unknown_categories_are_refused() {
+        let d = SafetySettings::default();
+        let c = mc_safety_settings::from(d);
+        assert_eq!((c.soft_limits, c.hard_limits), (0, 1));
+        assert_eq!(c.to_sdk().unwrap(), d);
+        let s = SafetySettings {
+            soft_limits: Some((-5.0, 7.0)),
+            hard_limits: false,
+            amp_alarm: false,
+            encoder_checks: false,
+            limit_stop: StopCategory::Cat2,
+            ..d
+        };
+        let c = mc_safety_settings::from(s);
+        assert_eq!(c.limit_stop, MC_STOP_CATEGORY_2);
+        assert_eq!(c.to_sdk().unwrap(), s);
+        // Any non-zero flag is on.
+        let on = mc_safety_settings {
+            hard_limits: 7,
+            soft_limits: 0xFFFF_FFFF,
+            ..c
+        }
+        .to_sdk()
+        .unwrap();
+        assert!(on.hard_limits && on.soft_limits == Some((-5.0, 7.0)));
+        for v in [3, 4, u32::MAX] {
+            let bad = mc_safety_settings { limit_stop: v, ..c };
+            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CATEGORY, "{v}");
+            assert_eq!(stop_category(v).unwrap_err().code, MC_ERR_BAD_CATEGORY);
+        }
+        let info = mc_stop_info::from(StopInfo {
+            reason: StopReason::SoftLimitNeg,
+            stop_tick: 10,
+            rest_tick: None,
+            ramp_time: std::time::Duration::from_millis(20),
+        });
+        assert_eq!(
+            info,
+            mc_stop_info {
+                reason: MC_STOP_REASON_SOFT_LIMIT_NEG,
+                at_rest: 0,
+                stop_tick: 10,
+                rest_tick: 0,
+                ramp_time: 0.02
+            }
+        );
     }
 
     #[test]

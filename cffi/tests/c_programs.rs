@@ -2,8 +2,8 @@
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups` and `errors` on a stepped card only). One program is also
-//! linked statically; `errors` and `groups` also run under valgrind.
+//! (real-time) and `stepped` (`groups`, `errors` and `safety` on stepped cards only). One program
+//! is also linked statically; `errors`, `groups` and `safety` also run under valgrind.
 //!
 //! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
 //! asserts on time: the child processes only have a generous limit so a hang fails instead of
@@ -12,7 +12,7 @@
 #[path = "../../xtask/src/install.rs"]
 mod install;
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::{Mutex, OnceLock};
@@ -312,6 +312,119 @@ fn every_error_path_and_misuse() {
     assert!(out.contains("PASS errors\n"), "{out}");
 }
 
+#[test]
+fn safety_stops_from_c() {
+    let out = run(&compile("safety", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS safety\n"), "{out}");
+    // 5 ms at 10 kHz.
+    assert!(
+        out.contains("watchdog: tripped 50 ticks after the heartbeat stopped"),
+        "{out}"
+    );
+    assert!(out.contains("e-stop: category 1 stopped 4 axes"), "{out}");
+    assert!(
+        out.contains("soft limit: refused beyond, stopped at -10"),
+        "{out}"
+    );
+    assert!(out.contains("following error: tripped at "), "{out}");
+}
+
+/// The `MC_ERR_` names the header defines.
+fn header_codes() -> BTreeSet<String> {
+    let h =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/motioncard.h"))
+            .unwrap();
+    let codes: BTreeSet<String> = h
+        .lines()
+        .filter_map(|l| l.strip_prefix("#define "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|n| n.starts_with("MC_ERR_"))
+        .map(String::from)
+        .collect();
+    assert!(codes.len() > 50, "{codes:?}");
+    codes
+}
+
+/// The codes a C source expects from its calls: the last argument of each `EXPECT(call, CODE)`
+/// (each program exits when a call returns anything else, so a program that passes returned
+/// every code it expects).
+fn expected_codes(src: &str) -> BTreeSet<String> {
+    let mut codes = BTreeSet::new();
+    for (start, _) in src.match_indices("EXPECT(") {
+        let body = &src[start + "EXPECT(".len()..];
+        let (mut depth, mut last_comma, mut end) = (0i32, None, None);
+        for (i, ch) in body.char_indices() {
+            match ch {
+                '(' => depth += 1,
+                ')' if depth == 0 => {
+                    end = Some(i);
+                    break;
+                }
+                ')' => depth -= 1,
+                ',' if depth == 0 => last_comma = Some(i),
+                _ => {}
+            }
+        }
+        if let (Some(c), Some(e)) = (last_comma, end) {
+            let code = body[c + 1..e].trim();
+            if code.starts_with("MC_ERR_") {
+                codes.insert(code.to_string());
+            }
+        }
+    }
+    codes
+}
+
+#[test]
+fn errors_c_lists_every_code_of_the_header() {
+    let src = std::fs::read_to_string(examples_dir().join("errors.c")).unwrap();
+    let start = src.find("ALL_CODES[] = {").expect("ALL_CODES in errors.c");
+    let end = start + src[start..].find("};").unwrap();
+    let listed: BTreeSet<String> = src[start..end]
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| w.starts_with("MC_ERR_"))
+        .map(String::from)
+        .collect();
+    assert_eq!(listed, header_codes());
+}
+
+/// Codes no C program can provoke with an emulated card (see errors.c): the Rust tests cover
+/// them on the SDK side.
+const NOT_PROVOKABLE_FROM_C: &[&str] = &[
+    "MC_ERR_VERSION_MISMATCH",
+    "MC_ERR_NOT_RESPONDING",
+    "MC_ERR_PROTOCOL",
+    "MC_ERR_RING_FULL",
+    "MC_ERR_UNKNOWN_COMMAND",
+    "MC_ERR_IO",
+    "MC_ERR_NURBS_SEQUENCE",
+    "MC_ERR_HARD_LIMIT",
+    "MC_ERR_BUSY",
+    "MC_ERR_PANIC",
+];
+
+#[test]
+fn every_code_is_expected_by_some_c_program() {
+    let mut expected = BTreeSet::new();
+    for entry in std::fs::read_dir(examples_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "c") {
+            expected.extend(expected_codes(&std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    let not_provokable: BTreeSet<String> = NOT_PROVOKABLE_FROM_C
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let both: Vec<_> = expected.intersection(&not_provokable).collect();
+    assert!(both.is_empty(), "provoked after all: {both:?}");
+    let missing: Vec<_> = header_codes()
+        .into_iter()
+        .filter(|c| !expected.contains(c) && !not_provokable.contains(c))
+        .collect();
+    assert!(missing.is_empty(), "no C program expects {missing:?}");
+}
+
 /// Run a program under valgrind. Definite and indirect leaks are errors; "possibly lost" and
 /// "still reachable" are not (the card table and Rust's thread-locals live until exit). No
 /// suppressions are needed.
@@ -340,6 +453,12 @@ fn misuse_program_is_clean_under_valgrind() {
 fn groups_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("groups");
     assert!(out.contains("PASS groups\n"), "{out}");
+}
+
+#[test]
+fn safety_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("safety");
+    assert!(out.contains("PASS safety\n"), "{out}");
 }
 
 #[test]

@@ -43,6 +43,7 @@ static void expect_in_message(const char *part) {
     ASSERT(strstr(last_error(msg, sizeof msg), part), "\"%s\" not in \"%s\"", part, msg);
 }
 
+/* Every result code of the header (the Rust test checks this list against motioncard.h). */
 static const mc_result ALL_CODES[] = {
     MC_ERR_BAD_URI,        MC_ERR_NOT_FOUND,       MC_ERR_BUSY,
     MC_ERR_VERSION_MISMATCH, MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL,
@@ -51,18 +52,50 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_AXIS_DISABLED,  MC_ERR_INVALID_STATE,   MC_ERR_BAD_CONFIG,
     MC_ERR_INFEASIBLE,     MC_ERR_OUT_OF_RANGE,    MC_ERR_AXES_ENABLED,
     MC_ERR_UNKNOWN_COMMAND, MC_ERR_IO,             MC_ERR_UNSUPPORTED,
+    /* groups */
+    MC_ERR_BAD_GROUP,      MC_ERR_AXIS_IN_OTHER_GROUP, MC_ERR_AXIS_NOT_IN_GROUP,
+    MC_ERR_AXIS_BUSY,      MC_ERR_AXIS_GROUPED,    MC_ERR_ZERO_LENGTH_ARC,
+    MC_ERR_CENTRE_NOT_EQUIDISTANT, MC_ERR_RADIUS_TOO_SMALL, MC_ERR_COLLINEAR_POINTS,
+    MC_ERR_QUEUE_FULL,     MC_ERR_INCOMPATIBLE_MODE, MC_ERR_GROUP_DISABLED,
+    MC_ERR_FILTER_BUSY,
+    /* NURBS */
+    MC_ERR_NURBS_SEQUENCE, MC_ERR_NURBS_DEGREE,    MC_ERR_NURBS_DIMENSION,
+    MC_ERR_NURBS_CTRL_COUNT, MC_ERR_NURBS_KNOT_COUNT, MC_ERR_NURBS_KNOTS_DECREASING,
+    MC_ERR_NURBS_KNOT_MULTIPLICITY, MC_ERR_NURBS_NOT_CLAMPED, MC_ERR_NURBS_WEIGHT,
+    MC_ERR_NURBS_POINT,    MC_ERR_NURBS_START,     MC_ERR_NURBS_ZERO_LENGTH,
+    /* safety */
+    MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE,  MC_ERR_HARD_LIMIT,
+    MC_ERR_SOFT_LIMIT,     MC_ERR_CAUSE_ACTIVE,    MC_ERR_WATCHDOG_TIMEOUT,
+    MC_ERR_BAD_CATEGORY,
+    /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
 };
 #define NCODES (sizeof ALL_CODES / sizeof ALL_CODES[0])
 
-/* Codes this program cannot provoke with an emulated card in one process: another process
-   holding the card, a card with another layout or one that stops answering or corrupts the
-   protocol, a command the typed API never sends, an OS failure, a bug. The Rust tests cover
-   the SDK side of those; here they are only checked to exist and be described. */
+/* Codes this program does not return. Some no emulated card can provoke from C: a card with
+   another layout, one that stops answering or corrupts the protocol, a full command ring, a
+   command the typed API never sends (an unknown opcode, NURBS data out of sequence), an OS
+   failure, a limit switch (an input only the Rust fault injector presses). The Rust tests
+   cover the SDK side of those; here they are only checked to exist and be described. The
+   others are returned by the programs named (the Rust test checks that every code is
+   expected by some program or listed as not provokable). */
 static const mc_result NOT_PROVOKED[] = {
-    MC_ERR_BUSY,     MC_ERR_VERSION_MISMATCH, MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL,
-    MC_ERR_RING_FULL, MC_ERR_UNKNOWN_COMMAND, MC_ERR_IO,             MC_ERR_PANIC,
+    /* not provokable from C */
+    MC_ERR_VERSION_MISMATCH, MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL, MC_ERR_RING_FULL,
+    MC_ERR_UNKNOWN_COMMAND, MC_ERR_IO, MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT,
+    /* groups.c */
+    MC_ERR_BAD_GROUP, MC_ERR_AXIS_IN_OTHER_GROUP, MC_ERR_AXIS_GROUPED, MC_ERR_ZERO_LENGTH_ARC,
+    MC_ERR_CENTRE_NOT_EQUIDISTANT, MC_ERR_RADIUS_TOO_SMALL, MC_ERR_COLLINEAR_POINTS,
+    MC_ERR_INCOMPATIBLE_MODE, MC_ERR_GROUP_DISABLED, MC_ERR_FILTER_BUSY, MC_ERR_NURBS_DEGREE,
+    MC_ERR_NURBS_DIMENSION, MC_ERR_NURBS_CTRL_COUNT, MC_ERR_NURBS_KNOT_COUNT,
+    MC_ERR_NURBS_KNOTS_DECREASING, MC_ERR_NURBS_KNOT_MULTIPLICITY, MC_ERR_NURBS_NOT_CLAMPED,
+    MC_ERR_NURBS_WEIGHT, MC_ERR_NURBS_POINT, MC_ERR_NURBS_START, MC_ERR_NURBS_ZERO_LENGTH,
+    /* safety.c */
+    MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE, MC_ERR_SOFT_LIMIT, MC_ERR_CAUSE_ACTIVE,
+    MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
+    /* not yet provoked from C */
+    MC_ERR_BUSY, MC_ERR_PANIC,
 };
 
 static void result_strings(void) {
@@ -146,8 +179,12 @@ static void all_calls_bad_handle(mc_card h) {
     size_t n = 99;
     double d = 99.0;
     int fd = 99;
+    mc_safety_status ss = {.protocol_errors = 99};
+    mc_safety_settings saf;
+    mc_stop_info si = {.reason = 99};
     CHECK(mc_axis_settings_default(&cfg));
     CHECK(mc_move_limits_symmetric(1e5, 1e6, 5e7, &lim));
+    CHECK(mc_safety_settings_default(&saf));
     EXPECT(mc_get_info(h, &info), MC_ERR_BAD_HANDLE);
     EXPECT(mc_get_tick(h, &u64), MC_ERR_BAD_HANDLE);
     EXPECT(mc_ping(h), MC_ERR_BAD_HANDLE);
@@ -173,9 +210,18 @@ static void all_calls_bad_handle(mc_card h) {
     EXPECT(mc_dispatch_events(h, 0, &n), MC_ERR_BAD_HANDLE);
     EXPECT(mc_sim_step(h, 1), MC_ERR_BAD_HANDLE);
     EXPECT(mc_sim_time(h, &d), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_set_heartbeat(h, 1), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_set_watchdog_timeout(h, 5000), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_set_estop_input_category(h, MC_STOP_CATEGORY_1), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_estop(h, MC_STOP_CATEGORY_0), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_reset_faults(h), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_get_safety_status(h, &ss), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_configure_safety(h, 0, &saf), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_get_stop_info(h, 0, &si), MC_ERR_BAD_HANDLE);
     EXPECT(mc_close(h), MC_ERR_BAD_HANDLE);
     ASSERT(info.axes == 99 && st.state == 99 && ev.kind == 99 && u64 == 99 && u32 == 99 &&
-               n == 99 && d == 99.0 && fd == 99 && m.seq == 1,
+               n == 99 && d == 99.0 && fd == 99 && m.seq == 1 && ss.protocol_errors == 99 &&
+               si.reason == 99,
            "an output was written by a failed call");
 }
 
@@ -366,6 +412,45 @@ static void states(mc_card c) {
     ASSERT(dropped == 0 && lost == 0, "events lost: %llu, %u", (unsigned long long)dropped, lost);
 }
 
+/* Group refusals the groups program does not make: a group enabled while one of its axes moves
+   on its own, an arc in a plane the group does not have, a full move queue. */
+static void group_refusals(void) {
+    mc_card c = 0;
+    CHECK(mc_open_sim_stepped(2, 10000, &c));
+    mc_move_limits lim;
+    CHECK(mc_move_limits_symmetric(1e5, 1e6, 5e7, &lim));
+    const uint32_t xy[2] = {0, 1};
+    for (int i = 0; i < 2; i++) CHECK(mc_enable(c, xy[i]));
+    mc_group_settings gs;
+    CHECK(mc_group_settings_new(xy, 2, &gs));
+    CHECK(mc_group_configure(c, 0, &gs));
+    CHECK(mc_move_relative(c, 0, 1e5, &lim, NULL));
+    EXPECT(mc_group_enable(c, 0), MC_ERR_AXIS_BUSY);
+    expect_in_message("moving on its own");
+    CHECK(mc_halt(c, 0, 1e6, 5e7, NULL));
+    double at = 0.0;
+    CHECK(mc_wait_done(c, 0, 5000, &at));
+    EXPECT(mc_group_enable(c, 0), MC_OK);
+
+    const mc_path_limits feed = {50000.0, 5e5, 5e5, 5e7};
+    const mc_move_options now = {0}, queued = {.buffered = 1};
+    const mc_arc arc = {.mode = MC_ARC_BY_CENTRE, .ccw = 1, .end = {0, 0}, .aux = {-500, 0}};
+    mc_group_motion m = {77, 77};
+    EXPECT(mc_group_move_circular(c, 0, &arc, MC_ARC_PLANE_YZ, NULL, 0, &feed, &now, &m),
+           MC_ERR_AXIS_NOT_IN_GROUP);
+    /* The queue holds 32 moves, the running one included (time stands still meanwhile). */
+    double t[2] = {1e6, 0.0};
+    EXPECT(mc_group_move_linear(c, 0, t, 2, &feed, &now, NULL), MC_OK);
+    for (int k = 1; k < 32; k++) {
+        t[1] += 1000.0;
+        EXPECT(mc_group_move_linear(c, 0, t, 2, &feed, &queued, NULL), MC_OK);
+    }
+    t[1] += 1000.0;
+    EXPECT(mc_group_move_linear(c, 0, t, 2, &feed, &queued, &m), MC_ERR_QUEUE_FULL);
+    ASSERT(m.group == 77 && m.seq == 77, "motion written by a refused move");
+    CHECK(mc_close(c));
+}
+
 static void realtime_card(void) {
     /* Stepping is for stepped cards only. */
     mc_card rt = 0;
@@ -393,6 +478,7 @@ int main(int argc, char **argv) {
     states(c);
     CHECK(mc_close(c));
     all_calls_bad_handle(c);
+    group_refusals();
     realtime_card();
 
     /* Every code was returned by some call, except those no emulated card can provoke. */
