@@ -118,6 +118,65 @@ mod tests {
         );
     }
 
+    /// A window in which a writer slips in a whole new payload while the reader is copying the
+    /// first one: the copy is torn, so the reader must retry and return the new payload.
+    struct WriterInTheMiddle {
+        w: HeapWindow,
+        seq_loads: std::cell::Cell<u32>,
+        interrupted: std::cell::Cell<bool>,
+    }
+
+    impl Mem for WriterInTheMiddle {
+        fn load32(&self, off: usize, order: core::sync::atomic::Ordering) -> u32 {
+            if off == layout::axis_status(0) {
+                self.seq_loads.set(self.seq_loads.get() + 1);
+            }
+            self.w.dpram().load32(off, order)
+        }
+        fn store32(&self, off: usize, val: u32, order: core::sync::atomic::Ordering) {
+            self.w.dpram().store32(off, val, order)
+        }
+        fn load64(&self, off: usize, order: core::sync::atomic::Ordering) -> u64 {
+            let v = self.w.dpram().load64(off, order);
+            // Halfway through the first copy, the card publishes tick 2.
+            if off == layout::axis_status(0) + layout::STATUS_PAYLOAD + 8 * 12
+                && !self.interrupted.replace(true)
+            {
+                let s = AxisStatus {
+                    tick: 2,
+                    cmd_pos: 2.0,
+                    ..Default::default()
+                };
+                write_axis_status(self.w.dpram(), 0, &s);
+            }
+            v
+        }
+        fn store64(&self, off: usize, val: u64, order: core::sync::atomic::Ordering) {
+            self.w.dpram().store64(off, val, order)
+        }
+    }
+
+    #[test]
+    fn a_write_during_the_copy_makes_the_reader_retry() {
+        let m = WriterInTheMiddle {
+            w: HeapWindow::new(),
+            seq_loads: Default::default(),
+            interrupted: Default::default(),
+        };
+        let first = AxisStatus {
+            tick: 1,
+            cmd_pos: 1.0,
+            ..Default::default()
+        };
+        write_axis_status(m.w.dpram(), 0, &first);
+        m.seq_loads.set(0);
+        let s = read_axis_status(&m, 0).unwrap();
+        assert!(m.interrupted.get());
+        assert_eq!((s.tick, s.cmd_pos), (2, 2.0), "a torn or stale copy: {s:?}");
+        // Two loads of seq for the torn attempt, two for the good one.
+        assert_eq!(m.seq_loads.get(), 4);
+    }
+
     #[test]
     fn garbage_payload_fails_checksum() {
         let w = HeapWindow::new();
