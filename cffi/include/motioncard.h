@@ -40,7 +40,7 @@
  *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time,
  *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
  *   mc_pdplus_settings_die_bonder, mc_set_heartbeat, mc_get_safety_status,
- *   mc_safety_settings_default.
+ *   mc_safety_settings_default, mc_sim_options_default, mc_nurbs_clamped_uniform_knots.
  * - mc_get_status, mc_get_stop_info and mc_group_get_status do not wait for the card; they
  *   retry while the card is rewriting the status block (well under a microsecond on a running
  *   card; after 100 ms of a block that stays busy, MC_ERR_NOT_RESPONDING).
@@ -55,10 +55,13 @@
  *   data entries, an end) and blocks until the card has answered each; mc_reset_faults sends
  *   one command, then one MC_Reset per axis in ErrorStop. A move call returns when the card
  *   has accepted it, not when it is done.
+ * - mc_group_move_nurbs_path sends its curves one after another and, whenever the group's
+ *   queue is full, waits for an earlier piece to finish (up to its timeout for each wait).
  * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_group_motion_wait,
  *   mc_group_wait_done, mc_wait_event, mc_dispatch_events.
- * - mc_open blocks until the card has booted (about a second at most); mc_close blocks while
- *   an emulated card's thread stops; mc_sim_step computes the ticks asked for.
+ * - mc_open, mc_open_sim and mc_open_sim_stepped block until the card has booted (about a
+ *   second at most); mc_close blocks while an emulated card's thread stops; mc_sim_step
+ *   computes the ticks asked for.
  *
  * Safety: while a card is open the library writes a heartbeat the card's watchdog watches (a
  * thread on a real-time card; once per emulated tick on a stepped sim). If it stops (the
@@ -189,6 +192,25 @@
 
 // `mc_event.axis` of an event about the whole card.
 #define MC_EVENT_CARD_WIDE 65535
+
+// Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
+// as `mc_open("sim")`.
+#define MC_SIM_CLOCK_REAL_TIME 0
+
+// As fast as the host can compute the ticks. The card's watchdog counts card time, which then
+// runs far ahead of the library's heartbeat: raise the timeout (`mc_set_watchdog_timeout`) and
+// clear a trip (`mc_reset_faults`) before enabling axes.
+#define MC_SIM_CLOCK_FREE_RUNNING 1
+
+// Time advances only in `mc_sim_step` and in waits (as `mc_open_sim_stepped`).
+#define MC_SIM_CLOCK_STEPPED 2
+
+// Plant of an emulated card (`mc_sim_options.plant`): the default servo motor on every axis.
+#define MC_SIM_PLANT_DEFAULT 0
+
+// Yeh's die bonder (Table 1): its X plant on axis 0, its Y plant on the other axes. Pair it
+// with `mc_pdplus_settings_die_bonder` and a 1000 Hz servo rate, as in the paper.
+#define MC_SIM_PLANT_DIE_BONDER 1
 
 // Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
 #define MC_GROUP_COUNT 4
@@ -372,6 +394,18 @@ typedef int32_t mc_result;
 
 // A card handle: an integer, as in vendor libraries' card numbers. 0 is never a valid handle.
 typedef uint32_t mc_card;
+
+// How `mc_open_sim` builds an emulated card. Start from `mc_sim_options_default`.
+typedef struct mc_sim_options {
+  // `MC_SIM_CLOCK_` value.
+  uint32_t clock;
+  // Axes, 1..8.
+  uint32_t axes;
+  // Servo rate, 1000..20000 Hz.
+  uint32_t servo_rate_hz;
+  // `MC_SIM_PLANT_` value.
+  uint32_t plant;
+} mc_sim_options;
 
 // What the card says about itself (`mc_card_info`).
 typedef struct mc_card_info {
@@ -619,6 +653,26 @@ typedef struct mc_nurbs_feed {
   // otherwise). 0: not saturation-aware.
   double saturation_budget;
 } mc_nurbs_feed;
+
+// One NURBS curve of a path (`mc_group_move_nurbs_path`), described as the arguments of
+// `mc_group_move_nurbs`: `n_ctrl` control points of `dim` values in `ctrl`, `n_ctrl` weights,
+// `n_knots` knots. The arrays are read during the call only.
+typedef struct mc_nurbs_curve {
+  // Degree, 1..5.
+  uint32_t degree;
+  // Dimension: the group's axis count.
+  uint32_t dim;
+  // `n_ctrl * dim` doubles, point after point, in group axis order and user units.
+  const double *ctrl;
+  // Control points.
+  size_t n_ctrl;
+  // `n_ctrl` weights, finite and positive.
+  const double *weights;
+  // `n_knots` knots, clamped and non-decreasing.
+  const double *knots;
+  // `n_ctrl + degree + 1`.
+  size_t n_knots;
+} mc_nurbs_curve;
 
 // A consistent snapshot of a group's status. Path quantities are in counts of the group's
 // first axis (no scale applied), as the card publishes them.
@@ -954,9 +1008,20 @@ mc_result mc_open(const char *uri, mc_card *card);
 
 // Open an emulated card in this process whose time advances only in `mc_sim_step` and in
 // waits (a wait's timeout is then in emulated time): deterministic, for tests. `axes` is
-// 1..8 and `servo_rate_hz` 1000..20000; values outside are clamped by the card, as the
-// firmware does (read `mc_get_info`); a negative `axes` is `MC_ERR_BAD_CONFIG`.
+// 1..8 and `servo_rate_hz` 1000..20000; anything outside is `MC_ERR_BAD_CONFIG` (as
+// `mc_open_sim`, of which this is the stepped, default-plant case).
 mc_result mc_open_sim_stepped(int axes, uint32_t servo_rate_hz, mc_card *card);
+
+// The options of `mc_open("sim")`: real-time clock, 8 axes, 10 kHz, the default plant.
+// Never blocks.
+mc_result mc_sim_options_default(struct mc_sim_options *options);
+
+// Open an emulated card in this process with explicit options: its clock
+// (`MC_SIM_CLOCK_REAL_TIME`, `_FREE_RUNNING`, or `_STEPPED` for a card whose time advances only
+// in `mc_sim_step` and waits), axes (1..8), servo rate (1000..20000 Hz) and plant
+// (`MC_SIM_PLANT_`). Values out of range, or unknown clocks and plants, are
+// `MC_ERR_BAD_CONFIG`. Blocks until the card has booted.
+mc_result mc_open_sim(const struct mc_sim_options *options, mc_card *card);
 
 // Close a card. The handle is invalid afterwards: closing it again, or any other call with
 // it, returns `MC_ERR_BAD_HANDLE` and does nothing else (double close is harmless). A call
@@ -1216,6 +1281,36 @@ mc_result mc_group_move_nurbs(mc_card card,
                               const struct mc_nurbs_feed *feed,
                               const struct mc_move_options *options,
                               struct mc_group_motion *motion);
+
+// A path longer than the card holds (`move_nurbs_path`): the `ncurves` curves of `curves`,
+// each as the arguments of `mc_group_move_nurbs`, queued one after another behind the moves
+// already queued. Every curve is checked before anything is sent (a refused curve's message
+// names its index). Each piece starts and ends at rest (Yeh's planner runs per curve), and
+// each must start where the previous one ends. `MC_ERR_UNSUPPORTED` for an empty path (`curves`
+// may then be NULL). `motion` may be NULL; otherwise it receives the last piece's move.
+//
+// Blocks while the pieces are sent, and whenever the group's queue is full, until an earlier
+// piece is done (up to `timeout_ms` for each such wait: `MC_ERR_TIMEOUT`); returns when the
+// last piece is queued, not when it is done.
+mc_result mc_group_move_nurbs_path(mc_card card,
+                                   uint32_t group,
+                                   const struct mc_nurbs_curve *curves,
+                                   size_t ncurves,
+                                   const struct mc_nurbs_feed *feed,
+                                   uint32_t timeout_ms,
+                                   struct mc_group_motion *motion);
+
+// A clamped knot vector with uniform interior knots for `n_ctrl` control points of `degree`
+// (`n_ctrl + degree + 1` knots from 0 to 1; the SDK's `clamped_uniform_knots`). Writes the
+// knots to `knots` and their count to `*needed`; when `len` is too small, only `*needed` and
+// `MC_ERR_BUFFER_TOO_SMALL` (`knots` may be NULL when `len` is 0, to ask for the count).
+// `MC_ERR_NURBS_DEGREE` for a degree outside 1..5, `MC_ERR_NURBS_CTRL_COUNT` for fewer than
+// `degree + 1` or more than 1024 control points. Never blocks.
+mc_result mc_nurbs_clamped_uniform_knots(size_t n_ctrl,
+                                         uint32_t degree,
+                                         double *knots,
+                                         size_t len,
+                                         size_t *needed);
 
 // Wait until a group move is done: the last move of a queue when the group is at rest and in
 // position, an earlier one when the next move takes over. `MC_ERR_ABORTED` when a halt, stop,

@@ -8,7 +8,7 @@ use crate::result::{
     MC_ERR_BAD_HANDLE, MC_ERR_TIMEOUT,
 };
 use crate::types::{
-    mc_axis_settings, mc_card_info, mc_event, mc_motion, mc_move_limits, mc_status,
+    mc_axis_settings, mc_card_info, mc_event, mc_motion, mc_move_limits, mc_sim_options, mc_status,
 };
 use motioncard_sdk::{
     AxisSettings, Card, Clock, EmuOptions, Error, MoveLimits, SimOptions, EVENT_QUEUE_CAP,
@@ -124,8 +124,8 @@ pub unsafe extern "C" fn mc_open(uri: *const c_char, card: *mut mc_card) -> mc_r
 
 /// Open an emulated card in this process whose time advances only in `mc_sim_step` and in
 /// waits (a wait's timeout is then in emulated time): deterministic, for tests. `axes` is
-/// 1..8 and `servo_rate_hz` 1000..20000; values outside are clamped by the card, as the
-/// firmware does (read `mc_get_info`); a negative `axes` is `MC_ERR_BAD_CONFIG`.
+/// 1..8 and `servo_rate_hz` 1000..20000; anything outside is `MC_ERR_BAD_CONFIG` (as
+/// `mc_open_sim`, of which this is the stepped, default-plant case).
 #[no_mangle]
 pub unsafe extern "C" fn mc_open_sim_stepped(
     axes: c_int,
@@ -140,6 +140,36 @@ pub unsafe extern "C" fn mc_open_sim_stepped(
             clock: Clock::Stepped,
             emu: EmuOptions::new(axes, servo_rate_hz),
         };
+        register(Card::open_sim(opts)?, out)
+    })
+}
+
+/// The options of `mc_open("sim")`: real-time clock, 8 axes, 10 kHz, the default plant.
+/// Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_sim_options_default(options: *mut mc_sim_options) -> mc_result {
+    guard(|| {
+        let out = Out::new(options, "options")?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(SimOptions::default().into()) };
+        Ok(())
+    })
+}
+
+/// Open an emulated card in this process with explicit options: its clock
+/// (`MC_SIM_CLOCK_REAL_TIME`, `_FREE_RUNNING`, or `_STEPPED` for a card whose time advances only
+/// in `mc_sim_step` and waits), axes (1..8), servo rate (1000..20000 Hz) and plant
+/// (`MC_SIM_PLANT_`). Values out of range, or unknown clocks and plants, are
+/// `MC_ERR_BAD_CONFIG`. Blocks until the card has booted.
+#[no_mangle]
+pub unsafe extern "C" fn mc_open_sim(
+    options: *const mc_sim_options,
+    card: *mut mc_card,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(card, "card")?;
+        // SAFETY: the caller gives NULL or a readable mc_sim_options.
+        let opts = unsafe { read_in(options, "options") }?.to_sdk()?;
         register(Card::open_sim(opts)?, out)
     })
 }

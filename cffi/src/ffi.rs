@@ -68,6 +68,64 @@ pub(crate) unsafe fn read_slice<T: Copy>(
         .collect())
 }
 
+/// Read element `i` of an input array (the caller has checked `p` for NULL and bounded `i` by
+/// the array's length): arrays of structs are read one element at a time, so nothing is
+/// allocated for a length the caller merely claims.
+///
+/// # Safety
+/// `p` is non-NULL and valid for reads of at least `i + 1` consecutive `T`s, and every bit
+/// pattern is a valid `T`.
+pub(crate) unsafe fn read_at<T: Copy>(p: *const T, i: usize) -> T {
+    // SAFETY: `p.add(i)` stays inside the caller's array by the contract; unaligned reads need
+    // no alignment.
+    unsafe { p.add(i).read_unaligned() }
+}
+
+/// A caller's array for an output of variable length: `buf` of `len` elements, and `needed`
+/// for the number of elements the result has. `buf` may be NULL only when `len` is 0 (a size
+/// query).
+pub(crate) struct ArrayBuf<T> {
+    buf: *mut T,
+    len: usize,
+    needed: Out<usize>,
+}
+
+impl<T: Copy> ArrayBuf<T> {
+    pub(crate) fn new(buf: *mut T, len: usize, needed: *mut usize) -> Result<Self, Failure> {
+        let needed = Out::new(needed, "needed")?;
+        if buf.is_null() && len > 0 {
+            return Err(Failure::null("buf"));
+        }
+        Ok(Self { buf, len, needed })
+    }
+
+    /// Copy `values` into the array and their count into `*needed`; or, when they do not fit,
+    /// only the count into `*needed` and `MC_ERR_BUFFER_TOO_SMALL`.
+    ///
+    /// # Safety
+    /// `buf` is valid for writes of `len` elements and `needed` for a write of a `size_t`.
+    pub(crate) unsafe fn fill(self, values: &[T]) -> Result<(), Failure> {
+        let n = values.len();
+        if n > self.len {
+            // SAFETY: `needed` was checked non-NULL; valid by the caller's contract.
+            unsafe { self.needed.write(n) };
+            return Err(Failure::new(
+                MC_ERR_BUFFER_TOO_SMALL,
+                format!("the array holds {} values, {n} are needed", self.len),
+            ));
+        }
+        // SAFETY: n <= len, so `buf` (non-NULL when n > 0, since then len > 0) has room for the
+        // n elements, written unaligned one by one; `needed` is valid by the contract.
+        unsafe {
+            for (i, v) in values.iter().enumerate() {
+                self.buf.add(i).write_unaligned(*v);
+            }
+            self.needed.write(n);
+        }
+        Ok(())
+    }
+}
+
 /// Borrow a NUL-terminated UTF-8 string (a URI).
 ///
 /// # Safety

@@ -2,17 +2,17 @@
 //! skin as [`crate::api`] (check the pointers, look the handle up, call the SDK, write the
 //! outputs, all inside [`guard`]).
 
-use crate::ffi::{read_in, read_slice, Out};
+use crate::ffi::{read_at, read_in, read_slice, ArrayBuf, Out};
 use crate::registry::{self, mc_card, Entry};
 use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_HANDLE};
 use crate::types::{
     mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
-    mc_move_options, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
+    mc_move_options, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
     MC_GROUP_MAX_AXES,
 };
 use motioncard_sdk::{
-    Error, FilterSettings, Group, GroupMotion, GroupSettings, Nurbs, NurbsError, PathLimits,
-    PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM,
+    clamped_uniform_knots, Error, FilterSettings, Group, GroupMotion, GroupSettings, Nurbs,
+    NurbsError, PathLimits, PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM,
 };
 use std::sync::Arc;
 use std::time::Duration;
@@ -381,6 +381,82 @@ pub unsafe extern "C" fn mc_group_move_nurbs(
         // SAFETY: the caller gives arrays of the sizes documented above.
         let curve = unsafe { nurbs_curve(degree, ctrl, n_ctrl, dim, weights, knots, n_knots) }?;
         started(&e, g.move_nurbs(&curve, &f.into(), o)?, group, motion)
+    })
+}
+
+/// A path longer than the card holds (`move_nurbs_path`): the `ncurves` curves of `curves`,
+/// each as the arguments of `mc_group_move_nurbs`, queued one after another behind the moves
+/// already queued. Every curve is checked before anything is sent (a refused curve's message
+/// names its index). Each piece starts and ends at rest (Yeh's planner runs per curve), and
+/// each must start where the previous one ends. `MC_ERR_UNSUPPORTED` for an empty path (`curves`
+/// may then be NULL). `motion` may be NULL; otherwise it receives the last piece's move.
+///
+/// Blocks while the pieces are sent, and whenever the group's queue is full, until an earlier
+/// piece is done (up to `timeout_ms` for each such wait: `MC_ERR_TIMEOUT`); returns when the
+/// last piece is queued, not when it is done.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_move_nurbs_path(
+    card: mc_card,
+    group: u32,
+    curves: *const mc_nurbs_curve,
+    ncurves: usize,
+    feed: *const mc_nurbs_feed,
+    timeout_ms: u32,
+    motion: *mut mc_group_motion,
+) -> mc_result {
+    guard(|| {
+        // SAFETY: the caller gives NULL or a readable mc_nurbs_feed.
+        let f = unsafe { read_in(feed, "feed") }?;
+        if curves.is_null() && ncurves > 0 {
+            return Err(Failure::null("curves"));
+        }
+        let (e, g) = group_of(card, group)?;
+        let mut pieces = Vec::new();
+        for i in 0..ncurves {
+            // SAFETY: non-NULL (checked above), `ncurves` readable curves by the contract.
+            let c = unsafe { read_at(curves, i) };
+            for (p, n, what) in [
+                (c.ctrl, c.n_ctrl, "ctrl"),
+                (c.weights, c.n_ctrl, "weights"),
+                (c.knots, c.n_knots, "knots"),
+            ] {
+                if p.is_null() && n > 0 {
+                    return Err(Failure::null(&format!("curves[{i}].{what}")));
+                }
+            }
+            // SAFETY: each curve's arrays have the sizes it states, by the contract.
+            let piece = unsafe {
+                nurbs_curve(
+                    c.degree, c.ctrl, c.n_ctrl, c.dim, c.weights, c.knots, c.n_knots,
+                )
+            }
+            .map_err(|f| Failure::new(f.code, format!("curve {i}: {}", f.message)))?;
+            pieces.push(piece);
+        }
+        let m = g.move_nurbs_path(&pieces, &f.into(), ms(timeout_ms))?;
+        started(&e, m, group, motion)
+    })
+}
+
+/// A clamped knot vector with uniform interior knots for `n_ctrl` control points of `degree`
+/// (`n_ctrl + degree + 1` knots from 0 to 1; the SDK's `clamped_uniform_knots`). Writes the
+/// knots to `knots` and their count to `*needed`; when `len` is too small, only `*needed` and
+/// `MC_ERR_BUFFER_TOO_SMALL` (`knots` may be NULL when `len` is 0, to ask for the count).
+/// `MC_ERR_NURBS_DEGREE` for a degree outside 1..5, `MC_ERR_NURBS_CTRL_COUNT` for fewer than
+/// `degree + 1` or more than 1024 control points. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_nurbs_clamped_uniform_knots(
+    n_ctrl: usize,
+    degree: u32,
+    knots: *mut f64,
+    len: usize,
+    needed: *mut usize,
+) -> mc_result {
+    guard(|| {
+        let out = ArrayBuf::new(knots, len, needed)?;
+        let k = clamped_uniform_knots(n_ctrl, degree as usize).map_err(Error::from)?;
+        // SAFETY: the caller gives `len` writable doubles at `knots` and a writable `*needed`.
+        unsafe { out.fill(&k) }
     })
 }
 

@@ -2,8 +2,9 @@
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors` and `safety` on stepped cards only). One program
-//! is also linked statically; `errors`, `groups` and `safety` also run under valgrind.
+//! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
+//! One program is also linked statically; `errors`, `groups`, `safety` and `nurbs_path` also
+//! run under valgrind.
 //!
 //! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
 //! asserts on time: the child processes only have a generous limit so a hang fails instead of
@@ -304,6 +305,19 @@ fn groups_arcs_filters_and_nurbs() {
     assert!(out.contains("PASS groups\n"), "{out}");
     assert!(out.contains("circle: "), "{out}");
     assert!(out.contains("NURBS quarter circle: "), "{out}");
+}
+
+#[test]
+fn a_nurbs_path_longer_than_the_queue_and_sim_options() {
+    let out = run(&compile("nurbs_path", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS nurbs_path\n"), "{out}");
+    assert!(out.contains("NURBS path: 40 pieces to x = 80000"), "{out}");
+}
+
+#[test]
+fn nurbs_path_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("nurbs_path");
+    assert!(out.contains("PASS nurbs_path\n"), "{out}");
 }
 
 #[test]

@@ -18,7 +18,9 @@ use std::os::fd::{AsFd, BorrowedFd, OwnedFd};
 use std::os::unix::net::UnixStream;
 use std::sync::{Arc, Mutex};
 
-/// How an in-process emulated card (`sim`) is built and driven.
+/// How an in-process emulated card (`sim`) is built and driven. [`crate::Card::open_sim`]
+/// refuses axes outside 1..=8 and servo rates outside 1,000..=20,000 Hz
+/// ([`crate::ErrorKind::BadConfig`]) rather than let the card clamp them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimOptions {
     /// Real-time (the default), free-running, or stepped (time advances only when the
@@ -122,6 +124,21 @@ pub(crate) fn open(uri: &str) -> Result<Device> {
 }
 
 pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
+    let (axes, hz) = (opts.emu.axes, opts.emu.servo_rate_hz);
+    if !(1..=firmware_proto::MAX_AXES).contains(&axes) {
+        return Err(Error::BadConfig(format!(
+            "{axes} axes: an emulated card has 1 to {}",
+            firmware_proto::MAX_AXES
+        )));
+    }
+    let rates = firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ;
+    if !rates.contains(&hz) {
+        return Err(Error::BadConfig(format!(
+            "servo rate {hz} Hz: the card runs at {} to {} Hz",
+            rates.start(),
+            rates.end()
+        )));
+    }
     let emu = Emulator::create("sim", &opts.emu)
         .map_err(|e| Error::io("creating the emulated card", e))?;
     let window = emu.window().clone();
@@ -279,6 +296,23 @@ mod tests {
             "http://x",
         ] {
             assert_eq!(kind(bad), ErrorKind::BadUri, "{bad}");
+        }
+    }
+
+    #[test]
+    fn out_of_range_sims_are_refused_not_clamped() {
+        let sim = |axes, hz| {
+            open_sim(&SimOptions {
+                clock: Clock::Stepped,
+                emu: EmuOptions::new(axes, hz),
+            })
+        };
+        for (axes, hz) in [(0, 10_000), (9, 10_000), (2, 999), (2, 20_001), (2, 0)] {
+            let e = sim(axes, hz).err().expect("opened");
+            assert_eq!(e.kind(), ErrorKind::BadConfig, "{axes} axes, {hz} Hz");
+        }
+        for (axes, hz) in [(1, 1000), (8, 20_000)] {
+            assert!(sim(axes, hz).is_ok(), "{axes} axes, {hz} Hz");
         }
     }
 

@@ -244,6 +244,9 @@ pub enum Error {
     /// See [`ErrorKind::Unsupported`].
     #[error("not supported: {0}")]
     Unsupported(String),
+    /// A configuration the host refuses before any card sees it (see [`ErrorKind::BadConfig`]).
+    #[error("bad configuration: {0}")]
+    BadConfig(String),
 }
 
 impl Error {
@@ -266,6 +269,7 @@ impl Error {
             Error::Nurbs(e) => (*e).into(),
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
+            Error::BadConfig(_) => ErrorKind::BadConfig,
         }
     }
 
