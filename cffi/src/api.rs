@@ -98,6 +98,17 @@ pub unsafe extern "C" fn mc_version_string(
     })
 }
 
+/// Test builds only (feature `test-panic`: not in the header, never in an installed library):
+/// the calling thread's next `mc_` call panics inside the library, which must turn it into
+/// `MC_ERR_PANIC` with the panic's message. Declare it yourself:
+/// `mc_result mc__test_panic_next_call(void);`.
+#[cfg(feature = "test-panic")]
+#[no_mangle]
+pub extern "C" fn mc__test_panic_next_call() -> mc_result {
+    crate::result::panic_next_call();
+    crate::result::MC_OK
+}
+
 // ---------------------------------------------------------------------------------------------
 // Cards
 // ---------------------------------------------------------------------------------------------

@@ -308,9 +308,36 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> &str {
     }
 }
 
+#[cfg(any(test, feature = "test-panic"))]
+thread_local! {
+    /// Set by `mc__test_panic_next_call`: the thread's next guarded call panics.
+    static PANIC_NEXT: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Test builds only (`cfg(test)` or the `test-panic` feature): make the calling thread's next
+/// `mc_` call panic inside its panic boundary.
+#[cfg(any(test, feature = "test-panic"))]
+pub(crate) fn panic_next_call() {
+    PANIC_NEXT.with(|p| p.set(true));
+}
+
+/// Where a test build panics on request, first thing inside the boundary; nothing in a release
+/// library.
+#[inline(always)]
+fn test_panic_point() {
+    #[cfg(any(test, feature = "test-panic"))]
+    if PANIC_NEXT.with(|p| p.replace(false)) {
+        panic!("test panic requested by mc__test_panic_next_call");
+    }
+}
+
 /// The panic boundary: every exported function runs its body in here. A failure becomes its
 /// code and this thread's last-error message; a panic becomes `MC_ERR_PANIC`.
 pub(crate) fn guard(body: impl FnOnce() -> Result<(), Failure>) -> mc_result {
+    let body = || {
+        test_panic_point();
+        body()
+    };
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => MC_OK,
         Ok(Err(f)) => {
@@ -459,6 +486,35 @@ mod tests {
         );
         assert_eq!(guard_quiet(|| panic!("quiet")), MC_ERR_PANIC);
         assert!(last_error().contains("deliberate test panic 42"));
+    }
+
+    #[test]
+    fn an_exported_function_driven_into_a_panic_returns_mc_err_panic() {
+        use crate::api::{mc_close, mc_get_status, mc_last_error_message, mc_open_sim_stepped};
+        let mut h = 0;
+        // SAFETY: valid out pointers throughout.
+        assert_eq!(unsafe { mc_open_sim_stepped(1, 1000, &mut h) }, MC_OK);
+        let mut st = crate::types::mc_status {
+            state: 99,
+            ..Default::default()
+        };
+        panic_next_call();
+        // SAFETY: as above.
+        assert_eq!(unsafe { mc_get_status(h, 0, &mut st) }, MC_ERR_PANIC);
+        assert_eq!(st.state, 99, "output written by a call that panicked");
+        let mut buf = [0 as std::ffi::c_char; 256];
+        let mut needed = 0;
+        // SAFETY: `buf` holds 256 bytes.
+        let r = unsafe { mc_last_error_message(buf.as_mut_ptr(), buf.len(), &mut needed) };
+        assert_eq!(r, MC_OK);
+        // SAFETY: NUL-terminated by mc_last_error_message.
+        let msg = unsafe { CStr::from_ptr(buf.as_ptr()) }.to_str().unwrap();
+        assert!(msg.contains("panicked: test panic requested"), "{msg}");
+        // The card and the thread carry on.
+        // SAFETY: as above.
+        assert_eq!(unsafe { mc_get_status(h, 0, &mut st) }, MC_OK);
+        assert_eq!(st.state, crate::types::MC_AXIS_STATE_DISABLED);
+        assert_eq!(mc_close(h), MC_OK);
     }
 
     #[test]

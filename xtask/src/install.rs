@@ -8,16 +8,18 @@ use std::path::Path;
 use std::process::Command;
 
 /// Build the library (`cargo build --package motioncard-cffi`) with `cargo`, in the workspace
-/// at `workspace`, with cargo profile `profile` ("release", "dev"…), into `target_dir`. The
+/// at `workspace`, with cargo profile `profile` ("release", "dev"…) and the crate's `features`
+/// (none for an installed library; the C tests add `test-panic`), into `target_dir`. The
 /// libraries are then in `target_dir/<profile directory>` (`release`, `debug`…).
 pub fn build(
     cargo: &OsStr,
     workspace: &Path,
     profile: &str,
     target_dir: &Path,
+    features: &[&str],
 ) -> Result<(), String> {
-    let status = Command::new(cargo)
-        .current_dir(workspace)
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(workspace)
         .args([
             "build",
             "--package",
@@ -27,9 +29,11 @@ pub fn build(
             profile,
         ])
         .arg("--target-dir")
-        .arg(target_dir)
-        .status()
-        .map_err(|e| format!("running cargo: {e}"))?;
+        .arg(target_dir);
+    if !features.is_empty() {
+        cmd.args(["--features", &features.join(",")]);
+    }
+    let status = cmd.status().map_err(|e| format!("running cargo: {e}"))?;
     if status.success() {
         Ok(())
     } else {

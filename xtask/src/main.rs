@@ -70,7 +70,7 @@ fn install_command(args: &[String]) -> ExitCode {
     // The workspace version: xtask and motioncard-cffi share it.
     let version = env!("CARGO_PKG_VERSION");
     let header = root.join("cffi/include/motioncard.h");
-    let installed = install::build(&cargo, &root, "release", &target)
+    let installed = install::build(&cargo, &root, "release", &target, &[])
         .and_then(|()| install::install(&target.join("release"), &header, &prefix, version));
     match installed {
         Ok(()) => {

@@ -94,7 +94,7 @@ static const mc_result NOT_PROVOKED[] = {
     /* safety.c */
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE, MC_ERR_SOFT_LIMIT, MC_ERR_CAUSE_ACTIVE,
     MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
-    /* not yet provoked from C */
+    /* busy.c (a card served by another process), panic.c (a test build's panic hook) */
     MC_ERR_BUSY, MC_ERR_PANIC,
 };
 
