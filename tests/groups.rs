@@ -10,6 +10,29 @@ use std::time::Duration;
 
 const T: Duration = Duration::from_secs(30);
 
+/// The largest correction a group's snap to its programmed end may make. The commanded
+/// positions are error-free sums (double-f64) of what the filters emit, and each filter emits
+/// its whole remainder, as a pair, on the tick it empties: Σ outputs = Σ inputs exactly. The
+/// inputs are the interpolator's increments `p(k) − p(k−1)`; their sum telescopes exactly to
+/// end − start except where a subtraction rounds, which (Sterbenz) needs consecutive points
+/// more than a factor 2 apart, i.e. a coordinate within a few increments of zero, where the
+/// rounding is at most 2^-53 of an increment (≈ 1e-15 counts here). So the correction is 0 up
+/// to ~1e-14 counts on these moves (measured: 0 to 2e-18). A filter that dropped its settle
+/// remainder (up to 1e-9 counts), or a plain f64 sum of the increments (thousands of roundings
+/// of an ulp of the position, ~1e-11 each), would exceed it.
+const SNAP_BOUND: f64 = 1e-12;
+
+/// The group's snap corrections (last, largest since enable) are within [`SNAP_BOUND`].
+fn assert_snap(g: &motioncard::Group, what: &str) {
+    let s = g.status().unwrap().1;
+    assert!(
+        s.snap_last <= SNAP_BOUND && s.snap_max <= SNAP_BOUND,
+        "{what}: snap corrected {} (largest {}) counts",
+        s.snap_last,
+        s.snap_max
+    );
+}
+
 fn lim() -> PathLimits {
     PathLimits::new(50_000.0, 5e5, 5e7)
 }
@@ -66,6 +89,7 @@ fn linear_move_follows_the_line_and_ends_on_target() {
             let act = card.axis(a).unwrap().status().unwrap().actual_position;
             assert!((act - t).abs() <= 1.0, "{accdec:?}: axis {a} at {act}");
         }
+        assert_snap(&g, &format!("{accdec:?}"));
         // Linear interpolation through any filter has no path error beyond rounding (Kim §4).
         assert!(
             worst < 1e-6,
@@ -291,6 +315,7 @@ fn buffered_moves_run_in_order_and_each_reports_done() {
     }
     assert_eq!(g.status().unwrap().0, GroupState::Standby);
     assert_eq!((cmd(&card, 0), cmd(&card, 1)), (0.0, 0.0));
+    assert_snap(&g, "four buffered moves through the default filters");
 }
 
 #[test]
@@ -586,6 +611,8 @@ fn filters_conserve_distance_for_every_kind_and_feed_type() {
         for (a, t) in target.iter().enumerate() {
             assert_eq!(cmd(&card, a), *t, "{kind:?}: axis {a}");
         }
+        // …and the filter, not the snap, put them there.
+        assert_snap(&g, &format!("{kind:?}"));
     }
 }
 
@@ -637,5 +664,439 @@ fn linear_path_is_exact_through_every_filter_kind_and_relative_moves_chain() {
             (5_000.0, 12_000.0),
             "{kind:?}"
         );
+        assert_snap(&g, &format!("{kind:?}, two relative moves"));
     }
+}
+
+/// Commanded (position, velocity, acceleration) of `axes` in counts, every tick until the
+/// group is at rest.
+fn trace_raw(card: &Card, g: &motioncard::Group, axes: &[usize]) -> Vec<Vec<(f64, f64, f64)>> {
+    let sim = card.sim().unwrap();
+    let mut out = Vec::new();
+    for _ in 0..2_000_000 {
+        sim.step(1);
+        out.push(
+            axes.iter()
+                .map(|&a| {
+                    let r = card.axis(a).unwrap().status().unwrap().raw;
+                    (r.cmd_pos, r.cmd_vel, r.cmd_acc)
+                })
+                .collect(),
+        );
+        if g.status().unwrap().0 != GroupState::Moving {
+            break;
+        }
+    }
+    out
+}
+
+/// All eight axes of the card in one group: a linear move (with the S-curve, and with the S-curve
+/// and the default filters) stays on the line and ends exactly; a helix turns X and Y on the
+/// circle while the six other axes move linearly with the swept angle.
+#[test]
+fn eight_axis_line_and_helix_with_six_linear_axes() {
+    let axes: Vec<usize> = (0..8).collect();
+    let target = [
+        30_000.0, -40_000.0, 12_000.0, 5_000.5, -7_777.0, 100.0, 0.25, 64_000.0,
+    ];
+    let len = target.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for accdec in [AccDec::Pre, AccDec::Both] {
+        let (card, g) = group_card(&axes, accdec);
+        let m = g
+            .move_linear(&target, &lim(), MoveOptions::default())
+            .unwrap();
+        let pts = trace(&card, &g, &axes);
+        m.wait(T).unwrap();
+        let worst = pts
+            .iter()
+            .map(|p| {
+                let along = p.iter().zip(&target).map(|(x, t)| x * t).sum::<f64>() / len;
+                p.iter()
+                    .zip(&target)
+                    .map(|(x, t)| (x - along * t / len).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{accdec:?}: {worst} counts off the line");
+        for (a, t) in target.iter().enumerate() {
+            assert_eq!(cmd(&card, a), *t, "{accdec:?}: axis {a}");
+        }
+        assert_snap(&g, &format!("8-axis line, {accdec:?}"));
+    }
+
+    // A helix: a full turn in XY around (r, 0), the six other axes climbing with the angle.
+    let (card, g) = group_card(&axes, AccDec::Pre);
+    let r = 10_000.0;
+    let climb = [5_000.0, -2_500.0, 1_234.5, 10_000.0, -64.0, 0.5];
+    let m = g
+        .move_circular(
+            &ArcSpec::Centre {
+                end: [0.0, 0.0],
+                centre: [r, 0.0],
+                ccw: true,
+            },
+            Plane::XY,
+            &climb,
+            &lim(),
+            MoveOptions::default(),
+        )
+        .unwrap();
+    let pts = trace(&card, &g, &axes);
+    m.wait(T).unwrap();
+    let mut prev = 0.0;
+    for p in &pts {
+        let rad = (p[0] - r).hypot(p[1]);
+        assert!((rad - r).abs() < 1e-6, "radius {rad}");
+        // Each linear axis is climb · swept / 2π; measure the swept angle from Z (the first)
+        // and check the others against it, and the angle against X/Y away from the ends.
+        let f = p[2] / climb[0];
+        assert!(
+            f >= prev - 1e-12 && f <= 1.0 + 1e-12,
+            "fraction {f} after {prev}"
+        );
+        prev = f;
+        for (k, c) in climb.iter().enumerate() {
+            assert!(
+                (p[2 + k] - c * f).abs() <= 1e-6 * c.abs().max(1.0),
+                "axis {}: {} vs {}",
+                2 + k,
+                p[2 + k],
+                c * f
+            );
+        }
+        let ang = p[1].atan2(p[0] - r);
+        let swept = (ang - std::f64::consts::PI).rem_euclid(std::f64::consts::TAU);
+        if f > 1e-3 && f < 1.0 - 1e-3 {
+            assert!(
+                (swept / std::f64::consts::TAU - f).abs() < 1e-6,
+                "swept {swept} rad at fraction {f}"
+            );
+        }
+    }
+    // The arc's end is its start angle plus the sweep on the circle: within rounding of the
+    // programmed point (the linear axes end exactly).
+    assert!(cmd(&card, 0).abs() < 1e-9 && cmd(&card, 1).abs() < 1e-9);
+    for (k, c) in climb.iter().enumerate() {
+        assert_eq!(cmd(&card, 2 + k), *c, "axis {}", 2 + k);
+    }
+    assert_snap(&g, "8-axis helix");
+}
+
+/// Arcs through the post-interpolation filters (every kind, exact and reference-word
+/// interpolators, XY and YZ planes): each commanded point is a weighted mean of earlier points
+/// of the arc (the filters' impulse responses are non-negative and sum to 1), so it lies inside
+/// the circle, at most the steady-state ΔR of Kim §4 inside; the third axis never moves; the
+/// arc ends exactly on its end point, put there by the filters (snap within SNAP_BOUND).
+#[test]
+fn arcs_through_post_filters_stay_inside_the_circle_and_end_exactly() {
+    use card_emu::circle::{exponential_filter_radial_error, linear_filter_radial_error};
+    use card_emu::filters::exponential_pole;
+    let (r, tau, ts) = (20_000.0, 0.025, 1e-4);
+    let v = lim().velocity;
+    let dr_lin = linear_filter_radial_error(r, v, ts, (tau / ts).round() as usize);
+    let dr_exp = exponential_filter_radial_error(r, v, ts, exponential_pole(tau, ts));
+    for kind in [
+        FilterKind::Linear,
+        FilterKind::Exponential,
+        FilterKind::Bell,
+    ] {
+        let steady = match kind {
+            FilterKind::Linear => dr_lin,
+            FilterKind::Exponential => dr_exp,
+            // Linear then exponential: the gains multiply.
+            _ => r - (r - dr_lin) * (r - dr_exp) / r,
+        };
+        for interp in [Interpolator::Exact, Interpolator::ReferenceWord] {
+            for (plane, (u, v)) in [(Plane::XY, (0, 1)), (Plane::YZ, (1, 2))] {
+                let card = stepped_card();
+                for a in 0..3 {
+                    let ax = card.axis(a).unwrap();
+                    ax.set_filters(&FilterSettings::all(kind, tau)).unwrap();
+                    ax.enable().unwrap();
+                }
+                let g = card.group(0).unwrap();
+                g.configure(&GroupSettings {
+                    accdec: AccDec::Post,
+                    interpolator: interp,
+                    ..GroupSettings::new(&[0, 1, 2])
+                })
+                .unwrap();
+                g.enable().unwrap();
+                // Three quarters clockwise around (-r, 0), from the origin to (-r, r).
+                let m = g
+                    .move_circular(
+                        &ArcSpec::Centre {
+                            end: [-r, r],
+                            centre: [-r, 0.0],
+                            ccw: false,
+                        },
+                        plane,
+                        &[],
+                        &lim(),
+                        MoveOptions::default(),
+                    )
+                    .unwrap();
+                let pts = trace(&card, &g, &[u, v, 3 - u - v]);
+                m.wait(T).unwrap();
+                let what = format!("{kind:?} {interp:?} {plane:?}");
+                let (mut outer, mut inner) = (0.0f64, 0.0f64);
+                for p in &pts {
+                    let d = (p[0] + r).hypot(p[1]) - r;
+                    outer = outer.max(d);
+                    inner = inner.max(-d);
+                    assert_eq!(p[2], 0.0, "{what}: the third axis moved");
+                }
+                assert!(outer <= 1e-6, "{what}: {outer} counts outside the circle");
+                assert!(
+                    inner <= steady * 1.01 + 1e-6 && inner >= 0.9 * steady,
+                    "{what}: {inner} counts inside, steady-state ΔR {steady}"
+                );
+                let end = (cmd(&card, u), cmd(&card, v));
+                assert!(
+                    (end.0 + r).abs() < 1e-9 && (end.1 - r).abs() < 1e-9,
+                    "{what}: ended at {end:?}"
+                );
+                assert_snap(&g, &what);
+            }
+        }
+    }
+}
+
+/// Synchronised point-to-point with each axis's own limits (Kim eq 10–14): the axis that needs
+/// the most time within its limits sets it, the others scale, every axis stays within its own
+/// limits, and all start and end on the same tick.
+#[test]
+fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
+    use motioncard::plan::{Limits, Profile};
+    let alone = |l: &PathLimits, d: f64| {
+        let lim = Limits {
+            vmax: l.velocity,
+            amax: l.acceleration,
+            dmax: l.deceleration,
+            j1: l.jerk,
+            j3: l.jerk,
+            j5: l.jerk,
+            j7: l.jerk,
+        };
+        Profile::plan(0.0, d.abs(), 0.0, 0.0, &lim)
+            .unwrap()
+            .duration()
+    };
+    let fast = PathLimits::new(100_000.0, 1e6, 5e7);
+    // Y (scale 2 counts per unit) is the tightest in every limit once scaled to X's distance.
+    let slow_y = PathLimits::new(2_000.0, 2e4, 1e6);
+    // A mixed case: Y limits the acceleration, Z the velocity.
+    let low_acc_y = PathLimits::new(100_000.0, 2e4, 5e7);
+    let low_vel_z = PathLimits::new(4_000.0, 1e6, 5e7);
+    let target = [80_000.0, -10_000.0, 20_000.0];
+    for (name, limits) in [
+        ("slow y", [fast, slow_y, fast]),
+        ("y acceleration, z velocity", [fast, low_acc_y, low_vel_z]),
+    ] {
+        let (card, g) = group_card(&[0, 1, 2], AccDec::Pre);
+        g.disable().unwrap();
+        card.axis(1).unwrap().set_scale(2.0).unwrap();
+        g.enable().unwrap();
+        let user_target = [target[0], target[1] / 2.0, target[2]];
+        let m = g
+            .move_ptp_axes(&user_target, &limits, MoveOptions::default())
+            .unwrap();
+        let tr = trace_raw(&card, &g, &[0, 1, 2]);
+        m.wait(T).unwrap();
+        // Limits in counts: axis 1's user units are 2 counts.
+        let counts = |a: usize, x: f64| if a == 1 { 2.0 * x } else { x };
+        let solo: Vec<f64> = (0..3)
+            .map(|a| {
+                let l = limits[a];
+                let c = PathLimits {
+                    velocity: counts(a, l.velocity),
+                    acceleration: counts(a, l.acceleration),
+                    deceleration: counts(a, l.deceleration),
+                    jerk: counts(a, l.jerk),
+                };
+                alone(&c, target[a])
+            })
+            .collect();
+        let longest = solo.iter().copied().fold(0.0, f64::max);
+        let (mut first, mut last) = ([None; 3], [0usize; 3]);
+        let (mut vpeak, mut apeak) = ([0.0f64; 3], [0.0f64; 3]);
+        for (k, row) in tr.iter().enumerate() {
+            for (a, &(_, v, acc)) in row.iter().enumerate() {
+                if v != 0.0 {
+                    first[a].get_or_insert(k);
+                    last[a] = k;
+                }
+                vpeak[a] = vpeak[a].max(v.abs());
+                apeak[a] = apeak[a].max(acc.abs());
+            }
+        }
+        assert!(
+            first.iter().all(|f| *f == first[0] && f.is_some())
+                && last.iter().all(|l| *l == last[0]),
+            "{name}: start ticks {first:?}, end ticks {last:?}"
+        );
+        for a in 0..3 {
+            let l = limits[a];
+            assert!(
+                vpeak[a] <= counts(a, l.velocity) * (1.0 + 1e-9),
+                "{name}: axis {a} velocity {} over {}",
+                vpeak[a],
+                counts(a, l.velocity)
+            );
+            assert!(
+                apeak[a] <= counts(a, l.acceleration) * (1.0 + 1e-6),
+                "{name}: axis {a} acceleration {} over {}",
+                apeak[a],
+                counts(a, l.acceleration)
+            );
+            assert_eq!(cmd(&card, a), target[a], "{name}: axis {a} end");
+        }
+        let time = (last[0] + 1 - first[0].unwrap()) as f64 * 1e-4;
+        // Never faster than the slowest axis alone.
+        assert!(
+            time >= longest - 2e-4,
+            "{name}: {time} s, slowest alone {longest} s"
+        );
+        if name == "slow y" {
+            // Y is the tightest in every limit: the move takes exactly Y's own time, Y runs
+            // at its limits and X scales (8×).
+            assert!(
+                (time - solo[1]).abs() <= 2e-4,
+                "{time} vs y alone {}",
+                solo[1]
+            );
+            assert!(solo[1] > solo[0] && solo[1] > solo[2], "{solo:?}");
+            assert!((vpeak[1] - 4_000.0).abs() < 1e-6, "{vpeak:?}");
+            assert!((vpeak[0] - 8.0 * vpeak[1]).abs() < 1e-6, "{vpeak:?}");
+        } else {
+            // Each binding axis reaches its own limit.
+            assert!((vpeak[2] - 4_000.0).abs() < 1e-6, "{vpeak:?}");
+            // Y's own acceleration limit, 2e4 units/s² = 4e4 counts/s².
+            assert!(apeak[1] > 0.99 * 4e4, "{apeak:?}");
+        }
+        assert_snap(&g, name);
+    }
+
+    // The same limits for every axis through move_ptp_axes is move_ptp.
+    let (card, g) = group_card(&[0, 1], AccDec::Pre);
+    let sim = card.sim().unwrap();
+    let t0 = sim.time();
+    g.move_ptp(&[50_000.0, 10_000.0], &fast, MoveOptions::default())
+        .unwrap()
+        .wait(T)
+        .unwrap();
+    let common = sim.time() - t0;
+    let t0 = sim.time();
+    g.move_ptp_axes(&[0.0, 0.0], &[fast, fast], MoveOptions::default())
+        .unwrap()
+        .wait(T)
+        .unwrap();
+    assert!(((sim.time() - t0) - common).abs() < 1e-3);
+
+    // Refusals: the SDK's and the card's own.
+    use motioncard::proto::{move_flags, Command, Opcode};
+    use motioncard::NackCode as N;
+    assert_eq!(
+        g.move_ptp_axes(&[1.0, 1.0], &[fast], MoveOptions::default())
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::BadAxis
+    );
+    let raw = |op: Opcode, flags: u32, args: &[f64]| {
+        let mut c = Command::new(op, 0).with_args(args);
+        c.flags = flags;
+        card.wait_ack(card.send_raw(c).unwrap()).unwrap()
+    };
+    let ptp_args = [1e4, 1e5, 1e5, 1e6, 100.0, 100.0];
+    // The flag without every axis staged.
+    assert_eq!(
+        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        Err(N::BadConfig)
+    );
+    assert_eq!(
+        raw(Opcode::GroupPtpLimits, 0, &[0.0, 1.0, 1e4, 1e5, 1e5, 1e6]),
+        Ok(())
+    );
+    assert_eq!(
+        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        Err(N::BadConfig),
+        "axis 1 was not staged"
+    );
+    // Any point-to-point command consumes what was staged.
+    assert_eq!(
+        raw(
+            Opcode::GroupPtpLimits,
+            0,
+            &[0.0, 2.0, 1e4, 1e5, 1e5, 1e6, 1e4, 1e5, 1e5, 1e6]
+        ),
+        Ok(())
+    );
+    assert_eq!(
+        raw(Opcode::GroupMovePtp, 0, &[0.0; 6]),
+        Err(N::NonPositiveLimit)
+    );
+    assert_eq!(
+        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        Err(N::BadConfig)
+    );
+    assert_eq!(
+        raw(
+            Opcode::GroupPtpLimits,
+            0,
+            &[1.0, 2.0, 1e4, 1e5, 1e5, 1e6, 1e4, 1e5, 1e5, 1e6]
+        ),
+        Err(N::AxisNotInGroup)
+    );
+    assert_eq!(
+        raw(Opcode::GroupPtpLimits, 0, &[0.0, 0.0]),
+        Err(N::BadConfig)
+    );
+    assert_eq!(
+        raw(Opcode::GroupPtpLimits, 0, &[0.0, 4.0]),
+        Err(N::BadConfig)
+    );
+    assert_eq!(
+        raw(Opcode::GroupPtpLimits, 0, &[0.5, 1.0, 1e4, 1e5, 1e5, 1e6]),
+        Err(N::BadConfig)
+    );
+    assert_eq!(
+        raw(Opcode::GroupPtpLimits, 0, &[0.0, 1.0, 1e4, -1e5, 1e5, 1e6]),
+        Err(N::NonPositiveLimit)
+    );
+    assert_eq!(
+        raw(
+            Opcode::GroupPtpLimits,
+            0,
+            &[0.0, 1.0, 1e4, f64::NAN, 1e5, 1e6]
+        ),
+        Err(N::NotFinite)
+    );
+    let other = card.group(2).unwrap();
+    assert_eq!(
+        other
+            .move_ptp_axes(&[1.0], &[fast], MoveOptions::default())
+            .err()
+            .unwrap()
+            .kind(),
+        ErrorKind::GroupDisabled
+    );
+    // Staged limits and the flag, both axes: accepted, and the move runs.
+    assert_eq!(
+        raw(
+            Opcode::GroupPtpLimits,
+            0,
+            &[0.0, 2.0, 1e4, 1e5, 1e5, 1e6, 1e3, 1e5, 1e5, 1e6]
+        ),
+        Ok(())
+    );
+    assert_eq!(
+        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        Ok(())
+    );
+    g.wait_done(T).ok();
+    card.sim().unwrap().step(20_000);
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    assert_eq!((cmd(&card, 0), cmd(&card, 1)), (100.0, 100.0));
 }

@@ -177,6 +177,26 @@ impl CompensatedSum {
     pub fn is_zero(&self) -> bool {
         self.hi == 0.0 && self.lo == 0.0
     }
+
+    /// The sum as its unevaluated pair `(hi, lo)`, leaving zero behind.
+    #[inline]
+    pub fn take(&mut self) -> (f64, f64) {
+        let pair = (self.hi, self.lo);
+        *self = Self::new();
+        pair
+    }
+}
+
+/// How a filter empties once its input has stopped (see [`AccDecFilter::step_group`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Settle {
+    /// On its own: the exponential stage emits its remainder once `|pending| <=
+    /// SETTLE_THRESHOLD`; the remainder's sub-ulp part follows on the next tick.
+    Own,
+    /// As one of a group: the exponential stage emits its remainder only when the caller says
+    /// `flush` (or after the bounded number of zero-input ticks); every remainder is emitted
+    /// whole, as an unevaluated pair, on the tick the filter empties.
+    Group { flush: bool },
 }
 
 /// The three kinds of acc/dec filter (plus none).
@@ -280,6 +300,10 @@ impl LinearFilter {
     }
 
     fn advance(&mut self, fi: f64) -> f64 {
+        self.advance_mode(fi, Settle::Own).0
+    }
+
+    fn advance_mode(&mut self, fi: f64, mode: Settle) -> (f64, f64) {
         let m = self.m;
         // Delay line: read f_i(k-m), write f_i(k). No loop over m.
         let old = match self.ring.get_mut(self.idx) {
@@ -303,17 +327,21 @@ impl LinearFilter {
             // Window holds only zeros: renormalise the running sum exactly.
             self.window = CompensatedSum::new();
         }
-        let out = if self.zero_run.saturating_add(1) >= m {
+        if self.zero_run.saturating_add(1) >= m {
             // At most the oldest sample is non-zero and this tick is its last
             // contribution: in exact arithmetic the pending after this tick is
             // 0, so emit all of it (= f_i(k-m+1)/m + rounding residue).
-            self.pending.value()
-        } else {
-            // Kim eq 1: f_o(k) = S(k)/m.
-            self.window.value() / m as f64
-        };
+            if let Settle::Group { .. } = mode {
+                return self.pending.take();
+            }
+            let out = self.pending.value();
+            self.pending.add(-out);
+            return (out, 0.0);
+        }
+        // Kim eq 1: f_o(k) = S(k)/m.
+        let out = self.window.value() / m as f64;
         self.pending.add(-out);
-        out
+        (out, 0.0)
     }
 
     /// Clears the state (not a per-tick function: O(m)).
@@ -464,26 +492,47 @@ impl ExponentialFilter {
     }
 
     fn advance(&mut self, fi: f64) -> f64 {
+        self.advance_mode((fi, 0.0), Settle::Own).0
+    }
+
+    /// One tick with the input `fi.0 + fi.1` (an unevaluated pair: the bell filter's linear
+    /// stage hands over its whole remainder).
+    fn advance_mode(&mut self, fi: (f64, f64), mode: Settle) -> (f64, f64) {
         // Shin eq 22: x̂(k) = x(k-1) + f_i(k).
-        self.pending.add(fi);
-        self.zero_run = if fi == 0.0 {
+        self.pending.add(fi.0);
+        if fi.1 != 0.0 {
+            self.pending.add(fi.1);
+        }
+        let zero_in = fi.0 == 0.0 && fi.1 == 0.0;
+        self.zero_run = if zero_in {
             self.zero_run.saturating_add(1)
         } else {
             0
         };
         let x_hat = self.pending.value();
-        let out = if (fi == 0.0 && x_hat.abs() <= SETTLE_THRESHOLD)
-            || self.zero_run >= self.settle_ticks
-        {
-            // Settle: emit the remainder (any sub-ulp part follows next tick).
-            x_hat
-        } else {
-            // Shin eq 32 / Kim eq 9 (corrected): f_o(k) = (1−a)·x̂(k).
-            self.gain * x_hat
+        let settle = match mode {
+            Settle::Own => zero_in && x_hat.abs() <= SETTLE_THRESHOLD,
+            Settle::Group { flush } => zero_in && flush,
         };
+        if settle || self.zero_run >= self.settle_ticks {
+            if let Settle::Group { .. } = mode {
+                return self.pending.take();
+            }
+            // Settle: emit the remainder (any sub-ulp part follows next tick).
+            self.pending.add(-x_hat);
+            return (x_hat, 0.0);
+        }
+        // Shin eq 32 / Kim eq 9 (corrected): f_o(k) = (1−a)·x̂(k).
+        let out = self.gain * x_hat;
         // Shin eq 25: x(k) = x̂(k) − f_o(k).
         self.pending.add(-out);
-        out
+        (out, 0.0)
+    }
+
+    /// With a zero input now, would this filter settle on its own (its pending within
+    /// `SETTLE_THRESHOLD`)?
+    fn tail_ready(&self) -> bool {
+        self.pending.value().abs() <= SETTLE_THRESHOLD
     }
 
     /// Clears the state.
@@ -574,9 +623,13 @@ impl BellFilter {
     }
 
     fn advance(&mut self, fi: f64) -> f64 {
+        self.advance_mode(fi, Settle::Own).0
+    }
+
+    fn advance_mode(&mut self, fi: f64, mode: Settle) -> (f64, f64) {
         // Shin eq 40: linear stage, its output feeds the exponential stage.
-        let mid = self.linear.advance(fi);
-        self.exponential.advance(mid)
+        let mid = self.linear.advance_mode(fi, mode);
+        self.exponential.advance_mode(mid, mode)
     }
 
     /// Clears the state.
@@ -671,6 +724,43 @@ impl AccDecFilter {
     pub fn try_step(&mut self, fi: f64) -> Result<f64, FilterError> {
         let fi = check_input(fi)?;
         Ok(self.step(fi))
+    }
+
+    /// One tick of a filter that empties together with the other axes of its group.
+    ///
+    /// The output is an unevaluated pair `hi + lo`: `lo` is non-zero only on the tick the
+    /// filter empties and holds the sub-ulp part of its remainder, so a caller that adds both
+    /// to an error-free sum ([`CompensatedSum`]) gets exactly `Σ f_i` once the filter is
+    /// settled, on that tick and not one later.
+    ///
+    /// An exponential stage does not settle by itself when its pending distance falls under
+    /// `SETTLE_THRESHOLD` (that tick depends on the axis's distance: a short axis would come
+    /// to rest before a long one). It emits its remainder when `flush` is set, which the group
+    /// does on the tick every member's input is zero and every member is
+    /// [`tail_ready`](Self::tail_ready), so the axes of a synchronised move end on the same tick
+    /// (Kim eq 10–14); the bound of [`settle_bound_ticks`](Self::settle_bound_ticks) still holds.
+    /// The linear filter empties `m−1` ticks after its last input, as with [`step`](Self::step).
+    pub fn step_group(&mut self, fi: f64, flush: bool) -> (f64, f64) {
+        let fi = sanitize(fi);
+        let mode = Settle::Group { flush };
+        match self {
+            AccDecFilter::None => (fi, 0.0),
+            AccDecFilter::Linear(f) => f.advance_mode(fi, mode),
+            AccDecFilter::Exponential(f) => f.advance_mode((fi, 0.0), mode),
+            AccDecFilter::Bell(f) => f.advance_mode(fi, mode),
+        }
+    }
+
+    /// Would this filter, given a zero input from now on, settle on its own this tick: its
+    /// exponential stage (if any) holds at most `SETTLE_THRESHOLD` and nothing is left to
+    /// reach it from a linear stage? Always true for the linear filter and the pass-through,
+    /// which settle on a fixed tick. See [`step_group`](Self::step_group).
+    pub fn tail_ready(&self) -> bool {
+        match self {
+            AccDecFilter::None | AccDecFilter::Linear(_) => true,
+            AccDecFilter::Exponential(f) => f.tail_ready(),
+            AccDecFilter::Bell(f) => f.linear.is_settled() && f.exponential.tail_ready(),
+        }
     }
 
     /// Clears the state.
@@ -1361,6 +1451,75 @@ mod tests {
         match f {
             AccDecFilter::Linear(l) => assert_eq!(l.taps(), 30),
             _ => panic!("wrong kind"),
+        }
+    }
+
+    /// Two axes of one synchronised move (proportional inputs) through `kind`: with
+    /// `group`, stepped as a group does (`step_group`, flushed together); else each on its own.
+    /// Returns each axis's last tick with a non-zero output and the exact difference
+    /// `Σ outputs − Σ inputs` (outputs summed as pairs in a `CompensatedSum`).
+    fn two_axes(kind: FilterKind, group: bool) -> ([u64; 2], [f64; 2]) {
+        let ts = 1e-4;
+        let mut f = [
+            AccDecFilter::from_time_constant(kind, 0.03, ts).unwrap(),
+            AccDecFilter::from_time_constant(kind, 0.03, ts).unwrap(),
+        ];
+        let dist = [80_000.0, 5_000.0 / 3.0];
+        let ticks_in = 1000u64;
+        let mut last = [0u64; 2];
+        let mut diff = [CompensatedSum::new(); 2];
+        for k in 0..200_000u64 {
+            let inc = dist.map(|d| {
+                if k < ticks_in {
+                    d / ticks_in as f64
+                } else {
+                    0.0
+                }
+            });
+            let flush = inc.iter().all(|x| *x == 0.0) && f.iter().all(AccDecFilter::tail_ready);
+            for i in 0..2 {
+                let (hi, lo) = if group {
+                    f[i].step_group(inc[i], flush)
+                } else {
+                    (f[i].step(inc[i]), 0.0)
+                };
+                if hi != 0.0 || lo != 0.0 {
+                    last[i] = k;
+                }
+                diff[i].add(hi);
+                diff[i].add(lo);
+                diff[i].add(-inc[i]);
+            }
+            if k > ticks_in && f.iter().all(AccDecFilter::is_settled) {
+                break;
+            }
+        }
+        (last, diff.map(|d| d.value()))
+    }
+
+    #[test]
+    fn group_settle_ends_every_axis_on_one_tick_and_loses_nothing() {
+        for kind in [
+            FilterKind::Linear,
+            FilterKind::Exponential,
+            FilterKind::Bell,
+        ] {
+            let (last, diff) = two_axes(kind, true);
+            assert_eq!(last[0], last[1], "{kind:?}: last outputs {last:?}");
+            assert_eq!(diff, [0.0, 0.0], "{kind:?}: Σ out − Σ in");
+            let (own, _) = two_axes(kind, false);
+            if kind == FilterKind::Linear {
+                assert_eq!(own, last, "linear settles on a fixed tick either way");
+            } else {
+                // On its own the short axis's tail falls under the threshold first.
+                assert!(own[1] < own[0], "{kind:?}: {own:?}");
+                // The long axis sets the tick; on its own its remainder's sub-ulp part may
+                // follow one tick later, in a group it goes out with the rest.
+                assert!(
+                    own[0] == last[0] || own[0] == last[0] + 1,
+                    "{kind:?}: own {own:?}, group {last:?}"
+                );
+            }
         }
     }
 }

@@ -402,6 +402,7 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes),
             Opcode::NurbsData => group.nurbs_data(c),
             Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
+            Opcode::GroupPtpLimits => group.stage_ptp_limits(c),
             _ => group.queue_move(c, op, ts, tick, out),
         }
     }
@@ -664,6 +665,7 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::GroupMoveLinear
             | Opcode::GroupMoveCircular
             | Opcode::GroupMovePtp
+            | Opcode::GroupPtpLimits
             | Opcode::NurbsBegin
             | Opcode::NurbsData
             | Opcode::NurbsEnd

@@ -12,12 +12,19 @@
 //!    post-interpolation acc/dec is on, and adds it to the axis's commanded position.
 //!
 //! A synchronised point-to-point move (Kim eq 10–14) is a straight line in axis space whose
-//! length is the largest axis distance: the slowest axis sets the time and the others scale
-//! (`f_iy = P_y/N`, eq 11), so every axis starts and ends on the same tick.
+//! length is the largest axis distance `L`, run along one normalised profile (`f_iy = P_y/N`,
+//! eq 11), so every axis starts and ends on the same tick. Each axis `i` has its own limits
+//! (the command's, or those staged for it with `MC_OP_GROUP_PTP_LIMITS`); along the line they
+//! become `limit_i·L/|P_i|`, and the profile is planned with the smallest of each: the axis
+//! that needs the most time sets it and the others scale, each within its own limits.
+//!
+//! The commanded positions are error-free sums of the filtered increments; a group at rest is
+//! snapped to its programmed end, and the largest correction that snap made is published
+//! (`snap_last`, `snap_max`), so a filter that lost distance would show.
 
 use crate::axis::Axis;
 use crate::circle::{ArcDirection, ExactCircle, ReferenceWordCircle};
-use crate::filters::{AccDecFilter, FilterKind};
+use crate::filters::{AccDecFilter, CompensatedSum, FilterKind};
 use crate::nurbs::{Nurbs, NurbsError};
 use crate::scurve::{Limits, Profile};
 use crate::servo::Reference;
@@ -438,6 +445,18 @@ pub struct Group {
     move_count: u32,
     prev_vel: [f64; MAX_AXES],
     rx: NurbsRx,
+    /// Commanded position of each member, an error-free sum of the increments driven.
+    pos: [CompensatedSum; MAX_AXES],
+    /// The position last driven (rounded `pos`): anything else moving the reference resyncs.
+    pos_out: [f64; MAX_AXES],
+    /// At rest and snapped since the last motion.
+    resting: bool,
+    /// Largest |programmed end − commanded position| over the axes at the last snap, counts.
+    snap_last: f64,
+    /// Largest such correction since the group was enabled, counts.
+    snap_max: f64,
+    /// Per-axis limits staged for the next point-to-point move: v, a, d, j (counts).
+    ptp_stage: [Option<[f64; 4]>; MAX_AXES],
 }
 
 impl Group {
@@ -462,7 +481,25 @@ impl Group {
                 stage: vec![0.0; STAGE_LEN].into_boxed_slice(),
                 ..NurbsRx::default()
             },
+            pos: [CompensatedSum::new(); MAX_AXES],
+            pos_out: [0.0; MAX_AXES],
+            resting: true,
+            snap_last: 0.0,
+            snap_max: 0.0,
+            ptp_stage: [None; MAX_AXES],
         }
+    }
+
+    /// Start the members' position sums where their references are.
+    fn sync_positions(&mut self, axes: &[Axis; MAX_AXES], cfg: &GroupConfig) {
+        for (i, &a) in cfg.axes[..cfg.naxes].iter().enumerate() {
+            let p = axes[a].reference().pos;
+            self.queue_end[i] = p;
+            self.pos[i] = CompensatedSum::new();
+            self.pos[i].add(p);
+            self.pos_out[i] = p;
+        }
+        self.resting = true;
     }
 
     /// Does the group hold axis `a` (configured and enabled)?
@@ -515,6 +552,7 @@ impl Group {
             return Err(NackCode::InvalidState);
         }
         self.config = Some(cfg);
+        self.ptp_stage = [None; MAX_AXES];
         Ok(())
     }
 
@@ -542,9 +580,9 @@ impl Group {
                 _ => return Err(NackCode::InvalidState),
             }
         }
-        for (i, &a) in cfg.axes[..cfg.naxes].iter().enumerate() {
-            self.queue_end[i] = axes[a].reference().pos;
-        }
+        self.sync_positions(axes, &cfg);
+        self.snap_last = 0.0;
+        self.snap_max = 0.0;
         self.prev_vel = [0.0; MAX_AXES];
         self.set_state(GroupState::Standby, tick, out);
         Ok(())
@@ -568,6 +606,7 @@ impl Group {
         }
         self.final_seq = None;
         self.stop = None;
+        self.ptp_stage = [None; MAX_AXES];
         self.set_state(GroupState::Disabled, tick, out);
     }
 
@@ -588,9 +627,7 @@ impl Group {
         {
             return Err(NackCode::InvalidState);
         }
-        for (i, &a) in cfg.axes[..cfg.naxes].iter().enumerate() {
-            self.queue_end[i] = axes[a].reference().pos;
-        }
+        self.sync_positions(axes, &cfg);
         self.set_state(GroupState::Standby, tick, out);
         Ok(())
     }
@@ -742,6 +779,12 @@ impl Group {
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
+        // Limits staged for a point-to-point move belong to the next one, whatever becomes of it.
+        let staged = if op == Opcode::GroupMovePtp {
+            core::mem::replace(&mut self.ptp_stage, [None; MAX_AXES])
+        } else {
+            [None; MAX_AXES]
+        };
         let cfg = self.can_queue(c.flags)?;
         let n = cfg.naxes;
         let a = &c.args;
@@ -792,6 +835,16 @@ impl Group {
             }
             _ => self.arc(&cfg, c, &start, relative)?,
         };
+        let limits = match geom {
+            Geometry::Line { delta, len, .. } if op == Opcode::GroupMovePtp => {
+                let own = c.flags & move_flags::PTP_AXIS_LIMITS != 0;
+                if own && staged[..n].iter().any(Option::is_none) {
+                    return Err(NackCode::BadConfig);
+                }
+                ptp_path_limits(&limits, &delta[..n], len, own.then_some(&staged[..n]))
+            }
+            _ => limits,
+        };
         let len = geom.len();
         let feed = if let (true, Geometry::Arc { arc, u, v, .. }) = (cfg.reference_word, &geom) {
             let dir = if arc.sweep() > 0.0 {
@@ -834,6 +887,39 @@ impl Group {
             tick,
             out,
         );
+        Ok(())
+    }
+
+    /// MC_OP_GROUP_PTP_LIMITS: stage the limits (v, a, d, j) of `count` group axes from
+    /// `first` for the next point-to-point move (used with `MC_PTP_AXIS_LIMITS`).
+    pub fn stage_ptp_limits(&mut self, c: &Command) -> Result<(), NackCode> {
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        if self.state == GroupState::Disabled {
+            return Err(NackCode::GroupDisabled);
+        }
+        let a = &c.args;
+        if !(a[0].is_finite() && a[1].is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        let (Some(first), Some(count)) = (whole(a[0]), whole(a[1])) else {
+            return Err(NackCode::BadConfig);
+        };
+        if count == 0 || count > firmware_proto::PTP_LIMITS_MAX {
+            return Err(NackCode::BadConfig);
+        }
+        if first + count > cfg.naxes {
+            return Err(NackCode::AxisNotInGroup);
+        }
+        let values = &a[2..2 + 4 * count];
+        if values.iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        if values.iter().any(|x| *x <= 0.0) {
+            return Err(NackCode::NonPositiveLimit);
+        }
+        for (k, l) in values.chunks_exact(4).enumerate() {
+            self.ptp_stage[first + k] = Some([l[0], l[1], l[2], l[3]]);
+        }
         Ok(())
     }
 
@@ -1375,29 +1461,54 @@ impl Group {
             }
         }
 
-        // Post-interpolation filters, then the axes' references.
+        // Post-interpolation filters, then the axes' references. The filters' exponential
+        // stages empty together, on the tick every member's input is zero and every member's
+        // tail is small enough (Kim eq 10–14: the axes of a move end on the same tick).
+        let flush = cfg.post
+            && inc[..n].iter().all(|d| *d == 0.0)
+            && members.iter().all(|&a| filters[a].live.tail_ready());
         let mut settled = true;
         for (i, &a) in members.iter().enumerate() {
-            let d = if cfg.post {
-                filters[a].live.step(inc[i])
+            let (d, d_lo) = if cfg.post {
+                filters[a].live.step_group(inc[i], flush)
             } else {
-                inc[i]
+                (inc[i], 0.0)
             };
             settled &= !cfg.post || filters[a].is_settled();
+            // The commanded position is the error-free sum of what the filters emit (their
+            // remainders' sub-ulp parts included), restarted if anything else moved it.
             let r = axes[a].reference();
-            let vel = d / ts;
+            if r.pos.to_bits() != self.pos_out[i].to_bits() {
+                self.pos[i] = CompensatedSum::new();
+                self.pos[i].add(r.pos);
+            }
+            self.pos[i].add(d);
+            if d_lo != 0.0 {
+                self.pos[i].add(d_lo);
+            }
+            let pos = self.pos[i].value();
+            self.pos_out[i] = pos;
+            let vel = (d + d_lo) / ts;
             let acc = (vel - self.prev_vel[i]) / ts;
             self.prev_vel[i] = vel;
-            axes[a].drive(Reference {
-                pos: r.pos + d,
-                vel,
-                acc,
-            });
+            axes[a].drive(Reference { pos, vel, acc });
+        }
+        if self.active.is_some() || !settled {
+            self.resting = false;
         }
 
-        // At rest: snap to the exact programmed end, then wait to be in position.
+        // At rest: snap to the exact programmed end, then wait to be in position. The
+        // correction the snap makes is what the interpolation and the filters lost or
+        // invented (plus the rounding of the sums to f64): published, so it can be checked.
         if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
+            let mut correction: f64 = 0.0;
             for (i, &a) in members.iter().enumerate() {
+                let mut e = self.pos[i];
+                e.add(-self.queue_end[i]);
+                correction = correction.max(e.value().abs());
+                self.pos[i] = CompensatedSum::new();
+                self.pos[i].add(self.queue_end[i]);
+                self.pos_out[i] = self.queue_end[i];
                 axes[a].drive(Reference {
                     pos: self.queue_end[i],
                     vel: 0.0,
@@ -1405,6 +1516,11 @@ impl Group {
                 });
                 self.prev_vel[i] = 0.0;
             }
+            if !self.resting {
+                self.resting = true;
+                self.snap_last = correction;
+            }
+            self.snap_max = self.snap_max.max(correction);
             let in_pos = members
                 .iter()
                 .all(|&a| axes[a].in_position_at(axes[a].reference().pos));
@@ -1448,7 +1564,51 @@ impl Group {
             feed,
             feed_acc,
             tick,
+            snap_last: self.snap_last,
+            snap_max: self.snap_max,
         }
+    }
+}
+
+/// The limits along a synchronised point-to-point line of length `len` (the largest axis
+/// distance) that keep every axis within its own (Kim eq 10–14 with per-axis limits). Axis `i`
+/// travels `|delta_i|/len` of the path, so its limit `l_i` allows `l_i·len/|delta_i|` along
+/// it; the smallest of each wins, which sets the time, and the other axes scale. Each axis's
+/// limit is `base`, or the smaller of `base` and its own when `own` is given.
+fn ptp_path_limits(
+    base: &Limits,
+    delta: &[f64],
+    len: f64,
+    own: Option<&[Option<[f64; 4]>]>,
+) -> Limits {
+    if len.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+        return *base;
+    }
+    let mut l = [f64::INFINITY; 4];
+    for (i, d) in delta.iter().enumerate() {
+        let d = d.abs();
+        if d == 0.0 {
+            continue;
+        }
+        let r = len / d;
+        let mut ax = [base.vmax, base.amax, base.dmax, base.j1];
+        if let Some(Some(o)) = own.and_then(|o| o.get(i)) {
+            for (x, y) in ax.iter_mut().zip(o) {
+                *x = x.min(*y);
+            }
+        }
+        for (x, y) in l.iter_mut().zip(ax) {
+            *x = x.min(y * r);
+        }
+    }
+    Limits {
+        vmax: l[0],
+        amax: l[1],
+        dmax: l[2],
+        j1: l[3],
+        j3: l[3],
+        j5: l[3],
+        j7: l[3],
     }
 }
 

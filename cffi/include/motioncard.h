@@ -52,9 +52,10 @@
  *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
  *   mc_axis_configure_pdplus, mc_set_watchdog_timeout, mc_set_estop_input_category, mc_estop,
  *   mc_configure_safety. mc_group_move_nurbs sends the curve as several commands (a begin,
- *   data entries, an end) and blocks until the card has answered each; mc_reset_faults sends
- *   one command, then one MC_Reset per axis in ErrorStop. A move call returns when the card
- *   has accepted it, not when it is done.
+ *   data entries, an end) and blocks until the card has answered each, as does
+ *   mc_group_move_ptp_axes (the axes' limits, one command per three axes, then the move);
+ *   mc_reset_faults sends one command, then one MC_Reset per axis in ErrorStop. A move call
+ *   returns when the card has accepted it, not when it is done.
  * - mc_group_move_nurbs_path sends its curves one after another and, whenever the group's
  *   queue is full, waits for an earlier piece to finish (up to its timeout for each wait).
  * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_group_motion_wait,
@@ -695,6 +696,12 @@ typedef struct mc_group_status {
   double feed_acc;
   // Servo tick of this snapshot.
   uint64_t tick;
+  // At the group's last coming to rest, the largest |programmed end − commanded position|
+  // over its axes: the correction its snap to the end made, counts (what the interpolation
+  // and the filters lost, plus the rounding of the sums).
+  double snap_last;
+  // The largest `snap_last` since the group was enabled, counts.
+  double snap_max;
 } mc_group_status;
 
 // One acc/dec filter: kind and time constant.
@@ -1230,9 +1237,10 @@ mc_result mc_group_move_linear(mc_card card,
                                const struct mc_move_options *options,
                                struct mc_group_motion *motion);
 
-// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together; the
-// axis with the longest distance moves within `*limits` and the others scale. The cutting feed
-// type becomes rapid. Otherwise as `mc_group_move_linear`.
+// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together, each
+// within `*limits` (the first axis's units): the axis with the longest distance moves at them
+// and the others scale. The cutting feed type becomes rapid. Otherwise as
+// `mc_group_move_linear`. `mc_group_move_ptp_axes` gives each axis its own limits.
 mc_result mc_group_move_ptp(mc_card card,
                             uint32_t group,
                             const double *target,
@@ -1240,6 +1248,21 @@ mc_result mc_group_move_ptp(mc_card card,
                             const struct mc_path_limits *limits,
                             const struct mc_move_options *options,
                             struct mc_group_motion *motion);
+
+// Synchronised point-to-point move with each axis's own limits (Kim eq 10–14): `axis_limits`
+// holds `nlimits` `mc_path_limits`, one per group axis in group order, each in that axis's
+// user units (`MC_ERR_BAD_AXIS` when `n` or `nlimits` is not the group's axis count). The axis
+// that needs the most time within its limits sets the time, the others scale, every axis
+// stays within its own limits, and all start and end on the same servo tick. Otherwise as
+// `mc_group_move_ptp`; blocks until the card has accepted or refused the limits and the move.
+mc_result mc_group_move_ptp_axes(mc_card card,
+                                 uint32_t group,
+                                 const double *target,
+                                 size_t n,
+                                 const struct mc_path_limits *axis_limits,
+                                 size_t nlimits,
+                                 const struct mc_move_options *options,
+                                 struct mc_group_motion *motion);
 
 // MC_MoveCircular: an arc in `plane` (`MC_ARC_PLANE_`), described by `*arc` in the plane's
 // coordinates. `helix` holds `nhelix` targets of the group's other axes (in group order),

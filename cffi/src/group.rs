@@ -61,6 +61,25 @@ unsafe fn axis_values(p: *const f64, n: usize, what: &str) -> Result<Vec<f64>, F
     unsafe { read_slice(p, n, what) }
 }
 
+/// Copy `n` per-axis limits, bounded like [`axis_values`].
+///
+/// # Safety
+/// `p` is NULL or valid for reads of `n` `mc_path_limits`.
+unsafe fn path_limits_array(
+    p: *const mc_path_limits,
+    n: usize,
+) -> Result<Vec<PathLimits>, Failure> {
+    if n > MC_GROUP_MAX_AXES as usize {
+        return Err(Failure::new(
+            MC_ERR_BAD_AXIS,
+            format!("{n} axis limits: a group has at most {MC_GROUP_MAX_AXES} axes"),
+        ));
+    }
+    // SAFETY: forwarded from this function's contract.
+    let raw = unsafe { read_slice(p, n, "axis_limits") }?;
+    Ok(raw.into_iter().map(PathLimits::from).collect())
+}
+
 // ---------------------------------------------------------------------------------------------
 // Configuration and states
 // ---------------------------------------------------------------------------------------------
@@ -236,9 +255,10 @@ pub unsafe extern "C" fn mc_group_move_linear(
     guard(|| unsafe { start_line(card, group, target, n, limits, options, motion, false) })
 }
 
-/// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together; the
-/// axis with the longest distance moves within `*limits` and the others scale. The cutting feed
-/// type becomes rapid. Otherwise as `mc_group_move_linear`.
+/// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together, each
+/// within `*limits` (the first axis's units): the axis with the longest distance moves at them
+/// and the others scale. The cutting feed type becomes rapid. Otherwise as
+/// `mc_group_move_linear`. `mc_group_move_ptp_axes` gives each axis its own limits.
 #[no_mangle]
 pub unsafe extern "C" fn mc_group_move_ptp(
     card: mc_card,
@@ -251,6 +271,36 @@ pub unsafe extern "C" fn mc_group_move_ptp(
 ) -> mc_result {
     // SAFETY: forwarded from this function's contract.
     guard(|| unsafe { start_line(card, group, target, n, limits, options, motion, true) })
+}
+
+/// Synchronised point-to-point move with each axis's own limits (Kim eq 10–14): `axis_limits`
+/// holds `nlimits` `mc_path_limits`, one per group axis in group order, each in that axis's
+/// user units (`MC_ERR_BAD_AXIS` when `n` or `nlimits` is not the group's axis count). The axis
+/// that needs the most time within its limits sets the time, the others scale, every axis
+/// stays within its own limits, and all start and end on the same servo tick. Otherwise as
+/// `mc_group_move_ptp`; blocks until the card has accepted or refused the limits and the move.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn mc_group_move_ptp_axes(
+    card: mc_card,
+    group: u32,
+    target: *const f64,
+    n: usize,
+    axis_limits: *const mc_path_limits,
+    nlimits: usize,
+    options: *const mc_move_options,
+    motion: *mut mc_group_motion,
+) -> mc_result {
+    guard(|| {
+        // SAFETY: the caller gives NULL or a readable mc_move_options.
+        let o = unsafe { read_in(options, "options") }?.to_sdk()?;
+        // SAFETY: the caller gives `n` readable doubles.
+        let t = unsafe { axis_values(target, n, "target") }?;
+        // SAFETY: the caller gives `nlimits` readable mc_path_limits.
+        let l = unsafe { path_limits_array(axis_limits, nlimits) }?;
+        let (e, g) = group_of(card, group)?;
+        started(&e, g.move_ptp_axes(&t, &l, o)?, group, motion)
+    })
 }
 
 /// MC_MoveCircular: an arc in `plane` (`MC_ARC_PLANE_`), described by `*arc` in the plane's

@@ -799,6 +799,12 @@ pub struct mc_group_status {
     pub feed_acc: f64,
     /// Servo tick of this snapshot.
     pub tick: u64,
+    /// At the group's last coming to rest, the largest |programmed end − commanded position|
+    /// over its axes: the correction its snap to the end made, counts (what the interpolation
+    /// and the filters lost, plus the rounding of the sums).
+    pub snap_last: f64,
+    /// The largest `snap_last` since the group was enabled, counts.
+    pub snap_max: f64,
 }
 
 /// The `MC_GROUP_STATE_` value of a group state.
@@ -825,6 +831,8 @@ impl From<(GroupState, GroupStatus)> for mc_group_status {
             feed: s.feed,
             feed_acc: s.feed_acc,
             tick: s.tick,
+            snap_last: s.snap_last,
+            snap_max: s.snap_max,
         }
     }
 }

@@ -71,7 +71,8 @@
 #define MC_OP_GROUP_MOVE_CIRCULAR 25u /* MC_MoveCircular*: args: v, a, d, j, end_u, end_v, aux_u, aux_v, then the
                                        * helical targets of the group's other axes, in group order */
 #define MC_OP_GROUP_MOVE_PTP 26u    /* synchronised point-to-point (Kim eq 10-14): args: v, a, d, j (per axis),
-                                     * then one target per group axis */
+                                     * then one target per group axis. Flag MC_PTP_AXIS_LIMITS: each axis
+                                     * also within the limits staged for it (the smaller wins) */
 /* A NURBS curve reaches the card in continuation entries: BEGIN, DATA..., END, each answered by
  * its own ack or nack. The data stream is the control points (n_ctrl x group axes, in group
  * order, absolute counts), then the n_ctrl weights, then the n_knots knots. */
@@ -80,6 +81,10 @@
 #define MC_OP_NURBS_DATA 28u  /* args: offset into the stream, count (1..12), then count values */
 #define MC_OP_NURBS_END 29u   /* validate the curve and queue the move */
 #define MC_NURBS_DATA_MAX 12u
+/* Per-axis limits of the next MC_OP_GROUP_MOVE_PTP (any outcome consumes them; so do configure
+ * and disable): args: first group axis, count (1..MC_PTP_LIMITS_MAX), then v, a, d, j of each */
+#define MC_OP_GROUP_PTP_LIMITS 30u
+#define MC_PTP_LIMITS_MAX 3u
 #define MC_NURBS_SATURATION (1u << 2) /* saturation-aware feed (Yeh 3.4): needs PD+ axes */
 
 /* Flags of the group move opcodes */
@@ -99,6 +104,8 @@
 #define MC_FEED_RAPID 0u
 #define MC_FEED_CUTTING 1u
 #define MC_FEED_JOG 2u
+#define MC_PTP_AXIS_LIMITS (1u << 10)  /* MC_OP_GROUP_MOVE_PTP: every axis's limits were staged (else
+                                        * MC_NACK_BAD_CONFIG) */
 
 /* group_config.accdec bits */
 #define MC_ACCDEC_PRE (1u << 0)  /* S-curve of the tangential feed along the path */
@@ -388,7 +395,10 @@ struct mc_group_status_payload {
     double feed;          /* tangential velocity before the filters, counts/s */
     double feed_acc;      /* tangential acceleration before the filters, counts/s^2 */
     uint64_t tick;
-    uint64_t _reserved[16];
+    double snap_last;     /* at the group's last coming to rest: largest |programmed end - commanded
+                           * position| over its axes, the correction the snap to the end made, counts */
+    double snap_max;      /* the largest snap_last since MC_GroupEnable, counts */
+    uint64_t _reserved[14];
     uint64_t checksum;
 };
 

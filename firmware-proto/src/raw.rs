@@ -48,6 +48,8 @@ pub const MC_OP_NURBS_BEGIN: u32 = 27;
 pub const MC_OP_NURBS_DATA: u32 = 28;
 pub const MC_OP_NURBS_END: u32 = 29;
 pub const MC_NURBS_DATA_MAX: u32 = 12;
+pub const MC_OP_GROUP_PTP_LIMITS: u32 = 30;
+pub const MC_PTP_LIMITS_MAX: u32 = 3;
 pub const MC_NURBS_SATURATION: u32 = 4;
 pub const MC_MOVE_RELATIVE: u32 = 1;
 pub const MC_MOVE_BUFFERED: u32 = 2;
@@ -65,6 +67,7 @@ pub const MC_FEED_TYPE_SHIFT: u32 = 8;
 pub const MC_FEED_RAPID: u32 = 0;
 pub const MC_FEED_CUTTING: u32 = 1;
 pub const MC_FEED_JOG: u32 = 2;
+pub const MC_PTP_AXIS_LIMITS: u32 = 1024;
 pub const MC_ACCDEC_PRE: u32 = 1;
 pub const MC_ACCDEC_POST: u32 = 2;
 pub const MC_INTERP_EXACT: u32 = 0;
@@ -469,7 +472,9 @@ pub struct mc_group_status_payload {
     pub feed: f64,
     pub feed_acc: f64,
     pub tick: u64,
-    pub _reserved: [u64; 16usize],
+    pub snap_last: f64,
+    pub snap_max: f64,
+    pub _reserved: [u64; 14usize],
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -496,8 +501,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status_payload, feed_acc) - 40usize];
     ["Offset of field: mc_group_status_payload::tick"]
         [::core::mem::offset_of!(mc_group_status_payload, tick) - 48usize];
+    ["Offset of field: mc_group_status_payload::snap_last"]
+        [::core::mem::offset_of!(mc_group_status_payload, snap_last) - 56usize];
+    ["Offset of field: mc_group_status_payload::snap_max"]
+        [::core::mem::offset_of!(mc_group_status_payload, snap_max) - 64usize];
     ["Offset of field: mc_group_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 56usize];
+        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 72usize];
     ["Offset of field: mc_group_status_payload::checksum"]
         [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
 };

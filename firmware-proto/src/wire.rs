@@ -14,6 +14,8 @@ pub const CMD_WORDS: usize = crate::layout::CMD_BYTES / 8;
 pub const EVT_WORDS: usize = crate::layout::EVT_BYTES / 8;
 /// Values per NURBS data entry.
 pub const NURBS_DATA_MAX: usize = raw::MC_NURBS_DATA_MAX as usize;
+/// Axes whose limits one `GroupPtpLimits` entry stages.
+pub const PTP_LIMITS_MAX: usize = raw::MC_PTP_LIMITS_MAX as usize;
 /// Words of a status payload.
 pub const STATUS_WORDS: usize = crate::layout::STATUS_WORDS;
 
@@ -81,6 +83,9 @@ code_enum! {
         GroupMoveCircular = raw::MC_OP_GROUP_MOVE_CIRCULAR,
         /// Synchronised multi-axis point-to-point (Kim eq 10–14).
         GroupMovePtp = raw::MC_OP_GROUP_MOVE_PTP,
+        /// Stage per-axis limits for the next point-to-point move: args first group axis,
+        /// count, then v, a, d, j of each.
+        GroupPtpLimits = raw::MC_OP_GROUP_PTP_LIMITS,
         /// Open a NURBS curve transfer: args degree, n_ctrl, n_knots, feed, accel, jerk, chord
         /// tolerance, saturation budget.
         NurbsBegin = raw::MC_OP_NURBS_BEGIN,
@@ -281,6 +286,11 @@ pub struct GroupStatus {
     pub feed_acc: f64,
     /// Servo tick of this snapshot.
     pub tick: u64,
+    /// At the group's last coming to rest, the largest |programmed end − commanded position|
+    /// over its axes: the correction its snap to the end made, counts.
+    pub snap_last: f64,
+    /// The largest `snap_last` since the group was enabled, counts.
+    pub snap_max: f64,
 }
 
 impl GroupStatus {
@@ -297,6 +307,8 @@ impl GroupStatus {
             *dst = v.to_bits();
         }
         w[6] = self.tick;
+        w[7] = self.snap_last.to_bits();
+        w[8] = self.snap_max.to_bits();
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
@@ -317,6 +329,8 @@ impl GroupStatus {
             feed: f(4),
             feed_acc: f(5),
             tick: w[6],
+            snap_last: f(7),
+            snap_max: f(8),
         })
     }
 
@@ -345,6 +359,8 @@ pub mod move_flags {
     pub const NURBS_SATURATION: u32 = raw::MC_NURBS_SATURATION;
     /// Shift of the 2-bit feed type (`MC_FEED_*`).
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
+    /// Point-to-point: every axis also within the limits staged for it.
+    pub const PTP_AXIS_LIMITS: u32 = raw::MC_PTP_AXIS_LIMITS;
 }
 
 code_enum! {

@@ -459,23 +459,89 @@ impl Group {
         self.line(Opcode::GroupMoveLinear, target, lim, &opts, "move linear")
     }
 
-    /// Synchronised point-to-point (Kim eq 10–14): every axis starts and ends together; the
-    /// axis with the longest distance moves within `lim` and the others scale.
-    pub fn move_ptp(
-        &self,
-        target: &[f64],
-        lim: &PathLimits,
-        opts: MoveOptions,
-    ) -> Result<GroupMotion> {
-        let opts = MoveOptions {
+    /// A point-to-point move's options: the cutting feed type becomes rapid (G00).
+    fn ptp_options(opts: MoveOptions) -> MoveOptions {
+        MoveOptions {
             feed_type: if opts.feed_type == FeedType::Cutting {
                 FeedType::Rapid
             } else {
                 opts.feed_type
             },
             ..opts
-        };
+        }
+    }
+
+    /// Synchronised point-to-point (Kim eq 10–14): every axis starts and ends together, each
+    /// within `lim` (in the first axis's units, like a path): the axis with the longest
+    /// distance moves at `lim` and the others scale. The cutting feed type becomes rapid.
+    /// [`move_ptp_axes`](Self::move_ptp_axes) gives each axis its own limits.
+    pub fn move_ptp(
+        &self,
+        target: &[f64],
+        lim: &PathLimits,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let opts = Self::ptp_options(opts);
         self.line(Opcode::GroupMovePtp, target, lim, &opts, "move ptp")
+    }
+
+    /// Synchronised point-to-point with each axis's own limits (Kim eq 10–14): `limits[i]`
+    /// bounds group axis `i` (velocity, acceleration, deceleration and jerk in that axis's
+    /// user units). The axis that needs the most time within its limits sets the time (when
+    /// one axis is the tightest in every limit, the move takes exactly its own time), the
+    /// others scale, every axis within its own limits, and all start and end on the same
+    /// tick. The limits reach the card staged in `MC_OP_GROUP_PTP_LIMITS` entries.
+    pub fn move_ptp_axes(
+        &self,
+        target: &[f64],
+        limits: &[PathLimits],
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let (n, axes) = self.axes()?;
+        if limits.len() != n {
+            return Err(Error::BadAxis {
+                axis: limits.len(),
+                count: n,
+            });
+        }
+        let targets = self.targets(target)?;
+        let mut per = Vec::with_capacity(n);
+        let mut widest = [0.0f64; 4];
+        for (l, &a) in limits.iter().zip(&axes[..n]) {
+            let s = self.card.scale(a).abs();
+            let named = [
+                ("velocity", l.velocity),
+                ("acceleration", l.acceleration),
+                ("deceleration", l.deceleration),
+                ("jerk", l.jerk),
+            ];
+            let mut counts = [0.0; 4];
+            for ((c, w), (what, v)) in counts.iter_mut().zip(widest.iter_mut()).zip(named) {
+                positive(what, v)?;
+                *c = v * s;
+                *w = w.max(*c);
+            }
+            per.push(counts);
+        }
+        for (k, chunk) in per.chunks(firmware_proto::PTP_LIMITS_MAX).enumerate() {
+            let mut args = vec![
+                (k * firmware_proto::PTP_LIMITS_MAX) as f64,
+                chunk.len() as f64,
+            ];
+            args.extend(chunk.iter().flatten());
+            self.run(
+                self.op(Opcode::GroupPtpLimits).with_args(&args),
+                "ptp axis limits",
+            )?;
+        }
+        // The command's limits apply to every axis too (the smaller wins): the widest of the
+        // axes' own leaves each axis at its own.
+        let mut args = widest.to_vec();
+        args.extend(targets);
+        let mut cmd = self.op(Opcode::GroupMovePtp).with_args(&args);
+        cmd.flags = Self::flags(&Self::ptp_options(opts)) | move_flags::PTP_AXIS_LIMITS;
+        let seq = self.run(cmd, "move ptp")?;
+        Ok(self.motion(seq))
     }
 
     /// MC_MoveCircular: an arc in `plane`; `helix` holds the targets of the group's other axes

@@ -151,6 +151,29 @@ static void lines_and_circles(mc_card c) {
     CHECK(mc_group_move_ptp(c, G, ptp, 2, &FEED, &NOW, &m));
     CHECK(mc_group_motion_wait(c, m, 30000));
     expect_at(c, ptp[0], ptp[1], "ptp");
+
+    /* Each axis within its own limits: y, allowed a tenth of x's velocity, sets the time. */
+    const mc_path_limits own[2] = {
+        FEED, {FEED.velocity / 10.0, FEED.acceleration, FEED.deceleration, FEED.jerk}};
+    const double home[2] = {0.0, 0.0};
+    EXPECT(mc_group_move_ptp_axes(c, G, home, 2, own, 1, &NOW, &m), MC_ERR_BAD_AXIS);
+    EXPECT(mc_group_move_ptp_axes(c, G, home, 2, NULL, 2, &NOW, &m), MC_ERR_NULL_POINTER);
+    double t0 = 0.0, t1 = 0.0;
+    CHECK(mc_sim_time(c, &t0));
+    CHECK(mc_group_move_ptp_axes(c, G, home, 2, own, 2, &NOW, &m));
+    mc_group_status gs;
+    do {
+        CHECK(mc_sim_step(c, 1));
+        CHECK(mc_group_get_status(c, G, &gs));
+    } while (gs.state == MC_GROUP_STATE_MOVING);
+    CHECK(mc_sim_time(c, &t1));
+    CHECK(mc_group_motion_wait(c, m, 30000));
+    expect_at(c, 0.0, 0.0, "ptp with per-axis limits");
+    /* y travels 3,000 counts at 5,000 counts/s at most: 0.6 s, not x's 0.24 s. */
+    ASSERT(t1 - t0 > 0.6, "took %g s", t1 - t0);
+    /* The snap to the programmed end corrected nothing a filter or sum lost. */
+    ASSERT(gs.snap_last <= 1e-12 && gs.snap_max <= 1e-12, "snap corrections %g, %g counts",
+           gs.snap_last, gs.snap_max);
 }
 
 /* Post-interpolation acc/dec: constant feed along the path, each axis's filter after it. */
