@@ -80,3 +80,79 @@ fn bad_arguments_exit_with_status_2_and_say_why() {
     assert_eq!(code, 2);
     assert!(err.contains("invalid value"), "{err}");
 }
+
+/// Negative limits are values, refused for their sign, not taken for unknown flags.
+#[test]
+fn negative_limits_get_the_must_be_positive_message() {
+    for (flag, value) in [
+        ("--dmax", "-3"),
+        ("--vmax", "-1000"),
+        ("--amax", "-1e4"),
+        ("--jmax", "-0.5"),
+        ("--jdec", "-2e5"),
+    ] {
+        let mut args = vec![
+            "plan", "100", "--vmax", "1000", "--amax", "1e4", "--jmax", "1e6",
+        ];
+        if let Some(i) = args.iter().position(|a| *a == flag) {
+            args[i + 1] = value;
+        } else {
+            args.extend([flag, value]);
+        }
+        let (code, out, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        assert!(
+            err.contains(&format!("{flag} must be greater than zero, got {value}"))
+                || err.contains(&format!("{flag} must be greater than zero")),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("unexpected argument"), "{args:?}: {err}");
+    }
+    let (code, _, err) = mcctl(&[
+        "plan", "100", "--vmax", "10", "--amax", "1", "--jmax", "1", "--v0", "-2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--v0 must be between 0 and --vmax"), "{err}");
+    // A negative distance is a move backwards, as before.
+    let (code, out, _) = mcctl(&[
+        "plan", "-100", "--vmax", "10", "--amax", "100", "--jmax", "1e4",
+    ]);
+    assert_eq!(code, 0, "{out}");
+}
+
+/// Distances and durations beyond what the card accepts are refused with the card's bound.
+#[test]
+fn distances_and_times_beyond_the_card_are_refused() {
+    let lim = ["--vmax", "1e4", "--amax", "1e5", "--jmax", "1e7"];
+    for d in ["1e300", "-1e300", "4503599627370497", "9e15"] {
+        let mut args = vec!["plan", d];
+        args.extend(lim);
+        let (code, out, err) = mcctl(&args);
+        assert_eq!(code, 2, "{d}: {out}");
+        assert!(
+            err.contains("distance must be at most 4503599627370496"),
+            "{d}: {err}"
+        );
+    }
+    // Within the position range, but at 1 count/s it would take 1e7 s.
+    let (code, _, err) = mcctl(&[
+        "plan", "1e7", "--vmax", "1", "--amax", "10", "--jmax", "100",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("the card refuses moves longer than 1000000 s"),
+        "{err}"
+    );
+    // The largest distance is fine with fast enough limits.
+    let (code, out, err) = mcctl(&[
+        "plan",
+        "4503599627370496",
+        "--vmax",
+        "1e12",
+        "--amax",
+        "1e14",
+        "--jmax",
+        "1e16",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+}

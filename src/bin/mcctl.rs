@@ -25,26 +25,28 @@ enum Cmd {
         /// Distance to travel (signed).
         #[arg(allow_hyphen_values = true)]
         distance: f64,
+        // Negative numbers are values here, so `--dmax -3` gets "must be greater than zero"
+        // rather than clap's "unexpected argument".
         /// Maximum velocity.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         vmax: f64,
         /// Maximum acceleration.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         amax: f64,
         /// Maximum jerk (phases 1 and 3; also 5 and 7 unless --jdec).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         jmax: f64,
         /// Maximum deceleration (default: --amax).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         dmax: Option<f64>,
         /// Jerk of the deceleration phases 5 and 7 (default: --jmax).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         jdec: Option<f64>,
         /// Start velocity, along the direction of motion.
-        #[arg(long, default_value_t = 0.0)]
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         v0: f64,
         /// End velocity, along the direction of motion.
-        #[arg(long, default_value_t = 0.0)]
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         v1: f64,
         /// Print one JSON object instead of a table.
         #[arg(long)]
@@ -100,6 +102,15 @@ fn main() -> ExitCode {
                     ));
                 }
             }
+            // The card's own bounds: it refuses a target beyond ±MAX_POSITION counts and a
+            // move longer than MAX_MOVE_TIME.
+            let max_pos = card_emu::MAX_POSITION;
+            if distance.abs() > max_pos {
+                return bad(format!(
+                    "distance must be at most {max_pos} in magnitude (2^52, the card's position \
+                     range in counts), got {distance}"
+                ));
+            }
             let lim = Limits {
                 vmax,
                 amax,
@@ -113,6 +124,13 @@ fn main() -> ExitCode {
                 Ok(p) => p,
                 Err(e) => return bad(format!("no S-curve satisfies these limits: {e}")),
             };
+            let max_time = card_emu::MAX_MOVE_TIME;
+            if p.duration().is_nan() || p.duration() > max_time {
+                return bad(format!(
+                    "the move would take {:.6e} s; the card refuses moves longer than {max_time} s",
+                    p.duration()
+                ));
+            }
             let phases = p.phases();
             if json {
                 let j = serde_json::json!({
