@@ -1,10 +1,12 @@
 //! Shin's corner test on the emulated card: a 90° corner at 1 m/min through linear and
 //! exponential filters of 15 and 30 ms, on a rigid axis and on a table with a 33 Hz coupling
-//! resonance. Prints the corner errors and writes SVG plots of the paths and velocities.
+//! resonance. Prints the corner errors of all four filter/time-constant runs, sets them next
+//! to Shin's (what agrees, what does not, and why), and writes SVG plots of the paths and
+//! velocities.
 //!
 //! `cargo run --release --example corner`
 use clap::Parser;
-use motioncard::papers::shin_corner;
+use motioncard::papers::{shin_comparison, shin_corner};
 use motioncard::plot::{lines, Series};
 use motioncard::{FilterKind, MotorParams};
 use std::path::PathBuf;
@@ -48,6 +50,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             paths.push((format!("{kind:?} {:.0} ms", tau * 1e3), c));
         }
     }
+    println!();
+    println!("Against Shin (Fig 12, ± corner tracking error):");
+    let runs = [
+        (paths[0].1.clone(), paths[1].1.clone()),
+        (paths[2].1.clone(), paths[3].1.clone()),
+    ];
+    print!("{}", shin_comparison(&runs));
+    println!();
     let rigid = shin_corner(MotorParams::default_servo(), FilterKind::Linear, 0.015)?;
     println!("rigid axis, linear 15 ms: tracking {:.1} µm — without a resonance there is nothing to excite", rigid.tracking);
     let series: Vec<Series> = paths

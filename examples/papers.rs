@@ -2,12 +2,15 @@
 //!
 //! `cargo run --release --example papers`
 use clap::Parser;
-use motioncard::papers::{kim_fig7, radial_error, shin_corner, RADIAL_CASES};
+use motioncard::papers::{
+    kim_fig7, kim_sync_ptp, radial_error, shin_comparison, shin_corner, SyncShape, RADIAL_CASES,
+    SYNC_TARGETS,
+};
 use motioncard::plot::{lines, Series};
 use motioncard::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
 
-/// Reproduce Kim 1991 Fig 7 and §4, and Shin's corner test, on the emulated card.
+/// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, and Shin's corner test, on the emulated card.
 #[derive(Parser)]
 struct Args {
     /// Directory for the SVG plots.
@@ -19,8 +22,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
 
     println!("Kim 1991 Fig 7: 81,920 pulses on X at 10 rev/s, 100 ms acc/dec, 1 kHz");
-    println!("| filter      | final command | final encoder | ramp to 99% feed |");
-    println!("|-------------|---------------|---------------|------------------|");
+    println!(
+        "| filter      | final command | final encoder | ramp to 99% feed | snap correction |"
+    );
+    println!(
+        "|-------------|---------------|---------------|------------------|-----------------|"
+    );
     let mut pos = Vec::new();
     let mut vel = Vec::new();
     for kind in [FilterKind::Linear, FilterKind::Exponential] {
@@ -32,11 +39,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .position(|v| *v >= 0.99 * feed)
             .map_or(f64::NAN, |k| r.t[k] - r.t[0]);
         println!(
-            "| {:<11} | {:>13} | {:>13} | {:>14.3} s |",
+            "| {:<11} | {:>13} | {:>13} | {:>14.3} s | {:>15.1e} |",
             format!("{kind:?}"),
             r.final_cmd,
             r.final_act,
-            ramp
+            ramp,
+            r.snap
         );
         let name = if kind == FilterKind::Linear {
             "linear"
@@ -70,6 +78,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
 
     println!();
+    println!(
+        "Kim 1991 eq 10–14: synchronised point-to-point, axes x y z w to {SYNC_TARGETS:?} counts, 1 kHz"
+    );
+    println!("| shape                            | start tick (x y z w) | at rest on target from tick (x y z w) | time s | peak velocity x / z | snap correction |");
+    println!("|----------------------------------|----------------------|---------------------------------------|--------|---------------------|-----------------|");
+    for (name, shape) in [
+        ("S-curve, common limits", SyncShape::SCurve),
+        ("S-curve, z slow (own limits)", SyncShape::SCurveOwnLimits),
+        ("linear filter 50 ms", SyncShape::Filter(FilterKind::Linear)),
+        (
+            "exponential filter 50 ms",
+            SyncShape::Filter(FilterKind::Exponential),
+        ),
+        ("bell filter 50 ms", SyncShape::Filter(FilterKind::Bell)),
+    ] {
+        let r = kim_sync_ptp(shape)?;
+        println!(
+            "| {:<32} | {:>20} | {:>37} | {:>6.3} | {:>9.1} / {:>7.1} | {:>15.1e} |",
+            name,
+            format!("{:?}", r.start),
+            format!("{:?}", r.end),
+            r.duration(),
+            r.peak_vel[0],
+            r.peak_vel[2],
+            r.snap
+        );
+    }
+
+    println!();
     println!("Kim 1991 §4: steady-state radial error of a circle through the acc/dec filter, measured on the card");
     println!("| filter      | interpolator  |      R |    Ω | rate Hz |   τ ms |  ΔR measured |   ΔR formula | rel. diff |");
     println!("|-------------|---------------|--------|------|---------|--------|--------------|--------------|-----------|");
@@ -97,6 +134,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
     ];
     let mut paths = Vec::new();
+    let mut two_mass = Vec::new();
     for (pname, plant) in plants {
         for kind in [FilterKind::Linear, FilterKind::Exponential] {
             for tau in [0.015, 0.030] {
@@ -110,12 +148,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     c.tracking,
                     c.total
                 );
-                if pname.starts_with("two-mass") && kind == FilterKind::Linear {
-                    paths.push((tau, c));
+                if pname.starts_with("two-mass") {
+                    two_mass.push(c.clone());
+                    if kind == FilterKind::Linear {
+                        paths.push((tau, c));
+                    }
                 }
             }
         }
     }
+    println!();
+    println!("Against Shin (Fig 12, ± corner tracking error), two-mass plant:");
+    let runs = [
+        (two_mass[0].clone(), two_mass[1].clone()),
+        (two_mass[2].clone(), two_mass[3].clone()),
+    ];
+    print!("{}", shin_comparison(&runs));
     let mut series = Vec::new();
     let names = [
         "command, 15 ms",
