@@ -206,13 +206,29 @@ fn run_both(name: &str) -> [String; 2] {
 #[test]
 fn install_lays_out_library_header_and_pkg_config() {
     let inst = installed();
+    let version = env!("CARGO_PKG_VERSION");
+    let real = format!("libmotioncard.so.{version}");
     for f in [
-        "lib/libmotioncard.so",
+        &format!("lib/{real}"),
         "lib/libmotioncard.a",
         "include/motioncard.h",
         "lib/pkgconfig/motioncard.pc",
     ] {
-        assert!(inst.prefix.join(f).is_file(), "{f} not installed");
+        let meta = std::fs::symlink_metadata(inst.prefix.join(f)).unwrap();
+        assert!(meta.is_file(), "{f} not installed as a file");
+    }
+    // The versioned symlinks: libmotioncard.so -> .so.0 -> .so.0.1.0.
+    let so = install::soname(version);
+    assert_eq!(so, "libmotioncard.so.0");
+    for (link, target) in [
+        (so.as_str(), real.as_str()),
+        ("libmotioncard.so", so.as_str()),
+    ] {
+        assert_eq!(
+            std::fs::read_link(inst.prefix.join("lib").join(link)).unwrap(),
+            Path::new(target),
+            "{link}"
+        );
     }
     assert_eq!(pkg_config(&["--modversion"]), [env!("CARGO_PKG_VERSION")]);
     assert_eq!(
@@ -231,6 +247,37 @@ fn install_lays_out_library_header_and_pkg_config() {
         std::fs::read(inst.prefix.join("include/motioncard.h")).unwrap(),
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/motioncard.h")).unwrap()
     );
+}
+
+/// `readelf -d FILE`: the dynamic section.
+fn dynamic_section(file: &Path) -> String {
+    let out = Command::new("readelf")
+        .arg("-d")
+        .arg(file)
+        .output()
+        .expect("readelf is needed (binutils)");
+    assert!(out.status.success(), "readelf -d {}", file.display());
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn the_shared_library_has_a_soname_and_programs_need_it() {
+    let inst = installed();
+    let lib = dynamic_section(&inst.prefix.join("lib/libmotioncard.so"));
+    assert!(
+        lib.contains("(SONAME)") && lib.contains("Library soname: [libmotioncard.so.0]"),
+        "{lib}"
+    );
+    // A program linked with -lmotioncard records the SONAME, not the development link.
+    let prog = dynamic_section(&compile("move", Link::Shared));
+    assert!(
+        prog.contains("Shared library: [libmotioncard.so.0]"),
+        "{prog}"
+    );
+    assert!(!prog.contains("[libmotioncard.so]"), "{prog}");
+    // The static program needs no libmotioncard at all.
+    let stat = dynamic_section(&compile("move", Link::Static));
+    assert!(!stat.contains("libmotioncard"), "{stat}");
 }
 
 #[test]

@@ -1,5 +1,7 @@
-//! Building and installing libmotioncard for C users: `lib/libmotioncard.{so,a}`,
-//! `include/motioncard.h` and `lib/pkgconfig/motioncard.pc` under a prefix. Used by
+//! Building and installing libmotioncard for C users: `lib/libmotioncard.so.VERSION` with the
+//! symlinks `libmotioncard.so.MAJOR` (its SONAME, what programs load) and `libmotioncard.so`
+//! (what the linker finds), `lib/libmotioncard.a`, `include/motioncard.h` and
+//! `lib/pkgconfig/motioncard.pc` under a prefix. Used by
 //! `cargo xtask install` and, through `#[path]`, by the C tests in `cffi/tests/c_programs.rs`,
 //! so both build and install the same way. Standard library only.
 
@@ -63,9 +65,18 @@ pub fn pkg_config_file(prefix: &Path, version: &str) -> String {
     )
 }
 
+/// The SONAME of the shared library of `version` ("0.1.0" → "libmotioncard.so.0"), which
+/// `cffi/build.rs` gives it.
+pub fn soname(version: &str) -> String {
+    let major = version.split('.').next().unwrap_or(version);
+    format!("libmotioncard.so.{major}")
+}
+
 /// Copy the built libraries from `artifacts` (the cargo profile directory, e.g.
 /// `target/release`) and the header from `header`, and write the pkg-config file, under
-/// `prefix` (made absolute).
+/// `prefix` (made absolute). The shared library is installed as `libmotioncard.so.VERSION`
+/// with the symlinks `libmotioncard.so.MAJOR` → it and `libmotioncard.so` →
+/// `libmotioncard.so.MAJOR`.
 pub fn install(
     artifacts: &Path,
     header: &Path,
@@ -87,9 +98,22 @@ pub fn install(
             .map(|_| ())
             .map_err(|e| format!("copying {} to {}: {e}", from.display(), to.display()))
     };
-    for name in ["libmotioncard.so", "libmotioncard.a"] {
-        copy(&artifacts.join(name), &lib.join(name))?;
+    let real = format!("libmotioncard.so.{version}");
+    let so = soname(version);
+    copy(&artifacts.join("libmotioncard.so"), &lib.join(&real))?;
+    for (link, target) in [
+        (so.as_str(), real.as_str()),
+        ("libmotioncard.so", so.as_str()),
+    ] {
+        let link = lib.join(link);
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(target, &link)
+            .map_err(|e| format!("linking {} to {target}: {e}", link.display()))?;
     }
+    copy(
+        &artifacts.join("libmotioncard.a"),
+        &lib.join("libmotioncard.a"),
+    )?;
     copy(header, &include.join("motioncard.h"))?;
     let pc = pkgconfig.join("motioncard.pc");
     std::fs::write(&pc, pkg_config_file(&prefix, version))
