@@ -1,4 +1,4 @@
-//! The C programs of `cffi/examples/c/`, built the way a C user builds them: the library is
+//! The C programs of the workspace's `examples/c/`, built the way a C user builds them: the library is
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
@@ -72,7 +72,11 @@ fn installed() -> &'static Installed {
 }
 
 fn examples_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/c")
+    // The workspace's examples/c/, next to the Rust examples of the root package.
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("cffi lives in the workspace")
+        .join("examples/c")
 }
 
 /// `pkg-config ARGS motioncard` against the installed .pc file, split into words.
@@ -247,6 +251,48 @@ fn install_lays_out_library_header_and_pkg_config() {
         std::fs::read(inst.prefix.join("include/motioncard.h")).unwrap(),
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/motioncard.h")).unwrap()
     );
+}
+
+/// The C programs share `examples/` with the root package's Rust examples: cargo's example
+/// discovery (`examples/*.rs`, `examples/*/main.rs`) must not take `examples/c/` for one.
+#[test]
+fn cargo_examples_are_the_rust_files_only() {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let out = Command::new(cargo)
+        .current_dir(root)
+        .args([
+            "metadata",
+            "--no-deps",
+            "--format-version",
+            "1",
+            "--offline",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let meta = String::from_utf8(out.stdout).unwrap();
+    // Every example target's source path, from the JSON without a JSON crate.
+    let examples: Vec<&str> = meta
+        .split("\"kind\":[\"example\"]")
+        .skip(1)
+        .filter_map(|rest| rest.split("\"src_path\":\"").nth(1))
+        .filter_map(|rest| rest.split('"').next())
+        .collect();
+    assert!(examples.len() >= 5, "{examples:?}");
+    for src in &examples {
+        assert!(
+            src.ends_with(".rs") && !src.contains("/examples/c/"),
+            "{src}"
+        );
+    }
+    // No warning about the directory either.
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("examples/c"), "{err}");
 }
 
 /// `readelf -d FILE`: the dynamic section.
