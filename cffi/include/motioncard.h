@@ -40,7 +40,8 @@
  *   mc_set_event_callback, mc_axis_settings_default, mc_move_limits_symmetric, mc_sim_time,
  *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
  *   mc_pdplus_settings_die_bonder, mc_set_heartbeat, mc_get_safety_status,
- *   mc_safety_settings_default, mc_sim_options_default, mc_nurbs_clamped_uniform_knots.
+ *   mc_safety_settings_default, mc_sim_options_default, mc_nurbs_clamped_uniform_knots,
+ *   mc_filter_settings_all, mc_path_limits_new, mc_nurbs_feed_new.
  * - mc_get_status, mc_get_stop_info and mc_group_get_status do not wait for the card; they
  *   retry while the card is rewriting the status block (well under a microsecond on a running
  *   card; after 100 ms of a block that stays busy, MC_ERR_NOT_RESPONDING).
@@ -1280,6 +1281,19 @@ mc_result mc_group_move_circular(mc_card card,
                                  const struct mc_move_options *options,
                                  struct mc_group_motion *motion);
 
+// Path limits with the deceleration equal to the acceleration (`PathLimits::new`): feed
+// `velocity`, `acceleration`, `jerk`, in user units of the group's first axis. Nothing is
+// checked until a move uses them. Never blocks.
+mc_result mc_path_limits_new(double velocity,
+                             double acceleration,
+                             double jerk,
+                             struct mc_path_limits *limits);
+
+// A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
+// the default chord tolerance, not saturation-aware. Nothing is checked until a move uses
+// it. Never blocks.
+mc_result mc_nurbs_feed_new(double feed, double accel, double jerk, struct mc_nurbs_feed *out);
+
 // Move along a NURBS curve of `degree` (1..5) in `dim` dimensions (the group's axis count):
 // `n_ctrl` control points in `ctrl` (`n_ctrl * dim` doubles, point after point, in group axis
 // order and user units, absolute; `options->relative` is ignored), `n_ctrl` weights (finite
@@ -1357,6 +1371,10 @@ mc_result mc_filter_settings_shin_table1(struct mc_filter_settings *settings);
 // Shin's Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
 // Never blocks.
 mc_result mc_filter_settings_shin_table1_z(struct mc_filter_settings *settings);
+
+// One filter (`MC_FILTER_KIND_` value; unknown: `MC_ERR_BAD_CONFIG`) with time constant `tau`
+// (s) for every feed type. Nothing is checked until `mc_axis_set_filters`. Never blocks.
+mc_result mc_filter_settings_all(uint32_t kind, double tau, struct mc_filter_settings *settings);
 
 // Set an axis's post-interpolation acc/dec filters (used by groups with
 // `MC_GROUP_ACCDEC_POST` or `_BOTH`; the move's feed type picks one). Refused while the filters

@@ -6,13 +6,14 @@ use crate::ffi::{read_at, read_in, read_slice, ArrayBuf, Out};
 use crate::registry::{self, mc_card, Entry};
 use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_HANDLE};
 use crate::types::{
-    mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
+    filter_kind, mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
     mc_move_options, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
     MC_GROUP_MAX_AXES,
 };
 use motioncard_sdk::{
     clamped_uniform_knots, Error, FilterSettings, Group, GroupMotion, GroupSettings, Nurbs,
-    NurbsError, PathLimits, PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM,
+    NurbsError, NurbsFeed, PathLimits, PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE,
+    NURBS_MAX_DIM,
 };
 use std::sync::Arc;
 use std::time::Duration;
@@ -334,6 +335,42 @@ pub unsafe extern "C" fn mc_group_move_circular(
     })
 }
 
+/// Path limits with the deceleration equal to the acceleration (`PathLimits::new`): feed
+/// `velocity`, `acceleration`, `jerk`, in user units of the group's first axis. Nothing is
+/// checked until a move uses them. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_limits_new(
+    velocity: f64,
+    acceleration: f64,
+    jerk: f64,
+    limits: *mut mc_path_limits,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(limits, "limits")?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(PathLimits::new(velocity, acceleration, jerk).into()) };
+        Ok(())
+    })
+}
+
+/// A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
+/// the default chord tolerance, not saturation-aware. Nothing is checked until a move uses
+/// it. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_nurbs_feed_new(
+    feed: f64,
+    accel: f64,
+    jerk: f64,
+    out: *mut mc_nurbs_feed,
+) -> mc_result {
+    guard(|| {
+        let o = Out::new(out, "out")?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { o.write(NurbsFeed::new(feed, accel, jerk).into()) };
+        Ok(())
+    })
+}
+
 /// Build the curve of `mc_group_move_nurbs`, refusing before reading what `Nurbs::new` would
 /// refuse for its size, with the same error (so nothing unbounded is copied).
 ///
@@ -594,6 +631,23 @@ pub unsafe extern "C" fn mc_filter_settings_shin_table1_z(
         let out = Out::new(settings, "settings")?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(FilterSettings::shin_table1_z().into()) };
+        Ok(())
+    })
+}
+
+/// One filter (`MC_FILTER_KIND_` value; unknown: `MC_ERR_BAD_CONFIG`) with time constant `tau`
+/// (s) for every feed type. Nothing is checked until `mc_axis_set_filters`. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_filter_settings_all(
+    kind: u32,
+    tau: f64,
+    settings: *mut mc_filter_settings,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(settings, "settings")?;
+        let f = FilterSettings::all(filter_kind(kind)?, tau);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(f.into()) };
         Ok(())
     })
 }

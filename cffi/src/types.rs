@@ -683,6 +683,17 @@ impl From<mc_path_limits> for PathLimits {
     }
 }
 
+impl From<PathLimits> for mc_path_limits {
+    fn from(l: PathLimits) -> Self {
+        Self {
+            velocity: l.velocity,
+            acceleration: l.acceleration,
+            deceleration: l.deceleration,
+            jerk: l.jerk,
+        }
+    }
+}
+
 /// How a group move is queued. All zero (`{0}`) is the default: absolute targets, the group
 /// must be at rest, cutting feed.
 #[repr(C)]
@@ -861,7 +872,7 @@ pub struct mc_filter_settings {
     pub jog: mc_filter,
 }
 
-fn filter_kind(v: u32) -> Result<FilterKind, Failure> {
+pub(crate) fn filter_kind(v: u32) -> Result<FilterKind, Failure> {
     match v {
         MC_FILTER_KIND_NONE => Ok(FilterKind::None),
         MC_FILTER_KIND_LINEAR => Ok(FilterKind::Linear),
@@ -1000,6 +1011,18 @@ pub struct mc_nurbs_curve {
     pub knots: *const f64,
     /// `n_ctrl + degree + 1`.
     pub n_knots: usize,
+}
+
+impl From<NurbsFeed> for mc_nurbs_feed {
+    fn from(f: NurbsFeed) -> Self {
+        Self {
+            feed: f.feed,
+            accel: f.accel,
+            jerk: f.jerk,
+            chord_tolerance: f.chord_tolerance,
+            saturation_budget: f.saturation.unwrap_or(0.0),
+        }
+    }
 }
 
 impl From<mc_nurbs_feed> for NurbsFeed {
@@ -1451,6 +1474,15 @@ mod tests {
             ..feed
         };
         assert_eq!(NurbsFeed::from(aware).saturation, Some(0.8));
+        for f in [
+            NurbsFeed::new(1.0, 2.0, 3.0),
+            NurbsFeed {
+                saturation: Some(0.5),
+                ..NurbsFeed::new(1.0, 2.0, 3.0)
+            },
+        ] {
+            assert_eq!(NurbsFeed::from(mc_nurbs_feed::from(f)), f);
+        }
     }
 
     #[test]

@@ -412,6 +412,33 @@ static void states(mc_card c) {
     ASSERT(dropped == 0 && lost == 0, "events lost: %llu, %u", (unsigned long long)dropped, lost);
 }
 
+/* The constructors of plain structs: filled on success, untouched on failure. */
+static void constructors(void) {
+    mc_filter_settings f = {.rapid = {.kind = 99}};
+    EXPECT(mc_filter_settings_all(9, 0.03, &f), MC_ERR_BAD_CONFIG);
+    expect_in_message("unknown filter kind 9");
+    EXPECT(mc_filter_settings_all(MC_FILTER_KIND_LINEAR, 0.03, NULL), MC_ERR_NULL_POINTER);
+    ASSERT(f.rapid.kind == 99, "settings written by a failed call");
+    EXPECT(mc_filter_settings_all(MC_FILTER_KIND_BELL, 0.04, &f), MC_OK);
+    const mc_filter all[3] = {f.rapid, f.cutting, f.jog};
+    for (int i = 0; i < 3; i++) {
+        ASSERT(all[i].kind == MC_FILTER_KIND_BELL && all[i].tau == 0.04, "filter %d: %u %f", i,
+               all[i].kind, all[i].tau);
+    }
+    mc_path_limits p;
+    EXPECT(mc_path_limits_new(1.0, 2.0, 3.0, NULL), MC_ERR_NULL_POINTER);
+    EXPECT(mc_path_limits_new(1.0, 2.0, 3.0, &p), MC_OK);
+    ASSERT(p.velocity == 1.0 && p.acceleration == 2.0 && p.deceleration == 2.0 && p.jerk == 3.0,
+           "path limits %f %f %f %f", p.velocity, p.acceleration, p.deceleration, p.jerk);
+    mc_nurbs_feed n;
+    EXPECT(mc_nurbs_feed_new(1.0, 2.0, 3.0, NULL), MC_ERR_NULL_POINTER);
+    EXPECT(mc_nurbs_feed_new(1.0, 2.0, 3.0, &n), MC_OK);
+    ASSERT(n.feed == 1.0 && n.accel == 2.0 && n.jerk == 3.0 && n.chord_tolerance > 0.0 &&
+               n.saturation_budget == 0.0,
+           "nurbs feed %f %f %f %f %f", n.feed, n.accel, n.jerk, n.chord_tolerance,
+           n.saturation_budget);
+}
+
 /* Group refusals the groups program does not make: a group enabled while one of its axes moves
    on its own, an arc in a plane the group does not have, a full move queue. */
 static void group_refusals(void) {
@@ -478,6 +505,7 @@ int main(int argc, char **argv) {
     states(c);
     CHECK(mc_close(c));
     all_calls_bad_handle(c);
+    constructors();
     group_refusals();
     realtime_card();
 

@@ -149,7 +149,8 @@ static void long_path(void) {
     CHECK(mc_group_settings_new(xy, 2, &gs));
     CHECK(mc_group_configure(c, 0, &gs));
     CHECK(mc_group_enable(c, 0));
-    const mc_nurbs_feed feed = {40000.0, 1e6, 1e8, 1.0, 0.0};
+    mc_nurbs_feed feed; /* the SDK's default chord tolerance, not saturation-aware */
+    CHECK(mc_nurbs_feed_new(40000.0, 1e6, 1e8, &feed));
     refused_paths(c, &feed);
 
     const uint32_t before = group(c).move_count;
