@@ -130,7 +130,9 @@ fn main() -> Result<(), Error> {
     }
     println!();
     println!("positions and following errors in encoder counts; exec = start to in-position (motion done)");
-    println!("peak |j| is the largest jerk of the move, against the largest of its four phase jerks");
+    println!(
+        "peak |j| is the largest jerk of the move, against the largest of its four phase jerks"
+    );
     println!("worst |final - target| = {worst_miss} counts");
     for axis in &axes {
         axis.disable()?;

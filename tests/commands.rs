@@ -133,7 +133,7 @@ fn every_command_gets_exactly_one_answer() {
             };
             let args: Vec<f64> = (0..8).map(|_| pick(&mut rng)).collect();
             let mut c = Command::new(op, axis).with_args(&args);
-            if rng.next_u64() % 16 == 0 {
+            if rng.next_u64().is_multiple_of(16) {
                 c.opcode = 200 + (rng.next_u64() % 50) as u16; // unknown
             }
             c.seq = tx.head().wrapping_add(1);
