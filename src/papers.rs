@@ -530,7 +530,7 @@ pub fn yeh_die_bonder(saturation: bool) -> Result<DieBonder> {
         feed: DIE_BONDER_FEED,
         accel: 4e7,
         jerk: 4e10,
-        chord_tolerance: 1.0,
+        chord_tolerance: None, // one count
         saturation: saturation.then_some(0.8),
     };
     let m = g.move_nurbs(&curve, &f, MoveOptions::default())?;

@@ -332,9 +332,8 @@ pub fn nurbs_nack(e: NurbsError) -> NackCode {
         NurbsError::KnotMultiplicity { .. } => NackCode::NurbsKnotMultiplicity,
         NurbsError::NotClamped | NurbsError::EmptyDomain => NackCode::NurbsNotClamped,
         NurbsError::BadWeight { .. } => NackCode::NurbsWeight,
-        NurbsError::NonFiniteKnot { .. } | NurbsError::NonFiniteControlPoint { .. } => {
-            NackCode::NurbsPoint
-        }
+        NurbsError::NonFiniteKnot { .. } => NackCode::NurbsKnot,
+        NurbsError::NonFiniteControlPoint { .. } => NackCode::NurbsPoint,
         NurbsError::NonFiniteParameter
         | NurbsError::ParameterOutOfRange
         | NurbsError::BadCircle => NackCode::BadConfig,
@@ -348,6 +347,9 @@ struct Move {
     geom: Geometry,
     feed: Feed,
     feed_type: usize,
+    /// A NURBS curve a halt or stop keeps (already reported aborted) because the stop of the
+    /// curve before it runs on into it.
+    runout: bool,
 }
 
 /// The move being interpolated.
@@ -650,7 +652,94 @@ impl Group {
 
     fn flush_queue(&mut self, by: Opcode, tick: u64, out: &mut Outbox) {
         while let Some(m) = self.pop() {
-            out.push(self.event(EventKind::GroupMotionAborted, m.seq, by as i32, 0.0, tick));
+            if !m.runout {
+                out.push(self.event(EventKind::GroupMotionAborted, m.seq, by as i32, 0.0, tick));
+            }
+        }
+    }
+
+    /// Reports every queued move aborted, but keeps the first `keep` (NURBS curves a stop runs
+    /// on into), marked as run-out.
+    fn flush_queue_keeping(&mut self, keep: usize, by: Opcode, tick: u64, out: &mut Outbox) {
+        let keep = keep.min(self.q_len);
+        for i in 0..self.q_len {
+            let slot = (self.q_head + i) % GROUP_QUEUE_LEN;
+            let Some(m) = self.queue[slot].as_mut() else {
+                continue;
+            };
+            let (seq, reported) = (m.seq, m.runout);
+            if i < keep {
+                m.runout = true;
+            } else {
+                self.queue[slot] = None;
+            }
+            if !reported {
+                out.push(self.event(EventKind::GroupMotionAborted, seq, by as i32, 0.0, tick));
+            }
+        }
+        self.q_len = keep;
+    }
+
+    /// How many queued NURBS curves a stop of the active curve at `dmax`/`jerk` runs on into:
+    /// a path's curves join without stopping, so the stop may need more than what is left of
+    /// the active one (it must never end in a jump at the curve's end).
+    fn nurbs_runout(&self, dmax: f64, jerk: f64) -> usize {
+        let Some(act) = &self.active else { return 0 };
+        let Feed::Nurbs(cur) = &act.mv.feed else {
+            return 0;
+        };
+        let post = self.config.is_some_and(|c| c.post);
+        let limits = Limits {
+            vmax: f64::MAX,
+            amax: dmax,
+            dmax,
+            j1: jerk,
+            j3: jerk,
+            j5: jerk,
+            j7: jerk,
+        };
+        let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
+        // (the halt's own plan falls back to a higher jerk late in a deceleration; this is
+        // only an estimate of its length, with a curve's worth of margin below)
+        let need = match Profile::stop(0.0, v0, a0, &limits) {
+            Ok(p) => p.end_pos(),
+            Err(_) => v0 * v0 / (2.0 * dmax) + v0 * dmax / jerk,
+        };
+        let mut left = need - (cur.interp.length() - cur.interp.travelled()).max(0.0);
+        let (mut cur, mut ft, mut keep) = (&**cur, act.mv.feed_type, 0);
+        while left > 0.0 {
+            let Some((next, next_ft)) = self.joinable(cur, ft, keep, post) else {
+                break;
+            };
+            left -= next.interp.length();
+            (cur, ft, keep) = (next, next_ft, keep + 1);
+        }
+        keep
+    }
+
+    /// The queued curve at queue position `i` if the NURBS motion `cur` may run on into it
+    /// without stopping (see `Interpolator::continuation`): the same saturation mode and,
+    /// with post-interpolation filters, the same feed type (they switch only when empty).
+    fn joinable<'a>(
+        &'a self,
+        cur: &NurbsFeed,
+        feed_type: usize,
+        i: usize,
+        post: bool,
+    ) -> Option<(&'a NurbsFeed, usize)> {
+        if i >= self.q_len {
+            return None;
+        }
+        let mv = self.queue[(self.q_head + i) % GROUP_QUEUE_LEN].as_ref()?;
+        match &mv.feed {
+            Feed::Nurbs(n2)
+                if (!post || mv.feed_type == feed_type)
+                    && n2.sat.is_some() == cur.sat.is_some()
+                    && cur.interp.continuation(&n2.interp).is_some() =>
+            {
+                Some((n2, mv.feed_type))
+            }
+            _ => None,
         }
     }
 
@@ -698,7 +787,8 @@ impl Group {
         } else {
             Opcode::GroupHalt
         };
-        self.flush_queue(by, tick, out);
+        let keep = self.nurbs_runout(dmax, jerk);
+        self.flush_queue_keeping(keep, by, tick, out);
         if let Some(act) = &mut self.active {
             out.push(Event {
                 seq: act.mv.seq,
@@ -882,6 +972,7 @@ impl Group {
                 geom,
                 feed,
                 feed_type,
+                runout: false,
             },
             n,
             tick,
@@ -987,6 +1078,11 @@ impl Group {
             // The saturation-aware feed predicts each axis's PD+ drive output (Yeh eq 3.5).
             return Err(NackCode::IncompatibleMode);
         }
+        if saturation && cfg.post {
+            // ... from the reference the interpolator gives it: post-interpolation filters
+            // change what reaches the servo, and the prediction would no longer hold.
+            return Err(NackCode::IncompatibleMode);
+        }
         let n = cfg.naxes;
         self.rx = NurbsRx {
             open: true,
@@ -1023,6 +1119,8 @@ impl Group {
             if !v.is_finite() {
                 return Err(if weights.contains(&k) {
                     NackCode::NurbsWeight
+                } else if k >= weights.end {
+                    NackCode::NurbsKnot
                 } else {
                     NackCode::NurbsPoint
                 });
@@ -1125,6 +1223,7 @@ impl Group {
                 geom,
                 feed: Feed::Nurbs(Box::new(NurbsFeed { interp, sat })),
                 feed_type,
+                runout: false,
             },
             n,
             tick,
@@ -1345,12 +1444,31 @@ impl Group {
         for (i, &a) in members.iter().enumerate() {
             (theta_a[i], w_a[i]) = axes[a].actual();
         }
+        // A NURBS path runs on into the next queued curve without stopping when the two join
+        // (the planner then plans over both; see `Interpolator::continuation`). Queued in time
+        // or not is all that matters: without a next curve the planner stops at the end.
+        let join = self.active.as_ref().is_some_and(|act| match &act.mv.feed {
+            Feed::Nurbs(cur) => self.joinable(cur, act.mv.feed_type, 0, cfg.post).is_some(),
+            _ => false,
+        });
         if let Some(act) = &mut self.active {
             let len = act.mv.geom.len();
             let prev_v = act.v;
             let mut point = None;
+            let mut hand_over = false;
             if let Feed::Nurbs(nf) = &mut act.mv.feed {
                 let mut stopped = false;
+                let next = match (join, self.queue[self.q_head].as_ref()) {
+                    (
+                        true,
+                        Some(Move {
+                            feed: Feed::Nurbs(n2),
+                            ..
+                        }),
+                    ) => nf.interp.continuation(&n2.interp),
+                    _ => None,
+                };
+                let joined = next.is_some();
                 let step = if let Some((p, t)) = &mut act.stopping {
                     // Halt/stop along the curve: the stop profile sets the feed.
                     *t += ts;
@@ -1358,12 +1476,13 @@ impl Group {
                     nf.interp.advance(p.sample(*t).vel.max(0.0))
                 } else if let Some(sat) = &nf.sat {
                     nf.interp
-                        .tick_guarded(sat, &theta_a, &w_a)
+                        .tick_guarded_into(sat, &theta_a, &w_a, next)
                         .map(|(tk, _)| tk)
                 } else {
-                    nf.interp.tick()
+                    nf.interp.tick_into(next)
                 };
                 match step {
+                    Ok(tk) if tk.done && joined && !stopped => hand_over = true,
                     Ok(tk) => {
                         let mut p = act.last;
                         p[..n].copy_from_slice(&tk.pos.as_slice()[..n]);
@@ -1375,6 +1494,44 @@ impl Group {
                     // The interpolator refused to step (it cannot on valid input): hold here.
                     Err(_) => finished = true,
                 }
+            }
+            if hand_over {
+                // The curve ended inside this tick's step: the next one takes the rest of it.
+                let slot = self.q_head;
+                self.q_head = (self.q_head + 1) % GROUP_QUEUE_LEN;
+                self.q_len -= 1;
+                if let Some(next) = self.queue[slot].take() {
+                    let prev = core::mem::replace(&mut act.mv, next);
+                    if !act.mv.runout {
+                        out.push(Event {
+                            seq: prev.seq,
+                            kind: EventKind::GroupMotionDone as u16,
+                            axis: self.index,
+                            code: 0,
+                            tick,
+                            value: 0.0,
+                        });
+                    }
+                    let step = match (&prev.feed, &mut act.mv.feed) {
+                        (Feed::Nurbs(a), Feed::Nurbs(b)) => Some(b.interp.take_over(&a.interp)),
+                        _ => None,
+                    };
+                    match step {
+                        Some(Ok(tk)) => {
+                            let mut p = act.last;
+                            p[..n].copy_from_slice(&tk.pos.as_slice()[..n]);
+                            point = Some(p);
+                            act.v = tk.feed;
+                            act.s = tk.feed * ts;
+                            finished = tk.done;
+                        }
+                        _ => finished = true,
+                    }
+                } else {
+                    finished = true;
+                }
+            } else if matches!(act.mv.feed, Feed::Nurbs(_)) {
+                // handled above
             } else if let Some((p, t)) = &mut act.stopping {
                 *t += ts;
                 let st = p.sample(*t);
@@ -1450,6 +1607,10 @@ impl Group {
                 // The programmed position is where the move ended (early, for a stop).
                 if act.stopping.is_some() {
                     self.queue_end = act.last;
+                    // curves kept for the stop's run-out were reported aborted already
+                    while self.peek().is_some_and(|m| m.runout) {
+                        self.pop();
+                    }
                 }
                 if self.q_len > 0 && self.stop.is_none() {
                     // More queued: this one is done as soon as the next takes over.

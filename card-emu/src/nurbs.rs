@@ -512,6 +512,142 @@ pub fn clamped_uniform_knots(n_ctrl: usize, degree: usize) -> Result<Vec<f64>, N
     Ok(k)
 }
 
+/// Splits a clamped NURBS curve of any number of control points into consecutive curves of
+/// at most `max_ctrl` control points each (host-side helper; allocates). The curve is cut at
+/// interior knots: each cut knot is inserted until its multiplicity is the degree (Boehm's
+/// knot insertion, NURBS Book A5.1, on the homogeneous points), where the curve passes through
+/// a control point; the pieces are the two halves of that control polygon, with the knots on
+/// either side clamped there. Knot insertion does not change the curve, so the pieces are the
+/// curve exactly (up to rounding), keep its parametrisation, and share their end points
+/// bit for bit. Arguments as for [`Nurbs::new`] except the control point count; `max_ctrl` is
+/// at most [`MAX_CTRL`] and at least `degree + 1`.
+pub fn split_curve(
+    degree: usize,
+    dim: usize,
+    ctrl: &[f64],
+    weights: &[f64],
+    knots: &[f64],
+    max_ctrl: usize,
+) -> Result<Vec<Nurbs>, NurbsError> {
+    let p = degree;
+    if p == 0 || p > MAX_DEGREE {
+        return Err(NurbsError::BadDegree { degree });
+    }
+    if !(2..=MAX_DIM).contains(&dim) {
+        return Err(NurbsError::BadDimension { dim });
+    }
+    if ctrl.is_empty() || !ctrl.len().is_multiple_of(dim) {
+        return Err(NurbsError::ControlDataLength {
+            len: ctrl.len(),
+            dim,
+        });
+    }
+    let n_ctrl = ctrl.len() / dim;
+    if n_ctrl < p + 1 {
+        return Err(NurbsError::TooFewControlPoints { n_ctrl, min: p + 1 });
+    }
+    let max_ctrl = max_ctrl.clamp(p + 1, MAX_CTRL);
+    if weights.len() != n_ctrl {
+        return Err(NurbsError::WeightCountMismatch {
+            weights: weights.len(),
+            n_ctrl,
+        });
+    }
+    validate_knots(p, n_ctrl, knots)?;
+    if let Some(index) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(NurbsError::BadWeight { index });
+    }
+    let mut pw: Vec<[f64; HW]> = Vec::with_capacity(n_ctrl + 2 * p);
+    for (index, (pt, &w)) in ctrl.chunks_exact(dim).zip(weights).enumerate() {
+        let mut row = [0.0; HW];
+        for (dst, &c) in row.iter_mut().zip(pt) {
+            *dst = c * w;
+        }
+        if pt.iter().any(|c| !c.is_finite()) || row[..dim].iter().any(|c| !c.is_finite()) {
+            return Err(NurbsError::NonFiniteControlPoint { index });
+        }
+        row[W] = w;
+        pw.push(row);
+    }
+    let mut kv = knots.to_vec();
+    let build = |pw: &[[f64; HW]], kv: &[f64]| {
+        let mut c = Vec::with_capacity(pw.len() * dim);
+        let mut w = Vec::with_capacity(pw.len());
+        for row in pw {
+            c.extend(row[..dim].iter().map(|x| x / row[W]));
+            w.push(row[W]);
+        }
+        Nurbs::new(p, dim, &c, &w, kv)
+    };
+    let mut out = Vec::new();
+    while pw.len() > max_ctrl {
+        // The largest cut that leaves at most max_ctrl points on the left: a distinct interior
+        // knot whose first copy is at index i (the left piece then has i control points).
+        let last = kv[kv.len() - 1];
+        let Some(i) = (p + 1..=max_ctrl.min(kv.len() - 1))
+            .rev()
+            .find(|&i| kv[i] > kv[i - 1] && kv[i] < last)
+        else {
+            break; // cannot happen for a valid curve with max_ctrl ≥ p + 1
+        };
+        let u = kv[i];
+        let s = kv[i..].iter().take_while(|&&k| k == u).count();
+        if s < p {
+            (pw, kv) = insert_knot(p, &pw, &kv, u, i + s - 1, s, p - s);
+        }
+        // u now has multiplicity p at i..i+p; C(u) is control point i-1
+        let mut left_k = kv[..i + p].to_vec();
+        left_k.push(u);
+        out.push(build(&pw[..i], &left_k)?);
+        let mut right_k = vec![u];
+        right_k.extend_from_slice(&kv[i..]);
+        pw.drain(..i - 1);
+        kv = right_k;
+    }
+    out.push(build(&pw, &kv)?);
+    Ok(out)
+}
+
+/// NURBS Book A5.1 `CurveKnotIns`: inserts `u` (in span `k`, U[k] ≤ u < U[k+1], already of
+/// multiplicity `s`) `r` times into the homogeneous control polygon `pw` with knots `up`.
+fn insert_knot(
+    p: usize,
+    pw: &[[f64; HW]],
+    up: &[f64],
+    u: f64,
+    k: usize,
+    s: usize,
+    r: usize,
+) -> (Vec<[f64; HW]>, Vec<f64>) {
+    let np = pw.len() - 1;
+    let mp = np + p + 1;
+    let mut uq = Vec::with_capacity(mp + r + 1);
+    uq.extend_from_slice(&up[..=k]);
+    uq.extend(core::iter::repeat_n(u, r));
+    uq.extend_from_slice(&up[k + 1..=mp]);
+    let mut qw = vec![[0.0; HW]; np + r + 1];
+    qw[..=k - p].copy_from_slice(&pw[..=k - p]);
+    qw[k - s + r..=np + r].copy_from_slice(&pw[k - s..=np]);
+    let mut rw: Vec<[f64; HW]> = pw[k - p..=k - s].to_vec();
+    let mut l = k - p;
+    for j in 1..=r {
+        l = k - p + j;
+        for i in 0..=p - j - s {
+            let alpha = (u - up[l + i]) / (up[i + k + 1] - up[l + i]);
+            let (a, b) = (rw[i + 1], rw[i]);
+            for c in 0..HW {
+                rw[i][c] = alpha * a[c] + (1.0 - alpha) * b[c];
+            }
+        }
+        qw[l] = rw[0];
+        qw[k + r - j - s] = rw[p - j - s];
+    }
+    if l + 1 < k - s {
+        qw[l + 1..k - s].copy_from_slice(&rw[1..k - s - l]);
+    }
+    (qw, uq)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -734,6 +870,122 @@ mod tests {
         assert!(worst_fd[0] < 1e-5, "fd first {}", worst_fd[0]);
         assert!(worst_fd[1] < 1e-4, "fd second {}", worst_fd[1]);
         assert!(n_fd > 10_000, "{n_fd}");
+    }
+
+    /// Splitting at knots (knot insertion) is exact: every piece evaluates like the original
+    /// (checked against de Boor on the original, which has too many points for a `Nurbs`),
+    /// the pieces cover the domain in order, respect the size limit, and share their ends.
+    #[test]
+    fn split_curve_is_exact() {
+        let mut r = Rng(0x5B17_0001);
+        for case in 0..40 {
+            let p = 1 + case % 5;
+            let dim = r.int(2, 4);
+            let n_ctrl = if case % 4 == 0 {
+                r.int(2000, 3000)
+            } else {
+                r.int(p + 1, 400)
+            };
+            let max_ctrl = if case % 4 == 0 {
+                [100, MAX_CTRL][case % 8 / 4]
+            } else {
+                [p + 1, p + 2, 17, 100, MAX_CTRL][case % 5]
+            };
+            let ctrl: Vec<f64> = (0..n_ctrl * dim).map(|_| r.range(-1e4, 1e4)).collect();
+            let w: Vec<f64> = (0..n_ctrl).map(|_| r.range(0.3, 3.0)).collect();
+            let n_int = n_ctrl - p - 1;
+            let mut interior: Vec<f64> = Vec::new();
+            while interior.len() < n_int {
+                let v = r.range(0.01, 0.99);
+                let mult = if r.f() < 0.2 {
+                    r.int(1, (n_int - interior.len()).min(p))
+                } else {
+                    1
+                };
+                interior.extend(core::iter::repeat_n(v, mult));
+            }
+            interior.sort_by(f64::total_cmp);
+            let mut knots = vec![0.0; p + 1];
+            knots.extend(interior);
+            knots.extend([1.0].repeat(p + 1));
+            let pieces = split_curve(p, dim, &ctrl, &w, &knots, max_ctrl).unwrap();
+            let d = Def {
+                p,
+                dim,
+                ctrl: ctrl.clone(),
+                w: w.clone(),
+                knots: knots.clone(),
+            };
+            let mut at = 0.0;
+            for (k, c) in pieces.iter().enumerate() {
+                assert!(
+                    c.n_ctrl() <= max_ctrl.max(p + 1),
+                    "piece {k}: {}",
+                    c.n_ctrl()
+                );
+                let (a, b) = c.domain();
+                assert_eq!(a, at, "pieces in order");
+                at = b;
+                if k + 1 < pieces.len() {
+                    let next = &pieces[k + 1];
+                    assert_eq!(
+                        c.control_point(c.n_ctrl() - 1),
+                        next.control_point(0),
+                        "joint {k}: not the same control point"
+                    );
+                    assert_eq!(c.weight(c.n_ctrl() - 1), next.weight(0));
+                    let gap = (c.point(b).unwrap() - next.point(b).unwrap()).amax();
+                    assert!(gap <= 1e-9, "joint {k}: {gap}");
+                }
+                for i in 0..=6 {
+                    let u = if i == 6 {
+                        b
+                    } else {
+                        a + (b - a) * i as f64 / 6.0
+                    };
+                    let (c0, c1, _) = c.eval(u).unwrap();
+                    let (r0, r1, _) = reference(&d, u);
+                    let s1 = r1.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                    assert!(
+                        max_rel(&c0, &r0, 1e4) < 1e-11,
+                        "case {case} piece {k} u {u}"
+                    );
+                    // derivatives agree inside the piece (at its ends they are one-sided)
+                    if i > 0 && i < 6 {
+                        assert!(max_rel(&c1, &r1, s1) < 1e-8, "case {case} piece {k} u {u}");
+                    }
+                }
+            }
+            assert_eq!(at, 1.0);
+            if n_ctrl <= max_ctrl {
+                assert_eq!(pieces.len(), 1);
+            }
+        }
+        // the same checks as Nurbs::new, except the point count
+        assert_eq!(
+            split_curve(
+                3,
+                2,
+                &[0.0; 8],
+                &[1.0; 4],
+                &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0],
+                10
+            )
+            .unwrap_err(),
+            NurbsError::NotClamped
+        );
+        assert_eq!(
+            split_curve(
+                1,
+                2,
+                &[0.0, 0.0, 1.0, f64::NAN],
+                &[1.0; 2],
+                &[0.0, 0.0, 1.0, 1.0],
+                10
+            )
+            .unwrap_err(),
+            NurbsError::NonFiniteControlPoint { index: 1 }
+        );
     }
 
     #[test]

@@ -93,4 +93,32 @@ fn per_tick_functions_do_not_allocate() {
     println!("{ticks} ticks, {allocs} heap allocations");
     assert!(a.is_done() && b.is_done() && c.is_done());
     assert_eq!(allocs, 0);
+
+    // A path of two curves run through their joint: the continuation, the planning over both
+    // and the take-over of the step that crosses the joint.
+    let pieces = card_emu::nurbs::split_curve(4, 2, &ctrl, &w, &knots, 120).unwrap();
+    assert_eq!(pieces.len(), 2);
+    let mut first = Interpolator::new(pieces[0].clone(), cfg).unwrap();
+    let mut second = Interpolator::new(pieces[1].clone(), cfg).unwrap();
+    let (handed, allocs) = counted(|| {
+        let mut n = 0;
+        loop {
+            let next = first.continuation(&second);
+            assert!(next.is_some());
+            let t = first.tick_into(next).unwrap();
+            n += 1;
+            if t.done {
+                let t = second.take_over(&first).unwrap();
+                assert!(t.feed > 0.0);
+                break;
+            }
+            assert!(n < 200_000);
+        }
+        while !second.is_done() {
+            let _ = second.tick();
+        }
+        true
+    });
+    assert!(handed);
+    assert_eq!(allocs, 0, "allocations across a joint");
 }

@@ -648,7 +648,9 @@ typedef struct mc_nurbs_feed {
   double accel;
   // Tangential jerk limit.
   double jerk;
-  // Chord error tolerance (the feed is lowered where the curvature needs it).
+  // Chord error tolerance (the feed is lowered where the curvature needs it), in the user
+  // units of the group's first axis; 0: the default, one encoder count (1 µm on a 1 µm/count
+  // scale).
   double chord_tolerance;
   // Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
   // may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
@@ -944,7 +946,7 @@ typedef struct mc_stop_info {
 // A NURBS weight is not finite and positive.
 #define MC_ERR_NURBS_WEIGHT -43
 
-// A control point or knot is not finite.
+// A control point is not finite.
 #define MC_ERR_NURBS_POINT -44
 
 // The curve does not start where the group is.
@@ -973,6 +975,9 @@ typedef struct mc_stop_info {
 
 // Stop category must be 0, 1 or 2.
 #define MC_ERR_BAD_CATEGORY -53
+
+// A NURBS knot is not finite.
+#define MC_ERR_NURBS_KNOT -54
 
 // The card handle (or motion) is unknown: never opened, or already closed.
 #define MC_ERR_BAD_HANDLE -100
@@ -1290,8 +1295,8 @@ mc_result mc_path_limits_new(double velocity,
                              struct mc_path_limits *limits);
 
 // A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
-// the default chord tolerance, not saturation-aware. Nothing is checked until a move uses
-// it. Never blocks.
+// the default chord tolerance (`chord_tolerance` 0: one encoder count), not saturation-aware.
+// Nothing is checked until a move uses it. Never blocks.
 mc_result mc_nurbs_feed_new(double feed, double accel, double jerk, struct mc_nurbs_feed *out);
 
 // Move along a NURBS curve of `degree` (1..5) in `dim` dimensions (the group's axis count):

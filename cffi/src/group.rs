@@ -354,8 +354,8 @@ pub unsafe extern "C" fn mc_path_limits_new(
 }
 
 /// A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
-/// the default chord tolerance, not saturation-aware. Nothing is checked until a move uses
-/// it. Never blocks.
+/// the default chord tolerance (`chord_tolerance` 0: one encoder count), not saturation-aware.
+/// Nothing is checked until a move uses it. Never blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_nurbs_feed_new(
     feed: f64,

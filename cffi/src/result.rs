@@ -98,7 +98,7 @@ pub const MC_ERR_NURBS_KNOT_MULTIPLICITY: mc_result = -41;
 pub const MC_ERR_NURBS_NOT_CLAMPED: mc_result = -42;
 /// A NURBS weight is not finite and positive.
 pub const MC_ERR_NURBS_WEIGHT: mc_result = -43;
-/// A control point or knot is not finite.
+/// A control point is not finite.
 pub const MC_ERR_NURBS_POINT: mc_result = -44;
 /// The curve does not start where the group is.
 pub const MC_ERR_NURBS_START: mc_result = -45;
@@ -118,6 +118,8 @@ pub const MC_ERR_CAUSE_ACTIVE: mc_result = -51;
 pub const MC_ERR_WATCHDOG_TIMEOUT: mc_result = -52;
 /// Stop category must be 0, 1 or 2.
 pub const MC_ERR_BAD_CATEGORY: mc_result = -53;
+/// A NURBS knot is not finite.
+pub const MC_ERR_NURBS_KNOT: mc_result = -54;
 /// The card handle (or motion) is unknown: never opened, or already closed.
 pub const MC_ERR_BAD_HANDLE: mc_result = -100;
 /// A pointer argument that must not be NULL was NULL.
@@ -178,6 +180,7 @@ pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
         ErrorKind::NurbsPoint => MC_ERR_NURBS_POINT,
         ErrorKind::NurbsStart => MC_ERR_NURBS_START,
         ErrorKind::NurbsZeroLength => MC_ERR_NURBS_ZERO_LENGTH,
+        ErrorKind::NurbsKnot => MC_ERR_NURBS_KNOT,
         ErrorKind::WatchdogTripped => MC_ERR_WATCHDOG_TRIPPED,
         ErrorKind::EStopActive => MC_ERR_ESTOP_ACTIVE,
         ErrorKind::HardLimit => MC_ERR_HARD_LIMIT,
@@ -235,9 +238,10 @@ pub(crate) fn describe(code: mc_result) -> &'static CStr {
         MC_ERR_NURBS_KNOT_MULTIPLICITY => c"an interior knot is repeated more than degree times",
         MC_ERR_NURBS_NOT_CLAMPED => c"the knot vector is not clamped",
         MC_ERR_NURBS_WEIGHT => c"a NURBS weight is not finite and positive",
-        MC_ERR_NURBS_POINT => c"a control point or knot is not finite",
+        MC_ERR_NURBS_POINT => c"a control point is not finite",
         MC_ERR_NURBS_START => c"the curve does not start where the group is",
         MC_ERR_NURBS_ZERO_LENGTH => c"the curve has zero length",
+        MC_ERR_NURBS_KNOT => c"a knot is not finite",
         MC_ERR_WATCHDOG_TRIPPED => c"the host watchdog tripped: reset the card's faults first",
         MC_ERR_ESTOP_ACTIVE => c"an e-stop is latched: reset the card's faults first",
         MC_ERR_HARD_LIMIT => c"the move goes further into an active limit switch",
@@ -435,6 +439,7 @@ mod tests {
         NurbsPoint,
         NurbsStart,
         NurbsZeroLength,
+        NurbsKnot,
         WatchdogTripped,
         EStopActive,
         HardLimit,

@@ -982,7 +982,9 @@ pub struct mc_nurbs_feed {
     pub accel: f64,
     /// Tangential jerk limit.
     pub jerk: f64,
-    /// Chord error tolerance (the feed is lowered where the curvature needs it).
+    /// Chord error tolerance (the feed is lowered where the curvature needs it), in the user
+    /// units of the group's first axis; 0: the default, one encoder count (1 µm on a 1 µm/count
+    /// scale).
     pub chord_tolerance: f64,
     /// Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
     /// may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
@@ -1019,7 +1021,7 @@ impl From<NurbsFeed> for mc_nurbs_feed {
             feed: f.feed,
             accel: f.accel,
             jerk: f.jerk,
-            chord_tolerance: f.chord_tolerance,
+            chord_tolerance: f.chord_tolerance.unwrap_or(0.0),
             saturation_budget: f.saturation.unwrap_or(0.0),
         }
     }
@@ -1031,7 +1033,7 @@ impl From<mc_nurbs_feed> for NurbsFeed {
             feed: f.feed,
             accel: f.accel,
             jerk: f.jerk,
-            chord_tolerance: f.chord_tolerance,
+            chord_tolerance: (f.chord_tolerance != 0.0).then_some(f.chord_tolerance),
             saturation: (f.saturation_budget != 0.0).then_some(f.saturation_budget),
         }
     }
@@ -1469,6 +1471,12 @@ mod tests {
             saturation_budget: 0.0,
         };
         assert_eq!(NurbsFeed::from(feed).saturation, None);
+        assert_eq!(NurbsFeed::from(feed).chord_tolerance, Some(4.0));
+        let default_chord = mc_nurbs_feed {
+            chord_tolerance: 0.0,
+            ..feed
+        };
+        assert_eq!(NurbsFeed::from(default_chord).chord_tolerance, None);
         let aware = mc_nurbs_feed {
             saturation_budget: 0.8,
             ..feed

@@ -63,6 +63,7 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_NURBS_CTRL_COUNT, MC_ERR_NURBS_KNOT_COUNT, MC_ERR_NURBS_KNOTS_DECREASING,
     MC_ERR_NURBS_KNOT_MULTIPLICITY, MC_ERR_NURBS_NOT_CLAMPED, MC_ERR_NURBS_WEIGHT,
     MC_ERR_NURBS_POINT,    MC_ERR_NURBS_START,     MC_ERR_NURBS_ZERO_LENGTH,
+    MC_ERR_NURBS_KNOT,
     /* safety */
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE,  MC_ERR_HARD_LIMIT,
     MC_ERR_SOFT_LIMIT,     MC_ERR_CAUSE_ACTIVE,    MC_ERR_WATCHDOG_TIMEOUT,
@@ -91,6 +92,7 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_NURBS_DIMENSION, MC_ERR_NURBS_CTRL_COUNT, MC_ERR_NURBS_KNOT_COUNT,
     MC_ERR_NURBS_KNOTS_DECREASING, MC_ERR_NURBS_KNOT_MULTIPLICITY, MC_ERR_NURBS_NOT_CLAMPED,
     MC_ERR_NURBS_WEIGHT, MC_ERR_NURBS_POINT, MC_ERR_NURBS_START, MC_ERR_NURBS_ZERO_LENGTH,
+    MC_ERR_NURBS_KNOT,
     /* safety.c */
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE, MC_ERR_SOFT_LIMIT, MC_ERR_CAUSE_ACTIVE,
     MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
@@ -433,7 +435,7 @@ static void constructors(void) {
     mc_nurbs_feed n;
     EXPECT(mc_nurbs_feed_new(1.0, 2.0, 3.0, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_nurbs_feed_new(1.0, 2.0, 3.0, &n), MC_OK);
-    ASSERT(n.feed == 1.0 && n.accel == 2.0 && n.jerk == 3.0 && n.chord_tolerance > 0.0 &&
+    ASSERT(n.feed == 1.0 && n.accel == 2.0 && n.jerk == 3.0 && n.chord_tolerance == 0.0 &&
                n.saturation_budget == 0.0,
            "nurbs feed %f %f %f %f %f", n.feed, n.accel, n.jerk, n.chord_tolerance,
            n.saturation_budget);

@@ -389,6 +389,12 @@ static void bad_geometry(mc_card c) {
     const double nan_pt[6] = {0, 0, NAN, 5000, 10000, 0};
     EXPECT(mc_group_move_nurbs(c, G, 2, nan_pt, 3, 2, w, k, 6, &feed, &NOW, &m),
            MC_ERR_NURBS_POINT);
+    const double nan_knot[6] = {0, 0, 0, NAN, 1, 1};
+    EXPECT(mc_group_move_nurbs(c, G, 2, ctrl, 3, 2, w, nan_knot, 6, &feed, &NOW, &m),
+           MC_ERR_NURBS_KNOT);
+    const double inf_knot[6] = {0, 0, 0, 1, 1, INFINITY};
+    EXPECT(mc_group_move_nurbs(c, G, 2, ctrl, 3, 2, w, inf_knot, 6, &feed, &NOW, &m),
+           MC_ERR_NURBS_KNOT);
     const double elsewhere[6] = {100, 0, 5000, 5000, 10000, 0};
     EXPECT(mc_group_move_nurbs(c, G, 2, elsewhere, 3, 2, w, k, 6, &feed, &NOW, &m),
            MC_ERR_NURBS_START); /* the card: the group is at (0, 0) */

@@ -179,9 +179,10 @@
 #define MC_NACK_NURBS_KNOT_MULTIPLICITY 54 /* an interior knot repeated more than degree times */
 #define MC_NACK_NURBS_NOT_CLAMPED 55    /* end knots not repeated degree+1 times, or an empty domain */
 #define MC_NACK_NURBS_WEIGHT 56         /* a weight not finite and > 0 */
-#define MC_NACK_NURBS_POINT 57          /* a control point or knot not finite */
+#define MC_NACK_NURBS_POINT 57          /* a control point not finite */
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
 #define MC_NACK_NURBS_ZERO_LENGTH 59
+#define MC_NACK_NURBS_KNOT 60           /* a knot not finite (NaN or infinite) */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */

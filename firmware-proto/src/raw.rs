@@ -127,6 +127,7 @@ pub const MC_NACK_NURBS_WEIGHT: u32 = 56;
 pub const MC_NACK_NURBS_POINT: u32 = 57;
 pub const MC_NACK_NURBS_START: u32 = 58;
 pub const MC_NACK_NURBS_ZERO_LENGTH: u32 = 59;
+pub const MC_NACK_NURBS_KNOT: u32 = 60;
 pub const MC_NACK_WATCHDOG_TRIPPED: u32 = 32;
 pub const MC_NACK_ESTOP_ACTIVE: u32 = 33;
 pub const MC_NACK_HARD_LIMIT: u32 = 34;

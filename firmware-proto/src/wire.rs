@@ -202,12 +202,14 @@ code_enum! {
         NurbsNotClamped = raw::MC_NACK_NURBS_NOT_CLAMPED,
         /// A weight is not finite and positive.
         NurbsWeight = raw::MC_NACK_NURBS_WEIGHT,
-        /// A control point or knot is not finite.
+        /// A control point is not finite.
         NurbsPoint = raw::MC_NACK_NURBS_POINT,
         /// The curve does not start where the group's path is.
         NurbsStart = raw::MC_NACK_NURBS_START,
         /// The curve has zero length.
         NurbsZeroLength = raw::MC_NACK_NURBS_ZERO_LENGTH,
+        /// A knot is not finite (NaN or infinite).
+        NurbsKnot = raw::MC_NACK_NURBS_KNOT,
         /// The host watchdog fault is latched: reset it first.
         WatchdogTripped = raw::MC_NACK_WATCHDOG_TRIPPED,
         /// An e-stop is latched: reset it first.

@@ -92,12 +92,14 @@ pub enum ErrorKind {
     NurbsNotClamped,
     /// A weight is not finite and positive.
     NurbsWeight,
-    /// A control point or knot is not finite.
+    /// A control point is not finite.
     NurbsPoint,
     /// The curve does not start where the group's path is.
     NurbsStart,
     /// The curve has zero length.
     NurbsZeroLength,
+    /// A knot is not finite.
+    NurbsKnot,
     /// An operating-system call failed.
     Io,
     /// The backend cannot do this (for example interrupts on a `pci:` card).
@@ -157,6 +159,7 @@ impl From<NackCode> for ErrorKind {
             NackCode::NurbsPoint => ErrorKind::NurbsPoint,
             NackCode::NurbsStart => ErrorKind::NurbsStart,
             NackCode::NurbsZeroLength => ErrorKind::NurbsZeroLength,
+            NackCode::NurbsKnot => ErrorKind::NurbsKnot,
             NackCode::WatchdogTripped => ErrorKind::WatchdogTripped,
             NackCode::EStopActive => ErrorKind::EStopActive,
             NackCode::HardLimit => ErrorKind::HardLimit,
@@ -316,9 +319,10 @@ pub fn nack_reason(code: NackCode) -> &'static str {
         NackCode::NurbsKnotMultiplicity => "an interior knot is repeated more than degree times",
         NackCode::NurbsNotClamped => "the knot vector is not clamped",
         NackCode::NurbsWeight => "a weight is not finite and positive",
-        NackCode::NurbsPoint => "a control point or knot is not finite",
+        NackCode::NurbsPoint => "a control point is not finite",
         NackCode::NurbsStart => "the curve does not start where the group is",
         NackCode::NurbsZeroLength => "the curve has zero length",
+        NackCode::NurbsKnot => "a knot is not finite",
         NackCode::WatchdogTripped => "the host watchdog tripped: reset the card's faults first",
         NackCode::EStopActive => "an e-stop is latched: reset the card's faults first",
         NackCode::HardLimit => "the move goes further into an active limit switch",
@@ -373,7 +377,7 @@ mod tests {
                 },
                 ErrorKind::NurbsKnotCount,
             ),
-            (N::NonFiniteKnot { index: 1 }, ErrorKind::NurbsPoint),
+            (N::NonFiniteKnot { index: 1 }, ErrorKind::NurbsKnot),
             (
                 N::KnotsDecreasing { index: 3 },
                 ErrorKind::NurbsKnotsDecreasing,

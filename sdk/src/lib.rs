@@ -44,8 +44,8 @@ pub use group::{
     Interpolator, MoveOptions, PathLimits, Plane,
 };
 pub use nurbs::{
-    clamped_uniform_knots, die_bonder_plant, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
-    NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
+    clamped_uniform_knots, die_bonder_plant, split_nurbs, Nurbs, NurbsError, NurbsFeed,
+    PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US};
 

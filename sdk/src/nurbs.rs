@@ -7,6 +7,10 @@ use firmware_proto::layout::{self, axis_config as ac, axis_pdplus as pp};
 use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA_MAX};
 use std::time::Duration;
 
+/// Split a curve with more control points than the card takes ([`NURBS_MAX_CTRL`]) into
+/// pieces for [`Group::move_nurbs_path`]: exact (knot insertion at the cut knots), in order,
+/// each piece starting where the one before ends.
+pub use card_emu::nurbs::split_curve as split_nurbs;
 pub use card_emu::nurbs::{clamped_uniform_knots, Nurbs, NurbsError};
 /// Limits of a [`Nurbs`] curve: degree, dimension (axes), control points, knots.
 pub use card_emu::nurbs::{
@@ -101,21 +105,24 @@ pub struct NurbsFeed {
     pub accel: f64,
     /// Tangential jerk limit.
     pub jerk: f64,
-    /// Chord error tolerance (the feed is lowered where the curvature needs it).
-    pub chord_tolerance: f64,
+    /// Chord error tolerance (the feed is lowered where the curvature needs it), in the first
+    /// axis's user units; `None` is one encoder count, converted to user units when the move
+    /// is sent (1 µm on the usual 1 µm/count linear scale, whatever the user units are).
+    pub chord_tolerance: Option<f64>,
     /// Saturation-aware feed (Yeh §3.4): the fraction of Umax the look-ahead may plan with
     /// (e.g. 0.8); `None` for no saturation awareness. Needs PD+ on every group axis.
     pub saturation: Option<f64>,
 }
 
 impl NurbsFeed {
-    /// Feed `v`, acceleration `a`, jerk `j`, chord tolerance 1 count, no saturation awareness.
+    /// Feed `v`, acceleration `a`, jerk `j`, the default chord tolerance (one encoder count),
+    /// no saturation awareness.
     pub fn new(v: f64, a: f64, j: f64) -> Self {
         Self {
             feed: v,
             accel: a,
             jerk: j,
-            chord_tolerance: 1.0,
+            chord_tolerance: None,
             saturation: None,
         }
     }
@@ -146,10 +153,12 @@ impl Group {
             ("feed", f.feed),
             ("acceleration", f.accel),
             ("jerk", f.jerk),
-            ("chord tolerance", f.chord_tolerance),
+            ("chord tolerance", f.chord_tolerance.unwrap_or(1.0)),
         ] {
             positive(what, v)?;
         }
+        // in counts: the default is one count
+        let chord = f.chord_tolerance.map_or(1.0, |c| c * s);
         let budget = f.saturation.unwrap_or(0.0);
         finite("saturation budget", budget)?;
         // The stream: control points (scaled per axis), weights, knots.
@@ -173,7 +182,7 @@ impl Group {
             f.feed * s,
             f.accel * s,
             f.jerk * s,
-            f.chord_tolerance * s,
+            chord,
             budget,
         ];
         let mut begin = Command::new(Opcode::NurbsBegin, self.index() as u16).with_args(&header);
@@ -234,8 +243,13 @@ impl Group {
     }
 
     /// A path longer than the card holds: queue the pieces one after another, waiting for
-    /// earlier pieces to finish whenever the group's queue is full. Each piece starts and ends
-    /// at rest (Yeh's planner runs per curve). Returns the motion of the last piece.
+    /// earlier pieces to finish whenever the group's queue is full (a curve of more than
+    /// [`NURBS_MAX_CTRL`] points: [`split_nurbs`] it first). Where a piece ends and the next
+    /// starts with the same tangent and limits (as the pieces of a split curve do), the card
+    /// runs on through the joint without stopping, as long as the next piece is queued before
+    /// the motion has to start slowing down for the end of the one before; if it is not (the
+    /// host fell behind), the motion stops at the end of what was queued, within its limits,
+    /// and goes on when more arrives. Returns the motion of the last piece.
     pub fn move_nurbs_path(
         &self,
         pieces: &[Nurbs],
