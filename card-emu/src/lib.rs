@@ -16,6 +16,8 @@ pub mod emulator;
 pub mod faults;
 pub mod filters;
 pub mod firmware;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod group;
 pub mod nurbs;
 pub mod plant;
