@@ -250,8 +250,8 @@ pub fn kim_sync_ptp(shape: SyncShape) -> Result<SyncPtp> {
 }
 
 /// The sweep of Kim §4: (radius counts, Ω rad/s, servo rate Hz, time constant s): 20
-/// combinations, every one of the four varied (feeds 15,000–150,000 counts/s, ΩT from
-/// 1.2e-4 to 1.5e-2 rad per tick, 6 to 800 filter taps).
+/// combinations, every one of the four varied (feeds 20,000–150,000 counts/s, ΩT from
+/// 2.5e-4 to 1.2e-2 rad per tick, 8 to 400 linear-filter taps).
 pub const RADIAL_CASES: [(f64, f64, u32, f64); 20] = [
     (5_000.0, 4.0, 1000, 0.030),
     (5_000.0, 8.0, 2000, 0.020),
