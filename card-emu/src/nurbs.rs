@@ -405,9 +405,30 @@ impl Nurbs {
         self.eval(u).map(|(c, _, _)| c)
     }
 
+    /// Like [`eval_clamped`](Self::eval_clamped), with the knot span of the previous call as
+    /// a hint (`hint` is updated): a caller that moves along the curve skips the span search.
+    pub fn eval_hinted(&self, u: f64, hint: &mut usize) -> (Point, Point, Point) {
+        let (a, b) = self.domain();
+        let u = if u.is_nan() { a } else { u.clamp(a, b) };
+        let k = &self.knots;
+        let h = *hint;
+        let span = if h >= self.degree && h < self.n_ctrl && k[h] <= u && u < k[h + 1] {
+            h
+        } else if h + 1 >= self.degree && h + 1 < self.n_ctrl && k[h + 1] <= u && u < k[h + 2] {
+            h + 1
+        } else {
+            self.find_span(u)
+        };
+        *hint = span;
+        self.eval_span(span, u)
+    }
+
     fn eval_in_domain(&self, u: f64) -> (Point, Point, Point) {
+        self.eval_span(self.find_span(u), u)
+    }
+
+    fn eval_span(&self, span: usize, u: f64) -> (Point, Point, Point) {
         let p = self.degree;
-        let span = self.find_span(u);
         let nders = self.ders_basis_funs(span, u);
         // Homogeneous derivatives Aw^(k)(u) = Σ_j N^(k)_{span-p+j}(u) · Pw_{span-p+j}
         let mut aw = [[0.0; HW]; 3];

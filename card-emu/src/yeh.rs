@@ -788,6 +788,24 @@ impl PathSpeedPlanner {
         p
     }
 
+    /// The distance of `brake_phases(v, a, ap, j)`, in closed form.
+    fn brake_distance(v: f64, a: f64, ap: f64, j: f64) -> f64 {
+        let t1 = (a + ap).abs() / j;
+        let j1 = if a + ap >= 0.0 { -j } else { j };
+        let d1 = t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0));
+        let v1 = v + 0.5 * (a - ap) * t1;
+        let v2 = ap * ap / (2.0 * j);
+        let d2 = if v1 > v2 {
+            (v1 * v1 - v2 * v2) / (2.0 * ap)
+        } else {
+            0.0
+        };
+        // the last phase from (v2', −ap) with v2' = v1 when there is no hold
+        let v3 = v1.min(v2);
+        let t3 = ap / j;
+        d1 + d2 + t3 * (v3 + t3 * (-0.5 * ap + t3 * j / 6.0))
+    }
+
     /// The peak deceleration of the shortest stop from (v, a) with deceleration ≤ `d` and jerk
     /// `j`; None when the state cannot come to rest without a jump in acceleration (braking so
     /// hard that the speed reaches zero before the acceleration does).
@@ -805,7 +823,7 @@ impl PathSpeedPlanner {
             return 0.0;
         }
         match Self::brake_peak(v, a, dmax, jmax) {
-            Some(ap) => Self::brake_phases(v, a, ap, jmax).distance(v, a).max(0.0),
+            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
             None => {
                 // release at +J until the speed is zero
                 let t = (-a - (a * a - 2.0 * jmax * v).max(0.0).sqrt()) / jmax;
@@ -821,7 +839,7 @@ impl PathSpeedPlanner {
             return if a == 0.0 { 0.0 } else { f64::INFINITY };
         }
         match Self::brake_peak(v, a, dmax, jmax) {
-            Some(ap) => Self::brake_phases(v, a, ap, jmax).distance(v, a).max(0.0),
+            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
             None => f64::INFINITY,
         }
     }
@@ -849,18 +867,45 @@ impl PathSpeedPlanner {
             .sample(self.v, self.a, self.ts)
     }
 
-    /// Bisection for the root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)); returns
-    /// the end of the final bracket where f ≤ 0.
-    fn solve_decreasing(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64) -> f64 {
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if !(mid > lo && mid < hi) {
+    /// The root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)): regula falsi with the
+    /// Illinois modification (superlinear), falling back to bisection when it stalls; stops
+    /// when |f| ≤ `tol` or the bracket cannot shrink. Returns the end of the final bracket
+    /// where f ≤ 0 (or the point where |f| ≤ tol).
+    fn solve_decreasing(mut lo: f64, mut hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
+        let (mut flo, mut fhi) = (f(lo), f(hi));
+        if flo <= tol {
+            return lo;
+        }
+        if fhi >= -tol {
+            return hi;
+        }
+        let mut side = 0i8;
+        for k in 0..200 {
+            let mut x = (lo * fhi - hi * flo) / (fhi - flo);
+            if k % 8 == 7 || !(x > lo && x < hi) {
+                x = 0.5 * (lo + hi); // every 8th step, and when false position leaves the bracket
+            }
+            if !(x > lo && x < hi) {
                 break;
             }
-            if f(mid) > 0.0 {
-                lo = mid;
+            let fx = f(x);
+            if fx.abs() <= tol {
+                return x;
+            }
+            if fx > 0.0 {
+                lo = x;
+                flo = fx;
+                if side == 1 {
+                    fhi *= 0.5;
+                }
+                side = 1;
             } else {
-                hi = mid;
+                hi = x;
+                fhi = fx;
+                if side == -1 {
+                    flo *= 0.5;
+                }
+                side = -1;
             }
         }
         hi
@@ -890,8 +935,8 @@ impl PathSpeedPlanner {
                 longest = Some(long);
                 continue;
             }
-            let dist = |ap: f64| Self::brake_phases(v, a, ap, j).distance(v, a) - r;
-            let ap = Self::solve_decreasing(lo, hi, dist);
+            let dist = |ap: f64| Self::brake_distance(v, a, ap, j) - r;
+            let ap = Self::solve_decreasing(lo, hi, 1e-13 * r, dist);
             return Self::brake_phases(v, a, ap, j);
         }
         // Too far for a stop from here (at or near rest): ramp up to a peak speed and stop.
@@ -911,7 +956,8 @@ impl PathSpeedPlanner {
             return ramp(v_hi);
         }
         if ramp(v_lo).distance(v, a) <= r {
-            let vp = Self::solve_decreasing(v_lo, v_hi, |vp| r - ramp(vp).distance(v, a));
+            let vp =
+                Self::solve_decreasing(v_lo, v_hi, 1e-13 * r, |vp| r - ramp(vp).distance(v, a));
             return ramp(vp);
         }
         longest.unwrap_or_else(|| ramp(v_lo))
@@ -1158,6 +1204,8 @@ pub struct Interpolator {
     last_plan: f64,
     before_pos: Point,
     before_vel: Point,
+    /// Knot span of the last evaluation (the curve is walked along: the span search is skipped).
+    span: core::cell::Cell<usize>,
 }
 
 /// The curve queued after the one running, when the motion may run into it without stopping
@@ -1427,6 +1475,7 @@ impl Interpolator {
             last_plan: 0.0,
             before_pos: pos,
             before_vel: Point::zeros(),
+            span: core::cell::Cell::new(0),
         })
     }
 
@@ -1621,7 +1670,14 @@ impl Interpolator {
                 1e-6 * (ue - u0)
             };
         }
-        let mut u = u0 + du;
+        self.newton(u0, c0, len, u0 + du)
+    }
+
+    /// Newton on f(u) = |C(u) − c0| − len for u in (u0, u_end] from `u_start` (see `solve`).
+    fn newton(&self, u0: f64, c0: Point, len: f64, u_start: f64) -> Step {
+        let ue = self.u_end;
+        let mut st;
+        let mut u = u_start;
         let mut lo = u0;
         let mut hi = f64::NAN;
         // 1e-12 relative, but not below what the coordinates resolve
@@ -1631,7 +1687,7 @@ impl Interpolator {
             if u.is_nan() || u >= ue {
                 u = ue;
             }
-            let (c, e1, e2) = self.curve.eval_clamped(u);
+            let (c, e1, e2) = self.eval(u);
             let chord = c - c0;
             let dist = chord.norm();
             let f = dist - len;
@@ -1677,6 +1733,14 @@ impl Interpolator {
         }
     }
 
+    /// C, C', C'' at `u` (clamped into the domain), starting the span search at the last one.
+    fn eval(&self, u: f64) -> (Point, Point, Point) {
+        let mut h = self.span.get();
+        let r = self.curve.eval_hinted(u, &mut h);
+        self.span.set(h);
+        r
+    }
+
     /// The step onto the end of the curve.
     fn land_step(&self) -> Step {
         let (c, d1, d2) = self.curve.eval_clamped(self.u_end);
@@ -1694,6 +1758,25 @@ impl Interpolator {
     /// A step of chord `len` from the current point.
     fn solve_step(&self, len: f64) -> Step {
         self.solve(self.u, self.pos, &self.d1, &self.d2, len, len)
+    }
+
+    /// A step of chord `len` from the current point, starting from `near`, a step of another
+    /// length (one Newton step ahead of it: d|C(u) − C0|/du = ⟨C − C0, C'⟩/|C − C0|).
+    fn solve_step_near(&self, near: &Step, len: f64) -> Step {
+        let chord = near.c - self.pos;
+        let fp = if near.chord > 0.0 {
+            chord.dot(&near.d1) / near.chord
+        } else {
+            0.0
+        };
+        let u = near.u + (len - near.chord) / fp;
+        if near.landed || !(fp > 0.0 && u.is_finite() && u > self.u) {
+            return self.solve_step(len);
+        }
+        if len.is_nan() || len <= 0.0 {
+            return self.solve_step(len);
+        }
+        self.newton(self.u, self.pos, len, u)
     }
 
     fn commit(&mut self, st: &Step) -> Tick {
@@ -1816,12 +1899,24 @@ impl Interpolator {
                 + 2.0 * vmax * cfg.ts;
             let mut worst: Option<(f64, f64)> = None;
             let here = self.s;
+            // only limits below both the speed and the target matter
+            let below = vmax.min(target);
+            // Bounds of the slowing distance to c first, the exact one only between them. With
+            // vf the speed once a⁺ is back to zero (≤ vf·a⁺/J of path): at least (vf² − c²)/2D
+            // (deceleration ≤ D), at most (vf + c)/2 · ((vf − c)/D + D/J) more (the ramps into
+            // and out of the deceleration, or a triangle whose time 2√((vf − c)/J) is no more).
+            let (jm, dm) = (pl.jmax, pl.dmax);
+            let ap = an.max(0.0);
+            let vf = vn + ap * ap / (2.0 * jm);
+            let rising = vf * ap / jm;
             let mut consider = |s_abs: f64, raw: f64| {
-                if raw < vmax && raw < target {
+                if raw < vmax && raw < target && worst.is_none_or(|(_, c)| raw < c) {
                     let dist = s_abs - here - step;
-                    if dist < pl.slowing_distance_from(vn, an, raw)
-                        && worst.is_none_or(|(_, c)| raw < c)
-                    {
+                    let lower = (vf * vf - raw * raw) / (2.0 * dm);
+                    let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+                    let violated = dist < lower
+                        || (dist < upper && dist < pl.slowing_distance_from(vn, an, raw));
+                    if violated {
                         worst = Some((s_abs, raw));
                     }
                 }
@@ -1832,7 +1927,7 @@ impl Interpolator {
                 self.hint + 1,
                 0.0,
                 here + reach,
-                vmax,
+                below,
                 &mut consider,
             );
             if let Some(c) = next {
@@ -1845,7 +1940,7 @@ impl Interpolator {
                         0,
                         self.length,
                         here + reach,
-                        vmax,
+                        below,
                         &mut consider,
                     );
                 }
@@ -1878,7 +1973,9 @@ impl Interpolator {
         let pl = self.planner;
         let ts = self.cfg.ts;
         let mut r = (self.length - self.s).max(0.0);
-        let near = 2.0 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), pl.dmax, pl.jmax)
+        // (the stop is decided with PLAN_MARGIN on the limits: 5 % covers it)
+        let near = 1.05
+            * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), pl.dmax, pl.jmax)
             + 4.0 * pl.v * ts
             + 1.0;
         if r <= near && !self.done {
@@ -1899,11 +1996,19 @@ impl Interpolator {
     /// The planner's mean speed for this tick, the speed after the local caps, the ceiling a
     /// saturation guard may raise it to, and the step.
     fn planned_step(&mut self, next: Option<&Continuation<'_>>) -> (f64, f64, f64, Step) {
-        let (target, mut ceiling) = self.limits(next);
+        let (planned, v, ceiling, land) = self.plan_speed(next);
+        let (v, ceiling, st) = self.step_at(v, ceiling, land);
+        (planned, v, ceiling, st)
+    }
+
+    /// The planner's mean speed for this tick, the speed after the local caps, the ceiling,
+    /// and whether this step lands on the curve's end.
+    fn plan_speed(&mut self, next: Option<&Continuation<'_>>) -> (f64, f64, f64, bool) {
+        let (target, ceiling) = self.limits(next);
         let remaining = self.rest_distance(next);
         let planned = self.planner.next(target.max(self.creep()), remaining);
         let ts = self.cfg.ts;
-        let mut v = planned.min(ceiling);
+        let v = planned.min(ceiling);
         let lands = self.planner.lands() && next.is_none();
         let to_end = (self.end_pos - self.pos).norm();
         // What the coordinates resolve: a step below it is no step.
@@ -1915,9 +2020,17 @@ impl Interpolator {
         // (at the end point but not at the end of a closed curve: the arc left decides)
         let at_end = to_end <= resolution && self.length - self.arc_at(self.u, true) <= 1e-6;
         let land = at_end || (lands && v * ts + slack >= to_end);
+        (planned, v, ceiling, land)
+    }
+
+    /// The step at speed `v` (or onto the end), lowered for the chord error at its far end:
+    /// (speed, ceiling, step).
+    fn step_at(&mut self, mut v: f64, mut ceiling: f64, land: bool) -> (f64, f64, Step) {
+        let ts = self.cfg.ts;
         let mut st = if land {
-            v = to_end / ts;
-            self.land_step()
+            let st = self.land_step();
+            v = st.chord / ts;
+            st
         } else {
             self.solve_step(v * ts)
         };
@@ -1928,11 +2041,11 @@ impl Interpolator {
             ceiling = ceiling.min(cap_next);
             if v > cap_next {
                 v = cap_next.max(self.creep().min(v));
-                st = self.solve_step(v * ts);
+                st = self.solve_step_near(&st, v * ts);
             }
         }
         self.last_plan = v * ts;
-        (planned, v, ceiling, st)
+        (v, ceiling, st)
     }
 
     /// After a step: the planner rests when the step ended this curve (unless a continuation
@@ -2019,24 +2132,26 @@ impl Interpolator {
             };
             return Ok((t, dec));
         }
-        let (planned, v_plan, ceiling, mut st) = self.planned_step(next.as_ref());
-        // Step 1–2 (eq 3.7): direction of the axis speed command
-        let mut dir = {
-            let n = self.d1.norm();
-            if n > 0.0 {
-                self.d1 / n
-            } else if st.chord > 0.0 {
-                (st.c - self.pos) / st.chord
-            } else {
-                Point::zeros()
-            }
+        let (planned, v0, ceiling0, land) = self.plan_speed(next.as_ref());
+        // Step 1–2 (eq 3.7): direction of the axis speed command, first the tangent
+        let n = self.d1.norm();
+        let tangent = if n > 0.0 { self.d1 / n } else { Point::zeros() };
+        // The feed Yeh's check allows along the tangent, then the step at it (the chord-error
+        // cap at the step's far end may lower it further), then the check along the chord.
+        let first = sat.limit_feed(v0, ceiling0, &tangent, &states[..dim])?;
+        let (_, ceiling, mut st) = self.step_at(first.feed, ceiling0, land);
+        let v_plan = v0.min(ceiling);
+        let mut dir = if st.chord > 0.0 {
+            (st.c - self.pos) / st.chord
+        } else {
+            tangent
         };
         let mut dec = sat.limit_feed(v_plan, ceiling, &dir, &states[..dim])?;
-        // The chord direction depends (weakly) on the feed: re-solve the step and re-check
-        // with the chord of the candidate until the direction is settled.
+        let ts = self.cfg.ts;
+        let settled = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b);
         for _ in 0..8 {
-            if (st.chord / self.cfg.ts - dec.feed).abs() > 1e-12 * (1.0 + dec.feed) {
-                st = self.solve_step(dec.feed * self.cfg.ts);
+            if !settled(st.chord / ts, dec.feed) {
+                st = self.solve_step_near(&st, dec.feed * ts);
             }
             if st.chord <= 0.0 {
                 break;
@@ -2044,17 +2159,19 @@ impl Interpolator {
             let new_dir = (st.c - self.pos) / st.chord;
             let moved = (new_dir - dir).amax();
             dir = new_dir;
-            if moved < 1e-14 {
+            if moved < 1e-9 {
                 break;
             }
+            let before = dec.feed;
             dec = sat.limit_feed(v_plan, ceiling, &dir, &states[..dim])?;
+            if settled(dec.feed, before) {
+                break;
+            }
         }
-        if !st.landed && (st.chord / self.cfg.ts - dec.feed).abs() > 1e-12 * (1.0 + dec.feed) {
-            st = self.solve_step(dec.feed * self.cfg.ts);
+        if !st.landed && !settled(st.chord / ts, dec.feed) {
+            st = self.solve_step_near(&st, dec.feed * ts);
         }
-        if (dec.feed - v_plan).abs() > 1e-12 * (1.0 + v_plan) {
-            self.last_plan = dec.feed * self.cfg.ts;
-        }
+        self.last_plan = if land { st.chord } else { dec.feed * ts };
         let t = self.commit(&st);
         dec.max_drive_ratio = sat.drive_ratio_for(&t.vel, &states[..dim]);
         // restore toward the commanded feed at the planner's tangential acc/jerk
@@ -2064,7 +2181,7 @@ impl Interpolator {
 }
 
 /// Calls `f(offset + s, raw)` for the samples of `p` from index `from` up to path length
-/// `until` whose limit may be below `vmax` (blocks whose minimum is not are skipped).
+/// `until` whose limit is below `vmax` (blocks whose minimum is not are skipped).
 fn scan(
     p: &[ProfileSample],
     blocks: &[f64],
@@ -2083,7 +2200,9 @@ fn scan(
             i += BLOCK; // nothing in this block is below the speed
             continue;
         }
-        f(offset + smp.s, smp.raw);
+        if smp.raw < vmax {
+            f(offset + smp.s, smp.raw);
+        }
         i += 1;
     }
 }
@@ -2714,6 +2833,27 @@ mod tests {
             );
         }
         assert!((feeds.len() as i64 - 3 - run_whole.len() as i64).abs() <= 2);
+    }
+
+    #[test]
+    fn brake_distance_in_closed_form() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..10_000 {
+            let (v, a) = (rnd() * 5e5, (rnd() - 0.5) * 4e7);
+            let (ap, j) = (rnd() * 3e7 + 1.0, 1e8 + rnd() * 1e10);
+            let exact = PathSpeedPlanner::brake_phases(v, a, ap, j).distance(v, a);
+            let closed = PathSpeedPlanner::brake_distance(v, a, ap, j);
+            assert!(
+                (exact - closed).abs() <= 1e-9 * (1.0 + exact.abs()),
+                "{v} {a} {ap} {j}: {exact} vs {closed}"
+            );
+        }
     }
 
     #[test]
