@@ -978,6 +978,10 @@ impl PathSpeedPlanner {
         } else {
             v_target.max(0.0)
         };
+        if !(self.v.is_finite() && self.a.is_finite()) {
+            // (cannot happen from finite inputs; a state it cannot follow restarts at rest)
+            self.rest();
+        }
         let (v, a) = (self.v, self.a);
         self.lands = false;
         if v <= 0.0 && a <= 0.0 && remaining <= 0.0 {
@@ -2854,6 +2858,83 @@ mod tests {
                 "{v} {a} {ap} {j}: {exact} vs {closed}"
             );
         }
+    }
+
+    /// The die-bonder path cut in three and run through its joints with the saturation-aware
+    /// feed in the closed loop (PD+ on the plant model): |u| ≤ Umax on every tick, joints
+    /// included, and the end is reached exactly.
+    #[test]
+    fn saturation_aware_feed_across_joints() {
+        let preset = die_bonder_preset();
+        let ts = preset.ts;
+        let sat = SaturationAwareFeed::new(&preset.axes, ts).unwrap();
+        let whole = die_bonder_path();
+        let n = whole.n_ctrl();
+        let ctrl: Vec<f64> = (0..n)
+            .flat_map(|i| {
+                let p = whole.control_point(i).unwrap();
+                [p[0], p[1]]
+            })
+            .collect();
+        let w: Vec<f64> = (0..n).map(|i| whole.weight(i).unwrap()).collect();
+        let pieces = crate::nurbs::split_curve(3, 2, &ctrl, &w, whole.knots(), 7).unwrap();
+        assert!(pieces.len() >= 3);
+        let cfg = InterpConfig {
+            ts,
+            feed: 400_000.0,
+            accel: 4e7,
+            jerk: 4e10,
+            chord_tol: 1.0,
+            max_corrections: 3,
+        };
+        let mut ips: Vec<Interpolator> = pieces
+            .iter()
+            .map(|p| Interpolator::with_actuator_limits(p.clone(), cfg, &sat, 0.8).unwrap())
+            .collect();
+        let start = whole.point(0.0).unwrap();
+        let end = whole.point(1.0).unwrap();
+        let (mut th, mut vel, mut th_prev) = ([start[0], start[1]], [0.0; 2], [start[0], start[1]]);
+        let mut pd: Vec<PdPlus> = preset
+            .axes
+            .iter()
+            .map(|a| PdPlus::new(a.gains, ts).unwrap())
+            .collect();
+        for (j, c) in pd.iter_mut().enumerate() {
+            c.reset(th[j]);
+        }
+        let (mut k, mut worst, mut joints, mut ticks) = (0, 0.0f64, 0, 0);
+        loop {
+            let theta_a = pt(&th);
+            let w_a = pt(&[(th[0] - th_prev[0]) / ts, (th[1] - th_prev[1]) / ts]);
+            let (head, tail) = ips.split_at_mut(k + 1);
+            let cur = &mut head[k];
+            let next = tail.first().and_then(|nx| cur.continuation(nx));
+            let (mut t, _) = cur.tick_guarded_into(&sat, &theta_a, &w_a, next).unwrap();
+            if t.done && k + 1 < ips.len() {
+                let (head, tail) = ips.split_at_mut(k + 1);
+                t = tail[0].take_over(&head[k]).unwrap();
+                k += 1;
+                joints += 1;
+            }
+            th_prev = th;
+            for j in 0..2 {
+                let u = pd[j].update(t.pos[j], t.vel[j], t.acc[j], th[j]);
+                worst = worst.max(u.abs() / preset.axes[j].umax);
+                (th[j], vel[j]) = preset.axes[j].plant.step(ts, th[j], vel[j], u);
+            }
+            ticks += 1;
+            if t.done && k + 1 == ips.len() {
+                assert_eq!(t.pos, end);
+                break;
+            }
+            assert!(ticks < 10_000);
+        }
+        println!(
+            "{} pieces, {joints} joints, {ticks} ticks, max |u|/Umax {worst:.9}",
+            pieces.len()
+        );
+        assert_eq!(joints, pieces.len() - 1);
+        assert!(worst <= 1.0, "|u| over Umax: {worst}");
     }
 
     #[test]
