@@ -786,7 +786,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 42);
+        assert_eq!(NackCode::ALL.len(), 43);
         assert_eq!(Opcode::from_raw(34), Some(Opcode::EStop));
         assert_eq!(StopReason::from_raw(23), Some(StopReason::FollowingError));
         assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());
