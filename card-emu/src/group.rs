@@ -298,6 +298,8 @@ impl core::fmt::Debug for NurbsFeed {
 struct NurbsRx {
     open: bool,
     degree: usize,
+    /// The group's axes when the transfer began (the stream's layout depends on it).
+    naxes: usize,
     n_ctrl: usize,
     total: usize,
     received: usize,
@@ -555,6 +557,8 @@ impl Group {
         }
         self.config = Some(cfg);
         self.ptp_stage = [None; MAX_AXES];
+        // A transfer in progress was laid out for the old axes.
+        self.rx.open = false;
         Ok(())
     }
 
@@ -609,6 +613,7 @@ impl Group {
         self.final_seq = None;
         self.stop = None;
         self.ptp_stage = [None; MAX_AXES];
+        self.rx.open = false;
         self.set_state(GroupState::Disabled, tick, out);
     }
 
@@ -1087,6 +1092,7 @@ impl Group {
         self.rx = NurbsRx {
             open: true,
             degree,
+            naxes: n,
             n_ctrl,
             total: n_ctrl * (n + 1) + n_ctrl + degree + 1,
             received: 0,
@@ -1109,10 +1115,11 @@ impl Group {
             || count == 0
             || count > firmware_proto::NURBS_DATA_MAX
             || offset + count > rx.total
+            || self.config.map(|c| c.naxes) != Some(rx.naxes)
         {
             return Err(NackCode::NurbsSequence);
         }
-        let n = self.config.map_or(0, |c| c.naxes);
+        let n = rx.naxes;
         let weights = rx.n_ctrl * n..rx.n_ctrl * (n + 1);
         for (i, v) in c.args[2..2 + count].iter().enumerate() {
             let k = offset + i;
@@ -1124,6 +1131,11 @@ impl Group {
                 } else {
                     NackCode::NurbsPoint
                 });
+            }
+            // The curve stays inside the convex hull of its control points: bounding them
+            // bounds the whole path, like the target of any other move.
+            if k < weights.start && v.abs() > crate::MAX_POSITION {
+                return Err(NackCode::OutOfRange);
             }
         }
         let Some(dst) = rx.stage.get_mut(offset..offset + count) else {
@@ -1152,8 +1164,15 @@ impl Group {
         let cfg = self.can_queue(self.rx.flags)?;
         let n = cfg.naxes;
         let rx = &self.rx;
-        let (pts, rest) = rx.stage[..rx.total].split_at(rx.n_ctrl * n);
-        let (weights, knots) = rest.split_at(rx.n_ctrl);
+        // (A reconfigured group closes the transfer; the layout is checked all the same.)
+        let split = (n == rx.naxes)
+            .then(|| rx.stage.get(..rx.total))
+            .flatten()
+            .and_then(|s| s.split_at_checked(rx.n_ctrl * n))
+            .and_then(|(pts, rest)| Some((pts, rest.split_at_checked(rx.n_ctrl)?)));
+        let Some((pts, (weights, knots))) = split else {
+            return Err(NackCode::NurbsSequence);
+        };
         let curve = Nurbs::new(rx.degree, n, pts, weights, knots).map_err(nurbs_nack)?;
         let start = curve.eval_clamped(curve.domain().0).0;
         if (0..n).any(|i| (start[i] - self.queue_end[i]).abs() > cfg.tolerance) {
@@ -1211,6 +1230,12 @@ impl Group {
             e[i] = end[i];
         }
         let len = interp.length();
+        // As for every other move: one that would run for longer than MAX_MOVE_TIME (at its
+        // top feed already) comes from limits that are almost certainly wrong.
+        let shortest = len / feed;
+        if !shortest.is_finite() || shortest > crate::MAX_MOVE_TIME {
+            return Err(NackCode::Infeasible);
+        }
         let geom = Geometry::Curve {
             start: s,
             end: e,

@@ -20,6 +20,11 @@ pub const MAX_DIM: usize = 8;
 pub const MAX_CTRL: usize = 1024;
 /// Highest knot-vector length: `MAX_CTRL + MAX_DEGREE + 1`.
 pub const MAX_KNOTS: usize = MAX_CTRL + MAX_DEGREE + 1;
+/// Largest ratio between two weights of a curve. Beyond about 10⁶ the curve's parametric
+/// speed has spikes the adaptive arc-length quadrature cannot resolve: planning the move
+/// takes seconds and its length comes out wrong (a degree-1 curve with weights 0.08 and
+/// 2.6·10⁹ measured half its true length after 8 s). CAD weights stay within 10³.
+pub const MAX_WEIGHT_RATIO: f64 = 1e4;
 
 /// Width of a homogeneous control point: `MAX_DIM` weighted coordinates, then the weight.
 const HW: usize = MAX_DIM + 1;
@@ -59,7 +64,8 @@ pub enum NurbsError {
     NotClamped,
     /// First knot equals last knot: the parameter domain is empty.
     EmptyDomain,
-    /// Weight not finite or not > 0.
+    /// Weight not finite or not > 0, or more than `MAX_WEIGHT_RATIO` times (or less than
+    /// 1/`MAX_WEIGHT_RATIO` of) another weight.
     BadWeight { index: usize },
     /// A control point has a NaN or infinite coordinate.
     NonFiniteControlPoint { index: usize },
@@ -104,7 +110,11 @@ impl fmt::Display for NurbsError {
             } => write!(f, "knot run at {index} has multiplicity {multiplicity}"),
             Self::NotClamped => write!(f, "knot vector is not clamped (end knots need p+1 copies)"),
             Self::EmptyDomain => write!(f, "first and last knot are equal"),
-            Self::BadWeight { index } => write!(f, "weight {index} is not finite and positive"),
+            Self::BadWeight { index } => write!(
+                f,
+                "weight {index} is not finite and positive, or over {MAX_WEIGHT_RATIO:e} times \
+                 another weight (or under its 1/{MAX_WEIGHT_RATIO:e})"
+            ),
             Self::NonFiniteControlPoint { index } => {
                 write!(f, "control point {index} is not finite")
             }
@@ -182,6 +192,13 @@ impl Nurbs {
             if !(w.is_finite() && w > 0.0) {
                 return Err(NurbsError::BadWeight { index });
             }
+        }
+        let lightest = weights.iter().copied().fold(f64::INFINITY, f64::min);
+        if let Some(index) = weights
+            .iter()
+            .position(|&w| w > MAX_WEIGHT_RATIO * lightest)
+        {
+            return Err(NurbsError::BadWeight { index });
         }
         let mut pw: Box<[[f64; HW]; MAX_CTRL]> = Box::new([[0.0; HW]; MAX_CTRL]);
         for (index, (row, (p, &w))) in pw
@@ -1175,6 +1192,19 @@ mod tests {
                 BadWeight { index: 2 }
             );
         }
+        // weights spread wider than MAX_WEIGHT_RATIO: the heavier one is named
+        let w = [0.5, 1.0, 0.5 * MAX_WEIGHT_RATIO, 1.0];
+        assert!(Nurbs::new(2, 2, &ctrl4, &w, &k4).is_ok());
+        let w = [0.5, 1.0, 0.5 * MAX_WEIGHT_RATIO * 1.001, 1.0];
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w, &k4).unwrap_err(),
+            BadWeight { index: 2 }
+        );
+        let w = [1.0, 1.0, 1.0, 1e-5];
+        assert_eq!(
+            Nurbs::new(2, 2, &ctrl4, &w, &k4).unwrap_err(),
+            BadWeight { index: 0 }
+        );
         let mut c = ctrl4;
         c[3] = f64::NAN;
         assert_eq!(

@@ -1268,7 +1268,16 @@ pub fn arc_length(curve: &Nurbs, a: f64, b: f64) -> f64 {
         // caller refuses a curve whose length is not finite.
         return whole0;
     }
-    let floor = 64.0 * f64::EPSILON * whole0.abs();
+    // Rounding floor: the length of a piece cannot be resolved below the rounding of the
+    // coordinates it is computed from. Relative to the estimate alone, a piece where the curve
+    // stands still (coincident control points) never converged: its estimate is rounding
+    // noise, and every call split it to the limits below (5 s for one curve).
+    let scale = curve
+        .eval_clamped(a)
+        .0
+        .amax()
+        .max(curve.eval_clamped(b).0.amax());
+    let floor = 64.0 * f64::EPSILON * whole0.abs().max(scale);
     let mut stack = [(0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32); 64];
     let mut top = 1;
     stack[0] = (a, b, whole0, 1e-11 * whole0.abs(), 0);
