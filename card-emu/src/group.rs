@@ -694,19 +694,9 @@ impl Group {
             return 0;
         };
         let post = self.config.is_some_and(|c| c.post);
-        let limits = Limits {
-            vmax: f64::MAX,
-            amax: dmax,
-            dmax,
-            j1: jerk,
-            j3: jerk,
-            j5: jerk,
-            j7: jerk,
-        };
         let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
-        // (the halt's own plan falls back to a higher jerk late in a deceleration; this is
-        // only an estimate of its length, with a curve's worth of margin below)
-        let need = match Profile::stop(0.0, v0, a0, &limits) {
+        // (only an estimate of the halt's length, with a curve's worth of margin below)
+        let need = match crate::axis::plan_stop(0.0, v0, a0, dmax, jerk) {
             Ok(p) => p.end_pos(),
             Err(_) => v0 * v0 / (2.0 * dmax) + v0 * dmax / jerk,
         };
@@ -803,32 +793,8 @@ impl Group {
                 tick,
                 value: 0.0,
             });
-            let limits = Limits {
-                vmax: f64::MAX,
-                amax: dmax,
-                dmax,
-                j1: jerk,
-                j3: jerk,
-                j5: jerk,
-                j7: jerk,
-            };
             let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
-            let plan = Profile::stop(act.s, v0, a0, &limits).or_else(|_| {
-                // Late in a deceleration: the smallest jerk that stops without reversing.
-                let j = (a0 * a0 / (2.0 * v0.max(f64::MIN_POSITIVE))).max(jerk) * (1.0 + 1e-9);
-                Profile::stop(
-                    act.s,
-                    v0,
-                    a0,
-                    &Limits {
-                        j1: j,
-                        j3: j,
-                        j5: j,
-                        j7: j,
-                        ..limits
-                    },
-                )
-            });
+            let plan = crate::axis::plan_stop(act.s, v0, a0, dmax, jerk);
             if let Ok(p) = plan {
                 let keep_own =
                     matches!(act.mv.feed, Feed::Profile { .. }) && p.end_pos() > act.mv.geom.len();

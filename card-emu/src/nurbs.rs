@@ -156,65 +156,11 @@ impl Nurbs {
         weights: &[f64],
         knots: &[f64],
     ) -> Result<Self, NurbsError> {
-        if degree == 0 || degree > MAX_DEGREE {
-            return Err(NurbsError::BadDegree { degree });
-        }
-        if !(2..=MAX_DIM).contains(&dim) {
-            return Err(NurbsError::BadDimension { dim });
-        }
-        if ctrl.is_empty() || !ctrl.len().is_multiple_of(dim) {
-            return Err(NurbsError::ControlDataLength {
-                len: ctrl.len(),
-                dim,
-            });
-        }
-        let n_ctrl = ctrl.len() / dim;
-        if n_ctrl < degree + 1 {
-            return Err(NurbsError::TooFewControlPoints {
-                n_ctrl,
-                min: degree + 1,
-            });
-        }
-        if n_ctrl > MAX_CTRL {
-            return Err(NurbsError::TooManyControlPoints {
-                n_ctrl,
-                max: MAX_CTRL,
-            });
-        }
-        if weights.len() != n_ctrl {
-            return Err(NurbsError::WeightCountMismatch {
-                weights: weights.len(),
-                n_ctrl,
-            });
-        }
-        validate_knots(degree, n_ctrl, knots)?;
-        for (index, &w) in weights.iter().enumerate() {
-            if !(w.is_finite() && w > 0.0) {
-                return Err(NurbsError::BadWeight { index });
-            }
-        }
-        let lightest = weights.iter().copied().fold(f64::INFINITY, f64::min);
-        if let Some(index) = weights
-            .iter()
-            .position(|&w| w > MAX_WEIGHT_RATIO * lightest)
-        {
-            return Err(NurbsError::BadWeight { index });
-        }
+        let n_ctrl = check_curve(degree, dim, ctrl, weights, knots, MAX_CTRL)?;
         let mut pw: Box<[[f64; HW]; MAX_CTRL]> = Box::new([[0.0; HW]; MAX_CTRL]);
-        for (index, (row, (p, &w))) in pw
-            .iter_mut()
-            .zip(ctrl.chunks_exact(dim).zip(weights.iter()))
-            .enumerate()
-        {
-            if p.iter().any(|c| !c.is_finite()) {
-                return Err(NurbsError::NonFiniteControlPoint { index });
-            }
+        for (row, (p, &w)) in pw.iter_mut().zip(ctrl.chunks_exact(dim).zip(weights)) {
             for (dst, &c) in row.iter_mut().zip(p.iter()) {
                 *dst = c * w;
-            }
-            if row[..dim].iter().any(|c| !c.is_finite()) {
-                // w·P overflowed
-                return Err(NurbsError::NonFiniteControlPoint { index });
             }
             row[W] = w;
         }
@@ -550,6 +496,72 @@ pub fn clamped_uniform_knots(n_ctrl: usize, degree: usize) -> Result<Vec<f64>, N
     Ok(k)
 }
 
+/// What [`Nurbs::new`] and [`split_curve`] check of their arguments, in this order: degree,
+/// dimension, control data length, at least `degree + 1` and at most `max_ctrl` control
+/// points, one weight per point, the knot vector, the weights (finite, positive, within
+/// [`MAX_WEIGHT_RATIO`] of each other), the control points (finite, also once weighted).
+/// Returns the number of control points.
+fn check_curve(
+    degree: usize,
+    dim: usize,
+    ctrl: &[f64],
+    weights: &[f64],
+    knots: &[f64],
+    max_ctrl: usize,
+) -> Result<usize, NurbsError> {
+    if degree == 0 || degree > MAX_DEGREE {
+        return Err(NurbsError::BadDegree { degree });
+    }
+    if !(2..=MAX_DIM).contains(&dim) {
+        return Err(NurbsError::BadDimension { dim });
+    }
+    if ctrl.is_empty() || !ctrl.len().is_multiple_of(dim) {
+        return Err(NurbsError::ControlDataLength {
+            len: ctrl.len(),
+            dim,
+        });
+    }
+    let n_ctrl = ctrl.len() / dim;
+    if n_ctrl < degree + 1 {
+        return Err(NurbsError::TooFewControlPoints {
+            n_ctrl,
+            min: degree + 1,
+        });
+    }
+    if n_ctrl > max_ctrl {
+        return Err(NurbsError::TooManyControlPoints {
+            n_ctrl,
+            max: max_ctrl,
+        });
+    }
+    if weights.len() != n_ctrl {
+        return Err(NurbsError::WeightCountMismatch {
+            weights: weights.len(),
+            n_ctrl,
+        });
+    }
+    validate_knots(degree, n_ctrl, knots)?;
+    if let Some(index) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(NurbsError::BadWeight { index });
+    }
+    let lightest = weights.iter().copied().fold(f64::INFINITY, f64::min);
+    if let Some(index) = weights
+        .iter()
+        .position(|&w| w > MAX_WEIGHT_RATIO * lightest)
+    {
+        return Err(NurbsError::BadWeight { index });
+    }
+    // Finite, and w·P does not overflow.
+    if let Some(index) = ctrl
+        .chunks_exact(dim)
+        .zip(weights)
+        .position(|(p, w)| p.iter().any(|c| !c.is_finite() || !(c * w).is_finite()))
+    {
+        return Err(NurbsError::NonFiniteControlPoint { index });
+    }
+    Ok(n_ctrl)
+}
+
 /// Splits a clamped NURBS curve of any number of control points into consecutive curves of
 /// at most `max_ctrl` control points each (host-side helper; allocates). The curve is cut at
 /// interior knots: each cut knot is inserted until its multiplicity is the degree (Boehm's
@@ -568,41 +580,13 @@ pub fn split_curve(
     max_ctrl: usize,
 ) -> Result<Vec<Nurbs>, NurbsError> {
     let p = degree;
-    if p == 0 || p > MAX_DEGREE {
-        return Err(NurbsError::BadDegree { degree });
-    }
-    if !(2..=MAX_DIM).contains(&dim) {
-        return Err(NurbsError::BadDimension { dim });
-    }
-    if ctrl.is_empty() || !ctrl.len().is_multiple_of(dim) {
-        return Err(NurbsError::ControlDataLength {
-            len: ctrl.len(),
-            dim,
-        });
-    }
-    let n_ctrl = ctrl.len() / dim;
-    if n_ctrl < p + 1 {
-        return Err(NurbsError::TooFewControlPoints { n_ctrl, min: p + 1 });
-    }
+    let n_ctrl = check_curve(degree, dim, ctrl, weights, knots, usize::MAX)?;
     let max_ctrl = max_ctrl.clamp(p + 1, MAX_CTRL);
-    if weights.len() != n_ctrl {
-        return Err(NurbsError::WeightCountMismatch {
-            weights: weights.len(),
-            n_ctrl,
-        });
-    }
-    validate_knots(p, n_ctrl, knots)?;
-    if let Some(index) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
-        return Err(NurbsError::BadWeight { index });
-    }
     let mut pw: Vec<[f64; HW]> = Vec::with_capacity(n_ctrl + 2 * p);
-    for (index, (pt, &w)) in ctrl.chunks_exact(dim).zip(weights).enumerate() {
+    for (pt, &w) in ctrl.chunks_exact(dim).zip(weights) {
         let mut row = [0.0; HW];
         for (dst, &c) in row.iter_mut().zip(pt) {
             *dst = c * w;
-        }
-        if pt.iter().any(|c| !c.is_finite()) || row[..dim].iter().any(|c| !c.is_finite()) {
-            return Err(NurbsError::NonFiniteControlPoint { index });
         }
         row[W] = w;
         pw.push(row);
