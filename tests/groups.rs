@@ -868,21 +868,7 @@ fn arcs_through_post_filters_stay_inside_the_circle_and_end_exactly() {
 /// limits, and all start and end on the same tick.
 #[test]
 fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
-    use motioncard::plan::{Limits, Profile};
-    let alone = |l: &PathLimits, d: f64| {
-        let lim = Limits {
-            vmax: l.velocity,
-            amax: l.acceleration,
-            dmax: l.deceleration,
-            j1: l.jerk,
-            j3: l.jerk,
-            j5: l.jerk,
-            j7: l.jerk,
-        };
-        Profile::plan(0.0, d.abs(), 0.0, 0.0, &lim)
-            .unwrap()
-            .duration()
-    };
+    let alone = common::rest_to_rest_time;
     let fast = PathLimits::new(100_000.0, 1e6, 5e7);
     // Y (scale 2 counts per unit) is the tightest in every limit once scaled to X's distance.
     let slow_y = PathLimits::new(2_000.0, 2e4, 1e6);

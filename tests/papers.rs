@@ -1,11 +1,12 @@
 //! The papers' experiments, reproduced on the stepped emulated card (the runs themselves are in
 //! `motioncard::papers`; here they are checked).
+mod common;
+
 use card_emu::filters::exponential_pole;
 use motioncard::papers::{
     kim_fig7, kim_sync_ptp, radial_error, shin_corner, SyncShape, KIM_FIG7_FEED, KIM_FIG7_TAU,
     RADIAL_CASES, SYNC_LIMITS, SYNC_SLOW_Z, SYNC_TARGETS,
 };
-use motioncard::plan::{Limits, Profile};
 use motioncard::{FilterKind, Interpolator, MotorParams};
 
 /// The largest snap correction a move may show: the commanded positions are error-free sums
@@ -114,20 +115,7 @@ fn kim_sec4_radial_error_matches_eq28_and_eq32() {
 /// with their distances (eq 11). With per-axis limits the slow z axis sets the time.
 #[test]
 fn kim_sync_ptp_every_axis_starts_and_ends_on_the_same_tick() {
-    let own = |l: &motioncard::PathLimits, d: f64| {
-        let lim = Limits {
-            vmax: l.velocity,
-            amax: l.acceleration,
-            dmax: l.deceleration,
-            j1: l.jerk,
-            j3: l.jerk,
-            j5: l.jerk,
-            j7: l.jerk,
-        };
-        Profile::plan(0.0, d.abs(), 0.0, 0.0, &lim)
-            .unwrap()
-            .duration()
-    };
+    let own = common::rest_to_rest_time;
     let x_alone = own(&SYNC_LIMITS, SYNC_TARGETS[0]);
     let z_alone = own(&SYNC_SLOW_Z, SYNC_TARGETS[2]);
     assert!(

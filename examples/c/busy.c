@@ -8,23 +8,10 @@
  *     cc -std=c11 busy.c $(pkg-config --cflags --libs motioncard) -o busy && ./busy emu:demo
  */
 #define _POSIX_C_SOURCE 200809L
-#include "check.h"
+#include "expect.h"
 
 #include <math.h>
 #include <time.h>
-
-/* `call` must return `code`; a failure must leave a message for this thread. */
-#define EXPECT(call, code)                                                                \
-    do {                                                                                  \
-        mc_result expect_r_ = (call);                                                     \
-        if (expect_r_ != (code)) {                                                        \
-            char msg_[512];                                                               \
-            fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d (%s); last error: %s\n", \
-                    __FILE__, __LINE__, #call, (int)expect_r_, mc_result_str(expect_r_),  \
-                    (int)(code), mc_result_str(code), last_error(msg_, sizeof msg_));     \
-            exit(1);                                                                      \
-        }                                                                                 \
-    } while (0)
 
 static void move_axis_0(mc_card c, double distance) {
     mc_move_limits lim;

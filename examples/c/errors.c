@@ -7,41 +7,10 @@
  * The card is a stepped emulated one (deterministic); one real-time `sim` card is opened to
  * show what a stepped-only call does on it. The argument is ignored.
  */
-#include "check.h"
+#include "expect.h"
 
 #include <math.h>
 
-static unsigned checks;
-static int seen[256]; /* by -code */
-
-/* `call` must return `code`; a failure must leave a message for this thread. */
-#define EXPECT(call, code)                                                                \
-    do {                                                                                  \
-        mc_result expect_r_ = (call);                                                     \
-        if (expect_r_ != (code)) {                                                        \
-            char msg_[512];                                                               \
-            fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d (%s); last error: %s\n", \
-                    __FILE__, __LINE__, #call, (int)expect_r_, mc_result_str(expect_r_),  \
-                    (int)(code), mc_result_str(code), last_error(msg_, sizeof msg_));     \
-            exit(1);                                                                      \
-        }                                                                                 \
-        if (expect_r_ != MC_OK) expect_message(#call);                                    \
-        if (-expect_r_ >= 0 && -expect_r_ < 256) seen[-expect_r_] = 1;                    \
-        checks++;                                                                         \
-    } while (0)
-
-static void expect_message(const char *what) {
-    char msg[512];
-    size_t needed = 0;
-    ASSERT(mc_last_error_message(msg, sizeof msg, &needed) == MC_OK, "reading the message");
-    ASSERT(needed == strlen(msg) + 1 && needed > 1, "%s left no message", what);
-}
-
-/* The last error message must contain `part`. */
-static void expect_in_message(const char *part) {
-    char msg[512];
-    ASSERT(strstr(last_error(msg, sizeof msg), part), "\"%s\" not in \"%s\"", part, msg);
-}
 
 /* Every result code of the header (the Rust test checks this list against motioncard.h). */
 static const mc_result ALL_CODES[] = {

@@ -11,39 +11,10 @@
  *
  *     cc -std=c11 groups.c $(pkg-config --cflags --libs motioncard) -lm -o groups && ./groups
  */
-#include "check.h"
+#include "expect.h"
 
 #include <math.h>
 
-static unsigned checks;
-
-/* `call` must return `code`; a failure must leave a message for this thread. */
-#define EXPECT(call, code)                                                                \
-    do {                                                                                  \
-        mc_result expect_r_ = (call);                                                     \
-        if (expect_r_ != (code)) {                                                        \
-            char msg_[512];                                                               \
-            fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d (%s); last error: %s\n", \
-                    __FILE__, __LINE__, #call, (int)expect_r_, mc_result_str(expect_r_),  \
-                    (int)(code), mc_result_str(code), last_error(msg_, sizeof msg_));     \
-            exit(1);                                                                      \
-        }                                                                                 \
-        if (expect_r_ != MC_OK) expect_message(#call);                                    \
-        checks++;                                                                         \
-    } while (0)
-
-static void expect_message(const char *what) {
-    char msg[512];
-    size_t needed = 0;
-    ASSERT(mc_last_error_message(msg, sizeof msg, &needed) == MC_OK, "reading the message");
-    ASSERT(needed == strlen(msg) + 1 && needed > 1, "%s left no message", what);
-}
-
-/* The last error message must contain `part`. */
-static void expect_in_message(const char *part) {
-    char msg[512];
-    ASSERT(strstr(last_error(msg, sizeof msg), part), "\"%s\" not in \"%s\"", part, msg);
-}
 
 static const double PI = 3.14159265358979323846;
 static const uint32_t G = 0;                /* the group */

@@ -9,31 +9,10 @@
  *
  *     cc -std=c11 nurbs_path.c $(pkg-config --cflags --libs motioncard) -lm -o nurbs_path
  */
-#include "check.h"
+#include "expect.h"
 
 #include <math.h>
 
-static unsigned checks;
-
-/* `call` must return `code`; a failure must leave a message for this thread. */
-#define EXPECT(call, code)                                                                \
-    do {                                                                                  \
-        mc_result expect_r_ = (call);                                                     \
-        if (expect_r_ != (code)) {                                                        \
-            char msg_[512];                                                               \
-            fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d (%s); last error: %s\n", \
-                    __FILE__, __LINE__, #call, (int)expect_r_, mc_result_str(expect_r_),  \
-                    (int)(code), mc_result_str(code), last_error(msg_, sizeof msg_));     \
-            exit(1);                                                                      \
-        }                                                                                 \
-        checks++;                                                                         \
-    } while (0)
-
-/* The last error message must contain `part`. */
-static void expect_in_message(const char *part) {
-    char msg[512];
-    ASSERT(strstr(last_error(msg, sizeof msg), part), "\"%s\" not in \"%s\"", part, msg);
-}
 
 #define PIECES 40
 #define NCTRL 5

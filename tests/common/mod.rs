@@ -1,7 +1,8 @@
 //! Helpers shared by the end-to-end tests.
 #![allow(dead_code)]
 
-use motioncard::{Card, Clock, EmuOptions, SimOptions};
+use motioncard::plan::{Limits, Profile};
+use motioncard::{Card, Clock, EmuOptions, PathLimits, SimOptions};
 
 /// A stepped emulated card: deterministic on any machine.
 pub fn stepped_card() -> Card {
@@ -38,4 +39,21 @@ impl Rng {
     pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
         self.uniform(lo.ln(), hi.ln()).exp()
     }
+}
+
+/// Duration of a rest-to-rest move of `distance` within `l` alone (the card's planner, one
+/// jerk for every phase).
+pub fn rest_to_rest_time(l: &PathLimits, distance: f64) -> f64 {
+    let lim = Limits {
+        vmax: l.velocity,
+        amax: l.acceleration,
+        dmax: l.deceleration,
+        j1: l.jerk,
+        j3: l.jerk,
+        j5: l.jerk,
+        j7: l.jerk,
+    };
+    Profile::plan(0.0, distance.abs(), 0.0, 0.0, &lim)
+        .unwrap()
+        .duration()
 }
