@@ -232,6 +232,7 @@ fn waits_return_by_their_timeout_when_the_card_process_dies() {
 #[test]
 fn waits_return_by_their_timeout_while_the_card_process_is_stopped() {
     use nix::sys::signal::{kill, Signal};
+    use nix::sys::wait::{waitpid, WaitPidFlag, WaitStatus};
     use nix::unistd::Pid;
     let name = format!("stoppedcard-{}", std::process::id());
     let emu = Proc(
@@ -249,6 +250,11 @@ fn waits_return_by_their_timeout_while_the_card_process_is_stopped() {
         .move_relative(20_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
         .unwrap();
     kill(pid, Signal::SIGSTOP).unwrap();
+    // The signal is asynchronous: wait until the card process has really stopped.
+    assert!(matches!(
+        waitpid(pid, Some(WaitPidFlag::WUNTRACED)).unwrap(),
+        WaitStatus::Stopped(_, Signal::SIGSTOP)
+    ));
     let tick = card.tick();
     let generous = Duration::from_secs(5);
     let t = Duration::from_millis(300);
