@@ -64,15 +64,19 @@ impl MappedWindow {
 }
 
 impl Mem for MappedWindow {
+    #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
         self.dpram.load32(off, order)
     }
+    #[inline]
     fn store32(&self, off: usize, val: u32, order: Ordering) {
         self.dpram.store32(off, val, order)
     }
+    #[inline]
     fn load64(&self, off: usize, order: Ordering) -> u64 {
         self.dpram.load64(off, order)
     }
+    #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         self.dpram.store64(off, val, order)
     }

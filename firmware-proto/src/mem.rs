@@ -48,30 +48,38 @@ pub trait Mem {
 }
 
 impl<T: Mem + ?Sized> Mem for &T {
+    #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
         (**self).load32(off, order)
     }
+    #[inline]
     fn store32(&self, off: usize, val: u32, order: Ordering) {
         (**self).store32(off, val, order)
     }
+    #[inline]
     fn load64(&self, off: usize, order: Ordering) -> u64 {
         (**self).load64(off, order)
     }
+    #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         (**self).store64(off, val, order)
     }
 }
 
 impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
+    #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
         (**self).load32(off, order)
     }
+    #[inline]
     fn store32(&self, off: usize, val: u32, order: Ordering) {
         (**self).store32(off, val, order)
     }
+    #[inline]
     fn load64(&self, off: usize, order: Ordering) -> u64 {
         (**self).load64(off, order)
     }
+    #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         (**self).store64(off, val, order)
     }
@@ -133,6 +141,7 @@ impl Dpram {
         self.len == 0
     }
 
+    #[inline]
     fn word_ptr(&self, off: usize, width: usize) -> Option<*mut u8> {
         if !off.is_multiple_of(width) || off.checked_add(width)? > self.len {
             return None;
@@ -143,6 +152,7 @@ impl Dpram {
 }
 
 impl Mem for Dpram {
+    #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
         match self.word_ptr(off, 4) {
             // SAFETY: in bounds and 4-aligned (checked); the memory is only accessed atomically.
@@ -150,12 +160,14 @@ impl Mem for Dpram {
             None => 0,
         }
     }
+    #[inline]
     fn store32(&self, off: usize, val: u32, order: Ordering) {
         if let Some(p) = self.word_ptr(off, 4) {
             // SAFETY: in bounds and 4-aligned (checked); the memory is only accessed atomically.
             unsafe { AtomicU32::from_ptr(p.cast()) }.store(val, order)
         }
     }
+    #[inline]
     fn load64(&self, off: usize, order: Ordering) -> u64 {
         match self.word_ptr(off, 8) {
             // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
@@ -163,6 +175,7 @@ impl Mem for Dpram {
             None => 0,
         }
     }
+    #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         if let Some(p) = self.word_ptr(off, 8) {
             // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
@@ -207,15 +220,19 @@ impl Default for HeapWindow {
 }
 
 impl Mem for HeapWindow {
+    #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
         self.dpram.load32(off, order)
     }
+    #[inline]
     fn store32(&self, off: usize, val: u32, order: Ordering) {
         self.dpram.store32(off, val, order)
     }
+    #[inline]
     fn load64(&self, off: usize, order: Ordering) -> u64 {
         self.dpram.load64(off, order)
     }
+    #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         self.dpram.store64(off, val, order)
     }
