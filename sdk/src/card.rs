@@ -20,6 +20,11 @@ pub(crate) type Window = Arc<card_emu::shm::MappedWindow>;
 /// How long a command may wait for its ack before the card counts as not responding.
 pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
 
+/// How long a wait looks at the event ring before it blocks in `poll()` on the interrupt fd:
+/// about the round trip of a command to a card that busy-polls its ring, so that answer is
+/// taken without a sleep and a wake-up.
+pub const SPIN_BEFORE_POLL: Duration = Duration::from_micros(30);
+
 /// How long an axis status block may stay busy (mid-write) before `Axis::status` gives
 /// `Error::NotResponding`.
 const STATUS_BUSY_TIMEOUT: Duration = Duration::from_millis(100);
@@ -458,6 +463,16 @@ impl Card {
                 return Err(Error::Timeout(deadline.saturating_duration_since(start)));
             }
             let left = deadline - now;
+            // A card that busy-polls its command ring answers within microseconds: look at the
+            // ring a little longer before paying for a sleep and a wake-up in poll().
+            if !rx.polling && now - start < SPIN_BEFORE_POLL {
+                drop(rx);
+                for _ in 0..64 {
+                    std::hint::spin_loop();
+                }
+                rx = lock(&self.inner.rx);
+                continue;
+            }
             if rx.polling {
                 rx = self
                     .inner
