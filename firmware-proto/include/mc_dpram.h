@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 1u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended */
+#define MC_LAYOUT_MINOR 2u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u

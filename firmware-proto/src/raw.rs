@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 1;
+pub const MC_LAYOUT_MINOR: u32 = 2;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
