@@ -2441,6 +2441,16 @@ pub fn die_bonder_path() -> Nurbs {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A seeded xorshift64 giving uniform numbers in [0, 1).
+    fn uniform01(mut x: u64) -> impl FnMut() -> f64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
     use crate::nurbs::clamped_uniform_knots;
 
     fn pt(xs: &[f64]) -> Point {
@@ -2850,13 +2860,7 @@ mod tests {
 
     #[test]
     fn brake_distance_in_closed_form() {
-        let mut x = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform01(0x9e37_79b9_7f4a_7c15u64);
         for _ in 0..10_000 {
             let (v, a) = (rnd() * 5e5, (rnd() - 0.5) * 4e7);
             let (ap, j) = (rnd() * 3e7 + 1.0, 1e8 + rnd() * 1e10);
@@ -3200,13 +3204,7 @@ mod tests {
     /// panics, and every run ends on C(u_end).
     #[test]
     fn random_curves_random_settings_never_panic() {
-        let mut seed = 0x1234_5678_9abc_def0u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform01(0x1234_5678_9abc_def0u64);
         let p = die_bonder_preset();
         let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
         for case in 0..60 {
