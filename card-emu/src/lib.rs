@@ -34,12 +34,7 @@ pub use plant::{Motor, MotorParams, Switches};
 
 use firmware_proto::NackCode;
 
-/// Largest |position| a move may target, counts (2^52: f64 still resolves 1 count there).
-pub const MAX_POSITION: f64 = 4_503_599_627_370_496.0;
-
-/// Longest move the firmware accepts, s (about 11.6 days): anything longer comes from limits
-/// that are almost certainly wrong, and is refused as infeasible.
-pub const MAX_MOVE_TIME: f64 = 1e6;
+pub use firmware_proto::{MAX_MOVE_TIME, MAX_POSITION};
 
 /// The nack for a planner refusal.
 pub(crate) fn plan_nack(e: scurve::PlanError) -> NackCode {

@@ -314,6 +314,9 @@
 // `mc_disable` by the host.
 #define MC_STOP_REASON_POWER_OFF 4
 
+// The host closed the card (`mc_close`): the motion halted, no fault.
+#define MC_STOP_REASON_HOST_DETACH 5
+
 // The host heartbeat stopped (watchdog). Safety reasons are this value and above.
 #define MC_STOP_REASON_WATCHDOG 16
 
@@ -358,6 +361,13 @@
 
 // Another axis of its group tripped.
 #define MC_STOP_REASON_GROUP 30
+
+// A stop did not end within the card's maximum stop time: its power was removed.
+#define MC_STOP_REASON_STOP_TIMEOUT 31
+
+// A host opened the card while the previous host's session was still open (it died without
+// closing): the motion it left was stopped.
+#define MC_STOP_REASON_HOST_CHANGED 32
 
 // IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
 // `mc_safety_settings.limit_stop`): remove power at once.
@@ -978,6 +988,33 @@ typedef struct mc_stop_info {
 
 // A NURBS knot is not finite.
 #define MC_ERR_NURBS_KNOT -54
+
+// A kinematic limit outside the range the card accepts (denormal, absurdly small or large).
+#define MC_ERR_LIMIT_RANGE -55
+
+// The planned profile failed the card's own check and was refused: nothing moved.
+#define MC_ERR_PLAN_CHECK -56
+
+// The card served the command after its deadline and refused it: it was not executed.
+#define MC_ERR_EXPIRED -57
+
+// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of range.
+#define MC_ERR_STOP_TOO_LONG -58
+
+// The card's session belongs to another host.
+#define MC_ERR_SESSION -59
+
+// The card went away (its process exited or was killed).
+#define MC_ERR_CARD_GONE -60
+
+// The card was closed while the call waited (or before it).
+#define MC_ERR_CLOSED -61
+
+// The wait was cancelled from another thread (`mc_cancel_waits`).
+#define MC_ERR_CANCELLED -62
+
+// The card's server refused this user.
+#define MC_ERR_PERMISSION_DENIED -63
 
 // The card handle (or motion) is unknown: never opened, or already closed.
 #define MC_ERR_BAD_HANDLE -100

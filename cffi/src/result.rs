@@ -120,6 +120,24 @@ pub const MC_ERR_WATCHDOG_TIMEOUT: mc_result = -52;
 pub const MC_ERR_BAD_CATEGORY: mc_result = -53;
 /// A NURBS knot is not finite.
 pub const MC_ERR_NURBS_KNOT: mc_result = -54;
+/// A kinematic limit outside the range the card accepts (denormal, absurdly small or large).
+pub const MC_ERR_LIMIT_RANGE: mc_result = -55;
+/// The planned profile failed the card's own check and was refused: nothing moved.
+pub const MC_ERR_PLAN_CHECK: mc_result = -56;
+/// The card served the command after its deadline and refused it: it was not executed.
+pub const MC_ERR_EXPIRED: mc_result = -57;
+/// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of range.
+pub const MC_ERR_STOP_TOO_LONG: mc_result = -58;
+/// The card's session belongs to another host.
+pub const MC_ERR_SESSION: mc_result = -59;
+/// The card went away (its process exited or was killed).
+pub const MC_ERR_CARD_GONE: mc_result = -60;
+/// The card was closed while the call waited (or before it).
+pub const MC_ERR_CLOSED: mc_result = -61;
+/// The wait was cancelled from another thread (`mc_cancel_waits`).
+pub const MC_ERR_CANCELLED: mc_result = -62;
+/// The card's server refused this user.
+pub const MC_ERR_PERMISSION_DENIED: mc_result = -63;
 /// The card handle (or motion) is unknown: never opened, or already closed.
 pub const MC_ERR_BAD_HANDLE: mc_result = -100;
 /// A pointer argument that must not be NULL was NULL.
@@ -188,6 +206,15 @@ pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
         ErrorKind::CauseActive => MC_ERR_CAUSE_ACTIVE,
         ErrorKind::WatchdogTimeout => MC_ERR_WATCHDOG_TIMEOUT,
         ErrorKind::BadCategory => MC_ERR_BAD_CATEGORY,
+        ErrorKind::LimitRange => MC_ERR_LIMIT_RANGE,
+        ErrorKind::PlanCheck => MC_ERR_PLAN_CHECK,
+        ErrorKind::Expired => MC_ERR_EXPIRED,
+        ErrorKind::StopTooLong => MC_ERR_STOP_TOO_LONG,
+        ErrorKind::Session => MC_ERR_SESSION,
+        ErrorKind::CardGone => MC_ERR_CARD_GONE,
+        ErrorKind::Closed => MC_ERR_CLOSED,
+        ErrorKind::Cancelled => MC_ERR_CANCELLED,
+        ErrorKind::PermissionDenied => MC_ERR_PERMISSION_DENIED,
     }
 }
 
@@ -251,6 +278,15 @@ pub(crate) fn describe(code: mc_result) -> &'static CStr {
             c"watchdog timeout zero or under 1.5 x the host's heartbeat period"
         }
         MC_ERR_BAD_CATEGORY => c"stop category must be 0, 1 or 2",
+        MC_ERR_LIMIT_RANGE => c"a limit is outside the range the card accepts",
+        MC_ERR_PLAN_CHECK => c"the planned profile failed the card's check; nothing moved",
+        MC_ERR_EXPIRED => c"the card served the command after its deadline; not executed",
+        MC_ERR_STOP_TOO_LONG => c"the stop ramp is longer than the card's maximum stop time",
+        MC_ERR_SESSION => c"another host's session is attached",
+        MC_ERR_CARD_GONE => c"the card went away",
+        MC_ERR_CLOSED => c"the card was closed",
+        MC_ERR_CANCELLED => c"the wait was cancelled",
+        MC_ERR_PERMISSION_DENIED => c"the card's server refused this user",
         MC_ERR_BAD_HANDLE => c"unknown or closed handle",
         MC_ERR_NULL_POINTER => c"a required pointer is NULL",
         MC_ERR_BUFFER_TOO_SMALL => c"the buffer is too small",
@@ -447,6 +483,15 @@ mod tests {
         CauseActive,
         WatchdogTimeout,
         BadCategory,
+        LimitRange,
+        PlanCheck,
+        Expired,
+        StopTooLong,
+        Session,
+        CardGone,
+        Closed,
+        Cancelled,
+        PermissionDenied,
     );
 
     #[test]

@@ -1054,6 +1054,8 @@ pub const MC_STOP_REASON_HALT: u32 = 2;
 pub const MC_STOP_REASON_STOP: u32 = 3;
 /// `mc_disable` by the host.
 pub const MC_STOP_REASON_POWER_OFF: u32 = 4;
+/// The host closed the card (`mc_close`): the motion halted, no fault.
+pub const MC_STOP_REASON_HOST_DETACH: u32 = 5;
 /// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
 pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
 /// The host's e-stop (`mc_estop`).
@@ -1084,6 +1086,11 @@ pub const MC_STOP_REASON_CMD_RING: u32 = 28;
 pub const MC_STOP_REASON_EVT_RING: u32 = 29;
 /// Another axis of its group tripped.
 pub const MC_STOP_REASON_GROUP: u32 = 30;
+/// A stop did not end within the card's maximum stop time: its power was removed.
+pub const MC_STOP_REASON_STOP_TIMEOUT: u32 = 31;
+/// A host opened the card while the previous host's session was still open (it died without
+/// closing): the motion it left was stopped.
+pub const MC_STOP_REASON_HOST_CHANGED: u32 = 32;
 
 /// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
 /// `mc_safety_settings.limit_stop`): remove power at once.
@@ -1131,6 +1138,9 @@ pub(crate) fn stop_reason_code(r: StopReason) -> u32 {
         StopReason::CmdRing => MC_STOP_REASON_CMD_RING,
         StopReason::EvtRing => MC_STOP_REASON_EVT_RING,
         StopReason::Group => MC_STOP_REASON_GROUP,
+        StopReason::StopTimeout => MC_STOP_REASON_STOP_TIMEOUT,
+        StopReason::HostChanged => MC_STOP_REASON_HOST_CHANGED,
+        StopReason::HostDetach => MC_STOP_REASON_HOST_DETACH,
     }
 }
 

@@ -21,7 +21,10 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 2u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT */
+#define MC_LAYOUT_MINOR 3u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+                           * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
+                           * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
+                           * maximum stop time, kinematic limit ranges, heartbeat lateness */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -34,6 +37,17 @@
 
 #define MC_SERVO_RATE_MIN_HZ 1000u
 #define MC_SERVO_RATE_MAX_HZ 20000u
+
+/* What the card accepts; anything outside is refused with its own nack, never clamped.
+ * - Positions: |p| <= MC_MAX_POSITION counts (2^52: binary64 still resolves one count there).
+ * - Moves: at most MC_MAX_MOVE_TIME seconds long (else MC_NACK_INFEASIBLE).
+ * - Kinematic limits (moves, halts and stops, group and NURBS feeds, safety stop ramps): a limit
+ *   of order k (k = 1 velocity, 2 acceleration, 3 jerk; counts and seconds) lies in
+ *   [MC_MAX_MOVE_TIME^-k, MC_MAX_POSITION * servo_rate_hz^k], from one count in the longest
+ *   move to the whole position range in one servo tick (else MC_NACK_LIMIT_RANGE). Subnormal
+ *   and absurd values are outside by construction. */
+#define MC_MAX_POSITION 4503599627370496.0
+#define MC_MAX_MOVE_TIME 1000000.0
 
 /* identity.capabilities bits */
 #define MC_CAP_SCURVE (1u << 0)
@@ -126,6 +140,18 @@
 #define MC_OP_ESTOP 34u               /* args: category (0, 1 or 2). Every axis; latched */
 #define MC_OP_SAFETY_RESET 35u        /* clear the card-wide latches (watchdog, e-stop) once their
                                        * causes are gone; axes then leave ErrorStop by MC_RESET */
+/* Host sessions (layout 1.3). A host attaches before its first heartbeat and detaches when it
+ * closes the card; a host that vanishes never detaches. */
+#define MC_OP_HOST_ATTACH 36u /* flags: the new session id (nonzero). If another session is still
+                               * attached (its host died or hung without detaching), every enabled
+                               * axis makes a category 1 stop with reason MC_STOP_HOST_CHANGED: a
+                               * new host never inherits motion it did not start. The ack's value
+                               * is the number of axes that stop made. The watchdog is disarmed
+                               * until the new host's first heartbeat. */
+#define MC_OP_HOST_DETACH 37u /* flags: the session id. A clean close: every moving axis and group
+                               * halts along its axis stop ramp (reason MC_STOP_HOST_DETACH, no
+                               * fault latched) and the watchdog is disarmed. MC_NACK_SESSION if
+                               * another session is attached. */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
@@ -156,6 +182,10 @@
 #define MC_NACK_INFEASIBLE 8
 #define MC_NACK_OUT_OF_RANGE 9
 #define MC_NACK_AXES_ENABLED 10
+#define MC_NACK_LIMIT_RANGE 11  /* a kinematic limit outside its range (see MC_MAX_MOVE_TIME) */
+#define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
+                                 * |d|/vmax, off its target or beyond a limit): refused, not run */
+#define MC_NACK_EXPIRED 13      /* served after its deadline (mc_cmd.deadline_ms): not executed */
 #define MC_NACK_BAD_GROUP 16            /* no such group */
 #define MC_NACK_AXIS_IN_OTHER_GROUP 17  /* an axis already belongs to another group */
 #define MC_NACK_AXIS_NOT_IN_GROUP 18    /* the move needs an axis the group does not have */
@@ -192,6 +222,9 @@
                                      * missing heartbeat) is still present */
 #define MC_NACK_WATCHDOG_TIMEOUT 37 /* watchdog timeout 0 or under 1.5 x host.host_period_us */
 #define MC_NACK_BAD_CATEGORY 38     /* a stop category other than 0, 1 or 2 */
+#define MC_NACK_STOP_TOO_LONG 39    /* a stop ramp from max_velocity longer than the maximum stop
+                                     * time, or a maximum stop time out of range */
+#define MC_NACK_SESSION 40          /* a detach by a host whose session is not the attached one */
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
 #define MC_STATE_DISABLED 0u
@@ -238,6 +271,7 @@
 #define MC_STOP_HALT 2u           /* MC_Halt */
 #define MC_STOP_STOP 3u           /* MC_Stop */
 #define MC_STOP_POWER_OFF 4u      /* MC_Power off by the host */
+#define MC_STOP_HOST_DETACH 5u    /* the host closed the card (MC_OP_HOST_DETACH): halted */
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
@@ -253,6 +287,8 @@
 #define MC_STOP_CMD_RING 28u      /* command ring indices corrupt */
 #define MC_STOP_EVT_RING 29u      /* event ring indices corrupt */
 #define MC_STOP_GROUP 30u         /* another axis of its group tripped */
+#define MC_STOP_TIMEOUT 31u       /* a stop did not end within the maximum stop time: power removed */
+#define MC_STOP_HOST_CHANGED 32u  /* a host attached while the previous host's session was open */
 
 /* Axis I/O bits (mc_axis_status_payload.io): the FPGA's inputs and the drive-enable output */
 #define MC_IO_LIMIT_POS (1u << 0)
@@ -304,7 +340,9 @@ struct mc_host_ctrl {
     uint32_t host_period_us; /* the host's declared heartbeat period */
     uint32_t doorbell;       /* incremented by the host after publishing commands */
     uint32_t irq_mask;       /* bit (1 << kind) enables the interrupt for that event kind */
-    uint32_t _reserved[12];
+    uint32_t host_time_ms;   /* layout 1.3: the host's monotonic clock, ms, wrapping, never 0,
+                              * advanced with the heartbeat: see mc_cmd.deadline_ms */
+    uint32_t _reserved[11];
 };
 
 /* card writes */
@@ -328,7 +366,8 @@ struct mc_cmd {
     uint16_t opcode;
     uint16_t axis;
     uint32_t flags;
-    uint32_t _reserved;
+    uint32_t deadline_ms; /* layout 1.3: the card refuses the command (MC_NACK_EXPIRED) once
+                           * host.host_time_ms has passed this (wrapping compare); 0: none */
     double args[MC_CMD_ARGS];
 };
 
@@ -468,7 +507,11 @@ struct mc_axis_status {
 struct mc_safety_config {
     uint32_t watchdog_timeout_us;  /* > 0 and >= 1.5 x host.host_period_us (default 5000) */
     uint32_t estop_input_category; /* MC_STOP_CAT_*: the stop the e-stop input makes (default 1) */
-    uint32_t _reserved[14];
+    uint32_t max_stop_time_us;     /* layout 1.3: every stop (halt, stop, safety stops, starvation)
+                                    * ends within this, or the drive loses power at it (reason
+                                    * MC_STOP_TIMEOUT); 10 ms .. 600 s (default 2 s). Each axis's
+                                    * stop ramp from its max_velocity must fit in it. */
+    uint32_t _reserved[13];
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_AXIS_SAFETY */
@@ -498,7 +541,15 @@ struct mc_safety_status {
     uint64_t rest_tick[MC_MAX_AXES]; /* tick it reached rest after it (0 while stopping) */
     double ramp_time[MC_MAX_AXES];   /* planned duration of that stop's deceleration, s */
     uint64_t trip_heartbeat_tick;    /* last_heartbeat_tick when the watchdog last tripped */
-    uint64_t _reserved[3];
+    /* layout 1.3 */
+    uint32_t session;                /* the attached host's session id (0: none) */
+    uint32_t host_changes;           /* attaches that found another session open (its motion was
+                                      * stopped) since boot */
+    uint32_t late_heartbeats;        /* heartbeats that came more than host_period_us after the
+                                      * one before, since the last attach */
+    uint32_t max_heartbeat_gap_us;   /* the longest gap between two heartbeats since the last
+                                      * attach, us (servo-tick resolution) */
+    uint64_t attach_tick;            /* tick of the last attach (0: none) */
 };
 
 /* The whole window. */

@@ -29,6 +29,7 @@ pub const HEARTBEAT: usize = off!(host.heartbeat);
 pub const HOST_PERIOD_US: usize = off!(host.host_period_us);
 pub const DOORBELL: usize = off!(host.doorbell);
 pub const IRQ_MASK: usize = off!(host.irq_mask);
+pub const HOST_TIME_MS: usize = off!(host.host_time_ms);
 
 // card control (card writes)
 pub const TICK: usize = off!(card.tick);
@@ -169,6 +170,7 @@ const _: () = {
 pub const SAFETY_CONFIG: usize = off!(safety);
 pub const WATCHDOG_TIMEOUT_US: usize = off!(safety.watchdog_timeout_us);
 pub const ESTOP_INPUT_CATEGORY: usize = off!(safety.estop_input_category);
+pub const MAX_STOP_TIME_US: usize = off!(safety.max_stop_time_us);
 pub const AXIS_SAFETY: usize = off!(axis_safety);
 pub const AXIS_SAFETY_BYTES: usize = size_of::<mc_axis_safety>();
 pub const SAFETY_STATUS: usize = off!(safety_status);
@@ -202,6 +204,11 @@ pub mod safety_status {
     pub const WATCHDOG_TRIP_TICK: usize = B + offset_of!(mc_safety_status, watchdog_trip_tick);
     pub const PROTOCOL_ERRORS: usize = B + offset_of!(mc_safety_status, protocol_errors);
     pub const TRIP_HEARTBEAT_TICK: usize = B + offset_of!(mc_safety_status, trip_heartbeat_tick);
+    pub const SESSION: usize = B + offset_of!(mc_safety_status, session);
+    pub const HOST_CHANGES: usize = B + offset_of!(mc_safety_status, host_changes);
+    pub const LATE_HEARTBEATS: usize = B + offset_of!(mc_safety_status, late_heartbeats);
+    pub const MAX_HEARTBEAT_GAP_US: usize = B + offset_of!(mc_safety_status, max_heartbeat_gap_us);
+    pub const ATTACH_TICK: usize = B + offset_of!(mc_safety_status, attach_tick);
     const STOP_TICK: usize = B + offset_of!(mc_safety_status, stop_tick);
     const REST_TICK: usize = B + offset_of!(mc_safety_status, rest_tick);
     const RAMP_TIME: usize = B + offset_of!(mc_safety_status, ramp_time);

@@ -61,4 +61,20 @@ pub const SERVO_RATE_MIN_HZ: u32 = raw::MC_SERVO_RATE_MIN_HZ;
 /// Servo-rate bounds, Hz.
 pub const SERVO_RATE_MAX_HZ: u32 = raw::MC_SERVO_RATE_MAX_HZ;
 
+/// Largest |position| a command may name, counts (2^52: binary64 still resolves one count).
+pub const MAX_POSITION: f64 = raw::MC_MAX_POSITION;
+/// Longest move the card accepts, s (about 11.6 days): anything longer comes from limits that
+/// are almost certainly wrong, and is refused as infeasible.
+pub const MAX_MOVE_TIME: f64 = raw::MC_MAX_MOVE_TIME;
+
+/// The range the card accepts for a kinematic limit of order `order` (1 velocity, 2
+/// acceleration, 3 jerk; counts and seconds) at `servo_rate_hz`:
+/// `[MAX_MOVE_TIME^-k, MAX_POSITION · rate^k]`, from one count in the longest move to the
+/// whole position range in one servo tick. Subnormal and absurd values lie outside by
+/// construction; the card refuses them with [`NackCode::LimitRange`].
+pub fn limit_range(order: i32, servo_rate_hz: u32) -> core::ops::RangeInclusive<f64> {
+    let rate = servo_rate_hz.clamp(SERVO_RATE_MIN_HZ, SERVO_RATE_MAX_HZ) as f64;
+    MAX_MOVE_TIME.powi(-order)..=MAX_POSITION * rate.powi(order)
+}
+
 const _: () = assert!(core::mem::size_of::<raw::mc_dpram>() <= DPRAM_SIZE);

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 2;
+pub const MC_LAYOUT_MINOR: u32 = 3;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -16,6 +16,8 @@ pub const MC_STATUS_WORDS: u32 = 24;
 pub const MC_STATUS_CHECK: i64 = -6510615555426900571;
 pub const MC_SERVO_RATE_MIN_HZ: u32 = 1000;
 pub const MC_SERVO_RATE_MAX_HZ: u32 = 20000;
+pub const MC_MAX_POSITION: f64 = 4503599627370496.0;
+pub const MC_MAX_MOVE_TIME: f64 = 1000000.0;
 pub const MC_CAP_SCURVE: u32 = 1;
 pub const MC_CAP_FFPIV: u32 = 2;
 pub const MC_CAP_EVENT_IRQ: u32 = 4;
@@ -80,6 +82,8 @@ pub const MC_OP_APPLY_SAFETY_CONFIG: u32 = 32;
 pub const MC_OP_APPLY_AXIS_SAFETY: u32 = 33;
 pub const MC_OP_ESTOP: u32 = 34;
 pub const MC_OP_SAFETY_RESET: u32 = 35;
+pub const MC_OP_HOST_ATTACH: u32 = 36;
+pub const MC_OP_HOST_DETACH: u32 = 37;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -102,6 +106,9 @@ pub const MC_NACK_BAD_CONFIG: u32 = 7;
 pub const MC_NACK_INFEASIBLE: u32 = 8;
 pub const MC_NACK_OUT_OF_RANGE: u32 = 9;
 pub const MC_NACK_AXES_ENABLED: u32 = 10;
+pub const MC_NACK_LIMIT_RANGE: u32 = 11;
+pub const MC_NACK_PLAN_CHECK: u32 = 12;
+pub const MC_NACK_EXPIRED: u32 = 13;
 pub const MC_NACK_BAD_GROUP: u32 = 16;
 pub const MC_NACK_AXIS_IN_OTHER_GROUP: u32 = 17;
 pub const MC_NACK_AXIS_NOT_IN_GROUP: u32 = 18;
@@ -135,6 +142,8 @@ pub const MC_NACK_SOFT_LIMIT: u32 = 35;
 pub const MC_NACK_CAUSE_ACTIVE: u32 = 36;
 pub const MC_NACK_WATCHDOG_TIMEOUT: u32 = 37;
 pub const MC_NACK_BAD_CATEGORY: u32 = 38;
+pub const MC_NACK_STOP_TOO_LONG: u32 = 39;
+pub const MC_NACK_SESSION: u32 = 40;
 pub const MC_STATE_DISABLED: u32 = 0;
 pub const MC_STATE_STANDSTILL: u32 = 1;
 pub const MC_STATE_HOMING: u32 = 2;
@@ -168,6 +177,7 @@ pub const MC_STOP_DONE: u32 = 1;
 pub const MC_STOP_HALT: u32 = 2;
 pub const MC_STOP_STOP: u32 = 3;
 pub const MC_STOP_POWER_OFF: u32 = 4;
+pub const MC_STOP_HOST_DETACH: u32 = 5;
 pub const MC_STOP_WATCHDOG: u32 = 16;
 pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
 pub const MC_STOP_ESTOP_INPUT: u32 = 18;
@@ -183,6 +193,8 @@ pub const MC_STOP_STARVATION: u32 = 27;
 pub const MC_STOP_CMD_RING: u32 = 28;
 pub const MC_STOP_EVT_RING: u32 = 29;
 pub const MC_STOP_GROUP: u32 = 30;
+pub const MC_STOP_TIMEOUT: u32 = 31;
+pub const MC_STOP_HOST_CHANGED: u32 = 32;
 pub const MC_IO_LIMIT_POS: u32 = 1;
 pub const MC_IO_LIMIT_NEG: u32 = 2;
 pub const MC_IO_HOME: u32 = 4;
@@ -251,7 +263,8 @@ pub struct mc_host_ctrl {
     pub host_period_us: u32,
     pub doorbell: u32,
     pub irq_mask: u32,
-    pub _reserved: [u32; 12usize],
+    pub host_time_ms: u32,
+    pub _reserved: [u32; 11usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -265,8 +278,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_host_ctrl, doorbell) - 8usize];
     ["Offset of field: mc_host_ctrl::irq_mask"]
         [::core::mem::offset_of!(mc_host_ctrl, irq_mask) - 12usize];
+    ["Offset of field: mc_host_ctrl::host_time_ms"]
+        [::core::mem::offset_of!(mc_host_ctrl, host_time_ms) - 16usize];
     ["Offset of field: mc_host_ctrl::_reserved"]
-        [::core::mem::offset_of!(mc_host_ctrl, _reserved) - 16usize];
+        [::core::mem::offset_of!(mc_host_ctrl, _reserved) - 20usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
@@ -312,7 +327,7 @@ pub struct mc_cmd {
     pub opcode: u16,
     pub axis: u16,
     pub flags: u32,
-    pub _reserved: u32,
+    pub deadline_ms: u32,
     pub args: [f64; 14usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -323,7 +338,8 @@ const _: () = {
     ["Offset of field: mc_cmd::opcode"][::core::mem::offset_of!(mc_cmd, opcode) - 4usize];
     ["Offset of field: mc_cmd::axis"][::core::mem::offset_of!(mc_cmd, axis) - 6usize];
     ["Offset of field: mc_cmd::flags"][::core::mem::offset_of!(mc_cmd, flags) - 8usize];
-    ["Offset of field: mc_cmd::_reserved"][::core::mem::offset_of!(mc_cmd, _reserved) - 12usize];
+    ["Offset of field: mc_cmd::deadline_ms"]
+        [::core::mem::offset_of!(mc_cmd, deadline_ms) - 12usize];
     ["Offset of field: mc_cmd::args"][::core::mem::offset_of!(mc_cmd, args) - 16usize];
 };
 #[repr(C)]
@@ -673,7 +689,8 @@ const _: () = {
 pub struct mc_safety_config {
     pub watchdog_timeout_us: u32,
     pub estop_input_category: u32,
-    pub _reserved: [u32; 14usize],
+    pub max_stop_time_us: u32,
+    pub _reserved: [u32; 13usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -683,8 +700,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_safety_config, watchdog_timeout_us) - 0usize];
     ["Offset of field: mc_safety_config::estop_input_category"]
         [::core::mem::offset_of!(mc_safety_config, estop_input_category) - 4usize];
+    ["Offset of field: mc_safety_config::max_stop_time_us"]
+        [::core::mem::offset_of!(mc_safety_config, max_stop_time_us) - 8usize];
     ["Offset of field: mc_safety_config::_reserved"]
-        [::core::mem::offset_of!(mc_safety_config, _reserved) - 8usize];
+        [::core::mem::offset_of!(mc_safety_config, _reserved) - 12usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]
@@ -741,7 +760,11 @@ pub struct mc_safety_status {
     pub rest_tick: [u64; 8usize],
     pub ramp_time: [f64; 8usize],
     pub trip_heartbeat_tick: u64,
-    pub _reserved: [u64; 3usize],
+    pub session: u32,
+    pub host_changes: u32,
+    pub late_heartbeats: u32,
+    pub max_heartbeat_gap_us: u32,
+    pub attach_tick: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -767,8 +790,16 @@ const _: () = {
         [::core::mem::offset_of!(mc_safety_status, ramp_time) - 160usize];
     ["Offset of field: mc_safety_status::trip_heartbeat_tick"]
         [::core::mem::offset_of!(mc_safety_status, trip_heartbeat_tick) - 224usize];
-    ["Offset of field: mc_safety_status::_reserved"]
-        [::core::mem::offset_of!(mc_safety_status, _reserved) - 232usize];
+    ["Offset of field: mc_safety_status::session"]
+        [::core::mem::offset_of!(mc_safety_status, session) - 232usize];
+    ["Offset of field: mc_safety_status::host_changes"]
+        [::core::mem::offset_of!(mc_safety_status, host_changes) - 236usize];
+    ["Offset of field: mc_safety_status::late_heartbeats"]
+        [::core::mem::offset_of!(mc_safety_status, late_heartbeats) - 240usize];
+    ["Offset of field: mc_safety_status::max_heartbeat_gap_us"]
+        [::core::mem::offset_of!(mc_safety_status, max_heartbeat_gap_us) - 244usize];
+    ["Offset of field: mc_safety_status::attach_tick"]
+        [::core::mem::offset_of!(mc_safety_status, attach_tick) - 248usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]

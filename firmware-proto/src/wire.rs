@@ -101,6 +101,12 @@ code_enum! {
         EStop = raw::MC_OP_ESTOP,
         /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone.
         SafetyReset = raw::MC_OP_SAFETY_RESET,
+        /// A host begins its session (flags: the session id): a previous session still open
+        /// stops every enabled axis with [`StopReason::HostChanged`].
+        HostAttach = raw::MC_OP_HOST_ATTACH,
+        /// A host ends its session cleanly (flags: the session id): moving axes halt, the
+        /// watchdog is disarmed, no fault.
+        HostDetach = raw::MC_OP_HOST_DETACH,
     }
 }
 
@@ -224,6 +230,16 @@ code_enum! {
         WatchdogTimeout = raw::MC_NACK_WATCHDOG_TIMEOUT,
         /// A stop category other than 0, 1 or 2.
         BadCategory = raw::MC_NACK_BAD_CATEGORY,
+        /// A kinematic limit outside its range ([`limit_range`]).
+        LimitRange = raw::MC_NACK_LIMIT_RANGE,
+        /// The planned profile failed the card's own check: refused, not run.
+        PlanCheck = raw::MC_NACK_PLAN_CHECK,
+        /// Served after its deadline: not executed.
+        Expired = raw::MC_NACK_EXPIRED,
+        /// A stop ramp longer than the maximum stop time, or a maximum stop time out of range.
+        StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
+        /// A detach by a host whose session is not the attached one.
+        Session = raw::MC_NACK_SESSION,
     }
 }
 
@@ -391,6 +407,8 @@ code_enum! {
         Stop = raw::MC_STOP_STOP,
         /// MC_Power off by the host.
         PowerOff = raw::MC_STOP_POWER_OFF,
+        /// The host closed the card (a clean detach): the motion halted.
+        HostDetach = raw::MC_STOP_HOST_DETACH,
         /// The host heartbeat stopped (watchdog).
         Watchdog = raw::MC_STOP_WATCHDOG,
         /// The host's e-stop command.
@@ -421,6 +439,10 @@ code_enum! {
         EvtRing = raw::MC_STOP_EVT_RING,
         /// Another axis of its group tripped.
         Group = raw::MC_STOP_GROUP,
+        /// A stop did not end within the card's maximum stop time: its power was removed.
+        StopTimeout = raw::MC_STOP_TIMEOUT,
+        /// A host attached while the previous host's session was still open.
+        HostChanged = raw::MC_STOP_HOST_CHANGED,
     }
 }
 
@@ -440,8 +462,11 @@ pub struct Command {
     pub opcode: u16,
     /// Axis number.
     pub axis: u16,
-    /// Flags (none defined yet; must be 0).
+    /// Flags (per opcode).
     pub flags: u32,
+    /// The host time (`host.host_time_ms`) after which the card refuses the command with
+    /// [`NackCode::Expired`]; 0: no deadline.
+    pub deadline_ms: u32,
     /// Arguments.
     pub args: [f64; CMD_ARGS],
 }
@@ -454,6 +479,7 @@ impl Command {
             opcode: opcode as u16,
             axis,
             flags: 0,
+            deadline_ms: 0,
             args: [0.0; CMD_ARGS],
         }
     }
@@ -470,7 +496,7 @@ impl Command {
     pub fn to_words(&self) -> [u64; CMD_WORDS] {
         let mut w = [0u64; CMD_WORDS];
         w[0] = self.seq as u64 | (self.opcode as u64) << 32 | (self.axis as u64) << 48;
-        w[1] = self.flags as u64;
+        w[1] = self.flags as u64 | (self.deadline_ms as u64) << 32;
         for (dst, a) in w[2..].iter_mut().zip(self.args.iter()) {
             *dst = a.to_bits();
         }
@@ -488,6 +514,7 @@ impl Command {
             opcode: (w[0] >> 32) as u16,
             axis: (w[0] >> 48) as u16,
             flags: w[1] as u32,
+            deadline_ms: (w[1] >> 32) as u32,
             args,
         }
     }
@@ -739,7 +766,9 @@ mod tests {
         let mut c = Command::new(Opcode::MoveAbsolute, 7).with_args(&[1.5, -2.0, f64::NAN]);
         c.seq = 0xDEAD_BEEF;
         c.flags = 3;
+        c.deadline_ms = 0xFFFF_FFFE;
         let d = Command::from_words(&c.to_words());
+        assert_eq!(d.deadline_ms, 0xFFFF_FFFE);
         assert_eq!(d.seq, c.seq);
         assert_eq!(d.opcode, Opcode::MoveAbsolute as u16);
         assert_eq!(d.axis, 7);
@@ -786,10 +815,12 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 43);
+        assert_eq!(NackCode::ALL.len(), 48);
         assert_eq!(Opcode::from_raw(34), Some(Opcode::EStop));
         assert_eq!(StopReason::from_raw(23), Some(StopReason::FollowingError));
         assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());
+        assert!(StopReason::HostChanged.is_safety() && StopReason::StopTimeout.is_safety());
+        assert!(!StopReason::HostDetach.is_safety());
         let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
         codes.dedup();
         assert_eq!(codes.len(), NackCode::ALL.len());

@@ -119,6 +119,28 @@ pub enum ErrorKind {
     WatchdogTimeout,
     /// A stop category other than 0, 1 or 2.
     BadCategory,
+    /// A kinematic limit outside the range the card accepts
+    /// ([`firmware_proto::limit_range`]: denormal, absurdly small or large).
+    LimitRange,
+    /// The card planned a profile that failed its own check (shorter than |d|/vmax, off its
+    /// target or beyond a limit) and refused it: nothing moved.
+    PlanCheck,
+    /// The card served the command after its deadline and refused it: it was not executed.
+    Expired,
+    /// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of
+    /// range.
+    StopTooLong,
+    /// The card's session belongs to another host.
+    Session,
+    /// The card went away (its `card-emu` process exited or was killed): every call on it
+    /// fails with this.
+    CardGone,
+    /// The card was closed ([`crate::Card::close`]) while the call waited, or before it.
+    Closed,
+    /// The wait was cancelled from another thread ([`crate::Card::cancel_waits`]).
+    Cancelled,
+    /// The card's server refused this user (`emu:` access control).
+    PermissionDenied,
 }
 
 impl From<NackCode> for ErrorKind {
@@ -167,6 +189,11 @@ impl From<NackCode> for ErrorKind {
             NackCode::CauseActive => ErrorKind::CauseActive,
             NackCode::WatchdogTimeout => ErrorKind::WatchdogTimeout,
             NackCode::BadCategory => ErrorKind::BadCategory,
+            NackCode::LimitRange => ErrorKind::LimitRange,
+            NackCode::PlanCheck => ErrorKind::PlanCheck,
+            NackCode::Expired => ErrorKind::Expired,
+            NackCode::StopTooLong => ErrorKind::StopTooLong,
+            NackCode::Session => ErrorKind::Session,
         }
     }
 }
@@ -332,6 +359,16 @@ pub fn nack_reason(code: NackCode) -> &'static str {
             "watchdog timeout is zero or under 1.5 x the host's heartbeat period"
         }
         NackCode::BadCategory => "stop category must be 0, 1 or 2",
+        NackCode::LimitRange => {
+            "a limit is outside the range the card accepts (one count in 1e6 s to the whole \
+             position range in one servo tick)"
+        }
+        NackCode::PlanCheck => "the planned profile failed the card's check; nothing moved",
+        NackCode::Expired => "the card served the command after its deadline; it was not executed",
+        NackCode::StopTooLong => {
+            "the stop ramp from max velocity is longer than the card's maximum stop time"
+        }
+        NackCode::Session => "another host's session is attached",
     }
 }
 
