@@ -110,6 +110,8 @@ pub struct Axis {
     settled_for: f64,
     awaiting_done: bool,
     stop_released: bool,
+    /// A stop (halt, stop, safety stop, starvation) in progress: seconds since it began.
+    stop_elapsed: Option<f64>,
     stats: MoveStats,
 }
 
@@ -162,6 +164,7 @@ impl Axis {
             settled_for: 0.0,
             awaiting_done: false,
             stop_released: false,
+            stop_elapsed: None,
             stats: MoveStats::default(),
         }
     }
@@ -208,6 +211,7 @@ impl Axis {
         } else {
             self.motion = Motion::Hold;
             self.awaiting_done = false;
+            self.stop_elapsed = None;
             // [safety] ErrorStop is left only by MC_Reset: power off removes power, keeps the state.
             if self.state == AxisState::ErrorStop {
                 self.safety.powered = false;
@@ -262,18 +266,22 @@ impl Axis {
         self.target = target;
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };
+        self.stop_elapsed = None;
         let mut changed = None;
         self.set_state(AxisState::DiscreteMotion, &mut changed);
         Ok(changed)
     }
 
-    /// MC_Halt (`stop = false`) or MC_Stop: a jerk-limited stop from the current commanded state.
+    /// MC_Halt (`stop = false`) or MC_Stop: a jerk-limited stop from the current commanded
+    /// state within `dmax` and `jerk`, or along the axis's stop ramp when that one would take
+    /// longer than `max_time` s (see [`bounded_stop_limits`]).
     pub fn start_stop(
         &mut self,
         seq: u32,
         stop: bool,
         dmax: f64,
         jerk: f64,
+        max_time: f64,
     ) -> Result<Option<AxisState>, NackCode> {
         match (self.state, stop) {
             (AxisState::Disabled, _) => return Err(NackCode::AxisDisabled),
@@ -282,10 +290,18 @@ impl Axis {
             _ => {}
         }
         let mut changed = None;
+        let c = &self.safety.config;
+        let (dmax, jerk) = bounded_stop_limits(
+            (self.cmd.vel, self.cmd.acc),
+            (dmax, jerk),
+            (c.stop_decel, c.stop_jerk),
+            max_time,
+        );
         let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)?;
         self.target = profile.end_pos();
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };
+        self.stop_elapsed = Some(0.0);
         self.safety.stop_reason = if stop {
             StopReason::Stop
         } else {
@@ -332,6 +348,7 @@ impl Axis {
             acc: 0.0,
         };
         self.motion = Motion::Hold;
+        self.stop_elapsed = None;
         self.servo.reset_integral();
         // [safety] clear the latches; an axis whose drive was disabled by the stop goes to Disabled.
         let powered = self.safety.reset();
@@ -419,6 +436,7 @@ impl Axis {
                         None => Motion::Hold,
                     };
                     self.safety.stop_reason = StopReason::Starvation;
+                    self.stop_elapsed = Some(0.0);
                 } else {
                     self.cmd = Reference {
                         pos: profile.end_pos(),
@@ -428,6 +446,9 @@ impl Axis {
                     self.motion = Motion::Hold;
                 }
             }
+        }
+        if let Some(t) = &mut self.stop_elapsed {
+            *t += ts;
         }
         // Jerk of the reference, whoever set it (own profile or a group).
         self.cmd_jerk = (self.cmd.acc - self.prev_cmd_acc) / ts;
@@ -564,6 +585,22 @@ impl Axis {
     }
 }
 
+/// The limits of a stop from `(vel, acc)` that ends within `max_time` s when it can: the given
+/// `(dmax, jerk)` if their ramp is short enough, else the harder of each and the card's own stop
+/// ramp `hard` (a harder ramp is never longer). What still takes longer is cut at the bound by
+/// the safety layer (power off).
+pub(crate) fn bounded_stop_limits(
+    (v0, a0): (f64, f64),
+    (dmax, jerk): (f64, f64),
+    hard: (f64, f64),
+    max_time: f64,
+) -> (f64, f64) {
+    match plan_stop(0.0, v0, a0, dmax, jerk) {
+        Ok(p) if p.duration() <= max_time => (dmax, jerk),
+        _ => (dmax.max(hard.0), jerk.max(hard.1)),
+    }
+}
+
 /// A jerk-limited stop from (pos, vel, acc) within `dmax` and `jerk` (MC_Halt, MC_Stop and the
 /// category 1 and 2 safety stops).
 pub(crate) fn plan_stop(
@@ -614,8 +651,12 @@ impl Axis {
                 self.target = profile.end_pos();
                 self.motion = Motion::Profile { profile, t: 0.0 };
                 self.safety.powered = true;
+                self.stop_elapsed = Some(0.0);
             }
-            None => self.remove_power(),
+            None => {
+                self.remove_power();
+                self.stop_elapsed = None;
+            }
         }
         self.set_state(AxisState::ErrorStop, &mut changed);
         changed
@@ -626,6 +667,16 @@ impl Axis {
         self.motion = Motion::Hold;
         self.safety.powered = false;
         self.dac_v = 0.0;
+    }
+
+    /// Seconds since the stop in progress began (`None`: no stop in progress).
+    pub(crate) fn stop_elapsed(&self) -> Option<f64> {
+        self.stop_elapsed
+    }
+
+    /// The stop in progress ended (or was cut).
+    pub(crate) fn end_stop_clock(&mut self) {
+        self.stop_elapsed = None;
     }
 
     /// Is a profile (move or stop ramp) still running?

@@ -14,7 +14,8 @@ use crate::yeh::{AxisModel, PdPlusGains, Plant};
 use firmware_proto::layout::{self, axis_config as ac, axis_filter as af, group_config as gc};
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
-    raw, seqlock, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES, MAX_GROUPS,
+    raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
+    StopReason, MAX_AXES, MAX_GROUPS,
 };
 
 /// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
@@ -79,22 +80,8 @@ impl<M: Mem + Clone> Firmware<M> {
             events_lost: 0,
             cmds_accepted: 0,
         };
-        let m = &fw.mem;
-        m.write32(layout::MAGIC, firmware_proto::MAGIC);
-        m.write32(
-            layout::LAYOUT,
-            firmware_proto::LAYOUT_MAJOR as u32 | (firmware_proto::LAYOUT_MINOR as u32) << 16,
-        );
-        m.write32(layout::FW_VERSION, FW_VERSION);
-        m.write32(
-            layout::CAPABILITIES,
-            raw::MC_CAP_SCURVE | raw::MC_CAP_FFPIV | raw::MC_CAP_EVENT_IRQ,
-        );
-        m.write32(layout::NUM_AXES, num_axes as u32);
-        m.write32(layout::SERVO_RATE_HZ, servo_rate_hz);
-        m.write32(layout::CMD_RING_LEN, CMD_RING.len);
-        m.write32(layout::EVT_RING_LEN, EVT_RING.len);
-        m.write32(layout::CARD_CONFIG_SERVO_RATE, servo_rate_hz);
+        fw.mem
+            .write32(layout::CARD_CONFIG_SERVO_RATE, servo_rate_hz);
         for a in 0..MAX_AXES {
             fw.write_axis_config(a, &AxisConfig::default());
             fw.write_axis_filter(a, &FilterConfig::default());
@@ -106,6 +93,26 @@ impl<M: Mem + Clone> Firmware<M> {
             std::sync::atomic::Ordering::Release,
         );
         fw
+    }
+
+    /// Write the identity block. The card owns it: it is republished every tick, so a stray
+    /// write by a host (or anything else mapping the window) cannot lock the next host out.
+    fn publish_identity(&self) {
+        let m = &self.mem;
+        m.write32(layout::MAGIC, firmware_proto::MAGIC);
+        m.write32(
+            layout::LAYOUT,
+            firmware_proto::LAYOUT_MAJOR as u32 | (firmware_proto::LAYOUT_MINOR as u32) << 16,
+        );
+        m.write32(layout::FW_VERSION, FW_VERSION);
+        m.write32(
+            layout::CAPABILITIES,
+            raw::MC_CAP_SCURVE | raw::MC_CAP_FFPIV | raw::MC_CAP_EVENT_IRQ,
+        );
+        m.write32(layout::NUM_AXES, self.num_axes as u32);
+        m.write32(layout::SERVO_RATE_HZ, self.servo_rate_hz);
+        m.write32(layout::CMD_RING_LEN, CMD_RING.len);
+        m.write32(layout::EVT_RING_LEN, EVT_RING.len);
     }
 
     /// Sample time, s.
@@ -199,14 +206,19 @@ impl<M: Mem + Clone> Firmware<M> {
             served += 1;
             self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
             self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
-            let reply = match self.execute(&cmd) {
-                Ok(()) => Event {
+            let outcome = if self.expired(&cmd) {
+                Err(NackCode::Expired)
+            } else {
+                self.execute(&cmd)
+            };
+            let reply = match outcome {
+                Ok(value) => Event {
                     seq: cmd.seq,
                     kind: EventKind::Ack as u16,
                     axis: cmd.axis,
                     code: 0,
                     tick: self.tick,
-                    value: 0.0,
+                    value,
                 },
                 Err(code) => Event {
                     seq: cmd.seq,
@@ -229,10 +241,26 @@ impl<M: Mem + Clone> Firmware<M> {
         served
     }
 
-    fn execute(&mut self, c: &Command) -> Result<(), NackCode> {
+    /// Has the command's deadline passed? The host's clock is read after the command was
+    /// taken from the ring (its tail published): a host that gives up on a command first
+    /// advances its clock past the deadline, then looks whether the card took it, so either
+    /// the host sees it taken or the card sees it expired (a store-load pair of SeqCst fences).
+    fn expired(&self, c: &Command) -> bool {
+        if c.deadline_ms == 0 {
+            return false;
+        }
+        std::sync::atomic::fence(std::sync::atomic::Ordering::SeqCst);
+        let now = self
+            .mem
+            .load32(layout::HOST_TIME_MS, std::sync::atomic::Ordering::SeqCst);
+        now != 0 && (now.wrapping_sub(c.deadline_ms) as i32) > 0
+    }
+
+    /// Execute one command: the value of its ack, or its nack.
+    fn execute(&mut self, c: &Command) -> Result<f64, NackCode> {
         let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
         if is_group_op(op) {
-            return self.execute_group(c, op);
+            return self.execute_group(c, op).map(|()| 0.0);
         }
         let nargs = match op {
             Opcode::MoveAbsolute | Opcode::MoveRelative => 8,
@@ -243,8 +271,9 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::NotFinite);
         }
         match op {
-            Opcode::Nop => return Ok(()),
-            Opcode::ApplyCardConfig => return self.apply_card_config(),
+            Opcode::Nop => return Ok(0.0),
+            Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
+            Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
             _ => {}
         }
         // [safety] opcodes 32..47 (safety.rs)
@@ -280,7 +309,7 @@ impl<M: Mem + Clone> Firmware<M> {
                     return Err(NackCode::FilterBusy);
                 }
                 self.filters[ax].config = cfg;
-                return Ok(());
+                return Ok(0.0);
             }
             Opcode::MoveAbsolute
             | Opcode::MoveRelative
@@ -309,16 +338,15 @@ impl<M: Mem + Clone> Firmware<M> {
                     j5: a[6],
                     j7: a[7],
                 };
-                if a[1..8].iter().any(|x| *x <= 0.0) {
-                    return Err(NackCode::NonPositiveLimit);
-                }
+                let rate = self.servo_rate_hz;
+                crate::check_ranges(rate, &[(1, a[1]), (2, a[2]), (2, a[3]), (3, a[4])])?;
+                crate::check_ranges(rate, &[(3, a[5]), (3, a[6]), (3, a[7])])?;
                 axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim)?
             }
             Opcode::Halt | Opcode::Stop => {
-                if c.args[0] <= 0.0 || c.args[1] <= 0.0 {
-                    return Err(NackCode::NonPositiveLimit);
-                }
-                axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1])?
+                crate::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+                let max_time = self.safety.config().max_stop_time();
+                axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
             }
             Opcode::StopRelease => {
                 axis.release_stop()?;
@@ -353,6 +381,50 @@ impl<M: Mem + Clone> Firmware<M> {
         if let Some(old) = changed {
             self.outbox.push(state_event(c.axis, old, axis.state, tick));
         }
+        Ok(0.0)
+    }
+
+    /// `MC_OP_HOST_DETACH`: the host closes the card cleanly. Every axis moving on its own and
+    /// every moving group halts along its stop ramp (reason `HostDetach`), then the session
+    /// ends and the watchdog is disarmed: nothing is latched, and nothing moves on for a host
+    /// that has gone.
+    fn detach(&mut self, c: &Command) -> Result<(), NackCode> {
+        self.safety.detach(&self.mem, c.flags)?;
+        let (tick, max_time) = (self.tick, self.safety.config().max_stop_time());
+        for group in self.groups.iter_mut() {
+            let Some(members) = group.moving_members() else {
+                continue;
+            };
+            if group.state == GroupState::Stopping {
+                continue;
+            }
+            let hard = hard_stop_ramp(&self.axes, members);
+            // Refused only by a group that cannot stop (none that moves).
+            let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
+        }
+        for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
+            if !matches!(axis.state, AxisState::DiscreteMotion) {
+                continue;
+            }
+            let pending = axis.pending_motion();
+            let sc = axis.safety.config;
+            if axis
+                .start_stop(c.seq, false, sc.stop_decel, sc.stop_jerk, max_time)
+                .is_ok()
+            {
+                axis.safety.stop_reason = StopReason::HostDetach;
+                if let Some(old) = pending {
+                    self.outbox.push(Event {
+                        seq: old,
+                        kind: EventKind::MotionAborted as u16,
+                        axis: i as u16,
+                        code: Opcode::HostDetach as i32,
+                        tick,
+                        value: 0.0,
+                    });
+                }
+            }
+        }
         Ok(())
     }
 
@@ -363,13 +435,12 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         let (tick, ts) = (self.tick, self.ts());
         if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
-            if !(c.args[0].is_finite() && c.args[1].is_finite()) {
-                return Err(NackCode::NotFinite);
-            }
-            if c.args[0] <= 0.0 || c.args[1] <= 0.0 {
-                return Err(NackCode::NonPositiveLimit);
-            }
+            crate::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
         }
+        let max_time = self.safety.config().max_stop_time();
+        let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
+            hard_stop_ramp(&self.axes, &cfg.axes[..cfg.naxes])
+        });
         let group = &mut self.groups[g];
         let out = &mut self.outbox;
         match op {
@@ -393,8 +464,9 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::GroupStop | Opcode::GroupHalt => group.start_stop(
                 c.seq,
                 op == Opcode::GroupStop,
-                c.args[0],
-                c.args[1],
+                (c.args[0], c.args[1]),
+                hard,
+                max_time,
                 tick,
                 out,
             ),
@@ -524,6 +596,24 @@ impl<M: Mem + Clone> Firmware<M> {
             dac,
             evt_ring_ok,
         );
+        // [safety] a group stop still running at the maximum stop time: its members lose power
+        let max_time = self.safety.config().max_stop_time();
+        for g in &mut self.groups {
+            if let (Some(elapsed), Some(cfg)) = (g.stop_overdue(max_time), g.config) {
+                for &a in &cfg.axes[..cfg.naxes] {
+                    if self.axes[a].state == AxisState::SynchronizedMotion {
+                        self.safety.stop_overran(
+                            &self.mem,
+                            self.tick,
+                            a,
+                            &mut self.axes[a],
+                            elapsed,
+                        );
+                        dac[a] = 0.0;
+                    }
+                }
+            }
+        }
         // [safety] a member that tripped stops the rest of its moving group the same way
         for g in &self.groups {
             if let Some(members) = g.moving_members() {
@@ -562,6 +652,7 @@ impl<M: Mem + Clone> Firmware<M> {
 
     /// Publish the tick counter and every axis's status.
     fn publish(&mut self) {
+        self.publish_identity();
         self.mem.write64(layout::TICK, self.tick);
         for i in 0..self.num_axes {
             seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
@@ -570,6 +661,19 @@ impl<M: Mem + Clone> Firmware<M> {
             seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
         }
     }
+}
+
+/// The hardest stop ramp every member of a group allows along its path: the smallest of their
+/// stop decelerations and jerks (an axis's share of the path's acceleration is at most the
+/// path's own).
+fn hard_stop_ramp(axes: &[Axis], members: &[usize]) -> (f64, f64) {
+    members
+        .iter()
+        .filter_map(|&a| axes.get(a))
+        .fold((f64::MAX, f64::MAX), |(d, j), ax| {
+            let c = &ax.safety.config;
+            (d.min(c.stop_decel), j.min(c.stop_jerk))
+        })
 }
 
 fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {

@@ -446,6 +446,8 @@ pub struct Group {
     settled_for: f64,
     stop: Option<StopKind>,
     stop_released: bool,
+    /// A halt or stop in progress: seconds since it began (until the group is at rest).
+    stop_elapsed: Option<f64>,
     move_count: u32,
     prev_vel: [f64; MAX_AXES],
     rx: NurbsRx,
@@ -479,6 +481,7 @@ impl Group {
             settled_for: 0.0,
             stop: None,
             stop_released: false,
+            stop_elapsed: None,
             move_count: 0,
             prev_vel: [0.0; MAX_AXES],
             rx: NurbsRx {
@@ -756,17 +759,32 @@ impl Group {
         }
     }
 
+    /// A halt or stop that has run for `max_time` s or more without coming to rest: how long it
+    /// has run (the safety layer then removes power). Reported once.
+    pub fn stop_overdue(&mut self, max_time: f64) -> Option<f64> {
+        let t = self.stop_elapsed?;
+        if t + 1e-9 >= max_time {
+            self.stop_elapsed = None;
+            Some(t)
+        } else {
+            None
+        }
+    }
+
     /// MC_GroupHalt (`stop = false`) or MC_GroupStop: decelerate along the path within
-    /// `dmax`/`jerk`. Queued moves are aborted. If the active move ends before the stop
+    /// `(dmax, jerk)`, or within the harder `hard` ramp when the first would take longer than
+    /// `max_time` s (`axis::plan_bounded_stop`). Queued moves are aborted. If the active move ends before the stop
     /// distance, a pre-interpolated move keeps its own profile (it ends at rest within its
     /// limits) and a constant-feed move stops at its end, its acceleration then bounded by the
     /// post-interpolation filters.
+    #[allow(clippy::too_many_arguments)]
     pub fn start_stop(
         &mut self,
         seq: u32,
         stop: bool,
-        dmax: f64,
-        jerk: f64,
+        (dmax, jerk): (f64, f64),
+        hard: (f64, f64),
+        max_time: f64,
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
@@ -781,6 +799,14 @@ impl Group {
             Opcode::GroupStop
         } else {
             Opcode::GroupHalt
+        };
+        // The ramp the stop will take: the given one, or the hard one if that is too long.
+        let (dmax, jerk) = match &self.active {
+            Some(act) => {
+                let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
+                crate::axis::bounded_stop_limits((v0, a0), (dmax, jerk), hard, max_time)
+            }
+            None => (dmax, jerk),
         };
         let keep = self.nurbs_runout(dmax, jerk);
         self.flush_queue_keeping(keep, by, tick, out);
@@ -808,6 +834,7 @@ impl Group {
         }
         self.final_seq = Some(seq);
         self.settled_for = 0.0;
+        self.stop_elapsed = Some(0.0);
         if stop {
             self.stop = Some(StopKind::Stop);
             self.stop_released = false;
@@ -1387,7 +1414,11 @@ impl Group {
             return;
         }
         if matches!(self.state, GroupState::Standby | GroupState::ErrorStop) {
+            self.stop_elapsed = None;
             return;
+        }
+        if let Some(t) = &mut self.stop_elapsed {
+            *t += ts;
         }
 
         // Activate the next move (filters switch feed type only when empty).
@@ -1653,6 +1684,7 @@ impl Group {
         // correction the snap makes is what the interpolation and the filters lost or
         // invented (plus the rounding of the sums to f64): published, so it can be checked.
         if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
+            self.stop_elapsed = None; // a halt or stop has come to rest
             let mut correction: f64 = 0.0;
             for (i, &a) in members.iter().enumerate() {
                 let mut e = self.pos[i];

@@ -4,7 +4,7 @@
 //! The anchors:
 //! - **Watchdog** (Mesa hostmot2): the host increments `host.heartbeat`; once the card has seen
 //!   it change (the watchdog is then *armed*), a heartbeat as old as the configured timeout
-//!   (default 5 ms; 0 or under 1.5 × the host's declared period is refused) makes every powered
+//!   (default 100 ms; 0 or under 1.5 × the host's declared period is refused) makes every powered
 //!   axis do a category 1 stop. The fault latches: nothing moves again until the host sends
 //!   `MC_OP_SAFETY_RESET` with its heartbeat alive, even if the heartbeat came back.
 //! - **Following error** (LinuxCNC `control.c`): the limit is `FERROR · |v_cmd| / v_max`,
@@ -15,6 +15,15 @@
 //! - **Stop categories** (IEC 60204-1): 0 removes power now; 1 decelerates along a jerk-limited
 //!   ramp (`stop_decel`, `stop_jerk` of the axis, planned by `Profile::stop`), then removes
 //!   power once at rest; 2 decelerates the same way and keeps power, holding position.
+//! - **Bounded stops**: every stop (halt, stop, the safety stops, starvation, group halts and
+//!   stops) ends within the card-wide maximum stop time (default 2 s). A halt whose own ramp
+//!   would take longer runs on the axis's stop ramp instead (the harder of the two); a stop
+//!   still running at the bound loses power there (category 0, reason `StopTimeout`). Each
+//!   axis's stop ramp from its `max_velocity` must fit in the bound (else `StopTooLong`).
+//! - **Host sessions**: a host attaches before its first heartbeat and detaches when it closes
+//!   the card. An attach that finds another session open (its host died or hung) stops every
+//!   enabled axis, category 1, reason `HostChanged`: a new host never inherits motion it did not
+//!   start. A detach halts what moves along the stop ramps and disarms the watchdog, no fault.
 //!
 //! Hooks elsewhere, each marked `[safety]`: one call per servo tick
 //! ([`Safety::tick`], from `Firmware::tick`), one check per command
@@ -36,9 +45,17 @@ use firmware_proto::{
 /// Axis number of card-wide events.
 pub const CARD_WIDE: u16 = 0xFFFF;
 
-/// A cat-1 stop whose axis does not come to rest disables the drive this long after its ramp
-/// ended anyway, s.
-pub const REST_TIMEOUT: f64 = 1.0;
+/// Default watchdog timeout, µs: above the heartbeat gaps of an ordinary loaded Linux host
+/// (p99.99 15.5 ms, longest 32 ms over 60 s at normal priority with 2 spinning threads per
+/// core: `cargo bench -p motioncard-sdk --bench heartbeat`), as EtherCAT's sync-manager
+/// watchdog default. Real-time hosts set a shorter one.
+pub const WATCHDOG_TIMEOUT_DEFAULT_US: u32 = 100_000;
+
+/// Default of the card-wide maximum stop time, µs.
+pub const MAX_STOP_TIME_DEFAULT_US: u32 = 2_000_000;
+
+/// The range of the maximum stop time, µs (10 ms to 10 minutes).
+pub const MAX_STOP_TIME_RANGE_US: core::ops::RangeInclusive<u32> = 10_000..=600_000_000;
 
 /// The card's inputs for one tick (the FPGA's input register), sampled from the plant by the
 /// emulator: per axis `MC_IO_*` input bits, and the card's e-stop input.
@@ -57,13 +74,23 @@ pub struct SafetyConfig {
     pub watchdog_timeout_us: u32,
     /// The stop the e-stop input makes.
     pub estop_input_category: StopCategory,
+    /// Every stop ends within this, µs, or loses power at it.
+    pub max_stop_time_us: u32,
+}
+
+impl SafetyConfig {
+    /// The maximum stop time, s.
+    pub fn max_stop_time(&self) -> f64 {
+        self.max_stop_time_us as f64 * 1e-6
+    }
 }
 
 impl Default for SafetyConfig {
     fn default() -> Self {
         Self {
-            watchdog_timeout_us: 5000,
+            watchdog_timeout_us: WATCHDOG_TIMEOUT_DEFAULT_US,
             estop_input_category: StopCategory::Cat1,
+            max_stop_time_us: MAX_STOP_TIME_DEFAULT_US,
         }
     }
 }
@@ -144,6 +171,32 @@ impl AxisSafetyConfig {
             return Err(NackCode::BadConfig);
         }
         Ok(())
+    }
+
+    /// [`AxisSafetyConfig::validate`], then what depends on the card: the velocities and the
+    /// stop ramp within [`firmware_proto::limit_range`] at `rate_hz` (`LimitRange`), and the
+    /// stop from `max_velocity` within `max_stop_time` s (`StopTooLong`).
+    pub fn validate_on_card(&self, rate_hz: u32, max_stop_time: f64) -> Result<(), NackCode> {
+        self.validate()?;
+        let in_range = |order, x: f64| firmware_proto::limit_range(order, rate_hz).contains(&x);
+        if !(in_range(1, self.max_velocity)
+            && in_range(1, self.encoder_max_velocity)
+            && in_range(2, self.stop_decel)
+            && in_range(3, self.stop_jerk))
+        {
+            return Err(NackCode::LimitRange);
+        }
+        if self.stop_time_from(self.max_velocity) > max_stop_time {
+            return Err(NackCode::StopTooLong);
+        }
+        Ok(())
+    }
+
+    /// How long the stop ramp takes from velocity `v` at zero acceleration, s (infinite if it
+    /// cannot be planned).
+    pub fn stop_time_from(&self, v: f64) -> f64 {
+        plan_stop(0.0, v, 0.0, self.stop_decel, self.stop_jerk)
+            .map_or(f64::INFINITY, |p| p.duration())
     }
 
     /// LinuxCNC's following-error limit at commanded velocity `v`:
@@ -326,6 +379,10 @@ pub struct Safety {
     latched: u32,
     evt_ring_bad: bool,
     protocol_errors: u32,
+    session: u32,
+    host_changes: u32,
+    late_heartbeats: u32,
+    max_heartbeat_gap_us: u32,
     /// Events waiting to be posted by the firmware.
     pub events: EventBuf,
 }
@@ -339,6 +396,7 @@ impl Safety {
             layout::ESTOP_INPUT_CATEGORY,
             config.estop_input_category as u32,
         );
+        mem.write32(layout::MAX_STOP_TIME_US, config.max_stop_time_us);
         for a in 0..MAX_AXES {
             write_axis_safety(mem, a, &AxisSafetyConfig::default());
         }
@@ -351,6 +409,10 @@ impl Safety {
             latched: 0,
             evt_ring_bad: false,
             protocol_errors: 0,
+            session: 0,
+            host_changes: 0,
+            late_heartbeats: 0,
+            max_heartbeat_gap_us: 0,
             events: EventBuf::new(),
         };
         mem.write32(ss::FAULTS, 0);
@@ -359,6 +421,15 @@ impl Safety {
         mem.write64(ss::WATCHDOG_TRIP_TICK, 0);
         mem.write64(ss::TRIP_HEARTBEAT_TICK, 0);
         mem.write32(ss::PROTOCOL_ERRORS, 0);
+        for off in [
+            ss::SESSION,
+            ss::HOST_CHANGES,
+            ss::LATE_HEARTBEATS,
+            ss::MAX_HEARTBEAT_GAP_US,
+        ] {
+            mem.write32(off, 0);
+        }
+        mem.write64(ss::ATTACH_TICK, 0);
         for a in 0..MAX_AXES {
             mem.write64(ss::stop_tick(a), 0);
             mem.write64(ss::rest_tick(a), 0);
@@ -387,10 +458,30 @@ impl Safety {
         self.inputs = inputs;
     }
 
-    /// Track the heartbeat word. Returns the heartbeat's age in µs.
+    /// The attached host's session id (0: none).
+    pub fn session(&self) -> u32 {
+        self.session
+    }
+
+    /// Track the heartbeat word: arm the watchdog at the first beat, measure the gaps between
+    /// beats (late ones counted against the host's declared period). Returns the heartbeat's
+    /// age in µs.
     fn heartbeat<M: Mem>(&mut self, mem: &M, tick: u64, rate_hz: u32) -> u64 {
+        let us = |ticks: u64| ticks.saturating_mul(1_000_000) / rate_hz.max(1) as u64;
         let hb = mem.read32(layout::HEARTBEAT);
         if hb != self.last_heartbeat {
+            if self.armed {
+                let gap = u32::try_from(us(tick.saturating_sub(self.last_heartbeat_tick)))
+                    .unwrap_or(u32::MAX);
+                if gap > mem.read32(layout::HOST_PERIOD_US) {
+                    self.late_heartbeats = self.late_heartbeats.saturating_add(1);
+                    mem.write32(ss::LATE_HEARTBEATS, self.late_heartbeats);
+                }
+                if gap > self.max_heartbeat_gap_us {
+                    self.max_heartbeat_gap_us = gap;
+                    mem.write32(ss::MAX_HEARTBEAT_GAP_US, gap);
+                }
+            }
             self.last_heartbeat = hb;
             self.last_heartbeat_tick = tick;
             mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
@@ -399,9 +490,71 @@ impl Safety {
                 mem.write32(ss::WATCHDOG_ARMED, 1);
             }
         }
-        tick.saturating_sub(self.last_heartbeat_tick)
-            .saturating_mul(1_000_000)
-            / rate_hz.max(1) as u64
+        us(tick.saturating_sub(self.last_heartbeat_tick))
+    }
+
+    /// Forget the heartbeat: the watchdog waits for the next beat (a new or departing host).
+    fn disarm<M: Mem>(&mut self, mem: &M) {
+        self.armed = false;
+        self.last_heartbeat = mem.read32(layout::HEARTBEAT);
+        mem.write32(ss::WATCHDOG_ARMED, 0);
+    }
+
+    /// `MC_OP_HOST_ATTACH`: a new session. Another session still open means its host vanished:
+    /// every enabled axis stops (category 1, [`StopReason::HostChanged`]). Returns how many
+    /// axes that stop reached.
+    fn attach<M: Mem>(
+        &mut self,
+        mem: &M,
+        session: u32,
+        tick: u64,
+        axes: &mut [Axis],
+    ) -> Result<f64, NackCode> {
+        if session == 0 {
+            return Err(NackCode::BadConfig);
+        }
+        let mut stopped = 0.0;
+        if self.session != 0 {
+            self.host_changes = self.host_changes.wrapping_add(1);
+            mem.write32(ss::HOST_CHANGES, self.host_changes);
+            let before = axes
+                .iter()
+                .filter(|a| a.state == AxisState::ErrorStop)
+                .count();
+            let trip = Trip {
+                category: StopCategory::Cat1,
+                reason: StopReason::HostChanged,
+                fault: 0,
+                value: self.session as f64,
+            };
+            self.trip_all(mem, tick, axes, trip);
+            let after = axes
+                .iter()
+                .filter(|a| a.state == AxisState::ErrorStop)
+                .count();
+            stopped = after.saturating_sub(before) as f64;
+        }
+        self.session = session;
+        mem.write32(ss::SESSION, session);
+        mem.write64(ss::ATTACH_TICK, tick);
+        self.late_heartbeats = 0;
+        self.max_heartbeat_gap_us = 0;
+        mem.write32(ss::LATE_HEARTBEATS, 0);
+        mem.write32(ss::MAX_HEARTBEAT_GAP_US, 0);
+        self.disarm(mem);
+        Ok(stopped)
+    }
+
+    /// `MC_OP_HOST_DETACH`, the card-wide part (the firmware halts what moves): the session
+    /// ends and the watchdog is disarmed, without a fault.
+    pub(crate) fn detach<M: Mem>(&mut self, mem: &M, session: u32) -> Result<(), NackCode> {
+        if self.session != 0 && session != self.session {
+            return Err(NackCode::Session);
+        }
+        self.session = 0;
+        mem.write32(ss::SESSION, 0);
+        self.disarm(mem);
+        Ok(())
     }
 
     fn latch<M: Mem>(&mut self, mem: &M, bit: u32) {
@@ -480,6 +633,7 @@ impl Safety {
             }
             axis.safety.last_encoder = Some(enc);
             self.follow_stop(mem, tick, ts, i, axis);
+            self.bound_stop(mem, tick, i, axis);
             if !axis.is_powered() {
                 dac[i] = 0.0;
             }
@@ -492,8 +646,8 @@ impl Safety {
         }
     }
 
-    /// A stop in progress: category 1 disables the drive once at rest (or [`REST_TIMEOUT`]
-    /// after its ramp); every category reports reaching rest once.
+    /// A safety stop in progress: category 1 disables the drive once at rest (or at the
+    /// maximum stop time); every category reports reaching rest once.
     fn follow_stop<M: Mem>(&mut self, mem: &M, tick: u64, ts: f64, i: usize, axis: &mut Axis) {
         let Some(mut stop) = axis.safety.stop else {
             return;
@@ -504,7 +658,7 @@ impl Safety {
         let elapsed = tick.saturating_sub(stop.started) as f64 * ts;
         let still = axis.measured_velocity().abs() <= axis.config.in_vel_window;
         let ramp_done = !axis.profile_running();
-        let rest = ramp_done && (still || elapsed > stop.ramp + REST_TIMEOUT);
+        let rest = ramp_done && (still || elapsed + 1e-9 >= self.config.max_stop_time());
         if !rest {
             return;
         }
@@ -521,6 +675,59 @@ impl Safety {
             tick,
             elapsed,
         ));
+    }
+
+    /// Every stop ends within the maximum stop time: a stop whose ramp still runs at the bound
+    /// loses power there (category 0). A safety stop keeps the reason that tripped it; a
+    /// halt, stop or starvation stop becomes [`StopReason::StopTimeout`].
+    fn bound_stop<M: Mem>(&mut self, mem: &M, tick: u64, i: usize, axis: &mut Axis) {
+        let Some(elapsed) = axis.stop_elapsed() else {
+            return;
+        };
+        let ended = match axis.state {
+            AxisState::ErrorStop => {
+                !axis.is_powered() || axis.safety.stop.is_none_or(|s| s.at_rest)
+            }
+            _ => !axis.profile_running(),
+        };
+        if ended {
+            axis.end_stop_clock();
+        } else if elapsed + 1e-9 >= self.config.max_stop_time() {
+            self.stop_overran(mem, tick, i, axis, elapsed);
+        }
+    }
+
+    /// A stop of axis `i` ran out of time (`elapsed` s): power off now.
+    pub(crate) fn stop_overran<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        i: usize,
+        axis: &mut Axis,
+        elapsed: f64,
+    ) {
+        axis.end_stop_clock();
+        if axis.state == AxisState::ErrorStop {
+            axis.remove_power();
+            if let Some(st) = &mut axis.safety.stop {
+                st.category = StopCategory::Cat0;
+            }
+            self.events.push(event(
+                EventKind::SafetyStop,
+                i as u16,
+                StopReason::StopTimeout as i32,
+                tick,
+                elapsed,
+            ));
+        } else {
+            let trip = Trip {
+                category: StopCategory::Cat0,
+                reason: StopReason::StopTimeout,
+                fault: fault::STOP_TIMEOUT,
+                value: elapsed,
+            };
+            self.trip_axis(mem, tick, i, axis, trip);
+        }
     }
 
     fn trip_all<M: Mem>(&mut self, mem: &M, tick: u64, axes: &mut [Axis], trip: Trip) {
@@ -734,6 +941,10 @@ impl Safety {
                 Ok(())
             }
             Opcode::MoveAbsolute | Opcode::MoveRelative => {
+                // A move refused for a stop the card latched names the latch, not the state.
+                if axis.state == AxisState::ErrorStop {
+                    latch()?;
+                }
                 let start = axis.reference().pos;
                 let target = if op == Opcode::MoveRelative {
                     start + args.first().copied().unwrap_or(0.0)
@@ -746,7 +957,8 @@ impl Safety {
         }
     }
 
-    /// The safety opcodes. `None` for any other opcode.
+    /// The safety opcodes (and the host attach). `None` for any other opcode; else the
+    /// outcome, with the ack's value.
     pub fn command<M: Mem>(
         &mut self,
         mem: &M,
@@ -755,53 +967,61 @@ impl Safety {
         tick: u64,
         rate_hz: u32,
         axes: &mut [Axis],
-    ) -> Option<Result<(), NackCode>> {
-        Some(match op {
-            Opcode::ApplySafetyConfig => self.apply_config(mem),
-            Opcode::ApplyAxisSafety => match axes.get_mut(c.axis as usize) {
-                None => Err(NackCode::BadAxis),
-                Some(axis) => read_axis_safety(mem, c.axis as usize).map(|cfg| {
-                    axis.safety.config = cfg;
-                }),
-            },
-            Opcode::EStop => {
-                let a = c.args[0];
-                if !a.is_finite() {
-                    return Some(Err(NackCode::NotFinite));
-                }
-                let Some(category) = StopCategory::ALL.iter().find(|k| **k as u32 as f64 == a)
-                else {
-                    return Some(Err(NackCode::BadCategory));
-                };
-                self.latch(mem, raw::MC_CARD_FAULT_ESTOP_COMMAND);
-                let trip = Trip {
-                    category: *category,
-                    reason: StopReason::EStopCommand,
-                    fault: fault::ESTOP,
-                    value: a,
-                };
-                self.trip_all(mem, tick, axes, trip);
-                Ok(())
-            }
-            Opcode::SafetyReset => {
-                let age_us = self.heartbeat(mem, tick, rate_hz);
-                let heartbeat_dead = self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
-                    && age_us >= self.config.watchdog_timeout_us as u64;
-                let estop_held =
-                    self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop;
-                if heartbeat_dead || estop_held {
-                    Err(NackCode::CauseActive)
-                } else {
-                    self.latched = 0;
-                    mem.write32(ss::FAULTS, 0);
+    ) -> Option<Result<f64, NackCode>> {
+        if op == Opcode::HostAttach {
+            return Some(self.attach(mem, c.flags, tick, axes));
+        }
+        Some(
+            match op {
+                Opcode::ApplySafetyConfig => self.apply_config(mem, axes),
+                Opcode::ApplyAxisSafety => match axes.get_mut(c.axis as usize) {
+                    None => Err(NackCode::BadAxis),
+                    Some(axis) => read_axis_safety(mem, c.axis as usize).and_then(|cfg| {
+                        cfg.validate_on_card(rate_hz, self.config.max_stop_time())?;
+                        axis.safety.config = cfg;
+                        Ok(())
+                    }),
+                },
+                Opcode::EStop => {
+                    let a = c.args[0];
+                    if !a.is_finite() {
+                        return Some(Err(NackCode::NotFinite));
+                    }
+                    let Some(category) = StopCategory::ALL.iter().find(|k| **k as u32 as f64 == a)
+                    else {
+                        return Some(Err(NackCode::BadCategory));
+                    };
+                    self.latch(mem, raw::MC_CARD_FAULT_ESTOP_COMMAND);
+                    let trip = Trip {
+                        category: *category,
+                        reason: StopReason::EStopCommand,
+                        fault: fault::ESTOP,
+                        value: a,
+                    };
+                    self.trip_all(mem, tick, axes, trip);
                     Ok(())
                 }
+                Opcode::SafetyReset => {
+                    let age_us = self.heartbeat(mem, tick, rate_hz);
+                    let heartbeat_dead = self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
+                        && age_us >= self.config.watchdog_timeout_us as u64;
+                    let estop_held =
+                        self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop;
+                    if heartbeat_dead || estop_held {
+                        Err(NackCode::CauseActive)
+                    } else {
+                        self.latched = 0;
+                        mem.write32(ss::FAULTS, 0);
+                        Ok(())
+                    }
+                }
+                _ => return None,
             }
-            _ => return None,
-        })
+            .map(|()| 0.0),
+        )
     }
 
-    fn apply_config<M: Mem>(&mut self, mem: &M) -> Result<(), NackCode> {
+    fn apply_config<M: Mem>(&mut self, mem: &M, axes: &[Axis]) -> Result<(), NackCode> {
         let timeout = mem.read32(layout::WATCHDOG_TIMEOUT_US);
         let period = mem.read32(layout::HOST_PERIOD_US) as u64;
         // 0 is refused, and so is anything under 1.5 x the host's declared period.
@@ -810,10 +1030,22 @@ impl Safety {
         }
         let category = StopCategory::from_raw(mem.read32(layout::ESTOP_INPUT_CATEGORY))
             .ok_or(NackCode::BadCategory)?;
-        self.config = SafetyConfig {
+        let max_stop_time_us = mem.read32(layout::MAX_STOP_TIME_US);
+        let config = SafetyConfig {
             watchdog_timeout_us: timeout,
             estop_input_category: category,
+            max_stop_time_us,
         };
+        // Every axis's stop ramp from its max velocity must still fit.
+        if !MAX_STOP_TIME_RANGE_US.contains(&max_stop_time_us)
+            || axes.iter().any(|a| {
+                a.safety.config.stop_time_from(a.safety.config.max_velocity)
+                    > config.max_stop_time()
+            })
+        {
+            return Err(NackCode::StopTooLong);
+        }
+        self.config = config;
         Ok(())
     }
 }

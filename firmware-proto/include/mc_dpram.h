@@ -258,6 +258,7 @@
 #define MC_FAULT_AMP_ALARM (1u << 15)
 #define MC_FAULT_ENCODER (1u << 16)
 #define MC_FAULT_PROTOCOL (1u << 17)
+#define MC_FAULT_STOP_TIMEOUT (1u << 18) /* a stop ran past the maximum stop time (layout 1.3) */
 
 /* Stop categories (IEC 60204-1) */
 #define MC_STOP_CAT_0 0u /* remove power now */
@@ -505,7 +506,7 @@ struct mc_axis_status {
 
 /* host writes; the card validates and copies on MC_OP_APPLY_SAFETY_CONFIG */
 struct mc_safety_config {
-    uint32_t watchdog_timeout_us;  /* > 0 and >= 1.5 x host.host_period_us (default 5000) */
+    uint32_t watchdog_timeout_us;  /* > 0 and >= 1.5 x host.host_period_us (default 100000) */
     uint32_t estop_input_category; /* MC_STOP_CAT_*: the stop the e-stop input makes (default 1) */
     uint32_t max_stop_time_us;     /* layout 1.3: every stop (halt, stop, safety stops, starvation)
                                     * ends within this, or the drive loses power at it (reason

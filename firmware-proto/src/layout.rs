@@ -168,6 +168,7 @@ const _: () = {
 
 // safety (layout 1.1, appended after the group blocks)
 pub const SAFETY_CONFIG: usize = off!(safety);
+pub const SAFETY_CONFIG_BYTES: usize = size_of::<mc_safety_config>();
 pub const WATCHDOG_TIMEOUT_US: usize = off!(safety.watchdog_timeout_us);
 pub const ESTOP_INPUT_CATEGORY: usize = off!(safety.estop_input_category);
 pub const MAX_STOP_TIME_US: usize = off!(safety.max_stop_time_us);

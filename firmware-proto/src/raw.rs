@@ -169,6 +169,7 @@ pub const MC_FAULT_FOLLOWING_ERROR: u32 = 16384;
 pub const MC_FAULT_AMP_ALARM: u32 = 32768;
 pub const MC_FAULT_ENCODER: u32 = 65536;
 pub const MC_FAULT_PROTOCOL: u32 = 131072;
+pub const MC_FAULT_STOP_TIMEOUT: u32 = 262144;
 pub const MC_STOP_CAT_0: u32 = 0;
 pub const MC_STOP_CAT_1: u32 = 1;
 pub const MC_STOP_CAT_2: u32 = 2;

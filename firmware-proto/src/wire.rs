@@ -590,6 +590,8 @@ pub mod fault {
     pub const ENCODER: u32 = crate::raw::MC_FAULT_ENCODER;
     /// The host broke the protocol (corrupt ring indices).
     pub const PROTOCOL: u32 = crate::raw::MC_FAULT_PROTOCOL;
+    /// A stop ran past the card's maximum stop time: its power was removed.
+    pub const STOP_TIMEOUT: u32 = crate::raw::MC_FAULT_STOP_TIMEOUT;
 }
 
 /// Bits of [`AxisStatus::io`]: the card's inputs for the axis and its drive-enable output.
