@@ -146,6 +146,9 @@
 // Fault bit: the host broke the protocol (corrupt ring indices).
 #define MC_AXIS_FAULT_PROTOCOL 131072
 
+// Fault bit: a stop ran past the card's maximum stop time; its power was removed.
+#define MC_AXIS_FAULT_STOP_TIMEOUT 262144
+
 // Capability bit of `mc_card_info.capabilities`: S-curve profiles.
 #define MC_CARD_CAP_SCURVE 1
 
@@ -1446,7 +1449,8 @@ mc_result mc_axis_configure_pdplus(mc_card card,
 // watchdog; the heartbeat is on from `mc_open`. Never blocks.
 mc_result mc_set_heartbeat(mc_card card, uint32_t on);
 
-// Set the card's watchdog timeout, µs (default 5000). The card refuses zero and anything under
+// Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
+// host without real-time scheduling). The card refuses zero and anything under
 // 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
 // card answers.
 mc_result mc_set_watchdog_timeout(mc_card card, uint32_t timeout_us);

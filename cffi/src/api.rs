@@ -185,15 +185,50 @@ pub unsafe extern "C" fn mc_open_sim(
     })
 }
 
-/// Close a card. The handle is invalid afterwards: closing it again, or any other call with
-/// it, returns `MC_ERR_BAD_HANDLE` and does nothing else (double close is harmless). A call
-/// that another thread is still making on the card finishes first; the card is released when
-/// the last one returns. Blocks while an emulated card's thread stops.
+/// Close a card: the clean end of this program's session. Moving axes and groups halt along
+/// their stop ramps (stop reason `MC_STOP_REASON_HOST_DETACH`), the card's watchdog is
+/// disarmed without latching a fault (the next program opens a card that is ready to move),
+/// and the heartbeat stops. Every call blocked on this card in another thread
+/// (`mc_motion_wait`, `mc_wait_done`, `mc_wait_event`, `mc_group_wait_done`,
+/// `mc_dispatch_events`...) returns `MC_ERR_CLOSED` at once. The handle is invalid afterwards:
+/// closing it again, or any other call with it, returns `MC_ERR_BAD_HANDLE` and does nothing
+/// else (double close is harmless). The handle is closed even when the card could not be told
+/// (a card that does not answer: the code says why, and its watchdog then stops it). Blocks
+/// until the card has answered the close.
 #[no_mangle]
 pub extern "C" fn mc_close(card: mc_card) -> mc_result {
     guard(|| {
         let entry = registry::remove(card)?;
+        let closed = entry.card.close();
         drop(entry); // outside the registry's lock
+        Ok(closed?)
+    })
+}
+
+/// End every wait in progress on this card in other threads (`mc_motion_wait`, `mc_wait_done`,
+/// `mc_wait_event`, `mc_group_wait_done`, `mc_group_motion_wait`, `mc_dispatch_events`): each
+/// returns `MC_ERR_CANCELLED`. Waits that begin afterwards are not affected; a call waiting for
+/// the card's answer to its own command is not cancelled (the command may still run). Never
+/// blocks.
+#[no_mangle]
+pub extern "C" fn mc_cancel_waits(card: mc_card) -> mc_result {
+    guard(|| {
+        registry::get(card)?.card.cancel_waits();
+        Ok(())
+    })
+}
+
+/// How many axes this program's `mc_open` stopped because the program before it left the card
+/// without closing it (it crashed or was killed): those axes are in ErrorStop with stop reason
+/// `MC_STOP_REASON_HOST_CHANGED` until `mc_reset_faults`. 0 when the previous program closed
+/// the card or left nothing enabled. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_inherited_stops(card: mc_card, axes: *mut u32) -> mc_result {
+    guard(|| {
+        let out = Out::new(axes, "axes")?;
+        let n = registry::get(card)?.card.inherited_stops();
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(n) };
         Ok(())
     })
 }
@@ -215,7 +250,7 @@ pub unsafe extern "C" fn mc_get_info(card: mc_card, info: *mut mc_card_info) -> 
 pub unsafe extern "C" fn mc_get_tick(card: mc_card, tick: *mut u64) -> mc_result {
     guard(|| {
         let out = Out::new(tick, "tick")?;
-        let t = registry::get(card)?.card.tick();
+        let t = registry::get(card)?.card.tick()?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(t) };
         Ok(())
@@ -450,6 +485,41 @@ pub unsafe extern "C" fn mc_get_status(
         let s = axis_of(card, axis)?.1.status()?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write((&s).into()) };
+        Ok(())
+    })
+}
+
+/// The status of several axes in one call: `statuses[i]` is the status of axis `axes[i]`, for
+/// `n` axes (1..=8; each a valid axis, repeats allowed). One pass over the card's status
+/// blocks, each a consistent snapshot, and one check that the card is alive. Like
+/// `mc_get_status`, never stale: `MC_ERR_NOT_RESPONDING` when the card's tick has stood still
+/// too long. Does not wait for the card.
+#[no_mangle]
+pub unsafe extern "C" fn mc_get_statuses(
+    card: mc_card,
+    axes: *const u32,
+    n: usize,
+    statuses: *mut mc_status,
+) -> mc_result {
+    guard(|| {
+        if n == 0 || n > motioncard_sdk::proto::raw::MC_MAX_AXES as usize {
+            return Err(Failure::new(
+                crate::result::MC_ERR_BAD_AXIS,
+                format!("{n} axes: ask for 1 to 8"),
+            ));
+        }
+        if statuses.is_null() {
+            return Err(Failure::null("statuses"));
+        }
+        // SAFETY: `axes` holds `n` values by the caller's contract (n is bounded above).
+        let list = unsafe { crate::ffi::read_slice(axes, n, "axes") }?;
+        let list: Vec<usize> = list.into_iter().map(|a| a as usize).collect();
+        let all = registry::get(card)?.card.statuses(&list)?;
+        for (i, st) in all.iter().enumerate() {
+            // SAFETY: `statuses` is non-NULL and valid for writes of `n` elements by the
+            // caller's contract; i < n.
+            unsafe { statuses.add(i).write_unaligned(st.into()) };
+        }
         Ok(())
     })
 }

@@ -24,7 +24,8 @@ pub extern "C" fn mc_set_heartbeat(card: mc_card, on: u32) -> mc_result {
     })
 }
 
-/// Set the card's watchdog timeout, µs (default 5000). The card refuses zero and anything under
+/// Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
+/// host without real-time scheduling). The card refuses zero and anything under
 /// 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
 /// card answers.
 #[no_mangle]
@@ -66,6 +67,19 @@ pub extern "C" fn mc_reset_faults(card: mc_card) -> mc_result {
     guard(|| Ok(registry::get(card)?.card.reset_faults()?))
 }
 
+/// Set the card's maximum stop time, µs (default 2000000): every stop — halt, stop, the safety
+/// stops, starvation — ends within it; a halt whose own ramp would take longer runs on the
+/// axis's stop ramp, and a stop still running at the bound loses power (stop reason
+/// `MC_STOP_REASON_STOP_TIMEOUT`). 10 ms to 600 s, and every axis's stop ramp from its max
+/// velocity must fit: `MC_ERR_STOP_TOO_LONG` otherwise. Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_set_max_stop_time(card: mc_card, us: u32) -> mc_result {
+    guard(|| {
+        let t = std::time::Duration::from_micros(us as u64);
+        Ok(registry::get(card)?.card.set_max_stop_time(t)?)
+    })
+}
+
 /// The card-wide safety state: watchdog and e-stop latches, heartbeat ticks, protocol errors.
 /// Reads the card's window; never blocks.
 #[no_mangle]
@@ -75,7 +89,7 @@ pub unsafe extern "C" fn mc_get_safety_status(
 ) -> mc_result {
     guard(|| {
         let out = Out::new(status, "status")?;
-        let s = registry::get(card)?.card.safety_status();
+        let s = registry::get(card)?.card.safety_status()?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(s.into()) };
         Ok(())

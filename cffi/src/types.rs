@@ -54,6 +54,8 @@ pub const MC_AXIS_FAULT_AMP_ALARM: u32 = 0x8000;
 pub const MC_AXIS_FAULT_ENCODER: u32 = 0x10000;
 /// Fault bit: the host broke the protocol (corrupt ring indices).
 pub const MC_AXIS_FAULT_PROTOCOL: u32 = 0x20000;
+/// Fault bit: a stop ran past the card's maximum stop time; its power was removed.
+pub const MC_AXIS_FAULT_STOP_TIMEOUT: u32 = 0x40000;
 
 /// Capability bit of `mc_card_info.capabilities`: S-curve profiles.
 pub const MC_CARD_CAP_SCURVE: u32 = 1;
@@ -1188,6 +1190,18 @@ pub struct mc_safety_status {
     pub trip_heartbeat_tick: u64,
     /// Protocol errors (corrupt ring indices) the card detected since boot.
     pub protocol_errors: u32,
+    /// The session id of the program attached to the card (this one's while it is open).
+    pub session: u32,
+    /// Programs that opened the card while another's session was still open, since boot (each
+    /// stopped the motion the vanished program left).
+    pub host_changes: u32,
+    /// Heartbeats that came later than the declared period after the one before, since this
+    /// program opened the card: how close it runs to its watchdog.
+    pub late_heartbeats: u32,
+    /// The longest gap between two heartbeats the card saw since this program opened it, µs.
+    pub max_heartbeat_gap_us: u32,
+    /// Servo tick of the last open (this program's, while it is open).
+    pub attach_tick: u64,
 }
 
 impl From<SafetyStatus> for mc_safety_status {
@@ -1201,6 +1215,12 @@ impl From<SafetyStatus> for mc_safety_status {
             watchdog_trip_tick: s.watchdog_trip_tick,
             trip_heartbeat_tick: s.trip_heartbeat_tick,
             protocol_errors: s.protocol_errors,
+            session: s.session,
+            host_changes: s.host_changes,
+            late_heartbeats: s.late_heartbeats,
+            max_heartbeat_gap_us: u32::try_from(s.max_heartbeat_gap.as_micros())
+                .unwrap_or(u32::MAX),
+            attach_tick: s.attach_tick,
         }
     }
 }
@@ -1343,6 +1363,7 @@ mod tests {
             (MC_AXIS_FAULT_AMP_ALARM, fault::AMP_ALARM),
             (MC_AXIS_FAULT_ENCODER, fault::ENCODER),
             (MC_AXIS_FAULT_PROTOCOL, fault::PROTOCOL),
+            (MC_AXIS_FAULT_STOP_TIMEOUT, fault::STOP_TIMEOUT),
             (MC_IO_LIMIT_POS, io::LIMIT_POS),
             (MC_IO_LIMIT_NEG, io::LIMIT_NEG),
             (MC_IO_HOME, io::HOME),

@@ -1,7 +1,8 @@
 //! Cards, axes, commands and waits.
 
 use crate::device::{self, Backend, Device, SimOptions};
-use crate::error::{nack_reason, Error, Result};
+use crate::error::{nack_reason, Error, Result, Target};
+use crate::session::{host_ms, passed, Link};
 use card_emu::Emulator;
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
@@ -12,12 +13,15 @@ use firmware_proto::{
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
 use std::os::fd::BorrowedFd;
+use std::sync::atomic::Ordering;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-pub(crate) type Window = Arc<card_emu::shm::MappedWindow>;
+pub(crate) use crate::session::Window;
 
-/// How long a command may wait for its ack before the card counts as not responding.
+/// A command's deadline: the card refuses a command it takes later than this after it was
+/// sent (`MC_NACK_EXPIRED`), and the SDK reports a failure only once the command can no longer
+/// run.
 pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
 
 /// How long a wait looks at the event ring before it blocks in `poll()` on the interrupt fd:
@@ -31,6 +35,10 @@ const STATUS_BUSY_TIMEOUT: Duration = Duration::from_millis(100);
 
 /// Events kept for [`Card::next_event`] before the oldest are dropped (and counted).
 pub const EVENT_QUEUE_CAP: usize = 4096;
+
+/// The counts per user unit an axis's scale may have (in magnitude): from a nanometre-class
+/// unit on a coarse encoder to a kilometre on a fine one.
+pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = 1e-9..=1e12;
 
 /// Outcomes of motions kept for waiters.
 const OUTCOME_CAP: usize = 1024;
@@ -77,23 +85,52 @@ pub struct CardEvent {
 }
 
 /// The command ring. A command's seq is its ring index + 1: unique across sessions, since
-/// the ring's head carries on from whatever an earlier host left.
+/// the ring's head carries on from whatever an earlier host left. `deadlines[seq & (len-1)]`
+/// is the deadline the command in that slot was sent with.
 struct Tx {
     ring: CmdProducer<Window>,
+    deadlines: [u32; CMD_RING.len as usize],
 }
 
 struct Rx {
     ring: EvtConsumer<Window>,
     /// Someone is blocked in poll() on the interrupt fd; the others wait on the condvar.
     polling: bool,
-    acks: VecDeque<(u32, Result<(), NackCode>)>,
+    /// Answers: the ack's value, or the nack's code.
+    acks: VecDeque<(u32, std::result::Result<f64, NackCode>)>,
     outcomes: VecDeque<(u32, Outcome)>,
     events: VecDeque<CardEvent>,
     events_dropped: u64,
+    /// Protocol-error events seen (the card found the command ring corrupt and dropped what
+    /// was in it), and the ring index of the last.
+    protocol_errors: u32,
+    protocol_index: f64,
 }
 
 /// A group's axis count and card axes, as the card accepted them.
 pub(crate) type GroupAxes = (usize, [usize; MAX_AXES]);
+
+/// What a wait gives up on, besides its deadline.
+#[derive(Clone, Copy)]
+struct WaitRules {
+    /// A card whose tick stands still fails the wait with `NotResponding`.
+    stale_fails: bool,
+    /// [`Card::cancel_waits`] ends it with `Cancelled`.
+    cancellable: bool,
+}
+
+/// Waits for motions and events: every rule.
+const USER_WAIT: WaitRules = WaitRules {
+    stale_fails: true,
+    cancellable: true,
+};
+
+/// The wait for a command's answer: it ends only when the command can no longer run (see
+/// [`Inner::wait_ack`]).
+const ACK_WAIT: WaitRules = WaitRules {
+    stale_fails: false,
+    cancellable: false,
+};
 
 pub(crate) struct Inner {
     pub(crate) group_axes: Mutex<[Option<GroupAxes>; firmware_proto::MAX_GROUPS]>,
@@ -105,11 +142,14 @@ pub(crate) struct Inner {
     rx_cond: Condvar,
     scale: Mutex<[f64; MAX_AXES]>,
     last_motion: Mutex<[Option<u32>; MAX_AXES]>,
-    heartbeat: crate::safety::Heartbeat,
+    pub(crate) link: Arc<Link>,
+    heartbeat: Mutex<Option<crate::safety::Heartbeat>>,
+    /// Axes the attach stopped because the previous host had vanished without closing.
+    inherited_stops: u32,
 }
 
 /// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
-/// threads at once.
+/// threads at once. Dropping the last clone closes it ([`Card::close`]).
 #[derive(Clone)]
 pub struct Card {
     inner: Arc<Inner>,
@@ -123,6 +163,11 @@ pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 impl Card {
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
     /// `emu:NAME` (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware).
+    ///
+    /// Opening begins a session: if the previous host left the card without closing it (it
+    /// died or hung), the card stops every axis that host left enabled (category 1, reason
+    /// [`crate::StopReason::HostChanged`]; see [`Card::inherited_stops`]), so a new host never
+    /// inherits motion it did not start.
     pub fn open(uri: &str) -> Result<Card> {
         Self::attach(uri, device::open(uri)?)
     }
@@ -141,9 +186,7 @@ impl Card {
             )));
         }
         let deadline = Instant::now() + Duration::from_secs(1);
-        while w.load32(layout::CARD_STATE, std::sync::atomic::Ordering::Acquire)
-            != raw::MC_CARD_RUNNING
-        {
+        while w.load32(layout::CARD_STATE, Ordering::Acquire) != raw::MC_CARD_RUNNING {
             if Instant::now() > deadline {
                 return Err(Error::NotResponding(format!(
                     "{uri}: the card did not finish booting"
@@ -153,7 +196,9 @@ impl Card {
         }
         let lv = w.read32(layout::LAYOUT);
         let (major, minor) = (lv as u16, (lv >> 16) as u16);
-        if major != firmware_proto::LAYOUT_MAJOR {
+        // Host sessions and command deadlines came with layout 1.3: an older card cannot keep
+        // a new host from inheriting motion.
+        if major != firmware_proto::LAYOUT_MAJOR || minor < 3 {
             return Err(Error::VersionMismatch {
                 card_major: major,
                 card_minor: minor,
@@ -183,11 +228,18 @@ impl Card {
         let tx = CmdProducer::attach(w.clone(), CMD_RING);
         let mut rx = EvtConsumer::attach(w.clone(), EVT_RING);
         rx.resync(); // events of an earlier session are not ours
-        let heartbeat = crate::safety::Heartbeat::start(&dev)?; // [safety] the host heartbeat
-        let inner = Inner {
-            heartbeat,
+        let stepped = matches!(dev.backend, Backend::SimStepped { .. });
+        let link = Arc::new(Link::new(w.clone(), info.servo_rate_hz, stepped)?);
+        let lease = dev.lease_watch();
+        let mut inner = Inner {
+            heartbeat: Mutex::new(None),
+            link,
+            inherited_stops: 0,
             info,
-            tx: Mutex::new(Tx { ring: tx }),
+            tx: Mutex::new(Tx {
+                ring: tx,
+                deadlines: [0; CMD_RING.len as usize],
+            }),
             rx: Mutex::new(Rx {
                 ring: rx,
                 polling: false,
@@ -195,6 +247,8 @@ impl Card {
                 outcomes: VecDeque::new(),
                 events: VecDeque::new(),
                 events_dropped: 0,
+                protocol_errors: 0,
+                protocol_index: 0.0,
             }),
             rx_cond: Condvar::new(),
             scale: Mutex::new([1.0; MAX_AXES]),
@@ -203,6 +257,26 @@ impl Card {
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
         };
+        // [safety] the session first, then the heartbeat: the card stops what a vanished host
+        // left moving before this host's heartbeat could feed its watchdog.
+        inner.link.publish_time();
+        let mut attach = Command::new(Opcode::HostAttach, 0);
+        attach.flags = inner.link.session;
+        let seq = inner.send_raw(attach)?;
+        match inner.wait_answer(seq)? {
+            Ok(stopped) => inner.inherited_stops = stopped as u32,
+            Err(code) => {
+                inner.link.mark_closed(); // nothing to detach
+                return Err(Error::Nack {
+                    command: "open",
+                    target: Target::Card,
+                    code,
+                    reason: nack_reason(code),
+                });
+            }
+        }
+        let heartbeat = crate::safety::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
+        *lock(&inner.heartbeat) = Some(heartbeat);
         Ok(Card {
             inner: Arc::new(inner),
         })
@@ -216,14 +290,12 @@ impl Card {
         &self.inner
     }
 
-    pub(crate) fn heartbeat(&self) -> &crate::safety::Heartbeat {
-        &self.inner.heartbeat
-    }
-
-    /// One servo tick of a stepped card, with the host's heartbeat before it.
-    fn step_stepped(&self, emu: &mut Emulator) {
-        self.inner.heartbeat.beat();
-        emu.step();
+    /// Run `f` with the heartbeat (`None` once the card is closed).
+    pub(crate) fn with_heartbeat<T>(
+        &self,
+        f: impl FnOnce(&crate::safety::Heartbeat) -> T,
+    ) -> Option<T> {
+        lock(&self.inner.heartbeat).as_ref().map(f)
     }
 
     /// Identity of the card.
@@ -233,9 +305,26 @@ impl Card {
         i
     }
 
-    /// The servo tick counter.
-    pub fn tick(&self) -> u64 {
-        self.inner.dev.window.read64(layout::TICK)
+    /// How many axes this host's open stopped because the host before it had left the card
+    /// without closing it (it died or hung): those axes are in ErrorStop with reason
+    /// [`crate::StopReason::HostChanged`] until [`Card::reset_faults`]. 0 when the previous host
+    /// closed cleanly or left nothing enabled.
+    pub fn inherited_stops(&self) -> u32 {
+        self.inner.inherited_stops
+    }
+
+    /// The servo tick counter. `NotResponding` when it has stood still for longer than
+    /// [`Card::stale_limit`] (a stopped or hung card), `CardGone` when the card process went
+    /// away.
+    pub fn tick(&self) -> Result<u64> {
+        self.inner.link.tick()
+    }
+
+    /// How long the card's tick may stand still before reads and waits call it not
+    /// responding: the larger of [`crate::STALE_TICKS`] servo periods and
+    /// [`crate::STALE_MIN`].
+    pub fn stale_limit(&self) -> Duration {
+        self.inner.link.stale_limit()
     }
 
     /// An axis handle.
@@ -289,79 +378,70 @@ impl Card {
         self.execute(
             Command::new(Opcode::ApplyCardConfig, 0),
             "set_servo_rate",
-            0,
+            Target::Card,
         )
     }
 
     /// A command that does nothing but come back: the round trip through the card.
     pub fn ping(&self) -> Result<()> {
-        self.execute(Command::new(Opcode::Nop, 0), "ping", 0)
+        self.execute(Command::new(Opcode::Nop, 0), "ping", Target::Card)
+    }
+
+    /// Close the card: a clean end of this host's session. Moving axes and groups halt along
+    /// their stop ramps (reason [`crate::StopReason::HostDetach`]), the card's watchdog is
+    /// disarmed without latching a fault (the next host opens a card that is ready to move),
+    /// and the heartbeat stops. Every wait in progress on this card, in any thread, returns
+    /// [`crate::ErrorKind::Closed`] at once, and so does every later call. Closing twice is
+    /// harmless. Dropping the last clone of a `Card` closes it too; only a host that vanishes
+    /// without closing trips the watchdog.
+    pub fn close(&self) -> Result<()> {
+        self.inner.close()
+    }
+
+    /// End every wait in progress on this card (motion, group and event waits, in any thread)
+    /// with [`crate::ErrorKind::Cancelled`]. Waits that begin afterwards are not affected. The
+    /// waits for a command's own answer are not cancelled: the command may still run.
+    pub fn cancel_waits(&self) {
+        self.inner.link.cancel();
+        // the waiters on the condvar look at the flags too
+        let _g = lock(&self.inner.rx);
+        self.inner.rx_cond.notify_all();
     }
 
     /// Queue a raw command without waiting for its ack; returns its seq. For tools and tests
-    /// that need to send what the typed API would refuse.
-    pub fn send_raw(&self, mut cmd: Command) -> Result<u32> {
-        let mut tx = lock(&self.inner.tx);
-        cmd.seq = tx.ring.head().wrapping_add(1);
-        match tx.ring.push(&cmd) {
-            Ok(()) => {}
-            Err(RingError::Full) => return Err(Error::RingFull(CMD_RING.len)),
-            Err(RingError::Corrupt { head, tail }) => {
-                return Err(Error::Protocol(format!(
-                    "command ring indices corrupt (head {head}, tail {tail})"
-                )))
-            }
-        }
-        let w = &self.inner.dev.window;
-        w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
-        drop(tx);
-        if let Backend::SimStepped { emu } = &self.inner.dev.backend {
-            // A stepped card serves its channel when the doorbell rings, between ticks.
-            lock(emu).serve();
-        }
-        Ok(cmd.seq)
+    /// that need to send what the typed API would refuse. Its deadline is [`ACK_TIMEOUT`] from
+    /// now unless `cmd.deadline_ms` names one.
+    pub fn send_raw(&self, cmd: Command) -> Result<u32> {
+        self.inner.send_raw(cmd)
     }
 
-    /// Wait for the ack or nack of command `seq`.
+    /// Wait for the ack or nack of command `seq`. It returns a failure only when the command
+    /// can no longer run (see [`ACK_TIMEOUT`]).
     pub fn wait_ack(&self, seq: u32) -> Result<std::result::Result<(), NackCode>> {
-        let tick0 = self.tick();
-        let r = self.wait_until(Instant::now() + ACK_TIMEOUT, |rx| {
-            let i = rx.acks.iter().position(|(s, _)| *s == seq)?;
-            rx.acks.remove(i).map(|(_, r)| r)
-        });
-        match r {
-            Err(Error::Timeout(_)) => {
-                let tick1 = self.tick();
-                Err(if tick1 == tick0 {
-                    Error::NotResponding(format!("no answer to command {seq} in {ACK_TIMEOUT:?}; the card's tick counter is stuck at {tick1}"))
-                } else {
-                    Error::NotResponding(format!("no answer to command {seq} in {ACK_TIMEOUT:?}"))
-                })
-            }
-            r => r,
-        }
+        self.inner.wait_answer(seq).map(|r| r.map(|_| ()))
     }
 
-    pub(crate) fn execute(&self, cmd: Command, what: &'static str, axis: usize) -> Result<()> {
-        self.execute_seq(cmd, what, axis).map(|_| ())
+    pub(crate) fn execute(&self, cmd: Command, what: &'static str, target: Target) -> Result<()> {
+        self.execute_seq(cmd, what, target).map(|_| ())
     }
 
-    pub(crate) fn execute_seq(&self, cmd: Command, what: &'static str, axis: usize) -> Result<u32> {
-        let seq = self.send_raw(cmd)?;
-        match self.wait_ack(seq)? {
-            Ok(()) => Ok(seq),
-            Err(code) => Err(Error::Nack {
-                command: what,
-                axis,
-                code,
-                reason: nack_reason(code),
-            }),
-        }
+    pub(crate) fn execute_seq(
+        &self,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<u32> {
+        self.inner.execute_seq(cmd, what, target)
     }
 
     /// Take the next event, waiting up to `timeout` (zero: don't wait).
     pub fn next_event(&self, timeout: Duration) -> Result<Option<CardEvent>> {
-        match self.wait_until(Instant::now() + timeout, |rx| rx.events.pop_front()) {
+        let r = self
+            .inner
+            .wait_until(Instant::now() + timeout, USER_WAIT, |rx| {
+                rx.events.pop_front()
+            });
+        match r {
             Ok(e) => Ok(Some(e)),
             Err(Error::Timeout(_)) => Ok(None),
             Err(e) => Err(e),
@@ -371,10 +451,11 @@ impl Card {
     /// Drain the card's event ring without waiting (call when the irq fd is readable).
     /// Returns how many events were queued.
     pub fn poll_events(&self) -> Result<usize> {
+        self.inner.link.check()?;
         self.inner.dev.irq.acknowledge();
         let mut rx = lock(&self.inner.rx);
         let before = rx.events.len();
-        self.drain(&mut rx)?;
+        self.inner.drain(&mut rx)?;
         Ok(rx.events.len().saturating_sub(before))
     }
 
@@ -387,6 +468,252 @@ impl Card {
         )
     }
 
+    pub(crate) fn scale(&self, axis: usize) -> f64 {
+        self.inner.scale(axis)
+    }
+
+    pub(crate) fn wait_outcome(&self, target: Target, seq: u32, timeout: Duration) -> Result<f64> {
+        let r = self
+            .inner
+            .wait_until(Instant::now() + timeout, USER_WAIT, |rx| {
+                rx.outcomes.iter().find(|(s, _)| *s == seq).map(|(_, o)| *o)
+            })?;
+        match r {
+            Outcome::Done(p) => Ok(p),
+            Outcome::Aborted(code) => Err(Error::Aborted {
+                target,
+                by: abort_reason(code),
+            }),
+        }
+    }
+}
+
+impl Card {
+    /// The status of several axes in one call (`GT_GetSts` with a count, `APS_get_*` over
+    /// axes): one pass over their status blocks, each a consistent snapshot, and one check that
+    /// the card is alive. Axes appear in the order asked.
+    pub fn statuses(&self, axes: &[usize]) -> Result<Vec<Status>> {
+        let mut raws = Vec::with_capacity(axes.len());
+        for &a in axes {
+            if a >= self.inner.info.axes {
+                return Err(Error::BadAxis {
+                    axis: a,
+                    count: self.inner.info.axes,
+                });
+            }
+            raws.push((a, self.read_axis_status(a)?));
+        }
+        let newest = raws.iter().map(|(_, r)| r.tick).max();
+        self.link_alive(newest.unwrap_or_else(|| self.inner.dev.window.read64(layout::TICK)))?;
+        raws.into_iter()
+            .map(|(a, raw)| Status::from_raw(a, raw, self.scale(a)))
+            .collect()
+    }
+
+    /// Write a configuration block with `write` and have the card apply it with `cmd`. The
+    /// block is the card's input and the host its one writer: when the card refuses the new
+    /// contents, the block is put back as it was, so a refused value never rides along with the
+    /// next accepted change of another field.
+    pub(crate) fn apply_block(
+        &self,
+        block: core::ops::Range<usize>,
+        write: impl FnOnce(&Window),
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<()> {
+        let w = self.window();
+        let saved: Vec<u64> = block.clone().step_by(8).map(|o| w.read64(o)).collect();
+        write(w);
+        let r = self.execute(cmd, what, target);
+        if matches!(r, Err(Error::Nack { .. })) {
+            for (o, v) in block.step_by(8).zip(saved) {
+                w.write64(o, v);
+            }
+        }
+        r
+    }
+
+    /// Is the card alive, given a tick it published (see [`Card::stale_limit`])?
+    pub(crate) fn link_alive(&self, tick: u64) -> Result<()> {
+        self.inner.link.alive(tick)
+    }
+
+    /// A consistent snapshot of axis `a`'s status block, in counts.
+    ///
+    /// When the block stays busy through the seqlock's spins, the reader yields and tries
+    /// again for up to 100 ms: an emulated card's writer is a thread that the OS can deschedule
+    /// mid-write, which is a stall, not a dead card.
+    fn read_axis_status(&self, a: usize) -> Result<AxisStatus> {
+        self.inner.link.check()?;
+        let window = &self.inner.dev.window;
+        let mut deadline = None;
+        loop {
+            match seqlock::read_axis_status(window, a) {
+                Err(SnapshotError::Busy)
+                    if Instant::now()
+                        < *deadline.get_or_insert_with(|| Instant::now() + STATUS_BUSY_TIMEOUT) =>
+                {
+                    std::thread::yield_now()
+                }
+                r => break r,
+            }
+        }
+        .map_err(|e| match e {
+            SnapshotError::Busy => Error::NotResponding(format!(
+                "status of axis {a} stayed busy for {STATUS_BUSY_TIMEOUT:?}"
+            )),
+            SnapshotError::Corrupt => {
+                Error::Protocol(format!("status of axis {a} failed its checksum"))
+            }
+        })
+    }
+}
+
+impl Status {
+    fn from_raw(axis: usize, raw: AxisStatus, s: f64) -> Result<Status> {
+        let state = raw.state().ok_or_else(|| {
+            Error::Protocol(format!("axis {axis} reports unknown state {}", raw.state))
+        })?;
+        Ok(Status {
+            state,
+            command_position: raw.cmd_pos / s,
+            command_velocity: raw.cmd_vel / s,
+            command_acceleration: raw.cmd_acc / s,
+            actual_position: raw.act_pos / s,
+            actual_velocity: raw.act_vel / s,
+            following_error: raw.ferr / s,
+            dac_volts: raw.dac_v,
+            faults: raw.faults,
+            raw,
+        })
+    }
+}
+
+impl Inner {
+    fn scale(&self, axis: usize) -> f64 {
+        lock(&self.scale).get(axis).copied().unwrap_or(1.0)
+    }
+
+    /// One servo tick of a stepped card, with the host's heartbeat before it.
+    fn step_stepped(&self, emu: &mut Emulator) {
+        if let Some(h) = lock(&self.heartbeat).as_ref() {
+            h.beat();
+        }
+        emu.step();
+    }
+
+    fn send_raw(&self, mut cmd: Command) -> Result<u32> {
+        self.link.check()?;
+        let w = &self.dev.window;
+        let mut tx = lock(&self.tx);
+        // One writer per ring: a head this host did not write means another process writes
+        // into this card's window. The card then finds the ring corrupt and stops every axis.
+        let head = w.load32(CMD_RING.head, Ordering::Acquire);
+        if head != tx.ring.head() {
+            let mine = tx.ring.head();
+            tx.ring = CmdProducer::attach(w.clone(), CMD_RING);
+            return Err(Error::Protocol(format!(
+                "the command ring's head is {head}, this host wrote {mine}: another process \
+                 is writing commands into this card's window (the card stops every axis when \
+                 it finds its ring corrupt); nothing was sent"
+            )));
+        }
+        cmd.seq = tx.ring.head().wrapping_add(1);
+        if cmd.deadline_ms == 0 {
+            cmd.deadline_ms = self.link.deadline();
+        }
+        match tx.ring.push(&cmd) {
+            Ok(()) => {}
+            Err(RingError::Full) => return Err(Error::RingFull(CMD_RING.len)),
+            Err(RingError::Corrupt { head, tail }) => {
+                return Err(Error::Protocol(format!(
+                    "command ring indices corrupt (head {head}, tail {tail})"
+                )))
+            }
+        }
+        tx.deadlines[(cmd.seq & (CMD_RING.len - 1)) as usize] = cmd.deadline_ms;
+        w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
+        drop(tx);
+        if let Backend::SimStepped { emu } = &self.dev.backend {
+            // A stepped card serves its channel when the doorbell rings, between ticks.
+            lock(emu).serve();
+        }
+        Ok(cmd.seq)
+    }
+
+    fn execute_seq(&self, cmd: Command, what: &'static str, target: Target) -> Result<u32> {
+        let seq = self.send_raw(cmd)?;
+        match self.wait_answer(seq)? {
+            Ok(_) => Ok(seq),
+            Err(code) => Err(Error::Nack {
+                command: what,
+                target,
+                code,
+                reason: nack_reason(code),
+            }),
+        }
+    }
+
+    /// Wait for the answer to command `seq` (the ack's value, or the nack). A failure is
+    /// returned only when the command can no longer run: the card is gone, the card dropped
+    /// the command ring's contents (a protocol error), or its deadline passed and the card
+    /// has not taken it (then the card refuses it when it does: `MC_NACK_EXPIRED`).
+    fn wait_answer(&self, seq: u32) -> Result<std::result::Result<f64, NackCode>> {
+        let deadline = lock(&self.tx).deadlines[(seq & (CMD_RING.len - 1)) as usize];
+        let protocol_errors = lock(&self.rx).protocol_errors;
+        let find = |rx: &mut Rx| {
+            if let Some(i) = rx.acks.iter().position(|(s, _)| *s == seq) {
+                return rx.acks.remove(i).map(|(_, r)| Ok(r));
+            }
+            (rx.protocol_errors != protocol_errors).then_some(Err(rx.protocol_index))
+        };
+        let corrupt = |index: f64| {
+            Error::Protocol(format!(
+                "the card found its command ring corrupt (head {index}) and dropped command \
+                 {seq} unexecuted; it stopped every axis. Another process may be writing into \
+                 this card's window"
+            ))
+        };
+        // Until the deadline has surely passed on the host's clock.
+        let ms_left = deadline.wrapping_sub(host_ms()) as i32;
+        let until = Instant::now() + Duration::from_millis(ms_left.clamp(0, 60_000) as u64 + 2);
+        let mut r = self.wait_until(until, ACK_WAIT, find);
+        if matches!(r, Err(Error::Timeout(_))) {
+            while !passed(host_ms(), deadline) {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            // Give up only on a command the card will not run: publish the clock past the
+            // deadline, then look whether the card has taken the command (the card takes,
+            // fences, then reads the clock; see the session module).
+            self.link.publish_time();
+            let tail = self.dev.window.load32(CMD_RING.tail, Ordering::SeqCst);
+            let taken = (tail.wrapping_sub(seq) as i32) >= 0;
+            r = if taken {
+                // Taken before the deadline passed: its answer is on its way.
+                match self.wait_until(Instant::now() + ACK_TIMEOUT, ACK_WAIT, find) {
+                    Err(Error::Timeout(_)) => Err(Error::NotResponding(format!(
+                        "the card took command {seq} but has not answered in {:?}: its \
+                         outcome is unknown",
+                        ACK_TIMEOUT * 2
+                    ))),
+                    r => r,
+                }
+            } else {
+                let mut rx = lock(&self.rx);
+                self.drain(&mut rx)?;
+                find(&mut rx).ok_or_else(|| {
+                    let tick = self.dev.window.read64(layout::TICK);
+                    Error::NotResponding(format!(
+                        "the card did not take command {seq} within {ACK_TIMEOUT:?} (its tick \
+                         counter reads {tick}); the command has expired and will not run"
+                    ))
+                })
+            };
+        }
+        r?.map_err(corrupt)
+    }
+
     fn drain(&self, rx: &mut Rx) -> Result<()> {
         loop {
             let e: Event = match rx.ring.pop() {
@@ -396,7 +723,7 @@ impl Card {
             };
             let Some(kind) = e.kind() else { continue };
             match kind {
-                EventKind::Ack => push_capped(&mut rx.acks, (e.seq, Ok(())), OUTCOME_CAP),
+                EventKind::Ack => push_capped(&mut rx.acks, (e.seq, Ok(e.value)), OUTCOME_CAP),
                 EventKind::Nack => {
                     let code = NackCode::from_raw(e.code).unwrap_or(NackCode::UnknownOpcode);
                     push_capped(&mut rx.acks, (e.seq, Err(code)), OUTCOME_CAP)
@@ -419,6 +746,10 @@ impl Card {
                             (e.seq, Outcome::Aborted(e.code)),
                             OUTCOME_CAP,
                         ),
+                        EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {
+                            rx.protocol_errors = rx.protocol_errors.wrapping_add(1);
+                            rx.protocol_index = e.value;
+                        }
                         _ => {}
                     }
                     if rx.events.len() >= EVENT_QUEUE_CAP {
@@ -440,29 +771,48 @@ impl Card {
 
     /// Wait until `check` finds what it wants in the drained events, or `deadline`.
     ///
-    /// One waiter at a time blocks in poll() on the interrupt fd; the others sleep on a
-    /// condvar and are woken when it has drained the ring. On a stepped `sim` card, waiting
+    /// One waiter at a time blocks in poll() on the interrupt fd and the session's wake-up fd;
+    /// the others sleep on a condvar and are woken when it has drained the ring. Every wait
+    /// ends at once when the card is closed or its process goes away; `rules` say whether a
+    /// card that stopped ticking, or a cancel, ends it too. On a stepped `sim` card, waiting
     /// advances the card's time instead (the deadline is then in emulated time).
     fn wait_until<T>(
         &self,
         deadline: Instant,
+        rules: WaitRules,
         mut check: impl FnMut(&mut Rx) -> Option<T>,
     ) -> Result<T> {
         let start = Instant::now();
-        if let Backend::SimStepped { emu } = &self.inner.dev.backend {
-            return self.wait_stepped(emu, deadline.saturating_duration_since(start), check);
+        let cancels = self.link.cancels();
+        let ended = || -> Result<()> {
+            self.link.check()?;
+            if rules.cancellable && self.link.cancels() != cancels {
+                return Err(Error::Cancelled);
+            }
+            Ok(())
+        };
+        if let Backend::SimStepped { emu } = &self.dev.backend {
+            let timeout = deadline.saturating_duration_since(start);
+            return self.wait_stepped(emu, timeout, ended, check);
         }
-        let mut rx = lock(&self.inner.rx);
+        // Poll in slices, so a card that stops ticking is noticed within its staleness limit.
+        let slice = (self.link.stale_limit() / 2).max(Duration::from_millis(1));
+        let mut rx = lock(&self.rx);
         loop {
+            ended()?;
             self.drain(&mut rx)?;
             if let Some(t) = check(&mut rx) {
                 return Ok(t);
+            }
+            if rules.stale_fails {
+                let tick = self.dev.window.read64(layout::TICK);
+                self.link.alive_since(tick, Some(start))?;
             }
             let now = Instant::now();
             if now >= deadline {
                 return Err(Error::Timeout(deadline.saturating_duration_since(start)));
             }
-            let left = deadline - now;
+            let left = (deadline - now).min(slice);
             // A card that busy-polls its command ring answers within microseconds: look at the
             // ring a little longer before paying for a sleep and a wake-up in poll().
             if !rx.polling && now - start < SPIN_BEFORE_POLL {
@@ -470,12 +820,11 @@ impl Card {
                 for _ in 0..64 {
                     std::hint::spin_loop();
                 }
-                rx = lock(&self.inner.rx);
+                rx = lock(&self.rx);
                 continue;
             }
             if rx.polling {
                 rx = self
-                    .inner
                     .rx_cond
                     .wait_timeout(rx, left)
                     .map(|(g, _)| g)
@@ -484,24 +833,34 @@ impl Card {
             }
             rx.polling = true;
             drop(rx);
-            let readable = match self.inner.dev.irq.fd() {
+            let ms = PollTimeout::from(left.as_millis().clamp(1, 60_000) as u16);
+            let wake = self.link.wake_fd();
+            let (irq_ready, woken) = match self.dev.irq.fd() {
                 Some(fd) => {
-                    let ms = left.as_millis().clamp(1, 60_000) as u16;
-                    let mut fds = [PollFd::new(fd, PollFlags::POLLIN)];
-                    matches!(poll(&mut fds, PollTimeout::from(ms)), Ok(n) if n > 0)
+                    let mut fds = [
+                        PollFd::new(fd, PollFlags::POLLIN),
+                        PollFd::new(wake, PollFlags::POLLIN),
+                    ];
+                    let ok = matches!(poll(&mut fds, ms), Ok(n) if n > 0);
+                    let ready = |f: &PollFd| f.revents().is_some_and(|r| !r.is_empty());
+                    (ok && ready(&fds[0]), ok && ready(&fds[1]))
                 }
                 None => {
                     // pci: no interrupt line; look at the ring again shortly.
-                    std::thread::sleep(left.min(Duration::from_micros(200)));
-                    false
+                    let mut fds = [PollFd::new(wake, PollFlags::POLLIN)];
+                    let step = PollTimeout::from(left.as_millis().clamp(0, 1) as u16);
+                    (false, matches!(poll(&mut fds, step), Ok(n) if n > 0))
                 }
             };
-            if readable {
-                self.inner.dev.irq.acknowledge();
+            if irq_ready {
+                self.dev.irq.acknowledge();
             }
-            rx = lock(&self.inner.rx);
+            if woken {
+                self.link.clear_wake();
+            }
+            rx = lock(&self.rx);
             rx.polling = false;
-            self.inner.rx_cond.notify_all();
+            self.rx_cond.notify_all();
         }
     }
 
@@ -509,6 +868,7 @@ impl Card {
         &self,
         emu: &Mutex<Emulator>,
         timeout: Duration,
+        ended: impl Fn() -> Result<()>,
         mut check: impl FnMut(&mut Rx) -> Option<T>,
     ) -> Result<T> {
         let ticks = {
@@ -517,8 +877,9 @@ impl Card {
         };
         let mut n = 0u64;
         loop {
+            ended()?;
             {
-                let mut rx = lock(&self.inner.rx);
+                let mut rx = lock(&self.rx);
                 self.drain(&mut rx)?;
                 if let Some(t) = check(&mut rx) {
                     return Ok(t);
@@ -532,21 +893,36 @@ impl Card {
         }
     }
 
-    pub(crate) fn scale(&self, axis: usize) -> f64 {
-        lock(&self.inner.scale).get(axis).copied().unwrap_or(1.0)
-    }
-
-    pub(crate) fn wait_outcome(&self, axis: usize, seq: u32, timeout: Duration) -> Result<f64> {
-        let r = self.wait_until(Instant::now() + timeout, |rx| {
-            rx.outcomes.iter().find(|(s, _)| *s == seq).map(|(_, o)| *o)
-        })?;
-        match r {
-            Outcome::Done(p) => Ok(p),
-            Outcome::Aborted(code) => Err(Error::Aborted {
-                axis,
-                by: abort_reason(code),
-            }),
+    /// The clean end of the session: detach (the card halts what moves and disarms its
+    /// watchdog), then stop the heartbeat and wake every wait. Once; later calls do nothing.
+    fn close(&self) -> Result<()> {
+        if self.link.is_closed() {
+            return Ok(());
         }
+        let mut detach = Command::new(Opcode::HostDetach, 0);
+        detach.flags = self.link.session;
+        // A card that is gone or does not answer cannot be detached: closing still ends the
+        // session on this side (the card's watchdog then does what it must).
+        let sent = match self.link.check() {
+            Ok(()) => self.execute_seq(detach, "close", Target::Card).map(|_| ()),
+            Err(e) => Err(e),
+        };
+        if let Some(mut h) = lock(&self.heartbeat).take() {
+            h.halt();
+        }
+        self.link.mark_closed();
+        let _g = lock(&self.rx);
+        self.rx_cond.notify_all();
+        match sent {
+            Err(e) if e.kind() == crate::ErrorKind::CardGone => Ok(()),
+            r => r,
+        }
+    }
+}
+
+impl Drop for Inner {
+    fn drop(&mut self) {
+        let _ = self.close();
     }
 }
 
@@ -576,7 +952,7 @@ impl Sim {
     pub fn step(&self, n: u64) {
         let mut emu = lock(&self.emu);
         for _ in 0..n {
-            self.card.step_stepped(&mut emu);
+            self.card.inner.step_stepped(&mut emu);
         }
     }
 
@@ -714,6 +1090,15 @@ pub struct Motion {
     seq: u32,
 }
 
+impl std::fmt::Debug for Motion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Motion")
+            .field("axis", &self.axis)
+            .field("seq", &self.seq)
+            .finish()
+    }
+}
+
 impl Motion {
     /// The seq of the command that started it.
     pub fn seq(&self) -> u32 {
@@ -723,7 +1108,8 @@ impl Motion {
     /// Wait until the axis is in position (motion done) and return the actual position, or an
     /// error when it is aborted or the timeout passes.
     pub fn wait(&self, timeout: Duration) -> Result<f64> {
-        self.card.wait_outcome(self.axis, self.seq, timeout)
+        self.card
+            .wait_outcome(Target::Axis(self.axis), self.seq, timeout)
     }
 }
 
@@ -737,14 +1123,17 @@ impl Axis {
         self.index
     }
 
-    /// Counts per user unit (default 1: positions in counts). Affects this host only.
+    /// Counts per user unit (default 1: positions in counts; negative: the user's axis runs
+    /// against the encoder). Affects this host only. |scale| must lie in [`SCALE_RANGE`]:
+    /// zero, subnormal and absurd scales are refused (`BadConfig`).
     pub fn set_scale(&self, counts_per_unit: f64) -> Result<()> {
         finite("scale", counts_per_unit)?;
-        if counts_per_unit == 0.0 {
-            return Err(Error::NonPositive {
-                what: "scale",
-                value: counts_per_unit,
-            });
+        if !SCALE_RANGE.contains(&counts_per_unit.abs()) {
+            return Err(Error::BadConfig(format!(
+                "scale {counts_per_unit:e} counts per unit: |scale| must lie in {:e}..={:e}",
+                SCALE_RANGE.start(),
+                SCALE_RANGE.end()
+            )));
         }
         lock(&self.card.inner.scale)[self.index] = counts_per_unit;
         Ok(())
@@ -755,7 +1144,7 @@ impl Axis {
     }
 
     fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
-        self.card.execute_seq(cmd, what, self.index)
+        self.card.execute_seq(cmd, what, Target::Axis(self.index))
     }
 
     fn op(&self, op: Opcode) -> Command {
@@ -862,56 +1251,17 @@ impl Axis {
     pub fn wait_done(&self, timeout: Duration) -> Result<f64> {
         let seq = lock(&self.card.inner.last_motion)[self.index]
             .ok_or_else(|| Error::Unsupported("no motion was started on this axis".into()))?;
-        self.card.wait_outcome(self.index, seq, timeout)
+        self.card
+            .wait_outcome(Target::Axis(self.index), seq, timeout)
     }
 
-    /// A consistent snapshot of the axis's status.
-    ///
-    /// When the block stays busy through the seqlock's spins, the reader yields and tries
-    /// again for up to 100 ms: an emulated card's writer is a thread that the OS can deschedule
-    /// mid-write, which is a stall, not a dead card.
+    /// A consistent snapshot of the axis's status. Never stale: when the card's tick counter
+    /// has stood still longer than [`Card::stale_limit`] this is `NotResponding`, not the old
+    /// snapshot.
     pub fn status(&self) -> Result<Status> {
-        let window = &self.card.inner.dev.window;
-        let mut deadline = None;
-        let raw = loop {
-            match seqlock::read_axis_status(window, self.index) {
-                Err(SnapshotError::Busy)
-                    if Instant::now()
-                        < *deadline.get_or_insert_with(|| Instant::now() + STATUS_BUSY_TIMEOUT) =>
-                {
-                    std::thread::yield_now()
-                }
-                r => break r,
-            }
-        }
-        .map_err(|e| match e {
-            SnapshotError::Busy => Error::NotResponding(format!(
-                "status of axis {} stayed busy for {STATUS_BUSY_TIMEOUT:?}",
-                self.index
-            )),
-            SnapshotError::Corrupt => {
-                Error::Protocol(format!("status of axis {} failed its checksum", self.index))
-            }
-        })?;
-        let state = raw.state().ok_or_else(|| {
-            Error::Protocol(format!(
-                "axis {} reports unknown state {}",
-                self.index, raw.state
-            ))
-        })?;
-        let s = self.scale();
-        Ok(Status {
-            state,
-            command_position: raw.cmd_pos / s,
-            command_velocity: raw.cmd_vel / s,
-            command_acceleration: raw.cmd_acc / s,
-            actual_position: raw.act_pos / s,
-            actual_velocity: raw.act_vel / s,
-            following_error: raw.ferr / s,
-            dac_volts: raw.dac_v,
-            faults: raw.faults,
-            raw,
-        })
+        let raw = self.card.read_axis_status(self.index)?;
+        self.card.link_alive(raw.tick)?;
+        Status::from_raw(self.index, raw, self.scale())
     }
 
     /// Write the servo and in-position configuration and have the card apply it.

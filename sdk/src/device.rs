@@ -94,6 +94,17 @@ pub(crate) struct Device {
     pub backend: Backend,
 }
 
+impl Device {
+    /// A duplicate of the `emu:` connection, for the heartbeat thread to watch: it hangs up
+    /// when the card process goes away. `None` for other backends.
+    pub(crate) fn lease_watch(&self) -> Option<OwnedFd> {
+        match &self.backend {
+            Backend::Emu { _lease } => _lease.as_fd().try_clone_to_owned().ok(),
+            _ => None,
+        }
+    }
+}
+
 /// Parse and open a card URI.
 pub(crate) fn open(uri: &str) -> Result<Device> {
     if uri == "sim" {

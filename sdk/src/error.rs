@@ -207,6 +207,27 @@ impl From<NurbsError> for ErrorKind {
     }
 }
 
+/// What a command, or a refusal, is about: the card, one axis, or one axes group.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// A card-wide command (configuration, safety, sessions).
+    Card,
+    /// An axis.
+    Axis(usize),
+    /// An axes group.
+    Group(usize),
+}
+
+impl std::fmt::Display for Target {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Target::Card => f.write_str("the card"),
+            Target::Axis(a) => write!(f, "axis {a}"),
+            Target::Group(g) => write!(f, "group {g}"),
+        }
+    }
+}
+
 /// An SDK error. [`Error::kind`] gives the flat code.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -242,8 +263,8 @@ pub enum Error {
     #[error("timed out after {0:?}")]
     Timeout(Duration),
     /// See [`ErrorKind::Aborted`].
-    #[error("motion on axis {axis} aborted by {by}")]
-    Aborted { axis: usize, by: String },
+    #[error("motion on {target} aborted by {by}")]
+    Aborted { target: Target, by: String },
     /// See [`ErrorKind::BadAxis`].
     #[error("axis {axis} does not exist: the card has {count} axes")]
     BadAxis { axis: usize, count: usize },
@@ -254,13 +275,34 @@ pub enum Error {
     #[error("{what} must be greater than zero, got {value}")]
     NonPositive { what: &'static str, value: f64 },
     /// The card refused a command.
-    #[error("card refused {command} on axis {axis}: {reason}")]
+    #[error("card refused {command} on {target}: {reason}")]
     Nack {
         command: &'static str,
-        axis: usize,
+        target: Target,
         code: NackCode,
         reason: &'static str,
     },
+    /// The SDK refused a command before sending it, for the reason the card would give
+    /// (`code`; nothing reached the card).
+    #[error("{command} on {target} not sent: {reason}")]
+    Refused {
+        command: &'static str,
+        target: Target,
+        code: NackCode,
+        reason: &'static str,
+    },
+    /// See [`ErrorKind::CardGone`].
+    #[error("card gone: {0}")]
+    CardGone(String),
+    /// See [`ErrorKind::Closed`].
+    #[error("the card was closed")]
+    Closed,
+    /// See [`ErrorKind::Cancelled`].
+    #[error("the wait was cancelled")]
+    Cancelled,
+    /// See [`ErrorKind::PermissionDenied`].
+    #[error("card '{uri}': {reason}")]
+    PermissionDenied { uri: String, reason: String },
     /// A NURBS curve that [`crate::Nurbs::new`] refuses (kind: see `From<NurbsError> for
     /// ErrorKind`).
     #[error("bad NURBS curve: {0}")]
@@ -295,7 +337,11 @@ impl Error {
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,
-            Error::Nack { code, .. } => (*code).into(),
+            Error::Nack { code, .. } | Error::Refused { code, .. } => (*code).into(),
+            Error::CardGone(_) => ErrorKind::CardGone,
+            Error::Closed => ErrorKind::Closed,
+            Error::Cancelled => ErrorKind::Cancelled,
+            Error::PermissionDenied { .. } => ErrorKind::PermissionDenied,
             Error::Nurbs(e) => (*e).into(),
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,

@@ -2,7 +2,7 @@
 //! moves, and the per-axis acc/dec filters.
 
 use crate::card::{finite, lock, positive, Axis, Card};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Target};
 use firmware_proto::layout::{self, axis_filter as af, group_config as gc};
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
@@ -164,6 +164,15 @@ pub struct GroupMotion {
     seq: u32,
 }
 
+impl std::fmt::Debug for GroupMotion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GroupMotion")
+            .field("group", &self.group)
+            .field("seq", &self.seq)
+            .finish()
+    }
+}
+
 impl GroupMotion {
     /// The seq of the command.
     pub fn seq(&self) -> u32 {
@@ -174,7 +183,7 @@ impl GroupMotion {
     /// rest and in position; an earlier one when the next move takes over.
     pub fn wait(&self, timeout: Duration) -> Result<()> {
         self.card
-            .wait_outcome(self.group, self.seq, timeout)
+            .wait_outcome(Target::Group(self.group), self.seq, timeout)
             .map(|_| ())
     }
 }
@@ -183,9 +192,9 @@ impl Card {
     /// An axes group handle (`0..MAX_GROUPS`).
     pub fn group(&self, index: usize) -> Result<Group> {
         if index >= MAX_GROUPS {
-            return Err(Error::Nack {
+            return Err(Error::Refused {
                 command: "group",
-                axis: index,
+                target: Target::Group(index),
                 code: firmware_proto::NackCode::BadGroup,
                 reason: crate::nack_reason(firmware_proto::NackCode::BadGroup),
             });
@@ -208,7 +217,7 @@ impl Group {
     }
 
     fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
-        self.card.execute_seq(cmd, what, self.index)
+        self.card.execute_seq(cmd, what, Target::Group(self.index))
     }
 
     /// The group's axes as the card accepted them: remembered from [`Group::configure`], or,
@@ -218,9 +227,9 @@ impl Group {
         if let Some(c) = lock(&self.card.inner().group_axes)[self.index] {
             return Ok(c);
         }
-        let not_configured = || Error::Nack {
+        let not_configured = || Error::Refused {
             command: "group move",
-            axis: self.index,
+            target: Target::Group(self.index),
             code: firmware_proto::NackCode::GroupDisabled,
             reason: "the group is not configured",
         };
@@ -619,7 +628,9 @@ impl Group {
     pub fn wait_done(&self, timeout: Duration) -> Result<()> {
         let seq = lock(&self.card.inner().last_group_motion)[self.index]
             .ok_or_else(|| Error::Unsupported("no move was queued on this group".into()))?;
-        self.card.wait_outcome(self.index, seq, timeout).map(|_| ())
+        self.card
+            .wait_outcome(Target::Group(self.index), seq, timeout)
+            .map(|_| ())
     }
 
     /// A consistent snapshot of the group's status (path quantities in counts).
@@ -702,7 +713,7 @@ impl Axis {
             .execute_seq(
                 Command::new(Opcode::ApplyAxisFilter, a as u16),
                 "set filters",
-                a,
+                Target::Axis(a),
             )
             .map(|_| ())
     }

@@ -28,14 +28,15 @@ mod error;
 mod group;
 mod nurbs;
 mod safety;
+mod session;
 
 pub use card::{
     Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
-    ACK_TIMEOUT, EVENT_QUEUE_CAP,
+    ACK_TIMEOUT, EVENT_QUEUE_CAP, SCALE_RANGE,
 };
 pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
 pub use device::SimOptions;
-pub use error::{nack_reason, Error, ErrorKind, Result};
+pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
     AxisState, EventKind, GroupState, GroupStatus, NackCode, StopCategory, StopReason,
 };
@@ -47,7 +48,10 @@ pub use nurbs::{
     clamped_uniform_knots, die_bonder_plant, split_nurbs, Nurbs, NurbsError, NurbsFeed,
     PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
-pub use safety::{SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US};
+pub use safety::{
+    SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US, WATCHDOG_TIMEOUT_DEFAULT,
+};
+pub use session::{STALE_MIN, STALE_TICKS};
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
 pub use card_emu::scurve as plan;

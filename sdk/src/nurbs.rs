@@ -1,7 +1,7 @@
 //! NURBS moves: the curve type, PD+ configuration, and streaming a curve to the card.
 
 use crate::card::{finite, positive, Axis};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Target};
 use crate::group::{Group, GroupMotion, MoveOptions};
 use firmware_proto::layout::{self, axis_config as ac, axis_pdplus as pp};
 use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA_MAX};
@@ -90,7 +90,7 @@ impl Axis {
             .execute_seq(
                 Command::new(Opcode::ApplyAxisConfig, a as u16),
                 "configure PD+",
-                a,
+                Target::Axis(a),
             )
             .map(|_| ())
     }
@@ -141,9 +141,9 @@ impl Group {
     ) -> Result<GroupMotion> {
         let (n, axes) = self.axes_pub()?;
         if curve.dim() != n {
-            return Err(Error::Nack {
+            return Err(Error::Refused {
                 command: "move nurbs",
-                axis: self.index(),
+                target: Target::Group(self.index()),
                 code: NackCode::NurbsDimension,
                 reason: "the curve's dimension differs from the group's axis count",
             });
@@ -188,12 +188,12 @@ impl Group {
         let mut begin = Command::new(Opcode::NurbsBegin, self.index() as u16).with_args(&header);
         begin.flags = flags;
         self.card_pub()
-            .execute_seq(begin, "nurbs begin", self.index())?;
+            .execute_seq(begin, "nurbs begin", Target::Group(self.index()))?;
         self.send_data(&stream)?;
         let seq = self.card_pub().execute_seq(
             Command::new(Opcode::NurbsEnd, self.index() as u16),
             "nurbs end",
-            self.index(),
+            Target::Group(self.index()),
         )?;
         Ok(self.motion_pub(seq))
     }
@@ -207,7 +207,7 @@ impl Group {
                 Ok(()) => Ok(()),
                 Err(code) => Err(Error::Nack {
                     command: "nurbs data",
-                    axis: self.index(),
+                    target: Target::Group(self.index()),
                     code,
                     reason: crate::nack_reason(code),
                 }),

@@ -17,25 +17,32 @@
 
 use crate::card::{Axis, Card, Status};
 use crate::device::{Backend, Device};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Target};
+use crate::session::{Link, Window};
 use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
 use firmware_proto::{
     fault, io, raw, AxisState, Command, Mem, Opcode, StopCategory, StopReason, MAX_AXES,
 };
+use std::os::fd::{AsFd, OwnedFd};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-type Window = Arc<card_emu::shm::MappedWindow>;
+/// The card's default watchdog timeout.
+pub const WATCHDOG_TIMEOUT_DEFAULT: Duration =
+    Duration::from_micros(card_emu::safety::WATCHDOG_TIMEOUT_DEFAULT_US as u64);
 
 /// The heartbeat period the SDK declares to the card, µs. The real-time heartbeat thread
 /// writes twice per period.
 pub const HEARTBEAT_PERIOD_US: u32 = 1000;
 
-/// The host side of the watchdog: keeps `host.heartbeat` moving while the card is open.
+/// The host side of the watchdog: keeps `host.heartbeat` and the host clock
+/// (`host.host_time_ms`) moving while the card is open, and, for an `emu:` card, watches the
+/// connection: when the card process goes away the session is marked gone at once.
 pub(crate) struct Heartbeat {
     window: Window,
+    link: Arc<Link>,
     enabled: Arc<AtomicBool>,
     stop: Arc<AtomicBool>,
     count: AtomicU32,
@@ -44,10 +51,11 @@ pub(crate) struct Heartbeat {
 
 impl Heartbeat {
     /// Declare the period and start beating: a thread for real-time cards, nothing for a
-    /// stepped `sim` (it beats as it steps).
-    pub(crate) fn start(dev: &Device) -> Result<Self> {
+    /// stepped `sim` (it beats as it steps). `lease`: the `emu:` connection to watch.
+    pub(crate) fn start(dev: &Device, link: Arc<Link>, lease: Option<OwnedFd>) -> Result<Self> {
         let window = dev.window.clone();
         window.write32(layout::HOST_PERIOD_US, HEARTBEAT_PERIOD_US);
+        link.publish_time();
         let count = window.read32(layout::HEARTBEAT).wrapping_add(1);
         window.write32(layout::HEARTBEAT, count);
         let enabled = Arc::new(AtomicBool::new(true));
@@ -55,16 +63,23 @@ impl Heartbeat {
         let thread = match dev.backend {
             Backend::SimStepped { .. } => None,
             _ => {
-                let (w, on, stop) = (window.clone(), enabled.clone(), stop.clone());
+                let beat = Beat {
+                    window: window.clone(),
+                    link: link.clone(),
+                    enabled: enabled.clone(),
+                    stop: stop.clone(),
+                    lease,
+                };
                 let t = std::thread::Builder::new()
                     .name("motioncard-heartbeat".into())
-                    .spawn(move || beat_thread(w, on, stop, count))
+                    .spawn(move || beat.run(count))
                     .map_err(|e| Error::io("starting the heartbeat thread", e))?;
                 Some(t)
             }
         };
         Ok(Self {
             window,
+            link,
             enabled,
             stop,
             count: AtomicU32::new(count),
@@ -75,14 +90,14 @@ impl Heartbeat {
     /// One beat (stepped cards: before each emulated tick).
     pub(crate) fn beat(&self) {
         if self.thread.is_none() && self.enabled.load(Ordering::Relaxed) {
+            self.link.publish_time();
             let c = self.count.fetch_add(1, Ordering::Relaxed).wrapping_add(1);
             self.window.write32(layout::HEARTBEAT, c);
         }
     }
-}
 
-impl Drop for Heartbeat {
-    fn drop(&mut self) {
+    /// Stop beating (the thread ends); the card's watchdog then sees a silent host.
+    pub(crate) fn halt(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
             let _ = t.join();
@@ -90,15 +105,39 @@ impl Drop for Heartbeat {
     }
 }
 
-fn beat_thread(w: Window, enabled: Arc<AtomicBool>, stop: Arc<AtomicBool>, mut count: u32) {
-    raise_priority();
-    let half = Duration::from_micros(HEARTBEAT_PERIOD_US as u64 / 2);
-    while !stop.load(Ordering::Relaxed) {
-        if enabled.load(Ordering::Relaxed) {
-            count = count.wrapping_add(1);
-            w.write32(layout::HEARTBEAT, count);
+impl Drop for Heartbeat {
+    fn drop(&mut self) {
+        self.halt();
+    }
+}
+
+/// What the heartbeat thread owns.
+struct Beat {
+    window: Window,
+    link: Arc<Link>,
+    enabled: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
+    lease: Option<OwnedFd>,
+}
+
+impl Beat {
+    fn run(self, mut count: u32) {
+        raise_priority();
+        let half = Duration::from_micros(HEARTBEAT_PERIOD_US as u64 / 2);
+        while !self.stop.load(Ordering::Relaxed) {
+            if self.enabled.load(Ordering::Relaxed) {
+                self.link.publish_time();
+                count = count.wrapping_add(1);
+                self.window.write32(layout::HEARTBEAT, count);
+            }
+            // [emu] the connection is the lease: a hang-up means the card process is gone.
+            if let Some(fd) = &self.lease {
+                if !self.link.is_gone() && crate::session::hung_up(fd.as_fd()) {
+                    self.link.mark_gone();
+                }
+            }
+            std::thread::sleep(half);
         }
-        std::thread::sleep(half);
     }
 }
 
@@ -131,6 +170,18 @@ pub struct SafetyStatus {
     pub trip_heartbeat_tick: u64,
     /// Protocol errors (corrupt ring indices) the card detected since boot.
     pub protocol_errors: u32,
+    /// The session id of the host attached to the card (this one's while it is open).
+    pub session: u32,
+    /// Servo tick of the last attach (this host's open, while it is open).
+    pub attach_tick: u64,
+    /// Hosts that opened the card while another's session was still open, since boot (each
+    /// stopped the motion the vanished host left).
+    pub host_changes: u32,
+    /// Heartbeats that came later than the host's declared period after the one before,
+    /// since this host attached: how close the host runs to its watchdog.
+    pub late_heartbeats: u32,
+    /// The longest gap between two heartbeats the card saw since this host attached.
+    pub max_heartbeat_gap: Duration,
 }
 
 /// How an axis's last safety stop went, measured by the card.
@@ -199,30 +250,38 @@ impl Card {
     /// Stop (`false`) or resume the heartbeat. A stopped heartbeat is a hung host to the card:
     /// its watchdog trips after the timeout. For tests of the watchdog.
     pub fn set_heartbeat(&self, on: bool) {
-        self.heartbeat().enabled.store(on, Ordering::Relaxed);
+        self.with_heartbeat(|h| h.enabled.store(on, Ordering::Relaxed));
     }
 
-    /// Set the card's watchdog timeout (default 5 ms). The card refuses zero and anything under
+    /// Set the card's watchdog timeout (default [`WATCHDOG_TIMEOUT_DEFAULT`], 100 ms: above the
+    /// heartbeat gaps of a loaded host without real-time scheduling; a real-time host can run
+    /// a much shorter one, down to 1.5 × [`HEARTBEAT_PERIOD_US`]; see
+    /// [`SafetyStatus::late_heartbeats`] for how close a host runs). The card refuses zero and anything under
     /// 1.5 × the heartbeat period ([`HEARTBEAT_PERIOD_US`]) with
     /// [`crate::ErrorKind::WatchdogTimeout`].
     pub fn set_watchdog_timeout(&self, timeout: Duration) -> Result<()> {
         let us = u32::try_from(timeout.as_micros()).unwrap_or(u32::MAX);
-        self.window().write32(layout::WATCHDOG_TIMEOUT_US, us);
-        self.execute(
-            Command::new(Opcode::ApplySafetyConfig, 0),
-            "set_watchdog_timeout",
-            0,
-        )
+        self.apply_safety_config(layout::WATCHDOG_TIMEOUT_US, us, "set_watchdog_timeout")
     }
 
     /// The stop the card's e-stop input makes (default category 1).
     pub fn set_estop_input_category(&self, category: StopCategory) -> Result<()> {
-        self.window()
-            .write32(layout::ESTOP_INPUT_CATEGORY, category as u32);
-        self.execute(
-            Command::new(Opcode::ApplySafetyConfig, 0),
+        self.apply_safety_config(
+            layout::ESTOP_INPUT_CATEGORY,
+            category as u32,
             "set_estop_input_category",
-            0,
+        )
+    }
+
+    /// Write one field of the card-wide safety block and have the card apply the block.
+    fn apply_safety_config(&self, field: usize, value: u32, what: &'static str) -> Result<()> {
+        let block = layout::SAFETY_CONFIG..layout::SAFETY_CONFIG + layout::SAFETY_CONFIG_BYTES;
+        self.apply_block(
+            block,
+            |w| w.write32(field, value),
+            Command::new(Opcode::ApplySafetyConfig, 0),
+            what,
+            Target::Card,
         )
     }
 
@@ -232,7 +291,7 @@ impl Card {
         self.execute(
             Command::new(Opcode::EStop, 0).with_args(&[category as u32 as f64]),
             "estop",
-            0,
+            Target::Card,
         )
     }
 
@@ -242,7 +301,11 @@ impl Card {
     /// fault persists). Axes whose drive was disabled by their stop end Disabled; the others
     /// Standstill.
     pub fn reset_faults(&self) -> Result<()> {
-        self.execute(Command::new(Opcode::SafetyReset, 0), "reset_faults", 0)?;
+        self.execute(
+            Command::new(Opcode::SafetyReset, 0),
+            "reset_faults",
+            Target::Card,
+        )?;
         for ax in self.axes() {
             if ax.status()?.state == AxisState::ErrorStop {
                 ax.reset()?;
@@ -251,11 +314,13 @@ impl Card {
         Ok(())
     }
 
-    /// The card-wide safety state.
-    pub fn safety_status(&self) -> SafetyStatus {
+    /// The card-wide safety state (`NotResponding` rather than a stale one).
+    pub fn safety_status(&self) -> Result<SafetyStatus> {
+        self.tick()?;
         let w = self.window();
         let faults = w.read32(ss::FAULTS);
-        SafetyStatus {
+        let us = |off| Duration::from_micros(w.read32(off) as u64);
+        Ok(SafetyStatus {
             watchdog_tripped: faults & raw::MC_CARD_FAULT_WATCHDOG != 0,
             estop_command: faults & raw::MC_CARD_FAULT_ESTOP_COMMAND != 0,
             estop_input: faults & raw::MC_CARD_FAULT_ESTOP_INPUT != 0,
@@ -264,7 +329,22 @@ impl Card {
             watchdog_trip_tick: w.read64(ss::WATCHDOG_TRIP_TICK),
             trip_heartbeat_tick: w.read64(ss::TRIP_HEARTBEAT_TICK),
             protocol_errors: w.read32(ss::PROTOCOL_ERRORS),
-        }
+            session: w.read32(ss::SESSION),
+            attach_tick: w.read64(ss::ATTACH_TICK),
+            host_changes: w.read32(ss::HOST_CHANGES),
+            late_heartbeats: w.read32(ss::LATE_HEARTBEATS),
+            max_heartbeat_gap: us(ss::MAX_HEARTBEAT_GAP_US),
+        })
+    }
+
+    /// Set the card's maximum stop time (default 2 s): every stop — halt, stop, the safety
+    /// stops, starvation — ends within it; a halt whose own ramp would take longer runs on the
+    /// axis's stop ramp, and a stop still running at the bound loses power (reason
+    /// [`StopReason::StopTimeout`]). 10 ms to 600 s, and every axis's stop ramp from its
+    /// max velocity must fit ([`crate::ErrorKind::StopTooLong`]).
+    pub fn set_max_stop_time(&self, t: Duration) -> Result<()> {
+        let us = u32::try_from(t.as_micros()).unwrap_or(u32::MAX);
+        self.apply_safety_config(layout::MAX_STOP_TIME_US, us, "set_max_stop_time")
     }
 }
 
@@ -291,10 +371,14 @@ impl Axis {
             }
         }
         let (neg, pos) = match s.soft_limits {
-            Some((a, b)) => {
-                let (a, b) = (a * scale, b * scale);
-                (a.min(b), a.max(b))
+            Some((neg, pos)) if neg >= pos => {
+                return Err(Error::BadConfig(format!(
+                    "soft limits: the negative limit {neg} must be below the positive limit {pos}"
+                )))
             }
+            // In counts: a negative scale turns the user's negative limit into the larger count.
+            Some((neg, pos)) if scale < 0.0 => (pos * scale, neg * scale),
+            Some((neg, pos)) => (neg * scale, pos * scale),
             None => (-card_emu::MAX_POSITION, card_emu::MAX_POSITION),
         };
         let mut flags = 0;
@@ -308,14 +392,8 @@ impl Axis {
                 flags |= bit;
             }
         }
-        let w = self.card().window();
         let a = self.index();
-        w.write32(layout::axis_safety(a, asf::FLAGS), flags);
-        w.write32(
-            layout::axis_safety(a, asf::LIMIT_CATEGORY),
-            s.limit_stop as u32,
-        );
-        for (off, v) in [
+        let fields = [
             (asf::SOFT_LIMIT_NEG, neg),
             (asf::SOFT_LIMIT_POS, pos),
             (asf::FERROR, s.ferror * k),
@@ -324,13 +402,23 @@ impl Axis {
             (asf::STOP_DECEL, s.stop_deceleration * k),
             (asf::STOP_JERK, s.stop_jerk * k),
             (asf::ENCODER_MAX_VELOCITY, s.encoder_max_velocity * k),
-        ] {
-            w.write_f64(layout::axis_safety(a, off), v);
-        }
-        self.card().execute(
+        ];
+        let block = layout::axis_safety(a, 0)..layout::axis_safety(a, layout::AXIS_SAFETY_BYTES);
+        self.card().apply_block(
+            block,
+            |w| {
+                w.write32(layout::axis_safety(a, asf::FLAGS), flags);
+                w.write32(
+                    layout::axis_safety(a, asf::LIMIT_CATEGORY),
+                    s.limit_stop as u32,
+                );
+                for (off, v) in fields {
+                    w.write_f64(layout::axis_safety(a, off), v);
+                }
+            },
             Command::new(Opcode::ApplyAxisSafety, a as u16),
             "configure_safety",
-            a,
+            Target::Axis(a),
         )
     }
 
@@ -350,10 +438,11 @@ impl Axis {
     pub fn stop_info(&self) -> Result<StopInfo> {
         let a = self.index();
         let w = self.card().window();
+        let reason = self.stop_reason()?; // fresh, or NotResponding
         let rest = w.read64(ss::rest_tick(a));
         let ramp = w.read_f64(ss::ramp_time(a));
         Ok(StopInfo {
-            reason: self.stop_reason()?,
+            reason,
             stop_tick: w.read64(ss::stop_tick(a)),
             rest_tick: (rest != 0).then_some(rest),
             ramp_time: Duration::try_from_secs_f64(ramp).unwrap_or_default(),
@@ -391,6 +480,10 @@ pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
         (fault::AMP_ALARM, "an amplifier alarm"),
         (fault::ENCODER, "an encoder fault"),
         (fault::PROTOCOL, "a protocol error"),
+        (
+            fault::STOP_TIMEOUT,
+            "a stop that ran past the maximum stop time",
+        ),
     ];
     names
         .iter()
