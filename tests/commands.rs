@@ -17,6 +17,13 @@ fn raw(card: &Card, cmd: Command) -> Option<NackCode> {
     card.wait_ack(seq).unwrap().err()
 }
 
+/// The host clock the card reads (`host.host_time_ms`), as the SDK last published it.
+fn host_time(card: &Card) -> u32 {
+    use firmware_proto::{layout, Mem};
+    let sim = card.sim().expect("a stepped card");
+    sim.with_emulator(|e| e.window().read32(layout::HOST_TIME_MS))
+}
+
 fn mv(axis: u16, args: &[f64]) -> Command {
     Command::new(Opcode::MoveAbsolute, axis).with_args(args)
 }
@@ -59,6 +66,24 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
     crawl[4..8].copy_from_slice(&[1e-12; 4]);
     crawl[0] = 1e9;
     expect(NackCode::Infeasible, raw(&card, mv(0, &crawl)));
+    // Limits outside the card's range (subnormal, absurdly small or large), for moves and
+    // stops alike.
+    for (i, x) in [(4, 1e-300), (2, 5e-324), (3, 1e-320), (1, 1e300), (7, 1e40)] {
+        let mut bad = good;
+        bad[i] = x;
+        assert_eq!(
+            raw(&card, mv(0, &bad)),
+            Some(NackCode::LimitRange),
+            "arg {i} = {x:e}"
+        );
+    }
+    let halt = |d: f64, j: f64| Command::new(Opcode::Halt, 0).with_args(&[d, j]);
+    expect(NackCode::LimitRange, raw(&card, halt(5e6, 1e-300)));
+    assert_eq!(raw(&card, halt(1e-310, 1e8)), Some(NackCode::LimitRange));
+    // A command the card takes after its deadline is refused, not executed.
+    let mut late = mv(0, &good);
+    late.deadline_ms = host_time(&card).wrapping_sub(10).max(1);
+    expect(NackCode::Expired, raw(&card, late));
     // Card configuration: out of range, then in range but with an axis enabled.
     assert_eq!(
         card.set_servo_rate(50).unwrap_err().kind(),
@@ -71,8 +96,13 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
     );
     seen.push(NackCode::AxesEnabled);
     // Axis and card codes here; the group codes (16..31, 48..63) in tests/groups.rs and
-    // tests/nurbs.rs, the safety codes (32..47) in tests/safety.rs.
-    for code in NackCode::ALL.iter().filter(|c| (**c as i32) < 16) {
+    // tests/nurbs.rs, the safety codes (32..47) in tests/safety.rs. PlanCheck is the card's
+    // check of its own plans: no input reaches it through a correct planner (the planner's
+    // property tests in card-emu's scurve module hold it).
+    for code in NackCode::ALL
+        .iter()
+        .filter(|c| (**c as i32) < 16 && **c != NackCode::PlanCheck)
+    {
         assert!(seen.contains(code), "{code:?} never provoked");
     }
     // Nothing moved: every refused move left the axis where it was.
@@ -194,10 +224,16 @@ fn sdk_refuses_bad_arguments_before_the_card_sees_them() {
         ax.halt(-1.0, 1e6).err().unwrap().kind(),
         ErrorKind::NonPositiveLimit
     );
-    assert_eq!(
-        ax.set_scale(0.0).unwrap_err().kind(),
-        ErrorKind::NonPositiveLimit
-    );
+    // Zero, subnormal and absurd scales are refused; a negative one is a direction.
+    for bad in [0.0, 1e-320, 1e-300, -1e-12, 1e300] {
+        assert_eq!(
+            ax.set_scale(bad).unwrap_err().kind(),
+            ErrorKind::BadConfig,
+            "{bad:e}"
+        );
+    }
+    ax.set_scale(-2.5).unwrap();
+    ax.set_scale(1.0).unwrap();
     let mut cfg = motioncard::AxisSettings {
         kp: f64::NAN,
         ..Default::default()

@@ -16,6 +16,14 @@ fn serve(name: &str, emu: Emulator) -> (Server, Runner) {
     )
 }
 
+/// Serve a card whose firmware does not run (nothing rewrites its window): what a test writes
+/// into the identity block stays there.
+fn serve_frozen(name: &str, emu: &Emulator) -> Server {
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    Server::start(name, window, irq).unwrap()
+}
+
 fn unique(tag: &str) -> String {
     format!("test-{tag}-{}", std::process::id())
 }
@@ -89,7 +97,7 @@ fn a_card_with_another_layout_major_is_refused_naming_both_versions() {
     let name = unique("version");
     let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
     emu.window().write32(layout::LAYOUT, 7 | 3 << 16); // layout 7.3
-    let (_server, _runner) = serve(&name, emu);
+    let _server = serve_frozen(&name, &emu);
     let e = Card::open(&format!("emu:{name}")).err().unwrap();
     assert_eq!(e.kind(), ErrorKind::VersionMismatch);
     let msg = e.to_string();
@@ -109,11 +117,37 @@ fn a_window_without_the_signature_is_a_protocol_error() {
     let name = unique("magic");
     let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
     emu.window().write32(layout::MAGIC, 0xDEAD_BEEF);
-    let (_server, _runner) = serve(&name, emu);
+    let _server = serve_frozen(&name, &emu);
     assert_eq!(
         Card::open(&format!("emu:{name}")).err().unwrap().kind(),
         ErrorKind::Protocol
     );
+}
+
+/// The card owns its identity block and republishes it every tick: one stray write into it (by
+/// anything that maps the window) does not lock every later host out until a restart.
+#[test]
+fn a_stray_write_to_the_identity_block_is_repaired_by_the_card() {
+    let name = unique("identity");
+    let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
+    let window = emu.window().clone();
+    let (_server, _runner) = serve(&name, emu);
+    let uri = format!("emu:{name}");
+    drop(Card::open(&uri).unwrap());
+    for (off, junk) in [
+        (layout::MAGIC, 0xDEAD_BEEF),
+        (layout::LAYOUT, 7 | 3 << 16),
+        (layout::NUM_AXES, 0),
+        (layout::CMD_RING_LEN, 3),
+    ] {
+        window.write32(off, junk);
+        let t = window.read64(layout::TICK);
+        while window.read64(layout::TICK) < t + 2 {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let card = Card::open(&uri).unwrap_or_else(|e| panic!("after junk at {off}: {e}"));
+        assert_eq!(card.info().axes, firmware_proto::MAX_AXES);
+    }
 }
 
 /// The real-time sim answers through the interrupt fd: a wait with a timeout returns by it.

@@ -38,22 +38,22 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     }
     sim.step(3000); // cruising at 300,000 counts/s
     assert!(axes[0].status().unwrap().command_velocity == 300_000.0);
-    assert!(card.safety_status().watchdog_armed);
+    assert!(card.safety_status().unwrap().watchdog_armed);
     events(&card);
 
     card.set_heartbeat(false);
-    let timeout = ticks_of(&card, 0.005);
+    let timeout = ticks_of(&card, motioncard::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64());
     let mut tripped = None;
     for n in 1..=timeout + 2 {
         sim.step(1);
-        if card.safety_status().watchdog_tripped {
+        if card.safety_status().unwrap().watchdog_tripped {
             tripped = Some(n);
             break;
         }
     }
-    let st = card.safety_status();
+    let st = card.safety_status().unwrap();
     // The card last saw the heartbeat the tick before we stopped it; it trips the first tick
-    // the heartbeat is 5 ms old.
+    // the heartbeat is as old as the default timeout.
     assert_eq!(tripped, Some(timeout), "tripped after {tripped:?} ticks");
     assert_eq!(st.watchdog_trip_tick - st.last_heartbeat_tick, timeout);
     assert_eq!(st.trip_heartbeat_tick, st.last_heartbeat_tick);
@@ -99,7 +99,7 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     // The heartbeat comes back: still latched.
     card.set_heartbeat(true);
     sim.step(100);
-    assert!(card.safety_status().watchdog_tripped);
+    assert!(card.safety_status().unwrap().watchdog_tripped);
     assert_eq!(
         card.axis(1).unwrap().enable().unwrap_err().kind(),
         ErrorKind::WatchdogTripped
@@ -110,7 +110,7 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     );
     // A reset without a live heartbeat is refused.
     card.set_heartbeat(false);
-    sim.step(100);
+    sim.step(ticks_of(&card, 0.11));
     assert_eq!(
         card.reset_faults().unwrap_err().kind(),
         ErrorKind::CauseActive
@@ -118,7 +118,7 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     card.set_heartbeat(true);
     sim.step(1);
     card.reset_faults().unwrap();
-    assert!(!card.safety_status().watchdog_tripped);
+    assert!(!card.safety_status().unwrap().watchdog_tripped);
     for ax in &axes {
         assert_eq!(ax.status().unwrap().state, AxisState::Disabled);
         ax.enable().unwrap();
@@ -150,9 +150,9 @@ fn watchdog_timeout_under_1_5_host_periods_or_zero_is_refused() {
     card.set_heartbeat(false);
     let sim = card.sim().unwrap();
     sim.step(ticks_of(&card, 0.0015));
-    assert!(!card.safety_status().watchdog_tripped);
+    assert!(!card.safety_status().unwrap().watchdog_tripped);
     sim.step(1);
-    assert!(card.safety_status().watchdog_tripped);
+    assert!(card.safety_status().unwrap().watchdog_tripped);
 }
 
 /// The LinuxCNC rule with the card's configuration, from a status snapshot.
@@ -439,7 +439,8 @@ fn estop_categories_0_1_2_for_all_axes_and_the_input() {
             cat != StopCategory::Cat0,
             "{cat:?}"
         );
-        sim.step(10_000);
+        // Unpowered axes coast: at rest once still, at the latest at the maximum stop time.
+        sim.step(21_000);
         for ax in &axes {
             let s = ax.status().unwrap();
             assert_eq!(s.state, AxisState::ErrorStop);
@@ -450,7 +451,7 @@ fn estop_categories_0_1_2_for_all_axes_and_the_input() {
                 assert!(s.following_error.abs() <= 2.0, "holds position");
             }
         }
-        assert!(card.safety_status().estop_command);
+        assert!(card.safety_status().unwrap().estop_command);
         assert_eq!(axes[0].reset().unwrap_err().kind(), ErrorKind::EStopActive);
         card.reset_faults().unwrap();
         let want = if cat == StopCategory::Cat2 {
@@ -473,7 +474,7 @@ fn estop_categories_0_1_2_for_all_axes_and_the_input() {
     let s = ax.status().unwrap();
     assert_eq!(s.stop_reason(), Some(StopReason::EStopInput));
     assert!(!s.drive_enabled() && s.io() & io::ESTOP != 0);
-    sim.step(10_000);
+    sim.step(21_000);
     assert_eq!(
         card.reset_faults().unwrap_err().kind(),
         ErrorKind::CauseActive
@@ -640,8 +641,36 @@ fn every_safety_nack_code_is_provoked_by_its_own_fault() {
     card.estop(StopCategory::Cat1).unwrap();
     expect(NackCode::EStopActive, ax.reset().err().map(nack));
     card.reset_faults().unwrap();
+    // A stop ramp that could not stop the axis from its max velocity within the card's
+    // maximum stop time (2 s): 10^6 counts/s at 10^5 counts/s^2 takes 10 s.
+    expect(
+        NackCode::StopTooLong,
+        ax.configure_safety(&SafetySettings {
+            stop_deceleration: 1e5,
+            ..Default::default()
+        })
+        .err()
+        .map(nack),
+    );
+    assert_eq!(
+        card.set_max_stop_time(Duration::from_millis(5))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::StopTooLong
+    );
+    // The default ramp from 10^6 counts/s takes 0.21 s: a 0.1 s bound cannot hold it.
+    assert_eq!(
+        card.set_max_stop_time(Duration::from_millis(100))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::StopTooLong
+    );
+    // Only the attached host detaches.
+    let mut detach = Command::new(Opcode::HostDetach, 0);
+    detach.flags = card.safety_status().unwrap().session ^ 1;
+    expect(NackCode::Session, raw(detach));
     card.set_heartbeat(false);
-    sim.step(100);
+    sim.step(ticks_of(&card, 0.11));
     expect(NackCode::WatchdogTripped, ax.enable().err().map(nack));
     for code in NackCode::ALL
         .iter()
@@ -683,7 +712,7 @@ fn corrupt_command_ring_stops_the_axes_with_its_own_reason() {
     let s = ax.status().unwrap();
     assert_eq!(s.state, AxisState::ErrorStop);
     assert_eq!(s.stop_reason(), Some(StopReason::CmdRing));
-    assert_eq!(card.safety_status().protocol_errors, 1);
+    assert_eq!(card.safety_status().unwrap().protocol_errors, 1);
 }
 
 /// A member of a moving group trips: the other members make the same category of stop in the
@@ -745,7 +774,7 @@ fn a_member_trip_stops_its_whole_group_the_same_way() {
 
     // Back: the axes' resets, power, then the group's reset.
     sim.with_emulator(|e| e.faults().stall(1, false));
-    sim.step(ticks_of(&card, 1.5)); // X coasts to rest
+    sim.step(ticks_of(&card, 2.1)); // X coasts to rest (or the maximum stop time passes)
     assert_eq!(g.reset().unwrap_err().kind(), ErrorKind::InvalidState);
     for ax in [&x, &y] {
         ax.reset().unwrap();
