@@ -174,8 +174,15 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
         ConnectError::Protocol(m) => Error::Protocol(format!("{uri}: {m}")),
         ConnectError::Io(e) => Error::io(format!("connecting to {uri}"), e),
     })?;
-    let window = MappedWindow::from_fd(conn.window)
-        .map_err(|e| Error::io(format!("mapping the DPRAM of {uri}"), e))?;
+    // An unsealed or short window is the server breaking the protocol: its size could change
+    // under our mapping (SIGBUS).
+    let window = MappedWindow::from_fd(conn.window).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::InvalidData {
+            Error::Protocol(format!("{uri}: {e}"))
+        } else {
+            Error::io(format!("mapping the DPRAM of {uri}"), e)
+        }
+    })?;
     Ok(Device {
         window: Arc::new(window),
         irq: Irq::EventFd(conn.irq),
