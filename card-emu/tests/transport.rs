@@ -1,14 +1,25 @@
-//! The `emu:` transport's protections (issue 10, section 3): a DPRAM window whose size no host
+//! The `emu:` transport's protections (issue 10, section 3): who may connect to a served card
+//! (the peer's credentials against card-emu's policy), and a DPRAM window whose size no host
 //! can change.
+//!
+//! The cross-user tests need root, to run a host as another user: this test binary runs again
+//! with `MC_TRANSPORT_PEER` set, as uid 65534 (nobody), and its `peer_role` test opens the
+//! card and prints what happened. Without root they say so and check what they can in-process.
 use card_emu::server::{self, ConnectError, Server};
 use card_emu::shm::MappedWindow;
+use card_emu::{EmuOptions, Emulator};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
 use nix::errno::Errno;
 use nix::fcntl::{fcntl, FcntlArg, SealFlag};
-use nix::unistd::ftruncate;
+use nix::unistd::{ftruncate, Gid, Uid};
+use std::io::Read;
 use std::os::fd::AsFd;
+use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+
+const ROLE: &str = "MC_TRANSPORT_PEER";
+const NOBODY: u32 = 65534;
 
 struct Emu(Child);
 
@@ -18,13 +29,25 @@ impl Emu {
             .args(["--name", name, "--axes", "2"])
             .args(extra)
             .stdout(Stdio::null())
+            .stderr(Stdio::piped())
             .spawn()
             .expect("start card-emu");
         let emu = Emu(child);
-        // Ready once this process has connected. No SDK host: its heartbeat would arm the
-        // watchdog, which would trip when it closes.
+        // Ready once this process (its own user, always admitted) has connected. No SDK host:
+        // its heartbeat would arm the watchdog, which would trip when it closes.
         drop(connect_when_ready(name));
         emu
+    }
+
+    /// Kill it and return what it wrote on stderr.
+    fn stop(mut self) -> String {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+        let mut err = String::new();
+        if let Some(mut e) = self.0.stderr.take() {
+            let _ = e.read_to_string(&mut err);
+        }
+        err
     }
 }
 
@@ -72,6 +95,176 @@ fn try_open(uri: &str) -> motioncard_sdk::Result<Card> {
 
 fn open_when_ready(uri: &str) -> Card {
     try_open(uri).unwrap_or_else(|e| panic!("opening {uri}: {e}"))
+}
+
+/// The host run as another user (only when started by the tests below): open the card,
+/// drive it a little, and say how it went.
+#[test]
+fn peer_role() {
+    let Ok(uri) = std::env::var(ROLE) else {
+        return;
+    };
+    match try_open(&uri) {
+        Ok(card) => {
+            card.ping().unwrap();
+            card.reset_faults().unwrap(); // the watchdog trip of an earlier peer
+            let ax = card.axis(0).unwrap();
+            ax.enable().unwrap();
+            ax.disable().unwrap();
+            println!("\nPEER-OPENED");
+        }
+        Err(e) => println!("\nPEER-ERROR {:?}: {e}", e.kind()),
+    }
+}
+
+fn is_root() -> bool {
+    nix::unistd::geteuid().is_root()
+}
+
+/// Run `peer_role` as `uid`, with effective gid `gid` and supplementary `groups`; its verdict
+/// line.
+fn peer(uri: &str, uid: u32, gid: u32, groups: &[u32]) -> String {
+    let groups: Vec<Gid> = groups.iter().map(|&g| Gid::from_raw(g)).collect();
+    let mut cmd = Command::new(std::env::current_exe().unwrap());
+    cmd.args(["--exact", "peer_role", "--nocapture", "--test-threads=1"])
+        .env(ROLE, uri)
+        .stderr(Stdio::inherit());
+    // SAFETY: between fork and exec the closure only makes the three system calls (the group
+    // list was built before the fork; nothing allocates). std's `uid()` would drop the
+    // supplementary groups, and its `groups()` is unstable.
+    unsafe {
+        cmd.pre_exec(move || {
+            nix::unistd::setgroups(&groups)?;
+            nix::unistd::setgid(Gid::from_raw(gid))?;
+            nix::unistd::setuid(Uid::from_raw(uid))?;
+            Ok(())
+        });
+    }
+    let out = cmd.output().expect("run the peer");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    stdout
+        .lines()
+        .find(|l| l.starts_with("PEER-"))
+        .unwrap_or_else(|| panic!("the peer said nothing ({:?}): {stdout}", out.status))
+        .to_string()
+}
+
+fn skip(what: &str) -> bool {
+    if is_root() {
+        return false;
+    }
+    println!("{what}: skipped, running as another user needs root (CI runs as root)");
+    true
+}
+
+#[test]
+fn a_host_of_another_user_is_refused_with_permission_denied() {
+    let name = format!("acl-deny-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    if !is_root() {
+        skip("the cross-user part");
+        // What a refused host sees, without a second user: a server whose policy belongs to
+        // another uid, in this process.
+        let me = nix::unistd::geteuid().as_raw();
+        let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
+        let window = emu.window().fd().try_clone_to_owned().unwrap();
+        let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+        let policy = server::PeerPolicy::new(me + 1);
+        let _server = Server::start_with(&name, window, irq, policy).unwrap();
+        let e = Card::open(&uri).err().unwrap();
+        assert_eq!(e.kind(), ErrorKind::PermissionDenied, "{e}");
+        assert!(e.to_string().contains(&format!("--allow-uid {me}")), "{e}");
+        return;
+    }
+    let emu = Emu::start(&name, &[]);
+    let got = peer(&uri, NOBODY, NOBODY, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+    assert!(got.contains("refused uid 65534"), "{got}");
+    assert!(got.contains("--allow-uid 65534"), "{got}");
+    // This user still opens it.
+    open_when_ready(&uri).ping().unwrap();
+    // The operator sees who was refused, once.
+    let _ = peer(&uri, NOBODY, NOBODY, &[]);
+    let log = emu.stop();
+    assert_eq!(
+        log.matches("refused a host with uid 65534").count(),
+        1,
+        "{log}"
+    );
+    assert!(log.contains("--allow-uid 65534"), "{log}");
+}
+
+#[test]
+fn an_allowed_uid_is_admitted() {
+    if skip("an_allowed_uid_is_admitted") {
+        return;
+    }
+    let name = format!("acl-uid-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let _emu = Emu::start(&name, &["--allow-uid", "65534", "--allow-uid", "4321"]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[]), "PEER-OPENED");
+    let got = peer(&uri, 4322, NOBODY, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+}
+
+#[test]
+fn an_allowed_group_admits_by_effective_or_supplementary_gid() {
+    if skip("an_allowed_group_admits_by_effective_or_supplementary_gid") {
+        return;
+    }
+    // By name: whatever gid 65534 is called here (nogroup, nobody), else by number.
+    let nogroup = nix::unistd::Group::from_gid(Gid::from_raw(NOBODY))
+        .ok()
+        .flatten()
+        .map_or_else(|| NOBODY.to_string(), |g| g.name);
+    let name = format!("acl-gid-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let emu = Emu::start(&name, &["--allow-group", &nogroup]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[]), "PEER-OPENED");
+    let got = peer(&uri, NOBODY, 4242, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+    drop(emu);
+
+    let name = format!("acl-groups-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let _emu = Emu::start(&name, &["--allow-group", "4242"]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[4242]), "PEER-OPENED");
+    assert_eq!(peer(&uri, NOBODY, 4242, &[]), "PEER-OPENED");
+    let got = peer(&uri, NOBODY, NOBODY, &[4241, 4243]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+}
+
+#[test]
+fn an_unknown_group_is_refused_at_startup() {
+    let out = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .args([
+            "--name",
+            "never-served",
+            "--allow-group",
+            "no-such-group-mc",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no group named 'no-such-group-mc'"), "{err}");
+}
+
+#[test]
+fn the_help_states_the_access_rule() {
+    let out = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .arg("--help")
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "--allow-uid <UID>",
+        "--allow-group <GROUP>",
+        "own user",
+        "root",
+    ] {
+        assert!(help.contains(needle), "no '{needle}' in:\n{help}");
+    }
 }
 
 /// A connected host tries to resize the window it received: both fail with EPERM, and the

@@ -171,6 +171,14 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
             ),
         },
         ConnectError::Busy => Error::Busy { uri: uri.into() },
+        ConnectError::Denied { uid } => Error::PermissionDenied {
+            uri: uri.into(),
+            reason: format!(
+                "card-emu refused uid {uid}; it admits its own user, root, and the users and \
+                 groups its operator allows: restart it with `--allow-uid {uid}` (or \
+                 `--allow-group GROUP` for a group of this user)"
+            ),
+        },
         ConnectError::Protocol(m) => Error::Protocol(format!("{uri}: {m}")),
         ConnectError::Io(e) => Error::io(format!("connecting to {uri}"), e),
     })?;
