@@ -19,6 +19,31 @@
 //! that group. A refused peer gets the greeting status "denied" with its uid, no descriptors,
 //! and the connection is closed; it never takes the lease, so it cannot keep other hosts out
 //! either.
+//!
+//! # What the lease protects, and what it does not
+//!
+//! The lease keeps a second *SDK host* out: only the process holding the connection received
+//! the window from the server. It is not a wall around the window. A process that may open
+//! `/proc/PID/fd/N` of the card-emu process or of the host (the kernel's ptrace read-access
+//! check: in practice the same user, or root) can map the same memfd and write anything into
+//! it, and the card cannot tell its writes from the host's. The card then does what it does
+//! with any host:
+//! - every command is validated, and an invalid one is nacked without effect; a well-formed
+//!   one is executed whoever wrote it, and a write to the heartbeat feeds the watchdog;
+//! - configuration blocks are validated when a command applies them;
+//! - a command ring whose head is more than the ring's length past the card's tail is not
+//!   followed: the card drops its entries, stops every axis that is not disabled (category 1,
+//!   or 0 where no ramp can be planned; each ends in ErrorStop), counts it in
+//!   `protocol_errors`, and posts a protocol-error event and a safety-stop event
+//!   (`Firmware::serve_commands` → `Safety::protocol_error`);
+//! - inconsistent event-ring indices stop every axis the same way at the next tick
+//!   (`StopReason::EvtRing`); the events it cannot post are counted in `events_lost`;
+//! - card-written fields (status blocks, events) can be overwritten too: the SDK's checks
+//!   (magic, checksums, indices, state values) catch garbage, not a writer that computes the
+//!   checksums.
+//!
+//! Nobody can resize the window: its seals ([`crate::shm::WINDOW_SEALS`]) make `ftruncate`
+//! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
 use nix::sys::socket::{
     getsockopt, recvmsg, sendmsg, sockopt, ControlMessage, ControlMessageOwned, MsgFlags,
