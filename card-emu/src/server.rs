@@ -7,8 +7,48 @@
 //! the same memory. The connection is the host's lease: while it is open, other hosts are
 //! answered "busy"; when it closes (the host exited or was killed) the card can be opened
 //! again. The card itself keeps running either way, like hardware.
+//!
+//! # Who may connect
+//!
+//! An abstract socket has no file, so no file permissions: any process in the network
+//! namespace can connect. The server therefore checks each peer's credentials as the kernel
+//! recorded them at `connect()` (`SO_PEERCRED`: effective uid and gid; `SO_PEERGROUPS`: the
+//! supplementary groups) against a [`PeerPolicy`] before anything else: its own effective uid
+//! and root are admitted, and the uids and groups the operator adds (`card-emu --allow-uid`,
+//! `--allow-group`); a group admits a peer whose effective gid or any supplementary group is
+//! that group. A refused peer gets the greeting status "denied" with its uid, no descriptors,
+//! and the connection is closed; it never takes the lease, so it cannot keep other hosts out
+//! either.
+//!
+//! # What the lease protects, and what it does not
+//!
+//! The lease keeps a second *SDK host* out: only the process holding the connection received
+//! the window from the server. It is not a wall around the window. A process that may open
+//! `/proc/PID/fd/N` of the card-emu process or of the host (the kernel's ptrace read-access
+//! check: in practice the same user, or root) can map the same memfd and write anything into
+//! it, and the card cannot tell its writes from the host's. The card then does what it does
+//! with any host:
+//! - every command is validated, and an invalid one is nacked without effect; a well-formed
+//!   one is executed whoever wrote it, and a write to the heartbeat feeds the watchdog;
+//! - configuration blocks are validated when a command applies them;
+//! - a command ring whose head is more than the ring's length past the card's tail is not
+//!   followed: the card drops its entries, stops every axis that is not disabled (category 1,
+//!   or 0 where no ramp can be planned; each ends in ErrorStop), counts it in
+//!   `protocol_errors`, and posts a protocol-error event and a safety-stop event
+//!   (`Firmware::serve_commands` → `Safety::protocol_error`);
+//! - inconsistent event-ring indices stop every axis the same way at the next tick
+//!   (`StopReason::EvtRing`); the events it cannot post are counted in `events_lost`;
+//! - card-written fields (status blocks, events) can be overwritten too: the SDK's checks
+//!   (magic, checksums, indices, state values) catch garbage, not a writer that computes the
+//!   checksums.
+//!
+//! Nobody can resize the window: its seals ([`crate::shm::WINDOW_SEALS`]) make `ftruncate`
+//! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
-use nix::sys::socket::{recvmsg, sendmsg, ControlMessage, ControlMessageOwned, MsgFlags};
+use nix::sys::socket::{
+    getsockopt, recvmsg, sendmsg, sockopt, ControlMessage, ControlMessageOwned, MsgFlags,
+};
+use std::collections::BTreeSet;
 use std::io::{IoSlice, IoSliceMut, Read};
 use std::os::fd::{AsFd, AsRawFd, FromRawFd, OwnedFd, RawFd};
 use std::os::linux::net::SocketAddrExt;
@@ -16,19 +56,164 @@ use std::os::unix::net::{SocketAddr, UnixListener, UnixStream};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+/// The greeting: magic and version (8 bytes), status (u32 LE), one status-specific word
+/// (u32 LE: the refused uid for [`STATUS_DENIED`], else 0).
 const HELLO: [u8; 8] = *b"MCEMU\x01\0\0";
 const STATUS_OK: u32 = 0;
 const STATUS_BUSY: u32 = 1;
+/// The peer's credentials are not admitted by the server's [`PeerPolicy`].
+const STATUS_DENIED: u32 = 2;
+
+/// A connecting process's credentials, as the kernel recorded them when it called `connect()`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PeerCred {
+    /// Effective user id.
+    pub uid: u32,
+    /// Effective group id.
+    pub gid: u32,
+    /// Process id (for the log only: it may be gone or reused by now).
+    pub pid: i32,
+    /// Supplementary groups.
+    pub groups: Vec<u32>,
+}
+
+// SO_PEERGROUPS (Linux 4.13) is not in the libc crate for every target; its value is 59
+// everywhere but SPARC.
+#[cfg(any(target_arch = "sparc", target_arch = "sparc64"))]
+const SO_PEERGROUPS: nix::libc::c_int = 0x3d;
+#[cfg(not(any(target_arch = "sparc", target_arch = "sparc64")))]
+const SO_PEERGROUPS: nix::libc::c_int = 59;
+
+impl PeerCred {
+    /// The credentials of the process at the other end of `stream`.
+    pub fn of(stream: &UnixStream) -> std::io::Result<Self> {
+        let c = getsockopt(stream, sockopt::PeerCredentials)?;
+        Ok(Self {
+            uid: c.uid(),
+            gid: c.gid(),
+            pid: c.pid(),
+            groups: peer_groups(stream)?,
+        })
+    }
+}
+
+fn peer_groups(stream: &UnixStream) -> std::io::Result<Vec<u32>> {
+    let mut groups: Vec<nix::libc::gid_t> = vec![0; 64];
+    loop {
+        let mut len = (groups.len() * size_of::<nix::libc::gid_t>()) as nix::libc::socklen_t;
+        // SAFETY: the buffer is `len` bytes of writable, aligned gid_t storage; the kernel
+        // writes at most `len` bytes and sets `len` to what it wrote (or needs, with ERANGE).
+        let r = unsafe {
+            nix::libc::getsockopt(
+                stream.as_raw_fd(),
+                nix::libc::SOL_SOCKET,
+                SO_PEERGROUPS,
+                groups.as_mut_ptr().cast(),
+                &mut len,
+            )
+        };
+        let n = len as usize / size_of::<nix::libc::gid_t>();
+        if r == 0 {
+            groups.truncate(n);
+            return Ok(groups);
+        }
+        let e = std::io::Error::last_os_error();
+        match e.raw_os_error() {
+            Some(nix::libc::ERANGE) if n > groups.len() && n <= 1 << 16 => groups.resize(n, 0),
+            _ => return Err(e),
+        }
+    }
+}
+
+/// Who may connect to a served card: the server's own user and root always, plus the uids
+/// and groups the operator allows. Pure: [`PeerPolicy::admits`] only compares numbers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PeerPolicy {
+    owner: u32,
+    uids: BTreeSet<u32>,
+    gids: BTreeSet<u32>,
+}
+
+impl PeerPolicy {
+    /// Admit `owner` (the server's effective uid) and root only.
+    pub fn new(owner: u32) -> Self {
+        Self {
+            owner,
+            uids: BTreeSet::new(),
+            gids: BTreeSet::new(),
+        }
+    }
+
+    /// Admit the user of this process (its effective uid) and root only.
+    pub fn this_user() -> Self {
+        Self::new(nix::unistd::geteuid().as_raw())
+    }
+
+    /// Also admit user `uid`.
+    pub fn allow_uid(mut self, uid: u32) -> Self {
+        self.uids.insert(uid);
+        self
+    }
+
+    /// Also admit every peer whose effective gid or one of whose supplementary groups is
+    /// `gid`.
+    pub fn allow_gid(mut self, gid: u32) -> Self {
+        self.gids.insert(gid);
+        self
+    }
+
+    /// The server's own uid.
+    pub fn owner(&self) -> u32 {
+        self.owner
+    }
+
+    /// May `peer` connect?
+    pub fn admits(&self, peer: &PeerCred) -> bool {
+        peer.uid == self.owner
+            || peer.uid == 0
+            || self.uids.contains(&peer.uid)
+            || self.gids.contains(&peer.gid)
+            || peer.groups.iter().any(|g| self.gids.contains(g))
+    }
+}
+
+impl std::fmt::Display for PeerPolicy {
+    /// "uid 1000, root, uids 33 65534, groups 27".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "uid {}, root", self.owner)?;
+        let list = |s: &BTreeSet<u32>| s.iter().map(u32::to_string).collect::<Vec<_>>().join(" ");
+        if !self.uids.is_empty() {
+            write!(f, ", uids {}", list(&self.uids))?;
+        }
+        if !self.gids.is_empty() {
+            write!(f, ", groups {}", list(&self.gids))?;
+        }
+        Ok(())
+    }
+}
+
+/// A group given by name or number (`card-emu --allow-group`) as its gid.
+pub fn resolve_group(group: &str) -> Result<u32, String> {
+    if let Ok(gid) = group.parse::<u32>() {
+        return Ok(gid);
+    }
+    match nix::unistd::Group::from_name(group) {
+        Ok(Some(g)) => Ok(g.gid.as_raw()),
+        Ok(None) => Err(format!("no group named '{group}'")),
+        Err(e) => Err(format!("looking up group '{group}': {e}")),
+    }
+}
 
 /// The abstract socket name of card `name`.
 pub fn socket_name(name: &str) -> String {
     format!("motioncard/{name}")
 }
 
-fn hello(status: u32) -> [u8; 16] {
+fn hello(status: u32, word: u32) -> [u8; 16] {
     let mut m = [0u8; 16];
     m[..8].copy_from_slice(&HELLO);
     m[8..12].copy_from_slice(&status.to_le_bytes());
+    m[12..16].copy_from_slice(&word.to_le_bytes());
     m
 }
 
@@ -39,6 +224,12 @@ pub enum ConnectError {
     NotFound,
     /// Another host holds the card.
     Busy,
+    /// The server's [`PeerPolicy`] does not admit this process; `uid` is the effective uid
+    /// the server saw.
+    Denied {
+        /// The refused uid.
+        uid: u32,
+    },
     /// The peer does not speak this protocol.
     Protocol(String),
     /// Any other I/O failure.
@@ -98,6 +289,10 @@ pub fn connect(name: &str) -> Result<Connection, ConnectError> {
     match u32::from_le_bytes([buf[8], buf[9], buf[10], buf[11]]) {
         STATUS_OK => {}
         STATUS_BUSY => return Err(ConnectError::Busy),
+        STATUS_DENIED => {
+            let uid = u32::from_le_bytes([buf[12], buf[13], buf[14], buf[15]]);
+            return Err(ConnectError::Denied { uid });
+        }
         s => return Err(ConnectError::Protocol(format!("unknown status {s}"))),
     }
     if fds.len() != 2 {
@@ -122,21 +317,56 @@ pub struct Server {
 }
 
 impl Server {
-    /// Listen for card `name`, handing out `window` and `irq`. Fails with `AddrInUse` when a
-    /// card of that name is already served.
+    /// Listen for card `name`, handing out `window` and `irq` to this user and root
+    /// ([`PeerPolicy::this_user`]). Fails with `AddrInUse` when a card of that name is already
+    /// served.
     pub fn start(name: &str, window: OwnedFd, irq: OwnedFd) -> std::io::Result<Self> {
+        Self::start_with(name, window, irq, PeerPolicy::this_user())
+    }
+
+    /// [`Server::start`], admitting the peers `policy` admits.
+    pub fn start_with(
+        name: &str,
+        window: OwnedFd,
+        irq: OwnedFd,
+        policy: PeerPolicy,
+    ) -> std::io::Result<Self> {
         let addr = SocketAddr::from_abstract_name(socket_name(name).as_bytes())?;
         let listener = UnixListener::bind_addr(&addr)?;
         let leased = Arc::new(AtomicBool::new(false));
+        let mut logged = BTreeSet::new();
         std::thread::Builder::new()
             .name("card-emu-accept".into())
             .spawn(move || {
                 for stream in listener.incoming() {
                     let Ok(stream) = stream else { continue };
+                    // Credentials first: a refused peer learns nothing, not even "busy".
+                    let Ok(peer) = PeerCred::of(&stream) else {
+                        continue;
+                    };
+                    if !policy.admits(&peer) {
+                        let _ = sendmsg::<()>(
+                            stream.as_raw_fd(),
+                            &[IoSlice::new(&hello(STATUS_DENIED, peer.uid))],
+                            &[],
+                            MsgFlags::empty(),
+                            None,
+                        );
+                        // Once per uid (and at most 64 uids), so a peer that keeps connecting
+                        // cannot fill a log nobody reads and block this thread on it.
+                        if logged.len() < 64 && logged.insert(peer.uid) {
+                            eprintln!(
+                                "card-emu: refused a host with uid {} gid {} (pid {}): this card \
+                                 admits {policy}; allow it with --allow-uid {} or --allow-group",
+                                peer.uid, peer.gid, peer.pid, peer.uid
+                            );
+                        }
+                        continue;
+                    }
                     if leased.swap(true, Ordering::AcqRel) {
                         let _ = sendmsg::<()>(
                             stream.as_raw_fd(),
-                            &[IoSlice::new(&hello(STATUS_BUSY))],
+                            &[IoSlice::new(&hello(STATUS_BUSY, 0))],
                             &[],
                             MsgFlags::empty(),
                             None,
@@ -146,7 +376,7 @@ impl Server {
                     let fds = [window.as_fd().as_raw_fd(), irq.as_fd().as_raw_fd()];
                     let sent = sendmsg::<()>(
                         stream.as_raw_fd(),
-                        &[IoSlice::new(&hello(STATUS_OK))],
+                        &[IoSlice::new(&hello(STATUS_OK, 0))],
                         &[ControlMessage::ScmRights(&fds)],
                         MsgFlags::empty(),
                         None,
@@ -173,5 +403,101 @@ impl Server {
     /// The card's name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn peer(uid: u32, gid: u32, groups: &[u32]) -> PeerCred {
+        PeerCred {
+            uid,
+            gid,
+            pid: 1,
+            groups: groups.to_vec(),
+        }
+    }
+
+    #[test]
+    fn the_owner_and_root_are_admitted_and_nobody_else_by_default() {
+        let p = PeerPolicy::new(1000);
+        assert!(p.admits(&peer(1000, 1000, &[])));
+        assert!(p.admits(&peer(1000, 5, &[6, 7])));
+        assert!(p.admits(&peer(0, 0, &[])));
+        assert!(!p.admits(&peer(65534, 65534, &[])));
+        assert!(
+            !p.admits(&peer(1001, 1000, &[1000])),
+            "the owner's gid is not a grant"
+        );
+        assert_eq!(p.to_string(), "uid 1000, root");
+    }
+
+    #[test]
+    fn allowed_uids_are_admitted() {
+        let p = PeerPolicy::new(0).allow_uid(65534).allow_uid(33);
+        assert!(p.admits(&peer(65534, 65534, &[])));
+        assert!(p.admits(&peer(33, 1, &[])));
+        assert!(!p.admits(&peer(34, 1, &[])));
+        assert!(!p.admits(&peer(1, 65534, &[65534])), "a uid is not a gid");
+        assert_eq!(p.to_string(), "uid 0, root, uids 33 65534");
+    }
+
+    #[test]
+    fn allowed_groups_admit_by_primary_or_supplementary_gid() {
+        let p = PeerPolicy::new(0).allow_gid(27);
+        assert!(p.admits(&peer(1000, 27, &[])));
+        assert!(p.admits(&peer(1000, 1000, &[4, 27, 100])));
+        assert!(!p.admits(&peer(1000, 1000, &[4, 100])));
+        assert!(!p.admits(&peer(27, 1000, &[])), "a gid is not a uid");
+        assert_eq!(p.to_string(), "uid 0, root, groups 27");
+    }
+
+    #[test]
+    fn groups_resolve_by_number_or_name() {
+        assert_eq!(resolve_group("4242"), Ok(4242));
+        assert_eq!(resolve_group("root"), Ok(0));
+        let e = resolve_group("no-such-group-motioncard").unwrap_err();
+        assert!(e.contains("no group named"), "{e}");
+    }
+
+    #[test]
+    fn peer_credentials_are_the_connecting_process() {
+        let (a, b) = UnixStream::pair().unwrap();
+        let c = PeerCred::of(&a).unwrap();
+        assert_eq!(c.uid, nix::unistd::geteuid().as_raw());
+        assert_eq!(c.gid, nix::unistd::getegid().as_raw());
+        assert_eq!(c.pid, std::process::id() as i32);
+        let mut mine: Vec<u32> = nix::unistd::getgroups()
+            .unwrap()
+            .iter()
+            .map(|g| g.as_raw())
+            .collect();
+        let mut theirs = c.groups.clone();
+        mine.sort_unstable();
+        theirs.sort_unstable();
+        assert_eq!(theirs, mine);
+        drop(b);
+    }
+
+    #[test]
+    fn a_refused_peer_is_told_its_uid_and_gets_no_descriptors() {
+        // A policy whose owner is not this process; as root (always admitted) only the
+        // greeting is checked below.
+        let me = nix::unistd::geteuid().as_raw();
+        let name = format!("policy-unit-{}", std::process::id());
+        let w = crate::shm::MappedWindow::create("policy-unit").unwrap();
+        let irq = w.fd().try_clone_to_owned().unwrap();
+        let window = w.fd().try_clone_to_owned().unwrap();
+        let _s =
+            Server::start_with(&name, window, irq, PeerPolicy::new(me.wrapping_add(1))).unwrap();
+        match connect(&name) {
+            Err(ConnectError::Denied { uid }) => {
+                assert_ne!(me, 0);
+                assert_eq!(uid, me);
+            }
+            Ok(_) => assert_eq!(me, 0, "only root passes a policy it does not own"),
+            Err(e) => panic!("{e:?}"),
+        }
     }
 }

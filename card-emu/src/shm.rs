@@ -1,12 +1,30 @@
 //! DPRAM windows backed by a shared mapping: a memfd the emulator creates and hands to the host,
 //! or any file (a UIO or sysfs resource) the host maps. Both sides map it with memmap2.
+//!
+//! The emulator's memfd is sealed at its size ([`WINDOW_SEALS`]: no shrinking, no growing, no
+//! more seals) before it is mapped or handed out. A process that maps a file touches pages past
+//! the file's end at its peril (SIGBUS), so a host that could shrink the memfd could kill the
+//! card; with the seals its `ftruncate` fails with `EPERM` and nothing changes. A host maps a
+//! received window only when it carries these seals ([`MappedWindow::from_fd`]), which also
+//! protects the host from a server that would shrink it.
 
 use firmware_proto::{Dpram, Mem, DPRAM_SIZE};
 use memmap2::{MmapOptions, MmapRaw};
+use nix::fcntl::{fcntl, FcntlArg, SealFlag};
 use nix::sys::memfd::{memfd_create, MFdFlags};
 use std::fs::File;
 use std::os::fd::{AsFd, BorrowedFd, OwnedFd};
 use std::sync::atomic::Ordering;
+
+/// The seals of an emulator's window: its size is fixed, and nobody can add a seal (such as
+/// `F_SEAL_FUTURE_WRITE`, which would keep later hosts from mapping it writable).
+pub const WINDOW_SEALS: SealFlag = SealFlag::F_SEAL_SHRINK
+    .union(SealFlag::F_SEAL_GROW)
+    .union(SealFlag::F_SEAL_SEAL);
+
+fn invalid(msg: String) -> std::io::Error {
+    std::io::Error::new(std::io::ErrorKind::InvalidData, msg)
+}
 
 /// A mapped DPRAM window. Keeps the mapping (and the file) alive.
 pub struct MappedWindow {
@@ -16,11 +34,16 @@ pub struct MappedWindow {
 }
 
 impl MappedWindow {
-    /// A new zeroed window in an anonymous memfd (the emulator's DPRAM).
+    /// A new zeroed window in an anonymous memfd (the emulator's DPRAM), sealed at its size
+    /// with [`WINDOW_SEALS`].
     pub fn create(name: &str) -> std::io::Result<Self> {
-        let fd = memfd_create(format!("motioncard-{name}").as_str(), MFdFlags::MFD_CLOEXEC)?;
+        let fd = memfd_create(
+            format!("motioncard-{name}").as_str(),
+            MFdFlags::MFD_CLOEXEC | MFdFlags::MFD_ALLOW_SEALING,
+        )?;
         let file = File::from(fd);
         file.set_len(DPRAM_SIZE as u64)?;
+        fcntl(&file, FcntlArg::F_ADD_SEALS(WINDOW_SEALS))?;
         Self::map(file, 0, DPRAM_SIZE)
     }
 
@@ -39,15 +62,30 @@ impl MappedWindow {
         })
     }
 
-    /// Map a window received as a file descriptor.
+    /// Map a window received from an emulator as a file descriptor. It must carry
+    /// [`WINDOW_SEALS`] (so its size cannot change under the mapping) and hold at least
+    /// [`DPRAM_SIZE`] bytes; else the error is `InvalidData` and nothing is mapped.
     pub fn from_fd(fd: OwnedFd) -> std::io::Result<Self> {
         let file = File::from(fd);
+        // The seals first: once the size is sealed, the size read next cannot change.
+        let seals = match fcntl(&file, FcntlArg::F_GET_SEALS) {
+            Ok(bits) => SealFlag::from_bits_retain(bits),
+            Err(nix::errno::Errno::EINVAL) => SealFlag::empty(), // not a sealable file
+            Err(e) => return Err(e.into()),
+        };
+        if !seals.contains(WINDOW_SEALS) {
+            return Err(invalid(format!(
+                "shared window is not sealed against resizing (seals {:#x}, needs {:#x}): \
+                 its size could change under the mapping",
+                seals.bits(),
+                WINDOW_SEALS.bits()
+            )));
+        }
         let len = file.metadata()?.len();
         if len < DPRAM_SIZE as u64 {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidData,
-                format!("shared window is {len} bytes, the layout needs {DPRAM_SIZE}"),
-            ));
+            return Err(invalid(format!(
+                "shared window is {len} bytes, the layout needs {DPRAM_SIZE}"
+            )));
         }
         Self::map(file, 0, DPRAM_SIZE)
     }
@@ -79,5 +117,58 @@ impl Mem for MappedWindow {
     #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         self.dpram.store64(off, val, order)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nix::errno::Errno;
+    use nix::unistd::ftruncate;
+
+    #[test]
+    fn the_emulator_window_is_sealed_at_its_size() {
+        let w = MappedWindow::create("seal-test").unwrap();
+        let seals = SealFlag::from_bits_retain(fcntl(w.fd(), FcntlArg::F_GET_SEALS).unwrap());
+        assert!(seals.contains(WINDOW_SEALS), "{seals:?}");
+        assert_eq!(ftruncate(w.fd(), 0), Err(Errno::EPERM));
+        assert_eq!(ftruncate(w.fd(), 2 * DPRAM_SIZE as i64), Err(Errno::EPERM));
+        let more = FcntlArg::F_ADD_SEALS(SealFlag::F_SEAL_FUTURE_WRITE);
+        assert_eq!(fcntl(w.fd(), more), Err(Errno::EPERM));
+        assert_eq!(w.file.metadata().unwrap().len(), DPRAM_SIZE as u64);
+        // And a host maps it.
+        let again = MappedWindow::from_fd(w.fd().try_clone_to_owned().unwrap()).unwrap();
+        again.store32(64, 7, Ordering::Relaxed);
+        assert_eq!(w.load32(64, Ordering::Relaxed), 7);
+    }
+
+    #[test]
+    fn a_host_refuses_an_unsealed_or_short_window() {
+        let unsealed = memfd_create("unsealed", MFdFlags::MFD_CLOEXEC).unwrap();
+        ftruncate(&unsealed, DPRAM_SIZE as i64).unwrap();
+        let e = MappedWindow::from_fd(unsealed).err().unwrap();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidData);
+        assert!(e.to_string().contains("not sealed"), "{e}");
+
+        // Sealable but only partly sealed: still refused.
+        let part =
+            memfd_create("part", MFdFlags::MFD_CLOEXEC | MFdFlags::MFD_ALLOW_SEALING).unwrap();
+        ftruncate(&part, DPRAM_SIZE as i64).unwrap();
+        fcntl(&part, FcntlArg::F_ADD_SEALS(SealFlag::F_SEAL_GROW)).unwrap();
+        let e = MappedWindow::from_fd(part).err().unwrap();
+        assert!(e.to_string().contains("not sealed"), "{e}");
+
+        // Sealed, but too small for the layout.
+        let short =
+            memfd_create("short", MFdFlags::MFD_CLOEXEC | MFdFlags::MFD_ALLOW_SEALING).unwrap();
+        ftruncate(&short, 4096).unwrap();
+        fcntl(&short, FcntlArg::F_ADD_SEALS(WINDOW_SEALS)).unwrap();
+        let e = MappedWindow::from_fd(short).err().unwrap();
+        assert!(e.to_string().contains("4096 bytes"), "{e}");
+
+        // A file that cannot carry seals at all.
+        let file = std::fs::File::open("/proc/self/status").unwrap();
+        let e = MappedWindow::from_fd(file.into()).err().unwrap();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidData);
     }
 }

@@ -182,11 +182,26 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
             ),
         },
         ConnectError::Busy => Error::Busy { uri: uri.into() },
+        ConnectError::Denied { uid } => Error::PermissionDenied {
+            uri: uri.into(),
+            reason: format!(
+                "card-emu refused uid {uid}; it admits its own user, root, and the users and \
+                 groups its operator allows: restart it with `--allow-uid {uid}` (or \
+                 `--allow-group GROUP` for a group of this user)"
+            ),
+        },
         ConnectError::Protocol(m) => Error::Protocol(format!("{uri}: {m}")),
         ConnectError::Io(e) => Error::io(format!("connecting to {uri}"), e),
     })?;
-    let window = MappedWindow::from_fd(conn.window)
-        .map_err(|e| Error::io(format!("mapping the DPRAM of {uri}"), e))?;
+    // An unsealed or short window is the server breaking the protocol: its size could change
+    // under our mapping (SIGBUS).
+    let window = MappedWindow::from_fd(conn.window).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::InvalidData {
+            Error::Protocol(format!("{uri}: {e}"))
+        } else {
+            Error::io(format!("mapping the DPRAM of {uri}"), e)
+        }
+    })?;
     Ok(Device {
         window: Arc::new(window),
         irq: Irq::EventFd(conn.irq),

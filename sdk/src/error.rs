@@ -242,6 +242,9 @@ pub enum Error {
     /// See [`ErrorKind::Busy`].
     #[error("card '{uri}' is in use by another process")]
     Busy { uri: String },
+    /// See [`ErrorKind::PermissionDenied`].
+    #[error("card '{uri}' refused this process: {reason}")]
+    PermissionDenied { uri: String, reason: String },
     /// See [`ErrorKind::VersionMismatch`].
     #[error("card DPRAM layout is version {card_major}.{card_minor}, this library speaks {lib_major}.{lib_minor}: the major versions must match")]
     VersionMismatch {
@@ -328,6 +331,7 @@ impl Error {
             Error::BadUri(_) => ErrorKind::BadUri,
             Error::NotFound { .. } => ErrorKind::NotFound,
             Error::Busy { .. } => ErrorKind::Busy,
+            Error::PermissionDenied { .. } => ErrorKind::PermissionDenied,
             Error::VersionMismatch { .. } => ErrorKind::VersionMismatch,
             Error::NotResponding(_) => ErrorKind::NotResponding,
             Error::Protocol(_) => ErrorKind::Protocol,

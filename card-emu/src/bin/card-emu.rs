@@ -1,11 +1,22 @@
 //! `card-emu`: serve an emulated motion card to other processes as `emu:NAME`.
-use card_emu::{server::Server, Clock, EmuOptions, Emulator, Runner};
+use card_emu::server::{resolve_group, PeerPolicy, Server};
+use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use clap::Parser;
 use std::os::fd::AsFd;
 
 /// Serve an emulated motion card. Hosts open it with the card URI `emu:NAME`.
+///
+/// Access: the card is served on the abstract Unix socket @motioncard/NAME, which has no file
+/// permissions, so card-emu checks who connects (the kernel's SO_PEERCRED/SO_PEERGROUPS
+/// credentials of the connecting process). It admits its own user (effective uid), root, every
+/// uid given with --allow-uid, and every process whose effective gid or one of whose
+/// supplementary groups is given with --allow-group. Any other process is refused: its
+/// `Card::open` fails with PermissionDenied (C: MC_ERR_PERMISSION_DENIED) and card-emu logs
+/// each refused uid once on stderr. One admitted host at a time holds the card (the others get
+/// "busy"); this keeps other SDK hosts out, not a process of the same user (or root) that maps
+/// the window through /proc/PID/fd.
 #[derive(Parser, Debug)]
-#[command(version, about)]
+#[command(version, about, long_about)]
 struct Args {
     /// The card's name (hosts open `emu:NAME`).
     #[arg(long, default_value = "card0")]
@@ -22,6 +33,14 @@ struct Args {
     /// Busy-poll the command ring between ticks instead of sleeping (lowest latency, one core).
     #[arg(long)]
     busy_poll: bool,
+    /// Also admit hosts running as this user id (repeatable). Its own user and root are always
+    /// admitted.
+    #[arg(long = "allow-uid", value_name = "UID")]
+    allow_uid: Vec<u32>,
+    /// Also admit hosts in this group, by name or gid (repeatable): a process whose effective
+    /// gid or one of whose supplementary groups it is.
+    #[arg(long = "allow-group", value_name = "GROUP", value_parser = resolve_group)]
+    allow_group: Vec<u32>,
 }
 
 fn main() -> std::process::ExitCode {
@@ -35,11 +54,16 @@ fn main() -> std::process::ExitCode {
         servo_rate_hz: args.servo_rate,
         ..EmuOptions::default()
     };
-    let run = || -> std::io::Result<(Server, Runner)> {
+    let run = || -> std::io::Result<(Server, Runner, PeerPolicy)> {
         let emu = Emulator::create(&args.name, &opts)?;
         let window = emu.window().fd().try_clone_to_owned()?;
         let irq = emu.irq_fd().as_fd().try_clone_to_owned()?;
-        let server = Server::start(&args.name, window, irq).map_err(|e| {
+        let policy = args
+            .allow_uid
+            .iter()
+            .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
+        let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
+        let server = Server::start_with(&args.name, window, irq, policy.clone()).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AddrInUse {
                 std::io::Error::new(
                     e.kind(),
@@ -50,12 +74,12 @@ fn main() -> std::process::ExitCode {
             }
         })?;
         let runner = Runner::spawn(emu, args.clock, args.busy_poll)?;
-        Ok((server, runner))
+        Ok((server, runner, policy))
     };
     match run() {
-        Ok((server, _runner)) => {
+        Ok((server, _runner, policy)) => {
             println!(
-                "card-emu: serving emu:{} ({} axes, {} Hz, {:?} clock{})",
+                "card-emu: serving emu:{} ({} axes, {} Hz, {:?} clock{}) to {policy}",
                 server.name(),
                 opts.axes,
                 opts.servo_rate_hz,

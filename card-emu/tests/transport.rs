@@ -1,0 +1,324 @@
+//! The `emu:` transport's protections (issue 10, section 3): who may connect to a served card
+//! (the peer's credentials against card-emu's policy), and a DPRAM window whose size no host
+//! can change.
+//!
+//! The cross-user tests need root, to run a host as another user: this test binary runs again
+//! with `MC_TRANSPORT_PEER` set, as uid 65534 (nobody), and its `peer_role` test opens the
+//! card and prints what happened. Without root they say so and check what they can in-process.
+use card_emu::server::{self, ConnectError, Server};
+use card_emu::shm::MappedWindow;
+use card_emu::{EmuOptions, Emulator};
+use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
+use nix::errno::Errno;
+use nix::fcntl::{fcntl, FcntlArg, SealFlag};
+use nix::unistd::{ftruncate, Gid, Uid};
+use std::io::Read;
+use std::os::fd::AsFd;
+use std::os::unix::process::CommandExt;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const ROLE: &str = "MC_TRANSPORT_PEER";
+const NOBODY: u32 = 65534;
+
+struct Emu(Child);
+
+impl Emu {
+    fn start(name: &str, extra: &[&str]) -> Self {
+        let child = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+            .args(["--name", name, "--axes", "2"])
+            .args(extra)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start card-emu");
+        let emu = Emu(child);
+        // Ready once this process (its own user, always admitted) has connected. No SDK host:
+        // its heartbeat would arm the watchdog, which would trip when it closes.
+        drop(connect_when_ready(name));
+        emu
+    }
+
+    /// Kill it and return what it wrote on stderr.
+    fn stop(mut self) -> String {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+        let mut err = String::new();
+        if let Some(mut e) = self.0.stderr.take() {
+            let _ = e.read_to_string(&mut err);
+        }
+        err
+    }
+}
+
+impl Drop for Emu {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn connect_when_ready(name: &str) -> server::Connection {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        match server::connect(name) {
+            Ok(c) => return c,
+            Err(ConnectError::NotFound | ConnectError::Busy) if Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(5))
+            }
+            Err(e) => panic!("connecting to {name}: {e:?}"),
+        }
+    }
+}
+
+fn len(fd: impl AsFd) -> u64 {
+    let f = std::fs::File::from(fd.as_fd().try_clone_to_owned().unwrap());
+    f.metadata().unwrap().len()
+}
+
+/// Open `uri`, waiting while it is not served yet or the previous host's lease is still
+/// being released.
+fn try_open(uri: &str) -> motioncard_sdk::Result<Card> {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        match Card::open(uri) {
+            Err(e)
+                if matches!(e.kind(), ErrorKind::NotFound | ErrorKind::Busy)
+                    && Instant::now() < deadline =>
+            {
+                std::thread::sleep(Duration::from_millis(5))
+            }
+            r => return r,
+        }
+    }
+}
+
+fn open_when_ready(uri: &str) -> Card {
+    try_open(uri).unwrap_or_else(|e| panic!("opening {uri}: {e}"))
+}
+
+/// The host run as another user (only when started by the tests below): open the card,
+/// drive it a little, and say how it went.
+#[test]
+fn peer_role() {
+    let Ok(uri) = std::env::var(ROLE) else {
+        return;
+    };
+    match try_open(&uri) {
+        Ok(card) => {
+            card.ping().unwrap();
+            card.reset_faults().unwrap(); // the watchdog trip of an earlier peer
+            let ax = card.axis(0).unwrap();
+            ax.enable().unwrap();
+            ax.disable().unwrap();
+            println!("\nPEER-OPENED");
+        }
+        Err(e) => println!("\nPEER-ERROR {:?}: {e}", e.kind()),
+    }
+}
+
+fn is_root() -> bool {
+    nix::unistd::geteuid().is_root()
+}
+
+/// Run `peer_role` as `uid`, with effective gid `gid` and supplementary `groups`; its verdict
+/// line.
+fn peer(uri: &str, uid: u32, gid: u32, groups: &[u32]) -> String {
+    let groups: Vec<Gid> = groups.iter().map(|&g| Gid::from_raw(g)).collect();
+    let mut cmd = Command::new(std::env::current_exe().unwrap());
+    cmd.args(["--exact", "peer_role", "--nocapture", "--test-threads=1"])
+        .env(ROLE, uri)
+        .stderr(Stdio::inherit());
+    // SAFETY: between fork and exec the closure only makes the three system calls (the group
+    // list was built before the fork; nothing allocates). std's `uid()` would drop the
+    // supplementary groups, and its `groups()` is unstable.
+    unsafe {
+        cmd.pre_exec(move || {
+            nix::unistd::setgroups(&groups)?;
+            nix::unistd::setgid(Gid::from_raw(gid))?;
+            nix::unistd::setuid(Uid::from_raw(uid))?;
+            Ok(())
+        });
+    }
+    let out = cmd.output().expect("run the peer");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    stdout
+        .lines()
+        .find(|l| l.starts_with("PEER-"))
+        .unwrap_or_else(|| panic!("the peer said nothing ({:?}): {stdout}", out.status))
+        .to_string()
+}
+
+fn skip(what: &str) -> bool {
+    if is_root() {
+        return false;
+    }
+    println!("{what}: skipped, running as another user needs root (CI runs as root)");
+    true
+}
+
+#[test]
+fn a_host_of_another_user_is_refused_with_permission_denied() {
+    let name = format!("acl-deny-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    if !is_root() {
+        skip("the cross-user part");
+        // What a refused host sees, without a second user: a server whose policy belongs to
+        // another uid, in this process.
+        let me = nix::unistd::geteuid().as_raw();
+        let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
+        let window = emu.window().fd().try_clone_to_owned().unwrap();
+        let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+        let policy = server::PeerPolicy::new(me + 1);
+        let _server = Server::start_with(&name, window, irq, policy).unwrap();
+        let e = Card::open(&uri).err().unwrap();
+        assert_eq!(e.kind(), ErrorKind::PermissionDenied, "{e}");
+        assert!(e.to_string().contains(&format!("--allow-uid {me}")), "{e}");
+        return;
+    }
+    let emu = Emu::start(&name, &[]);
+    let got = peer(&uri, NOBODY, NOBODY, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+    assert!(got.contains("refused uid 65534"), "{got}");
+    assert!(got.contains("--allow-uid 65534"), "{got}");
+    // This user still opens it.
+    open_when_ready(&uri).ping().unwrap();
+    // The operator sees who was refused, once.
+    let _ = peer(&uri, NOBODY, NOBODY, &[]);
+    let log = emu.stop();
+    assert_eq!(
+        log.matches("refused a host with uid 65534").count(),
+        1,
+        "{log}"
+    );
+    assert!(log.contains("--allow-uid 65534"), "{log}");
+}
+
+#[test]
+fn an_allowed_uid_is_admitted() {
+    if skip("an_allowed_uid_is_admitted") {
+        return;
+    }
+    let name = format!("acl-uid-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let _emu = Emu::start(&name, &["--allow-uid", "65534", "--allow-uid", "4321"]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[]), "PEER-OPENED");
+    let got = peer(&uri, 4322, NOBODY, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+}
+
+#[test]
+fn an_allowed_group_admits_by_effective_or_supplementary_gid() {
+    if skip("an_allowed_group_admits_by_effective_or_supplementary_gid") {
+        return;
+    }
+    // By name: whatever gid 65534 is called here (nogroup, nobody), else by number.
+    let nogroup = nix::unistd::Group::from_gid(Gid::from_raw(NOBODY))
+        .ok()
+        .flatten()
+        .map_or_else(|| NOBODY.to_string(), |g| g.name);
+    let name = format!("acl-gid-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let emu = Emu::start(&name, &["--allow-group", &nogroup]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[]), "PEER-OPENED");
+    let got = peer(&uri, NOBODY, 4242, &[]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+    drop(emu);
+
+    let name = format!("acl-groups-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let _emu = Emu::start(&name, &["--allow-group", "4242"]);
+    assert_eq!(peer(&uri, NOBODY, NOBODY, &[4242]), "PEER-OPENED");
+    assert_eq!(peer(&uri, NOBODY, 4242, &[]), "PEER-OPENED");
+    let got = peer(&uri, NOBODY, NOBODY, &[4241, 4243]);
+    assert!(got.starts_with("PEER-ERROR PermissionDenied"), "{got}");
+}
+
+#[test]
+fn an_unknown_group_is_refused_at_startup() {
+    let out = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .args([
+            "--name",
+            "never-served",
+            "--allow-group",
+            "no-such-group-mc",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no group named 'no-such-group-mc'"), "{err}");
+}
+
+#[test]
+fn the_help_states_the_access_rule() {
+    let out = Command::new(env!("CARGO_BIN_EXE_card-emu"))
+        .arg("--help")
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "--allow-uid <UID>",
+        "--allow-group <GROUP>",
+        "own user",
+        "root",
+    ] {
+        assert!(help.contains(needle), "no '{needle}' in:\n{help}");
+    }
+}
+
+/// A connected host tries to resize the window it received: both fail with EPERM, and the
+/// card keeps ticking and answering (before the seals, `ftruncate(fd, 0)` killed card-emu
+/// with SIGBUS on its next tick).
+#[test]
+fn a_host_cannot_resize_the_window() {
+    let name = format!("sealed-{}", std::process::id());
+    let mut emu = Emu::start(&name, &[]);
+    let conn = connect_when_ready(&name);
+    let size = len(&conn.window);
+    let shrink = ftruncate(&conn.window, 0);
+    std::thread::sleep(Duration::from_millis(200));
+    let died = emu.0.try_wait().unwrap();
+    assert_eq!(died, None, "card-emu died after the host shrank its window");
+    assert_eq!(shrink, Err(Errno::EPERM), "shrinking the window");
+    assert_eq!(ftruncate(&conn.window, 2 * size as i64), Err(Errno::EPERM));
+    let reseal = FcntlArg::F_ADD_SEALS(SealFlag::F_SEAL_FUTURE_WRITE);
+    assert_eq!(
+        fcntl(&conn.window, reseal),
+        Err(Errno::EPERM),
+        "adding a seal"
+    );
+    assert_eq!(len(&conn.window), size);
+    MappedWindow::from_fd(conn.window).unwrap(); // still what a host maps
+    drop(conn.lease);
+
+    // Still ticking and answering.
+    let card = open_when_ready(&format!("emu:{name}"));
+    let t0 = card.tick();
+    card.ping().unwrap();
+    let ax = card.axis(1).unwrap();
+    ax.enable().unwrap();
+    let m = ax
+        .move_relative(5_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap();
+    let reached = m.wait(Duration::from_secs(10)).unwrap();
+    assert!((reached - 5_000.0).abs() <= 1.0, "reached {reached}");
+    assert_eq!(ax.status().unwrap().state, AxisState::Standstill);
+    assert!(card.tick() > t0);
+    assert_eq!(emu.0.try_wait().unwrap(), None);
+}
+
+/// A window that is not sealed at its size is a protocol violation for the SDK: it is not
+/// mapped (the server could shrink it under the host).
+#[test]
+fn a_host_refuses_an_unsealed_window() {
+    use nix::sys::memfd::{memfd_create, MFdFlags};
+    let name = format!("unsealed-{}", std::process::id());
+    let window = memfd_create("unsealed", MFdFlags::MFD_CLOEXEC).unwrap();
+    ftruncate(&window, firmware_proto::DPRAM_SIZE as i64).unwrap();
+    let irq = nix::sys::eventfd::EventFd::new().unwrap();
+    let _server = Server::start(&name, window, irq.as_fd().try_clone_to_owned().unwrap()).unwrap();
+    let e = Card::open(&format!("emu:{name}")).err().unwrap();
+    assert_eq!(e.kind(), ErrorKind::Protocol, "{e}");
+    assert!(e.to_string().contains("not sealed"), "{e}");
+}
