@@ -303,9 +303,7 @@ pub enum Error {
     /// See [`ErrorKind::Cancelled`].
     #[error("the wait was cancelled")]
     Cancelled,
-    /// See [`ErrorKind::PermissionDenied`].
-    #[error("card '{uri}': {reason}")]
-    PermissionDenied { uri: String, reason: String },
+
     /// A NURBS curve that [`crate::Nurbs::new`] refuses (kind: see `From<NurbsError> for
     /// ErrorKind`).
     #[error("bad NURBS curve: {0}")]
@@ -345,7 +343,6 @@ impl Error {
             Error::CardGone(_) => ErrorKind::CardGone,
             Error::Closed => ErrorKind::Closed,
             Error::Cancelled => ErrorKind::Cancelled,
-            Error::PermissionDenied { .. } => ErrorKind::PermissionDenied,
             Error::Nurbs(e) => (*e).into(),
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
