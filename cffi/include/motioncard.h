@@ -1169,17 +1169,18 @@ mc_result mc_reset(mc_card card, uint32_t axis);
 // notes on blocking.
 mc_result mc_get_status(mc_card card, uint32_t axis, struct mc_status *status);
 
-// Wait until a motion is done (in position) and write the actual position to `*position`.
-// `MC_ERR_ABORTED` when another command or a fault ended it, `MC_ERR_TIMEOUT` after
-// `timeout_ms` (0: only look). A motion can be waited for more than once. `MC_ERR_BAD_HANDLE`
-// for a motion that was not started on this card (the last 1024 motions are kept). Blocks.
+// Wait until a motion is done (in position). `position` may be NULL; otherwise it receives
+// the actual position when the motion was done. `MC_ERR_ABORTED` when another command or a
+// fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A motion can be waited
+// for more than once. `MC_ERR_BAD_HANDLE` for a motion that was not started on this card (the
+// last 1024 motions are kept). Blocks.
 mc_result mc_motion_wait(mc_card card,
                          struct mc_motion motion,
                          uint32_t timeout_ms,
                          double *position);
 
-// Wait for the last motion started on this axis by this process, as `mc_motion_wait`.
-// `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+// Wait for the last motion started on this axis by this process, as `mc_motion_wait`
+// (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
 mc_result mc_wait_done(mc_card card, uint32_t axis, uint32_t timeout_ms, double *position);
 
 // Take the next event from the card, waiting up to `timeout_ms` (0: don't wait);
