@@ -1,6 +1,7 @@
 //! The C programs of the workspace's `examples/c/`, built the way a C user builds them: the library is
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
-//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
+//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with `-std=c89`
+//! and `-std=gnu89 -pedantic-errors`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
 //! One program is also linked statically; `errors`, `groups`, `safety` and `nurbs_path` also
@@ -106,21 +107,34 @@ enum Link {
     Static,
 }
 
-/// Compile `examples/c/NAME.c` once per link mode; returns the executable.
+/// Compile `examples/c/NAME.c` with [`CFLAGS`] once per link mode; returns the executable.
 fn compile(name: &str, link: Link) -> PathBuf {
-    static BUILT: OnceLock<Mutex<HashMap<(String, Link), PathBuf>>> = OnceLock::new();
+    compile_with(name, link, CFLAGS)
+}
+
+/// Compile `examples/c/NAME.c` with `cflags` (the first one `-std=`) once per link mode and
+/// flags; returns the executable.
+fn compile_with(name: &str, link: Link, cflags: &[&str]) -> PathBuf {
+    type Key = (String, Link, Vec<String>);
+    static BUILT: OnceLock<Mutex<HashMap<Key, PathBuf>>> = OnceLock::new();
     let built = BUILT.get_or_init(Default::default);
     let mut built = built.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(p) = built.get(&(name.to_string(), link)) {
+    let key = (
+        name.to_string(),
+        link,
+        cflags.iter().map(|f| f.to_string()).collect(),
+    );
+    if let Some(p) = built.get(&key) {
         return p.clone();
     }
     let inst = installed();
+    let std = cflags[0].strip_prefix("-std=").expect("-std= first");
     let exe = inst.work.join(match link {
-        Link::Shared => name.to_string(),
-        Link::Static => format!("{name}-static"),
+        Link::Shared => format!("{name}-{std}"),
+        Link::Static => format!("{name}-{std}-static"),
     });
     let mut cmd = Command::new("gcc");
-    cmd.args(CFLAGS)
+    cmd.args(cflags)
         .arg(examples_dir().join(format!("{name}.c")))
         .arg("-o")
         .arg(&exe)
@@ -147,7 +161,7 @@ fn compile(name: &str, link: Link) -> PathBuf {
         cmd,
         String::from_utf8_lossy(&out.stderr)
     );
-    built.insert((name.to_string(), link), exe.clone());
+    built.insert(key, exe.clone());
     exe
 }
 
@@ -326,6 +340,9 @@ fn the_shared_library_has_a_soname_and_programs_need_it() {
     assert!(!stat.contains("libmotioncard"), "{stat}");
 }
 
+/// The installed header alone, in every language version it promises (its preamble): C89 and
+/// GNU89 (no `//` comments, no `bool`, no `long long`), C99, C11, C++98 and C++11, each with
+/// `-pedantic-errors -Wall -Wextra -Werror`.
 #[test]
 fn header_compiles_alone_as_strict_c_and_as_cxx() {
     let inst = installed();
@@ -337,11 +354,18 @@ fn header_compiles_alone_as_strict_c_and_as_cxx() {
     )
     .unwrap();
     let include = format!("-I{}", inst.prefix.join("include").display());
-    for (compiler, std, lang) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++11", "c++")] {
+    for (compiler, std, lang) in [
+        ("gcc", "-std=c89", "c"),
+        ("gcc", "-std=gnu89", "c"),
+        ("gcc", "-std=c99", "c"),
+        ("gcc", "-std=c11", "c"),
+        ("g++", "-std=c++98", "c++"),
+        ("g++", "-std=c++11", "c++"),
+    ] {
         let out = Command::new(compiler)
             .args([
                 std,
-                "-pedantic",
+                "-pedantic-errors",
                 "-Wall",
                 "-Wextra",
                 "-Werror",
@@ -357,6 +381,27 @@ fn header_compiles_alone_as_strict_c_and_as_cxx() {
             "{compiler} {std}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
+    }
+}
+
+/// A C89 program (`examples/c/c89.c`), compiled as C89 and as GNU89 with `-pedantic-errors`,
+/// links against the shared and the static library and runs.
+#[test]
+fn a_c89_program_builds_links_and_runs() {
+    for std in ["-std=c89", "-std=gnu89"] {
+        let flags = [
+            std,
+            "-pedantic-errors",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O1",
+        ];
+        for link in [Link::Shared, Link::Static] {
+            let out = run(&compile_with("c89", link, &flags), &[], &[]);
+            assert!(out.contains("PASS c89\n"), "{std} {link:?}: {out}");
+            assert!(out.contains("out to 10000.0, back to 6000.0"), "{out}");
+        }
     }
 }
 
