@@ -18,7 +18,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::{Mutex, OnceLock};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
 const CFLAGS: &[&str] = &["-std=c11", "-Wall", "-Wextra", "-Werror", "-O1", "-g"];
 
@@ -28,6 +28,15 @@ const HANG_LIMIT: Duration = Duration::from_secs(300);
 struct Installed {
     prefix: PathBuf,
     work: PathBuf,
+    /// The libraries of a workspace build in this test's profile directory
+    /// (`TARGET/release/libmotioncard.{so,a}`), and when each was last written (`None`: absent),
+    /// as they were before the C tests built theirs.
+    workspace_libs: Vec<(PathBuf, Option<SystemTime>)>,
+}
+
+/// When `path` was last written; `None` when it does not exist.
+fn modified(path: &Path) -> Option<SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
 }
 
 /// Install once per test run, under `target/tmp/c-abi/`.
@@ -41,34 +50,49 @@ fn installed() -> &'static Installed {
         std::fs::create_dir_all(&work).unwrap();
         // This test's executable is TARGET/PROFILE_DIR/deps/c_programs-HASH. `cargo test`
         // does not build the cdylib and staticlib (nothing links the library), so build them
-        // as `cargo xtask install` does, with this test's profile, into the same directory.
+        // with the install code of `cargo xtask install` and this test's profile, with the
+        // test-panic feature (the hidden mc__test_panic_next_call for panic.c), into a target
+        // directory of their own, TARGET/c-tests: in TARGET they would replace the libraries
+        // of a workspace build (same file names) that `cargo xtask install` reuses.
         let exe = std::env::current_exe().unwrap();
-        let artifacts = exe.parent().and_then(Path::parent).unwrap();
-        let target_dir = artifacts.parent().unwrap();
-        let profile = match artifacts.file_name().and_then(|n| n.to_str()) {
+        let profile_dir = exe.parent().and_then(Path::parent).unwrap();
+        let target_dir = profile_dir.parent().unwrap().join("c-tests");
+        let profile_name = profile_dir.file_name().and_then(|n| n.to_str());
+        let profile = match profile_name {
             Some("debug") => "dev",
             Some(p) => p,
             None => panic!("unexpected test location {}", exe.display()),
         };
+        let workspace_libs = ["libmotioncard.so", "libmotioncard.a"]
+            .map(|f| profile_dir.join(f))
+            .into_iter()
+            .map(|p| {
+                let t = modified(&p);
+                (p, t)
+            })
+            .collect();
         let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        // With the test-panic feature: the hidden mc__test_panic_next_call for panic.c.
         install::build(
             &cargo,
             crate_dir.parent().unwrap(),
             profile,
-            target_dir,
-            &["test-panic"],
+            &target_dir,
+            install::Packages::Cffi(&["test-panic"]),
         )
         .expect("build libmotioncard");
         install::install(
-            artifacts,
+            &target_dir.join(profile_name.unwrap()),
             &crate_dir.join("include/motioncard.h"),
             &prefix,
             env!("CARGO_PKG_VERSION"),
         )
         .expect("install libmotioncard");
-        Installed { prefix, work }
+        Installed {
+            prefix,
+            work,
+            workspace_libs,
+        }
     })
 }
 
@@ -265,6 +289,22 @@ fn install_lays_out_library_header_and_pkg_config() {
         std::fs::read(inst.prefix.join("include/motioncard.h")).unwrap(),
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/motioncard.h")).unwrap()
     );
+}
+
+/// The C tests' library (with `test-panic`) is built in a target directory of its own: the
+/// libraries of a workspace build, which `cargo xtask install` reuses, are left as they were
+/// (before, the tests replaced them with their own build, and the next install rebuilt them).
+#[test]
+fn the_c_tests_leave_the_workspace_build_alone() {
+    let inst = installed();
+    for (lib, before) in &inst.workspace_libs {
+        assert_eq!(
+            &modified(lib),
+            before,
+            "the C tests' build wrote {}",
+            lib.display()
+        );
+    }
 }
 
 /// The C programs share `examples/` with the root package's Rust examples: cargo's example

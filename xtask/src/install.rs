@@ -9,31 +9,50 @@ use std::ffi::OsStr;
 use std::path::Path;
 use std::process::Command;
 
-/// Build the library (`cargo build --package motioncard-cffi`) with `cargo`, in the workspace
-/// at `workspace`, with cargo profile `profile` ("release", "dev"…) and the crate's `features`
-/// (none for an installed library; the C tests add `test-panic`), into `target_dir`. The
-/// libraries are then in `target_dir/<profile directory>` (`release`, `debug`…).
+/// What [`build`] asks cargo for.
+///
+/// Cargo gives a dependency the union of the features the selected packages ask of it, so
+/// `--package motioncard-cffi` and `--workspace` compile the dependencies (nix, nalgebra, the
+/// SDK…) in different feature sets, each a build of its own; and the two builds of the
+/// library share one file name (`libmotioncard.so` carries no hash), so each replaces the
+/// other's.
+#[allow(dead_code)] // each user of this file takes one: xtask `Workspace`, the C tests `Cffi`
+pub enum Packages<'a> {
+    /// The libraries of every workspace member (`--workspace --lib`): the dependencies get the
+    /// features of `cargo build --workspace`, so after `cargo build --workspace --release` there
+    /// is nothing left to build. `cargo xtask install`.
+    Workspace,
+    /// motioncard-cffi alone with these of its features (`--package motioncard-cffi --lib
+    /// --features …`): the least to build. The C tests (`test-panic`), in a target directory of
+    /// their own so their library never replaces the one a workspace build made.
+    Cffi(&'a [&'a str]),
+}
+
+/// Build the library with `cargo`, in the workspace at `workspace`, with cargo profile
+/// `profile` ("release", "dev"…), into `target_dir`. The libraries are then in
+/// `target_dir/<profile directory>` (`release`, `debug`…).
 pub fn build(
     cargo: &OsStr,
     workspace: &Path,
     profile: &str,
     target_dir: &Path,
-    features: &[&str],
+    packages: Packages,
 ) -> Result<(), String> {
     let mut cmd = Command::new(cargo);
     cmd.current_dir(workspace)
-        .args([
-            "build",
-            "--package",
-            "motioncard-cffi",
-            "--lib",
-            "--profile",
-            profile,
-        ])
+        .args(["build", "--lib", "--profile", profile])
         .arg("--target-dir")
         .arg(target_dir);
-    if !features.is_empty() {
-        cmd.args(["--features", &features.join(",")]);
+    match packages {
+        Packages::Workspace => {
+            cmd.arg("--workspace");
+        }
+        Packages::Cffi(features) => {
+            cmd.args(["--package", "motioncard-cffi"]);
+            if !features.is_empty() {
+                cmd.args(["--features", &features.join(",")]);
+            }
+        }
     }
     let status = cmd.status().map_err(|e| format!("running cargo: {e}"))?;
     if status.success() {
