@@ -4,10 +4,12 @@
 //! and `-std=gnu89 -pedantic-errors`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
-//! One program is also linked statically; `errors`, `groups`, `safety` and `nurbs_path` also
-//! run under valgrind.
+//! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
+//! Rust static library; `errors`, `groups`, `safety`, `nurbs_path` and `panic` also run under
+//! valgrind. The installed libraries' symbols are checked with binutils' `nm`.
 //!
-//! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
+//! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
+//! rustc (beside cargo). Nothing here
 //! asserts on time: the child processes only have a generous limit so a hang fails instead of
 //! stalling the suite.
 
@@ -303,6 +305,151 @@ fn the_c_tests_leave_the_workspace_build_alone() {
             before,
             "the C tests' build wrote {}",
             lib.display()
+        );
+    }
+}
+
+/// The functions the header declares (declarations start a line; comments and typedefs
+/// do not).
+fn header_functions() -> BTreeSet<String> {
+    let h = std::fs::read_to_string(installed().prefix.join("include/motioncard.h")).unwrap();
+    let fns: BTreeSet<String> = h
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_alphabetic()) && !l.starts_with("typedef"))
+        .filter_map(|l| {
+            // "mc_result mc_open(", "const char *mc_result_str(": the word before the '('.
+            let name = l[..l.find('(')?].rsplit([' ', '*']).next()?;
+            name.starts_with("mc_").then(|| name.to_string())
+        })
+        .collect();
+    assert!(fns.len() > 60 && fns.contains("mc_open") && fns.contains("mc_result_str"));
+    fns
+}
+
+/// Both installed libraries export the C ABI and nothing else: every function of the header,
+/// the test build's hidden panic hook, and no other symbol (no Rust, std or
+/// compiler-builtins global that could collide with another library's).
+#[test]
+fn both_libraries_export_the_c_abi_only() {
+    let inst = installed();
+    let lib = inst.prefix.join("lib");
+    let shared = install::exported_symbols(&lib.join("libmotioncard.so")).unwrap();
+    let archive = install::defined_globals(&lib.join("libmotioncard.a")).unwrap();
+    let mut abi = header_functions();
+    abi.insert("mc__test_panic_next_call".to_string());
+    let not_abi: Vec<_> = archive.difference(&abi).take(20).collect();
+    assert!(
+        not_abi.is_empty(),
+        "libmotioncard.a exports {} globals outside the C ABI, such as {not_abi:?}",
+        archive.difference(&abi).count()
+    );
+    assert_eq!(shared, abi, "libmotioncard.so");
+    assert_eq!(archive, abi, "libmotioncard.a");
+}
+
+/// A second Rust static library, with its own copy of std (built with `-C lto`, which puts std
+/// and the Rust runtime symbols into one object that the program's link must take whole),
+/// links into one C program with libmotioncard.a, in either order, and both work: each
+/// library panics and catches its own panic (`MC_ERR_PANIC` through the test build's hook).
+#[test]
+fn two_rust_static_libraries_link_into_one_c_program() {
+    let inst = installed();
+    let dir = inst.work.join("two-rust-libs");
+    std::fs::create_dir_all(&dir).unwrap();
+    let other_rs = dir.join("other.rs");
+    std::fs::write(
+        &other_rs,
+        "/// Panics on every even i < n and catches it; returns the number caught.\n\
+         #[no_mangle]\n\
+         pub extern \"C\" fn other_caught_panics(n: u32) -> u32 {\n\
+             (0..n)\n\
+                 .filter(|i| std::panic::catch_unwind(|| assert!(i % 2 == 1, \"other {i}\")).is_err())\n\
+                 .count() as u32\n\
+         }\n",
+    )
+    .unwrap();
+    // rustc beside this cargo (a rustup toolchain), else the one on the PATH.
+    let rustc = std::env::var_os("CARGO")
+        .map(PathBuf::from)
+        .map(|c| c.with_file_name("rustc"))
+        .filter(|r| r.is_file())
+        .unwrap_or_else(|| PathBuf::from("rustc"));
+    let other = dir.join("libother.a");
+    let out = Command::new(&rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "staticlib",
+            "--crate-name",
+            "other",
+        ])
+        .args(["-C", "opt-level=2", "-C", "lto", "-o"])
+        .arg(&other)
+        .arg(&other_rs)
+        .output()
+        .unwrap_or_else(|e| panic!("{}: {e}", rustc.display()));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let main_c = dir.join("two.c");
+    std::fs::write(
+        &main_c,
+        r#"#include <motioncard.h>
+#include <stdio.h>
+
+uint32_t other_caught_panics(uint32_t n);
+mc_result mc__test_panic_next_call(void);
+
+int main(void) {
+    mc_card card = 0;
+    uint32_t caught = other_caught_panics(4);
+    mc_result r = mc_open_sim_stepped(1, 1000, &card);
+    if (r != MC_OK) return 1;
+    if (mc__test_panic_next_call() != MC_OK) return 1;
+    r = mc_ping(card);
+    printf("other caught %u panics, mc_ping after a panic: %s\n", caught, mc_result_str(r));
+    if (mc_ping(card) != MC_OK || mc_close(card) != MC_OK) return 1;
+    if (caught != 2 || r != MC_ERR_PANIC) return 1;
+    printf("PASS two\n");
+    return 0;
+}
+"#,
+    )
+    .unwrap();
+    let ours = inst.prefix.join("lib/libmotioncard.a");
+    for (name, first, second) in [
+        ("ours-first", &ours, &other),
+        ("other-first", &other, &ours),
+    ] {
+        let exe = dir.join(name);
+        let mut cmd = Command::new("gcc");
+        cmd.args(CFLAGS)
+            .arg(format!("-I{}", inst.prefix.join("include").display()))
+            .arg(&main_c)
+            .arg(first)
+            .arg(second)
+            .args(install::STATIC_LIBS.split_whitespace())
+            .arg("-o")
+            .arg(&exe);
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "linking two Rust static libraries ({name}) failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .filter(|l| !l.starts_with("bfd plugin"))
+                .take(12)
+                .collect::<Vec<_>>()
+                .join("\n")
+        );
+        let out = run(&exe, &[], &[]);
+        assert!(out.contains("PASS two\n"), "{name}: {out}");
+        assert!(
+            out.contains("other caught 2 panics, mc_ping after a panic: "),
+            "{name}: {out}"
         );
     }
 }
