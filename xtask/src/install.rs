@@ -104,7 +104,8 @@ pub fn soname(version: &str) -> String {
 /// `target/release`) and the header from `header`, and write the pkg-config file, under
 /// `prefix` (made absolute). The shared library is installed as `libmotioncard.so.VERSION`
 /// with the symlinks `libmotioncard.so.MAJOR` → it and `libmotioncard.so` →
-/// `libmotioncard.so.MAJOR`.
+/// `libmotioncard.so.MAJOR`; the static library as [`hide_symbols`] makes it, exporting what
+/// the shared library exports.
 pub fn install(
     artifacts: &Path,
     header: &Path,
