@@ -1,7 +1,7 @@
 //! The C programs of the workspace's `examples/c/`, built the way a C user builds them: the library is
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
-//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with `-std=c89`
-//! and `-std=gnu89 -pedantic-errors`) and the flags pkg-config
+//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
+//! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
 //! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
@@ -9,9 +9,8 @@
 //! valgrind. The installed libraries' symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
-//! rustc (beside cargo). Nothing here
-//! asserts on time: the child processes only have a generous limit so a hang fails instead of
-//! stalling the suite.
+//! rustc (beside cargo). Nothing here asserts on time: the child processes only have a
+//! generous limit so a hang fails instead of stalling the suite.
 
 #[path = "../../xtask/src/install.rs"]
 mod install;
