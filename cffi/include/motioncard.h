@@ -76,11 +76,21 @@
  * when it is readable, call mc_dispatch_events(card, 0, &n). Waits in other threads
  * (mc_motion_wait, mc_wait_event) also take the card's interrupts, so also dispatch after
  * them, or with a timeout, rather than relying on the descriptor alone.
+ *
+ * Language: C89/C90 (ANSI C) and later, and C++98 and later. The header uses no // comments,
+ * no bool, no inline code and no enum types (enumerations are uint32_t fields with MC_
+ * constants), and compiles with gcc -std=c89 -pedantic-errors -Wall -Wextra -Werror (and
+ * -std=gnu89, c99, c11; g++ -std=c++98, c++11). It includes <stddef.h> and <stdint.h>
+ * (size_t, int32_t, uint32_t, int64_t, uint64_t), headers C89 does not name: gcc provides
+ * <stdint.h> in every -std mode, and glibc declares the 64-bit types as long on 64-bit
+ * targets and with __extension__ (long long) on 32-bit ones, so -pedantic-errors accepts them.
+ * A C89 toolchain without <stdint.h> must provide these typedefs itself before including
+ * this header.
  */
-
 
 #ifndef MOTIONCARD_H
 #define MOTIONCARD_H
+
 
 /* Generated with cbindgen:0.29.4 */
 
@@ -88,1193 +98,2020 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#ifdef __cplusplus
+extern "C" {
+#endif
 
-// Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
+
+/**
+ * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
+ */
 #define MC_AXIS_STATE_DISABLED 0
 
-// Powered, at rest, ready for a move.
+/**
+ * Powered, at rest, ready for a move.
+ */
 #define MC_AXIS_STATE_STANDSTILL 1
 
-// Homing.
+/**
+ * Homing.
+ */
 #define MC_AXIS_STATE_HOMING 2
 
-// A point-to-point move.
+/**
+ * A point-to-point move.
+ */
 #define MC_AXIS_STATE_DISCRETE_MOTION 3
 
-// A velocity move.
+/**
+ * A velocity move.
+ */
 #define MC_AXIS_STATE_CONTINUOUS_MOTION 4
 
-// Coupled to another axis or a group.
+/**
+ * Coupled to another axis or a group.
+ */
 #define MC_AXIS_STATE_SYNCHRONIZED_MOTION 5
 
-// `mc_stop` in progress or held (until `mc_release_stop`).
+/**
+ * `mc_stop` in progress or held (until `mc_release_stop`).
+ */
 #define MC_AXIS_STATE_STOPPING 6
 
-// Stopped by a fault; only `mc_reset` leaves it.
+/**
+ * Stopped by a fault; only `mc_reset` leaves it.
+ */
 #define MC_AXIS_STATE_ERROR_STOP 7
 
-// Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
+/**
+ * Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
+ */
 #define MC_AXIS_FAULT_DAC_SATURATED 1
 
-// Fault bit: the host watchdog tripped (the heartbeat stopped).
+/**
+ * Fault bit: the host watchdog tripped (the heartbeat stopped).
+ */
 #define MC_AXIS_FAULT_WATCHDOG 256
 
-// Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
+/**
+ * Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
+ */
 #define MC_AXIS_FAULT_ESTOP 512
 
-// Fault bit: at or beyond the positive limit switch.
+/**
+ * Fault bit: at or beyond the positive limit switch.
+ */
 #define MC_AXIS_FAULT_HARD_LIMIT_POS 1024
 
-// Fault bit: at or beyond the negative limit switch.
+/**
+ * Fault bit: at or beyond the negative limit switch.
+ */
 #define MC_AXIS_FAULT_HARD_LIMIT_NEG 2048
 
-// Fault bit: beyond the positive soft limit.
+/**
+ * Fault bit: beyond the positive soft limit.
+ */
 #define MC_AXIS_FAULT_SOFT_LIMIT_POS 4096
 
-// Fault bit: beyond the negative soft limit.
+/**
+ * Fault bit: beyond the negative soft limit.
+ */
 #define MC_AXIS_FAULT_SOFT_LIMIT_NEG 8192
 
-// Fault bit: the following error exceeded its limit.
+/**
+ * Fault bit: the following error exceeded its limit.
+ */
 #define MC_AXIS_FAULT_FOLLOWING_ERROR 16384
 
-// Fault bit: the amplifier's alarm input.
+/**
+ * Fault bit: the amplifier's alarm input.
+ */
 #define MC_AXIS_FAULT_AMP_ALARM 32768
 
-// Fault bit: encoder loss or a jump.
+/**
+ * Fault bit: encoder loss or a jump.
+ */
 #define MC_AXIS_FAULT_ENCODER 65536
 
-// Fault bit: the host broke the protocol (corrupt ring indices).
+/**
+ * Fault bit: the host broke the protocol (corrupt ring indices).
+ */
 #define MC_AXIS_FAULT_PROTOCOL 131072
 
-// Fault bit: a stop ran past the card's maximum stop time; its power was removed.
+/**
+ * Fault bit: a stop ran past the card's maximum stop time; its power was removed.
+ */
 #define MC_AXIS_FAULT_STOP_TIMEOUT 262144
 
-// Capability bit of `mc_card_info.capabilities`: S-curve profiles.
+/**
+ * Capability bit of `mc_card_info.capabilities`: S-curve profiles.
+ */
 #define MC_CARD_CAP_SCURVE 1
 
-// Capability bit: FFPIV servo loop.
+/**
+ * Capability bit: FFPIV servo loop.
+ */
 #define MC_CARD_CAP_FFPIV 2
 
-// Capability bit: events raise an interrupt (`mc_irq_fd` works).
+/**
+ * Capability bit: events raise an interrupt (`mc_irq_fd` works).
+ */
 #define MC_CARD_CAP_EVENT_IRQ 4
 
-// Event kind (`mc_event.kind`): a command was accepted. Taken by the library, never delivered.
+/**
+ * Event kind (`mc_event.kind`): a command was accepted. Taken by the library, never delivered.
+ */
 #define MC_EVENT_ACK 1
 
-// A command was refused. Taken by the library, never delivered.
+/**
+ * A command was refused. Taken by the library, never delivered.
+ */
 #define MC_EVENT_NACK 2
 
-// The axis finished its move and is in position; `value` is the actual position (user units).
+/**
+ * The axis finished its move and is in position; `value` is the actual position (user units).
+ */
 #define MC_EVENT_MOTION_DONE 3
 
-// The axis changed state; `code` is the new `MC_AXIS_STATE_`, `value` the old one.
+/**
+ * The axis changed state; `code` is the new `MC_AXIS_STATE_`, `value` the old one.
+ */
 #define MC_EVENT_STATE_CHANGED 4
 
-// A fault was raised; `code` is the `MC_AXIS_FAULT_` bit, `value` a measurement.
+/**
+ * A fault was raised; `code` is the `MC_AXIS_FAULT_` bit, `value` a measurement.
+ */
 #define MC_EVENT_FAULT 5
 
-// A move ended before its target; `code` is the command (opcode) or fault that ended it.
+/**
+ * A move ended before its target; `code` is the command (opcode) or fault that ended it.
+ */
 #define MC_EVENT_MOTION_ABORTED 6
 
-// A group move finished (`axis`: the group; `value` 1 when the group is at rest in position).
+/**
+ * A group move finished (`axis`: the group; `value` 1 when the group is at rest in position).
+ */
 #define MC_EVENT_GROUP_MOTION_DONE 8
 
-// A group changed state (`axis`: the group; `code`: the new group state).
+/**
+ * A group changed state (`axis`: the group; `code`: the new group state).
+ */
 #define MC_EVENT_GROUP_STATE_CHANGED 9
 
-// A group move was aborted (`axis`: the group).
+/**
+ * A group move was aborted (`axis`: the group).
+ */
 #define MC_EVENT_GROUP_MOTION_ABORTED 10
 
-// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
-// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
+/**
+ * A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
+ * `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
+ */
 #define MC_EVENT_SAFETY_STOP 16
 
-// A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
+/**
+ * A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
+ */
 #define MC_EVENT_AT_REST 17
 
-// The host broke the protocol (`code`: what, `value`: the index).
+/**
+ * The host broke the protocol (`code`: what, `value`: the index).
+ */
 #define MC_EVENT_PROTOCOL_ERROR 18
 
-// `mc_event.axis` of an event about the whole card.
+/**
+ * `mc_event.axis` of an event about the whole card.
+ */
 #define MC_EVENT_CARD_WIDE 65535
 
-// Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
-// as `mc_open("sim")`.
+/**
+ * Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
+ * as `mc_open("sim")`.
+ */
 #define MC_SIM_CLOCK_REAL_TIME 0
 
-// As fast as the host can compute the ticks. The card's watchdog counts card time, which then
-// runs far ahead of the library's heartbeat: raise the timeout (`mc_set_watchdog_timeout`) and
-// clear a trip (`mc_reset_faults`) before enabling axes.
+/**
+ * As fast as the host can compute the ticks. The card's watchdog counts card time, which then
+ * runs far ahead of the library's heartbeat: raise the timeout (`mc_set_watchdog_timeout`) and
+ * clear a trip (`mc_reset_faults`) before enabling axes.
+ */
 #define MC_SIM_CLOCK_FREE_RUNNING 1
 
-// Time advances only in `mc_sim_step` and in waits (as `mc_open_sim_stepped`).
+/**
+ * Time advances only in `mc_sim_step` and in waits (as `mc_open_sim_stepped`).
+ */
 #define MC_SIM_CLOCK_STEPPED 2
 
-// Plant of an emulated card (`mc_sim_options.plant`): the default servo motor on every axis.
+/**
+ * Plant of an emulated card (`mc_sim_options.plant`): the default servo motor on every axis.
+ */
 #define MC_SIM_PLANT_DEFAULT 0
 
-// Yeh's die bonder (Table 1): its X plant on axis 0, its Y plant on the other axes. Pair it
-// with `mc_pdplus_settings_die_bonder` and a 1000 Hz servo rate, as in the paper.
+/**
+ * Yeh's die bonder (Table 1): its X plant on axis 0, its Y plant on the other axes. Pair it
+ * with `mc_pdplus_settings_die_bonder` and a 1000 Hz servo rate, as in the paper.
+ */
 #define MC_SIM_PLANT_DIE_BONDER 1
 
-// Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
+/**
+ * Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
+ */
 #define MC_GROUP_COUNT 4
 
-// Most axes in one group (`mc_group_settings.axes`).
+/**
+ * Most axes in one group (`mc_group_settings.axes`).
+ */
 #define MC_GROUP_MAX_AXES 8
 
-// Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
-// GroupDisabled.
+/**
+ * Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
+ * GroupDisabled.
+ */
 #define MC_GROUP_STATE_DISABLED 0
 
-// GroupStandby: enabled, at rest, ready for a move.
+/**
+ * GroupStandby: enabled, at rest, ready for a move.
+ */
 #define MC_GROUP_STATE_STANDBY 1
 
-// GroupMoving: interpolating.
+/**
+ * GroupMoving: interpolating.
+ */
 #define MC_GROUP_STATE_MOVING 2
 
-// GroupHoming.
+/**
+ * GroupHoming.
+ */
 #define MC_GROUP_STATE_HOMING 3
 
-// GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
+/**
+ * GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
+ */
 #define MC_GROUP_STATE_STOPPING 4
 
-// GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
+/**
+ * GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
+ */
 #define MC_GROUP_STATE_ERROR_STOP 5
 
-// Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
-// interpolation.
+/**
+ * Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
+ * interpolation.
+ */
 #define MC_GROUP_ACCDEC_PRE 1
 
-// Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
-// interpolation.
+/**
+ * Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
+ * interpolation.
+ */
 #define MC_GROUP_ACCDEC_POST 2
 
-// Both: the S-curve, then the filters.
+/**
+ * Both: the S-curve, then the filters.
+ */
 #define MC_GROUP_ACCDEC_BOTH 3
 
-// Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
+/**
+ * Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
+ */
 #define MC_GROUP_INTERP_EXACT 0
 
-// Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
+/**
+ * Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
+ */
 #define MC_GROUP_INTERP_REFERENCE_WORD 1
 
-// Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
-// feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+/**
+ * Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
+ * feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+ */
 #define MC_FEED_TYPE_CUTTING 0
 
-// Rapid traverse (G00).
+/**
+ * Rapid traverse (G00).
+ */
 #define MC_FEED_TYPE_RAPID 1
 
-// Jog.
+/**
+ * Jog.
+ */
 #define MC_FEED_TYPE_JOG 2
 
-// Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
+/**
+ * Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
+ */
 #define MC_ARC_PLANE_XY 0
 
-// Group axes 1 and 2.
+/**
+ * Group axes 1 and 2.
+ */
 #define MC_ARC_PLANE_YZ 1
 
-// Group axes 2 and 0.
+/**
+ * Group axes 2 and 0.
+ */
 #define MC_ARC_PLANE_ZX 2
 
-// Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
-// full circle.
+/**
+ * Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
+ * full circle.
+ */
 #define MC_ARC_BY_CENTRE 0
 
-// Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
+/**
+ * Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
+ */
 #define MC_ARC_BY_RADIUS 1
 
-// Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
-// is ignored).
+/**
+ * Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
+ * is ignored).
+ */
 #define MC_ARC_BY_BORDER 2
 
-// Acc/dec filter kind (`mc_filter.kind`): pass-through.
+/**
+ * Acc/dec filter kind (`mc_filter.kind`): pass-through.
+ */
 #define MC_FILTER_KIND_NONE 0
 
-// Moving average (linear acc/dec; Kim eq 1).
+/**
+ * Moving average (linear acc/dec; Kim eq 1).
+ */
 #define MC_FILTER_KIND_LINEAR 1
 
-// First order (exponential acc/dec; Kim eq 7–9).
+/**
+ * First order (exponential acc/dec; Kim eq 7–9).
+ */
 #define MC_FILTER_KIND_EXPONENTIAL 2
 
-// Linear followed by exponential (bell-shaped; Shin eq 40).
+/**
+ * Linear followed by exponential (bell-shaped; Shin eq 40).
+ */
 #define MC_FILTER_KIND_BELL 3
 
-// Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
-// `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
+/**
+ * Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
+ * `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
+ */
 #define MC_STOP_REASON_NONE 0
 
-// The move reached its target and is in position.
+/**
+ * The move reached its target and is in position.
+ */
 #define MC_STOP_REASON_DONE 1
 
-// `mc_halt`.
+/**
+ * `mc_halt`.
+ */
 #define MC_STOP_REASON_HALT 2
 
-// `mc_stop`.
+/**
+ * `mc_stop`.
+ */
 #define MC_STOP_REASON_STOP 3
 
-// `mc_disable` by the host.
+/**
+ * `mc_disable` by the host.
+ */
 #define MC_STOP_REASON_POWER_OFF 4
 
-// The host closed the card (`mc_close`): the motion halted, no fault.
+/**
+ * The host closed the card (`mc_close`): the motion halted, no fault.
+ */
 #define MC_STOP_REASON_HOST_DETACH 5
 
-// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
+/**
+ * The host heartbeat stopped (watchdog). Safety reasons are this value and above.
+ */
 #define MC_STOP_REASON_WATCHDOG 16
 
-// The host's e-stop (`mc_estop`).
+/**
+ * The host's e-stop (`mc_estop`).
+ */
 #define MC_STOP_REASON_ESTOP_COMMAND 17
 
-// The card's e-stop input.
+/**
+ * The card's e-stop input.
+ */
 #define MC_STOP_REASON_ESTOP_INPUT 18
 
-// The positive limit switch.
+/**
+ * The positive limit switch.
+ */
 #define MC_STOP_REASON_HARD_LIMIT_POS 19
 
-// The negative limit switch.
+/**
+ * The negative limit switch.
+ */
 #define MC_STOP_REASON_HARD_LIMIT_NEG 20
 
-// The positive soft limit.
+/**
+ * The positive soft limit.
+ */
 #define MC_STOP_REASON_SOFT_LIMIT_POS 21
 
-// The negative soft limit.
+/**
+ * The negative soft limit.
+ */
 #define MC_STOP_REASON_SOFT_LIMIT_NEG 22
 
-// The following error exceeded its limit.
+/**
+ * The following error exceeded its limit.
+ */
 #define MC_STOP_REASON_FOLLOWING_ERROR 23
 
-// The amplifier's alarm input.
+/**
+ * The amplifier's alarm input.
+ */
 #define MC_STOP_REASON_AMP_ALARM 24
 
-// The encoder's line-break detector.
+/**
+ * The encoder's line-break detector.
+ */
 #define MC_STOP_REASON_ENCODER_LOSS 25
 
-// An encoder count change larger than physically possible.
+/**
+ * An encoder count change larger than physically possible.
+ */
 #define MC_STOP_REASON_ENCODER_JUMP 26
 
-// Queued motion ran out: a planned stop at the end of what was queued.
+/**
+ * Queued motion ran out: a planned stop at the end of what was queued.
+ */
 #define MC_STOP_REASON_STARVATION 27
 
-// The command ring's indices were corrupt.
+/**
+ * The command ring's indices were corrupt.
+ */
 #define MC_STOP_REASON_CMD_RING 28
 
-// The event ring's indices were corrupt.
+/**
+ * The event ring's indices were corrupt.
+ */
 #define MC_STOP_REASON_EVT_RING 29
 
-// Another axis of its group tripped.
+/**
+ * Another axis of its group tripped.
+ */
 #define MC_STOP_REASON_GROUP 30
 
-// A stop did not end within the card's maximum stop time: its power was removed.
+/**
+ * A stop did not end within the card's maximum stop time: its power was removed.
+ */
 #define MC_STOP_REASON_STOP_TIMEOUT 31
 
-// A host opened the card while the previous host's session was still open (it died without
-// closing): the motion it left was stopped.
+/**
+ * A host opened the card while the previous host's session was still open (it died without
+ * closing): the motion it left was stopped.
+ */
 #define MC_STOP_REASON_HOST_CHANGED 32
 
-// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
-// `mc_safety_settings.limit_stop`): remove power at once.
+/**
+ * IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
+ * `mc_safety_settings.limit_stop`): remove power at once.
+ */
 #define MC_STOP_CATEGORY_0 0
 
-// A controlled stop, then power removed.
+/**
+ * A controlled stop, then power removed.
+ */
 #define MC_STOP_CATEGORY_1 1
 
-// A controlled stop, power kept (the axis holds its position).
+/**
+ * A controlled stop, power kept (the axis holds its position).
+ */
 #define MC_STOP_CATEGORY_2 2
 
-// Bit of `mc_status.io`: the positive limit switch input.
+/**
+ * Bit of `mc_status.io`: the positive limit switch input.
+ */
 #define MC_IO_LIMIT_POS 1
 
-// The negative limit switch input.
+/**
+ * The negative limit switch input.
+ */
 #define MC_IO_LIMIT_NEG 2
 
-// The home switch input.
+/**
+ * The home switch input.
+ */
 #define MC_IO_HOME 4
 
-// The amplifier alarm input.
+/**
+ * The amplifier alarm input.
+ */
 #define MC_IO_AMP_ALARM 8
 
-// The encoder line-break detector.
+/**
+ * The encoder line-break detector.
+ */
 #define MC_IO_ENCODER_FAULT 16
 
-// The card's e-stop input (the same on every axis).
+/**
+ * The card's e-stop input (the same on every axis).
+ */
 #define MC_IO_ESTOP 32
 
-// Output: the axis's amplifier is enabled.
+/**
+ * Output: the axis's amplifier is enabled.
+ */
 #define MC_IO_DRIVE_ENABLE 256
 
-// What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
-// failure. The codes are stable: a code keeps its number in every later version.
+/**
+ * What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
+ * failure. The codes are stable: a code keeps its number in every later version.
+ */
 typedef int32_t mc_result;
 
-// A card handle: an integer, as in vendor libraries' card numbers. 0 is never a valid handle.
+/**
+ * A card handle: an integer, as in vendor libraries' card numbers. 0 is never a valid handle.
+ */
 typedef uint32_t mc_card;
 
-// How `mc_open_sim` builds an emulated card. Start from `mc_sim_options_default`.
+/**
+ * How `mc_open_sim` builds an emulated card. Start from `mc_sim_options_default`.
+ */
 typedef struct mc_sim_options {
-  // `MC_SIM_CLOCK_` value.
+  /**
+   * `MC_SIM_CLOCK_` value.
+   */
   uint32_t clock;
-  // Axes, 1..8.
+  /**
+   * Axes, 1..8.
+   */
   uint32_t axes;
-  // Servo rate, 1000..20000 Hz.
+  /**
+   * Servo rate, 1000..20000 Hz.
+   */
   uint32_t servo_rate_hz;
-  // `MC_SIM_PLANT_` value.
+  /**
+   * `MC_SIM_PLANT_` value.
+   */
   uint32_t plant;
 } mc_sim_options;
 
-// What the card says about itself (`mc_card_info`).
+/**
+ * What the card says about itself (`mc_card_info`).
+ */
 typedef struct mc_card_info {
-  // Firmware version, `major << 16 | minor << 8 | patch`.
+  /**
+   * Firmware version, `major << 16 | minor << 8 | patch`.
+   */
   uint32_t firmware_version;
-  // DPRAM layout major version.
+  /**
+   * DPRAM layout major version.
+   */
   uint16_t layout_major;
-  // DPRAM layout minor version.
+  /**
+   * DPRAM layout minor version.
+   */
   uint16_t layout_minor;
-  // Axes on the card (axis numbers 0 .. axes-1).
+  /**
+   * Axes on the card (axis numbers 0 .. axes-1).
+   */
   uint32_t axes;
-  // Servo rate, Hz.
+  /**
+   * Servo rate, Hz.
+   */
   uint32_t servo_rate_hz;
-  // `MC_CARD_CAP_` bits.
+  /**
+   * `MC_CARD_CAP_` bits.
+   */
   uint32_t capabilities;
 } mc_card_info;
 
-// Servo gains and in-position windows of an axis (counts, seconds, volts). Start from
-// `mc_axis_settings_default`.
+/**
+ * Servo gains and in-position windows of an axis (counts, seconds, volts). Start from
+ * `mc_axis_settings_default`.
+ */
 typedef struct mc_axis_settings {
-  // Position gain, 1/s.
+  /**
+   * Position gain, 1/s.
+   */
   double kp;
-  // Velocity-loop integral gain, 1/s.
+  /**
+   * Velocity-loop integral gain, 1/s.
+   */
   double ki;
-  // Velocity-loop gain, V per count/s.
+  /**
+   * Velocity-loop gain, V per count/s.
+   */
   double kv;
-  // Velocity feed-forward fraction.
+  /**
+   * Velocity feed-forward fraction.
+   */
   double kvff;
-  // Acceleration feed-forward, V per count/s².
+  /**
+   * Acceleration feed-forward, V per count/s².
+   */
   double kaff;
-  // Velocity estimator cut-off, Hz.
+  /**
+   * Velocity estimator cut-off, Hz.
+   */
   double vel_filter_hz;
-  // Output clamp, V.
+  /**
+   * Output clamp, V.
+   */
   double dac_limit_v;
-  // In-position window, counts.
+  /**
+   * In-position window, counts.
+   */
   double in_pos_window;
-  // In-velocity window, counts/s.
+  /**
+   * In-velocity window, counts/s.
+   */
   double in_vel_window;
-  // Settle time, s.
+  /**
+   * Settle time, s.
+   */
   double settle_time;
 } mc_axis_settings;
 
-// Limits of a point-to-point move, in user units (see `mc_set_scale`). Every value must be
-// finite and greater than zero.
+/**
+ * Limits of a point-to-point move, in user units (see `mc_set_scale`). Every value must be
+ * finite and greater than zero.
+ */
 typedef struct mc_move_limits {
-  // Maximum velocity.
+  /**
+   * Maximum velocity.
+   */
   double velocity;
-  // Maximum acceleration.
+  /**
+   * Maximum acceleration.
+   */
   double acceleration;
-  // Maximum deceleration.
+  /**
+   * Maximum deceleration.
+   */
   double deceleration;
-  // Jerk of the seven-segment phases 1, 3 (acceleration) and 5, 7 (deceleration).
+  /**
+   * Jerk of the seven-segment phases 1, 3 (acceleration) and 5, 7 (deceleration).
+   */
   double jerk[4];
 } mc_move_limits;
 
-// A motion started by `mc_move_absolute`, `mc_move_relative`, `mc_halt` or `mc_stop`; wait for
-// it with `mc_motion_wait`.
+/**
+ * A motion started by `mc_move_absolute`, `mc_move_relative`, `mc_halt` or `mc_stop`; wait for
+ * it with `mc_motion_wait`.
+ */
 typedef struct mc_motion {
-  // The axis.
+  /**
+   * The axis.
+   */
   uint32_t axis;
-  // The seq of the command that started it (events about it carry the same seq).
+  /**
+   * The seq of the command that started it (events about it carry the same seq).
+   */
   uint32_t seq;
 } mc_motion;
 
-// Everything the card publishes about an axis, in counts and seconds (no scale applied).
+/**
+ * Everything the card publishes about an axis, in counts and seconds (no scale applied).
+ */
 typedef struct mc_raw_status {
-  // Commanded (profile) position, counts.
+  /**
+   * Commanded (profile) position, counts.
+   */
   double cmd_pos;
-  // Commanded velocity, counts/s.
+  /**
+   * Commanded velocity, counts/s.
+   */
   double cmd_vel;
-  // Commanded acceleration, counts/s².
+  /**
+   * Commanded acceleration, counts/s².
+   */
   double cmd_acc;
-  // Actual (encoder) position, counts.
+  /**
+   * Actual (encoder) position, counts.
+   */
   double act_pos;
-  // Actual velocity (filtered), counts/s.
+  /**
+   * Actual velocity (filtered), counts/s.
+   */
   double act_vel;
-  // Following error = commanded − actual position, counts.
+  /**
+   * Following error = commanded − actual position, counts.
+   */
   double ferr;
-  // DAC output, volts.
+  /**
+   * DAC output, volts.
+   */
   double dac_v;
-  // Target of the current or last move, counts.
+  /**
+   * Target of the current or last move, counts.
+   */
   double target;
-  // `MC_AXIS_STATE_` value.
+  /**
+   * `MC_AXIS_STATE_` value.
+   */
   uint32_t state;
-  // `MC_AXIS_FAULT_` bits.
+  /**
+   * `MC_AXIS_FAULT_` bits.
+   */
   uint32_t faults;
-  // Seq of the last command accepted for this axis.
+  /**
+   * Seq of the last command accepted for this axis.
+   */
   uint32_t last_seq;
-  // Moves started since boot.
+  /**
+   * Moves started since boot.
+   */
   uint32_t move_count;
-  // Servo tick of this snapshot.
+  /**
+   * Servo tick of this snapshot.
+   */
   uint64_t tick;
-  // Raw encoder count.
+  /**
+   * Raw encoder count.
+   */
   int64_t encoder;
-  // Max |commanded velocity| of the current or last move, counts/s.
+  /**
+   * Max |commanded velocity| of the current or last move, counts/s.
+   */
   double peak_vel;
-  // Max commanded acceleration of the move, counts/s².
+  /**
+   * Max commanded acceleration of the move, counts/s².
+   */
   double peak_acc;
-  // Max commanded deceleration of the move, counts/s².
+  /**
+   * Max commanded deceleration of the move, counts/s².
+   */
   double peak_dec;
-  // Max |commanded jerk| of the move, counts/s³.
+  /**
+   * Max |commanded jerk| of the move, counts/s³.
+   */
   double peak_jerk;
-  // Max |following error| of the move, counts.
+  /**
+   * Max |following error| of the move, counts.
+   */
   double max_ferr;
-  // Planned profile duration, s.
+  /**
+   * Planned profile duration, s.
+   */
   double planned_time;
-  // Time from start to motion done (in position), s; 0 while the move runs.
+  /**
+   * Time from start to motion done (in position), s; 0 while the move runs.
+   */
   double move_time;
-  // The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
+  /**
+   * The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
+   */
   double u_request;
-  // Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
+  /**
+   * Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
+   */
   uint32_t stop_reason;
-  // The axis's input bits and drive-enable output (`MC_IO_` bits).
+  /**
+   * The axis's input bits and drive-enable output (`MC_IO_` bits).
+   */
   uint32_t io;
 } mc_raw_status;
 
-// A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
-// everything the card published in counts in `raw`.
+/**
+ * A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
+ * everything the card published in counts in `raw`.
+ */
 typedef struct mc_status {
-  // `MC_AXIS_STATE_` value.
+  /**
+   * `MC_AXIS_STATE_` value.
+   */
   uint32_t state;
-  // `MC_AXIS_FAULT_` bits.
+  /**
+   * `MC_AXIS_FAULT_` bits.
+   */
   uint32_t faults;
-  // Commanded position.
+  /**
+   * Commanded position.
+   */
   double command_position;
-  // Commanded velocity.
+  /**
+   * Commanded velocity.
+   */
   double command_velocity;
-  // Commanded acceleration.
+  /**
+   * Commanded acceleration.
+   */
   double command_acceleration;
-  // Actual position.
+  /**
+   * Actual position.
+   */
   double actual_position;
-  // Actual velocity.
+  /**
+   * Actual velocity.
+   */
   double actual_velocity;
-  // Following error (commanded − actual).
+  /**
+   * Following error (commanded − actual).
+   */
   double following_error;
-  // DAC output, volts.
+  /**
+   * DAC output, volts.
+   */
   double dac_volts;
-  // The same snapshot in counts, with the card's per-move statistics.
+  /**
+   * The same snapshot in counts, with the card's per-move statistics.
+   */
   struct mc_raw_status raw;
-  // Why the last motion ended (`MC_STOP_REASON_` value; a newer card may report one this
-  // library has no constant for).
+  /**
+   * Why the last motion ended (`MC_STOP_REASON_` value; a newer card may report one this
+   * library has no constant for).
+   */
   uint32_t stop_reason;
-  // The axis's limit switch, home, amplifier alarm, encoder fault and e-stop inputs and its
-  // drive-enable output (`MC_IO_` bits).
+  /**
+   * The axis's limit switch, home, amplifier alarm, encoder fault and e-stop inputs and its
+   * drive-enable output (`MC_IO_` bits).
+   */
   uint32_t io;
 } mc_status;
 
-// An event from the card, in user units.
+/**
+ * An event from the card, in user units.
+ */
 typedef struct mc_event {
-  // `MC_EVENT_` value.
+  /**
+   * `MC_EVENT_` value.
+   */
   uint32_t kind;
-  // Axis, or `MC_EVENT_CARD_WIDE`.
+  /**
+   * Axis, or `MC_EVENT_CARD_WIDE`.
+   */
   uint32_t axis;
-  // Seq of the command it concerns (motion events: the command that started the motion;
-  // compare with `mc_motion.seq`).
+  /**
+   * Seq of the command it concerns (motion events: the command that started the motion;
+   * compare with `mc_motion.seq`).
+   */
   uint32_t seq;
-  // Kind-specific code.
+  /**
+   * Kind-specific code.
+   */
   int32_t code;
-  // Servo tick at which the card raised it.
+  /**
+   * Servo tick at which the card raised it.
+   */
   uint64_t tick;
-  // Kind-specific value (positions in user units).
+  /**
+   * Kind-specific value (positions in user units).
+   */
   double value;
 } mc_event;
 
-// The event callback: called from `mc_dispatch_events`, on the thread that called it, once
-// per event. `event` is valid only during the call. `user` is the pointer given to
-// `mc_set_event_callback`.
+/**
+ * The event callback: called from `mc_dispatch_events`, on the thread that called it, once
+ * per event. `event` is valid only during the call. `user` is the pointer given to
+ * `mc_set_event_callback`.
+ */
 typedef void (*mc_event_callback)(mc_card card, const struct mc_event *event, void *user);
 
-// A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
+/**
+ * A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
+ */
 typedef struct mc_group_settings {
-  // Card axes of the group's X, Y, Z, … axes; the first `naxes` are used.
+  /**
+   * Card axes of the group's X, Y, Z, … axes; the first `naxes` are used.
+   */
   uint32_t axes[8];
-  // Axes in the group, 1..8.
+  /**
+   * Axes in the group, 1..8.
+   */
   uint32_t naxes;
-  // `MC_GROUP_ACCDEC_` value.
+  /**
+   * `MC_GROUP_ACCDEC_` value.
+   */
   uint32_t accdec;
-  // `MC_GROUP_INTERP_` value.
+  /**
+   * `MC_GROUP_INTERP_` value.
+   */
   uint32_t interpolator;
-  // Geometry tolerance (centre equidistance, radius against chord), in user units of the
-  // group's first axis.
+  /**
+   * Geometry tolerance (centre equidistance, radius against chord), in user units of the
+   * group's first axis.
+   */
   double tolerance;
 } mc_group_settings;
 
-// A group move started by `mc_group_move_linear`, `_ptp`, `_circular`, `_nurbs`,
-// `mc_group_halt` or `mc_group_stop`; wait for it with `mc_group_motion_wait`.
+/**
+ * A group move started by `mc_group_move_linear`, `_ptp`, `_circular`, `_nurbs`,
+ * `mc_group_halt` or `mc_group_stop`; wait for it with `mc_group_motion_wait`.
+ */
 typedef struct mc_group_motion {
-  // The group.
+  /**
+   * The group.
+   */
   uint32_t group;
-  // The seq of the command that started it (`MC_EVENT_GROUP_` events carry the same seq).
+  /**
+   * The seq of the command that started it (`MC_EVENT_GROUP_` events carry the same seq).
+   */
   uint32_t seq;
 } mc_group_motion;
 
-// Limits of the tangential feed of a group move, in user units of the group's first axis.
-// Every value must be finite and greater than zero.
+/**
+ * Limits of the tangential feed of a group move, in user units of the group's first axis.
+ * Every value must be finite and greater than zero.
+ */
 typedef struct mc_path_limits {
-  // Feed (path velocity).
+  /**
+   * Feed (path velocity).
+   */
   double velocity;
-  // Tangential acceleration.
+  /**
+   * Tangential acceleration.
+   */
   double acceleration;
-  // Tangential deceleration.
+  /**
+   * Tangential deceleration.
+   */
   double deceleration;
-  // Tangential jerk.
+  /**
+   * Tangential jerk.
+   */
   double jerk;
 } mc_path_limits;
 
-// How a group move is queued. All zero (`{0}`) is the default: absolute targets, the group
-// must be at rest, cutting feed.
+/**
+ * How a group move is queued. All zero (`{0}`) is the default: absolute targets, the group
+ * must be at rest, cutting feed.
+ */
 typedef struct mc_move_options {
-  // Non-zero: targets relative to where the previous move ends.
+  /**
+   * Non-zero: targets relative to where the previous move ends.
+   */
   uint32_t relative;
-  // Non-zero: queue behind the moves already queued (PLCopen Buffered); else the group
-  // must be at rest.
+  /**
+   * Non-zero: queue behind the moves already queued (PLCopen Buffered); else the group
+   * must be at rest.
+   */
   uint32_t buffered;
-  // `MC_FEED_TYPE_` value.
+  /**
+   * `MC_FEED_TYPE_` value.
+   */
   uint32_t feed_type;
 } mc_move_options;
 
-// An arc in the coordinates of its plane (user units): the end point, and per `mode`
-// (`MC_ARC_BY_`) the centre, the radius (`aux[0]`) or a point on the arc.
+/**
+ * An arc in the coordinates of its plane (user units): the end point, and per `mode`
+ * (`MC_ARC_BY_`) the centre, the radius (`aux[0]`) or a point on the arc.
+ */
 typedef struct mc_arc {
-  // `MC_ARC_BY_` value.
+  /**
+   * `MC_ARC_BY_` value.
+   */
   uint32_t mode;
-  // Non-zero: counter-clockwise; zero: clockwise (ignored by `MC_ARC_BY_BORDER`).
+  /**
+   * Non-zero: counter-clockwise; zero: clockwise (ignored by `MC_ARC_BY_BORDER`).
+   */
   uint32_t ccw;
-  // End point.
+  /**
+   * End point.
+   */
   double end[2];
-  // The centre (`MC_ARC_BY_CENTRE`), the radius in `aux[0]` (`MC_ARC_BY_RADIUS`), or a
-  // point on the arc (`MC_ARC_BY_BORDER`).
+  /**
+   * The centre (`MC_ARC_BY_CENTRE`), the radius in `aux[0]` (`MC_ARC_BY_RADIUS`), or a
+   * point on the arc (`MC_ARC_BY_BORDER`).
+   */
   double aux[2];
 } mc_arc;
 
-// How a NURBS curve is followed, in user units of the group's first axis.
+/**
+ * How a NURBS curve is followed, in user units of the group's first axis.
+ */
 typedef struct mc_nurbs_feed {
-  // Feed along the curve.
+  /**
+   * Feed along the curve.
+   */
   double feed;
-  // Tangential acceleration limit.
+  /**
+   * Tangential acceleration limit.
+   */
   double accel;
-  // Tangential jerk limit.
+  /**
+   * Tangential jerk limit.
+   */
   double jerk;
-  // Chord error tolerance (the feed is lowered where the curvature needs it), in the user
-  // units of the group's first axis; 0: the default, one encoder count (1 µm on a 1 µm/count
-  // scale).
+  /**
+   * Chord error tolerance (the feed is lowered where the curvature needs it), in the user
+   * units of the group's first axis; 0: the default, one encoder count (1 µm on a 1 µm/count
+   * scale).
+   */
   double chord_tolerance;
-  // Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
-  // may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
-  // otherwise). 0: not saturation-aware.
+  /**
+   * Saturation-aware feed (Yeh §3.4): the fraction of each axis's PD+ `umax` the look-ahead
+   * may plan with, in (0, 1]; needs PD+ on every group axis (`MC_ERR_INCOMPATIBLE_MODE`
+   * otherwise). 0: not saturation-aware.
+   */
   double saturation_budget;
 } mc_nurbs_feed;
 
-// One NURBS curve of a path (`mc_group_move_nurbs_path`), described as the arguments of
-// `mc_group_move_nurbs`: `n_ctrl` control points of `dim` values in `ctrl`, `n_ctrl` weights,
-// `n_knots` knots. The arrays are read during the call only.
+/**
+ * One NURBS curve of a path (`mc_group_move_nurbs_path`), described as the arguments of
+ * `mc_group_move_nurbs`: `n_ctrl` control points of `dim` values in `ctrl`, `n_ctrl` weights,
+ * `n_knots` knots. The arrays are read during the call only.
+ */
 typedef struct mc_nurbs_curve {
-  // Degree, 1..5.
+  /**
+   * Degree, 1..5.
+   */
   uint32_t degree;
-  // Dimension: the group's axis count.
+  /**
+   * Dimension: the group's axis count.
+   */
   uint32_t dim;
-  // `n_ctrl * dim` doubles, point after point, in group axis order and user units.
+  /**
+   * `n_ctrl * dim` doubles, point after point, in group axis order and user units.
+   */
   const double *ctrl;
-  // Control points.
+  /**
+   * Control points.
+   */
   size_t n_ctrl;
-  // `n_ctrl` weights, finite and positive.
+  /**
+   * `n_ctrl` weights, finite and positive.
+   */
   const double *weights;
-  // `n_knots` knots, clamped and non-decreasing.
+  /**
+   * `n_knots` knots, clamped and non-decreasing.
+   */
   const double *knots;
-  // `n_ctrl + degree + 1`.
+  /**
+   * `n_ctrl + degree + 1`.
+   */
   size_t n_knots;
 } mc_nurbs_curve;
 
-// A consistent snapshot of a group's status. Path quantities are in counts of the group's
-// first axis (no scale applied), as the card publishes them.
+/**
+ * A consistent snapshot of a group's status. Path quantities are in counts of the group's
+ * first axis (no scale applied), as the card publishes them.
+ */
 typedef struct mc_group_status {
-  // `MC_GROUP_STATE_` value.
+  /**
+   * `MC_GROUP_STATE_` value.
+   */
   uint32_t state;
-  // Moves waiting in the queue.
+  /**
+   * Moves waiting in the queue.
+   */
   uint32_t queued;
-  // Seq of the move being interpolated (0: none).
+  /**
+   * Seq of the move being interpolated (0: none).
+   */
   uint32_t active_seq;
-  // Group moves started since boot.
+  /**
+   * Group moves started since boot.
+   */
   uint32_t move_count;
-  // Distance along the active move, counts.
+  /**
+   * Distance along the active move, counts.
+   */
   double path_pos;
-  // Length of the active move, counts.
+  /**
+   * Length of the active move, counts.
+   */
   double path_len;
-  // Tangential velocity before the filters, counts/s.
+  /**
+   * Tangential velocity before the filters, counts/s.
+   */
   double feed;
-  // Tangential acceleration before the filters, counts/s².
+  /**
+   * Tangential acceleration before the filters, counts/s².
+   */
   double feed_acc;
-  // Servo tick of this snapshot.
+  /**
+   * Servo tick of this snapshot.
+   */
   uint64_t tick;
-  // At the group's last coming to rest, the largest |programmed end − commanded position|
-  // over its axes: the correction its snap to the end made, counts (what the interpolation
-  // and the filters lost, plus the rounding of the sums).
+  /**
+   * At the group's last coming to rest, the largest |programmed end − commanded position|
+   * over its axes: the correction its snap to the end made, counts (what the interpolation
+   * and the filters lost, plus the rounding of the sums).
+   */
   double snap_last;
-  // The largest `snap_last` since the group was enabled, counts.
+  /**
+   * The largest `snap_last` since the group was enabled, counts.
+   */
   double snap_max;
 } mc_group_status;
 
-// One acc/dec filter: kind and time constant.
+/**
+ * One acc/dec filter: kind and time constant.
+ */
 typedef struct mc_filter {
-  // `MC_FILTER_KIND_` value.
+  /**
+   * `MC_FILTER_KIND_` value.
+   */
   uint32_t kind;
-  // Time constant, s.
+  /**
+   * Time constant, s.
+   */
   double tau;
 } mc_filter;
 
-// An axis's post-interpolation acc/dec filters, one per feed type.
+/**
+ * An axis's post-interpolation acc/dec filters, one per feed type.
+ */
 typedef struct mc_filter_settings {
-  // Rapid traverse (`MC_FEED_TYPE_RAPID`).
+  /**
+   * Rapid traverse (`MC_FEED_TYPE_RAPID`).
+   */
   struct mc_filter rapid;
-  // Cutting feed (`MC_FEED_TYPE_CUTTING`).
+  /**
+   * Cutting feed (`MC_FEED_TYPE_CUTTING`).
+   */
   struct mc_filter cutting;
-  // Jog (`MC_FEED_TYPE_JOG`).
+  /**
+   * Jog (`MC_FEED_TYPE_JOG`).
+   */
   struct mc_filter jog;
 } mc_filter_settings;
 
-// The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
-// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
-// `dθ/dt = ke·w`.
+/**
+ * The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
+ * seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
+ * `dθ/dt = ke·w`.
+ */
 typedef struct mc_pdplus_settings {
-  // V/count.
+  /**
+   * V/count.
+   */
   double kp;
-  // V per count/s.
+  /**
+   * V per count/s.
+   */
   double kd;
-  // V per count/s of reference velocity.
+  /**
+   * V per count/s of reference velocity.
+   */
   double kv;
-  // V per count/s² of reference acceleration.
+  /**
+   * V per count/s² of reference acceleration.
+   */
   double ka;
-  // (rad/s)/V.
+  /**
+   * (rad/s)/V.
+   */
   double kc;
-  // s.
+  /**
+   * s.
+   */
   double tau;
-  // counts/rad.
+  /**
+   * counts/rad.
+   */
   double ke;
-  // Drive limit, V (at most the axis's `dac_limit_v`).
+  /**
+   * Drive limit, V (at most the axis's `dac_limit_v`).
+   */
   double umax;
 } mc_pdplus_settings;
 
-// The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
+/**
+ * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
+ */
 typedef struct mc_safety_status {
-  // The host watchdog tripped; latched until `mc_reset_faults`.
+  /**
+   * The host watchdog tripped; latched until `mc_reset_faults`.
+   */
   uint32_t watchdog_tripped;
-  // The host's e-stop (`mc_estop`) is latched.
+  /**
+   * The host's e-stop (`mc_estop`) is latched.
+   */
   uint32_t estop_command;
-  // The e-stop input tripped; latched until reset with the input released.
+  /**
+   * The e-stop input tripped; latched until reset with the input released.
+   */
   uint32_t estop_input;
-  // The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+  /**
+   * The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+   */
   uint32_t watchdog_armed;
-  // Servo tick at which the card last saw the heartbeat change.
+  /**
+   * Servo tick at which the card last saw the heartbeat change.
+   */
   uint64_t last_heartbeat_tick;
-  // Servo tick of the last watchdog trip (0: never).
+  /**
+   * Servo tick of the last watchdog trip (0: never).
+   */
   uint64_t watchdog_trip_tick;
-  // The tick of the last heartbeat the card saw before that trip.
+  /**
+   * The tick of the last heartbeat the card saw before that trip.
+   */
   uint64_t trip_heartbeat_tick;
-  // Protocol errors (corrupt ring indices) the card detected since boot.
+  /**
+   * Protocol errors (corrupt ring indices) the card detected since boot.
+   */
   uint32_t protocol_errors;
+  /**
+   * The session id of the program attached to the card (this one's while it is open).
+   */
+  uint32_t session;
+  /**
+   * Programs that opened the card while another's session was still open, since boot (each
+   * stopped the motion the vanished program left).
+   */
+  uint32_t host_changes;
+  /**
+   * Heartbeats that came later than the declared period after the one before, since this
+   * program opened the card: how close it runs to its watchdog.
+   */
+  uint32_t late_heartbeats;
+  /**
+   * The longest gap between two heartbeats the card saw since this program opened it, µs.
+   */
+  uint32_t max_heartbeat_gap_us;
+  /**
+   * Servo tick of the last open (this program's, while it is open).
+   */
+  uint64_t attach_tick;
 } mc_safety_status;
 
-// An axis's safety configuration (`mc_configure_safety`), in user units (see `mc_set_scale`).
-// Start from `mc_safety_settings_default`. Flags: non-zero is on.
+/**
+ * An axis's safety configuration (`mc_configure_safety`), in user units (see `mc_set_scale`).
+ * Start from `mc_safety_settings_default`. Flags: non-zero is on.
+ */
 typedef struct mc_safety_settings {
-  // Enforce `soft_limit_neg` .. `soft_limit_pos` (off by default).
+  /**
+   * Enforce `soft_limit_neg` .. `soft_limit_pos` (off by default).
+   */
   uint32_t soft_limits;
-  // Honour the limit switch inputs.
+  /**
+   * Honour the limit switch inputs.
+   */
   uint32_t hard_limits;
-  // Honour the amplifier alarm input.
+  /**
+   * Honour the amplifier alarm input.
+   */
   uint32_t amp_alarm;
-  // Honour encoder loss and jumps.
+  /**
+   * Honour encoder loss and jumps.
+   */
   uint32_t encoder_checks;
-  // The stop a hard or soft limit makes (`MC_STOP_CATEGORY_`).
+  /**
+   * The stop a hard or soft limit makes (`MC_STOP_CATEGORY_`).
+   */
   uint32_t limit_stop;
-  // Negative soft limit (used when `soft_limits` is on; 0 in the defaults).
+  /**
+   * Negative soft limit (used when `soft_limits` is on; 0 in the defaults).
+   */
   double soft_limit_neg;
-  // Positive soft limit (used when `soft_limits` is on; 0 in the defaults).
+  /**
+   * Positive soft limit (used when `soft_limits` is on; 0 in the defaults).
+   */
   double soft_limit_pos;
-  // Following-error limit at `max_velocity` (LinuxCNC FERROR); the limit at velocity v is
-  // `max(ferror * |v| / max_velocity, min_ferror)`.
+  /**
+   * Following-error limit at `max_velocity` (LinuxCNC FERROR); the limit at velocity v is
+   * `max(ferror * |v| / max_velocity, min_ferror)`.
+   */
   double ferror;
-  // Following-error limit at rest (LinuxCNC MIN_FERROR).
+  /**
+   * Following-error limit at rest (LinuxCNC MIN_FERROR).
+   */
   double min_ferror;
-  // The velocity `ferror` applies at.
+  /**
+   * The velocity `ferror` applies at.
+   */
   double max_velocity;
-  // Deceleration of category 1 and 2 stops.
+  /**
+   * Deceleration of category 1 and 2 stops.
+   */
   double stop_deceleration;
-  // Jerk of those stops.
+  /**
+   * Jerk of those stops.
+   */
   double stop_jerk;
-  // Fastest physically possible encoder velocity: a larger change in one tick is a fault.
+  /**
+   * Fastest physically possible encoder velocity: a larger change in one tick is a fault.
+   */
   double encoder_max_velocity;
 } mc_safety_settings;
 
-// How an axis's last safety stop went, measured by the card (`mc_get_stop_info`).
+/**
+ * How an axis's last safety stop went, measured by the card (`mc_get_stop_info`).
+ */
 typedef struct mc_stop_info {
-  // Why the last motion ended (`MC_STOP_REASON_` value).
+  /**
+   * Why the last motion ended (`MC_STOP_REASON_` value).
+   */
   uint32_t reason;
-  // 1 when the axis has come to rest after its last safety stop (`rest_tick` is valid), 0
-  // while it is still stopping or when there was none.
+  /**
+   * 1 when the axis has come to rest after its last safety stop (`rest_tick` is valid), 0
+   * while it is still stopping or when there was none.
+   */
   uint32_t at_rest;
-  // Servo tick at which the last safety stop began (0: none since boot).
+  /**
+   * Servo tick at which the last safety stop began (0: none since boot).
+   */
   uint64_t stop_tick;
-  // Servo tick at which the axis came to rest after it (0 while still stopping).
+  /**
+   * Servo tick at which the axis came to rest after it (0 while still stopping).
+   */
   uint64_t rest_tick;
-  // Planned duration of the stop's deceleration ramp, s (0 for category 0).
+  /**
+   * Planned duration of the stop's deceleration ramp, s (0 for category 0).
+   */
   double ramp_time;
 } mc_stop_info;
 
-// Success.
+/**
+ * Success.
+ */
 #define MC_OK 0
 
-// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F` (or not UTF-8).
+/**
+ * The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F` (or not UTF-8).
+ */
 #define MC_ERR_BAD_URI -1
 
-// No card at that URI.
+/**
+ * No card at that URI.
+ */
 #define MC_ERR_NOT_FOUND -2
 
-// Another process has the card open.
+/**
+ * Another process has the card open.
+ */
 #define MC_ERR_BUSY -3
 
-// The card's DPRAM layout major version differs from this library's.
+/**
+ * The card's DPRAM layout major version differs from this library's.
+ */
 #define MC_ERR_VERSION_MISMATCH -4
 
-// The card does not answer.
+/**
+ * The card does not answer.
+ */
 #define MC_ERR_NOT_RESPONDING -5
 
-// The card broke the protocol (corrupt ring indices, bad signature, torn status).
+/**
+ * The card broke the protocol (corrupt ring indices, bad signature, torn status).
+ */
 #define MC_ERR_PROTOCOL -6
 
-// The command ring is full: nothing was queued.
+/**
+ * The command ring is full: nothing was queued.
+ */
 #define MC_ERR_RING_FULL -7
 
-// A wait ran out of time.
+/**
+ * A wait ran out of time.
+ */
 #define MC_ERR_TIMEOUT -8
 
-// The motion waited for was aborted by another command or a fault.
+/**
+ * The motion waited for was aborted by another command or a fault.
+ */
 #define MC_ERR_ABORTED -9
 
-// The card has no such axis.
+/**
+ * The card has no such axis.
+ */
 #define MC_ERR_BAD_AXIS -10
 
-// An argument is NaN or infinite.
+/**
+ * An argument is NaN or infinite.
+ */
 #define MC_ERR_NOT_FINITE -11
 
-// A limit (or the scale) is zero or negative.
+/**
+ * A limit (or the scale) is zero or negative.
+ */
 #define MC_ERR_NON_POSITIVE_LIMIT -12
 
-// The axis is disabled.
+/**
+ * The axis is disabled.
+ */
 #define MC_ERR_AXIS_DISABLED -13
 
-// The command is not allowed in the axis's current state.
+/**
+ * The command is not allowed in the axis's current state.
+ */
 #define MC_ERR_INVALID_STATE -14
 
-// A configuration value is out of range.
+/**
+ * A configuration value is out of range.
+ */
 #define MC_ERR_BAD_CONFIG -15
 
-// No motion profile satisfies the request.
+/**
+ * No motion profile satisfies the request.
+ */
 #define MC_ERR_INFEASIBLE -16
 
-// A position is beyond the card's range.
+/**
+ * A position is beyond the card's range.
+ */
 #define MC_ERR_OUT_OF_RANGE -17
 
-// The card configuration can only change while all axes are disabled.
+/**
+ * The card configuration can only change while all axes are disabled.
+ */
 #define MC_ERR_AXES_ENABLED -18
 
-// The firmware does not know the command.
+/**
+ * The firmware does not know the command.
+ */
 #define MC_ERR_UNKNOWN_COMMAND -19
 
-// An operating-system call failed.
+/**
+ * An operating-system call failed.
+ */
 #define MC_ERR_IO -20
 
-// The card or backend cannot do this (for example stepping a card that is not a stepped sim).
+/**
+ * The card or backend cannot do this (for example stepping a card that is not a stepped sim).
+ */
 #define MC_ERR_UNSUPPORTED -21
 
-// No such axes group.
+/**
+ * No such axes group.
+ */
 #define MC_ERR_BAD_GROUP -22
 
-// An axis already belongs to another group.
+/**
+ * An axis already belongs to another group.
+ */
 #define MC_ERR_AXIS_IN_OTHER_GROUP -23
 
-// The move needs an axis the group does not have.
+/**
+ * The move needs an axis the group does not have.
+ */
 #define MC_ERR_AXIS_NOT_IN_GROUP -24
 
-// An axis of the group is moving on its own.
+/**
+ * An axis of the group is moving on its own.
+ */
 #define MC_ERR_AXIS_BUSY -25
 
-// The axis belongs to an enabled group.
+/**
+ * The axis belongs to an enabled group.
+ */
 #define MC_ERR_AXIS_GROUPED -26
 
-// The arc has zero length or zero radius.
+/**
+ * The arc has zero length or zero radius.
+ */
 #define MC_ERR_ZERO_LENGTH_ARC -27
 
-// The centre is not equidistant from start and end.
+/**
+ * The centre is not equidistant from start and end.
+ */
 #define MC_ERR_CENTRE_NOT_EQUIDISTANT -28
 
-// The radius is shorter than half the chord.
+/**
+ * The radius is shorter than half the chord.
+ */
 #define MC_ERR_RADIUS_TOO_SMALL -29
 
-// The three points of the arc are on one line.
+/**
+ * The three points of the arc are on one line.
+ */
 #define MC_ERR_COLLINEAR_POINTS -30
 
-// The group's move queue is full.
+/**
+ * The group's move queue is full.
+ */
 #define MC_ERR_QUEUE_FULL -31
 
-// The interpolator cannot run with this acc/dec mode.
+/**
+ * The interpolator cannot run with this acc/dec mode.
+ */
 #define MC_ERR_INCOMPATIBLE_MODE -32
 
-// The group is disabled or not configured.
+/**
+ * The group is disabled or not configured.
+ */
 #define MC_ERR_GROUP_DISABLED -33
 
-// The filter still holds distance.
+/**
+ * The filter still holds distance.
+ */
 #define MC_ERR_FILTER_BUSY -34
 
-// NURBS data out of sequence.
+/**
+ * NURBS data out of sequence.
+ */
 #define MC_ERR_NURBS_SEQUENCE -35
 
-// NURBS degree outside 1..5.
+/**
+ * NURBS degree outside 1..5.
+ */
 #define MC_ERR_NURBS_DEGREE -36
 
-// NURBS curves need a group of at least 2 axes.
+/**
+ * NURBS curves need a group of at least 2 axes.
+ */
 #define MC_ERR_NURBS_DIMENSION -37
 
-// Too few or too many NURBS control points.
+/**
+ * Too few or too many NURBS control points.
+ */
 #define MC_ERR_NURBS_CTRL_COUNT -38
 
-// The knot count must be control points + degree + 1.
+/**
+ * The knot count must be control points + degree + 1.
+ */
 #define MC_ERR_NURBS_KNOT_COUNT -39
 
-// The knots decrease.
+/**
+ * The knots decrease.
+ */
 #define MC_ERR_NURBS_KNOTS_DECREASING -40
 
-// An interior knot is repeated more than degree times.
+/**
+ * An interior knot is repeated more than degree times.
+ */
 #define MC_ERR_NURBS_KNOT_MULTIPLICITY -41
 
-// The knot vector is not clamped.
+/**
+ * The knot vector is not clamped.
+ */
 #define MC_ERR_NURBS_NOT_CLAMPED -42
 
-// A NURBS weight is not finite and positive.
+/**
+ * A NURBS weight is not finite and positive.
+ */
 #define MC_ERR_NURBS_WEIGHT -43
 
-// A control point is not finite.
+/**
+ * A control point is not finite.
+ */
 #define MC_ERR_NURBS_POINT -44
 
-// The curve does not start where the group is.
+/**
+ * The curve does not start where the group is.
+ */
 #define MC_ERR_NURBS_START -45
 
-// The curve has zero length.
+/**
+ * The curve has zero length.
+ */
 #define MC_ERR_NURBS_ZERO_LENGTH -46
 
-// The host watchdog tripped: reset the card's faults first.
+/**
+ * The host watchdog tripped: reset the card's faults first.
+ */
 #define MC_ERR_WATCHDOG_TRIPPED -47
 
-// An e-stop is latched: reset the card's faults first.
+/**
+ * An e-stop is latched: reset the card's faults first.
+ */
 #define MC_ERR_ESTOP_ACTIVE -48
 
-// The move goes further into an active limit switch.
+/**
+ * The move goes further into an active limit switch.
+ */
 #define MC_ERR_HARD_LIMIT -49
 
-// The move goes further beyond a soft limit.
+/**
+ * The move goes further beyond a soft limit.
+ */
 #define MC_ERR_SOFT_LIMIT -50
 
-// The cause of the fault is still present.
+/**
+ * The cause of the fault is still present.
+ */
 #define MC_ERR_CAUSE_ACTIVE -51
 
-// Watchdog timeout zero or under 1.5 x the host's heartbeat period.
+/**
+ * Watchdog timeout zero or under 1.5 x the host's heartbeat period.
+ */
 #define MC_ERR_WATCHDOG_TIMEOUT -52
 
-// Stop category must be 0, 1 or 2.
+/**
+ * Stop category must be 0, 1 or 2.
+ */
 #define MC_ERR_BAD_CATEGORY -53
 
-// A NURBS knot is not finite.
+/**
+ * A NURBS knot is not finite.
+ */
 #define MC_ERR_NURBS_KNOT -54
 
-// A kinematic limit outside the range the card accepts (denormal, absurdly small or large).
+/**
+ * A kinematic limit outside the range the card accepts (denormal, absurdly small or large).
+ */
 #define MC_ERR_LIMIT_RANGE -55
 
-// The planned profile failed the card's own check and was refused: nothing moved.
+/**
+ * The planned profile failed the card's own check and was refused: nothing moved.
+ */
 #define MC_ERR_PLAN_CHECK -56
 
-// The card served the command after its deadline and refused it: it was not executed.
+/**
+ * The card served the command after its deadline and refused it: it was not executed.
+ */
 #define MC_ERR_EXPIRED -57
 
-// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of range.
+/**
+ * A stop ramp longer than the card's maximum stop time, or a maximum stop time out of range.
+ */
 #define MC_ERR_STOP_TOO_LONG -58
 
-// The card's session belongs to another host.
+/**
+ * The card's session belongs to another host.
+ */
 #define MC_ERR_SESSION -59
 
-// The card went away (its process exited or was killed).
+/**
+ * The card went away (its process exited or was killed).
+ */
 #define MC_ERR_CARD_GONE -60
 
-// The card was closed while the call waited (or before it).
+/**
+ * The card was closed while the call waited (or before it).
+ */
 #define MC_ERR_CLOSED -61
 
-// The wait was cancelled from another thread (`mc_cancel_waits`).
+/**
+ * The wait was cancelled from another thread (`mc_cancel_waits`).
+ */
 #define MC_ERR_CANCELLED -62
 
-// The card's server refused this user.
+/**
+ * The card's server refused this user.
+ */
 #define MC_ERR_PERMISSION_DENIED -63
 
-// The card handle (or motion) is unknown: never opened, or already closed.
+/**
+ * The card handle (or motion) is unknown: never opened, or already closed.
+ */
 #define MC_ERR_BAD_HANDLE -100
 
-// A pointer argument that must not be NULL was NULL.
+/**
+ * A pointer argument that must not be NULL was NULL.
+ */
 #define MC_ERR_NULL_POINTER -101
 
-// The buffer is too small; the size needed (with the terminating NUL) was written to `*needed`.
+/**
+ * The buffer is too small; the size needed (with the terminating NUL) was written to `*needed`.
+ */
 #define MC_ERR_BUFFER_TOO_SMALL -102
 
-// The library panicked (a bug in libmotioncard); the call had no effect on the caller's
-// outputs. The message is in `mc_last_error_message`.
+/**
+ * The library panicked (a bug in libmotioncard); the call had no effect on the caller's
+ * outputs. The message is in `mc_last_error_message`.
+ */
 #define MC_ERR_PANIC -103
 
-#ifdef __cplusplus
-extern "C" {
-#endif // __cplusplus
-
-// A static description of a result code ("unknown result code" for a value that is not one).
-// Never NULL; the string lives as long as the program. Never blocks, never fails.
+/**
+ * A static description of a result code ("unknown result code" for a value that is not one).
+ * Never NULL; the string lives as long as the program. Never blocks, never fails.
+ */
 const char *mc_result_str(mc_result code);
 
-// The detailed message of the last failed `mc_` call on the calling thread ("" when none
-// failed). Successful calls leave it as it was. Copies the message and a NUL into `buf` and
-// the size it takes (including the NUL) into `*needed`. When `len` is too small, writes only
-// `*needed` and returns `MC_ERR_BUFFER_TOO_SMALL`; `buf` may be NULL when `len` is 0 (to ask
-// for the size). This call's own failures do not replace the message.
+/**
+ * The detailed message of the last failed `mc_` call on the calling thread ("" when none
+ * failed). Successful calls leave it as it was. Copies the message and a NUL into `buf` and
+ * the size it takes (including the NUL) into `*needed`. When `len` is too small, writes only
+ * `*needed` and returns `MC_ERR_BUFFER_TOO_SMALL`; `buf` may be NULL when `len` is 0 (to ask
+ * for the size). This call's own failures do not replace the message.
+ */
 mc_result mc_last_error_message(char *buf, size_t len, size_t *needed);
 
-// The library's version, `major << 16 | minor << 8 | patch` (as `mc_card_info.firmware_version`).
+/**
+ * The library's version, `major << 16 | minor << 8 | patch` (as `mc_card_info.firmware_version`).
+ */
 mc_result mc_version(uint32_t *version);
 
-// The library's version as a string ("0.1.0"), with the buffer rules of
-// `mc_last_error_message`.
+/**
+ * The library's version as a string ("0.1.0"), with the buffer rules of
+ * `mc_last_error_message`.
+ */
 mc_result mc_version_string(char *buf, size_t len, size_t *needed);
 
-// Open a card by URI: `sim` (an emulated card in this process, real-time clock), `emu:NAME`
-// (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware). Writes its handle
-// to `*card`. Blocks until the card has answered (at most about a second).
+/**
+ * Open a card by URI: `sim` (an emulated card in this process, real-time clock), `emu:NAME`
+ * (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware). Writes its handle
+ * to `*card`. Blocks until the card has answered (at most about a second).
+ */
 mc_result mc_open(const char *uri, mc_card *card);
 
-// Open an emulated card in this process whose time advances only in `mc_sim_step` and in
-// waits (a wait's timeout is then in emulated time): deterministic, for tests. `axes` is
-// 1..8 and `servo_rate_hz` 1000..20000; anything outside is `MC_ERR_BAD_CONFIG` (as
-// `mc_open_sim`, of which this is the stepped, default-plant case).
+/**
+ * Open an emulated card in this process whose time advances only in `mc_sim_step` and in
+ * waits (a wait's timeout is then in emulated time): deterministic, for tests. `axes` is
+ * 1..8 and `servo_rate_hz` 1000..20000; anything outside is `MC_ERR_BAD_CONFIG` (as
+ * `mc_open_sim`, of which this is the stepped, default-plant case).
+ */
 mc_result mc_open_sim_stepped(int axes, uint32_t servo_rate_hz, mc_card *card);
 
-// The options of `mc_open("sim")`: real-time clock, 8 axes, 10 kHz, the default plant.
-// Never blocks.
+/**
+ * The options of `mc_open("sim")`: real-time clock, 8 axes, 10 kHz, the default plant.
+ * Never blocks.
+ */
 mc_result mc_sim_options_default(struct mc_sim_options *options);
 
-// Open an emulated card in this process with explicit options: its clock
-// (`MC_SIM_CLOCK_REAL_TIME`, `_FREE_RUNNING`, or `_STEPPED` for a card whose time advances only
-// in `mc_sim_step` and waits), axes (1..8), servo rate (1000..20000 Hz) and plant
-// (`MC_SIM_PLANT_`). Values out of range, or unknown clocks and plants, are
-// `MC_ERR_BAD_CONFIG`. Blocks until the card has booted.
+/**
+ * Open an emulated card in this process with explicit options: its clock
+ * (`MC_SIM_CLOCK_REAL_TIME`, `_FREE_RUNNING`, or `_STEPPED` for a card whose time advances only
+ * in `mc_sim_step` and waits), axes (1..8), servo rate (1000..20000 Hz) and plant
+ * (`MC_SIM_PLANT_`). Values out of range, or unknown clocks and plants, are
+ * `MC_ERR_BAD_CONFIG`. Blocks until the card has booted.
+ */
 mc_result mc_open_sim(const struct mc_sim_options *options, mc_card *card);
 
-// Close a card. The handle is invalid afterwards: closing it again, or any other call with
-// it, returns `MC_ERR_BAD_HANDLE` and does nothing else (double close is harmless). A call
-// that another thread is still making on the card finishes first; the card is released when
-// the last one returns. Blocks while an emulated card's thread stops.
+/**
+ * Close a card: the clean end of this program's session. Moving axes and groups halt along
+ * their stop ramps (stop reason `MC_STOP_REASON_HOST_DETACH`), the card's watchdog is
+ * disarmed without latching a fault (the next program opens a card that is ready to move),
+ * and the heartbeat stops. Every call blocked on this card in another thread
+ * (`mc_motion_wait`, `mc_wait_done`, `mc_wait_event`, `mc_group_wait_done`,
+ * `mc_dispatch_events`...) returns `MC_ERR_CLOSED` at once. The handle is invalid afterwards:
+ * closing it again, or any other call with it, returns `MC_ERR_BAD_HANDLE` and does nothing
+ * else (double close is harmless). The handle is closed even when the card could not be told
+ * (a card that does not answer: the code says why, and its watchdog then stops it). Blocks
+ * until the card has answered the close.
+ */
 mc_result mc_close(mc_card card);
 
-// What the card says about itself: firmware and layout versions, axes, servo rate.
+/**
+ * End every wait in progress on this card in other threads (`mc_motion_wait`, `mc_wait_done`,
+ * `mc_wait_event`, `mc_group_wait_done`, `mc_group_motion_wait`, `mc_dispatch_events`): each
+ * returns `MC_ERR_CANCELLED`. Waits that begin afterwards are not affected; a call waiting for
+ * the card's answer to its own command is not cancelled (the command may still run). Never
+ * blocks.
+ */
+mc_result mc_cancel_waits(mc_card card);
+
+/**
+ * How many axes this program's `mc_open` stopped because the program before it left the card
+ * without closing it (it crashed or was killed): those axes are in ErrorStop with stop reason
+ * `MC_STOP_REASON_HOST_CHANGED` until `mc_reset_faults`. 0 when the previous program closed
+ * the card or left nothing enabled. Never blocks.
+ */
+mc_result mc_inherited_stops(mc_card card, uint32_t *axes);
+
+/**
+ * What the card says about itself: firmware and layout versions, axes, servo rate.
+ */
 mc_result mc_get_info(mc_card card, struct mc_card_info *info);
 
-// The card's servo tick counter.
+/**
+ * The card's servo tick counter.
+ */
 mc_result mc_get_tick(mc_card card, uint64_t *tick);
 
-// A command that does nothing but come back: one round trip through the card. Blocks until
-// the card answers.
+/**
+ * A command that does nothing but come back: one round trip through the card. Blocks until
+ * the card answers.
+ */
 mc_result mc_ping(mc_card card);
 
-// Change the servo rate (1000..20000 Hz; every axis must be disabled). Blocks until the card
-// answers.
+/**
+ * Change the servo rate (1000..20000 Hz; every axis must be disabled). Blocks until the card
+ * answers.
+ */
 mc_result mc_set_servo_rate(mc_card card, uint32_t servo_rate_hz);
 
-// Events lost: `*dropped` were dropped from the library's queue because nobody took them
-// (beyond 4096 waiting), `*card_lost` could not be posted by the card (its ring was full).
+/**
+ * Events lost: `*dropped` were dropped from the library's queue because nobody took them
+ * (beyond 4096 waiting), `*card_lost` could not be posted by the card (its ring was full).
+ */
 mc_result mc_events_lost(mc_card card, uint64_t *dropped, uint32_t *card_lost);
 
-// The default servo gains and in-position windows.
+/**
+ * The default servo gains and in-position windows.
+ */
 mc_result mc_axis_settings_default(struct mc_axis_settings *settings);
 
-// Write an axis's servo and in-position configuration and have the card apply it (the card
-// checks every value: `MC_ERR_BAD_CONFIG`). Blocks until the card answers.
+/**
+ * Write an axis's servo and in-position configuration and have the card apply it (the card
+ * checks every value: `MC_ERR_BAD_CONFIG`). Blocks until the card answers.
+ */
 mc_result mc_configure(mc_card card, uint32_t axis, const struct mc_axis_settings *settings);
 
-// Counts per user unit for this axis (default 1: positions in counts). Positions, velocities,
-// limits and status fields other than `raw` are then in user units. Affects this process only.
-// A negative scale reverses the axis; zero is `MC_ERR_NON_POSITIVE_LIMIT`.
+/**
+ * Counts per user unit for this axis (default 1: positions in counts). Positions, velocities,
+ * limits and status fields other than `raw` are then in user units. Affects this process only.
+ * A negative scale reverses the axis; zero is `MC_ERR_NON_POSITIVE_LIMIT`.
+ */
 mc_result mc_set_scale(mc_card card, uint32_t axis, double counts_per_unit);
 
-// MC_Power on. Blocks until the card answers.
+/**
+ * MC_Power on. Blocks until the card answers.
+ */
 mc_result mc_enable(mc_card card, uint32_t axis);
 
-// MC_Power off (a moving axis loses power at once; its motion is aborted). Blocks until the
-// card answers.
+/**
+ * MC_Power off (a moving axis loses power at once; its motion is aborted). Blocks until the
+ * card answers.
+ */
 mc_result mc_disable(mc_card card, uint32_t axis);
 
-// Symmetric move limits: deceleration = acceleration, one jerk for all four phases. Fills
-// `*limits`; nothing is checked until a move uses them.
+/**
+ * Symmetric move limits: deceleration = acceleration, one jerk for all four phases. Fills
+ * `*limits`; nothing is checked until a move uses them.
+ */
 mc_result mc_move_limits_symmetric(double velocity,
                                    double acceleration,
                                    double jerk,
                                    struct mc_move_limits *limits);
 
-// MC_MoveAbsolute: a time-optimal S-curve to `target` within `*limits`. The move is accepted
-// from Standstill only (`MC_ERR_INVALID_STATE` while moving, `MC_ERR_AXIS_DISABLED` when
-// disabled). `motion` may be NULL; otherwise it receives the motion to wait for. Blocks until
-// the card has accepted or refused the move, not until it is done.
+/**
+ * MC_MoveAbsolute: a time-optimal S-curve to `target` within `*limits`. The move is accepted
+ * from Standstill only (`MC_ERR_INVALID_STATE` while moving, `MC_ERR_AXIS_DISABLED` when
+ * disabled). `motion` may be NULL; otherwise it receives the motion to wait for. Blocks until
+ * the card has accepted or refused the move, not until it is done.
+ */
 mc_result mc_move_absolute(mc_card card,
                            uint32_t axis,
                            double target,
                            const struct mc_move_limits *limits,
                            struct mc_motion *motion);
 
-// MC_MoveRelative: a time-optimal S-curve by `distance`; otherwise as `mc_move_absolute`.
+/**
+ * MC_MoveRelative: a time-optimal S-curve by `distance`; otherwise as `mc_move_absolute`.
+ */
 mc_result mc_move_relative(mc_card card,
                            uint32_t axis,
                            double distance,
                            const struct mc_move_limits *limits,
                            struct mc_motion *motion);
 
-// MC_Halt: decelerate (at most `deceleration`, with `jerk`), then Standstill. The
-// interrupted move is aborted. `motion` (may be NULL) receives the halt, which is done when
-// the axis is at rest in position. Blocks until the card answers.
+/**
+ * MC_Halt: decelerate (at most `deceleration`, with `jerk`), then Standstill. The
+ * interrupted move is aborted. `motion` (may be NULL) receives the halt, which is done when
+ * the axis is at rest in position. Blocks until the card answers.
+ */
 mc_result mc_halt(mc_card card,
                   uint32_t axis,
                   double deceleration,
                   double jerk,
                   struct mc_motion *motion);
 
-// MC_Stop: decelerate and stay in Stopping (moves refused) until `mc_release_stop`.
-// Otherwise as `mc_halt`.
+/**
+ * MC_Stop: decelerate and stay in Stopping (moves refused) until `mc_release_stop`.
+ * Otherwise as `mc_halt`.
+ */
 mc_result mc_stop(mc_card card,
                   uint32_t axis,
                   double deceleration,
                   double jerk,
                   struct mc_motion *motion);
 
-// Leave Stopping (once at rest the axis goes to Standstill). Blocks until the card answers.
+/**
+ * Leave Stopping (once at rest the axis goes to Standstill). Blocks until the card answers.
+ */
 mc_result mc_release_stop(mc_card card, uint32_t axis);
 
-// MC_Reset: ErrorStop → Standstill (`MC_ERR_INVALID_STATE` in any other state). Blocks until
-// the card answers.
+/**
+ * MC_Reset: ErrorStop → Standstill (`MC_ERR_INVALID_STATE` in any other state). Blocks until
+ * the card answers.
+ */
 mc_result mc_reset(mc_card card, uint32_t axis);
 
-// A consistent snapshot of an axis's status, read from the block the card publishes every
-// servo tick (and before each event it posts). Does not wait for the card; see the header's
-// notes on blocking.
+/**
+ * A consistent snapshot of an axis's status, read from the block the card publishes every
+ * servo tick (and before each event it posts). Does not wait for the card; see the header's
+ * notes on blocking.
+ */
 mc_result mc_get_status(mc_card card, uint32_t axis, struct mc_status *status);
 
-// Wait until a motion is done (in position) and write the actual position to `*position`.
-// `MC_ERR_ABORTED` when another command or a fault ended it, `MC_ERR_TIMEOUT` after
-// `timeout_ms` (0: only look). A motion can be waited for more than once. `MC_ERR_BAD_HANDLE`
-// for a motion that was not started on this card (the last 1024 motions are kept). Blocks.
+/**
+ * The status of several axes in one call: `statuses[i]` is the status of axis `axes[i]`, for
+ * `n` axes (1..=8; each a valid axis, repeats allowed). One pass over the card's status
+ * blocks, each a consistent snapshot, and one check that the card is alive. Like
+ * `mc_get_status`, never stale: `MC_ERR_NOT_RESPONDING` when the card's tick has stood still
+ * too long. Does not wait for the card.
+ */
+mc_result mc_get_statuses(mc_card card, const uint32_t *axes, size_t n, struct mc_status *statuses);
+
+/**
+ * Wait until a motion is done (in position). `position` may be NULL; otherwise it receives
+ * the actual position when the motion was done. `MC_ERR_ABORTED` when another command or a
+ * fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A motion can be waited
+ * for more than once. `MC_ERR_BAD_HANDLE` for a motion that was not started on this card (the
+ * last 1024 motions are kept). Blocks.
+ */
 mc_result mc_motion_wait(mc_card card,
                          struct mc_motion motion,
                          uint32_t timeout_ms,
                          double *position);
 
-// Wait for the last motion started on this axis by this process, as `mc_motion_wait`.
-// `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+/**
+ * Wait for the last motion started on this axis by this process, as `mc_motion_wait`
+ * (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+ */
 mc_result mc_wait_done(mc_card card, uint32_t axis, uint32_t timeout_ms, double *position);
 
-// Take the next event from the card, waiting up to `timeout_ms` (0: don't wait);
-// `MC_ERR_TIMEOUT` when none came. Each event is delivered once, to whichever of
-// `mc_wait_event` and `mc_dispatch_events` takes it first. Blocks.
+/**
+ * Take the next event from the card, waiting up to `timeout_ms` (0: don't wait);
+ * `MC_ERR_TIMEOUT` when none came. Each event is delivered once, to whichever of
+ * `mc_wait_event` and `mc_dispatch_events` takes it first. Blocks.
+ */
 mc_result mc_wait_event(mc_card card, uint32_t timeout_ms, struct mc_event *event);
 
-// The card's interrupt file descriptor, for the application's own poll/epoll loop: it becomes
-// readable when the card raises an interrupt; then call `mc_dispatch_events` (or
-// `mc_poll_events`). The descriptor belongs to the library: do not read, write or close it;
-// it stays valid until `mc_close`. `MC_ERR_UNSUPPORTED` for `pci:` cards (no interrupt line).
+/**
+ * The card's interrupt file descriptor, for the application's own poll/epoll loop: it becomes
+ * readable when the card raises an interrupt; then call `mc_dispatch_events` (or
+ * `mc_poll_events`). The descriptor belongs to the library: do not read, write or close it;
+ * it stays valid until `mc_close`. `MC_ERR_UNSUPPORTED` for `pci:` cards (no interrupt line).
+ */
 mc_result mc_irq_fd(mc_card card, int *fd);
 
-// Take what the card posted into the library's event queue without waiting (clears the
-// interrupt descriptor's readiness); `*queued` is how many events were added. Never blocks.
+/**
+ * Take what the card posted into the library's event queue without waiting (clears the
+ * interrupt descriptor's readiness); `*queued` is how many events were added. Never blocks.
+ */
 mc_result mc_poll_events(mc_card card, size_t *queued);
 
-// Set the card's event callback (NULL: none). `user` is handed back to it untouched. The
-// callback is called only from `mc_dispatch_events`, on the thread that calls it: the library
-// starts no thread that calls into the application. It may call any `mc_` function, including
-// `mc_close` on this card.
+/**
+ * Set the card's event callback (NULL: none). `user` is handed back to it untouched. The
+ * callback is called only from `mc_dispatch_events`, on the thread that calls it: the library
+ * starts no thread that calls into the application. It may call any `mc_` function, including
+ * `mc_close` on this card.
+ */
 mc_result mc_set_event_callback(mc_card card, mc_event_callback callback, void *user);
 
-// Take the card's events and call the callback once for each, in order, on this thread.
-// Waits up to `timeout_ms` for the first one (0: don't wait; call it when the descriptor of
-// `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call).
-// Without a callback the events are taken and dropped. `*dispatched` is how many were taken;
-// 0 with `MC_OK` when none came. Blocks up to `timeout_ms`.
+/**
+ * Take the card's events and call the callback once for each, in order, on this thread.
+ * Waits up to `timeout_ms` for the first one (0: don't wait; call it when the descriptor of
+ * `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call).
+ * Without a callback the events are taken and dropped. `*dispatched` is how many were taken;
+ * 0 with `MC_OK` when none came. Blocks up to `timeout_ms`.
+ */
 mc_result mc_dispatch_events(mc_card card, uint32_t timeout_ms, size_t *dispatched);
 
-// Advance a stepped sim card (`mc_open_sim_stepped`) by `ticks` servo periods.
-// `MC_ERR_UNSUPPORTED` on any other card. Blocks for the computation.
+/**
+ * Advance a stepped sim card (`mc_open_sim_stepped`) by `ticks` servo periods.
+ * `MC_ERR_UNSUPPORTED` on any other card. Blocks for the computation.
+ */
 mc_result mc_sim_step(mc_card card, uint64_t ticks);
 
-// Emulated time of a stepped sim card since boot, in seconds.
+/**
+ * Emulated time of a stepped sim card since boot, in seconds.
+ */
 mc_result mc_sim_time(mc_card card, double *seconds);
 
-// Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):
-// S-curve feed (`MC_GROUP_ACCDEC_PRE`), exact arcs, tolerance 2 (user units of the first axis:
-// adjust it after `mc_set_scale`). `naxes` is 1..8 (`MC_ERR_BAD_AXIS`); the axis numbers are
-// checked by `mc_group_configure`. Never blocks.
+/**
+ * Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):
+ * S-curve feed (`MC_GROUP_ACCDEC_PRE`), exact arcs, tolerance 2 (user units of the first axis:
+ * adjust it after `mc_set_scale`). `naxes` is 1..8 (`MC_ERR_BAD_AXIS`); the axis numbers are
+ * checked by `mc_group_configure`. Never blocks.
+ */
 mc_result mc_group_settings_new(const uint32_t *axes,
                                 size_t naxes,
                                 struct mc_group_settings *settings);
 
-// Configure a group: its axes, acc/dec mode, arc interpolator and tolerance. The group must be
-// disabled; the card checks every value (`MC_ERR_BAD_AXIS`, `MC_ERR_AXIS_IN_OTHER_GROUP`,
-// `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` / `MC_GROUP_INTERP_` values are
-// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+/**
+ * Configure a group: its axes, acc/dec mode, arc interpolator and tolerance. The group must be
+ * disabled; the card checks every value (`MC_ERR_BAD_AXIS`, `MC_ERR_AXIS_IN_OTHER_GROUP`,
+ * `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` / `MC_GROUP_INTERP_` values are
+ * `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+ */
 mc_result mc_group_configure(mc_card card,
                              uint32_t group,
                              const struct mc_group_settings *settings);
 
-// MC_GroupEnable: GroupDisabled → GroupStandby. Every axis of the group must be enabled and at
-// rest. Blocks until the card answers.
+/**
+ * MC_GroupEnable: GroupDisabled → GroupStandby. Every axis of the group must be enabled and at
+ * rest. Blocks until the card answers.
+ */
 mc_result mc_group_enable(mc_card card, uint32_t group);
 
-// MC_GroupDisable: aborts the queued moves and leaves the axes enabled where they are. Blocks
-// until the card answers.
+/**
+ * MC_GroupDisable: aborts the queued moves and leaves the axes enabled where they are. Blocks
+ * until the card answers.
+ */
 mc_result mc_group_disable(mc_card card, uint32_t group);
 
-// MC_GroupReset: GroupErrorStop → GroupStandby (`MC_ERR_INVALID_STATE` in any other state).
-// Blocks until the card answers.
+/**
+ * MC_GroupReset: GroupErrorStop → GroupStandby (`MC_ERR_INVALID_STATE` in any other state).
+ * Blocks until the card answers.
+ */
 mc_result mc_group_reset(mc_card card, uint32_t group);
 
-// MC_GroupHalt: decelerate along the path (at most `deceleration`, with `jerk`, user units
-// of the first axis), then GroupStandby; the queued moves are aborted. `motion` (may be NULL)
-// receives the halt, done when the group is at rest. Blocks until the card answers.
+/**
+ * MC_GroupHalt: decelerate along the path (at most `deceleration`, with `jerk`, user units
+ * of the first axis), then GroupStandby; the queued moves are aborted. `motion` (may be NULL)
+ * receives the halt, done when the group is at rest. Blocks until the card answers.
+ */
 mc_result mc_group_halt(mc_card card,
                         uint32_t group,
                         double deceleration,
                         double jerk,
                         struct mc_group_motion *motion);
 
-// MC_GroupStop: decelerate along the path and stay in GroupStopping (moves refused) until
-// `mc_group_release_stop`. Otherwise as `mc_group_halt`.
+/**
+ * MC_GroupStop: decelerate along the path and stay in GroupStopping (moves refused) until
+ * `mc_group_release_stop`. Otherwise as `mc_group_halt`.
+ */
 mc_result mc_group_stop(mc_card card,
                         uint32_t group,
                         double deceleration,
                         double jerk,
                         struct mc_group_motion *motion);
 
-// Leave GroupStopping (once at rest the group goes to GroupStandby). Blocks until the card
-// answers.
+/**
+ * Leave GroupStopping (once at rest the group goes to GroupStandby). Blocks until the card
+ * answers.
+ */
 mc_result mc_group_release_stop(mc_card card, uint32_t group);
 
-// MC_MoveLinearAbsolute / Relative: a straight line to `target` (`n` values, one per group
-// axis in group order, user units; `MC_ERR_BAD_AXIS` when `n` is not the group's axis count)
-// at the tangential feed of `*limits`. `options->buffered` queues it behind the moves already
-// queued (up to 32); otherwise the group must be at rest. `motion` may be NULL; otherwise it
-// receives the move to wait for. Blocks until the card has accepted or refused the move, not
-// until it is done.
+/**
+ * MC_MoveLinearAbsolute / Relative: a straight line to `target` (`n` values, one per group
+ * axis in group order, user units; `MC_ERR_BAD_AXIS` when `n` is not the group's axis count)
+ * at the tangential feed of `*limits`. `options->buffered` queues it behind the moves already
+ * queued (up to 32); otherwise the group must be at rest. `motion` may be NULL; otherwise it
+ * receives the move to wait for. Blocks until the card has accepted or refused the move, not
+ * until it is done.
+ */
 mc_result mc_group_move_linear(mc_card card,
                                uint32_t group,
                                const double *target,
@@ -1283,10 +2120,12 @@ mc_result mc_group_move_linear(mc_card card,
                                const struct mc_move_options *options,
                                struct mc_group_motion *motion);
 
-// Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together, each
-// within `*limits` (the first axis's units): the axis with the longest distance moves at them
-// and the others scale. The cutting feed type becomes rapid. Otherwise as
-// `mc_group_move_linear`. `mc_group_move_ptp_axes` gives each axis its own limits.
+/**
+ * Synchronised point-to-point move (Kim eq 10–14): every axis starts and ends together, each
+ * within `*limits` (the first axis's units): the axis with the longest distance moves at them
+ * and the others scale. The cutting feed type becomes rapid. Otherwise as
+ * `mc_group_move_linear`. `mc_group_move_ptp_axes` gives each axis its own limits.
+ */
 mc_result mc_group_move_ptp(mc_card card,
                             uint32_t group,
                             const double *target,
@@ -1295,12 +2134,14 @@ mc_result mc_group_move_ptp(mc_card card,
                             const struct mc_move_options *options,
                             struct mc_group_motion *motion);
 
-// Synchronised point-to-point move with each axis's own limits (Kim eq 10–14): `axis_limits`
-// holds `nlimits` `mc_path_limits`, one per group axis in group order, each in that axis's
-// user units (`MC_ERR_BAD_AXIS` when `n` or `nlimits` is not the group's axis count). The axis
-// that needs the most time within its limits sets the time, the others scale, every axis
-// stays within its own limits, and all start and end on the same servo tick. Otherwise as
-// `mc_group_move_ptp`; blocks until the card has accepted or refused the limits and the move.
+/**
+ * Synchronised point-to-point move with each axis's own limits (Kim eq 10–14): `axis_limits`
+ * holds `nlimits` `mc_path_limits`, one per group axis in group order, each in that axis's
+ * user units (`MC_ERR_BAD_AXIS` when `n` or `nlimits` is not the group's axis count). The axis
+ * that needs the most time within its limits sets the time, the others scale, every axis
+ * stays within its own limits, and all start and end on the same servo tick. Otherwise as
+ * `mc_group_move_ptp`; blocks until the card has accepted or refused the limits and the move.
+ */
 mc_result mc_group_move_ptp_axes(mc_card card,
                                  uint32_t group,
                                  const double *target,
@@ -1310,12 +2151,14 @@ mc_result mc_group_move_ptp_axes(mc_card card,
                                  const struct mc_move_options *options,
                                  struct mc_group_motion *motion);
 
-// MC_MoveCircular: an arc in `plane` (`MC_ARC_PLANE_`), described by `*arc` in the plane's
-// coordinates. `helix` holds `nhelix` targets of the group's other axes (in group order),
-// which move linearly with the arc (a helix); `nhelix` 0 (helix may then be NULL) keeps them
-// where they are. The card checks the geometry: `MC_ERR_ZERO_LENGTH_ARC`,
-// `MC_ERR_CENTRE_NOT_EQUIDISTANT`, `MC_ERR_RADIUS_TOO_SMALL`, `MC_ERR_COLLINEAR_POINTS`.
-// Otherwise as `mc_group_move_linear`.
+/**
+ * MC_MoveCircular: an arc in `plane` (`MC_ARC_PLANE_`), described by `*arc` in the plane's
+ * coordinates. `helix` holds `nhelix` targets of the group's other axes (in group order),
+ * which move linearly with the arc (a helix); `nhelix` 0 (helix may then be NULL) keeps them
+ * where they are. The card checks the geometry: `MC_ERR_ZERO_LENGTH_ARC`,
+ * `MC_ERR_CENTRE_NOT_EQUIDISTANT`, `MC_ERR_RADIUS_TOO_SMALL`, `MC_ERR_COLLINEAR_POINTS`.
+ * Otherwise as `mc_group_move_linear`.
+ */
 mc_result mc_group_move_circular(mc_card card,
                                  uint32_t group,
                                  const struct mc_arc *arc,
@@ -1326,31 +2169,37 @@ mc_result mc_group_move_circular(mc_card card,
                                  const struct mc_move_options *options,
                                  struct mc_group_motion *motion);
 
-// Path limits with the deceleration equal to the acceleration (`PathLimits::new`): feed
-// `velocity`, `acceleration`, `jerk`, in user units of the group's first axis. Nothing is
-// checked until a move uses them. Never blocks.
+/**
+ * Path limits with the deceleration equal to the acceleration (`PathLimits::new`): feed
+ * `velocity`, `acceleration`, `jerk`, in user units of the group's first axis. Nothing is
+ * checked until a move uses them. Never blocks.
+ */
 mc_result mc_path_limits_new(double velocity,
                              double acceleration,
                              double jerk,
                              struct mc_path_limits *limits);
 
-// A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
-// the default chord tolerance (`chord_tolerance` 0: one encoder count), not saturation-aware.
-// Nothing is checked until a move uses it. Never blocks.
+/**
+ * A NURBS feed with the SDK's defaults (`NurbsFeed::new`): `feed`, `accel`, `jerk` as given,
+ * the default chord tolerance (`chord_tolerance` 0: one encoder count), not saturation-aware.
+ * Nothing is checked until a move uses it. Never blocks.
+ */
 mc_result mc_nurbs_feed_new(double feed, double accel, double jerk, struct mc_nurbs_feed *out);
 
-// Move along a NURBS curve of `degree` (1..5) in `dim` dimensions (the group's axis count):
-// `n_ctrl` control points in `ctrl` (`n_ctrl * dim` doubles, point after point, in group axis
-// order and user units, absolute; `options->relative` is ignored), `n_ctrl` weights (finite
-// and positive) and `n_knots` = `n_ctrl + degree + 1` knots (clamped, non-decreasing). The
-// curve must start where the group's path is (`MC_ERR_NURBS_START`). A curve the library
-// refuses gets the code the card gives for the same fault (`MC_ERR_NURBS_DEGREE`, `_DIMENSION`,
-// `_CTRL_COUNT`, `_KNOT_COUNT`, `_KNOTS_DECREASING`, `_KNOT_MULTIPLICITY`, `_NOT_CLAMPED`,
-// `_WEIGHT`, `_POINT`). `motion` may be NULL; otherwise it receives the move to wait for.
-//
-// Blocks while the curve is sent: a begin, data entries of up to 12 values and an end, each
-// answered by the card (at most 32 entries in flight; a long curve takes many round trips),
-// not until the move is done.
+/**
+ * Move along a NURBS curve of `degree` (1..5) in `dim` dimensions (the group's axis count):
+ * `n_ctrl` control points in `ctrl` (`n_ctrl * dim` doubles, point after point, in group axis
+ * order and user units, absolute; `options->relative` is ignored), `n_ctrl` weights (finite
+ * and positive) and `n_knots` = `n_ctrl + degree + 1` knots (clamped, non-decreasing). The
+ * curve must start where the group's path is (`MC_ERR_NURBS_START`). A curve the library
+ * refuses gets the code the card gives for the same fault (`MC_ERR_NURBS_DEGREE`, `_DIMENSION`,
+ * `_CTRL_COUNT`, `_KNOT_COUNT`, `_KNOTS_DECREASING`, `_KNOT_MULTIPLICITY`, `_NOT_CLAMPED`,
+ * `_WEIGHT`, `_POINT`). `motion` may be NULL; otherwise it receives the move to wait for.
+ *
+ * Blocks while the curve is sent: a begin, data entries of up to 12 values and an end, each
+ * answered by the card (at most 32 entries in flight; a long curve takes many round trips),
+ * not until the move is done.
+ */
 mc_result mc_group_move_nurbs(mc_card card,
                               uint32_t group,
                               uint32_t degree,
@@ -1364,16 +2213,18 @@ mc_result mc_group_move_nurbs(mc_card card,
                               const struct mc_move_options *options,
                               struct mc_group_motion *motion);
 
-// A path longer than the card holds (`move_nurbs_path`): the `ncurves` curves of `curves`,
-// each as the arguments of `mc_group_move_nurbs`, queued one after another behind the moves
-// already queued. Every curve is checked before anything is sent (a refused curve's message
-// names its index). Each piece starts and ends at rest (Yeh's planner runs per curve), and
-// each must start where the previous one ends. `MC_ERR_UNSUPPORTED` for an empty path (`curves`
-// may then be NULL). `motion` may be NULL; otherwise it receives the last piece's move.
-//
-// Blocks while the pieces are sent, and whenever the group's queue is full, until an earlier
-// piece is done (up to `timeout_ms` for each such wait: `MC_ERR_TIMEOUT`); returns when the
-// last piece is queued, not when it is done.
+/**
+ * A path longer than the card holds (`move_nurbs_path`): the `ncurves` curves of `curves`,
+ * each as the arguments of `mc_group_move_nurbs`, queued one after another behind the moves
+ * already queued. Every curve is checked before anything is sent (a refused curve's message
+ * names its index). Each piece starts and ends at rest (Yeh's planner runs per curve), and
+ * each must start where the previous one ends. `MC_ERR_UNSUPPORTED` for an empty path (`curves`
+ * may then be NULL). `motion` may be NULL; otherwise it receives the last piece's move.
+ *
+ * Blocks while the pieces are sent, and whenever the group's queue is full, until an earlier
+ * piece is done (up to `timeout_ms` for each such wait: `MC_ERR_TIMEOUT`); returns when the
+ * last piece is queued, not when it is done.
+ */
 mc_result mc_group_move_nurbs_path(mc_card card,
                                    uint32_t group,
                                    const struct mc_nurbs_curve *curves,
@@ -1382,122 +2233,169 @@ mc_result mc_group_move_nurbs_path(mc_card card,
                                    uint32_t timeout_ms,
                                    struct mc_group_motion *motion);
 
-// A clamped knot vector with uniform interior knots for `n_ctrl` control points of `degree`
-// (`n_ctrl + degree + 1` knots from 0 to 1; the SDK's `clamped_uniform_knots`). Writes the
-// knots to `knots` and their count to `*needed`; when `len` is too small, only `*needed` and
-// `MC_ERR_BUFFER_TOO_SMALL` (`knots` may be NULL when `len` is 0, to ask for the count).
-// `MC_ERR_NURBS_DEGREE` for a degree outside 1..5, `MC_ERR_NURBS_CTRL_COUNT` for fewer than
-// `degree + 1` or more than 1024 control points. Never blocks.
+/**
+ * A clamped knot vector with uniform interior knots for `n_ctrl` control points of `degree`
+ * (`n_ctrl + degree + 1` knots from 0 to 1; the SDK's `clamped_uniform_knots`). Writes the
+ * knots to `knots` and their count to `*needed`; when `len` is too small, only `*needed` and
+ * `MC_ERR_BUFFER_TOO_SMALL` (`knots` may be NULL when `len` is 0, to ask for the count).
+ * `MC_ERR_NURBS_DEGREE` for a degree outside 1..5, `MC_ERR_NURBS_CTRL_COUNT` for fewer than
+ * `degree + 1` or more than 1024 control points. Never blocks.
+ */
 mc_result mc_nurbs_clamped_uniform_knots(size_t n_ctrl,
                                          uint32_t degree,
                                          double *knots,
                                          size_t len,
                                          size_t *needed);
 
-// Wait until a group move is done: the last move of a queue when the group is at rest and in
-// position, an earlier one when the next move takes over. `MC_ERR_ABORTED` when a halt, stop,
-// disable or fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A move can be
-// waited for more than once. `MC_ERR_BAD_HANDLE` for a motion not started on this card (the
-// last 1024 group motions are kept). Blocks.
+/**
+ * Wait until a group move is done: the last move of a queue when the group is at rest and in
+ * position, an earlier one when the next move takes over. `MC_ERR_ABORTED` when a halt, stop,
+ * disable or fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A move can be
+ * waited for more than once. `MC_ERR_BAD_HANDLE` for a motion not started on this card (the
+ * last 1024 group motions are kept). Blocks.
+ */
 mc_result mc_group_motion_wait(mc_card card, struct mc_group_motion motion, uint32_t timeout_ms);
 
-// Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
-// `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+/**
+ * Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
+ * `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+ */
 mc_result mc_group_wait_done(mc_card card, uint32_t group, uint32_t timeout_ms);
 
-// A consistent snapshot of a group's status (state, queue, active move, path position and
-// feed in counts). Does not wait for the card, as `mc_get_status`.
+/**
+ * A consistent snapshot of a group's status (state, queue, active move, path position and
+ * feed in counts). Does not wait for the card, as `mc_get_status`.
+ */
 mc_result mc_group_get_status(mc_card card, uint32_t group, struct mc_group_status *status);
 
-// Shin's Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog exponential
-// 50 ms (the card's default). Never blocks.
+/**
+ * Shin's Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog exponential
+ * 50 ms (the card's default). Never blocks.
+ */
 mc_result mc_filter_settings_shin_table1(struct mc_filter_settings *settings);
 
-// Shin's Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
-// Never blocks.
+/**
+ * Shin's Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
+ * Never blocks.
+ */
 mc_result mc_filter_settings_shin_table1_z(struct mc_filter_settings *settings);
 
-// One filter (`MC_FILTER_KIND_` value; unknown: `MC_ERR_BAD_CONFIG`) with time constant `tau`
-// (s) for every feed type. Nothing is checked until `mc_axis_set_filters`. Never blocks.
+/**
+ * One filter (`MC_FILTER_KIND_` value; unknown: `MC_ERR_BAD_CONFIG`) with time constant `tau`
+ * (s) for every feed type. Nothing is checked until `mc_axis_set_filters`. Never blocks.
+ */
 mc_result mc_filter_settings_all(uint32_t kind, double tau, struct mc_filter_settings *settings);
 
-// Set an axis's post-interpolation acc/dec filters (used by groups with
-// `MC_GROUP_ACCDEC_POST` or `_BOTH`; the move's feed type picks one). Refused while the filters
-// still hold distance (`MC_ERR_FILTER_BUSY`); an unknown `MC_FILTER_KIND_` is
-// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+/**
+ * Set an axis's post-interpolation acc/dec filters (used by groups with
+ * `MC_GROUP_ACCDEC_POST` or `_BOTH`; the move's feed type picks one). Refused while the filters
+ * still hold distance (`MC_ERR_FILTER_BUSY`); an unknown `MC_FILTER_KIND_` is
+ * `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+ */
 mc_result mc_axis_set_filters(mc_card card,
                               uint32_t axis,
                               const struct mc_filter_settings *settings);
 
-// The PD+ gains and drive model of Yeh's die bonder (Table 1), axis 0 (X) or 1 (Y), in volts
-// (`MC_ERR_BAD_AXIS` for any other axis). Never blocks.
+/**
+ * The PD+ gains and drive model of Yeh's die bonder (Table 1), axis 0 (X) or 1 (Y), in volts
+ * (`MC_ERR_BAD_AXIS` for any other axis). Never blocks.
+ */
 mc_result mc_pdplus_settings_die_bonder(uint32_t axis, struct mc_pdplus_settings *settings);
 
-// Switch an axis to the PD+ servo law with these gains and drive model (NaN or infinity:
-// `MC_ERR_NOT_FINITE`; the card refuses gains or a model it cannot use, and a `umax` above the
-// axis's `dac_limit_v`: `MC_ERR_BAD_CONFIG`). Needed on every group axis for a
-// saturation-aware NURBS feed. Blocks until the card answers.
+/**
+ * Switch an axis to the PD+ servo law with these gains and drive model (NaN or infinity:
+ * `MC_ERR_NOT_FINITE`; the card refuses gains or a model it cannot use, and a `umax` above the
+ * axis's `dac_limit_v`: `MC_ERR_BAD_CONFIG`). Needed on every group axis for a
+ * saturation-aware NURBS feed. Blocks until the card answers.
+ */
 mc_result mc_axis_configure_pdplus(mc_card card,
                                    uint32_t axis,
                                    const struct mc_pdplus_settings *settings);
 
-// Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
-// heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
-// a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
-// library thread writes the heartbeat; on a stepped sim it beats once per emulated tick, so
-// stepping with the heartbeat off trips the watchdog deterministically. For tests of the
-// watchdog; the heartbeat is on from `mc_open`. Never blocks.
+/**
+ * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
+ * heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
+ * a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
+ * library thread writes the heartbeat; on a stepped sim it beats once per emulated tick, so
+ * stepping with the heartbeat off trips the watchdog deterministically. For tests of the
+ * watchdog; the heartbeat is on from `mc_open`. Never blocks.
+ */
 mc_result mc_set_heartbeat(mc_card card, uint32_t on);
 
-// Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
-// host without real-time scheduling). The card refuses zero and anything under
-// 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
-// card answers.
+/**
+ * Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
+ * host without real-time scheduling). The card refuses zero and anything under
+ * 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
+ * card answers.
+ */
 mc_result mc_set_watchdog_timeout(mc_card card, uint32_t timeout_us);
 
-// The stop the card's e-stop input makes (`MC_STOP_CATEGORY_`; default 1; any other value is
-// `MC_ERR_BAD_CATEGORY`). Blocks until the card answers.
+/**
+ * The stop the card's e-stop input makes (`MC_STOP_CATEGORY_`; default 1; any other value is
+ * `MC_ERR_BAD_CATEGORY`). Blocks until the card answers.
+ */
 mc_result mc_set_estop_input_category(mc_card card, uint32_t category);
 
-// E-stop every axis with the given stop category (`MC_STOP_CATEGORY_`; any other value is
-// `MC_ERR_BAD_CATEGORY`). Latched: moves, enables and resets are refused with
-// `MC_ERR_ESTOP_ACTIVE` until `mc_reset_faults`. Blocks until the card answers.
+/**
+ * E-stop every axis with the given stop category (`MC_STOP_CATEGORY_`; any other value is
+ * `MC_ERR_BAD_CATEGORY`). Latched: moves, enables and resets are refused with
+ * `MC_ERR_ESTOP_ACTIVE` until `mc_reset_faults`. Blocks until the card answers.
+ */
 mc_result mc_estop(mc_card card, uint32_t category);
 
-// Clear the card-wide latches (watchdog, e-stop), then MC_Reset every axis in ErrorStop.
-// `MC_ERR_CAUSE_ACTIVE` while the cause is still there (no live heartbeat, the e-stop input
-// pressed, an axis's alarm or encoder fault). Axes whose stop removed power end Disabled, the
-// others Standstill. Blocks until the card has answered each command (one, plus one per axis
-// in ErrorStop).
+/**
+ * Clear the card-wide latches (watchdog, e-stop), then MC_Reset every axis in ErrorStop.
+ * `MC_ERR_CAUSE_ACTIVE` while the cause is still there (no live heartbeat, the e-stop input
+ * pressed, an axis's alarm or encoder fault). Axes whose stop removed power end Disabled, the
+ * others Standstill. Blocks until the card has answered each command (one, plus one per axis
+ * in ErrorStop).
+ */
 mc_result mc_reset_faults(mc_card card);
 
-// The card-wide safety state: watchdog and e-stop latches, heartbeat ticks, protocol errors.
-// Reads the card's window; never blocks.
+/**
+ * Set the card's maximum stop time, µs (default 2000000): every stop — halt, stop, the safety
+ * stops, starvation — ends within it; a halt whose own ramp would take longer runs on the
+ * axis's stop ramp, and a stop still running at the bound loses power (stop reason
+ * `MC_STOP_REASON_STOP_TIMEOUT`). 10 ms to 600 s, and every axis's stop ramp from its max
+ * velocity must fit: `MC_ERR_STOP_TOO_LONG` otherwise. Blocks until the card answers.
+ */
+mc_result mc_set_max_stop_time(mc_card card, uint32_t us);
+
+/**
+ * The card-wide safety state: watchdog and e-stop latches, heartbeat ticks, protocol errors.
+ * Reads the card's window; never blocks.
+ */
 mc_result mc_get_safety_status(mc_card card, struct mc_safety_status *status);
 
-// The card's default safety configuration of an axis, in counts: hard limits, amplifier alarm
-// and encoder checks on, soft limits off, limit stops category 1, following error 10,000
-// counts at 10⁶ counts/s and 1,000 at rest, stops at 5·10⁶ counts/s² and 5·10⁸ counts/s³.
-// Never blocks.
+/**
+ * The card's default safety configuration of an axis, in counts: hard limits, amplifier alarm
+ * and encoder checks on, soft limits off, limit stops category 1, following error 10,000
+ * counts at 10⁶ counts/s and 1,000 at rest, stops at 5·10⁶ counts/s² and 5·10⁸ counts/s³.
+ * Never blocks.
+ */
 mc_result mc_safety_settings_default(struct mc_safety_settings *settings);
 
-// Write an axis's safety configuration (limits, following error, stop ramp; user units
-// converted through the axis's scale) and have the card apply it. NaN or infinity:
-// `MC_ERR_NOT_FINITE`; an unknown `limit_stop`: `MC_ERR_BAD_CATEGORY`; values the card cannot
-// use (soft limits not increasing, `ferror` under `min_ferror`, a non-positive limit):
-// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+/**
+ * Write an axis's safety configuration (limits, following error, stop ramp; user units
+ * converted through the axis's scale) and have the card apply it. NaN or infinity:
+ * `MC_ERR_NOT_FINITE`; an unknown `limit_stop`: `MC_ERR_BAD_CATEGORY`; values the card cannot
+ * use (soft limits not increasing, `ferror` under `min_ferror`, a non-positive limit):
+ * `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+ */
 mc_result mc_configure_safety(mc_card card,
                               uint32_t axis,
                               const struct mc_safety_settings *settings);
 
-// Why the axis's last motion ended, and the card's timing of its last safety stop: the tick
-// it began, the tick the axis came to rest (`at_rest` 0 while still stopping), the planned
-// ramp. Reads the status block as `mc_get_status` does (`MC_ERR_PROTOCOL` for a stop reason
-// this library does not know); does not wait for the card.
+/**
+ * Why the axis's last motion ended, and the card's timing of its last safety stop: the tick
+ * it began, the tick the axis came to rest (`at_rest` 0 while still stopping), the planned
+ * ramp. Reads the status block as `mc_get_status` does (`MC_ERR_PROTOCOL` for a stop reason
+ * this library does not know); does not wait for the card.
+ */
 mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
 
 #ifdef __cplusplus
-}  // extern "C"
-#endif  // __cplusplus
+}  /* extern "C" */
+#endif
 
 #endif  /* MOTIONCARD_H */

@@ -370,7 +370,7 @@ fn started(
 ) -> Result<(), Failure> {
     let seq = m.seq();
     e.remember(axis, m);
-    if let Ok(out) = Out::new(motion, "motion") {
+    if let Some(out) = Out::optional(motion) {
         // SAFETY: non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(mc_motion { axis, seq }) };
     }
@@ -524,10 +524,11 @@ pub unsafe extern "C" fn mc_get_statuses(
     })
 }
 
-/// Wait until a motion is done (in position) and write the actual position to `*position`.
-/// `MC_ERR_ABORTED` when another command or a fault ended it, `MC_ERR_TIMEOUT` after
-/// `timeout_ms` (0: only look). A motion can be waited for more than once. `MC_ERR_BAD_HANDLE`
-/// for a motion that was not started on this card (the last 1024 motions are kept). Blocks.
+/// Wait until a motion is done (in position). `position` may be NULL; otherwise it receives
+/// the actual position when the motion was done. `MC_ERR_ABORTED` when another command or a
+/// fault ended it, `MC_ERR_TIMEOUT` after `timeout_ms` (0: only look). A motion can be waited
+/// for more than once. `MC_ERR_BAD_HANDLE` for a motion that was not started on this card (the
+/// last 1024 motions are kept). Blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_motion_wait(
     card: mc_card,
@@ -536,7 +537,7 @@ pub unsafe extern "C" fn mc_motion_wait(
     position: *mut f64,
 ) -> mc_result {
     guard(|| {
-        let out = Out::new(position, "position")?;
+        let out = Out::optional(position);
         let e = registry::get(card)?;
         let m = e.motion(motion.axis, motion.seq).ok_or_else(|| {
                 Failure::new(
@@ -550,14 +551,16 @@ pub unsafe extern "C" fn mc_motion_wait(
                 )
             })?;
         let p = m.wait(ms(timeout_ms))?;
-        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(p) };
+        if let Some(out) = out {
+            // SAFETY: non-NULL; valid for writes by the caller's contract.
+            unsafe { out.write(p) };
+        }
         Ok(())
     })
 }
 
-/// Wait for the last motion started on this axis by this process, as `mc_motion_wait`.
-/// `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+/// Wait for the last motion started on this axis by this process, as `mc_motion_wait`
+/// (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_wait_done(
     card: mc_card,
@@ -566,10 +569,12 @@ pub unsafe extern "C" fn mc_wait_done(
     position: *mut f64,
 ) -> mc_result {
     guard(|| {
-        let out = Out::new(position, "position")?;
+        let out = Out::optional(position);
         let p = axis_of(card, axis)?.1.wait_done(ms(timeout_ms))?;
-        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(p) };
+        if let Some(out) = out {
+            // SAFETY: non-NULL; valid for writes by the caller's contract.
+            unsafe { out.write(p) };
+        }
         Ok(())
     })
 }

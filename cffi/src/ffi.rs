@@ -20,6 +20,12 @@ impl<T> Out<T> {
         }
     }
 
+    /// An optional output ("may be NULL" in the header): `None` for NULL, which the caller
+    /// then simply does not write.
+    pub(crate) fn optional(p: *mut T) -> Option<Self> {
+        (!p.is_null()).then_some(Out(p))
+    }
+
     /// Store the result.
     ///
     /// # Safety

@@ -39,7 +39,7 @@ fn started(
 ) -> Result<(), Failure> {
     let seq = m.seq();
     e.remember_group(group, m);
-    if let Ok(out) = Out::new(motion, "motion") {
+    if let Some(out) = Out::optional(motion) {
         // SAFETY: non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(mc_group_motion { group, seq }) };
     }

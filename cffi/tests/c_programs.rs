@@ -1,14 +1,16 @@
 //! The C programs of the workspace's `examples/c/`, built the way a C user builds them: the library is
 //! installed under a temporary prefix by the install code of `cargo xtask install`, each
-//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` and the flags pkg-config
+//! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
+//! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
-//! One program is also linked statically; `errors`, `groups`, `safety` and `nurbs_path` also
-//! run under valgrind.
+//! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
+//! Rust static library; `errors`, `groups`, `safety`, `nurbs_path` and `panic` also run under
+//! valgrind. The installed libraries' symbols are checked with binutils' `nm`.
 //!
-//! Needs gcc, g++, pkg-config and valgrind (`.ci/run` installs them when missing). Nothing here
-//! asserts on time: the child processes only have a generous limit so a hang fails instead of
-//! stalling the suite.
+//! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
+//! rustc (beside cargo). Nothing here asserts on time: the child processes only have a
+//! generous limit so a hang fails instead of stalling the suite.
 
 #[path = "../../xtask/src/install.rs"]
 mod install;
@@ -17,7 +19,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::{Mutex, OnceLock};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
 const CFLAGS: &[&str] = &["-std=c11", "-Wall", "-Wextra", "-Werror", "-O1", "-g"];
 
@@ -27,6 +29,15 @@ const HANG_LIMIT: Duration = Duration::from_secs(300);
 struct Installed {
     prefix: PathBuf,
     work: PathBuf,
+    /// The libraries of a workspace build in this test's profile directory
+    /// (`TARGET/release/libmotioncard.{so,a}`), and when each was last written (`None`: absent),
+    /// as they were before the C tests built theirs.
+    workspace_libs: Vec<(PathBuf, Option<SystemTime>)>,
+}
+
+/// When `path` was last written; `None` when it does not exist.
+fn modified(path: &Path) -> Option<SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
 }
 
 /// Install once per test run, under `target/tmp/c-abi/`.
@@ -40,34 +51,49 @@ fn installed() -> &'static Installed {
         std::fs::create_dir_all(&work).unwrap();
         // This test's executable is TARGET/PROFILE_DIR/deps/c_programs-HASH. `cargo test`
         // does not build the cdylib and staticlib (nothing links the library), so build them
-        // as `cargo xtask install` does, with this test's profile, into the same directory.
+        // with the install code of `cargo xtask install` and this test's profile, with the
+        // test-panic feature (the hidden mc__test_panic_next_call for panic.c), into a target
+        // directory of their own, TARGET/c-tests: in TARGET they would replace the libraries
+        // of a workspace build (same file names) that `cargo xtask install` reuses.
         let exe = std::env::current_exe().unwrap();
-        let artifacts = exe.parent().and_then(Path::parent).unwrap();
-        let target_dir = artifacts.parent().unwrap();
-        let profile = match artifacts.file_name().and_then(|n| n.to_str()) {
+        let profile_dir = exe.parent().and_then(Path::parent).unwrap();
+        let target_dir = profile_dir.parent().unwrap().join("c-tests");
+        let profile_name = profile_dir.file_name().and_then(|n| n.to_str());
+        let profile = match profile_name {
             Some("debug") => "dev",
             Some(p) => p,
             None => panic!("unexpected test location {}", exe.display()),
         };
+        let workspace_libs = ["libmotioncard.so", "libmotioncard.a"]
+            .map(|f| profile_dir.join(f))
+            .into_iter()
+            .map(|p| {
+                let t = modified(&p);
+                (p, t)
+            })
+            .collect();
         let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        // With the test-panic feature: the hidden mc__test_panic_next_call for panic.c.
         install::build(
             &cargo,
             crate_dir.parent().unwrap(),
             profile,
-            target_dir,
-            &["test-panic"],
+            &target_dir,
+            install::Packages::Cffi(&["test-panic"]),
         )
         .expect("build libmotioncard");
         install::install(
-            artifacts,
+            &target_dir.join(profile_name.unwrap()),
             &crate_dir.join("include/motioncard.h"),
             &prefix,
             env!("CARGO_PKG_VERSION"),
         )
         .expect("install libmotioncard");
-        Installed { prefix, work }
+        Installed {
+            prefix,
+            work,
+            workspace_libs,
+        }
     })
 }
 
@@ -106,21 +132,34 @@ enum Link {
     Static,
 }
 
-/// Compile `examples/c/NAME.c` once per link mode; returns the executable.
+/// Compile `examples/c/NAME.c` with [`CFLAGS`] once per link mode; returns the executable.
 fn compile(name: &str, link: Link) -> PathBuf {
-    static BUILT: OnceLock<Mutex<HashMap<(String, Link), PathBuf>>> = OnceLock::new();
+    compile_with(name, link, CFLAGS)
+}
+
+/// Compile `examples/c/NAME.c` with `cflags` (the first one `-std=`) once per link mode and
+/// flags; returns the executable.
+fn compile_with(name: &str, link: Link, cflags: &[&str]) -> PathBuf {
+    type Key = (String, Link, Vec<String>);
+    static BUILT: OnceLock<Mutex<HashMap<Key, PathBuf>>> = OnceLock::new();
     let built = BUILT.get_or_init(Default::default);
     let mut built = built.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(p) = built.get(&(name.to_string(), link)) {
+    let key = (
+        name.to_string(),
+        link,
+        cflags.iter().map(|f| f.to_string()).collect(),
+    );
+    if let Some(p) = built.get(&key) {
         return p.clone();
     }
     let inst = installed();
+    let std = cflags[0].strip_prefix("-std=").expect("-std= first");
     let exe = inst.work.join(match link {
-        Link::Shared => name.to_string(),
-        Link::Static => format!("{name}-static"),
+        Link::Shared => format!("{name}-{std}"),
+        Link::Static => format!("{name}-{std}-static"),
     });
     let mut cmd = Command::new("gcc");
-    cmd.args(CFLAGS)
+    cmd.args(cflags)
         .arg(examples_dir().join(format!("{name}.c")))
         .arg("-o")
         .arg(&exe)
@@ -147,7 +186,7 @@ fn compile(name: &str, link: Link) -> PathBuf {
         cmd,
         String::from_utf8_lossy(&out.stderr)
     );
-    built.insert((name.to_string(), link), exe.clone());
+    built.insert(key, exe.clone());
     exe
 }
 
@@ -253,6 +292,167 @@ fn install_lays_out_library_header_and_pkg_config() {
     );
 }
 
+/// The C tests' library (with `test-panic`) is built in a target directory of its own: the
+/// libraries of a workspace build, which `cargo xtask install` reuses, are left as they were
+/// (before, the tests replaced them with their own build, and the next install rebuilt them).
+#[test]
+fn the_c_tests_leave_the_workspace_build_alone() {
+    let inst = installed();
+    for (lib, before) in &inst.workspace_libs {
+        assert_eq!(
+            &modified(lib),
+            before,
+            "the C tests' build wrote {}",
+            lib.display()
+        );
+    }
+}
+
+/// The functions the header declares (declarations start a line; comments and typedefs
+/// do not).
+fn header_functions() -> BTreeSet<String> {
+    let h = std::fs::read_to_string(installed().prefix.join("include/motioncard.h")).unwrap();
+    let fns: BTreeSet<String> = h
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_alphabetic()) && !l.starts_with("typedef"))
+        .filter_map(|l| {
+            // "mc_result mc_open(", "const char *mc_result_str(": the word before the '('.
+            let name = l[..l.find('(')?].rsplit([' ', '*']).next()?;
+            name.starts_with("mc_").then(|| name.to_string())
+        })
+        .collect();
+    assert!(fns.len() > 60 && fns.contains("mc_open") && fns.contains("mc_result_str"));
+    fns
+}
+
+/// Both installed libraries export the C ABI and nothing else: every function of the header,
+/// the test build's hidden panic hook, and no other symbol (no Rust, std or
+/// compiler-builtins global that could collide with another library's).
+#[test]
+fn both_libraries_export_the_c_abi_only() {
+    let inst = installed();
+    let lib = inst.prefix.join("lib");
+    let shared = install::exported_symbols(&lib.join("libmotioncard.so")).unwrap();
+    let archive = install::defined_globals(&lib.join("libmotioncard.a")).unwrap();
+    let mut abi = header_functions();
+    abi.insert("mc__test_panic_next_call".to_string());
+    let not_abi: Vec<_> = archive.difference(&abi).take(20).collect();
+    assert!(
+        not_abi.is_empty(),
+        "libmotioncard.a exports {} globals outside the C ABI, such as {not_abi:?}",
+        archive.difference(&abi).count()
+    );
+    assert_eq!(shared, abi, "libmotioncard.so");
+    assert_eq!(archive, abi, "libmotioncard.a");
+}
+
+/// A second Rust static library, with its own copy of std (built with `-C lto`, which puts std
+/// and the Rust runtime symbols into one object that the program's link must take whole),
+/// links into one C program with libmotioncard.a, in either order, and both work: each
+/// library panics and catches its own panic (`MC_ERR_PANIC` through the test build's hook).
+#[test]
+fn two_rust_static_libraries_link_into_one_c_program() {
+    let inst = installed();
+    let dir = inst.work.join("two-rust-libs");
+    std::fs::create_dir_all(&dir).unwrap();
+    let other_rs = dir.join("other.rs");
+    std::fs::write(
+        &other_rs,
+        "/// Panics on every even i < n and catches it; returns the number caught.\n\
+         #[no_mangle]\n\
+         pub extern \"C\" fn other_caught_panics(n: u32) -> u32 {\n\
+             (0..n)\n\
+                 .filter(|i| std::panic::catch_unwind(|| assert!(i % 2 == 1, \"other {i}\")).is_err())\n\
+                 .count() as u32\n\
+         }\n",
+    )
+    .unwrap();
+    // rustc beside this cargo (a rustup toolchain), else the one on the PATH.
+    let rustc = std::env::var_os("CARGO")
+        .map(PathBuf::from)
+        .map(|c| c.with_file_name("rustc"))
+        .filter(|r| r.is_file())
+        .unwrap_or_else(|| PathBuf::from("rustc"));
+    let other = dir.join("libother.a");
+    let out = Command::new(&rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "staticlib",
+            "--crate-name",
+            "other",
+        ])
+        .args(["-C", "opt-level=2", "-C", "lto", "-o"])
+        .arg(&other)
+        .arg(&other_rs)
+        .output()
+        .unwrap_or_else(|e| panic!("{}: {e}", rustc.display()));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let main_c = dir.join("two.c");
+    std::fs::write(
+        &main_c,
+        r#"#include <motioncard.h>
+#include <stdio.h>
+
+uint32_t other_caught_panics(uint32_t n);
+mc_result mc__test_panic_next_call(void);
+
+int main(void) {
+    mc_card card = 0;
+    uint32_t caught = other_caught_panics(4);
+    mc_result r = mc_open_sim_stepped(1, 1000, &card);
+    if (r != MC_OK) return 1;
+    if (mc__test_panic_next_call() != MC_OK) return 1;
+    r = mc_ping(card);
+    printf("other caught %u panics, mc_ping after a panic: %s\n", caught, mc_result_str(r));
+    if (mc_ping(card) != MC_OK || mc_close(card) != MC_OK) return 1;
+    if (caught != 2 || r != MC_ERR_PANIC) return 1;
+    printf("PASS two\n");
+    return 0;
+}
+"#,
+    )
+    .unwrap();
+    let ours = inst.prefix.join("lib/libmotioncard.a");
+    for (name, first, second) in [
+        ("ours-first", &ours, &other),
+        ("other-first", &other, &ours),
+    ] {
+        let exe = dir.join(name);
+        let mut cmd = Command::new("gcc");
+        cmd.args(CFLAGS)
+            .arg(format!("-I{}", inst.prefix.join("include").display()))
+            .arg(&main_c)
+            .arg(first)
+            .arg(second)
+            .args(install::STATIC_LIBS.split_whitespace())
+            .arg("-o")
+            .arg(&exe);
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "linking two Rust static libraries ({name}) failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .filter(|l| !l.starts_with("bfd plugin"))
+                .take(12)
+                .collect::<Vec<_>>()
+                .join("\n")
+        );
+        let out = run(&exe, &[], &[]);
+        assert!(out.contains("PASS two\n"), "{name}: {out}");
+        assert!(
+            out.contains("other caught 2 panics, mc_ping after a panic: "),
+            "{name}: {out}"
+        );
+    }
+}
+
 /// The C programs share `examples/` with the root package's Rust examples: cargo's example
 /// discovery (`examples/*.rs`, `examples/*/main.rs`) must not take `examples/c/` for one.
 #[test]
@@ -326,6 +526,9 @@ fn the_shared_library_has_a_soname_and_programs_need_it() {
     assert!(!stat.contains("libmotioncard"), "{stat}");
 }
 
+/// The installed header alone, in every language version it promises (its preamble): C89 and
+/// GNU89 (no `//` comments, no `bool`, no `long long`), C99, C11, C++98 and C++11, each with
+/// `-pedantic-errors -Wall -Wextra -Werror`.
 #[test]
 fn header_compiles_alone_as_strict_c_and_as_cxx() {
     let inst = installed();
@@ -337,11 +540,18 @@ fn header_compiles_alone_as_strict_c_and_as_cxx() {
     )
     .unwrap();
     let include = format!("-I{}", inst.prefix.join("include").display());
-    for (compiler, std, lang) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++11", "c++")] {
+    for (compiler, std, lang) in [
+        ("gcc", "-std=c89", "c"),
+        ("gcc", "-std=gnu89", "c"),
+        ("gcc", "-std=c99", "c"),
+        ("gcc", "-std=c11", "c"),
+        ("g++", "-std=c++98", "c++"),
+        ("g++", "-std=c++11", "c++"),
+    ] {
         let out = Command::new(compiler)
             .args([
                 std,
-                "-pedantic",
+                "-pedantic-errors",
                 "-Wall",
                 "-Wextra",
                 "-Werror",
@@ -357,6 +567,27 @@ fn header_compiles_alone_as_strict_c_and_as_cxx() {
             "{compiler} {std}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
+    }
+}
+
+/// A C89 program (`examples/c/c89.c`), compiled as C89 and as GNU89 with `-pedantic-errors`,
+/// links against the shared and the static library and runs.
+#[test]
+fn a_c89_program_builds_links_and_runs() {
+    for std in ["-std=c89", "-std=gnu89"] {
+        let flags = [
+            std,
+            "-pedantic-errors",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O1",
+        ];
+        for link in [Link::Shared, Link::Static] {
+            let out = run(&compile_with("c89", link, &flags), &[], &[]);
+            assert!(out.contains("PASS c89\n"), "{std} {link:?}: {out}");
+            assert!(out.contains("out to 10000.0, back to 6000.0"), "{out}");
+        }
     }
 }
 

@@ -237,8 +237,7 @@ static void null_outputs(mc_card c) {
     expect_in_message("limits is NULL");
     EXPECT(mc_move_relative(c, 0, 1.0, NULL, &m), MC_ERR_NULL_POINTER);
     EXPECT(mc_get_status(c, 0, NULL), MC_ERR_NULL_POINTER);
-    EXPECT(mc_motion_wait(c, m, 0, NULL), MC_ERR_NULL_POINTER);
-    EXPECT(mc_wait_done(c, 0, 0, NULL), MC_ERR_NULL_POINTER);
+    /* (A wait's position is optional: below.) */
     EXPECT(mc_wait_event(c, 0, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_irq_fd(c, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_poll_events(c, NULL), MC_ERR_NULL_POINTER);
@@ -250,7 +249,29 @@ static void null_outputs(mc_card c) {
     double at = 0.0;
     EXPECT(mc_wait_done(c, 1, 1000, &at), MC_OK);
     ASSERT(fabs(at - 10.0) <= 1.0, "done at %f", at);
+    /* So may a wait's position. The card is stepped: its time advances only in waits, so the
+       axis is where it is because these waits waited. */
+    mc_status st;
+    EXPECT(mc_move_relative(c, 1, 1000.0, &lim, NULL), MC_OK);
+    EXPECT(mc_wait_done(c, 1, 1000, NULL), MC_OK);
+    CHECK(mc_get_status(c, 1, &st));
+    ASSERT(st.state == MC_AXIS_STATE_STANDSTILL && fabs(st.actual_position - 1010.0) <= 1.0,
+           "after a wait without position: state %u at %f", st.state, st.actual_position);
+    mc_motion back;
+    EXPECT(mc_move_relative(c, 1, -1000.0, &lim, &back), MC_OK);
+    EXPECT(mc_motion_wait(c, back, 1000, NULL), MC_OK);
+    CHECK(mc_get_status(c, 1, &st));
+    ASSERT(st.state == MC_AXIS_STATE_STANDSTILL && fabs(st.actual_position - 10.0) <= 1.0,
+           "after a wait without position: state %u at %f", st.state, st.actual_position);
+    /* With or without a position, a wait checks its handle and times out alike. */
+    EXPECT(mc_motion_wait(c, m, 0, NULL), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_wait_done(c, 0, 0, NULL), MC_ERR_UNSUPPORTED);
+    mc_motion far;
+    EXPECT(mc_move_relative(c, 1, 1e6, &lim, &far), MC_OK);
+    EXPECT(mc_motion_wait(c, far, 5, NULL), MC_ERR_TIMEOUT);
+    EXPECT(mc_wait_done(c, 1, 5, NULL), MC_ERR_TIMEOUT);
     EXPECT(mc_disable(c, 1), MC_OK);
+    EXPECT(mc_motion_wait(c, far, 10, NULL), MC_ERR_ABORTED);
 }
 
 static void arguments(mc_card c) {

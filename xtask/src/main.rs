@@ -1,8 +1,9 @@
 //! `cargo xtask codegen [--check]`: regenerate the checked-in generated files, or (with
 //! `--check`) fail when they are stale. Needs libclang (Debian: `libclang-dev`).
 //!
-//! `cargo xtask install --prefix DIR`: build libmotioncard in release and install it for C
-//! users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
+//! `cargo xtask install --prefix DIR`: build libmotioncard in release (as part of the
+//! workspace's libraries, so an up-to-date `cargo build --workspace --release` is reused as it
+//! is) and install it for C users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
 
 mod install;
 
@@ -70,8 +71,15 @@ fn install_command(args: &[String]) -> ExitCode {
     // The workspace version: xtask and motioncard-cffi share it.
     let version = env!("CARGO_PKG_VERSION");
     let header = root.join("cffi/include/motioncard.h");
-    let installed = install::build(&cargo, &root, "release", &target, &[])
-        .and_then(|()| install::install(&target.join("release"), &header, &prefix, version));
+    // The workspace's libraries, so that a `cargo build --workspace --release` is reused.
+    let installed = install::build(
+        &cargo,
+        &root,
+        "release",
+        &target,
+        install::Packages::Workspace,
+    )
+    .and_then(|()| install::install(&target.join("release"), &header, &prefix, version));
     match installed {
         Ok(()) => {
             let p = std::path::absolute(&prefix).unwrap_or(prefix);
