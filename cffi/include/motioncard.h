@@ -2022,7 +2022,9 @@ mc_result mc_set_event_callback(mc_card card, mc_event_callback callback, void *
 /**
  * Take the card's events and call the callback once for each, in order, on this thread.
  * Waits up to `timeout_ms` for the first one (0: don't wait; call it when the descriptor of
- * `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call).
+ * `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call); the
+ * callback then gets every event taken, even if it closes the card. A close from another
+ * thread ends the wait: `MC_ERR_CLOSED`.
  * Without a callback the events are taken and dropped. `*dispatched` is how many were taken;
  * 0 with `MC_OK` when none came. Blocks up to `timeout_ms`.
  */

@@ -664,7 +664,9 @@ pub unsafe extern "C" fn mc_set_event_callback(
 
 /// Take the card's events and call the callback once for each, in order, on this thread.
 /// Waits up to `timeout_ms` for the first one (0: don't wait; call it when the descriptor of
-/// `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call).
+/// `mc_irq_fd` is readable), then takes the rest without waiting (at most 4096 per call); the
+/// callback then gets every event taken, even if it closes the card. A close from another
+/// thread ends the wait: `MC_ERR_CLOSED`.
 /// Without a callback the events are taken and dropped. `*dispatched` is how many were taken;
 /// 0 with `MC_OK` when none came. Blocks up to `timeout_ms`.
 #[no_mangle]
@@ -677,25 +679,27 @@ pub unsafe extern "C" fn mc_dispatch_events(
         let out = Out::new(dispatched, "dispatched")?;
         let e = registry::get(card)?;
         e.card.poll_events()?;
-        let mut n = 0usize;
+        // Take this call's events first: a callback that closes the card still gets them all.
+        let mut taken = Vec::new();
         let mut next = e.card.next_event(ms(timeout_ms))?;
         while let Some(ev) = next {
-            let c = mc_event::from(&ev);
+            taken.push(mc_event::from(&ev));
+            if taken.len() >= EVENT_QUEUE_CAP {
+                break;
+            }
+            next = e.card.next_event(Duration::ZERO)?;
+        }
+        for c in &taken {
             // Copied out: no lock is held while the application runs.
             let cb = *lock(&e.callback);
             if let Some(cb) = cb {
                 // SAFETY: the application registered `f` for this card with `user`; `c` lives
                 // for the whole call.
-                unsafe { (cb.f)(card, &c, cb.user as *mut c_void) };
+                unsafe { (cb.f)(card, c, cb.user as *mut c_void) };
             }
-            n += 1;
-            if n >= EVENT_QUEUE_CAP {
-                break;
-            }
-            next = e.card.next_event(Duration::ZERO)?;
         }
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(n) };
+        unsafe { out.write(taken.len()) };
         Ok(())
     })
 }

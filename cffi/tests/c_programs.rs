@@ -689,18 +689,148 @@ fn panic_program_is_clean_under_valgrind() {
     assert!(out.contains("PASS panic\n"), "{out}");
 }
 
+/// Serve an `emu:` card named `name` from this process on the real-time clock.
+fn serve_emu(name: &str) -> (card_emu::server::Server, card_emu::Runner) {
+    use card_emu::{server::Server, Clock, EmuOptions, Emulator, Runner};
+    use std::os::fd::AsFd;
+    let emu = Emulator::create(name, &EmuOptions::new(2, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let server = Server::start(name, window, irq).unwrap();
+    (server, Runner::spawn(emu, Clock::RealTime, false).unwrap())
+}
+
+/// Cancelling and closing from one thread end the waits of the others at once; a clean close
+/// leaves the card ready for the next program (nothing latched, nothing inherited).
+#[test]
+fn cancel_and_close_wake_every_wait_and_a_closed_card_is_ready_for_the_next_program() {
+    let name = format!("cffi-life-{}", std::process::id());
+    let _card = serve_emu(&name);
+    let out = run(
+        &compile("lifecycle", Link::Shared),
+        &[&format!("emu:{name}")],
+        &[],
+    );
+    assert!(out.contains("PASS lifecycle\n"), "{out}");
+}
+
+const CARD_ROLE: &str = "MC_C_TESTS_CARD_ROLE";
+
+/// The card process of the dead-card test: this test binary run again with
+/// `MC_C_TESTS_CARD_ROLE=NAME` serves `emu:NAME` until it is killed.
+#[test]
+fn card_role() {
+    let Ok(name) = std::env::var(CARD_ROLE) else {
+        return;
+    };
+    let _card = serve_emu(&name);
+    println!("\nSERVING");
+    loop {
+        std::thread::park();
+    }
+}
+
+fn monotonic_ms() -> f64 {
+    let t = nix::time::clock_gettime(nix::time::ClockId::CLOCK_MONOTONIC).unwrap();
+    t.tv_sec() as f64 * 1e3 + t.tv_nsec() as f64 / 1e6
+}
+
+/// A C program waiting on a card whose process is killed, or stopped, gets the card-gone or
+/// not-responding code from the wait and every later call, never stale data; a command it gave
+/// up on while the card was stopped never runs (dead_card.c).
+#[test]
+fn a_dead_or_stopped_card_is_reported_by_every_call_from_c() {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    use std::io::{BufRead, BufReader};
+    let exe = compile("dead_card", Link::Shared);
+    for mode in ["kill", "stop"] {
+        let name = format!("cffi-dead-{mode}-{}", std::process::id());
+        let mut card = Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "card_role", "--nocapture", "--test-threads=1"])
+            .env(CARD_ROLE, &name)
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let serving = BufReader::new(card.stdout.take().unwrap())
+            .lines()
+            .map_while(Result::ok)
+            .any(|l| l.contains("SERVING"));
+        assert!(serving, "the card process did not start");
+        let pid = Pid::from_raw(card.id() as i32);
+        let mut prog = Command::new(&exe)
+            .args([&format!("emu:{name}"), mode])
+            .env("LD_LIBRARY_PATH", installed().prefix.join("lib"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(prog.stdout.take().unwrap()).lines();
+        let mut out = String::new();
+        let mut next = |out: &mut String| {
+            let l = lines.next().and_then(Result::ok).unwrap_or_default();
+            out.push_str(&l);
+            out.push('\n');
+            l
+        };
+        while !next(&mut out).starts_with("READY") {
+            assert!(out.len() < 10_000 && !out.ends_with("\n\n"), "{out}");
+        }
+        std::thread::sleep(Duration::from_millis(100)); // blocked in its wait
+        let t_dead = monotonic_ms();
+        kill(
+            pid,
+            if mode == "kill" {
+                Signal::SIGKILL
+            } else {
+                Signal::SIGSTOP
+            },
+        )
+        .unwrap();
+        let ended = next(&mut out);
+        let at: f64 = ended
+            .strip_prefix("WAIT-ENDED ")
+            .unwrap_or_else(|| panic!("{out}"))
+            .parse()
+            .unwrap();
+        let latency = at - t_dead;
+        if mode == "kill" {
+            assert!(
+                latency < 100.0,
+                "the wait ended {latency:.1} ms after the kill"
+            );
+        } else {
+            // The staleness limit (100 ms here), looked at every half limit.
+            assert!((50.0..400.0).contains(&latency), "{latency:.1} ms");
+            while !next(&mut out).starts_with("GAVE-UP") {
+                assert!(out.len() < 10_000 && !out.ends_with("\n\n"), "{out}");
+            }
+            kill(pid, Signal::SIGCONT).unwrap();
+        }
+        while lines.next().and_then(Result::ok).is_some_and(|l| {
+            out.push_str(&l);
+            out.push('\n');
+            true
+        }) {}
+        let status = prog.wait().unwrap();
+        let mut err = String::new();
+        let _ = std::io::Read::read_to_string(&mut prog.stderr.take().unwrap(), &mut err);
+        assert!(
+            status.success() && out.contains("PASS dead_card\n"),
+            "{mode}: {out}\n{err}"
+        );
+        println!("dead_card {mode}: the C program's wait failed {latency:.1} ms after it");
+        let _ = card.kill();
+        let _ = card.wait();
+    }
+}
+
 /// A card served as `emu:NAME` by this test process (as `card-emu --name NAME` would) to the C
 /// program, another process: its second open is refused while the first holds the card.
 #[test]
 fn a_second_open_of_an_emu_card_is_busy() {
-    use card_emu::{server::Server, Clock, EmuOptions, Emulator, Runner};
-    use std::os::fd::AsFd;
     let name = format!("cffi-busy-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let _server = Server::start(&name, window, irq).unwrap();
-    let _runner = Runner::spawn(emu, Clock::RealTime, false).unwrap();
+    let _card = serve_emu(&name);
     let uri = format!("emu:{name}");
     let out = run(&compile("busy", Link::Shared), &[&uri], &[]);
     assert!(out.contains("PASS busy\n"), "{out}");
@@ -774,13 +904,16 @@ fn errors_c_lists_every_code_of_the_header() {
 /// them on the SDK side.
 const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_VERSION_MISMATCH",
-    "MC_ERR_NOT_RESPONDING",
     "MC_ERR_PROTOCOL",
     "MC_ERR_RING_FULL",
     "MC_ERR_UNKNOWN_COMMAND",
     "MC_ERR_IO",
     "MC_ERR_NURBS_SEQUENCE",
     "MC_ERR_HARD_LIMIT",
+    "MC_ERR_PLAN_CHECK",
+    "MC_ERR_EXPIRED",
+    "MC_ERR_SESSION",
+    "MC_ERR_PERMISSION_DENIED",
 ];
 
 #[test]

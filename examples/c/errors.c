@@ -37,6 +37,10 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE,  MC_ERR_HARD_LIMIT,
     MC_ERR_SOFT_LIMIT,     MC_ERR_CAUSE_ACTIVE,    MC_ERR_WATCHDOG_TIMEOUT,
     MC_ERR_BAD_CATEGORY,
+    /* limits, deadlines, stops, sessions, the card's life */
+    MC_ERR_LIMIT_RANGE,    MC_ERR_PLAN_CHECK,      MC_ERR_EXPIRED,
+    MC_ERR_STOP_TOO_LONG,  MC_ERR_SESSION,         MC_ERR_CARD_GONE,
+    MC_ERR_CLOSED,         MC_ERR_CANCELLED,       MC_ERR_PERMISSION_DENIED,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -44,16 +48,23 @@ static const mc_result ALL_CODES[] = {
 #define NCODES (sizeof ALL_CODES / sizeof ALL_CODES[0])
 
 /* Codes this program does not return. Some no emulated card can provoke from C: a card with
-   another layout, one that stops answering or corrupts the protocol, a full command ring, a
-   command the typed API never sends (an unknown opcode, NURBS data out of sequence), an OS
-   failure, a limit switch (an input only the Rust fault injector presses). The Rust tests
-   cover the SDK side of those; here they are only checked to exist and be described. The
-   others are returned by the programs named (the Rust test checks that every code is
-   expected by some program or listed as not provokable). */
+   another layout, one that corrupts the protocol, a full command ring, a command the typed
+   API never sends (an unknown opcode, NURBS data out of sequence, a detach of another
+   session, a command past its deadline), a plan the card's own check refuses (no input
+   reaches it through a correct planner), an OS failure, a limit switch (an input only the
+   Rust fault injector presses), another user's card. The Rust tests cover the SDK side of
+   those; here they are only checked to exist and be described. The others are returned by
+   the programs named (the Rust test checks that every code is expected by some program or
+   listed as not provokable). */
 static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C */
-    MC_ERR_VERSION_MISMATCH, MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL, MC_ERR_RING_FULL,
-    MC_ERR_UNKNOWN_COMMAND, MC_ERR_IO, MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT,
+    MC_ERR_VERSION_MISMATCH, MC_ERR_PROTOCOL, MC_ERR_RING_FULL, MC_ERR_UNKNOWN_COMMAND,
+    MC_ERR_IO, MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT, MC_ERR_PLAN_CHECK, MC_ERR_EXPIRED,
+    MC_ERR_SESSION, MC_ERR_PERMISSION_DENIED,
+    /* dead_card.c (a card process killed, then stopped) */
+    MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
+    /* lifecycle.c (waits in other threads) */
+    MC_ERR_CLOSED, MC_ERR_CANCELLED,
     /* groups.c */
     MC_ERR_BAD_GROUP, MC_ERR_AXIS_IN_OTHER_GROUP, MC_ERR_AXIS_GROUPED, MC_ERR_ZERO_LENGTH_ARC,
     MC_ERR_CENTRE_NOT_EQUIDISTANT, MC_ERR_RADIUS_TOO_SMALL, MC_ERR_COLLINEAR_POINTS,
@@ -64,7 +75,7 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_NURBS_KNOT,
     /* safety.c */
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE, MC_ERR_SOFT_LIMIT, MC_ERR_CAUSE_ACTIVE,
-    MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
+    MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY, MC_ERR_STOP_TOO_LONG,
     /* busy.c (a card served by another process), panic.c (a test build's panic hook) */
     MC_ERR_BUSY, MC_ERR_PANIC,
 };
@@ -187,6 +198,11 @@ static void all_calls_bad_handle(mc_card h) {
     EXPECT(mc_estop(h, MC_STOP_CATEGORY_0), MC_ERR_BAD_HANDLE);
     EXPECT(mc_reset_faults(h), MC_ERR_BAD_HANDLE);
     EXPECT(mc_get_safety_status(h, &ss), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_set_max_stop_time(h, 500000), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_cancel_waits(h), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_inherited_stops(h, &u32), MC_ERR_BAD_HANDLE);
+    const uint32_t ax0 = 0;
+    EXPECT(mc_get_statuses(h, &ax0, 1, &st), MC_ERR_BAD_HANDLE);
     EXPECT(mc_configure_safety(h, 0, &saf), MC_ERR_BAD_HANDLE);
     EXPECT(mc_get_stop_info(h, 0, &si), MC_ERR_BAD_HANDLE);
     EXPECT(mc_close(h), MC_ERR_BAD_HANDLE);
@@ -237,6 +253,25 @@ static void null_outputs(mc_card c) {
     expect_in_message("limits is NULL");
     EXPECT(mc_move_relative(c, 0, 1.0, NULL, &m), MC_ERR_NULL_POINTER);
     EXPECT(mc_get_status(c, 0, NULL), MC_ERR_NULL_POINTER);
+    /* The batch read: its arrays, their length, its axes. */
+    const uint32_t both[2] = {1, 0}, wrong[2] = {0, 9};
+    mc_status two[2];
+    two[0].state = 99;
+    EXPECT(mc_get_statuses(c, both, 2, NULL), MC_ERR_NULL_POINTER);
+    EXPECT(mc_get_statuses(c, NULL, 2, two), MC_ERR_NULL_POINTER);
+    EXPECT(mc_get_statuses(c, both, 0, two), MC_ERR_BAD_AXIS);
+    EXPECT(mc_get_statuses(c, both, 9, two), MC_ERR_BAD_AXIS);
+    EXPECT(mc_get_statuses(c, wrong, 2, two), MC_ERR_BAD_AXIS);
+    ASSERT(two[0].state == 99, "statuses written by a failed call");
+    mc_status one;
+    CHECK(mc_get_statuses(c, both, 2, two));
+    CHECK(mc_get_status(c, 1, &one));
+    ASSERT(two[0].raw.tick == one.raw.tick && two[0].state == one.state &&
+               two[1].raw.tick == one.raw.tick,
+           "batch and single reads of one tick differ");
+    EXPECT(mc_inherited_stops(c, NULL), MC_ERR_NULL_POINTER);
+    CHECK(mc_inherited_stops(c, &u32));
+    ASSERT(u32 == 0, "a fresh card inherited %u stops", u32);
     /* (A wait's position is optional: below.) */
     EXPECT(mc_wait_event(c, 0, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_irq_fd(c, NULL), MC_ERR_NULL_POINTER);
@@ -319,7 +354,26 @@ static void arguments(mc_card c) {
     bad.acceleration = -1.0;
     EXPECT(mc_move_relative(c, 0, 100.0, &bad, &m), MC_ERR_NON_POSITIVE_LIMIT);
     EXPECT(mc_halt(c, 0, -1.0, 1e7, &m), MC_ERR_NON_POSITIVE_LIMIT);
-    EXPECT(mc_set_scale(c, 0, 0.0), MC_ERR_NON_POSITIVE_LIMIT);
+    /* Zero, subnormal and absurd scales (a negative one is a direction). */
+    EXPECT(mc_set_scale(c, 0, 0.0), MC_ERR_BAD_CONFIG);
+    EXPECT(mc_set_scale(c, 0, 1e-320), MC_ERR_BAD_CONFIG);
+    expect_in_message("|scale| must lie in");
+    EXPECT(mc_set_scale(c, 0, 1e300), MC_ERR_BAD_CONFIG);
+    ASSERT(m.seq == 77, "motion written by a refused call");
+
+    /* Limits outside what the card accepts: subnormal, absurdly small or large. The card
+       refuses them (each move and each stop). */
+    bad = lim;
+    bad.jerk[0] = 1e-300;
+    EXPECT(mc_move_relative(c, 0, 100.0, &bad, &m), MC_ERR_LIMIT_RANGE);
+    expect_in_message("outside the range the card accepts");
+    bad = lim;
+    bad.acceleration = 5e-324;
+    EXPECT(mc_move_relative(c, 0, 100.0, &bad, &m), MC_ERR_LIMIT_RANGE);
+    bad = lim;
+    bad.velocity = 1e300;
+    EXPECT(mc_move_relative(c, 0, 100.0, &bad, &m), MC_ERR_LIMIT_RANGE);
+    EXPECT(mc_halt(c, 0, 5e6, 1e-300, &m), MC_ERR_LIMIT_RANGE);
     ASSERT(m.seq == 77, "motion written by a refused call");
 
     /* Values the card refuses. */
@@ -331,6 +385,7 @@ static void arguments(mc_card c) {
     for (int i = 0; i < 4; i++) crawl.jerk[i] = 1e-12;
     EXPECT(mc_move_absolute(c, 0, 1e9, &crawl, &m), MC_ERR_INFEASIBLE);
     EXPECT(mc_set_servo_rate(c, 50), MC_ERR_BAD_CONFIG);
+    expect_in_message("on the card"); /* a card-wide command names the card, not an axis */
     EXPECT(mc_set_servo_rate(c, 2000), MC_ERR_AXES_ENABLED);
 
     /* Nothing moved. */
@@ -457,6 +512,12 @@ static void group_refusals(void) {
     mc_group_motion m = {77, 77};
     EXPECT(mc_group_move_circular(c, 0, &arc, MC_ARC_PLANE_YZ, NULL, 0, &feed, &now, &m),
            MC_ERR_AXIS_NOT_IN_GROUP);
+    expect_in_message("on group 0"); /* the group, not "axis 0" */
+    /* Refused by the library before anything was sent: it says so. */
+    mc_group_status gst;
+    EXPECT(mc_group_get_status(c, 7, &gst), MC_ERR_BAD_GROUP);
+    expect_in_message("group 7");
+    expect_in_message("not sent");
     /* The queue holds 32 moves, the running one included (time stands still meanwhile). */
     double t[2] = {1e6, 0.0};
     EXPECT(mc_group_move_linear(c, 0, t, 2, &feed, &now, NULL), MC_OK);

@@ -467,9 +467,52 @@ static void misuse(void) {
     CHECK(mc_close(c));
 }
 
+/* Every stop ends within the card's maximum stop time (default 2 s): a halt with a ramp that
+   would take minutes runs on the axis's stop ramp instead; configurations that could not stop
+   in time are refused. */
+static void bounded_stops(void) {
+    mc_card c = open_card();
+    const uint32_t a = 2;
+    mc_safety_settings s;
+    CHECK(mc_safety_settings_default(&s));
+    mc_safety_settings slow = s;
+    slow.stop_deceleration = 1e5; /* 10 s from max_velocity (10^6 counts/s) */
+    EXPECT(mc_configure_safety(c, a, &slow), MC_ERR_STOP_TOO_LONG);
+    expect_in_message("maximum stop time");
+    EXPECT(mc_set_max_stop_time(c, 5000), MC_ERR_STOP_TOO_LONG); /* under 10 ms */
+    EXPECT(mc_set_max_stop_time(c, 100000), MC_ERR_STOP_TOO_LONG); /* the ramp needs 0.21 s */
+    CHECK(mc_set_max_stop_time(c, 1000000));
+
+    mc_move_limits fast;
+    CHECK(mc_move_limits_symmetric(300000.0, 3e6, 3e8, &fast));
+    CHECK(mc_enable(c, a));
+    CHECK(mc_move_relative(c, a, 1e7, &fast, NULL));
+    CHECK(mc_sim_step(c, 3000)); /* cruising */
+    /* Its own ramp (1000 counts/s^2 from 300,000 counts/s) would take 300 s. */
+    mc_motion h;
+    CHECK(mc_halt(c, a, 1000.0, 1e6, &h));
+    mc_status st = axis(c, a);
+    ASSERT(st.raw.planned_time <= 1.0 && st.raw.planned_time > 0.05,
+           "halt planned for %f s, bound 1 s", st.raw.planned_time);
+    double at = 0.0;
+    CHECK(mc_motion_wait(c, h, 2000, &at));
+    st = axis(c, a);
+    ASSERT(st.state == MC_AXIS_STATE_STANDSTILL && st.stop_reason == MC_STOP_REASON_HALT,
+           "after the halt: state %u, reason %u", st.state, st.stop_reason);
+    ASSERT(st.raw.peak_dec <= s.stop_deceleration * (1 + 1e-9), "decelerated at %f",
+           st.raw.peak_dec);
+    mc_safety_status ss = safety(c);
+    ASSERT(ss.session != 0 && ss.host_changes == 0 && ss.late_heartbeats == 0,
+           "session %u, host changes %u, late heartbeats %u", ss.session, ss.host_changes,
+           ss.late_heartbeats);
+    CHECK(mc_close(c));
+    printf("bounded stops: a 300 s halt ran on the stop ramp in %.3f s\n", st.raw.planned_time);
+}
+
 int main(int argc, char **argv) {
     (void)argc;
     (void)argv;
+    bounded_stops();
     normal_stop_reasons();
     watchdog();
     estop();
@@ -480,7 +523,8 @@ int main(int argc, char **argv) {
     /* Every safety code was returned, except the one no C program can provoke. */
     const mc_result safety_codes[] = {MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE,
                                       MC_ERR_SOFT_LIMIT,       MC_ERR_CAUSE_ACTIVE,
-                                      MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY};
+                                      MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
+                                      MC_ERR_STOP_TOO_LONG};
     for (size_t k = 0; k < sizeof safety_codes / sizeof safety_codes[0]; k++) {
         ASSERT(seen[-safety_codes[k]], "code %d (%s) never returned", (int)safety_codes[k],
                mc_result_str(safety_codes[k]));

@@ -117,12 +117,15 @@ struct WaitRules {
     stale_fails: bool,
     /// [`Card::cancel_waits`] ends it with `Cancelled`.
     cancellable: bool,
+    /// [`Card::close`] ends it with `Closed` (a card that is gone ends every wait).
+    closable: bool,
 }
 
 /// Waits for motions and events: every rule.
 const USER_WAIT: WaitRules = WaitRules {
     stale_fails: true,
     cancellable: true,
+    closable: true,
 };
 
 /// The wait for a command's answer: it ends only when the command can no longer run (see
@@ -130,6 +133,7 @@ const USER_WAIT: WaitRules = WaitRules {
 const ACK_WAIT: WaitRules = WaitRules {
     stale_fails: false,
     cancellable: false,
+    closable: false,
 };
 
 pub(crate) struct Inner {
@@ -266,7 +270,7 @@ impl Card {
         match inner.wait_answer(seq)? {
             Ok(stopped) => inner.inherited_stops = stopped as u32,
             Err(code) => {
-                inner.link.mark_closed(); // nothing to detach
+                inner.link.mark_closed(); // nothing to detach (the attach was refused)
                 return Err(Error::Nack {
                     command: "open",
                     target: Target::Card,
@@ -603,8 +607,14 @@ impl Inner {
         emu.step();
     }
 
-    fn send_raw(&self, mut cmd: Command) -> Result<u32> {
+    fn send_raw(&self, cmd: Command) -> Result<u32> {
         self.link.check()?;
+        self.push(cmd)
+    }
+
+    /// Put a command into the ring (whether the session is closed is the caller's business).
+    fn push(&self, mut cmd: Command) -> Result<u32> {
+        self.link.check_gone()?;
         let w = &self.dev.window;
         let mut tx = lock(&self.tx);
         // One writer per ring: a head this host did not write means another process writes
@@ -785,7 +795,11 @@ impl Inner {
         let start = Instant::now();
         let cancels = self.link.cancels();
         let ended = || -> Result<()> {
-            self.link.check()?;
+            if rules.closable {
+                self.link.check()?;
+            } else {
+                self.link.check_gone()?;
+            }
             if rules.cancellable && self.link.cancels() != cancels {
                 return Err(Error::Cancelled);
             }
@@ -893,26 +907,33 @@ impl Inner {
         }
     }
 
-    /// The clean end of the session: detach (the card halts what moves and disarms its
-    /// watchdog), then stop the heartbeat and wake every wait. Once; later calls do nothing.
+    /// The clean end of the session: every wait in progress ends and every later call fails
+    /// (`Closed`), then the detach (the card halts what moves and disarms its watchdog), then
+    /// the heartbeat stops. Once; later calls do nothing.
     fn close(&self) -> Result<()> {
-        if self.link.is_closed() {
+        if !self.link.mark_closed() {
             return Ok(());
         }
+        drop(lock(&self.rx));
+        self.rx_cond.notify_all();
         let mut detach = Command::new(Opcode::HostDetach, 0);
         detach.flags = self.link.session;
         // A card that is gone or does not answer cannot be detached: closing still ends the
         // session on this side (the card's watchdog then does what it must).
-        let sent = match self.link.check() {
-            Ok(()) => self.execute_seq(detach, "close", Target::Card).map(|_| ()),
-            Err(e) => Err(e),
-        };
+        let sent = self
+            .push(detach)
+            .and_then(|seq| match self.wait_answer(seq)? {
+                Ok(_) => Ok(()),
+                Err(code) => Err(Error::Nack {
+                    command: "close",
+                    target: Target::Card,
+                    code,
+                    reason: nack_reason(code),
+                }),
+            });
         if let Some(mut h) = lock(&self.heartbeat).take() {
             h.halt();
         }
-        self.link.mark_closed();
-        let _g = lock(&self.rx);
-        self.rx_cond.notify_all();
         match sent {
             Err(e) if e.kind() == crate::ErrorKind::CardGone => Ok(()),
             r => r,

@@ -114,6 +114,11 @@ impl Link {
         if self.closed.load(Ordering::Acquire) {
             return Err(Error::Closed);
         }
+        self.check_gone()
+    }
+
+    /// Gone: the card process went away.
+    pub(crate) fn check_gone(&self) -> Result<()> {
         if self.gone.load(Ordering::Acquire) {
             return Err(Error::CardGone(
                 "the card-emu process serving it went away (its connection hung up)".into(),
@@ -168,14 +173,11 @@ impl Link {
         self.wake();
     }
 
-    /// Closed: every call fails from now on, waits wake up.
-    pub(crate) fn mark_closed(&self) {
-        self.closed.store(true, Ordering::Release);
+    /// Closed: every call fails from now on, waits wake up. False if it already was.
+    pub(crate) fn mark_closed(&self) -> bool {
+        let first = !self.closed.swap(true, Ordering::AcqRel);
         self.wake();
-    }
-
-    pub(crate) fn is_closed(&self) -> bool {
-        self.closed.load(Ordering::Acquire)
+        first
     }
 
     pub(crate) fn is_gone(&self) -> bool {
