@@ -198,7 +198,8 @@ fn ramp(dv: f64, amax: f64, ja: f64, jb: f64) -> ([f64; 3], f64) {
     if dv >= dv_sat {
         ([amax / ja, (dv - dv_sat) / amax, amax / jb], amax)
     } else {
-        let peak = (dv / half_k).sqrt().min(amax);
+        // (sqrt(dv) / sqrt(half_k): dv / half_k underflows for a subnormal dv and a small jerk)
+        let peak = (dv.sqrt() / half_k.sqrt()).min(amax);
         ([peak / ja, 0.0, peak / jb], peak)
     }
 }
@@ -212,7 +213,7 @@ fn ramp_distance_slope(vs: f64, dv: f64, amax: f64, ja: f64, jb: f64) -> f64 {
         (vs + dv) / amax + 0.5 * amax / jb
     } else {
         // S = vs a_p k + c a_p^3,  vp = vs + a_p^2 k / 2
-        let ap = (dv.max(0.0) / half_k).sqrt();
+        let ap = dv.max(0.0).sqrt() / half_k.sqrt();
         if ap <= 0.0 {
             return f64::INFINITY;
         }
@@ -258,9 +259,12 @@ impl Move {
         let l = &self.lim;
         let vlo = self.v0.max(self.v1);
         let f_lo = self.dist(vlo);
-        if f_lo > target || f_lo.is_nan() {
-            // Accept pure rounding-level overshoot; anything else cannot be done.
-            if f_lo - target <= 1e-12 * f_lo {
+        if f_lo >= target || f_lo.is_nan() {
+            // Accept a rounding-level overshoot (4 ulps, or below the normal range: the plan
+            // check allows 8 ulps and 1e-12 counts at the end); anything else cannot be done.
+            // At `f_lo == target` there is no room either: a larger vp whose distance
+            // underflows to the same value would only be noise.
+            if f_lo - target <= 4.0 * f64::EPSILON * f_lo + f64::MIN_POSITIVE {
                 return Ok(vlo);
             }
             return Err(if f_lo.is_finite() {
@@ -292,11 +296,13 @@ impl Move {
             let r = target - self.dist(lo);
             let qa = 0.5 / l.amax + 0.5 / l.dmax;
             let qb = self.slope(lo);
-            lo + 2.0 * r / (qb + (qb * qb + 4.0 * qa * r).sqrt())
+            // (hypot: qb^2 + 4 qa r underflows, or overflows, at the ends of the range)
+            lo + 2.0 * r / (qb + qb.hypot(2.0 * qa.sqrt() * r.sqrt()))
         } else if hi <= ba && hi <= bd && self.v0 == 0.0 && self.v1 == 0.0 {
             // Both ramps triangular from/to rest: dist = c * vp^(3/2).
-            let q = target / self.dist(hi);
-            hi * (q * q).cbrt()
+            // (cbrt(q)^2, not cbrt(q^2): q^2 underflows to 0 for a tiny target)
+            let c = (target / self.dist(hi)).cbrt();
+            hi * c * c
         } else {
             0.5 * (lo + hi)
         };
@@ -305,6 +311,13 @@ impl Move {
         } else {
             0.5 * (lo + hi)
         };
+        // Newton, safeguarded: when two steps have not halved the bracket, counted in floats
+        // between its ends, it is bisected in that count instead. Far from the root, Newton on
+        // this convex function only divides the speed by 1.5 to 3 per step, which from
+        // vmax = 1e19 to a root at 1e-170 would take hundreds; the bisection in floats needs at
+        // most 64 steps whatever decades the bracket spans.
+        let key = |v: f64| if v > 0.0 { v.to_bits() } else { 0 };
+        let mut spans = [u64::MAX; 2];
         for _ in 0..200 {
             let g = self.dist(x) - target;
             if g == 0.0 {
@@ -315,13 +328,15 @@ impl Move {
             } else {
                 hi = x;
             }
+            let span = key(hi) - key(lo);
             let mut nx = x - g / self.slope(x);
-            if !(nx > lo && nx < hi) {
-                nx = lo + 0.5 * (hi - lo);
+            if !(nx > lo && nx < hi) || span > spans[0] / 2 {
+                nx = f64::from_bits(key(lo) + span / 2);
                 if !(nx > lo && nx < hi) {
                     break; // bracket collapsed to adjacent floats
                 }
             }
+            spans = [spans[1], span];
             let converged = (nx - x).abs() <= 4.0 * f64::EPSILON * x.abs();
             x = nx;
             if converged {
@@ -432,7 +447,10 @@ impl Profile {
     ///
     /// If the current deceleration is so large that even ramping it out at `j7` would drive
     /// the velocity through zero (`v0 < a0^2 / (2 j7)`), the state cannot be stopped without
-    /// reversing and `Infeasible` is returned.
+    /// reversing and `Infeasible` is returned. Near that bound, the speed left to remove at
+    /// `dmax` after the excess deceleration is ramped out is a difference of nearly equal
+    /// speeds; when it is below its rounding (8 ulps of the speed) it is not held out at
+    /// `dmax`, and the stop ends at that ulp-level speed.
     pub fn stop(p0: f64, v0: f64, a0: f64, lim: &Limits) -> Result<Profile, PlanError> {
         if !(p0.is_finite() && v0.is_finite() && a0.is_finite()) {
             return Err(PlanError::NonFinite);
@@ -453,11 +471,12 @@ impl Profile {
         };
         let (vc, ad) = if a > 0.0 {
             segs.dur[2] = a / lim.j3;
-            (v + 0.5 * a * a / lim.j3, 0.0)
+            (v + 0.5 * a * (a / lim.j3), 0.0)
         } else {
             (v, -a)
         };
-        let vmin = 0.5 * ad * ad / lim.j7;
+        // (a (a / j), not a^2 / j: a^2 leaves the normal range for a tiny acceleration)
+        let vmin = 0.5 * ad * (ad / lim.j7);
         if vc < vmin && vmin - vc > 1e-12 * vmin {
             return Err(PlanError::Infeasible);
         }
@@ -466,7 +485,17 @@ impl Profile {
             segs.jerk[4] = lim.j7;
             segs.dur[4] = (ad - dm) / lim.j7;
             let v_after = vc - 0.5 * (ad - dm) * (ad + dm) / lim.j7;
-            segs.dur[5] = ((v_after - 0.5 * dm * dm / lim.j7) / dm).max(0.0);
+            // What is left to remove at dmax is a difference of nearly equal speeds when the
+            // state is close to the reversal bound: below its rounding (a few ulps of vc) it
+            // is noise, and holding a tiny dmax to remove noise would take for ever (from
+            // 4e19 counts/s at dmax 1e-12, 1e16 s) and could even reverse. The stop then ends
+            // at that noise (an ulp-level velocity) instead.
+            let rest = v_after - 0.5 * dm * (dm / lim.j7);
+            segs.dur[5] = if rest > 8.0 * f64::EPSILON * vc {
+                rest / dm
+            } else {
+                0.0
+            };
             segs.dur[6] = dm / lim.j7;
             segs.acc_after[4] = -dm;
             segs.acc_after[5] = -dm;
@@ -482,7 +511,9 @@ impl Profile {
                 let q = 0.5 / lim.j5 + 0.5 / lim.j7;
                 let qb = 2.0 * q * ad;
                 let c = (vc - vmin).max(0.0);
-                let r = 2.0 * c / (qb + (qb * qb + 4.0 * q * c).sqrt());
+                // (hypot: qb^2 + 4 q c underflows to 0 for a tiny speed and a large jerk, and
+                // r would become infinite: a full-dmax stop that reverses)
+                let r = 2.0 * c / (qb + qb.hypot(2.0 * q.sqrt() * c.sqrt()));
                 let r = if r > 0.0 { r.min(dm - ad) } else { 0.0 };
                 (ad + r, r)
             };
