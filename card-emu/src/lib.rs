@@ -44,5 +44,7 @@ pub(crate) fn plan_nack(e: scurve::PlanError) -> NackCode {
         scurve::PlanError::Infeasible | scurve::PlanError::StartVelocityTooHigh => {
             NackCode::Infeasible
         }
+        scurve::PlanError::LimitRange => NackCode::LimitRange,
+        scurve::PlanError::PlanCheck => NackCode::PlanCheck,
     }
 }

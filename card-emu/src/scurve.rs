@@ -35,6 +35,20 @@
 //! * The cruise duration is finally recomputed from the integrated end position, so the
 //!   profile ends at `p0 + d` to rounding error; durations are never negative.
 //! * Nothing allocates; all state lives in fixed-size arrays and no function panics.
+//!
+//! ## What the card runs
+//! [`Profile::plan_checked`] and [`Profile::stop_checked`]: the limits first have to lie in
+//! the range the register map defines for their order at the servo rate
+//! ([`Limits::check_range`], `firmware_proto::limit_range`: `[MAX_MOVE_TIME^-k,
+//! MAX_POSITION · rate^k]`, else `LimitRange`), then the profile planned from them has to pass
+//! the card's own check ([`Profile::verify_plan`], [`Profile::verify_stop`], else `PlanCheck`):
+//! on its target, within every limit, never backwards, no shorter than `|d| / vmax`. The range
+//! keeps the planner away from the ends of `f64`, where `jmax = 1e-245` or a subnormal `amax`
+//! once planned a 100,000-count move as a one-tick step; the check is the safety net under it.
+//!
+//! Below the normal range of `f64` there is no relative precision, so the planner keeps its
+//! intermediate products in range (`a (a / j)`, `sqrt(dv) / sqrt(k)`, `hypot`), and the check
+//! counts velocities and accelerations under `f64::MIN_POSITIVE` as zero.
 #![forbid(unsafe_code)]
 
 use core::fmt;
@@ -73,6 +87,9 @@ impl Limits {
     }
 
     /// `Err(NonFinite)` if any limit is NaN/inf, `Err(NonPositiveLimit)` if any is `<= 0`.
+    ///
+    /// Only the sign and finiteness: for callers that have no servo rate (the path-speed
+    /// planner, host-side tools). The card checks its commands with [`Limits::check_range`].
     pub fn validate(&self) -> Result<(), PlanError> {
         let all = [
             self.vmax, self.amax, self.dmax, self.j1, self.j3, self.j5, self.j7,
@@ -85,6 +102,42 @@ impl Limits {
         }
         Ok(())
     }
+
+    /// [`Limits::validate`], then `Err(LimitRange)` if any limit lies outside the range the
+    /// card accepts at `servo_rate_hz` ([`firmware_proto::limit_range`]: `vmax` of order 1,
+    /// `amax` and `dmax` of order 2, the four jerks of order 3). Within those ranges
+    /// [`Profile::plan`] and [`Profile::stop`] neither overflow nor lose the plan to rounding.
+    pub fn check_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
+        self.validate()?;
+        let all = [
+            (1, self.vmax),
+            (2, self.amax),
+            (2, self.dmax),
+            (3, self.j1),
+            (3, self.j3),
+            (3, self.j5),
+            (3, self.j7),
+        ];
+        in_range(&all, servo_rate_hz)
+    }
+
+    /// The range check of the limits a stop uses (`dmax`, `j3`, `j5`, `j7`); `vmax`, `amax`
+    /// and `j1` only have to be finite and positive (a stop passes `vmax = f64::MAX`).
+    fn check_stop_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
+        self.validate()?;
+        let used = [(2, self.dmax), (3, self.j3), (3, self.j5), (3, self.j7)];
+        in_range(&used, servo_rate_hz)
+    }
+}
+
+/// `Err(LimitRange)` unless each `(order, value)` lies in `limit_range(order, rate)`.
+fn in_range(limits: &[(i32, f64)], servo_rate_hz: u32) -> Result<(), PlanError> {
+    for &(order, x) in limits {
+        if !firmware_proto::limit_range(order, servo_rate_hz).contains(&x) {
+            return Err(PlanError::LimitRange);
+        }
+    }
+    Ok(())
 }
 
 /// Planning failure.
@@ -99,6 +152,11 @@ pub enum PlanError {
     Infeasible,
     /// `v0 > vmax`.
     StartVelocityTooHigh,
+    /// A limit lies outside the range the card accepts ([`Limits::check_range`]).
+    LimitRange,
+    /// The planned profile failed the card's own check ([`Profile::verify_plan`],
+    /// [`Profile::verify_stop`]): a planner defect caught before the profile runs.
+    PlanCheck,
 }
 
 impl fmt::Display for PlanError {
@@ -108,6 +166,8 @@ impl fmt::Display for PlanError {
             PlanError::NonPositiveLimit => "limit is zero or negative",
             PlanError::Infeasible => "no feasible profile",
             PlanError::StartVelocityTooHigh => "start velocity exceeds vmax",
+            PlanError::LimitRange => "limit outside the range the card accepts",
+            PlanError::PlanCheck => "the planned profile failed its check",
         };
         f.write_str(s)
     }
@@ -612,6 +672,363 @@ impl Profile {
             }
         }
         m
+    }
+}
+
+/// Relative slack of the plan check: on every limit (velocity, acceleration, jerk), on the
+/// velocity and acceleration at the joints and at the end (relative to the profile's own peak
+/// velocity and acceleration), and on the shortest duration `|d| / vmax`.
+const CHECK_SLACK: f64 = 1e-9;
+/// Position tolerance of the plan check: `CHECK_POS_ULPS` ulps of the larger of `|p0|` and the
+/// distance, plus `CHECK_POS_ABS` counts.
+const CHECK_POS_ULPS: f64 = 8.0;
+const CHECK_POS_ABS: f64 = 1e-12;
+
+/// The tolerance on a velocity or acceleration whose scale is `scale`: `CHECK_SLACK` of it,
+/// and never less than the smallest normal `f64` (below it there is no relative precision).
+fn slack(scale: f64) -> f64 {
+    CHECK_SLACK * scale + f64::MIN_POSITIVE
+}
+
+/// `j` has the sign of the slot's signed limit `lim` (or is 0) and stays within `|lim|`.
+fn jerk_within(j: f64, lim: f64) -> bool {
+    j == 0.0 || (j.signum() == lim.signum() && j.abs() <= lim.abs() * (1.0 + CHECK_SLACK))
+}
+
+/// The card's own check of a profile before it runs (O(1), no allocation, no panic), and the
+/// planner as the card calls it.
+impl Profile {
+    /// A plan within the limits and on its target, or one to refuse.
+    ///
+    /// Checks the profile `Profile::plan(p0, d, v0, v1, lim)` returned against the request:
+    /// * every segment duration finite and `>= 0`, every stored state finite;
+    /// * `Err(Infeasible)` if it lasts longer than [`crate::MAX_MOVE_TIME`] (the documented
+    ///   refusal of a move that is too slow, not a planner defect);
+    /// * it starts at `(p0, v0, 0)` in the direction of `d`;
+    /// * each slot's jerk has its sign and is within its limit (`j1`, `j3`, `j5`, `j7`; none in
+    ///   slots 2, 4, 6);
+    /// * position, velocity and acceleration are continuous across the slots, and the last
+    ///   slot ends on `p0 + d` within the position tolerance (8 ulps of `max(|p0|, |d|)` +
+    ///   1e-12 counts), at `v1` and zero acceleration within 1e-9 of the profile's peak
+    ///   velocity and acceleration (+ `f64::MIN_POSITIVE`, + jerk × 2e-323 for slots whose
+    ///   duration is subnormal);
+    /// * it does not go backwards: the velocity stays above -1e-9 of its peak, and the distance
+    ///   travelled at negative velocity is within the position tolerance;
+    /// * the velocity never exceeds `vmax`, the acceleration at the start of every slot never
+    ///   `amax`, the deceleration never `dmax` (relative slack 1e-9; the acceleration is
+    ///   linear in a slot and its end is held to the next start by the continuity above);
+    /// * it takes at least `|d| / vmax` (less 1e-9, and less the position tolerance: a move
+    ///   shorter than that may take no time).
+    ///
+    /// Anything else is `Err(PlanCheck)`.
+    pub fn verify_plan(
+        &self,
+        p0: f64,
+        d: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits,
+    ) -> Result<(), PlanError> {
+        let fail = Err(PlanError::PlanCheck);
+        if !self.well_formed() {
+            return fail;
+        }
+        if self.duration() > crate::MAX_MOVE_TIME {
+            return Err(PlanError::Infeasible);
+        }
+        let dir = if d < 0.0 { -1.0 } else { 1.0 };
+        let dist = d.abs();
+        if self.p0 != p0
+            || self.dir != dir
+            || self.x[0] != 0.0
+            || self.v[0] != v0
+            || self.a[0] != 0.0
+        {
+            return fail;
+        }
+        let jerk = [lim.j1, 0.0, -lim.j3, 0.0, -lim.j5, 0.0, lim.j7];
+        if (0..7).any(|i| self.dur[i] > 0.0 && !jerk_within(self.jerk[i], jerk[i])) {
+            return fail;
+        }
+        let (vlow, vhigh) = self.velocity_range();
+        let vscale = vhigh.max(v0).max(v1);
+        let (acc, dec) = self.slot_start_accelerations();
+        let pos_tol = CHECK_POS_ULPS * f64::EPSILON * p0.abs().max(dist) + CHECK_POS_ABS;
+        let tol = (pos_tol, slack(vscale), slack(acc.max(dec)));
+        let end = &self.end;
+        let ok = self.continuous((dist, v1), tol)
+            && (end.pos - (p0 + d)).abs() <= pos_tol
+            && end.vel == dir * v1
+            && end.acc == 0.0
+            && end.jerk == 0.0
+            && vlow >= -tol.1
+            && self.backward_travel() <= pos_tol
+            && vhigh <= lim.vmax * (1.0 + CHECK_SLACK)
+            && acc <= lim.amax * (1.0 + CHECK_SLACK)
+            && dec <= lim.dmax * (1.0 + CHECK_SLACK)
+            && self.duration() >= (dist - pos_tol) / lim.vmax * (1.0 - CHECK_SLACK);
+        if ok {
+            Ok(())
+        } else {
+            fail
+        }
+    }
+
+    /// A stop the way [`Profile::stop`] promises it, or one to refuse.
+    ///
+    /// Checks the profile `Profile::stop(p0, v0, a0, lim)` returned: every segment duration
+    /// finite and `>= 0` (any total: a stop is not bounded by `MAX_MOVE_TIME`), every stored
+    /// state finite; it starts at `(p0, v0, a0)`; only the documented slots are used (slot 3 at
+    /// `-j3` only to bring a positive acceleration to zero, slot 5 at `-j5`, or at `+j7` only
+    /// when the deceleration exceeds `dmax`, slot 6 without jerk, slot 7 at `+j7`); the states
+    /// are continuous across the slots and the last one ends at rest on its end position
+    /// (tolerances as in [`Profile::verify_plan`], the position's from `max(|p0|, distance)`);
+    /// it does not go backwards (velocity above -1e-9 of its peak, distance at negative
+    /// velocity within the position tolerance); the acceleration never exceeds a positive
+    /// initial acceleration (a positive one is only brought down); the deceleration stays
+    /// within the larger of `dmax` and the initial deceleration (slack 1e-9). Anything else
+    /// is `Err(PlanCheck)`.
+    pub fn verify_stop(&self, p0: f64, v0: f64, a0: f64, lim: &Limits) -> Result<(), PlanError> {
+        let fail = Err(PlanError::PlanCheck);
+        if !self.well_formed() {
+            return fail;
+        }
+        let dir = if v0 > 0.0 || (v0 == 0.0 && a0 >= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let (v, a) = (v0.abs(), dir * a0);
+        if self.p0 != p0 || self.dir != dir || self.x[0] != 0.0 || self.v[0] != v || self.a[0] != a
+        {
+            return fail;
+        }
+        let slot_ok = |i: usize| {
+            let j = self.jerk[i];
+            match i {
+                2 => a > 0.0 && jerk_within(j, -lim.j3),
+                4 if j > 0.0 => -a > lim.dmax && jerk_within(j, lim.j7),
+                4 => jerk_within(j, -lim.j5),
+                5 => j == 0.0,
+                6 => jerk_within(j, lim.j7),
+                _ => false,
+            }
+        };
+        if (0..7).any(|i| self.dur[i] > 0.0 && !slot_ok(i)) {
+            return fail;
+        }
+        let (vlow, vhigh) = self.velocity_range();
+        let vscale = vhigh.max(v);
+        let (acc, dec) = self.slot_start_accelerations();
+        let atol = slack(acc.max(dec));
+        let x_end = self.slot_end(6).0;
+        let pos_tol = CHECK_POS_ULPS * f64::EPSILON * p0.abs().max(x_end.abs()) + CHECK_POS_ABS;
+        let end = &self.end;
+        let ok = self.continuous((x_end, 0.0), (pos_tol, slack(vscale), atol))
+            && (end.pos - (p0 + dir * x_end)).abs() <= pos_tol
+            && (end.vel, end.acc, end.jerk) == (0.0, 0.0, 0.0)
+            && vlow >= -slack(vscale)
+            && self.backward_travel() <= pos_tol
+            && acc <= a.max(0.0) * (1.0 + CHECK_SLACK)
+            && dec <= lim.dmax.max(-a) * (1.0 + CHECK_SLACK);
+        if ok {
+            Ok(())
+        } else {
+            fail
+        }
+    }
+
+    /// [`Profile::plan`] as the card runs it: the inputs finite, the limits within their range
+    /// at `servo_rate_hz` ([`Limits::check_range`]), the plan, then [`Profile::verify_plan`].
+    /// Errors: `NonFinite` (an input or the plan), `NonPositiveLimit`, `LimitRange`,
+    /// `StartVelocityTooHigh`, `Infeasible` (no profile, or one longer than `MAX_MOVE_TIME`),
+    /// `PlanCheck` (the plan failed its check).
+    pub fn plan_checked(
+        p0: f64,
+        d: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits,
+        servo_rate_hz: u32,
+    ) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && d.is_finite() && v0.is_finite() && v1.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.check_range(servo_rate_hz)?;
+        let p = Profile::plan(p0, d, v0, v1, lim)?;
+        p.verify_plan(p0, d, v0, v1, lim)?;
+        Ok(p)
+    }
+
+    /// [`Profile::stop`] as the card runs it: the state finite, the limits a stop uses (`dmax`,
+    /// `j3`, `j5`, `j7`) within their range at `servo_rate_hz` (the others only finite and
+    /// positive: a stop passes `vmax = f64::MAX`), the stop, then [`Profile::verify_stop`].
+    /// Errors: `NonFinite` (the state, or a stop that overflows), `NonPositiveLimit`,
+    /// `LimitRange`, `Infeasible` (the stop would have to reverse), `PlanCheck`.
+    pub fn stop_checked(
+        p0: f64,
+        v0: f64,
+        a0: f64,
+        lim: &Limits,
+        servo_rate_hz: u32,
+    ) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && v0.is_finite() && a0.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.check_stop_range(servo_rate_hz)?;
+        let p = Profile::stop(p0, v0, a0, lim)?;
+        p.verify_stop(p0, v0, a0, lim)?;
+        Ok(p)
+    }
+
+    /// Durations finite and `>= 0` with a finite total, every stored state finite.
+    fn well_formed(&self) -> bool {
+        let states = self
+            .x
+            .iter()
+            .chain(&self.v)
+            .chain(&self.a)
+            .chain(&self.jerk);
+        self.dur.iter().all(|t| t.is_finite() && *t >= 0.0)
+            && self.t0[0] == 0.0
+            && self.t0.windows(2).all(|w| w[1] >= w[0])
+            && self.t0[7].is_finite()
+            && states.into_iter().all(|q| q.is_finite())
+            && [
+                self.p0,
+                self.end.pos,
+                self.end.vel,
+                self.end.acc,
+                self.end.jerk,
+            ]
+            .iter()
+            .all(|q| q.is_finite())
+            && (self.dir == 1.0 || self.dir == -1.0)
+    }
+
+    /// Motion-frame state (position from `p0`, velocity, acceleration) at the end of slot `i`.
+    fn slot_end(&self, i: usize) -> (f64, f64, f64) {
+        let (t, j) = (self.dur[i], self.jerk[i]);
+        let (x, v, a) = (self.x[i], self.v[i], self.a[i]);
+        if t > 0.0 {
+            (
+                x + t * (v + t * (0.5 * a + t * j / 6.0)),
+                v + t * (a + 0.5 * j * t),
+                a + j * t,
+            )
+        } else {
+            (x, v, a)
+        }
+    }
+
+    /// Each slot ends where the next one starts, the last one on `end` (frame position and
+    /// velocity, zero acceleration), within `tol` (position, velocity, acceleration) plus what
+    /// the rounding of a duration near the subnormals does: a ramp of a negligible
+    /// acceleration lasts 1e-320 s with a few bits, or underflows to 0 and leaves its
+    /// acceleration (< jerk x 5e-324) in place.
+    fn continuous(&self, end: (f64, f64), tol: (f64, f64, f64)) -> bool {
+        const DT: f64 = f64::from_bits(4); // 4 x the smallest subnormal
+        let jdt = self.jerk.iter().fold(0.0f64, |m, j| m.max(j.abs())) * DT;
+        (0..7).all(|i| {
+            let (x, v, a) = self.slot_end(i);
+            let next = if i < 6 {
+                (self.x[i + 1], self.v[i + 1], self.a[i + 1])
+            } else {
+                (end.0, end.1, 0.0)
+            };
+            let adt = (self.a[i].abs() + a.abs()) * DT;
+            (x - next.0).abs() <= tol.0
+                && (v - next.1).abs() <= tol.1 + adt
+                && (a - next.2).abs() <= tol.2 + jdt
+        })
+    }
+
+    /// Largest acceleration and deceleration (both `>= 0`, motion frame) at the start of the
+    /// non-empty slots. The acceleration is linear in each slot, and [`Profile::continuous`]
+    /// holds each slot's end to the next start (the last to 0) within its tolerance, so these
+    /// bound it everywhere up to that tolerance; a ramp's extrapolated end itself carries the
+    /// rounding of the ramp (`-Dm + J7 (Dm / J7)` is a few ulps of `Dm`, not 0).
+    fn slot_start_accelerations(&self) -> (f64, f64) {
+        let (mut acc, mut dec): (f64, f64) = (0.0, 0.0);
+        for i in 0..7 {
+            if self.dur[i] > 0.0 {
+                acc = acc.max(self.a[i]);
+                dec = dec.max(-self.a[i]);
+            }
+        }
+        (acc, dec)
+    }
+
+    /// The distance travelled backwards (motion frame): the integral of the negative part of
+    /// the velocity over every slot, from the slots' velocity zeros. A velocity that rounding
+    /// leaves a few ulps below zero for a moment travels nothing measurable; one held below
+    /// zero (a stop whose velocity cancelled out in a long ramp at a tiny deceleration) does.
+    fn backward_travel(&self) -> f64 {
+        let mut back = 0.0;
+        for i in 0..7 {
+            let (t, v, a, j) = (self.dur[i], self.v[i], self.a[i], self.jerk[i]);
+            if t <= 0.0 {
+                continue;
+            }
+            // v(s) = v + a s + j s^2 / 2: its zeros inside (0, t) split the slot.
+            let mut cuts = [0.0, t, t, t];
+            let mut n = 1;
+            let mut cut = |s: f64| {
+                if s > 0.0 && s < t {
+                    cuts[n] = s;
+                    n += 1;
+                }
+            };
+            if j == 0.0 {
+                if a != 0.0 {
+                    cut(-v / a);
+                }
+            } else {
+                let disc = a * a - 2.0 * j * v;
+                if disc >= 0.0 {
+                    // (the stable pair of roots of j/2 s^2 + a s + v)
+                    let q = -(a + a.signum() * disc.sqrt());
+                    if q != 0.0 {
+                        cut(q / j);
+                        cut(2.0 * v / q);
+                    }
+                }
+            }
+            if n == 3 && cuts[2] < cuts[1] {
+                cuts.swap(1, 2);
+            }
+            let x = |s: f64| s * (v + s * (0.5 * a + s * j / 6.0));
+            for k in 0..n {
+                let (s0, s1) = (cuts[k], cuts[k + 1]);
+                let m = 0.5 * (s0 + s1);
+                if v + m * (a + 0.5 * j * m) < 0.0 {
+                    back += x(s0) - x(s1);
+                }
+            }
+        }
+        back
+    }
+
+    /// Smallest and largest motion-frame velocity over the non-empty slots.
+    fn velocity_range(&self) -> (f64, f64) {
+        let (mut lo, mut hi) = (self.v[0], self.v[0]);
+        for i in 0..7 {
+            if self.dur[i] > 0.0 {
+                let (v, a, j, t) = (self.v[i], self.a[i], self.jerk[i], self.dur[i]);
+                let ve = self.slot_end(i).1;
+                lo = lo.min(v).min(ve);
+                hi = hi.max(v).max(ve);
+                if j != 0.0 {
+                    let tau = -a / j;
+                    if tau > 0.0 && tau < t {
+                        let vm = v + tau * (a + 0.5 * j * tau);
+                        lo = lo.min(vm);
+                        hi = hi.max(vm);
+                    }
+                }
+            }
+        }
+        (lo, hi)
     }
 }
 
@@ -1428,5 +1845,164 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The attacks that produced impossible plans before the range check and the plan check:
+    /// each is refused by `plan_checked`, and the plan `plan` still makes of it fails its check.
+    #[test]
+    fn attacks_are_refused() {
+        let sym = |v, a, j| Limits::symmetric(v, a, j);
+        let sub = f64::MIN_POSITIVE / 3.0;
+        let cases = [
+            ("jmax 1e-246", sym(2e5, 2e6, 1e-246)),
+            ("amax 1e-306", sym(2e5, 1e-306, 1e8)),
+            ("subnormal amax", sym(2e5, sub, 1e8)),
+            (
+                "subnormal dmax",
+                Limits {
+                    dmax: sub,
+                    ..sym(2e5, 2e6, 1e8)
+                },
+            ),
+            (
+                "jdec 1e-320",
+                Limits {
+                    j5: 1e-320,
+                    j7: 1e-320,
+                    ..sym(2e5, 2e6, 1e8)
+                },
+            ),
+            ("vmax 1e300", sym(1e300, 2e6, 1e8)),
+        ];
+        for (what, l) in cases {
+            let r = Profile::plan_checked(0.0, 1e5, 0.0, 0.0, &l, 10_000);
+            assert_eq!(r.map(|_| ()), Err(PlanError::LimitRange), "{what}");
+            // The safety net under the range: what the bare planner makes of it is refused.
+            if let Ok(p) = Profile::plan(0.0, 1e5, 0.0, 0.0, &l) {
+                let v = p.verify_plan(0.0, 1e5, 0.0, 0.0, &l);
+                assert!(
+                    matches!(v, Err(PlanError::PlanCheck | PlanError::Infeasible))
+                        || (what == "vmax 1e300" && v.is_ok()),
+                    "{what}: {v:?} for {p:?}"
+                );
+            }
+        }
+        // The range's ends are inside, one ulp beyond is not.
+        for rate in [1000, 10_000, 20_000] {
+            for order in 1..=3 {
+                let r = firmware_proto::limit_range(order, rate);
+                for (x, inside) in [
+                    (*r.start(), true),
+                    (*r.end(), true),
+                    (r.start().next_down(), false),
+                    (r.end().next_up(), false),
+                ] {
+                    let mut l = sym(1e3, 1e5, 1e7);
+                    match order {
+                        1 => l.vmax = x,
+                        2 => l.dmax = x,
+                        _ => l.j5 = x,
+                    }
+                    let want = if inside {
+                        Ok(())
+                    } else {
+                        Err(PlanError::LimitRange)
+                    };
+                    assert_eq!(l.check_range(rate), want, "order {order} {x:e} at {rate}");
+                }
+            }
+        }
+        // A stop ignores vmax, amax and j1 (the axis passes vmax = f64::MAX).
+        let l = Limits {
+            vmax: f64::MAX,
+            ..sym(1e3, 1e5, 1e7)
+        };
+        assert_eq!(l.check_range(10_000), Err(PlanError::LimitRange));
+        assert!(Profile::stop_checked(0.0, 500.0, 0.0, &l, 10_000).is_ok());
+        let l = Limits { j7: 1e-19, ..l };
+        assert_eq!(
+            Profile::stop_checked(0.0, 500.0, 0.0, &l, 10_000),
+            Err(PlanError::LimitRange)
+        );
+    }
+
+    /// The check refuses a profile that does not do what was asked of it.
+    #[test]
+    fn verify_refuses_a_wrong_profile() {
+        let l = Limits::symmetric(1000.0, 1e4, 1e6);
+        let p = Profile::plan(5.0, 1e4, 0.0, 0.0, &l).unwrap();
+        assert_eq!(p.verify_plan(5.0, 1e4, 0.0, 0.0, &l), Ok(()));
+        // another request than the one planned
+        assert_eq!(
+            p.verify_plan(5.0, 1e4 + 1e-6, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            p.verify_plan(4.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            p.verify_plan(5.0, -1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        // tighter limits than those planned with
+        for tight in [
+            Limits { vmax: 999.0, ..l },
+            Limits { amax: 9e3, ..l },
+            Limits { dmax: 9e3, ..l },
+            Limits { j3: 9e5, ..l },
+            Limits { j7: 9e5, ..l },
+        ] {
+            assert_eq!(
+                p.verify_plan(5.0, 1e4, 0.0, 0.0, &tight),
+                Err(PlanError::PlanCheck)
+            );
+        }
+        // broken profiles: a cruise too short (off target, and shorter than |d|/vmax), a NaN,
+        // an acceleration jump, a move too long
+        let mut q = p;
+        q.dur[3] *= 0.5;
+        q.t0[4..].iter_mut().for_each(|t| *t -= p.dur[3] * 0.5);
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = p;
+        q.x[5] = f64::NAN;
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = p;
+        q.a[2] *= 1.001;
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let slow = Limits::symmetric(1e-3, 1.0, 1.0);
+        let p = Profile::plan(0.0, 2e3, 0.0, 0.0, &slow).unwrap();
+        assert!(p.duration() > crate::MAX_MOVE_TIME);
+        assert_eq!(
+            p.verify_plan(0.0, 2e3, 0.0, 0.0, &slow),
+            Err(PlanError::Infeasible)
+        );
+        // a stop: checked against its own state, reversal refused
+        let s = Profile::stop(1.0, -1000.0, 0.0, &l).unwrap();
+        assert_eq!(s.verify_stop(1.0, -1000.0, 0.0, &l), Ok(()));
+        assert_eq!(
+            s.verify_stop(1.0, -999.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            s.verify_stop(1.0, -1000.0, 0.0, &Limits { j5: 9e5, ..l }),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = s;
+        q.dur[6] *= 2.0; // ramps the deceleration out past zero: backwards
+        q.t0[7] += s.dur[6];
+        assert_eq!(
+            q.verify_stop(1.0, -1000.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
     }
 }
