@@ -34,7 +34,9 @@ pub use plant::{Motor, MotorParams, Switches};
 
 use firmware_proto::NackCode;
 
-pub use firmware_proto::{MAX_MOVE_TIME, MAX_POSITION};
+pub use firmware_proto::{
+    limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,
+};
 
 /// The nack for a planner refusal.
 pub(crate) fn plan_nack(e: scurve::PlanError) -> NackCode {
