@@ -156,3 +156,78 @@ fn distances_and_times_beyond_the_card_are_refused() {
     ]);
     assert_eq!(code, 0, "{out}{err}");
 }
+
+/// Limits outside the range the card accepts at its servo rate (`firmware_proto::limit_range`)
+/// are refused by name with the range, before any planning: they used to give zero-duration or
+/// overshooting plans printed with exit 0.
+#[test]
+fn limits_outside_the_cards_range_are_refused() {
+    let base = [
+        "plan", "100000", "--vmax", "2e5", "--amax", "2e6", "--jmax", "1e8",
+    ];
+    let with = |flag: &'static str, value: &'static str| {
+        let mut args = base.to_vec();
+        match args.iter().position(|a| *a == flag) {
+            Some(i) => args[i + 1] = value,
+            None => args.extend([flag, value]),
+        }
+        args
+    };
+    for (args, why) in [
+        (
+            with("--jmax", "1e-300"),
+            "--jmax must be between 1e-18 and 4.503599627370496e27 (the card's jerk range at \
+             --servo-rate 10000 Hz), got 1e-300",
+        ),
+        (
+            with("--amax", "1e-310"), // subnormal
+            "--amax must be between 1e-12 and 4.503599627370496e23 (the card's acceleration \
+             range at --servo-rate 10000 Hz), got 1e-310",
+        ),
+        (
+            with("--dmax", "4e-320"), // subnormal
+            "--dmax must be between 1e-12 and",
+        ),
+        (
+            with("--vmax", "1e300"),
+            "--vmax must be between 1e-6 and 4.503599627370496e19 (the card's velocity range \
+             at --servo-rate 10000 Hz), got 1e300",
+        ),
+        (with("--jdec", "1e-320"), "--jdec must be between 1e-18 and"),
+        // the range moves with the servo rate: 5e19 counts/s is 2^52 counts in 1/11102 s
+        (
+            with("--vmax", "5e19"),
+            "--vmax must be between 1e-6 and 4.503599627370496e19",
+        ),
+        (
+            with("--servo-rate", "999"),
+            "--servo-rate must be between 1000 and 20000 Hz, got 999",
+        ),
+        (
+            with("--servo-rate", "20001"),
+            "--servo-rate must be between 1000 and 20000 Hz, got 20001",
+        ),
+    ] {
+        let (code, out, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        assert!(err.contains(why), "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?}: {out}");
+    }
+    // At 20 kHz 5e19 counts/s is inside, and the plan is printed.
+    let mut args = with("--vmax", "5e19");
+    args.extend(["--servo-rate", "20000", "--json"]);
+    let (code, out, err) = mcctl(&args);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(j["duration"].as_f64().unwrap() > 0.0);
+    // The ends of the range are inside.
+    let (code, _, err) = mcctl(&[
+        "plan", "1", "--vmax", "1e-6", "--amax", "1e-12", "--jmax", "1e-18",
+    ]);
+    assert_eq!(code, 2, "{err}"); // within range, but 1 count at these limits takes > 10^6 s
+    assert!(err.contains("the card refuses moves longer than"), "{err}");
+    let (code, _, err) = mcctl(&[
+        "plan", "1e-3", "--vmax", "1e-6", "--amax", "1e-12", "--jmax", "1e-18",
+    ]);
+    assert_eq!(code, 0, "{err}");
+}

@@ -34,7 +34,9 @@ pub use plant::{Motor, MotorParams, Switches};
 
 use firmware_proto::NackCode;
 
-pub use firmware_proto::{MAX_MOVE_TIME, MAX_POSITION};
+pub use firmware_proto::{
+    limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,
+};
 
 /// Refuse a kinematic limit outside [`firmware_proto::limit_range`] at `rate_hz`
 /// (`LimitRange`): `(order, value)` pairs, order 1 velocity, 2 acceleration, 3 jerk. Values that
@@ -63,5 +65,7 @@ pub(crate) fn plan_nack(e: scurve::PlanError) -> NackCode {
         scurve::PlanError::Infeasible | scurve::PlanError::StartVelocityTooHigh => {
             NackCode::Infeasible
         }
+        scurve::PlanError::LimitRange => NackCode::LimitRange,
+        scurve::PlanError::PlanCheck => NackCode::PlanCheck,
     }
 }

@@ -35,6 +35,21 @@
 //! * The cruise duration is finally recomputed from the integrated end position, so the
 //!   profile ends at `p0 + d` to rounding error; durations are never negative.
 //! * Nothing allocates; all state lives in fixed-size arrays and no function panics.
+//!
+//! ## What the card runs
+//! [`Profile::plan_checked`] and [`Profile::stop_checked`]: the limits first have to lie in
+//! the range the register map defines for their order at the servo rate
+//! ([`Limits::check_range`], `firmware_proto::limit_range`: `[MAX_MOVE_TIME^-k,
+//! MAX_POSITION · rate^k]`, else `LimitRange`), then the profile planned from them has to pass
+//! the card's own check ([`Profile::verify_plan`], [`Profile::verify_stop`], else `PlanCheck`):
+//! on its target, within every limit, never backwards, no shorter than `|d| / vmax`. The range
+//! keeps the planner away from the ends of `f64`, where `jmax = 1e-245` or a subnormal `amax`
+//! once planned a 100,000-count move as a one-tick step; the check is the safety net under it.
+//! Seeded property tests sweep both over the whole `f64` range (`tests::props`).
+//!
+//! Below the normal range of `f64` there is no relative precision, so the planner keeps its
+//! intermediate products in range (`a (a / j)`, `sqrt(dv) / sqrt(k)`, `hypot`), and the check
+//! counts velocities and accelerations under `f64::MIN_POSITIVE` as zero.
 #![forbid(unsafe_code)]
 
 use core::fmt;
@@ -73,6 +88,9 @@ impl Limits {
     }
 
     /// `Err(NonFinite)` if any limit is NaN/inf, `Err(NonPositiveLimit)` if any is `<= 0`.
+    ///
+    /// Only the sign and finiteness: for callers that have no servo rate (the path-speed
+    /// planner, host-side tools). The card checks its commands with [`Limits::check_range`].
     pub fn validate(&self) -> Result<(), PlanError> {
         let all = [
             self.vmax, self.amax, self.dmax, self.j1, self.j3, self.j5, self.j7,
@@ -85,6 +103,42 @@ impl Limits {
         }
         Ok(())
     }
+
+    /// [`Limits::validate`], then `Err(LimitRange)` if any limit lies outside the range the
+    /// card accepts at `servo_rate_hz` ([`firmware_proto::limit_range`]: `vmax` of order 1,
+    /// `amax` and `dmax` of order 2, the four jerks of order 3). Within those ranges
+    /// [`Profile::plan`] and [`Profile::stop`] neither overflow nor lose the plan to rounding.
+    pub fn check_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
+        self.validate()?;
+        let all = [
+            (1, self.vmax),
+            (2, self.amax),
+            (2, self.dmax),
+            (3, self.j1),
+            (3, self.j3),
+            (3, self.j5),
+            (3, self.j7),
+        ];
+        in_range(&all, servo_rate_hz)
+    }
+
+    /// The range check of the limits a stop uses (`dmax`, `j3`, `j5`, `j7`); `vmax`, `amax`
+    /// and `j1` only have to be finite and positive (a stop passes `vmax = f64::MAX`).
+    fn check_stop_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
+        self.validate()?;
+        let used = [(2, self.dmax), (3, self.j3), (3, self.j5), (3, self.j7)];
+        in_range(&used, servo_rate_hz)
+    }
+}
+
+/// `Err(LimitRange)` unless each `(order, value)` lies in `limit_range(order, rate)`.
+fn in_range(limits: &[(i32, f64)], servo_rate_hz: u32) -> Result<(), PlanError> {
+    for &(order, x) in limits {
+        if !firmware_proto::limit_range(order, servo_rate_hz).contains(&x) {
+            return Err(PlanError::LimitRange);
+        }
+    }
+    Ok(())
 }
 
 /// Planning failure.
@@ -99,6 +153,11 @@ pub enum PlanError {
     Infeasible,
     /// `v0 > vmax`.
     StartVelocityTooHigh,
+    /// A limit lies outside the range the card accepts ([`Limits::check_range`]).
+    LimitRange,
+    /// The planned profile failed the card's own check ([`Profile::verify_plan`],
+    /// [`Profile::verify_stop`]): a planner defect caught before the profile runs.
+    PlanCheck,
 }
 
 impl fmt::Display for PlanError {
@@ -108,6 +167,8 @@ impl fmt::Display for PlanError {
             PlanError::NonPositiveLimit => "limit is zero or negative",
             PlanError::Infeasible => "no feasible profile",
             PlanError::StartVelocityTooHigh => "start velocity exceeds vmax",
+            PlanError::LimitRange => "limit outside the range the card accepts",
+            PlanError::PlanCheck => "the planned profile failed its check",
         };
         f.write_str(s)
     }
@@ -198,7 +259,8 @@ fn ramp(dv: f64, amax: f64, ja: f64, jb: f64) -> ([f64; 3], f64) {
     if dv >= dv_sat {
         ([amax / ja, (dv - dv_sat) / amax, amax / jb], amax)
     } else {
-        let peak = (dv / half_k).sqrt().min(amax);
+        // (sqrt(dv) / sqrt(half_k): dv / half_k underflows for a subnormal dv and a small jerk)
+        let peak = (dv.sqrt() / half_k.sqrt()).min(amax);
         ([peak / ja, 0.0, peak / jb], peak)
     }
 }
@@ -212,7 +274,7 @@ fn ramp_distance_slope(vs: f64, dv: f64, amax: f64, ja: f64, jb: f64) -> f64 {
         (vs + dv) / amax + 0.5 * amax / jb
     } else {
         // S = vs a_p k + c a_p^3,  vp = vs + a_p^2 k / 2
-        let ap = (dv.max(0.0) / half_k).sqrt();
+        let ap = dv.max(0.0).sqrt() / half_k.sqrt();
         if ap <= 0.0 {
             return f64::INFINITY;
         }
@@ -258,9 +320,12 @@ impl Move {
         let l = &self.lim;
         let vlo = self.v0.max(self.v1);
         let f_lo = self.dist(vlo);
-        if f_lo > target || f_lo.is_nan() {
-            // Accept pure rounding-level overshoot; anything else cannot be done.
-            if f_lo - target <= 1e-12 * f_lo {
+        if f_lo >= target || f_lo.is_nan() {
+            // Accept a rounding-level overshoot (4 ulps, or below the normal range: the plan
+            // check allows 8 ulps and 1e-12 counts at the end); anything else cannot be done.
+            // At `f_lo == target` there is no room either: a larger vp whose distance
+            // underflows to the same value would only be noise.
+            if f_lo - target <= 4.0 * f64::EPSILON * f_lo + f64::MIN_POSITIVE {
                 return Ok(vlo);
             }
             return Err(if f_lo.is_finite() {
@@ -292,11 +357,13 @@ impl Move {
             let r = target - self.dist(lo);
             let qa = 0.5 / l.amax + 0.5 / l.dmax;
             let qb = self.slope(lo);
-            lo + 2.0 * r / (qb + (qb * qb + 4.0 * qa * r).sqrt())
+            // (hypot: qb^2 + 4 qa r underflows, or overflows, at the ends of the range)
+            lo + 2.0 * r / (qb + qb.hypot(2.0 * qa.sqrt() * r.sqrt()))
         } else if hi <= ba && hi <= bd && self.v0 == 0.0 && self.v1 == 0.0 {
             // Both ramps triangular from/to rest: dist = c * vp^(3/2).
-            let q = target / self.dist(hi);
-            hi * (q * q).cbrt()
+            // (cbrt(q)^2, not cbrt(q^2): q^2 underflows to 0 for a tiny target)
+            let c = (target / self.dist(hi)).cbrt();
+            hi * c * c
         } else {
             0.5 * (lo + hi)
         };
@@ -305,6 +372,13 @@ impl Move {
         } else {
             0.5 * (lo + hi)
         };
+        // Newton, safeguarded: when two steps have not halved the bracket, counted in floats
+        // between its ends, it is bisected in that count instead. Far from the root, Newton on
+        // this convex function only divides the speed by 1.5 to 3 per step, which from
+        // vmax = 1e19 to a root at 1e-170 would take hundreds; the bisection in floats needs at
+        // most 64 steps whatever decades the bracket spans.
+        let key = |v: f64| if v > 0.0 { v.to_bits() } else { 0 };
+        let mut spans = [u64::MAX; 2];
         for _ in 0..200 {
             let g = self.dist(x) - target;
             if g == 0.0 {
@@ -315,13 +389,15 @@ impl Move {
             } else {
                 hi = x;
             }
+            let span = key(hi) - key(lo);
             let mut nx = x - g / self.slope(x);
-            if !(nx > lo && nx < hi) {
-                nx = lo + 0.5 * (hi - lo);
+            if !(nx > lo && nx < hi) || span > spans[0] / 2 {
+                nx = f64::from_bits(key(lo) + span / 2);
                 if !(nx > lo && nx < hi) {
                     break; // bracket collapsed to adjacent floats
                 }
             }
+            spans = [spans[1], span];
             let converged = (nx - x).abs() <= 4.0 * f64::EPSILON * x.abs();
             x = nx;
             if converged {
@@ -432,7 +508,10 @@ impl Profile {
     ///
     /// If the current deceleration is so large that even ramping it out at `j7` would drive
     /// the velocity through zero (`v0 < a0^2 / (2 j7)`), the state cannot be stopped without
-    /// reversing and `Infeasible` is returned.
+    /// reversing and `Infeasible` is returned. Near that bound, the speed left to remove at
+    /// `dmax` after the excess deceleration is ramped out is a difference of nearly equal
+    /// speeds; when it is below its rounding (8 ulps of the speed) it is not held out at
+    /// `dmax`, and the stop ends at that ulp-level speed.
     pub fn stop(p0: f64, v0: f64, a0: f64, lim: &Limits) -> Result<Profile, PlanError> {
         if !(p0.is_finite() && v0.is_finite() && a0.is_finite()) {
             return Err(PlanError::NonFinite);
@@ -453,11 +532,12 @@ impl Profile {
         };
         let (vc, ad) = if a > 0.0 {
             segs.dur[2] = a / lim.j3;
-            (v + 0.5 * a * a / lim.j3, 0.0)
+            (v + 0.5 * a * (a / lim.j3), 0.0)
         } else {
             (v, -a)
         };
-        let vmin = 0.5 * ad * ad / lim.j7;
+        // (a (a / j), not a^2 / j: a^2 leaves the normal range for a tiny acceleration)
+        let vmin = 0.5 * ad * (ad / lim.j7);
         if vc < vmin && vmin - vc > 1e-12 * vmin {
             return Err(PlanError::Infeasible);
         }
@@ -466,7 +546,17 @@ impl Profile {
             segs.jerk[4] = lim.j7;
             segs.dur[4] = (ad - dm) / lim.j7;
             let v_after = vc - 0.5 * (ad - dm) * (ad + dm) / lim.j7;
-            segs.dur[5] = ((v_after - 0.5 * dm * dm / lim.j7) / dm).max(0.0);
+            // What is left to remove at dmax is a difference of nearly equal speeds when the
+            // state is close to the reversal bound: below its rounding (a few ulps of vc) it
+            // is noise, and holding a tiny dmax to remove noise would take for ever (from
+            // 4e19 counts/s at dmax 1e-12, 1e16 s) and could even reverse. The stop then ends
+            // at that noise (an ulp-level velocity) instead.
+            let rest = v_after - 0.5 * dm * (dm / lim.j7);
+            segs.dur[5] = if rest > 8.0 * f64::EPSILON * vc {
+                rest / dm
+            } else {
+                0.0
+            };
             segs.dur[6] = dm / lim.j7;
             segs.acc_after[4] = -dm;
             segs.acc_after[5] = -dm;
@@ -482,7 +572,9 @@ impl Profile {
                 let q = 0.5 / lim.j5 + 0.5 / lim.j7;
                 let qb = 2.0 * q * ad;
                 let c = (vc - vmin).max(0.0);
-                let r = 2.0 * c / (qb + (qb * qb + 4.0 * q * c).sqrt());
+                // (hypot: qb^2 + 4 q c underflows to 0 for a tiny speed and a large jerk, and
+                // r would become infinite: a full-dmax stop that reverses)
+                let r = 2.0 * c / (qb + qb.hypot(2.0 * q.sqrt() * c.sqrt()));
                 let r = if r > 0.0 { r.min(dm - ad) } else { 0.0 };
                 (ad + r, r)
             };
@@ -584,6 +676,363 @@ impl Profile {
     }
 }
 
+/// Relative slack of the plan check: on every limit (velocity, acceleration, jerk), on the
+/// velocity and acceleration at the joints and at the end (relative to the profile's own peak
+/// velocity and acceleration), and on the shortest duration `|d| / vmax`.
+const CHECK_SLACK: f64 = 1e-9;
+/// Position tolerance of the plan check: `CHECK_POS_ULPS` ulps of the larger of `|p0|` and the
+/// distance, plus `CHECK_POS_ABS` counts.
+const CHECK_POS_ULPS: f64 = 8.0;
+const CHECK_POS_ABS: f64 = 1e-12;
+
+/// The tolerance on a velocity or acceleration whose scale is `scale`: `CHECK_SLACK` of it,
+/// and never less than the smallest normal `f64` (below it there is no relative precision).
+fn slack(scale: f64) -> f64 {
+    CHECK_SLACK * scale + f64::MIN_POSITIVE
+}
+
+/// `j` has the sign of the slot's signed limit `lim` (or is 0) and stays within `|lim|`.
+fn jerk_within(j: f64, lim: f64) -> bool {
+    j == 0.0 || (j.signum() == lim.signum() && j.abs() <= lim.abs() * (1.0 + CHECK_SLACK))
+}
+
+/// The card's own check of a profile before it runs (O(1), no allocation, no panic), and the
+/// planner as the card calls it.
+impl Profile {
+    /// A plan within the limits and on its target, or one to refuse.
+    ///
+    /// Checks the profile `Profile::plan(p0, d, v0, v1, lim)` returned against the request:
+    /// * every segment duration finite and `>= 0`, every stored state finite;
+    /// * `Err(Infeasible)` if it lasts longer than [`crate::MAX_MOVE_TIME`] (the documented
+    ///   refusal of a move that is too slow, not a planner defect);
+    /// * it starts at `(p0, v0, 0)` in the direction of `d`;
+    /// * each slot's jerk has its sign and is within its limit (`j1`, `j3`, `j5`, `j7`; none in
+    ///   slots 2, 4, 6);
+    /// * position, velocity and acceleration are continuous across the slots, and the last
+    ///   slot ends on `p0 + d` within the position tolerance (8 ulps of `max(|p0|, |d|)` +
+    ///   1e-12 counts), at `v1` and zero acceleration within 1e-9 of the profile's peak
+    ///   velocity and acceleration (+ `f64::MIN_POSITIVE`, + jerk × 2e-323 for slots whose
+    ///   duration is subnormal);
+    /// * it does not go backwards: the velocity stays above -1e-9 of its peak, and the distance
+    ///   travelled at negative velocity is within the position tolerance;
+    /// * the velocity never exceeds `vmax`, the acceleration at the start of every slot never
+    ///   `amax`, the deceleration never `dmax` (relative slack 1e-9; the acceleration is
+    ///   linear in a slot and its end is held to the next start by the continuity above);
+    /// * it takes at least `|d| / vmax` (less 1e-9, and less the position tolerance: a move
+    ///   shorter than that may take no time).
+    ///
+    /// Anything else is `Err(PlanCheck)`.
+    pub fn verify_plan(
+        &self,
+        p0: f64,
+        d: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits,
+    ) -> Result<(), PlanError> {
+        let fail = Err(PlanError::PlanCheck);
+        if !self.well_formed() {
+            return fail;
+        }
+        if self.duration() > crate::MAX_MOVE_TIME {
+            return Err(PlanError::Infeasible);
+        }
+        let dir = if d < 0.0 { -1.0 } else { 1.0 };
+        let dist = d.abs();
+        if self.p0 != p0
+            || self.dir != dir
+            || self.x[0] != 0.0
+            || self.v[0] != v0
+            || self.a[0] != 0.0
+        {
+            return fail;
+        }
+        let jerk = [lim.j1, 0.0, -lim.j3, 0.0, -lim.j5, 0.0, lim.j7];
+        if (0..7).any(|i| self.dur[i] > 0.0 && !jerk_within(self.jerk[i], jerk[i])) {
+            return fail;
+        }
+        let (vlow, vhigh) = self.velocity_range();
+        let vscale = vhigh.max(v0).max(v1);
+        let (acc, dec) = self.slot_start_accelerations();
+        let pos_tol = CHECK_POS_ULPS * f64::EPSILON * p0.abs().max(dist) + CHECK_POS_ABS;
+        let tol = (pos_tol, slack(vscale), slack(acc.max(dec)));
+        let end = &self.end;
+        let ok = self.continuous((dist, v1), tol)
+            && (end.pos - (p0 + d)).abs() <= pos_tol
+            && end.vel == dir * v1
+            && end.acc == 0.0
+            && end.jerk == 0.0
+            && vlow >= -tol.1
+            && self.backward_travel() <= pos_tol
+            && vhigh <= lim.vmax * (1.0 + CHECK_SLACK)
+            && acc <= lim.amax * (1.0 + CHECK_SLACK)
+            && dec <= lim.dmax * (1.0 + CHECK_SLACK)
+            && self.duration() >= (dist - pos_tol) / lim.vmax * (1.0 - CHECK_SLACK);
+        if ok {
+            Ok(())
+        } else {
+            fail
+        }
+    }
+
+    /// A stop the way [`Profile::stop`] promises it, or one to refuse.
+    ///
+    /// Checks the profile `Profile::stop(p0, v0, a0, lim)` returned: every segment duration
+    /// finite and `>= 0` (any total: a stop is not bounded by `MAX_MOVE_TIME`), every stored
+    /// state finite; it starts at `(p0, v0, a0)`; only the documented slots are used (slot 3 at
+    /// `-j3` only to bring a positive acceleration to zero, slot 5 at `-j5`, or at `+j7` only
+    /// when the deceleration exceeds `dmax`, slot 6 without jerk, slot 7 at `+j7`); the states
+    /// are continuous across the slots and the last one ends at rest on its end position
+    /// (tolerances as in [`Profile::verify_plan`], the position's from `max(|p0|, distance)`);
+    /// it does not go backwards (velocity above -1e-9 of its peak, distance at negative
+    /// velocity within the position tolerance); the acceleration never exceeds a positive
+    /// initial acceleration (a positive one is only brought down); the deceleration stays
+    /// within the larger of `dmax` and the initial deceleration (slack 1e-9). Anything else
+    /// is `Err(PlanCheck)`.
+    pub fn verify_stop(&self, p0: f64, v0: f64, a0: f64, lim: &Limits) -> Result<(), PlanError> {
+        let fail = Err(PlanError::PlanCheck);
+        if !self.well_formed() {
+            return fail;
+        }
+        let dir = if v0 > 0.0 || (v0 == 0.0 && a0 >= 0.0) {
+            1.0
+        } else {
+            -1.0
+        };
+        let (v, a) = (v0.abs(), dir * a0);
+        if self.p0 != p0 || self.dir != dir || self.x[0] != 0.0 || self.v[0] != v || self.a[0] != a
+        {
+            return fail;
+        }
+        let slot_ok = |i: usize| {
+            let j = self.jerk[i];
+            match i {
+                2 => a > 0.0 && jerk_within(j, -lim.j3),
+                4 if j > 0.0 => -a > lim.dmax && jerk_within(j, lim.j7),
+                4 => jerk_within(j, -lim.j5),
+                5 => j == 0.0,
+                6 => jerk_within(j, lim.j7),
+                _ => false,
+            }
+        };
+        if (0..7).any(|i| self.dur[i] > 0.0 && !slot_ok(i)) {
+            return fail;
+        }
+        let (vlow, vhigh) = self.velocity_range();
+        let vscale = vhigh.max(v);
+        let (acc, dec) = self.slot_start_accelerations();
+        let atol = slack(acc.max(dec));
+        let x_end = self.slot_end(6).0;
+        let pos_tol = CHECK_POS_ULPS * f64::EPSILON * p0.abs().max(x_end.abs()) + CHECK_POS_ABS;
+        let end = &self.end;
+        let ok = self.continuous((x_end, 0.0), (pos_tol, slack(vscale), atol))
+            && (end.pos - (p0 + dir * x_end)).abs() <= pos_tol
+            && (end.vel, end.acc, end.jerk) == (0.0, 0.0, 0.0)
+            && vlow >= -slack(vscale)
+            && self.backward_travel() <= pos_tol
+            && acc <= a.max(0.0) * (1.0 + CHECK_SLACK)
+            && dec <= lim.dmax.max(-a) * (1.0 + CHECK_SLACK);
+        if ok {
+            Ok(())
+        } else {
+            fail
+        }
+    }
+
+    /// [`Profile::plan`] as the card runs it: the inputs finite, the limits within their range
+    /// at `servo_rate_hz` ([`Limits::check_range`]), the plan, then [`Profile::verify_plan`].
+    /// Errors: `NonFinite` (an input or the plan), `NonPositiveLimit`, `LimitRange`,
+    /// `StartVelocityTooHigh`, `Infeasible` (no profile, or one longer than `MAX_MOVE_TIME`),
+    /// `PlanCheck` (the plan failed its check).
+    pub fn plan_checked(
+        p0: f64,
+        d: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits,
+        servo_rate_hz: u32,
+    ) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && d.is_finite() && v0.is_finite() && v1.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.check_range(servo_rate_hz)?;
+        let p = Profile::plan(p0, d, v0, v1, lim)?;
+        p.verify_plan(p0, d, v0, v1, lim)?;
+        Ok(p)
+    }
+
+    /// [`Profile::stop`] as the card runs it: the state finite, the limits a stop uses (`dmax`,
+    /// `j3`, `j5`, `j7`) within their range at `servo_rate_hz` (the others only finite and
+    /// positive: a stop passes `vmax = f64::MAX`), the stop, then [`Profile::verify_stop`].
+    /// Errors: `NonFinite` (the state, or a stop that overflows), `NonPositiveLimit`,
+    /// `LimitRange`, `Infeasible` (the stop would have to reverse), `PlanCheck`.
+    pub fn stop_checked(
+        p0: f64,
+        v0: f64,
+        a0: f64,
+        lim: &Limits,
+        servo_rate_hz: u32,
+    ) -> Result<Profile, PlanError> {
+        if !(p0.is_finite() && v0.is_finite() && a0.is_finite()) {
+            return Err(PlanError::NonFinite);
+        }
+        lim.check_stop_range(servo_rate_hz)?;
+        let p = Profile::stop(p0, v0, a0, lim)?;
+        p.verify_stop(p0, v0, a0, lim)?;
+        Ok(p)
+    }
+
+    /// Durations finite and `>= 0` with a finite total, every stored state finite.
+    fn well_formed(&self) -> bool {
+        let states = self
+            .x
+            .iter()
+            .chain(&self.v)
+            .chain(&self.a)
+            .chain(&self.jerk);
+        self.dur.iter().all(|t| t.is_finite() && *t >= 0.0)
+            && self.t0[0] == 0.0
+            && self.t0.windows(2).all(|w| w[1] >= w[0])
+            && self.t0[7].is_finite()
+            && states.into_iter().all(|q| q.is_finite())
+            && [
+                self.p0,
+                self.end.pos,
+                self.end.vel,
+                self.end.acc,
+                self.end.jerk,
+            ]
+            .iter()
+            .all(|q| q.is_finite())
+            && (self.dir == 1.0 || self.dir == -1.0)
+    }
+
+    /// Motion-frame state (position from `p0`, velocity, acceleration) at the end of slot `i`.
+    fn slot_end(&self, i: usize) -> (f64, f64, f64) {
+        let (t, j) = (self.dur[i], self.jerk[i]);
+        let (x, v, a) = (self.x[i], self.v[i], self.a[i]);
+        if t > 0.0 {
+            (
+                x + t * (v + t * (0.5 * a + t * j / 6.0)),
+                v + t * (a + 0.5 * j * t),
+                a + j * t,
+            )
+        } else {
+            (x, v, a)
+        }
+    }
+
+    /// Each slot ends where the next one starts, the last one on `end` (frame position and
+    /// velocity, zero acceleration), within `tol` (position, velocity, acceleration) plus what
+    /// the rounding of a duration near the subnormals does: a ramp of a negligible
+    /// acceleration lasts 1e-320 s with a few bits, or underflows to 0 and leaves its
+    /// acceleration (< jerk x 5e-324) in place.
+    fn continuous(&self, end: (f64, f64), tol: (f64, f64, f64)) -> bool {
+        const DT: f64 = f64::from_bits(4); // 4 x the smallest subnormal
+        let jdt = self.jerk.iter().fold(0.0f64, |m, j| m.max(j.abs())) * DT;
+        (0..7).all(|i| {
+            let (x, v, a) = self.slot_end(i);
+            let next = if i < 6 {
+                (self.x[i + 1], self.v[i + 1], self.a[i + 1])
+            } else {
+                (end.0, end.1, 0.0)
+            };
+            let adt = (self.a[i].abs() + a.abs()) * DT;
+            (x - next.0).abs() <= tol.0
+                && (v - next.1).abs() <= tol.1 + adt
+                && (a - next.2).abs() <= tol.2 + jdt
+        })
+    }
+
+    /// Largest acceleration and deceleration (both `>= 0`, motion frame) at the start of the
+    /// non-empty slots. The acceleration is linear in each slot, and [`Profile::continuous`]
+    /// holds each slot's end to the next start (the last to 0) within its tolerance, so these
+    /// bound it everywhere up to that tolerance; a ramp's extrapolated end itself carries the
+    /// rounding of the ramp (`-Dm + J7 (Dm / J7)` is a few ulps of `Dm`, not 0).
+    fn slot_start_accelerations(&self) -> (f64, f64) {
+        let (mut acc, mut dec): (f64, f64) = (0.0, 0.0);
+        for i in 0..7 {
+            if self.dur[i] > 0.0 {
+                acc = acc.max(self.a[i]);
+                dec = dec.max(-self.a[i]);
+            }
+        }
+        (acc, dec)
+    }
+
+    /// The distance travelled backwards (motion frame): the integral of the negative part of
+    /// the velocity over every slot, from the slots' velocity zeros. A velocity that rounding
+    /// leaves a few ulps below zero for a moment travels nothing measurable; one held below
+    /// zero (a stop whose velocity cancelled out in a long ramp at a tiny deceleration) does.
+    fn backward_travel(&self) -> f64 {
+        let mut back = 0.0;
+        for i in 0..7 {
+            let (t, v, a, j) = (self.dur[i], self.v[i], self.a[i], self.jerk[i]);
+            if t <= 0.0 {
+                continue;
+            }
+            // v(s) = v + a s + j s^2 / 2: its zeros inside (0, t) split the slot.
+            let mut cuts = [0.0, t, t, t];
+            let mut n = 1;
+            let mut cut = |s: f64| {
+                if s > 0.0 && s < t {
+                    cuts[n] = s;
+                    n += 1;
+                }
+            };
+            if j == 0.0 {
+                if a != 0.0 {
+                    cut(-v / a);
+                }
+            } else {
+                let disc = a * a - 2.0 * j * v;
+                if disc >= 0.0 {
+                    // (the stable pair of roots of j/2 s^2 + a s + v)
+                    let q = -(a + a.signum() * disc.sqrt());
+                    if q != 0.0 {
+                        cut(q / j);
+                        cut(2.0 * v / q);
+                    }
+                }
+            }
+            if n == 3 && cuts[2] < cuts[1] {
+                cuts.swap(1, 2);
+            }
+            let x = |s: f64| s * (v + s * (0.5 * a + s * j / 6.0));
+            for k in 0..n {
+                let (s0, s1) = (cuts[k], cuts[k + 1]);
+                let m = 0.5 * (s0 + s1);
+                if v + m * (a + 0.5 * j * m) < 0.0 {
+                    back += x(s0) - x(s1);
+                }
+            }
+        }
+        back
+    }
+
+    /// Smallest and largest motion-frame velocity over the non-empty slots.
+    fn velocity_range(&self) -> (f64, f64) {
+        let (mut lo, mut hi) = (self.v[0], self.v[0]);
+        for i in 0..7 {
+            if self.dur[i] > 0.0 {
+                let (v, a, j, t) = (self.v[i], self.a[i], self.jerk[i], self.dur[i]);
+                let ve = self.slot_end(i).1;
+                lo = lo.min(v).min(ve);
+                hi = hi.max(v).max(ve);
+                if j != 0.0 {
+                    let tau = -a / j;
+                    if tau > 0.0 && tau < t {
+                        let vm = v + tau * (a + 0.5 * j * tau);
+                        lo = lo.min(vm);
+                        hi = hi.max(vm);
+                    }
+                }
+            }
+        }
+        (lo, hi)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -674,7 +1123,7 @@ mod tests {
         let ap = if dv >= amax * amax * h {
             amax
         } else {
-            (dv / h).sqrt()
+            dv.sqrt() / h.sqrt()
         };
         let plateau = ((dv - ap * ap * h) / ap).max(0.0);
         let (ta, tb) = (ap / ja, ap / jb);
@@ -810,8 +1259,10 @@ mod tests {
                 (p.x[i + 1], p.v[i + 1], p.a[i + 1])
             };
             let ep = (left.pos - right.0).abs() / pos_scale;
-            let ev = (left.vel - right.1).abs() / vel_scale;
-            let ea = (left.acc - right.2).abs() / acc_scale;
+            // (velocities and accelerations below the normal range count as 0)
+            let beyond = |e: f64| (e - f64::MIN_POSITIVE).max(0.0);
+            let ev = beyond((left.vel - right.1).abs()) / vel_scale;
+            let ea = beyond((left.acc - right.2).abs()) / acc_scale;
             assert!(
                 ep <= 1e-9 && ev <= 1e-9 && ea <= 1e-9,
                 "discontinuity at boundary {i}: {ep:e} {ev:e} {ea:e} {p:?}"
@@ -861,10 +1312,15 @@ mod tests {
             visit(p.t0[i] * (1.0 - 1e-13));
         }
         visit(total * 2.0 + 1.0);
-        // start / end states
+        // start / end states (a zero-duration plan only has its end, no farther than the
+        // position tolerance of the plan check from its start)
         let s = p.sample(0.0);
-        assert_eq!(s.pos, p0);
-        assert!((s.vel - dir * v0).abs() <= 1e-12 * l.vmax);
+        if total > 0.0 {
+            assert_eq!(s.pos, p0);
+            assert!((s.vel - dir * v0).abs() <= 1e-12 * l.vmax);
+        } else {
+            assert!(d.abs() <= 8.0 * f64::EPSILON * p0.abs() + 1e-12 || v0 == v1 && d == 0.0);
+        }
         let e = p.sample(total);
         assert_eq!(e, p.sample(total + 1.0));
         assert_eq!(e.pos, p0 + d);
@@ -1251,7 +1707,11 @@ mod tests {
             let s = p.sample(t);
             let seg = segment_of(p, t);
             let (v, a, j) = (dir * s.vel, dir * s.acc, dir * s.jerk);
-            assert!(v >= -tol * vscale, "velocity sign change {v} ({s:?})");
+            // (below the normal range there is no relative precision: as in the plan check)
+            assert!(
+                v >= -tol * vscale - f64::MIN_POSITIVE,
+                "velocity sign change {v} ({s:?})"
+            );
             let jl = match seg {
                 2 => l.j3,
                 4 if j > 0.0 => l.j7,
@@ -1279,8 +1739,9 @@ mod tests {
                 worst = worst.max(dec / l.dmax - 1.0);
             }
             if a > 0.0 {
-                assert!(a <= a_start * (1.0 + 1e-12));
-                assert!(k > n || a <= prev_acc * (1.0 + 1e-12) + 1e-12 * ascale);
+                // (a ramp-out of a deceleration ends within rounding of 0, on either side)
+                assert!(a <= a_start.max(0.0) * (1.0 + 1e-12) + 1e-12 * ascale);
+                assert!(k > n || a <= prev_acc.max(0.0) * (1.0 + 1e-12) + 1e-12 * ascale);
             }
             if k <= n {
                 prev_dec = dec;
@@ -1292,7 +1753,10 @@ mod tests {
         assert_eq!(e, p.sample(total * 3.0 + 1.0));
         let s = p.sample(0.0);
         assert_eq!((s.pos, s.vel), (p0, v0));
-        assert!((s.acc - a0).abs() <= 1e-15 * a0.abs());
+        // (a stop from rest with an acceleration below jerk x 5e-324 may take no time: its start
+        // is its end)
+        let jdt = [l.j3, l.j5, l.j7].iter().fold(0.0f64, |m, &j| m.max(j)) * 2e-323;
+        assert!((s.acc - a0).abs() <= 1e-15 * a0.abs() + f64::MIN_POSITIVE + jdt);
         let pos_scale = p.x[6].abs().max(1e-12);
         check_continuity(p, (None, 0.0), (pos_scale, vscale, ascale));
         worst
@@ -1396,6 +1860,725 @@ mod tests {
                     p.peak_deceleration(),
                 );
             }
+        }
+    }
+
+    /// The attacks that produced impossible plans before the range check and the plan check:
+    /// each is refused by `plan_checked`, and the plan `plan` still makes of it fails its check.
+    #[test]
+    fn attacks_are_refused() {
+        let sym = |v, a, j| Limits::symmetric(v, a, j);
+        let sub = f64::MIN_POSITIVE / 3.0;
+        let cases = [
+            ("jmax 1e-246", sym(2e5, 2e6, 1e-246)),
+            ("amax 1e-306", sym(2e5, 1e-306, 1e8)),
+            ("subnormal amax", sym(2e5, sub, 1e8)),
+            (
+                "subnormal dmax",
+                Limits {
+                    dmax: sub,
+                    ..sym(2e5, 2e6, 1e8)
+                },
+            ),
+            (
+                "jdec 1e-320",
+                Limits {
+                    j5: 1e-320,
+                    j7: 1e-320,
+                    ..sym(2e5, 2e6, 1e8)
+                },
+            ),
+            ("vmax 1e300", sym(1e300, 2e6, 1e8)),
+        ];
+        for (what, l) in cases {
+            let r = Profile::plan_checked(0.0, 1e5, 0.0, 0.0, &l, 10_000);
+            assert_eq!(r.map(|_| ()), Err(PlanError::LimitRange), "{what}");
+            // The safety net under the range: what the bare planner makes of it is refused.
+            if let Ok(p) = Profile::plan(0.0, 1e5, 0.0, 0.0, &l) {
+                let v = p.verify_plan(0.0, 1e5, 0.0, 0.0, &l);
+                assert!(
+                    matches!(v, Err(PlanError::PlanCheck | PlanError::Infeasible))
+                        || (what == "vmax 1e300" && v.is_ok()),
+                    "{what}: {v:?} for {p:?}"
+                );
+            }
+        }
+        // The range's ends are inside, one ulp beyond is not.
+        for rate in [1000, 10_000, 20_000] {
+            for order in 1..=3 {
+                let r = firmware_proto::limit_range(order, rate);
+                for (x, inside) in [
+                    (*r.start(), true),
+                    (*r.end(), true),
+                    (r.start().next_down(), false),
+                    (r.end().next_up(), false),
+                ] {
+                    let mut l = sym(1e3, 1e5, 1e7);
+                    match order {
+                        1 => l.vmax = x,
+                        2 => l.dmax = x,
+                        _ => l.j5 = x,
+                    }
+                    let want = if inside {
+                        Ok(())
+                    } else {
+                        Err(PlanError::LimitRange)
+                    };
+                    assert_eq!(l.check_range(rate), want, "order {order} {x:e} at {rate}");
+                }
+            }
+        }
+        // A stop ignores vmax, amax and j1 (the axis passes vmax = f64::MAX).
+        let l = Limits {
+            vmax: f64::MAX,
+            ..sym(1e3, 1e5, 1e7)
+        };
+        assert_eq!(l.check_range(10_000), Err(PlanError::LimitRange));
+        assert!(Profile::stop_checked(0.0, 500.0, 0.0, &l, 10_000).is_ok());
+        let l = Limits { j7: 1e-19, ..l };
+        assert_eq!(
+            Profile::stop_checked(0.0, 500.0, 0.0, &l, 10_000),
+            Err(PlanError::LimitRange)
+        );
+    }
+
+    /// The check refuses a profile that does not do what was asked of it.
+    #[test]
+    fn verify_refuses_a_wrong_profile() {
+        let l = Limits::symmetric(1000.0, 1e4, 1e6);
+        let p = Profile::plan(5.0, 1e4, 0.0, 0.0, &l).unwrap();
+        assert_eq!(p.verify_plan(5.0, 1e4, 0.0, 0.0, &l), Ok(()));
+        // another request than the one planned
+        assert_eq!(
+            p.verify_plan(5.0, 1e4 + 1e-6, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            p.verify_plan(4.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            p.verify_plan(5.0, -1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        // tighter limits than those planned with
+        for tight in [
+            Limits { vmax: 999.0, ..l },
+            Limits { amax: 9e3, ..l },
+            Limits { dmax: 9e3, ..l },
+            Limits { j3: 9e5, ..l },
+            Limits { j7: 9e5, ..l },
+        ] {
+            assert_eq!(
+                p.verify_plan(5.0, 1e4, 0.0, 0.0, &tight),
+                Err(PlanError::PlanCheck)
+            );
+        }
+        // broken profiles: a cruise too short (off target, and shorter than |d|/vmax), a NaN,
+        // an acceleration jump, a move too long
+        let mut q = p;
+        q.dur[3] *= 0.5;
+        q.t0[4..].iter_mut().for_each(|t| *t -= p.dur[3] * 0.5);
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = p;
+        q.x[5] = f64::NAN;
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = p;
+        q.a[2] *= 1.001;
+        assert_eq!(
+            q.verify_plan(5.0, 1e4, 0.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        let slow = Limits::symmetric(1e-3, 1.0, 1.0);
+        let p = Profile::plan(0.0, 2e3, 0.0, 0.0, &slow).unwrap();
+        assert!(p.duration() > crate::MAX_MOVE_TIME);
+        assert_eq!(
+            p.verify_plan(0.0, 2e3, 0.0, 0.0, &slow),
+            Err(PlanError::Infeasible)
+        );
+        // a stop: checked against its own state, reversal refused
+        let s = Profile::stop(1.0, -1000.0, 0.0, &l).unwrap();
+        assert_eq!(s.verify_stop(1.0, -1000.0, 0.0, &l), Ok(()));
+        assert_eq!(
+            s.verify_stop(1.0, -999.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+        assert_eq!(
+            s.verify_stop(1.0, -1000.0, 0.0, &Limits { j5: 9e5, ..l }),
+            Err(PlanError::PlanCheck)
+        );
+        let mut q = s;
+        q.dur[6] *= 2.0; // ramps the deceleration out past zero: backwards
+        q.t0[7] += s.dur[6];
+        assert_eq!(
+            q.verify_stop(1.0, -1000.0, 0.0, &l),
+            Err(PlanError::PlanCheck)
+        );
+    }
+
+    /// Seeded property tests over the whole `f64` range (proptest with a fixed ChaCha seed:
+    /// the same cases on every run; `PROPTEST_CASES` is overridden by the counts here).
+    mod props {
+        use super::*;
+        use firmware_proto::limit_range;
+        use proptest::prelude::*;
+        use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+        use std::cell::RefCell;
+
+        fn runner(cases: u32, seed: u8) -> TestRunner {
+            let config = Config {
+                cases,
+                failure_persistence: None,
+                max_shrink_iters: 4096,
+                ..Config::default()
+            };
+            TestRunner::new_with_rng(
+                config,
+                TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]),
+            )
+        }
+
+        /// Any `f64` an attacker could pick: every bit pattern, log-uniform magnitudes over the
+        /// whole exponent range (subnormals included), and the named extremes.
+        fn wild() -> impl Strategy<Value = f64> {
+            prop_oneof![
+                any::<f64>(),
+                (0u64..2047, any::<u64>(), any::<bool>()).prop_map(|(e, m, neg)| {
+                    let x = f64::from_bits(e << 52 | m >> 12);
+                    if neg {
+                        -x
+                    } else {
+                        x
+                    }
+                }),
+                (1u64..1 << 52).prop_map(f64::from_bits),
+                prop::sample::select(vec![
+                    0.0,
+                    -0.0,
+                    1e-320,
+                    1e-300,
+                    1e-30,
+                    1e300,
+                    f64::MAX,
+                    -f64::MAX,
+                    f64::MIN_POSITIVE,
+                    -1.0,
+                    f64::NAN,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                ]),
+            ]
+        }
+
+        /// A limit: any value, log-uniform inside the range of its order, or the range's
+        /// low or high end moved by -1, 0 or +1 ulp.
+        #[derive(Clone, Copy, Debug)]
+        enum Pick {
+            Value(f64),
+            InRange(f64),
+            Edge(bool, i8),
+        }
+
+        fn pick() -> impl Strategy<Value = Pick> {
+            prop_oneof![
+                1 => wild().prop_map(Pick::Value),
+                24 => (0.0..=1.0f64).prop_map(Pick::InRange),
+                3 => (any::<bool>(), -1i8..=1).prop_map(|(hi, u)| Pick::Edge(hi, u)),
+            ]
+        }
+
+        fn ulps(x: f64, k: i8) -> f64 {
+            match k {
+                -1 => x.next_down(),
+                1 => x.next_up(),
+                _ => x,
+            }
+        }
+
+        fn resolve(p: Pick, order: i32, rate: u32) -> f64 {
+            let r = limit_range(order, rate);
+            let (lo, hi) = (*r.start(), *r.end());
+            match p {
+                Pick::Value(x) => x,
+                Pick::InRange(u) => (lo.ln() + u * (hi.ln() - lo.ln())).exp().clamp(lo, hi),
+                Pick::Edge(top, k) => ulps(if top { hi } else { lo }, k),
+            }
+        }
+
+        /// Seven picks and how they are tied: 0 independent, 1 symmetric (`dmax = amax`, one
+        /// jerk), 2 as `mcctl` (`j3 = j1`, `j7 = j5`).
+        fn limits(p: [Pick; 7], tie: u8, rate: u32) -> Limits {
+            let x = |i: usize, order| resolve(p[i], order, rate);
+            let mut l = Limits {
+                vmax: x(0, 1),
+                amax: x(1, 2),
+                dmax: x(2, 2),
+                j1: x(3, 3),
+                j3: x(4, 3),
+                j5: x(5, 3),
+                j7: x(6, 3),
+            };
+            if tie == 1 {
+                (l.dmax, l.j3, l.j5, l.j7) = (l.amax, l.j1, l.j1, l.j1);
+            } else if tie == 2 {
+                (l.j3, l.j7) = (l.j1, l.j5);
+            }
+            l
+        }
+
+        /// A start or end velocity: any value, a fraction of vmax (uniform, or log-uniform down
+        /// to underflow), or vmax moved by -1, 0, +1 ulp.
+        #[derive(Clone, Copy, Debug)]
+        enum Vel {
+            Value(f64),
+            Frac(f64),
+            Tiny(f64),
+            Vmax(i8),
+        }
+
+        fn vel() -> impl Strategy<Value = Vel> {
+            prop_oneof![
+                6 => Just(Vel::Frac(0.0)),
+                1 => wild().prop_map(Vel::Value),
+                2 => (0.0..=1.0f64).prop_map(Vel::Frac),
+                1 => (0.0..=1.0f64).prop_map(Vel::Tiny),
+                1 => (-1i8..=1).prop_map(Vel::Vmax),
+            ]
+        }
+
+        fn resolve_vel(v: Vel, vmax: f64) -> f64 {
+            match v {
+                Vel::Value(x) => x,
+                Vel::Frac(u) => u * vmax,
+                Vel::Tiny(u) => vmax * (-1100.0 * u).exp2(),
+                Vel::Vmax(k) => ulps(vmax, k),
+            }
+        }
+
+        /// A distance: any value, log-uniform 1e-12..1e16 counts, a factor or ±1 ulp of the
+        /// shortest feasible distance, a factor of the distance that reaches vmax, or one that
+        /// takes about MAX_MOVE_TIME at vmax.
+        #[derive(Clone, Copy, Debug)]
+        enum Dist {
+            Value(f64),
+            Log(f64),
+            Shortest(f64),
+            ShortestUlps(i8),
+            Cruise(f64),
+            Longest(f64),
+        }
+
+        fn dist() -> impl Strategy<Value = (Dist, bool)> {
+            let d = prop_oneof![
+                1 => wild().prop_map(Dist::Value),
+                4 => (0.0..=1.0f64).prop_map(Dist::Log),
+                1 => (0.5..2.0f64).prop_map(Dist::Shortest),
+                1 => (-1i8..=1).prop_map(Dist::ShortestUlps),
+                1 => (0.3..3.0f64).prop_map(Dist::Cruise),
+                1 => (0.9..1.1f64).prop_map(Dist::Longest),
+            ];
+            (d, any::<bool>())
+        }
+
+        fn resolve_dist(d: (Dist, bool), v0: f64, v1: f64, l: &Limits) -> f64 {
+            let shortest = || ref_dist(v0, v1, v0.max(v1), l).1;
+            let mag = match d.0 {
+                Dist::Value(x) => x,
+                Dist::Log(u) => 10f64.powf(-12.0 + 28.0 * u),
+                Dist::Shortest(f) => shortest() * f,
+                Dist::ShortestUlps(k) => ulps(shortest(), k),
+                Dist::Cruise(f) => ref_dist(v0, v1, l.vmax, l).1 * f,
+                Dist::Longest(f) => l.vmax * crate::MAX_MOVE_TIME * f,
+            };
+            if d.1 {
+                -mag
+            } else {
+                mag
+            }
+        }
+
+        fn start_pos() -> impl Strategy<Value = f64> {
+            prop_oneof![
+                2 => Just(0.0),
+                2 => -1e3..1e3f64,
+                2 => -crate::MAX_POSITION..=crate::MAX_POSITION,
+                1 => wild(),
+            ]
+        }
+
+        fn rate() -> impl Strategy<Value = u32> {
+            prop_oneof![
+                1 => Just(1000u32),
+                1 => Just(20_000u32),
+                4 => 1000u32..=20_000,
+            ]
+        }
+
+        /// The refusal the request earns before any planning, in `plan_checked`'s order.
+        fn refusal(p0: f64, d: f64, v0: f64, v1: f64, l: &Limits, rate: u32) -> Option<PlanError> {
+            let all = [l.vmax, l.amax, l.dmax, l.j1, l.j3, l.j5, l.j7];
+            let orders = [1, 2, 2, 3, 3, 3, 3];
+            if ![p0, d, v0, v1].iter().all(|x| x.is_finite()) || !all.iter().all(|x| x.is_finite())
+            {
+                Some(PlanError::NonFinite)
+            } else if all.iter().any(|&x| x <= 0.0) {
+                Some(PlanError::NonPositiveLimit)
+            } else if all
+                .iter()
+                .zip(orders)
+                .any(|(x, k)| !limit_range(k, rate).contains(x))
+            {
+                Some(PlanError::LimitRange)
+            } else if v0 > l.vmax {
+                Some(PlanError::StartVelocityTooHigh)
+            } else if v0 < 0.0 || v1 < 0.0 || v1 > l.vmax {
+                Some(PlanError::Infeasible)
+            } else {
+                None
+            }
+        }
+
+        fn index(e: PlanError) -> usize {
+            match e {
+                PlanError::NonFinite => 0,
+                PlanError::NonPositiveLimit => 1,
+                PlanError::LimitRange => 2,
+                PlanError::StartVelocityTooHigh => 3,
+                PlanError::Infeasible => 4,
+                PlanError::PlanCheck => 5,
+            }
+        }
+
+        #[derive(Default, Debug)]
+        struct Figures {
+            /// Refusals by error (NonFinite, NonPositiveLimit, LimitRange,
+            /// StartVelocityTooHigh, Infeasible, PlanCheck), then accepted.
+            outcomes: [usize; 7],
+            /// Accepted plans with non-zero boundary velocities, and ones reaching vmax.
+            moving_ends: usize,
+            at_vmax: usize,
+            /// Worst relative limit excess (velocity, acceleration, jerk) sampled densely.
+            limit_excess: f64,
+            /// Worst end-position error of the integrated profile, in ulps of max(|p0|, |d|)
+            /// where that is at least 1 count, and in counts where it is less.
+            end_ulps: f64,
+            end_small: f64,
+            /// Infeasible: shorter than the shortest distance, or longer than MAX_MOVE_TIME.
+            too_short: usize,
+            too_long: usize,
+            /// Plans the bare planner makes from limits out of range (positive and finite):
+            /// passed the check (and then kept every limit), too long, failed the check.
+            net: [usize; 3],
+            /// Worst relative mismatch of the duration against the reference minimum time.
+            time_rel: f64,
+        }
+
+        const CASES: u32 = 100_000;
+
+        #[test]
+        fn plan_checked_over_the_whole_f64_range() {
+            let strategy = (
+                prop::array::uniform7(pick()),
+                0u8..3,
+                rate(),
+                (vel(), vel()),
+                dist(),
+                start_pos(),
+            );
+            let fig = RefCell::new(Figures::default());
+            let result = runner(CASES, 0x5c).run(&strategy, |(p, tie, rate, (a, b), dd, p0)| {
+                let l = limits(p, tie, rate);
+                let (v0, v1) = (resolve_vel(a, l.vmax), resolve_vel(b, l.vmax));
+                let d = resolve_dist(dd, v0, v1, &l);
+                let r = Profile::plan_checked(p0, d, v0, v1, &l, rate);
+                let mut f = fig.borrow_mut();
+                let case = format!("p0={p0:e} d={d:e} v0={v0:e} v1={v1:e} {l:?} rate={rate}");
+                if let Some(e) = refusal(p0, d, v0, v1, &l, rate) {
+                    prop_assert_eq!(r.map(|_| ()), Err(e), "{}", case);
+                    f.outcomes[index(e)] += 1;
+                    // The check as a safety net under the range check: a plan the bare
+                    // planner makes from out-of-range limits runs only if it passes, and
+                    // then it must keep every limit and reach its target.
+                    if e == PlanError::LimitRange {
+                        if let Ok(p) = Profile::plan(p0, d, v0, v1, &l) {
+                            match p.verify_plan(p0, d, v0, v1, &l) {
+                                Ok(()) => {
+                                    // (the test's tolerances are relative to the limits:
+                                    // meaningless for limits near the subnormals, where the
+                                    // check allows MIN_POSITIVE)
+                                    // (and slots shorter than the normal range, whose few
+                                    // bits the check allows for)
+                                    let all = [l.vmax, l.amax, l.dmax, l.j1, l.j3, l.j5, l.j7];
+                                    let normal = |t: &f64| *t == 0.0 || t.is_normal();
+                                    if all.iter().all(|&x| x >= 1e-290)
+                                        && p.phases().iter().all(normal)
+                                    {
+                                        check_plan(&p, &l, p0, d, v0, v1);
+                                    }
+                                    f.net[0] += 1;
+                                }
+                                Err(PlanError::Infeasible) => f.net[1] += 1,
+                                Err(_) => f.net[2] += 1,
+                            }
+                        }
+                    }
+                    return Ok(());
+                }
+                let dist = d.abs();
+                let shortest = ref_dist(v0, v1, v0.max(v1), &l).1;
+                let reference = ref_min_time(v0, v1, dist, &l);
+                match r {
+                    Ok(p) => {
+                        let w = check_plan(&p, &l, p0, d, v0, v1);
+                        let t = p.duration();
+                        prop_assert!(t.is_finite() && t <= crate::MAX_MOVE_TIME, "{}", case);
+                        let tol = 8.0 * f64::EPSILON * p0.abs().max(dist) + 1e-12;
+                        prop_assert!(t >= (dist - tol) / l.vmax * (1.0 - 1e-9), "{t:e} {}", case);
+                        prop_assert!(shortest <= dist * (1.0 + 1e-9) + tol, "{}", case);
+                        // (None: accepted within rounding of the shortest distance; the
+                        // reference's bisection ends on a tiny vp for d = 0)
+                        let t_ref = match reference {
+                            _ if dist == 0.0 => 0.0,
+                            Some((t_ref, _)) => t_ref,
+                            None => t,
+                        };
+                        let rel = (t - t_ref).abs() / t_ref.max(f64::MIN_POSITIVE);
+                        if dist > 1e-250 {
+                            prop_assert!(rel <= 1e-9, "duration {t:e} vs {t_ref:e}: {}", case);
+                            f.time_rel = f.time_rel.max(rel);
+                        }
+                        let err = (p.slot_end(6).0 - dist).abs();
+                        let scale = p0.abs().max(dist);
+                        if scale >= 1.0 {
+                            f.end_ulps = f.end_ulps.max(err / (f64::EPSILON * scale));
+                        } else {
+                            f.end_small = f.end_small.max(err);
+                        }
+                        f.limit_excess = f.limit_excess.max(w.limit_excess);
+                        f.outcomes[6] += 1;
+                        f.moving_ends += usize::from(v0 > 0.0 || v1 > 0.0);
+                        f.at_vmax += usize::from(p.peak_velocity() == l.vmax);
+                    }
+                    Err(PlanError::Infeasible) => {
+                        let too_long =
+                            reference.is_some_and(|(t, _)| t > crate::MAX_MOVE_TIME * (1.0 - 1e-9));
+                        let too_short = shortest > dist * (1.0 - 1e-9);
+                        prop_assert!(too_short || too_long, "refused a feasible move: {}", case);
+                        f.too_short += usize::from(too_short);
+                        f.too_long += usize::from(!too_short);
+                        f.outcomes[4] += 1;
+                    }
+                    Err(PlanError::NonFinite) => {
+                        // the positions or the cruise time overflow
+                        let overflow = p0.abs() + dist > 1e300 || !(dist / l.vmax).is_finite();
+                        prop_assert!(overflow, "{}", case);
+                        f.outcomes[0] += 1;
+                    }
+                    Err(e) => prop_assert!(false, "{e:?} for limits in range: {}", case),
+                }
+                Ok(())
+            });
+            let f = fig.into_inner();
+            eprintln!("plan_checked, {CASES} cases: {f:?}");
+            if let Err(e) = result {
+                panic!("{e}");
+            }
+            // Every way of refusing, and enough accepted plans of each kind.
+            assert!(
+                f.outcomes
+                    .iter()
+                    .enumerate()
+                    .all(|(i, &n)| n >= 200 || i == 5),
+                "{f:?}"
+            );
+            assert_eq!(f.outcomes[5], 0);
+            assert!(f.moving_ends >= 500 && f.at_vmax >= 500, "{f:?}");
+        }
+
+        /// A stop's start velocity: any value, 0, or log-uniform up to the velocity range's
+        /// top; signed.
+        #[derive(Clone, Copy, Debug)]
+        enum StopVel {
+            Value(f64),
+            Zero,
+            Log(f64),
+        }
+
+        /// A stop's start acceleration (along the velocity): any value, 0, a factor of dmax,
+        /// or a factor (or ±1 ulp) of the largest deceleration that can be ramped out at j7
+        /// without reversing, `sqrt(2 j7 v)`.
+        #[derive(Clone, Copy, Debug)]
+        enum StopAcc {
+            Value(f64),
+            Zero,
+            Dmax(f64),
+            Reverse(f64),
+            ReverseUlps(i8),
+        }
+
+        fn stop_state() -> impl Strategy<Value = (f64, (StopVel, bool), StopAcc)> {
+            let v = prop_oneof![
+                1 => wild().prop_map(StopVel::Value),
+                1 => Just(StopVel::Zero),
+                6 => (0.0..=1.0f64).prop_map(StopVel::Log),
+            ];
+            let a = prop_oneof![
+                1 => wild().prop_map(StopAcc::Value),
+                2 => Just(StopAcc::Zero),
+                4 => (-4.0..3.0f64).prop_map(StopAcc::Dmax),
+                2 => (0.5..2.0f64).prop_map(StopAcc::Reverse),
+                1 => (-1i8..=1).prop_map(StopAcc::ReverseUlps),
+            ];
+            (start_pos(), (v, any::<bool>()), a)
+        }
+
+        #[derive(Default, Debug)]
+        struct StopFigures {
+            /// Refusals by error (as for plans), then accepted.
+            outcomes: [usize; 7],
+            /// Accepted stops with a > 0, with a deceleration beyond dmax, from v = 0.
+            kinds: [usize; 3],
+            /// Worst relative jerk or deceleration excess (sampled densely).
+            excess: f64,
+            /// Worst backwards velocity relative to the stop's peak velocity.
+            backwards: f64,
+            /// Longest accepted stop, s.
+            longest: f64,
+            /// Accepted stops from a state beyond what the card can hold (position, velocity or
+            /// acceleration out of range): checked by the card's check only.
+            beyond: usize,
+        }
+
+        #[test]
+        fn stop_checked_over_the_whole_f64_range() {
+            let strategy = (
+                prop::array::uniform4(pick()),
+                0u8..2,
+                prop::option::weighted(0.1, prop::array::uniform3(wild())),
+                rate(),
+                stop_state(),
+            );
+            let fig = RefCell::new(StopFigures::default());
+            let result = runner(CASES, 0x57).run(&strategy, |(p, tie, other, rate, st)| {
+                let x = |i: usize, order| resolve(p[i], order, rate);
+                let (dmax, j3) = (x(0, 2), x(1, 3));
+                let (j5, j7) = if tie == 1 {
+                    (j3, j3)
+                } else {
+                    (x(2, 3), x(3, 3))
+                };
+                // As the axis stops: vmax = f64::MAX, amax = dmax, j1 = j3 (or anything).
+                let [vmax, amax, j1] = other.unwrap_or([f64::MAX, dmax, j3]);
+                let l = Limits {
+                    vmax,
+                    amax,
+                    dmax,
+                    j1,
+                    j3,
+                    j5,
+                    j7,
+                };
+                let (p0, (sv, neg), sa) = st;
+                let top = *limit_range(1, rate).end();
+                let v = match sv {
+                    StopVel::Value(x) => x,
+                    StopVel::Zero => 0.0,
+                    StopVel::Log(u) => (1e-12f64.ln() + u * (top.ln() - 1e-12f64.ln())).exp(),
+                };
+                let reverse = (2.0 * j7).sqrt() * v.abs().sqrt();
+                let a = match sa {
+                    StopAcc::Value(x) => x,
+                    StopAcc::Zero => 0.0,
+                    StopAcc::Dmax(f) => f * dmax,
+                    StopAcc::Reverse(f) => -f * reverse,
+                    StopAcc::ReverseUlps(k) => -ulps(reverse, k),
+                };
+                let (v0, a0) = if neg { (-v, -a) } else { (v, a) };
+                let r = Profile::stop_checked(p0, v0, a0, &l, rate);
+                let case = format!("p0={p0:e} v0={v0:e} a0={a0:e} {l:?} rate={rate}");
+                let mut f = fig.borrow_mut();
+                let all = [l.vmax, l.amax, l.dmax, l.j1, l.j3, l.j5, l.j7];
+                let used = [(2, dmax), (3, j3), (3, j5), (3, j7)];
+                let want = if ![p0, v0, a0].iter().chain(&all).all(|x| x.is_finite()) {
+                    Some(PlanError::NonFinite)
+                } else if all.iter().any(|&x| x <= 0.0) {
+                    Some(PlanError::NonPositiveLimit)
+                } else if used.iter().any(|(k, x)| !limit_range(*k, rate).contains(x)) {
+                    Some(PlanError::LimitRange)
+                } else {
+                    None
+                };
+                if let Some(e) = want {
+                    prop_assert_eq!(r.map(|_| ()), Err(e), "{}", case);
+                    f.outcomes[index(e)] += 1;
+                    return Ok(());
+                }
+                // Motion frame: the direction of v0, or of a0 from rest.
+                let dir = if v0 > 0.0 || (v0 == 0.0 && a0 >= 0.0) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let (v, a) = (v0.abs(), dir * a0);
+                let need = if a < 0.0 { 0.5 * a * (a / j7) } else { 0.0 };
+                // A state the card can hold: from one beyond (1e210 counts/s) the test's own
+                // extrapolation overflows.
+                let sane = p0.abs() <= crate::MAX_POSITION
+                    && v <= top
+                    && a.abs() <= *limit_range(2, rate).end();
+                match r {
+                    Ok(p) => {
+                        if sane {
+                            f.excess = f.excess.max(check_stop(&p, &l, p0, v0, a0));
+                        } else {
+                            f.beyond += 1;
+                        }
+                        prop_assert!(p.duration().is_finite(), "{}", case);
+                        prop_assert!(v >= need * (1.0 - 1e-9), "must reverse: {}", case);
+                        let (vlow, vhigh) = p.velocity_range();
+                        let back = (-vlow / vhigh.max(v).max(f64::MIN_POSITIVE)).max(0.0);
+                        f.backwards = f.backwards.max(back);
+                        f.longest = f.longest.max(p.duration());
+                        f.outcomes[6] += 1;
+                        f.kinds[0] += usize::from(a > 0.0 && v > 0.0);
+                        f.kinds[1] += usize::from(-a > dmax);
+                        f.kinds[2] += usize::from(v == 0.0);
+                    }
+                    Err(PlanError::Infeasible) => {
+                        prop_assert!(a < 0.0 && v < need * (1.0 + 1e-9), "{}", case);
+                        f.outcomes[4] += 1;
+                    }
+                    // Only from a state beyond anything the card holds: the stop overflows,
+                    // or loses its velocity to rounding (its check refuses it).
+                    Err(e @ (PlanError::NonFinite | PlanError::PlanCheck)) => {
+                        prop_assert!(!sane, "{e:?}: {}", case);
+                        f.outcomes[index(e)] += 1;
+                    }
+                    Err(e) => prop_assert!(false, "{e:?} for limits in range: {}", case),
+                }
+                Ok(())
+            });
+            let f = fig.into_inner();
+            eprintln!("stop_checked, {CASES} cases: {f:?}");
+            if let Err(e) = result {
+                panic!("{e}");
+            }
+            let o = f.outcomes;
+            assert!(
+                o[0] >= 200 && o[1] >= 200 && o[2] >= 200 && o[4] >= 200,
+                "{f:?}"
+            );
+            assert!(
+                o[6] >= CASES as usize / 2 && f.kinds.iter().all(|&n| n >= 1000),
+                "{f:?}"
+            );
+            assert!(o[5] <= CASES as usize / 1000, "{f:?}");
         }
     }
 }

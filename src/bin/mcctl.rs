@@ -4,9 +4,10 @@
 //! ```text
 //! mcctl plan 100000 --vmax 200000 --amax 2e6 --jmax 1e8            # the S-curve the card plans
 //! mcctl plan 100000 --vmax 2e5 --amax 2e6 --dmax 1e6 --jmax 1e8 --jdec 2e7 --json
+//! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
 //! ```
 use clap::{Parser, Subcommand};
-use motioncard::plan::{Limits, Profile};
+use motioncard::plan::{Limits, PlanError, Profile};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -48,6 +49,10 @@ enum Cmd {
         /// End velocity, along the direction of motion.
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         v1: f64,
+        /// Servo rate of the card, Hz (1000..=20000): the range the card accepts for each limit
+        /// depends on it.
+        #[arg(long, default_value_t = 10_000)]
+        servo_rate: u32,
         /// Print one JSON object instead of a table.
         #[arg(long)]
         json: bool,
@@ -71,6 +76,7 @@ fn main() -> ExitCode {
             jdec,
             v0,
             v1,
+            servo_rate,
             json,
         } => {
             let dmax = dmax.unwrap_or(amax);
@@ -93,6 +99,28 @@ fn main() -> ExitCode {
             for (what, v) in &named[1..6] {
                 if *v <= 0.0 {
                     return bad(format!("{what} must be greater than zero, got {v}"));
+                }
+            }
+            let rates = card_emu::SERVO_RATE_MIN_HZ..=card_emu::SERVO_RATE_MAX_HZ;
+            if !rates.contains(&servo_rate) {
+                return bad(format!(
+                    "--servo-rate must be between {} and {} Hz, got {servo_rate}",
+                    rates.start(),
+                    rates.end()
+                ));
+            }
+            // The card's range for a limit of order k (1 velocity, 2 acceleration, 3 jerk):
+            // from one count in the longest move to the whole position range in one tick.
+            let (vel, acc, jerk) = ((1, "velocity"), (2, "acceleration"), (3, "jerk"));
+            for ((what, v), (order, kind)) in named[1..6].iter().zip([vel, acc, jerk, acc, jerk]) {
+                let range = card_emu::limit_range(order, servo_rate);
+                if !range.contains(v) {
+                    return bad(format!(
+                        "{what} must be between {:e} and {:e} (the card's {kind} range at \
+                         --servo-rate {servo_rate} Hz), got {v:e}",
+                        range.start(),
+                        range.end()
+                    ));
                 }
             }
             for (what, v) in &named[6..] {
@@ -124,12 +152,22 @@ fn main() -> ExitCode {
                 Ok(p) => p,
                 Err(e) => return bad(format!("no S-curve satisfies these limits: {e}")),
             };
-            let max_time = card_emu::MAX_MOVE_TIME;
-            if p.duration().is_nan() || p.duration() > max_time {
-                return bad(format!(
-                    "the move would take {:.6e} s; the card refuses moves longer than {max_time} s",
-                    p.duration()
-                ));
+            // The card's own check of the plan before it runs it (Profile::plan_checked).
+            match p.verify_plan(0.0, distance, v0, v1, &lim) {
+                Ok(()) => {}
+                Err(PlanError::Infeasible) => {
+                    return bad(format!(
+                        "the move would take {:.6e} s; the card refuses moves longer than {} s",
+                        p.duration(),
+                        card_emu::MAX_MOVE_TIME
+                    ))
+                }
+                Err(e) => {
+                    return bad(format!(
+                        "the card would refuse this plan ({e}: off its target, beyond a limit, \
+                         backwards or shorter than |distance|/vmax)"
+                    ))
+                }
             }
             let phases = p.phases();
             if json {
