@@ -240,13 +240,15 @@ impl Axis {
     }
 
     /// MC_MoveAbsolute (`relative = false`) or MC_MoveRelative: plan a rest-to-rest S-curve from
-    /// the commanded position.
+    /// the commanded position, within limits the card accepts at `rate_hz`, and checked before
+    /// it runs (`Profile::plan_checked`).
     pub fn start_move(
         &mut self,
         seq: u32,
         target_or_distance: f64,
         relative: bool,
         limits: &Limits,
+        rate_hz: u32,
     ) -> Result<Option<AxisState>, NackCode> {
         self.check_can_move()?;
         let start = self.cmd.pos;
@@ -258,8 +260,8 @@ impl Axis {
         if !target.is_finite() || target.abs() > crate::MAX_POSITION {
             return Err(NackCode::OutOfRange);
         }
-        let profile =
-            Profile::plan(start, target - start, 0.0, 0.0, limits).map_err(crate::plan_nack)?;
+        let profile = Profile::plan_checked(start, target - start, 0.0, 0.0, limits, rate_hz)
+            .map_err(crate::plan_nack)?;
         if !profile.duration().is_finite() || profile.duration() > crate::MAX_MOVE_TIME {
             return Err(NackCode::Infeasible);
         }
@@ -619,12 +621,17 @@ pub(crate) fn plan_stop(
         j5: jerk,
         j7: jerk,
     };
-    match Profile::stop(pos, v0, a0, &limits) {
+    // Every stop is checked before it runs (the card's own check: `verify_stop`).
+    let checked = |lim: &Limits| {
+        let p = Profile::stop(pos, v0, a0, lim)?;
+        p.verify_stop(pos, v0, a0, lim).map(|()| p)
+    };
+    match checked(&limits) {
         // Late in a deceleration the remaining velocity is smaller than what the given jerk
         // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
         // the smallest jerk that stops without reversing (a stop never moves backwards).
         Err(crate::scurve::PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
-            let j = (a0 * a0 / (2.0 * v0.abs())).max(jerk) * (1.0 + 1e-9);
+            let j = (a0 * (a0 / (2.0 * v0.abs()))).max(jerk) * (1.0 + 1e-9);
             let limits = Limits {
                 j1: j,
                 j3: j,
@@ -632,7 +639,7 @@ pub(crate) fn plan_stop(
                 j7: j,
                 ..limits
             };
-            Profile::stop(pos, v0, a0, &limits).map_err(crate::plan_nack)
+            checked(&limits).map_err(crate::plan_nack)
         }
         r => r.map_err(crate::plan_nack),
     }

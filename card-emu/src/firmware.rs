@@ -339,9 +339,8 @@ impl<M: Mem + Clone> Firmware<M> {
                     j7: a[7],
                 };
                 let rate = self.servo_rate_hz;
-                crate::check_ranges(rate, &[(1, a[1]), (2, a[2]), (2, a[3]), (3, a[4])])?;
-                crate::check_ranges(rate, &[(3, a[5]), (3, a[6]), (3, a[7])])?;
-                axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim)?
+                lim.check_range(rate).map_err(crate::plan_nack)?;
+                axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim, rate)?
             }
             Opcode::Halt | Opcode::Stop => {
                 crate::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
@@ -471,10 +470,10 @@ impl<M: Mem + Clone> Firmware<M> {
                 out,
             ),
             Opcode::GroupStopRelease => group.release_stop(),
-            Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes),
+            Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes, ts),
             Opcode::NurbsData => group.nurbs_data(c),
             Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
-            Opcode::GroupPtpLimits => group.stage_ptp_limits(c),
+            Opcode::GroupPtpLimits => group.stage_ptp_limits(c, ts),
             _ => group.queue_move(c, op, ts, tick, out),
         }
     }

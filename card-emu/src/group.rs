@@ -883,9 +883,8 @@ impl Group {
         if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) || nargs > a.len() {
             return Err(NackCode::NotFinite);
         }
-        if a[..4].iter().any(|x| *x <= 0.0) {
-            return Err(NackCode::NonPositiveLimit);
-        }
+        let rate = (1.0 / ts).round() as u32;
+        crate::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
         let limits = Limits {
             vmax: a[0],
             amax: a[1],
@@ -981,7 +980,7 @@ impl Group {
 
     /// MC_OP_GROUP_PTP_LIMITS: stage the limits (v, a, d, j) of `count` group axes from
     /// `first` for the next point-to-point move (used with `MC_PTP_AXIS_LIMITS`).
-    pub fn stage_ptp_limits(&mut self, c: &Command) -> Result<(), NackCode> {
+    pub fn stage_ptp_limits(&mut self, c: &Command, ts: f64) -> Result<(), NackCode> {
         let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
         if self.state == GroupState::Disabled {
             return Err(NackCode::GroupDisabled);
@@ -1003,8 +1002,9 @@ impl Group {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        if values.iter().any(|x| *x <= 0.0) {
-            return Err(NackCode::NonPositiveLimit);
+        let rate = (1.0 / ts).round() as u32;
+        for l in values.chunks_exact(4) {
+            crate::check_ranges(rate, &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])])?;
         }
         for (k, l) in values.chunks_exact(4).enumerate() {
             self.ptp_stage[first + k] = Some([l[0], l[1], l[2], l[3]]);
@@ -1041,7 +1041,12 @@ impl Group {
 
     /// MC_OP_NURBS_BEGIN: check the header and open the transfer (a new begin replaces an
     /// unfinished one).
-    pub fn nurbs_begin(&mut self, c: &Command, axes: &[Axis; MAX_AXES]) -> Result<(), NackCode> {
+    pub fn nurbs_begin(
+        &mut self,
+        c: &Command,
+        axes: &[Axis; MAX_AXES],
+        ts: f64,
+    ) -> Result<(), NackCode> {
         self.rx.open = false;
         let cfg = self.can_queue(c.flags)?;
         let a = &c.args;
@@ -1061,9 +1066,11 @@ impl Group {
         if int(a[2]) != Some(n_ctrl + degree + 1) {
             return Err(NackCode::NurbsKnotCount);
         }
-        if a[3..7].iter().any(|x| *x <= 0.0) {
-            return Err(NackCode::NonPositiveLimit);
+        if a[6] <= 0.0 {
+            return Err(NackCode::NonPositiveLimit); // the chord tolerance
         }
+        let rate = (1.0 / ts).round() as u32;
+        crate::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
         let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
         if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
             return Err(NackCode::BadConfig);

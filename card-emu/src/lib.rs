@@ -38,23 +38,9 @@ pub use firmware_proto::{
     limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,
 };
 
-/// Refuse a kinematic limit outside [`firmware_proto::limit_range`] at `rate_hz`
-/// (`LimitRange`): `(order, value)` pairs, order 1 velocity, 2 acceleration, 3 jerk. Values that
-/// are not finite or not positive keep their own codes (`NotFinite`, `NonPositiveLimit`).
+/// [`scurve::check_limits`] with the card's nack codes.
 pub(crate) fn check_ranges(rate_hz: u32, limits: &[(i32, f64)]) -> Result<(), NackCode> {
-    if limits.iter().any(|(_, x)| !x.is_finite()) {
-        return Err(NackCode::NotFinite);
-    }
-    if limits.iter().any(|(_, x)| *x <= 0.0) {
-        return Err(NackCode::NonPositiveLimit);
-    }
-    if limits
-        .iter()
-        .any(|(k, x)| !firmware_proto::limit_range(*k, rate_hz).contains(x))
-    {
-        return Err(NackCode::LimitRange);
-    }
-    Ok(())
+    scurve::check_limits(limits, rate_hz).map_err(plan_nack)
 }
 
 /// The nack for a planner refusal.

@@ -109,7 +109,6 @@ impl Limits {
     /// `amax` and `dmax` of order 2, the four jerks of order 3). Within those ranges
     /// [`Profile::plan`] and [`Profile::stop`] neither overflow nor lose the plan to rounding.
     pub fn check_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
-        self.validate()?;
         let all = [
             (1, self.vmax),
             (2, self.amax),
@@ -119,7 +118,7 @@ impl Limits {
             (3, self.j5),
             (3, self.j7),
         ];
-        in_range(&all, servo_rate_hz)
+        check_limits(&all, servo_rate_hz)
     }
 
     /// The range check of the limits a stop uses (`dmax`, `j3`, `j5`, `j7`); `vmax`, `amax`
@@ -127,16 +126,25 @@ impl Limits {
     fn check_stop_range(&self, servo_rate_hz: u32) -> Result<(), PlanError> {
         self.validate()?;
         let used = [(2, self.dmax), (3, self.j3), (3, self.j5), (3, self.j7)];
-        in_range(&used, servo_rate_hz)
+        check_limits(&used, servo_rate_hz)
     }
 }
 
-/// `Err(LimitRange)` unless each `(order, value)` lies in `limit_range(order, rate)`.
-fn in_range(limits: &[(i32, f64)], servo_rate_hz: u32) -> Result<(), PlanError> {
-    for &(order, x) in limits {
-        if !firmware_proto::limit_range(order, servo_rate_hz).contains(&x) {
-            return Err(PlanError::LimitRange);
-        }
+/// Check kinematic limits given as `(order, value)` pairs (order 1 velocity, 2 acceleration,
+/// 3 jerk), each test over all of them before the next: finite (`NonFinite`), positive
+/// (`NonPositiveLimit`), within `limit_range(order, rate)` (`LimitRange`).
+pub fn check_limits(limits: &[(i32, f64)], servo_rate_hz: u32) -> Result<(), PlanError> {
+    if limits.iter().any(|(_, x)| !x.is_finite()) {
+        return Err(PlanError::NonFinite);
+    }
+    if limits.iter().any(|(_, x)| *x <= 0.0) {
+        return Err(PlanError::NonPositiveLimit);
+    }
+    if limits
+        .iter()
+        .any(|&(order, x)| !firmware_proto::limit_range(order, servo_rate_hz).contains(&x))
+    {
+        return Err(PlanError::LimitRange);
     }
     Ok(())
 }
