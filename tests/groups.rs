@@ -1086,3 +1086,62 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
     assert_eq!(g.status().unwrap().0, GroupState::Standby);
     assert_eq!((cmd(&card, 0), cmd(&card, 1)), (100.0, 100.0));
 }
+
+/// A group motion counts in its members' own statistics, as a move of their own would: the
+/// move count, the peaks (within the path's limits), the following error, and why it ended.
+#[test]
+fn members_keep_statistics_of_their_group_motions() {
+    let (card, g) = group_card(&[0, 1], AccDec::Pre);
+    let (x, y) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    g.move_linear(&[30_000.0, 40_000.0], &lim(), MoveOptions::default())
+        .unwrap();
+    g.wait_done(T).unwrap();
+    for (ax, share) in [(&x, 0.6), (&y, 0.8)] {
+        let s = ax.status().unwrap();
+        assert_eq!(s.raw.move_count, 1);
+        assert_eq!(s.stop_reason(), Some(motioncard::StopReason::Done));
+        // Each axis's share of the 50,000 counts/s feed along the 3-4-5 line.
+        let v = 50_000.0 * share;
+        assert!(
+            (s.raw.peak_vel - v).abs() <= v * 1e-6,
+            "peak {} vs {v}",
+            s.raw.peak_vel
+        );
+        assert!(s.raw.peak_acc <= 5e5 * share * (1.0 + 1e-6) && s.raw.peak_acc > 0.0);
+        assert!(s.raw.max_ferr > 0.0 && s.raw.max_ferr < 50.0);
+        assert!(s.raw.move_time > 1.0);
+    }
+    // A halt of the group ends its members' motion with the halt as the reason.
+    g.move_linear(&[330_000.0, 440_000.0], &lim(), MoveOptions::default())
+        .unwrap();
+    card.sim().unwrap().step(5_000);
+    g.halt(5e5, 5e7).unwrap().wait(T).unwrap();
+    let s = x.status().unwrap();
+    assert_eq!(s.raw.move_count, 2);
+    assert_eq!(s.stop_reason(), Some(motioncard::StopReason::Halt));
+}
+
+/// Path limits outside what the card accepts are refused, for lines, halts and point-to-point
+/// moves alike (subnormal, absurdly small or large).
+#[test]
+fn group_limits_outside_the_cards_range_are_refused() {
+    let (_card, g) = group_card(&[0, 1], AccDec::Pre);
+    for bad in [
+        PathLimits::new(50_000.0, 5e5, 1e-300),
+        PathLimits::new(50_000.0, 5e-324, 5e7),
+        PathLimits::new(1e300, 5e5, 5e7),
+    ] {
+        assert_eq!(
+            g.move_linear(&[100.0, 100.0], &bad, MoveOptions::default())
+                .unwrap_err()
+                .kind(),
+            ErrorKind::LimitRange,
+            "{bad:?}"
+        );
+    }
+    assert_eq!(
+        g.halt(5e5, 1e-300).unwrap_err().kind(),
+        ErrorKind::LimitRange
+    );
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+}

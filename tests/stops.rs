@@ -28,7 +28,7 @@ fn any_limit(rng: &mut Rng, order: i32) -> f64 {
         2 => rng.log_uniform(1e30, 1e300),
         3 => {
             *range.start()
-                * if rng.next_u64() % 2 == 0 {
+                * if rng.next_u64().is_multiple_of(2) {
                     1.0
                 } else {
                     0.999_999
@@ -36,7 +36,7 @@ fn any_limit(rng: &mut Rng, order: i32) -> f64 {
         }
         4 => {
             *range.end()
-                * if rng.next_u64() % 2 == 0 {
+                * if rng.next_u64().is_multiple_of(2) {
                     1.0
                 } else {
                     1.000_001
@@ -88,7 +88,12 @@ fn every_halt_ends_within_the_maximum_stop_time() {
             rng.log_uniform(1e6, 6e6), // what the default plant can follow
             rng.log_uniform(1e8, 1e10),
         );
-        let d = rng.uniform(1e5, 3e6) * if rng.next_u64() % 2 == 0 { 1.0 } else { -1.0 };
+        let d = rng.uniform(1e5, 3e6)
+            * if rng.next_u64().is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            };
         let m = match ax.move_relative(d, &lim) {
             Ok(m) => m,
             Err(e) => {

@@ -479,8 +479,10 @@ impl Axis {
             self.faults &= !fault::DAC_SATURATED;
         }
 
-        // Statistics and in-position.
-        if self.awaiting_done {
+        // Statistics (of its own moves, and of the group motions it takes part in), then
+        // in-position of its own moves.
+        let grouped = self.state == AxisState::SynchronizedMotion;
+        if self.awaiting_done || grouped {
             let st = &mut self.stats;
             st.elapsed += ts;
             st.peak_vel = st.peak_vel.max(self.cmd.vel.abs());
@@ -495,6 +497,9 @@ impl Axis {
             st.peak_dec = st.peak_dec.max(-along);
             st.peak_jerk = st.peak_jerk.max(self.cmd_jerk.abs());
             st.max_ferr = st.max_ferr.max(self.ferr.abs());
+        }
+        if self.awaiting_done {
+            let st = &mut self.stats;
             let in_pos = self.motion == Motion::Hold
                 && (self.target - self.act_pos).abs() <= self.config.in_pos_window
                 && vel.abs() <= self.config.in_vel_window;
@@ -524,22 +529,38 @@ impl Axis {
         self.target = r.pos;
     }
 
-    /// A group move starts driving this axis: SynchronizedMotion.
+    /// A group move starts driving this axis: SynchronizedMotion. The axis counts it as a
+    /// motion of its own in its statistics (move count, peaks, following error, stop reason).
     pub fn join_group_motion(&mut self) -> Option<AxisState> {
         let mut changed = None;
         if self.state == AxisState::Standstill {
             self.set_state(AxisState::SynchronizedMotion, &mut changed);
+            self.safety.stop_reason = StopReason::None;
+            self.move_count = self.move_count.wrapping_add(1);
+            self.stats = MoveStats::default();
         }
         changed
     }
 
-    /// The group is at rest again: Standstill.
+    /// The group is at rest again: Standstill; the motion's statistics are complete (its
+    /// stop reason Done unless a halt or stop of the group set one).
     pub fn leave_group_motion(&mut self) -> Option<AxisState> {
         let mut changed = None;
         if self.state == AxisState::SynchronizedMotion {
             self.set_state(AxisState::Standstill, &mut changed);
+            if self.safety.stop_reason == StopReason::None {
+                self.safety.stop_reason = StopReason::Done;
+            }
+            self.stats.move_time = self.stats.elapsed;
         }
         changed
+    }
+
+    /// A halt or stop of its group ends the group motion this axis takes part in.
+    pub fn group_stopping(&mut self, reason: StopReason) {
+        if self.state == AxisState::SynchronizedMotion {
+            self.safety.stop_reason = reason;
+        }
     }
 
     /// The group was disabled or faulted: hold where the reference is.

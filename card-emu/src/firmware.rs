@@ -460,15 +460,32 @@ impl<M: Mem + Clone> Firmware<M> {
                 Ok(())
             }
             Opcode::GroupReset => group.reset(&mut self.axes, tick, out),
-            Opcode::GroupStop | Opcode::GroupHalt => group.start_stop(
-                c.seq,
-                op == Opcode::GroupStop,
-                (c.args[0], c.args[1]),
-                hard,
-                max_time,
-                tick,
-                out,
-            ),
+            Opcode::GroupStop | Opcode::GroupHalt => {
+                let stop = op == Opcode::GroupStop;
+                group.start_stop(
+                    c.seq,
+                    stop,
+                    (c.args[0], c.args[1]),
+                    hard,
+                    max_time,
+                    tick,
+                    out,
+                )?;
+                // The members' motion ends by this halt or stop (their stop reason).
+                let reason = if stop {
+                    StopReason::Stop
+                } else {
+                    StopReason::Halt
+                };
+                for &a in group
+                    .config
+                    .as_ref()
+                    .map_or(&[][..], |c| &c.axes[..c.naxes])
+                {
+                    self.axes[a].group_stopping(reason);
+                }
+                Ok(())
+            }
             Opcode::GroupStopRelease => group.release_stop(),
             Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes, ts),
             Opcode::NurbsData => group.nurbs_data(c),
