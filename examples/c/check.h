@@ -49,9 +49,10 @@ static inline void fail_call(const char *what, mc_result r, const char *file, in
     } while (0)
 
 /* A real-time card's watchdog trips when the library's heartbeat thread is late by more than
-   its timeout (default 5 ms). Without real-time scheduling (most desktops and CI machines) a
-   loaded machine can delay the thread that long: allow 250 ms, and clear a trip that came
-   before this call. (A stepped card beats as it steps: it needs neither.) */
+   its timeout (default 100 ms, above what a loaded host without real-time scheduling delays
+   it). These programs run beside a test suite that loads the machine further: allow 250 ms,
+   and clear a trip that came before this call. (A stepped card beats as it steps: it needs
+   neither.) */
 static inline mc_result relax_watchdog(mc_card card) {
     mc_result r = mc_set_watchdog_timeout(card, 250000);
     return r == MC_OK ? mc_reset_faults(card) : r;
