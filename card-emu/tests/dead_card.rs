@@ -8,43 +8,17 @@
 //!   `NotResponding` once it has stood for the staleness limit, a command fails once its
 //!   deadline passed without the card taking it, and that command is refused (expired) when
 //!   the card continues: it never runs.
-use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits, STALE_MIN};
+mod common;
+
+use common::{card_emu, open_when_ready, Proc};
+use motioncard_sdk::{AxisState, ErrorKind, MoveLimits, STALE_MIN};
 use nix::sys::signal::{kill, Signal};
 use nix::sys::wait::{waitpid, WaitPidFlag, WaitStatus};
 use nix::unistd::Pid;
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 fn start(name: &str) -> Proc {
-    Proc(
-        Command::new(env!("CARGO_BIN_EXE_card-emu"))
-            .args(["--name", name, "--axes", "2"])
-            .stdout(Stdio::null())
-            .spawn()
-            .expect("start card-emu"),
-    )
-}
-
-fn open_when_ready(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(5))
-            }
-            Err(e) => panic!("opening {uri}: {e}"),
-        }
-    }
+    card_emu(name, &["--axes", "2"])
 }
 
 fn slow() -> MoveLimits {

@@ -5,9 +5,12 @@
 //! The cross-user tests need root, to run a host as another user: this test binary runs again
 //! with `MC_TRANSPORT_PEER` set, as uid 65534 (nobody), and its `peer_role` test opens the
 //! card and prints what happened. Without root they say so and check what they can in-process.
+mod common;
+
 use card_emu::server::{self, ConnectError, Server};
 use card_emu::shm::MappedWindow;
 use card_emu::{EmuOptions, Emulator};
+use common::{card_emu, open_when_ready, try_open, Proc};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
 use nix::errno::Errno;
 use nix::fcntl::{fcntl, FcntlArg, SealFlag};
@@ -15,46 +18,36 @@ use nix::unistd::{ftruncate, Gid, Uid};
 use std::io::Read;
 use std::os::fd::AsFd;
 use std::os::unix::process::CommandExt;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const ROLE: &str = "MC_TRANSPORT_PEER";
 const NOBODY: u32 = 65534;
 
-struct Emu(Child);
+/// A `card-emu` of two axes, ready once this process (its own user, always admitted) has
+/// connected. No SDK host: its heartbeat would arm the watchdog, which would trip when it
+/// closes.
+struct Emu(Proc);
 
 impl Emu {
     fn start(name: &str, extra: &[&str]) -> Self {
-        let child = Command::new(env!("CARGO_BIN_EXE_card-emu"))
-            .args(["--name", name, "--axes", "2"])
-            .args(extra)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start card-emu");
-        let emu = Emu(child);
-        // Ready once this process (its own user, always admitted) has connected. No SDK host:
-        // its heartbeat would arm the watchdog, which would trip when it closes.
+        let mut args = vec!["--axes", "2"];
+        args.extend_from_slice(extra);
+        let emu = Emu(card_emu(name, &args));
         drop(connect_when_ready(name));
         emu
     }
 
     /// Kill it and return what it wrote on stderr.
     fn stop(mut self) -> String {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
+        let p = &mut (self.0).0;
+        let _ = p.kill();
+        let _ = p.wait();
         let mut err = String::new();
-        if let Some(mut e) = self.0.stderr.take() {
+        if let Some(mut e) = p.stderr.take() {
             let _ = e.read_to_string(&mut err);
         }
         err
-    }
-}
-
-impl Drop for Emu {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
     }
 }
 
@@ -74,27 +67,6 @@ fn connect_when_ready(name: &str) -> server::Connection {
 fn len(fd: impl AsFd) -> u64 {
     let f = std::fs::File::from(fd.as_fd().try_clone_to_owned().unwrap());
     f.metadata().unwrap().len()
-}
-
-/// Open `uri`, waiting while it is not served yet or the previous host's lease is still
-/// being released.
-fn try_open(uri: &str) -> motioncard_sdk::Result<Card> {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Err(e)
-                if matches!(e.kind(), ErrorKind::NotFound | ErrorKind::Busy)
-                    && Instant::now() < deadline =>
-            {
-                std::thread::sleep(Duration::from_millis(5))
-            }
-            r => return r,
-        }
-    }
-}
-
-fn open_when_ready(uri: &str) -> Card {
-    try_open(uri).unwrap_or_else(|e| panic!("opening {uri}: {e}"))
 }
 
 /// The host run as another user (only when started by the tests below): open the card,
@@ -278,7 +250,7 @@ fn a_host_cannot_resize_the_window() {
     let size = len(&conn.window);
     let shrink = ftruncate(&conn.window, 0);
     std::thread::sleep(Duration::from_millis(200));
-    let died = emu.0.try_wait().unwrap();
+    let died = emu.0 .0.try_wait().unwrap();
     assert_eq!(died, None, "card-emu died after the host shrank its window");
     assert_eq!(shrink, Err(Errno::EPERM), "shrinking the window");
     assert_eq!(ftruncate(&conn.window, 2 * size as i64), Err(Errno::EPERM));
@@ -305,7 +277,7 @@ fn a_host_cannot_resize_the_window() {
     assert!((reached - 5_000.0).abs() <= 1.0, "reached {reached}");
     assert_eq!(ax.status().unwrap().state, AxisState::Standstill);
     assert!(card.tick().unwrap() > t0);
-    assert_eq!(emu.0.try_wait().unwrap(), None);
+    assert_eq!(emu.0 .0.try_wait().unwrap(), None);
 }
 
 /// A window that is not sealed at its size is a protocol violation for the SDK: it is not

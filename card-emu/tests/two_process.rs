@@ -1,40 +1,11 @@
 //! The card served by a separate `card-emu` process, opened as `emu:NAME`: both processes map
 //! the same DPRAM (memfd), interrupts arrive on the eventfd handed over with it.
+mod common;
+
+use common::{card_emu as start, open_when_ready};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
-
-struct Emu(Child);
-
-impl Drop for Emu {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start(name: &str, extra: &[&str]) -> Emu {
-    let child = Command::new(env!("CARGO_BIN_EXE_card-emu"))
-        .args(["--name", name])
-        .args(extra)
-        .stdout(Stdio::null())
-        .spawn()
-        .expect("start card-emu");
-    Emu(child)
-}
-
-fn open_when_ready(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(e) => panic!("opening {uri}: {e}"),
-        }
-    }
-}
+use std::process::Command;
+use std::time::Duration;
 
 #[test]
 fn an_axis_moves_through_a_card_emu_process() {
