@@ -335,3 +335,25 @@ fn a_second_writer_on_the_command_ring_is_reported_not_silent() {
     assert_eq!(s.stop_reason(), Some(StopReason::CmdRing));
     assert!(card.safety_status().unwrap().protocol_errors >= 1);
 }
+
+/// A clean close disarms the watchdog for good: beats the closing host still sends after its
+/// detach (its heartbeat thread stops a moment later) do not arm it again, so the silence that
+/// follows never trips it. Only the next attach arms it.
+#[test]
+fn heartbeats_after_a_detach_do_not_rearm_the_watchdog() {
+    let card = one_axis();
+    let sim = card.sim().unwrap();
+    sim.step(10);
+    let st = card.safety_status().unwrap();
+    assert!(st.watchdog_armed);
+    let mut detach = Command::new(Opcode::HostDetach, 0);
+    detach.flags = st.session;
+    let seq = card.send_raw(detach).unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Ok(()));
+    sim.step(10); // still beating
+    let st = card.safety_status().unwrap();
+    assert!(!st.watchdog_armed && st.session == 0);
+    card.set_heartbeat(false);
+    sim.step(ticks_of(&card, 0.5));
+    assert!(!card.safety_status().unwrap().watchdog_tripped);
+}

@@ -380,6 +380,9 @@ pub struct Safety {
     evt_ring_bad: bool,
     protocol_errors: u32,
     session: u32,
+    /// The last host detached: its remaining heartbeats do not arm the watchdog again (only
+    /// the next attach does).
+    detached: bool,
     host_changes: u32,
     late_heartbeats: u32,
     max_heartbeat_gap_us: u32,
@@ -410,6 +413,7 @@ impl Safety {
             evt_ring_bad: false,
             protocol_errors: 0,
             session: 0,
+            detached: false,
             host_changes: 0,
             late_heartbeats: 0,
             max_heartbeat_gap_us: 0,
@@ -485,7 +489,7 @@ impl Safety {
             self.last_heartbeat = hb;
             self.last_heartbeat_tick = tick;
             mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
-            if !self.armed {
+            if !self.armed && !self.detached {
                 self.armed = true;
                 mem.write32(ss::WATCHDOG_ARMED, 1);
             }
@@ -535,6 +539,7 @@ impl Safety {
             stopped = after.saturating_sub(before) as f64;
         }
         self.session = session;
+        self.detached = false;
         mem.write32(ss::SESSION, session);
         mem.write64(ss::ATTACH_TICK, tick);
         self.late_heartbeats = 0;
@@ -552,6 +557,7 @@ impl Safety {
             return Err(NackCode::Session);
         }
         self.session = 0;
+        self.detached = true;
         mem.write32(ss::SESSION, 0);
         self.disarm(mem);
         Ok(())
