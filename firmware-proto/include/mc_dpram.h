@@ -150,7 +150,8 @@
                                * until the new host's first heartbeat. */
 #define MC_OP_HOST_DETACH 37u /* flags: the session id. A clean close: every moving axis and group
                                * halts along its axis stop ramp (reason MC_STOP_HOST_DETACH, no
-                               * fault latched) and the watchdog is disarmed. MC_NACK_SESSION if
+                               * fault latched) and the watchdog is disarmed until the next
+                               * attach (later heartbeats do not arm it). MC_NACK_SESSION if
                                * another session is attached. */
 
 /* Event kinds (mc_event.kind) */
