@@ -108,6 +108,11 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
         axes[0].reset().unwrap_err().kind(),
         ErrorKind::WatchdogTripped
     );
+    // A move on an axis the watchdog stopped names the watchdog, not just the state.
+    assert_eq!(
+        axes[0].move_relative(10.0, &fast()).unwrap_err().kind(),
+        ErrorKind::WatchdogTripped
+    );
     // A reset without a live heartbeat is refused.
     card.set_heartbeat(false);
     sim.step(ticks_of(&card, 0.11));
@@ -367,6 +372,22 @@ use card_emu::faults as motioncard_faults;
 fn soft_limits_refuse_moves_beyond_and_allow_moves_back() {
     let card = stepped_card();
     let ax = card.axis(1).unwrap();
+    // Inverted limits are refused, not swapped; a negative scale maps the user's negative
+    // limit to the larger count, and is not an inversion.
+    let inverted = SafetySettings {
+        soft_limits: Some((100.0, -100.0)),
+        ..Default::default()
+    };
+    assert_eq!(
+        ax.configure_safety(&inverted).unwrap_err().kind(),
+        ErrorKind::BadConfig
+    );
+    ax.set_scale(-10.0).unwrap();
+    ax.configure_safety(&SafetySettings {
+        soft_limits: Some((-100.0, 50.0)),
+        ..Default::default()
+    })
+    .unwrap();
     ax.set_scale(10.0).unwrap(); // counts per unit
     ax.configure_safety(&SafetySettings {
         soft_limits: Some((-100.0, 100.0)), // units: ±1000 counts
