@@ -5,11 +5,11 @@
 //! Fig 7).
 //!
 //! `cargo run --release --example nurbs`
-use card_emu::nurbs::Point;
-use card_emu::yeh::{
-    die_bonder_path, die_bonder_volts, AxisState, InterpConfig, Interpolator, PdPlus,
-    SaturationAwareFeed,
-};
+use card_emu::motion::nurbs::Point;
+use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
+use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
+use card_emu::presets::{die_bonder_path, die_bonder_volts};
+use card_emu::servo::pdplus::PdPlus;
 use clap::Parser;
 use motioncard::papers::{yeh_die_bonder, DIE_BONDER_FEED};
 use motioncard::plot::{lines, Series};
@@ -66,8 +66,8 @@ fn feed_bounds(aware: bool) -> Result<Vec<Bounded>, Box<dyn std::error::Error>> 
             theta_a[j] = th[j];
             w_a[j] = (th[j] - th_prev[j]) / ts;
         }
-        let states: Vec<AxisState> = (0..2)
-            .map(|j| AxisState {
+        let states: Vec<AxisSample> = (0..2)
+            .map(|j| AxisSample {
                 theta_d_prev: ip.position()[j],
                 w_d_prev: ip.velocity()[j],
                 theta_a: theta_a[j],

@@ -7,8 +7,8 @@ use crate::{
     GroupSettings, GroupState, Interpolator, MotorParams, MoveOptions, PathLimits, Plane, Result,
     SimOptions,
 };
-use card_emu::circle::{exponential_filter_radial_error, linear_filter_radial_error};
-use card_emu::filters::exponential_pole;
+use card_emu::motion::arc::{exponential_filter_radial_error, linear_filter_radial_error};
+use card_emu::motion::filters::exponential_pole;
 use std::time::Duration;
 
 const T: Duration = Duration::from_secs(120);
@@ -525,7 +525,7 @@ pub fn yeh_die_bonder(saturation: bool) -> Result<DieBonder> {
     let g = card.group(0)?;
     g.configure(&GroupSettings::new(&[0, 1]))?;
     g.enable()?;
-    let curve = card_emu::yeh::die_bonder_path();
+    let curve = card_emu::presets::die_bonder_path();
     let f = NurbsFeed {
         feed: DIE_BONDER_FEED,
         accel: 4e7,

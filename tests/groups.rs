@@ -790,8 +790,8 @@ fn eight_axis_line_and_helix_with_six_linear_axes() {
 /// arc ends exactly on its end point, put there by the filters (snap within SNAP_BOUND).
 #[test]
 fn arcs_through_post_filters_stay_inside_the_circle_and_end_exactly() {
-    use card_emu::circle::{exponential_filter_radial_error, linear_filter_radial_error};
-    use card_emu::filters::exponential_pole;
+    use card_emu::motion::arc::{exponential_filter_radial_error, linear_filter_radial_error};
+    use card_emu::motion::filters::exponential_pole;
     let (r, tau, ts) = (20_000.0, 0.025, 1e-4);
     let v = lim().velocity;
     let dr_lin = linear_filter_radial_error(r, v, ts, (tau / ts).round() as usize);

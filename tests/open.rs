@@ -1,5 +1,5 @@
 //! Opening cards: URIs, exclusive open, layout version check, emu:NAME served in-process.
-use card_emu::server::Server;
+use card_emu::emu::server::Server;
 use card_emu::{EmuOptions, Emulator, Runner};
 use firmware_proto::{layout, Mem};
 use motioncard::{Card, ErrorKind, MoveLimits};

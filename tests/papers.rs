@@ -2,7 +2,7 @@
 //! `motioncard::papers`; here they are checked).
 mod common;
 
-use card_emu::filters::exponential_pole;
+use card_emu::motion::filters::exponential_pole;
 use motioncard::papers::{
     kim_fig7, kim_sync_ptp, radial_error, shin_corner, SyncShape, KIM_FIG7_FEED, KIM_FIG7_TAU,
     RADIAL_CASES, SYNC_LIMITS, SYNC_SLOW_Z, SYNC_TARGETS,

@@ -366,7 +366,7 @@ fn hard_limit_mid_move_stops_refuses_further_allows_out() {
         .unwrap();
 }
 
-use card_emu::faults as motioncard_faults;
+use card_emu::plant::faults as motioncard_faults;
 
 #[test]
 fn soft_limits_refuse_moves_beyond_and_allow_moves_back() {

@@ -1,9 +1,9 @@
 //! Cost of the acc/dec filters and interpolators per axis per servo tick (no servo, no plant).
 //!
 //! `cargo bench -p card-emu --bench interp`
-use card_emu::axis::Axis;
-use card_emu::filters::{AccDecFilter, FilterKind};
-use card_emu::group::{filter_bank, FilterConfig, Group, GroupConfig, Outbox};
+use card_emu::firmware::axis::Axis;
+use card_emu::firmware::group::{filter_bank, FilterConfig, Group, GroupConfig, Outbox};
+use card_emu::motion::filters::{AccDecFilter, FilterKind};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use firmware_proto::{move_flags, raw, Command, Opcode, MAX_AXES};
 
@@ -34,7 +34,7 @@ fn group(
 ) -> (
     Group,
     [Axis; MAX_AXES],
-    Box<[card_emu::group::AxisFilter]>,
+    Box<[card_emu::firmware::group::AxisFilter]>,
     Outbox,
 ) {
     let mut axes = [Axis::new(); MAX_AXES];
@@ -157,8 +157,10 @@ fn interpolators(c: &mut Criterion) {
 /// One NURBS interpolation step (Yeh eq 3.1 + Newton corrections, knot-span search, point and
 /// derivatives), plain and saturation-aware, on a long cubic with 1000 control points.
 fn nurbs_step(c: &mut Criterion) {
-    use card_emu::nurbs::{clamped_uniform_knots, Nurbs, Point};
-    use card_emu::yeh::{die_bonder_volts, InterpConfig, Interpolator, SaturationAwareFeed};
+    use card_emu::motion::nurbs::{clamped_uniform_knots, Nurbs, Point};
+    use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
+    use card_emu::motion::saturation::SaturationAwareFeed;
+    use card_emu::presets::die_bonder_volts;
     let n = 1000;
     let mut ctrl = Vec::with_capacity(2 * n);
     for i in 0..n {
@@ -183,7 +185,7 @@ fn nurbs_step(c: &mut Criterion) {
     };
     // Time steps in blocks, rebuilding the interpolator (untimed) whenever it reaches the end,
     // so every timed step is a real step along the curve.
-    let die = card_emu::yeh::die_bonder_path();
+    let die = card_emu::presets::die_bonder_path();
     let run = |b: &mut criterion::Bencher, curve: &Nurbs, cfg: InterpConfig, guarded: bool| {
         let preset = die_bonder_volts();
         let sat = SaturationAwareFeed::new(&preset.axes, 1e-3).unwrap();

@@ -1,8 +1,8 @@
 //! Garbage from the host: the fuzz corpus replayed, and a seeded sweep of a million garbage
-//! commands. The harness (decoders, card, invariants) is `card_emu::fuzzing`, shared with the
+//! commands. The harness (decoders, card, invariants) is `card_emu::testkit::fuzzing`, shared with the
 //! fuzz targets in `fuzz/`.
 
-use card_emu::fuzzing::{run_commands, run_dpram, sweep};
+use card_emu::testkit::fuzzing::{run_commands, run_dpram, sweep};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -80,7 +80,7 @@ fn a_million_garbage_commands_move_nothing_they_are_refused() {
 
 // ---- Regression tests for what the fuzzers and the sweep found ----
 
-use card_emu::fuzzing::{nurbs_entries, Card, Reply};
+use card_emu::testkit::fuzzing::{nurbs_entries, Card, Reply};
 use firmware_proto::wire::CMD_ARGS;
 use firmware_proto::{raw, NackCode, Opcode};
 

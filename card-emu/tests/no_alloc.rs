@@ -1,11 +1,12 @@
 //! Verifies that the per-tick functions do not touch the heap: a counting global allocator
 //! (only in this test binary) records allocations made on this thread while armed.
 
-use card_emu::nurbs::{clamped_uniform_knots, Nurbs, Point};
-use card_emu::yeh::{
-    die_bonder_preset, AxisState, InterpConfig, Interpolator, PathSpeedPlanner, PdPlus,
-    SaturationAwareFeed,
-};
+use card_emu::motion::nurbs::{clamped_uniform_knots, Nurbs, Point};
+use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
+use card_emu::motion::path_speed::PathSpeedPlanner;
+use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
+use card_emu::presets::die_bonder_preset;
+use card_emu::servo::pdplus::PdPlus;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -83,7 +84,7 @@ fn per_tick_functions_do_not_allocate() {
                 let _ = pd.update(t.pos[0], t.vel[0], t.acc[0], theta[0]);
                 let _ = preset.axes[0].plant.step(1e-3, theta[0], w_a[0], 0.1);
             }
-            let st = [AxisState::default(); 2];
+            let st = [AxisSample::default(); 2];
             let _ = sat.limit_feed(1e5, 2e5, &Point::x(), &st);
             let _ = planner.next(1e5, 1e6);
             n += 1;
@@ -96,7 +97,7 @@ fn per_tick_functions_do_not_allocate() {
 
     // A path of two curves run through their joint: the continuation, the planning over both
     // and the take-over of the step that crosses the joint.
-    let pieces = card_emu::nurbs::split_curve(4, 2, &ctrl, &w, &knots, 120).unwrap();
+    let pieces = card_emu::motion::nurbs::split_curve(4, 2, &ctrl, &w, &knots, 120).unwrap();
     assert_eq!(pieces.len(), 2);
     let mut first = Interpolator::new(pieces[0].clone(), cfg).unwrap();
     let mut second = Interpolator::new(pieces[1].clone(), cfg).unwrap();

@@ -7,8 +7,8 @@
 //! card and prints what happened. Without root they say so and check what they can in-process.
 mod common;
 
-use card_emu::server::{self, ConnectError, Server};
-use card_emu::shm::MappedWindow;
+use card_emu::emu::server::{self, ConnectError, Server};
+use card_emu::emu::shm::MappedWindow;
 use card_emu::{EmuOptions, Emulator};
 use common::{card_emu, open_when_ready, try_open, Proc};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};

@@ -690,8 +690,8 @@ fn panic_program_is_clean_under_valgrind() {
 }
 
 /// Serve an `emu:` card named `name` from this process on the real-time clock.
-fn serve_emu(name: &str) -> (card_emu::server::Server, card_emu::Runner) {
-    use card_emu::{server::Server, Clock, EmuOptions, Emulator, Runner};
+fn serve_emu(name: &str) -> (card_emu::emu::server::Server, card_emu::Runner) {
+    use card_emu::{emu::server::Server, Clock, EmuOptions, Emulator, Runner};
     use std::os::fd::AsFd;
     let emu = Emulator::create(name, &EmuOptions::new(2, 10_000)).unwrap();
     let window = emu.window().fd().try_clone_to_owned().unwrap();

@@ -1341,7 +1341,7 @@ pub struct AxisSettings {
 
 impl Default for AxisSettings {
     fn default() -> Self {
-        let c = card_emu::axis::AxisConfig::default();
+        let c = card_emu::firmware::axis::AxisConfig::default();
         Self {
             kp: c.gains.kp,
             ki: c.gains.ki,

@@ -9,8 +9,8 @@
 //! | `pci:DDDD:BB:DD.F` | sysfs `resource0` | none: polling |
 
 use crate::error::{Error, Result};
-use card_emu::server::{self, ConnectError};
-use card_emu::shm::MappedWindow;
+use card_emu::emu::server::{self, ConnectError};
+use card_emu::emu::shm::MappedWindow;
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use nix::fcntl::{Flock, FlockArg};
 use std::fs::{File, OpenOptions};

@@ -10,7 +10,7 @@ use firmware_proto::{
 };
 use std::time::Duration;
 
-pub use card_emu::filters::FilterKind;
+pub use card_emu::motion::filters::FilterKind;
 
 /// Where the tangential acceleration comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -670,12 +670,12 @@ impl FilterSettings {
     /// Shin Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog
     /// exponential 50 ms (the card's default).
     pub fn shin_table1() -> Self {
-        Self::from_preset(card_emu::filters::FilterPreset::shin_table1())
+        Self::from_preset(card_emu::motion::filters::FilterPreset::shin_table1())
     }
 
     /// Shin Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
     pub fn shin_table1_z() -> Self {
-        Self::from_preset(card_emu::filters::FilterPreset::shin_table1_z())
+        Self::from_preset(card_emu::motion::filters::FilterPreset::shin_table1_z())
     }
 
     /// One filter for every feed type.
@@ -687,7 +687,7 @@ impl FilterSettings {
         }
     }
 
-    fn from_preset(p: card_emu::filters::FilterPreset) -> Self {
+    fn from_preset(p: card_emu::motion::filters::FilterPreset) -> Self {
         Self {
             rapid: (p.rapid.kind, p.rapid.time_constant_s),
             cutting: (p.cutting.kind, p.cutting.time_constant_s),
@@ -705,7 +705,7 @@ impl Axis {
             finite("filter time constant", tau)?;
             w.write32(
                 layout::axis_filter(a, af::KIND + 4 * i),
-                card_emu::group::FilterConfig::kind_to_raw(kind),
+                card_emu::firmware::group::FilterConfig::kind_to_raw(kind),
             );
             w.write_f64(layout::axis_filter(a, af::TAU + 8 * i), tau);
         }

@@ -54,7 +54,7 @@ pub use safety::{
 pub use session::{STALE_MIN, STALE_TICKS};
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
-pub use card_emu::scurve as plan;
+pub use card_emu::motion::scurve as plan;
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {

@@ -31,7 +31,7 @@ use std::time::Duration;
 
 /// The card's default watchdog timeout.
 pub const WATCHDOG_TIMEOUT_DEFAULT: Duration =
-    Duration::from_micros(card_emu::safety::WATCHDOG_TIMEOUT_DEFAULT_US as u64);
+    Duration::from_micros(card_emu::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US as u64);
 
 /// The heartbeat period the SDK declares to the card, µs. The real-time heartbeat thread
 /// writes twice per period.
@@ -227,7 +227,7 @@ pub struct SafetySettings {
 impl Default for SafetySettings {
     /// The card's defaults, in counts.
     fn default() -> Self {
-        let c = card_emu::safety::AxisSafetyConfig::default();
+        let c = card_emu::firmware::axis_safety::AxisSafetyConfig::default();
         let has = |f: u32| c.flags & f != 0;
         Self {
             soft_limits: has(raw::MC_AXSAFE_SOFT_LIMITS)

@@ -1,5 +1,5 @@
 //! `card-emu`: serve an emulated motion card to other processes as `emu:NAME`.
-use card_emu::server::{resolve_group, PeerPolicy, Server};
+use card_emu::emu::server::{resolve_group, PeerPolicy, Server};
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use clap::Parser;
 use std::os::fd::AsFd;

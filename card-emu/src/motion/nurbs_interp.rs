@@ -1,21 +1,20 @@
-//! Speed-controlled NURBS interpolation with an actuator-saturation-aware feed, after
-//! S.-S. Yeh and J.-T. Sun, "NURBS Interpolation for Motion Systems with Actuator
-//! Saturation", CAD&A 5(6), 2008 (`/work/shared/papers/yeh-2008-…`), with the project's
-//! README corrections of eq 2.2 and eq 3.6.
+//! Speed-controlled NURBS interpolation (Yeh & Sun 2008, "NURBS Interpolation for Motion
+//! Systems with Actuator Saturation", eq 3.1 and its Newton corrections, with the papers'
+//! README corrections of eq 2.2 and eq 3.6): each servo tick the parameter advances by the
+//! step that covers the feed's distance along the curve, under a chord-error cap and a
+//! look-ahead profile of the speed the curve allows, with the jerk-limited path speed of
+//! [`super::path_speed`] and optionally the saturation-aware feed of [`super::saturation`].
 //!
-//! # Units
-//! Positions in encoder counts, time in seconds, axis speeds in counts/s, accelerations
-//! in counts/s², jerk in counts/s³. The drive output `u` is in *drive units* (DU): the
-//! plant of eq 2.2 maps 1 DU to a steady motor speed of `K_c` rad/s, i.e. to
-//! `K_c · K_e` counts/s (see [`die_bonder_preset`]).
+//! Units: positions in encoder counts, time in seconds, speeds in counts/s.
 //!
-//! # Per-tick rules
-//! [`Interpolator::advance`], [`Interpolator::tick`], [`Interpolator::tick_guarded`],
-//! [`PathSpeedPlanner::next`], [`SaturationAwareFeed::limit_feed`], [`PdPlus::update`] and
-//! [`Plant::step`] allocate nothing and never panic; construction (profile tables, arc
-//! length) allocates once.
+//! [`Interpolator::advance`], [`Interpolator::tick`] and [`Interpolator::tick_guarded`]
+//! allocate nothing and never panic; construction (profile tables, arc length) allocates once.
 
-use crate::nurbs::{clamped_uniform_knots, Nurbs, NurbsError, Point, MAX_DIM};
+use super::nurbs::{Nurbs, NurbsError, Point, MAX_DIM};
+use super::path_speed::PathSpeedPlanner;
+use super::pos_finite;
+use super::saturation::{AxisSample, FeedDecision, SaturationAwareFeed};
+use crate::servo::pdplus::ModelError;
 use core::fmt;
 
 /// Capacity of the look-ahead feed profile (samples along the curve).
@@ -27,7 +26,7 @@ pub const MAX_CORRECTIONS: u32 = 8;
 
 /// Errors of the interpolation layer.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum YehError {
+pub enum InterpError {
     /// The curve rejected an evaluation.
     Curve(NurbsError),
     /// Sample time not finite or not in (0, 1] s.
@@ -46,19 +45,15 @@ pub enum YehError {
     ZeroLengthCurve,
     /// An axis count does not match the curve / model dimension.
     DimensionMismatch { expected: usize, got: usize },
-    /// A PD+ gain is negative / not finite, or all of them vanish (axis index).
-    BadGain { axis: usize },
-    /// A plant constant (K_c, τ, K_e) is not finite and > 0 (axis index).
-    BadPlant { axis: usize },
-    /// Umax not finite and > 0 (axis index).
-    BadUmax { axis: usize },
+    /// A drive model (PD+ gains, drive constants, Umax) is refused.
+    Model(ModelError),
     /// Planning budget fraction not in (0, 1].
     BadBudget,
     /// A measured / predicted state fed to the saturation predictor is NaN or infinite.
     NonFiniteInput,
 }
 
-impl fmt::Display for YehError {
+impl fmt::Display for InterpError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Self::Curve(e) => write!(f, "curve: {e}"),
@@ -72,973 +67,29 @@ impl fmt::Display for YehError {
             Self::DimensionMismatch { expected, got } => {
                 write!(f, "expected {expected} axes, got {got}")
             }
-            Self::BadGain { axis } => write!(f, "axis {axis}: bad PD+ gains"),
-            Self::BadPlant { axis } => write!(f, "axis {axis}: bad plant constants"),
-            Self::BadUmax { axis } => write!(f, "axis {axis}: Umax must be finite and > 0"),
+            Self::Model(e) => write!(f, "{e}"),
             Self::BadBudget => write!(f, "budget fraction must be in (0, 1]"),
             Self::NonFiniteInput => write!(f, "non-finite state input"),
         }
     }
 }
 
-impl std::error::Error for YehError {}
+impl std::error::Error for InterpError {}
 
-impl From<NurbsError> for YehError {
+impl From<ModelError> for InterpError {
+    fn from(e: ModelError) -> Self {
+        match e {
+            ModelError::BadSampleTime => Self::BadSampleTime,
+            e => Self::Model(e),
+        }
+    }
+}
+
+impl From<NurbsError> for InterpError {
     fn from(e: NurbsError) -> Self {
         Self::Curve(e)
     }
 }
-
-fn pos_finite(x: f64) -> bool {
-    x.is_finite() && x > 0.0
-}
-
-// ---------------------------------------------------------------------------------------
-// Plant (eq 2.1–2.2) and PD+ law (eq 2.12)
-// ---------------------------------------------------------------------------------------
-
-/// First-order motor model of Yeh eq 2.1–2.2 as corrected in the README:
-/// `dw/dt = -w/τ + (K_c/τ)·u`, `dθ/dt = K_e·w` (w in rad/s, θ in counts, u in DU).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plant {
-    /// Electrical gain K_c: steady motor speed per drive unit, (rad/s)/DU.
-    pub k_c: f64,
-    /// Mechanical time constant τ, s.
-    pub tau: f64,
-    /// Mechanical gain K_e, counts/rad (1591.5494 = 10000/2π for a 10000-count encoder).
-    pub k_e: f64,
-}
-
-impl Plant {
-    /// Checks that all constants are finite and > 0 (`axis` only labels the error).
-    pub fn validate(&self, axis: usize) -> Result<(), YehError> {
-        if pos_finite(self.k_c) && pos_finite(self.tau) && pos_finite(self.k_e) {
-            Ok(())
-        } else {
-            Err(YehError::BadPlant { axis })
-        }
-    }
-
-    /// Steady-state axis speed per drive unit, (counts/s)/DU = K_c·K_e.
-    pub fn counts_gain(&self) -> f64 {
-        self.k_c * self.k_e
-    }
-
-    /// One sample of the plant with `u` held (zero-order hold), exact solution of eq 2.2
-    /// written in counts: with `v = K_e·w` (counts/s), `dv/dt = -v/τ + (K_c K_e/τ)·u`,
-    /// `dθ/dt = v`. Returns `(θ, v)` one sample `ts` later.
-    pub fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64) {
-        let g = self.counts_gain();
-        let a = (-ts / self.tau).exp();
-        let one_m_a = -(-ts / self.tau).exp_m1(); // 1 - a, accurate for small ts/τ
-        let vel_next = a * vel + one_m_a * g * u;
-        let theta_next = theta + self.tau * one_m_a * vel + g * u * (ts - self.tau * one_m_a);
-        (theta_next, vel_next)
-    }
-}
-
-/// PD+ gains in counts/seconds form (Yeh eq 2.12):
-/// `u = kp·(θ_d-θ) + kd·(θ̇_d-θ̇) + kv·θ̇_d + ka·θ̈_d`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PdPlusGains {
-    /// DU per count of position error (= Table 1 K_p).
-    pub kp: f64,
-    /// DU per count/s of speed error (= Table 1 K_d / K_e, since eq 2.12 applies K_d to w in rad/s).
-    pub kd: f64,
-    /// Speed feed-forward, DU per count/s (= 1/(K_c K_e), eq 2.12 term w_d/K_c).
-    pub kv: f64,
-    /// Acceleration feed-forward, DU per count/s² (= τ/(K_c K_e), eq 2.12 term τ ẇ_d/K_c).
-    pub ka: f64,
-}
-
-impl PdPlusGains {
-    /// Gains from the paper's form: eq 2.12 `u = K_d(w_d-w) + K_p(θ_d-θ) + (τ/K_c)ẇ_d + w_d/K_c`
-    /// with w = θ̇/K_e in rad/s, converted to counts.
-    pub fn from_paper(k_p: f64, k_d: f64, plant: &Plant) -> Self {
-        let g = plant.counts_gain();
-        Self {
-            kp: k_p,
-            kd: k_d / plant.k_e,
-            kv: 1.0 / g,
-            ka: plant.tau / g,
-        }
-    }
-
-    /// Checks finiteness and non-negativity; `axis` labels the error.
-    pub fn validate(&self, axis: usize) -> Result<(), YehError> {
-        let all = [self.kp, self.kd, self.kv, self.ka];
-        if all.iter().all(|g| g.is_finite() && *g >= 0.0) && all.iter().any(|g| *g > 0.0) {
-            Ok(())
-        } else {
-            Err(YehError::BadGain { axis })
-        }
-    }
-
-    /// `k_p' + k_d + k_v + k_a` of Yeh eq 3.5 (the README's corrected denominator of eq 3.6),
-    /// with `k_p' = kp·Ts` and the discrete `k_a = ka/Ts` (eq 3.4's `τ/(K_c T_s)`).
-    pub fn drive_coefficient(&self, ts: f64) -> f64 {
-        self.kp * ts + self.kd + self.kv + self.ka / ts
-    }
-}
-
-/// The PD+ servo law of Yeh eq 2.12 at sample time `ts`; the measured speed is the backward
-/// difference of the measured position (§3.2, `w_a[k] ≈ (θ_a[k]-θ_a[k-1])/T_s`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PdPlus {
-    gains: PdPlusGains,
-    ts: f64,
-    prev_meas: f64,
-    primed: bool,
-    fault: bool,
-}
-
-impl PdPlus {
-    /// New controller; the first `update` takes its measured speed as zero.
-    pub fn new(gains: PdPlusGains, ts: f64) -> Result<Self, YehError> {
-        gains.validate(0)?;
-        if !(pos_finite(ts) && ts <= 1.0) {
-            return Err(YehError::BadSampleTime);
-        }
-        Ok(Self {
-            gains,
-            ts,
-            prev_meas: 0.0,
-            primed: false,
-            fault: false,
-        })
-    }
-
-    /// Sets the previous measurement (measured speed zero at the next update).
-    pub fn reset(&mut self, meas_pos: f64) {
-        self.prev_meas = meas_pos;
-        self.primed = meas_pos.is_finite();
-        self.fault = false;
-    }
-
-    /// Gains in use.
-    pub fn gains(&self) -> PdPlusGains {
-        self.gains
-    }
-
-    /// True after an update saw a non-finite input or produced a non-finite output
-    /// (that update returned 0). Cleared by `reset`.
-    pub fn fault(&self) -> bool {
-        self.fault
-    }
-
-    /// Yeh eq 2.12 / 3.3: `u = kp(θ_d-θ_a) + kd(w_d-w_a) + kv·w_d + ka·α_d`, with
-    /// `w_a = (θ_a[k]-θ_a[k-1])/Ts`. Counts, counts/s, counts/s² in; DU out.
-    pub fn update(&mut self, ref_pos: f64, ref_vel: f64, ref_acc: f64, meas_pos: f64) -> f64 {
-        if !meas_pos.is_finite() {
-            self.fault = true;
-            return 0.0;
-        }
-        let w_a = if self.primed {
-            (meas_pos - self.prev_meas) / self.ts
-        } else {
-            0.0
-        };
-        self.prev_meas = meas_pos;
-        self.primed = true;
-        let g = &self.gains;
-        let u =
-            g.kp * (ref_pos - meas_pos) + g.kd * (ref_vel - w_a) + g.kv * ref_vel + g.ka * ref_acc;
-        if u.is_finite() {
-            u
-        } else {
-            self.fault = true;
-            0.0
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Saturation-aware feed (eq 3.3–3.10, §3.4)
-// ---------------------------------------------------------------------------------------
-
-/// One axis for the saturation predictor: PD+ gains, plant, and the drive limit.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AxisModel {
-    pub gains: PdPlusGains,
-    pub plant: Plant,
-    /// Drive limit Umax, DU (|u_a| ≤ Umax).
-    pub umax: f64,
-}
-
-impl AxisModel {
-    fn validate(&self, axis: usize) -> Result<(), YehError> {
-        self.gains.validate(axis)?;
-        self.plant.validate(axis)?;
-        if !pos_finite(self.umax) {
-            return Err(YehError::BadUmax { axis });
-        }
-        Ok(())
-    }
-}
-
-/// Plain-data state of one axis at the tick where the candidate reference is consumed
-/// (index k of eq 3.5): the previous reference and the actual (measured or predicted) state.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct AxisState {
-    /// θ_d\[k-1\], counts.
-    pub theta_d_prev: f64,
-    /// w_d\[k-1\] = (θ_d\[k-1\]-θ_d\[k-2\])/Ts, counts/s.
-    pub w_d_prev: f64,
-    /// θ_a\[k\], counts.
-    pub theta_a: f64,
-    /// w_a\[k\] = (θ_a\[k\]-θ_a\[k-1\])/Ts, counts/s.
-    pub w_a: f64,
-}
-
-impl AxisState {
-    /// State one tick ahead from the plant model: θ_a\[k+1\] from the model state
-    /// `(theta, vel)` at tick k with `u` held, and `w_a[k+1] = (θ_a[k+1]-θ_a[k])/Ts`.
-    /// Use this to predict u_a\[k+1\] when the next reference must be computed before the
-    /// next encoder read.
-    pub fn predicted(
-        plant: &Plant,
-        ts: f64,
-        theta: f64,
-        vel: f64,
-        u: f64,
-        theta_d_prev: f64,
-        w_d_prev: f64,
-    ) -> Self {
-        let (theta_next, _) = plant.step(ts, theta, vel, u);
-        Self {
-            theta_d_prev,
-            w_d_prev,
-            theta_a: theta_next,
-            w_a: (theta_next - theta) / ts,
-        }
-    }
-
-    fn is_finite(&self) -> bool {
-        self.theta_d_prev.is_finite()
-            && self.w_d_prev.is_finite()
-            && self.theta_a.is_finite()
-            && self.w_a.is_finite()
-    }
-}
-
-/// Result of one saturation check (§3.4 steps 1–8).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct FeedDecision {
-    /// Feed handed to the interpolator, counts/s.
-    pub feed: f64,
-    /// Feed that was asked for.
-    pub requested: f64,
-    /// Feasible feed interval `[v_min, v_max]` from eq 3.6 on every axis (empty when
-    /// `v_min > v_max`).
-    pub v_min: f64,
-    pub v_max: f64,
-    /// Feed lowered below the request (eq 3.10 first case).
-    pub limited: bool,
-    /// Feed raised above the request (eq 3.10 third case: an axis cannot slow down faster).
-    pub raised: bool,
-    /// Some feed keeps every |u_a| ≤ Umax.
-    pub feasible: bool,
-    /// Predicted max over axes of |u_a\[k\]| / Umax at the chosen feed.
-    pub max_drive_ratio: f64,
-}
-
-/// Yeh's saturation-aware feed for up to `MAX_DIM` axes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SaturationAwareFeed {
-    axes: [AxisModel; MAX_DIM],
-    dim: usize,
-    ts: f64,
-}
-
-impl SaturationAwareFeed {
-    /// Validates `axes` (1..=MAX_DIM of them) and `ts`.
-    pub fn new(axes: &[AxisModel], ts: f64) -> Result<Self, YehError> {
-        if axes.is_empty() || axes.len() > MAX_DIM {
-            return Err(YehError::DimensionMismatch {
-                expected: MAX_DIM,
-                got: axes.len(),
-            });
-        }
-        if !(pos_finite(ts) && ts <= 1.0) {
-            return Err(YehError::BadSampleTime);
-        }
-        let filler = axes[0];
-        let mut arr = [filler; MAX_DIM];
-        for (i, (dst, a)) in arr.iter_mut().zip(axes.iter()).enumerate() {
-            a.validate(i)?;
-            *dst = *a;
-        }
-        Ok(Self {
-            axes: arr,
-            dim: axes.len(),
-            ts,
-        })
-    }
-
-    /// Number of axes.
-    pub fn dim(&self) -> usize {
-        self.dim
-    }
-    /// Sample time, s.
-    pub fn ts(&self) -> f64 {
-        self.ts
-    }
-    /// Axis `j` (None when out of range).
-    pub fn axis(&self, j: usize) -> Option<&AxisModel> {
-        self.axes[..self.dim].get(j)
-    }
-
-    fn coeff(&self, j: usize) -> f64 {
-        self.axes[j].gains.drive_coefficient(self.ts)
-    }
-
-    /// `v[k] = k_p(θ_d[k-1]-θ_a[k]) - k_d w_a[k] - k_a w_d[k-1]` (Yeh eq 3.5, discrete
-    /// k_a = ka/Ts): the part of u_a\[k\] that does not depend on the new speed command.
-    fn free_part(&self, j: usize, st: &AxisState) -> f64 {
-        let g = &self.axes[j].gains;
-        g.kp * (st.theta_d_prev - st.theta_a) - g.kd * st.w_a - g.ka / self.ts * st.w_d_prev
-    }
-
-    /// Predicted drive output for speed command `w_d` on axis `j` (Yeh eq 3.5):
-    /// `u_a[k] = (k_p'+k_d+k_v+k_a)·w_d[k] + v[k]`. NaN for an axis out of range.
-    pub fn predict_drive(&self, j: usize, st: &AxisState, w_d: f64) -> f64 {
-        if j >= self.dim {
-            return f64::NAN;
-        }
-        self.coeff(j) * w_d + self.free_part(j, st)
-    }
-
-    /// Speed window of axis `j` (Yeh eq 3.6 with the README's denominator):
-    /// `(-Umax - v[k])/(k_p'+k_d+k_v+k_a) ≤ w_d[k] ≤ (Umax - v[k])/(k_p'+k_d+k_v+k_a)`.
-    pub fn speed_window(&self, j: usize, st: &AxisState) -> (f64, f64) {
-        if j >= self.dim {
-            return (f64::NAN, f64::NAN);
-        }
-        let c = self.coeff(j);
-        let v = self.free_part(j, st);
-        let um = self.axes[j].umax * (1.0 - GUARD_MARGIN);
-        ((-um - v) / c, (um - v) / c)
-    }
-
-    /// §3.4 steps 1–8: given the requested feed `v_req` (counts/s), the unit direction of the
-    /// axis speed command (`dir`, eq 3.7: `w_d = dir·V`; Yeh uses `D_i^u/‖D_i^u‖`), the
-    /// per-axis state and a ceiling the feed may not exceed, return the feed closest to the
-    /// request that keeps every predicted |u_a| ≤ Umax (eq 3.10 on every axis, min/max over
-    /// axes as in steps 5–6). If no feed in `[0, v_ceiling]` does, the one that minimises the
-    /// largest relative overshoot is returned with `feasible = false`.
-    pub fn limit_feed(
-        &self,
-        v_req: f64,
-        v_ceiling: f64,
-        dir: &Point,
-        states: &[AxisState],
-    ) -> Result<FeedDecision, YehError> {
-        if states.len() < self.dim {
-            return Err(YehError::DimensionMismatch {
-                expected: self.dim,
-                got: states.len(),
-            });
-        }
-        if !(v_req.is_finite() && v_req >= 0.0 && v_ceiling.is_finite() && v_ceiling >= 0.0) {
-            return Err(YehError::BadFeed);
-        }
-        if dir.iter().any(|d| !d.is_finite()) || states[..self.dim].iter().any(|s| !s.is_finite()) {
-            return Err(YehError::NonFiniteInput);
-        }
-        let ceiling = v_ceiling.max(v_req);
-        let mut v_min = 0.0f64;
-        let mut v_max = ceiling;
-        let mut axis_blocked = false;
-        for j in 0..self.dim {
-            // Step 2–3: axis window (eq 3.6) mapped through w_d^j = V·dir_j (eq 3.7) into a
-            // feed interval (eq 3.10: V ≤ |w^max/D^j| or V ≥ |w^min/D^j|).
-            let (lo, hi) = self.speed_window(j, &states[j]);
-            let d = dir[j];
-            if d > 0.0 {
-                v_min = v_min.max(lo / d);
-                v_max = v_max.min(hi / d);
-            } else if d < 0.0 {
-                v_min = v_min.max(hi / d);
-                v_max = v_max.min(lo / d);
-            } else if !(lo <= 0.0 && 0.0 <= hi) {
-                axis_blocked = true;
-            }
-        }
-        // Step 5–6: the intersection over axes; steps 7–8: modified or unmodified feed.
-        let feasible = !axis_blocked && v_min <= v_max;
-        let feed = if feasible {
-            v_req.clamp(v_min, v_max)
-        } else {
-            self.least_violation(ceiling, dir, states)
-        };
-        Ok(FeedDecision {
-            feed,
-            requested: v_req,
-            v_min,
-            v_max,
-            limited: feed < v_req,
-            raised: feed > v_req,
-            feasible,
-            max_drive_ratio: self.drive_ratio(feed, dir, states),
-        })
-    }
-
-    /// max_j |u_a^j| / Umax_j for the axis speed commands `w_d = dir·v`.
-    fn drive_ratio(&self, v: f64, dir: &Point, states: &[AxisState]) -> f64 {
-        let mut worst = 0.0f64;
-        for j in 0..self.dim.min(states.len()) {
-            let u = self.predict_drive(j, &states[j], v * dir[j]);
-            worst = worst.max(u.abs() / self.axes[j].umax);
-        }
-        worst
-    }
-
-    /// Predicted max_j |u_a^j|/Umax_j for explicit axis speed commands `w_d` (counts/s).
-    pub fn drive_ratio_for(&self, w_d: &Point, states: &[AxisState]) -> f64 {
-        let mut worst = 0.0f64;
-        for j in 0..self.dim.min(states.len()) {
-            let u = self.predict_drive(j, &states[j], w_d[j]);
-            worst = worst.max(u.abs() / self.axes[j].umax);
-        }
-        worst
-    }
-
-    /// Golden-section search of the convex function `V ↦ max_j |u_j(V)|/Umax_j` on [0, hi].
-    fn least_violation(&self, hi: f64, dir: &Point, states: &[AxisState]) -> f64 {
-        let g = 0.618_033_988_749_894_9;
-        let (mut a, mut b) = (0.0, hi);
-        let mut x1 = b - g * (b - a);
-        let mut x2 = a + g * (b - a);
-        let mut f1 = self.drive_ratio(x1, dir, states);
-        let mut f2 = self.drive_ratio(x2, dir, states);
-        for _ in 0..80 {
-            if f1 <= f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = self.drive_ratio(x1, dir, states);
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = self.drive_ratio(x2, dir, states);
-            }
-        }
-        let mid = 0.5 * (a + b);
-        // the ends of the interval are candidates too (piecewise-linear, possibly flat)
-        let mut best = (self.drive_ratio(mid, dir, states), mid);
-        for v in [0.0, hi] {
-            let r = self.drive_ratio(v, dir, states);
-            if r < best.0 {
-                best = (r, v);
-            }
-        }
-        best.1
-    }
-
-    /// A tangential deceleration (counts/s²) every axis can give with `budget`·Umax on a
-    /// straight path: braking, |kv·w − ka·d| ≤ budget·Umax holds for any speed when
-    /// d ≤ budget·Umax/ka.
-    pub fn safe_path_decel(&self, budget: f64) -> f64 {
-        let mut best = f64::INFINITY;
-        for a in &self.axes[..self.dim] {
-            if a.gains.ka > 0.0 {
-                best = best.min(budget * a.umax / a.gains.ka);
-            }
-        }
-        best.max(0.0)
-    }
-
-    /// A conservative tangential acceleration (counts/s²) every axis can give at path speed
-    /// `v` with `budget`·Umax (steady-state PD+: u ≈ kv·w + ka·α): the worst axis, worst
-    /// direction. Useful to set `InterpConfig::accel`.
-    pub fn safe_path_accel(&self, v: f64, budget: f64) -> f64 {
-        let mut best = f64::INFINITY;
-        for a in &self.axes[..self.dim] {
-            let room = budget * a.umax - a.gains.kv * v.abs();
-            let acc = if a.gains.ka > 0.0 {
-                room / a.gains.ka
-            } else {
-                f64::INFINITY
-            };
-            best = best.min(acc);
-        }
-        best.max(0.0)
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Path-speed planner (jerk-limited S-curve along the path)
-// ---------------------------------------------------------------------------------------
-
-/// Relative margin below the jerk and deceleration limits with which the planner decides
-/// when to stop: the stop it then follows may use the full limits, so the small corrections a
-/// stop needs on a curve (the remaining length is re-estimated every tick) always fit.
-pub const PLAN_MARGIN: f64 = 1e-3;
-
-/// Up to seven phases of constant jerk: a piece of a continuous path-speed profile (speed and
-/// acceleration continuous, |jerk| ≤ J).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct Phases {
-    j: [f64; 7],
-    t: [f64; 7],
-    n: usize,
-}
-
-impl Phases {
-    fn push(&mut self, j: f64, t: f64) {
-        if t > 0.0 && t.is_finite() && self.n < 7 {
-            self.j[self.n] = j;
-            self.t[self.n] = t;
-            self.n += 1;
-        }
-    }
-
-    fn duration(&self) -> f64 {
-        self.t[..self.n].iter().sum()
-    }
-
-    /// Distance, speed and acceleration `dt` into the profile started at (v, a). Every
-    /// profile ends with a = 0; after its end the speed is held.
-    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
-        let (mut d, mut v, mut a, mut left) = (0.0, v, a, dt);
-        for k in 0..self.n {
-            if left <= 0.0 {
-                return (d, v, a);
-            }
-            let t = self.t[k].min(left);
-            let j = self.j[k];
-            d += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
-            a += j * t;
-            if t < self.t[k] {
-                return (d, v, a);
-            }
-            left -= t;
-        }
-        if left > 0.0 {
-            d += v * left;
-        }
-        (d, v, 0.0)
-    }
-
-    /// Distance of the whole profile from (v, a).
-    fn distance(&self, v: f64, a: f64) -> f64 {
-        let (mut d, mut v, mut a) = (0.0, v, a);
-        for k in 0..self.n {
-            let (t, j) = (self.t[k], self.j[k]);
-            d += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
-            a += j * t;
-        }
-        d
-    }
-}
-
-/// Scalar jerk-limited speed planner along the path. Its state is a continuous profile of the
-/// path speed v(t) with a = dv/dt ∈ [−D, A] and |da/dt| ≤ J, integrated exactly over each
-/// tick, and each tick's step is the distance that profile covers in the tick. Because a tick's
-/// step over Ts is the mean of v over the tick, the sampled feed (step/Ts), its first and its
-/// second difference over Ts and Ts² are weighted means of v, a and j: they keep the same
-/// limits, up to rounding.
-///
-/// Each tick it follows the time-optimal ramp toward the target speed unless that would leave
-/// less room than a stop needs (planned with [`PLAN_MARGIN`] below the limits); from then on it
-/// follows a stop that comes to rest exactly at the remaining distance, re-solved every tick
-/// from the current state (so a remaining distance that grows, because more path was queued,
-/// lets it speed up again without a jump).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathSpeedPlanner {
-    ts: f64,
-    amax: f64,
-    dmax: f64,
-    jmax: f64,
-    v: f64,
-    a: f64,
-    stopping: bool,
-    lands: bool,
-}
-
-impl PathSpeedPlanner {
-    /// New planner at rest with acceleration and deceleration limit `amax` and jerk `jmax`.
-    pub fn new(ts: f64, amax: f64, jmax: f64) -> Result<Self, YehError> {
-        if !(pos_finite(ts) && ts <= 1.0) {
-            return Err(YehError::BadSampleTime);
-        }
-        if !pos_finite(amax) {
-            return Err(YehError::BadAccel);
-        }
-        if !pos_finite(jmax) {
-            return Err(YehError::BadJerk);
-        }
-        Ok(Self {
-            ts,
-            amax,
-            dmax: amax,
-            jmax,
-            v: 0.0,
-            a: 0.0,
-            stopping: false,
-            lands: false,
-        })
-    }
-
-    /// Sets a separate (usually lower) deceleration limit, counts/s².
-    pub fn with_decel(mut self, dmax: f64) -> Result<Self, YehError> {
-        if !pos_finite(dmax) {
-            return Err(YehError::BadAccel);
-        }
-        self.dmax = dmax;
-        Ok(self)
-    }
-
-    /// Path speed at the end of the last tick, counts/s.
-    pub fn speed(&self) -> f64 {
-        self.v
-    }
-    /// Path acceleration at the end of the last tick, counts/s².
-    pub fn accel(&self) -> f64 {
-        self.a
-    }
-    /// Acceleration limit, counts/s².
-    pub fn accel_limit(&self) -> f64 {
-        self.amax
-    }
-    /// Deceleration limit in use, counts/s².
-    pub fn decel_limit(&self) -> f64 {
-        self.dmax
-    }
-    /// Jerk limit, counts/s³.
-    pub fn jerk_limit(&self) -> f64 {
-        self.jmax
-    }
-    /// True while the planner follows a stop at the remaining distance.
-    pub fn is_stopping(&self) -> bool {
-        self.stopping
-    }
-    /// True when the last tick's stop came to rest within the tick (at the remaining distance).
-    pub fn lands(&self) -> bool {
-        self.lands
-    }
-
-    /// Takes over the motion state of another planner (the previous curve of a path).
-    pub fn continue_from(&mut self, other: &PathSpeedPlanner) {
-        self.v = other.v;
-        self.a = other.a.clamp(-self.dmax, self.amax);
-        self.stopping = other.stopping;
-        self.lands = false;
-    }
-
-    /// Jerk and deceleration the stop decision is planned with.
-    fn plan_limits(&self) -> (f64, f64) {
-        (
-            self.jmax * (1.0 - PLAN_MARGIN),
-            self.dmax * (1.0 - PLAN_MARGIN),
-        )
-    }
-
-    /// Time-optimal jerk-limited ramp from (v, a) to speed `tgt` with a = 0 at the end.
-    fn track_phases(&self, v: f64, a: f64, tgt: f64) -> Phases {
-        let j = self.jmax;
-        let mut p = Phases::default();
-        let a = a.clamp(-self.dmax, self.amax);
-        // the speed reached by bringing a to zero at once
-        let flat = v + a * a.abs() / (2.0 * j);
-        if tgt >= flat {
-            let dv = tgt - v;
-            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
-            let mut th = 0.0;
-            if ap > self.amax {
-                ap = self.amax;
-                th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
-            }
-            let ap = ap.max(a);
-            p.push(j, (ap - a) / j);
-            p.push(0.0, th);
-            p.push(-j, ap / j);
-        } else {
-            let dv = v - tgt;
-            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
-            let mut th = 0.0;
-            if dp > self.dmax {
-                dp = self.dmax;
-                th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
-            }
-            let dp = dp.max(-a);
-            p.push(-j, (a + dp) / j);
-            p.push(0.0, th);
-            p.push(j, dp / j);
-        }
-        p
-    }
-
-    /// A stop from (v, a) through a peak deceleration `ap`: jerk toward −ap, hold it, jerk +J
-    /// back to zero, ending at rest.
-    fn brake_phases(v: f64, a: f64, ap: f64, j: f64) -> Phases {
-        let mut p = Phases::default();
-        let t1 = (a + ap).abs() / j;
-        let j1 = if a + ap >= 0.0 { -j } else { j };
-        let v1 = v + 0.5 * (a - ap) * t1;
-        let th = ((v1 - ap * ap / (2.0 * j)) / ap).max(0.0);
-        p.push(j1, t1);
-        p.push(0.0, th);
-        p.push(j, ap / j);
-        p
-    }
-
-    /// The distance of `brake_phases(v, a, ap, j)`, in closed form.
-    fn brake_distance(v: f64, a: f64, ap: f64, j: f64) -> f64 {
-        let t1 = (a + ap).abs() / j;
-        let j1 = if a + ap >= 0.0 { -j } else { j };
-        let d1 = t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0));
-        let v1 = v + 0.5 * (a - ap) * t1;
-        let v2 = ap * ap / (2.0 * j);
-        let d2 = if v1 > v2 {
-            (v1 * v1 - v2 * v2) / (2.0 * ap)
-        } else {
-            0.0
-        };
-        // the last phase from (v2', −ap) with v2' = v1 when there is no hold
-        let v3 = v1.min(v2);
-        let t3 = ap / j;
-        d1 + d2 + t3 * (v3 + t3 * (-0.5 * ap + t3 * j / 6.0))
-    }
-
-    /// The peak deceleration of the shortest stop from (v, a) with deceleration ≤ `d` and jerk
-    /// `j`; None when the state cannot come to rest without a jump in acceleration (braking so
-    /// hard that the speed reaches zero before the acceleration does).
-    fn brake_peak(v: f64, a: f64, d: f64, j: f64) -> Option<f64> {
-        let opt = (j * v.max(0.0) + 0.5 * a * a).sqrt();
-        let ap = d.min(opt).max(-a);
-        (a >= -opt * (1.0 + 1e-12) && ap > 0.0).then_some(ap)
-    }
-
-    /// Distance to come to rest (v = 0, a = 0) from speed `v ≥ 0` and acceleration `a`
-    /// with deceleration ≤ `dmax` and jerk `jmax` (time-optimal stop).
-    pub fn stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
-        let v = v.max(0.0);
-        if v == 0.0 && a <= 0.0 {
-            return 0.0;
-        }
-        match Self::brake_peak(v, a, dmax, jmax) {
-            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
-            None => {
-                // release at +J until the speed is zero
-                let t = (-a - (a * a - 2.0 * jmax * v).max(0.0).sqrt()) / jmax;
-                (v * t + 0.5 * a * t * t + jmax * t * t * t / 6.0).max(0.0)
-            }
-        }
-    }
-
-    /// Distance of the shortest stop from (v, a) that ends with a = 0 (∞ when none does).
-    fn clean_stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
-        let v = v.max(0.0);
-        if v == 0.0 && a <= 0.0 {
-            return if a == 0.0 { 0.0 } else { f64::INFINITY };
-        }
-        match Self::brake_peak(v, a, dmax, jmax) {
-            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
-            None => f64::INFINITY,
-        }
-    }
-
-    /// Distance needed from the current state to slow to `v_target` (0 when already there).
-    pub fn slowing_distance(&self, v_target: f64) -> f64 {
-        self.slowing_distance_from(self.v, self.a, v_target)
-    }
-
-    /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`
-    /// covers (0 when no slowing is needed).
-    pub fn slowing_distance_from(&self, v: f64, a: f64, v_target: f64) -> f64 {
-        let vt = v_target.max(0.0);
-        if v <= vt && a <= 0.0 {
-            return 0.0;
-        }
-        self.track_phases(v, a, vt).distance(v, a).max(0.0)
-    }
-
-    /// One tick of the time-optimal ramp toward `tgt`: (distance, speed, acceleration) at the
-    /// end of the tick.
-    pub fn track_step(&self, tgt: f64) -> (f64, f64, f64) {
-        let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
-        self.track_phases(self.v, self.a, tgt)
-            .sample(self.v, self.a, self.ts)
-    }
-
-    /// The root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)): regula falsi with the
-    /// Illinois modification (superlinear), falling back to bisection when it stalls; stops
-    /// when |f| ≤ `tol` or the bracket cannot shrink. Returns the end of the final bracket
-    /// where f ≤ 0 (or the point where |f| ≤ tol).
-    fn solve_decreasing(mut lo: f64, mut hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
-        let (mut flo, mut fhi) = (f(lo), f(hi));
-        if flo <= tol {
-            return lo;
-        }
-        if fhi >= -tol {
-            return hi;
-        }
-        let mut side = 0i8;
-        for k in 0..200 {
-            let mut x = (lo * fhi - hi * flo) / (fhi - flo);
-            if k % 8 == 7 || !(x > lo && x < hi) {
-                x = 0.5 * (lo + hi); // every 8th step, and when false position leaves the bracket
-            }
-            if !(x > lo && x < hi) {
-                break;
-            }
-            let fx = f(x);
-            if fx.abs() <= tol {
-                return x;
-            }
-            if fx > 0.0 {
-                lo = x;
-                flo = fx;
-                if side == 1 {
-                    fhi *= 0.5;
-                }
-                side = 1;
-            } else {
-                hi = x;
-                fhi = fx;
-                if side == -1 {
-                    flo *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        hi
-    }
-
-    /// A stop from (v, a) that comes to rest after `r`: the time-optimal stop's shape with a
-    /// lower peak deceleration (longer) or, within the full limits, a higher one (shorter);
-    /// from (near) rest, a short ramp up and down. When no stop fits, the nearest.
-    fn stop_phases(&self, v: f64, a: f64, r: f64, tgt: f64) -> Phases {
-        let (jp, dp) = self.plan_limits();
-        let mut longest = None;
-        for (j, d) in [(jp, dp), (self.jmax, self.dmax)] {
-            let Some(hi) = Self::brake_peak(v, a, d, j) else {
-                continue;
-            };
-            let shortest = Self::brake_phases(v, a, hi, j);
-            if shortest.distance(v, a) > r {
-                if j == self.jmax {
-                    // cannot stop in time even at the full limits: the shortest stop
-                    return shortest;
-                }
-                continue;
-            }
-            let lo = hi * 1e-9;
-            let long = Self::brake_phases(v, a, lo, j);
-            if long.distance(v, a) < r {
-                longest = Some(long);
-                continue;
-            }
-            let dist = |ap: f64| Self::brake_distance(v, a, ap, j) - r;
-            let ap = Self::solve_decreasing(lo, hi, 1e-13 * r, dist);
-            return Self::brake_phases(v, a, ap, j);
-        }
-        // Too far for a stop from here (at or near rest): ramp up to a peak speed and stop.
-        let j = self.jmax;
-        let ramp = |vp: f64| {
-            let mut p = self.track_phases(v, a, vp);
-            let ap = self.dmax.min((j * vp).sqrt());
-            let b = Self::brake_phases(vp, 0.0, ap, j);
-            for k in 0..b.n {
-                p.push(b.j[k], b.t[k]);
-            }
-            p
-        };
-        let v_lo = (v + a * a.abs() / (2.0 * j)).max(0.0);
-        let v_hi = tgt.max(v_lo);
-        if ramp(v_hi).distance(v, a) <= r {
-            return ramp(v_hi);
-        }
-        if ramp(v_lo).distance(v, a) <= r {
-            let vp =
-                Self::solve_decreasing(v_lo, v_hi, 1e-13 * r, |vp| r - ramp(vp).distance(v, a));
-            return ramp(vp);
-        }
-        longest.unwrap_or_else(|| ramp(v_lo))
-    }
-
-    /// One tick: returns the mean path speed over this tick (the step is that times Ts).
-    /// `v_target` is the speed wanted now (commanded feed lowered by look-ahead limits),
-    /// `remaining` the path length to the point where the motion must be at rest (counts).
-    pub fn next(&mut self, v_target: f64, remaining: f64) -> f64 {
-        let ts = self.ts;
-        let remaining = if remaining.is_nan() {
-            0.0
-        } else {
-            remaining.max(0.0)
-        };
-        let tgt = if v_target.is_nan() {
-            0.0
-        } else {
-            v_target.max(0.0)
-        };
-        if !(self.v.is_finite() && self.a.is_finite()) {
-            // (cannot happen from finite inputs; a state it cannot follow restarts at rest)
-            self.rest();
-        }
-        let (v, a) = (self.v, self.a);
-        self.lands = false;
-        if v <= 0.0 && a <= 0.0 && remaining <= 0.0 {
-            self.v = 0.0;
-            self.a = 0.0;
-            self.lands = true;
-            return 0.0;
-        }
-        let (jp, dp) = self.plan_limits();
-        let (ds, v1, a1) = self.track_phases(v, a, tgt).sample(v, a, ts);
-        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
-            self.v = v1.max(0.0);
-            self.a = a1;
-            self.stopping = false;
-            return ds / ts;
-        }
-        self.stopping = true;
-        let stop = self.stop_phases(v, a, remaining, tgt);
-        let (ds, v1, a1) = stop.sample(v, a, ts);
-        if stop.duration() <= ts {
-            self.v = 0.0;
-            self.a = 0.0;
-            self.lands = true;
-        } else {
-            self.v = v1.max(0.0);
-            self.a = a1;
-        }
-        (ds / ts).max(0.0)
-    }
-
-    /// Re-synchronises the planner after a downstream limit changed the tick's mean speed
-    /// from `v_planned` to `v_used`: the end speed moves by the same amount, the acceleration
-    /// is kept (within the limits), and the ramp toward the target continues from there.
-    pub fn resync(&mut self, v_used: f64, v_planned: f64) {
-        if !v_used.is_finite() || (v_used - v_planned).abs() <= 1e-12 * (1.0 + v_planned.abs()) {
-            return;
-        }
-        self.v = (self.v + v_used - v_planned).max(0.0);
-        self.a = self.a.clamp(-self.dmax, self.amax);
-        if self.v == 0.0 {
-            self.a = self.a.max(0.0);
-        }
-        self.lands = false;
-    }
-
-    /// Sets the state to rest.
-    fn rest(&mut self) {
-        self.v = 0.0;
-        self.a = 0.0;
-        self.stopping = false;
-        self.lands = false;
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Interpolator
-// ---------------------------------------------------------------------------------------
 
 /// Interpolator settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1072,24 +123,24 @@ impl Default for InterpConfig {
 
 impl InterpConfig {
     /// Checks every field.
-    pub fn validate(&self) -> Result<(), YehError> {
+    pub fn validate(&self) -> Result<(), InterpError> {
         if !(pos_finite(self.ts) && self.ts <= 1.0) {
-            return Err(YehError::BadSampleTime);
+            return Err(InterpError::BadSampleTime);
         }
         if !pos_finite(self.feed) {
-            return Err(YehError::BadFeed);
+            return Err(InterpError::BadFeed);
         }
         if !pos_finite(self.accel) {
-            return Err(YehError::BadAccel);
+            return Err(InterpError::BadAccel);
         }
         if !pos_finite(self.jerk) {
-            return Err(YehError::BadJerk);
+            return Err(InterpError::BadJerk);
         }
         if !pos_finite(self.chord_tol) {
-            return Err(YehError::BadChordTolerance);
+            return Err(InterpError::BadChordTolerance);
         }
         if self.max_corrections > MAX_CORRECTIONS {
-            return Err(YehError::BadCorrections);
+            return Err(InterpError::BadCorrections);
         }
         Ok(())
     }
@@ -1401,7 +452,7 @@ fn unit_tangent_and_curvature(d1: &Point, d2: &Point) -> (Point, Point) {
 
 impl Interpolator {
     /// Interpolator with the chord-error / tangential-acceleration look-ahead profile.
-    pub fn new(curve: Nurbs, cfg: InterpConfig) -> Result<Self, YehError> {
+    pub fn new(curve: Nurbs, cfg: InterpConfig) -> Result<Self, InterpError> {
         Self::build(curve, cfg, None)
     }
 
@@ -1419,12 +470,12 @@ impl Interpolator {
         cfg: InterpConfig,
         sat: &SaturationAwareFeed,
         budget: f64,
-    ) -> Result<Self, YehError> {
+    ) -> Result<Self, InterpError> {
         if !(pos_finite(budget) && budget <= 1.0) {
-            return Err(YehError::BadBudget);
+            return Err(InterpError::BadBudget);
         }
         if sat.dim() != curve.dim() {
-            return Err(YehError::DimensionMismatch {
+            return Err(InterpError::DimensionMismatch {
                 expected: curve.dim(),
                 got: sat.dim(),
             });
@@ -1436,7 +487,7 @@ impl Interpolator {
         curve: Nurbs,
         cfg: InterpConfig,
         act: Option<ActuatorPlan<'_>>,
-    ) -> Result<Self, YehError> {
+    ) -> Result<Self, InterpError> {
         cfg.validate()?;
         let mut planner = PathSpeedPlanner::new(cfg.ts, cfg.accel, cfg.jerk)?;
         if let Some(a) = act {
@@ -1451,7 +502,7 @@ impl Interpolator {
             .collect();
         let length = profile.last().map_or(0.0, |p| p.s);
         if !(length.is_finite() && length > 0.0) {
-            return Err(YehError::ZeroLengthCurve);
+            return Err(InterpError::ZeroLengthCurve);
         }
         let (u0, u_end) = curve.domain();
         let (pos, d1, d2) = curve.eval(u0)?;
@@ -1840,9 +891,9 @@ impl Interpolator {
     /// One sample at feed `v` (counts/s) with no planner and no limits: the chord
     /// |C(u_{k+1}) − C(u_k)| equals `v·Ts` (to 1e-12 relative when corrections are allowed),
     /// except the last step, which lands on C(u_end). After the end, holds it.
-    pub fn advance(&mut self, v: f64) -> Result<Tick, YehError> {
+    pub fn advance(&mut self, v: f64) -> Result<Tick, InterpError> {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(YehError::BadFeed);
+            return Err(InterpError::BadFeed);
         }
         if self.done {
             return Ok(self.hold());
@@ -1856,9 +907,9 @@ impl Interpolator {
     /// step: this tick's point is where this curve is at the planned step's chord length from
     /// the point `prev` started the step at, so the feed stays what was planned across the
     /// joint; the path-speed planner carries on from `prev`'s state.
-    pub fn take_over(&mut self, prev: &Interpolator) -> Result<Tick, YehError> {
+    pub fn take_over(&mut self, prev: &Interpolator) -> Result<Tick, InterpError> {
         if prev.curve.dim() != self.curve.dim() {
-            return Err(YehError::DimensionMismatch {
+            return Err(InterpError::DimensionMismatch {
                 expected: self.curve.dim(),
                 got: prev.curve.dim(),
             });
@@ -2075,7 +1126,7 @@ impl Interpolator {
 
     /// One sample with the path-speed planner (jerk-limited ramps, stop at the end) and
     /// the look-ahead / chord-error caps. Holds the end point once reached.
-    pub fn tick(&mut self) -> Result<Tick, YehError> {
+    pub fn tick(&mut self) -> Result<Tick, InterpError> {
         self.tick_into(None)
     }
 
@@ -2083,7 +1134,7 @@ impl Interpolator {
     /// [`continuation`](Self::continuation)): the motion does not stop at this curve's end;
     /// the step that crosses it ends short (`done`), and [`take_over`](Self::take_over) on the
     /// next curve takes the rest of it.
-    pub fn tick_into(&mut self, next: Option<Continuation<'_>>) -> Result<Tick, YehError> {
+    pub fn tick_into(&mut self, next: Option<Continuation<'_>>) -> Result<Tick, InterpError> {
         if self.done {
             return Ok(self.hold());
         }
@@ -2095,7 +1146,7 @@ impl Interpolator {
 
     /// One sample with Yeh's saturation-aware feed (§3.4): the planned feed is checked
     /// against eq 3.5–3.6 on every axis with the actual axis state `theta_a` = θ_a\[k\] and
-    /// `w_a` = w_a\[k\] (measured this tick, or predicted with [`AxisState::predicted`]) and
+    /// `w_a` = w_a\[k\] (measured this tick, or predicted with [`AxisSample::predicted`]) and
     /// lowered (eq 3.8–3.10) — or raised when an axis cannot slow down that fast — before
     /// the step is taken. The axis speed command is the exact chord over Ts; its direction
     /// starts as the tangent (eq 3.7) and is refined with the chord of the candidate step.
@@ -2104,7 +1155,7 @@ impl Interpolator {
         sat: &SaturationAwareFeed,
         theta_a: &Point,
         w_a: &Point,
-    ) -> Result<(Tick, FeedDecision), YehError> {
+    ) -> Result<(Tick, FeedDecision), InterpError> {
         self.tick_guarded_into(sat, theta_a, w_a, None)
     }
 
@@ -2116,20 +1167,20 @@ impl Interpolator {
         theta_a: &Point,
         w_a: &Point,
         next: Option<Continuation<'_>>,
-    ) -> Result<(Tick, FeedDecision), YehError> {
+    ) -> Result<(Tick, FeedDecision), InterpError> {
         let dim = self.curve.dim();
         if sat.dim() != dim {
-            return Err(YehError::DimensionMismatch {
+            return Err(InterpError::DimensionMismatch {
                 expected: dim,
                 got: sat.dim(),
             });
         }
         if theta_a.iter().any(|x| !x.is_finite()) || w_a.iter().any(|x| !x.is_finite()) {
-            return Err(YehError::NonFiniteInput);
+            return Err(InterpError::NonFiniteInput);
         }
-        let mut states = [AxisState::default(); MAX_DIM];
+        let mut states = [AxisSample::default(); MAX_DIM];
         for (j, s) in states.iter_mut().enumerate().take(dim) {
-            *s = AxisState {
+            *s = AxisSample {
                 theta_d_prev: self.pos[j],
                 w_d_prev: self.prev_vel[j],
                 theta_a: theta_a[j],
@@ -2253,7 +1304,7 @@ fn build_profile(
     cfg: &InterpConfig,
     dmax: f64,
     act: Option<ActuatorPlan<'_>>,
-) -> Result<Box<[ProfileSample]>, YehError> {
+) -> Result<Box<[ProfileSample]>, InterpError> {
     let knots = curve.knots();
     let p = curve.degree();
     let spans: Vec<(f64, f64)> = knots[p..knots.len() - p]
@@ -2262,7 +1313,7 @@ fn build_profile(
         .map(|w| (w[0], w[1]))
         .collect();
     if spans.is_empty() {
-        return Err(YehError::ZeroLengthCurve);
+        return Err(InterpError::ZeroLengthCurve);
     }
     let per_span = ((MAX_PROFILE - 1) / spans.len()).clamp(1, 512);
     let mut us = Vec::with_capacity(spans.len() * per_span + 1);
@@ -2331,127 +1382,24 @@ fn build_profile(
         }
     }
     if samples.iter().any(|x| !(x.s.is_finite() && x.cap >= 0.0)) {
-        return Err(YehError::ZeroLengthCurve);
+        return Err(InterpError::ZeroLengthCurve);
     }
     Ok(samples.into_boxed_slice())
-}
-
-// ---------------------------------------------------------------------------------------
-// Die-bonder preset (Yeh Table 1)
-// ---------------------------------------------------------------------------------------
-
-/// Two-axis die bonder of Yeh Table 1 (X, Y) at Ts = 1 ms.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DieBonderPreset {
-    /// Sample time, s (the paper's 1 ms).
-    pub ts: f64,
-    /// X then Y.
-    pub axes: [AxisModel; 2],
-}
-
-/// Yeh Table 1 in one consistent unit set:
-///
-/// * position θ: encoder counts (10 000 counts/rev); time: s; axis speed: counts/s;
-///   acceleration: counts/s²; 1 count/ms = 1 pulse/ms of Fig 6 = 1000 counts/s.
-/// * plant (eq 2.2 corrected): `dw/dt = -w/τ + (K_c/τ)u`, `dθ/dt = K_e·w` with w in rad/s,
-///   τ in s (X 0.31, Y 0.135), K_e = 1591.5494 counts/rad = 10000/2π, K_c in (rad/s)/DU
-///   (X 2506.17, Y 3156.23). The drive unit DU is defined by the plant: 1 DU held gives a
-///   steady motor speed of K_c rad/s = K_c·K_e counts/s (X 3.989e6, Y 5.023e6 counts/s).
-/// * PD+ (eq 2.12): `u = K_p(θ_d-θ) + K_d(w_d-w) + (τ/K_c)ẇ_d + w_d/K_c` with K_p in DU/count
-///   (X 0.0136, Y 0.00577) and K_d in DU/(rad/s) (X 0.03, Y 0.028), i.e. in counts:
-///   kp = K_p, kd = K_d/K_e, kv = 1/(K_c K_e), ka = τ/(K_c K_e). With this reading the
-///   continuous loop `s² + (1/τ + K_c K_d/τ)s + K_c K_p K_e/τ` has ωn = 418 rad/s, ζ = 0.29
-///   (X) and ωn = 463 rad/s, ζ = 0.71 (Y) — the Y value is the textbook pole-placement
-///   choice, which supports this unit reading.
-/// * Umax = 1 DU on both axes: the paper gives no number; 1 DU is a choice (with it X can
-///   hold about 1.2e7 counts/s² of feed-forward acceleration, Y about 3.6e7).
-pub fn die_bonder_preset() -> DieBonderPreset {
-    die_bonder_in_du()
-}
-
-/// The die bonder in the card's units: volts instead of drive units, 1 DU = 10 V (the DAC's
-/// full scale), so gains ×10, K_c ÷10 and Umax = 10 V; positions in counts, time in s.
-pub fn die_bonder_volts() -> DieBonderPreset {
-    let mut p = die_bonder_in_du();
-    for a in p.axes.iter_mut() {
-        a.gains.kp *= 10.0;
-        a.gains.kd *= 10.0;
-        a.gains.kv *= 10.0;
-        a.gains.ka *= 10.0;
-        a.plant.k_c /= 10.0;
-        a.umax *= 10.0;
-    }
-    p
-}
-
-fn die_bonder_in_du() -> DieBonderPreset {
-    let x_plant = Plant {
-        k_c: 2506.17,
-        tau: 0.31,
-        k_e: 1591.5494,
-    };
-    let y_plant = Plant {
-        k_c: 3156.23,
-        tau: 0.135,
-        k_e: 1591.5494,
-    };
-    DieBonderPreset {
-        ts: 1e-3,
-        axes: [
-            AxisModel {
-                gains: PdPlusGains::from_paper(0.0136, 0.03, &x_plant),
-                plant: x_plant,
-                umax: 1.0,
-            },
-            AxisModel {
-                gains: PdPlusGains::from_paper(0.00577, 0.028, &y_plant),
-                plant: y_plant,
-                umax: 1.0,
-            },
-        ],
-    }
-}
-
-/// A die-bonder path with two sharp corners like Yeh Fig 5: up 20,000 counts, across 60,000,
-/// down 20,000, as a cubic B-spline whose corners have a 600-count control-point radius.
-pub fn die_bonder_path() -> Nurbs {
-    let (h, w, r) = (20_000.0, 60_000.0, 600.0);
-    let pts: [[f64; 2]; 15] = [
-        [0.0, 0.0],
-        [0.0, 6_000.0],
-        [0.0, 13_000.0],
-        [0.0, h - r],
-        [0.0, h],
-        [r, h],
-        [15_000.0, h],
-        [30_000.0, h],
-        [45_000.0, h],
-        [w - r, h],
-        [w, h],
-        [w, h - r],
-        [w, 13_000.0],
-        [w, 6_000.0],
-        [w, 0.0],
-    ];
-    let ctrl: Vec<f64> = pts.iter().flatten().copied().collect();
-    let knots = clamped_uniform_knots(15, 3).expect("15 > 3");
-    Nurbs::new(3, 2, &ctrl, &[1.0; 15], &knots).expect("a valid curve")
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::motion::path_speed::*;
+    use crate::motion::saturation::*;
+    use crate::presets::*;
+    use crate::servo::pdplus::*;
 
     /// A seeded xorshift64 giving uniform numbers in [0, 1).
-    fn uniform01(mut x: u64) -> impl FnMut() -> f64 {
-        move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        }
+    fn uniform01(seed: u64) -> impl FnMut() -> f64 {
+        crate::testkit::rng::Rng::new(seed).units()
     }
-    use crate::nurbs::clamped_uniform_knots;
+    use crate::motion::nurbs::clamped_uniform_knots;
 
     fn pt(xs: &[f64]) -> Point {
         let mut p = Point::zeros();
@@ -2776,7 +1724,7 @@ mod tests {
         let w: Vec<f64> = (0..n).map(|i| 1.0 + 0.3 * (i as f64 / 9.0).cos()).collect();
         let knots = clamped_uniform_knots(n, 3).unwrap();
         let whole = Nurbs::new(3, 2, &ctrl, &w, &knots).unwrap();
-        let pieces = crate::nurbs::split_curve(3, 2, &ctrl, &w, &knots, 70).unwrap();
+        let pieces = crate::motion::nurbs::split_curve(3, 2, &ctrl, &w, &knots, 70).unwrap();
         assert!(pieces.len() >= 4);
         let cfg = InterpConfig {
             feed: 300_000.0,
@@ -2858,21 +1806,6 @@ mod tests {
         assert!((feeds.len() as i64 - 3 - run_whole.len() as i64).abs() <= 2);
     }
 
-    #[test]
-    fn brake_distance_in_closed_form() {
-        let mut rnd = uniform01(0x9e37_79b9_7f4a_7c15u64);
-        for _ in 0..10_000 {
-            let (v, a) = (rnd() * 5e5, (rnd() - 0.5) * 4e7);
-            let (ap, j) = (rnd() * 3e7 + 1.0, 1e8 + rnd() * 1e10);
-            let exact = PathSpeedPlanner::brake_phases(v, a, ap, j).distance(v, a);
-            let closed = PathSpeedPlanner::brake_distance(v, a, ap, j);
-            assert!(
-                (exact - closed).abs() <= 1e-9 * (1.0 + exact.abs()),
-                "{v} {a} {ap} {j}: {exact} vs {closed}"
-            );
-        }
-    }
-
     /// The die-bonder path cut in three and run through its joints with the saturation-aware
     /// feed in the closed loop (PD+ on the plant model): |u| ≤ Umax on every tick, joints
     /// included, and the end is reached exactly.
@@ -2890,7 +1823,7 @@ mod tests {
             })
             .collect();
         let w: Vec<f64> = (0..n).map(|i| whole.weight(i).unwrap()).collect();
-        let pieces = crate::nurbs::split_curve(3, 2, &ctrl, &w, whole.knots(), 7).unwrap();
+        let pieces = crate::motion::nurbs::split_curve(3, 2, &ctrl, &w, whole.knots(), 7).unwrap();
         assert!(pieces.len() >= 3);
         let cfg = InterpConfig {
             ts,
@@ -2985,7 +1918,7 @@ mod tests {
         pd.reset(100.0);
         let _ = pd.update(110.0, 5_000.0, 1e5, 100.0);
         // tick k: θ_a[k-1] = 100, θ_a[k] = 104, θ_d[k-1] = 110, w_d[k-1] = 5000
-        let st = AxisState {
+        let st = AxisSample {
             theta_d_prev: 110.0,
             w_d_prev: 5_000.0,
             theta_a: 104.0,
@@ -3017,7 +1950,7 @@ mod tests {
         let sat = SaturationAwareFeed::new(&p.axes, p.ts).unwrap();
         let dir = pt(&[0.6, 0.8]);
         // at rest, on target
-        let rest = [AxisState::default(); 2];
+        let rest = [AxisSample::default(); 2];
         let d = sat.limit_feed(1e6, 1e6, &dir, &rest).unwrap();
         assert!(d.limited && d.feasible && !d.raised);
         assert!(
@@ -3030,13 +1963,13 @@ mod tests {
         // moving fast along +x, previous command 300 000 counts/s: stopping x at once needs a
         // big negative drive -> the feed is raised (eq 3.10 lower case)
         let moving = [
-            AxisState {
+            AxisSample {
                 theta_d_prev: 0.0,
                 w_d_prev: 300_000.0,
                 theta_a: 0.0,
                 w_a: 300_000.0,
             },
-            AxisState::default(),
+            AxisSample::default(),
         ];
         let d = sat.limit_feed(0.0, 1e6, &pt(&[1.0, 0.0]), &moving).unwrap();
         assert!(d.raised && d.feasible && d.feed > 250_000.0 && d.max_drive_ratio <= 1.0 + 1e-12);
@@ -3052,25 +1985,25 @@ mod tests {
         // bad inputs are errors, not panics
         assert_eq!(
             sat.limit_feed(f64::NAN, 1.0, &dir, &rest),
-            Err(YehError::BadFeed)
+            Err(InterpError::BadFeed)
         );
         assert_eq!(
             sat.limit_feed(1.0, -1.0, &dir, &rest),
-            Err(YehError::BadFeed)
+            Err(InterpError::BadFeed)
         );
         assert_eq!(
             sat.limit_feed(1.0, 1.0, &pt(&[f64::NAN, 0.0]), &rest),
-            Err(YehError::NonFiniteInput)
+            Err(InterpError::NonFiniteInput)
         );
         let mut bad = rest;
         bad[1].w_a = f64::INFINITY;
         assert_eq!(
             sat.limit_feed(1.0, 1.0, &dir, &bad),
-            Err(YehError::NonFiniteInput)
+            Err(InterpError::NonFiniteInput)
         );
         assert!(matches!(
             sat.limit_feed(1.0, 1.0, &dir, &rest[..1]),
-            Err(YehError::DimensionMismatch { .. })
+            Err(InterpError::DimensionMismatch { .. })
         ));
     }
 
@@ -3098,7 +2031,7 @@ mod tests {
         let (theta_k, vel_k) = (50.0, 20_000.0);
         pd.reset(theta_k - vel_k * p.ts);
         let u_k = pd.update(60.0, 21_000.0, 1e6, theta_k);
-        let st = AxisState::predicted(&ax.plant, p.ts, theta_k, vel_k, u_k, 60.0, 21_000.0);
+        let st = AxisSample::predicted(&ax.plant, p.ts, theta_k, vel_k, u_k, 60.0, 21_000.0);
         let w_next = 22_000.0;
         let pred = sat.predict_drive(0, &st, w_next);
         let (theta_next, _) = ax.plant.step(p.ts, theta_k, vel_k, u_k);
@@ -3120,27 +2053,30 @@ mod tests {
             f(&mut cfg);
             Interpolator::new(c.clone(), cfg).err()
         };
-        assert_eq!(bad(|c| c.ts = 0.0), Some(YehError::BadSampleTime));
-        assert_eq!(bad(|c| c.ts = f64::NAN), Some(YehError::BadSampleTime));
-        assert_eq!(bad(|c| c.feed = -1.0), Some(YehError::BadFeed));
-        assert_eq!(bad(|c| c.accel = f64::INFINITY), Some(YehError::BadAccel));
-        assert_eq!(bad(|c| c.jerk = 0.0), Some(YehError::BadJerk));
+        assert_eq!(bad(|c| c.ts = 0.0), Some(InterpError::BadSampleTime));
+        assert_eq!(bad(|c| c.ts = f64::NAN), Some(InterpError::BadSampleTime));
+        assert_eq!(bad(|c| c.feed = -1.0), Some(InterpError::BadFeed));
+        assert_eq!(
+            bad(|c| c.accel = f64::INFINITY),
+            Some(InterpError::BadAccel)
+        );
+        assert_eq!(bad(|c| c.jerk = 0.0), Some(InterpError::BadJerk));
         assert_eq!(
             bad(|c| c.chord_tol = f64::NAN),
-            Some(YehError::BadChordTolerance)
+            Some(InterpError::BadChordTolerance)
         );
         assert_eq!(
             bad(|c| c.max_corrections = 99),
-            Some(YehError::BadCorrections)
+            Some(InterpError::BadCorrections)
         );
         let dot = Nurbs::new(2, 2, &[1.0; 6], &[1.0; 3], &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0]).unwrap();
         assert_eq!(
             Interpolator::new(dot, ok).err(),
-            Some(YehError::ZeroLengthCurve)
+            Some(InterpError::ZeroLengthCurve)
         );
         let mut ip = Interpolator::new(c.clone(), ok).unwrap();
-        assert_eq!(ip.advance(f64::NAN).err(), Some(YehError::BadFeed));
-        assert_eq!(ip.advance(-3.0).err(), Some(YehError::BadFeed));
+        assert_eq!(ip.advance(f64::NAN).err(), Some(InterpError::BadFeed));
+        assert_eq!(ip.advance(-3.0).err(), Some(InterpError::BadFeed));
         let t = ip.advance(0.0).unwrap();
         assert!(!t.done && t.feed == 0.0);
         let p = die_bonder_preset();
@@ -3148,38 +2084,38 @@ mod tests {
         assert_eq!(
             ip.tick_guarded(&sat, &pt(&[f64::NAN, 0.0]), &Point::zeros())
                 .err(),
-            Some(YehError::NonFiniteInput)
+            Some(InterpError::NonFiniteInput)
         );
         assert_eq!(
             Interpolator::with_actuator_limits(c.clone(), ok, &sat, 0.0).err(),
-            Some(YehError::BadBudget)
+            Some(InterpError::BadBudget)
         );
         assert!(matches!(
             Interpolator::with_actuator_limits(many_knot_curve(), ok, &sat, 0.5).err(),
-            Some(YehError::DimensionMismatch { .. })
+            Some(InterpError::DimensionMismatch { .. })
         ));
         let mut ax = p.axes;
         ax[1].umax = 0.0;
         assert_eq!(
             SaturationAwareFeed::new(&ax, 1e-3).err(),
-            Some(YehError::BadUmax { axis: 1 })
+            Some(InterpError::Model(ModelError::BadUmax { axis: 1 }))
         );
         let mut ax = p.axes;
         ax[0].plant.tau = -1.0;
         assert_eq!(
             SaturationAwareFeed::new(&ax, 1e-3).err(),
-            Some(YehError::BadPlant { axis: 0 })
+            Some(InterpError::Model(ModelError::BadPlant { axis: 0 }))
         );
         let mut ax = p.axes;
         ax[1].gains.kd = f64::NAN;
         assert_eq!(
             SaturationAwareFeed::new(&ax, 1e-3).err(),
-            Some(YehError::BadGain { axis: 1 })
+            Some(InterpError::Model(ModelError::BadGain { axis: 1 }))
         );
         assert!(SaturationAwareFeed::new(&[], 1e-3).is_err());
         assert_eq!(
             SaturationAwareFeed::new(&p.axes, 0.0).err(),
-            Some(YehError::BadSampleTime)
+            Some(InterpError::BadSampleTime)
         );
         let mut pd = PdPlus::new(p.axes[0].gains, 1e-3).unwrap();
         assert_eq!(pd.update(0.0, 0.0, 0.0, f64::NAN), 0.0);
@@ -3192,9 +2128,9 @@ mod tests {
         assert_eq!(chord_feed_limit(f64::INFINITY, 1e-3, 1.0), f64::INFINITY);
         assert_eq!(chord_feed_limit(0.5, 1e-3, 1.0), 1000.0);
         for e in [
-            YehError::BadFeed,
-            YehError::Curve(NurbsError::NotClamped),
-            YehError::BadGain { axis: 1 },
+            InterpError::BadFeed,
+            InterpError::Curve(NurbsError::NotClamped),
+            InterpError::Model(ModelError::BadGain { axis: 1 }),
         ] {
             assert!(!e.to_string().is_empty());
         }
@@ -3353,7 +2289,7 @@ mod tests {
     /// Closed loop at Ts = 1 ms: plant of eq 2.2 (exact ZOH), PD+ of eq 2.12 per axis, encoder
     /// read -> interpolation -> control law -> drive output in every tick. With `predicted`,
     /// the interpolator gets θ_a\[k\], w_a\[k\] from the plant model's one-tick-ahead prediction
-    /// made at tick k-1 (AxisState::predicted) instead of the encoder.
+    /// made at tick k-1 (AxisSample::predicted) instead of the encoder.
     fn simulate(mode: Mode, predicted: bool) -> SimResult {
         let preset = die_bonder_preset();
         let ts = preset.ts;
@@ -3409,7 +2345,7 @@ mod tests {
                 let mut w = Point::zeros();
                 for j in 0..2 {
                     let a = &preset.axes[j];
-                    let st = AxisState::predicted(
+                    let st = AxisSample::predicted(
                         &a.plant,
                         ts,
                         th_prev[j],

@@ -7,6 +7,8 @@
 //! motor sticks while the drive torque cannot overcome it, and a velocity that would cross zero
 //! inside the period stops at zero first.
 
+pub mod faults;
+
 use core::f64::consts::TAU;
 
 /// Parameters of one axis's motor, load, amplifier and encoder (SI units).
@@ -143,35 +145,6 @@ impl MotorParams {
 impl Default for MotorParams {
     fn default() -> Self {
         Self::default_servo()
-    }
-}
-
-/// The 12-bit bipolar DAC: code 2048 is 0 V, one LSB is 20/4096 V, codes saturate at 0 and 4095.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Dac;
-
-impl Dac {
-    /// Volts per LSB.
-    pub const LSB: f64 = 20.0 / 4096.0;
-
-    /// The code for a requested voltage (NaN gives mid-scale).
-    pub fn code(volts: f64) -> u16 {
-        if volts.is_nan() {
-            return 2048;
-        }
-        let c = (volts / Self::LSB).round() + 2048.0;
-        c.clamp(0.0, 4095.0) as u16
-    }
-
-    /// The voltage a code produces.
-    pub fn volts(code: u16) -> f64 {
-        (code.min(4095) as f64 - 2048.0) * Self::LSB
-    }
-
-    /// Quantise and saturate: the voltage actually produced, and whether it saturated.
-    pub fn output(volts: f64) -> (f64, bool) {
-        let code = Self::code(volts);
-        (Self::volts(code), code == 0 || code == 4095)
     }
 }
 
@@ -382,15 +355,12 @@ impl Switches {
 mod tests {
     use super::*;
 
+    /// The servo's default tuning assumes this plant's default motor: they agree.
     #[test]
-    fn dac_is_12_bit_and_saturates() {
-        assert_eq!(Dac::code(0.0), 2048);
-        assert_eq!(Dac::code(100.0), 4095);
-        assert_eq!(Dac::code(-100.0), 0);
-        assert_eq!(Dac::output(-10.0), (-10.0, true));
-        let (v, sat) = Dac::output(1.0);
-        assert!(!sat && (v - 1.0).abs() <= Dac::LSB / 2.0);
-        assert_eq!(Dac::output(f64::NAN), (0.0, false));
+    fn the_default_tuning_is_for_the_default_motor() {
+        let m = MotorParams::default_servo();
+        let k = crate::servo::ffpiv::DEFAULT_ACCEL_PER_VOLT;
+        assert!((m.accel_per_volt() - k).abs() <= 1e-12 * k);
     }
 
     #[test]

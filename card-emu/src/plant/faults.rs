@@ -6,8 +6,8 @@
 //! Stopping the host's heartbeat is the host's business: the SDK's `Card::set_heartbeat`;
 //! killing the host is a process kill.
 
+use crate::firmware::safety::Inputs;
 use crate::plant::{Motor, Switches};
-use crate::safety::Inputs;
 use firmware_proto::{io, MAX_AXES};
 
 /// A limit switch's direction.

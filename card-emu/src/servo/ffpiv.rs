@@ -10,10 +10,15 @@
 //! ```
 //!
 //! Units: counts, seconds, volts. Thinh's published gains (K_P=2.5, K_I=0.02, K_V=50,
-//! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_motor`] derives ours
+//! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_drive`] derives ours
 //! from the plant instead.
 
-use crate::plant::MotorParams;
+/// The acceleration per volt of the card's default drive and motor (the emulator's
+/// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.
+pub const DEFAULT_ACCEL_PER_VOLT: f64 = 0.3 * 10_000.0 / (5e-4 * core::f64::consts::TAU);
+
+/// The velocity-loop bandwidth of the default tuning, rad/s (60 Hz).
+pub const DEFAULT_BANDWIDTH: f64 = 2.0 * core::f64::consts::PI * 60.0;
 
 /// FFPIV gains and the velocity estimator's cut-off.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,24 +40,20 @@ pub struct FfpivGains {
 impl FfpivGains {
     /// Gains placed from the plant: velocity-loop crossover `wc` (rad/s), K_P = wc/4,
     /// K_I = wc/6, full velocity feed-forward, ideal acceleration feed-forward.
-    pub fn for_motor(m: &MotorParams, wc: f64) -> Self {
-        let kv = wc / m.accel_per_volt();
+    pub fn for_drive(accel_per_volt: f64, wc: f64) -> Self {
         Self {
             kp: wc / 4.0,
             ki: wc / 6.0,
-            kv,
+            kv: wc / accel_per_volt,
             kvff: 1.0,
-            kaff: m.volts_per_accel(),
+            kaff: 1.0 / accel_per_volt,
             vel_filter_hz: 1500.0,
         }
     }
 
-    /// The default tuning for [`MotorParams::default_servo`].
+    /// The default tuning for the default drive and motor ([`DEFAULT_ACCEL_PER_VOLT`]).
     pub fn default_tuning() -> Self {
-        Self::for_motor(
-            &MotorParams::default_servo(),
-            2.0 * core::f64::consts::PI * 60.0,
-        )
+        Self::for_drive(DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH)
     }
 
     /// All gains finite and in range.
@@ -144,7 +145,7 @@ impl Ffpiv {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::Motor;
+    use crate::plant::{Motor, MotorParams};
 
     /// Closed loop on the plant: a step in the reference is followed without overshooting by
     /// more than a few counts and settles to within one count.
@@ -168,7 +169,7 @@ mod tests {
             let u = s
                 .update(&r, enc as f64, &gains, ts, 10.0)
                 .clamp(-10.0, 10.0);
-            m.step(crate::plant::Dac::output(u).0, ts);
+            m.step(crate::firmware::dac::Dac::output(u).0, ts);
         }
         assert!((m.encoder() - 100).abs() <= 1, "settled at {}", m.encoder());
         assert!(peak <= 140, "overshoot to {peak}");
@@ -199,7 +200,7 @@ mod tests {
             let u = s
                 .update(&r, enc as f64, &gains, ts, 10.0)
                 .clamp(-10.0, 10.0);
-            m.step(crate::plant::Dac::output(u).0, ts);
+            m.step(crate::firmware::dac::Dac::output(u).0, ts);
         }
         assert!(
             (m.encoder() as f64 - 40.5).abs() <= 0.5,

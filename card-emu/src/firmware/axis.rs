@@ -1,10 +1,10 @@
 //! One axis of the firmware: PLCopen state machine, profile execution, in-position detection,
 //! the servo loop and the move statistics the card publishes.
 
-use crate::safety::AxisSafety;
-use crate::scurve::{Limits, Profile};
-use crate::servo::{Ffpiv, FfpivGains, Reference};
-use crate::yeh::{AxisModel, PdPlus};
+use crate::firmware::axis_safety::AxisSafety;
+use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
+use crate::servo::ffpiv::{Ffpiv, FfpivGains, Reference};
+use crate::servo::pdplus::{AxisModel, PdPlus};
 use firmware_proto::{fault, AxisState, AxisStatus, NackCode, StopReason};
 
 /// The validated copy of an axis's configuration block.
@@ -261,7 +261,7 @@ impl Axis {
             return Err(NackCode::OutOfRange);
         }
         let profile = Profile::plan_checked(start, target - start, 0.0, 0.0, limits, rate_hz)
-            .map_err(crate::plan_nack)?;
+            .map_err(crate::firmware::plan_nack)?;
         if !profile.duration().is_finite() || profile.duration() > crate::MAX_MOVE_TIME {
             return Err(NackCode::Infeasible);
         }
@@ -299,7 +299,8 @@ impl Axis {
             (c.stop_decel, c.stop_jerk),
             max_time,
         );
-        let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)?;
+        let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)
+            .map_err(crate::firmware::plan_nack)?;
         self.target = profile.end_pos();
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };
@@ -431,7 +432,7 @@ impl Axis {
                 if end.vel != 0.0 || end.acc != 0.0 {
                     // [safety] the profile ends moving and nothing follows it (a queue ran
                     // dry): a planned stop from where it ended, never a jump to rest.
-                    let stop = crate::safety::starvation_stop(&self.safety, &end);
+                    let stop = crate::firmware::axis_safety::starvation_stop(&self.safety, &end);
                     self.target = stop.map_or(end.pos, |p| p.end_pos());
                     self.motion = match stop {
                         Some(profile) => Motion::Profile { profile, t: 0.0 },
@@ -471,7 +472,7 @@ impl Axis {
         };
         self.u_request = u;
         let u = u.clamp(-limit, limit);
-        let (volts, saturated) = crate::plant::Dac::output(u);
+        let (volts, saturated) = super::dac::Dac::output(u);
         self.dac_v = volts;
         if saturated || u.abs() >= limit {
             self.faults |= fault::DAC_SATURATED;
@@ -605,64 +606,6 @@ impl Axis {
             stop_reason: self.safety.stop_reason as u32,
             io: self.safety.io,
         }
-    }
-}
-
-/// The limits of a stop from `(vel, acc)` that ends within `max_time` s when it can: the given
-/// `(dmax, jerk)` if their ramp is short enough, else the harder of each and the card's own stop
-/// ramp `hard` (a harder ramp is never longer). What still takes longer is cut at the bound by
-/// the safety layer (power off).
-pub(crate) fn bounded_stop_limits(
-    (v0, a0): (f64, f64),
-    (dmax, jerk): (f64, f64),
-    hard: (f64, f64),
-    max_time: f64,
-) -> (f64, f64) {
-    match plan_stop(0.0, v0, a0, dmax, jerk) {
-        Ok(p) if p.duration() <= max_time => (dmax, jerk),
-        _ => (dmax.max(hard.0), jerk.max(hard.1)),
-    }
-}
-
-/// A jerk-limited stop from (pos, vel, acc) within `dmax` and `jerk` (MC_Halt, MC_Stop and the
-/// category 1 and 2 safety stops).
-pub(crate) fn plan_stop(
-    pos: f64,
-    v0: f64,
-    a0: f64,
-    dmax: f64,
-    jerk: f64,
-) -> Result<Profile, NackCode> {
-    let limits = Limits {
-        vmax: f64::MAX,
-        amax: dmax,
-        dmax,
-        j1: jerk,
-        j3: jerk,
-        j5: jerk,
-        j7: jerk,
-    };
-    // Every stop is checked before it runs (the card's own check: `verify_stop`).
-    let checked = |lim: &Limits| {
-        let p = Profile::stop(pos, v0, a0, lim)?;
-        p.verify_stop(pos, v0, a0, lim).map(|()| p)
-    };
-    match checked(&limits) {
-        // Late in a deceleration the remaining velocity is smaller than what the given jerk
-        // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
-        // the smallest jerk that stops without reversing (a stop never moves backwards).
-        Err(crate::scurve::PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
-            let j = (a0 * (a0 / (2.0 * v0.abs()))).max(jerk) * (1.0 + 1e-9);
-            let limits = Limits {
-                j1: j,
-                j3: j,
-                j5: j,
-                j7: j,
-                ..limits
-            };
-            checked(&limits).map_err(crate::plan_nack)
-        }
-        r => r.map_err(crate::plan_nack),
     }
 }
 

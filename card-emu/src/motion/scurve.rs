@@ -1041,6 +1041,58 @@ impl Profile {
     }
 }
 
+/// The limits of a stop from `(vel, acc)` that ends within `max_time` s when it can: the given
+/// `(dmax, jerk)` if their ramp is short enough, else the harder of each and the card's own stop
+/// ramp `hard` (a harder ramp is never longer). What still takes longer is cut at the bound by
+/// the safety layer (power off).
+pub fn bounded_stop_limits(
+    (v0, a0): (f64, f64),
+    (dmax, jerk): (f64, f64),
+    hard: (f64, f64),
+    max_time: f64,
+) -> (f64, f64) {
+    match plan_stop(0.0, v0, a0, dmax, jerk) {
+        Ok(p) if p.duration() <= max_time => (dmax, jerk),
+        _ => (dmax.max(hard.0), jerk.max(hard.1)),
+    }
+}
+
+/// A jerk-limited stop from (pos, vel, acc) within `dmax` and `jerk` (MC_Halt, MC_Stop and the
+/// category 1 and 2 safety stops).
+pub fn plan_stop(pos: f64, v0: f64, a0: f64, dmax: f64, jerk: f64) -> Result<Profile, PlanError> {
+    let limits = Limits {
+        vmax: f64::MAX,
+        amax: dmax,
+        dmax,
+        j1: jerk,
+        j3: jerk,
+        j5: jerk,
+        j7: jerk,
+    };
+    // Every stop is checked before it runs (the card's own check: `verify_stop`).
+    let checked = |lim: &Limits| {
+        let p = Profile::stop(pos, v0, a0, lim)?;
+        p.verify_stop(pos, v0, a0, lim).map(|()| p)
+    };
+    match checked(&limits) {
+        // Late in a deceleration the remaining velocity is smaller than what the given jerk
+        // needs to bring the deceleration to zero: stopping at that jerk would reverse. Use
+        // the smallest jerk that stops without reversing (a stop never moves backwards).
+        Err(PlanError::Infeasible) if v0 != 0.0 && a0 * v0 < 0.0 => {
+            let j = (a0 * (a0 / (2.0 * v0.abs()))).max(jerk) * (1.0 + 1e-9);
+            let limits = Limits {
+                j1: j,
+                j3: j,
+                j5: j,
+                j7: j,
+                ..limits
+            };
+            checked(&limits)
+        }
+        r => r,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

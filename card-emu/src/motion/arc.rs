@@ -3,7 +3,7 @@
 //!
 //! * [`ReferenceWordCircle`]: the reference-word interpolator of Kim eq 15–23,
 //!   producing per-tick position increments (velocity data × T) to feed the
-//!   per-axis [`crate::filters::AccDecFilter`]s.
+//!   per-axis [`crate::motion::filters::AccDecFilter`]s.
 //! * [`ExactCircle`]: point on the arc at arc length `s` (cos/sin of the
 //!   angle), for use with an external feed profile.
 //! * [`linear_filter_radial_error`] (Kim eq 28, corrected) and
@@ -558,7 +558,7 @@ pub fn exponential_filter_radial_error(r: f64, v: f64, ts: f64, a: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filters::{AccDecFilter, CompensatedSum, ExponentialFilter, LinearFilter};
+    use crate::motion::filters::{AccDecFilter, CompensatedSum, ExponentialFilter, LinearFilter};
 
     const EPS: f64 = f64::EPSILON;
 
@@ -1002,12 +1002,13 @@ mod tests {
         for &(omega, tau) in &[(5.0f64, 0.02f64), (10.0, 0.035), (20.0, 0.01)] {
             let v = omega * r;
             let m = (tau / ts).round() as usize;
-            let a = crate::filters::exponential_pole(tau, ts);
+            let a = crate::motion::filters::exponential_pole(tau, ts);
             let g = (1.0 - linear_filter_radial_error(r, v, ts, m) / r)
                 * (1.0 - exponential_filter_radial_error(r, v, ts, a) / r);
             let dr = r * (1.0 - g);
             let f = || {
-                AccDecFilter::from_time_constant(crate::filters::FilterKind::Bell, tau, ts).unwrap()
+                AccDecFilter::from_time_constant(crate::motion::filters::FilterKind::Bell, tau, ts)
+                    .unwrap()
             };
             let (meas, _) =
                 measured_radial_error(r, v, ts, f(), f(), m + (40.0 * tau / ts) as usize);

@@ -42,7 +42,7 @@
 //!   (magic, checksums, indices, state values) catch garbage, not a writer that computes the
 //!   checksums.
 //!
-//! Nobody can resize the window: its seals ([`crate::shm::WINDOW_SEALS`]) make `ftruncate`
+//! Nobody can resize the window: its seals ([`crate::emu::shm::WINDOW_SEALS`]) make `ftruncate`
 //! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
 use nix::sys::socket::{
@@ -486,7 +486,7 @@ mod tests {
         // greeting is checked below.
         let me = nix::unistd::geteuid().as_raw();
         let name = format!("policy-unit-{}", std::process::id());
-        let w = crate::shm::MappedWindow::create("policy-unit").unwrap();
+        let w = crate::emu::shm::MappedWindow::create("policy-unit").unwrap();
         let irq = w.fd().try_clone_to_owned().unwrap();
         let window = w.fd().try_clone_to_owned().unwrap();
         let _s =

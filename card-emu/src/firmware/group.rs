@@ -22,15 +22,15 @@
 //! snapped to its programmed end, and the largest correction that snap made is published
 //! (`snap_last`, `snap_max`), so a filter that lost distance would show.
 
-use crate::axis::Axis;
-use crate::circle::{ArcDirection, ExactCircle, ReferenceWordCircle};
-use crate::filters::{AccDecFilter, CompensatedSum, FilterKind};
-use crate::nurbs::{Nurbs, NurbsError};
-use crate::scurve::{Limits, Profile};
-use crate::servo::Reference;
-use crate::yeh::{
-    AxisModel, InterpConfig, Interpolator, PdPlusGains, Plant, SaturationAwareFeed, YehError,
-};
+use crate::firmware::axis::Axis;
+use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
+use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
+use crate::motion::nurbs::{Nurbs, NurbsError};
+use crate::motion::nurbs_interp::{InterpConfig, InterpError, Interpolator};
+use crate::motion::saturation::SaturationAwareFeed;
+use crate::motion::scurve::{Limits, Profile};
+use crate::servo::ffpiv::Reference;
+use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
 use firmware_proto::{
     move_flags, raw, AxisState, Command, Event, EventKind, GroupState, GroupStatus, NackCode,
     Opcode, GROUP_QUEUE_LEN, MAX_AXES,
@@ -65,7 +65,7 @@ pub struct FilterConfig {
 impl Default for FilterConfig {
     /// Shin Table 1 (x/y axes): rapid bell 35 ms, cutting linear 30 ms, jog exponential 50 ms.
     fn default() -> Self {
-        let p = crate::filters::FilterPreset::shin_table1();
+        let p = crate::motion::filters::FilterPreset::shin_table1();
         Self {
             kind: [p.rapid.kind, p.cutting.kind, p.jog.kind],
             tau: [
@@ -312,7 +312,8 @@ struct NurbsRx {
 }
 
 /// Values one transfer can hold: control points of up to 8 axes, weights, knots.
-const STAGE_LEN: usize = crate::nurbs::MAX_CTRL * (MAX_AXES + 1) + crate::nurbs::MAX_KNOTS;
+const STAGE_LEN: usize =
+    crate::motion::nurbs::MAX_CTRL * (MAX_AXES + 1) + crate::motion::nurbs::MAX_KNOTS;
 
 /// An exact non-negative integer carried in an f64 argument.
 fn whole(x: f64) -> Option<usize> {
@@ -699,7 +700,7 @@ impl Group {
         let post = self.config.is_some_and(|c| c.post);
         let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
         // (only an estimate of the halt's length, with a curve's worth of margin below)
-        let need = match crate::axis::plan_stop(0.0, v0, a0, dmax, jerk) {
+        let need = match crate::motion::scurve::plan_stop(0.0, v0, a0, dmax, jerk) {
             Ok(p) => p.end_pos(),
             Err(_) => v0 * v0 / (2.0 * dmax) + v0 * dmax / jerk,
         };
@@ -804,7 +805,7 @@ impl Group {
         let (dmax, jerk) = match &self.active {
             Some(act) => {
                 let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
-                crate::axis::bounded_stop_limits((v0, a0), (dmax, jerk), hard, max_time)
+                crate::motion::scurve::bounded_stop_limits((v0, a0), (dmax, jerk), hard, max_time)
             }
             None => (dmax, jerk),
         };
@@ -820,7 +821,7 @@ impl Group {
                 value: 0.0,
             });
             let (v0, a0) = (act.v.max(0.0), if act.v > 0.0 { act.a } else { 0.0 });
-            let plan = crate::axis::plan_stop(act.s, v0, a0, dmax, jerk);
+            let plan = crate::motion::scurve::plan_stop(act.s, v0, a0, dmax, jerk);
             if let Ok(p) = plan {
                 let keep_own =
                     matches!(act.mv.feed, Feed::Profile { .. }) && p.end_pos() > act.mv.geom.len();
@@ -884,7 +885,7 @@ impl Group {
             return Err(NackCode::NotFinite);
         }
         let rate = (1.0 / ts).round() as u32;
-        crate::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
+        crate::firmware::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
         let limits = Limits {
             vmax: a[0],
             amax: a[1],
@@ -952,7 +953,8 @@ impl Group {
             .map_err(|_| NackCode::Infeasible)?;
             Feed::ReferenceWord(rw)
         } else if cfg.pre {
-            let p = Profile::plan(0.0, len, 0.0, 0.0, &limits).map_err(crate::plan_nack)?;
+            let p =
+                Profile::plan(0.0, len, 0.0, 0.0, &limits).map_err(crate::firmware::plan_nack)?;
             if !p.duration().is_finite() || p.duration() > crate::MAX_MOVE_TIME {
                 return Err(NackCode::Infeasible);
             }
@@ -1004,7 +1006,7 @@ impl Group {
         }
         let rate = (1.0 / ts).round() as u32;
         for l in values.chunks_exact(4) {
-            crate::check_ranges(rate, &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])])?;
+            crate::firmware::check_ranges(rate, &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])])?;
         }
         for (k, l) in values.chunks_exact(4).enumerate() {
             self.ptp_stage[first + k] = Some([l[0], l[1], l[2], l[3]]);
@@ -1055,13 +1057,13 @@ impl Group {
         }
         let int = |x: f64| whole(x).filter(|n| *n <= 1_000_000);
         let degree = int(a[0])
-            .filter(|d| (1..=crate::nurbs::MAX_DEGREE).contains(d))
+            .filter(|d| (1..=crate::motion::nurbs::MAX_DEGREE).contains(d))
             .ok_or(NackCode::NurbsDegree)?;
         if cfg.naxes < 2 {
             return Err(NackCode::NurbsDimension);
         }
         let n_ctrl = int(a[1])
-            .filter(|n| (degree + 1..=crate::nurbs::MAX_CTRL).contains(n))
+            .filter(|n| (degree + 1..=crate::motion::nurbs::MAX_CTRL).contains(n))
             .ok_or(NackCode::NurbsCtrlCount)?;
         if int(a[2]) != Some(n_ctrl + degree + 1) {
             return Err(NackCode::NurbsKnotCount);
@@ -1070,7 +1072,7 @@ impl Group {
             return Err(NackCode::NonPositiveLimit); // the chord tolerance
         }
         let rate = (1.0 / ts).round() as u32;
-        crate::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
+        crate::firmware::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
         let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
         if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
             return Err(NackCode::BadConfig);
@@ -1187,13 +1189,13 @@ impl Group {
             chord_tol,
             max_corrections: 3,
         };
-        let yeh_nack = |e: YehError| match e {
-            YehError::ZeroLengthCurve => NackCode::NurbsZeroLength,
-            YehError::Curve(e) => nurbs_nack(e),
-            YehError::BadFeed
-            | YehError::BadAccel
-            | YehError::BadJerk
-            | YehError::BadChordTolerance => NackCode::NonPositiveLimit,
+        let yeh_nack = |e: InterpError| match e {
+            InterpError::ZeroLengthCurve => NackCode::NurbsZeroLength,
+            InterpError::Curve(e) => nurbs_nack(e),
+            InterpError::BadFeed
+            | InterpError::BadAccel
+            | InterpError::BadJerk
+            | InterpError::BadChordTolerance => NackCode::NonPositiveLimit,
             _ => NackCode::BadConfig,
         };
         let end = curve.eval_clamped(curve.domain().1).0;
@@ -1205,7 +1207,7 @@ impl Group {
                     kv: 0.0,
                     ka: 0.0,
                 },
-                plant: Plant {
+                plant: DriveModel {
                     k_c: 1.0,
                     tau: 1.0,
                     k_e: 1.0,
@@ -1468,8 +1470,8 @@ impl Group {
         let mut inc = [0.0; MAX_AXES];
         let mut finished = false;
         // This tick's measurements, for the saturation-aware feed (Yeh eq 3.3: θ_a[k], w_a[k]).
-        let mut theta_a = crate::nurbs::Point::zeros();
-        let mut w_a = crate::nurbs::Point::zeros();
+        let mut theta_a = crate::motion::nurbs::Point::zeros();
+        let mut w_a = crate::motion::nurbs::Point::zeros();
         for (i, &a) in members.iter().enumerate() {
             (theta_a[i], w_a[i]) = axes[a].actual();
         }

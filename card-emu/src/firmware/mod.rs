@@ -5,12 +5,18 @@
 //! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
 //! count; nothing reads a clock, calls the OS, allocates or panics.
 
-use crate::axis::{Axis, AxisConfig, TickReport};
-use crate::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
-use crate::safety::{Inputs, Safety};
-use crate::scurve::Limits;
-use crate::servo::FfpivGains;
-use crate::yeh::{AxisModel, PdPlusGains, Plant};
+pub mod axis;
+pub mod axis_safety;
+pub mod dac;
+pub mod group;
+pub mod safety;
+
+use self::axis::{Axis, AxisConfig, TickReport};
+use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
+use self::safety::{Inputs, Safety};
+use crate::motion::scurve::Limits;
+use crate::servo::ffpiv::FfpivGains;
+use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
 use firmware_proto::layout::{self, axis_config as ac, axis_filter as af, group_config as gc};
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
@@ -339,11 +345,14 @@ impl<M: Mem + Clone> Firmware<M> {
                     j7: a[7],
                 };
                 let rate = self.servo_rate_hz;
-                lim.check_range(rate).map_err(crate::plan_nack)?;
+                lim.check_range(rate).map_err(crate::firmware::plan_nack)?;
                 axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim, rate)?
             }
             Opcode::Halt | Opcode::Stop => {
-                crate::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+                crate::firmware::check_ranges(
+                    self.servo_rate_hz,
+                    &[(2, c.args[0]), (3, c.args[1])],
+                )?;
                 let max_time = self.safety.config().max_stop_time();
                 axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
             }
@@ -434,7 +443,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         let (tick, ts) = (self.tick, self.ts());
         if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
-            crate::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+            crate::firmware::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
         }
         let max_time = self.safety.config().max_stop_time();
         let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
@@ -757,7 +766,7 @@ fn read_axis_pdplus<M: Mem>(m: &M, a: usize) -> Result<AxisModel, NackCode> {
             kv: v[2],
             ka: v[3],
         },
-        plant: Plant {
+        plant: DriveModel {
             k_c: v[4],
             tau: v[5],
             k_e: v[6],
@@ -855,4 +864,21 @@ fn read_axis_filter<M: Mem>(m: &M, a: usize) -> Result<FilterConfig, NackCode> {
         }
     }
     Ok(cfg)
+}
+
+/// [`scurve::check_limits`](crate::motion::scurve::check_limits) with the card's nack codes.
+pub(crate) fn check_ranges(rate_hz: u32, limits: &[(i32, f64)]) -> Result<(), NackCode> {
+    crate::motion::scurve::check_limits(limits, rate_hz).map_err(plan_nack)
+}
+
+/// The nack for a planner refusal.
+pub(crate) fn plan_nack(e: crate::motion::scurve::PlanError) -> NackCode {
+    use crate::motion::scurve::PlanError;
+    match e {
+        PlanError::NonFinite => NackCode::NotFinite,
+        PlanError::NonPositiveLimit => NackCode::NonPositiveLimit,
+        PlanError::Infeasible | PlanError::StartVelocityTooHigh => NackCode::Infeasible,
+        PlanError::LimitRange => NackCode::LimitRange,
+        PlanError::PlanCheck => NackCode::PlanCheck,
+    }
 }

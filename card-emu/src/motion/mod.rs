@@ -1,0 +1,15 @@
+//! The motion algorithms: pure functions and plain data (no window, no clock, no plant), used
+//! by the firmware and by the host alike.
+
+pub mod arc;
+pub mod filters;
+pub mod nurbs;
+pub mod nurbs_interp;
+pub mod path_speed;
+pub mod saturation;
+pub mod scurve;
+
+/// Finite and greater than zero.
+pub(crate) fn pos_finite(x: f64) -> bool {
+    x.is_finite() && x > 0.0
+}

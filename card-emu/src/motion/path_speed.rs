@@ -1,0 +1,491 @@
+//! The path-speed planner: a continuous jerk-limited speed profile along a path (speed and
+//! acceleration continuous, |jerk| ≤ J), integrated exactly over each tick, that plans its
+//! stop to come to rest exactly at the remaining distance (re-solved every tick).
+//!
+//! [`PathSpeedPlanner::next`] allocates nothing and never panics.
+
+use super::nurbs_interp::InterpError;
+use super::pos_finite;
+
+/// Relative margin below the jerk and deceleration limits with which the planner decides
+/// when to stop: the stop it then follows may use the full limits, so the small corrections a
+/// stop needs on a curve (the remaining length is re-estimated every tick) always fit.
+pub const PLAN_MARGIN: f64 = 1e-3;
+
+/// Up to seven phases of constant jerk: a piece of a continuous path-speed profile (speed and
+/// acceleration continuous, |jerk| ≤ J).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Phases {
+    j: [f64; 7],
+    t: [f64; 7],
+    n: usize,
+}
+
+impl Phases {
+    fn push(&mut self, j: f64, t: f64) {
+        if t > 0.0 && t.is_finite() && self.n < 7 {
+            self.j[self.n] = j;
+            self.t[self.n] = t;
+            self.n += 1;
+        }
+    }
+
+    fn duration(&self) -> f64 {
+        self.t[..self.n].iter().sum()
+    }
+
+    /// Distance, speed and acceleration `dt` into the profile started at (v, a). Every
+    /// profile ends with a = 0; after its end the speed is held.
+    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
+        let (mut d, mut v, mut a, mut left) = (0.0, v, a, dt);
+        for k in 0..self.n {
+            if left <= 0.0 {
+                return (d, v, a);
+            }
+            let t = self.t[k].min(left);
+            let j = self.j[k];
+            d += t * (v + t * (0.5 * a + t * j / 6.0));
+            v += t * (a + 0.5 * j * t);
+            a += j * t;
+            if t < self.t[k] {
+                return (d, v, a);
+            }
+            left -= t;
+        }
+        if left > 0.0 {
+            d += v * left;
+        }
+        (d, v, 0.0)
+    }
+
+    /// Distance of the whole profile from (v, a).
+    fn distance(&self, v: f64, a: f64) -> f64 {
+        let (mut d, mut v, mut a) = (0.0, v, a);
+        for k in 0..self.n {
+            let (t, j) = (self.t[k], self.j[k]);
+            d += t * (v + t * (0.5 * a + t * j / 6.0));
+            v += t * (a + 0.5 * j * t);
+            a += j * t;
+        }
+        d
+    }
+}
+
+/// Scalar jerk-limited speed planner along the path. Its state is a continuous profile of the
+/// path speed v(t) with a = dv/dt ∈ [−D, A] and |da/dt| ≤ J, integrated exactly over each
+/// tick, and each tick's step is the distance that profile covers in the tick. Because a tick's
+/// step over Ts is the mean of v over the tick, the sampled feed (step/Ts), its first and its
+/// second difference over Ts and Ts² are weighted means of v, a and j: they keep the same
+/// limits, up to rounding.
+///
+/// Each tick it follows the time-optimal ramp toward the target speed unless that would leave
+/// less room than a stop needs (planned with [`PLAN_MARGIN`] below the limits); from then on it
+/// follows a stop that comes to rest exactly at the remaining distance, re-solved every tick
+/// from the current state (so a remaining distance that grows, because more path was queued,
+/// lets it speed up again without a jump).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathSpeedPlanner {
+    pub(super) ts: f64,
+    pub(super) amax: f64,
+    pub(super) dmax: f64,
+    pub(super) jmax: f64,
+    pub(super) v: f64,
+    pub(super) a: f64,
+    stopping: bool,
+    lands: bool,
+}
+
+impl PathSpeedPlanner {
+    /// New planner at rest with acceleration and deceleration limit `amax` and jerk `jmax`.
+    pub fn new(ts: f64, amax: f64, jmax: f64) -> Result<Self, InterpError> {
+        if !(pos_finite(ts) && ts <= 1.0) {
+            return Err(InterpError::BadSampleTime);
+        }
+        if !pos_finite(amax) {
+            return Err(InterpError::BadAccel);
+        }
+        if !pos_finite(jmax) {
+            return Err(InterpError::BadJerk);
+        }
+        Ok(Self {
+            ts,
+            amax,
+            dmax: amax,
+            jmax,
+            v: 0.0,
+            a: 0.0,
+            stopping: false,
+            lands: false,
+        })
+    }
+
+    /// Sets a separate (usually lower) deceleration limit, counts/s².
+    pub fn with_decel(mut self, dmax: f64) -> Result<Self, InterpError> {
+        if !pos_finite(dmax) {
+            return Err(InterpError::BadAccel);
+        }
+        self.dmax = dmax;
+        Ok(self)
+    }
+
+    /// Path speed at the end of the last tick, counts/s.
+    pub fn speed(&self) -> f64 {
+        self.v
+    }
+    /// Path acceleration at the end of the last tick, counts/s².
+    pub fn accel(&self) -> f64 {
+        self.a
+    }
+    /// Acceleration limit, counts/s².
+    pub fn accel_limit(&self) -> f64 {
+        self.amax
+    }
+    /// Deceleration limit in use, counts/s².
+    pub fn decel_limit(&self) -> f64 {
+        self.dmax
+    }
+    /// Jerk limit, counts/s³.
+    pub fn jerk_limit(&self) -> f64 {
+        self.jmax
+    }
+    /// True while the planner follows a stop at the remaining distance.
+    pub fn is_stopping(&self) -> bool {
+        self.stopping
+    }
+    /// True when the last tick's stop came to rest within the tick (at the remaining distance).
+    pub fn lands(&self) -> bool {
+        self.lands
+    }
+
+    /// Takes over the motion state of another planner (the previous curve of a path).
+    pub fn continue_from(&mut self, other: &PathSpeedPlanner) {
+        self.v = other.v;
+        self.a = other.a.clamp(-self.dmax, self.amax);
+        self.stopping = other.stopping;
+        self.lands = false;
+    }
+
+    /// Jerk and deceleration the stop decision is planned with.
+    pub(super) fn plan_limits(&self) -> (f64, f64) {
+        (
+            self.jmax * (1.0 - PLAN_MARGIN),
+            self.dmax * (1.0 - PLAN_MARGIN),
+        )
+    }
+
+    /// Time-optimal jerk-limited ramp from (v, a) to speed `tgt` with a = 0 at the end.
+    fn track_phases(&self, v: f64, a: f64, tgt: f64) -> Phases {
+        let j = self.jmax;
+        let mut p = Phases::default();
+        let a = a.clamp(-self.dmax, self.amax);
+        // the speed reached by bringing a to zero at once
+        let flat = v + a * a.abs() / (2.0 * j);
+        if tgt >= flat {
+            let dv = tgt - v;
+            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if ap > self.amax {
+                ap = self.amax;
+                th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
+            }
+            let ap = ap.max(a);
+            p.push(j, (ap - a) / j);
+            p.push(0.0, th);
+            p.push(-j, ap / j);
+        } else {
+            let dv = v - tgt;
+            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if dp > self.dmax {
+                dp = self.dmax;
+                th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
+            }
+            let dp = dp.max(-a);
+            p.push(-j, (a + dp) / j);
+            p.push(0.0, th);
+            p.push(j, dp / j);
+        }
+        p
+    }
+
+    /// A stop from (v, a) through a peak deceleration `ap`: jerk toward −ap, hold it, jerk +J
+    /// back to zero, ending at rest.
+    fn brake_phases(v: f64, a: f64, ap: f64, j: f64) -> Phases {
+        let mut p = Phases::default();
+        let t1 = (a + ap).abs() / j;
+        let j1 = if a + ap >= 0.0 { -j } else { j };
+        let v1 = v + 0.5 * (a - ap) * t1;
+        let th = ((v1 - ap * ap / (2.0 * j)) / ap).max(0.0);
+        p.push(j1, t1);
+        p.push(0.0, th);
+        p.push(j, ap / j);
+        p
+    }
+
+    /// The distance of `brake_phases(v, a, ap, j)`, in closed form.
+    fn brake_distance(v: f64, a: f64, ap: f64, j: f64) -> f64 {
+        let t1 = (a + ap).abs() / j;
+        let j1 = if a + ap >= 0.0 { -j } else { j };
+        let d1 = t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0));
+        let v1 = v + 0.5 * (a - ap) * t1;
+        let v2 = ap * ap / (2.0 * j);
+        let d2 = if v1 > v2 {
+            (v1 * v1 - v2 * v2) / (2.0 * ap)
+        } else {
+            0.0
+        };
+        // the last phase from (v2', −ap) with v2' = v1 when there is no hold
+        let v3 = v1.min(v2);
+        let t3 = ap / j;
+        d1 + d2 + t3 * (v3 + t3 * (-0.5 * ap + t3 * j / 6.0))
+    }
+
+    /// The peak deceleration of the shortest stop from (v, a) with deceleration ≤ `d` and jerk
+    /// `j`; None when the state cannot come to rest without a jump in acceleration (braking so
+    /// hard that the speed reaches zero before the acceleration does).
+    fn brake_peak(v: f64, a: f64, d: f64, j: f64) -> Option<f64> {
+        let opt = (j * v.max(0.0) + 0.5 * a * a).sqrt();
+        let ap = d.min(opt).max(-a);
+        (a >= -opt * (1.0 + 1e-12) && ap > 0.0).then_some(ap)
+    }
+
+    /// Distance to come to rest (v = 0, a = 0) from speed `v ≥ 0` and acceleration `a`
+    /// with deceleration ≤ `dmax` and jerk `jmax` (time-optimal stop).
+    pub fn stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
+        let v = v.max(0.0);
+        if v == 0.0 && a <= 0.0 {
+            return 0.0;
+        }
+        match Self::brake_peak(v, a, dmax, jmax) {
+            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
+            None => {
+                // release at +J until the speed is zero
+                let t = (-a - (a * a - 2.0 * jmax * v).max(0.0).sqrt()) / jmax;
+                (v * t + 0.5 * a * t * t + jmax * t * t * t / 6.0).max(0.0)
+            }
+        }
+    }
+
+    /// Distance of the shortest stop from (v, a) that ends with a = 0 (∞ when none does).
+    fn clean_stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
+        let v = v.max(0.0);
+        if v == 0.0 && a <= 0.0 {
+            return if a == 0.0 { 0.0 } else { f64::INFINITY };
+        }
+        match Self::brake_peak(v, a, dmax, jmax) {
+            Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
+            None => f64::INFINITY,
+        }
+    }
+
+    /// Distance needed from the current state to slow to `v_target` (0 when already there).
+    pub fn slowing_distance(&self, v_target: f64) -> f64 {
+        self.slowing_distance_from(self.v, self.a, v_target)
+    }
+
+    /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`
+    /// covers (0 when no slowing is needed).
+    pub fn slowing_distance_from(&self, v: f64, a: f64, v_target: f64) -> f64 {
+        let vt = v_target.max(0.0);
+        if v <= vt && a <= 0.0 {
+            return 0.0;
+        }
+        self.track_phases(v, a, vt).distance(v, a).max(0.0)
+    }
+
+    /// One tick of the time-optimal ramp toward `tgt`: (distance, speed, acceleration) at the
+    /// end of the tick.
+    pub fn track_step(&self, tgt: f64) -> (f64, f64, f64) {
+        let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
+        self.track_phases(self.v, self.a, tgt)
+            .sample(self.v, self.a, self.ts)
+    }
+
+    /// The root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)): regula falsi with the
+    /// Illinois modification (superlinear), falling back to bisection when it stalls; stops
+    /// when |f| ≤ `tol` or the bracket cannot shrink. Returns the end of the final bracket
+    /// where f ≤ 0 (or the point where |f| ≤ tol).
+    fn solve_decreasing(mut lo: f64, mut hi: f64, tol: f64, f: impl Fn(f64) -> f64) -> f64 {
+        let (mut flo, mut fhi) = (f(lo), f(hi));
+        if flo <= tol {
+            return lo;
+        }
+        if fhi >= -tol {
+            return hi;
+        }
+        let mut side = 0i8;
+        for k in 0..200 {
+            let mut x = (lo * fhi - hi * flo) / (fhi - flo);
+            if k % 8 == 7 || !(x > lo && x < hi) {
+                x = 0.5 * (lo + hi); // every 8th step, and when false position leaves the bracket
+            }
+            if !(x > lo && x < hi) {
+                break;
+            }
+            let fx = f(x);
+            if fx.abs() <= tol {
+                return x;
+            }
+            if fx > 0.0 {
+                lo = x;
+                flo = fx;
+                if side == 1 {
+                    fhi *= 0.5;
+                }
+                side = 1;
+            } else {
+                hi = x;
+                fhi = fx;
+                if side == -1 {
+                    flo *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        hi
+    }
+
+    /// A stop from (v, a) that comes to rest after `r`: the time-optimal stop's shape with a
+    /// lower peak deceleration (longer) or, within the full limits, a higher one (shorter);
+    /// from (near) rest, a short ramp up and down. When no stop fits, the nearest.
+    fn stop_phases(&self, v: f64, a: f64, r: f64, tgt: f64) -> Phases {
+        let (jp, dp) = self.plan_limits();
+        let mut longest = None;
+        for (j, d) in [(jp, dp), (self.jmax, self.dmax)] {
+            let Some(hi) = Self::brake_peak(v, a, d, j) else {
+                continue;
+            };
+            let shortest = Self::brake_phases(v, a, hi, j);
+            if shortest.distance(v, a) > r {
+                if j == self.jmax {
+                    // cannot stop in time even at the full limits: the shortest stop
+                    return shortest;
+                }
+                continue;
+            }
+            let lo = hi * 1e-9;
+            let long = Self::brake_phases(v, a, lo, j);
+            if long.distance(v, a) < r {
+                longest = Some(long);
+                continue;
+            }
+            let dist = |ap: f64| Self::brake_distance(v, a, ap, j) - r;
+            let ap = Self::solve_decreasing(lo, hi, 1e-13 * r, dist);
+            return Self::brake_phases(v, a, ap, j);
+        }
+        // Too far for a stop from here (at or near rest): ramp up to a peak speed and stop.
+        let j = self.jmax;
+        let ramp = |vp: f64| {
+            let mut p = self.track_phases(v, a, vp);
+            let ap = self.dmax.min((j * vp).sqrt());
+            let b = Self::brake_phases(vp, 0.0, ap, j);
+            for k in 0..b.n {
+                p.push(b.j[k], b.t[k]);
+            }
+            p
+        };
+        let v_lo = (v + a * a.abs() / (2.0 * j)).max(0.0);
+        let v_hi = tgt.max(v_lo);
+        if ramp(v_hi).distance(v, a) <= r {
+            return ramp(v_hi);
+        }
+        if ramp(v_lo).distance(v, a) <= r {
+            let vp =
+                Self::solve_decreasing(v_lo, v_hi, 1e-13 * r, |vp| r - ramp(vp).distance(v, a));
+            return ramp(vp);
+        }
+        longest.unwrap_or_else(|| ramp(v_lo))
+    }
+
+    /// One tick: returns the mean path speed over this tick (the step is that times Ts).
+    /// `v_target` is the speed wanted now (commanded feed lowered by look-ahead limits),
+    /// `remaining` the path length to the point where the motion must be at rest (counts).
+    pub fn next(&mut self, v_target: f64, remaining: f64) -> f64 {
+        let ts = self.ts;
+        let remaining = if remaining.is_nan() {
+            0.0
+        } else {
+            remaining.max(0.0)
+        };
+        let tgt = if v_target.is_nan() {
+            0.0
+        } else {
+            v_target.max(0.0)
+        };
+        if !(self.v.is_finite() && self.a.is_finite()) {
+            // (cannot happen from finite inputs; a state it cannot follow restarts at rest)
+            self.rest();
+        }
+        let (v, a) = (self.v, self.a);
+        self.lands = false;
+        if v <= 0.0 && a <= 0.0 && remaining <= 0.0 {
+            self.v = 0.0;
+            self.a = 0.0;
+            self.lands = true;
+            return 0.0;
+        }
+        let (jp, dp) = self.plan_limits();
+        let (ds, v1, a1) = self.track_phases(v, a, tgt).sample(v, a, ts);
+        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
+            self.v = v1.max(0.0);
+            self.a = a1;
+            self.stopping = false;
+            return ds / ts;
+        }
+        self.stopping = true;
+        let stop = self.stop_phases(v, a, remaining, tgt);
+        let (ds, v1, a1) = stop.sample(v, a, ts);
+        if stop.duration() <= ts {
+            self.v = 0.0;
+            self.a = 0.0;
+            self.lands = true;
+        } else {
+            self.v = v1.max(0.0);
+            self.a = a1;
+        }
+        (ds / ts).max(0.0)
+    }
+
+    /// Re-synchronises the planner after a downstream limit changed the tick's mean speed
+    /// from `v_planned` to `v_used`: the end speed moves by the same amount, the acceleration
+    /// is kept (within the limits), and the ramp toward the target continues from there.
+    pub fn resync(&mut self, v_used: f64, v_planned: f64) {
+        if !v_used.is_finite() || (v_used - v_planned).abs() <= 1e-12 * (1.0 + v_planned.abs()) {
+            return;
+        }
+        self.v = (self.v + v_used - v_planned).max(0.0);
+        self.a = self.a.clamp(-self.dmax, self.amax);
+        if self.v == 0.0 {
+            self.a = self.a.max(0.0);
+        }
+        self.lands = false;
+    }
+
+    /// Sets the state to rest.
+    pub(super) fn rest(&mut self) {
+        self.v = 0.0;
+        self.a = 0.0;
+        self.stopping = false;
+        self.lands = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brake_distance_in_closed_form() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x9e37_79b9_7f4a_7c15u64).units();
+        for _ in 0..10_000 {
+            let (v, a) = (rnd() * 5e5, (rnd() - 0.5) * 4e7);
+            let (ap, j) = (rnd() * 3e7 + 1.0, 1e8 + rnd() * 1e10);
+            let exact = PathSpeedPlanner::brake_phases(v, a, ap, j).distance(v, a);
+            let closed = PathSpeedPlanner::brake_distance(v, a, ap, j);
+            assert!(
+                (exact - closed).abs() <= 1e-9 * (1.0 + exact.abs()),
+                "{v} {a} {ap} {j}: {exact} vs {closed}"
+            );
+        }
+    }
+}

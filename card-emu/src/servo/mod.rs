@@ -1,0 +1,4 @@
+//! The servo laws the firmware runs every tick.
+
+pub mod ffpiv;
+pub mod pdplus;

@@ -1,0 +1,4 @@
+//! Test support shared by the fuzz targets, the garbage tests and the unit tests.
+
+pub mod fuzzing;
+pub mod rng;
