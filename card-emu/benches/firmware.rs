@@ -10,7 +10,7 @@ use firmware_proto::{AxisState, Command, Opcode};
 
 fn moving_card() -> (
     Emulator,
-    CmdProducer<std::sync::Arc<card_emu::emu::shm::MappedWindow>>,
+    CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
 ) {
     let mut emu = Emulator::create("bench", &EmuOptions::default()).unwrap();
     let mut host = CmdProducer::attach(emu.window().clone(), CMD_RING);
@@ -24,7 +24,7 @@ fn moving_card() -> (
 /// Start a long move (to the other end of ±1e6 counts) on every axis standing still.
 fn keep_moving(
     emu: &mut Emulator,
-    host: &mut CmdProducer<std::sync::Arc<card_emu::emu::shm::MappedWindow>>,
+    host: &mut CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
 ) {
     for a in 0..8u16 {
         let Some(axis) = emu.firmware().axis(a as usize) else {

@@ -11,20 +11,27 @@
 //!   the fault injector the tests drive. The firmware never imports it.
 //! - [`emu`]: the emulated card — firmware + plant + interrupt line on a stepped, free-running
 //!   or real-time clock, its DPRAM in shared memory, served to other processes as `emu:NAME`.
-//! - [`testkit`]: the fuzzing harness (doc-hidden).
+//! - [`testkit`]: the fuzzing harness and the tests' seeded generator (doc-hidden).
+//!
+//! The cargo feature `emulator` (default) brings `plant` and `emu` (and the `card-emu`
+//! binary); without it the crate is the firmware and the algorithms a host uses.
 #![deny(unsafe_op_in_unsafe_fn)]
 
+#[cfg(feature = "emulator")]
 pub mod emu;
 pub mod firmware;
 pub mod motion;
+#[cfg(feature = "emulator")]
 pub mod plant;
 pub mod presets;
 pub mod servo;
 #[doc(hidden)]
 pub mod testkit;
 
+#[cfg(feature = "emulator")]
 pub use emu::emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;
+#[cfg(feature = "emulator")]
 pub use plant::{Motor, MotorParams, Switches};
 
 pub use firmware_proto::{

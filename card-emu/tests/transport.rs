@@ -7,10 +7,11 @@
 //! card and prints what happened. Without root they say so and check what they can in-process.
 mod common;
 
-use card_emu::emu::server::{self, ConnectError, Server};
-use card_emu::emu::shm::MappedWindow;
+use card_emu::emu::server::{self, Server};
 use card_emu::{EmuOptions, Emulator};
 use common::{card_emu, open_when_ready, try_open, Proc};
+use firmware_proto::emu_link::{self, ConnectError};
+use firmware_proto::window::MappedWindow;
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
 use nix::errno::Errno;
 use nix::fcntl::{fcntl, FcntlArg, SealFlag};
@@ -51,10 +52,10 @@ impl Emu {
     }
 }
 
-fn connect_when_ready(name: &str) -> server::Connection {
+fn connect_when_ready(name: &str) -> emu_link::Connection {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
-        match server::connect(name) {
+        match emu_link::connect(name) {
             Ok(c) => return c,
             Err(ConnectError::NotFound | ConnectError::Busy) if Instant::now() < deadline => {
                 std::thread::sleep(Duration::from_millis(5))

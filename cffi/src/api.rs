@@ -10,9 +10,9 @@ use crate::result::{
 use crate::types::{
     mc_axis_settings, mc_card_info, mc_event, mc_motion, mc_move_limits, mc_sim_options, mc_status,
 };
-use motioncard_sdk::{
-    AxisSettings, Card, Clock, EmuOptions, Error, MoveLimits, SimOptions, EVENT_QUEUE_CAP,
-};
+use motioncard_sdk::{AxisSettings, Card, Error, MoveLimits, EVENT_QUEUE_CAP};
+#[cfg(feature = "emulator")]
+use motioncard_sdk::{Clock, EmuOptions, SimOptions};
 use std::ffi::{c_char, c_int, c_void};
 use std::os::fd::AsRawFd;
 use std::sync::Arc;
@@ -29,7 +29,15 @@ fn axis_of(card: mc_card, axis: u32) -> Result<(Arc<Entry>, motioncard_sdk::Axis
     Ok((e, a))
 }
 
+/// A library built without the emulated card (cargo feature `emulator`) has the `mc_sim_`
+/// calls, and they say so.
+#[cfg(not(feature = "emulator"))]
+fn no_emulator() -> Failure {
+    Error::Unsupported("this library was built without the emulated card".into()).into()
+}
+
 /// The stepping control of a stepped sim card.
+#[cfg(feature = "emulator")]
 fn sim_of(card: mc_card) -> Result<motioncard_sdk::Sim, Failure> {
     registry::get(card)?.sim.clone().ok_or_else(|| {
         Error::Unsupported(
@@ -147,11 +155,19 @@ pub unsafe extern "C" fn mc_open_sim_stepped(
         let out = Out::new(card, "card")?;
         let axes = usize::try_from(axes)
             .map_err(|_| Failure::new(MC_ERR_BAD_CONFIG, format!("axes = {axes}")))?;
-        let opts = SimOptions {
-            clock: Clock::Stepped,
-            emu: EmuOptions::new(axes, servo_rate_hz),
-        };
-        register(Card::open_sim(opts)?, out)
+        #[cfg(feature = "emulator")]
+        return register(
+            Card::open_sim(SimOptions {
+                clock: Clock::Stepped,
+                emu: EmuOptions::new(axes, servo_rate_hz),
+            })?,
+            out,
+        );
+        #[cfg(not(feature = "emulator"))]
+        {
+            let _ = (out, axes, servo_rate_hz);
+            Err(no_emulator())
+        }
     })
 }
 
@@ -161,9 +177,17 @@ pub unsafe extern "C" fn mc_open_sim_stepped(
 pub unsafe extern "C" fn mc_sim_options_default(options: *mut mc_sim_options) -> mc_result {
     guard(|| {
         let out = Out::new(options, "options")?;
-        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(SimOptions::default().into()) };
-        Ok(())
+        #[cfg(feature = "emulator")]
+        {
+            // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+            unsafe { out.write(SimOptions::default().into()) };
+            Ok(())
+        }
+        #[cfg(not(feature = "emulator"))]
+        {
+            let _ = out;
+            Err(no_emulator())
+        }
     })
 }
 
@@ -180,8 +204,14 @@ pub unsafe extern "C" fn mc_open_sim(
     guard(|| {
         let out = Out::new(card, "card")?;
         // SAFETY: the caller gives NULL or a readable mc_sim_options.
-        let opts = unsafe { read_in(options, "options") }?.to_sdk()?;
-        register(Card::open_sim(opts)?, out)
+        let opts = unsafe { read_in(options, "options") }?;
+        #[cfg(feature = "emulator")]
+        return register(Card::open_sim(opts.to_sdk()?)?, out);
+        #[cfg(not(feature = "emulator"))]
+        {
+            let _ = (out, opts);
+            Err(no_emulator())
+        }
     })
 }
 
@@ -713,8 +743,16 @@ pub unsafe extern "C" fn mc_dispatch_events(
 #[no_mangle]
 pub extern "C" fn mc_sim_step(card: mc_card, ticks: u64) -> mc_result {
     guard(|| {
-        sim_of(card)?.step(ticks);
-        Ok(())
+        #[cfg(feature = "emulator")]
+        {
+            sim_of(card)?.step(ticks);
+            Ok(())
+        }
+        #[cfg(not(feature = "emulator"))]
+        {
+            let _ = (card, ticks);
+            Err(no_emulator())
+        }
     })
 }
 
@@ -723,14 +761,22 @@ pub extern "C" fn mc_sim_step(card: mc_card, ticks: u64) -> mc_result {
 pub unsafe extern "C" fn mc_sim_time(card: mc_card, seconds: *mut f64) -> mc_result {
     guard(|| {
         let out = Out::new(seconds, "seconds")?;
-        let t = sim_of(card)?.time();
-        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(t) };
-        Ok(())
+        #[cfg(feature = "emulator")]
+        {
+            let t = sim_of(card)?.time();
+            // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+            unsafe { out.write(t) };
+            Ok(())
+        }
+        #[cfg(not(feature = "emulator"))]
+        {
+            let _ = (out, card);
+            Err(no_emulator())
+        }
     })
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "emulator"))]
 mod tests {
     use super::*;
     use crate::result::{MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL, MC_OK};

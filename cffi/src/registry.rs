@@ -10,7 +10,9 @@
 
 use crate::result::{Failure, MC_ERR_BAD_HANDLE, MC_ERR_UNSUPPORTED};
 use crate::types::mc_event;
-use motioncard_sdk::{Card, GroupMotion, Motion, Sim};
+#[cfg(feature = "emulator")]
+use motioncard_sdk::Sim;
+use motioncard_sdk::{Card, GroupMotion, Motion};
 use std::collections::VecDeque;
 use std::ffi::c_void;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -40,6 +42,7 @@ pub(crate) struct Callback {
 /// An open card.
 pub(crate) struct Entry {
     pub card: Card,
+    #[cfg(feature = "emulator")]
     pub sim: Option<Sim>,
     pub callback: Mutex<Option<Callback>>,
     /// Motions started through this handle, with their axis, for `mc_motion_wait`.
@@ -51,6 +54,7 @@ pub(crate) struct Entry {
 impl Entry {
     pub(crate) fn new(card: Card) -> Self {
         Self {
+            #[cfg(feature = "emulator")]
             sim: card.sim(),
             card,
             callback: Mutex::new(None),
@@ -188,7 +192,7 @@ pub(crate) fn remove(h: mc_card) -> Result<Arc<Entry>, Failure> {
     Ok(entry)
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "emulator"))]
 mod tests {
     use super::*;
     use motioncard_sdk::{Clock, EmuOptions, SimOptions};

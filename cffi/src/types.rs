@@ -5,11 +5,13 @@
 //! cbindgen; the tests check them against the SDK.
 
 use crate::result::{Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_CATEGORY, MC_ERR_BAD_CONFIG};
+#[cfg(feature = "emulator")]
+use motioncard_sdk::{die_bonder_plant, Clock, EmuOptions, SimOptions};
 use motioncard_sdk::{
-    die_bonder_plant, AccDec, ArcSpec, AxisSettings, AxisState, CardEvent, CardInfo, Clock,
-    EmuOptions, EventKind, FeedType, FilterKind, FilterSettings, GroupSettings, GroupState,
-    GroupStatus, Interpolator, MoveLimits, MoveOptions, NurbsFeed, PathLimits, PdPlusSettings,
-    Plane, SafetySettings, SafetyStatus, SimOptions, Status, StopCategory, StopInfo, StopReason,
+    AccDec, ArcSpec, AxisSettings, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
+    FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
+    NurbsFeed, PathLimits, PdPlusSettings, Plane, SafetySettings, SafetyStatus, Status,
+    StopCategory, StopInfo, StopReason,
 };
 
 /// Most axes in a group, as a length.
@@ -468,6 +470,7 @@ pub struct mc_sim_options {
 }
 
 /// The `MC_SIM_CLOCK_` value of a clock.
+#[cfg(feature = "emulator")]
 pub(crate) fn clock_code(c: Clock) -> u32 {
     match c {
         Clock::RealTime => MC_SIM_CLOCK_REAL_TIME,
@@ -476,6 +479,7 @@ pub(crate) fn clock_code(c: Clock) -> u32 {
     }
 }
 
+#[cfg(feature = "emulator")]
 impl mc_sim_options {
     /// The SDK's options; the axes and servo rate are checked by `Card::open_sim`.
     pub(crate) fn to_sdk(self) -> Result<SimOptions, Failure> {
@@ -499,6 +503,7 @@ impl mc_sim_options {
     }
 }
 
+#[cfg(feature = "emulator")]
 impl From<SimOptions> for mc_sim_options {
     /// The clock, axes and rate of the SDK's options (the plant as `MC_SIM_PLANT_DEFAULT`).
     fn from(o: SimOptions) -> Self {

@@ -11,7 +11,10 @@
 //!   pinned by compile-time asserts;
 //! - [`ring`], the single-producer single-consumer rings (command and event);
 //! - [`seqlock`], the per-axis status blocks;
-//! - [`wire`], the encodings of commands, events and status, and the code enums.
+//! - [`wire`], the encodings of commands, events and status, and the code enums;
+//! - [`window`], a DPRAM window mapped from a file (a memfd, a UIO map, a PCI BAR), and
+//!   [`emu_link`], the host's side of the `emu:` transport: what host and card share besides
+//!   the register map.
 //!
 //! Memory-ordering rules (see ARCHITECTURE.md): each side loads its own ring index plainly and
 //! the peer's with Acquire, and publishes with Release; every index read from the window is
@@ -30,6 +33,11 @@ pub mod mem;
 pub mod ring;
 pub mod seqlock;
 pub mod wire;
+
+#[cfg(not(loom))]
+pub mod emu_link;
+#[cfg(not(loom))]
+pub mod window;
 
 pub use mem::{Dpram, Mem};
 pub use ring::{Consumer, Producer, RingError};

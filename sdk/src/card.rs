@@ -1,8 +1,11 @@
 //! Cards, axes, commands and waits.
 
-use crate::device::{self, Backend, Device, SimOptions};
+#[cfg(feature = "emulator")]
+use crate::device::SimOptions;
+use crate::device::{self, Device};
 use crate::error::{nack_reason, Error, Result, Target};
 use crate::session::{host_ms, passed, Link};
+#[cfg(feature = "emulator")]
 use card_emu::Emulator;
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
@@ -177,6 +180,7 @@ impl Card {
     }
 
     /// Open an in-process emulated card with explicit options (for example a stepped clock).
+    #[cfg(feature = "emulator")]
     pub fn open_sim(opts: SimOptions) -> Result<Card> {
         Self::attach("sim", device::open_sim(&opts)?)
     }
@@ -232,7 +236,7 @@ impl Card {
         let tx = CmdProducer::attach(w.clone(), CMD_RING);
         let mut rx = EvtConsumer::attach(w.clone(), EVT_RING);
         rx.resync(); // events of an earlier session are not ours
-        let stepped = matches!(dev.backend, Backend::SimStepped { .. });
+        let stepped = dev.backend.is_stepped();
         let link = Arc::new(Link::new(w.clone(), info.servo_rate_hz, stepped)?);
         let lease = dev.lease_watch();
         let mut inner = Inner {
@@ -363,14 +367,13 @@ impl Card {
     }
 
     /// The stepping control of a stepped `sim` card.
+    #[cfg(feature = "emulator")]
     pub fn sim(&self) -> Option<Sim> {
-        match &self.inner.dev.backend {
-            Backend::SimStepped { emu } => Some(Sim {
-                emu: emu.clone(),
-                card: self.clone(),
-            }),
-            _ => None,
-        }
+        let emu = self.inner.dev.backend.stepped()?;
+        Some(Sim {
+            emu: emu.clone(),
+            card: self.clone(),
+        })
     }
 
     /// Change the servo rate (all axes must be disabled).
@@ -600,6 +603,7 @@ impl Inner {
     }
 
     /// One servo tick of a stepped card, with the host's heartbeat before it.
+    #[cfg(feature = "emulator")]
     fn step_stepped(&self, emu: &mut Emulator) {
         if let Some(h) = lock(&self.heartbeat).as_ref() {
             h.beat();
@@ -645,7 +649,8 @@ impl Inner {
         tx.deadlines[(cmd.seq & (CMD_RING.len - 1)) as usize] = cmd.deadline_ms;
         w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
         drop(tx);
-        if let Backend::SimStepped { emu } = &self.dev.backend {
+        #[cfg(feature = "emulator")]
+        if let Some(emu) = self.dev.backend.stepped() {
             // A stepped card serves its channel when the doorbell rings, between ticks.
             lock(emu).serve();
         }
@@ -805,7 +810,8 @@ impl Inner {
             }
             Ok(())
         };
-        if let Backend::SimStepped { emu } = &self.dev.backend {
+        #[cfg(feature = "emulator")]
+        if let Some(emu) = self.dev.backend.stepped() {
             let timeout = deadline.saturating_duration_since(start);
             return self.wait_stepped(emu, timeout, ended, check);
         }
@@ -878,6 +884,7 @@ impl Inner {
         }
     }
 
+    #[cfg(feature = "emulator")]
     fn wait_stepped<T>(
         &self,
         emu: &Mutex<Emulator>,
@@ -962,12 +969,14 @@ fn push_capped<T>(q: &mut VecDeque<T>, v: T, cap: usize) {
 }
 
 /// Stepping control of a stepped `sim` card: time advances only when asked.
+#[cfg(feature = "emulator")]
 #[derive(Clone)]
 pub struct Sim {
     emu: Arc<Mutex<Emulator>>,
     card: Card,
 }
 
+#[cfg(feature = "emulator")]
 impl Sim {
     /// Advance `n` servo periods (the host's heartbeat beats once per period).
     pub fn step(&self, n: u64) {

@@ -9,15 +9,19 @@
 //! | `pci:DDDD:BB:DD.F` | sysfs `resource0` | none: polling |
 
 use crate::error::{Error, Result};
-use card_emu::emu::server::{self, ConnectError};
-use card_emu::emu::shm::MappedWindow;
+#[cfg(feature = "emulator")]
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
+use firmware_proto::emu_link::{self, ConnectError};
+use firmware_proto::window::MappedWindow;
 use nix::fcntl::{Flock, FlockArg};
 use std::fs::{File, OpenOptions};
 use std::os::fd::{AsFd, BorrowedFd, OwnedFd};
 use std::os::unix::net::UnixStream;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
+#[cfg(feature = "emulator")]
+use std::sync::Mutex;
 
+#[cfg(feature = "emulator")]
 /// How an in-process emulated card (`sim`) is built and driven. [`crate::Card::open_sim`]
 /// refuses axes outside 1..=8 and servo rates outside 1,000..=20,000 Hz
 /// ([`crate::ErrorKind::BadConfig`]) rather than let the card clamp them.
@@ -30,6 +34,7 @@ pub struct SimOptions {
     pub emu: EmuOptions,
 }
 
+#[cfg(feature = "emulator")]
 impl Default for SimOptions {
     fn default() -> Self {
         Self {
@@ -78,8 +83,10 @@ impl Irq {
 /// What keeps a backend alive.
 pub(crate) enum Backend {
     /// In-process emulator driven by a clock thread.
+    #[cfg(feature = "emulator")]
     SimRunning { _runner: Runner },
     /// In-process emulator stepped by the application.
+    #[cfg(feature = "emulator")]
     SimStepped { emu: Arc<Mutex<Emulator>> },
     /// A card-emu process; the stream is our lease.
     Emu { _lease: UnixStream },
@@ -92,6 +99,25 @@ pub(crate) struct Device {
     pub window: Arc<MappedWindow>,
     pub irq: Irq,
     pub backend: Backend,
+}
+
+impl Backend {
+    /// The emulator of a stepped `sim` card.
+    #[cfg(feature = "emulator")]
+    pub(crate) fn stepped(&self) -> Option<&Arc<Mutex<Emulator>>> {
+        match self {
+            Backend::SimStepped { emu } => Some(emu),
+            _ => None,
+        }
+    }
+
+    /// Is it a stepped `sim` card (its time advances only when the host steps it)?
+    pub(crate) fn is_stepped(&self) -> bool {
+        #[cfg(feature = "emulator")]
+        return self.stepped().is_some();
+        #[cfg(not(feature = "emulator"))]
+        false
+    }
 }
 
 impl Device {
@@ -108,7 +134,12 @@ impl Device {
 /// Parse and open a card URI.
 pub(crate) fn open(uri: &str) -> Result<Device> {
     if uri == "sim" {
+        #[cfg(feature = "emulator")]
         return open_sim(&SimOptions::default());
+        #[cfg(not(feature = "emulator"))]
+        return Err(Error::Unsupported(
+            "sim: this library was built without the emulated card (feature `emulator`)".into(),
+        ));
     }
     if let Some(name) = uri.strip_prefix("emu:") {
         if name.is_empty() || name.len() > 100 || name.contains('\0') {
@@ -134,6 +165,7 @@ pub(crate) fn open(uri: &str) -> Result<Device> {
     Err(Error::BadUri(uri.into()))
 }
 
+#[cfg(feature = "emulator")]
 pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
     let (axes, hz) = (opts.emu.axes, opts.emu.servo_rate_hz);
     if !(1..=firmware_proto::MAX_AXES).contains(&axes) {
@@ -174,7 +206,7 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
 }
 
 fn open_emu(uri: &str, name: &str) -> Result<Device> {
-    let conn = server::connect(name).map_err(|e| match e {
+    let conn = emu_link::connect(name).map_err(|e| match e {
         ConnectError::NotFound => Error::NotFound {
             uri: uri.into(),
             reason: format!(
@@ -326,6 +358,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "emulator")]
     fn out_of_range_sims_are_refused_not_clamped() {
         let sim = |axes, hz| {
             open_sim(&SimOptions {

@@ -30,11 +30,15 @@ mod nurbs;
 mod safety;
 mod session;
 
+#[cfg(feature = "emulator")]
+pub use card::Sim;
 pub use card::{
-    Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Sim, Status,
+    Axis, AxisSettings, Card, CardEvent, CardInfo, Motion, MoveLimits, Outcome, Status,
     ACK_TIMEOUT, EVENT_QUEUE_CAP, SCALE_RANGE,
 };
+#[cfg(feature = "emulator")]
 pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
+#[cfg(feature = "emulator")]
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
@@ -44,9 +48,11 @@ pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
 };
+#[cfg(feature = "emulator")]
+pub use nurbs::die_bonder_plant;
 pub use nurbs::{
-    clamped_uniform_knots, die_bonder_plant, split_nurbs, Nurbs, NurbsError, NurbsFeed,
-    PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
+    clamped_uniform_knots, split_nurbs, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
+    NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
 pub use safety::{
     SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US, WATCHDOG_TIMEOUT_DEFAULT,

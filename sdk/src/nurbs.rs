@@ -59,6 +59,7 @@ impl PdPlusSettings {
 }
 
 /// The plant of Yeh's die bonder, axis 0 (X) or 1 (Y), for an emulated card.
+#[cfg(feature = "emulator")]
 pub fn die_bonder_plant(axis: usize) -> card_emu::MotorParams {
     let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
     card_emu::MotorParams::die_bonder(m.plant.k_c, m.plant.tau)

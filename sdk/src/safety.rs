@@ -16,7 +16,7 @@
 //! watchdog fault: the next host calls [`Card::reset_faults`].
 
 use crate::card::{Axis, Card, Status};
-use crate::device::{Backend, Device};
+use crate::device::Device;
 use crate::error::{Error, Result, Target};
 use crate::session::{Link, Window};
 use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
@@ -40,6 +40,8 @@ pub const HEARTBEAT_PERIOD_US: u32 = 1000;
 /// The host side of the watchdog: keeps `host.heartbeat` and the host clock
 /// (`host.host_time_ms`) moving while the card is open, and, for an `emu:` card, watches the
 /// connection: when the card process goes away the session is marked gone at once.
+// (`window`, `link`, `count`: for the beats of a stepped `sim` card)
+#[cfg_attr(not(feature = "emulator"), allow(dead_code))]
 pub(crate) struct Heartbeat {
     window: Window,
     link: Arc<Link>,
@@ -60,9 +62,9 @@ impl Heartbeat {
         window.write32(layout::HEARTBEAT, count);
         let enabled = Arc::new(AtomicBool::new(true));
         let stop = Arc::new(AtomicBool::new(false));
-        let thread = match dev.backend {
-            Backend::SimStepped { .. } => None,
-            _ => {
+        let thread = match dev.backend.is_stepped() {
+            true => None,
+            false => {
                 let beat = Beat {
                     window: window.clone(),
                     link: link.clone(),
@@ -88,6 +90,7 @@ impl Heartbeat {
     }
 
     /// One beat (stepped cards: before each emulated tick).
+    #[cfg(feature = "emulator")]
     pub(crate) fn beat(&self) {
         if self.thread.is_none() && self.enabled.load(Ordering::Relaxed) {
             self.link.publish_time();

@@ -25,7 +25,7 @@ use std::sync::atomic::{fence, AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-pub(crate) type Window = std::sync::Arc<card_emu::emu::shm::MappedWindow>;
+pub(crate) type Window = std::sync::Arc<firmware_proto::window::MappedWindow>;
 
 /// A card whose tick counter has not moved for this many servo periods (and at least
 /// [`STALE_MIN`]) is not responding.

@@ -9,10 +9,10 @@
 //!   (`clock_nanosleep(TIMER_ABSTIME)`), serving commands between ticks, optionally
 //!   busy-polling the command ring instead of sleeping (lowest command latency).
 
-use crate::emu::shm::MappedWindow;
 use crate::firmware::Firmware;
 use crate::plant::faults::FaultInjector;
 use crate::plant::{Motor, MotorParams};
+use firmware_proto::window::MappedWindow;
 use firmware_proto::MAX_AXES;
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use nix::time::{clock_gettime, clock_nanosleep, ClockId, ClockNanosleepFlags};

@@ -3,4 +3,3 @@
 
 pub mod emulator;
 pub mod server;
-pub mod shm;

@@ -42,27 +42,18 @@
 //!   (magic, checksums, indices, state values) catch garbage, not a writer that computes the
 //!   checksums.
 //!
-//! Nobody can resize the window: its seals ([`crate::emu::shm::WINDOW_SEALS`]) make `ftruncate`
+//! Nobody can resize the window: its seals ([`firmware_proto::window::WINDOW_SEALS`]) make `ftruncate`
 //! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
-use nix::sys::socket::{
-    getsockopt, recvmsg, sendmsg, sockopt, ControlMessage, ControlMessageOwned, MsgFlags,
-};
+use firmware_proto::emu_link::{hello, socket_name, STATUS_BUSY, STATUS_DENIED, STATUS_OK};
+use nix::sys::socket::{getsockopt, sendmsg, sockopt, ControlMessage, MsgFlags};
 use std::collections::BTreeSet;
-use std::io::{IoSlice, IoSliceMut, Read};
-use std::os::fd::{AsFd, AsRawFd, FromRawFd, OwnedFd, RawFd};
+use std::io::{IoSlice, Read};
+use std::os::fd::{AsFd, AsRawFd, OwnedFd};
 use std::os::linux::net::SocketAddrExt;
 use std::os::unix::net::{SocketAddr, UnixListener, UnixStream};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-
-/// The greeting: magic and version (8 bytes), status (u32 LE), one status-specific word
-/// (u32 LE: the refused uid for [`STATUS_DENIED`], else 0).
-const HELLO: [u8; 8] = *b"MCEMU\x01\0\0";
-const STATUS_OK: u32 = 0;
-const STATUS_BUSY: u32 = 1;
-/// The peer's credentials are not admitted by the server's [`PeerPolicy`].
-const STATUS_DENIED: u32 = 2;
 
 /// A connecting process's credentials, as the kernel recorded them when it called `connect()`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -204,113 +195,6 @@ pub fn resolve_group(group: &str) -> Result<u32, String> {
     }
 }
 
-/// The abstract socket name of card `name`.
-pub fn socket_name(name: &str) -> String {
-    format!("motioncard/{name}")
-}
-
-fn hello(status: u32, word: u32) -> [u8; 16] {
-    let mut m = [0u8; 16];
-    m[..8].copy_from_slice(&HELLO);
-    m[8..12].copy_from_slice(&status.to_le_bytes());
-    m[12..16].copy_from_slice(&word.to_le_bytes());
-    m
-}
-
-/// Why a connection to an emulator failed.
-#[derive(Debug)]
-pub enum ConnectError {
-    /// Nothing serves that name.
-    NotFound,
-    /// Another host holds the card.
-    Busy,
-    /// The server's [`PeerPolicy`] does not admit this process; `uid` is the effective uid
-    /// the server saw.
-    Denied {
-        /// The refused uid.
-        uid: u32,
-    },
-    /// The peer does not speak this protocol.
-    Protocol(String),
-    /// Any other I/O failure.
-    Io(std::io::Error),
-}
-
-/// What a host gets from the emulator.
-pub struct Connection {
-    /// The DPRAM window's memfd.
-    pub window: OwnedFd,
-    /// The interrupt eventfd.
-    pub irq: OwnedFd,
-    /// The lease: keep it open while the card is in use.
-    pub lease: UnixStream,
-}
-
-/// Connect to the emulator serving `name`.
-pub fn connect(name: &str) -> Result<Connection, ConnectError> {
-    let addr =
-        SocketAddr::from_abstract_name(socket_name(name).as_bytes()).map_err(ConnectError::Io)?;
-    let stream = UnixStream::connect_addr(&addr).map_err(|e| match e.kind() {
-        std::io::ErrorKind::ConnectionRefused | std::io::ErrorKind::NotFound => {
-            ConnectError::NotFound
-        }
-        _ => ConnectError::Io(e),
-    })?;
-    stream
-        .set_read_timeout(Some(std::time::Duration::from_secs(5)))
-        .map_err(ConnectError::Io)?;
-    let mut buf = [0u8; 16];
-    let mut cmsg = nix::cmsg_space!([RawFd; 2]);
-    let mut iov = [IoSliceMut::new(&mut buf)];
-    let msg = recvmsg::<()>(
-        stream.as_raw_fd(),
-        &mut iov,
-        Some(&mut cmsg),
-        MsgFlags::MSG_CMSG_CLOEXEC,
-    )
-    .map_err(|e| ConnectError::Io(e.into()))?;
-    let mut fds: Vec<OwnedFd> = Vec::new();
-    for c in msg.cmsgs().map_err(|e| ConnectError::Io(e.into()))? {
-        if let ControlMessageOwned::ScmRights(raw) = c {
-            // SAFETY: the kernel just installed these descriptors in our table for us; nobody
-            // else owns them.
-            fds.extend(
-                raw.into_iter()
-                    .map(|fd| unsafe { OwnedFd::from_raw_fd(fd) }),
-            );
-        }
-    }
-    let n = msg.bytes;
-    if n != 16 || buf[..8] != HELLO {
-        return Err(ConnectError::Protocol(format!(
-            "unexpected greeting ({n} bytes)"
-        )));
-    }
-    match u32::from_le_bytes([buf[8], buf[9], buf[10], buf[11]]) {
-        STATUS_OK => {}
-        STATUS_BUSY => return Err(ConnectError::Busy),
-        STATUS_DENIED => {
-            let uid = u32::from_le_bytes([buf[12], buf[13], buf[14], buf[15]]);
-            return Err(ConnectError::Denied { uid });
-        }
-        s => return Err(ConnectError::Protocol(format!("unknown status {s}"))),
-    }
-    if fds.len() != 2 {
-        return Err(ConnectError::Protocol(format!(
-            "expected 2 descriptors, got {}",
-            fds.len()
-        )));
-    }
-    stream.set_read_timeout(None).map_err(ConnectError::Io)?;
-    let irq = fds.pop().expect("two fds");
-    let window = fds.pop().expect("two fds");
-    Ok(Connection {
-        window,
-        irq,
-        lease: stream,
-    })
-}
-
 /// The listening side. Accepts hosts one at a time on a background thread.
 pub struct Server {
     name: String,
@@ -409,6 +293,7 @@ impl Server {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use firmware_proto::emu_link::{connect, ConnectError};
 
     fn peer(uid: u32, gid: u32, groups: &[u32]) -> PeerCred {
         PeerCred {
@@ -486,7 +371,7 @@ mod tests {
         // greeting is checked below.
         let me = nix::unistd::geteuid().as_raw();
         let name = format!("policy-unit-{}", std::process::id());
-        let w = crate::emu::shm::MappedWindow::create("policy-unit").unwrap();
+        let w = firmware_proto::window::MappedWindow::create("policy-unit").unwrap();
         let irq = w.fd().try_clone_to_owned().unwrap();
         let window = w.fd().try_clone_to_owned().unwrap();
         let _s =

@@ -142,7 +142,7 @@ impl Ffpiv {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "emulator"))]
 mod tests {
     use super::*;
     use crate::plant::{Motor, MotorParams};

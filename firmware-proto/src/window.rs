@@ -8,7 +8,7 @@
 //! received window only when it carries these seals ([`MappedWindow::from_fd`]), which also
 //! protects the host from a server that would shrink it.
 
-use firmware_proto::{Dpram, Mem, DPRAM_SIZE};
+use crate::{Dpram, Mem, DPRAM_SIZE};
 use memmap2::{MmapOptions, MmapRaw};
 use nix::fcntl::{fcntl, FcntlArg, SealFlag};
 use nix::sys::memfd::{memfd_create, MFdFlags};
@@ -52,7 +52,7 @@ impl MappedWindow {
     pub fn map(file: File, offset: u64, len: usize) -> std::io::Result<Self> {
         let map = MmapOptions::new().offset(offset).len(len).map_raw(&file)?;
         // SAFETY: the mapping lives in `self._map` as long as `dpram` is used; all access to it
-        // is atomic (see firmware_proto::mem).
+        // is atomic (see crate::mem).
         let dpram = unsafe { Dpram::from_raw(map.as_mut_ptr(), map.len()) }
             .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()))?;
         Ok(Self {
