@@ -17,15 +17,12 @@ use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
 use std::os::fd::BorrowedFd;
 use std::sync::atomic::Ordering;
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 pub(crate) use crate::session::Window;
 
-/// A command's deadline: the card refuses a command it takes later than this after it was
-/// sent (`MC_NACK_EXPIRED`), and the SDK reports a failure only once the command can no longer
-/// run.
-pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
+pub use crate::session::ACK_TIMEOUT;
 
 /// How long a wait looks at the event ring before it blocks in `poll()` on the interrupt fd:
 /// about the round trip of a command to a card that busy-polls its ring, so that answer is
@@ -150,7 +147,7 @@ pub(crate) struct Inner {
     scale: Mutex<[f64; MAX_AXES]>,
     last_motion: Mutex<[Option<u32>; MAX_AXES]>,
     pub(crate) link: Arc<Link>,
-    heartbeat: Mutex<Option<crate::safety::Heartbeat>>,
+    heartbeat: Mutex<Option<crate::heartbeat::Heartbeat>>,
     /// Axes the attach stopped because the previous host had vanished without closing.
     inherited_stops: u32,
 }
@@ -162,10 +159,7 @@ pub struct Card {
     inner: Arc<Inner>,
 }
 
-/// Lock a mutex, recovering from a poisoned one (a panicking user thread must not brick the card).
-pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
+pub(crate) use crate::session::lock;
 
 impl Card {
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
@@ -283,7 +277,7 @@ impl Card {
                 });
             }
         }
-        let heartbeat = crate::safety::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
+        let heartbeat = crate::heartbeat::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
         *lock(&inner.heartbeat) = Some(heartbeat);
         Ok(Card {
             inner: Arc::new(inner),
@@ -301,7 +295,7 @@ impl Card {
     /// Run `f` with the heartbeat (`None` once the card is closed).
     pub(crate) fn with_heartbeat<T>(
         &self,
-        f: impl FnOnce(&crate::safety::Heartbeat) -> T,
+        f: impl FnOnce(&crate::heartbeat::Heartbeat) -> T,
     ) -> Option<T> {
         lock(&self.inner.heartbeat).as_ref().map(f)
     }
@@ -957,7 +951,7 @@ impl Drop for Inner {
 fn abort_reason(code: i32) -> String {
     match u16::try_from(code).ok().and_then(Opcode::from_raw) {
         Some(op) => format!("{op:?}"),
-        None => crate::safety::fault_name(code).map_or(format!("fault {code}"), String::from),
+        None => crate::error::fault_name(code).map_or(format!("fault {code}"), String::from),
     }
 }
 

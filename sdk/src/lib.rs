@@ -26,6 +26,7 @@ mod card;
 mod device;
 mod error;
 mod group;
+mod heartbeat;
 mod nurbs;
 mod safety;
 mod session;
@@ -48,15 +49,14 @@ pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
 };
+pub use heartbeat::HEARTBEAT_PERIOD_US;
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;
 pub use nurbs::{
     clamped_uniform_knots, split_nurbs, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
     NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
-pub use safety::{
-    SafetySettings, SafetyStatus, StopInfo, HEARTBEAT_PERIOD_US, WATCHDOG_TIMEOUT_DEFAULT,
-};
+pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
 
 /// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).

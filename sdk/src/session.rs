@@ -22,8 +22,18 @@ use firmware_proto::{layout, Mem};
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use std::os::fd::{AsFd, BorrowedFd};
 use std::sync::atomic::{fence, AtomicBool, AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
+
+/// A command's deadline: the card refuses a command it takes later than this after it was
+/// sent (`MC_NACK_EXPIRED`), and the SDK reports a failure only once the command can no longer
+/// run.
+pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// Lock a mutex, recovering from a poisoned one (a panicking user thread must not brick the card).
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
 
 pub(crate) type Window = std::sync::Arc<firmware_proto::window::MappedWindow>;
 
@@ -89,7 +99,7 @@ impl Link {
     /// Publish the host clock (`host.host_time_ms`) and fence: what the card reads after its
     /// next fence is at least this. Returns the time published.
     pub(crate) fn publish_time(&self) -> u32 {
-        let _g = crate::card::lock(&self.clock);
+        let _g = lock(&self.clock);
         let now = host_ms();
         self.window
             .store32(layout::HOST_TIME_MS, now, Ordering::SeqCst);
@@ -100,7 +110,7 @@ impl Link {
     /// The deadline of a command sent now.
     pub(crate) fn deadline(&self) -> u32 {
         host_ms()
-            .wrapping_add(crate::card::ACK_TIMEOUT.as_millis() as u32)
+            .wrapping_add(ACK_TIMEOUT.as_millis() as u32)
             .max(1)
     }
 
@@ -142,7 +152,7 @@ impl Link {
         if self.stepped {
             return Ok(());
         }
-        let mut seen = crate::card::lock(&self.seen);
+        let mut seen = lock(&self.seen);
         let now = Instant::now();
         if tick != seen.0 {
             *seen = (tick, now);
