@@ -234,12 +234,10 @@ fn sdk_refuses_bad_arguments_before_the_card_sees_them() {
     }
     ax.set_scale(-2.5).unwrap();
     ax.set_scale(1.0).unwrap();
-    let mut cfg = motioncard::AxisSettings {
-        kp: f64::NAN,
-        ..Default::default()
-    };
+    let mut cfg = motioncard::AxisSettings::default();
+    cfg.ffpiv.kp = f64::NAN;
     assert_eq!(ax.configure(&cfg).unwrap_err().kind(), ErrorKind::NotFinite);
-    cfg.kp = -3.0; // finite but out of range: the card refuses it
+    cfg.ffpiv.kp = -3.0; // finite but out of range: the card refuses it
     assert_eq!(ax.configure(&cfg).unwrap_err().kind(), ErrorKind::BadConfig);
     // Nothing was sent for the host-side refusals: the card accepted only power-on and configure.
     assert_eq!(ax.status().unwrap().raw.move_count, 0);

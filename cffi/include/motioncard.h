@@ -681,51 +681,74 @@ typedef struct mc_card_info {
 } mc_card_info;
 
 /**
- * Servo gains and in-position windows of an axis (counts, seconds, volts). Start from
- * `mc_axis_settings_default`.
+ * FFPIV gains (Thinh Fig 5) and the velocity estimator's cut-off: part of mc_axis_config.
  */
-typedef struct mc_axis_settings {
+typedef struct mc_ffpiv_gains {
   /**
-   * Position gain, 1/s.
+   * Position gain K_P, 1/s: velocity command = kp * following error.
    */
   double kp;
   /**
-   * Velocity-loop integral gain, 1/s.
+   * Velocity-loop integral gain K_I, 1/s.
    */
   double ki;
   /**
-   * Velocity-loop gain, V per count/s.
+   * Velocity-loop gain K_V, V per count/s.
    */
   double kv;
   /**
-   * Velocity feed-forward fraction.
+   * Velocity feed-forward K_VFF into the velocity loop, fraction 0..2.
    */
   double kvff;
   /**
-   * Acceleration feed-forward, V per count/s².
+   * Acceleration feed-forward K_AFF, V per count/s^2.
    */
   double kaff;
   /**
-   * Velocity estimator cut-off, Hz.
+   * Cut-off of the first-order filter on the measured velocity, Hz.
    */
   double vel_filter_hz;
+} mc_ffpiv_gains;
+
+/**
+ * An axis's servo configuration. Host writes; the card validates and copies it on
+ * MC_OP_APPLY_AXIS_CONFIG.
+ */
+typedef struct mc_axis_config {
   /**
-   * Output clamp, V.
+   * MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis].
+   */
+  uint32_t servo_law;
+  uint32_t _reserved0;
+  /**
+   * The FFPIV gains.
+   */
+  struct mc_ffpiv_gains ffpiv;
+  /**
+   * Output clamp, V, 0 < limit <= 10.
    */
   double dac_limit_v;
   /**
-   * In-position window, counts.
+   * |target - actual| for motion done, counts.
    */
   double in_pos_window;
   /**
-   * In-velocity window, counts/s.
+   * |actual velocity| for motion done, counts/s.
    */
   double in_vel_window;
   /**
-   * Settle time, s.
+   * Both windows held this long before motion done, s.
    */
   double settle_time;
-} mc_axis_settings;
+  double _reserved[5];
+} mc_axis_config;
+
+/**
+ * Servo gains and in-position windows of an axis (counts, seconds, volts): the card's
+ * `mc_axis_config` register block, the same struct as in the register map. Start from
+ * `mc_axis_settings_default`; `mc_configure` selects FFPIV whatever `servo_law` holds.
+ */
+typedef struct mc_axis_config mc_axis_settings;
 
 /**
  * Limits of a point-to-point move, in user units (see `mc_set_scale`). Every value must be
@@ -1415,7 +1438,7 @@ typedef struct mc_stop_info {
 #define MC_OK 0
 
 /**
- * The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F` (or not UTF-8).
+ * The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
  */
 #define MC_ERR_BAD_URI -1
 
@@ -1435,7 +1458,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_VERSION_MISMATCH -4
 
 /**
- * The card does not answer.
+ * The card does not answer (its tick counter stopped, or it was removed).
  */
 #define MC_ERR_NOT_RESPONDING -5
 
@@ -1470,7 +1493,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_NOT_FINITE -11
 
 /**
- * A limit (or the scale) is zero or negative.
+ * A limit is zero or negative.
  */
 #define MC_ERR_NON_POSITIVE_LIMIT -12
 
@@ -1510,16 +1533,6 @@ typedef struct mc_stop_info {
 #define MC_ERR_UNKNOWN_COMMAND -19
 
 /**
- * An operating-system call failed.
- */
-#define MC_ERR_IO -20
-
-/**
- * The card or backend cannot do this (for example stepping a card that is not a stepped sim).
- */
-#define MC_ERR_UNSUPPORTED -21
-
-/**
  * No such axes group.
  */
 #define MC_ERR_BAD_GROUP -22
@@ -1540,7 +1553,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_AXIS_BUSY -25
 
 /**
- * The axis belongs to an enabled group.
+ * Single-axis motion on an axis of an enabled group.
  */
 #define MC_ERR_AXIS_GROUPED -26
 
@@ -1550,7 +1563,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_ZERO_LENGTH_ARC -27
 
 /**
- * The centre is not equidistant from start and end.
+ * The centre is not equidistant from start and end within the tolerance.
  */
 #define MC_ERR_CENTRE_NOT_EQUIDISTANT -28
 
@@ -1560,32 +1573,32 @@ typedef struct mc_stop_info {
 #define MC_ERR_RADIUS_TOO_SMALL -29
 
 /**
- * The three points of the arc are on one line.
+ * The three points of a border-point arc are on one line.
  */
 #define MC_ERR_COLLINEAR_POINTS -30
 
 /**
- * The group's move queue is full.
+ * The group's move queue is full: nothing was queued.
  */
 #define MC_ERR_QUEUE_FULL -31
 
 /**
- * The interpolator cannot run with this acc/dec mode.
+ * The interpolator cannot run with the group's acc/dec mode.
  */
 #define MC_ERR_INCOMPATIBLE_MODE -32
 
 /**
- * The group is disabled or not configured.
+ * The group is disabled (or not configured).
  */
 #define MC_ERR_GROUP_DISABLED -33
 
 /**
- * The filter still holds distance.
+ * Filters can change only while they hold no distance.
  */
 #define MC_ERR_FILTER_BUSY -34
 
 /**
- * NURBS data out of sequence.
+ * NURBS data or end without a begin, out of order, or missing.
  */
 #define MC_ERR_NURBS_SEQUENCE -35
 
@@ -1595,17 +1608,17 @@ typedef struct mc_stop_info {
 #define MC_ERR_NURBS_DEGREE -36
 
 /**
- * NURBS curves need a group of at least 2 axes.
+ * NURBS on a group of fewer than 2 axes.
  */
 #define MC_ERR_NURBS_DIMENSION -37
 
 /**
- * Too few or too many NURBS control points.
+ * Too few or too many control points.
  */
 #define MC_ERR_NURBS_CTRL_COUNT -38
 
 /**
- * The knot count must be control points + degree + 1.
+ * The knot count is not n_ctrl + degree + 1.
  */
 #define MC_ERR_NURBS_KNOT_COUNT -39
 
@@ -1620,12 +1633,12 @@ typedef struct mc_stop_info {
 #define MC_ERR_NURBS_KNOT_MULTIPLICITY -41
 
 /**
- * The knot vector is not clamped.
+ * The end knots are not repeated degree + 1 times (or the domain is empty).
  */
 #define MC_ERR_NURBS_NOT_CLAMPED -42
 
 /**
- * A NURBS weight is not finite and positive.
+ * A weight is not finite and positive.
  */
 #define MC_ERR_NURBS_WEIGHT -43
 
@@ -1635,7 +1648,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_NURBS_POINT -44
 
 /**
- * The curve does not start where the group is.
+ * The curve does not start where the group's path is.
  */
 #define MC_ERR_NURBS_START -45
 
@@ -1645,52 +1658,65 @@ typedef struct mc_stop_info {
 #define MC_ERR_NURBS_ZERO_LENGTH -46
 
 /**
- * The host watchdog tripped: reset the card's faults first.
- */
-#define MC_ERR_WATCHDOG_TRIPPED -47
-
-/**
- * An e-stop is latched: reset the card's faults first.
- */
-#define MC_ERR_ESTOP_ACTIVE -48
-
-/**
- * The move goes further into an active limit switch.
- */
-#define MC_ERR_HARD_LIMIT -49
-
-/**
- * The move goes further beyond a soft limit.
- */
-#define MC_ERR_SOFT_LIMIT -50
-
-/**
- * The cause of the fault is still present.
- */
-#define MC_ERR_CAUSE_ACTIVE -51
-
-/**
- * Watchdog timeout zero or under 1.5 x the host's heartbeat period.
- */
-#define MC_ERR_WATCHDOG_TIMEOUT -52
-
-/**
- * Stop category must be 0, 1 or 2.
- */
-#define MC_ERR_BAD_CATEGORY -53
-
-/**
- * A NURBS knot is not finite.
+ * A knot is not finite.
  */
 #define MC_ERR_NURBS_KNOT -54
 
 /**
- * A kinematic limit outside the range the card accepts (denormal, absurdly small or large).
+ * An operating-system call failed.
+ */
+#define MC_ERR_IO -20
+
+/**
+ * The backend cannot do this (for example interrupts on a `pci:` card).
+ */
+#define MC_ERR_UNSUPPORTED -21
+
+/**
+ * The host watchdog tripped and is latched: `Card::reset_faults` first.
+ */
+#define MC_ERR_WATCHDOG_TRIPPED -47
+
+/**
+ * An e-stop is latched: `Card::reset_faults` first.
+ */
+#define MC_ERR_ESTOP_ACTIVE -48
+
+/**
+ * The move would go further into an active limit switch.
+ */
+#define MC_ERR_HARD_LIMIT -49
+
+/**
+ * The move would go further beyond a soft limit.
+ */
+#define MC_ERR_SOFT_LIMIT -50
+
+/**
+ * A reset was refused because its cause (alarm, encoder fault, e-stop input, missing
+ * heartbeat) is still present.
+ */
+#define MC_ERR_CAUSE_ACTIVE -51
+
+/**
+ * A watchdog timeout of zero or under 1.5 × the host's heartbeat period.
+ */
+#define MC_ERR_WATCHDOG_TIMEOUT -52
+
+/**
+ * A stop category other than 0, 1 or 2.
+ */
+#define MC_ERR_BAD_CATEGORY -53
+
+/**
+ * A kinematic limit outside the range the card accepts
+ * (`limit_range`: denormal, absurdly small or large).
  */
 #define MC_ERR_LIMIT_RANGE -55
 
 /**
- * The planned profile failed the card's own check and was refused: nothing moved.
+ * The card planned a profile that failed its own check (shorter than |d|/vmax, off its
+ * target or beyond a limit) and refused it: nothing moved.
  */
 #define MC_ERR_PLAN_CHECK -56
 
@@ -1700,7 +1726,8 @@ typedef struct mc_stop_info {
 #define MC_ERR_EXPIRED -57
 
 /**
- * A stop ramp longer than the card's maximum stop time, or a maximum stop time out of range.
+ * A stop ramp longer than the card's maximum stop time, or a maximum stop time out of
+ * range.
  */
 #define MC_ERR_STOP_TOO_LONG -58
 
@@ -1710,22 +1737,23 @@ typedef struct mc_stop_info {
 #define MC_ERR_SESSION -59
 
 /**
- * The card went away (its process exited or was killed).
+ * The card went away (its `card-emu` process exited or was killed): every call on it
+ * fails with this.
  */
 #define MC_ERR_CARD_GONE -60
 
 /**
- * The card was closed while the call waited (or before it).
+ * The card was closed (`Card::close`) while the call waited, or before it.
  */
 #define MC_ERR_CLOSED -61
 
 /**
- * The wait was cancelled from another thread (`mc_cancel_waits`).
+ * The wait was cancelled from another thread (`Card::cancel_waits`).
  */
 #define MC_ERR_CANCELLED -62
 
 /**
- * The card's server refused this user.
+ * The card's server refused this user (`emu:` access control).
  */
 #define MC_ERR_PERMISSION_DENIED -63
 
@@ -1868,13 +1896,13 @@ mc_result mc_events_lost(mc_card card, uint64_t *dropped, uint32_t *card_lost);
 /**
  * The default servo gains and in-position windows.
  */
-mc_result mc_axis_settings_default(struct mc_axis_settings *settings);
+mc_result mc_axis_settings_default(mc_axis_settings *settings);
 
 /**
  * Write an axis's servo and in-position configuration and have the card apply it (the card
  * checks every value: `MC_ERR_BAD_CONFIG`). Blocks until the card answers.
  */
-mc_result mc_configure(mc_card card, uint32_t axis, const struct mc_axis_settings *settings);
+mc_result mc_configure(mc_card card, uint32_t axis, const mc_axis_settings *settings);
 
 /**
  * Counts per user unit for this axis (default 1: positions in counts). Positions, velocities,

@@ -4,12 +4,12 @@
 use crate::ffi::{read_in, Out, StrBuf};
 use crate::registry::{self, lock, mc_card, mc_event_callback, Callback, Entry};
 use crate::result::{
-    describe_ptr, guard, guard_quiet, last_error, mc_result, Failure, MC_ERR_BAD_CONFIG,
-    MC_ERR_BAD_HANDLE, MC_ERR_TIMEOUT,
+    describe_ptr, guard, guard_quiet, last_error, mc_result, Failure, MC_ERR_BAD_HANDLE,
 };
 use crate::types::{
     mc_axis_settings, mc_card_info, mc_event, mc_motion, mc_move_limits, mc_sim_options, mc_status,
 };
+use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{AxisSettings, Card, Error, MoveLimits, EVENT_QUEUE_CAP};
 #[cfg(feature = "emulator")]
 use motioncard_sdk::{Clock, EmuOptions, SimOptions};
@@ -154,7 +154,7 @@ pub unsafe extern "C" fn mc_open_sim_stepped(
     guard(|| {
         let out = Out::new(card, "card")?;
         let axes = usize::try_from(axes)
-            .map_err(|_| Failure::new(MC_ERR_BAD_CONFIG, format!("axes = {axes}")))?;
+            .map_err(|_| Failure::new(ErrorKind::BadConfig.code(), format!("axes = {axes}")))?;
         #[cfg(feature = "emulator")]
         return register(
             Card::open_sim(SimOptions {
@@ -332,7 +332,7 @@ pub unsafe extern "C" fn mc_axis_settings_default(settings: *mut mc_axis_setting
     guard(|| {
         let out = Out::new(settings, "settings")?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(AxisSettings::default().into()) };
+        unsafe { out.write(AxisSettings::default()) };
         Ok(())
     })
 }
@@ -349,7 +349,7 @@ pub unsafe extern "C" fn mc_configure(
         // SAFETY: the caller gives NULL or a readable mc_axis_settings.
         let s = unsafe { read_in(settings, "settings") }?;
         let (_, a) = axis_of(card, axis)?;
-        Ok(a.configure(&s.into())?)
+        Ok(a.configure(&s)?)
     })
 }
 
@@ -534,7 +534,7 @@ pub unsafe extern "C" fn mc_get_statuses(
     guard(|| {
         if n == 0 || n > motioncard_sdk::proto::raw::MC_MAX_AXES as usize {
             return Err(Failure::new(
-                crate::result::MC_ERR_BAD_AXIS,
+                ErrorKind::BadAxis.code(),
                 format!("{n} axes: ask for 1 to 8"),
             ));
         }
@@ -632,7 +632,7 @@ pub unsafe extern "C" fn mc_wait_event(
                 Ok(())
             }
             None => Err(Failure::new(
-                MC_ERR_TIMEOUT,
+                ErrorKind::Timeout.code(),
                 format!("no event from card {card} within {timeout_ms} ms"),
             )),
         }
@@ -779,8 +779,9 @@ pub unsafe extern "C" fn mc_sim_time(card: mc_card, seconds: *mut f64) -> mc_res
 #[cfg(all(test, feature = "emulator"))]
 mod tests {
     use super::*;
-    use crate::result::{MC_ERR_NOT_RESPONDING, MC_ERR_PROTOCOL, MC_OK};
+    use crate::result::MC_OK;
     use firmware_proto::{layout, Mem};
+    use motioncard_sdk::ErrorKind;
 
     fn stepped() -> mc_card {
         let mut h = 0;
@@ -810,14 +811,17 @@ mod tests {
         // The writer died mid-write: seq stays odd.
         scribble(h, |w| w.write32(seq, w.read32(seq) | 1));
         let (r, s) = status(h);
-        assert_eq!((r, s), (MC_ERR_NOT_RESPONDING, mc_status::default()));
+        assert_eq!(
+            (r, s),
+            (ErrorKind::NotResponding.code(), mc_status::default())
+        );
         assert!(last_error().contains("stayed busy"), "{}", last_error());
         // A consistent copy that fails its checksum.
         scribble(h, |w| {
             w.write32(seq, (w.read32(seq) & !1) + 2);
             w.write64(seq + layout::STATUS_PAYLOAD + 16, 0x1234);
         });
-        assert_eq!(status(h).0, MC_ERR_PROTOCOL);
+        assert_eq!(status(h).0, ErrorKind::Protocol.code());
         assert!(last_error().contains("checksum"), "{}", last_error());
         // The next tick rewrites the block.
         assert_eq!(mc_sim_step(h, 1), MC_OK);

@@ -3,7 +3,8 @@
 //! Reads and writes are unaligned (`read_unaligned` / `write_unaligned`), so a misaligned
 //! pointer from C is not undefined behaviour on our side either.
 
-use crate::result::{Failure, MC_ERR_BAD_URI, MC_ERR_BUFFER_TOO_SMALL};
+use crate::result::{Failure, MC_ERR_BUFFER_TOO_SMALL};
+use motioncard_sdk::ErrorKind;
 use std::ffi::{c_char, CStr};
 
 /// A checked, non-NULL output pointer. Check every output first, compute, then write: a
@@ -142,8 +143,12 @@ pub(crate) unsafe fn uri<'a>(p: *const c_char, what: &str) -> Result<&'a str, Fa
     }
     // SAFETY: non-NULL and NUL-terminated by the caller's contract.
     let s = unsafe { CStr::from_ptr(p) };
-    s.to_str()
-        .map_err(|_| Failure::new(MC_ERR_BAD_URI, format!("{what} is not valid UTF-8")))
+    s.to_str().map_err(|_| {
+        Failure::new(
+            ErrorKind::BadUri.code(),
+            format!("{what} is not valid UTF-8"),
+        )
+    })
 }
 
 /// A caller's string buffer: `buf` of `len` bytes, and `needed` for the size the string takes

@@ -4,12 +4,13 @@
 
 use crate::ffi::{read_at, read_in, read_slice, ArrayBuf, Out};
 use crate::registry::{self, mc_card, Entry};
-use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_HANDLE};
+use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_HANDLE};
 use crate::types::{
     filter_kind, mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
     mc_move_options, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
     MC_GROUP_MAX_AXES,
 };
+use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{
     clamped_uniform_knots, Error, FilterSettings, Group, GroupMotion, GroupSettings, Nurbs,
     NurbsError, NurbsFeed, PathLimits, PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE,
@@ -54,7 +55,7 @@ fn started(
 unsafe fn axis_values(p: *const f64, n: usize, what: &str) -> Result<Vec<f64>, Failure> {
     if n > MC_GROUP_MAX_AXES as usize {
         return Err(Failure::new(
-            MC_ERR_BAD_AXIS,
+            ErrorKind::BadAxis.code(),
             format!("{n} values in {what}: a group has at most {MC_GROUP_MAX_AXES} axes"),
         ));
     }
@@ -72,7 +73,7 @@ unsafe fn path_limits_array(
 ) -> Result<Vec<PathLimits>, Failure> {
     if n > MC_GROUP_MAX_AXES as usize {
         return Err(Failure::new(
-            MC_ERR_BAD_AXIS,
+            ErrorKind::BadAxis.code(),
             format!("{n} axis limits: a group has at most {MC_GROUP_MAX_AXES} axes"),
         ));
     }
@@ -99,7 +100,7 @@ pub unsafe extern "C" fn mc_group_settings_new(
         let out = Out::new(settings, "settings")?;
         if naxes == 0 || naxes > MC_GROUP_MAX_AXES as usize {
             return Err(Failure::new(
-                MC_ERR_BAD_AXIS,
+                ErrorKind::BadAxis.code(),
                 format!("naxes = {naxes}: a group has 1 to {MC_GROUP_MAX_AXES} axes"),
             ));
         }
@@ -681,7 +682,7 @@ pub unsafe extern "C" fn mc_pdplus_settings_die_bonder(
         let out = Out::new(settings, "settings")?;
         if axis > 1 {
             return Err(Failure::new(
-                MC_ERR_BAD_AXIS,
+                ErrorKind::BadAxis.code(),
                 format!("the die bonder has axes 0 (X) and 1 (Y), not {axis}"),
             ));
         }

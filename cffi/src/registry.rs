@@ -8,8 +8,9 @@
 //! into the card: a thread blocked in a wait on one card holds up nobody else. A card closed
 //! while another thread is still inside a call on it stays alive until that call returns.
 
-use crate::result::{Failure, MC_ERR_BAD_HANDLE, MC_ERR_UNSUPPORTED};
+use crate::result::{Failure, MC_ERR_BAD_HANDLE};
 use crate::types::mc_event;
+use motioncard_sdk::ErrorKind;
 #[cfg(feature = "emulator")]
 use motioncard_sdk::Sim;
 use motioncard_sdk::{Card, GroupMotion, Motion};
@@ -147,7 +148,7 @@ pub(crate) fn insert(entry: Entry) -> Result<mc_card, Failure> {
         }
         None => {
             return Err(Failure::new(
-                MC_ERR_UNSUPPORTED,
+                ErrorKind::Unsupported.code(),
                 format!("{MAX_SLOTS} cards are open: close one first"),
             ))
         }

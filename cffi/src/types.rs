@@ -4,11 +4,12 @@
 //! library does not know would be undefined behaviour in C++). The constants are literals for
 //! cbindgen; the tests check them against the SDK.
 
-use crate::result::{Failure, MC_ERR_BAD_AXIS, MC_ERR_BAD_CATEGORY, MC_ERR_BAD_CONFIG};
+use crate::result::Failure;
+use motioncard_sdk::ErrorKind;
 #[cfg(feature = "emulator")]
 use motioncard_sdk::{die_bonder_plant, Clock, EmuOptions, SimOptions};
 use motioncard_sdk::{
-    AccDec, ArcSpec, AxisSettings, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
+    AccDec, ArcSpec, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
     FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
     NurbsFeed, PathLimits, PdPlusSettings, Plane, SafetySettings, SafetyStatus, Status,
     StopCategory, StopInfo, StopReason,
@@ -165,67 +166,11 @@ impl From<MoveLimits> for mc_move_limits {
     }
 }
 
-/// Servo gains and in-position windows of an axis (counts, seconds, volts). Start from
-/// `mc_axis_settings_default`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Servo gains and in-position windows of an axis (counts, seconds, volts): the card's
+/// `mc_axis_config` register block, the same struct as in the register map. Start from
+/// `mc_axis_settings_default`; `mc_configure` selects FFPIV whatever `servo_law` holds.
 #[allow(non_camel_case_types)]
-pub struct mc_axis_settings {
-    /// Position gain, 1/s.
-    pub kp: f64,
-    /// Velocity-loop integral gain, 1/s.
-    pub ki: f64,
-    /// Velocity-loop gain, V per count/s.
-    pub kv: f64,
-    /// Velocity feed-forward fraction.
-    pub kvff: f64,
-    /// Acceleration feed-forward, V per count/s².
-    pub kaff: f64,
-    /// Velocity estimator cut-off, Hz.
-    pub vel_filter_hz: f64,
-    /// Output clamp, V.
-    pub dac_limit_v: f64,
-    /// In-position window, counts.
-    pub in_pos_window: f64,
-    /// In-velocity window, counts/s.
-    pub in_vel_window: f64,
-    /// Settle time, s.
-    pub settle_time: f64,
-}
-
-impl From<mc_axis_settings> for AxisSettings {
-    fn from(s: mc_axis_settings) -> Self {
-        AxisSettings {
-            kp: s.kp,
-            ki: s.ki,
-            kv: s.kv,
-            kvff: s.kvff,
-            kaff: s.kaff,
-            vel_filter_hz: s.vel_filter_hz,
-            dac_limit_v: s.dac_limit_v,
-            in_pos_window: s.in_pos_window,
-            in_vel_window: s.in_vel_window,
-            settle_time: s.settle_time,
-        }
-    }
-}
-
-impl From<AxisSettings> for mc_axis_settings {
-    fn from(s: AxisSettings) -> Self {
-        Self {
-            kp: s.kp,
-            ki: s.ki,
-            kv: s.kv,
-            kvff: s.kvff,
-            kaff: s.kaff,
-            vel_filter_hz: s.vel_filter_hz,
-            dac_limit_v: s.dac_limit_v,
-            in_pos_window: s.in_pos_window,
-            in_vel_window: s.in_vel_window,
-            settle_time: s.settle_time,
-        }
-    }
-}
+pub type mc_axis_settings = firmware_proto::raw::mc_axis_config;
 
 /// Everything the card publishes about an axis, in counts and seconds (no scale applied).
 #[repr(C)]
@@ -588,7 +533,7 @@ pub const MC_FILTER_KIND_BELL: u32 = 3;
 
 /// An unknown enumeration value from C.
 fn unknown(what: &str, v: u32) -> Failure {
-    Failure::new(MC_ERR_BAD_CONFIG, format!("unknown {what} {v}"))
+    Failure::new(ErrorKind::BadConfig.code(), format!("unknown {what} {v}"))
 }
 
 /// A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
@@ -614,7 +559,7 @@ impl mc_group_settings {
         let n = self.naxes as usize;
         if n == 0 || n > MAX_AXES {
             return Err(Failure::new(
-                MC_ERR_BAD_AXIS,
+                ErrorKind::BadAxis.code(),
                 format!("naxes = {n}: a group has 1 to {MAX_AXES} axes"),
             ));
         }
@@ -1168,7 +1113,7 @@ pub(crate) fn stop_category(v: u32) -> Result<StopCategory, Failure> {
         MC_STOP_CATEGORY_1 => Ok(StopCategory::Cat1),
         MC_STOP_CATEGORY_2 => Ok(StopCategory::Cat2),
         v => Err(Failure::new(
-            MC_ERR_BAD_CATEGORY,
+            ErrorKind::BadCategory.code(),
             format!("unknown stop category {v}: expected MC_STOP_CATEGORY_0, _1 or _2"),
         )),
     }
@@ -1426,11 +1371,19 @@ mod tests {
                 0 => bad.accdec = v,
                 _ => bad.interpolator = v,
             }
-            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG, "{bad:?}");
+            assert_eq!(
+                bad.to_sdk().unwrap_err().code,
+                ErrorKind::BadConfig.code(),
+                "{bad:?}"
+            );
         }
         for n in [0, 9, u32::MAX] {
             let bad = mc_group_settings { naxes: n, ..c };
-            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_AXIS, "naxes {n}");
+            assert_eq!(
+                bad.to_sdk().unwrap_err().code,
+                ErrorKind::BadAxis.code(),
+                "naxes {n}"
+            );
         }
 
         for f in [
@@ -1441,7 +1394,7 @@ mod tests {
         }
         let mut f = mc_filter_settings::from(FilterSettings::shin_table1());
         f.jog.kind = 4;
-        assert_eq!(f.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+        assert_eq!(f.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
         let p = PdPlusSettings::die_bonder(1);
         assert_eq!(PdPlusSettings::from(mc_pdplus_settings::from(p)), p);
 
@@ -1464,7 +1417,7 @@ mod tests {
             }
         );
         let bad = mc_move_options { feed_type: 3, ..o };
-        assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+        assert_eq!(bad.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
 
         let arc = |mode| mc_arc {
             mode,
@@ -1495,9 +1448,12 @@ mod tests {
                 via: [3.0, 4.0]
             }
         );
-        assert_eq!(arc(3).to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG);
+        assert_eq!(
+            arc(3).to_sdk().unwrap_err().code,
+            ErrorKind::BadConfig.code()
+        );
         assert_eq!(plane_of(MC_ARC_PLANE_ZX).unwrap(), Plane::ZX);
-        assert_eq!(plane_of(3).unwrap_err().code, MC_ERR_BAD_CONFIG);
+        assert_eq!(plane_of(3).unwrap_err().code, ErrorKind::BadConfig.code());
 
         let feed = mc_nurbs_feed {
             feed: 1.0,
@@ -1557,8 +1513,15 @@ mod tests {
         assert!(on.hard_limits && on.soft_limits == Some((-5.0, 7.0)));
         for v in [3, 4, u32::MAX] {
             let bad = mc_safety_settings { limit_stop: v, ..c };
-            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CATEGORY, "{v}");
-            assert_eq!(stop_category(v).unwrap_err().code, MC_ERR_BAD_CATEGORY);
+            assert_eq!(
+                bad.to_sdk().unwrap_err().code,
+                ErrorKind::BadCategory.code(),
+                "{v}"
+            );
+            assert_eq!(
+                stop_category(v).unwrap_err().code,
+                ErrorKind::BadCategory.code()
+            );
         }
         let info = mc_stop_info::from(StopInfo {
             reason: StopReason::SoftLimitNeg,
@@ -1612,7 +1575,11 @@ mod tests {
             mc_sim_options { clock: 3, ..d },
             mc_sim_options { plant: 2, ..d },
         ] {
-            assert_eq!(bad.to_sdk().unwrap_err().code, MC_ERR_BAD_CONFIG, "{bad:?}");
+            assert_eq!(
+                bad.to_sdk().unwrap_err().code,
+                ErrorKind::BadConfig.code(),
+                "{bad:?}"
+            );
         }
     }
 
@@ -1622,7 +1589,5 @@ mod tests {
             .deceleration(4.0)
             .decel_jerk(5.0);
         assert_eq!(MoveLimits::from(mc_move_limits::from(l)), l);
-        let s = AxisSettings::default();
-        assert_eq!(AxisSettings::from(mc_axis_settings::from(s)), s);
     }
 }

@@ -343,7 +343,7 @@ static void arguments(mc_card c) {
     EXPECT(mc_set_scale(c, 0, NAN), MC_ERR_NOT_FINITE);
     mc_axis_settings cfg;
     CHECK(mc_axis_settings_default(&cfg));
-    cfg.kp = NAN;
+    cfg.ffpiv.kp = NAN;
     EXPECT(mc_configure(c, 0, &cfg), MC_ERR_NOT_FINITE);
 
     /* Zero and negative limits. */
@@ -377,7 +377,7 @@ static void arguments(mc_card c) {
     ASSERT(m.seq == 77, "motion written by a refused call");
 
     /* Values the card refuses. */
-    cfg.kp = -3.0;
+    cfg.ffpiv.kp = -3.0;
     EXPECT(mc_configure(c, 0, &cfg), MC_ERR_BAD_CONFIG);
     expect_in_message("card refused");
     EXPECT(mc_move_absolute(c, 0, 1e17, &lim, &m), MC_ERR_OUT_OF_RANGE);

@@ -384,20 +384,38 @@ struct mc_event {
     double value;
 };
 
-/* host writes; the card validates and copies on MC_OP_APPLY_AXIS_CONFIG */
+/** FFPIV gains (Thinh Fig 5) and the velocity estimator's cut-off: part of mc_axis_config. */
+struct mc_ffpiv_gains {
+    /** Position gain K_P, 1/s: velocity command = kp * following error. */
+    double kp;
+    /** Velocity-loop integral gain K_I, 1/s. */
+    double ki;
+    /** Velocity-loop gain K_V, V per count/s. */
+    double kv;
+    /** Velocity feed-forward K_VFF into the velocity loop, fraction 0..2. */
+    double kvff;
+    /** Acceleration feed-forward K_AFF, V per count/s^2. */
+    double kaff;
+    /** Cut-off of the first-order filter on the measured velocity, Hz. */
+    double vel_filter_hz;
+};
+
+/** An axis's servo configuration. Host writes; the card validates and copies it on
+ * MC_OP_APPLY_AXIS_CONFIG. */
 struct mc_axis_config {
+    /** MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis]. */
     uint32_t servo_law;
     uint32_t _reserved0;
-    double kp;            /* position gain, 1/s: velocity command = kp * following error */
-    double ki;            /* velocity-loop integral gain, 1/s */
-    double kv;            /* velocity-loop gain, V per count/s */
-    double kvff;          /* velocity feed-forward into the velocity loop, fraction 0..1 */
-    double kaff;          /* acceleration feed-forward, V per count/s^2 */
-    double vel_filter_hz; /* cut-off of the first-order filter on the measured velocity */
-    double dac_limit_v;   /* output clamp, volts, 0 < limit <= 10 */
-    double in_pos_window; /* |target - actual| for motion done, counts */
-    double in_vel_window; /* |actual velocity| for motion done, counts/s */
-    double settle_time;   /* both windows held this long before motion done, s */
+    /** The FFPIV gains. */
+    struct mc_ffpiv_gains ffpiv;
+    /** Output clamp, V, 0 < limit <= 10. */
+    double dac_limit_v;
+    /** |target - actual| for motion done, counts. */
+    double in_pos_window;
+    /** |actual velocity| for motion done, counts/s. */
+    double in_vel_window;
+    /** Both windows held this long before motion done, s. */
+    double settle_time;
     double _reserved[5];
 };
 
@@ -451,18 +469,39 @@ struct mc_group_status {
     uint64_t _reserved[7];
 };
 
-/* host writes; read with axis_config on MC_OP_APPLY_AXIS_CONFIG when servo_law is PD+.
- * u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s); the drive model
- * dw/dt = -w/tau + (kc/tau) u, dtheta/dt = ke w predicts u for the saturation-aware feed. */
+/** The PD+ law (Yeh eq 2.12): u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s). */
+struct mc_pdplus_gains {
+    /** V/count. */
+    double kp;
+    /** V per count/s. */
+    double kd;
+    /** V per count/s of reference velocity. */
+    double kv;
+    /** V per count/s^2 of reference acceleration. */
+    double ka;
+};
+
+/** The first-order drive model (Yeh eq 2.1-2.2 as corrected): dw/dt = -w/tau + (kc/tau) u,
+ * dtheta/dt = ke w. */
+struct mc_drive_model {
+    /** Electrical gain K_c: steady motor speed per volt, (rad/s)/V. */
+    double kc;
+    /** Mechanical time constant, s. */
+    double tau;
+    /** Mechanical gain K_e, counts/rad. */
+    double ke;
+};
+
+/** An axis's PD+ law and drive model. Host writes; read with axis_config on
+ * MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PDPLUS. The model predicts u for the
+ * saturation-aware feed. */
 struct mc_axis_pdplus {
-    double kp;   /* V/count */
-    double kd;   /* V per count/s */
-    double kv;   /* V per count/s of reference velocity */
-    double ka;   /* V per count/s^2 of reference acceleration */
-    double kc;   /* (rad/s)/V */
-    double tau;  /* s */
-    double ke;   /* counts/rad */
-    double umax; /* drive limit, V (at most the DAC limit) */
+    /** The PD+ gains. */
+    struct mc_pdplus_gains gains;
+    /** The drive model. */
+    struct mc_drive_model drive;
+    /** Drive limit, V (at most the DAC limit). */
+    double umax;
     double _reserved[8];
 };
 

@@ -5,7 +5,9 @@
 //! (entry sizes, one index per cache line, word alignment).
 #![allow(missing_docs)]
 
+use crate::block::{BlockAt, Blocks};
 use crate::raw::*;
+use crate::{MAX_AXES, MAX_GROUPS};
 use core::mem::{offset_of, size_of};
 
 macro_rules! off {
@@ -48,30 +50,11 @@ pub const CMD_BYTES: usize = size_of::<mc_cmd>();
 pub const EVT_BYTES: usize = size_of::<mc_event>();
 
 // configuration (host writes)
-pub const CARD_CONFIG: usize = off!(card_config);
-pub const CARD_CONFIG_SERVO_RATE: usize = off!(card_config.servo_rate_hz);
-pub const AXIS_CONFIG: usize = off!(axis_config);
+/// `card_config`.
+pub const CARD_CONFIG: BlockAt<mc_card_config> = BlockAt::new(off!(card_config));
+/// `axis_config[axis]`.
+pub const AXIS_CONFIG: Blocks<mc_axis_config, MAX_AXES> = Blocks::new(off!(axis_config));
 pub const AXIS_CONFIG_BYTES: usize = size_of::<mc_axis_config>();
-
-/// Offset of a field of `axis_config[axis]`.
-pub const fn axis_config(axis: usize, field: usize) -> usize {
-    AXIS_CONFIG + axis * AXIS_CONFIG_BYTES + field
-}
-
-pub mod axis_config {
-    use super::*;
-    pub const SERVO_LAW: usize = offset_of!(mc_axis_config, servo_law);
-    pub const KP: usize = offset_of!(mc_axis_config, kp);
-    pub const KI: usize = offset_of!(mc_axis_config, ki);
-    pub const KV: usize = offset_of!(mc_axis_config, kv);
-    pub const KVFF: usize = offset_of!(mc_axis_config, kvff);
-    pub const KAFF: usize = offset_of!(mc_axis_config, kaff);
-    pub const VEL_FILTER_HZ: usize = offset_of!(mc_axis_config, vel_filter_hz);
-    pub const DAC_LIMIT_V: usize = offset_of!(mc_axis_config, dac_limit_v);
-    pub const IN_POS_WINDOW: usize = offset_of!(mc_axis_config, in_pos_window);
-    pub const IN_VEL_WINDOW: usize = offset_of!(mc_axis_config, in_vel_window);
-    pub const SETTLE_TIME: usize = offset_of!(mc_axis_config, settle_time);
-}
 
 // status (card writes)
 pub const AXIS_STATUS: usize = off!(axis_status);
@@ -86,58 +69,15 @@ pub const fn axis_status(axis: usize) -> usize {
 }
 
 // axis filters, group configuration (host writes) and group status (card writes)
-pub const AXIS_FILTER: usize = off!(axis_filter);
-pub const AXIS_FILTER_BYTES: usize = size_of::<mc_axis_filter>();
-pub const GROUP_CONFIG: usize = off!(group_config);
-pub const GROUP_CONFIG_BYTES: usize = size_of::<mc_group_config>();
 pub const GROUP_STATUS: usize = off!(group_status);
 pub const GROUP_STATUS_BYTES: usize = size_of::<mc_group_status>();
 
-/// Offset of a field of `axis_filter[axis]`.
-pub const fn axis_filter(axis: usize, field: usize) -> usize {
-    AXIS_FILTER + axis * AXIS_FILTER_BYTES + field
-}
-
-pub mod axis_filter {
-    use super::*;
-    pub const KIND: usize = offset_of!(mc_axis_filter, kind);
-    pub const TAU: usize = offset_of!(mc_axis_filter, tau);
-}
-
-/// Offset of a field of `group_config[group]`.
-pub const fn group_config(group: usize, field: usize) -> usize {
-    GROUP_CONFIG + group * GROUP_CONFIG_BYTES + field
-}
-
-pub mod group_config {
-    use super::*;
-    pub const NAXES: usize = offset_of!(mc_group_config, naxes);
-    /// The eight axis bytes, read as two 32-bit words.
-    pub const AXES: usize = offset_of!(mc_group_config, axes);
-    pub const ACCDEC: usize = offset_of!(mc_group_config, accdec);
-    pub const INTERPOLATOR: usize = offset_of!(mc_group_config, interpolator);
-    pub const TOLERANCE: usize = offset_of!(mc_group_config, tolerance);
-}
-
-/// Offset of a field of `axis_pdplus[axis]`.
-pub const fn axis_pdplus(axis: usize, field: usize) -> usize {
-    AXIS_PDPLUS + axis * AXIS_PDPLUS_BYTES + field
-}
-
-pub const AXIS_PDPLUS: usize = off!(axis_pdplus);
-pub const AXIS_PDPLUS_BYTES: usize = size_of::<mc_axis_pdplus>();
-
-pub mod axis_pdplus {
-    use super::*;
-    pub const KP: usize = offset_of!(mc_axis_pdplus, kp);
-    pub const KD: usize = offset_of!(mc_axis_pdplus, kd);
-    pub const KV: usize = offset_of!(mc_axis_pdplus, kv);
-    pub const KA: usize = offset_of!(mc_axis_pdplus, ka);
-    pub const KC: usize = offset_of!(mc_axis_pdplus, kc);
-    pub const TAU: usize = offset_of!(mc_axis_pdplus, tau);
-    pub const KE: usize = offset_of!(mc_axis_pdplus, ke);
-    pub const UMAX: usize = offset_of!(mc_axis_pdplus, umax);
-}
+/// `axis_filter[axis]`.
+pub const AXIS_FILTER: Blocks<mc_axis_filter, MAX_AXES> = Blocks::new(off!(axis_filter));
+/// `group_config[group]`.
+pub const GROUP_CONFIG: Blocks<mc_group_config, MAX_GROUPS> = Blocks::new(off!(group_config));
+/// `axis_pdplus[axis]`.
+pub const AXIS_PDPLUS: Blocks<mc_axis_pdplus, MAX_AXES> = Blocks::new(off!(axis_pdplus));
 
 /// Offset of the seqlock word of `group_status[group]`.
 pub const fn group_status(group: usize) -> usize {
@@ -151,49 +91,24 @@ const _: () = {
     assert!(offset_of!(mc_group_status_payload, snap_last) == 7 * 8);
     assert!(offset_of!(mc_group_status_payload, snap_max) == 8 * 8);
     assert!(GROUP_STATUS.is_multiple_of(64) && GROUP_STATUS_BYTES.is_multiple_of(64));
-    assert!(
-        group_config::AXES.is_multiple_of(4)
-            && AXIS_FILTER.is_multiple_of(8)
-            && GROUP_CONFIG.is_multiple_of(8)
-    );
+    assert!(offset_of!(mc_group_config, axes).is_multiple_of(4));
     // Layout 1.0 offsets are unchanged by the 1.1 additions.
     assert!(
         CMD_RING == 512
             && EVT_RING == 8704
             && AXIS_STATUS == 17984
-            && AXIS_FILTER == 17984 + 8 * 256
+            && AXIS_FILTER.at(0).offset() == 17984 + 8 * 256
     );
     assert!(offset_of!(mc_axis_status_payload, u_request) == 20 * 8);
 };
 
 // safety (layout 1.1, appended after the group blocks)
-pub const SAFETY_CONFIG: usize = off!(safety);
-pub const SAFETY_CONFIG_BYTES: usize = size_of::<mc_safety_config>();
-pub const WATCHDOG_TIMEOUT_US: usize = off!(safety.watchdog_timeout_us);
-pub const ESTOP_INPUT_CATEGORY: usize = off!(safety.estop_input_category);
-pub const MAX_STOP_TIME_US: usize = off!(safety.max_stop_time_us);
-pub const AXIS_SAFETY: usize = off!(axis_safety);
+/// `safety` (the card-wide safety configuration).
+pub const SAFETY_CONFIG: BlockAt<mc_safety_config> = BlockAt::new(off!(safety));
 pub const AXIS_SAFETY_BYTES: usize = size_of::<mc_axis_safety>();
+/// `axis_safety[axis]`.
+pub const AXIS_SAFETY: Blocks<mc_axis_safety, MAX_AXES> = Blocks::new(off!(axis_safety));
 pub const SAFETY_STATUS: usize = off!(safety_status);
-
-/// Offset of a field of `axis_safety[axis]`.
-pub const fn axis_safety(axis: usize, field: usize) -> usize {
-    AXIS_SAFETY + axis * AXIS_SAFETY_BYTES + field
-}
-
-pub mod axis_safety {
-    use super::*;
-    pub const FLAGS: usize = offset_of!(mc_axis_safety, flags);
-    pub const LIMIT_CATEGORY: usize = offset_of!(mc_axis_safety, limit_category);
-    pub const SOFT_LIMIT_NEG: usize = offset_of!(mc_axis_safety, soft_limit_neg);
-    pub const SOFT_LIMIT_POS: usize = offset_of!(mc_axis_safety, soft_limit_pos);
-    pub const FERROR: usize = offset_of!(mc_axis_safety, ferror);
-    pub const MIN_FERROR: usize = offset_of!(mc_axis_safety, min_ferror);
-    pub const MAX_VELOCITY: usize = offset_of!(mc_axis_safety, max_velocity);
-    pub const STOP_DECEL: usize = offset_of!(mc_axis_safety, stop_decel);
-    pub const STOP_JERK: usize = offset_of!(mc_axis_safety, stop_jerk);
-    pub const ENCODER_MAX_VELOCITY: usize = offset_of!(mc_axis_safety, encoder_max_velocity);
-}
 
 /// The card-written safety status block (`mc_safety_status`).
 pub mod safety_status {
@@ -233,14 +148,18 @@ const _: () = {
     assert!(TICK == 128 && IRQ_COUNT == 136 && EVENTS_LOST == 140 && CMDS_ACCEPTED == 144);
     assert!(CMD_HEAD == 256 && CMD_TAIL == 320 && EVT_HEAD == 384 && EVT_TAIL == 448);
     assert!(CMD_RING == 512 && EVT_RING == 8704);
-    assert!(CARD_CONFIG == 16896 && AXIS_CONFIG == 16960 && AXIS_CONFIG_BYTES == 128);
+    assert!(
+        CARD_CONFIG.offset() == 16896
+            && AXIS_CONFIG.at(0).offset() == 16960
+            && AXIS_CONFIG_BYTES == 128
+    );
     assert!(AXIS_STATUS == 17984 && AXIS_STATUS_BYTES == 256 && STATUS_PAYLOAD == 8);
-    assert!(SAFETY_CONFIG > AXIS_PDPLUS && SAFETY_CONFIG.is_multiple_of(8));
+    assert!(SAFETY_CONFIG.offset() > AXIS_PDPLUS.at(0).offset());
     assert!(offset_of!(mc_axis_status_payload, move_time) == 18 * 8);
     assert!(offset_of!(mc_axis_status_payload, stop_reason) == 19 * 8);
     assert!(offset_of!(mc_axis_status_payload, io) == 19 * 8 + 4);
     assert!(offset_of!(mc_axis_status_payload, checksum) == 23 * 8);
-    assert!(AXIS_SAFETY_BYTES == 128 && AXIS_SAFETY.is_multiple_of(64));
+    assert!(AXIS_SAFETY_BYTES == 128 && AXIS_SAFETY.at(0).offset().is_multiple_of(64));
     assert!(
         SAFETY_STATUS.is_multiple_of(64) && safety_status::LAST_HEARTBEAT_TICK.is_multiple_of(8)
     );
@@ -259,6 +178,6 @@ const _: () = {
             && AXIS_STATUS.is_multiple_of(64)
             && AXIS_STATUS_BYTES.is_multiple_of(64)
     );
-    assert!(AXIS_CONFIG.is_multiple_of(8) && AXIS_CONFIG_BYTES.is_multiple_of(8));
+
     assert!(TICK.is_multiple_of(8));
 };

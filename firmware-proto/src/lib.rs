@@ -28,8 +28,10 @@ compile_error!("the DPRAM layout is little-endian; big-endian hosts need byte sw
 #[allow(missing_docs)]
 pub mod raw;
 
+pub mod block;
 pub mod layout;
 pub mod mem;
+pub mod reset;
 pub mod ring;
 pub mod seqlock;
 pub mod wire;
@@ -39,7 +41,9 @@ pub mod emu_link;
 #[cfg(not(loom))]
 pub mod window;
 
+pub use block::{Block, BlockAt, Blocks};
 pub use mem::{Dpram, Mem};
+pub use reset::{AxisConfig, FfpivGains};
 pub use ring::{Consumer, Producer, RingError};
 pub use wire::*;
 

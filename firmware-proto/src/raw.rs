@@ -217,7 +217,7 @@ pub const MC_SERVO_FFPIV: u32 = 0;
 pub const MC_SERVO_PDPLUS: u32 = 1;
 pub const MC_DPRAM_SIZE: u32 = 32768;
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_identity {
     pub magic: u32,
     pub layout_major: u16,
@@ -258,7 +258,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_identity, _reserved) - 36usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_host_ctrl {
     pub heartbeat: u32,
     pub host_period_us: u32,
@@ -285,7 +285,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_host_ctrl, _reserved) - 20usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_card_ctrl {
     pub tick: u64,
     pub irq_count: u32,
@@ -308,7 +308,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 20usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_ring_index {
     pub value: u32,
     pub _pad: [u32; 15usize],
@@ -322,7 +322,7 @@ const _: () = {
     ["Offset of field: mc_ring_index::_pad"][::core::mem::offset_of!(mc_ring_index, _pad) - 4usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_cmd {
     pub seq: u32,
     pub opcode: u16,
@@ -344,7 +344,7 @@ const _: () = {
     ["Offset of field: mc_cmd::args"][::core::mem::offset_of!(mc_cmd, args) - 16usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_event {
     pub seq: u32,
     pub kind: u16,
@@ -367,20 +367,53 @@ const _: () = {
     ["Offset of field: mc_event::tick"][::core::mem::offset_of!(mc_event, tick) - 16usize];
     ["Offset of field: mc_event::value"][::core::mem::offset_of!(mc_event, value) - 24usize];
 };
+#[doc = " FFPIV gains (Thinh Fig 5) and the velocity estimator's cut-off: part of mc_axis_config."]
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct mc_ffpiv_gains {
+    #[doc = " Position gain K_P, 1/s: velocity command = kp * following error."]
+    pub kp: f64,
+    #[doc = " Velocity-loop integral gain K_I, 1/s."]
+    pub ki: f64,
+    #[doc = " Velocity-loop gain K_V, V per count/s."]
+    pub kv: f64,
+    #[doc = " Velocity feed-forward K_VFF into the velocity loop, fraction 0..2."]
+    pub kvff: f64,
+    #[doc = " Acceleration feed-forward K_AFF, V per count/s^2."]
+    pub kaff: f64,
+    #[doc = " Cut-off of the first-order filter on the measured velocity, Hz."]
+    pub vel_filter_hz: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_ffpiv_gains"][::core::mem::size_of::<mc_ffpiv_gains>() - 48usize];
+    ["Alignment of mc_ffpiv_gains"][::core::mem::align_of::<mc_ffpiv_gains>() - 8usize];
+    ["Offset of field: mc_ffpiv_gains::kp"][::core::mem::offset_of!(mc_ffpiv_gains, kp) - 0usize];
+    ["Offset of field: mc_ffpiv_gains::ki"][::core::mem::offset_of!(mc_ffpiv_gains, ki) - 8usize];
+    ["Offset of field: mc_ffpiv_gains::kv"][::core::mem::offset_of!(mc_ffpiv_gains, kv) - 16usize];
+    ["Offset of field: mc_ffpiv_gains::kvff"]
+        [::core::mem::offset_of!(mc_ffpiv_gains, kvff) - 24usize];
+    ["Offset of field: mc_ffpiv_gains::kaff"]
+        [::core::mem::offset_of!(mc_ffpiv_gains, kaff) - 32usize];
+    ["Offset of field: mc_ffpiv_gains::vel_filter_hz"]
+        [::core::mem::offset_of!(mc_ffpiv_gains, vel_filter_hz) - 40usize];
+};
+#[doc = " An axis's servo configuration. Host writes; the card validates and copies it on\n MC_OP_APPLY_AXIS_CONFIG."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_axis_config {
+    #[doc = " MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis]."]
     pub servo_law: u32,
     pub _reserved0: u32,
-    pub kp: f64,
-    pub ki: f64,
-    pub kv: f64,
-    pub kvff: f64,
-    pub kaff: f64,
-    pub vel_filter_hz: f64,
+    #[doc = " The FFPIV gains."]
+    pub ffpiv: mc_ffpiv_gains,
+    #[doc = " Output clamp, V, 0 < limit <= 10."]
     pub dac_limit_v: f64,
+    #[doc = " |target - actual| for motion done, counts."]
     pub in_pos_window: f64,
+    #[doc = " |actual velocity| for motion done, counts/s."]
     pub in_vel_window: f64,
+    #[doc = " Both windows held this long before motion done, s."]
     pub settle_time: f64,
     pub _reserved: [f64; 5usize],
 }
@@ -392,15 +425,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, servo_law) - 0usize];
     ["Offset of field: mc_axis_config::_reserved0"]
         [::core::mem::offset_of!(mc_axis_config, _reserved0) - 4usize];
-    ["Offset of field: mc_axis_config::kp"][::core::mem::offset_of!(mc_axis_config, kp) - 8usize];
-    ["Offset of field: mc_axis_config::ki"][::core::mem::offset_of!(mc_axis_config, ki) - 16usize];
-    ["Offset of field: mc_axis_config::kv"][::core::mem::offset_of!(mc_axis_config, kv) - 24usize];
-    ["Offset of field: mc_axis_config::kvff"]
-        [::core::mem::offset_of!(mc_axis_config, kvff) - 32usize];
-    ["Offset of field: mc_axis_config::kaff"]
-        [::core::mem::offset_of!(mc_axis_config, kaff) - 40usize];
-    ["Offset of field: mc_axis_config::vel_filter_hz"]
-        [::core::mem::offset_of!(mc_axis_config, vel_filter_hz) - 48usize];
+    ["Offset of field: mc_axis_config::ffpiv"]
+        [::core::mem::offset_of!(mc_axis_config, ffpiv) - 8usize];
     ["Offset of field: mc_axis_config::dac_limit_v"]
         [::core::mem::offset_of!(mc_axis_config, dac_limit_v) - 56usize];
     ["Offset of field: mc_axis_config::in_pos_window"]
@@ -413,7 +439,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, _reserved) - 88usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_card_config {
     pub servo_rate_hz: u32,
     pub _reserved: [u32; 15usize],
@@ -428,7 +454,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_config, _reserved) - 4usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_axis_filter {
     pub kind: [u32; 3usize],
     pub _reserved0: u32,
@@ -449,7 +475,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_filter, _reserved) - 40usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_group_config {
     pub naxes: u32,
     pub axes: [u8; 8usize],
@@ -479,7 +505,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_config, _reserved) - 32usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_group_status_payload {
     pub state: u32,
     pub queued: u32,
@@ -529,7 +555,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_group_status {
     pub seq: u32,
     pub _pad: u32,
@@ -548,16 +574,58 @@ const _: () = {
     ["Offset of field: mc_group_status::_reserved"]
         [::core::mem::offset_of!(mc_group_status, _reserved) - 200usize];
 };
+#[doc = " The PD+ law (Yeh eq 2.12): u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s)."]
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
-pub struct mc_axis_pdplus {
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_pdplus_gains {
+    #[doc = " V/count."]
     pub kp: f64,
+    #[doc = " V per count/s."]
     pub kd: f64,
+    #[doc = " V per count/s of reference velocity."]
     pub kv: f64,
+    #[doc = " V per count/s^2 of reference acceleration."]
     pub ka: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_pdplus_gains"][::core::mem::size_of::<mc_pdplus_gains>() - 32usize];
+    ["Alignment of mc_pdplus_gains"][::core::mem::align_of::<mc_pdplus_gains>() - 8usize];
+    ["Offset of field: mc_pdplus_gains::kp"][::core::mem::offset_of!(mc_pdplus_gains, kp) - 0usize];
+    ["Offset of field: mc_pdplus_gains::kd"][::core::mem::offset_of!(mc_pdplus_gains, kd) - 8usize];
+    ["Offset of field: mc_pdplus_gains::kv"]
+        [::core::mem::offset_of!(mc_pdplus_gains, kv) - 16usize];
+    ["Offset of field: mc_pdplus_gains::ka"]
+        [::core::mem::offset_of!(mc_pdplus_gains, ka) - 24usize];
+};
+#[doc = " The first-order drive model (Yeh eq 2.1-2.2 as corrected): dw/dt = -w/tau + (kc/tau) u,\n dtheta/dt = ke w."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_drive_model {
+    #[doc = " Electrical gain K_c: steady motor speed per volt, (rad/s)/V."]
     pub kc: f64,
+    #[doc = " Mechanical time constant, s."]
     pub tau: f64,
+    #[doc = " Mechanical gain K_e, counts/rad."]
     pub ke: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_drive_model"][::core::mem::size_of::<mc_drive_model>() - 24usize];
+    ["Alignment of mc_drive_model"][::core::mem::align_of::<mc_drive_model>() - 8usize];
+    ["Offset of field: mc_drive_model::kc"][::core::mem::offset_of!(mc_drive_model, kc) - 0usize];
+    ["Offset of field: mc_drive_model::tau"][::core::mem::offset_of!(mc_drive_model, tau) - 8usize];
+    ["Offset of field: mc_drive_model::ke"][::core::mem::offset_of!(mc_drive_model, ke) - 16usize];
+};
+#[doc = " An axis's PD+ law and drive model. Host writes; read with axis_config on\n MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PDPLUS. The model predicts u for the\n saturation-aware feed."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_axis_pdplus {
+    #[doc = " The PD+ gains."]
+    pub gains: mc_pdplus_gains,
+    #[doc = " The drive model."]
+    pub drive: mc_drive_model,
+    #[doc = " Drive limit, V (at most the DAC limit)."]
     pub umax: f64,
     pub _reserved: [f64; 8usize],
 }
@@ -565,21 +633,17 @@ pub struct mc_axis_pdplus {
 const _: () = {
     ["Size of mc_axis_pdplus"][::core::mem::size_of::<mc_axis_pdplus>() - 128usize];
     ["Alignment of mc_axis_pdplus"][::core::mem::align_of::<mc_axis_pdplus>() - 8usize];
-    ["Offset of field: mc_axis_pdplus::kp"][::core::mem::offset_of!(mc_axis_pdplus, kp) - 0usize];
-    ["Offset of field: mc_axis_pdplus::kd"][::core::mem::offset_of!(mc_axis_pdplus, kd) - 8usize];
-    ["Offset of field: mc_axis_pdplus::kv"][::core::mem::offset_of!(mc_axis_pdplus, kv) - 16usize];
-    ["Offset of field: mc_axis_pdplus::ka"][::core::mem::offset_of!(mc_axis_pdplus, ka) - 24usize];
-    ["Offset of field: mc_axis_pdplus::kc"][::core::mem::offset_of!(mc_axis_pdplus, kc) - 32usize];
-    ["Offset of field: mc_axis_pdplus::tau"]
-        [::core::mem::offset_of!(mc_axis_pdplus, tau) - 40usize];
-    ["Offset of field: mc_axis_pdplus::ke"][::core::mem::offset_of!(mc_axis_pdplus, ke) - 48usize];
+    ["Offset of field: mc_axis_pdplus::gains"]
+        [::core::mem::offset_of!(mc_axis_pdplus, gains) - 0usize];
+    ["Offset of field: mc_axis_pdplus::drive"]
+        [::core::mem::offset_of!(mc_axis_pdplus, drive) - 32usize];
     ["Offset of field: mc_axis_pdplus::umax"]
         [::core::mem::offset_of!(mc_axis_pdplus, umax) - 56usize];
     ["Offset of field: mc_axis_pdplus::_reserved"]
         [::core::mem::offset_of!(mc_axis_pdplus, _reserved) - 64usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_axis_status_payload {
     pub cmd_pos: f64,
     pub cmd_vel: f64,
@@ -667,7 +731,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 184usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_axis_status {
     pub seq: u32,
     pub _pad: u32,
@@ -686,7 +750,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status, _reserved) - 200usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_safety_config {
     pub watchdog_timeout_us: u32,
     pub estop_input_category: u32,
@@ -707,7 +771,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_safety_config, _reserved) - 12usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_axis_safety {
     pub flags: u32,
     pub limit_category: u32,
@@ -749,7 +813,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_safety, _reserved) - 72usize];
 };
 #[repr(C)]
-#[derive(Debug, Default, Copy, Clone)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_safety_status {
     pub faults: u32,
     pub watchdog_armed: u32,
@@ -803,7 +867,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_safety_status, attach_tick) - 248usize];
 };
 #[repr(C)]
-#[derive(Debug, Copy, Clone)]
+#[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
     pub identity: mc_identity,
     pub host: mc_host_ctrl,

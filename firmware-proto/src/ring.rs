@@ -330,7 +330,7 @@ mod tests {
     fn entries_stay_in_their_slots() {
         // The last slot of the event ring must end before the next block.
         let end = slot_offset(&EVT_RING, EVT_RING.len - 1) + EVT_RING.entry_bytes;
-        assert_eq!(end, crate::layout::CARD_CONFIG);
+        assert_eq!(end, crate::layout::CARD_CONFIG.offset());
         let end = slot_offset(&CMD_RING, CMD_RING.len - 1) + CMD_RING.entry_bytes;
         assert_eq!(end, crate::layout::EVT_RING);
     }

@@ -11,7 +11,8 @@ use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    raw, AxisState, AxisStatus, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES,
+    raw, AxisState, AxisStatus, Block, BlockAt, Command, Event, EventKind, Mem, NackCode, Opcode,
+    MAX_AXES,
 };
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
@@ -372,10 +373,11 @@ impl Card {
 
     /// Change the servo rate (all axes must be disabled).
     pub fn set_servo_rate(&self, hz: u32) -> Result<()> {
-        self.inner
-            .dev
-            .window
-            .write32(layout::CARD_CONFIG_SERVO_RATE, hz);
+        let block = firmware_proto::raw::mc_card_config {
+            servo_rate_hz: hz,
+            ..Default::default()
+        };
+        layout::CARD_CONFIG.write(&self.inner.dev.window, &block);
         self.execute(
             Command::new(Opcode::ApplyCardConfig, 0),
             "set_servo_rate",
@@ -511,26 +513,26 @@ impl Card {
             .collect()
     }
 
-    /// Write a configuration block with `write` and have the card apply it with `cmd`. The
+    /// Change a configuration block with `change` and have the card apply it with `cmd`. The
     /// block is the card's input and the host its one writer: when the card refuses the new
     /// contents, the block is put back as it was, so a refused value never rides along with the
     /// next accepted change of another field.
-    pub(crate) fn apply_block(
+    pub(crate) fn apply_block<B: Block>(
         &self,
-        block: core::ops::Range<usize>,
-        write: impl FnOnce(&Window),
+        at: BlockAt<B>,
+        change: impl FnOnce(&mut B),
         cmd: Command,
         what: &'static str,
         target: Target,
     ) -> Result<()> {
         let w = self.window();
-        let saved: Vec<u64> = block.clone().step_by(8).map(|o| w.read64(o)).collect();
-        write(w);
+        let saved = at.read(w);
+        let mut block = saved;
+        change(&mut block);
+        at.write(w, &block);
         let r = self.execute(cmd, what, target);
         if matches!(r, Err(Error::Nack { .. })) {
-            for (o, v) in block.step_by(8).zip(saved) {
-                w.write64(o, v);
-            }
+            at.write(w, &saved);
         }
         r
     }
@@ -1288,74 +1290,27 @@ impl Axis {
         Status::from_raw(self.index, raw, self.scale())
     }
 
-    /// Write the servo and in-position configuration and have the card apply it.
+    /// Write the servo and in-position configuration (FFPIV) and have the card check and apply
+    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`.
     pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
-        use firmware_proto::layout::axis_config as ac;
-        let w = &self.card.inner.dev.window;
         let a = self.index;
-        let named = [
-            ("kp", ac::KP, cfg.kp),
-            ("ki", ac::KI, cfg.ki),
-            ("kv", ac::KV, cfg.kv),
-            ("kvff", ac::KVFF, cfg.kvff),
-            ("kaff", ac::KAFF, cfg.kaff),
-            ("velocity filter", ac::VEL_FILTER_HZ, cfg.vel_filter_hz),
-            ("DAC limit", ac::DAC_LIMIT_V, cfg.dac_limit_v),
-            ("in-position window", ac::IN_POS_WINDOW, cfg.in_pos_window),
-            ("in-velocity window", ac::IN_VEL_WINDOW, cfg.in_vel_window),
-            ("settle time", ac::SETTLE_TIME, cfg.settle_time),
-        ];
-        for (what, _, v) in named {
-            finite(what, v)?;
-        }
-        w.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_FFPIV);
-        for (_, off, v) in named {
-            w.write_f64(layout::axis_config(a, off), v);
-        }
-        self.run(self.op(Opcode::ApplyAxisConfig), "configure")
-            .map(|_| ())
+        self.card.apply_block(
+            layout::AXIS_CONFIG.at(a),
+            |b| {
+                *b = AxisSettings {
+                    servo_law: raw::MC_SERVO_FFPIV,
+                    ..*cfg
+                }
+            },
+            self.op(Opcode::ApplyAxisConfig),
+            "configure",
+            Target::Axis(a),
+        )
     }
 }
 
-/// Servo gains and in-position windows of an axis (counts, seconds, volts).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AxisSettings {
-    /// Position gain, 1/s.
-    pub kp: f64,
-    /// Velocity-loop integral gain, 1/s.
-    pub ki: f64,
-    /// Velocity-loop gain, V per count/s.
-    pub kv: f64,
-    /// Velocity feed-forward fraction.
-    pub kvff: f64,
-    /// Acceleration feed-forward, V per count/s².
-    pub kaff: f64,
-    /// Velocity estimator cut-off, Hz.
-    pub vel_filter_hz: f64,
-    /// Output clamp, V.
-    pub dac_limit_v: f64,
-    /// In-position window, counts.
-    pub in_pos_window: f64,
-    /// In-velocity window, counts/s.
-    pub in_vel_window: f64,
-    /// Settle time, s.
-    pub settle_time: f64,
-}
-
-impl Default for AxisSettings {
-    fn default() -> Self {
-        let c = card_emu::firmware::axis::AxisConfig::default();
-        Self {
-            kp: c.gains.kp,
-            ki: c.gains.ki,
-            kv: c.gains.kv,
-            kvff: c.gains.kvff,
-            kaff: c.gains.kaff,
-            vel_filter_hz: c.gains.vel_filter_hz,
-            dac_limit_v: c.dac_limit_v,
-            in_pos_window: c.in_pos_window,
-            in_vel_window: c.in_vel_window,
-            settle_time: c.settle_time,
-        }
-    }
-}
+/// Servo gains and in-position windows of an axis (counts, seconds, volts): the card's
+/// `mc_axis_config` block, whose fields the register map's header lists. Its `Default` is what
+/// the card loads at boot (FFPIV with the default tuning); [`Axis::configure`] selects FFPIV
+/// whatever `servo_law` says (PD+: [`Axis::configure_pdplus`]).
+pub use firmware_proto::AxisConfig as AxisSettings;

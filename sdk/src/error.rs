@@ -4,198 +4,202 @@ use card_emu::motion::nurbs::NurbsError;
 use firmware_proto::NackCode;
 use std::time::Duration;
 
-/// What went wrong, as a flat code: one-to-one with the C ABI's result codes.
-///
-/// Deliberately not `#[non_exhaustive]`: the C ABI (`cffi/`) matches it exhaustively, so a new
-/// kind does not compile until it has its own `MC_ERR_` code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ErrorKind {
-    /// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
-    BadUri,
-    /// No card at that URI.
-    NotFound,
-    /// Another process has the card open.
-    Busy,
-    /// The card's DPRAM layout major version differs from this library's.
-    VersionMismatch,
-    /// The card does not answer (its tick counter stopped, or it was removed).
-    NotResponding,
-    /// The card broke the protocol (corrupt ring indices, bad signature, torn status).
-    Protocol,
-    /// The command ring is full: nothing was queued.
-    RingFull,
-    /// A wait ran out of time.
-    Timeout,
-    /// The motion waited for was aborted by another command or a fault.
-    Aborted,
-    /// The card has no such axis.
-    BadAxis,
-    /// An argument is NaN or infinite.
-    NotFinite,
-    /// A limit is zero or negative.
-    NonPositiveLimit,
-    /// The axis is disabled.
-    AxisDisabled,
-    /// The command is not allowed in the axis's current state.
-    InvalidState,
-    /// A configuration value is out of range.
-    BadConfig,
-    /// No motion profile satisfies the request.
-    Infeasible,
-    /// A position is beyond the card's range.
-    OutOfRange,
-    /// The card configuration can only change while all axes are disabled.
-    AxesEnabled,
-    /// The firmware does not know the command.
-    UnknownCommand,
-    /// No such axes group.
-    BadGroup,
-    /// An axis already belongs to another group.
-    AxisInOtherGroup,
-    /// The move needs an axis the group does not have.
-    AxisNotInGroup,
-    /// An axis of the group is moving on its own.
-    AxisBusy,
-    /// Single-axis motion on an axis of an enabled group.
-    AxisGrouped,
-    /// The arc has zero length or zero radius.
-    ZeroLengthArc,
-    /// The centre is not equidistant from start and end within the tolerance.
-    CentreNotEquidistant,
-    /// The radius is shorter than half the chord.
-    RadiusTooSmall,
-    /// The three points of a border-point arc are on one line.
-    CollinearPoints,
-    /// The group's move queue is full: nothing was queued.
-    QueueFull,
-    /// The interpolator cannot run with the group's acc/dec mode.
-    IncompatibleMode,
-    /// The group is disabled (or not configured).
-    GroupDisabled,
-    /// Filters can change only while they hold no distance.
-    FilterBusy,
-    /// NURBS data or end without a begin, out of order, or missing.
-    NurbsSequence,
-    /// NURBS degree outside 1..5.
-    NurbsDegree,
-    /// NURBS on a group of fewer than 2 axes.
-    NurbsDimension,
-    /// Too few or too many control points.
-    NurbsCtrlCount,
-    /// The knot count is not n_ctrl + degree + 1.
-    NurbsKnotCount,
-    /// The knots decrease.
-    NurbsKnotsDecreasing,
-    /// An interior knot is repeated more than degree times.
-    NurbsKnotMultiplicity,
-    /// The end knots are not repeated degree + 1 times (or the domain is empty).
-    NurbsNotClamped,
-    /// A weight is not finite and positive.
-    NurbsWeight,
-    /// A control point is not finite.
-    NurbsPoint,
-    /// The curve does not start where the group's path is.
-    NurbsStart,
-    /// The curve has zero length.
-    NurbsZeroLength,
-    /// A knot is not finite.
-    NurbsKnot,
-    /// An operating-system call failed.
-    Io,
-    /// The backend cannot do this (for example interrupts on a `pci:` card).
-    Unsupported,
-    /// The host watchdog tripped and is latched: [`crate::Card::reset_faults`] first.
-    WatchdogTripped,
-    /// An e-stop is latched: [`crate::Card::reset_faults`] first.
-    EStopActive,
-    /// The move would go further into an active limit switch.
-    HardLimit,
-    /// The move would go further beyond a soft limit.
-    SoftLimit,
-    /// A reset was refused because its cause (alarm, encoder fault, e-stop input, missing
-    /// heartbeat) is still present.
-    CauseActive,
-    /// A watchdog timeout of zero or under 1.5 × the host's heartbeat period.
-    WatchdogTimeout,
-    /// A stop category other than 0, 1 or 2.
-    BadCategory,
-    /// A kinematic limit outside the range the card accepts
-    /// ([`firmware_proto::limit_range`]: denormal, absurdly small or large).
-    LimitRange,
-    /// The card planned a profile that failed its own check (shorter than |d|/vmax, off its
-    /// target or beyond a limit) and refused it: nothing moved.
-    PlanCheck,
-    /// The card served the command after its deadline and refused it: it was not executed.
-    Expired,
-    /// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of
-    /// range.
-    StopTooLong,
-    /// The card's session belongs to another host.
-    Session,
-    /// The card went away (its `card-emu` process exited or was killed): every call on it
-    /// fails with this.
-    CardGone,
-    /// The card was closed ([`crate::Card::close`]) while the call waited, or before it.
-    Closed,
-    /// The wait was cancelled from another thread ([`crate::Card::cancel_waits`]).
-    Cancelled,
-    /// The card's server refused this user (`emu:` access control).
-    PermissionDenied,
+/// Declares [`ErrorKind`] from one table: for each kind its C result code (stable: a code keeps
+/// its number in every later version), the name of that code in the C header, the card's nack
+/// it stands for (if it is one), and its description (`mc_result_str`, and the reason in the
+/// SDK's messages). The C ABI and its header take the codes from here.
+macro_rules! error_kinds {
+    ($($(#[doc = $doc:literal])* $kind:ident = $code:literal, $cname:ident,
+        $(nack $nack:ident,)? $desc:literal;)+) => {
+        /// What went wrong, as a flat code: one-to-one with the C ABI's result codes.
+        ///
+        /// Deliberately not `#[non_exhaustive]`: a new kind gets its C code in the same table
+        /// row, and a nack code that no kind stands for does not compile.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum ErrorKind { $($(#[doc = $doc])* $kind,)+ }
+
+        impl ErrorKind {
+            /// Every kind, in the table's order.
+            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind),+];
+
+            /// The C ABI's result code (negative).
+            pub const fn code(self) -> i32 {
+                match self { $(ErrorKind::$kind => $code,)+ }
+            }
+
+            /// The kind of a C result code, if it is one.
+            pub fn from_code(code: i32) -> Option<Self> {
+                match code { $($code => Some(ErrorKind::$kind),)+ _ => None }
+            }
+
+            /// The name of the code in the C header (`MC_ERR_…`).
+            pub const fn c_name(self) -> &'static str {
+                match self { $(ErrorKind::$kind => stringify!($cname),)+ }
+            }
+
+            /// A short description (what `mc_result_str` returns).
+            pub const fn description(self) -> &'static str {
+                match self { $(ErrorKind::$kind => $desc,)+ }
+            }
+
+            /// The description as a C string.
+            pub const fn c_description(self) -> &'static core::ffi::CStr {
+                match self {
+                    $(ErrorKind::$kind => match core::ffi::CStr::from_bytes_with_nul(
+                        concat!($desc, "\0").as_bytes(),
+                    ) {
+                        Ok(s) => s,
+                        Err(_) => panic!("a description holds a NUL"),
+                    },)+
+                }
+            }
+
+            /// The kind's documentation (for the C header).
+            pub const fn doc(self) -> &'static str {
+                match self { $(ErrorKind::$kind => concat!($($doc, "\n"),*),)+ }
+            }
+        }
+
+        impl From<NackCode> for ErrorKind {
+            fn from(c: NackCode) -> Self {
+                match c { $($(NackCode::$nack => ErrorKind::$kind,)?)+ }
+            }
+        }
+    };
 }
 
-impl From<NackCode> for ErrorKind {
-    fn from(c: NackCode) -> Self {
-        match c {
-            NackCode::UnknownOpcode => ErrorKind::UnknownCommand,
-            NackCode::BadAxis => ErrorKind::BadAxis,
-            NackCode::NotFinite => ErrorKind::NotFinite,
-            NackCode::NonPositiveLimit => ErrorKind::NonPositiveLimit,
-            NackCode::AxisDisabled => ErrorKind::AxisDisabled,
-            NackCode::InvalidState => ErrorKind::InvalidState,
-            NackCode::BadConfig => ErrorKind::BadConfig,
-            NackCode::Infeasible => ErrorKind::Infeasible,
-            NackCode::OutOfRange => ErrorKind::OutOfRange,
-            NackCode::AxesEnabled => ErrorKind::AxesEnabled,
-            NackCode::BadGroup => ErrorKind::BadGroup,
-            NackCode::AxisInOtherGroup => ErrorKind::AxisInOtherGroup,
-            NackCode::AxisNotInGroup => ErrorKind::AxisNotInGroup,
-            NackCode::AxisBusy => ErrorKind::AxisBusy,
-            NackCode::AxisGrouped => ErrorKind::AxisGrouped,
-            NackCode::ZeroLengthArc => ErrorKind::ZeroLengthArc,
-            NackCode::CentreNotEquidistant => ErrorKind::CentreNotEquidistant,
-            NackCode::RadiusTooSmall => ErrorKind::RadiusTooSmall,
-            NackCode::CollinearPoints => ErrorKind::CollinearPoints,
-            NackCode::QueueFull => ErrorKind::QueueFull,
-            NackCode::IncompatibleMode => ErrorKind::IncompatibleMode,
-            NackCode::GroupDisabled => ErrorKind::GroupDisabled,
-            NackCode::FilterBusy => ErrorKind::FilterBusy,
-            NackCode::NurbsSequence => ErrorKind::NurbsSequence,
-            NackCode::NurbsDegree => ErrorKind::NurbsDegree,
-            NackCode::NurbsDimension => ErrorKind::NurbsDimension,
-            NackCode::NurbsCtrlCount => ErrorKind::NurbsCtrlCount,
-            NackCode::NurbsKnotCount => ErrorKind::NurbsKnotCount,
-            NackCode::NurbsKnotsDecreasing => ErrorKind::NurbsKnotsDecreasing,
-            NackCode::NurbsKnotMultiplicity => ErrorKind::NurbsKnotMultiplicity,
-            NackCode::NurbsNotClamped => ErrorKind::NurbsNotClamped,
-            NackCode::NurbsWeight => ErrorKind::NurbsWeight,
-            NackCode::NurbsPoint => ErrorKind::NurbsPoint,
-            NackCode::NurbsStart => ErrorKind::NurbsStart,
-            NackCode::NurbsZeroLength => ErrorKind::NurbsZeroLength,
-            NackCode::NurbsKnot => ErrorKind::NurbsKnot,
-            NackCode::WatchdogTripped => ErrorKind::WatchdogTripped,
-            NackCode::EStopActive => ErrorKind::EStopActive,
-            NackCode::HardLimit => ErrorKind::HardLimit,
-            NackCode::SoftLimit => ErrorKind::SoftLimit,
-            NackCode::CauseActive => ErrorKind::CauseActive,
-            NackCode::WatchdogTimeout => ErrorKind::WatchdogTimeout,
-            NackCode::BadCategory => ErrorKind::BadCategory,
-            NackCode::LimitRange => ErrorKind::LimitRange,
-            NackCode::PlanCheck => ErrorKind::PlanCheck,
-            NackCode::Expired => ErrorKind::Expired,
-            NackCode::StopTooLong => ErrorKind::StopTooLong,
-            NackCode::Session => ErrorKind::Session,
-        }
-    }
+error_kinds! {
+    /// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
+    BadUri = -1, MC_ERR_BAD_URI, "bad card URI";
+    /// No card at that URI.
+    NotFound = -2, MC_ERR_NOT_FOUND, "no card at that URI";
+    /// Another process has the card open.
+    Busy = -3, MC_ERR_BUSY, "the card is in use by another process";
+    /// The card's DPRAM layout major version differs from this library's.
+    VersionMismatch = -4, MC_ERR_VERSION_MISMATCH, "the card's DPRAM layout version differs from the library's";
+    /// The card does not answer (its tick counter stopped, or it was removed).
+    NotResponding = -5, MC_ERR_NOT_RESPONDING, "the card does not respond";
+    /// The card broke the protocol (corrupt ring indices, bad signature, torn status).
+    Protocol = -6, MC_ERR_PROTOCOL, "the card broke the protocol";
+    /// The command ring is full: nothing was queued.
+    RingFull = -7, MC_ERR_RING_FULL, "the command ring is full";
+    /// A wait ran out of time.
+    Timeout = -8, MC_ERR_TIMEOUT, "timed out";
+    /// The motion waited for was aborted by another command or a fault.
+    Aborted = -9, MC_ERR_ABORTED, "the motion was aborted";
+    /// The card has no such axis.
+    BadAxis = -10, MC_ERR_BAD_AXIS, nack BadAxis, "no such axis";
+    /// An argument is NaN or infinite.
+    NotFinite = -11, MC_ERR_NOT_FINITE, nack NotFinite, "an argument is NaN or infinite";
+    /// A limit is zero or negative.
+    NonPositiveLimit = -12, MC_ERR_NON_POSITIVE_LIMIT, nack NonPositiveLimit, "a limit is zero or negative";
+    /// The axis is disabled.
+    AxisDisabled = -13, MC_ERR_AXIS_DISABLED, nack AxisDisabled, "the axis is disabled";
+    /// The command is not allowed in the axis's current state.
+    InvalidState = -14, MC_ERR_INVALID_STATE, nack InvalidState, "not allowed in the axis's current state";
+    /// A configuration value is out of range.
+    BadConfig = -15, MC_ERR_BAD_CONFIG, nack BadConfig, "a configuration value is out of range";
+    /// No motion profile satisfies the request.
+    Infeasible = -16, MC_ERR_INFEASIBLE, nack Infeasible, "no profile satisfies the request";
+    /// A position is beyond the card's range.
+    OutOfRange = -17, MC_ERR_OUT_OF_RANGE, nack OutOfRange, "position out of range";
+    /// The card configuration can only change while all axes are disabled.
+    AxesEnabled = -18, MC_ERR_AXES_ENABLED, nack AxesEnabled, "all axes must be disabled first";
+    /// The firmware does not know the command.
+    UnknownCommand = -19, MC_ERR_UNKNOWN_COMMAND, nack UnknownOpcode, "unknown command";
+    /// No such axes group.
+    BadGroup = -22, MC_ERR_BAD_GROUP, nack BadGroup, "no such group";
+    /// An axis already belongs to another group.
+    AxisInOtherGroup = -23, MC_ERR_AXIS_IN_OTHER_GROUP, nack AxisInOtherGroup, "an axis already belongs to another group";
+    /// The move needs an axis the group does not have.
+    AxisNotInGroup = -24, MC_ERR_AXIS_NOT_IN_GROUP, nack AxisNotInGroup, "the move needs an axis the group does not have";
+    /// An axis of the group is moving on its own.
+    AxisBusy = -25, MC_ERR_AXIS_BUSY, nack AxisBusy, "an axis of the group is moving on its own";
+    /// Single-axis motion on an axis of an enabled group.
+    AxisGrouped = -26, MC_ERR_AXIS_GROUPED, nack AxisGrouped, "the axis belongs to an enabled group";
+    /// The arc has zero length or zero radius.
+    ZeroLengthArc = -27, MC_ERR_ZERO_LENGTH_ARC, nack ZeroLengthArc, "the arc has zero length or zero radius";
+    /// The centre is not equidistant from start and end within the tolerance.
+    CentreNotEquidistant = -28, MC_ERR_CENTRE_NOT_EQUIDISTANT, nack CentreNotEquidistant, "the centre is not equidistant from start and end";
+    /// The radius is shorter than half the chord.
+    RadiusTooSmall = -29, MC_ERR_RADIUS_TOO_SMALL, nack RadiusTooSmall, "the radius is shorter than half the chord";
+    /// The three points of a border-point arc are on one line.
+    CollinearPoints = -30, MC_ERR_COLLINEAR_POINTS, nack CollinearPoints, "the three points are on one line";
+    /// The group's move queue is full: nothing was queued.
+    QueueFull = -31, MC_ERR_QUEUE_FULL, nack QueueFull, "the group's move queue is full";
+    /// The interpolator cannot run with the group's acc/dec mode.
+    IncompatibleMode = -32, MC_ERR_INCOMPATIBLE_MODE, nack IncompatibleMode, "the interpolator cannot run with this acc/dec mode";
+    /// The group is disabled (or not configured).
+    GroupDisabled = -33, MC_ERR_GROUP_DISABLED, nack GroupDisabled, "the group is disabled";
+    /// Filters can change only while they hold no distance.
+    FilterBusy = -34, MC_ERR_FILTER_BUSY, nack FilterBusy, "the filter still holds distance";
+    /// NURBS data or end without a begin, out of order, or missing.
+    NurbsSequence = -35, MC_ERR_NURBS_SEQUENCE, nack NurbsSequence, "NURBS data out of sequence (no begin, a gap, or missing data)";
+    /// NURBS degree outside 1..5.
+    NurbsDegree = -36, MC_ERR_NURBS_DEGREE, nack NurbsDegree, "NURBS degree outside 1..5";
+    /// NURBS on a group of fewer than 2 axes.
+    NurbsDimension = -37, MC_ERR_NURBS_DIMENSION, nack NurbsDimension, "NURBS curves need a group of at least 2 axes";
+    /// Too few or too many control points.
+    NurbsCtrlCount = -38, MC_ERR_NURBS_CTRL_COUNT, nack NurbsCtrlCount, "too few or too many NURBS control points";
+    /// The knot count is not n_ctrl + degree + 1.
+    NurbsKnotCount = -39, MC_ERR_NURBS_KNOT_COUNT, nack NurbsKnotCount, "the knot count must be control points + degree + 1";
+    /// The knots decrease.
+    NurbsKnotsDecreasing = -40, MC_ERR_NURBS_KNOTS_DECREASING, nack NurbsKnotsDecreasing, "the knots decrease";
+    /// An interior knot is repeated more than degree times.
+    NurbsKnotMultiplicity = -41, MC_ERR_NURBS_KNOT_MULTIPLICITY, nack NurbsKnotMultiplicity, "an interior knot is repeated more than degree times";
+    /// The end knots are not repeated degree + 1 times (or the domain is empty).
+    NurbsNotClamped = -42, MC_ERR_NURBS_NOT_CLAMPED, nack NurbsNotClamped, "the knot vector is not clamped";
+    /// A weight is not finite and positive.
+    NurbsWeight = -43, MC_ERR_NURBS_WEIGHT, nack NurbsWeight, "a weight is not finite and positive";
+    /// A control point is not finite.
+    NurbsPoint = -44, MC_ERR_NURBS_POINT, nack NurbsPoint, "a control point is not finite";
+    /// The curve does not start where the group's path is.
+    NurbsStart = -45, MC_ERR_NURBS_START, nack NurbsStart, "the curve does not start where the group is";
+    /// The curve has zero length.
+    NurbsZeroLength = -46, MC_ERR_NURBS_ZERO_LENGTH, nack NurbsZeroLength, "the curve has zero length";
+    /// A knot is not finite.
+    NurbsKnot = -54, MC_ERR_NURBS_KNOT, nack NurbsKnot, "a knot is not finite";
+    /// An operating-system call failed.
+    Io = -20, MC_ERR_IO, "an operating-system call failed";
+    /// The backend cannot do this (for example interrupts on a `pci:` card).
+    Unsupported = -21, MC_ERR_UNSUPPORTED, "not supported by this card";
+    /// The host watchdog tripped and is latched: [`crate::Card::reset_faults`] first.
+    WatchdogTripped = -47, MC_ERR_WATCHDOG_TRIPPED, nack WatchdogTripped, "the host watchdog tripped: reset the card's faults first";
+    /// An e-stop is latched: [`crate::Card::reset_faults`] first.
+    EStopActive = -48, MC_ERR_ESTOP_ACTIVE, nack EStopActive, "an e-stop is latched: reset the card's faults first";
+    /// The move would go further into an active limit switch.
+    HardLimit = -49, MC_ERR_HARD_LIMIT, nack HardLimit, "the move goes further into an active limit switch";
+    /// The move would go further beyond a soft limit.
+    SoftLimit = -50, MC_ERR_SOFT_LIMIT, nack SoftLimit, "the move goes further beyond a soft limit";
+    /// A reset was refused because its cause (alarm, encoder fault, e-stop input, missing
+    /// heartbeat) is still present.
+    CauseActive = -51, MC_ERR_CAUSE_ACTIVE, nack CauseActive, "the cause of the fault is still present";
+    /// A watchdog timeout of zero or under 1.5 × the host's heartbeat period.
+    WatchdogTimeout = -52, MC_ERR_WATCHDOG_TIMEOUT, nack WatchdogTimeout, "watchdog timeout is zero or under 1.5 x the host's heartbeat period";
+    /// A stop category other than 0, 1 or 2.
+    BadCategory = -53, MC_ERR_BAD_CATEGORY, nack BadCategory, "stop category must be 0, 1 or 2";
+    /// A kinematic limit outside the range the card accepts
+    /// ([`firmware_proto::limit_range`]: denormal, absurdly small or large).
+    LimitRange = -55, MC_ERR_LIMIT_RANGE, nack LimitRange, "a limit is outside the range the card accepts (one count in 1e6 s to the whole position range in one servo tick)";
+    /// The card planned a profile that failed its own check (shorter than |d|/vmax, off its
+    /// target or beyond a limit) and refused it: nothing moved.
+    PlanCheck = -56, MC_ERR_PLAN_CHECK, nack PlanCheck, "the planned profile failed the card's check; nothing moved";
+    /// The card served the command after its deadline and refused it: it was not executed.
+    Expired = -57, MC_ERR_EXPIRED, nack Expired, "the card served the command after its deadline; it was not executed";
+    /// A stop ramp longer than the card's maximum stop time, or a maximum stop time out of
+    /// range.
+    StopTooLong = -58, MC_ERR_STOP_TOO_LONG, nack StopTooLong, "the stop ramp from max velocity is longer than the card's maximum stop time";
+    /// The card's session belongs to another host.
+    Session = -59, MC_ERR_SESSION, nack Session, "another host's session is attached";
+    /// The card went away (its `card-emu` process exited or was killed): every call on it
+    /// fails with this.
+    CardGone = -60, MC_ERR_CARD_GONE, "the card went away";
+    /// The card was closed ([`crate::Card::close`]) while the call waited, or before it.
+    Closed = -61, MC_ERR_CLOSED, "the card was closed";
+    /// The wait was cancelled from another thread ([`crate::Card::cancel_waits`]).
+    Cancelled = -62, MC_ERR_CANCELLED, "the wait was cancelled";
+    /// The card's server refused this user (`emu:` access control).
+    PermissionDenied = -63, MC_ERR_PERMISSION_DENIED, "the card's server refused this user";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -358,65 +362,9 @@ impl Error {
     }
 }
 
-/// A description of each nack code.
+/// A description of each nack code: that of its [`ErrorKind`].
 pub fn nack_reason(code: NackCode) -> &'static str {
-    match code {
-        NackCode::UnknownOpcode => "unknown command",
-        NackCode::BadAxis => "no such axis",
-        NackCode::NotFinite => "an argument is NaN or infinite",
-        NackCode::NonPositiveLimit => "a limit is zero or negative",
-        NackCode::AxisDisabled => "the axis is disabled",
-        NackCode::InvalidState => "not allowed in the axis's current state",
-        NackCode::BadConfig => "a configuration value is out of range",
-        NackCode::Infeasible => "no profile satisfies the request",
-        NackCode::OutOfRange => "position out of range",
-        NackCode::AxesEnabled => "all axes must be disabled first",
-        NackCode::BadGroup => "no such group",
-        NackCode::AxisInOtherGroup => "an axis already belongs to another group",
-        NackCode::AxisNotInGroup => "the move needs an axis the group does not have",
-        NackCode::AxisBusy => "an axis of the group is moving on its own",
-        NackCode::AxisGrouped => "the axis belongs to an enabled group",
-        NackCode::ZeroLengthArc => "the arc has zero length or zero radius",
-        NackCode::CentreNotEquidistant => "the centre is not equidistant from start and end",
-        NackCode::RadiusTooSmall => "the radius is shorter than half the chord",
-        NackCode::CollinearPoints => "the three points are on one line",
-        NackCode::QueueFull => "the group's move queue is full",
-        NackCode::IncompatibleMode => "the interpolator cannot run with this acc/dec mode",
-        NackCode::GroupDisabled => "the group is disabled",
-        NackCode::FilterBusy => "the filter still holds distance",
-        NackCode::NurbsSequence => "NURBS data out of sequence (no begin, a gap, or missing data)",
-        NackCode::NurbsDegree => "NURBS degree outside 1..5",
-        NackCode::NurbsDimension => "NURBS curves need a group of at least 2 axes",
-        NackCode::NurbsCtrlCount => "too few or too many NURBS control points",
-        NackCode::NurbsKnotCount => "the knot count must be control points + degree + 1",
-        NackCode::NurbsKnotsDecreasing => "the knots decrease",
-        NackCode::NurbsKnotMultiplicity => "an interior knot is repeated more than degree times",
-        NackCode::NurbsNotClamped => "the knot vector is not clamped",
-        NackCode::NurbsWeight => "a weight is not finite and positive",
-        NackCode::NurbsPoint => "a control point is not finite",
-        NackCode::NurbsStart => "the curve does not start where the group is",
-        NackCode::NurbsZeroLength => "the curve has zero length",
-        NackCode::NurbsKnot => "a knot is not finite",
-        NackCode::WatchdogTripped => "the host watchdog tripped: reset the card's faults first",
-        NackCode::EStopActive => "an e-stop is latched: reset the card's faults first",
-        NackCode::HardLimit => "the move goes further into an active limit switch",
-        NackCode::SoftLimit => "the move goes further beyond a soft limit",
-        NackCode::CauseActive => "the cause of the fault is still present",
-        NackCode::WatchdogTimeout => {
-            "watchdog timeout is zero or under 1.5 x the host's heartbeat period"
-        }
-        NackCode::BadCategory => "stop category must be 0, 1 or 2",
-        NackCode::LimitRange => {
-            "a limit is outside the range the card accepts (one count in 1e6 s to the whole \
-             position range in one servo tick)"
-        }
-        NackCode::PlanCheck => "the planned profile failed the card's check; nothing moved",
-        NackCode::Expired => "the card served the command after its deadline; it was not executed",
-        NackCode::StopTooLong => {
-            "the stop ramp from max velocity is longer than the card's maximum stop time"
-        }
-        NackCode::Session => "another host's session is attached",
-    }
+    ErrorKind::from(code).description()
 }
 
 /// Result with the SDK's error.
@@ -450,6 +398,39 @@ pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_table_of_kinds_is_one_to_one() {
+        use std::collections::HashSet;
+        let kinds = ErrorKind::ALL;
+        let codes: HashSet<i32> = kinds.iter().map(|k| k.code()).collect();
+        let names: HashSet<&str> = kinds.iter().map(|k| k.c_name()).collect();
+        let texts: HashSet<&str> = kinds.iter().map(|k| k.description()).collect();
+        assert_eq!(codes.len(), kinds.len(), "a C code used twice");
+        assert_eq!(names.len(), kinds.len(), "a C name used twice");
+        assert_eq!(texts.len(), kinds.len(), "a description used twice");
+        for &k in kinds {
+            assert!(k.code() < 0 && k.code() > -100, "{k:?}: {}", k.code());
+            assert_eq!(ErrorKind::from_code(k.code()), Some(k));
+            assert!(k.c_name().starts_with("MC_ERR_"), "{k:?}");
+            assert_eq!(k.c_description().to_str().unwrap(), k.description());
+            assert!(
+                !k.description().is_empty() && !k.doc().trim().is_empty(),
+                "{k:?}"
+            );
+        }
+        assert_eq!(ErrorKind::from_code(0), None);
+        assert_eq!(ErrorKind::from_code(-100), None);
+        // Every nack of the card stands for its own kind.
+        let from_nacks: HashSet<ErrorKind> =
+            NackCode::ALL.iter().map(|&c| ErrorKind::from(c)).collect();
+        assert_eq!(from_nacks.len(), NackCode::ALL.len());
+        assert_eq!(
+            ErrorKind::from(NackCode::UnknownOpcode),
+            ErrorKind::UnknownCommand
+        );
+        assert_eq!(nack_reason(NackCode::BadAxis), "no such axis");
+    }
 
     #[test]
     fn every_nurbs_fault_has_its_own_kind() {

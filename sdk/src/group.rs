@@ -3,10 +3,10 @@
 
 use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result, Target};
-use firmware_proto::layout::{self, axis_filter as af, group_config as gc};
+use firmware_proto::layout;
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    move_flags, raw, Command, GroupState, GroupStatus, Mem, Opcode, MAX_AXES, MAX_GROUPS,
+    move_flags, raw, Command, GroupState, GroupStatus, Opcode, MAX_AXES, MAX_GROUPS,
 };
 use std::time::Duration;
 
@@ -236,20 +236,14 @@ impl Group {
         if self.status()?.0 == GroupState::Disabled {
             return Err(not_configured());
         }
-        let w = self.card.window();
-        let n = w.read32(layout::group_config(self.index, gc::NAXES)) as usize;
+        let block = layout::GROUP_CONFIG.at(self.index).read(self.card.window());
+        let n = block.naxes as usize;
         if n == 0 || n > MAX_AXES {
             return Err(not_configured());
         }
         let mut axes = [0usize; MAX_AXES];
-        let lo = w
-            .read32(layout::group_config(self.index, gc::AXES))
-            .to_le_bytes();
-        let hi = w
-            .read32(layout::group_config(self.index, gc::AXES + 4))
-            .to_le_bytes();
-        for (i, b) in lo.iter().chain(hi.iter()).enumerate() {
-            axes[i] = *b as usize;
+        for (d, b) in axes.iter_mut().zip(block.axes) {
+            *d = b as usize;
         }
         Ok((n, axes))
     }
@@ -292,35 +286,25 @@ impl Group {
             }
             *b = a as u8;
         }
-        let w = self.card.window();
-        let g = self.index;
-        w.write32(layout::group_config(g, gc::NAXES), n as u32);
-        w.write32(
-            layout::group_config(g, gc::AXES),
-            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
-        );
-        w.write32(
-            layout::group_config(g, gc::AXES + 4),
-            u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
-        );
-        let accdec = match s.accdec {
-            AccDec::Pre => raw::MC_ACCDEC_PRE,
-            AccDec::Post => raw::MC_ACCDEC_POST,
-            AccDec::Both => raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST,
-        };
-        w.write32(layout::group_config(g, gc::ACCDEC), accdec);
-        w.write32(
-            layout::group_config(g, gc::INTERPOLATOR),
-            if s.interpolator == Interpolator::ReferenceWord {
+        let block = raw::mc_group_config {
+            naxes: n as u32,
+            axes: bytes,
+            accdec: match s.accdec {
+                AccDec::Pre => raw::MC_ACCDEC_PRE,
+                AccDec::Post => raw::MC_ACCDEC_POST,
+                AccDec::Both => raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST,
+            },
+            interpolator: if s.interpolator == Interpolator::ReferenceWord {
                 raw::MC_INTERP_REFERENCE_WORD
             } else {
                 raw::MC_INTERP_EXACT
             },
-        );
-        w.write_f64(
-            layout::group_config(g, gc::TOLERANCE),
-            s.tolerance * self.card.scale(s.axes[0]).abs(),
-        );
+            tolerance: s.tolerance * self.card.scale(s.axes[0]).abs(),
+            ..Default::default()
+        };
+        layout::GROUP_CONFIG
+            .at(self.index)
+            .write(self.card.window(), &block);
         self.run(self.op(Opcode::GroupConfigure), "group configure")?;
         let mut axes = [0usize; MAX_AXES];
         axes[..n].copy_from_slice(&s.axes);
@@ -699,16 +683,16 @@ impl FilterSettings {
 impl Axis {
     /// Set the axis's post-interpolation acc/dec filters (applied when it holds no distance).
     pub fn set_filters(&self, f: &FilterSettings) -> Result<()> {
-        let w = self.card().window();
         let a = self.index();
+        let mut block = raw::mc_axis_filter::default();
         for (i, (kind, tau)) in [f.rapid, f.cutting, f.jog].into_iter().enumerate() {
             finite("filter time constant", tau)?;
-            w.write32(
-                layout::axis_filter(a, af::KIND + 4 * i),
-                card_emu::firmware::group::FilterConfig::kind_to_raw(kind),
-            );
-            w.write_f64(layout::axis_filter(a, af::TAU + 8 * i), tau);
+            block.kind[i] = card_emu::firmware::group::FilterConfig::kind_to_raw(kind);
+            block.tau[i] = tau;
         }
+        layout::AXIS_FILTER
+            .at(a)
+            .write(self.card().window(), &block);
         self.card()
             .execute_seq(
                 Command::new(Opcode::ApplyAxisFilter, a as u16),

@@ -3,7 +3,7 @@
 use crate::card::{finite, positive, Axis};
 use crate::error::{Error, Result, Target};
 use crate::group::{Group, GroupMotion, MoveOptions};
-use firmware_proto::layout::{self, axis_config as ac, axis_pdplus as pp};
+use firmware_proto::layout;
 use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA_MAX};
 use std::time::Duration;
 
@@ -70,23 +70,24 @@ impl Axis {
     pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
         let w = self.card().window();
         let a = self.index();
-        let named = [
-            ("kp", pp::KP, s.kp),
-            ("kd", pp::KD, s.kd),
-            ("kv", pp::KV, s.kv),
-            ("ka", pp::KA, s.ka),
-            ("kc", pp::KC, s.kc),
-            ("tau", pp::TAU, s.tau),
-            ("ke", pp::KE, s.ke),
-            ("umax", pp::UMAX, s.umax),
-        ];
-        for (what, _, v) in named {
-            finite(what, v)?;
-        }
-        for (_, off, v) in named {
-            w.write_f64(layout::axis_pdplus(a, off), v);
-        }
-        w.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_PDPLUS);
+        let block = raw::mc_axis_pdplus {
+            gains: raw::mc_pdplus_gains {
+                kp: s.kp,
+                kd: s.kd,
+                kv: s.kv,
+                ka: s.ka,
+            },
+            drive: raw::mc_drive_model {
+                kc: s.kc,
+                tau: s.tau,
+                ke: s.ke,
+            },
+            umax: s.umax,
+            ..Default::default()
+        };
+        layout::AXIS_PDPLUS.at(a).write(w, &block);
+        let law = core::mem::offset_of!(raw::mc_axis_config, servo_law);
+        w.write32(layout::AXIS_CONFIG.at(a).field(law), raw::MC_SERVO_PDPLUS);
         self.card()
             .execute_seq(
                 Command::new(Opcode::ApplyAxisConfig, a as u16),

@@ -12,7 +12,7 @@
 
 use crate::card::{Axis, Card, Status};
 use crate::error::{Error, Result, Target};
-use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
+use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
     io, raw, AxisState, Command, Mem, Opcode, StopCategory, StopReason, MAX_AXES,
 };
@@ -133,24 +133,26 @@ impl Card {
     /// [`crate::ErrorKind::WatchdogTimeout`].
     pub fn set_watchdog_timeout(&self, timeout: Duration) -> Result<()> {
         let us = u32::try_from(timeout.as_micros()).unwrap_or(u32::MAX);
-        self.apply_safety_config(layout::WATCHDOG_TIMEOUT_US, us, "set_watchdog_timeout")
+        self.apply_safety_config(|b| b.watchdog_timeout_us = us, "set_watchdog_timeout")
     }
 
     /// The stop the card's e-stop input makes (default category 1).
     pub fn set_estop_input_category(&self, category: StopCategory) -> Result<()> {
         self.apply_safety_config(
-            layout::ESTOP_INPUT_CATEGORY,
-            category as u32,
+            |b| b.estop_input_category = category as u32,
             "set_estop_input_category",
         )
     }
 
-    /// Write one field of the card-wide safety block and have the card apply the block.
-    fn apply_safety_config(&self, field: usize, value: u32, what: &'static str) -> Result<()> {
-        let block = layout::SAFETY_CONFIG..layout::SAFETY_CONFIG + layout::SAFETY_CONFIG_BYTES;
+    /// Change the card-wide safety block and have the card apply it.
+    fn apply_safety_config(
+        &self,
+        change: impl FnOnce(&mut raw::mc_safety_config),
+        what: &'static str,
+    ) -> Result<()> {
         self.apply_block(
-            block,
-            |w| w.write32(field, value),
+            layout::SAFETY_CONFIG,
+            change,
             Command::new(Opcode::ApplySafetyConfig, 0),
             what,
             Target::Card,
@@ -216,7 +218,7 @@ impl Card {
     /// max velocity must fit ([`crate::ErrorKind::StopTooLong`]).
     pub fn set_max_stop_time(&self, t: Duration) -> Result<()> {
         let us = u32::try_from(t.as_micros()).unwrap_or(u32::MAX);
-        self.apply_safety_config(layout::MAX_STOP_TIME_US, us, "set_max_stop_time")
+        self.apply_safety_config(|b| b.max_stop_time_us = us, "set_max_stop_time")
     }
 }
 
@@ -265,29 +267,22 @@ impl Axis {
             }
         }
         let a = self.index();
-        let fields = [
-            (asf::SOFT_LIMIT_NEG, neg),
-            (asf::SOFT_LIMIT_POS, pos),
-            (asf::FERROR, s.ferror * k),
-            (asf::MIN_FERROR, s.min_ferror * k),
-            (asf::MAX_VELOCITY, s.max_velocity * k),
-            (asf::STOP_DECEL, s.stop_deceleration * k),
-            (asf::STOP_JERK, s.stop_jerk * k),
-            (asf::ENCODER_MAX_VELOCITY, s.encoder_max_velocity * k),
-        ];
-        let block = layout::axis_safety(a, 0)..layout::axis_safety(a, layout::AXIS_SAFETY_BYTES);
+        let block = raw::mc_axis_safety {
+            flags,
+            limit_category: s.limit_stop as u32,
+            soft_limit_neg: neg,
+            soft_limit_pos: pos,
+            ferror: s.ferror * k,
+            min_ferror: s.min_ferror * k,
+            max_velocity: s.max_velocity * k,
+            stop_decel: s.stop_deceleration * k,
+            stop_jerk: s.stop_jerk * k,
+            encoder_max_velocity: s.encoder_max_velocity * k,
+            ..Default::default()
+        };
         self.card().apply_block(
-            block,
-            |w| {
-                w.write32(layout::axis_safety(a, asf::FLAGS), flags);
-                w.write32(
-                    layout::axis_safety(a, asf::LIMIT_CATEGORY),
-                    s.limit_stop as u32,
-                );
-                for (off, v) in fields {
-                    w.write_f64(layout::axis_safety(a, off), v);
-                }
-            },
+            layout::AXIS_SAFETY.at(a),
+            |b| *b = block,
             Command::new(Opcode::ApplyAxisSafety, a as u16),
             "configure_safety",
             Target::Axis(a),

@@ -17,6 +17,9 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Makes one generated file from the workspace root.
+type Generator = fn(&Path) -> Result<String, String>;
+
 /// Rust bindings of the DPRAM register map, from firmware-proto/include/mc_dpram.h.
 fn dpram_bindings(root: &Path) -> Result<String, String> {
     let header = root.join("firmware-proto/include/mc_dpram.h");
@@ -26,6 +29,10 @@ fn dpram_bindings(root: &Path) -> Result<String, String> {
         .allowlist_type("mc_.*")
         .allowlist_var("MC_.*")
         .derive_default(true)
+        .derive_partialeq(true)
+        .explicit_padding(true)
+        // Reset values instead of zeros: firmware-proto/src/reset.rs.
+        .no_default("mc_(ffpiv_gains|axis_config)")
         .derive_debug(true)
         .derive_copy(true)
         .layout_tests(true)
@@ -48,7 +55,29 @@ fn c_header(root: &Path) -> Result<String, String> {
         .map_err(|e| format!("cbindgen failed on {}: {e}", dir.display()))?;
     let mut out = Vec::new();
     bindings.write(&mut out);
-    String::from_utf8(out).map_err(|e| format!("cbindgen wrote non-UTF-8: {e}"))
+    let header = String::from_utf8(out).map_err(|e| format!("cbindgen wrote non-UTF-8: {e}"))?;
+    // The result codes of the SDK's error kinds, after MC_OK: cbindgen cannot see them, as
+    // they come from the SDK's one table of kinds (`motioncard_sdk::ErrorKind`).
+    let anchor = "#define MC_OK 0\n";
+    let at = header
+        .find(anchor)
+        .ok_or("cbindgen's header has no MC_OK")?
+        + anchor.len();
+    let mut codes = String::new();
+    for k in motioncard_sdk::ErrorKind::ALL {
+        codes.push_str("\n/**\n");
+        // Rustdoc links become plain code spans: "[`crate::Card::close`]" -> "`Card::close`".
+        let doc = k.doc().replace("[`", "`").replace("`]", "`");
+        for line in doc
+            .replace("`crate::", "`")
+            .replace("`firmware_proto::", "`")
+            .lines()
+        {
+            codes.push_str(&format!(" *{line}\n"));
+        }
+        codes.push_str(&format!(" */\n#define {} {}\n", k.c_name(), k.code()));
+    }
+    Ok(format!("{}{codes}{}", &header[..at], &header[at..]))
 }
 
 const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask install --prefix DIR";
@@ -109,13 +138,15 @@ fn main() -> ExitCode {
         }
     }
     let root = workspace_root();
-    let outputs = [
-        ("firmware-proto/src/raw.rs", dpram_bindings(&root)),
-        ("cffi/include/motioncard.h", c_header(&root)),
+    // In order: the C header takes the register-map structs it shares (mc_axis_config) from
+    // the bindings, so it is generated after they are written.
+    let outputs: [(&str, Generator); 2] = [
+        ("firmware-proto/src/raw.rs", dpram_bindings),
+        ("cffi/include/motioncard.h", c_header),
     ];
     let mut stale = false;
-    for (rel, generated) in outputs {
-        let generated = match generated {
+    for (rel, generate) in outputs {
+        let generated = match generate(&root) {
             Ok(g) => g,
             Err(e) => {
                 eprintln!("{e}");

@@ -3,56 +3,54 @@
 
 use crate::firmware::axis_safety::AxisSafety;
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
-use crate::servo::ffpiv::{Ffpiv, FfpivGains, Reference};
+use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
 use crate::servo::pdplus::{AxisModel, PdPlus};
 use firmware_proto::{fault, AxisState, AxisStatus, NackCode, StopReason};
 
-/// The validated copy of an axis's configuration block.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The validated copy of an axis's configuration: the block as the host wrote it (its fields
+/// are the header's `mc_axis_config`) and, when its servo law is PD+, the PD+ law.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AxisConfig {
-    /// Servo gains.
-    pub gains: FfpivGains,
-    /// Output clamp, volts.
-    pub dac_limit_v: f64,
-    /// |target − actual| for motion done, counts.
-    pub in_pos_window: f64,
-    /// |actual velocity| for motion done, counts/s.
-    pub in_vel_window: f64,
-    /// Both windows held this long before motion done, s.
-    pub settle_time: f64,
+    /// The configuration block: servo law, FFPIV gains, DAC clamp, in-position windows.
+    pub block: firmware_proto::AxisConfig,
     /// The PD+ law (Yeh eq 2.12) and its drive model, when selected instead of FFPIV.
     pub pdplus: Option<AxisModel>,
 }
 
-impl Default for AxisConfig {
-    fn default() -> Self {
-        Self {
-            gains: FfpivGains::default_tuning(),
-            dac_limit_v: 10.0,
-            in_pos_window: 1.0,
-            in_vel_window: 2000.0,
-            settle_time: 0.002,
-            pdplus: None,
-        }
+impl core::ops::Deref for AxisConfig {
+    type Target = firmware_proto::AxisConfig;
+    fn deref(&self) -> &Self::Target {
+        &self.block
     }
 }
 
 impl AxisConfig {
-    /// Check every field; the card never runs with a configuration it has not checked.
+    /// Check every field of the block (not finite: `NotFinite`; out of range: `BadConfig`);
+    /// the card never runs with a configuration it has not checked.
     pub fn validate(&self) -> Result<(), NackCode> {
+        let b = &self.block;
+        let g = &b.ffpiv;
         let fin = [
-            self.dac_limit_v,
-            self.in_pos_window,
-            self.in_vel_window,
-            self.settle_time,
+            g.kp,
+            g.ki,
+            g.kv,
+            g.kvff,
+            g.kaff,
+            g.vel_filter_hz,
+            b.dac_limit_v,
+            b.in_pos_window,
+            b.in_vel_window,
+            b.settle_time,
         ];
-        if !self.gains.is_valid() || fin.iter().any(|x| !x.is_finite()) {
-            return Err(NackCode::BadConfig);
+        if fin.iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::NotFinite);
         }
-        if !(self.dac_limit_v > 0.0 && self.dac_limit_v <= 10.0)
-            || self.in_pos_window <= 0.0
-            || self.in_vel_window <= 0.0
-            || !(0.0..=10.0).contains(&self.settle_time)
+        let dac_ok = b.dac_limit_v > 0.0 && b.dac_limit_v <= 10.0;
+        if !gains_valid(g)
+            || !dac_ok
+            || b.in_pos_window <= 0.0
+            || b.in_vel_window <= 0.0
+            || !(0.0..=10.0).contains(&b.settle_time)
         {
             return Err(NackCode::BadConfig);
         }
@@ -377,7 +375,7 @@ impl Axis {
         self.raw_vel = encoder.wrapping_sub(self.encoder) as f64 / ts;
         self.encoder = encoder;
         self.act_pos = encoder as f64;
-        self.servo.measure(encoder, &self.config.gains, ts);
+        self.servo.measure(encoder, &self.config.ffpiv, ts);
     }
 
     /// Actual position (counts) and velocity over the last tick (counts/s, unfiltered: the
@@ -468,7 +466,7 @@ impl Axis {
             Some(pd) => pd.update(self.cmd.pos, self.cmd.vel, self.cmd.acc, self.act_pos),
             None => self
                 .servo
-                .update(&self.cmd, self.act_pos, &self.config.gains, ts, limit),
+                .update(&self.cmd, self.act_pos, &self.config.ffpiv, ts, limit),
         };
         self.u_request = u;
         let u = u.clamp(-limit, limit);

@@ -31,6 +31,43 @@ pub struct AxisSafetyConfig {
     pub encoder_max_velocity: f64,
 }
 
+impl AxisSafetyConfig {
+    /// The register block (`mc_axis_safety`) that holds this configuration.
+    pub fn to_block(&self) -> raw::mc_axis_safety {
+        raw::mc_axis_safety {
+            flags: self.flags,
+            limit_category: self.limit_category as u32,
+            soft_limit_neg: self.soft_limit_neg,
+            soft_limit_pos: self.soft_limit_pos,
+            ferror: self.ferror,
+            min_ferror: self.min_ferror,
+            max_velocity: self.max_velocity,
+            stop_decel: self.stop_decel,
+            stop_jerk: self.stop_jerk,
+            encoder_max_velocity: self.encoder_max_velocity,
+            ..Default::default()
+        }
+    }
+
+    /// Decode a register block (validated by the caller); an unknown stop category is
+    /// `BadCategory`.
+    pub fn from_block(b: &raw::mc_axis_safety) -> Result<Self, NackCode> {
+        Ok(Self {
+            flags: b.flags,
+            limit_category: StopCategory::from_raw(b.limit_category)
+                .ok_or(NackCode::BadCategory)?,
+            soft_limit_neg: b.soft_limit_neg,
+            soft_limit_pos: b.soft_limit_pos,
+            ferror: b.ferror,
+            min_ferror: b.min_ferror,
+            max_velocity: b.max_velocity,
+            stop_decel: b.stop_decel,
+            stop_jerk: b.stop_jerk,
+            encoder_max_velocity: b.encoder_max_velocity,
+        })
+    }
+}
+
 impl Default for AxisSafetyConfig {
     /// For the default plant (10,000 counts/rev, about 9.5·10⁶ counts/s² at full output):
     /// FERROR one revolution at 10⁶ counts/s (6,000 rpm), MIN_FERROR 0.1 revolution, stops at

@@ -100,6 +100,15 @@ impl FilterConfig {
     }
 
     /// Every feed type's filter can be built at sample time `ts`.
+    /// The register block that holds this configuration.
+    pub fn to_block(&self) -> firmware_proto::raw::mc_axis_filter {
+        firmware_proto::raw::mc_axis_filter {
+            kind: self.kind.map(Self::kind_to_raw),
+            tau: self.tau,
+            ..Default::default()
+        }
+    }
+
     pub fn validate(&self, ts: f64) -> Result<(), NackCode> {
         for f in 0..3 {
             AccDecFilter::from_time_constant(self.kind[f], self.tau[f], ts)

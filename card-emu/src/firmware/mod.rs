@@ -15,9 +15,8 @@ use self::axis::{Axis, AxisConfig, TickReport};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
-use crate::servo::ffpiv::FfpivGains;
 use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
-use firmware_proto::layout::{self, axis_config as ac, axis_filter as af, group_config as gc};
+use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
     raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
@@ -86,8 +85,13 @@ impl<M: Mem + Clone> Firmware<M> {
             events_lost: 0,
             cmds_accepted: 0,
         };
-        fw.mem
-            .write32(layout::CARD_CONFIG_SERVO_RATE, servo_rate_hz);
+        layout::CARD_CONFIG.write(
+            &fw.mem,
+            &raw::mc_card_config {
+                servo_rate_hz,
+                ..Default::default()
+            },
+        );
         for a in 0..MAX_AXES {
             fw.write_axis_config(a, &AxisConfig::default());
             fw.write_axis_filter(a, &FilterConfig::default());
@@ -519,7 +523,7 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     fn apply_card_config(&mut self) -> Result<(), NackCode> {
-        let rate = self.mem.read32(layout::CARD_CONFIG_SERVO_RATE);
+        let rate = layout::CARD_CONFIG.read(&self.mem).servo_rate_hz;
         if !(firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ).contains(&rate)
         {
             return Err(NackCode::BadConfig);
@@ -541,30 +545,11 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     fn write_axis_config(&self, a: usize, c: &AxisConfig) {
-        let m = &self.mem;
-        let f = |field: usize, v: f64| m.write_f64(layout::axis_config(a, field), v);
-        m.write32(layout::axis_config(a, ac::SERVO_LAW), raw::MC_SERVO_FFPIV);
-        f(ac::KP, c.gains.kp);
-        f(ac::KI, c.gains.ki);
-        f(ac::KV, c.gains.kv);
-        f(ac::KVFF, c.gains.kvff);
-        f(ac::KAFF, c.gains.kaff);
-        f(ac::VEL_FILTER_HZ, c.gains.vel_filter_hz);
-        f(ac::DAC_LIMIT_V, c.dac_limit_v);
-        f(ac::IN_POS_WINDOW, c.in_pos_window);
-        f(ac::IN_VEL_WINDOW, c.in_vel_window);
-        f(ac::SETTLE_TIME, c.settle_time);
+        layout::AXIS_CONFIG.at(a).write(&self.mem, &c.block);
     }
 
     fn write_axis_filter(&self, a: usize, c: &FilterConfig) {
-        for f in 0..3 {
-            self.mem.write32(
-                layout::axis_filter(a, af::KIND + 4 * f),
-                FilterConfig::kind_to_raw(c.kind[f]),
-            );
-            self.mem
-                .write_f64(layout::axis_filter(a, af::TAU + 8 * f), c.tau[f]);
-        }
+        layout::AXIS_FILTER.at(a).write(&self.mem, &c.to_block());
     }
 
     fn post(&mut self, e: Event) {
@@ -714,27 +699,13 @@ fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
 
 /// Read and validate an axis configuration block written by the host.
 fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
-    let f = |field: usize| m.read_f64(layout::axis_config(a, field));
-    let pdplus = match m.read32(layout::axis_config(a, ac::SERVO_LAW)) {
+    let block = layout::AXIS_CONFIG.at(a).read(m);
+    let pdplus = match block.servo_law {
         raw::MC_SERVO_FFPIV => None,
         raw::MC_SERVO_PDPLUS => Some(read_axis_pdplus(m, a)?),
         _ => return Err(NackCode::BadConfig),
     };
-    let cfg = AxisConfig {
-        gains: FfpivGains {
-            kp: f(ac::KP),
-            ki: f(ac::KI),
-            kv: f(ac::KV),
-            kvff: f(ac::KVFF),
-            kaff: f(ac::KAFF),
-            vel_filter_hz: f(ac::VEL_FILTER_HZ),
-        },
-        dac_limit_v: f(ac::DAC_LIMIT_V),
-        in_pos_window: f(ac::IN_POS_WINDOW),
-        in_vel_window: f(ac::IN_VEL_WINDOW),
-        settle_time: f(ac::SETTLE_TIME),
-        pdplus,
-    };
+    let cfg = AxisConfig { block, pdplus };
     cfg.validate()?;
     if cfg.pdplus.is_some_and(|p| p.umax > cfg.dac_limit_v) {
         return Err(NackCode::BadConfig);
@@ -744,34 +715,25 @@ fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
 
 /// Read and validate the PD+ gains and drive model of an axis (Yeh eq 2.12, 2.2).
 fn read_axis_pdplus<M: Mem>(m: &M, a: usize) -> Result<AxisModel, NackCode> {
-    use firmware_proto::layout::axis_pdplus as pp;
-    let f = |field: usize| m.read_f64(layout::axis_pdplus(a, field));
-    let v = [
-        f(pp::KP),
-        f(pp::KD),
-        f(pp::KV),
-        f(pp::KA),
-        f(pp::KC),
-        f(pp::TAU),
-        f(pp::KE),
-        f(pp::UMAX),
-    ];
+    let b = layout::AXIS_PDPLUS.at(a).read(m);
+    let (g, d) = (&b.gains, &b.drive);
+    let v = [g.kp, g.kd, g.kv, g.ka, d.kc, d.tau, d.ke, b.umax];
     if v.iter().any(|x| !x.is_finite()) {
         return Err(NackCode::NotFinite);
     }
     let model = AxisModel {
         gains: PdPlusGains {
-            kp: v[0],
-            kd: v[1],
-            kv: v[2],
-            ka: v[3],
+            kp: g.kp,
+            kd: g.kd,
+            kv: g.kv,
+            ka: g.ka,
         },
         plant: DriveModel {
-            k_c: v[4],
-            tau: v[5],
-            k_e: v[6],
+            k_c: d.kc,
+            tau: d.tau,
+            k_e: d.ke,
         },
-        umax: v[7],
+        umax: b.umax,
     };
     model.gains.validate(a).map_err(|_| NackCode::BadConfig)?;
     model.plant.validate(a).map_err(|_| NackCode::BadConfig)?;
@@ -803,16 +765,13 @@ fn is_group_op(op: Opcode) -> bool {
 
 /// Read and validate a group configuration block written by the host.
 fn read_group_config<M: Mem>(m: &M, g: usize, num_axes: usize) -> Result<GroupConfig, NackCode> {
-    let naxes = m.read32(layout::group_config(g, gc::NAXES)) as usize;
+    let block = layout::GROUP_CONFIG.at(g).read(m);
+    let naxes = block.naxes as usize;
     if naxes == 0 || naxes > MAX_AXES {
         return Err(NackCode::BadConfig);
     }
-    let lo = m.read32(layout::group_config(g, gc::AXES)).to_le_bytes();
-    let hi = m
-        .read32(layout::group_config(g, gc::AXES + 4))
-        .to_le_bytes();
     let mut axes = [0usize; MAX_AXES];
-    for (i, b) in lo.iter().chain(hi.iter()).take(naxes).enumerate() {
+    for (i, b) in block.axes.iter().take(naxes).enumerate() {
         let a = *b as usize;
         if a >= num_axes {
             return Err(NackCode::BadAxis);
@@ -822,9 +781,7 @@ fn read_group_config<M: Mem>(m: &M, g: usize, num_axes: usize) -> Result<GroupCo
         }
         axes[i] = a;
     }
-    let accdec = m.read32(layout::group_config(g, gc::ACCDEC));
-    let interp = m.read32(layout::group_config(g, gc::INTERPOLATOR));
-    let tolerance = m.read_f64(layout::group_config(g, gc::TOLERANCE));
+    let (accdec, interp, tolerance) = (block.accdec, block.interpolator, block.tolerance);
     if accdec == 0
         || accdec & !(raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST) != 0
         || interp > raw::MC_INTERP_REFERENCE_WORD
@@ -853,12 +810,11 @@ fn read_group_config<M: Mem>(m: &M, g: usize, num_axes: usize) -> Result<GroupCo
 
 /// Read and decode an axis filter block written by the host (validated by the caller).
 fn read_axis_filter<M: Mem>(m: &M, a: usize) -> Result<FilterConfig, NackCode> {
+    let block = layout::AXIS_FILTER.at(a).read(m);
     let mut cfg = FilterConfig::default();
     for f in 0..3 {
-        cfg.kind[f] =
-            FilterConfig::kind_from_raw(m.read32(layout::axis_filter(a, af::KIND + 4 * f)))
-                .ok_or(NackCode::BadConfig)?;
-        cfg.tau[f] = m.read_f64(layout::axis_filter(a, af::TAU + 8 * f));
+        cfg.kind[f] = FilterConfig::kind_from_raw(block.kind[f]).ok_or(NackCode::BadConfig)?;
+        cfg.tau[f] = block.tau[f];
         if !cfg.tau[f].is_finite() {
             return Err(NackCode::NotFinite);
         }

@@ -38,7 +38,7 @@ use crate::firmware::axis::Axis;
 use crate::firmware::axis_safety::{ActiveStop, AxisSafetyConfig, LIVE_FAULTS};
 use crate::motion::scurve::plan_stop;
 use crate::motion::scurve::Profile;
-use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
+use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
     fault, io, raw, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, StopCategory,
     StopReason, MAX_AXES,
@@ -206,14 +206,19 @@ impl Safety {
     /// Boot: write the default configuration blocks and a clean status into the window.
     pub fn boot<M: Mem>(mem: &M) -> Self {
         let config = SafetyConfig::default();
-        mem.write32(layout::WATCHDOG_TIMEOUT_US, config.watchdog_timeout_us);
-        mem.write32(
-            layout::ESTOP_INPUT_CATEGORY,
-            config.estop_input_category as u32,
+        layout::SAFETY_CONFIG.write(
+            mem,
+            &raw::mc_safety_config {
+                watchdog_timeout_us: config.watchdog_timeout_us,
+                estop_input_category: config.estop_input_category as u32,
+                max_stop_time_us: config.max_stop_time_us,
+                ..Default::default()
+            },
         );
-        mem.write32(layout::MAX_STOP_TIME_US, config.max_stop_time_us);
         for a in 0..MAX_AXES {
-            write_axis_safety(mem, a, &AxisSafetyConfig::default());
+            layout::AXIS_SAFETY
+                .at(a)
+                .write(mem, &AxisSafetyConfig::default().to_block());
         }
         let s = Self {
             config,
@@ -840,15 +845,16 @@ impl Safety {
     }
 
     fn apply_config<M: Mem>(&mut self, mem: &M, axes: &[Axis]) -> Result<(), NackCode> {
-        let timeout = mem.read32(layout::WATCHDOG_TIMEOUT_US);
+        let block = layout::SAFETY_CONFIG.read(mem);
+        let timeout = block.watchdog_timeout_us;
         let period = mem.read32(layout::HOST_PERIOD_US) as u64;
         // 0 is refused, and so is anything under 1.5 x the host's declared period.
         if timeout == 0 || 2 * (timeout as u64) < 3 * period {
             return Err(NackCode::WatchdogTimeout);
         }
-        let category = StopCategory::from_raw(mem.read32(layout::ESTOP_INPUT_CATEGORY))
-            .ok_or(NackCode::BadCategory)?;
-        let max_stop_time_us = mem.read32(layout::MAX_STOP_TIME_US);
+        let category =
+            StopCategory::from_raw(block.estop_input_category).ok_or(NackCode::BadCategory)?;
+        let max_stop_time_us = block.max_stop_time_us;
         let config = SafetyConfig {
             watchdog_timeout_us: timeout,
             estop_input_category: category,
@@ -966,41 +972,9 @@ fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>;
     out
 }
 
-fn write_axis_safety<M: Mem>(mem: &M, a: usize, c: &AxisSafetyConfig) {
-    let f = |field: usize, v: f64| mem.write_f64(layout::axis_safety(a, field), v);
-    mem.write32(layout::axis_safety(a, asf::FLAGS), c.flags);
-    mem.write32(
-        layout::axis_safety(a, asf::LIMIT_CATEGORY),
-        c.limit_category as u32,
-    );
-    f(asf::SOFT_LIMIT_NEG, c.soft_limit_neg);
-    f(asf::SOFT_LIMIT_POS, c.soft_limit_pos);
-    f(asf::FERROR, c.ferror);
-    f(asf::MIN_FERROR, c.min_ferror);
-    f(asf::MAX_VELOCITY, c.max_velocity);
-    f(asf::STOP_DECEL, c.stop_decel);
-    f(asf::STOP_JERK, c.stop_jerk);
-    f(asf::ENCODER_MAX_VELOCITY, c.encoder_max_velocity);
-}
-
 /// Read and validate `axis_safety[a]`.
 fn read_axis_safety<M: Mem>(mem: &M, a: usize) -> Result<AxisSafetyConfig, NackCode> {
-    let f = |field: usize| mem.read_f64(layout::axis_safety(a, field));
-    let cfg = AxisSafetyConfig {
-        flags: mem.read32(layout::axis_safety(a, asf::FLAGS)),
-        limit_category: StopCategory::from_raw(
-            mem.read32(layout::axis_safety(a, asf::LIMIT_CATEGORY)),
-        )
-        .ok_or(NackCode::BadCategory)?,
-        soft_limit_neg: f(asf::SOFT_LIMIT_NEG),
-        soft_limit_pos: f(asf::SOFT_LIMIT_POS),
-        ferror: f(asf::FERROR),
-        min_ferror: f(asf::MIN_FERROR),
-        max_velocity: f(asf::MAX_VELOCITY),
-        stop_decel: f(asf::STOP_DECEL),
-        stop_jerk: f(asf::STOP_JERK),
-        encoder_max_velocity: f(asf::ENCODER_MAX_VELOCITY),
-    };
+    let cfg = AxisSafetyConfig::from_block(&layout::AXIS_SAFETY.at(a).read(mem))?;
     cfg.validate()?;
     Ok(cfg)
 }

@@ -13,61 +13,23 @@
 //! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_drive`] derives ours
 //! from the plant instead.
 
-/// The acceleration per volt of the card's default drive and motor (the emulator's
-/// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.
-pub const DEFAULT_ACCEL_PER_VOLT: f64 = 0.3 * 10_000.0 / (5e-4 * core::f64::consts::TAU);
+pub use firmware_proto::reset::{DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH};
+/// FFPIV gains and the velocity estimator's cut-off: the register map's `mc_ffpiv_gains`
+/// (its `Default` is the default tuning, [`FfpivGains::for_drive`] places gains for a drive).
+pub use firmware_proto::FfpivGains;
 
-/// The velocity-loop bandwidth of the default tuning, rad/s (60 Hz).
-pub const DEFAULT_BANDWIDTH: f64 = 2.0 * core::f64::consts::PI * 60.0;
-
-/// FFPIV gains and the velocity estimator's cut-off.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FfpivGains {
-    /// Position gain K_P, 1/s.
-    pub kp: f64,
-    /// Velocity-loop integral gain K_I, 1/s.
-    pub ki: f64,
-    /// Velocity-loop gain K_V, V per count/s.
-    pub kv: f64,
-    /// Velocity feed-forward K_VFF (fraction of v_ref added to the velocity command).
-    pub kvff: f64,
-    /// Acceleration feed-forward K_AFF, V per count/s².
-    pub kaff: f64,
-    /// Cut-off of the first-order filter on the differenced encoder velocity, Hz.
-    pub vel_filter_hz: f64,
-}
-
-impl FfpivGains {
-    /// Gains placed from the plant: velocity-loop crossover `wc` (rad/s), K_P = wc/4,
-    /// K_I = wc/6, full velocity feed-forward, ideal acceleration feed-forward.
-    pub fn for_drive(accel_per_volt: f64, wc: f64) -> Self {
-        Self {
-            kp: wc / 4.0,
-            ki: wc / 6.0,
-            kv: wc / accel_per_volt,
-            kvff: 1.0,
-            kaff: 1.0 / accel_per_volt,
-            vel_filter_hz: 1500.0,
-        }
-    }
-
-    /// The default tuning for the default drive and motor ([`DEFAULT_ACCEL_PER_VOLT`]).
-    pub fn default_tuning() -> Self {
-        Self::for_drive(DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH)
-    }
-
-    /// All gains finite and in range.
-    pub fn is_valid(&self) -> bool {
-        let nonneg = |x: f64| x.is_finite() && x >= 0.0;
-        nonneg(self.kp)
-            && nonneg(self.ki)
-            && nonneg(self.kv)
-            && nonneg(self.kvff)
-            && self.kvff <= 2.0
-            && nonneg(self.kaff)
-            && self.vel_filter_hz.is_finite()
-            && self.vel_filter_hz > 0.0
-    }
+/// The gains the card accepts: finite, K_P, K_I, K_V, K_AFF ≥ 0, 0 ≤ K_VFF ≤ 2, a positive
+/// velocity-filter cut-off.
+pub fn gains_valid(g: &FfpivGains) -> bool {
+    let nonneg = |x: f64| x.is_finite() && x >= 0.0;
+    nonneg(g.kp)
+        && nonneg(g.ki)
+        && nonneg(g.kv)
+        && nonneg(g.kvff)
+        && g.kvff <= 2.0
+        && nonneg(g.kaff)
+        && g.vel_filter_hz.is_finite()
+        && g.vel_filter_hz > 0.0
 }
 
 /// The FFPIV loop's state.
@@ -152,7 +114,7 @@ mod tests {
     #[test]
     fn default_tuning_settles_a_small_step_within_one_count() {
         let params = MotorParams::default_servo();
-        let gains = FfpivGains::default_tuning();
+        let gains = FfpivGains::default();
         let ts = 1e-4;
         let mut m = Motor::new(params);
         let mut s = Ffpiv::default();
@@ -179,7 +141,7 @@ mod tests {
     #[test]
     fn no_hunting_around_a_fractional_target() {
         let params = MotorParams::default_servo();
-        let gains = FfpivGains::default_tuning();
+        let gains = FfpivGains::default();
         let ts = 1e-4;
         let mut m = Motor::new(params);
         let mut s = Ffpiv::default();
@@ -212,7 +174,7 @@ mod tests {
 
     #[test]
     fn output_clamps_and_integrator_does_not_wind_up() {
-        let gains = FfpivGains::default_tuning();
+        let gains = FfpivGains::default();
         let mut s = Ffpiv::default();
         let r = Reference {
             pos: 1e9,

@@ -31,7 +31,7 @@
 
 use crate::firmware::Firmware;
 use crate::plant::{Motor, MotorParams};
-use firmware_proto::layout::{self, group_config as gc};
+use firmware_proto::layout;
 use firmware_proto::mem::HeapWindow;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
 use firmware_proto::ring::{Entry, RingError};
@@ -620,23 +620,17 @@ impl Card {
     /// Write a valid `group_config[g]` block (the host's own business: not garbage), tolerance
     /// 1 count.
     pub fn set_group_config(&mut self, g: usize, axes: &[u8], accdec: u32, interp: u32) {
-        let m = &self.window;
-        let mut bytes = [0u8; 8];
-        let n = axes.len().min(8);
-        bytes[..n].copy_from_slice(&axes[..n]);
-        m.write32(layout::group_config(g, gc::NAXES), n as u32);
-        // Two 32-bit words: the axis bytes are only 4-byte aligned.
-        m.write32(
-            layout::group_config(g, gc::AXES),
-            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
-        );
-        m.write32(
-            layout::group_config(g, gc::AXES + 4),
-            u32::from_le_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
-        );
-        m.write32(layout::group_config(g, gc::ACCDEC), accdec);
-        m.write32(layout::group_config(g, gc::INTERPOLATOR), interp);
-        m.write_f64(layout::group_config(g, gc::TOLERANCE), 1.0);
+        let mut block = firmware_proto::raw::mc_group_config {
+            naxes: axes.len().min(8) as u32,
+            accdec,
+            interpolator: interp,
+            tolerance: 1.0,
+            ..Default::default()
+        };
+        for (d, a) in block.axes.iter_mut().zip(axes) {
+            *d = *a;
+        }
+        layout::GROUP_CONFIG.at(g).write(&self.window, &block);
     }
 
     /// Send a command made of its fields.
@@ -1050,18 +1044,25 @@ pub fn run_commands(data: &[u8]) {
 /// Host-owned fields of the window (mc_dpram.h: "host writes"), as byte ranges.
 pub fn host_owned() -> [(usize, usize); 11] {
     let block = |start: usize, bytes: usize, n: usize| (start, start + bytes * n);
+    let array = |r: core::ops::Range<usize>| (r.start, r.end);
     [
         (layout::HEARTBEAT, layout::HEARTBEAT + 64),
         (layout::CMD_HEAD, layout::CMD_HEAD + 64),
         (layout::EVT_TAIL, layout::EVT_TAIL + 64),
         block(layout::CMD_RING, layout::CMD_BYTES, CMD_RING.len as usize),
-        (layout::CARD_CONFIG, layout::AXIS_CONFIG),
-        block(layout::AXIS_CONFIG, layout::AXIS_CONFIG_BYTES, MAX_AXES),
-        block(layout::AXIS_FILTER, layout::AXIS_FILTER_BYTES, MAX_AXES),
-        block(layout::GROUP_CONFIG, layout::GROUP_CONFIG_BYTES, MAX_GROUPS),
-        block(layout::AXIS_PDPLUS, layout::AXIS_PDPLUS_BYTES, MAX_AXES),
-        (layout::SAFETY_CONFIG, layout::AXIS_SAFETY),
-        block(layout::AXIS_SAFETY, layout::AXIS_SAFETY_BYTES, MAX_AXES),
+        (
+            layout::CARD_CONFIG.offset(),
+            layout::AXIS_CONFIG.at(0).offset(),
+        ),
+        array(layout::AXIS_CONFIG.range()),
+        array(layout::AXIS_FILTER.range()),
+        array(layout::GROUP_CONFIG.range()),
+        array(layout::AXIS_PDPLUS.range()),
+        (
+            layout::SAFETY_CONFIG.offset(),
+            layout::AXIS_SAFETY.at(0).offset(),
+        ),
+        array(layout::AXIS_SAFETY.range()),
     ]
 }
 

@@ -1,0 +1,60 @@
+//! The blocks the host configures, under the names the firmware and the SDK use, and their
+//! reset values: what the card loads into them at boot.
+//!
+//! The fields themselves are listed once, in the header (and so in the bindings); a new field
+//! is one edit there plus its reset value here (the compiler asks for it) plus its use.
+
+use crate::raw;
+
+/// An axis's servo configuration (`mc_axis_config`): the servo law, the FFPIV gains, the DAC
+/// clamp and the in-position windows.
+pub type AxisConfig = raw::mc_axis_config;
+/// The FFPIV gains and the velocity estimator's cut-off (`mc_ffpiv_gains`, Thinh Fig 5).
+pub type FfpivGains = raw::mc_ffpiv_gains;
+
+/// The acceleration per volt of the card's default drive and motor (the emulator's
+/// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.
+pub const DEFAULT_ACCEL_PER_VOLT: f64 = 0.3 * 10_000.0 / (5e-4 * core::f64::consts::TAU);
+
+/// The velocity-loop bandwidth of the default tuning, rad/s (60 Hz).
+pub const DEFAULT_BANDWIDTH: f64 = 2.0 * core::f64::consts::PI * 60.0;
+
+impl FfpivGains {
+    /// Gains placed from the plant: velocity-loop crossover `wc` (rad/s), K_P = wc/4,
+    /// K_I = wc/6, full velocity feed-forward, ideal acceleration feed-forward.
+    pub fn for_drive(accel_per_volt: f64, wc: f64) -> Self {
+        Self {
+            kp: wc / 4.0,
+            ki: wc / 6.0,
+            kv: wc / accel_per_volt,
+            kvff: 1.0,
+            kaff: 1.0 / accel_per_volt,
+            vel_filter_hz: 1500.0,
+        }
+    }
+}
+
+/// The default tuning: for the default drive and motor ([`DEFAULT_ACCEL_PER_VOLT`]) at
+/// [`DEFAULT_BANDWIDTH`].
+impl Default for FfpivGains {
+    fn default() -> Self {
+        Self::for_drive(DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH)
+    }
+}
+
+/// FFPIV with the default tuning, the full ±10 V, one count and 2000 counts/s in-position
+/// windows held 2 ms.
+impl Default for AxisConfig {
+    fn default() -> Self {
+        Self {
+            servo_law: raw::MC_SERVO_FFPIV,
+            _reserved0: 0,
+            ffpiv: FfpivGains::default(),
+            dac_limit_v: 10.0,
+            in_pos_window: 1.0,
+            in_vel_window: 2000.0,
+            settle_time: 0.002,
+            _reserved: [0.0; 5],
+        }
+    }
+}
