@@ -9,7 +9,7 @@ use card_emu::motion::nurbs::Point;
 use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
 use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
 use card_emu::presets::{die_bonder_path, die_bonder_volts};
-use card_emu::servo::pdplus::PdPlus;
+use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use clap::Parser;
 use motioncard::papers::{yeh_die_bonder, DIE_BONDER_FEED};
 use motioncard::plot::{lines, Series};

@@ -500,7 +500,7 @@ pub const DIE_BONDER_FEED: f64 = 400_000.0;
 /// Yeh's die bonder (Table 1 plant and PD+ gains, 1 ms sampling) along a path with two sharp
 /// corners, with (`saturation`) or without the saturation-aware feed.
 pub fn yeh_die_bonder(saturation: bool) -> Result<DieBonder> {
-    use crate::{die_bonder_plant, NurbsFeed, PdPlusSettings};
+    use crate::{die_bonder_pdplus, die_bonder_plant, NurbsFeed};
     let mut emu = EmuOptions::new(2, 1000);
     emu.motors[0] = die_bonder_plant(0);
     emu.motors[1] = die_bonder_plant(1);
@@ -511,7 +511,7 @@ pub fn yeh_die_bonder(saturation: bool) -> Result<DieBonder> {
     let sim = card.sim().expect("stepped");
     for a in 0..2 {
         let ax = card.axis(a)?;
-        ax.configure_pdplus(&PdPlusSettings::die_bonder(a))?;
+        ax.configure_pdplus(&die_bonder_pdplus(a))?;
         // The experiment shows what a clipped drive does to the path: without the
         // saturation-aware feed the axes fall far behind, which the card's following-error
         // check would (rightly) stop. Open its limit so the run can show it.
@@ -535,7 +535,7 @@ pub fn yeh_die_bonder(saturation: bool) -> Result<DieBonder> {
     };
     let m = g.move_nurbs(&curve, &f, MoveOptions::default())?;
     let mut r = DieBonder {
-        umax: PdPlusSettings::die_bonder(0).umax,
+        umax: die_bonder_pdplus(0).umax,
         ..Default::default()
     };
     let mut prev: Option<(f64, f64)> = None;

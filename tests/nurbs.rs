@@ -719,11 +719,12 @@ fn feed_fluctuation_and_chord_error_on_curves_on_the_card() {
 /// post-interpolation filters change what reaches the servo, so the two together are refused.
 #[test]
 fn saturation_aware_feed_with_post_filters_is_refused() {
-    use motioncard::{AccDec, FilterKind, FilterSettings, PdPlusSettings};
+    use motioncard::{AccDec, FilterKind, FilterSettings};
     let card = stepped_card();
     for a in 0..2 {
         let ax = card.axis(a).unwrap();
-        ax.configure_pdplus(&PdPlusSettings::die_bonder(a)).unwrap();
+        ax.configure_pdplus(&motioncard::die_bonder_pdplus(a))
+            .unwrap();
         ax.set_filters(&FilterSettings::all(FilterKind::Linear, 0.01))
             .unwrap();
         ax.enable().unwrap();

@@ -4,7 +4,7 @@
 //! and a path like its Fig 5.
 
 use crate::motion::nurbs::{clamped_uniform_knots, Nurbs};
-use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
+use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains, PdPlusGainsExt};
 
 /// Two-axis die bonder of Yeh Table 1 (X, Y) at Ts = 1 ms.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,7 +44,7 @@ pub fn die_bonder_volts() -> DieBonderPreset {
         a.gains.kd *= 10.0;
         a.gains.kv *= 10.0;
         a.gains.ka *= 10.0;
-        a.plant.k_c /= 10.0;
+        a.plant.kc /= 10.0;
         a.umax *= 10.0;
     }
     p
@@ -52,14 +52,14 @@ pub fn die_bonder_volts() -> DieBonderPreset {
 
 fn die_bonder_in_du() -> DieBonderPreset {
     let x_plant = DriveModel {
-        k_c: 2506.17,
+        kc: 2506.17,
         tau: 0.31,
-        k_e: 1591.5494,
+        ke: 1591.5494,
     };
     let y_plant = DriveModel {
-        k_c: 3156.23,
+        kc: 3156.23,
         tau: 0.135,
-        k_e: 1591.5494,
+        ke: 1591.5494,
     };
     DieBonderPreset {
         ts: 1e-3,

@@ -6,7 +6,7 @@ use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
 use card_emu::motion::path_speed::PathSpeedPlanner;
 use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
 use card_emu::presets::die_bonder_preset;
-use card_emu::servo::pdplus::PdPlus;
+use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 

@@ -1246,11 +1246,9 @@ typedef struct mc_filter_settings {
 } mc_filter_settings;
 
 /**
- * The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
- * seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
- * `dθ/dt = ke·w`.
+ * The PD+ law (Yeh eq 2.12): u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s).
  */
-typedef struct mc_pdplus_settings {
+typedef struct mc_pdplus_gains {
   /**
    * V/count.
    */
@@ -1264,26 +1262,58 @@ typedef struct mc_pdplus_settings {
    */
   double kv;
   /**
-   * V per count/s² of reference acceleration.
+   * V per count/s^2 of reference acceleration.
    */
   double ka;
+} mc_pdplus_gains;
+
+/**
+ * The first-order drive model (Yeh eq 2.1-2.2 as corrected): dw/dt = -w/tau + (kc/tau) u,
+ * dtheta/dt = ke w.
+ */
+typedef struct mc_drive_model {
   /**
-   * (rad/s)/V.
+   * Electrical gain K_c: steady motor speed per volt, (rad/s)/V.
    */
   double kc;
   /**
-   * s.
+   * Mechanical time constant, s.
    */
   double tau;
   /**
-   * counts/rad.
+   * Mechanical gain K_e, counts/rad.
    */
   double ke;
+} mc_drive_model;
+
+/**
+ * An axis's PD+ law and drive model. Host writes; read with axis_config on
+ * MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PDPLUS. The model predicts u for the
+ * saturation-aware feed.
+ */
+typedef struct mc_axis_pdplus {
   /**
-   * Drive limit, V (at most the axis's `dac_limit_v`).
+   * The PD+ gains.
+   */
+  struct mc_pdplus_gains gains;
+  /**
+   * The drive model.
+   */
+  struct mc_drive_model drive;
+  /**
+   * Drive limit, V (at most the DAC limit).
    */
   double umax;
-} mc_pdplus_settings;
+  double _reserved[8];
+} mc_axis_pdplus;
+
+/**
+ * The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
+ * seconds and volts: the card's `mc_axis_pdplus` register block, the same struct as in the
+ * register map (`gains`: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `drive`: `dw/dt = −w/tau +
+ * (kc/tau)·u`, `dθ/dt = ke·w`; `umax`, at most the axis's `dac_limit_v`).
+ */
+typedef struct mc_axis_pdplus mc_pdplus_settings;
 
 /**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
@@ -2330,7 +2360,7 @@ mc_result mc_axis_set_filters(mc_card card,
  * The PD+ gains and drive model of Yeh's die bonder (Table 1), axis 0 (X) or 1 (Y), in volts
  * (`MC_ERR_BAD_AXIS` for any other axis). Never blocks.
  */
-mc_result mc_pdplus_settings_die_bonder(uint32_t axis, struct mc_pdplus_settings *settings);
+mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *settings);
 
 /**
  * Switch an axis to the PD+ servo law with these gains and drive model (NaN or infinity:
@@ -2338,9 +2368,7 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, struct mc_pdplus_settings
  * axis's `dac_limit_v`: `MC_ERR_BAD_CONFIG`). Needed on every group axis for a
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
-mc_result mc_axis_configure_pdplus(mc_card card,
-                                   uint32_t axis,
-                                   const struct mc_pdplus_settings *settings);
+mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
 
 /**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped

@@ -12,8 +12,8 @@ use crate::types::{
 };
 use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{
-    clamped_uniform_knots, Error, FilterSettings, Group, GroupMotion, GroupSettings, Nurbs,
-    NurbsError, NurbsFeed, PathLimits, PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE,
+    clamped_uniform_knots, die_bonder_pdplus, Error, FilterSettings, Group, GroupMotion,
+    GroupSettings, Nurbs, NurbsError, NurbsFeed, PathLimits, NURBS_MAX_CTRL, NURBS_MAX_DEGREE,
     NURBS_MAX_DIM,
 };
 use std::sync::Arc;
@@ -687,7 +687,7 @@ pub unsafe extern "C" fn mc_pdplus_settings_die_bonder(
             ));
         }
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(PdPlusSettings::die_bonder(axis as usize).into()) };
+        unsafe { out.write(die_bonder_pdplus(axis as usize)) };
         Ok(())
     })
 }
@@ -706,6 +706,6 @@ pub unsafe extern "C" fn mc_axis_configure_pdplus(
         // SAFETY: the caller gives NULL or a readable mc_pdplus_settings.
         let s = unsafe { read_in(settings, "settings") }?;
         let a = registry::get(card)?.card.axis(axis as usize)?;
-        Ok(a.configure_pdplus(&s.into())?)
+        Ok(a.configure_pdplus(&s)?)
     })
 }

@@ -11,8 +11,8 @@ use motioncard_sdk::{die_bonder_plant, Clock, EmuOptions, SimOptions};
 use motioncard_sdk::{
     AccDec, ArcSpec, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
     FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
-    NurbsFeed, PathLimits, PdPlusSettings, Plane, SafetySettings, SafetyStatus, Status,
-    StopCategory, StopInfo, StopReason,
+    NurbsFeed, PathLimits, Plane, SafetySettings, SafetyStatus, Status, StopCategory, StopInfo,
+    StopReason,
 };
 
 /// Most axes in a group, as a length.
@@ -869,59 +869,11 @@ impl From<FilterSettings> for mc_filter_settings {
 }
 
 /// The PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2), in counts,
-/// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/tau + (kc/tau)·u`,
-/// `dθ/dt = ke·w`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// seconds and volts: the card's `mc_axis_pdplus` register block, the same struct as in the
+/// register map (`gains`: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `drive`: `dw/dt = −w/tau +
+/// (kc/tau)·u`, `dθ/dt = ke·w`; `umax`, at most the axis's `dac_limit_v`).
 #[allow(non_camel_case_types)]
-pub struct mc_pdplus_settings {
-    /// V/count.
-    pub kp: f64,
-    /// V per count/s.
-    pub kd: f64,
-    /// V per count/s of reference velocity.
-    pub kv: f64,
-    /// V per count/s² of reference acceleration.
-    pub ka: f64,
-    /// (rad/s)/V.
-    pub kc: f64,
-    /// s.
-    pub tau: f64,
-    /// counts/rad.
-    pub ke: f64,
-    /// Drive limit, V (at most the axis's `dac_limit_v`).
-    pub umax: f64,
-}
-
-impl From<mc_pdplus_settings> for PdPlusSettings {
-    fn from(s: mc_pdplus_settings) -> Self {
-        PdPlusSettings {
-            kp: s.kp,
-            kd: s.kd,
-            kv: s.kv,
-            ka: s.ka,
-            kc: s.kc,
-            tau: s.tau,
-            ke: s.ke,
-            umax: s.umax,
-        }
-    }
-}
-
-impl From<PdPlusSettings> for mc_pdplus_settings {
-    fn from(s: PdPlusSettings) -> Self {
-        Self {
-            kp: s.kp,
-            kd: s.kd,
-            kv: s.kv,
-            ka: s.ka,
-            kc: s.kc,
-            tau: s.tau,
-            ke: s.ke,
-            umax: s.umax,
-        }
-    }
-}
+pub type mc_pdplus_settings = firmware_proto::raw::mc_axis_pdplus;
 
 /// How a NURBS curve is followed, in user units of the group's first axis.
 #[repr(C)]
@@ -1395,8 +1347,6 @@ mod tests {
         let mut f = mc_filter_settings::from(FilterSettings::shin_table1());
         f.jog.kind = 4;
         assert_eq!(f.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
-        let p = PdPlusSettings::die_bonder(1);
-        assert_eq!(PdPlusSettings::from(mc_pdplus_settings::from(p)), p);
 
         // A zeroed mc_move_options is the SDK's default.
         assert_eq!(

@@ -266,24 +266,26 @@ static void halt_and_stop(mc_card c) {
 }
 
 static void pdplus(mc_card c) {
-    mc_pdplus_settings x = {0}, y = {0}, untouched = {.kp = 42.0};
+    mc_pdplus_settings x = {0}, y = {0}, untouched = {.gains = {.kp = 42.0}};
     CHECK(mc_pdplus_settings_die_bonder(0, &x));
     CHECK(mc_pdplus_settings_die_bonder(1, &y));
-    ASSERT(x.kp > 0 && x.kd > 0 && x.tau == 0.31 && y.tau == 0.135 && x.umax == 10.0,
-           "die bonder: kp %g kd %g tau %g / %g umax %g", x.kp, x.kd, x.tau, y.tau, x.umax);
+    ASSERT(x.gains.kp > 0 && x.gains.kd > 0 && x.drive.tau == 0.31 && y.drive.tau == 0.135 &&
+               x.umax == 10.0,
+           "die bonder: kp %g kd %g tau %g / %g umax %g", x.gains.kp, x.gains.kd, x.drive.tau,
+           y.drive.tau, x.umax);
     EXPECT(mc_pdplus_settings_die_bonder(2, &untouched), MC_ERR_BAD_AXIS);
     EXPECT(mc_pdplus_settings_die_bonder(0, NULL), MC_ERR_NULL_POINTER);
-    ASSERT(untouched.kp == 42.0, "settings written by a failed call");
+    ASSERT(untouched.gains.kp == 42.0, "settings written by a failed call");
     /* Axis 5 is not in the group. */
     CHECK(mc_axis_configure_pdplus(c, 5, &x));
     mc_pdplus_settings bad = x;
-    bad.kd = NAN;
+    bad.gains.kd = NAN;
     EXPECT(mc_axis_configure_pdplus(c, 5, &bad), MC_ERR_NOT_FINITE);
     bad = x;
     bad.umax = 1000.0; /* above the DAC's limit */
     EXPECT(mc_axis_configure_pdplus(c, 5, &bad), MC_ERR_BAD_CONFIG);
     bad = x;
-    bad.tau = -1.0;
+    bad.drive.tau = -1.0;
     EXPECT(mc_axis_configure_pdplus(c, 5, &bad), MC_ERR_BAD_CONFIG);
     EXPECT(mc_axis_configure_pdplus(c, 5, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_axis_configure_pdplus(c, 8, &x), MC_ERR_BAD_AXIS);

@@ -11,6 +11,13 @@ use crate::raw;
 pub type AxisConfig = raw::mc_axis_config;
 /// The FFPIV gains and the velocity estimator's cut-off (`mc_ffpiv_gains`, Thinh Fig 5).
 pub type FfpivGains = raw::mc_ffpiv_gains;
+/// An axis's PD+ law and drive model (`mc_axis_pdplus`): read with its `mc_axis_config` when
+/// the servo law is PD+.
+pub type AxisPdPlus = raw::mc_axis_pdplus;
+/// The PD+ gains (`mc_pdplus_gains`, Yeh eq 2.12), counts and seconds.
+pub type PdPlusGains = raw::mc_pdplus_gains;
+/// The first-order drive model (`mc_drive_model`, Yeh eq 2.1–2.2 as corrected).
+pub type DriveModel = raw::mc_drive_model;
 
 /// The acceleration per volt of the card's default drive and motor (the emulator's
 /// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.

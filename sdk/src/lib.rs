@@ -53,8 +53,8 @@ pub use heartbeat::HEARTBEAT_PERIOD_US;
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;
 pub use nurbs::{
-    clamped_uniform_knots, split_nurbs, Nurbs, NurbsError, NurbsFeed, PdPlusSettings,
-    NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
+    clamped_uniform_knots, die_bonder_pdplus, split_nurbs, Nurbs, NurbsError, NurbsFeed,
+    PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};

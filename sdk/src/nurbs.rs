@@ -19,42 +19,19 @@ pub use card_emu::motion::nurbs::{
 };
 
 /// PD+ servo law of an axis (Yeh eq 2.12) and its drive model (Yeh eq 2.2) in counts,
-/// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref`; `dw/dt = −w/τ + (kc/τ)·u`,
-/// `dθ/dt = ke·w`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PdPlusSettings {
-    /// V/count.
-    pub kp: f64,
-    /// V per count/s.
-    pub kd: f64,
-    /// V per count/s of reference velocity.
-    pub kv: f64,
-    /// V per count/s² of reference acceleration.
-    pub ka: f64,
-    /// (rad/s)/V.
-    pub kc: f64,
-    /// s.
-    pub tau: f64,
-    /// counts/rad.
-    pub ke: f64,
-    /// Drive limit, V.
-    pub umax: f64,
-}
+/// seconds and volts: `u = kp·e + kd·ė + kv·v_ref + ka·a_ref` (`gains`); `dw/dt = −w/τ +
+/// (kc/τ)·u`, `dθ/dt = ke·w` (`drive`); the drive limit `umax`. The card's `mc_axis_pdplus`
+/// block, whose fields the register map's header lists.
+pub use firmware_proto::AxisPdPlus as PdPlusSettings;
 
-impl PdPlusSettings {
-    /// Yeh Table 1, axis 0 (X) or 1 (Y), in volts (1 DU = 10 V).
-    pub fn die_bonder(axis: usize) -> Self {
-        let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
-        Self {
-            kp: m.gains.kp,
-            kd: m.gains.kd,
-            kv: m.gains.kv,
-            ka: m.gains.ka,
-            kc: m.plant.k_c,
-            tau: m.plant.tau,
-            ke: m.plant.k_e,
-            umax: m.umax,
-        }
+/// Yeh Table 1, axis 0 (X) or 1 (Y), in volts (1 DU = 10 V).
+pub fn die_bonder_pdplus(axis: usize) -> PdPlusSettings {
+    let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
+    PdPlusSettings {
+        gains: m.gains,
+        drive: m.plant,
+        umax: m.umax,
+        ..Default::default()
     }
 }
 
@@ -62,7 +39,7 @@ impl PdPlusSettings {
 #[cfg(feature = "emulator")]
 pub fn die_bonder_plant(axis: usize) -> card_emu::MotorParams {
     let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
-    card_emu::MotorParams::die_bonder(m.plant.k_c, m.plant.tau)
+    card_emu::MotorParams::die_bonder(m.plant.kc, m.plant.tau)
 }
 
 impl Axis {
@@ -70,22 +47,7 @@ impl Axis {
     pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
         let w = self.card().window();
         let a = self.index();
-        let block = raw::mc_axis_pdplus {
-            gains: raw::mc_pdplus_gains {
-                kp: s.kp,
-                kd: s.kd,
-                kv: s.kv,
-                ka: s.ka,
-            },
-            drive: raw::mc_drive_model {
-                kc: s.kc,
-                tau: s.tau,
-                ke: s.ke,
-            },
-            umax: s.umax,
-            ..Default::default()
-        };
-        layout::AXIS_PDPLUS.at(a).write(w, &block);
+        layout::AXIS_PDPLUS.at(a).write(w, s);
         let law = core::mem::offset_of!(raw::mc_axis_config, servo_law);
         w.write32(layout::AXIS_CONFIG.at(a).field(law), raw::MC_SERVO_PDPLUS);
         self.card()

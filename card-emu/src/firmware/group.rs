@@ -1217,9 +1217,9 @@ impl Group {
                     ka: 0.0,
                 },
                 plant: DriveModel {
-                    k_c: 1.0,
+                    kc: 1.0,
                     tau: 1.0,
-                    k_e: 1.0,
+                    ke: 1.0,
                 },
                 umax: 1.0,
             }; MAX_AXES];

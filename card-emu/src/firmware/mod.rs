@@ -15,7 +15,7 @@ use self::axis::{Axis, AxisConfig, TickReport};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
-use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
+use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
@@ -722,17 +722,8 @@ fn read_axis_pdplus<M: Mem>(m: &M, a: usize) -> Result<AxisModel, NackCode> {
         return Err(NackCode::NotFinite);
     }
     let model = AxisModel {
-        gains: PdPlusGains {
-            kp: g.kp,
-            kd: g.kd,
-            kv: g.kv,
-            ka: g.ka,
-        },
-        plant: DriveModel {
-            k_c: d.kc,
-            tau: d.tau,
-            k_e: d.ke,
-        },
+        gains: b.gains,
+        plant: b.drive,
         umax: b.umax,
     };
     model.gains.validate(a).map_err(|_| NackCode::BadConfig)?;

@@ -7,7 +7,7 @@
 use super::nurbs::{Point, MAX_DIM};
 use super::nurbs_interp::{InterpError, GUARD_MARGIN};
 use super::pos_finite;
-use crate::servo::pdplus::{AxisModel, DriveModel};
+use crate::servo::pdplus::{AxisModel, DriveModel, DriveModelExt, PdPlusGainsExt};
 
 /// Plain-data state of one axis at the tick where the candidate reference is consumed
 /// (index k of eq 3.5): the previous reference and the actual (measured or predicted) state.

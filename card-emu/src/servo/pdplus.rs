@@ -40,36 +40,43 @@ fn pos_finite(x: f64) -> bool {
 }
 
 /// First-order motor model of Yeh eq 2.1–2.2 as corrected in the README:
-/// `dw/dt = -w/τ + (K_c/τ)·u`, `dθ/dt = K_e·w` (w in rad/s, θ in counts, u in DU).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DriveModel {
-    /// Electrical gain K_c: steady motor speed per drive unit, (rad/s)/DU.
-    pub k_c: f64,
-    /// Mechanical time constant τ, s.
-    pub tau: f64,
-    /// Mechanical gain K_e, counts/rad (1591.5494 = 10000/2π for a 10000-count encoder).
-    pub k_e: f64,
+/// `dw/dt = -w/τ + (K_c/τ)·u`, `dθ/dt = K_e·w` (w in rad/s, θ in counts, u in DU): the register
+/// map's `mc_drive_model` (`kc` (rad/s)/DU, `tau` s, `ke` counts/rad; 1591.5494 = 10000/2π
+/// for a 10000-count encoder). Its methods are in [`DriveModelExt`].
+pub use firmware_proto::DriveModel;
+/// PD+ gains in counts/seconds form (Yeh eq 2.12),
+/// `u = kp·(θ_d-θ) + kd·(θ̇_d-θ̇) + kv·θ̇_d + ka·θ̈_d`: the register map's `mc_pdplus_gains`
+/// (`kp` = Table 1 K_p, DU per count; `kd` = Table 1 K_d / K_e, since eq 2.12 applies K_d to w
+/// in rad/s; `kv` = 1/(K_c K_e), eq 2.12's term w_d/K_c; `ka` = τ/(K_c K_e), its term
+/// τ ẇ_d/K_c). Its methods are in [`PdPlusGainsExt`].
+pub use firmware_proto::PdPlusGains;
+
+/// What the drive model computes.
+pub trait DriveModelExt {
+    /// Checks that all constants are finite and > 0 (`axis` only labels the error).
+    fn validate(&self, axis: usize) -> Result<(), ModelError>;
+    /// Steady-state axis speed per drive unit, (counts/s)/DU = K_c·K_e.
+    fn counts_gain(&self) -> f64;
+    /// One sample of the plant with `u` held (zero-order hold), exact solution of eq 2.2
+    /// written in counts: with `v = K_e·w` (counts/s), `dv/dt = -v/τ + (K_c K_e/τ)·u`,
+    /// `dθ/dt = v`. Returns `(θ, v)` one sample `ts` later.
+    fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64);
 }
 
-impl DriveModel {
-    /// Checks that all constants are finite and > 0 (`axis` only labels the error).
-    pub fn validate(&self, axis: usize) -> Result<(), ModelError> {
-        if pos_finite(self.k_c) && pos_finite(self.tau) && pos_finite(self.k_e) {
+impl DriveModelExt for DriveModel {
+    fn validate(&self, axis: usize) -> Result<(), ModelError> {
+        if pos_finite(self.kc) && pos_finite(self.tau) && pos_finite(self.ke) {
             Ok(())
         } else {
             Err(ModelError::BadPlant { axis })
         }
     }
 
-    /// Steady-state axis speed per drive unit, (counts/s)/DU = K_c·K_e.
-    pub fn counts_gain(&self) -> f64 {
-        self.k_c * self.k_e
+    fn counts_gain(&self) -> f64 {
+        self.kc * self.ke
     }
 
-    /// One sample of the plant with `u` held (zero-order hold), exact solution of eq 2.2
-    /// written in counts: with `v = K_e·w` (counts/s), `dv/dt = -v/τ + (K_c K_e/τ)·u`,
-    /// `dθ/dt = v`. Returns `(θ, v)` one sample `ts` later.
-    pub fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64) {
+    fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64) {
         let g = self.counts_gain();
         let a = (-ts / self.tau).exp();
         let one_m_a = -(-ts / self.tau).exp_m1(); // 1 - a, accurate for small ts/τ
@@ -79,35 +86,30 @@ impl DriveModel {
     }
 }
 
-/// PD+ gains in counts/seconds form (Yeh eq 2.12):
-/// `u = kp·(θ_d-θ) + kd·(θ̇_d-θ̇) + kv·θ̇_d + ka·θ̈_d`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PdPlusGains {
-    /// DU per count of position error (= Table 1 K_p).
-    pub kp: f64,
-    /// DU per count/s of speed error (= Table 1 K_d / K_e, since eq 2.12 applies K_d to w in rad/s).
-    pub kd: f64,
-    /// Speed feed-forward, DU per count/s (= 1/(K_c K_e), eq 2.12 term w_d/K_c).
-    pub kv: f64,
-    /// Acceleration feed-forward, DU per count/s² (= τ/(K_c K_e), eq 2.12 term τ ẇ_d/K_c).
-    pub ka: f64,
-}
-
-impl PdPlusGains {
+/// What the PD+ gains compute.
+pub trait PdPlusGainsExt: Sized {
     /// Gains from the paper's form: eq 2.12 `u = K_d(w_d-w) + K_p(θ_d-θ) + (τ/K_c)ẇ_d + w_d/K_c`
     /// with w = θ̇/K_e in rad/s, converted to counts.
-    pub fn from_paper(k_p: f64, k_d: f64, plant: &DriveModel) -> Self {
+    fn from_paper(k_p: f64, k_d: f64, plant: &DriveModel) -> Self;
+    /// Checks finiteness and non-negativity; `axis` labels the error.
+    fn validate(&self, axis: usize) -> Result<(), ModelError>;
+    /// `k_p' + k_d + k_v + k_a` of Yeh eq 3.5 (the README's corrected denominator of eq 3.6),
+    /// with `k_p' = kp·Ts` and the discrete `k_a = ka/Ts` (eq 3.4's `τ/(K_c T_s)`).
+    fn drive_coefficient(&self, ts: f64) -> f64;
+}
+
+impl PdPlusGainsExt for PdPlusGains {
+    fn from_paper(k_p: f64, k_d: f64, plant: &DriveModel) -> Self {
         let g = plant.counts_gain();
         Self {
             kp: k_p,
-            kd: k_d / plant.k_e,
+            kd: k_d / plant.ke,
             kv: 1.0 / g,
             ka: plant.tau / g,
         }
     }
 
-    /// Checks finiteness and non-negativity; `axis` labels the error.
-    pub fn validate(&self, axis: usize) -> Result<(), ModelError> {
+    fn validate(&self, axis: usize) -> Result<(), ModelError> {
         let all = [self.kp, self.kd, self.kv, self.ka];
         if all.iter().all(|g| g.is_finite() && *g >= 0.0) && all.iter().any(|g| *g > 0.0) {
             Ok(())
@@ -116,9 +118,7 @@ impl PdPlusGains {
         }
     }
 
-    /// `k_p' + k_d + k_v + k_a` of Yeh eq 3.5 (the README's corrected denominator of eq 3.6),
-    /// with `k_p' = kp·Ts` and the discrete `k_a = ka/Ts` (eq 3.4's `τ/(K_c T_s)`).
-    pub fn drive_coefficient(&self, ts: f64) -> f64 {
+    fn drive_coefficient(&self, ts: f64) -> f64 {
         self.kp * ts + self.kd + self.kv + self.ka / ts
     }
 }
