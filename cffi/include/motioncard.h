@@ -789,9 +789,10 @@ typedef struct mc_motion {
 } mc_motion;
 
 /**
- * Everything the card publishes about an axis, in counts and seconds (no scale applied).
+ * What the card publishes about an axis each tick (counts, seconds, volts): the payload of
+ * the axis status seqlock, copied as MC_STATUS_WORDS 64-bit words.
  */
-typedef struct mc_raw_status {
+typedef struct mc_axis_status_payload {
   /**
    * Commanded (profile) position, counts.
    */
@@ -801,7 +802,7 @@ typedef struct mc_raw_status {
    */
   double cmd_vel;
   /**
-   * Commanded acceleration, counts/s².
+   * Commanded acceleration, counts/s^2.
    */
   double cmd_acc;
   /**
@@ -813,7 +814,7 @@ typedef struct mc_raw_status {
    */
   double act_vel;
   /**
-   * Following error = commanded − actual position, counts.
+   * Following error = commanded - actual position, counts.
    */
   double ferr;
   /**
@@ -825,11 +826,11 @@ typedef struct mc_raw_status {
    */
   double target;
   /**
-   * `MC_AXIS_STATE_` value.
+   * PLCopen state, MC_STATE_*.
    */
   uint32_t state;
   /**
-   * `MC_AXIS_FAULT_` bits.
+   * Fault bits, MC_FAULT_*.
    */
   uint32_t faults;
   /**
@@ -849,23 +850,24 @@ typedef struct mc_raw_status {
    */
   int64_t encoder;
   /**
-   * Max |commanded velocity| of the current or last move, counts/s.
+   * Max |commanded velocity| of the current or last move (statistics of the current or
+   * last move are reset when a move starts), counts/s.
    */
   double peak_vel;
   /**
-   * Max commanded acceleration of the move, counts/s².
+   * Max commanded acceleration in the direction of motion, counts/s^2.
    */
   double peak_acc;
   /**
-   * Max commanded deceleration of the move, counts/s².
+   * Max commanded deceleration, counts/s^2.
    */
   double peak_dec;
   /**
-   * Max |commanded jerk| of the move, counts/s³.
+   * Max |commanded jerk|, counts/s^3.
    */
   double peak_jerk;
   /**
-   * Max |following error| of the move, counts.
+   * Max |following error|, counts.
    */
   double max_ferr;
   /**
@@ -873,22 +875,35 @@ typedef struct mc_raw_status {
    */
   double planned_time;
   /**
-   * Time from start to motion done (in position), s; 0 while the move runs.
+   * From start to motion done (in position), s; 0 while moving.
    */
   double move_time;
   /**
-   * The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
-   */
-  double u_request;
-  /**
-   * Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
+   * Payload word 19: why the last motion ended, MC_STOP_*.
    */
   uint32_t stop_reason;
   /**
-   * The axis's input bits and drive-enable output (`MC_IO_` bits).
+   * Input and drive-enable bits, MC_IO_*.
    */
   uint32_t io;
-} mc_raw_status;
+  /**
+   * Payload word 20: the servo law's output before the DAC clamp, V.
+   */
+  double u_request;
+  uint64_t _reserved[2];
+  /**
+   * A mix of the words before it, seeded with MC_STATUS_CHECK.
+   */
+  uint64_t checksum;
+} mc_axis_status_payload;
+
+/**
+ * Everything the card publishes about an axis, in counts and seconds (no scale applied): the
+ * card's `mc_axis_status_payload`, the same struct as in the register map (`state` is an
+ * `MC_AXIS_STATE_` value, `faults` `MC_AXIS_FAULT_` bits, `stop_reason` an
+ * `MC_STOP_REASON_` value, `io` `MC_IO_` bits; `checksum` is 0: the library checked it).
+ */
+typedef struct mc_axis_status_payload mc_raw_status;
 
 /**
  * A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
@@ -934,7 +949,7 @@ typedef struct mc_status {
   /**
    * The same snapshot in counts, with the card's per-move statistics.
    */
-  struct mc_raw_status raw;
+  mc_raw_status raw;
   /**
    * Why the last motion ended (`MC_STOP_REASON_` value; a newer card may report one this
    * library has no constant for).

@@ -172,60 +172,12 @@ impl From<MoveLimits> for mc_move_limits {
 #[allow(non_camel_case_types)]
 pub type mc_axis_settings = firmware_proto::raw::mc_axis_config;
 
-/// Everything the card publishes about an axis, in counts and seconds (no scale applied).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Everything the card publishes about an axis, in counts and seconds (no scale applied): the
+/// card's `mc_axis_status_payload`, the same struct as in the register map (`state` is an
+/// `MC_AXIS_STATE_` value, `faults` `MC_AXIS_FAULT_` bits, `stop_reason` an
+/// `MC_STOP_REASON_` value, `io` `MC_IO_` bits; `checksum` is 0: the library checked it).
 #[allow(non_camel_case_types)]
-pub struct mc_raw_status {
-    /// Commanded (profile) position, counts.
-    pub cmd_pos: f64,
-    /// Commanded velocity, counts/s.
-    pub cmd_vel: f64,
-    /// Commanded acceleration, counts/s².
-    pub cmd_acc: f64,
-    /// Actual (encoder) position, counts.
-    pub act_pos: f64,
-    /// Actual velocity (filtered), counts/s.
-    pub act_vel: f64,
-    /// Following error = commanded − actual position, counts.
-    pub ferr: f64,
-    /// DAC output, volts.
-    pub dac_v: f64,
-    /// Target of the current or last move, counts.
-    pub target: f64,
-    /// `MC_AXIS_STATE_` value.
-    pub state: u32,
-    /// `MC_AXIS_FAULT_` bits.
-    pub faults: u32,
-    /// Seq of the last command accepted for this axis.
-    pub last_seq: u32,
-    /// Moves started since boot.
-    pub move_count: u32,
-    /// Servo tick of this snapshot.
-    pub tick: u64,
-    /// Raw encoder count.
-    pub encoder: i64,
-    /// Max |commanded velocity| of the current or last move, counts/s.
-    pub peak_vel: f64,
-    /// Max commanded acceleration of the move, counts/s².
-    pub peak_acc: f64,
-    /// Max commanded deceleration of the move, counts/s².
-    pub peak_dec: f64,
-    /// Max |commanded jerk| of the move, counts/s³.
-    pub peak_jerk: f64,
-    /// Max |following error| of the move, counts.
-    pub max_ferr: f64,
-    /// Planned profile duration, s.
-    pub planned_time: f64,
-    /// Time from start to motion done (in position), s; 0 while the move runs.
-    pub move_time: f64,
-    /// The servo law's output before the DAC clamp, V (with PD+, compare with its `umax`).
-    pub u_request: f64,
-    /// Why the last motion ended, as the card wrote it (`MC_STOP_REASON_` value).
-    pub stop_reason: u32,
-    /// The axis's input bits and drive-enable output (`MC_IO_` bits).
-    pub io: u32,
-}
+pub type mc_raw_status = firmware_proto::raw::mc_axis_status_payload;
 
 /// A consistent snapshot of an axis's status, in user units (see `mc_set_scale`), with
 /// everything the card published in counts in `raw`.
@@ -306,32 +258,7 @@ impl From<&Status> for mc_status {
             actual_velocity: s.actual_velocity,
             following_error: s.following_error,
             dac_volts: s.dac_volts,
-            raw: mc_raw_status {
-                cmd_pos: r.cmd_pos,
-                cmd_vel: r.cmd_vel,
-                cmd_acc: r.cmd_acc,
-                act_pos: r.act_pos,
-                act_vel: r.act_vel,
-                ferr: r.ferr,
-                dac_v: r.dac_v,
-                target: r.target,
-                state: r.state,
-                faults: r.faults,
-                last_seq: r.last_seq,
-                move_count: r.move_count,
-                tick: r.tick,
-                encoder: r.encoder,
-                peak_vel: r.peak_vel,
-                peak_acc: r.peak_acc,
-                peak_dec: r.peak_dec,
-                peak_jerk: r.peak_jerk,
-                max_ferr: r.max_ferr,
-                planned_time: r.planned_time,
-                move_time: r.move_time,
-                u_request: r.u_request,
-                stop_reason: r.stop_reason,
-                io: r.io,
-            },
+            raw: *r,
             stop_reason: s.stop_reason().map_or(r.stop_reason, stop_reason_code),
             io: s.io(),
         }

@@ -444,21 +444,34 @@ struct mc_group_config {
     double _reserved[4];
 };
 
-/* Group status payload: MC_STATUS_WORDS words, like the axis status. */
+/** What the card publishes about a group each tick: the payload of the group status seqlock,
+ * MC_STATUS_WORDS words like the axis status. */
 struct mc_group_status_payload {
+    /** PLCopen group state, MC_GROUP_*. */
     uint32_t state;
-    uint32_t queued;      /* moves waiting in the queue */
-    uint32_t active_seq;  /* seq of the move being interpolated, 0 if none */
-    uint32_t move_count;  /* group moves started since boot */
-    double path_pos;      /* distance along the active move, counts */
-    double path_len;      /* its length, counts */
-    double feed;          /* tangential velocity before the filters, counts/s */
-    double feed_acc;      /* tangential acceleration before the filters, counts/s^2 */
+    /** Moves waiting in the queue. */
+    uint32_t queued;
+    /** Seq of the move being interpolated, 0 if none. */
+    uint32_t active_seq;
+    /** Group moves started since boot. */
+    uint32_t move_count;
+    /** Distance along the active move, counts. */
+    double path_pos;
+    /** Its length, counts. */
+    double path_len;
+    /** Tangential velocity before the filters, counts/s. */
+    double feed;
+    /** Tangential acceleration before the filters, counts/s^2. */
+    double feed_acc;
+    /** Servo tick of this snapshot. */
     uint64_t tick;
-    double snap_last;     /* at the group's last coming to rest: largest |programmed end - commanded
-                           * position| over its axes, the correction the snap to the end made, counts */
-    double snap_max;      /* the largest snap_last since MC_GroupEnable, counts */
+    /** At the group's last coming to rest: the largest |programmed end - commanded position|
+     * over its axes, the correction the snap to the end made, counts. */
+    double snap_last;
+    /** The largest snap_last since MC_GroupEnable, counts. */
+    double snap_max;
     uint64_t _reserved[14];
+    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };
 
@@ -505,35 +518,61 @@ struct mc_axis_pdplus {
     double _reserved[8];
 };
 
-/* Axis status payload: copied as MC_STATUS_WORDS 64-bit words. */
+/** What the card publishes about an axis each tick (counts, seconds, volts): the payload of
+ * the axis status seqlock, copied as MC_STATUS_WORDS 64-bit words. */
 struct mc_axis_status_payload {
+    /** Commanded (profile) position, counts. */
     double cmd_pos;
+    /** Commanded velocity, counts/s. */
     double cmd_vel;
+    /** Commanded acceleration, counts/s^2. */
     double cmd_acc;
+    /** Actual (encoder) position, counts. */
     double act_pos;
+    /** Actual velocity (filtered), counts/s. */
     double act_vel;
+    /** Following error = commanded - actual position, counts. */
     double ferr;
+    /** DAC output, volts. */
     double dac_v;
+    /** Target of the current or last move, counts. */
     double target;
+    /** PLCopen state, MC_STATE_*. */
     uint32_t state;
+    /** Fault bits, MC_FAULT_*. */
     uint32_t faults;
-    uint32_t last_seq; /* seq of the last command accepted for this axis */
+    /** Seq of the last command accepted for this axis. */
+    uint32_t last_seq;
+    /** Moves started since boot. */
     uint32_t move_count;
+    /** Servo tick of this snapshot. */
     uint64_t tick;
+    /** Raw encoder count. */
     int64_t encoder;
-    /* statistics of the current or last move, reset when a move starts */
-    double peak_vel;     /* max |commanded velocity| */
-    double peak_acc;     /* max commanded acceleration in the direction of motion */
-    double peak_dec;     /* max commanded deceleration */
-    double peak_jerk;    /* max |commanded jerk| */
-    double max_ferr;     /* max |following error| */
-    double planned_time; /* profile duration, s */
-    double move_time;    /* from start to motion done (in position), s; 0 while moving */
-    uint32_t stop_reason; /* payload word 19: MC_STOP_*: why the last motion ended */
-    uint32_t io;          /* MC_IO_* bits */
-    double u_request;     /* payload word 20: the servo law's output before the DAC clamp, V */
+    /** Max |commanded velocity| of the current or last move (statistics of the current or
+     * last move are reset when a move starts), counts/s. */
+    double peak_vel;
+    /** Max commanded acceleration in the direction of motion, counts/s^2. */
+    double peak_acc;
+    /** Max commanded deceleration, counts/s^2. */
+    double peak_dec;
+    /** Max |commanded jerk|, counts/s^3. */
+    double peak_jerk;
+    /** Max |following error|, counts. */
+    double max_ferr;
+    /** Planned profile duration, s. */
+    double planned_time;
+    /** From start to motion done (in position), s; 0 while moving. */
+    double move_time;
+    /** Payload word 19: why the last motion ended, MC_STOP_*. */
+    uint32_t stop_reason;
+    /** Input and drive-enable bits, MC_IO_*. */
+    uint32_t io;
+    /** Payload word 20: the servo law's output before the DAC clamp, V. */
+    double u_request;
     uint64_t _reserved[2];
-    uint64_t checksum; /* a mix of the words before it, seeded with MC_STATUS_CHECK */
+    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
+    uint64_t checksum;
 };
 
 /* card writes */

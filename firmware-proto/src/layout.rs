@@ -87,7 +87,7 @@ pub const fn group_status(group: usize) -> usize {
 const _: () = {
     assert!(offset_of!(mc_group_status, p) == STATUS_PAYLOAD);
     assert!(size_of::<mc_group_status_payload>() == STATUS_WORDS * 8);
-    // GroupStatus::to_words puts the snap corrections in words 7 and 8.
+    // Layout 1.2 put the snap corrections in words 7 and 8.
     assert!(offset_of!(mc_group_status_payload, snap_last) == 7 * 8);
     assert!(offset_of!(mc_group_status_payload, snap_max) == 8 * 8);
     assert!(GROUP_STATUS.is_multiple_of(64) && GROUP_STATUS_BYTES.is_multiple_of(64));

@@ -504,21 +504,34 @@ const _: () = {
     ["Offset of field: mc_group_config::_reserved"]
         [::core::mem::offset_of!(mc_group_config, _reserved) - 32usize];
 };
+#[doc = " What the card publishes about a group each tick: the payload of the group status seqlock,\n MC_STATUS_WORDS words like the axis status."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_group_status_payload {
+    #[doc = " PLCopen group state, MC_GROUP_*."]
     pub state: u32,
+    #[doc = " Moves waiting in the queue."]
     pub queued: u32,
+    #[doc = " Seq of the move being interpolated, 0 if none."]
     pub active_seq: u32,
+    #[doc = " Group moves started since boot."]
     pub move_count: u32,
+    #[doc = " Distance along the active move, counts."]
     pub path_pos: f64,
+    #[doc = " Its length, counts."]
     pub path_len: f64,
+    #[doc = " Tangential velocity before the filters, counts/s."]
     pub feed: f64,
+    #[doc = " Tangential acceleration before the filters, counts/s^2."]
     pub feed_acc: f64,
+    #[doc = " Servo tick of this snapshot."]
     pub tick: u64,
+    #[doc = " At the group's last coming to rest: the largest |programmed end - commanded position|\n over its axes, the correction the snap to the end made, counts."]
     pub snap_last: f64,
+    #[doc = " The largest snap_last since MC_GroupEnable, counts."]
     pub snap_max: f64,
     pub _reserved: [u64; 14usize],
+    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -642,34 +655,60 @@ const _: () = {
     ["Offset of field: mc_axis_pdplus::_reserved"]
         [::core::mem::offset_of!(mc_axis_pdplus, _reserved) - 64usize];
 };
+#[doc = " What the card publishes about an axis each tick (counts, seconds, volts): the payload of\n the axis status seqlock, copied as MC_STATUS_WORDS 64-bit words."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_axis_status_payload {
+    #[doc = " Commanded (profile) position, counts."]
     pub cmd_pos: f64,
+    #[doc = " Commanded velocity, counts/s."]
     pub cmd_vel: f64,
+    #[doc = " Commanded acceleration, counts/s^2."]
     pub cmd_acc: f64,
+    #[doc = " Actual (encoder) position, counts."]
     pub act_pos: f64,
+    #[doc = " Actual velocity (filtered), counts/s."]
     pub act_vel: f64,
+    #[doc = " Following error = commanded - actual position, counts."]
     pub ferr: f64,
+    #[doc = " DAC output, volts."]
     pub dac_v: f64,
+    #[doc = " Target of the current or last move, counts."]
     pub target: f64,
+    #[doc = " PLCopen state, MC_STATE_*."]
     pub state: u32,
+    #[doc = " Fault bits, MC_FAULT_*."]
     pub faults: u32,
+    #[doc = " Seq of the last command accepted for this axis."]
     pub last_seq: u32,
+    #[doc = " Moves started since boot."]
     pub move_count: u32,
+    #[doc = " Servo tick of this snapshot."]
     pub tick: u64,
+    #[doc = " Raw encoder count."]
     pub encoder: i64,
+    #[doc = " Max |commanded velocity| of the current or last move (statistics of the current or\n last move are reset when a move starts), counts/s."]
     pub peak_vel: f64,
+    #[doc = " Max commanded acceleration in the direction of motion, counts/s^2."]
     pub peak_acc: f64,
+    #[doc = " Max commanded deceleration, counts/s^2."]
     pub peak_dec: f64,
+    #[doc = " Max |commanded jerk|, counts/s^3."]
     pub peak_jerk: f64,
+    #[doc = " Max |following error|, counts."]
     pub max_ferr: f64,
+    #[doc = " Planned profile duration, s."]
     pub planned_time: f64,
+    #[doc = " From start to motion done (in position), s; 0 while moving."]
     pub move_time: f64,
+    #[doc = " Payload word 19: why the last motion ended, MC_STOP_*."]
     pub stop_reason: u32,
+    #[doc = " Input and drive-enable bits, MC_IO_*."]
     pub io: u32,
+    #[doc = " Payload word 20: the servo law's output before the DAC clamp, V."]
     pub u_request: f64,
     pub _reserved: [u64; 2usize],
+    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]

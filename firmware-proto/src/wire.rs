@@ -283,73 +283,27 @@ code_enum! {
     }
 }
 
-/// A group's status, published under a seqlock like the axes'.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct GroupStatus {
-    /// Raw state ([`GroupState`] when known).
-    pub state: u32,
-    /// Moves waiting in the queue.
-    pub queued: u32,
-    /// Seq of the move being interpolated (0: none).
-    pub active_seq: u32,
-    /// Group moves started since boot.
-    pub move_count: u32,
-    /// Distance along the active move, counts.
-    pub path_pos: f64,
-    /// Length of the active move, counts.
-    pub path_len: f64,
-    /// Tangential velocity before the filters, counts/s.
-    pub feed: f64,
-    /// Tangential acceleration before the filters, counts/s².
-    pub feed_acc: f64,
-    /// Servo tick of this snapshot.
-    pub tick: u64,
-    /// At the group's last coming to rest, the largest |programmed end − commanded position|
-    /// over its axes: the correction its snap to the end made, counts.
-    pub snap_last: f64,
-    /// The largest `snap_last` since the group was enabled, counts.
-    pub snap_max: f64,
-}
+/// A group's status, published under a seqlock like the axes': the header's
+/// `mc_group_status_payload` (its fields are listed there).
+pub type GroupStatus = raw::mc_group_status_payload;
 
-impl GroupStatus {
+impl raw::mc_group_status_payload {
     /// Encode as words, with the checksum in the last word.
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
-        let mut w = [0u64; STATUS_WORDS];
-        w[0] = self.state as u64 | (self.queued as u64) << 32;
-        w[1] = self.active_seq as u64 | (self.move_count as u64) << 32;
-        for (dst, v) in
-            w[2..6]
-                .iter_mut()
-                .zip([self.path_pos, self.path_len, self.feed, self.feed_acc])
-        {
-            *dst = v.to_bits();
-        }
-        w[6] = self.tick;
-        w[7] = self.snap_last.to_bits();
-        w[8] = self.snap_max.to_bits();
+        let mut w = crate::block::to_words(self);
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
 
-    /// Decode; `None` when the checksum does not match.
+    /// Decode; `None` when the checksum does not match. The checksum field of the result is
+    /// 0: it has been checked.
     pub fn from_words(w: &[u64; STATUS_WORDS]) -> Option<Self> {
         if status_checksum(w) != w[STATUS_WORDS - 1] {
             return None;
         }
-        let f = |i: usize| f64::from_bits(w[i]);
-        Some(Self {
-            state: w[0] as u32,
-            queued: (w[0] >> 32) as u32,
-            active_seq: w[1] as u32,
-            move_count: (w[1] >> 32) as u32,
-            path_pos: f(2),
-            path_len: f(3),
-            feed: f(4),
-            feed_acc: f(5),
-            tick: w[6],
-            snap_last: f(7),
-            snap_max: f(8),
-        })
+        let mut s: Self = crate::block::from_words(w);
+        s.checksum = 0;
+        Some(s)
     }
 
     /// The state, if known.
@@ -612,130 +566,27 @@ pub mod io {
     pub const DRIVE_ENABLE: u32 = crate::raw::MC_IO_DRIVE_ENABLE;
 }
 
-/// One axis's status: what the card publishes every tick under a seqlock.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct AxisStatus {
-    /// Commanded (profile) position, counts.
-    pub cmd_pos: f64,
-    /// Commanded velocity, counts/s.
-    pub cmd_vel: f64,
-    /// Commanded acceleration, counts/s².
-    pub cmd_acc: f64,
-    /// Actual (encoder) position, counts.
-    pub act_pos: f64,
-    /// Actual velocity (filtered), counts/s.
-    pub act_vel: f64,
-    /// Following error = commanded − actual position, counts.
-    pub ferr: f64,
-    /// DAC output, volts.
-    pub dac_v: f64,
-    /// Target of the current or last move, counts.
-    pub target: f64,
-    /// Raw state ([`AxisState`] when known).
-    pub state: u32,
-    /// Fault bits ([`fault`]).
-    pub faults: u32,
-    /// Seq of the last command accepted for this axis.
-    pub last_seq: u32,
-    /// Moves started since boot.
-    pub move_count: u32,
-    /// Servo tick of this snapshot.
-    pub tick: u64,
-    /// Raw encoder count.
-    pub encoder: i64,
-    /// Max |commanded velocity| of the current or last move.
-    pub peak_vel: f64,
-    /// Max commanded acceleration (in the direction of motion) of the move.
-    pub peak_acc: f64,
-    /// Max commanded deceleration of the move.
-    pub peak_dec: f64,
-    /// Max |commanded jerk| of the move.
-    pub peak_jerk: f64,
-    /// Max |following error| of the move, counts.
-    pub max_ferr: f64,
-    /// Planned profile duration, s.
-    pub planned_time: f64,
-    /// Time from start to motion done (in position), s; 0 while the move runs.
-    pub move_time: f64,
-    /// The servo law's output before the DAC clamp, V.
-    pub u_request: f64,
-    /// Why the last motion ended (raw [`StopReason`]).
-    pub stop_reason: u32,
-    /// Input and drive-enable bits ([`io`]).
-    pub io: u32,
-}
+/// What the card publishes about an axis each tick: the header's `mc_axis_status_payload`
+/// (its fields are listed there), moved under the axis's seqlock as [`STATUS_WORDS`] words.
+pub type AxisStatus = raw::mc_axis_status_payload;
 
-impl AxisStatus {
+impl raw::mc_axis_status_payload {
     /// Encode as words, with the checksum in the last word.
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
-        let mut w = [0u64; STATUS_WORDS];
-        let f = [
-            self.cmd_pos,
-            self.cmd_vel,
-            self.cmd_acc,
-            self.act_pos,
-            self.act_vel,
-            self.ferr,
-            self.dac_v,
-            self.target,
-        ];
-        for (dst, v) in w.iter_mut().zip(f) {
-            *dst = v.to_bits();
-        }
-        w[8] = self.state as u64 | (self.faults as u64) << 32;
-        w[9] = self.last_seq as u64 | (self.move_count as u64) << 32;
-        w[10] = self.tick;
-        w[11] = self.encoder as u64;
-        let stats = [
-            self.peak_vel,
-            self.peak_acc,
-            self.peak_dec,
-            self.peak_jerk,
-            self.max_ferr,
-            self.planned_time,
-            self.move_time,
-        ];
-        for (dst, v) in w[12..].iter_mut().zip(stats) {
-            *dst = v.to_bits();
-        }
-        w[20] = self.u_request.to_bits();
-        w[19] = self.stop_reason as u64 | (self.io as u64) << 32;
+        let mut w = crate::block::to_words(self);
         w[STATUS_WORDS - 1] = status_checksum(&w);
         w
     }
 
     /// Decode from words; `None` when the checksum does not match (a torn or corrupted copy).
+    /// The checksum field of the result is 0: it has been checked.
     pub fn from_words(w: &[u64; STATUS_WORDS]) -> Option<Self> {
         if status_checksum(w) != w[STATUS_WORDS - 1] {
             return None;
         }
-        let f = |i: usize| f64::from_bits(w[i]);
-        Some(Self {
-            cmd_pos: f(0),
-            cmd_vel: f(1),
-            cmd_acc: f(2),
-            act_pos: f(3),
-            act_vel: f(4),
-            ferr: f(5),
-            dac_v: f(6),
-            target: f(7),
-            state: w[8] as u32,
-            faults: (w[8] >> 32) as u32,
-            last_seq: w[9] as u32,
-            move_count: (w[9] >> 32) as u32,
-            tick: w[10],
-            encoder: w[11] as i64,
-            peak_vel: f(12),
-            peak_acc: f(13),
-            peak_dec: f(14),
-            peak_jerk: f(15),
-            max_ferr: f(16),
-            planned_time: f(17),
-            move_time: f(18),
-            u_request: f(20),
-            stop_reason: w[19] as u32,
-            io: (w[19] >> 32) as u32,
-        })
+        let mut s: Self = crate::block::from_words(w);
+        s.checksum = 0;
+        Some(s)
     }
 
     /// The state, if known.

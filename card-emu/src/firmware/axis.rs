@@ -603,6 +603,7 @@ impl Axis {
             u_request: self.u_request,
             stop_reason: self.safety.stop_reason as u32,
             io: self.safety.io,
+            ..Default::default()
         }
     }
 }

@@ -1768,6 +1768,7 @@ impl Group {
             tick,
             snap_last: self.snap_last,
             snap_max: self.snap_max,
+            ..Default::default()
         }
     }
 }
