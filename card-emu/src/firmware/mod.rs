@@ -675,10 +675,14 @@ impl<M: Mem + Clone> Firmware<M> {
         }
     }
 
-    /// Publish the tick counter and every axis's status.
+    /// Publish the tick counter, the loss counters and every axis's status.
     fn publish(&mut self) {
         self.publish_identity();
         self.mem.write64(layout::TICK, self.tick);
+        // Layout 1.4: this card's refused accesses to the window (release builds; a debug
+        // build panics on the access).
+        self.mem
+            .write32(layout::BAD_ACCESSES, self.mem.bad_accesses());
         for i in 0..self.num_axes {
             seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
         }
@@ -880,5 +884,51 @@ pub(crate) fn plan_nack(e: crate::motion::scurve::PlanError) -> NackCode {
         PlanError::Infeasible | PlanError::StartVelocityTooHigh => NackCode::Infeasible,
         PlanError::LimitRange => NackCode::LimitRange,
         PlanError::PlanCheck => NackCode::PlanCheck,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware_proto::mem::HeapWindow;
+    use std::sync::Arc;
+
+    fn boot() -> (Arc<HeapWindow>, Firmware<Arc<HeapWindow>>) {
+        let w = Arc::new(HeapWindow::new());
+        let fw = Firmware::boot(w.clone(), 2, 10_000);
+        (w, fw)
+    }
+
+    fn tick(fw: &mut Firmware<Arc<HeapWindow>>) {
+        fw.tick(&[0; MAX_AXES], &mut [0.0; MAX_AXES]);
+    }
+
+    /// Release builds: accesses out of range or misaligned through the card's window handle
+    /// are counted, and the count is in the card control block after the next tick.
+    #[test]
+    #[cfg(not(debug_assertions))]
+    fn bad_window_accesses_are_published() {
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 0);
+        assert_eq!(w.read32(firmware_proto::DPRAM_SIZE), 0); // out of range
+        w.write64(layout::BAD_ACCESSES, 1); // misaligned (148 is not 8-aligned)
+        w.read64(firmware_proto::DPRAM_SIZE - 4); // straddles the end
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 3);
+        assert_eq!(
+            w.read32(layout::BAD_ACCESSES + 4),
+            0,
+            "the bad store touched nothing"
+        );
+    }
+
+    /// Debug builds: the same access panics at once.
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "DPRAM access out of range or misaligned")]
+    fn bad_window_access_panics_in_debug_builds() {
+        let (w, _fw) = boot();
+        w.write64(layout::BAD_ACCESSES, 1);
     }
 }
