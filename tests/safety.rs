@@ -472,7 +472,13 @@ fn estop_categories_0_1_2_for_all_axes_and_the_input() {
                 assert!(s.following_error.abs() <= 2.0, "holds position");
             }
         }
-        assert!(card.safety_status().unwrap().estop_command);
+        let st = card.safety_status().unwrap();
+        assert!(st.estop_command);
+        // The safety layer's busiest moment (every axis stopping at once) lost nothing.
+        assert_eq!(
+            (st.safety_events_lost, st.outbox_lost, st.bad_accesses),
+            (0, 0, 0)
+        );
         assert_eq!(axes[0].reset().unwrap_err().kind(), ErrorKind::EStopActive);
         card.reset_faults().unwrap();
         let want = if cat == StopCategory::Cat2 {

@@ -292,7 +292,9 @@ pub struct mc_card_ctrl {
     pub events_lost: u32,
     pub cmds_accepted: u32,
     pub bad_accesses: u32,
-    pub _reserved: [u32; 10usize],
+    pub outbox_lost: u32,
+    pub safety_events_lost: u32,
+    pub _reserved: [u32; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -307,8 +309,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_ctrl, cmds_accepted) - 16usize];
     ["Offset of field: mc_card_ctrl::bad_accesses"]
         [::core::mem::offset_of!(mc_card_ctrl, bad_accesses) - 20usize];
+    ["Offset of field: mc_card_ctrl::outbox_lost"]
+        [::core::mem::offset_of!(mc_card_ctrl, outbox_lost) - 24usize];
+    ["Offset of field: mc_card_ctrl::safety_events_lost"]
+        [::core::mem::offset_of!(mc_card_ctrl, safety_events_lost) - 28usize];
     ["Offset of field: mc_card_ctrl::_reserved"]
-        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 24usize];
+        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 32usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone)]

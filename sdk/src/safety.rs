@@ -185,6 +185,13 @@ pub struct SafetyStatus {
     pub late_heartbeats: u32,
     /// The longest gap between two heartbeats the card saw since this host attached.
     pub max_heartbeat_gap: Duration,
+    /// What the card lost since boot (layout 1.4; 0 on an older card). Each nonzero count is a
+    /// bug: accesses to the window out of range or misaligned that the card's handle refused,
+    pub bad_accesses: u32,
+    /// events that found the firmware's outbox full (before the event ring),
+    pub outbox_lost: u32,
+    /// and safety events that found the safety layer's event buffer full.
+    pub safety_events_lost: u32,
 }
 
 /// How an axis's last safety stop went, measured by the card.
@@ -337,6 +344,9 @@ impl Card {
             host_changes: w.read32(ss::HOST_CHANGES),
             late_heartbeats: w.read32(ss::LATE_HEARTBEATS),
             max_heartbeat_gap: us(ss::MAX_HEARTBEAT_GAP_US),
+            bad_accesses: w.read32(layout::BAD_ACCESSES),
+            outbox_lost: w.read32(layout::OUTBOX_LOST),
+            safety_events_lost: w.read32(layout::SAFETY_EVENTS_LOST),
         })
     }
 

@@ -99,64 +99,58 @@ impl Default for SafetyConfig {
 
 /// Events raised by the safety layer, posted by the firmware after the hook returns. Sized for
 /// the worst tick: per axis an abort, a state change, a stop and a rest event, plus card-wide
-/// events.
-#[derive(Debug, Clone, Copy)]
+/// events. An event that finds it full is counted ([`EventBuf::lost`]; the firmware publishes
+/// the count in `card.safety_events_lost`), never dropped silently.
+#[derive(Debug, Clone, Default)]
 pub struct EventBuf {
-    ev: [Event; Self::CAP],
-    n: usize,
+    ev: heapless::Vec<Event, EVENT_BUF_CAP>,
+    lost: u32,
 }
+
+const EVENT_BUF_CAP: usize = 8 * MAX_AXES + 8;
 
 impl EventBuf {
     /// Capacity.
-    pub const CAP: usize = 8 * MAX_AXES + 8;
+    pub const CAP: usize = EVENT_BUF_CAP;
 
     /// Empty.
     pub const fn new() -> Self {
-        const E: Event = Event {
-            seq: 0,
-            kind: 0,
-            axis: 0,
-            code: 0,
-            tick: 0,
-            value: 0.0,
-        };
         Self {
-            ev: [E; Self::CAP],
-            n: 0,
+            ev: heapless::Vec::new(),
+            lost: 0,
         }
     }
 
-    fn push(&mut self, e: Event) {
-        if let Some(slot) = self.ev.get_mut(self.n) {
-            *slot = e;
-            self.n += 1;
+    /// Queue an event; when full, count it as lost (never panicking).
+    pub(crate) fn push(&mut self, e: Event) {
+        if self.ev.push(e).is_err() {
+            self.lost = self.lost.wrapping_add(1);
         }
     }
 
     /// Events waiting.
     pub fn len(&self) -> usize {
-        self.n
+        self.ev.len()
     }
 
     /// None waiting.
     pub fn is_empty(&self) -> bool {
-        self.n == 0
+        self.ev.is_empty()
     }
 
     /// Event `k` (in the order raised).
     pub fn get(&self, k: usize) -> Option<Event> {
-        self.ev[..self.n].get(k).copied()
+        self.ev.get(k).copied()
     }
 
     /// Forget them (after posting).
     pub fn clear(&mut self) {
-        self.n = 0;
+        self.ev.clear();
     }
-}
 
-impl Default for EventBuf {
-    fn default() -> Self {
-        Self::new()
+    /// Events that found it full since boot (wrapping).
+    pub fn lost(&self) -> u32 {
+        self.lost
     }
 }
 

@@ -910,6 +910,16 @@ impl Card {
                 *e = m.encoder();
             }
             self.fw.tick(&enc, &mut self.dac);
+            // Nothing the card does may be refused by the window (the harness skips the
+            // host's own wild accesses) or dropped before the event ring.
+            for (what, off) in [
+                ("refused window accesses", layout::BAD_ACCESSES),
+                ("events lost in the outbox", layout::OUTBOX_LOST),
+                ("safety events lost", layout::SAFETY_EVENTS_LOST),
+            ] {
+                let n = self.window.read32(off);
+                assert_eq!(n, 0, "{what}: {n} (tick {})", self.fw.tick_count());
+            }
             let ts = self.fw.ts();
             for (i, (m, v)) in self.motors.iter_mut().zip(self.dac).enumerate() {
                 assert!(
@@ -1092,24 +1102,37 @@ fn garbage_write<S: Source>(s: &mut S, card: &mut Card) {
         _ => (s.u32() as usize, s.u8() & 1 == 1),
     };
     let width = if wide { 8 } else { 4 };
-    // A write past the window or misaligned is ignored by the window: it changes nothing.
-    let ignored = off % width != 0 || off.saturating_add(width) > firmware_proto::DPRAM_SIZE;
-    let host = ignored || is_host_owned(off, width);
+    // A write past the window or misaligned would be refused by the window (a debug build
+    // panics on it; a release build counts it and changes nothing): it is skipped, its value
+    // still read so that the rest of the script parses the same.
+    let refused = off % width != 0 || off.saturating_add(width) > firmware_proto::DPRAM_SIZE;
+    let host = is_host_owned(off, width);
     if wide {
         let v = if s.u8() < 160 {
             garbage_f64(s).to_bits()
         } else {
             s.u64()
         };
-        card.write64(off, v, host);
+        if !refused {
+            card.write64(off, v, host);
+        }
     } else {
         let v = match s.u8() % 4 {
             0 => s.u32(),
             1 => s.u8() as u32,
             2 => u32::MAX - s.u8() as u32,
-            _ => card.window().read32(off).wrapping_add(s.u8() as u32),
+            _ => {
+                let old = if refused {
+                    0
+                } else {
+                    card.window().read32(off)
+                };
+                old.wrapping_add(s.u8() as u32)
+            }
         };
-        card.write32(off, v, host);
+        if !refused {
+            card.write32(off, v, host);
+        }
     }
 }
 
