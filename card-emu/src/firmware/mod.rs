@@ -4,6 +4,7 @@
 //! answers every command with exactly one ack or nack; [`Firmware::tick`] takes the encoder
 //! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
 //! count; nothing reads a clock, calls the OS, allocates or panics.
+#![forbid(unsafe_code)]
 
 pub mod axis;
 pub mod axis_safety;
