@@ -11,7 +11,7 @@ use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    raw, AxisState, AxisStatus, Command, Event, EventKind, Mem, NackCode, Opcode, MAX_AXES,
+    raw, AxisState, AxisStatus, Command, Event, EventKind, Faults, Mem, NackCode, Opcode, MAX_AXES,
 };
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
@@ -1099,8 +1099,8 @@ pub struct Status {
     pub following_error: f64,
     /// DAC output, volts.
     pub dac_volts: f64,
-    /// Fault bits (`firmware_proto::fault`).
-    pub faults: u32,
+    /// Fault bits.
+    pub faults: Faults,
     /// Everything the card published, in counts.
     pub raw: AxisStatus,
 }

@@ -21,7 +21,8 @@ use crate::error::{Error, Result, Target};
 use crate::session::{Link, Window};
 use firmware_proto::layout::{self, axis_safety as asf, safety_status as ss};
 use firmware_proto::{
-    fault, io, raw, AxisState, Command, Mem, Opcode, StopCategory, StopReason, MAX_AXES,
+    AxisSafetyFlags, AxisState, CardFaults, Command, Faults, Io, Mem, Opcode, StopCategory,
+    StopReason, MAX_AXES,
 };
 use std::os::fd::{AsFd, OwnedFd};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -238,13 +239,13 @@ impl Default for SafetySettings {
     /// The card's defaults, in counts.
     fn default() -> Self {
         let c = card_emu::firmware::axis_safety::AxisSafetyConfig::default();
-        let has = |f: u32| c.flags & f != 0;
+        let has = |f| c.flags.contains(f);
         Self {
-            soft_limits: has(raw::MC_AXSAFE_SOFT_LIMITS)
+            soft_limits: has(AxisSafetyFlags::SOFT_LIMITS)
                 .then_some((c.soft_limit_neg, c.soft_limit_pos)),
-            hard_limits: has(raw::MC_AXSAFE_HARD_LIMITS),
-            amp_alarm: has(raw::MC_AXSAFE_AMP_ALARM),
-            encoder_checks: has(raw::MC_AXSAFE_ENCODER),
+            hard_limits: has(AxisSafetyFlags::HARD_LIMITS),
+            amp_alarm: has(AxisSafetyFlags::AMP_ALARM),
+            encoder_checks: has(AxisSafetyFlags::ENCODER),
             limit_stop: c.limit_category,
             ferror: c.ferror,
             min_ferror: c.min_ferror,
@@ -328,12 +329,12 @@ impl Card {
     pub fn safety_status(&self) -> Result<SafetyStatus> {
         self.tick()?;
         let w = self.window();
-        let faults = w.read32(ss::FAULTS);
+        let faults = CardFaults::from_bits_retain(w.read32(ss::FAULTS));
         let us = |off| Duration::from_micros(w.read32(off) as u64);
         Ok(SafetyStatus {
-            watchdog_tripped: faults & raw::MC_CARD_FAULT_WATCHDOG != 0,
-            estop_command: faults & raw::MC_CARD_FAULT_ESTOP_COMMAND != 0,
-            estop_input: faults & raw::MC_CARD_FAULT_ESTOP_INPUT != 0,
+            watchdog_tripped: faults.contains(CardFaults::WATCHDOG),
+            estop_command: faults.contains(CardFaults::ESTOP_COMMAND),
+            estop_input: faults.contains(CardFaults::ESTOP_INPUT),
             watchdog_armed: w.read32(ss::WATCHDOG_ARMED) != 0,
             last_heartbeat_tick: w.read64(ss::LAST_HEARTBEAT_TICK),
             watchdog_trip_tick: w.read64(ss::WATCHDOG_TRIP_TICK),
@@ -394,17 +395,11 @@ impl Axis {
             Some((neg, pos)) => (neg * scale, pos * scale),
             None => (-card_emu::MAX_POSITION, card_emu::MAX_POSITION),
         };
-        let mut flags = 0;
-        for (on, bit) in [
-            (s.soft_limits.is_some(), raw::MC_AXSAFE_SOFT_LIMITS),
-            (s.hard_limits, raw::MC_AXSAFE_HARD_LIMITS),
-            (s.amp_alarm, raw::MC_AXSAFE_AMP_ALARM),
-            (s.encoder_checks, raw::MC_AXSAFE_ENCODER),
-        ] {
-            if on {
-                flags |= bit;
-            }
-        }
+        let mut flags = AxisSafetyFlags::empty();
+        flags.set(AxisSafetyFlags::SOFT_LIMITS, s.soft_limits.is_some());
+        flags.set(AxisSafetyFlags::HARD_LIMITS, s.hard_limits);
+        flags.set(AxisSafetyFlags::AMP_ALARM, s.amp_alarm);
+        flags.set(AxisSafetyFlags::ENCODER, s.encoder_checks);
         let a = self.index();
         let fields = [
             (asf::SOFT_LIMIT_NEG, neg),
@@ -420,7 +415,7 @@ impl Axis {
         self.card().apply_block(
             block,
             |w| {
-                w.write32(layout::axis_safety(a, asf::FLAGS), flags);
+                w.write32(layout::axis_safety(a, asf::FLAGS), flags.bits());
                 w.write32(
                     layout::axis_safety(a, asf::LIMIT_CATEGORY),
                     s.limit_stop as u32,
@@ -469,38 +464,38 @@ impl Status {
         self.raw.stop_reason()
     }
 
-    /// The axis's input bits and drive-enable output (`motioncard::proto::io`).
-    pub fn io(&self) -> u32 {
+    /// The axis's input bits and drive-enable output.
+    pub fn io(&self) -> Io {
         self.raw.io
     }
 
     /// Is the axis's drive (amplifier) enabled?
     pub fn drive_enabled(&self) -> bool {
-        self.raw.io & io::DRIVE_ENABLE != 0
+        self.raw.io.contains(Io::DRIVE_ENABLE)
     }
 }
 
 /// The name of a fault bit (as carried by a motion-aborted event), if it is one.
 pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
     let names = [
-        (fault::WATCHDOG, "the host watchdog"),
-        (fault::ESTOP, "an e-stop"),
-        (fault::HARD_LIMIT_POS, "the positive limit switch"),
-        (fault::HARD_LIMIT_NEG, "the negative limit switch"),
-        (fault::SOFT_LIMIT_POS, "the positive soft limit"),
-        (fault::SOFT_LIMIT_NEG, "the negative soft limit"),
-        (fault::FOLLOWING_ERROR, "a following error"),
-        (fault::AMP_ALARM, "an amplifier alarm"),
-        (fault::ENCODER, "an encoder fault"),
-        (fault::PROTOCOL, "a protocol error"),
+        (Faults::WATCHDOG, "the host watchdog"),
+        (Faults::ESTOP, "an e-stop"),
+        (Faults::HARD_LIMIT_POS, "the positive limit switch"),
+        (Faults::HARD_LIMIT_NEG, "the negative limit switch"),
+        (Faults::SOFT_LIMIT_POS, "the positive soft limit"),
+        (Faults::SOFT_LIMIT_NEG, "the negative soft limit"),
+        (Faults::FOLLOWING_ERROR, "a following error"),
+        (Faults::AMP_ALARM, "an amplifier alarm"),
+        (Faults::ENCODER, "an encoder fault"),
+        (Faults::PROTOCOL, "a protocol error"),
         (
-            fault::STOP_TIMEOUT,
+            Faults::STOP_TIMEOUT,
             "a stop that ran past the maximum stop time",
         ),
     ];
     names
         .iter()
-        .find(|(bit, _)| *bit as i32 == code)
+        .find(|(bit, _)| bit.bits() as i32 == code)
         .map(|(_, n)| *n)
 }
 

@@ -5,7 +5,7 @@ use crate::firmware::axis_safety::AxisSafety;
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{Ffpiv, FfpivGains, Reference};
 use crate::servo::pdplus::{AxisModel, PdPlus};
-use firmware_proto::{fault, AxisState, AxisStatus, NackCode, StopReason};
+use firmware_proto::{AxisState, AxisStatus, Faults, NackCode, StopReason};
 
 /// The validated copy of an axis's configuration block.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,7 +103,7 @@ pub struct Axis {
     encoder: i64,
     ferr: f64,
     dac_v: f64,
-    faults: u32,
+    faults: Faults,
     last_seq: u32,
     motion_seq: u32,
     move_count: u32,
@@ -157,7 +157,7 @@ impl Axis {
             encoder: 0,
             ferr: 0.0,
             dac_v: 0.0,
-            faults: 0,
+            faults: Faults::empty(),
             last_seq: 0,
             motion_seq: 0,
             move_count: 0,
@@ -344,7 +344,7 @@ impl Axis {
             return Err(NackCode::InvalidState);
         }
         let mut changed = None;
-        self.faults = 0;
+        self.faults = Faults::empty();
         self.cmd = Reference {
             pos: self.act_pos,
             vel: 0.0,
@@ -414,7 +414,7 @@ impl Axis {
             self.prev_cmd_acc = 0.0;
             self.ferr = 0.0;
             self.dac_v = 0.0;
-            self.faults &= !fault::DAC_SATURATED;
+            self.faults.remove(Faults::DAC_SATURATED);
             return (0.0, report);
         }
 
@@ -475,9 +475,9 @@ impl Axis {
         let (volts, saturated) = super::dac::Dac::output(u);
         self.dac_v = volts;
         if saturated || u.abs() >= limit {
-            self.faults |= fault::DAC_SATURATED;
+            self.faults.insert(Faults::DAC_SATURATED);
         } else {
-            self.faults &= !fault::DAC_SATURATED;
+            self.faults.remove(Faults::DAC_SATURATED);
         }
 
         // Statistics (of its own moves, and of the group motions it takes part in), then

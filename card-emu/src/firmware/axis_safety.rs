@@ -3,13 +3,13 @@
 //! starvation rule. Plain data the axis carries; the safety layer (`safety.rs`) acts on it.
 
 use crate::motion::scurve::{plan_stop, Profile, State};
-use firmware_proto::{fault, raw, NackCode, StopCategory, StopReason};
+use firmware_proto::{AxisSafetyFlags, Faults, Io, NackCode, StopCategory, StopReason};
 
 /// The validated copy of an axis's safety configuration (counts, seconds).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisSafetyConfig {
-    /// `MC_AXSAFE_*` bits.
-    pub flags: u32,
+    /// The checks the axis makes.
+    pub flags: AxisSafetyFlags,
     /// The stop a hard or soft limit makes.
     pub limit_category: StopCategory,
     /// Soft limits, counts (enforced with `MC_AXSAFE_SOFT_LIMITS`).
@@ -37,7 +37,7 @@ impl Default for AxisSafetyConfig {
     /// 5·10⁶ counts/s² and 5·10⁸ counts/s³, encoder jumps beyond 5·10⁷ counts/s.
     fn default() -> Self {
         Self {
-            flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+            flags: DEFAULT_FLAGS,
             limit_category: StopCategory::Cat1,
             soft_limit_neg: -crate::MAX_POSITION,
             soft_limit_pos: crate::MAX_POSITION,
@@ -64,7 +64,7 @@ impl AxisSafetyConfig {
             self.stop_jerk,
             self.encoder_max_velocity,
         ];
-        if self.flags & !raw::MC_AXSAFE_ALL != 0 || all.iter().any(|x| !x.is_finite()) {
+        if !AxisSafetyFlags::all().contains(self.flags) || all.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::BadConfig);
         }
         let positive = [
@@ -115,8 +115,8 @@ impl AxisSafetyConfig {
         (self.ferror * v.abs() / self.max_velocity).max(self.min_ferror)
     }
 
-    pub(crate) fn has(&self, flag: u32) -> bool {
-        self.flags & flag != 0
+    pub(crate) fn has(&self, flag: AxisSafetyFlags) -> bool {
+        self.flags.intersects(flag)
     }
 }
 
@@ -145,9 +145,9 @@ pub struct AxisSafety {
     /// In ErrorStop: the drive is still powered (a category 1 ramp, or category 2 holding).
     pub powered: bool,
     /// Latched and live safety fault bits (`MC_FAULT_*`, bits 8..31).
-    pub faults: u32,
-    /// `MC_IO_*` bits of the last tick.
-    pub io: u32,
+    pub faults: Faults,
+    /// The inputs and drive-enable output of the last tick.
+    pub io: Io,
     pub(crate) last_encoder: Option<i64>,
 }
 
@@ -158,15 +158,21 @@ impl Default for AxisSafety {
 }
 
 /// Fault bits that follow their input (or position) instead of latching.
-pub(crate) const LIVE_FAULTS: u32 =
-    fault::HARD_LIMIT_POS | fault::HARD_LIMIT_NEG | fault::SOFT_LIMIT_POS | fault::SOFT_LIMIT_NEG;
+pub(crate) const LIVE_FAULTS: Faults = Faults::HARD_LIMIT_POS
+    .union(Faults::HARD_LIMIT_NEG)
+    .union(Faults::SOFT_LIMIT_POS)
+    .union(Faults::SOFT_LIMIT_NEG);
+
+/// Every check but the soft limits (which need limits the host sets).
+const DEFAULT_FLAGS: AxisSafetyFlags =
+    AxisSafetyFlags::all().difference(AxisSafetyFlags::SOFT_LIMITS);
 
 impl AxisSafety {
     /// Defaults, no stop.
     pub const fn new() -> Self {
         Self {
             config: AxisSafetyConfig {
-                flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+                flags: DEFAULT_FLAGS,
                 limit_category: StopCategory::Cat1,
                 soft_limit_neg: -crate::MAX_POSITION,
                 soft_limit_pos: crate::MAX_POSITION,
@@ -180,8 +186,8 @@ impl AxisSafety {
             stop_reason: StopReason::None,
             stop: None,
             powered: false,
-            faults: 0,
-            io: 0,
+            faults: Faults::empty(),
+            io: Io::empty(),
             last_encoder: None,
         }
     }
@@ -250,7 +256,7 @@ mod tests {
                 ..Default::default()
             },
             AxisSafetyConfig {
-                flags: 1 << 9,
+                flags: AxisSafetyFlags::from_bits_retain(1 << 9),
                 ..Default::default()
             },
             AxisSafetyConfig {

@@ -37,7 +37,7 @@ use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
 use firmware_proto::ring::{Entry, RingError};
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS, STATUS_WORDS};
 use firmware_proto::{
-    io, raw, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode, MAX_AXES,
+    raw, AxisState, Command, Event, EventKind, GroupState, Io, Mem, NackCode, Opcode, MAX_AXES,
     MAX_GROUPS,
 };
 use std::sync::Arc;
@@ -686,7 +686,7 @@ impl Card {
         for (i, slot) in m.axes.iter_mut().enumerate() {
             if let Some(a) = self.fw.axis(i) {
                 let s = a.status(tick);
-                let powered = s.io & io::DRIVE_ENABLE != 0 || a.state == AxisState::Standstill;
+                let powered = s.io.contains(Io::DRIVE_ENABLE) || a.state == AxisState::Standstill;
                 let cmd = if powered {
                     [
                         s.cmd_pos.to_bits(),
@@ -724,7 +724,7 @@ impl Card {
                         && s.ferr.abs() <= 2.0
                         && s.act_vel.abs() <= 50.0
                 }
-                AxisState::Disabled | AxisState::ErrorStop => s.io & io::DRIVE_ENABLE == 0,
+                AxisState::Disabled | AxisState::ErrorStop => !s.io.contains(Io::DRIVE_ENABLE),
                 _ => false,
             }
         });
