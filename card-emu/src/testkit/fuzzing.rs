@@ -1,8 +1,8 @@
 //! The garbage harness: one place for the fuzz targets (`fuzz/fuzz_targets/*.rs`) and the plain
 //! test that replays their corpus and sweeps a million random commands (`tests/garbage.rs`).
 //!
-//! - [`Source`]: where garbage comes from, a fuzzer's bytes ([`Bytes`]) or a seeded PRNG
-//!   ([`SplitMix64`]). The decoders read it byte by byte; an exhausted input reads as zeros.
+//! - [`Source`]: where garbage comes from, a fuzzer's bytes ([`Bytes`]) or the tests' seeded
+//!   generator ([`RngSource`]). The decoders read it byte by byte; an exhausted input reads as zeros.
 //! - [`garbage_unit`]: one unit of command garbage: fully random entry words; a valid opcode
 //!   with random axis, flags and argument bits (NaN, ±inf, ±0, subnormal, huge, random); a
 //!   plausible command with one or two arguments broken; or a NURBS transfer
@@ -88,33 +88,32 @@ impl Source for Bytes<'_> {
     }
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a small, fast, deterministic generator for the sweep.
+/// The tests' seeded generator ([`Rng`](super::rng::Rng)) as a [`Source`] for the sweep: its
+/// words handed out byte by byte.
 #[derive(Debug, Clone)]
-pub struct SplitMix64 {
-    state: u64,
+pub struct RngSource {
+    rng: super::rng::Rng,
     buf: u64,
     left: u32,
 }
 
-impl SplitMix64 {
+impl RngSource {
+    /// Seeded.
     pub fn new(seed: u64) -> Self {
         Self {
-            state: seed,
+            rng: super::rng::Rng::new(seed),
             buf: 0,
             left: 0,
         }
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.rng.next_u64()
     }
 }
 
-impl Source for SplitMix64 {
+impl Source for RngSource {
     fn u8(&mut self) -> u8 {
         if self.left == 0 {
             self.buf = self.next_u64();
@@ -1200,7 +1199,7 @@ pub struct Sweep {
 /// one moved something (or the card did not come to rest), the card is replaced by a fresh one
 /// (booted and set up through valid commands), so that every command meets a card at rest.
 pub fn sweep(seed: u64, commands: u64, tick_every: u64) -> Sweep {
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = RngSource::new(seed);
     let mut card = Card::new();
     let mut total = Stats::new();
     let mut cmds = Vec::new();
