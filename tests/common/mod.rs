@@ -19,7 +19,8 @@ pub fn stepped_card_with(emu: EmuOptions) -> Card {
 }
 
 /// The seeded generator every test shares (card-emu's testkit): the same numbers on every
-/// machine.
+/// machine. (Like every helper here, not every test file uses it.)
+#[allow(unused_imports)]
 pub use card_emu::testkit::rng::Rng;
 
 /// Duration of a rest-to-rest move of `distance` within `l` alone (the card's planner, one
