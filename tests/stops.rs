@@ -79,7 +79,9 @@ fn every_halt_ends_within_the_maximum_stop_time() {
     card.set_max_stop_time(Duration::from_millis(300)).unwrap();
     let bound = ticks_of(&card, 0.3);
     let ax = card.axis(0).unwrap();
-    let mut rng = Rng::new(0x5709);
+    // The seed decides how often each outcome comes up; a cut at the bound is rare (0 to 2 in
+    // 800 cases over seeds 1..6): this one has two.
+    let mut rng = Rng::new(1);
     let (mut refused, mut halted, mut cut, mut hardened, mut tripped) = (0, 0, 0, 0, 0);
     for case in 0..800 {
         ready(&card);
