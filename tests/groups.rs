@@ -981,7 +981,7 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
     assert!(((sim.time() - t0) - common).abs() < 1e-3);
 
     // Refusals: the SDK's and the card's own.
-    use motioncard::proto::{move_flags, Command, Opcode};
+    use motioncard::proto::{Command, MoveFlags, Opcode};
     use motioncard::NackCode as N;
     assert_eq!(
         g.move_ptp_axes(&[1.0, 1.0], &[fast], MoveOptions::default())
@@ -998,7 +998,11 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
     let ptp_args = [1e4, 1e5, 1e5, 1e6, 100.0, 100.0];
     // The flag without every axis staged.
     assert_eq!(
-        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        raw(
+            Opcode::GroupMovePtp,
+            MoveFlags::PTP_AXIS_LIMITS.bits(),
+            &ptp_args
+        ),
         Err(N::BadConfig)
     );
     assert_eq!(
@@ -1006,7 +1010,11 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
         Ok(())
     );
     assert_eq!(
-        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        raw(
+            Opcode::GroupMovePtp,
+            MoveFlags::PTP_AXIS_LIMITS.bits(),
+            &ptp_args
+        ),
         Err(N::BadConfig),
         "axis 1 was not staged"
     );
@@ -1024,7 +1032,11 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
         Err(N::NonPositiveLimit)
     );
     assert_eq!(
-        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        raw(
+            Opcode::GroupMovePtp,
+            MoveFlags::PTP_AXIS_LIMITS.bits(),
+            &ptp_args
+        ),
         Err(N::BadConfig)
     );
     assert_eq!(
@@ -1078,7 +1090,11 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
         Ok(())
     );
     assert_eq!(
-        raw(Opcode::GroupMovePtp, move_flags::PTP_AXIS_LIMITS, &ptp_args),
+        raw(
+            Opcode::GroupMovePtp,
+            MoveFlags::PTP_AXIS_LIMITS.bits(),
+            &ptp_args
+        ),
         Ok(())
     );
     g.wait_done(T).ok();

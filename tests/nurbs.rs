@@ -277,7 +277,7 @@ fn every_bad_curve_gets_its_own_nack() {
         raw_nurbs(
             &card,
             [3.0, 5.0, 9.0, 1e4, 1e6, 1e8, 1.0, 0.8],
-            motioncard::proto::move_flags::NURBS_SATURATION,
+            motioncard::proto::MoveFlags::NURBS_SATURATION.bits(),
             &[]
         ),
         Some(NackCode::IncompatibleMode)

@@ -250,7 +250,7 @@ impl From<&Status> for mc_status {
         let r = &s.raw;
         Self {
             state: state_code(s.state),
-            faults: s.faults,
+            faults: s.faults.bits(),
             command_position: s.command_position,
             command_velocity: s.command_velocity,
             command_acceleration: s.command_acceleration,
@@ -260,7 +260,7 @@ impl From<&Status> for mc_status {
             dac_volts: s.dac_volts,
             raw: *r,
             stop_reason: s.stop_reason().map_or(r.stop_reason, stop_reason_code),
-            io: s.io(),
+            io: s.io().bits(),
         }
     }
 }
@@ -1179,27 +1179,30 @@ mod tests {
             assert_eq!(category_code(*c), *c as u32, "{c:?}");
             assert_eq!(stop_category(category_code(*c)).unwrap(), *c);
         }
-        use motioncard_sdk::proto::{fault, io};
+        use motioncard_sdk::{Faults, Io};
         for (ours, card) in [
-            (MC_AXIS_FAULT_DAC_SATURATED, fault::DAC_SATURATED),
-            (MC_AXIS_FAULT_WATCHDOG, fault::WATCHDOG),
-            (MC_AXIS_FAULT_ESTOP, fault::ESTOP),
-            (MC_AXIS_FAULT_HARD_LIMIT_POS, fault::HARD_LIMIT_POS),
-            (MC_AXIS_FAULT_HARD_LIMIT_NEG, fault::HARD_LIMIT_NEG),
-            (MC_AXIS_FAULT_SOFT_LIMIT_POS, fault::SOFT_LIMIT_POS),
-            (MC_AXIS_FAULT_SOFT_LIMIT_NEG, fault::SOFT_LIMIT_NEG),
-            (MC_AXIS_FAULT_FOLLOWING_ERROR, fault::FOLLOWING_ERROR),
-            (MC_AXIS_FAULT_AMP_ALARM, fault::AMP_ALARM),
-            (MC_AXIS_FAULT_ENCODER, fault::ENCODER),
-            (MC_AXIS_FAULT_PROTOCOL, fault::PROTOCOL),
-            (MC_AXIS_FAULT_STOP_TIMEOUT, fault::STOP_TIMEOUT),
-            (MC_IO_LIMIT_POS, io::LIMIT_POS),
-            (MC_IO_LIMIT_NEG, io::LIMIT_NEG),
-            (MC_IO_HOME, io::HOME),
-            (MC_IO_AMP_ALARM, io::AMP_ALARM),
-            (MC_IO_ENCODER_FAULT, io::ENCODER_FAULT),
-            (MC_IO_ESTOP, io::ESTOP),
-            (MC_IO_DRIVE_ENABLE, io::DRIVE_ENABLE),
+            (MC_AXIS_FAULT_DAC_SATURATED, Faults::DAC_SATURATED.bits()),
+            (MC_AXIS_FAULT_WATCHDOG, Faults::WATCHDOG.bits()),
+            (MC_AXIS_FAULT_ESTOP, Faults::ESTOP.bits()),
+            (MC_AXIS_FAULT_HARD_LIMIT_POS, Faults::HARD_LIMIT_POS.bits()),
+            (MC_AXIS_FAULT_HARD_LIMIT_NEG, Faults::HARD_LIMIT_NEG.bits()),
+            (MC_AXIS_FAULT_SOFT_LIMIT_POS, Faults::SOFT_LIMIT_POS.bits()),
+            (MC_AXIS_FAULT_SOFT_LIMIT_NEG, Faults::SOFT_LIMIT_NEG.bits()),
+            (
+                MC_AXIS_FAULT_FOLLOWING_ERROR,
+                Faults::FOLLOWING_ERROR.bits(),
+            ),
+            (MC_AXIS_FAULT_AMP_ALARM, Faults::AMP_ALARM.bits()),
+            (MC_AXIS_FAULT_ENCODER, Faults::ENCODER.bits()),
+            (MC_AXIS_FAULT_PROTOCOL, Faults::PROTOCOL.bits()),
+            (MC_AXIS_FAULT_STOP_TIMEOUT, Faults::STOP_TIMEOUT.bits()),
+            (MC_IO_LIMIT_POS, Io::LIMIT_POS.bits()),
+            (MC_IO_LIMIT_NEG, Io::LIMIT_NEG.bits()),
+            (MC_IO_HOME, Io::HOME.bits()),
+            (MC_IO_AMP_ALARM, Io::AMP_ALARM.bits()),
+            (MC_IO_ENCODER_FAULT, Io::ENCODER_FAULT.bits()),
+            (MC_IO_ESTOP, Io::ESTOP.bits()),
+            (MC_IO_DRIVE_ENABLE, Io::DRIVE_ENABLE.bits()),
         ] {
             assert_eq!(ours, card, "{ours:#x}");
         }

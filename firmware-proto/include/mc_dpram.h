@@ -21,10 +21,12 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 3u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 4u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
-                           * maximum stop time, kinematic limit ranges, heartbeat lateness */
+                           * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
+                           * in the card control block (card.bad_accesses, outbox_lost,
+                           * safety_events_lost) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -353,7 +355,15 @@ struct mc_card_ctrl {
     uint32_t irq_count;     /* interrupts raised since boot */
     uint32_t events_lost;   /* asynchronous events that found the event ring full */
     uint32_t cmds_accepted; /* commands consumed from the ring */
-    uint32_t _reserved[11];
+    /* layout 1.4: what the card lost since boot (wrapping); nonzero is a bug */
+    uint32_t bad_accesses;  /* accesses out of range or misaligned that the card's handle on
+                             * this window refused (nothing written, 0 read); the in-process
+                             * sim card shares its handle with the host */
+    uint32_t outbox_lost;   /* events of commands and group moves (aborts, state changes, group
+                             * motion done) that found the firmware's outbox full */
+    uint32_t safety_events_lost; /* safety events (stops, at rest, protocol errors) that found the
+                                  * safety layer's event buffer full */
+    uint32_t _reserved[8];
 };
 
 /* One ring index on its own 64-byte line. Written only by its owner. */

@@ -38,6 +38,12 @@ pub const TICK: usize = off!(card.tick);
 pub const IRQ_COUNT: usize = off!(card.irq_count);
 pub const EVENTS_LOST: usize = off!(card.events_lost);
 pub const CMDS_ACCEPTED: usize = off!(card.cmds_accepted);
+/// Layout 1.4: the card's accesses to the window out of range or misaligned.
+pub const BAD_ACCESSES: usize = off!(card.bad_accesses);
+/// Layout 1.4: events that found the firmware's outbox full.
+pub const OUTBOX_LOST: usize = off!(card.outbox_lost);
+/// Layout 1.4: safety events that found the safety layer's event buffer full.
+pub const SAFETY_EVENTS_LOST: usize = off!(card.safety_events_lost);
 
 // rings
 pub const CMD_HEAD: usize = off!(cmd_head.value);
@@ -146,6 +152,9 @@ pub mod safety_status {
 const _: () = {
     assert!(HEARTBEAT == 64 && HOST_PERIOD_US == 68 && DOORBELL == 72 && IRQ_MASK == 76);
     assert!(TICK == 128 && IRQ_COUNT == 136 && EVENTS_LOST == 140 && CMDS_ACCEPTED == 144);
+    // Layout 1.4 took reserved words of the card control block; the block did not move or grow.
+    assert!(BAD_ACCESSES == 148 && OUTBOX_LOST == 152 && SAFETY_EVENTS_LOST == 156);
+    assert!(size_of::<mc_card_ctrl>() == 64);
     assert!(CMD_HEAD == 256 && CMD_TAIL == 320 && EVT_HEAD == 384 && EVT_TAIL == 448);
     assert!(CMD_RING == 512 && EVT_RING == 8704);
     assert!(

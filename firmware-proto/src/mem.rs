@@ -8,9 +8,10 @@
 use core::ptr::NonNull;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
-/// Shared memory addressed by byte offset. Offsets that are out of range or misaligned are
-/// ignored (loads return 0) instead of touching memory: the layout makes them impossible, and
-/// this keeps a bug from becoming undefined behaviour.
+/// Shared memory addressed by byte offset. An offset that is out of range or misaligned is a
+/// bug (the layout makes them impossible): debug builds panic on it at once; release builds
+/// ignore it (loads return 0) instead of touching memory, so a bug cannot become undefined
+/// behaviour, and count it ([`Mem::bad_accesses`]) so it cannot go unnoticed either.
 pub trait Mem {
     /// Load a 32-bit word.
     fn load32(&self, off: usize, order: Ordering) -> u32;
@@ -45,6 +46,13 @@ pub trait Mem {
     fn write_f64(&self, off: usize, val: f64) {
         self.write64(off, val.to_bits())
     }
+
+    /// Accesses refused (out of range or misaligned) through this handle since it was made,
+    /// wrapping. Only release builds get here: debug builds panic on the access itself.
+    /// Memory that cannot refuse an access (a test double) reports 0.
+    fn bad_accesses(&self) -> u32 {
+        0
+    }
 }
 
 impl<T: Mem + ?Sized> Mem for &T {
@@ -63,6 +71,10 @@ impl<T: Mem + ?Sized> Mem for &T {
     #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         (**self).store64(off, val, order)
+    }
+    #[inline]
+    fn bad_accesses(&self) -> u32 {
+        (**self).bad_accesses()
     }
 }
 
@@ -83,14 +95,22 @@ impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         (**self).store64(off, val, order)
     }
+    #[inline]
+    fn bad_accesses(&self) -> u32 {
+        (**self).bad_accesses()
+    }
 }
 
 /// A mapped DPRAM window: a base pointer and a length. It does not own the mapping; whoever
 /// creates it keeps the mapping alive for as long as the `Dpram` is used.
+///
+/// Everything that shares the handle (`&Dpram`, an `Arc` of a window holding it) shares its
+/// count of refused accesses ([`Mem::bad_accesses`]).
 #[derive(Debug)]
 pub struct Dpram {
     base: NonNull<u8>,
     len: usize,
+    bad_accesses: AtomicU32,
 }
 
 // SAFETY: all access goes through atomic operations on the shared window, which is designed to
@@ -128,7 +148,11 @@ impl Dpram {
         if len < needed || !(base.as_ptr() as usize).is_multiple_of(8) {
             return Err(WindowError { len, needed });
         }
-        Ok(Self { base, len })
+        Ok(Self {
+            base,
+            len,
+            bad_accesses: AtomicU32::new(0),
+        })
     }
 
     /// Length of the window in bytes.
@@ -141,13 +165,29 @@ impl Dpram {
         self.len == 0
     }
 
+    /// The address of the `width`-byte word at `off`, or `None` (counted, and a panic in debug
+    /// builds) when it is out of range or misaligned.
     #[inline]
     fn word_ptr(&self, off: usize, width: usize) -> Option<*mut u8> {
-        if !off.is_multiple_of(width) || off.checked_add(width)? > self.len {
+        let in_range = off.checked_add(width).is_some_and(|end| end <= self.len);
+        if !in_range || !off.is_multiple_of(width) {
+            self.refuse(off, width);
             return None;
         }
         // SAFETY: `off + width <= len`, so the result stays inside the mapping.
         Some(unsafe { self.base.as_ptr().add(off) })
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn refuse(&self, off: usize, width: usize) {
+        debug_assert!(
+            false,
+            "DPRAM access out of range or misaligned: {width}-byte word at offset {off} of a \
+             {}-byte window",
+            self.len
+        );
+        self.bad_accesses.fetch_add(1, Ordering::Relaxed);
     }
 }
 
@@ -181,6 +221,10 @@ impl Mem for Dpram {
             // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
             unsafe { AtomicU64::from_ptr(p.cast()) }.store(val, order)
         }
+    }
+    #[inline]
+    fn bad_accesses(&self) -> u32 {
+        self.bad_accesses.load(Ordering::Relaxed)
     }
 }
 
@@ -236,23 +280,59 @@ impl Mem for HeapWindow {
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         self.dpram.store64(off, val, order)
     }
+    #[inline]
+    fn bad_accesses(&self) -> u32 {
+        self.dpram.bad_accesses()
+    }
 }
 
 #[cfg(all(test, not(loom)))]
 mod tests {
     use super::*;
 
+    /// Release builds: a bad access touches nothing, loads 0, and is counted by every handle
+    /// that shares the window.
     #[test]
-    fn out_of_range_and_misaligned_access_is_ignored() {
-        let w = HeapWindow::new();
+    #[cfg(not(debug_assertions))]
+    fn out_of_range_and_misaligned_access_is_ignored_and_counted() {
+        let w = std::sync::Arc::new(HeapWindow::new());
         let d = w.dpram();
-        d.write32(d.len(), 7);
+        assert_eq!(d.bad_accesses(), 0);
+        d.write32(d.len(), 7); // out of range
         assert_eq!(d.read32(d.len()), 0);
+        d.write32(usize::MAX - 1, 7); // out of range, offset + width overflows
+        assert_eq!(d.bad_accesses(), 3);
         d.write64(4, 7); // misaligned for 64-bit
-        assert_eq!(d.read64(0), 0);
+        assert_eq!(d.read64(0), 0, "the misaligned store touched nothing");
+        assert_eq!(d.read32(2), 0); // misaligned for 32-bit
+        assert_eq!(d.bad_accesses(), 5);
         d.write64(8, u64::MAX);
         assert_eq!(d.read64(8), u64::MAX);
         assert_eq!(d.read32(12), u32::MAX);
+        assert_eq!(d.bad_accesses(), 5, "good accesses are not counted");
+        // The window, a reference and a clone of the Arc all see the same count.
+        let shared = w.clone();
+        assert_eq!(shared.bad_accesses(), 5);
+        let by_ref: &HeapWindow = &w;
+        assert_eq!(by_ref.bad_accesses(), 5);
+        shared.read64(d.len() - 4);
+        assert_eq!(w.bad_accesses(), 6);
+    }
+
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "out of range or misaligned: 4-byte word at offset 32768")]
+    fn out_of_range_access_panics_in_debug_builds() {
+        let w = HeapWindow::new();
+        w.write32(w.dpram().len(), 7);
+    }
+
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "out of range or misaligned: 8-byte word at offset 4")]
+    fn misaligned_access_panics_in_debug_builds() {
+        let w = HeapWindow::new();
+        w.read64(4);
     }
 
     #[test]

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 3;
+pub const MC_LAYOUT_MINOR: u32 = 4;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -291,7 +291,10 @@ pub struct mc_card_ctrl {
     pub irq_count: u32,
     pub events_lost: u32,
     pub cmds_accepted: u32,
-    pub _reserved: [u32; 11usize],
+    pub bad_accesses: u32,
+    pub outbox_lost: u32,
+    pub safety_events_lost: u32,
+    pub _reserved: [u32; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -304,8 +307,14 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_ctrl, events_lost) - 12usize];
     ["Offset of field: mc_card_ctrl::cmds_accepted"]
         [::core::mem::offset_of!(mc_card_ctrl, cmds_accepted) - 16usize];
+    ["Offset of field: mc_card_ctrl::bad_accesses"]
+        [::core::mem::offset_of!(mc_card_ctrl, bad_accesses) - 20usize];
+    ["Offset of field: mc_card_ctrl::outbox_lost"]
+        [::core::mem::offset_of!(mc_card_ctrl, outbox_lost) - 24usize];
+    ["Offset of field: mc_card_ctrl::safety_events_lost"]
+        [::core::mem::offset_of!(mc_card_ctrl, safety_events_lost) - 28usize];
     ["Offset of field: mc_card_ctrl::_reserved"]
-        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 20usize];
+        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 32usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

@@ -118,6 +118,10 @@ impl Mem for MappedWindow {
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         self.dpram.store64(off, val, order)
     }
+    #[inline]
+    fn bad_accesses(&self) -> u32 {
+        self.dpram.bad_accesses()
+    }
 }
 
 #[cfg(test)]

@@ -312,27 +312,29 @@ impl raw::mc_group_status_payload {
     }
 }
 
-/// Flags of the group move commands.
+/// Flags of the group move commands: the shifts of the multi-bit fields, and the single-bit
+/// flags of [`MoveFlags`] as plain words for code that tests a raw [`Command::flags`].
 pub mod move_flags {
+    use super::MoveFlags;
     use crate::raw;
     /// Targets are relative to the start of the move.
-    pub const RELATIVE: u32 = raw::MC_MOVE_RELATIVE;
+    pub const RELATIVE: u32 = MoveFlags::RELATIVE.bits();
     /// Queue behind the moves already queued.
-    pub const BUFFERED: u32 = raw::MC_MOVE_BUFFERED;
+    pub const BUFFERED: u32 = MoveFlags::BUFFERED.bits();
     /// Shift of the 2-bit circle mode (`MC_CIRC_BY_*`).
     pub const CIRC_MODE_SHIFT: u32 = raw::MC_CIRC_MODE_SHIFT;
     /// Counter-clockwise (else clockwise).
-    pub const CIRC_CCW: u32 = raw::MC_CIRC_CCW;
+    pub const CIRC_CCW: u32 = MoveFlags::CIRC_CCW.bits();
     /// Shift of the 2-bit plane (`MC_PLANE_*`).
     pub const PLANE_SHIFT: u32 = raw::MC_CIRC_PLANE_SHIFT;
     /// Helical targets are distances even in an absolute move.
-    pub const CIRC_HELIX_RELATIVE: u32 = raw::MC_CIRC_HELIX_RELATIVE;
+    pub const CIRC_HELIX_RELATIVE: u32 = MoveFlags::CIRC_HELIX_RELATIVE.bits();
     /// Saturation-aware feed for a NURBS move (Yeh §3.4).
-    pub const NURBS_SATURATION: u32 = raw::MC_NURBS_SATURATION;
+    pub const NURBS_SATURATION: u32 = MoveFlags::NURBS_SATURATION.bits();
     /// Shift of the 2-bit feed type (`MC_FEED_*`).
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
     /// Point-to-point: every axis also within the limits staged for it.
-    pub const PTP_AXIS_LIMITS: u32 = raw::MC_PTP_AXIS_LIMITS;
+    pub const PTP_AXIS_LIMITS: u32 = MoveFlags::PTP_AXIS_LIMITS.bits();
 }
 
 code_enum! {
@@ -520,51 +522,116 @@ impl Event {
     }
 }
 
-/// Fault bits of [`AxisStatus::faults`].
-pub mod fault {
-    /// The servo output hit the DAC limit this tick.
-    pub const DAC_SATURATED: u32 = crate::raw::MC_FAULT_DAC_SATURATED;
-    /// The host watchdog tripped.
-    pub const WATCHDOG: u32 = crate::raw::MC_FAULT_WATCHDOG;
-    /// An e-stop (command or input) stopped the axis.
-    pub const ESTOP: u32 = crate::raw::MC_FAULT_ESTOP;
-    /// At or beyond the positive limit switch.
-    pub const HARD_LIMIT_POS: u32 = crate::raw::MC_FAULT_HARD_LIMIT_POS;
-    /// At or beyond the negative limit switch.
-    pub const HARD_LIMIT_NEG: u32 = crate::raw::MC_FAULT_HARD_LIMIT_NEG;
-    /// Beyond the positive soft limit.
-    pub const SOFT_LIMIT_POS: u32 = crate::raw::MC_FAULT_SOFT_LIMIT_POS;
-    /// Beyond the negative soft limit.
-    pub const SOFT_LIMIT_NEG: u32 = crate::raw::MC_FAULT_SOFT_LIMIT_NEG;
-    /// Following error beyond its limit.
-    pub const FOLLOWING_ERROR: u32 = crate::raw::MC_FAULT_FOLLOWING_ERROR;
-    /// The amplifier's alarm input.
-    pub const AMP_ALARM: u32 = crate::raw::MC_FAULT_AMP_ALARM;
-    /// Encoder loss or jump.
-    pub const ENCODER: u32 = crate::raw::MC_FAULT_ENCODER;
-    /// The host broke the protocol (corrupt ring indices).
-    pub const PROTOCOL: u32 = crate::raw::MC_FAULT_PROTOCOL;
-    /// A stop ran past the card's maximum stop time: its power was removed.
-    pub const STOP_TIMEOUT: u32 = crate::raw::MC_FAULT_STOP_TIMEOUT;
+bitflags::bitflags! {
+    /// Fault bits of [`AxisStatus::faults`] (`MC_FAULT_*`). Decoded with
+    /// `from_bits_retain`: a bit this layout does not name is kept, not dropped.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct Faults: u32 {
+        /// The servo output hit the DAC limit this tick.
+        const DAC_SATURATED = raw::MC_FAULT_DAC_SATURATED;
+        /// The host watchdog tripped.
+        const WATCHDOG = raw::MC_FAULT_WATCHDOG;
+        /// An e-stop (command or input) stopped the axis.
+        const ESTOP = raw::MC_FAULT_ESTOP;
+        /// At or beyond the positive limit switch.
+        const HARD_LIMIT_POS = raw::MC_FAULT_HARD_LIMIT_POS;
+        /// At or beyond the negative limit switch.
+        const HARD_LIMIT_NEG = raw::MC_FAULT_HARD_LIMIT_NEG;
+        /// Beyond the positive soft limit.
+        const SOFT_LIMIT_POS = raw::MC_FAULT_SOFT_LIMIT_POS;
+        /// Beyond the negative soft limit.
+        const SOFT_LIMIT_NEG = raw::MC_FAULT_SOFT_LIMIT_NEG;
+        /// Following error beyond its limit.
+        const FOLLOWING_ERROR = raw::MC_FAULT_FOLLOWING_ERROR;
+        /// The amplifier's alarm input.
+        const AMP_ALARM = raw::MC_FAULT_AMP_ALARM;
+        /// Encoder loss or jump.
+        const ENCODER = raw::MC_FAULT_ENCODER;
+        /// The host broke the protocol (corrupt ring indices).
+        const PROTOCOL = raw::MC_FAULT_PROTOCOL;
+        /// A stop ran past the card's maximum stop time: its power was removed.
+        const STOP_TIMEOUT = raw::MC_FAULT_STOP_TIMEOUT;
+    }
+
+    /// Bits of [`AxisStatus::io`] (`MC_IO_*`): the card's inputs for the axis and its
+    /// drive-enable output.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct Io: u32 {
+        /// Positive limit switch.
+        const LIMIT_POS = raw::MC_IO_LIMIT_POS;
+        /// Negative limit switch.
+        const LIMIT_NEG = raw::MC_IO_LIMIT_NEG;
+        /// Home switch.
+        const HOME = raw::MC_IO_HOME;
+        /// Amplifier alarm.
+        const AMP_ALARM = raw::MC_IO_AMP_ALARM;
+        /// Encoder line-break detector.
+        const ENCODER_FAULT = raw::MC_IO_ENCODER_FAULT;
+        /// The card's e-stop input (the same on every axis).
+        const ESTOP = raw::MC_IO_ESTOP;
+        /// Output: the amplifier is enabled.
+        const DRIVE_ENABLE = raw::MC_IO_DRIVE_ENABLE;
+    }
+
+    /// The single-bit flags of the group move commands (`MC_MOVE_*`, `MC_CIRC_CCW`, ...) in
+    /// [`Command::flags`]; the multi-bit fields (circle mode, plane, feed type) are shifted in
+    /// with the shifts of [`move_flags`].
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct MoveFlags: u32 {
+        /// Targets are relative to the start of the move.
+        const RELATIVE = raw::MC_MOVE_RELATIVE;
+        /// Queue behind the moves already queued.
+        const BUFFERED = raw::MC_MOVE_BUFFERED;
+        /// Counter-clockwise (else clockwise).
+        const CIRC_CCW = raw::MC_CIRC_CCW;
+        /// Helical targets are distances even in an absolute move.
+        const CIRC_HELIX_RELATIVE = raw::MC_CIRC_HELIX_RELATIVE;
+        /// Saturation-aware feed for a NURBS move (Yeh §3.4); `MC_OP_NURBS_BEGIN` only (the bit
+        /// is the circle mode's in an arc).
+        const NURBS_SATURATION = raw::MC_NURBS_SATURATION;
+        /// Point-to-point: every axis also within the limits staged for it.
+        const PTP_AXIS_LIMITS = raw::MC_PTP_AXIS_LIMITS;
+    }
+
+    /// `mc_axis_safety.flags` (`MC_AXSAFE_*`): the checks an axis makes.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+    pub struct AxisSafetyFlags: u32 {
+        /// Enforce the soft limits.
+        const SOFT_LIMITS = raw::MC_AXSAFE_SOFT_LIMITS;
+        /// Honour the limit switch inputs.
+        const HARD_LIMITS = raw::MC_AXSAFE_HARD_LIMITS;
+        /// Honour the amplifier alarm input.
+        const AMP_ALARM = raw::MC_AXSAFE_AMP_ALARM;
+        /// Honour encoder loss and jumps.
+        const ENCODER = raw::MC_AXSAFE_ENCODER;
+    }
+
+    /// Card-wide safety latches, `mc_safety_status.faults` (`MC_CARD_FAULT_*`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct CardFaults: u32 {
+        /// The host watchdog tripped.
+        const WATCHDOG = raw::MC_CARD_FAULT_WATCHDOG;
+        /// The host's e-stop command.
+        const ESTOP_COMMAND = raw::MC_CARD_FAULT_ESTOP_COMMAND;
+        /// The card's e-stop input.
+        const ESTOP_INPUT = raw::MC_CARD_FAULT_ESTOP_INPUT;
+    }
 }
 
-/// Bits of [`AxisStatus::io`]: the card's inputs for the axis and its drive-enable output.
-pub mod io {
-    /// Positive limit switch.
-    pub const LIMIT_POS: u32 = crate::raw::MC_IO_LIMIT_POS;
-    /// Negative limit switch.
-    pub const LIMIT_NEG: u32 = crate::raw::MC_IO_LIMIT_NEG;
-    /// Home switch.
-    pub const HOME: u32 = crate::raw::MC_IO_HOME;
-    /// Amplifier alarm.
-    pub const AMP_ALARM: u32 = crate::raw::MC_IO_AMP_ALARM;
-    /// Encoder line-break detector.
-    pub const ENCODER_FAULT: u32 = crate::raw::MC_IO_ENCODER_FAULT;
-    /// The card's e-stop input (the same on every axis).
-    pub const ESTOP: u32 = crate::raw::MC_IO_ESTOP;
-    /// Output: the amplifier is enabled.
-    pub const DRIVE_ENABLE: u32 = crate::raw::MC_IO_DRIVE_ENABLE;
-}
+// The header's catch-all agrees with the named flags, and the single-bit move flags stay clear
+// of the multi-bit fields (but the NURBS flag, whose opcode has no circle mode).
+const _: () = {
+    assert!(AxisSafetyFlags::all().bits() == raw::MC_AXSAFE_ALL);
+    let fields =
+        3 << raw::MC_CIRC_MODE_SHIFT | 3 << raw::MC_CIRC_PLANE_SHIFT | 3 << raw::MC_FEED_TYPE_SHIFT;
+    assert!(
+        MoveFlags::all()
+            .difference(MoveFlags::NURBS_SATURATION)
+            .bits()
+            & fields
+            == 0
+    );
+};
 
 /// What the card publishes about an axis each tick: the header's `mc_axis_status_payload`
 /// (its fields are listed there), moved under the axis's seqlock as [`STATUS_WORDS`] words.
@@ -592,6 +659,16 @@ impl raw::mc_axis_status_payload {
     /// The state, if known.
     pub fn state(&self) -> Option<AxisState> {
         AxisState::from_raw(self.state)
+    }
+
+    /// The fault bits as a set (bits this layout does not name are kept).
+    pub fn faults(&self) -> Faults {
+        Faults::from_bits_retain(self.faults)
+    }
+
+    /// The input and drive-enable bits as a set (bits this layout does not name are kept).
+    pub fn io(&self) -> Io {
+        Io::from_bits_retain(self.io)
     }
 
     /// The stop reason, if known.
@@ -653,15 +730,39 @@ mod tests {
             encoder: -4,
             stop_reason: 23,
             io: 0x101,
+            faults: (Faults::WATCHDOG | Faults::from_bits_retain(1 << 31)).bits(),
             ..Default::default()
         };
         let w = s.to_words();
         assert_eq!(AxisStatus::from_words(&w), Some(s));
+        assert_eq!(s.io(), Io::from_bits_retain(0x101));
+        assert!(s.faults().contains(Faults::WATCHDOG));
         for i in 0..STATUS_WORDS {
             let mut bad = w;
             bad[i] ^= 1 << (i % 64);
             assert_eq!(AxisStatus::from_words(&bad), None, "word {i}");
         }
+    }
+
+    #[test]
+    fn every_named_flag_is_its_own_single_bit() {
+        fn check<F: bitflags::Flags<Bits = u32>>(what: &str) {
+            let mut seen = 0u32;
+            for (name, f) in F::all().iter_names() {
+                let b = f.bits();
+                assert_eq!(b.count_ones(), 1, "{what}::{name} = {b:#x}");
+                assert_eq!(seen & b, 0, "{what}::{name} overlaps another flag");
+                seen |= b;
+            }
+            assert_eq!(seen, F::all().bits(), "{what}");
+        }
+        check::<Faults>("Faults");
+        check::<Io>("Io");
+        check::<MoveFlags>("MoveFlags");
+        check::<AxisSafetyFlags>("AxisSafetyFlags");
+        check::<CardFaults>("CardFaults");
+        assert_eq!(Faults::all().iter().count(), 12);
+        assert_eq!(Io::all().iter().count(), 7);
     }
 
     #[test]

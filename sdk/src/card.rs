@@ -11,8 +11,8 @@ use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    raw, AxisState, AxisStatus, Block, BlockAt, Command, Event, EventKind, Mem, NackCode, Opcode,
-    MAX_AXES,
+    raw, AxisState, AxisStatus, Block, BlockAt, Command, Event, EventKind, Faults, Mem, NackCode,
+    Opcode, MAX_AXES,
 };
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
@@ -587,7 +587,7 @@ impl Status {
             actual_velocity: raw.act_vel / s,
             following_error: raw.ferr / s,
             dac_volts: raw.dac_v,
-            faults: raw.faults,
+            faults: raw.faults(),
             raw,
         })
     }
@@ -1095,8 +1095,8 @@ pub struct Status {
     pub following_error: f64,
     /// DAC output, volts.
     pub dac_volts: f64,
-    /// Fault bits (`firmware_proto::fault`).
-    pub faults: u32,
+    /// Fault bits.
+    pub faults: Faults,
     /// Everything the card published, in counts.
     pub raw: AxisStatus,
 }

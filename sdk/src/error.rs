@@ -372,26 +372,26 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// The name of a fault bit (as carried by a motion-aborted event), if it is one.
 pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
-    use firmware_proto::fault;
+    use firmware_proto::Faults;
     let names = [
-        (fault::WATCHDOG, "the host watchdog"),
-        (fault::ESTOP, "an e-stop"),
-        (fault::HARD_LIMIT_POS, "the positive limit switch"),
-        (fault::HARD_LIMIT_NEG, "the negative limit switch"),
-        (fault::SOFT_LIMIT_POS, "the positive soft limit"),
-        (fault::SOFT_LIMIT_NEG, "the negative soft limit"),
-        (fault::FOLLOWING_ERROR, "a following error"),
-        (fault::AMP_ALARM, "an amplifier alarm"),
-        (fault::ENCODER, "an encoder fault"),
-        (fault::PROTOCOL, "a protocol error"),
+        (Faults::WATCHDOG, "the host watchdog"),
+        (Faults::ESTOP, "an e-stop"),
+        (Faults::HARD_LIMIT_POS, "the positive limit switch"),
+        (Faults::HARD_LIMIT_NEG, "the negative limit switch"),
+        (Faults::SOFT_LIMIT_POS, "the positive soft limit"),
+        (Faults::SOFT_LIMIT_NEG, "the negative soft limit"),
+        (Faults::FOLLOWING_ERROR, "a following error"),
+        (Faults::AMP_ALARM, "an amplifier alarm"),
+        (Faults::ENCODER, "an encoder fault"),
+        (Faults::PROTOCOL, "a protocol error"),
         (
-            fault::STOP_TIMEOUT,
+            Faults::STOP_TIMEOUT,
             "a stop that ran past the maximum stop time",
         ),
     ];
     names
         .iter()
-        .find(|(bit, _)| *bit as i32 == code)
+        .find(|(bit, _)| bit.bits() as i32 == code)
         .map(|(_, n)| *n)
 }
 

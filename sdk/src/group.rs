@@ -6,7 +6,7 @@ use crate::error::{Error, Result, Target};
 use firmware_proto::layout;
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    move_flags, raw, Command, GroupState, GroupStatus, Opcode, MAX_AXES, MAX_GROUPS,
+    move_flags, raw, Command, GroupState, GroupStatus, MoveFlags, Opcode, MAX_AXES, MAX_GROUPS,
 };
 use std::time::Duration;
 
@@ -260,7 +260,7 @@ impl Group {
         &self.card
     }
 
-    pub(crate) fn flags_pub(opts: &MoveOptions) -> u32 {
+    pub(crate) fn flags_pub(opts: &MoveOptions) -> MoveFlags {
         Self::flags(opts)
     }
 
@@ -391,19 +391,16 @@ impl Group {
         Ok(out)
     }
 
-    fn flags(opts: &MoveOptions) -> u32 {
+    /// The flags of a move: its single-bit flags, and its feed type shifted in.
+    fn flags(opts: &MoveOptions) -> MoveFlags {
         let feed = match opts.feed_type {
             FeedType::Rapid => raw::MC_FEED_RAPID,
             FeedType::Cutting => raw::MC_FEED_CUTTING,
             FeedType::Jog => raw::MC_FEED_JOG,
         };
-        let mut f = feed << move_flags::FEED_TYPE_SHIFT;
-        if opts.relative {
-            f |= move_flags::RELATIVE;
-        }
-        if opts.buffered {
-            f |= move_flags::BUFFERED;
-        }
+        let mut f = MoveFlags::from_bits_retain(feed << move_flags::FEED_TYPE_SHIFT);
+        f.set(MoveFlags::RELATIVE, opts.relative);
+        f.set(MoveFlags::BUFFERED, opts.buffered);
         f
     }
 
@@ -436,7 +433,7 @@ impl Group {
         let mut args = self.path_args(lim)?.to_vec();
         args.extend(self.targets(target)?);
         let mut cmd = self.op(op).with_args(&args);
-        cmd.flags = Self::flags(opts);
+        cmd.flags = Self::flags(opts).bits();
         let seq = self.run(cmd, what)?;
         Ok(self.motion(seq))
     }
@@ -532,7 +529,7 @@ impl Group {
         let mut args = widest.to_vec();
         args.extend(targets);
         let mut cmd = self.op(Opcode::GroupMovePtp).with_args(&args);
-        cmd.flags = Self::flags(&Self::ptp_options(opts)) | move_flags::PTP_AXIS_LIMITS;
+        cmd.flags = (Self::flags(&Self::ptp_options(opts)) | MoveFlags::PTP_AXIS_LIMITS).bits();
         let seq = self.run(cmd, "move ptp")?;
         Ok(self.motion(seq))
     }
@@ -583,10 +580,10 @@ impl Group {
             args.push(h * self.card.scale(axes[*i]));
         }
         // No helical targets: the other axes stay where they are (distance 0).
-        let mut extra = 0;
+        let mut flags = Self::flags(&opts);
         if helix.is_empty() {
             args.extend(std::iter::repeat_n(0.0, others.len()));
-            extra = move_flags::CIRC_HELIX_RELATIVE;
+            flags |= MoveFlags::CIRC_HELIX_RELATIVE;
         } else if helix.len() != others.len() {
             return Err(Error::BadAxis {
                 axis: helix.len(),
@@ -599,11 +596,10 @@ impl Group {
             Plane::ZX => raw::MC_PLANE_ZX,
         };
         let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
-        cmd.flags = Self::flags(&opts)
-            | extra
+        flags.set(MoveFlags::CIRC_CCW, ccw);
+        cmd.flags = flags.bits()
             | mode << move_flags::CIRC_MODE_SHIFT
-            | plane_bits << move_flags::PLANE_SHIFT
-            | if ccw { move_flags::CIRC_CCW } else { 0 };
+            | plane_bits << move_flags::PLANE_SHIFT;
         let seq = self.run(cmd, "move circular")?;
         Ok(self.motion(seq))
     }

@@ -43,7 +43,7 @@ pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
-    AxisState, EventKind, GroupState, GroupStatus, NackCode, StopCategory, StopReason,
+    AxisState, EventKind, Faults, GroupState, GroupStatus, Io, NackCode, StopCategory, StopReason,
 };
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
@@ -64,5 +64,7 @@ pub use card_emu::motion::scurve as plan;
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {
-    pub use firmware_proto::{fault, io, move_flags, raw, AxisStatus, Command, Event, Opcode};
+    pub use firmware_proto::{
+        move_flags, raw, AxisStatus, Command, Event, Faults, Io, MoveFlags, Opcode,
+    };
 }

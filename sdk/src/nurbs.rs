@@ -4,7 +4,7 @@ use crate::card::{finite, positive, Axis};
 use crate::error::{Error, Result, Target};
 use crate::group::{Group, GroupMotion, MoveOptions};
 use firmware_proto::layout;
-use firmware_proto::{move_flags, raw, Command, Mem, NackCode, Opcode, NURBS_DATA_MAX};
+use firmware_proto::{raw, Command, Mem, MoveFlags, NackCode, Opcode, NURBS_DATA_MAX};
 use std::time::Duration;
 
 /// Split a curve with more control points than the card takes ([`NURBS_MAX_CTRL`]) into
@@ -137,7 +137,7 @@ impl Group {
         stream.extend_from_slice(curve.knots());
         let mut flags = Self::flags_pub(&opts);
         if f.saturation.is_some() {
-            flags |= move_flags::NURBS_SATURATION;
+            flags |= MoveFlags::NURBS_SATURATION;
         }
         let header = [
             curve.degree() as f64,
@@ -150,7 +150,7 @@ impl Group {
             budget,
         ];
         let mut begin = Command::new(Opcode::NurbsBegin, self.index() as u16).with_args(&header);
-        begin.flags = flags;
+        begin.flags = flags.bits();
         self.card_pub()
             .execute_seq(begin, "nurbs begin", Target::Group(self.index()))?;
         self.send_data(&stream)?;

@@ -14,7 +14,8 @@ use crate::card::{Axis, Card, Status};
 use crate::error::{Error, Result, Target};
 use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
-    io, raw, AxisState, Command, Mem, Opcode, StopCategory, StopReason, MAX_AXES,
+    raw, AxisSafetyFlags, AxisState, CardFaults, Command, Io, Mem, Opcode, StopCategory,
+    StopReason, MAX_AXES,
 };
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -54,6 +55,13 @@ pub struct SafetyStatus {
     pub late_heartbeats: u32,
     /// The longest gap between two heartbeats the card saw since this host attached.
     pub max_heartbeat_gap: Duration,
+    /// What the card lost since boot (layout 1.4; 0 on an older card). Each nonzero count is a
+    /// bug: accesses to the window out of range or misaligned that the card's handle refused,
+    pub bad_accesses: u32,
+    /// events that found the firmware's outbox full (before the event ring),
+    pub outbox_lost: u32,
+    /// and safety events that found the safety layer's event buffer full.
+    pub safety_events_lost: u32,
 }
 
 /// How an axis's last safety stop went, measured by the card.
@@ -100,13 +108,13 @@ impl Default for SafetySettings {
     /// The card's defaults, in counts.
     fn default() -> Self {
         let c = card_emu::firmware::axis_safety::AxisSafetyConfig::default();
-        let has = |f: u32| c.flags & f != 0;
+        let has = |f| c.flags.contains(f);
         Self {
-            soft_limits: has(raw::MC_AXSAFE_SOFT_LIMITS)
+            soft_limits: has(AxisSafetyFlags::SOFT_LIMITS)
                 .then_some((c.soft_limit_neg, c.soft_limit_pos)),
-            hard_limits: has(raw::MC_AXSAFE_HARD_LIMITS),
-            amp_alarm: has(raw::MC_AXSAFE_AMP_ALARM),
-            encoder_checks: has(raw::MC_AXSAFE_ENCODER),
+            hard_limits: has(AxisSafetyFlags::HARD_LIMITS),
+            amp_alarm: has(AxisSafetyFlags::AMP_ALARM),
+            encoder_checks: has(AxisSafetyFlags::ENCODER),
             limit_stop: c.limit_category,
             ferror: c.ferror,
             min_ferror: c.min_ferror,
@@ -192,12 +200,12 @@ impl Card {
     pub fn safety_status(&self) -> Result<SafetyStatus> {
         self.tick()?;
         let w = self.window();
-        let faults = w.read32(ss::FAULTS);
+        let faults = CardFaults::from_bits_retain(w.read32(ss::FAULTS));
         let us = |off| Duration::from_micros(w.read32(off) as u64);
         Ok(SafetyStatus {
-            watchdog_tripped: faults & raw::MC_CARD_FAULT_WATCHDOG != 0,
-            estop_command: faults & raw::MC_CARD_FAULT_ESTOP_COMMAND != 0,
-            estop_input: faults & raw::MC_CARD_FAULT_ESTOP_INPUT != 0,
+            watchdog_tripped: faults.contains(CardFaults::WATCHDOG),
+            estop_command: faults.contains(CardFaults::ESTOP_COMMAND),
+            estop_input: faults.contains(CardFaults::ESTOP_INPUT),
             watchdog_armed: w.read32(ss::WATCHDOG_ARMED) != 0,
             last_heartbeat_tick: w.read64(ss::LAST_HEARTBEAT_TICK),
             watchdog_trip_tick: w.read64(ss::WATCHDOG_TRIP_TICK),
@@ -208,6 +216,9 @@ impl Card {
             host_changes: w.read32(ss::HOST_CHANGES),
             late_heartbeats: w.read32(ss::LATE_HEARTBEATS),
             max_heartbeat_gap: us(ss::MAX_HEARTBEAT_GAP_US),
+            bad_accesses: w.read32(layout::BAD_ACCESSES),
+            outbox_lost: w.read32(layout::OUTBOX_LOST),
+            safety_events_lost: w.read32(layout::SAFETY_EVENTS_LOST),
         })
     }
 
@@ -255,20 +266,14 @@ impl Axis {
             Some((neg, pos)) => (neg * scale, pos * scale),
             None => (-card_emu::MAX_POSITION, card_emu::MAX_POSITION),
         };
-        let mut flags = 0;
-        for (on, bit) in [
-            (s.soft_limits.is_some(), raw::MC_AXSAFE_SOFT_LIMITS),
-            (s.hard_limits, raw::MC_AXSAFE_HARD_LIMITS),
-            (s.amp_alarm, raw::MC_AXSAFE_AMP_ALARM),
-            (s.encoder_checks, raw::MC_AXSAFE_ENCODER),
-        ] {
-            if on {
-                flags |= bit;
-            }
-        }
+        let mut flags = AxisSafetyFlags::empty();
+        flags.set(AxisSafetyFlags::SOFT_LIMITS, s.soft_limits.is_some());
+        flags.set(AxisSafetyFlags::HARD_LIMITS, s.hard_limits);
+        flags.set(AxisSafetyFlags::AMP_ALARM, s.amp_alarm);
+        flags.set(AxisSafetyFlags::ENCODER, s.encoder_checks);
         let a = self.index();
         let block = raw::mc_axis_safety {
-            flags,
+            flags: flags.bits(),
             limit_category: s.limit_stop as u32,
             soft_limit_neg: neg,
             soft_limit_pos: pos,
@@ -323,14 +328,14 @@ impl Status {
         self.raw.stop_reason()
     }
 
-    /// The axis's input bits and drive-enable output (`motioncard::proto::io`).
-    pub fn io(&self) -> u32 {
-        self.raw.io
+    /// The axis's input bits and drive-enable output.
+    pub fn io(&self) -> Io {
+        self.raw.io()
     }
 
     /// Is the axis's drive (amplifier) enabled?
     pub fn drive_enabled(&self) -> bool {
-        self.raw.io & io::DRIVE_ENABLE != 0
+        self.raw.io().contains(Io::DRIVE_ENABLE)
     }
 }
 

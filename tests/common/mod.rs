@@ -18,28 +18,10 @@ pub fn stepped_card_with(emu: EmuOptions) -> Card {
     .expect("open stepped sim")
 }
 
-/// A small deterministic generator (xorshift64*), so tests need no crate and repeat exactly.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed.max(1))
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in [lo, hi).
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Log-uniform in [lo, hi).
-    pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.uniform(lo.ln(), hi.ln()).exp()
-    }
-}
+/// The seeded generator every test shares (card-emu's testkit): the same numbers on every
+/// machine. (Like every helper here, not every test file uses it.)
+#[allow(unused_imports)]
+pub use card_emu::testkit::rng::Rng;
 
 /// Duration of a rest-to-rest move of `distance` within `l` alone (the card's planner, one
 /// jerk for every phase).

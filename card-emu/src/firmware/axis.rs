@@ -5,7 +5,7 @@ use crate::firmware::axis_safety::AxisSafety;
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
 use crate::servo::pdplus::{AxisModel, PdPlus};
-use firmware_proto::{fault, AxisState, AxisStatus, NackCode, StopReason};
+use firmware_proto::{AxisState, AxisStatus, Faults, NackCode, StopReason};
 
 /// The validated copy of an axis's configuration: the block as the host wrote it (its fields
 /// are the header's `mc_axis_config`) and, when its servo law is PD+, the PD+ law.
@@ -101,7 +101,7 @@ pub struct Axis {
     encoder: i64,
     ferr: f64,
     dac_v: f64,
-    faults: u32,
+    faults: Faults,
     last_seq: u32,
     motion_seq: u32,
     move_count: u32,
@@ -155,7 +155,7 @@ impl Axis {
             encoder: 0,
             ferr: 0.0,
             dac_v: 0.0,
-            faults: 0,
+            faults: Faults::empty(),
             last_seq: 0,
             motion_seq: 0,
             move_count: 0,
@@ -342,7 +342,7 @@ impl Axis {
             return Err(NackCode::InvalidState);
         }
         let mut changed = None;
-        self.faults = 0;
+        self.faults = Faults::empty();
         self.cmd = Reference {
             pos: self.act_pos,
             vel: 0.0,
@@ -412,7 +412,7 @@ impl Axis {
             self.prev_cmd_acc = 0.0;
             self.ferr = 0.0;
             self.dac_v = 0.0;
-            self.faults &= !fault::DAC_SATURATED;
+            self.faults.remove(Faults::DAC_SATURATED);
             return (0.0, report);
         }
 
@@ -473,9 +473,9 @@ impl Axis {
         let (volts, saturated) = super::dac::Dac::output(u);
         self.dac_v = volts;
         if saturated || u.abs() >= limit {
-            self.faults |= fault::DAC_SATURATED;
+            self.faults.insert(Faults::DAC_SATURATED);
         } else {
-            self.faults &= !fault::DAC_SATURATED;
+            self.faults.remove(Faults::DAC_SATURATED);
         }
 
         // Statistics (of its own moves, and of the group motions it takes part in), then
@@ -588,7 +588,7 @@ impl Axis {
             dac_v: self.dac_v,
             target: self.target,
             state: self.state as u32,
-            faults: self.faults | self.safety.faults,
+            faults: (self.faults | self.safety.faults).bits(),
             last_seq: self.last_seq,
             move_count: self.move_count,
             tick,
@@ -602,7 +602,7 @@ impl Axis {
             move_time: st.move_time,
             u_request: self.u_request,
             stop_reason: self.safety.stop_reason as u32,
-            io: self.safety.io,
+            io: self.safety.io.bits(),
             ..Default::default()
         }
     }

@@ -3,13 +3,13 @@
 //! starvation rule. Plain data the axis carries; the safety layer (`safety.rs`) acts on it.
 
 use crate::motion::scurve::{plan_stop, Profile, State};
-use firmware_proto::{fault, raw, NackCode, StopCategory, StopReason};
+use firmware_proto::{raw, AxisSafetyFlags, Faults, Io, NackCode, StopCategory, StopReason};
 
 /// The validated copy of an axis's safety configuration (counts, seconds).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisSafetyConfig {
-    /// `MC_AXSAFE_*` bits.
-    pub flags: u32,
+    /// The checks the axis makes.
+    pub flags: AxisSafetyFlags,
     /// The stop a hard or soft limit makes.
     pub limit_category: StopCategory,
     /// Soft limits, counts (enforced with `MC_AXSAFE_SOFT_LIMITS`).
@@ -35,7 +35,7 @@ impl AxisSafetyConfig {
     /// The register block (`mc_axis_safety`) that holds this configuration.
     pub fn to_block(&self) -> raw::mc_axis_safety {
         raw::mc_axis_safety {
-            flags: self.flags,
+            flags: self.flags.bits(),
             limit_category: self.limit_category as u32,
             soft_limit_neg: self.soft_limit_neg,
             soft_limit_pos: self.soft_limit_pos,
@@ -53,7 +53,7 @@ impl AxisSafetyConfig {
     /// `BadCategory`.
     pub fn from_block(b: &raw::mc_axis_safety) -> Result<Self, NackCode> {
         Ok(Self {
-            flags: b.flags,
+            flags: AxisSafetyFlags::from_bits_retain(b.flags),
             limit_category: StopCategory::from_raw(b.limit_category)
                 .ok_or(NackCode::BadCategory)?,
             soft_limit_neg: b.soft_limit_neg,
@@ -74,7 +74,7 @@ impl Default for AxisSafetyConfig {
     /// 5·10⁶ counts/s² and 5·10⁸ counts/s³, encoder jumps beyond 5·10⁷ counts/s.
     fn default() -> Self {
         Self {
-            flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+            flags: DEFAULT_FLAGS,
             limit_category: StopCategory::Cat1,
             soft_limit_neg: -crate::MAX_POSITION,
             soft_limit_pos: crate::MAX_POSITION,
@@ -101,7 +101,7 @@ impl AxisSafetyConfig {
             self.stop_jerk,
             self.encoder_max_velocity,
         ];
-        if self.flags & !raw::MC_AXSAFE_ALL != 0 || all.iter().any(|x| !x.is_finite()) {
+        if !AxisSafetyFlags::all().contains(self.flags) || all.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::BadConfig);
         }
         let positive = [
@@ -152,8 +152,8 @@ impl AxisSafetyConfig {
         (self.ferror * v.abs() / self.max_velocity).max(self.min_ferror)
     }
 
-    pub(crate) fn has(&self, flag: u32) -> bool {
-        self.flags & flag != 0
+    pub(crate) fn has(&self, flag: AxisSafetyFlags) -> bool {
+        self.flags.intersects(flag)
     }
 }
 
@@ -182,9 +182,9 @@ pub struct AxisSafety {
     /// In ErrorStop: the drive is still powered (a category 1 ramp, or category 2 holding).
     pub powered: bool,
     /// Latched and live safety fault bits (`MC_FAULT_*`, bits 8..31).
-    pub faults: u32,
-    /// `MC_IO_*` bits of the last tick.
-    pub io: u32,
+    pub faults: Faults,
+    /// The inputs and drive-enable output of the last tick.
+    pub io: Io,
     pub(crate) last_encoder: Option<i64>,
 }
 
@@ -195,15 +195,21 @@ impl Default for AxisSafety {
 }
 
 /// Fault bits that follow their input (or position) instead of latching.
-pub(crate) const LIVE_FAULTS: u32 =
-    fault::HARD_LIMIT_POS | fault::HARD_LIMIT_NEG | fault::SOFT_LIMIT_POS | fault::SOFT_LIMIT_NEG;
+pub(crate) const LIVE_FAULTS: Faults = Faults::HARD_LIMIT_POS
+    .union(Faults::HARD_LIMIT_NEG)
+    .union(Faults::SOFT_LIMIT_POS)
+    .union(Faults::SOFT_LIMIT_NEG);
+
+/// Every check but the soft limits (which need limits the host sets).
+const DEFAULT_FLAGS: AxisSafetyFlags =
+    AxisSafetyFlags::all().difference(AxisSafetyFlags::SOFT_LIMITS);
 
 impl AxisSafety {
     /// Defaults, no stop.
     pub const fn new() -> Self {
         Self {
             config: AxisSafetyConfig {
-                flags: raw::MC_AXSAFE_ALL & !raw::MC_AXSAFE_SOFT_LIMITS,
+                flags: DEFAULT_FLAGS,
                 limit_category: StopCategory::Cat1,
                 soft_limit_neg: -crate::MAX_POSITION,
                 soft_limit_pos: crate::MAX_POSITION,
@@ -217,8 +223,8 @@ impl AxisSafety {
             stop_reason: StopReason::None,
             stop: None,
             powered: false,
-            faults: 0,
-            io: 0,
+            faults: Faults::empty(),
+            io: Io::empty(),
             last_encoder: None,
         }
     }
@@ -287,7 +293,7 @@ mod tests {
                 ..Default::default()
             },
             AxisSafetyConfig {
-                flags: 1 << 9,
+                flags: AxisSafetyFlags::from_bits_retain(1 << 9),
                 ..Default::default()
             },
             AxisSafetyConfig {

@@ -387,53 +387,51 @@ enum StopKind {
 }
 
 /// Events raised while serving a command or running a tick, posted by the firmware afterwards
-/// (after the command's ack). Fixed capacity: enough for a group aborting a full queue.
-#[derive(Debug)]
+/// (after the command's ack). Fixed capacity ([`Outbox::CAP`]): enough for a group aborting a
+/// full queue. An event that finds it full is counted ([`Outbox::lost`]; the firmware
+/// publishes the count in `card.outbox_lost`), never dropped silently.
+#[derive(Debug, Default)]
 pub struct Outbox {
-    events: [Option<Event>; 2 * GROUP_QUEUE_LEN + 8],
-    n: usize,
+    events: heapless::Vec<Event, OUTBOX_CAP>,
+    lost: u32,
 }
 
-impl Default for Outbox {
-    fn default() -> Self {
-        Self {
-            events: [None; 2 * GROUP_QUEUE_LEN + 8],
-            n: 0,
-        }
-    }
-}
+const OUTBOX_CAP: usize = 2 * GROUP_QUEUE_LEN + 8;
 
 impl Outbox {
-    /// Queue an event (dropped, never panicking, if the outbox were ever full).
+    /// Events it holds.
+    pub const CAP: usize = OUTBOX_CAP;
+
+    /// Queue an event; when full, count it as lost (never panicking).
     pub fn push(&mut self, e: Event) {
-        if let Some(slot) = self.events.get_mut(self.n) {
-            *slot = Some(e);
-            self.n += 1;
+        if self.events.push(e).is_err() {
+            self.lost = self.lost.wrapping_add(1);
         }
     }
 
-    /// Take event `i` (in the order pushed).
+    /// Event `i` (in the order pushed).
     pub fn take(&mut self, i: usize) -> Option<Event> {
-        if i < self.n {
-            self.events[i].take()
-        } else {
-            None
-        }
+        self.events.get(i).copied()
     }
 
     /// Events queued.
     pub fn len(&self) -> usize {
-        self.n
+        self.events.len()
     }
 
     /// Nothing queued.
     pub fn is_empty(&self) -> bool {
-        self.n == 0
+        self.events.is_empty()
     }
 
     /// Forget what was taken.
     pub fn clear(&mut self) {
-        self.n = 0;
+        self.events.clear();
+    }
+
+    /// Events that found it full since boot (wrapping).
+    pub fn lost(&self) -> u32 {
+        self.lost
     }
 }
 

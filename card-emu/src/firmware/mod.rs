@@ -4,6 +4,7 @@
 //! answers every command with exactly one ack or nack; [`Firmware::tick`] takes the encoder
 //! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
 //! count; nothing reads a clock, calls the OS, allocates or panics.
+#![forbid(unsafe_code)]
 
 pub mod axis;
 pub mod axis_safety;
@@ -168,6 +169,8 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         }
         self.safety.events.clear();
+        self.mem
+            .write32(layout::SAFETY_EVENTS_LOST, self.safety.events.lost());
     }
 
     /// Was an interrupt raised since the last call? Clears the flag.
@@ -520,6 +523,7 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         }
         self.outbox.clear();
+        self.mem.write32(layout::OUTBOX_LOST, self.outbox.lost());
     }
 
     fn apply_card_config(&mut self) -> Result<(), NackCode> {
@@ -660,10 +664,14 @@ impl<M: Mem + Clone> Firmware<M> {
         }
     }
 
-    /// Publish the tick counter and every axis's status.
+    /// Publish the tick counter, the loss counters and every axis's status.
     fn publish(&mut self) {
         self.publish_identity();
         self.mem.write64(layout::TICK, self.tick);
+        // Layout 1.4: this card's refused accesses to the window (release builds; a debug
+        // build panics on the access).
+        self.mem
+            .write32(layout::BAD_ACCESSES, self.mem.bad_accesses());
         for i in 0..self.num_axes {
             seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
         }
@@ -827,5 +835,165 @@ pub(crate) fn plan_nack(e: crate::motion::scurve::PlanError) -> NackCode {
         PlanError::Infeasible | PlanError::StartVelocityTooHigh => NackCode::Infeasible,
         PlanError::LimitRange => NackCode::LimitRange,
         PlanError::PlanCheck => NackCode::PlanCheck,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware_proto::mem::HeapWindow;
+    use std::sync::Arc;
+
+    fn boot() -> (Arc<HeapWindow>, Firmware<Arc<HeapWindow>>) {
+        let w = Arc::new(HeapWindow::new());
+        let fw = Firmware::boot(w.clone(), 2, 10_000);
+        (w, fw)
+    }
+
+    fn tick(fw: &mut Firmware<Arc<HeapWindow>>) {
+        fw.tick(&[0; MAX_AXES], &mut [0.0; MAX_AXES]);
+    }
+
+    /// Release builds: accesses out of range or misaligned through the card's window handle
+    /// are counted, and the count is in the card control block after the next tick.
+    #[test]
+    #[cfg(not(debug_assertions))]
+    fn bad_window_accesses_are_published() {
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 0);
+        assert_eq!(w.read32(firmware_proto::DPRAM_SIZE), 0); // out of range
+        w.write64(layout::BAD_ACCESSES, 1); // misaligned (148 is not 8-aligned)
+        w.read64(firmware_proto::DPRAM_SIZE - 4); // straddles the end
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 3);
+        assert_eq!(
+            w.read32(layout::BAD_ACCESSES + 4),
+            0,
+            "the bad store touched nothing"
+        );
+    }
+
+    fn marker(n: u32) -> Event {
+        Event {
+            seq: n,
+            kind: EventKind::StateChanged as u16,
+            axis: 0,
+            code: 0,
+            tick: 0,
+            value: 0.0,
+        }
+    }
+
+    /// The host's view of the event ring: every event waiting.
+    fn drain(w: &Arc<HeapWindow>) -> Vec<Event> {
+        let mut rx = firmware_proto::ring::EvtConsumer::attach(w.clone(), EVT_RING);
+        let mut out = Vec::new();
+        while let Ok(Some(e)) = rx.pop::<Event>() {
+            out.push(e);
+        }
+        out
+    }
+
+    /// More events than the outbox holds, raised before the firmware posts them: the first
+    /// `CAP` reach the event ring in order, the rest are counted in `card.outbox_lost`.
+    #[test]
+    fn outbox_overflow_is_counted_in_the_window() {
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        drain(&w);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 0);
+        let n = Outbox::CAP as u32 + 3;
+        for k in 0..n {
+            fw.outbox.push(marker(1000 + k));
+        }
+        assert_eq!(fw.outbox.len(), Outbox::CAP);
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 3);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        let seqs: Vec<u32> = drain(&w)
+            .iter()
+            .map(|e| e.seq)
+            .filter(|&s| s >= 1000)
+            .collect();
+        assert_eq!(seqs, (1000..1000 + Outbox::CAP as u32).collect::<Vec<_>>());
+        // The count is cumulative; a tick with room loses nothing more.
+        fw.outbox.push(marker(1));
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 3);
+    }
+
+    /// The same for the safety layer's event buffer: counted in `card.safety_events_lost`.
+    #[test]
+    fn safety_event_overflow_is_counted_in_the_window() {
+        use super::safety::EventBuf;
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        drain(&w);
+        assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 0);
+        let n = EventBuf::CAP as u32 + 5;
+        for k in 0..n {
+            fw.safety.events.push(marker(1000 + k));
+        }
+        assert_eq!(fw.safety.events.len(), EventBuf::CAP);
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 5);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        let seqs: Vec<u32> = drain(&w)
+            .iter()
+            .map(|e| e.seq)
+            .filter(|&s| s >= 1000)
+            .collect();
+        assert_eq!(
+            seqs,
+            (1000..1000 + EventBuf::CAP as u32).collect::<Vec<_>>()
+        );
+    }
+
+    /// A host that never takes events: the card stops taking commands once an ack and
+    /// [`EVENT_RESERVE`] more events might not fit (no ack is lost), and the asynchronous
+    /// events that then find the ring full are counted in `card.events_lost`.
+    #[test]
+    fn event_ring_overflow_is_counted_in_the_window() {
+        let (w, mut fw) = boot();
+        let mut tx = firmware_proto::ring::CmdProducer::attach(w.clone(), CMD_RING);
+        let mut seq = 0;
+        loop {
+            while tx.free().is_ok_and(|f| f > 0) {
+                seq += 1;
+                let mut c = Command::new(Opcode::Nop, 0);
+                c.seq = seq;
+                tx.push(&c).unwrap();
+            }
+            if fw.serve_commands() == 0 {
+                break;
+            }
+        }
+        let accepted = w.read32(layout::CMDS_ACCEPTED);
+        assert_eq!(accepted, EVT_RING.len - EVENT_RESERVE, "commands taken");
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        // Asynchronous events beyond the reserve.
+        for k in 0..EVENT_RESERVE + 7 {
+            fw.outbox.push(marker(1000 + k));
+        }
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 7);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 0);
+        let events = drain(&w);
+        assert_eq!(events.len(), EVT_RING.len as usize, "the ring was full");
+        let acks = events
+            .iter()
+            .filter(|e| e.kind == EventKind::Ack as u16)
+            .count();
+        assert_eq!(acks as u32, accepted, "every command taken was acked");
+    }
+
+    /// Debug builds: the same access panics at once.
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "DPRAM access out of range or misaligned")]
+    fn bad_window_access_panics_in_debug_builds() {
+        let (w, _fw) = boot();
+        w.write64(layout::BAD_ACCESSES, 1);
     }
 }

@@ -40,8 +40,8 @@ use crate::motion::scurve::plan_stop;
 use crate::motion::scurve::Profile;
 use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
-    fault, io, raw, AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, StopCategory,
-    StopReason, MAX_AXES,
+    raw, AxisSafetyFlags, AxisState, CardFaults, Command, Event, EventKind, Faults, Io, Mem,
+    NackCode, Opcode, StopCategory, StopReason, MAX_AXES,
 };
 
 /// Axis number of card-wide events.
@@ -63,8 +63,8 @@ pub const MAX_STOP_TIME_RANGE_US: core::ops::RangeInclusive<u32> = 10_000..=600_
 /// emulator: per axis `MC_IO_*` input bits, and the card's e-stop input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Inputs {
-    /// `MC_IO_LIMIT_POS | MC_IO_LIMIT_NEG | MC_IO_HOME | MC_IO_AMP_ALARM | MC_IO_ENCODER_FAULT`.
-    pub axis: [u32; MAX_AXES],
+    /// Limit, home, amplifier-alarm and encoder-fault inputs of each axis.
+    pub axis: [Io; MAX_AXES],
     /// The e-stop input (active: stop).
     pub estop: bool,
 }
@@ -99,64 +99,58 @@ impl Default for SafetyConfig {
 
 /// Events raised by the safety layer, posted by the firmware after the hook returns. Sized for
 /// the worst tick: per axis an abort, a state change, a stop and a rest event, plus card-wide
-/// events.
-#[derive(Debug, Clone, Copy)]
+/// events. An event that finds it full is counted ([`EventBuf::lost`]; the firmware publishes
+/// the count in `card.safety_events_lost`), never dropped silently.
+#[derive(Debug, Clone, Default)]
 pub struct EventBuf {
-    ev: [Event; Self::CAP],
-    n: usize,
+    ev: heapless::Vec<Event, EVENT_BUF_CAP>,
+    lost: u32,
 }
+
+const EVENT_BUF_CAP: usize = 8 * MAX_AXES + 8;
 
 impl EventBuf {
     /// Capacity.
-    pub const CAP: usize = 8 * MAX_AXES + 8;
+    pub const CAP: usize = EVENT_BUF_CAP;
 
     /// Empty.
     pub const fn new() -> Self {
-        const E: Event = Event {
-            seq: 0,
-            kind: 0,
-            axis: 0,
-            code: 0,
-            tick: 0,
-            value: 0.0,
-        };
         Self {
-            ev: [E; Self::CAP],
-            n: 0,
+            ev: heapless::Vec::new(),
+            lost: 0,
         }
     }
 
-    fn push(&mut self, e: Event) {
-        if let Some(slot) = self.ev.get_mut(self.n) {
-            *slot = e;
-            self.n += 1;
+    /// Queue an event; when full, count it as lost (never panicking).
+    pub(crate) fn push(&mut self, e: Event) {
+        if self.ev.push(e).is_err() {
+            self.lost = self.lost.wrapping_add(1);
         }
     }
 
     /// Events waiting.
     pub fn len(&self) -> usize {
-        self.n
+        self.ev.len()
     }
 
     /// None waiting.
     pub fn is_empty(&self) -> bool {
-        self.n == 0
+        self.ev.is_empty()
     }
 
     /// Event `k` (in the order raised).
     pub fn get(&self, k: usize) -> Option<Event> {
-        self.ev[..self.n].get(k).copied()
+        self.ev.get(k).copied()
     }
 
     /// Forget them (after posting).
     pub fn clear(&mut self) {
-        self.n = 0;
+        self.ev.clear();
     }
-}
 
-impl Default for EventBuf {
-    fn default() -> Self {
-        Self::new()
+    /// Events that found it full since boot (wrapping).
+    pub fn lost(&self) -> u32 {
+        self.lost
     }
 }
 
@@ -176,7 +170,7 @@ fn event(kind: EventKind, axis: u16, code: i32, tick: u64, value: f64) -> Event 
 struct Trip {
     category: StopCategory,
     reason: StopReason,
-    fault: u32,
+    fault: Faults,
     value: f64,
 }
 
@@ -188,7 +182,7 @@ pub struct Safety {
     armed: bool,
     last_heartbeat: u32,
     last_heartbeat_tick: u64,
-    latched: u32,
+    latched: CardFaults,
     evt_ring_bad: bool,
     protocol_errors: u32,
     session: u32,
@@ -226,7 +220,7 @@ impl Safety {
             armed: false,
             last_heartbeat: mem.read32(layout::HEARTBEAT),
             last_heartbeat_tick: 0,
-            latched: 0,
+            latched: CardFaults::empty(),
             evt_ring_bad: false,
             protocol_errors: 0,
             session: 0,
@@ -265,7 +259,7 @@ impl Safety {
     }
 
     /// Latched card-wide faults (`MC_CARD_FAULT_*`).
-    pub fn latched(&self) -> u32 {
+    pub fn latched(&self) -> CardFaults {
         self.latched
     }
 
@@ -345,7 +339,7 @@ impl Safety {
             let trip = Trip {
                 category: StopCategory::Cat1,
                 reason: StopReason::HostChanged,
-                fault: 0,
+                fault: Faults::empty(),
                 value: self.session as f64,
             };
             self.trip_all(mem, tick, axes, trip);
@@ -380,9 +374,9 @@ impl Safety {
         Ok(())
     }
 
-    fn latch<M: Mem>(&mut self, mem: &M, bit: u32) {
+    fn latch<M: Mem>(&mut self, mem: &M, bit: CardFaults) {
         self.latched |= bit;
-        mem.write32(ss::FAULTS, self.latched);
+        mem.write32(ss::FAULTS, self.latched.bits());
     }
 
     /// The servo-tick hook, after every axis has run its tick: watchdog, e-stop input, encoder
@@ -405,27 +399,27 @@ impl Safety {
         // Host watchdog.
         let age_us = self.heartbeat(mem, tick, rate_hz);
         if self.armed
-            && self.latched & raw::MC_CARD_FAULT_WATCHDOG == 0
+            && !self.latched.contains(CardFaults::WATCHDOG)
             && age_us >= self.config.watchdog_timeout_us as u64
         {
-            self.latch(mem, raw::MC_CARD_FAULT_WATCHDOG);
+            self.latch(mem, CardFaults::WATCHDOG);
             mem.write64(ss::WATCHDOG_TRIP_TICK, tick);
             mem.write64(ss::TRIP_HEARTBEAT_TICK, self.last_heartbeat_tick);
             let trip = Trip {
                 category: StopCategory::Cat1,
                 reason: StopReason::Watchdog,
-                fault: fault::WATCHDOG,
+                fault: Faults::WATCHDOG,
                 value: age_us as f64 * 1e-6,
             };
             self.trip_all(mem, tick, axes, trip);
         }
         // E-stop input.
-        if self.inputs.estop && self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT == 0 {
-            self.latch(mem, raw::MC_CARD_FAULT_ESTOP_INPUT);
+        if self.inputs.estop && !self.latched.contains(CardFaults::ESTOP_INPUT) {
+            self.latch(mem, CardFaults::ESTOP_INPUT);
             let trip = Trip {
                 category: self.config.estop_input_category,
                 reason: StopReason::EStopInput,
-                fault: fault::ESTOP,
+                fault: Faults::ESTOP,
                 value: 0.0,
             };
             self.trip_all(mem, tick, axes, trip);
@@ -437,7 +431,7 @@ impl Safety {
             let trip = Trip {
                 category: StopCategory::Cat1,
                 reason: StopReason::EvtRing,
-                fault: fault::PROTOCOL,
+                fault: Faults::PROTOCOL,
                 value: 0.0,
             };
             self.trip_all(mem, tick, axes, trip);
@@ -447,9 +441,9 @@ impl Safety {
         for (i, axis) in axes.iter_mut().enumerate() {
             let enc = encoders[i];
             let mut inputs = self.inputs.axis[i]
-                & (io::LIMIT_POS | io::LIMIT_NEG | io::HOME | io::AMP_ALARM | io::ENCODER_FAULT);
+                & (Io::LIMIT_POS | Io::LIMIT_NEG | Io::HOME | Io::AMP_ALARM | Io::ENCODER_FAULT);
             if self.inputs.estop {
-                inputs |= io::ESTOP;
+                inputs |= Io::ESTOP;
             }
             for trip in axis_trips(axis, inputs, enc, ts).into_iter().flatten() {
                 self.trip_axis(mem, tick, i, axis, trip);
@@ -462,9 +456,9 @@ impl Safety {
             }
             axis.safety.io = inputs
                 | if axis.is_powered() {
-                    io::DRIVE_ENABLE
+                    Io::DRIVE_ENABLE
                 } else {
-                    0
+                    Io::empty()
                 };
         }
     }
@@ -546,7 +540,7 @@ impl Safety {
             let trip = Trip {
                 category: StopCategory::Cat0,
                 reason: StopReason::StopTimeout,
-                fault: fault::STOP_TIMEOUT,
+                fault: Faults::STOP_TIMEOUT,
                 value: elapsed,
             };
             self.trip_axis(mem, tick, i, axis, trip);
@@ -596,7 +590,7 @@ impl Safety {
                 ..event(
                     EventKind::MotionAborted,
                     axis_no,
-                    trip.fault as i32,
+                    trip.fault.bits() as i32,
                     tick,
                     0.0,
                 )
@@ -684,7 +678,7 @@ impl Safety {
         let trip = Trip {
             category,
             reason: StopReason::Group,
-            fault: 0,
+            fault: Faults::empty(),
             value: first as f64,
         };
         for &a in members {
@@ -695,7 +689,7 @@ impl Safety {
                 self.trip_axis(mem, tick, a, axis, trip);
                 if !axis.is_powered() {
                     dac[a] = 0.0;
-                    axis.safety.io &= !io::DRIVE_ENABLE;
+                    axis.safety.io.remove(Io::DRIVE_ENABLE);
                 }
             }
         }
@@ -723,7 +717,7 @@ impl Safety {
         let trip = Trip {
             category: StopCategory::Cat1,
             reason: StopReason::CmdRing,
-            fault: fault::PROTOCOL,
+            fault: Faults::PROTOCOL,
             value: index as f64,
         };
         self.trip_all(mem, tick, axes, trip);
@@ -736,11 +730,11 @@ impl Safety {
     /// [`check_target`] with the axis's start and target.
     pub fn check_command(&self, op: Opcode, args: &[f64], axis: &Axis) -> Result<(), NackCode> {
         let latch = || {
-            if self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0 {
+            if self.latched.contains(CardFaults::WATCHDOG) {
                 Err(NackCode::WatchdogTripped)
-            } else if self.latched
-                & (raw::MC_CARD_FAULT_ESTOP_COMMAND | raw::MC_CARD_FAULT_ESTOP_INPUT)
-                != 0
+            } else if self
+                .latched
+                .intersects(CardFaults::ESTOP_COMMAND | CardFaults::ESTOP_INPUT)
             {
                 Err(NackCode::EStopActive)
             } else {
@@ -756,8 +750,8 @@ impl Safety {
                     return Err(NackCode::InvalidState);
                 }
                 let c = &s.config;
-                if (c.has(raw::MC_AXSAFE_AMP_ALARM) && s.io & io::AMP_ALARM != 0)
-                    || (c.has(raw::MC_AXSAFE_ENCODER) && s.io & io::ENCODER_FAULT != 0)
+                if (c.has(AxisSafetyFlags::AMP_ALARM) && s.io.contains(Io::AMP_ALARM))
+                    || (c.has(AxisSafetyFlags::ENCODER) && s.io.contains(Io::ENCODER_FAULT))
                 {
                     return Err(NackCode::CauseActive);
                 }
@@ -814,11 +808,11 @@ impl Safety {
                     else {
                         return Some(Err(NackCode::BadCategory));
                     };
-                    self.latch(mem, raw::MC_CARD_FAULT_ESTOP_COMMAND);
+                    self.latch(mem, CardFaults::ESTOP_COMMAND);
                     let trip = Trip {
                         category: *category,
                         reason: StopReason::EStopCommand,
-                        fault: fault::ESTOP,
+                        fault: Faults::ESTOP,
                         value: a,
                     };
                     self.trip_all(mem, tick, axes, trip);
@@ -826,14 +820,14 @@ impl Safety {
                 }
                 Opcode::SafetyReset => {
                     let age_us = self.heartbeat(mem, tick, rate_hz);
-                    let heartbeat_dead = self.latched & raw::MC_CARD_FAULT_WATCHDOG != 0
+                    let heartbeat_dead = self.latched.contains(CardFaults::WATCHDOG)
                         && age_us >= self.config.watchdog_timeout_us as u64;
                     let estop_held =
-                        self.latched & raw::MC_CARD_FAULT_ESTOP_INPUT != 0 && self.inputs.estop;
+                        self.latched.contains(CardFaults::ESTOP_INPUT) && self.inputs.estop;
                     if heartbeat_dead || estop_held {
                         Err(NackCode::CauseActive)
                     } else {
-                        self.latched = 0;
+                        self.latched = CardFaults::empty();
                         mem.write32(ss::FAULTS, 0);
                         Ok(())
                     }
@@ -879,13 +873,13 @@ impl Safety {
 pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode> {
     let s = &axis.safety;
     let c = &s.config;
-    if c.has(raw::MC_AXSAFE_HARD_LIMITS)
-        && ((s.io & io::LIMIT_POS != 0 && target > start)
-            || (s.io & io::LIMIT_NEG != 0 && target < start))
+    if c.has(AxisSafetyFlags::HARD_LIMITS)
+        && ((s.io.contains(Io::LIMIT_POS) && target > start)
+            || (s.io.contains(Io::LIMIT_NEG) && target < start))
     {
         return Err(NackCode::HardLimit);
     }
-    if c.has(raw::MC_AXSAFE_SOFT_LIMITS)
+    if c.has(AxisSafetyFlags::SOFT_LIMITS)
         && ((target > c.soft_limit_pos && target > start)
             || (target < c.soft_limit_neg && target < start))
     {
@@ -896,7 +890,7 @@ pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode
 
 /// Everything that trips an axis this tick, given its inputs and encoder reading. Also
 /// refreshes the live limit fault bits.
-fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>; 4] {
+fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 4] {
     let c = axis.safety.config;
     let r = axis.reference();
     let powered = axis.is_powered();
@@ -912,22 +906,22 @@ fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>;
         })
     };
     // Encoder: the line-break detector, or a jump no motor can make in one tick.
-    if c.has(raw::MC_AXSAFE_ENCODER) {
+    if c.has(AxisSafetyFlags::ENCODER) {
         let step = s
             .last_encoder
             .map_or(0, |p| enc.wrapping_sub(p))
             .unsigned_abs() as f64;
-        if inputs & io::ENCODER_FAULT != 0 {
-            out[0] = cat0(StopReason::EncoderLoss, fault::ENCODER, enc as f64);
+        if inputs.contains(Io::ENCODER_FAULT) {
+            out[0] = cat0(StopReason::EncoderLoss, Faults::ENCODER, enc as f64);
         } else if step > c.encoder_max_velocity * ts + 2.0 {
-            out[0] = cat0(StopReason::EncoderJump, fault::ENCODER, step);
+            out[0] = cat0(StopReason::EncoderJump, Faults::ENCODER, step);
         }
     }
-    if c.has(raw::MC_AXSAFE_AMP_ALARM) && inputs & io::AMP_ALARM != 0 {
-        out[1] = cat0(StopReason::AmpAlarm, fault::AMP_ALARM, enc as f64);
+    if c.has(AxisSafetyFlags::AMP_ALARM) && inputs.contains(Io::AMP_ALARM) {
+        out[1] = cat0(StopReason::AmpAlarm, Faults::AMP_ALARM, enc as f64);
     }
     // Limits: live fault bits; a trip only while the axis is driven into the limit.
-    s.faults &= !LIVE_FAULTS;
+    s.faults.remove(LIVE_FAULTS);
     let limit = |reason, fault| {
         Some(Trip {
             category: c.limit_category,
@@ -936,38 +930,38 @@ fn axis_trips(axis: &mut Axis, inputs: u32, enc: i64, ts: f64) -> [Option<Trip>;
             value: r.pos,
         })
     };
-    if c.has(raw::MC_AXSAFE_HARD_LIMITS) {
-        if inputs & io::LIMIT_POS != 0 {
-            s.faults |= fault::HARD_LIMIT_POS;
+    if c.has(AxisSafetyFlags::HARD_LIMITS) {
+        if inputs.contains(Io::LIMIT_POS) {
+            s.faults |= Faults::HARD_LIMIT_POS;
             if powered && r.vel > 0.0 {
-                out[2] = limit(StopReason::HardLimitPos, fault::HARD_LIMIT_POS);
+                out[2] = limit(StopReason::HardLimitPos, Faults::HARD_LIMIT_POS);
             }
         }
-        if inputs & io::LIMIT_NEG != 0 {
-            s.faults |= fault::HARD_LIMIT_NEG;
+        if inputs.contains(Io::LIMIT_NEG) {
+            s.faults |= Faults::HARD_LIMIT_NEG;
             if powered && r.vel < 0.0 {
-                out[2] = limit(StopReason::HardLimitNeg, fault::HARD_LIMIT_NEG);
+                out[2] = limit(StopReason::HardLimitNeg, Faults::HARD_LIMIT_NEG);
             }
         }
     }
-    if c.has(raw::MC_AXSAFE_SOFT_LIMITS) {
+    if c.has(AxisSafetyFlags::SOFT_LIMITS) {
         if r.pos > c.soft_limit_pos {
-            s.faults |= fault::SOFT_LIMIT_POS;
+            s.faults |= Faults::SOFT_LIMIT_POS;
             if powered && r.vel > 0.0 && out[2].is_none() {
-                out[2] = limit(StopReason::SoftLimitPos, fault::SOFT_LIMIT_POS);
+                out[2] = limit(StopReason::SoftLimitPos, Faults::SOFT_LIMIT_POS);
             }
         }
         if r.pos < c.soft_limit_neg {
-            s.faults |= fault::SOFT_LIMIT_NEG;
+            s.faults |= Faults::SOFT_LIMIT_NEG;
             if powered && r.vel < 0.0 && out[2].is_none() {
-                out[2] = limit(StopReason::SoftLimitNeg, fault::SOFT_LIMIT_NEG);
+                out[2] = limit(StopReason::SoftLimitNeg, Faults::SOFT_LIMIT_NEG);
             }
         }
     }
     // Following error (LinuxCNC): on every axis whose servo ran this tick. NaN trips too.
     let within = ferr.abs() <= c.ferror_limit(r.vel);
     if powered && !within {
-        out[3] = cat0(StopReason::FollowingError, fault::FOLLOWING_ERROR, ferr);
+        out[3] = cat0(StopReason::FollowingError, Faults::FOLLOWING_ERROR, ferr);
     }
     out
 }

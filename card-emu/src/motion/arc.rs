@@ -706,13 +706,7 @@ mod tests {
 
     #[test]
     fn reference_word_random_arcs_end_exactly() {
-        let mut seed: u64 = 42;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::testkit::rng::Rng::new(42).units();
         for _ in 0..300 {
             let c = ((rnd() - 0.5) * 2e5, (rnd() - 0.5) * 2e5);
             let r = 10.0 + rnd() * 5e4;

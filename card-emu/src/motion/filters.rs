@@ -993,24 +993,7 @@ impl FilterPreset {
 mod tests {
     use super::*;
 
-    /// SplitMix64, for reproducible random inputs without dependencies.
-    struct Rng(u64);
-    impl Rng {
-        fn next_u64(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-        /// Uniform in [0, 1).
-        fn unit(&mut self) -> f64 {
-            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-    }
+    use crate::testkit::rng::Rng;
 
     /// Exact sum of f64 values (Shewchuk / Python `math.fsum` partials),
     /// correctly rounded up to the final pass.
@@ -1091,8 +1074,8 @@ mod tests {
         // Kim eq 1 verbatim (naive recurrence with the delay line) vs ours.
         let m = 17;
         let mut f = LinearFilter::new(m).unwrap();
-        let mut rng = Rng(3);
-        let xs: Vec<f64> = (0..2000).map(|_| rng.range(-50.0, 50.0)).collect();
+        let mut rng = Rng::new(3);
+        let xs: Vec<f64> = (0..2000).map(|_| rng.uniform(-50.0, 50.0)).collect();
         let mut fo_prev = 0.0;
         for k in 0..xs.len() {
             let old = if k >= m { xs[k - m] } else { 0.0 };
@@ -1155,10 +1138,10 @@ mod tests {
         // Shin eq 36) vs the counter form (Shin eq 22-25).
         let mut f = ExponentialFilter::from_time_constant(0.02, 0.001).unwrap();
         let g = f.gain();
-        let mut rng = Rng(11);
+        let mut rng = Rng::new(11);
         let mut fo = 0.0;
         for k in 0..5000 {
-            let fi = rng.range(-100.0, 100.0);
+            let fi = rng.uniform(-100.0, 100.0);
             fo += g * (fi - fo);
             let ours = f.step(fi);
             assert!((ours - fo).abs() <= 1e-9 * (1.0 + fo.abs()), "k={k}");
@@ -1172,9 +1155,13 @@ mod tests {
         let mut bell = BellFilter::from_time_constants(0.02, 0.01, 0.001).unwrap();
         let mut lin = LinearFilter::from_time_constant(0.02, 0.001).unwrap();
         let mut exp = ExponentialFilter::from_time_constant(0.01, 0.001).unwrap();
-        let mut rng = Rng(5);
+        let mut rng = Rng::new(5);
         for k in 0..3000 {
-            let fi = if k < 2000 { rng.range(0.0, 20.0) } else { 0.0 };
+            let fi = if k < 2000 {
+                rng.uniform(0.0, 20.0)
+            } else {
+                0.0
+            };
             let want = exp.step(lin.step(fi));
             assert_eq!(bell.step(fi).to_bits(), want.to_bits(), "k={k}");
         }
@@ -1198,13 +1185,13 @@ mod tests {
         ];
         for (ci, &(kind, tau)) in cases.iter().enumerate() {
             let mut f = AccDecFilter::from_time_constant(kind, tau, ts).unwrap();
-            let mut rng = Rng(100 + ci as u64);
+            let mut rng = Rng::new(100 + ci as u64);
             // Mixed magnitudes and signs, bursts and pauses.
             let mut ins = Vec::with_capacity(200_000);
             for k in 0..200_000 {
                 let burst = (k / 5000) % 3 != 2;
                 let v = if burst {
-                    let mag = 10f64.powf(rng.range(-6.0, 4.0));
+                    let mag = 10f64.powf(rng.uniform(-6.0, 4.0));
                     if rng.unit() < 0.3 {
                         -mag
                     } else {
@@ -1249,9 +1236,9 @@ mod tests {
     fn linear_integer_inputs_exactly_conserved() {
         for &m in &[1usize, 3, 7, 30, 1000, MAX_TAPS] {
             let mut f = AccDecFilter::Linear(LinearFilter::new(m).unwrap());
-            let mut rng = Rng(m as u64);
+            let mut rng = Rng::new(m as u64);
             let ins: Vec<f64> = (0..100_000)
-                .map(|_| (rng.range(-2000.0, 2000.0)).round())
+                .map(|_| (rng.uniform(-2000.0, 2000.0)).round())
                 .collect();
             let (outs, n) = run_to_settle(&mut f, &ins, 10 * m as u64);
             assert!(f.is_settled() && n <= m as u64, "m={m} n={n}");

@@ -1,5 +1,6 @@
 //! The motion algorithms: pure functions and plain data (no window, no clock, no plant), used
 //! by the firmware and by the host alike.
+#![forbid(unsafe_code)]
 
 pub mod arc;
 pub mod filters;

@@ -674,26 +674,7 @@ fn insert_knot(
 mod tests {
     use super::*;
 
-    /// SplitMix64: small seeded generator so the tests need no extra crate.
-    struct Rng(u64);
-    impl Rng {
-        fn next_u64(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-        fn f(&mut self) -> f64 {
-            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, a: f64, b: f64) -> f64 {
-            a + (b - a) * self.f()
-        }
-        fn int(&mut self, a: usize, b: usize) -> usize {
-            a + (self.next_u64() % (b - a + 1) as u64) as usize
-        }
-    }
+    use crate::testkit::rng::Rng;
 
     struct Def {
         p: usize,
@@ -706,26 +687,28 @@ mod tests {
     fn random_def(r: &mut Rng) -> Def {
         let p = r.int(1, 5);
         let dim = r.int(2, 8);
-        let n_ctrl = if r.f() < 0.15 {
+        let n_ctrl = if r.unit() < 0.15 {
             r.int(p + 1, 200)
         } else {
             r.int(p + 1, p + 14)
         };
-        let ctrl: Vec<f64> = (0..n_ctrl * dim).map(|_| r.range(-100.0, 100.0)).collect();
-        let w: Vec<f64> = (0..n_ctrl).map(|_| r.range(0.2, 5.0)).collect();
+        let ctrl: Vec<f64> = (0..n_ctrl * dim)
+            .map(|_| r.uniform(-100.0, 100.0))
+            .collect();
+        let w: Vec<f64> = (0..n_ctrl).map(|_| r.uniform(0.2, 5.0)).collect();
         let n_int = n_ctrl - p - 1;
         let mut interior = Vec::new();
         while interior.len() < n_int {
-            let v = r.range(0.02, 0.98);
+            let v = r.uniform(0.02, 0.98);
             let room = (n_int - interior.len()).min(p);
-            let mult = if r.f() < 0.3 { r.int(1, room) } else { 1 };
+            let mult = if r.unit() < 0.3 { r.int(1, room) } else { 1 };
             for _ in 0..mult {
                 interior.push(v);
             }
         }
         interior.sort_by(f64::total_cmp);
-        let a = r.range(-5.0, 5.0);
-        let len = r.range(0.5, 10.0);
+        let a = r.uniform(-5.0, 5.0);
+        let len = r.uniform(0.5, 10.0);
         let mut knots = vec![a; p + 1];
         knots.extend(interior.iter().map(|t| a + len * t));
         knots.extend(core::iter::repeat_n(a + len, p + 1));
@@ -829,7 +812,7 @@ mod tests {
 
     #[test]
     fn random_curves_match_de_boor_and_finite_differences() {
-        let mut r = Rng(0x5EED_2008);
+        let mut r = Rng::new(0x5EED_2008);
         let mut worst = [0.0f64; 3];
         let mut worst_fd = [0.0f64; 2];
         let mut n_fd = 0;
@@ -839,7 +822,7 @@ mod tests {
             let (ua, ub) = c.domain();
             assert_eq!((ua, ub), (d.knots[0], d.knots[d.knots.len() - 1]));
             // random parameters, every knot, and the ends
-            let mut us: Vec<f64> = (0..40).map(|_| r.range(ua, ub)).collect();
+            let mut us: Vec<f64> = (0..40).map(|_| r.uniform(ua, ub)).collect();
             us.extend(d.knots.iter().copied());
             for &u in &us {
                 let (p0, p1, p2) = c.eval(u).unwrap();
@@ -899,7 +882,7 @@ mod tests {
     /// the pieces cover the domain in order, respect the size limit, and share their ends.
     #[test]
     fn split_curve_is_exact() {
-        let mut r = Rng(0x5B17_0001);
+        let mut r = Rng::new(0x5B17_0001);
         for case in 0..40 {
             let p = 1 + case % 5;
             let dim = r.int(2, 4);
@@ -913,13 +896,13 @@ mod tests {
             } else {
                 [p + 1, p + 2, 17, 100, MAX_CTRL][case % 5]
             };
-            let ctrl: Vec<f64> = (0..n_ctrl * dim).map(|_| r.range(-1e4, 1e4)).collect();
-            let w: Vec<f64> = (0..n_ctrl).map(|_| r.range(0.3, 3.0)).collect();
+            let ctrl: Vec<f64> = (0..n_ctrl * dim).map(|_| r.uniform(-1e4, 1e4)).collect();
+            let w: Vec<f64> = (0..n_ctrl).map(|_| r.uniform(0.3, 3.0)).collect();
             let n_int = n_ctrl - p - 1;
             let mut interior: Vec<f64> = Vec::new();
             while interior.len() < n_int {
-                let v = r.range(0.01, 0.99);
-                let mult = if r.f() < 0.2 {
+                let v = r.uniform(0.01, 0.99);
+                let mult = if r.unit() < 0.2 {
                     r.int(1, (n_int - interior.len()).min(p))
                 } else {
                     1

@@ -1395,7 +1395,7 @@ mod tests {
     use crate::presets::*;
     use crate::servo::pdplus::*;
 
-    /// A seeded xorshift64 giving uniform numbers in [0, 1).
+    /// The tests' seeded generator, uniform in [0, 1).
     fn uniform01(seed: u64) -> impl FnMut() -> f64 {
         crate::testkit::rng::Rng::new(seed).units()
     }

@@ -1097,41 +1097,7 @@ pub fn plan_stop(pos: f64, v0: f64, a0: f64, dmax: f64, jerk: f64) -> Result<Pro
 mod tests {
     use super::*;
 
-    /// xorshift64* — tiny deterministic RNG.
-    struct Rng(u64);
-
-    impl Rng {
-        fn new(seed: u64) -> Self {
-            Rng(seed | 1)
-        }
-        fn next_u64(&mut self) -> u64 {
-            let mut x = self.0;
-            x ^= x >> 12;
-            x ^= x << 25;
-            x ^= x >> 27;
-            self.0 = x;
-            x.wrapping_mul(0x2545_F491_4F6C_DD1D)
-        }
-        fn unit(&mut self) -> f64 {
-            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-        fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
-        }
-        fn chance(&mut self, p: f64) -> bool {
-            self.unit() < p
-        }
-        fn sign(&mut self) -> f64 {
-            if self.chance(0.5) {
-                1.0
-            } else {
-                -1.0
-            }
-        }
-    }
+    use crate::testkit::rng::Rng;
 
     fn random_limits(rng: &mut Rng) -> Limits {
         let vmax = rng.log_uniform(1e-2, 1e5);

@@ -8,7 +8,7 @@
 
 use crate::firmware::safety::Inputs;
 use crate::plant::{Motor, Switches};
-use firmware_proto::{io, MAX_AXES};
+use firmware_proto::{Io, MAX_AXES};
 
 /// A limit switch's direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -125,17 +125,17 @@ impl FaultInjector {
             let (f, m) = (&self.axes[i], &motors[i]);
             let mut bits = f.switches.inputs(m.position_counts());
             if f.forced_limits[0] {
-                bits |= io::LIMIT_POS;
+                bits |= Io::LIMIT_POS;
             }
             if f.forced_limits[1] {
-                bits |= io::LIMIT_NEG;
+                bits |= Io::LIMIT_NEG;
             }
             if f.alarm {
-                bits |= io::AMP_ALARM;
+                bits |= Io::AMP_ALARM;
             }
             enc[i] = match f.encoder_lost {
                 Some(frozen) => {
-                    bits |= io::ENCODER_FAULT;
+                    bits |= Io::ENCODER_FAULT;
                     frozen
                 }
                 None => m.encoder().wrapping_add(f.encoder_offset),

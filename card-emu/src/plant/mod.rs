@@ -10,6 +10,7 @@
 pub mod faults;
 
 use core::f64::consts::TAU;
+use firmware_proto::Io;
 
 /// Parameters of one axis's motor, load, amplifier and encoder (SI units).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -334,18 +335,17 @@ impl Switches {
         }
     }
 
-    /// The `MC_IO_*` input bits at position `counts`.
-    pub fn inputs(&self, counts: f64) -> u32 {
-        use firmware_proto::io;
-        let mut bits = 0;
+    /// The input bits at position `counts`.
+    pub fn inputs(&self, counts: f64) -> Io {
+        let mut bits = Io::empty();
         if counts >= self.limit_pos {
-            bits |= io::LIMIT_POS;
+            bits |= Io::LIMIT_POS;
         }
         if counts <= self.limit_neg {
-            bits |= io::LIMIT_NEG;
+            bits |= Io::LIMIT_NEG;
         }
         if (counts - self.home).abs() <= 0.5 * self.home_width {
-            bits |= io::HOME;
+            bits |= Io::HOME;
         }
         bits
     }
@@ -400,17 +400,16 @@ mod tests {
 
     #[test]
     fn switches_follow_position() {
-        use firmware_proto::io;
         let s = Switches {
             home: 0.0,
             home_width: 10.0,
             ..Switches::limits(-1000.0, 2000.0)
         };
-        assert_eq!(s.inputs(0.0), io::HOME);
-        assert_eq!(s.inputs(500.0), 0);
-        assert_eq!(s.inputs(2000.0), io::LIMIT_POS);
-        assert_eq!(s.inputs(-1e9), io::LIMIT_NEG);
-        assert_eq!(Switches::default().inputs(1e300), 0);
+        assert_eq!(s.inputs(0.0), Io::HOME);
+        assert_eq!(s.inputs(500.0), Io::empty());
+        assert_eq!(s.inputs(2000.0), Io::LIMIT_POS);
+        assert_eq!(s.inputs(-1e9), Io::LIMIT_NEG);
+        assert_eq!(Switches::default().inputs(1e300), Io::empty());
     }
 
     #[test]

@@ -1,4 +1,5 @@
 //! The servo laws the firmware runs every tick.
+#![forbid(unsafe_code)]
 
 pub mod ffpiv;
 pub mod pdplus;

@@ -1,8 +1,8 @@
 //! The garbage harness: one place for the fuzz targets (`fuzz/fuzz_targets/*.rs`) and the plain
 //! test that replays their corpus and sweeps a million random commands (`tests/garbage.rs`).
 //!
-//! - [`Source`]: where garbage comes from, a fuzzer's bytes ([`Bytes`]) or a seeded PRNG
-//!   ([`SplitMix64`]). The decoders read it byte by byte; an exhausted input reads as zeros.
+//! - [`Source`]: where garbage comes from, a fuzzer's bytes ([`Bytes`]) or the tests' seeded
+//!   generator ([`RngSource`]). The decoders read it byte by byte; an exhausted input reads as zeros.
 //! - [`garbage_unit`]: one unit of command garbage: fully random entry words; a valid opcode
 //!   with random axis, flags and argument bits (NaN, ±inf, ±0, subnormal, huge, random); a
 //!   plausible command with one or two arguments broken; or a NURBS transfer
@@ -37,7 +37,7 @@ use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
 use firmware_proto::ring::{Entry, RingError};
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS, STATUS_WORDS};
 use firmware_proto::{
-    io, raw, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode, MAX_AXES,
+    raw, AxisState, Command, Event, EventKind, GroupState, Io, Mem, NackCode, Opcode, MAX_AXES,
     MAX_GROUPS,
 };
 use std::sync::Arc;
@@ -88,33 +88,32 @@ impl Source for Bytes<'_> {
     }
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a small, fast, deterministic generator for the sweep.
+/// The tests' seeded generator ([`Rng`](super::rng::Rng)) as a [`Source`] for the sweep: its
+/// words handed out byte by byte.
 #[derive(Debug, Clone)]
-pub struct SplitMix64 {
-    state: u64,
+pub struct RngSource {
+    rng: super::rng::Rng,
     buf: u64,
     left: u32,
 }
 
-impl SplitMix64 {
+impl RngSource {
+    /// Seeded.
     pub fn new(seed: u64) -> Self {
         Self {
-            state: seed,
+            rng: super::rng::Rng::new(seed),
             buf: 0,
             left: 0,
         }
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.rng.next_u64()
     }
 }
 
-impl Source for SplitMix64 {
+impl Source for RngSource {
     fn u8(&mut self) -> u8 {
         if self.left == 0 {
             self.buf = self.next_u64();
@@ -680,7 +679,7 @@ impl Card {
         for (i, slot) in m.axes.iter_mut().enumerate() {
             if let Some(a) = self.fw.axis(i) {
                 let s = a.status(tick);
-                let powered = s.io & io::DRIVE_ENABLE != 0 || a.state == AxisState::Standstill;
+                let powered = s.io().contains(Io::DRIVE_ENABLE) || a.state == AxisState::Standstill;
                 let cmd = if powered {
                     [
                         s.cmd_pos.to_bits(),
@@ -718,7 +717,7 @@ impl Card {
                         && s.ferr.abs() <= 2.0
                         && s.act_vel.abs() <= 50.0
                 }
-                AxisState::Disabled | AxisState::ErrorStop => s.io & io::DRIVE_ENABLE == 0,
+                AxisState::Disabled | AxisState::ErrorStop => !s.io().contains(Io::DRIVE_ENABLE),
                 _ => false,
             }
         });
@@ -904,6 +903,16 @@ impl Card {
                 *e = m.encoder();
             }
             self.fw.tick(&enc, &mut self.dac);
+            // Nothing the card does may be refused by the window (the harness skips the
+            // host's own wild accesses) or dropped before the event ring.
+            for (what, off) in [
+                ("refused window accesses", layout::BAD_ACCESSES),
+                ("events lost in the outbox", layout::OUTBOX_LOST),
+                ("safety events lost", layout::SAFETY_EVENTS_LOST),
+            ] {
+                let n = self.window.read32(off);
+                assert_eq!(n, 0, "{what}: {n} (tick {})", self.fw.tick_count());
+            }
             let ts = self.fw.ts();
             for (i, (m, v)) in self.motors.iter_mut().zip(self.dac).enumerate() {
                 assert!(
@@ -1093,24 +1102,37 @@ fn garbage_write<S: Source>(s: &mut S, card: &mut Card) {
         _ => (s.u32() as usize, s.u8() & 1 == 1),
     };
     let width = if wide { 8 } else { 4 };
-    // A write past the window or misaligned is ignored by the window: it changes nothing.
-    let ignored = off % width != 0 || off.saturating_add(width) > firmware_proto::DPRAM_SIZE;
-    let host = ignored || is_host_owned(off, width);
+    // A write past the window or misaligned would be refused by the window (a debug build
+    // panics on it; a release build counts it and changes nothing): it is skipped, its value
+    // still read so that the rest of the script parses the same.
+    let refused = off % width != 0 || off.saturating_add(width) > firmware_proto::DPRAM_SIZE;
+    let host = is_host_owned(off, width);
     if wide {
         let v = if s.u8() < 160 {
             garbage_f64(s).to_bits()
         } else {
             s.u64()
         };
-        card.write64(off, v, host);
+        if !refused {
+            card.write64(off, v, host);
+        }
     } else {
         let v = match s.u8() % 4 {
             0 => s.u32(),
             1 => s.u8() as u32,
             2 => u32::MAX - s.u8() as u32,
-            _ => card.window().read32(off).wrapping_add(s.u8() as u32),
+            _ => {
+                let old = if refused {
+                    0
+                } else {
+                    card.window().read32(off)
+                };
+                old.wrapping_add(s.u8() as u32)
+            }
         };
-        card.write32(off, v, host);
+        if !refused {
+            card.write32(off, v, host);
+        }
     }
 }
 
@@ -1178,7 +1200,7 @@ pub struct Sweep {
 /// one moved something (or the card did not come to rest), the card is replaced by a fresh one
 /// (booted and set up through valid commands), so that every command meets a card at rest.
 pub fn sweep(seed: u64, commands: u64, tick_every: u64) -> Sweep {
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = RngSource::new(seed);
     let mut card = Card::new();
     let mut total = Stats::new();
     let mut cmds = Vec::new();
