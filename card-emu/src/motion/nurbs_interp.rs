@@ -9,6 +9,9 @@
 //!
 //! [`Interpolator::advance`], [`Interpolator::tick`] and [`Interpolator::tick_guarded`]
 //! allocate nothing and never panic; construction (profile tables, arc length) allocates once.
+//! An interpolator made with [`Interpolator::with_capacity`] has room for the largest curve
+//! and profile, and [`Interpolator::load`] plans a curve into it in place: the firmware keeps
+//! its curves that way, in storage allocated at boot.
 
 use super::nurbs::{Nurbs, NurbsError, Point, MAX_DIM};
 use super::path_speed::PathSpeedPlanner;
@@ -234,8 +237,10 @@ struct Step {
 pub struct Interpolator {
     curve: Nurbs,
     cfg: InterpConfig,
-    profile: Box<[ProfileSample]>,
-    blocks: Box<[f64]>,
+    /// The look-ahead profile (at most `MAX_PROFILE` samples).
+    profile: Vec<ProfileSample>,
+    /// Smallest `raw` of each `BLOCK` samples of the profile.
+    blocks: Vec<f64>,
     length: f64,
     slow: Option<(f64, f64)>,
     planner: PathSpeedPlanner,
@@ -471,16 +476,82 @@ impl Interpolator {
         sat: &SaturationAwareFeed,
         budget: f64,
     ) -> Result<Self, InterpError> {
-        if !(pos_finite(budget) && budget <= 1.0) {
-            return Err(InterpError::BadBudget);
+        let act = actuator_plan(&curve, sat, budget)?;
+        Self::build(curve, cfg, Some(act))
+    }
+
+    /// An interpolator with room for the largest curve ([`MAX_CTRL`](super::nurbs::MAX_CTRL)
+    /// control points) and the largest profile ([`MAX_PROFILE`] samples), allocated once and
+    /// not touched until used, holding no motion: it is done, at rest at (0, 0), until
+    /// [`load`](Self::load) plans a curve into it.
+    pub fn with_capacity() -> Self {
+        let mut ip = Self::shell(
+            Nurbs::with_capacity(),
+            Vec::with_capacity(MAX_PROFILE),
+            Vec::with_capacity(MAX_PROFILE.div_ceil(BLOCK)),
+        );
+        ip.done = true;
+        ip
+    }
+
+    /// Plan the curve [`Nurbs::new`] would build from `degree`, `dim`, `ctrl`, `weights` and
+    /// `knots` into this interpolator's storage, as [`new`](Self::new) (`limits` None) or
+    /// [`with_actuator_limits`](Self::with_actuator_limits) (`limits` = the feed model and the
+    /// budget) would: the curve and its profile allocate nothing when this interpolator has
+    /// the room (see [`with_capacity`](Self::with_capacity)); only the planning's scratch
+    /// tables do. On an error the interpolator holds no motion (done, at rest).
+    #[allow(clippy::too_many_arguments)]
+    pub fn load(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+        cfg: InterpConfig,
+        limits: Option<(&SaturationAwareFeed, f64)>,
+    ) -> Result<(), InterpError> {
+        self.done = true;
+        self.profile.clear();
+        self.blocks.clear();
+        self.length = 0.0;
+        self.curve.set(degree, dim, ctrl, weights, knots)?;
+        let act = match limits {
+            Some((sat, budget)) => Some(actuator_plan(&self.curve, sat, budget)?),
+            None => None,
+        };
+        self.plan(cfg, act)
+    }
+
+    /// An interpolator of `curve` with the given (empty) profile storage, not planned.
+    fn shell(curve: Nurbs, profile: Vec<ProfileSample>, blocks: Vec<f64>) -> Self {
+        let cfg = InterpConfig::default();
+        Self {
+            curve,
+            cfg,
+            profile,
+            blocks,
+            length: 0.0,
+            slow: None,
+            planner: PathSpeedPlanner::unplanned(),
+            u_end: 0.0,
+            u: 0.0,
+            pos: Point::zeros(),
+            d1: Point::zeros(),
+            d2: Point::zeros(),
+            prev_vel: Point::zeros(),
+            s: 0.0,
+            done: false,
+            hint: 0,
+            hint_u: 0,
+            end_pos: Point::zeros(),
+            start_tan: Point::zeros(),
+            end_tan: Point::zeros(),
+            last_plan: 0.0,
+            before_pos: Point::zeros(),
+            before_vel: Point::zeros(),
+            span: core::cell::Cell::new(0),
         }
-        if sat.dim() != curve.dim() {
-            return Err(InterpError::DimensionMismatch {
-                expected: curve.dim(),
-                got: sat.dim(),
-            });
-        }
-        Self::build(curve, cfg, Some(ActuatorPlan { sat, budget }))
     }
 
     fn build(
@@ -488,6 +559,15 @@ impl Interpolator {
         cfg: InterpConfig,
         act: Option<ActuatorPlan<'_>>,
     ) -> Result<Self, InterpError> {
+        let mut ip = Self::shell(curve, Vec::new(), Vec::new());
+        ip.plan(cfg, act)?;
+        Ok(ip)
+    }
+
+    /// Plan this interpolator's curve: the look-ahead profile (into its storage) and the
+    /// start, at rest.
+    fn plan(&mut self, cfg: InterpConfig, act: Option<ActuatorPlan<'_>>) -> Result<(), InterpError> {
+        self.done = true;
         cfg.validate()?;
         let mut planner = PathSpeedPlanner::new(cfg.ts, cfg.accel, cfg.jerk)?;
         if let Some(a) = act {
@@ -495,15 +575,24 @@ impl Interpolator {
             planner =
                 planner.with_decel(cfg.accel.min(a.sat.safe_path_decel(DECEL_SHARE * a.budget)))?;
         }
-        let profile = build_profile(&curve, &cfg, planner.decel_limit(), act)?;
-        let blocks: Box<[f64]> = profile
-            .chunks(BLOCK)
-            .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw)))
-            .collect();
-        let length = profile.last().map_or(0.0, |p| p.s);
+        build_profile(
+            &self.curve,
+            &cfg,
+            planner.decel_limit(),
+            act,
+            &mut self.profile,
+        )?;
+        self.blocks.clear();
+        self.blocks.extend(
+            self.profile
+                .chunks(BLOCK)
+                .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw))),
+        );
+        let length = self.profile.last().map_or(0.0, |p| p.s);
         if !(length.is_finite() && length > 0.0) {
             return Err(InterpError::ZeroLengthCurve);
         }
+        let curve = &self.curve;
         let (u0, u_end) = curve.domain();
         let (pos, d1, d2) = curve.eval(u0)?;
         let (end_pos, e1, _) = curve.eval(u_end)?;
@@ -515,32 +604,28 @@ impl Interpolator {
                 Point::zeros()
             }
         };
-        Ok(Self {
-            curve,
-            cfg,
-            profile,
-            blocks,
-            length,
-            slow: None,
-            planner,
-            u_end,
-            u: u0,
-            pos,
-            d1,
-            d2,
-            prev_vel: Point::zeros(),
-            s: 0.0,
-            done: false,
-            hint: 0,
-            hint_u: 0,
-            end_pos,
-            start_tan: unit(d1),
-            end_tan: unit(e1),
-            last_plan: 0.0,
-            before_pos: pos,
-            before_vel: Point::zeros(),
-            span: core::cell::Cell::new(0),
-        })
+        self.cfg = cfg;
+        self.length = length;
+        self.slow = None;
+        self.planner = planner;
+        self.u_end = u_end;
+        self.u = u0;
+        self.pos = pos;
+        self.d1 = d1;
+        self.d2 = d2;
+        self.prev_vel = Point::zeros();
+        self.s = 0.0;
+        self.done = false;
+        self.hint = 0;
+        self.hint_u = 0;
+        self.end_pos = end_pos;
+        self.start_tan = unit(d1);
+        self.end_tan = unit(e1);
+        self.last_plan = 0.0;
+        self.before_pos = pos;
+        self.before_vel = Point::zeros();
+        self.span = core::cell::Cell::new(0);
+        Ok(())
     }
 
     /// Back to the start of the curve, at rest.
@@ -1299,12 +1384,33 @@ fn cap_at(p: &[ProfileSample], s: f64, hint: &mut usize) -> f64 {
     (sq(a.cap) + t * (sq(b.cap) - sq(a.cap))).sqrt()
 }
 
+/// The actuator limits of a look-ahead: a budget in (0, 1] and a model of the curve's axes.
+fn actuator_plan<'a>(
+    curve: &Nurbs,
+    sat: &'a SaturationAwareFeed,
+    budget: f64,
+) -> Result<ActuatorPlan<'a>, InterpError> {
+    if !(pos_finite(budget) && budget <= 1.0) {
+        return Err(InterpError::BadBudget);
+    }
+    if sat.dim() != curve.dim() {
+        return Err(InterpError::DimensionMismatch {
+            expected: curve.dim(),
+            got: sat.dim(),
+        });
+    }
+    Ok(ActuatorPlan { sat, budget })
+}
+
+/// The look-ahead profile of `curve`, written into `samples` (at most `MAX_PROFILE` of them:
+/// no allocation when it has that capacity).
 fn build_profile(
     curve: &Nurbs,
     cfg: &InterpConfig,
     dmax: f64,
     act: Option<ActuatorPlan<'_>>,
-) -> Result<Box<[ProfileSample]>, InterpError> {
+    samples: &mut Vec<ProfileSample>,
+) -> Result<(), InterpError> {
     let knots = curve.knots();
     let p = curve.degree();
     let spans: Vec<(f64, f64)> = knots[p..knots.len() - p]
@@ -1338,7 +1444,7 @@ fn build_profile(
         (cap, t, k, d1.norm())
     };
     let n = us.len();
-    let mut samples: Vec<ProfileSample> = Vec::with_capacity(n);
+    samples.clear();
     let mut tk: Vec<(Point, Point)> = Vec::with_capacity(n);
     let mut s = 0.0;
     let mut prev_mid_cap = f64::INFINITY;
@@ -1384,7 +1490,7 @@ fn build_profile(
     if samples.iter().any(|x| !(x.s.is_finite() && x.cap >= 0.0)) {
         return Err(InterpError::ZeroLengthCurve);
     }
-    Ok(samples.into_boxed_slice())
+    Ok(())
 }
 
 #[cfg(test)]

@@ -119,6 +119,21 @@ impl PathSpeedPlanner {
         })
     }
 
+    /// A planner at rest for a motion not planned yet (1 ms, unit limits; [`new`](Self::new)
+    /// checks real ones).
+    pub(crate) fn unplanned() -> Self {
+        Self {
+            ts: 1e-3,
+            amax: 1.0,
+            dmax: 1.0,
+            jmax: 1.0,
+            v: 0.0,
+            a: 0.0,
+            stopping: false,
+            lands: false,
+        }
+    }
+
     /// Sets a separate (usually lower) deceleration limit, counts/s².
     pub fn with_decel(mut self, dmax: f64) -> Result<Self, InterpError> {
         if !pos_finite(dmax) {
