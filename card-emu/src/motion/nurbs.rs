@@ -219,14 +219,15 @@ impl Nurbs {
         knots: &[f64],
     ) {
         self.pw.clear();
-        self.pw.extend(ctrl.chunks_exact(dim).zip(weights).map(|(p, &w)| {
-            let mut row = [0.0; HW];
-            for (dst, &c) in row.iter_mut().zip(p.iter()) {
-                *dst = c * w;
-            }
-            row[W] = w;
-            row
-        }));
+        self.pw
+            .extend(ctrl.chunks_exact(dim).zip(weights).map(|(p, &w)| {
+                let mut row = [0.0; HW];
+                for (dst, &c) in row.iter_mut().zip(p.iter()) {
+                    *dst = c * w;
+                }
+                row[W] = w;
+                row
+            }));
         self.knots.clear();
         self.knots.extend_from_slice(knots);
         self.degree = degree;

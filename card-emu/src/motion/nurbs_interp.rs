@@ -495,11 +495,8 @@ impl Interpolator {
     }
 
     /// Plan the curve [`Nurbs::new`] would build from `degree`, `dim`, `ctrl`, `weights` and
-    /// `knots` into this interpolator's storage, as [`new`](Self::new) (`limits` None) or
-    /// [`with_actuator_limits`](Self::with_actuator_limits) (`limits` = the feed model and the
-    /// budget) would: the curve and its profile allocate nothing when this interpolator has
-    /// the room (see [`with_capacity`](Self::with_capacity)); only the planning's scratch
-    /// tables do. On an error the interpolator holds no motion (done, at rest).
+    /// `knots` into this interpolator's storage: [`set_curve`](Self::set_curve), then
+    /// [`plan_curve`](Self::plan_curve).
     #[allow(clippy::too_many_arguments)]
     pub fn load(
         &mut self,
@@ -511,11 +508,39 @@ impl Interpolator {
         cfg: InterpConfig,
         limits: Option<(&SaturationAwareFeed, f64)>,
     ) -> Result<(), InterpError> {
+        self.set_curve(degree, dim, ctrl, weights, knots)?;
+        self.plan_curve(cfg, limits)
+    }
+
+    /// Hold the curve [`Nurbs::new`] would build from the same arguments, in this
+    /// interpolator's storage (no allocation when it has the room, see
+    /// [`with_capacity`](Self::with_capacity)), not planned yet: no motion (done, at rest)
+    /// until [`plan_curve`](Self::plan_curve).
+    pub fn set_curve(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+    ) -> Result<(), NurbsError> {
         self.done = true;
         self.profile.clear();
         self.blocks.clear();
         self.length = 0.0;
-        self.curve.set(degree, dim, ctrl, weights, knots)?;
+        self.curve.set(degree, dim, ctrl, weights, knots)
+    }
+
+    /// Plan the curve held, as [`new`](Self::new) (`limits` None) or
+    /// [`with_actuator_limits`](Self::with_actuator_limits) (`limits` = the feed model and the
+    /// budget) would: the profile goes into this interpolator's storage (only the planning's
+    /// scratch tables allocate). On an error there is no motion (done, at rest).
+    pub fn plan_curve(
+        &mut self,
+        cfg: InterpConfig,
+        limits: Option<(&SaturationAwareFeed, f64)>,
+    ) -> Result<(), InterpError> {
+        self.done = true;
         let act = match limits {
             Some((sat, budget)) => Some(actuator_plan(&self.curve, sat, budget)?),
             None => None,
@@ -566,7 +591,11 @@ impl Interpolator {
 
     /// Plan this interpolator's curve: the look-ahead profile (into its storage) and the
     /// start, at rest.
-    fn plan(&mut self, cfg: InterpConfig, act: Option<ActuatorPlan<'_>>) -> Result<(), InterpError> {
+    fn plan(
+        &mut self,
+        cfg: InterpConfig,
+        act: Option<ActuatorPlan<'_>>,
+    ) -> Result<(), InterpError> {
         self.done = true;
         cfg.validate()?;
         let mut planner = PathSpeedPlanner::new(cfg.ts, cfg.accel, cfg.jerk)?;

@@ -22,11 +22,15 @@
 //! snapped to its programmed end, and the largest correction that snap made is published
 //! (`snap_last`, `snap_max`), so a filter that lost distance would show.
 
+mod nurbs_pool;
+
+use self::nurbs_pool::NurbsPool;
+pub use self::nurbs_pool::NURBS_SLOTS;
 use crate::firmware::axis::Axis;
 use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
-use crate::motion::nurbs::{Nurbs, NurbsError};
-use crate::motion::nurbs_interp::{InterpConfig, InterpError, Interpolator};
+use crate::motion::nurbs::NurbsError;
+use crate::motion::nurbs_interp::{InterpConfig, InterpError};
 use crate::motion::saturation::SaturationAwareFeed;
 use crate::motion::scurve::{Limits, Profile};
 use crate::servo::ffpiv::Reference;
@@ -271,26 +275,9 @@ enum Feed {
     Constant { v: f64 },
     /// Kim's reference-word arc at constant feed: the plane increments come from it.
     ReferenceWord(ReferenceWordCircle),
-    /// A NURBS curve: Yeh's speed-controlled interpolator, saturation-aware when `sat` is set.
-    Nurbs(Box<NurbsFeed>),
-}
-
-/// The interpolator of a NURBS move and, for the saturation-aware feed, the axes' model.
-#[derive(Clone)]
-struct NurbsFeed {
-    interp: Interpolator,
-    sat: Option<SaturationAwareFeed>,
-}
-
-impl core::fmt::Debug for NurbsFeed {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "NurbsFeed {{ length: {}, saturation-aware: {} }}",
-            self.interp.length(),
-            self.sat.is_some()
-        )
-    }
+    /// A NURBS curve: Yeh's speed-controlled interpolator, saturation-aware when its slot's
+    /// `sat` is set. The curve lives in the group's slot of this index (see [`NurbsPool`]).
+    Nurbs(usize),
 }
 
 /// A NURBS transfer in progress: header and the staged data stream.
@@ -464,6 +451,8 @@ pub struct Group {
     snap_max: f64,
     /// Per-axis limits staged for the next point-to-point move: v, a, d, j (counts).
     ptp_stage: [Option<[f64; 4]>; MAX_AXES],
+    /// The NURBS curves queued and active, in storage allocated once.
+    nurbs: NurbsPool,
 }
 
 impl Group {
@@ -495,6 +484,7 @@ impl Group {
             snap_last: 0.0,
             snap_max: 0.0,
             ptp_stage: [None; MAX_AXES],
+            nurbs: NurbsPool::new(),
         }
     }
 
@@ -694,7 +684,10 @@ impl Group {
     /// the active one (it must never end in a jump at the curve's end).
     fn nurbs_runout(&self, dmax: f64, jerk: f64) -> usize {
         let Some(act) = &self.active else { return 0 };
-        let Feed::Nurbs(cur) = &act.mv.feed else {
+        let Feed::Nurbs(cur) = act.mv.feed else {
+            return 0;
+        };
+        let Some(running) = self.nurbs.get(cur) else {
             return 0;
         };
         let post = self.config.is_some_and(|c| c.post);
@@ -704,42 +697,53 @@ impl Group {
             Ok(p) => p.end_pos(),
             Err(_) => v0 * v0 / (2.0 * dmax) + v0 * dmax / jerk,
         };
-        let mut left = need - (cur.interp.length() - cur.interp.travelled()).max(0.0);
-        let (mut cur, mut ft, mut keep) = (&**cur, act.mv.feed_type, 0);
+        let mut left = need - (running.interp.length() - running.interp.travelled()).max(0.0);
+        let (mut cur, mut ft, mut keep) = (cur, act.mv.feed_type, 0);
         while left > 0.0 {
             let Some((next, next_ft)) = self.joinable(cur, ft, keep, post) else {
                 break;
             };
-            left -= next.interp.length();
+            left -= self.nurbs.get(next).map_or(0.0, |n| n.interp.length());
             (cur, ft, keep) = (next, next_ft, keep + 1);
         }
         keep
     }
 
-    /// The queued curve at queue position `i` if the NURBS motion `cur` may run on into it
-    /// without stopping (see `Interpolator::continuation`): the same saturation mode and,
-    /// with post-interpolation filters, the same feed type (they switch only when empty).
-    fn joinable<'a>(
-        &'a self,
-        cur: &NurbsFeed,
+    /// The slot of the queued curve at queue position `i` if the NURBS motion in slot `cur`
+    /// may run on into it without stopping (see `Interpolator::continuation`): the same
+    /// saturation mode and, with post-interpolation filters, the same feed type (they switch
+    /// only when empty). With its feed type.
+    fn joinable(
+        &self,
+        cur: usize,
         feed_type: usize,
         i: usize,
         post: bool,
-    ) -> Option<(&'a NurbsFeed, usize)> {
+    ) -> Option<(usize, usize)> {
         if i >= self.q_len {
             return None;
         }
         let mv = self.queue[(self.q_head + i) % GROUP_QUEUE_LEN].as_ref()?;
-        match &mv.feed {
-            Feed::Nurbs(n2)
-                if (!post || mv.feed_type == feed_type)
-                    && n2.sat.is_some() == cur.sat.is_some()
-                    && cur.interp.continuation(&n2.interp).is_some() =>
-            {
-                Some((n2, mv.feed_type))
-            }
-            _ => None,
-        }
+        let Feed::Nurbs(k) = mv.feed else {
+            return None;
+        };
+        let (a, b) = (self.nurbs.get(cur)?, self.nurbs.get(k)?);
+        (k != cur
+            && (!post || mv.feed_type == feed_type)
+            && a.sat.is_some() == b.sat.is_some()
+            && a.interp.continuation(&b.interp).is_some())
+        .then_some((k, mv.feed_type))
+    }
+
+    /// Is NURBS slot `k` named by the active or a queued move?
+    fn nurbs_slot_taken(&self, k: usize) -> bool {
+        let names = |m: &Move| matches!(m.feed, Feed::Nurbs(j) if j == k);
+        self.active.as_ref().is_some_and(|a| names(&a.mv))
+            || (0..self.q_len).any(|i| {
+                self.queue[(self.q_head + i) % GROUP_QUEUE_LEN]
+                    .as_ref()
+                    .is_some_and(names)
+            })
     }
 
     fn pop(&mut self) -> Option<Move> {
@@ -1148,8 +1152,9 @@ impl Group {
         Ok(())
     }
 
-    /// MC_OP_NURBS_END: validate the curve (every fault its own code) and queue the move.
-    /// Accepting a curve allocates its storage and look-ahead profile (never in the tick).
+    /// MC_OP_NURBS_END: validate the curve (every fault its own code) and queue the move. The
+    /// curve and its look-ahead profile are planned into a free slot of the group's pool
+    /// (`QueueFull` when none is free); only the planning's scratch tables allocate.
     pub fn nurbs_end(
         &mut self,
         c: &Command,
@@ -1175,7 +1180,18 @@ impl Group {
         let Some((pts, (weights, knots))) = split else {
             return Err(NackCode::NurbsSequence);
         };
-        let curve = Nurbs::new(rx.degree, n, pts, weights, knots).map_err(nurbs_nack)?;
+        let slot = self
+            .nurbs
+            .free(|k| self.nurbs_slot_taken(k))
+            .ok_or(NackCode::QueueFull)?;
+        let Some(nf) = self.nurbs.get_mut(slot) else {
+            return Err(NackCode::QueueFull);
+        };
+        nf.sat = None;
+        nf.interp
+            .set_curve(rx.degree, n, pts, weights, knots)
+            .map_err(nurbs_nack)?;
+        let curve = nf.interp.curve();
         let start = curve.eval_clamped(curve.domain().0).0;
         if (0..n).any(|i| (start[i] - self.queue_end[i]).abs() > cfg.tolerance) {
             return Err(NackCode::NurbsStart);
@@ -1199,7 +1215,7 @@ impl Group {
             _ => NackCode::BadConfig,
         };
         let end = curve.eval_clamped(curve.domain().1).0;
-        let (interp, sat) = if rx.saturation {
+        if rx.saturation {
             let mut models = [AxisModel {
                 gains: PdPlusGains {
                     kp: 0.0,
@@ -1218,20 +1234,20 @@ impl Group {
                 *m = axes[a].config.pdplus.ok_or(NackCode::IncompatibleMode)?;
             }
             let sat = SaturationAwareFeed::new(&models[..n], ts).map_err(yeh_nack)?;
-            (
-                Interpolator::with_actuator_limits(curve, icfg, &sat, budget).map_err(yeh_nack)?,
-                Some(sat),
-            )
+            nf.interp
+                .plan_curve(icfg, Some((&sat, budget)))
+                .map_err(yeh_nack)?;
+            nf.sat = Some(sat);
         } else {
-            (Interpolator::new(curve, icfg).map_err(yeh_nack)?, None)
-        };
+            nf.interp.plan_curve(icfg, None).map_err(yeh_nack)?;
+        }
         let mut s = [0.0; MAX_AXES];
         let mut e = [0.0; MAX_AXES];
         for i in 0..n {
             s[i] = self.queue_end[i];
             e[i] = end[i];
         }
-        let len = interp.length();
+        let len = nf.interp.length();
         // As for every other move: one that would run for longer than MAX_MOVE_TIME (at its
         // top feed already) comes from limits that are almost certainly wrong.
         let shortest = len / feed;
@@ -1248,7 +1264,7 @@ impl Group {
             Move {
                 seq: c.seq,
                 geom,
-                feed: Feed::Nurbs(Box::new(NurbsFeed { interp, sat })),
+                feed: Feed::Nurbs(slot),
                 feed_type,
                 runout: false,
             },
@@ -1479,7 +1495,7 @@ impl Group {
         // (the planner then plans over both; see `Interpolator::continuation`). Queued in time
         // or not is all that matters: without a next curve the planner stops at the end.
         let join = self.active.as_ref().is_some_and(|act| match &act.mv.feed {
-            Feed::Nurbs(cur) => self.joinable(cur, act.mv.feed_type, 0, cfg.post).is_some(),
+            Feed::Nurbs(cur) => self.joinable(*cur, act.mv.feed_type, 0, cfg.post).is_some(),
             _ => false,
         });
         if let Some(act) = &mut self.active {
@@ -1487,30 +1503,43 @@ impl Group {
             let prev_v = act.v;
             let mut point = None;
             let mut hand_over = false;
-            if let Feed::Nurbs(nf) = &mut act.mv.feed {
+            if let Feed::Nurbs(k) = act.mv.feed {
                 let mut stopped = false;
-                let next = match (join, self.queue[self.q_head].as_ref()) {
+                let next_slot = match (join, self.queue[self.q_head].as_ref()) {
                     (
                         true,
                         Some(Move {
-                            feed: Feed::Nurbs(n2),
+                            feed: Feed::Nurbs(j),
                             ..
                         }),
-                    ) => nf.interp.continuation(&n2.interp),
+                    ) => Some(*j),
                     _ => None,
                 };
+                let (nf, next) = match next_slot.and_then(|j| self.nurbs.pair(k, j)) {
+                    Some((nf, n2)) => {
+                        let next = nf.interp.continuation(&n2.interp);
+                        (Some(nf), next)
+                    }
+                    None => (self.nurbs.get_mut(k), None),
+                };
                 let joined = next.is_some();
-                let step = if let Some((p, t)) = &mut act.stopping {
-                    // Halt/stop along the curve: the stop profile sets the feed.
-                    *t += ts;
-                    stopped = *t >= p.duration();
-                    nf.interp.advance(p.sample(*t).vel.max(0.0))
-                } else if let Some(sat) = &nf.sat {
-                    nf.interp
-                        .tick_guarded_into(sat, &theta_a, &w_a, next)
-                        .map(|(tk, _)| tk)
-                } else {
-                    nf.interp.tick_into(next)
+                let step = match nf {
+                    // (a move names one of the slots: never)
+                    None => Err(InterpError::ZeroLengthCurve),
+                    Some(nf) => {
+                        if let Some((p, t)) = &mut act.stopping {
+                            // Halt/stop along the curve: the stop profile sets the feed.
+                            *t += ts;
+                            stopped = *t >= p.duration();
+                            nf.interp.advance(p.sample(*t).vel.max(0.0))
+                        } else if let Some(sat) = &nf.sat {
+                            nf.interp
+                                .tick_guarded_into(sat, &theta_a, &w_a, next)
+                                .map(|(tk, _)| tk)
+                        } else {
+                            nf.interp.tick_into(next)
+                        }
+                    }
                 };
                 match step {
                     Ok(tk) if tk.done && joined && !stopped => hand_over = true,
@@ -1544,7 +1573,10 @@ impl Group {
                         });
                     }
                     let step = match (&prev.feed, &mut act.mv.feed) {
-                        (Feed::Nurbs(a), Feed::Nurbs(b)) => Some(b.interp.take_over(&a.interp)),
+                        (Feed::Nurbs(a), Feed::Nurbs(b)) => self
+                            .nurbs
+                            .pair(*b, *a)
+                            .map(|(nb, na)| nb.interp.take_over(&na.interp)),
                         _ => None,
                     };
                     match step {
