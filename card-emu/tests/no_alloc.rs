@@ -6,8 +6,9 @@
 //! others drive a whole card — [`Firmware`] with its plant, fault injector and a host on the
 //! command and event rings, as the emulator's step does — through every kind of motion and
 //! fault, and arm it around each call of [`Firmware::tick`] only. Serving commands is not
-//! counted: it may allocate (planning a NURBS curve builds scratch tables; the curve and its
-//! profile go into storage the group allocated at boot), and so may the host and the plant.
+//! counted: it may allocate (planning a NURBS curve builds scratch tables, and the first curve
+//! in each of a group's slots makes the slot's storage, kept for the card's life), and so may
+//! the host and the plant.
 
 use card_emu::firmware::Firmware;
 use card_emu::motion::nurbs::{clamped_uniform_knots, split_curve, Nurbs, Point};

@@ -735,17 +735,6 @@ impl Group {
         .then_some((k, mv.feed_type))
     }
 
-    /// Is NURBS slot `k` named by the active or a queued move?
-    fn nurbs_slot_taken(&self, k: usize) -> bool {
-        let names = |m: &Move| matches!(m.feed, Feed::Nurbs(j) if j == k);
-        self.active.as_ref().is_some_and(|a| names(&a.mv))
-            || (0..self.q_len).any(|i| {
-                self.queue[(self.q_head + i) % GROUP_QUEUE_LEN]
-                    .as_ref()
-                    .is_some_and(names)
-            })
-    }
-
     fn pop(&mut self) -> Option<Move> {
         if self.q_len == 0 {
             return None;
@@ -1180,9 +1169,10 @@ impl Group {
         let Some((pts, (weights, knots))) = split else {
             return Err(NackCode::NurbsSequence);
         };
+        let (active, queue, q_head, q_len) = (&self.active, &self.queue, self.q_head, self.q_len);
         let slot = self
             .nurbs
-            .free(|k| self.nurbs_slot_taken(k))
+            .free(|k| slot_taken(active, queue, q_head, q_len, k))
             .ok_or(NackCode::QueueFull)?;
         let Some(nf) = self.nurbs.get_mut(slot) else {
             return Err(NackCode::QueueFull);
@@ -1793,6 +1783,23 @@ impl Group {
             snap_max: self.snap_max,
         }
     }
+}
+
+/// Is NURBS slot `k` named by the active move or one of the `q_len` queued from `q_head`?
+fn slot_taken(
+    active: &Option<Active>,
+    queue: &[Option<Move>; GROUP_QUEUE_LEN],
+    q_head: usize,
+    q_len: usize,
+    k: usize,
+) -> bool {
+    let names = |m: &Move| matches!(m.feed, Feed::Nurbs(j) if j == k);
+    active.as_ref().is_some_and(|a| names(&a.mv))
+        || (0..q_len).any(|i| {
+            queue[(q_head + i) % GROUP_QUEUE_LEN]
+                .as_ref()
+                .is_some_and(names)
+        })
 }
 
 /// The limits along a synchronised point-to-point line of length `len` (the largest axis
