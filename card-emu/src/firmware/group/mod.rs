@@ -1411,12 +1411,12 @@ impl Group {
         Ok(geom)
     }
 
-    /// One servo tick, in steps (each in its own file, with its own tests): `guard` (a member
-    /// that faulted stops the group), [`activate`](activate.rs) (the next queued move starts),
-    /// [`stop`](stop.rs) and [`feed`](feed.rs) (the path advances: a halt or stop, or the
-    /// move's own feed), [`filter`](filter.rs) (the members' acc/dec filters and references),
-    /// then at rest [`snap`](snap.rs) (to the programmed end, with its statistics) and
-    /// [`settle`](settle.rs) (in position: the done events and the state).
+    /// One servo tick, in steps (each with its own tests, in the file of its name): `guard`
+    /// (a member that faulted stops the group), `activate` (the next queued move starts),
+    /// `stop` and `feed` (the path advances: along a halt or stop, or the move's own feed),
+    /// `filter` (the members' acc/dec filters and references), then at rest `snap` (to the
+    /// programmed end, with its statistics) and `settle` (in position: the done events and
+    /// the states).
     pub fn tick(
         &mut self,
         axes: &mut [Axis; MAX_AXES],
