@@ -2,6 +2,9 @@
 //! of the emulated card: command service, 8 profiles, 8 FFPIV loops, 8 motor models, status
 //! publication under seqlocks).
 //!
+//! A second figure has three of the axes in a group running lines (S-curve feed and the
+//! post-interpolation filters): the group's tick steps on top.
+//!
 //! `cargo bench -p card-emu --bench firmware`
 use card_emu::{EmuOptions, Emulator};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -72,5 +75,83 @@ fn tick(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, tick);
+/// Group 0 over axes 0–2 (S-curve feed, post-interpolation filters), enabled.
+fn group_card() -> (
+    Emulator,
+    CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+) {
+    use firmware_proto::{layout, raw};
+    let (mut emu, mut host) = moving_card();
+    let block = raw::mc_group_config {
+        naxes: 3,
+        axes: [0, 1, 2, 0, 0, 0, 0, 0],
+        accdec: raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST,
+        interpolator: raw::MC_INTERP_EXACT,
+        tolerance: 1.0,
+        ..Default::default()
+    };
+    layout::GROUP_CONFIG.at(0).write(emu.window(), &block);
+    host.push(&Command::new(Opcode::GroupConfigure, 0)).unwrap();
+    host.push(&Command::new(Opcode::GroupEnable, 0)).unwrap();
+    emu.serve();
+    (emu, host)
+}
+
+/// A line of the group to the other end (±2e5 counts on each axis) when it stands by, and
+/// long moves on the single axes 3–7 standing still.
+fn keep_group_moving(
+    emu: &mut Emulator,
+    host: &mut CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+) {
+    use firmware_proto::GroupState;
+    if emu.firmware().group(0).map(|g| g.state) == Some(GroupState::Standby) {
+        let x = emu.firmware().axis(0).map_or(0.0, |a| a.reference().pos);
+        let t = if x > 0.0 { -2e5 } else { 2e5 };
+        let args = [2e5, 2e6, 2e6, 1e8, t, -t, 0.5 * t];
+        let _ = host.push(&Command::new(Opcode::GroupMoveLinear, 0).with_args(&args));
+    }
+    for a in 3..8u16 {
+        if emu.firmware().axis(a as usize).map(|x| x.state) == Some(AxisState::Standstill) {
+            let x = emu
+                .firmware()
+                .axis(a as usize)
+                .map_or(0.0, |x| x.reference().pos);
+            let target = if x > 0.0 { -1e6 } else { 1e6 };
+            let args = [target, 2e5, 2e6, 2e6, 1e8, 1e8, 1e8, 1e8];
+            let _ = host.push(&Command::new(Opcode::MoveAbsolute, a).with_args(&args));
+        }
+    }
+    emu.serve();
+}
+
+fn group_tick(c: &mut Criterion) {
+    let (mut emu, mut host) = group_card();
+    keep_group_moving(&mut emu, &mut host);
+    let (mut n, mut moving) = (0u64, 0u64);
+    c.bench_function(
+        "firmware tick, 3-axis group line + 5 moving axes + plant",
+        |b| {
+            b.iter(|| {
+                emu.step();
+                n += 1;
+                if emu.firmware().axis(0).map(|x| x.state) == Some(AxisState::SynchronizedMotion) {
+                    moving += 1;
+                }
+                if n.is_multiple_of(256) {
+                    let w = emu.window();
+                    use firmware_proto::Mem;
+                    let head = w.read32(firmware_proto::layout::EVT_HEAD);
+                    w.write32(firmware_proto::layout::EVT_TAIL, head);
+                    keep_group_moving(&mut emu, &mut host);
+                }
+            })
+        },
+    );
+    eprintln!(
+        "the group was moving on {:.1}% of the {n} ticks measured",
+        100.0 * moving as f64 / n.max(1) as f64
+    );
+}
+
+criterion_group!(benches, tick, group_tick);
 criterion_main!(benches);

@@ -259,7 +259,7 @@ impl Axis {
             return Err(NackCode::OutOfRange);
         }
         let profile = Profile::plan_checked(start, target - start, 0.0, 0.0, limits, rate_hz)
-            .map_err(crate::firmware::plan_nack)?;
+            .map_err(crate::firmware::nack::plan_nack)?;
         if !profile.duration().is_finite() || profile.duration() > crate::MAX_MOVE_TIME {
             return Err(NackCode::Infeasible);
         }
@@ -298,7 +298,7 @@ impl Axis {
             max_time,
         );
         let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)
-            .map_err(crate::firmware::plan_nack)?;
+            .map_err(crate::firmware::nack::plan_nack)?;
         self.target = profile.end_pos();
         self.begin_motion(seq, profile.duration());
         self.motion = Motion::Profile { profile, t: 0.0 };

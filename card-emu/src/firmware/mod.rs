@@ -10,6 +10,7 @@ pub mod axis;
 pub mod axis_safety;
 pub mod dac;
 pub mod group;
+pub mod nack;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, TickReport};
@@ -352,14 +353,11 @@ impl<M: Mem + Clone> Firmware<M> {
                     j7: a[7],
                 };
                 let rate = self.servo_rate_hz;
-                lim.check_range(rate).map_err(crate::firmware::plan_nack)?;
+                lim.check_range(rate).map_err(nack::plan_nack)?;
                 axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim, rate)?
             }
             Opcode::Halt | Opcode::Stop => {
-                crate::firmware::check_ranges(
-                    self.servo_rate_hz,
-                    &[(2, c.args[0]), (3, c.args[1])],
-                )?;
+                nack::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
                 let max_time = self.safety.config().max_stop_time();
                 axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
             }
@@ -450,7 +448,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         let (tick, ts) = (self.tick, self.ts());
         if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
-            crate::firmware::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+            nack::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
         }
         let max_time = self.safety.config().max_stop_time();
         let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
@@ -819,23 +817,6 @@ fn read_axis_filter<M: Mem>(m: &M, a: usize) -> Result<FilterConfig, NackCode> {
         }
     }
     Ok(cfg)
-}
-
-/// [`scurve::check_limits`](crate::motion::scurve::check_limits) with the card's nack codes.
-pub(crate) fn check_ranges(rate_hz: u32, limits: &[(i32, f64)]) -> Result<(), NackCode> {
-    crate::motion::scurve::check_limits(limits, rate_hz).map_err(plan_nack)
-}
-
-/// The nack for a planner refusal.
-pub(crate) fn plan_nack(e: crate::motion::scurve::PlanError) -> NackCode {
-    use crate::motion::scurve::PlanError;
-    match e {
-        PlanError::NonFinite => NackCode::NotFinite,
-        PlanError::NonPositiveLimit => NackCode::NonPositiveLimit,
-        PlanError::Infeasible | PlanError::StartVelocityTooHigh => NackCode::Infeasible,
-        PlanError::LimitRange => NackCode::LimitRange,
-        PlanError::PlanCheck => NackCode::PlanCheck,
-    }
 }
 
 #[cfg(test)]

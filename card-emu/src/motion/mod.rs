@@ -4,6 +4,7 @@
 
 pub mod arc;
 pub mod filters;
+pub mod interp_error;
 pub mod nurbs;
 pub mod nurbs_interp;
 pub mod path_speed;

@@ -1,8 +1,8 @@
 //! Rational B-spline (NURBS) curves of degree 1..=5 in 2..=8 dimensions.
 //!
-//! Storage is allocated once, at construction, in fixed-capacity boxed arrays
-//! (`MAX_CTRL` control points); evaluation ([`Nurbs::eval`]) allocates nothing and never
-//! panics. Algorithms follow Piegl & Tiller, *The NURBS Book* (2nd ed.):
+//! Storage is allocated at construction (at most `MAX_CTRL` control points), or once with room
+//! for the largest curve ([`Nurbs::with_capacity`]) and refilled in place ([`Nurbs::set`]);
+//! evaluation ([`Nurbs::eval`]) allocates nothing and never panics. Algorithms follow Piegl & Tiller, *The NURBS Book* (2nd ed.):
 //! A2.1 `FindSpan`, A2.3 `DersBasisFuns`, and the rational-derivative quotient rule of
 //! eq. 4.8 / A4.2 applied to the homogeneous curve `Cw(u) = Σ N_i,p(u) · (w_i P_i, w_i)`.
 //!
@@ -127,16 +127,18 @@ impl fmt::Display for NurbsError {
 
 impl std::error::Error for NurbsError {}
 
-/// A clamped NURBS curve with fixed-capacity storage.
+/// A clamped NURBS curve. Its storage holds exactly its control points and knots, or, for a
+/// curve made by [`with_capacity`](Self::with_capacity), room for the largest curve, which
+/// [`set`](Self::set) then fills in place without allocating.
 #[derive(Clone, Debug)]
 pub struct Nurbs {
     degree: usize,
     dim: usize,
     n_ctrl: usize,
-    /// Homogeneous control points `(w·P, w)`; rows `n_ctrl..` are zero.
-    pw: Box<[[f64; HW]; MAX_CTRL]>,
-    /// Knot vector; entries `n_ctrl + degree + 1..` are unused.
-    knots: Box<[f64; MAX_KNOTS]>,
+    /// Homogeneous control points `(w·P, w)`, `n_ctrl` rows.
+    pw: Vec<[f64; HW]>,
+    /// Knot vector, `n_ctrl + degree + 1` entries.
+    knots: Vec<f64>,
 }
 
 /// Basis functions and their first two derivatives at one parameter (NURBS Book A2.3 output).
@@ -157,22 +159,80 @@ impl Nurbs {
         knots: &[f64],
     ) -> Result<Self, NurbsError> {
         let n_ctrl = check_curve(degree, dim, ctrl, weights, knots, MAX_CTRL)?;
-        let mut pw: Box<[[f64; HW]; MAX_CTRL]> = Box::new([[0.0; HW]; MAX_CTRL]);
-        for (row, (p, &w)) in pw.iter_mut().zip(ctrl.chunks_exact(dim).zip(weights)) {
-            for (dst, &c) in row.iter_mut().zip(p.iter()) {
-                *dst = c * w;
-            }
-            row[W] = w;
-        }
-        let mut kb: Box<[f64; MAX_KNOTS]> = Box::new([0.0; MAX_KNOTS]);
-        kb[..knots.len()].copy_from_slice(knots);
-        Ok(Self {
-            degree,
-            dim,
-            n_ctrl,
-            pw,
-            knots: kb,
-        })
+        let mut c = Self {
+            degree: 0,
+            dim: 0,
+            n_ctrl: 0,
+            pw: Vec::with_capacity(n_ctrl),
+            knots: Vec::with_capacity(knots.len()),
+        };
+        c.fill(degree, dim, n_ctrl, ctrl, weights, knots);
+        Ok(c)
+    }
+
+    /// A curve with room for [`MAX_CTRL`] control points and [`MAX_KNOTS`] knots, allocated
+    /// once (and not touched: the pages stay unused until a curve fills them). Until
+    /// [`set`](Self::set) it is the straight line from (0, 0) to (1, 0).
+    pub fn with_capacity() -> Self {
+        let mut c = Self {
+            degree: 0,
+            dim: 0,
+            n_ctrl: 0,
+            pw: Vec::with_capacity(MAX_CTRL),
+            knots: Vec::with_capacity(MAX_KNOTS),
+        };
+        c.fill(
+            1,
+            2,
+            2,
+            &[0.0, 0.0, 1.0, 0.0],
+            &[1.0, 1.0],
+            &[0.0, 0.0, 1.0, 1.0],
+        );
+        c
+    }
+
+    /// Replace the curve by the one [`new`](Self::new) would build from the same arguments,
+    /// in this curve's storage: no allocation when it has the room (see
+    /// [`with_capacity`](Self::with_capacity)). A refused curve leaves this one unchanged.
+    pub fn set(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+    ) -> Result<(), NurbsError> {
+        let n_ctrl = check_curve(degree, dim, ctrl, weights, knots, MAX_CTRL)?;
+        self.fill(degree, dim, n_ctrl, ctrl, weights, knots);
+        Ok(())
+    }
+
+    /// Store a checked curve.
+    fn fill(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        n_ctrl: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+    ) {
+        self.pw.clear();
+        self.pw
+            .extend(ctrl.chunks_exact(dim).zip(weights).map(|(p, &w)| {
+                let mut row = [0.0; HW];
+                for (dst, &c) in row.iter_mut().zip(p.iter()) {
+                    *dst = c * w;
+                }
+                row[W] = w;
+                row
+            }));
+        self.knots.clear();
+        self.knots.extend_from_slice(knots);
+        self.degree = degree;
+        self.dim = dim;
+        self.n_ctrl = n_ctrl;
     }
 
     /// Exact full circle of `radius` around `center` (2-D) from four rational quadratic
@@ -221,7 +281,7 @@ impl Nurbs {
     }
     /// The knot vector (length `n_ctrl + degree + 1`).
     pub fn knots(&self) -> &[f64] {
-        &self.knots[..self.n_ctrl + self.degree + 1]
+        &self.knots
     }
     /// Parameter domain `[u_first, u_last]`.
     pub fn domain(&self) -> (f64, f64) {

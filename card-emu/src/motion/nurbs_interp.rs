@@ -9,88 +9,19 @@
 //!
 //! [`Interpolator::advance`], [`Interpolator::tick`] and [`Interpolator::tick_guarded`]
 //! allocate nothing and never panic; construction (profile tables, arc length) allocates once.
+//! An interpolator made with [`Interpolator::with_capacity`] has room for the largest curve
+//! and profile, and [`Interpolator::load`] plans a curve into it in place: the firmware keeps
+//! its curves that way, in storage allocated at boot.
 
+pub use super::interp_error::{InterpError, MAX_CORRECTIONS};
 use super::nurbs::{Nurbs, NurbsError, Point, MAX_DIM};
 use super::path_speed::PathSpeedPlanner;
 use super::pos_finite;
+pub use super::saturation::GUARD_MARGIN;
 use super::saturation::{AxisSample, FeedDecision, SaturationAwareFeed};
-use crate::servo::pdplus::ModelError;
-use core::fmt;
 
 /// Capacity of the look-ahead feed profile (samples along the curve).
 pub const MAX_PROFILE: usize = 8192;
-/// Relative margin kept below Umax by the speed window (absorbs rounding).
-pub const GUARD_MARGIN: f64 = 1e-6;
-/// Upper limit of Newton corrections after the Taylor predictor.
-pub const MAX_CORRECTIONS: u32 = 8;
-
-/// Errors of the interpolation layer.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum InterpError {
-    /// The curve rejected an evaluation.
-    Curve(NurbsError),
-    /// Sample time not finite or not in (0, 1] s.
-    BadSampleTime,
-    /// Feed not finite or not > 0 (or a per-tick feed that is negative / NaN).
-    BadFeed,
-    /// Tangential acceleration limit not finite or not > 0.
-    BadAccel,
-    /// Tangential jerk limit not finite or not > 0.
-    BadJerk,
-    /// Chord tolerance not finite or not > 0.
-    BadChordTolerance,
-    /// `max_corrections > MAX_CORRECTIONS`.
-    BadCorrections,
-    /// The curve has (numerically) zero length.
-    ZeroLengthCurve,
-    /// An axis count does not match the curve / model dimension.
-    DimensionMismatch { expected: usize, got: usize },
-    /// A drive model (PD+ gains, drive constants, Umax) is refused.
-    Model(ModelError),
-    /// Planning budget fraction not in (0, 1].
-    BadBudget,
-    /// A measured / predicted state fed to the saturation predictor is NaN or infinite.
-    NonFiniteInput,
-}
-
-impl fmt::Display for InterpError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match *self {
-            Self::Curve(e) => write!(f, "curve: {e}"),
-            Self::BadSampleTime => write!(f, "sample time must be finite and in (0, 1] s"),
-            Self::BadFeed => write!(f, "feed must be finite and > 0"),
-            Self::BadAccel => write!(f, "acceleration limit must be finite and > 0"),
-            Self::BadJerk => write!(f, "jerk limit must be finite and > 0"),
-            Self::BadChordTolerance => write!(f, "chord tolerance must be finite and > 0"),
-            Self::BadCorrections => write!(f, "at most {MAX_CORRECTIONS} corrections"),
-            Self::ZeroLengthCurve => write!(f, "curve has zero length"),
-            Self::DimensionMismatch { expected, got } => {
-                write!(f, "expected {expected} axes, got {got}")
-            }
-            Self::Model(e) => write!(f, "{e}"),
-            Self::BadBudget => write!(f, "budget fraction must be in (0, 1]"),
-            Self::NonFiniteInput => write!(f, "non-finite state input"),
-        }
-    }
-}
-
-impl std::error::Error for InterpError {}
-
-impl From<ModelError> for InterpError {
-    fn from(e: ModelError) -> Self {
-        match e {
-            ModelError::BadSampleTime => Self::BadSampleTime,
-            e => Self::Model(e),
-        }
-    }
-}
-
-impl From<NurbsError> for InterpError {
-    fn from(e: NurbsError) -> Self {
-        Self::Curve(e)
-    }
-}
-
 /// Interpolator settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterpConfig {
@@ -234,8 +165,10 @@ struct Step {
 pub struct Interpolator {
     curve: Nurbs,
     cfg: InterpConfig,
-    profile: Box<[ProfileSample]>,
-    blocks: Box<[f64]>,
+    /// The look-ahead profile (at most `MAX_PROFILE` samples).
+    profile: Vec<ProfileSample>,
+    /// Smallest `raw` of each `BLOCK` samples of the profile.
+    blocks: Vec<f64>,
     length: f64,
     slow: Option<(f64, f64)>,
     planner: PathSpeedPlanner,
@@ -471,16 +404,107 @@ impl Interpolator {
         sat: &SaturationAwareFeed,
         budget: f64,
     ) -> Result<Self, InterpError> {
-        if !(pos_finite(budget) && budget <= 1.0) {
-            return Err(InterpError::BadBudget);
+        let act = actuator_plan(&curve, sat, budget)?;
+        Self::build(curve, cfg, Some(act))
+    }
+
+    /// An interpolator with room for the largest curve ([`MAX_CTRL`](super::nurbs::MAX_CTRL)
+    /// control points) and the largest profile ([`MAX_PROFILE`] samples), allocated once and
+    /// not touched until used, holding no motion: it is done, at rest at (0, 0), until
+    /// [`load`](Self::load) plans a curve into it.
+    pub fn with_capacity() -> Self {
+        let mut ip = Self::shell(
+            Nurbs::with_capacity(),
+            Vec::with_capacity(MAX_PROFILE),
+            Vec::with_capacity(MAX_PROFILE.div_ceil(BLOCK)),
+        );
+        ip.done = true;
+        ip
+    }
+
+    /// Plan the curve [`Nurbs::new`] would build from `degree`, `dim`, `ctrl`, `weights` and
+    /// `knots` into this interpolator's storage: [`set_curve`](Self::set_curve), then
+    /// [`plan_curve`](Self::plan_curve).
+    #[allow(clippy::too_many_arguments)]
+    pub fn load(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+        cfg: InterpConfig,
+        limits: Option<(&SaturationAwareFeed, f64)>,
+    ) -> Result<(), InterpError> {
+        self.set_curve(degree, dim, ctrl, weights, knots)?;
+        self.plan_curve(cfg, limits)
+    }
+
+    /// Hold the curve [`Nurbs::new`] would build from the same arguments, in this
+    /// interpolator's storage (no allocation when it has the room, see
+    /// [`with_capacity`](Self::with_capacity)), not planned yet: no motion (done, at rest)
+    /// until [`plan_curve`](Self::plan_curve).
+    pub fn set_curve(
+        &mut self,
+        degree: usize,
+        dim: usize,
+        ctrl: &[f64],
+        weights: &[f64],
+        knots: &[f64],
+    ) -> Result<(), NurbsError> {
+        self.done = true;
+        self.profile.clear();
+        self.blocks.clear();
+        self.length = 0.0;
+        self.curve.set(degree, dim, ctrl, weights, knots)
+    }
+
+    /// Plan the curve held, as [`new`](Self::new) (`limits` None) or
+    /// [`with_actuator_limits`](Self::with_actuator_limits) (`limits` = the feed model and the
+    /// budget) would: the profile goes into this interpolator's storage (only the planning's
+    /// scratch tables allocate). On an error there is no motion (done, at rest).
+    pub fn plan_curve(
+        &mut self,
+        cfg: InterpConfig,
+        limits: Option<(&SaturationAwareFeed, f64)>,
+    ) -> Result<(), InterpError> {
+        self.done = true;
+        let act = match limits {
+            Some((sat, budget)) => Some(actuator_plan(&self.curve, sat, budget)?),
+            None => None,
+        };
+        self.plan(cfg, act)
+    }
+
+    /// An interpolator of `curve` with the given (empty) profile storage, not planned.
+    fn shell(curve: Nurbs, profile: Vec<ProfileSample>, blocks: Vec<f64>) -> Self {
+        let cfg = InterpConfig::default();
+        Self {
+            curve,
+            cfg,
+            profile,
+            blocks,
+            length: 0.0,
+            slow: None,
+            planner: PathSpeedPlanner::unplanned(),
+            u_end: 0.0,
+            u: 0.0,
+            pos: Point::zeros(),
+            d1: Point::zeros(),
+            d2: Point::zeros(),
+            prev_vel: Point::zeros(),
+            s: 0.0,
+            done: false,
+            hint: 0,
+            hint_u: 0,
+            end_pos: Point::zeros(),
+            start_tan: Point::zeros(),
+            end_tan: Point::zeros(),
+            last_plan: 0.0,
+            before_pos: Point::zeros(),
+            before_vel: Point::zeros(),
+            span: core::cell::Cell::new(0),
         }
-        if sat.dim() != curve.dim() {
-            return Err(InterpError::DimensionMismatch {
-                expected: curve.dim(),
-                got: sat.dim(),
-            });
-        }
-        Self::build(curve, cfg, Some(ActuatorPlan { sat, budget }))
     }
 
     fn build(
@@ -488,6 +512,19 @@ impl Interpolator {
         cfg: InterpConfig,
         act: Option<ActuatorPlan<'_>>,
     ) -> Result<Self, InterpError> {
+        let mut ip = Self::shell(curve, Vec::new(), Vec::new());
+        ip.plan(cfg, act)?;
+        Ok(ip)
+    }
+
+    /// Plan this interpolator's curve: the look-ahead profile (into its storage) and the
+    /// start, at rest.
+    fn plan(
+        &mut self,
+        cfg: InterpConfig,
+        act: Option<ActuatorPlan<'_>>,
+    ) -> Result<(), InterpError> {
+        self.done = true;
         cfg.validate()?;
         let mut planner = PathSpeedPlanner::new(cfg.ts, cfg.accel, cfg.jerk)?;
         if let Some(a) = act {
@@ -495,15 +532,24 @@ impl Interpolator {
             planner =
                 planner.with_decel(cfg.accel.min(a.sat.safe_path_decel(DECEL_SHARE * a.budget)))?;
         }
-        let profile = build_profile(&curve, &cfg, planner.decel_limit(), act)?;
-        let blocks: Box<[f64]> = profile
-            .chunks(BLOCK)
-            .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw)))
-            .collect();
-        let length = profile.last().map_or(0.0, |p| p.s);
+        build_profile(
+            &self.curve,
+            &cfg,
+            planner.decel_limit(),
+            act,
+            &mut self.profile,
+        )?;
+        self.blocks.clear();
+        self.blocks.extend(
+            self.profile
+                .chunks(BLOCK)
+                .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw))),
+        );
+        let length = self.profile.last().map_or(0.0, |p| p.s);
         if !(length.is_finite() && length > 0.0) {
             return Err(InterpError::ZeroLengthCurve);
         }
+        let curve = &self.curve;
         let (u0, u_end) = curve.domain();
         let (pos, d1, d2) = curve.eval(u0)?;
         let (end_pos, e1, _) = curve.eval(u_end)?;
@@ -515,32 +561,28 @@ impl Interpolator {
                 Point::zeros()
             }
         };
-        Ok(Self {
-            curve,
-            cfg,
-            profile,
-            blocks,
-            length,
-            slow: None,
-            planner,
-            u_end,
-            u: u0,
-            pos,
-            d1,
-            d2,
-            prev_vel: Point::zeros(),
-            s: 0.0,
-            done: false,
-            hint: 0,
-            hint_u: 0,
-            end_pos,
-            start_tan: unit(d1),
-            end_tan: unit(e1),
-            last_plan: 0.0,
-            before_pos: pos,
-            before_vel: Point::zeros(),
-            span: core::cell::Cell::new(0),
-        })
+        self.cfg = cfg;
+        self.length = length;
+        self.slow = None;
+        self.planner = planner;
+        self.u_end = u_end;
+        self.u = u0;
+        self.pos = pos;
+        self.d1 = d1;
+        self.d2 = d2;
+        self.prev_vel = Point::zeros();
+        self.s = 0.0;
+        self.done = false;
+        self.hint = 0;
+        self.hint_u = 0;
+        self.end_pos = end_pos;
+        self.start_tan = unit(d1);
+        self.end_tan = unit(e1);
+        self.last_plan = 0.0;
+        self.before_pos = pos;
+        self.before_vel = Point::zeros();
+        self.span = core::cell::Cell::new(0);
+        Ok(())
     }
 
     /// Back to the start of the curve, at rest.
@@ -1299,12 +1341,33 @@ fn cap_at(p: &[ProfileSample], s: f64, hint: &mut usize) -> f64 {
     (sq(a.cap) + t * (sq(b.cap) - sq(a.cap))).sqrt()
 }
 
+/// The actuator limits of a look-ahead: a budget in (0, 1] and a model of the curve's axes.
+fn actuator_plan<'a>(
+    curve: &Nurbs,
+    sat: &'a SaturationAwareFeed,
+    budget: f64,
+) -> Result<ActuatorPlan<'a>, InterpError> {
+    if !(pos_finite(budget) && budget <= 1.0) {
+        return Err(InterpError::BadBudget);
+    }
+    if sat.dim() != curve.dim() {
+        return Err(InterpError::DimensionMismatch {
+            expected: curve.dim(),
+            got: sat.dim(),
+        });
+    }
+    Ok(ActuatorPlan { sat, budget })
+}
+
+/// The look-ahead profile of `curve`, written into `samples` (at most `MAX_PROFILE` of them:
+/// no allocation when it has that capacity).
 fn build_profile(
     curve: &Nurbs,
     cfg: &InterpConfig,
     dmax: f64,
     act: Option<ActuatorPlan<'_>>,
-) -> Result<Box<[ProfileSample]>, InterpError> {
+    samples: &mut Vec<ProfileSample>,
+) -> Result<(), InterpError> {
     let knots = curve.knots();
     let p = curve.degree();
     let spans: Vec<(f64, f64)> = knots[p..knots.len() - p]
@@ -1338,7 +1401,7 @@ fn build_profile(
         (cap, t, k, d1.norm())
     };
     let n = us.len();
-    let mut samples: Vec<ProfileSample> = Vec::with_capacity(n);
+    samples.clear();
     let mut tk: Vec<(Point, Point)> = Vec::with_capacity(n);
     let mut s = 0.0;
     let mut prev_mid_cap = f64::INFINITY;
@@ -1384,7 +1447,7 @@ fn build_profile(
     if samples.iter().any(|x| !(x.s.is_finite() && x.cap >= 0.0)) {
         return Err(InterpError::ZeroLengthCurve);
     }
-    Ok(samples.into_boxed_slice())
+    Ok(())
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //!
 //! [`PathSpeedPlanner::next`] allocates nothing and never panics.
 
-use super::nurbs_interp::InterpError;
+use super::interp_error::InterpError;
 use super::pos_finite;
 
 /// Relative margin below the jerk and deceleration limits with which the planner decides
@@ -117,6 +117,21 @@ impl PathSpeedPlanner {
             stopping: false,
             lands: false,
         })
+    }
+
+    /// A planner at rest for a motion not planned yet (1 ms, unit limits; [`new`](Self::new)
+    /// checks real ones).
+    pub(crate) fn unplanned() -> Self {
+        Self {
+            ts: 1e-3,
+            amax: 1.0,
+            dmax: 1.0,
+            jmax: 1.0,
+            v: 0.0,
+            a: 0.0,
+            stopping: false,
+            lands: false,
+        }
     }
 
     /// Sets a separate (usually lower) deceleration limit, counts/s².

@@ -4,10 +4,13 @@
 //!
 //! [`SaturationAwareFeed::limit_feed`] allocates nothing and never panic.
 
+use super::interp_error::InterpError;
 use super::nurbs::{Point, MAX_DIM};
-use super::nurbs_interp::{InterpError, GUARD_MARGIN};
 use super::pos_finite;
 use crate::servo::pdplus::{AxisModel, DriveModel, DriveModelExt, PdPlusGainsExt};
+
+/// Relative margin kept below Umax by the speed window (absorbs rounding).
+pub const GUARD_MARGIN: f64 = 1e-6;
 
 /// Plain-data state of one axis at the tick where the candidate reference is consumed
 /// (index k of eq 3.5): the previous reference and the actual (measured or predicted) state.

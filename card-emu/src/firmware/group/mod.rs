@@ -2,14 +2,20 @@
 //! circular, helical, synchronised point-to-point) and the tangential feed, feeding the axes
 //! through their post-interpolation acc/dec filters.
 //!
-//! Per servo tick a moving group
-//! 1. advances the tangential feed of its active move: an S-curve of the path length
-//!    (pre-interpolation acc/dec, Thinh eq 1–28), a constant feed (post-interpolation acc/dec
-//!    only, as in Kim), or the reference-word circle of Kim eq 15–23 (constant feed);
-//! 2. evaluates the path at the new arc length and takes each axis's increment (Kim's pulse
-//!    data f_i(k));
-//! 3. passes each increment through the axis's acc/dec filter (Kim eq 1/9, Shin eq 36–40) when
-//!    post-interpolation acc/dec is on, and adds it to the axis's commanded position.
+//! Per servo tick a moving group runs these steps, one file each, each with its own tests:
+//! - `activate.rs`: the next queued move starts (the filters switch feed type only when empty);
+//! - `stop.rs`: a halt or stop advances along its stop profile;
+//! - `feed.rs`: the active move's tangential feed advances — an S-curve of the path length
+//!   (pre-interpolation acc/dec, Thinh eq 1–28), a constant feed (post-interpolation acc/dec
+//!   only, as in Kim), the reference-word circle of Kim eq 15–23 (constant feed), or Yeh's
+//!   NURBS interpolator (`nurbs_pool.rs` holds the curves) — and the path at the new arc
+//!   length gives each axis's increment (Kim's pulse data f_i(k));
+//! - `filter.rs`: each increment passes through the axis's acc/dec filter (Kim eq 1/9, Shin eq
+//!   36–40) when post-interpolation acc/dec is on, and is added to its commanded position;
+//! - `snap.rs`, `settle.rs`: at rest, the snap to the programmed end, then in position the
+//!   done events and the states.
+//!
+//! `testing.rs` holds the tests' fixtures.
 //!
 //! A synchronised point-to-point move (Kim eq 10–14) is a straight line in axis space whose
 //! length is the largest axis distance `L`, run along one normalised profile (`f_iy = P_y/N`,
@@ -22,11 +28,23 @@
 //! snapped to its programmed end, and the largest correction that snap made is published
 //! (`snap_last`, `snap_max`), so a filter that lost distance would show.
 
+mod activate;
+mod feed;
+mod filter;
+mod nurbs_pool;
+mod settle;
+mod snap;
+mod stop;
+#[cfg(test)]
+mod testing;
+
+use self::nurbs_pool::NurbsPool;
+pub use self::nurbs_pool::NURBS_SLOTS;
 use crate::firmware::axis::Axis;
 use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
-use crate::motion::nurbs::{Nurbs, NurbsError};
-use crate::motion::nurbs_interp::{InterpConfig, InterpError, Interpolator};
+use crate::motion::nurbs::NurbsError;
+use crate::motion::nurbs_interp::{InterpConfig, InterpError};
 use crate::motion::saturation::SaturationAwareFeed;
 use crate::motion::scurve::{Limits, Profile};
 use crate::servo::ffpiv::Reference;
@@ -280,26 +298,9 @@ enum Feed {
     Constant { v: f64 },
     /// Kim's reference-word arc at constant feed: the plane increments come from it.
     ReferenceWord(ReferenceWordCircle),
-    /// A NURBS curve: Yeh's speed-controlled interpolator, saturation-aware when `sat` is set.
-    Nurbs(Box<NurbsFeed>),
-}
-
-/// The interpolator of a NURBS move and, for the saturation-aware feed, the axes' model.
-#[derive(Clone)]
-struct NurbsFeed {
-    interp: Interpolator,
-    sat: Option<SaturationAwareFeed>,
-}
-
-impl core::fmt::Debug for NurbsFeed {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "NurbsFeed {{ length: {}, saturation-aware: {} }}",
-            self.interp.length(),
-            self.sat.is_some()
-        )
-    }
+    /// A NURBS curve: Yeh's speed-controlled interpolator, saturation-aware when its slot's
+    /// `sat` is set. The curve lives in the group's slot of this index (see [`NurbsPool`]).
+    Nurbs(usize),
 }
 
 /// A NURBS transfer in progress: header and the staged data stream.
@@ -471,6 +472,8 @@ pub struct Group {
     snap_max: f64,
     /// Per-axis limits staged for the next point-to-point move: v, a, d, j (counts).
     ptp_stage: [Option<[f64; 4]>; MAX_AXES],
+    /// The NURBS curves queued and active, in storage allocated once.
+    nurbs: NurbsPool,
 }
 
 impl Group {
@@ -502,6 +505,7 @@ impl Group {
             snap_last: 0.0,
             snap_max: 0.0,
             ptp_stage: [None; MAX_AXES],
+            nurbs: NurbsPool::new(),
         }
     }
 
@@ -701,7 +705,10 @@ impl Group {
     /// the active one (it must never end in a jump at the curve's end).
     fn nurbs_runout(&self, dmax: f64, jerk: f64) -> usize {
         let Some(act) = &self.active else { return 0 };
-        let Feed::Nurbs(cur) = &act.mv.feed else {
+        let Feed::Nurbs(cur) = act.mv.feed else {
+            return 0;
+        };
+        let Some(running) = self.nurbs.get(cur) else {
             return 0;
         };
         let post = self.config.is_some_and(|c| c.post);
@@ -711,42 +718,42 @@ impl Group {
             Ok(p) => p.end_pos(),
             Err(_) => v0 * v0 / (2.0 * dmax) + v0 * dmax / jerk,
         };
-        let mut left = need - (cur.interp.length() - cur.interp.travelled()).max(0.0);
-        let (mut cur, mut ft, mut keep) = (&**cur, act.mv.feed_type, 0);
+        let mut left = need - (running.interp.length() - running.interp.travelled()).max(0.0);
+        let (mut cur, mut ft, mut keep) = (cur, act.mv.feed_type, 0);
         while left > 0.0 {
             let Some((next, next_ft)) = self.joinable(cur, ft, keep, post) else {
                 break;
             };
-            left -= next.interp.length();
+            left -= self.nurbs.get(next).map_or(0.0, |n| n.interp.length());
             (cur, ft, keep) = (next, next_ft, keep + 1);
         }
         keep
     }
 
-    /// The queued curve at queue position `i` if the NURBS motion `cur` may run on into it
-    /// without stopping (see `Interpolator::continuation`): the same saturation mode and,
-    /// with post-interpolation filters, the same feed type (they switch only when empty).
-    fn joinable<'a>(
-        &'a self,
-        cur: &NurbsFeed,
+    /// The slot of the queued curve at queue position `i` if the NURBS motion in slot `cur`
+    /// may run on into it without stopping (see `Interpolator::continuation`): the same
+    /// saturation mode and, with post-interpolation filters, the same feed type (they switch
+    /// only when empty). With its feed type.
+    fn joinable(
+        &self,
+        cur: usize,
         feed_type: usize,
         i: usize,
         post: bool,
-    ) -> Option<(&'a NurbsFeed, usize)> {
+    ) -> Option<(usize, usize)> {
         if i >= self.q_len {
             return None;
         }
         let mv = self.queue[(self.q_head + i) % GROUP_QUEUE_LEN].as_ref()?;
-        match &mv.feed {
-            Feed::Nurbs(n2)
-                if (!post || mv.feed_type == feed_type)
-                    && n2.sat.is_some() == cur.sat.is_some()
-                    && cur.interp.continuation(&n2.interp).is_some() =>
-            {
-                Some((n2, mv.feed_type))
-            }
-            _ => None,
-        }
+        let Feed::Nurbs(k) = mv.feed else {
+            return None;
+        };
+        let (a, b) = (self.nurbs.get(cur)?, self.nurbs.get(k)?);
+        (k != cur
+            && (!post || mv.feed_type == feed_type)
+            && a.sat.is_some() == b.sat.is_some()
+            && a.interp.continuation(&b.interp).is_some())
+        .then_some((k, mv.feed_type))
     }
 
     fn pop(&mut self) -> Option<Move> {
@@ -892,7 +899,7 @@ impl Group {
             return Err(NackCode::NotFinite);
         }
         let rate = (1.0 / ts).round() as u32;
-        crate::firmware::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
+        crate::firmware::nack::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
         let limits = Limits {
             vmax: a[0],
             amax: a[1],
@@ -960,8 +967,8 @@ impl Group {
             .map_err(|_| NackCode::Infeasible)?;
             Feed::ReferenceWord(rw)
         } else if cfg.pre {
-            let p =
-                Profile::plan(0.0, len, 0.0, 0.0, &limits).map_err(crate::firmware::plan_nack)?;
+            let p = Profile::plan(0.0, len, 0.0, 0.0, &limits)
+                .map_err(crate::firmware::nack::plan_nack)?;
             if !p.duration().is_finite() || p.duration() > crate::MAX_MOVE_TIME {
                 return Err(NackCode::Infeasible);
             }
@@ -1013,7 +1020,10 @@ impl Group {
         }
         let rate = (1.0 / ts).round() as u32;
         for l in values.chunks_exact(4) {
-            crate::firmware::check_ranges(rate, &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])])?;
+            crate::firmware::nack::check_ranges(
+                rate,
+                &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])],
+            )?;
         }
         for (k, l) in values.chunks_exact(4).enumerate() {
             self.ptp_stage[first + k] = Some([l[0], l[1], l[2], l[3]]);
@@ -1079,7 +1089,7 @@ impl Group {
             return Err(NackCode::NonPositiveLimit); // the chord tolerance
         }
         let rate = (1.0 / ts).round() as u32;
-        crate::firmware::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
+        crate::firmware::nack::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
         let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
         if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
             return Err(NackCode::BadConfig);
@@ -1155,8 +1165,9 @@ impl Group {
         Ok(())
     }
 
-    /// MC_OP_NURBS_END: validate the curve (every fault its own code) and queue the move.
-    /// Accepting a curve allocates its storage and look-ahead profile (never in the tick).
+    /// MC_OP_NURBS_END: validate the curve (every fault its own code) and queue the move. The
+    /// curve and its look-ahead profile are planned into a free slot of the group's pool
+    /// (`QueueFull` when none is free); only the planning's scratch tables allocate.
     pub fn nurbs_end(
         &mut self,
         c: &Command,
@@ -1182,7 +1193,19 @@ impl Group {
         let Some((pts, (weights, knots))) = split else {
             return Err(NackCode::NurbsSequence);
         };
-        let curve = Nurbs::new(rx.degree, n, pts, weights, knots).map_err(nurbs_nack)?;
+        let (active, queue, q_head, q_len) = (&self.active, &self.queue, self.q_head, self.q_len);
+        let slot = self
+            .nurbs
+            .free(|k| slot_taken(active, queue, q_head, q_len, k))
+            .ok_or(NackCode::QueueFull)?;
+        let Some(nf) = self.nurbs.get_mut(slot) else {
+            return Err(NackCode::QueueFull);
+        };
+        nf.sat = None;
+        nf.interp
+            .set_curve(rx.degree, n, pts, weights, knots)
+            .map_err(nurbs_nack)?;
+        let curve = nf.interp.curve();
         let start = curve.eval_clamped(curve.domain().0).0;
         if (0..n).any(|i| (start[i] - self.queue_end[i]).abs() > cfg.tolerance) {
             return Err(NackCode::NurbsStart);
@@ -1206,7 +1229,7 @@ impl Group {
             _ => NackCode::BadConfig,
         };
         let end = curve.eval_clamped(curve.domain().1).0;
-        let (interp, sat) = if rx.saturation {
+        if rx.saturation {
             let mut models = [AxisModel {
                 gains: PdPlusGains {
                     kp: 0.0,
@@ -1225,20 +1248,20 @@ impl Group {
                 *m = axes[a].config.pdplus.ok_or(NackCode::IncompatibleMode)?;
             }
             let sat = SaturationAwareFeed::new(&models[..n], ts).map_err(yeh_nack)?;
-            (
-                Interpolator::with_actuator_limits(curve, icfg, &sat, budget).map_err(yeh_nack)?,
-                Some(sat),
-            )
+            nf.interp
+                .plan_curve(icfg, Some((&sat, budget)))
+                .map_err(yeh_nack)?;
+            nf.sat = Some(sat);
         } else {
-            (Interpolator::new(curve, icfg).map_err(yeh_nack)?, None)
-        };
+            nf.interp.plan_curve(icfg, None).map_err(yeh_nack)?;
+        }
         let mut s = [0.0; MAX_AXES];
         let mut e = [0.0; MAX_AXES];
         for i in 0..n {
             s[i] = self.queue_end[i];
             e[i] = end[i];
         }
-        let len = interp.length();
+        let len = nf.interp.length();
         // As for every other move: one that would run for longer than MAX_MOVE_TIME (at its
         // top feed already) comes from limits that are almost certainly wrong.
         let shortest = len / feed;
@@ -1255,7 +1278,7 @@ impl Group {
             Move {
                 seq: c.seq,
                 geom,
-                feed: Feed::Nurbs(Box::new(NurbsFeed { interp, sat })),
+                feed: Feed::Nurbs(slot),
                 feed_type,
                 runout: false,
             },
@@ -1398,7 +1421,12 @@ impl Group {
         Ok(geom)
     }
 
-    /// One servo tick: interpolate, filter, set the axes' references.
+    /// One servo tick, in steps (each with its own tests, in the file of its name): `guard`
+    /// (a member that faulted stops the group), `activate` (the next queued move starts),
+    /// `stop` and `feed` (the path advances: along a halt or stop, or the move's own feed),
+    /// `filter` (the members' acc/dec filters and references), then at rest `snap` (to the
+    /// programmed end, with its statistics) and `settle` (in position: the done events and
+    /// the states).
     pub fn tick(
         &mut self,
         axes: &mut [Axis; MAX_AXES],
@@ -1408,11 +1436,35 @@ impl Group {
         out: &mut Outbox,
     ) {
         let Some(cfg) = self.config else { return };
-        if matches!(self.state, GroupState::Disabled) {
+        if !self.guard(&cfg, axes, filters, ts, tick, out) {
             return;
         }
-        let n = cfg.naxes;
-        let members = &cfg.axes[..n];
+        self.activate(&cfg, axes, filters, ts, tick, out);
+        let inc = self.feed(&cfg, axes, ts, tick, out);
+        let settled = self.filter(&cfg, &inc, axes, filters, ts);
+        if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
+            let members = &cfg.axes[..cfg.naxes];
+            self.snap(members, axes);
+            self.settle(members, axes, ts, tick, out);
+        }
+    }
+
+    /// Whether the group moves on this tick. A member that lost power or faulted takes it to
+    /// ErrorStop (everything aborted, the members released); a group at rest (Standby,
+    /// ErrorStop) has nothing to do. Counts the time of a halt or stop in progress.
+    fn guard(
+        &mut self,
+        cfg: &GroupConfig,
+        axes: &mut [Axis; MAX_AXES],
+        filters: &mut [AxisFilter],
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> bool {
+        if matches!(self.state, GroupState::Disabled) {
+            return false;
+        }
+        let members = &cfg.axes[..cfg.naxes];
         // A member that lost power or faulted takes the group to ErrorStop.
         if self.state != GroupState::ErrorStop
             && members
@@ -1427,325 +1479,16 @@ impl Group {
                 axis_event(out, a, old, axes[a].state, tick);
             }
             self.set_state(GroupState::ErrorStop, tick, out);
-            return;
+            return false;
         }
         if matches!(self.state, GroupState::Standby | GroupState::ErrorStop) {
             self.stop_elapsed = None;
-            return;
+            return false;
         }
         if let Some(t) = &mut self.stop_elapsed {
             *t += ts;
         }
-
-        // Activate the next move (filters switch feed type only when empty).
-        if self.active.is_none() && self.stop.is_none() {
-            if let Some(next) = self.peek() {
-                let ft = next.feed_type;
-                let switching = cfg.post
-                    && members
-                        .iter()
-                        .any(|&a| filters[a].built_for.map(|k| k.0) != Some(ft));
-                if !switching || members.iter().all(|&a| filters[a].is_settled()) {
-                    if let Some(mv) = self.pop() {
-                        // The previous move was waiting to be in position: it is done now.
-                        if let Some(seq) = self.final_seq.take() {
-                            out.push(self.event(EventKind::GroupMotionDone, seq, 0, 0.0, tick));
-                        }
-                        if cfg.post {
-                            for &a in members {
-                                filters[a].select(ft, ts);
-                            }
-                        }
-                        for &a in members {
-                            let old = axes[a].join_group_motion();
-                            axis_event(out, a, old, AxisState::SynchronizedMotion, tick);
-                        }
-                        self.active = Some(Active {
-                            last: mv.geom.start(),
-                            mv,
-                            s: 0.0,
-                            stopping: None,
-                            v: 0.0,
-                            a: 0.0,
-                        });
-                    }
-                }
-            }
-        }
-
-        // Interpolate.
-        let mut inc = [0.0; MAX_AXES];
-        let mut finished = false;
-        // This tick's measurements, for the saturation-aware feed (Yeh eq 3.3: θ_a[k], w_a[k]).
-        let mut theta_a = crate::motion::nurbs::Point::zeros();
-        let mut w_a = crate::motion::nurbs::Point::zeros();
-        for (i, &a) in members.iter().enumerate() {
-            (theta_a[i], w_a[i]) = axes[a].actual();
-        }
-        // A NURBS path runs on into the next queued curve without stopping when the two join
-        // (the planner then plans over both; see `Interpolator::continuation`). Queued in time
-        // or not is all that matters: without a next curve the planner stops at the end.
-        let join = self.active.as_ref().is_some_and(|act| match &act.mv.feed {
-            Feed::Nurbs(cur) => self.joinable(cur, act.mv.feed_type, 0, cfg.post).is_some(),
-            _ => false,
-        });
-        if let Some(act) = &mut self.active {
-            let len = act.mv.geom.len();
-            let prev_v = act.v;
-            let mut point = None;
-            let mut hand_over = false;
-            if let Feed::Nurbs(nf) = &mut act.mv.feed {
-                let mut stopped = false;
-                let next = match (join, self.queue[self.q_head].as_ref()) {
-                    (
-                        true,
-                        Some(Move {
-                            feed: Feed::Nurbs(n2),
-                            ..
-                        }),
-                    ) => nf.interp.continuation(&n2.interp),
-                    _ => None,
-                };
-                let joined = next.is_some();
-                let step = if let Some((p, t)) = &mut act.stopping {
-                    // Halt/stop along the curve: the stop profile sets the feed.
-                    *t += ts;
-                    stopped = *t >= p.duration();
-                    nf.interp.advance(p.sample(*t).vel.max(0.0))
-                } else if let Some(sat) = &nf.sat {
-                    nf.interp
-                        .tick_guarded_into(sat, &theta_a, &w_a, next)
-                        .map(|(tk, _)| tk)
-                } else {
-                    nf.interp.tick_into(next)
-                };
-                match step {
-                    Ok(tk) if tk.done && joined && !stopped => hand_over = true,
-                    Ok(tk) => {
-                        let mut p = act.last;
-                        p[..n].copy_from_slice(&tk.pos.as_slice()[..n]);
-                        point = Some(p);
-                        act.v = if stopped { 0.0 } else { tk.feed };
-                        act.s = (act.s + tk.feed * ts).min(len);
-                        finished = tk.done || stopped;
-                    }
-                    // The interpolator refused to step (it cannot on valid input): hold here.
-                    Err(_) => finished = true,
-                }
-            }
-            if hand_over {
-                // The curve ended inside this tick's step: the next one takes the rest of it.
-                let slot = self.q_head;
-                self.q_head = (self.q_head + 1) % GROUP_QUEUE_LEN;
-                self.q_len -= 1;
-                if let Some(next) = self.queue[slot].take() {
-                    let prev = core::mem::replace(&mut act.mv, next);
-                    if !act.mv.runout {
-                        out.push(Event {
-                            seq: prev.seq,
-                            kind: EventKind::GroupMotionDone as u16,
-                            axis: self.index,
-                            code: 0,
-                            tick,
-                            value: 0.0,
-                        });
-                    }
-                    let step = match (&prev.feed, &mut act.mv.feed) {
-                        (Feed::Nurbs(a), Feed::Nurbs(b)) => Some(b.interp.take_over(&a.interp)),
-                        _ => None,
-                    };
-                    match step {
-                        Some(Ok(tk)) => {
-                            let mut p = act.last;
-                            p[..n].copy_from_slice(&tk.pos.as_slice()[..n]);
-                            point = Some(p);
-                            act.v = tk.feed;
-                            act.s = tk.feed * ts;
-                            finished = tk.done;
-                        }
-                        _ => finished = true,
-                    }
-                } else {
-                    finished = true;
-                }
-            } else if matches!(act.mv.feed, Feed::Nurbs(_)) {
-                // handled above
-            } else if let Some((p, t)) = &mut act.stopping {
-                *t += ts;
-                let st = p.sample(*t);
-                act.s = st.pos.min(len);
-                act.v = st.vel;
-                finished = *t >= p.duration() || act.s >= len;
-                if finished {
-                    act.v = 0.0;
-                }
-            } else {
-                match &mut act.mv.feed {
-                    Feed::Profile { profile, t } => {
-                        *t += ts;
-                        let st = profile.sample(*t);
-                        act.s = st.pos.min(len);
-                        act.v = st.vel;
-                        finished = *t >= profile.duration();
-                    }
-                    Feed::Constant { v } => {
-                        act.s = (act.s + *v * ts).min(len);
-                        act.v = *v;
-                        finished = act.s >= len;
-                    }
-                    Feed::ReferenceWord(rw) => {
-                        // Built for arcs only; anything else ends the move.
-                        let (u, v, helix, start) = match act.mv.geom {
-                            Geometry::Arc {
-                                u, v, helix, start, ..
-                            } => (u, v, helix, start),
-                            Geometry::Line { start, .. } | Geometry::Curve { start, .. } => {
-                                (0, 0, [0.0; MAX_AXES], start)
-                            }
-                        };
-                        match rw.next_increment().filter(|_| u != v) {
-                            Some((du, dv)) => {
-                                let k = rw.total_steps() - rw.remaining_steps();
-                                let f = k as f64 / rw.total_steps().max(1) as f64;
-                                let mut p = act.last;
-                                p[u] += du;
-                                p[v] += dv;
-                                for i in 0..n {
-                                    if i != u && i != v {
-                                        p[i] = start[i] + helix[i] * f;
-                                    }
-                                }
-                                act.s = len * f;
-                                act.v = rw.feed();
-                                finished = rw.is_done();
-                                point = Some(p);
-                            }
-                            None => finished = true,
-                        }
-                    }
-                    // Handled above.
-                    Feed::Nurbs(_) => finished = true,
-                }
-            }
-            act.a = (act.v - prev_v) / ts;
-            let p = match (point, finished, act.stopping.is_some()) {
-                (Some(p), false, _) => p,
-                // A curve stopped early: where its interpolator stopped.
-                (Some(p), true, true) if matches!(act.mv.feed, Feed::Nurbs(_)) => p,
-                (_, true, false) => act.mv.geom.end(n),
-                _ => act.mv.geom.point(act.s, n),
-            };
-            for i in 0..n {
-                inc[i] = p[i] - act.last[i];
-            }
-            act.last = p;
-        }
-        if finished {
-            if let Some(act) = self.active.take() {
-                // The programmed position is where the move ended (early, for a stop).
-                if act.stopping.is_some() {
-                    self.queue_end = act.last;
-                    // curves kept for the stop's run-out were reported aborted already
-                    while self.peek().is_some_and(|m| m.runout) {
-                        self.pop();
-                    }
-                }
-                if self.q_len > 0 && self.stop.is_none() {
-                    // More queued: this one is done as soon as the next takes over.
-                    out.push(self.event(EventKind::GroupMotionDone, act.mv.seq, 0, 0.0, tick));
-                } else if self.stop.is_none() {
-                    self.final_seq = Some(act.mv.seq);
-                    self.settled_for = 0.0;
-                }
-            }
-        }
-
-        // Post-interpolation filters, then the axes' references. The filters' exponential
-        // stages empty together, on the tick every member's input is zero and every member's
-        // tail is small enough (Kim eq 10–14: the axes of a move end on the same tick).
-        let flush = cfg.post
-            && inc[..n].iter().all(|d| *d == 0.0)
-            && members.iter().all(|&a| filters[a].live.tail_ready());
-        let mut settled = true;
-        for (i, &a) in members.iter().enumerate() {
-            let (d, d_lo) = if cfg.post {
-                filters[a].live.step_group(inc[i], flush)
-            } else {
-                (inc[i], 0.0)
-            };
-            settled &= !cfg.post || filters[a].is_settled();
-            // The commanded position is the error-free sum of what the filters emit (their
-            // remainders' sub-ulp parts included), restarted if anything else moved it.
-            let r = axes[a].reference();
-            if r.pos.to_bits() != self.pos_out[i].to_bits() {
-                self.pos[i] = CompensatedSum::new();
-                self.pos[i].add(r.pos);
-            }
-            self.pos[i].add(d);
-            if d_lo != 0.0 {
-                self.pos[i].add(d_lo);
-            }
-            let pos = self.pos[i].value();
-            self.pos_out[i] = pos;
-            let vel = (d + d_lo) / ts;
-            let acc = (vel - self.prev_vel[i]) / ts;
-            self.prev_vel[i] = vel;
-            axes[a].drive(Reference { pos, vel, acc });
-        }
-        if self.active.is_some() || !settled {
-            self.resting = false;
-        }
-
-        // At rest: snap to the exact programmed end, then wait to be in position. The
-        // correction the snap makes is what the interpolation and the filters lost or
-        // invented (plus the rounding of the sums to f64): published, so it can be checked.
-        if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
-            self.stop_elapsed = None; // a halt or stop has come to rest
-            let mut correction: f64 = 0.0;
-            for (i, &a) in members.iter().enumerate() {
-                let mut e = self.pos[i];
-                e.add(-self.queue_end[i]);
-                correction = correction.max(e.value().abs());
-                self.pos[i] = CompensatedSum::new();
-                self.pos[i].add(self.queue_end[i]);
-                self.pos_out[i] = self.queue_end[i];
-                axes[a].drive(Reference {
-                    pos: self.queue_end[i],
-                    vel: 0.0,
-                    acc: 0.0,
-                });
-                self.prev_vel[i] = 0.0;
-            }
-            if !self.resting {
-                self.resting = true;
-                self.snap_last = correction;
-            }
-            self.snap_max = self.snap_max.max(correction);
-            let in_pos = members
-                .iter()
-                .all(|&a| axes[a].in_position_at(axes[a].reference().pos));
-            self.settled_for = if in_pos { self.settled_for + ts } else { 0.0 };
-            let settle = members
-                .iter()
-                .map(|&a| axes[a].config.settle_time)
-                .fold(0.0, f64::max);
-            if in_pos && self.settled_for + 1e-12 >= settle {
-                if let Some(seq) = self.final_seq.take() {
-                    out.push(self.event(EventKind::GroupMotionDone, seq, 0, 1.0, tick));
-                }
-                match self.stop {
-                    Some(StopKind::Stop) if !self.stop_released => {}
-                    _ => {
-                        self.stop = None;
-                        for &a in members {
-                            let old = axes[a].leave_group_motion();
-                            axis_event(out, a, old, AxisState::Standstill, tick);
-                        }
-                        self.set_state(GroupState::Standby, tick, out);
-                    }
-                }
-            }
-        }
+        true
     }
 
     /// The status block to publish.
@@ -1769,6 +1512,23 @@ impl Group {
             ..Default::default()
         }
     }
+}
+
+/// Is NURBS slot `k` named by the active move or one of the `q_len` queued from `q_head`?
+fn slot_taken(
+    active: &Option<Active>,
+    queue: &[Option<Move>; GROUP_QUEUE_LEN],
+    q_head: usize,
+    q_len: usize,
+    k: usize,
+) -> bool {
+    let names = |m: &Move| matches!(m.feed, Feed::Nurbs(j) if j == k);
+    active.as_ref().is_some_and(|a| names(&a.mv))
+        || (0..q_len).any(|i| {
+            queue[(q_head + i) % GROUP_QUEUE_LEN]
+                .as_ref()
+                .is_some_and(names)
+        })
 }
 
 /// The limits along a synchronised point-to-point line of length `len` (the largest axis
@@ -1830,4 +1590,51 @@ fn axis_event(out: &mut Outbox, axis: usize, old: Option<AxisState>, new: AxisSt
 /// The filter bank of a card, allocated once at boot (a linear filter holds 4096 taps).
 pub fn filter_bank() -> Box<[AxisFilter]> {
     (0..MAX_AXES).map(|_| AxisFilter::new()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testing::{Bench, TS};
+    use super::*;
+
+    /// A member that faults takes the moving group to ErrorStop: the active and queued moves
+    /// are aborted, the members released; the group then does nothing until reset.
+    #[test]
+    fn guard_a_faulted_member_stops_the_group_in_error() {
+        let mut b = Bench::new(2, true, false);
+        b.line(1, &[10_000.0, 0.0], 0);
+        b.line(2, &[0.0, 0.0], 0);
+        for _ in 0..100 {
+            b.tick();
+        }
+        assert!(b.g.active.is_some());
+        b.events();
+        b.axes[1].power(false).unwrap();
+        let cfg = b.cfg();
+        let moving =
+            b.g.guard(&cfg, &mut b.axes, &mut b.filters, TS, 101, &mut b.out);
+        assert!(!moving);
+        assert_eq!(b.g.state, GroupState::ErrorStop);
+        assert!(b.g.active.is_none() && b.g.q_len == 0);
+        assert!(b.pushed(EventKind::GroupMotionAborted, 1));
+        assert!(b.pushed(EventKind::GroupMotionAborted, 2));
+        assert_eq!(b.axes[0].state, AxisState::Standstill);
+        assert_eq!(b.axes[0].reference().vel, 0.0);
+        let pos = b.pos(0);
+        b.tick();
+        assert_eq!(b.pos(0), pos);
+    }
+
+    /// The whole tick, step after step: a line runs to its end and settles there, the snap
+    /// correcting nothing (the S-curve's sum ends on the target), then the group stands by.
+    #[test]
+    fn tick_runs_a_line_to_rest_on_its_end() {
+        let mut b = Bench::new(2, true, true);
+        b.line(1, &[3_000.0, -4_000.0], 0);
+        assert!(b.run_until(100_000, |b| b.g.state == GroupState::Standby));
+        assert_eq!((b.pos(0), b.pos(1)), (3_000.0, -4_000.0));
+        assert!(b.g.snap_last <= 1e-9, "snap {}", b.g.snap_last);
+        assert!(b.pushed(EventKind::GroupMotionDone, 1));
+        assert_eq!(b.axes[1].state, AxisState::Standstill);
+    }
 }
