@@ -59,29 +59,21 @@ blocks!(
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).
+#[inline]
 pub(crate) fn to_words<B: Block, const N: usize>(b: &B) -> [u64; N] {
     const { assert!(size_of::<B>() == 8 * N) };
-    let mut w = [0u64; N];
-    let p = (b as *const B).cast::<u64>();
-    for (i, dst) in w.iter_mut().enumerate() {
-        // SAFETY: `b` is `N` words of plain data without padding (Block, and the assert
-        // above); `i < N`; unaligned as in `BlockAt::read`.
-        *dst = unsafe { p.add(i).read_unaligned() };
-    }
-    w
+    // SAFETY: `b` is `N` words of plain data without padding (Block, and the assert above);
+    // unaligned because some blocks are only 4-byte aligned.
+    unsafe { (b as *const B).cast::<[u64; N]>().read_unaligned() }
 }
 
 /// A block from `N` words (`N` must be its size in words: checked at compile time).
+#[inline]
 pub(crate) fn from_words<B: Block, const N: usize>(w: &[u64; N]) -> B {
     const { assert!(size_of::<B>() == 8 * N) };
-    let mut out = MaybeUninit::<B>::uninit();
-    let p = out.as_mut_ptr().cast::<u64>();
-    for (i, v) in w.iter().enumerate() {
-        // SAFETY: `out` is `N` words long and `i < N`.
-        unsafe { p.add(i).write_unaligned(*v) };
-    }
-    // SAFETY: every word was written, and every bit pattern is a valid `B` (Block).
-    unsafe { out.assume_init() }
+    // SAFETY: `w` is `size_of::<B>()` bytes (the assert above), and every bit pattern is a
+    // valid `B` (Block).
+    unsafe { (w as *const [u64; N]).cast::<B>().read_unaligned() }
 }
 
 /// The place of one block `B` in the window.

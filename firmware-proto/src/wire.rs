@@ -289,6 +289,7 @@ pub type GroupStatus = raw::mc_group_status_payload;
 
 impl raw::mc_group_status_payload {
     /// Encode as words, with the checksum in the last word.
+    #[inline]
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
         let mut w = crate::block::to_words(self);
         w[STATUS_WORDS - 1] = status_checksum(&w);
@@ -639,6 +640,7 @@ pub type AxisStatus = raw::mc_axis_status_payload;
 
 impl raw::mc_axis_status_payload {
     /// Encode as words, with the checksum in the last word.
+    #[inline]
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
         let mut w = crate::block::to_words(self);
         w[STATUS_WORDS - 1] = status_checksum(&w);
@@ -678,6 +680,7 @@ impl raw::mc_axis_status_payload {
 }
 
 /// The checksum of a status payload: a position-dependent mix of the first 15 words.
+#[inline]
 pub fn status_checksum(w: &[u64; STATUS_WORDS]) -> u64 {
     w[..STATUS_WORDS - 1]
         .iter()
