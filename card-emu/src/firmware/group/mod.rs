@@ -426,6 +426,7 @@ impl Outbox {
     }
 
     /// Forget what was taken.
+    #[inline]
     pub fn clear(&mut self) {
         self.events.clear();
     }
@@ -1492,6 +1493,7 @@ impl Group {
     }
 
     /// The status block to publish.
+    #[inline]
     pub fn status(&self, tick: u64) -> GroupStatus {
         let (active_seq, path_pos, path_len, feed, feed_acc) = match &self.active {
             Some(a) => (a.mv.seq, a.s, a.mv.geom.len(), a.v, a.a),
