@@ -11,6 +11,7 @@ pub mod axis_safety;
 pub mod dac;
 pub mod group;
 pub mod nack;
+pub mod outbox;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, TickReport};
@@ -516,7 +517,7 @@ impl<M: Mem + Clone> Firmware<M> {
 
     fn post_outbox(&mut self) {
         for i in 0..self.outbox.len() {
-            if let Some(e) = self.outbox.take(i) {
+            if let Some(e) = self.outbox.get(i) {
                 self.post(e);
             }
         }
@@ -907,16 +908,16 @@ mod tests {
     /// The same for the safety layer's event buffer: counted in `card.safety_events_lost`.
     #[test]
     fn safety_event_overflow_is_counted_in_the_window() {
-        use super::safety::EventBuf;
+        use super::outbox::SafetyEvents;
         let (w, mut fw) = boot();
         tick(&mut fw);
         drain(&w);
         assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 0);
-        let n = EventBuf::CAP as u32 + 5;
+        let n = SafetyEvents::CAP as u32 + 5;
         for k in 0..n {
             fw.safety.events.push(marker(1000 + k));
         }
-        assert_eq!(fw.safety.events.len(), EventBuf::CAP);
+        assert_eq!(fw.safety.events.len(), SafetyEvents::CAP);
         tick(&mut fw);
         assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 5);
         assert_eq!(w.read32(layout::EVENTS_LOST), 0);
@@ -927,7 +928,7 @@ mod tests {
             .collect();
         assert_eq!(
             seqs,
-            (1000..1000 + EventBuf::CAP as u32).collect::<Vec<_>>()
+            (1000..1000 + SafetyEvents::CAP as u32).collect::<Vec<_>>()
         );
     }
 

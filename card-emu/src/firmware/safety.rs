@@ -36,6 +36,7 @@
 
 use crate::firmware::axis::Axis;
 use crate::firmware::axis_safety::{ActiveStop, AxisSafetyConfig, LIVE_FAULTS};
+use crate::firmware::outbox::SafetyEvents;
 use crate::motion::scurve::plan_stop;
 use crate::motion::scurve::Profile;
 use firmware_proto::layout::{self, safety_status as ss};
@@ -97,63 +98,6 @@ impl Default for SafetyConfig {
     }
 }
 
-/// Events raised by the safety layer, posted by the firmware after the hook returns. Sized for
-/// the worst tick: per axis an abort, a state change, a stop and a rest event, plus card-wide
-/// events. An event that finds it full is counted ([`EventBuf::lost`]; the firmware publishes
-/// the count in `card.safety_events_lost`), never dropped silently.
-#[derive(Debug, Clone, Default)]
-pub struct EventBuf {
-    ev: heapless::Vec<Event, EVENT_BUF_CAP>,
-    lost: u32,
-}
-
-const EVENT_BUF_CAP: usize = 8 * MAX_AXES + 8;
-
-impl EventBuf {
-    /// Capacity.
-    pub const CAP: usize = EVENT_BUF_CAP;
-
-    /// Empty.
-    pub const fn new() -> Self {
-        Self {
-            ev: heapless::Vec::new(),
-            lost: 0,
-        }
-    }
-
-    /// Queue an event; when full, count it as lost (never panicking).
-    pub(crate) fn push(&mut self, e: Event) {
-        if self.ev.push(e).is_err() {
-            self.lost = self.lost.wrapping_add(1);
-        }
-    }
-
-    /// Events waiting.
-    pub fn len(&self) -> usize {
-        self.ev.len()
-    }
-
-    /// None waiting.
-    pub fn is_empty(&self) -> bool {
-        self.ev.is_empty()
-    }
-
-    /// Event `k` (in the order raised).
-    pub fn get(&self, k: usize) -> Option<Event> {
-        self.ev.get(k).copied()
-    }
-
-    /// Forget them (after posting).
-    pub fn clear(&mut self) {
-        self.ev.clear();
-    }
-
-    /// Events that found it full since boot (wrapping).
-    pub fn lost(&self) -> u32 {
-        self.lost
-    }
-}
-
 fn event(kind: EventKind, axis: u16, code: i32, tick: u64, value: f64) -> Event {
     Event {
         seq: 0,
@@ -193,7 +137,7 @@ pub struct Safety {
     late_heartbeats: u32,
     max_heartbeat_gap_us: u32,
     /// Events waiting to be posted by the firmware.
-    pub events: EventBuf,
+    pub events: SafetyEvents,
 }
 
 impl Safety {
@@ -228,7 +172,7 @@ impl Safety {
             host_changes: 0,
             late_heartbeats: 0,
             max_heartbeat_gap_us: 0,
-            events: EventBuf::new(),
+            events: SafetyEvents::new(),
         };
         mem.write32(ss::FAULTS, 0);
         mem.write32(ss::WATCHDOG_ARMED, 0);

@@ -563,25 +563,13 @@ impl Interpolator {
         };
         self.cfg = cfg;
         self.length = length;
-        self.slow = None;
         self.planner = planner;
         self.u_end = u_end;
-        self.u = u0;
-        self.pos = pos;
-        self.d1 = d1;
-        self.d2 = d2;
-        self.prev_vel = Point::zeros();
-        self.s = 0.0;
-        self.done = false;
-        self.hint = 0;
-        self.hint_u = 0;
         self.end_pos = end_pos;
         self.start_tan = unit(d1);
         self.end_tan = unit(e1);
-        self.last_plan = 0.0;
-        self.before_pos = pos;
-        self.before_vel = Point::zeros();
         self.span = core::cell::Cell::new(0);
+        self.start_at(u0, pos, d1, d2);
         Ok(())
     }
 
@@ -589,6 +577,13 @@ impl Interpolator {
     pub fn reset(&mut self) {
         let (u0, _) = self.curve.domain();
         let (pos, d1, d2) = self.curve.eval_clamped(u0);
+        self.start_at(u0, pos, d1, d2);
+        self.planner.rest();
+    }
+
+    /// The motion state at the curve's start `u0` (point `pos`, derivatives `d1`, `d2`),
+    /// nothing run yet.
+    fn start_at(&mut self, u0: f64, pos: Point, d1: Point, d2: Point) {
         self.u = u0;
         self.pos = pos;
         self.d1 = d1;
@@ -599,7 +594,6 @@ impl Interpolator {
         self.hint = 0;
         self.hint_u = 0;
         self.slow = None;
-        self.planner.rest();
         self.last_plan = 0.0;
         self.before_pos = pos;
         self.before_vel = Point::zeros();

@@ -41,6 +41,7 @@ mod testing;
 use self::nurbs_pool::NurbsPool;
 pub use self::nurbs_pool::NURBS_SLOTS;
 use crate::firmware::axis::Axis;
+pub use crate::firmware::outbox::Outbox;
 use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
 use crate::motion::nurbs::NurbsError;
@@ -385,56 +386,6 @@ struct Active {
 enum StopKind {
     Halt(u32),
     Stop,
-}
-
-/// Events raised while serving a command or running a tick, posted by the firmware afterwards
-/// (after the command's ack). Fixed capacity ([`Outbox::CAP`]): enough for a group aborting a
-/// full queue. An event that finds it full is counted ([`Outbox::lost`]; the firmware
-/// publishes the count in `card.outbox_lost`), never dropped silently.
-#[derive(Debug, Default)]
-pub struct Outbox {
-    events: heapless::Vec<Event, OUTBOX_CAP>,
-    lost: u32,
-}
-
-const OUTBOX_CAP: usize = 2 * GROUP_QUEUE_LEN + 8;
-
-impl Outbox {
-    /// Events it holds.
-    pub const CAP: usize = OUTBOX_CAP;
-
-    /// Queue an event; when full, count it as lost (never panicking).
-    pub fn push(&mut self, e: Event) {
-        if self.events.push(e).is_err() {
-            self.lost = self.lost.wrapping_add(1);
-        }
-    }
-
-    /// Event `i` (in the order pushed).
-    pub fn take(&mut self, i: usize) -> Option<Event> {
-        self.events.get(i).copied()
-    }
-
-    /// Events queued.
-    pub fn len(&self) -> usize {
-        self.events.len()
-    }
-
-    /// Nothing queued.
-    pub fn is_empty(&self) -> bool {
-        self.events.is_empty()
-    }
-
-    /// Forget what was taken.
-    #[inline]
-    pub fn clear(&mut self) {
-        self.events.clear();
-    }
-
-    /// Events that found it full since boot (wrapping).
-    pub fn lost(&self) -> u32 {
-        self.lost
-    }
 }
 
 /// One axes group.

@@ -131,7 +131,7 @@ impl Bench {
     /// The events pushed since the last call.
     pub(super) fn events(&mut self) -> Vec<Event> {
         let v = (0..self.out.len())
-            .filter_map(|i| self.out.take(i))
+            .filter_map(|i| self.out.get(i))
             .collect();
         self.out.clear();
         v
@@ -140,7 +140,6 @@ impl Bench {
     /// Has an event of `kind` for `seq` been pushed (since the last `events`)?
     pub(super) fn pushed(&self, kind: EventKind, seq: u32) -> bool {
         self.out
-            .events
             .iter()
             .any(|e| e.kind == kind as u16 && e.seq == seq)
     }
