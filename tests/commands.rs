@@ -80,6 +80,11 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
     let halt = |d: f64, j: f64| Command::new(Opcode::Halt, 0).with_args(&[d, j]);
     expect(NackCode::LimitRange, raw(&card, halt(5e6, 1e-300)));
     assert_eq!(raw(&card, halt(1e-310, 1e8)), Some(NackCode::LimitRange));
+    // An override beyond 200 % (or below 0 %).
+    let ovr = |k: f64| Command::new(Opcode::SetOverride, 0).with_args(&[k]);
+    expect(NackCode::OverrideRange, raw(&card, ovr(2.5)));
+    assert_eq!(raw(&card, ovr(-0.1)), Some(NackCode::OverrideRange));
+    assert_eq!(raw(&card, ovr(f64::NAN)), Some(NackCode::NotFinite));
     // A command the card takes after its deadline is refused, not executed.
     let mut late = mv(0, &good);
     late.deadline_ms = host_time(&card).wrapping_sub(10).max(1);

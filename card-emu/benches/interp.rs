@@ -37,7 +37,7 @@ fn group(
     Box<[card_emu::firmware::group::AxisFilter]>,
     Outbox,
 ) {
-    let mut axes = [Axis::new(); MAX_AXES];
+    let mut axes = core::array::from_fn(|_| Axis::new());
     for a in axes.iter_mut() {
         a.power(true).unwrap();
     }

@@ -740,7 +740,19 @@ typedef struct mc_axis_config {
    * Both windows held this long before motion done, s.
    */
   double settle_time;
-  double _reserved[5];
+  /**
+   * Layout 1.5: the largest jog velocity, counts/s (> 0).
+   */
+  double jog_max_vel;
+  /**
+   * Jog acceleration and deceleration, counts/s^2 (> 0).
+   */
+  double jog_accel;
+  /**
+   * Jog jerk, counts/s^3 (> 0).
+   */
+  double jog_jerk;
+  double _reserved[2];
 } mc_axis_config;
 
 /**
@@ -890,7 +902,18 @@ typedef struct mc_axis_status_payload {
    * Payload word 20: the servo law's output before the DAC clamp, V.
    */
   double u_request;
-  uint64_t _reserved[2];
+  /**
+   * Payload word 21 (layout 1.5): MC_MOTION_* bits.
+   */
+  uint32_t motion_flags;
+  /**
+   * Buffered moves waiting in the axis's queue.
+   */
+  uint32_t queued;
+  /**
+   * Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX.
+   */
+  double override_factor;
   /**
    * A mix of the words before it, seeded with MC_STATUS_CHECK.
    */

@@ -21,12 +21,13 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 4u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 5u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
                            * in the card control block (card.bad_accesses, outbox_lost,
-                           * safety_events_lost) */
+                           * safety_events_lost); 5: moves from any state (buffer modes, MC_OP_MOVE_ADDITIVE),
+                           * velocity mode and jog, override, axis motion flags and queue in the status */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -66,14 +67,34 @@
 #define MC_OP_NOP 1u
 #define MC_OP_POWER_ON 2u          /* MC_Power Enable=TRUE */
 #define MC_OP_POWER_OFF 3u         /* MC_Power Enable=FALSE */
-#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7 */
-#define MC_OP_MOVE_RELATIVE 5u     /* args: distance, vmax, amax, dmax, j1, j3, j5, j7 */
+#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED */
+#define MC_OP_MOVE_RELATIVE 5u     /* args: distance (from the commanded position), then as MOVE_ABSOLUTE */
 #define MC_OP_HALT 6u              /* args: dmax, jerk. Decelerate, then Standstill */
 #define MC_OP_STOP 7u              /* args: dmax, jerk. Decelerate, stay in Stopping */
 #define MC_OP_STOP_RELEASE 8u      /* leave Stopping once at rest (MC_Stop Execute=FALSE) */
 #define MC_OP_RESET 9u             /* MC_Reset: ErrorStop -> Standstill or Disabled */
 #define MC_OP_APPLY_AXIS_CONFIG 10u /* copy and validate axis_config[axis] */
 #define MC_OP_APPLY_CARD_CONFIG 11u /* copy and validate card_config (axis field ignored) */
+/* Layout 1.5: single-axis moves from any state. Without MC_MOVE_BUFFERED a move is PLCopen
+ * Aborting: it takes over in the tick it is served, from the commanded position, velocity and
+ * acceleration (no jump in any of them), and the motion it replaces (and every buffered move) is
+ * aborted. With MC_MOVE_BUFFERED it waits in the axis's queue (MC_AXIS_QUEUE_LEN moves, else
+ * MC_NACK_QUEUE_FULL) until the motion before it is done (in position, or at its velocity);
+ * MC_EV_MOTION_ACTIVE tells when it starts. A move that starts while the axis moves is planned
+ * with one jerk, the smallest of j1, j3, j5, j7 (time-optimal from any state). */
+#define MC_OP_MOVE_ADDITIVE 12u    /* args: distance (from the target of the last move), then as MOVE_ABSOLUTE */
+#define MC_OP_MOVE_VELOCITY 13u    /* MC_MoveVelocity: args: velocity (signed), amax, dmax, jerk.
+                                    * ContinuousMotion; MC_EV_IN_VELOCITY once at the velocity. Aborting */
+#define MC_OP_JOG 14u              /* velocity mode with the jog feed: args: velocity (signed, |v| <=
+                                    * axis_config.jog_max_vel, else MC_NACK_OUT_OF_RANGE) at the axis's
+                                    * jog_accel and jog_jerk. Releasing the button is MC_OP_HALT */
+#define MC_OP_SET_OVERRIDE 15u     /* MC_SetOverride: args: velocity factor 0..MC_OVERRIDE_MAX (else
+                                    * MC_NACK_OVERRIDE_RANGE). Scales the axis's velocity limit (moves)
+                                    * or velocity (velocity mode); the change is planned from the current
+                                    * state within the acceleration and jerk limits. 0 holds the axis
+                                    * still in its motion state; a factor > 0 resumes from there */
+#define MC_AXIS_QUEUE_LEN 16u      /* buffered single-axis moves per axis */
+#define MC_OVERRIDE_MAX 2.0        /* 200 % */
 /* Axes groups: the command's axis field holds the group index. */
 #define MC_OP_GROUP_CONFIGURE 16u   /* copy and validate group_config[group] (group disabled) */
 #define MC_OP_APPLY_AXIS_FILTER 17u /* copy and validate axis_filter[axis] */
@@ -105,7 +126,8 @@
 
 /* Flags of the group move opcodes */
 #define MC_MOVE_RELATIVE (1u << 0)
-#define MC_MOVE_BUFFERED (1u << 1)     /* start when the queued moves end (else: group must be at rest) */
+#define MC_MOVE_BUFFERED (1u << 1)     /* start when the queued moves end (else: a group must be at rest;
+                                        * an axis aborts what it does) */
 #define MC_CIRC_MODE_SHIFT 2u          /* 2 bits: */
 #define MC_CIRC_BY_CENTRE 0u           /*   aux = centre */
 #define MC_CIRC_BY_RADIUS 1u           /*   aux_u = radius (negative: the arc longer than half a turn) */
@@ -166,6 +188,10 @@
 #define MC_EV_GROUP_MOTION_DONE 8u    /* axis: group; seq: the move; value: 1 when the group is at rest in position */
 #define MC_EV_GROUP_STATE_CHANGED 9u  /* axis: group; code: new state, value: old state */
 #define MC_EV_GROUP_MOTION_ABORTED 10u /* axis: group; seq: the move; code: the opcode that ended it */
+#define MC_EV_MOTION_ACTIVE 11u  /* a buffered move started (PLCopen Active). seq: the move; value: its target
+                                  * (velocity mode: its velocity) */
+#define MC_EV_IN_VELOCITY 12u    /* velocity mode reached its velocity (PLCopen InVelocity). seq: the command;
+                                  * value: the velocity */
 /* Safety events (16..23). */
 #define MC_EV_SAFETY_STOP 16u    /* a safety stop began. code: MC_STOP_* reason, value: the
                                   * measurement (following error, position, heartbeat age s);
@@ -189,6 +215,7 @@
 #define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
                                  * |d|/vmax, off its target or beyond a limit): refused, not run */
 #define MC_NACK_EXPIRED 13      /* served after its deadline (mc_cmd.deadline_ms): not executed */
+#define MC_NACK_OVERRIDE_RANGE 14 /* an override factor outside 0..MC_OVERRIDE_MAX */
 #define MC_NACK_BAD_GROUP 16            /* no such group */
 #define MC_NACK_AXIS_IN_OTHER_GROUP 17  /* an axis already belongs to another group */
 #define MC_NACK_AXIS_NOT_IN_GROUP 18    /* the move needs an axis the group does not have */
@@ -198,7 +225,7 @@
 #define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
 #define MC_NACK_RADIUS_TOO_SMALL 23     /* the radius is shorter than half the chord */
 #define MC_NACK_COLLINEAR_POINTS 24     /* the three points of a border-point arc are on one line */
-#define MC_NACK_QUEUE_FULL 25           /* the group's move queue is full */
+#define MC_NACK_QUEUE_FULL 25           /* the group's (or the axis's) move queue is full */
 #define MC_NACK_INCOMPATIBLE_MODE 26    /* the interpolator cannot run with the group's acc/dec mode */
 #define MC_NACK_GROUP_DISABLED 27       /* a move on a disabled group */
 #define MC_NACK_FILTER_BUSY 28          /* filters can change only while they hold no distance */
@@ -295,6 +322,12 @@
 #define MC_STOP_HOST_CHANGED 32u  /* a host attached while the previous host's session was open */
 
 /* Axis I/O bits (mc_axis_status_payload.io): the FPGA's inputs and the drive-enable output */
+/* Motion bits (mc_axis_status_payload.motion_flags, layout 1.5) */
+#define MC_MOTION_IN_VELOCITY (1u << 0) /* velocity mode at its (overridden) velocity */
+#define MC_MOTION_PAUSED (1u << 1)      /* held still by a 0 % override, in its motion state */
+#define MC_MOTION_HOMED (1u << 2)       /* the position was set by homing or MC_SetPosition */
+#define MC_MOTION_BUFFERED_ACTIVE (1u << 3) /* the motion running is one that was buffered */
+
 #define MC_IO_LIMIT_POS (1u << 0)
 #define MC_IO_LIMIT_NEG (1u << 1)
 #define MC_IO_HOME (1u << 2)
@@ -426,7 +459,13 @@ struct mc_axis_config {
     double in_vel_window;
     /** Both windows held this long before motion done, s. */
     double settle_time;
-    double _reserved[5];
+    /** Layout 1.5: the largest jog velocity, counts/s (> 0). */
+    double jog_max_vel;
+    /** Jog acceleration and deceleration, counts/s^2 (> 0). */
+    double jog_accel;
+    /** Jog jerk, counts/s^3 (> 0). */
+    double jog_jerk;
+    double _reserved[2];
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */
@@ -580,7 +619,12 @@ struct mc_axis_status_payload {
     uint32_t io;
     /** Payload word 20: the servo law's output before the DAC clamp, V. */
     double u_request;
-    uint64_t _reserved[2];
+    /** Payload word 21 (layout 1.5): MC_MOTION_* bits. */
+    uint32_t motion_flags;
+    /** Buffered moves waiting in the axis's queue. */
+    uint32_t queued;
+    /** Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX. */
+    double override_factor;
     /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };

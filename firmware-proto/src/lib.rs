@@ -78,6 +78,10 @@ pub const MAX_POSITION: f64 = raw::MC_MAX_POSITION;
 /// Longest move the card accepts, s (about 11.6 days): anything longer comes from limits that
 /// are almost certainly wrong, and is refused as infeasible.
 pub const MAX_MOVE_TIME: f64 = raw::MC_MAX_MOVE_TIME;
+/// Largest velocity override factor (`MC_OVERRIDE_MAX`: 200 %).
+pub const OVERRIDE_MAX: f64 = raw::MC_OVERRIDE_MAX;
+/// Buffered single-axis moves per axis (`MC_AXIS_QUEUE_LEN`).
+pub const AXIS_QUEUE_LEN: usize = raw::MC_AXIS_QUEUE_LEN as usize;
 
 /// The range the card accepts for a kinematic limit of order `order` (1 velocity, 2
 /// acceleration, 3 jerk; counts and seconds) at `servo_rate_hz`:

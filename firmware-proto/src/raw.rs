@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 4;
+pub const MC_LAYOUT_MINOR: u32 = 5;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -35,6 +35,12 @@ pub const MC_OP_STOP_RELEASE: u32 = 8;
 pub const MC_OP_RESET: u32 = 9;
 pub const MC_OP_APPLY_AXIS_CONFIG: u32 = 10;
 pub const MC_OP_APPLY_CARD_CONFIG: u32 = 11;
+pub const MC_OP_MOVE_ADDITIVE: u32 = 12;
+pub const MC_OP_MOVE_VELOCITY: u32 = 13;
+pub const MC_OP_JOG: u32 = 14;
+pub const MC_OP_SET_OVERRIDE: u32 = 15;
+pub const MC_AXIS_QUEUE_LEN: u32 = 16;
+pub const MC_OVERRIDE_MAX: f64 = 2.0;
 pub const MC_OP_GROUP_CONFIGURE: u32 = 16;
 pub const MC_OP_APPLY_AXIS_FILTER: u32 = 17;
 pub const MC_OP_GROUP_ENABLE: u32 = 18;
@@ -93,6 +99,8 @@ pub const MC_EV_MOTION_ABORTED: u32 = 6;
 pub const MC_EV_GROUP_MOTION_DONE: u32 = 8;
 pub const MC_EV_GROUP_STATE_CHANGED: u32 = 9;
 pub const MC_EV_GROUP_MOTION_ABORTED: u32 = 10;
+pub const MC_EV_MOTION_ACTIVE: u32 = 11;
+pub const MC_EV_IN_VELOCITY: u32 = 12;
 pub const MC_EV_SAFETY_STOP: u32 = 16;
 pub const MC_EV_AT_REST: u32 = 17;
 pub const MC_EV_PROTOCOL_ERROR: u32 = 18;
@@ -109,6 +117,7 @@ pub const MC_NACK_AXES_ENABLED: u32 = 10;
 pub const MC_NACK_LIMIT_RANGE: u32 = 11;
 pub const MC_NACK_PLAN_CHECK: u32 = 12;
 pub const MC_NACK_EXPIRED: u32 = 13;
+pub const MC_NACK_OVERRIDE_RANGE: u32 = 14;
 pub const MC_NACK_BAD_GROUP: u32 = 16;
 pub const MC_NACK_AXIS_IN_OTHER_GROUP: u32 = 17;
 pub const MC_NACK_AXIS_NOT_IN_GROUP: u32 = 18;
@@ -196,6 +205,10 @@ pub const MC_STOP_EVT_RING: u32 = 29;
 pub const MC_STOP_GROUP: u32 = 30;
 pub const MC_STOP_TIMEOUT: u32 = 31;
 pub const MC_STOP_HOST_CHANGED: u32 = 32;
+pub const MC_MOTION_IN_VELOCITY: u32 = 1;
+pub const MC_MOTION_PAUSED: u32 = 2;
+pub const MC_MOTION_HOMED: u32 = 4;
+pub const MC_MOTION_BUFFERED_ACTIVE: u32 = 8;
 pub const MC_IO_LIMIT_POS: u32 = 1;
 pub const MC_IO_LIMIT_NEG: u32 = 2;
 pub const MC_IO_HOME: u32 = 4;
@@ -424,7 +437,13 @@ pub struct mc_axis_config {
     pub in_vel_window: f64,
     #[doc = " Both windows held this long before motion done, s."]
     pub settle_time: f64,
-    pub _reserved: [f64; 5usize],
+    #[doc = " Layout 1.5: the largest jog velocity, counts/s (> 0)."]
+    pub jog_max_vel: f64,
+    #[doc = " Jog acceleration and deceleration, counts/s^2 (> 0)."]
+    pub jog_accel: f64,
+    #[doc = " Jog jerk, counts/s^3 (> 0)."]
+    pub jog_jerk: f64,
+    pub _reserved: [f64; 2usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -444,8 +463,14 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, in_vel_window) - 72usize];
     ["Offset of field: mc_axis_config::settle_time"]
         [::core::mem::offset_of!(mc_axis_config, settle_time) - 80usize];
+    ["Offset of field: mc_axis_config::jog_max_vel"]
+        [::core::mem::offset_of!(mc_axis_config, jog_max_vel) - 88usize];
+    ["Offset of field: mc_axis_config::jog_accel"]
+        [::core::mem::offset_of!(mc_axis_config, jog_accel) - 96usize];
+    ["Offset of field: mc_axis_config::jog_jerk"]
+        [::core::mem::offset_of!(mc_axis_config, jog_jerk) - 104usize];
     ["Offset of field: mc_axis_config::_reserved"]
-        [::core::mem::offset_of!(mc_axis_config, _reserved) - 88usize];
+        [::core::mem::offset_of!(mc_axis_config, _reserved) - 112usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -716,7 +741,12 @@ pub struct mc_axis_status_payload {
     pub io: u32,
     #[doc = " Payload word 20: the servo law's output before the DAC clamp, V."]
     pub u_request: f64,
-    pub _reserved: [u64; 2usize],
+    #[doc = " Payload word 21 (layout 1.5): MC_MOTION_* bits."]
+    pub motion_flags: u32,
+    #[doc = " Buffered moves waiting in the axis's queue."]
+    pub queued: u32,
+    #[doc = " Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX."]
+    pub override_factor: f64,
     #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
@@ -773,8 +803,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, io) - 156usize];
     ["Offset of field: mc_axis_status_payload::u_request"]
         [::core::mem::offset_of!(mc_axis_status_payload, u_request) - 160usize];
-    ["Offset of field: mc_axis_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_axis_status_payload, _reserved) - 168usize];
+    ["Offset of field: mc_axis_status_payload::motion_flags"]
+        [::core::mem::offset_of!(mc_axis_status_payload, motion_flags) - 168usize];
+    ["Offset of field: mc_axis_status_payload::queued"]
+        [::core::mem::offset_of!(mc_axis_status_payload, queued) - 172usize];
+    ["Offset of field: mc_axis_status_payload::override_factor"]
+        [::core::mem::offset_of!(mc_axis_status_payload, override_factor) - 176usize];
     ["Offset of field: mc_axis_status_payload::checksum"]
         [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 184usize];
 };

@@ -50,7 +50,8 @@ impl Default for FfpivGains {
 }
 
 /// FFPIV with the default tuning, the full ±10 V, one count and 2000 counts/s in-position
-/// windows held 2 ms.
+/// windows held 2 ms; jog at up to 50,000 counts/s (5 rev/s of the default motor) at
+/// 500,000 counts/s² and 5e7 counts/s³.
 impl Default for AxisConfig {
     fn default() -> Self {
         Self {
@@ -61,7 +62,10 @@ impl Default for AxisConfig {
             in_pos_window: 1.0,
             in_vel_window: 2000.0,
             settle_time: 0.002,
-            _reserved: [0.0; 5],
+            jog_max_vel: 50_000.0,
+            jog_accel: 500_000.0,
+            jog_jerk: 5e7,
+            _reserved: [0.0; 2],
         }
     }
 }

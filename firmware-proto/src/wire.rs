@@ -61,6 +61,15 @@ code_enum! {
         ApplyAxisConfig = raw::MC_OP_APPLY_AXIS_CONFIG,
         /// Validate and copy `card_config`.
         ApplyCardConfig = raw::MC_OP_APPLY_CARD_CONFIG,
+        /// MC_MoveAdditive: args distance from the target of the last move, then the limits
+        /// as [`Opcode::MoveAbsolute`].
+        MoveAdditive = raw::MC_OP_MOVE_ADDITIVE,
+        /// MC_MoveVelocity: args velocity (signed), amax, dmax, jerk.
+        MoveVelocity = raw::MC_OP_MOVE_VELOCITY,
+        /// Jog: velocity mode at the axis's jog limits; arg velocity (signed).
+        Jog = raw::MC_OP_JOG,
+        /// MC_SetOverride: arg velocity factor, 0 to [`OVERRIDE_MAX`](crate::OVERRIDE_MAX).
+        SetOverride = raw::MC_OP_SET_OVERRIDE,
         /// Validate and copy `group_config[group]`.
         GroupConfigure = raw::MC_OP_GROUP_CONFIGURE,
         /// Validate and copy `axis_filter[axis]`.
@@ -138,6 +147,10 @@ code_enum! {
         AtRest = raw::MC_EV_AT_REST,
         /// The host broke the protocol; `code` is a `MC_PROTO_*` value.
         ProtocolError = raw::MC_EV_PROTOCOL_ERROR,
+        /// A buffered move started (PLCopen Active); `value` is its target (or velocity).
+        MotionActive = raw::MC_EV_MOTION_ACTIVE,
+        /// Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
+        InVelocity = raw::MC_EV_IN_VELOCITY,
     }
 }
 
@@ -236,6 +249,8 @@ code_enum! {
         PlanCheck = raw::MC_NACK_PLAN_CHECK,
         /// Served after its deadline: not executed.
         Expired = raw::MC_NACK_EXPIRED,
+        /// An override factor outside 0 to [`OVERRIDE_MAX`](crate::OVERRIDE_MAX).
+        OverrideRange = raw::MC_NACK_OVERRIDE_RANGE,
         /// A stop ramp longer than the maximum stop time, or a maximum stop time out of range.
         StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
         /// A detach by a host whose session is not the attached one.
@@ -574,6 +589,19 @@ bitflags::bitflags! {
         const DRIVE_ENABLE = raw::MC_IO_DRIVE_ENABLE;
     }
 
+    /// Bits of [`AxisStatus::motion_flags`] (`MC_MOTION_*`, layout 1.5).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct MotionFlags: u32 {
+        /// Velocity mode at its (overridden) velocity.
+        const IN_VELOCITY = raw::MC_MOTION_IN_VELOCITY;
+        /// Held still by a 0 % override, in its motion state.
+        const PAUSED = raw::MC_MOTION_PAUSED;
+        /// The position was set by homing or MC_SetPosition.
+        const HOMED = raw::MC_MOTION_HOMED;
+        /// The motion running is one that was buffered.
+        const BUFFERED_ACTIVE = raw::MC_MOTION_BUFFERED_ACTIVE;
+    }
+
     /// The single-bit flags of the group move commands (`MC_MOVE_*`, `MC_CIRC_CCW`, ...) in
     /// [`Command::flags`]; the multi-bit fields (circle mode, plane, feed type) are shifted in
     /// with the shifts of [`move_flags`].
@@ -671,6 +699,11 @@ impl raw::mc_axis_status_payload {
     /// The input and drive-enable bits as a set (bits this layout does not name are kept).
     pub fn io(&self) -> Io {
         Io::from_bits_retain(self.io)
+    }
+
+    /// The motion bits as a set (bits this layout does not name are kept).
+    pub fn motion(&self) -> MotionFlags {
+        MotionFlags::from_bits_retain(self.motion_flags)
     }
 
     /// The stop reason, if known.

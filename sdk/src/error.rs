@@ -126,7 +126,7 @@ error_kinds! {
     /// The three points of a border-point arc are on one line.
     CollinearPoints = -30, MC_ERR_COLLINEAR_POINTS, nack CollinearPoints, "the three points are on one line";
     /// The group's move queue is full: nothing was queued.
-    QueueFull = -31, MC_ERR_QUEUE_FULL, nack QueueFull, "the group's move queue is full";
+    QueueFull = -31, MC_ERR_QUEUE_FULL, nack QueueFull, "the move queue (the group's or the axis's) is full";
     /// The interpolator cannot run with the group's acc/dec mode.
     IncompatibleMode = -32, MC_ERR_INCOMPATIBLE_MODE, nack IncompatibleMode, "the interpolator cannot run with this acc/dec mode";
     /// The group is disabled (or not configured).
@@ -200,6 +200,8 @@ error_kinds! {
     Cancelled = -62, MC_ERR_CANCELLED, "the wait was cancelled";
     /// The card's server refused this user (`emu:` access control).
     PermissionDenied = -63, MC_ERR_PERMISSION_DENIED, "the card's server refused this user";
+    /// An override factor outside 0 to 2 (0 % to 200 %).
+    OverrideRange = -64, MC_ERR_OVERRIDE_RANGE, nack OverrideRange, "the override factor is outside 0 to 2 (0 % to 200 %)";
 }
 
 impl From<NurbsError> for ErrorKind {

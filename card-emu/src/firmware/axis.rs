@@ -1,11 +1,17 @@
-//! One axis of the firmware: PLCopen state machine, profile execution, in-position detection,
-//! the servo loop and the move statistics the card publishes.
+//! One axis of the firmware: PLCopen state machine, profile execution (moves from any state,
+//! PLCopen Aborting and Buffered, velocity mode, override), in-position detection, the servo
+//! loop and the move statistics the card publishes.
 
 use crate::firmware::axis_safety::AxisSafety;
+use crate::firmware::nack::plan_nack;
+use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
 use crate::servo::pdplus::{AxisModel, PdPlus};
-use firmware_proto::{AxisState, AxisStatus, Faults, NackCode, StopReason};
+use firmware_proto::{
+    AxisState, AxisStatus, Faults, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
+};
+use heapless::{Deque, Vec};
 
 /// The validated copy of an axis's configuration: the block as the host wrote it (its fields
 /// are the header's `mc_axis_config`) and, when its servo law is PD+, the PD+ law.
@@ -41,6 +47,9 @@ impl AxisConfig {
             b.in_pos_window,
             b.in_vel_window,
             b.settle_time,
+            b.jog_max_vel,
+            b.jog_accel,
+            b.jog_jerk,
         ];
         if fin.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
@@ -51,6 +60,9 @@ impl AxisConfig {
             || b.in_pos_window <= 0.0
             || b.in_vel_window <= 0.0
             || !(0.0..=10.0).contains(&b.settle_time)
+            || b.jog_max_vel <= 0.0
+            || b.jog_accel <= 0.0
+            || b.jog_jerk <= 0.0
         {
             return Err(NackCode::BadConfig);
         }
@@ -64,23 +76,75 @@ impl AxisConfig {
 enum Motion {
     /// Holding the commanded position.
     Hold,
-    /// Running a profile; `t` is the time into it. Moves and halts end in Standstill once in
-    /// position; a stop stays in Stopping until released.
-    Profile { profile: Profile, t: f64 },
+    /// Running a trajectory; `t` is the time into it. Moves and halts end in Standstill once
+    /// in position; a stop stays in Stopping until released; velocity mode runs on at the
+    /// trajectory's end velocity.
+    Run { traj: Trajectory, t: f64 },
+}
+
+/// What the running motion is for: what a retarget or an override plans towards again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Goal {
+    /// A stop ramp, or nothing: no replanning.
+    None,
+    /// A position move (MC_MoveAbsolute/Relative/Additive) to `target` within `lim` (before
+    /// the override).
+    Position { target: f64, lim: Limits },
+    /// Velocity mode (MC_MoveVelocity, jog) at `vel` (before the override), accelerating
+    /// within `lim.amax`/`lim.dmax`/`lim.j1`.
+    Velocity { vel: f64, lim: Limits },
+}
+
+/// Which of PLCopen's single-axis position moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MoveKind {
+    /// MC_MoveAbsolute: the argument is the target.
+    Absolute,
+    /// MC_MoveRelative: a distance from the commanded position (buffered: from the target of
+    /// the move before it).
+    Relative,
+    /// MC_MoveAdditive: a distance from the target of the last move.
+    Additive,
+}
+
+/// A move waiting in the axis's queue (PLCopen Buffered): its target is fixed when queued.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Queued {
+    seq: u32,
+    goal: Goal,
+}
+
+/// How a motion command was taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Started {
+    /// It runs from this tick (Aborting, or Buffered on an axis with nothing to wait for).
+    Now,
+    /// It waits in the axis's queue (Buffered).
+    Queued,
 }
 
 /// Things the axis tells the command manager after a tick.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct TickReport {
     /// The motion started by command `seq` reached its target and is in position:
     /// raise motion done with (seq, actual position).
     pub done: Option<(u32, f64)>,
+    /// A buffered move `seq` started (PLCopen Active): (seq, target or velocity).
+    pub active: Option<(u32, f64)>,
+    /// Velocity mode of command `seq` reached its velocity (PLCopen InVelocity).
+    pub in_velocity: Option<(u32, f64)>,
+    /// Buffered moves dropped because the one due to start could not be planned from where
+    /// the axis is (its seq first): each gets its motion-aborted event.
+    pub dropped: Dropped,
     /// The state changed from this one.
     pub state_from: Option<AxisState>,
 }
 
+/// The seqs of the buffered moves a command or a fault dropped.
+pub type Dropped = Vec<u32, AXIS_QUEUE_LEN>;
+
 /// One axis.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Axis {
     /// PLCopen state.
     pub state: AxisState,
@@ -89,6 +153,12 @@ pub struct Axis {
     /// Safety configuration and state (safety.rs).
     pub safety: AxisSafety,
     motion: Motion,
+    goal: Goal,
+    queue: Deque<Queued, AXIS_QUEUE_LEN>,
+    /// The velocity override factor (MC_SetOverride), 0..=OVERRIDE_MAX.
+    override_factor: f64,
+    in_velocity: bool,
+    buffered_active: bool,
     servo: Ffpiv,
     cmd: Reference,
     cmd_jerk: f64,
@@ -139,6 +209,11 @@ impl Axis {
             config: AxisConfig::default(),
             safety: AxisSafety::new(),
             motion: Motion::Hold,
+            goal: Goal::None,
+            queue: Deque::new(),
+            override_factor: 1.0,
+            in_velocity: false,
+            buffered_active: false,
             servo: Ffpiv::default(),
             cmd: Reference {
                 pos: 0.0,
@@ -208,6 +283,8 @@ impl Axis {
             }
         } else {
             self.motion = Motion::Hold;
+            self.goal = Goal::None;
+            self.in_velocity = false;
             self.awaiting_done = false;
             self.stop_elapsed = None;
             // [safety] ErrorStop is left only by MC_Reset: power off removes power, keeps the state.
@@ -223,58 +300,244 @@ impl Axis {
         Ok(changed)
     }
 
-    /// The seq of the command whose motion is still waiting for its motion-done, if any: a new
-    /// motion command aborts it.
+    /// The seq of the command whose motion is still waiting for its motion-done (or, in
+    /// velocity mode, still in command), if any: an Aborting command aborts it.
     pub fn pending_motion(&self) -> Option<u32> {
         self.awaiting_done.then_some(self.motion_seq)
     }
 
+    /// Drop every buffered move (an Aborting command, a halt or stop, power off, a fault):
+    /// their seqs, for their motion-aborted events.
+    pub fn drain_queue(&mut self) -> Dropped {
+        let mut out = Dropped::new();
+        while let Some(q) = self.queue.pop_front() {
+            let _ = out.push(q.seq); // never full: the queue holds at most as many
+        }
+        out
+    }
+
+    /// The target of the last position move (queued ones included): where MC_MoveAdditive
+    /// (and a buffered MC_MoveRelative) count from. In velocity mode, or with no move yet, the
+    /// commanded position.
+    pub fn last_target(&self) -> f64 {
+        let last = self.queue.back().map(|q| q.goal).unwrap_or(self.goal);
+        match last {
+            Goal::Position { target, .. } => target,
+            _ if self.queue.is_empty() && self.goal == Goal::None => self.target,
+            _ => self.cmd.pos,
+        }
+    }
+
     fn check_can_move(&self) -> Result<(), NackCode> {
         match self.state {
-            AxisState::Standstill => Ok(()),
+            AxisState::Standstill | AxisState::DiscreteMotion | AxisState::ContinuousMotion => {
+                Ok(())
+            }
             AxisState::Disabled => Err(NackCode::AxisDisabled),
             _ => Err(NackCode::InvalidState),
         }
     }
 
-    /// MC_MoveAbsolute (`relative = false`) or MC_MoveRelative: plan a rest-to-rest S-curve from
-    /// the commanded position, within limits the card accepts at `rate_hz`, and checked before
-    /// it runs (`Profile::plan_checked`).
-    pub fn start_move(
-        &mut self,
-        seq: u32,
-        target_or_distance: f64,
-        relative: bool,
-        limits: &Limits,
-        rate_hz: u32,
-    ) -> Result<Option<AxisState>, NackCode> {
-        self.check_can_move()?;
-        let start = self.cmd.pos;
-        let target = if relative {
-            start + target_or_distance
-        } else {
-            target_or_distance
+    /// The target a position move names: `arg` is the target (absolute) or a distance from the
+    /// commanded position (relative; buffered: from the last target) or from the last target
+    /// (additive). `OutOfRange` beyond the position range.
+    pub fn move_target(&self, kind: MoveKind, arg: f64, buffered: bool) -> Result<f64, NackCode> {
+        let target = match kind {
+            MoveKind::Absolute => arg,
+            MoveKind::Relative if !buffered => self.cmd.pos + arg,
+            MoveKind::Relative | MoveKind::Additive => self.last_target() + arg,
         };
         if !target.is_finite() || target.abs() > crate::MAX_POSITION {
             return Err(NackCode::OutOfRange);
         }
-        let profile = Profile::plan_checked(start, target - start, 0.0, 0.0, limits, rate_hz)
-            .map_err(crate::firmware::nack::plan_nack)?;
-        if !profile.duration().is_finite() || profile.duration() > crate::MAX_MOVE_TIME {
+        Ok(target)
+    }
+
+    /// Is the axis running a motion a buffered move has to wait for (a move or halt not yet
+    /// done, velocity mode not yet at its velocity)?
+    fn busy(&self) -> bool {
+        self.awaiting_done && !(matches!(self.goal, Goal::Velocity { .. }) && self.in_velocity)
+    }
+
+    /// MC_MoveAbsolute, MC_MoveRelative, MC_MoveAdditive (`kind`) within `limits` (checked
+    /// against the card's ranges at `rate_hz` by the caller). Aborting (`buffered = false`):
+    /// planned now from the commanded state, time-optimal, running from this tick; the caller
+    /// drops the queue. Buffered: queued behind the motion in progress (else run now).
+    pub fn start_move(
+        &mut self,
+        seq: u32,
+        kind: MoveKind,
+        arg: f64,
+        limits: &Limits,
+        buffered: bool,
+        rate_hz: u32,
+    ) -> Result<(Option<AxisState>, Started), NackCode> {
+        self.check_can_move()?;
+        let target = self.move_target(kind, arg, buffered)?;
+        let goal = Goal::Position {
+            target,
+            lim: *limits,
+        };
+        if buffered && self.busy() {
+            // The plan is made when it starts; what can be checked now is checked now.
+            self.queue
+                .push_back(Queued { seq, goal })
+                .map_err(|_| NackCode::QueueFull)?;
+            return Ok((None, Started::Queued));
+        }
+        let changed = self.run_goal(seq, goal, rate_hz)?;
+        self.buffered_active = false;
+        Ok((changed, Started::Now))
+    }
+
+    /// MC_MoveVelocity (and jog): velocity mode at the signed `vel`, reached within `lim`'s
+    /// acceleration, deceleration and jerk from the commanded state. Aborting.
+    pub fn start_velocity(
+        &mut self,
+        seq: u32,
+        vel: f64,
+        lim: &Limits,
+        rate_hz: u32,
+    ) -> Result<Option<AxisState>, NackCode> {
+        self.check_can_move()?;
+        let changed = self.run_goal(seq, Goal::Velocity { vel, lim: *lim }, rate_hz)?;
+        self.buffered_active = false;
+        Ok(changed)
+    }
+
+    /// MC_SetOverride: the new velocity factor, planned from the commanded state towards the
+    /// goal in progress (a position move or velocity mode). Refused (`OverrideRange`) outside
+    /// 0..=OVERRIDE_MAX; a factor the running goal cannot be planned with is refused with the
+    /// planner's nack and changes nothing.
+    pub fn set_override(&mut self, factor: f64, rate_hz: u32) -> Result<(), NackCode> {
+        if !factor.is_finite() {
+            return Err(NackCode::NotFinite);
+        }
+        if !(0.0..=OVERRIDE_MAX).contains(&factor) {
+            return Err(NackCode::OverrideRange);
+        }
+        let old = self.override_factor;
+        self.override_factor = factor;
+        let replan = self.awaiting_done
+            && matches!(
+                self.state,
+                AxisState::DiscreteMotion | AxisState::ContinuousMotion
+            )
+            && self.goal != Goal::None;
+        if replan {
+            match self.plan(&self.goal, rate_hz) {
+                Ok(traj) => self.motion = Motion::Run { traj, t: 0.0 },
+                Err(e) => {
+                    self.override_factor = old;
+                    return Err(e);
+                }
+            }
+            self.in_velocity = false;
+        }
+        Ok(())
+    }
+
+    /// Plan `goal` from the commanded state with the override in force. From rest, a position
+    /// move is the card's rest-to-rest S-curve with its four jerks; from motion, the
+    /// time-optimal trajectory from any state with one jerk (the smallest). A 0 % override
+    /// plans a stop where the axis then waits.
+    fn plan(&self, goal: &Goal, rate_hz: u32) -> Result<Trajectory, NackCode> {
+        let k = self.override_factor;
+        let c = self.cmd;
+        let traj = match *goal {
+            Goal::None => return Err(NackCode::InvalidState),
+            Goal::Position { lim, .. } | Goal::Velocity { lim, .. } if k == 0.0 => {
+                let dir = if c.vel != 0.0 { c.vel.signum() } else { 1.0 };
+                let l = OtgLimits::along(dir, &lim);
+                Trajectory::to_velocity(c.pos, c.vel, c.acc, 0.0, &l)
+            }
+            Goal::Position { target, lim } => {
+                let eff = Limits {
+                    vmax: lim.vmax * k,
+                    ..lim
+                };
+                eff.check_range(rate_hz).map_err(plan_nack)?;
+                if c.vel == 0.0 && c.acc == 0.0 {
+                    Profile::plan_checked(c.pos, target - c.pos, 0.0, 0.0, &eff, rate_hz)
+                        .map(|p| Trajectory::from_profile(&p))
+                } else {
+                    let dir = if target != c.pos {
+                        (target - c.pos).signum()
+                    } else {
+                        c.vel.signum()
+                    };
+                    let l = OtgLimits::along(dir, &eff);
+                    Trajectory::to_position(c.pos, c.vel, c.acc, target, 0.0, &l)
+                        .and_then(|t| t.verify(&l).map(|()| t))
+                }
+            }
+            Goal::Velocity { vel, lim } => {
+                let v = vel * k;
+                let dir = if v != 0.0 { v.signum() } else { c.vel.signum() };
+                let top = *firmware_proto::limit_range(1, rate_hz).end();
+                let l = OtgLimits {
+                    vmax: top,
+                    vmin: -top,
+                    ..OtgLimits::along(dir, &lim)
+                };
+                Trajectory::to_velocity(c.pos, c.vel, c.acc, v, &l)
+                    .and_then(|t| t.verify(&l).map(|()| t))
+            }
+        }
+        .map_err(plan_nack)?;
+        if !traj.duration().is_finite() || traj.duration() > crate::MAX_MOVE_TIME {
             return Err(NackCode::Infeasible);
         }
-        self.target = target;
-        self.begin_motion(seq, profile.duration());
-        self.motion = Motion::Profile { profile, t: 0.0 };
+        Ok(traj)
+    }
+
+    /// Plan `goal` and run it from this tick as the motion of command `seq`.
+    fn run_goal(
+        &mut self,
+        seq: u32,
+        goal: Goal,
+        rate_hz: u32,
+    ) -> Result<Option<AxisState>, NackCode> {
+        let traj = self.plan(&goal, rate_hz)?;
+        let state = match goal {
+            Goal::Position { target, .. } => {
+                self.target = target;
+                AxisState::DiscreteMotion
+            }
+            _ => AxisState::ContinuousMotion,
+        };
+        self.goal = goal;
+        self.in_velocity = false;
+        self.begin_motion(seq, traj.duration());
+        self.motion = Motion::Run { traj, t: 0.0 };
         self.stop_elapsed = None;
         let mut changed = None;
-        self.set_state(AxisState::DiscreteMotion, &mut changed);
+        self.set_state(state, &mut changed);
         Ok(changed)
+    }
+
+    /// Start the next buffered move, if any, now that the motion before it is done (or, in
+    /// velocity mode, at its velocity). A move that cannot be planned from here (its limits
+    /// no longer fit the state) is aborted: `Err(seq)`.
+    fn start_next(&mut self, rate_hz: u32) -> Option<Result<(u32, f64), u32>> {
+        let q = self.queue.pop_front()?;
+        Some(match self.run_goal(q.seq, q.goal, rate_hz) {
+            Ok(_) => {
+                self.buffered_active = true;
+                let value = match q.goal {
+                    Goal::Position { target, .. } => target,
+                    Goal::Velocity { vel, .. } => vel,
+                    Goal::None => 0.0,
+                };
+                Ok((q.seq, value))
+            }
+            Err(_) => Err(q.seq),
+        })
     }
 
     /// MC_Halt (`stop = false`) or MC_Stop: a jerk-limited stop from the current commanded
     /// state within `dmax` and `jerk`, or along the axis's stop ramp when that one would take
-    /// longer than `max_time` s (see [`bounded_stop_limits`]).
+    /// longer than `max_time` s (see [`bounded_stop_limits`]). The caller drops the queue.
     pub fn start_stop(
         &mut self,
         seq: u32,
@@ -297,22 +560,37 @@ impl Axis {
             (c.stop_decel, c.stop_jerk),
             max_time,
         );
-        let profile = plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk)
-            .map_err(crate::firmware::nack::plan_nack)?;
+        let profile =
+            plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk).map_err(plan_nack)?;
         self.target = profile.end_pos();
+        self.goal = Goal::None;
+        self.in_velocity = false;
         self.begin_motion(seq, profile.duration());
-        self.motion = Motion::Profile { profile, t: 0.0 };
+        self.run_profile_now(&profile);
         self.stop_elapsed = Some(0.0);
         self.safety.stop_reason = if stop {
             StopReason::Stop
         } else {
             StopReason::Halt
         };
-        if stop {
+        // A halt ends velocity mode as a discrete motion (PLCopen: Halt is DiscreteMotion).
+        let state = if stop {
             self.stop_released = false;
-            self.set_state(AxisState::Stopping, &mut changed);
+            AxisState::Stopping
+        } else {
+            AxisState::DiscreteMotion
+        };
+        if self.state != AxisState::Standstill || stop {
+            self.set_state(state, &mut changed);
         }
         Ok(changed)
+    }
+
+    fn run_profile_now(&mut self, p: &Profile) {
+        self.motion = Motion::Run {
+            traj: Trajectory::from_profile(p),
+            t: 0.0,
+        };
     }
 
     fn begin_motion(&mut self, seq: u32, planned: f64) {
@@ -349,6 +627,7 @@ impl Axis {
             acc: 0.0,
         };
         self.motion = Motion::Hold;
+        self.goal = Goal::None;
         self.stop_elapsed = None;
         self.servo.reset_integral();
         // [safety] clear the latches; an axis whose drive was disabled by the stop goes to Disabled.
@@ -416,31 +695,41 @@ impl Axis {
             return (0.0, report);
         }
 
-        // Profile generator.
-        if let Motion::Profile { profile, t } = &mut self.motion {
+        // Trajectory generator.
+        if let Motion::Run { traj, t } = &mut self.motion {
             *t += ts;
-            let s = profile.sample(*t);
+            let s = traj.sample(*t);
             self.cmd = Reference {
                 pos: s.pos,
                 vel: s.vel,
                 acc: s.acc,
             };
-            if *t >= profile.duration() {
-                let end = profile.sample(*t);
-                if end.vel != 0.0 || end.acc != 0.0 {
+            if *t >= traj.duration() {
+                let end = traj.end();
+                if let Goal::Velocity { .. } = self.goal {
+                    // Velocity mode runs on at its velocity (the sample continues it).
+                    if !self.in_velocity {
+                        self.in_velocity = true;
+                        report.in_velocity = Some((self.motion_seq, end.vel));
+                    }
+                } else if end.vel != 0.0 || end.acc != 0.0 {
                     // [safety] the profile ends moving and nothing follows it (a queue ran
                     // dry): a planned stop from where it ended, never a jump to rest.
                     let stop = crate::firmware::axis_safety::starvation_stop(&self.safety, &end);
                     self.target = stop.map_or(end.pos, |p| p.end_pos());
                     self.motion = match stop {
-                        Some(profile) => Motion::Profile { profile, t: 0.0 },
+                        Some(p) => Motion::Run {
+                            traj: Trajectory::from_profile(&p),
+                            t: 0.0,
+                        },
                         None => Motion::Hold,
                     };
+                    self.goal = Goal::None;
                     self.safety.stop_reason = StopReason::Starvation;
                     self.stop_elapsed = Some(0.0);
                 } else {
                     self.cmd = Reference {
-                        pos: profile.end_pos(),
+                        pos: end.pos,
                         vel: 0.0,
                         acc: 0.0,
                     };
@@ -511,12 +800,33 @@ impl Axis {
                         self.safety.stop_reason = StopReason::Done;
                     }
                     report.done = Some((self.motion_seq, self.act_pos));
+                    self.goal = Goal::None;
                     if self.state == AxisState::DiscreteMotion {
-                        self.set_state(AxisState::Standstill, &mut report.state_from);
+                        // PLCopen Buffered: the next move starts once this one is done.
+                        match self.start_next(rate_hz(ts)) {
+                            Some(Ok(active)) => report.active = Some(active),
+                            Some(Err(seq)) => {
+                                let _ = report.dropped.push(seq);
+                                report.dropped.extend(self.drain_queue());
+                                self.set_state(AxisState::Standstill, &mut report.state_from)
+                            }
+                            None => self.set_state(AxisState::Standstill, &mut report.state_from),
+                        }
                     }
                 }
             } else {
                 self.settled_for = 0.0;
+            }
+        }
+        // A move buffered behind velocity mode starts once the velocity is reached.
+        if report.in_velocity.is_some() {
+            match self.start_next(rate_hz(ts)) {
+                Some(Ok(active)) => report.active = Some(active),
+                Some(Err(seq)) => {
+                    let _ = report.dropped.push(seq);
+                    report.dropped.extend(self.drain_queue());
+                }
+                None => {}
             }
         }
         (volts, report)
@@ -603,9 +913,32 @@ impl Axis {
             u_request: self.u_request,
             stop_reason: self.safety.stop_reason as u32,
             io: self.safety.io.bits(),
+            motion_flags: self.motion_flags().bits(),
+            queued: self.queue.len() as u32,
+            override_factor: self.override_factor,
             ..Default::default()
         }
     }
+
+    /// The motion bits of the status.
+    pub fn motion_flags(&self) -> MotionFlags {
+        let mut f = MotionFlags::empty();
+        let moving = self.awaiting_done && self.goal != Goal::None;
+        f.set(MotionFlags::IN_VELOCITY, self.in_velocity);
+        f.set(MotionFlags::PAUSED, moving && self.override_factor == 0.0);
+        f.set(MotionFlags::BUFFERED_ACTIVE, moving && self.buffered_active);
+        f
+    }
+
+    /// The velocity override factor in force.
+    pub fn override_factor(&self) -> f64 {
+        self.override_factor
+    }
+}
+
+/// The servo rate of a sample time, Hz.
+fn rate_hz(ts: f64) -> u32 {
+    (1.0 / ts).round() as u32
 }
 
 // ---- Safety hooks: what safety.rs needs from an axis (the rules live there) ----
@@ -616,10 +949,12 @@ impl Axis {
     pub(crate) fn enter_error_stop(&mut self, ramp: Option<Profile>) -> Option<AxisState> {
         let mut changed = None;
         self.awaiting_done = false;
+        self.goal = Goal::None;
+        self.in_velocity = false;
         match ramp {
             Some(profile) => {
                 self.target = profile.end_pos();
-                self.motion = Motion::Profile { profile, t: 0.0 };
+                self.run_profile_now(&profile);
                 self.safety.powered = true;
                 self.stop_elapsed = Some(0.0);
             }
@@ -651,7 +986,7 @@ impl Axis {
 
     /// Is a profile (move or stop ramp) still running?
     pub(crate) fn profile_running(&self) -> bool {
-        matches!(self.motion, Motion::Profile { .. })
+        matches!(self.motion, Motion::Run { .. })
     }
 
     /// Does the drive get the servo output this tick?
@@ -678,7 +1013,7 @@ impl Axis {
     pub(crate) fn run_profile(&mut self, seq: u32, profile: Profile) {
         self.target = profile.end_pos();
         self.begin_motion(seq, profile.duration());
-        self.motion = Motion::Profile { profile, t: 0.0 };
+        self.run_profile_now(&profile);
         self.state = AxisState::DiscreteMotion;
     }
 }

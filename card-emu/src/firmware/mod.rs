@@ -14,7 +14,7 @@ pub mod nack;
 pub mod outbox;
 pub mod safety;
 
-use self::axis::{Axis, AxisConfig, TickReport};
+use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
@@ -22,8 +22,8 @@ use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
-    raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
-    StopReason, MAX_AXES, MAX_GROUPS,
+    raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, MoveFlags, NackCode,
+    Opcode, StopReason, MAX_AXES, MAX_GROUPS,
 };
 
 /// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
@@ -77,7 +77,7 @@ impl<M: Mem + Clone> Firmware<M> {
             cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
             events: EvtProducer::attach(mem.clone(), EVT_RING),
             mem,
-            axes: [Axis::new(); MAX_AXES],
+            axes: core::array::from_fn(|_| Axis::new()),
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -278,8 +278,10 @@ impl<M: Mem + Clone> Firmware<M> {
             return self.execute_group(c, op).map(|()| 0.0);
         }
         let nargs = match op {
-            Opcode::MoveAbsolute | Opcode::MoveRelative => 8,
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => 8,
+            Opcode::MoveVelocity => 4,
             Opcode::Halt | Opcode::Stop => 2,
+            Opcode::Jog | Opcode::SetOverride => 1,
             _ => 0,
         };
         if c.args[..nargs].iter().any(|a| !a.is_finite()) {
@@ -307,7 +309,8 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::BadAxis);
         }
         // [safety] card-wide latches, causes still present, limits (safety.rs)
-        self.safety.check_command(op, &c.args, &self.axes[ax])?;
+        self.safety
+            .check_command(op, c.flags, &c.args, &self.axes[ax])?;
         let tick = self.tick;
         let pending = self.axes[ax].pending_motion();
         let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
@@ -328,6 +331,10 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             Opcode::MoveAbsolute
             | Opcode::MoveRelative
+            | Opcode::MoveAdditive
+            | Opcode::MoveVelocity
+            | Opcode::Jog
+            | Opcode::SetOverride
             | Opcode::Halt
             | Opcode::Stop
             | Opcode::StopRelease
@@ -339,10 +346,17 @@ impl<M: Mem + Clone> Firmware<M> {
             _ => {}
         }
         let axis = &mut self.axes[ax];
+        let rate = self.servo_rate_hz;
+        // Does the command take over the axis (PLCopen Aborting): the motion in progress and
+        // every buffered move are aborted.
+        let mut aborting = matches!(
+            op,
+            Opcode::MoveVelocity | Opcode::Jog | Opcode::Halt | Opcode::Stop | Opcode::PowerOff
+        );
         let changed = match op {
             Opcode::PowerOn => axis.power(true)?,
             Opcode::PowerOff => axis.power(false)?,
-            Opcode::MoveAbsolute | Opcode::MoveRelative => {
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
                 let a = &c.args;
                 let lim = Limits {
                     vmax: a[1],
@@ -353,12 +367,48 @@ impl<M: Mem + Clone> Firmware<M> {
                     j5: a[6],
                     j7: a[7],
                 };
-                let rate = self.servo_rate_hz;
                 lim.check_range(rate).map_err(nack::plan_nack)?;
-                axis.start_move(c.seq, a[0], op == Opcode::MoveRelative, &lim, rate)?
+                let kind = match op {
+                    Opcode::MoveAbsolute => MoveKind::Absolute,
+                    Opcode::MoveRelative => MoveKind::Relative,
+                    _ => MoveKind::Additive,
+                };
+                let buffered = c.flags & MoveFlags::BUFFERED.bits() != 0;
+                let (changed, started) =
+                    axis.start_move(c.seq, kind, a[0], &lim, buffered, rate)?;
+                aborting = started == Started::Now;
+                changed
+            }
+            Opcode::MoveVelocity | Opcode::Jog => {
+                let a = &c.args;
+                let (vel, lim) = if op == Opcode::Jog {
+                    let cfg = &axis.config;
+                    if a[0].abs() > cfg.jog_max_vel {
+                        return Err(NackCode::OutOfRange);
+                    }
+                    let (acc, jerk) = (cfg.jog_accel, cfg.jog_jerk);
+                    (a[0], Limits::symmetric(cfg.jog_max_vel, acc, jerk))
+                } else {
+                    let lim = Limits {
+                        vmax: a[0].abs(),
+                        amax: a[1],
+                        dmax: a[2],
+                        ..Limits::symmetric(0.0, 0.0, a[3])
+                    };
+                    (a[0], lim)
+                };
+                if a[0].abs() > *firmware_proto::limit_range(1, rate).end() {
+                    return Err(NackCode::OutOfRange);
+                }
+                nack::check_ranges(rate, &[(2, lim.amax), (2, lim.dmax), (3, lim.j1)])?;
+                axis.start_velocity(c.seq, vel, &lim, rate)?
+            }
+            Opcode::SetOverride => {
+                axis.set_override(c.args[0], rate)?;
+                None
             }
             Opcode::Halt | Opcode::Stop => {
-                nack::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+                nack::check_ranges(rate, &[(2, c.args[0]), (3, c.args[1])])?;
                 let max_time = self.safety.config().max_stop_time();
                 axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
             }
@@ -371,19 +421,12 @@ impl<M: Mem + Clone> Firmware<M> {
         };
         let axis = &mut self.axes[ax];
         axis.accepted(c.seq);
-        // A motion command (or power off) ends the motion still waiting for its done.
-        if let Some(old) = pending {
-            if matches!(
-                op,
-                Opcode::MoveAbsolute
-                    | Opcode::MoveRelative
-                    | Opcode::Halt
-                    | Opcode::Stop
-                    | Opcode::PowerOff
-            ) && old != c.seq
-            {
+        if aborting {
+            // The motion still waiting for its done, and every buffered move, end here.
+            let dropped = axis.drain_queue();
+            for seq in pending.into_iter().filter(|&s| s != c.seq).chain(dropped) {
                 self.outbox.push(Event {
-                    seq: old,
+                    seq,
                     kind: EventKind::MotionAborted as u16,
                     axis: c.axis,
                     code: op as i32,
@@ -417,7 +460,10 @@ impl<M: Mem + Clone> Firmware<M> {
             let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            if !matches!(axis.state, AxisState::DiscreteMotion) {
+            if !matches!(
+                axis.state,
+                AxisState::DiscreteMotion | AxisState::ContinuousMotion
+            ) {
                 continue;
             }
             let pending = axis.pending_motion();
@@ -427,7 +473,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 .is_ok()
             {
                 axis.safety.stop_reason = StopReason::HostDetach;
-                if let Some(old) = pending {
+                for old in pending.into_iter().chain(axis.drain_queue()) {
                     self.outbox.push(Event {
                         seq: old,
                         kind: EventKind::MotionAborted as u16,
@@ -585,7 +631,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 &mut self.outbox,
             );
         }
-        let mut reports = [TickReport::default(); MAX_AXES];
+        let mut reports: [TickReport; MAX_AXES] = Default::default();
         for (i, (axis, report)) in self.axes[..self.num_axes]
             .iter_mut()
             .zip(reports.iter_mut())
@@ -654,6 +700,36 @@ impl<M: Mem + Clone> Firmware<M> {
                     code: 0,
                     tick: self.tick,
                     value: pos,
+                });
+            }
+            for &seq in &report.dropped {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::MotionAborted as u16,
+                    axis,
+                    code: NackCode::Infeasible as i32,
+                    tick: self.tick,
+                    value: 0.0,
+                });
+            }
+            if let Some((seq, value)) = report.active {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::MotionActive as u16,
+                    axis,
+                    code: 0,
+                    tick: self.tick,
+                    value,
+                });
+            }
+            if let Some((seq, value)) = report.in_velocity {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::InVelocity as u16,
+                    axis,
+                    code: 0,
+                    tick: self.tick,
+                    value,
                 });
             }
             if let Some(old) = report.state_from {

@@ -34,7 +34,7 @@
 //!
 //! Like the rest of the firmware: no allocation, no panic, no clock; time is the tick count.
 
-use crate::firmware::axis::Axis;
+use crate::firmware::axis::{Axis, MoveKind};
 use crate::firmware::axis_safety::{ActiveStop, AxisSafetyConfig, LIVE_FAULTS};
 use crate::firmware::outbox::SafetyEvents;
 use crate::motion::scurve::plan_stop;
@@ -42,7 +42,7 @@ use crate::motion::scurve::Profile;
 use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
     raw, AxisSafetyFlags, AxisState, CardFaults, Command, Event, EventKind, Faults, Io, Mem,
-    NackCode, Opcode, StopCategory, StopReason, MAX_AXES,
+    MoveFlags, NackCode, Opcode, StopCategory, StopReason, MAX_AXES,
 };
 
 /// Axis number of card-wide events.
@@ -528,7 +528,7 @@ impl Safety {
             return;
         }
         let axis_no = i as u16;
-        if let Some(seq) = axis.pending_motion() {
+        for seq in axis.pending_motion().into_iter().chain(axis.drain_queue()) {
             self.events.push(Event {
                 seq,
                 ..event(
@@ -672,7 +672,13 @@ impl Safety {
     /// for moves. Commands that move an axis to a target (this firmware's MC_MoveAbsolute and
     /// MC_MoveRelative; a group or queued move for each of its axes) must pass
     /// [`check_target`] with the axis's start and target.
-    pub fn check_command(&self, op: Opcode, args: &[f64], axis: &Axis) -> Result<(), NackCode> {
+    pub fn check_command(
+        &self,
+        op: Opcode,
+        flags: u32,
+        args: &[f64],
+        axis: &Axis,
+    ) -> Result<(), NackCode> {
         let latch = || {
             if self.latched.contains(CardFaults::WATCHDOG) {
                 Err(NackCode::WatchdogTripped)
@@ -701,16 +707,43 @@ impl Safety {
                 }
                 Ok(())
             }
-            Opcode::MoveAbsolute | Opcode::MoveRelative => {
+            Opcode::MoveAbsolute
+            | Opcode::MoveRelative
+            | Opcode::MoveAdditive
+            | Opcode::MoveVelocity
+            | Opcode::Jog => {
                 // A move refused for a stop the card latched names the latch, not the state.
                 if axis.state == AxisState::ErrorStop {
                     latch()?;
                 }
-                let start = axis.reference().pos;
-                let target = if op == Opcode::MoveRelative {
-                    start + args.first().copied().unwrap_or(0.0)
-                } else {
-                    args.first().copied().unwrap_or(start)
+                let arg = args.first().copied().unwrap_or(0.0);
+                let buffered = flags & MoveFlags::BUFFERED.bits() != 0;
+                let (start, target) = match op {
+                    // Velocity mode: only the direction counts.
+                    Opcode::MoveVelocity | Opcode::Jog => {
+                        let start = axis.reference().pos;
+                        let step = if arg > 0.0 {
+                            1.0
+                        } else if arg < 0.0 {
+                            -1.0
+                        } else {
+                            0.0
+                        };
+                        (start, start + step)
+                    }
+                    _ => {
+                        let kind = match op {
+                            Opcode::MoveAbsolute => MoveKind::Absolute,
+                            Opcode::MoveRelative => MoveKind::Relative,
+                            _ => MoveKind::Additive,
+                        };
+                        let start = if buffered {
+                            axis.last_target()
+                        } else {
+                            axis.reference().pos
+                        };
+                        (start, axis.move_target(kind, arg, buffered)?)
+                    }
                 };
                 check_target(axis, start, target)
             }

@@ -25,7 +25,7 @@ impl Bench {
 
     /// As [`new`](Self::new), with Kim's reference-word arcs when `reference_word`.
     pub(super) fn with(n: usize, pre: bool, post: bool, reference_word: bool) -> Self {
-        let mut axes = [Axis::new(); MAX_AXES];
+        let mut axes = core::array::from_fn(|_| Axis::new());
         for a in axes.iter_mut().take(n) {
             a.power(true).unwrap();
         }
