@@ -104,6 +104,34 @@ extern "C" {
 
 
 /**
+ * `mc_move` kind: MC_MoveAbsolute, `value` is the target.
+ */
+#define MC_MOVE_KIND_ABSOLUTE 0
+
+/**
+ * `mc_move` kind: MC_MoveRelative, `value` is a distance from the commanded position
+ * (buffered: from the target of the move before it).
+ */
+#define MC_MOVE_KIND_RELATIVE 1
+
+/**
+ * `mc_move` kind: MC_MoveAdditive, `value` is a distance from the target of the last move.
+ */
+#define MC_MOVE_KIND_ADDITIVE 2
+
+/**
+ * PLCopen BufferMode Aborting: take over at once from the current position, velocity and
+ * acceleration; the motion in progress and every buffered move are aborted.
+ */
+#define MC_BUFFER_ABORTING 0
+
+/**
+ * PLCopen BufferMode Buffered: wait in the axis's queue (16 moves, else `MC_ERR_QUEUE_FULL`)
+ * until the motion before it is done; `mc_motion_wait_active` tells when it starts.
+ */
+#define MC_BUFFER_BUFFERED 1
+
+/**
  * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
  */
 #define MC_AXIS_STATE_DISABLED 0
@@ -262,6 +290,17 @@ extern "C" {
  * A group move was aborted (`axis`: the group).
  */
 #define MC_EVENT_GROUP_MOTION_ABORTED 10
+
+/**
+ * A buffered move started (PLCopen Active); `value` is its target (velocity mode: its
+ * velocity), user units.
+ */
+#define MC_EVENT_MOTION_ACTIVE 11
+
+/**
+ * Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
+ */
+#define MC_EVENT_IN_VELOCITY 12
 
 /**
  * A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
@@ -581,6 +620,26 @@ extern "C" {
  * A controlled stop, power kept (the axis holds its position).
  */
 #define MC_STOP_CATEGORY_2 2
+
+/**
+ * Motion bit of `mc_status.raw.motion_flags`: velocity mode at its (overridden) velocity.
+ */
+#define MC_MOTION_IN_VELOCITY 1
+
+/**
+ * Motion bit: held still by a 0 % override, in its motion state.
+ */
+#define MC_MOTION_PAUSED 2
+
+/**
+ * Motion bit: the position was set by homing or MC_SetPosition.
+ */
+#define MC_MOTION_HOMED 4
+
+/**
+ * Motion bit: the motion running is one that was buffered.
+ */
+#define MC_MOTION_BUFFERED_ACTIVE 8
 
 /**
  * Bit of `mc_status.io`: the positive limit switch input.
@@ -1354,6 +1413,24 @@ typedef struct mc_axis_pdplus {
 typedef struct mc_axis_pdplus mc_pdplus_settings;
 
 /**
+ * Limits of velocity mode, in user units (see `mc_set_scale`); each finite and > 0.
+ */
+typedef struct mc_velocity_limits {
+  /**
+   * Acceleration (speeding up).
+   */
+  double acceleration;
+  /**
+   * Deceleration (slowing down).
+   */
+  double deceleration;
+  /**
+   * Jerk.
+   */
+  double jerk;
+} mc_velocity_limits;
+
+/**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
  */
 typedef struct mc_safety_status {
@@ -1826,6 +1903,11 @@ typedef struct mc_stop_info {
 #define MC_ERR_PERMISSION_DENIED -63
 
 /**
+ * An override factor outside 0 to 2 (0 % to 200 %).
+ */
+#define MC_ERR_OVERRIDE_RANGE -64
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -2000,10 +2082,12 @@ mc_result mc_move_limits_symmetric(double velocity,
                                    struct mc_move_limits *limits);
 
 /**
- * MC_MoveAbsolute: a time-optimal S-curve to `target` within `*limits`. The move is accepted
- * from Standstill only (`MC_ERR_INVALID_STATE` while moving, `MC_ERR_AXIS_DISABLED` when
- * disabled). `motion` may be NULL; otherwise it receives the motion to wait for. Blocks until
- * the card has accepted or refused the move, not until it is done.
+ * MC_MoveAbsolute (PLCopen Aborting): a time-optimal S-curve to `target` within `*limits`,
+ * from Standstill or from whatever the axis is doing (it takes over in the tick the card
+ * serves it; the motion it replaces is aborted). `MC_ERR_AXIS_DISABLED` when disabled,
+ * `MC_ERR_INVALID_STATE` while stopping or in ErrorStop. Buffered moves: `mc_move`. `motion`
+ * may be NULL; otherwise it receives the motion to wait for. Blocks until the card has
+ * accepted or refused the move, not until it is done.
  */
 mc_result mc_move_absolute(mc_card card,
                            uint32_t axis,
@@ -2407,6 +2491,84 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *setti
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
 mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
+
+/**
+ * MC_MoveAbsolute, MC_MoveRelative or MC_MoveAdditive (`kind`: `MC_MOVE_KIND_ABSOLUTE`,
+ * `_RELATIVE`, `_ADDITIVE`) with a PLCopen buffer mode (`MC_BUFFER_ABORTING`,
+ * `MC_BUFFER_BUFFERED`). From rest the move is the card's time-optimal S-curve with the four
+ * jerks of `*limits`; from motion it is time-optimal from the current state with one jerk,
+ * the smallest of the four. An unknown kind or mode is `MC_ERR_BAD_CONFIG`. `motion` may be
+ * NULL. Blocks until the card answers.
+ */
+mc_result mc_move(mc_card card,
+                  uint32_t axis,
+                  uint32_t kind,
+                  double value,
+                  const struct mc_move_limits *limits,
+                  uint32_t buffer_mode,
+                  struct mc_motion *motion);
+
+/**
+ * MC_MoveAdditive (Aborting): by `distance` from the target of the last move; otherwise as
+ * `mc_move_absolute`.
+ */
+mc_result mc_move_additive(mc_card card,
+                           uint32_t axis,
+                           double distance,
+                           const struct mc_move_limits *limits,
+                           struct mc_motion *motion);
+
+/**
+ * MC_MoveVelocity: run at the signed `velocity` (user units/s), reached within `*limits` from
+ * the current state (state ContinuousMotion); call again to change it, end it with `mc_halt`
+ * or `mc_stop`. `mc_motion_wait_in_velocity` waits for the velocity; the motion is never
+ * done, only aborted. `motion` may be NULL. Blocks until the card answers.
+ */
+mc_result mc_move_velocity(mc_card card,
+                           uint32_t axis,
+                           double velocity,
+                           const struct mc_velocity_limits *limits,
+                           struct mc_motion *motion);
+
+/**
+ * Jog: velocity mode at the signed `velocity` (user units/s) with the axis's jog limits
+ * (`jog_max_vel`, `jog_accel`, `jog_jerk` of `mc_axis_settings`); beyond `jog_max_vel` it is
+ * `MC_ERR_OUT_OF_RANGE`. Releasing the button is `mc_jog_release`. `motion` may be NULL.
+ */
+mc_result mc_jog(mc_card card, uint32_t axis, double velocity, struct mc_motion *motion);
+
+/**
+ * Releasing the jog button: MC_Halt at the axis's jog deceleration and jerk. `motion` (may be
+ * NULL) receives the halt.
+ */
+mc_result mc_jog_release(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * MC_SetOverride: scale the axis's velocity by `factor`, 0.0 to 2.0 (0 % to 200 %; else
+ * `MC_ERR_OVERRIDE_RANGE`), planned from the current state within the acceleration and jerk
+ * limits. 0 holds the axis still in its motion state; a factor above 0 resumes.
+ */
+mc_result mc_set_override(mc_card card, uint32_t axis, double factor);
+
+/**
+ * Wait until a buffered move starts (PLCopen Active). `target` may be NULL; otherwise it
+ * receives the move's target (velocity mode: its velocity). `MC_ERR_ABORTED` if it was
+ * aborted first, `MC_ERR_TIMEOUT` after `timeout_ms`. Blocks.
+ */
+mc_result mc_motion_wait_active(mc_card card,
+                                struct mc_motion motion,
+                                uint32_t timeout_ms,
+                                double *target);
+
+/**
+ * Wait until velocity mode reaches its velocity (PLCopen InVelocity). `velocity` may be NULL;
+ * otherwise it receives the velocity. `MC_ERR_ABORTED` if it was aborted first,
+ * `MC_ERR_TIMEOUT` after `timeout_ms`. Blocks.
+ */
+mc_result mc_motion_wait_in_velocity(mc_card card,
+                                     struct mc_motion motion,
+                                     uint32_t timeout_ms,
+                                     double *velocity);
 
 /**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped

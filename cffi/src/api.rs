@@ -18,12 +18,15 @@ use std::os::fd::AsRawFd;
 use std::sync::Arc;
 use std::time::Duration;
 
-fn ms(timeout_ms: u32) -> Duration {
+pub(crate) fn ms(timeout_ms: u32) -> Duration {
     Duration::from_millis(u64::from(timeout_ms))
 }
 
 /// The card and one of its axes.
-fn axis_of(card: mc_card, axis: u32) -> Result<(Arc<Entry>, motioncard_sdk::Axis), Failure> {
+pub(crate) fn axis_of(
+    card: mc_card,
+    axis: u32,
+) -> Result<(Arc<Entry>, motioncard_sdk::Axis), Failure> {
     let e = registry::get(card)?;
     let a = e.card.axis(axis as usize)?;
     Ok((e, a))
@@ -392,7 +395,7 @@ pub unsafe extern "C" fn mc_move_limits_symmetric(
 }
 
 /// Write a started motion to `*motion` (when given) and keep it for `mc_motion_wait`.
-fn started(
+pub(crate) fn started(
     e: &Entry,
     m: motioncard_sdk::Motion,
     axis: u32,
@@ -426,10 +429,12 @@ unsafe fn start_move(
     started(&e, m, axis, motion)
 }
 
-/// MC_MoveAbsolute: a time-optimal S-curve to `target` within `*limits`. The move is accepted
-/// from Standstill only (`MC_ERR_INVALID_STATE` while moving, `MC_ERR_AXIS_DISABLED` when
-/// disabled). `motion` may be NULL; otherwise it receives the motion to wait for. Blocks until
-/// the card has accepted or refused the move, not until it is done.
+/// MC_MoveAbsolute (PLCopen Aborting): a time-optimal S-curve to `target` within `*limits`,
+/// from Standstill or from whatever the axis is doing (it takes over in the tick the card
+/// serves it; the motion it replaces is aborted). `MC_ERR_AXIS_DISABLED` when disabled,
+/// `MC_ERR_INVALID_STATE` while stopping or in ErrorStop. Buffered moves: `mc_move`. `motion`
+/// may be NULL; otherwise it receives the motion to wait for. Blocks until the card has
+/// accepted or refused the move, not until it is done.
 #[no_mangle]
 pub unsafe extern "C" fn mc_move_absolute(
     card: mc_card,
@@ -568,24 +573,31 @@ pub unsafe extern "C" fn mc_motion_wait(
 ) -> mc_result {
     guard(|| {
         let out = Out::optional(position);
-        let e = registry::get(card)?;
-        let m = e.motion(motion.axis, motion.seq).ok_or_else(|| {
-                Failure::new(
-                    MC_ERR_BAD_HANDLE,
-                    format!(
-                        "no motion with seq {} on axis {} was started on card {card} (or it is older than the last {})",
-                        motion.seq,
-                        motion.axis,
-                        registry::MOTIONS_KEPT
-                    ),
-                )
-            })?;
-        let p = m.wait(ms(timeout_ms))?;
+        let p = motion_of(card, motion)?.wait(ms(timeout_ms))?;
         if let Some(out) = out {
             // SAFETY: non-NULL; valid for writes by the caller's contract.
             unsafe { out.write(p) };
         }
         Ok(())
+    })
+}
+
+/// A motion started on this card (the last [`registry::MOTIONS_KEPT`] are kept).
+pub(crate) fn motion_of(
+    card: mc_card,
+    motion: mc_motion,
+) -> Result<motioncard_sdk::Motion, Failure> {
+    let e = registry::get(card)?;
+    e.motion(motion.axis, motion.seq).ok_or_else(|| {
+        Failure::new(
+            MC_ERR_BAD_HANDLE,
+            format!(
+                "no motion with seq {} on axis {} was started on card {card} (or it is older than the last {})",
+                motion.seq,
+                motion.axis,
+                registry::MOTIONS_KEPT
+            ),
+        )
     })
 }
 

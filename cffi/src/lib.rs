@@ -22,6 +22,7 @@
 pub mod api;
 mod ffi;
 pub mod group;
+pub mod modes;
 pub mod registry;
 pub mod result;
 pub mod safety;
@@ -29,6 +30,7 @@ pub mod types;
 
 pub use api::*;
 pub use group::*;
+pub use modes::*;
 pub use registry::{mc_card, mc_event_callback};
 pub use result::*;
 pub use safety::*;

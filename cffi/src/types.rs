@@ -85,6 +85,11 @@ pub const MC_EVENT_GROUP_MOTION_DONE: u32 = 8;
 pub const MC_EVENT_GROUP_STATE_CHANGED: u32 = 9;
 /// A group move was aborted (`axis`: the group).
 pub const MC_EVENT_GROUP_MOTION_ABORTED: u32 = 10;
+/// A buffered move started (PLCopen Active); `value` is its target (velocity mode: its
+/// velocity), user units.
+pub const MC_EVENT_MOTION_ACTIVE: u32 = 11;
+/// Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
+pub const MC_EVENT_IN_VELOCITY: u32 = 12;
 /// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
 /// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
 pub const MC_EVENT_SAFETY_STOP: u32 = 16;
@@ -242,6 +247,8 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::SafetyStop => MC_EVENT_SAFETY_STOP,
         EventKind::AtRest => MC_EVENT_AT_REST,
         EventKind::ProtocolError => MC_EVENT_PROTOCOL_ERROR,
+        EventKind::MotionActive => MC_EVENT_MOTION_ACTIVE,
+        EventKind::InVelocity => MC_EVENT_IN_VELOCITY,
     }
 }
 
@@ -459,7 +466,7 @@ pub const MC_FILTER_KIND_EXPONENTIAL: u32 = 2;
 pub const MC_FILTER_KIND_BELL: u32 = 3;
 
 /// An unknown enumeration value from C.
-fn unknown(what: &str, v: u32) -> Failure {
+pub(crate) fn unknown(what: &str, v: u32) -> Failure {
     Failure::new(ErrorKind::BadConfig.code(), format!("unknown {what} {v}"))
 }
 
@@ -931,6 +938,15 @@ pub const MC_STOP_CATEGORY_1: u32 = 1;
 /// A controlled stop, power kept (the axis holds its position).
 pub const MC_STOP_CATEGORY_2: u32 = 2;
 
+/// Motion bit of `mc_status.raw.motion_flags`: velocity mode at its (overridden) velocity.
+pub const MC_MOTION_IN_VELOCITY: u32 = 0x1;
+/// Motion bit: held still by a 0 % override, in its motion state.
+pub const MC_MOTION_PAUSED: u32 = 0x2;
+/// Motion bit: the position was set by homing or MC_SetPosition.
+pub const MC_MOTION_HOMED: u32 = 0x4;
+/// Motion bit: the motion running is one that was buffered.
+pub const MC_MOTION_BUFFERED_ACTIVE: u32 = 0x8;
+
 /// Bit of `mc_status.io`: the positive limit switch input.
 pub const MC_IO_LIMIT_POS: u32 = 0x1;
 /// The negative limit switch input.
@@ -1179,7 +1195,7 @@ mod tests {
             assert_eq!(category_code(*c), *c as u32, "{c:?}");
             assert_eq!(stop_category(category_code(*c)).unwrap(), *c);
         }
-        use motioncard_sdk::{Faults, Io};
+        use motioncard_sdk::{Faults, Io, MotionFlags};
         for (ours, card) in [
             (MC_AXIS_FAULT_DAC_SATURATED, Faults::DAC_SATURATED.bits()),
             (MC_AXIS_FAULT_WATCHDOG, Faults::WATCHDOG.bits()),
@@ -1203,6 +1219,13 @@ mod tests {
             (MC_IO_ENCODER_FAULT, Io::ENCODER_FAULT.bits()),
             (MC_IO_ESTOP, Io::ESTOP.bits()),
             (MC_IO_DRIVE_ENABLE, Io::DRIVE_ENABLE.bits()),
+            (MC_MOTION_IN_VELOCITY, MotionFlags::IN_VELOCITY.bits()),
+            (MC_MOTION_PAUSED, MotionFlags::PAUSED.bits()),
+            (MC_MOTION_HOMED, MotionFlags::HOMED.bits()),
+            (
+                MC_MOTION_BUFFERED_ACTIVE,
+                MotionFlags::BUFFERED_ACTIVE.bits(),
+            ),
         ] {
             assert_eq!(ours, card, "{ours:#x}");
         }

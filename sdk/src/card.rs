@@ -11,8 +11,8 @@ use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
 use firmware_proto::seqlock::{self, SnapshotError};
 use firmware_proto::{
-    raw, AxisState, AxisStatus, Block, BlockAt, Command, Event, EventKind, Faults, Mem, NackCode,
-    Opcode, MAX_AXES,
+    raw, AxisState, AxisStatus, Block, BlockAt, Command, Event, EventKind, Faults, Mem,
+    MotionFlags, NackCode, Opcode, MAX_AXES,
 };
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use std::collections::VecDeque;
@@ -66,6 +66,11 @@ pub enum Outcome {
     Done(f64),
     /// Ended early by this command or fault (raw code).
     Aborted(i32),
+    /// A buffered move started (PLCopen Active), towards this target (user units; velocity
+    /// mode: its velocity).
+    Active(f64),
+    /// Velocity mode reached this velocity (PLCopen InVelocity), user units per second.
+    InVelocity(f64),
 }
 
 /// An event from the card, in user units.
@@ -476,18 +481,35 @@ impl Card {
     }
 
     pub(crate) fn wait_outcome(&self, target: Target, seq: u32, timeout: Duration) -> Result<f64> {
+        self.wait_for(target, seq, timeout, |o| match o {
+            Outcome::Done(p) => Some(p),
+            _ => None,
+        })
+    }
+
+    /// Wait for the first outcome of motion `seq` that `pick` takes, or its abort.
+    pub(crate) fn wait_for(
+        &self,
+        target: Target,
+        seq: u32,
+        timeout: Duration,
+        pick: impl Fn(Outcome) -> Option<f64>,
+    ) -> Result<f64> {
         let r = self
             .inner
             .wait_until(Instant::now() + timeout, USER_WAIT, |rx| {
-                rx.outcomes.iter().find(|(s, _)| *s == seq).map(|(_, o)| *o)
+                rx.outcomes
+                    .iter()
+                    .filter(|(s, _)| *s == seq)
+                    .find_map(|(_, o)| match *o {
+                        Outcome::Aborted(code) => Some(Err(code)),
+                        o => pick(o).map(Ok),
+                    })
             })?;
-        match r {
-            Outcome::Done(p) => Ok(p),
-            Outcome::Aborted(code) => Err(Error::Aborted {
-                target,
-                by: abort_reason(code),
-            }),
-        }
+        r.map_err(|code| Error::Aborted {
+            target,
+            by: abort_reason(code),
+        })
     }
 }
 
@@ -588,6 +610,9 @@ impl Status {
             following_error: raw.ferr / s,
             dac_volts: raw.dac_v,
             faults: raw.faults(),
+            motion: raw.motion(),
+            queued: raw.queued,
+            override_factor: raw.override_factor,
             raw,
         })
     }
@@ -741,7 +766,10 @@ impl Inner {
                 }
                 _ => {
                     let scale = self.scale(e.axis as usize);
-                    let value = if matches!(kind, EventKind::MotionDone) {
+                    let value = if matches!(
+                        kind,
+                        EventKind::MotionDone | EventKind::MotionActive | EventKind::InVelocity
+                    ) {
                         e.value / scale
                     } else {
                         e.value
@@ -755,6 +783,16 @@ impl Inner {
                         EventKind::MotionAborted | EventKind::GroupMotionAborted => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::Aborted(e.code)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::MotionActive => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::Active(value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::InVelocity => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::InVelocity(value)),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {
@@ -1097,6 +1135,12 @@ pub struct Status {
     pub dac_volts: f64,
     /// Fault bits.
     pub faults: Faults,
+    /// Motion bits: in velocity, paused by a 0 % override, running a buffered move.
+    pub motion: MotionFlags,
+    /// Buffered moves waiting in the axis's queue.
+    pub queued: u32,
+    /// The velocity override in force (1.0 = 100 %).
+    pub override_factor: f64,
     /// Everything the card published, in counts.
     pub raw: AxisStatus,
 }
@@ -1126,6 +1170,10 @@ impl std::fmt::Debug for Motion {
 }
 
 impl Motion {
+    pub(crate) fn new(card: Card, axis: usize, seq: u32) -> Self {
+        Self { card, axis, seq }
+    }
+
     /// The seq of the command that started it.
     pub fn seq(&self) -> u32 {
         self.seq
@@ -1136,6 +1184,16 @@ impl Motion {
     pub fn wait(&self, timeout: Duration) -> Result<f64> {
         self.card
             .wait_outcome(Target::Axis(self.axis), self.seq, timeout)
+    }
+
+    /// Wait for the first outcome of this motion that `pick` takes, or its abort.
+    pub(crate) fn wait_outcome_of(
+        &self,
+        timeout: Duration,
+        pick: impl Fn(Outcome) -> Option<f64>,
+    ) -> Result<f64> {
+        self.card
+            .wait_for(Target::Axis(self.axis), self.seq, timeout, pick)
     }
 }
 
@@ -1169,11 +1227,11 @@ impl Axis {
         self.card.scale(self.index)
     }
 
-    fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
+    pub(crate) fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
         self.card.execute_seq(cmd, what, Target::Axis(self.index))
     }
 
-    fn op(&self, op: Opcode) -> Command {
+    pub(crate) fn op(&self, op: Opcode) -> Command {
         Command::new(op, self.index as u16)
     }
 
@@ -1187,11 +1245,12 @@ impl Axis {
         self.run(self.op(Opcode::PowerOff), "disable").map(|_| ())
     }
 
-    fn start_move(
+    pub(crate) fn start_move(
         &self,
         op: Opcode,
         value: f64,
         lim: &MoveLimits,
+        flags: u32,
         what: &'static str,
     ) -> Result<Motion> {
         finite(
@@ -1214,23 +1273,28 @@ impl Axis {
             lim.jerk[2] * s,
             lim.jerk[3] * s,
         ];
-        let seq = self.run(self.op(op).with_args(&args), what)?;
+        let mut cmd = self.op(op).with_args(&args);
+        cmd.flags = flags;
+        let seq = self.run(cmd, what)?;
+        Ok(self.started(seq))
+    }
+
+    /// The motion of command `seq`, now the last one started on this axis.
+    pub(crate) fn started(&self, seq: u32) -> Motion {
         lock(&self.card.inner.last_motion)[self.index] = Some(seq);
-        Ok(Motion {
-            card: self.card.clone(),
-            axis: self.index,
-            seq,
-        })
+        Motion::new(self.card.clone(), self.index, seq)
     }
 
-    /// MC_MoveAbsolute: a time-optimal S-curve to `target` within `limits`.
+    /// MC_MoveAbsolute (Aborting): a time-optimal S-curve to `target` within `limits`, from
+    /// whatever the axis is doing (see [`Axis::move_with`]).
     pub fn move_absolute(&self, target: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveAbsolute, target, limits, "move_absolute")
+        self.start_move(Opcode::MoveAbsolute, target, limits, 0, "move_absolute")
     }
 
-    /// MC_MoveRelative: a time-optimal S-curve by `distance` within `limits`.
+    /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded
+    /// position within `limits`.
     pub fn move_relative(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveRelative, distance, limits, "move_relative")
+        self.start_move(Opcode::MoveRelative, distance, limits, 0, "move_relative")
     }
 
     fn stopping(
@@ -1244,12 +1308,7 @@ impl Axis {
         positive("jerk", jerk)?;
         let s = self.scale().abs();
         let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
-        lock(&self.card.inner.last_motion)[self.index] = Some(seq);
-        Ok(Motion {
-            card: self.card.clone(),
-            axis: self.index,
-            seq,
-        })
+        Ok(self.started(seq))
     }
 
     /// MC_Halt: decelerate within the limits, then Standstill. The interrupted move is aborted.

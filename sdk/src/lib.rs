@@ -27,6 +27,7 @@ mod device;
 mod error;
 mod group;
 mod heartbeat;
+mod modes;
 mod nurbs;
 mod safety;
 mod session;
@@ -43,13 +44,15 @@ pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
-    AxisState, EventKind, Faults, GroupState, GroupStatus, Io, NackCode, StopCategory, StopReason,
+    AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
+    StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
 };
 pub use heartbeat::HEARTBEAT_PERIOD_US;
+pub use modes::{BufferMode, MoveKind, VelocityLimits};
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;
 pub use nurbs::{

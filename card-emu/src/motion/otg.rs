@@ -59,7 +59,7 @@ impl OtgLimits {
     }
 }
 
-const N: usize = 10;
+const N: usize = 16;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Trajectory {
