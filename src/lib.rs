@@ -2,5 +2,6 @@
 //! workspace-level examples and tests read like an application would.
 pub use motioncard_sdk::*;
 
+pub mod cli;
 pub mod papers;
 pub mod plot;

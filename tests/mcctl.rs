@@ -231,3 +231,58 @@ fn limits_outside_the_cards_range_are_refused() {
     ]);
     assert_eq!(code, 0, "{err}");
 }
+
+/// The card subcommands against an emulated card (`--card sim`, real time): a move waited for,
+/// velocity mode for a while, jog, status as JSON; the card's refusals exit with status 1 and
+/// its reason.
+#[test]
+fn card_commands_move_jog_override_and_status() {
+    let (code, out, err) = mcctl(&["move", "0", "5000", "--enable", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(
+        (j["position"].as_f64().unwrap() - 5000.0).abs() <= 1.0,
+        "{out}"
+    );
+    // Velocity mode for 0.2 s at -3000 counts/s, then the halt: about -600 counts.
+    let (code, out, err) = mcctl(&[
+        "move",
+        "0",
+        "-3000",
+        "--velocity",
+        "--for",
+        "0.2",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let p = j["position"].as_f64().unwrap();
+    assert!((-700.0..=-550.0).contains(&p), "{out}");
+    let (code, out, err) = mcctl(&["jog", "1", "-20000", "--for", "0.1", "--enable"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("axis 1: jogged to -"), "{out}");
+    let (code, out, _) = mcctl(&["status", "--json"]);
+    assert_eq!(code, 0);
+    let rows: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(rows.as_array().unwrap().len(), 8);
+    assert_eq!(rows[0]["state"], "Disabled");
+    for (args, why) in [
+        (
+            vec!["override", "0", "2.5"],
+            "override factor is outside 0 to 2",
+        ),
+        (
+            vec!["jog", "0", "1e6", "--enable"],
+            "position or velocity out of range",
+        ),
+        (vec!["move", "0", "100"], "disabled"),
+        (vec!["move", "9", "100"], "axis"),
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let (code, _, _) = mcctl(&["jog", "0", "100", "--for", "-1"]);
+    assert_eq!(code, 2);
+}

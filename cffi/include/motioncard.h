@@ -1663,7 +1663,7 @@ typedef struct mc_stop_info {
 #define MC_ERR_INFEASIBLE -16
 
 /**
- * A position is beyond the card's range.
+ * A position beyond the card's range, or a velocity beyond its own (a jog above `jog_max_vel`).
  */
 #define MC_ERR_OUT_OF_RANGE -17
 

@@ -101,8 +101,8 @@ error_kinds! {
     BadConfig = -15, MC_ERR_BAD_CONFIG, nack BadConfig, "a configuration value is out of range";
     /// No motion profile satisfies the request.
     Infeasible = -16, MC_ERR_INFEASIBLE, nack Infeasible, "no profile satisfies the request";
-    /// A position is beyond the card's range.
-    OutOfRange = -17, MC_ERR_OUT_OF_RANGE, nack OutOfRange, "position out of range";
+    /// A position beyond the card's range, or a velocity beyond its own (a jog above `jog_max_vel`).
+    OutOfRange = -17, MC_ERR_OUT_OF_RANGE, nack OutOfRange, "a position or velocity out of range";
     /// The card configuration can only change while all axes are disabled.
     AxesEnabled = -18, MC_ERR_AXES_ENABLED, nack AxesEnabled, "all axes must be disabled first";
     /// The firmware does not know the command.

@@ -5,16 +5,45 @@
 //! mcctl plan 100000 --vmax 200000 --amax 2e6 --jmax 1e8            # the S-curve the card plans
 //! mcctl plan 100000 --vmax 2e5 --amax 2e6 --dmax 1e6 --jmax 1e8 --jdec 2e7 --json
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
+//! mcctl --card emu:bench1 status                     # a table of the axes (--json: one array)
+//! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable --wait
+//! mcctl --card emu:bench1 move 0 20000 --velocity --amax 1e6 --jmax 5e7   # velocity mode
+//! mcctl --card emu:bench1 override 0 0.5             # 50 %
+//! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! ```
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
+use motioncard::cli::{self, MoveCmd};
 use motioncard::plan::{Limits, PlanError, Profile};
+use motioncard::{Card, MoveKind, MoveLimits, VelocityLimits};
 use std::process::ExitCode;
+use std::time::Duration;
 
 #[derive(Parser)]
 #[command(name = "mcctl", version, about = "Motion card command-line tool")]
 struct Cli {
+    /// The card: `sim` (an emulated card in this process), `emu:NAME` (a card-emu process),
+    /// `uio:/dev/uioN` or `pci:DDDD:BB:DD.F`.
+    #[arg(long, global = true, default_value = "sim")]
+    card: String,
     #[command(subcommand)]
     command: Cmd,
+}
+
+/// Limits of a move, in the axis's units (counts unless the program set a scale).
+#[derive(Args, Clone, Copy)]
+struct MoveArgs {
+    /// Maximum velocity (position moves).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 100_000.0)]
+    vmax: f64,
+    /// Maximum acceleration.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1e6)]
+    amax: f64,
+    /// Maximum deceleration (default: --amax).
+    #[arg(long, allow_negative_numbers = true)]
+    dmax: Option<f64>,
+    /// Jerk.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 5e7)]
+    jmax: f64,
 }
 
 #[derive(Subcommand)]
@@ -57,6 +86,96 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// The axes' state, positions, velocity, following error, queue, override and faults.
+    Status {
+        /// Only this axis.
+        #[arg(long)]
+        axis: Option<usize>,
+        /// One JSON array instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// MC_MoveAbsolute (default), MC_MoveRelative, MC_MoveAdditive or MC_MoveVelocity, and wait
+    /// until done (velocity mode: run --for seconds, then halt). The axis runs only while
+    /// mcctl does: a host that leaves closes its session, and the card halts what it started.
+    Move {
+        axis: usize,
+        /// Target, distance or velocity.
+        #[arg(allow_hyphen_values = true)]
+        value: f64,
+        /// VALUE is a distance from the commanded position.
+        #[arg(long, conflicts_with_all = ["additive", "velocity"])]
+        relative: bool,
+        /// VALUE is a distance from the target of the last move.
+        #[arg(long, conflicts_with = "velocity")]
+        additive: bool,
+        /// VALUE is a velocity (velocity mode, ContinuousMotion).
+        #[arg(long)]
+        velocity: bool,
+        /// Velocity mode: seconds at the velocity before the halt.
+        #[arg(long = "for", default_value_t = 1.0)]
+        hold: f64,
+        #[command(flatten)]
+        limits: MoveArgs,
+        /// Power the axis on first if it is disabled.
+        #[arg(long)]
+        enable: bool,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Jog at a signed velocity with the axis's jog limits, for --for seconds (the button
+    /// held), then release (a halt at the jog deceleration).
+    Jog {
+        axis: usize,
+        #[arg(allow_hyphen_values = true)]
+        velocity: f64,
+        /// Seconds the button is held.
+        #[arg(long = "for", default_value_t = 1.0)]
+        hold: f64,
+        /// Power the axis on first if it is disabled.
+        #[arg(long)]
+        enable: bool,
+        #[arg(long)]
+        json: bool,
+    },
+    /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
+    /// for the moves that follow, whoever commands them.
+    Override {
+        axis: usize,
+        #[arg(allow_hyphen_values = true)]
+        factor: f64,
+    },
+    /// MC_Halt: decelerate to rest.
+    Halt {
+        axis: usize,
+        #[arg(long, default_value_t = 1e6)]
+        dmax: f64,
+        #[arg(long, default_value_t = 5e7)]
+        jmax: f64,
+    },
+}
+
+/// A subcommand that talks to the card: exit status 1 with the SDK's message on an error.
+fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> ExitCode {
+    let run = || -> motioncard::Result<String> {
+        let card = Card::open(uri)?;
+        let out = f(&card);
+        let closed = card.close();
+        out.and_then(|o| closed.map(|()| o))
+    };
+    match run() {
+        Ok(text) => {
+            print!("{text}");
+            if !text.ends_with('\n') {
+                println!();
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("mcctl: {e}");
+            ExitCode::from(1)
+        }
+    }
 }
 
 fn bad(msg: String) -> ExitCode {
@@ -66,7 +185,69 @@ fn bad(msg: String) -> ExitCode {
 
 fn main() -> ExitCode {
     let cli = Cli::parse(); // clap exits with status 2 on malformed arguments
+    let uri = cli.card.as_str();
     match cli.command {
+        Cmd::Status { axis, json } => on_card(uri, |c| cli::status(c, axis, json)),
+        Cmd::Move {
+            axis,
+            value,
+            relative,
+            additive,
+            velocity,
+            hold,
+            limits: l,
+            enable,
+            json,
+        } => {
+            if !(hold.is_finite() && hold >= 0.0) {
+                return bad(format!(
+                    "--for must be a number of seconds >= 0, got {hold}"
+                ));
+            }
+            let cmd = if velocity {
+                MoveCmd::Velocity(VelocityLimits {
+                    acceleration: l.amax,
+                    deceleration: l.dmax.unwrap_or(l.amax),
+                    jerk: l.jmax,
+                })
+            } else {
+                let kind = match (relative, additive) {
+                    (true, _) => MoveKind::Relative,
+                    (_, true) => MoveKind::Additive,
+                    _ => MoveKind::Absolute,
+                };
+                let lim =
+                    MoveLimits::new(l.vmax, l.amax, l.jmax).deceleration(l.dmax.unwrap_or(l.amax));
+                MoveCmd::Position(kind, lim)
+            };
+            on_card(uri, |c| {
+                if enable {
+                    cli::enable_if_needed(c, axis)?;
+                }
+                cli::run_move(c, axis, value, cmd, Duration::from_secs_f64(hold), json)
+            })
+        }
+        Cmd::Jog {
+            axis,
+            velocity,
+            hold,
+            enable,
+            json,
+        } => {
+            if !(hold.is_finite() && hold >= 0.0) {
+                return bad(format!(
+                    "--for must be a number of seconds >= 0, got {hold}"
+                ));
+            }
+            on_card(uri, |c| {
+                if enable {
+                    cli::enable_if_needed(c, axis)?;
+                }
+                cli::jog(c, axis, velocity, Duration::from_secs_f64(hold), json)
+            })
+        }
+        Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
+        Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
         Cmd::Plan {
             distance,
             vmax,

@@ -1,0 +1,170 @@
+//! What `mcctl` does against a card (`--card URI`): status, moves (absolute, relative,
+//! additive, velocity), jog, override and halt. Each returns the text to print (a table, or one
+//! JSON object with `json`), or the SDK's error.
+
+use crate::{
+    AxisState, BufferMode, Card, MotionFlags, MoveKind, MoveLimits, Result, Status, VelocityLimits,
+};
+use serde_json::json;
+use std::fmt::Write as _;
+use std::time::{Duration, Instant};
+
+/// How long mcctl waits for a move to be done.
+const WAIT: Duration = Duration::from_secs(600);
+
+fn state_name(s: AxisState) -> String {
+    format!("{s:?}")
+}
+
+fn status_json(axis: usize, s: &Status) -> serde_json::Value {
+    json!({
+        "axis": axis,
+        "state": state_name(s.state),
+        "command_position": s.command_position,
+        "actual_position": s.actual_position,
+        "command_velocity": s.command_velocity,
+        "actual_velocity": s.actual_velocity,
+        "following_error": s.following_error,
+        "faults": s.faults.bits(),
+        "in_velocity": s.motion.contains(MotionFlags::IN_VELOCITY),
+        "paused": s.motion.contains(MotionFlags::PAUSED),
+        "homed": s.motion.contains(MotionFlags::HOMED),
+        "queued": s.queued,
+        "override": s.override_factor,
+        "target": s.raw.target,
+        "tick": s.raw.tick,
+    })
+}
+
+/// `mcctl status`: every axis (or one), as a table or a JSON array.
+pub fn status(card: &Card, axis: Option<usize>, json: bool) -> Result<String> {
+    let axes: Vec<usize> = match axis {
+        Some(a) => vec![a],
+        None => (0..card.info().axes).collect(),
+    };
+    let statuses = card.statuses(&axes)?;
+    if json {
+        let rows: Vec<_> = axes
+            .iter()
+            .zip(&statuses)
+            .map(|(&a, s)| status_json(a, s))
+            .collect();
+        return Ok(serde_json::Value::Array(rows).to_string());
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:>4} {:<18} {:>14} {:>14} {:>12} {:>9} {:>6} {:>5} {:>8}",
+        "axis", "state", "cmd pos", "act pos", "cmd vel", "ferr", "queue", "ovr%", "faults"
+    );
+    for (a, s) in axes.iter().zip(&statuses) {
+        let mut state = state_name(s.state);
+        if s.motion.contains(MotionFlags::PAUSED) {
+            state.push_str(" paused");
+        } else if s.motion.contains(MotionFlags::IN_VELOCITY) {
+            state.push_str(" at vel");
+        }
+        let _ = writeln!(
+            out,
+            "{a:>4} {state:<18} {:>14.3} {:>14.3} {:>12.3} {:>9.3} {:>6} {:>5.0} {:>#8x}",
+            s.command_position,
+            s.actual_position,
+            s.command_velocity,
+            s.following_error,
+            s.queued,
+            s.override_factor * 100.0,
+            s.faults.bits()
+        );
+    }
+    Ok(out)
+}
+
+/// What `mcctl move` moves by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MoveCmd {
+    /// A position move (absolute, relative or additive) within the limits.
+    Position(MoveKind, MoveLimits),
+    /// Velocity mode at the value, within the limits.
+    Velocity(VelocityLimits),
+}
+
+/// Power the axis on if it is disabled (`--enable`).
+pub fn enable_if_needed(card: &Card, axis: usize) -> Result<()> {
+    let ax = card.axis(axis)?;
+    if ax.status()?.state == AxisState::Disabled {
+        ax.enable()?;
+    }
+    Ok(())
+}
+
+/// `mcctl move`: the move, waited for until done; velocity mode runs at its velocity for
+/// `hold`, then halts at its deceleration. Reports where the axis ended.
+pub fn run_move(
+    card: &Card,
+    axis: usize,
+    value: f64,
+    cmd: MoveCmd,
+    hold: Duration,
+    json: bool,
+) -> Result<String> {
+    let ax = card.axis(axis)?;
+    let at = match cmd {
+        MoveCmd::Position(kind, lim) => ax
+            .move_with(kind, value, &lim, BufferMode::Aborting)?
+            .wait(WAIT)?,
+        MoveCmd::Velocity(lim) => {
+            let started = Instant::now();
+            ax.move_velocity(value, &lim)?;
+            hold_for(card, hold.saturating_sub(started.elapsed()));
+            ax.halt(lim.deceleration, lim.jerk)?.wait(WAIT)?
+        }
+    };
+    Ok(if json {
+        json!({ "axis": axis, "position": at }).to_string()
+    } else {
+        format!("axis {axis}: at {at}\n")
+    })
+}
+
+/// Let `d` pass on the card: a stepped card's time moves only when asked, a real one's on its
+/// own.
+fn hold_for(card: &Card, d: Duration) {
+    match card.sim() {
+        Some(sim) => sim.step((d.as_secs_f64() * card.info().servo_rate_hz as f64).round() as u64),
+        None => std::thread::sleep(d),
+    }
+}
+
+/// `mcctl jog`: jog at `velocity` for `hold` (the button held), then release it (a halt at the
+/// jog deceleration) and wait for rest. Reports where the axis stopped.
+pub fn jog(card: &Card, axis: usize, velocity: f64, hold: Duration, json: bool) -> Result<String> {
+    let ax = card.axis(axis)?;
+    let started = Instant::now();
+    ax.jog(velocity)?;
+    let left = hold.saturating_sub(started.elapsed());
+    // A stepped card's time only moves when asked; a real one moves on its own.
+    match card.sim() {
+        Some(sim) => {
+            sim.step((left.as_secs_f64() * card.info().servo_rate_hz as f64).round() as u64)
+        }
+        None => std::thread::sleep(left),
+    }
+    let at = ax.jog_release()?.wait(WAIT)?;
+    Ok(if json {
+        json!({ "axis": axis, "position": at }).to_string()
+    } else {
+        format!("axis {axis}: jogged to {at}\n")
+    })
+}
+
+/// `mcctl override`: the axis's velocity override (0 to 2).
+pub fn set_override(card: &Card, axis: usize, factor: f64) -> Result<String> {
+    card.axis(axis)?.set_override(factor)?;
+    Ok(format!("axis {axis}: override {:.1} %\n", factor * 100.0))
+}
+
+/// `mcctl halt`: MC_Halt within the deceleration and jerk, waiting for rest.
+pub fn halt(card: &Card, axis: usize, deceleration: f64, jerk: f64) -> Result<String> {
+    let at = card.axis(axis)?.halt(deceleration, jerk)?.wait(WAIT)?;
+    Ok(format!("axis {axis}: halted at {at}\n"))
+}
