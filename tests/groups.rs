@@ -1161,3 +1161,68 @@ fn group_limits_outside_the_cards_range_are_refused() {
     );
     assert_eq!(g.status().unwrap().0, GroupState::Standby);
 }
+
+/// The group override (pre-interpolation S-curve): 50 % at cruise brings the path speed to half
+/// along the path within its acceleration (no stop, the path stays on the line); 0 % holds the
+/// group on its path in Moving; 200 % resumes at twice the feed; the move ends exactly on its
+/// target. The rapid override applies to point-to-point moves only.
+#[test]
+fn group_override_scales_the_path_speed_and_holds_at_zero() {
+    let (card, g) = group_card(&[0, 1], AccDec::Pre);
+    let sim = card.sim().unwrap();
+    let target = [300_000.0, -400_000.0];
+    let l = lim(); // 50,000 counts/s along the path
+    let m = g.move_linear(&target, &l, MoveOptions::default()).unwrap();
+    sim.step(5_000);
+    let feed = |g: &motioncard::Group| g.status().unwrap().1.feed;
+    assert_eq!(feed(&g), l.velocity);
+    g.set_override(0.5, 1.0).unwrap();
+    let mut slowest = f64::MAX;
+    let mut prev = feed(&g);
+    for _ in 0..20_000 {
+        sim.step(1);
+        let f = feed(&g);
+        // (per tick: at most the path acceleration)
+        assert!((f - prev).abs() <= l.acceleration * 1e-4 * (1.0 + 1e-6) + 1e-6);
+        prev = f;
+        slowest = slowest.min(f);
+        if g.status().unwrap().1.feed_acc == 0.0 && f <= 0.5 * l.velocity * (1.0 + 1e-9) {
+            break;
+        }
+    }
+    assert!((feed(&g) - 0.5 * l.velocity).abs() < 1e-6, "{}", feed(&g));
+    assert!(slowest >= 0.5 * l.velocity * (1.0 - 1e-9), "{slowest}");
+    assert_eq!(g.status().unwrap().1.feed_override, 0.5);
+    g.set_override(0.0, 1.0).unwrap();
+    sim.step(5_000);
+    let held = (cmd(&card, 0), cmd(&card, 1));
+    sim.step(1_000);
+    assert_eq!((cmd(&card, 0), cmd(&card, 1)), held);
+    assert_eq!(g.status().unwrap().0, GroupState::Moving);
+    // On the line: 4 x + 3 y = 0.
+    assert!((4.0 * held.0 + 3.0 * held.1).abs() < 1e-6);
+    // Out of range: refused, nothing changes.
+    let e = g.set_override(2.5, 1.0).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::OverrideRange);
+    assert_eq!(g.status().unwrap().1.feed_override, 0.0);
+    g.set_override(2.0, 1.0).unwrap();
+    let mut fastest: f64 = 0.0;
+    while g.status().unwrap().0 == GroupState::Moving {
+        sim.step(1);
+        fastest = fastest.max(feed(&g));
+    }
+    assert!((fastest - 2.0 * l.velocity).abs() < 1e-6, "{fastest}");
+    m.wait(T).unwrap();
+    assert_eq!((cmd(&card, 0), cmd(&card, 1)), (target[0], target[1]));
+    // The rapid override is the one point-to-point moves take.
+    g.set_override(1.0, 0.25).unwrap();
+    let p = g.move_ptp(&[0.0, 0.0], &l, MoveOptions::default()).unwrap();
+    let mut peak: f64 = 0.0;
+    while g.status().unwrap().0 == GroupState::Moving {
+        sim.step(1);
+        peak = peak.max(card.axis(1).unwrap().status().unwrap().raw.cmd_vel.abs());
+    }
+    p.wait(T).unwrap();
+    assert!(peak <= 0.25 * l.velocity * (1.0 + 1e-9), "{peak}");
+    assert!(peak >= 0.25 * l.velocity * (1.0 - 1e-9), "{peak}");
+}

@@ -2287,6 +2287,14 @@ mc_result mc_group_stop(mc_card card,
 mc_result mc_group_release_stop(mc_card card, uint32_t group);
 
 /**
+ * MC_SetOverride of a group: `feed` scales the path speed of lines and arcs, `rapid` that of
+ * point-to-point moves, each 0.0 to 2.0 (0 % to 200 %; else `MC_ERR_OVERRIDE_RANGE`). The
+ * active move is replanned along its path within the path limits; 0 holds the group on its
+ * path, a factor above 0 resumes. Blocks until the card answers.
+ */
+mc_result mc_group_set_override(mc_card card, uint32_t group, double feed, double rapid);
+
+/**
  * MC_MoveLinearAbsolute / Relative: a straight line to `target` (`n` values, one per group
  * axis in group order, user units; `MC_ERR_BAD_AXIS` when `n` is not the group's axis count)
  * at the tangential feed of `*limits`. `options->buffered` queues it behind the moves already

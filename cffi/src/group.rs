@@ -194,6 +194,20 @@ pub extern "C" fn mc_group_release_stop(card: mc_card, group: u32) -> mc_result 
     guard(|| Ok(group_of(card, group)?.1.release_stop()?))
 }
 
+/// MC_SetOverride of a group: `feed` scales the path speed of lines and arcs, `rapid` that of
+/// point-to-point moves, each 0.0 to 2.0 (0 % to 200 %; else `MC_ERR_OVERRIDE_RANGE`). The
+/// active move is replanned along its path within the path limits; 0 holds the group on its
+/// path, a factor above 0 resumes. Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_group_set_override(
+    card: mc_card,
+    group: u32,
+    feed: f64,
+    rapid: f64,
+) -> mc_result {
+    guard(|| Ok(group_of(card, group)?.1.set_override(feed, rapid)?))
+}
+
 // ---------------------------------------------------------------------------------------------
 // Moves
 // ---------------------------------------------------------------------------------------------

@@ -121,6 +121,13 @@
 /* Per-axis limits of the next MC_OP_GROUP_MOVE_PTP (any outcome consumes them; so do configure
  * and disable): args: first group axis, count (1..MC_PTP_LIMITS_MAX), then v, a, d, j of each */
 #define MC_OP_GROUP_PTP_LIMITS 30u
+/* Layout 1.5: MC_SetOverride of a group: args: feed factor (lines, arcs), rapid factor (MC_OP_GROUP_MOVE_PTP
+ * moves), each 0..MC_OVERRIDE_MAX (else MC_NACK_OVERRIDE_RANGE). An S-curve feed is replanned from the
+ * path's current speed and acceleration within the path limits (the geometry unchanged); a constant feed
+ * (post-interpolation acc/dec) is scaled and smoothed by the filters. 0 holds the group still on its
+ * path in Moving; a factor > 0 resumes. Reference-word arcs and NURBS curves run at their programmed
+ * feed (the override applies from the next move). */
+#define MC_OP_GROUP_SET_OVERRIDE 31u
 #define MC_PTP_LIMITS_MAX 3u
 #define MC_NURBS_SATURATION (1u << 2) /* saturation-aware feed (Yeh 3.4): needs PD+ axes */
 
@@ -519,7 +526,11 @@ struct mc_group_status_payload {
     double snap_last;
     /** The largest snap_last since MC_GroupEnable, counts. */
     double snap_max;
-    uint64_t _reserved[14];
+    /** Layout 1.5: the feed override in force (lines, arcs), 0..MC_OVERRIDE_MAX. */
+    double feed_override;
+    /** The rapid override in force (point-to-point moves). */
+    double rapid_override;
+    uint64_t _reserved[12];
     /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };

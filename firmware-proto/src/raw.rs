@@ -57,6 +57,7 @@ pub const MC_OP_NURBS_DATA: u32 = 28;
 pub const MC_OP_NURBS_END: u32 = 29;
 pub const MC_NURBS_DATA_MAX: u32 = 12;
 pub const MC_OP_GROUP_PTP_LIMITS: u32 = 30;
+pub const MC_OP_GROUP_SET_OVERRIDE: u32 = 31;
 pub const MC_PTP_LIMITS_MAX: u32 = 3;
 pub const MC_NURBS_SATURATION: u32 = 4;
 pub const MC_MOVE_RELATIVE: u32 = 1;
@@ -564,7 +565,11 @@ pub struct mc_group_status_payload {
     pub snap_last: f64,
     #[doc = " The largest snap_last since MC_GroupEnable, counts."]
     pub snap_max: f64,
-    pub _reserved: [u64; 14usize],
+    #[doc = " Layout 1.5: the feed override in force (lines, arcs), 0..MC_OVERRIDE_MAX."]
+    pub feed_override: f64,
+    #[doc = " The rapid override in force (point-to-point moves)."]
+    pub rapid_override: f64,
+    pub _reserved: [u64; 12usize],
     #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
@@ -596,8 +601,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status_payload, snap_last) - 56usize];
     ["Offset of field: mc_group_status_payload::snap_max"]
         [::core::mem::offset_of!(mc_group_status_payload, snap_max) - 64usize];
+    ["Offset of field: mc_group_status_payload::feed_override"]
+        [::core::mem::offset_of!(mc_group_status_payload, feed_override) - 72usize];
+    ["Offset of field: mc_group_status_payload::rapid_override"]
+        [::core::mem::offset_of!(mc_group_status_payload, rapid_override) - 80usize];
     ["Offset of field: mc_group_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 72usize];
+        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 88usize];
     ["Offset of field: mc_group_status_payload::checksum"]
         [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
 };

@@ -95,6 +95,9 @@ code_enum! {
         /// Stage per-axis limits for the next point-to-point move: args first group axis,
         /// count, then v, a, d, j of each.
         GroupPtpLimits = raw::MC_OP_GROUP_PTP_LIMITS,
+        /// MC_SetOverride of a group: args feed factor (lines, arcs), rapid factor
+        /// (point-to-point moves).
+        GroupSetOverride = raw::MC_OP_GROUP_SET_OVERRIDE,
         /// Open a NURBS curve transfer: args degree, n_ctrl, n_knots, feed, accel, jerk, chord
         /// tolerance, saturation budget.
         NurbsBegin = raw::MC_OP_NURBS_BEGIN,

@@ -354,6 +354,22 @@ impl Group {
         self.stopping(Opcode::GroupStop, deceleration, jerk, "group stop")
     }
 
+    /// MC_SetOverride of the group: `feed` scales the path speed of lines and arcs, `rapid`
+    /// that of point-to-point moves; each 0.0 to 2.0 (0 % to 200 %), else `OverrideRange`. The
+    /// active move's S-curve is replanned along the path from its current speed within the
+    /// path limits (the geometry unchanged); 0 holds the group on its path, a factor above 0
+    /// resumes. A constant feed (post-interpolation acc/dec only) is scaled, and the filters
+    /// smooth the change; reference-word arcs and NURBS curves keep their programmed feed.
+    pub fn set_override(&self, feed: f64, rapid: f64) -> Result<()> {
+        finite("feed override", feed)?;
+        finite("rapid override", rapid)?;
+        self.run(
+            self.op(Opcode::GroupSetOverride).with_args(&[feed, rapid]),
+            "group override",
+        )
+        .map(|_| ())
+    }
+
     /// Leave GroupStopping.
     pub fn release_stop(&self) -> Result<()> {
         self.run(self.op(Opcode::GroupStopRelease), "group stop release")

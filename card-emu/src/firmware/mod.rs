@@ -552,6 +552,9 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::NurbsData => group.nurbs_data(c),
             Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
             Opcode::GroupPtpLimits => group.stage_ptp_limits(c, ts),
+            Opcode::GroupSetOverride => {
+                group.set_override(c.args[0], c.args[1], self.servo_rate_hz)
+            }
             _ => group.queue_move(c, op, ts, tick, out),
         }
     }
@@ -831,6 +834,7 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::GroupMoveCircular
             | Opcode::GroupMovePtp
             | Opcode::GroupPtpLimits
+            | Opcode::GroupSetOverride
             | Opcode::NurbsBegin
             | Opcode::NurbsData
             | Opcode::NurbsEnd

@@ -48,9 +48,22 @@ impl Group {
             mv,
             s: 0.0,
             stopping: None,
+            retimed: None,
             v: 0.0,
             a: 0.0,
         });
+        // Planned at the programmed feed when queued: replanned for an override in force.
+        // (A factor that cannot be planned for this move holds it at its start.)
+        if self
+            .active
+            .as_ref()
+            .is_some_and(|a| self.factor_of(&a.mv) != 1.0)
+        {
+            let rate = (1.0 / ts).round() as u32;
+            if self.replan_active(rate).is_err() {
+                self.hold_active(rate);
+            }
+        }
     }
 }
 

@@ -9,7 +9,7 @@
 use super::stop::stop_progress;
 use super::*;
 use crate::motion::nurbs::Point;
-use crate::motion::scurve::Profile;
+use crate::motion::scurve::State;
 
 /// One tick of a feed: the point it reached, when it computes points itself (reference word,
 /// NURBS), and whether the move is over.
@@ -46,6 +46,10 @@ impl Group {
             _ => false,
         });
         let index = self.index;
+        let k = self
+            .active
+            .as_ref()
+            .map_or(1.0, |act| self.factor_of(&act.mv));
         let mut finished = false;
         if let Some(act) = &mut self.active {
             let len = act.mv.geom.len();
@@ -82,7 +86,7 @@ impl Group {
                     finished,
                 }
             } else {
-                own_feed(act, n, ts, len)
+                own_feed(act, n, ts, len, k)
             };
             finished = adv.finished;
             act.a = (act.v - prev_v) / ts;
@@ -134,28 +138,36 @@ struct Queue<'a> {
     len: &'a mut usize,
 }
 
-/// The move's own feed (not stopping, not a curve): S-curve, constant or reference word.
-fn own_feed(act: &mut Active, n: usize, ts: f64, len: f64) -> Advance {
-    let (s, v, finished, point) = match &mut act.mv.feed {
-        Feed::Profile { profile, t } => {
-            let (s, v, done) = profile_feed(profile, t, ts, len);
+/// The move's own feed (not stopping, not a curve): S-curve, constant or reference word;
+/// `k` is the override in force (a constant feed is scaled by it; an S-curve was replanned
+/// for it, and at 0 it waits on its path).
+fn own_feed(act: &mut Active, n: usize, ts: f64, len: f64, k: f64) -> Advance {
+    let (s, v, finished, point) = match (&mut act.mv.feed, &mut act.retimed) {
+        (Feed::Profile { .. }, Some((traj, t))) => {
+            let (s, v, done) = profile_feed(|t| traj.sample(t), traj.duration(), t, ts, len);
+            (s, v, done && k > 0.0, None)
+        }
+        (Feed::Profile { profile, t, .. }, None) => {
+            let (s, v, done) = profile_feed(|t| profile.sample(t), profile.duration(), t, ts, len);
             (s, v, done, None)
         }
-        Feed::Constant { v } => {
-            let (s, done) = constant_feed(act.s, *v, ts, len);
-            (s, *v, done, None)
+        (Feed::Constant { v }, _) => {
+            let (s, done) = constant_feed(act.s, *v * k, ts, len);
+            (s, *v * k, done, None)
         }
-        Feed::ReferenceWord(rw) => match reference_word_feed(rw, &act.mv.geom, &act.last, n, len) {
-            Some((p, s, v, done)) => (s, v, done, Some(p)),
-            None => {
-                return Advance {
-                    point: None,
-                    finished: true,
+        (Feed::ReferenceWord(rw), _) => {
+            match reference_word_feed(rw, &act.mv.geom, &act.last, n, len) {
+                Some((p, s, v, done)) => (s, v, done, Some(p)),
+                None => {
+                    return Advance {
+                        point: None,
+                        finished: true,
+                    }
                 }
             }
-        },
+        }
         // Curves have their own step.
-        Feed::Nurbs(_) => {
+        (Feed::Nurbs(_), _) => {
             return Advance {
                 point: None,
                 finished: true,
@@ -167,11 +179,18 @@ fn own_feed(act: &mut Active, n: usize, ts: f64, len: f64) -> Advance {
     Advance { point, finished }
 }
 
-/// One tick along an S-curve of the path length: (arc length, speed, the profile is over).
-fn profile_feed(profile: &Profile, t: &mut f64, ts: f64, len: f64) -> (f64, f64, bool) {
+/// One tick along an S-curve of the path length (`sample`, lasting `duration`): (arc length,
+/// speed, the profile is over).
+fn profile_feed(
+    sample: impl Fn(f64) -> State,
+    duration: f64,
+    t: &mut f64,
+    ts: f64,
+    len: f64,
+) -> (f64, f64, bool) {
     *t += ts;
-    let st = profile.sample(*t);
-    (st.pos.min(len), st.vel, *t >= profile.duration())
+    let st = sample(*t);
+    (st.pos.min(len), st.vel, *t >= duration)
 }
 
 /// One tick at the constant feed `v` from arc length `s`: (arc length, the end is reached).
@@ -341,12 +360,12 @@ mod tests {
         let lim = Limits::symmetric(1e5, 1e6, 1e8);
         let p = Profile::plan(0.0, 1_000.0, 0.0, 0.0, &lim).unwrap();
         let mut t = 0.0;
-        let (s, v, done) = profile_feed(&p, &mut t, TS, 1_000.0);
+        let (s, v, done) = profile_feed(|t| p.sample(t), p.duration(), &mut t, TS, 1_000.0);
         assert_eq!((s, v, done), (p.sample(TS).pos, p.sample(TS).vel, false));
         let mut ticks = 1;
         let mut last = (s, v, done);
         while !last.2 {
-            last = profile_feed(&p, &mut t, TS, 1_000.0);
+            last = profile_feed(|t| p.sample(t), p.duration(), &mut t, TS, 1_000.0);
             ticks += 1;
         }
         assert_eq!(ticks, (p.duration() / TS).ceil() as usize);

@@ -32,6 +32,7 @@ mod activate;
 mod feed;
 mod filter;
 mod nurbs_pool;
+mod overrides;
 mod settle;
 mod snap;
 mod stop;
@@ -46,6 +47,7 @@ use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
 use crate::motion::nurbs::NurbsError;
 use crate::motion::nurbs_interp::{InterpConfig, InterpError};
+use crate::motion::otg::Trajectory;
 use crate::motion::saturation::SaturationAwareFeed;
 use crate::motion::scurve::{Limits, Profile};
 use crate::servo::ffpiv::Reference;
@@ -293,8 +295,13 @@ impl Geometry {
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)] // inline on purpose: the firmware never allocates
 enum Feed {
-    /// Pre-interpolation S-curve of the path length.
-    Profile { profile: Profile, t: f64 },
+    /// Pre-interpolation S-curve of the path length within `lim` (planned at the programmed
+    /// feed; an override replans it into [`Active::retimed`]); `t` is the time into it.
+    Profile {
+        profile: Profile,
+        t: f64,
+        lim: Limits,
+    },
     /// Constant feed (post-interpolation acc/dec only).
     Constant { v: f64 },
     /// Kim's reference-word arc at constant feed: the plane increments come from it.
@@ -361,6 +368,9 @@ struct Move {
     geom: Geometry,
     feed: Feed,
     feed_type: usize,
+    /// A point-to-point move (MC_OP_GROUP_MOVE_PTP): the rapid override applies, else the
+    /// feed override.
+    ptp: bool,
     /// A NURBS curve a halt or stop keeps (already reported aborted) because the stop of the
     /// curve before it runs on into it.
     runout: bool,
@@ -376,6 +386,9 @@ struct Active {
     last: [f64; MAX_AXES],
     /// A halt or stop replaced the feed: (profile, time into it).
     stopping: Option<(Profile, f64)>,
+    /// An override replanned the S-curve feed from where the path was: (the path's S-curve
+    /// from then, time into it). It replaces the move's own profile.
+    retimed: Option<(Trajectory, f64)>,
     /// Tangential velocity and acceleration, for status and stopping.
     v: f64,
     a: f64,
@@ -426,6 +439,8 @@ pub struct Group {
     ptp_stage: [Option<[f64; 4]>; MAX_AXES],
     /// The NURBS curves queued and active, in storage allocated once.
     nurbs: NurbsPool,
+    /// MC_SetOverride: (feed factor, rapid factor), each 0..=OVERRIDE_MAX.
+    overrides: (f64, f64),
 }
 
 impl Group {
@@ -458,6 +473,7 @@ impl Group {
             snap_max: 0.0,
             ptp_stage: [None; MAX_AXES],
             nurbs: NurbsPool::new(),
+            overrides: (1.0, 1.0),
         }
     }
 
@@ -924,7 +940,11 @@ impl Group {
             if !p.duration().is_finite() || p.duration() > crate::MAX_MOVE_TIME {
                 return Err(NackCode::Infeasible);
             }
-            Feed::Profile { profile: p, t: 0.0 }
+            Feed::Profile {
+                profile: p,
+                t: 0.0,
+                lim: limits,
+            }
         } else {
             if len / limits.vmax > crate::MAX_MOVE_TIME {
                 return Err(NackCode::Infeasible);
@@ -937,6 +957,7 @@ impl Group {
                 geom,
                 feed,
                 feed_type,
+                ptp: op == Opcode::GroupMovePtp,
                 runout: false,
             },
             n,
@@ -1232,6 +1253,7 @@ impl Group {
                 geom,
                 feed: Feed::Nurbs(slot),
                 feed_type,
+                ptp: false,
                 runout: false,
             },
             n,
@@ -1462,6 +1484,8 @@ impl Group {
             tick,
             snap_last: self.snap_last,
             snap_max: self.snap_max,
+            feed_override: self.overrides.0,
+            rapid_override: self.overrides.1,
             ..Default::default()
         }
     }
