@@ -3,9 +3,10 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety` and `nurbs_path` choose their cards).
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine` and `nurbs_path` choose their
+//! cards).
 //! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
-//! Rust static library; `errors`, `groups`, `safety`, `nurbs_path` and `panic` also run under
+//! Rust static library; `errors`, `groups`, `safety`, `machine`, `nurbs_path` and `panic` also run under
 //! valgrind. The installed libraries' symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -966,6 +967,20 @@ fn misuse_program_is_clean_under_valgrind() {
 fn groups_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("groups");
     assert!(out.contains("PASS groups\n"), "{out}");
+}
+
+#[test]
+fn machine_program_jogs_aborts_buffers_and_overrides() {
+    let out = run(&compile("machine", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS machine"), "{out}");
+    assert!(out.contains("abort: retargeted to -10000"), "{out}");
+    assert!(out.contains("override 0 % held, 200 %"), "{out}");
+}
+
+#[test]
+fn machine_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("machine");
+    assert!(out.contains("PASS machine"), "{out}");
 }
 
 #[test]
