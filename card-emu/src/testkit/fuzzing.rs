@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 12, 13, 14, 15, 30, 31, 36, 47, 48, 63, 64, 255, 256, 0x7FFF, 0xFFFF,
+            0, 38, 39, 40, 41, 42, 46, 36, 47, 48, 63, 64, 255, 256, 0x7FFF, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -287,7 +287,7 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
         a[3] = magnitude(s, 5.0, 11.0);
     };
     match op {
-        Opcode::MoveAbsolute | Opcode::MoveRelative => {
+        Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             a[0] = position(s);
             limits(s, &mut a[1..5]);
             for k in 5..8 {
@@ -303,6 +303,21 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             a[1] = magnitude(s, 5.0, 11.0);
         }
         Opcode::EStop => a[0] = (s.u8() % 4) as f64,
+        Opcode::MoveVelocity => {
+            let v = magnitude(s, 2.0, 6.5);
+            a[0] = if s.u8() & 1 == 0 { v } else { -v };
+            a[1] = magnitude(s, 3.0, 8.5);
+            a[2] = magnitude(s, 3.0, 8.5);
+            a[3] = magnitude(s, 5.0, 11.0);
+        }
+        Opcode::Jog => {
+            let v = magnitude(s, 2.0, 5.0);
+            a[0] = if s.u8() & 1 == 0 { v } else { -v };
+        }
+        Opcode::SetOverride | Opcode::GroupSetOverride => {
+            a[0] = (s.u8() % 21) as f64 / 10.0;
+            a[1] = (s.u8() % 21) as f64 / 10.0;
+        }
         Opcode::GroupMoveLinear | Opcode::GroupMovePtp => {
             limits(s, &mut a[..4]);
             for x in a[4..].iter_mut() {
@@ -349,6 +364,9 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
             feed | mode | plane | (s.u8() as u32 & (3 | move_flags::CIRC_CCW))
         }
         Opcode::NurbsBegin => feed | (s.u8() as u32 & move_flags::BUFFERED),
+        Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
+            s.u8() as u32 & move_flags::BUFFERED
+        }
         _ => 0,
     }
 }
