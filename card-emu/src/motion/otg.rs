@@ -404,6 +404,10 @@ struct Step {
     vscale: f64,
     /// Frame sign (+1 up, -1 down).
     s: f64,
+    /// `1 / j`, and each segment's jerk over 2 and over 6.
+    ij: f64,
+    jh: [f64; 7],
+    j6: [f64; 7],
 }
 
 /// Relative tolerance of a candidate on the velocity limits (Ruckig: 1e-12 absolute).
@@ -426,19 +430,19 @@ impl Step {
             d: l.j * (vf - v0) + 0.5 * a0 * a0,
             vscale,
             s,
+            ij: 1.0 / l.j,
+            jh: UDDU.map(|u| u * l.j * 0.5),
+            j6: UDDU.map(|u| u * l.j / 6.0),
         }
     }
 
     /// End position minus `pd`.
     fn residual(&self, p: &Prof) -> f64 {
         let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
-        for ((&t, &ae), u) in p.t.iter().zip(&p.acc).zip(UDDU) {
-            if t > 0.0 {
-                let j = u * self.l.j;
-                x += t * (v + t * (0.5 * a + t * j / 6.0));
-                v += t * (a + 0.5 * j * t);
-                a = ae;
-            }
+        for (((&t, &ae), jh), j6) in p.t.iter().zip(&p.acc).zip(self.jh).zip(self.j6) {
+            x += t * (v + t * (0.5 * a + t * j6));
+            v += t * (a + t * jh);
+            a = ae;
         }
         x - self.pd
     }
@@ -469,6 +473,7 @@ impl Step {
             if t <= 0.0 {
                 continue;
             }
+            let (jh, j6) = (self.jh[i], self.j6[i]);
             if ae > l.amax + atol || ae < l.amin - atol {
                 return;
             }
@@ -478,9 +483,9 @@ impl Step {
                     return;
                 }
             }
-            x += t * (v + t * (0.5 * a + t * j / 6.0));
-            xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() / 6.0));
-            v += t * (a + 0.5 * j * t);
+            x += t * (v + t * (0.5 * a + t * j6));
+            xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
+            v += t * (a + t * jh);
             a = ae;
             if i >= 2 && (v > l.vmax + vtol || v < l.vmin - vtol) {
                 return;
@@ -528,7 +533,7 @@ impl Step {
     /// Profile None: `+j` to `a1`, `-j` to `a2 <= 0`, `+j` to 0, no hold, no cruise.
     fn none(&self, best: &mut Option<Best>) {
         let l = &self.l;
-        let (a0, d, j) = (self.a0, self.d, l.j);
+        let (a0, d, j, ij) = (self.a0, self.d, l.j, self.ij);
         // The domain of u = a1 - a2, from a1 <= amax, a2 >= amin, a2 <= 0, a1 >= a0 (each a
         // quadratic inequality in u, solved in its stable form).
         let s1 = l.amax * l.amax - d;
@@ -559,7 +564,7 @@ impl Step {
             let a1 = a1.min(l.amax).max(a0);
             let a2 = a2.max(l.amin).min(0.0);
             Prof {
-                t: [(a1 - a0) / j, 0.0, (a1 - a2) / j, 0.0, 0.0, 0.0, -a2 / j],
+                t: [(a1 - a0) * ij, 0.0, (a1 - a2) * ij, 0.0, 0.0, 0.0, -a2 * ij],
                 acc: [a1, a1, a2, a2, a2, a2, 0.0],
             }
         };
@@ -581,23 +586,23 @@ impl Step {
     /// Profile Acc0: `+j` to `amax`, hold, `-j` to `a2`, `+j` to 0.
     fn acc0(&self, best: &mut Option<Best>) {
         let l = &self.l;
-        let (a0, d, j) = (self.a0, self.d, l.j);
+        let (a0, d, j, ij) = (self.a0, self.d, l.j, self.ij);
         let lo = l.amin;
         let q = l.amax * l.amax - d;
         let hi = if q > 0.0 { -q.sqrt() } else { 0.0 };
         if lo.is_nan() || hi.is_nan() || lo > hi {
             return;
         }
-        let t0 = (l.amax - a0) / j;
+        let t0 = (l.amax - a0) * ij;
         let prof = |a2: f64| Prof {
             t: [
                 t0,
-                ((a2 * a2 - q) / (j * l.amax)).max(0.0),
-                (l.amax - a2) / j,
+                ((a2 * a2 - q) * (ij / l.amax)).max(0.0),
+                (l.amax - a2) * ij,
                 0.0,
                 0.0,
                 0.0,
-                -a2 / j,
+                -a2 * ij,
             ],
             acc: [l.amax, l.amax, a2, a2, a2, a2, 0.0],
         };
@@ -614,20 +619,20 @@ impl Step {
     /// Profile Acc1: `+j` to `a1`, `-j` to `amin`, hold, `+j` to 0.
     fn acc1(&self, best: &mut Option<Best>) {
         let l = &self.l;
-        let (a0, d, j) = (self.a0, self.d, l.j);
+        let (a0, d, j, ij) = (self.a0, self.d, l.j, self.ij);
         let q = d + l.amin * l.amin;
         let s = if q > 0.0 { q.sqrt() } else { 0.0 };
         let lo = a0.max(l.amin);
         let e = 2.0 * j * self.v0 - a0 * a0;
         let prof = |a1: f64| Prof {
             t: [
-                (a1 - a0) / j,
+                (a1 - a0) * ij,
                 0.0,
-                (a1 - l.amin) / j,
+                (a1 - l.amin) * ij,
                 0.0,
                 0.0,
-                ((a1 * a1 - q) / (j * -l.amin)).max(0.0),
-                -l.amin / j,
+                ((a1 * a1 - q) * (ij / -l.amin)).max(0.0),
+                -l.amin * ij,
             ],
             acc: [a1, a1, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
@@ -659,18 +664,18 @@ impl Step {
     /// position is quadratic in the first hold `t2`.
     fn acc0acc1(&self, best: &mut Option<Best>) {
         let l = &self.l;
-        let (a0, j) = (self.a0, l.j);
+        let (a0, j, ij) = (self.a0, l.j, self.ij);
         let dd = self.d - l.amax * l.amax + l.amin * l.amin;
         let lo = (dd / (j * l.amax)).max(0.0);
         let prof = |x: f64| Prof {
             t: [
-                (l.amax - a0) / j,
+                (l.amax - a0) * ij,
                 x,
-                (l.amax - l.amin) / j,
+                (l.amax - l.amin) * ij,
                 0.0,
                 0.0,
-                ((j * l.amax * x - dd) / (j * -l.amin)).max(0.0),
-                -l.amin / j,
+                ((j * l.amax * x - dd) * (ij / -l.amin)).max(0.0),
+                -l.amin * ij,
             ],
             acc: [l.amax, l.amax, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
@@ -755,13 +760,22 @@ impl Step {
         }
     }
 
-    /// Every family in this frame.
-    fn solve(&self, best: &mut Option<Best>) {
-        self.vel(best);
-        self.none(best);
-        self.acc0(best);
-        self.acc1(best);
-        self.acc0acc1(best);
+    /// The families in this frame, the closed-form ones first; with `first`, only up to the
+    /// first valid profile.
+    fn solve(&self, best: &mut Option<Best>, first: bool) {
+        let families: [fn(&Step, &mut Option<Best>); 5] = [
+            Step::vel,
+            Step::acc0acc1,
+            Step::none,
+            Step::acc0,
+            Step::acc1,
+        ];
+        for f in families {
+            f(self, best);
+            if first && best.is_some() {
+                return;
+            }
+        }
     }
 }
 
@@ -877,7 +891,9 @@ impl Trajectory {
     }
 
     /// The world trajectory of `segs` (scaled units) from `(p0, v0, a0)`, in the caller's
-    /// units; `end` with `pos = NaN` takes the integrated end position.
+    /// units, checked against `lim` ([`Trajectory::verify`]); `end` with `pos = NaN` takes the
+    /// integrated end position.
+    #[allow(clippy::too_many_arguments)]
     fn build(
         p0: f64,
         v0: f64,
@@ -886,6 +902,7 @@ impl Trajectory {
         nbrake: usize,
         u: &Units,
         mut end: State,
+        lim: &OtgLimits,
     ) -> Result<Trajectory, PlanError> {
         let mut tr = Trajectory::empty(p0, end);
         let (mut x, mut v, mut a) = (0.0, v0, a0);
@@ -917,13 +934,12 @@ impl Trajectory {
             end.pos = p0 + x;
         }
         tr.end = end;
-        let finite = time.is_finite()
-            && [x, v, a, end.pos, end.vel].iter().all(|q| q.is_finite())
-            && tr.x.iter().chain(&tr.v).chain(&tr.a).all(|q| q.is_finite());
-        if finite {
-            Ok(tr)
-        } else {
-            Err(PlanError::NonFinite)
+        if !(time + x + v + a + end.pos + end.vel).is_finite() {
+            return Err(PlanError::NonFinite);
+        }
+        match tr.verify(lim) {
+            Ok(()) => Ok(tr),
+            Err(e) => Err(e),
         }
     }
 
@@ -964,8 +980,21 @@ impl Trajectory {
         let (xb, vb, ab) = segs.integrate(v0n, a0n);
         let mut best = None;
         let rest = pdn - xb;
-        Step::new(vb, ab, v1n, rest, l, 1.0).solve(&mut best);
-        Step::new(-vb, -ab, -v1n, -rest, l.mirror(), -1.0).solve(&mut best);
+        // To rest (v1 = 0, a1 = 0) exactly one profile is valid (Berscheid 2021 §V: no blocked
+        // interval), so the first one found is the plan; else the shortest of all. The frame
+        // of the distance's sign is tried first.
+        let first = v1n == 0.0;
+        let up = Step::new(vb, ab, v1n, rest, l, 1.0);
+        let down = Step::new(-vb, -ab, -v1n, -rest, l.mirror(), -1.0);
+        let (a, b) = if rest >= 0.0 {
+            (&up, &down)
+        } else {
+            (&down, &up)
+        };
+        a.solve(&mut best, first);
+        if !(first && best.is_some()) {
+            b.solve(&mut best, first);
+        }
         let Some(b) = best else {
             return Err(if [vb, ab, rest].iter().all(|q| q.is_finite()) {
                 PlanError::Infeasible
@@ -982,9 +1011,7 @@ impl Trajectory {
             acc: 0.0,
             jerk: 0.0,
         };
-        let tr = Trajectory::build(p0, v0, a0, &segs, nbrake, &u, end)?;
-        tr.verify(lim)?;
-        Ok(tr)
+        Trajectory::build(p0, v0, a0, &segs, nbrake, &u, end, lim)
     }
 
     /// Ruckig's velocity interface: the time-optimal trajectory from `(p0, v0, a0)` to the
@@ -1037,9 +1064,7 @@ impl Trajectory {
             acc: 0.0,
             jerk: 0.0,
         };
-        let tr = Trajectory::build(p0, v0, a0, &segs, nbrake, &u, end)?;
-        tr.verify(lim)?;
-        Ok(tr)
+        Trajectory::build(p0, v0, a0, &segs, nbrake, &u, end, lim)
     }
 
     /// The same trajectory as an existing `scurve` profile (a rest-to-rest move or a stop), so
@@ -1214,211 +1239,88 @@ impl Trajectory {
             return false;
         }
         let mut time = 0.0;
+        let mut finite = true;
         for i in 0..n {
             let t = self.dur[i];
             if !(t > 0.0 && t.is_finite()) || self.t0[i] != time {
                 return false;
             }
             time += t;
+            finite &= (self.x[i] + self.v[i] + self.a[i] + self.jerk[i]).is_finite();
         }
         let e = &self.end;
-        self.t0[n] == time
+        finite
+            && self.t0[n] == time
             && time.is_finite()
-            && self.x[..n]
-                .iter()
-                .chain(&self.v[..n])
-                .chain(&self.a[..n])
-                .chain(&self.jerk[..n])
-                .chain(&[self.p0, e.pos, e.vel, e.acc, e.jerk])
-                .all(|q| q.is_finite())
+            && (self.p0 + e.pos + e.vel + e.acc + e.jerk).is_finite()
     }
 
-    /// Limits, continuity and the end state (see [`Trajectory::verify`]); `well_formed` first.
+    /// Limits, continuity and the end state (see [`Trajectory::verify`]), in one pass over
+    /// the segments; `well_formed` first.
     fn within(&self, lim: &OtgLimits) -> bool {
-        let n = self.n;
-        let e = &self.end;
+        let n = self.n.min(MAX_SEGS);
+        let (e, dir) = (&self.end, self.dir);
         if e.acc != 0.0 || e.jerk != 0.0 {
             return false;
         }
         // The start state (world) and the envelope it leaves no choice about.
         let (vs, as_) = if n > 0 {
-            (self.dir * self.v[0], self.dir * self.a[0])
+            (dir * self.v[0], dir * self.a[0])
         } else {
             (e.vel, 0.0)
         };
         let vr = v_ramped(vs, as_, lim.jmax);
         let (vlo, vhi) = (lim.vmin.min(vs).min(vr), lim.vmax.max(vs).max(vr));
         let (alo, ahi) = (lim.amin.min(as_), lim.amax.max(as_));
-        let vscale = vhi.max(-vlo);
-        let ascale = ahi.max(-alo);
-        let vtol = CHECK_SLACK * vscale + f64::MIN_POSITIVE;
-        let atol = CHECK_SLACK * ascale + f64::MIN_POSITIVE;
+        let vtol = CHECK_SLACK * vhi.max(-vlo) + f64::MIN_POSITIVE;
+        let atol = CHECK_SLACK * ahi.max(-alo) + f64::MIN_POSITIVE;
         let jmax = lim.jmax * (1.0 + CHECK_SLACK);
-        // Each segment's displacement and each running sum round once at their own size.
-        let mut travel = self.p0.abs().max(e.pos.abs());
-        for i in 0..n {
-            let (t, v, a, j) = (self.dur[i], self.v[i], self.a[i], self.jerk[i]);
-            travel +=
-                self.seg_end(i).0.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() / 6.0));
-        }
-        let ptol = CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE;
         let v_ok = |v: f64| v >= vlo - vtol && v <= vhi + vtol;
         let a_ok = |a: f64| a >= alo - atol && a <= ahi + atol;
-        let (lo, hi) = self.velocity_range();
-        if !(v_ok(lo) && v_ok(hi)) {
-            return false;
-        }
+        // Each segment's displacement and each running sum round once at their own size.
+        let mut travel = self.p0.abs().max(e.pos.abs());
+        let mut dx: f64 = 0.0;
+        let mut ok = v_ok(e.vel);
         for i in 0..n {
-            if self.jerk[i].abs() > jmax || !a_ok(self.dir * self.a[i]) {
-                return false;
+            let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
+            let x1 = x + t * (v + t * (0.5 * a + t * j / 6.0));
+            let v1 = v + t * (a + 0.5 * j * t);
+            let a1 = a + j * t;
+            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() / 6.0));
+            if j != 0.0 {
+                let tau = -a / j;
+                if tau > 0.0 && tau < t {
+                    ok &= v_ok(dir * (v + tau * (a + 0.5 * j * tau)));
+                }
             }
-            let (x, v, a) = self.seg_end(i);
             let next = if i + 1 < n {
-                (
-                    self.p0 + self.dir * self.x[i + 1],
-                    self.v[i + 1],
-                    self.a[i + 1],
-                )
+                (self.p0 + dir * self.x[i + 1], self.v[i + 1], self.a[i + 1])
             } else {
-                (e.pos, self.dir * e.vel, 0.0)
+                (e.pos, dir * e.vel, 0.0)
             };
-            if (self.p0 + self.dir * x - next.0).abs() > ptol
-                || (v - next.1).abs() > vtol
-                || (a - next.2).abs() > atol
-                || !a_ok(self.dir * a)
-            {
-                return false;
-            }
+            dx = dx.max((self.p0 + dir * x1 - next.0).abs());
+            ok &= j.abs() <= jmax
+                && a_ok(dir * a)
+                && a_ok(dir * a1)
+                && v_ok(dir * v)
+                && v_ok(dir * v1)
+                && (v1 - next.1).abs() <= vtol
+                && (a1 - next.2).abs() <= atol;
         }
         if n == 0 {
             // Nothing to run: the end is the start.
-            return (e.pos - self.p0).abs() <= ptol;
+            dx = (e.pos - self.p0).abs();
         }
-        true
+        ok && dx <= CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testkit::otg::{case, Case, KINDS};
     use crate::testkit::rng::Rng;
     use rsruckig::prelude as rk;
-
-    /// A random single-axis problem: limits and start/target state.
-    #[derive(Clone, Copy, Debug)]
-    struct Case {
-        lim: OtgLimits,
-        p0: f64,
-        v0: f64,
-        a0: f64,
-        p1: f64,
-        v1: f64,
-    }
-
-    /// The kinds of start state of the comparison, in fixed proportions (one each in turn).
-    const KINDS: [&str; 8] = [
-        "toward the target",
-        "away from the target",
-        "|v0| beyond vmax/vmin",
-        "|a0| beyond amax/amin",
-        "v1 != 0",
-        "strongly asymmetric limits",
-        "rest or near rest",
-        "anything within the limits",
-    ];
-
-    /// Limits at a random scale: lengths `L` over 5 decades, times `T` over 3, each limit a
-    /// factor of 0.3..3 off `L/T^k`; asymmetric (vmin, amin up to 3x off) half of the time,
-    /// strongly (10x) when `strong`.
-    fn limits(rng: &mut Rng, strong: bool) -> (OtgLimits, f64, f64) {
-        let len = 10f64.powf(rng.uniform(-2.0, 3.0));
-        let time = 10f64.powf(rng.uniform(-1.5, 1.5));
-        let f = |rng: &mut Rng| rng.log_uniform(0.3, 3.0);
-        let vmax = len / time * f(rng);
-        let amax = len / (time * time) * f(rng);
-        let jmax = len / (time * time * time) * f(rng);
-        let (rv, ra) = if strong {
-            (rng.log_uniform(0.1, 10.0), rng.log_uniform(0.1, 10.0))
-        } else if rng.chance(0.5) {
-            (
-                rng.log_uniform(1.0 / 3.0, 3.0),
-                rng.log_uniform(1.0 / 3.0, 3.0),
-            )
-        } else {
-            (1.0, 1.0)
-        };
-        let lim = OtgLimits {
-            vmax,
-            vmin: -vmax * rv,
-            amax,
-            amin: -amax * ra,
-            jmax,
-        };
-        (lim, len, time)
-    }
-
-    fn case(rng: &mut Rng, kind: usize) -> Case {
-        let (lim, len, _) = limits(rng, kind == 5);
-        let vin = |rng: &mut Rng| rng.uniform(lim.vmin, lim.vmax);
-        let ain = |rng: &mut Rng| rng.uniform(lim.amin, lim.amax);
-        let p0 = len * rng.uniform(-10.0, 10.0);
-        // Distances over several decades, either sign.
-        let d = len * 10f64.powf(rng.uniform(-3.0, 1.5)) * rng.sign();
-        let mut c = Case {
-            lim,
-            p0,
-            v0: vin(rng),
-            a0: ain(rng),
-            p1: p0 + d,
-            v1: 0.0,
-        };
-        match kind {
-            0 => {
-                c.v0 = c.v0.abs().min(if d > 0.0 { lim.vmax } else { -lim.vmin }) * d.signum();
-            }
-            1 => {
-                c.v0 = -c.v0.abs().min(if d > 0.0 { -lim.vmin } else { lim.vmax }) * d.signum();
-            }
-            2 => {
-                c.v0 = if rng.chance(0.5) {
-                    lim.vmax * rng.uniform(1.0, 3.0)
-                } else {
-                    lim.vmin * rng.uniform(1.0, 3.0)
-                };
-            }
-            3 => {
-                c.a0 = if rng.chance(0.5) {
-                    lim.amax * rng.uniform(1.0, 3.0)
-                } else {
-                    lim.amin * rng.uniform(1.0, 3.0)
-                };
-            }
-            4 => c.v1 = vin(rng),
-            5 => {
-                if rng.chance(0.5) {
-                    c.v1 = vin(rng);
-                }
-            }
-            6 => {
-                c.v0 = if rng.chance(0.5) {
-                    0.0
-                } else {
-                    vin(rng) * 1e-3
-                };
-                c.a0 = if rng.chance(0.5) {
-                    0.0
-                } else {
-                    ain(rng) * 1e-3
-                };
-            }
-            _ => {
-                if rng.chance(0.5) {
-                    c.v1 = vin(rng);
-                }
-            }
-        }
-        c
-    }
 
     /// Ruckig's (rsruckig's) trajectory for the same single-DOF input.
     fn ruckig(c: &Case, velocity: bool) -> Result<rk::Trajectory<1>, String> {
