@@ -467,8 +467,13 @@ impl Axis {
                         c.vel.signum()
                     };
                     let l = OtgLimits::along(dir, &eff);
-                    Trajectory::to_position(c.pos, c.vel, c.acc, target, 0.0, &l)
-                        .and_then(|t| t.verify(&l).map(|()| t))
+                    // Above a lowered limit: down to it first (replanned from there when the
+                    // ramp ends), rather than dipping below it.
+                    match Trajectory::slow_to_limit(c.pos, c.vel, c.acc, target, &l) {
+                        Some(ramp) => Ok(ramp),
+                        None => Trajectory::to_position(c.pos, c.vel, c.acc, target, 0.0, &l),
+                    }
+                    .and_then(|t| t.verify(&l).map(|()| t))
                 }
             }
             Goal::Velocity { vel, lim } => {
@@ -711,6 +716,14 @@ impl Axis {
                     if !self.in_velocity {
                         self.in_velocity = true;
                         report.in_velocity = Some((self.motion_seq, end.vel));
+                    }
+                } else if let (Goal::Position { .. }, true) = (self.goal, end.vel != 0.0) {
+                    // The ramp down to a lowered velocity limit ended: on to the target. (If
+                    // that cannot be planned, the starvation stop below takes over next tick.)
+                    let goal = self.goal;
+                    match self.plan(&goal, rate_hz(ts)) {
+                        Ok(traj) => self.motion = Motion::Run { traj, t: 0.0 },
+                        Err(_) => self.goal = Goal::None,
                     }
                 } else if end.vel != 0.0 || end.acc != 0.0 {
                     // [safety] the profile ends moving and nothing follows it (a queue ran

@@ -196,24 +196,26 @@ pub struct State {
 /// A planned profile of 7 constant-jerk segments.
 ///
 /// Internally everything is stored in the motion frame (`dir * world`), relative to `p0`.
+/// (The fields are visible to the crate for `otg::Trajectory::from_profile`, which runs the
+/// same segments.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Profile {
     /// World start position.
-    p0: f64,
+    pub(crate) p0: f64,
     /// +1 or -1: world = p0 + dir * frame.
-    dir: f64,
+    pub(crate) dir: f64,
     /// Segment durations (s).
-    dur: [f64; 7],
+    pub(crate) dur: [f64; 7],
     /// Segment jerks (motion frame).
-    jerk: [f64; 7],
+    pub(crate) jerk: [f64; 7],
     /// Segment start times; `t0[7]` is the total duration.
-    t0: [f64; 8],
+    pub(crate) t0: [f64; 8],
     /// Segment start states in the motion frame (position relative to `p0`).
-    x: [f64; 7],
-    v: [f64; 7],
-    a: [f64; 7],
+    pub(crate) x: [f64; 7],
+    pub(crate) v: [f64; 7],
+    pub(crate) a: [f64; 7],
     /// World state returned for `t >= duration`.
-    end: State,
+    pub(crate) end: State,
 }
 
 /// Segment description in the motion frame; `acc_after[i]` is the exact acceleration at the

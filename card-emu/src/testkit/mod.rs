@@ -2,4 +2,5 @@
 
 #[cfg(feature = "emulator")]
 pub mod fuzzing;
+pub mod otg;
 pub mod rng;

@@ -86,7 +86,20 @@ impl Group {
                     finished,
                 }
             } else {
-                own_feed(act, n, ts, len, k)
+                let adv = own_feed(act, n, ts, len, k);
+                // The ramp down to a lowered feed ended: on to the end of the path.
+                if let (Some((traj, t)), Feed::Profile { lim, .. }) = (&act.retimed, &act.mv.feed) {
+                    if *t >= traj.duration() && traj.end().vel > 0.0 && !adv.finished {
+                        let rate = (1.0 / ts).round() as u32;
+                        let (s, v) = (act.s, act.v);
+                        // (What cannot be planned holds where it is, as a 0 % override.)
+                        act.retimed = overrides::plan_path(s, v, 0.0, len, lim, k, rate)
+                            .or_else(|_| overrides::plan_path(s, v, 0.0, len, lim, 0.0, rate))
+                            .ok()
+                            .map(|tr| (tr, 0.0));
+                    }
+                }
+                adv
             };
             finished = adv.finished;
             act.a = (act.v - prev_v) / ts;
@@ -145,7 +158,8 @@ fn own_feed(act: &mut Active, n: usize, ts: f64, len: f64, k: f64) -> Advance {
     let (s, v, finished, point) = match (&mut act.mv.feed, &mut act.retimed) {
         (Feed::Profile { .. }, Some((traj, t))) => {
             let (s, v, done) = profile_feed(|t| traj.sample(t), traj.duration(), t, ts, len);
-            (s, v, done && k > 0.0, None)
+            // Not over while held at 0 %, nor at the end of a ramp down to a lowered feed.
+            (s, v, done && k > 0.0 && traj.end().vel == 0.0, None)
         }
         (Feed::Profile { profile, t, .. }, None) => {
             let (s, v, done) = profile_feed(|t| profile.sample(t), profile.duration(), t, ts, len);

@@ -96,6 +96,9 @@ pub(super) fn plan_path(
         if v == 0.0 && a == 0.0 {
             Profile::plan_checked(s, len - s, 0.0, 0.0, &eff, rate_hz)
                 .map(|p| Trajectory::from_profile(&p))
+        } else if let Some(ramp) = Trajectory::slow_to_limit(s, v, a, len, &along) {
+            // Down to the lowered feed first (replanned from there when the ramp ends).
+            Ok(ramp)
         } else {
             Trajectory::to_position(s, v, a, len, 0.0, &along)
         }
