@@ -286,3 +286,85 @@ fn card_commands_move_jog_override_and_status() {
     let (code, _, _) = mcctl(&["jog", "0", "100", "--for", "-1"]);
     assert_eq!(code, 2);
 }
+
+/// `--a0` plans from any state (Ruckig's position interface): here a start at 1.5 vmax moving
+/// away from the target, braked back to -vmax (reaching amax), then turned round; the same plan
+/// as the library's.
+#[test]
+fn plan_from_any_state_above_vmax_moving_away() {
+    use motioncard::plan::{OtgLimits, Trajectory};
+    let (code, out, err) = mcctl(&[
+        "plan", "100", "--vmax", "10", "--amax", "100", "--jmax", "1e3", "--v0", "-15", "--a0",
+        "0", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let want = Trajectory::to_position(
+        0.0,
+        -15.0,
+        0.0,
+        100.0,
+        0.0,
+        &OtgLimits::symmetric(10.0, 100.0, 1e3),
+    )
+    .unwrap();
+    let duration = j["duration"].as_f64().unwrap();
+    assert_eq!(duration, want.duration());
+    // The brake ramps the acceleration up at +J until the velocity is back at -vmax:
+    // sqrt(2 * 5 / 1000) = 0.1 s.
+    assert!((j["brake"].as_f64().unwrap() - 0.1).abs() < 1e-12, "{j}");
+    let phases: Vec<f64> = j["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let jerks: Vec<f64> = j["jerks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(phases, want.phases());
+    assert_eq!(jerks[0], 1e3);
+    assert!((phases.iter().sum::<f64>() - duration).abs() < 1e-12);
+    assert!(
+        (j["peak_velocity"].as_f64().unwrap() - 15.0).abs() < 1e-9,
+        "{j}"
+    );
+    // It moves away first, so it takes longer than the 10 s at vmax the distance alone needs.
+    assert!(duration > 10.0, "{duration}");
+    // The table names the brake.
+    let (code, out, _) = mcctl(&[
+        "plan", "100", "--vmax", "10", "--amax", "100", "--jmax", "1e3", "--v0", "-15", "--a0", "0",
+    ]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("brake 1 jerk +J") && out.contains("of which brake"),
+        "{out}"
+    );
+    // Signed --v1 with --a0, refused beyond ±vmax; --a0 itself must be finite.
+    let (code, out, err) = mcctl(&[
+        "plan", "-50", "--vmax", "10", "--amax", "100", "--dmax", "50", "--jmax", "1e3", "--a0",
+        "250", "--v1", "-4", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(j["brake"].as_f64().unwrap() > 0.0); // a0 = 250 beyond the 50 allowed along -x
+    assert_eq!(j["limits"]["amax"].as_f64(), Some(50.0));
+    for (extra, why) in [
+        (
+            ["--a0", "0", "--v1", "-11"],
+            "--v1 must be between -10 and --vmax (10), got -11",
+        ),
+        (["--a0", "nan", "--v1", "0"], "--a0 must be a finite number"),
+    ] {
+        let mut args = vec![
+            "plan", "5", "--vmax", "10", "--amax", "100", "--jmax", "1e3",
+        ];
+        args.extend(extra);
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 2);
+        assert!(err.contains(why), "{err}");
+    }
+}

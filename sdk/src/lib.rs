@@ -62,8 +62,12 @@ pub use nurbs::{
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
 
-/// The card's S-curve planner, for previewing a move on the host (`mcctl plan`).
-pub use card_emu::motion::scurve as plan;
+/// The card's S-curve planner, and the time-optimal planner from any state
+/// (`card_emu::motion::otg`), for previewing a move on the host (`mcctl plan`).
+pub mod plan {
+    pub use card_emu::motion::otg::{OtgLimits, Trajectory};
+    pub use card_emu::motion::scurve::*;
+}
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {

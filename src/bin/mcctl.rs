@@ -5,15 +5,16 @@
 //! mcctl plan 100000 --vmax 200000 --amax 2e6 --jmax 1e8            # the S-curve the card plans
 //! mcctl plan 100000 --vmax 2e5 --amax 2e6 --dmax 1e6 --jmax 1e8 --jdec 2e7 --json
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
+//! mcctl plan 100 --vmax 10 --amax 100 --jmax 1e3 --v0 -15 --a0 0     # from any state (time-optimal)
 //! mcctl --card emu:bench1 status                     # a table of the axes (--json: one array)
-//! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable --wait
-//! mcctl --card emu:bench1 move 0 20000 --velocity --amax 1e6 --jmax 5e7   # velocity mode
+//! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable
+//! mcctl --card emu:bench1 move 0 20000 --velocity --for 2   # velocity mode for 2 s
 //! mcctl --card emu:bench1 override 0 0.5             # 50 %
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! ```
 use clap::{Args, Parser, Subcommand};
 use motioncard::cli::{self, MoveCmd};
-use motioncard::plan::{Limits, PlanError, Profile};
+use motioncard::plan::{Limits, OtgLimits, PlanError, Profile, Trajectory};
 use motioncard::{Card, MoveKind, MoveLimits, VelocityLimits};
 use std::process::ExitCode;
 use std::time::Duration;
@@ -72,12 +73,20 @@ enum Cmd {
         /// Jerk of the deceleration phases 5 and 7 (default: --jmax).
         #[arg(long, allow_negative_numbers = true)]
         jdec: Option<f64>,
-        /// Start velocity, along the direction of motion.
+        /// Start velocity, along the direction of motion (0..=--vmax). With --a0: signed, in
+        /// the world frame, any value (a start beyond --vmax is braked first).
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         v0: f64,
-        /// End velocity, along the direction of motion.
+        /// End velocity, along the direction of motion (0..=--vmax). With --a0: signed, in the
+        /// world frame, within ±--vmax.
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         v1: f64,
+        /// Start acceleration, signed (world frame). Plans the time-optimal trajectory from
+        /// any state (Ruckig's position interface, `motion::otg`) instead of the S-curve:
+        /// --v0 and --v1 are then signed, --v0 may lie beyond --vmax and --a0 beyond the
+        /// limits; the limits are --amax ahead, --dmax behind and the smaller jerk.
+        #[arg(long, allow_negative_numbers = true)]
+        a0: Option<f64>,
         /// Servo rate of the card, Hz (1000..=20000): the range the card accepts for each limit
         /// depends on it.
         #[arg(long, default_value_t = 10_000)]
@@ -257,6 +266,7 @@ fn main() -> ExitCode {
             jdec,
             v0,
             v1,
+            a0,
             servo_rate,
             json,
         } => {
@@ -304,7 +314,20 @@ fn main() -> ExitCode {
                     ));
                 }
             }
+            if let Some(a0) = a0 {
+                if !a0.is_finite() {
+                    return bad(format!("--a0 must be a finite number, got {a0}"));
+                }
+                if v1.abs() > vmax {
+                    return bad(format!(
+                        "--v1 must be between -{vmax} and --vmax ({vmax}), got {v1}"
+                    ));
+                }
+            }
             for (what, v) in &named[6..] {
+                if a0.is_some() {
+                    break;
+                }
                 if *v < 0.0 || *v > vmax {
                     return bad(format!(
                         "{what} must be between 0 and --vmax ({vmax}), got {v}"
@@ -329,6 +352,10 @@ fn main() -> ExitCode {
                 j5: jdec,
                 j7: jdec,
             };
+            if let Some(a0) = a0 {
+                let dir = if distance < 0.0 { -1.0 } else { 1.0 };
+                return from_any_state(distance, v0, a0, v1, &OtgLimits::along(dir, &lim), json);
+            }
             let p = match Profile::plan(0.0, distance, v0, v1, &lim) {
                 Ok(p) => p,
                 Err(e) => return bad(format!("no S-curve satisfies these limits: {e}")),
@@ -393,4 +420,87 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
     }
+}
+
+/// `mcctl plan --a0 ...`: the time-optimal trajectory from `(0, v0, a0)` to `(distance, v1)`
+/// (`Trajectory::to_position`, which runs the card's check on it), printed like the S-curve.
+fn from_any_state(
+    distance: f64,
+    v0: f64,
+    a0: f64,
+    v1: f64,
+    lim: &OtgLimits,
+    json: bool,
+) -> ExitCode {
+    let tr = match Trajectory::to_position(0.0, v0, a0, distance, v1, lim) {
+        Ok(t) => t,
+        Err(e) => return bad(format!("no trajectory satisfies these limits: {e}")),
+    };
+    if tr.duration() > card_emu::MAX_MOVE_TIME {
+        return bad(format!(
+            "the move would take {:.6e} s; the card refuses moves longer than {} s",
+            tr.duration(),
+            card_emu::MAX_MOVE_TIME
+        ));
+    }
+    let phases = tr.phases();
+    let jerks = &tr.jerks()[..phases.len()];
+    let (amin, amax) = tr.acceleration_range();
+    // Each segment named by what it does: its jerk, or the acceleration it holds.
+    let mut start = 0.0;
+    let mut names = Vec::new();
+    for (i, (t, j)) in phases.iter().zip(jerks).enumerate() {
+        let acc = tr.sample(start + 0.5 * t).acc;
+        start += t;
+        let what = if *j > 0.0 {
+            "jerk +J"
+        } else if *j < 0.0 {
+            "jerk -J"
+        } else if acc == 0.0 {
+            "cruise"
+        } else {
+            "constant acc"
+        };
+        let part = if i < tr.brake_segments() {
+            "brake"
+        } else {
+            "phase"
+        };
+        names.push(format!("{part} {} {what}", i + 1));
+    }
+    if json {
+        let j = serde_json::json!({
+            "distance": distance,
+            "duration": tr.duration(),
+            "brake": tr.brake_duration(),
+            "phases": phases,
+            "jerks": jerks,
+            "peak_velocity": tr.peak_velocity(),
+            "peak_acceleration": amax,
+            "peak_deceleration": -amin,
+            "limits": { "vmax": lim.vmax, "vmin": lim.vmin, "amax": lim.amax, "amin": lim.amin, "jmax": lim.jmax, "v0": v0, "a0": a0, "v1": v1 },
+        });
+        println!("{j}");
+    } else {
+        println!(
+            "Time-optimal trajectory for a distance of {distance} from any state (v0 {v0}, a0 \
+             {a0}, v1 {v1})"
+        );
+        for (n, t) in names.iter().zip(phases) {
+            println!("  {n:<22} {t:>14.9} s");
+        }
+        println!("  total                  {:>14.9} s", tr.duration());
+        println!("  of which brake         {:>14.9} s", tr.brake_duration());
+        println!(
+            "  peak velocity          {:>14.6} (limits {} .. {})",
+            tr.peak_velocity(),
+            lim.vmin,
+            lim.vmax
+        );
+        println!(
+            "  acceleration           {:>14.6} .. {:.6} (limits {} .. {})",
+            amin, amax, lim.amin, lim.amax
+        );
+    }
+    ExitCode::SUCCESS
 }

@@ -1074,7 +1074,13 @@ impl Trajectory {
     /// or too close to slow down first. (Ruckig's brake pre-phase ends at the limit still
     /// decelerating, so the velocity dips below the limit by `a²/2j` before it settles; a feed
     /// override knob must not do that.)
-    pub fn slow_to_limit(p0: f64, v0: f64, a0: f64, p1: f64, lim: &OtgLimits) -> Option<Trajectory> {
+    pub fn slow_to_limit(
+        p0: f64,
+        v0: f64,
+        a0: f64,
+        p1: f64,
+        lim: &OtgLimits,
+    ) -> Option<Trajectory> {
         let (vlim, ahead) = if v0 > 0.0 {
             (lim.vmax, p1 > p0)
         } else {
