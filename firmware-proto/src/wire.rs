@@ -800,6 +800,7 @@ mod tests {
         check::<MoveFlags>("MoveFlags");
         check::<AxisSafetyFlags>("AxisSafetyFlags");
         check::<CardFaults>("CardFaults");
+        check::<MotionFlags>("MotionFlags");
         assert_eq!(Faults::all().iter().count(), 12);
         assert_eq!(Io::all().iter().count(), 7);
     }
@@ -808,7 +809,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 48);
+        assert_eq!(NackCode::ALL.len(), 49);
         assert_eq!(Opcode::from_raw(34), Some(Opcode::EStop));
         assert_eq!(StopReason::from_raw(23), Some(StopReason::FollowingError));
         assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());
