@@ -39,7 +39,7 @@ pub use card::{
     ACK_TIMEOUT, EVENT_QUEUE_CAP, SCALE_RANGE,
 };
 #[cfg(feature = "emulator")]
-pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
+pub use card_emu::{Clock, EmuOptions, EndStops, HomeSwitch, IndexPulse, MotorParams, Switches};
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};

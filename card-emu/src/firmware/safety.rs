@@ -61,13 +61,27 @@ pub const MAX_STOP_TIME_DEFAULT_US: u32 = 2_000_000;
 pub const MAX_STOP_TIME_RANGE_US: core::ops::RangeInclusive<u32> = 10_000..=600_000_000;
 
 /// The card's inputs for one tick (the FPGA's input register), sampled from the plant by the
-/// emulator: per axis `MC_IO_*` input bits, and the card's e-stop input.
+/// emulator: per axis `MC_IO_*` input bits and the index latch, and the card's e-stop input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Inputs {
     /// Limit, home, amplifier-alarm and encoder-fault inputs of each axis.
     pub axis: [Io; MAX_AXES],
+    /// The index latch of each axis's encoder interface.
+    pub index: [IndexLatch; MAX_AXES],
     /// The e-stop input (active: stop).
     pub estop: bool,
+}
+
+/// An encoder interface's latch on the index (Z) channel, as the FPGA holds it: the raw
+/// encoder count captured at the last index pulse, and how many pulses it has latched
+/// (wrapping). A change of `latches` between two ticks is a pulse crossed in between, at
+/// exactly `count`, however short it was.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IndexLatch {
+    /// The raw encoder count at the last index pulse.
+    pub count: i64,
+    /// Index pulses latched since power-up (wrapping).
+    pub latches: u32,
 }
 
 /// The validated copy of the card-wide safety configuration.
@@ -215,6 +229,11 @@ impl Safety {
     /// The inputs of the coming tick (the emulator samples them from the plant).
     pub fn set_inputs(&mut self, inputs: Inputs) {
         self.inputs = inputs;
+    }
+
+    /// The inputs of this tick.
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
     }
 
     /// The attached host's session id (0: none).
