@@ -303,6 +303,12 @@ extern "C" {
 #define MC_EVENT_IN_VELOCITY 12
 
 /**
+ * Homing ended without a home point (`mc_home`): `code` is an `MC_HOMING_ERROR_` value,
+ * `value` the actual position; the axis is at rest, not homed.
+ */
+#define MC_EVENT_HOMING_FAILED 13
+
+/**
  * A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
  * `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
  */
@@ -518,6 +524,11 @@ extern "C" {
  * The host closed the card (`mc_close`): the motion halted, no fault.
  */
 #define MC_STOP_REASON_HOST_DETACH 5
+
+/**
+ * Homing failed (`MC_EVENT_HOMING_FAILED`): the axis stopped, not homed.
+ */
+#define MC_STOP_REASON_HOMING_FAILED 6
 
 /**
  * The host heartbeat stopped (watchdog). Safety reasons are this value and above.
@@ -1906,6 +1917,23 @@ typedef struct mc_stop_info {
  * An override factor outside 0 to 2 (0 % to 200 %).
  */
 #define MC_ERR_OVERRIDE_RANGE -64
+
+/**
+ * A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
+ * encoder without an index channel (`HomingSettings`).
+ */
+#define MC_ERR_HOMING_METHOD -65
+
+/**
+ * A move, jog or homing on an axis that is homing: wait for it, or halt it first.
+ */
+#define MC_ERR_AXIS_HOMING -66
+
+/**
+ * Homing ended without a home point (its switch, hard stop or index was not found in
+ * time or distance): the axis is at rest and not homed.
+ */
+#define MC_ERR_HOMING_FAILED -67
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.

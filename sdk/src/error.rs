@@ -202,6 +202,14 @@ error_kinds! {
     PermissionDenied = -63, MC_ERR_PERMISSION_DENIED, "the card's server refused this user";
     /// An override factor outside 0 to 2 (0 % to 200 %).
     OverrideRange = -64, MC_ERR_OVERRIDE_RANGE, nack OverrideRange, "the override factor is outside 0 to 2 (0 % to 200 %)";
+    /// A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
+    /// encoder without an index channel ([`crate::HomingSettings`]).
+    HomingMethod = -65, MC_ERR_HOMING_METHOD, nack HomingMethod, "the axis cannot do this homing method";
+    /// A move, jog or homing on an axis that is homing: wait for it, or halt it first.
+    AxisHoming = -66, MC_ERR_AXIS_HOMING, nack AxisHoming, "the axis is homing";
+    /// Homing ended without a home point (its switch, hard stop or index was not found in
+    /// time or distance): the axis is at rest and not homed.
+    HomingFailed = -67, MC_ERR_HOMING_FAILED, "homing failed: the axis stopped, not homed";
 }
 
 impl From<NurbsError> for ErrorKind {
