@@ -24,6 +24,11 @@
 //!   the card. An attach that finds another session open (its host died or hung) stops every
 //!   enabled axis, category 1, reason `HostChanged`: a new host never inherits motion it did not
 //!   start. A detach halts what moves along the stop ramps and disarms the watchdog, no fault.
+//! - **Homing** (CiA 402, `homing.rs`): a homing method that has limit switches in its
+//!   definition watches them itself (it reverses there, or fails), so while the axis homes the
+//!   limit switches it names ([`Axis::homing_limits`]) do not trip it; any other limit still
+//!   does. Soft limits hold only once the axis is homed ([`Axis::homed`]): before that its
+//!   positions mean nothing. An encoder fault makes the axis not homed.
 //!
 //! Hooks elsewhere, each marked `[safety]`: one call per servo tick
 //! ([`Safety::tick`], from `Firmware::tick`), one check per command
@@ -529,6 +534,10 @@ impl Safety {
     /// encoder). An axis already stopping only changes to a harsher category.
     fn trip_axis<M: Mem>(&mut self, mem: &M, tick: u64, i: usize, axis: &mut Axis, trip: Trip) {
         axis.safety.faults |= trip.fault;
+        if trip.fault.contains(Faults::ENCODER) {
+            // [homing] the count no longer says where the shaft is
+            axis.lose_home();
+        }
         let harsher = match axis.safety.stop {
             Some(s) if axis.state == AxisState::ErrorStop => {
                 (trip.category as u32) < (s.category as u32) && axis.is_powered()
@@ -875,7 +884,9 @@ pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode
     {
         return Err(NackCode::HardLimit);
     }
+    // Soft limits hold once the axis is homed: before that its positions mean nothing.
     if c.has(AxisSafetyFlags::SOFT_LIMITS)
+        && axis.homed()
         && ((target > c.soft_limit_pos && target > start)
             || (target < c.soft_limit_neg && target < start))
     {
@@ -891,6 +902,9 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
     let r = axis.reference();
     let powered = axis.is_powered();
     let ferr = axis.following_error();
+    // [homing] the limit switches the homing method watches itself, and soft limits once homed
+    let homing_limits = axis.homing_limits();
+    let soft = c.has(AxisSafetyFlags::SOFT_LIMITS) && axis.homed();
     let s = &mut axis.safety;
     let mut out = [None; 4];
     let cat0 = |reason, fault, value| {
@@ -929,18 +943,18 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
     if c.has(AxisSafetyFlags::HARD_LIMITS) {
         if inputs.contains(Io::LIMIT_POS) {
             s.faults |= Faults::HARD_LIMIT_POS;
-            if powered && r.vel > 0.0 {
+            if powered && r.vel > 0.0 && !homing_limits.contains(Io::LIMIT_POS) {
                 out[2] = limit(StopReason::HardLimitPos, Faults::HARD_LIMIT_POS);
             }
         }
         if inputs.contains(Io::LIMIT_NEG) {
             s.faults |= Faults::HARD_LIMIT_NEG;
-            if powered && r.vel < 0.0 {
+            if powered && r.vel < 0.0 && !homing_limits.contains(Io::LIMIT_NEG) {
                 out[2] = limit(StopReason::HardLimitNeg, Faults::HARD_LIMIT_NEG);
             }
         }
     }
-    if c.has(AxisSafetyFlags::SOFT_LIMITS) {
+    if soft {
         if r.pos > c.soft_limit_pos {
             s.faults |= Faults::SOFT_LIMIT_POS;
             if powered && r.vel > 0.0 && out[2].is_none() {

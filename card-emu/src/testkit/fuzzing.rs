@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 12, 13, 14, 15, 30, 31, 36, 47, 48, 63, 64, 255, 256, 0x7FFF, 0xFFFF,
+            0, 31, 38, 39, 47, 51, 55, 56, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
