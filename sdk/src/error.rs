@@ -282,6 +282,14 @@ pub enum Error {
     /// See [`ErrorKind::Aborted`].
     #[error("motion on {target} aborted by {by}")]
     Aborted { target: Target, by: String },
+    /// See [`ErrorKind::HomingFailed`]: why (`None`: a code this library does not know), and
+    /// the actual position where it failed (user units).
+    #[error("homing of {target} failed at {at}: {}", crate::homing::failure_reason(*.error))]
+    HomingFailed {
+        target: Target,
+        error: Option<firmware_proto::HomingError>,
+        at: f64,
+    },
     /// See [`ErrorKind::BadAxis`].
     #[error("axis {axis} does not exist: the card has {count} axes")]
     BadAxis { axis: usize, count: usize },
@@ -350,6 +358,7 @@ impl Error {
             Error::RingFull(_) => ErrorKind::RingFull,
             Error::Timeout(_) => ErrorKind::Timeout,
             Error::Aborted { .. } => ErrorKind::Aborted,
+            Error::HomingFailed { .. } => ErrorKind::HomingFailed,
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,

@@ -27,6 +27,7 @@ mod device;
 mod error;
 mod group;
 mod heartbeat;
+mod homing;
 mod modes;
 mod nurbs;
 mod safety;
@@ -52,6 +53,7 @@ pub use group::{
     Interpolator, MoveOptions, PathLimits, Plane,
 };
 pub use heartbeat::HEARTBEAT_PERIOD_US;
+pub use homing::{HomingError, HomingFlags, HomingSettings};
 pub use modes::{BufferMode, MoveKind, VelocityLimits};
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;
