@@ -270,12 +270,19 @@ fn method_34_index_positive() {
 }
 
 /// Methods 35 and 37: the current position is the home point; nothing moves.
+fn current_position(method: i32) {
+    let sw = Switches::limits(-LIMIT, LIMIT);
+    repeatable(method, &[-1_234.0, 0.0, 22_222.0], |stood| stood, sw);
+}
+
 #[test]
-fn methods_35_and_37_current_position() {
-    for method in [35, 37] {
-        let sw = Switches::limits(-LIMIT, LIMIT);
-        repeatable(method, &[-1_234.0, 0.0, 22_222.0], |stood| stood, sw);
-    }
+fn method_35_current_position() {
+    current_position(35);
+}
+
+#[test]
+fn method_37_current_position() {
+    current_position(37);
 }
 
 /// The hard-stop methods on a machine without limit switches: -3/-4 home where the axis
@@ -581,4 +588,34 @@ fn a_hard_stop_threshold_beyond_the_following_error_limit_is_refused() {
         ErrorKind::BadConfig
     );
     assert_eq!(status(&card).state, AxisState::Standstill);
+}
+
+/// Every homing nack (codes 64..79) has a command that provokes it.
+#[test]
+fn every_homing_nack_is_provoked() {
+    use motioncard::{Error, NackCode};
+    let card = one_axis();
+    let ax = card.axis(0).unwrap();
+    let nack = |e: Error| match e {
+        Error::Nack { code, .. } => code,
+        e => panic!("{e}"),
+    };
+    let mut seen = Vec::new();
+    let h = HomingSettings {
+        method: 16,
+        ..HomingSettings::default()
+    };
+    seen.push(nack(ax.configure_homing(&h).unwrap_err()));
+    configure(&card, 19, |_| {});
+    let m = ax.home(0.0).unwrap();
+    seen.push(nack(ax.move_relative(1.0, &fast()).unwrap_err()));
+    ax.halt(1e6, 1e8).unwrap();
+    assert_eq!(m.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
+    for code in NackCode::ALL
+        .iter()
+        .filter(|c| (64..80).contains(&(**c as i32)))
+    {
+        assert!(seen.contains(code), "{code:?} never provoked");
+    }
+    assert_eq!(seen, [NackCode::HomingMethod, NackCode::AxisHoming]);
 }

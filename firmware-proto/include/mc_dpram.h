@@ -312,10 +312,11 @@
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
 #define MC_NACK_NURBS_ZERO_LENGTH 59
 #define MC_NACK_NURBS_KNOT 60           /* a knot not finite (NaN or infinite) */
-/* Homing nack codes (61..63, layout 1.5). */
-#define MC_NACK_HOMING_METHOD 61        /* a homing method the axis cannot do: an unknown number, or an
+/* Homing nack codes (64..79, layout 1.5). */
+#define MC_NACK_HOMING_METHOD 64        /* a homing method the axis cannot do: an unknown number, or an
                                          * index method without MC_HOMING_INDEX */
-#define MC_NACK_AXIS_HOMING 62          /* a move, jog or MC_Home on an axis that is homing */
+#define MC_NACK_AXIS_HOMING 65          /* a move, jog, MC_SetPosition or MC_Home on an axis that is
+                                         * homing */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */

@@ -52,6 +52,7 @@
 //! homed. Halt, stop, power off and safety stops end the Homing state, and with it the method.
 //!
 //! Like the rest of the firmware: no allocation, no panic, no clock; time is the tick count.
+#![forbid(unsafe_code)]
 
 use crate::firmware::axis::Axis;
 use crate::firmware::nack::check_ranges;
@@ -536,14 +537,22 @@ impl Run {
                 self.go(axis, inp, m.dir * creep);
             }
             _ => {
-                if let Geometry::Width { .. } = m.geometry {
+                let mut reversed = false;
+                if let Geometry::Width { first, .. } = m.geometry {
                     self.region = if s { Region::On } else { Region::Unknown };
+                    if !s && self.limit_ahead(inp.io, first) {
+                        // Off the switch, on the limit switch the search would start into:
+                        // the switch is the other way (the reversal, made at once).
+                        self.region = if first > 0.0 {
+                            Region::Above
+                        } else {
+                            Region::Below
+                        };
+                        reversed = true;
+                    }
                 }
                 let dir = self.toward_edge(s);
-                self.phase = Phase::Search {
-                    dir,
-                    reversed: false,
-                };
+                self.phase = Phase::Search { dir, reversed };
                 self.go(axis, inp, dir * self.cfg.block.search_vel);
             }
         }

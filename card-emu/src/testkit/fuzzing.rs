@@ -533,7 +533,7 @@ pub struct Stats {
     pub commands: u64,
     pub acks: u64,
     pub nacks: u64,
-    /// Nacks per code (index: the code's raw value, 0..64).
+    /// Nacks per code (index: the code's raw value, 0..128).
     pub nack_codes: Vec<u64>,
     pub ticks: u64,
     pub reboots: u64,
@@ -544,7 +544,7 @@ pub struct Stats {
 impl Stats {
     fn new() -> Self {
         Self {
-            nack_codes: vec![0; 64],
+            nack_codes: vec![0; 128],
             ..Default::default()
         }
     }
