@@ -101,7 +101,8 @@ fn every_nack_code_is_provoked_by_its_own_fault() {
     );
     seen.push(NackCode::AxesEnabled);
     // Axis and card codes here; the group codes (16..31, 48..63) in tests/groups.rs and
-    // tests/nurbs.rs, the safety codes (32..47) in tests/safety.rs. PlanCheck is the card's
+    // tests/nurbs.rs, the safety codes (32..47) in tests/safety.rs, the homing codes (64..79)
+    // in tests/homing.rs. PlanCheck is the card's
     // check of its own plans: no input reaches it through a correct planner (the planner's
     // property tests in card-emu's scurve module hold it).
     for code in NackCode::ALL

@@ -400,6 +400,10 @@ fn soft_limits_refuse_moves_beyond_and_allow_moves_back() {
     .unwrap();
     ax.enable().unwrap();
     let lim = MoveLimits::new(1000.0, 1e5, 1e7);
+    // Soft limits hold once the axis is homed: here, MC_SetPosition where it stands.
+    assert!(!ax.status().unwrap().homed());
+    ax.set_position(0.0, false).unwrap();
+    assert!(ax.status().unwrap().homed());
     assert_eq!(
         ax.move_absolute(100.5, &lim).err().unwrap().kind(),
         ErrorKind::SoftLimit
@@ -660,6 +664,7 @@ fn every_safety_nack_code_is_provoked_by_its_own_fault() {
         ..Default::default()
     })
     .unwrap();
+    ax.set_position(0.0, true).unwrap(); // soft limits hold once homed
     expect(
         NackCode::SoftLimit,
         ax.move_relative(50.0, &fast()).err().map(nack),

@@ -32,7 +32,7 @@ pub mod testkit;
 pub use emu::emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;
 #[cfg(feature = "emulator")]
-pub use plant::{Motor, MotorParams, Switches};
+pub use plant::{EndStops, HomeSwitch, IndexPulse, Motor, MotorParams, Switches};
 
 pub use firmware_proto::{
     limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,

@@ -16,7 +16,7 @@ use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
 use card_emu::motion::path_speed::PathSpeedPlanner;
 use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
 use card_emu::plant::faults::{Direction, FaultInjector};
-use card_emu::plant::{Motor, MotorParams};
+use card_emu::plant::{EndStops, HomeSwitch, Motor, MotorParams, Switches};
 use card_emu::presets::{die_bonder_preset, die_bonder_volts};
 use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use firmware_proto::layout;
@@ -719,6 +719,8 @@ fn faults_do_not_touch_the_heap() {
     ];
     for (what, fault) in faults {
         let mut r = Rig::new();
+        // Soft limits hold once the axis is homed: MC_SetPosition where it is.
+        r.ok(Opcode::SetPosition, 0, 0, &[0.0]);
         moving(&mut r);
         fault(&mut r);
         let tripped = r.run_until(200_000, |r| r.group_state(0) == GroupState::ErrorStop);
@@ -730,4 +732,42 @@ fn faults_do_not_touch_the_heap() {
         );
         r.assert_no_heap(what);
     }
+}
+
+#[test]
+fn homing_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..5);
+    let home = |r: &mut Rig, a: usize, method: i32, index_distance: f64| {
+        let at = layout::AXIS_HOMING.at(a);
+        let mut b = at.read(&r.window);
+        b.method = method;
+        b.index_distance = index_distance;
+        at.write(&r.window, &b);
+        r.ok(Opcode::ApplyAxisHoming, a, 0, &[]);
+        r.ok(Opcode::Home, a, 0, &[0.0])
+    };
+    r.ok(Opcode::SetPosition, 0, 0, &[123.0]);
+    // A home switch above 3,000.5 counts (method 20: its edge), a hard stop (-3), an index that
+    // never comes (34 on a plant without latch pulses: no index), and a search halted.
+    r.faults
+        .set_switches(1, Switches::default().with_home(HomeSwitch::Above(3_000.5)));
+    r.motors[2].end_stops = EndStops {
+        neg: -2_000.5,
+        pos: f64::INFINITY,
+    };
+    let switch = home(&mut r, 1, 20, 12_000.0);
+    let stop = home(&mut r, 2, -3, 12_000.0);
+    let index = home(&mut r, 3, 34, 2_000.0);
+    let halted = home(&mut r, 4, 19, 12_000.0);
+    r.run(2_000);
+    assert_eq!(r.axis_state(4), AxisState::Homing);
+    r.ok(Opcode::Halt, 4, 0, &[2e6, 1e8]);
+    assert!(r.got(EventKind::MotionAborted, halted));
+    assert!(
+        r.run_until(200_000, |r| r.got(EventKind::MotionDone, switch)
+            && r.got(EventKind::MotionDone, stop)
+            && r.got(EventKind::HomingFailed, index))
+    );
+    r.assert_no_heap("homing");
 }

@@ -41,7 +41,7 @@
  *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
  *   mc_pdplus_settings_die_bonder, mc_set_heartbeat, mc_get_safety_status,
  *   mc_safety_settings_default, mc_sim_options_default, mc_nurbs_clamped_uniform_knots,
- *   mc_filter_settings_all, mc_path_limits_new, mc_nurbs_feed_new.
+ *   mc_filter_settings_all, mc_path_limits_new, mc_nurbs_feed_new, mc_homing_settings_default.
  * - mc_get_status, mc_get_stop_info and mc_group_get_status do not wait for the card; they
  *   retry while the card is rewriting the status block (well under a microsecond on a running
  *   card; after 100 ms of a block that stays busy, MC_ERR_NOT_RESPONDING).
@@ -52,8 +52,9 @@
  *   mc_group_halt, mc_group_stop, mc_group_release_stop, mc_group_move_linear,
  *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
  *   mc_axis_configure_pdplus, mc_set_watchdog_timeout, mc_set_estop_input_category, mc_estop,
- *   mc_configure_safety. mc_group_move_nurbs sends the curve as several commands (a begin,
- *   data entries, an end) and blocks until the card has answered each, as does
+ *   mc_configure_safety, mc_configure_homing, mc_home, mc_set_position. mc_group_move_nurbs
+ *   sends the curve as several commands (a begin, data entries, an end) and blocks until the
+ *   card has answered each, as does
  *   mc_group_move_ptp_axes (the axes' limits, one command per three axes, then the move);
  *   mc_reset_faults sends one command, then one MC_Reset per axis in ErrorStop. A move call
  *   returns when the card has accepted it, not when it is done.
@@ -102,6 +103,77 @@
 extern "C" {
 #endif
 
+
+/**
+ * `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
+ * else `MC_ERR_HOMING_METHOD`).
+ */
+#define MC_HOMING_FLAG_INDEX 1
+
+/**
+ * `mc_homing_settings.flags`: the axis ends at the home point (else where it came to rest
+ * after finding it).
+ */
+#define MC_HOMING_FLAG_MOVE_TO_HOME 2
+
+/**
+ * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
+ * following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
+ * it.
+ */
+#define MC_HOMING_METHOD_HARD_STOP_NEG_INDEX -1
+
+/**
+ * Homing method: a hard stop in the positive direction, then the index pulse.
+ */
+#define MC_HOMING_METHOD_HARD_STOP_POS_INDEX -2
+
+/**
+ * Homing method: a hard stop in the negative direction: the home point is where the axis
+ * stalled.
+ */
+#define MC_HOMING_METHOD_HARD_STOP_NEG -3
+
+/**
+ * Homing method: a hard stop in the positive direction.
+ */
+#define MC_HOMING_METHOD_HARD_STOP_POS -4
+
+/**
+ * Homing method: the current position (nothing moves).
+ */
+#define MC_HOMING_METHOD_CURRENT_POSITION 37
+
+/**
+ * `code` of `MC_EVENT_HOMING_FAILED`: a limit switch the method does not reverse at (its
+ * switch is missing).
+ */
+#define MC_HOMING_ERROR_LIMIT 1
+
+/**
+ * The maximum distance from the start without the switch or hard stop.
+ */
+#define MC_HOMING_ERROR_DISTANCE 2
+
+/**
+ * Not homed within the timeout.
+ */
+#define MC_HOMING_ERROR_TIMEOUT 3
+
+/**
+ * No index pulse within the index distance.
+ */
+#define MC_HOMING_ERROR_NO_INDEX 4
+
+/**
+ * A motion of the method could not be planned.
+ */
+#define MC_HOMING_ERROR_PLAN 5
+
+/**
+ * `mc_set_position`: the position moves by the argument (else it becomes the argument).
+ */
+#define MC_SET_POSITION_RELATIVE 1
 
 /**
  * `mc_move` kind: MC_MoveAbsolute, `value` is the target.
@@ -301,6 +373,12 @@ extern "C" {
  * Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
  */
 #define MC_EVENT_IN_VELOCITY 12
+
+/**
+ * Homing ended without a home point (`mc_home`): `code` is an `MC_HOMING_ERROR_` value,
+ * `value` the actual position; the axis is at rest, not homed.
+ */
+#define MC_EVENT_HOMING_FAILED 13
 
 /**
  * A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
@@ -518,6 +596,11 @@ extern "C" {
  * The host closed the card (`mc_close`): the motion halted, no fault.
  */
 #define MC_STOP_REASON_HOST_DETACH 5
+
+/**
+ * Homing failed (`MC_EVENT_HOMING_FAILED`): the axis stopped, not homed.
+ */
+#define MC_STOP_REASON_HOMING_FAILED 6
 
 /**
  * The host heartbeat stopped (watchdog). Safety reasons are this value and above.
@@ -1413,6 +1496,80 @@ typedef struct mc_axis_pdplus {
 typedef struct mc_axis_pdplus mc_pdplus_settings;
 
 /**
+ * An axis's homing configuration (layout 1.5; see MC_OP_HOME). Host writes; the card validates
+ * and copies it on MC_OP_APPLY_AXIS_HOMING. Counts and seconds.
+ */
+typedef struct mc_axis_homing {
+  /**
+   * CiA 402 homing method: 1..14, 17..30, 33, 34, 35, 37, or -1..-4 (hard stop).
+   */
+  int32_t method;
+  /**
+   * MC_HOMING_* bits.
+   */
+  uint32_t flags;
+  /**
+   * Velocity of the search for the switch, counts/s (> 0).
+   */
+  double search_vel;
+  /**
+   * Velocity of the final approach to the edge, the index or the hard stop, counts/s
+   * (0 < creep_vel <= search_vel): how far the axis moves in a servo tick there is the
+   * resolution of a switch edge.
+   */
+  double creep_vel;
+  /**
+   * Acceleration and deceleration, counts/s^2 (> 0).
+   */
+  double accel;
+  /**
+   * Jerk, counts/s^3 (> 0).
+   */
+  double jerk;
+  /**
+   * The home point reads MC_OP_HOME's position + home_offset, counts.
+   */
+  double home_offset;
+  /**
+   * The whole homing ends within this, s (0 < timeout <= MC_MAX_MOVE_TIME), else
+   * MC_HOMING_ERR_TIMEOUT.
+   */
+  double timeout;
+  /**
+   * The farthest the axis goes from where homing began, counts (> 0), else
+   * MC_HOMING_ERR_DISTANCE.
+   */
+  double max_distance;
+  /**
+   * The farthest the index pulse may be beyond the edge or hard stop, counts (> 0; a
+   * revolution and a margin), else MC_HOMING_ERR_NO_INDEX. Also the limit of methods 33, 34.
+   */
+  double index_distance;
+  /**
+   * Hard stop: the following error that means the axis stalled, counts (> 0; with the creep
+   * velocity's share of hard_stop_dwell, under the axis's following-error limit at the creep
+   * velocity, else MC_OP_HOME is refused with MC_NACK_BAD_CONFIG).
+   */
+  double hard_stop_ferror;
+  /**
+   * Hard stop: how long the following error stays at or above hard_stop_ferror, s (0..10).
+   */
+  double hard_stop_dwell;
+  double _reserved[5];
+} mc_axis_homing;
+
+/**
+ * An axis's homing configuration, in counts and seconds: the card's `mc_axis_homing` register
+ * block, the same struct as in the register map. Start from `mc_homing_settings_default`.
+ * `method` is a CiA 402 homing method: 1..14 (a limit or home switch, then the index pulse),
+ * 17..30 (the same, the switch edge itself), 33, 34 (the next index pulse, negative or
+ * positive), 35, 37 (the current position), or `MC_HOMING_METHOD_HARD_STOP_` (-1..-4);
+ * `flags` are `MC_HOMING_FLAG_` bits. The home point reads `mc_home`'s position plus
+ * `home_offset`.
+ */
+typedef struct mc_axis_homing mc_homing_settings;
+
+/**
  * Limits of velocity mode, in user units (see `mc_set_scale`); each finite and > 0.
  */
 typedef struct mc_velocity_limits {
@@ -1906,6 +2063,23 @@ typedef struct mc_stop_info {
  * An override factor outside 0 to 2 (0 % to 200 %).
  */
 #define MC_ERR_OVERRIDE_RANGE -64
+
+/**
+ * A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
+ * encoder without an index channel (`HomingSettings`).
+ */
+#define MC_ERR_HOMING_METHOD -65
+
+/**
+ * A move, jog or homing on an axis that is homing: wait for it, or halt it first.
+ */
+#define MC_ERR_AXIS_HOMING -66
+
+/**
+ * Homing ended without a home point (its switch, hard stop or index was not found in
+ * time or distance): the axis is at rest and not homed.
+ */
+#define MC_ERR_HOMING_FAILED -67
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -2499,6 +2673,43 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *setti
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
 mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
+
+/**
+ * The homing configuration the card loads at boot: method 37 (the current position), search
+ * at 20000 counts/s, creep at 1000 counts/s, 200000 counts/s², 2e7 counts/s³, no offset, a 60 s
+ * timeout, 1e6 counts of search, the index within 12000 counts, a hard stop at 200 counts of
+ * following error held 20 ms, an index channel, and the axis ending at the home point. Never
+ * blocks.
+ */
+mc_result mc_homing_settings_default(mc_homing_settings *settings);
+
+/**
+ * Write an axis's homing configuration and have the card apply it: an unknown method, or an
+ * index method without `MC_HOMING_FLAG_INDEX`, is `MC_ERR_HOMING_METHOD`; a value that is not
+ * finite `MC_ERR_NOT_FINITE`; one out of range `MC_ERR_BAD_CONFIG` or `MC_ERR_LIMIT_RANGE`.
+ * Blocks until the card answers.
+ */
+mc_result mc_configure_homing(mc_card card, uint32_t axis, const mc_homing_settings *settings);
+
+/**
+ * MC_Home from standstill with the configured method: the home point will read `position`
+ * (user units) plus the configured home offset. `mc_motion_wait` on `*motion` (may be NULL;
+ * `mc_wait_done` works too) gives the actual position once homed and in position, or
+ * `MC_ERR_HOMING_FAILED` (switch, hard stop or index not found, or the timeout; an
+ * `MC_EVENT_HOMING_FAILED` event says why, and the axis is at rest, not homed), or
+ * `MC_ERR_ABORTED` (`mc_halt`, `mc_stop`, a safety stop). While the axis homes, moves and jogs
+ * are `MC_ERR_AXIS_HOMING`. Blocks until the card answers.
+ */
+mc_result mc_home(mc_card card, uint32_t axis, double position, struct mc_motion *motion);
+
+/**
+ * MC_SetPosition: the actual and commanded positions become `position` (user units; with
+ * `flags` `MC_SET_POSITION_RELATIVE`, they move by it) without moving the axis, and it counts
+ * as homed (soft limits take effect). At standstill or disabled (`MC_ERR_INVALID_STATE`
+ * otherwise, `MC_ERR_AXIS_HOMING` while it homes); other flag bits are `MC_ERR_BAD_CONFIG`.
+ * Blocks until the card answers.
+ */
+mc_result mc_set_position(mc_card card, uint32_t axis, double position, uint32_t flags);
 
 /**
  * MC_MoveAbsolute, MC_MoveRelative or MC_MoveAdditive (`kind`: `MC_MOVE_KIND_ABSOLUTE`,

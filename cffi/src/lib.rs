@@ -22,6 +22,7 @@
 pub mod api;
 mod ffi;
 pub mod group;
+pub mod homing;
 pub mod modes;
 pub mod registry;
 pub mod result;
@@ -30,6 +31,7 @@ pub mod types;
 
 pub use api::*;
 pub use group::*;
+pub use homing::*;
 pub use modes::*;
 pub use registry::{mc_card, mc_event_callback};
 pub use result::*;

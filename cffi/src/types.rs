@@ -90,6 +90,9 @@ pub const MC_EVENT_GROUP_MOTION_ABORTED: u32 = 10;
 pub const MC_EVENT_MOTION_ACTIVE: u32 = 11;
 /// Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
 pub const MC_EVENT_IN_VELOCITY: u32 = 12;
+/// Homing ended without a home point (`mc_home`): `code` is an `MC_HOMING_ERROR_` value,
+/// `value` the actual position; the axis is at rest, not homed.
+pub const MC_EVENT_HOMING_FAILED: u32 = 13;
 /// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
 /// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
 pub const MC_EVENT_SAFETY_STOP: u32 = 16;
@@ -249,6 +252,7 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::ProtocolError => MC_EVENT_PROTOCOL_ERROR,
         EventKind::MotionActive => MC_EVENT_MOTION_ACTIVE,
         EventKind::InVelocity => MC_EVENT_IN_VELOCITY,
+        EventKind::HomingFailed => MC_EVENT_HOMING_FAILED,
     }
 }
 
@@ -894,6 +898,8 @@ pub const MC_STOP_REASON_STOP: u32 = 3;
 pub const MC_STOP_REASON_POWER_OFF: u32 = 4;
 /// The host closed the card (`mc_close`): the motion halted, no fault.
 pub const MC_STOP_REASON_HOST_DETACH: u32 = 5;
+/// Homing failed (`MC_EVENT_HOMING_FAILED`): the axis stopped, not homed.
+pub const MC_STOP_REASON_HOMING_FAILED: u32 = 6;
 /// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
 pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
 /// The host's e-stop (`mc_estop`).
@@ -988,6 +994,7 @@ pub(crate) fn stop_reason_code(r: StopReason) -> u32 {
         StopReason::StopTimeout => MC_STOP_REASON_STOP_TIMEOUT,
         StopReason::HostChanged => MC_STOP_REASON_HOST_CHANGED,
         StopReason::HostDetach => MC_STOP_REASON_HOST_DETACH,
+        StopReason::HomingFailed => MC_STOP_REASON_HOMING_FAILED,
     }
 }
 

@@ -659,6 +659,13 @@ fn every_error_path_and_misuse() {
 }
 
 #[test]
+fn homing_from_c() {
+    let out = run(&compile("homing", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS homing\n"), "{out}");
+    assert!(out.contains("homed on the index: at 125.0"), "{out}");
+}
+
+#[test]
 fn safety_stops_from_c() {
     let out = run(&compile("safety", Link::Shared), &[], &[]);
     assert!(out.contains("PASS safety\n"), "{out}");

@@ -41,7 +41,9 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_LIMIT_RANGE,    MC_ERR_PLAN_CHECK,      MC_ERR_EXPIRED,
     MC_ERR_STOP_TOO_LONG,  MC_ERR_SESSION,         MC_ERR_CARD_GONE,
     MC_ERR_CLOSED,         MC_ERR_CANCELLED,       MC_ERR_PERMISSION_DENIED,
-    MC_ERR_OVERRIDE_RANGE,
+    /* motion modes, homing */
+    MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD,   MC_ERR_AXIS_HOMING,
+    MC_ERR_HOMING_FAILED,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -66,8 +68,6 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
     /* lifecycle.c (waits in other threads) */
     MC_ERR_CLOSED, MC_ERR_CANCELLED,
-    /* machine.c */
-    MC_ERR_OVERRIDE_RANGE,
     /* groups.c */
     MC_ERR_BAD_GROUP, MC_ERR_AXIS_IN_OTHER_GROUP, MC_ERR_AXIS_GROUPED, MC_ERR_ZERO_LENGTH_ARC,
     MC_ERR_CENTRE_NOT_EQUIDISTANT, MC_ERR_RADIUS_TOO_SMALL, MC_ERR_COLLINEAR_POINTS,
@@ -81,6 +81,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY, MC_ERR_STOP_TOO_LONG,
     /* busy.c (a card served by another process), panic.c (a test build's panic hook) */
     MC_ERR_BUSY, MC_ERR_PANIC,
+    /* homing.c (and machine.c) */
+    MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD, MC_ERR_AXIS_HOMING, MC_ERR_HOMING_FAILED,
 };
 
 static void result_strings(void) {
@@ -409,17 +411,20 @@ static void states(mc_card c) {
     EXPECT(mc_motion_wait(c, unknown, 0, &at), MC_ERR_BAD_HANDLE);
     expect_in_message("no motion with seq 999999");
 
-    /* A long move: a short wait times out, a second move is refused, a halt aborts it. */
+    /* A long move: a short wait times out, a second move takes over (PLCopen Aborting, layout
+       1.5) and aborts it, a halt aborts that one. */
     mc_motion long_move, halt, again;
     EXPECT(mc_move_absolute(c, 0, 1e6, &lim, &long_move), MC_OK);
     EXPECT(mc_motion_wait(c, long_move, 5, &at), MC_ERR_TIMEOUT);
     ASSERT(at == -1.0, "position written by a timed-out wait");
-    EXPECT(mc_move_absolute(c, 0, 0.0, &lim, &again), MC_ERR_INVALID_STATE);
+    EXPECT(mc_move_absolute(c, 0, 9e5, &lim, &again), MC_OK);
+    EXPECT(mc_motion_wait(c, long_move, 0, &at), MC_ERR_ABORTED);
+    expect_in_message("aborted by MoveAbsolute");
     mc_status st;
     CHECK(mc_get_status(c, 0, &st));
     ASSERT(st.state == MC_AXIS_STATE_DISCRETE_MOTION, "state %u", st.state);
     EXPECT(mc_halt(c, 0, 5e5, 2e7, &halt), MC_OK);
-    EXPECT(mc_motion_wait(c, long_move, 0, &at), MC_ERR_ABORTED);
+    EXPECT(mc_motion_wait(c, again, 0, &at), MC_ERR_ABORTED);
     expect_in_message("aborted by Halt");
     EXPECT(mc_motion_wait(c, halt, 5000, &at), MC_OK);
     CHECK(mc_get_status(c, 0, &st));

@@ -316,7 +316,8 @@ static void estop(void) {
     printf("e-stop: category 1 stopped %u axes, category 2 held axis 1 at %.1f\n", AXES, held);
 }
 
-/* Soft limits: moves beyond are refused; an axis that overshoots is stopped there. */
+/* Soft limits (once the axis is homed): moves beyond are refused; an axis that overshoots is
+   stopped there. */
 static void soft_limit(void) {
     mc_card c = open_card();
     const uint32_t a = 1;
@@ -347,6 +348,10 @@ static void soft_limit(void) {
     CHECK(mc_configure_safety(c, a, &s));
 
     CHECK(mc_enable(c, a));
+    /* Soft limits hold once the axis is homed: MC_SetPosition where it stands. */
+    ASSERT(!(axis(c, a).raw.motion_flags & MC_MOTION_HOMED), "homed at boot");
+    CHECK(mc_set_position(c, a, 0.0, MC_SET_POSITION_RELATIVE));
+    ASSERT(axis(c, a).raw.motion_flags & MC_MOTION_HOMED, "not homed by mc_set_position");
     mc_move_limits lim, fast;
     CHECK(mc_move_limits_symmetric(10000.0, 1e6, 1e8, &lim));
     CHECK(mc_move_limits_symmetric(50000.0, 1e6, 1e8, &fast));

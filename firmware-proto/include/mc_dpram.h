@@ -27,7 +27,12 @@
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
                            * in the card control block (card.bad_accesses, outbox_lost,
                            * safety_events_lost); 5: moves from any state (buffer modes, MC_OP_MOVE_ADDITIVE),
-                           * velocity mode and jog, override, axis motion flags and queue in the status */
+                           * velocity mode and jog, override, axis motion flags and queue in the status;
+                           * homing: MC_OP_APPLY_AXIS_HOMING with the axis_homing[] blocks (appended),
+                           * MC_OP_HOME (the CiA 402 methods), MC_OP_SET_POSITION, MC_EV_HOMING_FAILED
+                           * and its MC_HOMING_ERR_* codes, MC_STOP_HOMING_FAILED,
+                           * MC_NACK_HOMING_METHOD, MC_NACK_AXIS_HOMING; soft limits hold once the axis
+                           * is homed (MC_MOTION_HOMED) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -185,6 +190,67 @@
                                * attach (later heartbeats do not arm it). MC_NACK_SESSION if
                                * another session is attached. */
 
+/* Homing opcodes (48..55, layout 1.5): PLCopen MC_Home with the CiA 402 homing methods, and
+ * MC_SetPosition. Positions are in the axis's own frame: the card counts encoder counts plus an
+ * offset that homing and MC_SetPosition set (the raw count in the status never jumps, so the
+ * encoder checks of the safety layer see only the shaft).
+ *
+ * Convention: homing finds a home point (a switch edge, an index pulse, a hard stop, or the
+ * current position) and sets the position so that the home point reads
+ *     MC_OP_HOME's position argument + axis_homing[axis].home_offset
+ * (as CiA 402 drives set their actual position to the home offset at the home point). With
+ * MC_HOMING_MOVE_TO_HOME the axis then ends at the home point; otherwise where it came to rest
+ * after finding it. Motion done (MC_EV_MOTION_DONE with the MC_Home's seq) once homed and in
+ * position; a failure is MC_EV_HOMING_FAILED, the axis at rest in Standstill, not homed. The axis
+ * is in PLCopen Homing meanwhile: moves, jogs and another MC_Home are refused
+ * (MC_NACK_AXIS_HOMING); MC_OP_HALT and MC_OP_STOP abort it (MC_EV_MOTION_ABORTED). Homing runs
+ * at its own limits; the override does not scale them. Soft limits take effect once the axis is
+ * homed (MC_MOTION_HOMED): homing clears the bit while it runs.
+ *
+ * axis_homing.method, the CiA 402 numbers (the home point; "index": the first index pulse
+ * beyond it in the direction of the final approach, which is always made at the creep
+ * velocity from the same side):
+ *   1, 2    the edge of the negative (1) or positive (2) limit switch, then the index. From a
+ *           position on that limit switch the axis creeps off it directly
+ *   3, 4    a home switch active above its edge, then the index below (3) or above (4) it
+ *   5, 6    a home switch active below its edge, then the index above (5) or below (6) it
+ *   7..14   a home switch with a lower and an upper edge, then the index: 7 below the lower
+ *           edge, 8 above it, 9 below the upper edge, 10 above it, starting in the positive
+ *           direction; 11 above the upper edge, 12 below it, 13 above the lower edge, 14 below
+ *           it, starting in the negative direction. A limit switch met before the home switch
+ *           reverses the search once
+ *   17..30  as 1..14 without the index: the home point is the switch edge
+ *   33, 34  the next index pulse in the negative (33) or positive (34) direction
+ *   35, 37  the current position (nothing moves)
+ *   -1, -2  a hard stop (a mechanical end stop) in the negative (-1) or positive (-2)
+ *           direction, approached at the creep velocity and detected as a following error of at
+ *           least hard_stop_ferror held for hard_stop_dwell, then the index away from it
+ *   -3, -4  the same hard stop without the index: the home point is where the axis stalled
+ * Methods with limit switches in their definition (1, 2, 7..14, 17, 18, 23..30) watch both limit
+ * switches themselves: the safety layer does not trip on them while the axis homes, the method
+ * reverses where CiA 402 says so, and any other limit switch ends homing with
+ * MC_HOMING_ERR_LIMIT. Under the other methods a limit switch is unexpected and trips the safety
+ * layer as always. */
+#define MC_OP_APPLY_AXIS_HOMING 48u /* copy and validate axis_homing[axis] */
+#define MC_OP_HOME 49u              /* MC_Home: args: position (what the home point reads, before
+                                     * the home offset). From Standstill */
+#define MC_OP_SET_POSITION 50u      /* MC_SetPosition: args: position; flags: MC_SET_POSITION_RELATIVE.
+                                     * The actual and commanded positions become position (relative:
+                                     * move by it) without moving; sets MC_MOTION_HOMED. Standstill or
+                                     * Disabled */
+#define MC_SET_POSITION_RELATIVE (1u << 0)
+
+/* mc_axis_homing.flags */
+#define MC_HOMING_INDEX (1u << 0)        /* the encoder has an index channel (index methods need it) */
+#define MC_HOMING_MOVE_TO_HOME (1u << 1) /* end at the home point */
+
+/* MC_EV_HOMING_FAILED codes */
+#define MC_HOMING_ERR_LIMIT 1    /* a limit switch the method did not reverse at: the switch is missing */
+#define MC_HOMING_ERR_DISTANCE 2 /* max_distance from the start without the switch or hard stop */
+#define MC_HOMING_ERR_TIMEOUT 3  /* not homed within the timeout */
+#define MC_HOMING_ERR_NO_INDEX 4 /* no index pulse within index_distance */
+#define MC_HOMING_ERR_PLAN 5     /* a motion of the method could not be planned */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u
@@ -199,6 +265,9 @@
                                   * (velocity mode: its velocity) */
 #define MC_EV_IN_VELOCITY 12u    /* velocity mode reached its velocity (PLCopen InVelocity). seq: the command;
                                   * value: the velocity */
+#define MC_EV_HOMING_FAILED 13u  /* homing ended without a home point (layout 1.5). seq: the MC_Home;
+                                  * code: MC_HOMING_ERR_*; value: the actual position where it failed.
+                                  * Posted once the axis is at rest in Standstill, not homed */
 /* Safety events (16..23). */
 #define MC_EV_SAFETY_STOP 16u    /* a safety stop began. code: MC_STOP_* reason, value: the
                                   * measurement (following error, position, heartbeat age s);
@@ -250,6 +319,11 @@
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
 #define MC_NACK_NURBS_ZERO_LENGTH 59
 #define MC_NACK_NURBS_KNOT 60           /* a knot not finite (NaN or infinite) */
+/* Homing nack codes (64..79, layout 1.5). */
+#define MC_NACK_HOMING_METHOD 64        /* a homing method the axis cannot do: an unknown number, or an
+                                         * index method without MC_HOMING_INDEX */
+#define MC_NACK_AXIS_HOMING 65          /* a move, jog, MC_SetPosition or MC_Home on an axis that is
+                                         * homing */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */
@@ -310,6 +384,7 @@
 #define MC_STOP_STOP 3u           /* MC_Stop */
 #define MC_STOP_POWER_OFF 4u      /* MC_Power off by the host */
 #define MC_STOP_HOST_DETACH 5u    /* the host closed the card (MC_OP_HOST_DETACH): halted */
+#define MC_STOP_HOMING_FAILED 6u  /* homing failed (MC_EV_HOMING_FAILED): stopped, not homed */
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
@@ -674,6 +749,43 @@ struct mc_axis_safety {
     double _reserved[7];
 };
 
+/** An axis's homing configuration (layout 1.5; see MC_OP_HOME). Host writes; the card validates
+ * and copies it on MC_OP_APPLY_AXIS_HOMING. Counts and seconds. */
+struct mc_axis_homing {
+    /** CiA 402 homing method: 1..14, 17..30, 33, 34, 35, 37, or -1..-4 (hard stop). */
+    int32_t method;
+    /** MC_HOMING_* bits. */
+    uint32_t flags;
+    /** Velocity of the search for the switch, counts/s (> 0). */
+    double search_vel;
+    /** Velocity of the final approach to the edge, the index or the hard stop, counts/s
+     * (0 < creep_vel <= search_vel): how far the axis moves in a servo tick there is the
+     * resolution of a switch edge. */
+    double creep_vel;
+    /** Acceleration and deceleration, counts/s^2 (> 0). */
+    double accel;
+    /** Jerk, counts/s^3 (> 0). */
+    double jerk;
+    /** The home point reads MC_OP_HOME's position + home_offset, counts. */
+    double home_offset;
+    /** The whole homing ends within this, s (0 < timeout <= MC_MAX_MOVE_TIME), else
+     * MC_HOMING_ERR_TIMEOUT. */
+    double timeout;
+    /** The farthest the axis goes from where homing began, counts (> 0), else
+     * MC_HOMING_ERR_DISTANCE. */
+    double max_distance;
+    /** The farthest the index pulse may be beyond the edge or hard stop, counts (> 0; a
+     * revolution and a margin), else MC_HOMING_ERR_NO_INDEX. Also the limit of methods 33, 34. */
+    double index_distance;
+    /** Hard stop: the following error that means the axis stalled, counts (> 0; with the creep
+     * velocity's share of hard_stop_dwell, under the axis's following-error limit at the creep
+     * velocity, else MC_OP_HOME is refused with MC_NACK_BAD_CONFIG). */
+    double hard_stop_ferror;
+    /** Hard stop: how long the following error stays at or above hard_stop_ferror, s (0..10). */
+    double hard_stop_dwell;
+    double _reserved[5];
+};
+
 /* card writes; independent words (not a snapshot), each written when its event happens */
 struct mc_safety_status {
     uint32_t faults;              /* MC_CARD_FAULT_* latched */
@@ -720,6 +832,8 @@ struct mc_dpram {
     struct mc_safety_config safety;                  /* host writes */
     struct mc_axis_safety axis_safety[MC_MAX_AXES];  /* host writes */
     struct mc_safety_status safety_status;           /* card writes */
+    /* layout 1.5 */
+    struct mc_axis_homing axis_homing[MC_MAX_AXES];  /* host writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

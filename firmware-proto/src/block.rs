@@ -56,6 +56,7 @@ blocks!(
     mc_axis_pdplus,
     mc_safety_config,
     mc_axis_safety,
+    mc_axis_homing,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

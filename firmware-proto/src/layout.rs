@@ -116,6 +116,17 @@ pub const AXIS_SAFETY_BYTES: usize = size_of::<mc_axis_safety>();
 pub const AXIS_SAFETY: Blocks<mc_axis_safety, MAX_AXES> = Blocks::new(off!(axis_safety));
 pub const SAFETY_STATUS: usize = off!(safety_status);
 
+// homing (layout 1.5, appended after the safety status)
+/// `axis_homing[axis]`.
+pub const AXIS_HOMING: Blocks<mc_axis_homing, MAX_AXES> = Blocks::new(off!(axis_homing));
+pub const AXIS_HOMING_BYTES: usize = size_of::<mc_axis_homing>();
+
+const _: () = {
+    assert!(AXIS_HOMING_BYTES == 128 && AXIS_HOMING.at(0).offset().is_multiple_of(64));
+    assert!(AXIS_HOMING.at(0).offset() >= SAFETY_STATUS + size_of::<mc_safety_status>());
+    assert!(AXIS_HOMING.at(MAX_AXES - 1).offset() + AXIS_HOMING_BYTES <= crate::DPRAM_SIZE);
+};
+
 /// The card-written safety status block (`mc_safety_status`).
 pub mod safety_status {
     use super::*;

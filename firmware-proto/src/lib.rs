@@ -43,7 +43,7 @@ pub mod window;
 
 pub use block::{Block, BlockAt, Blocks};
 pub use mem::{Dpram, Mem};
-pub use reset::{AxisConfig, AxisPdPlus, DriveModel, FfpivGains, PdPlusGains};
+pub use reset::{AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, PdPlusGains};
 pub use ring::{Consumer, Producer, RingError};
 pub use wire::*;
 

@@ -91,6 +91,17 @@ pub const MC_OP_ESTOP: u32 = 34;
 pub const MC_OP_SAFETY_RESET: u32 = 35;
 pub const MC_OP_HOST_ATTACH: u32 = 36;
 pub const MC_OP_HOST_DETACH: u32 = 37;
+pub const MC_OP_APPLY_AXIS_HOMING: u32 = 48;
+pub const MC_OP_HOME: u32 = 49;
+pub const MC_OP_SET_POSITION: u32 = 50;
+pub const MC_SET_POSITION_RELATIVE: u32 = 1;
+pub const MC_HOMING_INDEX: u32 = 1;
+pub const MC_HOMING_MOVE_TO_HOME: u32 = 2;
+pub const MC_HOMING_ERR_LIMIT: u32 = 1;
+pub const MC_HOMING_ERR_DISTANCE: u32 = 2;
+pub const MC_HOMING_ERR_TIMEOUT: u32 = 3;
+pub const MC_HOMING_ERR_NO_INDEX: u32 = 4;
+pub const MC_HOMING_ERR_PLAN: u32 = 5;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -102,6 +113,7 @@ pub const MC_EV_GROUP_STATE_CHANGED: u32 = 9;
 pub const MC_EV_GROUP_MOTION_ABORTED: u32 = 10;
 pub const MC_EV_MOTION_ACTIVE: u32 = 11;
 pub const MC_EV_IN_VELOCITY: u32 = 12;
+pub const MC_EV_HOMING_FAILED: u32 = 13;
 pub const MC_EV_SAFETY_STOP: u32 = 16;
 pub const MC_EV_AT_REST: u32 = 17;
 pub const MC_EV_PROTOCOL_ERROR: u32 = 18;
@@ -145,6 +157,8 @@ pub const MC_NACK_NURBS_POINT: u32 = 57;
 pub const MC_NACK_NURBS_START: u32 = 58;
 pub const MC_NACK_NURBS_ZERO_LENGTH: u32 = 59;
 pub const MC_NACK_NURBS_KNOT: u32 = 60;
+pub const MC_NACK_HOMING_METHOD: u32 = 64;
+pub const MC_NACK_AXIS_HOMING: u32 = 65;
 pub const MC_NACK_WATCHDOG_TRIPPED: u32 = 32;
 pub const MC_NACK_ESTOP_ACTIVE: u32 = 33;
 pub const MC_NACK_HARD_LIMIT: u32 = 34;
@@ -189,6 +203,7 @@ pub const MC_STOP_HALT: u32 = 2;
 pub const MC_STOP_STOP: u32 = 3;
 pub const MC_STOP_POWER_OFF: u32 = 4;
 pub const MC_STOP_HOST_DETACH: u32 = 5;
+pub const MC_STOP_HOMING_FAILED: u32 = 6;
 pub const MC_STOP_WATCHDOG: u32 = 16;
 pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
 pub const MC_STOP_ESTOP_INPUT: u32 = 18;
@@ -903,6 +918,67 @@ const _: () = {
     ["Offset of field: mc_axis_safety::_reserved"]
         [::core::mem::offset_of!(mc_axis_safety, _reserved) - 72usize];
 };
+#[doc = " An axis's homing configuration (layout 1.5; see MC_OP_HOME). Host writes; the card validates\n and copies it on MC_OP_APPLY_AXIS_HOMING. Counts and seconds."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct mc_axis_homing {
+    #[doc = " CiA 402 homing method: 1..14, 17..30, 33, 34, 35, 37, or -1..-4 (hard stop)."]
+    pub method: i32,
+    #[doc = " MC_HOMING_* bits."]
+    pub flags: u32,
+    #[doc = " Velocity of the search for the switch, counts/s (> 0)."]
+    pub search_vel: f64,
+    #[doc = " Velocity of the final approach to the edge, the index or the hard stop, counts/s\n (0 < creep_vel <= search_vel): how far the axis moves in a servo tick there is the\n resolution of a switch edge."]
+    pub creep_vel: f64,
+    #[doc = " Acceleration and deceleration, counts/s^2 (> 0)."]
+    pub accel: f64,
+    #[doc = " Jerk, counts/s^3 (> 0)."]
+    pub jerk: f64,
+    #[doc = " The home point reads MC_OP_HOME's position + home_offset, counts."]
+    pub home_offset: f64,
+    #[doc = " The whole homing ends within this, s (0 < timeout <= MC_MAX_MOVE_TIME), else\n MC_HOMING_ERR_TIMEOUT."]
+    pub timeout: f64,
+    #[doc = " The farthest the axis goes from where homing began, counts (> 0), else\n MC_HOMING_ERR_DISTANCE."]
+    pub max_distance: f64,
+    #[doc = " The farthest the index pulse may be beyond the edge or hard stop, counts (> 0; a\n revolution and a margin), else MC_HOMING_ERR_NO_INDEX. Also the limit of methods 33, 34."]
+    pub index_distance: f64,
+    #[doc = " Hard stop: the following error that means the axis stalled, counts (> 0; with the creep\n velocity's share of hard_stop_dwell, under the axis's following-error limit at the creep\n velocity, else MC_OP_HOME is refused with MC_NACK_BAD_CONFIG)."]
+    pub hard_stop_ferror: f64,
+    #[doc = " Hard stop: how long the following error stays at or above hard_stop_ferror, s (0..10)."]
+    pub hard_stop_dwell: f64,
+    pub _reserved: [f64; 5usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_axis_homing"][::core::mem::size_of::<mc_axis_homing>() - 128usize];
+    ["Alignment of mc_axis_homing"][::core::mem::align_of::<mc_axis_homing>() - 8usize];
+    ["Offset of field: mc_axis_homing::method"]
+        [::core::mem::offset_of!(mc_axis_homing, method) - 0usize];
+    ["Offset of field: mc_axis_homing::flags"]
+        [::core::mem::offset_of!(mc_axis_homing, flags) - 4usize];
+    ["Offset of field: mc_axis_homing::search_vel"]
+        [::core::mem::offset_of!(mc_axis_homing, search_vel) - 8usize];
+    ["Offset of field: mc_axis_homing::creep_vel"]
+        [::core::mem::offset_of!(mc_axis_homing, creep_vel) - 16usize];
+    ["Offset of field: mc_axis_homing::accel"]
+        [::core::mem::offset_of!(mc_axis_homing, accel) - 24usize];
+    ["Offset of field: mc_axis_homing::jerk"]
+        [::core::mem::offset_of!(mc_axis_homing, jerk) - 32usize];
+    ["Offset of field: mc_axis_homing::home_offset"]
+        [::core::mem::offset_of!(mc_axis_homing, home_offset) - 40usize];
+    ["Offset of field: mc_axis_homing::timeout"]
+        [::core::mem::offset_of!(mc_axis_homing, timeout) - 48usize];
+    ["Offset of field: mc_axis_homing::max_distance"]
+        [::core::mem::offset_of!(mc_axis_homing, max_distance) - 56usize];
+    ["Offset of field: mc_axis_homing::index_distance"]
+        [::core::mem::offset_of!(mc_axis_homing, index_distance) - 64usize];
+    ["Offset of field: mc_axis_homing::hard_stop_ferror"]
+        [::core::mem::offset_of!(mc_axis_homing, hard_stop_ferror) - 72usize];
+    ["Offset of field: mc_axis_homing::hard_stop_dwell"]
+        [::core::mem::offset_of!(mc_axis_homing, hard_stop_dwell) - 80usize];
+    ["Offset of field: mc_axis_homing::_reserved"]
+        [::core::mem::offset_of!(mc_axis_homing, _reserved) - 88usize];
+};
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_safety_status {
@@ -980,10 +1056,11 @@ pub struct mc_dpram {
     pub safety: mc_safety_config,
     pub axis_safety: [mc_axis_safety; 8usize],
     pub safety_status: mc_safety_status,
+    pub axis_homing: [mc_axis_homing; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 24192usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 25216usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1016,6 +1093,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, axis_safety) - 22912usize];
     ["Offset of field: mc_dpram::safety_status"]
         [::core::mem::offset_of!(mc_dpram, safety_status) - 23936usize];
+    ["Offset of field: mc_dpram::axis_homing"]
+        [::core::mem::offset_of!(mc_dpram, axis_homing) - 24192usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

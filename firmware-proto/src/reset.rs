@@ -18,6 +18,9 @@ pub type AxisPdPlus = raw::mc_axis_pdplus;
 pub type PdPlusGains = raw::mc_pdplus_gains;
 /// The first-order drive model (`mc_drive_model`, Yeh eq 2.1–2.2 as corrected).
 pub type DriveModel = raw::mc_drive_model;
+/// An axis's homing configuration (`mc_axis_homing`, layout 1.5): the CiA 402 method, its
+/// velocities and limits, the home offset and the bounds that make a homing fail.
+pub type AxisHoming = raw::mc_axis_homing;
 
 /// The acceleration per volt of the card's default drive and motor (the emulator's
 /// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.
@@ -46,6 +49,32 @@ impl FfpivGains {
 impl Default for FfpivGains {
     fn default() -> Self {
         Self::for_drive(DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH)
+    }
+}
+
+/// For the default motor (10,000 counts/rev, an index pulse per revolution): method 37 (the
+/// current position: homing with no switch), search at 20,000 counts/s (2 rev/s), creep at
+/// 1,000 counts/s (0.1 count per tick at 10 kHz), 200,000 counts/s² and 2·10⁷ counts/s³, no
+/// home offset; fail after 60 s, beyond 10⁶ counts (100 revolutions) from the start, or without
+/// an index within 12,000 counts (1.2 revolutions); a hard stop is a following error of 200
+/// counts held 20 ms; the encoder has an index, and the axis ends at the home point.
+impl Default for AxisHoming {
+    fn default() -> Self {
+        Self {
+            method: 37,
+            flags: raw::MC_HOMING_INDEX | raw::MC_HOMING_MOVE_TO_HOME,
+            search_vel: 20_000.0,
+            creep_vel: 1_000.0,
+            accel: 200_000.0,
+            jerk: 2e7,
+            home_offset: 0.0,
+            timeout: 60.0,
+            max_distance: 1e6,
+            index_distance: 12_000.0,
+            hard_stop_ferror: 200.0,
+            hard_stop_dwell: 0.02,
+            _reserved: [0.0; 5],
+        }
     }
 }
 

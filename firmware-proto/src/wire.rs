@@ -119,6 +119,12 @@ code_enum! {
         /// A host ends its session cleanly (flags: the session id): moving axes halt, the
         /// watchdog is disarmed, no fault.
         HostDetach = raw::MC_OP_HOST_DETACH,
+        /// Validate and copy `axis_homing[axis]` (the CiA 402 homing method and its limits).
+        ApplyAxisHoming = raw::MC_OP_APPLY_AXIS_HOMING,
+        /// MC_Home: arg the position the home point reads (before the home offset).
+        Home = raw::MC_OP_HOME,
+        /// MC_SetPosition: arg the position (flags: [`SET_POSITION_RELATIVE`]).
+        SetPosition = raw::MC_OP_SET_POSITION,
     }
 }
 
@@ -154,6 +160,9 @@ code_enum! {
         MotionActive = raw::MC_EV_MOTION_ACTIVE,
         /// Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
         InVelocity = raw::MC_EV_IN_VELOCITY,
+        /// Homing ended without a home point, the axis at rest and not homed; `code` is a
+        /// [`HomingError`], `value` the actual position.
+        HomingFailed = raw::MC_EV_HOMING_FAILED,
     }
 }
 
@@ -258,6 +267,11 @@ code_enum! {
         StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
         /// A detach by a host whose session is not the attached one.
         Session = raw::MC_NACK_SESSION,
+        /// A homing method the axis cannot do: an unknown number, or an index method on an
+        /// encoder without an index channel.
+        HomingMethod = raw::MC_NACK_HOMING_METHOD,
+        /// A move, jog or MC_Home on an axis that is homing.
+        AxisHoming = raw::MC_NACK_AXIS_HOMING,
     }
 }
 
@@ -384,6 +398,8 @@ code_enum! {
         PowerOff = raw::MC_STOP_POWER_OFF,
         /// The host closed the card (a clean detach): the motion halted.
         HostDetach = raw::MC_STOP_HOST_DETACH,
+        /// Homing failed: the axis stopped, not homed.
+        HomingFailed = raw::MC_STOP_HOMING_FAILED,
         /// The host heartbeat stopped (watchdog).
         Watchdog = raw::MC_STOP_WATCHDOG,
         /// The host's e-stop command.
@@ -418,6 +434,37 @@ code_enum! {
         StopTimeout = raw::MC_STOP_TIMEOUT,
         /// A host attached while the previous host's session was still open.
         HostChanged = raw::MC_STOP_HOST_CHANGED,
+    }
+}
+
+code_enum! {
+    /// Why homing failed (the `code` of [`EventKind::HomingFailed`]).
+    HomingError: i32 {
+        /// A limit switch the method did not reverse at: its switch is missing.
+        LimitReached = raw::MC_HOMING_ERR_LIMIT,
+        /// The axis went the maximum distance from the start without the switch or hard stop.
+        DistanceExceeded = raw::MC_HOMING_ERR_DISTANCE,
+        /// Not homed within the timeout.
+        Timeout = raw::MC_HOMING_ERR_TIMEOUT,
+        /// No index pulse within the index distance.
+        NoIndex = raw::MC_HOMING_ERR_NO_INDEX,
+        /// A motion of the method could not be planned.
+        Plan = raw::MC_HOMING_ERR_PLAN,
+    }
+}
+
+/// `MC_SET_POSITION_RELATIVE`: MC_SetPosition moves the position by its argument (else the
+/// position becomes it).
+pub const SET_POSITION_RELATIVE: u32 = raw::MC_SET_POSITION_RELATIVE;
+
+bitflags::bitflags! {
+    /// `mc_axis_homing.flags` (`MC_HOMING_*`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct HomingFlags: u32 {
+        /// The encoder has an index channel (the index methods need it).
+        const INDEX = raw::MC_HOMING_INDEX;
+        /// End at the home point (else where the axis came to rest after finding it).
+        const MOVE_TO_HOME = raw::MC_HOMING_MOVE_TO_HOME;
     }
 }
 
@@ -801,6 +848,7 @@ mod tests {
         check::<AxisSafetyFlags>("AxisSafetyFlags");
         check::<CardFaults>("CardFaults");
         check::<MotionFlags>("MotionFlags");
+        check::<HomingFlags>("HomingFlags");
         assert_eq!(Faults::all().iter().count(), 12);
         assert_eq!(Io::all().iter().count(), 7);
     }
@@ -809,7 +857,10 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 49);
+        assert_eq!(NackCode::ALL.len(), 51);
+        assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
+        assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
+        assert!(!StopReason::HomingFailed.is_safety());
         assert_eq!(Opcode::from_raw(34), Some(Opcode::EStop));
         assert_eq!(StopReason::from_raw(23), Some(StopReason::FollowingError));
         assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());

@@ -71,6 +71,9 @@ pub enum Outcome {
     Active(f64),
     /// Velocity mode reached this velocity (PLCopen InVelocity), user units per second.
     InVelocity(f64),
+    /// Homing failed (raw `MC_HOMING_ERR_` code) at this actual position (user units); the
+    /// axis is at rest, not homed.
+    HomingFailed(i32, f64),
 }
 
 /// An event from the card, in user units.
@@ -487,7 +490,8 @@ impl Card {
         })
     }
 
-    /// Wait for the first outcome of motion `seq` that `pick` takes, or its abort.
+    /// Wait for the first outcome of motion `seq` that `pick` takes, or its abort (or, for a
+    /// homing, its failure).
     pub(crate) fn wait_for(
         &self,
         target: Target,
@@ -502,13 +506,21 @@ impl Card {
                     .iter()
                     .filter(|(s, _)| *s == seq)
                     .find_map(|(_, o)| match *o {
-                        Outcome::Aborted(code) => Some(Err(code)),
+                        Outcome::Aborted(_) | Outcome::HomingFailed(..) => Some(Err(*o)),
                         o => pick(o).map(Ok),
                     })
             })?;
-        r.map_err(|code| Error::Aborted {
-            target,
-            by: abort_reason(code),
+        r.map_err(|o| match o {
+            Outcome::HomingFailed(code, at) => Error::HomingFailed {
+                target,
+                error: firmware_proto::HomingError::from_raw(code),
+                at,
+            },
+            Outcome::Aborted(code) => Error::Aborted {
+                target,
+                by: abort_reason(code),
+            },
+            _ => Error::Protocol(format!("motion {seq} ended as {o:?}")),
         })
     }
 }
@@ -768,7 +780,10 @@ impl Inner {
                     let scale = self.scale(e.axis as usize);
                     let value = if matches!(
                         kind,
-                        EventKind::MotionDone | EventKind::MotionActive | EventKind::InVelocity
+                        EventKind::MotionDone
+                            | EventKind::MotionActive
+                            | EventKind::InVelocity
+                            | EventKind::HomingFailed
                     ) {
                         e.value / scale
                     } else {
@@ -793,6 +808,11 @@ impl Inner {
                         EventKind::InVelocity => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::InVelocity(value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::HomingFailed => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::HomingFailed(e.code, value)),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {

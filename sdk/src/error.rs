@@ -202,6 +202,14 @@ error_kinds! {
     PermissionDenied = -63, MC_ERR_PERMISSION_DENIED, "the card's server refused this user";
     /// An override factor outside 0 to 2 (0 % to 200 %).
     OverrideRange = -64, MC_ERR_OVERRIDE_RANGE, nack OverrideRange, "the override factor is outside 0 to 2 (0 % to 200 %)";
+    /// A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
+    /// encoder without an index channel ([`crate::HomingSettings`]).
+    HomingMethod = -65, MC_ERR_HOMING_METHOD, nack HomingMethod, "the axis cannot do this homing method";
+    /// A move, jog or homing on an axis that is homing: wait for it, or halt it first.
+    AxisHoming = -66, MC_ERR_AXIS_HOMING, nack AxisHoming, "the axis is homing";
+    /// Homing ended without a home point (its switch, hard stop or index was not found in
+    /// time or distance): the axis is at rest and not homed.
+    HomingFailed = -67, MC_ERR_HOMING_FAILED, "homing failed: the axis stopped, not homed";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -274,6 +282,14 @@ pub enum Error {
     /// See [`ErrorKind::Aborted`].
     #[error("motion on {target} aborted by {by}")]
     Aborted { target: Target, by: String },
+    /// See [`ErrorKind::HomingFailed`]: why (`None`: a code this library does not know), and
+    /// the actual position where it failed (user units).
+    #[error("homing of {target} failed at {at}: {}", crate::homing::failure_reason(*.error))]
+    HomingFailed {
+        target: Target,
+        error: Option<firmware_proto::HomingError>,
+        at: f64,
+    },
     /// See [`ErrorKind::BadAxis`].
     #[error("axis {axis} does not exist: the card has {count} axes")]
     BadAxis { axis: usize, count: usize },
@@ -342,6 +358,7 @@ impl Error {
             Error::RingFull(_) => ErrorKind::RingFull,
             Error::Timeout(_) => ErrorKind::Timeout,
             Error::Aborted { .. } => ErrorKind::Aborted,
+            Error::HomingFailed { .. } => ErrorKind::HomingFailed,
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,

@@ -27,6 +27,7 @@ mod device;
 mod error;
 mod group;
 mod heartbeat;
+mod homing;
 mod modes;
 mod nurbs;
 mod safety;
@@ -39,7 +40,7 @@ pub use card::{
     ACK_TIMEOUT, EVENT_QUEUE_CAP, SCALE_RANGE,
 };
 #[cfg(feature = "emulator")]
-pub use card_emu::{Clock, EmuOptions, MotorParams, Switches};
+pub use card_emu::{Clock, EmuOptions, EndStops, HomeSwitch, IndexPulse, MotorParams, Switches};
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
@@ -52,6 +53,7 @@ pub use group::{
     Interpolator, MoveOptions, PathLimits, Plane,
 };
 pub use heartbeat::HEARTBEAT_PERIOD_US;
+pub use homing::{HomingError, HomingFlags, HomingSettings};
 pub use modes::{BufferMode, MoveKind, VelocityLimits};
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;

@@ -9,9 +9,10 @@
 //!   (`clock_nanosleep(TIMER_ABSTIME)`), serving commands between ticks, optionally
 //!   busy-polling the command ring instead of sleeping (lowest command latency).
 
+use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::faults::FaultInjector;
-use crate::plant::{Motor, MotorParams};
+use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::MAX_AXES;
 use nix::sys::eventfd::{EfdFlags, EventFd};
@@ -30,6 +31,9 @@ pub struct EmuOptions {
     pub servo_rate_hz: u32,
     /// The plant of each axis.
     pub motors: [MotorParams; MAX_AXES],
+    /// The index channel of each axis's encoder (default: a pulse per motor revolution at
+    /// count 0 and its multiples).
+    pub index: [IndexPulse; MAX_AXES],
 }
 
 impl EmuOptions {
@@ -49,6 +53,7 @@ impl Default for EmuOptions {
             axes: MAX_AXES,
             servo_rate_hz: 10_000,
             motors: [MotorParams::default_servo(); MAX_AXES],
+            index: [IndexPulse::default(); MAX_AXES],
         }
     }
 }
@@ -83,6 +88,8 @@ pub struct Emulator {
     window: Arc<MappedWindow>,
     fw: Firmware<Arc<MappedWindow>>,
     motors: [Motor; MAX_AXES],
+    index: [IndexChannel; MAX_AXES],
+    latch: [IndexLatch; MAX_AXES],
     dac: [f64; MAX_AXES],
     irq: EventFd,
     time: f64,
@@ -98,6 +105,10 @@ impl Emulator {
             window,
             fw,
             motors: opts.motors.map(Motor::new),
+            index: core::array::from_fn(|i| {
+                IndexChannel::new(opts.index[i], opts.motors[i].counts_per_rev)
+            }),
+            latch: [IndexLatch::default(); MAX_AXES],
             dac: [0.0; MAX_AXES],
             irq,
             time: 0.0,
@@ -122,7 +133,21 @@ impl Emulator {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
         // [faults] encoders and switch inputs as the card sees them, through injected faults
-        let inputs = self.faults.sense(&self.motors, &mut enc);
+        let mut inputs = self.faults.sense(&self.motors, &mut enc);
+        // The encoder interface's index latch: the pulse comes from the shaft, the count it
+        // captures is the counter's (with any corruption injected into the counter).
+        for (i, ch) in self.index.iter_mut().enumerate() {
+            let f = self.faults.get(i).copied().unwrap_or_default();
+            let before = ch.latches;
+            ch.sample(self.motors[i].encoder(), f.encoder_lost.is_none());
+            if ch.latches != before {
+                self.latch[i] = IndexLatch {
+                    count: ch.count.wrapping_add(f.encoder_offset),
+                    latches: ch.latches,
+                };
+            }
+        }
+        inputs.index = self.latch;
         self.fw.set_inputs(inputs);
         self.fw.tick(&enc, &mut self.dac);
         let ts = self.fw.ts();
@@ -175,6 +200,11 @@ impl Emulator {
     /// An axis's plant.
     pub fn motor(&self, axis: usize) -> Option<&Motor> {
         self.motors.get(axis)
+    }
+
+    /// An axis's encoder index channel and its latch.
+    pub fn index_channel(&self, axis: usize) -> Option<&IndexChannel> {
+        self.index.get(axis)
     }
 
     /// The fault injector: switches, alarms, encoder faults, actuator faults, e-stop input.

@@ -1,6 +1,11 @@
 //! One axis of the firmware: PLCopen state machine, profile execution (moves from any state,
 //! PLCopen Aborting and Buffered, velocity mode, override), in-position detection, the servo
-//! loop and the move statistics the card publishes.
+//! loop and the move statistics the card publishes; its position frame (the encoder count plus
+//! the offset homing and MC_SetPosition set) and the hooks the homing methods drive it through.
+
+// The position frame: the card works in `encoder + pos_offset`. Homing and MC_SetPosition move
+// the offset, never the count, so the raw count the status publishes and the safety layer's
+// encoder checks (which see raw counts) only ever see the shaft.
 
 use crate::firmware::axis_safety::AxisSafety;
 use crate::firmware::nack::plan_nack;
@@ -9,7 +14,8 @@ use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
 use crate::servo::pdplus::{AxisModel, PdPlus};
 use firmware_proto::{
-    AxisState, AxisStatus, Faults, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
+    AxisState, AxisStatus, Faults, Io, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN,
+    OVERRIDE_MAX,
 };
 use heapless::{Deque, Vec};
 
@@ -169,6 +175,13 @@ pub struct Axis {
     target: f64,
     act_pos: f64,
     encoder: i64,
+    /// Position = encoder count + this (set by homing and MC_SetPosition).
+    pos_offset: f64,
+    /// The position was set by homing or MC_SetPosition (`MC_MOTION_HOMED`).
+    homed: bool,
+    /// The limit switches a homing method watches itself (the safety layer does not trip on
+    /// them); empty outside Homing.
+    homing_limits: Io,
     ferr: f64,
     dac_v: f64,
     faults: Faults,
@@ -228,6 +241,9 @@ impl Axis {
             target: 0.0,
             act_pos: 0.0,
             encoder: 0,
+            pos_offset: 0.0,
+            homed: false,
+            homing_limits: Io::empty(),
             ferr: 0.0,
             dac_v: 0.0,
             faults: Faults::empty(),
@@ -256,6 +272,9 @@ impl Axis {
         if self.state != s {
             report.get_or_insert(self.state);
             self.state = s;
+        }
+        if s != AxisState::Homing {
+            self.homing_limits = Io::empty();
         }
     }
 
@@ -334,6 +353,7 @@ impl Axis {
                 Ok(())
             }
             AxisState::Disabled => Err(NackCode::AxisDisabled),
+            AxisState::Homing => Err(NackCode::AxisHoming),
             _ => Err(NackCode::InvalidState),
         }
     }
@@ -442,7 +462,11 @@ impl Axis {
     /// time-optimal trajectory from any state with one jerk (the smallest). A 0 % override
     /// plans a stop where the axis then waits.
     fn plan(&self, goal: &Goal, rate_hz: u32) -> Result<Trajectory, NackCode> {
-        let k = self.override_factor;
+        self.plan_scaled(goal, rate_hz, self.override_factor)
+    }
+
+    /// [`Axis::plan`] with the velocity factor `k` instead of the override in force.
+    fn plan_scaled(&self, goal: &Goal, rate_hz: u32, k: f64) -> Result<Trajectory, NackCode> {
         let c = self.cmd;
         let traj = match *goal {
             Goal::None => return Err(NackCode::InvalidState),
@@ -658,7 +682,7 @@ impl Axis {
     pub fn sense(&mut self, encoder: i64, ts: f64) {
         self.raw_vel = encoder.wrapping_sub(self.encoder) as f64 / ts;
         self.encoder = encoder;
-        self.act_pos = encoder as f64;
+        self.act_pos = encoder as f64 + self.pos_offset;
         self.servo.measure(encoder, &self.config.ffpiv, ts);
     }
 
@@ -712,10 +736,13 @@ impl Axis {
             if *t >= traj.duration() {
                 let end = traj.end();
                 if let Goal::Velocity { .. } = self.goal {
-                    // Velocity mode runs on at its velocity (the sample continues it).
+                    // Velocity mode runs on at its velocity (the sample continues it). Homing's
+                    // searches are its own business: no InVelocity for them.
                     if !self.in_velocity {
                         self.in_velocity = true;
-                        report.in_velocity = Some((self.motion_seq, end.vel));
+                        if self.state != AxisState::Homing {
+                            report.in_velocity = Some((self.motion_seq, end.vel));
+                        }
                     }
                 } else if let (Goal::Position { .. }, true) = (self.goal, end.vel != 0.0) {
                     // The ramp down to a lowered velocity limit ended: on to the target. (If
@@ -799,7 +826,8 @@ impl Axis {
             st.peak_jerk = st.peak_jerk.max(self.cmd_jerk.abs());
             st.max_ferr = st.max_ferr.max(self.ferr.abs());
         }
-        if self.awaiting_done {
+        // Homing says itself when it is done (homing.rs).
+        if self.awaiting_done && self.state != AxisState::Homing {
             let st = &mut self.stats;
             let in_pos = self.motion == Motion::Hold
                 && (self.target - self.act_pos).abs() <= self.config.in_pos_window
@@ -936,8 +964,10 @@ impl Axis {
     /// The motion bits of the status.
     pub fn motion_flags(&self) -> MotionFlags {
         let mut f = MotionFlags::empty();
-        let moving = self.awaiting_done && self.goal != Goal::None;
-        f.set(MotionFlags::IN_VELOCITY, self.in_velocity);
+        let homing = self.state == AxisState::Homing;
+        let moving = self.awaiting_done && self.goal != Goal::None && !homing;
+        f.set(MotionFlags::IN_VELOCITY, self.in_velocity && !homing);
+        f.set(MotionFlags::HOMED, self.homed);
         f.set(MotionFlags::PAUSED, moving && self.override_factor == 0.0);
         f.set(MotionFlags::BUFFERED_ACTIVE, moving && self.buffered_active);
         f
@@ -1021,6 +1051,11 @@ impl Axis {
         self.ferr
     }
 
+    /// The encoder's position is no longer known (an encoder fault): not homed.
+    pub(crate) fn lose_home(&mut self) {
+        self.homed = false;
+    }
+
     /// Run `profile` from now, as a queue would (tests of the starvation rule).
     #[cfg(test)]
     pub(crate) fn run_profile(&mut self, seq: u32, profile: Profile) {
@@ -1028,5 +1063,173 @@ impl Axis {
         self.begin_motion(seq, profile.duration());
         self.run_profile_now(&profile);
         self.state = AxisState::DiscreteMotion;
+    }
+}
+
+// ---- Homing hooks: what homing.rs needs from an axis (the methods live there) ----
+impl Axis {
+    /// The position was set by homing or MC_SetPosition (`MC_MOTION_HOMED`): soft limits hold.
+    pub fn homed(&self) -> bool {
+        self.homed
+    }
+
+    /// The limit switches the homing in progress watches itself (empty outside Homing).
+    pub fn homing_limits(&self) -> Io {
+        self.homing_limits
+    }
+
+    /// The position (in the axis's frame) of the raw encoder count `count`.
+    pub(crate) fn position_of_count(&self, count: i64) -> f64 {
+        count as f64 + self.pos_offset
+    }
+
+    /// Is a motion of its own (a move, halt or homing) still waiting for its end?
+    pub(crate) fn busy_with_motion(&self) -> bool {
+        self.awaiting_done || self.profile_running()
+    }
+
+    /// MC_Home accepted: PLCopen Homing from Standstill, as the motion of command `seq`; not
+    /// homed until it ends. `limits`: the limit switches the method watches itself.
+    pub(crate) fn begin_homing(
+        &mut self,
+        seq: u32,
+        limits: Io,
+    ) -> Result<Option<AxisState>, NackCode> {
+        match self.state {
+            AxisState::Standstill => {}
+            AxisState::Disabled => return Err(NackCode::AxisDisabled),
+            AxisState::Homing => return Err(NackCode::AxisHoming),
+            _ => return Err(NackCode::InvalidState),
+        }
+        let mut changed = None;
+        self.begin_motion(seq, 0.0);
+        self.goal = Goal::None;
+        self.in_velocity = false;
+        self.buffered_active = false;
+        self.homed = false;
+        self.stop_elapsed = None;
+        self.target = self.cmd.pos;
+        self.set_state(AxisState::Homing, &mut changed);
+        self.homing_limits = limits;
+        Ok(changed)
+    }
+
+    /// Velocity mode at the signed `vel` within `lim` (acceleration, deceleration, jerk),
+    /// planned from the commanded state; the override does not scale it. Stays in Homing.
+    pub(crate) fn homing_velocity(
+        &mut self,
+        vel: f64,
+        lim: &Limits,
+        rate_hz: u32,
+    ) -> Result<(), NackCode> {
+        let goal = Goal::Velocity { vel, lim: *lim };
+        let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
+        self.goal = goal;
+        self.in_velocity = false;
+        self.motion = Motion::Run { traj, t: 0.0 };
+        self.stop_elapsed = None;
+        Ok(())
+    }
+
+    /// A position move to `target` within `lim` from the commanded state (the override does
+    /// not scale it). Stays in Homing.
+    pub(crate) fn homing_move(
+        &mut self,
+        target: f64,
+        lim: &Limits,
+        rate_hz: u32,
+    ) -> Result<(), NackCode> {
+        let goal = Goal::Position { target, lim: *lim };
+        let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
+        self.goal = goal;
+        self.target = target;
+        self.in_velocity = false;
+        self.motion = Motion::Run { traj, t: 0.0 };
+        self.stop_elapsed = None;
+        Ok(())
+    }
+
+    /// A jerk-limited stop from the commanded state within `dmax` and `jerk`, or along the
+    /// axis's stop ramp when that one would take longer than `max_time` s (as MC_Halt). A stop
+    /// like any other: bounded by the card's maximum stop time. Stays in Homing.
+    pub(crate) fn homing_stop(
+        &mut self,
+        dmax: f64,
+        jerk: f64,
+        max_time: f64,
+    ) -> Result<(), NackCode> {
+        let c = &self.safety.config;
+        let (dmax, jerk) = bounded_stop_limits(
+            (self.cmd.vel, self.cmd.acc),
+            (dmax, jerk),
+            (c.stop_decel, c.stop_jerk),
+            max_time,
+        );
+        let profile =
+            plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk).map_err(plan_nack)?;
+        self.target = profile.end_pos();
+        self.goal = Goal::None;
+        self.in_velocity = false;
+        self.run_profile_now(&profile);
+        self.stop_elapsed = Some(0.0);
+        Ok(())
+    }
+
+    /// Stop commanding motion where the axis is (a stalled axis against a hard stop): the
+    /// reference jumps back to the actual position, at rest, and the integrator forgets what it
+    /// wound up pushing.
+    pub(crate) fn hold_at_actual(&mut self) {
+        self.cmd = Reference {
+            pos: self.act_pos,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        self.prev_cmd_acc = 0.0;
+        self.target = self.act_pos;
+        self.motion = Motion::Hold;
+        self.goal = Goal::None;
+        self.in_velocity = false;
+        self.stop_elapsed = None;
+        self.servo.reset_integral();
+        if let Some(pd) = &mut self.pd {
+            pd.reset(self.act_pos);
+        }
+    }
+
+    /// Move the position frame by `delta` counts without moving the axis: the actual and
+    /// commanded positions (and the target) all move by it, the following error does not, and
+    /// the raw encoder count stays what the shaft says. At rest only (no profile running).
+    pub(crate) fn shift_position(&mut self, delta: f64) {
+        debug_assert!(!self.profile_running());
+        self.pos_offset += delta;
+        self.act_pos += delta;
+        self.cmd.pos += delta;
+        self.target += delta;
+        if let Some(pd) = &mut self.pd {
+            pd.shift(delta);
+        }
+    }
+
+    /// MC_SetPosition's mark: the position is known (or, false, no longer).
+    pub(crate) fn set_homed(&mut self, homed: bool) {
+        self.homed = homed;
+    }
+
+    /// Homing ended, at rest: Standstill, homed or not (`Failed` the stop reason). Returns the
+    /// old state if it changed, and the actual position.
+    pub(crate) fn end_homing(&mut self, homed: bool) -> (Option<AxisState>, f64) {
+        let mut changed = None;
+        self.awaiting_done = false;
+        self.goal = Goal::None;
+        self.in_velocity = false;
+        self.homed = homed;
+        self.stats.move_time = self.stats.elapsed;
+        self.safety.stop_reason = if homed {
+            StopReason::Done
+        } else {
+            StopReason::HomingFailed
+        };
+        self.set_state(AxisState::Standstill, &mut changed);
+        (changed, self.act_pos)
     }
 }

@@ -10,12 +10,14 @@ pub mod axis;
 pub mod axis_safety;
 pub mod dac;
 pub mod group;
+pub mod homing;
 pub mod nack;
 pub mod outbox;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
+use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
@@ -42,6 +44,7 @@ pub struct Firmware<M: Mem + Clone> {
     cmds: CmdConsumer<M>,
     events: EvtProducer<M>,
     axes: [Axis; MAX_AXES],
+    homing: [Homing; MAX_AXES],
     groups: [Group; MAX_GROUPS],
     filters: Box<[AxisFilter]>,
     outbox: Outbox,
@@ -78,6 +81,7 @@ impl<M: Mem + Clone> Firmware<M> {
             events: EvtProducer::attach(mem.clone(), EVT_RING),
             mem,
             axes: core::array::from_fn(|_| Axis::new()),
+            homing: [Homing::default(); MAX_AXES],
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -98,6 +102,9 @@ impl<M: Mem + Clone> Firmware<M> {
         for a in 0..MAX_AXES {
             fw.write_axis_config(a, &AxisConfig::default());
             fw.write_axis_filter(a, &FilterConfig::default());
+            layout::AXIS_HOMING
+                .at(a)
+                .write(&fw.mem, &fw.homing[a].config().block);
         }
         fw.publish();
         fw.mem.store32(
@@ -156,6 +163,11 @@ impl<M: Mem + Clone> Firmware<M> {
     /// The safety layer (watchdog, latches, configuration).
     pub fn safety(&self) -> &Safety {
         &self.safety
+    }
+
+    /// One axis's homing (its configuration, and whether it runs).
+    pub fn homing(&self, i: usize) -> Option<&Homing> {
+        self.homing[..self.num_axes].get(i)
     }
 
     /// The card's inputs (limit, home and alarm switches, encoder fault, e-stop) for the next
@@ -281,7 +293,7 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => 8,
             Opcode::MoveVelocity => 4,
             Opcode::Halt | Opcode::Stop => 2,
-            Opcode::Jog | Opcode::SetOverride => 1,
+            Opcode::Jog | Opcode::SetOverride | Opcode::Home | Opcode::SetPosition => 1,
             _ => 0,
         };
         if c.args[..nargs].iter().any(|a| !a.is_finite()) {
@@ -339,6 +351,8 @@ impl<M: Mem + Clone> Firmware<M> {
             | Opcode::Stop
             | Opcode::StopRelease
             | Opcode::PowerOff
+            | Opcode::Home
+            | Opcode::SetPosition
                 if grouped =>
             {
                 return Err(NackCode::AxisGrouped)
@@ -351,7 +365,12 @@ impl<M: Mem + Clone> Firmware<M> {
         // every buffered move are aborted.
         let mut aborting = matches!(
             op,
-            Opcode::MoveVelocity | Opcode::Jog | Opcode::Halt | Opcode::Stop | Opcode::PowerOff
+            Opcode::MoveVelocity
+                | Opcode::Jog
+                | Opcode::Halt
+                | Opcode::Stop
+                | Opcode::PowerOff
+                | Opcode::Home
         );
         let changed = match op {
             Opcode::PowerOn => axis.power(true)?,
@@ -417,6 +436,17 @@ impl<M: Mem + Clone> Firmware<M> {
                 None
             }
             Opcode::Reset => axis.reset()?,
+            Opcode::ApplyAxisHoming => {
+                let block = layout::AXIS_HOMING.at(ax).read(&self.mem);
+                self.homing[ax].apply(HomingConfig::validate(&block, rate)?);
+                None
+            }
+            Opcode::Home => self.homing[ax].start(axis, c.seq, c.args[0], rate)?,
+            Opcode::SetPosition => {
+                let relative = c.flags & firmware_proto::SET_POSITION_RELATIVE != 0;
+                homing::set_position(axis, c.args[0], relative)?;
+                None
+            }
             _ => None,
         };
         let axis = &mut self.axes[ax];
@@ -462,7 +492,7 @@ impl<M: Mem + Clone> Firmware<M> {
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
             if !matches!(
                 axis.state,
-                AxisState::DiscreteMotion | AxisState::ContinuousMotion
+                AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
             ) {
                 continue;
             }
@@ -634,6 +664,24 @@ impl<M: Mem + Clone> Firmware<M> {
                 &mut self.outbox,
             );
         }
+        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
+        let inputs = *self.safety.inputs();
+        let max_stop_time = self.safety.config().max_stop_time();
+        let mut homed = [HomingReport::default(); MAX_AXES];
+        for (i, (axis, homing)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(self.homing.iter_mut())
+            .enumerate()
+        {
+            let inp = HomingInputs {
+                io: inputs.axis[i],
+                index: inputs.index[i],
+                ts,
+                rate_hz: self.servo_rate_hz,
+                max_stop_time,
+            };
+            homed[i] = homing.tick(axis, &inp);
+        }
         let mut reports: [TickReport; MAX_AXES] = Default::default();
         for (i, (axis, report)) in self.axes[..self.num_axes]
             .iter_mut()
@@ -693,9 +741,10 @@ impl<M: Mem + Clone> Firmware<M> {
         self.publish();
         self.post_safety_events();
         self.post_outbox();
-        for (i, report) in reports[..self.num_axes].iter().enumerate() {
+        for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
             let axis = i as u16;
-            if let Some((seq, pos)) = report.done {
+            let done = h.done.or(report.done);
+            if let Some((seq, pos)) = done {
                 self.post(Event {
                     seq,
                     kind: EventKind::MotionDone as u16,
@@ -735,7 +784,18 @@ impl<M: Mem + Clone> Firmware<M> {
                     value,
                 });
             }
-            if let Some(old) = report.state_from {
+            if let Some((seq, why, at)) = h.failed {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::HomingFailed as u16,
+                    axis,
+                    code: why as i32,
+                    tick: self.tick,
+                    value: at,
+                });
+            }
+            // The homing step ran before the servo loop: its state change came first.
+            if let Some(old) = h.state_from.or(report.state_from) {
                 let e = state_event(axis, old, self.axes[i].state, self.tick);
                 self.post(e);
             }

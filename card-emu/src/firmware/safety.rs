@@ -24,6 +24,11 @@
 //!   the card. An attach that finds another session open (its host died or hung) stops every
 //!   enabled axis, category 1, reason `HostChanged`: a new host never inherits motion it did not
 //!   start. A detach halts what moves along the stop ramps and disarms the watchdog, no fault.
+//! - **Homing** (CiA 402, `homing.rs`): a homing method that has limit switches in its
+//!   definition watches them itself (it reverses there, or fails), so while the axis homes the
+//!   limit switches it names ([`Axis::homing_limits`]) do not trip it; any other limit still
+//!   does. Soft limits hold only once the axis is homed ([`Axis::homed`]): before that its
+//!   positions mean nothing. An encoder fault makes the axis not homed.
 //!
 //! Hooks elsewhere, each marked `[safety]`: one call per servo tick
 //! ([`Safety::tick`], from `Firmware::tick`), one check per command
@@ -61,13 +66,27 @@ pub const MAX_STOP_TIME_DEFAULT_US: u32 = 2_000_000;
 pub const MAX_STOP_TIME_RANGE_US: core::ops::RangeInclusive<u32> = 10_000..=600_000_000;
 
 /// The card's inputs for one tick (the FPGA's input register), sampled from the plant by the
-/// emulator: per axis `MC_IO_*` input bits, and the card's e-stop input.
+/// emulator: per axis `MC_IO_*` input bits and the index latch, and the card's e-stop input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Inputs {
     /// Limit, home, amplifier-alarm and encoder-fault inputs of each axis.
     pub axis: [Io; MAX_AXES],
+    /// The index latch of each axis's encoder interface.
+    pub index: [IndexLatch; MAX_AXES],
     /// The e-stop input (active: stop).
     pub estop: bool,
+}
+
+/// An encoder interface's latch on the index (Z) channel, as the FPGA holds it: the raw
+/// encoder count captured at the last index pulse, and how many pulses it has latched
+/// (wrapping). A change of `latches` between two ticks is a pulse crossed in between, at
+/// exactly `count`, however short it was.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IndexLatch {
+    /// The raw encoder count at the last index pulse.
+    pub count: i64,
+    /// Index pulses latched since power-up (wrapping).
+    pub latches: u32,
 }
 
 /// The validated copy of the card-wide safety configuration.
@@ -215,6 +234,11 @@ impl Safety {
     /// The inputs of the coming tick (the emulator samples them from the plant).
     pub fn set_inputs(&mut self, inputs: Inputs) {
         self.inputs = inputs;
+    }
+
+    /// The inputs of this tick.
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
     }
 
     /// The attached host's session id (0: none).
@@ -510,6 +534,10 @@ impl Safety {
     /// encoder). An axis already stopping only changes to a harsher category.
     fn trip_axis<M: Mem>(&mut self, mem: &M, tick: u64, i: usize, axis: &mut Axis, trip: Trip) {
         axis.safety.faults |= trip.fault;
+        if trip.fault.contains(Faults::ENCODER) {
+            // [homing] the count no longer says where the shaft is
+            axis.lose_home();
+        }
         let harsher = match axis.safety.stop {
             Some(s) if axis.state == AxisState::ErrorStop => {
                 (trip.category as u32) < (s.category as u32) && axis.is_powered()
@@ -856,7 +884,9 @@ pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode
     {
         return Err(NackCode::HardLimit);
     }
+    // Soft limits hold once the axis is homed: before that its positions mean nothing.
     if c.has(AxisSafetyFlags::SOFT_LIMITS)
+        && axis.homed()
         && ((target > c.soft_limit_pos && target > start)
             || (target < c.soft_limit_neg && target < start))
     {
@@ -872,6 +902,9 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
     let r = axis.reference();
     let powered = axis.is_powered();
     let ferr = axis.following_error();
+    // [homing] the limit switches the homing method watches itself, and soft limits once homed
+    let homing_limits = axis.homing_limits();
+    let soft = c.has(AxisSafetyFlags::SOFT_LIMITS) && axis.homed();
     let s = &mut axis.safety;
     let mut out = [None; 4];
     let cat0 = |reason, fault, value| {
@@ -910,18 +943,18 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
     if c.has(AxisSafetyFlags::HARD_LIMITS) {
         if inputs.contains(Io::LIMIT_POS) {
             s.faults |= Faults::HARD_LIMIT_POS;
-            if powered && r.vel > 0.0 {
+            if powered && r.vel > 0.0 && !homing_limits.contains(Io::LIMIT_POS) {
                 out[2] = limit(StopReason::HardLimitPos, Faults::HARD_LIMIT_POS);
             }
         }
         if inputs.contains(Io::LIMIT_NEG) {
             s.faults |= Faults::HARD_LIMIT_NEG;
-            if powered && r.vel < 0.0 {
+            if powered && r.vel < 0.0 && !homing_limits.contains(Io::LIMIT_NEG) {
                 out[2] = limit(StopReason::HardLimitNeg, Faults::HARD_LIMIT_NEG);
             }
         }
     }
-    if c.has(AxisSafetyFlags::SOFT_LIMITS) {
+    if soft {
         if r.pos > c.soft_limit_pos {
             s.faults |= Faults::SOFT_LIMIT_POS;
             if powered && r.vel > 0.0 && out[2].is_none() {

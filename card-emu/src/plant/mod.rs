@@ -1,5 +1,6 @@
 //! The simulated plant of one axis: 12-bit ±10 V DAC, current-mode amplifier, motor and load,
-//! quantised incremental encoder, limit and home switches.
+//! quantised incremental encoder with its index (Z) channel, limit and home switches, and the
+//! mechanical end stops.
 //!
 //! The motor is the rigid body of Thinh Fig 5: `J dω/dt = K_t·i − b·ω − T_c·sgn(ω) − T_d`, with
 //! the amplifier `i = clamp(K_a·u, ±I_max)`. Over one servo period the input is held (zero-order
@@ -149,11 +150,33 @@ impl Default for MotorParams {
     }
 }
 
+/// Mechanical end stops (hard stops) of an axis, in encoder counts: the shaft cannot pass them.
+/// Running into one stops the shaft dead (an inelastic stop) and the motor stalls there, whatever
+/// torque it makes. Infinite (the default): none.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EndStops {
+    /// The negative end stop, counts (`−∞`: none).
+    pub neg: f64,
+    /// The positive end stop, counts (`+∞`: none).
+    pub pos: f64,
+}
+
+impl Default for EndStops {
+    fn default() -> Self {
+        Self {
+            neg: f64::NEG_INFINITY,
+            pos: f64::INFINITY,
+        }
+    }
+}
+
 /// One axis's mechanical state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Motor {
     /// Parameters.
     pub params: MotorParams,
+    /// The mechanical end stops (on the motor shaft, where the encoder is).
+    pub end_stops: EndStops,
     /// Shaft angle, rad.
     pub theta: f64,
     /// Shaft speed, rad/s.
@@ -171,6 +194,7 @@ impl Motor {
     pub fn new(params: MotorParams) -> Self {
         Self {
             params,
+            end_stops: EndStops::default(),
             theta: 0.0,
             omega: 0.0,
             disturbance: 0.0,
@@ -197,9 +221,30 @@ impl Motor {
         let drive = p.kt * current - self.disturbance;
         if let Some(r) = p.resonance {
             self.step_two_mass(drive, &r, dt);
+            self.end_stop();
             return;
         }
+        self.step_rigid(drive, dt);
+        self.end_stop();
+    }
 
+    /// A shaft past an end stop is put back on it, stopped (what moved it into the stop
+    /// pushes on without moving it: the motor stalls).
+    fn end_stop(&mut self) {
+        let c = self.params.counts_per_rad();
+        let (lo, hi) = (self.end_stops.neg / c, self.end_stops.pos / c);
+        if self.theta > hi {
+            self.theta = hi;
+            self.omega = self.omega.min(0.0);
+        } else if self.theta < lo {
+            self.theta = lo;
+            self.omega = self.omega.max(0.0);
+        }
+    }
+
+    /// The rigid body over `dt` with the drive torque `drive` held, Coulomb friction piecewise.
+    fn step_rigid(&mut self, drive: f64, dt: f64) {
+        let p = self.params;
         let mut left = dt;
         // At most three pieces: move, stop at zero, break away the other way.
         for _ in 0..3 {
@@ -299,19 +344,51 @@ impl Motor {
     }
 }
 
+/// The home switch of an axis, in the geometries of CiA 402's homing methods, at positions in
+/// encoder counts.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum HomeSwitch {
+    /// No home switch.
+    #[default]
+    None,
+    /// Active at and above this position: CiA 402's "positive home switch" (methods 3, 4, 19,
+    /// 20).
+    Above(f64),
+    /// Active at and below this position: the "negative home switch" (methods 5, 6, 21, 22).
+    Below(f64),
+    /// Active from `lower` to `upper`: a switch of some width, with a lower and an upper edge
+    /// (methods 7–14, 23–30).
+    Between {
+        /// The lower edge, counts.
+        lower: f64,
+        /// The upper edge, counts.
+        upper: f64,
+    },
+}
+
+impl HomeSwitch {
+    /// Is the switch active at position `counts`?
+    pub fn active(&self, counts: f64) -> bool {
+        match *self {
+            HomeSwitch::None => false,
+            HomeSwitch::Above(p) => counts >= p,
+            HomeSwitch::Below(p) => counts <= p,
+            HomeSwitch::Between { lower, upper } => (lower..=upper).contains(&counts),
+        }
+    }
+}
+
 /// The switches along an axis's travel, at positions in encoder counts. A limit switch is
-/// active at and beyond its position; the home switch within `home_width / 2` of `home`.
-/// Infinite positions (the default) mean no switch.
+/// active at and beyond its position; the home switch as [`HomeSwitch`] says. Infinite limit
+/// positions and [`HomeSwitch::None`] (the default) mean no switch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Switches {
     /// Positive limit switch, counts (`+∞`: none).
     pub limit_pos: f64,
     /// Negative limit switch, counts (`−∞`: none).
     pub limit_neg: f64,
-    /// Home switch centre, counts (NaN: none).
-    pub home: f64,
-    /// Home switch width, counts.
-    pub home_width: f64,
+    /// The home switch.
+    pub home: HomeSwitch,
 }
 
 impl Default for Switches {
@@ -319,8 +396,7 @@ impl Default for Switches {
         Self {
             limit_pos: f64::INFINITY,
             limit_neg: f64::NEG_INFINITY,
-            home: f64::NAN,
-            home_width: 0.0,
+            home: HomeSwitch::None,
         }
     }
 }
@@ -335,6 +411,11 @@ impl Switches {
         }
     }
 
+    /// The same switches with this home switch.
+    pub fn with_home(self, home: HomeSwitch) -> Self {
+        Self { home, ..self }
+    }
+
     /// The input bits at position `counts`.
     pub fn inputs(&self, counts: f64) -> Io {
         let mut bits = Io::empty();
@@ -344,10 +425,98 @@ impl Switches {
         if counts <= self.limit_neg {
             bits |= Io::LIMIT_NEG;
         }
-        if (counts - self.home).abs() <= 0.5 * self.home_width {
+        if self.home.active(counts) {
             bits |= Io::HOME;
         }
         bits
+    }
+}
+
+/// The index (zero, Z) channel of an axis's incremental encoder: a pulse once per revolution,
+/// one count wide, at the counts `offset + k·counts_per_rev`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IndexPulse {
+    /// Counts from one pulse to the next; 0: the motor's counts per revolution
+    /// ([`MotorParams::counts_per_rev`]).
+    pub counts_per_rev: u32,
+    /// The count of one pulse (any of them).
+    pub offset: i64,
+    /// The encoder has an index channel (`false`: no pulse ever comes).
+    pub present: bool,
+}
+
+impl Default for IndexPulse {
+    /// A pulse per motor revolution, at count 0 and its multiples.
+    fn default() -> Self {
+        Self {
+            counts_per_rev: 0,
+            offset: 0,
+            present: true,
+        }
+    }
+}
+
+/// An encoder's index channel as the card's encoder interface sees it, with its hardware latch:
+/// on each index pulse the latch captures the encoder count and bumps a counter, so an index
+/// crossed between two servo ticks is never missed and its count is exact.
+///
+/// The pulse occupies one count `p`; the latch fires when the count enters `p`, from below or
+/// from above, and holds `p`: the same count in both directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IndexChannel {
+    pulse: IndexPulse,
+    last: Option<i64>,
+    /// The count latched at the last pulse.
+    pub count: i64,
+    /// Pulses latched since power-up (wrapping).
+    pub latches: u32,
+}
+
+impl IndexChannel {
+    /// A latch on this channel (the period resolved: `counts_per_rev` is never 0 here).
+    pub fn new(pulse: IndexPulse, motor_counts_per_rev: u32) -> Self {
+        let n = match pulse.counts_per_rev {
+            0 => motor_counts_per_rev,
+            n => n,
+        };
+        Self {
+            pulse: IndexPulse {
+                counts_per_rev: n.max(1),
+                ..pulse
+            },
+            last: None,
+            count: 0,
+            latches: 0,
+        }
+    }
+
+    /// The encoder moved to `count` since the last sample: latch the pulses it crossed.
+    /// `signal`: the index signal reaches the card (a lost encoder latches nothing).
+    pub fn sample(&mut self, count: i64, signal: bool) {
+        let last = self.last.replace(count);
+        let Some(from) = last else { return };
+        if !(signal && self.pulse.present) || from == count {
+            return;
+        }
+        let n = self.pulse.counts_per_rev as i64;
+        let off = self.pulse.offset;
+        // The pulses entered: from < p <= count going up, count <= p < from going down.
+        let (first, last, step) = if count > from {
+            let p = from + 1 + (off - (from + 1)).rem_euclid(n);
+            if p > count {
+                return;
+            }
+            (p, count - (count - p).rem_euclid(n), 1)
+        } else {
+            let p = from - 1 - (from - 1 - off).rem_euclid(n);
+            if p < count {
+                return;
+            }
+            (p, count + (p - count).rem_euclid(n), -1)
+        };
+        let crossed = (last - first) / n * step + 1;
+        self.count = last;
+        self.latches = self.latches.wrapping_add(crossed as u32);
     }
 }
 
@@ -400,16 +569,92 @@ mod tests {
 
     #[test]
     fn switches_follow_position() {
-        let s = Switches {
-            home: 0.0,
-            home_width: 10.0,
-            ..Switches::limits(-1000.0, 2000.0)
-        };
+        let s = Switches::limits(-1000.0, 2000.0).with_home(HomeSwitch::Between {
+            lower: -5.0,
+            upper: 5.0,
+        });
         assert_eq!(s.inputs(0.0), Io::HOME);
+        assert_eq!(s.inputs(5.0), Io::HOME);
+        assert_eq!(s.inputs(5.5), Io::empty());
         assert_eq!(s.inputs(500.0), Io::empty());
         assert_eq!(s.inputs(2000.0), Io::LIMIT_POS);
         assert_eq!(s.inputs(-1e9), Io::LIMIT_NEG);
         assert_eq!(Switches::default().inputs(1e300), Io::empty());
+        let above = Switches::default().with_home(HomeSwitch::Above(100.5));
+        assert_eq!(above.inputs(100.0), Io::empty());
+        assert_eq!(above.inputs(1e9), Io::HOME);
+        let below = Switches::default().with_home(HomeSwitch::Below(100.5));
+        assert_eq!(below.inputs(100.0), Io::HOME);
+        assert_eq!(below.inputs(101.0), Io::empty());
+    }
+
+    /// The latch holds the pulse's own count whichever way it was crossed, counts every pulse
+    /// crossed between two samples (several in one sample too), and latches nothing without a
+    /// signal or an index channel.
+    #[test]
+    fn the_index_latch_holds_the_pulse_count_in_both_directions() {
+        let pulse = IndexPulse {
+            offset: 250,
+            ..IndexPulse::default()
+        };
+        let mut l = IndexChannel::new(pulse, 10_000);
+        l.sample(0, true);
+        l.sample(249, true);
+        assert_eq!(l.latches, 0);
+        l.sample(250, true);
+        assert_eq!((l.count, l.latches), (250, 1));
+        l.sample(251, true);
+        l.sample(250, true); // entering 250 from above
+        assert_eq!((l.count, l.latches), (250, 2));
+        l.sample(-9_751, true); // down across -9,750 only (250 itself is not entered again)
+        assert_eq!((l.count, l.latches), (-9_750, 3));
+        l.sample(30_300, true); // up across -9,750, 250, 10,250, 20,250, 30,250
+        assert_eq!((l.count, l.latches), (30_250, 8));
+        l.sample(0, false);
+        assert_eq!(l.latches, 8, "no signal, no latch");
+        let mut none = IndexChannel::new(
+            IndexPulse {
+                present: false,
+                ..pulse
+            },
+            10_000,
+        );
+        none.sample(0, true);
+        none.sample(100_000, true);
+        assert_eq!(none.latches, 0);
+        // Its own period, not the motor's.
+        let mut short = IndexChannel::new(
+            IndexPulse {
+                counts_per_rev: 1000,
+                offset: 0,
+                present: true,
+            },
+            10_000,
+        );
+        short.sample(-1, true);
+        short.sample(2_500, true);
+        assert_eq!((short.count, short.latches), (2_000, 3));
+    }
+
+    /// A mechanical end stop: the shaft runs into it and stalls there at full torque, and
+    /// leaves it when driven the other way.
+    #[test]
+    fn an_end_stop_stalls_the_motor() {
+        let mut m = Motor::new(MotorParams::default_servo());
+        m.end_stops = EndStops {
+            neg: -100.5,
+            pos: 2_000.5,
+        };
+        for _ in 0..10_000 {
+            m.step(3.0, 1e-4);
+            assert!(m.position_counts() <= 2_000.5 + 1e-9);
+        }
+        assert_eq!(m.encoder(), 2_000);
+        assert_eq!(m.omega, 0.0);
+        for _ in 0..10_000 {
+            m.step(-3.0, 1e-4);
+        }
+        assert_eq!(m.encoder(), -101);
     }
 
     #[test]

@@ -150,6 +150,12 @@ impl PdPlus {
         })
     }
 
+    /// The measured position's frame moved by `delta` (MC_SetPosition, homing): the previous
+    /// measurement moves with it, so the measured speed does not see the shift.
+    pub fn shift(&mut self, delta: f64) {
+        self.prev_meas += delta;
+    }
+
     /// Sets the previous measurement (measured speed zero at the next update).
     pub fn reset(&mut self, meas_pos: f64) {
         self.prev_meas = meas_pos;

@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 40, 41, 42, 46, 36, 47, 48, 63, 64, 255, 256, 0x7FFF, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 56, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -551,7 +551,7 @@ pub struct Stats {
     pub commands: u64,
     pub acks: u64,
     pub nacks: u64,
-    /// Nacks per code (index: the code's raw value, 0..64).
+    /// Nacks per code (index: the code's raw value, 0..128).
     pub nack_codes: Vec<u64>,
     pub ticks: u64,
     pub reboots: u64,
@@ -562,7 +562,7 @@ pub struct Stats {
 impl Stats {
     fn new() -> Self {
         Self {
-            nack_codes: vec![0; 64],
+            nack_codes: vec![0; 128],
             ..Default::default()
         }
     }

@@ -1,0 +1,105 @@
+//! Homing: PLCopen MC_Home with the homing methods of CiA 402, run by the card, and
+//! MC_SetPosition.
+//!
+//! The card finds a home point (a switch edge, an index pulse, a hard stop, or the current
+//! position) and sets the axis's position so that the home point reads the position given to
+//! [`Axis::home`] plus the configured `home_offset`. The settings are the card's register block
+//! (`mc_axis_homing`), in counts and seconds like [`crate::AxisSettings`]; the method numbers
+//! and what each does are listed in the register map's header (`MC_OP_HOME`) and in
+//! `card_emu::firmware::homing`.
+
+use crate::card::{finite, Axis, Motion, Status};
+use crate::error::{Result, Target};
+use firmware_proto::{layout, MotionFlags, Opcode, SET_POSITION_RELATIVE};
+
+/// An axis's homing configuration, in counts and seconds: the card's `mc_axis_homing` block
+/// (its fields are listed in the register map's header). `Default` is what the card loads at
+/// boot: method 37 (the current position), search at 20,000 counts/s, creep at 1,000 counts/s,
+/// 2·10⁵ counts/s², 2·10⁷ counts/s³, a 60 s timeout, 10⁶ counts of search, the index within
+/// 12,000 counts, an index channel, and the axis ending at the home point.
+///
+/// `method` is a CiA 402 number: 1–14 (a limit or home switch, then the index), 17–30 (the
+/// same, the switch edge itself), 33, 34 (the next index pulse, negative or positive), 35, 37
+/// (the current position), and -1, -2 (a hard stop, negative or positive, then the index),
+/// -3, -4 (the hard stop itself). `flags` are [`HomingFlags`] bits.
+pub use firmware_proto::AxisHoming as HomingSettings;
+/// Why homing failed ([`crate::Error::HomingFailed`]).
+pub use firmware_proto::HomingError;
+/// [`HomingSettings::flags`]: the encoder has an index channel; the axis ends at the home
+/// point.
+pub use firmware_proto::HomingFlags;
+
+impl Axis {
+    /// Write the axis's homing configuration and have the card check and apply it: an unknown
+    /// method, or an index method without [`HomingFlags::INDEX`], is `HomingMethod`; a value
+    /// that is not finite `NotFinite`; one out of range `BadConfig` or `LimitRange`. A refused
+    /// block is put back as it was.
+    pub fn configure_homing(&self, settings: &HomingSettings) -> Result<()> {
+        let a = self.index();
+        self.card().apply_block(
+            layout::AXIS_HOMING.at(a),
+            |b| *b = *settings,
+            self.op(Opcode::ApplyAxisHoming),
+            "configure_homing",
+            Target::Axis(a),
+        )
+    }
+
+    /// The homing configuration the card holds for this axis (as last written).
+    pub fn homing_settings(&self) -> HomingSettings {
+        layout::AXIS_HOMING
+            .at(self.index())
+            .read(self.card().window())
+    }
+
+    /// MC_Home from Standstill with the configured method: the home point will read
+    /// `position` (user units) plus the configured home offset. The axis is in Homing until
+    /// [`Motion::wait`] gives its actual position (homed and in position), or an error:
+    /// [`crate::Error::HomingFailed`] (switch, hard stop or index not found, or the timeout:
+    /// the axis is at rest, not homed), or `Aborted` (a halt, stop or safety stop). Moves and
+    /// jogs meanwhile are `AxisHoming`.
+    pub fn home(&self, position: f64) -> Result<Motion> {
+        finite("home position", position)?;
+        let cmd = self.op(Opcode::Home).with_args(&[position * self.scale()]);
+        let seq = self.run(cmd, "home")?;
+        Ok(self.started(seq))
+    }
+
+    /// MC_SetPosition: the actual and commanded positions become `position` (user units; with
+    /// `relative`, they move by it) without moving the axis, and the axis counts as homed (soft
+    /// limits take effect). At standstill or disabled; `AxisHoming` while it homes.
+    pub fn set_position(&self, position: f64, relative: bool) -> Result<()> {
+        finite("position", position)?;
+        let mut cmd = self
+            .op(Opcode::SetPosition)
+            .with_args(&[position * self.scale()]);
+        if relative {
+            cmd.flags = SET_POSITION_RELATIVE;
+        }
+        self.run(cmd, "set_position").map(|_| ())
+    }
+}
+
+impl Status {
+    /// Has the position been set by homing or [`Axis::set_position`] (`MC_MOTION_HOMED`)? Soft
+    /// limits hold only then.
+    pub fn homed(&self) -> bool {
+        self.motion.contains(MotionFlags::HOMED)
+    }
+}
+
+/// What a homing failure means, in words.
+pub(crate) fn failure_reason(e: Option<HomingError>) -> &'static str {
+    match e {
+        Some(HomingError::LimitReached) => {
+            "a limit switch the method does not reverse at: the switch is missing"
+        }
+        Some(HomingError::DistanceExceeded) => {
+            "the maximum distance from the start, without the switch or hard stop"
+        }
+        Some(HomingError::Timeout) => "not homed within the timeout",
+        Some(HomingError::NoIndex) => "no index pulse within the index distance",
+        Some(HomingError::Plan) => "a motion of the method could not be planned",
+        None => "a reason this library does not know",
+    }
+}
