@@ -157,6 +157,29 @@ pub fn jog(card: &Card, axis: usize, velocity: f64, hold: Duration, json: bool) 
     })
 }
 
+/// `mcctl home`: MC_Home with the axis's homing settings (the CiA 402 `method` instead of the
+/// configured one when given), waited for; reports the actual position at the end.
+pub fn home(
+    card: &Card,
+    axis: usize,
+    position: f64,
+    method: Option<i32>,
+    json: bool,
+) -> Result<String> {
+    let ax = card.axis(axis)?;
+    if let Some(m) = method {
+        let mut h = ax.homing_settings();
+        h.method = m;
+        ax.configure_homing(&h)?;
+    }
+    let at = ax.home(position)?.wait(WAIT)?;
+    Ok(if json {
+        json!({ "axis": axis, "position": at, "homed": ax.status()?.homed() }).to_string()
+    } else {
+        format!("axis {axis}: homed, at {at}\n")
+    })
+}
+
 /// `mcctl override`: the axis's velocity override (0 to 2).
 pub fn set_override(card: &Card, axis: usize, factor: f64) -> Result<String> {
     card.axis(axis)?.set_override(factor)?;

@@ -285,6 +285,27 @@ fn card_commands_move_jog_override_and_status() {
     }
     let (code, _, _) = mcctl(&["jog", "0", "100", "--for", "-1"]);
     assert_eq!(code, 2);
+    // Homing: CiA 402 method 37 (the current position) makes it read --position.
+    let (code, out, err) = mcctl(&[
+        "home",
+        "0",
+        "--method",
+        "37",
+        "--position",
+        "-250",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["homed"], true, "{out}");
+    assert!(
+        (j["position"].as_f64().unwrap() + 250.0).abs() <= 1.0,
+        "{out}"
+    );
+    let (code, _, err) = mcctl(&["home", "0", "--method", "99", "--enable"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("cannot do this homing method"), "{err}");
 }
 
 /// `--a0` plans from any state (Ruckig's position interface): here a start at 1.5 vmax moving

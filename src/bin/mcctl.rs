@@ -10,6 +10,7 @@
 //! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable
 //! mcctl --card emu:bench1 move 0 20000 --velocity --for 2   # velocity mode for 2 s
 //! mcctl --card emu:bench1 override 0 0.5             # 50 %
+//! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! ```
 use clap::{Args, Parser, Subcommand};
@@ -147,6 +148,22 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// MC_Home with the axis's homing settings (CiA 402 methods), waited for.
+    Home {
+        axis: usize,
+        /// What the home point reads (PLCopen's Position; plus the configured home offset).
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+        position: f64,
+        /// The CiA 402 method (1-14, 17-30, 33, 34, 35, 37; -1..-4 hard stops) instead of the
+        /// configured one.
+        #[arg(long, allow_negative_numbers = true)]
+        method: Option<i32>,
+        /// Power the axis on first if it is disabled.
+        #[arg(long)]
+        enable: bool,
+        #[arg(long)]
+        json: bool,
+    },
     /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
     /// for the moves that follow, whoever commands them.
     Override {
@@ -255,6 +272,18 @@ fn main() -> ExitCode {
                 cli::jog(c, axis, velocity, Duration::from_secs_f64(hold), json)
             })
         }
+        Cmd::Home {
+            axis,
+            position,
+            method,
+            enable,
+            json,
+        } => on_card(uri, |c| {
+            if enable {
+                cli::enable_if_needed(c, axis)?;
+            }
+            cli::home(c, axis, position, method, json)
+        }),
         Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
         Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
         Cmd::Plan {
