@@ -3,11 +3,11 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine` and `nurbs_path` choose their
-//! cards).
-//! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
-//! Rust static library; `errors`, `groups`, `safety`, `machine`, `nurbs_path` and `panic` also run under
-//! valgrind. The installed libraries' symbols are checked with binutils' `nm`.
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing` and `nurbs_path`
+//! choose their cards). `move` and `c89` are also linked statically, and a program of the
+//! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
+//! `homing`, `nurbs_path` and `panic` also run under valgrind. The installed libraries'
+//! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
 //! rustc (beside cargo). Nothing here asserts on time: the child processes only have a
@@ -982,6 +982,12 @@ fn machine_program_jogs_aborts_buffers_and_overrides() {
     assert!(out.contains("PASS machine"), "{out}");
     assert!(out.contains("abort: retargeted to -10000"), "{out}");
     assert!(out.contains("override 0 % held, 200 %"), "{out}");
+}
+
+#[test]
+fn homing_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("homing");
+    assert!(out.contains("PASS homing\n"), "{out}");
 }
 
 #[test]
