@@ -853,6 +853,10 @@ where
         }
         let step = fx / df(x);
         let newton = x - step;
+        if newton == x {
+            // A step below half an ulp: converged (bisecting on would only confirm it).
+            break;
+        }
         let nx = if newton > lo && newton < hi && (2.0 * step).abs() <= dx_old.abs() {
             dx_old = dx;
             dx = step;
