@@ -79,6 +79,8 @@ const CHECK_SLACK: f64 = 1e-9;
 const CHECK_POS_ULPS: f64 = 16.0;
 /// Most segments a trajectory has: a brake of up to 2, then 7 (one spare).
 const MAX_SEGS: usize = 10;
+/// 1/6, for the cubic term of a constant-jerk segment (a multiplication, not a division).
+const SIXTH: f64 = 1.0 / 6.0;
 
 /// World-frame limits, as Ruckig's single-DOF input: `vmin < 0 < vmax`, `amin < 0 < amax`,
 /// `jmax > 0`.
@@ -200,6 +202,16 @@ fn ldexp(mut x: f64, mut e: i32) -> f64 {
         e += 1000;
     }
     x * f64::from_bits(((e + 1023) as u64) << 52)
+}
+
+/// The state after a segment of jerk `j` and duration `t` from `(x, v, a)`.
+fn advance(x: f64, v: f64, a: f64, j: f64, t: f64) -> (f64, f64, f64) {
+    let jt = j * t;
+    (
+        x + t * (v + t * (0.5 * a + jt * SIXTH)),
+        v + t * (a + 0.5 * jt),
+        a + jt,
+    )
 }
 
 /// Powers of two that take the caller's units to the planner's: time `2^k`, position `2^m`
@@ -928,8 +940,7 @@ impl Trajectory {
                 tr.nbrake += 1;
             }
             tr.n += 1;
-            x += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
+            (x, v, _) = advance(x, v, a, j, t);
             a = ldexp(segs.acc[i], u.acc());
             time += t;
         }
@@ -1194,13 +1205,7 @@ impl Trajectory {
 
     /// Frame state at the end of segment `i`.
     fn seg_end(&self, i: usize) -> (f64, f64, f64) {
-        let (t, j) = (self.dur[i], self.jerk[i]);
-        let (x, v, a) = (self.x[i], self.v[i], self.a[i]);
-        (
-            x + t * (v + t * (0.5 * a + t * j / 6.0)),
-            v + t * (a + 0.5 * j * t),
-            a + j * t,
-        )
+        advance(self.x[i], self.v[i], self.a[i], self.jerk[i], self.dur[i])
     }
 
     /// Smallest and largest world velocity over the trajectory (its end included).
@@ -1258,41 +1263,25 @@ impl Trajectory {
     /// Anything else is `Err(PlanCheck)`; invalid limits are `validate`'s errors.
     pub fn verify(&self, lim: &OtgLimits) -> Result<(), PlanError> {
         lim.validate()?;
-        if self.well_formed() && self.within(lim) {
+        if self.checks(lim) {
             Ok(())
         } else {
             Err(PlanError::PlanCheck)
         }
     }
 
-    fn well_formed(&self) -> bool {
+    /// [`Trajectory::verify`]'s checks, in one pass over the segments, dividing only where the
+    /// acceleration crosses zero inside a segment.
+    fn checks(&self, lim: &OtgLimits) -> bool {
         let n = self.n;
-        if n > MAX_SEGS || self.nbrake > n || !(self.dir == 1.0 || self.dir == -1.0) {
-            return false;
-        }
-        let mut time = 0.0;
-        let mut finite = true;
-        for i in 0..n {
-            let t = self.dur[i];
-            if !(t > 0.0 && t.is_finite()) || self.t0[i] != time {
-                return false;
-            }
-            time += t;
-            finite &= (self.x[i] + self.v[i] + self.a[i] + self.jerk[i]).is_finite();
-        }
-        let e = &self.end;
-        finite
-            && self.t0[n] == time
-            && time.is_finite()
-            && (self.p0 + e.pos + e.vel + e.acc + e.jerk).is_finite()
-    }
-
-    /// Limits, continuity and the end state (see [`Trajectory::verify`]), in one pass over
-    /// the segments; `well_formed` first.
-    fn within(&self, lim: &OtgLimits) -> bool {
-        let n = self.n.min(MAX_SEGS);
         let (e, dir) = (&self.end, self.dir);
-        if e.acc != 0.0 || e.jerk != 0.0 {
+        if n > MAX_SEGS
+            || self.nbrake > n
+            || !(dir == 1.0 || dir == -1.0)
+            || e.acc != 0.0
+            || e.jerk != 0.0
+            || !(self.p0 + e.pos + e.vel).is_finite()
+        {
             return false;
         }
         // The start state (world) and the envelope it leaves no choice about.
@@ -1307,35 +1296,41 @@ impl Trajectory {
         let vtol = CHECK_SLACK * vhi.max(-vlo) + f64::MIN_POSITIVE;
         let atol = CHECK_SLACK * ahi.max(-alo) + f64::MIN_POSITIVE;
         let jmax = lim.jmax * (1.0 + CHECK_SLACK);
-        let v_ok = |v: f64| v >= vlo - vtol && v <= vhi + vtol;
-        let a_ok = |a: f64| a >= alo - atol && a <= ahi + atol;
+        // The same bounds, widened by the slack, in the trajectory's frame (`dir * world`).
+        let frame = |lo: f64, hi: f64| if dir > 0.0 { (lo, hi) } else { (-hi, -lo) };
+        let (fvlo, fvhi) = frame(vlo - vtol, vhi + vtol);
+        let (falo, fahi) = frame(alo - atol, ahi + atol);
+        let v_ok = |v: f64| v >= fvlo && v <= fvhi;
+        let a_ok = |a: f64| a >= falo && a <= fahi;
         // Each segment's displacement and each running sum round once at their own size.
         let mut travel = self.p0.abs().max(e.pos.abs());
         let mut dx: f64 = 0.0;
-        let mut ok = v_ok(e.vel);
-        for i in 0..n {
+        let mut time = 0.0;
+        let mut ok = v_ok(dir * e.vel);
+        for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
-            let x1 = x + t * (v + t * (0.5 * a + t * j / 6.0));
-            let v1 = v + t * (a + 0.5 * j * t);
-            let a1 = a + j * t;
-            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() / 6.0));
-            if j != 0.0 {
-                let tau = -a / j;
-                if tau > 0.0 && tau < t {
-                    ok &= v_ok(dir * (v + tau * (a + 0.5 * j * tau)));
-                }
+            // (a duration that is not finite leaves `time` infinite or NaN)
+            ok &= t > 0.0 && self.t0[i] == time && (x + v + a + j).is_finite();
+            time += t;
+            let (x1, v1, a1) = advance(x, v, a, j, t);
+            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() * SIXTH));
+            if a * a1 < 0.0 {
+                // The acceleration crosses zero inside the segment (at `-a/j`): a velocity
+                // extremum, `v - a²/2j`.
+                ok &= v_ok(v - a * a / (2.0 * j));
             }
             let next = if i + 1 < n {
-                (self.p0 + dir * self.x[i + 1], self.v[i + 1], self.a[i + 1])
+                ((x1 - self.x[i + 1]).abs(), self.v[i + 1], self.a[i + 1])
             } else {
-                (e.pos, dir * e.vel, 0.0)
+                // (the end state is in the world frame: compared there)
+                ((self.p0 + dir * x1 - e.pos).abs(), dir * e.vel, 0.0)
             };
-            dx = dx.max((self.p0 + dir * x1 - next.0).abs());
+            dx = dx.max(next.0);
             ok &= j.abs() <= jmax
-                && a_ok(dir * a)
-                && a_ok(dir * a1)
-                && v_ok(dir * v)
-                && v_ok(dir * v1)
+                && a_ok(a)
+                && a_ok(a1)
+                && v_ok(v)
+                && v_ok(v1)
                 && (v1 - next.1).abs() <= vtol
                 && (a1 - next.2).abs() <= atol;
         }
@@ -1343,7 +1338,10 @@ impl Trajectory {
             // Nothing to run: the end is the start.
             dx = (e.pos - self.p0).abs();
         }
-        ok && dx <= CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE
+        ok && self.t0[n.min(MAX_SEGS)] == time
+            && time.is_finite()
+            && travel.is_finite()
+            && dx <= CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE
     }
 }
 
