@@ -422,6 +422,93 @@ struct Step {
     j6: [f64; 7],
 }
 
+/// What [`Step::offer`] made of a candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Offer {
+    /// Kept (valid and the shortest so far), or refused for good (not shorter, or beyond a
+    /// limit).
+    Done,
+    /// Valid but off the target by more than rounding: a root that needs polishing.
+    Missed,
+}
+
+/// Tolerance of a candidate's end position: ulps of the travel (the rounding of each term and
+/// each running sum of the integration, summed)...
+const OFFER_ULPS: f64 = 32.0;
+/// ... and for a root not yet polished on the exact integration (the card's check allows 16
+/// ulps of its own travel).
+const ROUGH_ULPS: f64 = 4.0;
+
+/// 1/3 (rounded).
+const THIRD: f64 = 1.0 / 3.0;
+
+/// Rounding bound of [`Quartic::eval`], relative to the sum of the magnitudes of its terms
+/// (Horner's own `8u`, and a few roundings in each coefficient).
+const QUARTIC_ERR: f64 = 32.0 * f64::EPSILON;
+
+/// The polynomial `c[0] + c[1] x + ... + c[4] x⁴`, with `m[i]` the sum of the magnitudes of
+/// the terms that make up `c[i]` (which its rounding is relative to).
+#[derive(Clone, Copy, Debug)]
+struct Quartic {
+    c: [f64; 5],
+    m: [f64; 5],
+}
+
+impl Quartic {
+    /// Value, derivative and a bound on the value's rounding error at `x` (Horner).
+    fn eval(&self, x: f64) -> (f64, f64, f64) {
+        let (c, m, ax) = (&self.c, &self.m, x.abs());
+        let p = (((c[4] * x + c[3]) * x + c[2]) * x + c[1]) * x + c[0];
+        let dp = ((4.0 * c[4] * x + 3.0 * c[3]) * x + 2.0 * c[2]) * x + c[1];
+        let e = (((m[4] * ax + m[3]) * ax + m[2]) * ax + m[1]) * ax + m[0];
+        (p, dp, QUARTIC_ERR * e)
+    }
+
+    /// The root in `[lo, hi]` where the polynomial changes sign (from the sign of `flo` to that
+    /// of `fhi`): Newton safeguarded by bisection (as [`bracketed`]), until the value is
+    /// within its rounding bound or the step is below 2 ulps.
+    fn root(&self, mut lo: f64, mut hi: f64, flo: f64, fhi: f64) -> f64 {
+        let rising = flo < 0.0;
+        let mut x = lo - flo * ((hi - lo) / (fhi - flo));
+        if !(x > lo && x < hi) {
+            x = mid(lo, hi);
+        }
+        let (mut dx, mut dx_old) = (hi - lo, hi - lo);
+        for _ in 0..200 {
+            let (p, dp, err) = self.eval(x);
+            if p.abs() <= err || p.is_nan() {
+                break;
+            }
+            if (p < 0.0) == rising {
+                lo = x;
+            } else {
+                hi = x;
+            }
+            let step = p / dp;
+            let newton = x - step;
+            let nx = if newton > lo && newton < hi && (2.0 * step).abs() <= dx_old.abs() {
+                dx_old = dx;
+                dx = step;
+                newton
+            } else {
+                let m = mid(lo, hi);
+                if !(m > lo && m < hi) {
+                    break;
+                }
+                dx_old = dx;
+                dx = x - m;
+                m
+            };
+            let done = (nx - x).abs() <= 2.0 * f64::EPSILON * x.abs();
+            x = nx;
+            if done {
+                break;
+            }
+        }
+        x
+    }
+}
+
 /// Relative tolerance of a candidate on the velocity limits (Ruckig: 1e-12 absolute).
 const CAND_V_SLACK: f64 = 1e-12;
 
@@ -461,19 +548,26 @@ impl Step {
 
     /// Keeps `p` if it is valid and shorter than `best`: every duration finite and `>= 0`, the
     /// accelerations within the limits, the velocity within the limits from segment 3 on (at
-    /// the joints and where the acceleration crosses zero), on the target.
-    fn offer(&self, p: &Prof, best: &mut Option<Best>) {
+    /// the joints and where the acceleration crosses zero), on the target. `Missed` when it
+    /// is all that but off the target (a root to polish).
+    fn offer(&self, p: &Prof, best: &mut Option<Best>) -> Offer {
+        self.offer_within(p, OFFER_ULPS, best)
+    }
+
+    /// [`Step::offer`] with the tolerance on the end position in ulps of the travel (the sum
+    /// of the magnitudes of every term of the integration).
+    fn offer_within(&self, p: &Prof, ulps: f64, best: &mut Option<Best>) -> Offer {
         let l = &self.l;
         let mut total = 0.0;
         for &t in &p.t {
             if !(t >= 0.0 && t.is_finite()) {
-                return;
+                return Offer::Done;
             }
             total += t;
         }
         if let Some(b) = best {
             if total >= b.total {
-                return;
+                return Offer::Done;
             }
         }
         let vtol = CAND_V_SLACK * self.vscale;
@@ -487,12 +581,12 @@ impl Step {
             }
             let (jh, j6) = (self.jh[i], self.j6[i]);
             if ae > l.amax + atol || ae < l.amin - atol {
-                return;
+                return Offer::Done;
             }
             if i >= 2 && j != 0.0 && a * ae < 0.0 {
                 let vx = v - a * a / (2.0 * j);
                 if vx > l.vmax + vtol || vx < l.vmin - vtol {
-                    return;
+                    return Offer::Done;
                 }
             }
             x += t * (v + t * (0.5 * a + t * j6));
@@ -500,19 +594,20 @@ impl Step {
             v += t * (a + t * jh);
             a = ae;
             if i >= 2 && (v > l.vmax + vtol || v < l.vmin - vtol) {
-                return;
+                return Offer::Done;
             }
         }
         // (the rounding of each term and of each running sum, summed)
-        let ptol = 32.0 * f64::EPSILON * xm;
+        let ptol = ulps * f64::EPSILON * xm;
         if (x - self.pd).abs() > ptol || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale {
-            return;
+            return Offer::Missed;
         }
         *best = Some(Best {
             prof: *p,
             s: self.s,
             total,
         });
+        Offer::Done
     }
 
     /// Profile Vel: up to `vmax` (ramp `+j`, hold `amax`, ramp `-j`), cruise, down to `vf`.
@@ -580,10 +675,29 @@ impl Step {
                 acc: [a1, a1, a2, a2, a2, a2, 0.0],
             }
         };
-        let c = j * (self.v0 + self.vf) - 0.5 * a0 * a0;
+        let (v0, vf, pd) = (self.v0, self.vf, self.pd);
+        let c = j * (v0 + vf) - 0.5 * a0 * a0;
         let slope = |u: f64| {
             let w = u * u;
             (3.0 * w + 4.0 * c + d * (d / w)) / (4.0 * j * j)
+        };
+        // 4 j² u r(u) = u⁴ + 4c u² + 4 (a0³/3 - a0 j v0 - j² pd) u - d².
+        let dm = j * (v0.abs() + vf.abs()) + 0.5 * a0 * a0;
+        let poly = Quartic {
+            c: [
+                -d * d,
+                4.0 * (a0 * a0 * a0 * THIRD - a0 * j * v0 - j * j * pd),
+                4.0 * c,
+                0.0,
+                1.0,
+            ],
+            m: [
+                dm * dm,
+                4.0 * (a0.abs() * (a0 * a0 * THIRD + j * v0.abs()) + j * j * pd.abs()),
+                4.0 * dm,
+                0.0,
+                1.0,
+            ],
         };
         // Critical points: u² = (-2c ± √(4c² - 3d²)) / 3.
         let mut cuts = [f64::NAN; 2];
@@ -592,7 +706,7 @@ impl Step {
             let w1 = (-2.0 * c + disc.sqrt()) / 3.0;
             cuts = [w1.sqrt(), (d * d / (3.0 * w1)).sqrt()];
         }
-        self.pieces(lo, hi, &mut cuts, &prof, &slope, best);
+        self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
 
     /// Profile Acc0: `+j` to `amax`, hold, `-j` to `a2`, `+j` to 0.
@@ -618,14 +732,41 @@ impl Step {
             ],
             acc: [l.amax, l.amax, a2, a2, a2, a2, 0.0],
         };
-        let vf = self.vf;
-        let slope =
-            |x: f64| (x - l.amax) * (2.0 * x * x - l.amax * x + 2.0 * j * vf) / (l.amax * j * j);
+        let (v0, vf, pd, am) = (self.v0, self.vf, self.pd, l.amax);
+        let slope = |x: f64| (x - am) * (2.0 * x * x - am * x + 2.0 * j * vf) / (am * j * j);
+        // 2 j² amax r(a2) = a2⁴ - 2 amax a2³ + (amax² + 2 j vf) a2² - 4 amax j vf a2 + k0.
+        let b = am - a0;
+        let k0 = a0 * a0 * (a0 * (2.0 * THIRD * am - 0.25 * a0) - 0.5 * am * am)
+            + j * v0 * b * b
+            + am * am * j * vf
+            - 2.0 * am * j * j * pd
+            + j * j * (vf - v0) * (vf + v0);
+        let m0 = a0 * a0 * (a0.abs() * (2.0 * THIRD * am + 0.25 * a0.abs()) + 0.5 * am * am)
+            + j * v0.abs() * b * b
+            + am * am * j * vf.abs()
+            + 2.0 * am * j * j * pd.abs()
+            + j * j * (vf.abs() + v0.abs()) * (vf.abs() + v0.abs());
+        let poly = Quartic {
+            c: [
+                k0,
+                -4.0 * am * j * vf,
+                am * am + 2.0 * j * vf,
+                -2.0 * am,
+                1.0,
+            ],
+            m: [
+                m0,
+                4.0 * am * j * vf.abs(),
+                am * am + 2.0 * j * vf.abs(),
+                2.0 * am,
+                1.0,
+            ],
+        };
         let mut cuts = [f64::NAN; 2];
         if vf < 0.0 {
-            cuts[0] = 4.0 * j * vf / (l.amax + (l.amax * l.amax - 16.0 * j * vf).sqrt());
+            cuts[0] = 4.0 * j * vf / (am + (am * am - 16.0 * j * vf).sqrt());
         }
-        self.pieces(lo, hi, &mut cuts, &prof, &slope, best);
+        self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
 
     /// Profile Acc1: `+j` to `a1`, `-j` to `amin`, hold, `+j` to 0.
@@ -649,26 +790,43 @@ impl Step {
             acc: [a1, a1, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
         let slope = |x: f64| -(x - l.amin) * (2.0 * x * x - l.amin * x + e) / (l.amin * j * j);
-        let disc = l.amin * l.amin - 8.0 * e;
+        // -2 j² amin r(a1) = a1⁴ - 2 amin a1³ + (amin² - e') a1² + 2 amin e' a1 + k0 with
+        // e' = a0² - 2 j v0 (= -e).
+        let (v0, vf, pd, an) = (self.v0, self.vf, self.pd, l.amin);
+        let em = a0 * a0 + 2.0 * j * v0.abs();
+        let k0 = a0 * a0 * (a0 * (0.25 * a0 - 2.0 * THIRD * an) - 0.5 * an * an)
+            + j * v0 * (an * an + 2.0 * a0 * an - a0 * a0)
+            + an * an * j * vf
+            + 2.0 * an * j * j * pd
+            + j * j * (v0 - vf) * (v0 + vf);
+        let m0 = a0 * a0 * (a0.abs() * (0.25 * a0.abs() - 2.0 * THIRD * an) + 0.5 * an * an)
+            + j * v0.abs() * (an * an - 2.0 * a0.abs() * an + a0 * a0)
+            + an * an * j * vf.abs()
+            - 2.0 * an * j * j * pd.abs()
+            + j * j * (vf.abs() + v0.abs()) * (vf.abs() + v0.abs());
+        let poly = Quartic {
+            c: [k0, -2.0 * an * e, an * an + e, -2.0 * an, 1.0],
+            m: [m0, -2.0 * an * em, an * an + em, -2.0 * an, 1.0],
+        };
+        let disc = an * an - 8.0 * e;
         let mut cuts = [f64::NAN; 2];
         if disc >= 0.0 {
-            let r1 = (l.amin - disc.sqrt()) / 4.0;
+            let r1 = (an - disc.sqrt()) / 4.0;
             cuts = [r1, if r1 != 0.0 { e / (2.0 * r1) } else { 0.0 }];
         }
         // a1 outside (-s, s): up to two intervals.
         if s == 0.0 {
             if lo <= l.amax {
-                self.pieces(lo, l.amax, &mut cuts, &prof, &slope, best);
+                self.pieces(lo, l.amax, cuts, &poly, &prof, &slope, best);
             }
             return;
         }
         if lo <= -s {
-            let mut c = cuts;
-            self.pieces(lo, (-s).min(l.amax), &mut c, &prof, &slope, best);
+            self.pieces(lo, (-s).min(l.amax), cuts, &poly, &prof, &slope, best);
         }
         let lo2 = lo.max(s);
         if lo2 <= l.amax {
-            self.pieces(lo2, l.amax, &mut cuts, &prof, &slope, best);
+            self.pieces(lo2, l.amax, cuts, &poly, &prof, &slope, best);
         }
     }
 
@@ -714,28 +872,40 @@ impl Step {
         }
         for h in roots {
             if h >= 0.0 {
+                // Newton on the exact residual while the root is off the target (by more than
+                // rounding, then by more than the usual tolerance).
                 let mut x = lo + h;
+                let mut missed = true;
                 for _ in 0..3 {
-                    let r = self.residual(&prof(x));
-                    let nx = (x - r / slope(x)).max(lo);
+                    let p = prof(x);
+                    if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+                        missed = false;
+                        break;
+                    }
+                    let nx = (x - self.residual(&p) / slope(x)).max(lo);
                     if !nx.is_finite() || nx == x {
                         break;
                     }
                     x = nx;
                 }
-                self.offer(&prof(x), best);
+                if missed {
+                    self.offer(&prof(x), best);
+                }
             }
         }
     }
 
     /// Splits `[lo, hi]` at the critical points `cuts` into pieces on which the residual is
-    /// monotone and solves each piece whose ends bracket zero (or whose interior extremum
-    /// touches it within rounding).
+    /// monotone and solves each piece whose ends bracket zero. `poly` is a positive multiple of
+    /// the residual on the domain, with its rounding bound: where its value exceeds the bound
+    /// it has the residual's sign, elsewhere the exact residual decides.
+    #[allow(clippy::too_many_arguments)]
     fn pieces<P, S>(
         &self,
         lo: f64,
         hi: f64,
-        cuts: &mut [f64; 2],
+        cuts: [f64; 2],
+        poly: &Quartic,
         prof: &P,
         slope: &S,
         best: &mut Option<Best>,
@@ -743,32 +913,77 @@ impl Step {
         P: Fn(f64) -> Prof,
         S: Fn(f64) -> f64,
     {
-        if cuts[0] > cuts[1] {
-            cuts.swap(0, 1);
-        }
+        let cuts = if cuts[0] > cuts[1] {
+            [cuts[1], cuts[0]]
+        } else {
+            cuts
+        };
         let mut xs = [lo, hi, hi, hi];
         let mut n = 1;
-        for &c in cuts.iter() {
+        for c in cuts {
             if c > lo && c < hi {
                 xs[n] = c;
                 n += 1;
             }
         }
         xs[n] = hi;
-        let mut prev = (xs[0], self.residual(&prof(xs[0])));
+        let sign_at = |x: f64| {
+            let (p, _, err) = poly.eval(x);
+            if p.abs() > err {
+                p
+            } else {
+                self.residual(&prof(x))
+            }
+        };
+        let mut prev = (xs[0], sign_at(xs[0]));
         if prev.1 == 0.0 {
             self.offer(&prof(prev.0), best);
         }
         for &x in &xs[1..=n] {
-            let fx = self.residual(&prof(x));
+            let fx = sign_at(x);
             let (x0, f0) = prev;
             if fx == 0.0 {
                 self.offer(&prof(x), best);
             } else if f0 != 0.0 && (f0 < 0.0) != (fx < 0.0) {
-                let root = bracketed(|y| self.residual(&prof(y)), slope, x0, x, f0, fx);
-                self.offer(&prof(root), best);
+                self.root(x0, x, f0, fx, poly, prof, slope, best);
             }
             prev = (x, fx);
+        }
+    }
+
+    /// The root in `[lo, hi]`, where the residual changes sign (from `flo` to `fhi`, values or
+    /// just signs), offered: the polynomial's root first; if that is off the target, one
+    /// Newton step on the exact residual; if still off, the exact residual's own root.
+    #[allow(clippy::too_many_arguments)]
+    fn root<P, S>(
+        &self,
+        lo: f64,
+        hi: f64,
+        flo: f64,
+        fhi: f64,
+        poly: &Quartic,
+        prof: &P,
+        slope: &S,
+        best: &mut Option<Best>,
+    ) where
+        P: Fn(f64) -> Prof,
+        S: Fn(f64) -> f64,
+    {
+        let x = poly.root(lo, hi, flo, fhi);
+        let p = prof(x);
+        if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+            return;
+        }
+        let x = (x - self.residual(&p) / slope(x)).clamp(lo, hi);
+        let p = prof(x);
+        if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+            return;
+        }
+        let res = |y: f64| self.residual(&prof(y));
+        let (rlo, rhi) = (res(lo), res(hi));
+        if (rlo < 0.0) != (rhi < 0.0) {
+            let x = bracketed(res, slope, lo, hi, rlo, rhi);
+            self.offer(&prof(x), best);
         }
     }
 
