@@ -416,10 +416,10 @@ struct Step {
     vscale: f64,
     /// Frame sign (+1 up, -1 down).
     s: f64,
-    /// `1 / j`, and each segment's jerk over 2 and over 6.
+    /// `1 / j`, `j / 2` and `j / 6`.
     ij: f64,
-    jh: [f64; 7],
-    j6: [f64; 7],
+    jh: f64,
+    j6: f64,
 }
 
 /// What [`Step::offer`] made of a candidate.
@@ -530,17 +530,17 @@ impl Step {
             vscale,
             s,
             ij: 1.0 / l.j,
-            jh: UDDU.map(|u| u * l.j * 0.5),
-            j6: UDDU.map(|u| u * l.j / 6.0),
+            jh: 0.5 * l.j,
+            j6: l.j * SIXTH,
         }
     }
 
     /// End position minus `pd`.
     fn residual(&self, p: &Prof) -> f64 {
         let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
-        for (((&t, &ae), jh), j6) in p.t.iter().zip(&p.acc).zip(self.jh).zip(self.j6) {
-            x += t * (v + t * (0.5 * a + t * j6));
-            v += t * (a + t * jh);
+        for ((&t, &ae), u) in p.t.iter().zip(&p.acc).zip(UDDU) {
+            x += t * (v + t * (0.5 * a + t * (u * self.j6)));
+            v += t * (a + t * (u * self.jh));
             a = ae;
         }
         x - self.pd
@@ -559,43 +559,43 @@ impl Step {
     fn offer_within(&self, p: &Prof, ulps: f64, best: &mut Option<Best>) -> Offer {
         let l = &self.l;
         let mut total = 0.0;
+        let mut bad = false;
         for &t in &p.t {
-            if !(t >= 0.0 && t.is_finite()) {
-                return Offer::Done;
-            }
+            bad |= !(t >= 0.0);
             total += t;
         }
-        if let Some(b) = best {
-            if total >= b.total {
-                return Offer::Done;
-            }
+        // (an infinite or NaN duration leaves the total so)
+        if bad || !total.is_finite() || best.is_some_and(|b| total >= b.total) {
+            return Offer::Done;
         }
-        let vtol = CAND_V_SLACK * self.vscale;
+        // Without a branch per segment: the segments of zero duration (which differ from one
+        // candidate to the next) change nothing and are checked for nothing.
+        let (vhi, vlo) = (
+            l.vmax + CAND_V_SLACK * self.vscale,
+            l.vmin - CAND_V_SLACK * self.vscale,
+        );
         let atol = CAND_V_SLACK * l.amax.max(-l.amin);
-        let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
+        let (ahi, alo) = (l.amax + atol, l.amin - atol);
+        let ij2 = 0.5 * self.ij;
+        let (mut x, mut v, mut a): (f64, f64, f64) = (0.0, self.v0, self.a0);
         let mut xm: f64 = self.pd.abs();
         for (i, ((&t, &ae), u)) in p.t.iter().zip(&p.acc).zip(UDDU).enumerate() {
-            let j = u * l.j;
-            if t <= 0.0 {
-                continue;
-            }
-            let (jh, j6) = (self.jh[i], self.j6[i]);
-            if ae > l.amax + atol || ae < l.amin - atol {
-                return Offer::Done;
-            }
-            if i >= 2 && j != 0.0 && a * ae < 0.0 {
-                let vx = v - a * a / (2.0 * j);
-                if vx > l.vmax + vtol || vx < l.vmin - vtol {
-                    return Offer::Done;
-                }
-            }
+            let on = t > 0.0;
+            bad |= on && (ae > ahi || ae < alo);
+            // Where the acceleration crosses zero inside the segment, the velocity peaks at
+            // `v - a²/2j`.
+            let vx = v - u * a * a * ij2;
+            bad |= i >= 2 && on && u != 0.0 && a * ae < 0.0 && (vx > vhi || vx < vlo);
+            let j6 = u * self.j6;
             x += t * (v + t * (0.5 * a + t * j6));
-            xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
-            v += t * (a + t * jh);
+            let dm = x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
+            xm += if on { dm } else { 0.0 };
+            v += t * (a + t * (u * self.jh));
             a = ae;
-            if i >= 2 && (v > l.vmax + vtol || v < l.vmin - vtol) {
-                return Offer::Done;
-            }
+            bad |= i >= 2 && on && (v > vhi || v < vlo);
+        }
+        if bad {
+            return Offer::Done;
         }
         // (the rounding of each term and of each running sum, summed)
         let ptol = ulps * f64::EPSILON * xm;
