@@ -214,6 +214,33 @@ fn advance(x: f64, v: f64, a: f64, j: f64, t: f64) -> (f64, f64, f64) {
     )
 }
 
+/// A multiplication by `2^e`: by the power itself when that is a normal float, else by
+/// [`ldexp`] (the same result).
+#[derive(Clone, Copy, Debug)]
+struct Pow2 {
+    e: i32,
+    f: f64,
+}
+
+impl Pow2 {
+    fn new(e: i32) -> Pow2 {
+        let f = if (-1000..=1000).contains(&e) {
+            f64::from_bits(((e + 1023) as u64) << 52)
+        } else {
+            f64::NAN
+        };
+        Pow2 { e, f }
+    }
+
+    fn apply(&self, x: f64) -> f64 {
+        if self.f.is_nan() {
+            ldexp(x, self.e)
+        } else {
+            x * self.f
+        }
+    }
+}
+
 /// Powers of two that take the caller's units to the planner's: time `2^k`, position `2^m`
 /// (so velocity `2^(m-k)`, acceleration `2^(m-2k)`, jerk `2^(m-3k)`).
 #[derive(Clone, Copy, Debug)]
@@ -1105,6 +1132,7 @@ where
 
 impl Trajectory {
     /// An empty trajectory at `p0` in the world frame.
+    #[inline(always)]
     fn empty(p0: f64, end: State) -> Trajectory {
         Trajectory {
             p0,
@@ -1125,6 +1153,7 @@ impl Trajectory {
     /// units, checked against `lim` ([`Trajectory::verify`]); `end` with `pos = NaN` takes the
     /// integrated end position.
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn build(
         p0: f64,
         v0: f64,
@@ -1132,44 +1161,65 @@ impl Trajectory {
         segs: &Segs,
         nbrake: usize,
         u: &Units,
-        mut end: State,
+        end: State,
         lim: &OtgLimits,
     ) -> Result<Trajectory, PlanError> {
-        let mut tr = Trajectory::empty(p0, end);
+        // (filled in place: the trajectory is 552 bytes, a copy into the result costs)
+        let mut out = Ok(Trajectory::empty(p0, end));
+        if let Ok(tr) = &mut out {
+            if let Err(e) = tr
+                .fill(v0, a0, segs, nbrake, u)
+                .and_then(|()| tr.verify(lim))
+            {
+                out = Err(e);
+            }
+        }
+        out
+    }
+
+    /// [`Trajectory::build`]'s segments, on an empty trajectory.
+    fn fill(
+        &mut self,
+        v0: f64,
+        a0: f64,
+        segs: &Segs,
+        nbrake: usize,
+        u: &Units,
+    ) -> Result<(), PlanError> {
+        let (ft, fj, fa) = (Pow2::new(u.k), Pow2::new(u.jerk()), Pow2::new(u.acc()));
         let (mut x, mut v, mut a) = (0.0, v0, a0);
         let mut time = 0.0;
+        let mut k = 0;
         for i in 0..segs.n.min(MAX_SEGS) {
-            let t = ldexp(segs.t[i], u.k);
+            let t = ft.apply(segs.t[i]);
             if t.is_nan() || t <= 0.0 {
                 continue;
             }
-            let j = ldexp(segs.j[i], u.jerk());
-            let k = tr.n;
-            tr.dur[k] = t;
-            tr.jerk[k] = j;
-            tr.x[k] = x;
-            tr.v[k] = v;
-            tr.a[k] = a;
-            tr.t0[k] = time;
+            let j = fj.apply(segs.j[i]);
+            self.dur[k] = t;
+            self.jerk[k] = j;
+            self.x[k] = x;
+            self.v[k] = v;
+            self.a[k] = a;
+            self.t0[k] = time;
             if i < nbrake {
-                tr.nbrake += 1;
+                self.nbrake += 1;
             }
-            tr.n += 1;
+            k += 1;
             (x, v, _) = advance(x, v, a, j, t);
-            a = ldexp(segs.acc[i], u.acc());
+            a = fa.apply(segs.acc[i]);
             time += t;
         }
-        tr.t0[tr.n] = time;
+        self.n = k;
+        self.t0[k] = time;
+        let end = &mut self.end;
         if end.pos.is_nan() {
-            end.pos = p0 + x;
+            end.pos = self.p0 + x;
         }
-        tr.end = end;
-        if !(time + x + v + a + end.pos + end.vel).is_finite() {
-            return Err(PlanError::NonFinite);
-        }
-        match tr.verify(lim) {
-            Ok(()) => Ok(tr),
-            Err(e) => Err(e),
+        if (time + x + v + a + end.pos + end.vel).is_finite() {
+            Ok(())
+        } else {
+            Err(PlanError::NonFinite)
         }
     }
 
