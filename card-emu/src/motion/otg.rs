@@ -588,7 +588,7 @@ impl Step {
         let mut total = 0.0;
         let mut bad = false;
         for &t in &p.t {
-            bad |= !(t >= 0.0);
+            bad |= t.is_nan() || t < 0.0;
             total += t;
         }
         // (an infinite or NaN duration leaves the total so)
