@@ -1572,18 +1572,20 @@ impl Trajectory {
         let mut dx: f64 = 0.0;
         let mut time = 0.0;
         let mut ok = v_ok(dir * e.vel);
+        // (a stored state or jerk that is NaN or infinite leaves `travel` so, a duration
+        // `time`: both are checked at the end)
         for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
-            // (a duration that is not finite leaves `time` infinite or NaN)
-            ok &= t > 0.0 && self.t0[i] == time && (x + v + a + j).is_finite();
+            ok &= t > 0.0 && self.t0[i] == time;
             time += t;
             let (x1, v1, a1) = advance(x, v, a, j, t);
             travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() * SIXTH));
-            if a * a1 < 0.0 {
-                // The acceleration crosses zero inside the segment (at `-a/j`): a velocity
-                // extremum, `v - a²/2j`.
-                ok &= v_ok(v - a * a / (2.0 * j));
-            }
+            // Where the acceleration crosses zero inside the segment (at `-a/j`) the velocity
+            // has an extremum, `v - a²/2j`: a minimum for `j > 0`, a maximum for `j < 0`. It
+            // is within the limit when its distance from `v` is at most `v`'s own room to that
+            // limit: `a² <= 2 |j| room` (no division).
+            let room = if j > 0.0 { v - fvlo } else { fvhi - v };
+            ok &= a * a1 >= 0.0 || a * a <= 2.0 * j.abs() * room;
             let next = if i + 1 < n {
                 ((x1 - self.x[i + 1]).abs(), self.v[i + 1], self.a[i + 1])
             } else {
