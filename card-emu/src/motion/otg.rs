@@ -614,7 +614,6 @@ impl Step {
         let (ahi, alo) = (l.amax + atol, l.amin - atol);
         let ij2 = 0.5 * self.ij;
         let (mut x, mut v, mut a): (f64, f64, f64) = (0.0, self.v0, self.a0);
-        let mut xm: f64 = self.pd.abs();
         for (i, ((&t, &ae), u)) in p.t.iter().zip(&p.acc).zip(UDDU).enumerate() {
             let on = t > 0.0;
             bad |= on && (ae > ahi || ae < alo);
@@ -622,10 +621,7 @@ impl Step {
             // `v - a²/2j`.
             let vx = v - u * a * a * ij2;
             bad |= i >= 2 && on && u != 0.0 && a * ae < 0.0 && (vx > vhi || vx < vlo);
-            let j6 = u * self.j6;
-            x += t * (v + t * (0.5 * a + t * j6));
-            let dm = x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
-            xm += if on { dm } else { 0.0 };
+            x += t * (v + t * (0.5 * a + t * (u * self.j6)));
             v += t * (a + t * (u * self.jh));
             a = ae;
             bad |= i >= 2 && on && (v > vhi || v < vlo);
@@ -633,9 +629,13 @@ impl Step {
         if bad {
             return Offer::Done;
         }
-        // (the rounding of each term and of each running sum, summed)
-        let ptol = ulps * f64::EPSILON * xm;
-        if (x - self.pd).abs() > ptol || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale {
+        // On the target within `ulps` of the travel, which is at least `|pd|`: the travel
+        // itself (another pass) only when that does not settle it.
+        let miss = (x - self.pd).abs();
+        let tol = ulps * f64::EPSILON;
+        if (!(miss <= tol * self.pd.abs()) && !(miss <= tol * self.travel(p)))
+            || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale
+        {
             return Offer::Missed;
         }
         *best = Some(Best {
@@ -644,6 +644,23 @@ impl Step {
             total,
         });
         Offer::Done
+    }
+
+    /// The rounding scale of `p`'s integration: `|pd|` plus the magnitudes of each term and of
+    /// each running sum of the end position.
+    fn travel(&self, p: &Prof) -> f64 {
+        let (mut x, mut v, mut a): (f64, f64, f64) = (0.0, self.v0, self.a0);
+        let mut xm = self.pd.abs();
+        for ((&t, &ae), u) in p.t.iter().zip(&p.acc).zip(UDDU) {
+            if t > 0.0 {
+                let j6 = u * self.j6;
+                x += t * (v + t * (0.5 * a + t * j6));
+                xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
+                v += t * (a + t * (u * self.jh));
+            }
+            a = ae;
+        }
+        xm
     }
 
     /// Profile Vel: up to `vmax` (ramp `+j`, hold `amax`, ramp `-j`), cruise, down to `vf`.
