@@ -1591,19 +1591,18 @@ impl Trajectory {
         let (falo, fahi) = frame(alo - atol, ahi + atol);
         let v_ok = |v: f64| v >= fvlo && v <= fvhi;
         let a_ok = |a: f64| a >= falo && a <= fahi;
-        // Each segment's displacement and each running sum round once at their own size.
-        let mut travel = self.p0.abs().max(e.pos.abs());
         let mut dx: f64 = 0.0;
         let mut time = 0.0;
         let mut ok = v_ok(dir * e.vel);
-        // (a stored state or jerk that is NaN or infinite leaves `travel` so, a duration
-        // `time`: both are checked at the end)
+        // (a stored state or jerk that is NaN or infinite leaves its segment's end position
+        // so, and `ends` with it; a duration leaves `time` so: both are checked at the end)
+        let mut ends = 0.0;
         for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
             ok &= t > 0.0 && self.t0[i] == time;
             time += t;
             let (x1, v1, a1) = advance(x, v, a, j, t);
-            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() * SIXTH));
+            ends += x1;
             // Where the acceleration crosses zero inside the segment (at `-a/j`) the velocity
             // has an extremum, `v - a²/2j`: a minimum for `j > 0`, a maximum for `j < 0`. It
             // is within the limit when its distance from `v` is at most `v`'s own room to that
@@ -1629,10 +1628,27 @@ impl Trajectory {
             // Nothing to run: the end is the start.
             dx = (e.pos - self.p0).abs();
         }
+        // The joints within 16 ulps of the travel, which is at least the larger of the end
+        // positions: the travel itself (another pass) only when that does not settle it.
+        let tol = CHECK_POS_ULPS * f64::EPSILON;
         ok && self.t0[n.min(MAX_SEGS)] == time
             && time.is_finite()
-            && travel.is_finite()
-            && dx <= CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE
+            && ends.is_finite()
+            && (dx <= tol * self.p0.abs().max(e.pos.abs()) + f64::MIN_POSITIVE
+                || dx <= tol * self.travel() + f64::MIN_POSITIVE)
+    }
+
+    /// The rounding scale of the positions: the larger of the end positions (world), plus
+    /// each segment's end position and the magnitudes of the terms of its displacement (each
+    /// rounds once at its own size).
+    fn travel(&self) -> f64 {
+        let mut travel = self.p0.abs().max(self.end.pos.abs());
+        for i in 0..self.n.min(MAX_SEGS) {
+            let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
+            let (x1, _, _) = advance(x, v, a, j, t);
+            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() * SIXTH));
+        }
+        travel
     }
 }
 
