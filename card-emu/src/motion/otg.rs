@@ -633,9 +633,8 @@ impl Step {
         // itself (another pass) only when that does not settle it.
         let miss = (x - self.pd).abs();
         let tol = ulps * f64::EPSILON;
-        if (!(miss <= tol * self.pd.abs()) && !(miss <= tol * self.travel(p)))
-            || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale
-        {
+        let on_target = miss <= tol * self.pd.abs() || miss <= tol * self.travel(p);
+        if !on_target || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale {
             return Offer::Missed;
         }
         *best = Some(Best {
