@@ -5,8 +5,11 @@
 //! `cargo bench -p card-emu --bench otg`
 //!
 //! Criterion's figures are per 1,000 plans; the line printed first gives ns per plan of each
-//! and their ratio, from a plain timed loop over the same set.
-use card_emu::motion::otg::Trajectory;
+//! and their ratio, from plain timed loops over the same set (the rounds of the two alternated,
+//! best of each, so that both see the same load on a shared machine). `to_position` is the plan
+//! as the card runs it, its own check (`Trajectory::verify`) included; the cost of that check
+//! alone, timed on the same plans, is printed too, and the ratio without it.
+use card_emu::motion::otg::{OtgLimits, Trajectory};
 use card_emu::testkit::otg::{case, Case};
 use card_emu::testkit::rng::Rng;
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
@@ -43,7 +46,8 @@ fn inputs(cases: &[Case]) -> Vec<rk::InputParameter<1>> {
 fn ours(cases: &[Case]) -> f64 {
     let mut sum = 0.0;
     for c in cases {
-        if let Ok(t) = Trajectory::to_position(c.p0, c.v0, c.a0, c.p1, c.v1, &c.lim) {
+        // (by reference: moving the 552-byte trajectory out of the result would time a copy)
+        if let Ok(t) = &Trajectory::to_position(c.p0, c.v0, c.a0, c.p1, c.v1, &c.lim) {
             sum += t.duration();
         }
     }
@@ -64,15 +68,23 @@ fn ruckig(
     sum
 }
 
-/// ns per plan of a plain loop over the set, best of `reps` rounds.
-fn per_plan(reps: usize, mut f: impl FnMut() -> f64) -> f64 {
-    let mut best = f64::INFINITY;
+/// `Trajectory::verify` of each plan against its limits: the number that pass.
+fn verify(plans: &[(Trajectory, OtgLimits)]) -> f64 {
+    plans.iter().filter(|(t, l)| t.verify(l).is_ok()).count() as f64
+}
+
+/// ns per plan of each plain loop over the set, best of `reps` rounds; the rounds of the loops
+/// alternate.
+fn per_plan<const K: usize>(reps: usize, mut fs: [&mut dyn FnMut() -> f64; K]) -> [f64; K] {
+    let mut best = [f64::INFINITY; K];
     for _ in 0..reps {
-        let t = Instant::now();
-        black_box(f());
-        best = best.min(t.elapsed().as_secs_f64());
+        for (f, b) in fs.iter_mut().zip(best.iter_mut()) {
+            let t = Instant::now();
+            black_box(f());
+            *b = b.min(t.elapsed().as_secs_f64());
+        }
     }
-    best / N as f64 * 1e9
+    best.map(|b| b / N as f64 * 1e9)
 }
 
 fn bench(c: &mut Criterion) {
@@ -80,11 +92,26 @@ fn bench(c: &mut Criterion) {
     let inputs = inputs(&cases);
     let mut otg = rk::Ruckig::<1, rk::IgnoreErrorHandler>::new(None, 0.001);
     let mut traj = rk::Trajectory::<1>::new(None);
-    let a = per_plan(200, || ours(black_box(&cases)));
-    let b = per_plan(200, || ruckig(&mut otg, &mut traj, black_box(&inputs)));
+    let plans: Vec<(Trajectory, OtgLimits)> = cases
+        .iter()
+        .filter_map(|c| {
+            let t = Trajectory::to_position(c.p0, c.v0, c.a0, c.p1, c.v1, &c.lim).ok()?;
+            Some((t, c.lim))
+        })
+        .collect();
+    let [a, b, v] = per_plan(
+        300,
+        [
+            &mut || ours(black_box(&cases)),
+            &mut || ruckig(&mut otg, &mut traj, black_box(&inputs)),
+            &mut || verify(black_box(&plans)),
+        ],
+    );
     println!(
-        "otg::to_position {a:.0} ns/plan, rsruckig calculate {b:.0} ns/plan, ratio {:.2}",
-        a / b
+        "otg::to_position {a:.0} ns/plan (of which verify {v:.0}), rsruckig calculate {b:.0} \
+         ns/plan, ratio {:.2} ({:.2} without verify)",
+        a / b,
+        (a - v) / b
     );
     let mut g = c.benchmark_group("otg 1000 random states");
     g.throughput(Throughput::Elements(N as u64));
@@ -93,6 +120,9 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("rsruckig Ruckig::calculate", |bch| {
         bch.iter(|| ruckig(&mut otg, &mut traj, black_box(&inputs)))
+    });
+    g.bench_function("Trajectory::verify", |bch| {
+        bch.iter(|| verify(black_box(&plans)))
     });
     g.finish();
 }

@@ -79,6 +79,8 @@ const CHECK_SLACK: f64 = 1e-9;
 const CHECK_POS_ULPS: f64 = 16.0;
 /// Most segments a trajectory has: a brake of up to 2, then 7 (one spare).
 const MAX_SEGS: usize = 10;
+/// 1/6, for the cubic term of a constant-jerk segment (a multiplication, not a division).
+const SIXTH: f64 = 1.0 / 6.0;
 
 /// World-frame limits, as Ruckig's single-DOF input: `vmin < 0 < vmax`, `amin < 0 < amax`,
 /// `jmax > 0`.
@@ -200,6 +202,43 @@ fn ldexp(mut x: f64, mut e: i32) -> f64 {
         e += 1000;
     }
     x * f64::from_bits(((e + 1023) as u64) << 52)
+}
+
+/// The state after a segment of jerk `j` and duration `t` from `(x, v, a)`.
+fn advance(x: f64, v: f64, a: f64, j: f64, t: f64) -> (f64, f64, f64) {
+    let jt = j * t;
+    (
+        x + t * (v + t * (0.5 * a + jt * SIXTH)),
+        v + t * (a + 0.5 * jt),
+        a + jt,
+    )
+}
+
+/// A multiplication by `2^e`: by the power itself when that is a normal float, else by
+/// [`ldexp`] (the same result).
+#[derive(Clone, Copy, Debug)]
+struct Pow2 {
+    e: i32,
+    f: f64,
+}
+
+impl Pow2 {
+    fn new(e: i32) -> Pow2 {
+        let f = if (-1000..=1000).contains(&e) {
+            f64::from_bits(((e + 1023) as u64) << 52)
+        } else {
+            f64::NAN
+        };
+        Pow2 { e, f }
+    }
+
+    fn apply(&self, x: f64) -> f64 {
+        if self.f.is_nan() {
+            ldexp(x, self.e)
+        } else {
+            x * self.f
+        }
+    }
 }
 
 /// Powers of two that take the caller's units to the planner's: time `2^k`, position `2^m`
@@ -404,10 +443,106 @@ struct Step {
     vscale: f64,
     /// Frame sign (+1 up, -1 down).
     s: f64,
-    /// `1 / j`, and each segment's jerk over 2 and over 6.
+    /// `1 / j`, `j / 2` and `j / 6`.
     ij: f64,
-    jh: [f64; 7],
-    j6: [f64; 7],
+    jh: f64,
+    j6: f64,
+}
+
+/// What [`Step::offer`] made of a candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Offer {
+    /// Kept (valid and the shortest so far), or refused for good (not shorter, or beyond a
+    /// limit).
+    Done,
+    /// Valid but off the target by more than rounding: a root that needs polishing.
+    Missed,
+}
+
+/// Tolerance of a candidate's end position: ulps of the travel (the rounding of each term and
+/// each running sum of the integration, summed)...
+const OFFER_ULPS: f64 = 32.0;
+/// ... and for a root not yet polished on the exact integration (the card's check allows 16
+/// ulps of its own travel).
+const ROUGH_ULPS: f64 = 4.0;
+
+/// 1/3 (rounded).
+const THIRD: f64 = 1.0 / 3.0;
+
+/// Rounding bound of [`Quartic::eval`], relative to the sum of the magnitudes of its terms
+/// (Horner's own `8u`, and a few roundings in each coefficient).
+const QUARTIC_ERR: f64 = 32.0 * f64::EPSILON;
+
+/// The polynomial `c[0] + c[1] x + ... + c[4] x⁴`, with `m[i]` the sum of the magnitudes of
+/// the terms that make up `c[i]` (which its rounding is relative to).
+#[derive(Clone, Copy, Debug)]
+struct Quartic {
+    c: [f64; 5],
+    m: [f64; 5],
+}
+
+impl Quartic {
+    /// Value, first and second derivative, and a bound on the value's rounding error at `x`
+    /// (Horner).
+    fn eval(&self, x: f64) -> (f64, f64, f64, f64) {
+        let (c, m, ax) = (&self.c, &self.m, x.abs());
+        let p = (((c[4] * x + c[3]) * x + c[2]) * x + c[1]) * x + c[0];
+        let dp = ((4.0 * c[4] * x + 3.0 * c[3]) * x + 2.0 * c[2]) * x + c[1];
+        let ddp = (12.0 * c[4] * x + 6.0 * c[3]) * x + 2.0 * c[2];
+        let e = (((m[4] * ax + m[3]) * ax + m[2]) * ax + m[1]) * ax + m[0];
+        (p, dp, ddp, QUARTIC_ERR * e)
+    }
+
+    /// The root in `[lo, hi]` where the polynomial changes sign (from the sign of `flo` to that
+    /// of `fhi`): Halley's method (`x - 2 p p' / (2 p'² - p p'')`, cubically convergent, 4
+    /// steps where Newton takes 7 on the bench's states) from the middle, safeguarded by
+    /// bisection as [`bracketed`]; until the value is within its rounding bound, or a step is
+    /// below 2 ulps, or below 1e-6 (relative) and a thousandth of the one before (then the
+    /// next would be below an ulp).
+    fn root(&self, mut lo: f64, mut hi: f64, flo: f64) -> f64 {
+        let rising = flo < 0.0;
+        let mut x = mid(lo, hi);
+        let (mut dx, mut dx_old) = (hi - lo, hi - lo);
+        for _ in 0..200 {
+            let (p, dp, ddp, err) = self.eval(x);
+            if p.abs() <= err || p.is_nan() {
+                break;
+            }
+            if (p < 0.0) == rising {
+                lo = x;
+            } else {
+                hi = x;
+            }
+            let den = 2.0 * dp * dp - p * ddp;
+            let step = if den > 0.0 {
+                2.0 * p * dp / den
+            } else {
+                p / dp
+            };
+            let halley = x - step;
+            let nx = if halley > lo && halley < hi && (2.0 * step).abs() <= dx_old.abs() {
+                dx_old = dx;
+                dx = step;
+                halley
+            } else {
+                let m = mid(lo, hi);
+                if !(m > lo && m < hi) {
+                    break;
+                }
+                dx_old = dx;
+                dx = x - m;
+                m
+            };
+            let s = (nx - x).abs();
+            let done = s <= 2.0 * f64::EPSILON * x.abs()
+                || (s <= 1e-6 * x.abs() && s <= 1e-3 * dx_old.abs());
+            x = nx;
+            if done {
+                break;
+            }
+        }
+        x
+    }
 }
 
 /// Relative tolerance of a candidate on the velocity limits (Ruckig: 1e-12 absolute).
@@ -431,17 +566,17 @@ impl Step {
             vscale,
             s,
             ij: 1.0 / l.j,
-            jh: UDDU.map(|u| u * l.j * 0.5),
-            j6: UDDU.map(|u| u * l.j / 6.0),
+            jh: 0.5 * l.j,
+            j6: l.j * SIXTH,
         }
     }
 
     /// End position minus `pd`.
     fn residual(&self, p: &Prof) -> f64 {
         let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
-        for (((&t, &ae), jh), j6) in p.t.iter().zip(&p.acc).zip(self.jh).zip(self.j6) {
-            x += t * (v + t * (0.5 * a + t * j6));
-            v += t * (a + t * jh);
+        for ((&t, &ae), u) in p.t.iter().zip(&p.acc).zip(UDDU) {
+            x += t * (v + t * (0.5 * a + t * (u * self.j6)));
+            v += t * (a + t * (u * self.jh));
             a = ae;
         }
         x - self.pd
@@ -449,58 +584,82 @@ impl Step {
 
     /// Keeps `p` if it is valid and shorter than `best`: every duration finite and `>= 0`, the
     /// accelerations within the limits, the velocity within the limits from segment 3 on (at
-    /// the joints and where the acceleration crosses zero), on the target.
-    fn offer(&self, p: &Prof, best: &mut Option<Best>) {
+    /// the joints and where the acceleration crosses zero), on the target. `Missed` when it
+    /// is all that but off the target (a root to polish).
+    fn offer(&self, p: &Prof, best: &mut Option<Best>) -> Offer {
+        self.offer_within(p, OFFER_ULPS, best)
+    }
+
+    /// [`Step::offer`] with the tolerance on the end position in ulps of the travel (the sum
+    /// of the magnitudes of every term of the integration).
+    fn offer_within(&self, p: &Prof, ulps: f64, best: &mut Option<Best>) -> Offer {
         let l = &self.l;
         let mut total = 0.0;
+        let mut bad = false;
         for &t in &p.t {
-            if !(t >= 0.0 && t.is_finite()) {
-                return;
-            }
+            bad |= t.is_nan() || t < 0.0;
             total += t;
         }
-        if let Some(b) = best {
-            if total >= b.total {
-                return;
-            }
+        // (an infinite or NaN duration leaves the total so)
+        if bad || !total.is_finite() || best.is_some_and(|b| total >= b.total) {
+            return Offer::Done;
         }
-        let vtol = CAND_V_SLACK * self.vscale;
+        // Without a branch per segment: the segments of zero duration (which differ from one
+        // candidate to the next) change nothing and are checked for nothing.
+        let (vhi, vlo) = (
+            l.vmax + CAND_V_SLACK * self.vscale,
+            l.vmin - CAND_V_SLACK * self.vscale,
+        );
         let atol = CAND_V_SLACK * l.amax.max(-l.amin);
-        let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
-        let mut xm: f64 = self.pd.abs();
+        let (ahi, alo) = (l.amax + atol, l.amin - atol);
+        let ij2 = 0.5 * self.ij;
+        let (mut x, mut v, mut a): (f64, f64, f64) = (0.0, self.v0, self.a0);
         for (i, ((&t, &ae), u)) in p.t.iter().zip(&p.acc).zip(UDDU).enumerate() {
-            let j = u * l.j;
-            if t <= 0.0 {
-                continue;
-            }
-            let (jh, j6) = (self.jh[i], self.j6[i]);
-            if ae > l.amax + atol || ae < l.amin - atol {
-                return;
-            }
-            if i >= 2 && j != 0.0 && a * ae < 0.0 {
-                let vx = v - a * a / (2.0 * j);
-                if vx > l.vmax + vtol || vx < l.vmin - vtol {
-                    return;
-                }
-            }
-            x += t * (v + t * (0.5 * a + t * j6));
-            xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
-            v += t * (a + t * jh);
+            let on = t > 0.0;
+            bad |= on && (ae > ahi || ae < alo);
+            // Where the acceleration crosses zero inside the segment, the velocity peaks at
+            // `v - a²/2j`.
+            let vx = v - u * a * a * ij2;
+            bad |= i >= 2 && on && u != 0.0 && a * ae < 0.0 && (vx > vhi || vx < vlo);
+            x += t * (v + t * (0.5 * a + t * (u * self.j6)));
+            v += t * (a + t * (u * self.jh));
             a = ae;
-            if i >= 2 && (v > l.vmax + vtol || v < l.vmin - vtol) {
-                return;
-            }
+            bad |= i >= 2 && on && (v > vhi || v < vlo);
         }
-        // (the rounding of each term and of each running sum, summed)
-        let ptol = 32.0 * f64::EPSILON * xm;
-        if (x - self.pd).abs() > ptol || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale {
-            return;
+        if bad {
+            return Offer::Done;
+        }
+        // On the target within `ulps` of the travel, which is at least `|pd|`: the travel
+        // itself (another pass) only when that does not settle it.
+        let miss = (x - self.pd).abs();
+        let tol = ulps * f64::EPSILON;
+        let on_target = miss <= tol * self.pd.abs() || miss <= tol * self.travel(p);
+        if !on_target || (v - self.vf).abs() > 64.0 * f64::EPSILON * self.vscale {
+            return Offer::Missed;
         }
         *best = Some(Best {
             prof: *p,
             s: self.s,
             total,
         });
+        Offer::Done
+    }
+
+    /// The rounding scale of `p`'s integration: `|pd|` plus the magnitudes of each term and of
+    /// each running sum of the end position.
+    fn travel(&self, p: &Prof) -> f64 {
+        let (mut x, mut v, mut a): (f64, f64, f64) = (0.0, self.v0, self.a0);
+        let mut xm = self.pd.abs();
+        for ((&t, &ae), u) in p.t.iter().zip(&p.acc).zip(UDDU) {
+            if t > 0.0 {
+                let j6 = u * self.j6;
+                x += t * (v + t * (0.5 * a + t * j6));
+                xm += x.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j6.abs()));
+                v += t * (a + t * (u * self.jh));
+            }
+            a = ae;
+        }
+        xm
     }
 
     /// Profile Vel: up to `vmax` (ramp `+j`, hold `amax`, ramp `-j`), cruise, down to `vf`.
@@ -568,10 +727,29 @@ impl Step {
                 acc: [a1, a1, a2, a2, a2, a2, 0.0],
             }
         };
-        let c = j * (self.v0 + self.vf) - 0.5 * a0 * a0;
+        let (v0, vf, pd) = (self.v0, self.vf, self.pd);
+        let c = j * (v0 + vf) - 0.5 * a0 * a0;
         let slope = |u: f64| {
             let w = u * u;
             (3.0 * w + 4.0 * c + d * (d / w)) / (4.0 * j * j)
+        };
+        // 4 j² u r(u) = u⁴ + 4c u² + 4 (a0³/3 - a0 j v0 - j² pd) u - d².
+        let dm = j * (v0.abs() + vf.abs()) + 0.5 * a0 * a0;
+        let poly = Quartic {
+            c: [
+                -d * d,
+                4.0 * (a0 * a0 * a0 * THIRD - a0 * j * v0 - j * j * pd),
+                4.0 * c,
+                0.0,
+                1.0,
+            ],
+            m: [
+                dm * dm,
+                4.0 * (a0.abs() * (a0 * a0 * THIRD + j * v0.abs()) + j * j * pd.abs()),
+                4.0 * dm,
+                0.0,
+                1.0,
+            ],
         };
         // Critical points: u² = (-2c ± √(4c² - 3d²)) / 3.
         let mut cuts = [f64::NAN; 2];
@@ -580,7 +758,7 @@ impl Step {
             let w1 = (-2.0 * c + disc.sqrt()) / 3.0;
             cuts = [w1.sqrt(), (d * d / (3.0 * w1)).sqrt()];
         }
-        self.pieces(lo, hi, &mut cuts, &prof, &slope, best);
+        self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
 
     /// Profile Acc0: `+j` to `amax`, hold, `-j` to `a2`, `+j` to 0.
@@ -606,14 +784,41 @@ impl Step {
             ],
             acc: [l.amax, l.amax, a2, a2, a2, a2, 0.0],
         };
-        let vf = self.vf;
-        let slope =
-            |x: f64| (x - l.amax) * (2.0 * x * x - l.amax * x + 2.0 * j * vf) / (l.amax * j * j);
+        let (v0, vf, pd, am) = (self.v0, self.vf, self.pd, l.amax);
+        let slope = |x: f64| (x - am) * (2.0 * x * x - am * x + 2.0 * j * vf) / (am * j * j);
+        // 2 j² amax r(a2) = a2⁴ - 2 amax a2³ + (amax² + 2 j vf) a2² - 4 amax j vf a2 + k0.
+        let b = am - a0;
+        let k0 = a0 * a0 * (a0 * (2.0 * THIRD * am - 0.25 * a0) - 0.5 * am * am)
+            + j * v0 * b * b
+            + am * am * j * vf
+            - 2.0 * am * j * j * pd
+            + j * j * (vf - v0) * (vf + v0);
+        let m0 = a0 * a0 * (a0.abs() * (2.0 * THIRD * am + 0.25 * a0.abs()) + 0.5 * am * am)
+            + j * v0.abs() * b * b
+            + am * am * j * vf.abs()
+            + 2.0 * am * j * j * pd.abs()
+            + j * j * (vf.abs() + v0.abs()) * (vf.abs() + v0.abs());
+        let poly = Quartic {
+            c: [
+                k0,
+                -4.0 * am * j * vf,
+                am * am + 2.0 * j * vf,
+                -2.0 * am,
+                1.0,
+            ],
+            m: [
+                m0,
+                4.0 * am * j * vf.abs(),
+                am * am + 2.0 * j * vf.abs(),
+                2.0 * am,
+                1.0,
+            ],
+        };
         let mut cuts = [f64::NAN; 2];
         if vf < 0.0 {
-            cuts[0] = 4.0 * j * vf / (l.amax + (l.amax * l.amax - 16.0 * j * vf).sqrt());
+            cuts[0] = 4.0 * j * vf / (am + (am * am - 16.0 * j * vf).sqrt());
         }
-        self.pieces(lo, hi, &mut cuts, &prof, &slope, best);
+        self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
 
     /// Profile Acc1: `+j` to `a1`, `-j` to `amin`, hold, `+j` to 0.
@@ -637,26 +842,43 @@ impl Step {
             acc: [a1, a1, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
         let slope = |x: f64| -(x - l.amin) * (2.0 * x * x - l.amin * x + e) / (l.amin * j * j);
-        let disc = l.amin * l.amin - 8.0 * e;
+        // -2 j² amin r(a1) = a1⁴ - 2 amin a1³ + (amin² - e') a1² + 2 amin e' a1 + k0 with
+        // e' = a0² - 2 j v0 (= -e).
+        let (v0, vf, pd, an) = (self.v0, self.vf, self.pd, l.amin);
+        let em = a0 * a0 + 2.0 * j * v0.abs();
+        let k0 = a0 * a0 * (a0 * (0.25 * a0 - 2.0 * THIRD * an) - 0.5 * an * an)
+            + j * v0 * (an * an + 2.0 * a0 * an - a0 * a0)
+            + an * an * j * vf
+            + 2.0 * an * j * j * pd
+            + j * j * (v0 - vf) * (v0 + vf);
+        let m0 = a0 * a0 * (a0.abs() * (0.25 * a0.abs() - 2.0 * THIRD * an) + 0.5 * an * an)
+            + j * v0.abs() * (an * an - 2.0 * a0.abs() * an + a0 * a0)
+            + an * an * j * vf.abs()
+            - 2.0 * an * j * j * pd.abs()
+            + j * j * (vf.abs() + v0.abs()) * (vf.abs() + v0.abs());
+        let poly = Quartic {
+            c: [k0, -2.0 * an * e, an * an + e, -2.0 * an, 1.0],
+            m: [m0, -2.0 * an * em, an * an + em, -2.0 * an, 1.0],
+        };
+        let disc = an * an - 8.0 * e;
         let mut cuts = [f64::NAN; 2];
         if disc >= 0.0 {
-            let r1 = (l.amin - disc.sqrt()) / 4.0;
+            let r1 = (an - disc.sqrt()) / 4.0;
             cuts = [r1, if r1 != 0.0 { e / (2.0 * r1) } else { 0.0 }];
         }
         // a1 outside (-s, s): up to two intervals.
         if s == 0.0 {
             if lo <= l.amax {
-                self.pieces(lo, l.amax, &mut cuts, &prof, &slope, best);
+                self.pieces(lo, l.amax, cuts, &poly, &prof, &slope, best);
             }
             return;
         }
         if lo <= -s {
-            let mut c = cuts;
-            self.pieces(lo, (-s).min(l.amax), &mut c, &prof, &slope, best);
+            self.pieces(lo, (-s).min(l.amax), cuts, &poly, &prof, &slope, best);
         }
         let lo2 = lo.max(s);
         if lo2 <= l.amax {
-            self.pieces(lo2, l.amax, &mut cuts, &prof, &slope, best);
+            self.pieces(lo2, l.amax, cuts, &poly, &prof, &slope, best);
         }
     }
 
@@ -702,28 +924,40 @@ impl Step {
         }
         for h in roots {
             if h >= 0.0 {
+                // Newton on the exact residual while the root is off the target (by more than
+                // rounding, then by more than the usual tolerance).
                 let mut x = lo + h;
+                let mut missed = true;
                 for _ in 0..3 {
-                    let r = self.residual(&prof(x));
-                    let nx = (x - r / slope(x)).max(lo);
+                    let p = prof(x);
+                    if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+                        missed = false;
+                        break;
+                    }
+                    let nx = (x - self.residual(&p) / slope(x)).max(lo);
                     if !nx.is_finite() || nx == x {
                         break;
                     }
                     x = nx;
                 }
-                self.offer(&prof(x), best);
+                if missed {
+                    self.offer(&prof(x), best);
+                }
             }
         }
     }
 
     /// Splits `[lo, hi]` at the critical points `cuts` into pieces on which the residual is
-    /// monotone and solves each piece whose ends bracket zero (or whose interior extremum
-    /// touches it within rounding).
+    /// monotone and solves each piece whose ends bracket zero. `poly` is a positive multiple of
+    /// the residual on the domain, with its rounding bound: where its value exceeds the bound
+    /// it has the residual's sign, elsewhere the exact residual decides.
+    #[allow(clippy::too_many_arguments)]
     fn pieces<P, S>(
         &self,
         lo: f64,
         hi: f64,
-        cuts: &mut [f64; 2],
+        cuts: [f64; 2],
+        poly: &Quartic,
         prof: &P,
         slope: &S,
         best: &mut Option<Best>,
@@ -731,32 +965,75 @@ impl Step {
         P: Fn(f64) -> Prof,
         S: Fn(f64) -> f64,
     {
-        if cuts[0] > cuts[1] {
-            cuts.swap(0, 1);
-        }
+        let cuts = if cuts[0] > cuts[1] {
+            [cuts[1], cuts[0]]
+        } else {
+            cuts
+        };
         let mut xs = [lo, hi, hi, hi];
         let mut n = 1;
-        for &c in cuts.iter() {
+        for c in cuts {
             if c > lo && c < hi {
                 xs[n] = c;
                 n += 1;
             }
         }
         xs[n] = hi;
-        let mut prev = (xs[0], self.residual(&prof(xs[0])));
+        let sign_at = |x: f64| {
+            let (p, _, _, err) = poly.eval(x);
+            if p.abs() > err {
+                p
+            } else {
+                self.residual(&prof(x))
+            }
+        };
+        let mut prev = (xs[0], sign_at(xs[0]));
         if prev.1 == 0.0 {
             self.offer(&prof(prev.0), best);
         }
         for &x in &xs[1..=n] {
-            let fx = self.residual(&prof(x));
+            let fx = sign_at(x);
             let (x0, f0) = prev;
             if fx == 0.0 {
                 self.offer(&prof(x), best);
             } else if f0 != 0.0 && (f0 < 0.0) != (fx < 0.0) {
-                let root = bracketed(|y| self.residual(&prof(y)), slope, x0, x, f0, fx);
-                self.offer(&prof(root), best);
+                self.root(x0, x, f0, poly, prof, slope, best);
             }
             prev = (x, fx);
+        }
+    }
+
+    /// The root in `[lo, hi]`, where the residual changes sign (from that of `flo`), offered: the polynomial's root first; if that is off the target, one
+    /// Newton step on the exact residual; if still off, the exact residual's own root.
+    #[allow(clippy::too_many_arguments)]
+    fn root<P, S>(
+        &self,
+        lo: f64,
+        hi: f64,
+        flo: f64,
+        poly: &Quartic,
+        prof: &P,
+        slope: &S,
+        best: &mut Option<Best>,
+    ) where
+        P: Fn(f64) -> Prof,
+        S: Fn(f64) -> f64,
+    {
+        let x = poly.root(lo, hi, flo);
+        let p = prof(x);
+        if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+            return;
+        }
+        let x = (x - self.residual(&p) / slope(x)).clamp(lo, hi);
+        let p = prof(x);
+        if self.offer_within(&p, ROUGH_ULPS, best) == Offer::Done {
+            return;
+        }
+        let res = |y: f64| self.residual(&prof(y));
+        let (rlo, rhi) = (res(lo), res(hi));
+        if (rlo < 0.0) != (rhi < 0.0) {
+            let x = bracketed(res, slope, lo, hi, rlo, rhi);
+            self.offer(&prof(x), best);
         }
     }
 
@@ -853,6 +1130,10 @@ where
         }
         let step = fx / df(x);
         let newton = x - step;
+        if newton == x {
+            // A step below half an ulp: converged (bisecting on would only confirm it).
+            break;
+        }
         let nx = if newton > lo && newton < hi && (2.0 * step).abs() <= dx_old.abs() {
             dx_old = dx;
             dx = step;
@@ -874,6 +1155,7 @@ where
 
 impl Trajectory {
     /// An empty trajectory at `p0` in the world frame.
+    #[inline(always)]
     fn empty(p0: f64, end: State) -> Trajectory {
         Trajectory {
             p0,
@@ -894,6 +1176,7 @@ impl Trajectory {
     /// units, checked against `lim` ([`Trajectory::verify`]); `end` with `pos = NaN` takes the
     /// integrated end position.
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn build(
         p0: f64,
         v0: f64,
@@ -901,45 +1184,65 @@ impl Trajectory {
         segs: &Segs,
         nbrake: usize,
         u: &Units,
-        mut end: State,
+        end: State,
         lim: &OtgLimits,
     ) -> Result<Trajectory, PlanError> {
-        let mut tr = Trajectory::empty(p0, end);
+        // (filled in place: the trajectory is 552 bytes, a copy into the result costs)
+        let mut out = Ok(Trajectory::empty(p0, end));
+        if let Ok(tr) = &mut out {
+            if let Err(e) = tr
+                .fill(v0, a0, segs, nbrake, u)
+                .and_then(|()| tr.verify(lim))
+            {
+                out = Err(e);
+            }
+        }
+        out
+    }
+
+    /// [`Trajectory::build`]'s segments, on an empty trajectory.
+    fn fill(
+        &mut self,
+        v0: f64,
+        a0: f64,
+        segs: &Segs,
+        nbrake: usize,
+        u: &Units,
+    ) -> Result<(), PlanError> {
+        let (ft, fj, fa) = (Pow2::new(u.k), Pow2::new(u.jerk()), Pow2::new(u.acc()));
         let (mut x, mut v, mut a) = (0.0, v0, a0);
         let mut time = 0.0;
+        let mut k = 0;
         for i in 0..segs.n.min(MAX_SEGS) {
-            let t = ldexp(segs.t[i], u.k);
+            let t = ft.apply(segs.t[i]);
             if t.is_nan() || t <= 0.0 {
                 continue;
             }
-            let j = ldexp(segs.j[i], u.jerk());
-            let k = tr.n;
-            tr.dur[k] = t;
-            tr.jerk[k] = j;
-            tr.x[k] = x;
-            tr.v[k] = v;
-            tr.a[k] = a;
-            tr.t0[k] = time;
+            let j = fj.apply(segs.j[i]);
+            self.dur[k] = t;
+            self.jerk[k] = j;
+            self.x[k] = x;
+            self.v[k] = v;
+            self.a[k] = a;
+            self.t0[k] = time;
             if i < nbrake {
-                tr.nbrake += 1;
+                self.nbrake += 1;
             }
-            tr.n += 1;
-            x += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
-            a = ldexp(segs.acc[i], u.acc());
+            k += 1;
+            (x, v, _) = advance(x, v, a, j, t);
+            a = fa.apply(segs.acc[i]);
             time += t;
         }
-        tr.t0[tr.n] = time;
+        self.n = k;
+        self.t0[k] = time;
+        let end = &mut self.end;
         if end.pos.is_nan() {
-            end.pos = p0 + x;
+            end.pos = self.p0 + x;
         }
-        tr.end = end;
-        if !(time + x + v + a + end.pos + end.vel).is_finite() {
-            return Err(PlanError::NonFinite);
-        }
-        match tr.verify(lim) {
-            Ok(()) => Ok(tr),
-            Err(e) => Err(e),
+        if (time + x + v + a + end.pos + end.vel).is_finite() {
+            Ok(())
+        } else {
+            Err(PlanError::NonFinite)
         }
     }
 
@@ -1190,13 +1493,7 @@ impl Trajectory {
 
     /// Frame state at the end of segment `i`.
     fn seg_end(&self, i: usize) -> (f64, f64, f64) {
-        let (t, j) = (self.dur[i], self.jerk[i]);
-        let (x, v, a) = (self.x[i], self.v[i], self.a[i]);
-        (
-            x + t * (v + t * (0.5 * a + t * j / 6.0)),
-            v + t * (a + 0.5 * j * t),
-            a + j * t,
-        )
+        advance(self.x[i], self.v[i], self.a[i], self.jerk[i], self.dur[i])
     }
 
     /// Smallest and largest world velocity over the trajectory (its end included).
@@ -1254,41 +1551,25 @@ impl Trajectory {
     /// Anything else is `Err(PlanCheck)`; invalid limits are `validate`'s errors.
     pub fn verify(&self, lim: &OtgLimits) -> Result<(), PlanError> {
         lim.validate()?;
-        if self.well_formed() && self.within(lim) {
+        if self.checks(lim) {
             Ok(())
         } else {
             Err(PlanError::PlanCheck)
         }
     }
 
-    fn well_formed(&self) -> bool {
+    /// [`Trajectory::verify`]'s checks, in one pass over the segments, dividing only where the
+    /// acceleration crosses zero inside a segment.
+    fn checks(&self, lim: &OtgLimits) -> bool {
         let n = self.n;
-        if n > MAX_SEGS || self.nbrake > n || !(self.dir == 1.0 || self.dir == -1.0) {
-            return false;
-        }
-        let mut time = 0.0;
-        let mut finite = true;
-        for i in 0..n {
-            let t = self.dur[i];
-            if !(t > 0.0 && t.is_finite()) || self.t0[i] != time {
-                return false;
-            }
-            time += t;
-            finite &= (self.x[i] + self.v[i] + self.a[i] + self.jerk[i]).is_finite();
-        }
-        let e = &self.end;
-        finite
-            && self.t0[n] == time
-            && time.is_finite()
-            && (self.p0 + e.pos + e.vel + e.acc + e.jerk).is_finite()
-    }
-
-    /// Limits, continuity and the end state (see [`Trajectory::verify`]), in one pass over
-    /// the segments; `well_formed` first.
-    fn within(&self, lim: &OtgLimits) -> bool {
-        let n = self.n.min(MAX_SEGS);
         let (e, dir) = (&self.end, self.dir);
-        if e.acc != 0.0 || e.jerk != 0.0 {
+        if n > MAX_SEGS
+            || self.nbrake > n
+            || !(dir == 1.0 || dir == -1.0)
+            || e.acc != 0.0
+            || e.jerk != 0.0
+            || !(self.p0 + e.pos + e.vel).is_finite()
+        {
             return false;
         }
         // The start state (world) and the envelope it leaves no choice about.
@@ -1303,35 +1584,42 @@ impl Trajectory {
         let vtol = CHECK_SLACK * vhi.max(-vlo) + f64::MIN_POSITIVE;
         let atol = CHECK_SLACK * ahi.max(-alo) + f64::MIN_POSITIVE;
         let jmax = lim.jmax * (1.0 + CHECK_SLACK);
-        let v_ok = |v: f64| v >= vlo - vtol && v <= vhi + vtol;
-        let a_ok = |a: f64| a >= alo - atol && a <= ahi + atol;
-        // Each segment's displacement and each running sum round once at their own size.
-        let mut travel = self.p0.abs().max(e.pos.abs());
+        // The same bounds, widened by the slack, in the trajectory's frame (`dir * world`).
+        let frame = |lo: f64, hi: f64| if dir > 0.0 { (lo, hi) } else { (-hi, -lo) };
+        let (fvlo, fvhi) = frame(vlo - vtol, vhi + vtol);
+        let (falo, fahi) = frame(alo - atol, ahi + atol);
+        let v_ok = |v: f64| v >= fvlo && v <= fvhi;
+        let a_ok = |a: f64| a >= falo && a <= fahi;
         let mut dx: f64 = 0.0;
-        let mut ok = v_ok(e.vel);
-        for i in 0..n {
+        let mut time = 0.0;
+        let mut ok = v_ok(dir * e.vel);
+        // (a stored state or jerk that is NaN or infinite leaves its segment's end position
+        // so, and `ends` with it; a duration leaves `time` so: both are checked at the end)
+        let mut ends = 0.0;
+        for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
-            let x1 = x + t * (v + t * (0.5 * a + t * j / 6.0));
-            let v1 = v + t * (a + 0.5 * j * t);
-            let a1 = a + j * t;
-            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() / 6.0));
-            if j != 0.0 {
-                let tau = -a / j;
-                if tau > 0.0 && tau < t {
-                    ok &= v_ok(dir * (v + tau * (a + 0.5 * j * tau)));
-                }
-            }
+            ok &= t > 0.0 && self.t0[i] == time;
+            time += t;
+            let (x1, v1, a1) = advance(x, v, a, j, t);
+            ends += x1;
+            // Where the acceleration crosses zero inside the segment (at `-a/j`) the velocity
+            // has an extremum, `v - a²/2j`: a minimum for `j > 0`, a maximum for `j < 0`. It
+            // is within the limit when its distance from `v` is at most `v`'s own room to that
+            // limit: `a² <= 2 |j| room` (no division).
+            let room = if j > 0.0 { v - fvlo } else { fvhi - v };
+            ok &= a * a1 >= 0.0 || a * a <= 2.0 * j.abs() * room;
             let next = if i + 1 < n {
-                (self.p0 + dir * self.x[i + 1], self.v[i + 1], self.a[i + 1])
+                ((x1 - self.x[i + 1]).abs(), self.v[i + 1], self.a[i + 1])
             } else {
-                (e.pos, dir * e.vel, 0.0)
+                // (the end state is in the world frame: compared there)
+                ((self.p0 + dir * x1 - e.pos).abs(), dir * e.vel, 0.0)
             };
-            dx = dx.max((self.p0 + dir * x1 - next.0).abs());
+            dx = dx.max(next.0);
             ok &= j.abs() <= jmax
-                && a_ok(dir * a)
-                && a_ok(dir * a1)
-                && v_ok(dir * v)
-                && v_ok(dir * v1)
+                && a_ok(a)
+                && a_ok(a1)
+                && v_ok(v)
+                && v_ok(v1)
                 && (v1 - next.1).abs() <= vtol
                 && (a1 - next.2).abs() <= atol;
         }
@@ -1339,7 +1627,27 @@ impl Trajectory {
             // Nothing to run: the end is the start.
             dx = (e.pos - self.p0).abs();
         }
-        ok && dx <= CHECK_POS_ULPS * f64::EPSILON * travel + f64::MIN_POSITIVE
+        // The joints within 16 ulps of the travel, which is at least the larger of the end
+        // positions: the travel itself (another pass) only when that does not settle it.
+        let tol = CHECK_POS_ULPS * f64::EPSILON;
+        ok && self.t0[n.min(MAX_SEGS)] == time
+            && time.is_finite()
+            && ends.is_finite()
+            && (dx <= tol * self.p0.abs().max(e.pos.abs()) + f64::MIN_POSITIVE
+                || dx <= tol * self.travel() + f64::MIN_POSITIVE)
+    }
+
+    /// The rounding scale of the positions: the larger of the end positions (world), plus
+    /// each segment's end position and the magnitudes of the terms of its displacement (each
+    /// rounds once at its own size).
+    fn travel(&self) -> f64 {
+        let mut travel = self.p0.abs().max(self.end.pos.abs());
+        for i in 0..self.n.min(MAX_SEGS) {
+            let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
+            let (x1, _, _) = advance(x, v, a, j, t);
+            travel += x1.abs() + t * (v.abs() + t * (0.5 * a.abs() + t * j.abs() * SIXTH));
+        }
+        travel
     }
 }
 
