@@ -204,6 +204,25 @@ fn ldexp(mut x: f64, mut e: i32) -> f64 {
     x * f64::from_bits(((e + 1023) as u64) << 52)
 }
 
+/// The larger of `a` and `b`, `a` if `b` is NaN (one instruction, where `f64::max` takes
+/// several for its NaN rule).
+fn up(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// The smaller of `a` and `b`, `a` if `b` is NaN.
+fn down(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
 /// The state after a segment of jerk `j` and duration `t` from `(x, v, a)`.
 fn advance(x: f64, v: f64, a: f64, j: f64, t: f64) -> (f64, f64, f64) {
     let jt = j * t;
@@ -592,6 +611,7 @@ impl Step {
 
     /// [`Step::offer`] with the tolerance on the end position in ulps of the travel (the sum
     /// of the magnitudes of every term of the integration).
+    #[inline(always)]
     fn offer_within(&self, p: &Prof, ulps: f64, best: &mut Option<Best>) -> Offer {
         let l = &self.l;
         let mut total = 0.0;
@@ -1588,17 +1608,19 @@ impl Trajectory {
         let frame = |lo: f64, hi: f64| if dir > 0.0 { (lo, hi) } else { (-hi, -lo) };
         let (fvlo, fvhi) = frame(vlo - vtol, vhi + vtol);
         let (falo, fahi) = frame(alo - atol, ahi + atol);
-        let v_ok = |v: f64| v >= fvlo && v <= fvhi;
-        let a_ok = |a: f64| a >= falo && a <= fahi;
-        let mut dx: f64 = 0.0;
-        let mut time = 0.0;
-        let mut ok = v_ok(dir * e.vel);
-        // (a stored state or jerk that is NaN or infinite leaves its segment's end position
-        // so, and `ends` with it; a duration leaves `time` so: both are checked at the end)
-        let mut ends = 0.0;
+        // The extremes the segments reach and their largest mismatches at the joints, held
+        // against the limits and tolerances once, after the loop. (`up` and `down` drop a
+        // NaN; a stored state, jerk or duration that is NaN or infinite leaves its segment's
+        // end position so, and `ends` with it, or `time`: both are checked at the end.)
+        let ev = dir * e.vel;
+        let (mut vmin, mut vmax, mut amin, mut amax) = (ev, ev, 0.0, 0.0);
+        let (mut dx, mut dv, mut da, mut jm): (f64, f64, f64, f64) = (0.0, 0.0, 0.0, 0.0);
+        let (mut tmin, mut time, mut ends) = (f64::INFINITY, 0.0, 0.0);
+        let mut ok = true;
         for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
-            ok &= t > 0.0 && self.t0[i] == time;
+            ok &= self.t0[i] == time;
+            tmin = down(tmin, t);
             time += t;
             let (x1, v1, a1) = advance(x, v, a, j, t);
             ends += x1;
@@ -1608,21 +1630,27 @@ impl Trajectory {
             // limit: `a² <= 2 |j| room` (no division).
             let room = if j > 0.0 { v - fvlo } else { fvhi - v };
             ok &= a * a1 >= 0.0 || a * a <= 2.0 * j.abs() * room;
-            let next = if i + 1 < n {
+            let (ex, nv, na) = if i + 1 < n {
                 ((x1 - self.x[i + 1]).abs(), self.v[i + 1], self.a[i + 1])
             } else {
                 // (the end state is in the world frame: compared there)
-                ((self.p0 + dir * x1 - e.pos).abs(), dir * e.vel, 0.0)
+                ((self.p0 + dir * x1 - e.pos).abs(), ev, 0.0)
             };
-            dx = dx.max(next.0);
-            ok &= j.abs() <= jmax
-                && a_ok(a)
-                && a_ok(a1)
-                && v_ok(v)
-                && v_ok(v1)
-                && (v1 - next.1).abs() <= vtol
-                && (a1 - next.2).abs() <= atol;
+            dx = up(dx, ex);
+            dv = up(dv, (v1 - nv).abs());
+            da = up(da, (a1 - na).abs());
+            (vmin, vmax) = (down(down(vmin, v), v1), up(up(vmax, v), v1));
+            (amin, amax) = (down(down(amin, a), a1), up(up(amax, a), a1));
+            jm = up(jm, j.abs());
         }
+        ok &= tmin > 0.0
+            && vmin >= fvlo
+            && vmax <= fvhi
+            && amin >= falo
+            && amax <= fahi
+            && jm <= jmax
+            && dv <= vtol
+            && da <= atol;
         if n == 0 {
             // Nothing to run: the end is the start.
             dx = (e.pos - self.p0).abs();
