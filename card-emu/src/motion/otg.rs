@@ -564,6 +564,13 @@ impl Quartic {
     }
 }
 
+/// Whether `best` is already at least as short as `lower`, a lower bound on the durations of a
+/// family's candidates (then `offer` would refuse them all; a margin of 1e-12 for the
+/// different roundings of the bound and of the candidates' own sums).
+fn beaten(best: &Option<Best>, lower: f64) -> bool {
+    best.is_some_and(|b| lower * (1.0 - 1e-12) >= b.total)
+}
+
 /// Relative tolerance of a candidate on the velocity limits (Ruckig: 1e-12 absolute).
 const CAND_V_SLACK: f64 = 1e-12;
 
@@ -692,6 +699,10 @@ impl Step {
         let Some((na2, t6, t5, t4)) = pulse(-l.vmax, 0.0, -self.vf, -l.amin, j) else {
             return;
         };
+        // (the cruise only adds)
+        if beaten(best, t0 + t1 + t2 + t4 + t5 + t6) {
+            return;
+        }
         let mut p = Prof {
             t: [t0, t1, t2, 0.0, t4, t5, t6],
             acc: [a1, a1, 0.0, 0.0, -na2, -na2, 0.0],
@@ -732,6 +743,10 @@ impl Step {
             lo = lo.max(if a0 >= 0.0 { a0 + s0 } else { -d / (s0 - a0) });
         }
         if lo.is_nan() || hi.is_nan() || lo > hi {
+            return;
+        }
+        // The duration t1 + t3 + t7 = (2u - a0)/j grows with u: the shortest at `lo`.
+        if beaten(best, (2.0 * lo - a0) * ij) {
             return;
         }
         let prof = |u: f64| {
@@ -804,6 +819,11 @@ impl Step {
             ],
             acc: [l.amax, l.amax, a2, a2, a2, a2, 0.0],
         };
+        // The duration falls as a2 rises (its derivative is 2 (a2 - amax) / (j amax)): the
+        // shortest at `hi`.
+        if beaten(best, prof(hi).t.iter().sum()) {
+            return;
+        }
         let (v0, vf, pd, am) = (self.v0, self.vf, self.pd, l.amax);
         let slope = |x: f64| (x - am) * (2.0 * x * x - am * x + 2.0 * j * vf) / (am * j * j);
         // 2 j² amax r(a2) = a2⁴ - 2 amax a2³ + (amax² + 2 j vf) a2² - 4 amax j vf a2 + k0.
@@ -886,18 +906,21 @@ impl Step {
             let r1 = (an - disc.sqrt()) / 4.0;
             cuts = [r1, if r1 != 0.0 { e / (2.0 * r1) } else { 0.0 }];
         }
-        // a1 outside (-s, s): up to two intervals.
+        // a1 outside (-s, s): up to two intervals. The duration grows with a1 (its
+        // derivative is 2 (a1 - amin) / (j (-amin)) > 0): each interval's shortest is at its
+        // lower end.
+        let shorter = |a1: f64, best: &Option<Best>| !beaten(best, prof(a1).t.iter().sum());
         if s == 0.0 {
-            if lo <= l.amax {
+            if lo <= l.amax && shorter(lo, best) {
                 self.pieces(lo, l.amax, cuts, &poly, &prof, &slope, best);
             }
             return;
         }
-        if lo <= -s {
+        if lo <= -s && shorter(lo, best) {
             self.pieces(lo, (-s).min(l.amax), cuts, &poly, &prof, &slope, best);
         }
         let lo2 = lo.max(s);
-        if lo2 <= l.amax {
+        if lo2 <= l.amax && shorter(lo2, best) {
             self.pieces(lo2, l.amax, cuts, &poly, &prof, &slope, best);
         }
     }
@@ -921,6 +944,10 @@ impl Step {
             ],
             acc: [l.amax, l.amax, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
+        // The duration grows with t2 (t6 with it): the shortest at `lo`.
+        if beaten(best, prof(lo).t.iter().sum()) {
+            return;
+        }
         let e = 2.0 * j * self.v0 - a0 * a0;
         let alpha = -l.amax * (l.amax - l.amin) / (2.0 * l.amin);
         let beta =
