@@ -1469,16 +1469,19 @@ impl Trajectory {
     }
 
     /// Total duration (s), brake included.
+    #[inline]
     pub fn duration(&self) -> f64 {
         self.t0[self.n.min(MAX_SEGS)]
     }
 
     /// Duration of the brake pre-phase (0 when the start state was within the limits).
+    #[inline]
     pub fn brake_duration(&self) -> f64 {
         self.t0[self.nbrake.min(MAX_SEGS)]
     }
 
     /// Durations of the segments in use (each `> 0`), brake first.
+    #[inline]
     pub fn phases(&self) -> &[f64] {
         self.dur.get(..self.n).unwrap_or(&[])
     }
@@ -1493,6 +1496,7 @@ impl Trajectory {
     }
 
     /// Number of brake segments at the start of [`Trajectory::phases`].
+    #[inline]
     pub fn brake_segments(&self) -> usize {
         self.nbrake
     }
@@ -1534,6 +1538,7 @@ impl Trajectory {
     }
 
     /// The end state (for the position interface the target itself).
+    #[inline]
     pub fn end(&self) -> State {
         self.end
     }
