@@ -40,12 +40,31 @@
 //!
 //! So every family's domain (where all durations are `>= 0` and `amin <= a <= amax`) splits into
 //! at most three pieces on which the position is monotone; each piece whose ends bracket the
-//! target holds exactly one root, found by Newton's method on the exactly integrated end position,
-//! safeguarded by bisection, to the last ulps. A root is a candidate if its velocity stays within
+//! target holds exactly one root. A root is a candidate if its velocity stays within
 //! `[vmin, vmax]` from segment 3 on (where Ruckig checks it too) and it ends on the target; the
-//! shortest candidate over all families and both frames is the plan. Ruckig solves the same
-//! quartics in closed form and polishes with one or two Newton steps; this planner never expands
-//! the constant coefficient (where the cancellations are) and needs no quartic formula.
+//! shortest candidate over all families and both frames is the plan (to rest, the first valid
+//! one: it is unique).
+//!
+//! ### Finding the roots: on the polynomial, checked on the exact integration
+//! Each quartic family's end position is, up to a positive factor on its domain, a polynomial
+//! whose coefficients are closed-form (`Quartic`; e.g. None:
+//! `4 j² u r(u) = u⁴ + 4C u² + 4 (a0³/3 - a0 j v0 - j² pd) u - D²`), evaluated by Horner's
+//! rule with a bound on its rounding (the magnitudes of every term that makes up each
+//! coefficient, summed the same way).
+//! The polynomial decides the signs at the pieces' ends wherever its value exceeds that bound
+//! (the exact end position decides the rest), and its root is found by Halley's method
+//! (cubically convergent: about 4 evaluations) from the middle of the bracket, safeguarded by
+//! bisection. That root is then integrated exactly once (by `offer`, which checks the
+//! candidate anyway): within 4 ulps of the travel it is kept; else one Newton step on the exact
+//! end position polishes it, and if that too misses, the exact end position's own root is found
+//! (Newton safeguarded by bisection), as the planner did everywhere before: the polynomial's
+//! cancellations (its constant coefficient) cost speed at worst, never the result. Ruckig
+//! solves the same quartics in closed form and polishes with one or two Newton steps.
+//!
+//! Each family's duration is monotone in its variable (None: `(2u - a0)/j`; Acc0 falls with
+//! `a2`; Acc1 and Acc0Acc1 grow with `a1`, `t2`), so its shortest candidate lies at a domain
+//! end: a family whose shortest is no shorter than the best found is skipped (most of the
+//! second frame when `vf != 0`).
 //!
 //! All of this runs in units scaled by powers of two (exact) so that `jmax` and
 //! `max(amax, -amin)` lie in `[1, 2)`: the tolerances are relative, the products of four
@@ -1050,8 +1069,9 @@ impl Step {
         }
     }
 
-    /// The root in `[lo, hi]`, where the residual changes sign (from that of `flo`), offered: the polynomial's root first; if that is off the target, one
-    /// Newton step on the exact residual; if still off, the exact residual's own root.
+    /// The root in `[lo, hi]`, where the residual changes sign (from that of `flo`), offered:
+    /// the polynomial's root first; if that is off the target, one Newton step on the exact
+    /// residual; if still off, the exact residual's own root.
     #[allow(clippy::too_many_arguments)]
     fn root<P, S>(
         &self,
