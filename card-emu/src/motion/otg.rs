@@ -40,12 +40,31 @@
 //!
 //! So every family's domain (where all durations are `>= 0` and `amin <= a <= amax`) splits into
 //! at most three pieces on which the position is monotone; each piece whose ends bracket the
-//! target holds exactly one root, found by Newton's method on the exactly integrated end position,
-//! safeguarded by bisection, to the last ulps. A root is a candidate if its velocity stays within
+//! target holds exactly one root. A root is a candidate if its velocity stays within
 //! `[vmin, vmax]` from segment 3 on (where Ruckig checks it too) and it ends on the target; the
-//! shortest candidate over all families and both frames is the plan. Ruckig solves the same
-//! quartics in closed form and polishes with one or two Newton steps; this planner never expands
-//! the constant coefficient (where the cancellations are) and needs no quartic formula.
+//! shortest candidate over all families and both frames is the plan (to rest, the first valid
+//! one: it is unique).
+//!
+//! ### Finding the roots: on the polynomial, checked on the exact integration
+//! Each quartic family's end position is, up to a positive factor on its domain, a polynomial
+//! whose coefficients are closed-form (`Quartic`; e.g. None:
+//! `4 j² u r(u) = u⁴ + 4C u² + 4 (a0³/3 - a0 j v0 - j² pd) u - D²`), evaluated by Horner's
+//! rule with a bound on its rounding (the magnitudes of every term that makes up each
+//! coefficient, summed the same way).
+//! The polynomial decides the signs at the pieces' ends wherever its value exceeds that bound
+//! (the exact end position decides the rest), and its root is found by Halley's method
+//! (cubically convergent: about 4 evaluations) from the middle of the bracket, safeguarded by
+//! bisection. That root is then integrated exactly once (by `offer`, which checks the
+//! candidate anyway): within 4 ulps of the travel it is kept; else one Newton step on the exact
+//! end position polishes it, and if that too misses, the exact end position's own root is found
+//! (Newton safeguarded by bisection), as the planner did everywhere before: the polynomial's
+//! cancellations (its constant coefficient) cost speed at worst, never the result. Ruckig
+//! solves the same quartics in closed form and polishes with one or two Newton steps.
+//!
+//! Each family's duration is monotone in its variable (None: `(2u - a0)/j`; Acc0 falls with
+//! `a2`; Acc1 and Acc0Acc1 grow with `a1`, `t2`), so its shortest candidate lies at a domain
+//! end: a family whose shortest is no shorter than the best found is skipped (most of the
+//! second frame when `vf != 0`).
 //!
 //! All of this runs in units scaled by powers of two (exact) so that `jmax` and
 //! `max(amax, -amin)` lie in `[1, 2)`: the tolerances are relative, the products of four
@@ -202,6 +221,25 @@ fn ldexp(mut x: f64, mut e: i32) -> f64 {
         e += 1000;
     }
     x * f64::from_bits(((e + 1023) as u64) << 52)
+}
+
+/// The larger of `a` and `b`, `a` if `b` is NaN (one instruction, where `f64::max` takes
+/// several for its NaN rule).
+fn up(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// The smaller of `a` and `b`, `a` if `b` is NaN.
+fn down(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
 }
 
 /// The state after a segment of jerk `j` and duration `t` from `(x, v, a)`.
@@ -545,6 +583,13 @@ impl Quartic {
     }
 }
 
+/// Whether `best` is already at least as short as `lower`, a lower bound on the durations of a
+/// family's candidates (then `offer` would refuse them all; a margin of 1e-12 for the
+/// different roundings of the bound and of the candidates' own sums).
+fn beaten(best: &Option<Best>, lower: f64) -> bool {
+    best.is_some_and(|b| lower * (1.0 - 1e-12) >= b.total)
+}
+
 /// Relative tolerance of a candidate on the velocity limits (Ruckig: 1e-12 absolute).
 const CAND_V_SLACK: f64 = 1e-12;
 
@@ -592,6 +637,7 @@ impl Step {
 
     /// [`Step::offer`] with the tolerance on the end position in ulps of the travel (the sum
     /// of the magnitudes of every term of the integration).
+    #[inline(always)]
     fn offer_within(&self, p: &Prof, ulps: f64, best: &mut Option<Best>) -> Offer {
         let l = &self.l;
         let mut total = 0.0;
@@ -672,6 +718,10 @@ impl Step {
         let Some((na2, t6, t5, t4)) = pulse(-l.vmax, 0.0, -self.vf, -l.amin, j) else {
             return;
         };
+        // (the cruise only adds)
+        if beaten(best, t0 + t1 + t2 + t4 + t5 + t6) {
+            return;
+        }
         let mut p = Prof {
             t: [t0, t1, t2, 0.0, t4, t5, t6],
             acc: [a1, a1, 0.0, 0.0, -na2, -na2, 0.0],
@@ -712,6 +762,10 @@ impl Step {
             lo = lo.max(if a0 >= 0.0 { a0 + s0 } else { -d / (s0 - a0) });
         }
         if lo.is_nan() || hi.is_nan() || lo > hi {
+            return;
+        }
+        // The duration t1 + t3 + t7 = (2u - a0)/j grows with u: the shortest at `lo`.
+        if beaten(best, (2.0 * lo - a0) * ij) {
             return;
         }
         let prof = |u: f64| {
@@ -784,6 +838,11 @@ impl Step {
             ],
             acc: [l.amax, l.amax, a2, a2, a2, a2, 0.0],
         };
+        // The duration falls as a2 rises (its derivative is 2 (a2 - amax) / (j amax)): the
+        // shortest at `hi`.
+        if beaten(best, prof(hi).t.iter().sum()) {
+            return;
+        }
         let (v0, vf, pd, am) = (self.v0, self.vf, self.pd, l.amax);
         let slope = |x: f64| (x - am) * (2.0 * x * x - am * x + 2.0 * j * vf) / (am * j * j);
         // 2 j² amax r(a2) = a2⁴ - 2 amax a2³ + (amax² + 2 j vf) a2² - 4 amax j vf a2 + k0.
@@ -866,18 +925,21 @@ impl Step {
             let r1 = (an - disc.sqrt()) / 4.0;
             cuts = [r1, if r1 != 0.0 { e / (2.0 * r1) } else { 0.0 }];
         }
-        // a1 outside (-s, s): up to two intervals.
+        // a1 outside (-s, s): up to two intervals. The duration grows with a1 (its
+        // derivative is 2 (a1 - amin) / (j (-amin)) > 0): each interval's shortest is at its
+        // lower end.
+        let shorter = |a1: f64, best: &Option<Best>| !beaten(best, prof(a1).t.iter().sum());
         if s == 0.0 {
-            if lo <= l.amax {
+            if lo <= l.amax && shorter(lo, best) {
                 self.pieces(lo, l.amax, cuts, &poly, &prof, &slope, best);
             }
             return;
         }
-        if lo <= -s {
+        if lo <= -s && shorter(lo, best) {
             self.pieces(lo, (-s).min(l.amax), cuts, &poly, &prof, &slope, best);
         }
         let lo2 = lo.max(s);
-        if lo2 <= l.amax {
+        if lo2 <= l.amax && shorter(lo2, best) {
             self.pieces(lo2, l.amax, cuts, &poly, &prof, &slope, best);
         }
     }
@@ -901,6 +963,10 @@ impl Step {
             ],
             acc: [l.amax, l.amax, l.amin, l.amin, l.amin, l.amin, 0.0],
         };
+        // The duration grows with t2 (t6 with it): the shortest at `lo`.
+        if beaten(best, prof(lo).t.iter().sum()) {
+            return;
+        }
         let e = 2.0 * j * self.v0 - a0 * a0;
         let alpha = -l.amax * (l.amax - l.amin) / (2.0 * l.amin);
         let beta =
@@ -1003,8 +1069,9 @@ impl Step {
         }
     }
 
-    /// The root in `[lo, hi]`, where the residual changes sign (from that of `flo`), offered: the polynomial's root first; if that is off the target, one
-    /// Newton step on the exact residual; if still off, the exact residual's own root.
+    /// The root in `[lo, hi]`, where the residual changes sign (from that of `flo`), offered:
+    /// the polynomial's root first; if that is off the target, one Newton step on the exact
+    /// residual; if still off, the exact residual's own root.
     #[allow(clippy::too_many_arguments)]
     fn root<P, S>(
         &self,
@@ -1422,16 +1489,19 @@ impl Trajectory {
     }
 
     /// Total duration (s), brake included.
+    #[inline]
     pub fn duration(&self) -> f64 {
         self.t0[self.n.min(MAX_SEGS)]
     }
 
     /// Duration of the brake pre-phase (0 when the start state was within the limits).
+    #[inline]
     pub fn brake_duration(&self) -> f64 {
         self.t0[self.nbrake.min(MAX_SEGS)]
     }
 
     /// Durations of the segments in use (each `> 0`), brake first.
+    #[inline]
     pub fn phases(&self) -> &[f64] {
         self.dur.get(..self.n).unwrap_or(&[])
     }
@@ -1446,6 +1516,7 @@ impl Trajectory {
     }
 
     /// Number of brake segments at the start of [`Trajectory::phases`].
+    #[inline]
     pub fn brake_segments(&self) -> usize {
         self.nbrake
     }
@@ -1487,6 +1558,7 @@ impl Trajectory {
     }
 
     /// The end state (for the position interface the target itself).
+    #[inline]
     pub fn end(&self) -> State {
         self.end
     }
@@ -1588,17 +1660,19 @@ impl Trajectory {
         let frame = |lo: f64, hi: f64| if dir > 0.0 { (lo, hi) } else { (-hi, -lo) };
         let (fvlo, fvhi) = frame(vlo - vtol, vhi + vtol);
         let (falo, fahi) = frame(alo - atol, ahi + atol);
-        let v_ok = |v: f64| v >= fvlo && v <= fvhi;
-        let a_ok = |a: f64| a >= falo && a <= fahi;
-        let mut dx: f64 = 0.0;
-        let mut time = 0.0;
-        let mut ok = v_ok(dir * e.vel);
-        // (a stored state or jerk that is NaN or infinite leaves its segment's end position
-        // so, and `ends` with it; a duration leaves `time` so: both are checked at the end)
-        let mut ends = 0.0;
+        // The extremes the segments reach and their largest mismatches at the joints, held
+        // against the limits and tolerances once, after the loop. (`up` and `down` drop a
+        // NaN; a stored state, jerk or duration that is NaN or infinite leaves its segment's
+        // end position so, and `ends` with it, or `time`: both are checked at the end.)
+        let ev = dir * e.vel;
+        let (mut vmin, mut vmax, mut amin, mut amax) = (ev, ev, 0.0, 0.0);
+        let (mut dx, mut dv, mut da, mut jm): (f64, f64, f64, f64) = (0.0, 0.0, 0.0, 0.0);
+        let (mut tmin, mut time, mut ends) = (f64::INFINITY, 0.0, 0.0);
+        let mut ok = true;
         for i in 0..n.min(MAX_SEGS) {
             let (t, j, x, v, a) = (self.dur[i], self.jerk[i], self.x[i], self.v[i], self.a[i]);
-            ok &= t > 0.0 && self.t0[i] == time;
+            ok &= self.t0[i] == time;
+            tmin = down(tmin, t);
             time += t;
             let (x1, v1, a1) = advance(x, v, a, j, t);
             ends += x1;
@@ -1608,21 +1682,27 @@ impl Trajectory {
             // limit: `a² <= 2 |j| room` (no division).
             let room = if j > 0.0 { v - fvlo } else { fvhi - v };
             ok &= a * a1 >= 0.0 || a * a <= 2.0 * j.abs() * room;
-            let next = if i + 1 < n {
+            let (ex, nv, na) = if i + 1 < n {
                 ((x1 - self.x[i + 1]).abs(), self.v[i + 1], self.a[i + 1])
             } else {
                 // (the end state is in the world frame: compared there)
-                ((self.p0 + dir * x1 - e.pos).abs(), dir * e.vel, 0.0)
+                ((self.p0 + dir * x1 - e.pos).abs(), ev, 0.0)
             };
-            dx = dx.max(next.0);
-            ok &= j.abs() <= jmax
-                && a_ok(a)
-                && a_ok(a1)
-                && v_ok(v)
-                && v_ok(v1)
-                && (v1 - next.1).abs() <= vtol
-                && (a1 - next.2).abs() <= atol;
+            dx = up(dx, ex);
+            dv = up(dv, (v1 - nv).abs());
+            da = up(da, (a1 - na).abs());
+            (vmin, vmax) = (down(down(vmin, v), v1), up(up(vmax, v), v1));
+            (amin, amax) = (down(down(amin, a), a1), up(up(amax, a), a1));
+            jm = up(jm, j.abs());
         }
+        ok &= tmin > 0.0
+            && vmin >= fvlo
+            && vmax <= fvhi
+            && amin >= falo
+            && amax <= fahi
+            && jm <= jmax
+            && dv <= vtol
+            && da <= atol;
         if n == 0 {
             // Nothing to run: the end is the start.
             dx = (e.pos - self.p0).abs();
