@@ -9,6 +9,7 @@
 
 use crate::firmware::axis_safety::AxisSafety;
 use crate::firmware::nack::plan_nack;
+use crate::firmware::rate_hz;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
@@ -529,20 +530,25 @@ impl Axis {
     ) -> Result<Option<AxisState>, NackCode> {
         let traj = self.plan(&goal, rate_hz)?;
         let state = match goal {
-            Goal::Position { target, .. } => {
-                self.target = target;
-                AxisState::DiscreteMotion
-            }
+            Goal::Position { .. } => AxisState::DiscreteMotion,
             _ => AxisState::ContinuousMotion,
         };
-        self.goal = goal;
-        self.in_velocity = false;
         self.begin_motion(seq, traj.duration());
-        self.motion = Motion::Run { traj, t: 0.0 };
-        self.stop_elapsed = None;
+        self.take_goal(goal, traj);
         let mut changed = None;
         self.set_state(state, &mut changed);
         Ok(changed)
+    }
+
+    /// Run `traj` from this tick towards `goal` (its target is the axis's target).
+    fn take_goal(&mut self, goal: Goal, traj: Trajectory) {
+        if let Goal::Position { target, .. } = goal {
+            self.target = target;
+        }
+        self.goal = goal;
+        self.in_velocity = false;
+        self.motion = Motion::Run { traj, t: 0.0 };
+        self.stop_elapsed = None;
     }
 
     /// Start the next buffered move, if any, now that the motion before it is done (or, in
@@ -979,11 +985,6 @@ impl Axis {
     }
 }
 
-/// The servo rate of a sample time, Hz.
-fn rate_hz(ts: f64) -> u32 {
-    (1.0 / ts).round() as u32
-}
-
 // ---- Safety hooks: what safety.rs needs from an axis (the rules live there) ----
 impl Axis {
     /// Enter ErrorStop. `ramp`: the stop profile of a category 1 or 2 stop, run with the drive
@@ -1122,13 +1123,7 @@ impl Axis {
         lim: &Limits,
         rate_hz: u32,
     ) -> Result<(), NackCode> {
-        let goal = Goal::Velocity { vel, lim: *lim };
-        let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
-        self.goal = goal;
-        self.in_velocity = false;
-        self.motion = Motion::Run { traj, t: 0.0 };
-        self.stop_elapsed = None;
-        Ok(())
+        self.homing_goal(Goal::Velocity { vel, lim: *lim }, rate_hz)
     }
 
     /// A position move to `target` within `lim` from the commanded state (the override does
@@ -1139,13 +1134,13 @@ impl Axis {
         lim: &Limits,
         rate_hz: u32,
     ) -> Result<(), NackCode> {
-        let goal = Goal::Position { target, lim: *lim };
+        self.homing_goal(Goal::Position { target, lim: *lim }, rate_hz)
+    }
+
+    /// Plan `goal` without the override and run it; the axis stays in Homing.
+    fn homing_goal(&mut self, goal: Goal, rate_hz: u32) -> Result<(), NackCode> {
         let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
-        self.goal = goal;
-        self.target = target;
-        self.in_velocity = false;
-        self.motion = Motion::Run { traj, t: 0.0 };
-        self.stop_elapsed = None;
+        self.take_goal(goal, traj);
         Ok(())
     }
 

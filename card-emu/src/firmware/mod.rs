@@ -38,6 +38,12 @@ pub const MAX_CMDS_PER_SERVE: usize = 16;
 /// its ack and this many events still fit, so acks are never lost.
 pub const EVENT_RESERVE: u32 = 4 * MAX_AXES as u32;
 
+/// The servo rate of a sample time, Hz (the steps that get only `ts` plan with the card's
+/// ranges at its rate).
+pub(crate) fn rate_hz(ts: f64) -> u32 {
+    (1.0 / ts).round() as u32
+}
+
 /// The card's firmware over a DPRAM window `M`.
 pub struct Firmware<M: Mem + Clone> {
     mem: M,

@@ -59,7 +59,7 @@ impl Group {
             .as_ref()
             .is_some_and(|a| self.factor_of(&a.mv) != 1.0)
         {
-            let rate = (1.0 / ts).round() as u32;
+            let rate = crate::firmware::rate_hz(ts);
             if self.replan_active(rate).is_err() {
                 self.hold_active(rate);
             }

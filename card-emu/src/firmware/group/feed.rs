@@ -90,7 +90,7 @@ impl Group {
                 // The ramp down to a lowered feed ended: on to the end of the path.
                 if let (Some((traj, t)), Feed::Profile { lim, .. }) = (&act.retimed, &act.mv.feed) {
                     if *t >= traj.duration() && traj.end().vel > 0.0 && !adv.finished {
-                        let rate = (1.0 / ts).round() as u32;
+                        let rate = crate::firmware::rate_hz(ts);
                         let (s, v) = (act.s, act.v);
                         // (What cannot be planned holds where it is, as a 0 % override.)
                         act.retimed = overrides::plan_path(s, v, 0.0, len, lim, k, rate)

@@ -866,7 +866,7 @@ impl Group {
         if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) || nargs > a.len() {
             return Err(NackCode::NotFinite);
         }
-        let rate = (1.0 / ts).round() as u32;
+        let rate = crate::firmware::rate_hz(ts);
         crate::firmware::nack::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
         let limits = Limits {
             vmax: a[0],
@@ -991,7 +991,7 @@ impl Group {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let rate = (1.0 / ts).round() as u32;
+        let rate = crate::firmware::rate_hz(ts);
         for l in values.chunks_exact(4) {
             crate::firmware::nack::check_ranges(
                 rate,
@@ -1061,7 +1061,7 @@ impl Group {
         if a[6] <= 0.0 {
             return Err(NackCode::NonPositiveLimit); // the chord tolerance
         }
-        let rate = (1.0 / ts).round() as u32;
+        let rate = crate::firmware::rate_hz(ts);
         crate::firmware::nack::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
         let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
         if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
