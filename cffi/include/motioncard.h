@@ -2082,6 +2082,32 @@ typedef struct mc_stop_info {
 #define MC_ERR_HOMING_FAILED -67
 
 /**
+ * A path segment's buffer mode or transition mode is not one the card knows.
+ */
+#define MC_ERR_PATH_MODE -68
+
+/**
+ * A path line of length zero.
+ */
+#define MC_ERR_PATH_ZERO_LENGTH -69
+
+/**
+ * An output number beyond the card's outputs, or too many output actions before a segment.
+ */
+#define MC_ERR_PATH_OUTPUT -70
+
+/**
+ * A path segment while group moves run, a group move while the path runs, or the path
+ * configuration changed while it runs.
+ */
+#define MC_ERR_PATH_BUSY -71
+
+/**
+ * A segment id that is not an integer in 0..2^32-1.
+ */
+#define MC_ERR_PATH_ID -72
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 5u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 6u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -32,7 +32,10 @@
                            * MC_OP_HOME (the CiA 402 methods), MC_OP_SET_POSITION, MC_EV_HOMING_FAILED
                            * and its MC_HOMING_ERR_* codes, MC_STOP_HOMING_FAILED,
                            * MC_NACK_HOMING_METHOD, MC_NACK_AXIS_HOMING; soft limits hold once the axis
-                           * is homed (MC_MOTION_HOMED) */
+                           * is homed (MC_MOTION_HOMED); 6: the continuous path (MC_OP_PATH_*, the group_path[] blocks
+                           * appended, path words in the group status, MC_EV_SEGMENT_*,
+                           * MC_EV_PATH_*, MC_NACK_PATH_*), the card's digital outputs
+                           * (card.outputs, MC_OP_SET_OUTPUTS) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -240,6 +243,62 @@
                                      * Disabled */
 #define MC_SET_POSITION_RELATIVE (1u << 0)
 
+/* Continuous path opcodes (56..63, layout 1.6). Each group has a path buffer on the card of
+ * MC_PATH_LEN segments: lines, arcs and helices, and dwells, each with a user id (args[0], an
+ * integer 0..2^32-1). The card looks ahead over group_path[group].lookahead segments, blends
+ * the corners within each segment's tolerance (a curvature-continuous blend: acceleration is
+ * continuous through the corner) and runs a jerk-limited tangential feed within every axis's
+ * velocity, acceleration and jerk limit (group_path[group].vmax, amax, jmax). It can always
+ * brake within what is queued: when the buffer runs dry the path comes to rest at the end of
+ * the last segment (MC_EV_PATH_STARVED unless that segment carries MC_PATH_LAST) and resumes
+ * from there when more arrives. Events: MC_EV_SEGMENT_START / _END as each segment starts and
+ * ends (value: its id, seq: its command), MC_EV_PATH_LOW_WATER, MC_EV_GROUP_MOTION_DONE (seq:
+ * the last segment) once the path is at rest in position, MC_EV_GROUP_MOTION_ABORTED per
+ * segment a halt, stop or fault drops. A path needs pre-interpolation acc/dec only (no
+ * post-interpolation filters: MC_NACK_INCOMPATIBLE_MODE) and does not mix with the group's
+ * move queue (MC_NACK_PATH_BUSY). MC_OP_GROUP_HALT and _STOP stop along the path. */
+#define MC_PATH_LEN 4096u            /* segments in a group's path buffer */
+#define MC_OP_PATH_LINE 56u          /* args: id, feed, tolerance, then one target per group axis.
+                                      * flags: MC_MOVE_RELATIVE, MC_PATH_* */
+#define MC_OP_PATH_ARC 57u           /* args: id, feed, tolerance, end_u, end_v, aux_u, aux_v (as
+                                      * MC_OP_GROUP_MOVE_CIRCULAR), then the targets of the other
+                                      * group axes in order (a helix). flags: MC_MOVE_RELATIVE,
+                                      * MC_CIRC_*, MC_PATH_* */
+#define MC_OP_PATH_DWELL 58u         /* args: id, seconds (0 < t <= MC_MAX_MOVE_TIME): an exact stop,
+                                      * then a wait. flags: MC_PATH_LAST */
+#define MC_OP_PATH_OUTPUT 59u        /* args: output (0..MC_OUTPUTS-1), on (0 or 1), distance. flags:
+                                      * MC_PATH_OUT_*. Sets or clears the output when the next
+                                      * motion segment queued starts, ends, or has run `distance`
+                                      * counts; at most MC_PATH_OUTPUTS_PENDING before that segment */
+#define MC_OP_APPLY_GROUP_PATH 60u   /* copy and validate group_path[group] (path empty and at rest) */
+#define MC_OP_SET_OUTPUTS 61u        /* args: mask, value (0..2^MC_OUTPUTS-1): set the outputs in
+                                      * mask to value now (axis field ignored) */
+#define MC_OUTPUTS 16u               /* the card's digital outputs (card.outputs) */
+#define MC_PATH_OUTPUTS_PENDING 8u
+/* MC_OP_PATH_LINE / _ARC flags */
+#define MC_PATH_BUFFER_SHIFT 16u     /* 3 bits, PLCopen BufferMode: how the segment joins the one
+                                      * before: */
+#define MC_PATH_ABORTING 0u          /*   the path stops along its geometry within its limits, the
+                                      *   rest is aborted, and this segment starts from there */
+#define MC_PATH_BUFFERED 1u          /*   exact stop at the corner, then this segment */
+#define MC_PATH_BLEND_LOW 2u         /*   blend; corner speed <= the lower of the two feeds */
+#define MC_PATH_BLEND_PREVIOUS 3u    /*   ... <= the previous segment's feed */
+#define MC_PATH_BLEND_NEXT 4u        /*   ... <= this segment's feed */
+#define MC_PATH_BLEND_HIGH 5u        /*   ... <= the higher of the two */
+#define MC_PATH_TRANSITION_SHIFT 19u /* 2 bits, PLCopen TransitionMode of a blend: */
+#define MC_TM_NONE 0u                /*   no blend: an exact stop at the corner */
+#define MC_TM_MAX_DEVIATION 1u       /*   the blend keeps within `tolerance` counts of the corner */
+#define MC_TM_CORNER_DISTANCE 2u     /*   the blend begins `tolerance` counts before the corner */
+#define MC_PATH_LAST (1u << 21)      /* the last segment of a program: its stop is not starvation */
+/* MC_OP_PATH_OUTPUT flags: when */
+#define MC_PATH_OUT_AT_START 0u
+#define MC_PATH_OUT_AT_END 1u
+#define MC_PATH_OUT_AT_DISTANCE 2u
+/* Path status bits (mc_group_status_payload.path_flags) */
+#define MC_PATHST_RUNNING (1u << 0)  /* a segment is running (path_id is valid) */
+#define MC_PATHST_STARVING (1u << 1) /* braking for the end of what is queued */
+#define MC_PATHST_HALTING (1u << 2)  /* a halt or stop runs along the path */
+
 /* mc_axis_homing.flags */
 #define MC_HOMING_INDEX (1u << 0)        /* the encoder has an index channel (index methods need it) */
 #define MC_HOMING_MOVE_TO_HOME (1u << 1) /* end at the home point */
@@ -275,6 +334,13 @@
 #define MC_EV_AT_REST 17u        /* the stopped axis reached rest (and, category 1, its drive was
                                   * disabled). code: MC_STOP_* reason, value: s since the stop began */
 #define MC_EV_PROTOCOL_ERROR 18u /* the host broke the protocol. code: MC_PROTO_*, value: index */
+#define MC_EV_SEGMENT_START 20u  /* a path segment started (layout 1.6). axis: group; seq: its command;
+                                  * value: its id */
+#define MC_EV_SEGMENT_END 21u    /* a path segment ended (the path left it). As MC_EV_SEGMENT_START */
+#define MC_EV_PATH_LOW_WATER 22u /* the segments queued fell to group_path.low_water. axis: group;
+                                  * value: segments queued */
+#define MC_EV_PATH_STARVED 23u   /* the path brakes for the end of what is queued, which is not
+                                  * marked MC_PATH_LAST. axis: group; value: the last id queued */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1
@@ -324,6 +390,14 @@
                                          * index method without MC_HOMING_INDEX */
 #define MC_NACK_AXIS_HOMING 65          /* a move, jog, MC_SetPosition or MC_Home on an axis that is
                                          * homing */
+/* Continuous path nack codes (80..95, layout 1.6). */
+#define MC_NACK_PATH_MODE 80            /* a buffer mode or transition mode the card does not know */
+#define MC_NACK_PATH_ZERO_LENGTH 81     /* a line of length zero */
+#define MC_NACK_PATH_OUTPUT 82          /* an output number >= MC_OUTPUTS, a value other than 0/1, or
+                                         * more than MC_PATH_OUTPUTS_PENDING actions pending */
+#define MC_NACK_PATH_BUSY 83            /* a path segment while group moves run, a group move while
+                                         * the path runs, or group_path applied while it runs */
+#define MC_NACK_PATH_ID 84              /* a segment id that is not an integer in 0..2^32-1 */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */
@@ -478,7 +552,9 @@ struct mc_card_ctrl {
                              * motion done) that found the firmware's outbox full */
     uint32_t safety_events_lost; /* safety events (stops, at rest, protocol errors) that found the
                                   * safety layer's event buffer full */
-    uint32_t _reserved[8];
+    /* layout 1.6 */
+    uint32_t outputs;       /* the digital outputs, bit i = output i (MC_OUTPUTS) */
+    uint32_t _reserved[7];
 };
 
 /* One ring index on its own 64-byte line. Written only by its owner. */
@@ -605,7 +681,18 @@ struct mc_group_status_payload {
     double feed_override;
     /** The rapid override in force (point-to-point moves). */
     double rapid_override;
-    uint64_t _reserved[12];
+    /** Layout 1.6: segments in the path buffer not finished yet. */
+    uint32_t path_queued;
+    /** Free segments in the path buffer (MC_PATH_LEN - path_queued). */
+    uint32_t path_free;
+    /** Id of the segment running (MC_PATHST_RUNNING). */
+    uint32_t path_id;
+    /** MC_PATHST_* bits. */
+    uint32_t path_flags;
+    /** Path segments ended since MC_GroupEnable (wrapping). */
+    uint32_t path_done;
+    uint32_t _reserved0;
+    uint64_t _reserved[9];
     /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };
@@ -786,6 +873,26 @@ struct mc_axis_homing {
     double _reserved[5];
 };
 
+/** A group's continuous path (layout 1.6). Host writes; the card validates and copies it on
+ * MC_OP_APPLY_GROUP_PATH. Per group axis (group axis order), counts and seconds. */
+struct mc_group_path {
+    /** Segments the planner looks ahead over, 1..MC_PATH_LEN (reset 256). */
+    uint32_t lookahead;
+    /** MC_EV_PATH_LOW_WATER when the segments queued fall to this (0: never). */
+    uint32_t low_water;
+    /** Tangential acceleration limit, counts/s^2 (0: from the axes). */
+    double accel;
+    /** Tangential jerk limit, counts/s^3 (0: from the axes). */
+    double jerk;
+    /** Each axis's velocity limit, counts/s (> 0). */
+    double vmax[MC_MAX_AXES];
+    /** Each axis's acceleration limit, counts/s^2 (> 0). */
+    double amax[MC_MAX_AXES];
+    /** Each axis's jerk limit, counts/s^3 (> 0). */
+    double jmax[MC_MAX_AXES];
+    double _reserved[6];
+};
+
 /* card writes; independent words (not a snapshot), each written when its event happens */
 struct mc_safety_status {
     uint32_t faults;              /* MC_CARD_FAULT_* latched */
@@ -834,6 +941,8 @@ struct mc_dpram {
     struct mc_safety_status safety_status;           /* card writes */
     /* layout 1.5 */
     struct mc_axis_homing axis_homing[MC_MAX_AXES];  /* host writes */
+    /* layout 1.6 */
+    struct mc_group_path group_path[MC_MAX_GROUPS];  /* host writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

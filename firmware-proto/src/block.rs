@@ -57,6 +57,7 @@ blocks!(
     mc_safety_config,
     mc_axis_safety,
     mc_axis_homing,
+    mc_group_path,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -44,6 +44,8 @@ pub const BAD_ACCESSES: usize = off!(card.bad_accesses);
 pub const OUTBOX_LOST: usize = off!(card.outbox_lost);
 /// Layout 1.4: safety events that found the safety layer's event buffer full.
 pub const SAFETY_EVENTS_LOST: usize = off!(card.safety_events_lost);
+/// `card.outputs` (layout 1.6): the digital outputs.
+pub const OUTPUTS: usize = off!(card.outputs);
 
 // rings
 pub const CMD_HEAD: usize = off!(cmd_head.value);
@@ -125,6 +127,17 @@ const _: () = {
     assert!(AXIS_HOMING_BYTES == 128 && AXIS_HOMING.at(0).offset().is_multiple_of(64));
     assert!(AXIS_HOMING.at(0).offset() >= SAFETY_STATUS + size_of::<mc_safety_status>());
     assert!(AXIS_HOMING.at(MAX_AXES - 1).offset() + AXIS_HOMING_BYTES <= crate::DPRAM_SIZE);
+};
+
+// path (layout 1.6, appended after the homing blocks)
+/// `group_path[group]`.
+pub const GROUP_PATH: Blocks<mc_group_path, MAX_GROUPS> = Blocks::new(off!(group_path));
+pub const GROUP_PATH_BYTES: usize = size_of::<mc_group_path>();
+
+const _: () = {
+    assert!(GROUP_PATH.at(0).offset().is_multiple_of(8));
+    assert!(GROUP_PATH.at(0).offset() >= AXIS_HOMING.at(MAX_AXES - 1).offset() + AXIS_HOMING_BYTES);
+    assert!(GROUP_PATH.at(MAX_GROUPS - 1).offset() + GROUP_PATH_BYTES <= crate::DPRAM_SIZE);
 };
 
 /// The card-written safety status block (`mc_safety_status`).

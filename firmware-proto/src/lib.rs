@@ -43,7 +43,9 @@ pub mod window;
 
 pub use block::{Block, BlockAt, Blocks};
 pub use mem::{Dpram, Mem};
-pub use reset::{AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, PdPlusGains};
+pub use reset::{
+    AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, GroupPath, PdPlusGains,
+};
 pub use ring::{Consumer, Producer, RingError};
 pub use wire::*;
 
@@ -66,6 +68,10 @@ pub const MAX_AXES: usize = raw::MC_MAX_AXES as usize;
 pub const MAX_GROUPS: usize = raw::MC_MAX_GROUPS as usize;
 /// Buffered moves per group.
 pub const GROUP_QUEUE_LEN: usize = raw::MC_GROUP_QUEUE_LEN as usize;
+/// Segments in a group's path buffer.
+pub const PATH_LEN: usize = raw::MC_PATH_LEN as usize;
+/// The card's digital outputs.
+pub const OUTPUTS: usize = raw::MC_OUTPUTS as usize;
 /// Size of the mapped window in bytes.
 pub const DPRAM_SIZE: usize = raw::MC_DPRAM_SIZE as usize;
 /// Servo-rate bounds, Hz.

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 5;
+pub const MC_LAYOUT_MINOR: u32 = 6;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -95,6 +95,33 @@ pub const MC_OP_APPLY_AXIS_HOMING: u32 = 48;
 pub const MC_OP_HOME: u32 = 49;
 pub const MC_OP_SET_POSITION: u32 = 50;
 pub const MC_SET_POSITION_RELATIVE: u32 = 1;
+pub const MC_PATH_LEN: u32 = 4096;
+pub const MC_OP_PATH_LINE: u32 = 56;
+pub const MC_OP_PATH_ARC: u32 = 57;
+pub const MC_OP_PATH_DWELL: u32 = 58;
+pub const MC_OP_PATH_OUTPUT: u32 = 59;
+pub const MC_OP_APPLY_GROUP_PATH: u32 = 60;
+pub const MC_OP_SET_OUTPUTS: u32 = 61;
+pub const MC_OUTPUTS: u32 = 16;
+pub const MC_PATH_OUTPUTS_PENDING: u32 = 8;
+pub const MC_PATH_BUFFER_SHIFT: u32 = 16;
+pub const MC_PATH_ABORTING: u32 = 0;
+pub const MC_PATH_BUFFERED: u32 = 1;
+pub const MC_PATH_BLEND_LOW: u32 = 2;
+pub const MC_PATH_BLEND_PREVIOUS: u32 = 3;
+pub const MC_PATH_BLEND_NEXT: u32 = 4;
+pub const MC_PATH_BLEND_HIGH: u32 = 5;
+pub const MC_PATH_TRANSITION_SHIFT: u32 = 19;
+pub const MC_TM_NONE: u32 = 0;
+pub const MC_TM_MAX_DEVIATION: u32 = 1;
+pub const MC_TM_CORNER_DISTANCE: u32 = 2;
+pub const MC_PATH_LAST: u32 = 2097152;
+pub const MC_PATH_OUT_AT_START: u32 = 0;
+pub const MC_PATH_OUT_AT_END: u32 = 1;
+pub const MC_PATH_OUT_AT_DISTANCE: u32 = 2;
+pub const MC_PATHST_RUNNING: u32 = 1;
+pub const MC_PATHST_STARVING: u32 = 2;
+pub const MC_PATHST_HALTING: u32 = 4;
 pub const MC_HOMING_INDEX: u32 = 1;
 pub const MC_HOMING_MOVE_TO_HOME: u32 = 2;
 pub const MC_HOMING_ERR_LIMIT: u32 = 1;
@@ -117,6 +144,10 @@ pub const MC_EV_HOMING_FAILED: u32 = 13;
 pub const MC_EV_SAFETY_STOP: u32 = 16;
 pub const MC_EV_AT_REST: u32 = 17;
 pub const MC_EV_PROTOCOL_ERROR: u32 = 18;
+pub const MC_EV_SEGMENT_START: u32 = 20;
+pub const MC_EV_SEGMENT_END: u32 = 21;
+pub const MC_EV_PATH_LOW_WATER: u32 = 22;
+pub const MC_EV_PATH_STARVED: u32 = 23;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -159,6 +190,11 @@ pub const MC_NACK_NURBS_ZERO_LENGTH: u32 = 59;
 pub const MC_NACK_NURBS_KNOT: u32 = 60;
 pub const MC_NACK_HOMING_METHOD: u32 = 64;
 pub const MC_NACK_AXIS_HOMING: u32 = 65;
+pub const MC_NACK_PATH_MODE: u32 = 80;
+pub const MC_NACK_PATH_ZERO_LENGTH: u32 = 81;
+pub const MC_NACK_PATH_OUTPUT: u32 = 82;
+pub const MC_NACK_PATH_BUSY: u32 = 83;
+pub const MC_NACK_PATH_ID: u32 = 84;
 pub const MC_NACK_WATCHDOG_TRIPPED: u32 = 32;
 pub const MC_NACK_ESTOP_ACTIVE: u32 = 33;
 pub const MC_NACK_HARD_LIMIT: u32 = 34;
@@ -323,7 +359,8 @@ pub struct mc_card_ctrl {
     pub bad_accesses: u32,
     pub outbox_lost: u32,
     pub safety_events_lost: u32,
-    pub _reserved: [u32; 8usize],
+    pub outputs: u32,
+    pub _reserved: [u32; 7usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -342,8 +379,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_ctrl, outbox_lost) - 24usize];
     ["Offset of field: mc_card_ctrl::safety_events_lost"]
         [::core::mem::offset_of!(mc_card_ctrl, safety_events_lost) - 28usize];
+    ["Offset of field: mc_card_ctrl::outputs"]
+        [::core::mem::offset_of!(mc_card_ctrl, outputs) - 32usize];
     ["Offset of field: mc_card_ctrl::_reserved"]
-        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 32usize];
+        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 36usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -584,7 +623,18 @@ pub struct mc_group_status_payload {
     pub feed_override: f64,
     #[doc = " The rapid override in force (point-to-point moves)."]
     pub rapid_override: f64,
-    pub _reserved: [u64; 12usize],
+    #[doc = " Layout 1.6: segments in the path buffer not finished yet."]
+    pub path_queued: u32,
+    #[doc = " Free segments in the path buffer (MC_PATH_LEN - path_queued)."]
+    pub path_free: u32,
+    #[doc = " Id of the segment running (MC_PATHST_RUNNING)."]
+    pub path_id: u32,
+    #[doc = " MC_PATHST_* bits."]
+    pub path_flags: u32,
+    #[doc = " Path segments ended since MC_GroupEnable (wrapping)."]
+    pub path_done: u32,
+    pub _reserved0: u32,
+    pub _reserved: [u64; 9usize],
     #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
@@ -620,8 +670,20 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status_payload, feed_override) - 72usize];
     ["Offset of field: mc_group_status_payload::rapid_override"]
         [::core::mem::offset_of!(mc_group_status_payload, rapid_override) - 80usize];
+    ["Offset of field: mc_group_status_payload::path_queued"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_queued) - 88usize];
+    ["Offset of field: mc_group_status_payload::path_free"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_free) - 92usize];
+    ["Offset of field: mc_group_status_payload::path_id"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_id) - 96usize];
+    ["Offset of field: mc_group_status_payload::path_flags"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_flags) - 100usize];
+    ["Offset of field: mc_group_status_payload::path_done"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_done) - 104usize];
+    ["Offset of field: mc_group_status_payload::_reserved0"]
+        [::core::mem::offset_of!(mc_group_status_payload, _reserved0) - 108usize];
     ["Offset of field: mc_group_status_payload::_reserved"]
-        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 88usize];
+        [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 112usize];
     ["Offset of field: mc_group_status_payload::checksum"]
         [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
 };
@@ -979,6 +1041,47 @@ const _: () = {
     ["Offset of field: mc_axis_homing::_reserved"]
         [::core::mem::offset_of!(mc_axis_homing, _reserved) - 88usize];
 };
+#[doc = " A group's continuous path (layout 1.6). Host writes; the card validates and copies it on\n MC_OP_APPLY_GROUP_PATH. Per group axis (group axis order), counts and seconds."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct mc_group_path {
+    #[doc = " Segments the planner looks ahead over, 1..MC_PATH_LEN (reset 256)."]
+    pub lookahead: u32,
+    #[doc = " MC_EV_PATH_LOW_WATER when the segments queued fall to this (0: never)."]
+    pub low_water: u32,
+    #[doc = " Tangential acceleration limit, counts/s^2 (0: from the axes)."]
+    pub accel: f64,
+    #[doc = " Tangential jerk limit, counts/s^3 (0: from the axes)."]
+    pub jerk: f64,
+    #[doc = " Each axis's velocity limit, counts/s (> 0)."]
+    pub vmax: [f64; 8usize],
+    #[doc = " Each axis's acceleration limit, counts/s^2 (> 0)."]
+    pub amax: [f64; 8usize],
+    #[doc = " Each axis's jerk limit, counts/s^3 (> 0)."]
+    pub jmax: [f64; 8usize],
+    pub _reserved: [f64; 6usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_group_path"][::core::mem::size_of::<mc_group_path>() - 264usize];
+    ["Alignment of mc_group_path"][::core::mem::align_of::<mc_group_path>() - 8usize];
+    ["Offset of field: mc_group_path::lookahead"]
+        [::core::mem::offset_of!(mc_group_path, lookahead) - 0usize];
+    ["Offset of field: mc_group_path::low_water"]
+        [::core::mem::offset_of!(mc_group_path, low_water) - 4usize];
+    ["Offset of field: mc_group_path::accel"]
+        [::core::mem::offset_of!(mc_group_path, accel) - 8usize];
+    ["Offset of field: mc_group_path::jerk"]
+        [::core::mem::offset_of!(mc_group_path, jerk) - 16usize];
+    ["Offset of field: mc_group_path::vmax"]
+        [::core::mem::offset_of!(mc_group_path, vmax) - 24usize];
+    ["Offset of field: mc_group_path::amax"]
+        [::core::mem::offset_of!(mc_group_path, amax) - 88usize];
+    ["Offset of field: mc_group_path::jmax"]
+        [::core::mem::offset_of!(mc_group_path, jmax) - 152usize];
+    ["Offset of field: mc_group_path::_reserved"]
+        [::core::mem::offset_of!(mc_group_path, _reserved) - 216usize];
+};
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_safety_status {
@@ -1057,10 +1160,11 @@ pub struct mc_dpram {
     pub axis_safety: [mc_axis_safety; 8usize],
     pub safety_status: mc_safety_status,
     pub axis_homing: [mc_axis_homing; 8usize],
+    pub group_path: [mc_group_path; 4usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 25216usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26272usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1095,6 +1199,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, safety_status) - 23936usize];
     ["Offset of field: mc_dpram::axis_homing"]
         [::core::mem::offset_of!(mc_dpram, axis_homing) - 24192usize];
+    ["Offset of field: mc_dpram::group_path"]
+        [::core::mem::offset_of!(mc_dpram, group_path) - 25216usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -21,6 +21,9 @@ pub type DriveModel = raw::mc_drive_model;
 /// An axis's homing configuration (`mc_axis_homing`, layout 1.5): the CiA 402 method, its
 /// velocities and limits, the home offset and the bounds that make a homing fail.
 pub type AxisHoming = raw::mc_axis_homing;
+/// A group's continuous-path configuration (`mc_group_path`): look-ahead, low-water mark,
+/// tangential limits and every group axis's limits.
+pub type GroupPath = raw::mc_group_path;
 
 /// The acceleration per volt of the card's default drive and motor (the emulator's
 /// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.
@@ -74,6 +77,24 @@ impl Default for AxisHoming {
             hard_stop_ferror: 200.0,
             hard_stop_dwell: 0.02,
             _reserved: [0.0; 5],
+        }
+    }
+}
+
+/// Look ahead over 256 segments, no low-water event, tangential limits from the axes, and for
+/// every axis of the default motor 100,000 counts/s (10 rev/s), 10⁶ counts/s² and 10⁸
+/// counts/s³.
+impl Default for GroupPath {
+    fn default() -> Self {
+        Self {
+            lookahead: 256,
+            low_water: 0,
+            accel: 0.0,
+            jerk: 0.0,
+            vmax: [1e5; 8],
+            amax: [1e6; 8],
+            jmax: [1e8; 8],
+            _reserved: [0.0; 6],
         }
     }
 }

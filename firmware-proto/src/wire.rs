@@ -125,6 +125,19 @@ code_enum! {
         Home = raw::MC_OP_HOME,
         /// MC_SetPosition: arg the position (flags: [`SET_POSITION_RELATIVE`]).
         SetPosition = raw::MC_OP_SET_POSITION,
+        /// Queue a line in the group's path: args id, feed, tolerance, targets.
+        PathLine = raw::MC_OP_PATH_LINE,
+        /// Queue an arc or helix in the group's path: args id, feed, tolerance, end, aux,
+        /// the other axes' targets.
+        PathArc = raw::MC_OP_PATH_ARC,
+        /// Queue a dwell in the group's path: args id, seconds.
+        PathDwell = raw::MC_OP_PATH_DWELL,
+        /// An output action for the next path segment: args output, on, distance.
+        PathOutput = raw::MC_OP_PATH_OUTPUT,
+        /// Validate and copy `group_path[group]` (look-ahead, low water, axis limits).
+        ApplyGroupPath = raw::MC_OP_APPLY_GROUP_PATH,
+        /// Set the digital outputs in a mask: args mask, value.
+        SetOutputs = raw::MC_OP_SET_OUTPUTS,
     }
 }
 
@@ -163,6 +176,15 @@ code_enum! {
         /// Homing ended without a home point, the axis at rest and not homed; `code` is a
         /// [`HomingError`], `value` the actual position.
         HomingFailed = raw::MC_EV_HOMING_FAILED,
+        /// A path segment started; `value` is its id, `seq` its command.
+        SegmentStart = raw::MC_EV_SEGMENT_START,
+        /// A path segment ended; `value` is its id, `seq` its command.
+        SegmentEnd = raw::MC_EV_SEGMENT_END,
+        /// The path's queued segments fell to its low-water mark; `value` is how many.
+        PathLowWater = raw::MC_EV_PATH_LOW_WATER,
+        /// The path brakes for the end of what is queued (not marked last); `value` is the
+        /// last id queued.
+        PathStarved = raw::MC_EV_PATH_STARVED,
     }
 }
 
@@ -272,6 +294,17 @@ code_enum! {
         HomingMethod = raw::MC_NACK_HOMING_METHOD,
         /// A move, jog or MC_Home on an axis that is homing.
         AxisHoming = raw::MC_NACK_AXIS_HOMING,
+        /// A path buffer mode or transition mode the card does not know.
+        PathMode = raw::MC_NACK_PATH_MODE,
+        /// A path line of length zero.
+        PathZeroLength = raw::MC_NACK_PATH_ZERO_LENGTH,
+        /// A bad output number or value, or too many output actions pending.
+        PathOutput = raw::MC_NACK_PATH_OUTPUT,
+        /// A path segment while group moves run, a group move while the path runs, or the
+        /// path configuration applied while it runs.
+        PathBusy = raw::MC_NACK_PATH_BUSY,
+        /// A segment id that is not an integer in 0..2³²−1.
+        PathId = raw::MC_NACK_PATH_ID,
     }
 }
 
@@ -368,6 +401,26 @@ pub mod move_flags {
     pub const FEED_TYPE_SHIFT: u32 = raw::MC_FEED_TYPE_SHIFT;
     /// Point-to-point: every axis also within the limits staged for it.
     pub const PTP_AXIS_LIMITS: u32 = MoveFlags::PTP_AXIS_LIMITS.bits();
+}
+
+/// The flags of the path opcodes (`MC_OP_PATH_LINE`, `_ARC`, `_DWELL`, `_OUTPUT`). Lines and arcs
+/// also take [`move_flags::RELATIVE`] and the circle bits of [`move_flags`].
+pub mod path_flags {
+    use crate::raw;
+    /// Shift of the 3-bit PLCopen buffer mode (`MC_PATH_ABORTING` … `MC_PATH_BLEND_HIGH`).
+    pub const BUFFER_SHIFT: u32 = raw::MC_PATH_BUFFER_SHIFT;
+    /// Shift of the 2-bit transition mode (`MC_TM_*`).
+    pub const TRANSITION_SHIFT: u32 = raw::MC_PATH_TRANSITION_SHIFT;
+    /// The last segment of a program: its stop is the end, not starvation.
+    pub const LAST: u32 = raw::MC_PATH_LAST;
+    /// The buffer mode of a segment's flags.
+    pub fn buffer(flags: u32) -> u32 {
+        (flags >> BUFFER_SHIFT) & 7
+    }
+    /// The transition mode of a segment's flags.
+    pub fn transition(flags: u32) -> u32 {
+        (flags >> TRANSITION_SHIFT) & 3
+    }
 }
 
 code_enum! {
@@ -857,7 +910,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 51);
+        assert_eq!(NackCode::ALL.len(), 56);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

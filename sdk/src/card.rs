@@ -483,6 +483,16 @@ impl Card {
         self.inner.scale(axis)
     }
 
+    /// Wait until the card has run at least one more servo tick (a stepped card is stepped).
+    pub(crate) fn wait_next_tick(&self, timeout: Duration) -> Result<()> {
+        let w = &self.inner.dev.window;
+        let t0 = w.read64(layout::TICK);
+        self.inner
+            .wait_until(Instant::now() + timeout, USER_WAIT, |_| {
+                (w.read64(layout::TICK) != t0).then_some(())
+            })
+    }
+
     pub(crate) fn wait_outcome(&self, target: Target, seq: u32, timeout: Duration) -> Result<f64> {
         self.wait_for(target, seq, timeout, |o| match o {
             Outcome::Done(p) => Some(p),

@@ -210,6 +210,17 @@ error_kinds! {
     /// Homing ended without a home point (its switch, hard stop or index was not found in
     /// time or distance): the axis is at rest and not homed.
     HomingFailed = -67, MC_ERR_HOMING_FAILED, "homing failed: the axis stopped, not homed";
+    /// A path segment's buffer mode or transition mode is not one the card knows.
+    PathMode = -68, MC_ERR_PATH_MODE, nack PathMode, "unknown path buffer or transition mode";
+    /// A path line of length zero.
+    PathZeroLength = -69, MC_ERR_PATH_ZERO_LENGTH, nack PathZeroLength, "the path line has zero length";
+    /// An output number beyond the card's outputs, or too many output actions before a segment.
+    PathOutput = -70, MC_ERR_PATH_OUTPUT, nack PathOutput, "bad output number, or too many output actions before a segment";
+    /// A path segment while group moves run, a group move while the path runs, or the path
+    /// configuration changed while it runs.
+    PathBusy = -71, MC_ERR_PATH_BUSY, nack PathBusy, "the group's path and its move queue do not mix: wait for the other to finish";
+    /// A segment id that is not an integer in 0..2^32-1.
+    PathId = -72, MC_ERR_PATH_ID, nack PathId, "a segment id must be an integer in 0..2^32-1";
 }
 
 impl From<NurbsError> for ErrorKind {

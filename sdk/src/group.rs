@@ -212,18 +212,18 @@ impl Group {
         self.index
     }
 
-    fn op(&self, op: Opcode) -> Command {
+    pub(crate) fn op(&self, op: Opcode) -> Command {
         Command::new(op, self.index as u16)
     }
 
-    fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
+    pub(crate) fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
         self.card.execute_seq(cmd, what, Target::Group(self.index))
     }
 
     /// The group's axes as the card accepted them: remembered from [`Group::configure`], or,
     /// for a group configured by an earlier host, read back from the configuration block once
     /// the card shows the group enabled.
-    fn axes(&self) -> Result<(usize, [usize; MAX_AXES])> {
+    pub(crate) fn axes(&self) -> Result<(usize, [usize; MAX_AXES])> {
         if let Some(c) = lock(&self.card.inner().group_axes)[self.index] {
             return Ok(c);
         }
@@ -376,7 +376,7 @@ impl Group {
             .map(|_| ())
     }
 
-    fn motion(&self, seq: u32) -> GroupMotion {
+    pub(crate) fn motion(&self, seq: u32) -> GroupMotion {
         lock(&self.card.inner().last_group_motion)[self.index] = Some(seq);
         GroupMotion {
             card: self.card.clone(),
@@ -386,7 +386,7 @@ impl Group {
     }
 
     /// Counts per user unit for path quantities: the first group axis's scale.
-    fn path_scale(&self) -> Result<f64> {
+    pub(crate) fn path_scale(&self) -> Result<f64> {
         let (_, axes) = self.axes()?;
         Ok(self.card.scale(axes[0]).abs())
     }
@@ -420,7 +420,7 @@ impl Group {
         f
     }
 
-    fn targets(&self, target: &[f64]) -> Result<Vec<f64>> {
+    pub(crate) fn targets(&self, target: &[f64]) -> Result<Vec<f64>> {
         let (n, axes) = self.axes()?;
         if target.len() != n {
             return Err(Error::BadAxis {
@@ -560,6 +560,24 @@ impl Group {
         lim: &PathLimits,
         opts: MoveOptions,
     ) -> Result<GroupMotion> {
+        let (geometry, arc_flags) = self.arc_args(arc, plane, helix)?;
+        let mut args = self.path_args(lim)?.to_vec();
+        args.extend(geometry);
+        let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
+        cmd.flags = Self::flags(&opts).bits() | arc_flags;
+        let seq = self.run(cmd, "move circular")?;
+        Ok(self.motion(seq))
+    }
+
+    /// An arc's arguments in counts (end, aux, then the other axes' targets) and its flags
+    /// (mode, direction, plane, helix relative), as MC_OP_GROUP_MOVE_CIRCULAR and
+    /// MC_OP_PATH_ARC take them.
+    pub(crate) fn arc_args(
+        &self,
+        arc: &ArcSpec,
+        plane: Plane,
+        helix: &[f64],
+    ) -> Result<(Vec<f64>, u32)> {
         let (n, axes) = self.axes()?;
         let (u, v) = match plane {
             Plane::XY => (0, 1),
@@ -588,15 +606,13 @@ impl Group {
         for x in end.iter().chain(aux.iter()).chain(helix) {
             finite("arc coordinate", *x)?;
         }
-        let mut args = self.path_args(lim)?.to_vec();
-        args.extend([end[0] * su, end[1] * sv, aux[0], aux[1]]);
+        let mut args = vec![end[0] * su, end[1] * sv, aux[0], aux[1]];
         let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
-
         for (h, i) in helix.iter().zip(&others) {
             args.push(h * self.card.scale(axes[*i]));
         }
         // No helical targets: the other axes stay where they are (distance 0).
-        let mut flags = Self::flags(&opts);
+        let mut flags = MoveFlags::empty();
         if helix.is_empty() {
             args.extend(std::iter::repeat_n(0.0, others.len()));
             flags |= MoveFlags::CIRC_HELIX_RELATIVE;
@@ -611,13 +627,13 @@ impl Group {
             Plane::YZ => raw::MC_PLANE_YZ,
             Plane::ZX => raw::MC_PLANE_ZX,
         };
-        let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
         flags.set(MoveFlags::CIRC_CCW, ccw);
-        cmd.flags = flags.bits()
-            | mode << move_flags::CIRC_MODE_SHIFT
-            | plane_bits << move_flags::PLANE_SHIFT;
-        let seq = self.run(cmd, "move circular")?;
-        Ok(self.motion(seq))
+        Ok((
+            args,
+            flags.bits()
+                | mode << move_flags::CIRC_MODE_SHIFT
+                | plane_bits << move_flags::PLANE_SHIFT,
+        ))
     }
 
     /// Wait for the last move queued through this library on this group.

@@ -30,6 +30,7 @@ mod heartbeat;
 mod homing;
 mod modes;
 mod nurbs;
+mod path;
 mod safety;
 mod session;
 
@@ -61,6 +62,10 @@ pub use nurbs::{
     clamped_uniform_knots, die_bonder_pdplus, split_nurbs, Nurbs, NurbsError, NurbsFeed,
     PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
+pub use path::{
+    Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
+    Segment, StreamError, Transition,
+};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
 
@@ -74,6 +79,7 @@ pub mod plan {
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.
 pub mod proto {
     pub use firmware_proto::{
-        move_flags, raw, AxisStatus, Command, Event, Faults, Io, MoveFlags, Opcode,
+        move_flags, path_flags, raw, AxisStatus, Command, Event, Faults, Io, MoveFlags, Opcode,
+        OUTPUTS, PATH_LEN,
     };
 }

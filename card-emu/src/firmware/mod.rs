@@ -54,6 +54,8 @@ pub struct Firmware<M: Mem + Clone> {
     groups: [Group; MAX_GROUPS],
     filters: Box<[AxisFilter]>,
     outbox: Outbox,
+    /// The digital outputs (layout 1.6), bit i = output i.
+    outputs: u32,
     num_axes: usize,
     servo_rate_hz: u32,
     tick: u64,
@@ -91,6 +93,7 @@ impl<M: Mem + Clone> Firmware<M> {
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
+            outputs: 0,
             num_axes,
             servo_rate_hz,
             tick: 0,
@@ -111,6 +114,9 @@ impl<M: Mem + Clone> Firmware<M> {
             layout::AXIS_HOMING
                 .at(a)
                 .write(&fw.mem, &fw.homing[a].config().block);
+        }
+        for (g, group) in fw.groups.iter().enumerate() {
+            layout::GROUP_PATH.at(g).write(&fw.mem, group.path_config());
         }
         fw.publish();
         fw.mem.store32(
@@ -308,6 +314,7 @@ impl<M: Mem + Clone> Firmware<M> {
         match op {
             Opcode::Nop => return Ok(0.0),
             Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
+            Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
             Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
             _ => {}
         }
@@ -591,6 +598,14 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::GroupSetOverride => {
                 group.set_override(c.args[0], c.args[1], self.servo_rate_hz)
             }
+            Opcode::PathLine | Opcode::PathArc | Opcode::PathDwell => {
+                group.path_segment(c, op, ts, tick, out)
+            }
+            Opcode::PathOutput => group.path_output(c, ts),
+            Opcode::ApplyGroupPath => {
+                let block = layout::GROUP_PATH.at(g).read(&self.mem);
+                group.apply_path(block, self.servo_rate_hz)
+            }
             _ => group.queue_move(c, op, ts, tick, out),
         }
     }
@@ -608,6 +623,20 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.outbox.clear();
         self.mem.write32(layout::OUTBOX_LOST, self.outbox.lost());
+    }
+
+    /// MC_OP_SET_OUTPUTS: the outputs in `mask` become `value`.
+    fn set_outputs(&mut self, c: &Command) -> Result<(), NackCode> {
+        let all = (1u64 << firmware_proto::OUTPUTS) - 1;
+        let word = |x: f64| {
+            (x.is_finite() && x.fract() == 0.0 && (0.0..=all as f64).contains(&x))
+                .then_some(x as u32)
+        };
+        let (Some(mask), Some(value)) = (word(c.args[0]), word(c.args[1])) else {
+            return Err(NackCode::PathOutput);
+        };
+        self.outputs = (self.outputs & !mask) | (value & mask);
+        Ok(())
     }
 
     fn apply_card_config(&mut self) -> Result<(), NackCode> {
@@ -669,6 +698,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.tick,
                 &mut self.outbox,
             );
+            // Outputs a path sets or clears at a segment's start, end or distance.
+            let (set, clear) = g.take_path_outputs();
+            self.outputs = (self.outputs & !clear) | set;
         }
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let inputs = *self.safety.inputs();
@@ -822,6 +854,12 @@ impl<M: Mem + Clone> Firmware<M> {
         for (g, group) in self.groups.iter().enumerate() {
             seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
         }
+        self.mem.write32(layout::OUTPUTS, self.outputs);
+    }
+
+    /// The digital outputs (bit i = output i).
+    pub fn outputs(&self) -> u32 {
+        self.outputs
     }
 }
 
@@ -904,6 +942,11 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::NurbsBegin
             | Opcode::NurbsData
             | Opcode::NurbsEnd
+            | Opcode::PathLine
+            | Opcode::PathArc
+            | Opcode::PathDwell
+            | Opcode::PathOutput
+            | Opcode::ApplyGroupPath
     )
 }
 

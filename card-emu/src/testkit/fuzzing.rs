@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 56, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 62, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -334,6 +334,31 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
                 a[6] = (a[4] * a[4] + a[5] * a[5]).sqrt() * (0.5 + s.u8() as f64 / 64.0);
             }
         }
+        Opcode::PathLine | Opcode::PathArc => {
+            a[0] = s.u16() as f64;
+            a[1] = magnitude(s, 2.0, 6.5);
+            a[2] = if s.u8() & 1 == 0 {
+                0.0
+            } else {
+                magnitude(s, -1.0, 3.0)
+            };
+            for x in a[3..].iter_mut() {
+                *x = position(s);
+            }
+        }
+        Opcode::PathDwell => {
+            a[0] = s.u16() as f64;
+            a[1] = magnitude(s, -4.0, 0.0);
+        }
+        Opcode::PathOutput => {
+            a[0] = (s.u8() % 20) as f64;
+            a[1] = (s.u8() % 3) as f64;
+            a[2] = magnitude(s, 0.0, 5.0);
+        }
+        Opcode::SetOutputs => {
+            a[0] = s.u16() as f64;
+            a[1] = s.u16() as f64;
+        }
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -364,6 +389,13 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
             feed | mode | plane | (s.u8() as u32 & (3 | move_flags::CIRC_CCW))
         }
         Opcode::NurbsBegin => feed | (s.u8() as u32 & move_flags::BUFFERED),
+        Opcode::PathLine | Opcode::PathArc => {
+            let mode = ((s.u8() % 3) as u32) << move_flags::CIRC_MODE_SHIFT;
+            let buffer = ((s.u8() % 7) as u32) << firmware_proto::path_flags::BUFFER_SHIFT;
+            let tm = ((s.u8() % 4) as u32) << firmware_proto::path_flags::TRANSITION_SHIFT;
+            mode | buffer | tm | (s.u8() as u32 & (1 | move_flags::CIRC_CCW))
+        }
+        Opcode::PathOutput => (s.u8() % 4) as u32,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
         }

@@ -33,6 +33,7 @@ mod feed;
 mod filter;
 mod nurbs_pool;
 mod overrides;
+mod path;
 mod settle;
 mod snap;
 mod stop;
@@ -41,6 +42,7 @@ mod testing;
 
 use self::nurbs_pool::NurbsPool;
 pub use self::nurbs_pool::NURBS_SLOTS;
+pub use self::path::validate_path_config;
 use crate::firmware::axis::Axis;
 pub use crate::firmware::outbox::Outbox;
 use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
@@ -441,6 +443,10 @@ pub struct Group {
     nurbs: NurbsPool,
     /// MC_SetOverride: (feed factor, rapid factor), each 0..=OVERRIDE_MAX.
     overrides: (f64, f64),
+    /// The continuous path (made when the group first needs it).
+    path: Option<Box<path::PathRun>>,
+    /// Its configuration (`group_path`, validated).
+    path_cfg: firmware_proto::GroupPath,
 }
 
 impl Group {
@@ -474,6 +480,8 @@ impl Group {
             ptp_stage: [None; MAX_AXES],
             nurbs: NurbsPool::new(),
             overrides: (1.0, 1.0),
+            path: None,
+            path_cfg: firmware_proto::GroupPath::default(),
         }
     }
 
@@ -623,6 +631,7 @@ impl Group {
     }
 
     fn abort_all(&mut self, by: Opcode, tick: u64, out: &mut Outbox) {
+        self.path_abort_all(by, tick, out);
         if let Some(act) = self.active.take() {
             out.push(self.event(
                 EventKind::GroupMotionAborted,
@@ -791,6 +800,8 @@ impl Group {
             }
             None => (dmax, jerk),
         };
+        // A running path stops along its geometry (within its own limits as well).
+        self.path_halt(dmax, jerk);
         let keep = self.nurbs_runout(dmax, jerk);
         self.flush_queue_keeping(keep, by, tick, out);
         if let Some(act) = &mut self.active {
@@ -1012,6 +1023,9 @@ impl Group {
             GroupState::Standby => {}
             GroupState::Moving if flags & move_flags::BUFFERED != 0 && self.stop.is_none() => {}
             _ => return Err(NackCode::InvalidState),
+        }
+        if self.path.as_ref().is_some_and(|p| p.engaged) {
+            return Err(NackCode::PathBusy);
         }
         if self.q_len >= GROUP_QUEUE_LEN {
             return Err(NackCode::QueueFull);
@@ -1411,6 +1425,17 @@ impl Group {
     ) {
         let Some(cfg) = self.config else { return };
         if !self.guard(&cfg, axes, filters, ts, tick, out) {
+            if let Some(p) = self.path.as_mut() {
+                p.engaged &= !matches!(self.state, GroupState::Standby | GroupState::ErrorStop);
+            }
+            return;
+        }
+        if self.path.as_ref().is_some_and(|p| p.engaged) {
+            if self.path_tick(&cfg, axes, ts, tick, out) {
+                let members = &cfg.axes[..cfg.naxes];
+                self.snap(members, axes);
+                self.settle(members, axes, ts, tick, out);
+            }
             return;
         }
         self.activate(&cfg, axes, filters, ts, tick, out);
@@ -1472,7 +1497,7 @@ impl Group {
             Some(a) => (a.mv.seq, a.s, a.mv.geom.len(), a.v, a.a),
             None => (0, 0.0, 0.0, 0.0, 0.0),
         };
-        GroupStatus {
+        let mut s = GroupStatus {
             state: self.state as u32,
             queued: self.q_len as u32,
             active_seq,
@@ -1487,7 +1512,9 @@ impl Group {
             feed_override: self.overrides.0,
             rapid_override: self.overrides.1,
             ..Default::default()
-        }
+        };
+        self.path_status(&mut s);
+        s
     }
 }
 

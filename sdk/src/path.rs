@@ -1,0 +1,616 @@
+//! The continuous path: a deep buffer of segments on the card (lines, arcs and helices,
+//! dwells, output actions), look-ahead and corner blending within a tolerance on the card.
+//!
+//! Units are the group's: targets in each axis's user units, feeds, tolerances and path
+//! distances in the first group axis's units (as for [`Group::move_linear`]).
+//!
+//! Segments are streamed without waiting for each ack: [`Group::stream_path`] keeps the
+//! command ring full while the card's buffer has room (it never sends more than the card can
+//! take, so the card never refuses a segment for want of space and nothing arrives out of
+//! order), from the caller's thread; [`Group::spawn_path_stream`] does the same from a thread of
+//! its own. Every segment is checked here first with the card's rules, and the first refusal
+//! stops the stream with the segment's index and the card's reason; what was accepted before it
+//! stays queued and runs.
+
+use crate::card::{finite, positive, Card};
+use crate::error::{Error, Result, Target};
+use crate::group::{ArcSpec, Group, GroupMotion, Plane};
+use firmware_proto::{layout, path_flags, raw, Command, Mem, MoveFlags, NackCode, Opcode};
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+pub use firmware_proto::GroupPath;
+
+/// How a segment joins the one before it (PLCopen BufferMode).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PathBuffer {
+    /// The running path stops along its geometry within its limits, everything queued is
+    /// aborted, and this segment starts from where it came to rest.
+    Aborting,
+    /// An exact stop at the corner, then this segment.
+    Buffered,
+    /// A blend; the corner speed is at most the lower of the two feeds.
+    #[default]
+    BlendingLow,
+    /// ... at most the previous segment's feed.
+    BlendingPrevious,
+    /// ... at most this segment's feed.
+    BlendingNext,
+    /// ... at most the higher of the two.
+    BlendingHigh,
+}
+
+/// How a blend is sized (PLCopen TransitionMode), in the first group axis's units.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Transition {
+    /// No blend: an exact stop at the corner.
+    #[default]
+    None,
+    /// The blend stays within this distance of the programmed corner (0: exact stop).
+    MaxDeviation(f64),
+    /// The blend begins this far before the corner (and ends as far after it).
+    CornerDistance(f64),
+}
+
+/// What a segment is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Geometry {
+    /// A straight line to `target` (one value per group axis).
+    Line {
+        /// End point.
+        target: Vec<f64>,
+    },
+    /// An arc in `plane`; `helix` holds the other group axes' targets (empty: they stay).
+    Arc {
+        /// The arc in its plane's coordinates.
+        arc: ArcSpec,
+        /// Its plane.
+        plane: Plane,
+        /// The other axes' targets (a helix), or empty.
+        helix: Vec<f64>,
+    },
+    /// An exact stop, then a wait of `seconds`.
+    Dwell {
+        /// The wait.
+        seconds: f64,
+    },
+}
+
+/// One segment of a path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    /// The user's id, reported as the segment starts and ends.
+    pub id: u32,
+    /// What it is.
+    pub geometry: Geometry,
+    /// Path speed, first group axis's units per second (unused by a dwell).
+    pub feed: f64,
+    /// How it joins the segment before it.
+    pub buffer: PathBuffer,
+    /// How the blend into it is sized.
+    pub transition: Transition,
+    /// Targets (and arc points) relative to where the segment before it ends.
+    pub relative: bool,
+    /// The last segment of a program: the stop at its end is the end, not starvation.
+    pub last: bool,
+}
+
+impl Segment {
+    /// A line to `target` at `feed`, blended into the one before it within `tolerance` of the
+    /// corner (BlendingLow, MaxDeviation; 0 is an exact stop).
+    pub fn line(id: u32, target: &[f64], feed: f64, tolerance: f64) -> Self {
+        Self {
+            id,
+            geometry: Geometry::Line {
+                target: target.to_vec(),
+            },
+            feed,
+            buffer: PathBuffer::BlendingLow,
+            transition: Transition::MaxDeviation(tolerance),
+            relative: false,
+            last: false,
+        }
+    }
+
+    /// An arc (helix if `helix` is not empty) at `feed`, blended as [`Segment::line`].
+    pub fn arc(
+        id: u32,
+        arc: ArcSpec,
+        plane: Plane,
+        helix: &[f64],
+        feed: f64,
+        tolerance: f64,
+    ) -> Self {
+        Self {
+            geometry: Geometry::Arc {
+                arc,
+                plane,
+                helix: helix.to_vec(),
+            },
+            ..Self::line(id, &[], feed, tolerance)
+        }
+    }
+
+    /// A dwell of `seconds` (an exact stop, then a wait).
+    pub fn dwell(id: u32, seconds: f64) -> Self {
+        Self {
+            geometry: Geometry::Dwell { seconds },
+            feed: 1.0,
+            buffer: PathBuffer::Buffered,
+            transition: Transition::None,
+            ..Self::line(id, &[], 1.0, 0.0)
+        }
+    }
+
+    /// With this buffer mode.
+    pub fn buffer(mut self, b: PathBuffer) -> Self {
+        self.buffer = b;
+        self
+    }
+
+    /// With this transition.
+    pub fn transition(mut self, t: Transition) -> Self {
+        self.transition = t;
+        self
+    }
+
+    /// Relative to the end of the segment before.
+    pub fn relative(mut self) -> Self {
+        self.relative = true;
+        self
+    }
+
+    /// Marked as the last of its program.
+    pub fn last(mut self) -> Self {
+        self.last = true;
+        self
+    }
+}
+
+/// When an output action fires, in the next motion segment queued after it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutputAt {
+    /// As it starts.
+    Start,
+    /// As it ends.
+    End,
+    /// Once it has run this distance (first group axis's units).
+    Distance(f64),
+}
+
+/// An item of a path stream.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PathItem {
+    /// A segment.
+    Segment(Segment),
+    /// Set (`on`) or clear a digital output at a point of the next motion segment.
+    Output {
+        /// Output number, `0..OUTPUTS`.
+        output: u8,
+        /// Set, else clear.
+        on: bool,
+        /// When.
+        at: OutputAt,
+    },
+}
+
+impl From<Segment> for PathItem {
+    fn from(s: Segment) -> Self {
+        PathItem::Segment(s)
+    }
+}
+
+/// A group's path configuration, in user units: `vmax`, `amax`, `jmax` per group axis in that
+/// axis's units; `accel` and `jerk` (tangential, 0: from the axes) in the first axis's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathSettings {
+    /// Segments the card looks ahead over (1..=PATH_LEN).
+    pub lookahead: usize,
+    /// The low-water event fires when the queued segments fall to this (0: never).
+    pub low_water: usize,
+    /// Tangential acceleration limit (0: from the axes).
+    pub accel: f64,
+    /// Tangential jerk limit (0: from the axes).
+    pub jerk: f64,
+    /// Each axis's velocity limit.
+    pub vmax: Vec<f64>,
+    /// Each axis's acceleration limit.
+    pub amax: Vec<f64>,
+    /// Each axis's jerk limit.
+    pub jmax: Vec<f64>,
+}
+
+impl PathSettings {
+    /// `n` axes with the same limits, look-ahead 256, no low-water event.
+    pub fn uniform(n: usize, vmax: f64, amax: f64, jmax: f64) -> Self {
+        Self {
+            lookahead: 256,
+            low_water: 0,
+            accel: 0.0,
+            jerk: 0.0,
+            vmax: vec![vmax; n],
+            amax: vec![amax; n],
+            jmax: vec![jmax; n],
+        }
+    }
+}
+
+/// How far a stream has come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PathProgress {
+    /// Items taken from the iterator and sent.
+    pub sent: u64,
+    /// Items the card accepted.
+    pub accepted: u64,
+    /// Segments the card finished since the group was enabled (wrapping counter of the card).
+    pub done: u32,
+    /// Segments queued on the card.
+    pub queued: u32,
+}
+
+/// A stream that stopped at a refused item.
+#[derive(Debug)]
+pub struct StreamError {
+    /// Index of the item (from 0) that stopped the stream.
+    pub index: u64,
+    /// Why.
+    pub error: Error,
+}
+
+impl std::fmt::Display for StreamError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "path item {}: {}", self.index, self.error)
+    }
+}
+
+impl std::error::Error for StreamError {}
+
+/// A path stream running on a thread of its own ([`Group::spawn_path_stream`]).
+pub struct PathStreamer {
+    progress: Arc<[AtomicU64; 2]>,
+    cancel: Arc<AtomicBool>,
+    handle: Option<std::thread::JoinHandle<std::result::Result<Option<GroupMotion>, StreamError>>>,
+    group: Group,
+}
+
+impl PathStreamer {
+    /// Items sent and accepted so far, and the card's counters.
+    pub fn progress(&self) -> PathProgress {
+        let (done, queued) = self.group.path_counts().unwrap_or((0, 0));
+        PathProgress {
+            sent: self.progress[0].load(Ordering::Relaxed),
+            accepted: self.progress[1].load(Ordering::Relaxed),
+            done,
+            queued,
+        }
+    }
+
+    /// Stop sending (what was accepted stays queued).
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// Wait for the stream to end: the motion of its last segment, to wait on.
+    pub fn join(mut self) -> std::result::Result<Option<GroupMotion>, StreamError> {
+        match self.handle.take().map(|h| h.join()) {
+            Some(Ok(r)) => r,
+            _ => Err(StreamError {
+                index: self.progress[0].load(Ordering::Relaxed),
+                error: Error::Protocol("the path stream's thread panicked".into()),
+            }),
+        }
+    }
+}
+
+/// Commands in flight at most (a margin under the command ring's 64 entries).
+const IN_FLIGHT: usize = 48;
+
+impl Group {
+    /// Write the path configuration and have the card check and apply it (path idle).
+    pub fn configure_path(&self, s: &PathSettings) -> Result<()> {
+        let (n, axes) = self.axes()?;
+        for v in [&s.vmax, &s.amax, &s.jmax] {
+            if v.len() != n {
+                return Err(Error::BadAxis {
+                    axis: v.len(),
+                    count: n,
+                });
+            }
+        }
+        let ps = self.path_scale()?;
+        let mut b = GroupPath {
+            lookahead: s.lookahead.min(u32::MAX as usize) as u32,
+            low_water: s.low_water.min(u32::MAX as usize) as u32,
+            accel: s.accel * ps,
+            jerk: s.jerk * ps,
+            ..GroupPath::default()
+        };
+        for i in 0..n {
+            let sc = self.card_pub().scale(axes[i]).abs();
+            positive("velocity limit", s.vmax[i])?;
+            positive("acceleration limit", s.amax[i])?;
+            positive("jerk limit", s.jmax[i])?;
+            b.vmax[i] = s.vmax[i] * sc;
+            b.amax[i] = s.amax[i] * sc;
+            b.jmax[i] = s.jmax[i] * sc;
+        }
+        self.card_pub().apply_block(
+            layout::GROUP_PATH.at(self.index()),
+            |blk| *blk = b,
+            self.op(Opcode::ApplyGroupPath),
+            "configure path",
+            Target::Group(self.index()),
+        )
+    }
+
+    /// The path configuration the card holds (read back from the card), in counts.
+    pub fn path_config(&self) -> GroupPath {
+        layout::GROUP_PATH
+            .at(self.index())
+            .read(self.card_pub().window())
+    }
+
+    /// Free segments in the card's path buffer.
+    pub fn path_free(&self) -> Result<usize> {
+        Ok(self.status()?.1.path_free as usize)
+    }
+
+    /// (segments finished since enable, segments queued) from the status.
+    fn path_counts(&self) -> Result<(u32, u32)> {
+        let st = self.status()?.1;
+        Ok((st.path_done, st.path_queued))
+    }
+
+    /// The command for one item (checked here with the card's rules first).
+    pub fn path_command(&self, item: &PathItem) -> Result<Command> {
+        let ps = self.path_scale()?;
+        let seg = match item {
+            PathItem::Output { output, on, at } => {
+                if *output as usize >= firmware_proto::OUTPUTS {
+                    return Err(self.refused("path output", NackCode::PathOutput));
+                }
+                let (flags, d) = match *at {
+                    OutputAt::Start => (raw::MC_PATH_OUT_AT_START, 0.0),
+                    OutputAt::End => (raw::MC_PATH_OUT_AT_END, 0.0),
+                    OutputAt::Distance(d) => {
+                        finite("output distance", d)?;
+                        if d < 0.0 {
+                            return Err(self.refused("path output", NackCode::OutOfRange));
+                        }
+                        (raw::MC_PATH_OUT_AT_DISTANCE, d * ps)
+                    }
+                };
+                let mut c = self.op(Opcode::PathOutput).with_args(&[
+                    *output as f64,
+                    if *on { 1.0 } else { 0.0 },
+                    d,
+                ]);
+                c.flags = flags;
+                return Ok(c);
+            }
+            PathItem::Segment(s) => s,
+        };
+        let last = if seg.last { path_flags::LAST } else { 0 };
+        if let Geometry::Dwell { seconds } = seg.geometry {
+            positive("dwell", seconds)?;
+            let mut c = self
+                .op(Opcode::PathDwell)
+                .with_args(&[seg.id as f64, seconds]);
+            c.flags = last;
+            return Ok(c);
+        }
+        positive("feed", seg.feed)?;
+        let (tm, tol) = match seg.transition {
+            Transition::None => (raw::MC_TM_NONE, 0.0),
+            Transition::MaxDeviation(t) => (raw::MC_TM_MAX_DEVIATION, t),
+            Transition::CornerDistance(t) => (raw::MC_TM_CORNER_DISTANCE, t),
+        };
+        finite("tolerance", tol)?;
+        if tol < 0.0 {
+            return Err(self.refused("path segment", NackCode::OutOfRange));
+        }
+        let buffer = match seg.buffer {
+            PathBuffer::Aborting => raw::MC_PATH_ABORTING,
+            PathBuffer::Buffered => raw::MC_PATH_BUFFERED,
+            PathBuffer::BlendingLow => raw::MC_PATH_BLEND_LOW,
+            PathBuffer::BlendingPrevious => raw::MC_PATH_BLEND_PREVIOUS,
+            PathBuffer::BlendingNext => raw::MC_PATH_BLEND_NEXT,
+            PathBuffer::BlendingHigh => raw::MC_PATH_BLEND_HIGH,
+        };
+        let mut args = vec![seg.id as f64, seg.feed * ps, tol * ps];
+        let mut flags = buffer << path_flags::BUFFER_SHIFT
+            | tm << path_flags::TRANSITION_SHIFT
+            | last
+            | if seg.relative {
+                MoveFlags::RELATIVE.bits()
+            } else {
+                0
+            };
+        let op = match &seg.geometry {
+            Geometry::Line { target } => {
+                args.extend(self.targets(target)?);
+                Opcode::PathLine
+            }
+            Geometry::Arc { arc, plane, helix } => {
+                let (geometry, arc_flags) = self.arc_args(arc, *plane, helix)?;
+                args.extend(geometry);
+                flags |= arc_flags;
+                Opcode::PathArc
+            }
+            Geometry::Dwell { .. } => unreachable!("handled above"),
+        };
+        let mut c = self.op(op).with_args(&args);
+        c.flags = flags;
+        Ok(c)
+    }
+
+    fn refused(&self, command: &'static str, code: NackCode) -> Error {
+        Error::Refused {
+            command,
+            target: Target::Group(self.index()),
+            code,
+            reason: crate::nack_reason(code),
+        }
+    }
+
+    /// Queue one item and wait for the card's answer: the segment's motion (its done is the
+    /// path's end when it is the last one queued).
+    pub fn path_push(&self, item: &PathItem) -> Result<GroupMotion> {
+        let c = self.path_command(item)?;
+        let seq = self.run(c, "path segment")?;
+        Ok(self.motion(seq))
+    }
+
+    /// Stream `items` into the card's path buffer from this thread: up to 48 commands in
+    /// flight, never more segments than the buffer has room for (it waits for room: the path
+    /// runs meanwhile), `progress` called after each accepted item. Returns the motion of the
+    /// last segment (wait on it for the end of the path), or where the stream stopped.
+    pub fn stream_path<I>(
+        &self,
+        items: I,
+        mut progress: impl FnMut(PathProgress),
+    ) -> std::result::Result<Option<GroupMotion>, StreamError>
+    where
+        I: IntoIterator,
+        I::Item: Into<PathItem>,
+    {
+        let never = AtomicBool::new(false);
+        let counters = [AtomicU64::new(0), AtomicU64::new(0)];
+        self.stream_inner(items, &never, &counters, &mut progress)
+    }
+
+    /// [`stream_path`](Self::stream_path) from a thread of its own.
+    pub fn spawn_path_stream<I>(&self, items: I) -> PathStreamer
+    where
+        I: IntoIterator + Send + 'static,
+        I::IntoIter: Send,
+        I::Item: Into<PathItem>,
+    {
+        let progress = Arc::new([AtomicU64::new(0), AtomicU64::new(0)]);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (g, p, c) = (self.clone(), progress.clone(), cancel.clone());
+        let handle = std::thread::spawn(move || g.stream_inner(items, &c, &p, &mut |_| {}));
+        PathStreamer {
+            progress,
+            cancel,
+            handle: Some(handle),
+            group: self.clone(),
+        }
+    }
+
+    fn stream_inner<I>(
+        &self,
+        items: I,
+        cancel: &AtomicBool,
+        counters: &[AtomicU64; 2],
+        progress: &mut dyn FnMut(PathProgress),
+    ) -> std::result::Result<Option<GroupMotion>, StreamError>
+    where
+        I: IntoIterator,
+        I::Item: Into<PathItem>,
+    {
+        let card: &Card = self.card_pub();
+        let mut in_flight: VecDeque<(u64, u32, bool)> = VecDeque::new();
+        let (mut sent, mut accepted) = (0u64, 0u64);
+        let mut last_motion = None;
+        // Room on the card as last read, minus the segments sent since.
+        let mut room = 0usize;
+        let fail = |index: u64, error: Error| StreamError { index, error };
+        let settle_one = |in_flight: &mut VecDeque<(u64, u32, bool)>,
+                          accepted: &mut u64,
+                          last_motion: &mut Option<GroupMotion>|
+         -> std::result::Result<(), StreamError> {
+            let Some((index, seq, is_segment)) = in_flight.pop_front() else {
+                return Ok(());
+            };
+            match card.wait_ack(seq).map_err(|e| fail(index, e))? {
+                Ok(()) => {
+                    *accepted += 1;
+                    counters[1].store(*accepted, Ordering::Relaxed);
+                    if is_segment {
+                        *last_motion = Some(self.motion(seq));
+                    }
+                    Ok(())
+                }
+                Err(code) => Err(fail(
+                    index,
+                    Error::Nack {
+                        command: "path segment",
+                        target: Target::Group(self.index()),
+                        code,
+                        reason: crate::nack_reason(code),
+                    },
+                )),
+            }
+        };
+        for item in items {
+            if cancel.load(Ordering::Relaxed) {
+                break;
+            }
+            let item: PathItem = item.into();
+            let cmd = self.path_command(&item).map_err(|e| fail(sent, e))?;
+            let is_segment = matches!(item, PathItem::Segment(_));
+            if is_segment {
+                // Wait for room in the card's buffer (the path runs and frees it).
+                while room == 0 {
+                    while in_flight.len() > 0 {
+                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    }
+                    room = self.path_free().map_err(|e| fail(sent, e))?;
+                    if room == 0 {
+                        if cancel.load(Ordering::Relaxed) {
+                            return Ok(last_motion);
+                        }
+                        card.wait_next_tick(Duration::from_secs(1))
+                            .map_err(|e| fail(sent, e))?;
+                    }
+                }
+                room -= 1;
+            }
+            if in_flight.len() >= IN_FLIGHT {
+                settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+            }
+            let seq = loop {
+                match card.send_raw(cmd) {
+                    Ok(seq) => break seq,
+                    Err(Error::RingFull(_)) if !in_flight.is_empty() => {
+                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    }
+                    Err(e) => return Err(fail(sent, e)),
+                }
+            };
+            in_flight.push_back((sent, seq, is_segment));
+            sent += 1;
+            counters[0].store(sent, Ordering::Relaxed);
+            if let Ok((done, queued)) = self.path_counts() {
+                progress(PathProgress {
+                    sent,
+                    accepted,
+                    done,
+                    queued,
+                });
+            }
+        }
+        while !in_flight.is_empty() {
+            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+        }
+        Ok(last_motion)
+    }
+}
+
+impl Card {
+    /// The card's digital outputs (bit i = output i, `proto::OUTPUTS` of them), as it drives
+    /// them: set by [`Card::set_outputs`] or by a path's output actions.
+    pub fn outputs(&self) -> Result<u32> {
+        self.inner().link.check()?;
+        Ok(self.window().read32(layout::OUTPUTS))
+    }
+
+    /// Set the outputs in `mask` to the bits of `value` now.
+    pub fn set_outputs(&self, mask: u32, value: u32) -> Result<()> {
+        let c = Command::new(Opcode::SetOutputs, 0).with_args(&[mask as f64, value as f64]);
+        self.execute(c, "set outputs", Target::Card)
+    }
+}

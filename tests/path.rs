@@ -1,0 +1,551 @@
+//! The continuous path on the stepped emulated card: blends within the tolerance, every axis
+//! within its limits (finite differences of the commanded positions per tick), segment events
+//! in order, exact ends, starvation and resume, halts in a blend, each buffer and transition
+//! mode, dwells and outputs, and the refusals.
+mod common;
+
+use common::stepped_card;
+use motioncard::{
+    Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, OutputAt, PathBuffer, PathItem,
+    PathSettings, Segment, Transition,
+};
+use std::time::Duration;
+
+const T: Duration = Duration::from_secs(60);
+/// Axis limits of these tests (counts): 1e5 counts/s, 1e6 counts/s², 1e8 counts/s³; the Y axis
+/// (and Z) half as fast where a test says so.
+const V: f64 = 1e5;
+const A: f64 = 1e6;
+const J: f64 = 1e8;
+
+fn path_card(n: usize, settings: &PathSettings) -> (Card, Group) {
+    let card = stepped_card();
+    let axes: Vec<usize> = (0..n).collect();
+    for &a in &axes {
+        card.axis(a).unwrap().enable().unwrap();
+    }
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&axes)).unwrap();
+    g.enable().unwrap();
+    g.configure_path(settings).unwrap();
+    (card, g)
+}
+
+/// What a run recorded: the commanded position of every axis per tick, and the events.
+struct Run {
+    pos: Vec<Vec<f64>>,
+    events: Vec<motioncard::CardEvent>,
+}
+
+fn cmd(card: &Card, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|a| card.axis(a).unwrap().status().unwrap().raw.cmd_pos)
+        .collect()
+}
+
+fn drain(card: &Card, into: &mut Vec<motioncard::CardEvent>) {
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        into.push(e);
+    }
+}
+
+/// Step until the group is at rest in Standby (or `max` ticks), recording.
+fn run(card: &Card, g: &Group, n: usize, max: usize) -> Run {
+    let sim = card.sim().unwrap();
+    let mut r = Run {
+        pos: vec![cmd(card, n)],
+        events: Vec::new(),
+    };
+    for _ in 0..max {
+        sim.step(1);
+        r.pos.push(cmd(card, n));
+        drain(card, &mut r.events);
+        if g.status().unwrap().0 == GroupState::Standby {
+            break;
+        }
+    }
+    r
+}
+
+/// The largest |finite difference| of order 1, 2, 3 of axis `a` over Ts, Ts², Ts³.
+fn peaks(pos: &[Vec<f64>], a: usize, ts: f64) -> [f64; 3] {
+    let mut p = [0.0f64; 3];
+    let x: Vec<f64> = pos.iter().map(|q| q[a]).collect();
+    for w in x.windows(4) {
+        let v = (w[3] - w[2]) / ts;
+        let acc = (w[3] - 2.0 * w[2] + w[1]) / (ts * ts);
+        let jerk = (w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0]) / (ts * ts * ts);
+        p[0] = p[0].max(v.abs());
+        p[1] = p[1].max(acc.abs());
+        p[2] = p[2].max(jerk.abs());
+    }
+    p
+}
+
+fn assert_limits(r: &Run, lim: &PathSettings, what: &str) {
+    let ts = 1e-4; // the default servo rate, 10 kHz
+    for a in 0..lim.vmax.len() {
+        let p = peaks(&r.pos, a, ts);
+        let l = [lim.vmax[a], lim.amax[a], lim.jmax[a]];
+        for k in 0..3 {
+            assert!(
+                p[k] <= 1.01 * l[k],
+                "{what}: axis {a} {} peak {} over its limit {}",
+                ["velocity", "acceleration", "jerk"][k],
+                p[k],
+                l[k]
+            );
+        }
+    }
+}
+
+/// Distance from `p` to the segment `a`–`b` (independent of the card's geometry).
+fn dist_to_segment(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+    let l2: f64 = d.iter().map(|x| x * x).sum();
+    let t = if l2 > 0.0 {
+        (p.iter()
+            .zip(a)
+            .zip(&d)
+            .map(|((p, a), d)| (p - a) * d)
+            .sum::<f64>()
+            / l2)
+            .clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.iter()
+        .zip(a)
+        .zip(&d)
+        .map(|((p, a), d)| (p - a - t * d).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn dist_to_polyline(p: &[f64], pts: &[Vec<f64>]) -> f64 {
+    pts.windows(2)
+        .map(|w| dist_to_segment(p, &w[0], &w[1]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn ids(r: &Run, kind: EventKind) -> Vec<u32> {
+    r.events
+        .iter()
+        .filter(|e| e.kind == kind)
+        .map(|e| e.value as u32)
+        .collect()
+}
+
+fn square(side: f64) -> Vec<Vec<f64>> {
+    vec![
+        vec![0.0, 0.0],
+        vec![side, 0.0],
+        vec![side, side],
+        vec![0.0, side],
+        vec![0.0, 0.0],
+    ]
+}
+
+fn stream_polyline(g: &Group, pts: &[Vec<f64>], feed: f64, tol: f64, buffer: PathBuffer) {
+    let n = pts.len();
+    let segs = pts[1..].iter().enumerate().map(|(i, p)| {
+        let s = Segment::line(i as u32 + 1, p, feed, tol).buffer(buffer);
+        if i + 2 == n {
+            s.last()
+        } else {
+            s
+        }
+    });
+    g.stream_path(segs, |_| {}).unwrap().unwrap();
+}
+
+#[test]
+fn a_blended_square_keeps_within_the_tolerance_and_every_axis_limit() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    for tol in [10.0, 100.0] {
+        let (card, g) = path_card(2, &lim);
+        let pts = square(50_000.0);
+        stream_polyline(&g, &pts, 80_000.0, tol, PathBuffer::BlendingLow);
+        let r = run(&card, &g, 2, 200_000);
+        assert_eq!(g.status().unwrap().0, GroupState::Standby);
+        let worst = r
+            .pos
+            .iter()
+            .map(|p| dist_to_polyline(p, &pts))
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= tol * (1.0 + 1e-9),
+            "tolerance {tol}: {worst} off the square"
+        );
+        assert!(
+            worst > 0.05 * tol,
+            "tolerance {tol}: corners not blended ({worst})"
+        );
+        assert_limits(&r, &lim, "square");
+        assert_eq!(ids(&r, EventKind::SegmentStart), vec![1, 2, 3, 4]);
+        assert_eq!(ids(&r, EventKind::SegmentEnd), vec![1, 2, 3, 4]);
+        assert_eq!(r.pos.last().unwrap(), &vec![0.0, 0.0], "the end is exact");
+        // No exact stop at the corners: the path speed stays up through them.
+        let stops = r
+            .pos
+            .windows(2)
+            .skip(10)
+            .take(r.pos.len() - 40)
+            .filter(|w| w[0] == w[1])
+            .count();
+        assert_eq!(stops, 0, "tolerance {tol}: the path stopped");
+        assert!(r.events.iter().all(|e| e.kind != EventKind::PathStarved));
+    }
+}
+
+#[test]
+fn tolerance_zero_and_buffered_stop_exactly_at_every_corner() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    for (tol, buffer) in [
+        (0.0, PathBuffer::BlendingLow),
+        (100.0, PathBuffer::Buffered),
+    ] {
+        let (card, g) = path_card(2, &lim);
+        let pts = square(20_000.0);
+        stream_polyline(&g, &pts, 80_000.0, tol, buffer);
+        let r = run(&card, &g, 2, 200_000);
+        for c in &pts[1..4] {
+            assert!(
+                r.pos.iter().any(|p| p == c),
+                "{buffer:?} {tol}: never exactly at the corner {c:?}"
+            );
+        }
+        let worst = r
+            .pos
+            .iter()
+            .map(|p| dist_to_polyline(p, &pts))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{buffer:?}: {worst} off the square");
+        assert_limits(&r, &lim, "exact stops");
+    }
+}
+
+#[test]
+fn blending_high_runs_the_corner_faster_than_blending_low() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let corner_speed = |buffer: PathBuffer| {
+        let (card, g) = path_card(2, &lim);
+        // A slow first line into a fast second one through a shallow corner.
+        let segs = vec![
+            Segment::line(1, &[40_000.0, 0.0], 20_000.0, 200.0),
+            Segment::line(2, &[80_000.0, 4_000.0], 90_000.0, 200.0)
+                .buffer(buffer)
+                .last(),
+        ];
+        g.stream_path(segs, |_| {}).unwrap();
+        let r = run(&card, &g, 2, 200_000);
+        assert_limits(&r, &lim, "blend speed");
+        // The speed where the path passes closest to the corner.
+        let (k, _) = r
+            .pos
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (k, (p[0] - 40_000.0).hypot(p[1])))
+            .fold((0, f64::INFINITY), |b, x| if x.1 < b.1 { x } else { b });
+        let p = &r.pos;
+        (p[k + 1][0] - p[k][0]).hypot(p[k + 1][1] - p[k][1]) / 1e-4
+    };
+    let low = corner_speed(PathBuffer::BlendingLow);
+    let high = corner_speed(PathBuffer::BlendingHigh);
+    let next = corner_speed(PathBuffer::BlendingNext);
+    let prev = corner_speed(PathBuffer::BlendingPrevious);
+    assert!(low <= 20_000.0 * 1.001, "BlendingLow corner at {low}");
+    assert!(
+        (prev - low).abs() < 1.0,
+        "BlendingPrevious {prev} vs low {low}"
+    );
+    assert!(high > 1.5 * low, "BlendingHigh {high} vs low {low}");
+    assert!(
+        (next - high).abs() < 1.0,
+        "BlendingNext {next} vs high {high}"
+    );
+}
+
+#[test]
+fn corner_distance_starts_the_blend_that_far_before_the_corner() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let segs = vec![
+        Segment::line(1, &[30_000.0, 0.0], 50_000.0, 0.0),
+        Segment::line(2, &[30_000.0, 30_000.0], 50_000.0, 0.0)
+            .transition(Transition::CornerDistance(2_000.0))
+            .last(),
+    ];
+    g.stream_path(segs, |_| {}).unwrap();
+    let r = run(&card, &g, 2, 200_000);
+    // Leaves the first line (y > 0) no earlier than 2000 counts before the corner, and not
+    // much later either.
+    let first_off = r.pos.iter().find(|p| p[1] > 1e-6).unwrap();
+    assert!(
+        first_off[0] >= 28_000.0 - 1e-6 && first_off[0] <= 28_200.0,
+        "the blend starts at x = {}",
+        first_off[0]
+    );
+    assert_limits(&r, &lim, "corner distance");
+}
+
+#[test]
+fn a_path_that_runs_dry_stops_within_its_limits_and_resumes_without_a_jump() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let sim = card.sim().unwrap();
+    let pts: Vec<Vec<f64>> = (0..=12)
+        .map(|k| vec![k as f64 * 10_000.0, if k % 2 == 1 { 5_000.0 } else { 0.0 }])
+        .collect();
+    let seg = |i: usize| Segment::line(i as u32, &pts[i], 80_000.0, 100.0);
+    g.stream_path((1..=4).map(seg), |_| {}).unwrap();
+    let mut r = Run {
+        pos: vec![cmd(&card, 2)],
+        events: Vec::new(),
+    };
+    let step = |r: &mut Run, n: usize| {
+        for _ in 0..n {
+            sim.step(1);
+            r.pos.push(cmd(&card, 2));
+            drain(&card, &mut r.events);
+        }
+    };
+    // Run until it starves, send more while it brakes.
+    while !r.events.iter().any(|e| e.kind == EventKind::PathStarved) {
+        step(&mut r, 1);
+        assert!(r.pos.len() < 100_000);
+    }
+    step(&mut r, 50);
+    g.stream_path((5..=8).map(seg), |_| {}).unwrap();
+    // Then let it come to rest at the end of what it has, and send the rest.
+    let mut still = 0;
+    while still < 200 {
+        step(&mut r, 1);
+        let n = r.pos.len();
+        still = if r.pos[n - 1] == r.pos[n - 2] {
+            still + 1
+        } else {
+            0
+        };
+    }
+    assert_eq!(
+        r.pos.last().unwrap(),
+        &pts[8],
+        "at rest at the end of what was queued"
+    );
+    g.stream_path(
+        (9..=12).map(|i| if i == 12 { seg(i).last() } else { seg(i) }),
+        |_| {},
+    )
+    .unwrap();
+    let rest = run(&card, &g, 2, 200_000);
+    r.pos.extend(rest.pos);
+    r.events.extend(rest.events);
+    assert_limits(&r, &lim, "starvation and resume");
+    assert_eq!(
+        ids(&r, EventKind::SegmentEnd),
+        (1..=12).collect::<Vec<u32>>()
+    );
+    assert_eq!(r.pos.last().unwrap(), &pts[12]);
+    let worst = r
+        .pos
+        .iter()
+        .map(|p| dist_to_polyline(p, &pts))
+        .fold(0.0, f64::max);
+    assert!(worst <= 100.0 * (1.0 + 1e-9), "{worst}");
+}
+
+#[test]
+fn a_halt_in_a_blend_stops_within_the_limits_and_aborts_the_rest() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let sim = card.sim().unwrap();
+    let pts = square(50_000.0);
+    stream_polyline(&g, &pts, 80_000.0, 500.0, PathBuffer::BlendingLow);
+    let mut r = Run {
+        pos: vec![cmd(&card, 2)],
+        events: Vec::new(),
+    };
+    // Into the first blend: the first tick off the first line.
+    while r.pos.last().unwrap()[1] <= 0.0 {
+        sim.step(1);
+        r.pos.push(cmd(&card, 2));
+        drain(&card, &mut r.events);
+        assert!(r.pos.len() < 100_000);
+    }
+    let halt = g.halt(5e5, 5e7).unwrap();
+    let rest = run(&card, &g, 2, 100_000);
+    r.pos.extend(rest.pos);
+    r.events.extend(rest.events);
+    halt.wait(T).unwrap();
+    assert_limits(&r, &lim, "halt in a blend");
+    let aborted = r
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::GroupMotionAborted)
+        .count();
+    assert!(aborted >= 3, "{aborted} segments aborted");
+    let worst = r
+        .pos
+        .iter()
+        .map(|p| dist_to_polyline(p, &pts))
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= 500.0 * (1.0 + 1e-9),
+        "the halt left the path: {worst}"
+    );
+    // The group takes a new path from where it stopped.
+    let m = g
+        .path_push(&Segment::line(9, &[0.0, 0.0], 50_000.0, 0.0).last().into())
+        .unwrap();
+    m.wait(T).unwrap();
+    assert_eq!(cmd(&card, 2), vec![0.0, 0.0]);
+}
+
+#[test]
+fn aborting_stops_the_path_and_starts_the_new_segment_from_there() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let sim = card.sim().unwrap();
+    stream_polyline(
+        &g,
+        &square(50_000.0),
+        80_000.0,
+        100.0,
+        PathBuffer::BlendingLow,
+    );
+    sim.step(3_000);
+    let m = g
+        .path_push(
+            &Segment::line(7, &[-10_000.0, -10_000.0], 50_000.0, 0.0)
+                .buffer(PathBuffer::Aborting)
+                .last()
+                .into(),
+        )
+        .unwrap();
+    let r = run(&card, &g, 2, 200_000);
+    m.wait(T).unwrap();
+    assert_eq!(r.pos.last().unwrap(), &vec![-10_000.0, -10_000.0]);
+    assert_limits(&r, &lim, "aborting");
+    assert!(r
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::GroupMotionAborted));
+    assert_eq!(ids(&r, EventKind::SegmentEnd).last(), Some(&7));
+}
+
+#[test]
+fn dwells_and_outputs_fire_where_the_program_says() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let items: Vec<PathItem> = vec![
+        Segment::line(1, &[20_000.0, 0.0], 50_000.0, 0.0).into(),
+        PathItem::Output {
+            output: 3,
+            on: true,
+            at: OutputAt::Distance(5_000.0),
+        },
+        PathItem::Output {
+            output: 3,
+            on: false,
+            at: OutputAt::End,
+        },
+        Segment::line(2, &[20_000.0, 20_000.0], 50_000.0, 0.0).into(),
+        Segment::dwell(3, 0.05).into(),
+        Segment::line(4, &[0.0, 20_000.0], 50_000.0, 0.0)
+            .last()
+            .into(),
+    ];
+    g.stream_path(items, |_| {}).unwrap();
+    let sim = card.sim().unwrap();
+    let mut on_at = None;
+    let mut off_at = None;
+    let mut rest_ticks = 0;
+    let mut prev = cmd(&card, 2);
+    for k in 0..100_000 {
+        sim.step(1);
+        let p = cmd(&card, 2);
+        let out = card.outputs().unwrap();
+        if out & 8 != 0 && on_at.is_none() {
+            on_at = Some(p.clone());
+        }
+        if on_at.is_some() && out & 8 == 0 && off_at.is_none() {
+            off_at = Some(p.clone());
+        }
+        if p == prev && p == vec![20_000.0, 20_000.0] {
+            rest_ticks += 1;
+        }
+        prev = p;
+        if g.status().unwrap().0 == GroupState::Standby {
+            break;
+        }
+        assert!(k < 99_999);
+    }
+    let on = on_at.expect("output 3 never set");
+    let off = off_at.expect("output 3 never cleared");
+    // Set 5000 counts into segment 2 (within one tick's travel), cleared at its end.
+    assert!(
+        on[0] == 20_000.0 && (on[1] - 5_000.0).abs() <= 5.0 + 1e-9,
+        "{on:?}"
+    );
+    assert_eq!(off, vec![20_000.0, 20_000.0]);
+    // The dwell holds the corner for 50 ms (500 ticks) or a settle more.
+    assert!(
+        (500..=560).contains(&rest_ticks),
+        "{rest_ticks} ticks at the dwell"
+    );
+}
+
+#[test]
+fn bad_segments_get_their_own_error_and_change_nothing() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (_card, g) = path_card(2, &lim);
+    let push = |s: Segment| g.path_push(&s.into()).map(|_| ()).unwrap_err().kind();
+    assert_eq!(
+        push(Segment::line(1, &[f64::NAN, 0.0], 1e4, 0.0)),
+        ErrorKind::NotFinite
+    );
+    assert_eq!(
+        push(Segment::line(1, &[1.0, 0.0], 1e300, 0.0)),
+        ErrorKind::LimitRange
+    );
+    assert_eq!(
+        push(Segment::line(1, &[0.0, 0.0], 1e4, 0.0)),
+        ErrorKind::PathZeroLength
+    );
+    assert_eq!(push(Segment::line(1, &[1.0], 1e4, 0.0)), ErrorKind::BadAxis);
+    assert_eq!(
+        push(Segment::line(1, &[1e300, 0.0], 1e4, 0.0)),
+        ErrorKind::OutOfRange
+    );
+    assert_eq!(push(Segment::dwell(1, -1.0)), ErrorKind::NonPositiveLimit);
+    let (state, st) = g.status().unwrap();
+    assert_eq!((state, st.path_queued), (GroupState::Standby, 0));
+    assert_eq!(st.path_free, motioncard::proto::PATH_LEN as u32);
+}
+
+#[test]
+fn the_buffer_holds_4096_segments_and_reports_its_room() {
+    let mut lim = PathSettings::uniform(2, V, A, J);
+    lim.low_water = 100;
+    let (card, g) = path_card(2, &lim);
+    // Hold the path still (0 % feed override) and fill the buffer.
+    g.set_override(0.0, 1.0).unwrap();
+    let seg = |i: u32| Segment::line(i, &[i as f64 * 10.0, (i % 2) as f64 * 10.0], 5e4, 1.0);
+    g.stream_path((1..=4096).map(seg), |_| {}).unwrap();
+    assert_eq!(g.path_free().unwrap(), 0);
+    let full = g.path_push(&seg(4097).into()).map(|_| ()).unwrap_err();
+    assert_eq!(full.kind(), ErrorKind::QueueFull);
+    assert_eq!(g.status().unwrap().1.path_queued, 4096);
+    // Let it run: the low-water event comes once the queue falls to 100.
+    g.set_override(1.0, 1.0).unwrap();
+    let r = run(&card, &g, 2, 2_000_000);
+    let lw: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::PathLowWater)
+        .collect();
+    assert_eq!(lw.len(), 1);
+    assert_eq!(lw[0].value, 100.0);
+    assert_eq!(ids(&r, EventKind::SegmentEnd).len(), 4096);
+}
