@@ -3,5 +3,6 @@
 pub use motioncard_sdk::*;
 
 pub mod cli;
+pub mod gcode;
 pub mod papers;
 pub mod plot;
