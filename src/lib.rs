@@ -3,5 +3,7 @@
 pub use motioncard_sdk::*;
 
 pub mod cli;
+pub mod gcode;
 pub mod papers;
+pub mod path_report;
 pub mod plot;
