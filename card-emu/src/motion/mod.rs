@@ -8,6 +8,7 @@ pub mod interp_error;
 pub mod nurbs;
 pub mod nurbs_interp;
 pub mod otg;
+pub mod path;
 pub mod path_speed;
 pub mod saturation;
 pub mod scurve;
