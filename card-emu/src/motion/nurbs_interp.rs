@@ -212,14 +212,16 @@ impl Continuation<'_> {
     }
 }
 
-const GL_X: [f64; 5] = [
+/// 5-point Gauss–Legendre nodes on [−1, 1] (also used by `path`'s blends).
+pub(super) const GL_X: [f64; 5] = [
     0.0,
     -0.538_469_310_105_683_1,
     0.538_469_310_105_683_1,
     -0.906_179_845_938_664,
     0.906_179_845_938_664,
 ];
-const GL_W: [f64; 5] = [
+/// 5-point Gauss–Legendre weights.
+pub(super) const GL_W: [f64; 5] = [
     0.568_888_888_888_888_9,
     0.478_628_670_499_366_5,
     0.478_628_670_499_366_5,

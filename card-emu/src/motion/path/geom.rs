@@ -1,0 +1,517 @@
+//! Geometry of the continuous path, by arc length: the programmed lines and arcs/helices and
+//! the quintic Bézier corner blends (G2: position, unit tangent and curvature vector matched
+//! at both trim points).
+
+use super::MAX_AXES;
+use crate::motion::arc::{ArcDirection, CircleError, ExactCircle};
+use crate::motion::nurbs_interp::{GL_W, GL_X};
+
+pub(super) type V = [f64; MAX_AXES];
+const Z: V = [0.0; MAX_AXES];
+
+/// Point, unit tangent T, curvature vector K = κN and its derivative dK/ds.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct Frame {
+    pub p: V,
+    pub t: V,
+    pub k: V,
+    pub dk: V,
+}
+
+/// One programmed motion: a line or an arc/helix (or a dwell, which does not move).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Prog {
+    Line {
+        p0: V,
+        p1: V,
+        dir: V,
+        len: f64,
+    },
+    Helix(Helix),
+    Dwell {
+        p: V,
+    },
+}
+
+/// An arc in the plane of axes (u, v) (`ExactCircle`), the other axes moving linearly with
+/// the arc length: a helix. A radial mismatch of the end (within the tolerance `push`
+/// allows) is spread linearly over the sweep, so the end is reached exactly without a jump.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Helix {
+    p0: V,
+    p1: V,
+    u: usize,
+    v: usize,
+    circle: ExactCircle,
+    r1: f64,
+    /// (p1 − p0)/len on the axes off the plane (0 on u, v).
+    lin: V,
+    len: f64,
+    /// plane length / len
+    c: f64,
+    sgn: f64,
+}
+
+impl Helix {
+    /// The helix from `p0` to `p1` around `centre` in the plane (u, v), of `n` axes.
+    pub fn new(
+        n: usize,
+        p0: V,
+        p1: V,
+        u: usize,
+        v: usize,
+        centre: [f64; 2],
+        ccw: bool,
+    ) -> Result<Self, CircleError> {
+        let dir = if ccw {
+            ArcDirection::Ccw
+        } else {
+            ArcDirection::Cw
+        };
+        let circle = ExactCircle::from_points(
+            (centre[0], centre[1]),
+            (p0[u], p0[v]),
+            (p1[u], p1[v]),
+            dir,
+        )?;
+        let r0 = circle.radius();
+        let r1 = (p1[u] - centre[0]).hypot(p1[v] - centre[1]);
+        let lp = circle.length();
+        let mut h2 = 0.0;
+        for k in 0..n {
+            if k != u && k != v {
+                h2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
+            }
+        }
+        let len = lp.hypot(h2.sqrt());
+        if !(len.is_finite() && len > 0.0 && r0.is_finite()) {
+            return Err(CircleError::InvalidRadius);
+        }
+        let mut lin = Z;
+        for k in 0..n {
+            if k != u && k != v {
+                lin[k] = (p1[k] - p0[k]) / len;
+            }
+        }
+        Ok(Self {
+            p0,
+            p1,
+            u,
+            v,
+            circle,
+            r1,
+            lin,
+            len,
+            c: lp / len,
+            sgn: circle.sweep().signum(),
+        })
+    }
+
+    pub fn sweep(&self) -> f64 {
+        self.circle.sweep()
+    }
+
+    fn frame(&self, s: f64) -> Frame {
+        let mut f = Frame::default();
+        let s = s.clamp(0.0, self.len);
+        let sigma = s * self.c;
+        let r0 = self.circle.radius();
+        let th = self.circle.angle_at(sigma).unwrap_or(self.circle.start_angle());
+        let (sn, cs) = th.sin_cos();
+        if s <= 0.0 {
+            f.p = self.p0;
+        } else if s >= self.len {
+            f.p = self.p1;
+        } else {
+            let lp = self.circle.length();
+            let r = r0 + (self.r1 - r0) * (sigma / lp);
+            let (cx, cy) = self.circle.centre();
+            for k in 0..MAX_AXES {
+                f.p[k] = self.p0[k] + self.lin[k] * s;
+            }
+            f.p[self.u] = cx + r * cs;
+            f.p[self.v] = cy + r * sn;
+        }
+        let (c, g) = (self.c, self.sgn);
+        f.t = self.lin;
+        f.t[self.u] = -g * sn * c;
+        f.t[self.v] = g * cs * c;
+        let kk = c * c / r0;
+        f.k[self.u] = -kk * cs;
+        f.k[self.v] = -kk * sn;
+        let kd = c * c * c / (r0 * r0);
+        f.dk[self.u] = kd * g * sn;
+        f.dk[self.v] = -kd * g * cs;
+        f
+    }
+}
+
+impl Default for Prog {
+    fn default() -> Self {
+        Prog::Dwell { p: Z }
+    }
+}
+
+impl Prog {
+    /// A line from `p0` to `p1` (`len` > 0 checked by the caller).
+    pub fn line(n: usize, p0: V, p1: V) -> (Self, f64) {
+        let mut d2 = 0.0;
+        for k in 0..n {
+            d2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
+        }
+        let len = d2.sqrt();
+        let mut dir = Z;
+        if len > 0.0 {
+            for k in 0..n {
+                dir[k] = (p1[k] - p0[k]) / len;
+            }
+        }
+        (Prog::Line { p0, p1, dir, len }, len)
+    }
+
+    pub fn len(&self) -> f64 {
+        match self {
+            Prog::Line { len, .. } => *len,
+            Prog::Helix(h) => h.len,
+            Prog::Dwell { .. } => 0.0,
+        }
+    }
+
+    pub fn end(&self) -> V {
+        match self {
+            Prog::Line { p1, .. } => *p1,
+            Prog::Helix(h) => h.p1,
+            Prog::Dwell { p } => *p,
+        }
+    }
+
+    pub fn is_curved(&self) -> bool {
+        matches!(self, Prog::Helix(_))
+    }
+
+    /// Point at arc length `s` (clamped; the ends are the programmed points exactly).
+    pub fn pos(&self, s: f64) -> V {
+        match self {
+            Prog::Line { p0, p1, dir, len } => {
+                if s <= 0.0 {
+                    *p0
+                } else if s >= *len {
+                    *p1
+                } else {
+                    let mut p = *p0;
+                    for k in 0..MAX_AXES {
+                        p[k] += dir[k] * s;
+                    }
+                    p
+                }
+            }
+            Prog::Helix(h) => h.frame(s).p,
+            Prog::Dwell { p } => *p,
+        }
+    }
+
+    pub fn frame(&self, s: f64) -> Frame {
+        match self {
+            Prog::Line { dir, .. } => Frame {
+                p: self.pos(s),
+                t: *dir,
+                ..Frame::default()
+            },
+            Prog::Helix(h) => h.frame(s),
+            Prog::Dwell { p } => Frame {
+                p: *p,
+                ..Frame::default()
+            },
+        }
+    }
+}
+
+/// Subintervals of the blend's arc-length table (5-point Gauss–Legendre on each).
+pub(super) const NSUB: usize = 16;
+
+/// Trim-length factor of the inner control points: B'(0) = 2d·Ta, B'(1) = 2d·Tb for a trim
+/// d, so that the control points of a line–line blend are evenly spaced along the legs
+/// (Q0..Q2 at −d, −0.6d, −0.2d from the corner on the incoming line, Q3..Q5 mirrored): the
+/// parametric speed is then nearly constant and, for small turns, the curvature is a smooth
+/// bump 3θu(1−u)/d (peak 0.75·θ/d).
+const LAMBDA: f64 = 2.0;
+
+/// A quintic Bézier corner blend, in power form around its first point, with its arc-length
+/// table.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct Blend {
+    q0: V,
+    c: [V; 6],
+    n: usize,
+    table: [f64; NSUB + 1],
+    pub len: f64,
+}
+
+impl Blend {
+    /// The blend from frame `a` (on the incoming segment, trimmed by `da`) to frame `b` (on
+    /// the outgoing one, trimmed by `db`). None when it is not finite.
+    pub fn new(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> Option<Self> {
+        let la = LAMBDA * da;
+        let lb = LAMBDA * db;
+        let mut q = [Z; 6];
+        for k in 0..n {
+            let e = b.p[k] - a.p[k];
+            q[1][k] = la / 5.0 * a.t[k];
+            q[2][k] = 2.0 * q[1][k] + la * la / 20.0 * a.k[k];
+            q[5][k] = e;
+            q[4][k] = e - lb / 5.0 * b.t[k];
+            q[3][k] = 2.0 * q[4][k] - e + lb * lb / 20.0 * b.k[k];
+        }
+        // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
+        const BIN: [[f64; 6]; 6] = [
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+            [1.0, 2.0, 1.0, 0.0, 0.0, 0.0],
+            [1.0, 3.0, 3.0, 1.0, 0.0, 0.0],
+            [1.0, 4.0, 6.0, 4.0, 1.0, 0.0],
+            [1.0, 5.0, 10.0, 10.0, 5.0, 1.0],
+        ];
+        let mut c = [Z; 6];
+        for j in 0..6 {
+            for i in 0..=j {
+                let sgn = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
+                let w = BIN[5][j] * sgn * BIN[j][i];
+                for k in 0..n {
+                    c[j][k] += w * q[i][k];
+                }
+            }
+        }
+        let mut bl = Self {
+            q0: a.p,
+            c,
+            n,
+            table: [0.0; NSUB + 1],
+            len: 0.0,
+        };
+        for i in 0..NSUB {
+            let u0 = i as f64 / NSUB as f64;
+            let u1 = (i + 1) as f64 / NSUB as f64;
+            bl.table[i + 1] = bl.table[i] + bl.gl(u0, u1);
+        }
+        bl.len = bl.table[NSUB];
+        (bl.len.is_finite() && bl.len > 0.0).then_some(bl)
+    }
+
+    /// |B'(u)|.
+    fn speed(&self, u: f64) -> f64 {
+        let mut s2 = 0.0;
+        for k in 0..self.n {
+            let c = &self.c;
+            let d = c[1][k]
+                + u * (2.0 * c[2][k] + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
+            s2 += d * d;
+        }
+        s2.sqrt()
+    }
+
+    /// 5-point Gauss–Legendre of |B'| on [a, b].
+    fn gl(&self, a: f64, b: f64) -> f64 {
+        let h = 0.5 * (b - a);
+        let m = 0.5 * (a + b);
+        let mut sum = 0.0;
+        for i in 0..5 {
+            sum += GL_W[i] * self.speed(m + h * GL_X[i]);
+        }
+        sum * h
+    }
+
+    /// The parameter at arc length `s`: the table's subinterval, then Newton on the
+    /// Gauss–Legendre length within it (to ~1e-15 in u).
+    pub fn u_at(&self, s: f64) -> f64 {
+        if s <= 0.0 {
+            return 0.0;
+        }
+        if s >= self.len {
+            return 1.0;
+        }
+        let i = self.table[1..NSUB].partition_point(|&x| x <= s);
+        let h = 1.0 / NSUB as f64;
+        let (u0, u1) = (i as f64 * h, (i + 1) as f64 * h);
+        let (s0, s1) = (self.table[i], self.table[i + 1]);
+        let mut u = u0 + h * ((s - s0) / (s1 - s0)).clamp(0.0, 1.0);
+        for _ in 0..12 {
+            let f = s0 + self.gl(u0, u) - s;
+            let sp = self.speed(u);
+            if !(sp > 0.0) {
+                break;
+            }
+            let du = f / sp;
+            let un = (u - du).clamp(u0, u1);
+            let moved = (un - u).abs();
+            u = un;
+            if moved <= 1e-15 {
+                break;
+            }
+        }
+        u
+    }
+
+    pub fn pos_u(&self, u: f64) -> V {
+        let mut p = self.q0;
+        if u <= 0.0 {
+            return p;
+        }
+        let c = &self.c;
+        for k in 0..self.n {
+            let o = u
+                * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
+            p[k] += o;
+        }
+        p
+    }
+
+    pub fn pos(&self, s: f64) -> V {
+        self.pos_u(self.u_at(s))
+    }
+
+    /// Frame at parameter u (T, K = κN and dK/ds from B', B'', B''').
+    pub fn frame_u(&self, u: f64) -> Frame {
+        let c = &self.c;
+        let (mut r1, mut r2, mut r3) = (Z, Z, Z);
+        for k in 0..self.n {
+            r1[k] = c[1][k]
+                + u * (2.0 * c[2][k] + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
+            r2[k] = 2.0 * c[2][k] + u * (6.0 * c[3][k] + u * (12.0 * c[4][k] + u * 20.0 * c[5][k]));
+            r3[k] = 6.0 * c[3][k] + u * (24.0 * c[4][k] + u * 60.0 * c[5][k]);
+        }
+        let n = self.n;
+        let dot = |a: &V, b: &V| (0..n).map(|k| a[k] * b[k]).sum::<f64>();
+        let sig = dot(&r1, &r1).sqrt();
+        let mut f = Frame {
+            p: self.pos_u(u),
+            ..Frame::default()
+        };
+        if !(sig > 0.0) {
+            return f;
+        }
+        for k in 0..n {
+            f.t[k] = r1[k] / sig;
+        }
+        let sp = dot(&r2, &f.t); // dσ/du
+        let mut perp = Z;
+        let mut dt = Z; // dT/du
+        for k in 0..n {
+            perp[k] = r2[k] - sp * f.t[k];
+            dt[k] = perp[k] / sig;
+            f.k[k] = perp[k] / (sig * sig);
+        }
+        let r3t = dot(&r3, &f.t);
+        let r2dt = dot(&r2, &dt);
+        for k in 0..n {
+            let dperp = r3[k] - (r3t + r2dt) * f.t[k] - sp * dt[k];
+            let dkdu = dperp / (sig * sig) - 2.0 * perp[k] * sp / (sig * sig * sig);
+            f.dk[k] = dkdu / sig;
+        }
+        f
+    }
+}
+
+/// Distance from `p` to the segment [a, b] (first `n` axes).
+pub(super) fn dist_to_chord(n: usize, p: &V, a: &V, b: &V) -> f64 {
+    let (mut ab2, mut apab) = (0.0, 0.0);
+    for k in 0..n {
+        ab2 += (b[k] - a[k]) * (b[k] - a[k]);
+        apab += (p[k] - a[k]) * (b[k] - a[k]);
+    }
+    let t = if ab2 > 0.0 {
+        (apab / ab2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut d2 = 0.0;
+    for k in 0..n {
+        let q = a[k] + t * (b[k] - a[k]) - p[k];
+        d2 += q * q;
+    }
+    d2.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame_fd(bl: &Blend, s: f64, h: f64) -> (V, V) {
+        // K and dK/ds by central differences of the position in s
+        let p = |x: f64| bl.pos(x);
+        let (pm2, pm, p0, pp, pp2) = (p(s - 2.0 * h), p(s - h), p(s), p(s + h), p(s + 2.0 * h));
+        let mut k = Z;
+        let mut dk = Z;
+        for i in 0..2 {
+            k[i] = (pp[i] - 2.0 * p0[i] + pm[i]) / (h * h);
+            dk[i] = (pp2[i] - 2.0 * pp[i] + 2.0 * pm[i] - pm2[i]) / (2.0 * h * h * h);
+        }
+        (k, dk)
+    }
+
+    #[test]
+    fn blend_frames_match_the_arc_length_derivatives() {
+        let a = Frame {
+            p: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            t: [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            k: [0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ..Frame::default()
+        };
+        let s2 = 0.5f64.sqrt();
+        let b = Frame {
+            p: [100.0, 60.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            t: [s2, s2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ..Frame::default()
+        };
+        let bl = Blend::new(2, &a, &b, 50.0, 40.0).unwrap();
+        // ends match position, tangent and curvature
+        let f0 = bl.frame_u(0.0);
+        let f1 = bl.frame_u(1.0);
+        for k in 0..2 {
+            assert!((f0.t[k] - a.t[k]).abs() < 1e-12 && (f0.k[k] - a.k[k]).abs() < 1e-12);
+            assert!((f1.p[k] - b.p[k]).abs() < 1e-9 && (f1.t[k] - b.t[k]).abs() < 1e-12);
+            assert!((f1.k[k] - b.k[k]).abs() < 1e-12);
+        }
+        for i in 1..10 {
+            let s = bl.len * i as f64 / 10.0;
+            let u = bl.u_at(s);
+            let f = bl.frame_u(u);
+            let (k, dk) = frame_fd(&bl, s, 0.05);
+            for j in 0..2 {
+                assert!((f.k[j] - k[j]).abs() < 1e-5, "{i} {j} {:?} {:?}", f.k, k);
+                assert!((f.dk[j] - dk[j]).abs() < 1e-5, "{i} {j} {:?} {:?}", f.dk, dk);
+            }
+            // arc length consistent with the chord sum
+            let (mut sum, m) = (0.0, 2000);
+            for q in 0..m {
+                let pa = bl.pos_u(q as f64 / m as f64);
+                let pb = bl.pos_u((q + 1) as f64 / m as f64);
+                sum += (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+            }
+            assert!((sum - bl.len).abs() < 1e-4 * bl.len);
+        }
+    }
+
+    #[test]
+    fn helix_frame_is_the_derivative_of_its_position() {
+        let p0 = [10.0, 0.0, 5.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let p1 = [0.0, 10.0, 25.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let h = Helix::new(3, p0, p1, 0, 1, [0.0, 0.0], true).unwrap();
+        let pr = Prog::Helix(h);
+        assert_eq!(pr.pos(0.0), p0);
+        assert_eq!(pr.pos(pr.len()), p1);
+        let e = 1e-3;
+        for i in 1..8 {
+            let s = pr.len() * i as f64 / 8.0;
+            let f = pr.frame(s);
+            let (a, b) = (pr.frame(s - e), pr.frame(s + e));
+            for k in 0..3 {
+                let t = (b.p[k] - a.p[k]) / (2.0 * e);
+                let kk = (b.t[k] - a.t[k]) / (2.0 * e);
+                let dk = (b.k[k] - a.k[k]) / (2.0 * e);
+                assert!((t - f.t[k]).abs() < 1e-6, "{k}");
+                assert!((kk - f.k[k]).abs() < 1e-6, "{k}");
+                assert!((dk - f.dk[k]).abs() < 1e-6, "{k}");
+            }
+        }
+    }
+}

@@ -1,0 +1,1399 @@
+//! The continuous-path engine of an axes group: a deep ring of programmed segments (lines,
+//! arcs/helices, dwells), G2 corner blends within a tolerance, look-ahead, and a per-tick
+//! executor that returns the commanded position of every axis.
+//!
+//! Units: positions in counts, time in s. One [`Path`] per group: the owner pushes validated
+//! segments ([`Path::push`]) and calls [`Path::tick`] once per servo tick.
+//!
+//! **Pieces.** Each motion segment is a body (its line or helix between its trim points) and,
+//! when it joins the previous segment with a blend, a blend piece in front of it. All pieces
+//! are parametrised by arc length. A blend is a quintic Bézier matching position, unit tangent
+//! and curvature vector of both sides at the trim points (G2: the acceleration is continuous
+//! through the corner); its arc length is a 16-interval Gauss–Legendre table and Newton on u.
+//!
+//! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`] with path-wide tangential
+//! limits A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the
+//! group's `accel`/`jerk` if lower). Every piece has a speed cap V such that at each sampled
+//! point, on every axis k, |V T_k| ≤ vmax_k, A_t|T_k| + V²|K_k| ≤ amax_k and
+//! J_t|T_k| + 3 V A_t |K_k| + V³|K'_k| ≤ jmax_k (each limit times [`CAP_MARGIN`]); since
+//! |s̈| ≤ A_t and |s⃛| ≤ J_t, the axis velocity s̊T_k, acceleration s̈T_k + v²K_k and jerk
+//! s⃛T_k + 3vs̈K_k + v³K'_k stay within the axis limits wherever v ≤ V. Half of each budget
+//! goes to the tangential motion: the other half is what curvature may use at full tangential
+//! acceleration, which keeps blends fast without starving the straight runs.
+//!
+//! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
+//! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
+//! reach are scanned; blocks of [`BLOCK`] segments whose minimum cap is not below the speed
+//! are skipped, as `nurbs_interp`'s look-ahead does), and its remaining distance is the
+//! distance to the next exact stop, or to the end of what is queued within the look-ahead
+//! window. So the path can always stop within what is queued.
+//!
+//! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
+//! [`Path::with_capacity`] allocates everything once.
+
+mod geom;
+#[cfg(test)]
+mod tests;
+
+use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
+use crate::motion::arc::CircleError;
+use crate::motion::path_speed::PathSpeedPlanner;
+use crate::motion::pos_finite;
+
+/// Axes of a group.
+pub const MAX_AXES: usize = 8;
+/// Largest |position|, counts.
+pub const MAX_POS: f64 = 4.5e15;
+/// Feed range, counts/s.
+pub const MIN_FEED: f64 = 1e-6;
+pub const MAX_FEED: f64 = 1e12;
+/// Range of a blend tolerance or corner distance (0 = exact stop), counts.
+pub const MIN_TOL: f64 = 1e-9;
+pub const MAX_TOL: f64 = 1e15;
+/// Longest dwell, s.
+pub const MAX_DWELL: f64 = 1e6;
+/// Ranges of the axis limits (velocity, acceleration, jerk) and of the sample time.
+pub const LIMIT_RANGE: (f64, f64) = (1e-6, 1e18);
+pub const TS_RANGE: (f64, f64) = (1e-6, 1.0);
+/// Look-ahead window (segments) when the owner has no reason to choose another.
+pub const DEFAULT_LOOKAHEAD: usize = 256;
+/// Outputs waiting for the next motion segment, and outputs per segment.
+pub const MAX_OUTPUTS: usize = 4;
+/// Output bits.
+pub const OUTPUT_BITS: u8 = 32;
+
+/// Share of the smallest axis acceleration limit the tangential acceleration A_t may use;
+/// the rest is what the curvature term v²|K_k| has left at full tangential acceleration.
+pub const ACCEL_SHARE: f64 = 0.5;
+/// Share of the smallest axis jerk limit the tangential jerk J_t may use; the rest is for
+/// 3·v·A_t·|K_k| + v³|K'_k|.
+pub const JERK_SHARE: f64 = 0.5;
+/// The speed caps are computed against this fraction of every axis limit (sampling and
+/// rounding margin).
+pub const CAP_MARGIN: f64 = 0.98;
+/// Samples per blend for its cap (and its deviation when not closed-form).
+const BLEND_SAMPLES: usize = 96;
+/// Largest share of a segment a blend may trim (at each end).
+pub const MAX_TRIM_SHARE: f64 = 0.45;
+/// Largest angle of an arc a blend may trim, rad.
+const MAX_TRIM_ANGLE: f64 = core::f64::consts::FRAC_PI_4;
+/// Turns above this (rad) are reversals: exact stop.
+pub const REVERSAL: f64 = 175.0 * core::f64::consts::PI / 180.0;
+/// Tangents closer than this (|Ta − Tb|) with equal curvature join without a blend.
+const TANGENT_EPS: f64 = 1e-9;
+/// The numeric deviation is held this far below the tolerance.
+const DEV_SAFETY: f64 = 0.97;
+/// Segments per block of the look-ahead's block minima.
+pub const BLOCK: usize = 32;
+
+/// Limits of the group, per axis (counts/s, /s², /s³), and optional tangential limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathLimits {
+    pub naxes: usize,
+    pub ts: f64,
+    pub vmax: [f64; MAX_AXES],
+    pub amax: [f64; MAX_AXES],
+    pub jmax: [f64; MAX_AXES],
+    /// Tangential acceleration limit, 0 = derive from the axes.
+    pub accel: f64,
+    /// Tangential jerk limit, 0 = derive from the axes.
+    pub jerk: f64,
+}
+
+/// The geometry of a segment. Arc: the plane is axes (u, v) of the group, `centre` in that
+/// plane; the other axes move linearly with the arc length (a helix).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Geom {
+    Line {
+        end: [f64; MAX_AXES],
+    },
+    Arc {
+        u: usize,
+        v: usize,
+        centre: [f64; 2],
+        ccw: bool,
+        end: [f64; MAX_AXES],
+    },
+    Dwell {
+        time: f64,
+    },
+}
+
+/// How a segment joins the previous one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Transition {
+    /// Exact stop at the corner.
+    Exact,
+    /// Blend whose distance to the corner geometry it replaces is ≤ the tolerance (0 = exact).
+    MaxDeviation(f64),
+    /// Blend trimming this length off each side (0 = exact).
+    CornerDistance(f64),
+}
+
+/// PLCopen BlendingLow/Previous/Next/High: the feed cap at the junction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlendSpeed {
+    Low,
+    Previous,
+    Next,
+    High,
+}
+
+/// One programmed segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    pub id: u32,
+    pub geom: Geom,
+    /// Programmed feed, counts/s (ignored by a dwell).
+    pub feed: f64,
+    pub transition: Transition,
+    pub blend: BlendSpeed,
+    /// The final segment of a program: stopping there is the end, not starvation.
+    pub last: bool,
+}
+
+/// Where an output fires, in the next motion segment pushed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutputAt {
+    Start,
+    End,
+    /// This far along the path from where the segment starts (its `SegmentStart`); at its
+    /// end when the segment is shorter.
+    Distance(f64),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputAction {
+    pub bit: u8,
+    pub on: bool,
+    pub at: OutputAt,
+}
+
+/// What happened in a tick, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathEvent {
+    SegmentStart { id: u32 },
+    SegmentEnd { id: u32 },
+    Output { bit: u8, on: bool, id: u32 },
+    /// Started braking for the end of the queue (not marked `last`).
+    Starving,
+    /// Came to rest with nothing left.
+    Idle,
+}
+
+/// Refusals. The path is unchanged after each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathError {
+    /// `reset` was never called.
+    NotReady,
+    /// A value is NaN or infinite.
+    NotFinite,
+    /// A value that must be positive (feed) or not negative (tolerance, time, distance) is
+    /// not.
+    NonPositive,
+    /// A value is outside its range (includes subnormal feeds and tolerances, positions beyond
+    /// [`MAX_POS`], output bits ≥ [`OUTPUT_BITS`]).
+    OutOfRange,
+    /// The ring (or the pending outputs) is full.
+    Full,
+    /// A line of no length.
+    ZeroLength,
+    /// An arc the circle code refuses (radius, end off the circle).
+    BadArc(CircleError),
+    /// An arc's end more than 1e-6·radius off its circle (a jump).
+    ArcEndOffCircle,
+    /// An axis index ≥ the group's axes, an arc plane of one axis, or naxes not in 1..=8.
+    BadAxis,
+    /// A limit or the sample time is not finite, positive and in range.
+    BadLimits,
+    /// The look-ahead window is not in 1..=capacity.
+    BadLookahead,
+    /// `clear` while moving.
+    Moving,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Block {
+    /// Smallest geometric cap and smallest feed cap of its pieces.
+    geo: f64,
+    feed: f64,
+    /// Path length of its segments.
+    len: f64,
+    stop: bool,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Seg {
+    id: u32,
+    prog: Prog,
+    feed: f64,
+    last: bool,
+    /// Exact stop at its start (the junction with the previous segment).
+    stop_before: bool,
+    has_blend: bool,
+    blend: Blend,
+    /// Caps of the blend piece (or of the junction point of a tangent join): geometric and
+    /// feed (before the override).
+    jgeo: f64,
+    jfeed: f64,
+    /// The body: [body0, body1] in the segment's own arc length.
+    body0: f64,
+    body1: f64,
+    bgeo: f64,
+    /// The blend with the previous segment: trim length on each side and deviation.
+    trim: f64,
+    dev: f64,
+    outs: [OutputAction; MAX_OUTPUTS],
+    nouts: usize,
+    fired: u8,
+    dwell_ticks: u64,
+}
+
+impl Default for Seg {
+    fn default() -> Self {
+        Self {
+            id: 0,
+            prog: Prog::default(),
+            feed: 0.0,
+            last: false,
+            stop_before: true,
+            has_blend: false,
+            blend: Blend::default(),
+            jgeo: 0.0,
+            jfeed: 0.0,
+            body0: 0.0,
+            body1: 0.0,
+            bgeo: 0.0,
+            trim: 0.0,
+            dev: 0.0,
+            outs: [OutputAction {
+                bit: 0,
+                on: false,
+                at: OutputAt::Start,
+            }; MAX_OUTPUTS],
+            nouts: 0,
+            fired: 0,
+            dwell_ticks: 0,
+        }
+    }
+}
+
+impl Seg {
+    fn len(&self) -> f64 {
+        (if self.has_blend { self.blend.len } else { 0.0 }) + (self.body1 - self.body0)
+    }
+    fn is_dwell(&self) -> bool {
+        matches!(self.prog, Prog::Dwell { .. })
+    }
+}
+
+/// The blend of a junction, as built: trim length on each side and the deviation from the
+/// programmed corner geometry (an upper bound where not closed-form).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlendInfo {
+    pub trim: f64,
+    pub deviation: f64,
+    pub length: f64,
+}
+
+/// What the look-ahead found for this tick.
+#[derive(Debug, Clone, Copy)]
+struct Look {
+    target: f64,
+    rem: f64,
+    /// `rem` is a stop point (exact stop, the end of the queue or of the window).
+    stop: bool,
+    queue_end: bool,
+    window_end: usize,
+}
+
+/// The continuous-path engine of one axes group.
+#[derive(Debug, Clone)]
+pub struct Path {
+    segs: Vec<Seg>,
+    blocks: Vec<Block>,
+    capacity: usize,
+    ready: bool,
+    lim: PathLimits,
+    at: f64,
+    jt: f64,
+    lookahead: usize,
+    planner: PathSpeedPlanner,
+    /// Absolute indices: the segment whose piece the executor is in, and the next free one.
+    exec: usize,
+    tail: usize,
+    /// In the first half of exec's blend: exec − 1 has not ended yet.
+    prev_open: bool,
+    in_blend: bool,
+    /// Position within the piece (blend: its arc length; body: the segment's arc length).
+    s: f64,
+    started: bool,
+    seg_travel: f64,
+    dwell_left: u64,
+    pos: V,
+    last_end: V,
+    halted: bool,
+    slow: Option<(f64, f64)>,
+    distance: f64,
+    pending: [OutputAction; MAX_OUTPUTS],
+    npending: usize,
+    starving_sent: bool,
+    idle_sent: bool,
+}
+
+/// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
+fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
+    if r <= 0.0 {
+        return 0.0;
+    }
+    let mut v = f64::INFINITY;
+    if q > 0.0 {
+        v = r / q;
+    }
+    if p > 0.0 {
+        v = v.min((r / p).cbrt());
+    } else {
+        return v;
+    }
+    if q == 0.0 {
+        return v;
+    }
+    // Newton from above on an increasing convex function: monotone
+    for _ in 0..60 {
+        let f = p * v * v * v + q * v - r;
+        let d = 3.0 * p * v * v + q;
+        let nv = v - f / d;
+        if !(nv < v) || nv <= 0.0 {
+            break;
+        }
+        let done = v - nv <= 1e-14 * v;
+        v = nv;
+        if done {
+            break;
+        }
+    }
+    v
+}
+
+fn finite_v(n: usize, p: &V) -> Result<(), PathError> {
+    if p[..n].iter().any(|x| !x.is_finite()) {
+        return Err(PathError::NotFinite);
+    }
+    if p[..n].iter().any(|x| x.abs() > MAX_POS) {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(())
+}
+
+/// A tolerance-like value: finite, ≥ 0, 0 or in [MIN_TOL, MAX_TOL].
+fn check_tol(x: f64) -> Result<f64, PathError> {
+    if !x.is_finite() {
+        return Err(PathError::NotFinite);
+    }
+    if x < 0.0 {
+        return Err(PathError::NonPositive);
+    }
+    if x != 0.0 && !(MIN_TOL..=MAX_TOL).contains(&x) {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(x)
+}
+
+impl Path {
+    /// A path with room for `segments` queued segments (at least 1); everything is allocated
+    /// here. Call [`reset`](Self::reset) before use.
+    pub fn with_capacity(segments: usize) -> Self {
+        let capacity = segments.max(1);
+        let ring = capacity.div_ceil(BLOCK) * BLOCK;
+        let lim = PathLimits {
+            naxes: 1,
+            ts: 1e-3,
+            vmax: [1.0; MAX_AXES],
+            amax: [1.0; MAX_AXES],
+            jmax: [1.0; MAX_AXES],
+            accel: 0.0,
+            jerk: 0.0,
+        };
+        Self {
+            segs: vec![Seg::default(); ring],
+            blocks: vec![Block::default(); ring / BLOCK],
+            capacity,
+            ready: false,
+            lim,
+            at: 1.0,
+            jt: 1.0,
+            lookahead: DEFAULT_LOOKAHEAD.min(capacity),
+            planner: PathSpeedPlanner::unplanned(),
+            exec: 0,
+            tail: 0,
+            prev_open: false,
+            in_blend: false,
+            s: 0.0,
+            started: false,
+            seg_travel: 0.0,
+            dwell_left: 0,
+            pos: [0.0; MAX_AXES],
+            last_end: [0.0; MAX_AXES],
+            halted: false,
+            slow: None,
+            distance: 0.0,
+            pending: [Seg::default().outs[0]; MAX_OUTPUTS],
+            npending: 0,
+            starving_sent: false,
+            idle_sent: true,
+        }
+    }
+
+    /// Checks the limits: (A_t, J_t).
+    fn check_limits(lim: &PathLimits) -> Result<(f64, f64), PathError> {
+        if !(1..=MAX_AXES).contains(&lim.naxes) {
+            return Err(PathError::BadAxis);
+        }
+        let ok = |x: f64| x.is_finite() && (LIMIT_RANGE.0..=LIMIT_RANGE.1).contains(&x);
+        if !(lim.ts.is_finite() && (TS_RANGE.0..=TS_RANGE.1).contains(&lim.ts)) {
+            return Err(PathError::BadLimits);
+        }
+        let n = lim.naxes;
+        if !(lim.vmax[..n].iter().all(|&x| ok(x))
+            && lim.amax[..n].iter().all(|&x| ok(x))
+            && lim.jmax[..n].iter().all(|&x| ok(x)))
+        {
+            return Err(PathError::BadLimits);
+        }
+        if !(lim.accel == 0.0 || ok(lim.accel)) || !(lim.jerk == 0.0 || ok(lim.jerk)) {
+            return Err(PathError::BadLimits);
+        }
+        let amin = lim.amax[..n].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let jmin = lim.jmax[..n].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let mut at = ACCEL_SHARE * amin;
+        let mut jt = JERK_SHARE * jmin;
+        if lim.accel > 0.0 {
+            at = at.min(lim.accel);
+        }
+        if lim.jerk > 0.0 {
+            jt = jt.min(lim.jerk);
+        }
+        Ok((at, jt))
+    }
+
+    /// At rest at `start`, empty, with these limits; `lookahead` = segments the planner
+    /// considers (1..=capacity).
+    pub fn reset(
+        &mut self,
+        start: [f64; MAX_AXES],
+        lim: PathLimits,
+        lookahead: usize,
+    ) -> Result<(), PathError> {
+        let (at, jt) = Self::check_limits(&lim)?;
+        finite_v(lim.naxes, &start)?;
+        if !(1..=self.capacity).contains(&lookahead) {
+            return Err(PathError::BadLookahead);
+        }
+        let planner = PathSpeedPlanner::new(lim.ts, at, jt).map_err(|_| PathError::BadLimits)?;
+        let mut start = start;
+        for x in start[lim.naxes..].iter_mut() {
+            *x = 0.0;
+        }
+        self.ready = true;
+        self.lim = lim;
+        self.at = at;
+        self.jt = jt;
+        self.lookahead = lookahead;
+        self.planner = planner;
+        self.exec = 0;
+        self.tail = 0;
+        self.prev_open = false;
+        self.in_blend = false;
+        self.s = 0.0;
+        self.started = false;
+        self.seg_travel = 0.0;
+        self.dwell_left = 0;
+        self.pos = start;
+        self.last_end = start;
+        self.halted = false;
+        self.slow = None;
+        self.distance = 0.0;
+        self.npending = 0;
+        self.starving_sent = false;
+        self.idle_sent = true;
+        Ok(())
+    }
+
+    fn slot(&self, i: usize) -> usize {
+        i % self.segs.len()
+    }
+    fn seg(&self, i: usize) -> &Seg {
+        &self.segs[i % self.segs.len()]
+    }
+
+    /// Segments queued (not ended yet).
+    pub fn queued(&self) -> usize {
+        self.tail - self.exec + usize::from(self.prev_open)
+    }
+    /// Room left, segments.
+    pub fn free(&self) -> usize {
+        self.capacity - self.queued()
+    }
+    pub fn is_moving(&self) -> bool {
+        self.planner.v > 0.0 || self.planner.a != 0.0
+    }
+    /// Path speed, counts/s.
+    pub fn speed(&self) -> f64 {
+        self.planner.v
+    }
+    /// Path acceleration, counts/s².
+    pub fn accel(&self) -> f64 {
+        self.planner.a
+    }
+    /// Commanded position of the last tick.
+    pub fn position(&self) -> [f64; MAX_AXES] {
+        self.pos
+    }
+    /// The segment the path is in (until a blend's middle, the one before it).
+    pub fn current_id(&self) -> Option<u32> {
+        if self.prev_open {
+            Some(self.seg(self.exec - 1).id)
+        } else if self.exec < self.tail {
+            Some(self.seg(self.exec).id)
+        } else {
+            None
+        }
+    }
+    /// Distance along the path since `reset`, counts.
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+    /// The tangential limits in use (A_t, J_t).
+    pub fn tangential_limits(&self) -> (f64, f64) {
+        (self.at, self.jt)
+    }
+    /// The blend joining the queued segment `id` to the one before it (None: no blend, or
+    /// not queued).
+    pub fn blend_info(&self, id: u32) -> Option<BlendInfo> {
+        (self.exec.saturating_sub(1)..self.tail)
+            .map(|i| self.seg(i))
+            .find(|s| s.id == id && s.has_blend)
+            .map(|s| BlendInfo {
+                trim: s.trim,
+                deviation: s.dev,
+                length: s.blend.len,
+            })
+    }
+
+    /// The speed cap of a frame: the largest V within every axis limit (see the module doc).
+    fn frame_cap(&self, f: &Frame) -> f64 {
+        let l = &self.lim;
+        let (at, jt) = (self.at, self.jt);
+        let mut cap = f64::INFINITY;
+        for k in 0..l.naxes {
+            let (t, kk, dk) = (f.t[k].abs(), f.k[k].abs(), f.dk[k].abs());
+            if t > 0.0 {
+                cap = cap.min(CAP_MARGIN * l.vmax[k] / t);
+            }
+            if kk > 0.0 {
+                let room = CAP_MARGIN * l.amax[k] - at * t;
+                cap = cap.min((room.max(0.0) / kk).sqrt());
+            }
+            let room = CAP_MARGIN * l.jmax[k] - jt * t;
+            cap = cap.min(cubic_cap(dk, 3.0 * at * kk, room));
+        }
+        cap
+    }
+
+    /// Cap of a body on [s0, s1].
+    fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
+        match p {
+            Prog::Line { .. } => self.frame_cap(&p.frame(0.0)),
+            Prog::Helix(h) => {
+                let ang = h.sweep().abs() * (s1 - s0) / p.len();
+                let m = ((ang / 1f64.to_radians()).ceil() as usize).clamp(16, 720);
+                let mut cap = f64::INFINITY;
+                for i in 0..=m {
+                    let s = s0 + (s1 - s0) * i as f64 / m as f64;
+                    cap = cap.min(self.frame_cap(&p.frame(s)));
+                }
+                cap
+            }
+            Prog::Dwell { .. } => 0.0,
+        }
+    }
+
+    fn blend_cap(&self, b: &Blend) -> f64 {
+        let mut cap = f64::INFINITY;
+        for i in 0..=BLEND_SAMPLES {
+            cap = cap.min(self.frame_cap(&b.frame_u(i as f64 / BLEND_SAMPLES as f64)));
+        }
+        cap
+    }
+
+    /// Most a blend may trim off `p` at one end (share, angle).
+    fn room(p: &Prog) -> f64 {
+        let l = p.len();
+        match p {
+            Prog::Helix(h) => (MAX_TRIM_SHARE * l).min(MAX_TRIM_ANGLE * l / h.sweep().abs()),
+            _ => MAX_TRIM_SHARE * l,
+        }
+    }
+
+    /// Upper bound of the distance between `b` and the programmed geometry it replaces (the
+    /// last `d` of `pa`, the first `d` of `pb`): the blend sampled against chords of the
+    /// geometry, plus their sagitta.
+    fn deviation(n: usize, b: &Blend, pa: &Prog, pb: &Prog, d: f64) -> f64 {
+        const M: usize = 32;
+        let la = pa.len();
+        let mut pts = [[0.0; MAX_AXES]; 2 * M + 1];
+        for (i, q) in pts.iter_mut().enumerate() {
+            *q = if i <= M {
+                pa.pos(la - d + d * i as f64 / M as f64)
+            } else {
+                pb.pos(d * (i - M) as f64 / M as f64)
+            };
+        }
+        let mut sag = 0.0f64;
+        for p in [pa, pb] {
+            if p.is_curved() {
+                let k = p.frame(0.0).k[..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+                let h = d / M as f64;
+                sag = sag.max(k * h * h / 8.0 * 1.01);
+            }
+        }
+        let mut worst = 0.0f64;
+        for i in 0..=BLEND_SAMPLES {
+            let q = b.pos_u(i as f64 / BLEND_SAMPLES as f64);
+            let mut best = f64::INFINITY;
+            for w in pts.windows(2) {
+                best = best.min(dist_to_chord(n, &q, &w[0], &w[1]));
+            }
+            worst = worst.max(best);
+        }
+        worst + sag
+    }
+
+    /// Distance from the executor to the end of segment `upto`'s body, or more than `need`
+    /// (the walk stops there).
+    fn dist_to_body_end(&self, upto: usize, need: f64) -> f64 {
+        let sg = self.seg(self.exec);
+        let mut d = if self.in_blend {
+            sg.blend.len - self.s + (sg.body1 - sg.body0)
+        } else {
+            sg.body1 - self.s
+        };
+        let mut j = self.exec + 1;
+        while j <= upto && d <= need {
+            d += self.seg(j).len();
+            j += 1;
+        }
+        d
+    }
+
+    /// Appends a segment: validates it, builds the blend with the previous one and computes
+    /// the caps. Allocates nothing.
+    pub fn push(&mut self, seg: Segment) -> Result<(), PathError> {
+        if !self.ready {
+            return Err(PathError::NotReady);
+        }
+        if self.queued() >= self.capacity {
+            return Err(PathError::Full);
+        }
+        let n = self.lim.naxes;
+        let p0 = self.last_end;
+        let mut rec = Seg {
+            id: seg.id,
+            last: seg.last,
+            ..Seg::default()
+        };
+        let motion = !matches!(seg.geom, Geom::Dwell { .. });
+        if motion {
+            if !seg.feed.is_finite() {
+                return Err(PathError::NotFinite);
+            }
+            if seg.feed <= 0.0 {
+                return Err(PathError::NonPositive);
+            }
+            if !(MIN_FEED..=MAX_FEED).contains(&seg.feed) {
+                return Err(PathError::OutOfRange);
+            }
+            rec.feed = seg.feed;
+        }
+        let tol = match seg.transition {
+            Transition::Exact => 0.0,
+            Transition::MaxDeviation(x) | Transition::CornerDistance(x) => check_tol(x)?,
+        };
+        let fix_axes = |e: &mut V| {
+            for x in e[n..].iter_mut() {
+                *x = 0.0;
+            }
+        };
+        match seg.geom {
+            Geom::Line { mut end } => {
+                finite_v(n, &end)?;
+                fix_axes(&mut end);
+                let (p, len) = Prog::line(n, p0, end);
+                let scale = p0[..n]
+                    .iter()
+                    .chain(end[..n].iter())
+                    .fold(1.0f64, |m, x| m.max(x.abs()));
+                if !(len > 64.0 * f64::EPSILON * scale) {
+                    return Err(PathError::ZeroLength);
+                }
+                rec.prog = p;
+            }
+            Geom::Arc {
+                u,
+                v,
+                centre,
+                ccw,
+                mut end,
+            } => {
+                if u >= n || v >= n || u == v {
+                    return Err(PathError::BadAxis);
+                }
+                finite_v(n, &end)?;
+                if !(centre[0].is_finite() && centre[1].is_finite()) {
+                    return Err(PathError::NotFinite);
+                }
+                if centre.iter().any(|x| x.abs() > MAX_POS) {
+                    return Err(PathError::OutOfRange);
+                }
+                fix_axes(&mut end);
+                let h = Helix::new(n, p0, end, u, v, centre, ccw).map_err(PathError::BadArc)?;
+                let r0 = (p0[u] - centre[0]).hypot(p0[v] - centre[1]);
+                let r1 = (end[u] - centre[0]).hypot(end[v] - centre[1]);
+                if (r1 - r0).abs() > 1e-6 * r0.max(1.0) {
+                    return Err(PathError::ArcEndOffCircle);
+                }
+                rec.prog = Prog::Helix(h);
+            }
+            Geom::Dwell { time } => {
+                if !time.is_finite() {
+                    return Err(PathError::NotFinite);
+                }
+                if time < 0.0 {
+                    return Err(PathError::NonPositive);
+                }
+                if time > MAX_DWELL {
+                    return Err(PathError::OutOfRange);
+                }
+                rec.prog = Prog::Dwell { p: p0 };
+                rec.dwell_ticks = (time / self.lim.ts - 1e-9).ceil().max(0.0) as u64;
+            }
+        }
+        let len = rec.prog.len();
+        rec.body1 = len;
+        rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
+        // The junction with the previous segment.
+        let idle = self.exec >= self.tail;
+        let prev_live = !idle && self.tail > self.exec;
+        let mut prev_trim = 0.0;
+        if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
+            let prev = *self.seg(self.tail - 1);
+            let la = prev.prog.len();
+            let fa = prev.prog.frame(la);
+            let fb = rec.prog.frame(0.0);
+            let (mut dt2, mut dot, mut dk2, mut k2) = (0.0, 0.0, 0.0, 0.0);
+            for k in 0..n {
+                dt2 += (fa.t[k] - fb.t[k]) * (fa.t[k] - fb.t[k]);
+                dot += fa.t[k] * fb.t[k];
+                dk2 += (fa.k[k] - fb.k[k]) * (fa.k[k] - fb.k[k]);
+                k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
+            }
+            let turn = dot.clamp(-1.0, 1.0).acos();
+            let rule = match seg.blend {
+                BlendSpeed::Low => prev.feed.min(rec.feed),
+                BlendSpeed::Previous => prev.feed,
+                BlendSpeed::Next => rec.feed,
+                BlendSpeed::High => prev.feed.max(rec.feed),
+            };
+            if dt2.sqrt() <= TANGENT_EPS && dk2 <= 1e-18 * k2 {
+                // tangent and curvature-continuous: no blend, the caps of both sides
+                rec.stop_before = false;
+                rec.jgeo = prev.bgeo.min(rec.bgeo);
+                rec.jfeed = rule;
+            } else if turn < REVERSAL {
+                // room on each side: the share of the segment, and on the executor's side
+                // what it can still slow down before
+                let mut room = Self::room(&prev.prog)
+                    .min(la - prev.body0)
+                    .min(Self::room(&rec.prog));
+                {
+                    let pl = &self.planner;
+                    let need = 1.05
+                        * PathSpeedPlanner::stopping_distance(
+                            pl.v,
+                            pl.a.max(0.0),
+                            self.at,
+                            self.jt,
+                        )
+                        + 4.0 * pl.v * self.lim.ts
+                        + 1e-9;
+                    let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
+                    room = room.min(to_corner - need);
+                }
+                let build = |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
+                let line_line = !prev.prog.is_curved() && !rec.prog.is_curved();
+                let (d, dev) = match seg.transition {
+                    Transition::MaxDeviation(tol) => {
+                        if line_line {
+                            let f = 0.375 * (0.5 * turn).sin();
+                            let d = if f > 0.0 { (tol / f).min(room) } else { room };
+                            (d, f * d)
+                        } else {
+                            let target = DEV_SAFETY * tol;
+                            let dev_at = |d: f64| match build(d) {
+                                Some(b) => Self::deviation(n, &b, &prev.prog, &rec.prog, d),
+                                None => f64::INFINITY,
+                            };
+                            let dmax = dev_at(room.max(0.0));
+                            if room > 0.0 && dmax <= target {
+                                (room, dmax)
+                            } else {
+                                let (mut lo, mut hi) = (0.0, room.max(0.0));
+                                let mut dev_lo = 0.0;
+                                for _ in 0..40 {
+                                    let mid = 0.5 * (lo + hi);
+                                    let dm = dev_at(mid);
+                                    if dm <= target {
+                                        lo = mid;
+                                        dev_lo = dm;
+                                    } else {
+                                        hi = mid;
+                                    }
+                                    if hi - lo <= 1e-6 * hi {
+                                        break;
+                                    }
+                                }
+                                (lo, dev_lo)
+                            }
+                        }
+                    }
+                    Transition::CornerDistance(cd) => {
+                        let d = cd.min(room);
+                        let dev = if line_line {
+                            0.375 * (0.5 * turn).sin() * d
+                        } else {
+                            build(d)
+                                .map(|b| Self::deviation(n, &b, &prev.prog, &rec.prog, d))
+                                .unwrap_or(f64::INFINITY)
+                        };
+                        (d, dev)
+                    }
+                    Transition::Exact => (0.0, 0.0),
+                };
+                let scale = p0[..n].iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                if d > 1e3 * f64::EPSILON * scale && d.is_finite() {
+                    if let Some(b) = build(d) {
+                        let cap = self.blend_cap(&b);
+                        if cap > 0.0 && cap.is_finite() {
+                            rec.stop_before = false;
+                            rec.has_blend = true;
+                            rec.blend = b;
+                            rec.jgeo = cap;
+                            rec.jfeed = rule;
+                            rec.trim = d;
+                            rec.dev = dev;
+                            rec.body0 = d;
+                            prev_trim = d;
+                        }
+                    }
+                }
+            }
+        }
+        if rec.has_blend {
+            // the body's cap without the trimmed start (arcs)
+            rec.bgeo = self.body_cap(&rec.prog, rec.body0, len);
+        }
+        if motion {
+            rec.outs[..self.npending].copy_from_slice(&self.pending[..self.npending]);
+            rec.nouts = self.npending;
+            self.npending = 0;
+        }
+        // commit
+        if prev_trim > 0.0 {
+            let pi = self.tail - 1;
+            let ps = self.slot(pi);
+            self.segs[ps].body1 -= prev_trim;
+            self.blocks[ps / BLOCK].len -= prev_trim;
+        }
+        if idle {
+            self.in_blend = false;
+            self.prev_open = false;
+            self.s = 0.0;
+            self.started = false;
+        }
+        let sl = self.slot(self.tail);
+        let b = &mut self.blocks[sl / BLOCK];
+        if sl % BLOCK == 0 {
+            *b = Block {
+                geo: f64::INFINITY,
+                feed: f64::INFINITY,
+                len: 0.0,
+                stop: false,
+            };
+        }
+        b.len += rec.len();
+        b.stop |= rec.stop_before;
+        b.geo = b.geo.min(rec.bgeo);
+        b.feed = b.feed.min(rec.feed);
+        if !rec.stop_before {
+            b.geo = b.geo.min(rec.jgeo);
+            b.feed = b.feed.min(rec.jfeed);
+        }
+        self.last_end = rec.prog.end();
+        self.segs[sl] = rec;
+        self.tail += 1;
+        self.starving_sent = false;
+        self.idle_sent = false;
+        Ok(())
+    }
+
+    /// Attaches an output to the next motion segment pushed (at most [`MAX_OUTPUTS`]).
+    pub fn push_output(&mut self, o: OutputAction) -> Result<(), PathError> {
+        if o.bit >= OUTPUT_BITS {
+            return Err(PathError::OutOfRange);
+        }
+        if let OutputAt::Distance(d) = o.at {
+            if !d.is_finite() {
+                return Err(PathError::NotFinite);
+            }
+            if d < 0.0 {
+                return Err(PathError::NonPositive);
+            }
+            if d > 4.0 * MAX_POS {
+                return Err(PathError::OutOfRange);
+            }
+        }
+        if self.npending >= MAX_OUTPUTS {
+            return Err(PathError::Full);
+        }
+        self.pending[self.npending] = o;
+        self.npending += 1;
+        Ok(())
+    }
+
+    /// Comes to rest along the path as fast as `decel` and `jerk` allow (clamped to the
+    /// tangential limits, and never below what the current deceleration needs), then stays;
+    /// the queue stays until [`clear`](Self::clear). If that stop would run past the next exact
+    /// stop or the end of the queue, the path's own limits are kept (it is braking for that
+    /// point already).
+    pub fn halt(&mut self, decel: f64, jerk: f64) {
+        if !self.ready {
+            return;
+        }
+        self.halted = true;
+        let pl = self.planner;
+        let d = if pos_finite(decel) { decel.min(self.at) } else { self.at };
+        let j = if pos_finite(jerk) { jerk.min(self.jt) } else { self.jt };
+        let d = d.max(-pl.a).min(self.at);
+        if self.exec >= self.tail {
+            return;
+        }
+        let need = 1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j)
+            + 4.0 * pl.v * self.lim.ts;
+        let wend = self.tail.min(self.exec + self.lookahead);
+        let (stop, rem) = self.walk(need, 0.0, 0.0, wend, &mut |_, _| {});
+        if stop.is_none() || rem >= need {
+            self.planner.dmax = d;
+            self.planner.jmax = j;
+        }
+    }
+
+    /// Only at rest: drops every segment not finished (ids reported in order) and the pending
+    /// outputs, keeps the position, ends a halt.
+    pub fn clear(&mut self, aborted: &mut impl FnMut(u32)) -> Result<(), PathError> {
+        if self.is_moving() {
+            return Err(PathError::Moving);
+        }
+        let first = self.exec - usize::from(self.prev_open);
+        for i in first..self.tail {
+            aborted(self.seg(i).id);
+        }
+        self.exec = self.tail;
+        self.prev_open = false;
+        self.in_blend = false;
+        self.s = 0.0;
+        self.started = false;
+        self.last_end = self.pos;
+        self.npending = 0;
+        self.halted = false;
+        self.slow = None;
+        self.planner.dmax = self.at;
+        self.planner.jmax = self.jt;
+        self.planner.rest();
+        self.idle_sent = true;
+        Ok(())
+    }
+
+    /// Walks the pieces ahead of the executor up to distance `until` (or the window end
+    /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
+    /// be below `below` (blocks that have none are skipped). Returns the stop found (Some(is
+    /// the end of the queue)) and its distance, or None and a distance beyond `until`.
+    fn walk(
+        &self,
+        until: f64,
+        below: f64,
+        ovr: f64,
+        wend: usize,
+        f: &mut impl FnMut(f64, f64),
+    ) -> (Option<bool>, f64) {
+        let e = self.exec;
+        let sg = self.seg(e);
+        let mut d = if self.in_blend {
+            let d = sg.blend.len - self.s;
+            f(d, sg.bgeo.min(sg.feed * ovr));
+            d + (sg.body1 - sg.body0)
+        } else {
+            sg.body1 - self.s
+        };
+        let mut j = e + 1;
+        loop {
+            if j >= wend {
+                return (Some(j >= self.tail), d);
+            }
+            if d > until {
+                return (None, d);
+            }
+            if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
+                let b = &self.blocks[self.slot(j) / BLOCK];
+                if !b.stop && b.geo >= below && b.feed * ovr >= below {
+                    d += b.len;
+                    j += BLOCK;
+                    continue;
+                }
+            }
+            let s = self.seg(j);
+            if s.stop_before {
+                return (Some(false), d);
+            }
+            f(d, s.jgeo.min(s.jfeed * ovr));
+            if s.has_blend {
+                d += s.blend.len;
+            }
+            f(d, s.bgeo.min(s.feed * ovr));
+            d += s.body1 - s.body0;
+            j += 1;
+        }
+    }
+
+    /// The planner's target and remaining distance for this tick (see the module doc; the
+    /// slowing test is `nurbs_interp`'s).
+    fn look(&mut self, ovr: f64) -> Look {
+        let sg = self.seg(self.exec);
+        let (cg, cf) = if self.in_blend {
+            (sg.jgeo, sg.jfeed)
+        } else {
+            (sg.bgeo, sg.feed)
+        };
+        let ceiling = cg.min(cf * ovr);
+        let here = self.distance;
+        if matches!(self.slow, Some((sc, _)) if here >= sc) {
+            self.slow = None;
+        }
+        let mut target = match self.slow {
+            Some((_, c)) => ceiling.min(c),
+            None => ceiling,
+        };
+        if self.halted || ovr <= 0.0 {
+            target = 0.0;
+        }
+        let wend = self.tail.min(self.exec + self.lookahead);
+        let pl = self.planner;
+        let (jp, dp) = pl.plan_limits();
+        let (jm, dm) = (pl.jmax, pl.dmax);
+        let ts = self.lim.ts;
+        let mut out = Look {
+            target,
+            rem: 0.0,
+            stop: false,
+            queue_end: false,
+            window_end: wend,
+        };
+        for it in 0..3 {
+            let (step, vn, an) = pl.track_step(target);
+            let vmax = pl.v.max(vn).max(vn + an.max(0.0).powi(2) / (2.0 * jm));
+            let reach = 1.05
+                * PathSpeedPlanner::stopping_distance(vmax, an.max(pl.a).max(0.0), dp, jp)
+                + 4.0 * vmax * ts
+                + 1e-9;
+            let below = vmax.min(target);
+            let ap = an.max(0.0);
+            let vf = vn + ap * ap / (2.0 * jm);
+            let rising = vf * ap / jm;
+            let mut worst: Option<(f64, f64)> = None;
+            let mut consider = |d: f64, raw: f64| {
+                if raw < vmax && raw < target && worst.is_none_or(|(_, c)| raw < c) {
+                    let dist = d - step;
+                    let lower = (vf * vf - raw * raw) / (2.0 * dm);
+                    let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+                    let violated = dist < lower
+                        || (dist < upper && dist < pl.slowing_distance_from(vn, an, raw));
+                    if violated {
+                        worst = Some((here + d, raw));
+                    }
+                }
+            };
+            let (stop, d) = self.walk(reach, below, ovr, wend, &mut consider);
+            if it == 0 {
+                out.rem = d;
+                out.stop = stop.is_some();
+                out.queue_end = stop == Some(true);
+            }
+            match worst {
+                Some((sc, c)) => {
+                    self.slow = Some((sc, c));
+                    target = target.min(c);
+                }
+                None => break,
+            }
+        }
+        out.target = target;
+        out
+    }
+
+    fn fire_outputs(&self, i: usize, which: u8, upto: f64, ev: &mut impl FnMut(PathEvent)) -> u8 {
+        // which: 0 = Start, 1 = End, 2 = Distance ≤ upto (in order of distance)
+        let s = self.seg(i);
+        let mut fired = s.fired;
+        loop {
+            let mut best: Option<(usize, f64)> = None;
+            for (k, o) in s.outs[..s.nouts].iter().enumerate() {
+                if fired & (1 << k) != 0 {
+                    continue;
+                }
+                let key = match (which, o.at) {
+                    (0, OutputAt::Start) | (1, OutputAt::End) => 0.0,
+                    (2, OutputAt::Distance(d)) if d <= upto => d,
+                    _ => continue,
+                };
+                if best.is_none_or(|(_, b)| key < b) {
+                    best = Some((k, key));
+                }
+            }
+            let Some((k, _)) = best else { break };
+            fired |= 1 << k;
+            let o = s.outs[k];
+            ev(PathEvent::Output {
+                bit: o.bit,
+                on: o.on,
+                id: s.id,
+            });
+        }
+        fired
+    }
+
+    fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
+        let i = self.exec;
+        let sl = self.slot(i);
+        self.started = true;
+        self.seg_travel = 0.0;
+        ev(PathEvent::SegmentStart { id: self.segs[sl].id });
+        let f = self.fire_outputs(i, 0, 0.0, ev);
+        self.segs[sl].fired = f;
+        let f = self.fire_outputs(i, 2, 0.0, ev);
+        self.segs[sl].fired = f;
+        self.dwell_left = self.segs[sl].dwell_ticks;
+    }
+
+    fn end_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
+        let sl = self.slot(i);
+        let f = self.fire_outputs(i, 2, f64::INFINITY, ev);
+        self.segs[sl].fired = f;
+        ev(PathEvent::SegmentEnd { id: self.segs[sl].id });
+        let f = self.fire_outputs(i, 1, 0.0, ev);
+        self.segs[sl].fired = f;
+    }
+
+    /// Travel of the open segment: Distance outputs crossed.
+    fn travel(&mut self, step: f64, ev: &mut impl FnMut(PathEvent)) {
+        if step <= 0.0 {
+            return;
+        }
+        self.seg_travel += step;
+        let i = self.exec - usize::from(self.prev_open);
+        let sl = self.slot(i);
+        if self.segs[sl].nouts > 0 {
+            let f = self.fire_outputs(i, 2, self.seg_travel, ev);
+            self.segs[sl].fired = f;
+        }
+    }
+
+    /// Moves the executor `ds` along the path (or, when `land`, exactly to the stop point the
+    /// look-ahead found), with the events on the way.
+    fn advance(&mut self, ds: f64, land: bool, wend: usize, resting: bool, ev: &mut impl FnMut(PathEvent)) {
+        let mut left = if land { f64::INFINITY } else { ds };
+        if !self.started && !self.in_blend && self.exec < self.tail && (ds > 0.0 || land) {
+            self.start_seg(ev);
+        }
+        for _ in 0..4 * self.segs.len() + 8 {
+            if self.exec >= self.tail {
+                return;
+            }
+            let sg = *self.seg(self.exec);
+            if sg.is_dwell() {
+                return;
+            }
+            if self.in_blend {
+                let len = sg.blend.len;
+                if self.prev_open {
+                    let mid = 0.5 * len;
+                    if self.s + left >= mid {
+                        let step = (mid - self.s).max(0.0);
+                        self.travel(step, ev);
+                        left -= step;
+                        self.s = mid;
+                        self.end_seg(self.exec - 1, ev);
+                        self.prev_open = false;
+                        self.start_seg(ev);
+                    } else {
+                        self.s += left;
+                        self.travel(left, ev);
+                        return;
+                    }
+                }
+                let step = (len - self.s).max(0.0).min(left);
+                self.s += step;
+                self.travel(step, ev);
+                left -= step;
+                if self.s >= len {
+                    self.in_blend = false;
+                    self.s = sg.body0;
+                    continue;
+                }
+                return;
+            }
+            let end = sg.body1;
+            let step = (end - self.s).max(0.0).min(left);
+            self.s += step;
+            self.travel(step, ev);
+            left -= step;
+            if self.s < end {
+                return;
+            }
+            self.s = end;
+            let next = self.exec + 1;
+            if next >= self.tail {
+                if resting {
+                    self.pos = sg.prog.pos(end);
+                    self.end_seg(self.exec, ev);
+                    self.exec = next;
+                    self.started = false;
+                }
+                return;
+            }
+            let ns = *self.seg(next);
+            if land && next >= wend && !ns.stop_before {
+                return; // at rest at the window's end
+            }
+            if ns.stop_before {
+                // never past an exact stop without landing on it
+                self.end_seg(self.exec, ev);
+                self.exec = next;
+                self.in_blend = false;
+                self.s = 0.0;
+                self.start_seg(ev);
+                return;
+            }
+            if ns.has_blend {
+                self.exec = next;
+                self.in_blend = true;
+                self.prev_open = true;
+                self.started = false;
+                self.s = 0.0;
+            } else {
+                self.end_seg(self.exec, ev);
+                self.exec = next;
+                self.s = ns.body0;
+                self.start_seg(ev);
+            }
+        }
+    }
+
+    fn eval_here(&self) -> V {
+        if self.exec >= self.tail {
+            return self.pos;
+        }
+        let sg = self.seg(self.exec);
+        if self.in_blend {
+            sg.blend.pos(self.s)
+        } else {
+            sg.prog.pos(self.s)
+        }
+    }
+
+    /// One servo tick: returns the commanded position of every group axis. `feed_override`
+    /// (0..2) scales every feed; 0 holds the path still (ramping down, resuming when > 0).
+    pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        if !self.ready {
+            return self.pos;
+        }
+        let ovr = if feed_override.is_nan() {
+            0.0
+        } else {
+            feed_override.clamp(0.0, 2.0)
+        };
+        // dwells
+        while self.exec < self.tail && self.seg(self.exec).is_dwell() {
+            if !self.started {
+                self.start_seg(ev);
+            }
+            if self.dwell_left > 0 {
+                if !self.halted {
+                    self.dwell_left -= 1;
+                }
+                return self.pos;
+            }
+            self.end_seg(self.exec, ev);
+            self.exec += 1;
+            self.s = 0.0;
+            self.in_blend = false;
+            self.started = false;
+            if self.exec < self.tail {
+                self.start_seg(ev);
+            }
+        }
+        if self.exec >= self.tail {
+            self.planner.rest();
+            if !self.idle_sent {
+                self.idle_sent = true;
+                ev(PathEvent::Idle);
+            }
+            return self.pos;
+        }
+        let lk = self.look(ovr);
+        let ts = self.lim.ts;
+        let v = self.planner.next(lk.target, lk.rem);
+        let mut ds = (v * ts).max(0.0);
+        let mut land = false;
+        if lk.stop {
+            if self.planner.lands() {
+                land = true;
+                ds = lk.rem;
+            } else if ds >= lk.rem {
+                ds = lk.rem;
+            }
+        }
+        if lk.target == 0.0
+            && self.planner.v <= 1e-9 * self.jt * ts * ts
+            && self.planner.a.abs() <= 1e-6 * self.jt * ts
+        {
+            self.planner.rest();
+        }
+        if self.planner.is_stopping()
+            && lk.queue_end
+            && lk.target > 0.0
+            && !self.starving_sent
+            && !self.seg(self.tail - 1).last
+        {
+            self.starving_sent = true;
+            ev(PathEvent::Starving);
+        }
+        let resting = !self.is_moving();
+        self.advance(ds, land, lk.window_end, resting, ev);
+        self.distance += ds;
+        self.pos = self.eval_here();
+        if self.exec >= self.tail && resting && !self.idle_sent {
+            self.idle_sent = true;
+            ev(PathEvent::Idle);
+        }
+        self.pos
+    }
+}

@@ -1,0 +1,910 @@
+use super::*;
+use crate::testkit::rng::Rng;
+
+const TS: f64 = 1e-3;
+
+/// Three axes of different limits; y is the slow one.
+fn limits(naxes: usize, ts: f64) -> PathLimits {
+    let mut l = PathLimits {
+        naxes,
+        ts,
+        vmax: [1e5; MAX_AXES],
+        amax: [1e7; MAX_AXES],
+        jmax: [1e9; MAX_AXES],
+        accel: 0.0,
+        jerk: 0.0,
+    };
+    l.vmax[1] = 4e4;
+    l.amax[1] = 3e6;
+    l.jmax[1] = 3e8;
+    l.vmax[2] = 6e4;
+    l.amax[2] = 5e6;
+    l.jmax[2] = 5e8;
+    l
+}
+
+fn pt(xs: &[f64]) -> V {
+    let mut p = [0.0; MAX_AXES];
+    p[..xs.len()].copy_from_slice(xs);
+    p
+}
+
+fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
+    Segment {
+        id,
+        geom: Geom::Line { end },
+        feed,
+        transition: tr,
+        blend: BlendSpeed::Low,
+        last: false,
+    }
+}
+
+fn path(naxes: usize, ts: f64, start: V) -> Path {
+    let mut p = Path::with_capacity(4096);
+    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD).unwrap();
+    p
+}
+
+#[derive(Default)]
+struct Run {
+    pos: Vec<V>,
+    speed: Vec<f64>,
+    events: Vec<(usize, PathEvent)>,
+}
+
+impl Run {
+    /// Ticks until Idle (or `max` ticks), with 3 samples of rest before and after.
+    fn go(&mut self, p: &mut Path, ovr: f64, max: usize) -> bool {
+        if self.pos.is_empty() {
+            for _ in 0..3 {
+                self.pos.push(p.position());
+                self.speed.push(0.0);
+            }
+        }
+        for _ in 0..max {
+            let k = self.pos.len();
+            let mut idle = false;
+            let ev = &mut self.events;
+            let q = p.tick(ovr, &mut |e| {
+                idle |= e == PathEvent::Idle;
+                ev.push((k, e));
+            });
+            self.pos.push(q);
+            self.speed.push(p.speed());
+            if idle {
+                for _ in 0..3 {
+                    let q = p.tick(ovr, &mut |e| ev.push((k, e)));
+                    self.pos.push(q);
+                    self.speed.push(p.speed());
+                }
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Largest ratio of the finite-difference velocity, acceleration and jerk of each axis
+    /// to its limit.
+    fn worst(&self, l: &PathLimits) -> [f64; 3] {
+        let mut w = [0.0f64; 3];
+        let ts = l.ts;
+        for k in 0..l.naxes {
+            let x: Vec<f64> = self.pos.iter().map(|p| p[k]).collect();
+            for i in 3..x.len() {
+                let v = (x[i] - x[i - 1]) / ts;
+                let a = (x[i] - 2.0 * x[i - 1] + x[i - 2]) / (ts * ts);
+                let j = (x[i] - 3.0 * x[i - 1] + 3.0 * x[i - 2] - x[i - 3]) / (ts * ts * ts);
+                w[0] = w[0].max(v.abs() / l.vmax[k]);
+                w[1] = w[1].max(a.abs() / l.amax[k]);
+                w[2] = w[2].max(j.abs() / l.jmax[k]);
+            }
+        }
+        w
+    }
+
+    fn assert_within(&self, l: &PathLimits, what: &str) {
+        let w = self.worst(l);
+        assert!(w.iter().all(|&r| r <= 1.01), "{what}: v, a, j ratios {w:?}");
+    }
+
+    fn ids(&self) -> (Vec<u32>, Vec<u32>) {
+        let mut st = vec![];
+        let mut en = vec![];
+        for (_, e) in &self.events {
+            match e {
+                PathEvent::SegmentStart { id } => st.push(*id),
+                PathEvent::SegmentEnd { id } => en.push(*id),
+                _ => {}
+            }
+        }
+        (st, en)
+    }
+
+    /// Ids start and end in order, each once, a start before its end.
+    fn assert_ids(&self, ids: &[u32]) {
+        let (st, en) = self.ids();
+        assert_eq!(st, ids, "starts");
+        assert_eq!(en, ids, "ends");
+        let mut open: Option<u32> = None;
+        for (_, e) in &self.events {
+            match e {
+                PathEvent::SegmentStart { id } => {
+                    assert!(open.is_none(), "start {id} while {open:?} open");
+                    open = Some(*id);
+                }
+                PathEvent::SegmentEnd { id } => {
+                    assert_eq!(open, Some(*id));
+                    open = None;
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// The programmed geometry as the test sees it: polyline vertices and arcs.
+enum Piece {
+    Line(V, V),
+    /// plane arc: centre, radius, start angle, signed sweep (2D only)
+    Arc([f64; 2], f64, f64, f64),
+}
+
+fn dist_seg(p: &V, a: &V, b: &V) -> f64 {
+    let ab: Vec<f64> = (0..MAX_AXES).map(|k| b[k] - a[k]).collect();
+    let ap: Vec<f64> = (0..MAX_AXES).map(|k| p[k] - a[k]).collect();
+    let l2: f64 = ab.iter().map(|x| x * x).sum();
+    let t = if l2 > 0.0 {
+        (ab.iter().zip(&ap).map(|(x, y)| x * y).sum::<f64>() / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..MAX_AXES)
+        .map(|k| (ap[k] - t * ab[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+fn dist_arc(p: &V, c: [f64; 2], r: f64, a0: f64, sw: f64) -> f64 {
+    let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+    let ang = dy.atan2(dx);
+    // angle from the start along the sweep's direction
+    let rel = ((ang - a0) * sw.signum()).rem_euclid(std::f64::consts::TAU);
+    if rel <= sw.abs() {
+        (dx.hypot(dy) - r).abs()
+    } else {
+        let e0 = [c[0] + r * a0.cos(), c[1] + r * a0.sin()];
+        let e1 = [c[0] + r * (a0 + sw).cos(), c[1] + r * (a0 + sw).sin()];
+        (p[0] - e0[0])
+            .hypot(p[1] - e0[1])
+            .min((p[0] - e1[0]).hypot(p[1] - e1[1]))
+    }
+}
+
+fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
+    run.pos
+        .iter()
+        .map(|p| {
+            geo.iter()
+                .map(|g| match g {
+                    Piece::Line(a, b) => dist_seg(p, a, b),
+                    Piece::Arc(c, r, a0, sw) => dist_arc(p, *c, *r, *a0, *sw),
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Runs a polyline (from the first vertex) with MaxDeviation(tol): limits, tolerance, ids,
+/// exact end.
+fn polyline(naxes: usize, ts: f64, verts: &[V], feed: f64, tol: f64, what: &str) -> Run {
+    let mut p = path(naxes, ts, verts[0]);
+    let mut geo = vec![];
+    for (i, w) in verts.windows(2).enumerate() {
+        let mut s = line(i as u32 + 1, w[1], feed, Transition::MaxDeviation(tol));
+        s.last = i + 2 == verts.len();
+        p.push(s).unwrap();
+        geo.push(Piece::Line(w[0], w[1]));
+    }
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 2_000_000), "{what}: never idle");
+    r.assert_within(&p.lim, what);
+    let dev = max_deviation(&r, &geo);
+    assert!(dev <= tol * (1.0 + 1e-9), "{what}: deviation {dev} > {tol}");
+    let ids: Vec<u32> = (1..verts.len() as u32).collect();
+    r.assert_ids(&ids);
+    assert_eq!(*r.pos.last().unwrap(), *verts.last().unwrap(), "{what}: end");
+    assert!(!r.events.iter().any(|e| e.1 == PathEvent::Starving));
+    r
+}
+
+#[test]
+fn square_zigzag_and_random_polylines_keep_every_axis_limit_and_the_tolerance() {
+    let sq = [
+        pt(&[0.0, 0.0]),
+        pt(&[20_000.0, 0.0]),
+        pt(&[20_000.0, 20_000.0]),
+        pt(&[0.0, 20_000.0]),
+        pt(&[0.0, 0.0]),
+    ];
+    let r = polyline(2, TS, &sq, 8e4, 50.0, "square");
+    // it blends: the corners are not exact stops
+    let slowest_corner = r.speed[10..r.speed.len() - 10]
+        .iter()
+        .fold(f64::INFINITY, |m: f64, &v| m.min(v));
+    assert!(slowest_corner > 1e3, "square stopped at a corner");
+    let zz: Vec<V> = (0..12)
+        .map(|i| pt(&[i as f64 * 3000.0, if i % 2 == 0 { 0.0 } else { 4000.0 }]))
+        .collect();
+    polyline(2, TS, &zz, 1e5, 20.0, "zig-zag");
+    let mut rng = Rng::new(7);
+    for (naxes, seed) in [(2, 1u64), (3, 2), (3, 3)] {
+        let mut rng2 = Rng::new(seed);
+        let mut v = vec![pt(&[0.0; 3][..naxes])];
+        for _ in 0..15 {
+            let last = *v.last().unwrap();
+            let mut q = last;
+            for x in q[..naxes].iter_mut() {
+                *x += rng2.uniform(-8000.0, 8000.0);
+            }
+            v.push(q);
+        }
+        let tol = rng.log_uniform(1.0, 200.0);
+        polyline(naxes, TS, &v, rng.uniform(2e4, 1e5), tol, "random polyline");
+    }
+}
+
+#[test]
+fn dense_polyline_of_2000_chords_stays_within_limits() {
+    // a smooth curve (radius 30–50 mm, 1 count = 1 µm) in 2000 chords of ~0.1 mm
+    let mut v = vec![];
+    for i in 0..=2000 {
+        let t = i as f64 / 2000.0 * 200_000.0 / 40_000.0;
+        let r = 40_000.0 + 10_000.0 * (3.0 * t).sin();
+        v.push(pt(&[r * t.cos(), r * t.sin()]));
+    }
+    let r = polyline(2, TS, &v, 1e5, 2.0, "dense polyline");
+    let moving = r.speed.iter().filter(|&&s| s > 0.0).count();
+    assert!(moving > 0);
+}
+
+#[test]
+fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    let tol = 30.0;
+    let tr = Transition::MaxDeviation(tol);
+    p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
+    // quarter circle to (30000, 10000) around (20000, 10000), then a line at 30°
+    p.push(Segment {
+        id: 2,
+        geom: Geom::Arc {
+            u: 0,
+            v: 1,
+            centre: [20_000.0, 5_000.0],
+            ccw: true,
+            end: pt(&[25_000.0, 10_000.0]),
+        },
+        feed: 8e4,
+        transition: tr,
+        blend: BlendSpeed::Low,
+        last: false,
+    })
+    .unwrap();
+    let mut end = pt(&[5_000.0, 20_000.0]);
+    let mut s3 = line(3, end, 8e4, tr);
+    s3.last = true;
+    p.push(s3).unwrap();
+    // the arc is tangent to the first line: curvature jump only, blended
+    assert!(p.blend_info(2).is_some());
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "line-arc-line");
+    let geo = [
+        Piece::Line(pt(&[0.0, 0.0]), pt(&[20_000.0, 0.0])),
+        Piece::Arc(
+            [20_000.0, 5_000.0],
+            5_000.0,
+            -std::f64::consts::FRAC_PI_2,
+            std::f64::consts::PI,
+        ),
+        Piece::Line(pt(&[25_000.0, 10_000.0]).map(|x| x - 5000.0 * 0.0), end),
+    ];
+    let dev = max_deviation(&r, &geo);
+    assert!(dev <= tol * (1.0 + 1e-9), "deviation {dev}");
+    r.assert_ids(&[1, 2, 3]);
+    assert_eq!(*r.pos.last().unwrap(), end);
+
+    // a helix of two turns in (x, y) rising on z (slow y), between two lines
+    let mut p = path(3, TS, pt(&[10_000.0, 0.0, 0.0]));
+    p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr)).unwrap();
+    p.push(Segment {
+        id: 2,
+        geom: Geom::Arc {
+            u: 0,
+            v: 1,
+            centre: [5_000.0, -5_000.0],
+            ccw: true,
+            end: pt(&[10_000.0, -5_000.0, 8_000.0]),
+        },
+        feed: 6e4,
+        transition: tr,
+        blend: BlendSpeed::Low,
+        last: false,
+    })
+    .unwrap();
+    end = pt(&[10_000.0, -5_000.0, 20_000.0]);
+    p.push(line(3, end, 6e4, tr)).unwrap();
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "helix");
+    r.assert_ids(&[1, 2, 3]);
+    assert_eq!(*r.pos.last().unwrap(), end);
+    // every point of the helix at radius 5000 from its axis (within the tolerance)
+    let mut worst = 0.0f64;
+    for q in &r.pos {
+        if q[2] > 1_000.0 && q[2] < 7_000.0 {
+            worst = worst.max(((q[0] - 5_000.0).hypot(q[1] + 5_000.0) - 5_000.0).abs());
+        }
+    }
+    assert!(worst < 1e-6, "helix radius off by {worst}");
+}
+
+#[test]
+fn transitions_exact_tolerance_zero_and_corner_distance() {
+    for (tr, stops) in [
+        (Transition::Exact, true),
+        (Transition::MaxDeviation(0.0), true),
+        (Transition::CornerDistance(0.0), true),
+        (Transition::MaxDeviation(10.0), false),
+        (Transition::CornerDistance(500.0), false),
+    ] {
+        let mut p = path(2, TS, pt(&[0.0, 0.0]));
+        p.push(line(1, pt(&[10_000.0, 0.0]), 5e4, Transition::Exact))
+            .unwrap();
+        p.push(line(2, pt(&[10_000.0, 10_000.0]), 5e4, tr)).unwrap();
+        if let Transition::CornerDistance(d) = tr {
+            if d > 0.0 {
+                let b = p.blend_info(2).unwrap();
+                assert_eq!(b.trim, d);
+                // 90° line-line: deviation 0.375·d·sin 45°
+                assert!((b.deviation - 0.375 * d * 0.5f64.sqrt()).abs() < 1e-9 * d);
+            }
+        }
+        let mut r = Run::default();
+        assert!(r.go(&mut p, 1.0, 100_000));
+        r.assert_within(&p.lim, "transition");
+        r.assert_ids(&[1, 2]);
+        let k = r
+            .events
+            .iter()
+            .find(|e| e.1 == PathEvent::SegmentEnd { id: 1 })
+            .unwrap()
+            .0;
+        if stops {
+            assert_eq!(r.speed[k], 0.0, "{tr:?}");
+            assert_eq!(r.pos[k], pt(&[10_000.0, 0.0]), "{tr:?}");
+        } else {
+            assert!(r.speed[k] > 1e3, "{tr:?}: {}", r.speed[k]);
+            if let Transition::CornerDistance(d) = tr {
+                // the path leaves the first line d before the corner
+                let left = r
+                    .pos
+                    .iter()
+                    .map(|q| if q[1] == 0.0 { q[0] } else { 0.0 })
+                    .fold(0.0, f64::max);
+                assert!((left - (10_000.0 - d)).abs() < 1e-6, "{left}");
+            }
+        }
+    }
+}
+
+#[test]
+fn blend_speed_rules_set_the_junction_speed() {
+    // a gentle 20° corner with a long blend, feeds 1e4 and 5e4 in both orders
+    let corner = |rule: BlendSpeed, f1: f64, f2: f64| {
+        let mut p = path(2, TS, pt(&[0.0, 0.0]));
+        p.push(line(1, pt(&[40_000.0, 0.0]), f1, Transition::Exact))
+            .unwrap();
+        let a = 20f64.to_radians();
+        let mut s = line(
+            2,
+            pt(&[40_000.0 + 40_000.0 * a.cos(), 40_000.0 * a.sin()]),
+            f2,
+            Transition::CornerDistance(15_000.0),
+        );
+        s.blend = rule;
+        p.push(s).unwrap();
+        let mut r = Run::default();
+        assert!(r.go(&mut p, 1.0, 100_000));
+        r.assert_within(&p.lim, "blend speed");
+        let k = r
+            .events
+            .iter()
+            .find(|e| e.1 == PathEvent::SegmentEnd { id: 1 })
+            .unwrap()
+            .0;
+        r.speed[k]
+    };
+    for (f1, f2) in [(1e4f64, 5e4f64), (5e4, 1e4)] {
+        let lo = f1.min(f2);
+        let hi = f1.max(f2);
+        let v_low = corner(BlendSpeed::Low, f1, f2);
+        let v_prev = corner(BlendSpeed::Previous, f1, f2);
+        let v_next = corner(BlendSpeed::Next, f1, f2);
+        let v_high = corner(BlendSpeed::High, f1, f2);
+        assert!((v_low - lo).abs() < 1e-6 * lo, "low {v_low}");
+        let expect = |v: f64, f: f64| {
+            if f == lo {
+                assert!((v - lo).abs() < 1e-6 * lo, "{v} vs {f}");
+            } else {
+                assert!(v > 2.0 * lo && v <= hi * (1.0 + 1e-9), "{v} vs {f}");
+            }
+        };
+        expect(v_prev, f1);
+        expect(v_next, f2);
+        expect(v_high, hi);
+    }
+}
+
+#[test]
+fn starving_and_resuming_without_a_jump() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    let tr = Transition::MaxDeviation(20.0);
+    let mut id = 0;
+    let next = |p: &mut Path, id: &mut u32| {
+        *id += 1;
+        let i = *id as f64;
+        p.push(line(
+            *id,
+            pt(&[i * 6_000.0, if *id % 2 == 0 { 0.0 } else { 2_000.0 }]),
+            8e4,
+            tr,
+        ))
+        .unwrap();
+    };
+    for _ in 0..3 {
+        next(&mut p, &mut id);
+    }
+    let mut r = Run::default();
+    // until Starving, then push more while still braking
+    let mut starving = false;
+    for _ in 0..10_000 {
+        r.go(&mut p, 1.0, 1);
+        if r.events.iter().any(|e| e.1 == PathEvent::Starving) {
+            starving = true;
+            break;
+        }
+    }
+    assert!(starving);
+    assert!(p.is_moving());
+    for _ in 0..2 {
+        next(&mut p, &mut id);
+    }
+    // to rest at the end, then more after rest
+    assert!(r.go(&mut p, 1.0, 100_000));
+    assert!(!p.is_moving());
+    assert_eq!(p.position(), pt(&[5.0 * 6_000.0, 2_000.0]));
+    for _ in 0..3 {
+        next(&mut p, &mut id);
+    }
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "starvation");
+    r.assert_ids(&[1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_eq!(p.position(), pt(&[8.0 * 6_000.0, 0.0]));
+    let starvings = r
+        .events
+        .iter()
+        .filter(|e| e.1 == PathEvent::Starving)
+        .count();
+    assert!(starvings >= 2);
+    assert_eq!(
+        r.events.iter().filter(|e| e.1 == PathEvent::Idle).count(),
+        2
+    );
+}
+
+#[test]
+fn halt_in_a_blend_and_in_a_line_then_clear() {
+    for in_blend in [true, false] {
+        let mut p = path(2, TS, pt(&[0.0, 0.0]));
+        let tr = Transition::CornerDistance(3_000.0);
+        for i in 1..=6u32 {
+            let x = i as f64 * 10_000.0;
+            p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 5_000.0 }]), 8e4, tr))
+                .unwrap();
+        }
+        let mut r = Run::default();
+        let mut found = false;
+        for _ in 0..100_000 {
+            r.go(&mut p, 1.0, 1);
+            if p.exec >= 2 && p.in_blend == in_blend && p.speed() > 2e4 {
+                found = true;
+                break;
+            }
+        }
+        assert!(found);
+        let (v, a) = (p.speed(), p.accel());
+        let (d, j) = (1e6, 1e8);
+        p.halt(d, j);
+        let bound = v / d + d / j + a.abs() / j + 3.0 * TS;
+        let mut ticks = 0;
+        while p.is_moving() {
+            r.go(&mut p, 1.0, 1);
+            ticks += 1;
+            assert!(ticks as f64 * TS <= bound, "halt takes {ticks} ticks > {bound} s");
+        }
+        // stays halted
+        let here = p.position();
+        r.go(&mut p, 1.0, 50);
+        assert_eq!(p.position(), here);
+        r.assert_within(&p.lim, "halt");
+        let mut aborted = vec![];
+        p.clear(&mut |id| aborted.push(id)).unwrap();
+        let (_, ended) = r.ids();
+        let first = ended.last().copied().unwrap_or(0) + 1;
+        assert_eq!(aborted, (first..=6).collect::<Vec<_>>());
+        assert_eq!(p.queued(), 0);
+        assert_eq!(p.position(), here);
+        // and a new program starts from here
+        p.push(line(9, pt(&[0.0, 0.0]), 5e4, Transition::Exact))
+            .unwrap();
+        assert!(r.go(&mut p, 1.0, 100_000));
+        r.assert_within(&p.lim, "after clear");
+        assert_eq!(p.position(), pt(&[0.0, 0.0]));
+    }
+}
+
+#[test]
+fn feed_override_zero_holds_and_resumes() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    let tr = Transition::MaxDeviation(10.0);
+    p.push(line(1, pt(&[30_000.0, 0.0]), 5e4, tr)).unwrap();
+    p.push(line(2, pt(&[30_000.0, 30_000.0]), 5e4, tr)).unwrap();
+    let mut r = Run::default();
+    r.go(&mut p, 1.0, 300);
+    r.go(&mut p, 0.0, 400);
+    assert!(!p.is_moving());
+    let held = p.position();
+    r.go(&mut p, 0.0, 10);
+    assert_eq!(p.position(), held);
+    r.go(&mut p, 1.7, 300);
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "override");
+    assert_eq!(p.position(), pt(&[30_000.0, 30_000.0]));
+    assert!(r.speed.iter().all(|&v| v <= 1.7 * 5e4 * (1.0 + 1e-9)));
+}
+
+#[test]
+fn dwell_and_outputs_fire_in_order() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    let tr = Transition::MaxDeviation(10.0);
+    p.push_output(OutputAction {
+        bit: 1,
+        on: true,
+        at: OutputAt::Start,
+    })
+    .unwrap();
+    p.push_output(OutputAction {
+        bit: 2,
+        on: true,
+        at: OutputAt::Distance(4_000.0),
+    })
+    .unwrap();
+    p.push_output(OutputAction {
+        bit: 3,
+        on: true,
+        at: OutputAt::End,
+    })
+    .unwrap();
+    p.push(line(1, pt(&[10_000.0, 0.0]), 5e4, tr)).unwrap();
+    p.push(Segment {
+        id: 2,
+        geom: Geom::Dwell { time: 0.0505 },
+        feed: 0.0,
+        transition: Transition::Exact,
+        blend: BlendSpeed::Low,
+        last: false,
+    })
+    .unwrap();
+    p.push(line(3, pt(&[10_000.0, 10_000.0]), 5e4, tr)).unwrap();
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "dwell");
+    r.assert_ids(&[1, 2, 3]);
+    let evs: Vec<PathEvent> = r.events.iter().map(|e| e.1).collect();
+    let at = |e: PathEvent| r.events.iter().find(|x| x.1 == e).unwrap().0;
+    assert_eq!(evs[0], PathEvent::SegmentStart { id: 1 });
+    assert_eq!(
+        evs[1],
+        PathEvent::Output {
+            bit: 1,
+            on: true,
+            id: 1
+        }
+    );
+    // the distance output in the tick the path crosses x = 4000
+    let k = at(PathEvent::Output {
+        bit: 2,
+        on: true,
+        id: 1,
+    });
+    assert!(r.pos[k][0] >= 4_000.0 && r.pos[k - 1][0] < 4_000.0);
+    let e1 = at(PathEvent::SegmentEnd { id: 1 });
+    assert_eq!(
+        at(PathEvent::Output {
+            bit: 3,
+            on: true,
+            id: 1
+        }),
+        e1
+    );
+    // the dwell: at rest on the corner for ceil(0.0505/Ts) ticks
+    let e2 = at(PathEvent::SegmentEnd { id: 2 });
+    assert_eq!(at(PathEvent::SegmentStart { id: 2 }), e1);
+    assert_eq!(e2 - e1, 52);
+    assert!(r.pos[e1..=e2].iter().all(|q| *q == pt(&[10_000.0, 0.0])));
+}
+
+#[test]
+fn bad_inputs_are_refused_and_leave_the_path_unchanged() {
+    let mut p = Path::with_capacity(64);
+    assert_eq!(
+        p.push(line(1, pt(&[1.0, 0.0]), 1.0, Transition::Exact)),
+        Err(PathError::NotReady)
+    );
+    p.reset(pt(&[0.0, 0.0]), limits(2, TS), 16).unwrap();
+    p.push(line(1, pt(&[1_000.0, 0.0]), 1e4, Transition::Exact))
+        .unwrap();
+    let snap = format!("{p:?}");
+    let sub = 5e-324;
+    let feeds = [
+        (f64::NAN, PathError::NotFinite),
+        (f64::INFINITY, PathError::NotFinite),
+        (-1.0, PathError::NonPositive),
+        (0.0, PathError::NonPositive),
+        (1e300, PathError::OutOfRange),
+        (sub, PathError::OutOfRange),
+    ];
+    for (f, e) in feeds {
+        let s = line(2, pt(&[2_000.0, 500.0]), f, Transition::MaxDeviation(1.0));
+        assert_eq!(p.push(s), Err(e), "feed {f}");
+    }
+    let tols = [
+        (f64::NAN, PathError::NotFinite),
+        (f64::NEG_INFINITY, PathError::NotFinite),
+        (-1.0, PathError::NonPositive),
+        (1e300, PathError::OutOfRange),
+        (sub, PathError::OutOfRange),
+    ];
+    for (t, e) in tols {
+        for tr in [Transition::MaxDeviation(t), Transition::CornerDistance(t)] {
+            let s = line(2, pt(&[2_000.0, 500.0]), 1e4, tr);
+            assert_eq!(p.push(s), Err(e), "tol {t}");
+        }
+    }
+    let poss = [
+        (f64::NAN, PathError::NotFinite),
+        (f64::INFINITY, PathError::NotFinite),
+        (1e300, PathError::OutOfRange),
+        (-4.6e15, PathError::OutOfRange),
+    ];
+    for (x, e) in poss {
+        let s = line(2, pt(&[2_000.0, x]), 1e4, Transition::Exact);
+        assert_eq!(p.push(s), Err(e), "pos {x}");
+        let a = Segment {
+            geom: Geom::Arc {
+                u: 0,
+                v: 1,
+                centre: [x, 0.0],
+                ccw: true,
+                end: pt(&[0.0, 1_000.0]),
+            },
+            ..s
+        };
+        assert_eq!(p.push(a), Err(e), "centre {x}");
+    }
+    let zero = line(2, pt(&[1_000.0, 0.0]), 1e4, Transition::Exact);
+    assert_eq!(p.push(zero), Err(PathError::ZeroLength));
+    let arc = |u, v, c: [f64; 2], end| Segment {
+        id: 2,
+        geom: Geom::Arc {
+            u,
+            v,
+            centre: c,
+            ccw: true,
+            end,
+        },
+        feed: 1e4,
+        transition: Transition::Exact,
+        blend: BlendSpeed::Low,
+        last: false,
+    };
+    assert_eq!(
+        p.push(arc(0, 0, [0.0, 0.0], pt(&[0.0, 1_000.0]))),
+        Err(PathError::BadAxis)
+    );
+    assert_eq!(
+        p.push(arc(0, 2, [0.0, 0.0], pt(&[0.0, 1_000.0]))),
+        Err(PathError::BadAxis)
+    );
+    assert_eq!(
+        p.push(arc(0, 1, [0.0, 0.0], pt(&[0.0, 1_500.0]))),
+        Err(PathError::BadArc(CircleError::EndPointOffCircle))
+    );
+    assert_eq!(
+        p.push(arc(0, 1, [0.0, 0.0], pt(&[0.0, 1_000.5]))),
+        Err(PathError::ArcEndOffCircle)
+    );
+    assert_eq!(
+        p.push(arc(0, 1, [1_000.0, 0.0], pt(&[0.0, 1_000.0]))),
+        Err(PathError::BadArc(CircleError::InvalidRadius))
+    );
+    for (t, e) in [
+        (f64::NAN, PathError::NotFinite),
+        (-1.0, PathError::NonPositive),
+        (1e300, PathError::OutOfRange),
+    ] {
+        let d = Segment {
+            geom: Geom::Dwell { time: t },
+            ..zero
+        };
+        assert_eq!(p.push(d), Err(e));
+    }
+    let out = |bit, at| OutputAction { bit, on: true, at };
+    assert_eq!(p.push_output(out(40, OutputAt::Start)), Err(PathError::OutOfRange));
+    assert_eq!(
+        p.push_output(out(1, OutputAt::Distance(f64::NAN))),
+        Err(PathError::NotFinite)
+    );
+    assert_eq!(
+        p.push_output(out(1, OutputAt::Distance(-1.0))),
+        Err(PathError::NonPositive)
+    );
+    assert_eq!(format!("{p:?}"), snap, "a refusal changed the path");
+    // limits: every field, NaN / 0 / huge / subnormal
+    let good = limits(2, TS);
+    let mut bad = vec![];
+    for v in [f64::NAN, 0.0, -1.0, 1e300, sub, f64::INFINITY] {
+        let mut l = good;
+        l.ts = v;
+        bad.push(l);
+        for k in 0..2 {
+            let mut l = good;
+            l.vmax[k] = v;
+            bad.push(l);
+            let mut l = good;
+            l.amax[k] = v;
+            bad.push(l);
+            let mut l = good;
+            l.jmax[k] = v;
+            bad.push(l);
+        }
+        if v != 0.0 {
+            let mut l = good;
+            l.accel = v;
+            bad.push(l);
+            let mut l = good;
+            l.jerk = v;
+            bad.push(l);
+        }
+    }
+    for l in bad {
+        assert_eq!(p.reset(pt(&[0.0, 0.0]), l, 16), Err(PathError::BadLimits), "{l:?}");
+    }
+    let mut l = good;
+    l.naxes = 9;
+    assert_eq!(p.reset(pt(&[0.0]), l, 16), Err(PathError::BadAxis));
+    l.naxes = 0;
+    assert_eq!(p.reset(pt(&[0.0]), l, 16), Err(PathError::BadAxis));
+    assert_eq!(p.reset(pt(&[0.0]), good, 0), Err(PathError::BadLookahead));
+    assert_eq!(p.reset(pt(&[0.0]), good, 65), Err(PathError::BadLookahead));
+    assert_eq!(
+        p.reset(pt(&[f64::NAN]), good, 16),
+        Err(PathError::NotFinite)
+    );
+    assert_eq!(format!("{p:?}"), snap, "a refused reset changed the path");
+    // a subnormal position is a position (near 0): accepted
+    p.push(line(2, pt(&[sub, 1_000.0]), 1e4, Transition::Exact))
+        .unwrap();
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 100_000));
+    assert_eq!(p.position(), pt(&[sub, 1_000.0]));
+}
+
+#[test]
+fn seeded_sweep_of_random_inputs_never_panics_and_refusals_change_nothing() {
+    let mut rng = Rng::new(99);
+    let mut p = Path::with_capacity(64);
+    p.reset(pt(&[0.0, 0.0, 0.0]), limits(3, TS), 8).unwrap();
+    let odd = [
+        f64::NAN,
+        f64::INFINITY,
+        -f64::INFINITY,
+        1e300,
+        -1e300,
+        5e-324,
+        -5e-324,
+        0.0,
+        1e-9,
+        4.5e15,
+    ];
+    let pick = |rng: &mut Rng| {
+        if rng.chance(0.2) {
+            odd[rng.int(0, odd.len() - 1)]
+        } else {
+            rng.uniform(-5e4, 5e4)
+        }
+    };
+    for i in 0..3000u32 {
+        let end = pt(&[pick(&mut rng), pick(&mut rng), pick(&mut rng)]);
+        let x = pick(&mut rng);
+        let geom = if rng.chance(0.2) {
+            Geom::Arc {
+                u: rng.int(0, 3),
+                v: rng.int(0, 3),
+                centre: [pick(&mut rng), pick(&mut rng)],
+                ccw: rng.chance(0.5),
+                end,
+            }
+        } else {
+            Geom::Line { end }
+        };
+        let s = Segment {
+            id: i,
+            geom,
+            feed: x.abs(),
+            transition: Transition::MaxDeviation(pick(&mut rng).abs()),
+            blend: BlendSpeed::High,
+            last: false,
+        };
+        let before = format!("{p:?}");
+        if p.push(s).is_err() {
+            assert_eq!(format!("{p:?}"), before);
+        }
+        for _ in 0..rng.int(0, 20) {
+            let q = p.tick(1.0, &mut |_| {});
+            assert!(q.iter().all(|x| x.is_finite()));
+        }
+    }
+}
+
+#[test]
+fn full_ring_refuses_and_loses_nothing() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    assert_eq!(p.free(), 4096);
+    let tr = Transition::MaxDeviation(1.0);
+    for i in 0..4096u32 {
+        let x = (i + 1) as f64 * 10.0;
+        p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 3.0 }]), 1e5, tr))
+            .unwrap();
+    }
+    assert_eq!(p.free(), 0);
+    assert_eq!(
+        p.push(line(4096, pt(&[0.0, 0.0]), 1e5, tr)),
+        Err(PathError::Full)
+    );
+    assert_eq!(p.queued(), 4096);
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 1_000_000));
+    r.assert_ids(&(0..4096).collect::<Vec<_>>());
+    assert_eq!(p.position(), pt(&[40_960.0, 3.0]));
+    r.assert_within(&p.lim, "full");
+}
+
+#[test]
+fn short_lookahead_window_still_blends_and_keeps_limits() {
+    let mut p = Path::with_capacity(64);
+    p.reset(pt(&[0.0, 0.0]), limits(2, TS), 1).unwrap();
+    let tr = Transition::MaxDeviation(10.0);
+    let v: Vec<V> = (1..10)
+        .map(|i| pt(&[i as f64 * 2_000.0, if i % 2 == 0 { 0.0 } else { 800.0 }]))
+        .collect();
+    for (i, q) in v.iter().enumerate() {
+        p.push(line(i as u32, *q, 1e5, tr)).unwrap();
+    }
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 100_000));
+    r.assert_within(&p.lim, "lookahead 1");
+    r.assert_ids(&(0..9).collect::<Vec<_>>());
+    assert_eq!(p.position(), v[8]);
+}
