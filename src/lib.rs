@@ -7,3 +7,4 @@ pub mod gcode;
 pub mod papers;
 pub mod path_report;
 pub mod plot;
+pub mod run;

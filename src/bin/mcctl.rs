@@ -12,6 +12,7 @@
 //! mcctl --card emu:bench1 override 0 0.5             # 50 %
 //! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
+//! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
 //! ```
 use clap::{Args, Parser, Subcommand};
 use motioncard::cli::{self, MoveCmd};
@@ -171,6 +172,50 @@ enum Cmd {
         #[arg(allow_hyphen_values = true)]
         factor: f64,
     },
+    /// Run a G-code program (RS274/NGC subset: G0-G4, G17-G19, G20/G21, G90/G91, F,
+    /// M62-M65) on group 0 over axes 0, 1, 2 through the card's path buffer, with corner
+    /// blending, and report the path time, the peak axis velocity, acceleration and jerk over
+    /// their limits, the largest deviation from the programmed path (mm) and the exact stops.
+    /// On `--card sim` the card is stepped by mcctl and every tick is measured.
+    Run {
+        /// The program.
+        file: std::path::PathBuf,
+        /// Corner tolerance, mm (0: exact stop at every corner).
+        #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+        tolerance: f64,
+        /// The largest feed, mm/s (also the rapid feed).
+        #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
+        feed_limit: f64,
+        /// Every axis's velocity limit, mm/s (one value, or X,Y,Z).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "100",
+            allow_negative_numbers = true
+        )]
+        vmax: Vec<f64>,
+        /// Every axis's acceleration limit, mm/s² (one value, or X,Y,Z).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1000",
+            allow_negative_numbers = true
+        )]
+        amax: Vec<f64>,
+        /// Every axis's jerk limit, mm/s³ (one value, or X,Y,Z).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "100000",
+            allow_negative_numbers = true
+        )]
+        jmax: Vec<f64>,
+        /// Counts per mm.
+        #[arg(long, default_value_t = 1000.0)]
+        scale: f64,
+        #[arg(long)]
+        json: bool,
+    },
     /// MC_Halt: decelerate to rest.
     Halt {
         axis: usize,
@@ -286,6 +331,82 @@ fn main() -> ExitCode {
         }),
         Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
         Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
+        Cmd::Run {
+            file,
+            tolerance,
+            feed_limit,
+            vmax,
+            amax,
+            jmax,
+            scale,
+            json,
+        } => {
+            let three = |v: &[f64], what: &str| -> Result<[f64; 3], String> {
+                match *v {
+                    [x] if x > 0.0 && x.is_finite() => Ok([x; 3]),
+                    [x, y, z] if [x, y, z].iter().all(|q| *q > 0.0 && q.is_finite()) => {
+                        Ok([x, y, z])
+                    }
+                    _ => Err(format!("--{what}: one positive value or three (X,Y,Z)")),
+                }
+            };
+            let limits = (|| {
+                Ok::<_, String>((
+                    three(&vmax, "vmax")?,
+                    three(&amax, "amax")?,
+                    three(&jmax, "jmax")?,
+                ))
+            })();
+            let (vmax, amax, jmax) = match limits {
+                Ok(l) => l,
+                Err(m) => return bad(m),
+            };
+            if !(tolerance >= 0.0 && tolerance.is_finite()) {
+                return bad("--tolerance must be 0 or more".into());
+            }
+            if !(feed_limit > 0.0 && feed_limit.is_finite() && scale > 0.0 && scale.is_finite()) {
+                return bad("--feed-limit and --scale must be positive".into());
+            }
+            let text = match std::fs::read_to_string(&file) {
+                Ok(t) => t,
+                Err(e) => return bad(format!("{}: {e}", file.display())),
+            };
+            let opts = motioncard::run::RunOptions {
+                tolerance,
+                feed_limit,
+                vmax,
+                amax,
+                jmax,
+                scale,
+                progress: !json,
+            };
+            let body = |c: &Card| motioncard::run::run(c, &text, &opts, json);
+            if uri == "sim" {
+                // A stepped card: mcctl steps it and measures every tick.
+                let card = match Card::open_sim(motioncard::SimOptions {
+                    clock: motioncard::Clock::Stepped,
+                    emu: Default::default(),
+                }) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        eprintln!("mcctl: {e}");
+                        return ExitCode::from(1);
+                    }
+                };
+                match body(&card) {
+                    Ok(t) => {
+                        println!("{t}");
+                        ExitCode::SUCCESS
+                    }
+                    Err(e) => {
+                        eprintln!("mcctl: {e}");
+                        ExitCode::from(1)
+                    }
+                }
+            } else {
+                on_card(uri, body)
+            }
+        }
         Cmd::Plan {
             distance,
             vmax,

@@ -616,7 +616,13 @@ fn path_nack(e: crate::motion::path::PathError) -> NackCode {
     match e {
         E::Full => NackCode::QueueFull,
         E::NotFinite => NackCode::NotFinite,
+        E::NonPositive => NackCode::NonPositiveLimit,
+        E::OutOfRange => NackCode::OutOfRange,
         E::ZeroLength => NackCode::PathZeroLength,
-        _ => NackCode::BadConfig,
+        E::BadArc(_) | E::ArcEndOffCircle => NackCode::CentreNotEquidistant,
+        E::BadAxis => NackCode::AxisNotInGroup,
+        E::BadLimits => NackCode::LimitRange,
+        E::Moving => NackCode::InvalidState,
+        E::NotReady | E::BadLookahead => NackCode::BadConfig,
     }
 }

@@ -42,7 +42,8 @@ fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
 
 fn path(naxes: usize, ts: f64, start: V) -> Path {
     let mut p = Path::with_capacity(4096);
-    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD).unwrap();
+    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD)
+        .unwrap();
     p
 }
 
@@ -213,7 +214,11 @@ fn polyline(naxes: usize, ts: f64, verts: &[V], feed: f64, tol: f64, what: &str)
     assert!(dev <= tol * (1.0 + 1e-9), "{what}: deviation {dev} > {tol}");
     let ids: Vec<u32> = (1..verts.len() as u32).collect();
     r.assert_ids(&ids);
-    assert_eq!(*r.pos.last().unwrap(), *verts.last().unwrap(), "{what}: end");
+    assert_eq!(
+        *r.pos.last().unwrap(),
+        *verts.last().unwrap(),
+        "{what}: end"
+    );
     assert!(!r.events.iter().any(|e| e.1 == PathEvent::Starving));
     r
 }
@@ -316,7 +321,8 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
 
     // a helix of two turns in (x, y) rising on z (slow y), between two lines
     let mut p = path(3, TS, pt(&[10_000.0, 0.0, 0.0]));
-    p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr)).unwrap();
+    p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr))
+        .unwrap();
     p.push(Segment {
         id: 2,
         geom: Geom::Arc {
@@ -510,8 +516,13 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         let tr = Transition::CornerDistance(3_000.0);
         for i in 1..=6u32 {
             let x = i as f64 * 10_000.0;
-            p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 5_000.0 }]), 8e4, tr))
-                .unwrap();
+            p.push(line(
+                i,
+                pt(&[x, if i % 2 == 0 { 0.0 } else { 5_000.0 }]),
+                8e4,
+                tr,
+            ))
+            .unwrap();
         }
         let mut r = Run::default();
         let mut found = false;
@@ -531,7 +542,10 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         while p.is_moving() {
             r.go(&mut p, 1.0, 1);
             ticks += 1;
-            assert!(ticks as f64 * TS <= bound, "halt takes {ticks} ticks > {bound} s");
+            assert!(
+                ticks as f64 * TS <= bound,
+                "halt takes {ticks} ticks > {bound} s"
+            );
         }
         // stays halted
         let here = p.position();
@@ -751,7 +765,10 @@ fn bad_inputs_are_refused_and_leave_the_path_unchanged() {
         assert_eq!(p.push(d), Err(e));
     }
     let out = |bit, at| OutputAction { bit, on: true, at };
-    assert_eq!(p.push_output(out(40, OutputAt::Start)), Err(PathError::OutOfRange));
+    assert_eq!(
+        p.push_output(out(40, OutputAt::Start)),
+        Err(PathError::OutOfRange)
+    );
     assert_eq!(
         p.push_output(out(1, OutputAt::Distance(f64::NAN))),
         Err(PathError::NotFinite)
@@ -789,7 +806,11 @@ fn bad_inputs_are_refused_and_leave_the_path_unchanged() {
         }
     }
     for l in bad {
-        assert_eq!(p.reset(pt(&[0.0, 0.0]), l, 16), Err(PathError::BadLimits), "{l:?}");
+        assert_eq!(
+            p.reset(pt(&[0.0, 0.0]), l, 16),
+            Err(PathError::BadLimits),
+            "{l:?}"
+        );
     }
     let mut l = good;
     l.naxes = 9;
@@ -875,8 +896,13 @@ fn full_ring_refuses_and_loses_nothing() {
     let tr = Transition::MaxDeviation(1.0);
     for i in 0..4096u32 {
         let x = (i + 1) as f64 * 10.0;
-        p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 3.0 }]), 1e5, tr))
-            .unwrap();
+        p.push(line(
+            i,
+            pt(&[x, if i % 2 == 0 { 0.0 } else { 3.0 }]),
+            1e5,
+            tr,
+        ))
+        .unwrap();
     }
     assert_eq!(p.free(), 0);
     assert_eq!(
