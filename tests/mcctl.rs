@@ -389,3 +389,34 @@ fn plan_from_any_state_above_vmax_moving_away() {
         assert!(err.contains(why), "{err}");
     }
 }
+
+/// `mcctl run` streams a G-code program through the path buffer of the stepped card and
+/// reports what the commanded positions did: the square's corners blended within the
+/// tolerance, every axis within its limits, no exact stop; with tolerance 0 every corner is
+/// an exact stop, on the corner. Bad arguments are exit status 2.
+#[test]
+fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/gcode/square.ngc");
+    let report = |tol: &str| {
+        let (code, out, err) = mcctl(&["run", file, "--tolerance", tol, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let blended = report("0.05");
+    let f = |j: &serde_json::Value, k: &str| j[k].as_f64().unwrap();
+    assert_eq!(blended["segments"], 5);
+    assert!(f(&blended, "max_deviation") <= 0.05 * (1.0 + 1e-9), "{blended}");
+    assert!(f(&blended, "max_deviation") > 0.005, "corners not blended: {blended}");
+    for k in ["peak_vel_ratio", "peak_accel_ratio", "peak_jerk_ratio"] {
+        assert!(f(&blended, k) <= 1.01, "{k}: {blended}");
+    }
+    assert_eq!(blended["exact_stops"], 0);
+    let exact = report("0");
+    // Five moves: four corners, each an exact stop.
+    assert_eq!(exact["exact_stops"], 4, "{exact}");
+    assert!(f(&exact, "max_deviation") < 1e-6, "{exact}");
+    let (code, _, _) = mcctl(&["run", file, "--tolerance", "-1"]);
+    assert_eq!(code, 2);
+    let (code, _, _) = mcctl(&["run", file, "--vmax", "1,2"]);
+    assert_eq!(code, 2);
+}
