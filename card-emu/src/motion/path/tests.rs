@@ -274,7 +274,7 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
     let tol = 30.0;
     let tr = Transition::MaxDeviation(tol);
     p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
-    // quarter circle to (30000, 10000) around (20000, 10000), then a line at 30°
+    // a quarter circle to (25000, 5000) around (20000, 5000), then a line back up-left
     p.push(Segment {
         id: 2,
         geom: Geom::Arc {
@@ -282,7 +282,7 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
             v: 1,
             centre: [20_000.0, 5_000.0],
             ccw: true,
-            end: pt(&[25_000.0, 10_000.0]),
+            end: pt(&[25_000.0, 5_000.0]),
         },
         feed: 8e4,
         transition: tr,
@@ -305,9 +305,9 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
             [20_000.0, 5_000.0],
             5_000.0,
             -std::f64::consts::FRAC_PI_2,
-            std::f64::consts::PI,
+            std::f64::consts::FRAC_PI_2,
         ),
-        Piece::Line(pt(&[25_000.0, 10_000.0]).map(|x| x - 5000.0 * 0.0), end),
+        Piece::Line(pt(&[25_000.0, 5_000.0]), end),
     ];
     let dev = max_deviation(&r, &geo);
     assert!(dev <= tol * (1.0 + 1e-9), "deviation {dev}");
@@ -386,13 +386,13 @@ fn transitions_exact_tolerance_zero_and_corner_distance() {
         } else {
             assert!(r.speed[k] > 1e3, "{tr:?}: {}", r.speed[k]);
             if let Transition::CornerDistance(d) = tr {
-                // the path leaves the first line d before the corner
-                let left = r
-                    .pos
-                    .iter()
-                    .map(|q| if q[1] == 0.0 { q[0] } else { 0.0 })
-                    .fold(0.0, f64::max);
-                assert!((left - (10_000.0 - d)).abs() < 1e-6, "{left}");
+                // the path leaves the first line d before the corner and never reaches it
+                let cut = 10_000.0 - d;
+                for q in &r.pos {
+                    if q[0] > cut + 1e-9 && q[1] < 1e-3 {
+                        assert!(q[1] > 0.0 && q[0] < 10_000.0, "{q:?}");
+                    }
+                }
             }
         }
     }
@@ -526,7 +526,8 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         let (v, a) = (p.speed(), p.accel());
         let (d, j) = (1e6, 1e8);
         p.halt(d, j);
-        let bound = v / d + d / j + a.abs() / j + 3.0 * TS;
+        // bring a to 0, then the stop from the speed reached
+        let bound = a.abs() / j + (v + a.max(0.0).powi(2) / (2.0 * j)) / d + d / j + 3.0 * TS;
         let mut ticks = 0;
         while p.is_moving() {
             r.go(&mut p, 1.0, 1);
@@ -642,7 +643,7 @@ fn dwell_and_outputs_fire_in_order() {
     let e2 = at(PathEvent::SegmentEnd { id: 2 });
     assert_eq!(at(PathEvent::SegmentStart { id: 2 }), e1);
     assert_eq!(e2 - e1, 52);
-    assert!(r.pos[e1..=e2].iter().all(|q| *q == pt(&[10_000.0, 0.0])));
+    assert!(r.pos[e1..e2].iter().all(|q| *q == pt(&[10_000.0, 0.0])));
 }
 
 #[test]
