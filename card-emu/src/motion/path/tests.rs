@@ -249,7 +249,7 @@ fn square_zigzag_and_random_polylines_keep_every_axis_limit_and_the_tolerance() 
             }
             v.push(q);
         }
-        let tol = rng.log_uniform(1.0, 200.0);
+        let tol = rng.log_uniform(5.0, 200.0);
         polyline(naxes, TS, &v, rng.uniform(2e4, 1e5), tol, "random polyline");
     }
 }
@@ -875,8 +875,9 @@ fn full_ring_refuses_and_loses_nothing() {
     assert_eq!(p.free(), 4096);
     let tr = Transition::MaxDeviation(1.0);
     for i in 0..4096u32 {
+        // 10-count chords of a gentle arc (radius ~ 1e5)
         let x = (i + 1) as f64 * 10.0;
-        p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 3.0 }]), 1e5, tr))
+        p.push(line(i, pt(&[x, 3.0 - (x - 20_480.0).powi(2) / 2e5]), 1e5, tr))
             .unwrap();
     }
     assert_eq!(p.free(), 0);
@@ -888,7 +889,7 @@ fn full_ring_refuses_and_loses_nothing() {
     let mut r = Run::default();
     assert!(r.go(&mut p, 1.0, 1_000_000));
     r.assert_ids(&(0..4096).collect::<Vec<_>>());
-    assert_eq!(p.position(), pt(&[40_960.0, 3.0]));
+    assert_eq!(p.position(), pt(&[40_960.0, 3.0 - 20_480f64.powi(2) / 2e5]));
     r.assert_within(&p.lim, "full");
 }
 
@@ -908,4 +909,111 @@ fn short_lookahead_window_still_blends_and_keeps_limits() {
     r.assert_within(&p.lim, "lookahead 1");
     r.assert_ids(&(0..9).collect::<Vec<_>>());
     assert_eq!(p.position(), v[8]);
+}
+
+/// The bench's curve (benches/path.rs): 10,000 chords of ~0.1 mm along a sum of sines.
+fn bench_curve() -> (Vec<V>, PathLimits) {
+    let mut v = vec![];
+    let mut x = 0.0f64;
+    for _ in 0..=10_000 {
+        let y = 3000.0 * (x / 5000.0).sin() + 1000.0 * (x / 2000.0).sin();
+        let dy = 0.6 * (x / 5000.0).cos() + 0.5 * (x / 2000.0).cos();
+        v.push(pt(&[x, y]));
+        x += 100.0 / (1.0 + dy * dy).sqrt();
+    }
+    let mut l = limits(2, 1e-4);
+    l.vmax = [2e5; MAX_AXES];
+    l.amax = [2e7; MAX_AXES];
+    l.jmax = [2e9; MAX_AXES];
+    l.vmax[1] = 1e5;
+    l.amax[1] = 1e7;
+    l.jmax[1] = 1e9;
+    (v, l)
+}
+
+/// Prints the path time of the bench's curve against an offline bound: the same pieces
+/// (blends included), capped with the full axis budgets (|vT_k| ≤ vmax_k, v²|K_k| ≤ amax_k,
+/// v³|K'_k| ≤ jmax_k, no tangential share), then a forward/backward pass with the tangential
+/// acceleration min_k amax_k/|T_k| (jerk ignored): a lower bound of any feasible time.
+/// `cargo test -p card-emu --lib motion::path::tests::dense_curve -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn dense_curve_time_against_offline_bound() {
+    let (v, l) = bench_curve();
+    let mut p = Path::with_capacity(10_000);
+    p.reset(v[0], l, DEFAULT_LOOKAHEAD).unwrap();
+    for (i, q) in v[1..].iter().enumerate() {
+        let mut s = line(i as u32, *q, 2e5, Transition::MaxDeviation(1.0));
+        s.last = i + 2 == v.len();
+        p.push(s).unwrap();
+    }
+    // offline bound on the planned pieces
+    let cap = |f: &Frame| {
+        let mut c = f64::INFINITY;
+        let mut acc = f64::INFINITY;
+        for k in 0..l.naxes {
+            let (t, kk, dk) = (f.t[k].abs(), f.k[k].abs(), f.dk[k].abs());
+            if t > 0.0 {
+                c = c.min(l.vmax[k] / t);
+                acc = acc.min(l.amax[k] / t);
+            }
+            if kk > 0.0 {
+                c = c.min((l.amax[k] / kk).sqrt());
+            }
+            if dk > 0.0 {
+                c = c.min((l.jmax[k] / dk).cbrt());
+            }
+        }
+        (c.min(2e5), acc)
+    };
+    let mut samples: Vec<(f64, f64, f64)> = vec![]; // (ds from previous, cap, accel)
+    let step = 2.0;
+    for i in p.exec..p.tail {
+        let sg = *p.seg(i);
+        if sg.has_blend {
+            let m = (sg.blend.len / step).ceil() as usize;
+            for j in 0..m {
+                let s = sg.blend.len * j as f64 / m as f64;
+                let (c, a) = cap(&sg.blend.frame_u(sg.blend.u_at(s)));
+                samples.push((sg.blend.len / m as f64, c, a));
+            }
+        }
+        let bl = sg.body1 - sg.body0;
+        let m = (bl / step).ceil().max(1.0) as usize;
+        for j in 0..m {
+            let (c, a) = cap(&sg.prog.frame(sg.body0 + bl * j as f64 / m as f64));
+            samples.push((bl / m as f64, c, a));
+        }
+    }
+    let n = samples.len();
+    let mut vv: Vec<f64> = samples.iter().map(|s| s.1).collect();
+    vv[0] = 0.0;
+    vv.push(0.0);
+    for i in 1..n {
+        vv[i] = vv[i].min((vv[i - 1].powi(2) + 2.0 * samples[i - 1].2 * samples[i].0).sqrt());
+    }
+    for i in (0..n).rev() {
+        let ds = if i + 1 < n { samples[i + 1].0 } else { samples[i].0 };
+        vv[i] = vv[i].min((vv[i + 1].powi(2) + 2.0 * samples[i].2 * ds).sqrt());
+    }
+    let mut t_bound = 0.0;
+    for i in 1..=n {
+        let ds = if i < n { samples[i].0 } else { samples[n - 1].0 };
+        t_bound += 2.0 * ds / (vv[i - 1] + vv[i]).max(1e-9);
+    }
+    let len: f64 = samples.iter().map(|s| s.0).sum();
+    let mut ticks = 0u64;
+    let t0 = std::time::Instant::now();
+    while p.queued() > 0 || p.is_moving() {
+        p.tick(1.0, &mut |_| {});
+        ticks += 1;
+    }
+    let wall = t0.elapsed();
+    let t_path = ticks as f64 * l.ts;
+    println!(
+        "dense curve: {:.1} mm, path time {t_path:.4} s, offline bound {t_bound:.4} s, ratio {:.2}; {ticks} ticks in {:?}",
+        len / 1000.0,
+        t_path / t_bound,
+        wall
+    );
 }
