@@ -1166,6 +1166,16 @@ impl Path {
             }
         }
         out.target = target;
+        if target == 0.0 {
+            // holding or halting: the time-optimal stop from here (re-solved every tick, so
+            // it lands with v = a = 0), unless a stop point is nearer
+            let brake = PathSpeedPlanner::stopping_distance(pl.v, pl.a, pl.dmax, pl.jmax);
+            if brake < out.rem {
+                out.rem = brake;
+                out.stop = false;
+                out.queue_end = false;
+            }
+        }
         out
     }
 
@@ -1311,9 +1321,9 @@ impl Path {
                 return;
             }
             let ns = *self.seg(next);
-            if land && next >= wend && !ns.stop_before {
-                return; // at rest at the window's end
-            }
+            // at rest at the window's end: step into the next piece (the same point), so
+            // that the window moves on
+            let window_stop = land && next >= wend;
             if ns.stop_before {
                 // never past an exact stop without landing on it
                 self.end_seg(self.exec, ev);
@@ -1334,6 +1344,9 @@ impl Path {
                 self.exec = next;
                 self.s = ns.body0;
                 self.start_seg(ev);
+            }
+            if window_stop {
+                return;
             }
         }
     }
