@@ -405,8 +405,14 @@ fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
     let blended = report("0.05");
     let f = |j: &serde_json::Value, k: &str| j[k].as_f64().unwrap();
     assert_eq!(blended["segments"], 5);
-    assert!(f(&blended, "max_deviation") <= 0.05 * (1.0 + 1e-9), "{blended}");
-    assert!(f(&blended, "max_deviation") > 0.005, "corners not blended: {blended}");
+    assert!(
+        f(&blended, "max_deviation") <= 0.05 * (1.0 + 1e-9),
+        "{blended}"
+    );
+    assert!(
+        f(&blended, "max_deviation") > 0.005,
+        "corners not blended: {blended}"
+    );
     for k in ["peak_vel_ratio", "peak_accel_ratio", "peak_jerk_ratio"] {
         assert!(f(&blended, k) <= 1.01, "{k}: {blended}");
     }
