@@ -41,10 +41,13 @@
  *   mc_group_settings_new, mc_filter_settings_shin_table1, mc_filter_settings_shin_table1_z,
  *   mc_pdplus_settings_die_bonder, mc_set_heartbeat, mc_get_safety_status,
  *   mc_safety_settings_default, mc_sim_options_default, mc_nurbs_clamped_uniform_knots,
- *   mc_filter_settings_all, mc_path_limits_new, mc_nurbs_feed_new, mc_homing_settings_default.
- * - mc_get_status, mc_get_stop_info and mc_group_get_status do not wait for the card; they
- *   retry while the card is rewriting the status block (well under a microsecond on a running
- *   card; after 100 ms of a block that stays busy, MC_ERR_NOT_RESPONDING).
+ *   mc_filter_settings_all, mc_path_limits_new, mc_nurbs_feed_new, mc_homing_settings_default,
+ *   mc_path_settings_uniform, mc_path_segment_line, mc_path_segment_arc,
+ *   mc_path_segment_dwell, mc_path_segment_output, mc_get_outputs.
+ * - mc_get_status, mc_get_stop_info, mc_group_get_status, mc_group_get_path_settings and
+ *   mc_group_path_free do not wait for the card; they retry while the card is rewriting the
+ *   status block (well under a microsecond on a running card; after 100 ms of a block that
+ *   stays busy, MC_ERR_NOT_RESPONDING).
  * - Block until the card answers the command (microseconds on a running card; at most 2 s,
  *   then MC_ERR_NOT_RESPONDING): mc_enable, mc_disable, mc_configure, mc_move_absolute,
  *   mc_move_relative, mc_halt, mc_stop, mc_release_stop, mc_reset, mc_ping,
@@ -52,7 +55,9 @@
  *   mc_group_halt, mc_group_stop, mc_group_release_stop, mc_group_move_linear,
  *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
  *   mc_axis_configure_pdplus, mc_set_watchdog_timeout, mc_set_estop_input_category, mc_estop,
- *   mc_configure_safety, mc_configure_homing, mc_home, mc_set_position. mc_group_move_nurbs
+ *   mc_configure_safety, mc_configure_homing, mc_home, mc_set_position,
+ *   mc_group_configure_path, mc_group_path_push, mc_group_path_output, mc_set_outputs.
+ *   mc_group_move_nurbs
  *   sends the curve as several commands (a begin, data entries, an end) and blocks until the
  *   card has answered each, as does
  *   mc_group_move_ptp_axes (the axes' limits, one command per three axes, then the move);
@@ -60,6 +65,8 @@
  *   returns when the card has accepted it, not when it is done.
  * - mc_group_move_nurbs_path sends its curves one after another and, whenever the group's
  *   queue is full, waits for an earlier piece to finish (up to its timeout for each wait).
+ * - mc_group_path_stream sends its items and, whenever the group's path buffer is full, waits
+ *   for the running path to make room.
  * - Block up to their timeout: mc_motion_wait, mc_wait_done, mc_group_motion_wait,
  *   mc_group_wait_done, mc_wait_event, mc_dispatch_events.
  * - mc_open, mc_open_sim and mc_open_sim_stepped block until the card has booted (about a
@@ -202,6 +209,118 @@ extern "C" {
  * until the motion before it is done; `mc_motion_wait_active` tells when it starts.
  */
 #define MC_BUFFER_BUFFERED 1
+
+/**
+ * Segments a group's path buffer holds on the card.
+ */
+#define MC_PATH_SEGMENTS 4096
+
+/**
+ * The card's digital outputs (`mc_get_outputs` bit i is output i).
+ */
+#define MC_CARD_OUTPUTS 16
+
+/**
+ * `mc_path_segment.kind`: a straight line to `target` (`naxes` values, one per group axis).
+ */
+#define MC_SEGMENT_LINE 0
+
+/**
+ * An arc in `plane` described by `arc` (a helix when `naxes` targets of the group's other
+ * axes are given in `target`).
+ */
+#define MC_SEGMENT_ARC 1
+
+/**
+ * An exact stop, then a wait of `seconds` (0 < seconds <= the card's longest move time).
+ */
+#define MC_SEGMENT_DWELL 2
+
+/**
+ * Not a segment: an output action (`output`, `on`, `at`, `distance`) for the next motion
+ * segment queued after it. It takes no room in the buffer; at most 8 may wait for their
+ * segment (`MC_ERR_PATH_OUTPUT`).
+ */
+#define MC_SEGMENT_OUTPUT 3
+
+/**
+ * `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
+ * the running path stops along its geometry within its limits, everything queued is aborted,
+ * and this segment starts from where it came to rest.
+ */
+#define MC_PATH_BUFFER_ABORTING 0
+
+/**
+ * An exact stop at the corner, then this segment.
+ */
+#define MC_PATH_BUFFER_BUFFERED 1
+
+/**
+ * A blend; the corner speed is at most the lower of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_LOW 2
+
+/**
+ * A blend; the corner speed is at most the previous segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_PREVIOUS 3
+
+/**
+ * A blend; the corner speed is at most this segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_NEXT 4
+
+/**
+ * A blend; the corner speed is at most the higher of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_HIGH 5
+
+/**
+ * `mc_path_segment.transition` (PLCopen TransitionMode), how a blend is sized: no blend, an
+ * exact stop at the corner (`tolerance` ignored).
+ */
+#define MC_PATH_TRANSITION_NONE 0
+
+/**
+ * The blend stays within `tolerance` of the programmed corner (0: an exact stop).
+ */
+#define MC_PATH_TRANSITION_MAX_DEVIATION 1
+
+/**
+ * The blend begins `tolerance` before the corner (and ends as far after it).
+ */
+#define MC_PATH_TRANSITION_CORNER_DISTANCE 2
+
+/**
+ * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
+ * segment starts.
+ */
+#define MC_OUTPUT_AT_START 0
+
+/**
+ * As its segment ends.
+ */
+#define MC_OUTPUT_AT_END 1
+
+/**
+ * Once its segment has run `distance` (user units of the first group axis, >= 0).
+ */
+#define MC_OUTPUT_AT_DISTANCE 2
+
+/**
+ * `mc_group_status.path_flags` bit: a segment is running (`path_id` is valid).
+ */
+#define MC_PATH_STATUS_RUNNING 1
+
+/**
+ * Braking for the end of what is queued.
+ */
+#define MC_PATH_STATUS_STARVING 2
+
+/**
+ * A halt or stop runs along the path.
+ */
+#define MC_PATH_STATUS_HALTING 4
 
 /**
  * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
@@ -395,6 +514,29 @@ extern "C" {
  * The host broke the protocol (`code`: what, `value`: the index).
  */
 #define MC_EVENT_PROTOCOL_ERROR 18
+
+/**
+ * A path segment started (`axis`: the group; `seq`: its command, as in its `mc_group_motion`;
+ * `value`: its id).
+ */
+#define MC_EVENT_SEGMENT_START 20
+
+/**
+ * A path segment ended (the path left it); as `MC_EVENT_SEGMENT_START`.
+ */
+#define MC_EVENT_SEGMENT_END 21
+
+/**
+ * The segments queued in a group's path fell to its `low_water` mark (`axis`: the group;
+ * `value`: segments queued).
+ */
+#define MC_EVENT_PATH_LOW_WATER 22
+
+/**
+ * A group's path brakes for the end of what is queued, whose last segment is not marked
+ * `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
+ */
+#define MC_EVENT_PATH_STARVED 23
 
 /**
  * `mc_event.axis` of an event about the whole card.
@@ -1391,6 +1533,26 @@ typedef struct mc_group_status {
    * The largest `snap_last` since the group was enabled, counts.
    */
   double snap_max;
+  /**
+   * Segments in the group's path buffer not finished yet (`mc_group_path_push`).
+   */
+  uint32_t path_queued;
+  /**
+   * Free segments in the path buffer (`MC_PATH_SEGMENTS` - `path_queued`).
+   */
+  uint32_t path_free;
+  /**
+   * Id of the segment running (valid while `path_flags` has `MC_PATH_STATUS_RUNNING`).
+   */
+  uint32_t path_id;
+  /**
+   * `MC_PATH_STATUS_` bits.
+   */
+  uint32_t path_flags;
+  /**
+   * Path segments ended since the group was enabled (wrapping).
+   */
+  uint32_t path_done;
 } mc_group_status;
 
 /**
@@ -1586,6 +1748,157 @@ typedef struct mc_velocity_limits {
    */
   double jerk;
 } mc_velocity_limits;
+
+/**
+ * A group's path configuration (`mc_group_configure_path`), in user units: `vmax`, `amax`,
+ * `jmax` per group axis (the first `naxes`, in group order, each in its axis's units);
+ * `accel` and `jerk` tangential, in the first axis's units. Start from
+ * `mc_path_settings_uniform`.
+ */
+typedef struct mc_path_settings {
+  /**
+   * Axes in the group: how many values of `vmax`, `amax`, `jmax` are used.
+   */
+  uint32_t naxes;
+  /**
+   * Segments the card looks ahead over, 1..`MC_PATH_SEGMENTS`.
+   */
+  uint32_t lookahead;
+  /**
+   * `MC_EVENT_PATH_LOW_WATER` when the segments queued fall to this (0: never).
+   */
+  uint32_t low_water;
+  /**
+   * Tangential acceleration limit (0: from the axes' limits).
+   */
+  double accel;
+  /**
+   * Tangential jerk limit (0: from the axes' limits).
+   */
+  double jerk;
+  /**
+   * Each axis's velocity limit (> 0).
+   */
+  double vmax[8];
+  /**
+   * Each axis's acceleration limit (> 0).
+   */
+  double amax[8];
+  /**
+   * Each axis's jerk limit (> 0).
+   */
+  double jmax[8];
+} mc_path_settings;
+
+/**
+ * One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_DWELL`) or an output action
+ * (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start from
+ * `mc_path_segment_line`, `_arc`, `_dwell` or `_output`.
+ */
+typedef struct mc_path_segment {
+  /**
+   * `MC_SEGMENT_` value.
+   */
+  uint32_t kind;
+  /**
+   * Segments: the user's id, reported by `MC_EVENT_SEGMENT_START` / `_END` and in
+   * `mc_group_status.path_id`.
+   */
+  uint32_t id;
+  /**
+   * Lines and arcs: the path speed (> 0), user units of the first group axis per second.
+   */
+  double feed;
+  /**
+   * Lines and arcs: `MC_PATH_BUFFER_` value.
+   */
+  uint32_t buffer;
+  /**
+   * Lines and arcs: `MC_PATH_TRANSITION_` value (used by the blending buffer modes).
+   */
+  uint32_t transition;
+  /**
+   * Lines and arcs: the blend's size for `transition` (>= 0), user units of the first axis.
+   */
+  double tolerance;
+  /**
+   * Lines and arcs: non-zero for targets (and arc points) relative to where the segment
+   * before ends.
+   */
+  uint32_t relative;
+  /**
+   * Segments: non-zero on the last segment of a program (its stop is the end, not
+   * starvation: no `MC_EVENT_PATH_STARVED`).
+   */
+  uint32_t last;
+  /**
+   * Lines and arcs: how many values of `target` are used.
+   */
+  uint32_t naxes;
+  /**
+   * Arcs: `MC_ARC_PLANE_` value.
+   */
+  uint32_t plane;
+  /**
+   * Lines: the end point, one value per group axis in group order. Arcs: the targets of the
+   * group's other axes in group order (a helix), or none (`naxes` 0).
+   */
+  double target[8];
+  /**
+   * Arcs: the arc in its plane's coordinates.
+   */
+  struct mc_arc arc;
+  /**
+   * Dwells: the wait, seconds.
+   */
+  double seconds;
+  /**
+   * Output actions: the output, 0..`MC_CARD_OUTPUTS` - 1.
+   */
+  uint32_t output;
+  /**
+   * Output actions: non-zero sets the output, zero clears it.
+   */
+  uint32_t on;
+  /**
+   * Output actions: `MC_OUTPUT_AT_` value.
+   */
+  uint32_t at;
+  /**
+   * Output actions with `MC_OUTPUT_AT_DISTANCE`: the distance into the segment.
+   */
+  double distance;
+} mc_path_segment;
+
+/**
+ * How far `mc_group_path_stream` has come (given to its progress callback).
+ */
+typedef struct mc_path_progress {
+  /**
+   * Items sent to the card.
+   */
+  uint64_t sent;
+  /**
+   * Items the card accepted (it lags `sent` by the commands in flight).
+   */
+  uint64_t accepted;
+  /**
+   * Segments the card finished since the group was enabled (wrapping).
+   */
+  uint32_t done;
+  /**
+   * Segments queued on the card.
+   */
+  uint32_t queued;
+} mc_path_progress;
+
+/**
+ * The progress callback of `mc_group_path_stream`: called on the calling thread, inside
+ * `mc_group_path_stream`, after each item is sent. `progress` is valid only during the call;
+ * `user` is the pointer given to `mc_group_path_stream`. It must return (not unwind or
+ * longjmp out of the library).
+ */
+typedef void (*mc_path_progress_callback)(const struct mc_path_progress *progress, void *user);
 
 /**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
@@ -2814,6 +3127,167 @@ mc_result mc_motion_wait_in_velocity(mc_card card,
                                      struct mc_motion motion,
                                      uint32_t timeout_ms,
                                      double *velocity);
+
+/**
+ * Path settings for `naxes` axes (1..8, else `MC_ERR_BAD_AXIS`) with the same limits:
+ * look-ahead 256 segments, no low-water event, tangential limits from the axes' (0). Nothing
+ * is checked until `mc_group_configure_path`. Never blocks.
+ */
+mc_result mc_path_settings_uniform(uint32_t naxes,
+                                   double vmax,
+                                   double amax,
+                                   double jmax,
+                                   struct mc_path_settings *settings);
+
+/**
+ * Configure a group's path: its look-ahead, low-water mark and limits. The group must be
+ * configured (`MC_ERR_GROUP_DISABLED`) and its path idle, nothing queued and at rest
+ * (`MC_ERR_PATH_BUSY`). `naxes` must be the group's axis count (`MC_ERR_BAD_AXIS`); each axis
+ * limit finite and > 0 (`MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`); the card refuses a
+ * look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`)
+ * and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`). Blocks until the card
+ * answers.
+ */
+mc_result mc_group_configure_path(mc_card card,
+                                  uint32_t group,
+                                  const struct mc_path_settings *settings);
+
+/**
+ * The path configuration the card holds for a group (read back from the card: its reset
+ * values until the first `mc_group_configure_path`), converted to user units with the scales
+ * in force now; `naxes` is the group's axis count, the unused limits 0. The group must be
+ * configured (`MC_ERR_GROUP_DISABLED`). Does not wait for the card, as `mc_group_get_status`.
+ */
+mc_result mc_group_get_path_settings(mc_card card,
+                                     uint32_t group,
+                                     struct mc_path_settings *settings);
+
+/**
+ * Free segments in a group's path buffer (`MC_PATH_SEGMENTS` when idle). Does not wait for
+ * the card, as `mc_group_get_status`.
+ */
+mc_result mc_group_path_free(mc_card card, uint32_t group, uint32_t *free);
+
+/**
+ * A line to `target` (`n` values, one per group axis, user units; at most 8, else
+ * `MC_ERR_BAD_AXIS`) at `feed`, blended into the segment before within `tolerance` of the
+ * corner (`MC_PATH_BUFFER_BLEND_LOW`, `MC_PATH_TRANSITION_MAX_DEVIATION`; 0: an exact stop),
+ * absolute, not last. Nothing else is checked until it is queued. Never blocks.
+ */
+mc_result mc_path_segment_line(uint32_t id,
+                               const double *target,
+                               size_t n,
+                               double feed,
+                               double tolerance,
+                               struct mc_path_segment *segment);
+
+/**
+ * An arc in `plane` (`MC_ARC_PLANE_`) described by `*arc` (as `mc_group_move_circular`), a
+ * helix when `nhelix` targets of the group's other axes are given (`helix` may be NULL when
+ * `nhelix` is 0), blended as `mc_path_segment_line`. Never blocks.
+ */
+mc_result mc_path_segment_arc(uint32_t id,
+                              const struct mc_arc *arc,
+                              uint32_t plane,
+                              const double *helix,
+                              size_t nhelix,
+                              double feed,
+                              double tolerance,
+                              struct mc_path_segment *segment);
+
+/**
+ * A dwell: an exact stop, then a wait of `seconds`. Never blocks.
+ */
+mc_result mc_path_segment_dwell(uint32_t id, double seconds, struct mc_path_segment *segment);
+
+/**
+ * An output action: set (`on` non-zero) or clear `output` when the next motion segment queued
+ * after it starts, ends, or has run `distance` (`at`: `MC_OUTPUT_AT_`). Never blocks.
+ */
+mc_result mc_path_segment_output(uint32_t output,
+                                 uint32_t on,
+                                 uint32_t at,
+                                 double distance,
+                                 struct mc_path_segment *segment);
+
+/**
+ * Queue one item in a group's path and wait for the card's answer (not for the motion). The
+ * library checks the item first with the card's rules: a non-finite value is
+ * `MC_ERR_NOT_FINITE`, a feed or dwell <= 0 `MC_ERR_NON_POSITIVE_LIMIT`, a negative tolerance
+ * or distance `MC_ERR_OUT_OF_RANGE`, `naxes` not the group's count `MC_ERR_BAD_AXIS`, an
+ * unknown buffer, transition or output point `MC_ERR_PATH_MODE`, an output >=
+ * `MC_CARD_OUTPUTS` `MC_ERR_PATH_OUTPUT`. The card refuses a line of length zero
+ * (`MC_ERR_PATH_ZERO_LENGTH`), a bad arc (as `mc_group_move_circular`), a segment while group
+ * moves run (`MC_ERR_PATH_BUSY`), a full buffer (`MC_ERR_QUEUE_FULL`; `mc_group_path_stream`
+ * waits for room instead), a group with post-interpolation filters
+ * (`MC_ERR_INCOMPATIBLE_MODE`), a group halting or stopping (`MC_ERR_INVALID_STATE`).
+ *
+ * `motion` may be NULL; otherwise it receives the segment's motion: done when the path has
+ * left it, or, when it is the last queued, once the path is at rest in position at its end
+ * (wait with `mc_group_motion_wait`); aborted by a halt, stop, fault or an Aborting segment.
+ * An output action has no motion: it receives seq 0. Blocks until the card answers.
+ */
+mc_result mc_group_path_push(mc_card card,
+                             uint32_t group,
+                             const struct mc_path_segment *segment,
+                             struct mc_group_motion *motion);
+
+/**
+ * Queue an output action (`mc_path_segment_output`, then `mc_group_path_push`): set (`on`
+ * non-zero) or clear `output` (0..`MC_CARD_OUTPUTS` - 1, else `MC_ERR_PATH_OUTPUT`) when the
+ * next motion segment queued after it starts, ends, or has run `distance` (`at`:
+ * `MC_OUTPUT_AT_`). At most 8 actions may wait for their segment (`MC_ERR_PATH_OUTPUT`).
+ * Blocks until the card answers.
+ */
+mc_result mc_group_path_output(mc_card card,
+                               uint32_t group,
+                               uint32_t output,
+                               uint32_t on,
+                               uint32_t at,
+                               double distance);
+
+/**
+ * Stream `n` items (`segments`, may be NULL when `n` is 0) into a group's path: up to 48
+ * commands in flight, never more segments than the card's buffer has room for, so a path
+ * longer than `MC_PATH_SEGMENTS` streams while it runs. Every item is checked by the library
+ * first, before anything is sent (as `mc_group_path_push`); the first refused item stops the
+ * stream with its code, and the items before it are queued and run. An item the library
+ * refuses stops the stream before it is sent. An item the card refuses (a line of length
+ * zero, a bad arc, `MC_ERR_PATH_BUSY`, ...) is answered while the items behind it are on
+ * their way: up to 47 of them may be queued after all (the stream does not wait for their
+ * answers); put such an item last, or halt the group (`mc_group_halt`) to drop them.
+ *
+ * `progress` (may be NULL) is called with `user` on this thread after each item sent.
+ * `accepted` (may be NULL) always receives how many items the card accepted (an exception
+ * to "outputs only on success"): on success `n`, on a refusal the refused item's index, 0
+ * when nothing was sent; after a failure that is not a refusal (the card gone or not
+ * answering) the index where the stream stopped. `last` (may be NULL) receives, on success, the motion of the last segment: done
+ * once the path is at rest at its end (`mc_group_motion_wait`); seq 0 when the items hold no
+ * segment.
+ *
+ * Blocks while the items are sent, and whenever the buffer is full, until the running path
+ * makes room; returns when the last item is accepted, not when the path is done.
+ */
+mc_result mc_group_path_stream(mc_card card,
+                               uint32_t group,
+                               const struct mc_path_segment *segments,
+                               size_t n,
+                               mc_path_progress_callback progress,
+                               void *user,
+                               size_t *accepted,
+                               struct mc_group_motion *last);
+
+/**
+ * The card's digital outputs as it drives them (bit i = output i, `MC_CARD_OUTPUTS` of them):
+ * set by `mc_set_outputs` or by a path's output actions. Never blocks.
+ */
+mc_result mc_get_outputs(mc_card card, uint32_t *outputs);
+
+/**
+ * Set the outputs in `mask` to the bits of `value` now (the others keep theirs). A bit at or
+ * above `MC_CARD_OUTPUTS` in either is `MC_ERR_PATH_OUTPUT`. Blocks until the card answers.
+ */
+mc_result mc_set_outputs(mc_card card, uint32_t mask, uint32_t value);
 
 /**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped

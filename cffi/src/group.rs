@@ -24,7 +24,7 @@ fn ms(timeout_ms: u32) -> Duration {
 }
 
 /// The card and one of its groups (`MC_ERR_BAD_GROUP` for a group the card does not have).
-fn group_of(card: mc_card, group: u32) -> Result<(Arc<Entry>, Group), Failure> {
+pub(crate) fn group_of(card: mc_card, group: u32) -> Result<(Arc<Entry>, Group), Failure> {
     let e = registry::get(card)?;
     let g = e.card.group(group as usize)?;
     Ok((e, g))
@@ -32,7 +32,7 @@ fn group_of(card: mc_card, group: u32) -> Result<(Arc<Entry>, Group), Failure> {
 
 /// Write a started group motion to `*motion` (when given) and keep it for
 /// `mc_group_motion_wait`.
-fn started(
+pub(crate) fn started(
     e: &Entry,
     m: GroupMotion,
     group: u32,
@@ -52,7 +52,7 @@ fn started(
 ///
 /// # Safety
 /// `p` is NULL or valid for reads of `n` doubles.
-unsafe fn axis_values(p: *const f64, n: usize, what: &str) -> Result<Vec<f64>, Failure> {
+pub(crate) unsafe fn axis_values(p: *const f64, n: usize, what: &str) -> Result<Vec<f64>, Failure> {
     if n > MC_GROUP_MAX_AXES as usize {
         return Err(Failure::new(
             ErrorKind::BadAxis.code(),

@@ -100,6 +100,17 @@ pub const MC_EVENT_SAFETY_STOP: u32 = 16;
 pub const MC_EVENT_AT_REST: u32 = 17;
 /// The host broke the protocol (`code`: what, `value`: the index).
 pub const MC_EVENT_PROTOCOL_ERROR: u32 = 18;
+/// A path segment started (`axis`: the group; `seq`: its command, as in its `mc_group_motion`;
+/// `value`: its id).
+pub const MC_EVENT_SEGMENT_START: u32 = 20;
+/// A path segment ended (the path left it); as `MC_EVENT_SEGMENT_START`.
+pub const MC_EVENT_SEGMENT_END: u32 = 21;
+/// The segments queued in a group's path fell to its `low_water` mark (`axis`: the group;
+/// `value`: segments queued).
+pub const MC_EVENT_PATH_LOW_WATER: u32 = 22;
+/// A group's path brakes for the end of what is queued, whose last segment is not marked
+/// `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
+pub const MC_EVENT_PATH_STARVED: u32 = 23;
 
 /// `mc_event.axis` of an event about the whole card.
 pub const MC_EVENT_CARD_WIDE: u32 = 0xFFFF;
@@ -253,6 +264,10 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::MotionActive => MC_EVENT_MOTION_ACTIVE,
         EventKind::InVelocity => MC_EVENT_IN_VELOCITY,
         EventKind::HomingFailed => MC_EVENT_HOMING_FAILED,
+        EventKind::SegmentStart => MC_EVENT_SEGMENT_START,
+        EventKind::SegmentEnd => MC_EVENT_SEGMENT_END,
+        EventKind::PathLowWater => MC_EVENT_PATH_LOW_WATER,
+        EventKind::PathStarved => MC_EVENT_PATH_STARVED,
     }
 }
 
@@ -706,6 +721,16 @@ pub struct mc_group_status {
     pub snap_last: f64,
     /// The largest `snap_last` since the group was enabled, counts.
     pub snap_max: f64,
+    /// Segments in the group's path buffer not finished yet (`mc_group_path_push`).
+    pub path_queued: u32,
+    /// Free segments in the path buffer (`MC_PATH_SEGMENTS` - `path_queued`).
+    pub path_free: u32,
+    /// Id of the segment running (valid while `path_flags` has `MC_PATH_STATUS_RUNNING`).
+    pub path_id: u32,
+    /// `MC_PATH_STATUS_` bits.
+    pub path_flags: u32,
+    /// Path segments ended since the group was enabled (wrapping).
+    pub path_done: u32,
 }
 
 /// The `MC_GROUP_STATE_` value of a group state.
@@ -734,6 +759,11 @@ impl From<(GroupState, GroupStatus)> for mc_group_status {
             tick: s.tick,
             snap_last: s.snap_last,
             snap_max: s.snap_max,
+            path_queued: s.path_queued,
+            path_free: s.path_free,
+            path_id: s.path_id,
+            path_flags: s.path_flags,
+            path_done: s.path_done,
         }
     }
 }

@@ -3,10 +3,10 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing` and `nurbs_path`
-//! choose their cards). `move` and `c89` are also linked statically, and a program of the
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`
+//! and `path` choose their cards). `move` and `c89` are also linked statically, and a program of the
 //! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
-//! `homing`, `nurbs_path` and `panic` also run under valgrind. The installed libraries'
+//! `homing`, `nurbs_path`, `path` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -922,6 +922,7 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_EXPIRED",
     "MC_ERR_SESSION",
     "MC_ERR_PERMISSION_DENIED",
+    "MC_ERR_PATH_ID",
 ];
 
 #[test]
@@ -982,6 +983,25 @@ fn machine_program_jogs_aborts_buffers_and_overrides() {
     assert!(out.contains("PASS machine"), "{out}");
     assert!(out.contains("abort: retargeted to -10000"), "{out}");
     assert!(out.contains("override 0 % held, 200 %"), "{out}");
+}
+
+/// Needs the card's path algorithm (`card-emu/src/motion/path.rs`): until it lands the program
+/// passes its checks of settings, refusals and outputs, then the emulated card panics.
+#[test]
+fn path_program_streams_a_blended_square_with_outputs() {
+    let out = run(&compile("path", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS path"), "{out}");
+    assert!(
+        out.contains("path: square with blends ended at (5000, 5000)"),
+        "{out}"
+    );
+}
+
+/// As [`path_program_streams_a_blended_square_with_outputs`], under valgrind.
+#[test]
+fn path_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("path");
+    assert!(out.contains("PASS path"), "{out}");
 }
 
 #[test]

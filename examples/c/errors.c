@@ -44,6 +44,9 @@ static const mc_result ALL_CODES[] = {
     /* motion modes, homing */
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD,   MC_ERR_AXIS_HOMING,
     MC_ERR_HOMING_FAILED,
+    /* the continuous path */
+    MC_ERR_PATH_MODE,      MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT,
+    MC_ERR_PATH_BUSY,      MC_ERR_PATH_ID,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -55,7 +58,8 @@ static const mc_result ALL_CODES[] = {
    API never sends (an unknown opcode, NURBS data out of sequence, a detach of another
    session, a command past its deadline), a plan the card's own check refuses (no input
    reaches it through a correct planner), an OS failure, a limit switch (an input only the
-   Rust fault injector presses), another user's card. The Rust tests cover the SDK side of
+   Rust fault injector presses), another user's card, a path segment id that is not an
+   integer in 0..2^32-1 (ids are uint32_t in C). The Rust tests cover the SDK side of
    those; here they are only checked to exist and be described. The others are returned by
    the programs named (the Rust test checks that every code is expected by some program or
    listed as not provokable). */
@@ -63,7 +67,7 @@ static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C */
     MC_ERR_VERSION_MISMATCH, MC_ERR_PROTOCOL, MC_ERR_RING_FULL, MC_ERR_UNKNOWN_COMMAND,
     MC_ERR_IO, MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT, MC_ERR_PLAN_CHECK, MC_ERR_EXPIRED,
-    MC_ERR_SESSION, MC_ERR_PERMISSION_DENIED,
+    MC_ERR_SESSION, MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
     /* dead_card.c (a card process killed, then stopped) */
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
     /* lifecycle.c (waits in other threads) */
@@ -83,6 +87,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_BUSY, MC_ERR_PANIC,
     /* homing.c (and machine.c) */
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD, MC_ERR_AXIS_HOMING, MC_ERR_HOMING_FAILED,
+    /* path.c */
+    MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
 };
 
 static void result_strings(void) {

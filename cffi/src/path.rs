@@ -1,0 +1,827 @@
+//! The exported functions of a group's continuous path (layout 1.6): a deep buffer of
+//! segments on the card (lines, arcs and helices, dwells) with look-ahead and corner blending
+//! within each segment's tolerance, output actions at points of the path, and the card's
+//! digital outputs. The same thin skin as [`crate::group`].
+//!
+//! Units are the group's: targets in each axis's user units; feeds, tolerances, distances and
+//! the tangential limits in the first group axis's.
+
+use crate::ffi::{read_at, read_in, Out};
+use crate::group::{axis_values, group_of, started};
+use crate::registry::{self, mc_card};
+use crate::result::{guard, mc_result, Failure};
+use crate::types::{mc_arc, mc_group_motion, plane_of, unknown, MC_GROUP_MAX_AXES};
+use motioncard_sdk::{
+    Error, ErrorKind, Geometry, Group, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings,
+    Segment, StreamError, Transition,
+};
+use std::cell::RefCell;
+use std::ffi::c_void;
+
+/// Most axes in a group, as a length.
+const MAX_AXES: usize = MC_GROUP_MAX_AXES as usize;
+
+/// Segments a group's path buffer holds on the card.
+pub const MC_PATH_SEGMENTS: u32 = 4096;
+/// The card's digital outputs (`mc_get_outputs` bit i is output i).
+pub const MC_CARD_OUTPUTS: u32 = 16;
+
+/// `mc_path_segment.kind`: a straight line to `target` (`naxes` values, one per group axis).
+pub const MC_SEGMENT_LINE: u32 = 0;
+/// An arc in `plane` described by `arc` (a helix when `naxes` targets of the group's other
+/// axes are given in `target`).
+pub const MC_SEGMENT_ARC: u32 = 1;
+/// An exact stop, then a wait of `seconds` (0 < seconds <= the card's longest move time).
+pub const MC_SEGMENT_DWELL: u32 = 2;
+/// Not a segment: an output action (`output`, `on`, `at`, `distance`) for the next motion
+/// segment queued after it. It takes no room in the buffer; at most 8 may wait for their
+/// segment (`MC_ERR_PATH_OUTPUT`).
+pub const MC_SEGMENT_OUTPUT: u32 = 3;
+
+/// `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
+/// the running path stops along its geometry within its limits, everything queued is aborted,
+/// and this segment starts from where it came to rest.
+pub const MC_PATH_BUFFER_ABORTING: u32 = 0;
+/// An exact stop at the corner, then this segment.
+pub const MC_PATH_BUFFER_BUFFERED: u32 = 1;
+/// A blend; the corner speed is at most the lower of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_LOW: u32 = 2;
+/// A blend; the corner speed is at most the previous segment's feed.
+pub const MC_PATH_BUFFER_BLEND_PREVIOUS: u32 = 3;
+/// A blend; the corner speed is at most this segment's feed.
+pub const MC_PATH_BUFFER_BLEND_NEXT: u32 = 4;
+/// A blend; the corner speed is at most the higher of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_HIGH: u32 = 5;
+
+/// `mc_path_segment.transition` (PLCopen TransitionMode), how a blend is sized: no blend, an
+/// exact stop at the corner (`tolerance` ignored).
+pub const MC_PATH_TRANSITION_NONE: u32 = 0;
+/// The blend stays within `tolerance` of the programmed corner (0: an exact stop).
+pub const MC_PATH_TRANSITION_MAX_DEVIATION: u32 = 1;
+/// The blend begins `tolerance` before the corner (and ends as far after it).
+pub const MC_PATH_TRANSITION_CORNER_DISTANCE: u32 = 2;
+
+/// When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
+/// segment starts.
+pub const MC_OUTPUT_AT_START: u32 = 0;
+/// As its segment ends.
+pub const MC_OUTPUT_AT_END: u32 = 1;
+/// Once its segment has run `distance` (user units of the first group axis, >= 0).
+pub const MC_OUTPUT_AT_DISTANCE: u32 = 2;
+
+/// `mc_group_status.path_flags` bit: a segment is running (`path_id` is valid).
+pub const MC_PATH_STATUS_RUNNING: u32 = 1;
+/// Braking for the end of what is queued.
+pub const MC_PATH_STATUS_STARVING: u32 = 2;
+/// A halt or stop runs along the path.
+pub const MC_PATH_STATUS_HALTING: u32 = 4;
+
+/// A group's path configuration (`mc_group_configure_path`), in user units: `vmax`, `amax`,
+/// `jmax` per group axis (the first `naxes`, in group order, each in its axis's units);
+/// `accel` and `jerk` tangential, in the first axis's units. Start from
+/// `mc_path_settings_uniform`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_path_settings {
+    /// Axes in the group: how many values of `vmax`, `amax`, `jmax` are used.
+    pub naxes: u32,
+    /// Segments the card looks ahead over, 1..`MC_PATH_SEGMENTS`.
+    pub lookahead: u32,
+    /// `MC_EVENT_PATH_LOW_WATER` when the segments queued fall to this (0: never).
+    pub low_water: u32,
+    /// Tangential acceleration limit (0: from the axes' limits).
+    pub accel: f64,
+    /// Tangential jerk limit (0: from the axes' limits).
+    pub jerk: f64,
+    /// Each axis's velocity limit (> 0).
+    pub vmax: [f64; 8],
+    /// Each axis's acceleration limit (> 0).
+    pub amax: [f64; 8],
+    /// Each axis's jerk limit (> 0).
+    pub jmax: [f64; 8],
+}
+
+/// One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_DWELL`) or an output action
+/// (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start from
+/// `mc_path_segment_line`, `_arc`, `_dwell` or `_output`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_path_segment {
+    /// `MC_SEGMENT_` value.
+    pub kind: u32,
+    /// Segments: the user's id, reported by `MC_EVENT_SEGMENT_START` / `_END` and in
+    /// `mc_group_status.path_id`.
+    pub id: u32,
+    /// Lines and arcs: the path speed (> 0), user units of the first group axis per second.
+    pub feed: f64,
+    /// Lines and arcs: `MC_PATH_BUFFER_` value.
+    pub buffer: u32,
+    /// Lines and arcs: `MC_PATH_TRANSITION_` value (used by the blending buffer modes).
+    pub transition: u32,
+    /// Lines and arcs: the blend's size for `transition` (>= 0), user units of the first axis.
+    pub tolerance: f64,
+    /// Lines and arcs: non-zero for targets (and arc points) relative to where the segment
+    /// before ends.
+    pub relative: u32,
+    /// Segments: non-zero on the last segment of a program (its stop is the end, not
+    /// starvation: no `MC_EVENT_PATH_STARVED`).
+    pub last: u32,
+    /// Lines and arcs: how many values of `target` are used.
+    pub naxes: u32,
+    /// Arcs: `MC_ARC_PLANE_` value.
+    pub plane: u32,
+    /// Lines: the end point, one value per group axis in group order. Arcs: the targets of the
+    /// group's other axes in group order (a helix), or none (`naxes` 0).
+    pub target: [f64; 8],
+    /// Arcs: the arc in its plane's coordinates.
+    pub arc: mc_arc,
+    /// Dwells: the wait, seconds.
+    pub seconds: f64,
+    /// Output actions: the output, 0..`MC_CARD_OUTPUTS` - 1.
+    pub output: u32,
+    /// Output actions: non-zero sets the output, zero clears it.
+    pub on: u32,
+    /// Output actions: `MC_OUTPUT_AT_` value.
+    pub at: u32,
+    /// Output actions with `MC_OUTPUT_AT_DISTANCE`: the distance into the segment.
+    pub distance: f64,
+}
+
+/// How far `mc_group_path_stream` has come (given to its progress callback).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_path_progress {
+    /// Items sent to the card.
+    pub sent: u64,
+    /// Items the card accepted (it lags `sent` by the commands in flight).
+    pub accepted: u64,
+    /// Segments the card finished since the group was enabled (wrapping).
+    pub done: u32,
+    /// Segments queued on the card.
+    pub queued: u32,
+}
+
+impl From<PathProgress> for mc_path_progress {
+    fn from(p: PathProgress) -> Self {
+        Self {
+            sent: p.sent,
+            accepted: p.accepted,
+            done: p.done,
+            queued: p.queued,
+        }
+    }
+}
+
+/// The progress callback of `mc_group_path_stream`: called on the calling thread, inside
+/// `mc_group_path_stream`, after each item is sent. `progress` is valid only during the call;
+/// `user` is the pointer given to `mc_group_path_stream`. It must return (not unwind or
+/// longjmp out of the library).
+#[allow(non_camel_case_types)]
+pub type mc_path_progress_callback =
+    Option<unsafe extern "C" fn(progress: *const mc_path_progress, user: *mut c_void)>;
+
+fn path_mode(what: &str, v: u32) -> Failure {
+    Failure::new(ErrorKind::PathMode.code(), format!("unknown {what} {v}"))
+}
+
+fn axis_count(n: u32, what: &str) -> Result<usize, Failure> {
+    if n as usize > MAX_AXES {
+        return Err(Failure::new(
+            ErrorKind::BadAxis.code(),
+            format!("{n} values in {what}: a group has at most {MAX_AXES} axes"),
+        ));
+    }
+    Ok(n as usize)
+}
+
+impl mc_path_segment {
+    /// The SDK's item. Unknown `MC_PATH_BUFFER_`, `MC_PATH_TRANSITION_` and `MC_OUTPUT_AT_`
+    /// values are `MC_ERR_PATH_MODE` (as the card calls them), an unknown kind, plane or arc
+    /// mode `MC_ERR_BAD_CONFIG`.
+    pub(crate) fn to_sdk(self) -> Result<PathItem, Failure> {
+        let geometry = match self.kind {
+            MC_SEGMENT_LINE => Geometry::Line {
+                target: self.target[..axis_count(self.naxes, "target")?].to_vec(),
+            },
+            MC_SEGMENT_ARC => Geometry::Arc {
+                arc: self.arc.to_sdk()?,
+                plane: plane_of(self.plane)?,
+                helix: self.target[..axis_count(self.naxes, "target")?].to_vec(),
+            },
+            MC_SEGMENT_DWELL => {
+                let mut s = Segment::dwell(self.id, self.seconds);
+                s.last = self.last != 0;
+                return Ok(s.into());
+            }
+            MC_SEGMENT_OUTPUT => {
+                let at = match self.at {
+                    MC_OUTPUT_AT_START => OutputAt::Start,
+                    MC_OUTPUT_AT_END => OutputAt::End,
+                    MC_OUTPUT_AT_DISTANCE => OutputAt::Distance(self.distance),
+                    v => return Err(path_mode("output point (MC_OUTPUT_AT_)", v)),
+                };
+                let output = u8::try_from(self.output).map_err(|_| {
+                    Failure::new(
+                        ErrorKind::PathOutput.code(),
+                        format!(
+                            "output {}: the card has outputs 0..{}",
+                            self.output,
+                            MC_CARD_OUTPUTS - 1
+                        ),
+                    )
+                })?;
+                return Ok(PathItem::Output {
+                    output,
+                    on: self.on != 0,
+                    at,
+                });
+            }
+            v => return Err(unknown("path segment kind", v)),
+        };
+        let buffer = match self.buffer {
+            MC_PATH_BUFFER_ABORTING => PathBuffer::Aborting,
+            MC_PATH_BUFFER_BUFFERED => PathBuffer::Buffered,
+            MC_PATH_BUFFER_BLEND_LOW => PathBuffer::BlendingLow,
+            MC_PATH_BUFFER_BLEND_PREVIOUS => PathBuffer::BlendingPrevious,
+            MC_PATH_BUFFER_BLEND_NEXT => PathBuffer::BlendingNext,
+            MC_PATH_BUFFER_BLEND_HIGH => PathBuffer::BlendingHigh,
+            v => return Err(path_mode("buffer mode (MC_PATH_BUFFER_)", v)),
+        };
+        let transition = match self.transition {
+            MC_PATH_TRANSITION_NONE => Transition::None,
+            MC_PATH_TRANSITION_MAX_DEVIATION => Transition::MaxDeviation(self.tolerance),
+            MC_PATH_TRANSITION_CORNER_DISTANCE => Transition::CornerDistance(self.tolerance),
+            v => return Err(path_mode("transition mode (MC_PATH_TRANSITION_)", v)),
+        };
+        Ok(PathItem::Segment(Segment {
+            id: self.id,
+            geometry,
+            feed: self.feed,
+            buffer,
+            transition,
+            relative: self.relative != 0,
+            last: self.last != 0,
+        }))
+    }
+}
+
+/// The group's axis count and each axis's |counts per user unit|, and the path scale (counts
+/// per user unit of path quantities), as the SDK converts them.
+///
+/// The SDK keeps the scales and the group's axes to itself (no public accessor); its public
+/// `Group::path_command` applies them, so a probe line of unit targets, converted and never
+/// sent, gives them back: `args` is `[id, feed * path scale, tolerance * path scale, target[i]
+/// * scale[i]...]`. The probe is refused as `BadAxis` until its length is the group's.
+fn group_scales(g: &Group) -> Result<(usize, f64, [f64; MAX_AXES]), Failure> {
+    for n in 1..=MAX_AXES {
+        let probe = PathItem::Segment(Segment::line(0, &[1.0; MAX_AXES][..n], 1.0, 0.0));
+        match g.path_command(&probe) {
+            Ok(c) => {
+                let mut scales = [0.0; MAX_AXES];
+                for (s, a) in scales.iter_mut().zip(&c.args[3..3 + n]) {
+                    *s = a.abs();
+                }
+                return Ok((n, c.args[1], scales));
+            }
+            Err(Error::BadAxis { .. }) => continue,
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Err(Failure::new(
+        ErrorKind::BadAxis.code(),
+        "the group's axis count is not 1..8",
+    ))
+}
+
+fn stream_failure(e: StreamError) -> Failure {
+    let f = Failure::from(e.error);
+    Failure::new(f.code, format!("path item {}: {}", e.index, f.message))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Configuration
+// ---------------------------------------------------------------------------------------------
+
+/// Path settings for `naxes` axes (1..8, else `MC_ERR_BAD_AXIS`) with the same limits:
+/// look-ahead 256 segments, no low-water event, tangential limits from the axes' (0). Nothing
+/// is checked until `mc_group_configure_path`. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_settings_uniform(
+    naxes: u32,
+    vmax: f64,
+    amax: f64,
+    jmax: f64,
+    settings: *mut mc_path_settings,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(settings, "settings")?;
+        let n = axis_count(naxes, "naxes")?;
+        if n == 0 {
+            return Err(Failure::new(
+                ErrorKind::BadAxis.code(),
+                "naxes = 0: a group has 1 to 8 axes",
+            ));
+        }
+        let p = PathSettings::uniform(n, vmax, amax, jmax);
+        let mut s = mc_path_settings {
+            naxes,
+            lookahead: p.lookahead as u32,
+            low_water: p.low_water as u32,
+            accel: p.accel,
+            jerk: p.jerk,
+            ..Default::default()
+        };
+        s.vmax[..n].copy_from_slice(&p.vmax);
+        s.amax[..n].copy_from_slice(&p.amax);
+        s.jmax[..n].copy_from_slice(&p.jmax);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// Configure a group's path: its look-ahead, low-water mark and limits. The group must be
+/// configured (`MC_ERR_GROUP_DISABLED`) and its path idle, nothing queued and at rest
+/// (`MC_ERR_PATH_BUSY`). `naxes` must be the group's axis count (`MC_ERR_BAD_AXIS`); each axis
+/// limit finite and > 0 (`MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`); the card refuses a
+/// look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`)
+/// and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`). Blocks until the card
+/// answers.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_configure_path(
+    card: mc_card,
+    group: u32,
+    settings: *const mc_path_settings,
+) -> mc_result {
+    guard(|| {
+        // SAFETY: the caller gives NULL or a readable mc_path_settings.
+        let s = unsafe { read_in(settings, "settings") }?;
+        let n = axis_count(s.naxes, "the settings")?;
+        let p = PathSettings {
+            lookahead: s.lookahead as usize,
+            low_water: s.low_water as usize,
+            accel: s.accel,
+            jerk: s.jerk,
+            vmax: s.vmax[..n].to_vec(),
+            amax: s.amax[..n].to_vec(),
+            jmax: s.jmax[..n].to_vec(),
+        };
+        let (_, g) = group_of(card, group)?;
+        Ok(g.configure_path(&p)?)
+    })
+}
+
+/// The path configuration the card holds for a group (read back from the card: its reset
+/// values until the first `mc_group_configure_path`), converted to user units with the scales
+/// in force now; `naxes` is the group's axis count, the unused limits 0. The group must be
+/// configured (`MC_ERR_GROUP_DISABLED`). Does not wait for the card, as `mc_group_get_status`.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_get_path_settings(
+    card: mc_card,
+    group: u32,
+    settings: *mut mc_path_settings,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(settings, "settings")?;
+        let (_, g) = group_of(card, group)?;
+        g.status()?; // a card that is gone or stalled, before reading its window
+        let (n, path_scale, scales) = group_scales(&g)?;
+        let b = g.path_config();
+        let mut s = mc_path_settings {
+            naxes: n as u32,
+            lookahead: b.lookahead,
+            low_water: b.low_water,
+            accel: b.accel / path_scale,
+            jerk: b.jerk / path_scale,
+            ..Default::default()
+        };
+        for (i, scale) in scales.iter().enumerate().take(n) {
+            s.vmax[i] = b.vmax[i] / scale;
+            s.amax[i] = b.amax[i] / scale;
+            s.jmax[i] = b.jmax[i] / scale;
+        }
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// Free segments in a group's path buffer (`MC_PATH_SEGMENTS` when idle). Does not wait for
+/// the card, as `mc_group_get_status`.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_path_free(
+    card: mc_card,
+    group: u32,
+    free: *mut u32,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(free, "free")?;
+        let n = group_of(card, group)?.1.path_free()?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(n.min(u32::MAX as usize) as u32) };
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Items
+// ---------------------------------------------------------------------------------------------
+
+/// A line to `target` (`n` values, one per group axis, user units; at most 8, else
+/// `MC_ERR_BAD_AXIS`) at `feed`, blended into the segment before within `tolerance` of the
+/// corner (`MC_PATH_BUFFER_BLEND_LOW`, `MC_PATH_TRANSITION_MAX_DEVIATION`; 0: an exact stop),
+/// absolute, not last. Nothing else is checked until it is queued. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_segment_line(
+    id: u32,
+    target: *const f64,
+    n: usize,
+    feed: f64,
+    tolerance: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        // SAFETY: the caller gives `n` readable doubles.
+        let t = unsafe { axis_values(target, n, "target") }?;
+        let mut s = mc_path_segment {
+            kind: MC_SEGMENT_LINE,
+            id,
+            feed,
+            buffer: MC_PATH_BUFFER_BLEND_LOW,
+            transition: MC_PATH_TRANSITION_MAX_DEVIATION,
+            tolerance,
+            naxes: n as u32,
+            ..Default::default()
+        };
+        s.target[..n].copy_from_slice(&t);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// An arc in `plane` (`MC_ARC_PLANE_`) described by `*arc` (as `mc_group_move_circular`), a
+/// helix when `nhelix` targets of the group's other axes are given (`helix` may be NULL when
+/// `nhelix` is 0), blended as `mc_path_segment_line`. Never blocks.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn mc_path_segment_arc(
+    id: u32,
+    arc: *const mc_arc,
+    plane: u32,
+    helix: *const f64,
+    nhelix: usize,
+    feed: f64,
+    tolerance: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        // SAFETY: the caller gives NULL or a readable mc_arc.
+        let a = unsafe { read_in(arc, "arc") }?;
+        // SAFETY: the caller gives `nhelix` readable doubles.
+        let h = unsafe { axis_values(helix, nhelix, "helix") }?;
+        let mut s = mc_path_segment {
+            kind: MC_SEGMENT_ARC,
+            id,
+            feed,
+            buffer: MC_PATH_BUFFER_BLEND_LOW,
+            transition: MC_PATH_TRANSITION_MAX_DEVIATION,
+            tolerance,
+            naxes: nhelix as u32,
+            plane,
+            arc: a,
+            ..Default::default()
+        };
+        s.target[..nhelix].copy_from_slice(&h);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// A dwell: an exact stop, then a wait of `seconds`. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_segment_dwell(
+    id: u32,
+    seconds: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        let s = mc_path_segment {
+            kind: MC_SEGMENT_DWELL,
+            id,
+            buffer: MC_PATH_BUFFER_BUFFERED,
+            seconds,
+            ..Default::default()
+        };
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// An output action: set (`on` non-zero) or clear `output` when the next motion segment queued
+/// after it starts, ends, or has run `distance` (`at`: `MC_OUTPUT_AT_`). Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_segment_output(
+    output: u32,
+    on: u32,
+    at: u32,
+    distance: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        let s = mc_path_segment {
+            kind: MC_SEGMENT_OUTPUT,
+            output,
+            on,
+            at,
+            distance,
+            ..Default::default()
+        };
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queueing
+// ---------------------------------------------------------------------------------------------
+
+/// Queue one item in a group's path and wait for the card's answer (not for the motion). The
+/// library checks the item first with the card's rules: a non-finite value is
+/// `MC_ERR_NOT_FINITE`, a feed or dwell <= 0 `MC_ERR_NON_POSITIVE_LIMIT`, a negative tolerance
+/// or distance `MC_ERR_OUT_OF_RANGE`, `naxes` not the group's count `MC_ERR_BAD_AXIS`, an
+/// unknown buffer, transition or output point `MC_ERR_PATH_MODE`, an output >=
+/// `MC_CARD_OUTPUTS` `MC_ERR_PATH_OUTPUT`. The card refuses a line of length zero
+/// (`MC_ERR_PATH_ZERO_LENGTH`), a bad arc (as `mc_group_move_circular`), a segment while group
+/// moves run (`MC_ERR_PATH_BUSY`), a full buffer (`MC_ERR_QUEUE_FULL`; `mc_group_path_stream`
+/// waits for room instead), a group with post-interpolation filters
+/// (`MC_ERR_INCOMPATIBLE_MODE`), a group halting or stopping (`MC_ERR_INVALID_STATE`).
+///
+/// `motion` may be NULL; otherwise it receives the segment's motion: done when the path has
+/// left it, or, when it is the last queued, once the path is at rest in position at its end
+/// (wait with `mc_group_motion_wait`); aborted by a halt, stop, fault or an Aborting segment.
+/// An output action has no motion: it receives seq 0. Blocks until the card answers.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_path_push(
+    card: mc_card,
+    group: u32,
+    segment: *const mc_path_segment,
+    motion: *mut mc_group_motion,
+) -> mc_result {
+    guard(|| {
+        // SAFETY: the caller gives NULL or a readable mc_path_segment.
+        let item = unsafe { read_in(segment, "segment") }?.to_sdk()?;
+        let (e, g) = group_of(card, group)?;
+        if matches!(item, PathItem::Output { .. }) {
+            // Through the stream, which does not take the action's command for a motion.
+            g.stream_path([item], |_| {}).map_err(stream_failure)?;
+            if let Some(out) = Out::optional(motion) {
+                // SAFETY: non-NULL; valid for writes by the caller's contract.
+                unsafe { out.write(mc_group_motion { group, seq: 0 }) };
+            }
+            return Ok(());
+        }
+        started(&e, g.path_push(&item)?, group, motion)
+    })
+}
+
+/// Queue an output action (`mc_path_segment_output`, then `mc_group_path_push`): set (`on`
+/// non-zero) or clear `output` (0..`MC_CARD_OUTPUTS` - 1, else `MC_ERR_PATH_OUTPUT`) when the
+/// next motion segment queued after it starts, ends, or has run `distance` (`at`:
+/// `MC_OUTPUT_AT_`). At most 8 actions may wait for their segment (`MC_ERR_PATH_OUTPUT`).
+/// Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_group_path_output(
+    card: mc_card,
+    group: u32,
+    output: u32,
+    on: u32,
+    at: u32,
+    distance: f64,
+) -> mc_result {
+    let s = mc_path_segment {
+        kind: MC_SEGMENT_OUTPUT,
+        output,
+        on,
+        at,
+        distance,
+        ..Default::default()
+    };
+    // SAFETY: a valid segment on our stack; no motion pointer.
+    unsafe { mc_group_path_push(card, group, &s, std::ptr::null_mut()) }
+}
+
+/// Stream `n` items (`segments`, may be NULL when `n` is 0) into a group's path: up to 48
+/// commands in flight, never more segments than the card's buffer has room for, so a path
+/// longer than `MC_PATH_SEGMENTS` streams while it runs. Every item is checked by the library
+/// first, before anything is sent (as `mc_group_path_push`); the first refused item stops the
+/// stream with its code, and the items before it are queued and run. An item the library
+/// refuses stops the stream before it is sent. An item the card refuses (a line of length
+/// zero, a bad arc, `MC_ERR_PATH_BUSY`, ...) is answered while the items behind it are on
+/// their way: up to 47 of them may be queued after all (the stream does not wait for their
+/// answers); put such an item last, or halt the group (`mc_group_halt`) to drop them.
+///
+/// `progress` (may be NULL) is called with `user` on this thread after each item sent.
+/// `accepted` (may be NULL) always receives how many items the card accepted (an exception
+/// to "outputs only on success"): on success `n`, on a refusal the refused item's index, 0
+/// when nothing was sent; after a failure that is not a refusal (the card gone or not
+/// answering) the index where the stream stopped. `last` (may be NULL) receives, on success, the motion of the last segment: done
+/// once the path is at rest at its end (`mc_group_motion_wait`); seq 0 when the items hold no
+/// segment.
+///
+/// Blocks while the items are sent, and whenever the buffer is full, until the running path
+/// makes room; returns when the last item is accepted, not when the path is done.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn mc_group_path_stream(
+    card: mc_card,
+    group: u32,
+    segments: *const mc_path_segment,
+    n: usize,
+    progress: mc_path_progress_callback,
+    user: *mut c_void,
+    accepted: *mut usize,
+    last: *mut mc_group_motion,
+) -> mc_result {
+    let accepted_out = Out::optional(accepted);
+    let mut stopped_at = 0;
+    let r = guard(|| {
+        if segments.is_null() && n > 0 {
+            return Err(Failure::null("segments"));
+        }
+        let (e, g) = group_of(card, group)?;
+        // SAFETY: non-NULL when n > 0 (checked above); `n` readable items by the contract.
+        let item = |i: usize| unsafe { read_at(segments, i) }.to_sdk();
+        // Check everything first: the SDK's stream would stop at a refusal of its own with
+        // commands still in flight, and an earlier refusal by the card among them unreported.
+        let mut refused = None;
+        for i in 0..n {
+            let checked = item(i).and_then(|it| g.path_command(&it).map_err(Failure::from));
+            if let Err(f) = checked {
+                refused = Some((i, f));
+                break;
+            }
+        }
+        let count = refused.as_ref().map_or(n, |(i, _)| *i);
+        // The items are read again as they are streamed; they were checked above (a segment
+        // the progress callback changed meanwhile and that no longer converts ends the stream).
+        let changed = RefCell::new(None);
+        let items = (0..count).map_while(|i| match item(i) {
+            Ok(it) => Some(it),
+            Err(f) => {
+                *changed.borrow_mut() = Some((i, f));
+                None
+            }
+        });
+        let cb = |p: PathProgress| {
+            if let Some(f) = progress {
+                let p = mc_path_progress::from(p);
+                // SAFETY: the application's callback, with a pointer valid for the call and
+                // the user pointer it gave.
+                unsafe { f(&p, user) };
+            }
+        };
+        let m = match g.stream_path(items, cb) {
+            Ok(m) => m,
+            Err(se) => {
+                stopped_at = se.index as usize;
+                return Err(stream_failure(se));
+            }
+        };
+        if let Some((i, f)) = changed.into_inner().or(refused) {
+            stopped_at = i;
+            return Err(Failure::new(
+                f.code,
+                format!("path item {i}: {}", f.message),
+            ));
+        }
+        stopped_at = n;
+        match m {
+            Some(m) => started(&e, m, group, last),
+            None => {
+                if let Some(out) = Out::optional(last) {
+                    // SAFETY: non-NULL; valid for writes by the caller's contract.
+                    unsafe { out.write(mc_group_motion { group, seq: 0 }) };
+                }
+                Ok(())
+            }
+        }
+    });
+    if let Some(out) = accepted_out {
+        // SAFETY: non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(stopped_at) };
+    }
+    r
+}
+
+// ---------------------------------------------------------------------------------------------
+// Outputs
+// ---------------------------------------------------------------------------------------------
+
+/// The card's digital outputs as it drives them (bit i = output i, `MC_CARD_OUTPUTS` of them):
+/// set by `mc_set_outputs` or by a path's output actions. Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_get_outputs(card: mc_card, outputs: *mut u32) -> mc_result {
+    guard(|| {
+        let out = Out::new(outputs, "outputs")?;
+        let v = registry::get(card)?.card.outputs()?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(v) };
+        Ok(())
+    })
+}
+
+/// Set the outputs in `mask` to the bits of `value` now (the others keep theirs). A bit at or
+/// above `MC_CARD_OUTPUTS` in either is `MC_ERR_PATH_OUTPUT`. Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_set_outputs(card: mc_card, mask: u32, value: u32) -> mc_result {
+    guard(|| Ok(registry::get(card)?.card.set_outputs(mask, value)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use motioncard_sdk::proto::{raw, OUTPUTS, PATH_LEN};
+
+    #[test]
+    fn constants_match_the_card() {
+        assert_eq!(MC_PATH_SEGMENTS as usize, PATH_LEN);
+        assert_eq!(MC_CARD_OUTPUTS as usize, OUTPUTS);
+        for (ours, card) in [
+            (MC_PATH_BUFFER_ABORTING, raw::MC_PATH_ABORTING),
+            (MC_PATH_BUFFER_BUFFERED, raw::MC_PATH_BUFFERED),
+            (MC_PATH_BUFFER_BLEND_LOW, raw::MC_PATH_BLEND_LOW),
+            (MC_PATH_BUFFER_BLEND_PREVIOUS, raw::MC_PATH_BLEND_PREVIOUS),
+            (MC_PATH_BUFFER_BLEND_NEXT, raw::MC_PATH_BLEND_NEXT),
+            (MC_PATH_BUFFER_BLEND_HIGH, raw::MC_PATH_BLEND_HIGH),
+            (MC_PATH_TRANSITION_NONE, raw::MC_TM_NONE),
+            (MC_PATH_TRANSITION_MAX_DEVIATION, raw::MC_TM_MAX_DEVIATION),
+            (
+                MC_PATH_TRANSITION_CORNER_DISTANCE,
+                raw::MC_TM_CORNER_DISTANCE,
+            ),
+            (MC_OUTPUT_AT_START, raw::MC_PATH_OUT_AT_START),
+            (MC_OUTPUT_AT_END, raw::MC_PATH_OUT_AT_END),
+            (MC_OUTPUT_AT_DISTANCE, raw::MC_PATH_OUT_AT_DISTANCE),
+            (MC_PATH_STATUS_RUNNING, raw::MC_PATHST_RUNNING),
+            (MC_PATH_STATUS_STARVING, raw::MC_PATHST_STARVING),
+            (MC_PATH_STATUS_HALTING, raw::MC_PATHST_HALTING),
+        ] {
+            assert_eq!(ours, card);
+        }
+    }
+
+    #[test]
+    fn segments_convert_and_unknown_modes_are_path_mode() {
+        let mut s = mc_path_segment::default();
+        // SAFETY: valid pointers.
+        let r = unsafe { mc_path_segment_line(7, [1.0, 2.0].as_ptr(), 2, 10.0, 0.5, &mut s) };
+        assert_eq!(r, 0);
+        assert_eq!(
+            s.to_sdk().unwrap(),
+            PathItem::Segment(Segment::line(7, &[1.0, 2.0], 10.0, 0.5))
+        );
+        s.buffer = 6;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        s.buffer = MC_PATH_BUFFER_BUFFERED;
+        s.transition = 3;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        s.naxes = 9;
+        s.transition = MC_PATH_TRANSITION_NONE;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::BadAxis.code());
+        // SAFETY: valid pointers.
+        assert_eq!(unsafe { mc_path_segment_dwell(3, 0.25, &mut s) }, 0);
+        s.last = 1;
+        assert_eq!(s.to_sdk().unwrap(), Segment::dwell(3, 0.25).last().into());
+        // SAFETY: valid pointers.
+        assert_eq!(
+            unsafe { mc_path_segment_output(5, 1, MC_OUTPUT_AT_DISTANCE, 2.5, &mut s) },
+            0
+        );
+        assert_eq!(
+            s.to_sdk().unwrap(),
+            PathItem::Output {
+                output: 5,
+                on: true,
+                at: OutputAt::Distance(2.5)
+            }
+        );
+        s.at = 3;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        s.at = MC_OUTPUT_AT_END;
+        s.output = 300;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathOutput.code());
+        s.kind = 4;
+        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
+    }
+}
