@@ -21,16 +21,9 @@ pub(super) struct Frame {
 /// One programmed motion: a line or an arc/helix (or a dwell, which does not move).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Prog {
-    Line {
-        p0: V,
-        p1: V,
-        dir: V,
-        len: f64,
-    },
+    Line { p0: V, p1: V, dir: V, len: f64 },
     Helix(Helix),
-    Dwell {
-        p: V,
-    },
+    Dwell { p: V },
 }
 
 /// An arc in the plane of axes (u, v) (`ExactCircle`), the other axes moving linearly with
@@ -68,12 +61,8 @@ impl Helix {
         } else {
             ArcDirection::Cw
         };
-        let circle = ExactCircle::from_points(
-            (centre[0], centre[1]),
-            (p0[u], p0[v]),
-            (p1[u], p1[v]),
-            dir,
-        )?;
+        let circle =
+            ExactCircle::from_points((centre[0], centre[1]), (p0[u], p0[v]), (p1[u], p1[v]), dir)?;
         let r0 = circle.radius();
         let r1 = (p1[u] - centre[0]).hypot(p1[v] - centre[1]);
         let lp = circle.length();
@@ -116,7 +105,10 @@ impl Helix {
         let s = s.clamp(0.0, self.len);
         let sigma = s * self.c;
         let r0 = self.circle.radius();
-        let th = self.circle.angle_at(sigma).unwrap_or(self.circle.start_angle());
+        let th = self
+            .circle
+            .angle_at(sigma)
+            .unwrap_or(self.circle.start_angle());
         let (sn, cs) = th.sin_cos();
         if s <= 0.0 {
             f.p = self.p0;
@@ -250,6 +242,7 @@ pub(super) struct Blend {
 impl Blend {
     /// The blend from frame `a` (on the incoming segment, trimmed by `da`) to frame `b` (on
     /// the outgoing one, trimmed by `db`). None when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn new(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> Option<Self> {
         let la = LAMBDA * da;
         let lb = LAMBDA * db;
@@ -303,7 +296,8 @@ impl Blend {
         for k in 0..self.n {
             let c = &self.c;
             let d = c[1][k]
-                + u * (2.0 * c[2][k] + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
+                + u * (2.0 * c[2][k]
+                    + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
             s2 += d * d;
         }
         s2.sqrt()
@@ -337,7 +331,7 @@ impl Blend {
         for _ in 0..12 {
             let f = s0 + self.gl(u0, u) - s;
             let sp = self.speed(u);
-            if !(sp > 0.0) {
+            if sp.is_nan() || sp <= 0.0 {
                 break;
             }
             let du = f / sp;
@@ -358,8 +352,7 @@ impl Blend {
         }
         let c = &self.c;
         for k in 0..self.n {
-            let o = u
-                * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
+            let o = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
             p[k] += o;
         }
         p
@@ -370,12 +363,14 @@ impl Blend {
     }
 
     /// Frame at parameter u (T, K = κN and dK/ds from B', B'', B''').
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn frame_u(&self, u: f64) -> Frame {
         let c = &self.c;
         let (mut r1, mut r2, mut r3) = (Z, Z, Z);
         for k in 0..self.n {
             r1[k] = c[1][k]
-                + u * (2.0 * c[2][k] + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
+                + u * (2.0 * c[2][k]
+                    + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
             r2[k] = 2.0 * c[2][k] + u * (6.0 * c[3][k] + u * (12.0 * c[4][k] + u * 20.0 * c[5][k]));
             r3[k] = 6.0 * c[3][k] + u * (24.0 * c[4][k] + u * 60.0 * c[5][k]);
         }
@@ -386,7 +381,7 @@ impl Blend {
             p: self.pos_u(u),
             ..Frame::default()
         };
-        if !(sig > 0.0) {
+        if sig.is_nan() || sig <= 0.0 {
             return f;
         }
         for k in 0..n {
@@ -478,7 +473,12 @@ mod tests {
             let (k, dk) = frame_fd(&bl, s, 0.05);
             for j in 0..2 {
                 assert!((f.k[j] - k[j]).abs() < 1e-5, "{i} {j} {:?} {:?}", f.k, k);
-                assert!((f.dk[j] - dk[j]).abs() < 1e-5, "{i} {j} {:?} {:?}", f.dk, dk);
+                assert!(
+                    (f.dk[j] - dk[j]).abs() < 1e-5,
+                    "{i} {j} {:?} {:?}",
+                    f.dk,
+                    dk
+                );
             }
             // arc length consistent with the chord sum
             let (mut sum, m) = (0.0, 2000);

@@ -172,9 +172,17 @@ pub struct OutputAction {
 /// What happened in a tick, in order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PathEvent {
-    SegmentStart { id: u32 },
-    SegmentEnd { id: u32 },
-    Output { bit: u8, on: bool, id: u32 },
+    SegmentStart {
+        id: u32,
+    },
+    SegmentEnd {
+        id: u32,
+    },
+    Output {
+        bit: u8,
+        on: bool,
+        id: u32,
+    },
     /// Started braking for the end of the queue (not marked `last`).
     Starving,
     /// Came to rest with nothing left.
@@ -363,7 +371,7 @@ fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
         let f = p * v * v * v + q * v - r;
         let d = 3.0 * p * v * v + q;
         let nv = v - f / d;
-        if !(nv < v) || nv <= 0.0 {
+        if nv.is_nan() || nv >= v || nv <= 0.0 {
             break;
         }
         let done = v - nv <= 1e-14 * v;
@@ -652,7 +660,11 @@ impl Path {
         let mut sag = 0.0f64;
         for p in [pa, pb] {
             if p.is_curved() {
-                let k = p.frame(0.0).k[..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+                let k = p.frame(0.0).k[..n]
+                    .iter()
+                    .map(|x| x * x)
+                    .sum::<f64>()
+                    .sqrt();
                 let h = d / M as f64;
                 sag = sag.max(k * h * h / 8.0 * 1.01);
             }
@@ -733,7 +745,7 @@ impl Path {
                     .iter()
                     .chain(end[..n].iter())
                     .fold(1.0f64, |m, x| m.max(x.abs()));
-                if !(len > 64.0 * f64::EPSILON * scale) {
+                if len.is_nan() || len <= 64.0 * f64::EPSILON * scale {
                     return Err(PathError::ZeroLength);
                 }
                 rec.prog = p;
@@ -817,19 +829,19 @@ impl Path {
                     .min(Self::room(&rec.prog));
                 {
                     let pl = &self.planner;
-                    let need = 1.05
-                        * PathSpeedPlanner::stopping_distance(
+                    let need =
+                        1.05 * PathSpeedPlanner::stopping_distance(
                             pl.v,
                             pl.a.max(0.0),
                             self.at,
                             self.jt,
-                        )
-                        + 4.0 * pl.v * self.lim.ts
-                        + 1e-9;
+                        ) + 4.0 * pl.v * self.lim.ts
+                            + 1e-9;
                     let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
                     room = room.min(to_corner - need);
                 }
-                let build = |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
+                let build =
+                    |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
                 let line_line = !prev.prog.is_curved() && !rec.prog.is_curved();
                 let (d, dev) = match seg.transition {
                     Transition::MaxDeviation(tol) => {
@@ -922,7 +934,7 @@ impl Path {
         }
         let sl = self.slot(self.tail);
         let b = &mut self.blocks[sl / BLOCK];
-        if sl % BLOCK == 0 {
+        if sl.is_multiple_of(BLOCK) {
             *b = Block {
                 geo: f64::INFINITY,
                 feed: f64::INFINITY,
@@ -981,14 +993,22 @@ impl Path {
         }
         self.halted = true;
         let pl = self.planner;
-        let d = if pos_finite(decel) { decel.min(self.at) } else { self.at };
-        let j = if pos_finite(jerk) { jerk.min(self.jt) } else { self.jt };
+        let d = if pos_finite(decel) {
+            decel.min(self.at)
+        } else {
+            self.at
+        };
+        let j = if pos_finite(jerk) {
+            jerk.min(self.jt)
+        } else {
+            self.jt
+        };
         let d = d.max(-pl.a).min(self.at);
         if self.exec >= self.tail {
             return;
         }
-        let need = 1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j)
-            + 4.0 * pl.v * self.lim.ts;
+        let need =
+            1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.lim.ts;
         let wend = self.tail.min(self.exec + self.lookahead);
         let (stop, rem) = self.walk(need, 0.0, 0.0, wend, &mut |_, _| {});
         if stop.is_none() || rem >= need {
@@ -1195,7 +1215,9 @@ impl Path {
         let sl = self.slot(i);
         self.started = true;
         self.seg_travel = 0.0;
-        ev(PathEvent::SegmentStart { id: self.segs[sl].id });
+        ev(PathEvent::SegmentStart {
+            id: self.segs[sl].id,
+        });
         let f = self.fire_outputs(i, 0, 0.0, ev);
         self.segs[sl].fired = f;
         let f = self.fire_outputs(i, 2, 0.0, ev);
@@ -1207,7 +1229,9 @@ impl Path {
         let sl = self.slot(i);
         let f = self.fire_outputs(i, 2, f64::INFINITY, ev);
         self.segs[sl].fired = f;
-        ev(PathEvent::SegmentEnd { id: self.segs[sl].id });
+        ev(PathEvent::SegmentEnd {
+            id: self.segs[sl].id,
+        });
         let f = self.fire_outputs(i, 1, 0.0, ev);
         self.segs[sl].fired = f;
     }
@@ -1228,7 +1252,14 @@ impl Path {
 
     /// Moves the executor `ds` along the path (or, when `land`, exactly to the stop point the
     /// look-ahead found), with the events on the way.
-    fn advance(&mut self, ds: f64, land: bool, wend: usize, resting: bool, ev: &mut impl FnMut(PathEvent)) {
+    fn advance(
+        &mut self,
+        ds: f64,
+        land: bool,
+        wend: usize,
+        resting: bool,
+        ev: &mut impl FnMut(PathEvent),
+    ) {
         let mut left = if land { f64::INFINITY } else { ds };
         if !self.started && !self.in_blend && self.exec < self.tail && (ds > 0.0 || land) {
             self.start_seg(ev);

@@ -42,7 +42,8 @@ fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
 
 fn path(naxes: usize, ts: f64, start: V) -> Path {
     let mut p = Path::with_capacity(4096);
-    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD).unwrap();
+    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD)
+        .unwrap();
     p
 }
 
@@ -213,7 +214,11 @@ fn polyline(naxes: usize, ts: f64, verts: &[V], feed: f64, tol: f64, what: &str)
     assert!(dev <= tol * (1.0 + 1e-9), "{what}: deviation {dev} > {tol}");
     let ids: Vec<u32> = (1..verts.len() as u32).collect();
     r.assert_ids(&ids);
-    assert_eq!(*r.pos.last().unwrap(), *verts.last().unwrap(), "{what}: end");
+    assert_eq!(
+        *r.pos.last().unwrap(),
+        *verts.last().unwrap(),
+        "{what}: end"
+    );
     assert!(!r.events.iter().any(|e| e.1 == PathEvent::Starving));
     r
 }
@@ -316,7 +321,8 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
 
     // a helix of two turns in (x, y) rising on z (slow y), between two lines
     let mut p = path(3, TS, pt(&[10_000.0, 0.0, 0.0]));
-    p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr)).unwrap();
+    p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr))
+        .unwrap();
     p.push(Segment {
         id: 2,
         geom: Geom::Arc {
@@ -456,7 +462,10 @@ fn starving_and_resuming_without_a_jump() {
         let i = *id as f64;
         p.push(line(
             *id,
-            pt(&[i * 6_000.0, if *id % 2 == 0 { 0.0 } else { 2_000.0 }]),
+            pt(&[
+                i * 6_000.0,
+                if id.is_multiple_of(2) { 0.0 } else { 2_000.0 },
+            ]),
             8e4,
             tr,
         ))
@@ -510,8 +519,13 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         let tr = Transition::CornerDistance(3_000.0);
         for i in 1..=6u32 {
             let x = i as f64 * 10_000.0;
-            p.push(line(i, pt(&[x, if i % 2 == 0 { 0.0 } else { 5_000.0 }]), 8e4, tr))
-                .unwrap();
+            p.push(line(
+                i,
+                pt(&[x, if i % 2 == 0 { 0.0 } else { 5_000.0 }]),
+                8e4,
+                tr,
+            ))
+            .unwrap();
         }
         let mut r = Run::default();
         let mut found = false;
@@ -532,7 +546,10 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         while p.is_moving() {
             r.go(&mut p, 1.0, 1);
             ticks += 1;
-            assert!(ticks as f64 * TS <= bound, "halt takes {ticks} ticks > {bound} s");
+            assert!(
+                ticks as f64 * TS <= bound,
+                "halt takes {ticks} ticks > {bound} s"
+            );
         }
         // stays halted
         let here = p.position();
@@ -752,7 +769,10 @@ fn bad_inputs_are_refused_and_leave_the_path_unchanged() {
         assert_eq!(p.push(d), Err(e));
     }
     let out = |bit, at| OutputAction { bit, on: true, at };
-    assert_eq!(p.push_output(out(40, OutputAt::Start)), Err(PathError::OutOfRange));
+    assert_eq!(
+        p.push_output(out(40, OutputAt::Start)),
+        Err(PathError::OutOfRange)
+    );
     assert_eq!(
         p.push_output(out(1, OutputAt::Distance(f64::NAN))),
         Err(PathError::NotFinite)
@@ -790,7 +810,11 @@ fn bad_inputs_are_refused_and_leave_the_path_unchanged() {
         }
     }
     for l in bad {
-        assert_eq!(p.reset(pt(&[0.0, 0.0]), l, 16), Err(PathError::BadLimits), "{l:?}");
+        assert_eq!(
+            p.reset(pt(&[0.0, 0.0]), l, 16),
+            Err(PathError::BadLimits),
+            "{l:?}"
+        );
     }
     let mut l = good;
     l.naxes = 9;
@@ -858,9 +882,23 @@ fn seeded_sweep_of_random_inputs_never_panics_and_refusals_change_nothing() {
             blend: BlendSpeed::High,
             last: false,
         };
-        let before = format!("{p:?}");
+        // what a push changes: the ring's end, the previous segment, its block, the outputs
+        let snap = |p: &Path| {
+            let prev = p.tail.checked_sub(1).map(|i| *p.seg(i));
+            let blk = p.tail.checked_sub(1).map(|i| p.blocks[p.slot(i) / BLOCK]);
+            format!(
+                "{} {} {:?} {:?} {:?} {:?}",
+                p.tail,
+                p.npending,
+                p.last_end,
+                prev.map(|s| (s.body1, s.id)),
+                blk,
+                p.seg(p.tail).id
+            )
+        };
+        let before = snap(&p);
         if p.push(s).is_err() {
-            assert_eq!(format!("{p:?}"), before);
+            assert_eq!(snap(&p), before);
         }
         for _ in 0..rng.int(0, 20) {
             let q = p.tick(1.0, &mut |_| {});
@@ -877,8 +915,13 @@ fn full_ring_refuses_and_loses_nothing() {
     for i in 0..4096u32 {
         // 10-count chords of a gentle arc (radius ~ 1e5)
         let x = (i + 1) as f64 * 10.0;
-        p.push(line(i, pt(&[x, 3.0 - (x - 20_480.0).powi(2) / 2e5]), 1e5, tr))
-            .unwrap();
+        p.push(line(
+            i,
+            pt(&[x, 3.0 - (x - 20_480.0).powi(2) / 2e5]),
+            1e5,
+            tr,
+        ))
+        .unwrap();
     }
     assert_eq!(p.free(), 0);
     assert_eq!(
@@ -993,12 +1036,20 @@ fn dense_curve_time_against_offline_bound() {
         vv[i] = vv[i].min((vv[i - 1].powi(2) + 2.0 * samples[i - 1].2 * samples[i].0).sqrt());
     }
     for i in (0..n).rev() {
-        let ds = if i + 1 < n { samples[i + 1].0 } else { samples[i].0 };
+        let ds = if i + 1 < n {
+            samples[i + 1].0
+        } else {
+            samples[i].0
+        };
         vv[i] = vv[i].min((vv[i + 1].powi(2) + 2.0 * samples[i].2 * ds).sqrt());
     }
     let mut t_bound = 0.0;
     for i in 1..=n {
-        let ds = if i < n { samples[i].0 } else { samples[n - 1].0 };
+        let ds = if i < n {
+            samples[i].0
+        } else {
+            samples[n - 1].0
+        };
         t_bound += 2.0 * ds / (vv[i - 1] + vv[i]).max(1e-9);
     }
     let len: f64 = samples.iter().map(|s| s.0).sum();
