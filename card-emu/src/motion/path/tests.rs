@@ -238,6 +238,8 @@ fn square_zigzag_and_random_polylines_keep_every_axis_limit_and_the_tolerance() 
         .iter()
         .fold(f64::INFINITY, |m: f64, &v| m.min(v));
     assert!(slowest_corner > 1e3, "square stopped at a corner");
+    // the same at 20 kHz: the third differences over Ts³ resolve the blends' jerk
+    polyline(2, 5e-5, &sq, 8e4, 50.0, "square at 20 kHz");
     let zz: Vec<V> = (0..12)
         .map(|i| pt(&[i as f64 * 3000.0, if i % 2 == 0 { 0.0 } else { 4000.0 }]))
         .collect();
