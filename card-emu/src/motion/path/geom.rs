@@ -242,6 +242,7 @@ pub(super) struct Blend {
 impl Blend {
     /// The blend from frame `a` (on the incoming segment, trimmed by `da`) to frame `b` (on
     /// the outgoing one, trimmed by `db`). None when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn new(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> Option<Self> {
         let la = LAMBDA * da;
         let lb = LAMBDA * db;
@@ -330,7 +331,7 @@ impl Blend {
         for _ in 0..12 {
             let f = s0 + self.gl(u0, u) - s;
             let sp = self.speed(u);
-            if !(sp > 0.0) {
+            if sp.is_nan() || sp <= 0.0 {
                 break;
             }
             let du = f / sp;
@@ -362,6 +363,7 @@ impl Blend {
     }
 
     /// Frame at parameter u (T, K = κN and dK/ds from B', B'', B''').
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn frame_u(&self, u: f64) -> Frame {
         let c = &self.c;
         let (mut r1, mut r2, mut r3) = (Z, Z, Z);
@@ -379,7 +381,7 @@ impl Blend {
             p: self.pos_u(u),
             ..Frame::default()
         };
-        if !(sig > 0.0) {
+        if sig.is_nan() || sig <= 0.0 {
             return f;
         }
         for k in 0..n {

@@ -371,7 +371,7 @@ fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
         let f = p * v * v * v + q * v - r;
         let d = 3.0 * p * v * v + q;
         let nv = v - f / d;
-        if !(nv < v) || nv <= 0.0 {
+        if nv.is_nan() || nv >= v || nv <= 0.0 {
             break;
         }
         let done = v - nv <= 1e-14 * v;
@@ -745,7 +745,7 @@ impl Path {
                     .iter()
                     .chain(end[..n].iter())
                     .fold(1.0f64, |m, x| m.max(x.abs()));
-                if !(len > 64.0 * f64::EPSILON * scale) {
+                if len.is_nan() || len <= 64.0 * f64::EPSILON * scale {
                     return Err(PathError::ZeroLength);
                 }
                 rec.prog = p;
@@ -934,7 +934,7 @@ impl Path {
         }
         let sl = self.slot(self.tail);
         let b = &mut self.blocks[sl / BLOCK];
-        if sl % BLOCK == 0 {
+        if sl.is_multiple_of(BLOCK) {
             *b = Block {
                 geo: f64::INFINITY,
                 feed: f64::INFINITY,
