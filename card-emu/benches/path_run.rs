@@ -100,7 +100,7 @@ fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Me
         sim.step(1);
         step_secs += t.elapsed().as_secs_f64();
         pos.push(cmd(&card));
-        if pos.len() % 64 == 0 {
+        if pos.len().is_multiple_of(64) {
             feed_card(&g, &mut next);
         }
         while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
@@ -303,14 +303,14 @@ fn bound_time(feed: f64) -> f64 {
             sp,
         )
     };
-    for i in 0..m {
+    for (i, c) in cap[..m].iter_mut().enumerate() {
         let t = i as f64 * dt;
         let (k0, sp) = kn_at(t);
         let (k1, _) = kn_at(t + dt);
         for a in 0..2 {
             let dk = ((k1[a] - k0[a]) / (sp * dt)).abs();
             if dk > 0.0 {
-                cap[i] = cap[i].min((J / dk).cbrt());
+                *c = c.min((J / dk).cbrt());
             }
         }
     }
@@ -432,7 +432,7 @@ fn streaming() {
     let last = g
         .stream_path(segs, |_| {
             k += 1;
-            if k % 256 == 0 {
+            if k.is_multiple_of(256) {
                 count(&card);
             }
         })

@@ -327,8 +327,8 @@ impl Group {
             jerk: s.jerk * ps,
             ..GroupPath::default()
         };
-        for i in 0..n {
-            let sc = self.card_pub().scale(axes[i]).abs();
+        for (i, &axis) in axes[..n].iter().enumerate() {
+            let sc = self.card_pub().scale(axis).abs();
             positive("velocity limit", s.vmax[i])?;
             positive("acceleration limit", s.amax[i])?;
             positive("jerk limit", s.jmax[i])?;
@@ -555,7 +555,7 @@ impl Group {
             if is_segment {
                 // Wait for room in the card's buffer (the path runs and frees it).
                 while room == 0 {
-                    while in_flight.len() > 0 {
+                    while !in_flight.is_empty() {
                         settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
                     }
                     room = self.path_free().map_err(|e| fail(sent, e))?;
