@@ -564,3 +564,35 @@ fn the_buffer_holds_4096_segments_and_reports_its_room() {
     assert_eq!(lw[0].value, 100.0);
     assert_eq!(ids(&r, EventKind::SegmentEnd).len(), 4096);
 }
+
+/// A stream the card refuses partway answers everything it sent before it returns: the
+/// earliest refusal is reported with its index, and `accepted` says how many items the card
+/// took (here the two sent behind the refused one too). An output action pushed after the last
+/// segment is not the motion `wait_done` waits for.
+#[test]
+fn a_refused_stream_reports_the_first_refusal_and_what_the_card_accepted() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let items = vec![
+        Segment::line(1, &[10_000.0, 0.0], 50_000.0, 10.0),
+        Segment::line(2, &[10_000.0, 0.0], 50_000.0, 10.0), // zero length: the card refuses
+        Segment::line(3, &[10_000.0, 10_000.0], 50_000.0, 10.0),
+        Segment::line(4, &[0.0, 10_000.0], 50_000.0, 10.0).last(),
+    ];
+    let e = g.stream_path(items, |_| {}).unwrap_err();
+    assert_eq!(e.index, 1);
+    assert_eq!(e.error.kind(), ErrorKind::PathZeroLength);
+    assert_eq!(e.accepted, 3);
+    assert_eq!(g.status().unwrap().1.path_queued, 3);
+    g.path_push(&Segment::line(5, &[0.0, 0.0], 50_000.0, 10.0).last().into())
+        .unwrap();
+    // (for a segment queued later; it does not replace segment 5 as what wait_done waits for)
+    g.path_push(&PathItem::Output {
+        output: 1,
+        on: true,
+        at: OutputAt::Start,
+    })
+    .unwrap();
+    g.wait_done(T).unwrap();
+    assert_eq!(cmd(&card, 2), vec![0.0, 0.0]);
+}

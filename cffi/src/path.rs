@@ -387,9 +387,9 @@ pub unsafe extern "C" fn mc_group_get_path_settings(
     guard(|| {
         let out = Out::new(settings, "settings")?;
         let (_, g) = group_of(card, group)?;
-        g.status()?; // a card that is gone or stalled, before reading its window
+        g.status()?; // a card that is stalled, before reading its window
         let (n, path_scale, scales) = group_scales(&g)?;
-        let b = g.path_config();
+        let b = g.path_config()?;
         let mut s = mc_path_settings {
             naxes: n as u32,
             lookahead: b.lookahead,
@@ -628,14 +628,14 @@ pub extern "C" fn mc_group_path_output(
 /// stream with its code, and the items before it are queued and run. An item the library
 /// refuses stops the stream before it is sent. An item the card refuses (a line of length
 /// zero, a bad arc, `MC_ERR_PATH_BUSY`, ...) is answered while the items behind it are on
-/// their way: up to 47 of them may be queued after all (the stream does not wait for their
-/// answers); put such an item last, or halt the group (`mc_group_halt`) to drop them.
+/// their way: the stream waits for all their answers, and up to 47 of them may have been
+/// queued after all (then `*accepted` exceeds the refused item's index); put such an item
+/// last, or halt the group (`mc_group_halt`) to drop them.
 ///
 /// `progress` (may be NULL) is called with `user` on this thread after each item sent.
 /// `accepted` (may be NULL) always receives how many items the card accepted (an exception
-/// to "outputs only on success"): on success `n`, on a refusal the refused item's index, 0
-/// when nothing was sent; after a failure that is not a refusal (the card gone or not
-/// answering) the index where the stream stopped. `last` (may be NULL) receives, on success, the motion of the last segment: done
+/// to "outputs only on success"): on success `n`; after a refusal or a failure, the items
+/// the card took (0 when nothing was sent). `last` (may be NULL) receives, on success, the motion of the last segment: done
 /// once the path is at rest at its end (`mc_group_motion_wait`); seq 0 when the items hold no
 /// segment.
 ///
@@ -662,8 +662,8 @@ pub unsafe extern "C" fn mc_group_path_stream(
         let (e, g) = group_of(card, group)?;
         // SAFETY: non-NULL when n > 0 (checked above); `n` readable items by the contract.
         let item = |i: usize| unsafe { read_at(segments, i) }.to_sdk();
-        // Check everything first: the SDK's stream would stop at a refusal of its own with
-        // commands still in flight, and an earlier refusal by the card among them unreported.
+        // Check everything first, so that an item the library refuses stops the stream before
+        // anything is sent.
         let mut refused = None;
         for i in 0..n {
             let checked = item(i).and_then(|it| g.path_command(&it).map_err(Failure::from));
@@ -694,7 +694,7 @@ pub unsafe extern "C" fn mc_group_path_stream(
         let m = match g.stream_path(items, cb) {
             Ok(m) => m,
             Err(se) => {
-                stopped_at = se.index as usize;
+                stopped_at = se.accepted as usize;
                 return Err(stream_failure(se));
             }
         };

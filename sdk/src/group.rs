@@ -378,6 +378,11 @@ impl Group {
 
     pub(crate) fn motion(&self, seq: u32) -> GroupMotion {
         lock(&self.card.inner().last_group_motion)[self.index] = Some(seq);
+        self.motion_untracked(seq)
+    }
+
+    /// A handle on command `seq` that [`Group::wait_done`] does not wait for.
+    pub(crate) fn motion_untracked(&self, seq: u32) -> GroupMotion {
         GroupMotion {
             card: self.card.clone(),
             group: self.index,

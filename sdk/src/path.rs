@@ -253,10 +253,15 @@ pub struct PathProgress {
 /// A stream that stopped at a refused item.
 #[derive(Debug)]
 pub struct StreamError {
-    /// Index of the item (from 0) that stopped the stream.
+    /// Index of the item (from 0) that stopped the stream: the earliest failure among
+    /// everything sent (every command sent is answered before the stream returns).
     pub index: u64,
     /// Why.
     pub error: Error,
+    /// Items the card accepted. Commands already in flight behind the failing one may have
+    /// been accepted and are queued: when this exceeds `index`, the path holds segments past
+    /// the one that failed (halt the group if they must not run).
+    pub accepted: u64,
 }
 
 impl std::fmt::Display for StreamError {
@@ -299,6 +304,7 @@ impl PathStreamer {
             _ => Err(StreamError {
                 index: self.progress[0].load(Ordering::Relaxed),
                 error: Error::Protocol("the path stream's thread panicked".into()),
+                accepted: self.progress[1].load(Ordering::Relaxed),
             }),
         }
     }
@@ -346,10 +352,11 @@ impl Group {
     }
 
     /// The path configuration the card holds (read back from the card), in counts.
-    pub fn path_config(&self) -> GroupPath {
-        layout::GROUP_PATH
+    pub fn path_config(&self) -> Result<GroupPath> {
+        self.card_pub().inner().link.check()?;
+        Ok(layout::GROUP_PATH
             .at(self.index())
-            .read(self.card_pub().window())
+            .read(self.card_pub().window()))
     }
 
     /// Free segments in the card's path buffer.
@@ -460,7 +467,11 @@ impl Group {
     pub fn path_push(&self, item: &PathItem) -> Result<GroupMotion> {
         let c = self.path_command(item)?;
         let seq = self.run(c, "path segment")?;
-        Ok(self.motion(seq))
+        Ok(match item {
+            PathItem::Segment(_) => self.motion(seq),
+            // An output action has no motion: it is not what `wait_done` waits for.
+            PathItem::Output { .. } => self.motion_untracked(seq),
+        })
     }
 
     /// Stream `items` into the card's path buffer from this thread: up to 48 commands in
@@ -517,7 +528,11 @@ impl Group {
         let mut last_motion = None;
         // Room on the card as last read, minus the segments sent since.
         let mut room = 0usize;
-        let fail = |index: u64, error: Error| StreamError { index, error };
+        let fail = |index: u64, error: Error| StreamError {
+            index,
+            error,
+            accepted: 0,
+        };
         let settle_one = |in_flight: &mut VecDeque<(u64, u32, bool)>,
                           accepted: &mut u64,
                           last_motion: &mut Option<GroupMotion>|
@@ -545,58 +560,72 @@ impl Group {
                 )),
             }
         };
-        for item in items {
-            if cancel.load(Ordering::Relaxed) {
-                break;
-            }
-            let item: PathItem = item.into();
-            let cmd = self.path_command(&item).map_err(|e| fail(sent, e))?;
-            let is_segment = matches!(item, PathItem::Segment(_));
-            if is_segment {
-                // Wait for room in the card's buffer (the path runs and frees it).
-                while room == 0 {
-                    while !in_flight.is_empty() {
-                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
-                    }
-                    room = self.path_free().map_err(|e| fail(sent, e))?;
-                    if room == 0 {
-                        if cancel.load(Ordering::Relaxed) {
-                            return Ok(last_motion);
+        let send_all = || -> std::result::Result<(), StreamError> {
+            for item in items {
+                if cancel.load(Ordering::Relaxed) {
+                    break;
+                }
+                let item: PathItem = item.into();
+                let cmd = self.path_command(&item).map_err(|e| fail(sent, e))?;
+                let is_segment = matches!(item, PathItem::Segment(_));
+                if is_segment {
+                    // Wait for room in the card's buffer (the path runs and frees it).
+                    while room == 0 {
+                        while !in_flight.is_empty() {
+                            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
                         }
-                        card.wait_next_tick(Duration::from_secs(1))
-                            .map_err(|e| fail(sent, e))?;
+                        room = self.path_free().map_err(|e| fail(sent, e))?;
+                        if room == 0 {
+                            if cancel.load(Ordering::Relaxed) {
+                                return Ok(());
+                            }
+                            card.wait_next_tick(Duration::from_secs(1))
+                                .map_err(|e| fail(sent, e))?;
+                        }
                     }
+                    room -= 1;
                 }
-                room -= 1;
-            }
-            if in_flight.len() >= IN_FLIGHT {
-                settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
-            }
-            let seq = loop {
-                match card.send_raw(cmd) {
-                    Ok(seq) => break seq,
-                    Err(Error::RingFull(_)) if !in_flight.is_empty() => {
-                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                if in_flight.len() >= IN_FLIGHT {
+                    settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                }
+                let seq = loop {
+                    match card.send_raw(cmd) {
+                        Ok(seq) => break seq,
+                        Err(Error::RingFull(_)) if !in_flight.is_empty() => {
+                            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                        }
+                        Err(e) => return Err(fail(sent, e)),
                     }
-                    Err(e) => return Err(fail(sent, e)),
+                };
+                in_flight.push_back((sent, seq, is_segment));
+                sent += 1;
+                counters[0].store(sent, Ordering::Relaxed);
+                if let Ok((done, queued)) = self.path_counts() {
+                    progress(PathProgress {
+                        sent,
+                        accepted,
+                        done,
+                        queued,
+                    });
                 }
-            };
-            in_flight.push_back((sent, seq, is_segment));
-            sent += 1;
-            counters[0].store(sent, Ordering::Relaxed);
-            if let Ok((done, queued)) = self.path_counts() {
-                progress(PathProgress {
-                    sent,
-                    accepted,
-                    done,
-                    queued,
-                });
             }
-        }
+            Ok(())
+        };
+        let outcome = send_all();
+        // Every command sent gets its answer before the stream returns, whatever stopped it,
+        // and the earliest failure is the one reported.
+        let mut first = outcome.err();
         while !in_flight.is_empty() {
-            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+            if let Err(e) = settle_one(&mut in_flight, &mut accepted, &mut last_motion) {
+                if first.as_ref().is_none_or(|f| e.index < f.index) {
+                    first = Some(e);
+                }
+            }
         }
-        Ok(last_motion)
+        match first {
+            Some(e) => Err(StreamError { accepted, ..e }),
+            None => Ok(last_motion),
+        }
     }
 }
 

@@ -41,7 +41,8 @@ pub(super) struct PathRun {
     clear: u32,
     /// The group runs the path (from its first segment until the group is at rest after it).
     pub(super) engaged: bool,
-    /// The path's state is stale (a fault or disable dropped it): reset before the next segment.
+    /// The path's state is stale (new, a fault, a disable or a halt dropped it, or its
+    /// configuration changed): reset before the next segment.
     stale: bool,
     /// The seq of the last segment that ended.
     last_seq: u32,
@@ -73,7 +74,7 @@ impl PathRun {
             set: 0,
             clear: 0,
             engaged: false,
-            stale: false,
+            stale: true,
             last_seq: 0,
             pending: None,
         }
@@ -126,6 +127,9 @@ impl Group {
         }
         validate_path_config(&b, n, rate)?;
         self.path_cfg = b;
+        if let Some(run) = self.path.as_mut() {
+            run.stale = true;
+        }
         Ok(())
     }
 
@@ -160,10 +164,14 @@ impl Group {
         Ok(cfg)
     }
 
-    /// The path, made (and reset at the group's position) when it is idle.
+    /// The path, made when the group first needs it; an idle path is reset at the group's
+    /// position when its state is stale or something else moved the group since it ended (a
+    /// path that simply ran to its end goes on from there, keeping the output actions queued
+    /// for its next segment).
     fn path_ready(&mut self, cfg: &GroupConfig, ts: f64) -> Result<&mut PathRun, NackCode> {
+        let n = cfg.naxes;
         let run = self.path.get_or_insert_with(|| Box::new(PathRun::new()));
-        if run.is_idle() {
+        if run.is_idle() && (run.stale || run.path.position()[..n] != self.queue_end[..n]) {
             run.stale = false;
             let b = &self.path_cfg;
             let mut lim = PathLimits {
