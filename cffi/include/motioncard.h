@@ -3254,14 +3254,14 @@ mc_result mc_group_path_output(mc_card card,
  * stream with its code, and the items before it are queued and run. An item the library
  * refuses stops the stream before it is sent. An item the card refuses (a line of length
  * zero, a bad arc, `MC_ERR_PATH_BUSY`, ...) is answered while the items behind it are on
- * their way: up to 47 of them may be queued after all (the stream does not wait for their
- * answers); put such an item last, or halt the group (`mc_group_halt`) to drop them.
+ * their way: the stream waits for all their answers, and up to 47 of them may have been
+ * queued after all (then `*accepted` exceeds the refused item's index); put such an item
+ * last, or halt the group (`mc_group_halt`) to drop them.
  *
  * `progress` (may be NULL) is called with `user` on this thread after each item sent.
  * `accepted` (may be NULL) always receives how many items the card accepted (an exception
- * to "outputs only on success"): on success `n`, on a refusal the refused item's index, 0
- * when nothing was sent; after a failure that is not a refusal (the card gone or not
- * answering) the index where the stream stopped. `last` (may be NULL) receives, on success, the motion of the last segment: done
+ * to "outputs only on success"): on success `n`; after a refusal or a failure, the items
+ * the card took (0 when nothing was sent). `last` (may be NULL) receives, on success, the motion of the last segment: done
  * once the path is at rest at its end (`mc_group_motion_wait`); seq 0 when the items hold no
  * segment.
  *
