@@ -462,7 +462,19 @@ fn main() {
         println!("path_run: skipped (run with `cargo bench`)");
         return;
     }
-    corners();
-    dense();
-    streaming();
+    // `cargo bench -p card-emu --bench path_run -- dense` runs one part
+    let only: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    let part = |name: &str| only.is_empty() || only.iter().any(|a| a == name);
+    if part("corners") {
+        corners();
+    }
+    if part("dense") {
+        dense();
+    }
+    if part("streaming") {
+        streaming();
+    }
 }

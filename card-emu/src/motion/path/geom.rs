@@ -219,7 +219,7 @@ impl Prog {
 }
 
 /// Subintervals of the blend's arc-length table (5-point Gauss–Legendre on each).
-pub(super) const NSUB: usize = 16;
+pub(super) const NSUB: usize = 8;
 
 /// Trim-length factor of the inner control points: B'(0) = 2d·Ta, B'(1) = 2d·Tb for a trim
 /// d, so that the control points of a line–line blend are evenly spaced along the legs
@@ -363,44 +363,50 @@ impl Blend {
     }
 
     /// Frame at parameter u (T, K = κN and dK/ds from B', B'', B''').
-    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[cfg(test)]
     pub fn frame_u(&self, u: f64) -> Frame {
+        let mut f = self.terms(u);
+        f.p = self.pos_u(u);
+        f
+    }
+
+    /// The frame at u without its point: T, K and dK/ds.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn terms(&self, u: f64) -> Frame {
         let c = &self.c;
+        let n = self.n;
         let (mut r1, mut r2, mut r3) = (Z, Z, Z);
-        for k in 0..self.n {
+        let (mut s11, mut s12, mut s13, mut s22) = (0.0, 0.0, 0.0, 0.0);
+        for k in 0..n {
             r1[k] = c[1][k]
                 + u * (2.0 * c[2][k]
                     + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
             r2[k] = 2.0 * c[2][k] + u * (6.0 * c[3][k] + u * (12.0 * c[4][k] + u * 20.0 * c[5][k]));
             r3[k] = 6.0 * c[3][k] + u * (24.0 * c[4][k] + u * 60.0 * c[5][k]);
+            s11 += r1[k] * r1[k];
+            s12 += r1[k] * r2[k];
+            s13 += r1[k] * r3[k];
+            s22 += r2[k] * r2[k];
         }
-        let n = self.n;
-        let dot = |a: &V, b: &V| (0..n).map(|k| a[k] * b[k]).sum::<f64>();
-        let sig = dot(&r1, &r1).sqrt();
-        let mut f = Frame {
-            p: self.pos_u(u),
-            ..Frame::default()
-        };
+        let mut f = Frame::default();
+        let sig = s11.sqrt();
         if sig.is_nan() || sig <= 0.0 {
             return f;
         }
+        // T = r1/σ, σ' = r2·T, perp = r2 − σ'T, T' = perp/σ, K = perp/σ²,
+        // dperp/du = r3 − (r3·T + r2·T')T − σ'T', dK/ds = (dperp/du/σ² − 2·perp·σ'/σ³)/σ.
+        let sp = s12 / sig;
+        let r3t = s13 / sig;
+        let r2dt = (s22 - sp * sp) / sig;
+        let (i1, i2, i3) = (1.0 / sig, 1.0 / (sig * sig), 1.0 / (sig * sig * sig));
         for k in 0..n {
-            f.t[k] = r1[k] / sig;
-        }
-        let sp = dot(&r2, &f.t); // dσ/du
-        let mut perp = Z;
-        let mut dt = Z; // dT/du
-        for k in 0..n {
-            perp[k] = r2[k] - sp * f.t[k];
-            dt[k] = perp[k] / sig;
-            f.k[k] = perp[k] / (sig * sig);
-        }
-        let r3t = dot(&r3, &f.t);
-        let r2dt = dot(&r2, &dt);
-        for k in 0..n {
-            let dperp = r3[k] - (r3t + r2dt) * f.t[k] - sp * dt[k];
-            let dkdu = dperp / (sig * sig) - 2.0 * perp[k] * sp / (sig * sig * sig);
-            f.dk[k] = dkdu / sig;
+            let t = r1[k] * i1;
+            let perp = r2[k] - sp * t;
+            let dt = perp * i1;
+            f.t[k] = t;
+            f.k[k] = perp * i2;
+            let dperp = r3[k] - (r3t + r2dt) * t - sp * dt;
+            f.dk[k] = (dperp * i2 - 2.0 * perp * sp * i3) * i1;
         }
         f
     }

@@ -9,7 +9,7 @@
 //! when it joins the previous segment with a blend, a blend piece in front of it. All pieces
 //! are parametrised by arc length. A blend is a quintic Bézier matching position, unit tangent
 //! and curvature vector of both sides at the trim points (G2: the acceleration is continuous
-//! through the corner); its arc length is a 16-interval Gauss–Legendre table and Newton on u.
+//! through the corner); its arc length is an 8-interval Gauss–Legendre table and Newton on u.
 //!
 //! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`] with path-wide tangential
 //! limits A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the
@@ -20,6 +20,17 @@
 //! s⃛T_k + 3vs̈K_k + v³K'_k stay within the axis limits wherever v ≤ V. Half of each budget
 //! goes to the tangential motion: the other half is what curvature may use at full tangential
 //! acceleration, which keeps blends fast without starving the straight runs.
+//!
+//! **Smoothing of micro-segments.** A junction of two lines turning by at most
+//! [`SMOOTH_TURN`] under `MaxDeviation` is first tried as a smoothing blend: from the middle of
+//! the previous line to the middle of the new one (nothing of either line is left straight),
+//! with the curvature vector at its ends estimated from the neighbouring points (the circle
+//! through three vertices, averaged over the two vertices of a line). The newest blend ends
+//! with curvature 0, since the next point is not known yet; when it arrives, that blend is
+//! rebuilt with its end curvature if the executor can still slow down before it. The
+//! curvature then follows the curve the points came from instead of dropping to 0 on every
+//! chord, which is what made dense paths slow. A smoothing blend whose sampled deviation from
+//! the two lines is over the tolerance (×0.97) falls back to the corner blend below.
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
@@ -85,6 +96,11 @@ const TANGENT_EPS: f64 = 1e-9;
 const DEV_SAFETY: f64 = 0.97;
 /// Segments per block of the look-ahead's block minima.
 pub const BLOCK: usize = 32;
+/// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
+pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
+/// Samples per smoothing blend for its deviation, and for its cap.
+const SMOOTH_SAMPLES: usize = 32;
+const SMOOTH_CAP_SAMPLES: usize = 16;
 
 /// Limits of the group, per axis (counts/s, /s², /s³), and optional tangential limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -248,9 +264,15 @@ struct Seg {
     body0: f64,
     body1: f64,
     bgeo: f64,
-    /// The blend with the previous segment: trim length on each side and deviation.
+    /// The blend with the previous segment: trim length on the previous segment (on this
+    /// one it is `body0`) and deviation.
     trim: f64,
     dev: f64,
+    /// The blend is a smoothing blend (from the middle of the previous line to the middle of
+    /// this one), with these curvature vectors at its ends.
+    smooth: bool,
+    kstart: V,
+    kend: V,
     outs: [OutputAction; MAX_OUTPUTS],
     nouts: usize,
     fired: u8,
@@ -274,6 +296,9 @@ impl Default for Seg {
             bgeo: 0.0,
             trim: 0.0,
             dev: 0.0,
+            smooth: false,
+            kstart: [0.0; MAX_AXES],
+            kend: [0.0; MAX_AXES],
             outs: [OutputAction {
                 bit: 0,
                 on: false,
@@ -347,6 +372,44 @@ pub struct Path {
     npending: usize,
     starving_sent: bool,
     idle_sent: bool,
+}
+
+/// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
+/// deviation; its end curvature), the new one, its start curvature and its trims.
+struct Smooth {
+    again: Option<((Blend, f64, f64), V)>,
+    new: (Blend, f64, f64),
+    kstart: V,
+    da: f64,
+    db: f64,
+}
+
+/// The curvature vector at `b` of the circle through `a`, `b`, `c`:
+/// (T_bc − T_ab)·|T_ab + T_bc| / |c − a| (κ = 2 sin θ / |c − a|, toward the centre).
+fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
+    let (mut lab, mut lbc, mut lac) = (0.0, 0.0, 0.0);
+    for k in 0..n {
+        lab += (b[k] - a[k]) * (b[k] - a[k]);
+        lbc += (c[k] - b[k]) * (c[k] - b[k]);
+        lac += (c[k] - a[k]) * (c[k] - a[k]);
+    }
+    let (lab, lbc, lac) = (lab.sqrt(), lbc.sqrt(), lac.sqrt());
+    let mut d = [0.0; MAX_AXES];
+    let mut sum2 = 0.0;
+    for k in 0..n {
+        let (ta, tc) = ((b[k] - a[k]) / lab, (c[k] - b[k]) / lbc);
+        d[k] = tc - ta;
+        sum2 += (ta + tc) * (ta + tc);
+    }
+    let f = sum2.sqrt() / lac;
+    for x in d[..n].iter_mut() {
+        *x *= f;
+    }
+    if d.iter().all(|x| x.is_finite()) {
+        d
+    } else {
+        [0.0; MAX_AXES]
+    }
 }
 
 /// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
@@ -590,20 +653,29 @@ impl Path {
 
     /// The speed cap of a frame: the largest V within every axis limit (see the module doc).
     fn frame_cap(&self, f: &Frame) -> f64 {
+        self.frame_cap_below(f, f64::INFINITY)
+    }
+
+    /// `min(cap, frame_cap(f))`, solving the jerk cubic only where `cap` breaks it.
+    fn frame_cap_below(&self, f: &Frame, mut cap: f64) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
-        let mut cap = f64::INFINITY;
         for k in 0..l.naxes {
             let (t, kk, dk) = (f.t[k].abs(), f.k[k].abs(), f.dk[k].abs());
-            if t > 0.0 {
-                cap = cap.min(CAP_MARGIN * l.vmax[k] / t);
+            if t * cap > CAP_MARGIN * l.vmax[k] {
+                cap = CAP_MARGIN * l.vmax[k] / t;
             }
             if kk > 0.0 {
-                let room = CAP_MARGIN * l.amax[k] - at * t;
-                cap = cap.min((room.max(0.0) / kk).sqrt());
+                let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
+                if kk * cap * cap > room {
+                    cap = (room / kk).sqrt();
+                }
             }
             let room = CAP_MARGIN * l.jmax[k] - jt * t;
-            cap = cap.min(cubic_cap(dk, 3.0 * at * kk, room));
+            let (p, q) = (dk, 3.0 * at * kk);
+            if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
+                cap = cap.min(cubic_cap(p, q, room));
+            }
         }
         cap
     }
@@ -626,12 +698,149 @@ impl Path {
         }
     }
 
-    fn blend_cap(&self, b: &Blend) -> f64 {
+    fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
         let mut cap = f64::INFINITY;
-        for i in 0..=BLEND_SAMPLES {
-            cap = cap.min(self.frame_cap(&b.frame_u(i as f64 / BLEND_SAMPLES as f64)));
+        for i in 0..=samples {
+            cap = self.frame_cap_below(&b.terms(i as f64 / samples as f64), cap);
         }
         cap
+    }
+
+    /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
+    /// its start), two lines, with curvature vectors `ka`, `kb` at its ends: the blend, its
+    /// cap and its deviation from the two lines, or None when the sampled deviation is over
+    /// `limit` (or it is not finite).
+    #[allow(clippy::too_many_arguments)]
+    fn smooth_piece(
+        &self,
+        pa: &Prog,
+        pb: &Prog,
+        da: f64,
+        db: f64,
+        ka: &V,
+        kb: &V,
+        limit: f64,
+    ) -> Option<(Blend, f64, f64)> {
+        let n = self.lim.naxes;
+        let mut fa = pa.frame(pa.len() - da);
+        fa.k = *ka;
+        let mut fb = pb.frame(db);
+        fb.k = *kb;
+        let b = Blend::new(n, &fa, &fb, da, db)?;
+        // the two chords as (start, unit direction, length)
+        let corner = pa.end();
+        let chord = |a: &V, b: &V| {
+            let mut u = [0.0; MAX_AXES];
+            let mut l2 = 0.0;
+            for k in 0..n {
+                u[k] = b[k] - a[k];
+                l2 += u[k] * u[k];
+            }
+            let l = l2.sqrt();
+            for x in u[..n].iter_mut() {
+                *x /= l;
+            }
+            (*a, u, l)
+        };
+        let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
+        let mut dev = 0.0f64;
+        for i in 0..=SMOOTH_SAMPLES {
+            let q = b.pos_u(i as f64 / SMOOTH_SAMPLES as f64);
+            let mut d2 = f64::INFINITY;
+            for (a, u, l) in &chords {
+                let t = (0..n)
+                    .map(|k| (q[k] - a[k]) * u[k])
+                    .sum::<f64>()
+                    .clamp(0.0, *l);
+                let e2 = (0..n)
+                    .map(|k| (q[k] - a[k] - t * u[k]).powi(2))
+                    .sum::<f64>();
+                d2 = d2.min(e2);
+            }
+            let d = d2.sqrt();
+            if d.is_nan() || d > limit {
+                return None;
+            }
+            dev = dev.max(d);
+        }
+        let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
+        (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
+    }
+
+    /// Smoothing of a junction of two lines (see [`Path::push`]): the blend from the middle of
+    /// the last queued line to the middle of `rec`, and the previous smoothing blend rebuilt
+    /// with the curvature the new point gives it, where the executor is far enough away.
+    fn smooth(&self, rec: &Seg, tol: f64, need: f64) -> Option<Smooth> {
+        let n = self.lim.naxes;
+        let pi = self.tail - 1;
+        let prev = self.seg(pi);
+        let (
+            Prog::Line {
+                p0,
+                p1,
+                dir,
+                len: la,
+            },
+            Prog::Line {
+                p1: p2, len: lb, ..
+            },
+        ) = (prev.prog, rec.prog)
+        else {
+            return None;
+        };
+        let da = (0.5 * la).min(la - prev.body0);
+        let db = 0.5 * lb;
+        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi, need + da) - need < da {
+            return None;
+        }
+        let limit = DEV_SAFETY * tol;
+        let k1 = vertex_k(n, &p0, &p1, &p2);
+        if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1, need) >= need {
+            let pp = self.seg(pi - 1);
+            if let Prog::Line { p0: pm, .. } = pp.prog {
+                let k0 = vertex_k(n, &pm, &p0, &p1);
+                let mut kmid = [0.0; MAX_AXES];
+                for k in 0..n {
+                    kmid[k] = 0.5 * (k0[k] + k1[k]);
+                }
+                let along: f64 = (0..n).map(|k| kmid[k] * dir[k]).sum();
+                for k in 0..n {
+                    kmid[k] -= along * dir[k];
+                }
+                let again = self.smooth_piece(
+                    &pp.prog,
+                    &prev.prog,
+                    prev.trim,
+                    prev.body0,
+                    &prev.kstart,
+                    &kmid,
+                    limit,
+                );
+                if let Some(again) = again {
+                    let z = [0.0; MAX_AXES];
+                    if let Some(new) =
+                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit)
+                    {
+                        return Some(Smooth {
+                            again: Some((again, kmid)),
+                            new,
+                            kstart: kmid,
+                            da,
+                            db,
+                        });
+                    }
+                }
+            }
+        }
+        let z = [0.0; MAX_AXES];
+        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit)?;
+        Some(Smooth {
+            again: None,
+            new,
+            kstart: z,
+            da,
+            db,
+        })
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
@@ -810,6 +1019,12 @@ impl Path {
                 k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
             }
             let turn = dot.clamp(-1.0, 1.0).acos();
+            let need = {
+                let pl = &self.planner;
+                1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), self.at, self.jt)
+                    + 4.0 * pl.v * self.lim.ts
+                    + 1e-9
+            };
             let rule = match seg.blend {
                 BlendSpeed::Low => prev.feed.min(rec.feed),
                 BlendSpeed::Previous => prev.feed,
@@ -821,25 +1036,45 @@ impl Path {
                 rec.stop_before = false;
                 rec.jgeo = prev.bgeo.min(rec.bgeo);
                 rec.jfeed = rule;
+            } else if let Some(sm) = (!prev.prog.is_curved()
+                && matches!(seg.transition, Transition::MaxDeviation(_))
+                && turn <= SMOOTH_TURN)
+                .then(|| self.smooth(&rec, tol, need))
+                .flatten()
+            {
+                if let Some(((b, cap, dev), kend)) = sm.again {
+                    let pi = self.tail - 1;
+                    let ps = self.slot(pi);
+                    let old = self.segs[ps].blend.len;
+                    let sp = &mut self.segs[ps];
+                    sp.blend = b;
+                    sp.jgeo = cap;
+                    sp.dev = dev;
+                    sp.kend = kend;
+                    let bk = &mut self.blocks[ps / BLOCK];
+                    bk.len += b.len - old;
+                    bk.geo = bk.geo.min(cap);
+                }
+                let (b, cap, dev) = sm.new;
+                rec.stop_before = false;
+                rec.has_blend = true;
+                rec.smooth = true;
+                rec.blend = b;
+                rec.jgeo = cap;
+                rec.jfeed = rule;
+                rec.trim = sm.da;
+                rec.dev = dev;
+                rec.body0 = sm.db;
+                rec.kstart = sm.kstart;
+                prev_trim = sm.da;
             } else if turn < REVERSAL {
                 // room on each side: the share of the segment, and on the executor's side
                 // what it can still slow down before
                 let mut room = Self::room(&prev.prog)
                     .min(la - prev.body0)
                     .min(Self::room(&rec.prog));
-                {
-                    let pl = &self.planner;
-                    let need =
-                        1.05 * PathSpeedPlanner::stopping_distance(
-                            pl.v,
-                            pl.a.max(0.0),
-                            self.at,
-                            self.jt,
-                        ) + 4.0 * pl.v * self.lim.ts
-                            + 1e-9;
-                    let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
-                    room = room.min(to_corner - need);
-                }
+                let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
+                room = room.min(to_corner - need);
                 let build =
                     |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
                 let line_line = !prev.prog.is_curved() && !rec.prog.is_curved();
@@ -894,7 +1129,7 @@ impl Path {
                 let scale = p0[..n].iter().fold(1.0f64, |m, x| m.max(x.abs()));
                 if d > 1e3 * f64::EPSILON * scale && d.is_finite() {
                     if let Some(b) = build(d) {
-                        let cap = self.blend_cap(&b);
+                        let cap = self.blend_cap(&b, BLEND_SAMPLES);
                         if cap > 0.0 && cap.is_finite() {
                             rec.stop_before = false;
                             rec.has_blend = true;

@@ -196,6 +196,28 @@ fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// `max_deviation` for long polylines run in order: each point against the chords near the
+/// last nearest one (8 behind, 64 ahead).
+fn max_deviation_in_order(run: &Run, verts: &[V]) -> f64 {
+    let mut at = 0usize;
+    let mut worst = 0.0f64;
+    for p in &run.pos {
+        let lo = at.saturating_sub(8);
+        let hi = (at + 64).min(verts.len() - 1);
+        let (mut best, mut arg) = (f64::INFINITY, at);
+        for j in lo..hi {
+            let d = dist_seg(p, &verts[j], &verts[j + 1]);
+            if d < best {
+                best = d;
+                arg = j;
+            }
+        }
+        at = arg;
+        worst = worst.max(best);
+    }
+    worst
+}
+
 /// Runs a polyline (from the first vertex) with MaxDeviation(tol): limits, tolerance, ids,
 /// exact end.
 fn polyline(naxes: usize, ts: f64, verts: &[V], feed: f64, tol: f64, what: &str) -> Run {
@@ -1069,4 +1091,127 @@ fn dense_curve_time_against_offline_bound() {
         t_path / t_bound,
         wall
     );
+}
+
+/// The offline bound of the curve y = f(x) from x = 0 to `x1` at feed `feed`: the time at
+/// the largest speed its curvature allows on every axis (|v T_k| ≤ vmax_k, v²|K_k| ≤ amax_k,
+/// v³|dK_k/ds| ≤ jmax_k) with a tangential acceleration up to min_k amax_k, from rest to rest
+/// (forward and backward passes on a fine grid). `f` gives (y', y'') at x.
+fn curve_bound(l: &PathLimits, x1: f64, feed: f64, f: impl Fn(f64) -> (f64, f64)) -> f64 {
+    let m = 200_000;
+    let h = x1 / m as f64;
+    let frame = |x: f64| {
+        let (d1, d2) = f(x);
+        let sp = (1.0 + d1 * d1).sqrt();
+        let sp4 = sp.powi(4);
+        ([1.0 / sp, d1 / sp], [-d1 * d2 / sp4, d2 / sp4], sp)
+    };
+    let a_t = l.amax[..2].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+    let mut cap = vec![0.0; m + 1];
+    let mut ds = vec![0.0; m];
+    for i in 0..=m {
+        let x = i as f64 * h;
+        let (t, k, sp) = frame(x);
+        let (_, k1, _) = frame(x + h);
+        let mut c = feed;
+        for a in 0..2 {
+            let dk = ((k1[a] - k[a]) / (sp * h)).abs();
+            c = c.min(l.vmax[a] / t[a].abs().max(1e-300));
+            c = c.min((l.amax[a] / k[a].abs().max(1e-300)).sqrt());
+            c = c.min((l.jmax[a] / dk.max(1e-300)).cbrt());
+        }
+        cap[i] = c;
+        if i < m {
+            ds[i] = sp * h;
+        }
+    }
+    cap[0] = 0.0;
+    cap[m] = 0.0;
+    for i in 0..m {
+        cap[i + 1] = cap[i + 1].min((cap[i] * cap[i] + 2.0 * a_t * ds[i]).sqrt());
+    }
+    for i in (0..m).rev() {
+        cap[i] = cap[i].min((cap[i + 1] * cap[i + 1] + 2.0 * a_t * ds[i]).sqrt());
+    }
+    (0..m).map(|i| 2.0 * ds[i] / (cap[i] + cap[i + 1])).sum()
+}
+
+/// Micro-segments of a smooth curve are smoothed: each junction's blend runs from the middle
+/// of one chord to the middle of the next, with the curvature the neighbouring points give, so
+/// the path runs near the speed the curve itself allows. The rest of the gap is the caps'
+/// worst case (full tangential acceleration at the cap, `ACCEL_SHARE`, `JERK_SHARE`), which the
+/// bound does not pay.
+#[test]
+fn micro_segments_of_a_smooth_curve_run_near_the_curves_own_bound() {
+    let (v, mut l) = bench_curve();
+    let v = &v[..3001];
+    // 100 mm/s, 1 m/s², 100 m/s³ (1 count = 1 µm): the curvature limits the speed in places
+    l.vmax = [1e5; MAX_AXES];
+    l.amax = [1e6; MAX_AXES];
+    l.jmax = [1e8; MAX_AXES];
+    let mut p = Path::with_capacity(4096);
+    p.reset(v[0], l, DEFAULT_LOOKAHEAD).unwrap();
+    for (i, w) in v.windows(2).enumerate() {
+        let mut s = line(i as u32 + 1, w[1], 2e5, Transition::MaxDeviation(1.0));
+        s.last = i + 2 == v.len();
+        p.push(s).unwrap();
+    }
+    // every junction is smoothed: its blend trims half of the chord before it
+    for (i, w) in v.windows(2).enumerate().skip(1) {
+        let before = dist_seg(&w[0], &v[i - 1], &v[i - 1]);
+        let b = p.blend_info(i as u32 + 1).expect("a blend");
+        assert!(
+            (b.trim - 0.5 * before).abs() <= 1e-9 * before,
+            "segment {}: trim {} of a {before} chord",
+            i + 1,
+            b.trim
+        );
+        assert!(b.deviation <= 1.0);
+    }
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 1_000_000));
+    r.assert_within(&l, "smoothed dense curve");
+    let dev = max_deviation_in_order(&r, v);
+    assert!(dev <= 1.0, "deviation {dev}");
+    r.assert_ids(&(1..v.len() as u32).collect::<Vec<_>>());
+    assert_eq!(*r.pos.last().unwrap(), v[v.len() - 1]);
+    let time = (r.pos.len() - 6) as f64 * l.ts;
+    let bound = curve_bound(&l, v[v.len() - 1][0], 2e5, |x| {
+        (
+            0.6 * (x / 5000.0).cos() + 0.5 * (x / 2000.0).cos(),
+            -0.6 / 5000.0 * (x / 5000.0).sin() - 0.5 / 2000.0 * (x / 2000.0).sin(),
+        )
+    });
+    let ratio = time / bound;
+    assert!(
+        (0.98..=1.6).contains(&ratio),
+        "path time {time} s against the curve's bound {bound} s: {ratio}"
+    );
+}
+
+/// Smoothing while the path runs close behind the stream (a few segments queued): blends the
+/// executor is too near to are not rebuilt, and the limits and the tolerance hold throughout.
+#[test]
+fn smoothing_close_behind_a_slow_stream_keeps_limits_and_tolerance() {
+    let (v, l) = bench_curve();
+    let v = &v[..1201];
+    let mut p = Path::with_capacity(4096);
+    p.reset(v[0], l, DEFAULT_LOOKAHEAD).unwrap();
+    let mut r = Run::default();
+    let mut rng = Rng::new(11);
+    for (i, w) in v.windows(2).enumerate() {
+        let mut s = line(i as u32 + 1, w[1], 2e5, Transition::MaxDeviation(1.0));
+        s.last = i + 2 == v.len();
+        p.push(s).unwrap();
+        // a stream that keeps 1–4 segments ahead of the executor
+        while p.queued() > 1 + (rng.uniform(0.0, 3.99) as usize) {
+            r.go(&mut p, 1.0, 1);
+        }
+    }
+    assert!(r.go(&mut p, 1.0, 1_000_000));
+    r.assert_within(&l, "smoothing close behind the stream");
+    let dev = max_deviation_in_order(&r, v);
+    assert!(dev <= 1.0, "deviation {dev}");
+    r.assert_ids(&(1..v.len() as u32).collect::<Vec<_>>());
+    assert_eq!(*r.pos.last().unwrap(), v[v.len() - 1]);
 }
