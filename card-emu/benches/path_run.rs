@@ -403,18 +403,18 @@ fn streaming() {
         .spawn()
         .expect("card-emu");
     let card = open(&format!("emu:{name}"));
-    let lim = PathSettings::uniform(2, 2e5, 2e6, 2e8);
+    // the braking distance from 150,000 counts/s (≈ 12,000 counts) is 1,200 segments: the
+    // look-ahead must see that far
+    let mut lim = PathSettings::uniform(2, 2e5, 2e6, 2e8);
+    lim.lookahead = 2048;
     let g = group(&card, &lim);
     let n = 100_000u32;
-    // A gentle zig-zag of 10-count segments (1° turns), 150,000 counts/s: 15,000 segments/s.
+    // A circle of radius 50,000 counts in 10-count chords at 150,000 counts/s: 15,000
+    // segments/s, a path whose curvature allows that speed (v²/R = 4.5e5 counts/s²).
+    const R: f64 = 50_000.0;
     let segs = (1..=n).map(move |i| {
-        let x = i as f64 * 10.0;
-        let y = if (i / 50) % 2 == 0 {
-            (i % 50) as f64 * 0.17
-        } else {
-            (50 - i % 50) as f64 * 0.17
-        };
-        let s = Segment::line(i, &[x, y], 150_000.0, 1.0);
+        let th = i as f64 * 10.0 / R;
+        let s = Segment::line(i, &[R * th.sin(), R - R * th.cos()], 150_000.0, 1.0);
         if i == n {
             s.last()
         } else {
@@ -462,7 +462,8 @@ fn main() {
         println!("path_run: skipped (run with `cargo bench`)");
         return;
     }
-    // `cargo bench -p card-emu --bench path_run -- dense` runs one part
+    // `cargo bench -p card-emu --bench path_run -- dense` runs one part (corners, dense,
+    // streaming)
     let only: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with("--"))

@@ -587,16 +587,26 @@ impl Card {
     }
 
     /// A consistent snapshot of axis `a`'s status block, in counts.
+    fn read_axis_status(&self, a: usize) -> Result<AxisStatus> {
+        self.inner.link.check()?;
+        self.read_snapshot(&format!("axis {a}"), |w| seqlock::read_axis_status(w, a))
+    }
+
+    /// A consistent snapshot read with `read` (the status of `what`).
     ///
     /// When the block stays busy through the seqlock's spins, the reader yields and tries
     /// again for up to 100 ms: an emulated card's writer is a thread that the OS can deschedule
-    /// mid-write, which is a stall, not a dead card.
-    fn read_axis_status(&self, a: usize) -> Result<AxisStatus> {
-        self.inner.link.check()?;
+    /// mid-write, and a reader descheduled mid-read sees a block rewritten every tick, which
+    /// are stalls, not a dead card.
+    pub(crate) fn read_snapshot<T>(
+        &self,
+        what: &str,
+        read: impl Fn(&Window) -> std::result::Result<T, SnapshotError>,
+    ) -> Result<T> {
         let window = &self.inner.dev.window;
         let mut deadline = None;
         loop {
-            match seqlock::read_axis_status(window, a) {
+            match read(window) {
                 Err(SnapshotError::Busy)
                     if Instant::now()
                         < *deadline.get_or_insert_with(|| Instant::now() + STATUS_BUSY_TIMEOUT) =>
@@ -608,10 +618,10 @@ impl Card {
         }
         .map_err(|e| match e {
             SnapshotError::Busy => Error::NotResponding(format!(
-                "status of axis {a} stayed busy for {STATUS_BUSY_TIMEOUT:?}"
+                "status of {what} stayed busy for {STATUS_BUSY_TIMEOUT:?}"
             )),
             SnapshotError::Corrupt => {
-                Error::Protocol(format!("status of axis {a} failed its checksum"))
+                Error::Protocol(format!("status of {what} failed its checksum"))
             }
         })
     }

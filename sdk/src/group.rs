@@ -4,7 +4,7 @@
 use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result, Target};
 use firmware_proto::layout;
-use firmware_proto::seqlock::{self, SnapshotError};
+use firmware_proto::seqlock;
 use firmware_proto::{
     move_flags, raw, Command, GroupState, GroupStatus, MoveFlags, Opcode, MAX_AXES, MAX_GROUPS,
 };
@@ -652,15 +652,10 @@ impl Group {
 
     /// A consistent snapshot of the group's status (path quantities in counts).
     pub fn status(&self) -> Result<(GroupState, GroupStatus)> {
-        let st =
-            seqlock::read_group_status(self.card.window(), self.index).map_err(|e| match e {
-                SnapshotError::Busy => {
-                    Error::NotResponding(format!("status of group {} stayed busy", self.index))
-                }
-                SnapshotError::Corrupt => Error::Protocol(format!(
-                    "status of group {} failed its checksum",
-                    self.index
-                )),
+        let st = self
+            .card
+            .read_snapshot(&format!("group {}", self.index), |w| {
+                seqlock::read_group_status(w, self.index)
             })?;
         let state = st.state().ok_or_else(|| {
             Error::Protocol(format!(
