@@ -771,3 +771,106 @@ fn homing_does_not_touch_the_heap() {
     );
     r.assert_no_heap("homing");
 }
+
+/// The continuous path's engine: pushes (corner blends, smoothing blends and their rebuilds,
+/// arcs, dwells, outputs), ticks, a halt and a clear, all in storage made once.
+#[test]
+fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
+    use card_emu::motion::path::{
+        BlendSpeed, Geom, OutputAction, OutputAt, Path, PathLimits, Segment, Transition, MAX_AXES,
+    };
+    let lim = PathLimits {
+        naxes: 2,
+        ts: 1e-4,
+        vmax: [1e5; MAX_AXES],
+        amax: [1e6; MAX_AXES],
+        jmax: [1e8; MAX_AXES],
+        accel: 0.0,
+        jerk: 0.0,
+    };
+    let mut p = Path::with_capacity(4096);
+    let mut events = 0usize;
+    let (_, heap) = counted(|| {
+        p.reset([0.0; MAX_AXES], lim, 256).unwrap();
+        let seg = |id: u32, geom: Geom, tr: Transition| Segment {
+            id,
+            geom,
+            feed: 5e4,
+            transition: tr,
+            blend: BlendSpeed::Low,
+            last: false,
+        };
+        let mut end = [0.0; MAX_AXES];
+        // 400 chords of a circle of radius 20,000 (smoothed), then a square corner, an arc,
+        // a dwell and an output
+        for i in 1..=400u32 {
+            let th = i as f64 * 100.0 / 20_000.0;
+            end[0] = 20_000.0 * th.sin();
+            end[1] = 20_000.0 - 20_000.0 * th.cos();
+            p.push(seg(i, Geom::Line { end }, Transition::MaxDeviation(1.0)))
+                .unwrap();
+        }
+        let corner = [end[0], end[1] + 5_000.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        p.push(seg(
+            401,
+            Geom::Line { end: corner },
+            Transition::MaxDeviation(5.0),
+        ))
+        .unwrap();
+        let mut arc_end = corner;
+        arc_end[0] += 4_000.0;
+        p.push(seg(
+            402,
+            Geom::Arc {
+                u: 0,
+                v: 1,
+                centre: [corner[0] + 2_000.0, corner[1]],
+                ccw: false,
+                end: arc_end,
+            },
+            Transition::CornerDistance(50.0),
+        ))
+        .unwrap();
+        p.push(seg(403, Geom::Dwell { time: 0.01 }, Transition::Exact))
+            .unwrap();
+        p.push_output(OutputAction {
+            bit: 3,
+            on: true,
+            at: OutputAt::Distance(100.0),
+        })
+        .unwrap();
+        let mut last = arc_end;
+        last[1] -= 3_000.0;
+        let mut s = seg(404, Geom::Line { end: last }, Transition::MaxDeviation(5.0));
+        s.last = true;
+        p.push(s).unwrap();
+        for _ in 0..2_000_000 {
+            p.tick(1.0, &mut |_| events += 1);
+            if p.queued() == 0 && !p.is_moving() {
+                break;
+            }
+        }
+        assert_eq!(p.queued(), 0);
+        // again, halted in the middle and cleared
+        for i in 1..=50u32 {
+            end[0] = last[0] + i as f64 * 100.0;
+            end[1] = last[1] + (i as f64 * 0.3).sin() * 20.0;
+            p.push(seg(
+                500 + i,
+                Geom::Line { end },
+                Transition::MaxDeviation(1.0),
+            ))
+            .unwrap();
+        }
+        for _ in 0..500 {
+            p.tick(1.0, &mut |_| events += 1);
+        }
+        p.halt(f64::INFINITY, f64::INFINITY);
+        while p.is_moving() {
+            p.tick(1.0, &mut |_| events += 1);
+        }
+        p.clear(&mut |_| events += 1).unwrap();
+    });
+    assert!(events > 800, "{events} events");
+    assert_eq!(heap, [0; 3], "heap use by the continuous path");
+}
