@@ -10,9 +10,10 @@
 //!   acceleration and jerk over their limits (finite differences of the commanded positions per
 //!   tick), the worst distance from the chords, and the card's time per segment;
 //! - streaming: a `card-emu` process at 10 kHz (real time), 100,000 segments of 10 counts at
-//!   150,000 counts/s streamed from this process: segments per second and starvation events.
+//!   150,000 counts/s along a circle streamed from this process (look-ahead 2048): segments
+//!   per second and starvation events.
 //!
-//! `cargo bench -p card-emu --bench path_run`
+//! `cargo bench -p card-emu --bench path_run [-- corners|dense|streaming]`
 use motioncard_sdk::{
     Card, EventKind, Group, GroupSettings, GroupState, PathSettings, Segment, Sim, SimOptions,
 };
