@@ -57,6 +57,10 @@ pub struct Ffpiv {
     vel: f64,
     /// v̂_ref: the reference velocity as the estimator would read it.
     vel_ref: f64,
+    /// The low-pass's gain per tick, and the (cut-off, tick) it was computed for: one `exp`
+    /// when either changes, not two every tick.
+    filter_gain: f64,
+    filter_for: (f64, f64),
 }
 
 /// One servo update's inputs.
@@ -78,8 +82,16 @@ impl Ffpiv {
             None => 0.0,
         };
         self.last_encoder = Some(encoder);
-        self.vel += velocity_filter_gain(gains, ts) * (raw - self.vel);
+        self.vel += self.filter_gain(gains, ts) * (raw - self.vel);
         self.vel
+    }
+
+    fn filter_gain(&mut self, gains: &FfpivGains, ts: f64) -> f64 {
+        if self.filter_for != (gains.vel_filter_hz, ts) {
+            self.filter_for = (gains.vel_filter_hz, ts);
+            self.filter_gain = velocity_filter_gain(gains, ts);
+        }
+        self.filter_gain
     }
 
     /// v̂_ref after the last update: the reference velocity through the estimator's model,
@@ -115,7 +127,7 @@ impl Ffpiv {
         // at the reference's time (v − a·T/2, exact for constant acceleration), low-passed as
         // the encoder velocity is.
         let raw_ref = r.vel - 0.5 * r.acc * ts;
-        self.vel_ref += velocity_filter_gain(gains, ts) * (raw_ref - self.vel_ref);
+        self.vel_ref += self.filter_gain(gains, ts) * (raw_ref - self.vel_ref);
         let v_cmd = gains.kp * (pos - x) + gains.kvff * self.vel_ref;
         let ev = v_cmd - self.vel;
         let integral = self.integral + ev * ts;
