@@ -249,8 +249,8 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         FIG5_LIMITS.acceleration,
         FIG5_LIMITS.jerk[0]
     );
-    println!("| axis                  | feed-forward                 |   peak |     RMS | (1−K_VFF)·v/K_P |");
-    println!("|-----------------------|------------------------------|--------|---------|-----------------|");
+    println!("| axis    | feed-forward                   |    peak |     RMS | (1−K_VFF)·v/K_P |");
+    println!("|---------|--------------------------------|---------|---------|-----------------|");
     for axis in [Fig5Axis::Default, Fig5Axis::Thinh] {
         let (plant, gains) = axis.setup();
         let mut series = Vec::new();
@@ -271,7 +271,7 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             let r = thinh_fig5(axis, ff)?;
             let g = ff.apply(gains, &plant);
             println!(
-                "| {:<21} | {:<28} | {:>6.2} | {:>7.2} | {:>15.1} |",
+                "| {:<7} | {:<30} | {:>7.2} | {:>7.2} | {:>15.1} |",
                 format!("{axis:?}"),
                 name,
                 r.peak,
@@ -432,8 +432,8 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "Beyond Thinh: the default axis, default tuning (full feed-forward matched to the plant), S-curves at {a:.0e} counts/s², {j:.0e} counts/s³, 100 ms at cruise; \
          following error = command − encoder, counts (the estimator's lag alone would cost a·lag/K_P = {lag:.2} counts at {a:.0e} counts/s²)"
     );
-    println!("| plant                  | v counts/s | peak  | RMS   | ticks > 1 count | shaft − command, least .. largest |");
-    println!("|------------------------|------------|-------|-------|-----------------|-----------------------------------|");
+    println!("| plant               | v counts/s | peak   | RMS   | ticks > 1 count | shaft − command, least .. largest |");
+    println!("|---------------------|------------|--------|-------|-----------------|-----------------------------------|");
     let names = [
         "2e4 counts/s",
         "1e5 counts/s",
@@ -453,7 +453,7 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         for (v, name) in SWEEP_SPEEDS.iter().zip(names) {
             let r: Tracking = ff_speed_sweep_on(plant, *v)?;
             println!(
-                "| {:<22} | {:>10.0e} | {:>5.3} | {:>5.3} | {:>15} | {:>15.3} .. {:<15.3} |",
+                "| {:<19} | {:>10.0e} | {:>6.4} | {:>5.3} | {:>15} | {:>15.3} .. {:<15.3} |",
                 pname,
                 v,
                 r.peak,
