@@ -1,26 +1,48 @@
 //! The papers' experiments on the emulated card, as tables (and SVG plots in `--out`).
 //!
 //! `cargo run --release --example papers`
+use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
 use motioncard::papers::{
-    kim_fig7, kim_sync_ptp, radial_error, shin_comparison, shin_corner, SyncShape, RADIAL_CASES,
-    SYNC_TARGETS,
+    cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
+    shin_comparison, shin_corner, thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant, FeedForward,
+    Fig5Axis, SyncShape, Tracking, FIG5_LIMITS, FIG9_STEP, RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS,
+    SYNC_TARGETS, THINH_COUNTS_PER_REV, THINH_GAINS,
 };
 use motioncard::plot::{lines, Series};
 use motioncard::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
 
-/// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, and Shin's corner test, on the emulated card.
+/// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, Shin's corner test, and Thinh 2014 Figs 5, 9
+/// and 11, on the emulated card.
 #[derive(Parser)]
 struct Args {
     /// Directory for the SVG plots.
     #[arg(long, default_value = "target/plots")]
     out: PathBuf,
+    /// Only this paper's experiments: kim, shin or thinh.
+    #[arg(long)]
+    only: Option<String>,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
+    let run = |paper: &str| args.only.as_deref().is_none_or(|o| o == paper);
+    if run("kim") {
+        kim(&args)?;
+    }
+    if run("shin") {
+        shin(&args)?;
+    }
+    if run("thinh") {
+        thinh(&args)?;
+    }
+    println!();
+    println!("plots written to {}", args.out.display());
+    Ok(())
+}
 
+fn kim(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     println!("Kim 1991 Fig 7: 81,920 pulses on X at 10 rev/s, 100 ms acc/dec, 1 kHz");
     println!(
         "| filter      | final command | final encoder | ramp to 99% feed | snap correction |"
@@ -121,7 +143,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!("formula: linear = corrected eq 28, exponential = eq 32; worst relative difference {worst:.1e}");
+    Ok(())
+}
 
+fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     println!();
     println!("Shin: 90° corner at 1 m/min (1 count = 1 µm), errors near the corner in µm");
     println!("| plant                     | filter      |   τ ms | command rounding | table tracking | table vs programmed corner |");
@@ -189,7 +214,275 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &series,
         true,
     )?;
+    Ok(())
+}
+
+fn points(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    t.iter().copied().zip(y.iter().copied()).collect()
+}
+
+fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    let tg = THINH_GAINS.to_ffpiv();
+    let tp = thinh_plant();
     println!();
-    println!("plots written to {}", args.out.display());
+    println!(
+        "Thinh 2014: K_P {}, K_I {}, K_V {}, K_VFF {} read as rpm/pulse, 1/ms, mV/rpm, mV/rpm \
+         on {THINH_COUNTS_PER_REV} counts/rev: kp {:.1} 1/s, ki {:.0} 1/s, kv {:.3e} V/(count/s), kvff {:.2}; \
+         plant J {:.3e} kg·m², {:.3} N·m/V (velocity loop {:.0} rad/s)",
+        THINH_GAINS.kp,
+        THINH_GAINS.ki,
+        THINH_GAINS.kv,
+        THINH_GAINS.kvff,
+        tg.kp,
+        tg.ki,
+        tg.kv,
+        tg.kvff,
+        tp.inertia,
+        tp.kt * tp.amp_gain,
+        tg.kv * tp.accel_per_volt(),
+    );
+    println!();
+    println!(
+        "Thinh Fig 5: the same S-curve ({} counts at ≤ {:.0e} counts/s, {:.0e} counts/s², {:.0e} counts/s³), 10 kHz; following error = command − encoder, counts",
+        motioncard::papers::FIG5_DISTANCE,
+        FIG5_LIMITS.velocity,
+        FIG5_LIMITS.acceleration,
+        FIG5_LIMITS.jerk[0]
+    );
+    println!("| axis    | feed-forward                   |    peak |     RMS | (1−K_VFF)·v/K_P |");
+    println!("|---------|--------------------------------|---------|---------|-----------------|");
+    for axis in [Fig5Axis::Default, Fig5Axis::Thinh] {
+        let (plant, gains) = axis.setup();
+        let mut series = Vec::new();
+        let cases: &[(FeedForward, &str)] = match axis {
+            Fig5Axis::Default => &[
+                (FeedForward::Full, "full (velocity + acceleration)"),
+                (FeedForward::Velocity, "velocity only"),
+                (FeedForward::None, "none"),
+            ],
+            Fig5Axis::Thinh => &[
+                (FeedForward::Full, "full (velocity + acceleration)"),
+                (FeedForward::Velocity, "velocity only"),
+                (FeedForward::Thinh, "Thinh's K_VFF 30 (0.6)"),
+                (FeedForward::None, "none"),
+            ],
+        };
+        for &(ff, name) in cases {
+            let r = thinh_fig5(axis, ff)?;
+            let g = ff.apply(gains, &plant);
+            println!(
+                "| {:<7} | {:<30} | {:>7.2} | {:>7.2} | {:>15.1} |",
+                format!("{axis:?}"),
+                name,
+                r.peak,
+                r.rms,
+                cruise_error(&g, FIG5_LIMITS.velocity)
+            );
+            if ff != FeedForward::None {
+                series.push(Series {
+                    name,
+                    points: points(&r.t, &r.ferr),
+                });
+            }
+        }
+        lines(
+            &args
+                .out
+                .join(format!("thinh_fig5_{axis:?}.svg").to_lowercase()),
+            &format!("Thinh Fig 5, {axis:?} axis: following error (none: see table)"),
+            "t [s]",
+            "counts",
+            &series,
+            false,
+        )?;
+    }
+
+    println!();
+    let v = FIG9_STEP.limits.velocity;
+    println!(
+        "Thinh Fig 9 (acceleration mode) on Thinh's axis: S-curve to {v} counts/s ({:.0} rpm), {:.0e} counts/s², {:.0e} counts/s³",
+        v * 60.0 / THINH_COUNTS_PER_REV as f64,
+        FIG9_STEP.limits.acceleration,
+        FIG9_STEP.limits.jerk[0]
+    );
+    println!("| feed-forward           | peak |v_cmd − v| counts/s | at cruise | peak following error | peak torque N·m (1 ms) | beyond DAC | end − target |");
+    println!("|------------------------|-----------------------|-----------|----------------------|------------------------|------------|--------------|");
+    for (ff, name) in [
+        (FeedForward::Thinh, "Thinh's K_VFF 30 (0.6)"),
+        (FeedForward::Full, "full"),
+    ] {
+        let r = thinh_fig9(ff)?;
+        let verr = r.velocity_error(false);
+        let cruise = r.velocity_error(true);
+        let torque = r.torque_1ms();
+        let peak_torque = torque.iter().map(|t| t.abs()).fold(0.0, f64::max);
+        println!(
+            "| {:<22} | {:>13.0} ({:>4.2}%) | {:>8.2}% | {:>20.1} | {:>22.3} | {:>10} | {:>12.0} |",
+            name,
+            verr,
+            100.0 * verr / v,
+            100.0 * cruise / v,
+            r.peak,
+            peak_torque,
+            r.saturated,
+            r.end.0 - r.end.1
+        );
+        let tag = if ff == FeedForward::Thinh {
+            ""
+        } else {
+            "_full"
+        };
+        lines(
+            &args.out.join(format!("thinh_fig9_velocity{tag}.svg")),
+            &format!("Thinh Fig 9: acceleration mode, velocity ({name})"),
+            "t [s]",
+            "counts/s",
+            &[
+                Series {
+                    name: "command",
+                    points: points(&r.t, &r.cmd_vel),
+                },
+                Series {
+                    name: "actual",
+                    points: points(&r.t, &r.act_vel),
+                },
+            ],
+            false,
+        )?;
+        lines(
+            &args.out.join(format!("thinh_fig9_torque{tag}.svg")),
+            &format!("Thinh Fig 9: acceleration mode, torque ({name})"),
+            "t [s]",
+            "N·m",
+            &[Series {
+                name: "torque (1 ms mean)",
+                points: points(&r.t, &torque),
+            }],
+            false,
+        )?;
+    }
+
+    println!();
+    println!("Thinh Fig 11 (step mode) on Thinh's axis: quarter-turn steps (2048 counts), 20 ms at rest after each");
+    println!("| feed-forward           | profile ms | motion done after ms (per step)            | peak following error | end − target |");
+    println!("|------------------------|------------|--------------------------------------------|----------------------|--------------|");
+    for (ff, name) in [
+        (FeedForward::Thinh, "Thinh's K_VFF 30 (0.6)"),
+        (FeedForward::Full, "full"),
+    ] {
+        let r = thinh_fig11(ff)?;
+        let done: Vec<String> = r
+            .step_times
+            .iter()
+            .map(|(_, d)| format!("{:.1}", d * 1e3))
+            .collect();
+        println!(
+            "| {:<22} | {:>10.1} | {:<42} | {:>20.1} | {:>12.0} |",
+            name,
+            r.step_times.first().map_or(0.0, |s| s.0 * 1e3),
+            done.join(" "),
+            r.peak,
+            r.end.0 - r.end.1
+        );
+        let tag = if ff == FeedForward::Thinh {
+            ""
+        } else {
+            "_full"
+        };
+        lines(
+            &args.out.join(format!("thinh_fig11_position{tag}.svg")),
+            &format!("Thinh Fig 11: step mode, position ({name})"),
+            "t [s]",
+            "counts",
+            &[
+                Series {
+                    name: "command",
+                    points: points(&r.t, &r.cmd_pos),
+                },
+                Series {
+                    name: "actual",
+                    points: points(&r.t, &r.act_pos),
+                },
+            ],
+            false,
+        )?;
+        lines(
+            &args.out.join(format!("thinh_fig11_velocity{tag}.svg")),
+            &format!("Thinh Fig 11: step mode, velocity ({name})"),
+            "t [s]",
+            "counts/s",
+            &[
+                Series {
+                    name: "command",
+                    points: points(&r.t, &r.cmd_vel),
+                },
+                Series {
+                    name: "actual",
+                    points: points(&r.t, &r.act_vel),
+                },
+            ],
+            false,
+        )?;
+    }
+
+    println!();
+    let (a, j) = SWEEP_ACCEL;
+    let lag = estimator_lag_error(&FfpivGains::default(), a, 1e-4);
+    println!(
+        "Beyond Thinh: the default axis, default tuning (full feed-forward matched to the plant), S-curves at {a:.0e} counts/s², {j:.0e} counts/s³, 100 ms at cruise; \
+         following error = command − encoder, counts (the estimator's lag alone would cost a·lag/K_P = {lag:.2} counts at {a:.0e} counts/s²)"
+    );
+    println!("| plant               | v counts/s | peak   | RMS   | ticks > 1 count | shaft − command, least .. largest |");
+    println!("|---------------------|------------|--------|-------|-----------------|-----------------------------------|");
+    let names = [
+        "2e4 counts/s",
+        "1e5 counts/s",
+        "2e5 counts/s",
+        "4e5 counts/s",
+        "5e5 counts/s",
+    ];
+    let mut series = Vec::new();
+    let no_coulomb = MotorParams {
+        coulomb: 0.0,
+        ..MotorParams::default_servo()
+    };
+    for (pname, plant) in [
+        ("default", MotorParams::default_servo()),
+        ("default, no Coulomb", no_coulomb),
+    ] {
+        for (v, name) in SWEEP_SPEEDS.iter().zip(names) {
+            let r: Tracking = ff_speed_sweep_on(plant, *v)?;
+            println!(
+                "| {:<19} | {:>10.0e} | {:>6.4} | {:>5.3} | {:>15} | {:>15.3} .. {:<15.3} |",
+                pname,
+                v,
+                r.peak,
+                r.rms,
+                r.ticks_over(1.0 + 1e-9),
+                r.shaft.0,
+                r.shaft.1
+            );
+            if pname == "default" {
+                let end = r.t.last().copied().unwrap_or(1.0);
+                series.push(Series {
+                    name,
+                    points: r
+                        .t
+                        .iter()
+                        .map(|t| t / end)
+                        .zip(r.ferr.iter().copied())
+                        .collect(),
+                });
+            }
+        }
+    }
+    lines(
+        &args.out.join("ff_speed_sweep.svg"),
+        "Default axis, full feed-forward: following error over the move",
+        "fraction of the move",
+        "counts",
+        &series,
+        false,
+    )?;
     Ok(())
 }

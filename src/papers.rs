@@ -1,4 +1,5 @@
-//! The papers' experiments, run on a stepped emulated card. The tests in `tests/papers.rs`
+//! The papers' experiments, run on a stepped emulated card (Kim, Shin and Yeh here; Thinh in
+//! `papers/thinh.rs`, re-exported). The tests in `tests/papers.rs`
 //! assert on these runs; `cargo run --release --example papers` prints them as tables and plots
 //! them.
 
@@ -10,6 +11,9 @@ use crate::{
 use card_emu::motion::arc::{exponential_filter_radial_error, linear_filter_radial_error};
 use card_emu::motion::filters::exponential_pole;
 use std::time::Duration;
+
+mod thinh;
+pub use thinh::*;
 
 const T: Duration = Duration::from_secs(120);
 

@@ -595,7 +595,14 @@ fn a_c89_program_builds_links_and_runs() {
 #[test]
 fn move_an_axis_and_wait_for_done() {
     for out in run_both("move") {
-        assert!(out.contains("moved axis 0 to 24.99"), "{out}");
+        // Done once within the program's in-position window: 2 counts, 0.001 mm.
+        let at: f64 = out
+            .split("moved axis 0 to ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|mm| mm.parse().ok())
+            .unwrap_or(f64::NAN);
+        assert!((at - 25.0).abs() <= 0.001, "done at {at} mm: {out}");
         assert!(out.contains("moved axis 0 back to 20.00"), "{out}");
         let layout = format!(
             "layout {}.{}, 8 axes",
