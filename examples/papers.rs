@@ -217,6 +217,34 @@ fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// A plot of a command and its actual value against time.
+fn command_actual(
+    file: &std::path::Path,
+    title: &str,
+    unit: &str,
+    t: &[f64],
+    (cmd, act): (&[f64], &[f64]),
+) -> Result<(), Box<dyn std::error::Error>> {
+    lines(
+        file,
+        title,
+        "t [s]",
+        unit,
+        &[
+            Series {
+                name: "command",
+                points: points(t, cmd),
+            },
+            Series {
+                name: "actual",
+                points: points(t, act),
+            },
+        ],
+        false,
+    )?;
+    Ok(())
+}
+
 fn points(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     t.iter().copied().zip(y.iter().copied()).collect()
 }
@@ -332,22 +360,12 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         } else {
             "_full"
         };
-        lines(
+        command_actual(
             &args.out.join(format!("thinh_fig9_velocity{tag}.svg")),
             &format!("Thinh Fig 9: acceleration mode, velocity ({name})"),
-            "t [s]",
             "counts/s",
-            &[
-                Series {
-                    name: "command",
-                    points: points(&r.t, &r.cmd_vel),
-                },
-                Series {
-                    name: "actual",
-                    points: points(&r.t, &r.act_vel),
-                },
-            ],
-            false,
+            &r.t,
+            (&r.cmd_vel, &r.act_vel),
         )?;
         lines(
             &args.out.join(format!("thinh_fig9_torque{tag}.svg")),
@@ -389,39 +407,19 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         } else {
             "_full"
         };
-        lines(
+        command_actual(
             &args.out.join(format!("thinh_fig11_position{tag}.svg")),
             &format!("Thinh Fig 11: step mode, position ({name})"),
-            "t [s]",
             "counts",
-            &[
-                Series {
-                    name: "command",
-                    points: points(&r.t, &r.cmd_pos),
-                },
-                Series {
-                    name: "actual",
-                    points: points(&r.t, &r.act_pos),
-                },
-            ],
-            false,
+            &r.t,
+            (&r.cmd_pos, &r.act_pos),
         )?;
-        lines(
+        command_actual(
             &args.out.join(format!("thinh_fig11_velocity{tag}.svg")),
             &format!("Thinh Fig 11: step mode, velocity ({name})"),
-            "t [s]",
             "counts/s",
-            &[
-                Series {
-                    name: "command",
-                    points: points(&r.t, &r.cmd_vel),
-                },
-                Series {
-                    name: "actual",
-                    points: points(&r.t, &r.act_vel),
-                },
-            ],
-            false,
+            &r.t,
+            (&r.cmd_vel, &r.act_vel),
         )?;
     }
 

@@ -318,6 +318,18 @@ impl Seg {
     fn is_dwell(&self) -> bool {
         matches!(self.prog, Prog::Dwell { .. })
     }
+    /// Joins the previous segment with blend `b` (its geometric and feed caps), trimming
+    /// `trims.0` off the previous segment and `trims.1` off this one.
+    fn join(&mut self, b: Blend, cap: f64, feed: f64, trims: (f64, f64), dev: f64) {
+        self.stop_before = false;
+        self.has_blend = true;
+        self.blend = b;
+        self.jgeo = cap;
+        self.jfeed = feed;
+        self.trim = trims.0;
+        self.body0 = trims.1;
+        self.dev = dev;
+    }
 }
 
 /// The blend of a junction, as built: trim length on each side and the deviation from the
@@ -1056,15 +1068,8 @@ impl Path {
                     bk.geo = bk.geo.min(cap);
                 }
                 let (b, cap, dev) = sm.new;
-                rec.stop_before = false;
-                rec.has_blend = true;
+                rec.join(b, cap, rule, (sm.da, sm.db), dev);
                 rec.smooth = true;
-                rec.blend = b;
-                rec.jgeo = cap;
-                rec.jfeed = rule;
-                rec.trim = sm.da;
-                rec.dev = dev;
-                rec.body0 = sm.db;
                 rec.kstart = sm.kstart;
                 prev_trim = sm.da;
             } else if turn < REVERSAL {
@@ -1131,14 +1136,7 @@ impl Path {
                     if let Some(b) = build(d) {
                         let cap = self.blend_cap(&b, BLEND_SAMPLES);
                         if cap > 0.0 && cap.is_finite() {
-                            rec.stop_before = false;
-                            rec.has_blend = true;
-                            rec.blend = b;
-                            rec.jgeo = cap;
-                            rec.jfeed = rule;
-                            rec.trim = d;
-                            rec.dev = dev;
-                            rec.body0 = d;
+                            rec.join(b, cap, rule, (d, d), dev);
                             prev_trim = d;
                         }
                     }
