@@ -136,6 +136,14 @@ fn dist_to_polyline(p: &[f64], pts: &[Vec<f64>]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The largest distance of a commanded point of the run from the polyline.
+fn farthest_off(r: &Run, pts: &[Vec<f64>]) -> f64 {
+    r.pos
+        .iter()
+        .map(|p| dist_to_polyline(p, pts))
+        .fold(0.0, f64::max)
+}
+
 fn ids(r: &Run, kind: EventKind) -> Vec<u32> {
     r.events
         .iter()
@@ -176,11 +184,7 @@ fn a_blended_square_keeps_within_the_tolerance_and_every_axis_limit() {
         stream_polyline(&g, &pts, 80_000.0, tol, PathBuffer::BlendingLow);
         let r = run(&card, &g, 2, 200_000);
         assert_eq!(g.status().unwrap().0, GroupState::Standby);
-        let worst = r
-            .pos
-            .iter()
-            .map(|p| dist_to_polyline(p, &pts))
-            .fold(0.0, f64::max);
+        let worst = farthest_off(&r, &pts);
         assert!(
             worst <= tol * (1.0 + 1e-9),
             "tolerance {tol}: {worst} off the square"
@@ -223,11 +227,7 @@ fn tolerance_zero_and_buffered_stop_exactly_at_every_corner() {
                 "{buffer:?} {tol}: never exactly at the corner {c:?}"
             );
         }
-        let worst = r
-            .pos
-            .iter()
-            .map(|p| dist_to_polyline(p, &pts))
-            .fold(0.0, f64::max);
+        let worst = farthest_off(&r, &pts);
         assert!(worst < 1e-6, "{buffer:?}: {worst} off the square");
         assert_limits(&r, &lim, "exact stops");
     }
@@ -355,11 +355,7 @@ fn a_path_that_runs_dry_stops_within_its_limits_and_resumes_without_a_jump() {
         (1..=12).collect::<Vec<u32>>()
     );
     assert_eq!(r.pos.last().unwrap(), &pts[12]);
-    let worst = r
-        .pos
-        .iter()
-        .map(|p| dist_to_polyline(p, &pts))
-        .fold(0.0, f64::max);
+    let worst = farthest_off(&r, &pts);
     assert!(worst <= 100.0 * (1.0 + 1e-9), "{worst}");
 }
 
@@ -393,11 +389,7 @@ fn a_halt_in_a_blend_stops_within_the_limits_and_aborts_the_rest() {
         .filter(|e| e.kind == EventKind::GroupMotionAborted)
         .count();
     assert!(aborted >= 3, "{aborted} segments aborted");
-    let worst = r
-        .pos
-        .iter()
-        .map(|p| dist_to_polyline(p, &pts))
-        .fold(0.0, f64::max);
+    let worst = farthest_off(&r, &pts);
     assert!(
         worst <= 500.0 * (1.0 + 1e-9),
         "the halt left the path: {worst}"

@@ -248,11 +248,8 @@ fn dense_points(n: usize) -> (Vec<[f64; 2]>, f64) {
 fn bound_time(feed: f64) -> f64 {
     let m = 400_000;
     let dt = std::f64::consts::TAU / m as f64;
-    let mut ds = vec![0.0; m];
-    let mut cap = vec![0.0; m + 1];
-    for i in 0..=m {
-        let t = i as f64 * dt;
-        // derivatives of z(t)
+    // unit tangent T, curvature vector κN = (z'' − (z''·T)T)/|z'|² and |z'| at parameter t
+    let frame = |t: f64| {
         let d1 = [
             -CA * t.sin() - CB * CK * (CK * t).sin(),
             CA * t.cos() + CB * CK * (CK * t).cos(),
@@ -263,12 +260,18 @@ fn bound_time(feed: f64) -> f64 {
         ];
         let sp = d1[0].hypot(d1[1]);
         let tan = [d1[0] / sp, d1[1] / sp];
-        // curvature vector κN = (d2 − (d2·T)T)/|d1|²
         let dt2 = d2[0] * tan[0] + d2[1] * tan[1];
         let kn = [
             (d2[0] - dt2 * tan[0]) / (sp * sp),
             (d2[1] - dt2 * tan[1]) / (sp * sp),
         ];
+        (tan, kn, sp)
+    };
+    let mut ds = vec![0.0; m];
+    let mut cap = vec![0.0; m + 1];
+    for i in 0..=m {
+        let t = i as f64 * dt;
+        let (tan, kn, sp) = frame(t);
         let mut c = feed;
         for a in 0..2 {
             if tan[a].abs() > 0.0 {
@@ -278,42 +281,18 @@ fn bound_time(feed: f64) -> f64 {
                 c = c.min((A / kn[a].abs()).sqrt());
             }
         }
-        cap[i] = c;
         if i < m {
+            // jerk at constant speed: v³·|d(κN)/ds|, by differences of κN along s
+            let (_, k1, _) = frame(t + dt);
+            for a in 0..2 {
+                let dk = ((k1[a] - kn[a]) / (sp * dt)).abs();
+                if dk > 0.0 {
+                    c = c.min((J / dk).cbrt());
+                }
+            }
             ds[i] = sp * dt;
         }
-    }
-    // jerk at constant speed: v³·|d(κN)/ds| — by differences of κN along s
-    let kn_at = |t: f64| {
-        let d1 = [
-            -CA * t.sin() - CB * CK * (CK * t).sin(),
-            CA * t.cos() + CB * CK * (CK * t).cos(),
-        ];
-        let d2 = [
-            -CA * t.cos() - CB * CK * CK * (CK * t).cos(),
-            -CA * t.sin() - CB * CK * CK * (CK * t).sin(),
-        ];
-        let sp = d1[0].hypot(d1[1]);
-        let tan = [d1[0] / sp, d1[1] / sp];
-        let dt2 = d2[0] * tan[0] + d2[1] * tan[1];
-        (
-            [
-                (d2[0] - dt2 * tan[0]) / (sp * sp),
-                (d2[1] - dt2 * tan[1]) / (sp * sp),
-            ],
-            sp,
-        )
-    };
-    for (i, c) in cap[..m].iter_mut().enumerate() {
-        let t = i as f64 * dt;
-        let (k0, sp) = kn_at(t);
-        let (k1, _) = kn_at(t + dt);
-        for a in 0..2 {
-            let dk = ((k1[a] - k0[a]) / (sp * dt)).abs();
-            if dk > 0.0 {
-                *c = c.min((J / dk).cbrt());
-            }
-        }
+        cap[i] = c;
     }
     cap[0] = 0.0;
     cap[m] = 0.0;

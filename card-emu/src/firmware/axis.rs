@@ -588,21 +588,8 @@ impl Axis {
             _ => {}
         }
         let mut changed = None;
-        let c = &self.safety.config;
-        let (dmax, jerk) = bounded_stop_limits(
-            (self.cmd.vel, self.cmd.acc),
-            (dmax, jerk),
-            (c.stop_decel, c.stop_jerk),
-            max_time,
-        );
-        let profile =
-            plan_stop(self.cmd.pos, self.cmd.vel, self.cmd.acc, dmax, jerk).map_err(plan_nack)?;
-        self.target = profile.end_pos();
-        self.goal = Goal::None;
-        self.in_velocity = false;
-        self.begin_motion(seq, profile.duration());
-        self.run_profile_now(&profile);
-        self.stop_elapsed = Some(0.0);
+        let planned = self.run_bounded_stop(dmax, jerk, max_time)?;
+        self.begin_motion(seq, planned);
         self.safety.stop_reason = if stop {
             StopReason::Stop
         } else {
@@ -1145,14 +1132,15 @@ impl Axis {
     }
 
     /// A jerk-limited stop from the commanded state within `dmax` and `jerk`, or along the
-    /// axis's stop ramp when that one would take longer than `max_time` s (as MC_Halt). A stop
-    /// like any other: bounded by the card's maximum stop time. Stays in Homing.
-    pub(crate) fn homing_stop(
+    /// axis's stop ramp when that one would take longer than `max_time` s (see
+    /// [`bounded_stop_limits`]), run from now; its planned time. The state is the caller's:
+    /// MC_Halt and MC_Stop change it, homing's stops stay in Homing.
+    pub(crate) fn run_bounded_stop(
         &mut self,
         dmax: f64,
         jerk: f64,
         max_time: f64,
-    ) -> Result<(), NackCode> {
+    ) -> Result<f64, NackCode> {
         let c = &self.safety.config;
         let (dmax, jerk) = bounded_stop_limits(
             (self.cmd.vel, self.cmd.acc),
@@ -1167,7 +1155,7 @@ impl Axis {
         self.in_velocity = false;
         self.run_profile_now(&profile);
         self.stop_elapsed = Some(0.0);
-        Ok(())
+        Ok(profile.duration())
     }
 
     /// Stop commanding motion where the axis is (a stalled axis against a hard stop): the

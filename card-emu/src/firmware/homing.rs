@@ -237,6 +237,20 @@ pub struct HomingConfig {
     pub method: Method,
 }
 
+/// The block's velocities, acceleration and jerk within the card's range at `rate_hz`
+/// (`LimitRange`): at `validate`, and again at MC_Home in case the servo rate changed since.
+fn speeds_in_range(b: &AxisHoming, rate_hz: u32) -> Result<(), NackCode> {
+    check_ranges(
+        rate_hz,
+        &[
+            (1, b.search_vel),
+            (1, b.creep_vel),
+            (2, b.accel),
+            (3, b.jerk),
+        ],
+    )
+}
+
 impl HomingConfig {
     /// Check every field of `block` at servo rate `rate_hz`: not finite `NotFinite`; an unknown
     /// method, or an index method without `MC_HOMING_INDEX`, `HomingMethod`; a velocity,
@@ -270,15 +284,7 @@ impl HomingConfig {
         {
             return Err(NackCode::BadConfig);
         }
-        check_ranges(
-            rate_hz,
-            &[
-                (1, b.search_vel),
-                (1, b.creep_vel),
-                (2, b.accel),
-                (3, b.jerk),
-            ],
-        )?;
+        speeds_in_range(b, rate_hz)?;
         if b.home_offset.abs() > MAX_POSITION {
             return Err(NackCode::OutOfRange);
         }
@@ -451,15 +457,7 @@ impl Homing {
                 return Err(NackCode::BadConfig);
             }
         }
-        check_ranges(
-            rate_hz,
-            &[
-                (1, b.search_vel),
-                (1, b.creep_vel),
-                (2, b.accel),
-                (3, b.jerk),
-            ],
-        )?;
+        speeds_in_range(b, rate_hz)?;
         let changed = axis.begin_homing(seq, cfg.method.watched_limits())?;
         self.run = Some(Run {
             seq,
@@ -593,7 +591,11 @@ impl Run {
         let r = axis.reference();
         let b = &self.cfg.block;
         let at_rest = r.vel == 0.0 && r.acc == 0.0 && !axis.profile_running();
-        if !at_rest && axis.homing_stop(b.accel, b.jerk, inp.max_stop_time).is_ok() {
+        if !at_rest
+            && axis
+                .run_bounded_stop(b.accel, b.jerk, inp.max_stop_time)
+                .is_ok()
+        {
             self.pending = Some(v);
         } else {
             let at = axis.actual().0;
@@ -820,7 +822,7 @@ impl Run {
         if axis.profile_running() {
             let b = &self.cfg.block;
             if axis
-                .homing_stop(b.accel, b.jerk, inp.max_stop_time)
+                .run_bounded_stop(b.accel, b.jerk, inp.max_stop_time)
                 .is_err()
             {
                 axis.hold_at_actual();
@@ -835,7 +837,7 @@ impl Run {
         if axis.profile_running() {
             let b = &self.cfg.block;
             if axis
-                .homing_stop(b.accel, b.jerk, inp.max_stop_time)
+                .run_bounded_stop(b.accel, b.jerk, inp.max_stop_time)
                 .is_err()
             {
                 axis.hold_at_actual();

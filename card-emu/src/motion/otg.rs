@@ -557,19 +557,8 @@ impl Quartic {
             } else {
                 p / dp
             };
-            let halley = x - step;
-            let nx = if halley > lo && halley < hi && (2.0 * step).abs() <= dx_old.abs() {
-                dx_old = dx;
-                dx = step;
-                halley
-            } else {
-                let m = mid(lo, hi);
-                if !(m > lo && m < hi) {
-                    break;
-                }
-                dx_old = dx;
-                dx = x - m;
-                m
+            let Some(nx) = safeguarded(x, step, lo, hi, &mut dx, &mut dx_old) else {
+                break;
             };
             let s = (nx - x).abs();
             let done = s <= 2.0 * f64::EPSILON * x.abs()
@@ -1196,28 +1185,38 @@ where
             hi = x;
         }
         let step = fx / df(x);
-        let newton = x - step;
-        if newton == x {
+        if x - step == x {
             // A step below half an ulp: converged (bisecting on would only confirm it).
             break;
         }
-        let nx = if newton > lo && newton < hi && (2.0 * step).abs() <= dx_old.abs() {
-            dx_old = dx;
-            dx = step;
-            newton
-        } else {
-            let m = mid(lo, hi);
-            if !(m > lo && m < hi) {
-                break;
-            }
-            dx_old = dx;
-            dx = x - m;
-            m
+        let Some(nx) = safeguarded(x, step, lo, hi, &mut dx, &mut dx_old) else {
+            break;
         };
         last = (nx - x).abs() <= 2.0 * f64::EPSILON * x.abs();
         x = nx;
     }
     bx
+}
+
+/// The safeguard of [`bracketed`] and [`Quartic::root`]: the next iterate is `x − step` when
+/// it stays inside (lo, hi) and the step is at most half the one before the last (`dx`,
+/// `dx_old`: the last two steps, updated), else the middle of the bracket; None once the
+/// bracket has no middle left.
+#[inline(always)]
+fn safeguarded(x: f64, step: f64, lo: f64, hi: f64, dx: &mut f64, dx_old: &mut f64) -> Option<f64> {
+    let next = x - step;
+    if next > lo && next < hi && (2.0 * step).abs() <= dx_old.abs() {
+        *dx_old = *dx;
+        *dx = step;
+        return Some(next);
+    }
+    let m = mid(lo, hi);
+    if !(m > lo && m < hi) {
+        return None;
+    }
+    *dx_old = *dx;
+    *dx = x - m;
+    Some(m)
 }
 
 impl Trajectory {

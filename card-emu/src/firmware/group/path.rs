@@ -61,6 +61,21 @@ impl core::fmt::Debug for PathRun {
 }
 
 impl PathRun {
+    /// `GroupMotionAborted` (code: the opcode `by`) for every segment not finished, oldest
+    /// first; none is left.
+    fn abort_unfinished(&mut self, group: u16, by: Opcode, tick: u64, out: &mut Outbox) {
+        while let Some(seq) = self.seqs.pop_front() {
+            out.push(Event {
+                seq,
+                kind: EventKind::GroupMotionAborted as u16,
+                axis: group,
+                code: by as i32,
+                tick,
+                value: 0.0,
+            });
+        }
+    }
+
     fn new() -> Self {
         Self {
             path: Path::with_capacity(PATH_LEN),
@@ -501,16 +516,7 @@ impl Group {
                 (_, true) => Opcode::PathLine,
                 _ => Opcode::GroupHalt,
             };
-            while let Some(seq) = run.seqs.pop_front() {
-                out.push(Event {
-                    seq,
-                    kind: EventKind::GroupMotionAborted as u16,
-                    axis: index,
-                    code: by as i32,
-                    tick,
-                    value: 0.0,
-                });
-            }
+            run.abort_unfinished(index, by, tick, out);
             run.halting = false;
             run.started = 0;
             run.stale = true;
@@ -559,16 +565,7 @@ impl Group {
         let Some(run) = self.path.as_mut() else {
             return;
         };
-        while let Some(seq) = run.seqs.pop_front() {
-            out.push(Event {
-                seq,
-                kind: EventKind::GroupMotionAborted as u16,
-                axis: index,
-                code: by as i32,
-                tick,
-                value: 0.0,
-            });
-        }
+        run.abort_unfinished(index, by, tick, out);
         run.started = 0;
         run.halting = false;
         run.starving = false;

@@ -1183,6 +1183,10 @@ fn micro_segments_of_a_smooth_curve_run_near_the_curves_own_bound() {
         )
     });
     let ratio = time / bound;
+    // `cargo test --release -p card-emu --lib motion::path::tests::micro -- --nocapture`
+    println!(
+        "smoothed sine curve: path time {time:.4} s, the curve's bound {bound:.4} s: {ratio:.3}"
+    );
     assert!(
         (0.98..=1.6).contains(&ratio),
         "path time {time} s against the curve's bound {bound} s: {ratio}"
