@@ -1,13 +1,13 @@
 //! The continuous path on the stepped emulated card: blends within the tolerance, every axis
 //! within its limits (finite differences of the commanded positions per tick), segment events
 //! in order, exact ends, starvation and resume, halts in a blend, each buffer and transition
-//! mode, dwells and outputs, and the refusals.
+//! mode (Thinh's time-shifted blending included), dwells and outputs, and the refusals.
 mod common;
 
 use common::stepped_card;
 use motioncard::{
-    Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, OutputAt, PathBuffer, PathItem,
-    PathSettings, Segment, Transition,
+    ArcSpec, Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, OutputAt, PathBuffer,
+    PathItem, PathSettings, Plane, Segment, Transition,
 };
 use std::time::Duration;
 
@@ -587,4 +587,61 @@ fn a_refused_stream_reports_the_first_refusal_and_what_the_card_accepted() {
     .unwrap();
     g.wait_done(T).unwrap();
     assert_eq!(cmd(&card, 2), vec![0.0, 0.0]);
+}
+
+/// Thinh's blending (TransitionMode 3) on the card: each line starts while the one before
+/// decelerates, within the tolerance and every axis's limits, and ends exactly; an arc with it
+/// is refused (`PathMode`) and changes nothing.
+#[test]
+fn time_shifted_transition_overlaps_lines_on_the_card() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let pts = [
+        vec![0.0, 0.0],
+        vec![20_000.0, 0.0],
+        vec![20_000.0, 20_000.0],
+        vec![0.0, 30_000.0],
+    ];
+    let tol = 300.0;
+    let shifted = |i: usize| {
+        Segment::line(i as u32, &pts[i], 80_000.0, 0.0).transition(Transition::TimeShift(tol))
+    };
+    let arc = Segment::arc(
+        9,
+        ArcSpec::Centre {
+            end: [0.0, 0.0],
+            centre: [0.0, 15_000.0],
+            ccw: true,
+        },
+        Plane::XY,
+        &[],
+        80_000.0,
+        0.0,
+    );
+    let e = g
+        .path_push(&arc.clone().transition(Transition::TimeShift(tol)).into())
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::PathMode);
+    assert_eq!(g.status().unwrap().1.path_queued, 0);
+    g.stream_path((1..=3).map(shifted), |_| {}).unwrap();
+    let r = run(&card, &g, 2, 200_000);
+    assert_limits(&r, &lim, "time shift");
+    assert_eq!(r.pos.last().unwrap(), &pts[3]);
+    let worst = r
+        .pos
+        .iter()
+        .map(|p| dist_to_polyline(p, &pts))
+        .fold(0.0, f64::max);
+    assert!(worst <= tol, "deviation {worst}");
+    // Segment k + 1 starts before segment k ends.
+    let at = |kind: EventKind, id: f64| {
+        r.events
+            .iter()
+            .position(|e| e.kind == kind && e.value == id)
+            .unwrap()
+    };
+    for id in 1..3 {
+        let next = at(EventKind::SegmentStart, id as f64 + 1.0);
+        assert!(next < at(EventKind::SegmentEnd, id as f64), "segment {id}");
+    }
 }

@@ -802,7 +802,7 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
         };
         let mut end = [0.0; MAX_AXES];
         // 400 chords of a circle of radius 20,000 (smoothed), then a square corner, an arc,
-        // a dwell and an output
+        // a dwell, an output and a time-shifted chain
         for i in 1..=400u32 {
             let th = i as f64 * 100.0 / 20_000.0;
             end[0] = 20_000.0 * th.sin();
@@ -841,9 +841,29 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
         .unwrap();
         let mut last = arc_end;
         last[1] -= 3_000.0;
-        let mut s = seg(404, Geom::Line { end: last }, Transition::MaxDeviation(5.0));
-        s.last = true;
-        p.push(s).unwrap();
+        p.push(seg(
+            404,
+            Geom::Line { end: last },
+            Transition::MaxDeviation(5.0),
+        ))
+        .unwrap();
+        // a time-shifted chain, held and resumed in it
+        for i in 1..=4u32 {
+            last[i as usize % 2] += if i > 2 { -2_000.0 } else { 2_000.0 };
+            let mut s = seg(
+                404 + i,
+                Geom::Line { end: last },
+                Transition::TimeShift(50.0),
+            );
+            s.last = i == 4;
+            p.push(s).unwrap();
+        }
+        while p.current_id().is_some_and(|id| id < 406) {
+            p.tick(1.0, &mut |_| events += 1);
+        }
+        for _ in 0..300 {
+            p.tick(0.0, &mut |_| events += 1);
+        }
         for _ in 0..2_000_000 {
             p.tick(1.0, &mut |_| events += 1);
             if p.queued() == 0 && !p.is_moving() {

@@ -292,6 +292,14 @@ extern "C" {
 #define MC_PATH_TRANSITION_CORNER_DISTANCE 2
 
 /**
+ * Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+ * while the one before decelerates, within `tolerance` of the corner (0: an exact stop).
+ * Refused (`MC_ERR_PATH_MODE`) on or after an arc, and a blend after such a line is refused
+ * too.
+ */
+#define MC_PATH_TRANSITION_TIME_SHIFT 3
+
+/**
  * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
  * segment starts.
  */

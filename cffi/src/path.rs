@@ -60,6 +60,11 @@ pub const MC_PATH_TRANSITION_NONE: u32 = 0;
 pub const MC_PATH_TRANSITION_MAX_DEVIATION: u32 = 1;
 /// The blend begins `tolerance` before the corner (and ends as far after it).
 pub const MC_PATH_TRANSITION_CORNER_DISTANCE: u32 = 2;
+/// Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+/// while the one before decelerates, within `tolerance` of the corner (0: an exact stop).
+/// Refused (`MC_ERR_PATH_MODE`) on or after an arc, and a blend after such a line is refused
+/// too.
+pub const MC_PATH_TRANSITION_TIME_SHIFT: u32 = 3;
 
 /// When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
 /// segment starts.
@@ -254,6 +259,7 @@ impl mc_path_segment {
             MC_PATH_TRANSITION_NONE => Transition::None,
             MC_PATH_TRANSITION_MAX_DEVIATION => Transition::MaxDeviation(self.tolerance),
             MC_PATH_TRANSITION_CORNER_DISTANCE => Transition::CornerDistance(self.tolerance),
+            MC_PATH_TRANSITION_TIME_SHIFT => Transition::TimeShift(self.tolerance),
             v => return Err(path_mode("transition mode (MC_PATH_TRANSITION_)", v)),
         };
         Ok(PathItem::Segment(Segment {
@@ -770,6 +776,7 @@ mod tests {
                 MC_PATH_TRANSITION_CORNER_DISTANCE,
                 raw::MC_TM_CORNER_DISTANCE,
             ),
+            (MC_PATH_TRANSITION_TIME_SHIFT, raw::MC_TM_TIME_SHIFT),
             (MC_OUTPUT_AT_START, raw::MC_PATH_OUT_AT_START),
             (MC_OUTPUT_AT_END, raw::MC_PATH_OUT_AT_END),
             (MC_OUTPUT_AT_DISTANCE, raw::MC_PATH_OUT_AT_DISTANCE),

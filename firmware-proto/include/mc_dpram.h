@@ -289,6 +289,11 @@
 #define MC_TM_NONE 0u                /*   no blend: an exact stop at the corner */
 #define MC_TM_MAX_DEVIATION 1u       /*   the blend keeps within `tolerance` counts of the corner */
 #define MC_TM_CORNER_DISTANCE 2u     /*   the blend begins `tolerance` counts before the corner */
+#define MC_TM_TIME_SHIFT 3u          /*   Thinh's blending of two lines: each runs as its own
+                                      *   rest-to-rest S-curve, this one starting while the one
+                                      *   before decelerates, within `tolerance` counts of the
+                                      *   corner; refused (MC_NACK_PATH_MODE) on or after an arc,
+                                      *   and a blend after such a line is refused too */
 #define MC_PATH_LAST (1u << 21)      /* the last segment of a program: its stop is not starvation */
 /* MC_OP_PATH_OUTPUT flags: when */
 #define MC_PATH_OUT_AT_START 0u
@@ -391,7 +396,8 @@
 #define MC_NACK_AXIS_HOMING 65          /* a move, jog, MC_SetPosition or MC_Home on an axis that is
                                          * homing */
 /* Continuous path nack codes (80..95, layout 1.6). */
-#define MC_NACK_PATH_MODE 80            /* a buffer mode or transition mode the card does not know */
+#define MC_NACK_PATH_MODE 80            /* a buffer or transition mode the card does not know, or a
+                                         * time-shifted transition it cannot make (MC_TM_TIME_SHIFT) */
 #define MC_NACK_PATH_ZERO_LENGTH 81     /* a line of length zero */
 #define MC_NACK_PATH_OUTPUT 82          /* an output number >= MC_OUTPUTS, a value other than 0/1, or
                                          * more than MC_PATH_OUTPUTS_PENDING actions pending */

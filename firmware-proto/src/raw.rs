@@ -115,6 +115,7 @@ pub const MC_PATH_TRANSITION_SHIFT: u32 = 19;
 pub const MC_TM_NONE: u32 = 0;
 pub const MC_TM_MAX_DEVIATION: u32 = 1;
 pub const MC_TM_CORNER_DISTANCE: u32 = 2;
+pub const MC_TM_TIME_SHIFT: u32 = 3;
 pub const MC_PATH_LAST: u32 = 2097152;
 pub const MC_PATH_OUT_AT_START: u32 = 0;
 pub const MC_PATH_OUT_AT_END: u32 = 1;

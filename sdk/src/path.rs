@@ -52,6 +52,11 @@ pub enum Transition {
     MaxDeviation(f64),
     /// The blend begins this far before the corner (and ends as far after it).
     CornerDistance(f64),
+    /// Thinh's blending (2014, Fig 10), between two lines: each runs as its own rest-to-rest
+    /// S-curve, this one starting while the one before decelerates, as early as keeps the path
+    /// within this distance of the corner and every axis within its limits (0: exact stop).
+    /// Refused (`PathMode`) on or after an arc, and a blend after such a line is refused too.
+    TimeShift(f64),
 }
 
 /// What a segment is.
@@ -413,6 +418,7 @@ impl Group {
             Transition::None => (raw::MC_TM_NONE, 0.0),
             Transition::MaxDeviation(t) => (raw::MC_TM_MAX_DEVIATION, t),
             Transition::CornerDistance(t) => (raw::MC_TM_CORNER_DISTANCE, t),
+            Transition::TimeShift(t) => (raw::MC_TM_TIME_SHIFT, t),
         };
         finite("tolerance", tol)?;
         if tol < 0.0 {

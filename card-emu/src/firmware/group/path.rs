@@ -268,15 +268,13 @@ impl Group {
                     raw::MC_TM_NONE => Transition::Exact,
                     raw::MC_TM_MAX_DEVIATION => Transition::MaxDeviation(tol),
                     raw::MC_TM_CORNER_DISTANCE => Transition::CornerDistance(tol),
+                    raw::MC_TM_TIME_SHIFT => Transition::TimeShift(tol),
                     _ => return Err(NackCode::PathMode),
                 };
                 (t, blend)
             }
             _ => return Err(NackCode::PathMode),
         };
-        if path_flags::transition(c.flags) > raw::MC_TM_CORNER_DISTANCE {
-            return Err(NackCode::PathMode);
-        }
         let relative = c.flags & move_flags::RELATIVE != 0;
         let start = self.queue_end;
         let geom = if op == Opcode::PathLine {
@@ -628,6 +626,7 @@ fn path_nack(e: crate::motion::path::PathError) -> NackCode {
         E::BadAxis => NackCode::AxisNotInGroup,
         E::BadLimits => NackCode::LimitRange,
         E::Moving => NackCode::InvalidState,
+        E::TimeShift => NackCode::PathMode,
         E::NotReady | E::BadLookahead => NackCode::BadConfig,
     }
 }

@@ -43,10 +43,12 @@
 //! [`Path::with_capacity`] allocates everything once.
 
 mod geom;
+mod shift;
 #[cfg(test)]
 mod tests;
 
 use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
+use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::PathSpeedPlanner;
 use crate::motion::pos_finite;
@@ -144,6 +146,10 @@ pub enum Transition {
     MaxDeviation(f64),
     /// Blend trimming this length off each side (0 = exact).
     CornerDistance(f64),
+    /// Thinh's blending of two lines (see `shift.rs`): each runs as its own rest-to-rest
+    /// S-curve, this one starting while the previous one decelerates, within this deviation
+    /// from the corner (0 = exact stop).
+    TimeShift(f64),
 }
 
 /// PLCopen BlendingLow/Previous/Next/High: the feed cap at the junction.
@@ -234,6 +240,9 @@ pub enum PathError {
     BadLookahead,
     /// `clear` while moving.
     Moving,
+    /// A time-shifted transition on an arc, or after one, or a blend after a time-shifted
+    /// line.
+    TimeShift,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -277,6 +286,11 @@ struct Seg {
     nouts: usize,
     fired: u8,
     dwell_ticks: u64,
+    /// Runs as a time-shifted profile (see `shift.rs`), overlapping the previous one when
+    /// `shift_join`.
+    shift: bool,
+    shift_join: bool,
+    transition: Transition,
 }
 
 impl Default for Seg {
@@ -307,6 +321,9 @@ impl Default for Seg {
             nouts: 0,
             fired: 0,
             dwell_ticks: 0,
+            shift: false,
+            shift_join: false,
+            transition: Transition::Exact,
         }
     }
 }
@@ -384,6 +401,8 @@ pub struct Path {
     npending: usize,
     starving_sent: bool,
     idle_sent: bool,
+    /// The time-shifted executor, while the executor's segment is one of its lines.
+    chain: Chain,
 }
 
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
@@ -524,6 +543,7 @@ impl Path {
             npending: 0,
             starving_sent: false,
             idle_sent: true,
+            chain: Chain::default(),
         }
     }
 
@@ -599,6 +619,7 @@ impl Path {
         self.npending = 0;
         self.starving_sent = false;
         self.idle_sent = true;
+        self.shift_clear();
         Ok(())
     }
 
@@ -618,15 +639,23 @@ impl Path {
         self.capacity - self.queued()
     }
     pub fn is_moving(&self) -> bool {
-        self.planner.v > 0.0 || self.planner.a != 0.0
+        self.planner.v > 0.0 || self.planner.a != 0.0 || self.chain.is_moving()
     }
-    /// Path speed, counts/s.
+    /// Path speed, counts/s (in a time-shifted chain, the norm of the velocity).
     pub fn speed(&self) -> f64 {
-        self.planner.v
+        if self.chain.is_active() {
+            self.chain.speed()
+        } else {
+            self.planner.v
+        }
     }
-    /// Path acceleration, counts/s².
+    /// Path acceleration, counts/s² (in a time-shifted chain, the change of the speed).
     pub fn accel(&self) -> f64 {
-        self.planner.a
+        if self.chain.is_active() {
+            self.chain.accel()
+        } else {
+            self.planner.a
+        }
     }
     /// Commanded position of the last tick.
     pub fn position(&self) -> [f64; MAX_AXES] {
@@ -950,7 +979,9 @@ impl Path {
         }
         let tol = match seg.transition {
             Transition::Exact => 0.0,
-            Transition::MaxDeviation(x) | Transition::CornerDistance(x) => check_tol(x)?,
+            Transition::MaxDeviation(x)
+            | Transition::CornerDistance(x)
+            | Transition::TimeShift(x) => check_tol(x)?,
         };
         let fix_axes = |e: &mut V| {
             for x in e[n..].iter_mut() {
@@ -1014,11 +1045,39 @@ impl Path {
         let len = rec.prog.len();
         rec.body1 = len;
         rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
+        rec.transition = seg.transition;
         // The junction with the previous segment.
         let idle = self.exec >= self.tail;
         let prev_live = !idle && self.tail > self.exec;
         let mut prev_trim = 0.0;
-        if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
+        let mut convert_prev = false;
+        if let Transition::TimeShift(_) = seg.transition {
+            if rec.prog.is_curved() || (prev_live && self.seg(self.tail - 1).prog.is_curved()) {
+                return Err(PathError::TimeShift);
+            }
+            if self.shift_profile(&rec.prog, rec.feed, 0.0).is_err() {
+                return Err(PathError::OutOfRange);
+            }
+            rec.shift = true;
+            if prev_live && tol > 0.0 {
+                let pi = self.tail - 1;
+                let prev = self.seg(pi);
+                if prev.shift {
+                    rec.shift_join = true;
+                } else if !prev.is_dwell()
+                    && prev.stop_before
+                    && (self.exec < pi || (!self.in_blend && self.s == 0.0 && !self.is_moving()))
+                    && self.shift_profile(&prev.prog, prev.feed, 0.0).is_ok()
+                {
+                    // the line before starts from rest and has not moved: it runs as the
+                    // chain's first profile (else this corner is an exact stop)
+                    convert_prev = true;
+                    rec.shift_join = true;
+                }
+            }
+        } else if motion && prev_live && tol > 0.0 && self.seg(self.tail - 1).shift {
+            return Err(PathError::TimeShift);
+        } else if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
             let prev = *self.seg(self.tail - 1);
             let la = prev.prog.len();
             let fa = prev.prog.frame(la);
@@ -1129,7 +1188,7 @@ impl Path {
                         };
                         (d, dev)
                     }
-                    Transition::Exact => (0.0, 0.0),
+                    Transition::Exact | Transition::TimeShift(_) => (0.0, 0.0),
                 };
                 let scale = p0[..n].iter().fold(1.0f64, |m, x| m.max(x.abs()));
                 if d > 1e3 * f64::EPSILON * scale && d.is_finite() {
@@ -1153,6 +1212,10 @@ impl Path {
             self.npending = 0;
         }
         // commit
+        if convert_prev {
+            let ps = self.slot(self.tail - 1);
+            self.segs[ps].shift = true;
+        }
         if prev_trim > 0.0 {
             let pi = self.tail - 1;
             let ps = self.slot(pi);
@@ -1237,6 +1300,10 @@ impl Path {
             self.jt
         };
         let d = d.max(-pl.a).min(self.at);
+        if self.chain.is_active() {
+            self.shift_stop(decel, jerk);
+            return;
+        }
         if self.exec >= self.tail {
             return;
         }
@@ -1273,6 +1340,7 @@ impl Path {
         self.planner.jmax = self.jt;
         self.planner.rest();
         self.idle_sent = true;
+        self.shift_clear();
         Ok(())
     }
 
@@ -1443,11 +1511,9 @@ impl Path {
         fired
     }
 
-    fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
-        let i = self.exec;
+    /// Segment `i` starts: its event, and its outputs at the start.
+    fn open_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
         let sl = self.slot(i);
-        self.started = true;
-        self.seg_travel = 0.0;
         ev(PathEvent::SegmentStart {
             id: self.segs[sl].id,
         });
@@ -1455,7 +1521,13 @@ impl Path {
         self.segs[sl].fired = f;
         let f = self.fire_outputs(i, 2, 0.0, ev);
         self.segs[sl].fired = f;
-        self.dwell_left = self.segs[sl].dwell_ticks;
+    }
+
+    fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
+        self.started = true;
+        self.seg_travel = 0.0;
+        self.open_seg(self.exec, ev);
+        self.dwell_left = self.seg(self.exec).dwell_ticks;
     }
 
     fn end_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
@@ -1634,6 +1706,9 @@ impl Path {
                 ev(PathEvent::Idle);
             }
             return self.pos;
+        }
+        if self.seg(self.exec).shift {
+            return self.shift_tick(ovr, ev);
         }
         let lk = self.look(ovr);
         let ts = self.lim.ts;
