@@ -4,9 +4,9 @@
 use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
 use motioncard::papers::{
-    corner_boxes, mm_per_s, um, yeh_die_bonder, yeh_feed_fluctuation, yeh_umax_sweep, DieBonder,
-    DIE_BONDER_BUDGET, DIE_BONDER_FEED, DIE_BONDER_UM_PER_COUNT, YEH_FLUCTUATION_FEEDS,
-    YEH_FOLLOWING_BOUND_UM, YEH_UMAX_FRACTIONS,
+    corner_boxes, mm_per_s, um, yeh_die_bonder, yeh_feed_fluctuation, yeh_test_circle,
+    yeh_test_sine, yeh_umax_sweep, DieBonder, DIE_BONDER_BUDGET, DIE_BONDER_FEED,
+    DIE_BONDER_UM_PER_COUNT, YEH_FLUCTUATION_FEEDS, YEH_FOLLOWING_BOUND_UM, YEH_UMAX_FRACTIONS,
 };
 use motioncard::papers::{
     cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
@@ -597,14 +597,15 @@ fn yeh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         um(b[1].1) / 1e3,
         um(b[0].2) / 1e3
     );
-    println!("| Umax V | time s | corner feed mean mm/s | corner feed min mm/s | max |u| X V | max |u| Y V | ticks > Umax | following X µm | following Y µm |");
-    println!("|--------|--------|-----------------------|----------------------|-------------|-------------|--------------|----------------|----------------|");
+    println!("| Umax V | time s | plan alone s | corner feed mean mm/s | corner feed min mm/s | max |u| X V | max |u| Y V | ticks > Umax | following X µm | following Y µm |");
+    println!("|--------|--------|--------------|-----------------------|----------------------|-------------|-------------|--------------|----------------|----------------|");
     let sweep = yeh_umax_sweep(&YEH_UMAX_FRACTIONS)?;
     for r in &sweep {
         println!(
-            "| {:>6.1} | {:>6.3} | {:>21.1} | {:>20.1} | {:>11.3} | {:>11.3} | {:>12} | {:>14.1} | {:>14.1} |",
+            "| {:>6.1} | {:>6.3} | {:>12.3} | {:>21.1} | {:>20.1} | {:>11.3} | {:>11.3} | {:>12} | {:>14.1} | {:>14.1} |",
             r.umax,
             r.time,
+            r.planned_time.unwrap_or(f64::NAN),
             mm_per_s(r.corner_feed.0),
             mm_per_s(r.corner_feed.1),
             r.max_u[0],
@@ -665,25 +666,29 @@ fn yeh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
 
     println!();
     println!(
-        "Feed fluctuation |chord/Ts − V|/V on the NURBS circle of radius 5 mm (5,000 counts), 1 ms: \
-         Yeh's plain parameter updates (offline, whole circle) against the card's eq 3.1 + Newton \
-         corrections (stepped card, cruise)"
+        "Feed fluctuation |chord/Ts − V|/V at 1 ms: Yeh's plain parameter updates (offline, every step \
+         but the last) against the card's eq 3.1 + Newton corrections (stepped card, cruise)"
     );
-    println!("| feed mm/s | eq 3.2 max | eq 3.2 RMS | eq 3.1 max | eq 3.1 RMS | card max | card RMS | eq 3.2 / eq 3.1 | eq 3.1 / card |");
-    println!("|-----------|------------|------------|------------|------------|----------|----------|-----------------|---------------|");
-    for r in yeh_feed_fluctuation(&YEH_FLUCTUATION_FEEDS)? {
-        println!(
-            "| {:>9.0} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>8.1e} | {:>8.1e} | {:>15.0} | {:>13.1e} |",
-            mm_per_s(r.feed),
-            r.eq32.max,
-            r.eq32.rms,
-            r.eq31.max,
-            r.eq31.rms,
-            r.card.max,
-            r.card.rms,
-            r.eq32.max / r.eq31.max,
-            r.eq31.max / r.card.max
-        );
+    println!("| curve                 | feed mm/s | eq 3.2 max | eq 3.2 RMS | eq 3.1 max | eq 3.1 RMS | card max | card RMS | eq 3.1 max / card max |");
+    println!("|-----------------------|-----------|------------|------------|------------|------------|----------|----------|-----------------------|");
+    for (name, curve) in [
+        ("circle r 5 mm (C¹)", yeh_test_circle()),
+        ("sine 5 mm × 4 mm (C²)", yeh_test_sine()),
+    ] {
+        for r in yeh_feed_fluctuation(&curve, &YEH_FLUCTUATION_FEEDS)? {
+            println!(
+                "| {:<21} | {:>9.0} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>8.1e} | {:>8.1e} | {:>21.1e} |",
+                name,
+                mm_per_s(r.feed),
+                r.eq32.max,
+                r.eq32.rms,
+                r.eq31.max,
+                r.eq31.rms,
+                r.card.max,
+                r.card.rms,
+                r.eq31.max / r.card.max
+            );
+        }
     }
     Ok(())
 }

@@ -65,6 +65,10 @@ pub struct DieBonder {
     pub corner_feed: (f64, f64),
     /// Motion time, s.
     pub time: f64,
+    /// With the saturation-aware feed: the time of the look-ahead's own plan, s — the card's
+    /// interpolator (same code, same settings) run on the host by its plan alone, without the
+    /// per-tick guard of eq 3.6–3.10 that the card adds from the axes' measured state.
+    pub planned_time: Option<f64>,
     /// (t, feed counts/s) per tick.
     pub feed: Vec<(f64, f64)>,
     /// (t, u_x, u_y) per tick, V.
@@ -75,6 +79,9 @@ pub struct DieBonder {
 
 /// Feed of the die-bonder runs, counts/s (400 mm/s at [`DIE_BONDER_UM_PER_COUNT`]).
 pub const DIE_BONDER_FEED: f64 = 400_000.0;
+
+/// Tangential acceleration and jerk limits of the die-bonder runs, counts/s², counts/s³.
+pub const DIE_BONDER_ACCEL_JERK: (f64, f64) = (4e7, 4e10);
 
 /// The fraction of Umax the look-ahead of the saturation-aware runs plans with
 /// ([`crate::NurbsFeed::saturation`]); the per-tick guard keeps |u| ≤ Umax itself.
@@ -139,14 +146,15 @@ fn die_bonder_run(saturation: bool, umax: f64) -> Result<DieBonder> {
     let curve = card_emu::presets::die_bonder_path();
     let f = NurbsFeed {
         feed: DIE_BONDER_FEED,
-        accel: 4e7,
-        jerk: 4e10,
+        accel: DIE_BONDER_ACCEL_JERK.0,
+        jerk: DIE_BONDER_ACCEL_JERK.1,
         chord_tolerance: None, // one count
         saturation: saturation.then_some(DIE_BONDER_BUDGET),
     };
     let m = g.move_nurbs(&curve, &f, MoveOptions::default())?;
     let mut r = DieBonder {
         umax,
+        planned_time: if saturation { planned_time(umax) } else { None },
         ..Default::default()
     };
     let mut prev: Option<(f64, f64)> = None;
@@ -215,6 +223,36 @@ fn die_bonder_run(saturation: bool, umax: f64) -> Result<DieBonder> {
         }
     }
     Ok(r)
+}
+
+/// The look-ahead's plan of the saturation-aware run at drive limit `umax` (V, both axes): the
+/// card's NURBS interpolator with the firmware's settings (three Newton corrections, one-count
+/// chord tolerance) and the die bonder's axis models, stepped by its plan alone; None if the
+/// models are refused.
+fn planned_time(umax: f64) -> Option<f64> {
+    use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
+    use card_emu::motion::saturation::SaturationAwareFeed;
+    let mut p = card_emu::presets::die_bonder_volts();
+    for a in p.axes.iter_mut() {
+        a.umax = umax;
+    }
+    let sat = SaturationAwareFeed::new(&p.axes, p.ts).ok()?;
+    let cfg = InterpConfig {
+        ts: p.ts,
+        feed: DIE_BONDER_FEED,
+        accel: DIE_BONDER_ACCEL_JERK.0,
+        jerk: DIE_BONDER_ACCEL_JERK.1,
+        chord_tol: 1.0,
+        max_corrections: 3,
+    };
+    let curve = card_emu::presets::die_bonder_path();
+    let mut ip = Interpolator::with_actuator_limits(curve, cfg, &sat, DIE_BONDER_BUDGET).ok()?;
+    let mut ticks = 0u32;
+    while !ip.is_done() && ticks < 1_000_000 {
+        ip.tick().ok()?;
+        ticks += 1;
+    }
+    Some(ticks as f64 * p.ts)
 }
 
 fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
@@ -322,16 +360,33 @@ pub fn taylor_feed_fluctuation(curve: &Nurbs, v: f64, ts: f64, order: Taylor) ->
 /// Sample time of the fluctuation runs, s (Yeh's 1 ms).
 pub const YEH_TS: f64 = 1e-3;
 
-/// The curved path of the fluctuation comparison: the rational quadratic NURBS circle of
-/// radius 5,000 counts (5 mm) through the origin, whose parametric speed ‖C'(u)‖ varies by
-/// √2 around each quarter, so a step in u is not a fixed step in length.
+/// A curved path of the fluctuation comparison: the rational quadratic NURBS circle of radius
+/// 5,000 counts (5 mm) through the origin (nine control points, double knots at the quarters).
+/// Its parametric speed ‖C'(u)‖ varies by √2 around each quarter, so a step in u is not a fixed
+/// step in length; it is only C¹ in u: C'' jumps at the double knots.
 pub fn yeh_test_circle() -> Nurbs {
     Nurbs::circle([-5_000.0, 0.0], 5_000.0).expect("a valid circle")
 }
 
+/// A curved path of the fluctuation comparison, C² in u: the cubic B-spline (uniform knots,
+/// unit weights) whose 30 control points lie every 4,000 counts (4 mm) along x on a sine of
+/// amplitude 5,000 counts (5 mm), 0.6 rad per control point, from the origin: 116 mm long
+/// in x, radius of curvature above 8 mm.
+pub fn yeh_test_sine() -> Nurbs {
+    let n = 30;
+    let ctrl: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let t = i as f64;
+            [4_000.0 * t, 5_000.0 * (0.6 * t).sin()]
+        })
+        .collect();
+    let knots = crate::clamped_uniform_knots(n, 3).expect("30 > 3");
+    Nurbs::new(3, 2, &ctrl, &[1.0; 30], &knots).expect("a valid curve")
+}
+
 /// Feeds of the fluctuation comparison, counts/s (50, 100, 150 mm/s): all below the feed at
-/// which the 5 mm circle's one-count chord tolerance binds (2·√(2ρδ − δ²)/Ts ≈ 2.0e5 counts/s),
-/// so the card cruises at the feed.
+/// which the one-count chord tolerance binds on either curve (2·√(2ρδ − δ²)/Ts ≈ 2.0e5
+/// counts/s on the 5 mm circle, more on the sine), so the card cruises at the feed.
 pub const YEH_FLUCTUATION_FEEDS: [f64; 3] = [50_000.0, 100_000.0, 150_000.0];
 
 /// The card's feed fluctuation on `curve` at feed `v` (counts/s): the curve sent with
@@ -385,17 +440,17 @@ pub struct FluctuationRow {
     pub card: Fluctuation,
 }
 
-/// Plain eq 3.2, plain eq 3.1 and the card on [`yeh_test_circle`] at each of `feeds`.
-pub fn yeh_feed_fluctuation(feeds: &[f64]) -> Result<Vec<FluctuationRow>> {
-    let curve = yeh_test_circle();
+/// Plain eq 3.2, plain eq 3.1 and the card on `curve` ([`yeh_test_circle`],
+/// [`yeh_test_sine`]) at each of `feeds`.
+pub fn yeh_feed_fluctuation(curve: &Nurbs, feeds: &[f64]) -> Result<Vec<FluctuationRow>> {
     feeds
         .iter()
         .map(|&v| {
             Ok(FluctuationRow {
                 feed: v,
-                eq32: taylor_feed_fluctuation(&curve, v, YEH_TS, Taylor::FirstOrder),
-                eq31: taylor_feed_fluctuation(&curve, v, YEH_TS, Taylor::SecondOrder),
-                card: card_feed_fluctuation(&curve, v)?,
+                eq32: taylor_feed_fluctuation(curve, v, YEH_TS, Taylor::FirstOrder),
+                eq31: taylor_feed_fluctuation(curve, v, YEH_TS, Taylor::SecondOrder),
+                card: card_feed_fluctuation(curve, v)?,
             })
         })
         .collect()
