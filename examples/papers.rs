@@ -537,19 +537,21 @@ fn yeh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         YEH_FOLLOWING_BOUND_UM / worst,
         YEH_FOLLOWING_BOUND_UM / worst * 10.0
     );
+    // the plain run's lag is shown clipped at ±4·100 µm, so the bound stays readable
+    let clip = 4.0 * YEH_FOLLOWING_BOUND_UM;
     let ferr = |r: &DieBonder, axis: usize| -> Vec<(f64, f64)> {
         r.u.iter()
             .zip(&r.path)
             .map(|(u, (c, a))| {
                 let e = if axis == 0 { c.0 - a.0 } else { c.1 - a.1 };
-                (u.0 * 1e3, um(e))
+                (u.0 * 1e3, um(e).clamp(-clip, clip))
             })
             .collect()
     };
     let t_end = with.time.max(without.time) * 1e3;
     lines(
         &args.out.join("yeh_following_error.svg"),
-        "Yeh die bonder: following error per axis",
+        "Yeh die bonder: following error per axis (plain run clipped at ±400 µm for display)",
         "t [ms]",
         "command − encoder [µm]",
         &[
