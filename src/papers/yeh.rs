@@ -17,10 +17,10 @@ use crate::{
 ///
 /// Yeh gives no lead, gear or scale. What the paper does give: K_e = 1591.5494 in Table 1,
 /// which is 10000/(2π), i.e. the AC servo's encoder gives 10,000 counts (pulses) per motor
-/// revolution (Fig 6 plots speeds in pulse/ms); the axes of the moving arm are linear (Fig 4),
-/// and the following errors are stated in µm ("limited to 100 µm", §4). Between counts and µm
-/// sits the lead of the screw (or belt pulley) per motor revolution, which the paper does not
-/// state. We assume a 10 mm lead, direct-coupled: 10 mm / 10,000 counts = 1 µm/count, the
+/// revolution (Fig 6 plots speeds in pulse/ms); the machine is "biaxial" (X, Y) and its
+/// following errors are stated in µm ("limited to 100 µm", §4), so we take both axes as linear.
+/// Between counts and µm sits the lead of the screw (or belt pulley) per motor revolution,
+/// which the paper does not state (Fig 4, a photograph, is missing from our copy). We assume a 10 mm lead, direct-coupled: 10 mm / 10,000 counts = 1 µm/count, the
 /// linear scale the rest of this project uses (Shin's corner, the SDK's default chord
 /// tolerance). With it the die-bonder path ([`card_emu::presets::die_bonder_path`], 20,000 ×
 /// 60,000 counts) is 20 mm × 60 mm, the feed [`DIE_BONDER_FEED`] is 400 mm/s, and X's drive
@@ -179,7 +179,7 @@ fn die_bonder_run(saturation: bool, umax: f64) -> Result<DieBonder> {
     }
     m.wait(T)?;
     r.time = sim.time() - t0;
-    // Following error per axis, over the motion and the settling after it.
+    // Following error per axis, over the ticks until the group reports the motion done.
     for &(c, a) in &r.path {
         r.following[0] = r.following[0].max((c.0 - a.0).abs());
         r.following[1] = r.following[1].max((c.1 - a.1).abs());
