@@ -4,6 +4,11 @@
 use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
 use motioncard::papers::{
+    corner_boxes, mm_per_s, um, yeh_die_bonder, yeh_feed_fluctuation, yeh_test_circle,
+    yeh_test_sine, yeh_umax_sweep, DieBonder, DIE_BONDER_BUDGET, DIE_BONDER_FEED,
+    DIE_BONDER_UM_PER_COUNT, YEH_FLUCTUATION_FEEDS, YEH_FOLLOWING_BOUND_UM, YEH_UMAX_FRACTIONS,
+};
+use motioncard::papers::{
     cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
     shin_comparison, shin_corner, thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant, FeedForward,
     Fig5Axis, SyncShape, Tracking, FIG5_LIMITS, FIG9_STEP, RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS,
@@ -13,14 +18,15 @@ use motioncard::plot::{lines, Series};
 use motioncard::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
 
-/// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, Shin's corner test, and Thinh 2014 Figs 5, 9
-/// and 11, on the emulated card.
+/// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, Shin's corner test, Thinh 2014 Figs 5, 9
+/// and 11, and Yeh 2008's die bonder in µm (following error, Umax sweep, eq 3.1/3.2 against
+/// the card's corrected step), on the emulated card.
 #[derive(Parser)]
 struct Args {
     /// Directory for the SVG plots.
     #[arg(long, default_value = "target/plots")]
     out: PathBuf,
-    /// Only this paper's experiments: kim, shin or thinh.
+    /// Only this paper's experiments: kim, shin, thinh or yeh.
     #[arg(long)]
     only: Option<String>,
 }
@@ -36,6 +42,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if run("thinh") {
         thinh(&args)?;
+    }
+    if run("yeh") {
+        yeh(&args)?;
     }
     println!();
     println!("plots written to {}", args.out.display());
@@ -482,5 +491,206 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         &series,
         false,
     )?;
+    Ok(())
+}
+
+fn yeh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    let curve = card_emu::presets::die_bonder_path();
+    let end = curve.point(curve.domain().1)?;
+    let top = curve.point(0.5)?;
+    println!();
+    println!(
+        "Yeh 2008 die bonder (Table 1 plant and PD+ gains, 1 ms) at {DIE_BONDER_UM_PER_COUNT} µm/count \
+         (10,000 counts/rev from K_e = 10000/2π, 10 mm lead assumed: the paper gives none): \
+         path {:.0} mm up, {:.0} mm across, feed {:.0} mm/s ({DIE_BONDER_FEED} counts/s), \
+         Umax 10 V = 1 DU, look-ahead budget {DIE_BONDER_BUDGET}·Umax",
+        um(top[1]) / 1e3,
+        um(end[0]) / 1e3,
+        mm_per_s(DIE_BONDER_FEED)
+    );
+    let with = yeh_die_bonder(true)?;
+    let without = yeh_die_bonder(false)?;
+    println!();
+    println!(
+        "Following error per axis (command − encoder) against Yeh's {YEH_FOLLOWING_BOUND_UM} µm"
+    );
+    println!("| feed             | max |u| X V | max |u| Y V | ticks > Umax | following X µm | following Y µm | within {YEH_FOLLOWING_BOUND_UM} µm | contour µm | time s |");
+    println!("|------------------|-------------|-------------|--------------|----------------|----------------|----------------|------------|--------|");
+    for (name, r) in [("saturation-aware", &with), ("plain", &without)] {
+        let within = r.following.iter().all(|f| um(*f) <= YEH_FOLLOWING_BOUND_UM);
+        println!(
+            "| {:<16} | {:>11.2} | {:>11.2} | {:>12} | {:>14.1} | {:>14.1} | {:>14} | {:>10.1} | {:>6.3} |",
+            name,
+            r.max_u[0],
+            r.max_u[1],
+            r.ticks_over,
+            um(r.following[0]),
+            um(r.following[1]),
+            if within { "yes" } else { "no" },
+            um(r.contour),
+            r.time
+        );
+    }
+    let worst = with.following[0].max(with.following[1]);
+    println!(
+        "with the saturation-aware feed the worst axis stays within {YEH_FOLLOWING_BOUND_UM} µm for any scale up to {:.1} µm/count (a {:.0} mm lead)",
+        YEH_FOLLOWING_BOUND_UM / worst,
+        YEH_FOLLOWING_BOUND_UM / worst * 10.0
+    );
+    // the plain run's lag is shown clipped at ±4·100 µm, so the bound stays readable
+    let clip = 4.0 * YEH_FOLLOWING_BOUND_UM;
+    let ferr = |r: &DieBonder, axis: usize| -> Vec<(f64, f64)> {
+        r.u.iter()
+            .zip(&r.path)
+            .map(|(u, (c, a))| {
+                let e = if axis == 0 { c.0 - a.0 } else { c.1 - a.1 };
+                (u.0 * 1e3, um(e).clamp(-clip, clip))
+            })
+            .collect()
+    };
+    let t_end = with.time.max(without.time) * 1e3;
+    lines(
+        &args.out.join("yeh_following_error.svg"),
+        "Yeh die bonder: following error per axis (plain run clipped at ±400 µm for display)",
+        "t [ms]",
+        "command − encoder [µm]",
+        &[
+            Series {
+                name: "X, saturation-aware",
+                points: ferr(&with, 0),
+            },
+            Series {
+                name: "Y, saturation-aware",
+                points: ferr(&with, 1),
+            },
+            Series {
+                name: "X, plain",
+                points: ferr(&without, 0),
+            },
+            Series {
+                name: "Y, plain",
+                points: ferr(&without, 1),
+            },
+            Series {
+                name: "+100 µm",
+                points: vec![
+                    (0.0, YEH_FOLLOWING_BOUND_UM),
+                    (t_end, YEH_FOLLOWING_BOUND_UM),
+                ],
+            },
+            Series {
+                name: "−100 µm",
+                points: vec![
+                    (0.0, -YEH_FOLLOWING_BOUND_UM),
+                    (t_end, -YEH_FOLLOWING_BOUND_UM),
+                ],
+            },
+        ],
+        false,
+    )?;
+
+    println!();
+    let b = corner_boxes();
+    println!(
+        "Umax swept, saturation-aware feed; corner feed over the two curved spans (x {:.1}–{:.1} mm and {:.1}–{:.1} mm, y ≥ {:.1} mm)",
+        um(b[0].0) / 1e3,
+        um(b[0].1) / 1e3,
+        um(b[1].0) / 1e3,
+        um(b[1].1) / 1e3,
+        um(b[0].2) / 1e3
+    );
+    println!("| Umax V | time s | plan alone s | corner feed mean mm/s | corner feed min mm/s | max |u| X V | max |u| Y V | ticks > Umax | following X µm | following Y µm |");
+    println!("|--------|--------|--------------|-----------------------|----------------------|-------------|-------------|--------------|----------------|----------------|");
+    let sweep = yeh_umax_sweep(&YEH_UMAX_FRACTIONS)?;
+    for r in &sweep {
+        println!(
+            "| {:>6.1} | {:>6.3} | {:>12.3} | {:>21.1} | {:>20.1} | {:>11.3} | {:>11.3} | {:>12} | {:>14.1} | {:>14.1} |",
+            r.umax,
+            r.time,
+            r.planned_time.unwrap_or(f64::NAN),
+            mm_per_s(r.corner_feed.0),
+            mm_per_s(r.corner_feed.1),
+            r.max_u[0],
+            r.max_u[1],
+            r.ticks_over,
+            um(r.following[0]),
+            um(r.following[1])
+        );
+    }
+    let shown: Vec<&DieBonder> = sweep
+        .iter()
+        .filter(|r| {
+            [3.0, 5.0, 7.0, 10.0]
+                .iter()
+                .any(|u| (r.umax - u).abs() < 1e-9)
+        })
+        .collect();
+    let names: Vec<String> = shown
+        .iter()
+        .map(|r| format!("Umax {:.0} V", r.umax))
+        .collect();
+    let feed: Vec<Series> = shown
+        .iter()
+        .zip(&names)
+        .map(|(r, name)| Series {
+            name,
+            points: r.feed.iter().map(|p| (p.0 * 1e3, mm_per_s(p.1))).collect(),
+        })
+        .collect();
+    lines(
+        &args.out.join("yeh_umax_sweep_feed.svg"),
+        "Yeh die bonder, saturation-aware: feed for several Umax",
+        "t [ms]",
+        "feed [mm/s]",
+        &feed,
+        false,
+    )?;
+    let u: Vec<Series> = shown
+        .iter()
+        .zip(&names)
+        .map(|(r, name)| Series {
+            name,
+            points: r
+                .u
+                .iter()
+                .map(|p| (p.0 * 1e3, p.1.abs().max(p.2.abs())))
+                .collect(),
+        })
+        .collect();
+    lines(
+        &args.out.join("yeh_umax_sweep_u.svg"),
+        "Yeh die bonder, saturation-aware: max(|u_x|, |u_y|) for several Umax",
+        "t [ms]",
+        "|u| [V]",
+        &u,
+        false,
+    )?;
+
+    println!();
+    println!(
+        "Feed fluctuation |chord/Ts − V|/V at 1 ms: Yeh's plain parameter updates (offline, every step \
+         but the last) against the card's eq 3.1 + Newton corrections (stepped card, cruise)"
+    );
+    println!("| curve                 | feed mm/s | eq 3.2 max | eq 3.2 RMS | eq 3.1 max | eq 3.1 RMS | card max | card RMS | eq 3.1 max / card max |");
+    println!("|-----------------------|-----------|------------|------------|------------|------------|----------|----------|-----------------------|");
+    for (name, curve) in [
+        ("circle r 5 mm (C¹)", yeh_test_circle()),
+        ("sine 5 mm × 4 mm (C²)", yeh_test_sine()),
+    ] {
+        for r in yeh_feed_fluctuation(&curve, &YEH_FLUCTUATION_FEEDS)? {
+            println!(
+                "| {:<21} | {:>9.0} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>10.2e} | {:>8.1e} | {:>8.1e} | {:>21.1e} |",
+                name,
+                mm_per_s(r.feed),
+                r.eq32.max,
+                r.eq32.rms,
+                r.eq31.max,
+                r.eq31.rms,
+                r.card.max,
+                r.card.rms,
+                r.eq31.max / r.card.max
+            );
+        }
+    }
     Ok(())
 }

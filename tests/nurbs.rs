@@ -3,7 +3,11 @@
 mod common;
 
 use common::stepped_card;
-use motioncard::papers::yeh_die_bonder;
+use motioncard::papers::{
+    card_feed_fluctuation, taylor_feed_fluctuation, um, yeh_die_bonder, yeh_feed_fluctuation,
+    yeh_test_circle, yeh_test_sine, yeh_umax_sweep, Taylor, DIE_BONDER_UM_PER_COUNT,
+    YEH_FLUCTUATION_FEEDS, YEH_FOLLOWING_BOUND_UM, YEH_TS, YEH_UMAX_FRACTIONS,
+};
 use motioncard::proto::{Command, Opcode};
 use motioncard::{
     clamped_uniform_knots, Card, ErrorKind, GroupSettings, GroupState, MoveOptions, NackCode,
@@ -52,6 +56,216 @@ fn die_bonder_saturation_aware_feed_keeps_u_within_umax() {
         "feed fluctuation {}",
         without.feed_fluctuation
     );
+}
+
+/// The die bonder's µm-per-count scale is what its doc says and is the one the figures use:
+/// 10,000 counts per revolution (the preset's K_e = 10000/2π counts/rad and the emulated
+/// motor's encoder agree) over an assumed 10 mm lead; the preset's path, 20,000 × 60,000
+/// counts, is then 20 mm × 60 mm.
+#[test]
+fn die_bonder_scale_is_ten_thousand_counts_per_ten_millimetres() {
+    let ke = motioncard::die_bonder_pdplus(0).drive.ke;
+    let counts_per_rev = ke * std::f64::consts::TAU;
+    assert!((counts_per_rev - 10_000.0).abs() < 1e-3, "{counts_per_rev}");
+    for a in 0..2 {
+        assert_eq!(motioncard::die_bonder_plant(a).counts_per_rev, 10_000);
+    }
+    let lead_um = 10_000.0; // 10 mm, the assumption
+    assert_eq!(DIE_BONDER_UM_PER_COUNT, lead_um / counts_per_rev.round());
+    let c = card_emu::presets::die_bonder_path();
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for i in 0..=1000 {
+        let p = c.point(i as f64 / 1000.0).unwrap();
+        for j in 0..2 {
+            lo[j] = lo[j].min(p[j]);
+            hi[j] = hi[j].max(p[j]);
+        }
+    }
+    let (w, h) = (um(hi[0] - lo[0]), um(hi[1] - lo[1]));
+    assert!(
+        (w - 60_000.0).abs() < 1e-6 && (h - 20_000.0).abs() < 1e-6,
+        "{w} × {h} µm"
+    );
+    assert_eq!(
+        motioncard::papers::mm_per_s(motioncard::papers::DIE_BONDER_FEED),
+        400.0
+    );
+}
+
+/// Yeh §4: with the saturation-aware feed "the following errors for each axis are limited to
+/// 100 µm". On the card, at 1 µm/count, each axis's largest |command − encoder| stays under
+/// 100 µm with it; without it the drive clips and both axes lag by more than 100 µm.
+#[test]
+fn die_bonder_following_error_per_axis_against_yehs_100_um() {
+    let with = yeh_die_bonder(true).unwrap();
+    let without = yeh_die_bonder(false).unwrap();
+    let (w, wo) = (with.following.map(um), without.following.map(um));
+    println!("following error µm: with {w:?}, without {wo:?}");
+    assert!(
+        w.iter().all(|e| *e > 0.0 && *e < YEH_FOLLOWING_BOUND_UM),
+        "with: {w:?} µm"
+    );
+    assert!(
+        wo.iter().all(|e| *e > YEH_FOLLOWING_BOUND_UM),
+        "without: {wo:?} µm"
+    );
+}
+
+/// Umax swept with the saturation-aware feed: every run keeps each axis's |u| within its
+/// Umax; a lower Umax never gives a faster motion nor a faster pass through the corners; the
+/// card (its look-ahead plus the per-tick guard) is never faster than the look-ahead's plan
+/// alone.
+#[test]
+fn die_bonder_umax_sweep_is_monotone_and_holds_each_umax() {
+    let runs = yeh_umax_sweep(&YEH_UMAX_FRACTIONS).unwrap();
+    assert_eq!(runs.len(), YEH_UMAX_FRACTIONS.len());
+    for r in &runs {
+        println!(
+            "Umax {:.1} V: {:.3} s (plan alone {:?}), corner feed {:?}, |u| {:?}, following {:?}",
+            r.umax, r.time, r.planned_time, r.corner_feed, r.max_u, r.following
+        );
+        assert_eq!(r.ticks_over, 0, "Umax {}: {:?}", r.umax, r.max_u);
+        assert!(
+            r.max_u.iter().all(|u| *u <= r.umax * (1.0 + 1e-9)),
+            "Umax {}: {:?}",
+            r.umax,
+            r.max_u
+        );
+        let plan = r.planned_time.expect("a plan");
+        assert!(
+            plan <= r.time + 0.01,
+            "Umax {}: plan {plan} s, card {} s",
+            r.umax,
+            r.time
+        );
+    }
+    for w in runs.windows(2) {
+        let (lower, higher) = (&w[0], &w[1]);
+        assert!(lower.umax < higher.umax);
+        assert!(
+            lower.time >= higher.time - 1e-3,
+            "Umax {} → {} s, {} → {} s",
+            lower.umax,
+            lower.time,
+            higher.umax,
+            higher.time
+        );
+        assert!(
+            lower.corner_feed.0 <= higher.corner_feed.0
+                && lower.corner_feed.1 <= higher.corner_feed.1,
+            "corner feed at {} V {:?}, at {} V {:?}",
+            lower.umax,
+            lower.corner_feed,
+            higher.umax,
+            higher.corner_feed
+        );
+    }
+    let (first, last) = (&runs[0], &runs[runs.len() - 1]);
+    assert!(
+        first.time > 1.5 * last.time,
+        "{} s vs {} s",
+        first.time,
+        last.time
+    );
+}
+
+/// The offline eq 3.1 of `papers::yeh` is the card's own predictor: the card's interpolator
+/// with its Newton corrections switched off steps the same (same number of steps, same
+/// fluctuation to 1e-9), and with its three corrections the chord is the feed to 1e-10.
+#[test]
+fn offline_eq31_is_the_cards_predictor_without_corrections() {
+    use card_emu::motion::nurbs_interp::{InterpConfig, Interpolator};
+    for curve in [yeh_test_circle(), yeh_test_sine()] {
+        let v = 100_000.0;
+        let offline = taylor_feed_fluctuation(&curve, v, YEH_TS, Taylor::SecondOrder);
+        for corrections in [0, 3] {
+            let cfg = InterpConfig {
+                ts: YEH_TS,
+                feed: v,
+                max_corrections: corrections,
+                ..InterpConfig::default()
+            };
+            let mut ip = Interpolator::new(curve.clone(), cfg).unwrap();
+            let mut errs = Vec::new();
+            while !ip.is_done() {
+                let t = ip.advance(v).unwrap();
+                if !t.done {
+                    errs.push((t.feed - v).abs() / v);
+                }
+            }
+            let max = errs.iter().copied().fold(0.0, f64::max);
+            let rms = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt();
+            if corrections == 0 {
+                assert_eq!(errs.len(), offline.steps);
+                assert!(
+                    (max - offline.max).abs() <= 1e-9 * offline.max,
+                    "{max} vs {offline:?}"
+                );
+                assert!(
+                    (rms - offline.rms).abs() <= 1e-9 * offline.rms,
+                    "{rms} vs {offline:?}"
+                );
+            } else {
+                assert!(max < 1e-10, "corrected: {max}");
+            }
+        }
+    }
+}
+
+/// Yeh's plain parameter updates against the card's Newton-corrected step, at constant feed on
+/// two curved NURBS at 1 ms. Eq 3.2 is first order: its fluctuation grows with the feed (3×
+/// feed, about 3×); eq 3.1 removes that term, so on the C² sine it is far smaller and grows
+/// about as the square of the feed. On the circle eq 3.1's RMS is smaller too, but its worst
+/// step is worse than eq 3.2's: C'' jumps at the circle's double knots, and a step that
+/// crosses one is corrected with the curvature of the wrong side. The card, which corrects
+/// each step until its chord is V·Ts, fluctuates by rounding only.
+#[test]
+fn plain_eq31_and_eq32_fluctuate_the_cards_corrected_step_does_not() {
+    for (name, curve) in [("circle", yeh_test_circle()), ("sine", yeh_test_sine())] {
+        let rows = yeh_feed_fluctuation(&curve, &YEH_FLUCTUATION_FEEDS).unwrap();
+        for r in &rows {
+            println!(
+                "{name} {} counts/s: eq 3.2 {:.2e} / {:.2e}, eq 3.1 {:.2e} / {:.2e}, card {:.1e} / {:.1e} ({} ticks)",
+                r.feed, r.eq32.max, r.eq32.rms, r.eq31.max, r.eq31.rms, r.card.max, r.card.rms, r.card.steps
+            );
+            assert!(r.card.steps > 100, "{name}: {} cruise ticks", r.card.steps);
+            assert!(r.card.max < 1e-9, "{name}: card {:?}", r.card);
+            assert!(
+                r.eq31.max > 1e5 * r.card.max && r.eq31.max > 1e-5,
+                "{name}: eq 3.1 {:?}, card {:?}",
+                r.eq31,
+                r.card
+            );
+            assert!(
+                r.eq32.rms > 3.0 * r.eq31.rms,
+                "{name}: eq 3.2 {:?}, eq 3.1 {:?}",
+                r.eq32,
+                r.eq31
+            );
+            if name == "sine" {
+                assert!(r.eq32.max > 10.0 * r.eq31.max, "{name}: {r:?}");
+            } else {
+                assert!(r.eq31.max > 1.3 * r.eq32.max, "{name}: {r:?}");
+            }
+        }
+        let (lo, hi) = (&rows[0], &rows[rows.len() - 1]);
+        let k = hi.feed / lo.feed;
+        let first = hi.eq32.max / lo.eq32.max;
+        assert!(
+            first > 0.8 * k && first < 1.2 * k,
+            "{name}: eq 3.2 ×{first} for feed ×{k}"
+        );
+        if name == "sine" {
+            let second = hi.eq31.max / lo.eq31.max;
+            assert!(
+                second > 0.6 * k * k && second < 1.4 * k * k,
+                "{name}: eq 3.1 ×{second} for feed ×{k}"
+            );
+        }
+    }
+    // the card's figure is the card's: a curve it cannot cruise on shows in it
+    let slow = card_feed_fluctuation(&yeh_test_sine(), 400_000.0).unwrap();
+    assert!(slow.max > 0.1, "chord-limited sine at 400 mm/s: {slow:?}");
 }
 
 fn two_axis_group() -> (Card, motioncard::Group) {
