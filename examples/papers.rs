@@ -10,11 +10,12 @@ use motioncard::papers::{
 };
 use motioncard::papers::{
     cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
-    shin_comparison, shin_corner, thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant, FeedForward,
-    Fig5Axis, SyncShape, Tracking, FIG5_LIMITS, FIG9_STEP, RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS,
-    SYNC_TARGETS, THINH_COUNTS_PER_REV, THINH_GAINS,
+    shin_comparison, shin_corner, thinh_fig10, thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant,
+    FeedForward, Fig5Axis, SyncShape, Tracking, FIG10_SEGMENTS, FIG5_LIMITS, FIG9_STEP,
+    RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_TARGETS, THINH_COUNTS_PER_REV, THINH_GAINS,
 };
 use motioncard::plot::{lines, Series};
+use motioncard::Transition;
 use motioncard::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
 
@@ -426,6 +427,40 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         command_actual(
             &args.out.join(format!("thinh_fig11_velocity{tag}.svg")),
             &format!("Thinh Fig 11: step mode, velocity ({name})"),
+            "counts/s",
+            &r.t,
+            (&r.cmd_vel, &r.act_vel),
+        )?;
+    }
+
+    println!();
+    println!(
+        "Thinh Fig 10 (blending mode) on Thinh's axis, full feed-forward: {} (counts, counts/s) on a one-axis path",
+        FIG10_SEGMENTS.map(|(d, f)| format!("{d:.0} at {f:.0}")).join(", ")
+    );
+    println!("| transition                           | motion done s | least speed between | peak following error | 1 ms torque step N·m |");
+    println!("|--------------------------------------|---------------|---------------------|----------------------|----------------------|");
+    for (tr, name, tag) in [
+        (
+            Transition::TimeShift(1.0),
+            "time-shifted profiles (Thinh, TM 3)",
+            "shifted",
+        ),
+        (
+            Transition::MaxDeviation(1.0),
+            "the card's look-ahead planner",
+            "planner",
+        ),
+        (Transition::None, "rest to rest (exact stops)", "stops"),
+    ] {
+        let r = thinh_fig10(tr)?;
+        println!(
+            "| {name:<36} | {:>13.4} | {:>19.0} | {:>20.2} | {:>20.4} |",
+            r.time, r.least_between, r.peak, r.torque_step
+        );
+        command_actual(
+            &args.out.join(format!("thinh_fig10_velocity_{tag}.svg")),
+            &format!("Thinh Fig 10: blending mode, velocity ({name})"),
             "counts/s",
             &r.t,
             (&r.cmd_vel, &r.act_vel),

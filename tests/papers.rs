@@ -446,3 +446,49 @@ fn full_feed_forward_follows_within_one_count_at_every_speed() {
         );
     }
 }
+
+/// Thinh Fig 10 (blending motion mode): speed segments joined by time-shifting each one's
+/// profile never stop in between (the rest-to-rest runs stop at every junction), take less
+/// time than stopping, and end where the segments add up; the torque stays smooth (its 1 ms
+/// average never steps by more than in the rest-to-rest run) and the following error small.
+#[test]
+fn thinh_fig10_time_shifted_blending_keeps_moving_between_segments() {
+    use motioncard::papers::{thinh_fig10, FIG10_SEGMENTS};
+    use motioncard::Transition;
+    let shifted = thinh_fig10(Transition::TimeShift(1.0)).unwrap();
+    let stops = thinh_fig10(Transition::None).unwrap();
+    let planner = thinh_fig10(Transition::MaxDeviation(1.0)).unwrap();
+    for (name, r) in [
+        ("shifted", &shifted),
+        ("stops", &stops),
+        ("planner", &planner),
+    ] {
+        println!(
+            "{name}: {:.4} s, least speed between {:.0}, peak error {:.2}, torque step {:.4}, end {:?}",
+            r.time, r.least_between, r.peak, r.torque_step, r.end
+        );
+        assert!((r.end.0 - r.end.1).abs() <= 1.0, "{name}: end {:?}", r.end);
+    }
+    let slowest = FIG10_SEGMENTS
+        .iter()
+        .map(|s| s.1)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        shifted.least_between >= 0.25 * slowest,
+        "{}",
+        shifted.least_between
+    );
+    assert!(
+        stops.least_between < 1e-3 * slowest,
+        "{}",
+        stops.least_between
+    );
+    assert!(
+        shifted.time < stops.time - 0.01,
+        "{} vs {}",
+        shifted.time,
+        stops.time
+    );
+    assert!(shifted.torque_step <= stops.torque_step * 1.05);
+    assert!(shifted.peak < 20.0, "peak {}", shifted.peak);
+}

@@ -1,6 +1,7 @@
 //! Thinh 2014 on the card: the feed-forward PIV law of Fig 5 with and without its
-//! feed-forward, the acceleration mode of Fig 9 and the step mode of Fig 11, and, beyond the
-//! paper, the following error of the default axis over a speed sweep.
+//! feed-forward, the acceleration mode of Fig 9, the blending mode of Fig 10 (the path's
+//! time-shifted transition) and the step mode of Fig 11, and, beyond the paper, the following
+//! error of the default axis over a speed sweep.
 //!
 //! Thinh gives gains without units (K_P 2.5, K_I 0.02, K_V 50, K_VFF 30) and no plant beyond
 //! the motor's name, a Yaskawa SGMJV-02A (200 W, 0.637 N·m rated) on an SGDV drive, with a
@@ -449,4 +450,126 @@ pub fn ff_speed_sweep_on(plant: MotorParams, v: f64) -> Result<Tracking> {
             dwell: 0.0,
         }],
     )
+}
+
+/// Fig 10's speed segments: (distance, feed) of each, counts and counts/s: a quarter, a full
+/// and a half turn of Thinh's axis at 4, 12 and 6·10⁴ counts/s (293 to 879 rpm).
+pub const FIG10_SEGMENTS: [(f64, f64); 3] = [
+    (2_048.0, 40_000.0),
+    (8_192.0, 120_000.0),
+    (4_096.0, 60_000.0),
+];
+/// Axis limits of the Fig 10 runs (those of Fig 11's steps, doubled in acceleration and jerk:
+/// a time-shifted profile takes half of each), counts/s, /s², /s³.
+pub const FIG10_LIMITS: (f64, f64, f64) = (120_000.0, 1e7, 1e9);
+
+/// One run of Fig 10: the segments of [`FIG10_SEGMENTS`] joined by one transition.
+#[derive(Debug, Clone, Default)]
+pub struct Blending {
+    /// Time since the first segment was queued, s; commanded and actual velocity (1 ms),
+    /// counts/s; torque, N·m (1 ms average); following error, counts.
+    pub t: Vec<f64>,
+    pub cmd_vel: Vec<f64>,
+    pub act_vel: Vec<f64>,
+    pub torque: Vec<f64>,
+    pub ferr: Vec<f64>,
+    /// From the first segment's start to the group's motion done, s.
+    pub time: f64,
+    /// Least commanded speed between the first segment's end of acceleration and the last
+    /// one's deceleration (0: it stopped at a junction), counts/s.
+    pub least_between: f64,
+    /// Largest |following error|, counts.
+    pub peak: f64,
+    /// Largest step of the 1 ms torque from one tick to the next, N·m.
+    pub torque_step: f64,
+    /// Encoder position at the end, and where the segments add up to, counts.
+    pub end: (f64, f64),
+}
+
+/// Thinh Fig 10 (blending motion mode) on [`thinh_plant`] with [`THINH_GAINS`] and the full
+/// feed-forward (so that the actual velocity shows the command's shape, as in the paper): the [`FIG10_SEGMENTS`] on a one-axis group's path, joined by
+/// `transition`: [`Transition::TimeShift`] is the paper's (each segment a rest-to-rest S-curve,
+/// the next one started while the one before decelerates); [`Transition::None`] stops at each
+/// junction; [`Transition::MaxDeviation`] is the card's own planner (one axis: the segments
+/// are collinear, so the speed goes from one feed to the next without a blend).
+pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
+    use crate::{GroupSettings, GroupState, PathSettings, Segment};
+    let plant = thinh_plant();
+    let mut emu = EmuOptions::new(1, 10_000);
+    emu.motors[0] = plant;
+    let card = Card::open_sim(SimOptions {
+        clock: Clock::Stepped,
+        emu,
+    })?;
+    let sim = card.sim().expect("stepped");
+    let ts = 1.0 / card.info().servo_rate_hz as f64;
+    let ax = card.axis(0)?;
+    ax.configure(&AxisSettings {
+        ffpiv: FeedForward::Full.apply(THINH_GAINS.to_ffpiv(), &plant),
+        ..AxisSettings::default()
+    })?;
+    ax.enable()?;
+    let g = card.group(0)?;
+    g.configure(&GroupSettings::new(&[0]))?;
+    g.enable()?;
+    let (v, a, j) = FIG10_LIMITS;
+    g.configure_path(&PathSettings::uniform(1, v, a, j))?;
+    sim.step(100);
+    let start = ax.status()?.actual_position;
+    let mut x = start;
+    let n = FIG10_SEGMENTS.len();
+    let segs: Vec<Segment> = FIG10_SEGMENTS
+        .iter()
+        .enumerate()
+        .map(|(i, &(d, f))| {
+            x += d;
+            let s = Segment::line(i as u32 + 1, &[x], f, 0.0).transition(transition);
+            if i + 1 == n {
+                s.last()
+            } else {
+                s
+            }
+        })
+        .collect();
+    g.stream_path(segs, |_| {}).map_err(|e| e.error)?;
+    let torque_per_volt = plant.kt * plant.amp_gain;
+    let mut r = Blending::default();
+    let mut history = std::collections::VecDeque::from(vec![start; AVG_TICKS + 1]);
+    let mut torque = std::collections::VecDeque::from(vec![0.0; AVG_TICKS]);
+    let t0 = sim.time();
+    for _ in 0..(10.0 / ts) as usize {
+        sim.step(1);
+        let raw = ax.status()?.raw;
+        r.t.push(sim.time() - t0);
+        r.cmd_vel.push(raw.cmd_vel);
+        history.pop_front();
+        history.push_back(raw.act_pos);
+        r.act_vel
+            .push((raw.act_pos - history[0]) / (AVG_TICKS as f64 * ts));
+        torque.pop_front();
+        torque.push_back(raw.dac_v * torque_per_volt);
+        r.torque.push(torque.iter().sum::<f64>() / AVG_TICKS as f64);
+        r.ferr.push(raw.cmd_pos - raw.act_pos);
+        if g.status()?.0 == GroupState::Standby {
+            break;
+        }
+    }
+    r.time = sim.time() - t0;
+    r.peak = r.ferr.iter().fold(0.0, |m: f64, e| m.max(e.abs()));
+    r.torque_step = r
+        .torque
+        .windows(2)
+        .fold(0.0, |m: f64, w| m.max((w[1] - w[0]).abs()));
+    // between the first time at the first feed and the last time at the last one
+    let (f0, f1) = (FIG10_SEGMENTS[0].1, FIG10_SEGMENTS[n - 1].1);
+    let from = r.cmd_vel.iter().position(|&v| v >= f0 * (1.0 - 1e-9));
+    let to = r.cmd_vel.iter().rposition(|&v| v >= f1 * (1.0 - 1e-9));
+    r.least_between = match (from, to) {
+        (Some(a), Some(b)) if a < b => r.cmd_vel[a..=b]
+            .iter()
+            .fold(f64::INFINITY, |m, &v| m.min(v)),
+        _ => 0.0,
+    };
+    r.end = (ax.status()?.actual_position, x);
+    Ok(r)
 }
