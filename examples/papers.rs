@@ -189,6 +189,22 @@ fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
+    let bw: Vec<String> = [15.0, 60.0, 150.0]
+        .iter()
+        .map(|&b| {
+            let c = ShinMachine {
+                bandwidth_hz: b,
+                ..m
+            }
+            .corner(FilterKind::Linear, 0.015)?;
+            Ok(format!("{:.1} µm at {b:.0} Hz", c.contour))
+        })
+        .collect::<Result<_, motioncard::Error>>()?;
+    println!(
+        "servo bandwidth (held at {:.0} Hz), linear 15 ms: {}",
+        m.bandwidth_hz,
+        bw.join(", ")
+    );
     let hz = sweep_frequencies();
     let sweep = shin_resonance_sweep(&m, &hz)?;
     let light = shin_resonance_sweep(
