@@ -1,12 +1,14 @@
 //! Shin's corner test on the emulated card: a 90° corner at 1 m/min through linear and
-//! exponential filters of 15 and 30 ms, on a rigid axis and on a table with a 33 Hz coupling
-//! resonance. Prints the corner errors of all four filter/time-constant runs, sets them next
-//! to Shin's (what agrees, what does not, and why), and writes SVG plots of the paths and
-//! velocities.
+//! exponential filters of 15 and 30 ms, on a rigid axis and on Shin's two-mass table (as
+//! fitted, `papers::SHIN_FIT`, or with another resonance and damping). Prints the corner
+//! errors of all four filter/time-constant runs next to Shin's, and writes SVG plots of the
+//! paths and velocities. The fit, the prediction and the why: `--example papers -- --only
+//! shin`.
 //!
 //! `cargo run --release --example corner`
+use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
-use motioncard::papers::{shin_comparison, shin_corner};
+use motioncard::papers::{shin_corner, ShinMachine, SHIN_FIG12, SHIN_FIT};
 use motioncard::plot::{lines, Series};
 use motioncard::{FilterKind, MotorParams};
 use std::path::PathBuf;
@@ -15,8 +17,11 @@ use std::path::PathBuf;
 #[derive(Parser)]
 struct Args {
     /// Resonance of the table's coupling, Hz.
-    #[arg(long, default_value_t = 33.0)]
+    #[arg(long, default_value_t = SHIN_FIT.resonance_hz)]
     resonance: f64,
+    /// Damping ratio of the table's coupling.
+    #[arg(long, default_value_t = SHIN_FIT.zeta)]
+    zeta: f64,
     /// Directory for the SVG plots.
     #[arg(long, default_value = "target/plots")]
     out: PathBuf,
@@ -24,27 +29,31 @@ struct Args {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
-    let table = MotorParams::machine_table(a.resonance);
+    let table = ShinMachine {
+        resonance_hz: a.resonance,
+        zeta: a.zeta,
+        ..SHIN_FIT
+    };
     println!(
-        "90° corner at 1 m/min; table with a {} Hz coupling resonance; errors in µm",
-        a.resonance
+        "90° corner at 1 m/min; table with a {} Hz coupling resonance, ζ {}; errors in µm",
+        a.resonance, a.zeta
     );
     println!(
-        "| filter      | τ ms | command rounding | table tracking | table vs programmed corner |"
+        "| filter      | τ ms | command rounding | contour error | table vs programmed corner |"
     );
     println!(
-        "|-------------|------|------------------|----------------|----------------------------|"
+        "|-------------|------|------------------|---------------|----------------------------|"
     );
     let mut paths = Vec::new();
     for kind in [FilterKind::Linear, FilterKind::Exponential] {
         for tau in [0.015, 0.030] {
-            let c = shin_corner(table, kind, tau)?;
+            let c = table.corner(kind, tau)?;
             println!(
-                "| {:<11} | {:>4.0} | {:>16.1} | {:>14.1} | {:>26.1} |",
+                "| {:<11} | {:>4.0} | {:>16.1} | {:>13.1} | {:>26.1} |",
                 format!("{kind:?}"),
                 tau * 1e3,
                 c.command_rounding,
-                c.tracking,
+                c.contour,
                 c.total
             );
             paths.push((format!("{kind:?} {:.0} ms", tau * 1e3), c));
@@ -52,14 +61,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!();
     println!("Against Shin (Fig 12, ± corner tracking error):");
-    let runs = [
-        (paths[0].1.clone(), paths[1].1.clone()),
-        (paths[2].1.clone(), paths[3].1.clone()),
-    ];
-    print!("{}", shin_comparison(&runs));
+    for (i, (kind, s15, s30)) in SHIN_FIG12.iter().enumerate() {
+        let (short, long) = (&paths[2 * i].1, &paths[2 * i + 1].1);
+        println!(
+            "{kind:?}: Shin ±{s15} → ±{s30} µm ({:.1}×), here {:.1} → {:.1} µm ({:.2}×)",
+            s15 / s30,
+            short.contour,
+            long.contour,
+            short.contour / long.contour
+        );
+    }
     println!();
-    let rigid = shin_corner(MotorParams::default_servo(), FilterKind::Linear, 0.015)?;
-    println!("rigid axis, linear 15 ms: tracking {:.1} µm — without a resonance there is nothing to excite", rigid.tracking);
+    let rigid = shin_corner(
+        MotorParams::default_servo(),
+        FfpivGains::default(),
+        FilterKind::Linear,
+        0.015,
+    )?;
+    println!("rigid axis, linear 15 ms: contour error {:.1} µm — without a resonance there is nothing to excite", rigid.contour);
     let series: Vec<Series> = paths
         .iter()
         .map(|(n, c)| Series {

@@ -10,11 +10,13 @@ use motioncard::papers::{
 };
 use motioncard::papers::{
     cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
-    shin_comparison, shin_corner, thinh_fig10, thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant,
-    FeedForward, Fig5Axis, SyncShape, Tracking, FIG10_SEGMENTS, FIG5_LIMITS, FIG9_STEP,
-    RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_TARGETS, THINH_COUNTS_PER_REV, THINH_GAINS,
+    shin_comparison, shin_fit, shin_resonance_sweep, shin_runs, sweep_frequencies, thinh_fig10,
+    thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant, FeedForward, Fig5Axis, ShinMachine,
+    SweepPoint, SyncShape, Tracking, FIG10_SEGMENTS, FIG5_LIMITS, FIG9_STEP, LIGHT_ZETA,
+    RADIAL_CASES, SHIN_FIG12, SHIN_FIT, SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_TARGETS,
+    THINH_COUNTS_PER_REV, THINH_GAINS,
 };
-use motioncard::plot::{lines, Series};
+use motioncard::plot::{lines, lines_log_x, Series};
 use motioncard::Transition;
 use motioncard::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
@@ -30,6 +32,10 @@ struct Args {
     /// Only this paper's experiments: kim, shin, thinh or yeh.
     #[arg(long)]
     only: Option<String>,
+    /// Refit Shin's machine to his 15 ms figures (`papers::shin_fit`) instead of using the
+    /// fitted constants (`papers::SHIN_FIT`).
+    #[arg(long)]
+    refit: bool,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -158,55 +164,158 @@ fn kim(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
 
 fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     println!();
-    println!("Shin: 90° corner at 1 m/min (1 count = 1 µm), errors near the corner in µm");
-    println!("| plant                     | filter      |   τ ms | command rounding | table tracking | table vs programmed corner |");
-    println!("|---------------------------|-------------|--------|------------------|----------------|----------------------------|");
-    let plants = [
-        ("rigid (default)", MotorParams::default_servo()),
-        (
-            "two-mass, 33 Hz resonance",
-            MotorParams::machine_table(33.0),
-        ),
-    ];
-    let mut paths = Vec::new();
-    let mut two_mass = Vec::new();
-    for (pname, plant) in plants {
-        for kind in [FilterKind::Linear, FilterKind::Exponential] {
-            for tau in [0.015, 0.030] {
-                let c = shin_corner(plant, kind, tau)?;
-                println!(
-                    "| {:<25} | {:<11} | {:>6.0} | {:>16.1} | {:>14.1} | {:>26.1} |",
-                    pname,
-                    format!("{kind:?}"),
-                    tau * 1e3,
-                    c.command_rounding,
-                    c.tracking,
-                    c.total
-                );
-                if pname.starts_with("two-mass") {
-                    two_mass.push(c.clone());
-                    if kind == FilterKind::Linear {
-                        paths.push((tau, c));
-                    }
-                }
-            }
+    println!("Shin: 90° corner at 1 m/min (1 count = 1 µm), two-mass axes, errors in µm");
+    let m = if args.refit {
+        let t0 = std::time::Instant::now();
+        let f = shin_fit()?;
+        println!(
+            "refitted in {} evaluations of two runs ({:.1} s): {:?}, 15 ms errors {:.2} / {:.2} µm \
+             (constants: {:?})",
+            f.evaluations,
+            t0.elapsed().as_secs_f64(),
+            f.machine,
+            f.errors.0,
+            f.errors.1,
+            SHIN_FIT
+        );
+        f.machine
+    } else {
+        SHIN_FIT
+    };
+    let runs = shin_runs(&m)?;
+    println!("| filter      | τ ms | command rounding | contour error (min, max) | table vs programmed |");
+    println!("|-------------|------|------------------|--------------------------|---------------------|");
+    for ((kind, _, _), (short, long)) in SHIN_FIG12.iter().zip(&runs) {
+        for (tau, c) in [(15, short), (30, long)] {
+            println!(
+                "| {:<11} | {:>4} | {:>16.1} | {:>24} | {:>19.1} |",
+                format!("{kind:?}"),
+                tau,
+                c.command_rounding,
+                format!(
+                    "{:.1} ({:.1}, {:.1})",
+                    c.contour, c.contour_min, c.contour_max
+                ),
+                c.total
+            );
         }
     }
+    let bw: Vec<String> = [15.0, 60.0, 150.0]
+        .iter()
+        .map(|&b| {
+            let c = ShinMachine {
+                bandwidth_hz: b,
+                ..m
+            }
+            .corner(FilterKind::Linear, 0.015)?;
+            Ok(format!("{:.1} µm at {b:.0} Hz", c.contour))
+        })
+        .collect::<Result<_, motioncard::Error>>()?;
+    println!(
+        "servo bandwidth (held at {:.0} Hz), linear 15 ms: {}",
+        m.bandwidth_hz,
+        bw.join(", ")
+    );
+    let hz = sweep_frequencies();
+    let sweep = shin_resonance_sweep(&m, &hz)?;
+    let light = shin_resonance_sweep(
+        &ShinMachine {
+            zeta: LIGHT_ZETA,
+            ..m
+        },
+        &hz,
+    )?;
     println!();
-    println!("Against Shin (Fig 12, ± corner tracking error), two-mass plant:");
-    let runs = [
-        (two_mass[0].clone(), two_mass[1].clone()),
-        (two_mass[2].clone(), two_mass[3].clone()),
-    ];
-    print!("{}", shin_comparison(&runs));
-    let mut series = Vec::new();
+    println!(
+        "Resonance sweep (ζ {:.3} as fitted, and ζ {LIGHT_ZETA}): corner error µm, 15 → 30 ms",
+        m.zeta
+    );
+    println!("|   Hz | linear                | exponential           | linear, ζ {LIGHT_ZETA}        | exponential, ζ {LIGHT_ZETA}   |");
+    println!("|------|-----------------------|-----------------------|-----------------------|-----------------------|");
+    let cell = |p: (f64, f64)| format!("{:.1} → {:.1} ({:.2}×)", p.0, p.1, p.0 / p.1);
+    for (p, q) in sweep.iter().zip(&light) {
+        println!(
+            "| {:>4.0} | {:<21} | {:<21} | {:<21} | {:<21} |",
+            p.hz,
+            cell(p.linear),
+            cell(p.exponential),
+            cell(q.linear),
+            cell(q.exponential)
+        );
+    }
+    println!();
+    println!("Against Shin (Fig 12, ± corner tracking error):");
+    print!("{}", shin_comparison(&m, &runs, &sweep, &light));
+    let ratio = |s: &[SweepPoint], f: fn(&SweepPoint) -> (f64, f64)| -> Vec<(f64, f64)> {
+        s.iter().map(|p| (p.hz, f(p).0 / f(p).1)).collect()
+    };
+    let name_l = format!("linear, ζ {:.2}", m.zeta);
+    let name_e = format!("exponential, ζ {:.2}", m.zeta);
+    let name_ll = format!("linear, ζ {LIGHT_ZETA}");
+    let name_le = format!("exponential, ζ {LIGHT_ZETA}");
+    lines_log_x(
+        &args.out.join("shin_resonance_sweep.svg"),
+        "Shin corner: error at 15 ms over error at 30 ms vs resonance",
+        "coupling resonance [Hz]",
+        "15 ms / 30 ms",
+        &[
+            Series {
+                name: &name_l,
+                points: ratio(&sweep, |p| p.linear),
+            },
+            Series {
+                name: &name_e,
+                points: ratio(&sweep, |p| p.exponential),
+            },
+            Series {
+                name: &name_ll,
+                points: ratio(&light, |p| p.linear),
+            },
+            Series {
+                name: &name_le,
+                points: ratio(&light, |p| p.exponential),
+            },
+        ],
+    )?;
+    let error = |f: fn(&SweepPoint) -> f64| -> Vec<(f64, f64)> {
+        sweep.iter().map(|p| (p.hz, f(p))).collect()
+    };
+    lines_log_x(
+        &args.out.join("shin_resonance_errors.svg"),
+        &format!(
+            "Shin corner error vs resonance (ζ {:.2}, as fitted)",
+            m.zeta
+        ),
+        "coupling resonance [Hz]",
+        "corner error [µm]",
+        &[
+            Series {
+                name: "linear 15 ms",
+                points: error(|p| p.linear.0),
+            },
+            Series {
+                name: "linear 30 ms",
+                points: error(|p| p.linear.1),
+            },
+            Series {
+                name: "exponential 15 ms",
+                points: error(|p| p.exponential.0),
+            },
+            Series {
+                name: "exponential 30 ms",
+                points: error(|p| p.exponential.1),
+            },
+        ],
+    )?;
     let names = [
         "command, 15 ms",
         "table, 15 ms",
         "command, 30 ms",
         "table, 30 ms",
     ];
-    for (i, (_, c)) in paths.iter().enumerate() {
+    let (l15, l30) = &runs[0];
+    let mut series = Vec::new();
+    for (i, c) in [l15, l30].into_iter().enumerate() {
         series.push(Series {
             name: names[2 * i],
             points: c.command.clone(),
@@ -218,11 +327,33 @@ fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     lines(
         &args.out.join("shin_corner.svg"),
-        "Shin corner, linear filter, two-mass table",
+        "Shin corner, linear filter, fitted two-mass table",
         "x [µm]",
         "y [µm]",
         &series,
         true,
+    )?;
+    let mut traces = Vec::new();
+    let tnames = [
+        "linear 15 ms",
+        "linear 30 ms",
+        "exponential 15 ms",
+        "exponential 30 ms",
+    ];
+    for (i, c) in runs.iter().flat_map(|(a, b)| [a, b]).enumerate() {
+        let t0 = c.contour_trace.first().map_or(0.0, |p| p.0);
+        traces.push(Series {
+            name: tnames[i],
+            points: c.contour_trace.iter().map(|&(t, e)| (t - t0, e)).collect(),
+        });
+    }
+    lines(
+        &args.out.join("shin_contour_error.svg"),
+        "Shin corner: contour error of the table against its commanded path",
+        "t from entering the corner window [s]",
+        "contour error [µm] (+ outside the turn)",
+        &traces,
+        false,
     )?;
     Ok(())
 }

@@ -6,10 +6,11 @@ use card_emu::motion::filters::exponential_pole;
 use card_emu::servo::ffpiv::FfpivGains;
 use motioncard::papers::{
     acceleration_error, cruise_error, estimator_lag_error, ff_speed_sweep, ff_speed_sweep_on,
-    fig11_steps, kim_fig7, kim_sync_ptp, radial_error, shin_corner, thinh_fig11, thinh_fig5,
-    thinh_fig9, thinh_plant, FeedForward, Fig5Axis, SyncShape, Tracking, FIG5_LIMITS, FIG9_STEP,
-    KIM_FIG7_FEED, KIM_FIG7_TAU, RADIAL_CASES, SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_LIMITS, SYNC_SLOW_Z,
-    SYNC_TARGETS, THINH_GAINS,
+    fig11_steps, kim_fig7, kim_sync_ptp, mode_residual_ratio, radial_error, shin_corner, shin_fit,
+    shin_resonance_sweep, shin_runs, sweep_frequencies, sweep_peak_ratios, thinh_fig11, thinh_fig5,
+    thinh_fig9, thinh_plant, FeedForward, Fig5Axis, ShinMachine, SyncShape, Tracking, CORNER_FEED,
+    FIG5_LIMITS, FIG9_STEP, KIM_FIG7_FEED, KIM_FIG7_TAU, LIGHT_ZETA, RADIAL_CASES, SHIN_FIT,
+    SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_LIMITS, SYNC_SLOW_Z, SYNC_TARGETS, THINH_GAINS,
 };
 use motioncard::{FilterKind, Interpolator, MotorParams};
 
@@ -175,74 +176,148 @@ fn kim_sync_ptp_every_axis_starts_and_ends_on_the_same_tick() {
     }
 }
 
-/// Shin's corner test on the machine-table plant (a coupling resonance at 33 Hz, encoder on
-/// the motor), asserting the relations our model shows and only those:
-/// - the longer time constant (30 vs 15 ms) cuts the table's tracking error with both filters,
-///   as Shin's ±70 → ±9 µm (linear) and ±60 → ±8 µm (exponential) — in direction; by about
-///   1.5×, not Shin's 8×;
-/// - it also rounds the commanded corner twice as much (the rounding scales with v·τ), the
-///   exponential filter about three times as much as the linear one;
-/// - so the table's error against the programmed corner falls with the linear filter but
-///   rises with the exponential one (its growing rounding outweighs the tracking it saves).
+/// Shin's corner test on the machine fitted to his 15 ms figures (`papers::SHIN_FIT`):
+/// - the 15 ms runs give his ±70 µm (linear) and ±60 µm (exponential) within 2 µm (the fit
+///   stops at 0.1% of its parameters; the encoder's 1 µm counts leave the errors about as
+///   noisy);
+/// - the 30 ms runs, predicted with nothing refitted, are smaller but by less than 2× (a
+///   longer filter never raises the peak; one mode gives at most about 2×): 56.6 and 43.8 µm,
+///   six times Shin's ±9 and ±8 µm;
+/// - the commanded path alone cuts the corner by more than Shin's 30 ms figures (v·τ/8 =
+///   62.5 µm for the linear filter), which is why the error is measured against it;
+/// - a rigid axis has nothing to excite.
 #[test]
-fn shin_corner_time_constant_trade_off() {
-    let table = MotorParams::machine_table(33.0);
-    let run = |kind, tau| shin_corner(table, kind, tau).unwrap();
-    let (l15, l30) = (
-        run(FilterKind::Linear, 0.015),
-        run(FilterKind::Linear, 0.030),
+fn shin_fit_gives_the_15_ms_errors_and_predicts_30_ms() {
+    let [(l15, l30), (e15, e30)] = shin_runs(&SHIN_FIT).unwrap();
+    assert!((l15.contour - 70.0).abs() <= 2.0, "linear 15 ms {l15:?}");
+    assert!(
+        (e15.contour - 60.0).abs() <= 2.0,
+        "exponential 15 ms {e15:?}"
     );
-    let (e15, e30) = (
-        run(FilterKind::Exponential, 0.015),
-        run(FilterKind::Exponential, 0.030),
-    );
-    for (kind, short, long) in [("linear", &l15, &l30), ("exponential", &e15, &e30)] {
-        let rounding = long.command_rounding / short.command_rounding;
+    for (kind, short, long, pinned, shin) in [
+        ("linear", &l15, &l30, 56.6, 9.0),
+        ("exponential", &e15, &e30, 43.8, 8.0),
+    ] {
+        let ratio = short.contour / long.contour;
         assert!(
-            (1.8..2.2).contains(&rounding),
-            "{kind}: rounding 15 ms {} µm, 30 ms {} µm",
-            short.command_rounding,
-            long.command_rounding
+            (1.0..=2.0).contains(&ratio),
+            "{kind}: {} → {} µm",
+            short.contour,
+            long.contour
         );
-        let tracking = short.tracking / long.tracking;
         assert!(
-            (1.2..3.0).contains(&tracking),
-            "{kind}: tracking 15 ms {} µm, 30 ms {} µm",
-            short.tracking,
-            long.tracking
+            (long.contour - pinned).abs() <= 0.05 * pinned,
+            "{kind}: 30 ms {} µm, README says {pinned}",
+            long.contour
+        );
+        assert!(long.contour > 4.0 * shin, "{kind}: {} µm", long.contour);
+        assert!(long.command_rounding > shin, "{kind}: {long:?}");
+    }
+    let v_tau_8 = CORNER_FEED * 0.030 / 8.0;
+    assert!(
+        (l30.command_rounding - v_tau_8).abs() < 1.0,
+        "linear 30 ms rounding {} µm, v·τ/8 = {v_tau_8}",
+        l30.command_rounding
+    );
+    let rigid = shin_corner(
+        MotorParams::default_servo(),
+        FfpivGains::default(),
+        FilterKind::Linear,
+        0.015,
+    )
+    .unwrap();
+    assert!(rigid.contour < 3.0, "rigid: {} µm", rigid.contour);
+}
+
+/// The fitted machine with its resonance swept over 10–200 Hz: the 15 ms/30 ms ratio of
+/// either filter stays between 1 and about 2 (a longer filter never raises the peak; one mode
+/// gives at most the 2× of the quasi-static limit, where the error scales with the peak
+/// acceleration v/τ); it is near 1 at 10 Hz (the table follows neither filter), reaches 1.9
+/// or more between 80 and 130 Hz; and the errors fall with the resonance's frequency.
+#[test]
+fn shin_resonance_sweep_ratio_rises_from_one_to_two() {
+    let sweep = shin_resonance_sweep(&SHIN_FIT, &sweep_frequencies()).unwrap();
+    assert_eq!(sweep.len(), 20);
+    for p in &sweep {
+        for (kind, (short, long)) in [("linear", p.linear), ("exponential", p.exponential)] {
+            assert!(
+                (1.0..=2.05).contains(&(short / long)),
+                "{kind} at {:.1} Hz: {short} → {long} µm",
+                p.hz
+            );
+        }
+    }
+    let low = &sweep[0];
+    assert!(low.linear.0 / low.linear.1 < 1.2, "{low:?}");
+    assert!(low.exponential.0 / low.exponential.1 < 1.2, "{low:?}");
+    let ((l, l_hz), (e, e_hz)) = sweep_peak_ratios(&sweep);
+    assert!(
+        l >= 1.9 && (80.0..130.0).contains(&l_hz),
+        "linear peak {l} at {l_hz} Hz"
+    );
+    assert!(
+        e >= 1.9 && (80.0..130.0).contains(&e_hz),
+        "exponential peak {e} at {e_hz} Hz"
+    );
+    for w in sweep.windows(2) {
+        assert!(w[1].linear.0 < w[0].linear.0, "{w:?}");
+        assert!(w[1].exponential.0 < w[0].exponential.0, "{w:?}");
+    }
+}
+
+/// A lightly damped coupling (ζ 0.03) whose mode the 30 ms linear filter's zero at 33.3 Hz
+/// meets (the table's mode against a held motor is 0.79 of the coupling's resonance; the
+/// servo puts the closed-loop mode between the two): the zero leaves no vibration after the
+/// turn, yet the peak error falls by less than 2×, as the mode's deflection during the 30 ms
+/// ramp is about half the 15 ms run's peak. The filters' gains at one mode, for the vibration
+/// left after the turn: 7.8× at 30.6 Hz, unbounded at 33.3 Hz for the linear filter; under 2×
+/// at every frequency for the exponential one.
+#[test]
+fn shin_linear_filter_zero_does_not_lower_the_peak() {
+    let light = ShinMachine {
+        zeta: LIGHT_ZETA,
+        ..SHIN_FIT
+    };
+    for hz in [33.3, 37.5, 42.0] {
+        let [(l15, l30), _] = shin_runs(&ShinMachine {
+            resonance_hz: hz,
+            ..light
+        })
+        .unwrap();
+        let ratio = l15.contour / l30.contour;
+        assert!(
+            (1.2..2.0).contains(&ratio),
+            "{hz} Hz: {} → {} µm",
+            l15.contour,
+            l30.contour
         );
     }
-    for (short, long) in [(&l15, &e15), (&l30, &e30)] {
-        assert!(
-            long.command_rounding > 2.5 * short.command_rounding,
-            "exponential rounding {} vs linear {} µm",
-            long.command_rounding,
-            short.command_rounding
-        );
+    let r = mode_residual_ratio(FilterKind::Linear, 30.6, 0.015);
+    assert!((r - 7.8).abs() < 0.1, "{r}");
+    assert!(mode_residual_ratio(FilterKind::Linear, 33.3, 0.015) > 100.0);
+    for i in 0..200 {
+        let hz = 1.0 + i as f64;
+        let r = mode_residual_ratio(FilterKind::Exponential, hz, 0.015);
+        assert!((1.0..2.0).contains(&r), "{hz} Hz: {r}");
     }
+}
+
+/// `papers::SHIN_FIT` is what `papers::shin_fit` finds (about 240 corner runs: `cargo test
+/// --release --test papers -- --ignored shin_fit`).
+#[test]
+#[ignore]
+fn shin_fit_constants_are_the_fit() {
+    let f = shin_fit().unwrap();
+    let m = f.machine;
     assert!(
-        l30.total < l15.total,
-        "linear: table vs corner 30 ms {} µm, 15 ms {} µm",
-        l30.total,
-        l15.total
+        (m.resonance_hz / SHIN_FIT.resonance_hz - 1.0).abs() < 0.01
+            && (m.zeta / SHIN_FIT.zeta - 1.0).abs() < 0.01
+            && m.bandwidth_hz == SHIN_FIT.bandwidth_hz,
+        "{f:?}"
     );
     assert!(
-        e30.total > e15.total,
-        "exponential: table vs corner 30 ms {} µm, 15 ms {} µm",
-        e30.total,
-        e15.total
-    );
-    // The rigid default plant has no resonance to excite: the tracking error barely changes.
-    let rigid = MotorParams::default_servo();
-    let (s, l) = (
-        shin_corner(rigid, FilterKind::Linear, 0.015).unwrap(),
-        shin_corner(rigid, FilterKind::Linear, 0.030).unwrap(),
-    );
-    assert!(
-        s.tracking < 10.0 && l.tracking < 10.0,
-        "rigid tracking {} / {} µm",
-        s.tracking,
-        l.tracking
+        (f.errors.0 - 70.0).abs() < 1.0 && (f.errors.1 - 60.0).abs() < 1.0,
+        "{f:?}"
     );
 }
 

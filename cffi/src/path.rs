@@ -801,7 +801,12 @@ mod tests {
         s.buffer = 6;
         assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
         s.buffer = MC_PATH_BUFFER_BUFFERED;
-        s.transition = 3;
+        s.transition = MC_PATH_TRANSITION_TIME_SHIFT;
+        let PathItem::Segment(seg) = s.to_sdk().unwrap() else {
+            panic!("a segment");
+        };
+        assert_eq!(seg.transition, Transition::TimeShift(0.5));
+        s.transition = 4;
         assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
         s.naxes = 9;
         s.transition = MC_PATH_TRANSITION_NONE;
