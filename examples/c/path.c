@@ -170,7 +170,7 @@ static void refusals(mc_card c) {
     s.buffer = 6;
     EXPECT(mc_group_path_push(c, G, &s, &m), MC_ERR_PATH_MODE);
     s.buffer = MC_PATH_BUFFER_BLEND_HIGH;
-    s.transition = 3;
+    s.transition = 4; /* 3 is MC_PATH_TRANSITION_TIME_SHIFT */
     EXPECT(mc_group_path_push(c, G, &s, &m), MC_ERR_PATH_MODE);
     s.transition = MC_PATH_TRANSITION_CORNER_DISTANCE;
     s.naxes = 3;
