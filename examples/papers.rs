@@ -587,14 +587,14 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         let r = thinh_fig10(tr)?;
         println!(
             "| {name:<36} | {:>13.4} | {:>19.0} | {:>20.2} | {:>20.4} |",
-            r.time, r.least_between, r.peak, r.torque_step
+            r.time, r.least_between, r.trace.peak, r.torque_step
         );
         command_actual(
             &args.out.join(format!("thinh_fig10_velocity_{tag}.svg")),
             &format!("Thinh Fig 10: blending mode, velocity ({name})"),
             "counts/s",
-            &r.t,
-            (&r.cmd_vel, &r.act_vel),
+            &r.trace.t,
+            (&r.trace.cmd_vel, &r.trace.act_vel),
         )?;
     }
 

@@ -540,9 +540,10 @@ fn thinh_fig10_time_shifted_blending_keeps_moving_between_segments() {
     ] {
         println!(
             "{name}: {:.4} s, least speed between {:.0}, peak error {:.2}, torque step {:.4}, end {:?}",
-            r.time, r.least_between, r.peak, r.torque_step, r.end
+            r.time, r.least_between, r.trace.peak, r.torque_step, r.trace.end
         );
-        assert!((r.end.0 - r.end.1).abs() <= 1.0, "{name}: end {:?}", r.end);
+        let end = r.trace.end;
+        assert!((end.0 - end.1).abs() <= 1.0, "{name}: end {end:?}");
     }
     let slowest = FIG10_SEGMENTS
         .iter()
@@ -565,5 +566,5 @@ fn thinh_fig10_time_shifted_blending_keeps_moving_between_segments() {
         stops.time
     );
     assert!(shifted.torque_step <= stops.torque_step * 1.05);
-    assert!(shifted.peak < 20.0, "peak {}", shifted.peak);
+    assert!(shifted.trace.peak < 20.0, "peak {}", shifted.trace.peak);
 }

@@ -223,6 +223,50 @@ impl Tracking {
 /// Ticks in the 1 ms averages of [`Tracking`] at 10 kHz.
 const AVG_TICKS: usize = 10;
 
+/// What [`Tracking`] records of each tick of axis 0 of a 10 kHz card on `plant`.
+struct Recorder {
+    /// The encoder over the last 1 ms, for the actual velocity.
+    history: std::collections::VecDeque<f64>,
+    torque_per_volt: f64,
+    max_torque: f64,
+    ts: f64,
+}
+
+impl Recorder {
+    fn new(plant: &MotorParams, start: f64, ts: f64) -> Self {
+        Self {
+            history: std::collections::VecDeque::from(vec![start; AVG_TICKS + 1]),
+            torque_per_volt: plant.kt * plant.amp_gain,
+            max_torque: plant.kt * plant.current_limit,
+            ts,
+        }
+    }
+
+    /// Appends the tick at time `t` whose status is `raw`; returns its following error.
+    fn record(&mut self, r: &mut Tracking, t: f64, raw: &crate::proto::AxisStatus) -> f64 {
+        let e = raw.cmd_pos - raw.act_pos;
+        r.t.push(t);
+        r.cmd_pos.push(raw.cmd_pos);
+        r.cmd_vel.push(raw.cmd_vel);
+        r.act_pos.push(raw.act_pos);
+        self.history.pop_front();
+        self.history.push_back(raw.act_pos);
+        r.act_vel
+            .push((raw.act_pos - self.history[0]) / (AVG_TICKS as f64 * self.ts));
+        r.ferr.push(e);
+        r.torque
+            .push((raw.dac_v * self.torque_per_volt).clamp(-self.max_torque, self.max_torque));
+        if raw.u_request.abs() > AxisSettings::default().dac_limit_v {
+            r.saturated += 1;
+        }
+        if e.abs() > r.peak {
+            r.peak = e.abs();
+            r.peak_at = t;
+        }
+        e
+    }
+}
+
 /// How long a step may take beyond its profile before the run gives up, s.
 const STEP_SLACK: f64 = 2.0;
 
@@ -250,12 +294,9 @@ pub fn track_steps(plant: MotorParams, gains: FfpivGains, steps: &[Step]) -> Res
     })?;
     ax.enable()?;
     sim.step(100);
-    let torque_per_volt = plant.kt * plant.amp_gain;
-    let max_torque = plant.kt * plant.current_limit;
     let mut r = Tracking::default();
     let start = ax.status()?.actual_position;
-    // The encoder over the last 1 ms, for the actual velocity.
-    let mut history = std::collections::VecDeque::from(vec![start; AVG_TICKS + 1]);
+    let mut rec = Recorder::new(&plant, start, ts);
     let mut goal = start;
     let (mut sq, mut n) = (0.0, 0usize);
     r.shaft = (f64::INFINITY, f64::NEG_INFINITY);
@@ -274,26 +315,7 @@ pub fn track_steps(plant: MotorParams, gains: FfpivGains, steps: &[Step]) -> Res
             sim.step(1);
             let s = ax.status()?;
             let raw = &s.raw;
-            let t = sim.time() - t0;
-            let e = raw.cmd_pos - raw.act_pos;
-            r.t.push(t);
-            r.cmd_pos.push(raw.cmd_pos);
-            r.cmd_vel.push(raw.cmd_vel);
-            r.act_pos.push(raw.act_pos);
-            history.pop_front();
-            history.push_back(raw.act_pos);
-            r.act_vel
-                .push((raw.act_pos - history[0]) / (AVG_TICKS as f64 * ts));
-            r.ferr.push(e);
-            r.torque
-                .push((raw.dac_v * torque_per_volt).clamp(-max_torque, max_torque));
-            if raw.u_request.abs() > AxisSettings::default().dac_limit_v {
-                r.saturated += 1;
-            }
-            if e.abs() > r.peak {
-                r.peak = e.abs();
-                r.peak_at = t;
-            }
+            let e = rec.record(&mut r, sim.time() - t0, raw);
             if done_for.is_none() {
                 sq += e * e;
                 n += 1;
@@ -466,24 +488,16 @@ pub const FIG10_LIMITS: (f64, f64, f64) = (120_000.0, 1e7, 1e9);
 /// One run of Fig 10: the segments of [`FIG10_SEGMENTS`] joined by one transition.
 #[derive(Debug, Clone, Default)]
 pub struct Blending {
-    /// Time since the first segment was queued, s; commanded and actual velocity (1 ms),
-    /// counts/s; torque, N·m (1 ms average); following error, counts.
-    pub t: Vec<f64>,
-    pub cmd_vel: Vec<f64>,
-    pub act_vel: Vec<f64>,
-    pub torque: Vec<f64>,
-    pub ferr: Vec<f64>,
-    /// From the first segment's start to the group's motion done, s.
+    /// Every tick from the first segment's queueing to the group's motion done (`end`: the
+    /// encoder there, and where the segments add up to).
+    pub trace: Tracking,
+    /// That time, s.
     pub time: f64,
-    /// Least commanded speed between the first segment's end of acceleration and the last
-    /// one's deceleration (0: it stopped at a junction), counts/s.
+    /// Least commanded speed between the first time at the first feed and the last time at
+    /// the last one (0: it stopped at a junction), counts/s.
     pub least_between: f64,
-    /// Largest |following error|, counts.
-    pub peak: f64,
     /// Largest step of the 1 ms torque from one tick to the next, N·m.
     pub torque_step: f64,
-    /// Encoder position at the end, and where the segments add up to, counts.
-    pub end: (f64, f64),
 }
 
 /// Thinh Fig 10 (blending motion mode) on [`thinh_plant`] with [`THINH_GAINS`] and the full
@@ -532,44 +546,31 @@ pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
         })
         .collect();
     g.stream_path(segs, |_| {}).map_err(|e| e.error)?;
-    let torque_per_volt = plant.kt * plant.amp_gain;
     let mut r = Blending::default();
-    let mut history = std::collections::VecDeque::from(vec![start; AVG_TICKS + 1]);
-    let mut torque = std::collections::VecDeque::from(vec![0.0; AVG_TICKS]);
+    let mut rec = Recorder::new(&plant, start, ts);
     let t0 = sim.time();
     for _ in 0..(10.0 / ts) as usize {
         sim.step(1);
-        let raw = ax.status()?.raw;
-        r.t.push(sim.time() - t0);
-        r.cmd_vel.push(raw.cmd_vel);
-        history.pop_front();
-        history.push_back(raw.act_pos);
-        r.act_vel
-            .push((raw.act_pos - history[0]) / (AVG_TICKS as f64 * ts));
-        torque.pop_front();
-        torque.push_back(raw.dac_v * torque_per_volt);
-        r.torque.push(torque.iter().sum::<f64>() / AVG_TICKS as f64);
-        r.ferr.push(raw.cmd_pos - raw.act_pos);
+        rec.record(&mut r.trace, sim.time() - t0, &ax.status()?.raw);
         if g.status()?.0 == GroupState::Standby {
             break;
         }
     }
     r.time = sim.time() - t0;
-    r.peak = r.ferr.iter().fold(0.0, |m: f64, e| m.max(e.abs()));
     r.torque_step = r
-        .torque
+        .trace
+        .torque_1ms()
         .windows(2)
         .fold(0.0, |m: f64, w| m.max((w[1] - w[0]).abs()));
     // between the first time at the first feed and the last time at the last one
+    let v = &r.trace.cmd_vel;
     let (f0, f1) = (FIG10_SEGMENTS[0].1, FIG10_SEGMENTS[n - 1].1);
-    let from = r.cmd_vel.iter().position(|&v| v >= f0 * (1.0 - 1e-9));
-    let to = r.cmd_vel.iter().rposition(|&v| v >= f1 * (1.0 - 1e-9));
+    let from = v.iter().position(|&x| x >= f0 * (1.0 - 1e-9));
+    let to = v.iter().rposition(|&x| x >= f1 * (1.0 - 1e-9));
     r.least_between = match (from, to) {
-        (Some(a), Some(b)) if a < b => r.cmd_vel[a..=b]
-            .iter()
-            .fold(f64::INFINITY, |m, &v| m.min(v)),
+        (Some(a), Some(b)) if a < b => v[a..=b].iter().fold(f64::INFINITY, |m, &x| m.min(x)),
         _ => 0.0,
     };
-    r.end = (ax.status()?.actual_position, x);
+    r.trace.end = (ax.status()?.actual_position, x);
     Ok(r)
 }
