@@ -64,8 +64,8 @@ pub(super) struct Chain {
     runs: [Option<Run>; 2],
     /// Time since the chain started, s.
     clock: f64,
-    /// When the segment after the newest profile starts, once chosen.
-    next_at: Option<f64>,
+    /// The segment after the newest profile, planned, its `t0` chosen, waiting to start.
+    next: Option<Run>,
     /// Stopped by a feed hold, to resume.
     held: bool,
     /// Speed and its change over the last tick (norm of the velocity vector).
@@ -136,8 +136,8 @@ impl Path {
         })
     }
 
-    /// The start (chain clock) of segment `bi` after run `a`, and the deviation it makes.
-    fn shift_start(&self, a: &Run, b: &Run, tol: f64) -> (f64, f64) {
+    /// The start (chain clock) of run `b`, the segment after run `a`.
+    fn shift_start(&self, a: &Run, b: &Run, tol: f64) -> f64 {
         let ta = a.prof.duration();
         let end = a.t0 + ta;
         let (pa, pb) = (a.prof.phases(), b.prof.phases());
@@ -145,7 +145,7 @@ impl Path {
             .min(pa[4] + pa[5] + pa[6])
             .min(pb[0] + pb[1] + pb[2]);
         if !(most > 0.0 && tol > 0.0) || a.stopping {
-            return (end.max(self.chain.clock), 0.0);
+            return end.max(self.chain.clock);
         }
         let n = self.lim.naxes;
         let (sa, sb) = (self.seg(a.i), self.seg(b.i));
@@ -170,9 +170,9 @@ impl Path {
                 dist_to_chord(n, &p, &corner, &b1),
             ))
         };
-        // the largest deviation over the overlap `delta`, or None past a limit: the samples,
-        // and where the nearer line changes (the deviation has a kink there), that point
-        let check = |delta: f64| -> Option<f64> {
+        // the overlap `delta` keeps the limits and the tolerance: at the samples, and where
+        // the nearer line changes (the deviation has a kink there)
+        let within = |delta: f64| -> Option<()> {
             let mut dev: f64 = 0.0;
             let mut prev: Option<(f64, f64)> = None;
             for m in 0..=OVERLAP_SAMPLES {
@@ -197,21 +197,17 @@ impl Path {
                 }
                 prev = Some((tau, d1 - d2));
             }
-            Some(dev)
+            Some(())
         };
-        let (mut lo, mut dev_lo) = (0.0, 0.0);
-        if let Some(d) = check(most) {
+        let mut lo = 0.0;
+        if within(most).is_some() {
             lo = most;
-            dev_lo = d;
         } else {
             let mut hi = most;
             for _ in 0..40 {
                 let mid = 0.5 * (lo + hi);
-                match check(mid) {
-                    Some(d) => {
-                        lo = mid;
-                        dev_lo = d;
-                    }
+                match within(mid) {
+                    Some(()) => lo = mid,
                     None => hi = mid,
                 }
                 if hi - lo <= 1e-9 * most {
@@ -219,7 +215,7 @@ impl Path {
                 }
             }
         }
-        ((end - lo).max(self.chain.clock), dev_lo)
+        (end - lo).max(self.chain.clock)
     }
 
     /// Brakes every running profile along its own line within `decel` and `jerk` (a halt, or
@@ -241,7 +237,7 @@ impl Path {
                 _ => {}
             }
         }
-        self.chain.next_at = None;
+        self.chain.next = None;
     }
 
     /// After a hold: what is left of each segment, from rest, one after the other.
@@ -257,7 +253,7 @@ impl Path {
             }
         }
         self.chain.held = false;
-        self.chain.next_at = None;
+        self.chain.next = None;
     }
 
     /// Drops the chain's state (a clear or a reset).
@@ -300,27 +296,20 @@ impl Path {
                 && j < self.tail
                 && self.seg(j).shift_join
             {
-                if let Some(mut b) = self.shift_run(j, 0.0, 0.0) {
-                    let at = match self.chain.next_at {
-                        Some(at) => at,
-                        None => {
-                            let tol = match self.seg(j).transition {
-                                Transition::TimeShift(t) => t,
-                                _ => 0.0,
-                            };
-                            let (at, dev) = self.shift_start(&r, &b, tol);
-                            let sl = self.slot(j);
-                            self.segs[sl].dev = dev;
-                            self.chain.next_at = Some(at);
-                            at
-                        }
+                if self.chain.next.is_none() {
+                    let tol = match self.seg(j).transition {
+                        Transition::TimeShift(t) => t,
+                        _ => 0.0,
                     };
-                    if clock >= at {
-                        b.t0 = at;
-                        self.chain.runs[1] = Some(b);
-                        self.chain.next_at = None;
-                        self.open_seg(j, ev);
-                    }
+                    self.chain.next = self.shift_run(j, 0.0, 0.0).map(|b| Run {
+                        t0: self.shift_start(&r, &b, tol),
+                        ..b
+                    });
+                }
+                if let Some(b) = self.chain.next.filter(|b| clock >= b.t0) {
+                    self.chain.runs[1] = Some(b);
+                    self.chain.next = None;
+                    self.open_seg(j, ev);
                 }
             }
         }

@@ -40,6 +40,25 @@ fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
     }
 }
 
+/// A counter-clockwise arc in the (x, y) plane around `centre` to `end` (a helix if `end`
+/// moves other axes).
+fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segment {
+    Segment {
+        id,
+        geom: Geom::Arc {
+            u: 0,
+            v: 1,
+            centre,
+            ccw: true,
+            end,
+        },
+        feed,
+        transition: tr,
+        blend: BlendSpeed::Low,
+        last: false,
+    }
+}
+
 fn path(naxes: usize, ts: f64, start: V) -> Path {
     let mut p = Path::with_capacity(4096);
     p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD)
@@ -304,20 +323,13 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
     let tr = Transition::MaxDeviation(tol);
     p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
     // a quarter circle to (25000, 5000) around (20000, 5000), then a line back up-left
-    p.push(Segment {
-        id: 2,
-        geom: Geom::Arc {
-            u: 0,
-            v: 1,
-            centre: [20_000.0, 5_000.0],
-            ccw: true,
-            end: pt(&[25_000.0, 5_000.0]),
-        },
-        feed: 8e4,
-        transition: tr,
-        blend: BlendSpeed::Low,
-        last: false,
-    })
+    p.push(arc_xy(
+        2,
+        [20_000.0, 5_000.0],
+        pt(&[25_000.0, 5_000.0]),
+        8e4,
+        tr,
+    ))
     .unwrap();
     let mut end = pt(&[5_000.0, 20_000.0]);
     let mut s3 = line(3, end, 8e4, tr);
@@ -347,20 +359,13 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
     let mut p = path(3, TS, pt(&[10_000.0, 0.0, 0.0]));
     p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr))
         .unwrap();
-    p.push(Segment {
-        id: 2,
-        geom: Geom::Arc {
-            u: 0,
-            v: 1,
-            centre: [5_000.0, -5_000.0],
-            ccw: true,
-            end: pt(&[10_000.0, -5_000.0, 8_000.0]),
-        },
-        feed: 6e4,
-        transition: tr,
-        blend: BlendSpeed::Low,
-        last: false,
-    })
+    p.push(arc_xy(
+        2,
+        [5_000.0, -5_000.0],
+        pt(&[10_000.0, -5_000.0, 8_000.0]),
+        6e4,
+        tr,
+    ))
     .unwrap();
     end = pt(&[10_000.0, -5_000.0, 20_000.0]);
     p.push(line(3, end, 6e4, tr)).unwrap();
@@ -1452,20 +1457,7 @@ fn time_shift_segment_arriving_late_overlaps_what_is_left() {
 #[test]
 fn time_shift_refusals() {
     let mut p = path(2, TS, pt(&[0.0, 0.0]));
-    let arc = |id, tr| Segment {
-        id,
-        geom: Geom::Arc {
-            u: 0,
-            v: 1,
-            centre: [0.0, 5_000.0],
-            ccw: true,
-            end: pt(&[0.0, 10_000.0]),
-        },
-        feed: 5e4,
-        transition: tr,
-        blend: BlendSpeed::Low,
-        last: false,
-    };
+    let arc = |id, tr| arc_xy(id, [0.0, 5_000.0], pt(&[0.0, 10_000.0]), 5e4, tr);
     assert_eq!(
         p.push(arc(1, Transition::TimeShift(10.0))),
         Err(PathError::TimeShift)
