@@ -1,13 +1,14 @@
 //! The continuous path on the stepped emulated card: blends within the tolerance, every axis
 //! within its limits (finite differences of the commanded positions per tick), segment events
 //! in order, exact ends, starvation and resume, halts in a blend, each buffer and transition
-//! mode (Thinh's time-shifted blending included), dwells and outputs, and the refusals.
+//! mode (Thinh's time-shifted blending included), dwells and outputs, NURBS curves as path
+//! segments, and the refusals.
 mod common;
 
 use common::stepped_card;
 use motioncard::{
-    ArcSpec, Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, OutputAt, PathBuffer,
-    PathItem, PathSettings, Plane, Segment, Transition,
+    ArcSpec, Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, Nurbs, OutputAt,
+    PathBuffer, PathItem, PathSettings, Plane, Segment, Transition,
 };
 use std::time::Duration;
 
@@ -644,4 +645,183 @@ fn time_shifted_transition_overlaps_lines_on_the_card() {
         let next = at(EventKind::SegmentStart, id as f64 + 1.0);
         assert!(next < at(EventKind::SegmentEnd, id as f64), "segment {id}");
     }
+}
+
+/// A rational cubic from (x0, y0) leaving along +x, with a double knot (only C¹ there), 50,000
+/// counts long in x; it ends at (x0 + 50,000, y0 + 20,000) heading (1, 2).
+fn freeform(x0: f64, y0: f64) -> Nurbs {
+    let pts = [
+        (0.0, 0.0),
+        (10e3, 0.0),
+        (15e3, 10e3),
+        (25e3, 15e3),
+        (30e3, 5e3),
+        (40e3, 0.0),
+        (45e3, 10e3),
+        (50e3, 20e3),
+    ];
+    let ctrl: Vec<f64> = pts.iter().flat_map(|p| [x0 + p.0, y0 + p.1]).collect();
+    let w = [1.0, 1.0, 2.0, 1.0, 0.5, 1.0, 1.0, 1.0];
+    let knots = [0.0, 0.0, 0.0, 0.0, 0.2, 0.4, 0.4, 0.7, 1.0, 1.0, 1.0, 1.0];
+    Nurbs::new(3, 2, &ctrl, &w, &knots).unwrap()
+}
+
+/// The curve as 20,001 points (independent of the card's pieces).
+fn sampled(c: &Nurbs) -> Vec<Vec<f64>> {
+    (0..=20_000)
+        .map(|i| {
+            let q = c.point(i as f64 / 20_000.0).unwrap();
+            vec![q[0], q[1]]
+        })
+        .collect()
+}
+
+/// A NURBS curve between two blended lines on the card: one segment (its id starts and ends
+/// once), several buffer entries, every axis within its limits, the end exact, every point
+/// within the blend tolerance of line ∪ curve ∪ line, and on the curve away from the joins
+/// within its fit tolerance.
+#[test]
+fn a_nurbs_segment_runs_within_its_fit_tolerance_between_blended_lines() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    card.sim().unwrap().step(10);
+    let curve = freeform(20_000.0, 0.0);
+    let (tol, fit) = (10.0, 1.0);
+    let items = vec![
+        Segment::line(1, &[20_000.0, 0.0], 60_000.0, tol),
+        Segment::nurbs(2, curve.clone(), 60_000.0, tol, fit),
+        Segment::line(3, &[80_000.0, 40_000.0], 60_000.0, tol).last(),
+    ];
+    g.stream_path(items, |_| {}).unwrap().unwrap();
+    let entries = 4096 - g.path_free().unwrap();
+    assert!(entries > 4, "{entries} entries for three segments");
+    assert_eq!(g.status().unwrap().1.path_queued, 3);
+    let r = run(&card, &g, 2, 200_000);
+    assert_limits(&r, &lim, "nurbs");
+    assert_eq!(ids(&r, EventKind::SegmentStart), vec![1, 2, 3]);
+    assert_eq!(ids(&r, EventKind::SegmentEnd), vec![1, 2, 3]);
+    assert_eq!(r.pos.last().unwrap(), &vec![80_000.0, 40_000.0]);
+    let poly = sampled(&curve);
+    let lines = [
+        vec![vec![0.0, 0.0], vec![20_000.0, 0.0]],
+        vec![vec![70_000.0, 20_000.0], vec![80_000.0, 40_000.0]],
+    ];
+    let (mut worst, mut on_curve) = (0.0f64, 0.0f64);
+    for p in &r.pos {
+        let dc = dist_to_polyline(p, &poly);
+        let dl = lines
+            .iter()
+            .map(|l| dist_to_polyline(p, l))
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(dc.min(dl));
+        let far = |e: &Vec<f64>| (p[0] - e[0]).hypot(p[1] - e[1]) > 5_000.0;
+        if dc < dl && far(&poly[0]) && far(poly.last().unwrap()) {
+            on_curve = on_curve.max(dc);
+        }
+    }
+    assert!(worst <= tol * (1.0 + 1e-9), "{worst}");
+    assert!(on_curve <= fit * (1.0 + 1e-6), "{on_curve} from the curve");
+}
+
+/// PLCopen Aborting with a NURBS curve (relative: from where the path comes to rest): the
+/// running path stops along its geometry, what it held is aborted, and the curve, still staged
+/// on the card, runs from the point of rest.
+#[test]
+fn an_aborting_relative_nurbs_segment_starts_where_the_path_stopped() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let sim = card.sim().unwrap();
+    stream_polyline(
+        &g,
+        &square(50_000.0),
+        80_000.0,
+        100.0,
+        PathBuffer::BlendingLow,
+    );
+    sim.step(3_000);
+    let seg = Segment::nurbs(9, freeform(0.0, 0.0), 50_000.0, 0.0, 0.5)
+        .relative()
+        .buffer(PathBuffer::Aborting)
+        .last();
+    let m = g.path_push(&seg.into()).unwrap();
+    let r = run(&card, &g, 2, 400_000);
+    m.wait(T).unwrap();
+    assert_limits(&r, &lim, "aborting nurbs");
+    assert!(r
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::GroupMotionAborted));
+    assert_eq!(ids(&r, EventKind::SegmentEnd).last(), Some(&9));
+    // the curve ran from the point of rest: its end minus its offset is where the path stood
+    let end = r.pos.last().unwrap();
+    let rest = [end[0] - 50_000.0, end[1] - 20_000.0];
+    let at = r
+        .pos
+        .iter()
+        .position(|p| (p[0] - rest[0]).abs() < 1e-6 && (p[1] - rest[1]).abs() < 1e-6);
+    let at = at.unwrap_or_else(|| panic!("never at {rest:?}"));
+    // at rest there: the step into it and the step out of it are both the path's first ticks
+    let (a, b) = (&r.pos[at - 1], &r.pos[at + 1]);
+    assert!((a[0] - rest[0]).abs() < 10.0 && (b[0] - rest[0]).abs() < 10.0);
+    assert_eq!(rest[1], 0.0, "stopped on the first side of the square");
+}
+
+/// A curve the buffer has no room for yet is refused (`QueueFull`) and changes nothing; sent
+/// again once the path has run, it is queued. A cusp, a start off the path's end and a
+/// time-shifted transition each get their own error.
+#[test]
+fn nurbs_segments_the_card_refuses_change_nothing() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    g.set_override(0.0, 1.0).unwrap();
+    let seg = |i: u32| Segment::line(i, &[i as f64 * 10.0, 0.0], 5e4, 1.0);
+    g.stream_path((1..=4094).map(seg), |_| {}).unwrap();
+    let end = 40_940.0;
+    let curve = |x0: f64| Segment::nurbs(5000, freeform(x0, 0.0), 5e4, 1.0, 1.0);
+    let refused = |s: Segment| {
+        let e = g.path_push(&s.into()).map(|_| ()).unwrap_err();
+        assert_eq!(g.status().unwrap().1.path_queued, 4094);
+        assert_eq!(g.path_free().unwrap(), 2);
+        e.kind()
+    };
+    assert_eq!(refused(curve(end)), ErrorKind::QueueFull);
+    assert_eq!(refused(curve(end + 5.0)), ErrorKind::NurbsStart);
+    assert_eq!(
+        refused(curve(end).transition(Transition::TimeShift(1.0))),
+        ErrorKind::PathMode
+    );
+    let cusp = Nurbs::new(
+        3,
+        2,
+        &[
+            end,
+            0.0,
+            end + 1e3,
+            0.0,
+            end + 2e3,
+            1e3,
+            end + 2e3,
+            1e3,
+            end + 2e3,
+            1e3,
+            end + 3e3,
+            0.0,
+            end + 4e3,
+            0.0,
+        ],
+        &[1.0; 7],
+        &[0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0],
+    )
+    .unwrap();
+    assert_eq!(
+        refused(Segment::nurbs(5000, cusp, 5e4, 1.0, 1.0)),
+        ErrorKind::PathCurve
+    );
+    // run most of it, then the curve fits
+    g.set_override(1.0, 1.0).unwrap();
+    card.sim().unwrap().step(40_000);
+    g.path_push(&curve(end).last().into()).unwrap();
+    let r = run(&card, &g, 2, 400_000);
+    assert_eq!(ids(&r, EventKind::SegmentEnd).last(), Some(&5000));
+    assert_eq!(r.pos.last().unwrap(), &vec![end + 50_000.0, 20_000.0]);
 }

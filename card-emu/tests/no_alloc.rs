@@ -773,12 +773,14 @@ fn homing_does_not_touch_the_heap() {
 }
 
 /// The continuous path's engine: pushes (corner blends, smoothing blends and their rebuilds,
-/// arcs, dwells, outputs), ticks, a halt and a clear, all in storage made once.
+/// arcs, NURBS curves, dwells, outputs), ticks, a halt and a clear, all in storage made once.
 #[test]
 fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
     use card_emu::motion::path::{
-        BlendSpeed, Geom, OutputAction, OutputAt, Path, PathLimits, Segment, Transition, MAX_AXES,
+        BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathLimits, Segment,
+        Transition, MAX_AXES,
     };
+    let mut curve = Nurbs::with_capacity();
     let lim = PathLimits {
         naxes: 2,
         ts: 1e-4,
@@ -871,6 +873,41 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
             }
         }
         assert_eq!(p.queued(), 0);
+        // a rational cubic from there, in pieces
+        let c0 = p.end();
+        let ctrl = [
+            c0[0],
+            c0[1],
+            c0[0] + 3_000.0,
+            c0[1],
+            c0[0] + 4_000.0,
+            c0[1] + 3_000.0,
+            c0[0] + 7_000.0,
+            c0[1] + 2_000.0,
+        ];
+        let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        curve
+            .set(3, 2, &ctrl, &[1.0, 2.0, 1.0, 1.0], &knots)
+            .unwrap();
+        let pieces = p
+            .push_curve(&CurveSegment {
+                id: 450,
+                curve: &curve,
+                feed: 5e4,
+                transition: Transition::MaxDeviation(5.0),
+                blend: BlendSpeed::Low,
+                last: false,
+                tolerance: 0.5,
+            })
+            .unwrap();
+        assert!(pieces > 1);
+        for _ in 0..2_000_000 {
+            p.tick(1.0, &mut |_| events += 1);
+            if p.queued() == 0 && !p.is_moving() {
+                break;
+            }
+        }
+        let last = p.end();
         // again, halted in the middle and cleared
         for i in 1..=50u32 {
             end[0] = last[0] + i as f64 * 100.0;

@@ -244,6 +244,18 @@ extern "C" {
 #define MC_SEGMENT_OUTPUT 3
 
 /**
+ * A NURBS curve (`curve`, as the arguments of `mc_group_move_nurbs`: control points in group
+ * axis order and user units), run within `fit_tolerance` (> 0, user units of the first axis)
+ * of the curve. It must start within `fit_tolerance` of where the segment before ends
+ * (`MC_ERR_NURBS_START`; `relative`: its control points are from there). On the card it takes
+ * one buffer entry per piece (quintics fitted to the curve, curvature-continuous where it
+ * is): `mc_group_path_stream` waits until they fit, `mc_group_path_push` answers
+ * `MC_ERR_QUEUE_FULL`; `MC_ERR_PATH_CURVE` for a cusp or more pieces than the buffer holds.
+ * The curve's arrays are read during the call that queues it.
+ */
+#define MC_SEGMENT_NURBS 4
+
+/**
  * `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
  * the running path stops along its geometry within its limits, everything queued is aborted,
  * and this segment starts from where it came to rest.
@@ -1799,9 +1811,9 @@ typedef struct mc_path_settings {
 } mc_path_settings;
 
 /**
- * One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_DWELL`) or an output action
- * (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start from
- * `mc_path_segment_line`, `_arc`, `_dwell` or `_output`.
+ * One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_NURBS`, `_DWELL`) or an output
+ * action (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start
+ * from `mc_path_segment_line`, `_arc`, `_nurbs`, `_dwell` or `_output`.
  */
 typedef struct mc_path_segment {
   /**
@@ -1876,6 +1888,14 @@ typedef struct mc_path_segment {
    * Output actions with `MC_OUTPUT_AT_DISTANCE`: the distance into the segment.
    */
   double distance;
+  /**
+   * NURBS curves: the curve (its arrays read while the item is queued).
+   */
+  struct mc_nurbs_curve curve;
+  /**
+   * NURBS curves: the largest distance of the path from the curve (> 0).
+   */
+  double fit_tolerance;
 } mc_path_segment;
 
 /**
@@ -2427,6 +2447,13 @@ typedef struct mc_stop_info {
  * A segment id that is not an integer in 0..2^32-1.
  */
 #define MC_ERR_PATH_ID -72
+
+/**
+ * A NURBS path segment with a point of zero tangent (a cusp: split the curve there), or
+ * one needing more pieces than the path buffer holds (a looser fit tolerance, or split
+ * the curve).
+ */
+#define MC_ERR_PATH_CURVE -73
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -3202,6 +3229,20 @@ mc_result mc_path_segment_arc(uint32_t id,
                               double feed,
                               double tolerance,
                               struct mc_path_segment *segment);
+
+/**
+ * A NURBS curve `*curve` (as the arguments of `mc_group_move_nurbs`) at `feed`, blended into
+ * the segment before within `tolerance` of the corner (as `mc_path_segment_line`), run within
+ * `fit_tolerance` of the curve, absolute, not last. The segment keeps `curve`'s array
+ * pointers: they must stay readable until it is queued. Nothing else is checked until then.
+ * Never blocks.
+ */
+mc_result mc_path_segment_nurbs(uint32_t id,
+                                const struct mc_nurbs_curve *curve,
+                                double feed,
+                                double tolerance,
+                                double fit_tolerance,
+                                struct mc_path_segment *segment);
 
 /**
  * A dwell: an exact stop, then a wait of `seconds`. Never blocks.

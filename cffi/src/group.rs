@@ -392,7 +392,7 @@ pub unsafe extern "C" fn mc_nurbs_feed_new(
 /// # Safety
 /// `ctrl` is valid for `n_ctrl * dim` doubles, `weights` for `n_ctrl`, `knots` for `n_knots`
 /// (each may be NULL when its count is 0).
-unsafe fn nurbs_curve(
+pub(crate) unsafe fn nurbs_curve(
     degree: u32,
     ctrl: *const f64,
     n_ctrl: usize,

@@ -7,10 +7,10 @@
 //! the tangential limits in the first group axis's.
 
 use crate::ffi::{read_at, read_in, Out};
-use crate::group::{axis_values, group_of, started};
+use crate::group::{axis_values, group_of, nurbs_curve, started};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, Failure};
-use crate::types::{mc_arc, mc_group_motion, plane_of, unknown, MC_GROUP_MAX_AXES};
+use crate::types::{mc_arc, mc_group_motion, mc_nurbs_curve, plane_of, unknown, MC_GROUP_MAX_AXES};
 use motioncard_sdk::{
     Error, ErrorKind, Geometry, Group, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings,
     Segment, StreamError, Transition,
@@ -37,6 +37,15 @@ pub const MC_SEGMENT_DWELL: u32 = 2;
 /// segment queued after it. It takes no room in the buffer; at most 8 may wait for their
 /// segment (`MC_ERR_PATH_OUTPUT`).
 pub const MC_SEGMENT_OUTPUT: u32 = 3;
+/// A NURBS curve (`curve`, as the arguments of `mc_group_move_nurbs`: control points in group
+/// axis order and user units), run within `fit_tolerance` (> 0, user units of the first axis)
+/// of the curve. It must start within `fit_tolerance` of where the segment before ends
+/// (`MC_ERR_NURBS_START`; `relative`: its control points are from there). On the card it takes
+/// one buffer entry per piece (quintics fitted to the curve, curvature-continuous where it
+/// is): `mc_group_path_stream` waits until they fit, `mc_group_path_push` answers
+/// `MC_ERR_QUEUE_FULL`; `MC_ERR_PATH_CURVE` for a cusp or more pieces than the buffer holds.
+/// The curve's arrays are read during the call that queues it.
+pub const MC_SEGMENT_NURBS: u32 = 4;
 
 /// `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
 /// the running path stops along its geometry within its limits, everything queued is aborted,
@@ -107,9 +116,9 @@ pub struct mc_path_settings {
     pub jmax: [f64; 8],
 }
 
-/// One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_DWELL`) or an output action
-/// (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start from
-/// `mc_path_segment_line`, `_arc`, `_dwell` or `_output`.
+/// One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_NURBS`, `_DWELL`) or an output
+/// action (`MC_SEGMENT_OUTPUT`). Each kind reads only its own fields (listed with them); start
+/// from `mc_path_segment_line`, `_arc`, `_nurbs`, `_dwell` or `_output`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[allow(non_camel_case_types)]
@@ -152,6 +161,10 @@ pub struct mc_path_segment {
     pub at: u32,
     /// Output actions with `MC_OUTPUT_AT_DISTANCE`: the distance into the segment.
     pub distance: f64,
+    /// NURBS curves: the curve (its arrays read while the item is queued).
+    pub curve: mc_nurbs_curve,
+    /// NURBS curves: the largest distance of the path from the curve (> 0).
+    pub fit_tolerance: f64,
 }
 
 /// How far `mc_group_path_stream` has come (given to its progress callback).
@@ -206,7 +219,10 @@ impl mc_path_segment {
     /// The SDK's item. Unknown `MC_PATH_BUFFER_`, `MC_PATH_TRANSITION_` and `MC_OUTPUT_AT_`
     /// values are `MC_ERR_PATH_MODE` (as the card calls them), an unknown kind, plane or arc
     /// mode `MC_ERR_BAD_CONFIG`.
-    pub(crate) fn to_sdk(self) -> Result<PathItem, Failure> {
+    ///
+    /// # Safety
+    /// A NURBS item's `curve` arrays are readable for their counts.
+    pub(crate) unsafe fn to_sdk(self) -> Result<PathItem, Failure> {
         let geometry = match self.kind {
             MC_SEGMENT_LINE => Geometry::Line {
                 target: self.target[..axis_count(self.naxes, "target")?].to_vec(),
@@ -216,6 +232,28 @@ impl mc_path_segment {
                 plane: plane_of(self.plane)?,
                 helix: self.target[..axis_count(self.naxes, "target")?].to_vec(),
             },
+            MC_SEGMENT_NURBS => {
+                let c = &self.curve;
+                for (p, n, what) in [
+                    (c.ctrl, c.n_ctrl, "curve.ctrl"),
+                    (c.weights, c.n_ctrl, "curve.weights"),
+                    (c.knots, c.n_knots, "curve.knots"),
+                ] {
+                    if p.is_null() && n > 0 {
+                        return Err(Failure::null(what));
+                    }
+                }
+                // SAFETY: the arrays are readable for their counts by this function's contract.
+                let curve = unsafe {
+                    nurbs_curve(
+                        c.degree, c.ctrl, c.n_ctrl, c.dim, c.weights, c.knots, c.n_knots,
+                    )
+                }?;
+                Geometry::Nurbs {
+                    curve,
+                    fit_tolerance: self.fit_tolerance,
+                }
+            }
             MC_SEGMENT_DWELL => {
                 let mut s = Segment::dwell(self.id, self.seconds);
                 s.last = self.last != 0;
@@ -510,6 +548,41 @@ pub unsafe extern "C" fn mc_path_segment_arc(
     })
 }
 
+/// A NURBS curve `*curve` (as the arguments of `mc_group_move_nurbs`) at `feed`, blended into
+/// the segment before within `tolerance` of the corner (as `mc_path_segment_line`), run within
+/// `fit_tolerance` of the curve, absolute, not last. The segment keeps `curve`'s array
+/// pointers: they must stay readable until it is queued. Nothing else is checked until then.
+/// Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_segment_nurbs(
+    id: u32,
+    curve: *const mc_nurbs_curve,
+    feed: f64,
+    tolerance: f64,
+    fit_tolerance: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        // SAFETY: the caller gives NULL or a readable struct.
+        let curve = unsafe { read_in(curve, "curve") }?;
+        let s = mc_path_segment {
+            kind: MC_SEGMENT_NURBS,
+            id,
+            feed,
+            buffer: MC_PATH_BUFFER_BLEND_LOW,
+            transition: MC_PATH_TRANSITION_MAX_DEVIATION,
+            tolerance,
+            curve,
+            fit_tolerance,
+            ..Default::default()
+        };
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
 /// A dwell: an exact stop, then a wait of `seconds`. Never blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_path_segment_dwell(
@@ -586,7 +659,7 @@ pub unsafe extern "C" fn mc_group_path_push(
 ) -> mc_result {
     guard(|| {
         // SAFETY: the caller gives NULL or a readable mc_path_segment.
-        let item = unsafe { read_in(segment, "segment") }?.to_sdk()?;
+        let item = unsafe { read_in(segment, "segment")?.to_sdk() }?;
         let (e, g) = group_of(card, group)?;
         if matches!(item, PathItem::Output { .. }) {
             // Through the stream, which does not take the action's command for a motion.
@@ -667,7 +740,8 @@ pub unsafe extern "C" fn mc_group_path_stream(
         }
         let (e, g) = group_of(card, group)?;
         // SAFETY: non-NULL when n > 0 (checked above); `n` readable items by the contract.
-        let item = |i: usize| unsafe { read_at(segments, i) }.to_sdk();
+        // (and a NURBS item's arrays readable, by the contract)
+        let item = |i: usize| unsafe { read_at(segments, i).to_sdk() };
         // Check everything first, so that an item the library refuses stops the stream before
         // anything is sent.
         let mut refused = None;
@@ -758,6 +832,7 @@ pub extern "C" fn mc_set_outputs(card: mc_card, mask: u32, value: u32) -> mc_res
 mod tests {
     use super::*;
     use motioncard_sdk::proto::{raw, OUTPUTS, PATH_LEN};
+    use motioncard_sdk::Nurbs;
 
     #[test]
     fn constants_match_the_card() {
@@ -790,38 +865,40 @@ mod tests {
 
     #[test]
     fn segments_convert_and_unknown_modes_are_path_mode() {
+        // SAFETY: no NURBS item here (no arrays to read).
+        let sdk = |s: mc_path_segment| unsafe { s.to_sdk() };
         let mut s = mc_path_segment::default();
         // SAFETY: valid pointers.
         let r = unsafe { mc_path_segment_line(7, [1.0, 2.0].as_ptr(), 2, 10.0, 0.5, &mut s) };
         assert_eq!(r, 0);
         assert_eq!(
-            s.to_sdk().unwrap(),
+            sdk(s).unwrap(),
             PathItem::Segment(Segment::line(7, &[1.0, 2.0], 10.0, 0.5))
         );
         s.buffer = 6;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::PathMode.code());
         s.buffer = MC_PATH_BUFFER_BUFFERED;
         s.transition = MC_PATH_TRANSITION_TIME_SHIFT;
-        let PathItem::Segment(seg) = s.to_sdk().unwrap() else {
+        let PathItem::Segment(seg) = sdk(s).unwrap() else {
             panic!("a segment");
         };
         assert_eq!(seg.transition, Transition::TimeShift(0.5));
         s.transition = 4;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::PathMode.code());
         s.naxes = 9;
         s.transition = MC_PATH_TRANSITION_NONE;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::BadAxis.code());
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::BadAxis.code());
         // SAFETY: valid pointers.
         assert_eq!(unsafe { mc_path_segment_dwell(3, 0.25, &mut s) }, 0);
         s.last = 1;
-        assert_eq!(s.to_sdk().unwrap(), Segment::dwell(3, 0.25).last().into());
+        assert_eq!(sdk(s).unwrap(), Segment::dwell(3, 0.25).last().into());
         // SAFETY: valid pointers.
         assert_eq!(
             unsafe { mc_path_segment_output(5, 1, MC_OUTPUT_AT_DISTANCE, 2.5, &mut s) },
             0
         );
         assert_eq!(
-            s.to_sdk().unwrap(),
+            sdk(s).unwrap(),
             PathItem::Output {
                 output: 5,
                 on: true,
@@ -829,11 +906,41 @@ mod tests {
             }
         );
         s.at = 3;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathMode.code());
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::PathMode.code());
         s.at = MC_OUTPUT_AT_END;
         s.output = 300;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::PathOutput.code());
-        s.kind = 4;
-        assert_eq!(s.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::PathOutput.code());
+        s.kind = 5;
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::BadConfig.code());
+        // a NURBS item: its curve is read and checked as mc_group_move_nurbs checks it
+        let (ctrl, w, k) = ([0.0, 0.0, 1.0, 1.0], [1.0, 1.0], [0.0, 0.0, 1.0, 1.0]);
+        let mut c = mc_nurbs_curve {
+            degree: 1,
+            dim: 2,
+            ctrl: ctrl.as_ptr(),
+            n_ctrl: 2,
+            weights: w.as_ptr(),
+            knots: k.as_ptr(),
+            n_knots: 4,
+        };
+        // SAFETY: valid pointers.
+        assert_eq!(
+            unsafe { mc_path_segment_nurbs(9, &c, 5.0, 0.5, 0.01, &mut s) },
+            0
+        );
+        let want = Nurbs::new(1, 2, &ctrl, &w, &k).unwrap();
+        assert_eq!(
+            sdk(s).unwrap(),
+            PathItem::Segment(Segment::nurbs(9, want, 5.0, 0.5, 0.01))
+        );
+        c.degree = 0;
+        // SAFETY: valid pointers.
+        assert_eq!(
+            unsafe { mc_path_segment_nurbs(9, &c, 5.0, 0.5, 0.01, &mut s) },
+            0
+        );
+        assert_eq!(sdk(s).unwrap_err().code, ErrorKind::NurbsDegree.code());
+        s.curve.ctrl = std::ptr::null();
+        assert_eq!(sdk(s).unwrap_err().code, crate::result::MC_ERR_NULL_POINTER);
     }
 }

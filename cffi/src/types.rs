@@ -887,6 +887,21 @@ pub struct mc_nurbs_curve {
     pub n_knots: usize,
 }
 
+impl Default for mc_nurbs_curve {
+    /// No curve: NULL arrays, zero counts.
+    fn default() -> Self {
+        Self {
+            degree: 0,
+            dim: 0,
+            ctrl: std::ptr::null(),
+            n_ctrl: 0,
+            weights: std::ptr::null(),
+            knots: std::ptr::null(),
+            n_knots: 0,
+        }
+    }
+}
+
 impl From<NurbsFeed> for mc_nurbs_feed {
     fn from(f: NurbsFeed) -> Self {
         Self {

@@ -992,19 +992,19 @@ fn machine_program_jogs_aborts_buffers_and_overrides() {
     assert!(out.contains("override 0 % held, 200 %"), "{out}");
 }
 
-/// Needs the card's path algorithm (`card-emu/src/motion/path.rs`): until it lands the program
-/// passes its checks of settings, refusals and outputs, then the emulated card panics.
+/// The path from C: a blended square with outputs, a NURBS segment, the refusals.
 #[test]
-fn path_program_streams_a_blended_square_with_outputs() {
+fn path_program_streams_a_blended_square_with_outputs_and_a_curve() {
     let out = run(&compile("path", Link::Shared), &[], &[]);
     assert!(out.contains("PASS path"), "{out}");
     assert!(
         out.contains("path: square with blends ended at (5000, 5000)"),
         "{out}"
     );
+    assert!(out.contains("path: a NURBS segment and a line"), "{out}");
 }
 
-/// As [`path_program_streams_a_blended_square_with_outputs`], under valgrind.
+/// As [`path_program_streams_a_blended_square_with_outputs_and_a_curve`], under valgrind.
 #[test]
 fn path_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("path");

@@ -6,7 +6,8 @@
  * on and off, the segment events counted. Then the refusals: a NaN target, a line of length
  * zero, output 16, unknown modes, a segment while a group move runs and a group move while the
  * path runs, a stream stopped at its refused item with what came before it queued; and the
- * card's outputs set directly.
+ * card's outputs set directly. Last, a NURBS curve as one segment between a stop and a blended
+ * line, and the curves the card refuses (a cusp, a start away from the path's end).
  *
  * Runs on a stepped emulated card (deterministic: time advances only in waits and
  * mc_sim_step), so positions are checked exactly. Positions are in counts (scale 1), except
@@ -376,6 +377,55 @@ static void square(mc_card c) {
     CHECK(mc_set_event_callback(c, NULL, NULL));
 }
 
+/* A cubic Bezier (a NURBS of one span) from (6000, 5000) to (16000, 9000) as one segment, then
+   a line blended to it; its middle point (11000, 7000) is passed within a tick's travel. */
+static void curve(mc_card c) {
+    const double ctrl[8] = {6000.0, 5000.0, 10000.0, 5000.0, 12000.0, 9000.0, 16000.0, 9000.0};
+    const double w[4] = {1.0, 1.0, 1.0, 1.0};
+    const double knots[8] = {0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0};
+    const mc_nurbs_curve bezier = {3, 2, ctrl, 4, w, knots, 8};
+    mc_path_segment items[2];
+    CHECK(mc_path_segment_nurbs(20, &bezier, 40000.0, 0.0, 0.5, &items[0]));
+    items[1] = line(21, 16000.0, 12000.0, 40000.0, 50.0);
+    items[1].last = 1;
+    mc_group_motion last = {0, 0};
+    CHECK(mc_group_path_stream(c, G, items, 2, NULL, NULL, NULL, &last));
+    const mc_group_status g0 = group(c);
+    /* a curve takes one buffer entry per piece; a polynomial cubic is one quintic piece */
+    ASSERT(g0.path_queued == 2 && g0.path_free == MC_PATH_SEGMENTS - 2,
+           "curve: %u queued, %u free", g0.path_queued, g0.path_free);
+    double nearest = 1e300;
+    unsigned ticks = 0;
+    for (;;) {
+        CHECK(mc_sim_step(c, 1));
+        ticks++;
+        ASSERT(ticks < 30u * RATE, "the curve did not end in 30 s");
+        const double x = axis(c, 0).command_position, y = axis(c, 1).command_position;
+        nearest = fmin(nearest, hypot(x - 11000.0, y - 7000.0));
+        const mc_group_status g = group(c);
+        if (g.state == MC_GROUP_STATE_STANDBY && g.path_queued == 0) break;
+    }
+    CHECK(mc_group_motion_wait(c, last, 0));
+    expect_at(c, 16000.0, 12000.0, "curve");
+    ASSERT(nearest <= 40000.0 / RATE + 0.5, "the curve's middle missed by %.3f", nearest);
+    printf("path: a NURBS segment and a line in %u ticks, the curve's middle passed within "
+           "%.2f counts\n",
+           ticks, nearest);
+
+    /* A cusp (a stop inside the curve) and a curve away from where the path ends. */
+    const double cusp[10] = {16000.0, 12000.0, 17000.0, 12000.0, 17000.0,
+                             12000.0, 17000.0, 12000.0, 18000.0, 13000.0};
+    const double w5[5] = {1.0, 1.0, 1.0, 1.0, 1.0};
+    const double k5[9] = {0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0};
+    const mc_nurbs_curve stop = {3, 2, cusp, 5, w5, k5, 9};
+    mc_path_segment s;
+    CHECK(mc_path_segment_nurbs(22, &stop, 40000.0, 0.0, 0.5, &s));
+    EXPECT(mc_group_path_push(c, G, &s, NULL), MC_ERR_PATH_CURVE);
+    CHECK(mc_path_segment_nurbs(23, &bezier, 40000.0, 0.0, 0.5, &s));
+    EXPECT(mc_group_path_push(c, G, &s, NULL), MC_ERR_NURBS_START);
+    ASSERT(group(c).path_queued == 0, "refused curves queued %u", group(c).path_queued);
+}
+
 int main(void) {
     mc_card c = 0;
     CHECK(mc_open_sim_stepped(2, RATE, &c));
@@ -398,6 +448,7 @@ int main(void) {
 
     square(c);
     ASSERT(path_free(c) == 4096, "free %u after the path", path_free(c));
+    curve(c);
 
     CHECK(mc_close(c));
     printf("PASS path (%u checks)\n", checks);

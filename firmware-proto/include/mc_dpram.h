@@ -273,6 +273,17 @@
 #define MC_OP_APPLY_GROUP_PATH 60u   /* copy and validate group_path[group] (path empty and at rest) */
 #define MC_OP_SET_OUTPUTS 61u        /* args: mask, value (0..2^MC_OUTPUTS-1): set the outputs in
                                       * mask to value now (axis field ignored) */
+#define MC_OP_PATH_NURBS 62u         /* a NURBS curve as one path segment: args: id, feed, tolerance,
+                                      * degree, n_ctrl, n_knots, fit tolerance (> 0: the largest
+                                      * distance of the commanded path from the curve, counts).
+                                      * flags: MC_MOVE_RELATIVE (control points from the path's
+                                      * end), MC_PATH_* (a time-shifted transition is refused).
+                                      * The curve follows in MC_OP_NURBS_DATA entries and is queued
+                                      * by MC_OP_NURBS_END, as a NURBS move; it must start within
+                                      * the fit tolerance of the path's end (MC_NACK_NURBS_START).
+                                      * On the card it takes one buffer entry per piece: quintics
+                                      * fitted to the curve, curvature-continuous where it is
+                                      * (MC_NACK_QUEUE_FULL until they fit; MC_NACK_PATH_CURVE) */
 #define MC_OUTPUTS 16u               /* the card's digital outputs (card.outputs) */
 #define MC_PATH_OUTPUTS_PENDING 8u
 /* MC_OP_PATH_LINE / _ARC flags */
@@ -404,6 +415,8 @@
 #define MC_NACK_PATH_BUSY 83            /* a path segment while group moves run, a group move while
                                          * the path runs, or group_path applied while it runs */
 #define MC_NACK_PATH_ID 84              /* a segment id that is not an integer in 0..2^32-1 */
+#define MC_NACK_PATH_CURVE 85           /* a NURBS path segment with a point of zero tangent, or
+                                         * needing more pieces than the path buffer holds */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */

@@ -138,6 +138,8 @@ code_enum! {
         ApplyGroupPath = raw::MC_OP_APPLY_GROUP_PATH,
         /// Set the digital outputs in a mask: args mask, value.
         SetOutputs = raw::MC_OP_SET_OUTPUTS,
+        /// A NURBS curve as one path segment (its data follows as for a NURBS move).
+        PathNurbs = raw::MC_OP_PATH_NURBS,
     }
 }
 
@@ -305,6 +307,9 @@ code_enum! {
         PathBusy = raw::MC_NACK_PATH_BUSY,
         /// A segment id that is not an integer in 0..2³²−1.
         PathId = raw::MC_NACK_PATH_ID,
+        /// A NURBS path segment with a point of zero tangent, or needing more pieces than the
+        /// path buffer holds.
+        PathCurve = raw::MC_NACK_PATH_CURVE,
     }
 }
 
@@ -910,7 +915,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 56);
+        assert_eq!(NackCode::ALL.len(), 57);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

@@ -221,6 +221,10 @@ error_kinds! {
     PathBusy = -71, MC_ERR_PATH_BUSY, nack PathBusy, "the group's path and its move queue do not mix: wait for the other to finish";
     /// A segment id that is not an integer in 0..2^32-1.
     PathId = -72, MC_ERR_PATH_ID, nack PathId, "a segment id must be an integer in 0..2^32-1";
+    /// A NURBS path segment with a point of zero tangent (a cusp: split the curve there), or
+    /// one needing more pieces than the path buffer holds (a looser fit tolerance, or split
+    /// the curve).
+    PathCurve = -73, MC_ERR_PATH_CURVE, nack PathCurve, "the NURBS path segment has a cusp or needs more pieces than the path buffer holds";
 }
 
 impl From<NurbsError> for ErrorKind {

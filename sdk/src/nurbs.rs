@@ -125,16 +125,7 @@ impl Group {
         let chord = f.chord_tolerance.map_or(1.0, |c| c * s);
         let budget = f.saturation.unwrap_or(0.0);
         finite("saturation budget", budget)?;
-        // The stream: control points (scaled per axis), weights, knots.
-        let mut stream = Vec::with_capacity(curve.n_ctrl() * (n + 1) + curve.knots().len());
-        for i in 0..curve.n_ctrl() {
-            let p = curve.control_point(i).unwrap_or_default();
-            for (j, &a) in axes[..n].iter().enumerate() {
-                stream.push(p[j] * self.card_pub().scale(a));
-            }
-        }
-        stream.extend((0..curve.n_ctrl()).map(|i| curve.weight(i).unwrap_or(0.0)));
-        stream.extend_from_slice(curve.knots());
+        let stream = self.nurbs_stream(curve, &axes[..n]);
         let mut flags = Self::flags_pub(&opts);
         if f.saturation.is_some() {
             flags |= MoveFlags::NURBS_SATURATION;
@@ -162,8 +153,23 @@ impl Group {
         Ok(self.motion_pub(seq))
     }
 
+    /// A curve's data stream: control points (scaled per axis to counts), weights, knots.
+    pub(crate) fn nurbs_stream(&self, curve: &Nurbs, axes: &[usize]) -> Vec<f64> {
+        let mut stream =
+            Vec::with_capacity(curve.n_ctrl() * (axes.len() + 1) + curve.knots().len());
+        for i in 0..curve.n_ctrl() {
+            let p = curve.control_point(i).unwrap_or_default();
+            for (j, &a) in axes.iter().enumerate() {
+                stream.push(p[j] * self.card_pub().scale(a));
+            }
+        }
+        stream.extend((0..curve.n_ctrl()).map(|i| curve.weight(i).unwrap_or(0.0)));
+        stream.extend_from_slice(curve.knots());
+        stream
+    }
+
     /// Stream `values` as data entries, keeping at most 32 unanswered.
-    fn send_data(&self, values: &[f64]) -> Result<()> {
+    pub(crate) fn send_data(&self, values: &[f64]) -> Result<()> {
         let card = self.card_pub();
         let mut pending = std::collections::VecDeque::new();
         let check = |seq: u32| -> Result<()> {

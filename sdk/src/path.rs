@@ -15,6 +15,7 @@
 use crate::card::{finite, positive, Card};
 use crate::error::{Error, Result, Target};
 use crate::group::{ArcSpec, Group, GroupMotion, Plane};
+use crate::nurbs::Nurbs;
 use firmware_proto::{layout, path_flags, raw, Command, Mem, MoveFlags, NackCode, Opcode};
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -76,6 +77,17 @@ pub enum Geometry {
         /// The other axes' targets (a helix), or empty.
         helix: Vec<f64>,
     },
+    /// A NURBS curve (control points in group axis order and user units), run within
+    /// `fit_tolerance` (first axis's units) of the curve. On the card it takes one buffer entry
+    /// per piece (quintics fitted to it; [`Group::path_free`] counts entries). It must start
+    /// within `fit_tolerance` of where the segment before ends (relative: its control points
+    /// are from there). A time-shifted transition into it is refused.
+    Nurbs {
+        /// The curve.
+        curve: Nurbs,
+        /// Largest distance of the path from the curve.
+        fit_tolerance: f64,
+    },
     /// An exact stop, then a wait of `seconds`.
     Dwell {
         /// The wait.
@@ -133,6 +145,18 @@ impl Segment {
                 arc,
                 plane,
                 helix: helix.to_vec(),
+            },
+            ..Self::line(id, &[], feed, tolerance)
+        }
+    }
+
+    /// A NURBS curve at `feed`, blended into the segment before as [`Segment::line`], run
+    /// within `fit_tolerance` of the curve.
+    pub fn nurbs(id: u32, curve: Nurbs, feed: f64, tolerance: f64, fit_tolerance: f64) -> Self {
+        Self {
+            geometry: Geometry::Nurbs {
+                curve,
+                fit_tolerance,
             },
             ..Self::line(id, &[], feed, tolerance)
         }
@@ -375,7 +399,9 @@ impl Group {
         Ok((st.path_done, st.path_queued))
     }
 
-    /// The command for one item (checked here with the card's rules first).
+    /// The command for one item (checked here with the card's rules first). For a NURBS
+    /// segment, the `MC_OP_PATH_NURBS` that opens its transfer (its data and end follow: see
+    /// [`Group::path_push`]).
     pub fn path_command(&self, item: &PathItem) -> Result<Command> {
         let ps = self.path_scale()?;
         let seg = match item {
@@ -452,6 +478,23 @@ impl Group {
                 flags |= arc_flags;
                 Opcode::PathArc
             }
+            Geometry::Nurbs {
+                curve,
+                fit_tolerance,
+            } => {
+                let (n, _) = self.axes()?;
+                if curve.dim() != n {
+                    return Err(self.refused("path nurbs", NackCode::NurbsDimension));
+                }
+                positive("fit tolerance", *fit_tolerance)?;
+                args.extend([
+                    curve.degree() as f64,
+                    curve.n_ctrl() as f64,
+                    curve.knots().len() as f64,
+                    fit_tolerance * ps,
+                ]);
+                Opcode::PathNurbs
+            }
             Geometry::Dwell { .. } => unreachable!("handled above"),
         };
         let mut c = self.op(op).with_args(&args);
@@ -472,12 +515,48 @@ impl Group {
     /// path's end when it is the last one queued).
     pub fn path_push(&self, item: &PathItem) -> Result<GroupMotion> {
         let c = self.path_command(item)?;
+        if let Some(curve) = nurbs_of(item) {
+            let seq = self.path_curve(c, curve, None)?;
+            return Ok(self.motion(seq));
+        }
         let seq = self.run(c, "path segment")?;
         Ok(match item {
             PathItem::Segment(_) => self.motion(seq),
             // An output action has no motion: it is not what `wait_done` waits for.
             PathItem::Output { .. } => self.motion_untracked(seq),
         })
+    }
+
+    /// Sends a NURBS segment: its begin `c`, its data, its end. When the card has no room for
+    /// its pieces yet: in a stream (`cancel` given), waits for the path to run on and sends
+    /// the end again (the card keeps the curve staged), until `cancel` is set or the room has
+    /// not changed for 5 s (`QueueFull`); else `QueueFull` at once.
+    fn path_curve(&self, c: Command, curve: &Nurbs, cancel: Option<&AtomicBool>) -> Result<u32> {
+        let card = self.card_pub();
+        let target = Target::Group(self.index());
+        card.execute_seq(c, "path nurbs", target)?;
+        let (n, axes) = self.axes()?;
+        self.send_data(&self.nurbs_stream(curve, &axes[..n]))?;
+        let mut seen = (usize::MAX, std::time::Instant::now());
+        loop {
+            let end = self.op(Opcode::NurbsEnd);
+            match card.execute_seq(end, "path nurbs end", target) {
+                Err(e) if e.kind() == crate::ErrorKind::QueueFull => {
+                    let free = self.path_free()?;
+                    if free != seen.0 {
+                        seen = (free, std::time::Instant::now());
+                    }
+                    let Some(cancel) = cancel else {
+                        return Err(e);
+                    };
+                    if seen.1.elapsed() > Duration::from_secs(5) || cancel.load(Ordering::Relaxed) {
+                        return Err(e);
+                    }
+                    card.wait_next_tick(Duration::from_secs(1))?;
+                }
+                r => return r,
+            }
+        }
     }
 
     /// Stream `items` into the card's path buffer from this thread: up to 48 commands in
@@ -573,6 +652,31 @@ impl Group {
                 }
                 let item: PathItem = item.into();
                 let cmd = self.path_command(&item).map_err(|e| fail(sent, e))?;
+                if let Some(curve) = nurbs_of(&item) {
+                    // A curve's transfer runs alone: what was sent before is answered first,
+                    // and its pieces fit when the card says so (the room is read again after).
+                    while !in_flight.is_empty() {
+                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    }
+                    let seq = self
+                        .path_curve(cmd, curve, Some(cancel))
+                        .map_err(|e| fail(sent, e))?;
+                    sent += 1;
+                    accepted += 1;
+                    counters[0].store(sent, Ordering::Relaxed);
+                    counters[1].store(accepted, Ordering::Relaxed);
+                    last_motion = Some(self.motion(seq));
+                    room = 0;
+                    if let Ok((done, queued)) = self.path_counts() {
+                        progress(PathProgress {
+                            sent,
+                            accepted,
+                            done,
+                            queued,
+                        });
+                    }
+                    continue;
+                }
                 let is_segment = matches!(item, PathItem::Segment(_));
                 if is_segment {
                     // Wait for room in the card's buffer (the path runs and frees it).
@@ -632,6 +736,17 @@ impl Group {
             Some(e) => Err(StreamError { accepted, ..e }),
             None => Ok(last_motion),
         }
+    }
+}
+
+/// The curve of a NURBS segment.
+fn nurbs_of(item: &PathItem) -> Option<&Nurbs> {
+    match item {
+        PathItem::Segment(Segment {
+            geometry: Geometry::Nurbs { curve, .. },
+            ..
+        }) => Some(curve),
+        _ => None,
     }
 }
 

@@ -602,6 +602,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 group.path_segment(c, op, ts, tick, out)
             }
             Opcode::PathOutput => group.path_output(c, ts),
+            Opcode::PathNurbs => group.path_nurbs_begin(c, ts),
             Opcode::ApplyGroupPath => {
                 let block = layout::GROUP_PATH.at(g).read(&self.mem);
                 group.apply_path(block, self.servo_rate_hz)
@@ -946,6 +947,7 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::PathArc
             | Opcode::PathDwell
             | Opcode::PathOutput
+            | Opcode::PathNurbs
             | Opcode::ApplyGroupPath
     )
 }

@@ -141,6 +141,18 @@ pub struct Nurbs {
     knots: Vec<f64>,
 }
 
+/// Two curves are equal when they have the same degree, dimension, homogeneous control points
+/// and knots (storage capacity aside).
+impl PartialEq for Nurbs {
+    fn eq(&self, o: &Self) -> bool {
+        self.degree == o.degree
+            && self.dim == o.dim
+            && self.n_ctrl == o.n_ctrl
+            && self.pw == o.pw
+            && self.knots == o.knots
+    }
+}
+
 /// Basis functions and their first two derivatives at one parameter (NURBS Book A2.3 output).
 type BasisDers = [[f64; PB]; 3];
 
@@ -444,6 +456,17 @@ impl Nurbs {
         };
         *hint = span;
         self.eval_span(span, u)
+    }
+
+    /// Point, first and second derivative at `u` (clamped into the span) in knot span `span`
+    /// (`knots[span] < knots[span + 1]`, `degree <= span < n_ctrl`; else the span of `u`): at
+    /// the span's right end, the left limits (the span's own polynomial).
+    pub fn eval_in_span(&self, span: usize, u: f64) -> (Point, Point, Point) {
+        let k = &self.knots;
+        if span < self.degree || span >= self.n_ctrl || k[span] >= k[span + 1] || u.is_nan() {
+            return self.eval_clamped(u);
+        }
+        self.eval_span(span, u.clamp(k[span], k[span + 1]))
     }
 
     fn eval_in_domain(&self, u: f64) -> (Point, Point, Point) {

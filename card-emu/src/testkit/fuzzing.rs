@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 62, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 63, 64, 120, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -366,6 +366,15 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
                 *x = position(s);
             }
         }
+        Opcode::PathNurbs => {
+            let degree = 1 + s.u8() % 5;
+            let n_ctrl = degree + 1 + s.u8() % 8;
+            a[0] = s.u16() as f64;
+            a[1] = magnitude(s, 2.0, 6.5);
+            a[2] = magnitude(s, -1.0, 3.0);
+            a[3..6].copy_from_slice(&[degree as f64, n_ctrl as f64, (n_ctrl + degree + 1) as f64]);
+            a[6] = magnitude(s, -2.0, 1.0);
+        }
         Opcode::NurbsBegin => {
             let degree = 1 + s.u8() % 5;
             let n_ctrl = degree + 1 + s.u8() % 8;
@@ -389,7 +398,7 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
             feed | mode | plane | (s.u8() as u32 & (3 | move_flags::CIRC_CCW))
         }
         Opcode::NurbsBegin => feed | (s.u8() as u32 & move_flags::BUFFERED),
-        Opcode::PathLine | Opcode::PathArc => {
+        Opcode::PathLine | Opcode::PathArc | Opcode::PathNurbs => {
             let mode = ((s.u8() % 3) as u32) << move_flags::CIRC_MODE_SHIFT;
             let buffer = ((s.u8() % 7) as u32) << firmware_proto::path_flags::BUFFER_SHIFT;
             let tm = ((s.u8() % 4) as u32) << firmware_proto::path_flags::TRANSITION_SHIFT;
@@ -458,6 +467,13 @@ fn nurbs_transfer<S: Source>(s: &mut S, out: &mut Vec<RawCmd>) {
         }
     }
     let mut entries = nurbs_entries(g, flags, &header, &stream, |_| 1 + s.u8() as usize % 12);
+    if s.u8() < 64 {
+        // the curve as a path segment
+        let mut a = plausible_args(s, Opcode::PathNurbs);
+        a[3..6].copy_from_slice(&header[..3]);
+        let flags = plausible_flags(s, Opcode::PathNurbs);
+        entries[0] = RawCmd::new(Opcode::PathNurbs as u16, g, flags, &a);
+    }
     match s.u8() % 8 {
         0 if entries.len() > 1 => {
             let k = s.u16() as usize % entries.len();

@@ -327,6 +327,9 @@ struct NurbsRx {
     params: [f64; 5],
     saturation: bool,
     flags: u32,
+    /// The curve is a path segment (MC_OP_PATH_NURBS): `params` are feed, tolerance, fit
+    /// tolerance, id.
+    path: bool,
     /// Control points, weights, knots: allocated once at boot.
     stage: Box<[f64]>,
 }
@@ -338,6 +341,30 @@ const STAGE_LEN: usize =
 /// An exact non-negative integer carried in an f64 argument.
 fn whole(x: f64) -> Option<usize> {
     (x.is_finite() && x.fract() == 0.0 && (0.0..=1e9).contains(&x)).then_some(x as usize)
+}
+
+/// A curve transfer's degree, control point count and knot count (for a group of `naxes`):
+/// (degree, n_ctrl).
+fn curve_header(
+    degree: f64,
+    n_ctrl: f64,
+    n_knots: f64,
+    naxes: usize,
+) -> Result<(usize, usize), NackCode> {
+    let int = |x: f64| whole(x).filter(|n| *n <= 1_000_000);
+    let degree = int(degree)
+        .filter(|d| (1..=crate::motion::nurbs::MAX_DEGREE).contains(d))
+        .ok_or(NackCode::NurbsDegree)?;
+    if naxes < 2 {
+        return Err(NackCode::NurbsDimension);
+    }
+    let n_ctrl = int(n_ctrl)
+        .filter(|n| (degree + 1..=crate::motion::nurbs::MAX_CTRL).contains(n))
+        .ok_or(NackCode::NurbsCtrlCount)?;
+    if int(n_knots) != Some(n_ctrl + degree + 1) {
+        return Err(NackCode::NurbsKnotCount);
+    }
+    Ok((degree, n_ctrl))
 }
 
 /// The nack for a curve the NURBS module refuses: one code per fault. Public so that the host
@@ -1059,19 +1086,7 @@ impl Group {
         if a[..8].iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let int = |x: f64| whole(x).filter(|n| *n <= 1_000_000);
-        let degree = int(a[0])
-            .filter(|d| (1..=crate::motion::nurbs::MAX_DEGREE).contains(d))
-            .ok_or(NackCode::NurbsDegree)?;
-        if cfg.naxes < 2 {
-            return Err(NackCode::NurbsDimension);
-        }
-        let n_ctrl = int(a[1])
-            .filter(|n| (degree + 1..=crate::motion::nurbs::MAX_CTRL).contains(n))
-            .ok_or(NackCode::NurbsCtrlCount)?;
-        if int(a[2]) != Some(n_ctrl + degree + 1) {
-            return Err(NackCode::NurbsKnotCount);
-        }
+        let (degree, n_ctrl) = curve_header(a[0], a[1], a[2], cfg.naxes)?;
         if a[6] <= 0.0 {
             return Err(NackCode::NonPositiveLimit); // the chord tolerance
         }
@@ -1105,6 +1120,7 @@ impl Group {
             params: [a[3], a[4], a[5], a[6], a[7]],
             saturation,
             flags: c.flags,
+            path: false,
             stage: core::mem::take(&mut self.rx.stage),
         };
         Ok(())
@@ -1168,6 +1184,9 @@ impl Group {
             return Err(NackCode::NurbsSequence);
         }
         self.rx.open = false;
+        if self.rx.path {
+            return self.path_curve(c, ts, tick, out);
+        }
         let cfg = self.can_queue(self.rx.flags)?;
         let n = cfg.naxes;
         let rx = &self.rx;

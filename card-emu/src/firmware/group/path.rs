@@ -12,8 +12,10 @@
 //! allocates.
 
 use super::*;
+use crate::motion::nurbs::Nurbs;
 use crate::motion::path::{
-    BlendSpeed, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits, Segment, Transition,
+    BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits, Segment,
+    Transition,
 };
 use firmware_proto::{path_flags, GroupPath, OUTPUTS, PATH_LEN};
 use std::collections::VecDeque;
@@ -46,8 +48,13 @@ pub(super) struct PathRun {
     stale: bool,
     /// The seq of the last segment that ended.
     last_seq: u32,
-    /// An Aborting segment waiting for the path to come to rest: its command.
+    /// An Aborting segment waiting for the path to come to rest: its command (for a NURBS
+    /// curve, its MC_OP_NURBS_END; the curve stays staged).
     pending: Option<Command>,
+    /// The NURBS curve being queued (room for the largest, allocated with the path), and its
+    /// control points moved to the path's end (a relative curve).
+    curve: Nurbs,
+    moved: Vec<f64>,
 }
 
 impl core::fmt::Debug for PathRun {
@@ -92,6 +99,8 @@ impl PathRun {
             stale: true,
             last_seq: 0,
             pending: None,
+            curve: Nurbs::with_capacity(),
+            moved: Vec::with_capacity(crate::motion::nurbs::MAX_CTRL * MAX_AXES),
         }
     }
 
@@ -251,30 +260,7 @@ impl Group {
             return self.path_push(seg, c.seq, &cfg, ts, tick, out);
         }
         crate::firmware::nack::check_ranges(rate, &[(1, a[1])])?;
-        let tol = a[2];
-        if tol < 0.0 {
-            return Err(NackCode::OutOfRange);
-        }
-        let (transition, blend) = match path_flags::buffer(c.flags) {
-            raw::MC_PATH_ABORTING | raw::MC_PATH_BUFFERED => (Transition::Exact, BlendSpeed::Low),
-            m @ raw::MC_PATH_BLEND_LOW..=raw::MC_PATH_BLEND_HIGH => {
-                let blend = match m {
-                    raw::MC_PATH_BLEND_LOW => BlendSpeed::Low,
-                    raw::MC_PATH_BLEND_PREVIOUS => BlendSpeed::Previous,
-                    raw::MC_PATH_BLEND_NEXT => BlendSpeed::Next,
-                    _ => BlendSpeed::High,
-                };
-                let t = match path_flags::transition(c.flags) {
-                    raw::MC_TM_NONE => Transition::Exact,
-                    raw::MC_TM_MAX_DEVIATION => Transition::MaxDeviation(tol),
-                    raw::MC_TM_CORNER_DISTANCE => Transition::CornerDistance(tol),
-                    raw::MC_TM_TIME_SHIFT => Transition::TimeShift(tol),
-                    _ => return Err(NackCode::PathMode),
-                };
-                (t, blend)
-            }
-            _ => return Err(NackCode::PathMode),
-        };
+        let (transition, blend) = path_mode(c.flags, a[2])?;
         let relative = c.flags & move_flags::RELATIVE != 0;
         let start = self.queue_end;
         let geom = if op == Opcode::PathLine {
@@ -342,26 +328,37 @@ impl Group {
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
+        let id = seg.id;
+        self.path_push_with(id, seq, cfg, ts, tick, out, |run| {
+            run.path.push(seg).map_err(path_nack)
+        })
+    }
+
+    /// Queues what `push` puts in the path as segment `id` of command `seq`.
+    #[allow(clippy::too_many_arguments)]
+    fn path_push_with(
+        &mut self,
+        id: u32,
+        seq: u32,
+        cfg: &GroupConfig,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+        push: impl FnOnce(&mut PathRun) -> Result<(), NackCode>,
+    ) -> Result<(), NackCode> {
         let low_water = self.path_cfg.low_water as usize;
         let run = self.path_ready(cfg, ts)?;
         if run.seqs.len() >= PATH_LEN {
             return Err(NackCode::QueueFull);
         }
-        let id = seg.id;
-        let end = match seg.geom {
-            Geom::Line { end } | Geom::Arc { end, .. } => Some(end),
-            Geom::Dwell { .. } => None,
-        };
-        run.path.push(seg).map_err(path_nack)?;
+        push(run)?;
         run.seqs.push_back(seq);
         run.engaged = true;
         run.last_id = id;
         if run.seqs.len() > low_water {
             run.low_armed = true;
         }
-        if let Some(e) = end {
-            self.queue_end = e;
-        }
+        self.queue_end = run.path.end();
         self.move_count = self.move_count.wrapping_add(1);
         // A path that waited to be in position is done: this one goes on from there.
         if let Some(done) = self.final_seq.take() {
@@ -371,6 +368,121 @@ impl Group {
             self.set_state(GroupState::Moving, tick, out);
         }
         Ok(())
+    }
+
+    /// MC_OP_PATH_NURBS: check a NURBS path segment's header and open its transfer (its data
+    /// follows in MC_OP_NURBS_DATA, MC_OP_NURBS_END queues it: `path_curve`).
+    pub fn path_nurbs_begin(&mut self, c: &Command, ts: f64) -> Result<(), NackCode> {
+        self.rx.open = false;
+        let cfg = self.can_path()?;
+        let a = &c.args;
+        if a[..7].iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        let id = whole(a[0])
+            .filter(|&x| x <= u32::MAX as usize)
+            .ok_or(NackCode::PathId)?;
+        crate::firmware::nack::check_ranges(crate::firmware::rate_hz(ts), &[(1, a[1])])?;
+        path_mode(c.flags, a[2])?;
+        let (degree, n_ctrl) = curve_header(a[3], a[4], a[5], cfg.naxes)?;
+        if a[6] <= 0.0 {
+            return Err(NackCode::NonPositiveLimit);
+        }
+        let n = cfg.naxes;
+        self.rx = NurbsRx {
+            open: true,
+            degree,
+            naxes: n,
+            n_ctrl,
+            total: n_ctrl * (n + 1) + n_ctrl + degree + 1,
+            received: 0,
+            params: [a[1], a[2], a[6], id as f64, 0.0],
+            saturation: false,
+            flags: c.flags,
+            path: true,
+            stage: core::mem::take(&mut self.rx.stage),
+        };
+        Ok(())
+    }
+
+    /// MC_OP_NURBS_END of a path segment (`c`): validate the staged curve and queue it. A
+    /// curve refused for want of room (`QueueFull`) stays staged: the host sends the end
+    /// again once the path has run on.
+    pub(super) fn path_curve(
+        &mut self,
+        c: &Command,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        let stage = core::mem::take(&mut self.rx.stage);
+        let r = self.path_curve_from(&stage, c, ts, tick, out);
+        self.rx.stage = stage;
+        self.rx.open = r == Err(NackCode::QueueFull);
+        r
+    }
+
+    fn path_curve_from(
+        &mut self,
+        stage: &[f64],
+        c: &Command,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        let cfg = self.can_path()?;
+        let n = cfg.naxes;
+        let rx = &self.rx;
+        let (degree, n_ctrl, flags) = (rx.degree, rx.n_ctrl, rx.flags);
+        let [feed, tol, fit, id, _] = rx.params;
+        if n != rx.naxes || stage.len() < rx.total {
+            return Err(NackCode::NurbsSequence);
+        }
+        let (transition, blend) = path_mode(flags, tol)?;
+        if path_flags::buffer(flags) == raw::MC_PATH_ABORTING && self.path_busy() {
+            // as for a line: the path stops along its geometry, and the curve (still staged)
+            // is queued from there
+            if let Some(run) = self.path.as_mut() {
+                run.path.halt(f64::MAX, f64::MAX);
+                run.halting = true;
+                run.pending = Some(*c);
+            }
+            return Ok(());
+        }
+        let (pts, rest) = stage.split_at(n_ctrl * n);
+        let (weights, rest) = rest.split_at(n_ctrl);
+        let knots = &rest[..n_ctrl + degree + 1];
+        let relative = flags & move_flags::RELATIVE != 0;
+        let start = self.queue_end;
+        let last = flags & path_flags::LAST != 0;
+        let id = id as u32;
+        self.path_push_with(id, c.seq, &cfg, ts, tick, out, |run| {
+            let pts = if relative {
+                run.moved.clear();
+                for p in pts.chunks_exact(n) {
+                    run.moved.extend(p.iter().zip(&start).map(|(x, s)| x + s));
+                }
+                if run.moved.iter().any(|x| x.abs() > crate::MAX_POSITION) {
+                    return Err(NackCode::OutOfRange);
+                }
+                &run.moved[..]
+            } else {
+                pts
+            };
+            run.curve
+                .set(degree, n, pts, weights, knots)
+                .map_err(nurbs_nack)?;
+            let seg = CurveSegment {
+                id,
+                curve: &run.curve,
+                feed,
+                transition,
+                blend,
+                last,
+                tolerance: fit,
+            };
+            run.path.push_curve(&seg).map(|_| ()).map_err(path_nack)
+        })
     }
 
     /// MC_OP_PATH_OUTPUT: an output action for the next motion segment queued.
@@ -523,7 +635,12 @@ impl Group {
                 // The Aborting segment starts from here; one that cannot is aborted with the
                 // nack it would have had as its code.
                 let op = Opcode::from_raw(c.opcode).unwrap_or(Opcode::PathLine);
-                if let Err(e) = self.path_segment(&c, op, ts, tick, out) {
+                let r = if op == Opcode::NurbsEnd {
+                    self.path_curve(&c, ts, tick, out)
+                } else {
+                    self.path_segment(&c, op, ts, tick, out)
+                };
+                if let Err(e) = r {
                     out.push(self.event(EventKind::GroupMotionAborted, c.seq, e as i32, 0.0, tick));
                 } else {
                     return false;
@@ -591,7 +708,12 @@ impl Group {
             return;
         };
         s.path_queued = run.seqs.len() as u32;
-        s.path_free = (PATH_LEN - run.seqs.len().min(PATH_LEN)) as u32;
+        // buffer entries: a NURBS curve takes one per piece
+        s.path_free = if run.seqs.is_empty() {
+            PATH_LEN
+        } else {
+            run.path.free()
+        } as u32;
         s.path_done = run.done;
         let mut flags = 0;
         if let Some(id) = run.path.current_id() {
@@ -613,6 +735,33 @@ impl Group {
     }
 }
 
+/// A segment's PLCopen BufferMode and TransitionMode (its flags) with its tolerance `tol`.
+fn path_mode(flags: u32, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
+    if tol < 0.0 {
+        return Err(NackCode::OutOfRange);
+    }
+    match path_flags::buffer(flags) {
+        raw::MC_PATH_ABORTING | raw::MC_PATH_BUFFERED => Ok((Transition::Exact, BlendSpeed::Low)),
+        m @ raw::MC_PATH_BLEND_LOW..=raw::MC_PATH_BLEND_HIGH => {
+            let blend = match m {
+                raw::MC_PATH_BLEND_LOW => BlendSpeed::Low,
+                raw::MC_PATH_BLEND_PREVIOUS => BlendSpeed::Previous,
+                raw::MC_PATH_BLEND_NEXT => BlendSpeed::Next,
+                _ => BlendSpeed::High,
+            };
+            let t = match path_flags::transition(flags) {
+                raw::MC_TM_NONE => Transition::Exact,
+                raw::MC_TM_MAX_DEVIATION => Transition::MaxDeviation(tol),
+                raw::MC_TM_CORNER_DISTANCE => Transition::CornerDistance(tol),
+                raw::MC_TM_TIME_SHIFT => Transition::TimeShift(tol),
+                _ => return Err(NackCode::PathMode),
+            };
+            Ok((t, blend))
+        }
+        _ => Err(NackCode::PathMode),
+    }
+}
+
 /// The nack for a segment the path refuses.
 fn path_nack(e: crate::motion::path::PathError) -> NackCode {
     use crate::motion::path::PathError as E;
@@ -627,6 +776,8 @@ fn path_nack(e: crate::motion::path::PathError) -> NackCode {
         E::BadLimits => NackCode::LimitRange,
         E::Moving => NackCode::InvalidState,
         E::TimeShift => NackCode::PathMode,
+        E::CurveStart => NackCode::NurbsStart,
+        E::Curve => NackCode::PathCurve,
         E::NotReady | E::BadLookahead => NackCode::BadConfig,
     }
 }

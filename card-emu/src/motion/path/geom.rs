@@ -18,12 +18,26 @@ pub(super) struct Frame {
     pub dk: V,
 }
 
-/// One programmed motion: a line or an arc/helix (or a dwell, which does not move).
+/// One programmed motion: a line, an arc/helix, a piece of a NURBS curve (a quintic fitted
+/// to it, see `curve.rs`), or a dwell, which does not move.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(clippy::large_enum_variant)] // stored inline in the ring on purpose: nothing allocates
 pub(super) enum Prog {
-    Line { p0: V, p1: V, dir: V, len: f64 },
+    Line {
+        p0: V,
+        p1: V,
+        dir: V,
+        len: f64,
+    },
     Helix(Helix),
-    Dwell { p: V },
+    /// A quintic piece ending exactly at `p1` (the curve's point, not the polynomial's sum).
+    Curve {
+        b: Blend,
+        p1: V,
+    },
+    Dwell {
+        p: V,
+    },
 }
 
 /// An arc in the plane of axes (u, v) (`ExactCircle`), the other axes moving linearly with
@@ -165,6 +179,7 @@ impl Prog {
         match self {
             Prog::Line { len, .. } => *len,
             Prog::Helix(h) => h.len,
+            Prog::Curve { b, .. } => b.len,
             Prog::Dwell { .. } => 0.0,
         }
     }
@@ -173,12 +188,13 @@ impl Prog {
         match self {
             Prog::Line { p1, .. } => *p1,
             Prog::Helix(h) => h.p1,
+            Prog::Curve { p1, .. } => *p1,
             Prog::Dwell { p } => *p,
         }
     }
 
     pub fn is_curved(&self) -> bool {
-        matches!(self, Prog::Helix(_))
+        matches!(self, Prog::Helix(_) | Prog::Curve { .. })
     }
 
     /// Point at arc length `s` (clamped; the ends are the programmed points exactly).
@@ -198,6 +214,13 @@ impl Prog {
                 }
             }
             Prog::Helix(h) => h.frame(s).p,
+            Prog::Curve { b, p1 } => {
+                if s >= b.len {
+                    *p1
+                } else {
+                    b.pos(s)
+                }
+            }
             Prog::Dwell { p } => *p,
         }
     }
@@ -210,6 +233,11 @@ impl Prog {
                 ..Frame::default()
             },
             Prog::Helix(h) => h.frame(s),
+            Prog::Curve { b, .. } => {
+                let mut f = b.terms(b.u_at(s));
+                f.p = self.pos(s);
+                f
+            }
             Prog::Dwell { p } => Frame {
                 p: *p,
                 ..Frame::default()
@@ -255,6 +283,27 @@ impl Blend {
             q[4][k] = e - lb / 5.0 * b.t[k];
             q[3][k] = 2.0 * q[4][k] - e + lb * lb / 20.0 * b.k[k];
         }
+        Self::from_bezier(n, a.p, &q)
+    }
+
+    /// The quintic Hermite interpolant on u ∈ [0, 1] of the point, first and second
+    /// derivative (with respect to u) at each end: `a` = (p, d, dd) at 0, `b` at 1.
+    pub fn hermite(n: usize, a: [&V; 3], b: [&V; 3]) -> Option<Self> {
+        let mut q = [Z; 6];
+        for k in 0..n {
+            let e = b[0][k] - a[0][k];
+            q[1][k] = a[1][k] / 5.0;
+            q[2][k] = 2.0 * a[1][k] / 5.0 + a[2][k] / 20.0;
+            q[5][k] = e;
+            q[4][k] = e - b[1][k] / 5.0;
+            q[3][k] = e - 2.0 * b[1][k] / 5.0 + b[2][k] / 20.0;
+        }
+        Self::from_bezier(n, *a[0], &q)
+    }
+
+    /// The quintic with Bézier control points `q0 + q[i]` (q[0] = 0).
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    fn from_bezier(n: usize, q0: V, q: &[V; 6]) -> Option<Self> {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
         const BIN: [[f64; 6]; 6] = [
             [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
@@ -275,7 +324,7 @@ impl Blend {
             }
         }
         let mut bl = Self {
-            q0: a.p,
+            q0,
             c,
             n,
             table: [0.0; NSUB + 1],

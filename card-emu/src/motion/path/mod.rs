@@ -42,11 +42,15 @@
 //! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
 //! [`Path::with_capacity`] allocates everything once.
 
+mod curve;
 mod geom;
 mod shift;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_curve;
 
+pub use self::curve::{CurveSegment, FIT_SAMPLES};
 use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
@@ -103,6 +107,8 @@ pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// Samples per smoothing blend for its deviation, and for its cap.
 const SMOOTH_SAMPLES: usize = 32;
 const SMOOTH_CAP_SAMPLES: usize = 16;
+/// Samples per NURBS piece for its cap.
+const CURVE_CAP_SAMPLES: usize = 32;
 
 /// Limits of the group, per axis (counts/s, /s², /s³), and optional tangential limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -240,9 +246,14 @@ pub enum PathError {
     BadLookahead,
     /// `clear` while moving.
     Moving,
-    /// A time-shifted transition on an arc, or after one, or a blend after a time-shifted
-    /// line.
+    /// A time-shifted transition on an arc or a curve, or after one, or a blend after a
+    /// time-shifted line.
     TimeShift,
+    /// A NURBS curve that does not start within its tolerance of where the path ends.
+    CurveStart,
+    /// A NURBS curve with a point of zero tangent, or that needs more pieces than the ring
+    /// holds.
+    Curve,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -291,6 +302,9 @@ struct Seg {
     shift: bool,
     shift_join: bool,
     transition: Transition,
+    /// A piece of a NURBS curve after its first: the same user segment as the piece before
+    /// (no segment events between them; the outputs carry over).
+    cont: bool,
 }
 
 impl Default for Seg {
@@ -324,6 +338,7 @@ impl Default for Seg {
             shift: false,
             shift_join: false,
             transition: Transition::Exact,
+            cont: false,
         }
     }
 }
@@ -403,6 +418,8 @@ pub struct Path {
     idle_sent: bool,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
+    /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
+    breaks: Vec<(usize, f64, f64)>,
 }
 
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
@@ -487,6 +504,20 @@ fn finite_v(n: usize, p: &V) -> Result<(), PathError> {
     Ok(())
 }
 
+/// A feed: finite, positive, in [MIN_FEED, MAX_FEED].
+fn check_feed(x: f64) -> Result<f64, PathError> {
+    if !x.is_finite() {
+        return Err(PathError::NotFinite);
+    }
+    if x <= 0.0 {
+        return Err(PathError::NonPositive);
+    }
+    if !(MIN_FEED..=MAX_FEED).contains(&x) {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(x)
+}
+
 /// A tolerance-like value: finite, ≥ 0, 0 or in [MIN_TOL, MAX_TOL].
 fn check_tol(x: f64) -> Result<f64, PathError> {
     if !x.is_finite() {
@@ -544,6 +575,7 @@ impl Path {
             starving_sent: false,
             idle_sent: true,
             chain: Chain::default(),
+            breaks: Vec::with_capacity(capacity),
         }
     }
 
@@ -661,6 +693,10 @@ impl Path {
     pub fn position(&self) -> [f64; MAX_AXES] {
         self.pos
     }
+    /// Where the last segment queued ends (where the next one starts).
+    pub fn end(&self) -> [f64; MAX_AXES] {
+        self.last_end
+    }
     /// The segment the path is in (until a blend's middle, the one before it).
     pub fn current_id(&self) -> Option<u32> {
         if self.prev_open {
@@ -732,6 +768,15 @@ impl Path {
                 for i in 0..=m {
                     let s = s0 + (s1 - s0) * i as f64 / m as f64;
                     cap = cap.min(self.frame_cap(&p.frame(s)));
+                }
+                cap
+            }
+            Prog::Curve { b, .. } => {
+                let (u0, u1) = (b.u_at(s0), b.u_at(s1));
+                let mut cap = f64::INFINITY;
+                for i in 0..=CURVE_CAP_SAMPLES {
+                    let u = u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64;
+                    cap = self.frame_cap_below(&b.terms(u), cap);
                 }
                 cap
             }
@@ -954,9 +999,6 @@ impl Path {
         if !self.ready {
             return Err(PathError::NotReady);
         }
-        if self.queued() >= self.capacity {
-            return Err(PathError::Full);
-        }
         let n = self.lim.naxes;
         let p0 = self.last_end;
         let mut rec = Seg {
@@ -964,18 +1006,8 @@ impl Path {
             last: seg.last,
             ..Seg::default()
         };
-        let motion = !matches!(seg.geom, Geom::Dwell { .. });
-        if motion {
-            if !seg.feed.is_finite() {
-                return Err(PathError::NotFinite);
-            }
-            if seg.feed <= 0.0 {
-                return Err(PathError::NonPositive);
-            }
-            if !(MIN_FEED..=MAX_FEED).contains(&seg.feed) {
-                return Err(PathError::OutOfRange);
-            }
-            rec.feed = seg.feed;
+        if !matches!(seg.geom, Geom::Dwell { .. }) {
+            rec.feed = check_feed(seg.feed)?;
         }
         let tol = match seg.transition {
             Transition::Exact => 0.0,
@@ -1042,16 +1074,36 @@ impl Path {
                 rec.dwell_ticks = (time / self.lim.ts - 1e-9).ceil().max(0.0) as u64;
             }
         }
+        self.append(rec, seg.transition, seg.blend, tol)
+    }
+
+    /// Appends a validated segment or curve piece `rec` (its feed and program set), joining
+    /// it to the previous one as `transition` and `blend` say (`tol`: the transition's
+    /// checked tolerance). Nothing changes when it fails (it fails only before it changes
+    /// anything).
+    fn append(
+        &mut self,
+        mut rec: Seg,
+        transition: Transition,
+        blend: BlendSpeed,
+        tol: f64,
+    ) -> Result<(), PathError> {
+        if self.queued() >= self.capacity {
+            return Err(PathError::Full);
+        }
+        let n = self.lim.naxes;
+        let p0 = self.last_end;
+        let motion = !rec.is_dwell();
         let len = rec.prog.len();
         rec.body1 = len;
         rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
-        rec.transition = seg.transition;
+        rec.transition = transition;
         // The junction with the previous segment.
         let idle = self.exec >= self.tail;
         let prev_live = !idle && self.tail > self.exec;
         let mut prev_trim = 0.0;
         let mut convert_prev = false;
-        if let Transition::TimeShift(_) = seg.transition {
+        if let Transition::TimeShift(_) = transition {
             if rec.prog.is_curved() || (prev_live && self.seg(self.tail - 1).prog.is_curved()) {
                 return Err(PathError::TimeShift);
             }
@@ -1096,7 +1148,7 @@ impl Path {
                     + 4.0 * pl.v * self.lim.ts
                     + 1e-9
             };
-            let rule = match seg.blend {
+            let rule = match blend {
                 BlendSpeed::Low => prev.feed.min(rec.feed),
                 BlendSpeed::Previous => prev.feed,
                 BlendSpeed::Next => rec.feed,
@@ -1108,7 +1160,7 @@ impl Path {
                 rec.jgeo = prev.bgeo.min(rec.bgeo);
                 rec.jfeed = rule;
             } else if let Some(sm) = (!prev.prog.is_curved()
-                && matches!(seg.transition, Transition::MaxDeviation(_))
+                && matches!(transition, Transition::MaxDeviation(_))
                 && turn <= SMOOTH_TURN)
                 .then(|| self.smooth(&rec, tol, need))
                 .flatten()
@@ -1142,7 +1194,7 @@ impl Path {
                 let build =
                     |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
                 let line_line = !prev.prog.is_curved() && !rec.prog.is_curved();
-                let (d, dev) = match seg.transition {
+                let (d, dev) = match transition {
                     Transition::MaxDeviation(tol) => {
                         if line_line {
                             let f = 0.375 * (0.5 * turn).sin();
@@ -1325,7 +1377,9 @@ impl Path {
         }
         let first = self.exec - usize::from(self.prev_open);
         for i in first..self.tail {
-            aborted(self.seg(i).id);
+            if i == first || !self.seg(i).cont {
+                aborted(self.seg(i).id);
+            }
         }
         self.exec = self.tail;
         self.prev_open = false;
@@ -1525,6 +1579,10 @@ impl Path {
 
     fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
         self.started = true;
+        if self.seg(self.exec).cont {
+            // the next piece of the curve: the same segment goes on
+            return;
+        }
         self.seg_travel = 0.0;
         self.open_seg(self.exec, ev);
         self.dwell_left = self.seg(self.exec).dwell_ticks;
@@ -1532,6 +1590,19 @@ impl Path {
 
     fn end_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
         let sl = self.slot(i);
+        if i + 1 < self.tail && self.seg(i + 1).cont {
+            // a piece of a curve: its outputs not fired yet go on with the next piece
+            let (outs, nouts, fired) = {
+                let s = &self.segs[sl];
+                (s.outs, s.nouts, s.fired)
+            };
+            let nx = self.slot(i + 1);
+            let next = &mut self.segs[nx];
+            next.outs = outs;
+            next.nouts = nouts;
+            next.fired = fired;
+            return;
+        }
         let f = self.fire_outputs(i, 2, f64::INFINITY, ev);
         self.segs[sl].fired = f;
         ev(PathEvent::SegmentEnd {

@@ -1,10 +1,10 @@
 use super::*;
 use crate::testkit::rng::Rng;
 
-const TS: f64 = 1e-3;
+pub(super) const TS: f64 = 1e-3;
 
 /// Three axes of different limits; y is the slow one.
-fn limits(naxes: usize, ts: f64) -> PathLimits {
+pub(super) fn limits(naxes: usize, ts: f64) -> PathLimits {
     let mut l = PathLimits {
         naxes,
         ts,
@@ -23,13 +23,13 @@ fn limits(naxes: usize, ts: f64) -> PathLimits {
     l
 }
 
-fn pt(xs: &[f64]) -> V {
+pub(super) fn pt(xs: &[f64]) -> V {
     let mut p = [0.0; MAX_AXES];
     p[..xs.len()].copy_from_slice(xs);
     p
 }
 
-fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
+pub(super) fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
     Segment {
         id,
         geom: Geom::Line { end },
@@ -59,7 +59,7 @@ fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segme
     }
 }
 
-fn path(naxes: usize, ts: f64, start: V) -> Path {
+pub(super) fn path(naxes: usize, ts: f64, start: V) -> Path {
     let mut p = Path::with_capacity(4096);
     p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD)
         .unwrap();
@@ -67,15 +67,15 @@ fn path(naxes: usize, ts: f64, start: V) -> Path {
 }
 
 #[derive(Default)]
-struct Run {
-    pos: Vec<V>,
-    speed: Vec<f64>,
-    events: Vec<(usize, PathEvent)>,
+pub(super) struct Run {
+    pub(super) pos: Vec<V>,
+    pub(super) speed: Vec<f64>,
+    pub(super) events: Vec<(usize, PathEvent)>,
 }
 
 impl Run {
     /// Ticks until Idle (or `max` ticks), with 3 samples of rest before and after.
-    fn go(&mut self, p: &mut Path, ovr: f64, max: usize) -> bool {
+    pub(super) fn go(&mut self, p: &mut Path, ovr: f64, max: usize) -> bool {
         if self.pos.is_empty() {
             for _ in 0..3 {
                 self.pos.push(p.position());
@@ -106,7 +106,7 @@ impl Run {
 
     /// Largest ratio of the finite-difference velocity, acceleration and jerk of each axis
     /// to its limit.
-    fn worst(&self, l: &PathLimits) -> [f64; 3] {
+    pub(super) fn worst(&self, l: &PathLimits) -> [f64; 3] {
         let mut w = [0.0f64; 3];
         let ts = l.ts;
         for k in 0..l.naxes {
@@ -123,12 +123,12 @@ impl Run {
         w
     }
 
-    fn assert_within(&self, l: &PathLimits, what: &str) {
+    pub(super) fn assert_within(&self, l: &PathLimits, what: &str) {
         let w = self.worst(l);
         assert!(w.iter().all(|&r| r <= 1.01), "{what}: v, a, j ratios {w:?}");
     }
 
-    fn ids(&self) -> (Vec<u32>, Vec<u32>) {
+    pub(super) fn ids(&self) -> (Vec<u32>, Vec<u32>) {
         let mut st = vec![];
         let mut en = vec![];
         for (_, e) in &self.events {
@@ -142,7 +142,7 @@ impl Run {
     }
 
     /// Ids start and end in order, each once, a start before its end.
-    fn assert_ids(&self, ids: &[u32]) {
+    pub(super) fn assert_ids(&self, ids: &[u32]) {
         let (st, en) = self.ids();
         assert_eq!(st, ids, "starts");
         assert_eq!(en, ids, "ends");
@@ -170,7 +170,7 @@ enum Piece {
     Arc([f64; 2], f64, f64, f64),
 }
 
-fn dist_seg(p: &V, a: &V, b: &V) -> f64 {
+pub(super) fn dist_seg(p: &V, a: &V, b: &V) -> f64 {
     let ab: Vec<f64> = (0..MAX_AXES).map(|k| b[k] - a[k]).collect();
     let ap: Vec<f64> = (0..MAX_AXES).map(|k| p[k] - a[k]).collect();
     let l2: f64 = ab.iter().map(|x| x * x).sum();
