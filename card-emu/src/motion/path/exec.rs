@@ -1,0 +1,503 @@
+//! The executor of the continuous path: halts and clears, the look-ahead's walk over the
+//! pieces ahead, and the tick that advances along them with the segment events and outputs on
+//! the way (see the module doc of `path`).
+
+use super::*;
+
+impl Path {
+    /// Comes to rest along the path as fast as `decel` and `jerk` allow (clamped to the
+    /// tangential limits, and never below what the current deceleration needs), then stays;
+    /// the queue stays until [`clear`](Self::clear). If that stop would run past the next exact
+    /// stop or the end of the queue, the path's own limits are kept (it is braking for that
+    /// point already).
+    pub fn halt(&mut self, decel: f64, jerk: f64) {
+        if !self.ready {
+            return;
+        }
+        self.halted = true;
+        let pl = self.planner;
+        let d = if pos_finite(decel) {
+            decel.min(self.at)
+        } else {
+            self.at
+        };
+        let j = if pos_finite(jerk) {
+            jerk.min(self.jt)
+        } else {
+            self.jt
+        };
+        let d = d.max(-pl.a).min(self.at);
+        if self.chain.is_active() {
+            self.shift_stop(decel, jerk);
+            return;
+        }
+        if self.exec >= self.tail {
+            return;
+        }
+        let need =
+            1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.lim.ts;
+        let wend = self.tail.min(self.exec + self.lookahead);
+        let (stop, rem) = self.walk(need, 0.0, 0.0, wend, &mut |_, _| {});
+        if stop.is_none() || rem >= need {
+            self.planner.dmax = d;
+            self.planner.jmax = j;
+        }
+    }
+
+    /// Only at rest: drops every segment not finished (ids reported in order) and the pending
+    /// outputs, keeps the position, ends a halt.
+    pub fn clear(&mut self, aborted: &mut impl FnMut(u32)) -> Result<(), PathError> {
+        if self.is_moving() {
+            return Err(PathError::Moving);
+        }
+        let first = self.exec - usize::from(self.prev_open);
+        for i in first..self.tail {
+            if i == first || !self.seg(i).cont {
+                aborted(self.seg(i).id);
+            }
+        }
+        self.exec = self.tail;
+        self.prev_open = false;
+        self.in_blend = false;
+        self.s = 0.0;
+        self.started = false;
+        self.last_end = self.pos;
+        self.npending = 0;
+        self.halted = false;
+        self.slow = None;
+        self.planner.dmax = self.at;
+        self.planner.jmax = self.jt;
+        self.planner.rest();
+        self.idle_sent = true;
+        self.shift_clear();
+        Ok(())
+    }
+
+    /// Walks the pieces ahead of the executor up to distance `until` (or the window end
+    /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
+    /// be below `below` (blocks that have none are skipped). Returns the stop found (Some(is
+    /// the end of the queue)) and its distance, or None and a distance beyond `until`.
+    pub(super) fn walk(
+        &self,
+        until: f64,
+        below: f64,
+        ovr: f64,
+        wend: usize,
+        f: &mut impl FnMut(f64, f64),
+    ) -> (Option<bool>, f64) {
+        let e = self.exec;
+        let sg = self.seg(e);
+        let mut d = if self.in_blend {
+            let d = sg.blend.len - self.s;
+            f(d, sg.bgeo.min(sg.feed * ovr));
+            d + (sg.body1 - sg.body0)
+        } else {
+            sg.body1 - self.s
+        };
+        let mut j = e + 1;
+        loop {
+            if j >= wend {
+                return (Some(j >= self.tail), d);
+            }
+            if d > until {
+                return (None, d);
+            }
+            if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
+                let b = &self.blocks[self.slot(j) / BLOCK];
+                if !b.stop && b.geo >= below && b.feed * ovr >= below {
+                    d += b.len;
+                    j += BLOCK;
+                    continue;
+                }
+            }
+            let s = self.seg(j);
+            if s.stop_before {
+                return (Some(false), d);
+            }
+            f(d, s.jgeo.min(s.jfeed * ovr));
+            if s.has_blend {
+                d += s.blend.len;
+            }
+            f(d, s.bgeo.min(s.feed * ovr));
+            d += s.body1 - s.body0;
+            j += 1;
+        }
+    }
+
+    /// The planner's target and remaining distance for this tick (see the module doc; the
+    /// slowing test is `nurbs_interp`'s).
+    pub(super) fn look(&mut self, ovr: f64) -> Look {
+        let sg = self.seg(self.exec);
+        let (cg, cf) = if self.in_blend {
+            (sg.jgeo, sg.jfeed)
+        } else {
+            (sg.bgeo, sg.feed)
+        };
+        let ceiling = cg.min(cf * ovr);
+        let here = self.distance;
+        if matches!(self.slow, Some((sc, _)) if here >= sc) {
+            self.slow = None;
+        }
+        let mut target = match self.slow {
+            Some((_, c)) => ceiling.min(c),
+            None => ceiling,
+        };
+        if self.halted || ovr <= 0.0 {
+            target = 0.0;
+        }
+        let wend = self.tail.min(self.exec + self.lookahead);
+        let pl = self.planner;
+        let (jp, dp) = pl.plan_limits();
+        let (jm, dm) = (pl.jmax, pl.dmax);
+        let ts = self.lim.ts;
+        let mut out = Look {
+            target,
+            rem: 0.0,
+            stop: false,
+            queue_end: false,
+            window_end: wend,
+        };
+        for it in 0..3 {
+            let (step, vn, an) = pl.track_step(target);
+            let vmax = pl.v.max(vn).max(vn + an.max(0.0).powi(2) / (2.0 * jm));
+            let reach = 1.05
+                * PathSpeedPlanner::stopping_distance(vmax, an.max(pl.a).max(0.0), dp, jp)
+                + 4.0 * vmax * ts
+                + 1e-9;
+            let below = vmax.min(target);
+            let ap = an.max(0.0);
+            let vf = vn + ap * ap / (2.0 * jm);
+            let rising = vf * ap / jm;
+            let mut worst: Option<(f64, f64)> = None;
+            let mut consider = |d: f64, raw: f64| {
+                if raw < vmax && raw < target && worst.is_none_or(|(_, c)| raw < c) {
+                    let dist = d - step;
+                    let lower = (vf * vf - raw * raw) / (2.0 * dm);
+                    let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+                    let violated = dist < lower
+                        || (dist < upper && dist < pl.slowing_distance_from(vn, an, raw));
+                    if violated {
+                        worst = Some((here + d, raw));
+                    }
+                }
+            };
+            let (stop, d) = self.walk(reach, below, ovr, wend, &mut consider);
+            if it == 0 {
+                out.rem = d;
+                out.stop = stop.is_some();
+                out.queue_end = stop == Some(true);
+            }
+            match worst {
+                Some((sc, c)) => {
+                    self.slow = Some((sc, c));
+                    target = target.min(c);
+                }
+                None => break,
+            }
+        }
+        out.target = target;
+        if target == 0.0 {
+            // holding or halting: the time-optimal stop from here (re-solved every tick, so
+            // it lands with v = a = 0), unless a stop point is nearer
+            let brake = PathSpeedPlanner::stopping_distance(pl.v, pl.a, pl.dmax, pl.jmax);
+            if brake < out.rem {
+                out.rem = brake;
+                out.stop = false;
+                out.queue_end = false;
+            }
+        }
+        out
+    }
+
+    pub(super) fn fire_outputs(
+        &self,
+        i: usize,
+        which: u8,
+        upto: f64,
+        ev: &mut impl FnMut(PathEvent),
+    ) -> u8 {
+        // which: 0 = Start, 1 = End, 2 = Distance ≤ upto (in order of distance)
+        let s = self.seg(i);
+        let mut fired = s.fired;
+        loop {
+            let mut best: Option<(usize, f64)> = None;
+            for (k, o) in s.outs[..s.nouts].iter().enumerate() {
+                if fired & (1 << k) != 0 {
+                    continue;
+                }
+                let key = match (which, o.at) {
+                    (0, OutputAt::Start) | (1, OutputAt::End) => 0.0,
+                    (2, OutputAt::Distance(d)) if d <= upto => d,
+                    _ => continue,
+                };
+                if best.is_none_or(|(_, b)| key < b) {
+                    best = Some((k, key));
+                }
+            }
+            let Some((k, _)) = best else { break };
+            fired |= 1 << k;
+            let o = s.outs[k];
+            ev(PathEvent::Output {
+                bit: o.bit,
+                on: o.on,
+                id: s.id,
+            });
+        }
+        fired
+    }
+
+    /// Segment `i` starts: its event, and its outputs at the start.
+    pub(super) fn open_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
+        let sl = self.slot(i);
+        ev(PathEvent::SegmentStart {
+            id: self.segs[sl].id,
+        });
+        let f = self.fire_outputs(i, 0, 0.0, ev);
+        self.segs[sl].fired = f;
+        let f = self.fire_outputs(i, 2, 0.0, ev);
+        self.segs[sl].fired = f;
+    }
+
+    pub(super) fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
+        self.started = true;
+        if self.seg(self.exec).cont {
+            // the next piece of the curve: the same segment goes on
+            return;
+        }
+        self.seg_travel = 0.0;
+        self.open_seg(self.exec, ev);
+        self.dwell_left = self.seg(self.exec).dwell_ticks;
+    }
+
+    pub(super) fn end_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
+        let sl = self.slot(i);
+        if i + 1 < self.tail && self.seg(i + 1).cont {
+            // a piece of a curve: its outputs not fired yet go on with the next piece
+            let (outs, nouts, fired) = {
+                let s = &self.segs[sl];
+                (s.outs, s.nouts, s.fired)
+            };
+            let nx = self.slot(i + 1);
+            let next = &mut self.segs[nx];
+            next.outs = outs;
+            next.nouts = nouts;
+            next.fired = fired;
+            return;
+        }
+        let f = self.fire_outputs(i, 2, f64::INFINITY, ev);
+        self.segs[sl].fired = f;
+        ev(PathEvent::SegmentEnd {
+            id: self.segs[sl].id,
+        });
+        let f = self.fire_outputs(i, 1, 0.0, ev);
+        self.segs[sl].fired = f;
+    }
+
+    /// Travel of the open segment: Distance outputs crossed.
+    pub(super) fn travel(&mut self, step: f64, ev: &mut impl FnMut(PathEvent)) {
+        if step <= 0.0 {
+            return;
+        }
+        self.seg_travel += step;
+        let i = self.exec - usize::from(self.prev_open);
+        let sl = self.slot(i);
+        if self.segs[sl].nouts > 0 {
+            let f = self.fire_outputs(i, 2, self.seg_travel, ev);
+            self.segs[sl].fired = f;
+        }
+    }
+
+    /// Moves the executor `ds` along the path (or, when `land`, exactly to the stop point the
+    /// look-ahead found), with the events on the way.
+    pub(super) fn advance(
+        &mut self,
+        ds: f64,
+        land: bool,
+        wend: usize,
+        resting: bool,
+        ev: &mut impl FnMut(PathEvent),
+    ) {
+        let mut left = if land { f64::INFINITY } else { ds };
+        if !self.started && !self.in_blend && self.exec < self.tail && (ds > 0.0 || land) {
+            self.start_seg(ev);
+        }
+        for _ in 0..4 * self.segs.len() + 8 {
+            if self.exec >= self.tail {
+                return;
+            }
+            let sg = *self.seg(self.exec);
+            if sg.is_dwell() {
+                return;
+            }
+            if self.in_blend {
+                let len = sg.blend.len;
+                if self.prev_open {
+                    let mid = 0.5 * len;
+                    if self.s + left >= mid {
+                        let step = (mid - self.s).max(0.0);
+                        self.travel(step, ev);
+                        left -= step;
+                        self.s = mid;
+                        self.end_seg(self.exec - 1, ev);
+                        self.prev_open = false;
+                        self.start_seg(ev);
+                    } else {
+                        self.s += left;
+                        self.travel(left, ev);
+                        return;
+                    }
+                }
+                let step = (len - self.s).max(0.0).min(left);
+                self.s += step;
+                self.travel(step, ev);
+                left -= step;
+                if self.s >= len {
+                    self.in_blend = false;
+                    self.s = sg.body0;
+                    continue;
+                }
+                return;
+            }
+            let end = sg.body1;
+            let step = (end - self.s).max(0.0).min(left);
+            self.s += step;
+            self.travel(step, ev);
+            left -= step;
+            if self.s < end {
+                return;
+            }
+            self.s = end;
+            let next = self.exec + 1;
+            if next >= self.tail {
+                if resting {
+                    self.pos = sg.prog.pos(end);
+                    self.end_seg(self.exec, ev);
+                    self.exec = next;
+                    self.started = false;
+                }
+                return;
+            }
+            let ns = *self.seg(next);
+            // at rest at the window's end: step into the next piece (the same point), so
+            // that the window moves on
+            let window_stop = land && next >= wend;
+            if ns.stop_before {
+                // never past an exact stop without landing on it
+                self.end_seg(self.exec, ev);
+                self.exec = next;
+                self.in_blend = false;
+                self.s = 0.0;
+                self.start_seg(ev);
+                return;
+            }
+            if ns.has_blend {
+                self.exec = next;
+                self.in_blend = true;
+                self.prev_open = true;
+                self.started = false;
+                self.s = 0.0;
+            } else {
+                self.end_seg(self.exec, ev);
+                self.exec = next;
+                self.s = ns.body0;
+                self.start_seg(ev);
+            }
+            if window_stop {
+                return;
+            }
+        }
+    }
+
+    pub(super) fn eval_here(&self) -> V {
+        if self.exec >= self.tail {
+            return self.pos;
+        }
+        let sg = self.seg(self.exec);
+        if self.in_blend {
+            sg.blend.pos(self.s)
+        } else {
+            sg.prog.pos(self.s)
+        }
+    }
+
+    /// One servo tick: returns the commanded position of every group axis. `feed_override`
+    /// (0..2) scales every feed; 0 holds the path still (ramping down, resuming when > 0).
+    pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        if !self.ready {
+            return self.pos;
+        }
+        let ovr = if feed_override.is_nan() {
+            0.0
+        } else {
+            feed_override.clamp(0.0, 2.0)
+        };
+        // dwells
+        while self.exec < self.tail && self.seg(self.exec).is_dwell() {
+            if !self.started {
+                self.start_seg(ev);
+            }
+            if self.dwell_left > 0 {
+                if !self.halted {
+                    self.dwell_left -= 1;
+                }
+                return self.pos;
+            }
+            self.end_seg(self.exec, ev);
+            self.exec += 1;
+            self.s = 0.0;
+            self.in_blend = false;
+            self.started = false;
+            if self.exec < self.tail {
+                self.start_seg(ev);
+            }
+        }
+        if self.exec >= self.tail {
+            self.planner.rest();
+            if !self.idle_sent {
+                self.idle_sent = true;
+                ev(PathEvent::Idle);
+            }
+            return self.pos;
+        }
+        if self.seg(self.exec).shift {
+            return self.shift_tick(ovr, ev);
+        }
+        let lk = self.look(ovr);
+        let ts = self.lim.ts;
+        let v = self.planner.next(lk.target, lk.rem);
+        let mut ds = (v * ts).max(0.0);
+        let mut land = false;
+        if lk.stop {
+            if self.planner.lands() {
+                land = true;
+                ds = lk.rem;
+            } else if ds >= lk.rem {
+                ds = lk.rem;
+            }
+        }
+        if lk.target == 0.0
+            && self.planner.v <= 1e-9 * self.jt * ts * ts
+            && self.planner.a.abs() <= 1e-6 * self.jt * ts
+        {
+            self.planner.rest();
+        }
+        if self.planner.is_stopping()
+            && lk.queue_end
+            && lk.target > 0.0
+            && !self.starving_sent
+            && !self.seg(self.tail - 1).last
+        {
+            self.starving_sent = true;
+            ev(PathEvent::Starving);
+        }
+        let resting = !self.is_moving();
+        self.advance(ds, land, lk.window_end, resting, ev);
+        self.distance += ds;
+        self.pos = self.eval_here();
+        if self.exec >= self.tail && resting && !self.idle_sent {
+            self.idle_sent = true;
+            ev(PathEvent::Idle);
+        }
+        self.pos
+    }
+}
