@@ -47,6 +47,10 @@ static const mc_result ALL_CODES[] = {
     /* the continuous path */
     MC_ERR_PATH_MODE,      MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT,
     MC_ERR_PATH_BUSY,      MC_ERR_PATH_ID,
+    /* digital I/O, compare, probes */
+    MC_ERR_IO_CONFIG,      MC_ERR_IO_CHANNEL,      MC_ERR_COMPARE_MODE,
+    MC_ERR_COMPARE_FULL,   MC_ERR_COMPARE_ORDER,   MC_ERR_COMPARE_BUSY,
+    MC_ERR_PROBE_INPUT,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -89,6 +93,9 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD, MC_ERR_AXIS_HOMING, MC_ERR_HOMING_FAILED,
     /* path.c */
     MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
+    /* compare.c, probe.c */
+    MC_ERR_IO_CONFIG, MC_ERR_IO_CHANNEL, MC_ERR_COMPARE_MODE, MC_ERR_COMPARE_FULL,
+    MC_ERR_COMPARE_ORDER, MC_ERR_COMPARE_BUSY, MC_ERR_PROBE_INPUT,
 };
 
 static void result_strings(void) {
