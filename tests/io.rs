@@ -168,6 +168,41 @@ fn missed_positions_are_counted_and_reported() {
     assert_eq!(st.fires, 50, "every other one: 120 counts apart > 100");
 }
 
+/// The shaft goes over a compare position and back within one tick (a knock against a hard
+/// push back): neither end of the tick is past it, but the encoder interface's highest count
+/// of the tick is, so the position is reported missed (it has no instant), not lost.
+#[test]
+fn a_position_crossed_and_crossed_back_within_a_tick_is_missed() {
+    let card = card();
+    let sim = card.sim().unwrap();
+    sim.step(1000);
+    let n = card.axis(0).unwrap().status().unwrap().raw.encoder;
+    let ch = card.axis(0).unwrap().compare(0);
+    ch.arm_single(0, 10, (n + 1) as f64, Direction::Positive)
+        .unwrap();
+    sim.step(1);
+    assert_eq!(ch.status().unwrap().state, IoState::Armed);
+    sim.with_emulator(|e| {
+        let m = e.motor_mut(0).unwrap();
+        let c = m.params.counts_per_rad();
+        m.theta = (n as f64 + 0.998) / c; // the same count, just below the next
+        m.omega = 300.0 / c;
+        m.disturbance = 3.0;
+    });
+    sim.step(1);
+    sim.with_emulator(|e| e.motor_mut(0).unwrap().disturbance = 0.0);
+    let enc = card.axis(0).unwrap().status().unwrap().raw.encoder;
+    sim.step(1);
+    let st = ch.status().unwrap();
+    assert_eq!(enc, n, "the count at the tick's end is where it was");
+    assert_eq!((st.fires, st.missed), (0, 1), "{st:?}");
+    assert_eq!(st.last_missed, (n + 1) as f64);
+    let ev = events(&card);
+    assert!(ev
+        .iter()
+        .any(|e| e.kind == EventKind::Compare && e.code == COMPARE_MISSED));
+}
+
 /// A table of 3 × 4096 positions streamed in while the axis runs at 10⁶ counts/s, topped up
 /// on each low-water event: every position fires within a count, none is missed.
 #[test]

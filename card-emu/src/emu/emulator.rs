@@ -12,7 +12,7 @@
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::faults::FaultInjector;
-use crate::plant::io::{FireRecord, InputBank};
+use crate::plant::io::{encoder_span, FireRecord, InputBank};
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::MAX_AXES;
@@ -102,6 +102,8 @@ pub struct Emulator {
     period_dac: [f64; MAX_AXES],
     /// The compare pulses recorded (when recording).
     fires: Option<Vec<FireRecord>>,
+    /// Each encoder's lowest and highest count over the period just run.
+    spans: [Option<(i64, i64)>; MAX_AXES],
 }
 
 impl Emulator {
@@ -125,6 +127,7 @@ impl Emulator {
             period_start: opts.motors.map(Motor::new),
             period_dac: [0.0; MAX_AXES],
             fires: None,
+            spans: [None; MAX_AXES],
         })
     }
 
@@ -162,6 +165,7 @@ impl Emulator {
         inputs.index = self.latch;
         self.fw.set_inputs(inputs);
         self.fw.set_digital_inputs(self.inputs.sample(&self.motors));
+        self.fw.set_encoder_spans(self.spans);
         let ts = self.fw.ts();
         self.fw.tick(&enc, &mut self.dac);
         self.record_period_fires(ts);
@@ -174,6 +178,22 @@ impl Emulator {
             .after_period(&start, &self.motors, ts, |a, m, dt| {
                 faults.step_motor(a, m, dac[a], dt)
             });
+        // The encoder interface's extreme counts of the period (through the encoder's faults).
+        for (i, span) in self.spans.iter_mut().enumerate() {
+            let f = faults.get(i).copied().unwrap_or_default();
+            *span = Some(match f.encoder_lost {
+                Some(frozen) => (frozen, frozen),
+                None => {
+                    let (lo, hi) = encoder_span(&start[i], &self.motors[i], ts, |m, dt| {
+                        faults.step_motor(i, m, dac[i], dt)
+                    });
+                    (
+                        lo.wrapping_add(f.encoder_offset),
+                        hi.wrapping_add(f.encoder_offset),
+                    )
+                }
+            });
+        }
         self.period_start = start;
         self.period_dac = dac;
         self.time += ts;

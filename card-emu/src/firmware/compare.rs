@@ -16,7 +16,9 @@
 //! Nothing is skipped silently. A position already behind the axis when it becomes the next one
 //! (armed behind, queued too late, passed while the loop bound deferred it) is **missed**; so
 //! is one whose instant falls inside the pulse before it (the output is still on and cannot
-//! make a second pulse). Every fire and miss is counted; the firmware posts one
+//! make a second pulse), and one the axis crossed and crossed back within one tick (the
+//! encoder interface's extreme counts of the tick reach it while neither end does: there is
+//! no instant to give it, [`crossed_back`]). Every fire and miss is counted; the firmware posts one
 //! `MC_EV_COMPARE` per code, channel and tick (the last position of that tick).
 //!
 //! Pure logic over plain numbers: no window, no clock, no allocation after [`Compare::new`].
@@ -40,6 +42,18 @@ pub fn crossing(x0: f64, x1: f64, p: f64, dir: i8) -> Option<f64> {
         _ => up || down,
     };
     hit.then(|| ((p - x0) / (x1 - x0)).clamp(0.0, 1.0))
+}
+
+/// Did the axis cross `p` in `dir` and come back within the tick, seen from the ends `x0`, `x1`
+/// (no [`crossing`] between them) and the extremes `lo`, `hi` it reached in between?
+pub fn crossed_back(x0: f64, x1: f64, (lo, hi): (f64, f64), p: f64, dir: i8) -> bool {
+    let up = x0 < p && x1 < p && hi >= p;
+    let down = x0 > p && x1 > p && lo <= p;
+    match dir {
+        1 => up,
+        -1 => down,
+        _ => up || down,
+    }
 }
 
 /// Is `p` behind the position `x` for a channel moving in `dir` (already passed)?
@@ -301,12 +315,13 @@ impl Compare {
     }
 
     /// One tick: the axis moved from `x0` to `x1` (cell middles, the axis frame) over the tick
-    /// ending at `tick`. Fires go to `fires` (as many as fit; the count is what matters).
+    /// ending at `tick`, reaching `range` (lowest, highest) in between. Fires go to `fires` (as
+    /// many as fit; the count is what matters).
     pub fn tick<const N: usize>(
         &mut self,
         channel: u8,
-        x0: f64,
-        x1: f64,
+        (x0, x1): (f64, f64),
+        range: (f64, f64),
         tick: u64,
         fires: &mut heapless::Vec<Fire, N>,
     ) -> TickReport {
@@ -350,6 +365,10 @@ impl Compare {
                 continue;
             }
             let Some(frac) = crossing(x0, x1, p, arm.dir) else {
+                if crossed_back(x0, x1, range, p, arm.dir) {
+                    self.miss(p, &mut out);
+                    continue;
+                }
                 break;
             };
             let at = t0 + frac;
@@ -517,7 +536,8 @@ mod tests {
         let mut last = TickReport::default();
         for k in 1..=n {
             let mut f = Fires::new();
-            let r = c.tick(0, x(k - 1), x(k), k, &mut f);
+            let (x0, x1) = (x(k - 1), x(k));
+            let r = c.tick(0, (x0, x1), (x0.min(x1), x0.max(x1)), k, &mut f);
             if r != TickReport::default() {
                 last = r;
             }
@@ -580,8 +600,26 @@ mod tests {
         let mut c = Compare::new();
         c.start(arm(-1, Source::Single { at: 500.0 })).unwrap();
         let mut f = Fires::new();
-        let r = c.tick(0, 400.5, 300.5, 1, &mut f);
+        let r = c.tick(0, (400.5, 300.5), (300.5, 400.5), 1, &mut f);
         assert_eq!(r.missed, Some(500.0));
+        assert_eq!(c.status().state, raw::MC_IO_DONE);
+    }
+
+    /// Crossed and crossed back within one tick: no instant, reported missed; a single either
+    /// way too. Not reached: nothing.
+    #[test]
+    fn a_position_crossed_and_crossed_back_in_one_tick_is_missed() {
+        assert!(crossed_back(9.5, 9.5, (9.5, 10.5), 10.0, 1));
+        assert!(!crossed_back(9.5, 9.5, (9.5, 9.5), 10.0, 1));
+        assert!(!crossed_back(9.5, 9.5, (9.5, 10.5), 10.0, -1));
+        assert!(crossed_back(10.5, 10.5, (9.5, 10.5), 10.0, 0));
+        let mut c = Compare::new();
+        c.start(arm(1, Source::Single { at: 10.0 })).unwrap();
+        let mut f = Fires::new();
+        let r = c.tick(0, (9.5, 9.5), (9.5, 9.5), 1, &mut f);
+        assert_eq!(r, TickReport::default());
+        let r = c.tick(0, (9.5, 9.5), (9.5, 10.5), 2, &mut f);
+        assert_eq!((r.missed, r.fired, f.len()), (Some(10.0), None, 0));
         assert_eq!(c.status().state, raw::MC_IO_DONE);
     }
 
@@ -627,7 +665,7 @@ mod tests {
         assert_eq!(fires.len(), 2);
         assert_eq!((last.fired, last.low_water), (Some(20.0), Some(2)));
         let mut f = Fires::new();
-        let r = c.tick(0, 25.5, 25.6, 6, &mut f);
+        let r = c.tick(0, (25.5, 25.6), (25.5, 25.6), 6, &mut f);
         assert_eq!(r.low_water, None, "once");
         assert_eq!(c.status().pending, 2);
         let many: Vec<f64> = (0..COMPARE_TABLE_LEN).map(|i| 100.0 + i as f64).collect();

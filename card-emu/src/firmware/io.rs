@@ -44,6 +44,12 @@ impl Default for DigitalInputs {
     }
 }
 
+/// The lowest and highest count each axis's encoder reached over the tick just ended, as the
+/// encoder interface tracks them between two servo samples (`None`: not tracked; the counts at
+/// the tick's two ends stand for them). A compare position between an extreme and both ends
+/// was crossed and crossed back within the tick.
+pub type EncoderSpans = [Option<(i64, i64)>; MAX_AXES];
+
 /// All the input bits.
 const ALL: u32 = (1 << INPUTS) - 1;
 
@@ -177,6 +183,7 @@ pub const FIRES_PER_TICK: usize = 512;
 #[derive(Debug)]
 pub struct IoUnit {
     inputs: DigitalInputs,
+    spans: EncoderSpans,
     debounce: Debounce,
     compare: [Compare; COMPARE_CHANNELS],
     probes: [Probe; PROBE_CHANNELS],
@@ -210,6 +217,7 @@ impl IoUnit {
     pub fn new() -> Self {
         Self {
             inputs: DigitalInputs::default(),
+            spans: [None; MAX_AXES],
             debounce: Debounce::default(),
             compare: core::array::from_fn(|_| Compare::new()),
             probes: [Probe::default(); PROBE_CHANNELS],
@@ -223,6 +231,11 @@ impl IoUnit {
     /// The pins for the next tick.
     pub fn set_inputs(&mut self, inputs: DigitalInputs) {
         self.inputs = inputs;
+    }
+
+    /// The encoders' extremes over the period the next tick ends.
+    pub fn set_spans(&mut self, spans: EncoderSpans) {
+        self.spans = spans;
     }
 
     /// Is `op` one of this unit's opcodes?
@@ -346,23 +359,28 @@ impl IoUnit {
         }
         // Each axis's motion over the tick, cell middles in its frame.
         let mut x = [(0.0, 0.0); MAX_AXES];
+        let mut range = [(0.0, 0.0); MAX_AXES];
         for (a, axis) in axes.iter().enumerate().take(MAX_AXES) {
             let now = counts[a];
             let before = self.last_count[a].replace(now).unwrap_or(now);
-            x[a] = (
-                axis.position_of_count(before) + 0.5,
-                axis.position_of_count(now) + 0.5,
+            let at = |n: i64| axis.position_of_count(n) + 0.5;
+            x[a] = (at(before), at(now));
+            let (lo, hi) = self.spans[a].unwrap_or((before.min(now), before.max(now)));
+            range[a] = (
+                at(lo).min(x[a].0.min(x[a].1)),
+                at(hi).max(x[a].0.max(x[a].1)),
             );
         }
         for (ch, c) in self.compare.iter_mut().enumerate() {
             let Some(arm) = c.armed().copied() else {
-                c.tick(ch as u8, 0.0, 0.0, tick, &mut self.fires);
+                c.tick(ch as u8, (0.0, 0.0), (0.0, 0.0), tick, &mut self.fires);
                 continue;
             };
-            let Some(&(x0, x1)) = x.get(arm.axis).filter(|_| arm.axis < axes.len()) else {
+            if arm.axis >= axes.len() {
                 continue;
-            };
-            let r = c.tick(ch as u8, x0, x1, tick, &mut self.fires);
+            }
+            let (motion, span) = (x[arm.axis], range[arm.axis]);
+            let r = c.tick(ch as u8, motion, span, tick, &mut self.fires);
             let mut post = |code: i32, value: f64| {
                 self.events.push(Event {
                     seq: arm.seq,

@@ -201,6 +201,13 @@ impl<M: Mem + Clone> Firmware<M> {
         self.io.set_inputs(inputs);
     }
 
+    /// The lowest and highest count of each encoder over the period the next tick ends, as
+    /// the encoder interface tracks them (layout 1.7's compare sees a crossing undone within
+    /// the tick).
+    pub fn set_encoder_spans(&mut self, spans: io::EncoderSpans) {
+        self.io.set_spans(spans);
+    }
+
     /// Digital inputs, compare channels and probes.
     pub fn io(&self) -> &IoUnit {
         &self.io

@@ -138,6 +138,36 @@ impl InputBank {
     }
 }
 
+/// Sub-steps a period is sampled at when the shaft reverses in it.
+pub const SPAN_SAMPLES: u32 = 64;
+
+/// The lowest and highest encoder count of a shaft over a period, from `start` to `end`, as the
+/// encoder interface counts every edge: a shaft whose velocity has one sign at both ends moved
+/// one way (the drive is held over the period), so the ends are the extremes; one that
+/// reversed is sampled on a copy at [`SPAN_SAMPLES`] sub-steps (`replay(motor, dt)` steps it
+/// as the period did).
+pub fn encoder_span(
+    start: &Motor,
+    end: &Motor,
+    ts: f64,
+    replay: impl Fn(&mut Motor, f64),
+) -> (i64, i64) {
+    let (a, b) = (start.encoder(), end.encoder());
+    let (mut lo, mut hi) = (a.min(b), a.max(b));
+    if start.omega * end.omega > 0.0 {
+        return (lo, hi);
+    }
+    let mut m = *start;
+    let h = ts / f64::from(SPAN_SAMPLES);
+    for _ in 0..SPAN_SAMPLES {
+        replay(&mut m, h);
+        let n = m.encoder();
+        lo = lo.min(n);
+        hi = hi.max(n);
+    }
+    (lo, hi)
+}
+
 /// One compare pulse as the output recorder saw it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FireRecord {
@@ -190,6 +220,22 @@ mod tests {
         let mut m = start[1];
         m.step(0.0, d.edge_at[3] * ts);
         assert!((m.position_counts() - 30.0).abs() < 1e-6);
+        // A shaft that goes over count 30 and back within the period: its span says so.
+        let mut up = start[1];
+        up.omega = 300.0 / up.params.counts_per_rad(); // 300 counts/s
+        up.theta = 29.998 / up.params.counts_per_rad();
+        up.disturbance = 3.0; // a hard push back
+        let mut back = up;
+        back.step(0.0, ts);
+        assert_eq!((up.encoder(), back.encoder()), (29, 29));
+        let span = encoder_span(&up, &back, ts, |m, dt| m.step(0.0, dt));
+        assert_eq!(span, (29, 30));
+        let ends = encoder_span(&start[1], &end[1], ts, |_, _| unreachable!());
+        assert_eq!(
+            ends,
+            (0, end[1].encoder()),
+            "one way: the ends, nothing replayed"
+        );
         bank.set(5, true);
         let d = bank.sample(&end);
         assert_eq!((d.levels, d.edge_at[5]), (1 << 3 | 1 << 5, 1.0));
