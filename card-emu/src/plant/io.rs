@@ -142,10 +142,12 @@ impl InputBank {
 pub const SPAN_SAMPLES: u32 = 64;
 
 /// The lowest and highest encoder count of a shaft over a period, from `start` to `end`, as the
-/// encoder interface counts every edge: a shaft whose velocity has one sign at both ends moved
-/// one way (the drive is held over the period), so the ends are the extremes; one that
-/// reversed is sampled on a copy at [`SPAN_SAMPLES`] sub-steps (`replay(motor, dt)` steps it
-/// as the period did).
+/// encoder interface counts every edge. With the drive held over the period the shaft's
+/// velocity moves monotonically towards one value, stopping at zero where friction holds it:
+/// a shaft that did not end the period moving against the way it started (or at rest) moved
+/// one way, and the ends are the extremes. One that reversed is sampled on a copy at
+/// [`SPAN_SAMPLES`] sub-steps (`replay(motor, dt)` steps it as the period did). An axis at rest
+/// or cruising costs nothing.
 pub fn encoder_span(
     start: &Motor,
     end: &Motor,
@@ -154,7 +156,7 @@ pub fn encoder_span(
 ) -> (i64, i64) {
     let (a, b) = (start.encoder(), end.encoder());
     let (mut lo, mut hi) = (a.min(b), a.max(b));
-    if start.omega * end.omega > 0.0 {
+    if start.omega * end.omega >= 0.0 {
         return (lo, hi);
     }
     let mut m = *start;
