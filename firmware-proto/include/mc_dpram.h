@@ -323,8 +323,9 @@
                                       * MC_EV_COMPARE low-water mark, 0: none), position (single)
                                       * or start (series), pitch (series, counts, >= 1), count
                                       * (series, 1..2^31-1). flags: MC_CMP_MODE_* and MC_CMP_DIR_*.
-                                      * MC_NACK_COMPARE_BUSY if the channel is armed or another
-                                      * armed channel pulses that output. A table channel fires
+                                      * MC_NACK_COMPARE_BUSY if the channel is armed (a channel
+                                      * done may be armed again) or another armed channel pulses
+                                      * that output. A table channel fires
                                       * what was queued before (MC_OP_COMPARE_TABLE) and what is
                                       * queued after; its queue is kept from one arm to the next
                                       * until MC_OP_COMPARE_DISARM */

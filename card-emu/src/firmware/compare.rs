@@ -187,9 +187,13 @@ impl Compare {
         self.arm.as_ref()
     }
 
-    /// The output it pulses while armed, as a mask (0 when disarmed).
+    /// The output it holds, as a mask: while armed, and while its last pulse is on (0
+    /// otherwise).
     pub fn output_mask(&self) -> u32 {
-        self.arm.map_or(0, |a| 1 << a.output)
+        match self.arm {
+            Some(a) if !self.done || self.pulse_left > 0 => 1 << a.output,
+            _ => 0,
+        }
     }
 
     /// The output bit while a pulse is on.
@@ -200,11 +204,11 @@ impl Compare {
         }
     }
 
-    /// Arm with `arm` at the axis position `x` (a position already behind is missed at the
-    /// next tick). `MC_NACK_COMPARE_BUSY` when armed, or a table channel whose queue runs the
-    /// other way.
+    /// Arm with `arm` (a position already behind the axis is missed at the next tick); a
+    /// channel that is done may be armed again. `MC_NACK_COMPARE_BUSY` when armed, or a table
+    /// channel whose queue runs the other way.
     pub fn start(&mut self, arm: Arm) -> Result<(), NackCode> {
-        if self.arm.is_some() {
+        if self.arm.is_some() && !self.done {
             return Err(NackCode::CompareBusy);
         }
         if matches!(arm.source, Source::Table) && self.table_dir != 0 && self.table_dir != arm.dir {
@@ -603,6 +607,13 @@ mod tests {
         let r = c.tick(0, (400.5, 300.5), (300.5, 400.5), 1, &mut f);
         assert_eq!(r.missed, Some(500.0));
         assert_eq!(c.status().state, raw::MC_IO_DONE);
+        assert_eq!(c.output_mask(), 0, "done: the output is free");
+        c.start(arm(-1, Source::Single { at: 200.0 })).unwrap();
+        assert_eq!(
+            c.start(arm(-1, Source::Single { at: 100.0 })),
+            Err(NackCode::CompareBusy)
+        );
+        assert_eq!((c.status().state, c.status().missed), (raw::MC_IO_ARMED, 0));
     }
 
     /// Crossed and crossed back within one tick: no instant, reported missed; a single either
