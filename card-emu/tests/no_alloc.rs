@@ -931,3 +931,67 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
     assert!(events > 800, "{events} events");
     assert_eq!(heap, [0; 3], "heap use by the continuous path");
 }
+
+/// Layout 1.7: debounced inputs with edge events, compare series and a streamed table firing
+/// (and missing) at speed, touch probes on an input and on the index, in ticks that allocate
+/// nothing (the tables were made at boot).
+#[test]
+fn digital_io_compare_and_probes_do_not_touch_the_heap() {
+    use card_emu::firmware::io::DigitalInputs;
+    let mut r = Rig::new();
+    r.power_on(0..1);
+    let mut cfg = raw::mc_io_config {
+        rise_events: 0xFFFF,
+        fall_events: 0xFFFF,
+        ..Default::default()
+    };
+    cfg.debounce[1] = 3;
+    layout::IO_CONFIG.write(&r.window, &cfg);
+    r.ok(Opcode::ApplyIoConfig, 0, 0, &[]);
+    let series = raw::MC_CMP_MODE_SERIES | raw::MC_CMP_DIR_POS;
+    r.ok(
+        Opcode::CompareArm,
+        0,
+        series,
+        &[0.0, 0.0, 5.0, 0.0, 100.0, 7.0, 20_000.0],
+    );
+    let table = raw::MC_CMP_MODE_TABLE | raw::MC_CMP_DIR_POS;
+    let mut next = -500.0; // the first ones behind the axis: missed
+    let mut push = |r: &mut Rig| {
+        let mut args = vec![1.0, 12.0];
+        for _ in 0..12 {
+            args.push(next);
+            next += 53.0;
+        }
+        r.ok(Opcode::CompareTable, 0, raw::MC_CMP_DIR_POS, &args);
+    };
+    push(&mut r);
+    r.ok(Opcode::CompareArm, 0, table, &[1.0, 1.0, 5.0, 6.0]);
+    let probe = raw::MC_PROBE_RISING | raw::MC_PROBE_FALLING | raw::MC_PROBE_CONTINUOUS;
+    r.ok(Opcode::ProbeArm, 0, probe, &[0.0, 1.0, 0.0, 0.0]);
+    r.ok(Opcode::ProbeArm, 0, probe, &[1.0, 16.0, 0.0, 0.0]);
+    r.ok(Opcode::MoveVelocity, 0, 0, &[5e5, 5e6, 5e6, 5e8]);
+    for k in 0..3_000u32 {
+        let mut pins = DigitalInputs {
+            levels: if (k / 7) % 2 == 0 { 0b11 } else { 0 },
+            ..DigitalInputs::default()
+        };
+        pins.edge_at[0] = 0.3;
+        r.fw.set_digital_inputs(pins);
+        if k % 50 == 0 {
+            push(&mut r);
+        }
+        r.step();
+    }
+    let fired = r.window.read32(layout::COMPARE_STATUS.at(0).offset() + 8);
+    let table_fired = r.window.read32(layout::COMPARE_STATUS.at(1).offset() + 8);
+    let missed = r.window.read32(layout::COMPARE_STATUS.at(1).offset() + 12);
+    let captures = r.window.read32(layout::PROBE_STATUS.at(0).offset() + 8);
+    assert!(
+        fired > 1000 && table_fired > 100 && missed > 0,
+        "{fired} {table_fired} {missed}"
+    );
+    assert!(captures > 100, "{captures}"); // (this rig latches no index pulses)
+    assert!(r.log.iter().any(|e| e.kind() == Some(EventKind::Input)));
+    r.assert_no_heap("digital I/O, compare and probes");
+}

@@ -183,6 +183,93 @@ extern "C" {
 #define MC_SET_POSITION_RELATIVE 1
 
 /**
+ * The card's digital inputs (`mc_get_inputs` bit i is input i).
+ */
+#define MC_CARD_INPUTS 16
+
+/**
+ * Compare channels per card.
+ */
+#define MC_COMPARE_CHANNELS 4
+
+/**
+ * Positions a compare channel's table holds.
+ */
+#define MC_COMPARE_TABLE_LEN 4096
+
+/**
+ * Touch-probe channels per card.
+ */
+#define MC_PROBE_CHANNELS 4
+
+/**
+ * Captures a probe keeps (`mc_probe_info.positions`).
+ */
+#define MC_PROBE_QUEUE 8
+
+/**
+ * Compare direction: fire crossing upwards (increasing position).
+ */
+#define MC_COMPARE_POSITIVE 1
+
+/**
+ * Compare direction: fire crossing downwards.
+ */
+#define MC_COMPARE_NEGATIVE 2
+
+/**
+ * Compare direction: either way (`mc_compare_single` only).
+ */
+#define MC_COMPARE_EITHER 3
+
+/**
+ * `code` of `MC_EVENT_COMPARE`: a position fired.
+ */
+#define MC_COMPARE_FIRED 1
+
+/**
+ * `code` of `MC_EVENT_COMPARE`: a position was missed (behind the axis when it came up, or
+ * inside the pulse before it).
+ */
+#define MC_COMPARE_MISSED 2
+
+/**
+ * `code` of `MC_EVENT_COMPARE`: the table fell to its low-water mark.
+ */
+#define MC_COMPARE_LOW_WATER 3
+
+/**
+ * `state` of a compare channel or probe: not armed.
+ */
+#define MC_IO_STATE_IDLE 0
+
+/**
+ * Armed.
+ */
+#define MC_IO_STATE_ARMED 1
+
+/**
+ * A single compare or series fired (or missed) all its positions; a single-shot probe
+ * captured.
+ */
+#define MC_IO_STATE_DONE 2
+
+/**
+ * `mc_probe_trigger.input`: the axis's encoder index pulse instead of an input.
+ */
+#define MC_PROBE_INPUT_INDEX 16
+
+/**
+ * `mc_probe_trigger.edges`: the input becoming active.
+ */
+#define MC_PROBE_EDGE_RISING 1
+
+/**
+ * `mc_probe_trigger.edges`: the input becoming inactive.
+ */
+#define MC_PROBE_EDGE_FALLING 2
+
+/**
  * `mc_move` kind: MC_MoveAbsolute, `value` is the target.
  */
 #define MC_MOVE_KIND_ABSOLUTE 0
@@ -557,6 +644,25 @@ extern "C" {
  * `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
  */
 #define MC_EVENT_PATH_STARVED 23
+
+/**
+ * A debounced digital input edge (`axis`: the input; `code`: 1 rising, 0 falling; `value`:
+ * the debounced input word).
+ */
+#define MC_EVENT_INPUT 24
+
+/**
+ * A compare channel fired or missed (`axis`: the channel; `seq`: its arm; `code`:
+ * `MC_COMPARE_FIRED`, `_MISSED` or `_LOW_WATER`; `value`: the position in counts, the last
+ * of its tick, or the positions queued).
+ */
+#define MC_EVENT_COMPARE 25
+
+/**
+ * A touch probe captured (`axis`: the channel; `code`: the capture number since the arm;
+ * `value`: the position in counts).
+ */
+#define MC_EVENT_PROBE 26
 
 /**
  * `mc_event.axis` of an event about the whole card.
@@ -1752,6 +1858,142 @@ typedef struct mc_axis_homing {
 typedef struct mc_axis_homing mc_homing_settings;
 
 /**
+ * The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies
+ * it on MC_OP_APPLY_IO_CONFIG. All zero at boot: active high, no debounce, no events.
+ */
+typedef struct mc_io_config {
+  /**
+   * Bit i: input i is active low (the card inverts it).
+   */
+  uint32_t polarity;
+  /**
+   * Bit i: MC_EV_INPUT when debounced input i becomes active.
+   */
+  uint32_t rise_events;
+  /**
+   * Bit i: MC_EV_INPUT when debounced input i becomes inactive.
+   */
+  uint32_t fall_events;
+  uint32_t _reserved0;
+  /**
+   * Ticks input i must hold a new level before the debounced word takes it
+   * (0..MC_DEBOUNCE_MAX; 0: at once).
+   */
+  uint16_t debounce[16];
+  uint32_t _reserved[4];
+} mc_io_config;
+
+/**
+ * The digital inputs' configuration: the card's `mc_io_config` register block. `polarity`
+ * bit i: input i is active low; `rise_events` / `fall_events` bit i: an `MC_EVENT_INPUT` on
+ * that debounced edge of input i; `debounce[i]`: the ticks input i must hold a new level
+ * before the debounced word takes it (0..10000). Start from `mc_io_settings_default`.
+ */
+typedef struct mc_io_config mc_io_settings;
+
+/**
+ * A compare channel's status (`mc_compare_get_status`), positions in the axis's user units.
+ */
+typedef struct mc_compare_info {
+  /**
+   * `MC_IO_STATE_` value.
+   */
+  uint32_t state;
+  /**
+   * Pulses fired since the arm.
+   */
+  uint32_t fires;
+  /**
+   * Positions missed since the arm.
+   */
+  uint32_t missed;
+  /**
+   * Positions still to come (a table's queue).
+   */
+  uint32_t pending;
+  /**
+   * The output pulsed.
+   */
+  uint32_t output;
+  /**
+   * The next position.
+   */
+  double next;
+  /**
+   * The last position fired.
+   */
+  double last_fired;
+  /**
+   * When: servo ticks since boot, with the fraction within the tick.
+   */
+  double last_fire_tick;
+  /**
+   * The last position missed.
+   */
+  double last_missed;
+} mc_compare_info;
+
+/**
+ * What a touch probe captures at (`mc_touch_probe`).
+ */
+typedef struct mc_probe_trigger {
+  /**
+   * The input (0..15), or `MC_PROBE_INPUT_INDEX`.
+   */
+  uint32_t input;
+  /**
+   * `MC_PROBE_EDGE_` bits (one or both).
+   */
+  uint32_t edges;
+  /**
+   * Nonzero: keep capturing (the last `MC_PROBE_QUEUE` in the status); 0: one capture.
+   */
+  uint32_t continuous;
+  /**
+   * Nonzero: only edges with the position in `[window_lo, window_hi]` count.
+   */
+  uint32_t use_window;
+  /**
+   * The window, user units.
+   */
+  double window_lo;
+  /**
+   * The window, user units.
+   */
+  double window_hi;
+} mc_probe_trigger;
+
+/**
+ * A touch probe's status (`mc_probe_get_status`), positions in user units.
+ */
+typedef struct mc_probe_info {
+  /**
+   * `MC_IO_STATE_` value.
+   */
+  uint32_t state;
+  /**
+   * Captures since the arm.
+   */
+  uint32_t captures;
+  /**
+   * Edges outside the window since the arm.
+   */
+  uint32_t outside;
+  /**
+   * How many of `positions` hold captures (up to `MC_PROBE_QUEUE`).
+   */
+  uint32_t count;
+  /**
+   * The last captures, oldest first.
+   */
+  double positions[8];
+  /**
+   * When the last capture was: servo ticks since boot, with the fraction.
+   */
+  double last_tick;
+} mc_probe_info;
+
+/**
  * Limits of velocity mode, in user units (see `mc_set_scale`); each finite and > 0.
  */
 typedef struct mc_velocity_limits {
@@ -2456,6 +2698,45 @@ typedef struct mc_stop_info {
 #define MC_ERR_PATH_CURVE -73
 
 /**
+ * The digital inputs' configuration: an input beyond the card's 16, or a debounce over
+ * 10,000 ticks (`IoSettings`).
+ */
+#define MC_ERR_IO_CONFIG -90
+
+/**
+ * A compare or probe channel the card does not have.
+ */
+#define MC_ERR_IO_CHANNEL -91
+
+/**
+ * A compare mode, direction, output, pulse width, low-water mark, pitch or count out of
+ * its range.
+ */
+#define MC_ERR_COMPARE_MODE -92
+
+/**
+ * The compare channel's table has no room for the positions: wait for low water.
+ */
+#define MC_ERR_COMPARE_FULL -93
+
+/**
+ * Compare table positions must be strictly monotonic in the channel's direction.
+ */
+#define MC_ERR_COMPARE_ORDER -94
+
+/**
+ * The compare channel is armed (disarm it first), its table runs the other way, or its
+ * output is another armed channel's.
+ */
+#define MC_ERR_COMPARE_BUSY -95
+
+/**
+ * A probe input beyond the inputs and the index, no edge, or a window whose low end is
+ * above its high end.
+ */
+#define MC_ERR_PROBE_INPUT -96
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -3084,6 +3365,144 @@ mc_result mc_home(mc_card card, uint32_t axis, double position, struct mc_motion
  * Blocks until the card answers.
  */
 mc_result mc_set_position(mc_card card, uint32_t axis, double position, uint32_t flags);
+
+/**
+ * The inputs' configuration the card loads at boot: all active high, no debounce, no events.
+ * Never blocks.
+ */
+mc_result mc_io_settings_default(mc_io_settings *settings);
+
+/**
+ * Write the inputs' configuration and have the card apply it: a bit beyond the 16 inputs or a
+ * debounce over 10000 ticks is `MC_ERR_IO_CONFIG`. Blocks until the card answers.
+ */
+mc_result mc_configure_io(mc_card card, const mc_io_settings *settings);
+
+/**
+ * The debounced inputs, polarity applied (bit i = input i active). Never blocks.
+ */
+mc_result mc_get_inputs(mc_card card, uint32_t *inputs);
+
+/**
+ * Arm compare channel `channel` on `axis`: pulse `output` for `pulse_us` µs when the actual
+ * position crosses `position` (user units) in `direction` (`MC_COMPARE_`). A position behind
+ * the axis is reported missed. `MC_ERR_COMPARE_BUSY` if the channel is armed or its output is
+ * another armed channel's. Blocks until the card answers.
+ */
+mc_result mc_compare_single(mc_card card,
+                            uint32_t axis,
+                            uint32_t channel,
+                            uint32_t output,
+                            uint32_t pulse_us,
+                            double position,
+                            uint32_t direction_);
+
+/**
+ * Arm a linear series: `count` positions from `start`, `pitch` (> 0, user units) apart in
+ * `direction` (`MC_COMPARE_POSITIVE` or `_NEGATIVE`). Blocks until the card answers.
+ */
+mc_result mc_compare_series(mc_card card,
+                            uint32_t axis,
+                            uint32_t channel,
+                            uint32_t output,
+                            uint32_t pulse_us,
+                            double start,
+                            double pitch,
+                            uint32_t count,
+                            uint32_t direction_);
+
+/**
+ * Arm the channel's table (positions queued before with `mc_compare_push`, or after), in
+ * `direction`; an `MC_EVENT_COMPARE` with code `MC_COMPARE_LOW_WATER` when the queue falls to
+ * `low_water` (0: none). Blocks until the card answers.
+ */
+mc_result mc_compare_table(mc_card card,
+                           uint32_t axis,
+                           uint32_t channel,
+                           uint32_t output,
+                           uint32_t pulse_us,
+                           uint32_t low_water,
+                           uint32_t direction_);
+
+/**
+ * Queue `n` positions (user units, strictly monotonic in `direction`) in the channel's table
+ * and write the room left to `*room` (may be NULL). More than `MC_COMPARE_TABLE_LEN` at once
+ * is `MC_ERR_COMPARE_FULL` before anything is sent; a table that fills up is
+ * `MC_ERR_COMPARE_FULL` (the entries of 12 before it stay queued); out of order
+ * `MC_ERR_COMPARE_ORDER`. Blocks until the card answers each entry.
+ */
+mc_result mc_compare_push(mc_card card,
+                          uint32_t axis,
+                          uint32_t channel,
+                          uint32_t direction_,
+                          const double *positions,
+                          size_t n,
+                          size_t *room);
+
+/**
+ * Disarm the channel, drop its table, end its pulse. Blocks until the card answers.
+ */
+mc_result mc_compare_disarm(mc_card card, uint32_t axis, uint32_t channel);
+
+/**
+ * The channel's status, positions in `axis`'s user units. Never blocks.
+ */
+mc_result mc_compare_get_status(mc_card card,
+                                uint32_t axis,
+                                uint32_t channel,
+                                struct mc_compare_info *status);
+
+/**
+ * MC_TouchProbe: arm probe `channel` to capture `axis`'s position at `trigger` (a re-arm
+ * restarts it). A bad input, no edge, or a window with `window_lo > window_hi` is
+ * `MC_ERR_PROBE_INPUT`. Blocks until the card answers.
+ */
+mc_result mc_touch_probe(mc_card card,
+                         uint32_t axis,
+                         uint32_t channel,
+                         const struct mc_probe_trigger *trigger);
+
+/**
+ * MC_AbortTrigger. Blocks until the card answers.
+ */
+mc_result mc_abort_trigger(mc_card card, uint32_t axis, uint32_t channel);
+
+/**
+ * The probe's status, positions in `axis`'s user units. Never blocks.
+ */
+mc_result mc_probe_get_status(mc_card card,
+                              uint32_t axis,
+                              uint32_t channel,
+                              struct mc_probe_info *status);
+
+/**
+ * Wait up to `timeout_ms` (emulated time on a stepped sim) for capture number `n` (1, 2, …
+ * since the arm) and write its position (user units). `MC_ERR_TIMEOUT` if it does not come.
+ * Blocks.
+ */
+mc_result mc_probe_wait(mc_card card,
+                        uint32_t axis,
+                        uint32_t channel,
+                        uint32_t n,
+                        uint32_t timeout_ms,
+                        double *position);
+
+/**
+ * Stepped sim: drive input `input`'s pin to `high` (nonzero) now. `MC_ERR_UNSUPPORTED` on any
+ * other card. Never blocks.
+ */
+mc_result mc_sim_set_input(mc_card card, uint32_t input, uint32_t high);
+
+/**
+ * Stepped sim: drive input `input` from a sensor on `axis`'s travel that is active at and
+ * above (`active_above` nonzero) or at and below shaft position `at` (counts): a part a touch
+ * probe hits. `MC_ERR_UNSUPPORTED` on any other card. Never blocks.
+ */
+mc_result mc_sim_set_sensor(mc_card card,
+                            uint32_t input,
+                            uint32_t axis,
+                            double at,
+                            uint32_t active_above);
 
 /**
  * MC_MoveAbsolute, MC_MoveRelative or MC_MoveAdditive (`kind`: `MC_MOVE_KIND_ABSOLUTE`,

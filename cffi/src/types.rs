@@ -111,6 +111,16 @@ pub const MC_EVENT_PATH_LOW_WATER: u32 = 22;
 /// A group's path brakes for the end of what is queued, whose last segment is not marked
 /// `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
 pub const MC_EVENT_PATH_STARVED: u32 = 23;
+/// A debounced digital input edge (`axis`: the input; `code`: 1 rising, 0 falling; `value`:
+/// the debounced input word).
+pub const MC_EVENT_INPUT: u32 = 24;
+/// A compare channel fired or missed (`axis`: the channel; `seq`: its arm; `code`:
+/// `MC_COMPARE_FIRED`, `_MISSED` or `_LOW_WATER`; `value`: the position in counts, the last
+/// of its tick, or the positions queued).
+pub const MC_EVENT_COMPARE: u32 = 25;
+/// A touch probe captured (`axis`: the channel; `code`: the capture number since the arm;
+/// `value`: the position in counts).
+pub const MC_EVENT_PROBE: u32 = 26;
 
 /// `mc_event.axis` of an event about the whole card.
 pub const MC_EVENT_CARD_WIDE: u32 = 0xFFFF;
@@ -268,6 +278,9 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::SegmentEnd => MC_EVENT_SEGMENT_END,
         EventKind::PathLowWater => MC_EVENT_PATH_LOW_WATER,
         EventKind::PathStarved => MC_EVENT_PATH_STARVED,
+        EventKind::Input => MC_EVENT_INPUT,
+        EventKind::Compare => MC_EVENT_COMPARE,
+        EventKind::Probe => MC_EVENT_PROBE,
     }
 }
 

@@ -3,10 +3,10 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`
-//! and `path` choose their cards). `move` and `c89` are also linked statically, and a program of the
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`,
+//! `path`, `compare` and `probe` choose their cards). `move` and `c89` are also linked statically, and a program of the
 //! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
-//! `homing`, `nurbs_path`, `path` and `panic` also run under valgrind. The installed libraries'
+//! `homing`, `nurbs_path`, `path`, `compare`, `probe` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -670,6 +670,35 @@ fn homing_from_c() {
     let out = run(&compile("homing", Link::Shared), &[], &[]);
     assert!(out.contains("PASS homing\n"), "{out}");
     assert!(out.contains("homed on the index: at 125.0"), "{out}");
+}
+
+#[test]
+fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
+    let out = run_under_valgrind("compare");
+    assert!(out.contains("PASS compare\n"), "{out}");
+    assert!(
+        out.contains("inputs: debounced edge 4 ticks after the pin (debounce 4)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("compare: series of 1000 at 1e6 counts/s: 1000 fired, 0 missed"),
+        "{out}"
+    );
+    assert!(
+        out.contains("compare: table of 6000 streamed on low water: 6000 fired, 0 missed"),
+        "{out}"
+    );
+}
+
+#[test]
+fn touch_probe_from_c_is_clean_under_valgrind() {
+    let out = run_under_valgrind("probe");
+    assert!(out.contains("PASS probe\n"), "{out}");
+    assert!(out.contains("probe: 6 parts hit at 2e6 counts/s"), "{out}");
+    assert!(
+        out.contains("probe: index pulses in the window: 8 captured"),
+        "{out}"
+    );
 }
 
 #[test]

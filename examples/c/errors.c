@@ -47,6 +47,10 @@ static const mc_result ALL_CODES[] = {
     /* the continuous path */
     MC_ERR_PATH_MODE,      MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT,
     MC_ERR_PATH_BUSY,      MC_ERR_PATH_ID,         MC_ERR_PATH_CURVE,
+    /* digital I/O, compare, probes */
+    MC_ERR_IO_CONFIG,      MC_ERR_IO_CHANNEL,      MC_ERR_COMPARE_MODE,
+    MC_ERR_COMPARE_FULL,   MC_ERR_COMPARE_ORDER,   MC_ERR_COMPARE_BUSY,
+    MC_ERR_PROBE_INPUT,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -90,6 +94,9 @@ static const mc_result NOT_PROVOKED[] = {
     /* path.c */
     MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
     MC_ERR_PATH_CURVE,
+    /* compare.c, probe.c */
+    MC_ERR_IO_CONFIG, MC_ERR_IO_CHANNEL, MC_ERR_COMPARE_MODE, MC_ERR_COMPARE_FULL,
+    MC_ERR_COMPARE_ORDER, MC_ERR_COMPARE_BUSY, MC_ERR_PROBE_INPUT,
 };
 
 static void result_strings(void) {

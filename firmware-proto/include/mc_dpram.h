@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 6u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 7u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -35,7 +35,13 @@
                            * is homed (MC_MOTION_HOMED); 6: the continuous path (MC_OP_PATH_*, the group_path[] blocks
                            * appended, path words in the group status, MC_EV_SEGMENT_*,
                            * MC_EV_PATH_*, MC_NACK_PATH_*), the card's digital outputs
-                           * (card.outputs, MC_OP_SET_OUTPUTS) */
+                           * (card.outputs, MC_OP_SET_OUTPUTS); 7: digital inputs (card.inputs,
+                           * card.inputs_raw, the io_config block: polarity, debounce, MC_EV_INPUT
+                           * edges), position compare (MC_OP_COMPARE_*, compare_status[],
+                           * MC_EV_COMPARE), touch probes (MC_OP_PROBE_*, probe_status[],
+                           * MC_EV_PROBE), MC_NACK_IO_* / _COMPARE_* / _PROBE_* (opcodes 64..69,
+                           * nacks 90..96, events 24..26; blocks appended), NURBS curves in the path
+                           * (MC_OP_PATH_NURBS, MC_NACK_PATH_CURVE) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -286,6 +292,91 @@
                                       * (MC_NACK_QUEUE_FULL until they fit; MC_NACK_PATH_CURVE) */
 #define MC_OUTPUTS 16u               /* the card's digital outputs (card.outputs) */
 #define MC_PATH_OUTPUTS_PENDING 8u
+/* Digital I/O, position compare and touch probes (opcodes 64..79, layout 1.7).
+ *
+ * Inputs: MC_INPUTS digital inputs. The card samples them every tick; io_config (applied by
+ * MC_OP_APPLY_IO_CONFIG) inverts the active-low ones (polarity) and debounces each: the
+ * debounced bit takes a new level once the input has held it for debounce[i] ticks (0: at
+ * once). card.inputs_raw is the sample (polarity applied), card.inputs the debounced word; an
+ * edge of the debounced word whose bit is in rise_events / fall_events posts MC_EV_INPUT.
+ *
+ * Position compare ("EQU" outputs): MC_COMPARE_CHANNELS channels, each watching one axis's
+ * ACTUAL position and pulsing one digital output (pulse_us wide) when the position crosses a
+ * compare position in the channel's direction: a single position, a linear series
+ * (start + k * pitch, k = 0..count-1, pitch signed by the direction), or a table of positions
+ * streamed in with MC_OP_COMPARE_TABLE (MC_COMPARE_TABLE_LEN queued at most, strictly
+ * monotonic in the direction). The firing instant is found within the tick the way the
+ * encoder interface's comparator does it: between the counts at the tick's two ends, taking
+ * a count n as the middle of its cell (n + 0.5). A position already passed when it becomes
+ * the next one (armed behind the axis, or queued too late), or whose instant falls inside the
+ * pulse before it (the output is still on), is missed: counted and reported, never fired.
+ * The output is on in card.outputs from the tick that detects a fire for
+ * ceil(pulse_us * rate) ticks (at least one); a channel's pulse ORs with the host's outputs.
+ *
+ * Touch probe (PLCopen MC_TouchProbe / MC_AbortTrigger): MC_PROBE_CHANNELS channels, each
+ * capturing one axis's position at an edge of an input (raw, polarity applied, not debounced:
+ * the encoder interface timestamps the edge within the tick) or at the axis's encoder index
+ * pulse (input MC_PROBE_INDEX: the exact count latched). The position at the edge is
+ * interpolated between the counts at the tick's two ends as the comparator does. With
+ * MC_PROBE_WINDOW only edges whose position lies in [window_lo, window_hi] count. Single shot
+ * ends after the first capture; continuous keeps capturing into probe_status's queue. */
+#define MC_INPUTS 16u                /* the card's digital inputs (card.inputs) */
+#define MC_DEBOUNCE_MAX 10000u       /* io_config.debounce, ticks */
+#define MC_COMPARE_CHANNELS 4u
+#define MC_COMPARE_TABLE_LEN 4096u   /* positions queued per compare channel */
+#define MC_COMPARE_TABLE_MAX 12u     /* positions per MC_OP_COMPARE_TABLE entry */
+#define MC_PULSE_MAX_US 1000000u     /* pulse_us: 1..MC_PULSE_MAX_US */
+#define MC_PROBE_CHANNELS 4u
+#define MC_PROBE_QUEUE 8u            /* captures kept in probe_status (a ring) */
+#define MC_PROBE_INDEX 16u           /* probe input: the axis's encoder index pulse */
+#define MC_OP_APPLY_IO_CONFIG 64u    /* copy and validate io_config (axis field ignored) */
+#define MC_OP_COMPARE_ARM 65u        /* axis: the axis watched. args: channel, output
+                                      * (0..MC_OUTPUTS-1), pulse_us, low_water (table: the
+                                      * MC_EV_COMPARE low-water mark, 0: none), position (single)
+                                      * or start (series), pitch (series, counts, >= 1), count
+                                      * (series, 1..2^31-1). flags: MC_CMP_MODE_* and MC_CMP_DIR_*.
+                                      * MC_NACK_COMPARE_BUSY if the channel is armed (a channel
+                                      * done may be armed again) or another armed channel pulses
+                                      * that output. A table channel fires
+                                      * what was queued before (MC_OP_COMPARE_TABLE) and what is
+                                      * queued after; its queue is kept from one arm to the next
+                                      * until MC_OP_COMPARE_DISARM */
+#define MC_OP_COMPARE_TABLE 66u      /* args: channel, n (1..MC_COMPARE_TABLE_MAX), then n positions
+                                      * (strictly beyond the last queued in the direction, else
+                                      * MC_NACK_COMPARE_ORDER; no room: MC_NACK_COMPARE_FULL, none
+                                      * taken). flags: MC_CMP_DIR_POS or _NEG (the table's; the
+                                      * arm must agree). Ack value: the free room after */
+#define MC_OP_COMPARE_DISARM 67u     /* args: channel. Stops the channel, drops its table, ends
+                                      * its pulse */
+#define MC_OP_PROBE_ARM 68u          /* MC_TouchProbe. axis: the axis captured. args: channel,
+                                      * input (0..MC_INPUTS-1 or MC_PROBE_INDEX), window_lo,
+                                      * window_hi. flags: MC_PROBE_RISING / _FALLING (one or
+                                      * both), MC_PROBE_CONTINUOUS, MC_PROBE_WINDOW. Re-arming
+                                      * restarts the channel */
+#define MC_OP_PROBE_ABORT 69u        /* MC_AbortTrigger. args: channel */
+/* MC_OP_COMPARE_ARM flags */
+#define MC_CMP_MODE_SINGLE 0u
+#define MC_CMP_MODE_SERIES 1u
+#define MC_CMP_MODE_TABLE 2u
+#define MC_CMP_MODE_MASK 3u
+#define MC_CMP_DIR_POS (1u << 2)     /* fire crossing upwards */
+#define MC_CMP_DIR_NEG (1u << 3)     /* fire crossing downwards (single: both bits, either way) */
+/* mc_compare_status.state, mc_probe_status.state */
+#define MC_IO_IDLE 0u
+#define MC_IO_ARMED 1u
+#define MC_IO_DONE 2u                /* a single compare or series fired (or missed) all; a
+                                      * single-shot probe captured */
+/* MC_OP_PROBE_ARM flags */
+#define MC_PROBE_RISING (1u << 0)
+#define MC_PROBE_FALLING (1u << 1)
+#define MC_PROBE_CONTINUOUS (1u << 2)
+#define MC_PROBE_WINDOW (1u << 3)
+/* MC_EV_COMPARE codes. At most one event of each code per channel per tick: value is the
+ * last position of that tick; compare_status counts every one */
+#define MC_CMP_FIRED 1
+#define MC_CMP_MISSED 2
+#define MC_CMP_LOW_WATER 3           /* the table's queue fell to low_water; value: queued */
+
 /* MC_OP_PATH_LINE / _ARC flags */
 #define MC_PATH_BUFFER_SHIFT 16u     /* 3 bits, PLCopen BufferMode: how the segment joins the one
                                       * before: */
@@ -357,6 +448,13 @@
                                   * value: segments queued */
 #define MC_EV_PATH_STARVED 23u   /* the path brakes for the end of what is queued, which is not
                                   * marked MC_PATH_LAST. axis: group; value: the last id queued */
+#define MC_EV_INPUT 24u          /* a debounced input edge (layout 1.7). axis: the input; code: 1
+                                  * rising (active), 0 falling; value: the debounced input word */
+#define MC_EV_COMPARE 25u        /* a compare channel fired or missed. axis: the channel; seq: its
+                                  * MC_OP_COMPARE_ARM; code: MC_CMP_*; value: the position */
+#define MC_EV_PROBE 26u          /* a touch probe captured. axis: the channel; seq: its
+                                  * MC_OP_PROBE_ARM; code: the capture number since the arm
+                                  * (1, 2, ...); value: the position captured */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1
@@ -417,6 +515,21 @@
 #define MC_NACK_PATH_ID 84              /* a segment id that is not an integer in 0..2^32-1 */
 #define MC_NACK_PATH_CURVE 85           /* a NURBS path segment with a point of zero tangent, or
                                          * needing more pieces than the path buffer holds */
+/* Digital I/O, compare and probe nack codes (90..99, layout 1.7). */
+#define MC_NACK_IO_CONFIG 90            /* io_config: a mask bit beyond MC_INPUTS or a debounce over
+                                         * MC_DEBOUNCE_MAX */
+#define MC_NACK_IO_CHANNEL 91           /* a compare or probe channel that is not an integer in
+                                         * 0..MC_COMPARE_CHANNELS-1 (MC_PROBE_CHANNELS-1) */
+#define MC_NACK_COMPARE_MODE 92         /* an unknown mode or direction, an output >= MC_OUTPUTS, a
+                                         * pulse width, low-water mark, pitch or count out of its
+                                         * range, or table data of the wrong size */
+#define MC_NACK_COMPARE_FULL 93         /* the table has no room for the entry's positions */
+#define MC_NACK_COMPARE_ORDER 94        /* table positions not strictly monotonic in the direction */
+#define MC_NACK_COMPARE_BUSY 95         /* the channel is armed (or armed in another mode, or its
+                                         * table has the other direction), or its output is
+                                         * another armed channel's */
+#define MC_NACK_PROBE_INPUT 96          /* a probe input beyond MC_PROBE_INDEX, no edge or an
+                                         * unknown flag, or a window with window_lo > window_hi */
 /* Safety nack codes (32..47). */
 #define MC_NACK_WATCHDOG_TRIPPED 32 /* the host watchdog fault is latched: MC_OP_SAFETY_RESET first */
 #define MC_NACK_ESTOP_ACTIVE 33     /* an e-stop is latched: MC_OP_SAFETY_RESET first */
@@ -573,7 +686,10 @@ struct mc_card_ctrl {
                                   * safety layer's event buffer full */
     /* layout 1.6 */
     uint32_t outputs;       /* the digital outputs, bit i = output i (MC_OUTPUTS) */
-    uint32_t _reserved[7];
+    /* layout 1.7 */
+    uint32_t inputs;        /* the debounced digital inputs, polarity applied, bit i = input i */
+    uint32_t inputs_raw;    /* the inputs as sampled this tick, polarity applied */
+    uint32_t _reserved[5];
 };
 
 /* One ring index on its own 64-byte line. Written only by its owner. */
@@ -912,6 +1028,65 @@ struct mc_group_path {
     double _reserved[6];
 };
 
+/** The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies
+ * it on MC_OP_APPLY_IO_CONFIG. All zero at boot: active high, no debounce, no events. */
+struct mc_io_config {
+    /** Bit i: input i is active low (the card inverts it). */
+    uint32_t polarity;
+    /** Bit i: MC_EV_INPUT when debounced input i becomes active. */
+    uint32_t rise_events;
+    /** Bit i: MC_EV_INPUT when debounced input i becomes inactive. */
+    uint32_t fall_events;
+    uint32_t _reserved0;
+    /** Ticks input i must hold a new level before the debounced word takes it
+     * (0..MC_DEBOUNCE_MAX; 0: at once). */
+    uint16_t debounce[MC_INPUTS];
+    uint32_t _reserved[4];
+};
+
+/** A compare channel's state (layout 1.7). Card writes; independent words, each updated in the
+ * tick its event happens (the counters only grow while the channel is armed). */
+struct mc_compare_status {
+    /** MC_IO_IDLE, MC_IO_ARMED or MC_IO_DONE. */
+    uint32_t state;
+    /** The axis watched. */
+    uint32_t axis;
+    /** Pulses fired since the arm. */
+    uint32_t fires;
+    /** Positions missed since the arm. */
+    uint32_t missed;
+    /** Positions still to come: the series' rest, or the table's queue (free room:
+     * MC_COMPARE_TABLE_LEN - pending). */
+    uint32_t pending;
+    /** The output pulsed. */
+    uint32_t output;
+    /** The next position, counts. */
+    double next;
+    /** The last position fired, counts. */
+    double last_fired;
+    /** Its instant: servo ticks since boot, with the fraction within the tick. */
+    double last_fire_tick;
+    /** The last position missed, counts. */
+    double last_missed;
+};
+
+/** A touch probe channel's state (layout 1.7). Card writes, as mc_compare_status. */
+struct mc_probe_status {
+    /** MC_IO_IDLE, MC_IO_ARMED or MC_IO_DONE. */
+    uint32_t state;
+    /** The axis captured. */
+    uint32_t axis;
+    /** Captures since the arm; capture k (1, 2, ...) is position[(k - 1) % MC_PROBE_QUEUE]. */
+    uint32_t captures;
+    /** Edges whose position was outside the window, since the arm. */
+    uint32_t outside;
+    /** The last MC_PROBE_QUEUE captured positions, counts. */
+    double position[MC_PROBE_QUEUE];
+    /** The instant of the last capture: servo ticks since boot, with the fraction. */
+    double last_tick;
+    double _reserved;
+};
+
 /* card writes; independent words (not a snapshot), each written when its event happens */
 struct mc_safety_status {
     uint32_t faults;              /* MC_CARD_FAULT_* latched */
@@ -962,6 +1137,10 @@ struct mc_dpram {
     struct mc_axis_homing axis_homing[MC_MAX_AXES];  /* host writes */
     /* layout 1.6 */
     struct mc_group_path group_path[MC_MAX_GROUPS];  /* host writes */
+    /* layout 1.7 */
+    struct mc_io_config io_config;                              /* host writes */
+    struct mc_compare_status compare_status[MC_COMPARE_CHANNELS]; /* card writes */
+    struct mc_probe_status probe_status[MC_PROBE_CHANNELS];       /* card writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

@@ -58,6 +58,9 @@ blocks!(
     mc_axis_safety,
     mc_axis_homing,
     mc_group_path,
+    mc_io_config,
+    mc_compare_status,
+    mc_probe_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

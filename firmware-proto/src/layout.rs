@@ -46,6 +46,10 @@ pub const OUTBOX_LOST: usize = off!(card.outbox_lost);
 pub const SAFETY_EVENTS_LOST: usize = off!(card.safety_events_lost);
 /// `card.outputs` (layout 1.6): the digital outputs.
 pub const OUTPUTS: usize = off!(card.outputs);
+/// `card.inputs` (layout 1.7): the debounced digital inputs.
+pub const INPUTS: usize = off!(card.inputs);
+/// `card.inputs_raw` (layout 1.7): the digital inputs as sampled.
+pub const INPUTS_RAW: usize = off!(card.inputs_raw);
 
 // rings
 pub const CMD_HEAD: usize = off!(cmd_head.value);
@@ -138,6 +142,34 @@ const _: () = {
     assert!(GROUP_PATH.at(0).offset().is_multiple_of(8));
     assert!(GROUP_PATH.at(0).offset() >= AXIS_HOMING.at(MAX_AXES - 1).offset() + AXIS_HOMING_BYTES);
     assert!(GROUP_PATH.at(MAX_GROUPS - 1).offset() + GROUP_PATH_BYTES <= crate::DPRAM_SIZE);
+};
+
+// digital I/O, compare and probes (layout 1.7, appended after the path blocks)
+/// `io_config`.
+pub const IO_CONFIG: BlockAt<mc_io_config> = BlockAt::new(off!(io_config));
+/// `compare_status[channel]`.
+pub const COMPARE_STATUS: Blocks<mc_compare_status, { MC_COMPARE_CHANNELS as usize }> =
+    Blocks::new(off!(compare_status));
+/// `probe_status[channel]`.
+pub const PROBE_STATUS: Blocks<mc_probe_status, { MC_PROBE_CHANNELS as usize }> =
+    Blocks::new(off!(probe_status));
+/// What layout 1.7 added to the window, bytes.
+pub const LAYOUT_1_7_BYTES: usize = size_of::<mc_io_config>()
+    + MC_COMPARE_CHANNELS as usize * size_of::<mc_compare_status>()
+    + MC_PROBE_CHANNELS as usize * size_of::<mc_probe_status>();
+
+const _: () = {
+    assert!(IO_CONFIG.offset() >= GROUP_PATH.at(MAX_GROUPS - 1).offset() + GROUP_PATH_BYTES);
+    assert!(IO_CONFIG.offset().is_multiple_of(8));
+    assert!(size_of::<mc_io_config>() == 64 && size_of::<mc_compare_status>() == 56);
+    assert!(size_of::<mc_probe_status>() == 96);
+    assert!(LAYOUT_1_7_BYTES < 2048);
+    assert!(
+        PROBE_STATUS.at(MC_PROBE_CHANNELS as usize - 1).offset() + size_of::<mc_probe_status>()
+            <= crate::DPRAM_SIZE
+    );
+    // Layout 1.7 took two reserved words of the card control block; it did not move or grow.
+    assert!(INPUTS == OUTPUTS + 4 && INPUTS_RAW == OUTPUTS + 8);
 };
 
 /// The card-written safety status block (`mc_safety_status`).

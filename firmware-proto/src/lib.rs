@@ -72,6 +72,18 @@ pub const GROUP_QUEUE_LEN: usize = raw::MC_GROUP_QUEUE_LEN as usize;
 pub const PATH_LEN: usize = raw::MC_PATH_LEN as usize;
 /// The card's digital outputs.
 pub const OUTPUTS: usize = raw::MC_OUTPUTS as usize;
+/// The card's digital inputs (layout 1.7).
+pub const INPUTS: usize = raw::MC_INPUTS as usize;
+/// Position-compare channels (layout 1.7).
+pub const COMPARE_CHANNELS: usize = raw::MC_COMPARE_CHANNELS as usize;
+/// Positions a compare channel's table holds.
+pub const COMPARE_TABLE_LEN: usize = raw::MC_COMPARE_TABLE_LEN as usize;
+/// Positions per `CompareTable` command.
+pub const COMPARE_TABLE_MAX: usize = raw::MC_COMPARE_TABLE_MAX as usize;
+/// Touch-probe channels (layout 1.7).
+pub const PROBE_CHANNELS: usize = raw::MC_PROBE_CHANNELS as usize;
+/// Captures a probe channel keeps in its status.
+pub const PROBE_QUEUE: usize = raw::MC_PROBE_QUEUE as usize;
 /// Size of the mapped window in bytes.
 pub const DPRAM_SIZE: usize = raw::MC_DPRAM_SIZE as usize;
 /// Servo-rate bounds, Hz.

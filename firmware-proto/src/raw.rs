@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 6;
+pub const MC_LAYOUT_MINOR: u32 = 7;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -105,6 +105,37 @@ pub const MC_OP_SET_OUTPUTS: u32 = 61;
 pub const MC_OP_PATH_NURBS: u32 = 62;
 pub const MC_OUTPUTS: u32 = 16;
 pub const MC_PATH_OUTPUTS_PENDING: u32 = 8;
+pub const MC_INPUTS: u32 = 16;
+pub const MC_DEBOUNCE_MAX: u32 = 10000;
+pub const MC_COMPARE_CHANNELS: u32 = 4;
+pub const MC_COMPARE_TABLE_LEN: u32 = 4096;
+pub const MC_COMPARE_TABLE_MAX: u32 = 12;
+pub const MC_PULSE_MAX_US: u32 = 1000000;
+pub const MC_PROBE_CHANNELS: u32 = 4;
+pub const MC_PROBE_QUEUE: u32 = 8;
+pub const MC_PROBE_INDEX: u32 = 16;
+pub const MC_OP_APPLY_IO_CONFIG: u32 = 64;
+pub const MC_OP_COMPARE_ARM: u32 = 65;
+pub const MC_OP_COMPARE_TABLE: u32 = 66;
+pub const MC_OP_COMPARE_DISARM: u32 = 67;
+pub const MC_OP_PROBE_ARM: u32 = 68;
+pub const MC_OP_PROBE_ABORT: u32 = 69;
+pub const MC_CMP_MODE_SINGLE: u32 = 0;
+pub const MC_CMP_MODE_SERIES: u32 = 1;
+pub const MC_CMP_MODE_TABLE: u32 = 2;
+pub const MC_CMP_MODE_MASK: u32 = 3;
+pub const MC_CMP_DIR_POS: u32 = 4;
+pub const MC_CMP_DIR_NEG: u32 = 8;
+pub const MC_IO_IDLE: u32 = 0;
+pub const MC_IO_ARMED: u32 = 1;
+pub const MC_IO_DONE: u32 = 2;
+pub const MC_PROBE_RISING: u32 = 1;
+pub const MC_PROBE_FALLING: u32 = 2;
+pub const MC_PROBE_CONTINUOUS: u32 = 4;
+pub const MC_PROBE_WINDOW: u32 = 8;
+pub const MC_CMP_FIRED: u32 = 1;
+pub const MC_CMP_MISSED: u32 = 2;
+pub const MC_CMP_LOW_WATER: u32 = 3;
 pub const MC_PATH_BUFFER_SHIFT: u32 = 16;
 pub const MC_PATH_ABORTING: u32 = 0;
 pub const MC_PATH_BUFFERED: u32 = 1;
@@ -150,6 +181,9 @@ pub const MC_EV_SEGMENT_START: u32 = 20;
 pub const MC_EV_SEGMENT_END: u32 = 21;
 pub const MC_EV_PATH_LOW_WATER: u32 = 22;
 pub const MC_EV_PATH_STARVED: u32 = 23;
+pub const MC_EV_INPUT: u32 = 24;
+pub const MC_EV_COMPARE: u32 = 25;
+pub const MC_EV_PROBE: u32 = 26;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -198,6 +232,13 @@ pub const MC_NACK_PATH_OUTPUT: u32 = 82;
 pub const MC_NACK_PATH_BUSY: u32 = 83;
 pub const MC_NACK_PATH_ID: u32 = 84;
 pub const MC_NACK_PATH_CURVE: u32 = 85;
+pub const MC_NACK_IO_CONFIG: u32 = 90;
+pub const MC_NACK_IO_CHANNEL: u32 = 91;
+pub const MC_NACK_COMPARE_MODE: u32 = 92;
+pub const MC_NACK_COMPARE_FULL: u32 = 93;
+pub const MC_NACK_COMPARE_ORDER: u32 = 94;
+pub const MC_NACK_COMPARE_BUSY: u32 = 95;
+pub const MC_NACK_PROBE_INPUT: u32 = 96;
 pub const MC_NACK_WATCHDOG_TRIPPED: u32 = 32;
 pub const MC_NACK_ESTOP_ACTIVE: u32 = 33;
 pub const MC_NACK_HARD_LIMIT: u32 = 34;
@@ -363,7 +404,9 @@ pub struct mc_card_ctrl {
     pub outbox_lost: u32,
     pub safety_events_lost: u32,
     pub outputs: u32,
-    pub _reserved: [u32; 7usize],
+    pub inputs: u32,
+    pub inputs_raw: u32,
+    pub _reserved: [u32; 5usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -384,8 +427,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_card_ctrl, safety_events_lost) - 28usize];
     ["Offset of field: mc_card_ctrl::outputs"]
         [::core::mem::offset_of!(mc_card_ctrl, outputs) - 32usize];
+    ["Offset of field: mc_card_ctrl::inputs"]
+        [::core::mem::offset_of!(mc_card_ctrl, inputs) - 36usize];
+    ["Offset of field: mc_card_ctrl::inputs_raw"]
+        [::core::mem::offset_of!(mc_card_ctrl, inputs_raw) - 40usize];
     ["Offset of field: mc_card_ctrl::_reserved"]
-        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 36usize];
+        [::core::mem::offset_of!(mc_card_ctrl, _reserved) - 44usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -1085,6 +1132,125 @@ const _: () = {
     ["Offset of field: mc_group_path::_reserved"]
         [::core::mem::offset_of!(mc_group_path, _reserved) - 216usize];
 };
+#[doc = " The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies\n it on MC_OP_APPLY_IO_CONFIG. All zero at boot: active high, no debounce, no events."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_io_config {
+    #[doc = " Bit i: input i is active low (the card inverts it)."]
+    pub polarity: u32,
+    #[doc = " Bit i: MC_EV_INPUT when debounced input i becomes active."]
+    pub rise_events: u32,
+    #[doc = " Bit i: MC_EV_INPUT when debounced input i becomes inactive."]
+    pub fall_events: u32,
+    pub _reserved0: u32,
+    #[doc = " Ticks input i must hold a new level before the debounced word takes it\n (0..MC_DEBOUNCE_MAX; 0: at once)."]
+    pub debounce: [u16; 16usize],
+    pub _reserved: [u32; 4usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_io_config"][::core::mem::size_of::<mc_io_config>() - 64usize];
+    ["Alignment of mc_io_config"][::core::mem::align_of::<mc_io_config>() - 4usize];
+    ["Offset of field: mc_io_config::polarity"]
+        [::core::mem::offset_of!(mc_io_config, polarity) - 0usize];
+    ["Offset of field: mc_io_config::rise_events"]
+        [::core::mem::offset_of!(mc_io_config, rise_events) - 4usize];
+    ["Offset of field: mc_io_config::fall_events"]
+        [::core::mem::offset_of!(mc_io_config, fall_events) - 8usize];
+    ["Offset of field: mc_io_config::_reserved0"]
+        [::core::mem::offset_of!(mc_io_config, _reserved0) - 12usize];
+    ["Offset of field: mc_io_config::debounce"]
+        [::core::mem::offset_of!(mc_io_config, debounce) - 16usize];
+    ["Offset of field: mc_io_config::_reserved"]
+        [::core::mem::offset_of!(mc_io_config, _reserved) - 48usize];
+};
+#[doc = " A compare channel's state (layout 1.7). Card writes; independent words, each updated in the\n tick its event happens (the counters only grow while the channel is armed)."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_compare_status {
+    #[doc = " MC_IO_IDLE, MC_IO_ARMED or MC_IO_DONE."]
+    pub state: u32,
+    #[doc = " The axis watched."]
+    pub axis: u32,
+    #[doc = " Pulses fired since the arm."]
+    pub fires: u32,
+    #[doc = " Positions missed since the arm."]
+    pub missed: u32,
+    #[doc = " Positions still to come: the series' rest, or the table's queue (free room:\n MC_COMPARE_TABLE_LEN - pending)."]
+    pub pending: u32,
+    #[doc = " The output pulsed."]
+    pub output: u32,
+    #[doc = " The next position, counts."]
+    pub next: f64,
+    #[doc = " The last position fired, counts."]
+    pub last_fired: f64,
+    #[doc = " Its instant: servo ticks since boot, with the fraction within the tick."]
+    pub last_fire_tick: f64,
+    #[doc = " The last position missed, counts."]
+    pub last_missed: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_compare_status"][::core::mem::size_of::<mc_compare_status>() - 56usize];
+    ["Alignment of mc_compare_status"][::core::mem::align_of::<mc_compare_status>() - 8usize];
+    ["Offset of field: mc_compare_status::state"]
+        [::core::mem::offset_of!(mc_compare_status, state) - 0usize];
+    ["Offset of field: mc_compare_status::axis"]
+        [::core::mem::offset_of!(mc_compare_status, axis) - 4usize];
+    ["Offset of field: mc_compare_status::fires"]
+        [::core::mem::offset_of!(mc_compare_status, fires) - 8usize];
+    ["Offset of field: mc_compare_status::missed"]
+        [::core::mem::offset_of!(mc_compare_status, missed) - 12usize];
+    ["Offset of field: mc_compare_status::pending"]
+        [::core::mem::offset_of!(mc_compare_status, pending) - 16usize];
+    ["Offset of field: mc_compare_status::output"]
+        [::core::mem::offset_of!(mc_compare_status, output) - 20usize];
+    ["Offset of field: mc_compare_status::next"]
+        [::core::mem::offset_of!(mc_compare_status, next) - 24usize];
+    ["Offset of field: mc_compare_status::last_fired"]
+        [::core::mem::offset_of!(mc_compare_status, last_fired) - 32usize];
+    ["Offset of field: mc_compare_status::last_fire_tick"]
+        [::core::mem::offset_of!(mc_compare_status, last_fire_tick) - 40usize];
+    ["Offset of field: mc_compare_status::last_missed"]
+        [::core::mem::offset_of!(mc_compare_status, last_missed) - 48usize];
+};
+#[doc = " A touch probe channel's state (layout 1.7). Card writes, as mc_compare_status."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_probe_status {
+    #[doc = " MC_IO_IDLE, MC_IO_ARMED or MC_IO_DONE."]
+    pub state: u32,
+    #[doc = " The axis captured."]
+    pub axis: u32,
+    #[doc = " Captures since the arm; capture k (1, 2, ...) is position[(k - 1) % MC_PROBE_QUEUE]."]
+    pub captures: u32,
+    #[doc = " Edges whose position was outside the window, since the arm."]
+    pub outside: u32,
+    #[doc = " The last MC_PROBE_QUEUE captured positions, counts."]
+    pub position: [f64; 8usize],
+    #[doc = " The instant of the last capture: servo ticks since boot, with the fraction."]
+    pub last_tick: f64,
+    pub _reserved: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_probe_status"][::core::mem::size_of::<mc_probe_status>() - 96usize];
+    ["Alignment of mc_probe_status"][::core::mem::align_of::<mc_probe_status>() - 8usize];
+    ["Offset of field: mc_probe_status::state"]
+        [::core::mem::offset_of!(mc_probe_status, state) - 0usize];
+    ["Offset of field: mc_probe_status::axis"]
+        [::core::mem::offset_of!(mc_probe_status, axis) - 4usize];
+    ["Offset of field: mc_probe_status::captures"]
+        [::core::mem::offset_of!(mc_probe_status, captures) - 8usize];
+    ["Offset of field: mc_probe_status::outside"]
+        [::core::mem::offset_of!(mc_probe_status, outside) - 12usize];
+    ["Offset of field: mc_probe_status::position"]
+        [::core::mem::offset_of!(mc_probe_status, position) - 16usize];
+    ["Offset of field: mc_probe_status::last_tick"]
+        [::core::mem::offset_of!(mc_probe_status, last_tick) - 80usize];
+    ["Offset of field: mc_probe_status::_reserved"]
+        [::core::mem::offset_of!(mc_probe_status, _reserved) - 88usize];
+};
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_safety_status {
@@ -1164,10 +1330,13 @@ pub struct mc_dpram {
     pub safety_status: mc_safety_status,
     pub axis_homing: [mc_axis_homing; 8usize],
     pub group_path: [mc_group_path; 4usize],
+    pub io_config: mc_io_config,
+    pub compare_status: [mc_compare_status; 4usize],
+    pub probe_status: [mc_probe_status; 4usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26272usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26944usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1204,6 +1373,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, axis_homing) - 24192usize];
     ["Offset of field: mc_dpram::group_path"]
         [::core::mem::offset_of!(mc_dpram, group_path) - 25216usize];
+    ["Offset of field: mc_dpram::io_config"]
+        [::core::mem::offset_of!(mc_dpram, io_config) - 26272usize];
+    ["Offset of field: mc_dpram::compare_status"]
+        [::core::mem::offset_of!(mc_dpram, compare_status) - 26336usize];
+    ["Offset of field: mc_dpram::probe_status"]
+        [::core::mem::offset_of!(mc_dpram, probe_status) - 26560usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

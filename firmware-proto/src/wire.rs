@@ -140,6 +140,19 @@ code_enum! {
         SetOutputs = raw::MC_OP_SET_OUTPUTS,
         /// A NURBS curve as one path segment (its data follows as for a NURBS move).
         PathNurbs = raw::MC_OP_PATH_NURBS,
+        /// Validate and copy `io_config` (input polarity, debounce, edge events).
+        ApplyIoConfig = raw::MC_OP_APPLY_IO_CONFIG,
+        /// Arm a position-compare channel: args channel, output, pulse_us, low_water,
+        /// position or start, pitch, count; flags mode and direction.
+        CompareArm = raw::MC_OP_COMPARE_ARM,
+        /// Queue positions in a compare channel's table: args channel, n, positions.
+        CompareTable = raw::MC_OP_COMPARE_TABLE,
+        /// Disarm a compare channel and drop its table: arg channel.
+        CompareDisarm = raw::MC_OP_COMPARE_DISARM,
+        /// MC_TouchProbe: args channel, input, window_lo, window_hi; flags edges and mode.
+        ProbeArm = raw::MC_OP_PROBE_ARM,
+        /// MC_AbortTrigger: arg channel.
+        ProbeAbort = raw::MC_OP_PROBE_ABORT,
     }
 }
 
@@ -187,6 +200,15 @@ code_enum! {
         /// The path brakes for the end of what is queued (not marked last); `value` is the
         /// last id queued.
         PathStarved = raw::MC_EV_PATH_STARVED,
+        /// A debounced input edge; `axis` is the input, `code` 1 rising, 0 falling, `value`
+        /// the debounced input word.
+        Input = raw::MC_EV_INPUT,
+        /// A compare channel fired or missed (`axis`: the channel, `code`: `MC_CMP_*`,
+        /// `value`: the position, the last of its tick).
+        Compare = raw::MC_EV_COMPARE,
+        /// A touch probe captured (`axis`: the channel, `code`: the capture number, `value`:
+        /// the position).
+        Probe = raw::MC_EV_PROBE,
     }
 }
 
@@ -310,6 +332,21 @@ code_enum! {
         /// A NURBS path segment with a point of zero tangent, or needing more pieces than the
         /// path buffer holds.
         PathCurve = raw::MC_NACK_PATH_CURVE,
+        /// `io_config`: a mask bit beyond the inputs, or a debounce too long.
+        IoConfig = raw::MC_NACK_IO_CONFIG,
+        /// A compare or probe channel that does not exist.
+        IoChannel = raw::MC_NACK_IO_CHANNEL,
+        /// A compare mode, direction, output, pulse width, low-water mark, pitch or count out
+        /// of its range.
+        CompareMode = raw::MC_NACK_COMPARE_MODE,
+        /// The compare table has no room for the positions.
+        CompareFull = raw::MC_NACK_COMPARE_FULL,
+        /// Compare table positions not strictly monotonic in the direction.
+        CompareOrder = raw::MC_NACK_COMPARE_ORDER,
+        /// The compare channel (or its output) is in use.
+        CompareBusy = raw::MC_NACK_COMPARE_BUSY,
+        /// A probe input, edge or window the card cannot take.
+        ProbeInput = raw::MC_NACK_PROBE_INPUT,
     }
 }
 
@@ -915,7 +952,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 57);
+        assert_eq!(NackCode::ALL.len(), 64);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

@@ -445,6 +445,36 @@ impl Card {
         self.inner.execute_seq(cmd, what, target)
     }
 
+    /// Execute a command and give its ack's value (layout 1.7: a compare table's room).
+    pub(crate) fn execute_value(
+        &self,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<f64> {
+        let seq = self.inner.send_raw(cmd)?;
+        match self.inner.wait_answer(seq)? {
+            Ok(v) => Ok(v),
+            Err(code) => Err(Error::Nack {
+                command: what,
+                target,
+                code,
+                reason: nack_reason(code),
+            }),
+        }
+    }
+
+    /// Wait until `check` (reading the window) gives an answer, up to `timeout` (emulated time
+    /// on a stepped card, which is stepped meanwhile).
+    pub(crate) fn wait_window<T>(
+        &self,
+        timeout: Duration,
+        mut check: impl FnMut() -> Option<Result<T>>,
+    ) -> Result<T> {
+        self.inner
+            .wait_until(Instant::now() + timeout, USER_WAIT, |_| check())?
+    }
+
     /// Take the next event, waiting up to `timeout` (zero: don't wait).
     pub fn next_event(&self, timeout: Duration) -> Result<Option<CardEvent>> {
         let r = self

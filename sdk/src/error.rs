@@ -225,6 +225,24 @@ error_kinds! {
     /// one needing more pieces than the path buffer holds (a looser fit tolerance, or split
     /// the curve).
     PathCurve = -73, MC_ERR_PATH_CURVE, nack PathCurve, "the NURBS path segment has a cusp or needs more pieces than the path buffer holds";
+    /// The digital inputs' configuration: an input beyond the card's 16, or a debounce over
+    /// 10,000 ticks ([`crate::IoSettings`]).
+    IoConfig = -90, MC_ERR_IO_CONFIG, nack IoConfig, "bad digital input configuration (input number or debounce)";
+    /// A compare or probe channel the card does not have.
+    IoChannel = -91, MC_ERR_IO_CHANNEL, nack IoChannel, "no such compare or probe channel";
+    /// A compare mode, direction, output, pulse width, low-water mark, pitch or count out of
+    /// its range.
+    CompareMode = -92, MC_ERR_COMPARE_MODE, nack CompareMode, "bad compare mode, direction, output, pulse width, pitch or count";
+    /// The compare channel's table has no room for the positions: wait for low water.
+    CompareFull = -93, MC_ERR_COMPARE_FULL, nack CompareFull, "the compare table is full";
+    /// Compare table positions must be strictly monotonic in the channel's direction.
+    CompareOrder = -94, MC_ERR_COMPARE_ORDER, nack CompareOrder, "compare positions must be strictly monotonic in the direction";
+    /// The compare channel is armed (disarm it first), its table runs the other way, or its
+    /// output is another armed channel's.
+    CompareBusy = -95, MC_ERR_COMPARE_BUSY, nack CompareBusy, "the compare channel or its output is in use";
+    /// A probe input beyond the inputs and the index, no edge, or a window whose low end is
+    /// above its high end.
+    ProbeInput = -96, MC_ERR_PROBE_INPUT, nack ProbeInput, "bad probe input, edge or window";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -28,6 +28,7 @@ mod error;
 mod group;
 mod heartbeat;
 mod homing;
+mod io;
 mod modes;
 mod nurbs;
 mod path;
@@ -41,7 +42,9 @@ pub use card::{
     ACK_TIMEOUT, EVENT_QUEUE_CAP, SCALE_RANGE,
 };
 #[cfg(feature = "emulator")]
-pub use card_emu::{Clock, EmuOptions, EndStops, HomeSwitch, IndexPulse, MotorParams, Switches};
+pub use card_emu::{
+    Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
+};
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
@@ -55,6 +58,11 @@ pub use group::{
 };
 pub use heartbeat::HEARTBEAT_PERIOD_US;
 pub use homing::{HomingError, HomingFlags, HomingSettings};
+pub use io::{
+    CompareChannel, CompareStatus, Direction, IoSettings, IoState, ProbeStatus, ProbeTrigger,
+    TouchProbe, COMPARE_CHANNELS, COMPARE_FIRED, COMPARE_LOW_WATER, COMPARE_MISSED,
+    COMPARE_TABLE_LEN, INPUTS, PROBE_CHANNELS,
+};
 pub use modes::{BufferMode, MoveKind, VelocityLimits};
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;

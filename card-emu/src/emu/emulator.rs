@@ -12,6 +12,7 @@
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::faults::FaultInjector;
+use crate::plant::io::{encoder_span, FireRecord, InputBank};
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::MAX_AXES;
@@ -94,6 +95,15 @@ pub struct Emulator {
     irq: EventFd,
     time: f64,
     faults: FaultInjector,
+    /// The digital input pins (layout 1.7).
+    inputs: InputBank,
+    /// The shafts and DAC outputs at the start of the period just run, to replay it.
+    period_start: [Motor; MAX_AXES],
+    period_dac: [f64; MAX_AXES],
+    /// The compare pulses recorded (when recording).
+    fires: Option<Vec<FireRecord>>,
+    /// Each encoder's lowest and highest count over the period just run.
+    spans: [Option<(i64, i64)>; MAX_AXES],
 }
 
 impl Emulator {
@@ -113,6 +123,11 @@ impl Emulator {
             irq,
             time: 0.0,
             faults: FaultInjector::default(),
+            inputs: InputBank::default(),
+            period_start: opts.motors.map(Motor::new),
+            period_dac: [0.0; MAX_AXES],
+            fires: None,
+            spans: [None; MAX_AXES],
         })
     }
 
@@ -149,13 +164,83 @@ impl Emulator {
         }
         inputs.index = self.latch;
         self.fw.set_inputs(inputs);
-        self.fw.tick(&enc, &mut self.dac);
+        self.fw.set_digital_inputs(self.inputs.sample(&self.motors));
+        self.fw.set_encoder_spans(self.spans);
         let ts = self.fw.ts();
+        self.fw.tick(&enc, &mut self.dac);
+        self.record_period_fires(ts);
+        let start = self.motors;
         for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
             self.faults.step_motor(i, m, u, ts);
         }
+        let (faults, dac) = (&self.faults, self.dac);
+        self.inputs
+            .after_period(&start, &self.motors, ts, |a, m, dt| {
+                faults.step_motor(a, m, dac[a], dt)
+            });
+        // The encoder interface's extreme counts of the period (through the encoder's faults).
+        for (i, span) in self.spans.iter_mut().enumerate() {
+            let f = faults.get(i).copied().unwrap_or_default();
+            *span = Some(match f.encoder_lost {
+                Some(frozen) => (frozen, frozen),
+                None => {
+                    let (lo, hi) = encoder_span(&start[i], &self.motors[i], ts, |m, dt| {
+                        faults.step_motor(i, m, dac[i], dt)
+                    });
+                    (
+                        lo.wrapping_add(f.encoder_offset),
+                        hi.wrapping_add(f.encoder_offset),
+                    )
+                }
+            });
+        }
+        self.period_start = start;
+        self.period_dac = dac;
         self.time += ts;
         self.raise_irq();
+    }
+
+    /// The compare pulses the firmware fired in the period just ended: where the shaft was
+    /// at each one's instant (the period replayed from its start on a copy).
+    fn record_period_fires(&mut self, ts: f64) {
+        let Some(rec) = self.fires.as_mut() else {
+            return;
+        };
+        for f in self.fw.io().fires() {
+            let a = usize::from(f.axis).min(MAX_AXES - 1);
+            let mut m = self.period_start[a];
+            let dt = f.frac * ts;
+            self.faults.step_motor(a, &mut m, self.period_dac[a], dt);
+            rec.push(FireRecord {
+                channel: f.channel.into(),
+                output: f.output.into(),
+                axis: a,
+                position: f.position,
+                time: self.time - ts + dt,
+                shaft: m.position_counts(),
+                velocity: m.omega * m.params.counts_per_rad(),
+            });
+        }
+    }
+
+    /// The digital input pins: levels the test sets, or sensors on an axis's travel.
+    pub fn inputs(&mut self) -> &mut InputBank {
+        &mut self.inputs
+    }
+
+    /// The digital outputs now (bit i = output i), compare pulses included.
+    pub fn outputs(&self) -> u32 {
+        self.fw.outputs()
+    }
+
+    /// Record the compare pulses from now on (`false`: stop, and drop what was recorded).
+    pub fn record_fires(&mut self, on: bool) {
+        self.fires = on.then(Vec::new);
+    }
+
+    /// The compare pulses recorded since the last call.
+    pub fn take_fires(&mut self) -> Vec<FireRecord> {
+        self.fires.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
     /// `n` servo periods.

@@ -8,16 +8,20 @@
 
 pub mod axis;
 pub mod axis_safety;
+pub mod compare;
 pub mod dac;
 pub mod group;
 pub mod homing;
+pub mod io;
 pub mod nack;
 pub mod outbox;
+pub mod probe;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
+use self::io::{DigitalInputs, IoUnit};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
@@ -56,6 +60,8 @@ pub struct Firmware<M: Mem + Clone> {
     outbox: Outbox,
     /// The digital outputs (layout 1.6), bit i = output i.
     outputs: u32,
+    /// Digital inputs, position compare and touch probes (layout 1.7).
+    io: IoUnit,
     num_axes: usize,
     servo_rate_hz: u32,
     tick: u64,
@@ -94,6 +100,7 @@ impl<M: Mem + Clone> Firmware<M> {
             filters: filter_bank(),
             outbox: Outbox::default(),
             outputs: 0,
+            io: IoUnit::new(),
             num_axes,
             servo_rate_hz,
             tick: 0,
@@ -118,6 +125,7 @@ impl<M: Mem + Clone> Firmware<M> {
         for (g, group) in fw.groups.iter().enumerate() {
             layout::GROUP_PATH.at(g).write(&fw.mem, group.path_config());
         }
+        layout::IO_CONFIG.write(&fw.mem, &fw.io.config().to_block());
         fw.publish();
         fw.mem.store32(
             layout::CARD_STATE,
@@ -186,6 +194,23 @@ impl<M: Mem + Clone> Firmware<M> {
     /// tick, as the FPGA samples them.
     pub fn set_inputs(&mut self, inputs: Inputs) {
         self.safety.set_inputs(inputs);
+    }
+
+    /// The digital input pins for the next tick, with their edges' instants (layout 1.7).
+    pub fn set_digital_inputs(&mut self, inputs: DigitalInputs) {
+        self.io.set_inputs(inputs);
+    }
+
+    /// The lowest and highest count of each encoder over the period the next tick ends, as
+    /// the encoder interface tracks them (layout 1.7's compare sees a crossing undone within
+    /// the tick).
+    pub fn set_encoder_spans(&mut self, spans: io::EncoderSpans) {
+        self.io.set_spans(spans);
+    }
+
+    /// Digital inputs, compare channels and probes.
+    pub fn io(&self) -> &IoUnit {
+        &self.io
     }
 
     fn post_safety_events(&mut self) {
@@ -298,6 +323,11 @@ impl<M: Mem + Clone> Firmware<M> {
     /// Execute one command: the value of its ack, or its nack.
     fn execute(&mut self, c: &Command) -> Result<f64, NackCode> {
         let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
+        if IoUnit::is_io_op(op) {
+            // Layout 1.7: digital inputs, compare, probes (io.rs); nothing moves.
+            let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
+            return self.io.command(mem, c, op, n, rate);
+        }
         if is_group_op(op) {
             return self.execute_group(c, op).map(|()| 0.0);
         }
@@ -623,7 +653,8 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         }
         self.outbox.clear();
-        self.mem.write32(layout::OUTBOX_LOST, self.outbox.lost());
+        let lost = self.outbox.lost().wrapping_add(self.io.events_lost());
+        self.mem.write32(layout::OUTBOX_LOST, lost);
     }
 
     /// MC_OP_SET_OUTPUTS: the outputs in `mask` become `value`.
@@ -705,6 +736,13 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let inputs = *self.safety.inputs();
+        // Digital inputs, compare and probes on the motion just sensed (io.rs).
+        self.io.tick(
+            self.tick,
+            encoders,
+            &inputs.index,
+            &self.axes[..self.num_axes],
+        );
         let max_stop_time = self.safety.config().max_stop_time();
         let mut homed = [HomingReport::default(); MAX_AXES];
         for (i, (axis, homing)) in self.axes[..self.num_axes]
@@ -780,6 +818,11 @@ impl<M: Mem + Clone> Firmware<M> {
         self.publish();
         self.post_safety_events();
         self.post_outbox();
+        for i in 0..io::IO_EVENTS {
+            if let Some(e) = self.io.event(i) {
+                self.post(e);
+            }
+        }
         for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
             let axis = i as u16;
             let done = h.done.or(report.done);
@@ -855,12 +898,14 @@ impl<M: Mem + Clone> Firmware<M> {
         for (g, group) in self.groups.iter().enumerate() {
             seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
         }
-        self.mem.write32(layout::OUTPUTS, self.outputs);
+        self.mem.write32(layout::OUTPUTS, self.outputs());
+        self.io.publish(&self.mem);
     }
 
-    /// The digital outputs (bit i = output i).
+    /// The digital outputs (bit i = output i): the host's and the path's, and the compare
+    /// channels' pulses.
     pub fn outputs(&self) -> u32 {
-        self.outputs
+        self.outputs | self.io.pulse_outputs()
     }
 }
 

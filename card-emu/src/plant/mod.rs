@@ -9,6 +9,7 @@
 //! inside the period stops at zero first.
 
 pub mod faults;
+pub mod io;
 
 use core::f64::consts::TAU;
 use firmware_proto::Io;

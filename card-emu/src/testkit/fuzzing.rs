@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 63, 64, 120, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 120, 255, 256, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -359,6 +359,33 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             a[0] = s.u16() as f64;
             a[1] = s.u16() as f64;
         }
+        // Layout 1.7: compare and probe channels (one past the last now and then).
+        Opcode::CompareArm => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 17) as f64;
+            a[2] = (1 + s.u16() % 2000) as f64;
+            a[3] = (s.u8() % 64) as f64;
+            a[4] = position(s);
+            a[5] = magnitude(s, 0.0, 4.0).round();
+            a[6] = (1 + s.u16() % 5000) as f64;
+        }
+        Opcode::CompareTable => {
+            a[0] = (s.u8() % 5) as f64;
+            let n = 1 + s.u8() as usize % 13;
+            a[1] = n as f64;
+            let mut p = position(s);
+            for x in a[2..].iter_mut() {
+                *x = p;
+                p += magnitude(s, 0.0, 3.0);
+            }
+        }
+        Opcode::CompareDisarm | Opcode::ProbeAbort => a[0] = (s.u8() % 5) as f64,
+        Opcode::ProbeArm => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 18) as f64;
+            a[2] = position(s);
+            a[3] = a[2] + magnitude(s, 0.0, 5.0);
+        }
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -405,6 +432,8 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
             mode | buffer | tm | (s.u8() as u32 & (1 | move_flags::CIRC_CCW))
         }
         Opcode::PathOutput => (s.u8() % 4) as u32,
+        Opcode::CompareArm | Opcode::ProbeArm => (s.u8() & 0x1F) as u32,
+        Opcode::CompareTable => [4, 8, 12, 0][(s.u8() % 4) as usize],
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
         }
