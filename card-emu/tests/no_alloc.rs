@@ -894,3 +894,44 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
     assert!(events > 800, "{events} events");
     assert_eq!(heap, [0; 3], "heap use by the continuous path");
 }
+
+/// Layout 1.7 (sync): electronic gearing. GearIn on a commanded master, an actual master and
+/// an auxiliary encoder (the catch-up, in gear), GearInPos to its point, GearOut, a halt of a
+/// geared slave, and a master lost (disabled): every tick of them without the heap.
+#[test]
+fn gearing_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..7);
+    let lim = [2e4, 2e5, 2e7];
+    let gear = |master: f64, num: f64, den: f64| [master, num, den, lim[0], lim[1], lim[2]];
+    r.ok(Opcode::MoveVelocity, 0, 0, &[10_000.0, 2e5, 2e5, 2e7]);
+    r.run(2_000);
+    let commanded = r.ok(Opcode::GearIn, 1, 0, &gear(0.0, 1.0, 2.0));
+    let actual = r.ok(Opcode::GearIn, 2, 1, &gear(0.0, -3.0, 4.0));
+    let aux = r.ok(Opcode::GearIn, 3, 2, &gear(1.0, 7.0, 9.0));
+    let m = r.fw.axis(0).unwrap().reference().pos;
+    let mut args = gear(0.0, 1.0, 1.0).to_vec();
+    args.extend([m + 20_000.0, 10_000.0]);
+    let pos = r.ok(Opcode::GearInPos, 4, 0, &args);
+    let lost = r.ok(Opcode::GearIn, 5, 0, &gear(0.0, 1.0, 1.0));
+    let halted = r.ok(Opcode::GearIn, 6, 0, &gear(0.0, 1.0, 1.0));
+    assert!(r.run_until(40_000, |r| [commanded, actual, pos]
+        .iter()
+        .all(|&s| r.got(EventKind::Sync, s))));
+    assert!(r.got(EventKind::Sync, aux));
+    assert!(r
+        .fw
+        .axis(1)
+        .unwrap()
+        .motion_flags()
+        .contains(firmware_proto::MotionFlags::IN_SYNC));
+    let out = r.ok(Opcode::GearOut, 1, 0, &[]);
+    r.ok(Opcode::Halt, 6, 0, &[2e6, 1e8]);
+    assert!(r.got(EventKind::MotionAborted, halted));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::InVelocity, out)));
+    r.ok(Opcode::Halt, 0, 0, &[2e6, 1e8]);
+    r.ok(Opcode::PowerOff, 0, 0, &[]);
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionAborted, lost)));
+    assert!(r.run_until(20_000, |r| r.axis_state(5) == AxisState::Standstill));
+    r.assert_no_heap("gearing");
+}

@@ -331,6 +331,57 @@ extern "C" {
 #define MC_PATH_STATUS_HALTING 4
 
 /**
+ * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
+ */
+#define MC_MASTER_COMMANDED 0
+
+/**
+ * The actual position (encoder) of the master axis.
+ */
+#define MC_MASTER_ACTUAL 1
+
+/**
+ * An auxiliary encoder input of the card (0 .. `MC_AUX_ENCODERS` - 1).
+ */
+#define MC_MASTER_AUX 2
+
+/**
+ * Auxiliary encoder inputs of the card.
+ */
+#define MC_AUX_ENCODERS 2
+
+/**
+ * Event kind: synchronised motion (`code`: `MC_SYNC_`; `seq`: the gear command; `value`: the
+ * slave's commanded position, or for `MC_SYNC_MASTER_LOST` the master's number).
+ */
+#define MC_EVENT_SYNC 27
+
+/**
+ * Event kind: a PT/PVT stream (reserved).
+ */
+#define MC_EVENT_PVT 28
+
+/**
+ * `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
+ */
+#define MC_SYNC_IN_GEAR 1
+
+/**
+ * MC_GearInPos reached its sync point (InSync).
+ */
+#define MC_SYNC_IN_SYNC 2
+
+/**
+ * The master axis was disabled or faulted: the slave stops on its stop ramp.
+ */
+#define MC_SYNC_MASTER_LOST 3
+
+/**
+ * Motion bit of `mc_status.raw.motion_flags`: the slave follows its master (in gear).
+ */
+#define MC_MOTION_IN_SYNC 256
+
+/**
  * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
  */
 #define MC_AXIS_STATE_DISABLED 0
@@ -2056,6 +2107,24 @@ typedef struct mc_stop_info {
 } mc_stop_info;
 
 /**
+ * The slave's own limits while it engages, in its user units.
+ */
+typedef struct mc_sync_limits {
+  /**
+   * Velocity.
+   */
+  double velocity;
+  /**
+   * Acceleration (and deceleration).
+   */
+  double acceleration;
+  /**
+   * Jerk.
+   */
+  double jerk;
+} mc_sync_limits;
+
+/**
  * Success.
  */
 #define MC_OK 0
@@ -2429,6 +2498,18 @@ typedef struct mc_stop_info {
 #define MC_ERR_PATH_ID -72
 
 /**
+ * Layout 1.7 (sync): a gear ratio that is not an integer numerator over a positive
+ * integer denominator, both of magnitude 1..2^31-1.
+ */
+#define MC_ERR_GEAR_RATIO -90
+
+/**
+ * A master the card does not have (axis or auxiliary encoder), the slave itself, an
+ * unknown master source, or a master axis disabled or in ErrorStop.
+ */
+#define MC_ERR_SYNC_MASTER -91
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -2448,6 +2529,8 @@ typedef struct mc_stop_info {
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).
@@ -3378,6 +3461,76 @@ mc_result mc_configure_safety(mc_card card,
  * this library does not know); does not wait for the card.
  */
 mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
+
+/**
+ * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
+ * at `numerator / denominator` encoder counts per master count, computed on the card in
+ * integer arithmetic (no drift). It catches up within `limits`;
+ * `mc_motion_wait_in_sync` on `*motion` (may be NULL) returns once it is in gear. Refused:
+ * `MC_ERR_GEAR_RATIO`, `MC_ERR_SYNC_MASTER` (no such master, the axis itself, a master axis
+ * disabled or in ErrorStop), `MC_ERR_INFEASIBLE` (the master runs faster than `limits` let
+ * the slave follow), `MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`. Blocks until the card
+ * answers.
+ */
+mc_result mc_gear_in(mc_card card,
+                     uint32_t axis,
+                     uint32_t master_kind,
+                     uint32_t master,
+                     int64_t numerator,
+                     int64_t denominator,
+                     const struct mc_sync_limits *limits,
+                     struct mc_motion *motion);
+
+/**
+ * MC_GearInPos (Aborting): as `mc_gear_in`, and `axis` is at `slave_position` (its user
+ * units) exactly when the master is at `master_position` (the master axis's user units, or
+ * an auxiliary encoder's counts), velocity and acceleration continuous on the way.
+ * `MC_ERR_INFEASIBLE` if that breaks `limits` at the master's present velocity, or if the
+ * master is at rest or moving away from the point. `mc_motion_wait_in_sync` returns at the
+ * point. Blocks until the card answers.
+ */
+mc_result mc_gear_in_pos(mc_card card,
+                         uint32_t axis,
+                         uint32_t master_kind,
+                         uint32_t master,
+                         int64_t numerator,
+                         int64_t denominator,
+                         double master_position,
+                         double slave_position,
+                         const struct mc_sync_limits *limits,
+                         struct mc_motion *motion);
+
+/**
+ * MC_GearOut: the slave leaves the coupling and keeps moving at its velocity (velocity mode);
+ * `mc_motion_wait_in_velocity` on `*motion` (may be NULL) gives the velocity; stop it with
+ * `mc_halt`. The gear motion ends `MC_ERR_ABORTED`. `MC_ERR_INVALID_STATE` unless the axis is
+ * geared. Blocks until the card answers.
+ */
+mc_result mc_gear_out(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Wait until a gear motion is in gear (`mc_gear_in`) or in sync (`mc_gear_in_pos`).
+ * `position` may be NULL; otherwise it receives the slave's commanded position then (user
+ * units). `MC_ERR_ABORTED` if it was aborted first (halt, stop, gear-out, a safety stop, the
+ * master lost), `MC_ERR_TIMEOUT` after `timeout_ms`. Blocks.
+ */
+mc_result mc_motion_wait_in_sync(mc_card card,
+                                 struct mc_motion motion,
+                                 uint32_t timeout_ms,
+                                 double *position);
+
+/**
+ * The count of auxiliary encoder `k` as the card published it last tick.
+ * `MC_ERR_SYNC_MASTER` for an encoder the card does not have. Never blocks.
+ */
+mc_result mc_aux_encoder(mc_card card, uint32_t k, int64_t *count);
+
+/**
+ * Turn auxiliary encoder `k` of a stepped sim card at `velocity` counts/s (a conveyor, a
+ * handwheel). `MC_ERR_UNSUPPORTED` on any other card, `MC_ERR_BAD_CONFIG` for an encoder the
+ * card does not have, `MC_ERR_NOT_FINITE`. Never blocks.
+ */
+mc_result mc_sim_set_aux_velocity(mc_card card, uint32_t k, double velocity);
 
 #ifdef __cplusplus
 }  /* extern "C" */

@@ -35,13 +35,13 @@ pub(crate) fn axis_of(
 /// A library built without the emulated card (cargo feature `emulator`) has the `mc_sim_`
 /// calls, and they say so.
 #[cfg(not(feature = "emulator"))]
-fn no_emulator() -> Failure {
+pub(crate) fn no_emulator() -> Failure {
     Error::Unsupported("this library was built without the emulated card".into()).into()
 }
 
 /// The stepping control of a stepped sim card.
 #[cfg(feature = "emulator")]
-fn sim_of(card: mc_card) -> Result<motioncard_sdk::Sim, Failure> {
+pub(crate) fn sim_of(card: mc_card) -> Result<motioncard_sdk::Sim, Failure> {
     registry::get(card)?.sim.clone().ok_or_else(|| {
         Error::Unsupported(
             "the card is not a stepped sim (open it with mc_open_sim_stepped)".into(),

@@ -28,6 +28,7 @@ pub mod path;
 pub mod registry;
 pub mod result;
 pub mod safety;
+pub mod sync;
 pub mod types;
 
 pub use api::*;

@@ -268,6 +268,8 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::SegmentEnd => MC_EVENT_SEGMENT_END,
         EventKind::PathLowWater => MC_EVENT_PATH_LOW_WATER,
         EventKind::PathStarved => MC_EVENT_PATH_STARVED,
+        EventKind::Sync => crate::sync::MC_EVENT_SYNC,
+        EventKind::Pvt => crate::sync::MC_EVENT_PVT,
     }
 }
 

@@ -3,10 +3,10 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`
-//! and `path` choose their cards). `move` and `c89` are also linked statically, and a program of the
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`,
+//! `path` and `gearing` choose their cards). `move` and `c89` are also linked statically, and a program of the
 //! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
-//! `homing`, `nurbs_path`, `path` and `panic` also run under valgrind. The installed libraries'
+//! `homing`, `nurbs_path`, `path`, `gearing` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -1009,6 +1009,21 @@ fn path_program_streams_a_blended_square_with_outputs() {
 fn path_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("path");
     assert!(out.contains("PASS path"), "{out}");
+}
+
+/// Layout 1.7 (sync): electronic gearing, exact after 10^9 master counts.
+#[test]
+fn gearing_from_c() {
+    let out = run(&compile("gearing", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS gearing\n"), "{out}");
+    assert!(out.contains(", error 0 counts"), "{out}");
+    assert!(out.contains("in gear at 1/2: 10000.0 counts/s"), "{out}");
+}
+
+#[test]
+fn gearing_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("gearing");
+    assert!(out.contains("PASS gearing\n"), "{out}");
 }
 
 #[test]

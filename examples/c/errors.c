@@ -47,6 +47,8 @@ static const mc_result ALL_CODES[] = {
     /* the continuous path */
     MC_ERR_PATH_MODE,      MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT,
     MC_ERR_PATH_BUSY,      MC_ERR_PATH_ID,
+    /* synchronised motion (layout 1.7) */
+    MC_ERR_GEAR_RATIO,     MC_ERR_SYNC_MASTER,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -89,6 +91,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD, MC_ERR_AXIS_HOMING, MC_ERR_HOMING_FAILED,
     /* path.c */
     MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
+    /* gearing.c */
+    MC_ERR_GEAR_RATIO, MC_ERR_SYNC_MASTER,
 };
 
 static void result_strings(void) {

@@ -315,6 +315,57 @@
 #define MC_HOMING_ERR_NO_INDEX 4 /* no index pulse within index_distance */
 #define MC_HOMING_ERR_PLAN 5     /* a motion of the method could not be planned */
 
+/* layout 1.7 (sync): synchronised motion. Opcodes 80..95, nack codes 100..109, event kinds 27
+ * and 28 (their sub-cases in the event's code).
+ *
+ * Electronic gearing (PLCopen MC_GearIn, MC_GearInPos, MC_GearOut). The slave is the command's
+ * axis; its master is another axis's commanded or actual position, or an auxiliary encoder input
+ * (flags: MC_MASTER_*; args[0]: the master axis or aux encoder number). The ratio is an integer
+ * numerator / a positive integer denominator, both of magnitude 1..MC_GEAR_RATIO_MAX (else
+ * MC_NACK_GEAR_RATIO): slave counts per master count. The card computes the slave's position from
+ * the master's count in integer arithmetic, quotient and remainder of numerator x (master -
+ * anchor) / denominator, so nothing drifts however long the coupling runs (a commanded master
+ * counts in 1/65536 of a count). The slave is in SynchronizedMotion from the command on; it
+ * catches up within its own vmax, amax and jerk (args), then MC_EV_SYNC (code MC_SYNC_IN_GEAR /
+ * MC_SYNC_IN_SYNC, seq: the gear command) and MC_MOTION_IN_SYNC in its status. A master that is
+ * disabled or in ErrorStop: the slave stops on its stop ramp (MC_EV_SYNC code
+ * MC_SYNC_MASTER_LOST, MC_EV_MOTION_ABORTED for the gear command, the axis Stopping then
+ * Standstill). Halt, stop and the safety stops end the coupling as any motion; the override does
+ * not scale a coupled slave (it follows its master). A commanded single-axis master is followed
+ * with one servo tick of delay (its reference is computed after the slaves'). */
+#define MC_OP_GEAR_IN 80u     /* args: master, numerator, denominator, vmax, amax, jerk. flags:
+                               * MC_MASTER_*. Aborting; from Standstill, DiscreteMotion,
+                               * ContinuousMotion or SynchronizedMotion (a new ratio) */
+#define MC_OP_GEAR_IN_POS 81u /* as MC_OP_GEAR_IN, then args: master sync position, slave sync
+                               * position: the slave reaches the slave position exactly when the
+                               * master reaches the master position, along a quintic in the
+                               * master's position (velocity and acceleration continuous), checked
+                               * against vmax, amax, jerk at the master's present velocity (else
+                               * MC_NACK_INFEASIBLE; a master at rest or moving away: the same) */
+#define MC_OP_GEAR_OUT 82u    /* MC_GearOut: the slave leaves the coupling in velocity mode at its
+                               * velocity (ContinuousMotion, MC_EV_IN_VELOCITY with this command's
+                               * seq), its acceleration ramped to 0 within the gear's amax and
+                               * jerk; stop it with MC_OP_HALT. The gear command: MC_EV_MOTION_ABORTED
+                               * (code MC_OP_GEAR_OUT) */
+#define MC_MASTER_COMMANDED 0u /* flags: the master axis's commanded position */
+#define MC_MASTER_ACTUAL 1u    /* the master axis's actual position (its encoder) */
+#define MC_MASTER_AUX 2u       /* an auxiliary encoder input (0..MC_AUX_ENCODERS-1) */
+#define MC_AUX_ENCODERS 2u     /* auxiliary encoder inputs of the card (conveyor, handwheel) */
+#define MC_GEAR_RATIO_MAX 2147483647.0 /* |numerator|, denominator <= 2^31 - 1 */
+#define MC_EV_SYNC 27u         /* synchronised motion. axis: the slave; seq: the gear command;
+                                * code: MC_SYNC_*; value: the slave's commanded position (master
+                                * lost: the master's number) */
+#define MC_SYNC_IN_GEAR 1      /* MC_GearIn caught up: the slave follows the ratio (InGear) */
+#define MC_SYNC_IN_SYNC 2      /* MC_GearInPos reached its sync point (InSync) */
+#define MC_SYNC_MASTER_LOST 3  /* the master is disabled or in ErrorStop: the slave stops */
+#define MC_EV_PVT 28u          /* a PT/PVT stream. axis: the axis; code: MC_PVT_EV_* */
+#define MC_NACK_GEAR_RATIO 100 /* a ratio that is not integer, a zero numerator, a denominator <= 0,
+                                * or a magnitude above MC_GEAR_RATIO_MAX */
+#define MC_NACK_SYNC_MASTER 101 /* a master source the card does not know, a master axis or aux
+                                 * encoder it does not have, the slave itself, or a master axis
+                                 * disabled or in ErrorStop */
+#define MC_MOTION_IN_SYNC (1u << 8) /* layout 1.7 (sync): the slave follows its master (InGear) */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u
@@ -922,6 +973,14 @@ struct mc_safety_status {
     uint64_t attach_tick;            /* tick of the last attach (0: none) */
 };
 
+/** Synchronised motion (layout 1.7 (sync)). Card writes, every tick. */
+struct mc_sync_status {
+    /** The auxiliary encoder inputs, counts. */
+    int64_t aux_count[MC_AUX_ENCODERS];
+    /** The ratio of each axis's coupling (slave counts per master count; 0: not coupled). */
+    double gear_ratio[MC_MAX_AXES];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -949,6 +1008,8 @@ struct mc_dpram {
     struct mc_axis_homing axis_homing[MC_MAX_AXES];  /* host writes */
     /* layout 1.6 */
     struct mc_group_path group_path[MC_MAX_GROUPS];  /* host writes */
+    /* layout 1.7: synchronised motion */
+    struct mc_sync_status sync_status;               /* card writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

@@ -58,6 +58,7 @@ blocks!(
     mc_axis_safety,
     mc_axis_homing,
     mc_group_path,
+    mc_sync_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

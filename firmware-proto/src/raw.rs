@@ -130,6 +130,22 @@ pub const MC_HOMING_ERR_DISTANCE: u32 = 2;
 pub const MC_HOMING_ERR_TIMEOUT: u32 = 3;
 pub const MC_HOMING_ERR_NO_INDEX: u32 = 4;
 pub const MC_HOMING_ERR_PLAN: u32 = 5;
+pub const MC_OP_GEAR_IN: u32 = 80;
+pub const MC_OP_GEAR_IN_POS: u32 = 81;
+pub const MC_OP_GEAR_OUT: u32 = 82;
+pub const MC_MASTER_COMMANDED: u32 = 0;
+pub const MC_MASTER_ACTUAL: u32 = 1;
+pub const MC_MASTER_AUX: u32 = 2;
+pub const MC_AUX_ENCODERS: u32 = 2;
+pub const MC_GEAR_RATIO_MAX: f64 = 2147483647.0;
+pub const MC_EV_SYNC: u32 = 27;
+pub const MC_SYNC_IN_GEAR: u32 = 1;
+pub const MC_SYNC_IN_SYNC: u32 = 2;
+pub const MC_SYNC_MASTER_LOST: u32 = 3;
+pub const MC_EV_PVT: u32 = 28;
+pub const MC_NACK_GEAR_RATIO: u32 = 100;
+pub const MC_NACK_SYNC_MASTER: u32 = 101;
+pub const MC_MOTION_IN_SYNC: u32 = 256;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -1137,6 +1153,24 @@ const _: () = {
     ["Offset of field: mc_safety_status::attach_tick"]
         [::core::mem::offset_of!(mc_safety_status, attach_tick) - 248usize];
 };
+#[doc = " Synchronised motion (layout 1.7 (sync)). Card writes, every tick."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_sync_status {
+    #[doc = " The auxiliary encoder inputs, counts."]
+    pub aux_count: [i64; 2usize],
+    #[doc = " The ratio of each axis's coupling (slave counts per master count; 0: not coupled)."]
+    pub gear_ratio: [f64; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_sync_status"][::core::mem::size_of::<mc_sync_status>() - 80usize];
+    ["Alignment of mc_sync_status"][::core::mem::align_of::<mc_sync_status>() - 8usize];
+    ["Offset of field: mc_sync_status::aux_count"]
+        [::core::mem::offset_of!(mc_sync_status, aux_count) - 0usize];
+    ["Offset of field: mc_sync_status::gear_ratio"]
+        [::core::mem::offset_of!(mc_sync_status, gear_ratio) - 16usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1162,10 +1196,11 @@ pub struct mc_dpram {
     pub safety_status: mc_safety_status,
     pub axis_homing: [mc_axis_homing; 8usize],
     pub group_path: [mc_group_path; 4usize],
+    pub sync_status: mc_sync_status,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26272usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26352usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1202,6 +1237,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, axis_homing) - 24192usize];
     ["Offset of field: mc_dpram::group_path"]
         [::core::mem::offset_of!(mc_dpram, group_path) - 25216usize];
+    ["Offset of field: mc_dpram::sync_status"]
+        [::core::mem::offset_of!(mc_dpram, sync_status) - 26272usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -138,6 +138,13 @@ code_enum! {
         ApplyGroupPath = raw::MC_OP_APPLY_GROUP_PATH,
         /// Set the digital outputs in a mask: args mask, value.
         SetOutputs = raw::MC_OP_SET_OUTPUTS,
+        /// Layout 1.7 (sync): MC_GearIn: args master, numerator, denominator, vmax, amax,
+        /// jerk; flags the master source ([`MasterSource`](crate::MasterSource)).
+        GearIn = raw::MC_OP_GEAR_IN,
+        /// MC_GearInPos: as [`Opcode::GearIn`], then master and slave sync positions.
+        GearInPos = raw::MC_OP_GEAR_IN_POS,
+        /// MC_GearOut: the slave leaves the coupling in velocity mode at its velocity.
+        GearOut = raw::MC_OP_GEAR_OUT,
     }
 }
 
@@ -185,6 +192,11 @@ code_enum! {
         /// The path brakes for the end of what is queued (not marked last); `value` is the
         /// last id queued.
         PathStarved = raw::MC_EV_PATH_STARVED,
+        /// Layout 1.7 (sync): synchronised motion; `code` is a
+        /// [`SyncEvent`](crate::SyncEvent), `seq` the gear command.
+        Sync = raw::MC_EV_SYNC,
+        /// A PT/PVT stream; `code` says what happened to it.
+        Pvt = raw::MC_EV_PVT,
     }
 }
 
@@ -305,6 +317,12 @@ code_enum! {
         PathBusy = raw::MC_NACK_PATH_BUSY,
         /// A segment id that is not an integer in 0..2³²−1.
         PathId = raw::MC_NACK_PATH_ID,
+        /// Layout 1.7 (sync): a gear ratio that is not integer, a zero numerator, a
+        /// denominator ≤ 0, or a magnitude above `MC_GEAR_RATIO_MAX`.
+        GearRatio = raw::MC_NACK_GEAR_RATIO,
+        /// A master source the card does not know, a master it does not have, the slave
+        /// itself, or a master axis disabled or in ErrorStop.
+        SyncMaster = raw::MC_NACK_SYNC_MASTER,
     }
 }
 
@@ -703,6 +721,8 @@ bitflags::bitflags! {
         const HOMED = raw::MC_MOTION_HOMED;
         /// The motion running is one that was buffered.
         const BUFFERED_ACTIVE = raw::MC_MOTION_BUFFERED_ACTIVE;
+        /// Layout 1.7 (sync): the slave follows its master (InGear, InSync).
+        const IN_SYNC = raw::MC_MOTION_IN_SYNC;
     }
 
     /// The single-bit flags of the group move commands (`MC_MOVE_*`, `MC_CIRC_CCW`, ...) in
@@ -910,7 +930,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 56);
+        assert_eq!(NackCode::ALL.len(), 58);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

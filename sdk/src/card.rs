@@ -74,6 +74,9 @@ pub enum Outcome {
     /// Homing failed (raw `MC_HOMING_ERR_` code) at this actual position (user units); the
     /// axis is at rest, not homed.
     HomingFailed(i32, f64),
+    /// Layout 1.7 (sync): a gear motion's `MC_SYNC_*` event (raw code) and the slave's
+    /// commanded position then (user units).
+    Sync(i32, f64),
 }
 
 /// An event from the card, in user units.
@@ -804,7 +807,9 @@ impl Inner {
                             | EventKind::MotionActive
                             | EventKind::InVelocity
                             | EventKind::HomingFailed
-                    ) {
+                    ) || (kind == EventKind::Sync
+                        && e.code != firmware_proto::SyncEvent::MasterLost as i32)
+                    {
                         e.value / scale
                     } else {
                         e.value
@@ -833,6 +838,11 @@ impl Inner {
                         EventKind::HomingFailed => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::HomingFailed(e.code, value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::Sync => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::Sync(e.code, value)),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {

@@ -221,6 +221,12 @@ error_kinds! {
     PathBusy = -71, MC_ERR_PATH_BUSY, nack PathBusy, "the group's path and its move queue do not mix: wait for the other to finish";
     /// A segment id that is not an integer in 0..2^32-1.
     PathId = -72, MC_ERR_PATH_ID, nack PathId, "a segment id must be an integer in 0..2^32-1";
+    /// Layout 1.7 (sync): a gear ratio that is not an integer numerator over a positive
+    /// integer denominator, both of magnitude 1..2^31-1.
+    GearRatio = -90, MC_ERR_GEAR_RATIO, nack GearRatio, "a gear ratio must be integer numerator / positive integer denominator, each of magnitude 1..2^31-1";
+    /// A master the card does not have (axis or auxiliary encoder), the slave itself, an
+    /// unknown master source, or a master axis disabled or in ErrorStop.
+    SyncMaster = -91, MC_ERR_SYNC_MASTER, nack SyncMaster, "no such master, the slave itself, or a master axis disabled or in ErrorStop";
 }
 
 impl From<NurbsError> for ErrorKind {

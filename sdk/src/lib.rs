@@ -33,6 +33,7 @@ mod nurbs;
 mod path;
 mod safety;
 mod session;
+mod sync;
 
 #[cfg(feature = "emulator")]
 pub use card::Sim;
@@ -49,6 +50,7 @@ pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
+pub use firmware_proto::{GearRatio, SyncEvent, AUX_ENCODERS};
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
@@ -68,6 +70,7 @@ pub use path::{
 };
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
+pub use sync::{gear_ratio, Master, SyncLimits};
 
 /// The card's S-curve planner, and the time-optimal planner from any state
 /// (`card_emu::motion::otg`), for previewing a move on the host (`mcctl plan`).

@@ -11,10 +11,11 @@
 
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
+use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
-use firmware_proto::MAX_AXES;
+use firmware_proto::{AUX_ENCODERS, MAX_AXES};
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use nix::time::{clock_gettime, clock_nanosleep, ClockId, ClockNanosleepFlags};
 use std::os::fd::{AsFd, BorrowedFd};
@@ -94,6 +95,8 @@ pub struct Emulator {
     irq: EventFd,
     time: f64,
     faults: FaultInjector,
+    /// Layout 1.7 (sync): the auxiliary encoders.
+    aux: [AuxEncoder; AUX_ENCODERS],
 }
 
 impl Emulator {
@@ -113,6 +116,7 @@ impl Emulator {
             irq,
             time: 0.0,
             faults: FaultInjector::default(),
+            aux: [AuxEncoder::default(); AUX_ENCODERS],
         })
     }
 
@@ -149,8 +153,12 @@ impl Emulator {
         }
         inputs.index = self.latch;
         self.fw.set_inputs(inputs);
+        self.fw.set_aux_encoders(self.aux.map(|a| a.count));
         self.fw.tick(&enc, &mut self.dac);
         let ts = self.fw.ts();
+        for a in &mut self.aux {
+            a.step(ts);
+        }
         for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
             self.faults.step_motor(i, m, u, ts);
         }
@@ -200,6 +208,11 @@ impl Emulator {
     /// An axis's plant.
     pub fn motor(&self, axis: usize) -> Option<&Motor> {
         self.motors.get(axis)
+    }
+
+    /// An auxiliary encoder (layout 1.7): set its velocity or jump it.
+    pub fn aux_mut(&mut self, k: usize) -> Option<&mut AuxEncoder> {
+        self.aux.get_mut(k)
     }
 
     /// An axis's encoder index channel and its latch.

@@ -9,6 +9,7 @@
 pub mod axis;
 pub mod axis_safety;
 pub mod dac;
+pub mod gear;
 pub mod group;
 pub mod homing;
 pub mod nack;
@@ -16,6 +17,7 @@ pub mod outbox;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
+use self::gear::{AuxInputs, Gear};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
 use self::safety::{Inputs, Safety};
@@ -51,6 +53,9 @@ pub struct Firmware<M: Mem + Clone> {
     events: EvtProducer<M>,
     axes: [Axis; MAX_AXES],
     homing: [Homing; MAX_AXES],
+    /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
+    gears: [Gear; MAX_AXES],
+    aux: AuxInputs,
     groups: [Group; MAX_GROUPS],
     filters: Box<[AxisFilter]>,
     outbox: Outbox,
@@ -90,6 +95,8 @@ impl<M: Mem + Clone> Firmware<M> {
             mem,
             axes: core::array::from_fn(|_| Axis::new()),
             homing: [Homing::default(); MAX_AXES],
+            gears: [Gear::default(); MAX_AXES],
+            aux: AuxInputs::default(),
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -366,12 +373,22 @@ impl<M: Mem + Clone> Firmware<M> {
             | Opcode::PowerOff
             | Opcode::Home
             | Opcode::SetPosition
+            | Opcode::GearIn
+            | Opcode::GearInPos
+            | Opcode::GearOut
                 if grouped =>
             {
                 return Err(NackCode::AxisGrouped)
             }
             _ => {}
         }
+        // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
+        let gear = matches!(op, Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut);
+        let gear_changed = if gear {
+            self.execute_gear(c, op, ax)?
+        } else {
+            None
+        };
         let axis = &mut self.axes[ax];
         let rate = self.servo_rate_hz;
         // Does the command take over the axis (PLCopen Aborting): the motion in progress and
@@ -384,7 +401,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 | Opcode::Stop
                 | Opcode::PowerOff
                 | Opcode::Home
-        );
+        ) || gear;
         let changed = match op {
             Opcode::PowerOn => axis.power(true)?,
             Opcode::PowerOff => axis.power(false)?,
@@ -460,7 +477,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 homing::set_position(axis, c.args[0], relative)?;
                 None
             }
-            _ => None,
+            _ => gear_changed,
         };
         let axis = &mut self.axes[ax];
         axis.accepted(c.seq);
@@ -503,10 +520,13 @@ impl<M: Mem + Clone> Firmware<M> {
             let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            if !matches!(
-                axis.state,
-                AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
-            ) {
+            let geared = axis.state == AxisState::SynchronizedMotion && self.gears[i].engaged();
+            if !geared
+                && !matches!(
+                    axis.state,
+                    AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
+                )
+            {
                 continue;
             }
             let pending = axis.pending_motion();
@@ -702,6 +722,8 @@ impl<M: Mem + Clone> Firmware<M> {
             let (set, clear) = g.take_path_outputs();
             self.outputs = (self.outputs & !clear) | set;
         }
+        // Geared slaves follow their masters (gear.rs).
+        let synced = self.gear_tick(ts);
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let inputs = *self.safety.inputs();
         let max_stop_time = self.safety.config().max_stop_time();
@@ -779,6 +801,7 @@ impl<M: Mem + Clone> Firmware<M> {
         self.publish();
         self.post_safety_events();
         self.post_outbox();
+        self.post_sync_events(&synced);
         for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
             let axis = i as u16;
             let done = h.done.or(report.done);
@@ -855,6 +878,7 @@ impl<M: Mem + Clone> Firmware<M> {
             seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
         }
         self.mem.write32(layout::OUTPUTS, self.outputs);
+        self.publish_sync();
     }
 
     /// The digital outputs (bit i = output i).

@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 62, 63, 64, 255, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 83, 46, 47, 51, 55, 62, 63, 64, 95, 256, 1000, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -359,6 +359,18 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             a[0] = s.u16() as f64;
             a[1] = s.u16() as f64;
         }
+        Opcode::GearIn | Opcode::GearInPos => {
+            // Layout 1.7 (sync): master, ratio, limits, then the sync point.
+            a[0] = (s.u8() % 3) as f64;
+            let n = 1 + (s.u8() % 16) as i32;
+            a[1] = if s.u8() & 1 == 0 { n } else { -n } as f64;
+            a[2] = (1 + s.u8() % 16) as f64;
+            a[3] = magnitude(s, 2.0, 6.5);
+            a[4] = magnitude(s, 3.0, 8.5);
+            a[5] = magnitude(s, 5.0, 11.0);
+            a[6] = position(s);
+            a[7] = position(s);
+        }
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -396,6 +408,7 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
             mode | buffer | tm | (s.u8() as u32 & (1 | move_flags::CIRC_CCW))
         }
         Opcode::PathOutput => (s.u8() % 4) as u32,
+        Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
         }

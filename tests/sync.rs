@@ -1,0 +1,375 @@
+//! Synchronised motion on the stepped card and its emulated plant (deterministic): electronic
+//! gearing (MC_GearIn, MC_GearInPos, MC_GearOut).
+//!
+//! - The ratio is exact: 10⁹ counts of an auxiliary encoder at 10⁸ counts/s, ratio 7/99991,
+//!   leave the slave exactly where integer arithmetic puts it (0 error), where a float sum of
+//!   the per-tick increments is off.
+//! - Engaging holds the slave's limits: the finite differences of its commanded position per
+//!   tick stay within 1.01 × its velocity, acceleration and jerk limits.
+//! - MC_GearInPos meets its point: the slave is at the slave position when the master is at
+//!   the master position.
+//! - GearOut leaves the slave in velocity mode at its velocity; halt ends the coupling; a
+//!   master that is disabled stops the slave on its stop ramp, reported.
+//! - The card refuses bad ratios, masters and limits with their own nacks, changing nothing.
+//!
+//! The figures: `cargo test --release --test sync -- --nocapture`.
+mod common;
+
+use common::stepped_card_with;
+use motioncard::proto::{Command, Opcode};
+use motioncard::{
+    AxisState, Card, EmuOptions, ErrorKind, EventKind, GearRatio, Master, NackCode, Status,
+    SyncEvent, SyncLimits, VelocityLimits,
+};
+use std::time::Duration;
+
+const RATE: u32 = 10_000;
+const TS: f64 = 1.0 / RATE as f64;
+const LONG: Duration = Duration::from_secs(60);
+
+fn card(axes: usize) -> Card {
+    let card = stepped_card_with(EmuOptions::new(axes, RATE));
+    for a in 0..axes {
+        card.axis(a).unwrap().enable().unwrap();
+    }
+    card
+}
+
+fn status(card: &Card, a: usize) -> Status {
+    card.axis(a).unwrap().status().unwrap()
+}
+
+fn set_aux_velocity(card: &Card, k: usize, v: f64) {
+    card.sim()
+        .unwrap()
+        .with_emulator(|e| e.aux_mut(k).unwrap().velocity = v);
+}
+
+/// The commanded positions of `axes` over `n` ticks (one row per tick).
+fn record(card: &Card, axes: &[usize], n: u64) -> Vec<Vec<Status>> {
+    let sim = card.sim().unwrap();
+    (0..n)
+        .map(|_| {
+            sim.step(1);
+            card.statuses(axes).unwrap()
+        })
+        .collect()
+}
+
+/// The largest |first|, |second| and |third| finite difference of `x` per tick, as velocity,
+/// acceleration and jerk.
+fn peaks(x: &[f64]) -> (f64, f64, f64) {
+    let d1: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]) / TS).collect();
+    let d2: Vec<f64> = d1.windows(2).map(|w| (w[1] - w[0]) / TS).collect();
+    let d3: Vec<f64> = d2.windows(2).map(|w| (w[1] - w[0]) / TS).collect();
+    let max = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    (max(&d1), max(&d2), max(&d3))
+}
+
+/// 10⁹ master counts: an auxiliary encoder at 10⁸ counts/s (10⁴ counts per tick) for 10⁵
+/// ticks, the slave at 7/99991 (700 ≈ 7,000 counts/s). The slave's commanded position is
+/// exactly `7 · 10⁹ / 99991` counts from where it engaged (quotient and remainder), and its
+/// actual position in position there.
+#[test]
+fn gearing_is_exact_after_a_billion_master_counts() {
+    let card = card(1);
+    let x = card.axis(0).unwrap();
+    let x0 = status(&card, 0).command_position;
+    let m0 = card.aux_encoder(0).unwrap();
+    let gear = x
+        .gear_in(Master::Aux(0), 7, 99_991, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap();
+    let at = gear.wait_in_sync(LONG).unwrap();
+    assert_eq!(at, x0, "at rest: in gear at once");
+    assert!(status(&card, 0).in_sync());
+    assert_eq!(x.gear_ratio(), Some(7.0 / 99_991.0));
+    set_aux_velocity(&card, 0, 1e8);
+    let sim = card.sim().unwrap();
+    sim.step(100_000);
+    set_aux_velocity(&card, 0, 0.0);
+    sim.step(3_000); // let the servo settle (the count no longer moves)
+    let dm = card.aux_encoder(0).unwrap() - m0;
+    assert_eq!(dm, 1_000_000_000, "the master ran 10^9 counts");
+    let ratio = GearRatio {
+        num: 7,
+        den: 99_991,
+    };
+    let (q, r) = ratio.divide(dm as i128, 1);
+    assert_eq!((q, r), (70_006, 30_054));
+    let expected = x0 + q as f64 + r as f64 / 99_991.0;
+    let st = status(&card, 0);
+    let err = st.command_position - expected;
+    // What a float sum of the per-tick increments (10^4 counts · 7/99991) would give.
+    let mut naive = x0;
+    for _ in 0..100_000 {
+        naive += 10_000.0 * ratio.as_f64();
+    }
+    println!(
+        "gearing after 1e9 master counts at 7/99991: slave {} counts, error {err:e} counts \
+         (float sum of the per-tick increments: error {:e} counts); actual {}",
+        st.command_position,
+        naive - expected,
+        st.actual_position
+    );
+    assert_eq!(err, 0.0, "no drift");
+    assert_ne!(naive, expected, "a float sum drifts");
+    assert!((st.actual_position - expected).abs() <= 1.0);
+    assert_eq!(st.state, AxisState::SynchronizedMotion);
+}
+
+/// The slave at rest engages on a master axis running at 20,000 counts/s at 1/2: it catches
+/// up within its own limits (finite differences of its commanded position per tick within
+/// 1.01 × vmax, amax, jerk), is in gear with the master's velocity × 1/2, then follows it
+/// exactly (its increments half the master's, one tick late).
+#[test]
+fn engaging_holds_the_slave_limits() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master
+        .move_velocity(20_000.0, &VelocityLimits::new(2e5, 2e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let lim = SyncLimits::new(15_000.0, 1e5, 1e7);
+    let gear = slave.gear_in(Master::Commanded(1), 1, 2, &lim).unwrap();
+    assert_eq!(status(&card, 0).state, AxisState::SynchronizedMotion);
+    let rows = record(&card, &[0, 1], 6_000);
+    let locked = rows.iter().position(|r| r[0].in_sync()).expect("in gear");
+    let at = gear.wait_in_sync(LONG).unwrap();
+    let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
+    let (v, a, j) = peaks(&xs);
+    println!(
+        "engaging at 1/2 on a master at 20,000 counts/s: in gear after {:.4} s at {at}; peaks \
+         {v:.1} counts/s ({:.4} of vmax), {a:.1} counts/s² ({:.4} of amax), {j:.4e} counts/s³ \
+         ({:.4} of jerk)",
+        locked as f64 * TS,
+        v / lim.velocity,
+        a / lim.acceleration,
+        j / lim.jerk
+    );
+    assert!(v <= 1.01 * lim.velocity, "velocity {v}");
+    assert!(a <= 1.01 * lim.acceleration, "acceleration {a}");
+    assert!(j <= 1.01 * lim.jerk, "jerk {j}");
+    // In gear: half the master's increments, one tick late (the master counts in 1/65536
+    // count: the slave's increment is within half of that of half the master's).
+    for k in locked + 2..rows.len() {
+        let ds = rows[k][0].command_position - rows[k - 1][0].command_position;
+        let dm = rows[k - 1][1].command_position - rows[k - 2][1].command_position;
+        assert!(
+            (ds - dm / 2.0).abs() <= 1.0 / 65_536.0,
+            "tick {k}: {ds} {dm}"
+        );
+    }
+    let last = rows.last().unwrap();
+    assert_eq!(last[0].command_velocity, 10_000.0);
+    assert!(last[0].following_error.abs() < 5.0);
+}
+
+/// MC_GearInPos: the slave at rest at 0 is at 20,000 counts when the master (10,000 counts/s)
+/// reaches 20,000 counts beyond where it is, ratio 1/1, within its limits on the way; a point too close for the limits
+/// is refused (`Infeasible`), and so is a master at rest.
+#[test]
+fn gear_in_pos_meets_the_sync_point() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    let lim = SyncLimits::new(20_000.0, 1e5, 1e7);
+    let e = slave
+        .gear_in_pos(Master::Commanded(1), 1, 1, 60_000.0, 30_000.0, &lim)
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Infeasible, "master at rest: {e}");
+    master
+        .move_velocity(10_000.0, &VelocityLimits::new(1e5, 1e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let m_now = status(&card, 1).command_position;
+    let e = slave
+        .gear_in_pos(Master::Commanded(1), 1, 1, m_now + 50.0, 30_000.0, &lim)
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Infeasible, "too close: {e}");
+    assert_eq!(
+        status(&card, 0).state,
+        AxisState::Standstill,
+        "nothing changed"
+    );
+    let (m_sync, s_sync) = ((m_now + 20_000.0).round(), 20_000.0);
+    let gear = slave
+        .gear_in_pos(Master::Commanded(1), 1, 1, m_sync, s_sync, &lim)
+        .unwrap();
+    let rows = record(&card, &[0, 1], 25_000);
+    let locked = rows.iter().position(|r| r[0].in_sync()).expect("in sync");
+    let at = gear.wait_in_sync(LONG).unwrap();
+    // The slave follows the master's position of the tick before: at every tick in sync
+    // x = S + (m − M) exactly; before, the master had not reached M.
+    for k in locked..rows.len() {
+        let m = rows[k - 1][1].command_position;
+        assert!(m >= m_sync, "tick {k}: master at {m}");
+        let x = rows[k][0].command_position;
+        assert!(
+            (x - (s_sync + (m - m_sync))).abs() <= 1.0 / 65_536.0,
+            "tick {k}: {x}"
+        );
+    }
+    assert!(rows[locked - 2][1].command_position < m_sync);
+    let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
+    let (v, a, j) = peaks(&xs);
+    println!(
+        "gear in at a point: the slave at {s_sync} when the master is at {m_sync}, in sync at \
+         {at} after {:.4} s; peaks {v:.1} counts/s, {a:.1} counts/s², {j:.4e} counts/s³",
+        locked as f64 * TS
+    );
+    assert!(v <= 1.01 * lim.velocity && a <= 1.01 * lim.acceleration);
+    assert!(j <= 1.01 * lim.jerk, "jerk {j}");
+}
+
+/// GearOut: the slave keeps the velocity it had (velocity mode), the gear motion ends
+/// aborted by GearOut; a halt then stops it. Halting a geared slave ends the coupling.
+#[test]
+fn gear_out_and_halt() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master
+        .move_velocity(-12_000.0, &VelocityLimits::new(2e5, 2e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let lim = SyncLimits::new(20_000.0, 2e5, 2e7);
+    let gear = slave.gear_in(Master::Actual(1), 3, 4, &lim).unwrap();
+    gear.wait_in_sync(LONG).unwrap();
+    let out = slave.gear_out().unwrap();
+    let e = gear.wait(LONG).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Aborted, "{e}");
+    let v = out.wait_in_velocity(LONG).unwrap();
+    let st = status(&card, 0);
+    // The master's actual velocity is its filtered encoder estimate (1.2 counts a tick).
+    println!("gear out at {v} counts/s (the master's actual velocity × 3/4 ≈ -9000)");
+    assert!((v + 9_000.0).abs() < 1_500.0, "{v}");
+    assert_eq!(st.state, AxisState::ContinuousMotion);
+    assert!(!st.in_sync());
+    assert_eq!(slave.gear_ratio(), None);
+    assert_eq!(
+        slave.gear_out().unwrap_err().kind(),
+        ErrorKind::InvalidState,
+        "not geared"
+    );
+    slave.halt(2e5, 2e7).unwrap().wait(LONG).unwrap();
+    // Gear in again, then halt: the coupling ends, the slave at rest.
+    let gear = slave.gear_in(Master::Actual(1), 3, 4, &lim).unwrap();
+    gear.wait_in_sync(LONG).unwrap();
+    let halt = slave.halt(2e5, 2e7).unwrap();
+    assert_eq!(gear.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
+    halt.wait(LONG).unwrap();
+    let st = status(&card, 0);
+    assert_eq!(st.state, AxisState::Standstill);
+    assert_eq!(slave.gear_ratio(), None);
+}
+
+/// A master disabled while the slave follows it: the slave stops on its stop ramp (Stopping,
+/// then Standstill at rest), the gear motion is aborted, and a sync event says why.
+#[test]
+fn a_lost_master_stops_the_slave() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master
+        .move_velocity(10_000.0, &VelocityLimits::new(2e5, 2e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let gear = slave
+        .gear_in(Master::Commanded(1), 1, 1, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap();
+    gear.wait_in_sync(LONG).unwrap();
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    master.disable().unwrap();
+    assert_eq!(gear.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
+    assert_eq!(status(&card, 0).state, AxisState::Stopping);
+    let mut lost = false;
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        lost |= e.kind == EventKind::Sync && e.code == SyncEvent::MasterLost as i32;
+    }
+    assert!(lost, "MasterLost reported");
+    let sim = card.sim().unwrap();
+    let mut t = 0;
+    while status(&card, 0).state != AxisState::Standstill && t < 20_000 {
+        sim.step(1);
+        t += 1;
+    }
+    let st = status(&card, 0);
+    println!(
+        "master lost: the slave at rest after {:.4} s",
+        t as f64 * TS
+    );
+    assert_eq!(st.state, AxisState::Standstill);
+    assert_eq!(st.command_velocity, 0.0);
+    // A disabled master is refused up front.
+    let e = slave
+        .gear_in(Master::Commanded(1), 1, 1, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::SyncMaster);
+}
+
+/// Raw commands the SDK would not send: each gets its own nack and changes nothing.
+#[test]
+fn the_card_refuses_bad_gear_commands() {
+    let card = card(2);
+    let before = status(&card, 0);
+    let ok = [1.0, 3.0, 7.0, 1e4, 1e5, 1e7, 0.0, 0.0];
+    let cases: &[(usize, f64, u32, NackCode)] = &[
+        (1, f64::NAN, 0, NackCode::NotFinite),
+        (1, f64::INFINITY, 0, NackCode::NotFinite),
+        (1, 1e300, 0, NackCode::GearRatio),
+        (1, 2.5, 0, NackCode::GearRatio),
+        (2, 0.0, 0, NackCode::GearRatio),
+        (2, -7.0, 0, NackCode::GearRatio),
+        (2, 1e-310, 0, NackCode::GearRatio),
+        (0, 0.0, 0, NackCode::SyncMaster),
+        (0, 5.0, 0, NackCode::SyncMaster),
+        (0, 2.0, 2, NackCode::SyncMaster),
+        (0, 1.0, 9, NackCode::SyncMaster),
+        (3, -1.0, 0, NackCode::NonPositiveLimit),
+        (4, 1e300, 0, NackCode::LimitRange),
+        (5, 1e-320, 0, NackCode::LimitRange),
+    ];
+    for &(i, v, flags, code) in cases {
+        let mut args = ok;
+        args[i] = v;
+        let mut cmd = Command::new(Opcode::GearIn, 0).with_args(&args);
+        cmd.flags = flags;
+        let seq = card.send_raw(cmd).unwrap();
+        assert_eq!(
+            card.wait_ack(seq).unwrap(),
+            Err(code),
+            "arg {i} = {v:e}, flags {flags}"
+        );
+    }
+    let seq = card.send_raw(Command::new(Opcode::GearOut, 0)).unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Err(NackCode::InvalidState));
+    let after = status(&card, 0);
+    assert_eq!(after.state, before.state);
+    assert_eq!(after.raw.last_seq, before.raw.last_seq);
+    assert_eq!(card.axis(0).unwrap().gear_ratio(), None);
+    // The SDK refuses the same before sending.
+    let slave = card.axis(0).unwrap();
+    let lim = SyncLimits::new(1e4, 1e5, 1e7);
+    assert_eq!(
+        slave
+            .gear_in(Master::Aux(0), 1, 0, &lim)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::GearRatio
+    );
+    assert_eq!(
+        slave
+            .gear_in(Master::Commanded(0), 1, 1, &lim)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::SyncMaster
+    );
+    assert_eq!(
+        slave
+            .gear_in(Master::Aux(0), 1, 1, &SyncLimits::new(f64::NAN, 1.0, 1.0))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::NotFinite
+    );
+}
