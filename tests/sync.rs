@@ -373,3 +373,216 @@ fn the_card_refuses_bad_gear_commands() {
         ErrorKind::NotFinite
     );
 }
+
+// ---- PT/PVT streaming ----
+
+use motioncard::{PvtEvent, PvtLimits, PvtMode, PvtPoint, PVT_LEN};
+
+/// `n` points every `dt` s of `A (1 − cos 2π t)`, from rest at 0 back to rest at 0 (with their
+/// velocities), the last at `n · dt`.
+fn cosine_points(n: usize, dt: f64, amp: f64) -> Vec<PvtPoint> {
+    let w = 2.0 * std::f64::consts::PI;
+    (1..=n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let v = if k == n { 0.0 } else { amp * w * (w * t).sin() };
+            PvtPoint::new(t, amp * (1.0 - (w * t).cos()), v)
+        })
+        .collect()
+}
+
+/// Run a stream to its end, recording the commanded position after every tick (row `i` is
+/// `t = (i + 1) · Ts`).
+fn run_stream(card: &Card, n: u64) -> (Vec<Status>, f64) {
+    let x = card.axis(0).unwrap();
+    let m = x.pvt_start().unwrap();
+    let rows: Vec<Status> = record(card, &[0], n).into_iter().map(|r| r[0]).collect();
+    let done = m.wait(LONG).unwrap();
+    (rows, done)
+}
+
+/// The stream passes exactly through every point at its time (1e-9 relative), with the
+/// point's velocity, and its velocity is continuous (second differences of the commanded
+/// position within the limit); PVT and PT both.
+#[test]
+fn pvt_and_pt_pass_through_every_point() {
+    for mode in [PvtMode::Pvt, PvtMode::Pt] {
+        let card = card(1);
+        let x = card.axis(0).unwrap();
+        let pts = cosine_points(200, 0.01, 5_000.0); // 2 s, 100 ticks a segment
+        let lim = PvtLimits {
+            velocity: 40_000.0,
+            acceleration: 4e5,
+        };
+        x.pvt_begin(mode, &lim, 0).unwrap();
+        let free = x.pvt_push(&pts, true).unwrap();
+        assert_eq!(free, PVT_LEN - 200);
+        card.sim().unwrap().step(1);
+        assert_eq!(x.pvt_room(), (200, PVT_LEN - 200));
+        let (rows, done) = run_stream(&card, 20_500);
+        let mut worst = 0.0f64;
+        for (k, p) in pts.iter().enumerate() {
+            let i = (k + 1) * 100 - 1;
+            let r = &rows[i];
+            let err = (r.command_position - p.position).abs() / p.position.abs().max(1.0);
+            worst = worst.max(err);
+            assert!(
+                err <= 1e-9,
+                "{mode:?} point {k}: {} vs {}",
+                r.command_position,
+                p.position
+            );
+            if mode == PvtMode::Pvt && k + 1 < pts.len() {
+                assert!((r.command_velocity - p.velocity).abs() <= 1e-9 * 40_000.0);
+            }
+        }
+        let xs: Vec<f64> = rows.iter().map(|r| r.command_position).collect();
+        let (v, a, _) = peaks(&xs[..20_000]);
+        println!(
+            "{mode:?}: 200 points, worst relative error at the points {worst:e}; peaks {v:.1} \
+             counts/s, {a:.1} counts/s² (limits 40000, 4e5); done at {done}"
+        );
+        assert!(v <= 1.01 * lim.velocity && a <= 1.01 * lim.acceleration);
+        assert_eq!(status(&card, 0).state, AxisState::Standstill);
+        assert!(done.abs() <= 1.0);
+    }
+}
+
+/// A point that breaks the limits is refused by name; the points before it stay queued, the
+/// stream goes on. A stream that runs dry stops on the stop ramp, reported.
+#[test]
+fn pvt_refusals_and_a_dry_buffer() {
+    let card = card(1);
+    let x = card.axis(0).unwrap();
+    let lim = PvtLimits {
+        velocity: 10_000.0,
+        acceleration: 1e5,
+    };
+    assert_eq!(
+        x.pvt_push(&[PvtPoint::new(0.1, 1.0, 0.0)], false)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::PvtSequence,
+        "no stream open"
+    );
+    x.pvt_begin(PvtMode::Pvt, &lim, 0).unwrap();
+    let pts = [
+        PvtPoint::new(0.1, 100.0, 2_000.0),
+        PvtPoint::new(0.2, 400.0, 4_000.0),
+        PvtPoint::new(0.3, 5_000.0, 4_000.0), // 46,000 counts/s on the way
+        PvtPoint::new(0.4, 1_200.0, 4_000.0),
+    ];
+    let e = x.pvt_push(&pts, false).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::PvtLimit, "{e}");
+    assert!(
+        matches!(e, motioncard::Error::PvtPoint { index: 2, .. }),
+        "{e}"
+    );
+    println!("refused: {e}");
+    card.sim().unwrap().step(1);
+    assert_eq!(x.pvt_room().0, 2, "the two before it are queued");
+    for (bad, kind) in [
+        (PvtPoint::new(0.2, 500.0, 0.0), ErrorKind::PvtTime),
+        (PvtPoint::new(0.20001, 500.0, 0.0), ErrorKind::PvtTime),
+        (PvtPoint::new(f64::NAN, 500.0, 0.0), ErrorKind::NotFinite),
+        (PvtPoint::new(0.3, 1e300, 0.0), ErrorKind::OutOfRange),
+    ] {
+        let e = x.pvt_push(&[bad], false).unwrap_err();
+        assert_eq!(e.kind(), kind, "{bad:?}: {e}");
+    }
+    // Raw: 1e300 reaches the card as a position out of range.
+    let mut cmd = Command::new(Opcode::PvtPoints, 0).with_args(&[1.0, 0.3, 1e300, 0.0]);
+    cmd.flags = 0;
+    let seq = card.send_raw(cmd).unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Err(NackCode::OutOfRange));
+    let seq = card
+        .send_raw(Command::new(Opcode::PvtPoints, 0).with_args(&[5.0]))
+        .unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Err(NackCode::OutOfRange));
+    // Run dry: the last point passed at 0.2 s moving at 4000 counts/s.
+    let m = x.pvt_start().unwrap();
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    let rows = record(&card, &[0], 2_100);
+    assert_eq!(m.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
+    let mut starved = false;
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        starved |= e.kind == EventKind::Pvt && e.code == PvtEvent::Starved as i32;
+    }
+    assert!(starved, "starvation reported");
+    // At 0.2 s the last point (400 at 4000 counts/s), and the stop's first tick from there.
+    let at = rows[1_999][0].command_position;
+    assert!((at - 400.4).abs() < 0.01, "{at}");
+    let rest = rows
+        .iter()
+        .rposition(|r| r[0].command_velocity != 0.0)
+        .unwrap();
+    let st = status(&card, 0);
+    println!(
+        "dry at 0.2 s (4000 counts/s): at rest {:.4} s later at {}",
+        (rest as f64 - 1_999.0) * TS,
+        st.command_position
+    );
+    assert_eq!(st.state, AxisState::Standstill);
+    assert_eq!(
+        st.raw.stop_reason,
+        motioncard::StopReason::Starvation as u32
+    );
+}
+
+/// 20,000 points (every ms for 20 s) through the 4,096-point buffer, refilled on the low-water
+/// event: every point met exactly, no starvation; the rate of points accepted in-process.
+#[test]
+fn pvt_streams_more_than_the_buffer() {
+    let card = card(1);
+    let x = card.axis(0).unwrap();
+    let n = 20_000;
+    let pts = cosine_points(n, 0.001, 2_000.0);
+    x.pvt_begin(
+        PvtMode::Pvt,
+        &PvtLimits {
+            velocity: 20_000.0,
+            acceleration: 2e5,
+        },
+        1_024,
+    )
+    .unwrap();
+    let t0 = std::time::Instant::now();
+    let mut sent = PVT_LEN;
+    x.pvt_push(&pts[..sent], false).unwrap();
+    let rate = sent as f64 / t0.elapsed().as_secs_f64();
+    let m = x.pvt_start().unwrap();
+    let sim = card.sim().unwrap();
+    let mut lows = 0;
+    let mut worst = 0.0f64;
+    let mut tick = 0usize;
+    while tick < n * 10 + 2_000 {
+        sim.step(1);
+        tick += 1;
+        if tick.is_multiple_of(10) && tick / 10 <= n {
+            let p = &pts[tick / 10 - 1];
+            let err = (status(&card, 0).command_position - p.position).abs();
+            worst = worst.max(err / p.position.abs().max(1.0));
+        }
+        while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+            if e.kind == EventKind::Pvt && e.code == PvtEvent::LowWater as i32 {
+                lows += 1;
+                let take = x.pvt_free().min(n - sent);
+                x.pvt_push(&pts[sent..sent + take], sent + take == n)
+                    .unwrap();
+                sent += take;
+            }
+            assert!(
+                !(e.kind == EventKind::Pvt && e.code == PvtEvent::Starved as i32),
+                "starved at tick {tick}"
+            );
+        }
+    }
+    m.wait(LONG).unwrap();
+    println!(
+        "streamed {n} points through {PVT_LEN}: {lows} low-water refills, worst relative \
+         error at the points {worst:e}; {rate:.0} points/s accepted in-process (4 a command)"
+    );
+    assert_eq!(sent, n);
+    assert!(lows >= 4);
+    assert!(worst <= 1e-9);
+}

@@ -22,6 +22,7 @@ use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use firmware_proto::layout;
 use firmware_proto::mem::HeapWindow;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
+use firmware_proto::PvtEvent;
 use firmware_proto::{
     move_flags, raw, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
     MAX_AXES,
@@ -934,4 +935,50 @@ fn gearing_does_not_touch_the_heap() {
     assert!(r.run_until(20_000, |r| r.got(EventKind::MotionAborted, lost)));
     assert!(r.run_until(20_000, |r| r.axis_state(5) == AxisState::Standstill));
     r.assert_no_heap("gearing");
+}
+
+/// Layout 1.7 (sync): PT/PVT streams. PVT and PT to their last points, a stream that runs dry,
+/// a halted one, and a refill on the low-water event: every tick without the heap (the
+/// buffers are made by the first MC_OP_PVT_BEGIN of each axis, in the command manager).
+#[test]
+fn pvt_streams_do_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..4);
+    let points = |from: usize, n: usize| -> Vec<f64> {
+        let mut a = vec![n as f64];
+        for k in from..from + n {
+            let t = (k + 1) as f64 * 0.01;
+            a.extend([t, 100.0 * (k + 1) as f64, 10_000.0]);
+        }
+        a
+    };
+    for a in 0..4 {
+        let flags = if a == 1 { firmware_proto::PVT_PT } else { 0 };
+        r.ok(Opcode::PvtBegin, a, flags, &[2e4, 1e7, 2.0]);
+        r.ok(Opcode::PvtPoints, a, 0, &points(0, 4));
+    }
+    let mut last = points(4, 1);
+    last[3] = 0.0;
+    r.ok(Opcode::PvtPoints, 0, firmware_proto::PVT_LAST, &last);
+    r.ok(
+        Opcode::PvtPoints,
+        1,
+        firmware_proto::PVT_LAST,
+        &points(4, 1),
+    );
+    let start = r.ok(Opcode::PvtStart, 0, 0, &[15.0]);
+    r.run(20);
+    r.ok(Opcode::Halt, 3, 0, &[2e6, 1e8]);
+    // Low water on axis 2: more points while it runs; then it runs dry.
+    assert!(r.run_until(1_000, |r| r.log.iter().any(|e| e.kind()
+        == Some(EventKind::Pvt)
+        && e.code == PvtEvent::LowWater as i32)));
+    r.ok(Opcode::PvtPoints, 2, 0, &points(4, 4));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionDone, start)
+        && (0..4).all(|a| r.axis_state(a) == AxisState::Standstill)));
+    assert!(r
+        .log
+        .iter()
+        .any(|e| e.kind() == Some(EventKind::Pvt) && e.code == PvtEvent::Starved as i32));
+    r.assert_no_heap("pvt");
 }

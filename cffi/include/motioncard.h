@@ -331,6 +331,37 @@ extern "C" {
 #define MC_PATH_STATUS_HALTING 4
 
 /**
+ * `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours
+ * (the stream starts, and at a last point ends, at rest).
+ */
+#define MC_PVT_MODE_PT 0
+
+/**
+ * PVT: each point's velocity as given.
+ */
+#define MC_PVT_MODE_PVT 1
+
+/**
+ * Points the card buffers per axis.
+ */
+#define MC_PVT_LEN 4096
+
+/**
+ * `code` of `MC_EVENT_PVT`: the points queued fell to the low water (`value`: how many).
+ */
+#define MC_PVT_EVENT_LOW_WATER 1
+
+/**
+ * The stream ran dry before its last point: the axis stops on its stop ramp.
+ */
+#define MC_PVT_EVENT_STARVED 2
+
+/**
+ * The last point was reached (motion done follows in position).
+ */
+#define MC_PVT_EVENT_DONE 3
+
+/**
  * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
  */
 #define MC_MASTER_COMMANDED 0
@@ -1960,6 +1991,38 @@ typedef struct mc_path_progress {
 typedef void (*mc_path_progress_callback)(const struct mc_path_progress *progress, void *user);
 
 /**
+ * A stream's limits, user units: every segment's velocity and acceleration stay within them.
+ */
+typedef struct mc_pvt_limits {
+  /**
+   * Velocity.
+   */
+  double velocity;
+  /**
+   * Acceleration.
+   */
+  double acceleration;
+} mc_pvt_limits;
+
+/**
+ * One point, user units: seconds from the start of the stream, position, velocity (PVT).
+ */
+typedef struct mc_pvt_point {
+  /**
+   * Seconds from the start of the stream.
+   */
+  double time;
+  /**
+   * Position.
+   */
+  double position;
+  /**
+   * Velocity (ignored in PT).
+   */
+  double velocity;
+} mc_pvt_point;
+
+/**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
  */
 typedef struct mc_safety_status {
@@ -2508,6 +2571,24 @@ typedef struct mc_sync_limits {
  * unknown master source, or a master axis disabled or in ErrorStop.
  */
 #define MC_ERR_SYNC_MASTER -91
+
+/**
+ * A PT/PVT point not at least one servo period after the point before it, or a segment
+ * longer than the longest move.
+ */
+#define MC_ERR_PVT_TIME -92
+
+/**
+ * A PT/PVT point whose segment breaks the stream's velocity or acceleration limit (the
+ * error names the point).
+ */
+#define MC_ERR_PVT_LIMIT -93
+
+/**
+ * PT/PVT commands out of sequence: points without an open stream or after its last point,
+ * a start without points or on an axis that moved, a begin while a stream runs.
+ */
+#define MC_ERR_PVT_SEQUENCE -94
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -3379,6 +3460,47 @@ mc_result mc_get_outputs(mc_card card, uint32_t *outputs);
  * above `MC_CARD_OUTPUTS` in either is `MC_ERR_PATH_OUTPUT`. Blocks until the card answers.
  */
 mc_result mc_set_outputs(mc_card card, uint32_t mask, uint32_t value);
+
+/**
+ * Open a PT/PVT stream on `axis` at its commanded position (standstill), at rest, time 0:
+ * `mode` `MC_PVT_MODE_`, `limits`, a low-water event (`MC_EVENT_PVT`,
+ * `MC_PVT_EVENT_LOW_WATER`) once `low_water` points or fewer are left (0: none). Blocks until
+ * the card answers.
+ */
+mc_result mc_pvt_begin(mc_card card,
+                       uint32_t axis,
+                       uint32_t mode,
+                       const struct mc_pvt_limits *limits,
+                       uint32_t low_water);
+
+/**
+ * Append `n` points (at most `MC_PVT_LEN`) to the stream; with `last` nonzero the last of them
+ * ends it (PVT: at velocity 0). `free` (may be NULL) receives the points still free on the
+ * card. A refused point (`MC_ERR_PVT_LIMIT`, `MC_ERR_PVT_TIME`, `MC_ERR_NOT_FINITE`,
+ * `MC_ERR_OUT_OF_RANGE`, `MC_ERR_QUEUE_FULL`, `MC_ERR_PVT_SEQUENCE`) is named in the error
+ * message ("PT/PVT point I ..."); the points before it were queued. Blocks until the card
+ * answers.
+ */
+mc_result mc_pvt_push(mc_card card,
+                      uint32_t axis,
+                      const struct mc_pvt_point *points,
+                      size_t n,
+                      uint32_t last,
+                      size_t *free);
+
+/**
+ * Run `axis`'s stream: `mc_motion_wait` on `*motion` (may be NULL) returns once the last
+ * point is reached and the axis is in position, or `MC_ERR_ABORTED` if the stream ran dry
+ * (`MC_PVT_EVENT_STARVED`; the axis stops on its stop ramp) or a halt, stop or safety stop
+ * ended it. Blocks until the card answers.
+ */
+mc_result mc_pvt_start(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Points queued in `axis`'s stream and free, as the card published them last tick (either
+ * pointer may be NULL). Never blocks.
+ */
+mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free);
 
 /**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped

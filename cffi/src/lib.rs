@@ -25,6 +25,7 @@ pub mod group;
 pub mod homing;
 pub mod modes;
 pub mod path;
+pub mod pvt;
 pub mod registry;
 pub mod result;
 pub mod safety;

@@ -4,9 +4,9 @@
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`,
-//! `path` and `gearing` choose their cards). `move` and `c89` are also linked statically, and a program of the
+//! `path`, `gearing` and `pvt` choose their cards). `move` and `c89` are also linked statically, and a program of the
 //! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
-//! `homing`, `nurbs_path`, `path`, `gearing` and `panic` also run under valgrind. The installed libraries'
+//! `homing`, `nurbs_path`, `path`, `gearing`, `pvt` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -1018,6 +1018,20 @@ fn gearing_from_c() {
     assert!(out.contains("PASS gearing\n"), "{out}");
     assert!(out.contains(", error 0 counts"), "{out}");
     assert!(out.contains("in gear at 1/2: 10000.0 counts/s"), "{out}");
+}
+
+/// Layout 1.7 (sync): PT/PVT streaming through the card's buffer, refilled on low water.
+#[test]
+fn pvt_from_c() {
+    let out = run(&compile("pvt", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS pvt\n"), "{out}");
+    assert!(out.contains("PVT: 2000 points"), "{out}");
+}
+
+#[test]
+fn pvt_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("pvt");
+    assert!(out.contains("PASS pvt\n"), "{out}");
 }
 
 #[test]

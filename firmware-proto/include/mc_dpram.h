@@ -358,13 +358,51 @@
 #define MC_SYNC_IN_GEAR 1      /* MC_GearIn caught up: the slave follows the ratio (InGear) */
 #define MC_SYNC_IN_SYNC 2      /* MC_GearInPos reached its sync point (InSync) */
 #define MC_SYNC_MASTER_LOST 3  /* the master is disabled or in ErrorStop: the slave stops */
-#define MC_EV_PVT 28u          /* a PT/PVT stream. axis: the axis; code: MC_PVT_EV_* */
+#define MC_EV_PVT 28u          /* a PT/PVT stream. axis: the axis; seq: its MC_OP_PVT_START; code:
+                                * MC_PVT_EV_*; value: the points queued (low water), the time of
+                                * the last point run (starved), the last position (done) */
+#define MC_PVT_EV_LOW_WATER 1  /* the points queued fell to the stream's low water */
+#define MC_PVT_EV_STARVED 2    /* the stream ran dry before a last point: the axis stops on its stop
+                                * ramp (Stopping, then Standstill; MC_EV_MOTION_ABORTED) */
+#define MC_PVT_EV_DONE 3       /* the last point was reached (motion done follows in position) */
 #define MC_NACK_GEAR_RATIO 100 /* a ratio that is not integer, a zero numerator, a denominator <= 0,
                                 * or a magnitude above MC_GEAR_RATIO_MAX */
 #define MC_NACK_SYNC_MASTER 101 /* a master source the card does not know, a master axis or aux
                                  * encoder it does not have, the slave itself, or a master axis
                                  * disabled or in ErrorStop */
 #define MC_MOTION_IN_SYNC (1u << 8) /* layout 1.7 (sync): the slave follows its master (InGear) */
+
+/* layout 1.7 (sync): PT/PVT streaming (Googol GTS and Delta Tau PVT). Each axis has a buffer of
+ * MC_PVT_LEN points on the card. MC_OP_PVT_BEGIN (from Standstill) opens a stream at the axis's
+ * commanded position, at rest, at time 0; MC_OP_PVT_POINTS appends points (time from the start,
+ * strictly increasing by at least one servo period; position; velocity), MC_OP_PVT_START runs it
+ * (SynchronizedMotion). Between two points the position is the cubic Hermite segment through
+ * both positions and velocities: it passes exactly through every point, velocity continuous. PT
+ * (MC_PVT_PT): the velocity at a point is the three-point estimate from its neighbours
+ * ((d- h+ + d+ h-)/(h- + h+), d the chords' slopes, h their durations), known when the next
+ * point arrives; a point marked MC_PVT_LAST ends at rest. Every segment is checked against the
+ * stream's vmax and amax when its end velocity is known, and the point that breaks them is
+ * refused (MC_NACK_PVT_LIMIT), the command's points all or none. A stream that runs dry before
+ * its last point stops on the axis's stop ramp (MC_PVT_EV_STARVED); the last point reached:
+ * MC_PVT_EV_DONE, motion done (MC_OP_PVT_START's seq) once in position, Standstill. Halt, stop
+ * and safety stops end the stream. */
+#define MC_OP_PVT_BEGIN 83u   /* args: vmax, amax, low water (points, 0: none). flags: MC_PVT_PT.
+                               * Standstill, no stream running (else MC_NACK_PVT_SEQUENCE) */
+#define MC_OP_PVT_POINTS 84u  /* args: count (1..MC_PVT_POINTS_MAX), then time, position, velocity
+                               * of each (PT: velocity ignored). flags: MC_PVT_LAST (the last of
+                               * these is the stream's last). Ack value: the points still free */
+#define MC_OP_PVT_START 85u   /* args: axis mask (bit i: axis i; 0: this axis): the streams of
+                               * every axis in it start on the same tick */
+#define MC_PVT_PT (1u << 0)
+#define MC_PVT_LAST (1u << 1)
+#define MC_PVT_LEN 4096u      /* points buffered per axis */
+#define MC_PVT_POINTS_MAX 4u  /* points per MC_OP_PVT_POINTS */
+#define MC_NACK_PVT_TIME 102  /* a point not at least one servo period after the one before, or a
+                               * segment longer than MC_MAX_MOVE_TIME */
+#define MC_NACK_PVT_LIMIT 103 /* a point whose segment breaks the stream's vmax or amax, or a last
+                               * point (PVT) with a velocity */
+#define MC_NACK_PVT_SEQUENCE 104 /* points without an open stream or after its last point, a start
+                                  * without points or on an axis that moved, a begin while one runs */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
@@ -979,6 +1017,9 @@ struct mc_sync_status {
     int64_t aux_count[MC_AUX_ENCODERS];
     /** The ratio of each axis's coupling (slave counts per master count; 0: not coupled). */
     double gear_ratio[MC_MAX_AXES];
+    /** Each axis's PT/PVT stream: points queued, and free. */
+    uint32_t pvt_queued[MC_MAX_AXES];
+    uint32_t pvt_free[MC_MAX_AXES];
 };
 
 /* The whole window. */

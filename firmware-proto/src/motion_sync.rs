@@ -13,6 +13,36 @@ pub const GEAR_RATIO_MAX: f64 = raw::MC_GEAR_RATIO_MAX;
 /// A commanded master counts in 1/2^16 of a count (its position is an `f64`).
 pub const COMMANDED_SUBCOUNTS: i128 = 1 << 16;
 
+/// Points buffered per axis in a PT/PVT stream.
+pub const PVT_LEN: usize = raw::MC_PVT_LEN as usize;
+/// Points per `MC_OP_PVT_POINTS` command.
+pub const PVT_POINTS_MAX: usize = raw::MC_PVT_POINTS_MAX as usize;
+/// `MC_OP_PVT_BEGIN` flag: PT (velocities from the neighbouring points).
+pub const PVT_PT: u32 = raw::MC_PVT_PT;
+/// `MC_OP_PVT_POINTS` flag: the last point of the command ends the stream.
+pub const PVT_LAST: u32 = raw::MC_PVT_LAST;
+
+/// The sub-cases of `MC_EV_PVT` (its `code`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(i32)]
+pub enum PvtEvent {
+    /// The points queued fell to the low water.
+    LowWater = raw::MC_PVT_EV_LOW_WATER as i32,
+    /// The stream ran dry before its last point: the axis stops.
+    Starved = raw::MC_PVT_EV_STARVED as i32,
+    /// The last point was reached.
+    Done = raw::MC_PVT_EV_DONE as i32,
+}
+
+impl PvtEvent {
+    /// Decode, or `None` for a code this layout does not define.
+    pub fn from_raw(v: i32) -> Option<Self> {
+        [Self::LowWater, Self::Starved, Self::Done]
+            .into_iter()
+            .find(|e| *e as i32 == v)
+    }
+}
+
 /// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MasterSource {

@@ -143,9 +143,22 @@ pub const MC_SYNC_IN_GEAR: u32 = 1;
 pub const MC_SYNC_IN_SYNC: u32 = 2;
 pub const MC_SYNC_MASTER_LOST: u32 = 3;
 pub const MC_EV_PVT: u32 = 28;
+pub const MC_PVT_EV_LOW_WATER: u32 = 1;
+pub const MC_PVT_EV_STARVED: u32 = 2;
+pub const MC_PVT_EV_DONE: u32 = 3;
 pub const MC_NACK_GEAR_RATIO: u32 = 100;
 pub const MC_NACK_SYNC_MASTER: u32 = 101;
 pub const MC_MOTION_IN_SYNC: u32 = 256;
+pub const MC_OP_PVT_BEGIN: u32 = 83;
+pub const MC_OP_PVT_POINTS: u32 = 84;
+pub const MC_OP_PVT_START: u32 = 85;
+pub const MC_PVT_PT: u32 = 1;
+pub const MC_PVT_LAST: u32 = 2;
+pub const MC_PVT_LEN: u32 = 4096;
+pub const MC_PVT_POINTS_MAX: u32 = 4;
+pub const MC_NACK_PVT_TIME: u32 = 102;
+pub const MC_NACK_PVT_LIMIT: u32 = 103;
+pub const MC_NACK_PVT_SEQUENCE: u32 = 104;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -1161,15 +1174,22 @@ pub struct mc_sync_status {
     pub aux_count: [i64; 2usize],
     #[doc = " The ratio of each axis's coupling (slave counts per master count; 0: not coupled)."]
     pub gear_ratio: [f64; 8usize],
+    #[doc = " Each axis's PT/PVT stream: points queued, and free."]
+    pub pvt_queued: [u32; 8usize],
+    pub pvt_free: [u32; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_sync_status"][::core::mem::size_of::<mc_sync_status>() - 80usize];
+    ["Size of mc_sync_status"][::core::mem::size_of::<mc_sync_status>() - 144usize];
     ["Alignment of mc_sync_status"][::core::mem::align_of::<mc_sync_status>() - 8usize];
     ["Offset of field: mc_sync_status::aux_count"]
         [::core::mem::offset_of!(mc_sync_status, aux_count) - 0usize];
     ["Offset of field: mc_sync_status::gear_ratio"]
         [::core::mem::offset_of!(mc_sync_status, gear_ratio) - 16usize];
+    ["Offset of field: mc_sync_status::pvt_queued"]
+        [::core::mem::offset_of!(mc_sync_status, pvt_queued) - 80usize];
+    ["Offset of field: mc_sync_status::pvt_free"]
+        [::core::mem::offset_of!(mc_sync_status, pvt_free) - 112usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
@@ -1200,7 +1220,7 @@ pub struct mc_dpram {
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26352usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26416usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];

@@ -145,6 +145,12 @@ code_enum! {
         GearInPos = raw::MC_OP_GEAR_IN_POS,
         /// MC_GearOut: the slave leaves the coupling in velocity mode at its velocity.
         GearOut = raw::MC_OP_GEAR_OUT,
+        /// Open a PT/PVT stream: args vmax, amax, low water; flags `MC_PVT_PT`.
+        PvtBegin = raw::MC_OP_PVT_BEGIN,
+        /// Append points: args count, then time, position, velocity of each.
+        PvtPoints = raw::MC_OP_PVT_POINTS,
+        /// Start the streams of an axis mask.
+        PvtStart = raw::MC_OP_PVT_START,
     }
 }
 
@@ -323,6 +329,13 @@ code_enum! {
         /// A master source the card does not know, a master it does not have, the slave
         /// itself, or a master axis disabled or in ErrorStop.
         SyncMaster = raw::MC_NACK_SYNC_MASTER,
+        /// A PT/PVT point not at least one servo period after the one before, or a segment
+        /// longer than the longest move.
+        PvtTime = raw::MC_NACK_PVT_TIME,
+        /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit.
+        PvtLimit = raw::MC_NACK_PVT_LIMIT,
+        /// PT/PVT commands out of sequence.
+        PvtSequence = raw::MC_NACK_PVT_SEQUENCE,
     }
 }
 
@@ -930,7 +943,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 58);
+        assert_eq!(NackCode::ALL.len(), 61);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

@@ -445,7 +445,19 @@ impl Card {
         what: &'static str,
         target: Target,
     ) -> Result<u32> {
-        self.inner.execute_seq(cmd, what, target)
+        self.inner
+            .execute_value(cmd, what, target)
+            .map(|(seq, _)| seq)
+    }
+
+    /// [`Card::execute_seq`] with the ack's value.
+    pub(crate) fn execute_value(
+        &self,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<(u32, f64)> {
+        self.inner.execute_value(cmd, what, target)
     }
 
     /// Take the next event, waiting up to `timeout` (zero: don't wait).
@@ -713,10 +725,15 @@ impl Inner {
         Ok(cmd.seq)
     }
 
-    fn execute_seq(&self, cmd: Command, what: &'static str, target: Target) -> Result<u32> {
+    fn execute_value(
+        &self,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<(u32, f64)> {
         let seq = self.send_raw(cmd)?;
         match self.wait_answer(seq)? {
-            Ok(_) => Ok(seq),
+            Ok(v) => Ok((seq, v)),
             Err(code) => Err(Error::Nack {
                 command: what,
                 target,

@@ -227,6 +227,15 @@ error_kinds! {
     /// A master the card does not have (axis or auxiliary encoder), the slave itself, an
     /// unknown master source, or a master axis disabled or in ErrorStop.
     SyncMaster = -91, MC_ERR_SYNC_MASTER, nack SyncMaster, "no such master, the slave itself, or a master axis disabled or in ErrorStop";
+    /// A PT/PVT point not at least one servo period after the point before it, or a segment
+    /// longer than the longest move.
+    PvtTime = -92, MC_ERR_PVT_TIME, nack PvtTime, "a PT/PVT point must come at least one servo period after the one before";
+    /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit (the
+    /// error names the point).
+    PvtLimit = -93, MC_ERR_PVT_LIMIT, nack PvtLimit, "the PT/PVT segment into this point breaks the velocity or acceleration limit";
+    /// PT/PVT commands out of sequence: points without an open stream or after its last point,
+    /// a start without points or on an axis that moved, a begin while a stream runs.
+    PvtSequence = -94, MC_ERR_PVT_SEQUENCE, nack PvtSequence, "PT/PVT commands out of sequence";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -333,6 +342,15 @@ pub enum Error {
         code: NackCode,
         reason: &'static str,
     },
+    /// A PT/PVT point the card refused (`code`: the nack), `index` into the points given; the
+    /// points before it were queued, it and those after it were not.
+    #[error("PT/PVT point {index} on {target} refused: {reason}")]
+    PvtPoint {
+        target: Target,
+        index: usize,
+        code: NackCode,
+        reason: &'static str,
+    },
     /// See [`ErrorKind::CardGone`].
     #[error("card gone: {0}")]
     CardGone(String),
@@ -379,7 +397,9 @@ impl Error {
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,
-            Error::Nack { code, .. } | Error::Refused { code, .. } => (*code).into(),
+            Error::Nack { code, .. }
+            | Error::Refused { code, .. }
+            | Error::PvtPoint { code, .. } => (*code).into(),
             Error::CardGone(_) => ErrorKind::CardGone,
             Error::Closed => ErrorKind::Closed,
             Error::Cancelled => ErrorKind::Cancelled,

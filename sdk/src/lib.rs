@@ -31,6 +31,7 @@ mod homing;
 mod modes;
 mod nurbs;
 mod path;
+mod pvt;
 mod safety;
 mod session;
 mod sync;
@@ -50,7 +51,7 @@ pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
-pub use firmware_proto::{GearRatio, SyncEvent, AUX_ENCODERS};
+pub use firmware_proto::{GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, PVT_LEN};
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
@@ -68,6 +69,7 @@ pub use path::{
     Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
     Segment, StreamError, Transition,
 };
+pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};

@@ -1289,9 +1289,10 @@ impl Axis {
         Ok(changed)
     }
 
-    /// The master was lost: stop on the axis's stop ramp (bounded by `max_time`), Stopping
-    /// until at rest, then Standstill. Returns the old state.
-    pub(crate) fn sync_stop(&mut self, max_time: f64) -> Option<AxisState> {
+    /// The master was lost (or, `starved`, a PT/PVT stream ran dry): stop on the axis's stop
+    /// ramp (bounded by `max_time`), Stopping until at rest, then Standstill. Returns the old
+    /// state.
+    pub(crate) fn sync_stop(&mut self, max_time: f64, starved: bool) -> Option<AxisState> {
         let c = self.safety.config;
         let mut changed = None;
         if self
@@ -1303,8 +1304,25 @@ impl Axis {
         }
         self.awaiting_done = false;
         self.stop_released = true;
-        self.safety.stop_reason = StopReason::Halt;
+        self.safety.stop_reason = if starved {
+            StopReason::Starvation
+        } else {
+            StopReason::Halt
+        };
         self.set_state(AxisState::Stopping, &mut changed);
+        changed
+    }
+
+    /// A PT/PVT stream reached its last point at `target` (at rest): DiscreteMotion, holding
+    /// there, motion done (with the start's seq) once in position, then Standstill. Returns
+    /// the old state.
+    pub(crate) fn end_stream(&mut self, target: f64) -> Option<AxisState> {
+        let mut changed = None;
+        self.target = target;
+        self.motion = Motion::Hold;
+        self.goal = Goal::None;
+        self.settled_for = 0.0;
+        self.set_state(AxisState::DiscreteMotion, &mut changed);
         changed
     }
 }

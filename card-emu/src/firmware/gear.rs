@@ -444,7 +444,7 @@ impl Gear {
         }
         if m.lost {
             report.lost = Some((run.seq, run.master.index));
-            report.state_from = slave.sync_stop(max_stop_time);
+            report.state_from = slave.sync_stop(max_stop_time, false);
             return report;
         }
         let r = run.ratio.as_f64();
@@ -642,6 +642,7 @@ impl<M: Mem + Clone> Firmware<M> {
         for (i, g) in self.gears[..self.num_axes].iter().enumerate() {
             b.gear_ratio[i] = g.ratio().map_or(0.0, |r| r.as_f64());
         }
+        (b.pvt_queued, b.pvt_free) = self.pvt_status();
         layout::SYNC_STATUS.write(&self.mem, &b);
     }
 }

@@ -14,6 +14,7 @@ pub mod group;
 pub mod homing;
 pub mod nack;
 pub mod outbox;
+pub mod pvt;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
@@ -56,6 +57,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
     gears: [Gear; MAX_AXES],
     aux: AuxInputs,
+    /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
+    pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
     filters: Box<[AxisFilter]>,
     outbox: Outbox,
@@ -97,6 +100,7 @@ impl<M: Mem + Clone> Firmware<M> {
             homing: [Homing::default(); MAX_AXES],
             gears: [Gear::default(); MAX_AXES],
             aux: AuxInputs::default(),
+            pvt: core::array::from_fn(|_| None),
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -376,11 +380,25 @@ impl<M: Mem + Clone> Firmware<M> {
             | Opcode::GearIn
             | Opcode::GearInPos
             | Opcode::GearOut
+            | Opcode::PvtBegin
+            | Opcode::PvtPoints
+            | Opcode::PvtStart
                 if grouped =>
             {
                 return Err(NackCode::AxisGrouped)
             }
             _ => {}
+        }
+        // Layout 1.7 (sync): PT/PVT streams (pvt.rs): from Standstill, nothing aborted; the
+        // ack's value is the points still free.
+        if matches!(op, Opcode::PvtBegin | Opcode::PvtPoints | Opcode::PvtStart) {
+            let (changed, value) = self.execute_pvt(c, op, ax)?;
+            self.axes[ax].accepted(c.seq);
+            if let Some(old) = changed {
+                let e = state_event(c.axis, old, self.axes[ax].state, tick);
+                self.outbox.push(e);
+            }
+            return Ok(value);
         }
         // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
         let gear = matches!(op, Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut);
@@ -724,6 +742,8 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         // Geared slaves follow their masters (gear.rs).
         let synced = self.gear_tick(ts);
+        // PT/PVT streams drive their axes (pvt.rs).
+        let streamed = self.pvt_tick();
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let inputs = *self.safety.inputs();
         let max_stop_time = self.safety.config().max_stop_time();
@@ -802,6 +822,7 @@ impl<M: Mem + Clone> Firmware<M> {
         self.post_safety_events();
         self.post_outbox();
         self.post_sync_events(&synced);
+        self.post_pvt_events(&streamed);
         for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
             let axis = i as u16;
             let done = h.done.or(report.done);

@@ -10,6 +10,7 @@ pub mod nurbs_interp;
 pub mod otg;
 pub mod path;
 pub mod path_speed;
+pub mod pvt;
 pub mod saturation;
 pub mod scurve;
 

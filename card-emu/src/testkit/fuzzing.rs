@@ -371,6 +371,23 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             a[6] = position(s);
             a[7] = position(s);
         }
+        Opcode::PvtBegin => {
+            a[0] = magnitude(s, 2.0, 6.5);
+            a[1] = magnitude(s, 3.0, 8.5);
+            a[2] = (s.u8() % 8) as f64;
+        }
+        Opcode::PvtPoints => {
+            // Layout 1.7 (sync): count, then time, position, velocity of each.
+            a[0] = (1 + s.u8() % 4) as f64;
+            let mut t = 0.0;
+            for k in 0..4 {
+                t += magnitude(s, -3.0, 0.0);
+                a[1 + 3 * k] = t;
+                a[2 + 3 * k] = position(s);
+                a[3 + 3 * k] = magnitude(s, 0.0, 4.0);
+            }
+        }
+        Opcode::PvtStart => a[0] = (s.u8() % 4) as f64,
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -409,6 +426,8 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
         }
         Opcode::PathOutput => (s.u8() % 4) as u32,
         Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
+        Opcode::PvtBegin => (s.u8() % 2) as u32,
+        Opcode::PvtPoints => (s.u8() % 2) as u32 * firmware_proto::PVT_LAST,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
         }
