@@ -586,3 +586,136 @@ fn pvt_streams_more_than_the_buffer() {
     assert!(lows >= 4);
     assert!(worst <= 1e-9);
 }
+
+// ---- Camming ----
+
+use card_emu::motion::cam::CamTable;
+use motioncard::CamSettings;
+
+/// A rotary knife's cam over one sheet of `sheet` master counts: the knife turns `rev` counts
+/// per sheet, at the conveyor's speed × `sync` at the cut (m = 0 mod sheet); `n` points.
+fn knife_points(n: usize, sheet: f64, rev: f64, sync: f64) -> Vec<(f64, f64)> {
+    let c = (sync - rev / sheet) * sheet / (2.0 * std::f64::consts::PI);
+    (0..=n)
+        .map(|i| {
+            let m = sheet * i as f64 / n as f64;
+            (
+                m,
+                rev / sheet * m + c * (2.0 * std::f64::consts::PI * m / sheet).sin(),
+            )
+        })
+        .collect()
+}
+
+/// A periodic cubic cam of 65 points (a rotary knife, 20,000 counts of conveyor a sheet, 10,000
+/// counts of knife a turn, at the conveyor's speed × 0.8 at the cut) behind a master axis at
+/// 10,000 counts/s: on the cam the slave is the table at the master's position of the tick
+/// before (within the master's 1/65536-count rounding times the slope), at every point and
+/// between; velocity and acceleration continuous (finite differences), over two cycles; then a
+/// second table (another path between the same cuts) takes over at the end of a cycle, the
+/// motion smooth across it.
+#[test]
+fn a_cam_cycle_matches_its_table_and_switches_at_the_cycle_end() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    let (sheet, rev) = (20_000.0, 10_000.0);
+    let pts = knife_points(64, sheet, rev, 0.8);
+    card.load_cam_table(0, &pts, true, true).unwrap();
+    // The second table: the same cut, another path between cuts (its slope and curvature at
+    // the cut the first's, so the switch is smooth).
+    let pts2: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|&(m, s)| {
+            let c = 1.0 - (2.0 * std::f64::consts::PI * m / sheet).cos();
+            (m, s + 300.0 * c * c)
+        })
+        .collect();
+    card.load_cam_table(1, &pts2, true, true).unwrap();
+    let table = CamTable::new(&pts, true, true).unwrap();
+    let table2 = CamTable::new(&pts2, true, true).unwrap();
+    // Refusals: a table not loaded, a master that does not increase, a bad sequence.
+    let lim = SyncLimits::new(30_000.0, 3e5, 3e7);
+    assert_eq!(
+        slave
+            .cam_in(Master::Commanded(1), &CamSettings::new(2), &lim)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::CamTable
+    );
+    assert_eq!(
+        card.load_cam_table(3, &[(0.0, 0.0), (0.0, 1.0)], false, false)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::CamTable
+    );
+    let seq = card
+        .send_raw(Command::new(Opcode::CamData, 0).with_args(&[3.0, 5.0, 1.0, 0.0, 0.0]))
+        .unwrap();
+    assert_eq!(card.wait_ack(seq).unwrap(), Err(NackCode::CamSequence));
+    master
+        .move_velocity(10_000.0, &VelocityLimits::new(1e5, 1e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let cam = CamSettings::new(0);
+    let m = slave.cam_in(Master::Commanded(1), &cam, &lim).unwrap();
+    m.wait_in_sync(LONG).unwrap();
+    assert!(status(&card, 0).in_sync());
+    // Two cycles: 4 s.
+    let rows = record(&card, &[0, 1], 40_000);
+    let mut worst = 0.0f64;
+    for k in 1..rows.len() {
+        let x_m = rows[k - 1][1].command_position;
+        let want = table.eval(x_m).s;
+        worst = worst.max((rows[k][0].command_position - want).abs());
+    }
+    let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
+    let (v, a, j) = peaks(&xs);
+    // The cam's own peaks at 10,000 counts/s of master.
+    let (mut fv, mut fa) = (0.0f64, 0.0f64);
+    for i in 0..=20_000 {
+        let e = table.eval(i as f64);
+        fv = fv.max((e.ds * 1e4).abs());
+        fa = fa.max((e.dds * 1e8).abs());
+    }
+    println!(
+        "cam cycle (65-point cubic rotary knife, master 10,000 counts/s): worst |slave − \
+         table(master)| {worst:e} counts over 2 cycles; peaks {v:.1} counts/s, {a:.1} counts/s² \
+         (the table's: {fv:.1}, {fa:.1}), jerk {j:.3e} counts/s³"
+    );
+    assert!(worst <= 1e-3, "{worst}");
+    assert!(v <= fv * 1.001 + 1.0 && a <= fa * 1.01 + 100.0, "{v} {a}");
+    // The switch at the end of the cycle.
+    let sw = slave
+        .cam_switch(Master::Commanded(1), &CamSettings::new(1), &lim)
+        .unwrap();
+    let rows = record(&card, &[0, 1], 25_000);
+    let at = sw.wait_cam_switch(LONG).unwrap();
+    let dx: Vec<f64> = rows
+        .windows(2)
+        .map(|w| w[1][0].command_position - w[0][0].command_position)
+        .collect();
+    let jump = dx
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .fold(0.0, f64::max);
+    println!("switched tables at the cycle end at {at}; largest change of the per-tick step {jump:e} counts");
+    assert!(jump < 1e-3, "the position stays smooth: {jump}");
+    // After the switch: the second table, shifted to continue from the boundary.
+    let k = rows.len() - 1;
+    let x_m = rows[k - 1][1].command_position;
+    let (d_now, d_ref) = (
+        rows[k][0].command_position - rows[k - 100][0].command_position,
+        table2.eval(x_m).s - table2.eval(rows[k - 101][1].command_position).s,
+    );
+    assert!((d_now - d_ref).abs() < 1e-3, "{d_now} {d_ref}");
+    assert_eq!(
+        card.load_cam_table(1, &pts2, true, true)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::CamTable,
+        "in use"
+    );
+    slave.cam_out().unwrap().wait_in_velocity(LONG).unwrap();
+    slave.halt(3e5, 3e7).unwrap().wait(LONG).unwrap();
+}

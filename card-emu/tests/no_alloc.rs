@@ -982,3 +982,59 @@ fn pvt_streams_do_not_touch_the_heap() {
         .any(|e| e.kind() == Some(EventKind::Pvt) && e.code == PvtEvent::Starved as i32));
     r.assert_no_heap("pvt");
 }
+
+/// Layout 1.7 (sync): camming. Periodic cubic and linear tables (built in the command
+/// manager), a slave on each, a switch at the end of a cycle, a table that ends, and a cam-out:
+/// every tick without the heap.
+#[test]
+fn camming_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..4);
+    let table = |r: &mut Rig, t: f64, flags: u32, pts: &[(f64, f64)]| {
+        r.ok(Opcode::CamTable, 0, flags, &[t, pts.len() as f64]);
+        for (k, chunk) in pts.chunks(5).enumerate() {
+            let mut a = vec![t, (k * 5) as f64, chunk.len() as f64];
+            for &(m, s) in chunk {
+                a.extend([m, s]);
+            }
+            r.ok(Opcode::CamData, 0, 0, &a);
+        }
+    };
+    let wave: Vec<(f64, f64)> = (0..=16)
+        .map(|i| {
+            let m = i as f64 * 1_000.0;
+            (
+                m,
+                0.5 * m + 300.0 * (m / 16_000.0 * std::f64::consts::TAU).sin(),
+            )
+        })
+        .collect();
+    let cubic_periodic = firmware_proto::CAM_CUBIC | firmware_proto::CAM_PERIODIC;
+    table(&mut r, 0.0, cubic_periodic, &wave);
+    table(&mut r, 1.0, cubic_periodic, &wave);
+    table(
+        &mut r,
+        2.0,
+        0,
+        &[(0.0, 0.0), (5_000.0, 2_000.0), (8_000.0, 2_500.0)],
+    );
+    r.ok(Opcode::MoveVelocity, 0, 0, &[10_000.0, 2e5, 2e5, 2e7]);
+    r.run(2_000);
+    let cam = |t: f64| [0.0, t, 0.0, 0.0, 1.0, 1.0, 2e4, 2e5, 2e7];
+    let a = r.ok(Opcode::CamIn, 1, 0, &cam(0.0));
+    let b = r.ok(Opcode::CamIn, 2, 0, &cam(2.0));
+    let c = r.ok(Opcode::CamIn, 3, 1, &cam(0.0));
+    assert!(r.run_until(20_000, |r| [a, b, c]
+        .iter()
+        .all(|&s| r.got(EventKind::Sync, s))));
+    let sw = r.ok(
+        Opcode::CamIn,
+        1,
+        firmware_proto::CAM_AT_CYCLE_END,
+        &cam(1.0),
+    );
+    assert!(r.run_until(40_000, |r| r.got(EventKind::Sync, sw)));
+    let out = r.ok(Opcode::CamOut, 3, 0, &[]);
+    assert!(r.run_until(20_000, |r| r.got(EventKind::InVelocity, out)));
+    r.assert_no_heap("camming");
+}

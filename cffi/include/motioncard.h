@@ -112,6 +112,38 @@ extern "C" {
 
 
 /**
+ * `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
+ * linear).
+ */
+#define MC_CAM_CUBIC 1
+
+/**
+ * `flags` of `mc_cam_load_table`: periodic (the table repeats every span of the master, the
+ * slave rising by its last minus first point a cycle).
+ */
+#define MC_CAM_PERIODIC 2
+
+/**
+ * Cam tables the card holds.
+ */
+#define MC_CAM_TABLES 4
+
+/**
+ * Points of a cam table.
+ */
+#define MC_CAM_MAX_POINTS 1024
+
+/**
+ * `code` of `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+ */
+#define MC_SYNC_CAM_END 4
+
+/**
+ * `code` of `MC_EVENT_SYNC`: the table switched at the end of a cycle.
+ */
+#define MC_SYNC_CAM_SWITCH 5
+
+/**
  * `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
  * else `MC_ERR_HOMING_METHOD`).
  */
@@ -1398,6 +1430,51 @@ typedef struct mc_event {
 typedef void (*mc_event_callback)(mc_card card, const struct mc_event *event, void *user);
 
 /**
+ * Which cam table, and how it maps the master onto the slave (counts): slave = slave_offset +
+ * slave_scale × table((master − master_offset) / master_scale).
+ */
+typedef struct mc_cam_settings {
+  /**
+   * Table 0 .. `MC_CAM_TABLES` − 1.
+   */
+  uint32_t table;
+  /**
+   * Subtracted from the master's position, counts.
+   */
+  double master_offset;
+  /**
+   * Added to the table's slave position, counts.
+   */
+  double slave_offset;
+  /**
+   * Divides the master's position (nonzero).
+   */
+  double master_scale;
+  /**
+   * Multiplies the table's slave position (nonzero).
+   */
+  double slave_scale;
+} mc_cam_settings;
+
+/**
+ * The slave's own limits while it engages, in its user units.
+ */
+typedef struct mc_sync_limits {
+  /**
+   * Velocity.
+   */
+  double velocity;
+  /**
+   * Acceleration (and deceleration).
+   */
+  double acceleration;
+  /**
+   * Jerk.
+   */
+  double jerk;
+} mc_sync_limits;
+
+/**
  * A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
  */
 typedef struct mc_group_settings {
@@ -2170,24 +2247,6 @@ typedef struct mc_stop_info {
 } mc_stop_info;
 
 /**
- * The slave's own limits while it engages, in its user units.
- */
-typedef struct mc_sync_limits {
-  /**
-   * Velocity.
-   */
-  double velocity;
-  /**
-   * Acceleration (and deceleration).
-   */
-  double acceleration;
-  /**
-   * Jerk.
-   */
-  double jerk;
-} mc_sync_limits;
-
-/**
  * Success.
  */
 #define MC_OK 0
@@ -2591,6 +2650,17 @@ typedef struct mc_sync_limits {
 #define MC_ERR_PVT_SEQUENCE -94
 
 /**
+ * A cam table number, point count or flags out of range, points not strictly increasing
+ * in the master or not finite, a table not loaded, or one in use by a slave.
+ */
+#define MC_ERR_CAM_TABLE -95
+
+/**
+ * Cam table data without an open table or out of order.
+ */
+#define MC_ERR_CAM_SEQUENCE -96
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -2905,6 +2975,61 @@ mc_result mc_sim_step(mc_card card, uint64_t ticks);
  * Emulated time of a stepped sim card since boot, in seconds.
  */
 mc_result mc_sim_time(mc_card card, double *seconds);
+
+/**
+ * Load cam table `table` with `n` points (`master[i]`, `slave[i]`, counts; the master strictly
+ * increasing; 2 ..= `MC_CAM_MAX_POINTS`, cubic 3 ..), `flags` `MC_CAM_CUBIC`,
+ * `MC_CAM_PERIODIC`. `MC_ERR_CAM_TABLE` if the card refuses it (or a slave follows it),
+ * `MC_ERR_NOT_FINITE`. Blocks until the card answers.
+ */
+mc_result mc_cam_load_table(mc_card card,
+                            uint32_t table,
+                            const double *master,
+                            const double *slave,
+                            size_t n,
+                            uint32_t flags);
+
+/**
+ * MC_CamIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
+ * through `cam`, caught up within `limits`; `mc_motion_wait_in_sync` on `*motion` (may be
+ * NULL) returns once it is on the cam. `MC_ERR_CAM_TABLE` for a table not loaded. Blocks until
+ * the card answers.
+ */
+mc_result mc_cam_in(mc_card card,
+                    uint32_t axis,
+                    uint32_t master_kind,
+                    uint32_t master,
+                    const struct mc_cam_settings *cam,
+                    const struct mc_sync_limits *limits,
+                    struct mc_motion *motion);
+
+/**
+ * On an axis that cams: `cam`'s table takes over at the end of the current cycle, the slave's
+ * position continuous (`mc_motion_wait_cam_switch` on `*motion`, may be NULL).
+ * `MC_ERR_INVALID_STATE` if the axis does not cam. Blocks until the card answers.
+ */
+mc_result mc_cam_switch(mc_card card,
+                        uint32_t axis,
+                        uint32_t master_kind,
+                        uint32_t master,
+                        const struct mc_cam_settings *cam,
+                        const struct mc_sync_limits *limits,
+                        struct mc_motion *motion);
+
+/**
+ * MC_CamOut: the slave leaves the cam in velocity mode at its velocity
+ * (`mc_motion_wait_in_velocity` on `*motion`, may be NULL). Blocks until the card answers.
+ */
+mc_result mc_cam_out(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Wait until the table switch of `mc_cam_switch` took place. `position` may be NULL;
+ * otherwise it receives the slave's commanded position then. Blocks.
+ */
+mc_result mc_motion_wait_cam_switch(mc_card card,
+                                    struct mc_motion motion,
+                                    uint32_t timeout_ms,
+                                    double *position);
 
 /**
  * Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):

@@ -20,6 +20,7 @@
 #![allow(clippy::missing_safety_doc)]
 
 pub mod api;
+pub mod cam;
 mod ffi;
 pub mod group;
 pub mod homing;

@@ -45,7 +45,7 @@ pub struct mc_sync_limits {
     pub jerk: f64,
 }
 
-fn master_of(kind: u32, index: u32) -> Result<Master, Failure> {
+pub(crate) fn master_of(kind: u32, index: u32) -> Result<Master, Failure> {
     let i = index as usize;
     match kind {
         MC_MASTER_COMMANDED => Ok(Master::Commanded(i)),

@@ -49,7 +49,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_PATH_BUSY,      MC_ERR_PATH_ID,
     /* synchronised motion (layout 1.7) */
     MC_ERR_GEAR_RATIO,     MC_ERR_SYNC_MASTER,     MC_ERR_PVT_TIME,
-    MC_ERR_PVT_LIMIT,      MC_ERR_PVT_SEQUENCE,
+    MC_ERR_PVT_LIMIT,      MC_ERR_PVT_SEQUENCE,    MC_ERR_CAM_TABLE,
+    MC_ERR_CAM_SEQUENCE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -92,8 +93,11 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD, MC_ERR_AXIS_HOMING, MC_ERR_HOMING_FAILED,
     /* path.c */
     MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
-    /* gearing.c, pvt.c */
+    /* gearing.c, pvt.c, cam.c */
     MC_ERR_GEAR_RATIO, MC_ERR_SYNC_MASTER, MC_ERR_PVT_TIME, MC_ERR_PVT_LIMIT, MC_ERR_PVT_SEQUENCE,
+    MC_ERR_CAM_TABLE,
+    /* not provokable from C: the ABI loads a table in order (cam data out of sequence) */
+    MC_ERR_CAM_SEQUENCE,
 };
 
 static void result_strings(void) {

@@ -404,6 +404,41 @@
 #define MC_NACK_PVT_SEQUENCE 104 /* points without an open stream or after its last point, a start
                                   * without points or on an axis that moved, a begin while one runs */
 
+/* layout 1.7 (sync): camming (PLCopen MC_CamTableSelect, MC_CamIn, MC_CamOut). The card holds
+ * MC_CAM_TABLES tables of up to MC_CAM_MAX_POINTS points (master, slave) in its own RAM, loaded
+ * with commands: MC_OP_CAM_TABLE opens a table, MC_OP_CAM_DATA sends its points in order, and
+ * the table is built once its last point arrived (master positions strictly increasing, all
+ * finite; a table in use by a slave cannot be reloaded). Linear or cubic-spline interpolation
+ * (MC_CAM_CUBIC: velocity and acceleration continuous; natural ends, or periodic), periodic or
+ * not (MC_CAM_PERIODIC: the master's period is the table's span, the slave may rise by its last
+ * minus first point per cycle). MC_OP_CAM_IN couples a slave as MC_OP_GEAR_IN does (catch-up
+ * within vmax, amax, jerk, then MC_EV_SYNC MC_SYNC_IN_SYNC): slave = slave offset + slave scale
+ * x table((master - master offset) / master scale). With MC_CAM_AT_CYCLE_END on a cammed slave
+ * the new table takes over at the end of the current cycle, the slave's position continuous
+ * (MC_SYNC_CAM_SWITCH). A table that is not periodic ends: the slave holds its end
+ * (MC_SYNC_CAM_END). MC_OP_GEAR_OUT (or MC_OP_CAM_OUT) leaves the cam in velocity mode. */
+#define MC_OP_CAM_TABLE 86u   /* args: table, points (2..MC_CAM_MAX_POINTS; cubic: 3..). flags:
+                               * MC_CAM_CUBIC, MC_CAM_PERIODIC. Any axis */
+#define MC_OP_CAM_DATA 87u    /* args: table, index of the first point, count (1..MC_CAM_DATA_MAX),
+                               * then master, slave of each */
+#define MC_OP_CAM_IN 88u      /* args: master, table, master offset, slave offset, master scale,
+                               * slave scale, vmax, amax, jerk. flags: MC_MASTER_* |
+                               * MC_CAM_AT_CYCLE_END */
+#define MC_OP_CAM_OUT 89u     /* as MC_OP_GEAR_OUT */
+#define MC_CAM_TABLES 4u
+#define MC_CAM_MAX_POINTS 1024u
+#define MC_CAM_DATA_MAX 5u
+#define MC_CAM_CUBIC (1u << 0)
+#define MC_CAM_PERIODIC (1u << 1)
+#define MC_CAM_AT_CYCLE_END (1u << 4) /* MC_OP_CAM_IN flag (beside the master source) */
+#define MC_SYNC_CAM_END 4     /* MC_EV_SYNC: a cam that is not periodic passed its table's end */
+#define MC_SYNC_CAM_SWITCH 5  /* MC_EV_SYNC: the table switched at the end of a cycle (seq: the
+                               * MC_OP_CAM_IN that asked for it) */
+#define MC_NACK_CAM_TABLE 105 /* a table number, point count or flags out of range, points not
+                               * strictly increasing in the master or not finite, a table not
+                               * loaded, or one in use */
+#define MC_NACK_CAM_SEQUENCE 106 /* cam data without an open table or out of order */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u

@@ -43,6 +43,19 @@ impl PvtEvent {
     }
 }
 
+/// Cam tables the card holds.
+pub const CAM_TABLES: usize = raw::MC_CAM_TABLES as usize;
+/// Points of a cam table.
+pub const CAM_MAX_POINTS: usize = raw::MC_CAM_MAX_POINTS as usize;
+/// Points per `MC_OP_CAM_DATA`.
+pub const CAM_DATA_MAX: usize = raw::MC_CAM_DATA_MAX as usize;
+/// `MC_OP_CAM_TABLE` flag: cubic spline (else linear).
+pub const CAM_CUBIC: u32 = raw::MC_CAM_CUBIC;
+/// `MC_OP_CAM_TABLE` flag: periodic.
+pub const CAM_PERIODIC: u32 = raw::MC_CAM_PERIODIC;
+/// `MC_OP_CAM_IN` flag: switch at the end of the current cycle.
+pub const CAM_AT_CYCLE_END: u32 = raw::MC_CAM_AT_CYCLE_END;
+
 /// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MasterSource {
@@ -88,14 +101,24 @@ pub enum SyncEvent {
     InSync = raw::MC_SYNC_IN_SYNC as i32,
     /// The master is disabled or in ErrorStop: the slave stops.
     MasterLost = raw::MC_SYNC_MASTER_LOST as i32,
+    /// A cam that is not periodic passed its table's end.
+    CamEnd = raw::MC_SYNC_CAM_END as i32,
+    /// The cam table switched at the end of a cycle.
+    CamSwitch = raw::MC_SYNC_CAM_SWITCH as i32,
 }
 
 impl SyncEvent {
     /// Decode, or `None` for a code this layout does not define.
     pub fn from_raw(v: i32) -> Option<Self> {
-        [Self::InGear, Self::InSync, Self::MasterLost]
-            .into_iter()
-            .find(|e| *e as i32 == v)
+        [
+            Self::InGear,
+            Self::InSync,
+            Self::MasterLost,
+            Self::CamEnd,
+            Self::CamSwitch,
+        ]
+        .into_iter()
+        .find(|e| *e as i32 == v)
     }
 }
 

@@ -151,6 +151,14 @@ code_enum! {
         PvtPoints = raw::MC_OP_PVT_POINTS,
         /// Start the streams of an axis mask.
         PvtStart = raw::MC_OP_PVT_START,
+        /// Open a cam table: args table, points; flags cubic, periodic.
+        CamTable = raw::MC_OP_CAM_TABLE,
+        /// Cam table points: args table, first index, count, then master, slave of each.
+        CamData = raw::MC_OP_CAM_DATA,
+        /// MC_CamIn: args master, table, offsets, scales, vmax, amax, jerk.
+        CamIn = raw::MC_OP_CAM_IN,
+        /// MC_CamOut: as [`Opcode::GearOut`].
+        CamOut = raw::MC_OP_CAM_OUT,
     }
 }
 
@@ -336,6 +344,11 @@ code_enum! {
         PvtLimit = raw::MC_NACK_PVT_LIMIT,
         /// PT/PVT commands out of sequence.
         PvtSequence = raw::MC_NACK_PVT_SEQUENCE,
+        /// A cam table number, point count or flags out of range, points not strictly
+        /// increasing in the master or not finite, a table not loaded, or one in use.
+        CamTable = raw::MC_NACK_CAM_TABLE,
+        /// Cam data without an open table or out of order.
+        CamSequence = raw::MC_NACK_CAM_SEQUENCE,
     }
 }
 
@@ -943,7 +956,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 61);
+        assert_eq!(NackCode::ALL.len(), 63);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

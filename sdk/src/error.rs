@@ -236,6 +236,11 @@ error_kinds! {
     /// PT/PVT commands out of sequence: points without an open stream or after its last point,
     /// a start without points or on an axis that moved, a begin while a stream runs.
     PvtSequence = -94, MC_ERR_PVT_SEQUENCE, nack PvtSequence, "PT/PVT commands out of sequence";
+    /// A cam table number, point count or flags out of range, points not strictly increasing
+    /// in the master or not finite, a table not loaded, or one in use by a slave.
+    CamTable = -95, MC_ERR_CAM_TABLE, nack CamTable, "bad cam table: number, points (master strictly increasing, finite), not loaded, or in use";
+    /// Cam table data without an open table or out of order.
+    CamSequence = -96, MC_ERR_CAM_SEQUENCE, nack CamSequence, "cam table data out of sequence";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -22,6 +22,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
+mod cam;
 mod card;
 mod device;
 mod error;
@@ -36,6 +37,7 @@ mod safety;
 mod session;
 mod sync;
 
+pub use cam::CamSettings;
 #[cfg(feature = "emulator")]
 pub use card::Sim;
 pub use card::{
@@ -51,7 +53,9 @@ pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
-pub use firmware_proto::{GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, PVT_LEN};
+pub use firmware_proto::{
+    GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
+};
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,

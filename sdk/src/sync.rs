@@ -31,7 +31,7 @@ pub enum Master {
 }
 
 impl Master {
-    fn source(&self) -> (MasterSource, usize) {
+    pub(crate) fn source(&self) -> (MasterSource, usize) {
         match *self {
             Master::Commanded(a) => (MasterSource::Commanded, a),
             Master::Actual(a) => (MasterSource::Actual, a),

@@ -49,11 +49,13 @@
 use crate::firmware::axis::Axis;
 use crate::firmware::nack::{check_ranges, plan_nack};
 use crate::firmware::Firmware;
+use crate::motion::cam::CamTable;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::servo::ffpiv::Reference;
 use firmware_proto::{
     layout, raw, AxisState, Command, Event, EventKind, GearRatio, MasterSource, Mem, NackCode,
-    Opcode, SyncEvent, AUX_ENCODERS, COMMANDED_SUBCOUNTS, MAX_AXES, MAX_MOVE_TIME,
+    Opcode, SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, COMMANDED_SUBCOUNTS, MAX_AXES,
+    MAX_MOVE_TIME,
 };
 
 /// Samples of the quintic checked against the slave's limits (MC_GearInPos).
@@ -194,17 +196,58 @@ enum Phase {
     Locked,
 }
 
+/// A cam coupling (cam.rs): slave = `s_off + s_scale · table((m − m_off) / m_scale)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CamLaw {
+    /// The table (0..CAM_TABLES).
+    pub table: usize,
+    /// Master offset, counts.
+    pub m_off: f64,
+    /// Slave offset, counts.
+    pub s_off: f64,
+    /// Master scale (nonzero).
+    pub m_scale: f64,
+    /// Slave scale (nonzero).
+    pub s_scale: f64,
+}
+
+/// How the slave follows: a ratio, or a cam table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Law {
+    /// Electronic gearing at an exact ratio.
+    Gear(GearRatio),
+    /// Camming.
+    Cam(CamLaw),
+}
+
+/// The cam tables the card holds (`None`: not loaded).
+pub type CamTables = [Option<CamTable>];
+
+/// Where the law puts the slave this tick.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct LawState {
+    pos: f64,
+    vel: f64,
+    acc: f64,
+    /// The cam's cycle (periodic), or 1 once past the end of a table that is not.
+    cycle: i64,
+}
+
 /// One coupling.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Run {
     seq: u32,
     master: Master,
-    ratio: GearRatio,
-    /// The anchor: master units and slave position with `g(anchor_m) = anchor_x`.
+    law: Law,
+    /// The anchor (gearing): master units and slave position with `g(anchor_m) = anchor_x`.
     anchor_m: i128,
     anchor_x: f64,
     lim: SyncLimits,
     phase: Phase,
+    /// The cam's cycle last tick.
+    cycle: i64,
+    /// A cam table to switch to at the end of the cycle: (its command, the law).
+    next: Option<(u32, CamLaw)>,
 }
 
 impl Run {
@@ -212,9 +255,64 @@ impl Run {
         self.master.per_count()
     }
 
-    /// `g(m)`: the geared position of the slave at master `m`.
-    fn geared(&self, m: i128) -> f64 {
-        self.anchor_x + self.ratio.distance(m - self.anchor_m, self.per_count())
+    /// The slave's position, velocity and acceleration by the law at master `m` (`None`: a
+    /// cam table that is not there).
+    fn law_state(&self, m: &MasterSample, tables: &CamTables) -> Option<LawState> {
+        match self.law {
+            Law::Gear(ratio) => {
+                let r = ratio.as_f64();
+                Some(LawState {
+                    pos: self.anchor_x + ratio.distance(m.count - self.anchor_m, self.per_count()),
+                    vel: r * m.vel,
+                    acc: r * m.acc,
+                    cycle: 0,
+                })
+            }
+            Law::Cam(c) => {
+                let t = tables.get(c.table)?.as_ref()?;
+                let x = m.count as f64 / self.per_count() as f64;
+                let u = (x - c.m_off) / c.m_scale;
+                let e = t.eval(u);
+                let du = m.vel / c.m_scale;
+                let past_end = !t.periodic() && u >= t.master_range().1;
+                Some(LawState {
+                    pos: c.s_off + c.s_scale * e.s,
+                    vel: c.s_scale * e.ds * du,
+                    acc: c.s_scale * (e.dds * du * du + e.ds * m.acc / c.m_scale),
+                    cycle: if t.periodic() {
+                        e.cycle
+                    } else {
+                        past_end as i64
+                    },
+                })
+            }
+        }
+    }
+
+    /// A cam crossed the end of a cycle into `cycle`: the next table (if one waits) takes
+    /// over from the boundary, the slave's position continuous. Its command's seq.
+    fn switch_cam(&mut self, cycle: i64, tables: &CamTables) -> Option<u32> {
+        let (Law::Cam(c), Some((seq, mut n))) = (self.law, self.next) else {
+            return None;
+        };
+        let old = tables.get(c.table)?.as_ref()?;
+        let new = tables.get(n.table)?.as_ref()?;
+        let ((m0, mn), (p, r)) = (old.master_range(), old.period());
+        let s0 = old.eval(m0).s;
+        let (u_b, s_b) = if old.periodic() {
+            let k = cycle.max(self.cycle) as f64;
+            (m0 + k * p, s0 + k * r)
+        } else {
+            (mn, old.eval(mn).s)
+        };
+        let x_b = c.m_off + c.m_scale * u_b;
+        let pos_b = c.s_off + c.s_scale * s_b;
+        let (n0, _) = new.master_range();
+        n.m_off = x_b - n.m_scale * n0;
+        n.s_off = pos_b - n.s_scale * new.eval(n0).s;
+        self.law = Law::Cam(n);
+        self.next = None;
+        Some(seq)
     }
 }
 
@@ -225,6 +323,10 @@ pub struct SyncReport {
     pub locked: Option<(u32, SyncEvent, f64)>,
     /// The master of gear command `seq` was lost: (seq, master number).
     pub lost: Option<(u32, usize)>,
+    /// A cam switched tables at the end of a cycle: (the switch's command, slave position).
+    pub switched: Option<(u32, f64)>,
+    /// A cam that is not periodic passed its table's end: (seq, slave position).
+    pub cam_end: Option<(u32, f64)>,
     /// The slave's state changed from this one.
     pub state_from: Option<AxisState>,
 }
@@ -234,8 +336,8 @@ pub struct SyncReport {
 pub struct GearCommand {
     /// The master.
     pub master: Master,
-    /// The ratio.
-    pub ratio: GearRatio,
+    /// The ratio, or the cam.
+    pub law: Law,
     /// The slave's limits while engaging.
     pub lim: SyncLimits,
     /// MC_GearInPos: the master and slave positions that meet (counts).
@@ -289,7 +391,7 @@ impl GearCommand {
         };
         Ok(Self {
             master: Master { source, index },
-            ratio,
+            law: Law::Gear(ratio),
             lim,
             sync_at,
         })
@@ -310,7 +412,30 @@ impl Gear {
 
     /// The ratio of the coupling, if any.
     pub fn ratio(&self) -> Option<GearRatio> {
-        self.run.map(|r| r.ratio)
+        match self.run?.law {
+            Law::Gear(r) => Some(r),
+            Law::Cam(_) => None,
+        }
+    }
+
+    /// The cam table the axis follows, if any.
+    pub fn cam_table(&self) -> Option<usize> {
+        match self.run?.law {
+            Law::Cam(c) => Some(c.table),
+            Law::Gear(_) => None,
+        }
+    }
+
+    /// MC_CamIn with `MC_CAM_AT_CYCLE_END` (command `seq`) on a slave that cams: the table
+    /// `law` takes over at the end of the current cycle. `InvalidState` if it does not cam.
+    pub fn queue_cam(&mut self, seq: u32, law: CamLaw) -> Result<(), NackCode> {
+        match &mut self.run {
+            Some(r) if matches!(r.law, Law::Cam(_)) => {
+                r.next = Some((seq, law));
+                Ok(())
+            }
+            _ => Err(NackCode::InvalidState),
+        }
     }
 
     /// The master of the coupling, if any.
@@ -327,6 +452,7 @@ impl Gear {
         seq: u32,
         cmd: &GearCommand,
         m: &MasterSample,
+        tables: &CamTables,
     ) -> Result<Option<AxisState>, NackCode> {
         if m.lost {
             return Err(NackCode::SyncMaster);
@@ -341,16 +467,28 @@ impl Gear {
             _ => return Err(NackCode::InvalidState),
         }
         let x = slave.reference();
-        let r = cmd.ratio.as_f64();
         let lim = cmd.lim;
         let per_count = cmd.master.per_count();
+        let mut run = Run {
+            seq,
+            master: cmd.master,
+            law: cmd.law,
+            anchor_m: m.count,
+            anchor_x: x.pos,
+            lim,
+            phase: Phase::Locked,
+            cycle: 0,
+            next: None,
+        };
+        let st = run.law_state(m, tables).ok_or(NackCode::CamTable)?;
+        run.cycle = st.cycle;
         // The difference's velocity and acceleration at the start.
-        let (dv0, da0) = (x.vel - r * m.vel, x.acc - r * m.acc);
+        let (dv0, da0) = (x.vel - st.vel, x.acc - st.acc);
         let run = match cmd.sync_at {
             None => {
                 let l = OtgLimits {
-                    vmax: lim.vmax - r * m.vel,
-                    vmin: -lim.vmax - r * m.vel,
+                    vmax: lim.vmax - st.vel,
+                    vmin: -lim.vmax - st.vel,
                     amax: lim.amax,
                     amin: -lim.amax,
                     jmax: lim.jerk,
@@ -359,33 +497,25 @@ impl Gear {
                     // The master runs faster than the slave may follow.
                     return Err(NackCode::Infeasible);
                 }
-                let traj = Trajectory::to_position(0.0, dv0, da0, 0.0, 0.0, &l)
+                let d0 = x.pos - st.pos;
+                let traj = Trajectory::to_position(d0, dv0, da0, 0.0, 0.0, &l)
                     .and_then(|t| t.verify(&l).map(|()| t))
                     .map_err(plan_nack)?;
                 if !traj.duration().is_finite() || traj.duration() > MAX_MOVE_TIME {
                     return Err(NackCode::Infeasible);
                 }
-                Run {
-                    seq,
-                    master: cmd.master,
-                    ratio: cmd.ratio,
-                    anchor_m: m.count,
-                    anchor_x: x.pos,
-                    lim,
-                    phase: Phase::CatchUp { traj, t: 0.0 },
-                }
+                run.phase = Phase::CatchUp { traj, t: 0.0 };
+                run
             }
             Some((master_at, slave_at)) => {
-                let anchor_m = (master_at * per_count as f64).round() as i128;
-                let mut run = Run {
-                    seq,
-                    master: cmd.master,
-                    ratio: cmd.ratio,
-                    anchor_m,
-                    anchor_x: slave_at,
-                    lim,
-                    phase: Phase::Locked,
+                let Law::Gear(ratio) = cmd.law else {
+                    return Err(NackCode::InvalidState);
                 };
+                let r = ratio.as_f64();
+                let anchor_m = (master_at * per_count as f64).round() as i128;
+                run.anchor_m = anchor_m;
+                run.anchor_x = slave_at;
+                let geared = run.law_state(m, tables).map_or(0.0, |s| s.pos);
                 let span = anchor_m - m.count;
                 let span_counts = span as f64 / per_count as f64;
                 // The time to the sync point at the master's present velocity.
@@ -393,7 +523,7 @@ impl Gear {
                 if !(t_sync.is_finite() && t_sync > 0.0 && t_sync <= MAX_MOVE_TIME) {
                     return Err(NackCode::Infeasible);
                 }
-                let d0 = x.pos - run.geared(m.count);
+                let d0 = x.pos - geared;
                 let c = quintic(d0, dv0 * t_sync, da0 * t_sync * t_sync);
                 check_quintic(&c, t_sync, r * m.vel, &lim)?;
                 run.phase = Phase::ToSyncPoint {
@@ -431,6 +561,7 @@ impl Gear {
         &mut self,
         slave: &mut Axis,
         m: &MasterSample,
+        tables: &CamTables,
         ts: f64,
         max_stop_time: f64,
     ) -> SyncReport {
@@ -447,16 +578,41 @@ impl Gear {
             report.state_from = slave.sync_stop(max_stop_time, false);
             return report;
         }
-        let r = run.ratio.as_f64();
-        let g = run.geared(m.count);
-        let (mut pos, mut vel, mut acc) = (g, r * m.vel, r * m.acc);
+        let Some(mut st) = run.law_state(m, tables) else {
+            // A table that is not there (it cannot be reloaded while in use): as a lost master.
+            report.lost = Some((run.seq, run.master.index));
+            report.state_from = slave.sync_stop(max_stop_time, false);
+            return report;
+        };
+        if st.cycle != run.cycle {
+            if let Some(seq) = run.switch_cam(st.cycle, tables) {
+                st = run.law_state(m, tables).unwrap_or(st);
+                report.switched = Some((seq, st.pos));
+            } else if st.cycle == 1 && !matches!(run.law, Law::Gear(_)) {
+                if let Law::Cam(c) = run.law {
+                    if tables
+                        .get(c.table)
+                        .and_then(|t| t.as_ref())
+                        .is_some_and(|t| !t.periodic())
+                    {
+                        report.cam_end = Some((run.seq, st.pos));
+                    }
+                }
+            }
+            run.cycle = st.cycle;
+        }
+        let (mut pos, mut vel, mut acc) = (st.pos, st.vel, st.acc);
         let per_count = run.per_count() as f64;
+        let engaged = match run.law {
+            Law::Gear(_) => SyncEvent::InGear,
+            Law::Cam(_) => SyncEvent::InSync,
+        };
         match &mut run.phase {
             Phase::CatchUp { traj, t } => {
                 *t += ts;
                 if *t >= traj.duration() {
                     run.phase = Phase::Locked;
-                    report.locked = Some((run.seq, SyncEvent::InGear, pos));
+                    report.locked = Some((run.seq, engaged, pos));
                 } else {
                     let d = traj.sample(*t);
                     pos += d.pos;
@@ -568,17 +724,35 @@ impl<M: Mem + Clone> Firmware<M> {
         c: &Command,
         op: Opcode,
         ax: usize,
-    ) -> Result<Option<AxisState>, NackCode> {
+    ) -> Result<(Option<AxisState>, bool), NackCode> {
         let rate = self.servo_rate_hz;
-        match op {
-            Opcode::GearOut => self.gears[ax].gear_out(&mut self.axes[ax], c.seq, rate),
+        let cmd = match op {
+            Opcode::GearOut | Opcode::CamOut => {
+                return self.gears[ax]
+                    .gear_out(&mut self.axes[ax], c.seq, rate)
+                    .map(|s| (s, true))
+            }
+            Opcode::CamIn => {
+                let cmd = GearCommand::decode_cam(&c.args, c.flags, ax, self.num_axes, rate)?;
+                if let (Law::Cam(law), true) = (cmd.law, c.flags & CAM_AT_CYCLE_END != 0) {
+                    // MC_CamTableSelect at the end of the cycle: nothing is taken over now.
+                    if self.cam_table(law.table).is_none() {
+                        return Err(NackCode::CamTable);
+                    }
+                    return self.gears[ax].queue_cam(c.seq, law).map(|()| (None, false));
+                }
+                cmd
+            }
             _ => {
                 let pos = op == Opcode::GearInPos;
-                let cmd = GearCommand::decode(&c.args, c.flags, pos, ax, self.num_axes, rate)?;
-                let m = cmd.master.sample(&self.axes[..self.num_axes], &self.aux);
-                self.gears[ax].start(&mut self.axes[ax], c.seq, &cmd, &m)
+                GearCommand::decode(&c.args, c.flags, pos, ax, self.num_axes, rate)?
             }
-        }
+        };
+        let m = cmd.master.sample(&self.axes[..self.num_axes], &self.aux);
+        let tables = self.cams.as_deref().map_or(&[][..], |s| s.tables());
+        self.gears[ax]
+            .start(&mut self.axes[ax], c.seq, &cmd, &m, tables)
+            .map(|s| (s, true))
     }
 
     /// The gearing step of a tick (after the groups, before homing and the servo loops): the
@@ -588,8 +762,9 @@ impl<M: Mem + Clone> Firmware<M> {
         let n = self.num_axes;
         let samples = sample_masters(&self.gears, &self.axes[..n], &self.aux);
         let max_stop_time = self.safety.config().max_stop_time();
+        let tables = self.cams.as_deref().map_or(&[][..], |s| s.tables());
         core::array::from_fn(|i| match (self.axes[..n].get_mut(i), samples.get(i)) {
-            (Some(axis), Some(m)) => self.gears[i].tick(axis, m, ts, max_stop_time),
+            (Some(axis), Some(m)) => self.gears[i].tick(axis, m, tables, ts, max_stop_time),
             _ => SyncReport::default(),
         })
     }
@@ -624,6 +799,22 @@ impl<M: Mem + Clone> Firmware<M> {
                     code: Opcode::Halt as i32,
                     tick: self.tick,
                     value: 0.0,
+                });
+            }
+            for (seq, what, pos) in [
+                r.switched.map(|(s, p)| (s, SyncEvent::CamSwitch, p)),
+                r.cam_end.map(|(s, p)| (s, SyncEvent::CamEnd, p)),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                self.post(Event {
+                    seq,
+                    kind: EventKind::Sync as u16,
+                    axis,
+                    code: what as i32,
+                    tick: self.tick,
+                    value: pos,
                 });
             }
             if let Some(old) = r.state_from {

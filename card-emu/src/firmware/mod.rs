@@ -8,6 +8,7 @@
 
 pub mod axis;
 pub mod axis_safety;
+pub mod cam;
 pub mod dac;
 pub mod gear;
 pub mod group;
@@ -57,6 +58,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
     gears: [Gear; MAX_AXES],
     aux: AuxInputs,
+    /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
+    cams: Option<Box<cam::CamStore>>,
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
@@ -101,6 +104,7 @@ impl<M: Mem + Clone> Firmware<M> {
             gears: [Gear::default(); MAX_AXES],
             aux: AuxInputs::default(),
             pvt: core::array::from_fn(|_| None),
+            cams: None,
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -327,6 +331,8 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
             Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
             Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
+            // Layout 1.7 (sync): cam tables are the card's, not an axis's (cam.rs).
+            Opcode::CamTable | Opcode::CamData => return self.execute_cam_table(c, op),
             _ => {}
         }
         // [safety] opcodes 32..47 (safety.rs)
@@ -380,6 +386,8 @@ impl<M: Mem + Clone> Firmware<M> {
             | Opcode::GearIn
             | Opcode::GearInPos
             | Opcode::GearOut
+            | Opcode::CamIn
+            | Opcode::CamOut
             | Opcode::PvtBegin
             | Opcode::PvtPoints
             | Opcode::PvtStart
@@ -401,11 +409,14 @@ impl<M: Mem + Clone> Firmware<M> {
             return Ok(value);
         }
         // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
-        let gear = matches!(op, Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut);
-        let gear_changed = if gear {
+        let gear = matches!(
+            op,
+            Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut | Opcode::CamIn | Opcode::CamOut
+        );
+        let (gear_changed, gear_takes_over) = if gear {
             self.execute_gear(c, op, ax)?
         } else {
-            None
+            (None, false)
         };
         let axis = &mut self.axes[ax];
         let rate = self.servo_rate_hz;
@@ -419,7 +430,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 | Opcode::Stop
                 | Opcode::PowerOff
                 | Opcode::Home
-        ) || gear;
+        ) || gear_takes_over;
         let changed = match op {
             Opcode::PowerOn => axis.power(true)?,
             Opcode::PowerOff => axis.power(false)?,

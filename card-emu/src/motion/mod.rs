@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 pub mod arc;
+pub mod cam;
 pub mod filters;
 pub mod interp_error;
 pub mod nurbs;

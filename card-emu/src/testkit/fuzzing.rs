@@ -388,6 +388,32 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             }
         }
         Opcode::PvtStart => a[0] = (s.u8() % 4) as f64,
+        Opcode::CamTable => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 12) as f64;
+        }
+        Opcode::CamData => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 12) as f64;
+            a[2] = (1 + s.u8() % 5) as f64;
+            let mut m = 0.0;
+            for k in 0..5 {
+                m += magnitude(s, 0.0, 4.0);
+                a[3 + 2 * k] = m;
+                a[4 + 2 * k] = position(s);
+            }
+        }
+        Opcode::CamIn => {
+            a[0] = (s.u8() % 3) as f64;
+            a[1] = (s.u8() % 5) as f64;
+            a[2] = position(s);
+            a[3] = position(s);
+            a[4] = 1.0 + (s.u8() % 4) as f64;
+            a[5] = 1.0 + (s.u8() % 4) as f64;
+            a[6] = magnitude(s, 2.0, 6.5);
+            a[7] = magnitude(s, 3.0, 8.5);
+            a[8] = magnitude(s, 5.0, 11.0);
+        }
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -427,6 +453,8 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
         Opcode::PathOutput => (s.u8() % 4) as u32,
         Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
         Opcode::PvtBegin => (s.u8() % 2) as u32,
+        Opcode::CamTable => (s.u8() % 4) as u32,
+        Opcode::CamIn => (s.u8() % 3) as u32 | (s.u8() as u32 & firmware_proto::CAM_AT_CYCLE_END),
         Opcode::PvtPoints => (s.u8() % 2) as u32 * firmware_proto::PVT_LAST,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
