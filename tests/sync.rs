@@ -1,5 +1,5 @@
 //! Synchronised motion on the stepped card and its emulated plant (deterministic): electronic
-//! gearing (MC_GearIn, MC_GearInPos, MC_GearOut).
+//! gearing (MC_GearIn, MC_GearInPos, MC_GearOut), PT/PVT streaming and camming.
 //!
 //! - The ratio is exact: 10⁹ counts of an auxiliary encoder at 10⁸ counts/s, ratio 7/99991,
 //!   leave the slave exactly where integer arithmetic puts it (0 error), where a float sum of
@@ -10,7 +10,14 @@
 //!   the master position.
 //! - GearOut leaves the slave in velocity mode at its velocity; halt ends the coupling; a
 //!   master that is disabled stops the slave on its stop ramp, reported.
-//! - The card refuses bad ratios, masters and limits with their own nacks, changing nothing.
+//! - The card refuses bad ratios, masters and limits with their own nacks, changing nothing;
+//!   an e-stop ends a coupling.
+//! - PT/PVT: PVT and PT streams pass through every point at its time (1e-9 relative) with a
+//!   continuous velocity; a point that breaks the limits is refused by name, the rest kept; a
+//!   dry buffer stops, reported; 20,000 points go through the 4,096-point buffer on low water;
+//!   two axes' streams start on one tick.
+//! - Camming: a periodic cubic cam cycle is on its table at every tick and smooth; a second
+//!   table takes over at the end of a cycle; a table that is not periodic ends.
 //!
 //! The figures: `cargo test --release --test sync -- --nocapture`.
 mod common;
@@ -718,4 +725,110 @@ fn a_cam_cycle_matches_its_table_and_switches_at_the_cycle_end() {
     );
     slave.cam_out().unwrap().wait_in_velocity(LONG).unwrap();
     slave.halt(3e5, 3e7).unwrap().wait(LONG).unwrap();
+}
+
+// ---- Stops, groups of streams, the end of a cam ----
+
+/// An e-stop on a geared slave: the gear motion is aborted, the slave stops in ErrorStop and
+/// the coupling is gone.
+#[test]
+fn an_estop_ends_a_coupling() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master
+        .move_velocity(10_000.0, &VelocityLimits::new(2e5, 2e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    let gear = slave
+        .gear_in(Master::Commanded(1), 1, 1, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap();
+    gear.wait_in_sync(LONG).unwrap();
+    card.estop(motioncard::StopCategory::Cat1).unwrap();
+    assert_eq!(gear.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
+    card.sim().unwrap().step(20_000);
+    let st = status(&card, 0);
+    assert_eq!(st.state, AxisState::ErrorStop);
+    assert_eq!(st.command_velocity, 0.0);
+    assert!(!st.in_sync());
+    assert_eq!(slave.gear_ratio(), None);
+}
+
+/// Two axes' streams started on one tick (`Card::pvt_start`): each meets its points at the
+/// same ticks.
+#[test]
+fn two_streams_start_together() {
+    let card = card(2);
+    let pts = cosine_points(100, 0.01, 3_000.0);
+    let other: Vec<PvtPoint> = pts
+        .iter()
+        .map(|p| PvtPoint::new(p.time, -0.5 * p.position, -0.5 * p.velocity))
+        .collect();
+    let lim = PvtLimits {
+        velocity: 40_000.0,
+        acceleration: 4e5,
+    };
+    for (a, p) in [(0, &pts), (1, &other)] {
+        let x = card.axis(a).unwrap();
+        x.pvt_begin(PvtMode::Pvt, &lim, 0).unwrap();
+        x.pvt_push(p, true).unwrap();
+    }
+    let motions = card.pvt_start(&[0, 1]).unwrap();
+    assert_eq!(motions[0].seq(), motions[1].seq());
+    let rows = record(&card, &[0, 1], 10_000);
+    for k in 0..pts.len() {
+        let r = &rows[(k + 1) * 100 - 1];
+        assert!(
+            (r[0].command_position - pts[k].position).abs() <= 1e-9 * 3e3,
+            "point {k}"
+        );
+        assert!(
+            (r[1].command_position - other[k].position).abs() <= 1e-9 * 3e3,
+            "point {k}"
+        );
+    }
+    for m in motions {
+        m.wait(LONG).unwrap();
+    }
+    assert_eq!(
+        card.pvt_start(&[]).unwrap_err().kind(),
+        ErrorKind::PvtSequence
+    );
+}
+
+/// A cam whose table is not periodic ends: the slave holds the table's end, reported.
+#[test]
+fn a_cam_that_is_not_periodic_ends() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    card.load_cam_table(
+        2,
+        &[(0.0, 0.0), (5_000.0, 2_000.0), (8_000.0, 2_500.0)],
+        false,
+        false,
+    )
+    .unwrap();
+    let m = slave
+        .cam_in(
+            Master::Commanded(1),
+            &CamSettings::new(2),
+            &SyncLimits::new(2e4, 2e5, 2e7),
+        )
+        .unwrap();
+    m.wait_in_sync(LONG).unwrap();
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    master
+        .move_velocity(5_000.0, &VelocityLimits::new(1e5, 1e7))
+        .unwrap();
+    card.sim().unwrap().step(25_000);
+    let mut ended = None;
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        if e.kind == EventKind::Sync && e.code == SyncEvent::CamEnd as i32 {
+            ended = Some(e.value);
+        }
+    }
+    assert_eq!(ended, Some(2_500.0), "CamEnd at the table's end");
+    let st = status(&card, 0);
+    assert_eq!(st.command_position, 2_500.0);
+    assert_eq!(st.state, AxisState::SynchronizedMotion);
 }
