@@ -832,3 +832,25 @@ fn a_cam_that_is_not_periodic_ends() {
     assert_eq!(st.command_position, 2_500.0);
     assert_eq!(st.state, AxisState::SynchronizedMotion);
 }
+
+/// A PT/PVT stream and a coupling do not mix: MC_GearIn on a streaming axis is refused, and
+/// the stream runs on to its end.
+#[test]
+fn a_stream_is_not_taken_over_by_a_coupling() {
+    let card = card(1);
+    let x = card.axis(0).unwrap();
+    let lim = PvtLimits {
+        velocity: 40_000.0,
+        acceleration: 4e5,
+    };
+    x.pvt_begin(PvtMode::Pvt, &lim, 0).unwrap();
+    x.pvt_push(&cosine_points(100, 0.01, 3_000.0), true)
+        .unwrap();
+    let m = x.pvt_start().unwrap();
+    card.sim().unwrap().step(100);
+    let e = x
+        .gear_in(Master::Aux(0), 1, 1, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::InvalidState, "{e}");
+    m.wait(LONG).unwrap();
+}

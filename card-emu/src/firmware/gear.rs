@@ -458,10 +458,9 @@ impl Gear {
             return Err(NackCode::SyncMaster);
         }
         match slave.state {
-            AxisState::Standstill
-            | AxisState::DiscreteMotion
-            | AxisState::ContinuousMotion
-            | AxisState::SynchronizedMotion => {}
+            AxisState::Standstill | AxisState::DiscreteMotion | AxisState::ContinuousMotion => {}
+            // A new coupling on a coupled slave; not on one a PT/PVT stream drives.
+            AxisState::SynchronizedMotion if self.run.is_some() => {}
             AxisState::Disabled => return Err(NackCode::AxisDisabled),
             AxisState::Homing => return Err(NackCode::AxisHoming),
             _ => return Err(NackCode::InvalidState),

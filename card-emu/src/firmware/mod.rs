@@ -549,7 +549,9 @@ impl<M: Mem + Clone> Firmware<M> {
             let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            let geared = axis.state == AxisState::SynchronizedMotion && self.gears[i].engaged();
+            // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
+            let geared = axis.state == AxisState::SynchronizedMotion
+                && (self.gears[i].engaged() || self.pvt[i].as_ref().is_some_and(|s| s.running()));
             if !geared
                 && !matches!(
                     axis.state,
