@@ -22,6 +22,7 @@ use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use firmware_proto::layout;
 use firmware_proto::mem::HeapWindow;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
+use firmware_proto::PvtEvent;
 use firmware_proto::{
     move_flags, raw, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
     MAX_AXES,
@@ -994,4 +995,147 @@ fn digital_io_compare_and_probes_do_not_touch_the_heap() {
     assert!(captures > 100, "{captures}"); // (this rig latches no index pulses)
     assert!(r.log.iter().any(|e| e.kind() == Some(EventKind::Input)));
     r.assert_no_heap("digital I/O, compare and probes");
+}
+
+/// Layout 1.7 (sync): electronic gearing. GearIn on a commanded master, an actual master and
+/// an auxiliary encoder (the catch-up, in gear), GearInPos to its point, GearOut, a halt of a
+/// geared slave, and a master lost (disabled): every tick of them without the heap.
+#[test]
+fn gearing_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..7);
+    let lim = [2e4, 2e5, 2e7];
+    let gear = |master: f64, num: f64, den: f64| [master, num, den, lim[0], lim[1], lim[2]];
+    r.ok(Opcode::MoveVelocity, 0, 0, &[10_000.0, 2e5, 2e5, 2e7]);
+    r.run(2_000);
+    let commanded = r.ok(Opcode::GearIn, 1, 0, &gear(0.0, 1.0, 2.0));
+    let actual = r.ok(Opcode::GearIn, 2, 1, &gear(0.0, -3.0, 4.0));
+    let aux = r.ok(Opcode::GearIn, 3, 2, &gear(1.0, 7.0, 9.0));
+    let m = r.fw.axis(0).unwrap().reference().pos;
+    let mut args = gear(0.0, 1.0, 1.0).to_vec();
+    args.extend([m + 20_000.0, 10_000.0]);
+    let pos = r.ok(Opcode::GearInPos, 4, 0, &args);
+    let lost = r.ok(Opcode::GearIn, 5, 0, &gear(0.0, 1.0, 1.0));
+    let halted = r.ok(Opcode::GearIn, 6, 0, &gear(0.0, 1.0, 1.0));
+    assert!(r.run_until(40_000, |r| [commanded, actual, pos]
+        .iter()
+        .all(|&s| r.got(EventKind::Sync, s))));
+    assert!(r.got(EventKind::Sync, aux));
+    assert!(r
+        .fw
+        .axis(1)
+        .unwrap()
+        .motion_flags()
+        .contains(firmware_proto::MotionFlags::IN_SYNC));
+    let out = r.ok(Opcode::GearOut, 1, 0, &[]);
+    r.ok(Opcode::Halt, 6, 0, &[2e6, 1e8]);
+    assert!(r.got(EventKind::MotionAborted, halted));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::InVelocity, out)));
+    r.ok(Opcode::Halt, 0, 0, &[2e6, 1e8]);
+    r.ok(Opcode::PowerOff, 0, 0, &[]);
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionAborted, lost)));
+    assert!(r.run_until(20_000, |r| r.axis_state(5) == AxisState::Standstill));
+    r.assert_no_heap("gearing");
+}
+
+/// Layout 1.7 (sync): PT/PVT streams. PVT and PT to their last points, a stream that runs dry,
+/// a halted one, and a refill on the low-water event: every tick without the heap (the
+/// buffers are made by the first MC_OP_PVT_BEGIN of each axis, in the command manager).
+#[test]
+fn pvt_streams_do_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..4);
+    let points = |from: usize, n: usize| -> Vec<f64> {
+        let mut a = vec![n as f64];
+        for k in from..from + n {
+            let t = (k + 1) as f64 * 0.01;
+            a.extend([t, 100.0 * (k + 1) as f64, 10_000.0]);
+        }
+        a
+    };
+    for a in 0..4 {
+        let flags = if a == 1 { firmware_proto::PVT_PT } else { 0 };
+        r.ok(Opcode::PvtBegin, a, flags, &[2e4, 1e7, 2.0]);
+        r.ok(Opcode::PvtPoints, a, 0, &points(0, 4));
+    }
+    let mut last = points(4, 1);
+    last[3] = 0.0;
+    r.ok(Opcode::PvtPoints, 0, firmware_proto::PVT_LAST, &last);
+    r.ok(
+        Opcode::PvtPoints,
+        1,
+        firmware_proto::PVT_LAST,
+        &points(4, 1),
+    );
+    let start = r.ok(Opcode::PvtStart, 0, 0, &[15.0]);
+    r.run(20);
+    r.ok(Opcode::Halt, 3, 0, &[2e6, 1e8]);
+    // Low water on axis 2: more points while it runs; then it runs dry.
+    assert!(r.run_until(1_000, |r| r.log.iter().any(|e| e.kind()
+        == Some(EventKind::Pvt)
+        && e.code == PvtEvent::LowWater as i32)));
+    r.ok(Opcode::PvtPoints, 2, 0, &points(4, 4));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionDone, start)
+        && (0..4).all(|a| r.axis_state(a) == AxisState::Standstill)));
+    assert!(r
+        .log
+        .iter()
+        .any(|e| e.kind() == Some(EventKind::Pvt) && e.code == PvtEvent::Starved as i32));
+    r.assert_no_heap("pvt");
+}
+
+/// Layout 1.7 (sync): camming. Periodic cubic and linear tables (built in the command
+/// manager), a slave on each, a switch at the end of a cycle, a table that ends, and a cam-out:
+/// every tick without the heap.
+#[test]
+fn camming_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..4);
+    let table = |r: &mut Rig, t: f64, flags: u32, pts: &[(f64, f64)]| {
+        r.ok(Opcode::CamTable, 0, flags, &[t, pts.len() as f64]);
+        for (k, chunk) in pts.chunks(5).enumerate() {
+            let mut a = vec![t, (k * 5) as f64, chunk.len() as f64];
+            for &(m, s) in chunk {
+                a.extend([m, s]);
+            }
+            r.ok(Opcode::CamData, 0, 0, &a);
+        }
+    };
+    let wave: Vec<(f64, f64)> = (0..=16)
+        .map(|i| {
+            let m = i as f64 * 1_000.0;
+            (
+                m,
+                0.5 * m + 300.0 * (m / 16_000.0 * std::f64::consts::TAU).sin(),
+            )
+        })
+        .collect();
+    let cubic_periodic = firmware_proto::CAM_CUBIC | firmware_proto::CAM_PERIODIC;
+    table(&mut r, 0.0, cubic_periodic, &wave);
+    table(&mut r, 1.0, cubic_periodic, &wave);
+    table(
+        &mut r,
+        2.0,
+        0,
+        &[(0.0, 0.0), (5_000.0, 2_000.0), (8_000.0, 2_500.0)],
+    );
+    r.ok(Opcode::MoveVelocity, 0, 0, &[10_000.0, 2e5, 2e5, 2e7]);
+    r.run(2_000);
+    let cam = |t: f64| [0.0, t, 0.0, 0.0, 1.0, 1.0, 2e4, 2e5, 2e7];
+    let a = r.ok(Opcode::CamIn, 1, 0, &cam(0.0));
+    let b = r.ok(Opcode::CamIn, 2, 0, &cam(2.0));
+    let c = r.ok(Opcode::CamIn, 3, 1, &cam(0.0));
+    assert!(r.run_until(20_000, |r| [a, b, c]
+        .iter()
+        .all(|&s| r.got(EventKind::Sync, s))));
+    let sw = r.ok(
+        Opcode::CamIn,
+        1,
+        firmware_proto::CAM_AT_CYCLE_END,
+        &cam(1.0),
+    );
+    assert!(r.run_until(40_000, |r| r.got(EventKind::Sync, sw)));
+    let out = r.ok(Opcode::CamOut, 3, 0, &[]);
+    assert!(r.run_until(20_000, |r| r.got(EventKind::InVelocity, out)));
+    r.assert_no_heap("camming");
 }

@@ -112,6 +112,38 @@ extern "C" {
 
 
 /**
+ * `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
+ * linear).
+ */
+#define MC_CAM_CUBIC 1
+
+/**
+ * `flags` of `mc_cam_load_table`: periodic (the table repeats every span of the master, the
+ * slave rising by its last minus first point a cycle).
+ */
+#define MC_CAM_PERIODIC 2
+
+/**
+ * Cam tables the card holds.
+ */
+#define MC_CAM_TABLES 4
+
+/**
+ * Points of a cam table.
+ */
+#define MC_CAM_MAX_POINTS 1024
+
+/**
+ * `code` of `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+ */
+#define MC_SYNC_CAM_END 4
+
+/**
+ * `code` of `MC_EVENT_SYNC`: the table switched at the end of a cycle.
+ */
+#define MC_SYNC_CAM_SWITCH 5
+
+/**
  * `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
  * else `MC_ERR_HOMING_METHOD`).
  */
@@ -428,6 +460,88 @@ extern "C" {
  * A halt or stop runs along the path.
  */
 #define MC_PATH_STATUS_HALTING 4
+
+/**
+ * `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours
+ * (the stream starts, and at a last point ends, at rest).
+ */
+#define MC_PVT_MODE_PT 0
+
+/**
+ * PVT: each point's velocity as given.
+ */
+#define MC_PVT_MODE_PVT 1
+
+/**
+ * Points the card buffers per axis.
+ */
+#define MC_PVT_LEN 4096
+
+/**
+ * `code` of `MC_EVENT_PVT`: the points queued fell to the low water (`value`: how many).
+ */
+#define MC_PVT_EVENT_LOW_WATER 1
+
+/**
+ * The stream ran dry before its last point: the axis stops on its stop ramp.
+ */
+#define MC_PVT_EVENT_STARVED 2
+
+/**
+ * The last point was reached (motion done follows in position).
+ */
+#define MC_PVT_EVENT_DONE 3
+
+/**
+ * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
+ */
+#define MC_MASTER_COMMANDED 0
+
+/**
+ * The actual position (encoder) of the master axis.
+ */
+#define MC_MASTER_ACTUAL 1
+
+/**
+ * An auxiliary encoder input of the card (0 .. `MC_AUX_ENCODERS` - 1).
+ */
+#define MC_MASTER_AUX 2
+
+/**
+ * Auxiliary encoder inputs of the card.
+ */
+#define MC_AUX_ENCODERS 2
+
+/**
+ * Event kind: synchronised motion (`code`: `MC_SYNC_`; `seq`: the gear command; `value`: the
+ * slave's commanded position, or for `MC_SYNC_MASTER_LOST` the master's number).
+ */
+#define MC_EVENT_SYNC 27
+
+/**
+ * Event kind: a PT/PVT stream (reserved).
+ */
+#define MC_EVENT_PVT 28
+
+/**
+ * `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
+ */
+#define MC_SYNC_IN_GEAR 1
+
+/**
+ * MC_GearInPos reached its sync point (InSync).
+ */
+#define MC_SYNC_IN_SYNC 2
+
+/**
+ * The master axis was disabled or faulted: the slave stops on its stop ramp.
+ */
+#define MC_SYNC_MASTER_LOST 3
+
+/**
+ * Motion bit of `mc_status.raw.motion_flags`: the slave follows its master (in gear).
+ */
+#define MC_MOTION_IN_SYNC 256
 
 /**
  * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
@@ -1434,6 +1548,51 @@ typedef struct mc_event {
 typedef void (*mc_event_callback)(mc_card card, const struct mc_event *event, void *user);
 
 /**
+ * Which cam table, and how it maps the master onto the slave (counts): slave = slave_offset +
+ * slave_scale × table((master − master_offset) / master_scale).
+ */
+typedef struct mc_cam_settings {
+  /**
+   * Table 0 .. `MC_CAM_TABLES` − 1.
+   */
+  uint32_t table;
+  /**
+   * Subtracted from the master's position, counts.
+   */
+  double master_offset;
+  /**
+   * Added to the table's slave position, counts.
+   */
+  double slave_offset;
+  /**
+   * Divides the master's position (nonzero).
+   */
+  double master_scale;
+  /**
+   * Multiplies the table's slave position (nonzero).
+   */
+  double slave_scale;
+} mc_cam_settings;
+
+/**
+ * The slave's own limits while it engages, in its user units.
+ */
+typedef struct mc_sync_limits {
+  /**
+   * Velocity.
+   */
+  double velocity;
+  /**
+   * Acceleration (and deceleration).
+   */
+  double acceleration;
+  /**
+   * Jerk.
+   */
+  double jerk;
+} mc_sync_limits;
+
+/**
  * A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
  */
 typedef struct mc_group_settings {
@@ -2171,6 +2330,38 @@ typedef struct mc_path_progress {
 typedef void (*mc_path_progress_callback)(const struct mc_path_progress *progress, void *user);
 
 /**
+ * A stream's limits, user units: every segment's velocity and acceleration stay within them.
+ */
+typedef struct mc_pvt_limits {
+  /**
+   * Velocity.
+   */
+  double velocity;
+  /**
+   * Acceleration.
+   */
+  double acceleration;
+} mc_pvt_limits;
+
+/**
+ * One point, user units: seconds from the start of the stream, position, velocity (PVT).
+ */
+typedef struct mc_pvt_point {
+  /**
+   * Seconds from the start of the stream.
+   */
+  double time;
+  /**
+   * Position.
+   */
+  double position;
+  /**
+   * Velocity (ignored in PT).
+   */
+  double velocity;
+} mc_pvt_point;
+
+/**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
  */
 typedef struct mc_safety_status {
@@ -2737,6 +2928,47 @@ typedef struct mc_stop_info {
 #define MC_ERR_PROBE_INPUT -96
 
 /**
+ * Layout 1.7 (sync): a gear ratio that is not an integer numerator over a positive
+ * integer denominator, both of magnitude 1..2^31-1.
+ */
+#define MC_ERR_GEAR_RATIO -74
+
+/**
+ * A master the card does not have (axis or auxiliary encoder), the slave itself, an
+ * unknown master source, or a master axis disabled or in ErrorStop.
+ */
+#define MC_ERR_SYNC_MASTER -75
+
+/**
+ * A PT/PVT point not at least one servo period after the point before it, or a segment
+ * longer than the longest move.
+ */
+#define MC_ERR_PVT_TIME -76
+
+/**
+ * A PT/PVT point whose segment breaks the stream's velocity or acceleration limit (the
+ * error names the point).
+ */
+#define MC_ERR_PVT_LIMIT -77
+
+/**
+ * PT/PVT commands out of sequence: points without an open stream or after its last point,
+ * a start without points or on an axis that moved, a begin while a stream runs.
+ */
+#define MC_ERR_PVT_SEQUENCE -78
+
+/**
+ * A cam table number, point count or flags out of range, points not strictly increasing
+ * in the master or not finite, a table not loaded, or one in use by a slave.
+ */
+#define MC_ERR_CAM_TABLE -79
+
+/**
+ * Cam table data without an open table or out of order.
+ */
+#define MC_ERR_CAM_SEQUENCE -80
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -2756,6 +2988,8 @@ typedef struct mc_stop_info {
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).
@@ -3049,6 +3283,61 @@ mc_result mc_sim_step(mc_card card, uint64_t ticks);
  * Emulated time of a stepped sim card since boot, in seconds.
  */
 mc_result mc_sim_time(mc_card card, double *seconds);
+
+/**
+ * Load cam table `table` with `n` points (`master[i]`, `slave[i]`, counts; the master strictly
+ * increasing; 2 ..= `MC_CAM_MAX_POINTS`, cubic 3 ..), `flags` `MC_CAM_CUBIC`,
+ * `MC_CAM_PERIODIC`. `MC_ERR_CAM_TABLE` if the card refuses it (or a slave follows it),
+ * `MC_ERR_NOT_FINITE`. Blocks until the card answers.
+ */
+mc_result mc_cam_load_table(mc_card card,
+                            uint32_t table,
+                            const double *master,
+                            const double *slave,
+                            size_t n,
+                            uint32_t flags);
+
+/**
+ * MC_CamIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
+ * through `cam`, caught up within `limits`; `mc_motion_wait_in_sync` on `*motion` (may be
+ * NULL) returns once it is on the cam. `MC_ERR_CAM_TABLE` for a table not loaded. Blocks until
+ * the card answers.
+ */
+mc_result mc_cam_in(mc_card card,
+                    uint32_t axis,
+                    uint32_t master_kind,
+                    uint32_t master,
+                    const struct mc_cam_settings *cam,
+                    const struct mc_sync_limits *limits,
+                    struct mc_motion *motion);
+
+/**
+ * On an axis that cams: `cam`'s table takes over at the end of the current cycle, the slave's
+ * position continuous (`mc_motion_wait_cam_switch` on `*motion`, may be NULL).
+ * `MC_ERR_INVALID_STATE` if the axis does not cam. Blocks until the card answers.
+ */
+mc_result mc_cam_switch(mc_card card,
+                        uint32_t axis,
+                        uint32_t master_kind,
+                        uint32_t master,
+                        const struct mc_cam_settings *cam,
+                        const struct mc_sync_limits *limits,
+                        struct mc_motion *motion);
+
+/**
+ * MC_CamOut: the slave leaves the cam in velocity mode at its velocity
+ * (`mc_motion_wait_in_velocity` on `*motion`, may be NULL). Blocks until the card answers.
+ */
+mc_result mc_cam_out(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Wait until the table switch of `mc_cam_switch` took place. `position` may be NULL;
+ * otherwise it receives the slave's commanded position then. Blocks.
+ */
+mc_result mc_motion_wait_cam_switch(mc_card card,
+                                    struct mc_motion motion,
+                                    uint32_t timeout_ms,
+                                    double *position);
 
 /**
  * Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):
@@ -3758,6 +4047,47 @@ mc_result mc_get_outputs(mc_card card, uint32_t *outputs);
 mc_result mc_set_outputs(mc_card card, uint32_t mask, uint32_t value);
 
 /**
+ * Open a PT/PVT stream on `axis` at its commanded position (standstill), at rest, time 0:
+ * `mode` `MC_PVT_MODE_`, `limits`, a low-water event (`MC_EVENT_PVT`,
+ * `MC_PVT_EVENT_LOW_WATER`) once `low_water` points or fewer are left (0: none). Blocks until
+ * the card answers.
+ */
+mc_result mc_pvt_begin(mc_card card,
+                       uint32_t axis,
+                       uint32_t mode,
+                       const struct mc_pvt_limits *limits,
+                       uint32_t low_water);
+
+/**
+ * Append `n` points (at most `MC_PVT_LEN`) to the stream; with `last` nonzero the last of them
+ * ends it (PVT: at velocity 0). `free` (may be NULL) receives the points still free on the
+ * card. A refused point (`MC_ERR_PVT_LIMIT`, `MC_ERR_PVT_TIME`, `MC_ERR_NOT_FINITE`,
+ * `MC_ERR_OUT_OF_RANGE`, `MC_ERR_QUEUE_FULL`, `MC_ERR_PVT_SEQUENCE`) is named in the error
+ * message ("PT/PVT point I ..."); the points before it were queued. Blocks until the card
+ * answers.
+ */
+mc_result mc_pvt_push(mc_card card,
+                      uint32_t axis,
+                      const struct mc_pvt_point *points,
+                      size_t n,
+                      uint32_t last,
+                      size_t *free);
+
+/**
+ * Run `axis`'s stream: `mc_motion_wait` on `*motion` (may be NULL) returns once the last
+ * point is reached and the axis is in position, or `MC_ERR_ABORTED` if the stream ran dry
+ * (`MC_PVT_EVENT_STARVED`; the axis stops on its stop ramp) or a halt, stop or safety stop
+ * ended it. Blocks until the card answers.
+ */
+mc_result mc_pvt_start(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Points queued in `axis`'s stream and free, as the card published them last tick (either
+ * pointer may be NULL). Never blocks.
+ */
+mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free);
+
+/**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
  * heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
  * a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
@@ -3838,6 +4168,76 @@ mc_result mc_configure_safety(mc_card card,
  * this library does not know); does not wait for the card.
  */
 mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
+
+/**
+ * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
+ * at `numerator / denominator` encoder counts per master count, computed on the card in
+ * integer arithmetic (no drift). It catches up within `limits`;
+ * `mc_motion_wait_in_sync` on `*motion` (may be NULL) returns once it is in gear. Refused:
+ * `MC_ERR_GEAR_RATIO`, `MC_ERR_SYNC_MASTER` (no such master, the axis itself, a master axis
+ * disabled or in ErrorStop), `MC_ERR_INFEASIBLE` (the master runs faster than `limits` let
+ * the slave follow), `MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`. Blocks until the card
+ * answers.
+ */
+mc_result mc_gear_in(mc_card card,
+                     uint32_t axis,
+                     uint32_t master_kind,
+                     uint32_t master,
+                     int64_t numerator,
+                     int64_t denominator,
+                     const struct mc_sync_limits *limits,
+                     struct mc_motion *motion);
+
+/**
+ * MC_GearInPos (Aborting): as `mc_gear_in`, and `axis` is at `slave_position` (its user
+ * units) exactly when the master is at `master_position` (the master axis's user units, or
+ * an auxiliary encoder's counts), velocity and acceleration continuous on the way.
+ * `MC_ERR_INFEASIBLE` if that breaks `limits` at the master's present velocity, or if the
+ * master is at rest or moving away from the point. `mc_motion_wait_in_sync` returns at the
+ * point. Blocks until the card answers.
+ */
+mc_result mc_gear_in_pos(mc_card card,
+                         uint32_t axis,
+                         uint32_t master_kind,
+                         uint32_t master,
+                         int64_t numerator,
+                         int64_t denominator,
+                         double master_position,
+                         double slave_position,
+                         const struct mc_sync_limits *limits,
+                         struct mc_motion *motion);
+
+/**
+ * MC_GearOut: the slave leaves the coupling and keeps moving at its velocity (velocity mode);
+ * `mc_motion_wait_in_velocity` on `*motion` (may be NULL) gives the velocity; stop it with
+ * `mc_halt`. The gear motion ends `MC_ERR_ABORTED`. `MC_ERR_INVALID_STATE` unless the axis is
+ * geared. Blocks until the card answers.
+ */
+mc_result mc_gear_out(mc_card card, uint32_t axis, struct mc_motion *motion);
+
+/**
+ * Wait until a gear motion is in gear (`mc_gear_in`) or in sync (`mc_gear_in_pos`).
+ * `position` may be NULL; otherwise it receives the slave's commanded position then (user
+ * units). `MC_ERR_ABORTED` if it was aborted first (halt, stop, gear-out, a safety stop, the
+ * master lost), `MC_ERR_TIMEOUT` after `timeout_ms`. Blocks.
+ */
+mc_result mc_motion_wait_in_sync(mc_card card,
+                                 struct mc_motion motion,
+                                 uint32_t timeout_ms,
+                                 double *position);
+
+/**
+ * The count of auxiliary encoder `k` as the card published it last tick.
+ * `MC_ERR_SYNC_MASTER` for an encoder the card does not have. Never blocks.
+ */
+mc_result mc_aux_encoder(mc_card card, uint32_t k, int64_t *count);
+
+/**
+ * Turn auxiliary encoder `k` of a stepped sim card at `velocity` counts/s (a conveyor, a
+ * handwheel). `MC_ERR_UNSUPPORTED` on any other card, `MC_ERR_BAD_CONFIG` for an encoder the
+ * card does not have, `MC_ERR_NOT_FINITE`. Never blocks.
+ */
+mc_result mc_sim_set_aux_velocity(mc_card card, uint32_t k, double velocity);
 
 #ifdef __cplusplus
 }  /* extern "C" */

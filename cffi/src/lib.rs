@@ -20,15 +20,18 @@
 #![allow(clippy::missing_safety_doc)]
 
 pub mod api;
+pub mod cam;
 mod ffi;
 pub mod group;
 pub mod homing;
 pub mod io;
 pub mod modes;
 pub mod path;
+pub mod pvt;
 pub mod registry;
 pub mod result;
 pub mod safety;
+pub mod sync;
 pub mod types;
 
 pub use api::*;

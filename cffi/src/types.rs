@@ -281,6 +281,8 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::Input => MC_EVENT_INPUT,
         EventKind::Compare => MC_EVENT_COMPARE,
         EventKind::Probe => MC_EVENT_PROBE,
+        EventKind::Sync => crate::sync::MC_EVENT_SYNC,
+        EventKind::Pvt => crate::sync::MC_EVENT_PVT,
     }
 }
 

@@ -4,9 +4,10 @@
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`,
-//! `path`, `compare` and `probe` choose their cards). `move` and `c89` are also linked statically, and a program of the
-//! tests' own beside a second Rust static library; `errors`, `groups`, `safety`, `machine`,
-//! `homing`, `nurbs_path`, `path`, `compare`, `probe` and `panic` also run under valgrind. The installed libraries'
+//! `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards). `move` and `c89`
+//! are also linked statically, and a program of the tests' own beside a second Rust static
+//! library; `errors`, `groups`, `safety`, `machine`, `homing`, `nurbs_path`, `path`, `compare`,
+//! `probe`, `gearing`, `pvt`, `cam` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -959,6 +960,7 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_SESSION",
     "MC_ERR_PERMISSION_DENIED",
     "MC_ERR_PATH_ID",
+    "MC_ERR_CAM_SEQUENCE",
 ];
 
 #[test]
@@ -1038,6 +1040,48 @@ fn path_program_streams_a_blended_square_with_outputs_and_a_curve() {
 fn path_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("path");
     assert!(out.contains("PASS path"), "{out}");
+}
+
+/// Layout 1.7 (sync): electronic gearing, exact after 10^9 master counts.
+#[test]
+fn gearing_from_c() {
+    let out = run(&compile("gearing", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS gearing\n"), "{out}");
+    assert!(out.contains(", error 0 counts"), "{out}");
+    assert!(out.contains("in gear at 1/2: 10000.0 counts/s"), "{out}");
+}
+
+/// Layout 1.7 (sync): PT/PVT streaming through the card's buffer, refilled on low water.
+#[test]
+fn pvt_from_c() {
+    let out = run(&compile("pvt", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS pvt\n"), "{out}");
+    assert!(out.contains("PVT: 2000 points"), "{out}");
+}
+
+/// Layout 1.7 (sync): camming, a table switch at the end of a cycle.
+#[test]
+fn cam_from_c() {
+    let out = run(&compile("cam", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS cam\n"), "{out}");
+}
+
+#[test]
+fn cam_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("cam");
+    assert!(out.contains("PASS cam\n"), "{out}");
+}
+
+#[test]
+fn pvt_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("pvt");
+    assert!(out.contains("PASS pvt\n"), "{out}");
+}
+
+#[test]
+fn gearing_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("gearing");
+    assert!(out.contains("PASS gearing\n"), "{out}");
 }
 
 #[test]

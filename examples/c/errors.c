@@ -51,6 +51,10 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_IO_CONFIG,      MC_ERR_IO_CHANNEL,      MC_ERR_COMPARE_MODE,
     MC_ERR_COMPARE_FULL,   MC_ERR_COMPARE_ORDER,   MC_ERR_COMPARE_BUSY,
     MC_ERR_PROBE_INPUT,
+    /* synchronised motion (layout 1.7) */
+    MC_ERR_GEAR_RATIO,     MC_ERR_SYNC_MASTER,     MC_ERR_PVT_TIME,
+    MC_ERR_PVT_LIMIT,      MC_ERR_PVT_SEQUENCE,    MC_ERR_CAM_TABLE,
+    MC_ERR_CAM_SEQUENCE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -97,6 +101,11 @@ static const mc_result NOT_PROVOKED[] = {
     /* compare.c, probe.c */
     MC_ERR_IO_CONFIG, MC_ERR_IO_CHANNEL, MC_ERR_COMPARE_MODE, MC_ERR_COMPARE_FULL,
     MC_ERR_COMPARE_ORDER, MC_ERR_COMPARE_BUSY, MC_ERR_PROBE_INPUT,
+    /* gearing.c, pvt.c, cam.c */
+    MC_ERR_GEAR_RATIO, MC_ERR_SYNC_MASTER, MC_ERR_PVT_TIME, MC_ERR_PVT_LIMIT, MC_ERR_PVT_SEQUENCE,
+    MC_ERR_CAM_TABLE,
+    /* not provokable from C: the ABI loads a table in order (cam data out of sequence) */
+    MC_ERR_CAM_SEQUENCE,
 };
 
 static void result_strings(void) {

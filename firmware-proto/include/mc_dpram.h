@@ -41,7 +41,9 @@
                            * MC_EV_COMPARE), touch probes (MC_OP_PROBE_*, probe_status[],
                            * MC_EV_PROBE), MC_NACK_IO_* / _COMPARE_* / _PROBE_* (opcodes 64..69,
                            * nacks 90..96, events 24..26; blocks appended), NURBS curves in the path
-                           * (MC_OP_PATH_NURBS, MC_NACK_PATH_CURVE) */
+                           * (MC_OP_PATH_NURBS, MC_NACK_PATH_CURVE); synchronised motion: gearing,
+                           * PT/PVT streams, camming (opcodes 80..89, nacks 100..106, MC_EV_SYNC,
+                           * MC_EV_PVT, MC_MOTION_IN_SYNC, the sync_status block appended) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -416,6 +418,130 @@
 #define MC_HOMING_ERR_TIMEOUT 3  /* not homed within the timeout */
 #define MC_HOMING_ERR_NO_INDEX 4 /* no index pulse within index_distance */
 #define MC_HOMING_ERR_PLAN 5     /* a motion of the method could not be planned */
+
+/* layout 1.7 (sync): synchronised motion. Opcodes 80..95, nack codes 100..109, event kinds 27
+ * and 28 (their sub-cases in the event's code).
+ *
+ * Electronic gearing (PLCopen MC_GearIn, MC_GearInPos, MC_GearOut). The slave is the command's
+ * axis; its master is another axis's commanded or actual position, or an auxiliary encoder input
+ * (flags: MC_MASTER_*; args[0]: the master axis or aux encoder number). The ratio is an integer
+ * numerator / a positive integer denominator, both of magnitude 1..MC_GEAR_RATIO_MAX (else
+ * MC_NACK_GEAR_RATIO): slave counts per master count. The card computes the slave's position from
+ * the master's count in integer arithmetic, quotient and remainder of numerator x (master -
+ * anchor) / denominator, so nothing drifts however long the coupling runs (a commanded master
+ * counts in 1/65536 of a count). The slave is in SynchronizedMotion from the command on; it
+ * catches up within its own vmax, amax and jerk (args), then MC_EV_SYNC (code MC_SYNC_IN_GEAR /
+ * MC_SYNC_IN_SYNC, seq: the gear command) and MC_MOTION_IN_SYNC in its status. A master that is
+ * disabled or in ErrorStop: the slave stops on its stop ramp (MC_EV_SYNC code
+ * MC_SYNC_MASTER_LOST, MC_EV_MOTION_ABORTED for the gear command, the axis Stopping then
+ * Standstill). Halt, stop and the safety stops end the coupling as any motion; the override does
+ * not scale a coupled slave (it follows its master). A commanded single-axis master is followed
+ * with one servo tick of delay (its reference is computed after the slaves'). */
+#define MC_OP_GEAR_IN 80u     /* args: master, numerator, denominator, vmax, amax, jerk. flags:
+                               * MC_MASTER_*. Aborting; from Standstill, DiscreteMotion,
+                               * ContinuousMotion or SynchronizedMotion (a new ratio) */
+#define MC_OP_GEAR_IN_POS 81u /* as MC_OP_GEAR_IN, then args: master sync position, slave sync
+                               * position: the slave reaches the slave position exactly when the
+                               * master reaches the master position, along a quintic in the
+                               * master's position (velocity and acceleration continuous), checked
+                               * against vmax, amax, jerk at the master's present velocity (else
+                               * MC_NACK_INFEASIBLE; a master at rest or moving away: the same) */
+#define MC_OP_GEAR_OUT 82u    /* MC_GearOut: the slave leaves the coupling in velocity mode at its
+                               * velocity (ContinuousMotion, MC_EV_IN_VELOCITY with this command's
+                               * seq), its acceleration ramped to 0 within the gear's amax and
+                               * jerk; stop it with MC_OP_HALT. The gear command: MC_EV_MOTION_ABORTED
+                               * (code MC_OP_GEAR_OUT) */
+#define MC_MASTER_COMMANDED 0u /* flags: the master axis's commanded position */
+#define MC_MASTER_ACTUAL 1u    /* the master axis's actual position (its encoder) */
+#define MC_MASTER_AUX 2u       /* an auxiliary encoder input (0..MC_AUX_ENCODERS-1) */
+#define MC_AUX_ENCODERS 2u     /* auxiliary encoder inputs of the card (conveyor, handwheel) */
+#define MC_GEAR_RATIO_MAX 2147483647.0 /* |numerator|, denominator <= 2^31 - 1 */
+#define MC_EV_SYNC 27u         /* synchronised motion. axis: the slave; seq: the gear command;
+                                * code: MC_SYNC_*; value: the slave's commanded position (master
+                                * lost: the master's number) */
+#define MC_SYNC_IN_GEAR 1      /* MC_GearIn caught up: the slave follows the ratio (InGear) */
+#define MC_SYNC_IN_SYNC 2      /* MC_GearInPos reached its sync point (InSync) */
+#define MC_SYNC_MASTER_LOST 3  /* the master is disabled or in ErrorStop: the slave stops */
+#define MC_EV_PVT 28u          /* a PT/PVT stream. axis: the axis; seq: its MC_OP_PVT_START; code:
+                                * MC_PVT_EV_*; value: the points queued (low water), the time of
+                                * the last point run (starved), the last position (done) */
+#define MC_PVT_EV_LOW_WATER 1  /* the points queued fell to the stream's low water */
+#define MC_PVT_EV_STARVED 2    /* the stream ran dry before a last point: the axis stops on its stop
+                                * ramp (Stopping, then Standstill; MC_EV_MOTION_ABORTED) */
+#define MC_PVT_EV_DONE 3       /* the last point was reached (motion done follows in position) */
+#define MC_NACK_GEAR_RATIO 100 /* a ratio that is not integer, a zero numerator, a denominator <= 0,
+                                * or a magnitude above MC_GEAR_RATIO_MAX */
+#define MC_NACK_SYNC_MASTER 101 /* a master source the card does not know, a master axis or aux
+                                 * encoder it does not have, the slave itself, or a master axis
+                                 * disabled or in ErrorStop */
+#define MC_MOTION_IN_SYNC (1u << 8) /* layout 1.7 (sync): the slave follows its master (InGear) */
+
+/* layout 1.7 (sync): PT/PVT streaming (Googol GTS and Delta Tau PVT). Each axis has a buffer of
+ * MC_PVT_LEN points on the card. MC_OP_PVT_BEGIN (from Standstill) opens a stream at the axis's
+ * commanded position, at rest, at time 0; MC_OP_PVT_POINTS appends points (time from the start,
+ * strictly increasing by at least one servo period; position; velocity), MC_OP_PVT_START runs it
+ * (SynchronizedMotion). Between two points the position is the cubic Hermite segment through
+ * both positions and velocities: it passes exactly through every point, velocity continuous. PT
+ * (MC_PVT_PT): the velocity at a point is the three-point estimate from its neighbours
+ * ((d- h+ + d+ h-)/(h- + h+), d the chords' slopes, h their durations), known when the next
+ * point arrives; a point marked MC_PVT_LAST ends at rest. Every segment is checked against the
+ * stream's vmax and amax when its end velocity is known, and the point that breaks them is
+ * refused (MC_NACK_PVT_LIMIT), the command's points all or none. A stream that runs dry before
+ * its last point stops on the axis's stop ramp (MC_PVT_EV_STARVED); the last point reached:
+ * MC_PVT_EV_DONE, motion done (MC_OP_PVT_START's seq) once in position, Standstill. Halt, stop
+ * and safety stops end the stream. */
+#define MC_OP_PVT_BEGIN 83u   /* args: vmax, amax, low water (points, 0: none). flags: MC_PVT_PT.
+                               * Standstill, no stream running (else MC_NACK_PVT_SEQUENCE) */
+#define MC_OP_PVT_POINTS 84u  /* args: count (1..MC_PVT_POINTS_MAX), then time, position, velocity
+                               * of each (PT: velocity ignored). flags: MC_PVT_LAST (the last of
+                               * these is the stream's last). Ack value: the points still free */
+#define MC_OP_PVT_START 85u   /* args: axis mask (bit i: axis i; 0: this axis): the streams of
+                               * every axis in it start on the same tick */
+#define MC_PVT_PT (1u << 0)
+#define MC_PVT_LAST (1u << 1)
+#define MC_PVT_LEN 4096u      /* points buffered per axis */
+#define MC_PVT_POINTS_MAX 4u  /* points per MC_OP_PVT_POINTS */
+#define MC_NACK_PVT_TIME 102  /* a point not at least one servo period after the one before, or a
+                               * segment longer than MC_MAX_MOVE_TIME */
+#define MC_NACK_PVT_LIMIT 103 /* a point whose segment breaks the stream's vmax or amax, or a last
+                               * point (PVT) with a velocity */
+#define MC_NACK_PVT_SEQUENCE 104 /* points without an open stream or after its last point, a start
+                                  * without points or on an axis that moved, a begin while one runs */
+
+/* layout 1.7 (sync): camming (PLCopen MC_CamTableSelect, MC_CamIn, MC_CamOut). The card holds
+ * MC_CAM_TABLES tables of up to MC_CAM_MAX_POINTS points (master, slave) in its own RAM, loaded
+ * with commands: MC_OP_CAM_TABLE opens a table, MC_OP_CAM_DATA sends its points in order, and
+ * the table is built once its last point arrived (master positions strictly increasing, all
+ * finite; a table in use by a slave cannot be reloaded). Linear or cubic-spline interpolation
+ * (MC_CAM_CUBIC: velocity and acceleration continuous; natural ends, or periodic), periodic or
+ * not (MC_CAM_PERIODIC: the master's period is the table's span, the slave may rise by its last
+ * minus first point per cycle). MC_OP_CAM_IN couples a slave as MC_OP_GEAR_IN does (catch-up
+ * within vmax, amax, jerk, then MC_EV_SYNC MC_SYNC_IN_SYNC): slave = slave offset + slave scale
+ * x table((master - master offset) / master scale). With MC_CAM_AT_CYCLE_END on a cammed slave
+ * the new table takes over at the end of the current cycle, the slave's position continuous
+ * (MC_SYNC_CAM_SWITCH). A table that is not periodic ends: the slave holds its end
+ * (MC_SYNC_CAM_END). MC_OP_GEAR_OUT (or MC_OP_CAM_OUT) leaves the cam in velocity mode. */
+#define MC_OP_CAM_TABLE 86u   /* args: table, points (2..MC_CAM_MAX_POINTS; cubic: 3..). flags:
+                               * MC_CAM_CUBIC, MC_CAM_PERIODIC. Any axis */
+#define MC_OP_CAM_DATA 87u    /* args: table, index of the first point, count (1..MC_CAM_DATA_MAX),
+                               * then master, slave of each */
+#define MC_OP_CAM_IN 88u      /* args: master, table, master offset, slave offset, master scale,
+                               * slave scale, vmax, amax, jerk. flags: MC_MASTER_* |
+                               * MC_CAM_AT_CYCLE_END */
+#define MC_OP_CAM_OUT 89u     /* as MC_OP_GEAR_OUT */
+#define MC_CAM_TABLES 4u
+#define MC_CAM_MAX_POINTS 1024u
+#define MC_CAM_DATA_MAX 5u
+#define MC_CAM_CUBIC (1u << 0)
+#define MC_CAM_PERIODIC (1u << 1)
+#define MC_CAM_AT_CYCLE_END (1u << 4) /* MC_OP_CAM_IN flag (beside the master source) */
+#define MC_SYNC_CAM_END 4     /* MC_EV_SYNC: a cam that is not periodic passed its table's end */
+#define MC_SYNC_CAM_SWITCH 5  /* MC_EV_SYNC: the table switched at the end of a cycle (seq: the
+                               * MC_OP_CAM_IN that asked for it) */
+#define MC_NACK_CAM_TABLE 105 /* a table number, point count or flags out of range, points not
+                               * strictly increasing in the master or not finite, a table not
+                               * loaded, or one in use */
+#define MC_NACK_CAM_SEQUENCE 106 /* cam data without an open table or out of order */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
@@ -1110,6 +1236,17 @@ struct mc_safety_status {
     uint64_t attach_tick;            /* tick of the last attach (0: none) */
 };
 
+/** Synchronised motion (layout 1.7 (sync)). Card writes, every tick. */
+struct mc_sync_status {
+    /** The auxiliary encoder inputs, counts. */
+    int64_t aux_count[MC_AUX_ENCODERS];
+    /** The ratio of each axis's coupling (slave counts per master count; 0: not coupled). */
+    double gear_ratio[MC_MAX_AXES];
+    /** Each axis's PT/PVT stream: points queued, and free. */
+    uint32_t pvt_queued[MC_MAX_AXES];
+    uint32_t pvt_free[MC_MAX_AXES];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -1141,6 +1278,8 @@ struct mc_dpram {
     struct mc_io_config io_config;                              /* host writes */
     struct mc_compare_status compare_status[MC_COMPARE_CHANNELS]; /* card writes */
     struct mc_probe_status probe_status[MC_PROBE_CHANNELS];       /* card writes */
+    /* layout 1.7: synchronised motion */
+    struct mc_sync_status sync_status;                            /* card writes */
 };
 
 #define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */

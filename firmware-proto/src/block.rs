@@ -61,6 +61,7 @@ blocks!(
     mc_io_config,
     mc_compare_status,
     mc_probe_status,
+    mc_sync_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -172,6 +172,16 @@ const _: () = {
     assert!(INPUTS == OUTPUTS + 4 && INPUTS_RAW == OUTPUTS + 8);
 };
 
+/// Layout 1.7 (sync): the card-written synchronised-motion status (aux encoders, gear ratios).
+pub const SYNC_STATUS: BlockAt<mc_sync_status> = BlockAt::new(off!(sync_status));
+/// Its size.
+pub const SYNC_STATUS_BYTES: usize = size_of::<mc_sync_status>();
+const _: () = {
+    assert!(SYNC_STATUS.offset().is_multiple_of(8));
+    assert!(SYNC_STATUS.offset() >= GROUP_PATH.at(MAX_GROUPS - 1).offset() + GROUP_PATH_BYTES);
+    assert!(SYNC_STATUS.offset() + SYNC_STATUS_BYTES <= crate::DPRAM_SIZE);
+};
+
 /// The card-written safety status block (`mc_safety_status`).
 pub mod safety_status {
     use super::*;

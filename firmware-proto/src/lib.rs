@@ -31,6 +31,7 @@ pub mod raw;
 pub mod block;
 pub mod layout;
 pub mod mem;
+pub mod motion_sync;
 pub mod reset;
 pub mod ring;
 pub mod seqlock;
@@ -43,6 +44,7 @@ pub mod window;
 
 pub use block::{Block, BlockAt, Blocks};
 pub use mem::{Dpram, Mem};
+pub use motion_sync::*;
 pub use reset::{
     AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, GroupPath, PdPlusGains,
 };

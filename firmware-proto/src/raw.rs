@@ -162,6 +162,49 @@ pub const MC_HOMING_ERR_DISTANCE: u32 = 2;
 pub const MC_HOMING_ERR_TIMEOUT: u32 = 3;
 pub const MC_HOMING_ERR_NO_INDEX: u32 = 4;
 pub const MC_HOMING_ERR_PLAN: u32 = 5;
+pub const MC_OP_GEAR_IN: u32 = 80;
+pub const MC_OP_GEAR_IN_POS: u32 = 81;
+pub const MC_OP_GEAR_OUT: u32 = 82;
+pub const MC_MASTER_COMMANDED: u32 = 0;
+pub const MC_MASTER_ACTUAL: u32 = 1;
+pub const MC_MASTER_AUX: u32 = 2;
+pub const MC_AUX_ENCODERS: u32 = 2;
+pub const MC_GEAR_RATIO_MAX: f64 = 2147483647.0;
+pub const MC_EV_SYNC: u32 = 27;
+pub const MC_SYNC_IN_GEAR: u32 = 1;
+pub const MC_SYNC_IN_SYNC: u32 = 2;
+pub const MC_SYNC_MASTER_LOST: u32 = 3;
+pub const MC_EV_PVT: u32 = 28;
+pub const MC_PVT_EV_LOW_WATER: u32 = 1;
+pub const MC_PVT_EV_STARVED: u32 = 2;
+pub const MC_PVT_EV_DONE: u32 = 3;
+pub const MC_NACK_GEAR_RATIO: u32 = 100;
+pub const MC_NACK_SYNC_MASTER: u32 = 101;
+pub const MC_MOTION_IN_SYNC: u32 = 256;
+pub const MC_OP_PVT_BEGIN: u32 = 83;
+pub const MC_OP_PVT_POINTS: u32 = 84;
+pub const MC_OP_PVT_START: u32 = 85;
+pub const MC_PVT_PT: u32 = 1;
+pub const MC_PVT_LAST: u32 = 2;
+pub const MC_PVT_LEN: u32 = 4096;
+pub const MC_PVT_POINTS_MAX: u32 = 4;
+pub const MC_NACK_PVT_TIME: u32 = 102;
+pub const MC_NACK_PVT_LIMIT: u32 = 103;
+pub const MC_NACK_PVT_SEQUENCE: u32 = 104;
+pub const MC_OP_CAM_TABLE: u32 = 86;
+pub const MC_OP_CAM_DATA: u32 = 87;
+pub const MC_OP_CAM_IN: u32 = 88;
+pub const MC_OP_CAM_OUT: u32 = 89;
+pub const MC_CAM_TABLES: u32 = 4;
+pub const MC_CAM_MAX_POINTS: u32 = 1024;
+pub const MC_CAM_DATA_MAX: u32 = 5;
+pub const MC_CAM_CUBIC: u32 = 1;
+pub const MC_CAM_PERIODIC: u32 = 2;
+pub const MC_CAM_AT_CYCLE_END: u32 = 16;
+pub const MC_SYNC_CAM_END: u32 = 4;
+pub const MC_SYNC_CAM_SWITCH: u32 = 5;
+pub const MC_NACK_CAM_TABLE: u32 = 105;
+pub const MC_NACK_CAM_SEQUENCE: u32 = 106;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -1305,6 +1348,31 @@ const _: () = {
     ["Offset of field: mc_safety_status::attach_tick"]
         [::core::mem::offset_of!(mc_safety_status, attach_tick) - 248usize];
 };
+#[doc = " Synchronised motion (layout 1.7 (sync)). Card writes, every tick."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_sync_status {
+    #[doc = " The auxiliary encoder inputs, counts."]
+    pub aux_count: [i64; 2usize],
+    #[doc = " The ratio of each axis's coupling (slave counts per master count; 0: not coupled)."]
+    pub gear_ratio: [f64; 8usize],
+    #[doc = " Each axis's PT/PVT stream: points queued, and free."]
+    pub pvt_queued: [u32; 8usize],
+    pub pvt_free: [u32; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_sync_status"][::core::mem::size_of::<mc_sync_status>() - 144usize];
+    ["Alignment of mc_sync_status"][::core::mem::align_of::<mc_sync_status>() - 8usize];
+    ["Offset of field: mc_sync_status::aux_count"]
+        [::core::mem::offset_of!(mc_sync_status, aux_count) - 0usize];
+    ["Offset of field: mc_sync_status::gear_ratio"]
+        [::core::mem::offset_of!(mc_sync_status, gear_ratio) - 16usize];
+    ["Offset of field: mc_sync_status::pvt_queued"]
+        [::core::mem::offset_of!(mc_sync_status, pvt_queued) - 80usize];
+    ["Offset of field: mc_sync_status::pvt_free"]
+        [::core::mem::offset_of!(mc_sync_status, pvt_free) - 112usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1333,10 +1401,11 @@ pub struct mc_dpram {
     pub io_config: mc_io_config,
     pub compare_status: [mc_compare_status; 4usize],
     pub probe_status: [mc_probe_status; 4usize],
+    pub sync_status: mc_sync_status,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 26944usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 27088usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1379,6 +1448,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, compare_status) - 26336usize];
     ["Offset of field: mc_dpram::probe_status"]
         [::core::mem::offset_of!(mc_dpram, probe_status) - 26560usize];
+    ["Offset of field: mc_dpram::sync_status"]
+        [::core::mem::offset_of!(mc_dpram, sync_status) - 26944usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -153,6 +153,27 @@ code_enum! {
         ProbeArm = raw::MC_OP_PROBE_ARM,
         /// MC_AbortTrigger: arg channel.
         ProbeAbort = raw::MC_OP_PROBE_ABORT,
+        /// Layout 1.7 (sync): MC_GearIn: args master, numerator, denominator, vmax, amax,
+        /// jerk; flags the master source ([`MasterSource`](crate::MasterSource)).
+        GearIn = raw::MC_OP_GEAR_IN,
+        /// MC_GearInPos: as [`Opcode::GearIn`], then master and slave sync positions.
+        GearInPos = raw::MC_OP_GEAR_IN_POS,
+        /// MC_GearOut: the slave leaves the coupling in velocity mode at its velocity.
+        GearOut = raw::MC_OP_GEAR_OUT,
+        /// Open a PT/PVT stream: args vmax, amax, low water; flags `MC_PVT_PT`.
+        PvtBegin = raw::MC_OP_PVT_BEGIN,
+        /// Append points: args count, then time, position, velocity of each.
+        PvtPoints = raw::MC_OP_PVT_POINTS,
+        /// Start the streams of an axis mask.
+        PvtStart = raw::MC_OP_PVT_START,
+        /// Open a cam table: args table, points; flags cubic, periodic.
+        CamTable = raw::MC_OP_CAM_TABLE,
+        /// Cam table points: args table, first index, count, then master, slave of each.
+        CamData = raw::MC_OP_CAM_DATA,
+        /// MC_CamIn: args master, table, offsets, scales, vmax, amax, jerk.
+        CamIn = raw::MC_OP_CAM_IN,
+        /// MC_CamOut: as [`Opcode::GearOut`].
+        CamOut = raw::MC_OP_CAM_OUT,
     }
 }
 
@@ -209,6 +230,11 @@ code_enum! {
         /// A touch probe captured (`axis`: the channel, `code`: the capture number, `value`:
         /// the position).
         Probe = raw::MC_EV_PROBE,
+        /// Layout 1.7 (sync): synchronised motion; `code` is a
+        /// [`SyncEvent`](crate::SyncEvent), `seq` the gear command.
+        Sync = raw::MC_EV_SYNC,
+        /// A PT/PVT stream; `code` says what happened to it.
+        Pvt = raw::MC_EV_PVT,
     }
 }
 
@@ -347,6 +373,24 @@ code_enum! {
         CompareBusy = raw::MC_NACK_COMPARE_BUSY,
         /// A probe input, edge or window the card cannot take.
         ProbeInput = raw::MC_NACK_PROBE_INPUT,
+        /// Layout 1.7 (sync): a gear ratio that is not integer, a zero numerator, a
+        /// denominator ≤ 0, or a magnitude above `MC_GEAR_RATIO_MAX`.
+        GearRatio = raw::MC_NACK_GEAR_RATIO,
+        /// A master source the card does not know, a master it does not have, the slave
+        /// itself, or a master axis disabled or in ErrorStop.
+        SyncMaster = raw::MC_NACK_SYNC_MASTER,
+        /// A PT/PVT point not at least one servo period after the one before, or a segment
+        /// longer than the longest move.
+        PvtTime = raw::MC_NACK_PVT_TIME,
+        /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit.
+        PvtLimit = raw::MC_NACK_PVT_LIMIT,
+        /// PT/PVT commands out of sequence.
+        PvtSequence = raw::MC_NACK_PVT_SEQUENCE,
+        /// A cam table number, point count or flags out of range, points not strictly
+        /// increasing in the master or not finite, a table not loaded, or one in use.
+        CamTable = raw::MC_NACK_CAM_TABLE,
+        /// Cam data without an open table or out of order.
+        CamSequence = raw::MC_NACK_CAM_SEQUENCE,
     }
 }
 
@@ -745,6 +789,8 @@ bitflags::bitflags! {
         const HOMED = raw::MC_MOTION_HOMED;
         /// The motion running is one that was buffered.
         const BUFFERED_ACTIVE = raw::MC_MOTION_BUFFERED_ACTIVE;
+        /// Layout 1.7 (sync): the slave follows its master (InGear, InSync).
+        const IN_SYNC = raw::MC_MOTION_IN_SYNC;
     }
 
     /// The single-bit flags of the group move commands (`MC_MOVE_*`, `MC_CIRC_CCW`, ...) in
@@ -952,7 +998,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 64);
+        assert_eq!(NackCode::ALL.len(), 71);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

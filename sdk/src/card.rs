@@ -74,6 +74,9 @@ pub enum Outcome {
     /// Homing failed (raw `MC_HOMING_ERR_` code) at this actual position (user units); the
     /// axis is at rest, not homed.
     HomingFailed(i32, f64),
+    /// Layout 1.7 (sync): a gear motion's `MC_SYNC_*` event (raw code) and the slave's
+    /// commanded position then (user units).
+    Sync(i32, f64),
 }
 
 /// An event from the card, in user units.
@@ -442,26 +445,20 @@ impl Card {
         what: &'static str,
         target: Target,
     ) -> Result<u32> {
-        self.inner.execute_seq(cmd, what, target)
+        self.inner
+            .execute_value(cmd, what, target)
+            .map(|(seq, _)| seq)
     }
 
-    /// Execute a command and give its ack's value (layout 1.7: a compare table's room).
+    /// [`Card::execute_seq`] with the ack's value (a compare table's or a PT/PVT buffer's
+    /// room).
     pub(crate) fn execute_value(
         &self,
         cmd: Command,
         what: &'static str,
         target: Target,
-    ) -> Result<f64> {
-        let seq = self.inner.send_raw(cmd)?;
-        match self.inner.wait_answer(seq)? {
-            Ok(v) => Ok(v),
-            Err(code) => Err(Error::Nack {
-                command: what,
-                target,
-                code,
-                reason: nack_reason(code),
-            }),
-        }
+    ) -> Result<(u32, f64)> {
+        self.inner.execute_value(cmd, what, target)
     }
 
     /// Wait until `check` (reading the window) gives an answer, up to `timeout` (emulated time
@@ -740,10 +737,15 @@ impl Inner {
         Ok(cmd.seq)
     }
 
-    fn execute_seq(&self, cmd: Command, what: &'static str, target: Target) -> Result<u32> {
+    fn execute_value(
+        &self,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<(u32, f64)> {
         let seq = self.send_raw(cmd)?;
         match self.wait_answer(seq)? {
-            Ok(_) => Ok(seq),
+            Ok(v) => Ok((seq, v)),
             Err(code) => Err(Error::Nack {
                 command: what,
                 target,
@@ -834,7 +836,9 @@ impl Inner {
                             | EventKind::MotionActive
                             | EventKind::InVelocity
                             | EventKind::HomingFailed
-                    ) {
+                    ) || (kind == EventKind::Sync
+                        && e.code != firmware_proto::SyncEvent::MasterLost as i32)
+                    {
                         e.value / scale
                     } else {
                         e.value
@@ -863,6 +867,11 @@ impl Inner {
                         EventKind::HomingFailed => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::HomingFailed(e.code, value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::Sync => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::Sync(e.code, value)),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {

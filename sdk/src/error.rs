@@ -243,6 +243,26 @@ error_kinds! {
     /// A probe input beyond the inputs and the index, no edge, or a window whose low end is
     /// above its high end.
     ProbeInput = -96, MC_ERR_PROBE_INPUT, nack ProbeInput, "bad probe input, edge or window";
+    /// Layout 1.7 (sync): a gear ratio that is not an integer numerator over a positive
+    /// integer denominator, both of magnitude 1..2^31-1.
+    GearRatio = -74, MC_ERR_GEAR_RATIO, nack GearRatio, "a gear ratio must be integer numerator / positive integer denominator, each of magnitude 1..2^31-1";
+    /// A master the card does not have (axis or auxiliary encoder), the slave itself, an
+    /// unknown master source, or a master axis disabled or in ErrorStop.
+    SyncMaster = -75, MC_ERR_SYNC_MASTER, nack SyncMaster, "no such master, the slave itself, or a master axis disabled or in ErrorStop";
+    /// A PT/PVT point not at least one servo period after the point before it, or a segment
+    /// longer than the longest move.
+    PvtTime = -76, MC_ERR_PVT_TIME, nack PvtTime, "a PT/PVT point must come at least one servo period after the one before";
+    /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit (the
+    /// error names the point).
+    PvtLimit = -77, MC_ERR_PVT_LIMIT, nack PvtLimit, "the PT/PVT segment into this point breaks the velocity or acceleration limit";
+    /// PT/PVT commands out of sequence: points without an open stream or after its last point,
+    /// a start without points or on an axis that moved, a begin while a stream runs.
+    PvtSequence = -78, MC_ERR_PVT_SEQUENCE, nack PvtSequence, "PT/PVT commands out of sequence";
+    /// A cam table number, point count or flags out of range, points not strictly increasing
+    /// in the master or not finite, a table not loaded, or one in use by a slave.
+    CamTable = -79, MC_ERR_CAM_TABLE, nack CamTable, "bad cam table: number, points (master strictly increasing, finite), not loaded, or in use";
+    /// Cam table data without an open table or out of order.
+    CamSequence = -80, MC_ERR_CAM_SEQUENCE, nack CamSequence, "cam table data out of sequence";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -349,6 +369,15 @@ pub enum Error {
         code: NackCode,
         reason: &'static str,
     },
+    /// A PT/PVT point the card refused (`code`: the nack), `index` into the points given; the
+    /// points before it were queued, it and those after it were not.
+    #[error("PT/PVT point {index} on {target} refused: {reason}")]
+    PvtPoint {
+        target: Target,
+        index: usize,
+        code: NackCode,
+        reason: &'static str,
+    },
     /// See [`ErrorKind::CardGone`].
     #[error("card gone: {0}")]
     CardGone(String),
@@ -395,7 +424,9 @@ impl Error {
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,
-            Error::Nack { code, .. } | Error::Refused { code, .. } => (*code).into(),
+            Error::Nack { code, .. }
+            | Error::Refused { code, .. }
+            | Error::PvtPoint { code, .. } => (*code).into(),
             Error::CardGone(_) => ErrorKind::CardGone,
             Error::Closed => ErrorKind::Closed,
             Error::Cancelled => ErrorKind::Cancelled,

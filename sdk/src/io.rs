@@ -287,7 +287,7 @@ impl CompareChannel {
             let mut cmd =
                 Command::new(Opcode::CompareTable, self.axis.index() as u16).with_args(&args);
             cmd.flags = flags;
-            let v = self
+            let (_, v) = self
                 .axis
                 .card()
                 .execute_value(cmd, "compare_push", Target::Card)?;

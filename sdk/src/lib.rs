@@ -22,6 +22,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
+mod cam;
 mod card;
 mod device;
 mod error;
@@ -32,9 +33,12 @@ mod io;
 mod modes;
 mod nurbs;
 mod path;
+mod pvt;
 mod safety;
 mod session;
+mod sync;
 
+pub use cam::CamSettings;
 #[cfg(feature = "emulator")]
 pub use card::Sim;
 pub use card::{
@@ -51,6 +55,9 @@ pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
+};
+pub use firmware_proto::{
+    GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
 };
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
@@ -74,8 +81,10 @@ pub use path::{
     Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
     Segment, StreamError, Transition,
 };
+pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
+pub use sync::{gear_ratio, Master, SyncLimits};
 
 /// The card's S-curve planner, and the time-optimal planner from any state
 /// (`card_emu::motion::otg`), for previewing a move on the host (`mcctl plan`).

@@ -11,11 +11,12 @@
 
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
+use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
 use crate::plant::io::{encoder_span, FireRecord, InputBank};
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
-use firmware_proto::MAX_AXES;
+use firmware_proto::{AUX_ENCODERS, MAX_AXES};
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use nix::time::{clock_gettime, clock_nanosleep, ClockId, ClockNanosleepFlags};
 use std::os::fd::{AsFd, BorrowedFd};
@@ -104,6 +105,8 @@ pub struct Emulator {
     fires: Option<Vec<FireRecord>>,
     /// Each encoder's lowest and highest count over the period just run.
     spans: [Option<(i64, i64)>; MAX_AXES],
+    /// Layout 1.7 (sync): the auxiliary encoders.
+    aux: [AuxEncoder; AUX_ENCODERS],
 }
 
 impl Emulator {
@@ -128,6 +131,7 @@ impl Emulator {
             period_dac: [0.0; MAX_AXES],
             fires: None,
             spans: [None; MAX_AXES],
+            aux: [AuxEncoder::default(); AUX_ENCODERS],
         })
     }
 
@@ -166,9 +170,13 @@ impl Emulator {
         self.fw.set_inputs(inputs);
         self.fw.set_digital_inputs(self.inputs.sample(&self.motors));
         self.fw.set_encoder_spans(self.spans);
+        self.fw.set_aux_encoders(self.aux.map(|a| a.count));
         let ts = self.fw.ts();
         self.fw.tick(&enc, &mut self.dac);
         self.record_period_fires(ts);
+        for a in &mut self.aux {
+            a.step(ts);
+        }
         let start = self.motors;
         for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
             self.faults.step_motor(i, m, u, ts);
@@ -285,6 +293,11 @@ impl Emulator {
     /// An axis's plant.
     pub fn motor(&self, axis: usize) -> Option<&Motor> {
         self.motors.get(axis)
+    }
+
+    /// An auxiliary encoder (layout 1.7): set its velocity or jump it.
+    pub fn aux_mut(&mut self, k: usize) -> Option<&mut AuxEncoder> {
+        self.aux.get_mut(k)
     }
 
     /// An axis's encoder index channel and its latch.

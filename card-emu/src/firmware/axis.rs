@@ -195,6 +195,8 @@ pub struct Axis {
     /// A stop (halt, stop, safety stop, starvation) in progress: seconds since it began.
     stop_elapsed: Option<f64>,
     stats: MoveStats,
+    /// Layout 1.7 (sync): a geared slave follows its master (`MC_MOTION_IN_SYNC`).
+    in_sync: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -256,6 +258,7 @@ impl Axis {
             stop_released: false,
             stop_elapsed: None,
             stats: MoveStats::default(),
+            in_sync: false,
         }
     }
 
@@ -276,6 +279,9 @@ impl Axis {
         }
         if s != AxisState::Homing {
             self.homing_limits = Io::empty();
+        }
+        if s != AxisState::SynchronizedMotion {
+            self.in_sync = false;
         }
     }
 
@@ -819,8 +825,13 @@ impl Axis {
             st.peak_jerk = st.peak_jerk.max(self.cmd_jerk.abs());
             st.max_ferr = st.max_ferr.max(self.ferr.abs());
         }
-        // Homing says itself when it is done (homing.rs).
-        if self.awaiting_done && self.state != AxisState::Homing {
+        // Homing says itself when it is done (homing.rs); a geared slave is never done (gear.rs).
+        if self.awaiting_done
+            && !matches!(
+                self.state,
+                AxisState::Homing | AxisState::SynchronizedMotion
+            )
+        {
             let st = &mut self.stats;
             let in_pos = self.motion == Motion::Hold
                 && (self.target - self.act_pos).abs() <= self.config.in_pos_window
@@ -963,6 +974,7 @@ impl Axis {
         f.set(MotionFlags::HOMED, self.homed);
         f.set(MotionFlags::PAUSED, moving && self.override_factor == 0.0);
         f.set(MotionFlags::BUFFERED_ACTIVE, moving && self.buffered_active);
+        f.set(MotionFlags::IN_SYNC, self.in_sync);
         f
     }
 
@@ -1214,5 +1226,103 @@ impl Axis {
         };
         self.set_state(AxisState::Standstill, &mut changed);
         (changed, self.act_pos)
+    }
+}
+
+// ---- Synchronised-motion hooks: what gear.rs needs from an axis (the coupling lives there) ----
+impl Axis {
+    /// The raw encoder count of the last tick.
+    pub fn encoder(&self) -> i64 {
+        self.encoder
+    }
+
+    /// The filtered measured velocity, counts/s.
+    pub fn velocity_estimate(&self) -> f64 {
+        self.servo.velocity()
+    }
+
+    /// MC_GearIn accepted (command `seq`): SynchronizedMotion from Standstill or any motion of
+    /// its own (Aborting: the caller drops the queue); the reference is set from outside
+    /// ([`Axis::drive`]) from the next tick on. Returns the old state.
+    pub(crate) fn begin_sync(&mut self, seq: u32) -> Result<Option<AxisState>, NackCode> {
+        let mut changed = None;
+        self.begin_motion(seq, 0.0);
+        self.motion = Motion::Hold;
+        self.goal = Goal::None;
+        self.in_velocity = false;
+        self.buffered_active = false;
+        self.in_sync = false;
+        self.set_state(AxisState::SynchronizedMotion, &mut changed);
+        Ok(changed)
+    }
+
+    /// The coupling is in gear (or was left).
+    pub(crate) fn set_in_sync(&mut self, on: bool) {
+        self.in_sync = on && self.state == AxisState::SynchronizedMotion;
+    }
+
+    /// MC_GearOut (command `seq`): velocity mode at the commanded velocity, the acceleration
+    /// ramped to 0 within `amax` and `jerk` (the override does not scale it). Returns the old
+    /// state.
+    pub(crate) fn leave_sync(
+        &mut self,
+        seq: u32,
+        amax: f64,
+        jerk: f64,
+        rate_hz: u32,
+    ) -> Result<Option<AxisState>, NackCode> {
+        let vel = self.cmd.vel;
+        let goal = Goal::Velocity {
+            vel,
+            lim: Limits {
+                vmax: vel.abs(),
+                amax,
+                dmax: amax,
+                ..Limits::symmetric(0.0, 0.0, jerk)
+            },
+        };
+        let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
+        self.begin_motion(seq, traj.duration());
+        self.take_goal(goal, traj);
+        let mut changed = None;
+        self.set_state(AxisState::ContinuousMotion, &mut changed);
+        Ok(changed)
+    }
+
+    /// The master was lost (or, `starved`, a PT/PVT stream ran dry): stop on the axis's stop
+    /// ramp (bounded by `max_time`), Stopping until at rest, then Standstill. Returns the old
+    /// state.
+    pub(crate) fn sync_stop(&mut self, max_time: f64, starved: bool) -> Option<AxisState> {
+        let c = self.safety.config;
+        let mut changed = None;
+        if self
+            .run_bounded_stop(c.stop_decel, c.stop_jerk, max_time)
+            .is_err()
+        {
+            // No ramp can be planned from here (it always can from a verified state): hold.
+            self.hold_at_actual();
+        }
+        self.awaiting_done = false;
+        self.stop_released = true;
+        self.safety.stop_reason = if starved {
+            StopReason::Starvation
+        } else {
+            StopReason::Halt
+        };
+        self.set_state(AxisState::Stopping, &mut changed);
+        changed
+    }
+
+    /// A PT/PVT stream reached its last point at `target` (at rest): DiscreteMotion, holding
+    /// there, motion done (with the start's seq) once in position, then Standstill. Returns
+    /// the old state.
+    pub(crate) fn end_stream(&mut self, target: f64) -> Option<AxisState> {
+        let mut changed = None;
+        self.target = target;
+        self.motion = Motion::Hold;
+        self.goal = Goal::None;
+        self.settled_for = 0.0;
+        self.set_state(AxisState::DiscreteMotion, &mut changed);
+        changed
     }
 }

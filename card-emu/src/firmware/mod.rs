@@ -8,17 +8,21 @@
 
 pub mod axis;
 pub mod axis_safety;
+pub mod cam;
 pub mod compare;
 pub mod dac;
+pub mod gear;
 pub mod group;
 pub mod homing;
 pub mod io;
 pub mod nack;
 pub mod outbox;
 pub mod probe;
+pub mod pvt;
 pub mod safety;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
+use self::gear::{AuxInputs, Gear};
 use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
 use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
 use self::io::{DigitalInputs, IoUnit};
@@ -55,6 +59,13 @@ pub struct Firmware<M: Mem + Clone> {
     events: EvtProducer<M>,
     axes: [Axis; MAX_AXES],
     homing: [Homing; MAX_AXES],
+    /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
+    gears: [Gear; MAX_AXES],
+    aux: AuxInputs,
+    /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
+    cams: Option<Box<cam::CamStore>>,
+    /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
+    pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
     filters: Box<[AxisFilter]>,
     outbox: Outbox,
@@ -96,6 +107,10 @@ impl<M: Mem + Clone> Firmware<M> {
             mem,
             axes: core::array::from_fn(|_| Axis::new()),
             homing: [Homing::default(); MAX_AXES],
+            gears: [Gear::default(); MAX_AXES],
+            aux: AuxInputs::default(),
+            pvt: core::array::from_fn(|_| None),
+            cams: None,
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -346,6 +361,8 @@ impl<M: Mem + Clone> Firmware<M> {
             Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
             Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
             Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
+            // Layout 1.7 (sync): cam tables are the card's, not an axis's (cam.rs).
+            Opcode::CamTable | Opcode::CamData => return self.execute_cam_table(c, op),
             _ => {}
         }
         // [safety] opcodes 32..47 (safety.rs)
@@ -396,12 +413,41 @@ impl<M: Mem + Clone> Firmware<M> {
             | Opcode::PowerOff
             | Opcode::Home
             | Opcode::SetPosition
+            | Opcode::GearIn
+            | Opcode::GearInPos
+            | Opcode::GearOut
+            | Opcode::CamIn
+            | Opcode::CamOut
+            | Opcode::PvtBegin
+            | Opcode::PvtPoints
+            | Opcode::PvtStart
                 if grouped =>
             {
                 return Err(NackCode::AxisGrouped)
             }
             _ => {}
         }
+        // Layout 1.7 (sync): PT/PVT streams (pvt.rs): from Standstill, nothing aborted; the
+        // ack's value is the points still free.
+        if matches!(op, Opcode::PvtBegin | Opcode::PvtPoints | Opcode::PvtStart) {
+            let (changed, value) = self.execute_pvt(c, op, ax)?;
+            self.axes[ax].accepted(c.seq);
+            if let Some(old) = changed {
+                let e = state_event(c.axis, old, self.axes[ax].state, tick);
+                self.outbox.push(e);
+            }
+            return Ok(value);
+        }
+        // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
+        let gear = matches!(
+            op,
+            Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut | Opcode::CamIn | Opcode::CamOut
+        );
+        let (gear_changed, gear_takes_over) = if gear {
+            self.execute_gear(c, op, ax)?
+        } else {
+            (None, false)
+        };
         let axis = &mut self.axes[ax];
         let rate = self.servo_rate_hz;
         // Does the command take over the axis (PLCopen Aborting): the motion in progress and
@@ -414,7 +460,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 | Opcode::Stop
                 | Opcode::PowerOff
                 | Opcode::Home
-        );
+        ) || gear_takes_over;
         let changed = match op {
             Opcode::PowerOn => axis.power(true)?,
             Opcode::PowerOff => axis.power(false)?,
@@ -490,7 +536,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 homing::set_position(axis, c.args[0], relative)?;
                 None
             }
-            _ => None,
+            _ => gear_changed,
         };
         let axis = &mut self.axes[ax];
         axis.accepted(c.seq);
@@ -533,10 +579,15 @@ impl<M: Mem + Clone> Firmware<M> {
             let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            if !matches!(
-                axis.state,
-                AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
-            ) {
+            // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
+            let geared = axis.state == AxisState::SynchronizedMotion
+                && (self.gears[i].engaged() || self.pvt[i].as_ref().is_some_and(|s| s.running()));
+            if !geared
+                && !matches!(
+                    axis.state,
+                    AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
+                )
+            {
                 continue;
             }
             let pending = axis.pending_motion();
@@ -734,6 +785,10 @@ impl<M: Mem + Clone> Firmware<M> {
             let (set, clear) = g.take_path_outputs();
             self.outputs = (self.outputs & !clear) | set;
         }
+        // Geared slaves follow their masters (gear.rs).
+        let synced = self.gear_tick(ts);
+        // PT/PVT streams drive their axes (pvt.rs).
+        let streamed = self.pvt_tick();
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let inputs = *self.safety.inputs();
         // Digital inputs, compare and probes on the motion just sensed (io.rs).
@@ -823,6 +878,8 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.post(e);
             }
         }
+        self.post_sync_events(&synced);
+        self.post_pvt_events(&streamed);
         for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
             let axis = i as u16;
             let done = h.done.or(report.done);
@@ -900,6 +957,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.mem.write32(layout::OUTPUTS, self.outputs());
         self.io.publish(&self.mem);
+        self.publish_sync();
     }
 
     /// The digital outputs (bit i = output i): the host's and the path's, and the compare

@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 pub mod arc;
+pub mod cam;
 pub mod filters;
 pub mod interp_error;
 pub mod nurbs;
@@ -10,6 +11,7 @@ pub mod nurbs_interp;
 pub mod otg;
 pub mod path;
 pub mod path_speed;
+pub mod pvt;
 pub mod saturation;
 pub mod scurve;
 

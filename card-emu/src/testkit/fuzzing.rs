@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 120, 255, 256, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 90, 120, 256, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
@@ -386,6 +386,61 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             a[2] = position(s);
             a[3] = a[2] + magnitude(s, 0.0, 5.0);
         }
+        Opcode::GearIn | Opcode::GearInPos => {
+            // Layout 1.7 (sync): master, ratio, limits, then the sync point.
+            a[0] = (s.u8() % 3) as f64;
+            let n = 1 + (s.u8() % 16) as i32;
+            a[1] = if s.u8() & 1 == 0 { n } else { -n } as f64;
+            a[2] = (1 + s.u8() % 16) as f64;
+            a[3] = magnitude(s, 2.0, 6.5);
+            a[4] = magnitude(s, 3.0, 8.5);
+            a[5] = magnitude(s, 5.0, 11.0);
+            a[6] = position(s);
+            a[7] = position(s);
+        }
+        Opcode::PvtBegin => {
+            a[0] = magnitude(s, 2.0, 6.5);
+            a[1] = magnitude(s, 3.0, 8.5);
+            a[2] = (s.u8() % 8) as f64;
+        }
+        Opcode::PvtPoints => {
+            // Layout 1.7 (sync): count, then time, position, velocity of each.
+            a[0] = (1 + s.u8() % 4) as f64;
+            let mut t = 0.0;
+            for k in 0..4 {
+                t += magnitude(s, -3.0, 0.0);
+                a[1 + 3 * k] = t;
+                a[2 + 3 * k] = position(s);
+                a[3 + 3 * k] = magnitude(s, 0.0, 4.0);
+            }
+        }
+        Opcode::PvtStart => a[0] = (s.u8() % 4) as f64,
+        Opcode::CamTable => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 12) as f64;
+        }
+        Opcode::CamData => {
+            a[0] = (s.u8() % 5) as f64;
+            a[1] = (s.u8() % 12) as f64;
+            a[2] = (1 + s.u8() % 5) as f64;
+            let mut m = 0.0;
+            for k in 0..5 {
+                m += magnitude(s, 0.0, 4.0);
+                a[3 + 2 * k] = m;
+                a[4 + 2 * k] = position(s);
+            }
+        }
+        Opcode::CamIn => {
+            a[0] = (s.u8() % 3) as f64;
+            a[1] = (s.u8() % 5) as f64;
+            a[2] = position(s);
+            a[3] = position(s);
+            a[4] = 1.0 + (s.u8() % 4) as f64;
+            a[5] = 1.0 + (s.u8() % 4) as f64;
+            a[6] = magnitude(s, 2.0, 6.5);
+            a[7] = magnitude(s, 3.0, 8.5);
+            a[8] = magnitude(s, 5.0, 11.0);
+        }
         Opcode::NurbsData => {
             a[0] = (s.u8() % 64) as f64;
             a[1] = (1 + s.u8() % 12) as f64;
@@ -434,6 +489,11 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
         Opcode::PathOutput => (s.u8() % 4) as u32,
         Opcode::CompareArm | Opcode::ProbeArm => (s.u8() & 0x1F) as u32,
         Opcode::CompareTable => [4, 8, 12, 0][(s.u8() % 4) as usize],
+        Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
+        Opcode::PvtBegin => (s.u8() % 2) as u32,
+        Opcode::CamTable => (s.u8() % 4) as u32,
+        Opcode::CamIn => (s.u8() % 3) as u32 | (s.u8() as u32 & firmware_proto::CAM_AT_CYCLE_END),
+        Opcode::PvtPoints => (s.u8() % 2) as u32 * firmware_proto::PVT_LAST,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
         }

@@ -1,0 +1,265 @@
+//! Synchronised motion (layout 1.7): electronic gearing, PLCopen MC_GearIn, MC_GearInPos and
+//! MC_GearOut, run by the card.
+//!
+//! A slave axis follows a [`Master`]: another axis's commanded or actual position, or one of
+//! the card's auxiliary encoder inputs (a conveyor, a handwheel). The ratio is an integer
+//! numerator over a positive integer denominator, in **encoder counts** of slave per count of
+//! master (the card's integer arithmetic: no drift however long it runs), whatever scales the
+//! axes have on this host. Engaging is the card's: the slave catches up within its own
+//! [`SyncLimits`], then [`Motion::wait_in_sync`] returns; [`Axis::gear_out`] leaves it moving
+//! at its velocity (velocity mode, [`Motion::wait_in_velocity`]); stop it with
+//! [`Axis::halt`]. The full rules are in the register map's header (`MC_OP_GEAR_IN`) and in
+//! `card_emu::firmware::gear`.
+
+use crate::card::{finite, positive, Axis, Card, Motion, Outcome, Status};
+use crate::error::{Error, Result, Target};
+use firmware_proto::{
+    layout, GearRatio, MasterSource, MotionFlags, NackCode, Opcode, SyncEvent, AUX_ENCODERS,
+};
+use std::time::Duration;
+
+/// What a slave follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Master {
+    /// The commanded position of an axis (followed one servo tick late when it runs a
+    /// single-axis move: its reference is computed after its slaves').
+    Commanded(usize),
+    /// The actual position (encoder) of an axis.
+    Actual(usize),
+    /// An auxiliary encoder input, 0..[`AUX_ENCODERS`].
+    Aux(usize),
+}
+
+impl Master {
+    pub(crate) fn source(&self) -> (MasterSource, usize) {
+        match *self {
+            Master::Commanded(a) => (MasterSource::Commanded, a),
+            Master::Actual(a) => (MasterSource::Actual, a),
+            Master::Aux(k) => (MasterSource::Aux, k),
+        }
+    }
+}
+
+/// The slave's own limits while it engages, in its user units (see [`Axis::set_scale`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SyncLimits {
+    /// Velocity.
+    pub velocity: f64,
+    /// Acceleration (and deceleration).
+    pub acceleration: f64,
+    /// Jerk.
+    pub jerk: f64,
+}
+
+impl SyncLimits {
+    /// Velocity, acceleration, jerk.
+    pub fn new(velocity: f64, acceleration: f64, jerk: f64) -> Self {
+        Self {
+            velocity,
+            acceleration,
+            jerk,
+        }
+    }
+}
+
+/// A gear ratio's numerator and denominator, checked as the card checks them: `GearRatio`
+/// unless both are integers, the numerator nonzero, the denominator positive, each of
+/// magnitude at most 2³¹ − 1.
+pub fn gear_ratio(numerator: i64, denominator: i64) -> Result<GearRatio> {
+    GearRatio::from_args(numerator as f64, denominator as f64)
+        .filter(|r| r.num == numerator && r.den == denominator)
+        .ok_or(Error::Refused {
+            command: "gear_in",
+            target: Target::Card,
+            code: NackCode::GearRatio,
+            reason: crate::error::nack_reason(NackCode::GearRatio),
+        })
+}
+
+impl Axis {
+    fn gear_command(
+        &self,
+        op: Opcode,
+        master: Master,
+        (numerator, denominator): (i64, i64),
+        limits: &SyncLimits,
+        sync_at: Option<(f64, f64)>,
+        what: &'static str,
+    ) -> Result<Motion> {
+        let ratio = gear_ratio(numerator, denominator).map_err(|e| match e {
+            Error::Refused { code, reason, .. } => Error::Refused {
+                command: what,
+                target: Target::Axis(self.index()),
+                code,
+                reason,
+            },
+            e => e,
+        })?;
+        positive("velocity", limits.velocity)?;
+        positive("acceleration", limits.acceleration)?;
+        positive("jerk", limits.jerk)?;
+        let (source, index) = master.source();
+        let count = match source {
+            MasterSource::Aux => AUX_ENCODERS,
+            _ => self.card().info().axes,
+        };
+        let self_master = source != MasterSource::Aux && index == self.index();
+        if index >= count || self_master {
+            return Err(Error::Refused {
+                command: what,
+                target: Target::Axis(self.index()),
+                code: NackCode::SyncMaster,
+                reason: crate::error::nack_reason(NackCode::SyncMaster),
+            });
+        }
+        let s = self.scale().abs();
+        let mut args = vec![
+            index as f64,
+            ratio.num as f64,
+            ratio.den as f64,
+            limits.velocity * s,
+            limits.acceleration * s,
+            limits.jerk * s,
+        ];
+        if let Some((m, x)) = sync_at {
+            finite("master position", m)?;
+            finite("slave position", x)?;
+            let master_scale = match source {
+                MasterSource::Aux => 1.0,
+                _ => self.card().scale(index),
+            };
+            args.extend([m * master_scale, x * self.scale()]);
+        }
+        let mut cmd = self.op(op).with_args(&args);
+        cmd.flags = source.to_raw();
+        let seq = self.run(cmd, what)?;
+        Ok(self.started(seq))
+    }
+
+    /// MC_GearIn (Aborting): this axis follows `master` at `numerator / denominator` counts per
+    /// master count, from Standstill or any motion of its own. It is in SynchronizedMotion at
+    /// once and catches up within `limits` (time-optimal, jerk-limited, at a constant master
+    /// velocity); [`Motion::wait_in_sync`] returns when it is in gear. Refused: `GearRatio`,
+    /// `SyncMaster` (no such master, itself, a master axis disabled or in ErrorStop),
+    /// `Infeasible` (the master runs faster than `limits` let the slave follow).
+    pub fn gear_in(
+        &self,
+        master: Master,
+        numerator: i64,
+        denominator: i64,
+        limits: &SyncLimits,
+    ) -> Result<Motion> {
+        self.gear_command(
+            Opcode::GearIn,
+            master,
+            (numerator, denominator),
+            limits,
+            None,
+            "gear_in",
+        )
+    }
+
+    /// MC_GearInPos (Aborting): as [`Axis::gear_in`], synchronised at a point: this axis is at
+    /// `slave_position` (its user units) exactly when the master is at `master_position` (the
+    /// master axis's user units; an auxiliary encoder's counts), velocity and acceleration
+    /// continuous on the way. The card checks the catch-up against `limits` at the master's
+    /// present velocity: `Infeasible` if it breaks them, or if the master is at rest or moving
+    /// away from the point. [`Motion::wait_in_sync`] returns at the point.
+    pub fn gear_in_pos(
+        &self,
+        master: Master,
+        numerator: i64,
+        denominator: i64,
+        master_position: f64,
+        slave_position: f64,
+        limits: &SyncLimits,
+    ) -> Result<Motion> {
+        self.gear_command(
+            Opcode::GearInPos,
+            master,
+            (numerator, denominator),
+            limits,
+            Some((master_position, slave_position)),
+            "gear_in_pos",
+        )
+    }
+
+    /// MC_GearOut: the slave leaves the coupling and keeps moving at its velocity (velocity
+    /// mode, ContinuousMotion; its acceleration ramps to 0 within the gear's limits): the
+    /// returned motion's [`Motion::wait_in_velocity`] gives the velocity. The gear motion ends
+    /// `Aborted` by `GearOut`. `InvalidState` unless the axis is geared.
+    pub fn gear_out(&self) -> Result<Motion> {
+        let seq = self.run(self.op(Opcode::GearOut), "gear_out")?;
+        Ok(self.started(seq))
+    }
+}
+
+impl Motion {
+    /// Wait until the gear motion is in gear (MC_GearIn: caught up) or in sync (MC_GearInPos:
+    /// at its point) and return the slave's commanded position then (user units); an error if
+    /// it is aborted first (a halt, stop, gear-out, safety stop, or the master lost: `Aborted`
+    /// by `Halt`) or the timeout passes.
+    pub fn wait_in_sync(&self, timeout: Duration) -> Result<f64> {
+        self.wait_outcome_of(timeout, |o| match o {
+            Outcome::Sync(code, v)
+                if matches!(
+                    SyncEvent::from_raw(code),
+                    Some(SyncEvent::InGear | SyncEvent::InSync)
+                ) =>
+            {
+                Some(v)
+            }
+            _ => None,
+        })
+    }
+}
+
+impl Status {
+    /// Does the axis follow its master (in gear, in sync: `MC_MOTION_IN_SYNC`)?
+    pub fn in_sync(&self) -> bool {
+        self.motion.contains(MotionFlags::IN_SYNC)
+    }
+}
+
+impl Card {
+    /// An auxiliary encoder's count, as the card published it last tick.
+    pub fn aux_encoder(&self, k: usize) -> Result<i64> {
+        let b = layout::SYNC_STATUS.read(self.window());
+        b.aux_count.get(k).copied().ok_or(Error::Refused {
+            command: "aux_encoder",
+            target: Target::Card,
+            code: NackCode::SyncMaster,
+            reason: crate::error::nack_reason(NackCode::SyncMaster),
+        })
+    }
+}
+
+impl Axis {
+    /// The ratio this axis follows its master at (slave counts per master count), or `None`
+    /// when it is not geared.
+    pub fn gear_ratio(&self) -> Option<f64> {
+        let b = layout::SYNC_STATUS.read(self.card().window());
+        b.gear_ratio
+            .get(self.index())
+            .copied()
+            .filter(|r| *r != 0.0 && r.is_finite())
+    }
+}
+
+#[cfg(feature = "emulator")]
+impl crate::card::Sim {
+    /// Turn auxiliary encoder `k` of the emulated card at `velocity` counts/s (a conveyor, a
+    /// handwheel); the fraction of a count is kept between periods. `BadConfig` for an encoder
+    /// the card does not have or a velocity that is not finite.
+    pub fn set_aux_velocity(&self, k: usize, velocity: f64) -> Result<()> {
+        finite("aux velocity", velocity)?;
+        self.with_emulator(|e| e.aux_mut(k).map(|a| a.velocity = velocity))
+            .ok_or_else(|| Error::BadConfig(format!("no auxiliary encoder {k}")))
+    }
+
+    /// Jump auxiliary encoder `k` of the emulated card by `counts` at once.
+    pub fn jump_aux(&self, k: usize, counts: i64) -> Result<()> {
+        self.with_emulator(|e| e.aux_mut(k).map(|a| a.jump(counts)))
+            .ok_or_else(|| Error::BadConfig(format!("no auxiliary encoder {k}")))
+    }
+}
