@@ -191,3 +191,103 @@ pub fn halt(card: &Card, axis: usize, deceleration: f64, jerk: f64) -> Result<St
     let at = card.axis(axis)?.halt(deceleration, jerk)?.wait(WAIT)?;
     Ok(format!("axis {axis}: halted at {at}\n"))
 }
+
+/// `mcctl io`: the card's digital inputs (debounced and raw) and outputs; with `set`, the
+/// outputs in `mask` set to `value` first.
+pub fn io(card: &Card, set: Option<(u32, u32)>, json: bool) -> Result<String> {
+    if let Some((mask, value)) = set {
+        card.set_outputs(mask, value)?;
+    }
+    let (inputs, raw, outputs) = (card.inputs()?, card.inputs_raw()?, card.outputs()?);
+    Ok(if json {
+        json!({ "inputs": inputs, "inputs_raw": raw, "outputs": outputs }).to_string()
+    } else {
+        format!("inputs  {inputs:016b} (raw {raw:016b})\noutputs {outputs:016b}\n")
+    })
+}
+
+/// The points of a PT/PVT file: one `time, position[, velocity]` per line (commas or blanks
+/// between; `#` starts a comment), and whether every line gave a velocity (PVT, else PT).
+/// Err: the line number (from 1) and what is wrong.
+pub fn pvt_points(text: &str) -> std::result::Result<(Vec<crate::PvtPoint>, bool), String> {
+    let mut pts = Vec::new();
+    let mut velocities = true;
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let vals: std::result::Result<Vec<f64>, _> = line
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .map(str::parse::<f64>)
+            .collect();
+        match vals {
+            Ok(v) if (2..=3).contains(&v.len()) && v.iter().all(|x| x.is_finite()) => {
+                velocities &= v.len() == 3;
+                pts.push(crate::PvtPoint::new(
+                    v[0],
+                    v[1],
+                    v.get(2).copied().unwrap_or(0.0),
+                ))
+            }
+            _ => {
+                return Err(format!(
+                    "line {}: expected `time, position[, velocity]` (finite numbers), got `{line}`",
+                    i + 1
+                ))
+            }
+        }
+    }
+    if pts.is_empty() {
+        return Err("no points".into());
+    }
+    Ok((pts, velocities))
+}
+
+/// `mcctl pvt`: stream `points` through the axis's PT/PVT buffer (refilled as it runs),
+/// wait for the end; reports the points, the stream's duration and where the axis ended.
+pub fn pvt(
+    card: &Card,
+    axis: usize,
+    points: &[crate::PvtPoint],
+    mode: crate::PvtMode,
+    limits: &crate::PvtLimits,
+    json: bool,
+) -> Result<String> {
+    let ax = card.axis(axis)?;
+    ax.pvt_begin(mode, limits, 0)?;
+    let first = points.len().min(ax.pvt_free().max(1));
+    ax.pvt_push(&points[..first], first == points.len())?;
+    let motion = ax.pvt_start()?;
+    let mut sent = first;
+    while sent < points.len() {
+        let room = ax.pvt_free();
+        if room == 0 {
+            std::thread::sleep(Duration::from_millis(1));
+            continue;
+        }
+        let n = room.min(points.len() - sent);
+        ax.pvt_push(&points[sent..sent + n], sent + n == points.len())?;
+        sent += n;
+    }
+    let at = motion.wait(WAIT)?;
+    let last = points[points.len() - 1];
+    Ok(if json {
+        json!({
+            "axis": axis,
+            "points": points.len(),
+            "duration": last.time,
+            "target": last.position,
+            "position": at,
+        })
+        .to_string()
+    } else {
+        format!(
+            "axis {axis}: {} points in {} s, at {at} (last point {})\n",
+            points.len(),
+            last.time,
+            last.position
+        )
+    })
+}

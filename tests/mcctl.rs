@@ -428,3 +428,41 @@ fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
     let (code, _, _) = mcctl(&["run", file, "--vmax", "1,2"]);
     assert_eq!(code, 2);
 }
+
+/// `mcctl io` sets outputs and reads them back; `mcctl pvt` streams a PT file (a smooth move
+/// of 1000 counts in 0.2 s) to its end on the emulated card; a malformed line is exit status
+/// 2 naming the line.
+#[test]
+fn io_and_pvt_from_the_command_line() {
+    let (code, out, err) = mcctl(&["io", "--set-outputs", "0x0F", "5", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["outputs"], 5, "{out}");
+    let dir = std::env::temp_dir().join(format!("mcctl-pvt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("move.csv");
+    let mut text = String::from("# time, position (PT)\n");
+    for k in 1..=10 {
+        let s = k as f64 / 10.0;
+        text += &format!(
+            "{}, {}\n",
+            0.02 * k as f64,
+            1000.0 * s * s * (3.0 - 2.0 * s)
+        );
+    }
+    std::fs::write(&file, &text).unwrap();
+    let f = file.to_str().unwrap();
+    let (code, out, err) = mcctl(&["pvt", "0", f, "--enable", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["points"], 10, "{out}");
+    assert!(
+        (j["position"].as_f64().unwrap() - 1000.0).abs() <= 1.0,
+        "{out}"
+    );
+    std::fs::write(&file, "0.02, 1\n0.04, 2\n0.06 oops\n").unwrap();
+    let (code, _, err) = mcctl(&["pvt", "0", f, "--enable"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("line 3"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

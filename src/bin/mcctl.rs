@@ -13,6 +13,8 @@
 //! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
+//! mcctl --card emu:bench1 io --set-outputs 0x0F 0x05   # digital outputs, then inputs/outputs
+//! mcctl --card emu:bench1 pvt 0 points.csv --vmax 1e5 --amax 1e6 --enable   # a PT/PVT stream
 //! ```
 use clap::{Args, Parser, Subcommand};
 use motioncard::cli::{self, MoveCmd};
@@ -94,6 +96,38 @@ enum Cmd {
         #[arg(long, default_value_t = 10_000)]
         servo_rate: u32,
         /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The card's digital inputs (debounced and raw) and outputs.
+    Io {
+        /// First set the outputs in MASK to VALUE (decimal or 0x hex).
+        #[arg(long, num_args = 2, value_names = ["MASK", "VALUE"], value_parser = parse_word)]
+        set_outputs: Option<Vec<u32>>,
+        /// One JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Stream a PT/PVT file through the axis's point buffer and wait for its end: one
+    /// `time, position[, velocity]` per line (seconds from the start, the axis's units; `#`
+    /// comments). Unless every line gives a velocity (or with --pt) the card estimates them
+    /// (PT).
+    Pvt {
+        axis: usize,
+        file: std::path::PathBuf,
+        /// PT: ignore the velocities, let the card estimate them.
+        #[arg(long)]
+        pt: bool,
+        /// Velocity limit of every segment.
+        #[arg(long, allow_negative_numbers = true, default_value_t = 100_000.0)]
+        vmax: f64,
+        /// Acceleration limit of every segment.
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1e6)]
+        amax: f64,
+        /// Enable the axis first if it is disabled.
+        #[arg(long)]
+        enable: bool,
+        /// One JSON object instead of a line.
         #[arg(long)]
         json: bool,
     },
@@ -249,6 +283,15 @@ fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> Ex
     }
 }
 
+/// A 32-bit word in decimal or 0x hex.
+fn parse_word(s: &str) -> Result<u32, String> {
+    let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(h) => u32::from_str_radix(h, 16),
+        None => s.parse::<u32>(),
+    };
+    r.map_err(|e| format!("`{s}` is not a 32-bit word: {e}"))
+}
+
 fn bad(msg: String) -> ExitCode {
     eprintln!("mcctl: {msg}");
     ExitCode::from(2)
@@ -259,6 +302,46 @@ fn main() -> ExitCode {
     let uri = cli.card.as_str();
     match cli.command {
         Cmd::Status { axis, json } => on_card(uri, |c| cli::status(c, axis, json)),
+        Cmd::Io { set_outputs, json } => {
+            let set = set_outputs.map(|v| (v[0], v[1]));
+            on_card(uri, |c| cli::io(c, set, json))
+        }
+        Cmd::Pvt {
+            axis,
+            file,
+            pt,
+            vmax,
+            amax,
+            enable,
+            json,
+        } => {
+            let text = match std::fs::read_to_string(&file) {
+                Ok(t) => t,
+                Err(e) => return bad(format!("{}: {e}", file.display())),
+            };
+            let (points, velocities) = match cli::pvt_points(&text) {
+                Ok(p) => p,
+                Err(e) => return bad(format!("{}: {e}", file.display())),
+            };
+            if !(vmax.is_finite() && vmax > 0.0 && amax.is_finite() && amax > 0.0) {
+                return bad("--vmax and --amax must be greater than zero".into());
+            }
+            let mode = if pt || !velocities {
+                motioncard::PvtMode::Pt
+            } else {
+                motioncard::PvtMode::Pvt
+            };
+            let limits = motioncard::PvtLimits {
+                velocity: vmax,
+                acceleration: amax,
+            };
+            on_card(uri, |c| {
+                if enable {
+                    cli::enable_if_needed(c, axis)?;
+                }
+                cli::pvt(c, axis, &points, mode, &limits, json)
+            })
+        }
         Cmd::Move {
             axis,
             value,
