@@ -403,11 +403,10 @@ fn a_halt_in_a_blend_stops_within_the_limits_and_aborts_the_rest() {
     assert_eq!(cmd(&card, 2), vec![0.0, 0.0]);
 }
 
-#[test]
-fn aborting_stops_the_path_and_starts_the_new_segment_from_there() {
+/// A blended 50,000-count square streamed and 0.3 s under way, for an Aborting segment.
+fn square_under_way() -> (Card, Group, PathSettings) {
     let lim = PathSettings::uniform(2, V, A, J);
     let (card, g) = path_card(2, &lim);
-    let sim = card.sim().unwrap();
     stream_polyline(
         &g,
         &square(50_000.0),
@@ -415,7 +414,13 @@ fn aborting_stops_the_path_and_starts_the_new_segment_from_there() {
         100.0,
         PathBuffer::BlendingLow,
     );
-    sim.step(3_000);
+    card.sim().unwrap().step(3_000);
+    (card, g, lim)
+}
+
+#[test]
+fn aborting_stops_the_path_and_starts_the_new_segment_from_there() {
+    let (card, g, lim) = square_under_way();
     let m = g
         .path_push(
             &Segment::line(7, &[-10_000.0, -10_000.0], 50_000.0, 0.0)
@@ -728,17 +733,7 @@ fn a_nurbs_segment_runs_within_its_fit_tolerance_between_blended_lines() {
 /// on the card, runs from the point of rest.
 #[test]
 fn an_aborting_relative_nurbs_segment_starts_where_the_path_stopped() {
-    let lim = PathSettings::uniform(2, V, A, J);
-    let (card, g) = path_card(2, &lim);
-    let sim = card.sim().unwrap();
-    stream_polyline(
-        &g,
-        &square(50_000.0),
-        80_000.0,
-        100.0,
-        PathBuffer::BlendingLow,
-    );
-    sim.step(3_000);
+    let (card, g, lim) = square_under_way();
     let seg = Segment::nurbs(9, freeform(0.0, 0.0), 50_000.0, 0.0, 0.5)
         .relative()
         .buffer(PathBuffer::Aborting)
@@ -766,8 +761,8 @@ fn an_aborting_relative_nurbs_segment_starts_where_the_path_stopped() {
     assert_eq!(rest[1], 0.0, "stopped on the first side of the square");
 }
 
-/// A curve the buffer has no room for yet is refused (`QueueFull`) and changes nothing; sent
-/// again once the path has run, it is queued. A cusp, a start off the path's end and a
+/// A curve the buffer has no room for yet is refused by a push (`QueueFull`) and changes
+/// nothing; a stream waits until it fits. A cusp, a start off the path's end and a
 /// time-shifted transition each get their own error.
 #[test]
 fn nurbs_segments_the_card_refuses_change_nothing() {
@@ -817,10 +812,13 @@ fn nurbs_segments_the_card_refuses_change_nothing() {
         refused(Segment::nurbs(5000, cusp, 5e4, 1.0, 1.0)),
         ErrorKind::PathCurve
     );
-    // run most of it, then the curve fits
+    // with the path running, a stream waits until the curve fits (the card keeps it staged
+    // and the end is sent again as the path frees entries)
     g.set_override(1.0, 1.0).unwrap();
-    card.sim().unwrap().step(40_000);
-    g.path_push(&curve(end).last().into()).unwrap();
+    g.stream_path([curve(end).last()], |_| {}).unwrap();
+    let st = g.status().unwrap().1;
+    assert!(st.path_done > 0, "queued without waiting");
+    assert_eq!(st.path_queued + st.path_done, 4095);
     let r = run(&card, &g, 2, 400_000);
     assert_eq!(ids(&r, EventKind::SegmentEnd).last(), Some(&5000));
     assert_eq!(r.pos.last().unwrap(), &vec![end + 50_000.0, 20_000.0]);

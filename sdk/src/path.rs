@@ -542,13 +542,13 @@ impl Group {
             let end = self.op(Opcode::NurbsEnd);
             match card.execute_seq(end, "path nurbs end", target) {
                 Err(e) if e.kind() == crate::ErrorKind::QueueFull => {
+                    let Some(cancel) = cancel else {
+                        return Err(e);
+                    };
                     let free = self.path_free()?;
                     if free != seen.0 {
                         seen = (free, std::time::Instant::now());
                     }
-                    let Some(cancel) = cancel else {
-                        return Err(e);
-                    };
                     if seen.1.elapsed() > Duration::from_secs(5) || cancel.load(Ordering::Relaxed) {
                         return Err(e);
                     }
@@ -661,53 +661,43 @@ impl Group {
                     let seq = self
                         .path_curve(cmd, curve, Some(cancel))
                         .map_err(|e| fail(sent, e))?;
-                    sent += 1;
                     accepted += 1;
-                    counters[0].store(sent, Ordering::Relaxed);
                     counters[1].store(accepted, Ordering::Relaxed);
                     last_motion = Some(self.motion(seq));
                     room = 0;
-                    if let Ok((done, queued)) = self.path_counts() {
-                        progress(PathProgress {
-                            sent,
-                            accepted,
-                            done,
-                            queued,
-                        });
-                    }
-                    continue;
-                }
-                let is_segment = matches!(item, PathItem::Segment(_));
-                if is_segment {
-                    // Wait for room in the card's buffer (the path runs and frees it).
-                    while room == 0 {
-                        while !in_flight.is_empty() {
-                            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
-                        }
-                        room = self.path_free().map_err(|e| fail(sent, e))?;
-                        if room == 0 {
-                            if cancel.load(Ordering::Relaxed) {
-                                return Ok(());
+                } else {
+                    let is_segment = matches!(item, PathItem::Segment(_));
+                    if is_segment {
+                        // Wait for room in the card's buffer (the path runs and frees it).
+                        while room == 0 {
+                            while !in_flight.is_empty() {
+                                settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
                             }
-                            card.wait_next_tick(Duration::from_secs(1))
-                                .map_err(|e| fail(sent, e))?;
+                            room = self.path_free().map_err(|e| fail(sent, e))?;
+                            if room == 0 {
+                                if cancel.load(Ordering::Relaxed) {
+                                    return Ok(());
+                                }
+                                card.wait_next_tick(Duration::from_secs(1))
+                                    .map_err(|e| fail(sent, e))?;
+                            }
                         }
+                        room -= 1;
                     }
-                    room -= 1;
-                }
-                if in_flight.len() >= IN_FLIGHT {
-                    settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
-                }
-                let seq = loop {
-                    match card.send_raw(cmd) {
-                        Ok(seq) => break seq,
-                        Err(Error::RingFull(_)) if !in_flight.is_empty() => {
-                            settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    if in_flight.len() >= IN_FLIGHT {
+                        settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    }
+                    let seq = loop {
+                        match card.send_raw(cmd) {
+                            Ok(seq) => break seq,
+                            Err(Error::RingFull(_)) if !in_flight.is_empty() => {
+                                settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                            }
+                            Err(e) => return Err(fail(sent, e)),
                         }
-                        Err(e) => return Err(fail(sent, e)),
-                    }
-                };
-                in_flight.push_back((sent, seq, is_segment));
+                    };
+                    in_flight.push_back((sent, seq, is_segment));
+                }
                 sent += 1;
                 counters[0].store(sent, Ordering::Relaxed);
                 if let Ok((done, queued)) = self.path_counts() {

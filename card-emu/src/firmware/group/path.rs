@@ -240,9 +240,7 @@ impl Group {
         if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let id = whole(a[0])
-            .filter(|&x| x <= u32::MAX as usize)
-            .ok_or(NackCode::PathId)? as u32;
+        let id = segment_id(a[0])?;
         let last = c.flags & path_flags::LAST != 0;
         let rate = crate::firmware::rate_hz(ts);
         if op == Opcode::PathDwell {
@@ -379,29 +377,15 @@ impl Group {
         if a[..7].iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let id = whole(a[0])
-            .filter(|&x| x <= u32::MAX as usize)
-            .ok_or(NackCode::PathId)?;
+        let id = segment_id(a[0])?;
         crate::firmware::nack::check_ranges(crate::firmware::rate_hz(ts), &[(1, a[1])])?;
         path_mode(c.flags, a[2])?;
         let (degree, n_ctrl) = curve_header(a[3], a[4], a[5], cfg.naxes)?;
         if a[6] <= 0.0 {
             return Err(NackCode::NonPositiveLimit);
         }
-        let n = cfg.naxes;
-        self.rx = NurbsRx {
-            open: true,
-            degree,
-            naxes: n,
-            n_ctrl,
-            total: n_ctrl * (n + 1) + n_ctrl + degree + 1,
-            received: 0,
-            params: [a[1], a[2], a[6], id as f64, 0.0],
-            saturation: false,
-            flags: c.flags,
-            path: true,
-            stage: core::mem::take(&mut self.rx.stage),
-        };
+        let params = [a[1], a[2], a[6], id as f64, 0.0];
+        self.open_rx((degree, cfg.naxes, n_ctrl), params, false, c.flags, true);
         Ok(())
     }
 
@@ -733,6 +717,14 @@ impl Group {
             s.path_pos = run.path.distance();
         }
     }
+}
+
+/// A segment's user id: an integer in 0..2³²−1.
+fn segment_id(x: f64) -> Result<u32, NackCode> {
+    whole(x)
+        .filter(|&x| x <= u32::MAX as usize)
+        .map(|x| x as u32)
+        .ok_or(NackCode::PathId)
 }
 
 /// A segment's PLCopen BufferMode and TransitionMode (its flags) with its tolerance `tol`.
