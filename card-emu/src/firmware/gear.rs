@@ -53,9 +53,8 @@ use crate::motion::cam::CamTable;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::servo::ffpiv::Reference;
 use firmware_proto::{
-    layout, raw, AxisState, Command, Event, EventKind, GearRatio, MasterSource, Mem, NackCode,
-    Opcode, SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, COMMANDED_SUBCOUNTS, MAX_AXES,
-    MAX_MOVE_TIME,
+    layout, raw, AxisState, Command, EventKind, GearRatio, MasterSource, Mem, NackCode, Opcode,
+    SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, COMMANDED_SUBCOUNTS, MAX_AXES, MAX_MOVE_TIME,
 };
 
 /// Samples of the quintic checked against the slave's limits (MC_GearInPos).
@@ -773,32 +772,23 @@ impl<M: Mem + Clone> Firmware<M> {
         for (i, r) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;
             if let Some((seq, what, pos)) = r.locked {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::Sync as u16,
-                    axis,
-                    code: what as i32,
-                    tick: self.tick,
-                    value: pos,
-                });
+                self.post_axis_event(EventKind::Sync, seq, axis, what as i32, pos);
             }
             if let Some((seq, master)) = r.lost {
-                self.post(Event {
+                self.post_axis_event(
+                    EventKind::Sync,
                     seq,
-                    kind: EventKind::Sync as u16,
                     axis,
-                    code: SyncEvent::MasterLost as i32,
-                    tick: self.tick,
-                    value: master as f64,
-                });
-                self.post(Event {
+                    SyncEvent::MasterLost as i32,
+                    master as f64,
+                );
+                self.post_axis_event(
+                    EventKind::MotionAborted,
                     seq,
-                    kind: EventKind::MotionAborted as u16,
                     axis,
-                    code: Opcode::Halt as i32,
-                    tick: self.tick,
-                    value: 0.0,
-                });
+                    Opcode::Halt as i32,
+                    0.0,
+                );
             }
             for (seq, what, pos) in [
                 r.switched.map(|(s, p)| (s, SyncEvent::CamSwitch, p)),
@@ -807,14 +797,7 @@ impl<M: Mem + Clone> Firmware<M> {
             .into_iter()
             .flatten()
             {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::Sync as u16,
-                    axis,
-                    code: what as i32,
-                    tick: self.tick,
-                    value: pos,
-                });
+                self.post_axis_event(EventKind::Sync, seq, axis, what as i32, pos);
             }
             if let Some(old) = r.state_from {
                 let e = super::state_event(axis, old, self.axes[i].state, self.tick);

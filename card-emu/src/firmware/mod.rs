@@ -228,6 +228,18 @@ impl<M: Mem + Clone> Firmware<M> {
         &self.io
     }
 
+    /// Post an event of this tick about `axis` (or a channel).
+    fn post_axis_event(&mut self, kind: EventKind, seq: u32, axis: u16, code: i32, value: f64) {
+        self.post(Event {
+            seq,
+            kind: kind as u16,
+            axis,
+            code,
+            tick: self.tick,
+            value,
+        });
+    }
+
     fn post_safety_events(&mut self) {
         for k in 0..self.safety.events.len() {
             if let Some(e) = self.safety.events.get(k) {
@@ -884,54 +896,25 @@ impl<M: Mem + Clone> Firmware<M> {
             let axis = i as u16;
             let done = h.done.or(report.done);
             if let Some((seq, pos)) = done {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::MotionDone as u16,
-                    axis,
-                    code: 0,
-                    tick: self.tick,
-                    value: pos,
-                });
+                self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
             }
             for &seq in &report.dropped {
-                self.post(Event {
+                self.post_axis_event(
+                    EventKind::MotionAborted,
                     seq,
-                    kind: EventKind::MotionAborted as u16,
                     axis,
-                    code: NackCode::Infeasible as i32,
-                    tick: self.tick,
-                    value: 0.0,
-                });
+                    NackCode::Infeasible as i32,
+                    0.0,
+                );
             }
             if let Some((seq, value)) = report.active {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::MotionActive as u16,
-                    axis,
-                    code: 0,
-                    tick: self.tick,
-                    value,
-                });
+                self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
             }
             if let Some((seq, value)) = report.in_velocity {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::InVelocity as u16,
-                    axis,
-                    code: 0,
-                    tick: self.tick,
-                    value,
-                });
+                self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
             }
             if let Some((seq, why, at)) = h.failed {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::HomingFailed as u16,
-                    axis,
-                    code: why as i32,
-                    tick: self.tick,
-                    value: at,
-                });
+                self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
             }
             // The homing step ran before the servo loop: its state change came first.
             if let Some(old) = h.state_from.or(report.state_from) {

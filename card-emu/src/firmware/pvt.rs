@@ -23,7 +23,7 @@ use crate::motion::pvt::{
 };
 use crate::servo::ffpiv::Reference;
 use firmware_proto::{
-    AxisState, Command, Event, EventKind, Mem, NackCode, Opcode, PvtEvent, MAX_AXES, MAX_MOVE_TIME,
+    AxisState, Command, EventKind, Mem, NackCode, Opcode, PvtEvent, MAX_AXES, MAX_MOVE_TIME,
     PVT_LAST, PVT_LEN, PVT_POINTS_MAX, PVT_PT,
 };
 use heapless::{Deque, Vec};
@@ -401,34 +401,19 @@ impl<M: Mem + Clone> Firmware<M> {
             let axis = i as u16;
             let tick = self.tick;
             if let Some((seq, value)) = r.low {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::Pvt as u16,
-                    axis,
-                    code: PvtEvent::LowWater as i32,
-                    tick,
-                    value,
-                });
+                self.post_axis_event(EventKind::Pvt, seq, axis, PvtEvent::LowWater as i32, value);
             }
             if let Some((seq, what, value)) = r.event {
-                self.post(Event {
-                    seq,
-                    kind: EventKind::Pvt as u16,
-                    axis,
-                    code: what as i32,
-                    tick,
-                    value,
-                });
+                self.post_axis_event(EventKind::Pvt, seq, axis, what as i32, value);
             }
             if let Some(seq) = r.aborted {
-                self.post(Event {
+                self.post_axis_event(
+                    EventKind::MotionAborted,
                     seq,
-                    kind: EventKind::MotionAborted as u16,
                     axis,
-                    code: Opcode::Halt as i32,
-                    tick,
-                    value: 0.0,
-                });
+                    Opcode::Halt as i32,
+                    0.0,
+                );
             }
             if let Some(old) = r.state_from {
                 let e = super::state_event(axis, old, self.axes[i].state, tick);
