@@ -1,5 +1,6 @@
 //! What `mcctl` does against a card (`--card URI`): status, moves (absolute, relative,
-//! additive, velocity), jog, override and halt. Each returns the text to print (a table, or one
+//! additive, velocity), jog, override, halt, I/O and PT/PVT; compare, probe, gearing and
+//! camming in [`machine`]. Each returns the text to print (a table, or one
 //! JSON object with `json`), or the SDK's error.
 
 use crate::{
@@ -8,6 +9,9 @@ use crate::{
 use serde_json::json;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
+
+mod machine;
+pub use machine::*;
 
 /// How long mcctl waits for a move to be done.
 const WAIT: Duration = Duration::from_secs(600);
@@ -141,14 +145,7 @@ pub fn jog(card: &Card, axis: usize, velocity: f64, hold: Duration, json: bool) 
     let ax = card.axis(axis)?;
     let started = Instant::now();
     ax.jog(velocity)?;
-    let left = hold.saturating_sub(started.elapsed());
-    // A stepped card's time only moves when asked; a real one moves on its own.
-    match card.sim() {
-        Some(sim) => {
-            sim.step((left.as_secs_f64() * card.info().servo_rate_hz as f64).round() as u64)
-        }
-        None => std::thread::sleep(left),
-    }
+    hold_for(card, hold.saturating_sub(started.elapsed()));
     let at = ax.jog_release()?.wait(WAIT)?;
     Ok(if json {
         json!({ "axis": axis, "position": at }).to_string()
@@ -206,12 +203,15 @@ pub fn io(card: &Card, set: Option<(u32, u32)>, json: bool) -> Result<String> {
     })
 }
 
-/// The points of a PT/PVT file: one `time, position[, velocity]` per line (commas or blanks
-/// between; `#` starts a comment), and whether every line gave a velocity (PVT, else PT).
-/// Err: the line number (from 1) and what is wrong.
-pub fn pvt_points(text: &str) -> std::result::Result<(Vec<crate::PvtPoint>, bool), String> {
-    let mut pts = Vec::new();
-    let mut velocities = true;
+/// The rows of a file of numbers: `widths` finite numbers per line (commas or blanks between;
+/// `#` starts a comment; blank lines skipped), `what` naming a row in the error. Err: the line
+/// number (from 1) and what is wrong.
+pub fn number_rows(
+    text: &str,
+    widths: std::ops::RangeInclusive<usize>,
+    what: &str,
+) -> std::result::Result<Vec<Vec<f64>>, String> {
+    let mut rows = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
@@ -223,25 +223,30 @@ pub fn pvt_points(text: &str) -> std::result::Result<(Vec<crate::PvtPoint>, bool
             .map(str::parse::<f64>)
             .collect();
         match vals {
-            Ok(v) if (2..=3).contains(&v.len()) && v.iter().all(|x| x.is_finite()) => {
-                velocities &= v.len() == 3;
-                pts.push(crate::PvtPoint::new(
-                    v[0],
-                    v[1],
-                    v.get(2).copied().unwrap_or(0.0),
-                ))
-            }
+            Ok(v) if widths.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => rows.push(v),
             _ => {
                 return Err(format!(
-                    "line {}: expected `time, position[, velocity]` (finite numbers), got `{line}`",
+                    "line {}: expected `{what}` (finite numbers), got `{line}`",
                     i + 1
                 ))
             }
         }
     }
-    if pts.is_empty() {
+    if rows.is_empty() {
         return Err("no points".into());
     }
+    Ok(rows)
+}
+
+/// The points of a PT/PVT file: one `time, position[, velocity]` per line ([`number_rows`]),
+/// and whether every line gave a velocity (PVT, else PT).
+pub fn pvt_points(text: &str) -> std::result::Result<(Vec<crate::PvtPoint>, bool), String> {
+    let rows = number_rows(text, 2..=3, "time, position[, velocity]")?;
+    let velocities = rows.iter().all(|v| v.len() == 3);
+    let pts = rows
+        .iter()
+        .map(|v| crate::PvtPoint::new(v[0], v[1], v.get(2).copied().unwrap_or(0.0)))
+        .collect();
     Ok((pts, velocities))
 }
 

@@ -466,3 +466,179 @@ fn io_and_pvt_from_the_command_line() {
     assert!(err.contains("line 3"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The one JSON object a subcommand printed, after checking it exited 0.
+fn json_of(args: &[&str]) -> serde_json::Value {
+    let (code, out, err) = mcctl(args);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(out.trim()).unwrap_or_else(|e| panic!("{args:?}: {e}: {out}"))
+}
+
+fn floats(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn compare_and_probe_from_the_command_line() {
+    // A series fired on the way to 12,000: every position once, in order.
+    let j = json_of(&[
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--series",
+        "1000,500,20",
+        "--move",
+        "12000",
+        "--enable",
+        "--json",
+    ]);
+    let want: Vec<f64> = (0..20).map(|k| 1000.0 + 500.0 * k as f64).collect();
+    assert_eq!(floats(&j["fired_at"]), want, "{j}");
+    assert_eq!(
+        (j["fires"].as_u64(), j["missed"].as_u64()),
+        (Some(20), Some(0))
+    );
+    // A table streamed from a file (more positions than one refill); a position already
+    // behind the axis is missed. (Every run is a fresh emulated card, at 0.)
+    let dir = std::env::temp_dir().join(format!("mcctl-cmp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = dir.join("table.txt");
+    let positions: Vec<f64> = (0..300).map(|k| -1000.0 - 30.0 * k as f64).collect();
+    let text: String = positions.iter().map(|p| format!("{p}\n")).collect();
+    std::fs::write(&table, text).unwrap();
+    let t = table.to_str().unwrap();
+    let j = json_of(&[
+        "compare",
+        "0",
+        "--output",
+        "4",
+        "--table",
+        t,
+        "--direction",
+        "negative",
+        "--move",
+        "-12000",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(floats(&j["fired_at"]), positions, "{j}");
+    let j = json_of(&[
+        "compare", "0", "--output", "4", "--at", "-500", "--for", "0.05", "--json",
+    ]);
+    assert_eq!(
+        (j["fires"].as_u64(), j["missed"].as_u64()),
+        (Some(0), Some(1))
+    );
+    assert_eq!(floats(&j["missed_at"]), [-500.0], "{j}");
+    // The index pulse, once per 10,000-count revolution, latched at speed on both edges.
+    let j = json_of(&[
+        "probe",
+        "0",
+        "--edge",
+        "both",
+        "--continuous",
+        "--move",
+        "35000",
+        "--enable",
+        "--json",
+    ]);
+    let got = floats(&j["positions"]);
+    assert_eq!(got.len(), 3, "{j}");
+    for (k, p) in got.iter().enumerate() {
+        let rev = 10_000.0 * (k + 1) as f64;
+        assert!((p - rev).abs() <= 1.0, "capture {k} at {p}: {j}");
+    }
+    // A window that holds the second pulse only; a single shot takes it.
+    let j = json_of(&[
+        "probe", "0", "--window", "-25000", "-15000", "--edge", "falling", "--move", "-40000",
+        "--enable", "--json",
+    ]);
+    assert_eq!(j["captures"], 1, "{j}");
+    assert!((floats(&j["positions"])[0] + 20_000.0).abs() <= 1.0, "{j}");
+    for (args, why) in [
+        (vec!["compare", "0", "--output", "1"], "exactly one of --at"),
+        (
+            vec![
+                "compare", "0", "--output", "1", "--at", "1", "--series", "1,2,3",
+            ],
+            "exactly one of --at",
+        ),
+        (
+            vec!["compare", "0", "--output", "1", "--series", "1,2,2.5"],
+            "COUNT a whole number",
+        ),
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gear_and_cam_from_the_command_line() {
+    // An odd master travel at -3/2: the slave lands on the half count the ratio says.
+    let j = json_of(&[
+        "gear", "1", "--master", "0", "--ratio", "-3/2", "--move", "40001", "--enable", "--json",
+    ]);
+    assert_eq!(j["master_travel"], 40001.0, "{j}");
+    assert_eq!(j["slave_travel"], -60001.5, "{j}");
+    assert_eq!(j["error"], 0.0, "{j}");
+    // A periodic cubic cam, the master through more than one cycle.
+    let dir = std::env::temp_dir().join(format!("mcctl-cam-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cam.csv");
+    std::fs::write(
+        &file,
+        "# master, slave\n0, 0\n1000, 200\n2000, 1000\n3000, 1200\n3600, 1200\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let j = json_of(&[
+        "cam",
+        "1",
+        f,
+        "--master",
+        "0",
+        "--cubic",
+        "--periodic",
+        "--move",
+        "5000",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(j["master"], 5000.0, "{j}");
+    assert!(j["error"].as_f64().unwrap().abs() < 1e-6, "{j}");
+    // Past the cycle the slave has risen by one cycle's 1200 on top of the table at 1400.
+    let s = j["slave_position"].as_f64().unwrap();
+    assert!(s > 1200.0 + 200.0 && s < 1200.0 + 1000.0, "{j}");
+    for (args, why) in [
+        (
+            vec!["gear", "1", "--master", "aux:0", "--move", "5"],
+            "needs a master axis",
+        ),
+        (vec!["gear", "1", "--master", "x:1"], "is not a master"),
+        (
+            vec!["gear", "1", "--master", "0", "--ratio", "1.5/2"],
+            "not a ratio",
+        ),
+        (
+            vec!["cam", "1", "/nonexistent.csv", "--master", "0"],
+            "/nonexistent.csv",
+        ),
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    // The card's own refusal: a zero denominator is a gear-ratio error, exit status 1.
+    let (code, _, err) = mcctl(&["gear", "1", "--master", "0", "--ratio", "1/0", "--enable"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("gear ratio"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

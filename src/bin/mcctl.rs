@@ -15,11 +15,18 @@
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
 //! mcctl --card emu:bench1 io --set-outputs 0x0F 0x05   # digital outputs, then inputs/outputs
 //! mcctl --card emu:bench1 pvt 0 points.csv --vmax 1e5 --amax 1e6 --enable   # a PT/PVT stream
+//! mcctl compare 0 --output 3 --series 1000,500,20 --move 12000 --enable   # EQU pulses
+//! mcctl probe 0 --edge both --continuous --move 20000 --enable     # index-pulse latches
+//! mcctl gear 1 --master 0 --ratio -3/2 --move 40000 --enable       # MC_GearIn, master moved
+//! mcctl cam 1 knife.csv --master 0 --cubic --periodic --move 7200 --enable   # MC_CamIn
 //! ```
-use clap::{Args, Parser, Subcommand};
-use motioncard::cli::{self, MoveCmd};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use motioncard::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
 use motioncard::plan::{Limits, OtgLimits, PlanError, Profile, Trajectory};
-use motioncard::{Card, MoveKind, MoveLimits, VelocityLimits};
+use motioncard::{
+    CamSettings, Card, Direction, Master, MoveKind, MoveLimits, ProbeTrigger, SyncLimits,
+    VelocityLimits,
+};
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -49,6 +56,80 @@ struct MoveArgs {
     /// Jerk.
     #[arg(long, allow_negative_numbers = true, default_value_t = 5e7)]
     jmax: f64,
+}
+
+impl MoveArgs {
+    fn limits(&self) -> MoveLimits {
+        MoveLimits::new(self.vmax, self.amax, self.jmax)
+            .deceleration(self.dmax.unwrap_or(self.amax))
+    }
+}
+
+/// The move that exercises a compare, a probe or a coupling, and how long to watch without
+/// one.
+#[derive(Args, Clone, Copy)]
+struct TravelArgs {
+    /// Move the axis (compare, probe) or the master axis (gear, cam) to this absolute
+    /// position, and watch until it is there.
+    #[arg(long = "move", allow_negative_numbers = true, value_name = "TARGET")]
+    target: Option<f64>,
+    #[command(flatten)]
+    limits: MoveArgs,
+    /// Without --move: seconds to watch.
+    #[arg(long = "for", default_value_t = 1.0)]
+    hold: f64,
+    /// Power the axes on first if they are disabled.
+    #[arg(long)]
+    enable: bool,
+}
+
+impl TravelArgs {
+    fn travel(&self, axis: usize) -> Option<Travel> {
+        self.target.map(|target| Travel {
+            axis,
+            target,
+            limits: self.limits.limits(),
+        })
+    }
+
+    fn hold(&self) -> Result<Duration, String> {
+        if self.hold.is_finite() && self.hold >= 0.0 {
+            Ok(Duration::from_secs_f64(self.hold))
+        } else {
+            Err(format!(
+                "--for must be a number of seconds >= 0, got {}",
+                self.hold
+            ))
+        }
+    }
+}
+
+/// A slave's limits while it engages (gear, cam).
+#[derive(Args, Clone, Copy)]
+struct SyncArgs {
+    /// The slave's velocity limit while it catches up.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1e6)]
+    slave_vmax: f64,
+    /// The slave's acceleration limit.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1e7)]
+    slave_amax: f64,
+    /// The slave's jerk limit.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1e9)]
+    slave_jmax: f64,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DirArg {
+    Positive,
+    Negative,
+    Either,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EdgeArg {
+    Rising,
+    Falling,
+    Both,
 }
 
 #[derive(Subcommand)]
@@ -128,6 +209,115 @@ enum Cmd {
         #[arg(long)]
         enable: bool,
         /// One JSON object instead of a line.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Position compare (EQU output): pulse an output as the axis crosses positions. Arms
+    /// the channel, runs --move (or watches --for seconds), reports the fires and misses the
+    /// card counted with the positions of its events (misses of one tick share one event: the
+    /// last position), and disarms.
+    Compare {
+        axis: usize,
+        /// The output pulsed (0..16).
+        #[arg(long)]
+        output: u32,
+        /// The compare channel (0..4).
+        #[arg(long, default_value_t = 0)]
+        channel: usize,
+        /// Fire once, at this position.
+        #[arg(long, allow_negative_numbers = true, value_name = "POSITION")]
+        at: Option<f64>,
+        /// Fire COUNT times from START, PITCH apart in the direction.
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_names = ["START,PITCH,COUNT"])]
+        series: Option<Vec<f64>>,
+        /// Fire at the positions of this file (one per line, strictly monotonic in the
+        /// direction), streamed into the channel's table as it empties.
+        #[arg(long, value_name = "FILE")]
+        table: Option<std::path::PathBuf>,
+        /// The direction of crossing that fires.
+        #[arg(long, value_enum, default_value = "positive")]
+        direction: DirArg,
+        /// Pulse width, µs.
+        #[arg(long, default_value_t = 10)]
+        pulse_us: u32,
+        #[command(flatten)]
+        travel: TravelArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Touch probe (MC_TouchProbe): latch the axis's position at an input edge or at the
+    /// encoder's index pulse. Arms, runs --move (or watches --for seconds), reports every
+    /// capture, and aborts the probe (MC_AbortTrigger).
+    Probe {
+        axis: usize,
+        /// The probe channel (0..4).
+        #[arg(long, default_value_t = 0)]
+        channel: usize,
+        /// The input (0..16); without it, the encoder's index pulse.
+        #[arg(long)]
+        input: Option<u32>,
+        /// The edge that captures.
+        #[arg(long, value_enum, default_value = "rising")]
+        edge: EdgeArg,
+        /// Keep capturing (else the first edge only).
+        #[arg(long)]
+        continuous: bool,
+        /// Only edges with the axis in LO..=HI count.
+        #[arg(long, num_args = 2, allow_negative_numbers = true, value_names = ["LO", "HI"])]
+        window: Option<Vec<f64>>,
+        #[command(flatten)]
+        travel: TravelArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Electronic gearing (MC_GearIn): the slave follows the master at an integer ratio; the
+    /// master runs --move (or an auxiliary encoder is watched --for seconds); then MC_GearOut
+    /// and a halt. Reports both travels and the slave's error against the ratio.
+    Gear {
+        slave: usize,
+        /// N (axis N's commanded position), actual:N (its encoder) or aux:K (an auxiliary
+        /// encoder).
+        #[arg(long, value_parser = cli::parse_master)]
+        master: Master,
+        /// Slave counts per master count, NUM/DEN (integers).
+        #[arg(long, default_value = "1/1", allow_hyphen_values = true, value_parser = parse_ratio)]
+        ratio: (i64, i64),
+        #[command(flatten)]
+        sync: SyncArgs,
+        #[command(flatten)]
+        travel: TravelArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Camming (MC_CamTableSelect, MC_CamIn): load a cam table (one `master, slave` per line),
+    /// couple the slave to the master through it, run the master's --move, MC_CamOut and a halt.
+    /// Reports the slave's end position against the table's.
+    Cam {
+        slave: usize,
+        file: std::path::PathBuf,
+        #[arg(long, value_parser = cli::parse_master)]
+        master: Master,
+        /// The card's table (0..4) loaded.
+        #[arg(long, default_value_t = 0)]
+        table: usize,
+        /// Cubic spline (else linear).
+        #[arg(long)]
+        cubic: bool,
+        /// The table repeats every master span.
+        #[arg(long)]
+        periodic: bool,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+        master_offset: f64,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+        slave_offset: f64,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+        master_scale: f64,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+        slave_scale: f64,
+        #[command(flatten)]
+        sync: SyncArgs,
+        #[command(flatten)]
+        travel: TravelArgs,
         #[arg(long)]
         json: bool,
     },
@@ -292,6 +482,52 @@ fn parse_word(s: &str) -> Result<u32, String> {
     r.map_err(|e| format!("`{s}` is not a 32-bit word: {e}"))
 }
 
+/// A gear ratio `NUM/DEN` of integers.
+fn parse_ratio(s: &str) -> Result<(i64, i64), String> {
+    let (n, d) = s.split_once('/').unwrap_or((s, "1"));
+    match (n.trim().parse(), d.trim().parse()) {
+        (Ok(n), Ok(d)) => Ok((n, d)),
+        _ => Err(format!("`{s}` is not a ratio NUM/DEN of integers")),
+    }
+}
+
+/// The coupling of `mcctl gear` and `mcctl cam`: the master's move needs a master axis.
+fn coupling(
+    slave: usize,
+    master: Master,
+    sync: &SyncArgs,
+    t: &TravelArgs,
+) -> Result<Coupling, String> {
+    let axis = match master {
+        Master::Commanded(a) | Master::Actual(a) => Some(a),
+        Master::Aux(_) => None,
+    };
+    let travel = match (axis, t.target) {
+        (Some(a), _) => t.travel(a),
+        (None, None) => None,
+        (None, Some(_)) => {
+            return Err("--move needs a master axis, not an auxiliary encoder".into())
+        }
+    };
+    Ok(Coupling {
+        slave,
+        master,
+        limits: SyncLimits::new(sync.slave_vmax, sync.slave_amax, sync.slave_jmax),
+        travel,
+        hold: t.hold()?,
+    })
+}
+
+/// Power on `axes` that are disabled, when asked.
+fn enable_all(card: &Card, enable: bool, axes: &[usize]) -> motioncard::Result<()> {
+    if enable {
+        for &a in axes {
+            cli::enable_if_needed(card, a)?;
+        }
+    }
+    Ok(())
+}
+
 fn bad(msg: String) -> ExitCode {
     eprintln!("mcctl: {msg}");
     ExitCode::from(2)
@@ -305,6 +541,168 @@ fn main() -> ExitCode {
         Cmd::Io { set_outputs, json } => {
             let set = set_outputs.map(|v| (v[0], v[1]));
             on_card(uri, |c| cli::io(c, set, json))
+        }
+        Cmd::Compare {
+            axis,
+            output,
+            channel,
+            at,
+            series,
+            table,
+            direction,
+            pulse_us,
+            travel,
+            json,
+        } => {
+            let positions = match (at, series, table) {
+                (Some(p), None, None) => ComparePositions::At(p),
+                (None, Some(v), None) => match v[..] {
+                    [start, pitch, count]
+                        if count >= 1.0 && count.fract() == 0.0 && count <= u32::MAX as f64 =>
+                    {
+                        ComparePositions::Series {
+                            start,
+                            pitch,
+                            count: count as u32,
+                        }
+                    }
+                    _ => return bad(format!(
+                        "--series takes START,PITCH,COUNT (COUNT a whole number >= 1), got {v:?}"
+                    )),
+                },
+                (None, None, Some(f)) => {
+                    let rows = std::fs::read_to_string(&f)
+                        .map_err(|e| e.to_string())
+                        .and_then(|t| cli::number_rows(&t, 1..=1, "position"));
+                    match rows {
+                        Ok(r) => ComparePositions::Table(r.into_iter().map(|v| v[0]).collect()),
+                        Err(e) => return bad(format!("{}: {e}", f.display())),
+                    }
+                }
+                _ => return bad("give exactly one of --at, --series and --table".into()),
+            };
+            let hold = match travel.hold() {
+                Ok(h) => h,
+                Err(m) => return bad(m),
+            };
+            let job = cli::CompareJob {
+                axis,
+                channel,
+                output,
+                pulse_us,
+                direction: match direction {
+                    DirArg::Positive => Direction::Positive,
+                    DirArg::Negative => Direction::Negative,
+                    DirArg::Either => Direction::Either,
+                },
+                positions,
+                travel: travel.travel(axis),
+                hold,
+            };
+            on_card(uri, |c| {
+                enable_all(c, travel.enable, &[axis])?;
+                cli::compare(c, &job, json)
+            })
+        }
+        Cmd::Probe {
+            axis,
+            channel,
+            input,
+            edge,
+            continuous,
+            window,
+            travel,
+            json,
+        } => {
+            let hold = match travel.hold() {
+                Ok(h) => h,
+                Err(m) => return bad(m),
+            };
+            let job = cli::ProbeJob {
+                axis,
+                channel,
+                trigger: ProbeTrigger {
+                    input,
+                    rising: !matches!(edge, EdgeArg::Falling),
+                    falling: !matches!(edge, EdgeArg::Rising),
+                    continuous,
+                    window: window.map(|w| (w[0], w[1])),
+                },
+                travel: travel.travel(axis),
+                hold,
+            };
+            on_card(uri, |c| {
+                enable_all(c, travel.enable, &[axis])?;
+                cli::probe(c, &job, json)
+            })
+        }
+        Cmd::Gear {
+            slave,
+            master,
+            ratio,
+            sync,
+            travel,
+            json,
+        } => {
+            let c = match coupling(slave, master, &sync, &travel) {
+                Ok(c) => c,
+                Err(m) => return bad(m),
+            };
+            on_card(uri, |card| {
+                let axes: Vec<usize> = [Some(slave), c.travel.map(|t| t.axis)]
+                    .into_iter()
+                    .flatten()
+                    .collect();
+                enable_all(card, travel.enable, &axes)?;
+                cli::gear(card, &c, ratio.0, ratio.1, json)
+            })
+        }
+        Cmd::Cam {
+            slave,
+            file,
+            master,
+            table,
+            cubic,
+            periodic,
+            master_offset,
+            slave_offset,
+            master_scale,
+            slave_scale,
+            sync,
+            travel,
+            json,
+        } => {
+            let c = match coupling(slave, master, &sync, &travel) {
+                Ok(c) => c,
+                Err(m) => return bad(m),
+            };
+            let rows = std::fs::read_to_string(&file)
+                .map_err(|e| e.to_string())
+                .and_then(|t| cli::number_rows(&t, 2..=2, "master, slave"));
+            let points = match rows {
+                Ok(r) => r.into_iter().map(|v| (v[0], v[1])).collect(),
+                Err(e) => return bad(format!("{}: {e}", file.display())),
+            };
+            let job = cli::CamJob {
+                points,
+                cubic,
+                periodic,
+                settings: CamSettings {
+                    table,
+                    master_offset,
+                    slave_offset,
+                    master_scale,
+                    slave_scale,
+                },
+            };
+            on_card(uri, |card| {
+                let axes: Vec<usize> = [Some(slave), c.travel.map(|t| t.axis)]
+                    .into_iter()
+                    .flatten()
+                    .collect();
+                enable_all(card, travel.enable, &axes)?;
+                cli::cam(card, &c, &job, json)
+            })
         }
         Cmd::Pvt {
             axis,

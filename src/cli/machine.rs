@@ -1,0 +1,378 @@
+//! `mcctl compare`, `probe`, `gear` and `cam`: a machine's I/O and synchronised motion tried
+//! from the command line. Each arms or couples, optionally runs the move that exercises it
+//! (an absolute move of the axis watched, or of the master), collects what the card reports
+//! meanwhile and prints it. The move is mcctl's own: the card halts what a leaving host
+//! started, so everything here ends with the process. Positions are the axes' user units,
+//! which mcctl leaves at counts.
+
+use super::{hold_for, WAIT};
+use crate::{
+    Card, CardEvent, CompareChannel, Direction, Error, EventKind, Master, Motion, MoveLimits,
+    ProbeTrigger, Result, SyncLimits, COMPARE_FIRED, COMPARE_MISSED,
+};
+use card_emu::motion::cam::CamTable;
+use serde_json::json;
+use std::time::Duration;
+
+/// How often the loops below look at the card while a move runs.
+const POLL: Duration = Duration::from_millis(2);
+
+/// An absolute move that exercises what was armed or coupled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Travel {
+    /// The axis moved (the watched axis, or the master).
+    pub axis: usize,
+    /// Its target.
+    pub target: f64,
+    pub limits: MoveLimits,
+}
+
+impl Travel {
+    fn start(&self, card: &Card) -> Result<Motion> {
+        card.axis(self.axis)?
+            .move_absolute(self.target, &self.limits)
+    }
+}
+
+/// Run `travel` (or let `hold` pass), calling `each` between looks at the card with the
+/// events taken meanwhile. Returns where the moved axis ended (`None` without a move).
+fn run_collecting(
+    card: &Card,
+    travel: Option<&Travel>,
+    hold: Duration,
+    mut each: impl FnMut(Option<CardEvent>) -> Result<()>,
+) -> Result<Option<f64>> {
+    let motion = travel.map(|t| t.start(card)).transpose()?;
+    // Card time held, so a stepped card holds as long as a real one.
+    let mut held = Duration::ZERO;
+    let at = loop {
+        while let Some(e) = card.next_event(Duration::ZERO)? {
+            each(Some(e))?;
+        }
+        each(None)?;
+        match &motion {
+            Some(m) => match m.wait(POLL) {
+                Ok(at) => break Some(at),
+                Err(Error::Timeout(_)) => {}
+                Err(e) => return Err(e),
+            },
+            None if held >= hold => break None,
+            None => {
+                hold_for(card, POLL);
+                held += POLL;
+            }
+        }
+    };
+    // What the card posted in the move's last tick.
+    hold_for(card, POLL);
+    while let Some(e) = card.next_event(Duration::ZERO)? {
+        each(Some(e))?;
+    }
+    Ok(at)
+}
+
+/// Where a compare channel fires.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ComparePositions {
+    /// Once, at this position.
+    At(f64),
+    /// `count` positions from `start`, `pitch` apart in the direction.
+    Series { start: f64, pitch: f64, count: u32 },
+    /// These positions in order (strictly monotonic in the direction), streamed into the
+    /// channel's table as it empties.
+    Table(Vec<f64>),
+}
+
+/// `mcctl compare`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareJob {
+    pub axis: usize,
+    pub channel: usize,
+    pub output: u32,
+    pub pulse_us: u32,
+    pub direction: Direction,
+    pub positions: ComparePositions,
+    pub travel: Option<Travel>,
+    /// Without a move: how long to watch.
+    pub hold: Duration,
+}
+
+/// Arm a compare channel, run the move, and report the channel's own counters with the
+/// positions of the card's events (a fire each; the misses of one tick share one event, with
+/// the last position); the channel is disarmed at the end.
+pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
+    let ch = card.axis(job.axis)?.compare(job.channel);
+    let (out, dir) = (job.output, job.direction);
+    let mut table: &[f64] = &[];
+    match &job.positions {
+        ComparePositions::At(p) => ch.arm_single(out, job.pulse_us, *p, dir)?,
+        ComparePositions::Series {
+            start,
+            pitch,
+            count,
+        } => ch.arm_series(out, job.pulse_us, *start, *pitch, *count, dir)?,
+        ComparePositions::Table(t) => {
+            table = t;
+            ch.arm_table(out, job.pulse_us, 0, dir)?;
+        }
+    }
+    let outcome = watch_compare(card, &ch, job, table);
+    let disarmed = ch.disarm();
+    let (fired, missed, at) = outcome?;
+    disarmed?;
+    let st = ch.status()?;
+    Ok(if json {
+        json!({
+            "axis": job.axis,
+            "channel": job.channel,
+            "output": job.output,
+            "fires": st.fires,
+            "missed": st.missed,
+            "fired_at": fired,
+            "missed_at": missed,
+            "position": at,
+        })
+        .to_string()
+    } else {
+        let span = |v: &[f64]| match (v.first(), v.last()) {
+            (Some(a), Some(b)) => format!(" ({a} .. {b})"),
+            _ => String::new(),
+        };
+        format!(
+            "compare {} on axis {}: {} fired{}, {} missed{}, output {}\n",
+            job.channel,
+            job.axis,
+            st.fires,
+            span(&fired),
+            st.missed,
+            span(&missed),
+            job.output
+        )
+    })
+}
+
+/// The positions fired and missed (from the card's events) and where the move ended.
+type Fires = (Vec<f64>, Vec<f64>, Option<f64>);
+
+fn watch_compare(
+    card: &Card,
+    ch: &CompareChannel,
+    job: &CompareJob,
+    table: &[f64],
+) -> Result<Fires> {
+    let (mut fired, mut missed, mut sent) = (Vec::new(), Vec::new(), 0);
+    let at = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
+        match e {
+            Some(e) if e.kind == EventKind::Compare && e.axis as usize == job.channel => {
+                match e.code {
+                    COMPARE_FIRED => fired.push(e.value),
+                    COMPARE_MISSED => missed.push(e.value),
+                    _ => {}
+                }
+            }
+            Some(_) => {}
+            None if sent < table.len() => {
+                let n = ch.room()?.min(table.len() - sent);
+                if n > 0 {
+                    ch.push(job.direction, &table[sent..sent + n])?;
+                    sent += n;
+                }
+            }
+            None => {}
+        }
+        Ok(())
+    })?;
+    Ok((fired, missed, at))
+}
+
+/// `mcctl probe`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeJob {
+    pub axis: usize,
+    pub channel: usize,
+    pub trigger: ProbeTrigger,
+    pub travel: Option<Travel>,
+    pub hold: Duration,
+}
+
+/// Arm a touch probe (MC_TouchProbe), run the move, and report every capture the card posted;
+/// the probe is aborted at the end (MC_AbortTrigger).
+pub fn probe(card: &Card, job: &ProbeJob, json: bool) -> Result<String> {
+    let tp = card.axis(job.axis)?.touch_probe(job.channel);
+    tp.arm(&job.trigger)?;
+    let mut captures = Vec::new();
+    let outcome = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
+        if let Some(e) = e.filter(|e| e.kind == EventKind::Probe && e.axis as usize == job.channel)
+        {
+            captures.push(e.value);
+        }
+        Ok(())
+    });
+    let st = tp.status();
+    let aborted = tp.abort();
+    let at = outcome?;
+    let st = st?;
+    aborted?;
+    Ok(if json {
+        json!({
+            "axis": job.axis,
+            "channel": job.channel,
+            "captures": st.captures,
+            "outside_window": st.outside,
+            "positions": captures,
+            "position": at,
+        })
+        .to_string()
+    } else {
+        let mut s = format!(
+            "probe {} on axis {}: {} captures, {} edges outside the window\n",
+            job.channel, job.axis, st.captures, st.outside
+        );
+        for (k, p) in captures.iter().enumerate() {
+            s += &format!("  {:>4} {p}\n", k + 1);
+        }
+        s
+    })
+}
+
+/// A master as `mcctl` names it: `N` (axis N's commanded position), `actual:N`, `aux:K`.
+pub fn parse_master(s: &str) -> std::result::Result<Master, String> {
+    let num = |t: &str| {
+        t.parse::<usize>()
+            .map_err(|_| format!("`{s}` is not a master: N, actual:N or aux:K"))
+    };
+    match s.split_once(':') {
+        None => num(s).map(Master::Commanded),
+        Some(("actual", n)) => num(n).map(Master::Actual),
+        Some(("aux", k)) => num(k).map(Master::Aux),
+        Some(_) => Err(format!("`{s}` is not a master: N, actual:N or aux:K")),
+    }
+}
+
+/// A master's position now: the commanded or actual position of an axis, or an auxiliary
+/// encoder's count.
+fn master_position(card: &Card, m: Master) -> Result<f64> {
+    Ok(match m {
+        Master::Commanded(a) => card.axis(a)?.status()?.command_position,
+        Master::Actual(a) => card.axis(a)?.status()?.actual_position,
+        Master::Aux(k) => card.aux_encoder(k)? as f64,
+    })
+}
+
+/// What `mcctl gear` and `mcctl cam` share: the slave, its master, its limits while it
+/// engages, and the master's move (or how long to follow an auxiliary encoder).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coupling {
+    pub slave: usize,
+    pub master: Master,
+    pub limits: SyncLimits,
+    pub travel: Option<Travel>,
+    pub hold: Duration,
+}
+
+/// The slave engaged (waited until in sync), the master moved, then the slave uncoupled and
+/// halted. Returns the master's and the slave's commanded positions once in sync and at the
+/// end.
+fn couple(
+    card: &Card,
+    c: &Coupling,
+    engage: impl FnOnce() -> Result<Motion>,
+) -> Result<[(f64, f64); 2]> {
+    let slave = card.axis(c.slave)?;
+    let synced = engage()?;
+    synced.wait_in_sync(WAIT)?;
+    let read = || -> Result<(f64, f64)> {
+        Ok((
+            master_position(card, c.master)?,
+            slave.status()?.command_position,
+        ))
+    };
+    let start = read()?;
+    run_collecting(card, c.travel.as_ref(), c.hold, |_| Ok(()))?;
+    // A slave of a commanded position follows it a servo tick late.
+    hold_for(card, POLL);
+    let end = read()?;
+    slave.gear_out()?;
+    slave
+        .halt(c.limits.acceleration, c.limits.jerk)?
+        .wait(WAIT)?;
+    Ok([start, end])
+}
+
+/// `mcctl gear`: MC_GearIn at `numerator / denominator`, the master's move, MC_GearOut. Reports
+/// both travels and the slave's error against the ratio (0 on the card's integer arithmetic).
+pub fn gear(
+    card: &Card,
+    c: &Coupling,
+    numerator: i64,
+    denominator: i64,
+    json: bool,
+) -> Result<String> {
+    let slave = card.axis(c.slave)?;
+    let [(m0, s0), (m1, s1)] = couple(card, c, || {
+        slave.gear_in(c.master, numerator, denominator, &c.limits)
+    })?;
+    let (dm, ds) = (m1 - m0, s1 - s0);
+    let error = ds - dm * numerator as f64 / denominator as f64;
+    Ok(if json {
+        json!({
+            "slave": c.slave,
+            "ratio": [numerator, denominator],
+            "master_travel": dm,
+            "slave_travel": ds,
+            "error": error,
+        })
+        .to_string()
+    } else {
+        format!(
+            "axis {} geared {numerator}/{denominator}: master moved {dm}, slave {ds} (error \
+             {error})\n",
+            c.slave
+        )
+    })
+}
+
+/// A cam table's shape and the mapping of `mcctl cam`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamJob {
+    pub points: Vec<(f64, f64)>,
+    pub cubic: bool,
+    pub periodic: bool,
+    pub settings: crate::CamSettings,
+}
+
+/// `mcctl cam`: load the table, MC_CamIn, the master's move, MC_CamOut. Reports where the
+/// slave ended against where the table puts it for the master's end position.
+pub fn cam(card: &Card, c: &Coupling, job: &CamJob, json: bool) -> Result<String> {
+    let cs = &job.settings;
+    // The card's refusal first (`CamTable`, `NotFinite`); then the same table on the host.
+    card.load_cam_table(cs.table, &job.points, job.cubic, job.periodic)?;
+    let table = CamTable::new(&job.points, job.cubic, job.periodic).map_err(|e| {
+        Error::Protocol(format!("the card took a cam table the host refuses: {e:?}"))
+    })?;
+    let slave = card.axis(c.slave)?;
+    let [_, (m, s)] = couple(card, c, || slave.cam_in(c.master, cs, &c.limits))?;
+    let want =
+        cs.slave_offset + cs.slave_scale * table.eval((m - cs.master_offset) / cs.master_scale).s;
+    Ok(if json {
+        json!({
+            "slave": c.slave,
+            "table": cs.table,
+            "points": job.points.len(),
+            "master": m,
+            "slave_position": s,
+            "table_position": want,
+            "error": s - want,
+        })
+        .to_string()
+    } else {
+        format!(
+            "axis {} on cam table {} ({} points): master at {m}, slave at {s}, the table says \
+             {want} (error {})\n",
+            c.slave,
+            cs.table,
+            job.points.len(),
+            s - want
+        )
+    })
+}
