@@ -25,8 +25,8 @@ mod common;
 use common::stepped_card_with;
 use motioncard::proto::{Command, Opcode};
 use motioncard::{
-    AxisState, Card, EmuOptions, ErrorKind, EventKind, GearRatio, Master, NackCode, Status,
-    SyncEvent, SyncLimits, VelocityLimits,
+    AxisState, Card, EmuOptions, ErrorKind, EventKind, GearRatio, Master, MoveLimits, NackCode,
+    Status, SyncEvent, SyncLimits, VelocityLimits,
 };
 use std::time::Duration;
 
@@ -831,6 +831,70 @@ fn a_cam_that_is_not_periodic_ends() {
     let st = status(&card, 0);
     assert_eq!(st.command_position, 2_500.0);
     assert_eq!(st.state, AxisState::SynchronizedMotion);
+}
+
+/// MC_CamIn's StartMode relative: the cam starts where the slave stands (no position
+/// catch-up), and the slave then moves by the table's differences; absolute ramps the slave
+/// onto the table.
+#[test]
+fn a_relative_cam_starts_where_the_slave_stands() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    let pts = [
+        (0.0, 0.0),
+        (4_000.0, 1_000.0),
+        (8_000.0, 3_000.0),
+        (12_000.0, 3_000.0),
+    ];
+    card.load_cam_table(1, &pts, true, false).unwrap();
+    let lim = MoveLimits::new(5e4, 5e5, 5e7);
+    slave
+        .move_absolute(7_000.0, &lim)
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    master
+        .move_absolute(2_000.0, &lim)
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    let table = card_emu::motion::cam::CamTable::new(&pts, true, false).unwrap();
+    let cam = CamSettings {
+        slave_offset: 100.0,
+        slave_scale: 2.0,
+        relative: true,
+        ..CamSettings::new(1)
+    };
+    let at = slave
+        .cam_in(Master::Commanded(1), &cam, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap()
+        .wait_in_sync(LONG)
+        .unwrap();
+    assert_eq!(at, 7_000.0, "in sync where it stood");
+    let t0 = table.eval(2_000.0).s;
+    master
+        .move_absolute(9_000.0, &lim)
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    card.sim().unwrap().step(2);
+    let want = 7_000.0 + 2.0 * (table.eval(9_000.0).s - t0);
+    let got = status(&card, 0).command_position;
+    assert!((got - want).abs() < 1e-6, "relative: {got} vs {want}");
+    // Absolute: from the same spot the slave ramps onto offset + scale · table.
+    slave.cam_out().unwrap();
+    slave.halt(2e5, 2e7).unwrap().wait(LONG).unwrap();
+    let cam = CamSettings {
+        relative: false,
+        ..cam
+    };
+    let at = slave
+        .cam_in(Master::Commanded(1), &cam, &SyncLimits::new(2e4, 2e5, 2e7))
+        .unwrap()
+        .wait_in_sync(LONG)
+        .unwrap();
+    let want = 100.0 + 2.0 * table.eval(9_000.0).s;
+    assert!((at - want).abs() < 1e-6, "absolute: {at} vs {want}");
 }
 
 /// A PT/PVT stream and a coupling do not mix: MC_GearIn on a streaming axis is refused, and

@@ -1572,6 +1572,11 @@ typedef struct mc_cam_settings {
    * Multiplies the table's slave position (nonzero).
    */
   double slave_scale;
+  /**
+   * Nonzero: PLCopen StartMode relative (the card shifts the slave offset so the cam starts
+   * where the slave stands). 0: absolute, ramped in within the limits.
+   */
+  uint32_t relative;
 } mc_cam_settings;
 
 /**

@@ -41,6 +41,9 @@ pub struct mc_cam_settings {
     pub master_scale: f64,
     /// Multiplies the table's slave position (nonzero).
     pub slave_scale: f64,
+    /// Nonzero: PLCopen StartMode relative (the card shifts the slave offset so the cam starts
+    /// where the slave stands). 0: absolute, ramped in within the limits.
+    pub relative: u32,
 }
 
 fn cam_of(c: *const mc_cam_settings) -> Result<CamSettings, Failure> {
@@ -52,6 +55,7 @@ fn cam_of(c: *const mc_cam_settings) -> Result<CamSettings, Failure> {
         slave_offset: c.slave_offset,
         master_scale: c.master_scale,
         slave_scale: c.slave_scale,
+        relative: c.relative != 0,
     })
 }
 

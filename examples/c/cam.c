@@ -50,7 +50,7 @@ int main(int argc, char **argv) {
 
     CHECK(mc_cam_load_table(c, 0, m, s, NPTS, MC_CAM_CUBIC | MC_CAM_PERIODIC));
     CHECK(mc_cam_load_table(c, 1, m, s2, NPTS, MC_CAM_CUBIC | MC_CAM_PERIODIC));
-    mc_cam_settings cam = {0, 0.0, 0.0, 1.0, 1.0};
+    mc_cam_settings cam = {0, 0.0, 0.0, 1.0, 1.0, 0};
     mc_sync_limits lim = {30000.0, 3e5, 3e7};
     mc_cam_settings missing = cam;
     missing.table = 2;

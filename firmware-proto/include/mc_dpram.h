@@ -535,6 +535,12 @@
 #define MC_CAM_CUBIC (1u << 0)
 #define MC_CAM_PERIODIC (1u << 1)
 #define MC_CAM_AT_CYCLE_END (1u << 4) /* MC_OP_CAM_IN flag (beside the master source) */
+#define MC_CAM_RELATIVE (1u << 5) /* MC_OP_CAM_IN flag: PLCopen StartMode relative. The slave
+                                   * offset is shifted by where the slave stands minus where the
+                                   * table puts it at the master's present position, so the cam
+                                   * starts from the slave's position (only a velocity difference
+                                   * is caught up). Without it: absolute, ramped in. Ignored with
+                                   * MC_CAM_AT_CYCLE_END (a switch continues the slave anyway). */
 #define MC_SYNC_CAM_END 4     /* MC_EV_SYNC: a cam that is not periodic passed its table's end */
 #define MC_SYNC_CAM_SWITCH 5  /* MC_EV_SYNC: the table switched at the end of a cycle (seq: the
                                * MC_OP_CAM_IN that asked for it) */

@@ -55,6 +55,8 @@ pub const CAM_CUBIC: u32 = raw::MC_CAM_CUBIC;
 pub const CAM_PERIODIC: u32 = raw::MC_CAM_PERIODIC;
 /// `MC_OP_CAM_IN` flag: switch at the end of the current cycle.
 pub const CAM_AT_CYCLE_END: u32 = raw::MC_CAM_AT_CYCLE_END;
+/// `MC_OP_CAM_IN` flag: PLCopen StartMode relative (the cam starts where the slave stands).
+pub const CAM_RELATIVE: u32 = raw::MC_CAM_RELATIVE;
 
 /// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

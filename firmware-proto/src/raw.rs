@@ -201,6 +201,7 @@ pub const MC_CAM_DATA_MAX: u32 = 5;
 pub const MC_CAM_CUBIC: u32 = 1;
 pub const MC_CAM_PERIODIC: u32 = 2;
 pub const MC_CAM_AT_CYCLE_END: u32 = 16;
+pub const MC_CAM_RELATIVE: u32 = 32;
 pub const MC_SYNC_CAM_END: u32 = 4;
 pub const MC_SYNC_CAM_SWITCH: u32 = 5;
 pub const MC_NACK_CAM_TABLE: u32 = 105;

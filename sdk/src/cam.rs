@@ -14,7 +14,9 @@
 use crate::card::{finite, Axis, Card, Motion, Outcome};
 use crate::error::{Result, Target};
 use crate::sync::{Master, SyncLimits};
-use firmware_proto::{Opcode, SyncEvent, CAM_AT_CYCLE_END, CAM_CUBIC, CAM_DATA_MAX, CAM_PERIODIC};
+use firmware_proto::{
+    Opcode, SyncEvent, CAM_AT_CYCLE_END, CAM_CUBIC, CAM_DATA_MAX, CAM_PERIODIC, CAM_RELATIVE,
+};
 use std::time::Duration;
 
 /// Which cam table, and how it maps the master onto the slave (counts).
@@ -30,6 +32,10 @@ pub struct CamSettings {
     pub master_scale: f64,
     /// The table's slave position is multiplied by it (nonzero).
     pub slave_scale: f64,
+    /// PLCopen StartMode relative: the card shifts the slave offset so that the cam starts
+    /// where the slave stands (only a velocity difference is caught up). Else absolute: the
+    /// slave ramps onto `slave_offset + slave_scale · table(…)` within the limits.
+    pub relative: bool,
 }
 
 impl CamSettings {
@@ -41,6 +47,7 @@ impl CamSettings {
             slave_offset: 0.0,
             master_scale: 1.0,
             slave_scale: 1.0,
+            relative: false,
         }
     }
 }
@@ -116,12 +123,13 @@ impl Axis {
         Ok(Motion::new(self.card().clone(), self.index(), seq))
     }
 
-    /// MC_CamIn (Aborting): this axis follows `master` through cam table `cam.table`, caught up
-    /// within `limits`; [`Motion::wait_in_sync`] returns once it is on the cam. Refused:
+    /// MC_CamIn (Aborting): this axis follows `master` through cam table `cam.table` (from
+    /// where it stands with `cam.relative`), caught up within `limits`; [`Motion::wait_in_sync`] returns once it is on the cam. Refused:
     /// `CamTable` (not loaded), `SyncMaster`, `OutOfRange` (a scale of 0 or beyond 10^±9),
     /// `Infeasible`.
     pub fn cam_in(&self, master: Master, cam: &CamSettings, limits: &SyncLimits) -> Result<Motion> {
-        let m = self.cam_command(master, cam, limits, 0, "cam_in")?;
+        let start = if cam.relative { CAM_RELATIVE } else { 0 };
+        let m = self.cam_command(master, cam, limits, start, "cam_in")?;
         Ok(self.started(m.seq()))
     }
 

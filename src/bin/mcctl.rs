@@ -314,6 +314,9 @@ enum Cmd {
         master_scale: f64,
         #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
         slave_scale: f64,
+        /// Start where the slave stands (PLCopen StartMode relative; else absolute, ramped in).
+        #[arg(long)]
+        relative: bool,
         #[command(flatten)]
         sync: SyncArgs,
         #[command(flatten)]
@@ -566,9 +569,11 @@ fn main() -> ExitCode {
                             count: count as u32,
                         }
                     }
-                    _ => return bad(format!(
+                    _ => {
+                        return bad(format!(
                         "--series takes START,PITCH,COUNT (COUNT a whole number >= 1), got {v:?}"
-                    )),
+                    ))
+                    }
                 },
                 (None, None, Some(f)) => {
                     let rows = std::fs::read_to_string(&f)
@@ -668,6 +673,7 @@ fn main() -> ExitCode {
             slave_offset,
             master_scale,
             slave_scale,
+            relative,
             sync,
             travel,
             json,
@@ -693,6 +699,7 @@ fn main() -> ExitCode {
                     slave_offset,
                     master_scale,
                     slave_scale,
+                    relative,
                 },
             };
             on_card(uri, |card| {

@@ -342,7 +342,8 @@ pub struct CamJob {
 }
 
 /// `mcctl cam`: load the table, MC_CamIn, the master's move, MC_CamOut. Reports where the
-/// slave ended against where the table puts it for the master's end position.
+/// slave ended against where the table puts it for the master's end position (relative: the
+/// table's difference from where the cam started).
 pub fn cam(card: &Card, c: &Coupling, job: &CamJob, json: bool) -> Result<String> {
     let cs = &job.settings;
     // The card's refusal first (`CamTable`, `NotFinite`); then the same table on the host.
@@ -351,9 +352,14 @@ pub fn cam(card: &Card, c: &Coupling, job: &CamJob, json: bool) -> Result<String
         Error::Protocol(format!("the card took a cam table the host refuses: {e:?}"))
     })?;
     let slave = card.axis(c.slave)?;
-    let [_, (m, s)] = couple(card, c, || slave.cam_in(c.master, cs, &c.limits))?;
-    let want =
-        cs.slave_offset + cs.slave_scale * table.eval((m - cs.master_offset) / cs.master_scale).s;
+    let [(m0, s0), (m, s)] = couple(card, c, || slave.cam_in(c.master, cs, &c.limits))?;
+    let at = |m: f64| cs.slave_scale * table.eval((m - cs.master_offset) / cs.master_scale).s;
+    // Relative: the card moved the offset so that the cam started where the slave stood.
+    let want = if cs.relative {
+        s0 + at(m) - at(m0)
+    } else {
+        cs.slave_offset + at(m)
+    };
     Ok(if json {
         json!({
             "slave": c.slave,

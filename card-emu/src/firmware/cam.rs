@@ -16,7 +16,7 @@ use crate::firmware::Firmware;
 use crate::motion::cam::{CamError, CamTable};
 use firmware_proto::{
     Command, MasterSource, Mem, NackCode, Opcode, AUX_ENCODERS, CAM_AT_CYCLE_END, CAM_CUBIC,
-    CAM_DATA_MAX, CAM_MAX_POINTS, CAM_PERIODIC, CAM_TABLES,
+    CAM_DATA_MAX, CAM_MAX_POINTS, CAM_PERIODIC, CAM_RELATIVE, CAM_TABLES,
 };
 use heapless::Vec;
 
@@ -72,8 +72,8 @@ impl GearCommand {
         if a.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
-        let source =
-            MasterSource::from_raw(flags & !CAM_AT_CYCLE_END).ok_or(NackCode::SyncMaster)?;
+        let source = MasterSource::from_raw(flags & !(CAM_AT_CYCLE_END | CAM_RELATIVE))
+            .ok_or(NackCode::SyncMaster)?;
         let count = match source {
             MasterSource::Aux => AUX_ENCODERS,
             _ => num_axes,

@@ -54,7 +54,8 @@ use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::servo::ffpiv::Reference;
 use firmware_proto::{
     layout, raw, AxisState, Command, EventKind, GearRatio, MasterSource, Mem, NackCode, Opcode,
-    SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, COMMANDED_SUBCOUNTS, MAX_AXES, MAX_MOVE_TIME,
+    SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, CAM_RELATIVE, COMMANDED_SUBCOUNTS, MAX_AXES,
+    MAX_MOVE_TIME,
 };
 
 /// Samples of the quintic checked against the slave's limits (MC_GearInPos).
@@ -746,8 +747,22 @@ impl<M: Mem + Clone> Firmware<M> {
                 GearCommand::decode(&c.args, c.flags, pos, ax, self.num_axes, rate)?
             }
         };
+        let mut cmd = cmd;
         let m = cmd.master.sample(&self.axes[..self.num_axes], &self.aux);
         let tables = self.cams.as_deref().map_or(&[][..], |s| s.tables());
+        if let (Law::Cam(law), true) = (&mut cmd.law, c.flags & CAM_RELATIVE != 0) {
+            // StartMode relative: the table's position here is moved onto the slave's.
+            let t = tables
+                .get(law.table)
+                .and_then(Option::as_ref)
+                .ok_or(NackCode::CamTable)?;
+            let x = m.count as f64 / cmd.master.per_count() as f64;
+            let here = law.s_off + law.s_scale * t.eval((x - law.m_off) / law.m_scale).s;
+            law.s_off += self.axes[ax].reference().pos - here;
+            if law.s_off.is_nan() || law.s_off.abs() > firmware_proto::MAX_POSITION {
+                return Err(NackCode::OutOfRange);
+            }
+        }
         self.gears[ax]
             .start(&mut self.axes[ax], c.seq, &cmd, &m, tables)
             .map(|s| (s, true))

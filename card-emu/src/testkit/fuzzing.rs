@@ -492,7 +492,11 @@ fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
         Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
         Opcode::PvtBegin => (s.u8() % 2) as u32,
         Opcode::CamTable => (s.u8() % 4) as u32,
-        Opcode::CamIn => (s.u8() % 3) as u32 | (s.u8() as u32 & firmware_proto::CAM_AT_CYCLE_END),
+        Opcode::CamIn => {
+            (s.u8() % 3) as u32
+                | (s.u8() as u32
+                    & (firmware_proto::CAM_AT_CYCLE_END | firmware_proto::CAM_RELATIVE))
+        }
         Opcode::PvtPoints => (s.u8() % 2) as u32 * firmware_proto::PVT_LAST,
         Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
             s.u8() as u32 & move_flags::BUFFERED
