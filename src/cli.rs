@@ -1,11 +1,16 @@
-//! What `mcctl` does against a card (`--card URI`): status, moves (absolute, relative,
-//! additive, velocity), jog, override, halt, I/O and PT/PVT; compare, probe, gearing and
+//! What `mcctl` does against a card (`--card URI`): info, status (and watch), power, moves
+//! (absolute, relative, additive, velocity), jog, override, halt, stop, reset, I/O and PT/PVT; compare, probe, gearing and
 //! camming in [`machine`]. Each returns the text to print (a table, or one
 //! JSON object with `json`), or the SDK's error.
 
+use crate::proto::raw;
 use crate::{
-    AxisState, BufferMode, Card, MotionFlags, MoveKind, MoveLimits, Result, Status, VelocityLimits,
+    AxisState, BufferMode, Card, GroupState, GroupStatus, MotionFlags, MoveKind, MoveLimits,
+    Result, Status, VelocityLimits,
 };
+
+/// Groups on every card.
+const MAX_GROUPS: usize = raw::MC_MAX_GROUPS as usize;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -40,20 +45,45 @@ fn status_json(axis: usize, s: &Status) -> serde_json::Value {
     })
 }
 
-/// `mcctl status`: every axis (or one), as a table or a JSON array.
+fn group_json(group: usize, state: GroupState, g: &GroupStatus) -> serde_json::Value {
+    json!({
+        "group": group,
+        "state": format!("{state:?}"),
+        "queued": g.queued,
+        "path_queued": g.path_queued,
+        "path_free": g.path_free,
+        "path_id": g.path_id,
+        "path_done": g.path_done,
+        "feed": g.feed,
+        "feed_override": g.feed_override,
+        "tick": g.tick,
+    })
+}
+
+/// `mcctl status`: every axis (or one) and every group, as a table or one JSON object
+/// (`tick`, `axes`, `groups`).
 pub fn status(card: &Card, axis: Option<usize>, json: bool) -> Result<String> {
     let axes: Vec<usize> = match axis {
         Some(a) => vec![a],
         None => (0..card.info().axes).collect(),
     };
     let statuses = card.statuses(&axes)?;
+    let groups = (0..MAX_GROUPS)
+        .map(|g| card.group(g)?.status())
+        .collect::<Result<Vec<_>>>()?;
     if json {
         let rows: Vec<_> = axes
             .iter()
             .zip(&statuses)
             .map(|(&a, s)| status_json(a, s))
             .collect();
-        return Ok(serde_json::Value::Array(rows).to_string());
+        let gs: Vec<_> = groups
+            .iter()
+            .enumerate()
+            .map(|(g, (state, st))| group_json(g, *state, st))
+            .collect();
+        let tick = statuses.first().map_or(0, |s| s.raw.tick);
+        return Ok(json!({ "tick": tick, "axes": rows, "groups": gs }).to_string());
     }
     let mut out = String::new();
     let _ = writeln!(
@@ -79,6 +109,136 @@ pub fn status(card: &Card, axis: Option<usize>, json: bool) -> Result<String> {
             s.override_factor * 100.0,
             s.faults.bits()
         );
+    }
+    let _ = writeln!(
+        out,
+        "{:>5} {:<17} {:>6} {:>11} {:>10} {:>12} {:>5}",
+        "group", "state", "queue", "path q/free", "segment", "feed", "ovr%"
+    );
+    for (g, (state, st)) in groups.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "{g:>5} {:<17} {:>6} {:>11} {:>10} {:>12.3} {:>5.0}",
+            format!("{state:?}"),
+            st.queued,
+            format!("{}/{}", st.path_queued, st.path_free),
+            st.path_id,
+            st.feed,
+            st.feed_override * 100.0
+        );
+    }
+    Ok(out)
+}
+
+/// `mcctl status --watch`: the status every `every` until `count` refreshes (0: until
+/// interrupted), printed as it comes: the table redrawn on a terminal (else one after the
+/// other), or one JSON object per line.
+pub fn watch(
+    card: &Card,
+    axis: Option<usize>,
+    json: bool,
+    every: Duration,
+    count: u64,
+) -> Result<String> {
+    use std::io::{IsTerminal, Write};
+    let redraw = !json && std::io::stdout().is_terminal();
+    let mut n = 0;
+    loop {
+        let text = status(card, axis, json)?;
+        let mut o = std::io::stdout().lock();
+        if redraw {
+            let _ = write!(o, "\x1b[H\x1b[2J");
+        }
+        let _ = writeln!(o, "{}", text.trim_end());
+        let _ = o.flush();
+        n += 1;
+        if count != 0 && n >= count {
+            return Ok(String::new());
+        }
+        hold_for(card, every);
+    }
+}
+
+/// `mcctl info`: what the card is.
+pub fn info(card: &Card, json: bool) -> Result<String> {
+    let i = card.info();
+    let v = i.firmware_version;
+    let version = format!("{}.{}.{}", v >> 16, (v >> 8) & 0xff, v & 0xff);
+    let caps: Vec<&str> = [
+        (raw::MC_CAP_SCURVE, "s-curve"),
+        (raw::MC_CAP_FFPIV, "ffpiv"),
+        (raw::MC_CAP_EVENT_IRQ, "event-irq"),
+    ]
+    .iter()
+    .filter(|(bit, _)| i.capabilities & bit != 0)
+    .map(|(_, name)| *name)
+    .collect();
+    Ok(if json {
+        json!({
+            "firmware": version,
+            "layout": [i.layout.0, i.layout.1],
+            "axes": i.axes,
+            "groups": MAX_GROUPS,
+            "servo_rate_hz": i.servo_rate_hz,
+            "capabilities": caps,
+        })
+        .to_string()
+    } else {
+        format!(
+            "firmware {version}, DPRAM layout {}.{}\n{} axes, {MAX_GROUPS} groups, servo {} Hz\n\
+             capabilities: {}\n",
+            i.layout.0,
+            i.layout.1,
+            i.axes,
+            i.servo_rate_hz,
+            caps.join(", ")
+        )
+    })
+}
+
+/// `mcctl enable` / `disable`: power the axes on or off (MC_Power).
+pub fn power(card: &Card, axes: &[usize], on: bool) -> Result<String> {
+    let mut out = String::new();
+    for &a in axes {
+        let ax = card.axis(a)?;
+        if on {
+            ax.enable()?;
+        } else {
+            ax.disable()?;
+        }
+        let _ = writeln!(out, "axis {a}: {}", state_name(ax.status()?.state));
+    }
+    Ok(out)
+}
+
+/// `mcctl stop`: MC_Stop within the deceleration and jerk, waited for; then the stop is
+/// released (MC_Stop's Execute falling) unless `hold`, and the axis is in Standstill again.
+pub fn stop(card: &Card, axis: usize, deceleration: f64, jerk: f64, hold: bool) -> Result<String> {
+    let ax = card.axis(axis)?;
+    let at = ax.stop(deceleration, jerk)?.wait(WAIT)?;
+    if !hold {
+        ax.release_stop()?;
+    }
+    Ok(format!(
+        "axis {axis}: stopped at {at}, {}\n",
+        state_name(ax.status()?.state)
+    ))
+}
+
+/// `mcctl reset`: MC_Reset on the axes (ErrorStop to Standstill or Disabled), after the card's
+/// latched safety faults (e-stop, watchdog) with `faults`.
+pub fn reset(card: &Card, axes: &[usize], faults: bool) -> Result<String> {
+    if faults {
+        card.reset_faults()?;
+    }
+    let mut out = String::new();
+    if axes.is_empty() {
+        out.push_str("no axis to reset\n");
+    }
+    for &a in axes {
+        let ax = card.axis(a)?;
+        ax.reset()?;
+        let _ = writeln!(out, "axis {a}: {}", state_name(ax.status()?.state));
     }
     Ok(out)
 }

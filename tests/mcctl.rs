@@ -266,9 +266,11 @@ fn card_commands_move_jog_override_and_status() {
     assert!(out.contains("axis 1: jogged to -"), "{out}");
     let (code, out, _) = mcctl(&["status", "--json"]);
     assert_eq!(code, 0);
-    let rows: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    assert_eq!(rows.as_array().unwrap().len(), 8);
-    assert_eq!(rows[0]["state"], "Disabled");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["axes"].as_array().unwrap().len(), 8);
+    assert_eq!(j["axes"][0]["state"], "Disabled");
+    assert_eq!(j["groups"].as_array().unwrap().len(), 4);
+    assert_eq!(j["groups"][0]["path_free"], 4096);
     for (args, why) in [
         (
             vec!["override", "0", "2.5"],
@@ -641,4 +643,76 @@ fn gear_and_cam_from_the_command_line() {
     assert_eq!(code, 1);
     assert!(err.contains("gear ratio"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The card commands one after another against one card that outlives each mcctl process (an
+/// `emu:NAME` card served by this test): power, a move, a stop, status and its watch, info,
+/// reset.
+#[test]
+fn one_card_across_mcctl_processes() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    use std::os::fd::AsFd;
+    let name = format!("test-mcctl-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let _server = Server::start(&name, window, irq).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let (code, out, err) = on(&["info", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["axes"], 4, "{out}");
+    assert_eq!(j["servo_rate_hz"], 10_000, "{out}");
+    let (code, out, err) = on(&["enable", "0", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out, "axis 0: Standstill\naxis 1: Standstill\n");
+    // Enabled by one process, moved by the next.
+    let (code, _, err) = on(&["move", "1", "-4000"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = on(&["stop", "1", "--dmax", "2e6"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("Standstill"), "{out}");
+    let (code, out, err) = on(&[
+        "status",
+        "--watch",
+        "--count",
+        "3",
+        "--interval",
+        "0.02",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 3, "{out}");
+    assert!(
+        rows.windows(2)
+            .all(|w| w[1]["tick"].as_u64() > w[0]["tick"].as_u64()),
+        "{out}"
+    );
+    let a1 = &rows[2]["axes"][1];
+    assert_eq!(a1["state"], "Standstill");
+    assert!(
+        (a1["command_position"].as_f64().unwrap() + 4000.0).abs() <= 1.0,
+        "{a1}"
+    );
+    let (code, out, _) = on(&["reset"]);
+    assert_eq!((code, out.as_str()), (0, "no axis to reset\n"));
+    let (code, out, err) = on(&["disable", "0"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out, "axis 0: Disabled\n");
+    let (code, _, err) = on(&["stop", "0"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("disabled"), "{err}");
+    let (code, _, _) = on(&["status", "--watch", "--interval", "-1"]);
+    assert_eq!(code, 2);
 }

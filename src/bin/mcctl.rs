@@ -6,7 +6,9 @@
 //! mcctl plan 100000 --vmax 2e5 --amax 2e6 --dmax 1e6 --jmax 1e8 --jdec 2e7 --json
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
 //! mcctl plan 100 --vmax 10 --amax 100 --jmax 1e3 --v0 -15 --a0 0     # from any state (time-optimal)
-//! mcctl --card emu:bench1 status                     # a table of the axes (--json: one array)
+//! mcctl --card emu:bench1 info                       # firmware, layout, axes, servo rate
+//! mcctl --card emu:bench1 status --watch             # axes and groups, live (--json: one object)
+//! mcctl --card emu:bench1 enable 0 1                 # MC_Power (disable, stop, reset likewise)
 //! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable
 //! mcctl --card emu:bench1 move 0 20000 --velocity --for 2   # velocity mode for 2 s
 //! mcctl --card emu:bench1 override 0 0.5             # 50 %
@@ -324,14 +326,58 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
-    /// The axes' state, positions, velocity, following error, queue, override and faults.
+    /// The axes' state, positions, velocity, following error, queue, override and faults, and
+    /// the groups' state, queues, path segment and feed.
     Status {
         /// Only this axis.
         #[arg(long)]
         axis: Option<usize>,
-        /// One JSON array instead of a table.
+        /// Refresh until interrupted (a live table; with --json one object per line).
+        #[arg(long)]
+        watch: bool,
+        /// --watch: seconds between refreshes.
+        #[arg(long, default_value_t = 0.2)]
+        interval: f64,
+        /// --watch: stop after this many refreshes (0: never).
+        #[arg(long, default_value_t = 0)]
+        count: u64,
+        /// One JSON object (`tick`, `axes`, `groups`) instead of a table.
         #[arg(long)]
         json: bool,
+    },
+    /// What the card is: firmware and layout versions, axes, groups, servo rate, capabilities.
+    Info {
+        #[arg(long)]
+        json: bool,
+    },
+    /// MC_Power on: enable the axes.
+    Enable {
+        #[arg(required = true)]
+        axes: Vec<usize>,
+    },
+    /// MC_Power off: disable the axes.
+    Disable {
+        #[arg(required = true)]
+        axes: Vec<usize>,
+    },
+    /// MC_Stop: decelerate to rest, then release the stop (the axis in Standstill again;
+    /// --hold keeps it Stopping until the session ends).
+    Stop {
+        axis: usize,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1e6)]
+        dmax: f64,
+        #[arg(long, allow_negative_numbers = true, default_value_t = 5e7)]
+        jmax: f64,
+        #[arg(long)]
+        hold: bool,
+    },
+    /// MC_Reset: the axes out of ErrorStop; --faults first resets the card's latched safety
+    /// faults (e-stop, host watchdog).
+    Reset {
+        /// The axes (none: every axis in ErrorStop).
+        axes: Vec<usize>,
+        #[arg(long)]
+        faults: bool,
     },
     /// MC_MoveAbsolute (default), MC_MoveRelative, MC_MoveAdditive or MC_MoveVelocity, and wait
     /// until done (velocity mode: run --for seconds, then halt). The axis runs only while
@@ -464,7 +510,7 @@ fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> Ex
     match run() {
         Ok(text) => {
             print!("{text}");
-            if !text.ends_with('\n') {
+            if !text.is_empty() && !text.ends_with('\n') {
                 println!();
             }
             ExitCode::SUCCESS
@@ -540,7 +586,48 @@ fn main() -> ExitCode {
     let cli = Cli::parse(); // clap exits with status 2 on malformed arguments
     let uri = cli.card.as_str();
     match cli.command {
-        Cmd::Status { axis, json } => on_card(uri, |c| cli::status(c, axis, json)),
+        Cmd::Status {
+            axis,
+            watch,
+            interval,
+            count,
+            json,
+        } => {
+            if !watch {
+                return on_card(uri, |c| cli::status(c, axis, json));
+            }
+            if !(interval.is_finite() && interval > 0.0) {
+                return bad(format!(
+                    "--interval must be a number of seconds > 0, got {interval}"
+                ));
+            }
+            let every = Duration::from_secs_f64(interval);
+            on_card(uri, |c| cli::watch(c, axis, json, every, count))
+        }
+        Cmd::Info { json } => on_card(uri, |c| cli::info(c, json)),
+        Cmd::Enable { axes } => on_card(uri, |c| cli::power(c, &axes, true)),
+        Cmd::Disable { axes } => on_card(uri, |c| cli::power(c, &axes, false)),
+        Cmd::Stop {
+            axis,
+            dmax,
+            jmax,
+            hold,
+        } => on_card(uri, |c| cli::stop(c, axis, dmax, jmax, hold)),
+        Cmd::Reset { axes, faults } => on_card(uri, |c| {
+            let axes = if axes.is_empty() {
+                // Every axis that needs it.
+                let all: Vec<usize> = (0..c.info().axes).collect();
+                let st = c.statuses(&all)?;
+                all.into_iter()
+                    .zip(st)
+                    .filter(|(_, s)| s.state == motioncard::AxisState::ErrorStop)
+                    .map(|(a, _)| a)
+                    .collect()
+            } else {
+                axes
+            };
+            cli::reset(c, &axes, faults)
+        }),
         Cmd::Io { set_outputs, json } => {
             let set = set_outputs.map(|v| (v[0], v[1]));
             on_card(uri, |c| cli::io(c, set, json))
