@@ -196,6 +196,30 @@ pub fn info(card: &Card, json: bool) -> Result<String> {
     })
 }
 
+/// `mcctl replay`: what the replay found.
+pub fn replay_report(r: &crate::ReplayReport, json: bool) -> String {
+    let h = &r.header;
+    if json {
+        return json!({
+            "recorded_on": h.uri,
+            "axes": h.axes,
+            "servo_rate_hz": h.servo_rate_hz,
+            "commands": r.commands,
+            "events": r.events,
+            "difference": r.difference.as_ref().map(|(line, what)| json!({ "line": line, "what": what })),
+        })
+        .to_string();
+    }
+    let head = format!(
+        "replayed {} commands, compared {} events (recorded on {}, {} axes, {} Hz)",
+        r.commands, r.events, h.uri, h.axes, h.servo_rate_hz
+    );
+    match &r.difference {
+        None => format!("{head}: no difference"),
+        Some((line, what)) => format!("{head}\nfirst difference at line {line}: {what}"),
+    }
+}
+
 /// `mcctl enable` / `disable`: power the axes on or off (MC_Power).
 pub fn power(card: &Card, axes: &[usize], on: bool) -> Result<String> {
     let mut out = String::new();

@@ -716,3 +716,31 @@ fn one_card_across_mcctl_processes() {
     let (code, _, _) = on(&["status", "--watch", "--interval", "-1"]);
     assert_eq!(code, 2);
 }
+
+/// An API trace of one mcctl run (by the environment), replayed by another; a tampered trace
+/// reports its first difference with exit status 1.
+#[test]
+fn replay_a_trace_from_the_command_line() {
+    let trace = std::env::temp_dir().join(format!("mcctl-trace-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+        .args(["move", "0", "5000", "--enable"])
+        .env(motioncard::TRACE_ENV, &trace)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let t = trace.to_str().unwrap();
+    let j = json_of(&["replay", t, "--json"]);
+    assert_eq!(j["difference"], serde_json::Value::Null, "{j}");
+    assert_eq!(j["commands"], 2, "{j}");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    std::fs::write(&trace, text.replacen(" 5000.0 ", " 4999.0 ", 1)).unwrap();
+    let (code, out, _) = mcctl(&["replay", t]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("first difference at line") && out.contains("4999"),
+        "{out}"
+    );
+    let (code, _, err) = mcctl(&["--card", "emu:x", "replay", t]);
+    assert_eq!(code, 2, "{err}");
+    let _ = std::fs::remove_file(&trace);
+}

@@ -1119,3 +1119,21 @@ fn a_statically_linked_program_runs_without_the_shared_library() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// `MOTIONCARD_TRACE` records what a C program asks of the card (no code change in the
+/// program), and the trace replays on an emulated card without a difference.
+#[test]
+fn a_c_program_is_traced_by_the_environment_and_replays() {
+    let exe = compile("move", Link::Shared);
+    let trace = std::env::temp_dir().join(format!("mc-c-trace-{}", std::process::id()));
+    let mut cmd = Command::new(&exe);
+    cmd.arg("stepped")
+        .env("LD_LIBRARY_PATH", installed().prefix.join("lib"))
+        .env(motioncard_sdk::TRACE_ENV, &trace);
+    let out = run_to_end(cmd);
+    assert!(out.status.success(), "{out:?}");
+    let r = motioncard_sdk::replay(&trace).unwrap();
+    assert_eq!(r.difference, None, "{r:?}");
+    assert!(r.commands >= 5 && r.events >= 5, "{r:?}");
+    let _ = std::fs::remove_file(&trace);
+}

@@ -162,6 +162,8 @@ pub(crate) struct Inner {
     heartbeat: Mutex<Option<crate::heartbeat::Heartbeat>>,
     /// Axes the attach stopped because the previous host had vanished without closing.
     inherited_stops: u32,
+    /// The API trace, when one is recorded.
+    trace: Option<crate::trace::Tracer>,
 }
 
 /// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
@@ -181,17 +183,40 @@ impl Card {
     /// died or hung), the card stops every axis that host left enabled (category 1, reason
     /// [`crate::StopReason::HostChanged`]; see [`Card::inherited_stops`]), so a new host never
     /// inherits motion it did not start.
+    ///
+    /// With [`crate::trace::TRACE_ENV`] set, the card records an API trace ([`crate::trace`]).
     pub fn open(uri: &str) -> Result<Card> {
-        Self::attach(uri, device::open(uri)?)
+        Self::attach(uri, device::open(uri)?, crate::trace::Tracer::from_env()?)
+    }
+
+    /// [`Card::open`], recording an API trace to `trace` ([`crate::trace`]).
+    pub fn open_traced(uri: &str, trace: &std::path::Path) -> Result<Card> {
+        let t = crate::trace::Tracer::create(trace)?;
+        Self::attach(uri, device::open(uri)?, Some(t))
     }
 
     /// Open an in-process emulated card with explicit options (for example a stepped clock).
     #[cfg(feature = "emulator")]
     pub fn open_sim(opts: SimOptions) -> Result<Card> {
-        Self::attach("sim", device::open_sim(&opts)?)
+        Self::attach(
+            "sim",
+            device::open_sim(&opts)?,
+            crate::trace::Tracer::from_env()?,
+        )
     }
 
-    fn attach(uri: &str, dev: Device) -> Result<Card> {
+    /// [`Card::open_sim`], recording an API trace to `trace` ([`crate::trace`]).
+    #[cfg(feature = "emulator")]
+    pub fn open_sim_traced(opts: SimOptions, trace: &std::path::Path) -> Result<Card> {
+        let t = crate::trace::Tracer::create(trace)?;
+        Self::attach("sim", device::open_sim(&opts)?, Some(t))
+    }
+
+    pub(crate) fn attach(
+        uri: &str,
+        dev: Device,
+        trace: Option<crate::trace::Tracer>,
+    ) -> Result<Card> {
         let w = &dev.window;
         let magic = w.read32(layout::MAGIC);
         if magic != firmware_proto::MAGIC {
@@ -237,6 +262,9 @@ impl Card {
             servo_rate_hz: w.read32(layout::SERVO_RATE_HZ),
             capabilities: w.read32(layout::CAPABILITIES),
         };
+        if let Some(t) = &trace {
+            t.header(uri, info.layout, info.axes, info.servo_rate_hz);
+        }
         // Every event kind raises the interrupt.
         w.write32(layout::IRQ_MASK, u32::MAX);
         let tx = CmdProducer::attach(w.clone(), CMD_RING);
@@ -270,6 +298,7 @@ impl Card {
             last_group_motion: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
+            trace,
         };
         // [safety] the session first, then the heartbeat: the card stops what a vanished host
         // left moving before this host's heartbeat could feed its watchdog.
@@ -388,7 +417,7 @@ impl Card {
             servo_rate_hz: hz,
             ..Default::default()
         };
-        layout::CARD_CONFIG.write(&self.inner.dev.window, &block);
+        self.write_block(layout::CARD_CONFIG, &block);
         self.execute(
             Command::new(Opcode::ApplyCardConfig, 0),
             "set_servo_rate",
@@ -600,12 +629,18 @@ impl Card {
         let saved = at.read(w);
         let mut block = saved;
         change(&mut block);
-        at.write(w, &block);
+        self.write_block(at, &block);
         let r = self.execute(cmd, what, target);
         if matches!(r, Err(Error::Nack { .. })) {
-            at.write(w, &saved);
+            self.write_block(at, &saved);
         }
         r
+    }
+
+    /// Write a configuration block into the window (and into the trace).
+    pub(crate) fn write_block<B: Block>(&self, at: BlockAt<B>, block: &B) {
+        at.write(self.window(), block);
+        self.inner.traced(at.range());
     }
 
     /// Is the card alive, given a tick it published (see [`Card::stale_limit`])?
@@ -691,9 +726,30 @@ impl Inner {
         emu.step();
     }
 
-    fn send_raw(&self, cmd: Command) -> Result<u32> {
+    pub(crate) fn send_raw(&self, cmd: Command) -> Result<u32> {
         self.link.check()?;
         self.push(cmd)
+    }
+
+    /// Take the events in the card's ring as they are (a replay compares them), without the
+    /// bookkeeping of [`Inner::drain`].
+    #[cfg(feature = "emulator")]
+    pub(crate) fn take_raw_events(&self, out: &mut VecDeque<Event>) -> Result<()> {
+        let mut rx = lock(&self.rx);
+        loop {
+            match rx.ring.pop() {
+                Ok(Some(e)) => out.push_back(e),
+                Ok(None) => return Ok(()),
+                Err(e) => return Err(Error::Protocol(format!("event ring: {e}"))),
+            }
+        }
+    }
+
+    /// The host wrote the window over `range`: into the trace.
+    pub(crate) fn traced(&self, range: std::ops::Range<usize>) {
+        if let Some(t) = &self.trace {
+            t.block(&self.dev.window, range);
+        }
     }
 
     /// Put a command into the ring (whether the session is closed is the caller's business).
@@ -727,6 +783,9 @@ impl Inner {
             }
         }
         tx.deadlines[(cmd.seq & (CMD_RING.len - 1)) as usize] = cmd.deadline_ms;
+        if let Some(t) = &self.trace {
+            t.command(&cmd);
+        }
         w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
         drop(tx);
         #[cfg(feature = "emulator")]
@@ -821,6 +880,9 @@ impl Inner {
                 Ok(None) => return Ok(()),
                 Err(e) => return Err(Error::Protocol(format!("event ring: {e}"))),
             };
+            if let Some(t) = &self.trace {
+                t.event(&e);
+            }
             let Some(kind) = e.kind() else { continue };
             match kind {
                 EventKind::Ack => push_capped(&mut rx.acks, (e.seq, Ok(e.value)), OUTCOME_CAP),

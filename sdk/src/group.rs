@@ -302,9 +302,8 @@ impl Group {
             tolerance: s.tolerance * self.card.scale(s.axes[0]).abs(),
             ..Default::default()
         };
-        layout::GROUP_CONFIG
-            .at(self.index)
-            .write(self.card.window(), &block);
+        self.card
+            .write_block(layout::GROUP_CONFIG.at(self.index), &block);
         self.run(self.op(Opcode::GroupConfigure), "group configure")?;
         let mut axes = [0usize; MAX_AXES];
         axes[..n].copy_from_slice(&s.axes);
@@ -718,9 +717,7 @@ impl Axis {
             block.kind[i] = card_emu::firmware::group::FilterConfig::kind_to_raw(kind);
             block.tau[i] = tau;
         }
-        layout::AXIS_FILTER
-            .at(a)
-            .write(self.card().window(), &block);
+        self.card().write_block(layout::AXIS_FILTER.at(a), &block);
         self.card()
             .execute_seq(
                 Command::new(Opcode::ApplyAxisFilter, a as u16),

@@ -34,9 +34,12 @@ mod modes;
 mod nurbs;
 mod path;
 mod pvt;
+#[cfg(feature = "emulator")]
+mod replay;
 mod safety;
 mod session;
 mod sync;
+pub mod trace;
 
 pub use cam::CamSettings;
 #[cfg(feature = "emulator")]
@@ -82,9 +85,12 @@ pub use path::{
     Segment, StreamError, Transition,
 };
 pub use pvt::{PvtLimits, PvtMode, PvtPoint};
+#[cfg(feature = "emulator")]
+pub use replay::{replay, ReplayReport, TraceHeader};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
+pub use trace::TRACE_ENV;
 
 /// The card's S-curve planner, and the time-optimal planner from any state
 /// (`card_emu::motion::otg`), for previewing a move on the host (`mcctl plan`).

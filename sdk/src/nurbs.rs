@@ -47,9 +47,12 @@ impl Axis {
     pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
         let w = self.card().window();
         let a = self.index();
-        layout::AXIS_PDPLUS.at(a).write(w, s);
-        let law = core::mem::offset_of!(raw::mc_axis_config, servo_law);
-        w.write32(layout::AXIS_CONFIG.at(a).field(law), raw::MC_SERVO_PDPLUS);
+        self.card().write_block(layout::AXIS_PDPLUS.at(a), s);
+        let law = layout::AXIS_CONFIG
+            .at(a)
+            .field(core::mem::offset_of!(raw::mc_axis_config, servo_law));
+        w.write32(law, raw::MC_SERVO_PDPLUS);
+        self.card().inner().traced(law..law + 4);
         self.card()
             .execute_seq(
                 Command::new(Opcode::ApplyAxisConfig, a as u16),

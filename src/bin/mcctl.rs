@@ -7,6 +7,7 @@
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
 //! mcctl plan 100 --vmax 10 --amax 100 --jmax 1e3 --v0 -15 --a0 0     # from any state (time-optimal)
 //! mcctl --card emu:bench1 info                       # firmware, layout, axes, servo rate
+//! MOTIONCARD_TRACE=run.trace ./my_program && mcctl replay run.trace   # API trace, replayed
 //! mcctl --card emu:bench1 status --watch             # axes and groups, live (--json: one object)
 //! mcctl --card emu:bench1 enable 0 1                 # MC_Power (disable, stop, reset likewise)
 //! mcctl --card emu:bench1 move 0 -25000 --vmax 1e5 --amax 1e6 --jmax 5e7 --enable
@@ -345,6 +346,14 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Replay an API trace (recorded with MOTIONCARD_TRACE=FILE or Card::open_traced) against
+    /// an emulated card (`--card sim`) and report the first answer or event that differs (exit
+    /// status 1 when one does).
+    Replay {
+        file: std::path::PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// What the card is: firmware and layout versions, axes, groups, servo rate, capabilities.
     Info {
         #[arg(long)]
@@ -605,6 +614,28 @@ fn main() -> ExitCode {
             on_card(uri, |c| cli::watch(c, axis, json, every, count))
         }
         Cmd::Info { json } => on_card(uri, |c| cli::info(c, json)),
+        Cmd::Replay { file, json } => {
+            if uri != "sim" {
+                return bad(format!(
+                    "replay runs against an emulated card (--card sim), not {uri}"
+                ));
+            }
+            match motioncard::replay(&file) {
+                Ok(r) => {
+                    println!("{}", cli::replay_report(&r, json));
+                    if r.difference.is_some() {
+                        ExitCode::from(1)
+                    } else {
+                        ExitCode::SUCCESS
+                    }
+                }
+                Err(e @ motioncard::Error::BadConfig(_)) => bad(e.to_string()),
+                Err(e) => {
+                    eprintln!("mcctl: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
         Cmd::Enable { axes } => on_card(uri, |c| cli::power(c, &axes, true)),
         Cmd::Disable { axes } => on_card(uri, |c| cli::power(c, &axes, false)),
         Cmd::Stop {

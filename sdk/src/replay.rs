@@ -1,0 +1,299 @@
+//! Replaying an API trace ([`crate::trace`]) on a stepped emulated card.
+
+use crate::card::Card;
+use crate::error::{Error, Result};
+use crate::trace::MAGIC;
+use firmware_proto::{layout, Command, Event, EventKind, Mem, Opcode, CMD_ARGS};
+use std::path::Path;
+
+/// One record of a trace, with its line number (from 1).
+#[derive(Debug, Clone, PartialEq)]
+enum Record {
+    Command(usize, Command),
+    Block(usize, usize, Vec<u64>),
+    Event(usize, Event),
+}
+
+/// What a trace was recorded on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TraceHeader {
+    /// Its DPRAM layout (major, minor).
+    pub layout: (u16, u16),
+    /// Its axes.
+    pub axes: usize,
+    /// Its servo rate.
+    pub servo_rate_hz: u32,
+    /// The URI it was opened with.
+    pub uri: String,
+}
+
+fn parse(text: &str) -> std::result::Result<(TraceHeader, Vec<Record>), String> {
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, l)) if l.trim_end() == MAGIC => {}
+        _ => return Err(format!("line 1: not a motioncard trace (`{MAGIC}`)")),
+    }
+    let mut header = None;
+    let mut records = Vec::new();
+    for (i, line) in lines {
+        let n = i + 1;
+        let bad = |what: &str| format!("line {n}: {what}: `{line}`");
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let num = |k: usize| -> std::result::Result<u64, String> {
+            f.get(k)
+                .and_then(|s| s.parse().ok())
+                .ok_or_else(|| bad("a field is missing or not a number"))
+        };
+        let float = |k: usize| -> std::result::Result<f64, String> {
+            f.get(k)
+                .and_then(|s| s.parse().ok())
+                .ok_or_else(|| bad("a field is missing or not a number"))
+        };
+        match f.first().copied() {
+            None => {}
+            Some(t) if t.starts_with('#') => {}
+            Some("I") => {
+                header = Some(TraceHeader {
+                    layout: (num(1)? as u16, num(2)? as u16),
+                    axes: num(3)? as usize,
+                    servo_rate_hz: num(4)? as u32,
+                    uri: f.get(5).unwrap_or(&"").to_string(),
+                })
+            }
+            Some("C") => {
+                if f.len() != 6 + CMD_ARGS {
+                    return Err(bad("a command has 6 fields and its arguments"));
+                }
+                let mut c = Command {
+                    seq: num(2)? as u32,
+                    opcode: num(3)? as u16,
+                    axis: num(4)? as u16,
+                    flags: num(5)? as u32,
+                    deadline_ms: 0,
+                    args: [0.0; CMD_ARGS],
+                };
+                for k in 0..CMD_ARGS {
+                    c.args[k] = float(6 + k)?;
+                }
+                records.push(Record::Command(n, c));
+            }
+            Some("W") => {
+                let words = f[3.min(f.len())..]
+                    .iter()
+                    .map(|s| u64::from_str_radix(s, 16))
+                    .collect::<std::result::Result<Vec<_>, _>>()
+                    .map_err(|_| bad("a word is not hexadecimal"))?;
+                records.push(Record::Block(n, num(2)? as usize, words));
+            }
+            Some("E") => {
+                if f.len() != 8 {
+                    return Err(bad("an event has 8 fields"));
+                }
+                records.push(Record::Event(
+                    n,
+                    Event {
+                        kind: num(2)? as u16,
+                        axis: num(3)? as u16,
+                        seq: num(4)? as u32,
+                        code: f[5].parse().map_err(|_| bad("the code is not a number"))?,
+                        tick: num(6)?,
+                        value: float(7)?,
+                    },
+                ));
+            }
+            Some(_) => return Err(bad("unknown record")),
+        }
+    }
+    let header = header.ok_or("no `I` record: the card the trace was taken on is unknown")?;
+    Ok((header, records))
+}
+
+/// What [`replay`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayReport {
+    /// The card the trace was recorded on.
+    pub header: TraceHeader,
+    /// Commands sent again.
+    pub commands: usize,
+    /// Recorded events compared with the card's.
+    pub events: usize,
+    /// The first difference: the trace's line and what differs. `None`: the card answered as
+    /// recorded.
+    pub difference: Option<(usize, String)>,
+}
+
+/// A session command: the replaying host has its own.
+fn session_op(opcode: u16) -> bool {
+    opcode == Opcode::HostAttach as u16 || opcode == Opcode::HostDetach as u16
+}
+
+fn show(e: &Event) -> String {
+    let kind = EventKind::from_raw(e.kind).map_or(format!("kind {}", e.kind), |k| format!("{k:?}"));
+    format!(
+        "{kind} axis {} seq {} code {} tick {} value {:?}",
+        e.axis, e.seq, e.code, e.tick, e.value
+    )
+}
+
+/// Replay the trace in `path` against a stepped emulated card with its axes and servo rate
+/// (the plant the default: a trace of another plant differs where the plant shows). An error
+/// for a file that cannot be read or parsed, or a layout other than this library's.
+pub fn replay(path: &Path) -> Result<ReplayReport> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        context: format!("the trace {}", path.display()),
+        source,
+    })?;
+    let (header, records) =
+        parse(&text).map_err(|e| Error::BadConfig(format!("{}: {e}", path.display())))?;
+    if header.layout != (firmware_proto::LAYOUT_MAJOR, firmware_proto::LAYOUT_MINOR) {
+        return Err(Error::VersionMismatch {
+            card_major: header.layout.0,
+            card_minor: header.layout.1,
+            lib_major: firmware_proto::LAYOUT_MAJOR,
+            lib_minor: firmware_proto::LAYOUT_MINOR,
+        });
+    }
+    // Not traced itself, whatever the environment says.
+    let card = Card::attach(
+        "sim",
+        crate::device::open_sim(&crate::SimOptions {
+            clock: card_emu::Clock::Stepped,
+            emu: card_emu::EmuOptions::new(header.axes, header.servo_rate_hz),
+        })?,
+        None,
+    )?;
+    let r = run_replay(&card, &records);
+    let closed = card.close();
+    let (commands, events, difference) = r?;
+    closed?;
+    Ok(ReplayReport {
+        header,
+        commands,
+        events,
+        difference,
+    })
+}
+
+type Replayed = (usize, usize, Option<(usize, String)>);
+
+fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
+    let sim = card.sim().expect("a stepped emulated card");
+    let w = card.window();
+    let tick = || w.read64(layout::TICK);
+    // Recorded seq → replayed seq, and the recorded commands not replayed.
+    let mut seqs = std::collections::HashMap::new();
+    let mut skipped = std::collections::HashSet::new();
+    // The tick each recorded command was answered at (its ack or nack).
+    let answered: std::collections::HashMap<u32, u64> = records
+        .iter()
+        .filter_map(|r| match r {
+            Record::Event(_, e)
+                if matches!(
+                    EventKind::from_raw(e.kind),
+                    Some(EventKind::Ack | EventKind::Nack)
+                ) =>
+            {
+                Some((e.seq, e.tick))
+            }
+            _ => None,
+        })
+        .collect();
+    let mut got: std::collections::VecDeque<Event> = Default::default();
+    let (mut commands, mut events) = (0, 0);
+    // The recorded card's ticks on this card's clock: the first recorded tick is now.
+    let first = records.iter().find_map(|r| match r {
+        Record::Command(_, c) if !session_op(c.opcode) => answered.get(&c.seq).copied(),
+        Record::Event(_, e)
+            if !matches!(
+                EventKind::from_raw(e.kind),
+                Some(EventKind::Ack | EventKind::Nack)
+            ) =>
+        {
+            Some(e.tick)
+        }
+        _ => None,
+    });
+    let shift = first.map_or(0, |t| t as i128 - tick() as i128);
+    let here = |t: u64| (t as i128 - shift).max(0) as u64;
+    let step_to = |t: u64| {
+        let now = tick();
+        if t > now {
+            sim.step(t - now);
+        }
+    };
+    for r in records {
+        match r {
+            Record::Block(_, off, words) => {
+                for (k, v) in words.iter().enumerate() {
+                    w.write64(off + 8 * k, *v);
+                }
+            }
+            Record::Command(_, c) if session_op(c.opcode) => {
+                skipped.insert(c.seq);
+            }
+            Record::Command(_, c) => {
+                if let Some(&t) = answered.get(&c.seq) {
+                    step_to(here(t));
+                }
+                let mut cmd = *c;
+                cmd.deadline_ms = 0;
+                seqs.insert(c.seq, card.inner().send_raw(cmd)?);
+                commands += 1;
+            }
+            Record::Event(n, want) => {
+                let kind = EventKind::from_raw(want.kind);
+                let answer = matches!(kind, Some(EventKind::Ack | EventKind::Nack));
+                if answer && skipped.contains(&want.seq) {
+                    continue;
+                }
+                let mut want = *want;
+                want.tick = here(want.tick);
+                if want.seq != 0 {
+                    if let Some(&s) = seqs.get(&want.seq) {
+                        want.seq = s;
+                    } else if answer {
+                        return Ok((
+                            commands,
+                            events,
+                            Some((
+                                *n,
+                                format!("an answer to command {} that was not sent", want.seq),
+                            )),
+                        ));
+                    }
+                }
+                step_to(want.tick);
+                card.inner().take_raw_events(&mut got)?;
+                events += 1;
+                match got.pop_front() {
+                    Some(e) if e == want => {}
+                    Some(e) => {
+                        return Ok((
+                            commands,
+                            events,
+                            Some((
+                                *n,
+                                format!("recorded {}, the card posted {}", show(&want), show(&e)),
+                            )),
+                        ))
+                    }
+                    None => {
+                        return Ok((
+                            commands,
+                            events,
+                            Some((
+                                *n,
+                                format!(
+                                    "recorded {}, the card posted nothing by tick {}",
+                                    show(&want),
+                                    tick()
+                                ),
+                            )),
+                        ))
+                    }
+                }
+            }
+        }
+    }
+    Ok((commands, events, None))
+}
