@@ -35,6 +35,7 @@ mod nurbs;
 mod path;
 mod pvt;
 mod safety;
+mod scope;
 mod session;
 mod sync;
 
@@ -56,6 +57,7 @@ pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
+pub use firmware_proto::{Edge, ScopeMode, ScopeSample, ScopeState, Source, SCOPE_CHANNELS};
 pub use firmware_proto::{
     GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
 };
@@ -83,6 +85,10 @@ pub use path::{
 };
 pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
+pub use scope::{
+    Capture, Scope, ScopeEvent, ScopeSettings, ScopeStatus, ScopeTrigger, Signal, SignalOwner,
+    SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,
+};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 
