@@ -7,7 +7,7 @@
 //! `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards). `move` and `c89`
 //! are also linked statically, and a program of the tests' own beside a second Rust static
 //! library; `errors`, `groups`, `safety`, `machine`, `homing`, `nurbs_path`, `path`, `compare`,
-//! `probe`, `gearing`, `pvt`, `cam` and `panic` also run under valgrind. The installed libraries'
+//! `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -1118,4 +1118,21 @@ fn a_statically_linked_program_runs_without_the_shared_library() {
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// Layout 1.8: the scope, a 16-channel capture at 20 kHz read as the card runs, every refusal.
+#[test]
+fn scope_from_c() {
+    let out = run(&compile("scope", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS scope\n"), "{out}");
+    assert!(
+        out.contains("captured 6500 samples x 16 channels, 0 lost"),
+        "{out}"
+    );
+}
+
+#[test]
+fn scope_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("scope");
+    assert!(out.contains("PASS scope\n"), "{out}");
 }

@@ -174,10 +174,15 @@ impl Card {
 impl Scope {
     /// Check `settings` (as the card will) and have the card take them. Refused while armed.
     pub fn configure(&self, settings: &ScopeSettings) -> Result<()> {
-        let block = settings.to_block();
         if settings.channels.len() > SCOPE_CHANNELS {
             return Err(refused(firmware_proto::NackCode::ScopeChannels));
         }
+        self.configure_block(&settings.to_block())
+    }
+
+    /// [`Scope::configure`] with the register map's block (the C ABI's `mc_scope_settings`).
+    pub fn configure_block(&self, block: &ScopeConfig) -> Result<()> {
+        let block = *block;
         check_config(&block, self.card.info().axes).map_err(refused)?;
         self.card.apply_block(
             layout::SCOPE_CONFIG,
@@ -241,11 +246,17 @@ impl Scope {
 
     /// Append every sample waiting in the ring to `out`, without waiting; how many.
     pub fn read(&self, out: &mut Vec<ScopeSample>) -> Result<usize> {
+        self.read_max(out, usize::MAX)
+    }
+
+    /// [`Scope::read`], at most `max` samples (the rest stay in the ring).
+    pub fn read_max(&self, out: &mut Vec<ScopeSample>, max: usize) -> Result<usize> {
         self.card.inner().link.check()?;
         let mut ring = lock(&self.ring);
         let n = ring
             .pending()
-            .map_err(|e| Error::Protocol(format!("scope ring: {e}")))?;
+            .map_err(|e| Error::Protocol(format!("scope ring: {e}")))?
+            .min(max.min(u32::MAX as usize) as u32);
         out.reserve(n as usize);
         for _ in 0..n {
             match ring.pop::<ScopeSample>() {
