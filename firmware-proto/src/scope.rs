@@ -346,7 +346,8 @@ mod tests {
     #[test]
     fn every_refusal_has_its_nack() {
         assert_eq!(check_config(&good(), 1), Ok(()));
-        let cases: [(fn(&mut ScopeConfig), NackCode); 13] = [
+        type Change = fn(&mut ScopeConfig);
+        let cases: [(Change, NackCode); 13] = [
             (|c| c.n_channels = 0, NackCode::ScopeChannels),
             (|c| c.n_channels = 17, NackCode::ScopeChannels),
             (|c| c.source[0] = 999, NackCode::ScopeSignal),
