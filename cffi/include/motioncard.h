@@ -2481,128 +2481,6 @@ typedef struct mc_pvt_point {
 } mc_pvt_point;
 
 /**
- * The scope's configuration (layout 1.8). Host writes; the card validates and copies it on
- * MC_OP_SCOPE_CONFIGURE. All zero at boot (n_channels 0: not configured).
- */
-typedef struct mc_scope_config {
-  /**
-   * Channels sampled, 1..MC_SCOPE_CHANNELS.
-   */
-  uint32_t n_channels;
-  /**
-   * A sample every divider ticks, 1..MC_SCOPE_DIVIDER_MAX.
-   */
-  uint32_t divider;
-  /**
-   * Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index).
-   */
-  uint32_t source[16];
-  /**
-   * MC_SCOPE_ONE_SHOT or MC_SCOPE_CONTINUOUS.
-   */
-  uint32_t mode;
-  /**
-   * MC_SCOPE_TRIG_*.
-   */
-  uint32_t trigger;
-  /**
-   * MC_SCOPE_TRIG_LEVEL: the channel compared with level.
-   */
-  uint32_t trigger_channel;
-  /**
-   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1.
-   */
-  uint32_t trigger_input;
-  /**
-   * MC_SCOPE_RISING, _FALLING or _EITHER (level and input triggers).
-   */
-  uint32_t edge;
-  /**
-   * Samples kept from before the trigger, 0..MC_SCOPE_PRETRIGGER_MAX.
-   */
-  uint32_t pre_trigger;
-  /**
-   * One-shot: samples from the trigger sample on, >= 1.
-   */
-  uint32_t post_trigger;
-  uint32_t _reserved0;
-  /**
-   * MC_SCOPE_TRIG_LEVEL: the level, in the channel's unit.
-   */
-  double level;
-  uint64_t _reserved[4];
-} mc_scope_config;
-
-/**
- * The scope's configuration: the card's `mc_scope_config` register block. `source[k]` is
- * channel k's signal: `MC_SCOPE_SIG_*` | index << 16 (the axis for axis signals, the group for
- * group signals, 0 for the card's); `n_channels` 1..16; `divider` 1..65536 (a sample every
- * `divider` servo ticks); `mode` `MC_SCOPE_ONE_SHOT` (then `post_trigger` samples from the
- * trigger sample on) or `MC_SCOPE_CONTINUOUS`; `trigger` `MC_SCOPE_TRIG_*` with
- * `trigger_channel` and `level` (level crossing), `trigger_input` (input edge) and `edge`
- * `MC_SCOPE_RISING`, `_FALLING`, `_EITHER`; `pre_trigger` 0..1024 samples from before the
- * trigger. Start from `mc_scope_settings_default`.
- */
-typedef struct mc_scope_config mc_scope_settings;
-
-/**
- * A scope ring entry (layout 1.8): one sample. Card writes.
- */
-typedef struct mc_scope_sample {
-  /**
-   * The servo tick it was taken at.
-   */
-  uint64_t tick;
-  /**
-   * Channel k's value (channels >= n_channels: 0).
-   */
-  double value[16];
-} mc_scope_sample;
-
-/**
- * The scope's state (layout 1.8). Card writes; independent words, updated each tick the
- * scope runs and by its commands.
- */
-typedef struct mc_scope_status {
-  /**
-   * MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE.
-   */
-  uint32_t state;
-  /**
-   * The seq of the MC_OP_SCOPE_ARM of the capture.
-   */
-  uint32_t arm_seq;
-  /**
-   * Channels per sample of the capture.
-   */
-  uint32_t n_channels;
-  /**
-   * The divider of the capture.
-   */
-  uint32_t divider;
-  /**
-   * The trigger sample's servo tick (0: not triggered yet).
-   */
-  uint64_t trigger_tick;
-  /**
-   * Samples put in the ring since the arm.
-   */
-  uint64_t samples;
-  /**
-   * Samples lost since the arm (the ring was full).
-   */
-  uint64_t lost;
-  uint64_t _reserved[3];
-} mc_scope_status;
-
-/**
- * The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
- * divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
- * the arm.
- */
-typedef struct mc_scope_status mc_scope_info;
-
-/**
  * The card-wide safety state (`mc_get_safety_status`). Flags are 0 or 1.
  */
 typedef struct mc_safety_status {
@@ -2748,6 +2626,128 @@ typedef struct mc_stop_info {
    */
   double ramp_time;
 } mc_stop_info;
+
+/**
+ * The scope's configuration (layout 1.8). Host writes; the card validates and copies it on
+ * MC_OP_SCOPE_CONFIGURE. All zero at boot (n_channels 0: not configured).
+ */
+typedef struct mc_scope_config {
+  /**
+   * Channels sampled, 1..MC_SCOPE_CHANNELS.
+   */
+  uint32_t n_channels;
+  /**
+   * A sample every divider ticks, 1..MC_SCOPE_DIVIDER_MAX.
+   */
+  uint32_t divider;
+  /**
+   * Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index).
+   */
+  uint32_t source[16];
+  /**
+   * MC_SCOPE_ONE_SHOT or MC_SCOPE_CONTINUOUS.
+   */
+  uint32_t mode;
+  /**
+   * MC_SCOPE_TRIG_*.
+   */
+  uint32_t trigger;
+  /**
+   * MC_SCOPE_TRIG_LEVEL: the channel compared with level.
+   */
+  uint32_t trigger_channel;
+  /**
+   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1.
+   */
+  uint32_t trigger_input;
+  /**
+   * MC_SCOPE_RISING, _FALLING or _EITHER (level and input triggers).
+   */
+  uint32_t edge;
+  /**
+   * Samples kept from before the trigger, 0..MC_SCOPE_PRETRIGGER_MAX.
+   */
+  uint32_t pre_trigger;
+  /**
+   * One-shot: samples from the trigger sample on, >= 1.
+   */
+  uint32_t post_trigger;
+  uint32_t _reserved0;
+  /**
+   * MC_SCOPE_TRIG_LEVEL: the level, in the channel's unit.
+   */
+  double level;
+  uint64_t _reserved[4];
+} mc_scope_config;
+
+/**
+ * The scope's configuration: the card's `mc_scope_config` register block. `source[k]` is
+ * channel k's signal: `MC_SCOPE_SIG_*` | index << 16 (the axis for axis signals, the group for
+ * group signals, 0 for the card's); `n_channels` 1..16; `divider` 1..65536 (a sample every
+ * `divider` servo ticks); `mode` `MC_SCOPE_ONE_SHOT` (then `post_trigger` samples from the
+ * trigger sample on) or `MC_SCOPE_CONTINUOUS`; `trigger` `MC_SCOPE_TRIG_*` with
+ * `trigger_channel` and `level` (level crossing), `trigger_input` (input edge) and `edge`
+ * `MC_SCOPE_RISING`, `_FALLING`, `_EITHER`; `pre_trigger` 0..1024 samples from before the
+ * trigger. Start from `mc_scope_settings_default`.
+ */
+typedef struct mc_scope_config mc_scope_settings;
+
+/**
+ * A scope ring entry (layout 1.8): one sample. Card writes.
+ */
+typedef struct mc_scope_sample {
+  /**
+   * The servo tick it was taken at.
+   */
+  uint64_t tick;
+  /**
+   * Channel k's value (channels >= n_channels: 0).
+   */
+  double value[16];
+} mc_scope_sample;
+
+/**
+ * The scope's state (layout 1.8). Card writes; independent words, updated each tick the
+ * scope runs and by its commands.
+ */
+typedef struct mc_scope_status {
+  /**
+   * MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE.
+   */
+  uint32_t state;
+  /**
+   * The seq of the MC_OP_SCOPE_ARM of the capture.
+   */
+  uint32_t arm_seq;
+  /**
+   * Channels per sample of the capture.
+   */
+  uint32_t n_channels;
+  /**
+   * The divider of the capture.
+   */
+  uint32_t divider;
+  /**
+   * The trigger sample's servo tick (0: not triggered yet).
+   */
+  uint64_t trigger_tick;
+  /**
+   * Samples put in the ring since the arm.
+   */
+  uint64_t samples;
+  /**
+   * Samples lost since the arm (the ring was full).
+   */
+  uint64_t lost;
+  uint64_t _reserved[3];
+} mc_scope_status;
+
+/**
+ * The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
+ * divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
+ * the arm.
+ */
+typedef struct mc_scope_status mc_scope_info;
 
 /**
  * Success.
@@ -4360,46 +4360,6 @@ mc_result mc_pvt_start(mc_card card, uint32_t axis, struct mc_motion *motion);
 mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free);
 
 /**
- * A configuration to start from: no channels, every tick, immediate trigger, one-shot.
- * Never blocks.
- */
-mc_result mc_scope_settings_default(mc_scope_settings *settings);
-
-/**
- * Check the configuration and have the card take it (`MC_ERR_SCOPE_*` for what it refuses;
- * `MC_ERR_SCOPE_STATE` while the scope is armed). Blocks until the card answers.
- */
-mc_result mc_scope_configure(mc_card card, const mc_scope_settings *settings);
-
-/**
- * Arm the scope: samples left in the ring are dropped, sampling starts into the pre-trigger
- * history, and the capture waits for its trigger. `seq` (may be NULL) receives the arm's seq.
- * Blocks until the card answers.
- */
-mc_result mc_scope_arm(mc_card card, uint32_t *seq);
-
-/**
- * Trigger the waiting scope at its next sample. Blocks until the card answers.
- */
-mc_result mc_scope_trigger(mc_card card);
-
-/**
- * Stop the scope (the samples in the ring stay to be read). Blocks until the card answers.
- */
-mc_result mc_scope_stop(mc_card card);
-
-/**
- * Take up to `len` samples from the ring, oldest first, into `buf`; `n` receives how many.
- * Never blocks. `buf` may be NULL only when `len` is 0.
- */
-mc_result mc_scope_read(mc_card card, struct mc_scope_sample *buf, size_t len, size_t *n);
-
-/**
- * The scope's state, counters included. Never blocks.
- */
-mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
-
-/**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
  * heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
  * a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
@@ -4480,6 +4440,46 @@ mc_result mc_configure_safety(mc_card card,
  * this library does not know); does not wait for the card.
  */
 mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
+
+/**
+ * A configuration to start from: no channels, every tick, immediate trigger, one-shot.
+ * Never blocks.
+ */
+mc_result mc_scope_settings_default(mc_scope_settings *settings);
+
+/**
+ * Check the configuration and have the card take it (`MC_ERR_SCOPE_*` for what it refuses;
+ * `MC_ERR_SCOPE_STATE` while the scope is armed). Blocks until the card answers.
+ */
+mc_result mc_scope_configure(mc_card card, const mc_scope_settings *settings);
+
+/**
+ * Arm the scope: samples left in the ring are dropped, sampling starts into the pre-trigger
+ * history, and the capture waits for its trigger. `seq` (may be NULL) receives the arm's seq.
+ * Blocks until the card answers.
+ */
+mc_result mc_scope_arm(mc_card card, uint32_t *seq);
+
+/**
+ * Trigger the waiting scope at its next sample. Blocks until the card answers.
+ */
+mc_result mc_scope_trigger(mc_card card);
+
+/**
+ * Stop the scope (the samples in the ring stay to be read). Blocks until the card answers.
+ */
+mc_result mc_scope_stop(mc_card card);
+
+/**
+ * Take up to `len` samples from the ring, oldest first, into `buf`; `n` receives how many.
+ * Never blocks. `buf` may be NULL only when `len` is 0.
+ */
+mc_result mc_scope_read(mc_card card, struct mc_scope_sample *buf, size_t len, size_t *n);
+
+/**
+ * The scope's state, counters included. Never blocks.
+ */
+mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
 
 /**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
