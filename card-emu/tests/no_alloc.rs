@@ -1139,3 +1139,55 @@ fn camming_does_not_touch_the_heap() {
     assert!(r.run_until(20_000, |r| r.got(EventKind::InVelocity, out)));
     r.assert_no_heap("camming");
 }
+
+/// Layout 1.8: the scope. 16 channels of every kind of signal, a pre-trigger history, a level
+/// trigger during a move, a full ring (nobody drains it) counting lost samples, a one-shot
+/// end, a re-arm in continuous mode and a stop: every tick without the heap (the scope and its
+/// history are made by the first MC_OP_SCOPE_CONFIGURE, in the command manager).
+#[test]
+fn the_scope_does_not_touch_the_heap() {
+    use firmware_proto::{raw, Signal, Source};
+    let mut r = Rig::new();
+    r.power_on(0..2);
+    let mut c = raw::mc_scope_config {
+        n_channels: 16,
+        divider: 1,
+        mode: raw::MC_SCOPE_ONE_SHOT,
+        trigger: raw::MC_SCOPE_TRIG_LEVEL,
+        edge: raw::MC_SCOPE_RISING,
+        level: 100.0,
+        pre_trigger: 1024,
+        post_trigger: 6000,
+        ..Default::default()
+    };
+    for (k, s) in c.source.iter_mut().enumerate() {
+        let sig = Signal::ALL[k % Signal::ALL.len()];
+        let index = match sig.owner() {
+            firmware_proto::SignalOwner::Card => 0,
+            _ => (k % 2) as u16,
+        };
+        *s = Source { signal: sig, index }.to_raw();
+    }
+    layout::SCOPE_CONFIG.write(&*r.window, &c);
+    r.ok(Opcode::ScopeConfigure, 0, 0, &[]);
+    let arm = r.ok(Opcode::ScopeArm, 0, 0, &[]);
+    r.run(2000);
+    r.ok(Opcode::MoveAbsolute, 0, 0, &move_args(50_000.0));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::Scope, arm)
+        && r.log.iter().any(|e| e.kind() == Some(EventKind::Scope)
+            && e.code == firmware_proto::ScopeEvent::Done as i32)));
+    let st = layout::SCOPE_STATUS.read(&*r.window);
+    assert_eq!(st.samples, firmware_proto::SCOPE_RING_LEN as u64);
+    assert_eq!(st.samples + st.lost, 1024 + 6000);
+    c.mode = raw::MC_SCOPE_CONTINUOUS;
+    c.trigger = raw::MC_SCOPE_TRIG_COMMAND;
+    layout::SCOPE_CONFIG.write(&*r.window, &c);
+    r.ok(Opcode::ScopeConfigure, 0, 0, &[]);
+    r.ok(Opcode::ScopeArm, 0, 0, &[]);
+    r.run(100);
+    r.ok(Opcode::ScopeTrigger, 0, 0, &[]);
+    r.run(100);
+    r.ok(Opcode::ScopeStop, 0, 0, &[]);
+    r.run(10);
+    r.assert_no_heap("scope");
+}

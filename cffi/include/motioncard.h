@@ -493,6 +493,125 @@ extern "C" {
 #define MC_PVT_EVENT_DONE 3
 
 /**
+ * Channels per sample, at most.
+ */
+#define MC_SCOPE_CHANNELS 16
+
+/**
+ * Samples the card's ring holds (204.8 ms at 20 kHz).
+ */
+#define MC_SCOPE_RING_LEN 4096
+
+/**
+ * Axis signals (index: the axis): commanded position, velocity, acceleration, actual
+ * position and velocity, following error, DAC volts, the servo output before the clamp, the
+ * raw encoder count, the servo law's P, I, D (velocity feedback) and feed-forward terms.
+ */
+#define MC_SCOPE_SIG_CMD_POS 1
+
+#define MC_SCOPE_SIG_CMD_VEL 2
+
+#define MC_SCOPE_SIG_CMD_ACC 3
+
+#define MC_SCOPE_SIG_ACT_POS 4
+
+#define MC_SCOPE_SIG_ACT_VEL 5
+
+#define MC_SCOPE_SIG_FERR 6
+
+#define MC_SCOPE_SIG_DAC 7
+
+#define MC_SCOPE_SIG_U_REQUEST 8
+
+#define MC_SCOPE_SIG_ENCODER 9
+
+#define MC_SCOPE_SIG_SERVO_P 10
+
+#define MC_SCOPE_SIG_SERVO_I 11
+
+#define MC_SCOPE_SIG_SERVO_D 12
+
+#define MC_SCOPE_SIG_SERVO_FF 13
+
+/**
+ * Group signals (index: the group): path speed, path acceleration, distance along the move.
+ */
+#define MC_SCOPE_SIG_PATH_SPEED 32
+
+#define MC_SCOPE_SIG_PATH_ACC 33
+
+#define MC_SCOPE_SIG_PATH_POS 34
+
+/**
+ * Card signals (index 0): debounced inputs, outputs, inputs as sampled.
+ */
+#define MC_SCOPE_SIG_INPUTS 48
+
+#define MC_SCOPE_SIG_OUTPUTS 49
+
+#define MC_SCOPE_SIG_INPUTS_RAW 50
+
+/**
+ * `mode`.
+ */
+#define MC_SCOPE_ONE_SHOT 0
+
+#define MC_SCOPE_CONTINUOUS 1
+
+/**
+ * `trigger`.
+ */
+#define MC_SCOPE_TRIG_IMMEDIATE 0
+
+#define MC_SCOPE_TRIG_COMMAND 1
+
+#define MC_SCOPE_TRIG_LEVEL 2
+
+#define MC_SCOPE_TRIG_INPUT 3
+
+#define MC_SCOPE_TRIG_FAULT 4
+
+/**
+ * `edge`.
+ */
+#define MC_SCOPE_RISING 0
+
+#define MC_SCOPE_FALLING 1
+
+#define MC_SCOPE_EITHER 2
+
+/**
+ * `mc_scope_info.state`.
+ */
+#define MC_SCOPE_STATE_IDLE 0
+
+#define MC_SCOPE_STATE_WAITING 1
+
+#define MC_SCOPE_STATE_CAPTURING 2
+
+#define MC_SCOPE_STATE_DONE 3
+
+/**
+ * `kind` of the scope's events (`code`: `MC_SCOPE_EVENT_*`; `seq`: the arm).
+ */
+#define MC_EVENT_SCOPE 29
+
+/**
+ * Triggered (`value`: the trigger sample's tick).
+ */
+#define MC_SCOPE_EVENT_TRIGGERED 1
+
+/**
+ * A one-shot capture ended (`value`: its samples).
+ */
+#define MC_SCOPE_EVENT_DONE 2
+
+/**
+ * A sample found the ring full (`value`: the samples lost since the arm).
+ */
+#define MC_SCOPE_EVENT_LOST 3
+
+/**
  * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
  */
 #define MC_MASTER_COMMANDED 0
@@ -2514,6 +2633,128 @@ typedef struct mc_stop_info {
 } mc_stop_info;
 
 /**
+ * The scope's configuration (layout 1.8). Host writes; the card validates and copies it on
+ * MC_OP_SCOPE_CONFIGURE. All zero at boot (n_channels 0: not configured).
+ */
+typedef struct mc_scope_config {
+  /**
+   * Channels sampled, 1..MC_SCOPE_CHANNELS.
+   */
+  uint32_t n_channels;
+  /**
+   * A sample every divider ticks, 1..MC_SCOPE_DIVIDER_MAX.
+   */
+  uint32_t divider;
+  /**
+   * Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index).
+   */
+  uint32_t source[16];
+  /**
+   * MC_SCOPE_ONE_SHOT or MC_SCOPE_CONTINUOUS.
+   */
+  uint32_t mode;
+  /**
+   * MC_SCOPE_TRIG_*.
+   */
+  uint32_t trigger;
+  /**
+   * MC_SCOPE_TRIG_LEVEL: the channel compared with level.
+   */
+  uint32_t trigger_channel;
+  /**
+   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1.
+   */
+  uint32_t trigger_input;
+  /**
+   * MC_SCOPE_RISING, _FALLING or _EITHER (level and input triggers).
+   */
+  uint32_t edge;
+  /**
+   * Samples kept from before the trigger, 0..MC_SCOPE_PRETRIGGER_MAX.
+   */
+  uint32_t pre_trigger;
+  /**
+   * One-shot: samples from the trigger sample on, >= 1.
+   */
+  uint32_t post_trigger;
+  uint32_t _reserved0;
+  /**
+   * MC_SCOPE_TRIG_LEVEL: the level, in the channel's unit.
+   */
+  double level;
+  uint64_t _reserved[4];
+} mc_scope_config;
+
+/**
+ * The scope's configuration: the card's `mc_scope_config` register block. `source[k]` is
+ * channel k's signal: `MC_SCOPE_SIG_*` | index << 16 (the axis for axis signals, the group for
+ * group signals, 0 for the card's); `n_channels` 1..16; `divider` 1..65536 (a sample every
+ * `divider` servo ticks); `mode` `MC_SCOPE_ONE_SHOT` (then `post_trigger` samples from the
+ * trigger sample on) or `MC_SCOPE_CONTINUOUS`; `trigger` `MC_SCOPE_TRIG_*` with
+ * `trigger_channel` and `level` (level crossing), `trigger_input` (input edge) and `edge`
+ * `MC_SCOPE_RISING`, `_FALLING`, `_EITHER`; `pre_trigger` 0..1024 samples from before the
+ * trigger. Start from `mc_scope_settings_default`.
+ */
+typedef struct mc_scope_config mc_scope_settings;
+
+/**
+ * A scope ring entry (layout 1.8): one sample. Card writes.
+ */
+typedef struct mc_scope_sample {
+  /**
+   * The servo tick it was taken at.
+   */
+  uint64_t tick;
+  /**
+   * Channel k's value (channels >= n_channels: 0).
+   */
+  double value[16];
+} mc_scope_sample;
+
+/**
+ * The scope's state (layout 1.8). Card writes; independent words, updated each tick the
+ * scope runs and by its commands.
+ */
+typedef struct mc_scope_status {
+  /**
+   * MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE.
+   */
+  uint32_t state;
+  /**
+   * The seq of the MC_OP_SCOPE_ARM of the capture.
+   */
+  uint32_t arm_seq;
+  /**
+   * Channels per sample of the capture.
+   */
+  uint32_t n_channels;
+  /**
+   * The divider of the capture.
+   */
+  uint32_t divider;
+  /**
+   * The trigger sample's servo tick (0: not triggered yet).
+   */
+  uint64_t trigger_tick;
+  /**
+   * Samples put in the ring since the arm.
+   */
+  uint64_t samples;
+  /**
+   * Samples lost since the arm (the ring was full).
+   */
+  uint64_t lost;
+  uint64_t _reserved[3];
+} mc_scope_status;
+
+/**
+ * The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
+ * divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
+ * the arm.
+ */
+typedef struct mc_scope_status mc_scope_info;
+
+/**
  * Success.
  */
 #define MC_OK 0
@@ -2972,6 +3213,37 @@ typedef struct mc_stop_info {
  * Cam table data without an open table or out of order.
  */
 #define MC_ERR_CAM_SEQUENCE -80
+
+/**
+ * Layout 1.8: a scope signal the card does not know, or an axis or group it has not.
+ */
+#define MC_ERR_SCOPE_SIGNAL -100
+
+/**
+ * Scope channels 0 or more than 16.
+ */
+#define MC_ERR_SCOPE_CHANNELS -101
+
+/**
+ * A scope divider 0 or above 65536.
+ */
+#define MC_ERR_SCOPE_DIVIDER -102
+
+/**
+ * A bad scope mode, trigger, edge, trigger channel or input, a level not finite, or a
+ * one-shot capture of no samples.
+ */
+#define MC_ERR_SCOPE_TRIGGER -103
+
+/**
+ * More pre-trigger samples than the card keeps.
+ */
+#define MC_ERR_SCOPE_PRETRIGGER -104
+
+/**
+ * A scope command its state does not allow.
+ */
+#define MC_ERR_SCOPE_STATE -105
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -4173,6 +4445,46 @@ mc_result mc_configure_safety(mc_card card,
  * this library does not know); does not wait for the card.
  */
 mc_result mc_get_stop_info(mc_card card, uint32_t axis, struct mc_stop_info *info);
+
+/**
+ * A configuration to start from: no channels, every tick, immediate trigger, one-shot.
+ * Never blocks.
+ */
+mc_result mc_scope_settings_default(mc_scope_settings *settings);
+
+/**
+ * Check the configuration and have the card take it (`MC_ERR_SCOPE_*` for what it refuses;
+ * `MC_ERR_SCOPE_STATE` while the scope is armed). Blocks until the card answers.
+ */
+mc_result mc_scope_configure(mc_card card, const mc_scope_settings *settings);
+
+/**
+ * Arm the scope: samples left in the ring are dropped, sampling starts into the pre-trigger
+ * history, and the capture waits for its trigger. `seq` (may be NULL) receives the arm's seq.
+ * Blocks until the card answers.
+ */
+mc_result mc_scope_arm(mc_card card, uint32_t *seq);
+
+/**
+ * Trigger the waiting scope at its next sample. Blocks until the card answers.
+ */
+mc_result mc_scope_trigger(mc_card card);
+
+/**
+ * Stop the scope (the samples in the ring stay to be read). Blocks until the card answers.
+ */
+mc_result mc_scope_stop(mc_card card);
+
+/**
+ * Take up to `len` samples from the ring, oldest first, into `buf`; `n` receives how many.
+ * Never blocks. `buf` may be NULL only when `len` is 0.
+ */
+mc_result mc_scope_read(mc_card card, struct mc_scope_sample *buf, size_t len, size_t *n);
+
+/**
+ * The scope's state, counters included. Never blocks.
+ */
+mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
 
 /**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)

@@ -31,6 +31,7 @@ pub mod pvt;
 pub mod registry;
 pub mod result;
 pub mod safety;
+pub mod scope;
 pub mod sync;
 pub mod types;
 

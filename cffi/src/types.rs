@@ -283,6 +283,7 @@ pub(crate) fn event_code(k: EventKind) -> u32 {
         EventKind::Probe => MC_EVENT_PROBE,
         EventKind::Sync => crate::sync::MC_EVENT_SYNC,
         EventKind::Pvt => crate::sync::MC_EVENT_PVT,
+        EventKind::Scope => crate::scope::MC_EVENT_SCOPE,
     }
 }
 

@@ -7,7 +7,7 @@
 //! `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards). `move` and `c89`
 //! are also linked statically, and a program of the tests' own beside a second Rust static
 //! library; `errors`, `groups`, `safety`, `machine`, `homing`, `nurbs_path`, `path`, `compare`,
-//! `probe`, `gearing`, `pvt`, `cam` and `panic` also run under valgrind. The installed libraries'
+//! `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also run under valgrind. The installed libraries'
 //! symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
@@ -1136,4 +1136,21 @@ fn a_c_program_is_traced_by_the_environment_and_replays() {
     assert_eq!(r.difference, None, "{r:?}");
     assert!(r.commands >= 5 && r.events >= 5, "{r:?}");
     let _ = std::fs::remove_file(&trace);
+}
+
+/// Layout 1.8: the scope, a 16-channel capture at 20 kHz read as the card runs, every refusal.
+#[test]
+fn scope_from_c() {
+    let out = run(&compile("scope", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS scope\n"), "{out}");
+    assert!(
+        out.contains("captured 6500 samples x 16 channels, 0 lost"),
+        "{out}"
+    );
+}
+
+#[test]
+fn scope_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("scope");
+    assert!(out.contains("PASS scope\n"), "{out}");
 }

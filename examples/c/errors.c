@@ -55,6 +55,9 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_GEAR_RATIO,     MC_ERR_SYNC_MASTER,     MC_ERR_PVT_TIME,
     MC_ERR_PVT_LIMIT,      MC_ERR_PVT_SEQUENCE,    MC_ERR_CAM_TABLE,
     MC_ERR_CAM_SEQUENCE,
+    /* the scope (layout 1.8) */
+    MC_ERR_SCOPE_SIGNAL,   MC_ERR_SCOPE_CHANNELS,  MC_ERR_SCOPE_DIVIDER,
+    MC_ERR_SCOPE_TRIGGER,  MC_ERR_SCOPE_PRETRIGGER, MC_ERR_SCOPE_STATE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -106,6 +109,9 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_CAM_TABLE,
     /* not provokable from C: the ABI loads a table in order (cam data out of sequence) */
     MC_ERR_CAM_SEQUENCE,
+    /* scope.c */
+    MC_ERR_SCOPE_SIGNAL, MC_ERR_SCOPE_CHANNELS, MC_ERR_SCOPE_DIVIDER, MC_ERR_SCOPE_TRIGGER,
+    MC_ERR_SCOPE_PRETRIGGER, MC_ERR_SCOPE_STATE,
 };
 
 static void result_strings(void) {

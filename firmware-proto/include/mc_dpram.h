@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 7u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 8u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -43,7 +43,11 @@
                            * nacks 90..96, events 24..26; blocks appended), NURBS curves in the path
                            * (MC_OP_PATH_NURBS, MC_NACK_PATH_CURVE); synchronised motion: gearing,
                            * PT/PVT streams, camming (opcodes 80..89, nacks 100..106, MC_EV_SYNC,
-                           * MC_EV_PVT, MC_MOTION_IN_SYNC, the sync_status block appended) */
+                           * MC_EV_PVT, MC_MOTION_IN_SYNC, the sync_status block appended);
+                           * 8: the scope (MC_OP_SCOPE_*, opcodes 90..93, MC_NACK_SCOPE_* 110..115,
+                           * MC_EV_SCOPE 29; scope_config, scope_status, the scope ring's indices
+                           * and the scope ring appended; MC_DPRAM_SIZE 32 KiB -> 1 MiB);
+                           * MC_CAM_RELATIVE (MC_CamIn's StartMode relative) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -549,6 +553,110 @@
                                * loaded, or one in use */
 #define MC_NACK_CAM_SEQUENCE 106 /* cam data without an open table or out of order */
 
+/* The scope (layout 1.8): on-card data gathering, like a PMAC's gather buffer.
+ *
+ * Channels: scope_config.n_channels (1..MC_SCOPE_CHANNELS) sources, each a signal of an axis,
+ * a group or the card: MC_SCOPE_SOURCE(MC_SIG_*, index), index = the axis (axis signals), the
+ * group (group signals) or 0 (card signals). A sample is the value of every channel at one
+ * servo tick, as binary64: exactly the values the card publishes in the status blocks of that
+ * tick (a count or a word as its exact f64), taken after the tick's status is published.
+ * Divider: a sample every scope_config.divider ticks (1: every tick, up to the 20 kHz servo
+ * rate), counted from the arm.
+ *
+ * MC_OP_SCOPE_CONFIGURE validates scope_config and copies it (refused while the scope is
+ * armed: MC_NACK_SCOPE_STATE). MC_OP_SCOPE_ARM starts sampling into the pre-trigger history
+ * (up to pre_trigger samples, the newest kept) and waits for the trigger, evaluated on every
+ * sample:
+ * - MC_SCOPE_TRIG_IMMEDIATE: the first sample after the arm;
+ * - MC_SCOPE_TRIG_COMMAND: the first sample after an MC_OP_SCOPE_TRIGGER (which also forces
+ *   the trigger of any other kind while the scope waits);
+ * - MC_SCOPE_TRIG_LEVEL: channel trigger_channel crosses level between two samples: rising
+ *   (previous < level <= this one), falling (previous > level >= this one), or either;
+ * - MC_SCOPE_TRIG_INPUT: debounced input trigger_input (card.inputs) changes between two
+ *   samples to active (rising), inactive (falling) or either;
+ * - MC_SCOPE_TRIG_FAULT: a safety fault bit (MC_FAULT_* 8..31) of any axis is set that was not
+ *   at the previous sample (a latched fault present at the arm does not trigger).
+ * At the trigger the card puts the history in the scope ring (oldest first; fewer than
+ * pre_trigger samples if the trigger came sooner), then the trigger sample and the samples
+ * after it: MC_SCOPE_ONE_SHOT stops after post_trigger samples from the trigger sample on
+ * (MC_EV_SCOPE code MC_SCOPE_EV_DONE), MC_SCOPE_CONTINUOUS goes on until MC_OP_SCOPE_STOP.
+ *
+ * The scope ring (card produces, host consumes; the rules of every ring in this map) holds
+ * MC_SCOPE_RING_LEN samples, 204.8 ms at 20 kHz whatever the channel count: a host that does
+ * not keep up loses samples, never blocks the card. A sample that finds the ring full (or the
+ * ring's indices corrupt) is counted in scope_status.lost and dropped; the first loss after a
+ * sample that went in posts MC_EV_SCOPE code MC_SCOPE_EV_LOST. Each entry carries its servo
+ * tick, so the host sees the order and any gap (consecutive samples are `divider` ticks
+ * apart). A host empties the ring (tail = head) before it arms. */
+#define MC_OP_SCOPE_CONFIGURE 90u /* validate and copy scope_config (axis field ignored) */
+#define MC_OP_SCOPE_ARM 91u       /* start sampling and wait for the trigger (scope idle or done) */
+#define MC_OP_SCOPE_TRIGGER 92u   /* trigger at the next sample (the scope waits for a trigger) */
+#define MC_OP_SCOPE_STOP 93u      /* stop sampling: the scope is idle (armed, waiting or done) */
+#define MC_SCOPE_CHANNELS 16u
+#define MC_SCOPE_RING_LEN 4096u        /* samples in the scope ring (a power of two) */
+#define MC_SCOPE_PRETRIGGER_MAX 1024u  /* scope_config.pre_trigger: 0..MC_SCOPE_PRETRIGGER_MAX */
+#define MC_SCOPE_DIVIDER_MAX 65536u    /* scope_config.divider: 1..MC_SCOPE_DIVIDER_MAX */
+#define MC_SCOPE_SOURCE(signal, index) ((uint32_t)(signal) | ((uint32_t)(index) << 16))
+/* Scope signals (the low 16 bits of a channel's source). Axis signals (index: the axis),
+ * each the axis status's value of the tick: */
+#define MC_SIG_CMD_POS 1u    /* commanded position, counts (cmd_pos) */
+#define MC_SIG_CMD_VEL 2u    /* commanded velocity, counts/s (cmd_vel) */
+#define MC_SIG_CMD_ACC 3u    /* commanded acceleration, counts/s^2 (cmd_acc) */
+#define MC_SIG_ACT_POS 4u    /* actual position, counts (act_pos) */
+#define MC_SIG_ACT_VEL 5u    /* actual velocity, filtered, counts/s (act_vel) */
+#define MC_SIG_FERR 6u       /* following error, counts (ferr) */
+#define MC_SIG_DAC 7u        /* DAC output, V (dac_v) */
+#define MC_SIG_U_REQUEST 8u  /* the servo law's output before the DAC clamp, V (u_request) */
+#define MC_SIG_ENCODER 9u    /* the raw encoder count (encoder) */
+/* The servo law's terms of the tick, V; P + I + D + FF is the output before the clamp (up to
+ * rounding). FFPIV (Thinh Fig 5): P = kv kp (x_ref - x), I = kv ki integral,
+ * D = -kv v_est, FF = kv kvff v_ref_est + kaff a_ref. PD+ (Yeh eq 2.12): P = kp e,
+ * I = 0, D = kd (w_d - w_a), FF = kv w_d + ka alpha_d. */
+#define MC_SIG_SERVO_P 10u
+#define MC_SIG_SERVO_I 11u
+#define MC_SIG_SERVO_D 12u
+#define MC_SIG_SERVO_FF 13u
+/* Group signals (index: the group), the group status's values of the tick: */
+#define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
+#define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
+#define MC_SIG_PATH_POS 34u   /* distance along the active move, counts (path_pos) */
+/* Card signals (index 0): */
+#define MC_SIG_INPUTS 48u     /* the debounced digital inputs, bit i = input i (card.inputs) */
+#define MC_SIG_OUTPUTS 49u    /* the digital outputs (card.outputs) */
+#define MC_SIG_INPUTS_RAW 50u /* the inputs as sampled (card.inputs_raw) */
+/* scope_config.mode */
+#define MC_SCOPE_ONE_SHOT 0u
+#define MC_SCOPE_CONTINUOUS 1u
+/* scope_config.trigger */
+#define MC_SCOPE_TRIG_IMMEDIATE 0u
+#define MC_SCOPE_TRIG_COMMAND 1u
+#define MC_SCOPE_TRIG_LEVEL 2u
+#define MC_SCOPE_TRIG_INPUT 3u
+#define MC_SCOPE_TRIG_FAULT 4u
+/* scope_config.edge (level and input triggers) */
+#define MC_SCOPE_RISING 0u
+#define MC_SCOPE_FALLING 1u
+#define MC_SCOPE_EITHER 2u
+/* scope_status.state */
+#define MC_SCOPE_IDLE 0u
+#define MC_SCOPE_WAITING 1u   /* armed: sampling into the history, waiting for the trigger */
+#define MC_SCOPE_CAPTURING 2u /* triggered: samples go to the ring */
+#define MC_SCOPE_DONE 3u      /* a one-shot capture ended */
+/* MC_EV_SCOPE codes (seq: the MC_OP_SCOPE_ARM) */
+#define MC_SCOPE_EV_TRIGGERED 1 /* value: the trigger sample's tick */
+#define MC_SCOPE_EV_DONE 2      /* a one-shot capture ended; value: the samples it put in the ring
+                                 * or lost (pre-trigger + post_trigger) */
+#define MC_SCOPE_EV_LOST 3      /* a sample found the ring full; value: scope_status.lost */
+#define MC_NACK_SCOPE_SIGNAL 110   /* an unknown signal, or an axis or group index the card has not */
+#define MC_NACK_SCOPE_CHANNELS 111 /* n_channels 0 or above MC_SCOPE_CHANNELS */
+#define MC_NACK_SCOPE_DIVIDER 112  /* a divider 0 or above MC_SCOPE_DIVIDER_MAX */
+#define MC_NACK_SCOPE_TRIGGER 113  /* an unknown mode, trigger kind or edge, a trigger channel
+                                    * >= n_channels, a trigger input >= MC_INPUTS, a level not
+                                    * finite, or a one-shot with post_trigger 0 */
+#define MC_NACK_SCOPE_PRETRIGGER 114 /* pre_trigger above MC_SCOPE_PRETRIGGER_MAX */
+#define MC_NACK_SCOPE_STATE 115    /* configure or arm while armed, trigger while not waiting,
+                                    * stop while idle, arm before a configure */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u
@@ -587,6 +695,8 @@
 #define MC_EV_PROBE 26u          /* a touch probe captured. axis: the channel; seq: its
                                   * MC_OP_PROBE_ARM; code: the capture number since the arm
                                   * (1, 2, ...); value: the position captured */
+#define MC_EV_SCOPE 29u          /* the scope (layout 1.8). seq: its MC_OP_SCOPE_ARM; code:
+                                  * MC_SCOPE_EV_*; value: see there */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1
@@ -1253,6 +1363,63 @@ struct mc_sync_status {
     uint32_t pvt_free[MC_MAX_AXES];
 };
 
+/** The scope's configuration (layout 1.8). Host writes; the card validates and copies it on
+ * MC_OP_SCOPE_CONFIGURE. All zero at boot (n_channels 0: not configured). */
+struct mc_scope_config {
+    /** Channels sampled, 1..MC_SCOPE_CHANNELS. */
+    uint32_t n_channels;
+    /** A sample every divider ticks, 1..MC_SCOPE_DIVIDER_MAX. */
+    uint32_t divider;
+    /** Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index). */
+    uint32_t source[MC_SCOPE_CHANNELS];
+    /** MC_SCOPE_ONE_SHOT or MC_SCOPE_CONTINUOUS. */
+    uint32_t mode;
+    /** MC_SCOPE_TRIG_*. */
+    uint32_t trigger;
+    /** MC_SCOPE_TRIG_LEVEL: the channel compared with level. */
+    uint32_t trigger_channel;
+    /** MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1. */
+    uint32_t trigger_input;
+    /** MC_SCOPE_RISING, _FALLING or _EITHER (level and input triggers). */
+    uint32_t edge;
+    /** Samples kept from before the trigger, 0..MC_SCOPE_PRETRIGGER_MAX. */
+    uint32_t pre_trigger;
+    /** One-shot: samples from the trigger sample on, >= 1. */
+    uint32_t post_trigger;
+    uint32_t _reserved0;
+    /** MC_SCOPE_TRIG_LEVEL: the level, in the channel's unit. */
+    double level;
+    uint64_t _reserved[4];
+};
+
+/** The scope's state (layout 1.8). Card writes; independent words, updated each tick the
+ * scope runs and by its commands. */
+struct mc_scope_status {
+    /** MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE. */
+    uint32_t state;
+    /** The seq of the MC_OP_SCOPE_ARM of the capture. */
+    uint32_t arm_seq;
+    /** Channels per sample of the capture. */
+    uint32_t n_channels;
+    /** The divider of the capture. */
+    uint32_t divider;
+    /** The trigger sample's servo tick (0: not triggered yet). */
+    uint64_t trigger_tick;
+    /** Samples put in the ring since the arm. */
+    uint64_t samples;
+    /** Samples lost since the arm (the ring was full). */
+    uint64_t lost;
+    uint64_t _reserved[3];
+};
+
+/** A scope ring entry (layout 1.8): one sample. Card writes. */
+struct mc_scope_sample {
+    /** The servo tick it was taken at. */
+    uint64_t tick;
+    /** Channel k's value (channels >= n_channels: 0). */
+    double value[MC_SCOPE_CHANNELS];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -1286,8 +1453,16 @@ struct mc_dpram {
     struct mc_probe_status probe_status[MC_PROBE_CHANNELS];       /* card writes */
     /* layout 1.7: synchronised motion */
     struct mc_sync_status sync_status;                            /* card writes */
+    /* layout 1.8: the scope */
+    struct mc_scope_config scope_config;                          /* host writes */
+    struct mc_scope_status scope_status;                          /* card writes */
+    uint8_t _reserved1[32];                                       /* the ring indices on their own lines */
+    struct mc_ring_index scope_head;                              /* card writes */
+    struct mc_ring_index scope_tail;                              /* host writes */
+    struct mc_scope_sample scope_ring[MC_SCOPE_RING_LEN];         /* card writes */
 };
 
-#define MC_DPRAM_SIZE 32768u /* the mapped window; sizeof(struct mc_dpram) fits in it */
+#define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);
+                                * sizeof(struct mc_dpram) fits in it */
 
 #endif /* MC_DPRAM_H */

@@ -62,6 +62,8 @@ blocks!(
     mc_compare_status,
     mc_probe_status,
     mc_sync_status,
+    mc_scope_config,
+    mc_scope_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -182,6 +182,35 @@ const _: () = {
     assert!(SYNC_STATUS.offset() + SYNC_STATUS_BYTES <= crate::DPRAM_SIZE);
 };
 
+/// Layout 1.8: the scope's configuration (host writes).
+pub const SCOPE_CONFIG: BlockAt<mc_scope_config> = BlockAt::new(off!(scope_config));
+/// The scope's status (card writes).
+pub const SCOPE_STATUS: BlockAt<mc_scope_status> = BlockAt::new(off!(scope_status));
+/// The scope ring's indices and entries.
+pub const SCOPE_HEAD: usize = off!(scope_head.value);
+pub const SCOPE_TAIL: usize = off!(scope_tail.value);
+pub const SCOPE_RING: usize = off!(scope_ring);
+pub const SCOPE_SAMPLE_BYTES: usize = size_of::<mc_scope_sample>();
+/// `scope_status.lost`, `samples` and `state`, read on their own by the host.
+pub const SCOPE_LOST: usize = off!(scope_status.lost);
+pub const SCOPE_SAMPLES: usize = off!(scope_status.samples);
+pub const SCOPE_STATE: usize = off!(scope_status.state);
+const _: () = {
+    // Layout 1.8 appended: everything before it is where layout 1.7 put it.
+    assert!(SCOPE_CONFIG.offset() == 27088 && SYNC_STATUS.offset() + SYNC_STATUS_BYTES <= 27088);
+    assert!(size_of::<mc_scope_config>() == 144 && size_of::<mc_scope_status>() == 64);
+    assert!(SCOPE_STATUS.offset().is_multiple_of(8) && SCOPE_LOST.is_multiple_of(8));
+    // One ring index per 64-byte line, entries word-aligned.
+    assert!(SCOPE_HEAD.is_multiple_of(64) && SCOPE_TAIL == SCOPE_HEAD + 64);
+    assert!(
+        SCOPE_RING == SCOPE_TAIL + 64 && SCOPE_SAMPLE_BYTES == 8 * (1 + MC_SCOPE_CHANNELS as usize)
+    );
+    assert!(MC_SCOPE_RING_LEN.is_power_of_two());
+    // At 20 kHz the ring holds at least 100 ms of samples.
+    assert!(MC_SCOPE_RING_LEN as u64 * 10 >= MC_SERVO_RATE_MAX_HZ as u64);
+    assert!(SCOPE_RING + MC_SCOPE_RING_LEN as usize * SCOPE_SAMPLE_BYTES <= crate::DPRAM_SIZE);
+};
+
 /// The card-written safety status block (`mc_safety_status`).
 pub mod safety_status {
     use super::*;

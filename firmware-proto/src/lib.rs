@@ -34,6 +34,7 @@ pub mod mem;
 pub mod motion_sync;
 pub mod reset;
 pub mod ring;
+pub mod scope;
 pub mod seqlock;
 pub mod wire;
 
@@ -49,6 +50,7 @@ pub use reset::{
     AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, GroupPath, PdPlusGains,
 };
 pub use ring::{Consumer, Producer, RingError};
+pub use scope::*;
 pub use wire::*;
 
 pub(crate) mod sync {

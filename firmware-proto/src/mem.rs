@@ -321,7 +321,7 @@ mod tests {
 
     #[test]
     #[cfg(debug_assertions)]
-    #[should_panic(expected = "out of range or misaligned: 4-byte word at offset 32768")]
+    #[should_panic(expected = "out of range or misaligned: 4-byte word at offset 1048576")]
     fn out_of_range_access_panics_in_debug_builds() {
         let w = HeapWindow::new();
         w.write32(w.dpram().len(), 7);

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 7;
+pub const MC_LAYOUT_MINOR: u32 = 8;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -206,6 +206,56 @@ pub const MC_SYNC_CAM_END: u32 = 4;
 pub const MC_SYNC_CAM_SWITCH: u32 = 5;
 pub const MC_NACK_CAM_TABLE: u32 = 105;
 pub const MC_NACK_CAM_SEQUENCE: u32 = 106;
+pub const MC_OP_SCOPE_CONFIGURE: u32 = 90;
+pub const MC_OP_SCOPE_ARM: u32 = 91;
+pub const MC_OP_SCOPE_TRIGGER: u32 = 92;
+pub const MC_OP_SCOPE_STOP: u32 = 93;
+pub const MC_SCOPE_CHANNELS: u32 = 16;
+pub const MC_SCOPE_RING_LEN: u32 = 4096;
+pub const MC_SCOPE_PRETRIGGER_MAX: u32 = 1024;
+pub const MC_SCOPE_DIVIDER_MAX: u32 = 65536;
+pub const MC_SIG_CMD_POS: u32 = 1;
+pub const MC_SIG_CMD_VEL: u32 = 2;
+pub const MC_SIG_CMD_ACC: u32 = 3;
+pub const MC_SIG_ACT_POS: u32 = 4;
+pub const MC_SIG_ACT_VEL: u32 = 5;
+pub const MC_SIG_FERR: u32 = 6;
+pub const MC_SIG_DAC: u32 = 7;
+pub const MC_SIG_U_REQUEST: u32 = 8;
+pub const MC_SIG_ENCODER: u32 = 9;
+pub const MC_SIG_SERVO_P: u32 = 10;
+pub const MC_SIG_SERVO_I: u32 = 11;
+pub const MC_SIG_SERVO_D: u32 = 12;
+pub const MC_SIG_SERVO_FF: u32 = 13;
+pub const MC_SIG_PATH_SPEED: u32 = 32;
+pub const MC_SIG_PATH_ACC: u32 = 33;
+pub const MC_SIG_PATH_POS: u32 = 34;
+pub const MC_SIG_INPUTS: u32 = 48;
+pub const MC_SIG_OUTPUTS: u32 = 49;
+pub const MC_SIG_INPUTS_RAW: u32 = 50;
+pub const MC_SCOPE_ONE_SHOT: u32 = 0;
+pub const MC_SCOPE_CONTINUOUS: u32 = 1;
+pub const MC_SCOPE_TRIG_IMMEDIATE: u32 = 0;
+pub const MC_SCOPE_TRIG_COMMAND: u32 = 1;
+pub const MC_SCOPE_TRIG_LEVEL: u32 = 2;
+pub const MC_SCOPE_TRIG_INPUT: u32 = 3;
+pub const MC_SCOPE_TRIG_FAULT: u32 = 4;
+pub const MC_SCOPE_RISING: u32 = 0;
+pub const MC_SCOPE_FALLING: u32 = 1;
+pub const MC_SCOPE_EITHER: u32 = 2;
+pub const MC_SCOPE_IDLE: u32 = 0;
+pub const MC_SCOPE_WAITING: u32 = 1;
+pub const MC_SCOPE_CAPTURING: u32 = 2;
+pub const MC_SCOPE_DONE: u32 = 3;
+pub const MC_SCOPE_EV_TRIGGERED: u32 = 1;
+pub const MC_SCOPE_EV_DONE: u32 = 2;
+pub const MC_SCOPE_EV_LOST: u32 = 3;
+pub const MC_NACK_SCOPE_SIGNAL: u32 = 110;
+pub const MC_NACK_SCOPE_CHANNELS: u32 = 111;
+pub const MC_NACK_SCOPE_DIVIDER: u32 = 112;
+pub const MC_NACK_SCOPE_TRIGGER: u32 = 113;
+pub const MC_NACK_SCOPE_PRETRIGGER: u32 = 114;
+pub const MC_NACK_SCOPE_STATE: u32 = 115;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -228,6 +278,7 @@ pub const MC_EV_PATH_STARVED: u32 = 23;
 pub const MC_EV_INPUT: u32 = 24;
 pub const MC_EV_COMPARE: u32 = 25;
 pub const MC_EV_PROBE: u32 = 26;
+pub const MC_EV_SCOPE: u32 = 29;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -368,7 +419,7 @@ pub const MC_PROTO_CMD_RING: u32 = 1;
 pub const MC_PROTO_EVT_RING: u32 = 2;
 pub const MC_SERVO_FFPIV: u32 = 0;
 pub const MC_SERVO_PDPLUS: u32 = 1;
-pub const MC_DPRAM_SIZE: u32 = 32768;
+pub const MC_DPRAM_SIZE: u32 = 1048576;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_identity {
@@ -1374,6 +1425,125 @@ const _: () = {
     ["Offset of field: mc_sync_status::pvt_free"]
         [::core::mem::offset_of!(mc_sync_status, pvt_free) - 112usize];
 };
+#[doc = " The scope's configuration (layout 1.8). Host writes; the card validates and copies it on\n MC_OP_SCOPE_CONFIGURE. All zero at boot (n_channels 0: not configured)."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_scope_config {
+    #[doc = " Channels sampled, 1..MC_SCOPE_CHANNELS."]
+    pub n_channels: u32,
+    #[doc = " A sample every divider ticks, 1..MC_SCOPE_DIVIDER_MAX."]
+    pub divider: u32,
+    #[doc = " Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index)."]
+    pub source: [u32; 16usize],
+    #[doc = " MC_SCOPE_ONE_SHOT or MC_SCOPE_CONTINUOUS."]
+    pub mode: u32,
+    #[doc = " MC_SCOPE_TRIG_*."]
+    pub trigger: u32,
+    #[doc = " MC_SCOPE_TRIG_LEVEL: the channel compared with level."]
+    pub trigger_channel: u32,
+    #[doc = " MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1."]
+    pub trigger_input: u32,
+    #[doc = " MC_SCOPE_RISING, _FALLING or _EITHER (level and input triggers)."]
+    pub edge: u32,
+    #[doc = " Samples kept from before the trigger, 0..MC_SCOPE_PRETRIGGER_MAX."]
+    pub pre_trigger: u32,
+    #[doc = " One-shot: samples from the trigger sample on, >= 1."]
+    pub post_trigger: u32,
+    pub _reserved0: u32,
+    #[doc = " MC_SCOPE_TRIG_LEVEL: the level, in the channel's unit."]
+    pub level: f64,
+    pub _reserved: [u64; 4usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_scope_config"][::core::mem::size_of::<mc_scope_config>() - 144usize];
+    ["Alignment of mc_scope_config"][::core::mem::align_of::<mc_scope_config>() - 8usize];
+    ["Offset of field: mc_scope_config::n_channels"]
+        [::core::mem::offset_of!(mc_scope_config, n_channels) - 0usize];
+    ["Offset of field: mc_scope_config::divider"]
+        [::core::mem::offset_of!(mc_scope_config, divider) - 4usize];
+    ["Offset of field: mc_scope_config::source"]
+        [::core::mem::offset_of!(mc_scope_config, source) - 8usize];
+    ["Offset of field: mc_scope_config::mode"]
+        [::core::mem::offset_of!(mc_scope_config, mode) - 72usize];
+    ["Offset of field: mc_scope_config::trigger"]
+        [::core::mem::offset_of!(mc_scope_config, trigger) - 76usize];
+    ["Offset of field: mc_scope_config::trigger_channel"]
+        [::core::mem::offset_of!(mc_scope_config, trigger_channel) - 80usize];
+    ["Offset of field: mc_scope_config::trigger_input"]
+        [::core::mem::offset_of!(mc_scope_config, trigger_input) - 84usize];
+    ["Offset of field: mc_scope_config::edge"]
+        [::core::mem::offset_of!(mc_scope_config, edge) - 88usize];
+    ["Offset of field: mc_scope_config::pre_trigger"]
+        [::core::mem::offset_of!(mc_scope_config, pre_trigger) - 92usize];
+    ["Offset of field: mc_scope_config::post_trigger"]
+        [::core::mem::offset_of!(mc_scope_config, post_trigger) - 96usize];
+    ["Offset of field: mc_scope_config::_reserved0"]
+        [::core::mem::offset_of!(mc_scope_config, _reserved0) - 100usize];
+    ["Offset of field: mc_scope_config::level"]
+        [::core::mem::offset_of!(mc_scope_config, level) - 104usize];
+    ["Offset of field: mc_scope_config::_reserved"]
+        [::core::mem::offset_of!(mc_scope_config, _reserved) - 112usize];
+};
+#[doc = " The scope's state (layout 1.8). Card writes; independent words, updated each tick the\n scope runs and by its commands."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_scope_status {
+    #[doc = " MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE."]
+    pub state: u32,
+    #[doc = " The seq of the MC_OP_SCOPE_ARM of the capture."]
+    pub arm_seq: u32,
+    #[doc = " Channels per sample of the capture."]
+    pub n_channels: u32,
+    #[doc = " The divider of the capture."]
+    pub divider: u32,
+    #[doc = " The trigger sample's servo tick (0: not triggered yet)."]
+    pub trigger_tick: u64,
+    #[doc = " Samples put in the ring since the arm."]
+    pub samples: u64,
+    #[doc = " Samples lost since the arm (the ring was full)."]
+    pub lost: u64,
+    pub _reserved: [u64; 3usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_scope_status"][::core::mem::size_of::<mc_scope_status>() - 64usize];
+    ["Alignment of mc_scope_status"][::core::mem::align_of::<mc_scope_status>() - 8usize];
+    ["Offset of field: mc_scope_status::state"]
+        [::core::mem::offset_of!(mc_scope_status, state) - 0usize];
+    ["Offset of field: mc_scope_status::arm_seq"]
+        [::core::mem::offset_of!(mc_scope_status, arm_seq) - 4usize];
+    ["Offset of field: mc_scope_status::n_channels"]
+        [::core::mem::offset_of!(mc_scope_status, n_channels) - 8usize];
+    ["Offset of field: mc_scope_status::divider"]
+        [::core::mem::offset_of!(mc_scope_status, divider) - 12usize];
+    ["Offset of field: mc_scope_status::trigger_tick"]
+        [::core::mem::offset_of!(mc_scope_status, trigger_tick) - 16usize];
+    ["Offset of field: mc_scope_status::samples"]
+        [::core::mem::offset_of!(mc_scope_status, samples) - 24usize];
+    ["Offset of field: mc_scope_status::lost"]
+        [::core::mem::offset_of!(mc_scope_status, lost) - 32usize];
+    ["Offset of field: mc_scope_status::_reserved"]
+        [::core::mem::offset_of!(mc_scope_status, _reserved) - 40usize];
+};
+#[doc = " A scope ring entry (layout 1.8): one sample. Card writes."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_scope_sample {
+    #[doc = " The servo tick it was taken at."]
+    pub tick: u64,
+    #[doc = " Channel k's value (channels >= n_channels: 0)."]
+    pub value: [f64; 16usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_scope_sample"][::core::mem::size_of::<mc_scope_sample>() - 136usize];
+    ["Alignment of mc_scope_sample"][::core::mem::align_of::<mc_scope_sample>() - 8usize];
+    ["Offset of field: mc_scope_sample::tick"]
+        [::core::mem::offset_of!(mc_scope_sample, tick) - 0usize];
+    ["Offset of field: mc_scope_sample::value"]
+        [::core::mem::offset_of!(mc_scope_sample, value) - 8usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1403,10 +1573,16 @@ pub struct mc_dpram {
     pub compare_status: [mc_compare_status; 4usize],
     pub probe_status: [mc_probe_status; 4usize],
     pub sync_status: mc_sync_status,
+    pub scope_config: mc_scope_config,
+    pub scope_status: mc_scope_status,
+    pub _reserved1: [u8; 32usize],
+    pub scope_head: mc_ring_index,
+    pub scope_tail: mc_ring_index,
+    pub scope_ring: [mc_scope_sample; 4096usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 27088usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 584512usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1451,6 +1627,18 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, probe_status) - 26560usize];
     ["Offset of field: mc_dpram::sync_status"]
         [::core::mem::offset_of!(mc_dpram, sync_status) - 26944usize];
+    ["Offset of field: mc_dpram::scope_config"]
+        [::core::mem::offset_of!(mc_dpram, scope_config) - 27088usize];
+    ["Offset of field: mc_dpram::scope_status"]
+        [::core::mem::offset_of!(mc_dpram, scope_status) - 27232usize];
+    ["Offset of field: mc_dpram::_reserved1"]
+        [::core::mem::offset_of!(mc_dpram, _reserved1) - 27296usize];
+    ["Offset of field: mc_dpram::scope_head"]
+        [::core::mem::offset_of!(mc_dpram, scope_head) - 27328usize];
+    ["Offset of field: mc_dpram::scope_tail"]
+        [::core::mem::offset_of!(mc_dpram, scope_tail) - 27392usize];
+    ["Offset of field: mc_dpram::scope_ring"]
+        [::core::mem::offset_of!(mc_dpram, scope_ring) - 27456usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

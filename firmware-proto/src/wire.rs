@@ -174,6 +174,14 @@ code_enum! {
         CamIn = raw::MC_OP_CAM_IN,
         /// MC_CamOut: as [`Opcode::GearOut`].
         CamOut = raw::MC_OP_CAM_OUT,
+        /// Layout 1.8: validate and copy `scope_config`.
+        ScopeConfigure = raw::MC_OP_SCOPE_CONFIGURE,
+        /// Arm the scope: sample into the pre-trigger history, wait for the trigger.
+        ScopeArm = raw::MC_OP_SCOPE_ARM,
+        /// Trigger the waiting scope at its next sample.
+        ScopeTrigger = raw::MC_OP_SCOPE_TRIGGER,
+        /// Stop the scope.
+        ScopeStop = raw::MC_OP_SCOPE_STOP,
     }
 }
 
@@ -235,6 +243,8 @@ code_enum! {
         Sync = raw::MC_EV_SYNC,
         /// A PT/PVT stream; `code` says what happened to it.
         Pvt = raw::MC_EV_PVT,
+        /// Layout 1.8: the scope; `code` is a [`ScopeEvent`](crate::ScopeEvent), `seq` its arm.
+        Scope = raw::MC_EV_SCOPE,
     }
 }
 
@@ -391,6 +401,20 @@ code_enum! {
         CamTable = raw::MC_NACK_CAM_TABLE,
         /// Cam data without an open table or out of order.
         CamSequence = raw::MC_NACK_CAM_SEQUENCE,
+        /// Layout 1.8: a scope signal the card does not know, or an axis or group it has not.
+        ScopeSignal = raw::MC_NACK_SCOPE_SIGNAL,
+        /// Scope channels 0 or more than `MC_SCOPE_CHANNELS`.
+        ScopeChannels = raw::MC_NACK_SCOPE_CHANNELS,
+        /// A scope divider 0 or above `MC_SCOPE_DIVIDER_MAX`.
+        ScopeDivider = raw::MC_NACK_SCOPE_DIVIDER,
+        /// An unknown scope mode, trigger or edge, a trigger channel or input out of range, a
+        /// level not finite, or a one-shot capture of no samples.
+        ScopeTrigger = raw::MC_NACK_SCOPE_TRIGGER,
+        /// More pre-trigger samples than the card keeps (`MC_SCOPE_PRETRIGGER_MAX`).
+        ScopePretrigger = raw::MC_NACK_SCOPE_PRETRIGGER,
+        /// A scope command its state does not allow (configure or arm while armed, trigger
+        /// while not waiting, stop while idle, arm before a configure).
+        ScopeState = raw::MC_NACK_SCOPE_STATE,
     }
 }
 
@@ -998,7 +1022,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 71);
+        assert_eq!(NackCode::ALL.len(), 77);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

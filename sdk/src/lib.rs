@@ -37,6 +37,7 @@ mod pvt;
 #[cfg(feature = "emulator")]
 mod replay;
 mod safety;
+mod scope;
 mod session;
 mod sync;
 pub mod trace;
@@ -59,6 +60,7 @@ pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,
     StopReason, AXIS_QUEUE_LEN, OVERRIDE_MAX,
 };
+pub use firmware_proto::{Edge, ScopeMode, ScopeSample, ScopeState, Source, SCOPE_CHANNELS};
 pub use firmware_proto::{
     GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
 };
@@ -88,6 +90,10 @@ pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
 pub use replay::{replay, ReplayReport, TraceHeader};
 pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
+pub use scope::{
+    Capture, Scope, ScopeEvent, ScopeSettings, ScopeStatus, ScopeTrigger, Signal, SignalOwner,
+    SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,
+};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;

@@ -12,7 +12,7 @@ use crate::firmware::nack::plan_nack;
 use crate::firmware::rate_hz;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
-use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference};
+use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference, ServoTerms};
 use crate::servo::pdplus::{AxisModel, PdPlus};
 use firmware_proto::{
     AxisState, AxisStatus, Faults, Io, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN,
@@ -172,6 +172,8 @@ pub struct Axis {
     prev_cmd_acc: f64,
     raw_vel: f64,
     u_request: f64,
+    /// The servo law's terms of the tick (the scope's `MC_SIG_SERVO_*`); 0 while unpowered.
+    servo_terms: ServoTerms,
     pd: Option<PdPlus>,
     target: f64,
     act_pos: f64,
@@ -240,6 +242,7 @@ impl Axis {
             prev_cmd_acc: 0.0,
             raw_vel: 0.0,
             u_request: 0.0,
+            servo_terms: ServoTerms::default(),
             pd: None,
             target: 0.0,
             act_pos: 0.0,
@@ -719,6 +722,7 @@ impl Axis {
             self.prev_cmd_acc = 0.0;
             self.ferr = 0.0;
             self.dac_v = 0.0;
+            self.servo_terms = ServoTerms::default();
             self.faults.remove(Faults::DAC_SATURATED);
             return (0.0, report);
         }
@@ -797,6 +801,10 @@ impl Axis {
                 .update(&self.cmd, self.act_pos, &self.config.ffpiv, ts, limit),
         };
         self.u_request = u;
+        self.servo_terms = match &self.pd {
+            Some(pd) => pd.terms(),
+            None => self.servo.terms(),
+        };
         let u = u.clamp(-limit, limit);
         let (volts, saturated) = super::dac::Dac::output(u);
         self.dac_v = volts;
@@ -928,6 +936,11 @@ impl Axis {
     pub fn in_position_at(&self, target: f64) -> bool {
         (target - self.act_pos).abs() <= self.config.in_pos_window
             && self.servo.velocity().abs() <= self.config.in_vel_window
+    }
+
+    /// The servo law's terms of the last tick.
+    pub fn servo_terms(&self) -> ServoTerms {
+        self.servo_terms
     }
 
     /// The status block to publish.

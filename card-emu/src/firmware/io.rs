@@ -455,6 +455,11 @@ impl IoUnit {
         &self.fires
     }
 
+    /// The debounced inputs and the inputs as sampled (polarity applied), as published.
+    pub fn inputs(&self) -> (u32, u32) {
+        (self.debounce.debounced(), self.debounce.raw())
+    }
+
     /// The outputs the compare pulses hold on now.
     pub fn pulse_outputs(&self) -> u32 {
         self.compare.iter().fold(0, |m, c| m | c.pulse_bits())

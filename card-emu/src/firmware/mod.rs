@@ -20,6 +20,7 @@ pub mod outbox;
 pub mod probe;
 pub mod pvt;
 pub mod safety;
+pub mod scope;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::gear::{AuxInputs, Gear};
@@ -35,6 +36,7 @@ use firmware_proto::{
     raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, MoveFlags, NackCode,
     Opcode, StopReason, MAX_AXES, MAX_GROUPS,
 };
+use firmware_proto::{ScopeEvent, ScopeProducer, Signal};
 
 /// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
 pub const FW_VERSION: u32 = 1 << 16;
@@ -80,6 +82,9 @@ pub struct Firmware<M: Mem + Clone> {
     events_lost: u32,
     cmds_accepted: u32,
     safety: Safety,
+    /// Layout 1.8: the scope, made on the first MC_OP_SCOPE_CONFIGURE, and its ring.
+    scope: Option<Box<scope::Scope>>,
+    scope_ring: ScopeProducer<M>,
 }
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -96,6 +101,8 @@ impl<M: Mem + Clone> Firmware<M> {
             layout::CMD_TAIL,
             layout::EVT_HEAD,
             layout::EVT_TAIL,
+            layout::SCOPE_HEAD,
+            layout::SCOPE_TAIL,
         ] {
             mem.write32(off, 0);
         }
@@ -104,6 +111,8 @@ impl<M: Mem + Clone> Firmware<M> {
             safety,
             cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
             events: EvtProducer::attach(mem.clone(), EVT_RING),
+            scope_ring: ScopeProducer::attach(mem.clone(), firmware_proto::SCOPE_RING),
+            scope: None,
             mem,
             axes: core::array::from_fn(|_| Axis::new()),
             homing: [Homing::default(); MAX_AXES],
@@ -357,6 +366,10 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         if is_group_op(op) {
             return self.execute_group(c, op).map(|()| 0.0);
+        }
+        if is_scope_op(op) {
+            // Layout 1.8: the scope (scope.rs); nothing moves.
+            return self.scope_command(c, op).map(|()| 0.0);
         }
         let nargs = match op {
             Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => 8,
@@ -883,8 +896,11 @@ impl<M: Mem + Clone> Firmware<M> {
         // The status first, then the events about it: a host that takes motion done (or a
         // state change) and then reads the status sees this tick's, never the one before.
         self.publish();
+        // The scope samples what was just published (scope.rs).
+        let scoped = self.scope_tick();
         self.post_safety_events();
         self.post_outbox();
+        self.post_scope_events(&scoped);
         for i in 0..io::IO_EVENTS {
             if let Some(e) = self.io.event(i) {
                 self.post(e);
@@ -948,6 +964,116 @@ impl<M: Mem + Clone> Firmware<M> {
     pub fn outputs(&self) -> u32 {
         self.outputs | self.io.pulse_outputs()
     }
+}
+
+/// Layout 1.8: the scope's commands, sampling and events.
+impl<M: Mem + Clone> Firmware<M> {
+    fn scope_command(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
+        let tick = self.tick;
+        if op == Opcode::ScopeConfigure && self.scope.is_none() {
+            // Checked before the scope (and its history) is made: a refusal changes nothing.
+            let block = layout::SCOPE_CONFIG.read(&self.mem);
+            firmware_proto::check_config(&block, self.num_axes)?;
+            self.scope = Some(Box::new(scope::Scope::new()));
+        }
+        let Some(sc) = self.scope.as_mut() else {
+            return Err(NackCode::ScopeState);
+        };
+        match op {
+            Opcode::ScopeConfigure => {
+                let block = layout::SCOPE_CONFIG.read(&self.mem);
+                sc.configure(&block, self.num_axes)?
+            }
+            Opcode::ScopeArm => sc.arm(c.seq, tick)?,
+            Opcode::ScopeTrigger => sc.force_trigger()?,
+            _ => sc.stop()?,
+        }
+        layout::SCOPE_STATUS.write(&self.mem, &sc.status());
+        Ok(())
+    }
+
+    /// Take this tick's sample if the scope wants one; what it did.
+    fn scope_tick(&mut self) -> scope::SampleReport {
+        let tick = self.tick;
+        let Some(sc) = self.scope.as_deref_mut() else {
+            return Default::default();
+        };
+        if !sc.samples_at(tick) {
+            return Default::default();
+        }
+        let mut s = firmware_proto::ScopeSample {
+            tick,
+            ..Default::default()
+        };
+        let (inputs, inputs_raw) = self.io.inputs();
+        let outputs = self.outputs | self.io.pulse_outputs();
+        let mut axis_cache: [Option<firmware_proto::AxisStatus>; MAX_AXES] = [None; MAX_AXES];
+        let mut group_cache: [Option<firmware_proto::GroupStatus>; MAX_GROUPS] = [None; MAX_GROUPS];
+        for (v, src) in s.value.iter_mut().zip(sc.sources()) {
+            let i = (src.index as usize).min(MAX_AXES - 1);
+            let g = (src.index as usize).min(MAX_GROUPS - 1);
+            let axes = &self.axes;
+            let mut ax = || *axis_cache[i].get_or_insert_with(|| axes[i].status(tick));
+            let groups = &self.groups;
+            let mut gr = || *group_cache[g].get_or_insert_with(|| groups[g].status(tick));
+            *v = match src.signal {
+                Signal::CmdPos => ax().cmd_pos,
+                Signal::CmdVel => ax().cmd_vel,
+                Signal::CmdAcc => ax().cmd_acc,
+                Signal::ActPos => ax().act_pos,
+                Signal::ActVel => ax().act_vel,
+                Signal::Ferr => ax().ferr,
+                Signal::Dac => ax().dac_v,
+                Signal::URequest => ax().u_request,
+                Signal::Encoder => ax().encoder as f64,
+                Signal::ServoP => self.axes[i].servo_terms().p,
+                Signal::ServoI => self.axes[i].servo_terms().i,
+                Signal::ServoD => self.axes[i].servo_terms().d,
+                Signal::ServoFf => self.axes[i].servo_terms().ff,
+                Signal::PathSpeed => gr().feed,
+                Signal::PathAcc => gr().feed_acc,
+                Signal::PathPos => gr().path_pos,
+                Signal::Inputs => inputs as f64,
+                Signal::Outputs => outputs as f64,
+                Signal::InputsRaw => inputs_raw as f64,
+            };
+        }
+        let faults = if sc.wants_faults() {
+            self.axes[..self.num_axes]
+                .iter()
+                .fold(0, |f, a| f | a.status(tick).faults)
+                & !0xFF
+        } else {
+            0
+        };
+        let ring = &mut self.scope_ring;
+        let report = sc.on_sample(&s, inputs, faults, &mut |x| ring.push(x).is_ok());
+        layout::SCOPE_STATUS.write(&self.mem, &sc.status());
+        report
+    }
+
+    fn post_scope_events(&mut self, r: &scope::SampleReport) {
+        let Some(seq) = self.scope.as_ref().map(|s| s.arm_seq()) else {
+            return;
+        };
+        let codes = [
+            (ScopeEvent::Triggered, r.triggered),
+            (ScopeEvent::Lost, r.lost),
+            (ScopeEvent::Done, r.done),
+        ];
+        for (code, value) in codes {
+            if let Some(v) = value {
+                self.post_axis_event(EventKind::Scope, seq, 0, code as i32, v as f64);
+            }
+        }
+    }
+}
+
+fn is_scope_op(op: Opcode) -> bool {
+    matches!(
+        op,
+        Opcode::ScopeConfigure | Opcode::ScopeArm | Opcode::ScopeTrigger | Opcode::ScopeStop
+    )
 }
 
 /// The hardest stop ramp every member of a group allows along its path: the smallest of their

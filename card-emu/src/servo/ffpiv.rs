@@ -61,6 +61,22 @@ pub struct Ffpiv {
     /// when either changes, not two every tick.
     filter_gain: f64,
     filter_for: (f64, f64),
+    /// The terms of the last output: [`ServoTerms`].
+    terms: ServoTerms,
+}
+
+/// The terms of a servo law's output, V (the scope's `MC_SIG_SERVO_*`): their sum is the
+/// output before the clamp, up to rounding.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ServoTerms {
+    /// Proportional: FFPIV kv·kp·(x_ref − x); PD+ kp·e.
+    pub p: f64,
+    /// Integral: FFPIV kv·ki·∫; PD+ 0.
+    pub i: f64,
+    /// Velocity feedback: FFPIV −kv·v̂; PD+ kd·(w_d − w_a).
+    pub d: f64,
+    /// Feed-forward: FFPIV kv·kvff·v̂_ref + kaff·a_ref; PD+ kv·w_d + ka·α_d.
+    pub ff: f64,
 }
 
 /// One servo update's inputs.
@@ -132,10 +148,21 @@ impl Ffpiv {
         let ev = v_cmd - self.vel;
         let integral = self.integral + ev * ts;
         let u = gains.kv * (ev + gains.ki * integral) + gains.kaff * r.acc;
+        self.terms = ServoTerms {
+            p: gains.kv * gains.kp * (pos - x),
+            i: gains.kv * gains.ki * integral,
+            d: -gains.kv * self.vel,
+            ff: gains.kv * gains.kvff * self.vel_ref + gains.kaff * r.acc,
+        };
         if u.abs() <= limit {
             self.integral = integral;
         }
         u
+    }
+
+    /// The terms of the last output.
+    pub fn terms(&self) -> ServoTerms {
+        self.terms
     }
 
     /// Forget the integrator and the reference's history (on enable, at rest), keep the

@@ -132,6 +132,7 @@ pub struct PdPlus {
     prev_meas: f64,
     primed: bool,
     fault: bool,
+    terms: super::ffpiv::ServoTerms,
 }
 
 impl PdPlus {
@@ -147,6 +148,7 @@ impl PdPlus {
             prev_meas: 0.0,
             primed: false,
             fault: false,
+            terms: Default::default(),
         })
     }
 
@@ -166,6 +168,11 @@ impl PdPlus {
     /// Gains in use.
     pub fn gains(&self) -> PdPlusGains {
         self.gains
+    }
+
+    /// The terms of the last output (Yeh eq 2.12's, in DU).
+    pub fn terms(&self) -> super::ffpiv::ServoTerms {
+        self.terms
     }
 
     /// True after an update saw a non-finite input or produced a non-finite output
@@ -191,6 +198,12 @@ impl PdPlus {
         let g = &self.gains;
         let u =
             g.kp * (ref_pos - meas_pos) + g.kd * (ref_vel - w_a) + g.kv * ref_vel + g.ka * ref_acc;
+        self.terms = super::ffpiv::ServoTerms {
+            p: g.kp * (ref_pos - meas_pos),
+            i: 0.0,
+            d: g.kd * (ref_vel - w_a),
+            ff: g.kv * ref_vel + g.ka * ref_acc,
+        };
         if u.is_finite() {
             u
         } else {

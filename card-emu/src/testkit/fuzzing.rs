@@ -269,7 +269,7 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     } else if k < 248 {
         // The gaps and edges of the opcode space.
         [
-            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 90, 120, 256, 0x7FFF, 0x8000, 0xFFFF,
+            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 96, 120, 256, 0x7FFF, 0x8000, 0xFFFF,
         ][(k - 232) as usize]
     } else {
         s.u16()
