@@ -16,7 +16,9 @@ use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 mod machine;
+mod scope;
 pub use machine::*;
+pub use scope::*;
 
 /// How long mcctl waits for a move to be done.
 const WAIT: Duration = Duration::from_secs(600);

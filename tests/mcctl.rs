@@ -744,3 +744,73 @@ fn replay_a_trace_from_the_command_line() {
     assert_eq!(code, 2, "{err}");
     let _ = std::fs::remove_file(&trace);
 }
+
+/// `mcctl scope`: a move captured from a level trigger with samples before it, to CSV and SVG;
+/// bad channels and triggers are exit status 2.
+#[test]
+fn scope_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("mcctl-scope-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, svg) = (dir.join("move.csv"), dir.join("move.svg"));
+    let j = json_of(&[
+        "scope",
+        "--channel",
+        "cmd_pos:1",
+        "--channel",
+        "cmd_vel:1",
+        "--channel",
+        "ferr:1",
+        "--trigger",
+        "level:1:-100:falling",
+        "--pre",
+        "10",
+        "--samples",
+        "1500",
+        "--axis",
+        "1",
+        "--move",
+        "-20000",
+        "--enable",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(
+        (j["samples"].as_u64(), j["pre_trigger"].as_u64()),
+        (Some(1510), Some(10)),
+        "{j}"
+    );
+    assert_eq!(j["lost"], 0, "{j}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("tick,time_s,cmd_pos:1,cmd_vel:1,ferr:1"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 1510);
+    for w in rows.windows(2) {
+        assert_eq!(w[1][0], w[0][0] + 1.0, "one sample a tick");
+        assert!(w[1][2] <= w[0][2], "the commanded position falls: {w:?}");
+    }
+    // The trigger sample: the first at or below -100 counts/s, at time 0.
+    let k = rows.iter().position(|r| r[1] == 0.0).unwrap();
+    assert_eq!(k, 10);
+    assert!(
+        rows[9][3] > -100.0 && rows[10][3] <= -100.0,
+        "{:?}",
+        &rows[9..11]
+    );
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    for args in [
+        vec!["scope", "--channel", "nothing:0"],
+        vec!["scope", "--trigger", "level:x"],
+        vec!["scope", "--trigger", "input:1:sideways"],
+        vec!["scope", "--timeout", "0"],
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -7,6 +7,7 @@
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
 //! mcctl plan 100 --vmax 10 --amax 100 --jmax 1e3 --v0 -15 --a0 0     # from any state (time-optimal)
 //! mcctl --card emu:bench1 info                       # firmware, layout, axes, servo rate
+//! mcctl scope --move 20000 --enable --pre 100 --trigger level:0:1 --csv m.csv --svg m.svg
 //! MOTIONCARD_TRACE=run.trace ./my_program && mcctl replay run.trace   # API trace, replayed
 //! mcctl --card emu:bench1 status --watch             # axes and groups, live (--json: one object)
 //! mcctl --card emu:bench1 enable 0 1                 # MC_Power (disable, stop, reset likewise)
@@ -346,6 +347,46 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// The card's scope: a one-shot capture of up to 16 channels (every --divider-th servo
+    /// tick), from a trigger with --pre samples before it, of a --move of --axis started while
+    /// armed; written to --csv and --svg, summarised per channel.
+    Scope {
+        /// A channel SIGNAL[:INDEX] (repeat for more, up to 16): cmd_pos, cmd_vel, cmd_acc,
+        /// act_pos, act_vel, ferr, dac, u_request, encoder, servo_p, servo_i, servo_d, servo_ff
+        /// (of an axis), path_speed, path_acc, path_pos (of a group), inputs, outputs,
+        /// inputs_raw. Default: cmd_pos, act_pos, ferr and dac of --axis.
+        #[arg(long = "channel", value_parser = cli::parse_source)]
+        channels: Vec<motioncard::Source>,
+        /// Samples from the trigger on.
+        #[arg(long, default_value_t = 2000)]
+        samples: u32,
+        /// Samples kept from before the trigger.
+        #[arg(long, default_value_t = 0)]
+        pre: u32,
+        /// A sample every N servo ticks.
+        #[arg(long, default_value_t = 1)]
+        divider: u32,
+        /// immediate, command, fault, level:CHANNEL:LEVEL[:rising|falling|either] (CHANNEL:
+        /// its place in the --channel list, from 0) or input:N[:EDGE].
+        #[arg(long, default_value = "immediate", allow_hyphen_values = true, value_parser = cli::parse_trigger)]
+        trigger: motioncard::ScopeTrigger,
+        /// The axis of the default channels and of --move.
+        #[arg(long, default_value_t = 0)]
+        axis: usize,
+        /// Write the samples here (tick, seconds from the trigger, one column a channel).
+        #[arg(long)]
+        csv: Option<std::path::PathBuf>,
+        /// Plot the channels against time here.
+        #[arg(long)]
+        svg: Option<std::path::PathBuf>,
+        /// Seconds the whole capture may take.
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+        #[command(flatten)]
+        travel: TravelArgs,
+        #[arg(long)]
+        json: bool,
+    },
     /// Replay an API trace (recorded with MOTIONCARD_TRACE=FILE or Card::open_traced) against
     /// an emulated card (`--card sim`) and report the first answer or event that differs (exit
     /// status 1 when one does).
@@ -614,6 +655,46 @@ fn main() -> ExitCode {
             on_card(uri, |c| cli::watch(c, axis, json, every, count))
         }
         Cmd::Info { json } => on_card(uri, |c| cli::info(c, json)),
+        Cmd::Scope {
+            mut channels,
+            samples,
+            pre,
+            divider,
+            trigger,
+            axis,
+            csv,
+            svg,
+            timeout,
+            travel,
+            json,
+        } => {
+            if channels.is_empty() {
+                use motioncard::{Signal, Source};
+                channels = [Signal::CmdPos, Signal::ActPos, Signal::Ferr, Signal::Dac]
+                    .map(|s| Source::axis(s, axis))
+                    .to_vec();
+            }
+            if !(timeout.is_finite() && timeout > 0.0) {
+                return bad(format!(
+                    "--timeout must be a number of seconds > 0, got {timeout}"
+                ));
+            }
+            let job = cli::ScopeJob {
+                channels,
+                divider,
+                trigger,
+                pre_trigger: pre,
+                samples,
+                travel: travel.travel(axis),
+                csv,
+                svg,
+                timeout: Duration::from_secs_f64(timeout),
+            };
+            on_card(uri, |c| {
+                enable_all(c, travel.enable, &[axis])?;
+                cli::scope(c, &job, json)
+            })
+        }
         Cmd::Replay { file, json } => {
             if uri != "sim" {
                 return bad(format!(
