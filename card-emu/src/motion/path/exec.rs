@@ -325,12 +325,14 @@ impl Path {
             if self.exec >= self.tail {
                 return;
             }
-            let sg = *self.seg(self.exec);
+            // the few fields needed, not a copy of the whole segment (it holds two quintics)
+            let sg = self.seg(self.exec);
             if sg.is_dwell() {
                 return;
             }
+            let (blend_len, body0, end) = (sg.blend.len, sg.body0, sg.body1);
             if self.in_blend {
-                let len = sg.blend.len;
+                let len = blend_len;
                 if self.prev_open {
                     let mid = 0.5 * len;
                     if self.s + left >= mid {
@@ -353,12 +355,11 @@ impl Path {
                 left -= step;
                 if self.s >= len {
                     self.in_blend = false;
-                    self.s = sg.body0;
+                    self.s = body0;
                     continue;
                 }
                 return;
             }
-            let end = sg.body1;
             let step = (end - self.s).max(0.0).min(left);
             self.s += step;
             self.travel(step, ev);
@@ -370,18 +371,19 @@ impl Path {
             let next = self.exec + 1;
             if next >= self.tail {
                 if resting {
-                    self.pos = sg.prog.pos(end);
+                    self.pos = self.seg(self.exec).prog.pos(end);
                     self.end_seg(self.exec, ev);
                     self.exec = next;
                     self.started = false;
                 }
                 return;
             }
-            let ns = *self.seg(next);
+            let ns = self.seg(next);
+            let (ns_stop, ns_blend, ns_body0) = (ns.stop_before, ns.has_blend, ns.body0);
             // at rest at the window's end: step into the next piece (the same point), so
             // that the window moves on
             let window_stop = land && next >= wend;
-            if ns.stop_before {
+            if ns_stop {
                 // never past an exact stop without landing on it
                 self.end_seg(self.exec, ev);
                 self.exec = next;
@@ -390,7 +392,7 @@ impl Path {
                 self.start_seg(ev);
                 return;
             }
-            if ns.has_blend {
+            if ns_blend {
                 self.exec = next;
                 self.in_blend = true;
                 self.prev_open = true;
@@ -399,7 +401,7 @@ impl Path {
             } else {
                 self.end_seg(self.exec, ev);
                 self.exec = next;
-                self.s = ns.body0;
+                self.s = ns_body0;
                 self.start_seg(ev);
             }
             if window_stop {

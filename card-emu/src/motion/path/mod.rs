@@ -736,25 +736,40 @@ impl Path {
 
     /// `min(cap, frame_cap(f))`, solving the jerk cubic only where `cap` breaks it.
     fn frame_cap_below(&self, f: &Frame, mut cap: f64) -> f64 {
+        for k in 0..self.lim.naxes {
+            cap = self.axis_cap(k, f.t[k], f.k[k], f.dk[k], cap);
+        }
+        cap
+    }
+
+    /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
+    /// derivative `dk` on that axis.
+    #[inline]
+    fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, mut cap: f64) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
-        for k in 0..l.naxes {
-            let (t, kk, dk) = (f.t[k].abs(), f.k[k].abs(), f.dk[k].abs());
-            if t * cap > CAP_MARGIN * l.vmax[k] {
-                cap = CAP_MARGIN * l.vmax[k] / t;
-            }
-            if kk > 0.0 {
-                let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
-                if kk * cap * cap > room {
-                    cap = (room / kk).sqrt();
-                }
-            }
-            let room = CAP_MARGIN * l.jmax[k] - jt * t;
-            let (p, q) = (dk, 3.0 * at * kk);
-            if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
-                cap = cap.min(cubic_cap(p, q, room));
+        let (t, kk, dk) = (t.abs(), kk.abs(), dk.abs());
+        if t * cap > CAP_MARGIN * l.vmax[k] {
+            cap = CAP_MARGIN * l.vmax[k] / t;
+        }
+        if kk > 0.0 {
+            let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
+            if kk * cap * cap > room {
+                cap = (room / kk).sqrt();
             }
         }
+        let room = CAP_MARGIN * l.jmax[k] - jt * t;
+        let (p, q) = (dk, 3.0 * at * kk);
+        if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
+            cap = cap.min(cubic_cap(p, q, room));
+        }
+        cap
+    }
+
+    /// `min(cap, the cap of blend b at parameter u)`.
+    fn blend_cap_at(&self, b: &Blend, u: f64, cap: f64) -> f64 {
+        let mut cap = cap;
+        b.each_term(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
         cap
     }
 
@@ -777,7 +792,7 @@ impl Path {
                 let mut cap = f64::INFINITY;
                 for i in 0..=CURVE_CAP_SAMPLES {
                     let u = u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64;
-                    cap = self.frame_cap_below(&b.terms(u), cap);
+                    cap = self.blend_cap_at(b, u, cap);
                 }
                 cap
             }
@@ -788,7 +803,7 @@ impl Path {
     fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
         let mut cap = f64::INFINITY;
         for i in 0..=samples {
-            cap = self.frame_cap_below(&b.terms(i as f64 / samples as f64), cap);
+            cap = self.blend_cap_at(b, i as f64 / samples as f64, cap);
         }
         cap
     }
@@ -830,26 +845,36 @@ impl Path {
             (*a, u, l)
         };
         let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        let mut dev = 0.0f64;
+        // the largest squared distance, its root taken only when it grows (the same figure,
+        // without a root per sample)
+        let mut worst2 = 0.0f64;
         for i in 0..=SMOOTH_SAMPLES {
             let q = b.pos_u(i as f64 / SMOOTH_SAMPLES as f64);
             let mut d2 = f64::INFINITY;
             for (a, u, l) in &chords {
-                let t = (0..n)
-                    .map(|k| (q[k] - a[k]) * u[k])
-                    .sum::<f64>()
-                    .clamp(0.0, *l);
-                let e2 = (0..n)
-                    .map(|k| (q[k] - a[k] - t * u[k]).powi(2))
-                    .sum::<f64>();
+                let mut t = 0.0;
+                for k in 0..n {
+                    t += (q[k] - a[k]) * u[k];
+                }
+                let t = t.clamp(0.0, *l);
+                let mut e2 = 0.0;
+                for k in 0..n {
+                    let e = q[k] - a[k] - t * u[k];
+                    e2 += e * e;
+                }
                 d2 = d2.min(e2);
             }
-            let d = d2.sqrt();
-            if d.is_nan() || d > limit {
+            if d2.is_nan() {
                 return None;
             }
-            dev = dev.max(d);
+            if d2 > worst2 {
+                worst2 = d2;
+                if d2.sqrt() > limit {
+                    return None;
+                }
+            }
         }
+        let dev = worst2.sqrt();
         let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
         (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
     }
