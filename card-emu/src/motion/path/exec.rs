@@ -69,6 +69,7 @@ impl Path {
         self.planner.jmax = self.jt;
         self.planner.rest();
         self.idle_sent = true;
+        self.cap_due = None;
         self.shift_clear();
         Ok(())
     }
@@ -463,6 +464,12 @@ impl Path {
         }
         if self.seg(self.exec).shift {
             return self.shift_tick(ovr, ev);
+        }
+        if let Some(i) = self.cap_due {
+            if i < self.exec + self.lookahead {
+                // the window reaches the newest blend before a push rebuilt it
+                self.settle_cap(i);
+            }
         }
         let lk = self.look(ovr);
         let ts = self.lim.ts;

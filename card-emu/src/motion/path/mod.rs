@@ -417,6 +417,8 @@ pub struct Path {
     npending: usize,
     starving_sent: bool,
     idle_sent: bool,
+    /// The newest segment, whose smoothing blend has no cap yet (see `settle_cap`).
+    cap_due: Option<usize>,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -575,6 +577,7 @@ impl Path {
             npending: 0,
             starving_sent: false,
             idle_sent: true,
+            cap_due: None,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }
@@ -652,6 +655,7 @@ impl Path {
         self.npending = 0;
         self.starving_sent = false;
         self.idle_sent = true;
+        self.cap_due = None;
         self.shift_clear();
         Ok(())
     }
@@ -810,8 +814,8 @@ impl Path {
 
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends: the blend, its
-    /// cap and its deviation from the two lines, or None when the sampled deviation is over
-    /// `limit` (or it is not finite).
+    /// cap (when `with_cap`, else 0) and its deviation from the two lines, or None when the
+    /// sampled deviation is over `limit` (or it is not finite).
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -822,6 +826,7 @@ impl Path {
         ka: &V,
         kb: &V,
         limit: f64,
+        with_cap: bool,
     ) -> Option<(Blend, f64, f64)> {
         let n = self.lim.naxes;
         let mut fa = pa.frame(pa.len() - da);
@@ -875,6 +880,9 @@ impl Path {
             }
         }
         let dev = worst2.sqrt();
+        if !with_cap {
+            return Some((b, 0.0, dev));
+        }
         let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
         (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
     }
@@ -927,11 +935,12 @@ impl Path {
                     &prev.kstart,
                     &kmid,
                     limit,
+                    true,
                 );
                 if let Some(again) = again {
                     let z = [0.0; MAX_AXES];
                     if let Some(new) =
-                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit)
+                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false)
                     {
                         return Some(Smooth {
                             again: Some((again, kmid)),
@@ -945,7 +954,7 @@ impl Path {
             }
         }
         let z = [0.0; MAX_AXES];
-        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit)?;
+        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false)?;
         Some(Smooth {
             again: None,
             new,
@@ -953,6 +962,29 @@ impl Path {
             da,
             db,
         })
+    }
+
+    /// Computes the cap of segment `i`'s smoothing blend, left for later by `append` (the
+    /// newest blend, which the next push usually rebuilds): when the next push does not
+    /// rebuild it, or when the executor's look-ahead window reaches it (`tick` checks before
+    /// each look-ahead; nothing else reads a blend's cap).
+    fn settle_cap(&mut self, i: usize) {
+        let sl = self.slot(i);
+        let mut cap = self.blend_cap(&self.segs[sl].blend, SMOOTH_CAP_SAMPLES);
+        if !(cap > 0.0 && cap.is_finite()) {
+            // a blend of finite positive length has a finite positive cap (every limit
+            // leaves room); should rounding break that, it is run at a crawl, not blindly
+            let l = &self.lim;
+            cap = 1e-3
+                * CAP_MARGIN
+                * l.vmax[..l.naxes]
+                    .iter()
+                    .fold(f64::INFINITY, |m, &x| m.min(x));
+        }
+        self.segs[sl].jgeo = cap;
+        let b = &mut self.blocks[sl / BLOCK];
+        b.geo = b.geo.min(cap);
+        self.cap_due = None;
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
@@ -1129,6 +1161,7 @@ impl Path {
         let prev_live = !idle && self.tail > self.exec;
         let mut prev_trim = 0.0;
         let mut convert_prev = false;
+        let mut cap_due = false;
         if let Transition::TimeShift(_) = transition {
             if rec.prog.is_curved() || (prev_live && self.seg(self.tail - 1).prog.is_curved()) {
                 return Err(PathError::TimeShift);
@@ -1203,9 +1236,14 @@ impl Path {
                     let bk = &mut self.blocks[ps / BLOCK];
                     bk.len += b.len - old;
                     bk.geo = bk.geo.min(cap);
+                    self.cap_due = None;
                 }
-                let (b, cap, dev) = sm.new;
-                rec.join(b, cap, rule, (sm.da, sm.db), dev);
+                // The newest blend ends with curvature 0 and is rebuilt by the next push in
+                // the common case: its cap waits until the look-ahead may reach it (see
+                // `settle_cap`), so that each push computes one cap, not two.
+                let (b, _, dev) = sm.new;
+                rec.join(b, 0.0, rule, (sm.da, sm.db), dev);
+                cap_due = true;
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
                 prev_trim = sm.da;
@@ -1290,6 +1328,10 @@ impl Path {
             self.npending = 0;
         }
         // commit
+        if let Some(i) = self.cap_due {
+            // not rebuilt by this push: the previous blend keeps its shape and gets its cap
+            self.settle_cap(i);
+        }
         if convert_prev {
             let ps = self.slot(self.tail - 1);
             self.segs[ps].shift = true;
@@ -1321,8 +1363,13 @@ impl Path {
         b.geo = b.geo.min(rec.bgeo);
         b.feed = b.feed.min(rec.feed);
         if !rec.stop_before {
-            b.geo = b.geo.min(rec.jgeo);
+            if !cap_due {
+                b.geo = b.geo.min(rec.jgeo);
+            }
             b.feed = b.feed.min(rec.jfeed);
+        }
+        if cap_due {
+            self.cap_due = Some(self.tail);
         }
         self.last_end = rec.prog.end();
         self.segs[sl] = rec;
