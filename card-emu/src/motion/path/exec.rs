@@ -96,6 +96,10 @@ impl Path {
             sg.body1 - self.s
         };
         let mut j = e + 1;
+        // j's slot, followed along instead of a division per segment (the ring's length is a
+        // multiple of BLOCK, so a block's first slot is a multiple of BLOCK too)
+        let ring = self.segs.len();
+        let mut sl = self.slot(j);
         loop {
             if j >= wend {
                 return (Some(j >= self.tail), d);
@@ -104,14 +108,18 @@ impl Path {
                 return (None, d);
             }
             if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
-                let b = &self.blocks[self.slot(j) / BLOCK];
+                let b = &self.blocks[sl / BLOCK];
                 if !b.stop && b.geo >= below && b.feed * ovr >= below {
                     d += b.len;
                     j += BLOCK;
+                    sl += BLOCK;
+                    if sl >= ring {
+                        sl -= ring;
+                    }
                     continue;
                 }
             }
-            let s = self.seg(j);
+            let s = &self.segs[sl];
             if s.stop_before {
                 return (Some(false), d);
             }
@@ -122,6 +130,10 @@ impl Path {
             f(d, s.bgeo.min(s.feed * ovr));
             d += s.body1 - s.body0;
             j += 1;
+            sl += 1;
+            if sl == ring {
+                sl = 0;
+            }
         }
     }
 

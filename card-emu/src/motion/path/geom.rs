@@ -427,6 +427,19 @@ impl Blend {
         p
     }
 
+    /// [`pos_u`](Self::pos_u) over the first `N` axes (N ≥ the blend's axes; the others
+    /// are those of the first point, as in `pos_u`).
+    #[inline]
+    pub fn pos_u_n<const N: usize>(&self, u: f64) -> V {
+        let mut p = self.q0;
+        let c = &self.c;
+        for k in 0..N {
+            let o = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
+            p[k] += o;
+        }
+        p
+    }
+
     pub fn pos(&self, s: f64) -> V {
         self.pos_u(self.u_at(s))
     }
@@ -454,13 +467,25 @@ impl Blend {
     /// axes (none where B'(u) = 0, where the frame is 0). The speed caps need only these, so
     /// they are handed over without building a whole [`Frame`].
     #[inline]
+    pub fn each_term(&self, u: f64, f: impl FnMut(usize, f64, f64, f64)) {
+        match self.n {
+            1 => self.each_term_n::<1>(u, f),
+            2 => self.each_term_n::<2>(u, f),
+            3 => self.each_term_n::<3>(u, f),
+            _ => self.each_term_n::<MAX_AXES>(u, f),
+        }
+    }
+
+    /// [`each_term`](Self::each_term) over the first `N` axes (N ≥ the blend's axes: the
+    /// axes after them are 0 in every coefficient, so they change no sum), with loops the
+    /// compiler unrolls for the common 1, 2 and 3 axes.
+    #[inline]
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
-    pub fn each_term(&self, u: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
+    pub fn each_term_n<const N: usize>(&self, u: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let c = &self.c;
-        let n = self.n;
-        let (mut r1, mut r2, mut r3) = (Z, Z, Z);
+        let (mut r1, mut r2, mut r3) = ([0.0; N], [0.0; N], [0.0; N]);
         let (mut s11, mut s12, mut s13, mut s22) = (0.0, 0.0, 0.0, 0.0);
-        for k in 0..n {
+        for k in 0..N {
             r1[k] = c[1][k]
                 + u * (2.0 * c[2][k]
                     + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
@@ -481,7 +506,10 @@ impl Blend {
         let r3t = s13 / sig;
         let r2dt = (s22 - sp * sp) / sig;
         let (i1, i2, i3) = (1.0 / sig, 1.0 / (sig * sig), 1.0 / (sig * sig * sig));
-        for k in 0..n {
+        for k in 0..N {
+            if N == MAX_AXES && k >= self.n {
+                break;
+            }
             let t = r1[k] * i1;
             let perp = r2[k] - sp * t;
             let dt = perp * i1;

@@ -463,6 +463,42 @@ fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
     }
 }
 
+/// The largest squared distance from [`SMOOTH_SAMPLES`] + 1 points of blend `b` to the
+/// nearer of two chords (start, unit direction, length), over the first `N` axes (N ≥ the
+/// group's axes, the others being 0 everywhere); None when one is over `limit` (its root only
+/// taken when the largest grows: the same figure without a root per sample) or not a number.
+#[allow(clippy::needless_range_loop)] // one index over several axis arrays
+fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64) -> Option<f64> {
+    let mut worst2 = 0.0f64;
+    for i in 0..=SMOOTH_SAMPLES {
+        let q = b.pos_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
+        let mut d2 = f64::INFINITY;
+        for (a, u, l) in chords {
+            let mut t = 0.0;
+            for k in 0..N {
+                t += (q[k] - a[k]) * u[k];
+            }
+            let t = t.clamp(0.0, *l);
+            let mut e2 = 0.0;
+            for k in 0..N {
+                let e = q[k] - a[k] - t * u[k];
+                e2 += e * e;
+            }
+            d2 = d2.min(e2);
+        }
+        if d2.is_nan() {
+            return None;
+        }
+        if d2 > worst2 {
+            worst2 = d2;
+            if d2.sqrt() > limit {
+                return None;
+            }
+        }
+    }
+    Some(worst2)
+}
+
 /// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
 fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
     if r <= 0.0 {
@@ -850,35 +886,12 @@ impl Path {
             (*a, u, l)
         };
         let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        // the largest squared distance, its root taken only when it grows (the same figure,
-        // without a root per sample)
-        let mut worst2 = 0.0f64;
-        for i in 0..=SMOOTH_SAMPLES {
-            let q = b.pos_u(i as f64 / SMOOTH_SAMPLES as f64);
-            let mut d2 = f64::INFINITY;
-            for (a, u, l) in &chords {
-                let mut t = 0.0;
-                for k in 0..n {
-                    t += (q[k] - a[k]) * u[k];
-                }
-                let t = t.clamp(0.0, *l);
-                let mut e2 = 0.0;
-                for k in 0..n {
-                    let e = q[k] - a[k] - t * u[k];
-                    e2 += e * e;
-                }
-                d2 = d2.min(e2);
-            }
-            if d2.is_nan() {
-                return None;
-            }
-            if d2 > worst2 {
-                worst2 = d2;
-                if d2.sqrt() > limit {
-                    return None;
-                }
-            }
-        }
+        let worst2 = match n {
+            1 => sampled_dev2::<1>(&b, &chords, limit)?,
+            2 => sampled_dev2::<2>(&b, &chords, limit)?,
+            3 => sampled_dev2::<3>(&b, &chords, limit)?,
+            _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+        };
         let dev = worst2.sqrt();
         if !with_cap {
             return Some((b, 0.0, dev));
