@@ -101,8 +101,10 @@ pub const REVERSAL: f64 = 175.0 * core::f64::consts::PI / 180.0;
 const TANGENT_EPS: f64 = 1e-9;
 /// The numeric deviation is held this far below the tolerance.
 const DEV_SAFETY: f64 = 0.97;
-/// Segments per block of the look-ahead's block minima.
-pub const BLOCK: usize = 32;
+/// Segments per block of the look-ahead's block minima. Small: on dense paths the braking
+/// reach spans a few dozen segments, and a block is passed only when none of its caps is
+/// below the speed (32 passed almost none of them on the dense-curve benchmark).
+pub const BLOCK: usize = 8;
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// Samples per smoothing blend for its deviation, and for its cap.
