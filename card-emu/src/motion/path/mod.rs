@@ -27,7 +27,9 @@
 //! with the curvature vector at its ends estimated from the neighbouring points (the circle
 //! through three vertices, averaged over the two vertices of a line). The newest blend ends
 //! with curvature 0, since the next point is not known yet; when it arrives, that blend is
-//! rebuilt with its end curvature if the executor can still slow down before it. The
+//! rebuilt with its end curvature if the executor can still slow down before it. The newest
+//! blend's speed cap is computed only when that rebuild does not happen, or when the
+//! look-ahead window reaches it first, so that a push computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose sampled deviation from
 //! the two lines is over the tolerance (×0.97) falls back to the corner blend below.
