@@ -269,6 +269,12 @@ struct Block {
     /// Path length of its segments.
     len: f64,
     stop: bool,
+    /// Smallest c² + 2·A_t·x over its segments, x where a segment starts from the block's
+    /// start and c its smallest geometric cap (`kg`) or feed cap (`kf`): a lower bound of the
+    /// braking envelope that lets the look-ahead pass the whole block in one test (see
+    /// `exec::Envelope`).
+    kg: f64,
+    kf: f64,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -285,6 +291,8 @@ struct Seg {
     /// feed (before the override).
     jgeo: f64,
     jfeed: f64,
+    /// Where it starts, from the start of its block (the block's length before it).
+    x0: f64,
     /// The body: [body0, body1] in the segment's own arc length.
     body0: f64,
     body1: f64,
@@ -324,6 +332,7 @@ impl Default for Seg {
             blend: Blend::default(),
             jgeo: 0.0,
             jfeed: 0.0,
+            x0: 0.0,
             body0: 0.0,
             body1: 0.0,
             bgeo: 0.0,
@@ -999,8 +1008,10 @@ impl Path {
                     .fold(f64::INFINITY, |m, &x| m.min(x));
         }
         self.segs[sl].jgeo = cap;
+        let x0 = self.segs[sl].x0;
         let b = &mut self.blocks[sl / BLOCK];
         b.geo = b.geo.min(cap);
+        b.kg = b.kg.min(cap * cap + 2.0 * self.at * x0);
         self.cap_due = None;
     }
 
@@ -1250,9 +1261,11 @@ impl Path {
                     sp.jgeo = cap;
                     sp.dev = dev;
                     sp.kend = kend;
+                    let x0 = sp.x0;
                     let bk = &mut self.blocks[ps / BLOCK];
                     bk.len += b.len - old;
                     bk.geo = bk.geo.min(cap);
+                    bk.kg = bk.kg.min(cap * cap + 2.0 * self.at * x0);
                     self.cap_due = None;
                 }
                 // The newest blend ends with curvature 0 and is rebuilt by the next push in
@@ -1373,18 +1386,26 @@ impl Path {
                 feed: f64::INFINITY,
                 len: 0.0,
                 stop: false,
+                kg: f64::INFINITY,
+                kf: f64::INFINITY,
             };
         }
+        rec.x0 = b.len;
         b.len += rec.len();
         b.stop |= rec.stop_before;
         b.geo = b.geo.min(rec.bgeo);
         b.feed = b.feed.min(rec.feed);
+        let (mut g, mut f) = (rec.bgeo, rec.feed);
         if !rec.stop_before {
             if !cap_due {
-                b.geo = b.geo.min(rec.jgeo);
+                g = g.min(rec.jgeo);
             }
-            b.feed = b.feed.min(rec.jfeed);
+            f = f.min(rec.jfeed);
         }
+        b.geo = b.geo.min(g);
+        b.feed = b.feed.min(f);
+        b.kg = b.kg.min(g * g + 2.0 * self.at * rec.x0);
+        b.kf = b.kf.min(f * f + 2.0 * self.at * rec.x0);
         if cap_due {
             self.cap_due = Some(self.tail);
         }
