@@ -1073,6 +1073,13 @@ impl Path {
         };
         let mut j = self.exec + 1;
         while j <= upto && d <= need {
+            if j.is_multiple_of(BLOCK) && j + BLOCK <= upto + 1 {
+                // a whole block short of `upto`: its length at once (the walk spans the
+                // braking distance, a hundred segments on a dense path, on every push)
+                d += self.blocks[self.slot(j) / BLOCK].len;
+                j += BLOCK;
+                continue;
+            }
             d += self.seg(j).len();
             j += 1;
         }
