@@ -4,6 +4,36 @@
 
 use super::*;
 
+/// The braking envelope of one look-ahead pass: a piece of cap c whose start is d ahead can
+/// need the planner to slow for it only if c² + 2·D·(d − step) < θ (D the deceleration limit;
+/// θ from `look`'s slowing test, see there). Whole blocks are passed with their `kg`/`kf`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Envelope {
+    theta: f64,
+    dm: f64,
+    step: f64,
+}
+
+impl Envelope {
+    /// Rounding room of the test (the distances are sums of many lengths): relative, far
+    /// above their error and far below what would change which pieces are tested.
+    const SLACK: f64 = 1e-9;
+
+    /// No piece of cap c (`c2` = c²) starting `d` ahead can need slowing for.
+    fn clears(&self, c2: f64, d: f64) -> bool {
+        let lhs = c2 + 2.0 * self.dm * (d - self.step);
+        lhs >= self.theta + Self::SLACK * (self.theta.abs() + c2 + 2.0 * self.dm * d.abs())
+    }
+
+    /// No piece of block `b`, which starts `d` ahead, can need slowing for: every piece k
+    /// starts at d + x_k or later, and c_k² + 2·D·x_k ≥ min(1, D/A_t)·min(kg, min(1, ovr²)·kf)
+    /// (a feed cap is scaled by the override; A_t is the rate the keys were made with).
+    fn clears_block(&self, b: &Block, d: f64, ovr: f64, at: f64) -> bool {
+        let low = (self.dm / at).min(1.0) * b.kg.min((ovr * ovr).min(1.0) * b.kf);
+        low >= 0.0 && self.clears(low, d)
+    }
+}
+
 impl Path {
     /// Comes to rest along the path as fast as `decel` and `jerk` allow (clamped to the
     /// tangential limits, and never below what the current deceleration needs), then stays;
@@ -37,7 +67,7 @@ impl Path {
         let need =
             1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.lim.ts;
         let wend = self.tail.min(self.exec + self.lookahead);
-        let (stop, rem) = self.walk(need, 0.0, 0.0, wend, &mut |_, _| {});
+        let (stop, rem) = self.walk(need, 0.0, 0.0, wend, None, &mut |_, _| {});
         if stop.is_none() || rem >= need {
             self.planner.dmax = d;
             self.planner.jmax = j;
@@ -69,20 +99,23 @@ impl Path {
         self.planner.jmax = self.jt;
         self.planner.rest();
         self.idle_sent = true;
+        self.cap_due = None;
         self.shift_clear();
         Ok(())
     }
 
     /// Walks the pieces ahead of the executor up to distance `until` (or the window end
     /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
-    /// be below `below` (blocks that have none are skipped). Returns the stop found (Some(is
-    /// the end of the queue)) and its distance, or None and a distance beyond `until`.
+    /// be below `below` (blocks that have none, or none that `env` says can need slowing
+    /// for, are skipped). Returns the stop found (Some(is the end of the queue)) and its
+    /// distance, or None and a distance beyond `until`.
     pub(super) fn walk(
         &self,
         until: f64,
         below: f64,
         ovr: f64,
         wend: usize,
+        env: Option<Envelope>,
         f: &mut impl FnMut(f64, f64),
     ) -> (Option<bool>, f64) {
         let e = self.exec;
@@ -95,6 +128,10 @@ impl Path {
             sg.body1 - self.s
         };
         let mut j = e + 1;
+        // j's slot, followed along instead of a division per segment (the ring's length is a
+        // multiple of BLOCK, so a block's first slot is a multiple of BLOCK too)
+        let ring = self.segs.len();
+        let mut sl = self.slot(j);
         loop {
             if j >= wend {
                 return (Some(j >= self.tail), d);
@@ -103,14 +140,21 @@ impl Path {
                 return (None, d);
             }
             if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
-                let b = &self.blocks[self.slot(j) / BLOCK];
-                if !b.stop && b.geo >= below && b.feed * ovr >= below {
+                let b = &self.blocks[sl / BLOCK];
+                if !b.stop
+                    && ((b.geo >= below && b.feed * ovr >= below)
+                        || env.is_some_and(|e| e.clears_block(b, d, ovr, self.at)))
+                {
                     d += b.len;
                     j += BLOCK;
+                    sl += BLOCK;
+                    if sl >= ring {
+                        sl -= ring;
+                    }
                     continue;
                 }
             }
-            let s = self.seg(j);
+            let s = &self.segs[sl];
             if s.stop_before {
                 return (Some(false), d);
             }
@@ -121,6 +165,10 @@ impl Path {
             f(d, s.bgeo.min(s.feed * ovr));
             d += s.body1 - s.body0;
             j += 1;
+            sl += 1;
+            if sl == ring {
+                sl = 0;
+            }
         }
     }
 
@@ -168,9 +216,21 @@ impl Path {
             let ap = an.max(0.0);
             let vf = vn + ap * ap / (2.0 * jm);
             let rising = vf * ap / jm;
+            // A piece is violated only if dist < upper (upper ≥ lower), that is
+            // raw² + 2·dm·dist < vf² + 2·dm·rising + (vf + raw)·dm²/jm, with raw < vmax: the
+            // envelope's θ, with which whole blocks and single pieces are passed cheaply.
+            let env = Envelope {
+                theta: vf * vf + (2.0 * dm * rising + (vf + vmax) * dm * dm / jm).max(0.0),
+                dm,
+                step,
+            };
             let mut worst: Option<(f64, f64)> = None;
             let mut consider = |d: f64, raw: f64| {
-                if raw < vmax && raw < target && worst.is_none_or(|(_, c)| raw < c) {
+                if raw < vmax
+                    && raw < target
+                    && worst.is_none_or(|(_, c)| raw < c)
+                    && !env.clears(raw * raw, d)
+                {
                     let dist = d - step;
                     let lower = (vf * vf - raw * raw) / (2.0 * dm);
                     let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
@@ -181,7 +241,7 @@ impl Path {
                     }
                 }
             };
-            let (stop, d) = self.walk(reach, below, ovr, wend, &mut consider);
+            let (stop, d) = self.walk(reach, below, ovr, wend, Some(env), &mut consider);
             if it == 0 {
                 out.rem = d;
                 out.stop = stop.is_some();
@@ -325,12 +385,14 @@ impl Path {
             if self.exec >= self.tail {
                 return;
             }
-            let sg = *self.seg(self.exec);
+            // the few fields needed, not a copy of the whole segment (it holds two quintics)
+            let sg = self.seg(self.exec);
             if sg.is_dwell() {
                 return;
             }
+            let (blend_len, body0, end) = (sg.blend.len, sg.body0, sg.body1);
             if self.in_blend {
-                let len = sg.blend.len;
+                let len = blend_len;
                 if self.prev_open {
                     let mid = 0.5 * len;
                     if self.s + left >= mid {
@@ -353,12 +415,11 @@ impl Path {
                 left -= step;
                 if self.s >= len {
                     self.in_blend = false;
-                    self.s = sg.body0;
+                    self.s = body0;
                     continue;
                 }
                 return;
             }
-            let end = sg.body1;
             let step = (end - self.s).max(0.0).min(left);
             self.s += step;
             self.travel(step, ev);
@@ -370,18 +431,19 @@ impl Path {
             let next = self.exec + 1;
             if next >= self.tail {
                 if resting {
-                    self.pos = sg.prog.pos(end);
+                    self.pos = self.seg(self.exec).prog.pos(end);
                     self.end_seg(self.exec, ev);
                     self.exec = next;
                     self.started = false;
                 }
                 return;
             }
-            let ns = *self.seg(next);
+            let ns = self.seg(next);
+            let (ns_stop, ns_blend, ns_body0) = (ns.stop_before, ns.has_blend, ns.body0);
             // at rest at the window's end: step into the next piece (the same point), so
             // that the window moves on
             let window_stop = land && next >= wend;
-            if ns.stop_before {
+            if ns_stop {
                 // never past an exact stop without landing on it
                 self.end_seg(self.exec, ev);
                 self.exec = next;
@@ -390,7 +452,7 @@ impl Path {
                 self.start_seg(ev);
                 return;
             }
-            if ns.has_blend {
+            if ns_blend {
                 self.exec = next;
                 self.in_blend = true;
                 self.prev_open = true;
@@ -399,7 +461,7 @@ impl Path {
             } else {
                 self.end_seg(self.exec, ev);
                 self.exec = next;
-                self.s = ns.body0;
+                self.s = ns_body0;
                 self.start_seg(ev);
             }
             if window_stop {
@@ -461,6 +523,12 @@ impl Path {
         }
         if self.seg(self.exec).shift {
             return self.shift_tick(ovr, ev);
+        }
+        if let Some(i) = self.cap_due {
+            if i < self.exec + self.lookahead {
+                // the window reaches the newest blend before a push rebuilt it
+                self.settle_cap(i);
+            }
         }
         let lk = self.look(ovr);
         let ts = self.lim.ts;

@@ -263,6 +263,10 @@ pub(super) struct Blend {
     q0: V,
     c: [V; 6],
     n: usize,
+    /// |B'(u)|² in power form (degree 8): the arc-length integrand then costs one polynomial
+    /// and one square root per point, whatever the number of axes, which is what the
+    /// Gauss–Legendre table and every tick's Newton on u evaluate most.
+    sp2: [f64; 9],
     table: [f64; NSUB + 1],
     pub len: f64,
 }
@@ -323,10 +327,28 @@ impl Blend {
                 }
             }
         }
+        // B'(u) = Σ d_m u^m with d_m = (m + 1)·c_(m+1); |B'|² = Σ_k Σ_(m,l) d_m d_l u^(m+l)
+        let mut sp2 = [0.0; 9];
+        for k in 0..n {
+            let d = [
+                c[1][k],
+                2.0 * c[2][k],
+                3.0 * c[3][k],
+                4.0 * c[4][k],
+                5.0 * c[5][k],
+            ];
+            for m in 0..5 {
+                sp2[2 * m] += d[m] * d[m];
+                for l in m + 1..5 {
+                    sp2[m + l] += 2.0 * d[m] * d[l];
+                }
+            }
+        }
         let mut bl = Self {
             q0,
             c,
             n,
+            sp2,
             table: [0.0; NSUB + 1],
             len: 0.0,
         };
@@ -341,15 +363,13 @@ impl Blend {
 
     /// |B'(u)|.
     fn speed(&self, u: f64) -> f64 {
-        let mut s2 = 0.0;
-        for k in 0..self.n {
-            let c = &self.c;
-            let d = c[1][k]
-                + u * (2.0 * c[2][k]
-                    + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
-            s2 += d * d;
-        }
-        s2.sqrt()
+        let q = &self.sp2;
+        let s2 = q[0]
+            + u * (q[1]
+                + u * (q[2]
+                    + u * (q[3] + u * (q[4] + u * (q[5] + u * (q[6] + u * (q[7] + u * q[8])))))));
+        // rounding may take a square that is 0 just below it
+        s2.max(0.0).sqrt()
     }
 
     /// 5-point Gauss–Legendre of |B'| on [a, b].
@@ -407,6 +427,19 @@ impl Blend {
         p
     }
 
+    /// [`pos_u`](Self::pos_u) over the first `N` axes (N ≥ the blend's axes; the others
+    /// are those of the first point, as in `pos_u`).
+    #[inline]
+    pub fn pos_u_n<const N: usize>(&self, u: f64) -> V {
+        let mut p = self.q0;
+        let c = &self.c;
+        for k in 0..N {
+            let o = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
+            p[k] += o;
+        }
+        p
+    }
+
     pub fn pos(&self, s: f64) -> V {
         self.pos_u(self.u_at(s))
     }
@@ -420,13 +453,39 @@ impl Blend {
     }
 
     /// The frame at u without its point: T, K and dK/ds.
-    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn terms(&self, u: f64) -> Frame {
+        let mut f = Frame::default();
+        self.each_term(u, |k, t, kk, dk| {
+            f.t[k] = t;
+            f.k[k] = kk;
+            f.dk[k] = dk;
+        });
+        f
+    }
+
+    /// T, K and dK/ds at u, axis by axis: `f(axis, T, K, dK/ds)` for each of the blend's
+    /// axes (none where B'(u) = 0, where the frame is 0). The speed caps need only these, so
+    /// they are handed over without building a whole [`Frame`].
+    #[inline]
+    pub fn each_term(&self, u: f64, f: impl FnMut(usize, f64, f64, f64)) {
+        match self.n {
+            1 => self.each_term_n::<1>(u, f),
+            2 => self.each_term_n::<2>(u, f),
+            3 => self.each_term_n::<3>(u, f),
+            _ => self.each_term_n::<MAX_AXES>(u, f),
+        }
+    }
+
+    /// [`each_term`](Self::each_term) over the first `N` axes (N ≥ the blend's axes: the
+    /// axes after them are 0 in every coefficient, so they change no sum), with loops the
+    /// compiler unrolls for the common 1, 2 and 3 axes.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn each_term_n<const N: usize>(&self, u: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let c = &self.c;
-        let n = self.n;
-        let (mut r1, mut r2, mut r3) = (Z, Z, Z);
+        let (mut r1, mut r2, mut r3) = ([0.0; N], [0.0; N], [0.0; N]);
         let (mut s11, mut s12, mut s13, mut s22) = (0.0, 0.0, 0.0, 0.0);
-        for k in 0..n {
+        for k in 0..N {
             r1[k] = c[1][k]
                 + u * (2.0 * c[2][k]
                     + u * (3.0 * c[3][k] + u * (4.0 * c[4][k] + u * 5.0 * c[5][k])));
@@ -437,10 +496,9 @@ impl Blend {
             s13 += r1[k] * r3[k];
             s22 += r2[k] * r2[k];
         }
-        let mut f = Frame::default();
         let sig = s11.sqrt();
         if sig.is_nan() || sig <= 0.0 {
-            return f;
+            return;
         }
         // T = r1/σ, σ' = r2·T, perp = r2 − σ'T, T' = perp/σ, K = perp/σ²,
         // dperp/du = r3 − (r3·T + r2·T')T − σ'T', dK/ds = (dperp/du/σ² − 2·perp·σ'/σ³)/σ.
@@ -448,16 +506,16 @@ impl Blend {
         let r3t = s13 / sig;
         let r2dt = (s22 - sp * sp) / sig;
         let (i1, i2, i3) = (1.0 / sig, 1.0 / (sig * sig), 1.0 / (sig * sig * sig));
-        for k in 0..n {
+        for k in 0..N {
+            if N == MAX_AXES && k >= self.n {
+                break;
+            }
             let t = r1[k] * i1;
             let perp = r2[k] - sp * t;
             let dt = perp * i1;
-            f.t[k] = t;
-            f.k[k] = perp * i2;
             let dperp = r3[k] - (r3t + r2dt) * t - sp * dt;
-            f.dk[k] = (dperp * i2 - 2.0 * perp * sp * i3) * i1;
+            f(k, t, perp * i2, (dperp * i2 - 2.0 * perp * sp * i3) * i1);
         }
-        f
     }
 }
 

@@ -27,7 +27,9 @@
 //! with the curvature vector at its ends estimated from the neighbouring points (the circle
 //! through three vertices, averaged over the two vertices of a line). The newest blend ends
 //! with curvature 0, since the next point is not known yet; when it arrives, that blend is
-//! rebuilt with its end curvature if the executor can still slow down before it. The
+//! rebuilt with its end curvature if the executor can still slow down before it. The newest
+//! blend's speed cap is computed only when that rebuild does not happen, or when the
+//! look-ahead window reaches it first, so that a push computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose sampled deviation from
 //! the two lines is over the tolerance (×0.97) falls back to the corner blend below.
@@ -101,8 +103,10 @@ pub const REVERSAL: f64 = 175.0 * core::f64::consts::PI / 180.0;
 const TANGENT_EPS: f64 = 1e-9;
 /// The numeric deviation is held this far below the tolerance.
 const DEV_SAFETY: f64 = 0.97;
-/// Segments per block of the look-ahead's block minima.
-pub const BLOCK: usize = 32;
+/// Segments per block of the look-ahead's block minima. Small: on dense paths the braking
+/// reach spans a few dozen segments, and a block is passed only when none of its caps is
+/// below the speed (32 passed almost none of them on the dense-curve benchmark).
+pub const BLOCK: usize = 8;
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// Samples per smoothing blend for its deviation, and for its cap.
@@ -265,6 +269,12 @@ struct Block {
     /// Path length of its segments.
     len: f64,
     stop: bool,
+    /// Smallest c² + 2·A_t·x over its segments, x where a segment starts from the block's
+    /// start and c its smallest geometric cap (`kg`) or feed cap (`kf`): a lower bound of the
+    /// braking envelope that lets the look-ahead pass the whole block in one test (see
+    /// `exec::Envelope`).
+    kg: f64,
+    kf: f64,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -281,6 +291,8 @@ struct Seg {
     /// feed (before the override).
     jgeo: f64,
     jfeed: f64,
+    /// Where it starts, from the start of its block (the block's length before it).
+    x0: f64,
     /// The body: [body0, body1] in the segment's own arc length.
     body0: f64,
     body1: f64,
@@ -320,6 +332,7 @@ impl Default for Seg {
             blend: Blend::default(),
             jgeo: 0.0,
             jfeed: 0.0,
+            x0: 0.0,
             body0: 0.0,
             body1: 0.0,
             bgeo: 0.0,
@@ -417,6 +430,8 @@ pub struct Path {
     npending: usize,
     starving_sent: bool,
     idle_sent: bool,
+    /// The newest segment, whose smoothing blend has no cap yet (see `settle_cap`).
+    cap_due: Option<usize>,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -459,6 +474,42 @@ fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
     } else {
         [0.0; MAX_AXES]
     }
+}
+
+/// The largest squared distance from [`SMOOTH_SAMPLES`] + 1 points of blend `b` to the
+/// nearer of two chords (start, unit direction, length), over the first `N` axes (N ≥ the
+/// group's axes, the others being 0 everywhere); None when one is over `limit` (its root only
+/// taken when the largest grows: the same figure without a root per sample) or not a number.
+#[allow(clippy::needless_range_loop)] // one index over several axis arrays
+fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64) -> Option<f64> {
+    let mut worst2 = 0.0f64;
+    for i in 0..=SMOOTH_SAMPLES {
+        let q = b.pos_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
+        let mut d2 = f64::INFINITY;
+        for (a, u, l) in chords {
+            let mut t = 0.0;
+            for k in 0..N {
+                t += (q[k] - a[k]) * u[k];
+            }
+            let t = t.clamp(0.0, *l);
+            let mut e2 = 0.0;
+            for k in 0..N {
+                let e = q[k] - a[k] - t * u[k];
+                e2 += e * e;
+            }
+            d2 = d2.min(e2);
+        }
+        if d2.is_nan() {
+            return None;
+        }
+        if d2 > worst2 {
+            worst2 = d2;
+            if d2.sqrt() > limit {
+                return None;
+            }
+        }
+    }
+    Some(worst2)
 }
 
 /// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
@@ -575,6 +626,7 @@ impl Path {
             npending: 0,
             starving_sent: false,
             idle_sent: true,
+            cap_due: None,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }
@@ -652,6 +704,7 @@ impl Path {
         self.npending = 0;
         self.starving_sent = false;
         self.idle_sent = true;
+        self.cap_due = None;
         self.shift_clear();
         Ok(())
     }
@@ -736,25 +789,40 @@ impl Path {
 
     /// `min(cap, frame_cap(f))`, solving the jerk cubic only where `cap` breaks it.
     fn frame_cap_below(&self, f: &Frame, mut cap: f64) -> f64 {
+        for k in 0..self.lim.naxes {
+            cap = self.axis_cap(k, f.t[k], f.k[k], f.dk[k], cap);
+        }
+        cap
+    }
+
+    /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
+    /// derivative `dk` on that axis.
+    #[inline]
+    fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, mut cap: f64) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
-        for k in 0..l.naxes {
-            let (t, kk, dk) = (f.t[k].abs(), f.k[k].abs(), f.dk[k].abs());
-            if t * cap > CAP_MARGIN * l.vmax[k] {
-                cap = CAP_MARGIN * l.vmax[k] / t;
-            }
-            if kk > 0.0 {
-                let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
-                if kk * cap * cap > room {
-                    cap = (room / kk).sqrt();
-                }
-            }
-            let room = CAP_MARGIN * l.jmax[k] - jt * t;
-            let (p, q) = (dk, 3.0 * at * kk);
-            if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
-                cap = cap.min(cubic_cap(p, q, room));
+        let (t, kk, dk) = (t.abs(), kk.abs(), dk.abs());
+        if t * cap > CAP_MARGIN * l.vmax[k] {
+            cap = CAP_MARGIN * l.vmax[k] / t;
+        }
+        if kk > 0.0 {
+            let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
+            if kk * cap * cap > room {
+                cap = (room / kk).sqrt();
             }
         }
+        let room = CAP_MARGIN * l.jmax[k] - jt * t;
+        let (p, q) = (dk, 3.0 * at * kk);
+        if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
+            cap = cap.min(cubic_cap(p, q, room));
+        }
+        cap
+    }
+
+    /// `min(cap, the cap of blend b at parameter u)`.
+    fn blend_cap_at(&self, b: &Blend, u: f64, cap: f64) -> f64 {
+        let mut cap = cap;
+        b.each_term(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
         cap
     }
 
@@ -777,7 +845,7 @@ impl Path {
                 let mut cap = f64::INFINITY;
                 for i in 0..=CURVE_CAP_SAMPLES {
                     let u = u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64;
-                    cap = self.frame_cap_below(&b.terms(u), cap);
+                    cap = self.blend_cap_at(b, u, cap);
                 }
                 cap
             }
@@ -788,15 +856,15 @@ impl Path {
     fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
         let mut cap = f64::INFINITY;
         for i in 0..=samples {
-            cap = self.frame_cap_below(&b.terms(i as f64 / samples as f64), cap);
+            cap = self.blend_cap_at(b, i as f64 / samples as f64, cap);
         }
         cap
     }
 
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends: the blend, its
-    /// cap and its deviation from the two lines, or None when the sampled deviation is over
-    /// `limit` (or it is not finite).
+    /// cap (when `with_cap`, else 0) and its deviation from the two lines, or None when the
+    /// sampled deviation is over `limit` (or it is not finite).
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -807,6 +875,7 @@ impl Path {
         ka: &V,
         kb: &V,
         limit: f64,
+        with_cap: bool,
     ) -> Option<(Blend, f64, f64)> {
         let n = self.lim.naxes;
         let mut fa = pa.frame(pa.len() - da);
@@ -830,25 +899,15 @@ impl Path {
             (*a, u, l)
         };
         let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        let mut dev = 0.0f64;
-        for i in 0..=SMOOTH_SAMPLES {
-            let q = b.pos_u(i as f64 / SMOOTH_SAMPLES as f64);
-            let mut d2 = f64::INFINITY;
-            for (a, u, l) in &chords {
-                let t = (0..n)
-                    .map(|k| (q[k] - a[k]) * u[k])
-                    .sum::<f64>()
-                    .clamp(0.0, *l);
-                let e2 = (0..n)
-                    .map(|k| (q[k] - a[k] - t * u[k]).powi(2))
-                    .sum::<f64>();
-                d2 = d2.min(e2);
-            }
-            let d = d2.sqrt();
-            if d.is_nan() || d > limit {
-                return None;
-            }
-            dev = dev.max(d);
+        let worst2 = match n {
+            1 => sampled_dev2::<1>(&b, &chords, limit)?,
+            2 => sampled_dev2::<2>(&b, &chords, limit)?,
+            3 => sampled_dev2::<3>(&b, &chords, limit)?,
+            _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+        };
+        let dev = worst2.sqrt();
+        if !with_cap {
+            return Some((b, 0.0, dev));
         }
         let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
         (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
@@ -902,11 +961,12 @@ impl Path {
                     &prev.kstart,
                     &kmid,
                     limit,
+                    true,
                 );
                 if let Some(again) = again {
                     let z = [0.0; MAX_AXES];
                     if let Some(new) =
-                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit)
+                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false)
                     {
                         return Some(Smooth {
                             again: Some((again, kmid)),
@@ -920,7 +980,7 @@ impl Path {
             }
         }
         let z = [0.0; MAX_AXES];
-        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit)?;
+        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false)?;
         Some(Smooth {
             again: None,
             new,
@@ -928,6 +988,31 @@ impl Path {
             da,
             db,
         })
+    }
+
+    /// Computes the cap of segment `i`'s smoothing blend, left for later by `append` (the
+    /// newest blend, which the next push usually rebuilds): when the next push does not
+    /// rebuild it, or when the executor's look-ahead window reaches it (`tick` checks before
+    /// each look-ahead; nothing else reads a blend's cap).
+    fn settle_cap(&mut self, i: usize) {
+        let sl = self.slot(i);
+        let mut cap = self.blend_cap(&self.segs[sl].blend, SMOOTH_CAP_SAMPLES);
+        if !(cap > 0.0 && cap.is_finite()) {
+            // a blend of finite positive length has a finite positive cap (every limit
+            // leaves room); should rounding break that, it is run at a crawl, not blindly
+            let l = &self.lim;
+            cap = 1e-3
+                * CAP_MARGIN
+                * l.vmax[..l.naxes]
+                    .iter()
+                    .fold(f64::INFINITY, |m, &x| m.min(x));
+        }
+        self.segs[sl].jgeo = cap;
+        let x0 = self.segs[sl].x0;
+        let b = &mut self.blocks[sl / BLOCK];
+        b.geo = b.geo.min(cap);
+        b.kg = b.kg.min(cap * cap + 2.0 * self.at * x0);
+        self.cap_due = None;
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
@@ -988,6 +1073,13 @@ impl Path {
         };
         let mut j = self.exec + 1;
         while j <= upto && d <= need {
+            if j.is_multiple_of(BLOCK) && j + BLOCK <= upto + 1 {
+                // a whole block short of `upto`: its length at once (the walk spans the
+                // braking distance, a hundred segments on a dense path, on every push)
+                d += self.blocks[self.slot(j) / BLOCK].len;
+                j += BLOCK;
+                continue;
+            }
             d += self.seg(j).len();
             j += 1;
         }
@@ -1104,6 +1196,7 @@ impl Path {
         let prev_live = !idle && self.tail > self.exec;
         let mut prev_trim = 0.0;
         let mut convert_prev = false;
+        let mut cap_due = false;
         if let Transition::TimeShift(_) = transition {
             if rec.prog.is_curved() || (prev_live && self.seg(self.tail - 1).prog.is_curved()) {
                 return Err(PathError::TimeShift);
@@ -1175,12 +1268,19 @@ impl Path {
                     sp.jgeo = cap;
                     sp.dev = dev;
                     sp.kend = kend;
+                    let x0 = sp.x0;
                     let bk = &mut self.blocks[ps / BLOCK];
                     bk.len += b.len - old;
                     bk.geo = bk.geo.min(cap);
+                    bk.kg = bk.kg.min(cap * cap + 2.0 * self.at * x0);
+                    self.cap_due = None;
                 }
-                let (b, cap, dev) = sm.new;
-                rec.join(b, cap, rule, (sm.da, sm.db), dev);
+                // The newest blend ends with curvature 0 and is rebuilt by the next push in
+                // the common case: its cap waits until the look-ahead may reach it (see
+                // `settle_cap`), so that each push computes one cap, not two.
+                let (b, _, dev) = sm.new;
+                rec.join(b, 0.0, rule, (sm.da, sm.db), dev);
+                cap_due = true;
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
                 prev_trim = sm.da;
@@ -1265,6 +1365,10 @@ impl Path {
             self.npending = 0;
         }
         // commit
+        if let Some(i) = self.cap_due {
+            // not rebuilt by this push: the previous blend keeps its shape and gets its cap
+            self.settle_cap(i);
+        }
         if convert_prev {
             let ps = self.slot(self.tail - 1);
             self.segs[ps].shift = true;
@@ -1289,15 +1393,28 @@ impl Path {
                 feed: f64::INFINITY,
                 len: 0.0,
                 stop: false,
+                kg: f64::INFINITY,
+                kf: f64::INFINITY,
             };
         }
+        rec.x0 = b.len;
         b.len += rec.len();
         b.stop |= rec.stop_before;
         b.geo = b.geo.min(rec.bgeo);
         b.feed = b.feed.min(rec.feed);
+        let (mut g, mut f) = (rec.bgeo, rec.feed);
         if !rec.stop_before {
-            b.geo = b.geo.min(rec.jgeo);
-            b.feed = b.feed.min(rec.jfeed);
+            if !cap_due {
+                g = g.min(rec.jgeo);
+            }
+            f = f.min(rec.jfeed);
+        }
+        b.geo = b.geo.min(g);
+        b.feed = b.feed.min(f);
+        b.kg = b.kg.min(g * g + 2.0 * self.at * rec.x0);
+        b.kf = b.kf.min(f * f + 2.0 * self.at * rec.x0);
+        if cap_due {
+            self.cap_due = Some(self.tail);
         }
         self.last_end = rec.prog.end();
         self.segs[sl] = rec;
