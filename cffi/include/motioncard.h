@@ -3217,33 +3217,33 @@ typedef struct mc_scope_status mc_scope_info;
 /**
  * Layout 1.8: a scope signal the card does not know, or an axis or group it has not.
  */
-#define MC_ERR_SCOPE_SIGNAL -100
+#define MC_ERR_SCOPE_SIGNAL -81
 
 /**
  * Scope channels 0 or more than 16.
  */
-#define MC_ERR_SCOPE_CHANNELS -101
+#define MC_ERR_SCOPE_CHANNELS -82
 
 /**
  * A scope divider 0 or above 65536.
  */
-#define MC_ERR_SCOPE_DIVIDER -102
+#define MC_ERR_SCOPE_DIVIDER -83
 
 /**
  * A bad scope mode, trigger, edge, trigger channel or input, a level not finite, or a
  * one-shot capture of no samples.
  */
-#define MC_ERR_SCOPE_TRIGGER -103
+#define MC_ERR_SCOPE_TRIGGER -84
 
 /**
  * More pre-trigger samples than the card keeps.
  */
-#define MC_ERR_SCOPE_PRETRIGGER -104
+#define MC_ERR_SCOPE_PRETRIGGER -85
 
 /**
  * A scope command its state does not allow.
  */
-#define MC_ERR_SCOPE_STATE -105
+#define MC_ERR_SCOPE_STATE -86
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.

@@ -264,18 +264,18 @@ error_kinds! {
     /// Cam table data without an open table or out of order.
     CamSequence = -80, MC_ERR_CAM_SEQUENCE, nack CamSequence, "cam table data out of sequence";
     /// Layout 1.8: a scope signal the card does not know, or an axis or group it has not.
-    ScopeSignal = -100, MC_ERR_SCOPE_SIGNAL, nack ScopeSignal, "unknown scope signal, or no such axis or group";
+    ScopeSignal = -81, MC_ERR_SCOPE_SIGNAL, nack ScopeSignal, "unknown scope signal, or no such axis or group";
     /// Scope channels 0 or more than 16.
-    ScopeChannels = -101, MC_ERR_SCOPE_CHANNELS, nack ScopeChannels, "a scope samples 1 to 16 channels";
+    ScopeChannels = -82, MC_ERR_SCOPE_CHANNELS, nack ScopeChannels, "a scope samples 1 to 16 channels";
     /// A scope divider 0 or above 65536.
-    ScopeDivider = -102, MC_ERR_SCOPE_DIVIDER, nack ScopeDivider, "the scope divider must be 1..65536";
+    ScopeDivider = -83, MC_ERR_SCOPE_DIVIDER, nack ScopeDivider, "the scope divider must be 1..65536";
     /// A bad scope mode, trigger, edge, trigger channel or input, a level not finite, or a
     /// one-shot capture of no samples.
-    ScopeTrigger = -103, MC_ERR_SCOPE_TRIGGER, nack ScopeTrigger, "bad scope mode or trigger (kind, edge, channel, input, level, or no samples after it)";
+    ScopeTrigger = -84, MC_ERR_SCOPE_TRIGGER, nack ScopeTrigger, "bad scope mode or trigger (kind, edge, channel, input, level, or no samples after it)";
     /// More pre-trigger samples than the card keeps.
-    ScopePretrigger = -104, MC_ERR_SCOPE_PRETRIGGER, nack ScopePretrigger, "more pre-trigger samples than the card keeps (1024)";
+    ScopePretrigger = -85, MC_ERR_SCOPE_PRETRIGGER, nack ScopePretrigger, "more pre-trigger samples than the card keeps (1024)";
     /// A scope command its state does not allow.
-    ScopeState = -105, MC_ERR_SCOPE_STATE, nack ScopeState, "the scope's state does not allow this (configure or arm while armed, trigger while not waiting, stop while idle, arm before configure)";
+    ScopeState = -86, MC_ERR_SCOPE_STATE, nack ScopeState, "the scope's state does not allow this (configure or arm while armed, trigger while not waiting, stop while idle, arm before configure)";
 }
 
 impl From<NurbsError> for ErrorKind {
