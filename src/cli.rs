@@ -222,6 +222,21 @@ pub fn replay_report(r: &crate::ReplayReport, json: bool) -> String {
     }
 }
 
+/// The axis's state once the card has published the effect of a command just acknowledged:
+/// the ack comes within the tick, its status at the tick's end, so the first read may still
+/// show the state before. Waits (up to a second) while `before` says it is the old one.
+fn state_after(card: &Card, axis: usize, before: impl Fn(AxisState) -> bool) -> Result<AxisState> {
+    let ax = card.axis(axis)?;
+    for _ in 0..1000 {
+        let s = ax.status()?.state;
+        if !before(s) {
+            return Ok(s);
+        }
+        hold_for(card, Duration::from_millis(1));
+    }
+    Ok(ax.status()?.state)
+}
+
 /// `mcctl enable` / `disable`: power the axes on or off (MC_Power).
 pub fn power(card: &Card, axes: &[usize], on: bool) -> Result<String> {
     let mut out = String::new();
@@ -232,7 +247,8 @@ pub fn power(card: &Card, axes: &[usize], on: bool) -> Result<String> {
         } else {
             ax.disable()?;
         }
-        let _ = writeln!(out, "axis {a}: {}", state_name(ax.status()?.state));
+        let now = state_after(card, a, |s| (s == AxisState::Disabled) == on)?;
+        let _ = writeln!(out, "axis {a}: {}", state_name(now));
     }
     Ok(out)
 }
@@ -245,9 +261,10 @@ pub fn stop(card: &Card, axis: usize, deceleration: f64, jerk: f64, hold: bool) 
     if !hold {
         ax.release_stop()?;
     }
+    let now = state_after(card, axis, |s| !hold && s == AxisState::Stopping)?;
     Ok(format!(
         "axis {axis}: stopped at {at}, {}\n",
-        state_name(ax.status()?.state)
+        state_name(now)
     ))
 }
 
@@ -264,7 +281,8 @@ pub fn reset(card: &Card, axes: &[usize], faults: bool) -> Result<String> {
     for &a in axes {
         let ax = card.axis(a)?;
         ax.reset()?;
-        let _ = writeln!(out, "axis {a}: {}", state_name(ax.status()?.state));
+        let now = state_after(card, a, |s| s == AxisState::ErrorStop)?;
+        let _ = writeln!(out, "axis {a}: {}", state_name(now));
     }
     Ok(out)
 }

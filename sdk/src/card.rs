@@ -1116,6 +1116,7 @@ impl Inner {
         if let Some(mut h) = lock(&self.heartbeat).take() {
             h.halt();
         }
+        self.dev.release_lease();
         match sent {
             Err(e) if e.kind() == crate::ErrorKind::CardGone => Ok(()),
             r => r,

@@ -89,7 +89,7 @@ pub(crate) enum Backend {
     #[cfg(feature = "emulator")]
     SimStepped { emu: Arc<Mutex<Emulator>> },
     /// A card-emu process; the stream is our lease.
-    Emu { _lease: UnixStream },
+    Emu { lease: UnixStream },
     /// A real card, locked with flock on this file.
     Hardware { _lock: Flock<File> },
 }
@@ -125,8 +125,22 @@ impl Device {
     /// when the card process goes away. `None` for other backends.
     pub(crate) fn lease_watch(&self) -> Option<OwnedFd> {
         match &self.backend {
-            Backend::Emu { _lease } => _lease.as_fd().try_clone_to_owned().ok(),
+            Backend::Emu { lease } => lease.as_fd().try_clone_to_owned().ok(),
             _ => None,
+        }
+    }
+
+    /// End an `emu:` lease now, so that the next host can open the card at once: shut down
+    /// this side and wait (up to 1 s) for the server's end to close, which it does after it
+    /// has let the lease go. A host that dies ends its lease too, but the server notices that
+    /// only a little later.
+    pub(crate) fn release_lease(&self) {
+        if let Backend::Emu { lease } = &self.backend {
+            use std::io::Read;
+            let _ = lease.shutdown(std::net::Shutdown::Write);
+            let _ = lease.set_read_timeout(Some(std::time::Duration::from_secs(1)));
+            let mut b = [0u8; 64];
+            while matches!((&*lease).read(&mut b), Ok(n) if n > 0) {}
         }
     }
 }
@@ -237,7 +251,7 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
     Ok(Device {
         window: Arc::new(window),
         irq: Irq::EventFd(conn.irq),
-        backend: Backend::Emu { _lease: conn.lease },
+        backend: Backend::Emu { lease: conn.lease },
     })
 }
 

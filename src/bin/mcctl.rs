@@ -552,7 +552,7 @@ enum Cmd {
 /// A subcommand that talks to the card: exit status 1 with the SDK's message on an error.
 fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> ExitCode {
     let run = || -> motioncard::Result<String> {
-        let card = open(uri)?;
+        let card = Card::open(uri)?;
         let out = f(&card);
         let closed = card.close();
         out.and_then(|o| closed.map(|()| o))
@@ -568,22 +568,6 @@ fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> Ex
         Err(e) => {
             eprintln!("mcctl: {e}");
             ExitCode::from(1)
-        }
-    }
-}
-
-/// Open the card. A card the previous mcctl (or another short-lived host) has just let go of
-/// may still read busy while its server notices the hang-up: that is waited for, up to 2 s.
-fn open(uri: &str) -> motioncard::Result<Card> {
-    let until = std::time::Instant::now() + Duration::from_secs(2);
-    loop {
-        match Card::open(uri) {
-            Err(e)
-                if e.kind() == motioncard::ErrorKind::Busy && std::time::Instant::now() < until =>
-            {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            r => return r,
         }
     }
 }
