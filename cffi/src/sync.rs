@@ -152,8 +152,8 @@ pub unsafe extern "C" fn mc_motion_wait_in_sync(
 ) -> mc_result {
     guard(|| {
         let p = motion_of(card, motion)?.wait_in_sync(ms(timeout_ms))?;
-        if let Ok(out) = Out::new(position, "position") {
-            // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        if let Some(out) = Out::optional(position) {
+            // SAFETY: non-NULL; valid for writes by the caller's contract.
             unsafe { out.write(p) };
         }
         Ok::<(), Failure>(())

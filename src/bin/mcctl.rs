@@ -853,11 +853,7 @@ fn main() -> ExitCode {
                 Err(m) => return bad(m),
             };
             on_card(uri, |card| {
-                let axes: Vec<usize> = [Some(slave), c.travel.map(|t| t.axis)]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                enable_all(card, travel.enable, &axes)?;
+                enable_all(card, travel.enable, &c.axes())?;
                 cli::gear(card, &c, ratio.0, ratio.1, json)
             })
         }
@@ -902,11 +898,7 @@ fn main() -> ExitCode {
                 },
             };
             on_card(uri, |card| {
-                let axes: Vec<usize> = [Some(slave), c.travel.map(|t| t.axis)]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                enable_all(card, travel.enable, &axes)?;
+                enable_all(card, travel.enable, &c.axes())?;
                 cli::cam(card, &c, &job, json)
             })
         }

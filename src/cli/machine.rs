@@ -270,6 +270,16 @@ pub struct Coupling {
     pub hold: Duration,
 }
 
+impl Coupling {
+    /// The axes it moves: the slave, and the master axis when it runs a move.
+    pub fn axes(&self) -> Vec<usize> {
+        [Some(self.slave), self.travel.map(|t| t.axis)]
+            .into_iter()
+            .flatten()
+            .collect()
+    }
+}
+
 /// The slave engaged (waited until in sync), the master moved, then the slave uncoupled and
 /// halted. Returns the master's and the slave's commanded positions once in sync and at the
 /// end.
