@@ -8,3 +8,4 @@ pub mod papers;
 pub mod path_report;
 pub mod plot;
 pub mod run;
+pub mod tuning;
