@@ -23,6 +23,7 @@
 //! mcctl probe 0 --edge both --continuous --move 20000 --enable     # index-pulse latches
 //! mcctl gear 1 --master 0 --ratio -3/2 --move 40000 --enable       # MC_GearIn, master moved
 //! mcctl cam 1 knife.csv --master 0 --cubic --periodic --move 7200 --enable   # MC_CamIn
+//! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page
 //! ```
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use motioncard::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
@@ -539,6 +540,19 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// The tuning page: a local web server for one axis with live plots of the scope stream
+    /// (command, actual, following error, DAC), step and move tests with their rise time,
+    /// overshoot, settling time and peak following error, and the FFPIV / PD+ gains, editable
+    /// and applied to the card. Prints `listening on http://ADDR/` once open; runs until
+    /// interrupted.
+    Serve {
+        /// Address and port to listen on (port 0: any free port).
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        listen: std::net::SocketAddr,
+        /// The axis the page tunes.
+        #[arg(long, default_value_t = 0)]
+        axis: usize,
+    },
     /// MC_Halt: decelerate to rest.
     Halt {
         axis: usize,
@@ -1010,6 +1024,14 @@ fn main() -> ExitCode {
         }),
         Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
         Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
+        Cmd::Serve { listen, axis } => {
+            let opts = motioncard::serve::Options {
+                listen,
+                axis,
+                uri: uri.to_string(),
+            };
+            on_card(uri, |c| motioncard::serve::serve(c, &opts))
+        }
         Cmd::Run {
             file,
             tolerance,

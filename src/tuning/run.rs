@@ -347,10 +347,11 @@ pub fn run_test(card: &Card, scope: &Scope, spec: &TestSpec) -> Result<TestRun, 
     })?;
     scope.arm()?;
     let armed = Armed(Some(scope));
-    // Let the history fill before the motion starts.
+    // Let the history fill before the motion starts (twice its length: an emulated card on a
+    // loaded machine may run behind the clock).
     pass(
         card,
-        Duration::from_secs_f64(f64::from(PRE_TRIGGER + 10) / rate),
+        Duration::from_secs_f64(f64::from(2 * PRE_TRIGGER) / rate),
     );
     let s = counts_per_unit(&ax);
     let lim = MoveLimits::new(
