@@ -348,6 +348,11 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     check_shown(shown, "fig-settling", settle, 1e3, 2);
     check_shown(shown, "fig-peak-ferr", peak, 1.0, 2);
     check_shown(shown, "fig-band", mine.band, 1.0, 2);
+    check_shown(shown, "fig-command", mine.command_end_time, 1e3, 2);
+    assert_eq!(
+        mine.command_end_time, 0.0,
+        "a step reaches its target on its first tick"
+    );
     assert_eq!(shown["fig-kind"]["value"], "step");
     assert_eq!(shown["fig-outcome"]["value"], "true");
     // What the page plots: exactly the samples (the charts' own arrays), and the band.

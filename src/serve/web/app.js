@@ -288,6 +288,11 @@ function showFigures(run) {
     `${f.peak_following_error.toFixed(2)} counts at ${(f.peak_following_error_time * 1000).toFixed(1)} ms`,
   );
   show("fig-band", f.band, `±${f.band.toFixed(2)} counts`);
+  show(
+    "fig-command",
+    f.command_end_time,
+    run.kind === "step" ? `${ms(f.command_end_time)} (a step: on its first tick)` : ms(f.command_end_time),
+  );
   show("fig-outcome", run.in_position, `${run.outcome}; ${run.end_state}`);
   $("test-title").textContent =
     `${run.kind} of ${run.distance} counts, ${run.samples.t.length} samples at ${run.servo_rate_hz} Hz`;
