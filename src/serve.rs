@@ -8,7 +8,8 @@
 //! | `GET /api/info` | the card, the axis, the figure definitions' constants and the defaults |
 //! | `GET /api/live` | the live stream, server-sent events: `samples` ([`live::Batch`]), `paused`, `resumed`, `failure` |
 //! | `POST /api/tests` | `{"kind": "step"\|"move", "distance": counts, "limits"?: {vmax, amax, jmax}, "enable"?: bool}`: run a test, answer its [`TestRun`] with an `id` |
-//! | `GET /api/tests/last` | the last test's answer again |
+//! | `GET /api/tests/{id}`, `GET /api/tests/last` | a test's answer again (the last 8 are kept) |
+//! | `POST /api/reset` | MC_Reset of the axis (after a trip); answers `{"state"}` |
 //! | `GET /api/gains` | the gains the axis runs with ([`Gains`]) |
 //! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}` or `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}`: apply, answer the gains then held |
 //!
@@ -16,10 +17,11 @@
 //! request), 409 (the axis or the scope is busy), 422 (the card refused) or 503 (the card
 //! failed).
 //!
-//! The card's SDK blocks; the handlers run its calls with `spawn_blocking`, and no lock is
-//! held across an `.await`. One test runs at a time (a second gets 409). The live stream is
-//! its own thread ([`live`]); a test pauses it for the capture and the stream resumes when
-//! the test ends, whatever the outcome.
+//! The card's SDK blocks; the handlers run its calls with `spawn_blocking`. The only guard
+//! held across an `.await` is the one-test guard, which is only ever try-locked (a second test
+//! gets 409, never waits) and which nothing else takes. The live stream is its own thread
+//! ([`live`]); a test pauses it for the capture and the stream resumes when the test ends,
+//! whatever the outcome.
 
 pub mod live;
 
@@ -58,6 +60,9 @@ pub const DEFAULT_STEP: f64 = 500.0;
 /// The move the page proposes, counts (two revolutions of the default motor).
 pub const DEFAULT_DISTANCE: f64 = 20_000.0;
 
+/// Test answers kept for `GET /api/tests/{id}`.
+pub const KEPT_TESTS: usize = 8;
+
 /// The server's state, shared by the handlers.
 struct App {
     card: Card,
@@ -68,8 +73,8 @@ struct App {
     gains: GainStore,
     /// Held while a test runs (try-locked: a second test is refused, never queued).
     test: tokio::sync::Mutex<()>,
-    /// The last test's answer, as sent.
-    last: Mutex<Option<Arc<str>>>,
+    /// The last tests' answers, as sent, oldest first (at most [`KEPT_TESTS`]).
+    kept: Mutex<std::collections::VecDeque<(u64, Arc<str>)>>,
     next_id: std::sync::atomic::AtomicU64,
 }
 
@@ -103,6 +108,7 @@ impl From<TestError> for ApiError {
             TestError::Request(m) => ApiError(StatusCode::BAD_REQUEST, m, None),
             TestError::NotReady(m) => ApiError(StatusCode::CONFLICT, m, None),
             TestError::Capture(m) => ApiError(StatusCode::INTERNAL_SERVER_ERROR, m, None),
+            TestError::Aborted(m) => ApiError(StatusCode::UNPROCESSABLE_ENTITY, m, None),
             TestError::Card(e) => e.into(),
         }
     }
@@ -267,14 +273,62 @@ async fn run_one(
     })?;
     v["id"] = json!(id);
     let body: Arc<str> = v.to_string().into();
-    *app.last.lock().unwrap_or_else(|e| e.into_inner()) = Some(body.clone());
+    let mut kept = app.kept.lock().unwrap_or_else(|e| e.into_inner());
+    if kept.len() == KEPT_TESTS {
+        kept.pop_front();
+    }
+    kept.push_back((id, body.clone()));
+    drop(kept);
     Ok(json_body(body))
 }
 
-async fn last_test(State(app): State<Arc<App>>) -> std::result::Result<Response, ApiError> {
-    let last = app.last.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    last.map(json_body)
-        .ok_or_else(|| ApiError(StatusCode::NOT_FOUND, "no test has run yet".into(), None))
+/// `GET /api/tests/{id}`: a kept test's answer again (`last`: the newest).
+async fn kept_test(
+    State(app): State<Arc<App>>,
+    axum::extract::Path(which): axum::extract::Path<String>,
+) -> std::result::Result<Response, ApiError> {
+    let kept = app.kept.lock().unwrap_or_else(|e| e.into_inner());
+    let found = match which.as_str() {
+        "last" => kept.back(),
+        n => match n.parse::<u64>() {
+            Ok(id) => kept.iter().find(|(i, _)| *i == id),
+            Err(_) => {
+                return Err(ApiError(
+                    StatusCode::BAD_REQUEST,
+                    format!("`{n}` is not a test id (a number, or `last`)"),
+                    None,
+                ))
+            }
+        },
+    };
+    found.map(|(_, b)| json_body(b.clone())).ok_or_else(|| {
+        ApiError(
+            StatusCode::NOT_FOUND,
+            format!("no test {which} (the last {KEPT_TESTS} are kept)"),
+            None,
+        )
+    })
+}
+
+/// `POST /api/reset`: MC_Reset of the axis (ErrorStop to Standstill or Disabled), waited for
+/// until the card shows it; answers `{"state"}`.
+async fn reset_axis(
+    State(app): State<Arc<App>>,
+) -> std::result::Result<Json<serde_json::Value>, ApiError> {
+    blocking(move || {
+        let ax = app.card.axis(app.axis)?;
+        ax.reset()?;
+        let deadline = std::time::Instant::now() + Duration::from_secs(1);
+        while ax.status()?.state == crate::AxisState::ErrorStop
+            && std::time::Instant::now() < deadline
+        {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        Ok(Json(
+            json!({ "state": crate::tuning::run::state_name(&ax)? }),
+        ))
+    })
+    .await
 }
 
 async fn get_gains(State(app): State<Arc<App>>) -> std::result::Result<Json<Gains>, ApiError> {
@@ -322,8 +376,9 @@ fn router(app: Arc<App>) -> Router {
         .route("/api/info", get(info))
         .route("/api/live", get(live_stream))
         .route("/api/tests", axum::routing::post(run_one))
-        .route("/api/tests/last", get(last_test))
+        .route("/api/tests/{which}", get(kept_test))
         .route("/api/gains", get(get_gains).post(post_gains))
+        .route("/api/reset", axum::routing::post(reset_axis))
         .with_state(app)
 }
 
@@ -367,7 +422,7 @@ pub fn serve(card: &Card, opts: &Options) -> Result<String> {
         live,
         gains: GainStore::new(card.clone()),
         test: tokio::sync::Mutex::new(()),
-        last: Mutex::new(None),
+        kept: Mutex::new(std::collections::VecDeque::new()),
         next_id: std::sync::atomic::AtomicU64::new(1),
     });
     let served = rt.block_on(async {

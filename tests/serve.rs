@@ -268,12 +268,14 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
 
     // The server's answer for the step test, and the same answer asked for again.
     let api = &j["api"];
-    let (code, last) = http_get(&url, "/api/tests/last");
-    assert_eq!(code, 200, "{last}");
-    let last: Value = serde_json::from_str(&last).unwrap();
-    if let Err(at) = same_json(&last, api, "") {
-        panic!("GET /api/tests/last is not the page's test: they differ at {at}");
+    let (code, kept) = http_get(&url, &format!("/api/tests/{}", api["id"]));
+    assert_eq!(code, 200, "{kept}");
+    let kept: Value = serde_json::from_str(&kept).unwrap();
+    if let Err(at) = same_json(&kept, api, "") {
+        panic!("GET /api/tests/ID is not the page's test: they differ at {at}");
     }
+    let (code, body) = http_get(&url, "/api/tests/99");
+    assert_eq!(code, 404, "{body}");
     assert_eq!(api["kind"], "step");
     assert_eq!(api["axis"], axis);
     assert_eq!(api["distance"], step);
@@ -389,6 +391,12 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
         after["last_tick"].as_u64().unwrap() > *ticks.last().unwrap(),
         "{after}"
     );
+    // The live stream, a capture of its own, shows the axis where the step put it.
+    assert_eq!(after["cmd_last"].as_f64(), Some(target), "{after}");
+    assert!(
+        (after["act_last"].as_f64().unwrap() - target).abs() <= 1.0,
+        "{after}"
+    );
 
     // Gains: the accepted one is held; the refused one shows the card's refusal and changes
     // nothing.
@@ -416,6 +424,26 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
         panic!("the refused gain changed what the server holds: {at}");
     }
 
+    // A step beyond the following-error limit (MIN_FERROR, 1000 counts): the page shows the
+    // card's trip; its reset takes the axis out of ErrorStop (to Disabled: the trip removed
+    // the drive's power), and the next step test powers it on and runs.
+    let trip = j["trip_message"].as_str().unwrap();
+    assert!(
+        trip.contains("did not finish") && trip.contains("ErrorStop (FollowingError)"),
+        "{trip}"
+    );
+    let (reset, again) = (&j["reset"], &j["again"]);
+    assert_eq!(reset["status"], "ok", "{reset}");
+    assert!(
+        reset["message"].as_str().unwrap().ends_with("Disabled"),
+        "{reset}"
+    );
+    assert_eq!(again["status"], "ok", "{again}");
+    assert!(
+        again["message"].as_str().unwrap().ends_with("in position"),
+        "{again}"
+    );
+
     // Stop the server as a person would (SIGTERM): a clean exit.
     let pid = mcctl.0.as_ref().unwrap().id().to_string();
     let killed = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
@@ -423,12 +451,11 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     let st = mcctl.wait_for(Duration::from_secs(10));
     assert!(st.is_some_and(|s| s.success()), "mcctl serve: {st:?}");
 
-    // The card itself: the axis where the step put it, running the gain the page applied.
+    // The card itself: the axis at rest after the last step, running the gain the page
+    // applied (and nothing of the refused one).
     let emu = runner.stop().expect("the emulator back");
     let a = emu.firmware().axis(axis).unwrap();
-    let st = a.status(0);
-    assert_eq!(st.cmd_pos, target);
-    assert!((a.actual().0 - target).abs() <= 1.0, "{}", a.actual().0);
+    assert_eq!(a.state, motioncard::AxisState::Standstill);
     assert_eq!(a.config.ffpiv.kp, good_kp);
     assert_eq!(a.config.ffpiv.ki, g0["ffpiv"]["ki"].as_f64().unwrap());
 }

@@ -147,6 +147,9 @@ pub enum TestError {
     NotReady(String),
     /// The card refused or failed (the SDK's error).
     Card(Error),
+    /// The card ended the motion before it was done (a safety stop: a following error beyond
+    /// its limit, a limit switch), leaving nothing to measure.
+    Aborted(String),
     /// The capture cannot be measured.
     Capture(String),
 }
@@ -154,9 +157,10 @@ pub enum TestError {
 impl std::fmt::Display for TestError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            TestError::Request(s) | TestError::NotReady(s) | TestError::Capture(s) => {
-                f.write_str(s)
-            }
+            TestError::Request(s)
+            | TestError::NotReady(s)
+            | TestError::Capture(s)
+            | TestError::Aborted(s) => f.write_str(s),
             TestError::Card(e) => write!(f, "{e}"),
         }
     }
@@ -273,6 +277,16 @@ impl TestSpec {
     }
 }
 
+/// The axis's state, with the reason of its last stop when the safety layer made it
+/// ("ErrorStop (FollowingError)").
+pub fn state_name(axis: &crate::Axis) -> crate::Result<String> {
+    let s = axis.status()?;
+    Ok(match s.stop_reason() {
+        Some(r) if s.state == AxisState::ErrorStop => format!("{:?} ({r:?})", s.state),
+        _ => format!("{:?}", s.state),
+    })
+}
+
 /// Get the axis to Standstill for a test: power it on when it is disabled and `enable`.
 fn ready(card: &Card, axis: &crate::Axis, enable: bool) -> Result<(), TestError> {
     let s = axis.status()?;
@@ -283,6 +297,12 @@ fn ready(card: &Card, axis: &crate::Axis, enable: bool) -> Result<(), TestError>
         AxisState::Disabled => {
             return Err(TestError::NotReady(format!(
                 "axis {n} is disabled: power it on first"
+            )))
+        }
+        AxisState::ErrorStop => {
+            return Err(TestError::NotReady(format!(
+                "axis {n} is in {}: reset it (MC_Reset) first; a test starts from Standstill",
+                state_name(axis)?
             )))
         }
         other => {
@@ -449,8 +469,18 @@ pub fn run_test(card: &Card, scope: &Scope, spec: &TestSpec) -> Result<TestRun, 
         ferr: col(2),
         dac: col(3),
     };
-    let figures = figures(&samples.response(), Band::default())
-        .map_err(|e| TestError::Capture(e.to_string()))?;
+    let end_state = state_name(&ax)?;
+    let figures = figures(&samples.response(), Band::default()).map_err(|e| {
+        match outcome.as_deref() {
+            // The card ended the motion (a trip, a stop): that is the news, not the figures.
+            Some(o) if o != "in position" => TestError::Aborted(format!(
+                "the {} did not finish: {o}; axis {} is in {end_state}",
+                spec.what(),
+                spec.axis
+            )),
+            _ => TestError::Capture(e.to_string()),
+        }
+    })?;
     Ok(TestRun {
         kind: spec.kind,
         axis: spec.axis,
@@ -462,7 +492,7 @@ pub fn run_test(card: &Card, scope: &Scope, spec: &TestSpec) -> Result<TestRun, 
         in_position: outcome.as_deref() == Some("in position"),
         outcome: outcome
             .unwrap_or_else(|| format!("not in position after {MAX_CAPTURE} s of capture")),
-        end_state: format!("{:?}", ax.status()?.state),
+        end_state,
         figures,
         samples,
     })
@@ -556,6 +586,28 @@ mod tests {
         assert!(f.peak_following_error < 2.0, "{f:?}");
         assert!(f.overshoot_pct < 0.05, "{f:?}");
         assert!(f.settling_time.unwrap() < plan.duration() + 0.01, "{f:?}");
+    }
+
+    #[test]
+    fn a_step_beyond_the_following_error_limit_is_reported_as_the_cards_trip() {
+        let card = stepped();
+        let scope = card.scope();
+        // MIN_FERROR is 1000 counts: the step's first tick trips it.
+        let e = run_test(&card, &scope, &spec(TestKind::Step, 2000.0)).unwrap_err();
+        assert!(
+            matches!(&e, TestError::Aborted(m) if m.contains("ErrorStop (FollowingError)")),
+            "{e}"
+        );
+        let e = run_test(&card, &scope, &spec(TestKind::Step, 100.0)).unwrap_err();
+        assert!(
+            matches!(&e, TestError::NotReady(m) if m.contains("reset it")),
+            "{e}"
+        );
+        // The scope was left free, and after MC_Reset the next test runs.
+        card.axis(0).unwrap().reset().unwrap();
+        card.sim().unwrap().step(10);
+        let r = run_test(&card, &scope, &spec(TestKind::Step, 100.0)).unwrap();
+        assert!(r.in_position, "{}", r.outcome);
     }
 
     #[test]

@@ -17,7 +17,14 @@ if (!url) {
   console.error("usage: node drive.mjs URL [JSON options]");
   process.exit(2);
 }
-const opt = { step: 400, kp: 70, bad_kp: -5, screenshot: null, ...JSON.parse(argJson || "{}") };
+const opt = {
+  step: 400,
+  kp: 70,
+  bad_kp: -5,
+  trip_step: 2000,
+  screenshot: null,
+  ...JSON.parse(argJson || "{}"),
+};
 const executablePath = process.env.CHROMIUM || "/usr/bin/chromium";
 const WAIT = { timeout: 20000 };
 
@@ -114,11 +121,17 @@ try {
     WAIT,
   );
   await page.waitForTimeout(500); // a few batches drawn, for the screenshot
-  const liveAfter = await page.evaluate(() => ({
-    state: tuning.live.state,
-    points: tuning.charts.livePos.data[0].length,
-    last_tick: tuning.live.lastTick,
-  }));
+  const liveAfter = await page.evaluate(() => {
+    const d = tuning.charts.livePos.data;
+    const n = d[0].length;
+    return {
+      state: tuning.live.state,
+      points: n,
+      last_tick: tuning.live.lastTick,
+      cmd_last: d[1][n - 1],
+      act_last: d[2][n - 1],
+    };
+  });
   if (opt.screenshot) await page.screenshot({ path: opt.screenshot, fullPage: true });
 
   // Gains: one the card accepts, then one it refuses.
@@ -150,6 +163,42 @@ try {
   const good = await apply(opt.kp);
   const bad = await apply(opt.bad_kp);
 
+  // A step beyond the following-error limit: the card trips, the page says why; then the
+  // page's reset brings the axis back.
+  const clear = () =>
+    page.evaluate(() => {
+      const m = document.getElementById("test-message");
+      m.dataset.status = "";
+      m.textContent = "";
+    });
+  const settled = () =>
+    page.waitForFunction(
+      () => ["ok", "error"].includes(document.getElementById("test-message").dataset.status),
+      null,
+      WAIT,
+    );
+  await clear();
+  await page.fill("#step-size", String(opt.trip_step));
+  await page.click("#step-run");
+  await settled();
+  const tripMessage = await page.textContent("#test-message");
+  await clear();
+  await page.click("#axis-reset");
+  await settled();
+  const reset = {
+    status: await page.getAttribute("#test-message", "data-status"),
+    message: await page.textContent("#test-message"),
+  };
+  // And a step runs again (powering the axis on: "power the axis on" is ticked).
+  await clear();
+  await page.fill("#step-size", String(opt.step));
+  await page.click("#step-run");
+  await settled();
+  const again = {
+    status: await page.getAttribute("#test-message", "data-status"),
+    message: await page.textContent("#test-message"),
+  };
+
   console.log(
     JSON.stringify({
       live_before: liveBefore,
@@ -161,6 +210,9 @@ try {
       gains_before: gainsBefore,
       good,
       bad,
+      trip_message: tripMessage,
+      reset,
+      again,
       page_errors: pageErrors,
       console_errors: consoleErrors,
       foreign_requests: foreign,

@@ -473,6 +473,15 @@ async function main() {
     e.preventDefault();
     runTest("move");
   });
+  $("axis-reset").addEventListener("click", async () => {
+    const msg = $("test-message");
+    try {
+      const r = await api("/api/reset", {});
+      setMessage(msg, "ok", `axis ${info.axis} reset: ${r.state}`);
+    } catch (e) {
+      setMessage(msg, "error", `reset: ${e.message}`);
+    }
+  });
   $("gain-form").addEventListener("submit", (e) => {
     e.preventDefault();
     applyGains();
