@@ -1276,7 +1276,13 @@ typedef struct mc_axis_config {
    * Jog jerk, counts/s^3 (> 0).
    */
   double jog_jerk;
-  double _reserved[2];
+  /**
+   * Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card
+   * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
+   * it. 1 at boot.
+   */
+  double scale;
+  double _reserved[1];
 } mc_axis_config;
 
 /**

@@ -55,6 +55,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_GEAR_RATIO,     MC_ERR_SYNC_MASTER,     MC_ERR_PVT_TIME,
     MC_ERR_PVT_LIMIT,      MC_ERR_PVT_SEQUENCE,    MC_ERR_CAM_TABLE,
     MC_ERR_CAM_SEQUENCE,
+    /* configuration files (layout 1.8) */
+    MC_ERR_CONFIG_KIND,    MC_ERR_CONFIG_FILE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -106,6 +108,10 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_CAM_TABLE,
     /* not provokable from C: the ABI loads a table in order (cam data out of sequence) */
     MC_ERR_CAM_SEQUENCE,
+    /* not provokable from C: the ABI reads back only the block kinds the card knows */
+    MC_ERR_CONFIG_KIND,
+    /* config.c */
+    MC_ERR_CONFIG_FILE,
 };
 
 static void result_strings(void) {

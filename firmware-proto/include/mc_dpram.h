@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 7u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 8u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -43,7 +43,10 @@
                            * nacks 90..96, events 24..26; blocks appended), NURBS curves in the path
                            * (MC_OP_PATH_NURBS, MC_NACK_PATH_CURVE); synchronised motion: gearing,
                            * PT/PVT streams, camming (opcodes 80..89, nacks 100..106, MC_EV_SYNC,
-                           * MC_EV_PVT, MC_MOTION_IN_SYNC, the sync_status block appended) */
+                           * MC_EV_PVT, MC_MOTION_IN_SYNC, the sync_status block appended); 8: the
+                           * configuration read back (MC_OP_READ_CONFIG, MC_CONFIG_*,
+                           * MC_NACK_CONFIG_KIND), each axis's scale on the card
+                           * (mc_axis_config.scale, MC_OP_SET_SCALE) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -543,6 +546,40 @@
                                * loaded, or one in use */
 #define MC_NACK_CAM_SEQUENCE 106 /* cam data without an open table or out of order */
 
+/* Layout 1.8: the configuration read back. MC_OP_READ_CONFIG makes the card write the settings
+ * it holds (its validated, applied copy, not what a host last wrote) into the configuration
+ * block of the kind and index asked for, before its ack; the host reads the block after the ack.
+ * So the card writes the host's configuration blocks in two places only: at boot (the reset
+ * values) and while it serves a MC_OP_READ_CONFIG of that block. A host does not write a block
+ * while its read-back is outstanding (the SDK serialises both on one lock). Reading back changes
+ * nothing on the card.
+ * MC_CONFIG_AXIS fills axis_config[i] (with the scale) and axis_pdplus[i] (the PD+ block the
+ * axis runs, all zero while its servo law is FFPIV); MC_CONFIG_GROUP fills group_config[i]
+ * (naxes 0 and the rest zero: the group is not configured). */
+#define MC_OP_READ_CONFIG 96u /* args: block kind (MC_CONFIG_*), index (axis or group; 0 for the
+                               * card-wide blocks). A kind the card does not know, or an argument
+                               * that is not an integer: MC_NACK_CONFIG_KIND; an axis beyond
+                               * identity.num_axes: MC_NACK_BAD_AXIS; a group beyond
+                               * MC_MAX_GROUPS: MC_NACK_BAD_GROUP */
+#define MC_OP_SET_SCALE 97u   /* axis: the axis. args: counts per user unit (|scale| in
+                               * MC_SCALE_MIN..MC_SCALE_MAX, negative: the user's axis runs against
+                               * the encoder; else MC_NACK_OUT_OF_RANGE, NaN: MC_NACK_NOT_FINITE).
+                               * Kept for hosts, read back in axis_config.scale; the card does not
+                               * use it. Any state */
+#define MC_CONFIG_CARD 1u         /* card_config (index 0) */
+#define MC_CONFIG_AXIS 2u         /* axis_config[i] and axis_pdplus[i] */
+#define MC_CONFIG_AXIS_FILTER 3u  /* axis_filter[i] */
+#define MC_CONFIG_GROUP 4u        /* group_config[i] */
+#define MC_CONFIG_SAFETY 5u       /* safety (index 0) */
+#define MC_CONFIG_AXIS_SAFETY 6u  /* axis_safety[i] */
+#define MC_CONFIG_AXIS_HOMING 7u  /* axis_homing[i] */
+#define MC_CONFIG_GROUP_PATH 8u   /* group_path[i] */
+#define MC_CONFIG_IO 9u           /* io_config (index 0) */
+#define MC_SCALE_MIN 1e-9         /* |counts per user unit|: a nanometre-class unit on a coarse */
+#define MC_SCALE_MAX 1e12         /* encoder to a kilometre on a fine one */
+#define MC_NACK_CONFIG_KIND 116   /* MC_OP_READ_CONFIG: an unknown block kind, or a kind or index
+                                   * that is not an integer */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u
@@ -884,7 +921,11 @@ struct mc_axis_config {
     double jog_accel;
     /** Jog jerk, counts/s^3 (> 0). */
     double jog_jerk;
-    double _reserved[2];
+    /** Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card
+     * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
+     * it. 1 at boot. */
+    double scale;
+    double _reserved[1];
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */

@@ -566,9 +566,11 @@ fn main() -> ExitCode {
                             count: count as u32,
                         }
                     }
-                    _ => return bad(format!(
+                    _ => {
+                        return bad(format!(
                         "--series takes START,PITCH,COUNT (COUNT a whole number >= 1), got {v:?}"
-                    )),
+                    ))
+                    }
                 },
                 (None, None, Some(f)) => {
                     let rows = std::fs::read_to_string(&f)
