@@ -165,7 +165,7 @@ pub fn home(
 ) -> Result<String> {
     let ax = card.axis(axis)?;
     if let Some(m) = method {
-        let mut h = ax.homing_settings();
+        let mut h = ax.homing_settings()?;
         h.method = m;
         ax.configure_homing(&h)?;
     }

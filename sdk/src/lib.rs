@@ -24,6 +24,7 @@
 
 mod cam;
 mod card;
+mod config;
 mod device;
 mod error;
 mod group;
@@ -50,6 +51,11 @@ pub use card_emu::{
     Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
 };
 #[cfg(feature = "emulator")]
+pub use config::{
+    AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
+    FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
+    IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
+};
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
@@ -82,7 +88,9 @@ pub use path::{
     Segment, StreamError, Transition,
 };
 pub use pvt::{PvtLimits, PvtMode, PvtPoint};
-pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
+pub use safety::{
+    CardSafetySettings, SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT,
+};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 

@@ -47,6 +47,7 @@ impl Axis {
     pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
         let w = self.card().window();
         let a = self.index();
+        let _guard = self.card().config_lock();
         layout::AXIS_PDPLUS.at(a).write(w, s);
         let law = core::mem::offset_of!(raw::mc_axis_config, servo_law);
         w.write32(layout::AXIS_CONFIG.at(a).field(law), raw::MC_SERVO_PDPLUS);
