@@ -960,7 +960,6 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_PROTOCOL",
     "MC_ERR_RING_FULL",
     "MC_ERR_UNKNOWN_COMMAND",
-    "MC_ERR_IO",
     "MC_ERR_NURBS_SEQUENCE",
     "MC_ERR_HARD_LIMIT",
     "MC_ERR_PLAN_CHECK",
@@ -969,6 +968,7 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_PERMISSION_DENIED",
     "MC_ERR_PATH_ID",
     "MC_ERR_CAM_SEQUENCE",
+    "MC_ERR_CONFIG_KIND",
 ];
 
 #[test]
