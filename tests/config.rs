@@ -233,3 +233,48 @@ fn a_file_with_one_bad_value_changes_nothing_and_names_key_and_line() {
     assert!(matches!(e, Error::ConfigFile { line: 1, .. }), "{e}");
     assert_eq!(b.save_config().unwrap(), before);
 }
+
+/// The checked-in example (`examples/config/machine.toml`: the configuration above, on a
+/// 4-axis card) loads on a fresh card and saves back to its own bytes.
+#[test]
+fn the_example_file_round_trips() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/config/machine.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    assert_eq!(
+        text,
+        configured().save_config().unwrap(),
+        "regenerate the example"
+    );
+    let b = card();
+    b.load_config_file(path).unwrap();
+    assert_eq!(b.save_config().unwrap(), text);
+}
+
+/// What a host wrote into a block after the card applied it, or had refused, is not what the
+/// getters give: they read the card back.
+#[test]
+fn the_getters_read_the_card_not_the_last_write() {
+    let c = card();
+    let a = c.axis(0).unwrap();
+    let bad = motioncard::AxisSettings {
+        dac_limit_v: 12.0,
+        ..Default::default()
+    };
+    assert_eq!(a.configure(&bad).unwrap_err().kind(), ErrorKind::BadConfig);
+    assert_eq!(a.settings().unwrap().dac_limit_v, 10.0);
+    let io = IoSettings {
+        polarity: 1 << 20, // beyond the inputs: refused
+        ..Default::default()
+    };
+    assert!(c.configure_io(&io).is_err());
+    assert_eq!(c.io_settings().unwrap().polarity, 0);
+    assert_eq!(a.pdplus_settings().unwrap(), None);
+    a.configure_pdplus(&motioncard::die_bonder_pdplus(0))
+        .unwrap();
+    let pd = a.pdplus_settings().unwrap().unwrap();
+    assert_eq!(pd.gains, motioncard::die_bonder_pdplus(0).gains);
+    assert!(c.group(1).unwrap().settings().unwrap().is_none());
+    assert_eq!(c.servo_rate().unwrap(), 10_000);
+    assert_eq!(c.safety_settings().unwrap().max_stop_time_us, 2_000_000);
+    assert_eq!(a.filter_settings().unwrap(), FilterSettings::shin_table1());
+}

@@ -659,6 +659,11 @@ impl Config {
     }
 }
 
+fn read_file(path: &std::path::Path) -> Result<String> {
+    std::fs::read_to_string(path)
+        .map_err(|e| Error::io(format!("{}: cannot read", path.display()), e))
+}
+
 fn file_error(origin: &str, key: String, line: usize, message: String) -> Error {
     Error::ConfigFile {
         path: origin.to_string(),
@@ -1222,12 +1227,35 @@ impl Card {
         Ok(report)
     }
 
-    /// The keys where the file and the card differ, in the file's order of sections (the file
-    /// is checked first, as by [`Card::load_config`], but nothing is applied).
+    /// The keys where the file and the card differ, in key order (the file is checked first,
+    /// as by [`Card::load_config`], but nothing is applied).
     pub fn diff_config(&self, text: &str, origin: &str) -> Result<Vec<ConfigDifference>> {
         let file = Config::parse(text, origin)?;
         let held = self.check_config(&file, text, origin)?;
         Ok(differences(&file, &held))
+    }
+
+    /// [`Card::save_config`] into the file `path` (created or replaced).
+    pub fn save_config_file(&self, path: impl AsRef<std::path::Path>) -> Result<()> {
+        let path = path.as_ref();
+        let text = self.save_config()?;
+        std::fs::write(path, text)
+            .map_err(|e| Error::io(format!("{}: cannot write", path.display()), e))
+    }
+
+    /// [`Card::load_config`] of the file `path`.
+    pub fn load_config_file(&self, path: impl AsRef<std::path::Path>) -> Result<LoadReport> {
+        let path = path.as_ref();
+        self.load_config(&read_file(path)?, &path.display().to_string())
+    }
+
+    /// [`Card::diff_config`] of the file `path`.
+    pub fn diff_config_file(
+        &self,
+        path: impl AsRef<std::path::Path>,
+    ) -> Result<Vec<ConfigDifference>> {
+        let path = path.as_ref();
+        self.diff_config(&read_file(path)?, &path.display().to_string())
     }
 
     /// The checks of [`Card::load_config`]: the card's configuration, or the error.
@@ -1441,7 +1469,7 @@ impl Card {
     }
 }
 
-/// The keys of `file` whose values differ from `card`'s, in the file's order.
+/// The keys of `file` whose values differ from `card`'s, in key order (an array is one key).
 pub fn differences(file: &Config, card: &Config) -> Vec<ConfigDifference> {
     let (Ok(f), Ok(c)) = (toml::Value::try_from(file), toml::Value::try_from(card)) else {
         return Vec::new();

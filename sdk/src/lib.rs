@@ -50,12 +50,12 @@ pub use card::{
 pub use card_emu::{
     Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
 };
-#[cfg(feature = "emulator")]
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
     IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
 };
+#[cfg(feature = "emulator")]
 pub use device::SimOptions;
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
