@@ -1519,7 +1519,9 @@ impl Axis {
     }
 
     /// Write the servo and in-position configuration (FFPIV) and have the card check and apply
-    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`.
+    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`. The
+    /// settings' `scale` is ignored (see [`Axis::set_scale`]); [`Axis::settings`] reads back
+    /// what the card holds.
     pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
         let a = self.index;
         self.card.apply_block(
@@ -1540,5 +1542,7 @@ impl Axis {
 /// Servo gains and in-position windows of an axis (counts, seconds, volts): the card's
 /// `mc_axis_config` block, whose fields the register map's header lists. Its `Default` is what
 /// the card loads at boot (FFPIV with the default tuning); [`Axis::configure`] selects FFPIV
-/// whatever `servo_law` says (PD+: [`Axis::configure_pdplus`]).
+/// whatever `servo_law` says (PD+: [`Axis::configure_pdplus`]). `scale` (layout 1.8) is the
+/// axis's scale as the card keeps it, given by [`Axis::settings`]; [`Axis::configure`] ignores
+/// it ([`Axis::set_scale`] sets it).
 pub use firmware_proto::AxisConfig as AxisSettings;

@@ -864,28 +864,18 @@ struct Context<'a> {
 
 /// The reference values the blame takes: the card's reset values (PD+: the die bonder's).
 fn good_axis() -> AxisSection {
-    let pd = crate::nurbs::die_bonder_pdplus(0);
-    let mut a = AxisSection::from_blocks(
-        &AxisConfig::default(),
-        &pd,
-        &card_emu::firmware::group::FilterConfig::default().to_block(),
-        &AxisSafetyConfig::default().to_block(),
-        &firmware_proto::AxisHoming::default(),
-    );
-    a.servo_law = ServoLaw::Pdplus;
-    a.pdplus = AxisSection::from_blocks(
+    // The reset blocks, with the PD+ section of the die bonder (the check of an FFPIV axis
+    // drops it).
+    AxisSection::from_blocks(
         &AxisConfig {
             servo_law: raw::MC_SERVO_PDPLUS,
             ..AxisConfig::default()
         },
-        &pd,
-        &Default::default(),
-        &Default::default(),
-        &Default::default(),
+        &crate::nurbs::die_bonder_pdplus(0),
+        &card_emu::firmware::group::FilterConfig::default().to_block(),
+        &AxisSafetyConfig::default().to_block(),
+        &firmware_proto::AxisHoming::default(),
     )
-    .pdplus;
-    a.servo_law = ServoLaw::Ffpiv;
-    a
 }
 
 fn check(file: &Config, cx: &Context<'_>) -> std::result::Result<(), Refusal> {
