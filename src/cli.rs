@@ -1,5 +1,6 @@
 //! What `mcctl` does against a card (`--card URI`): info, status (and watch), power, moves
-//! (absolute, relative, additive, velocity), jog, override, halt, stop, reset, I/O and PT/PVT; compare, probe, gearing and
+//! (absolute, relative, additive, velocity), jog, override, halt, stop, reset, I/O, PT/PVT and
+//! configuration files; compare, probe, gearing and
 //! camming in [`machine`]. Each returns the text to print (a table, or one
 //! JSON object with `json`), or the SDK's error.
 
@@ -369,7 +370,7 @@ pub fn home(
 ) -> Result<String> {
     let ax = card.axis(axis)?;
     if let Some(m) = method {
-        let mut h = ax.homing_settings();
+        let mut h = ax.homing_settings()?;
         h.method = m;
         ax.configure_homing(&h)?;
     }
@@ -405,6 +406,53 @@ pub fn io(card: &Card, set: Option<(u32, u32)>, json: bool) -> Result<String> {
     } else {
         format!("inputs  {inputs:016b} (raw {raw:016b})\noutputs {outputs:016b}\n")
     })
+}
+
+/// `mcctl config save FILE`: what the card holds, read back, as TOML into FILE (`-`: the text
+/// itself).
+pub fn config_save(card: &Card, file: &std::path::Path) -> Result<String> {
+    if file.as_os_str() == "-" {
+        return card.save_config();
+    }
+    card.save_config_file(file)?;
+    Ok(format!("saved {}\n", file.display()))
+}
+
+/// `mcctl config load FILE`: the sections applied (those that differed from the card).
+pub fn config_load(card: &Card, file: &std::path::Path, json: bool) -> Result<String> {
+    let report = card.load_config_file(file)?;
+    Ok(if json {
+        json!({ "file": file.display().to_string(), "applied": report.applied }).to_string() + "\n"
+    } else if report.applied.is_empty() {
+        format!("{}: the card already holds it\n", file.display())
+    } else {
+        format!(
+            "{}: applied {}\n",
+            file.display(),
+            report.applied.join(", ")
+        )
+    })
+}
+
+/// `mcctl config diff FILE`: the keys where FILE and the card differ, one a line (or a JSON
+/// array), and whether there are any.
+pub fn config_diff(card: &Card, file: &std::path::Path, json: bool) -> Result<(String, bool)> {
+    let d = card.diff_config_file(file)?;
+    let text = if json {
+        let rows: Vec<_> = d
+            .iter()
+            .map(|x| json!({ "key": x.key, "file": x.file, "card": x.card }))
+            .collect();
+        serde_json::Value::Array(rows).to_string() + "\n"
+    } else {
+        d.iter()
+            .map(|x| {
+                let card = x.card.as_deref().unwrap_or("(none)");
+                format!("{}: file {}, card {card}\n", x.key, x.file)
+            })
+            .collect()
+    };
+    Ok((text, !d.is_empty()))
 }
 
 /// The rows of a file of numbers: `widths` finite numbers per line (commas or blanks between;
