@@ -906,3 +906,28 @@ fn config_save_load_and_diff_from_the_command_line() {
     assert!(err.contains("cannot read"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Long operations draw a progress bar on a terminal (util-linux `script` gives mcctl one) and
+/// nothing when stderr is a pipe: the pipe sees only the result.
+#[test]
+fn progress_is_drawn_on_a_terminal_only() {
+    let bin = env!("CARGO_BIN_EXE_mcctl");
+    let args = "--card sim jog 0 20000 --for 0.3 --enable";
+    let typescript = std::env::temp_dir().join(format!("mcctl-tty-{}", std::process::id()));
+    let out = Command::new("script")
+        .args(["-qec", &format!("'{bin}' {args}")])
+        .arg(&typescript)
+        .output()
+        .expect("util-linux script");
+    assert!(out.status.success(), "{out:?}");
+    let seen = String::from_utf8_lossy(&std::fs::read(&typescript).unwrap()).into_owned();
+    let _ = std::fs::remove_file(&typescript);
+    // The bar of the time the button is held, the axis on it, then the spinner of the release.
+    assert!(seen.contains("jogging (ms)"), "{seen}");
+    assert!(seen.contains("axis 0 ContinuousMotion at "), "{seen}");
+    assert!(seen.contains("axis 0: jogged to "), "{seen}");
+    let (code, out, err) = mcctl(&args.split(' ').collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("axis 0: jogged to "), "{out}");
+    assert_eq!(err, "", "nothing drawn on a pipe");
+}
