@@ -1,12 +1,13 @@
 //! What `mcctl` does against a card (`--card URI`): info, status (and watch), power, moves
-//! (absolute, relative, additive, velocity), jog, override, halt, stop, reset, I/O and PT/PVT; compare, probe, gearing and
+//! (absolute, relative, additive, velocity), jog, override, halt, stop, reset, I/O, PT/PVT and
+//! configuration files; compare, probe, gearing and
 //! camming in [`machine`]. Each returns the text to print (a table, or one
 //! JSON object with `json`), or the SDK's error.
 
 use crate::proto::raw;
 use crate::{
-    AxisState, BufferMode, Card, GroupState, GroupStatus, MotionFlags, MoveKind, MoveLimits,
-    Result, Status, VelocityLimits,
+    AxisState, BufferMode, Card, Error, GroupState, GroupStatus, Motion, MotionFlags, MoveKind,
+    MoveLimits, Result, Status, VelocityLimits,
 };
 
 /// Groups on every card.
@@ -22,6 +23,62 @@ pub use scope::*;
 
 /// How long mcctl waits for a move to be done.
 const WAIT: Duration = Duration::from_secs(600);
+
+/// How often mcctl looks at the card while a move runs.
+const POLL: Duration = Duration::from_millis(2);
+
+/// A progress bar of `len` steps (a spinner without) on stderr, for what takes a while. It is
+/// drawn only on a terminal (indicatif hides it when stderr is not one), so a script, a pipe or
+/// `--json` output on stdout sees only the result.
+pub fn progress(len: Option<u64>, what: &str) -> indicatif::ProgressBar {
+    let (bar, template) = match len {
+        Some(n) => (
+            indicatif::ProgressBar::new(n),
+            "{prefix} {bar:20} {pos}/{len} {msg}",
+        ),
+        None => (
+            indicatif::ProgressBar::new_spinner(),
+            "{prefix} {spinner} {msg}",
+        ),
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.with_prefix(what.to_string())
+}
+
+/// Show the axis's state and actual position on `bar` (when it is drawn at all).
+fn show_axis(card: &Card, axis: usize, bar: &indicatif::ProgressBar) -> Result<()> {
+    if !bar.is_hidden() {
+        let s = card.axis(axis)?.status()?;
+        bar.set_message(format!(
+            "axis {axis} {} at {:.3}",
+            state_name(s.state),
+            s.actual_position
+        ));
+        bar.tick();
+    }
+    Ok(())
+}
+
+/// Wait up to [`WAIT`] for `motion` of `axis` to be done, with a spinner showing where the
+/// axis is (see [`progress`]). Returns where it ended.
+pub fn wait_showing(card: &Card, axis: usize, motion: &Motion, what: &str) -> Result<f64> {
+    let bar = progress(None, what);
+    let start = Instant::now();
+    let r = loop {
+        match motion.wait(POLL) {
+            Err(Error::Timeout(_)) if start.elapsed() < WAIT => {}
+            Err(Error::Timeout(_)) => break Err(Error::Timeout(WAIT)),
+            r => break r,
+        }
+        if let Err(e) = show_axis(card, axis, &bar) {
+            break Err(e);
+        }
+    };
+    bar.finish_and_clear();
+    r
+}
 
 fn state_name(s: AxisState) -> String {
     format!("{s:?}")
@@ -257,7 +314,7 @@ pub fn power(card: &Card, axes: &[usize], on: bool) -> Result<String> {
 /// released (MC_Stop's Execute falling) unless `hold`, and the axis is in Standstill again.
 pub fn stop(card: &Card, axis: usize, deceleration: f64, jerk: f64, hold: bool) -> Result<String> {
     let ax = card.axis(axis)?;
-    let at = ax.stop(deceleration, jerk)?.wait(WAIT)?;
+    let at = wait_showing(card, axis, &ax.stop(deceleration, jerk)?, "stopping")?;
     if !hold {
         ax.release_stop()?;
     }
@@ -317,14 +374,20 @@ pub fn run_move(
 ) -> Result<String> {
     let ax = card.axis(axis)?;
     let at = match cmd {
-        MoveCmd::Position(kind, lim) => ax
-            .move_with(kind, value, &lim, BufferMode::Aborting)?
-            .wait(WAIT)?,
+        MoveCmd::Position(kind, lim) => {
+            let m = ax.move_with(kind, value, &lim, BufferMode::Aborting)?;
+            wait_showing(card, axis, &m, "moving")?
+        }
         MoveCmd::Velocity(lim) => {
             let started = Instant::now();
             ax.move_velocity(value, &lim)?;
-            hold_for(card, hold.saturating_sub(started.elapsed()));
-            ax.halt(lim.deceleration, lim.jerk)?.wait(WAIT)?
+            hold_showing(
+                card,
+                axis,
+                hold.saturating_sub(started.elapsed()),
+                "velocity",
+            )?;
+            wait_showing(card, axis, &ax.halt(lim.deceleration, lim.jerk)?, "halting")?
         }
     };
     Ok(if json {
@@ -343,14 +406,35 @@ fn hold_for(card: &Card, d: Duration) {
     }
 }
 
+/// [`hold_for`] `d` in steps of [`POLL`], with a bar of the time held and where the axis is.
+fn hold_showing(card: &Card, axis: usize, d: Duration, what: &str) -> Result<()> {
+    let bar = progress(Some(d.as_millis() as u64), what);
+    bar.set_prefix(format!("{what} (ms)"));
+    let mut held = Duration::ZERO;
+    while held < d {
+        let step = POLL.min(d - held);
+        hold_for(card, step);
+        held += step;
+        bar.set_position(held.as_millis() as u64);
+        show_axis(card, axis, &bar)?;
+    }
+    bar.finish_and_clear();
+    Ok(())
+}
+
 /// `mcctl jog`: jog at `velocity` for `hold` (the button held), then release it (a halt at the
 /// jog deceleration) and wait for rest. Reports where the axis stopped.
 pub fn jog(card: &Card, axis: usize, velocity: f64, hold: Duration, json: bool) -> Result<String> {
     let ax = card.axis(axis)?;
     let started = Instant::now();
     ax.jog(velocity)?;
-    hold_for(card, hold.saturating_sub(started.elapsed()));
-    let at = ax.jog_release()?.wait(WAIT)?;
+    hold_showing(
+        card,
+        axis,
+        hold.saturating_sub(started.elapsed()),
+        "jogging",
+    )?;
+    let at = wait_showing(card, axis, &ax.jog_release()?, "releasing")?;
     Ok(if json {
         json!({ "axis": axis, "position": at }).to_string()
     } else {
@@ -369,11 +453,11 @@ pub fn home(
 ) -> Result<String> {
     let ax = card.axis(axis)?;
     if let Some(m) = method {
-        let mut h = ax.homing_settings();
+        let mut h = ax.homing_settings()?;
         h.method = m;
         ax.configure_homing(&h)?;
     }
-    let at = ax.home(position)?.wait(WAIT)?;
+    let at = wait_showing(card, axis, &ax.home(position)?, "homing")?;
     Ok(if json {
         json!({ "axis": axis, "position": at, "homed": ax.status()?.homed() }).to_string()
     } else {
@@ -389,7 +473,12 @@ pub fn set_override(card: &Card, axis: usize, factor: f64) -> Result<String> {
 
 /// `mcctl halt`: MC_Halt within the deceleration and jerk, waiting for rest.
 pub fn halt(card: &Card, axis: usize, deceleration: f64, jerk: f64) -> Result<String> {
-    let at = card.axis(axis)?.halt(deceleration, jerk)?.wait(WAIT)?;
+    let at = wait_showing(
+        card,
+        axis,
+        &card.axis(axis)?.halt(deceleration, jerk)?,
+        "halting",
+    )?;
     Ok(format!("axis {axis}: halted at {at}\n"))
 }
 
@@ -405,6 +494,53 @@ pub fn io(card: &Card, set: Option<(u32, u32)>, json: bool) -> Result<String> {
     } else {
         format!("inputs  {inputs:016b} (raw {raw:016b})\noutputs {outputs:016b}\n")
     })
+}
+
+/// `mcctl config save FILE`: what the card holds, read back, as TOML into FILE (`-`: the text
+/// itself).
+pub fn config_save(card: &Card, file: &std::path::Path) -> Result<String> {
+    if file.as_os_str() == "-" {
+        return card.save_config();
+    }
+    card.save_config_file(file)?;
+    Ok(format!("saved {}\n", file.display()))
+}
+
+/// `mcctl config load FILE`: the sections applied (those that differed from the card).
+pub fn config_load(card: &Card, file: &std::path::Path, json: bool) -> Result<String> {
+    let report = card.load_config_file(file)?;
+    Ok(if json {
+        json!({ "file": file.display().to_string(), "applied": report.applied }).to_string() + "\n"
+    } else if report.applied.is_empty() {
+        format!("{}: the card already holds it\n", file.display())
+    } else {
+        format!(
+            "{}: applied {}\n",
+            file.display(),
+            report.applied.join(", ")
+        )
+    })
+}
+
+/// `mcctl config diff FILE`: the keys where FILE and the card differ, one a line (or a JSON
+/// array), and whether there are any.
+pub fn config_diff(card: &Card, file: &std::path::Path, json: bool) -> Result<(String, bool)> {
+    let d = card.diff_config_file(file)?;
+    let text = if json {
+        let rows: Vec<_> = d
+            .iter()
+            .map(|x| json!({ "key": x.key, "file": x.file, "card": x.card }))
+            .collect();
+        serde_json::Value::Array(rows).to_string() + "\n"
+    } else {
+        d.iter()
+            .map(|x| {
+                let card = x.card.as_deref().unwrap_or("(none)");
+                format!("{}: file {}, card {card}\n", x.key, x.file)
+            })
+            .collect()
+    };
+    Ok((text, !d.is_empty()))
 }
 
 /// The rows of a file of numbers: `widths` finite numbers per line (commas or blanks between;
@@ -470,6 +606,8 @@ pub fn pvt(
     ax.pvt_push(&points[..first], first == points.len())?;
     let motion = ax.pvt_start()?;
     let mut sent = first;
+    let bar = progress(Some(points.len() as u64), "streaming points");
+    bar.set_position(sent as u64);
     while sent < points.len() {
         let room = ax.pvt_free();
         if room == 0 {
@@ -479,8 +617,10 @@ pub fn pvt(
         let n = room.min(points.len() - sent);
         ax.pvt_push(&points[sent..sent + n], sent + n == points.len())?;
         sent += n;
+        bar.set_position(sent as u64);
     }
-    let at = motion.wait(WAIT)?;
+    bar.finish_and_clear();
+    let at = wait_showing(card, axis, &motion, "running the stream")?;
     let last = points[points.len() - 1];
     Ok(if json {
         json!({

@@ -25,7 +25,7 @@
 
 pub mod live;
 
-use crate::tuning::gains::{Apply, GainStore, Gains};
+use crate::tuning::gains::{self, Apply, Gains};
 use crate::tuning::run::{run_test, Limits, TestError, TestKind, TestRun, TestSpec};
 use crate::{Card, Error, Result, Scope};
 use axum::extract::rejection::JsonRejection;
@@ -70,7 +70,6 @@ struct App {
     axis: usize,
     uri: String,
     live: Live,
-    gains: GainStore,
     /// Held while a test runs (try-locked: a second test is refused, never queued).
     test: tokio::sync::Mutex<()>,
     /// The last tests' answers, as sent, oldest first (at most [`KEPT_TESTS`]).
@@ -332,7 +331,7 @@ async fn reset_axis(
 }
 
 async fn get_gains(State(app): State<Arc<App>>) -> std::result::Result<Json<Gains>, ApiError> {
-    blocking(move || Ok(app.gains.get(app.axis)?))
+    blocking(move || Ok(gains::get(&app.card, app.axis)?))
         .await
         .map(Json)
 }
@@ -342,7 +341,7 @@ async fn post_gains(
     req: std::result::Result<Json<Apply>, JsonRejection>,
 ) -> std::result::Result<Json<Gains>, ApiError> {
     let Json(change) = req.map_err(bad_json)?;
-    blocking(move || Ok(app.gains.apply(app.axis, &change)?))
+    blocking(move || Ok(gains::apply(&app.card, app.axis, &change)?))
         .await
         .map(Json)
 }
@@ -420,7 +419,6 @@ pub fn serve(card: &Card, opts: &Options) -> Result<String> {
         axis: opts.axis,
         uri: opts.uri.clone(),
         live,
-        gains: GainStore::new(card.clone()),
         test: tokio::sync::Mutex::new(()),
         kept: Mutex::new(std::collections::VecDeque::new()),
         next_id: std::sync::atomic::AtomicU64::new(1),

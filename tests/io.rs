@@ -323,7 +323,11 @@ fn compare_and_probe_arguments_are_refused_with_their_own_codes() {
     let mut s = IoSettings::default();
     s.debounce[3] = 10_001;
     assert_eq!(kind(card.configure_io(&s)), ErrorKind::IoConfig);
-    assert_eq!(card.io_settings(), IoSettings::default(), "put back");
+    assert_eq!(
+        card.io_settings().unwrap(),
+        IoSettings::default(),
+        "put back"
+    );
 }
 
 /// Polarity, debounce and edge events, tick for tick: a glitch shorter than the debounce never

@@ -731,7 +731,9 @@ fn replay_a_trace_from_the_command_line() {
     let t = trace.to_str().unwrap();
     let j = json_of(&["replay", t, "--json"]);
     assert_eq!(j["difference"], serde_json::Value::Null, "{j}");
-    assert_eq!(j["commands"], 2, "{j}");
+    // The open reads back each of the 8 axes' settings (to adopt its scale), then the power
+    // and the move.
+    assert_eq!(j["commands"], 8 + 2, "{j}");
     let text = std::fs::read_to_string(&trace).unwrap();
     std::fs::write(&trace, text.replacen(" 5000.0 ", " 4999.0 ", 1)).unwrap();
     let (code, out, _) = mcctl(&["replay", t]);
@@ -813,4 +815,119 @@ fn scope_from_the_command_line() {
         assert_eq!(code, 2, "{args:?}: {err}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `mcctl config save|load|diff` against one `emu:` card served by this test (each mcctl
+/// process opens it in turn): a changed file differs (exit 1, key by key, JSON too), loads, and
+/// then the card saves the same bytes; a file with a bad value is exit 2 naming key and line,
+/// and changes nothing.
+#[test]
+fn config_save_load_and_diff_from_the_command_line() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    use std::os::fd::AsFd;
+    let name = format!("test-config-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let _server = Server::start(&name, window, irq).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let dir = std::env::temp_dir().join(format!("mcctl-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).display().to_string();
+
+    let (code, out, err) = mcctl(&["--card", &uri, "config", "save", &path("a.toml")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("saved"), "{out}");
+    let a = std::fs::read_to_string(path("a.toml")).unwrap();
+    let (code, out, _) = mcctl(&["--card", &uri, "config", "save", "-"]);
+    assert_eq!(
+        (code, out.as_str()),
+        (0, a.as_str()),
+        "save - prints the file"
+    );
+    let (code, out, err) = mcctl(&["--card", &uri, "config", "diff", &path("a.toml")]);
+    assert_eq!((code, out.as_str()), (0, ""), "{err}");
+
+    // One gain and the servo rate changed.
+    let kp = a.lines().find(|l| l.starts_with("kp = ")).unwrap();
+    let b = a
+        .replacen(kp, "kp = 150.5", 1)
+        .replace("servo_rate_hz = 10000", "servo_rate_hz = 8000");
+    std::fs::write(path("b.toml"), &b).unwrap();
+    let (code, out, err) = mcctl(&["--card", &uri, "config", "diff", &path("b.toml")]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        out.contains("card.servo_rate_hz: file 8000, card 10000"),
+        "{out}"
+    );
+    assert!(out.contains("axis.0.ffpiv.kp: file 150.5, card "), "{out}");
+    assert_eq!(out.lines().count(), 2, "{out}");
+    let (code, out, _) = mcctl(&["--card", &uri, "config", "diff", &path("b.toml"), "--json"]);
+    assert_eq!(code, 1);
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j[0]["key"], "axis.0.ffpiv.kp", "{out}");
+    assert_eq!(j[0]["file"], "150.5", "{out}");
+    assert_eq!(j[1]["key"], "card.servo_rate_hz", "{out}");
+
+    let (code, out, err) = mcctl(&["--card", &uri, "config", "load", &path("b.toml"), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["applied"], serde_json::json!(["card", "axis.0"]), "{out}");
+    let (code, _, err) = mcctl(&["--card", &uri, "config", "save", &path("c.toml")]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(path("c.toml")).unwrap(),
+        b,
+        "load, save: same bytes"
+    );
+    let (code, _, _) = mcctl(&["--card", &uri, "config", "diff", &path("b.toml")]);
+    assert_eq!(code, 0);
+
+    // A bad value: exit 2, key and line named, nothing applied.
+    let line = 1 + b.lines().position(|l| l.starts_with("kp = ")).unwrap();
+    std::fs::write(path("bad.toml"), b.replacen("kp = 150.5", "kp = -1.0", 1)).unwrap();
+    for action in ["load", "diff"] {
+        let (code, _, err) = mcctl(&["--card", &uri, "config", action, &path("bad.toml")]);
+        assert_eq!(code, 2, "{action}: {err}");
+        assert!(
+            err.contains(&format!("bad.toml:{line}: axis.0.ffpiv.kp: ")),
+            "{action}: {err}"
+        );
+    }
+    let (code, _, _) = mcctl(&["--card", &uri, "config", "diff", &path("b.toml")]);
+    assert_eq!(code, 0, "the bad file changed nothing");
+    // Bad arguments and a missing file.
+    let (code, _, _) = mcctl(&["--card", &uri, "config", "frobnicate"]);
+    assert_eq!(code, 2);
+    let (code, _, err) = mcctl(&["--card", &uri, "config", "load", &path("none.toml")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot read"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Long operations draw a progress bar on a terminal (util-linux `script` gives mcctl one) and
+/// nothing when stderr is a pipe: the pipe sees only the result.
+#[test]
+fn progress_is_drawn_on_a_terminal_only() {
+    let bin = env!("CARGO_BIN_EXE_mcctl");
+    let args = "--card sim jog 0 20000 --for 0.3 --enable";
+    let typescript = std::env::temp_dir().join(format!("mcctl-tty-{}", std::process::id()));
+    let out = Command::new("script")
+        .args(["-qec", &format!("'{bin}' {args}")])
+        .arg(&typescript)
+        .output()
+        .expect("util-linux script");
+    assert!(out.status.success(), "{out:?}");
+    let seen = String::from_utf8_lossy(&std::fs::read(&typescript).unwrap()).into_owned();
+    let _ = std::fs::remove_file(&typescript);
+    // The bar of the time the button is held, the axis on it, then the spinner of the release.
+    assert!(seen.contains("jogging (ms)"), "{seen}");
+    assert!(seen.contains("axis 0 ContinuousMotion at "), "{seen}");
+    assert!(seen.contains("axis 0: jogged to "), "{seen}");
+    let (code, out, err) = mcctl(&args.split(' ').collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("axis 0: jogged to "), "{out}");
+    assert_eq!(err, "", "nothing drawn on a pipe");
 }

@@ -403,6 +403,7 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     let g0 = &j["gains_before"];
     assert_eq!(g0["axis"], axis);
     assert_eq!(g0["law"], "ffpiv");
+    assert_eq!(g0["source"], "read back from the card");
     let good = &j["good"];
     assert_eq!(good["status"], "ok", "{}", good["message"]);
     assert_eq!(good["held_kp"], "70");

@@ -8,7 +8,8 @@
 //! fault, and arm it around each call of [`Firmware::tick`] only. Serving commands is not
 //! counted: it may allocate (planning a NURBS curve builds scratch tables, and the first curve
 //! in each of a group's slots makes the slot's storage, kept for the card's life), and so may
-//! the host and the plant.
+//! the host and the plant; the configuration read-back (layout 1.8) is the exception, counted
+//! around `Firmware::serve_commands` too, since a card serves it while it moves.
 
 use card_emu::firmware::Firmware;
 use card_emu::motion::nurbs::{clamped_uniform_knots, split_curve, Nurbs, Point};
@@ -24,8 +25,8 @@ use firmware_proto::mem::HeapWindow;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
 use firmware_proto::PvtEvent;
 use firmware_proto::{
-    move_flags, raw, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode,
-    MAX_AXES,
+    move_flags, raw, AxisState, Command, ConfigKind, Event, EventKind, GroupState, Mem, NackCode,
+    Opcode, MAX_AXES,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -1190,4 +1191,52 @@ fn the_scope_does_not_touch_the_heap() {
     r.ok(Opcode::ScopeStop, 0, 0, &[]);
     r.run(10);
     r.assert_no_heap("scope");
+}
+
+/// Layout 1.8: `MC_OP_READ_CONFIG` of every block kind and index, served while axes and a
+/// group move, touches the heap neither in the command manager nor in the ticks around it.
+#[test]
+fn the_configuration_read_back_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..4);
+    r.group(0, &[0, 1], raw::MC_ACCDEC_PRE, raw::MC_INTERP_EXACT);
+    let mut args = PATH.to_vec();
+    args.extend_from_slice(&[40_000.0, 30_000.0]);
+    let g = r.ok(Opcode::GroupMoveLinear, 0, 0, &args);
+    let m = r.ok(Opcode::MoveAbsolute, 2, 0, &move_args(50_000.0));
+    r.run(500);
+    assert_eq!(r.axis_state(2), AxisState::DiscreteMotion);
+    let mut served = [0usize; 3];
+    let mut n = 0;
+    for &kind in ConfigKind::ALL {
+        let count = if kind.per_axis() {
+            MAX_AXES
+        } else if kind.per_group() {
+            firmware_proto::MAX_GROUPS
+        } else {
+            1
+        };
+        for i in 0..count {
+            r.seq += 1;
+            let mut c =
+                Command::new(Opcode::ReadConfig, 0).with_args(&[kind as u32 as f64, i as f64]);
+            c.seq = r.seq;
+            r.cmds.push(&c).expect("command ring full");
+            let fw = &mut r.fw;
+            let (_, heap) = counted(|| fw.serve_commands());
+            for (sum, k) in served.iter_mut().zip(heap) {
+                *sum += k;
+            }
+            r.drain();
+            let seq = r.seq;
+            assert!(r.got(EventKind::Ack, seq), "{kind:?} {i}");
+            n += 1;
+            r.step();
+        }
+    }
+    println!("{n} read-backs, (alloc, realloc, dealloc) in Firmware::serve_commands = {served:?}");
+    assert_eq!(served, [0; 3], "the read-back used the heap");
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionDone, m)));
+    assert!(r.run_until(20_000, |r| r.got(EventKind::GroupMotionDone, g)));
+    r.assert_no_heap("read-back");
 }

@@ -1395,7 +1395,13 @@ typedef struct mc_axis_config {
    * Jog jerk, counts/s^3 (> 0).
    */
   double jog_jerk;
-  double _reserved[2];
+  /**
+   * Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card
+   * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
+   * it. 1 at boot.
+   */
+  double scale;
+  double _reserved[1];
 } mc_axis_config;
 
 /**
@@ -2754,6 +2760,20 @@ typedef struct mc_scope_status {
  */
 typedef struct mc_scope_status mc_scope_info;
 
+typedef struct mc_safety_config {
+  uint32_t watchdog_timeout_us;
+  uint32_t estop_input_category;
+  uint32_t max_stop_time_us;
+  uint32_t _reserved[13];
+} mc_safety_config;
+
+/**
+ * The card-wide safety settings as the card holds them (`mc_get_card_safety`): the register
+ * map's `mc_safety_config` block (watchdog timeout in µs, the e-stop input's stop category,
+ * the maximum stop time in µs).
+ */
+typedef struct mc_safety_config mc_card_safety_settings;
+
 /**
  * Success.
  */
@@ -3246,6 +3266,18 @@ typedef struct mc_scope_status mc_scope_info;
 #define MC_ERR_SCOPE_STATE -86
 
 /**
+ * Layout 1.8: a configuration read-back of a block kind the card does not know (a card
+ * older than the library, or a kind or index that is not an integer).
+ */
+#define MC_ERR_CONFIG_KIND -106
+
+/**
+ * A configuration file that does not parse, or a value in it that the card would refuse
+ * (the error names the key and its line); nothing of the file was applied.
+ */
+#define MC_ERR_CONFIG_FILE -107
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -3396,8 +3428,10 @@ mc_result mc_configure(mc_card card, uint32_t axis, const mc_axis_settings *sett
 
 /**
  * Counts per user unit for this axis (default 1: positions in counts). Positions, velocities,
- * limits and status fields other than `raw` are then in user units. Affects this process only.
- * A negative scale reverses the axis; zero is `MC_ERR_NON_POSITIVE_LIMIT`.
+ * limits and status fields other than `raw` are then in user units. A negative scale reverses
+ * the axis; zero, and |scale| outside 1e-9..1e12, is `MC_ERR_BAD_CONFIG`. Layout 1.8: the card
+ * keeps the scale for hosts (`mc_axis_settings.scale`, read back with `mc_axis_get_settings`),
+ * and a process that opens the card later adopts it. Blocks until the card answers.
  */
 mc_result mc_set_scale(mc_card card, uint32_t axis, double counts_per_unit);
 
@@ -4176,7 +4210,8 @@ mc_result mc_group_configure_path(mc_card card,
  * The path configuration the card holds for a group (read back from the card: its reset
  * values until the first `mc_group_configure_path`), converted to user units with the scales
  * in force now; `naxes` is the group's axis count, the unused limits 0. The group must be
- * configured (`MC_ERR_GROUP_DISABLED`). Does not wait for the card, as `mc_group_get_status`.
+ * configured (`MC_ERR_GROUP_DISABLED`). Blocks until the card answers (layout 1.8: the
+ * settings are read back with a command).
  */
 mc_result mc_group_get_path_settings(mc_card card,
                                      uint32_t group,
@@ -4555,6 +4590,102 @@ mc_result mc_aux_encoder(mc_card card, uint32_t k, int64_t *count);
  * card does not have, `MC_ERR_NOT_FINITE`. Never blocks.
  */
 mc_result mc_sim_set_aux_velocity(mc_card card, uint32_t k, double velocity);
+
+/**
+ * Save what the card holds, read back from the card (never this library's memory), to the
+ * TOML file `path` (created or replaced). Loading the file on a card of the same axes and
+ * saving it again gives the same bytes. Blocks until the card answers its read-backs.
+ */
+mc_result mc_config_save(mc_card card, const char *path);
+
+/**
+ * Load the TOML configuration file `path`: the whole file is checked first with the card's
+ * own rules, and nothing is applied when anything is wrong (`MC_ERR_CONFIG_FILE`;
+ * `mc_last_error_message` gives `FILE:LINE: KEY: what is wrong`, e.g.
+ * `a.toml:31: axis.0.ffpiv.kp: ...`); then the sections that differ from what the card holds
+ * are applied and the card is read back and compared. A section the card refuses after the
+ * checks passed (its state changed meanwhile) returns the refusal's code, and the message
+ * lists what was applied before it. Blocks until the card answers.
+ */
+mc_result mc_config_load(mc_card card, const char *path);
+
+/**
+ * Compare the TOML configuration file `path` with what the card holds, key by key (the file
+ * is checked as by `mc_config_load`; nothing is applied). `*differences` (may be NULL) is the
+ * number of keys that differ (0: the card holds what the file says); the text, one
+ * `KEY: file VALUE, card VALUE` line per key, is copied into `buf` (`len` bytes, NUL
+ * included; `*needed` its size: `MC_ERR_BUFFER_TOO_SMALL` when it does not fit, and then
+ * nothing else is written). Blocks until the card answers.
+ */
+mc_result mc_config_diff(mc_card card,
+                         const char *path,
+                         uint32_t *differences,
+                         char *buf,
+                         size_t len,
+                         size_t *needed);
+
+/**
+ * The axis's servo configuration as the card holds it (read back from the card): servo law,
+ * FFPIV gains, DAC limit, in-position windows, jog limits and `scale` (counts per user unit,
+ * which the card keeps for hosts). Blocks until the card answers.
+ */
+mc_result mc_axis_get_settings(mc_card card, uint32_t axis, mc_axis_settings *settings);
+
+/**
+ * The axis's PD+ law as the card holds it (read back): `*active` is 1 and `*settings` the
+ * gains, drive model and Umax when the axis runs PD+, else `*active` is 0 and `*settings` all
+ * zero. Blocks until the card answers.
+ */
+mc_result mc_axis_get_pdplus(mc_card card,
+                             uint32_t axis,
+                             mc_pdplus_settings *settings,
+                             uint32_t *active);
+
+/**
+ * The axis's acc/dec filters as the card holds them (read back). Blocks until the card
+ * answers.
+ */
+mc_result mc_axis_get_filters(mc_card card, uint32_t axis, struct mc_filter_settings *settings);
+
+/**
+ * The axis's safety configuration as the card holds it (read back), in user units. Blocks
+ * until the card answers.
+ */
+mc_result mc_axis_get_safety(mc_card card, uint32_t axis, struct mc_safety_settings *settings);
+
+/**
+ * The axis's homing configuration as the card holds it (read back). Blocks until the card
+ * answers.
+ */
+mc_result mc_axis_get_homing(mc_card card, uint32_t axis, mc_homing_settings *settings);
+
+/**
+ * The digital inputs' configuration as the card holds it (read back). Blocks until the card
+ * answers.
+ */
+mc_result mc_get_io_settings(mc_card card, mc_io_settings *settings);
+
+/**
+ * The card-wide safety settings as the card holds them (read back). Blocks until the card
+ * answers.
+ */
+mc_result mc_get_card_safety(mc_card card, mc_card_safety_settings *settings);
+
+/**
+ * The servo rate the card runs at (read back), Hz. Blocks until the card answers.
+ */
+mc_result mc_get_servo_rate(mc_card card, uint32_t *hz);
+
+/**
+ * A group's configuration as the card holds it (read back), the tolerance in the first
+ * axis's user units: `*configured` is 1 and `*settings` the configuration, or `*configured`
+ * is 0 and `*settings` all zero for a group that is not configured. Blocks until the card
+ * answers.
+ */
+mc_result mc_group_get_settings(mc_card card,
+                                uint32_t group,
+                                struct mc_group_settings *settings,
+                                uint32_t *configured);
 
 #ifdef __cplusplus
 }  /* extern "C" */

@@ -357,8 +357,10 @@ pub unsafe extern "C" fn mc_configure(
 }
 
 /// Counts per user unit for this axis (default 1: positions in counts). Positions, velocities,
-/// limits and status fields other than `raw` are then in user units. Affects this process only.
-/// A negative scale reverses the axis; zero is `MC_ERR_NON_POSITIVE_LIMIT`.
+/// limits and status fields other than `raw` are then in user units. A negative scale reverses
+/// the axis; zero, and |scale| outside 1e-9..1e12, is `MC_ERR_BAD_CONFIG`. Layout 1.8: the card
+/// keeps the scale for hosts (`mc_axis_settings.scale`, read back with `mc_axis_get_settings`),
+/// and a process that opens the card later adopts it. Blocks until the card answers.
 #[no_mangle]
 pub extern "C" fn mc_set_scale(card: mc_card, axis: u32, counts_per_unit: f64) -> mc_result {
     guard(|| Ok(axis_of(card, axis)?.1.set_scale(counts_per_unit)?))

@@ -34,8 +34,11 @@ pub mod safety;
 pub mod scope;
 pub mod sync;
 pub mod types;
+// Layout 1.8, last: cbindgen writes the header in module order.
+pub mod config;
 
 pub use api::*;
+pub use config::*;
 pub use group::*;
 pub use homing::*;
 pub use io::*;

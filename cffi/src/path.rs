@@ -421,7 +421,8 @@ pub unsafe extern "C" fn mc_group_configure_path(
 /// The path configuration the card holds for a group (read back from the card: its reset
 /// values until the first `mc_group_configure_path`), converted to user units with the scales
 /// in force now; `naxes` is the group's axis count, the unused limits 0. The group must be
-/// configured (`MC_ERR_GROUP_DISABLED`). Does not wait for the card, as `mc_group_get_status`.
+/// configured (`MC_ERR_GROUP_DISABLED`). Blocks until the card answers (layout 1.8: the
+/// settings are read back with a command).
 #[no_mangle]
 pub unsafe extern "C" fn mc_group_get_path_settings(
     card: mc_card,

@@ -3,12 +3,12 @@
 //! program is compiled by gcc with `-std=c11 -Wall -Wextra -Werror` (`c89.c` with
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
-//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `nurbs_path`,
-//! `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards). `move` and `c89`
-//! are also linked statically, and a program of the tests' own beside a second Rust static
-//! library; `errors`, `groups`, `safety`, `machine`, `homing`, `nurbs_path`, `path`, `compare`,
-//! `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also run under valgrind. The installed libraries'
-//! symbols are checked with binutils' `nm`.
+//! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `config`,
+//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards).
+//! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
+//! Rust static library; `errors`, `groups`, `safety`, `machine`, `homing`, `config`,
+//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also
+//! run under valgrind. The installed libraries' symbols are checked with binutils' `nm`.
 //!
 //! Needs gcc, g++, binutils, pkg-config, valgrind (`.ci/run` installs them when missing) and
 //! rustc (beside cargo). Nothing here asserts on time: the child processes only have a
@@ -673,6 +673,14 @@ fn homing_from_c() {
     assert!(out.contains("homed on the index: at 125.0"), "{out}");
 }
 
+/// Layout 1.8: the settings read back from the card, a configuration file saved, loaded on a
+/// fresh card and saved again byte for byte, a bad file refused with its key and line.
+#[test]
+fn config_from_c() {
+    let out = run(&compile("config", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS config\n"), "{out}");
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");
@@ -952,7 +960,6 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_PROTOCOL",
     "MC_ERR_RING_FULL",
     "MC_ERR_UNKNOWN_COMMAND",
-    "MC_ERR_IO",
     "MC_ERR_NURBS_SEQUENCE",
     "MC_ERR_HARD_LIMIT",
     "MC_ERR_PLAN_CHECK",
@@ -961,6 +968,7 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_PERMISSION_DENIED",
     "MC_ERR_PATH_ID",
     "MC_ERR_CAM_SEQUENCE",
+    "MC_ERR_CONFIG_KIND",
 ];
 
 #[test]
@@ -1088,6 +1096,12 @@ fn gearing_program_is_clean_under_valgrind() {
 fn homing_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("homing");
     assert!(out.contains("PASS homing\n"), "{out}");
+}
+
+#[test]
+fn config_program_is_clean_under_valgrind() {
+    let out = run_under_valgrind("config");
+    assert!(out.contains("PASS config\n"), "{out}");
 }
 
 #[test]

@@ -58,6 +58,8 @@ static const mc_result ALL_CODES[] = {
     /* the scope (layout 1.8) */
     MC_ERR_SCOPE_SIGNAL,   MC_ERR_SCOPE_CHANNELS,  MC_ERR_SCOPE_DIVIDER,
     MC_ERR_SCOPE_TRIGGER,  MC_ERR_SCOPE_PRETRIGGER, MC_ERR_SCOPE_STATE,
+    /* configuration files (layout 1.8) */
+    MC_ERR_CONFIG_KIND,    MC_ERR_CONFIG_FILE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -68,16 +70,17 @@ static const mc_result ALL_CODES[] = {
    another layout, one that corrupts the protocol, a full command ring, a command the typed
    API never sends (an unknown opcode, NURBS data out of sequence, a detach of another
    session, a command past its deadline), a plan the card's own check refuses (no input
-   reaches it through a correct planner), an OS failure, a limit switch (an input only the
+   reaches it through a correct planner), a limit switch (an input only the
    Rust fault injector presses), another user's card, a path segment id that is not an
-   integer in 0..2^32-1 (ids are uint32_t in C). The Rust tests cover the SDK side of
+   integer in 0..2^32-1 (ids are uint32_t in C), a configuration read-back of a block kind
+   the card does not know. The Rust tests cover the SDK side of
    those; here they are only checked to exist and be described. The others are returned by
    the programs named (the Rust test checks that every code is expected by some program or
    listed as not provokable). */
 static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C */
     MC_ERR_VERSION_MISMATCH, MC_ERR_PROTOCOL, MC_ERR_RING_FULL, MC_ERR_UNKNOWN_COMMAND,
-    MC_ERR_IO, MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT, MC_ERR_PLAN_CHECK, MC_ERR_EXPIRED,
+    MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT, MC_ERR_PLAN_CHECK, MC_ERR_EXPIRED,
     MC_ERR_SESSION, MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
     /* dead_card.c (a card process killed, then stopped) */
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
@@ -112,6 +115,10 @@ static const mc_result NOT_PROVOKED[] = {
     /* scope.c */
     MC_ERR_SCOPE_SIGNAL, MC_ERR_SCOPE_CHANNELS, MC_ERR_SCOPE_DIVIDER, MC_ERR_SCOPE_TRIGGER,
     MC_ERR_SCOPE_PRETRIGGER, MC_ERR_SCOPE_STATE,
+    /* not provokable from C: the ABI reads back only the block kinds the card knows */
+    MC_ERR_CONFIG_KIND,
+    /* config.c (a file that does not validate, one that cannot be read) */
+    MC_ERR_CONFIG_FILE, MC_ERR_IO,
 };
 
 static void result_strings(void) {

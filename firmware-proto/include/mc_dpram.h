@@ -47,7 +47,10 @@
                            * 8: the scope (MC_OP_SCOPE_*, opcodes 90..93, MC_NACK_SCOPE_* 110..115,
                            * MC_EV_SCOPE 29; scope_config, scope_status, the scope ring's indices
                            * and the scope ring appended; MC_DPRAM_SIZE 32 KiB -> 1 MiB);
-                           * MC_CAM_RELATIVE (MC_CamIn's StartMode relative) */
+                           * MC_CAM_RELATIVE (MC_CamIn's StartMode relative); the configuration
+                           * read back (MC_OP_READ_CONFIG 96, MC_CONFIG_*, MC_NACK_CONFIG_KIND 116),
+                           * each axis's scale on the card (mc_axis_config.scale, MC_OP_SET_SCALE
+                           * 97) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -657,6 +660,40 @@
 #define MC_NACK_SCOPE_STATE 115    /* configure or arm while armed, trigger while not waiting,
                                     * stop while idle, arm before a configure */
 
+/* Layout 1.8: the configuration read back. MC_OP_READ_CONFIG makes the card write the settings
+ * it holds (its validated, applied copy, not what a host last wrote) into the configuration
+ * block of the kind and index asked for, before its ack; the host reads the block after the ack.
+ * So the card writes the host's configuration blocks in two places only: at boot (the reset
+ * values) and while it serves a MC_OP_READ_CONFIG of that block. A host does not write a block
+ * while its read-back is outstanding (the SDK serialises both on one lock). Reading back changes
+ * nothing on the card.
+ * MC_CONFIG_AXIS fills axis_config[i] (with the scale) and axis_pdplus[i] (the PD+ block the
+ * axis runs, all zero while its servo law is FFPIV); MC_CONFIG_GROUP fills group_config[i]
+ * (naxes 0 and the rest zero: the group is not configured). */
+#define MC_OP_READ_CONFIG 96u /* args: block kind (MC_CONFIG_*), index (axis or group; 0 for the
+                               * card-wide blocks). A kind the card does not know, or an argument
+                               * that is not an integer: MC_NACK_CONFIG_KIND; an axis beyond
+                               * identity.num_axes: MC_NACK_BAD_AXIS; a group beyond
+                               * MC_MAX_GROUPS: MC_NACK_BAD_GROUP */
+#define MC_OP_SET_SCALE 97u   /* axis: the axis. args: counts per user unit (|scale| in
+                               * MC_SCALE_MIN..MC_SCALE_MAX, negative: the user's axis runs against
+                               * the encoder; else MC_NACK_OUT_OF_RANGE, NaN: MC_NACK_NOT_FINITE).
+                               * Kept for hosts, read back in axis_config.scale; the card does not
+                               * use it. Any state */
+#define MC_CONFIG_CARD 1u         /* card_config (index 0) */
+#define MC_CONFIG_AXIS 2u         /* axis_config[i] and axis_pdplus[i] */
+#define MC_CONFIG_AXIS_FILTER 3u  /* axis_filter[i] */
+#define MC_CONFIG_GROUP 4u        /* group_config[i] */
+#define MC_CONFIG_SAFETY 5u       /* safety (index 0) */
+#define MC_CONFIG_AXIS_SAFETY 6u  /* axis_safety[i] */
+#define MC_CONFIG_AXIS_HOMING 7u  /* axis_homing[i] */
+#define MC_CONFIG_GROUP_PATH 8u   /* group_path[i] */
+#define MC_CONFIG_IO 9u           /* io_config (index 0) */
+#define MC_SCALE_MIN 1e-9         /* |counts per user unit|: a nanometre-class unit on a coarse */
+#define MC_SCALE_MAX 1e12         /* encoder to a kilometre on a fine one */
+#define MC_NACK_CONFIG_KIND 116   /* MC_OP_READ_CONFIG: an unknown block kind, or a kind or index
+                                   * that is not an integer */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u
 #define MC_EV_NACK 2u
@@ -1000,7 +1037,11 @@ struct mc_axis_config {
     double jog_accel;
     /** Jog jerk, counts/s^3 (> 0). */
     double jog_jerk;
-    double _reserved[2];
+    /** Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card
+     * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
+     * it. 1 at boot. */
+    double scale;
+    double _reserved[1];
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */

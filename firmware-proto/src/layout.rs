@@ -210,6 +210,15 @@ const _: () = {
     assert!(MC_SCOPE_RING_LEN as u64 * 10 >= MC_SERVO_RATE_MAX_HZ as u64);
     assert!(SCOPE_RING + MC_SCOPE_RING_LEN as usize * SCOPE_SAMPLE_BYTES <= crate::DPRAM_SIZE);
 };
+// Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
+// `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
+// writes into the configuration blocks.
+const _: () = {
+    assert!(size_of::<mc_axis_config>() == 128);
+    assert!(offset_of!(mc_axis_config, jog_jerk) == 104);
+    assert!(offset_of!(mc_axis_config, scale) == 112);
+    assert!(offset_of!(mc_axis_config, _reserved) == 120);
+};
 
 /// The card-written safety status block (`mc_safety_status`).
 pub mod safety_status {

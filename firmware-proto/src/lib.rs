@@ -105,6 +105,11 @@ pub const OVERRIDE_MAX: f64 = raw::MC_OVERRIDE_MAX;
 /// Buffered single-axis moves per axis (`MC_AXIS_QUEUE_LEN`).
 pub const AXIS_QUEUE_LEN: usize = raw::MC_AXIS_QUEUE_LEN as usize;
 
+/// Layout 1.8: the counts per user unit an axis's scale may have, in magnitude
+/// (`MC_SCALE_MIN..=MC_SCALE_MAX`): from a nanometre-class unit on a coarse encoder to a
+/// kilometre on a fine one. The card keeps each axis's scale for hosts (`MC_OP_SET_SCALE`).
+pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = raw::MC_SCALE_MIN..=raw::MC_SCALE_MAX;
+
 /// The range the card accepts for a kinematic limit of order `order` (1 velocity, 2
 /// acceleration, 3 jerk; counts and seconds) at `servo_rate_hz`:
 /// `[MAX_MOVE_TIME^-k, MAX_POSITION · rate^k]`, from one count in the longest move to the

@@ -256,6 +256,20 @@ pub const MC_NACK_SCOPE_DIVIDER: u32 = 112;
 pub const MC_NACK_SCOPE_TRIGGER: u32 = 113;
 pub const MC_NACK_SCOPE_PRETRIGGER: u32 = 114;
 pub const MC_NACK_SCOPE_STATE: u32 = 115;
+pub const MC_OP_READ_CONFIG: u32 = 96;
+pub const MC_OP_SET_SCALE: u32 = 97;
+pub const MC_CONFIG_CARD: u32 = 1;
+pub const MC_CONFIG_AXIS: u32 = 2;
+pub const MC_CONFIG_AXIS_FILTER: u32 = 3;
+pub const MC_CONFIG_GROUP: u32 = 4;
+pub const MC_CONFIG_SAFETY: u32 = 5;
+pub const MC_CONFIG_AXIS_SAFETY: u32 = 6;
+pub const MC_CONFIG_AXIS_HOMING: u32 = 7;
+pub const MC_CONFIG_GROUP_PATH: u32 = 8;
+pub const MC_CONFIG_IO: u32 = 9;
+pub const MC_SCALE_MIN: f64 = 0.000000001;
+pub const MC_SCALE_MAX: f64 = 1000000000000.0;
+pub const MC_NACK_CONFIG_KIND: u32 = 116;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -643,7 +657,9 @@ pub struct mc_axis_config {
     pub jog_accel: f64,
     #[doc = " Jog jerk, counts/s^3 (> 0)."]
     pub jog_jerk: f64,
-    pub _reserved: [f64; 2usize],
+    #[doc = " Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card\n writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores\n it. 1 at boot."]
+    pub scale: f64,
+    pub _reserved: [f64; 1usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -669,8 +685,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, jog_accel) - 96usize];
     ["Offset of field: mc_axis_config::jog_jerk"]
         [::core::mem::offset_of!(mc_axis_config, jog_jerk) - 104usize];
+    ["Offset of field: mc_axis_config::scale"]
+        [::core::mem::offset_of!(mc_axis_config, scale) - 112usize];
     ["Offset of field: mc_axis_config::_reserved"]
-        [::core::mem::offset_of!(mc_axis_config, _reserved) - 112usize];
+        [::core::mem::offset_of!(mc_axis_config, _reserved) - 120usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

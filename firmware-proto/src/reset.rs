@@ -115,7 +115,8 @@ impl Default for AxisConfig {
             jog_max_vel: 50_000.0,
             jog_accel: 500_000.0,
             jog_jerk: 5e7,
-            _reserved: [0.0; 2],
+            scale: 1.0,
+            _reserved: [0.0; 1],
         }
     }
 }

@@ -182,6 +182,11 @@ code_enum! {
         ScopeTrigger = raw::MC_OP_SCOPE_TRIGGER,
         /// Stop the scope.
         ScopeStop = raw::MC_OP_SCOPE_STOP,
+        /// Layout 1.8: the card writes the settings it holds into a configuration block: args
+        /// kind ([`ConfigKind`]), index.
+        ReadConfig = raw::MC_OP_READ_CONFIG,
+        /// Layout 1.8: an axis's scale (counts per user unit), kept for hosts: args scale.
+        SetScale = raw::MC_OP_SET_SCALE,
     }
 }
 
@@ -415,6 +420,47 @@ code_enum! {
         /// A scope command its state does not allow (configure or arm while armed, trigger
         /// while not waiting, stop while idle, arm before a configure).
         ScopeState = raw::MC_NACK_SCOPE_STATE,
+        /// Layout 1.8: a configuration read-back of a block kind the card does not know.
+        ConfigKind = raw::MC_NACK_CONFIG_KIND,
+    }
+}
+
+code_enum! {
+    /// Layout 1.8: the configuration blocks `MC_OP_READ_CONFIG` reads back (`MC_CONFIG_*`).
+    ConfigKind: u32 {
+        /// `card_config` (index 0).
+        Card = raw::MC_CONFIG_CARD,
+        /// `axis_config[i]` (with the scale) and `axis_pdplus[i]`.
+        Axis = raw::MC_CONFIG_AXIS,
+        /// `axis_filter[i]`.
+        AxisFilter = raw::MC_CONFIG_AXIS_FILTER,
+        /// `group_config[i]` (`naxes` 0: not configured).
+        Group = raw::MC_CONFIG_GROUP,
+        /// `safety` (index 0).
+        Safety = raw::MC_CONFIG_SAFETY,
+        /// `axis_safety[i]`.
+        AxisSafety = raw::MC_CONFIG_AXIS_SAFETY,
+        /// `axis_homing[i]`.
+        AxisHoming = raw::MC_CONFIG_AXIS_HOMING,
+        /// `group_path[i]`.
+        GroupPath = raw::MC_CONFIG_GROUP_PATH,
+        /// `io_config` (index 0).
+        Io = raw::MC_CONFIG_IO,
+    }
+}
+
+impl ConfigKind {
+    /// Is the index an axis (else a group, or 0 for a card-wide block)?
+    pub fn per_axis(self) -> bool {
+        matches!(
+            self,
+            Self::Axis | Self::AxisFilter | Self::AxisSafety | Self::AxisHoming
+        )
+    }
+
+    /// Is the index a group?
+    pub fn per_group(self) -> bool {
+        matches!(self, Self::Group | Self::GroupPath)
     }
 }
 
@@ -1022,7 +1068,8 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 77);
+        assert_eq!(NackCode::ALL.len(), 78);
+        assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
         assert!(!StopReason::HomingFailed.is_safety());

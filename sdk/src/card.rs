@@ -38,8 +38,8 @@ const STATUS_BUSY_TIMEOUT: Duration = Duration::from_millis(100);
 pub const EVENT_QUEUE_CAP: usize = 4096;
 
 /// The counts per user unit an axis's scale may have (in magnitude): from a nanometre-class
-/// unit on a coarse encoder to a kilometre on a fine one.
-pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = 1e-9..=1e12;
+/// unit on a coarse encoder to a kilometre on a fine one (the card's `MC_SCALE_MIN..=MAX`).
+pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = firmware_proto::SCALE_RANGE;
 
 /// Outcomes of motions kept for waiters.
 const OUTCOME_CAP: usize = 1024;
@@ -157,6 +157,9 @@ pub(crate) struct Inner {
     rx: Mutex<Rx>,
     rx_cond: Condvar,
     scale: Mutex<[f64; MAX_AXES]>,
+    /// Layout 1.8: held while a configuration block is written and applied, or read back, so
+    /// that a read-back never interleaves with another thread's write of the same block.
+    config: Mutex<()>,
     last_motion: Mutex<[Option<u32>; MAX_AXES]>,
     pub(crate) link: Arc<Link>,
     heartbeat: Mutex<Option<crate::heartbeat::Heartbeat>>,
@@ -294,6 +297,7 @@ impl Card {
             }),
             rx_cond: Condvar::new(),
             scale: Mutex::new([1.0; MAX_AXES]),
+            config: Mutex::new(()),
             last_motion: Mutex::new([None; MAX_AXES]),
             last_group_motion: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
@@ -320,9 +324,70 @@ impl Card {
         }
         let heartbeat = crate::heartbeat::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
         *lock(&inner.heartbeat) = Some(heartbeat);
-        Ok(Card {
+        let card = Card {
             inner: Arc::new(inner),
-        })
+        };
+        // Layout 1.8: the card keeps each axis's scale; a host adopts the units the machine
+        // was set up in (an older card keeps none: counts).
+        if minor >= 8 {
+            for a in 0..axes {
+                let s = card.read_axis_config(a)?.0.scale;
+                if SCALE_RANGE.contains(&s.abs()) {
+                    lock(&card.inner.scale)[a] = s;
+                }
+            }
+        }
+        Ok(card)
+    }
+
+    /// Layout 1.8: have the card write the settings it holds into the configuration block
+    /// `at` (`MC_OP_READ_CONFIG` of `kind`, `index`), and read it after the ack.
+    pub(crate) fn read_block<B: Block>(
+        &self,
+        at: BlockAt<B>,
+        kind: firmware_proto::ConfigKind,
+        index: usize,
+    ) -> Result<B> {
+        let _g = lock(&self.inner.config);
+        self.read_block_locked(at, kind, index)
+    }
+
+    fn read_block_locked<B: Block>(
+        &self,
+        at: BlockAt<B>,
+        kind: firmware_proto::ConfigKind,
+        index: usize,
+    ) -> Result<B> {
+        let target = if kind.per_axis() {
+            Target::Axis(index)
+        } else if kind.per_group() {
+            Target::Group(index)
+        } else {
+            Target::Card
+        };
+        let cmd =
+            Command::new(Opcode::ReadConfig, 0).with_args(&[kind as u32 as f64, index as f64]);
+        self.execute(cmd, "read configuration", target)?;
+        Ok(at.read(self.window()))
+    }
+
+    /// Layout 1.8: an axis's configuration block and its PD+ block as the card holds them.
+    pub(crate) fn read_axis_config(
+        &self,
+        a: usize,
+    ) -> Result<(AxisSettings, firmware_proto::AxisPdPlus)> {
+        let _g = lock(&self.inner.config);
+        let cfg = self.read_block_locked(
+            layout::AXIS_CONFIG.at(a),
+            firmware_proto::ConfigKind::Axis,
+            a,
+        )?;
+        Ok((cfg, layout::AXIS_PDPLUS.at(a).read(self.window())))
+    }
+
+    /// Hold the configuration blocks (a write and its apply, or a read-back) for one thread.
+    pub(crate) fn config_lock(&self) -> std::sync::MutexGuard<'_, ()> {
+        lock(&self.inner.config)
     }
 
     pub(crate) fn window(&self) -> &Window {
@@ -417,6 +482,7 @@ impl Card {
             servo_rate_hz: hz,
             ..Default::default()
         };
+        let _guard = self.config_lock();
         self.write_block(layout::CARD_CONFIG, &block);
         self.execute(
             Command::new(Opcode::ApplyCardConfig, 0),
@@ -625,6 +691,7 @@ impl Card {
         what: &'static str,
         target: Target,
     ) -> Result<()> {
+        let _g = lock(&self.inner.config);
         let w = self.window();
         let saved = at.read(w);
         let mut block = saved;
@@ -1350,8 +1417,10 @@ impl Axis {
     }
 
     /// Counts per user unit (default 1: positions in counts; negative: the user's axis runs
-    /// against the encoder). Affects this host only. |scale| must lie in [`SCALE_RANGE`]:
-    /// zero, subnormal and absurd scales are refused (`BadConfig`).
+    /// against the encoder). |scale| must lie in [`SCALE_RANGE`]: zero, subnormal and absurd
+    /// scales are refused (`BadConfig`). Layout 1.8: the card keeps it for hosts (it does not
+    /// use it itself), so a host that opens the card later adopts it, and a configuration file
+    /// saves it; a card of an older layout keeps none, and the scale is this host's only.
     pub fn set_scale(&self, counts_per_unit: f64) -> Result<()> {
         finite("scale", counts_per_unit)?;
         if !SCALE_RANGE.contains(&counts_per_unit.abs()) {
@@ -1361,8 +1430,29 @@ impl Axis {
                 SCALE_RANGE.end()
             )));
         }
+        if self.card.info().layout.1 >= 8 {
+            let cmd = self.op(Opcode::SetScale).with_args(&[counts_per_unit]);
+            self.run(cmd, "set_scale")?;
+        }
         lock(&self.card.inner.scale)[self.index] = counts_per_unit;
         Ok(())
+    }
+
+    /// The counts per user unit this host converts the axis's positions with.
+    pub fn scale_factor(&self) -> f64 {
+        self.scale()
+    }
+
+    /// Layout 1.8: the servo configuration the card holds (read back from the card, with its
+    /// scale): FFPIV gains, DAC limit, in-position windows, jog limits, servo law.
+    pub fn settings(&self) -> Result<AxisSettings> {
+        Ok(self.card.read_axis_config(self.index)?.0)
+    }
+
+    /// Layout 1.8: the PD+ law the axis runs, read back from the card (`None`: it runs FFPIV).
+    pub fn pdplus_settings(&self) -> Result<Option<crate::PdPlusSettings>> {
+        let (cfg, pd) = self.card.read_axis_config(self.index)?;
+        Ok((cfg.servo_law == raw::MC_SERVO_PDPLUS).then_some(pd))
     }
 
     pub(crate) fn scale(&self) -> f64 {
@@ -1492,7 +1582,9 @@ impl Axis {
     }
 
     /// Write the servo and in-position configuration (FFPIV) and have the card check and apply
-    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`.
+    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`. The
+    /// settings' `scale` is ignored (see [`Axis::set_scale`]); [`Axis::settings`] reads back
+    /// what the card holds.
     pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
         let a = self.index;
         self.card.apply_block(
@@ -1513,5 +1605,7 @@ impl Axis {
 /// Servo gains and in-position windows of an axis (counts, seconds, volts): the card's
 /// `mc_axis_config` block, whose fields the register map's header lists. Its `Default` is what
 /// the card loads at boot (FFPIV with the default tuning); [`Axis::configure`] selects FFPIV
-/// whatever `servo_law` says (PD+: [`Axis::configure_pdplus`]).
+/// whatever `servo_law` says (PD+: [`Axis::configure_pdplus`]). `scale` (layout 1.8) is the
+/// axis's scale as the card keeps it, given by [`Axis::settings`]; [`Axis::configure`] ignores
+/// it ([`Axis::set_scale`] sets it).
 pub use firmware_proto::AxisConfig as AxisSettings;

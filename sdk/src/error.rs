@@ -276,6 +276,12 @@ error_kinds! {
     ScopePretrigger = -85, MC_ERR_SCOPE_PRETRIGGER, nack ScopePretrigger, "more pre-trigger samples than the card keeps (1024)";
     /// A scope command its state does not allow.
     ScopeState = -86, MC_ERR_SCOPE_STATE, nack ScopeState, "the scope's state does not allow this (configure or arm while armed, trigger while not waiting, stop while idle, arm before configure)";
+    /// Layout 1.8: a configuration read-back of a block kind the card does not know (a card
+    /// older than the library, or a kind or index that is not an integer).
+    ConfigKind = -106, MC_ERR_CONFIG_KIND, nack ConfigKind, "the card does not know that configuration block";
+    /// A configuration file that does not parse, or a value in it that the card would refuse
+    /// (the error names the key and its line); nothing of the file was applied.
+    ConfigFile = -107, MC_ERR_CONFIG_FILE, "the configuration file does not parse or validate";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -417,6 +423,41 @@ pub enum Error {
     /// A configuration the host refuses before any card sees it (see [`ErrorKind::BadConfig`]).
     #[error("bad configuration: {0}")]
     BadConfig(String),
+    /// A configuration file that does not parse or validate (see [`ErrorKind::ConfigFile`]):
+    /// the key (`axis.2.ffpiv.kp`; empty for a syntax error) and its line (1-based; 0 when the
+    /// text has no place for it, as a key the file lacks).
+    #[error("{}: {message}", config_place(path, key, *line))]
+    ConfigFile {
+        /// The file (or what the text came from).
+        path: String,
+        /// The key path, dotted.
+        key: String,
+        /// Its line, 1-based (0: none).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The card refused a block of a configuration file that had passed the host's checks
+    /// (its state changed meanwhile): the kind is the refusal's; `applied` lists the sections
+    /// applied before it.
+    #[error("{key}: {source} (applied before it: {applied})")]
+    ConfigApply {
+        /// The section the card refused.
+        key: String,
+        /// The sections applied before it (`none` if none).
+        applied: String,
+        /// The refusal.
+        source: Box<Error>,
+    },
+}
+
+fn config_place(path: &str, key: &str, line: usize) -> String {
+    match (key.is_empty(), line) {
+        (true, 0) => path.to_string(),
+        (true, l) => format!("{path}:{l}"),
+        (false, 0) => format!("{path}: {key}"),
+        (false, l) => format!("{path}:{l}: {key}"),
+    }
 }
 
 impl Error {
@@ -447,6 +488,8 @@ impl Error {
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
             Error::BadConfig(_) => ErrorKind::BadConfig,
+            Error::ConfigFile { .. } => ErrorKind::ConfigFile,
+            Error::ConfigApply { source, .. } => source.kind(),
         }
     }
 
@@ -506,7 +549,9 @@ mod tests {
         assert_eq!(names.len(), kinds.len(), "a C name used twice");
         assert_eq!(texts.len(), kinds.len(), "a description used twice");
         for &k in kinds {
-            assert!(k.code() < 0 && k.code() > -100, "{k:?}: {}", k.code());
+            // -100..-103 are the C ABI's own codes (cffi/src/result.rs).
+            let c = k.code();
+            assert!(c < 0 && !(-103..=-100).contains(&c), "{k:?}: {c}");
             assert_eq!(ErrorKind::from_code(k.code()), Some(k));
             assert!(k.c_name().starts_with("MC_ERR_"), "{k:?}");
             assert_eq!(k.c_description().to_str().unwrap(), k.description());

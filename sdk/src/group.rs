@@ -302,13 +302,47 @@ impl Group {
             tolerance: s.tolerance * self.card.scale(s.axes[0]).abs(),
             ..Default::default()
         };
+        let guard = self.card.config_lock();
         self.card
             .write_block(layout::GROUP_CONFIG.at(self.index), &block);
         self.run(self.op(Opcode::GroupConfigure), "group configure")?;
+        drop(guard);
         let mut axes = [0usize; MAX_AXES];
         axes[..n].copy_from_slice(&s.axes);
         lock(&self.card.inner().group_axes)[self.index] = Some((n, axes));
         Ok(())
+    }
+
+    /// The group's configuration as the card holds it (layout 1.8: read back; `None`: not
+    /// configured), the tolerance in the first axis's user units.
+    pub fn settings(&self) -> Result<Option<GroupSettings>> {
+        let g = self.index;
+        let b = self.card.read_block(
+            layout::GROUP_CONFIG.at(g),
+            firmware_proto::ConfigKind::Group,
+            g,
+        )?;
+        let n = b.naxes as usize;
+        if n == 0 || n > MAX_AXES {
+            return Ok(None);
+        }
+        let axes: Vec<usize> = b.axes[..n].iter().map(|&a| a as usize).collect();
+        let pre = b.accdec & raw::MC_ACCDEC_PRE != 0;
+        let post = b.accdec & raw::MC_ACCDEC_POST != 0;
+        Ok(Some(GroupSettings {
+            accdec: match (pre, post) {
+                (true, true) => AccDec::Both,
+                (false, true) => AccDec::Post,
+                _ => AccDec::Pre,
+            },
+            interpolator: if b.interpolator == raw::MC_INTERP_REFERENCE_WORD {
+                Interpolator::ReferenceWord
+            } else {
+                Interpolator::Exact
+            },
+            tolerance: b.tolerance / self.card.scale(axes[0]).abs(),
+            axes,
+        }))
     }
 
     /// MC_GroupEnable: every axis must be enabled and at rest.
@@ -708,6 +742,23 @@ impl FilterSettings {
 }
 
 impl Axis {
+    /// The axis's acc/dec filters as the card holds them (layout 1.8: read back).
+    pub fn filter_settings(&self) -> Result<FilterSettings> {
+        let a = self.index();
+        let b = self.card().read_block(
+            layout::AXIS_FILTER.at(a),
+            firmware_proto::ConfigKind::AxisFilter,
+            a,
+        )?;
+        let f = card_emu::firmware::config::decode_axis_filter(&b)
+            .map_err(|_| Error::Protocol(format!("axis {a}: the card holds an unknown filter")))?;
+        Ok(FilterSettings {
+            rapid: (f.kind[0], f.tau[0]),
+            cutting: (f.kind[1], f.tau[1]),
+            jog: (f.kind[2], f.tau[2]),
+        })
+    }
+
     /// Set the axis's post-interpolation acc/dec filters (applied when it holds no distance).
     pub fn set_filters(&self, f: &FilterSettings) -> Result<()> {
         let a = self.index();
@@ -717,6 +768,7 @@ impl Axis {
             block.kind[i] = card_emu::firmware::group::FilterConfig::kind_to_raw(kind);
             block.tau[i] = tau;
         }
+        let _guard = self.card().config_lock();
         self.card().write_block(layout::AXIS_FILTER.at(a), &block);
         self.card()
             .execute_seq(

@@ -10,7 +10,7 @@
 
 use crate::card::{finite, Axis, Motion, Status};
 use crate::error::{Result, Target};
-use firmware_proto::{layout, MotionFlags, Opcode, SET_POSITION_RELATIVE};
+use firmware_proto::{layout, ConfigKind, MotionFlags, Opcode, SET_POSITION_RELATIVE};
 
 /// An axis's homing configuration, in counts and seconds: the card's `mc_axis_homing` block
 /// (its fields are listed in the register map's header). `Default` is what the card loads at
@@ -45,11 +45,12 @@ impl Axis {
         )
     }
 
-    /// The homing configuration the card holds for this axis (as last written).
-    pub fn homing_settings(&self) -> HomingSettings {
-        layout::AXIS_HOMING
-            .at(self.index())
-            .read(self.card().window())
+    /// The homing configuration the card holds for this axis (layout 1.8: read back from the
+    /// card).
+    pub fn homing_settings(&self) -> Result<HomingSettings> {
+        let a = self.index();
+        self.card()
+            .read_block(layout::AXIS_HOMING.at(a), ConfigKind::AxisHoming, a)
     }
 
     /// MC_Home from Standstill with the configured method: the home point will read

@@ -68,9 +68,9 @@ impl Card {
         )
     }
 
-    /// The inputs' configuration (as last written).
-    pub fn io_settings(&self) -> IoSettings {
-        layout::IO_CONFIG.read(self.window())
+    /// The inputs' configuration the card holds (layout 1.8: read back from the card).
+    pub fn io_settings(&self) -> Result<IoSettings> {
+        self.read_block(layout::IO_CONFIG, firmware_proto::ConfigKind::Io, 0)
     }
 
     /// The debounced inputs, polarity applied: bit i = input i active.

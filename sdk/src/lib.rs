@@ -24,6 +24,7 @@
 
 mod cam;
 mod card;
+mod config;
 mod device;
 mod error;
 mod group;
@@ -52,6 +53,11 @@ pub use card::{
 #[cfg(feature = "emulator")]
 pub use card_emu::{
     Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
+};
+pub use config::{
+    AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
+    FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
+    IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
@@ -89,7 +95,9 @@ pub use path::{
 pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
 pub use replay::{replay, ReplayReport, TraceHeader};
-pub use safety::{SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT};
+pub use safety::{
+    CardSafetySettings, SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT,
+};
 pub use scope::{
     Capture, Scope, ScopeEvent, ScopeSettings, ScopeStatus, ScopeTrigger, Signal, SignalOwner,
     SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,

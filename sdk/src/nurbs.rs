@@ -47,6 +47,7 @@ impl Axis {
     pub fn configure_pdplus(&self, s: &PdPlusSettings) -> Result<()> {
         let w = self.card().window();
         let a = self.index();
+        let _guard = self.card().config_lock();
         self.card().write_block(layout::AXIS_PDPLUS.at(a), s);
         let law = layout::AXIS_CONFIG
             .at(a)

@@ -380,12 +380,15 @@ impl Group {
         )
     }
 
-    /// The path configuration the card holds (read back from the card), in counts.
+    /// The path configuration the card holds (layout 1.8: read back from the card), in
+    /// counts.
     pub fn path_config(&self) -> Result<GroupPath> {
-        self.card_pub().inner().link.check()?;
-        Ok(layout::GROUP_PATH
-            .at(self.index())
-            .read(self.card_pub().window()))
+        let g = self.index();
+        self.card_pub().read_block(
+            layout::GROUP_PATH.at(g),
+            firmware_proto::ConfigKind::GroupPath,
+            g,
+        )
     }
 
     /// Free segments in the card's path buffer.

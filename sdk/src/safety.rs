@@ -233,7 +233,58 @@ impl Card {
     }
 }
 
+/// The card-wide safety settings as the card holds them (`mc_safety_config`): watchdog timeout
+/// (µs), the e-stop input's stop category, the maximum stop time (µs).
+pub use firmware_proto::raw::mc_safety_config as CardSafetySettings;
+
+impl Card {
+    /// The card-wide safety settings the card holds (layout 1.8: read back from the card).
+    pub fn safety_settings(&self) -> Result<CardSafetySettings> {
+        self.read_block(layout::SAFETY_CONFIG, firmware_proto::ConfigKind::Safety, 0)
+    }
+
+    /// The servo rate the card runs at (layout 1.8: read back from the card), Hz.
+    pub fn servo_rate(&self) -> Result<u32> {
+        let b = self.read_block(layout::CARD_CONFIG, firmware_proto::ConfigKind::Card, 0)?;
+        Ok(b.servo_rate_hz)
+    }
+}
+
 impl Axis {
+    /// The axis's safety configuration as the card holds it (layout 1.8: read back from the
+    /// card), in user units (see [`Axis::set_scale`]).
+    pub fn safety_settings(&self) -> Result<SafetySettings> {
+        let a = self.index();
+        let b = self.card().read_block(
+            layout::AXIS_SAFETY.at(a),
+            firmware_proto::ConfigKind::AxisSafety,
+            a,
+        )?;
+        let c = card_emu::firmware::axis_safety::AxisSafetyConfig::from_block(&b)
+            .map_err(|_| Error::Protocol(format!("axis {a}: unknown stop category")))?;
+        let scale = self.scale();
+        let k = scale.abs();
+        let has = |f| c.flags.contains(f);
+        let (neg, pos) = if scale < 0.0 {
+            (c.soft_limit_pos / scale, c.soft_limit_neg / scale)
+        } else {
+            (c.soft_limit_neg / scale, c.soft_limit_pos / scale)
+        };
+        Ok(SafetySettings {
+            soft_limits: has(AxisSafetyFlags::SOFT_LIMITS).then_some((neg, pos)),
+            hard_limits: has(AxisSafetyFlags::HARD_LIMITS),
+            amp_alarm: has(AxisSafetyFlags::AMP_ALARM),
+            encoder_checks: has(AxisSafetyFlags::ENCODER),
+            limit_stop: c.limit_category,
+            ferror: c.ferror / k,
+            min_ferror: c.min_ferror / k,
+            max_velocity: c.max_velocity / k,
+            stop_deceleration: c.stop_decel / k,
+            stop_jerk: c.stop_jerk / k,
+            encoder_max_velocity: c.encoder_max_velocity / k,
+        })
+    }
+
     /// Write the axis's safety configuration and have the card apply it (limits, following
     /// error, stop ramp), converting user units through the axis's scale.
     pub fn configure_safety(&self, s: &SafetySettings) -> Result<()> {

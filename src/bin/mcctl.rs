@@ -23,6 +23,9 @@
 //! mcctl probe 0 --edge both --continuous --move 20000 --enable     # index-pulse latches
 //! mcctl gear 1 --master 0 --ratio -3/2 --move 40000 --enable       # MC_GearIn, master moved
 //! mcctl cam 1 knife.csv --master 0 --cubic --periodic --move 7200 --enable   # MC_CamIn
+//! mcctl --card emu:bench1 config save bench1.toml   # what the card holds (read back), as TOML
+//! mcctl --card emu:bench1 config load bench1.toml   # checked whole first; exit 2: bad file
+//! mcctl --card emu:bench1 config diff bench1.toml --json   # exit 0: equal, 1: different
 //! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page
 //! ```
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -137,8 +140,37 @@ enum EdgeArg {
     Both,
 }
 
+/// `mcctl config`: card configuration files (layout 1.8).
+#[derive(Subcommand)]
+enum ConfigCmd {
+    /// Write what the card holds (read back from the card) to FILE as TOML (`-`: standard
+    /// output).
+    Save { file: std::path::PathBuf },
+    /// Check FILE whole against the card (exit status 2, naming the key and its line, and
+    /// nothing applied, when anything is wrong), then apply the sections that differ.
+    Load {
+        file: std::path::PathBuf,
+        /// One JSON object (the sections applied) instead of lines.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The keys where FILE and the card differ (FILE checked as by load). Exit status 0 when
+    /// they are equal, 1 when they differ, like diff.
+    Diff {
+        file: std::path::PathBuf,
+        /// One JSON array of {key, file, card} instead of lines.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
 #[derive(Subcommand)]
 enum Cmd {
+    /// Card configuration files in TOML: save, load, diff (every value in the card's units).
+    Config {
+        #[command(subcommand)]
+        action: ConfigCmd,
+    },
     /// Print the seven-segment S-curve the card plans for one axis (Thinh eq 1–28): the phase
     /// durations, total time, peak velocity and acceleration. Units are the caller's (counts and
     /// seconds on the card).
@@ -586,6 +618,48 @@ fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> Ex
     }
 }
 
+/// `mcctl config`: as [`on_card`], but a file that does not parse or validate (or cannot be
+/// read or written) is exit status 2, a bad argument, and `diff` exits 1 when the file and the
+/// card differ.
+fn config(uri: &str, action: ConfigCmd) -> ExitCode {
+    let run = || -> motioncard::Result<(String, bool)> {
+        let card = Card::open(uri)?;
+        let out = match &action {
+            ConfigCmd::Save { file } => cli::config_save(&card, file).map(|t| (t, false)),
+            ConfigCmd::Load { file, json } => {
+                cli::config_load(&card, file, *json).map(|t| (t, false))
+            }
+            ConfigCmd::Diff { file, json } => cli::config_diff(&card, file, *json),
+        };
+        let closed = card.close();
+        out.and_then(|o| closed.map(|()| o))
+    };
+    match run() {
+        Ok((text, differ)) => {
+            print!("{text}");
+            if differ {
+                ExitCode::from(1)
+            } else {
+                ExitCode::SUCCESS
+            }
+        }
+        // A file that does not parse or validate, or cannot be read or written, is a bad
+        // argument.
+        Err(e)
+            if matches!(
+                e.kind(),
+                motioncard::ErrorKind::ConfigFile | motioncard::ErrorKind::Io
+            ) =>
+        {
+            bad(e.to_string())
+        }
+        Err(e) => {
+            eprintln!("mcctl: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
 /// A 32-bit word in decimal or 0x hex.
 fn parse_word(s: &str) -> Result<u32, String> {
     let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
@@ -754,6 +828,7 @@ fn main() -> ExitCode {
             };
             cli::reset(c, &axes, faults)
         }),
+        Cmd::Config { action } => config(uri, action),
         Cmd::Io { set_outputs, json } => {
             let set = set_outputs.map(|v| (v[0], v[1]));
             on_card(uri, |c| cli::io(c, set, json))

@@ -5,7 +5,7 @@
 //! started, so everything here ends with the process. Positions are the axes' user units,
 //! which mcctl leaves at counts.
 
-use super::{hold_for, WAIT};
+use super::{hold_for, progress, show_axis, POLL, WAIT};
 use crate::{
     Card, CardEvent, CompareChannel, Direction, Error, EventKind, Master, Motion, MoveLimits,
     ProbeTrigger, Result, SyncLimits, COMPARE_FIRED, COMPARE_MISSED,
@@ -13,9 +13,6 @@ use crate::{
 use card_emu::motion::cam::CamTable;
 use serde_json::json;
 use std::time::Duration;
-
-/// How often the loops below look at the card while a move runs.
-const POLL: Duration = Duration::from_millis(2);
 
 /// An absolute move that exercises what was armed or coupled.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,6 +40,14 @@ fn run_collecting(
     mut each: impl FnMut(Option<CardEvent>) -> Result<()>,
 ) -> Result<Option<f64>> {
     let motion = travel.map(|t| t.start(card)).transpose()?;
+    let bar = progress(
+        None,
+        if motion.is_some() {
+            "moving"
+        } else {
+            "watching"
+        },
+    );
     // Card time held, so a stepped card holds as long as a real one.
     let mut held = Duration::ZERO;
     let at = loop {
@@ -50,6 +55,9 @@ fn run_collecting(
             each(Some(e))?;
         }
         each(None)?;
+        if let Some(t) = travel {
+            show_axis(card, t.axis, &bar)?;
+        }
         match &motion {
             Some(m) => match m.wait(POLL) {
                 Ok(at) => break Some(at),
@@ -63,6 +71,7 @@ fn run_collecting(
             }
         }
     };
+    bar.finish_and_clear();
     // What the card posted in the move's last tick.
     hold_for(card, POLL);
     while let Some(e) = card.next_event(Duration::ZERO)? {

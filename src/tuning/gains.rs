@@ -2,15 +2,14 @@
 //! or PD+ with its drive model (Yeh eq 2.12 and 2.2, `mc_axis_pdplus`), in counts, seconds
 //! and volts as the card holds them.
 //!
-//! [`GainStore::held`] is the one place that finds out which gains the card holds; everything
-//! else (the page's GET, the base an apply changes, the answer after an apply) goes through
-//! it. Applying goes through the SDK ([`crate::Axis::configure`],
+//! `held` is the one place that finds out which gains the card holds (the card's read-back);
+//! everything else (the page's GET, the base an apply changes, the answer after an apply) goes
+//! through it. Applying goes through the SDK ([`crate::Axis::configure`],
 //! [`crate::Axis::configure_pdplus`]); the card checks the values and a refusal comes back as
 //! the SDK's error (`BadConfig`, `NotFinite`), which the page shows as it is.
 
 use crate::{AxisSettings, Card, PdPlusSettings, Result};
 use serde::{Deserialize, Serialize};
-use std::sync::Mutex;
 
 /// FFPIV gains (`mc_ffpiv_gains`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -128,9 +127,9 @@ pub struct Gains {
     pub law: Law,
     /// Its FFPIV gains (held even while it runs PD+).
     pub ffpiv: Ffpiv,
-    /// Its PD+ law, when it runs PD+ (else the last one this server applied, if any).
+    /// Its PD+ law, when it runs PD+.
     pub pdplus: Option<PdPlus>,
-    /// Where these values come from (see [`GainStore::held`]).
+    /// Where these values come from.
     pub source: &'static str,
 }
 
@@ -151,103 +150,53 @@ struct Held {
     pdplus: Option<PdPlusSettings>,
 }
 
-/// The gains of the card's axes as this server knows them.
-///
-/// The SDK of this version writes configuration blocks but cannot read back what the card
-/// applied, so [`GainStore::held`] answers with what this server last applied and, before
-/// that, with the card's boot values (`AxisSettings::default()`), and says so in
-/// [`Gains::source`]. This is the one function to switch to the card's read-back
-/// (`Axis::settings`, `Axis::pdplus_settings`) once the SDK has it.
-pub struct GainStore {
-    card: Card,
-    applied: Mutex<Vec<Option<Held>>>,
+/// [`Gains::source`]: where the values shown come from.
+pub const SOURCE_CARD: &str = "read back from the card";
+
+/// The one place that finds out what the card holds for `axis`: the card's own read-back
+/// (`Axis::settings`, `Axis::pdplus_settings`, layout 1.8's `MC_OP_READ_CONFIG`), so gains
+/// set by another host or a configuration file are what the page shows.
+fn held(card: &Card, axis: usize) -> Result<Held> {
+    let ax = card.axis(axis)?;
+    Ok(Held {
+        cfg: ax.settings()?,
+        pdplus: ax.pdplus_settings()?,
+    })
 }
 
-/// [`Gains::source`] before anything was applied through this server.
-pub const SOURCE_ASSUMED: &str =
-    "assumed: the card's boot values (this SDK cannot read gains back from the card)";
-/// [`Gains::source`] after an apply through this server.
-pub const SOURCE_APPLIED: &str = "applied by this server and accepted by the card";
+/// The gains `axis` runs with.
+pub fn get(card: &Card, axis: usize) -> Result<Gains> {
+    let h = held(card, axis)?;
+    let law = if h.cfg.servo_law == crate::proto::raw::MC_SERVO_PDPLUS {
+        Law::Pdplus
+    } else {
+        Law::Ffpiv
+    };
+    Ok(Gains {
+        axis,
+        law,
+        ffpiv: Ffpiv::from(&h.cfg.ffpiv),
+        pdplus: h.pdplus.as_ref().map(PdPlus::from),
+        source: SOURCE_CARD,
+    })
+}
 
-impl GainStore {
-    /// A store for `card`'s axes.
-    pub fn new(card: Card) -> Self {
-        let n = card.info().axes;
-        Self {
-            card,
-            applied: Mutex::new(vec![None; n]),
-        }
+/// Apply `change` to `axis` (everything else in its configuration as the card holds it), and
+/// answer the gains it then runs with, read back; the card's refusal is the SDK's error and
+/// changes nothing.
+pub fn apply(card: &Card, axis: usize, change: &Apply) -> Result<Gains> {
+    let ax = card.axis(axis)?;
+    let held = held(card, axis)?;
+    match *change {
+        Apply::Ffpiv(g) => ax.configure(&AxisSettings {
+            ffpiv: g.to_raw(),
+            ..held.cfg
+        })?,
+        // A PD+ law on an axis that runs FFPIV starts from an empty block: every value it
+        // needs is in the change.
+        Apply::Pdplus(p) => ax.configure_pdplus(&p.onto(held.pdplus.unwrap_or_default()))?,
     }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Option<Held>>> {
-        // A panic elsewhere while the store was held leaves valid data: go on with it.
-        self.applied.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    /// The configuration the card holds for `axis`, and where that knowledge comes from.
-    fn held(&self, axis: usize) -> Result<(Held, &'static str)> {
-        self.card.axis(axis)?; // BadAxis for an axis the card has not
-        Ok(match self.lock().get(axis).copied().flatten() {
-            Some(h) => (h, SOURCE_APPLIED),
-            None => (
-                Held {
-                    cfg: AxisSettings::default(),
-                    pdplus: None,
-                },
-                SOURCE_ASSUMED,
-            ),
-        })
-    }
-
-    /// The gains `axis` runs with.
-    pub fn get(&self, axis: usize) -> Result<Gains> {
-        let (h, source) = self.held(axis)?;
-        let law = if h.cfg.servo_law == crate::proto::raw::MC_SERVO_PDPLUS {
-            Law::Pdplus
-        } else {
-            Law::Ffpiv
-        };
-        Ok(Gains {
-            axis,
-            law,
-            ffpiv: Ffpiv::from(&h.cfg.ffpiv),
-            pdplus: h.pdplus.as_ref().map(PdPlus::from),
-            source,
-        })
-    }
-
-    /// Apply `change` to `axis` (everything else in its configuration as held), and answer
-    /// the gains it then runs with; the card's refusal is the SDK's error and changes nothing.
-    pub fn apply(&self, axis: usize, change: &Apply) -> Result<Gains> {
-        let ax = self.card.axis(axis)?;
-        let (held, _) = self.held(axis)?;
-        let now = match *change {
-            Apply::Ffpiv(g) => {
-                let cfg = AxisSettings {
-                    servo_law: crate::proto::raw::MC_SERVO_FFPIV,
-                    ffpiv: g.to_raw(),
-                    ..held.cfg
-                };
-                ax.configure(&cfg)?;
-                Held { cfg, ..held }
-            }
-            Apply::Pdplus(p) => {
-                let s = p.onto(held.pdplus.unwrap_or_default());
-                ax.configure_pdplus(&s)?;
-                Held {
-                    cfg: AxisSettings {
-                        servo_law: crate::proto::raw::MC_SERVO_PDPLUS,
-                        ..held.cfg
-                    },
-                    pdplus: Some(s),
-                }
-            }
-        };
-        if let Some(slot) = self.lock().get_mut(axis) {
-            *slot = Some(now);
-        }
-        self.get(axis)
-    }
+    get(card, axis)
 }
 
 #[cfg(test)]
@@ -283,23 +232,38 @@ mod tests {
             emu: Default::default(),
         })
         .unwrap();
-        let store = GainStore::new(card.clone());
-        let before = store.get(0).unwrap();
+        let before = get(&card, 0).unwrap();
         assert_eq!(before.law, Law::Ffpiv);
-        assert_eq!(before.source, SOURCE_ASSUMED);
+        assert_eq!(before.source, SOURCE_CARD);
+        assert_eq!(before.pdplus, None);
         let mut g = before.ffpiv;
         g.kp = -1.0;
-        let e = store.apply(0, &Apply::Ffpiv(g)).unwrap_err();
+        let e = apply(&card, 0, &Apply::Ffpiv(g)).unwrap_err();
         assert_eq!(e.kind(), crate::ErrorKind::BadConfig, "{e}");
-        assert_eq!(store.get(0).unwrap(), before);
+        assert_eq!(get(&card, 0).unwrap(), before);
         g.kp = before.ffpiv.kp * 0.5;
-        let after = store.apply(0, &Apply::Ffpiv(g)).unwrap();
+        let after = apply(&card, 0, &Apply::Ffpiv(g)).unwrap();
         assert_eq!(after.ffpiv, g);
-        assert_eq!(after.source, SOURCE_APPLIED);
         // What the firmware runs with.
         let sim = card.sim().unwrap();
         let kp = sim.with_emulator(|e| e.firmware().axis(0).unwrap().config.ffpiv.kp);
         assert_eq!(kp, g.kp);
-        assert!(store.get(9).is_err());
+        // The rest of the configuration is untouched.
+        let cfg = card.axis(0).unwrap().settings().unwrap();
+        assert_eq!(cfg.dac_limit_v, AxisSettings::default().dac_limit_v);
+        // PD+ from FFPIV: refused without a drive model, accepted with the die bonder's.
+        let mut p = PdPlus::from(&crate::die_bonder_pdplus(0));
+        let good = p;
+        p.tau = 0.0;
+        let e = apply(&card, 0, &Apply::Pdplus(p)).unwrap_err();
+        assert_eq!(e.kind(), crate::ErrorKind::BadConfig, "{e}");
+        assert_eq!(get(&card, 0).unwrap().law, Law::Ffpiv);
+        let now = apply(&card, 0, &Apply::Pdplus(good)).unwrap();
+        assert_eq!((now.law, now.pdplus), (Law::Pdplus, Some(good)));
+        assert_eq!(now.ffpiv, g, "the FFPIV gains stay held");
+        // Back to FFPIV.
+        let back = apply(&card, 0, &Apply::Ffpiv(before.ffpiv)).unwrap();
+        assert_eq!((back.law, back.pdplus), (Law::Ffpiv, None));
+        assert!(get(&card, 9).is_err());
     }
 }

@@ -175,10 +175,10 @@ impl From<Error> for TestError {
 }
 
 /// Counts per user unit of `axis` on this host: positions and limits go to the SDK in user
-/// units, the scope and the status's raw words are counts. This SDK's scale is the host's own
-/// and mcctl never sets one, so it is 1.
-fn counts_per_unit(_axis: &crate::Axis) -> f64 {
-    1.0
+/// units, the scope and the status's raw words are counts (the scale the card keeps for its
+/// hosts, which this host adopted on open).
+fn counts_per_unit(axis: &crate::Axis) -> f64 {
+    axis.scale_factor()
 }
 
 /// The largest limits the card accepts at `rate_hz` (half its bound, clear of rounding when

@@ -10,6 +10,7 @@ pub mod axis;
 pub mod axis_safety;
 pub mod cam;
 pub mod compare;
+pub mod config;
 pub mod dac;
 pub mod gear;
 pub mod group;
@@ -24,12 +25,11 @@ pub mod scope;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::gear::{AuxInputs, Gear};
-use self::group::{filter_bank, AxisFilter, FilterConfig, Group, GroupConfig, Outbox};
+use self::group::{filter_bank, AxisFilter, FilterConfig, Group, Outbox};
 use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
 use self::io::{DigitalInputs, IoUnit};
 use self::safety::{Inputs, Safety};
 use crate::motion::scurve::Limits;
-use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
@@ -76,6 +76,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Digital inputs, position compare and touch probes (layout 1.7).
     io: IoUnit,
     num_axes: usize,
+    /// Layout 1.8: each axis's scale, counts per user unit, kept for hosts (not used here).
+    scales: [f64; MAX_AXES],
     servo_rate_hz: u32,
     tick: u64,
     irq_pending: bool,
@@ -126,6 +128,7 @@ impl<M: Mem + Clone> Firmware<M> {
             outputs: 0,
             io: IoUnit::new(),
             num_axes,
+            scales: [1.0; MAX_AXES],
             servo_rate_hz,
             tick: 0,
             irq_pending: false,
@@ -384,6 +387,9 @@ impl<M: Mem + Clone> Firmware<M> {
         match op {
             Opcode::Nop => return Ok(0.0),
             Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
+            // Layout 1.8: the configuration read back, the scale kept for hosts (config.rs).
+            Opcode::ReadConfig => return self.read_config(c).map(|()| 0.0),
+            Opcode::SetScale => return self.set_scale(c).map(|()| 0.0),
             Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
             Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
             // Layout 1.7 (sync): cam tables are the card's, not an axis's (cam.rs).
@@ -413,12 +419,14 @@ impl<M: Mem + Clone> Firmware<M> {
         let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
         match op {
             Opcode::ApplyAxisConfig => {
-                let cfg = read_axis_config(&self.mem, ax)?;
+                let block = layout::AXIS_CONFIG.at(ax).read(&self.mem);
+                let pdplus = layout::AXIS_PDPLUS.at(ax).read(&self.mem);
+                let cfg = config::validate_axis_config(&block, &pdplus)?;
                 let ts = self.ts();
                 self.axes[ax].apply_config(cfg, ts);
             }
             Opcode::ApplyAxisFilter => {
-                let cfg = read_axis_filter(&self.mem, ax)?;
+                let cfg = config::decode_axis_filter(&layout::AXIS_FILTER.at(ax).read(&self.mem))?;
                 cfg.validate(self.ts())?;
                 if !self.filters[ax].is_settled() {
                     return Err(NackCode::FilterBusy);
@@ -654,7 +662,8 @@ impl<M: Mem + Clone> Firmware<M> {
         let out = &mut self.outbox;
         match op {
             Opcode::GroupConfigure => {
-                let cfg = read_group_config(&self.mem, g, self.num_axes)?;
+                let block = layout::GROUP_CONFIG.at(g).read(&self.mem);
+                let cfg = config::validate_group_config(&block, self.num_axes)?;
                 let taken =
                     self.groups.iter().enumerate().any(|(i, o)| {
                         i != g && cfg.axes[..cfg.naxes].iter().any(|&a| o.contains(a))
@@ -1100,43 +1109,6 @@ fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
     }
 }
 
-/// Read and validate an axis configuration block written by the host.
-fn read_axis_config<M: Mem>(m: &M, a: usize) -> Result<AxisConfig, NackCode> {
-    let block = layout::AXIS_CONFIG.at(a).read(m);
-    let pdplus = match block.servo_law {
-        raw::MC_SERVO_FFPIV => None,
-        raw::MC_SERVO_PDPLUS => Some(read_axis_pdplus(m, a)?),
-        _ => return Err(NackCode::BadConfig),
-    };
-    let cfg = AxisConfig { block, pdplus };
-    cfg.validate()?;
-    if cfg.pdplus.is_some_and(|p| p.umax > cfg.dac_limit_v) {
-        return Err(NackCode::BadConfig);
-    }
-    Ok(cfg)
-}
-
-/// Read and validate the PD+ gains and drive model of an axis (Yeh eq 2.12, 2.2).
-fn read_axis_pdplus<M: Mem>(m: &M, a: usize) -> Result<AxisModel, NackCode> {
-    let b = layout::AXIS_PDPLUS.at(a).read(m);
-    let (g, d) = (&b.gains, &b.drive);
-    let v = [g.kp, g.kd, g.kv, g.ka, d.kc, d.tau, d.ke, b.umax];
-    if v.iter().any(|x| !x.is_finite()) {
-        return Err(NackCode::NotFinite);
-    }
-    let model = AxisModel {
-        gains: b.gains,
-        plant: b.drive,
-        umax: b.umax,
-    };
-    model.gains.validate(a).map_err(|_| NackCode::BadConfig)?;
-    model.plant.validate(a).map_err(|_| NackCode::BadConfig)?;
-    if model.umax <= 0.0 {
-        return Err(NackCode::BadConfig);
-    }
-    Ok(model)
-}
-
 fn is_group_op(op: Opcode) -> bool {
     matches!(
         op,
@@ -1162,65 +1134,6 @@ fn is_group_op(op: Opcode) -> bool {
             | Opcode::PathNurbs
             | Opcode::ApplyGroupPath
     )
-}
-
-/// Read and validate a group configuration block written by the host.
-fn read_group_config<M: Mem>(m: &M, g: usize, num_axes: usize) -> Result<GroupConfig, NackCode> {
-    let block = layout::GROUP_CONFIG.at(g).read(m);
-    let naxes = block.naxes as usize;
-    if naxes == 0 || naxes > MAX_AXES {
-        return Err(NackCode::BadConfig);
-    }
-    let mut axes = [0usize; MAX_AXES];
-    for (i, b) in block.axes.iter().take(naxes).enumerate() {
-        let a = *b as usize;
-        if a >= num_axes {
-            return Err(NackCode::BadAxis);
-        }
-        if axes[..i].contains(&a) {
-            return Err(NackCode::BadConfig);
-        }
-        axes[i] = a;
-    }
-    let (accdec, interp, tolerance) = (block.accdec, block.interpolator, block.tolerance);
-    if accdec == 0
-        || accdec & !(raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST) != 0
-        || interp > raw::MC_INTERP_REFERENCE_WORD
-        || !(tolerance.is_finite() && tolerance > 0.0)
-    {
-        return Err(NackCode::BadConfig);
-    }
-    let reference_word = interp == raw::MC_INTERP_REFERENCE_WORD;
-    let (pre, post) = (
-        accdec & raw::MC_ACCDEC_PRE != 0,
-        accdec & raw::MC_ACCDEC_POST != 0,
-    );
-    if reference_word && pre {
-        // Kim's interpolator steps a constant angle: its acc/dec must come after it.
-        return Err(NackCode::IncompatibleMode);
-    }
-    Ok(GroupConfig {
-        naxes,
-        axes,
-        pre,
-        post,
-        reference_word,
-        tolerance,
-    })
-}
-
-/// Read and decode an axis filter block written by the host (validated by the caller).
-fn read_axis_filter<M: Mem>(m: &M, a: usize) -> Result<FilterConfig, NackCode> {
-    let block = layout::AXIS_FILTER.at(a).read(m);
-    let mut cfg = FilterConfig::default();
-    for f in 0..3 {
-        cfg.kind[f] = FilterConfig::kind_from_raw(block.kind[f]).ok_or(NackCode::BadConfig)?;
-        cfg.tau[f] = block.tau[f];
-        if !cfg.tau[f].is_finite() {
-            return Err(NackCode::NotFinite);
-        }
-    }
-    Ok(cfg)
 }
 
 #[cfg(test)]

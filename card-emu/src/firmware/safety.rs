@@ -105,6 +105,38 @@ impl SafetyConfig {
     pub fn max_stop_time(&self) -> f64 {
         self.max_stop_time_us as f64 * 1e-6
     }
+
+    /// The register block (`mc_safety_config`) that holds this configuration.
+    pub fn to_block(&self) -> raw::mc_safety_config {
+        raw::mc_safety_config {
+            watchdog_timeout_us: self.watchdog_timeout_us,
+            estop_input_category: self.estop_input_category as u32,
+            max_stop_time_us: self.max_stop_time_us,
+            ..Default::default()
+        }
+    }
+
+    /// Check a `safety` block on its own, for a host whose heartbeat period is
+    /// `host_period_us`: the watchdog timeout (0, or under 1.5 × the period:
+    /// `WatchdogTimeout`), the e-stop input's category (`BadCategory`), the maximum stop time's
+    /// range (`StopTooLong`). Whether every axis's stop ramp fits in it is checked on apply.
+    pub fn validate(b: &raw::mc_safety_config, host_period_us: u32) -> Result<Self, NackCode> {
+        let timeout = b.watchdog_timeout_us;
+        // 0 is refused, and so is anything under 1.5 x the host's declared period.
+        if timeout == 0 || 2 * (timeout as u64) < 3 * host_period_us as u64 {
+            return Err(NackCode::WatchdogTimeout);
+        }
+        let category =
+            StopCategory::from_raw(b.estop_input_category).ok_or(NackCode::BadCategory)?;
+        if !MAX_STOP_TIME_RANGE_US.contains(&b.max_stop_time_us) {
+            return Err(NackCode::StopTooLong);
+        }
+        Ok(Self {
+            watchdog_timeout_us: timeout,
+            estop_input_category: category,
+            max_stop_time_us: b.max_stop_time_us,
+        })
+    }
 }
 
 impl Default for SafetyConfig {
@@ -163,15 +195,7 @@ impl Safety {
     /// Boot: write the default configuration blocks and a clean status into the window.
     pub fn boot<M: Mem>(mem: &M) -> Self {
         let config = SafetyConfig::default();
-        layout::SAFETY_CONFIG.write(
-            mem,
-            &raw::mc_safety_config {
-                watchdog_timeout_us: config.watchdog_timeout_us,
-                estop_input_category: config.estop_input_category as u32,
-                max_stop_time_us: config.max_stop_time_us,
-                ..Default::default()
-            },
-        );
+        layout::SAFETY_CONFIG.write(mem, &config.to_block());
         for a in 0..MAX_AXES {
             layout::AXIS_SAFETY
                 .at(a)
@@ -845,27 +869,11 @@ impl Safety {
 
     fn apply_config<M: Mem>(&mut self, mem: &M, axes: &[Axis]) -> Result<(), NackCode> {
         let block = layout::SAFETY_CONFIG.read(mem);
-        let timeout = block.watchdog_timeout_us;
-        let period = mem.read32(layout::HOST_PERIOD_US) as u64;
-        // 0 is refused, and so is anything under 1.5 x the host's declared period.
-        if timeout == 0 || 2 * (timeout as u64) < 3 * period {
-            return Err(NackCode::WatchdogTimeout);
-        }
-        let category =
-            StopCategory::from_raw(block.estop_input_category).ok_or(NackCode::BadCategory)?;
-        let max_stop_time_us = block.max_stop_time_us;
-        let config = SafetyConfig {
-            watchdog_timeout_us: timeout,
-            estop_input_category: category,
-            max_stop_time_us,
-        };
+        let config = SafetyConfig::validate(&block, mem.read32(layout::HOST_PERIOD_US))?;
         // Every axis's stop ramp from its max velocity must still fit.
-        if !MAX_STOP_TIME_RANGE_US.contains(&max_stop_time_us)
-            || axes.iter().any(|a| {
-                a.safety.config.stop_time_from(a.safety.config.max_velocity)
-                    > config.max_stop_time()
-            })
-        {
+        if axes.iter().any(|a| {
+            a.safety.config.stop_time_from(a.safety.config.max_velocity) > config.max_stop_time()
+        }) {
             return Err(NackCode::StopTooLong);
         }
         self.config = config;

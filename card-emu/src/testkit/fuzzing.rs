@@ -262,15 +262,17 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
     }
 }
 
+/// The gaps and edges of the opcode space (none of them an opcode: tested below).
+const OPCODE_GAPS: [u16; 16] = [
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 98, 256, 0x7FFF, 0x8000, 0xFFFF,
+];
+
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     let k = s.u8();
     if k < 232 {
         Opcode::ALL[k as usize % Opcode::ALL.len()] as u16
     } else if k < 248 {
-        // The gaps and edges of the opcode space.
-        [
-            0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 96, 120, 256, 0x7FFF, 0x8000, 0xFFFF,
-        ][(k - 232) as usize]
+        OPCODE_GAPS[(k - 232) as usize]
     } else {
         s.u16()
     }
@@ -415,6 +417,15 @@ fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
             }
         }
         Opcode::PvtStart => a[0] = (s.u8() % 4) as f64,
+        Opcode::ReadConfig => {
+            // Layout 1.8: a block kind (0 and 10 are none) and an index (axes, groups).
+            a[0] = (s.u8() % 11) as f64;
+            a[1] = (s.u8() % 10) as f64;
+        }
+        Opcode::SetScale => {
+            let sign = if s.u8() & 1 == 0 { 1.0 } else { -1.0 };
+            a[0] = sign * magnitude(s, -10.0, 13.0);
+        }
         Opcode::CamTable => {
             a[0] = (s.u8() % 5) as f64;
             a[1] = (s.u8() % 12) as f64;
@@ -1400,4 +1411,19 @@ pub fn sweep(seed: u64, commands: u64, tick_every: u64) -> Sweep {
     }
     add(&mut total, &card.stats);
     Sweep { stats: total }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The gaps are gaps: a new opcode that lands on one must move it.
+    #[test]
+    fn opcode_gaps_are_no_opcodes() {
+        for g in OPCODE_GAPS {
+            assert_eq!(Opcode::from_raw(g), None, "{g} is an opcode");
+        }
+        let last = Opcode::ALL.iter().map(|&o| o as u16).max().unwrap();
+        assert!(OPCODE_GAPS.contains(&(last + 1)), "the edge after {last}");
+    }
 }

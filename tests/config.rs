@@ -1,0 +1,280 @@
+//! Card configuration files (layout 1.8) on stepped cards: a non-default configuration saved
+//! from one card, loaded on a fresh card and saved again gives the same bytes; a file with one
+//! bad value (out of range, NaN, wrong type, unknown key, unknown axis) is refused naming its
+//! key and line, and changes nothing on the card.
+mod common;
+
+use common::stepped_card_with;
+use motioncard::{
+    AccDec, Card, Config, EmuOptions, Error, ErrorKind, FilterKind, FilterSettings, GroupSettings,
+    HomingFlags, HomingSettings, Interpolator, IoSettings, PathSettings, SafetySettings,
+    StopCategory,
+};
+use std::time::Duration;
+
+fn card() -> Card {
+    stepped_card_with(EmuOptions::new(4, 10_000))
+}
+
+/// A card set up through the SDK's setters: nothing at its reset value.
+fn configured() -> Card {
+    let card = card();
+    card.set_servo_rate(8_000).unwrap();
+    card.set_watchdog_timeout(Duration::from_millis(250))
+        .unwrap();
+    card.set_estop_input_category(StopCategory::Cat2).unwrap();
+    card.set_max_stop_time(Duration::from_secs(3)).unwrap();
+    let mut io = IoSettings {
+        polarity: 0b101,
+        rise_events: 0b11,
+        fall_events: 0b100,
+        ..Default::default()
+    };
+    io.debounce[0] = 5;
+    io.debounce[3] = 100;
+    card.configure_io(&io).unwrap();
+    let a0 = card.axis(0).unwrap();
+    let mut s = motioncard::AxisSettings::default();
+    s.ffpiv.kp *= 1.25;
+    s.in_pos_window = 2.0;
+    s.settle_time = 0.005;
+    s.jog_max_vel = 30_000.0;
+    a0.configure(&s).unwrap();
+    a0.set_scale(1000.0).unwrap();
+    let a1 = card.axis(1).unwrap();
+    a1.configure_pdplus(&motioncard::die_bonder_pdplus(1))
+        .unwrap();
+    a1.set_scale(-2.5e-3).unwrap();
+    let a2 = card.axis(2).unwrap();
+    a2.set_filters(&FilterSettings {
+        rapid: (FilterKind::Linear, 0.02),
+        cutting: (FilterKind::Exponential, 0.015),
+        jog: (FilterKind::None, 0.0),
+    })
+    .unwrap();
+    a2.configure_safety(&SafetySettings {
+        soft_limits: Some((-1e6, 2e6)),
+        ferror: 5_000.0,
+        ..SafetySettings::default()
+    })
+    .unwrap();
+    a2.configure_homing(&HomingSettings {
+        method: 17,
+        flags: HomingFlags::MOVE_TO_HOME.bits(),
+        search_vel: 10_000.0,
+        home_offset: -12.5,
+        ..HomingSettings::default()
+    })
+    .unwrap();
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings {
+        axes: vec![2, 0],
+        accdec: AccDec::Post,
+        interpolator: Interpolator::ReferenceWord,
+        tolerance: 1.5,
+    })
+    .unwrap();
+    g.configure_path(&PathSettings {
+        lookahead: 64,
+        low_water: 8,
+        ..PathSettings::uniform(2, 1e5, 1e6, 1e8)
+    })
+    .unwrap();
+    card
+}
+
+#[test]
+fn a_non_default_configuration_round_trips_byte_for_byte() {
+    let fresh = card().save_config().unwrap();
+    let a = configured();
+    let saved = a.save_config().unwrap();
+    println!("{saved}");
+    assert_ne!(saved, fresh, "the configuration is not the card's reset");
+    for needle in [
+        "servo_rate_hz = 8000",
+        "max_stop_time_us = 3000000",
+        "servo_law = \"pdplus\"",
+        "scale = -0.0025",
+        "rapid_kind = \"linear\"",
+        "method = 17",
+        "interpolator = \"reference_word\"",
+        "lookahead = 64",
+    ] {
+        assert!(saved.contains(needle), "{needle}");
+    }
+    let b = card();
+    let report = b.load_config(&saved, "a.toml").unwrap();
+    assert!(report.applied.len() >= 10, "{:?}", report.applied);
+    let again = b.save_config().unwrap();
+    assert_eq!(
+        again, saved,
+        "save, load on a fresh card, save: the same bytes"
+    );
+    // Loading it again changes nothing, and the card's scale is this host's.
+    assert!(b.load_config(&saved, "a.toml").unwrap().applied.is_empty());
+    assert_eq!(b.axis(1).unwrap().scale_factor(), -2.5e-3);
+    assert_eq!(
+        Config::parse(&saved, "a.toml").unwrap(),
+        b.read_config().unwrap()
+    );
+    assert!(b.diff_config(&saved, "a.toml").unwrap().is_empty());
+    let d = b.diff_config(&fresh, "fresh.toml").unwrap();
+    let keys: Vec<&str> = d.iter().map(|d| d.key.as_str()).collect();
+    assert!(keys.contains(&"card.servo_rate_hz"), "{keys:?}");
+    assert!(keys.contains(&"axis.0.ffpiv.kp"), "{keys:?}");
+    assert!(keys.contains(&"io.debounce"), "{keys:?}");
+    // A host opening the card later adopts its scales.
+    let settings = b.axis(2).unwrap().safety_settings().unwrap();
+    assert_eq!(settings.soft_limits, Some((-1e6, 2e6)));
+}
+
+/// The line (1-based) of the first line of `text` that starts with `prefix` after the line
+/// `after`.
+fn line_after(text: &str, after: &str, prefix: &str) -> usize {
+    let start = text.lines().position(|l| l == after).expect(after);
+    start
+        + 1
+        + text
+            .lines()
+            .skip(start)
+            .position(|l| l.starts_with(prefix))
+            .expect(prefix)
+}
+
+/// Replace the first line starting with `prefix` after the line `after`.
+fn replace_after(text: &str, after: &str, prefix: &str, with: &str) -> String {
+    let n = line_after(text, after, prefix);
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| if i + 1 == n { with } else { l })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn a_file_with_one_bad_value_changes_nothing_and_names_key_and_line() {
+    let saved = configured().save_config().unwrap();
+    let b = card();
+    let before = b.save_config().unwrap();
+    let kp = line_after(&saved, "[axis.0.ffpiv]", "kp = ");
+    let umax = line_after(&saved, "[axis.1.pdplus]", "umax = ");
+    let cases: Vec<(String, &str, usize)> = vec![
+        (
+            replace_after(&saved, "[axis.0.ffpiv]", "kp = ", "kp = -5.0"),
+            "axis.0.ffpiv.kp",
+            kp,
+        ),
+        (
+            replace_after(&saved, "[axis.0.ffpiv]", "kp = ", "kp = nan"),
+            "axis.0.ffpiv.kp",
+            kp,
+        ),
+        (
+            replace_after(&saved, "[axis.0.ffpiv]", "kp = ", "kp = \"high\""),
+            "axis.0.ffpiv.kp",
+            kp,
+        ),
+        (
+            replace_after(&saved, "[axis.0.ffpiv]", "kp = ", "kpp = 1.0"),
+            "axis.0.ffpiv.kpp",
+            kp,
+        ),
+        (
+            replace_after(&saved, "[axis.1.pdplus]", "umax = ", "umax = 11.0"),
+            "axis.1.pdplus.umax",
+            umax,
+        ),
+        (
+            saved.replace("[axis.3", "[axis.7"),
+            "axis.7",
+            line_after(&saved, "[axis.0]", "[axis.3]"),
+        ),
+        (
+            replace_after(
+                &saved,
+                "[safety]",
+                "max_stop_time_us",
+                "max_stop_time_us = 5",
+            ),
+            "safety.max_stop_time_us",
+            line_after(&saved, "[safety]", "max_stop_time_us"),
+        ),
+        (
+            replace_after(&saved, "[axis.2.homing]", "method = ", "method = 15"),
+            "axis.2.homing.method",
+            line_after(&saved, "[axis.2.homing]", "method = "),
+        ),
+    ];
+    for (text, key, line) in cases {
+        let e = b.load_config(&text, "bad.toml").unwrap_err();
+        println!("{e}");
+        assert_eq!(e.kind(), ErrorKind::ConfigFile, "{e}");
+        match &e {
+            Error::ConfigFile {
+                key: k, line: l, ..
+            } => {
+                assert_eq!((k.as_str(), *l), (key, line), "{e}")
+            }
+            _ => unreachable!(),
+        }
+        assert!(
+            e.to_string()
+                .starts_with(&format!("bad.toml:{line}: {key}")),
+            "{e}"
+        );
+        assert_eq!(b.save_config().unwrap(), before, "{key}: nothing applied");
+        assert!(b.diff_config(&text, "bad.toml").is_err());
+    }
+    // A syntax error: the line, no key.
+    let e = b
+        .load_config("[card\nservo_rate_hz = 1", "x.toml")
+        .unwrap_err();
+    assert!(matches!(e, Error::ConfigFile { line: 1, .. }), "{e}");
+    assert_eq!(b.save_config().unwrap(), before);
+}
+
+/// The checked-in example (`examples/config/machine.toml`: the configuration above, on a
+/// 4-axis card) loads on a fresh card and saves back to its own bytes.
+#[test]
+fn the_example_file_round_trips() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/config/machine.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    assert_eq!(
+        text,
+        configured().save_config().unwrap(),
+        "regenerate the example"
+    );
+    let b = card();
+    b.load_config_file(path).unwrap();
+    assert_eq!(b.save_config().unwrap(), text);
+}
+
+/// What a host wrote into a block after the card applied it, or had refused, is not what the
+/// getters give: they read the card back.
+#[test]
+fn the_getters_read_the_card_not_the_last_write() {
+    let c = card();
+    let a = c.axis(0).unwrap();
+    let bad = motioncard::AxisSettings {
+        dac_limit_v: 12.0,
+        ..Default::default()
+    };
+    assert_eq!(a.configure(&bad).unwrap_err().kind(), ErrorKind::BadConfig);
+    assert_eq!(a.settings().unwrap().dac_limit_v, 10.0);
+    let io = IoSettings {
+        polarity: 1 << 20, // beyond the inputs: refused
+        ..Default::default()
+    };
+    assert!(c.configure_io(&io).is_err());
+    assert_eq!(c.io_settings().unwrap().polarity, 0);
+    assert_eq!(a.pdplus_settings().unwrap(), None);
+    a.configure_pdplus(&motioncard::die_bonder_pdplus(0))
+        .unwrap();
+    let pd = a.pdplus_settings().unwrap().unwrap();
+    assert_eq!(pd.gains, motioncard::die_bonder_pdplus(0).gains);
+    assert!(c.group(1).unwrap().settings().unwrap().is_none());
+    assert_eq!(c.servo_rate().unwrap(), 10_000);
+    assert_eq!(c.safety_settings().unwrap().max_stop_time_us, 2_000_000);
+    assert_eq!(a.filter_settings().unwrap(), FilterSettings::shin_table1());
+}
