@@ -589,6 +589,27 @@ mod tests {
     }
 
     #[test]
+    fn distances_and_limits_are_counts_whatever_the_axis_scale() {
+        let card = stepped();
+        card.axis(0).unwrap().set_scale(-4.0).unwrap(); // counts per user unit, reversed
+        let scope = card.scope();
+        let r = run_test(&card, &scope, &spec(TestKind::Step, 300.0)).unwrap();
+        assert_eq!(r.figures.step, 300.0);
+        assert_eq!(card.axis(0).unwrap().status().unwrap().raw.cmd_pos, 300.0);
+        let r = run_test(&card, &scope, &spec(TestKind::Move, -8000.0)).unwrap();
+        assert_eq!(r.figures.target, -7700.0);
+        let plan = crate::plan::Profile::plan(
+            0.0,
+            8000.0,
+            0.0,
+            0.0,
+            &crate::plan::Limits::symmetric(1e5, 1e6, 1e8),
+        )
+        .unwrap();
+        assert!((r.figures.command_end_time - plan.duration()).abs() <= 2e-4);
+    }
+
+    #[test]
     fn a_step_beyond_the_following_error_limit_is_reported_as_the_cards_trip() {
         let card = stepped();
         let scope = card.scope();
