@@ -14,8 +14,9 @@
 //! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}` or `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}`: apply, answer the gains then held |
 //!
 //! Errors are `{"error": message, "kind": the SDK's error kind (if any)}` with 400 (a bad
-//! request), 409 (the axis or the scope is busy), 422 (the card refused) or 503 (the card
-//! failed).
+//! request), 404 (a test no longer kept), 409 (the axis not at rest, the scope or the test
+//! slot busy), 422 (the card refused, or ended a test's motion), 500 (a capture that cannot be
+//! measured) or 503 (the card failed).
 //!
 //! The card's SDK blocks; the handlers run its calls with `spawn_blocking`. The only guard
 //! held across an `.await` is the one-test guard, which is only ever try-locked (a second test
@@ -89,8 +90,9 @@ impl IntoResponse for ApiError {
 impl From<Error> for ApiError {
     fn from(e: Error) -> Self {
         let status = match e {
-            Error::Nack { .. } | Error::Refused { .. } => StatusCode::UNPROCESSABLE_ENTITY,
-            Error::NotFinite { .. }
+            Error::Nack { .. }
+            | Error::Refused { .. }
+            | Error::NotFinite { .. }
             | Error::NonPositive { .. }
             | Error::BadConfig(_)
             | Error::BadAxis { .. } => StatusCode::UNPROCESSABLE_ENTITY,
