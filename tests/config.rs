@@ -278,3 +278,77 @@ fn the_getters_read_the_card_not_the_last_write() {
     assert_eq!(c.safety_settings().unwrap().max_stop_time_us, 2_000_000);
     assert_eq!(a.filter_settings().unwrap(), FilterSettings::shin_table1());
 }
+
+/// Any one number of a saved configuration replaced by a value from the whole f64 range
+/// (zero, subnormals, 1e-300, 1e300, infinities, NaN, either sign; a float where an integer
+/// belongs too): the load either applies all of the file, so the card then holds exactly it
+/// (no difference left), or refuses it as `ConfigFile` naming that key and line, and changes
+/// nothing. Never a half-applied file, never a panic.
+#[test]
+fn any_number_anywhere_loads_whole_or_changes_nothing() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config as PtConfig, TestRunner};
+    let saved = configured().save_config().unwrap();
+    let numbers: Vec<usize> = saved
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| {
+            l.split_once(" = ")
+                .is_some_and(|(_, v)| v.parse::<f64>().is_ok())
+        })
+        .map(|(i, _)| i)
+        .collect();
+    assert!(numbers.len() > 100, "{} numbers", numbers.len());
+    let b = card();
+    let value = prop_oneof![
+        Just(0.0),
+        Just(-0.0),
+        Just(f64::MIN_POSITIVE / 4.0),
+        Just(1e-300),
+        Just(1e300),
+        Just(-1e300),
+        Just(f64::INFINITY),
+        Just(f64::NEG_INFINITY),
+        Just(f64::NAN),
+        (-1e6f64..1e6),
+        any::<f64>(),
+    ];
+    let (applied, refused) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
+    let mut runner = TestRunner::new(PtConfig {
+        cases: 200,
+        failure_persistence: None,
+        ..PtConfig::default()
+    });
+    runner
+        .run(&(proptest::sample::select(numbers), value), |(line, v)| {
+            let mut lines: Vec<String> = saved.lines().map(String::from).collect();
+            let (key, _) = lines[line].split_once(" = ").unwrap();
+            // TOML spells the specials its own way.
+            let text_v = match v {
+                v if v.is_nan() => "nan".to_string(),
+                v if v == f64::INFINITY => "inf".to_string(),
+                v if v == f64::NEG_INFINITY => "-inf".to_string(),
+                v => format!("{v:?}"),
+            };
+            lines[line] = format!("{key} = {text_v}");
+            let text = lines.join("\n") + "\n";
+            let before = b.save_config().unwrap();
+            match b.load_config(&text, "p.toml") {
+                Ok(_) => {
+                    applied.set(applied.get() + 1);
+                    let diff = b.diff_config(&text, "p.toml").unwrap();
+                    prop_assert!(diff.is_empty(), "line {}: {diff:?}", line + 1);
+                }
+                Err(e @ Error::ConfigFile { line: l, .. }) => {
+                    refused.set(refused.get() + 1);
+                    prop_assert_eq!(l, line + 1, "{}", e);
+                    prop_assert_eq!(b.save_config().unwrap(), before, "{}", e);
+                }
+                Err(e) => prop_assert!(false, "line {}: {e}", line + 1),
+            }
+            Ok(())
+        })
+        .unwrap();
+    println!("{} files applied, {} refused", applied.get(), refused.get());
+    assert!(applied.get() > 20 && refused.get() > 20);
+}
