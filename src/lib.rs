@@ -8,3 +8,5 @@ pub mod papers;
 pub mod path_report;
 pub mod plot;
 pub mod run;
+pub mod serve;
+pub mod tuning;

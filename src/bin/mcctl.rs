@@ -26,6 +26,7 @@
 //! mcctl --card emu:bench1 config save bench1.toml   # what the card holds (read back), as TOML
 //! mcctl --card emu:bench1 config load bench1.toml   # checked whole first; exit 2: bad file
 //! mcctl --card emu:bench1 config diff bench1.toml --json   # exit 0: equal, 1: different
+//! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page
 //! ```
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use motioncard::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
@@ -571,6 +572,19 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// The tuning page: a local web server for one axis with live plots of the scope stream
+    /// (command, actual, following error, DAC), step and move tests with their rise time,
+    /// overshoot, settling time and peak following error, and the FFPIV / PD+ gains, editable
+    /// and applied to the card. Prints `listening on http://ADDR/` once open; runs until
+    /// interrupted.
+    Serve {
+        /// Address and port to listen on (port 0: any free port).
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        listen: std::net::SocketAddr,
+        /// The axis the page tunes.
+        #[arg(long, default_value_t = 0)]
+        axis: usize,
+    },
     /// MC_Halt: decelerate to rest.
     Halt {
         axis: usize,
@@ -1085,6 +1099,14 @@ fn main() -> ExitCode {
         }),
         Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
         Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
+        Cmd::Serve { listen, axis } => {
+            let opts = motioncard::serve::Options {
+                listen,
+                axis,
+                uri: uri.to_string(),
+            };
+            on_card(uri, |c| motioncard::serve::serve(c, &opts))
+        }
         Cmd::Run {
             file,
             tolerance,

@@ -1,0 +1,269 @@
+//! The servo gains the tuning page shows and applies: FFPIV (Thinh Fig 5, `mc_ffpiv_gains`)
+//! or PD+ with its drive model (Yeh eq 2.12 and 2.2, `mc_axis_pdplus`), in counts, seconds
+//! and volts as the card holds them.
+//!
+//! `held` is the one place that finds out which gains the card holds (the card's read-back);
+//! everything else (the page's GET, the base an apply changes, the answer after an apply) goes
+//! through it. Applying goes through the SDK ([`crate::Axis::configure`],
+//! [`crate::Axis::configure_pdplus`]); the card checks the values and a refusal comes back as
+//! the SDK's error (`BadConfig`, `NotFinite`), which the page shows as it is.
+
+use crate::{AxisSettings, Card, PdPlusSettings, Result};
+use serde::{Deserialize, Serialize};
+
+/// FFPIV gains (`mc_ffpiv_gains`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ffpiv {
+    /// Position gain K_P, 1/s.
+    pub kp: f64,
+    /// Velocity-loop integral gain K_I, 1/s.
+    pub ki: f64,
+    /// Velocity-loop gain K_V, V per count/s.
+    pub kv: f64,
+    /// Velocity feed-forward K_VFF, 0..2.
+    pub kvff: f64,
+    /// Acceleration feed-forward K_AFF, V per count/s².
+    pub kaff: f64,
+    /// Cut-off of the measured velocity's filter, Hz.
+    pub vel_filter_hz: f64,
+}
+
+impl From<&crate::proto::raw::mc_ffpiv_gains> for Ffpiv {
+    fn from(g: &crate::proto::raw::mc_ffpiv_gains) -> Self {
+        Self {
+            kp: g.kp,
+            ki: g.ki,
+            kv: g.kv,
+            kvff: g.kvff,
+            kaff: g.kaff,
+            vel_filter_hz: g.vel_filter_hz,
+        }
+    }
+}
+
+impl Ffpiv {
+    fn to_raw(self) -> crate::proto::raw::mc_ffpiv_gains {
+        crate::proto::raw::mc_ffpiv_gains {
+            kp: self.kp,
+            ki: self.ki,
+            kv: self.kv,
+            kvff: self.kvff,
+            kaff: self.kaff,
+            vel_filter_hz: self.vel_filter_hz,
+        }
+    }
+}
+
+/// PD+ gains, drive model and drive limit (`mc_axis_pdplus`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PdPlus {
+    /// V/count.
+    pub kp: f64,
+    /// V per count/s.
+    pub kd: f64,
+    /// V per count/s of reference velocity.
+    pub kv: f64,
+    /// V per count/s² of reference acceleration.
+    pub ka: f64,
+    /// Drive model K_c, (rad/s)/V.
+    pub kc: f64,
+    /// Drive model τ, s.
+    pub tau: f64,
+    /// Drive model K_e, counts/rad.
+    pub ke: f64,
+    /// Drive limit, V.
+    pub umax: f64,
+}
+
+impl From<&PdPlusSettings> for PdPlus {
+    fn from(p: &PdPlusSettings) -> Self {
+        Self {
+            kp: p.gains.kp,
+            kd: p.gains.kd,
+            kv: p.gains.kv,
+            ka: p.gains.ka,
+            kc: p.drive.kc,
+            tau: p.drive.tau,
+            ke: p.drive.ke,
+            umax: p.umax,
+        }
+    }
+}
+
+impl PdPlus {
+    /// `base` with these gains, drive model and limit.
+    fn onto(self, base: PdPlusSettings) -> PdPlusSettings {
+        let mut s = base;
+        s.gains.kp = self.kp;
+        s.gains.kd = self.kd;
+        s.gains.kv = self.kv;
+        s.gains.ka = self.ka;
+        s.drive.kc = self.kc;
+        s.drive.tau = self.tau;
+        s.drive.ke = self.ke;
+        s.umax = self.umax;
+        s
+    }
+}
+
+/// The servo law an axis runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Law {
+    /// FFPIV.
+    Ffpiv,
+    /// PD+.
+    Pdplus,
+}
+
+/// What the page shows: the law the axis runs and its gains.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Gains {
+    /// The axis.
+    pub axis: usize,
+    /// The law it runs.
+    pub law: Law,
+    /// Its FFPIV gains (held even while it runs PD+).
+    pub ffpiv: Ffpiv,
+    /// Its PD+ law, when it runs PD+.
+    pub pdplus: Option<PdPlus>,
+    /// Where these values come from.
+    pub source: &'static str,
+}
+
+/// A change the page asks for: `{"law": "ffpiv", "kp": …}` or `{"law": "pdplus", "kp": …}`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(tag = "law", rename_all = "lowercase")]
+pub enum Apply {
+    /// Run FFPIV with these gains (the rest of the axis's configuration unchanged).
+    Ffpiv(Ffpiv),
+    /// Run PD+ with these gains and drive model.
+    Pdplus(PdPlus),
+}
+
+/// What the card holds for one axis, in the SDK's types.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Held {
+    cfg: AxisSettings,
+    pdplus: Option<PdPlusSettings>,
+}
+
+/// [`Gains::source`]: where the values shown come from.
+pub const SOURCE_CARD: &str = "read back from the card";
+
+/// The one place that finds out what the card holds for `axis`: the card's own read-back
+/// (`Axis::settings`, `Axis::pdplus_settings`, layout 1.8's `MC_OP_READ_CONFIG`), so gains
+/// set by another host or a configuration file are what the page shows.
+fn held(card: &Card, axis: usize) -> Result<Held> {
+    let ax = card.axis(axis)?;
+    Ok(Held {
+        cfg: ax.settings()?,
+        pdplus: ax.pdplus_settings()?,
+    })
+}
+
+/// The gains `axis` runs with.
+pub fn get(card: &Card, axis: usize) -> Result<Gains> {
+    let h = held(card, axis)?;
+    let law = if h.cfg.servo_law == crate::proto::raw::MC_SERVO_PDPLUS {
+        Law::Pdplus
+    } else {
+        Law::Ffpiv
+    };
+    Ok(Gains {
+        axis,
+        law,
+        ffpiv: Ffpiv::from(&h.cfg.ffpiv),
+        pdplus: h.pdplus.as_ref().map(PdPlus::from),
+        source: SOURCE_CARD,
+    })
+}
+
+/// Apply `change` to `axis` (everything else in its configuration as the card holds it), and
+/// answer the gains it then runs with, read back; the card's refusal is the SDK's error and
+/// changes nothing.
+pub fn apply(card: &Card, axis: usize, change: &Apply) -> Result<Gains> {
+    let ax = card.axis(axis)?;
+    let held = held(card, axis)?;
+    match *change {
+        Apply::Ffpiv(g) => ax.configure(&AxisSettings {
+            ffpiv: g.to_raw(),
+            ..held.cfg
+        })?,
+        // A PD+ law on an axis that runs FFPIV starts from an empty block: every value it
+        // needs is in the change.
+        Apply::Pdplus(p) => ax.configure_pdplus(&p.onto(held.pdplus.unwrap_or_default()))?,
+    }
+    get(card, axis)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn apply_requests_parse_by_law_and_refuse_unknown_fields() {
+        let a: Apply = serde_json::from_str(
+            r#"{"law":"ffpiv","kp":1,"ki":2,"kv":3,"kvff":1,"kaff":0.5,"vel_filter_hz":1500}"#,
+        )
+        .unwrap();
+        assert!(matches!(a, Apply::Ffpiv(g) if g.kp == 1.0 && g.vel_filter_hz == 1500.0));
+        let a: Apply = serde_json::from_str(
+            r#"{"law":"pdplus","kp":1,"kd":2,"kv":3,"ka":4,"kc":5,"tau":6,"ke":7,"umax":8}"#,
+        )
+        .unwrap();
+        assert!(matches!(a, Apply::Pdplus(p) if p.ka == 4.0 && p.umax == 8.0));
+        for bad in [
+            r#"{"law":"pid","kp":1}"#,
+            r#"{"law":"ffpiv","kp":1}"#,
+            r#"{"law":"ffpiv","kp":"x","ki":2,"kv":3,"kvff":1,"kaff":0.5,"vel_filter_hz":1}"#,
+            r#"{"law":"ffpiv","kp":1,"ki":2,"kv":3,"kvff":1,"kaff":0.5,"vel_filter_hz":1,"kd":0}"#,
+        ] {
+            assert!(serde_json::from_str::<Apply>(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_cards_refusal_changes_nothing_and_an_accepted_change_is_held() {
+        let card = Card::open_sim(crate::SimOptions {
+            clock: crate::Clock::Stepped,
+            emu: Default::default(),
+        })
+        .unwrap();
+        let before = get(&card, 0).unwrap();
+        assert_eq!(before.law, Law::Ffpiv);
+        assert_eq!(before.source, SOURCE_CARD);
+        assert_eq!(before.pdplus, None);
+        let mut g = before.ffpiv;
+        g.kp = -1.0;
+        let e = apply(&card, 0, &Apply::Ffpiv(g)).unwrap_err();
+        assert_eq!(e.kind(), crate::ErrorKind::BadConfig, "{e}");
+        assert_eq!(get(&card, 0).unwrap(), before);
+        g.kp = before.ffpiv.kp * 0.5;
+        let after = apply(&card, 0, &Apply::Ffpiv(g)).unwrap();
+        assert_eq!(after.ffpiv, g);
+        // What the firmware runs with.
+        let sim = card.sim().unwrap();
+        let kp = sim.with_emulator(|e| e.firmware().axis(0).unwrap().config.ffpiv.kp);
+        assert_eq!(kp, g.kp);
+        // The rest of the configuration is untouched.
+        let cfg = card.axis(0).unwrap().settings().unwrap();
+        assert_eq!(cfg.dac_limit_v, AxisSettings::default().dac_limit_v);
+        // PD+ from FFPIV: refused without a drive model, accepted with the die bonder's.
+        let mut p = PdPlus::from(&crate::die_bonder_pdplus(0));
+        let good = p;
+        p.tau = 0.0;
+        let e = apply(&card, 0, &Apply::Pdplus(p)).unwrap_err();
+        assert_eq!(e.kind(), crate::ErrorKind::BadConfig, "{e}");
+        assert_eq!(get(&card, 0).unwrap().law, Law::Ffpiv);
+        let now = apply(&card, 0, &Apply::Pdplus(good)).unwrap();
+        assert_eq!((now.law, now.pdplus), (Law::Pdplus, Some(good)));
+        assert_eq!(now.ffpiv, g, "the FFPIV gains stay held");
+        // Back to FFPIV.
+        let back = apply(&card, 0, &Apply::Ffpiv(before.ffpiv)).unwrap();
+        assert_eq!((back.law, back.pdplus), (Law::Ffpiv, None));
+        assert!(get(&card, 9).is_err());
+    }
+}
