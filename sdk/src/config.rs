@@ -158,32 +158,103 @@ pub struct AxisSection {
     pub homing: Option<HomingSection>,
 }
 
-/// `[axis.N.ffpiv]`.
+/// `[axis.N.ffpiv]`: the FFPIV gains (`mc_ffpiv_gains`, Thinh Fig 5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-#[allow(missing_docs)]
 pub struct FfpivSection {
+    /// Position gain K_P, 1/s.
     pub kp: f64,
+    /// Velocity-loop integral gain K_I, 1/s.
     pub ki: f64,
+    /// Velocity-loop gain K_V, V per count/s.
     pub kv: f64,
+    /// Velocity feed-forward K_VFF, 0..2.
     pub kvff: f64,
+    /// Acceleration feed-forward K_AFF, V per count/s².
     pub kaff: f64,
+    /// Cut-off of the measured velocity's filter, Hz.
     pub vel_filter_hz: f64,
 }
 
-/// `[axis.N.pdplus]`: the gains (kp, kd, kv, ka), the drive model (kc, tau, ke) and umax.
+impl From<&firmware_proto::FfpivGains> for FfpivSection {
+    fn from(g: &firmware_proto::FfpivGains) -> Self {
+        Self {
+            kp: g.kp,
+            ki: g.ki,
+            kv: g.kv,
+            kvff: g.kvff,
+            kaff: g.kaff,
+            vel_filter_hz: g.vel_filter_hz,
+        }
+    }
+}
+
+impl FfpivSection {
+    /// The card's block of these gains.
+    pub fn gains(&self) -> firmware_proto::FfpivGains {
+        firmware_proto::FfpivGains {
+            kp: self.kp,
+            ki: self.ki,
+            kv: self.kv,
+            kvff: self.kvff,
+            kaff: self.kaff,
+            vel_filter_hz: self.vel_filter_hz,
+        }
+    }
+}
+
+/// `[axis.N.pdplus]`: the PD+ gains (Yeh eq 2.12), the drive model (eq 2.2) and the drive
+/// limit (`mc_axis_pdplus`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-#[allow(missing_docs)]
 pub struct PdPlusSection {
+    /// V/count.
     pub kp: f64,
+    /// V per count/s.
     pub kd: f64,
+    /// V per count/s of reference velocity.
     pub kv: f64,
+    /// V per count/s² of reference acceleration.
     pub ka: f64,
+    /// Drive model K_c, (rad/s)/V.
     pub kc: f64,
+    /// Drive model τ, s.
     pub tau: f64,
+    /// Drive model K_e, counts/rad.
     pub ke: f64,
+    /// Drive limit, V.
     pub umax: f64,
+}
+
+impl From<&AxisPdPlus> for PdPlusSection {
+    fn from(p: &AxisPdPlus) -> Self {
+        Self {
+            kp: p.gains.kp,
+            kd: p.gains.kd,
+            kv: p.gains.kv,
+            ka: p.gains.ka,
+            kc: p.drive.kc,
+            tau: p.drive.tau,
+            ke: p.drive.ke,
+            umax: p.umax,
+        }
+    }
+}
+
+impl PdPlusSection {
+    /// `base` with these gains, drive model and limit (the rest of the block as in `base`).
+    pub fn onto(&self, base: AxisPdPlus) -> AxisPdPlus {
+        let mut s = base;
+        s.gains.kp = self.kp;
+        s.gains.kd = self.kd;
+        s.gains.kv = self.kv;
+        s.gains.ka = self.ka;
+        s.drive.kc = self.kc;
+        s.drive.tau = self.tau;
+        s.drive.ke = self.ke;
+        s.umax = self.umax;
+        s
+    }
 }
 
 /// A filter kind.
@@ -365,24 +436,8 @@ impl AxisSection {
             jog_max_vel: c.jog_max_vel,
             jog_accel: c.jog_accel,
             jog_jerk: c.jog_jerk,
-            ffpiv: FfpivSection {
-                kp: g.kp,
-                ki: g.ki,
-                kv: g.kv,
-                kvff: g.kvff,
-                kaff: g.kaff,
-                vel_filter_hz: g.vel_filter_hz,
-            },
-            pdplus: pdplus.then_some(PdPlusSection {
-                kp: pd.gains.kp,
-                kd: pd.gains.kd,
-                kv: pd.gains.kv,
-                ka: pd.gains.ka,
-                kc: pd.drive.kc,
-                tau: pd.drive.tau,
-                ke: pd.drive.ke,
-                umax: pd.umax,
-            }),
+            ffpiv: FfpivSection::from(g),
+            pdplus: pdplus.then(|| PdPlusSection::from(pd)),
             filter: Some(FilterSection {
                 rapid_kind: filter_name(f.kind[0]),
                 rapid_tau: f.tau[0],
@@ -426,20 +481,12 @@ impl AxisSection {
 
     /// The axis configuration block and the PD+ block (zero without PD+).
     fn servo_blocks(&self) -> (AxisConfig, AxisPdPlus) {
-        let f = &self.ffpiv;
         let cfg = AxisConfig {
             servo_law: match self.servo_law {
                 ServoLaw::Ffpiv => raw::MC_SERVO_FFPIV,
                 ServoLaw::Pdplus => raw::MC_SERVO_PDPLUS,
             },
-            ffpiv: firmware_proto::FfpivGains {
-                kp: f.kp,
-                ki: f.ki,
-                kv: f.kv,
-                kvff: f.kvff,
-                kaff: f.kaff,
-                vel_filter_hz: f.vel_filter_hz,
-            },
+            ffpiv: self.ffpiv.gains(),
             dac_limit_v: self.dac_limit_v,
             in_pos_window: self.in_pos_window,
             in_vel_window: self.in_vel_window,
@@ -450,18 +497,8 @@ impl AxisSection {
             scale: self.scale,
             ..AxisConfig::default()
         };
-        let mut pd = card_emu::firmware::config::pdplus_block(None);
-        if let Some(p) = &self.pdplus {
-            pd.gains.kp = p.kp;
-            pd.gains.kd = p.kd;
-            pd.gains.kv = p.kv;
-            pd.gains.ka = p.ka;
-            pd.drive.kc = p.kc;
-            pd.drive.tau = p.tau;
-            pd.drive.ke = p.ke;
-            pd.umax = p.umax;
-        }
-        (cfg, pd)
+        let pd = card_emu::firmware::config::pdplus_block(None);
+        (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)))
     }
 }
 

@@ -11,102 +11,10 @@
 use crate::{AxisSettings, Card, PdPlusSettings, Result};
 use serde::{Deserialize, Serialize};
 
-/// FFPIV gains (`mc_ffpiv_gains`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Ffpiv {
-    /// Position gain K_P, 1/s.
-    pub kp: f64,
-    /// Velocity-loop integral gain K_I, 1/s.
-    pub ki: f64,
-    /// Velocity-loop gain K_V, V per count/s.
-    pub kv: f64,
-    /// Velocity feed-forward K_VFF, 0..2.
-    pub kvff: f64,
-    /// Acceleration feed-forward K_AFF, V per count/s².
-    pub kaff: f64,
-    /// Cut-off of the measured velocity's filter, Hz.
-    pub vel_filter_hz: f64,
-}
-
-impl From<&crate::proto::raw::mc_ffpiv_gains> for Ffpiv {
-    fn from(g: &crate::proto::raw::mc_ffpiv_gains) -> Self {
-        Self {
-            kp: g.kp,
-            ki: g.ki,
-            kv: g.kv,
-            kvff: g.kvff,
-            kaff: g.kaff,
-            vel_filter_hz: g.vel_filter_hz,
-        }
-    }
-}
-
-impl Ffpiv {
-    fn to_raw(self) -> crate::proto::raw::mc_ffpiv_gains {
-        crate::proto::raw::mc_ffpiv_gains {
-            kp: self.kp,
-            ki: self.ki,
-            kv: self.kv,
-            kvff: self.kvff,
-            kaff: self.kaff,
-            vel_filter_hz: self.vel_filter_hz,
-        }
-    }
-}
-
-/// PD+ gains, drive model and drive limit (`mc_axis_pdplus`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PdPlus {
-    /// V/count.
-    pub kp: f64,
-    /// V per count/s.
-    pub kd: f64,
-    /// V per count/s of reference velocity.
-    pub kv: f64,
-    /// V per count/s² of reference acceleration.
-    pub ka: f64,
-    /// Drive model K_c, (rad/s)/V.
-    pub kc: f64,
-    /// Drive model τ, s.
-    pub tau: f64,
-    /// Drive model K_e, counts/rad.
-    pub ke: f64,
-    /// Drive limit, V.
-    pub umax: f64,
-}
-
-impl From<&PdPlusSettings> for PdPlus {
-    fn from(p: &PdPlusSettings) -> Self {
-        Self {
-            kp: p.gains.kp,
-            kd: p.gains.kd,
-            kv: p.gains.kv,
-            ka: p.gains.ka,
-            kc: p.drive.kc,
-            tau: p.drive.tau,
-            ke: p.drive.ke,
-            umax: p.umax,
-        }
-    }
-}
-
-impl PdPlus {
-    /// `base` with these gains, drive model and limit.
-    fn onto(self, base: PdPlusSettings) -> PdPlusSettings {
-        let mut s = base;
-        s.gains.kp = self.kp;
-        s.gains.kd = self.kd;
-        s.gains.kv = self.kv;
-        s.gains.ka = self.ka;
-        s.drive.kc = self.kc;
-        s.drive.tau = self.tau;
-        s.drive.ke = self.ke;
-        s.umax = self.umax;
-        s
-    }
-}
+/// FFPIV gains, as a configuration file's `[axis.N.ffpiv]` spells them.
+pub use crate::FfpivSection as Ffpiv;
+/// PD+ gains, drive model and drive limit, as a configuration file's `[axis.N.pdplus]`.
+pub use crate::PdPlusSection as PdPlus;
 
 /// The servo law an axis runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -189,7 +97,7 @@ pub fn apply(card: &Card, axis: usize, change: &Apply) -> Result<Gains> {
     let held = held(card, axis)?;
     match *change {
         Apply::Ffpiv(g) => ax.configure(&AxisSettings {
-            ffpiv: g.to_raw(),
+            ffpiv: g.gains(),
             ..held.cfg
         })?,
         // A PD+ law on an axis that runs FFPIV starts from an empty block: every value it
