@@ -485,8 +485,20 @@ impl Path {
     /// One servo tick: returns the commanded position of every group axis. `feed_override`
     /// (0..2) scales every feed; 0 holds the path still (ramping down, resuming when > 0).
     pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        let plan = self.tick_plan(feed_override, ev);
+        self.tick_move(plan, ev)
+    }
+
+    /// The first half of [`tick`](Self::tick): dwells, then the look-ahead and the speed
+    /// planner decide this tick's step (nothing moves yet). Public for the cost benchmark,
+    /// which times the two halves apart; call [`tick_move`](Self::tick_move) with the result
+    /// at once.
+    #[doc(hidden)]
+    #[inline(never)]
+    pub fn tick_plan(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> TickPlan {
+        let hold = TickPlan(Plan::Hold);
         if !self.ready {
-            return self.pos;
+            return hold;
         }
         let ovr = if feed_override.is_nan() {
             0.0
@@ -502,7 +514,7 @@ impl Path {
                 if !self.halted {
                     self.dwell_left -= 1;
                 }
-                return self.pos;
+                return hold;
             }
             self.end_seg(self.exec, ev);
             self.exec += 1;
@@ -519,10 +531,10 @@ impl Path {
                 self.idle_sent = true;
                 ev(PathEvent::Idle);
             }
-            return self.pos;
+            return hold;
         }
         if self.seg(self.exec).shift {
-            return self.shift_tick(ovr, ev);
+            return TickPlan(Plan::Shift(ovr));
         }
         if let Some(i) = self.cap_due {
             if i < self.exec + self.lookahead {
@@ -558,8 +570,26 @@ impl Path {
             self.starving_sent = true;
             ev(PathEvent::Starving);
         }
+        TickPlan(Plan::Step {
+            ds,
+            land,
+            wend: lk.window_end,
+        })
+    }
+
+    /// The second half of [`tick`](Self::tick): moves along the path by the planned step
+    /// (segment events and outputs on the way) and interpolates the position there.
+    #[doc(hidden)]
+    #[inline(never)]
+    pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        let (ds, land, wend) = match plan.0 {
+            Plan::Hold => return self.pos,
+            // a time-shifted chain runs its own profiles
+            Plan::Shift(ovr) => return self.shift_tick(ovr, ev),
+            Plan::Step { ds, land, wend } => (ds, land, wend),
+        };
         let resting = !self.is_moving();
-        self.advance(ds, land, lk.window_end, resting, ev);
+        self.advance(ds, land, wend, resting, ev);
         self.distance += ds;
         self.pos = self.eval_here();
         if self.exec >= self.tail && resting && !self.idle_sent {
@@ -568,4 +598,20 @@ impl Path {
         }
         self.pos
     }
+}
+
+/// What the first half of a tick decided (see [`Path::tick_plan`]).
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy)]
+pub struct TickPlan(Plan);
+
+#[derive(Debug, Clone, Copy)]
+enum Plan {
+    /// Nothing moves this tick (not ready, a dwell, idle).
+    Hold,
+    /// A time-shifted chain's tick, at this override.
+    Shift(f64),
+    /// Advance `ds` (or land exactly on the stop point the look-ahead found); `wend`: the
+    /// look-ahead window's end.
+    Step { ds: f64, land: bool, wend: usize },
 }

@@ -54,6 +54,8 @@ mod tests;
 mod tests_curve;
 
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
+#[doc(hidden)]
+pub use self::exec::TickPlan;
 use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
@@ -1088,6 +1090,7 @@ impl Path {
 
     /// Appends a segment: validates it, builds the blend with the previous one and computes
     /// the caps. Allocates nothing.
+    #[inline(never)] // a function of its own in profiles: the cost benchmark counts it
     pub fn push(&mut self, seg: Segment) -> Result<(), PathError> {
         if !self.ready {
             return Err(PathError::NotReady);
