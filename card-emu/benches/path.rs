@@ -190,7 +190,14 @@ fn main() {
     let mut pos = Vec::with_capacity(200_000);
     if once {
         let c = run(&mut p, pts[0], &segs, Clock::Off, &mut pos);
-        println!("path --once: {CHORDS} segments, {} ticks", c.ticks);
+        // FNV-1a of every position's bits: equal sums, the same motion to the last bit
+        let sum = pos.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
+            (h ^ x.to_bits()).wrapping_mul(0x100_0000_01b3)
+        });
+        println!(
+            "path --once: {CHORDS} segments, {} ticks, positions {sum:016x}",
+            c.ticks
+        );
         return;
     }
     let lim = [[dense::V, dense::A, dense::J]; 2];

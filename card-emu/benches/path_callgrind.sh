@@ -12,8 +12,9 @@ exe=$(cargo bench -p card-emu --bench path --no-run --message-format=json 2>/dev
     grep -o '"executable":"[^"]*benches/path[^"]*"\|"executable":"[^"]*deps/path-[^"]*"' |
     head -n1 | sed 's/"executable":"\(.*\)"/\1/')
 [ -x "$exe" ] || { echo "no bench binary" >&2; exit 1; }
-ticks=$(valgrind --tool=callgrind --callgrind-out-file="$out" "$exe" --once 2>/dev/null |
-    sed -n 's/.* \([0-9]*\) ticks$/\1/p')
+line=$(valgrind --tool=callgrind --callgrind-out-file="$out" "$exe" --once 2>/dev/null | grep ticks)
+echo "$line"
+ticks=$(echo "$line" | sed -n 's/.* \([0-9]*\) ticks.*/\1/p')
 callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null |
     awk -v ticks="$ticks" -v segs=10000 '
         function num(s) { gsub(",", "", s); return s + 0 }

@@ -71,6 +71,25 @@ impl Phases {
     }
 }
 
+/// One tick of the ramp toward a target from a planner's state ([`PathSpeedPlanner::track`]):
+/// the distance, speed and acceleration at the end of the tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Track {
+    tgt: f64,
+    /// The state it was computed from (v, a).
+    from: (f64, f64),
+    ds: f64,
+    v: f64,
+    a: f64,
+}
+
+impl Track {
+    /// (distance, speed, acceleration) at the end of the tick.
+    pub fn step(&self) -> (f64, f64, f64) {
+        (self.ds, self.v, self.a)
+    }
+}
+
 /// Scalar jerk-limited speed planner along the path. Its state is a continuous profile of the
 /// path speed v(t) with a = dv/dt ∈ [−D, A] and |da/dt| ≤ J, integrated exactly over each
 /// tick, and each tick's step is the distance that profile covers in the tick. Because a tick's
@@ -293,9 +312,114 @@ impl PathSpeedPlanner {
         }
     }
 
+    /// The distance of `track_phases(v, a, tgt)`, in closed form (the same phases, each
+    /// counted only when `Phases::push` would keep it: a positive, finite duration).
+    fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
+        let j = self.jmax;
+        let a = a.clamp(-self.dmax, self.amax);
+        let flat = v + a * a.abs() / (2.0 * j);
+        // (jerk, duration) of the three phases: toward the peak, hold, back to a = 0
+        let (p1, p2, p3) = if tgt >= flat {
+            let dv = tgt - v;
+            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if ap > self.amax {
+                ap = self.amax;
+                th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
+            }
+            let ap = ap.max(a);
+            ((j, (ap - a) / j), th, (-j, ap / j))
+        } else {
+            let dv = v - tgt;
+            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if dp > self.dmax {
+                dp = self.dmax;
+                th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
+            }
+            let dp = dp.max(-a);
+            ((-j, (a + dp) / j), th, (j, dp / j))
+        };
+        let keep = |t: f64| t > 0.0 && t.is_finite();
+        let (mut d, mut v, mut a) = (0.0, v, a);
+        for (jk, t) in [p1, (0.0, p2), p3] {
+            if keep(t) {
+                d += t * (v + t * (0.5 * a + t * jk / 6.0));
+                v += t * (a + 0.5 * jk * t);
+                a += jk * t;
+            }
+        }
+        d
+    }
+
+    /// An upper bound of [`stopping_distance`](Self::stopping_distance)`(v, a, d, j)` (and of
+    /// the clean stop's) that costs no root and no trial stop (∞ where it does not hold): the stop from (v, a) is the tail of the stop
+    /// from the speed v_p = v + a²/(2j) at a = 0 (a ≤ 0, within its peak) or that stop after
+    /// bringing a ≥ 0 down to 0 at speed ≤ v_p (time a/j); from (v_p, 0) the stop is
+    /// v_p²/(2d) + v_p·d/(2j) when it reaches d (v_p ≥ d²/j), else v_p·√(v_p/j).
+    pub fn stopping_distance_bound(v: f64, a: f64, d: f64, j: f64) -> f64 {
+        let v = v.max(0.0);
+        let vp = v + a * a / (2.0 * j);
+        if a < 0.0 && !(-a <= d && a * a <= j * vp) {
+            return f64::INFINITY;
+        }
+        let from_peak = if vp * j >= d * d {
+            vp * vp / (2.0 * d) + vp * d / (2.0 * j)
+        } else {
+            vp * (vp / j).sqrt()
+        };
+        let bound = from_peak + a.max(0.0) * vp / j;
+        // rounding room (the exact distance is summed differently)
+        if bound.is_finite() {
+            bound * (1.0 + 1e-12) + 1e-12
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Distance needed from the current state to slow to `v_target` (0 when already there).
     pub fn slowing_distance(&self, v_target: f64) -> f64 {
         self.slowing_distance_from(self.v, self.a, v_target)
+    }
+
+    /// [`slowing_distance_from`](Self::slowing_distance_from)`(v, a, vt)` in closed form where
+    /// the ramp is the common one, a descent that passes a = 0 (from a ≥ 0: a brought to 0,
+    /// then the descent from the speed reached; from a < 0 within the descent's peak: the
+    /// descent from the speed where a was 0, less the part already done), with the size of
+    /// the terms it was made of (for a rounding bound); None elsewhere.
+    pub(crate) fn slowing_estimate(&self, v: f64, a: f64, vt: f64) -> Option<(f64, f64)> {
+        let (j, d) = (self.jmax, self.dmax);
+        if !(vt >= 0.0 && a <= self.amax && a >= -d) {
+            return None;
+        }
+        // the descent from (V, 0) to vt: v_t + Δv·..., Δv = V − vt
+        let descent = |big: f64| {
+            let dv = big - vt;
+            if j * dv >= d * d {
+                dv * (big + vt) / (2.0 * d) + (big + vt) * d / (2.0 * j)
+            } else {
+                (big + vt) * (dv / j).sqrt()
+            }
+        };
+        if a >= 0.0 {
+            let vf = v + a * a / (2.0 * j);
+            if !(vt < vf) {
+                return None;
+            }
+            let t = a / j;
+            let up = t * (v + a * t / 3.0);
+            let down = descent(vf);
+            Some((up + down, up + down))
+        } else {
+            let v0 = v + a * a / (2.0 * j);
+            if !(vt < v - a * a / (2.0 * j)) {
+                return None;
+            }
+            let t = -a / j;
+            let done = t * (v0 - j * t * t / 6.0);
+            let down = descent(v0);
+            Some((down - done, down + done))
+        }
     }
 
     /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`
@@ -305,15 +429,30 @@ impl PathSpeedPlanner {
         if v <= vt && a <= 0.0 {
             return 0.0;
         }
-        self.track_phases(v, a, vt).distance(v, a).max(0.0)
+        self.track_distance(v, a, vt).max(0.0)
     }
 
     /// One tick of the time-optimal ramp toward `tgt`: (distance, speed, acceleration) at the
     /// end of the tick.
     pub fn track_step(&self, tgt: f64) -> (f64, f64, f64) {
+        self.track(tgt).step()
+    }
+
+    /// One tick of the time-optimal ramp toward `tgt` from the current state, kept so that
+    /// [`next_tracked`](Self::next_tracked) does not compute it again (a look-ahead needs the
+    /// same step to decide its target).
+    pub fn track(&self, tgt: f64) -> Track {
         let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
-        self.track_phases(self.v, self.a, tgt)
-            .sample(self.v, self.a, self.ts)
+        let (ds, v, a) = self
+            .track_phases(self.v, self.a, tgt)
+            .sample(self.v, self.a, self.ts);
+        Track {
+            tgt,
+            from: (self.v, self.a),
+            ds,
+            v,
+            a,
+        }
     }
 
     /// The root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)): regula falsi with the
@@ -416,6 +555,17 @@ impl PathSpeedPlanner {
     /// `v_target` is the speed wanted now (commanded feed lowered by look-ahead limits),
     /// `remaining` the path length to the point where the motion must be at rest (counts).
     pub fn next(&mut self, v_target: f64, remaining: f64) -> f64 {
+        self.next_inner(v_target, remaining, None)
+    }
+
+    /// [`next`](Self::next) toward the target of `track`, a [`track`](Self::track) of the
+    /// current state (the same result, without computing the ramp's step again; a track of
+    /// another state is computed again).
+    pub fn next_tracked(&mut self, track: Track, remaining: f64) -> f64 {
+        self.next_inner(track.tgt, remaining, Some(track))
+    }
+
+    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<Track>) -> f64 {
         let ts = self.ts;
         let remaining = if remaining.is_nan() {
             0.0
@@ -440,8 +590,14 @@ impl PathSpeedPlanner {
             return 0.0;
         }
         let (jp, dp) = self.plan_limits();
-        let (ds, v1, a1) = self.track_phases(v, a, tgt).sample(v, a, ts);
-        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
+        let (ds, v1, a1) = match track {
+            Some(t) if t.from == (v, a) && t.tgt == tgt => (t.ds, t.v, t.a),
+            _ => self.track_phases(v, a, tgt).sample(v, a, ts),
+        };
+        // far from the stop point, the bound decides without the exact stopping distance
+        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining
+            || ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining
+        {
             self.v = v1.max(0.0);
             self.a = a1;
             self.stopping = false;

@@ -56,10 +56,11 @@ mod tests_curve;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
+
 use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
-use crate::motion::path_speed::PathSpeedPlanner;
+use crate::motion::path_speed::{PathSpeedPlanner, Track};
 use crate::motion::pos_finite;
 
 /// Axes of a group.
@@ -295,6 +296,9 @@ struct Seg {
     jfeed: f64,
     /// Where it starts, from the start of its block (the block's length before it).
     x0: f64,
+    /// Where it starts along the whole path: the distance the executor has covered since
+    /// `reset` when it gets there (see `Path::exec_dist`).
+    start: f64,
     /// The body: [body0, body1] in the segment's own arc length.
     body0: f64,
     body1: f64,
@@ -335,6 +339,7 @@ impl Default for Seg {
             jgeo: 0.0,
             jfeed: 0.0,
             x0: 0.0,
+            start: 0.0,
             body0: 0.0,
             body1: 0.0,
             bgeo: 0.0,
@@ -398,6 +403,9 @@ struct Look {
     stop: bool,
     queue_end: bool,
     window_end: usize,
+    /// The planner's step toward `target` when the look-ahead computed it (see
+    /// `PathSpeedPlanner::next_tracked`).
+    track: Option<Track>,
 }
 
 /// The continuous-path engine of one axes group.
@@ -434,6 +442,10 @@ pub struct Path {
     idle_sent: bool,
     /// The newest segment, whose smoothing blend has no cap yet (see `settle_cap`).
     cap_due: Option<usize>,
+    /// Where the queued path ends, along the whole path (the next segment's `start`).
+    end_dist: f64,
+    /// What the last look-ahead walk passed (see `exec::Seen`).
+    seen: Option<exec::Seen>,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -629,6 +641,8 @@ impl Path {
             starving_sent: false,
             idle_sent: true,
             cap_due: None,
+            end_dist: 0.0,
+            seen: None,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }
@@ -707,6 +721,8 @@ impl Path {
         self.starving_sent = false;
         self.idle_sent = true;
         self.cap_due = None;
+        self.end_dist = 0.0;
+        self.seen = None;
         self.shift_clear();
         Ok(())
     }
@@ -1015,6 +1031,7 @@ impl Path {
         b.geo = b.geo.min(cap);
         b.kg = b.kg.min(cap * cap + 2.0 * self.at * x0);
         self.cap_due = None;
+        self.window_changed(i);
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
@@ -1272,6 +1289,7 @@ impl Path {
                     sp.dev = dev;
                     sp.kend = kend;
                     let x0 = sp.x0;
+                    self.end_dist += b.len - old;
                     let bk = &mut self.blocks[ps / BLOCK];
                     bk.len += b.len - old;
                     bk.geo = bk.geo.min(cap);
@@ -1381,6 +1399,11 @@ impl Path {
             let ps = self.slot(pi);
             self.segs[ps].body1 -= prev_trim;
             self.blocks[ps / BLOCK].len -= prev_trim;
+            self.end_dist -= prev_trim;
+        }
+        if self.tail > 0 {
+            // the segment before is rebuilt or trimmed above
+            self.window_changed(self.tail - 1);
         }
         if idle {
             self.in_blend = false;
@@ -1401,6 +1424,8 @@ impl Path {
             };
         }
         rec.x0 = b.len;
+        rec.start = self.end_dist;
+        self.end_dist += rec.len();
         b.len += rec.len();
         b.stop |= rec.stop_before;
         b.geo = b.geo.min(rec.bgeo);
