@@ -382,44 +382,62 @@ impl PathSpeedPlanner {
         self.slowing_distance_from(self.v, self.a, v_target)
     }
 
-    /// [`slowing_distance_from`](Self::slowing_distance_from)`(v, a, vt)` in closed form where
-    /// the ramp is the common one, a descent that passes a = 0 (from a ≥ 0: a brought to 0,
-    /// then the descent from the speed reached; from a < 0 within the descent's peak: the
-    /// descent from the speed where a was 0, less the part already done), with the size of
-    /// the terms it was made of (for a rounding bound); None elsewhere.
-    pub(crate) fn slowing_estimate(&self, v: f64, a: f64, vt: f64) -> Option<(f64, f64)> {
+    /// The descent through a state (v, a) with |jerk| = J, split at a = 0: the speed V where
+    /// a is (a ≥ 0: will be) 0, V = v + a²/(2J), and the distance I of the part between:
+    /// from a ≥ 0, bringing a down to 0 (v up to V) adds I ≥ 0; from a < 0 the part from
+    /// (V, 0) down to here is done already, I ≤ 0.
+    pub(crate) fn descent_split(&self, v: f64, a: f64) -> (f64, f64) {
+        let j = self.jmax;
+        let big = v + a * a / (2.0 * j);
+        if a >= 0.0 {
+            let t = a / j;
+            (big, t * (v + a * t / 3.0))
+        } else {
+            let t = -a / j;
+            (big, -(t * (big - j * t * t / 6.0)))
+        }
+    }
+
+    /// The descent from (V, 0) down to `vt` < V: (V² − vt²)/(2D) + (V + vt)·D/(2J) when it
+    /// reaches the deceleration limit D (V − vt ≥ D²/J), else (V + vt)·√((V − vt)/J). It
+    /// grows with V at a rate of V/(2D) at least, on both sides of that bound.
+    fn descent_from(&self, big: f64, vt: f64) -> f64 {
         let (j, d) = (self.jmax, self.dmax);
-        if !(vt >= 0.0 && a <= self.amax && a >= -d) {
+        let dv = big - vt;
+        if j * dv >= d * d {
+            dv * (big + vt) / (2.0 * d) + (big + vt) * d / (2.0 * j)
+        } else {
+            (big + vt) * (dv / j).sqrt()
+        }
+    }
+
+    /// Whether the ramp from (v, a) down to any speed ≥ 0 up to `vt` is the descent through
+    /// (v, a) (see [`descent_split`](Self::descent_split)), whose distance is then
+    /// I + `descent_from`(V, vt): a within the limits, and vt below where the ramp would
+    /// rather rise (a ≥ 0: below V; a < 0: below v − a²/(2J), where the descent's peak
+    /// deceleration √(J·(V − vt)) is beyond |a|).
+    pub(crate) fn descent_holds(&self, v: f64, a: f64, vt: f64) -> bool {
+        let j = self.jmax;
+        if !(vt >= 0.0 && a <= self.amax && a >= -self.dmax) {
+            return false;
+        }
+        if a >= 0.0 {
+            vt < v + a * a / (2.0 * j)
+        } else {
+            vt < v - a * a / (2.0 * j)
+        }
+    }
+
+    /// [`slowing_distance_from`](Self::slowing_distance_from)`(v, a, vt)` in closed form where
+    /// the ramp is the descent through (v, a) (see [`descent_holds`](Self::descent_holds)),
+    /// with the size of the terms it was made of (for a rounding bound); None elsewhere.
+    pub(crate) fn slowing_estimate(&self, v: f64, a: f64, vt: f64) -> Option<(f64, f64)> {
+        if !self.descent_holds(v, a, vt) {
             return None;
         }
-        // the descent from (V, 0) to vt: v_t + Δv·..., Δv = V − vt
-        let descent = |big: f64| {
-            let dv = big - vt;
-            if j * dv >= d * d {
-                dv * (big + vt) / (2.0 * d) + (big + vt) * d / (2.0 * j)
-            } else {
-                (big + vt) * (dv / j).sqrt()
-            }
-        };
-        if a >= 0.0 {
-            let vf = v + a * a / (2.0 * j);
-            if !(vt < vf) {
-                return None;
-            }
-            let t = a / j;
-            let up = t * (v + a * t / 3.0);
-            let down = descent(vf);
-            Some((up + down, up + down))
-        } else {
-            let v0 = v + a * a / (2.0 * j);
-            if !(vt < v - a * a / (2.0 * j)) {
-                return None;
-            }
-            let t = -a / j;
-            let done = t * (v0 - j * t * t / 6.0);
-            let down = descent(v0);
-            Some((down - done, down + done))
-        }
+        let (big, part) = self.descent_split(v, a);
+        let down = self.descent_from(big, vt);
+        Some((part + down, part.abs() + down))
     }
 
     /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`

@@ -64,9 +64,20 @@ pub(super) struct Seen {
     from: f64,
     /// The first segment it did not see.
     end: usize,
-    /// The override and deceleration limit it was made with.
+    /// The override and the planner's deceleration and jerk limits it was made with.
     ovr: f64,
     dm: f64,
+    jm: f64,
+    /// The pieces it tested and found safe, each with the slowing distance in closed form
+    /// (`PathSpeedPlanner::slowing_estimate`): the least room between a piece and its
+    /// slowing distance (∞: none tested), the highest cap among them, and the descent split
+    /// (V, I) and step of the state they were tested from. From a state of the same descent
+    /// with V no higher, a piece's slowing distance is I + D_V(cap), D_V growing with V at
+    /// V/(2D) at least: it has grown by at most ΔI − (V₀ − V)·V/(2D) since.
+    room: f64,
+    cap_tested: f64,
+    split: (f64, f64),
+    step: f64,
 }
 
 /// The pieces a walk passed by their caps or by the envelope (see [`Seen`]): smallest cap,
@@ -344,9 +355,23 @@ impl Path {
                     let moved = at - w.from;
                     if w.ovr == ovr
                         && w.dm == dm
+                        && w.jm == jm
                         && below <= w.cap
                         && moved + reach < w.extent * (1.0 - Envelope::SLACK)
                         && env.clears_all(w.key - 2.0 * dm * moved, at.abs() + moved.abs())
+                        && (w.room == f64::INFINITY || {
+                            // every piece tested then is still at least its slowing distance
+                            // away (see `Seen::room`)
+                            let (big, part) = pl.descent_split(vn, an);
+                            let (big0, part0) = w.split;
+                            let grown = moved + (step - w.step) + (part - part0)
+                                - (big0 - big) * big / (2.0 * dm);
+                            let slack = 1e-9 * (moved.abs() + part.abs() + part0.abs())
+                                + 1e-9 * big0 * big0 / dm;
+                            pl.descent_holds(vn, an, w.cap_tested)
+                                && big <= big0
+                                && grown + slack <= w.room
+                        })
                     {
                         // The walk would pass every piece within the reach as it did then,
                         // and meet no stop point within it: nothing to slow for (its distance
@@ -361,28 +386,39 @@ impl Path {
             let until = reach * (1.0 + SEEN_BEYOND);
             let mut worst: Option<(f64, f64)> = None;
             let mut passed = Passed::NONE;
-            let mut tested = false;
+            // tested pieces: found safe with the closed form (least room, highest cap), or
+            // not (then nothing is kept for the next ticks)
+            let (mut room, mut cap_tested, mut untracked) = (f64::INFINITY, 0.0f64, false);
             let mut consider = |d: f64, raw: f64| {
                 if !(raw < vmax && raw < target) {
                     passed.cap = passed.cap.min(raw);
                 } else if worst.is_some_and(|(_, c)| raw >= c) {
-                    tested = true;
+                    untracked = true;
                 } else if env.clears(raw * raw, d) {
                     passed.key = passed.key.min(raw * raw + 2.0 * dm * d);
                 } else {
-                    tested = true;
                     let dist = d - step;
                     let lower = (vf * vf - raw * raw) / (2.0 * dm);
                     let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+                    // the closed form, and the room it leaves beyond its rounding
+                    let clear = pl
+                        .slowing_estimate(vn, an, raw)
+                        .map(|(e, size)| dist - e - 1e-9 * (size + dist.abs()));
                     let violated = dist < lower
                         || (dist < upper
-                            && match pl.slowing_estimate(vn, an, raw) {
-                                // clear of the closed form by far more than its rounding
-                                Some((e, size)) if dist >= e + 1e-9 * (size + dist.abs()) => false,
+                            && match clear {
+                                Some(r) if r >= 0.0 => false,
                                 _ => dist < pl.slowing_distance_from(vn, an, raw),
                             });
                     if violated {
                         worst = Some((here + d, raw));
+                    }
+                    match clear {
+                        Some(r) if r >= 0.0 => {
+                            room = room.min(r);
+                            cap_tested = cap_tested.max(raw);
+                        }
+                        _ => untracked = true,
                     }
                 }
             };
@@ -410,7 +446,7 @@ impl Path {
                 None => {
                     // the planner follows this very step unless it must stop
                     out.track = Some(track);
-                    self.seen = (!tested).then_some(Seen {
+                    self.seen = (!untracked).then_some(Seen {
                         cap: passed.cap.min(blocks.cap),
                         key: passed.key.min(blocks.key),
                         extent: w.d,
@@ -418,6 +454,11 @@ impl Path {
                         end: w.end,
                         ovr,
                         dm,
+                        jm,
+                        room,
+                        cap_tested,
+                        split: pl.descent_split(vn, an),
+                        step,
                     });
                     break;
                 }

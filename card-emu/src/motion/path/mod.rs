@@ -491,14 +491,15 @@ fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
 }
 
 /// The largest squared distance from [`SMOOTH_SAMPLES`] + 1 points of blend `b` to the
-/// nearer of two chords (start, unit direction, length), over the first `N` axes (N ≥ the
+/// nearer of two chords (start relative to the blend's first point, unit direction, length),
+/// over the first `N` axes (N ≥ the
 /// group's axes, the others being 0 everywhere); None when one is over `limit` (its root only
 /// taken when the largest grows: the same figure without a root per sample) or not a number.
 #[allow(clippy::needless_range_loop)] // one index over several axis arrays
 fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64) -> Option<f64> {
     let mut worst2 = 0.0f64;
     for i in 0..=SMOOTH_SAMPLES {
-        let q = b.pos_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
+        let q = b.offset_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
         let mut d2 = f64::INFINITY;
         for (a, u, l) in chords {
             let mut t = 0.0;
@@ -524,6 +525,44 @@ fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64
         }
     }
     Some(worst2)
+}
+
+/// An upper bound of the largest squared distance from a quintic Bézier (control points
+/// `q`, relative to its first point, over the first `N` axes) to the nearer of two chords
+/// (start relative to the same point, unit direction, length): the curve cut in two at
+/// u = 1/2 (de Casteljau), each half within the convex hull of its control points, and the
+/// distance to a segment convex, so the first half is no farther from the first chord than
+/// its farthest control point, the second from the second. Never below what
+/// [`sampled_dev2`] finds on the same curve.
+#[allow(clippy::needless_range_loop)] // one index over several axis arrays
+fn hull_dev2<const N: usize>(q: &[V; 6], chords: &[(V, V, f64); 2]) -> f64 {
+    let d2 = |p: &V, (a, u, l): &(V, V, f64)| {
+        let mut t = 0.0;
+        for k in 0..N {
+            t += (p[k] - a[k]) * u[k];
+        }
+        let t = t.clamp(0.0, *l);
+        let mut e2 = 0.0;
+        for k in 0..N {
+            let e = p[k] - a[k] - t * u[k];
+            e2 += e * e;
+        }
+        e2
+    };
+    let mut p = *q;
+    let mut worst = d2(&p[0], &chords[0]).max(d2(&p[5], &chords[1]));
+    for r in 1..6 {
+        for i in 0..6 - r {
+            for k in 0..N {
+                p[i][k] = 0.5 * (p[i][k] + p[i + 1][k]);
+            }
+        }
+        // p[0] is the first half's control point r, p[5 − r] the second half's 5 − r
+        worst = worst
+            .max(d2(&p[0], &chords[0]))
+            .max(d2(&p[5 - r], &chords[1]));
+    }
+    worst
 }
 
 /// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
@@ -815,7 +854,7 @@ impl Path {
 
     /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
     /// derivative `dk` on that axis.
-    #[inline]
+    #[inline(always)]
     fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, mut cap: f64) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
@@ -871,10 +910,25 @@ impl Path {
         }
     }
 
+    /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
     fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
+        match b.axes() {
+            1 => self.blend_cap_n::<1>(b, samples),
+            2 => self.blend_cap_n::<2>(b, samples),
+            3 => self.blend_cap_n::<3>(b, samples),
+            _ => self.blend_cap_n::<MAX_AXES>(b, samples),
+        }
+    }
+
+    /// [`blend_cap`](Self::blend_cap) over the first `N` axes (see `Blend::each_term_n`): one
+    /// loop the compiler sees whole, so what does not change with the parameter is computed
+    /// once.
+    #[inline]
+    fn blend_cap_n<const N: usize>(&self, b: &Blend, samples: usize) -> f64 {
         let mut cap = f64::INFINITY;
         for i in 0..=samples {
-            cap = self.blend_cap_at(b, i as f64 / samples as f64, cap);
+            let u = i as f64 / samples as f64;
+            b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
         }
         cap
     }
@@ -900,28 +954,42 @@ impl Path {
         fa.k = *ka;
         let mut fb = pb.frame(db);
         fb.k = *kb;
-        let b = Blend::new(n, &fa, &fb, da, db)?;
-        // the two chords as (start, unit direction, length)
+        let q = Blend::controls(n, &fa, &fb, da, db);
+        let b = Blend::from_bezier(n, fa.p, &q)?;
+        // the two chords as (start, unit direction, length), from the blend's first point
         let corner = pa.end();
         let chord = |a: &V, b: &V| {
             let mut u = [0.0; MAX_AXES];
+            let mut a0 = [0.0; MAX_AXES];
             let mut l2 = 0.0;
             for k in 0..n {
                 u[k] = b[k] - a[k];
+                a0[k] = a[k] - fa.p[k];
                 l2 += u[k] * u[k];
             }
             let l = l2.sqrt();
             for x in u[..n].iter_mut() {
                 *x /= l;
             }
-            (*a, u, l)
+            (a0, u, l)
         };
         let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        let worst2 = match n {
-            1 => sampled_dev2::<1>(&b, &chords, limit)?,
-            2 => sampled_dev2::<2>(&b, &chords, limit)?,
-            3 => sampled_dev2::<3>(&b, &chords, limit)?,
-            _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+        // the hull's bound first; the samples where it is over the limit
+        let hull2 = match n {
+            1 => hull_dev2::<1>(&q, &chords),
+            2 => hull_dev2::<2>(&q, &chords),
+            3 => hull_dev2::<3>(&q, &chords),
+            _ => hull_dev2::<MAX_AXES>(&q, &chords),
+        };
+        let worst2 = if hull2.sqrt() <= limit {
+            hull2
+        } else {
+            match n {
+                1 => sampled_dev2::<1>(&b, &chords, limit)?,
+                2 => sampled_dev2::<2>(&b, &chords, limit)?,
+                3 => sampled_dev2::<3>(&b, &chords, limit)?,
+                _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+            }
         };
         let dev = worst2.sqrt();
         if !with_cap {
@@ -954,12 +1022,12 @@ impl Path {
         };
         let da = (0.5 * la).min(la - prev.body0);
         let db = 0.5 * lb;
-        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi, need + da) - need < da {
+        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi) - need < da {
             return None;
         }
         let limit = DEV_SAFETY * tol;
         let k1 = vertex_k(n, &p0, &p1, &p2);
-        if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1, need) >= need {
+        if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1) >= need {
             let pp = self.seg(pi - 1);
             if let Prog::Line { p0: pm, .. } = pp.prog {
                 let k0 = vertex_k(n, &pm, &p0, &p1);
@@ -1081,28 +1149,11 @@ impl Path {
         worst + sag
     }
 
-    /// Distance from the executor to the end of segment `upto`'s body, or more than `need`
-    /// (the walk stops there).
-    fn dist_to_body_end(&self, upto: usize, need: f64) -> f64 {
-        let sg = self.seg(self.exec);
-        let mut d = if self.in_blend {
-            sg.blend.len - self.s + (sg.body1 - sg.body0)
-        } else {
-            sg.body1 - self.s
-        };
-        let mut j = self.exec + 1;
-        while j <= upto && d <= need {
-            if j.is_multiple_of(BLOCK) && j + BLOCK <= upto + 1 {
-                // a whole block short of `upto`: its length at once (the walk spans the
-                // braking distance, a hundred segments on a dense path, on every push)
-                d += self.blocks[self.slot(j) / BLOCK].len;
-                j += BLOCK;
-                continue;
-            }
-            d += self.seg(j).len();
-            j += 1;
-        }
-        d
+    /// Distance from the executor to the end of segment `upto`'s body (a queued segment at
+    /// or after the executor's).
+    fn dist_to_body_end(&self, upto: usize) -> f64 {
+        let sg = self.seg(upto);
+        sg.start + sg.len() - self.exec_dist()
     }
 
     /// Appends a segment: validates it, builds the blend with the previous one and computes
@@ -1311,7 +1362,7 @@ impl Path {
                 let mut room = Self::room(&prev.prog)
                     .min(la - prev.body0)
                     .min(Self::room(&rec.prog));
-                let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
+                let to_corner = self.dist_to_body_end(self.tail - 1);
                 room = room.min(to_corner - need);
                 let build =
                     |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
