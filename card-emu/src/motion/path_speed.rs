@@ -663,6 +663,97 @@ impl PathSpeedPlanner {
 mod tests {
     use super::*;
 
+    fn planner(rnd: &mut impl FnMut() -> f64) -> PathSpeedPlanner {
+        let (ts, a, j) = (1e-4 + rnd() * 1e-3, 1e3 + rnd() * 1e7, 1e5 + rnd() * 1e10);
+        let mut p = PathSpeedPlanner::new(ts, a, j).unwrap();
+        p.v = rnd() * 5e5;
+        p.a = (rnd() * 2.0 - 1.0) * a;
+        p
+    }
+
+    #[test]
+    fn the_stopping_bound_is_never_below_the_stop() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x5709).units();
+        let (mut finite, mut tight) = (0, 0);
+        for _ in 0..200_000 {
+            let (v, a) = (rnd() * 5e5, (rnd() * 2.0 - 1.0) * 3e7);
+            let (d, j) = (rnd() * 3e7 + 1.0, 1e5 + rnd() * 1e10);
+            let bound = PathSpeedPlanner::stopping_distance_bound(v, a, d, j);
+            let exact = PathSpeedPlanner::stopping_distance(v, a, d, j);
+            let clean = PathSpeedPlanner::clean_stopping_distance(v, a, d, j);
+            assert!(bound >= exact, "{v} {a} {d} {j}: {bound} < {exact}");
+            assert!(bound >= clean || clean.is_infinite(), "{v} {a} {d} {j}");
+            if bound.is_finite() {
+                finite += 1;
+                // from a = 0 it is the stop itself
+                if a >= 0.0 && bound <= exact * (1.0 + 1e-6) + 1e-6 {
+                    tight += 1;
+                }
+            }
+        }
+        assert!(
+            finite > 100_000 && tight > 1_000,
+            "{finite} finite, {tight} tight"
+        );
+        for (v, d, j) in [(1e5, 5e5, 5e7), (10.0, 5e5, 5e7)] {
+            let (b, e) = (
+                PathSpeedPlanner::stopping_distance_bound(v, 0.0, d, j),
+                PathSpeedPlanner::stopping_distance(v, 0.0, d, j),
+            );
+            assert!((b - e).abs() <= 1e-9 * e, "{v}: {b} {e}");
+        }
+    }
+
+    #[test]
+    fn the_closed_form_slowing_distance_is_the_ramps() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x510e).units();
+        let mut some = 0;
+        for _ in 0..100_000 {
+            let p = planner(&mut rnd);
+            let vt = rnd() * p.v * 1.2;
+            let exact = p.slowing_distance_from(p.v, p.a, vt);
+            if let Some((e, size)) = p.slowing_estimate(p.v, p.a, vt) {
+                some += 1;
+                assert!(
+                    (e - exact).abs() <= 1e-10 * size + 1e-9,
+                    "{p:?} to {vt}: {e} vs {exact}"
+                );
+                // and the split it is made of: I + descent_from(V, vt), growing with V at
+                // V/(2D) at least
+                let (big, part) = p.descent_split(p.v, p.a);
+                let dv = 1e-3 * big;
+                let grown = p.descent_from(big + dv, vt) - p.descent_from(big, vt);
+                assert!(grown >= dv * big / (2.0 * p.dmax) * (1.0 - 1e-6), "{p:?}");
+                assert!((part + p.descent_from(big, vt) - e).abs() <= 1e-12 * size + 1e-12);
+            }
+        }
+        assert!(some > 30_000, "{some}");
+    }
+
+    #[test]
+    fn next_tracked_is_next() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x7ac4).units();
+        for _ in 0..50_000 {
+            let mut a = planner(&mut rnd);
+            a.a = a.a.clamp(-a.dmax, a.amax);
+            let mut b = a;
+            let tgt = rnd() * 6e5;
+            let rem = if rnd() < 0.3 {
+                rnd() * 10.0
+            } else {
+                rnd() * 1e5
+            };
+            let track = b.track(tgt);
+            let stale = b.track(tgt * 0.5);
+            assert_eq!(a.next(tgt, rem), b.next_tracked(track, rem));
+            assert_eq!(a, b);
+            // a track of another state (the one before this tick) is computed again
+            let mut c = b;
+            assert_eq!(c.next_tracked(stale, rem), b.next(tgt * 0.5, rem));
+            assert_eq!(b, c);
+        }
+    }
+
     #[test]
     fn brake_distance_in_closed_form() {
         let mut rnd = crate::testkit::rng::Rng::new(0x9e37_79b9_7f4a_7c15u64).units();

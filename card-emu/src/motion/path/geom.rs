@@ -313,6 +313,15 @@ impl Blend {
     /// The quintic with Bézier control points `q0 + q[i]` (q[0] = 0).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn from_bezier(n: usize, q0: V, q: &[V; 6]) -> Option<Self> {
+        let mut bl = Self::default();
+        bl.fill(n, q0, q).then_some(bl)
+    }
+
+    /// Makes this the quintic of [`from_bezier`](Self::from_bezier) in place (a blend is
+    /// hundreds of bytes: built where it is kept, not moved there); false (and this blend
+    /// unusable) when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn fill(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
         const BIN: [[f64; 6]; 6] = [
             [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
@@ -322,7 +331,8 @@ impl Blend {
             [1.0, 4.0, 6.0, 4.0, 1.0, 0.0],
             [1.0, 5.0, 10.0, 10.0, 5.0, 1.0],
         ];
-        let mut c = [Z; 6];
+        let c = &mut self.c;
+        *c = [Z; 6];
         for j in 0..6 {
             for i in 0..=j {
                 let sgn = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
@@ -333,7 +343,8 @@ impl Blend {
             }
         }
         // B'(u) = Σ d_m u^m with d_m = (m + 1)·c_(m+1); |B'|² = Σ_k Σ_(m,l) d_m d_l u^(m+l)
-        let mut sp2 = [0.0; 9];
+        let sp2 = &mut self.sp2;
+        *sp2 = [0.0; 9];
         for k in 0..n {
             let d = [
                 c[1][k],
@@ -349,21 +360,16 @@ impl Blend {
                 }
             }
         }
-        let mut bl = Self {
-            q0,
-            c,
-            n,
-            sp2,
-            table: [0.0; NSUB + 1],
-            len: 0.0,
-        };
+        self.q0 = q0;
+        self.n = n;
+        self.table[0] = 0.0;
         for i in 0..NSUB {
             let u0 = i as f64 / NSUB as f64;
             let u1 = (i + 1) as f64 / NSUB as f64;
-            bl.table[i + 1] = bl.table[i] + bl.gl(u0, u1);
+            self.table[i + 1] = self.table[i] + self.gl(u0, u1);
         }
-        bl.len = bl.table[NSUB];
-        (bl.len.is_finite() && bl.len > 0.0).then_some(bl)
+        self.len = self.table[NSUB];
+        self.len.is_finite() && self.len > 0.0
     }
 
     /// |B'(u)|.

@@ -52,6 +52,8 @@ mod shift;
 mod tests;
 #[cfg(test)]
 mod tests_curve;
+#[cfg(test)]
+mod tests_lookahead;
 
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
@@ -446,6 +448,9 @@ pub struct Path {
     end_dist: f64,
     /// What the last look-ahead walk passed (see `exec::Seen`).
     seen: Option<exec::Seen>,
+    /// Tests run the look-ahead without what earlier walks saw, to compare.
+    #[cfg(test)]
+    walk_every_tick: bool,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -454,9 +459,12 @@ pub struct Path {
 
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
 /// deviation; its end curvature), the new one, its start curvature and its trims.
+/// The blends themselves are built in the caller's buffers (see `Path::smooth`).
 struct Smooth {
-    again: Option<((Blend, f64, f64), V)>,
-    new: (Blend, f64, f64),
+    /// The previous blend rebuilt: its cap, deviation and end curvature.
+    again: Option<(f64, f64, V)>,
+    /// The new blend's deviation.
+    dev: f64,
     kstart: V,
     da: f64,
     db: f64,
@@ -682,6 +690,8 @@ impl Path {
             cap_due: None,
             end_dist: 0.0,
             seen: None,
+            #[cfg(test)]
+            walk_every_tick: false,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }
@@ -934,9 +944,9 @@ impl Path {
     }
 
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
-    /// its start), two lines, with curvature vectors `ka`, `kb` at its ends: the blend, its
-    /// cap (when `with_cap`, else 0) and its deviation from the two lines, or None when the
-    /// sampled deviation is over `limit` (or it is not finite).
+    /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
+    /// its cap (when `with_cap`, else 0) and its deviation from the two lines, or None when
+    /// the deviation is over `limit` (or it is not finite; `out` is then left unusable).
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -948,14 +958,18 @@ impl Path {
         kb: &V,
         limit: f64,
         with_cap: bool,
-    ) -> Option<(Blend, f64, f64)> {
+        out: &mut Blend,
+    ) -> Option<(f64, f64)> {
         let n = self.lim.naxes;
         let mut fa = pa.frame(pa.len() - da);
         fa.k = *ka;
         let mut fb = pb.frame(db);
         fb.k = *kb;
         let q = Blend::controls(n, &fa, &fb, da, db);
-        let b = Blend::from_bezier(n, fa.p, &q)?;
+        if !out.fill(n, fa.p, &q) {
+            return None;
+        }
+        let b = &*out;
         // the two chords as (start, unit direction, length), from the blend's first point
         let corner = pa.end();
         let chord = |a: &V, b: &V| {
@@ -985,38 +999,46 @@ impl Path {
             hull2
         } else {
             match n {
-                1 => sampled_dev2::<1>(&b, &chords, limit)?,
-                2 => sampled_dev2::<2>(&b, &chords, limit)?,
-                3 => sampled_dev2::<3>(&b, &chords, limit)?,
-                _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+                1 => sampled_dev2::<1>(b, &chords, limit)?,
+                2 => sampled_dev2::<2>(b, &chords, limit)?,
+                3 => sampled_dev2::<3>(b, &chords, limit)?,
+                _ => sampled_dev2::<MAX_AXES>(b, &chords, limit)?,
             }
         };
         let dev = worst2.sqrt();
         if !with_cap {
-            return Some((b, 0.0, dev));
+            return Some((0.0, dev));
         }
-        let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
-        (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
+        let cap = self.blend_cap(b, SMOOTH_CAP_SAMPLES);
+        (cap > 0.0 && cap.is_finite()).then_some((cap, dev))
     }
 
     /// Smoothing of a junction of two lines (see [`Path::push`]): the blend from the middle of
     /// the last queued line to the middle of `rec`, and the previous smoothing blend rebuilt
-    /// with the curvature the new point gives it, where the executor is far enough away.
-    fn smooth(&self, rec: &Seg, tol: f64, need: f64) -> Option<Smooth> {
+    /// with the curvature the new point gives it, where the executor is far enough away;
+    /// the blends are built in `again` and `new`.
+    fn smooth(
+        &self,
+        rec: &Seg,
+        tol: f64,
+        need: f64,
+        again: &mut Blend,
+        new: &mut Blend,
+    ) -> Option<Smooth> {
         let n = self.lim.naxes;
         let pi = self.tail - 1;
         let prev = self.seg(pi);
         let (
-            Prog::Line {
+            &Prog::Line {
                 p0,
                 p1,
                 dir,
                 len: la,
             },
-            Prog::Line {
+            &Prog::Line {
                 p1: p2, len: lb, ..
             },
-        ) = (prev.prog, rec.prog)
+        ) = (&prev.prog, &rec.prog)
         else {
             return None;
         };
@@ -1039,7 +1061,7 @@ impl Path {
                 for k in 0..n {
                     kmid[k] -= along * dir[k];
                 }
-                let again = self.smooth_piece(
+                let rebuilt = self.smooth_piece(
                     &pp.prog,
                     &prev.prog,
                     prev.trim,
@@ -1048,15 +1070,16 @@ impl Path {
                     &kmid,
                     limit,
                     true,
+                    again,
                 );
-                if let Some(again) = again {
+                if let Some((cap, dev)) = rebuilt {
                     let z = [0.0; MAX_AXES];
-                    if let Some(new) =
-                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false)
+                    if let Some((_, new_dev)) = self
+                        .smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false, new)
                     {
                         return Some(Smooth {
-                            again: Some((again, kmid)),
-                            new,
+                            again: Some((cap, dev, kmid)),
+                            dev: new_dev,
                             kstart: kmid,
                             da,
                             db,
@@ -1066,10 +1089,11 @@ impl Path {
             }
         }
         let z = [0.0; MAX_AXES];
-        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false)?;
+        let (_, dev) =
+            self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false, new)?;
         Some(Smooth {
             again: None,
-            new,
+            dev,
             kstart: z,
             da,
             db,
@@ -1295,7 +1319,7 @@ impl Path {
         } else if motion && prev_live && tol > 0.0 && self.seg(self.tail - 1).shift {
             return Err(PathError::TimeShift);
         } else if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
-            let prev = *self.seg(self.tail - 1);
+            let prev = self.seg(self.tail - 1);
             let la = prev.prog.len();
             let fa = prev.prog.frame(la);
             let fb = rec.prog.frame(0.0);
@@ -1307,6 +1331,8 @@ impl Path {
                 k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
             }
             let turn = dot.clamp(-1.0, 1.0).acos();
+            // where a smoothing blend and the previous one rebuilt are built
+            let (mut again, mut rec_blend) = (Blend::default(), Blend::default());
             let need = {
                 let pl = &self.planner;
                 1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), self.at, self.jt)
@@ -1327,22 +1353,23 @@ impl Path {
             } else if let Some(sm) = (!prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
                 && turn <= SMOOTH_TURN)
-                .then(|| self.smooth(&rec, tol, need))
+                .then(|| self.smooth(&rec, tol, need, &mut again, &mut rec_blend))
                 .flatten()
             {
-                if let Some(((b, cap, dev), kend)) = sm.again {
+                if let Some((cap, dev, kend)) = sm.again {
                     let pi = self.tail - 1;
                     let ps = self.slot(pi);
                     let old = self.segs[ps].blend.len;
                     let sp = &mut self.segs[ps];
-                    sp.blend = b;
+                    sp.blend = again;
                     sp.jgeo = cap;
                     sp.dev = dev;
                     sp.kend = kend;
                     let x0 = sp.x0;
-                    self.end_dist += b.len - old;
+                    let new_len = sp.blend.len;
+                    self.end_dist += new_len - old;
                     let bk = &mut self.blocks[ps / BLOCK];
-                    bk.len += b.len - old;
+                    bk.len += new_len - old;
                     bk.geo = bk.geo.min(cap);
                     bk.kg = bk.kg.min(cap * cap + 2.0 * self.at * x0);
                     self.cap_due = None;
@@ -1350,8 +1377,7 @@ impl Path {
                 // The newest blend ends with curvature 0 and is rebuilt by the next push in
                 // the common case: its cap waits until the look-ahead may reach it (see
                 // `settle_cap`), so that each push computes one cap, not two.
-                let (b, _, dev) = sm.new;
-                rec.join(b, 0.0, rule, (sm.da, sm.db), dev);
+                rec.join(rec_blend, 0.0, rule, (sm.da, sm.db), sm.dev);
                 cap_due = true;
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
