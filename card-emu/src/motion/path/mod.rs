@@ -650,7 +650,9 @@ impl Path {
     /// here. Call [`reset`](Self::reset) before use.
     pub fn with_capacity(segments: usize) -> Self {
         let capacity = segments.max(1);
-        let ring = capacity.div_ceil(BLOCK) * BLOCK;
+        // a power of two (of blocks): a slot is an index masked, not divided (a division
+        // costs tens of cycles, and the executor looks its segments up several times a tick)
+        let ring = capacity.next_power_of_two().max(BLOCK);
         let lim = PathLimits {
             naxes: 1,
             ts: 1e-3,
@@ -777,10 +779,10 @@ impl Path {
     }
 
     fn slot(&self, i: usize) -> usize {
-        i % self.segs.len()
+        i & (self.segs.len() - 1)
     }
     fn seg(&self, i: usize) -> &Seg {
-        &self.segs[i % self.segs.len()]
+        &self.segs[self.slot(i)]
     }
 
     /// Segments queued (not ended yet).
