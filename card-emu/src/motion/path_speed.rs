@@ -2,6 +2,17 @@
 //! acceleration continuous, |jerk| ≤ J), integrated exactly over each tick, that plans its
 //! stop to come to rest exactly at the remaining distance (re-solved every tick).
 //!
+//! A look-ahead that needs this tick's ramp step to choose its target keeps it
+//! ([`PathSpeedPlanner::track`]) and hands it back ([`PathSpeedPlanner::next_tracked`]), so
+//! the step is computed once. Far from the stop point the check that no stop is due yet is
+//! made with a closed-form upper bound of the stopping distance
+//! ([`PathSpeedPlanner::stopping_distance_bound`]: the stop from a = 0 at the speed where the
+//! acceleration would be 0, and the ramp down to it) before the exact one. The slowing
+//! distance to a lower speed has a closed form too where the ramp is the common descent
+//! through the state (`slowing_estimate`: the descent from the speed at a = 0, plus or minus
+//! the part between; it grows with that speed at V/(2D) at least, which a look-ahead uses to
+//! keep a test's result for later ticks).
+//!
 //! [`PathSpeedPlanner::next`] allocates nothing and never panics.
 
 use super::interp_error::InterpError;

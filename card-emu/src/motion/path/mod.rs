@@ -31,15 +31,33 @@
 //! blend's speed cap is computed only when that rebuild does not happen, or when the
 //! look-ahead window reaches it first, so that a push computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
-//! chord, which is what made dense paths slow. A smoothing blend whose sampled deviation from
-//! the two lines is over the tolerance (×0.97) falls back to the corner blend below.
+//! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
+//! lines is over the tolerance (×0.97) falls back to the corner blend below; the deviation is
+//! first bounded by the blend's control points (cut in two by de Casteljau, each half within
+//! the hull of its points, the distance to a chord convex), and sampled only when that bound
+//! is over (never on the dense benchmark's curve).
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
 //! reach are scanned; blocks of [`BLOCK`] segments whose minimum cap is not below the speed
 //! are skipped, as `nurbs_interp`'s look-ahead does), and its remaining distance is the
 //! distance to the next exact stop, or to the end of what is queued within the look-ahead
-//! window. So the path can always stop within what is queued.
+//! window. So the path can always stop within what is queued. A walk that finds nothing to
+//! slow for serves the ticks after it (`exec::Seen`): it keeps the smallest cap it passed for
+//! being above the speed, the smallest envelope key c² + 2·D·d it passed for clearing the
+//! envelope, the least room between a piece it tested and that piece's slowing distance (in
+//! closed form), and how far it went; while the tick's speed bound is not above that cap, the
+//! keys still clear from where the executor has got to, the room covers what the slowing
+//! distances can have grown (the state on the same descent, its speed at a = 0 no higher),
+//! and the reach ends before where the walk ended, the walk would find nothing again, and is
+//! skipped (the same motion to the last bit: `tests_lookahead`). A push or a late cap that
+//! changes a segment the walk saw drops it. Segments know where they start along the whole
+//! path (`Seg::start`), so the executor's progress since a walk, and its distance to a
+//! segment's end, are differences, not sums.
+//!
+//! **Tick.** [`Path::tick`] is `tick_plan` (dwells, the look-ahead, the speed planner: this
+//! tick's step) then `tick_move` (the step taken along the pieces, segment events and outputs,
+//! the position interpolated); the cost benchmark (`benches/path.rs`) times the two apart.
 //!
 //! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
 //! [`Path::with_capacity`] allocates everything once.
