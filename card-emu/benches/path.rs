@@ -1,122 +1,264 @@
-//! Cost of the continuous-path engine (`motion::path`) on a dense free-form curve: 10,000
-//! chords of ~0.1 mm (1 count = 1 µm) along y = 3000·sin(x/5000) + 1000·sin(x/2000) (radius
-//! of curvature ≥ 2.7 mm, so the chord error of a 0.1 mm chord is < 1 µm), blended within
-//! 1 µm, at 10 kHz.
+//! What the continuous-path engine (`motion::path`) costs the card per segment on the dense
+//! micro-segment benchmark of issue 14 (`common/dense.rs`: 10,000 chords of ~0.083 mm along
+//! a hypotrochoid, tolerance 1 µm, 10 kHz, the card's path buffer of `PATH_LEN` segments and
+//! its default look-ahead of 256), run the way the card runs it: the buffer filled, then
+//! refilled every 64 ticks as it frees room (what `path_run -- dense` does through the SDK),
+//! the engine ticked until the path is at rest.
 //!
-//! `cargo bench -p card-emu --bench path`
+//! `cargo bench -p card-emu --bench path [-- --runs N]`
 //!
-//! `push`: one segment (validation, the blend with the previous one, its arc-length table and
-//! speed cap), per segment, averaged over the 10,000. `tick`: one servo tick (look-ahead scan,
-//! planner, executor), averaged over the whole run of the curve.
+//! Three parts, each summed over the run and divided by the 10,000 segments:
+//! - push: `Path::push` (validation, the smoothing blend, the previous one rebuilt, caps,
+//!   deviation): the blending;
+//! - plan: `Path::tick_plan` (the look-ahead over the window, the speed planner, a blend cap
+//!   left for the tick): the look-ahead;
+//! - move: `Path::tick_move` (advance along the pieces, segment events, the position
+//!   interpolated at the servo rate): a per-tick cost of any path, not look-ahead or blending.
+//!
+//! Each part is timed by reading the clock around every call, less the clock's own cost
+//! (measured before each run); `N` runs (default 7), the median and the range printed. A
+//! coarse run (one clock read per refill and per 64 ticks) checks the sum. `--once` runs the
+//! engine once with no clock reads: for callgrind (`card-emu/benches/path_callgrind.sh`).
+#[path = "common/dense.rs"]
+mod dense;
+
 use card_emu::motion::path::{
     BlendSpeed, Geom, Path, PathLimits, Segment, Transition, DEFAULT_LOOKAHEAD, MAX_AXES,
 };
-use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use std::time::{Duration, Instant};
-
-const N: usize = 10_000;
-
-fn curve() -> Vec<[f64; MAX_AXES]> {
-    let mut v = Vec::with_capacity(N + 1);
-    let mut x = 0.0f64;
-    for _ in 0..=N {
-        let y = 3000.0 * (x / 5000.0).sin() + 1000.0 * (x / 2000.0).sin();
-        let dy = 0.6 * (x / 5000.0).cos() + 0.5 * (x / 2000.0).cos();
-        let mut p = [0.0; MAX_AXES];
-        p[0] = x;
-        p[1] = y;
-        v.push(p);
-        x += 100.0 / (1.0 + dy * dy).sqrt();
-    }
-    v
-}
+use dense::{CHORDS, TOL};
+use firmware_proto::PATH_LEN;
+use std::hint::black_box;
+use std::time::Instant;
 
 fn limits() -> PathLimits {
-    let mut l = PathLimits {
+    PathLimits {
         naxes: 2,
-        ts: 1e-4,
-        vmax: [2e5; MAX_AXES],
-        amax: [2e7; MAX_AXES],
-        jmax: [2e9; MAX_AXES],
+        ts: dense::TS,
+        vmax: [dense::V; MAX_AXES],
+        amax: [dense::A; MAX_AXES],
+        jmax: [dense::J; MAX_AXES],
         accel: 0.0,
         jerk: 0.0,
+    }
+}
+
+fn segments(pts: &[[f64; 2]]) -> Vec<Segment> {
+    (1..pts.len())
+        .map(|i| {
+            let mut end = [0.0; MAX_AXES];
+            end[..2].copy_from_slice(&pts[i]);
+            Segment {
+                id: i as u32,
+                geom: Geom::Line { end },
+                feed: dense::V,
+                transition: Transition::MaxDeviation(TOL),
+                blend: BlendSpeed::Low,
+                last: i + 1 == pts.len(),
+            }
+        })
+        .collect()
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Clock {
+    /// Around every push batch and every half tick.
+    Fine,
+    /// Around every push batch and every 64 ticks.
+    Coarse,
+    /// Never (for callgrind).
+    Off,
+}
+
+/// Totals of one run, ns.
+#[derive(Debug, Clone, Copy, Default)]
+struct Costs {
+    ticks: usize,
+    push: f64,
+    plan: f64,
+    mov: f64,
+    /// Coarse runs: the ticks as a whole.
+    tick: f64,
+}
+
+/// The clock's own cost per interval read (two `Instant::now` back to back), ns.
+fn clock_cost() -> f64 {
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let n = 200_000;
+        let t = Instant::now();
+        let mut sum = 0u128;
+        for _ in 0..n {
+            let a = Instant::now();
+            let b = Instant::now();
+            sum += (b - a).as_nanos();
+        }
+        black_box(t);
+        best = best.min(sum as f64 / n as f64);
+    }
+    best
+}
+
+fn run(
+    p: &mut Path,
+    start: [f64; 2],
+    segs: &[Segment],
+    clock: Clock,
+    pos: &mut Vec<[f64; 2]>,
+) -> Costs {
+    let mut s0 = [0.0; MAX_AXES];
+    s0[..2].copy_from_slice(&start);
+    p.reset(s0, limits(), DEFAULT_LOOKAHEAD).unwrap();
+    pos.clear();
+    pos.push(start);
+    let oh = if clock == Clock::Off {
+        0.0
+    } else {
+        clock_cost()
     };
-    l.vmax[1] = 1e5;
-    l.amax[1] = 1e7;
-    l.jmax[1] = 1e9;
-    l
+    let mut c = Costs::default();
+    let mut next = 0;
+    let refill = |p: &mut Path, c: &mut Costs, next: &mut usize| {
+        let t = (clock != Clock::Off).then(Instant::now);
+        while *next < segs.len() && p.free() > 0 {
+            p.push(segs[*next]).unwrap();
+            *next += 1;
+        }
+        if let Some(t) = t {
+            c.push += t.elapsed().as_nanos() as f64 - oh;
+        }
+    };
+    refill(p, &mut c, &mut next);
+    let mut ev = |_| {};
+    let mut block = Instant::now();
+    loop {
+        let q = match clock {
+            Clock::Fine => {
+                let t0 = Instant::now();
+                let plan = p.tick_plan(1.0, &mut ev);
+                let t1 = Instant::now();
+                let q = p.tick_move(plan, &mut ev);
+                let t2 = Instant::now();
+                c.plan += (t1 - t0).as_nanos() as f64 - oh;
+                c.mov += (t2 - t1).as_nanos() as f64 - oh;
+                q
+            }
+            _ => p.tick(1.0, &mut ev),
+        };
+        c.ticks += 1;
+        pos.push([q[0], q[1]]);
+        if c.ticks.is_multiple_of(64) {
+            if clock == Clock::Coarse {
+                c.tick += block.elapsed().as_nanos() as f64 - oh;
+            }
+            refill(p, &mut c, &mut next);
+            block = Instant::now();
+        }
+        if next == segs.len() && p.queued() == 0 && !p.is_moving() {
+            break;
+        }
+        assert!(c.ticks < 10_000_000, "no end");
+    }
+    if clock == Clock::Coarse {
+        c.tick += block.elapsed().as_nanos() as f64 - oh;
+    }
+    c
 }
 
-fn load(p: &mut Path, pts: &[[f64; MAX_AXES]]) {
-    p.reset(pts[0], limits(), DEFAULT_LOOKAHEAD).unwrap();
-    for (i, q) in pts[1..].iter().enumerate() {
-        p.push(Segment {
-            id: i as u32,
-            geom: Geom::Line { end: *q },
-            feed: 2e5,
-            transition: Transition::MaxDeviation(1.0),
-            blend: BlendSpeed::Low,
-            last: i + 2 == pts.len(),
-        })
-        .unwrap();
-    }
+/// Median and range.
+fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
+    xs.sort_by(f64::total_cmp);
+    (xs[xs.len() / 2], xs[0], xs[xs.len() - 1])
 }
 
-fn bench(c: &mut Criterion) {
-    let pts = curve();
-    let mut p = Path::with_capacity(N);
-    // one plain run first: ticks and path time
-    load(&mut p, &pts);
-    let t0 = Instant::now();
-    let mut ticks = 0u64;
-    while p.queued() > 0 || p.is_moving() {
-        black_box(p.tick(1.0, &mut |_| {}));
-        ticks += 1;
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let once = args.iter().any(|a| a == "--once");
+    if !once && !args.iter().any(|a| a == "--bench") {
+        println!("path: skipped (run with `cargo bench`)");
+        return;
     }
-    let el = t0.elapsed();
-    let t1 = Instant::now();
-    load(&mut p, &pts);
-    let el_push = t1.elapsed();
+    let runs: usize = args
+        .iter()
+        .position(|a| a == "--runs")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|x| x.parse().ok())
+        .unwrap_or(7)
+        .max(1);
+    let (pts, _) = dense::dense_points(CHORDS);
+    let segs = segments(&pts);
+    let mut p = Path::with_capacity(PATH_LEN);
+    let mut pos = Vec::with_capacity(200_000);
+    if once {
+        let c = run(&mut p, pts[0], &segs, Clock::Off, &mut pos);
+        // FNV-1a of every position's bits: equal sums, the same motion to the last bit
+        let sum = pos.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
+            (h ^ x.to_bits()).wrapping_mul(0x100_0000_01b3)
+        });
+        println!(
+            "path --once: {CHORDS} segments, {} ticks, positions {sum:016x}",
+            c.ticks
+        );
+        return;
+    }
+    let lim = [[dense::V, dense::A, dense::J]; 2];
+    let bound = dense::bound_time(dense::V);
+    let mut fine = Vec::new();
+    for _ in 0..runs {
+        fine.push(run(&mut p, pts[0], &segs, Clock::Fine, &mut pos));
+    }
+    let q = dense::quality(&pos, &pts, lim);
+    let mut coarse = Vec::new();
+    for _ in 0..runs.min(3) {
+        coarse.push(run(&mut p, pts[0], &segs, Clock::Coarse, &mut pos));
+    }
+    let ticks = fine[0].ticks;
+    let n = CHORDS as f64;
+    let row = |name: &str, f: &dyn Fn(&Costs) -> f64, cs: &[Costs]| {
+        let (m, lo, hi) = stats(cs.iter().map(f).collect());
+        println!("| {name:<58} | {m:>7.3} | {lo:>7.3} – {hi:<7.3} |");
+    };
     println!(
-        "path: {N} segments, {ticks} ticks at 10 kHz = {:.3} s of motion; push {:.0} ns/segment, tick {:.0} ns",
-        ticks as f64 * 1e-4,
-        el_push.as_nanos() as f64 / N as f64,
-        el.as_nanos() as f64 / ticks as f64
+        "\npath engine, dense benchmark: {CHORDS} chords, {ticks} ticks ({:.2} per segment), {runs} runs",
+        ticks as f64 / n
     );
-    let mut g = c.benchmark_group("path 10k dense chords");
-    g.sample_size(10);
-    g.bench_function("push (per 10,000 segments)", |b| {
-        b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            for _ in 0..iters {
-                let t = Instant::now();
-                load(&mut p, &pts);
-                total += t.elapsed();
-            }
-            total
-        })
-    });
-    g.bench_function("tick (per 1,000 ticks)", |b| {
-        let mut left = 0u64;
-        b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            for _ in 0..iters {
-                if left < 1000 {
-                    load(&mut p, &pts);
-                    left = ticks;
-                }
-                let t = Instant::now();
-                for _ in 0..1000 {
-                    black_box(p.tick(1.0, &mut |_| {}));
-                }
-                total += t.elapsed();
-                left -= 1000;
-            }
-            total
-        })
-    });
-    g.finish();
+    println!("| µs per segment (per tick where said)                       |  median | range             |");
+    println!("|------------------------------------------------------------|---------|-------------------|");
+    row("push: blending", &|c| c.push / n / 1e3, &fine);
+    row(
+        "plan: look-ahead and speed planner",
+        &|c| c.plan / n / 1e3,
+        &fine,
+    );
+    row(
+        "look-ahead and blending (push + plan)",
+        &|c| (c.push + c.plan) / n / 1e3,
+        &fine,
+    );
+    row(
+        "move: interpolation at the servo rate",
+        &|c| c.mov / n / 1e3,
+        &fine,
+    );
+    row(
+        "total (push + plan + move)",
+        &|c| (c.push + c.plan + c.mov) / n / 1e3,
+        &fine,
+    );
+    row("plan, per tick", &|c| c.plan / c.ticks as f64 / 1e3, &fine);
+    row("move, per tick", &|c| c.mov / c.ticks as f64 / 1e3, &fine);
+    row("coarse clock: push", &|c| c.push / n / 1e3, &coarse);
+    row(
+        "coarse clock: ticks (plan + move)",
+        &|c| c.tick / n / 1e3,
+        &coarse,
+    );
+    row(
+        "coarse clock: total",
+        &|c| (c.push + c.tick) / n / 1e3,
+        &coarse,
+    );
+    println!(
+        "path time {:.4} s / offline bound {:.4} s = {:.4}; peak v, a, j over the limits {:.4}, {:.4}, {:.4}; worst distance from the chords {:.4} µm (tolerance {TOL} µm)",
+        q.time, bound, q.time / bound, q.peaks[0], q.peaks[1], q.peaks[2], q.deviation
+    );
 }
-
-criterion_group!(benches, bench);
-criterion_main!(benches);

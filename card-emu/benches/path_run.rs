@@ -8,22 +8,24 @@
 //!   time against the offline bound (the time at the largest feed its curvature and the axis
 //!   limits allow, accelerating within the axes' acceleration), peak axis velocity,
 //!   acceleration and jerk over their limits (finite differences of the commanded positions per
-//!   tick), the worst distance from the chords, and the card's time per segment;
+//!   tick), the worst distance from the chords, and the card's time per segment: the card's
+//!   steps less those of an idle card stepped beside it, and the calls that hand it the
+//!   segments (see `benches/path.rs` for the engine's own parts, without the SDK);
 //! - streaming: a `card-emu` process at 10 kHz (real time), 100,000 segments of 10 counts at
 //!   150,000 counts/s along a circle streamed from this process (look-ahead 2048): segments
 //!   per second and starvation events.
 //!
-//! `cargo bench -p card-emu --bench path_run [-- corners|dense|streaming]`
+//! `cargo bench -p card-emu --bench path_run [-- corners|dense|streaming] [--runs N]` (`--runs`:
+//! the dense part's runs, default 3; its cost figures are the median)
 use motioncard_sdk::{
     Card, EventKind, Group, GroupSettings, GroupState, PathSettings, Segment, Sim, SimOptions,
 };
+#[path = "common/dense.rs"]
+mod dense;
+
+use dense::{A, J, V};
 use std::process::{Command as Process, Stdio};
 use std::time::{Duration, Instant};
-
-const TS: f64 = 1e-4;
-const V: f64 = 1e5;
-const A: f64 = 1e6;
-const J: f64 = 1e8;
 
 fn group(card: &Card, lim: &PathSettings) -> Group {
     for a in 0..2 {
@@ -41,36 +43,47 @@ fn cmd(card: &Card) -> [f64; 2] {
     [p(0), p(1)]
 }
 
-fn dist_seg(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let l2 = d[0] * d[0] + d[1] * d[1];
-    let t = if l2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
-}
-
 /// What a run on the stepped card measured.
 #[derive(Clone, Copy)]
 struct Measured {
     time: f64,
     peaks: [f64; 3],
     deviation: f64,
+    /// Time in `sim.step` of the run's card, and of an idle card stepped beside it (the
+    /// same steps, interleaved, when asked for), s.
     step_secs: f64,
-    ticks: usize,
+    idle_secs: f64,
+    /// Time in the calls that hand the segments to the card (the SDK's encoding and ring,
+    /// the doorbell, the card's checks and `Path::push`), s.
+    feed_secs: f64,
 }
 
-/// Stream `pts` (from the first, where the group is) as blended lines at `feed` with `tol`,
-/// feeding the card's buffer as it frees room, stepping and recording every tick.
-fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Measured {
+fn stepped_card(lim: &PathSettings) -> (Card, Group) {
     let card = Card::open_sim(SimOptions {
         clock: motioncard_sdk::Clock::Stepped,
         emu: Default::default(),
     })
     .unwrap();
     let g = group(&card, lim);
+    (card, g)
+}
+
+/// Stream `pts` (from the first, where the group is) as blended lines at `feed` with `tol`,
+/// feeding the card's buffer as it frees room, stepping and recording every tick. With
+/// `paired`, a second card, idle with the same configuration, is stepped 64 times after every
+/// 64 steps of the first and timed the same way (only `sim.step` under the clock), so that
+/// the difference is what the path costs under the same load (blocks, not single steps, so
+/// that the two cards do not evict each other's caches on every step).
+fn run_polyline(
+    pts: &[[f64; 2]],
+    feed: f64,
+    tol: f64,
+    lim: &PathSettings,
+    paired: bool,
+) -> Measured {
+    let (card, g) = stepped_card(lim);
+    let idle = paired.then(|| stepped_card(lim));
+    let idle_sim: Option<Sim> = idle.as_ref().map(|(c, _)| c.sim().unwrap());
     let sim: Sim = card.sim().unwrap();
     let segs: Vec<Segment> = (1..pts.len())
         .map(|i| {
@@ -83,7 +96,9 @@ fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Me
         })
         .collect();
     let mut next = 0;
-    let feed_card = |g: &Group, next: &mut usize| {
+    let mut feed_secs = 0.0;
+    let mut feed_card = |g: &Group, next: &mut usize| {
+        let t = Instant::now();
         let room = g.path_free().unwrap();
         if room > 0 && *next < segs.len() {
             let end = (*next + room).min(segs.len());
@@ -91,10 +106,11 @@ fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Me
                 .unwrap();
             *next = end;
         }
+        feed_secs += t.elapsed().as_secs_f64();
     };
     feed_card(&g, &mut next);
     let mut pos = vec![cmd(&card)];
-    let mut step_secs = 0.0;
+    let (mut step_secs, mut idle_secs) = (0.0, 0.0);
     let mut starved = 0;
     loop {
         let t = Instant::now();
@@ -102,6 +118,13 @@ fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Me
         step_secs += t.elapsed().as_secs_f64();
         pos.push(cmd(&card));
         if pos.len().is_multiple_of(64) {
+            if let Some(s) = &idle_sim {
+                for _ in 0..64 {
+                    let t = Instant::now();
+                    s.step(1);
+                    idle_secs += t.elapsed().as_secs_f64();
+                }
+            }
             feed_card(&g, &mut next);
         }
         while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
@@ -113,45 +136,15 @@ fn run_polyline(pts: &[[f64; 2]], feed: f64, tol: f64, lim: &PathSettings) -> Me
         assert!(pos.len() < 20_000_000, "no end");
     }
     assert_eq!(starved, 0, "the stepped run starved");
-    let first = pos.iter().position(|p| *p != pos[0]).unwrap_or(0);
-    let last = pos
-        .iter()
-        .rposition(|p| *p != pos[pos.len() - 1])
-        .unwrap_or(0);
-    let mut peaks = [0.0f64; 3];
-    for a in 0..2 {
-        for w in pos.windows(4) {
-            let v = (w[3][a] - w[2][a]) / TS;
-            let acc = (w[3][a] - 2.0 * w[2][a] + w[1][a]) / (TS * TS);
-            let j = (w[3][a] - 3.0 * w[2][a] + 3.0 * w[1][a] - w[0][a]) / (TS * TS * TS);
-            peaks[0] = peaks[0].max(v.abs() / lim.vmax[a]);
-            peaks[1] = peaks[1].max(acc.abs() / lim.amax[a]);
-            peaks[2] = peaks[2].max(j.abs() / lim.jmax[a]);
-        }
-    }
-    // Distance to the chords, walking a window forward with the motion.
-    let mut k = 0usize;
-    let mut deviation: f64 = 0.0;
-    for p in &pos {
-        let lo = k.saturating_sub(4);
-        let hi = (k + 64).min(pts.len() - 1);
-        let (mut best, mut bi) = (f64::INFINITY, k);
-        for i in lo..hi {
-            let d = dist_seg(*p, pts[i], pts[i + 1]);
-            if d < best {
-                best = d;
-                bi = i;
-            }
-        }
-        k = bi;
-        deviation = deviation.max(best);
-    }
+    let l = |a: usize| [lim.vmax[a], lim.amax[a], lim.jmax[a]];
+    let q = dense::quality(&pos, pts, [l(0), l(1)]);
     Measured {
-        time: (last + 1 - first) as f64 * TS,
-        peaks,
-        deviation,
+        time: q.time,
+        peaks: q.peaks,
+        deviation: q.deviation,
         step_secs,
-        ticks: pos.len(),
+        idle_secs,
+        feed_secs,
     }
 }
 
@@ -165,12 +158,12 @@ fn corners() {
         .map(|k| [k as f64 * 20_000.0, if k % 2 == 1 { 5_000.0 } else { 0.0 }])
         .collect();
     for (name, pts) in [("square 50 mm", square), ("zig-zag 10 × 20 mm", zigzag)] {
-        let exact = run_polyline(&pts, V, 0.0, &lim);
+        let exact = run_polyline(&pts, V, 0.0, &lim, false);
         for tol in [0.0, 10.0, 100.0] {
             let m = if tol == 0.0 {
                 exact
             } else {
-                run_polyline(&pts, V, tol, &lim)
+                run_polyline(&pts, V, tol, &lim, false)
             };
             println!(
                 "| {:<28} | {:>6} µm | {:>11.4} | {:>12.1}% | {:>16.3} | {:>11.4} | {:>11.4} |",
@@ -186,153 +179,25 @@ fn corners() {
     }
 }
 
-/// The hypotrochoid z(t) = a·e^{it} + b·e^{ikt} (counts), its minimum radius of curvature
-/// (b·k − a)² / (b·k² − a) = 1250 counts = 1.25 mm.
-const CA: f64 = 86_000.0;
-const CK: f64 = 7.0;
-const CB: f64 = 116_100.0 / 7.0;
-
-fn curve(t: f64) -> [f64; 2] {
-    [
-        CA * t.cos() + CB * (CK * t).cos(),
-        CA * t.sin() + CB * (CK * t).sin(),
-    ]
+/// Median and range.
+fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
+    xs.sort_by(f64::total_cmp);
+    (xs[xs.len() / 2], xs[0], xs[xs.len() - 1])
 }
 
-/// 10,000 chords of equal parameter-arc length along one turn, starting at the origin (the
-/// group's position: the curve is shifted).
-fn dense_points(n: usize) -> (Vec<[f64; 2]>, f64) {
-    // Arc length table on a fine parameter grid, then equal-length stations.
-    let m = 2_000_000;
-    let mut s = vec![0.0; m + 1];
-    let dt = std::f64::consts::TAU / m as f64;
-    let mut prev = curve(0.0);
-    for i in 1..=m {
-        let p = curve(i as f64 * dt);
-        s[i] = s[i - 1] + (p[0] - prev[0]).hypot(p[1] - prev[1]);
-        prev = p;
-    }
-    let total = s[m];
-    let o = curve(0.0);
-    let mut pts = Vec::with_capacity(n + 1);
-    let mut j = 0;
-    for k in 0..=n {
-        let target = total * k as f64 / n as f64;
-        while j < m && s[j + 1] < target {
-            j += 1;
-        }
-        let f = if j < m {
-            (target - s[j]) / (s[j + 1] - s[j])
-        } else {
-            0.0
-        };
-        let p = curve((j as f64 + f) * dt);
-        pts.push([p[0] - o[0], p[1] - o[1]]);
-    }
-    // The largest chord error (sampled between the stations).
-    let mut chord_err: f64 = 0.0;
-    for k in 0..n {
-        let t0 = total * k as f64 / n as f64;
-        let mid = t0 + 0.5 * total / n as f64;
-        let jm = s.partition_point(|x| *x < mid).min(m);
-        let p = curve(jm as f64 * dt);
-        chord_err = chord_err.max(dist_seg([p[0] - o[0], p[1] - o[1]], pts[k], pts[k + 1]));
-    }
-    (pts, chord_err)
-}
-
-/// The offline bound: the time along the exact curve at the largest speed its curvature and
-/// each axis's velocity, acceleration and jerk allow (normal terms at constant speed), with a
-/// tangential acceleration within the smallest axis acceleration (forward and backward
-/// passes), from rest to rest. A lower bound on any jerk-limited run.
-fn bound_time(feed: f64) -> f64 {
-    let m = 400_000;
-    let dt = std::f64::consts::TAU / m as f64;
-    // unit tangent T, curvature vector κN = (z'' − (z''·T)T)/|z'|² and |z'| at parameter t
-    let frame = |t: f64| {
-        let d1 = [
-            -CA * t.sin() - CB * CK * (CK * t).sin(),
-            CA * t.cos() + CB * CK * (CK * t).cos(),
-        ];
-        let d2 = [
-            -CA * t.cos() - CB * CK * CK * (CK * t).cos(),
-            -CA * t.sin() - CB * CK * CK * (CK * t).sin(),
-        ];
-        let sp = d1[0].hypot(d1[1]);
-        let tan = [d1[0] / sp, d1[1] / sp];
-        let dt2 = d2[0] * tan[0] + d2[1] * tan[1];
-        let kn = [
-            (d2[0] - dt2 * tan[0]) / (sp * sp),
-            (d2[1] - dt2 * tan[1]) / (sp * sp),
-        ];
-        (tan, kn, sp)
-    };
-    let mut ds = vec![0.0; m];
-    let mut cap = vec![0.0; m + 1];
-    for i in 0..=m {
-        let t = i as f64 * dt;
-        let (tan, kn, sp) = frame(t);
-        let mut c = feed;
-        for a in 0..2 {
-            if tan[a].abs() > 0.0 {
-                c = c.min(V / tan[a].abs());
-            }
-            if kn[a].abs() > 0.0 {
-                c = c.min((A / kn[a].abs()).sqrt());
-            }
-        }
-        if i < m {
-            // jerk at constant speed: v³·|d(κN)/ds|, by differences of κN along s
-            let (_, k1, _) = frame(t + dt);
-            for a in 0..2 {
-                let dk = ((k1[a] - kn[a]) / (sp * dt)).abs();
-                if dk > 0.0 {
-                    c = c.min((J / dk).cbrt());
-                }
-            }
-            ds[i] = sp * dt;
-        }
-        cap[i] = c;
-    }
-    cap[0] = 0.0;
-    cap[m] = 0.0;
-    for i in 0..m {
-        cap[i + 1] = cap[i + 1].min((cap[i] * cap[i] + 2.0 * A * ds[i]).sqrt());
-    }
-    for i in (0..m).rev() {
-        cap[i] = cap[i].min((cap[i + 1] * cap[i + 1] + 2.0 * A * ds[i]).sqrt());
-    }
-    (0..m)
-        .map(|i| 2.0 * ds[i] / (cap[i] + cap[i + 1]).max(1e-9))
-        .sum()
-}
-
-fn dense() {
+fn dense(runs: usize) {
     let lim = PathSettings::uniform(2, V, A, J);
-    let (pts, chord_err) = dense_points(10_000);
+    let (pts, chord_err) = dense::dense_points(dense::CHORDS);
     let len: f64 = pts
         .windows(2)
         .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
         .sum();
-    let bound = bound_time(V);
-    // Baseline: the same card stepping at rest.
-    let idle = {
-        let card = Card::open_sim(SimOptions {
-            clock: motioncard_sdk::Clock::Stepped,
-            emu: Default::default(),
-        })
-        .unwrap();
-        let _g = group(&card, &lim);
-        let sim = card.sim().unwrap();
-        let t = Instant::now();
-        for _ in 0..20_000 {
-            sim.step(1);
-            let _ = cmd(&card);
-        }
-        t.elapsed().as_secs_f64() / 20_000.0
-    };
-    let m = run_polyline(&pts, V, 1.0, &lim);
-    let per_seg = (m.step_secs - idle * m.ticks as f64) / 10_000.0;
+    let bound = dense::bound_time(V);
+    let ms: Vec<Measured> = (0..runs)
+        .map(|_| run_polyline(&pts, V, dense::TOL, &lim, true))
+        .collect();
+    let m = ms[0];
+    let n = dense::CHORDS as f64;
     println!("\n| dense curve: 10,000 chords      | value |");
     println!("|---------------------------------|-------|");
     println!(
@@ -341,7 +206,7 @@ fn dense() {
         chord_err
     );
     println!(
-        "| path time / offline bound       | {:.4} s / {:.4} s = {:.3} |",
+        "| path time / offline bound       | {:.4} s / {:.4} s = {:.4} |",
         m.time,
         bound,
         m.time / bound
@@ -354,10 +219,25 @@ fn dense() {
         "| max deviation from the chords   | {:.4} µm (tolerance 1 µm) |",
         m.deviation
     );
-    println!(
-        "| card time per segment (in-process, stepped, minus idle ticks) | {:.2} µs |",
-        per_seg * 1e6
-    );
+    let row = |name: &str, f: &dyn Fn(&Measured) -> f64| {
+        let (md, lo, hi) = stats(ms.iter().map(f).collect());
+        println!("| {name} | {md:.2} µs ({lo:.2} – {hi:.2}) |");
+    };
+    println!("\nµs per segment, median (range) of {runs} runs of the in-process stepped card:");
+    println!("| what | per segment |");
+    println!("|------|-------------|");
+    row("card steps, minus the same steps of an idle card stepped beside it (look-ahead, planner, interpolation, the group's path step)", &|m| {
+        (m.step_secs - m.idle_secs) / n * 1e6
+    });
+    row("the calls that hand the segments over (SDK encoding and ring, doorbell, the card's checks, `Path::push`)", &|m| {
+        m.feed_secs / n * 1e6
+    });
+    row("sum", &|m| {
+        (m.step_secs - m.idle_secs + m.feed_secs) / n * 1e6
+    });
+    row("idle card's steps (not in the above)", &|m| {
+        m.idle_secs / n * 1e6
+    });
 }
 
 fn open(uri: &str) -> Card {
@@ -446,14 +326,20 @@ fn main() {
     // streaming)
     let only: Vec<String> = std::env::args()
         .skip(1)
-        .filter(|a| !a.starts_with("--"))
+        .filter(|a| !a.starts_with("--") && a.parse::<usize>().is_err())
         .collect();
     let part = |name: &str| only.is_empty() || only.iter().any(|a| a == name);
     if part("corners") {
         corners();
     }
     if part("dense") {
-        dense();
+        let runs = std::env::args()
+            .skip_while(|a| a != "--runs")
+            .nth(1)
+            .and_then(|x| x.parse().ok())
+            .unwrap_or(3usize)
+            .max(1);
+        dense(runs);
     }
     if part("streaming") {
         streaming();

@@ -2,6 +2,17 @@
 //! acceleration continuous, |jerk| ≤ J), integrated exactly over each tick, that plans its
 //! stop to come to rest exactly at the remaining distance (re-solved every tick).
 //!
+//! A look-ahead that needs this tick's ramp step to choose its target keeps it
+//! ([`PathSpeedPlanner::track`]) and hands it back ([`PathSpeedPlanner::next_tracked`]), so
+//! the step is computed once. Far from the stop point the check that no stop is due yet is
+//! made with a closed-form upper bound of the stopping distance
+//! ([`PathSpeedPlanner::stopping_distance_bound`]: the stop from a = 0 at the speed where the
+//! acceleration would be 0, and the ramp down to it) before the exact one. The slowing
+//! distance to a lower speed has a closed form too where the ramp is the common descent
+//! through the state (`slowing_estimate`: the descent from the speed at a = 0, plus or minus
+//! the part between; it grows with that speed at V/(2D) at least, which a look-ahead uses to
+//! keep a test's result for later ticks).
+//!
 //! [`PathSpeedPlanner::next`] allocates nothing and never panics.
 
 use super::interp_error::InterpError;
@@ -68,6 +79,25 @@ impl Phases {
             a += j * t;
         }
         d
+    }
+}
+
+/// One tick of the ramp toward a target from a planner's state ([`PathSpeedPlanner::track`]):
+/// the distance, speed and acceleration at the end of the tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Track {
+    tgt: f64,
+    /// The state it was computed from (v, a).
+    from: (f64, f64),
+    ds: f64,
+    v: f64,
+    a: f64,
+}
+
+impl Track {
+    /// (distance, speed, acceleration) at the end of the tick.
+    pub fn step(&self) -> (f64, f64, f64) {
+        (self.ds, self.v, self.a)
     }
 }
 
@@ -293,9 +323,132 @@ impl PathSpeedPlanner {
         }
     }
 
+    /// The distance of `track_phases(v, a, tgt)`, in closed form (the same phases, each
+    /// counted only when `Phases::push` would keep it: a positive, finite duration).
+    fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
+        let j = self.jmax;
+        let a = a.clamp(-self.dmax, self.amax);
+        let flat = v + a * a.abs() / (2.0 * j);
+        // (jerk, duration) of the three phases: toward the peak, hold, back to a = 0
+        let (p1, p2, p3) = if tgt >= flat {
+            let dv = tgt - v;
+            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if ap > self.amax {
+                ap = self.amax;
+                th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
+            }
+            let ap = ap.max(a);
+            ((j, (ap - a) / j), th, (-j, ap / j))
+        } else {
+            let dv = v - tgt;
+            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut th = 0.0;
+            if dp > self.dmax {
+                dp = self.dmax;
+                th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
+            }
+            let dp = dp.max(-a);
+            ((-j, (a + dp) / j), th, (j, dp / j))
+        };
+        let keep = |t: f64| t > 0.0 && t.is_finite();
+        let (mut d, mut v, mut a) = (0.0, v, a);
+        for (jk, t) in [p1, (0.0, p2), p3] {
+            if keep(t) {
+                d += t * (v + t * (0.5 * a + t * jk / 6.0));
+                v += t * (a + 0.5 * jk * t);
+                a += jk * t;
+            }
+        }
+        d
+    }
+
+    /// An upper bound of [`stopping_distance`](Self::stopping_distance)`(v, a, d, j)` (and of
+    /// the clean stop's) that costs no root and no trial stop (∞ where it does not hold): the stop from (v, a) is the tail of the stop
+    /// from the speed v_p = v + a²/(2j) at a = 0 (a ≤ 0, within its peak) or that stop after
+    /// bringing a ≥ 0 down to 0 at speed ≤ v_p (time a/j); from (v_p, 0) the stop is
+    /// v_p²/(2d) + v_p·d/(2j) when it reaches d (v_p ≥ d²/j), else v_p·√(v_p/j).
+    pub fn stopping_distance_bound(v: f64, a: f64, d: f64, j: f64) -> f64 {
+        let v = v.max(0.0);
+        let vp = v + a * a / (2.0 * j);
+        if a < 0.0 && !(-a <= d && a * a <= j * vp) {
+            return f64::INFINITY;
+        }
+        let from_peak = if vp * j >= d * d {
+            vp * vp / (2.0 * d) + vp * d / (2.0 * j)
+        } else {
+            vp * (vp / j).sqrt()
+        };
+        let bound = from_peak + a.max(0.0) * vp / j;
+        // rounding room (the exact distance is summed differently)
+        if bound.is_finite() {
+            bound * (1.0 + 1e-12) + 1e-12
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Distance needed from the current state to slow to `v_target` (0 when already there).
     pub fn slowing_distance(&self, v_target: f64) -> f64 {
         self.slowing_distance_from(self.v, self.a, v_target)
+    }
+
+    /// The descent through a state (v, a) with |jerk| = J, split at a = 0: the speed V where
+    /// a is (a ≥ 0: will be) 0, V = v + a²/(2J), and the distance I of the part between:
+    /// from a ≥ 0, bringing a down to 0 (v up to V) adds I ≥ 0; from a < 0 the part from
+    /// (V, 0) down to here is done already, I ≤ 0.
+    pub(crate) fn descent_split(&self, v: f64, a: f64) -> (f64, f64) {
+        let j = self.jmax;
+        let big = v + a * a / (2.0 * j);
+        if a >= 0.0 {
+            let t = a / j;
+            (big, t * (v + a * t / 3.0))
+        } else {
+            let t = -a / j;
+            (big, -(t * (big - j * t * t / 6.0)))
+        }
+    }
+
+    /// The descent from (V, 0) down to `vt` < V: (V² − vt²)/(2D) + (V + vt)·D/(2J) when it
+    /// reaches the deceleration limit D (V − vt ≥ D²/J), else (V + vt)·√((V − vt)/J). It
+    /// grows with V at a rate of V/(2D) at least, on both sides of that bound.
+    fn descent_from(&self, big: f64, vt: f64) -> f64 {
+        let (j, d) = (self.jmax, self.dmax);
+        let dv = big - vt;
+        if j * dv >= d * d {
+            dv * (big + vt) / (2.0 * d) + (big + vt) * d / (2.0 * j)
+        } else {
+            (big + vt) * (dv / j).sqrt()
+        }
+    }
+
+    /// Whether the ramp from (v, a) down to any speed ≥ 0 up to `vt` is the descent through
+    /// (v, a) (see [`descent_split`](Self::descent_split)), whose distance is then
+    /// I + `descent_from`(V, vt): a within the limits, and vt below where the ramp would
+    /// rather rise (a ≥ 0: below V; a < 0: below v − a²/(2J), where the descent's peak
+    /// deceleration √(J·(V − vt)) is beyond |a|).
+    pub(crate) fn descent_holds(&self, v: f64, a: f64, vt: f64) -> bool {
+        let j = self.jmax;
+        if !(vt >= 0.0 && a <= self.amax && a >= -self.dmax) {
+            return false;
+        }
+        if a >= 0.0 {
+            vt < v + a * a / (2.0 * j)
+        } else {
+            vt < v - a * a / (2.0 * j)
+        }
+    }
+
+    /// [`slowing_distance_from`](Self::slowing_distance_from)`(v, a, vt)` in closed form where
+    /// the ramp is the descent through (v, a) (see [`descent_holds`](Self::descent_holds)),
+    /// with the size of the terms it was made of (for a rounding bound); None elsewhere.
+    pub(crate) fn slowing_estimate(&self, v: f64, a: f64, vt: f64) -> Option<(f64, f64)> {
+        if !self.descent_holds(v, a, vt) {
+            return None;
+        }
+        let (big, part) = self.descent_split(v, a);
+        let down = self.descent_from(big, vt);
+        Some((part + down, part.abs() + down))
     }
 
     /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`
@@ -305,15 +458,30 @@ impl PathSpeedPlanner {
         if v <= vt && a <= 0.0 {
             return 0.0;
         }
-        self.track_phases(v, a, vt).distance(v, a).max(0.0)
+        self.track_distance(v, a, vt).max(0.0)
     }
 
     /// One tick of the time-optimal ramp toward `tgt`: (distance, speed, acceleration) at the
     /// end of the tick.
     pub fn track_step(&self, tgt: f64) -> (f64, f64, f64) {
+        self.track(tgt).step()
+    }
+
+    /// One tick of the time-optimal ramp toward `tgt` from the current state, kept so that
+    /// [`next_tracked`](Self::next_tracked) does not compute it again (a look-ahead needs the
+    /// same step to decide its target).
+    pub fn track(&self, tgt: f64) -> Track {
         let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
-        self.track_phases(self.v, self.a, tgt)
-            .sample(self.v, self.a, self.ts)
+        let (ds, v, a) = self
+            .track_phases(self.v, self.a, tgt)
+            .sample(self.v, self.a, self.ts);
+        Track {
+            tgt,
+            from: (self.v, self.a),
+            ds,
+            v,
+            a,
+        }
     }
 
     /// The root of a decreasing `f` on [lo, hi] (f(lo) ≥ 0 ≥ f(hi)): regula falsi with the
@@ -416,6 +584,17 @@ impl PathSpeedPlanner {
     /// `v_target` is the speed wanted now (commanded feed lowered by look-ahead limits),
     /// `remaining` the path length to the point where the motion must be at rest (counts).
     pub fn next(&mut self, v_target: f64, remaining: f64) -> f64 {
+        self.next_inner(v_target, remaining, None)
+    }
+
+    /// [`next`](Self::next) toward the target of `track`, a [`track`](Self::track) of the
+    /// current state (the same result, without computing the ramp's step again; a track of
+    /// another state is computed again).
+    pub fn next_tracked(&mut self, track: Track, remaining: f64) -> f64 {
+        self.next_inner(track.tgt, remaining, Some(track))
+    }
+
+    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<Track>) -> f64 {
         let ts = self.ts;
         let remaining = if remaining.is_nan() {
             0.0
@@ -440,8 +619,14 @@ impl PathSpeedPlanner {
             return 0.0;
         }
         let (jp, dp) = self.plan_limits();
-        let (ds, v1, a1) = self.track_phases(v, a, tgt).sample(v, a, ts);
-        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
+        let (ds, v1, a1) = match track {
+            Some(t) if t.from == (v, a) && t.tgt == tgt => (t.ds, t.v, t.a),
+            _ => self.track_phases(v, a, tgt).sample(v, a, ts),
+        };
+        // far from the stop point, the bound decides without the exact stopping distance
+        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining
+            || ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining
+        {
             self.v = v1.max(0.0);
             self.a = a1;
             self.stopping = false;
@@ -488,6 +673,97 @@ impl PathSpeedPlanner {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn planner(rnd: &mut impl FnMut() -> f64) -> PathSpeedPlanner {
+        let (ts, a, j) = (1e-4 + rnd() * 1e-3, 1e3 + rnd() * 1e7, 1e5 + rnd() * 1e10);
+        let mut p = PathSpeedPlanner::new(ts, a, j).unwrap();
+        p.v = rnd() * 5e5;
+        p.a = (rnd() * 2.0 - 1.0) * a;
+        p
+    }
+
+    #[test]
+    fn the_stopping_bound_is_never_below_the_stop() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x5709).units();
+        let (mut finite, mut tight) = (0, 0);
+        for _ in 0..200_000 {
+            let (v, a) = (rnd() * 5e5, (rnd() * 2.0 - 1.0) * 3e7);
+            let (d, j) = (rnd() * 3e7 + 1.0, 1e5 + rnd() * 1e10);
+            let bound = PathSpeedPlanner::stopping_distance_bound(v, a, d, j);
+            let exact = PathSpeedPlanner::stopping_distance(v, a, d, j);
+            let clean = PathSpeedPlanner::clean_stopping_distance(v, a, d, j);
+            assert!(bound >= exact, "{v} {a} {d} {j}: {bound} < {exact}");
+            assert!(bound >= clean || clean.is_infinite(), "{v} {a} {d} {j}");
+            if bound.is_finite() {
+                finite += 1;
+                // from a = 0 it is the stop itself
+                if a >= 0.0 && bound <= exact * (1.0 + 1e-6) + 1e-6 {
+                    tight += 1;
+                }
+            }
+        }
+        assert!(
+            finite > 100_000 && tight > 1_000,
+            "{finite} finite, {tight} tight"
+        );
+        for (v, d, j) in [(1e5, 5e5, 5e7), (10.0, 5e5, 5e7)] {
+            let (b, e) = (
+                PathSpeedPlanner::stopping_distance_bound(v, 0.0, d, j),
+                PathSpeedPlanner::stopping_distance(v, 0.0, d, j),
+            );
+            assert!((b - e).abs() <= 1e-9 * e, "{v}: {b} {e}");
+        }
+    }
+
+    #[test]
+    fn the_closed_form_slowing_distance_is_the_ramps() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x510e).units();
+        let mut some = 0;
+        for _ in 0..100_000 {
+            let p = planner(&mut rnd);
+            let vt = rnd() * p.v * 1.2;
+            let exact = p.slowing_distance_from(p.v, p.a, vt);
+            if let Some((e, size)) = p.slowing_estimate(p.v, p.a, vt) {
+                some += 1;
+                assert!(
+                    (e - exact).abs() <= 1e-10 * size + 1e-9,
+                    "{p:?} to {vt}: {e} vs {exact}"
+                );
+                // and the split it is made of: I + descent_from(V, vt), growing with V at
+                // V/(2D) at least
+                let (big, part) = p.descent_split(p.v, p.a);
+                let dv = 1e-3 * big;
+                let grown = p.descent_from(big + dv, vt) - p.descent_from(big, vt);
+                assert!(grown >= dv * big / (2.0 * p.dmax) * (1.0 - 1e-6), "{p:?}");
+                assert!((part + p.descent_from(big, vt) - e).abs() <= 1e-12 * size + 1e-12);
+            }
+        }
+        assert!(some > 30_000, "{some}");
+    }
+
+    #[test]
+    fn next_tracked_is_next() {
+        let mut rnd = crate::testkit::rng::Rng::new(0x7ac4).units();
+        for _ in 0..50_000 {
+            let mut a = planner(&mut rnd);
+            a.a = a.a.clamp(-a.dmax, a.amax);
+            let mut b = a;
+            let tgt = rnd() * 6e5;
+            let rem = if rnd() < 0.3 {
+                rnd() * 10.0
+            } else {
+                rnd() * 1e5
+            };
+            let track = b.track(tgt);
+            let stale = b.track(tgt * 0.5);
+            assert_eq!(a.next(tgt, rem), b.next_tracked(track, rem));
+            assert_eq!(a, b);
+            // a track of another state (the one before this tick) is computed again
+            let mut c = b;
+            assert_eq!(c.next_tracked(stale, rem), b.next(tgt * 0.5, rem));
+            assert_eq!(b, c);
+        }
+    }
 
     #[test]
     fn brake_distance_in_closed_form() {

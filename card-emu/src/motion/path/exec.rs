@@ -14,6 +14,10 @@ pub(super) struct Envelope {
     step: f64,
 }
 
+/// How far beyond its reach a look-ahead walk goes (a share of the reach): what it saw then
+/// covers the reach of the next ticks too (see [`Seen`]).
+const SEEN_BEYOND: f64 = 0.25;
+
 impl Envelope {
     /// Rounding room of the test (the distances are sums of many lengths): relative, far
     /// above their error and far below what would change which pieces are tested.
@@ -25,16 +29,109 @@ impl Envelope {
         lhs >= self.theta + Self::SLACK * (self.theta.abs() + c2 + 2.0 * self.dm * d.abs())
     }
 
-    /// No piece of block `b`, which starts `d` ahead, can need slowing for: every piece k
-    /// starts at d + x_k or later, and c_k² + 2·D·x_k ≥ min(1, D/A_t)·min(kg, min(1, ovr²)·kf)
-    /// (a feed cap is scaled by the override; A_t is the rate the keys were made with).
-    fn clears_block(&self, b: &Block, d: f64, ovr: f64, at: f64) -> bool {
-        let low = (self.dm / at).min(1.0) * b.kg.min((ovr * ovr).min(1.0) * b.kf);
-        low >= 0.0 && self.clears(low, d)
+    /// No piece whose c² + 2·D·d (d ≥ 0 its distance from here) is `low` or more can need
+    /// slowing for: `clears` for every such piece, since its test is monotone in c² + 2·D·d
+    /// (with room for the rounding of distances found from positions as far as `far` along
+    /// the whole path).
+    pub(super) fn clears_all(&self, low: f64, far: f64) -> bool {
+        let room = Self::SLACK * (self.theta.abs() + 2.0 * self.dm * far);
+        low * (1.0 - Self::SLACK) >= self.theta + room + 2.0 * self.dm * self.step
+    }
+
+    /// A lower bound of c_k² + 2·D·x_k over the pieces k of block `b` (x_k from the block's
+    /// start): min(1, D/A_t)·min(kg, min(1, ovr²)·kf) (a feed cap is scaled by the override;
+    /// A_t is the rate the keys were made with). No piece of the block, which starts d ahead,
+    /// can need slowing for when `clears(low, d)`: every piece k starts at d + x_k or later.
+    fn block_low(&self, b: &Block, ovr: f64, at: f64) -> f64 {
+        (self.dm / at).min(1.0) * b.kg.min((ovr * ovr).min(1.0) * b.kf)
     }
 }
 
+/// What a look-ahead walk passed without an exact test, kept for the ticks after it
+/// (`Path::seen`): every piece starting less than `extent` ahead of where the walk started was
+/// passed, either because its cap was not below the tick's speed bound (the smallest such cap:
+/// `cap`) or because it cleared the braking envelope (the smallest c² + 2·D·d, d from there:
+/// `key`). While the speed bound stays at most `cap`, the keys still clear the envelope from
+/// where the executor is, and the reach ends before `extent`, the walk would pass the same
+/// pieces the same way and find nothing to slow for: `look` skips it. Dropped when a push or
+/// a late cap changes a segment it saw (`Path::window_changed`), and on halt, clear, reset.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Seen {
+    cap: f64,
+    key: f64,
+    extent: f64,
+    /// Where the walk started along the whole path (`Path::exec_dist`).
+    from: f64,
+    /// The first segment it did not see.
+    end: usize,
+    /// The override and the planner's deceleration and jerk limits it was made with.
+    ovr: f64,
+    dm: f64,
+    jm: f64,
+    /// The pieces it tested and found safe, each with the slowing distance in closed form
+    /// (`PathSpeedPlanner::slowing_estimate`): the least room between a piece and its
+    /// slowing distance (∞: none tested), the highest cap among them, and the descent split
+    /// (V, I) and step of the state they were tested from. From a state of the same descent
+    /// with V no higher, a piece's slowing distance is I + D_V(cap), D_V growing with V at
+    /// V/(2D) at least: it has grown by at most ΔI − (V₀ − V)·V/(2D) since.
+    room: f64,
+    cap_tested: f64,
+    split: (f64, f64),
+    step: f64,
+}
+
+/// The pieces a walk passed by their caps or by the envelope (see [`Seen`]): smallest cap,
+/// smallest c² + 2·D·d.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Passed {
+    cap: f64,
+    key: f64,
+}
+
+impl Passed {
+    pub(super) const NONE: Passed = Passed {
+        cap: f64::INFINITY,
+        key: f64::INFINITY,
+    };
+}
+
+/// Where a walk ended: the stop found (Some(is the end of the queue)) or None, its distance,
+/// and the first segment not walked.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Walked {
+    pub stop: Option<bool>,
+    pub d: f64,
+    pub end: usize,
+}
+
 impl Path {
+    /// Where the executor is along the whole path (the `start` of segments ahead minus this
+    /// is the distance to them).
+    pub(super) fn exec_dist(&self) -> f64 {
+        let sg = self.seg(self.exec);
+        if self.in_blend {
+            sg.start + self.s
+        } else {
+            let blend = if sg.has_blend { sg.blend.len } else { 0.0 };
+            sg.start + blend + (self.s - sg.body0)
+        }
+    }
+
+    /// Whether a test asked for the look-ahead to walk on every tick (see `look`).
+    fn walks_every_tick(&self) -> bool {
+        #[cfg(test)]
+        return self.walk_every_tick;
+        #[cfg(not(test))]
+        false
+    }
+
+    /// Segment `i` changed (its caps or its length): what a walk saw of it is dropped.
+    pub(super) fn window_changed(&mut self, i: usize) {
+        if self.seen.is_some_and(|w| i < w.end) {
+            self.seen = None;
+        }
+    }
+
     /// Comes to rest along the path as fast as `decel` and `jerk` allow (clamped to the
     /// tangential limits, and never below what the current deceleration needs), then stays;
     /// the queue stays until [`clear`](Self::clear). If that stop would run past the next exact
@@ -67,8 +164,10 @@ impl Path {
         let need =
             1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.lim.ts;
         let wend = self.tail.min(self.exec + self.lookahead);
-        let (stop, rem) = self.walk(need, 0.0, 0.0, wend, None, &mut |_, _| {});
-        if stop.is_none() || rem >= need {
+        let mut none = Passed::NONE;
+        let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut |_, _| {});
+        self.seen = None;
+        if w.stop.is_none() || w.d >= need {
             self.planner.dmax = d;
             self.planner.jmax = j;
         }
@@ -80,6 +179,11 @@ impl Path {
         if self.is_moving() {
             return Err(PathError::Moving);
         }
+        if self.exec < self.tail {
+            // the next segment starts where the executor is
+            self.end_dist = self.exec_dist();
+        }
+        self.seen = None;
         let first = self.exec - usize::from(self.prev_open);
         for i in first..self.tail {
             if i == first || !self.seg(i).cont {
@@ -107,8 +211,10 @@ impl Path {
     /// Walks the pieces ahead of the executor up to distance `until` (or the window end
     /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
     /// be below `below` (blocks that have none, or none that `env` says can need slowing
-    /// for, are skipped). Returns the stop found (Some(is the end of the queue)) and its
-    /// distance, or None and a distance beyond `until`.
+    /// for, are skipped; what they held goes into `passed`). Returns the stop found
+    /// (Some(is the end of the queue)) and its distance, or None and a distance beyond
+    /// `until`, and the first segment not walked.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn walk(
         &self,
         until: f64,
@@ -116,8 +222,9 @@ impl Path {
         ovr: f64,
         wend: usize,
         env: Option<Envelope>,
+        passed: &mut Passed,
         f: &mut impl FnMut(f64, f64),
-    ) -> (Option<bool>, f64) {
+    ) -> Walked {
         let e = self.exec;
         let sg = self.seg(e);
         let mut d = if self.in_blend {
@@ -134,17 +241,36 @@ impl Path {
         let mut sl = self.slot(j);
         loop {
             if j >= wend {
-                return (Some(j >= self.tail), d);
+                return Walked {
+                    stop: Some(j >= self.tail),
+                    d,
+                    end: j,
+                };
             }
             if d > until {
-                return (None, d);
+                return Walked {
+                    stop: None,
+                    d,
+                    end: j,
+                };
             }
             if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
                 let b = &self.blocks[sl / BLOCK];
-                if !b.stop
-                    && ((b.geo >= below && b.feed * ovr >= below)
-                        || env.is_some_and(|e| e.clears_block(b, d, ovr, self.at)))
-                {
+                let mut pass = false;
+                if !b.stop {
+                    let caps = b.geo.min(b.feed * ovr);
+                    if b.geo >= below && b.feed * ovr >= below {
+                        passed.cap = passed.cap.min(caps);
+                        pass = true;
+                    } else if let Some(e) = env {
+                        let low = e.block_low(b, ovr, self.at);
+                        if low >= 0.0 && e.clears(low, d) {
+                            passed.key = passed.key.min(low + 2.0 * e.dm * d);
+                            pass = true;
+                        }
+                    }
+                }
+                if pass {
                     d += b.len;
                     j += BLOCK;
                     sl += BLOCK;
@@ -156,7 +282,11 @@ impl Path {
             }
             let s = &self.segs[sl];
             if s.stop_before {
-                return (Some(false), d);
+                return Walked {
+                    stop: Some(false),
+                    d,
+                    end: j,
+                };
             }
             f(d, s.jgeo.min(s.jfeed * ovr));
             if s.has_blend {
@@ -198,18 +328,24 @@ impl Path {
         let (jp, dp) = pl.plan_limits();
         let (jm, dm) = (pl.jmax, pl.dmax);
         let ts = self.lim.ts;
+        // where the executor is, for what an earlier walk saw (see `Seen`)
+        let at = self.exec_dist();
         let mut out = Look {
             target,
             rem: 0.0,
             stop: false,
             queue_end: false,
             window_end: wend,
+            track: None,
         };
         for it in 0..3 {
-            let (step, vn, an) = pl.track_step(target);
+            let track = pl.track(target);
+            let (step, vn, an) = track.step();
             let vmax = pl.v.max(vn).max(vn + an.max(0.0).powi(2) / (2.0 * jm));
+            // (with a closed-form bound of the braking distance: nothing beyond its reach can
+            // need slowing for, the reach of the exact one being shorter)
             let reach = 1.05
-                * PathSpeedPlanner::stopping_distance(vmax, an.max(pl.a).max(0.0), dp, jp)
+                * PathSpeedPlanner::stopping_distance_bound(vmax, an.max(pl.a).max(0.0), dp, jp)
                 + 4.0 * vmax * ts
                 + 1e-9;
             let below = vmax.min(target);
@@ -224,35 +360,118 @@ impl Path {
                 dm,
                 step,
             };
+            if it == 0 && !self.walks_every_tick() {
+                if let Some(w) = self.seen {
+                    let moved = at - w.from;
+                    if w.ovr == ovr
+                        && w.dm == dm
+                        && w.jm == jm
+                        && below <= w.cap
+                        && moved + reach < w.extent * (1.0 - Envelope::SLACK)
+                        && env.clears_all(w.key - 2.0 * dm * moved, at.abs() + moved.abs())
+                        && (w.room == f64::INFINITY || {
+                            // every piece tested then is still at least its slowing distance
+                            // away (see `Seen::room`)
+                            let (big, part) = pl.descent_split(vn, an);
+                            let (big0, part0) = w.split;
+                            let grown = moved + (step - w.step) + (part - part0)
+                                - (big0 - big) * big / (2.0 * dm);
+                            let slack = 1e-9 * (moved.abs() + part.abs() + part0.abs())
+                                + 1e-9 * big0 * big0 / dm;
+                            pl.descent_holds(vn, an, w.cap_tested)
+                                && big <= big0
+                                && grown + slack <= w.room
+                        })
+                    {
+                        // The walk would pass every piece within the reach as it did then,
+                        // and meet no stop point within it: nothing to slow for (its distance
+                        // beyond the reach changes nothing the planner does).
+                        out.rem = w.extent - moved;
+                        out.track = Some(track);
+                        break;
+                    }
+                }
+            }
+            // the walk goes a little beyond the reach, so that what it saw serves longer
+            let until = reach * (1.0 + SEEN_BEYOND);
             let mut worst: Option<(f64, f64)> = None;
+            let mut passed = Passed::NONE;
+            // tested pieces: found safe with the closed form (least room, highest cap), or
+            // not (then nothing is kept for the next ticks)
+            let (mut room, mut cap_tested, mut untracked) = (f64::INFINITY, 0.0f64, false);
             let mut consider = |d: f64, raw: f64| {
-                if raw < vmax
-                    && raw < target
-                    && worst.is_none_or(|(_, c)| raw < c)
-                    && !env.clears(raw * raw, d)
-                {
+                if !(raw < vmax && raw < target) {
+                    passed.cap = passed.cap.min(raw);
+                } else if worst.is_some_and(|(_, c)| raw >= c) {
+                    untracked = true;
+                } else if env.clears(raw * raw, d) {
+                    passed.key = passed.key.min(raw * raw + 2.0 * dm * d);
+                } else {
                     let dist = d - step;
                     let lower = (vf * vf - raw * raw) / (2.0 * dm);
                     let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+                    // the closed form, and the room it leaves beyond its rounding
+                    let clear = pl
+                        .slowing_estimate(vn, an, raw)
+                        .map(|(e, size)| dist - e - 1e-9 * (size + dist.abs()));
                     let violated = dist < lower
-                        || (dist < upper && dist < pl.slowing_distance_from(vn, an, raw));
+                        || (dist < upper
+                            && match clear {
+                                Some(r) if r >= 0.0 => false,
+                                _ => dist < pl.slowing_distance_from(vn, an, raw),
+                            });
                     if violated {
                         worst = Some((here + d, raw));
                     }
+                    match clear {
+                        Some(r) if r >= 0.0 => {
+                            room = room.min(r);
+                            cap_tested = cap_tested.max(raw);
+                        }
+                        _ => untracked = true,
+                    }
                 }
             };
-            let (stop, d) = self.walk(reach, below, ovr, wend, Some(env), &mut consider);
+            let mut blocks = Passed::NONE;
+            let w = self.walk(
+                until,
+                below,
+                ovr,
+                wend,
+                Some(env),
+                &mut blocks,
+                &mut consider,
+            );
             if it == 0 {
-                out.rem = d;
-                out.stop = stop.is_some();
-                out.queue_end = stop == Some(true);
+                out.rem = w.d;
+                out.stop = w.stop.is_some();
+                out.queue_end = w.stop == Some(true);
             }
             match worst {
                 Some((sc, c)) => {
                     self.slow = Some((sc, c));
                     target = target.min(c);
+                    self.seen = None;
                 }
-                None => break,
+                None => {
+                    // the planner follows this very step unless it must stop
+                    out.track = Some(track);
+                    self.seen = (!untracked).then_some(Seen {
+                        cap: passed.cap.min(blocks.cap),
+                        key: passed.key.min(blocks.key),
+                        extent: w.d,
+                        from: at,
+                        end: w.end,
+                        ovr,
+                        dm,
+                        jm,
+                        room,
+                        cap_tested,
+                        split: pl.descent_split(vn, an),
+                        step,
+                    });
+                    break;
+                }
             }
         }
         out.target = target;
@@ -485,8 +704,20 @@ impl Path {
     /// One servo tick: returns the commanded position of every group axis. `feed_override`
     /// (0..2) scales every feed; 0 holds the path still (ramping down, resuming when > 0).
     pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        let plan = self.tick_plan(feed_override, ev);
+        self.tick_move(plan, ev)
+    }
+
+    /// The first half of [`tick`](Self::tick): dwells, then the look-ahead and the speed
+    /// planner decide this tick's step (nothing moves yet). Public for the cost benchmark,
+    /// which times the two halves apart; call [`tick_move`](Self::tick_move) with the result
+    /// at once.
+    #[doc(hidden)]
+    #[inline(never)]
+    pub fn tick_plan(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> TickPlan {
+        let hold = TickPlan(Plan::Hold);
         if !self.ready {
-            return self.pos;
+            return hold;
         }
         let ovr = if feed_override.is_nan() {
             0.0
@@ -502,7 +733,7 @@ impl Path {
                 if !self.halted {
                     self.dwell_left -= 1;
                 }
-                return self.pos;
+                return hold;
             }
             self.end_seg(self.exec, ev);
             self.exec += 1;
@@ -519,10 +750,10 @@ impl Path {
                 self.idle_sent = true;
                 ev(PathEvent::Idle);
             }
-            return self.pos;
+            return hold;
         }
         if self.seg(self.exec).shift {
-            return self.shift_tick(ovr, ev);
+            return TickPlan(Plan::Shift(ovr));
         }
         if let Some(i) = self.cap_due {
             if i < self.exec + self.lookahead {
@@ -532,7 +763,10 @@ impl Path {
         }
         let lk = self.look(ovr);
         let ts = self.lim.ts;
-        let v = self.planner.next(lk.target, lk.rem);
+        let v = match lk.track {
+            Some(t) => self.planner.next_tracked(t, lk.rem),
+            None => self.planner.next(lk.target, lk.rem),
+        };
         let mut ds = (v * ts).max(0.0);
         let mut land = false;
         if lk.stop {
@@ -558,8 +792,26 @@ impl Path {
             self.starving_sent = true;
             ev(PathEvent::Starving);
         }
+        TickPlan(Plan::Step {
+            ds,
+            land,
+            wend: lk.window_end,
+        })
+    }
+
+    /// The second half of [`tick`](Self::tick): moves along the path by the planned step
+    /// (segment events and outputs on the way) and interpolates the position there.
+    #[doc(hidden)]
+    #[inline(never)]
+    pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+        let (ds, land, wend) = match plan.0 {
+            Plan::Hold => return self.pos,
+            // a time-shifted chain runs its own profiles
+            Plan::Shift(ovr) => return self.shift_tick(ovr, ev),
+            Plan::Step { ds, land, wend } => (ds, land, wend),
+        };
         let resting = !self.is_moving();
-        self.advance(ds, land, lk.window_end, resting, ev);
+        self.advance(ds, land, wend, resting, ev);
         self.distance += ds;
         self.pos = self.eval_here();
         if self.exec >= self.tail && resting && !self.idle_sent {
@@ -567,5 +819,117 @@ impl Path {
             ev(PathEvent::Idle);
         }
         self.pos
+    }
+}
+
+/// What the first half of a tick decided (see [`Path::tick_plan`]).
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy)]
+pub struct TickPlan(Plan);
+
+#[derive(Debug, Clone, Copy)]
+enum Plan {
+    /// Nothing moves this tick (not ready, a dwell, idle).
+    Hold,
+    /// A time-shifted chain's tick, at this override.
+    Shift(f64),
+    /// Advance `ds` (or land exactly on the stop point the look-ahead found); `wend`: the
+    /// look-ahead window's end.
+    Step { ds: f64, land: bool, wend: usize },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::rng::Rng;
+
+    /// A block of up to BLOCK segments as `append` enters them: each segment's geometric and
+    /// feed caps at its start x (from the block's start), the block's keys min(c² + 2·A_t·x).
+    fn block(rng: &mut Rng, at: f64) -> (Block, Vec<(f64, f64, f64)>) {
+        let mut b = Block {
+            geo: f64::INFINITY,
+            feed: f64::INFINITY,
+            len: 0.0,
+            stop: false,
+            kg: f64::INFINITY,
+            kf: f64::INFINITY,
+        };
+        let mut segs = vec![];
+        for _ in 0..rng.int(1, BLOCK) {
+            let (g, f) = (rng.log_uniform(1e2, 1e6), rng.log_uniform(1e2, 1e6));
+            let x = b.len;
+            b.len += rng.log_uniform(1.0, 1e4);
+            b.geo = b.geo.min(g);
+            b.feed = b.feed.min(f);
+            b.kg = b.kg.min(g * g + 2.0 * at * x);
+            b.kf = b.kf.min(f * f + 2.0 * at * x);
+            segs.push((g, f, x));
+        }
+        (b, segs)
+    }
+
+    fn envelope(rng: &mut Rng, at: f64) -> Envelope {
+        let v = rng.log_uniform(1e2, 1e6);
+        Envelope {
+            theta: v * v * rng.uniform(0.5, 3.0),
+            // a halt may brake harder or softer than the rate the keys were made with
+            dm: at * rng.uniform(0.2, 1.5),
+            step: v * 1e-4 * rng.uniform(0.0, 1.0),
+        }
+    }
+
+    #[test]
+    fn a_block_passed_by_its_keys_holds_no_piece_the_envelope_would_test() {
+        let mut rng = Rng::new(0xb10c);
+        let (mut passed, mut failed) = (0, 0);
+        for _ in 0..200_000 {
+            let at = rng.log_uniform(1e4, 1e8);
+            let (b, segs) = block(&mut rng, at);
+            let env = envelope(&mut rng, at);
+            let ovr = rng.uniform(0.0, 2.0);
+            let d = rng.log_uniform(1.0, 1e6);
+            let low = env.block_low(&b, ovr, at);
+            if low >= 0.0 && env.clears(low, d) {
+                passed += 1;
+                // every piece (a blend and a body share their segment's start or come after
+                // it) clears on its own
+                for &(g, f, x) in &segs {
+                    let raw = g.min(f * ovr);
+                    for extra in [0.0, rng.uniform(0.0, 1e3)] {
+                        assert!(
+                            env.clears(raw * raw, d + x + extra),
+                            "block {b:?} at {d}, piece ({g}, {f}) at {x}: {env:?}, ovr {ovr}"
+                        );
+                    }
+                }
+            } else {
+                failed += 1;
+            }
+        }
+        // the test sees both outcomes
+        assert!(
+            passed > 10_000 && failed > 10_000,
+            "{passed} passed, {failed} not"
+        );
+    }
+
+    #[test]
+    fn clears_all_covers_every_piece_with_a_key_at_least_its_bound() {
+        let mut rng = Rng::new(0xc1ea);
+        let mut seen = 0;
+        for _ in 0..200_000 {
+            let at = rng.log_uniform(1e4, 1e8);
+            let env = envelope(&mut rng, at);
+            let c = rng.log_uniform(1.0, 1e6);
+            let d = rng.log_uniform(1e-3, 1e6);
+            let key = c * c + 2.0 * env.dm * d;
+            let far = rng.log_uniform(1.0, 1e9);
+            let low = key * rng.uniform(0.5, 1.0);
+            if env.clears_all(low, far) {
+                seen += 1;
+                assert!(env.clears(c * c, d), "{env:?} c {c} d {d} low {low}");
+            }
+        }
+        assert!(seen > 10_000);
     }
 }

@@ -274,8 +274,13 @@ pub(super) struct Blend {
 impl Blend {
     /// The blend from frame `a` (on the incoming segment, trimmed by `da`) to frame `b` (on
     /// the outgoing one, trimmed by `db`). None when it is not finite.
-    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn new(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> Option<Self> {
+        Self::from_bezier(n, a.p, &Self::controls(n, a, b, da, db))
+    }
+
+    /// The Bézier control points of [`new`](Self::new)'s blend, less the first (`a.p`).
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn controls(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> [V; 6] {
         let la = LAMBDA * da;
         let lb = LAMBDA * db;
         let mut q = [Z; 6];
@@ -287,7 +292,7 @@ impl Blend {
             q[4][k] = e - lb / 5.0 * b.t[k];
             q[3][k] = 2.0 * q[4][k] - e + lb * lb / 20.0 * b.k[k];
         }
-        Self::from_bezier(n, a.p, &q)
+        q
     }
 
     /// The quintic Hermite interpolant on u ∈ [0, 1] of the point, first and second
@@ -307,7 +312,16 @@ impl Blend {
 
     /// The quintic with Bézier control points `q0 + q[i]` (q[0] = 0).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
-    fn from_bezier(n: usize, q0: V, q: &[V; 6]) -> Option<Self> {
+    pub fn from_bezier(n: usize, q0: V, q: &[V; 6]) -> Option<Self> {
+        let mut bl = Self::default();
+        bl.fill(n, q0, q).then_some(bl)
+    }
+
+    /// Makes this the quintic of [`from_bezier`](Self::from_bezier) in place (a blend is
+    /// hundreds of bytes: built where it is kept, not moved there); false (and this blend
+    /// unusable) when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn fill(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
         const BIN: [[f64; 6]; 6] = [
             [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
@@ -317,7 +331,8 @@ impl Blend {
             [1.0, 4.0, 6.0, 4.0, 1.0, 0.0],
             [1.0, 5.0, 10.0, 10.0, 5.0, 1.0],
         ];
-        let mut c = [Z; 6];
+        let c = &mut self.c;
+        *c = [Z; 6];
         for j in 0..6 {
             for i in 0..=j {
                 let sgn = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
@@ -328,7 +343,8 @@ impl Blend {
             }
         }
         // B'(u) = Σ d_m u^m with d_m = (m + 1)·c_(m+1); |B'|² = Σ_k Σ_(m,l) d_m d_l u^(m+l)
-        let mut sp2 = [0.0; 9];
+        let sp2 = &mut self.sp2;
+        *sp2 = [0.0; 9];
         for k in 0..n {
             let d = [
                 c[1][k],
@@ -344,21 +360,16 @@ impl Blend {
                 }
             }
         }
-        let mut bl = Self {
-            q0,
-            c,
-            n,
-            sp2,
-            table: [0.0; NSUB + 1],
-            len: 0.0,
-        };
+        self.q0 = q0;
+        self.n = n;
+        self.table[0] = 0.0;
         for i in 0..NSUB {
             let u0 = i as f64 / NSUB as f64;
             let u1 = (i + 1) as f64 / NSUB as f64;
-            bl.table[i + 1] = bl.table[i] + bl.gl(u0, u1);
+            self.table[i + 1] = self.table[i] + self.gl(u0, u1);
         }
-        bl.len = bl.table[NSUB];
-        (bl.len.is_finite() && bl.len > 0.0).then_some(bl)
+        self.len = self.table[NSUB];
+        self.len.is_finite() && self.len > 0.0
     }
 
     /// |B'(u)|.
@@ -427,15 +438,14 @@ impl Blend {
         p
     }
 
-    /// [`pos_u`](Self::pos_u) over the first `N` axes (N ≥ the blend's axes; the others
-    /// are those of the first point, as in `pos_u`).
+    /// [`pos_u`](Self::pos_u) less the first point (what the quintic adds to it), over the
+    /// first `N` axes (N ≥ the blend's axes; the others are 0).
     #[inline]
-    pub fn pos_u_n<const N: usize>(&self, u: f64) -> V {
-        let mut p = self.q0;
+    pub fn offset_u_n<const N: usize>(&self, u: f64) -> V {
+        let mut p = Z;
         let c = &self.c;
         for k in 0..N {
-            let o = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
-            p[k] += o;
+            p[k] = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
         }
         p
     }
@@ -450,6 +460,11 @@ impl Blend {
         let mut f = self.terms(u);
         f.p = self.pos_u(u);
         f
+    }
+
+    /// Its axes.
+    pub fn axes(&self) -> usize {
+        self.n
     }
 
     /// The frame at u without its point: T, K and dK/ds.

@@ -31,15 +31,33 @@
 //! blend's speed cap is computed only when that rebuild does not happen, or when the
 //! look-ahead window reaches it first, so that a push computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
-//! chord, which is what made dense paths slow. A smoothing blend whose sampled deviation from
-//! the two lines is over the tolerance (×0.97) falls back to the corner blend below.
+//! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
+//! lines is over the tolerance (×0.97) falls back to the corner blend below; the deviation is
+//! first bounded by the blend's control points (cut in two by de Casteljau, each half within
+//! the hull of its points, the distance to a chord convex), and sampled only when that bound
+//! is over (never on the dense benchmark's curve).
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
 //! reach are scanned; blocks of [`BLOCK`] segments whose minimum cap is not below the speed
 //! are skipped, as `nurbs_interp`'s look-ahead does), and its remaining distance is the
 //! distance to the next exact stop, or to the end of what is queued within the look-ahead
-//! window. So the path can always stop within what is queued.
+//! window. So the path can always stop within what is queued. A walk that finds nothing to
+//! slow for serves the ticks after it (`exec::Seen`): it keeps the smallest cap it passed for
+//! being above the speed, the smallest envelope key c² + 2·D·d it passed for clearing the
+//! envelope, the least room between a piece it tested and that piece's slowing distance (in
+//! closed form), and how far it went; while the tick's speed bound is not above that cap, the
+//! keys still clear from where the executor has got to, the room covers what the slowing
+//! distances can have grown (the state on the same descent, its speed at a = 0 no higher),
+//! and the reach ends before where the walk ended, the walk would find nothing again, and is
+//! skipped (the same motion to the last bit: `tests_lookahead`). A push or a late cap that
+//! changes a segment the walk saw drops it. Segments know where they start along the whole
+//! path (`Seg::start`), so the executor's progress since a walk, and its distance to a
+//! segment's end, are differences, not sums.
+//!
+//! **Tick.** [`Path::tick`] is `tick_plan` (dwells, the look-ahead, the speed planner: this
+//! tick's step) then `tick_move` (the step taken along the pieces, segment events and outputs,
+//! the position interpolated); the cost benchmark (`benches/path.rs`) times the two apart.
 //!
 //! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
 //! [`Path::with_capacity`] allocates everything once.
@@ -52,12 +70,17 @@ mod shift;
 mod tests;
 #[cfg(test)]
 mod tests_curve;
+#[cfg(test)]
+mod tests_lookahead;
 
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
+#[doc(hidden)]
+pub use self::exec::TickPlan;
+
 use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
-use crate::motion::path_speed::PathSpeedPlanner;
+use crate::motion::path_speed::{PathSpeedPlanner, Track};
 use crate::motion::pos_finite;
 
 /// Axes of a group.
@@ -293,6 +316,9 @@ struct Seg {
     jfeed: f64,
     /// Where it starts, from the start of its block (the block's length before it).
     x0: f64,
+    /// Where it starts along the whole path: the distance the executor has covered since
+    /// `reset` when it gets there (see `Path::exec_dist`).
+    start: f64,
     /// The body: [body0, body1] in the segment's own arc length.
     body0: f64,
     body1: f64,
@@ -333,6 +359,7 @@ impl Default for Seg {
             jgeo: 0.0,
             jfeed: 0.0,
             x0: 0.0,
+            start: 0.0,
             body0: 0.0,
             body1: 0.0,
             bgeo: 0.0,
@@ -396,6 +423,9 @@ struct Look {
     stop: bool,
     queue_end: bool,
     window_end: usize,
+    /// The planner's step toward `target` when the look-ahead computed it (see
+    /// `PathSpeedPlanner::next_tracked`).
+    track: Option<Track>,
 }
 
 /// The continuous-path engine of one axes group.
@@ -432,6 +462,13 @@ pub struct Path {
     idle_sent: bool,
     /// The newest segment, whose smoothing blend has no cap yet (see `settle_cap`).
     cap_due: Option<usize>,
+    /// Where the queued path ends, along the whole path (the next segment's `start`).
+    end_dist: f64,
+    /// What the last look-ahead walk passed (see `exec::Seen`).
+    seen: Option<exec::Seen>,
+    /// Tests run the look-ahead without what earlier walks saw, to compare.
+    #[cfg(test)]
+    walk_every_tick: bool,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -440,9 +477,12 @@ pub struct Path {
 
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
 /// deviation; its end curvature), the new one, its start curvature and its trims.
+/// The blends themselves are built in the caller's buffers (see `Path::smooth`).
 struct Smooth {
-    again: Option<((Blend, f64, f64), V)>,
-    new: (Blend, f64, f64),
+    /// The previous blend rebuilt: its cap, deviation and end curvature.
+    again: Option<(f64, f64, V)>,
+    /// The new blend's deviation.
+    dev: f64,
     kstart: V,
     da: f64,
     db: f64,
@@ -477,14 +517,15 @@ fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
 }
 
 /// The largest squared distance from [`SMOOTH_SAMPLES`] + 1 points of blend `b` to the
-/// nearer of two chords (start, unit direction, length), over the first `N` axes (N ≥ the
+/// nearer of two chords (start relative to the blend's first point, unit direction, length),
+/// over the first `N` axes (N ≥ the
 /// group's axes, the others being 0 everywhere); None when one is over `limit` (its root only
 /// taken when the largest grows: the same figure without a root per sample) or not a number.
 #[allow(clippy::needless_range_loop)] // one index over several axis arrays
 fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64) -> Option<f64> {
     let mut worst2 = 0.0f64;
     for i in 0..=SMOOTH_SAMPLES {
-        let q = b.pos_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
+        let q = b.offset_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
         let mut d2 = f64::INFINITY;
         for (a, u, l) in chords {
             let mut t = 0.0;
@@ -510,6 +551,44 @@ fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64
         }
     }
     Some(worst2)
+}
+
+/// An upper bound of the largest squared distance from a quintic Bézier (control points
+/// `q`, relative to its first point, over the first `N` axes) to the nearer of two chords
+/// (start relative to the same point, unit direction, length): the curve cut in two at
+/// u = 1/2 (de Casteljau), each half within the convex hull of its control points, and the
+/// distance to a segment convex, so the first half is no farther from the first chord than
+/// its farthest control point, the second from the second. Never below what
+/// [`sampled_dev2`] finds on the same curve.
+#[allow(clippy::needless_range_loop)] // one index over several axis arrays
+fn hull_dev2<const N: usize>(q: &[V; 6], chords: &[(V, V, f64); 2]) -> f64 {
+    let d2 = |p: &V, (a, u, l): &(V, V, f64)| {
+        let mut t = 0.0;
+        for k in 0..N {
+            t += (p[k] - a[k]) * u[k];
+        }
+        let t = t.clamp(0.0, *l);
+        let mut e2 = 0.0;
+        for k in 0..N {
+            let e = p[k] - a[k] - t * u[k];
+            e2 += e * e;
+        }
+        e2
+    };
+    let mut p = *q;
+    let mut worst = d2(&p[0], &chords[0]).max(d2(&p[5], &chords[1]));
+    for r in 1..6 {
+        for i in 0..6 - r {
+            for k in 0..N {
+                p[i][k] = 0.5 * (p[i][k] + p[i + 1][k]);
+            }
+        }
+        // p[0] is the first half's control point r, p[5 − r] the second half's 5 − r
+        worst = worst
+            .max(d2(&p[0], &chords[0]))
+            .max(d2(&p[5 - r], &chords[1]));
+    }
+    worst
 }
 
 /// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
@@ -589,7 +668,9 @@ impl Path {
     /// here. Call [`reset`](Self::reset) before use.
     pub fn with_capacity(segments: usize) -> Self {
         let capacity = segments.max(1);
-        let ring = capacity.div_ceil(BLOCK) * BLOCK;
+        // a power of two (of blocks): a slot is an index masked, not divided (a division
+        // costs tens of cycles, and the executor looks its segments up several times a tick)
+        let ring = capacity.next_power_of_two().max(BLOCK);
         let lim = PathLimits {
             naxes: 1,
             ts: 1e-3,
@@ -627,6 +708,10 @@ impl Path {
             starving_sent: false,
             idle_sent: true,
             cap_due: None,
+            end_dist: 0.0,
+            seen: None,
+            #[cfg(test)]
+            walk_every_tick: false,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }
@@ -705,15 +790,17 @@ impl Path {
         self.starving_sent = false;
         self.idle_sent = true;
         self.cap_due = None;
+        self.end_dist = 0.0;
+        self.seen = None;
         self.shift_clear();
         Ok(())
     }
 
     fn slot(&self, i: usize) -> usize {
-        i % self.segs.len()
+        i & (self.segs.len() - 1)
     }
     fn seg(&self, i: usize) -> &Seg {
-        &self.segs[i % self.segs.len()]
+        &self.segs[self.slot(i)]
     }
 
     /// Segments queued (not ended yet).
@@ -797,7 +884,7 @@ impl Path {
 
     /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
     /// derivative `dk` on that axis.
-    #[inline]
+    #[inline(always)]
     fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, mut cap: f64) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
@@ -853,18 +940,33 @@ impl Path {
         }
     }
 
+    /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
     fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
+        match b.axes() {
+            1 => self.blend_cap_n::<1>(b, samples),
+            2 => self.blend_cap_n::<2>(b, samples),
+            3 => self.blend_cap_n::<3>(b, samples),
+            _ => self.blend_cap_n::<MAX_AXES>(b, samples),
+        }
+    }
+
+    /// [`blend_cap`](Self::blend_cap) over the first `N` axes (see `Blend::each_term_n`): one
+    /// loop the compiler sees whole, so what does not change with the parameter is computed
+    /// once.
+    #[inline]
+    fn blend_cap_n<const N: usize>(&self, b: &Blend, samples: usize) -> f64 {
         let mut cap = f64::INFINITY;
         for i in 0..=samples {
-            cap = self.blend_cap_at(b, i as f64 / samples as f64, cap);
+            let u = i as f64 / samples as f64;
+            b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
         }
         cap
     }
 
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
-    /// its start), two lines, with curvature vectors `ka`, `kb` at its ends: the blend, its
-    /// cap (when `with_cap`, else 0) and its deviation from the two lines, or None when the
-    /// sampled deviation is over `limit` (or it is not finite).
+    /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
+    /// its cap (when `with_cap`, else 0) and its deviation from the two lines, or None when
+    /// the deviation is over `limit` (or it is not finite; `out` is then left unusable).
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -876,72 +978,98 @@ impl Path {
         kb: &V,
         limit: f64,
         with_cap: bool,
-    ) -> Option<(Blend, f64, f64)> {
+        out: &mut Blend,
+    ) -> Option<(f64, f64)> {
         let n = self.lim.naxes;
         let mut fa = pa.frame(pa.len() - da);
         fa.k = *ka;
         let mut fb = pb.frame(db);
         fb.k = *kb;
-        let b = Blend::new(n, &fa, &fb, da, db)?;
-        // the two chords as (start, unit direction, length)
+        let q = Blend::controls(n, &fa, &fb, da, db);
+        if !out.fill(n, fa.p, &q) {
+            return None;
+        }
+        let b = &*out;
+        // the two chords as (start, unit direction, length), from the blend's first point
         let corner = pa.end();
         let chord = |a: &V, b: &V| {
             let mut u = [0.0; MAX_AXES];
+            let mut a0 = [0.0; MAX_AXES];
             let mut l2 = 0.0;
             for k in 0..n {
                 u[k] = b[k] - a[k];
+                a0[k] = a[k] - fa.p[k];
                 l2 += u[k] * u[k];
             }
             let l = l2.sqrt();
             for x in u[..n].iter_mut() {
                 *x /= l;
             }
-            (*a, u, l)
+            (a0, u, l)
         };
         let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        let worst2 = match n {
-            1 => sampled_dev2::<1>(&b, &chords, limit)?,
-            2 => sampled_dev2::<2>(&b, &chords, limit)?,
-            3 => sampled_dev2::<3>(&b, &chords, limit)?,
-            _ => sampled_dev2::<MAX_AXES>(&b, &chords, limit)?,
+        // the hull's bound first; the samples where it is over the limit
+        let hull2 = match n {
+            1 => hull_dev2::<1>(&q, &chords),
+            2 => hull_dev2::<2>(&q, &chords),
+            3 => hull_dev2::<3>(&q, &chords),
+            _ => hull_dev2::<MAX_AXES>(&q, &chords),
+        };
+        let worst2 = if hull2.sqrt() <= limit {
+            hull2
+        } else {
+            match n {
+                1 => sampled_dev2::<1>(b, &chords, limit)?,
+                2 => sampled_dev2::<2>(b, &chords, limit)?,
+                3 => sampled_dev2::<3>(b, &chords, limit)?,
+                _ => sampled_dev2::<MAX_AXES>(b, &chords, limit)?,
+            }
         };
         let dev = worst2.sqrt();
         if !with_cap {
-            return Some((b, 0.0, dev));
+            return Some((0.0, dev));
         }
-        let cap = self.blend_cap(&b, SMOOTH_CAP_SAMPLES);
-        (cap > 0.0 && cap.is_finite()).then_some((b, cap, dev))
+        let cap = self.blend_cap(b, SMOOTH_CAP_SAMPLES);
+        (cap > 0.0 && cap.is_finite()).then_some((cap, dev))
     }
 
     /// Smoothing of a junction of two lines (see [`Path::push`]): the blend from the middle of
     /// the last queued line to the middle of `rec`, and the previous smoothing blend rebuilt
-    /// with the curvature the new point gives it, where the executor is far enough away.
-    fn smooth(&self, rec: &Seg, tol: f64, need: f64) -> Option<Smooth> {
+    /// with the curvature the new point gives it, where the executor is far enough away;
+    /// the blends are built in `again` and `new`.
+    fn smooth(
+        &self,
+        rec: &Seg,
+        tol: f64,
+        need: f64,
+        again: &mut Blend,
+        new: &mut Blend,
+    ) -> Option<Smooth> {
         let n = self.lim.naxes;
         let pi = self.tail - 1;
         let prev = self.seg(pi);
         let (
-            Prog::Line {
+            &Prog::Line {
                 p0,
                 p1,
                 dir,
                 len: la,
             },
-            Prog::Line {
+            &Prog::Line {
                 p1: p2, len: lb, ..
             },
-        ) = (prev.prog, rec.prog)
+        ) = (&prev.prog, &rec.prog)
         else {
             return None;
         };
         let da = (0.5 * la).min(la - prev.body0);
         let db = 0.5 * lb;
-        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi, need + da) - need < da {
+        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi) - need < da {
             return None;
         }
         let limit = DEV_SAFETY * tol;
         let k1 = vertex_k(n, &p0, &p1, &p2);
-        if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1, need) >= need {
+        if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1) >= need {
             let pp = self.seg(pi - 1);
             if let Prog::Line { p0: pm, .. } = pp.prog {
                 let k0 = vertex_k(n, &pm, &p0, &p1);
@@ -953,7 +1081,7 @@ impl Path {
                 for k in 0..n {
                     kmid[k] -= along * dir[k];
                 }
-                let again = self.smooth_piece(
+                let rebuilt = self.smooth_piece(
                     &pp.prog,
                     &prev.prog,
                     prev.trim,
@@ -962,15 +1090,16 @@ impl Path {
                     &kmid,
                     limit,
                     true,
+                    again,
                 );
-                if let Some(again) = again {
+                if let Some((cap, dev)) = rebuilt {
                     let z = [0.0; MAX_AXES];
-                    if let Some(new) =
-                        self.smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false)
+                    if let Some((_, new_dev)) = self
+                        .smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false, new)
                     {
                         return Some(Smooth {
-                            again: Some((again, kmid)),
-                            new,
+                            again: Some((cap, dev, kmid)),
+                            dev: new_dev,
                             kstart: kmid,
                             da,
                             db,
@@ -980,10 +1109,11 @@ impl Path {
             }
         }
         let z = [0.0; MAX_AXES];
-        let new = self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false)?;
+        let (_, dev) =
+            self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false, new)?;
         Some(Smooth {
             again: None,
-            new,
+            dev,
             kstart: z,
             da,
             db,
@@ -1013,6 +1143,7 @@ impl Path {
         b.geo = b.geo.min(cap);
         b.kg = b.kg.min(cap * cap + 2.0 * self.at * x0);
         self.cap_due = None;
+        self.window_changed(i);
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
@@ -1062,32 +1193,16 @@ impl Path {
         worst + sag
     }
 
-    /// Distance from the executor to the end of segment `upto`'s body, or more than `need`
-    /// (the walk stops there).
-    fn dist_to_body_end(&self, upto: usize, need: f64) -> f64 {
-        let sg = self.seg(self.exec);
-        let mut d = if self.in_blend {
-            sg.blend.len - self.s + (sg.body1 - sg.body0)
-        } else {
-            sg.body1 - self.s
-        };
-        let mut j = self.exec + 1;
-        while j <= upto && d <= need {
-            if j.is_multiple_of(BLOCK) && j + BLOCK <= upto + 1 {
-                // a whole block short of `upto`: its length at once (the walk spans the
-                // braking distance, a hundred segments on a dense path, on every push)
-                d += self.blocks[self.slot(j) / BLOCK].len;
-                j += BLOCK;
-                continue;
-            }
-            d += self.seg(j).len();
-            j += 1;
-        }
-        d
+    /// Distance from the executor to the end of segment `upto`'s body (a queued segment at
+    /// or after the executor's).
+    fn dist_to_body_end(&self, upto: usize) -> f64 {
+        let sg = self.seg(upto);
+        sg.start + sg.len() - self.exec_dist()
     }
 
     /// Appends a segment: validates it, builds the blend with the previous one and computes
     /// the caps. Allocates nothing.
+    #[inline(never)] // a function of its own in profiles: the cost benchmark counts it
     pub fn push(&mut self, seg: Segment) -> Result<(), PathError> {
         if !self.ready {
             return Err(PathError::NotReady);
@@ -1224,7 +1339,7 @@ impl Path {
         } else if motion && prev_live && tol > 0.0 && self.seg(self.tail - 1).shift {
             return Err(PathError::TimeShift);
         } else if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
-            let prev = *self.seg(self.tail - 1);
+            let prev = self.seg(self.tail - 1);
             let la = prev.prog.len();
             let fa = prev.prog.frame(la);
             let fb = rec.prog.frame(0.0);
@@ -1236,6 +1351,8 @@ impl Path {
                 k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
             }
             let turn = dot.clamp(-1.0, 1.0).acos();
+            // where a smoothing blend and the previous one rebuilt are built
+            let (mut again, mut rec_blend) = (Blend::default(), Blend::default());
             let need = {
                 let pl = &self.planner;
                 1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), self.at, self.jt)
@@ -1256,21 +1373,23 @@ impl Path {
             } else if let Some(sm) = (!prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
                 && turn <= SMOOTH_TURN)
-                .then(|| self.smooth(&rec, tol, need))
+                .then(|| self.smooth(&rec, tol, need, &mut again, &mut rec_blend))
                 .flatten()
             {
-                if let Some(((b, cap, dev), kend)) = sm.again {
+                if let Some((cap, dev, kend)) = sm.again {
                     let pi = self.tail - 1;
                     let ps = self.slot(pi);
                     let old = self.segs[ps].blend.len;
                     let sp = &mut self.segs[ps];
-                    sp.blend = b;
+                    sp.blend = again;
                     sp.jgeo = cap;
                     sp.dev = dev;
                     sp.kend = kend;
                     let x0 = sp.x0;
+                    let new_len = sp.blend.len;
+                    self.end_dist += new_len - old;
                     let bk = &mut self.blocks[ps / BLOCK];
-                    bk.len += b.len - old;
+                    bk.len += new_len - old;
                     bk.geo = bk.geo.min(cap);
                     bk.kg = bk.kg.min(cap * cap + 2.0 * self.at * x0);
                     self.cap_due = None;
@@ -1278,8 +1397,7 @@ impl Path {
                 // The newest blend ends with curvature 0 and is rebuilt by the next push in
                 // the common case: its cap waits until the look-ahead may reach it (see
                 // `settle_cap`), so that each push computes one cap, not two.
-                let (b, _, dev) = sm.new;
-                rec.join(b, 0.0, rule, (sm.da, sm.db), dev);
+                rec.join(rec_blend, 0.0, rule, (sm.da, sm.db), sm.dev);
                 cap_due = true;
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
@@ -1290,7 +1408,7 @@ impl Path {
                 let mut room = Self::room(&prev.prog)
                     .min(la - prev.body0)
                     .min(Self::room(&rec.prog));
-                let to_corner = self.dist_to_body_end(self.tail - 1, need + room);
+                let to_corner = self.dist_to_body_end(self.tail - 1);
                 room = room.min(to_corner - need);
                 let build =
                     |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
@@ -1378,6 +1496,11 @@ impl Path {
             let ps = self.slot(pi);
             self.segs[ps].body1 -= prev_trim;
             self.blocks[ps / BLOCK].len -= prev_trim;
+            self.end_dist -= prev_trim;
+        }
+        if self.tail > 0 {
+            // the segment before is rebuilt or trimmed above
+            self.window_changed(self.tail - 1);
         }
         if idle {
             self.in_blend = false;
@@ -1398,6 +1521,8 @@ impl Path {
             };
         }
         rec.x0 = b.len;
+        rec.start = self.end_dist;
+        self.end_dist += rec.len();
         b.len += rec.len();
         b.stop |= rec.stop_before;
         b.geo = b.geo.min(rec.bgeo);

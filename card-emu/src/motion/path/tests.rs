@@ -983,7 +983,8 @@ fn short_lookahead_window_still_blends_and_keeps_limits() {
     assert_eq!(p.position(), v[8]);
 }
 
-/// The bench's curve (benches/path.rs): 10,000 chords of ~0.1 mm along a sum of sines.
+/// The first bench's curve (benches/path.rs now runs path_run's hypotrochoid): 10,000 chords
+/// of ~0.1 mm along a sum of sines.
 fn bench_curve() -> (Vec<V>, PathLimits) {
     let mut v = vec![];
     let mut x = 0.0f64;

@@ -1,0 +1,321 @@
+//! The look-ahead's shortcuts (what an earlier walk saw, `exec::Seen`; the closed-form tests
+//! of the slowing and stopping distances) must not change the motion: the same programs run
+//! with a walk on every tick give the same positions, speeds and events to the last bit. And
+//! the smoothing blends' deviation bound from their control points is a bound.
+
+use super::tests::{limits, line, pt, TS};
+use super::*;
+use crate::testkit::rng::Rng;
+
+/// A program run the way the firmware runs one: segments streamed into a ring of
+/// `capacity` as it frees room (at most `chunk` every `every` ticks), the feed override
+/// changed on some ticks, and optionally a halt, a clear at rest and the rest of the program
+/// from there.
+struct Script {
+    naxes: usize,
+    ts: f64,
+    capacity: usize,
+    lookahead: usize,
+    segs: Vec<Segment>,
+    every: usize,
+    chunk: usize,
+    /// (tick, override) from that tick on.
+    ovr: Vec<(usize, f64)>,
+    halt_at: Option<usize>,
+}
+
+#[derive(Debug, PartialEq)]
+struct Trace {
+    pos: Vec<[u64; MAX_AXES]>,
+    speed: Vec<u64>,
+    events: Vec<(usize, PathEvent)>,
+    walks: usize,
+}
+
+fn run(s: &Script, walk_every_tick: bool) -> Trace {
+    let mut p = Path::with_capacity(s.capacity);
+    p.reset(pt(&[0.0; 3][..s.naxes]), limits(s.naxes, s.ts), s.lookahead)
+        .unwrap();
+    p.walk_every_tick = walk_every_tick;
+    let mut t = Trace {
+        pos: vec![],
+        speed: vec![],
+        events: vec![],
+        walks: 0,
+    };
+    let (mut next, mut ovr, mut halted) = (0, 1.0, false);
+    for k in 0..3_000_000 {
+        if let Some(&(_, o)) = s.ovr.iter().rev().find(|(at, _)| *at <= k) {
+            ovr = o;
+        }
+        if s.halt_at == Some(k) {
+            p.halt(f64::MAX, f64::MAX);
+            halted = true;
+        }
+        if halted && !p.is_moving() && k > s.halt_at.unwrap_or(0) + 10 {
+            p.clear(&mut |_| {}).unwrap();
+            halted = false;
+        }
+        if !halted && k.is_multiple_of(s.every) {
+            for _ in 0..s.chunk {
+                if next == s.segs.len() || p.free() == 0 {
+                    break;
+                }
+                p.push(s.segs[next]).unwrap();
+                next += 1;
+            }
+        }
+        let seen = p.seen.is_some();
+        let q = p.tick(ovr, &mut |e| t.events.push((k, e)));
+        t.walks += usize::from(!seen || p.seen.is_none());
+        t.pos.push(q.map(f64::to_bits));
+        t.speed.push(p.speed().to_bits());
+        if next == s.segs.len() && !halted && p.queued() == 0 && !p.is_moving() {
+            return t;
+        }
+    }
+    panic!("no end");
+}
+
+/// Both ways, the same trace; and the shortcuts are taken (fewer walks).
+fn same_both_ways(s: &Script, what: &str) {
+    let exact = run(s, true);
+    let fast = run(s, false);
+    assert_eq!(exact.pos.len(), fast.pos.len(), "{what}: ticks");
+    for (i, (a, b)) in exact.pos.iter().zip(&fast.pos).enumerate() {
+        assert_eq!(a, b, "{what}: position at tick {i}");
+    }
+    assert_eq!(exact.speed, fast.speed, "{what}: speeds");
+    assert_eq!(exact.events, fast.events, "{what}: events");
+    assert!(
+        fast.walks < exact.pos.len() / 2,
+        "{what}: {} walks in {} ticks",
+        fast.walks,
+        exact.pos.len()
+    );
+}
+
+/// A smooth closed curve (radius 30–50 mm, 1 count = 1 µm) in `n` chords.
+fn curve(n: usize, feed: f64, tol: f64) -> Vec<Segment> {
+    (1..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * std::f64::consts::TAU;
+            let r = 40_000.0 + 10_000.0 * (3.0 * t).sin();
+            let mut s = line(
+                i as u32,
+                pt(&[r * t.cos() - 40_000.0, r * t.sin()]),
+                feed,
+                Transition::MaxDeviation(tol),
+            );
+            s.last = i == n;
+            s
+        })
+        .collect()
+}
+
+#[test]
+fn dense_curves_run_the_same_with_and_without_what_earlier_walks_saw() {
+    // the whole curve queued, a window of 256
+    let segs = curve(3000, 1e5, 2.0);
+    same_both_ways(
+        &Script {
+            naxes: 2,
+            ts: 1e-4,
+            capacity: 4096,
+            lookahead: 256,
+            segs: segs.clone(),
+            every: 1,
+            chunk: 4096,
+            ovr: vec![],
+            halt_at: None,
+        },
+        "queued whole",
+    );
+    // streamed into a short ring (pushes change what the window holds), a short window, the
+    // override turned down and up
+    same_both_ways(
+        &Script {
+            naxes: 2,
+            ts: 1e-4,
+            capacity: 200,
+            lookahead: 48,
+            segs: segs.clone(),
+            every: 7,
+            chunk: 1,
+            ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
+            halt_at: None,
+        },
+        "streamed",
+    );
+    // pushed one at a time about as fast as the path runs them: the window reaches the end
+    // of the queue, whose last blend each push rebuilds and whose last line it trims
+    for every in [6, 9, 14] {
+        same_both_ways(
+            &Script {
+                naxes: 2,
+                ts: 1e-4,
+                capacity: 4096,
+                lookahead: 256,
+                segs: segs[..1000].to_vec(),
+                every,
+                chunk: 1,
+                ovr: vec![],
+                halt_at: None,
+            },
+            &format!("just in time, a segment every {every} ticks"),
+        );
+    }
+    // a halt in the middle, then the rest from where it stopped
+    same_both_ways(
+        &Script {
+            naxes: 2,
+            ts: 1e-4,
+            capacity: 512,
+            lookahead: 256,
+            segs,
+            every: 3,
+            chunk: 4,
+            ovr: vec![],
+            halt_at: Some(12_000),
+        },
+        "halted",
+    );
+}
+
+#[test]
+fn random_programs_run_the_same_with_and_without_what_earlier_walks_saw() {
+    let mut rng = Rng::new(0x5eed_0f14);
+    for case in 0..12 {
+        let naxes = 2 + case % 2;
+        let mut segs = vec![];
+        let mut at = pt(&[0.0; 3][..naxes]);
+        for i in 1..=80u32 {
+            // short and long lines, small and sharp turns, some exact stops, some dwells
+            let mut q = at;
+            let len = rng.log_uniform(30.0, 20_000.0);
+            for x in q[..naxes].iter_mut() {
+                *x += len * rng.uniform(-1.0, 1.0);
+            }
+            let tr = match rng.int(0, 9) {
+                0 => Transition::Exact,
+                1 => Transition::CornerDistance(rng.log_uniform(1.0, 500.0)),
+                _ => Transition::MaxDeviation(rng.log_uniform(0.5, 100.0)),
+            };
+            let geom = if rng.chance(0.05) {
+                Geom::Dwell {
+                    time: rng.uniform(1e-3, 2e-2),
+                }
+            } else {
+                at = q;
+                Geom::Line { end: q }
+            };
+            segs.push(Segment {
+                id: i,
+                geom,
+                feed: rng.log_uniform(5e3, 1e5),
+                transition: tr,
+                blend: BlendSpeed::Low,
+                last: i == 80,
+            });
+        }
+        let halt_at = rng.chance(0.3).then(|| rng.int(100, 3000));
+        same_both_ways(
+            &Script {
+                naxes,
+                ts: TS,
+                capacity: 16 + rng.int(0, 100),
+                lookahead: 1 + rng.int(0, 40),
+                segs,
+                every: 1 + rng.int(0, 20),
+                chunk: 1 + rng.int(0, 5),
+                ovr: vec![(rng.int(0, 2000), rng.uniform(0.3, 1.6))],
+                halt_at,
+            },
+            &format!("case {case}"),
+        );
+    }
+}
+
+#[test]
+fn the_control_point_bound_of_a_smoothing_blend_is_never_below_its_curve() {
+    let mut rng = Rng::new(0x4011);
+    // bound over the dense samples' largest, on evenly cut turning curves
+    let mut ratios = vec![];
+    for _ in 0..3000 {
+        // two lines meeting at a corner, turning up to 30°, each trimmed at its middle, end
+        // curvatures across the lines as the vertex estimates give them
+        let la = rng.log_uniform(1.0, 1e5);
+        // chords of about one length, as a curve cut evenly (or any)
+        let even = rng.chance(0.5);
+        let lb = la
+            * if even {
+                rng.uniform(0.9, 1.1)
+            } else {
+                rng.uniform(0.3, 3.0)
+            };
+        let turn = rng.uniform(-SMOOTH_TURN, SMOOTH_TURN);
+        let corner = pt(&[rng.uniform(-1e6, 1e6), rng.uniform(-1e6, 1e6)]);
+        let a0 = pt(&[corner[0] - la, corner[1]]);
+        let b1 = pt(&[corner[0] + lb * turn.cos(), corner[1] + lb * turn.sin()]);
+        let (pa, _) = Prog::line(2, a0, corner);
+        let (pb, _) = Prog::line(2, corner, b1);
+        let (da, db) = (0.5 * la, 0.5 * lb);
+        let mut fa = pa.frame(la - da);
+        let mut fb = pb.frame(db);
+        // a curve the points came from: curvature toward the turn's side, about the turn
+        // over the chords' mean length (or 0 at the newest blend's end)
+        let k = turn / (0.5 * (la + lb));
+        fa.k = pt(&[0.0, k * rng.uniform(0.5, 1.5)]);
+        let kb = if rng.chance(0.2) {
+            0.0
+        } else {
+            k * rng.uniform(0.5, 1.5)
+        };
+        fb.k = pt(&[-turn.sin() * kb, turn.cos() * kb]);
+        let q = Blend::controls(2, &fa, &fb, da, db);
+        let Some(b) = Blend::from_bezier(2, fa.p, &q) else {
+            continue;
+        };
+        let rel = |p: &V| pt(&[p[0] - fa.p[0], p[1] - fa.p[1]]);
+        let chord = |a: &V, b: &V| {
+            let l = (b[0] - a[0]).hypot(b[1] - a[1]);
+            (rel(a), pt(&[(b[0] - a[0]) / l, (b[1] - a[1]) / l]), l)
+        };
+        let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
+        let bound = hull_dev2::<2>(&q, &chords).sqrt();
+        let sampled = sampled_dev2::<2>(&b, &chords, f64::INFINITY)
+            .unwrap()
+            .sqrt();
+        // and far more densely than the engine samples
+        let mut dense = 0.0f64;
+        for i in 0..=2000 {
+            let o = b.offset_u_n::<2>(i as f64 / 2000.0);
+            let d = chords
+                .iter()
+                .map(|(a, u, l)| {
+                    let t = ((o[0] - a[0]) * u[0] + (o[1] - a[1]) * u[1]).clamp(0.0, *l);
+                    (o[0] - a[0] - t * u[0]).hypot(o[1] - a[1] - t * u[1])
+                })
+                .fold(f64::INFINITY, f64::min);
+            dense = dense.max(d);
+        }
+        let room = 1e-9 * (la + lb);
+        assert!(
+            bound + room >= dense,
+            "bound {bound} < {dense} (sampled {sampled})"
+        );
+        assert!(bound + room >= sampled);
+        if even && turn.abs() > 0.01 {
+            ratios.push(bound / dense);
+        }
+    }
+    // on a curve cut evenly it is close: it passes the blends the samples pass (all of the
+    // dense benchmark's at its 1 µm tolerance)
+    ratios.sort_by(f64::total_cmp);
+    let p90 = ratios[ratios.len() * 9 / 10];
+    assert!(
+        ratios.len() > 1000 && p90 < 1.3,
+        "{} even cases, 90 % within {p90}×",
+        ratios.len()
+    );
+}
