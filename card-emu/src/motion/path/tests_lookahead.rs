@@ -319,3 +319,38 @@ fn the_control_point_bound_of_a_smoothing_blend_is_never_below_its_curve() {
         ratios.len()
     );
 }
+
+/// A slow corner pushed late: a long line runs at its feed with nothing to slow for in reach
+/// (the walk's shortcut serves the ticks), then a near-reversal with a long corner distance
+/// arrives, its blend starting just ahead of the executor for some of the push ticks. Both
+/// ways, the same motion. (It passes with `Path::window_changed` disabled too: the push's
+/// own bookkeeping makes the next walk see the corner. No program found yet makes that
+/// invalidation matter.)
+#[test]
+fn a_late_corner_runs_the_same_with_and_without_what_earlier_walks_saw() {
+    for every in (1880..1990).step_by(6) {
+        let mut first = line(
+            1,
+            pt(&[200_000.0, 0.0]),
+            1e5,
+            Transition::CornerDistance(6_000.0),
+        );
+        first.last = false;
+        let mut back = line(2, pt(&[100_000.0, 9_000.0]), 1e5, Transition::Exact);
+        back.last = true;
+        same_both_ways(
+            &Script {
+                naxes: 2,
+                ts: TS,
+                capacity: 64,
+                lookahead: 16,
+                segs: vec![first, back],
+                every,
+                chunk: 1,
+                ovr: vec![],
+                halt_at: None,
+            },
+            &format!("the corner pushed at tick {every}"),
+        );
+    }
+}
