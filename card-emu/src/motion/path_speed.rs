@@ -218,14 +218,16 @@ impl PathSpeedPlanner {
         )
     }
 
-    /// Time-optimal jerk-limited ramp from (v, a) to speed `tgt` with a = 0 at the end.
-    fn track_phases(&self, v: f64, a: f64, tgt: f64) -> Phases {
+    /// Time-optimal jerk-limited ramp from (v, a) to speed `tgt` with a = 0 at the end: the
+    /// acceleration it starts from (`a` within the limits) and its three phases, (jerk,
+    /// duration) toward the peak, the hold, and back to a = 0. A phase whose duration is not
+    /// positive and finite is not run (`Phases::push` drops it).
+    fn track_ramp(&self, v: f64, a: f64, tgt: f64) -> (f64, [(f64, f64); 3]) {
         let j = self.jmax;
-        let mut p = Phases::default();
         let a = a.clamp(-self.dmax, self.amax);
         // the speed reached by bringing a to zero at once
         let flat = v + a * a.abs() / (2.0 * j);
-        if tgt >= flat {
+        let phases = if tgt >= flat {
             let dv = tgt - v;
             let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
             let mut th = 0.0;
@@ -234,9 +236,7 @@ impl PathSpeedPlanner {
                 th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
             }
             let ap = ap.max(a);
-            p.push(j, (ap - a) / j);
-            p.push(0.0, th);
-            p.push(-j, ap / j);
+            [(j, (ap - a) / j), (0.0, th), (-j, ap / j)]
         } else {
             let dv = v - tgt;
             let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
@@ -246,9 +246,16 @@ impl PathSpeedPlanner {
                 th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
             }
             let dp = dp.max(-a);
-            p.push(-j, (a + dp) / j);
-            p.push(0.0, th);
-            p.push(j, dp / j);
+            [(-j, (a + dp) / j), (0.0, th), (j, dp / j)]
+        };
+        (a, phases)
+    }
+
+    /// [`track_ramp`](Self::track_ramp) as phases to run.
+    fn track_phases(&self, v: f64, a: f64, tgt: f64) -> Phases {
+        let mut p = Phases::default();
+        for (j, t) in self.track_ramp(v, a, tgt).1 {
+            p.push(j, t);
         }
         p
     }
@@ -326,35 +333,10 @@ impl PathSpeedPlanner {
     /// The distance of `track_phases(v, a, tgt)`, in closed form (the same phases, each
     /// counted only when `Phases::push` would keep it: a positive, finite duration).
     fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
-        let j = self.jmax;
-        let a = a.clamp(-self.dmax, self.amax);
-        let flat = v + a * a.abs() / (2.0 * j);
-        // (jerk, duration) of the three phases: toward the peak, hold, back to a = 0
-        let (p1, p2, p3) = if tgt >= flat {
-            let dv = tgt - v;
-            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
-            let mut th = 0.0;
-            if ap > self.amax {
-                ap = self.amax;
-                th = ((dv - (2.0 * ap * ap - a * a) / (2.0 * j)) / ap).max(0.0);
-            }
-            let ap = ap.max(a);
-            ((j, (ap - a) / j), th, (-j, ap / j))
-        } else {
-            let dv = v - tgt;
-            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
-            let mut th = 0.0;
-            if dp > self.dmax {
-                dp = self.dmax;
-                th = ((dv - (2.0 * dp * dp - a * a) / (2.0 * j)) / dp).max(0.0);
-            }
-            let dp = dp.max(-a);
-            ((-j, (a + dp) / j), th, (j, dp / j))
-        };
-        let keep = |t: f64| t > 0.0 && t.is_finite();
+        let (a, phases) = self.track_ramp(v, a, tgt);
         let (mut d, mut v, mut a) = (0.0, v, a);
-        for (jk, t) in [p1, (0.0, p2), p3] {
-            if keep(t) {
+        for (jk, t) in phases {
+            if t > 0.0 && t.is_finite() {
                 d += t * (v + t * (0.5 * a + t * jk / 6.0));
                 v += t * (a + 0.5 * jk * t);
                 a += jk * t;
