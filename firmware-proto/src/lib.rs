@@ -25,6 +25,26 @@
 #[cfg(target_endian = "big")]
 compile_error!("the DPRAM layout is little-endian; big-endian hosts need byte swapping");
 
+/// An enum of the header's codes (`MC_*` of one kind): its variants, `ALL` in declaration
+/// order, and `from_raw`, `None` for a value the layout does not define. Defined before the
+/// modules so each of them (`wire`, `scope`) can declare its codes with it.
+macro_rules! code_enum {
+    ($(#[$m:meta])* $name:ident : $repr:ty { $($(#[$vm:meta])* $variant:ident = $value:expr),+ $(,)? }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[repr($repr)]
+        pub enum $name { $($(#[$vm])* $variant = $value as $repr),+ }
+        impl $name {
+            /// Every value, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$variant),+];
+            /// Decode, or `None` for a value this layout does not define.
+            pub fn from_raw(v: $repr) -> Option<Self> {
+                match v { $(x if x == $value as $repr => Some($name::$variant),)+ _ => None }
+            }
+        }
+    };
+}
+
 #[allow(missing_docs)]
 pub mod raw;
 

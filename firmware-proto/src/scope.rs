@@ -79,27 +79,10 @@ impl Entry<SCOPE_WORDS> for ScopeSample {
     }
 }
 
-macro_rules! scope_enum {
-    ($(#[$m:meta])* $name:ident { $($(#[$vm:meta])* $variant:ident = $value:expr),+ $(,)? }) => {
-        $(#[$m])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[repr(u32)]
-        pub enum $name { $($(#[$vm])* $variant = $value as u32),+ }
-        impl $name {
-            /// Every value, in declaration order.
-            pub const ALL: &'static [$name] = &[$($name::$variant),+];
-            /// Decode, or `None` for a value this layout does not define.
-            pub fn from_raw(v: u32) -> Option<Self> {
-                match v { $(x if x == $value as u32 => Some($name::$variant),)+ _ => None }
-            }
-        }
-    };
-}
-
-scope_enum! {
+code_enum! {
     /// What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values,
     /// group signals the group status's, card signals the card control block's words.
-    Signal {
+    Signal: u32 {
         /// Commanded position, counts.
         CmdPos = raw::MC_SIG_CMD_POS,
         /// Commanded velocity, counts/s.
@@ -202,9 +185,9 @@ impl Source {
     }
 }
 
-scope_enum! {
+code_enum! {
     /// When the capture starts (`MC_SCOPE_TRIG_*`).
-    Trigger {
+    Trigger: u32 {
         /// At the first sample after the arm.
         Immediate = raw::MC_SCOPE_TRIG_IMMEDIATE,
         /// At the first sample after an `MC_OP_SCOPE_TRIGGER`.
@@ -218,9 +201,9 @@ scope_enum! {
     }
 }
 
-scope_enum! {
+code_enum! {
     /// Which way a level or input trigger fires (`MC_SCOPE_RISING`…).
-    Edge {
+    Edge: u32 {
         /// From below the level (inactive) to at or above it (active).
         Rising = raw::MC_SCOPE_RISING,
         /// From above the level (active) to at or below it (inactive).
@@ -230,9 +213,9 @@ scope_enum! {
     }
 }
 
-scope_enum! {
+code_enum! {
     /// One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).
-    ScopeMode {
+    ScopeMode: u32 {
         /// `post_trigger` samples from the trigger on, then done.
         OneShot = raw::MC_SCOPE_ONE_SHOT,
         /// Until stopped.
@@ -240,9 +223,9 @@ scope_enum! {
     }
 }
 
-scope_enum! {
+code_enum! {
     /// The scope's state (`scope_status.state`).
-    ScopeState {
+    ScopeState: u32 {
         /// Not sampling.
         Idle = raw::MC_SCOPE_IDLE,
         /// Armed: sampling into the history, waiting for the trigger.
@@ -254,24 +237,15 @@ scope_enum! {
     }
 }
 
-/// The codes of `MC_EV_SCOPE`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(i32)]
-pub enum ScopeEvent {
-    /// The trigger fired; value: the trigger sample's tick.
-    Triggered = raw::MC_SCOPE_EV_TRIGGERED as i32,
-    /// A one-shot capture ended; value: its samples.
-    Done = raw::MC_SCOPE_EV_DONE as i32,
-    /// A sample found the ring full; value: the samples lost since the arm.
-    Lost = raw::MC_SCOPE_EV_LOST as i32,
-}
-
-impl ScopeEvent {
-    /// Decode, or `None` for a code this layout does not define.
-    pub fn from_raw(v: i32) -> Option<Self> {
-        [Self::Triggered, Self::Done, Self::Lost]
-            .into_iter()
-            .find(|e| *e as i32 == v)
+code_enum! {
+    /// The codes of `MC_EV_SCOPE`.
+    ScopeEvent: i32 {
+        /// The trigger fired; value: the trigger sample's tick.
+        Triggered = raw::MC_SCOPE_EV_TRIGGERED,
+        /// A one-shot capture ended; value: its samples.
+        Done = raw::MC_SCOPE_EV_DONE,
+        /// A sample found the ring full; value: the samples lost since the arm.
+        Lost = raw::MC_SCOPE_EV_LOST,
     }
 }
 

@@ -19,23 +19,6 @@ pub const PTP_LIMITS_MAX: usize = raw::MC_PTP_LIMITS_MAX as usize;
 /// Words of a status payload.
 pub const STATUS_WORDS: usize = crate::layout::STATUS_WORDS;
 
-macro_rules! code_enum {
-    ($(#[$m:meta])* $name:ident : $repr:ty { $($(#[$vm:meta])* $variant:ident = $value:expr),+ $(,)? }) => {
-        $(#[$m])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[repr($repr)]
-        pub enum $name { $($(#[$vm])* $variant = $value as $repr),+ }
-        impl $name {
-            /// Every value, in declaration order.
-            pub const ALL: &'static [$name] = &[$($name::$variant),+];
-            /// Decode, or `None` for a value this layout does not define.
-            pub fn from_raw(v: $repr) -> Option<Self> {
-                match v { $(x if x == $value as $repr => Some($name::$variant),)+ _ => None }
-            }
-        }
-    };
-}
-
 code_enum! {
     /// Command opcodes.
     Opcode: u16 {
