@@ -18,7 +18,11 @@
 //! Each part is timed by reading the clock around every call, less the clock's own cost
 //! (measured before each run); `N` runs (default 7), the median and the range printed. A
 //! coarse run (one clock read per refill and per 64 ticks) checks the sum. `--once` runs the
-//! engine once with no clock reads: for callgrind (`card-emu/benches/path_callgrind.sh`).
+//! engine once with no clock reads: for callgrind (`card-emu/benches/path_callgrind.sh`). It
+//! prints an FNV-1a sum of every commanded position's bits (the same motion to the last bit
+//! gives the same sum) and, with `PATH_DUMP=FILE`, writes the positions to FILE (f64, little
+//! endian, x then y per tick), to measure how far two builds' motions are apart when the sum
+//! differs.
 #[path = "common/dense.rs"]
 mod dense;
 
@@ -194,6 +198,10 @@ fn main() {
         let sum = pos.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
             (h ^ x.to_bits()).wrapping_mul(0x100_0000_01b3)
         });
+        if let Ok(f) = std::env::var("PATH_DUMP") {
+            let bytes: Vec<u8> = pos.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+            std::fs::write(f, bytes).unwrap();
+        }
         println!(
             "path --once: {CHORDS} segments, {} ticks, positions {sum:016x}",
             c.ticks

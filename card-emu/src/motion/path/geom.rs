@@ -320,8 +320,16 @@ impl Blend {
     /// Makes this the quintic of [`from_bezier`](Self::from_bezier) in place (a blend is
     /// hundreds of bytes: built where it is kept, not moved there); false (and this blend
     /// unusable) when it is not finite.
-    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn fill(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
+        self.shape(n, q0, q) && self.measure()
+    }
+
+    /// The first half of [`fill`](Self::fill): the quintic's shape (its points, tangents and
+    /// curvatures can be evaluated by the parameter u) without its arc-length table, which
+    /// [`measure`](Self::measure) makes; until then `len` is the chord |B(1) − B(0)|, a lower
+    /// bound of the length. False when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn shape(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
         const BIN: [[f64; 6]; 6] = [
             [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
@@ -342,10 +350,26 @@ impl Blend {
                 }
             }
         }
+        self.q0 = q0;
+        self.n = n;
+        let mut chord2 = 0.0;
+        for k in 0..n {
+            chord2 += q[5][k] * q[5][k];
+        }
+        self.len = chord2.sqrt();
+        self.len.is_finite() && c.iter().flatten().all(|x| x.is_finite())
+    }
+
+    /// The second half of [`fill`](Self::fill): the arc-length table and the length of a
+    /// [`shape`](Self::shape)d quintic. False (the table then spread evenly over the chord,
+    /// so that the blend still runs from its start to its end) when it is not finite.
+    #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    pub fn measure(&mut self) -> bool {
+        let c = &self.c;
         // B'(u) = Σ d_m u^m with d_m = (m + 1)·c_(m+1); |B'|² = Σ_k Σ_(m,l) d_m d_l u^(m+l)
         let sp2 = &mut self.sp2;
         *sp2 = [0.0; 9];
-        for k in 0..n {
+        for k in 0..self.n {
             let d = [
                 c[1][k],
                 2.0 * c[2][k],
@@ -360,8 +384,7 @@ impl Blend {
                 }
             }
         }
-        self.q0 = q0;
-        self.n = n;
+        let chord = self.len;
         self.table[0] = 0.0;
         for i in 0..NSUB {
             let u0 = i as f64 / NSUB as f64;
@@ -369,7 +392,14 @@ impl Blend {
             self.table[i + 1] = self.table[i] + self.gl(u0, u1);
         }
         self.len = self.table[NSUB];
-        self.len.is_finite() && self.len > 0.0
+        let ok = self.len.is_finite() && self.len > 0.0;
+        if !ok {
+            self.len = chord;
+            for i in 0..=NSUB {
+                self.table[i] = chord * i as f64 / NSUB as f64;
+            }
+        }
+        ok
     }
 
     /// |B'(u)|.

@@ -28,8 +28,9 @@
 //! through three vertices, averaged over the two vertices of a line). The newest blend ends
 //! with curvature 0, since the next point is not known yet; when it arrives, that blend is
 //! rebuilt with its end curvature if the executor can still slow down before it. The newest
-//! blend's speed cap is computed only when that rebuild does not happen, or when the
-//! look-ahead window reaches it first, so that a push computes one cap, not two. The
+//! blend is only shaped (its length is its chord until then): its arc-length table and its
+//! speed cap are made only when that rebuild does not happen, or when the look-ahead window
+//! reaches it first, so that a push measures one blend and computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
 //! lines is over the tolerance (×0.97) falls back to the corner blend below; the deviation is
@@ -860,12 +861,19 @@ impl Path {
     /// not queued).
     pub fn blend_info(&self, id: u32) -> Option<BlendInfo> {
         (self.exec.saturating_sub(1)..self.tail)
-            .map(|i| self.seg(i))
-            .find(|s| s.id == id && s.has_blend)
-            .map(|s| BlendInfo {
-                trim: s.trim,
-                deviation: s.dev,
-                length: s.blend.len,
+            .find(|&i| self.seg(i).id == id && self.seg(i).has_blend)
+            .map(|i| {
+                let s = self.seg(i);
+                let mut b = s.blend;
+                if self.cap_due == Some(i) {
+                    // not measured yet (see `settle_cap`)
+                    b.measure();
+                }
+                BlendInfo {
+                    trim: s.trim,
+                    deviation: s.dev,
+                    length: b.len,
+                }
             })
     }
 
@@ -952,21 +960,40 @@ impl Path {
 
     /// [`blend_cap`](Self::blend_cap) over the first `N` axes (see `Blend::each_term_n`): one
     /// loop the compiler sees whole, so what does not change with the parameter is computed
-    /// once.
+    /// once. The cap's lowest point lies between two samples, up to a few per cent below
+    /// the lowest sample: the middles of the two intervals next to the lowest sample are
+    /// sampled too, which finds most of it (`tests_lookahead` measures what is left).
     #[inline]
     fn blend_cap_n<const N: usize>(&self, b: &Blend, samples: usize) -> f64 {
-        let mut cap = f64::INFINITY;
-        for i in 0..=samples {
-            let u = i as f64 / samples as f64;
+        let below = |u: f64, cap: f64| {
+            let mut cap = cap;
             b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
+            cap
+        };
+        let h = 1.0 / samples.max(1) as f64;
+        let (mut cap, mut low) = (f64::INFINITY, 0.0);
+        for i in 0..=samples.max(1) {
+            let u = i as f64 * h;
+            let c = below(u, cap);
+            if c < cap {
+                cap = c;
+                low = u;
+            }
+        }
+        for u in [low - 0.5 * h, low + 0.5 * h] {
+            if (0.0..=1.0).contains(&u) {
+                cap = below(u, cap);
+            }
         }
         cap
     }
 
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
-    /// its cap (when `with_cap`, else 0) and its deviation from the two lines, or None when
-    /// the deviation is over `limit` (or it is not finite; `out` is then left unusable).
+    /// its cap and its deviation from the two lines, or None when the deviation is over
+    /// `limit` (or it is not finite; `out` is then left unusable). Without `with_cap` the
+    /// blend is only shaped (`Blend::shape`: no arc-length table, its length the chord) and
+    /// the cap returned is 0: `settle_cap` measures it and computes its cap later.
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -986,7 +1013,12 @@ impl Path {
         let mut fb = pb.frame(db);
         fb.k = *kb;
         let q = Blend::controls(n, &fa, &fb, da, db);
-        if !out.fill(n, fa.p, &q) {
+        let built = if with_cap {
+            out.fill(n, fa.p, &q)
+        } else {
+            out.shape(n, fa.p, &q) && out.len > 0.0
+        };
+        if !built {
             return None;
         }
         let b = &*out;
@@ -1120,12 +1152,20 @@ impl Path {
         })
     }
 
-    /// Computes the cap of segment `i`'s smoothing blend, left for later by `append` (the
-    /// newest blend, which the next push usually rebuilds): when the next push does not
-    /// rebuild it, or when the executor's look-ahead window reaches it (`tick` checks before
-    /// each look-ahead; nothing else reads a blend's cap).
+    /// Measures segment `i`'s smoothing blend and computes its cap, left for later by
+    /// `append` (the newest blend, which the next push usually rebuilds): when the next push
+    /// does not rebuild it, or when the executor's look-ahead window reaches it (`tick`
+    /// checks before each look-ahead). Until then its length is its chord, a lower bound (the
+    /// distances to what follows it are short, never long) and its cap 0.
     fn settle_cap(&mut self, i: usize) {
         let sl = self.slot(i);
+        // its arc-length table, and its length instead of the chord it had (it is the newest
+        // segment: where the queue ends moves by the difference, nothing after it)
+        let chord = self.segs[sl].blend.len;
+        self.segs[sl].blend.measure();
+        let grown = self.segs[sl].blend.len - chord;
+        self.end_dist += grown;
+        self.blocks[sl / BLOCK].len += grown;
         let mut cap = self.blend_cap(&self.segs[sl].blend, SMOOTH_CAP_SAMPLES);
         if !(cap > 0.0 && cap.is_finite()) {
             // a blend of finite positive length has a finite positive cap (every limit
