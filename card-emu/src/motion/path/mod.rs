@@ -78,7 +78,7 @@ pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
 
-use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, V};
+use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, LANES, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
@@ -958,31 +958,62 @@ impl Path {
         }
     }
 
-    /// [`blend_cap`](Self::blend_cap) over the first `N` axes (see `Blend::each_term_n`): one
-    /// loop the compiler sees whole, so what does not change with the parameter is computed
-    /// once. The cap's lowest point lies between two samples, up to a few per cent below
-    /// the lowest sample: the middles of the two intervals next to the lowest sample are
-    /// sampled too, which finds most of it (`tests_lookahead` measures what is left).
+    /// [`blend_cap`](Self::blend_cap) over the first `N` axes, [`LANES`] samples at a time
+    /// (`Blend::terms_lanes`): each lane's velocity and acceleration caps are computed
+    /// together, then the jerk cubic is solved only where the lowest cap so far breaks it, as
+    /// [`axis_cap`](Self::axis_cap) does sample by sample. The cap's lowest point lies between
+    /// two samples, up to a few per cent below the lowest sample: the middles of the two
+    /// intervals next to the lowest sample are sampled too, which finds most of it
+    /// (`tests_lookahead` measures what is left).
     #[inline]
+    #[allow(clippy::needless_range_loop)] // one index over several lane arrays
     fn blend_cap_n<const N: usize>(&self, b: &Blend, samples: usize) -> f64 {
-        let below = |u: f64, cap: f64| {
-            let mut cap = cap;
-            b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
-            cap
-        };
-        let h = 1.0 / samples.max(1) as f64;
+        let l = &self.lim;
+        let (at, jt) = (self.at, self.jt);
+        let samples = samples.max(1);
+        let h = 1.0 / samples as f64;
         let (mut cap, mut low) = (f64::INFINITY, 0.0);
-        for i in 0..=samples.max(1) {
-            let u = i as f64 * h;
-            let c = below(u, cap);
-            if c < cap {
-                cap = c;
-                low = u;
+        for first in (0..=samples).step_by(LANES) {
+            // the last lanes past the end repeat it
+            let u: [f64; LANES] = core::array::from_fn(|j| (first + j).min(samples) as f64 * h);
+            let tm = b.terms_lanes::<N>(&u);
+            let mut c = [f64::INFINITY; LANES];
+            for k in 0..N {
+                let (vm, am) = (CAP_MARGIN * l.vmax[k], CAP_MARGIN * l.amax[k]);
+                for i in 0..LANES {
+                    let (t, kk) = (tm.t[k][i], tm.k[k][i]);
+                    let v = vm / t;
+                    let room = (am - at * t).max(0.0);
+                    let a = if kk > 0.0 {
+                        (room / kk).sqrt()
+                    } else {
+                        f64::INFINITY
+                    };
+                    c[i] = c[i].min(v).min(a);
+                }
+            }
+            let mut lowest = c.iter().fold(cap, |m, &x| m.min(x));
+            for k in 0..N {
+                let jm = CAP_MARGIN * l.jmax[k];
+                for i in 0..LANES {
+                    let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
+                    let room = jm - jt * tm.t[k][i];
+                    if !(lowest.is_finite() && p * lowest * lowest * lowest + q * lowest <= room) {
+                        c[i] = c[i].min(cubic_cap(p, q, room));
+                        lowest = lowest.min(c[i]);
+                    }
+                }
+            }
+            for i in 0..LANES {
+                if c[i] < cap {
+                    cap = c[i];
+                    low = u[i];
+                }
             }
         }
         for u in [low - 0.5 * h, low + 0.5 * h] {
             if (0.0..=1.0).contains(&u) {
-                cap = below(u, cap);
+                b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
             }
         }
         cap
