@@ -78,6 +78,100 @@ pub(super) struct Seen {
     cap_tested: f64,
     split: (f64, f64),
     step: f64,
+    /// Where the executor was when `room`, `split` and `step` were found (where the walk
+    /// started, or a later tick that tested the pieces again).
+    room_from: f64,
+    /// The pieces tested, when there were at most [`TESTED`]: when `room` no longer covers
+    /// what their slowing distances can have grown, a tick tests again those it no longer
+    /// covers instead of walking (`still_safe`; the pieces passed by their caps or by the
+    /// envelope are covered by `cap` and `key` as before).
+    tested: Tested,
+}
+
+/// Most pieces a [`Seen`] keeps to test again.
+const TESTED: usize = 32;
+
+/// The pieces a walk tested and found safe (see [`Seen::tested`]): where each starts along
+/// the whole path, its cap and its room (as [`Seen::room`], from the same state); `n` >
+/// [`TESTED`]: more than it keeps.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Tested {
+    at: [(f64, f64, f64); TESTED],
+    n: usize,
+}
+
+impl Tested {
+    const NONE: Tested = Tested {
+        at: [(0.0, 0.0, 0.0); TESTED],
+        n: 0,
+    };
+
+    fn push(&mut self, start: f64, cap: f64, room: f64) {
+        if self.n < TESTED {
+            self.at[self.n] = (start, cap, room);
+        }
+        self.n += 1;
+    }
+}
+
+impl Seen {
+    /// Whether every piece the walk tested is still at least its slowing distance away from
+    /// this tick's state (`state` as [`retest`] takes it; the executor at `at`). The bound of
+    /// [`room`](Self::room) decides when it covers what the slowing distances can have grown;
+    /// else, when the walk kept its tested pieces, those whose own room the bound no longer
+    /// covers are tested again, the others' rooms lowered by the bound, and this tick becomes
+    /// the state the rooms are counted from. (On false the rooms may be left half updated:
+    /// the walk that follows replaces what was seen.)
+    fn still_safe(
+        &mut self,
+        pl: &PathSpeedPlanner,
+        state: (f64, f64, f64, f64, f64),
+        at: f64,
+    ) -> Safe {
+        if self.room == f64::INFINITY {
+            return Safe::Bound;
+        }
+        let (vn, an, _, dm, step) = state;
+        let moved = at - self.room_from;
+        let (big, part) = pl.descent_split(vn, an);
+        let (big0, part0) = self.split;
+        let grown = moved + (step - self.step) + (part - part0) - (big0 - big) * big / (2.0 * dm);
+        let slack = 1e-9 * (moved.abs() + part.abs() + part0.abs()) + 1e-9 * big0 * big0 / dm;
+        let same_descent = pl.descent_holds(vn, an, self.cap_tested) && big <= big0;
+        if same_descent && grown + slack <= self.room {
+            return Safe::Bound;
+        }
+        if self.tested.n > TESTED {
+            return Safe::No;
+        }
+        let mut least = f64::INFINITY;
+        for (start, cap, room) in self.tested.at[..self.tested.n].iter_mut() {
+            *room = if same_descent && grown + slack <= *room {
+                *room - (grown + slack)
+            } else {
+                match retest(pl, state, at, *start, *cap) {
+                    Some(r) => r,
+                    None => return Safe::No,
+                }
+            };
+            least = least.min(*room);
+        }
+        self.room = least;
+        self.room_from = at;
+        self.split = (big, part);
+        self.step = step;
+        Safe::Retested
+    }
+}
+
+/// What [`Seen::still_safe`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Safe {
+    No,
+    /// By the bound of [`Seen::room`].
+    Bound,
+    /// By testing again the pieces the bound no longer covered.
+    Retested,
 }
 
 /// The pieces a walk passed by their caps or by the envelope (see [`Seen`]): smallest cap,
@@ -102,6 +196,31 @@ pub(super) struct Walked {
     pub stop: Option<bool>,
     pub d: f64,
     pub end: usize,
+}
+
+/// The room a piece of cap `cap` that starts at `start` along the whole path has beyond its
+/// slowing distance from the planner's state of this tick (`state`: the speed and
+/// acceleration after this tick's step, the speed where the acceleration would be 0, the
+/// deceleration limit and the step), the executor being at `at`; None when the walk's
+/// test of that piece could find it violated: when the piece is nearer than the lower
+/// bound of that distance or than its closed form (`look`'s test, with the rounding of a
+/// distance found from positions along the whole path instead of summed from here).
+fn retest(
+    pl: &PathSpeedPlanner,
+    (vn, an, vf, dm, step): (f64, f64, f64, f64, f64),
+    at: f64,
+    start: f64,
+    cap: f64,
+) -> Option<f64> {
+    let dist = start - at - step;
+    let rounding = 1e-10 * (start.abs() + at.abs());
+    let lower = (vf * vf - cap * cap) / (2.0 * dm);
+    if dist < lower + rounding {
+        return None;
+    }
+    let (e, size) = pl.slowing_estimate(vn, an, cap)?;
+    let r = dist - e - 1e-9 * (size + dist.abs()) - rounding;
+    (r >= 0.0).then_some(r)
 }
 
 impl Path {
@@ -361,7 +480,8 @@ impl Path {
                 step,
             };
             if it == 0 && !self.walks_every_tick() {
-                if let Some(w) = self.seen {
+                let safe;
+                if let Some(w) = self.seen.as_mut() {
                     let moved = at - w.from;
                     if w.ovr == ovr
                         && w.dm == dm
@@ -369,25 +489,20 @@ impl Path {
                         && below <= w.cap
                         && moved + reach < w.extent * (1.0 - Envelope::SLACK)
                         && env.clears_all(w.key - 2.0 * dm * moved, at.abs() + moved.abs())
-                        && (w.room == f64::INFINITY || {
-                            // every piece tested then is still at least its slowing distance
-                            // away (see `Seen::room`)
-                            let (big, part) = pl.descent_split(vn, an);
-                            let (big0, part0) = w.split;
-                            let grown = moved + (step - w.step) + (part - part0)
-                                - (big0 - big) * big / (2.0 * dm);
-                            let slack = 1e-9 * (moved.abs() + part.abs() + part0.abs())
-                                + 1e-9 * big0 * big0 / dm;
-                            pl.descent_holds(vn, an, w.cap_tested)
-                                && big <= big0
-                                && grown + slack <= w.room
-                        })
+                        && {
+                            safe = w.still_safe(&pl, (vn, an, vf, dm, step), at);
+                            safe != Safe::No
+                        }
                     {
                         // The walk would pass every piece within the reach as it did then,
                         // and meet no stop point within it: nothing to slow for (its distance
                         // beyond the reach changes nothing the planner does).
                         out.rem = w.extent - moved;
                         out.track = Some(track);
+                        #[cfg(test)]
+                        if safe == Safe::Retested {
+                            self.retests += 1;
+                        }
                         break;
                     }
                 }
@@ -399,6 +514,7 @@ impl Path {
             // tested pieces: found safe with the closed form (least room, highest cap), or
             // not (then nothing is kept for the next ticks)
             let (mut room, mut cap_tested, mut untracked) = (f64::INFINITY, 0.0f64, false);
+            let mut tested = Tested::NONE;
             let mut consider = |d: f64, raw: f64| {
                 if !(raw < vmax && raw < target) {
                     passed.cap = passed.cap.min(raw);
@@ -427,6 +543,7 @@ impl Path {
                         Some(r) if r >= 0.0 => {
                             room = room.min(r);
                             cap_tested = cap_tested.max(raw);
+                            tested.push(at + d, raw, r);
                         }
                         _ => untracked = true,
                     }
@@ -469,6 +586,8 @@ impl Path {
                         cap_tested,
                         split: pl.descent_split(vn, an),
                         step,
+                        room_from: at,
+                        tested,
                     });
                     break;
                 }

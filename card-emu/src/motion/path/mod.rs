@@ -51,8 +51,11 @@
 //! keys still clear from where the executor has got to, the room covers what the slowing
 //! distances can have grown (the state on the same descent, its speed at a = 0 no higher),
 //! and the reach ends before where the walk ended, the walk would find nothing again, and is
-//! skipped (the same motion to the last bit: `tests_lookahead`). A push or a late cap that
-//! changes a segment the walk saw drops it. Segments know where they start along the whole
+//! skipped (the same motion to the last bit: `tests_lookahead`). When the room no longer
+//! covers that growth, the pieces the walk tested (it keeps up to 32) whose own room does not
+//! cover it are tested again from the tick's state instead of walking again, and the rooms
+//! are counted from there on. A push or a late cap that changes a segment the walk saw drops
+//! it. Segments know where they start along the whole
 //! path (`Seg::start`), so the executor's progress since a walk, and its distance to a
 //! segment's end, are differences, not sums.
 //!
@@ -467,9 +470,12 @@ pub struct Path {
     end_dist: f64,
     /// What the last look-ahead walk passed (see `exec::Seen`).
     seen: Option<exec::Seen>,
-    /// Tests run the look-ahead without what earlier walks saw, to compare.
+    /// Tests run the look-ahead without what earlier walks saw, to compare, and count the
+    /// ticks served by testing the pieces a walk tested again (`exec::Seen::still_safe`).
     #[cfg(test)]
     walk_every_tick: bool,
+    #[cfg(test)]
+    retests: usize,
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
@@ -713,6 +719,8 @@ impl Path {
             seen: None,
             #[cfg(test)]
             walk_every_tick: false,
+            #[cfg(test)]
+            retests: 0,
             chain: Chain::default(),
             breaks: Vec::with_capacity(capacity),
         }

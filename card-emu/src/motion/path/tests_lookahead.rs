@@ -30,6 +30,7 @@ struct Trace {
     speed: Vec<u64>,
     events: Vec<(usize, PathEvent)>,
     walks: usize,
+    retests: usize,
 }
 
 fn run(s: &Script, walk_every_tick: bool) -> Trace {
@@ -42,6 +43,7 @@ fn run(s: &Script, walk_every_tick: bool) -> Trace {
         speed: vec![],
         events: vec![],
         walks: 0,
+        retests: 0,
     };
     let (mut next, mut ovr, mut halted) = (0, 1.0, false);
     for k in 0..3_000_000 {
@@ -71,14 +73,16 @@ fn run(s: &Script, walk_every_tick: bool) -> Trace {
         t.pos.push(q.map(f64::to_bits));
         t.speed.push(p.speed().to_bits());
         if next == s.segs.len() && !halted && p.queued() == 0 && !p.is_moving() {
+            t.retests = p.retests;
             return t;
         }
     }
     panic!("no end");
 }
 
-/// Both ways, the same trace; and the shortcuts are taken (fewer walks).
-fn same_both_ways(s: &Script, what: &str) {
+/// Both ways, the same trace; and the shortcuts are taken (fewer walks). The ticks served by
+/// testing again what a walk tested (see `exec::Seen::still_safe`).
+fn same_both_ways(s: &Script, what: &str) -> usize {
     let exact = run(s, true);
     let fast = run(s, false);
     assert_eq!(exact.pos.len(), fast.pos.len(), "{what}: ticks");
@@ -93,6 +97,7 @@ fn same_both_ways(s: &Script, what: &str) {
         fast.walks,
         exact.pos.len()
     );
+    fast.retests
 }
 
 /// A smooth closed curve (radius 30–50 mm, 1 count = 1 µm) in `n` chords.
@@ -115,9 +120,10 @@ fn curve(n: usize, feed: f64, tol: f64) -> Vec<Segment> {
 
 #[test]
 fn dense_curves_run_the_same_with_and_without_what_earlier_walks_saw() {
-    // the whole curve queued, a window of 256
+    // the whole curve queued, a window of 256 (ticks served by testing again what a walk
+    // tested: many)
     let segs = curve(3000, 1e5, 2.0);
-    same_both_ways(
+    let retests = same_both_ways(
         &Script {
             naxes: 2,
             ts: 1e-4,
@@ -131,6 +137,7 @@ fn dense_curves_run_the_same_with_and_without_what_earlier_walks_saw() {
         },
         "queued whole",
     );
+    assert!(retests > 100, "{retests} ticks served by testing again");
     // streamed into a short ring (pushes change what the window holds), a short window, the
     // override turned down and up
     same_both_ways(
