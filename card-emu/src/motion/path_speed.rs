@@ -34,7 +34,7 @@ struct Phases {
 
 impl Phases {
     fn push(&mut self, j: f64, t: f64) {
-        if t > 0.0 && t.is_finite() && self.n < 7 {
+        if runs(t) && self.n < 7 {
             self.j[self.n] = j;
             self.t[self.n] = t;
             self.n += 1;
@@ -45,41 +45,143 @@ impl Phases {
         self.t[..self.n].iter().sum()
     }
 
-    /// Distance, speed and acceleration `dt` into the profile started at (v, a). Every
-    /// profile ends with a = 0; after its end the speed is held.
-    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
-        let (mut d, mut v, mut a, mut left) = (0.0, v, a, dt);
-        for k in 0..self.n {
-            if left <= 0.0 {
-                return (d, v, a);
-            }
-            let t = self.t[k].min(left);
-            let j = self.j[k];
-            d += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
-            a += j * t;
-            if t < self.t[k] {
-                return (d, v, a);
-            }
-            left -= t;
-        }
-        if left > 0.0 {
-            d += v * left;
-        }
-        (d, v, 0.0)
+    /// The phases, (jerk, duration) each.
+    fn iter(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.j[..self.n]
+            .iter()
+            .copied()
+            .zip(self.t[..self.n].iter().copied())
     }
 
-    /// Distance of the whole profile from (v, a).
+    /// Distance, speed and acceleration `dt` into the profile started at (v, a) (see
+    /// [`sample_phases`]).
+    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
+        sample_phases(self.iter(), v, a, dt)
+    }
+
+    /// Distance of the whole profile from (v, a) (see [`phases_distance`]).
     fn distance(&self, v: f64, a: f64) -> f64 {
-        let (mut d, mut v, mut a) = (0.0, v, a);
-        for k in 0..self.n {
-            let (t, j) = (self.t[k], self.j[k]);
+        phases_distance(self.iter(), v, a)
+    }
+}
+
+/// Whether a phase of this duration is run: positive and finite (`Phases::push` drops the
+/// others). Written as two comparisons (`t > 0.0 && t.is_finite()` is the same test, but
+/// compiles to a test of the bits, some twenty instructions).
+#[inline(always)]
+fn runs(t: f64) -> bool {
+    t > 0.0 && t <= f64::MAX
+}
+
+/// A profile being sampled phase by phase ([`sample_phases`]): the distance, speed and
+/// acceleration so far, and the time left to sample.
+struct Sampling {
+    d: f64,
+    v: f64,
+    a: f64,
+    left: f64,
+}
+
+impl Sampling {
+    /// `dt` of a profile started at (v, a) to sample.
+    #[inline(always)]
+    fn new(v: f64, a: f64, dt: f64) -> Self {
+        Self {
+            d: 0.0,
+            v,
+            a,
+            left: dt,
+        }
+    }
+
+    /// Runs the phase of jerk `j` and duration `tk` for as much of it as the time left
+    /// holds (nothing when it does not [`run`](runs)); true when the sample ends there (no
+    /// time left before it, or within it).
+    #[inline(always)]
+    fn phase(&mut self, j: f64, tk: f64) -> bool {
+        if !runs(tk) {
+            return false;
+        }
+        if self.left <= 0.0 {
+            return true;
+        }
+        // tk.min(left), tk being a number
+        let t = if self.left < tk { self.left } else { tk };
+        let (v, a) = (self.v, self.a);
+        self.d += t * (v + t * (0.5 * a + t * j / 6.0));
+        self.v += t * (a + 0.5 * j * t);
+        self.a += j * t;
+        if t < tk {
+            return true;
+        }
+        self.left -= t;
+        false
+    }
+
+    /// (distance, speed, acceleration) where the sample ended within the profile.
+    #[inline(always)]
+    fn within(&self) -> (f64, f64, f64) {
+        (self.d, self.v, self.a)
+    }
+
+    /// (distance, speed, acceleration) after the profile's end: the speed held for the time
+    /// left, a = 0.
+    #[inline(always)]
+    fn after(&self) -> (f64, f64, f64) {
+        let mut d = self.d;
+        if self.left > 0.0 {
+            d += self.v * self.left;
+        }
+        (d, self.v, 0.0)
+    }
+}
+
+/// Distance, speed and acceleration `dt` into the profile of `phases` (jerk, duration)
+/// started at (v, a), a phase that does not [`run`](runs) skipped (so for the phases of a
+/// [`Phases`], all of which run, its `sample`). Every profile ends with a = 0; after its end
+/// the speed is held.
+#[inline(always)]
+fn sample_phases(
+    phases: impl IntoIterator<Item = (f64, f64)>,
+    v: f64,
+    a: f64,
+    dt: f64,
+) -> (f64, f64, f64) {
+    let mut s = Sampling::new(v, a, dt);
+    for (j, t) in phases {
+        if s.phase(j, t) {
+            return s.within();
+        }
+    }
+    s.after()
+}
+
+/// [`sample_phases`] of three phases, unrolled: what `Phases::sample` gives for the phases
+/// pushed, without building them (the ramp of a tick, [`PathSpeedPlanner::track`]).
+#[inline(always)]
+fn sample_three(phases: [(f64, f64); 3], v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
+    let [(j0, t0), (j1, t1), (j2, t2)] = phases;
+    let mut s = Sampling::new(v, a, dt);
+    if s.phase(j0, t0) || s.phase(j1, t1) || s.phase(j2, t2) {
+        s.within()
+    } else {
+        s.after()
+    }
+}
+
+/// Distance of the whole profile of `phases` from (v, a), a phase that does not
+/// [`run`](runs) skipped (as [`sample_phases`]).
+#[inline(always)]
+fn phases_distance(phases: impl IntoIterator<Item = (f64, f64)>, v: f64, a: f64) -> f64 {
+    let (mut d, mut v, mut a) = (0.0, v, a);
+    for (j, t) in phases {
+        if runs(t) {
             d += t * (v + t * (0.5 * a + t * j / 6.0));
             v += t * (a + 0.5 * j * t);
             a += j * t;
         }
-        d
     }
+    d
 }
 
 /// One tick of the ramp toward a target from a planner's state ([`PathSpeedPlanner::track`]):
@@ -222,6 +324,7 @@ impl PathSpeedPlanner {
     /// acceleration it starts from (`a` within the limits) and its three phases, (jerk,
     /// duration) toward the peak, the hold, and back to a = 0. A phase whose duration is not
     /// positive and finite is not run (`Phases::push` drops it).
+    #[inline(always)]
     fn track_ramp(&self, v: f64, a: f64, tgt: f64) -> (f64, [(f64, f64); 3]) {
         let j = self.jmax;
         let a = a.clamp(-self.dmax, self.amax);
@@ -249,6 +352,15 @@ impl PathSpeedPlanner {
             [(-j, (a + dp) / j), (0.0, th), (j, dp / j)]
         };
         (a, phases)
+    }
+
+    /// `track_phases(v, a, tgt).sample(v, a, dt)` without building the phases: the
+    /// distance, speed and acceleration `dt` into the ramp toward `tgt` (sampled from `a` as
+    /// given, like `track_phases`' users, not from the clamped one the ramp starts from).
+    #[inline]
+    fn track_sample(&self, v: f64, a: f64, tgt: f64, dt: f64) -> (f64, f64, f64) {
+        let (_, phases) = self.track_ramp(v, a, tgt);
+        sample_three(phases, v, a, dt)
     }
 
     /// [`track_ramp`](Self::track_ramp) as phases to run.
@@ -330,19 +442,11 @@ impl PathSpeedPlanner {
         }
     }
 
-    /// The distance of `track_phases(v, a, tgt)`, in closed form (the same phases, each
-    /// counted only when `Phases::push` would keep it: a positive, finite duration).
+    /// The distance of `track_phases(v, a, tgt)`, without building them (the same phases,
+    /// each counted only when `Phases::push` would keep it: a positive, finite duration).
     fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
         let (a, phases) = self.track_ramp(v, a, tgt);
-        let (mut d, mut v, mut a) = (0.0, v, a);
-        for (jk, t) in phases {
-            if t > 0.0 && t.is_finite() {
-                d += t * (v + t * (0.5 * a + t * jk / 6.0));
-                v += t * (a + 0.5 * jk * t);
-                a += jk * t;
-            }
-        }
-        d
+        phases_distance(phases, v, a)
     }
 
     /// An upper bound of [`stopping_distance`](Self::stopping_distance)`(v, a, d, j)` (and of
@@ -454,9 +558,7 @@ impl PathSpeedPlanner {
     /// same step to decide its target).
     pub fn track(&self, tgt: f64) -> Track {
         let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
-        let (ds, v, a) = self
-            .track_phases(self.v, self.a, tgt)
-            .sample(self.v, self.a, self.ts);
+        let (ds, v, a) = self.track_sample(self.v, self.a, tgt, self.ts);
         Track {
             tgt,
             from: (self.v, self.a),
@@ -603,7 +705,7 @@ impl PathSpeedPlanner {
         let (jp, dp) = self.plan_limits();
         let (ds, v1, a1) = match track {
             Some(t) if t.from == (v, a) && t.tgt == tgt => (t.ds, t.v, t.a),
-            _ => self.track_phases(v, a, tgt).sample(v, a, ts),
+            _ => self.track_sample(v, a, tgt, ts),
         };
         // far from the stop point, the bound decides without the exact stopping distance
         if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining
