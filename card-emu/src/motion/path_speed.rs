@@ -675,10 +675,13 @@ impl PathSpeedPlanner {
     /// current state (the same result, without computing the ramp's step again; a track of
     /// another state is computed again).
     pub fn next_tracked(&mut self, track: Track, remaining: f64) -> f64 {
-        self.next_inner(track.tgt, remaining, Some(track))
+        self.next_inner(track.tgt, remaining, Some(&track))
     }
 
-    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<Track>) -> f64 {
+    /// [`next`](Self::next), with the ramp's step of `track` when it is of this state and
+    /// target. The common tick (the ramp, far from the stop point) is done here; the rest in
+    /// [`near_stop`](Self::near_stop), kept out of line.
+    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<&Track>) -> f64 {
         let ts = self.ts;
         let remaining = if remaining.is_nan() {
             0.0
@@ -708,13 +711,39 @@ impl PathSpeedPlanner {
             _ => self.track_sample(v, a, tgt, ts),
         };
         // far from the stop point, the bound decides without the exact stopping distance
-        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining
-            || ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining
-        {
-            self.v = v1.max(0.0);
-            self.a = a1;
-            self.stopping = false;
-            return ds / ts;
+        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining {
+            return self.ramp_on(ds, v1, a1);
+        }
+        self.near_stop(v, a, remaining, tgt, (ds, v1, a1))
+    }
+
+    /// The tick follows the ramp's step (distance `ds`, ending at (`v1`, `a1`)): the mean
+    /// speed.
+    #[inline(always)]
+    fn ramp_on(&mut self, ds: f64, v1: f64, a1: f64) -> f64 {
+        self.v = v1.max(0.0);
+        self.a = a1;
+        self.stopping = false;
+        ds / self.ts
+    }
+
+    /// The rest of [`next_inner`](Self::next_inner) where the bound did not decide, from
+    /// (`v`, `a`) with the ramp's `step` toward `tgt`: the ramp still, if the exact (clean)
+    /// stopping distance after its step fits in `remaining`, else the stop at `remaining`.
+    #[inline(never)]
+    fn near_stop(
+        &mut self,
+        v: f64,
+        a: f64,
+        remaining: f64,
+        tgt: f64,
+        step: (f64, f64, f64),
+    ) -> f64 {
+        let ts = self.ts;
+        let (jp, dp) = self.plan_limits();
+        let (ds, v1, a1) = step;
+        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
+            return self.ramp_on(ds, v1, a1);
         }
         self.stopping = true;
         let stop = self.stop_phases(v, a, remaining, tgt);
