@@ -33,8 +33,17 @@ struct Phases {
 }
 
 impl Phases {
+    /// The phases of `phases` (jerk, duration) that run, in order.
+    fn of(phases: impl IntoIterator<Item = (f64, f64)>) -> Self {
+        let mut p = Self::default();
+        for (j, t) in phases {
+            p.push(j, t);
+        }
+        p
+    }
+
     fn push(&mut self, j: f64, t: f64) {
-        if t > 0.0 && t.is_finite() && self.n < 7 {
+        if runs(t) && self.n < 7 {
             self.j[self.n] = j;
             self.t[self.n] = t;
             self.n += 1;
@@ -45,41 +54,153 @@ impl Phases {
         self.t[..self.n].iter().sum()
     }
 
-    /// Distance, speed and acceleration `dt` into the profile started at (v, a). Every
-    /// profile ends with a = 0; after its end the speed is held.
-    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
-        let (mut d, mut v, mut a, mut left) = (0.0, v, a, dt);
-        for k in 0..self.n {
-            if left <= 0.0 {
-                return (d, v, a);
-            }
-            let t = self.t[k].min(left);
-            let j = self.j[k];
-            d += t * (v + t * (0.5 * a + t * j / 6.0));
-            v += t * (a + 0.5 * j * t);
-            a += j * t;
-            if t < self.t[k] {
-                return (d, v, a);
-            }
-            left -= t;
-        }
-        if left > 0.0 {
-            d += v * left;
-        }
-        (d, v, 0.0)
+    /// The phases, (jerk, duration) each.
+    fn iter(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.j[..self.n]
+            .iter()
+            .copied()
+            .zip(self.t[..self.n].iter().copied())
     }
 
-    /// Distance of the whole profile from (v, a).
-    fn distance(&self, v: f64, a: f64) -> f64 {
-        let (mut d, mut v, mut a) = (0.0, v, a);
-        for k in 0..self.n {
-            let (t, j) = (self.t[k], self.j[k]);
+    /// Distance, speed and acceleration `dt` into the profile started at (v, a) (see
+    /// [`sample_phases`]).
+    fn sample(&self, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
+        sample_phases(self.iter(), v, a, dt)
+    }
+}
+
+/// Three phases of constant jerk, (jerk, duration) each, in order: a ramp or a stop
+/// ([`PathSpeedPlanner::track_ramp`], [`PathSpeedPlanner::brake_ramp`]), a phase that does
+/// not [`run`](runs) included.
+type Ramp3 = [(f64, f64); 3];
+
+/// Whether a phase of this duration is run: positive and finite (`Phases::push` drops the
+/// others). Written as two comparisons (`t > 0.0 && t.is_finite()` is the same test, but
+/// compiles to a test of the bits, some twenty instructions).
+#[inline(always)]
+fn runs(t: f64) -> bool {
+    t > 0.0 && t <= f64::MAX
+}
+
+/// A profile being sampled phase by phase ([`sample_phases`]): the distance, speed and
+/// acceleration so far, and the time left to sample.
+struct Sampling {
+    d: f64,
+    v: f64,
+    a: f64,
+    left: f64,
+}
+
+impl Sampling {
+    /// `dt` of a profile started at (v, a) to sample.
+    #[inline(always)]
+    fn new(v: f64, a: f64, dt: f64) -> Self {
+        Self {
+            d: 0.0,
+            v,
+            a,
+            left: dt,
+        }
+    }
+
+    /// Runs the phase of jerk `j` and duration `tk` for as much of it as the time left
+    /// holds (nothing when it does not [`run`](runs)); true when the sample ends there (no
+    /// time left before it, or within it).
+    #[inline(always)]
+    fn phase(&mut self, j: f64, tk: f64) -> bool {
+        if !runs(tk) {
+            return false;
+        }
+        if self.left <= 0.0 {
+            return true;
+        }
+        // tk.min(left), tk being a number
+        let t = if self.left < tk { self.left } else { tk };
+        let (v, a) = (self.v, self.a);
+        self.d += t * (v + t * (0.5 * a + t * j / 6.0));
+        self.v += t * (a + 0.5 * j * t);
+        self.a += j * t;
+        if t < tk {
+            return true;
+        }
+        self.left -= t;
+        false
+    }
+
+    /// (distance, speed, acceleration) where the sample ended within the profile.
+    #[inline(always)]
+    fn within(&self) -> (f64, f64, f64) {
+        (self.d, self.v, self.a)
+    }
+
+    /// (distance, speed, acceleration) after the profile's end: the speed held for the time
+    /// left, a = 0.
+    #[inline(always)]
+    fn after(&self) -> (f64, f64, f64) {
+        let mut d = self.d;
+        if self.left > 0.0 {
+            d += self.v * self.left;
+        }
+        (d, self.v, 0.0)
+    }
+}
+
+/// Distance, speed and acceleration `dt` into the profile of `phases` (jerk, duration)
+/// started at (v, a), a phase that does not [`run`](runs) skipped (so for the phases of a
+/// [`Phases`], all of which run, its `sample`). Every profile ends with a = 0; after its end
+/// the speed is held.
+#[inline(always)]
+fn sample_phases(
+    phases: impl IntoIterator<Item = (f64, f64)>,
+    v: f64,
+    a: f64,
+    dt: f64,
+) -> (f64, f64, f64) {
+    let mut s = Sampling::new(v, a, dt);
+    for (j, t) in phases {
+        if s.phase(j, t) {
+            return s.within();
+        }
+    }
+    s.after()
+}
+
+/// [`sample_phases`] of three phases, unrolled: what `Phases::sample` gives for the phases
+/// pushed, without building them (the ramp of a tick, [`PathSpeedPlanner::track`]).
+#[inline(always)]
+fn sample_three(phases: Ramp3, v: f64, a: f64, dt: f64) -> (f64, f64, f64) {
+    let [(j0, t0), (j1, t1), (j2, t2)] = phases;
+    let mut s = Sampling::new(v, a, dt);
+    if s.phase(j0, t0) || s.phase(j1, t1) || s.phase(j2, t2) {
+        s.within()
+    } else {
+        s.after()
+    }
+}
+
+/// Runs the whole of `phases` (jerk, duration) from distance, speed and acceleration
+/// `(d, v, a)`, a phase that does not [`run`](runs) skipped (as [`sample_phases`]): the
+/// distance, speed and acceleration at their end. Running two lists one after the other is
+/// running them as one.
+#[inline(always)]
+fn run_phases(
+    phases: impl IntoIterator<Item = (f64, f64)>,
+    (mut d, mut v, mut a): (f64, f64, f64),
+) -> (f64, f64, f64) {
+    for (j, t) in phases {
+        if runs(t) {
             d += t * (v + t * (0.5 * a + t * j / 6.0));
             v += t * (a + 0.5 * j * t);
             a += j * t;
         }
-        d
     }
+    (d, v, a)
+}
+
+/// Distance of the whole profile of `phases` from (v, a) (see [`run_phases`]).
+#[inline(always)]
+fn phases_distance(phases: impl IntoIterator<Item = (f64, f64)>, v: f64, a: f64) -> f64 {
+    run_phases(phases, (0.0, v, a)).0
 }
 
 /// One tick of the ramp toward a target from a planner's state ([`PathSpeedPlanner::track`]):
@@ -222,7 +343,8 @@ impl PathSpeedPlanner {
     /// acceleration it starts from (`a` within the limits) and its three phases, (jerk,
     /// duration) toward the peak, the hold, and back to a = 0. A phase whose duration is not
     /// positive and finite is not run (`Phases::push` drops it).
-    fn track_ramp(&self, v: f64, a: f64, tgt: f64) -> (f64, [(f64, f64); 3]) {
+    #[inline(always)]
+    fn track_ramp(&self, v: f64, a: f64, tgt: f64) -> (f64, Ramp3) {
         let j = self.jmax;
         let a = a.clamp(-self.dmax, self.amax);
         // the speed reached by bringing a to zero at once
@@ -251,27 +373,38 @@ impl PathSpeedPlanner {
         (a, phases)
     }
 
-    /// [`track_ramp`](Self::track_ramp) as phases to run.
-    fn track_phases(&self, v: f64, a: f64, tgt: f64) -> Phases {
-        let mut p = Phases::default();
-        for (j, t) in self.track_ramp(v, a, tgt).1 {
-            p.push(j, t);
-        }
-        p
+    /// The distance, speed and acceleration `dt` into the ramp toward `tgt`
+    /// ([`track_ramp`](Self::track_ramp)'s phases that run), sampled from `a` as given (not
+    /// from the clamped one the ramp starts from), without building the phases.
+    #[inline]
+    fn track_sample(&self, v: f64, a: f64, tgt: f64, dt: f64) -> (f64, f64, f64) {
+        let (_, phases) = self.track_ramp(v, a, tgt);
+        sample_three(phases, v, a, dt)
     }
 
     /// A stop from (v, a) through a peak deceleration `ap`: jerk toward −ap, hold it, jerk +J
-    /// back to zero, ending at rest.
-    fn brake_phases(v: f64, a: f64, ap: f64, j: f64) -> Phases {
-        let mut p = Phases::default();
+    /// back to zero, ending at rest. Its three phases, (jerk, duration) each, as
+    /// [`track_ramp`](Self::track_ramp)'s: one that does not run is dropped by
+    /// [`brake_phases`](Self::brake_phases) and skipped by `phases_distance`.
+    #[inline(always)]
+    fn brake_ramp(v: f64, a: f64, ap: f64, j: f64) -> Ramp3 {
         let t1 = (a + ap).abs() / j;
         let j1 = if a + ap >= 0.0 { -j } else { j };
         let v1 = v + 0.5 * (a - ap) * t1;
         let th = ((v1 - ap * ap / (2.0 * j)) / ap).max(0.0);
-        p.push(j1, t1);
-        p.push(0.0, th);
-        p.push(j, ap / j);
-        p
+        [(j1, t1), (0.0, th), (j, ap / j)]
+    }
+
+    /// [`brake_ramp`](Self::brake_ramp) as phases to run.
+    fn brake_phases(v: f64, a: f64, ap: f64, j: f64) -> Phases {
+        Phases::of(Self::brake_ramp(v, a, ap, j))
+    }
+
+    /// The distance of `brake_phases(v, a, ap, j)`, summed phase by phase over the phases
+    /// that run (not [`brake_distance`](Self::brake_distance)'s closed form, which rounds
+    /// differently), without building them.
+    fn brake_phases_distance(v: f64, a: f64, ap: f64, j: f64) -> f64 {
+        phases_distance(Self::brake_ramp(v, a, ap, j), v, a)
     }
 
     /// The distance of `brake_phases(v, a, ap, j)`, in closed form.
@@ -330,19 +463,12 @@ impl PathSpeedPlanner {
         }
     }
 
-    /// The distance of `track_phases(v, a, tgt)`, in closed form (the same phases, each
-    /// counted only when `Phases::push` would keep it: a positive, finite duration).
+    /// The distance of the ramp toward `tgt` ([`track_ramp`](Self::track_ramp)'s phases, each
+    /// counted only when `Phases::push` would keep it: a positive, finite duration), from
+    /// the clamped acceleration.
     fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
         let (a, phases) = self.track_ramp(v, a, tgt);
-        let (mut d, mut v, mut a) = (0.0, v, a);
-        for (jk, t) in phases {
-            if t > 0.0 && t.is_finite() {
-                d += t * (v + t * (0.5 * a + t * jk / 6.0));
-                v += t * (a + 0.5 * jk * t);
-                a += jk * t;
-            }
-        }
-        d
+        phases_distance(phases, v, a)
     }
 
     /// An upper bound of [`stopping_distance`](Self::stopping_distance)`(v, a, d, j)` (and of
@@ -454,9 +580,7 @@ impl PathSpeedPlanner {
     /// same step to decide its target).
     pub fn track(&self, tgt: f64) -> Track {
         let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
-        let (ds, v, a) = self
-            .track_phases(self.v, self.a, tgt)
-            .sample(self.v, self.a, self.ts);
+        let (ds, v, a) = self.track_sample(self.v, self.a, tgt, self.ts);
         Track {
             tgt,
             from: (self.v, self.a),
@@ -510,56 +634,70 @@ impl PathSpeedPlanner {
         hi
     }
 
+    /// The ramp from (v, a) up to the peak speed `vp` and the stop from there at the full
+    /// limits (see [`stop_phases`](Self::stop_phases)): the phases of each, run one after the
+    /// other.
+    #[inline(always)]
+    fn ramp_and_stop(&self, v: f64, a: f64, vp: f64) -> (Ramp3, Ramp3) {
+        let j = self.jmax;
+        let ap = self.dmax.min((j * vp).sqrt());
+        (
+            self.track_ramp(v, a, vp).1,
+            Self::brake_ramp(vp, 0.0, ap, j),
+        )
+    }
+
     /// A stop from (v, a) that comes to rest after `r`: the time-optimal stop's shape with a
     /// lower peak deceleration (longer) or, within the full limits, a higher one (shorter);
     /// from (near) rest, a short ramp up and down. When no stop fits, the nearest.
     fn stop_phases(&self, v: f64, a: f64, r: f64, tgt: f64) -> Phases {
         let (jp, dp) = self.plan_limits();
+        // the longest stop, when even it is too short: its peak deceleration and jerk
         let mut longest = None;
         for (j, d) in [(jp, dp), (self.jmax, self.dmax)] {
             let Some(hi) = Self::brake_peak(v, a, d, j) else {
                 continue;
             };
-            let shortest = Self::brake_phases(v, a, hi, j);
-            if shortest.distance(v, a) > r {
+            if Self::brake_phases_distance(v, a, hi, j) > r {
                 if j == self.jmax {
                     // cannot stop in time even at the full limits: the shortest stop
-                    return shortest;
+                    return Self::brake_phases(v, a, hi, j);
                 }
                 continue;
             }
             let lo = hi * 1e-9;
-            let long = Self::brake_phases(v, a, lo, j);
-            if long.distance(v, a) < r {
-                longest = Some(long);
+            if Self::brake_phases_distance(v, a, lo, j) < r {
+                longest = Some((lo, j));
                 continue;
             }
             let dist = |ap: f64| Self::brake_distance(v, a, ap, j) - r;
             let ap = Self::solve_decreasing(lo, hi, 1e-13 * r, dist);
             return Self::brake_phases(v, a, ap, j);
         }
-        // Too far for a stop from here (at or near rest): ramp up to a peak speed and stop.
+        // Too far for a stop from here (at or near rest): ramp up to a peak speed and stop
+        // (at most six phases: `Phases` holds them all).
         let j = self.jmax;
         let ramp = |vp: f64| {
-            let mut p = self.track_phases(v, a, vp);
-            let ap = self.dmax.min((j * vp).sqrt());
-            let b = Self::brake_phases(vp, 0.0, ap, j);
-            for k in 0..b.n {
-                p.push(b.j[k], b.t[k]);
-            }
-            p
+            let (up, stop) = self.ramp_and_stop(v, a, vp);
+            Phases::of(up.into_iter().chain(stop))
+        };
+        let ramp_distance = |vp: f64| {
+            let (up, stop) = self.ramp_and_stop(v, a, vp);
+            run_phases(stop, run_phases(up, (0.0, v, a))).0
         };
         let v_lo = (v + a * a.abs() / (2.0 * j)).max(0.0);
         let v_hi = tgt.max(v_lo);
-        if ramp(v_hi).distance(v, a) <= r {
+        if ramp_distance(v_hi) <= r {
             return ramp(v_hi);
         }
-        if ramp(v_lo).distance(v, a) <= r {
-            let vp =
-                Self::solve_decreasing(v_lo, v_hi, 1e-13 * r, |vp| r - ramp(vp).distance(v, a));
+        if ramp_distance(v_lo) <= r {
+            let vp = Self::solve_decreasing(v_lo, v_hi, 1e-13 * r, |vp| r - ramp_distance(vp));
             return ramp(vp);
         }
-        longest.unwrap_or_else(|| ramp(v_lo))
+        match longest {
+            Some((lo, j)) => Self::brake_phases(v, a, lo, j),
+            None => ramp(v_lo),
+        }
     }
 
     /// One tick: returns the mean path speed over this tick (the step is that times Ts).
@@ -573,10 +711,13 @@ impl PathSpeedPlanner {
     /// current state (the same result, without computing the ramp's step again; a track of
     /// another state is computed again).
     pub fn next_tracked(&mut self, track: Track, remaining: f64) -> f64 {
-        self.next_inner(track.tgt, remaining, Some(track))
+        self.next_inner(track.tgt, remaining, Some(&track))
     }
 
-    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<Track>) -> f64 {
+    /// [`next`](Self::next), with the ramp's step of `track` when it is of this state and
+    /// target. The common tick (the ramp, far from the stop point) is done here; the rest in
+    /// [`near_stop`](Self::near_stop), kept out of line.
+    fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<&Track>) -> f64 {
         let ts = self.ts;
         let remaining = if remaining.is_nan() {
             0.0
@@ -603,16 +744,42 @@ impl PathSpeedPlanner {
         let (jp, dp) = self.plan_limits();
         let (ds, v1, a1) = match track {
             Some(t) if t.from == (v, a) && t.tgt == tgt => (t.ds, t.v, t.a),
-            _ => self.track_phases(v, a, tgt).sample(v, a, ts),
+            _ => self.track_sample(v, a, tgt, ts),
         };
         // far from the stop point, the bound decides without the exact stopping distance
-        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining
-            || ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining
-        {
-            self.v = v1.max(0.0);
-            self.a = a1;
-            self.stopping = false;
-            return ds / ts;
+        if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining {
+            return self.ramp_on(ds, v1, a1);
+        }
+        self.near_stop(v, a, remaining, tgt, (ds, v1, a1))
+    }
+
+    /// The tick follows the ramp's step (distance `ds`, ending at (`v1`, `a1`)): the mean
+    /// speed.
+    #[inline(always)]
+    fn ramp_on(&mut self, ds: f64, v1: f64, a1: f64) -> f64 {
+        self.v = v1.max(0.0);
+        self.a = a1;
+        self.stopping = false;
+        ds / self.ts
+    }
+
+    /// The rest of [`next_inner`](Self::next_inner) where the bound did not decide, from
+    /// (`v`, `a`) with the ramp's `step` toward `tgt`: the ramp still, if the exact (clean)
+    /// stopping distance after its step fits in `remaining`, else the stop at `remaining`.
+    #[inline(never)]
+    fn near_stop(
+        &mut self,
+        v: f64,
+        a: f64,
+        remaining: f64,
+        tgt: f64,
+        step: (f64, f64, f64),
+    ) -> f64 {
+        let ts = self.ts;
+        let (jp, dp) = self.plan_limits();
+        let (ds, v1, a1) = step;
+        if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
+            return self.ramp_on(ds, v1, a1);
         }
         self.stopping = true;
         let stop = self.stop_phases(v, a, remaining, tgt);
@@ -753,7 +920,7 @@ mod tests {
         for _ in 0..10_000 {
             let (v, a) = (rnd() * 5e5, (rnd() - 0.5) * 4e7);
             let (ap, j) = (rnd() * 3e7 + 1.0, 1e8 + rnd() * 1e10);
-            let exact = PathSpeedPlanner::brake_phases(v, a, ap, j).distance(v, a);
+            let exact = PathSpeedPlanner::brake_phases_distance(v, a, ap, j);
             let closed = PathSpeedPlanner::brake_distance(v, a, ap, j);
             assert!(
                 (exact - closed).abs() <= 1e-9 * (1.0 + exact.abs()),
