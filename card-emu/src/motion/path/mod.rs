@@ -136,9 +136,10 @@ const DEV_SAFETY: f64 = 0.97;
 pub const BLOCK: usize = 8;
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
-/// Samples per smoothing blend for its deviation, and for its cap.
+/// Samples per smoothing blend for its deviation, and intervals for its cap (16 samples:
+/// eight pairs of `geom::LANES`; see `blend_cap_n`).
 const SMOOTH_SAMPLES: usize = 32;
-const SMOOTH_CAP_SAMPLES: usize = 16;
+const SMOOTH_CAP_SAMPLES: usize = 15;
 /// Samples per NURBS piece for its cap.
 const CURVE_CAP_SAMPLES: usize = 32;
 
