@@ -334,6 +334,7 @@ impl Path {
     /// (Some(is the end of the queue)) and its distance, or None and a distance beyond
     /// `until`, and the first segment not walked.
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)] // out of `look`'s common tick, which a walk serves (fewer instructions)
     pub(super) fn walk(
         &self,
         until: f64,
