@@ -337,6 +337,9 @@ struct Seg {
     smooth: bool,
     kstart: V,
     kend: V,
+    /// The curvature of the vertex where this line ends and the next one starts, when a
+    /// smoothing blend was built there (`vertex_k`; the next push's rebuild needs it again).
+    kvertex: Option<V>,
     outs: [OutputAction; MAX_OUTPUTS],
     nouts: usize,
     fired: u8,
@@ -373,6 +376,7 @@ impl Default for Seg {
             smooth: false,
             kstart: [0.0; MAX_AXES],
             kend: [0.0; MAX_AXES],
+            kvertex: None,
             outs: [OutputAction {
                 bit: 0,
                 on: false,
@@ -489,6 +493,9 @@ pub struct Path {
 struct Smooth {
     /// The previous blend rebuilt: its cap, deviation and end curvature.
     again: Option<(f64, f64, V)>,
+    /// The curvature of the vertex between the two lines (`vertex_k`), which the next push
+    /// needs again.
+    kvertex: V,
     /// The new blend's deviation.
     dev: f64,
     kstart: V,
@@ -1144,7 +1151,8 @@ impl Path {
         if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1) >= need {
             let pp = self.seg(pi - 1);
             if let Prog::Line { p0: pm, .. } = pp.prog {
-                let k0 = vertex_k(n, &pm, &p0, &p1);
+                // the vertex at p0, as the push of `prev` found it (the same points)
+                let k0 = pp.kvertex.unwrap_or_else(|| vertex_k(n, &pm, &p0, &p1));
                 let mut kmid = [0.0; MAX_AXES];
                 for k in 0..n {
                     kmid[k] = 0.5 * (k0[k] + k1[k]);
@@ -1171,6 +1179,7 @@ impl Path {
                     {
                         return Some(Smooth {
                             again: Some((cap, dev, kmid)),
+                            kvertex: k1,
                             dev: new_dev,
                             kstart: kmid,
                             da,
@@ -1185,6 +1194,7 @@ impl Path {
             self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false, new)?;
         Some(Smooth {
             again: None,
+            kvertex: k1,
             dev,
             kstart: z,
             da,
@@ -1456,6 +1466,8 @@ impl Path {
                 .then(|| self.smooth(&rec, tol, need, &mut again, &mut rec_blend))
                 .flatten()
             {
+                let ps = self.slot(self.tail - 1);
+                self.segs[ps].kvertex = Some(sm.kvertex);
                 if let Some((cap, dev, kend)) = sm.again {
                     let pi = self.tail - 1;
                     let ps = self.slot(pi);
@@ -1553,8 +1565,8 @@ impl Path {
                 }
             }
         }
-        if rec.has_blend {
-            // the body's cap without the trimmed start (arcs)
+        if rec.has_blend && rec.prog.is_curved() {
+            // the body's cap without the trimmed start (a line's is the same everywhere)
             rec.bgeo = self.body_cap(&rec.prog, rec.body0, len);
         }
         if motion {
