@@ -154,7 +154,7 @@ impl Seen {
                     None => return Safe::No,
                 }
             };
-            least = least.min(*room);
+            least = lesser(least, *room);
         }
         self.room = least;
         self.room_from = at;
@@ -221,6 +221,25 @@ fn retest(
     let (e, size) = pl.slowing_estimate(vn, an, cap)?;
     let r = dist - e - 1e-9 * (size + dist.abs()) - rounding;
     (r >= 0.0).then_some(r)
+}
+
+/// The lesser and the greater of two numbers that are not NaN (the look-ahead's figures are
+/// finite or ∞): one comparison, not `f64::min`'s and `max`'s handling of NaN.
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
 }
 
 impl Path {
@@ -349,7 +368,7 @@ impl Path {
         let sg = self.seg(e);
         let mut d = if self.in_blend {
             let d = sg.blend.len - self.s;
-            f(d, sg.bgeo.min(sg.feed * ovr));
+            f(d, lesser(sg.bgeo, sg.feed * ovr));
             d + (sg.body1 - sg.body0)
         } else {
             sg.body1 - self.s
@@ -378,14 +397,14 @@ impl Path {
                 let b = &self.blocks[sl / BLOCK];
                 let mut pass = false;
                 if !b.stop {
-                    let caps = b.geo.min(b.feed * ovr);
+                    let caps = lesser(b.geo, b.feed * ovr);
                     if b.geo >= below && b.feed * ovr >= below {
-                        passed.cap = passed.cap.min(caps);
+                        passed.cap = lesser(passed.cap, caps);
                         pass = true;
                     } else if let Some(e) = env {
                         let low = e.block_low(b, ovr, self.at);
                         if low >= 0.0 && e.clears(low, d) {
-                            passed.key = passed.key.min(low + 2.0 * e.dm * d);
+                            passed.key = lesser(passed.key, low + 2.0 * e.dm * d);
                             pass = true;
                         }
                     }
@@ -408,11 +427,11 @@ impl Path {
                     end: j,
                 };
             }
-            f(d, s.jgeo.min(s.jfeed * ovr));
+            f(d, lesser(s.jgeo, s.jfeed * ovr));
             if s.has_blend {
                 d += s.blend.len;
             }
-            f(d, s.bgeo.min(s.feed * ovr));
+            f(d, lesser(s.bgeo, s.feed * ovr));
             d += s.body1 - s.body0;
             j += 1;
             sl += 1;
@@ -431,13 +450,13 @@ impl Path {
         } else {
             (sg.bgeo, sg.feed)
         };
-        let ceiling = cg.min(cf * ovr);
+        let ceiling = lesser(cg, cf * ovr);
         let here = self.distance;
         if matches!(self.slow, Some((sc, _)) if here >= sc) {
             self.slow = None;
         }
         let mut target = match self.slow {
-            Some((_, c)) => ceiling.min(c),
+            Some((_, c)) => lesser(ceiling, c),
             None => ceiling,
         };
         if self.halted || ovr <= 0.0 {
@@ -461,22 +480,26 @@ impl Path {
         for it in 0..3 {
             let track = pl.track(target);
             let (step, vn, an) = track.step();
-            let vmax = pl.v.max(vn).max(vn + an.max(0.0).powi(2) / (2.0 * jm));
+            let ap = greater(an, 0.0);
+            let vmax = greater(greater(pl.v, vn), vn + ap * ap / (2.0 * jm));
             // (with a closed-form bound of the braking distance: nothing beyond its reach can
             // need slowing for, the reach of the exact one being shorter)
-            let reach = 1.05
-                * PathSpeedPlanner::stopping_distance_bound(vmax, an.max(pl.a).max(0.0), dp, jp)
-                + 4.0 * vmax * ts
-                + 1e-9;
-            let below = vmax.min(target);
-            let ap = an.max(0.0);
+            let reach =
+                1.05 * PathSpeedPlanner::stopping_distance_bound(
+                    vmax,
+                    greater(greater(an, pl.a), 0.0),
+                    dp,
+                    jp,
+                ) + 4.0 * vmax * ts
+                    + 1e-9;
+            let below = lesser(vmax, target);
             let vf = vn + ap * ap / (2.0 * jm);
             let rising = vf * ap / jm;
             // A piece is violated only if dist < upper (upper ≥ lower), that is
             // raw² + 2·dm·dist < vf² + 2·dm·rising + (vf + raw)·dm²/jm, with raw < vmax: the
             // envelope's θ, with which whole blocks and single pieces are passed cheaply.
             let env = Envelope {
-                theta: vf * vf + (2.0 * dm * rising + (vf + vmax) * dm * dm / jm).max(0.0),
+                theta: vf * vf + greater(2.0 * dm * rising + (vf + vmax) * dm * dm / jm, 0.0),
                 dm,
                 step,
             };
@@ -518,11 +541,11 @@ impl Path {
             let mut tested = Tested::NONE;
             let mut consider = |d: f64, raw: f64| {
                 if !(raw < vmax && raw < target) {
-                    passed.cap = passed.cap.min(raw);
+                    passed.cap = lesser(passed.cap, raw);
                 } else if worst.is_some_and(|(_, c)| raw >= c) {
                     untracked = true;
                 } else if env.clears(raw * raw, d) {
-                    passed.key = passed.key.min(raw * raw + 2.0 * dm * d);
+                    passed.key = lesser(passed.key, raw * raw + 2.0 * dm * d);
                 } else {
                     let dist = d - step;
                     let lower = (vf * vf - raw * raw) / (2.0 * dm);
@@ -542,8 +565,8 @@ impl Path {
                     }
                     match clear {
                         Some(r) if r >= 0.0 => {
-                            room = room.min(r);
-                            cap_tested = cap_tested.max(raw);
+                            room = lesser(room, r);
+                            cap_tested = greater(cap_tested, raw);
                             tested.push(at + d, raw, r);
                         }
                         _ => untracked = true,
