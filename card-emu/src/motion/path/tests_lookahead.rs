@@ -309,30 +309,18 @@ fn the_control_point_bound_of_a_smoothing_blend_is_never_below_its_curve() {
     // bound over the dense samples' largest, on evenly cut turning curves
     let mut ratios = vec![];
     for _ in 0..3000 {
-        let Some(SmoothCase {
-            b,
-            q,
-            fa,
-            corner,
-            fb,
-            la,
-            lb,
-            turn,
-            even,
-        }) = smoothing_blend(&mut rng)
-        else {
+        let Some(c) = smoothing_blend(&mut rng) else {
             continue;
         };
+        let (b, fa) = (&c.b, &c.fa);
         let rel = |p: &V| pt(&[p[0] - fa.p[0], p[1] - fa.p[1]]);
         let chord = |a: &V, b: &V| {
             let l = (b[0] - a[0]).hypot(b[1] - a[1]);
             (rel(a), pt(&[(b[0] - a[0]) / l, (b[1] - a[1]) / l]), l)
         };
-        let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
-        let bound = hull_dev2::<2>(&q, &chords).sqrt();
-        let sampled = sampled_dev2::<2>(&b, &chords, f64::INFINITY)
-            .unwrap()
-            .sqrt();
+        let chords = [chord(&fa.p, &c.corner), chord(&c.corner, &c.fb.p)];
+        let bound = hull_dev2::<2>(&c.q, &chords).sqrt();
+        let sampled = sampled_dev2::<2>(b, &chords, f64::INFINITY).unwrap().sqrt();
         // and far more densely than the engine samples
         let mut dense = 0.0f64;
         for i in 0..=2000 {
@@ -346,13 +334,13 @@ fn the_control_point_bound_of_a_smoothing_blend_is_never_below_its_curve() {
                 .fold(f64::INFINITY, f64::min);
             dense = dense.max(d);
         }
-        let room = 1e-9 * (la + lb);
+        let room = 1e-9 * (c.la + c.lb);
         assert!(
             bound + room >= dense,
             "bound {bound} < {dense} (sampled {sampled})"
         );
         assert!(bound + room >= sampled);
-        if even && turn.abs() > 0.01 {
+        if c.even && c.turn.abs() > 0.01 {
             ratios.push(bound / dense);
         }
     }
