@@ -127,6 +127,7 @@ fn group(card: &Card, opts: &RunOptions) -> Result<Group> {
         vmax: opts.vmax.to_vec(),
         amax: opts.amax.to_vec(),
         jmax: opts.jmax.to_vec(),
+        plan_period: 0.0,
     })?;
     Ok(g)
 }

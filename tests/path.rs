@@ -823,3 +823,58 @@ fn nurbs_segments_the_card_refuses_change_nothing() {
     assert_eq!(ids(&r, EventKind::SegmentEnd).last(), Some(&5000));
     assert_eq!(r.pos.last().unwrap(), &vec![end + 50_000.0, 20_000.0]);
 }
+
+#[test]
+fn the_planner_period_is_checked_read_back_and_keeps_the_limits() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    // 0 held: the card's default (1 ms, every 10 ticks at 10 kHz)
+    assert_eq!(g.path_config().unwrap().plan_period, 0.0);
+    for (period, kind) in [
+        (f64::NAN, ErrorKind::NotFinite),
+        (f64::INFINITY, ErrorKind::NotFinite),
+        (-1e-3, ErrorKind::OutOfRange),
+        (0.0101, ErrorKind::OutOfRange),
+    ] {
+        let e = g
+            .configure_path(&PathSettings {
+                plan_period: period,
+                ..lim.clone()
+            })
+            .unwrap_err();
+        assert_eq!(e.kind(), kind, "{period}: {e}");
+        assert_eq!(g.path_config().unwrap().plan_period, 0.0, "{period}");
+    }
+    // planned at every servo tick, by default and every 10 ms: the same blended square
+    // within the tolerance and every axis limit, in about the same time
+    let mut times = vec![];
+    for period in [1e-4, 0.0, 0.01] {
+        let s = PathSettings {
+            plan_period: period,
+            ..lim.clone()
+        };
+        g.configure_path(&s).unwrap();
+        assert_eq!(g.path_config().unwrap().plan_period, period);
+        // (each square ends where the next starts)
+        let pts = square(50_000.0);
+        stream_polyline(&g, &pts, 80_000.0, 10.0, PathBuffer::BlendingLow);
+        let r = run(&card, &g, 2, 200_000);
+        let what = format!("planner period {period}");
+        assert_eq!(g.status().unwrap().0, GroupState::Standby, "{what}");
+        let worst = farthest_off(&r, &pts);
+        assert!(
+            worst <= 10.0 * (1.0 + 1e-9),
+            "{what}: {worst} off the square"
+        );
+        assert_limits(&r, &s, &what);
+        assert_eq!(ids(&r, EventKind::SegmentEnd), vec![1, 2, 3, 4], "{what}");
+        assert_eq!(r.pos.last().unwrap(), &pts[4], "{what}: the end is exact");
+        times.push(r.pos.len() as f64);
+    }
+    for t in &times[1..] {
+        assert!(
+            (t / times[0] - 1.0).abs() < 0.01,
+            "path times (ticks) {times:?}"
+        );
+    }
+}

@@ -5,7 +5,10 @@
 //! refilled every 64 ticks as it frees room (what `path_run -- dense` does through the SDK),
 //! the engine ticked until the path is at rest.
 //!
-//! `cargo bench -p card-emu --bench path [-- --runs N]`
+//! `cargo bench -p card-emu --bench path [-- --runs N] [--plan-ticks M]`
+//!
+//! The engine plans every `M` servo ticks, by default as the card does (its default planner
+//! period, 1 ms: 10 ticks at 10 kHz); `--plan-ticks 1` plans at every tick.
 //!
 //! Three parts, each summed over the run and divided by the 10,000 segments:
 //! - push: `Path::push` (validation, the smoothing blend, the previous one rebuilt, caps,
@@ -27,14 +30,15 @@
 mod dense;
 
 use card_emu::motion::path::{
-    BlendSpeed, Geom, Path, PathLimits, Segment, Transition, DEFAULT_LOOKAHEAD, MAX_AXES,
+    plan_ticks, BlendSpeed, Geom, Path, PathLimits, Segment, Transition, DEFAULT_LOOKAHEAD,
+    MAX_AXES,
 };
 use dense::{CHORDS, TOL};
 use firmware_proto::PATH_LEN;
 use std::hint::black_box;
 use std::time::Instant;
 
-fn limits() -> PathLimits {
+fn limits(plan_ticks: usize) -> PathLimits {
     PathLimits {
         naxes: 2,
         ts: dense::TS,
@@ -43,6 +47,7 @@ fn limits() -> PathLimits {
         jmax: [dense::J; MAX_AXES],
         accel: 0.0,
         jerk: 0.0,
+        plan_ticks,
     }
 }
 
@@ -104,6 +109,7 @@ fn clock_cost() -> f64 {
 
 fn run(
     p: &mut Path,
+    plan_ticks: usize,
     start: [f64; 2],
     segs: &[Segment],
     clock: Clock,
@@ -111,7 +117,7 @@ fn run(
 ) -> Costs {
     let mut s0 = [0.0; MAX_AXES];
     s0[..2].copy_from_slice(&start);
-    p.reset(s0, limits(), DEFAULT_LOOKAHEAD).unwrap();
+    p.reset(s0, limits(plan_ticks), DEFAULT_LOOKAHEAD).unwrap();
     pos.clear();
     pos.push(start);
     let oh = if clock == Clock::Off {
@@ -181,19 +187,21 @@ fn main() {
         println!("path: skipped (run with `cargo bench`)");
         return;
     }
-    let runs: usize = args
-        .iter()
-        .position(|a| a == "--runs")
-        .and_then(|i| args.get(i + 1))
-        .and_then(|x| x.parse().ok())
-        .unwrap_or(7)
-        .max(1);
+    let arg = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .and_then(|x| x.parse::<usize>().ok())
+    };
+    let runs = arg("--runs").unwrap_or(7).max(1);
+    // the card's planner period unless told (1: the planner at the servo rate)
+    let m = arg("--plan-ticks").unwrap_or_else(|| plan_ticks(0.0, dense::TS));
     let (pts, _) = dense::dense_points(CHORDS);
     let segs = segments(&pts);
     let mut p = Path::with_capacity(PATH_LEN);
     let mut pos = Vec::with_capacity(200_000);
     if once {
-        let c = run(&mut p, pts[0], &segs, Clock::Off, &mut pos);
+        let c = run(&mut p, m, pts[0], &segs, Clock::Off, &mut pos);
         // FNV-1a of every position's bits: equal sums, the same motion to the last bit
         let sum = pos.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
             (h ^ x.to_bits()).wrapping_mul(0x100_0000_01b3)
@@ -203,7 +211,7 @@ fn main() {
             std::fs::write(f, bytes).unwrap();
         }
         println!(
-            "path --once: {CHORDS} segments, {} ticks, positions {sum:016x}",
+            "path --once: {CHORDS} segments, {} ticks, planning every {m}, positions {sum:016x}",
             c.ticks
         );
         return;
@@ -212,12 +220,12 @@ fn main() {
     let bound = dense::bound_time(dense::V);
     let mut fine = Vec::new();
     for _ in 0..runs {
-        fine.push(run(&mut p, pts[0], &segs, Clock::Fine, &mut pos));
+        fine.push(run(&mut p, m, pts[0], &segs, Clock::Fine, &mut pos));
     }
     let q = dense::quality(&pos, &pts, lim);
     let mut coarse = Vec::new();
     for _ in 0..runs.min(3) {
-        coarse.push(run(&mut p, pts[0], &segs, Clock::Coarse, &mut pos));
+        coarse.push(run(&mut p, m, pts[0], &segs, Clock::Coarse, &mut pos));
     }
     let ticks = fine[0].ticks;
     let n = CHORDS as f64;
@@ -226,7 +234,7 @@ fn main() {
         println!("| {name:<58} | {m:>7.3} | {lo:>7.3} – {hi:<7.3} |");
     };
     println!(
-        "\npath engine, dense benchmark: {CHORDS} chords, {ticks} ticks ({:.2} per segment), {runs} runs",
+        "\npath engine, dense benchmark: {CHORDS} chords, {ticks} ticks ({:.2} per segment), planning every {m} ticks, {runs} runs",
         ticks as f64 / n
     );
     println!("| µs per segment (per tick where said)                       |  median | range             |");

@@ -2339,6 +2339,12 @@ typedef struct mc_path_settings {
    * Each axis's jerk limit (> 0).
    */
   double jmax[8];
+  /**
+   * The card's path planner period, s (0: its default, 1 ms; at most 10 ms), rounded to
+   * whole servo ticks: the look-ahead and the speed planner run once a period, every servo
+   * tick in between follows the jerk-limited profile they chose.
+   */
+  double plan_period;
 } mc_path_settings;
 
 /**
@@ -4198,9 +4204,10 @@ mc_result mc_path_settings_uniform(uint32_t naxes,
  * configured (`MC_ERR_GROUP_DISABLED`) and its path idle, nothing queued and at rest
  * (`MC_ERR_PATH_BUSY`). `naxes` must be the group's axis count (`MC_ERR_BAD_AXIS`); each axis
  * limit finite and > 0 (`MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`); the card refuses a
- * look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`)
- * and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`). Blocks until the card
- * answers.
+ * look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`),
+ * a planner period that is not a number (`MC_ERR_NOT_FINITE`) or outside 0..0.01 s
+ * (`MC_ERR_OUT_OF_RANGE`), and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`).
+ * Blocks until the card answers.
  */
 mc_result mc_group_configure_path(mc_card card,
                                   uint32_t group,

@@ -114,6 +114,10 @@ pub struct mc_path_settings {
     pub amax: [f64; 8],
     /// Each axis's jerk limit (> 0).
     pub jmax: [f64; 8],
+    /// The card's path planner period, s (0: its default, 1 ms; at most 10 ms), rounded to
+    /// whole servo ticks: the look-ahead and the speed planner run once a period, every servo
+    /// tick in between follows the jerk-limited profile they chose.
+    pub plan_period: f64,
 }
 
 /// One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_NURBS`, `_DWELL`) or an output
@@ -376,6 +380,7 @@ pub unsafe extern "C" fn mc_path_settings_uniform(
             low_water: p.low_water as u32,
             accel: p.accel,
             jerk: p.jerk,
+            plan_period: p.plan_period,
             ..Default::default()
         };
         s.vmax[..n].copy_from_slice(&p.vmax);
@@ -391,9 +396,10 @@ pub unsafe extern "C" fn mc_path_settings_uniform(
 /// configured (`MC_ERR_GROUP_DISABLED`) and its path idle, nothing queued and at rest
 /// (`MC_ERR_PATH_BUSY`). `naxes` must be the group's axis count (`MC_ERR_BAD_AXIS`); each axis
 /// limit finite and > 0 (`MC_ERR_NOT_FINITE`, `MC_ERR_NON_POSITIVE_LIMIT`); the card refuses a
-/// look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`)
-/// and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`). Blocks until the card
-/// answers.
+/// look-ahead outside 1..`MC_PATH_SEGMENTS` or a low-water mark above it (`MC_ERR_BAD_CONFIG`),
+/// a planner period that is not a number (`MC_ERR_NOT_FINITE`) or outside 0..0.01 s
+/// (`MC_ERR_OUT_OF_RANGE`), and limits it cannot run at its servo rate (`MC_ERR_LIMIT_RANGE`).
+/// Blocks until the card answers.
 #[no_mangle]
 pub unsafe extern "C" fn mc_group_configure_path(
     card: mc_card,
@@ -412,6 +418,7 @@ pub unsafe extern "C" fn mc_group_configure_path(
             vmax: s.vmax[..n].to_vec(),
             amax: s.amax[..n].to_vec(),
             jmax: s.jmax[..n].to_vec(),
+            plan_period: s.plan_period,
         };
         let (_, g) = group_of(card, group)?;
         Ok(g.configure_path(&p)?)
@@ -441,6 +448,7 @@ pub unsafe extern "C" fn mc_group_get_path_settings(
             low_water: b.low_water,
             accel: b.accel / path_scale,
             jerk: b.jerk / path_scale,
+            plan_period: b.plan_period,
             ..Default::default()
         };
         for (i, scale) in scales.iter().enumerate().take(n) {

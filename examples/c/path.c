@@ -81,7 +81,7 @@ static mc_path_segment line(uint32_t id, double x, double y, double feed, double
 /* The same settings, field by field (the struct has padding: no memcmp). */
 static int same_settings(const mc_path_settings *a, const mc_path_settings *b) {
     if (a->naxes != b->naxes || a->lookahead != b->lookahead || a->low_water != b->low_water ||
-        a->accel != b->accel || a->jerk != b->jerk)
+        a->accel != b->accel || a->jerk != b->jerk || a->plan_period != b->plan_period)
         return 0;
     for (int i = 0; i < 8; i++) {
         if (a->vmax[i] != b->vmax[i] || a->amax[i] != b->amax[i] || a->jmax[i] != b->jmax[i])
@@ -99,7 +99,7 @@ static void settings(mc_card c) {
     CHECK(mc_path_settings_uniform(2, 50000.0, 5e5, 5e7, &ps));
     ASSERT(ps.naxes == 2 && ps.lookahead == 256 && ps.low_water == 0 && ps.accel == 0.0 &&
                ps.jerk == 0.0 && ps.vmax[1] == 50000.0 && ps.amax[1] == 5e5 &&
-               ps.jmax[1] == 5e7 && ps.vmax[2] == 0.0,
+               ps.jmax[1] == 5e7 && ps.vmax[2] == 0.0 && ps.plan_period == 0.0,
            "uniform: %u axes, look-ahead %u", ps.naxes, ps.lookahead);
 
     /* In user units of 2 and 4 counts: the same limits in counts. */
@@ -108,6 +108,7 @@ static void settings(mc_card c) {
     mc_path_settings user = ps;
     user.lookahead = 128;
     user.low_water = 16;
+    user.plan_period = 2e-3; /* the planner every 2 ms (20 servo ticks at 10 kHz) */
     for (int i = 0; i < 2; i++) {
         const double scale = i == 0 ? 2.0 : 4.0;
         user.vmax[i] /= scale;
@@ -144,6 +145,13 @@ static void settings(mc_card c) {
     EXPECT(mc_group_configure_path(c, G, &bad), MC_ERR_BAD_CONFIG);
     bad.lookahead = MC_PATH_SEGMENTS + 1;
     EXPECT(mc_group_configure_path(c, G, &bad), MC_ERR_BAD_CONFIG);
+    bad = ps;
+    bad.plan_period = NAN;
+    EXPECT(mc_group_configure_path(c, G, &bad), MC_ERR_NOT_FINITE);
+    bad.plan_period = 0.02;
+    EXPECT(mc_group_configure_path(c, G, &bad), MC_ERR_OUT_OF_RANGE);
+    bad.plan_period = -1e-3;
+    EXPECT(mc_group_configure_path(c, G, &bad), MC_ERR_OUT_OF_RANGE);
     EXPECT(mc_group_configure_path(c, G, NULL), MC_ERR_NULL_POINTER);
     EXPECT(mc_group_configure_path(c, 1, &ps), MC_ERR_GROUP_DISABLED);
     EXPECT(mc_group_get_path_settings(c, 1, &back), MC_ERR_GROUP_DISABLED);

@@ -50,7 +50,8 @@
                            * MC_CAM_RELATIVE (MC_CamIn's StartMode relative); the configuration
                            * read back (MC_OP_READ_CONFIG 96, MC_CONFIG_*, MC_NACK_CONFIG_KIND 116),
                            * each axis's scale on the card (mc_axis_config.scale, MC_OP_SET_SCALE
-                           * 97) */
+                           * 97), the path planner's period (mc_group_path.plan_period, from
+                           * its reserved words; 0 keeps the default) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1308,7 +1309,11 @@ struct mc_group_path {
     double amax[MC_MAX_AXES];
     /** Each axis's jerk limit, counts/s^3 (> 0). */
     double jmax[MC_MAX_AXES];
-    double _reserved[6];
+    /** The path planner's period, s (0: 1 ms), rounded to whole servo ticks (at least one,
+     * at most 10 ms): the look-ahead and the speed planner run once a period, and every servo
+     * tick in between follows the jerk-limited profile they chose. */
+    double plan_period;
+    double _reserved[5];
 };
 
 /** The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies

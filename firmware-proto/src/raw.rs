@@ -1222,7 +1222,9 @@ pub struct mc_group_path {
     pub amax: [f64; 8usize],
     #[doc = " Each axis's jerk limit, counts/s^3 (> 0)."]
     pub jmax: [f64; 8usize],
-    pub _reserved: [f64; 6usize],
+    #[doc = " The path planner's period, s (0: 1 ms), rounded to whole servo ticks (at least one,\n at most 10 ms): the look-ahead and the speed planner run once a period, and every servo\n tick in between follows the jerk-limited profile they chose."]
+    pub plan_period: f64,
+    pub _reserved: [f64; 5usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -1242,8 +1244,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_path, amax) - 88usize];
     ["Offset of field: mc_group_path::jmax"]
         [::core::mem::offset_of!(mc_group_path, jmax) - 152usize];
+    ["Offset of field: mc_group_path::plan_period"]
+        [::core::mem::offset_of!(mc_group_path, plan_period) - 216usize];
     ["Offset of field: mc_group_path::_reserved"]
-        [::core::mem::offset_of!(mc_group_path, _reserved) - 216usize];
+        [::core::mem::offset_of!(mc_group_path, _reserved) - 224usize];
 };
 #[doc = " The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies\n it on MC_OP_APPLY_IO_CONFIG. All zero at boot: active high, no debounce, no events."]
 #[repr(C)]

@@ -81,9 +81,9 @@ impl Default for AxisHoming {
     }
 }
 
-/// Look ahead over 256 segments, no low-water event, tangential limits from the axes, and for
-/// every axis of the default motor 100,000 counts/s (10 rev/s), 10⁶ counts/s² and 10⁸
-/// counts/s³.
+/// Look ahead over 256 segments, no low-water event, tangential limits from the axes, the
+/// planner's default period (1 ms), and for every axis of the default motor 100,000 counts/s
+/// (10 rev/s), 10⁶ counts/s² and 10⁸ counts/s³.
 impl Default for GroupPath {
     fn default() -> Self {
         Self {
@@ -94,7 +94,8 @@ impl Default for GroupPath {
             vmax: [1e5; 8],
             amax: [1e6; 8],
             jmax: [1e8; 8],
-            _reserved: [0.0; 6],
+            plan_period: 0.0,
+            _reserved: [0.0; 5],
         }
     }
 }

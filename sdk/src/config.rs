@@ -377,6 +377,9 @@ pub struct PathSection {
     pub vmax: Vec<f64>,
     pub amax: Vec<f64>,
     pub jmax: Vec<f64>,
+    /// The planner's period, s (0, or absent from a file: the card's default).
+    #[serde(default)]
+    pub plan_period: f64,
 }
 
 /// One key where a file and the card differ ([`Card::diff_config`]).
@@ -589,6 +592,7 @@ impl GroupSection {
                 vmax: p.vmax.to_vec(),
                 amax: p.amax.to_vec(),
                 jmax: p.jmax.to_vec(),
+                plan_period: p.plan_period,
             }),
         }
     }
@@ -639,7 +643,8 @@ impl PathSection {
             vmax: arr(&self.vmax),
             amax: arr(&self.amax),
             jmax: arr(&self.jmax),
-            _reserved: [0.0; 6],
+            plan_period: self.plan_period,
+            _reserved: [0.0; 5],
         }
     }
 }

@@ -249,10 +249,16 @@ pub struct PathSettings {
     pub amax: Vec<f64>,
     /// Each axis's jerk limit.
     pub jmax: Vec<f64>,
+    /// The card's path planner period, s (0: its default, 1 ms; at most 10 ms), rounded to
+    /// whole servo ticks: the look-ahead and the speed planner run once a period, and every
+    /// servo tick in between follows the jerk-limited profile they chose (at a 10 kHz servo
+    /// rate, a tenth of the card's planning work, the motion's limits the same).
+    pub plan_period: f64,
 }
 
 impl PathSettings {
-    /// `n` axes with the same limits, look-ahead 256, no low-water event.
+    /// `n` axes with the same limits, look-ahead 256, no low-water event, the card's default
+    /// planner period.
     pub fn uniform(n: usize, vmax: f64, amax: f64, jmax: f64) -> Self {
         Self {
             lookahead: 256,
@@ -262,6 +268,7 @@ impl PathSettings {
             vmax: vec![vmax; n],
             amax: vec![amax; n],
             jmax: vec![jmax; n],
+            plan_period: 0.0,
         }
     }
 }
@@ -360,6 +367,7 @@ impl Group {
             low_water: s.low_water.min(u32::MAX as usize) as u32,
             accel: s.accel * ps,
             jerk: s.jerk * ps,
+            plan_period: s.plan_period,
             ..GroupPath::default()
         };
         for (i, &axis) in axes[..n].iter().enumerate() {

@@ -505,7 +505,9 @@ pub struct Blending {
 /// `transition`: [`Transition::TimeShift`] is the paper's (each segment a rest-to-rest S-curve,
 /// the next one started while the one before decelerates); [`Transition::None`] stops at each
 /// junction; [`Transition::MaxDeviation`] is the card's own planner (one axis: the segments
-/// are collinear, so the speed goes from one feed to the next without a blend).
+/// are collinear, so the speed goes from one feed to the next without a blend). The card's
+/// path planner runs at every servo tick here, as the time-shifted profiles and the paper's
+/// interpolator do (its default, every 1 ms, plans the rest-to-rest stops a little softer).
 pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
     use crate::{GroupSettings, GroupState, PathSettings, Segment};
     let plant = thinh_plant();
@@ -527,7 +529,10 @@ pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
     g.configure(&GroupSettings::new(&[0]))?;
     g.enable()?;
     let (v, a, j) = FIG10_LIMITS;
-    g.configure_path(&PathSettings::uniform(1, v, a, j))?;
+    g.configure_path(&PathSettings {
+        plan_period: ts,
+        ..PathSettings::uniform(1, v, a, j)
+    })?;
     sim.step(100);
     let start = ax.status()?.actual_position;
     let mut x = start;

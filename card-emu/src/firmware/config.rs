@@ -84,7 +84,7 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             ConfigKind::GroupPath => {
                 let block = raw::mc_group_path {
-                    _reserved: [0.0; 6],
+                    _reserved: [0.0; 5],
                     ..*self.groups[i].path_config()
                 };
                 layout::GROUP_PATH.at(i).write(m, &block);

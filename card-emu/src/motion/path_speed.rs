@@ -222,6 +222,19 @@ impl Track {
     }
 }
 
+/// The profile of a planner's last tick, from the state it started at: what
+/// [`PathSpeedPlanner::sample_step`] samples within the tick (a path planned every few servo
+/// ticks is interpolated on it in between).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum StepProfile {
+    /// At rest, or not planned yet.
+    Rest,
+    /// The ramp toward `tgt` from (v, a) ([`PathSpeedPlanner::track_sample`]).
+    Ramp { v: f64, a: f64, tgt: f64 },
+    /// A stop from (v, a).
+    Stop { v: f64, a: f64, phases: Phases },
+}
+
 /// Scalar jerk-limited speed planner along the path. Its state is a continuous profile of the
 /// path speed v(t) with a = dv/dt ∈ [−D, A] and |da/dt| ≤ J, integrated exactly over each
 /// tick, and each tick's step is the distance that profile covers in the tick. Because a tick's
@@ -244,6 +257,8 @@ pub struct PathSpeedPlanner {
     pub(super) a: f64,
     stopping: bool,
     lands: bool,
+    /// The last tick's profile.
+    step: StepProfile,
 }
 
 impl PathSpeedPlanner {
@@ -267,6 +282,7 @@ impl PathSpeedPlanner {
             a: 0.0,
             stopping: false,
             lands: false,
+            step: StepProfile::Rest,
         })
     }
 
@@ -282,6 +298,7 @@ impl PathSpeedPlanner {
             a: 0.0,
             stopping: false,
             lands: false,
+            step: StepProfile::Rest,
         }
     }
 
@@ -739,6 +756,7 @@ impl PathSpeedPlanner {
             self.v = 0.0;
             self.a = 0.0;
             self.lands = true;
+            self.step = StepProfile::Rest;
             return 0.0;
         }
         let (jp, dp) = self.plan_limits();
@@ -748,19 +766,46 @@ impl PathSpeedPlanner {
         };
         // far from the stop point, the bound decides without the exact stopping distance
         if ds + Self::stopping_distance_bound(v1, a1, dp, jp) <= remaining {
-            return self.ramp_on(ds, v1, a1);
+            return self.ramp_on((v, a, tgt), ds, v1, a1);
         }
         self.near_stop(v, a, remaining, tgt, (ds, v1, a1))
     }
 
-    /// The tick follows the ramp's step (distance `ds`, ending at (`v1`, `a1`)): the mean
-    /// speed.
+    /// The tick follows the ramp toward `tgt` from `from` = (v, a), whose step is distance
+    /// `ds`, ending at (`v1`, `a1`): the mean speed.
     #[inline(always)]
-    fn ramp_on(&mut self, ds: f64, v1: f64, a1: f64) -> f64 {
+    fn ramp_on(&mut self, from: (f64, f64, f64), ds: f64, v1: f64, a1: f64) -> f64 {
+        let (v, a, tgt) = from;
+        self.step = StepProfile::Ramp { v, a, tgt };
         self.v = v1.max(0.0);
         self.a = a1;
         self.stopping = false;
         ds / self.ts
+    }
+
+    /// The distance, speed and acceleration `dt` (0 ≤ dt ≤ the tick) into the last tick's
+    /// profile: at the tick, the step and the state it ended at (up to the rounding of the
+    /// state's clamps: a speed below 0 is 0, a stop that landed ends at rest).
+    pub fn sample_step(&self, dt: f64) -> (f64, f64, f64) {
+        match self.step {
+            StepProfile::Rest => (0.0, 0.0, 0.0),
+            StepProfile::Ramp { v, a, tgt } => self.track_sample(v, a, tgt, dt),
+            StepProfile::Stop { v, a, phases } => phases.sample(v, a, dt),
+        }
+    }
+
+    /// How long the last tick's profile moves when it comes to rest within the tick (a stop
+    /// that lands, or none at rest), from the tick's start; None when it moves on.
+    pub fn rest_time(&self) -> Option<f64> {
+        match self.step {
+            StepProfile::Rest => Some(0.0),
+            StepProfile::Stop { phases, .. } => {
+                let t = phases.duration();
+                (t <= self.ts).then_some(t)
+            }
+            // held at rest
+            StepProfile::Ramp { v, a, tgt } => (v <= 0.0 && a == 0.0 && tgt <= 0.0).then_some(0.0),
+        }
     }
 
     /// The rest of [`next_inner`](Self::next_inner) where the bound did not decide, from
@@ -779,10 +824,24 @@ impl PathSpeedPlanner {
         let (jp, dp) = self.plan_limits();
         let (ds, v1, a1) = step;
         if ds + Self::clean_stopping_distance(v1, a1, dp, jp) <= remaining {
-            return self.ramp_on(ds, v1, a1);
+            return self.ramp_on((v, a, tgt), ds, v1, a1);
+        }
+        // A ramp down to a lower target braking too hard to come to rest cleanly from where
+        // it gets (its deceleration is released toward the target, not toward rest) comes to
+        // rest cleanly from the target: it goes on while that fits. A stop to a far remaining
+        // distance would brake less than the target asks, past the pieces it slows for.
+        if tgt > 0.0
+            && tgt < v1
+            && ds
+                + self.track_distance(v1, a1, tgt)
+                + Self::clean_stopping_distance(tgt, 0.0, dp, jp)
+                <= remaining
+        {
+            return self.ramp_on((v, a, tgt), ds, v1, a1);
         }
         self.stopping = true;
         let stop = self.stop_phases(v, a, remaining, tgt);
+        self.step = StepProfile::Stop { v, a, phases: stop };
         let (ds, v1, a1) = stop.sample(v, a, ts);
         if stop.duration() <= ts {
             self.v = 0.0;
@@ -816,6 +875,25 @@ impl PathSpeedPlanner {
         self.a = 0.0;
         self.stopping = false;
         self.lands = false;
+        self.step = StepProfile::Rest;
+    }
+
+    /// At rest at the end of the last tick, whose profile stays (a stop that ends a hair
+    /// above rest is settled there).
+    pub(super) fn settle(&mut self) {
+        self.v = 0.0;
+        self.a = 0.0;
+        self.stopping = false;
+        self.lands = false;
+    }
+
+    /// Takes (v, a) as its state, within the tick of its last profile (the path cuts a
+    /// planning step short: see `Path::halt`); the next tick plans from there.
+    pub(super) fn cut_at(&mut self, v: f64, a: f64) {
+        self.v = v.max(0.0);
+        self.a = a.clamp(-self.dmax, self.amax);
+        self.lands = false;
+        self.step = StepProfile::Rest;
     }
 }
 

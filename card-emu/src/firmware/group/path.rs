@@ -114,6 +114,12 @@ pub fn validate_path_config(b: &GroupPath, n: usize, rate: u32) -> Result<(), Na
     if !(1..=PATH_LEN).contains(&(b.lookahead as usize)) || b.low_water as usize > PATH_LEN {
         return Err(NackCode::BadConfig);
     }
+    if !b.plan_period.is_finite() {
+        return Err(NackCode::NotFinite);
+    }
+    if !(0.0..=crate::motion::path::MAX_PLAN_PERIOD).contains(&b.plan_period) {
+        return Err(NackCode::OutOfRange);
+    }
     for x in [b.accel, b.jerk] {
         if !x.is_finite() {
             return Err(NackCode::NotFinite);
@@ -206,6 +212,7 @@ impl Group {
                 jmax: [0.0; MAX_AXES],
                 accel: b.accel,
                 jerk: b.jerk,
+                plan_ticks: crate::motion::path::plan_ticks(b.plan_period, ts),
             };
             lim.vmax[..cfg.naxes].copy_from_slice(&b.vmax[..cfg.naxes]);
             lim.amax[..cfg.naxes].copy_from_slice(&b.amax[..cfg.naxes]);

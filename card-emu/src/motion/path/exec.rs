@@ -88,6 +88,59 @@ pub(super) struct Seen {
     tested: Tested,
 }
 
+/// The planning step being run (`Path::step`). The look-ahead and the speed planner run once
+/// every `plan_ticks` servo ticks (the planner's period); every tick of the step moves the
+/// executor to where the step's own profile is at that tick (`PathSpeedPlanner::sample_step`:
+/// the jerk-limited profile the planner chose, integrated exactly), so the commanded positions
+/// are those of that profile at the servo rate, not an interpolation between planned points.
+/// A step that comes to rest ends at the tick it lands.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Step {
+    /// Ticks of it run, and how many it lasts (`done == ticks`: none is running).
+    done: usize,
+    ticks: usize,
+    /// Its distance (the planner's step, clamped to a stop point), and what the executor
+    /// has moved of it.
+    ds: f64,
+    moved: f64,
+    /// It ends on the stop point the look-ahead found (at its last tick).
+    land: bool,
+    /// The look-ahead window's end, and the queue's when it was planned: a segment pushed
+    /// since may have joined the stop point to what follows (then the last tick moves the
+    /// step's distance, not on to the next stop point).
+    wend: usize,
+    tail: usize,
+}
+
+impl Step {
+    pub(super) const NONE: Step = Step {
+        done: 0,
+        ticks: 0,
+        ds: 0.0,
+        moved: 0.0,
+        land: false,
+        wend: 0,
+        tail: 0,
+    };
+
+    pub(super) fn running(&self) -> bool {
+        self.done < self.ticks
+    }
+
+    /// What the executor has still to move in it.
+    pub(super) fn ahead(&self) -> f64 {
+        if self.running() {
+            (self.ds - self.moved).max(0.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A slowing to less than this share of the speed is decided at the servo rate (see
+/// `Path::tick_plan`).
+const FINE_SLOWING: f64 = 0.5;
+
 /// Most pieces a [`Seen`] keeps to test again.
 const TESTED: usize = 32;
 
@@ -280,6 +333,11 @@ impl Path {
             return;
         }
         self.halted = true;
+        if self.step.running() {
+            // the stop starts now, not at the end of the step being run
+            self.planner.cut_at(self.now.0, self.now.1);
+            self.step = Step::NONE;
+        }
         let pl = self.planner;
         let d = if pos_finite(decel) {
             decel.min(self.at)
@@ -300,7 +358,7 @@ impl Path {
             return;
         }
         let need =
-            1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.lim.ts;
+            1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.tsp;
         let wend = self.tail.min(self.exec + self.lookahead);
         let mut none = Passed::NONE;
         let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut |_, _| {});
@@ -339,7 +397,7 @@ impl Path {
         self.slow = None;
         self.planner.dmax = self.at;
         self.planner.jmax = self.jt;
-        self.planner.rest();
+        self.rest();
         self.idle_sent = true;
         self.cap_due = None;
         self.shift_clear();
@@ -441,9 +499,9 @@ impl Path {
         }
     }
 
-    /// The planner's target and remaining distance for this tick (see the module doc; the
-    /// slowing test is `nurbs_interp`'s).
-    pub(super) fn look(&mut self, ovr: f64) -> Look {
+    /// The planner's target and remaining distance for a step of `ts` (see the module doc;
+    /// the slowing test is `nurbs_interp`'s).
+    pub(super) fn look(&mut self, ovr: f64, ts: f64) -> Look {
         let sg = self.seg(self.exec);
         let (cg, cf) = if self.in_blend {
             (sg.jgeo, sg.jfeed)
@@ -466,7 +524,6 @@ impl Path {
         let pl = self.planner;
         let (jp, dp) = pl.plan_limits();
         let (jm, dm) = (pl.jmax, pl.dmax);
-        let ts = self.lim.ts;
         // where the executor is, for what an earlier walk saw (see `Seen`)
         let at = self.exec_dist();
         let mut out = Look {
@@ -476,6 +533,7 @@ impl Path {
             queue_end: false,
             window_end: wend,
             track: None,
+            slowed: false,
         };
         for it in 0..3 {
             let track = pl.track(target);
@@ -593,6 +651,7 @@ impl Path {
                     self.slow = Some((sc, c));
                     target = target.min(c);
                     self.seen = None;
+                    out.slowed = true;
                 }
                 None => {
                     // the planner follows this very step unless it must stop
@@ -730,11 +789,13 @@ impl Path {
     }
 
     /// Moves the executor `ds` along the path (or, when `land`, exactly to the stop point the
-    /// look-ahead found), with the events on the way.
+    /// look-ahead found), with the events on the way; when `hold` (a tick of a planning step
+    /// before its last), not past a stop point (the step's last tick lands there or goes on).
     pub(super) fn advance(
         &mut self,
         ds: f64,
         land: bool,
+        hold: bool,
         wend: usize,
         resting: bool,
         ev: &mut impl FnMut(PathEvent),
@@ -802,6 +863,9 @@ impl Path {
             }
             let ns = self.seg(next);
             let (ns_stop, ns_blend, ns_body0) = (ns.stop_before, ns.has_blend, ns.body0);
+            if hold && (ns_stop || next >= wend) {
+                return;
+            }
             // at rest at the window's end: step into the next piece (the same point), so
             // that the window moves on
             let window_stop = land && next >= wend;
@@ -851,16 +915,26 @@ impl Path {
         self.tick_move(plan, ev)
     }
 
+    /// At rest: the planner, the step and the state of the last tick.
+    pub(super) fn rest(&mut self) {
+        self.planner.rest();
+        self.step = Step::NONE;
+        self.now = (0.0, 0.0);
+    }
+
     /// The first half of [`tick`](Self::tick): dwells, then the look-ahead and the speed
-    /// planner decide this tick's step (nothing moves yet). Public for the cost benchmark,
-    /// which times the two halves apart; call [`tick_move`](Self::tick_move) with the result
-    /// at once.
+    /// planner decide the next planning step (nothing moves yet), unless one is being run.
+    /// Public for the cost benchmark, which times the two halves apart; call
+    /// [`tick_move`](Self::tick_move) with the result at once.
     #[doc(hidden)]
     #[inline(never)]
     pub fn tick_plan(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> TickPlan {
         let hold = TickPlan(Plan::Hold);
         if !self.ready {
             return hold;
+        }
+        if self.step.running() {
+            return TickPlan(Plan::Step);
         }
         let ovr = if feed_override.is_nan() {
             0.0
@@ -888,7 +962,7 @@ impl Path {
             }
         }
         if self.exec >= self.tail {
-            self.planner.rest();
+            self.rest();
             if !self.idle_sent {
                 self.idle_sent = true;
                 ev(PathEvent::Idle);
@@ -904,8 +978,21 @@ impl Path {
                 self.settle_cap(i);
             }
         }
-        let lk = self.look(ovr);
-        let ts = self.lim.ts;
+        let before = self.slow;
+        let mut ts = self.tsp;
+        let mut lk = self.look(ovr, ts);
+        let fine =
+            lk.slowed && self.lim.plan_ticks > 1 && lk.target < FINE_SLOWING * self.planner.v;
+        if fine {
+            // It starts slowing for a much slower piece ahead within this step: decided at
+            // the servo rate instead. Up to a step's worth too early, it would reach that
+            // piece's speed up to a step's distance before the piece and crawl there: up to
+            // v/c steps' time (a slowing to half the speed or more costs at most a step).
+            self.slow = before;
+            ts = self.lim.ts;
+            self.planner.ts = ts;
+            lk = self.look(ovr, ts);
+        }
         let v = match lk.track {
             Some(t) => self.planner.next_tracked(t, lk.rem),
             None => self.planner.next(lk.target, lk.rem),
@@ -913,7 +1000,10 @@ impl Path {
         let mut ds = (v * ts).max(0.0);
         let mut land = false;
         if lk.stop {
-            if self.planner.lands() {
+            // a stop that comes to rest on the stop point lands on it exactly (one that comes
+            // to rest short of it, such as a short ramp up and down from near rest in a long
+            // planning step, has not arrived: the next step goes on from there)
+            if self.planner.lands() && lk.rem - ds <= 1e-9 * lk.rem + 1e-6 {
                 land = true;
                 ds = lk.rem;
             } else if ds >= lk.rem {
@@ -924,8 +1014,16 @@ impl Path {
             && self.planner.v <= 1e-9 * self.jt * ts * ts
             && self.planner.a.abs() <= 1e-6 * self.jt * ts
         {
-            self.planner.rest();
+            self.planner.settle();
         }
+        // the step lasts the planner's period, or ends at the tick its profile comes to rest
+        // (a step that does not move lasts a tick: a resume starts at once)
+        let ticks = match self.planner.rest_time() {
+            _ if fine => 1,
+            Some(t) => ((t / self.lim.ts - 1e-9).ceil() as usize).clamp(1, self.lim.plan_ticks),
+            None => self.lim.plan_ticks,
+        };
+        self.planner.ts = self.tsp;
         if self.planner.is_stopping()
             && lk.queue_end
             && lk.target > 0.0
@@ -935,11 +1033,16 @@ impl Path {
             self.starving_sent = true;
             ev(PathEvent::Starving);
         }
-        TickPlan(Plan::Step {
+        self.step = Step {
+            done: 0,
+            ticks,
             ds,
+            moved: 0.0,
             land,
             wend: lk.window_end,
-        })
+            tail: self.tail,
+        };
+        TickPlan(Plan::Step)
     }
 
     /// The second half of [`tick`](Self::tick): moves along the path by the planned step
@@ -947,14 +1050,36 @@ impl Path {
     #[doc(hidden)]
     #[inline(never)]
     pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
-        let (ds, land, wend) = match plan.0 {
+        match plan.0 {
             Plan::Hold => return self.pos,
             // a time-shifted chain runs its own profiles
             Plan::Shift(ovr) => return self.shift_tick(ovr, ev),
-            Plan::Step { ds, land, wend } => (ds, land, wend),
+            Plan::Step => {}
+        }
+        // this tick of the step: its last moves to the step's end (the planner's state);
+        // the others to where its profile is at the tick
+        let st = &mut self.step;
+        st.done += 1;
+        let last = st.done >= st.ticks;
+        let (ds, land) = if last {
+            self.now = (self.planner.v, self.planner.a);
+            (st.ds - st.moved, st.land && st.tail == self.tail)
+        } else {
+            let (d, v, a) = self.planner.sample_step(st.done as f64 * self.lim.ts);
+            self.now = (v.max(0.0), a);
+            // a step that lands gets to its stop point at its last tick, not before (the
+            // profile comes to rest there: at most a rounding's worth is held back)
+            let d = if st.land {
+                d.min(st.ds * (1.0 - 1e-9))
+            } else {
+                d.min(st.ds)
+            };
+            ((d - st.moved).max(0.0), false)
         };
+        st.moved += ds;
+        let wend = st.wend;
         let resting = !self.is_moving();
-        self.advance(ds, land, wend, resting, ev);
+        self.advance(ds, land, !last, wend, resting, ev);
         self.distance += ds;
         self.pos = self.eval_here();
         if self.exec >= self.tail && resting && !self.idle_sent {
@@ -976,9 +1101,8 @@ enum Plan {
     Hold,
     /// A time-shifted chain's tick, at this override.
     Shift(f64),
-    /// Advance `ds` (or land exactly on the stop point the look-ahead found); `wend`: the
-    /// look-ahead window's end.
-    Step { ds: f64, land: bool, wend: usize },
+    /// A tick of the planning step (`Path::step`).
+    Step,
 }
 
 #[cfg(test)]

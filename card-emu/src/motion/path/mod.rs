@@ -76,6 +76,8 @@ mod tests;
 mod tests_curve;
 #[cfg(test)]
 mod tests_lookahead;
+#[cfg(test)]
+mod tests_period;
 
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
@@ -102,6 +104,27 @@ pub const MAX_DWELL: f64 = 1e6;
 /// Ranges of the axis limits (velocity, acceleration, jerk) and of the sample time.
 pub const LIMIT_RANGE: (f64, f64) = (1e-6, 1e18);
 pub const TS_RANGE: (f64, f64) = (1e-6, 1.0);
+/// Most servo ticks per planning step ([`PathLimits::plan_ticks`]).
+pub const MAX_PLAN_TICKS: usize = 1000;
+/// The planner's period when its owner chooses none, and the longest it may choose, s.
+pub const DEFAULT_PLAN_PERIOD: f64 = 1e-3;
+pub const MAX_PLAN_PERIOD: f64 = 0.01;
+
+/// Servo ticks per planning step for a planner period of `period` s (0: the default) at the
+/// servo period `ts`: the nearest whole number of ticks, at least one.
+pub fn plan_ticks(period: f64, ts: f64) -> usize {
+    let period = if period > 0.0 {
+        period.min(MAX_PLAN_PERIOD)
+    } else {
+        DEFAULT_PLAN_PERIOD
+    };
+    let m = (period / ts).round();
+    if m.is_finite() && m >= 1.0 {
+        (m as usize).min(MAX_PLAN_TICKS)
+    } else {
+        1
+    }
+}
 /// Look-ahead window (segments) when the owner has no reason to choose another.
 pub const DEFAULT_LOOKAHEAD: usize = 256;
 /// Outputs waiting for the next motion segment, and outputs per segment.
@@ -155,6 +178,10 @@ pub struct PathLimits {
     pub accel: f64,
     /// Tangential jerk limit, 0 = derive from the axes.
     pub jerk: f64,
+    /// Servo ticks per planning step (1..=[`MAX_PLAN_TICKS`]): the look-ahead and the speed
+    /// planner run once a step, and every tick in between follows the step's own
+    /// jerk-limited profile (see the module doc).
+    pub plan_ticks: usize,
 }
 
 /// The geometry of a segment. Arc: the plane is axes (u, v) of the group, `centre` in that
@@ -435,6 +462,8 @@ struct Look {
     /// The planner's step toward `target` when the look-ahead computed it (see
     /// `PathSpeedPlanner::next_tracked`).
     track: Option<Track>,
+    /// It lowered the target for a piece ahead this tick (it starts slowing for it).
+    slowed: bool,
 }
 
 /// The continuous-path engine of one axes group.
@@ -449,6 +478,12 @@ pub struct Path {
     jt: f64,
     lookahead: usize,
     planner: PathSpeedPlanner,
+    /// The planner's period (`plan_ticks` servo ticks), s.
+    tsp: f64,
+    /// The planning step being run (see `exec::Step`).
+    step: exec::Step,
+    /// Path speed and acceleration at the last tick (within a step, its profile's).
+    now: (f64, f64),
     /// Absolute indices: the segment whose piece the executor is in, and the next free one.
     exec: usize,
     tail: usize,
@@ -694,6 +729,7 @@ impl Path {
             jmax: [1.0; MAX_AXES],
             accel: 0.0,
             jerk: 0.0,
+            plan_ticks: 1,
         };
         Self {
             segs: vec![Seg::default(); ring],
@@ -705,6 +741,9 @@ impl Path {
             jt: 1.0,
             lookahead: DEFAULT_LOOKAHEAD.min(capacity),
             planner: PathSpeedPlanner::unplanned(),
+            tsp: 1e-3,
+            step: exec::Step::NONE,
+            now: (0.0, 0.0),
             exec: 0,
             tail: 0,
             prev_open: false,
@@ -743,6 +782,9 @@ impl Path {
         if !(lim.ts.is_finite() && (TS_RANGE.0..=TS_RANGE.1).contains(&lim.ts)) {
             return Err(PathError::BadLimits);
         }
+        if !(1..=MAX_PLAN_TICKS).contains(&lim.plan_ticks) || lim.ts * lim.plan_ticks as f64 > 1.0 {
+            return Err(PathError::BadLimits);
+        }
         let n = lim.naxes;
         if !(lim.vmax[..n].iter().all(|&x| ok(x))
             && lim.amax[..n].iter().all(|&x| ok(x))
@@ -779,7 +821,8 @@ impl Path {
         if !(1..=self.capacity).contains(&lookahead) {
             return Err(PathError::BadLookahead);
         }
-        let planner = PathSpeedPlanner::new(lim.ts, at, jt).map_err(|_| PathError::BadLimits)?;
+        let tsp = lim.ts * lim.plan_ticks as f64;
+        let planner = PathSpeedPlanner::new(tsp, at, jt).map_err(|_| PathError::BadLimits)?;
         let mut start = start;
         for x in start[lim.naxes..].iter_mut() {
             *x = 0.0;
@@ -790,6 +833,9 @@ impl Path {
         self.jt = jt;
         self.lookahead = lookahead;
         self.planner = planner;
+        self.tsp = tsp;
+        self.step = exec::Step::NONE;
+        self.now = (0.0, 0.0);
         self.exec = 0;
         self.tail = 0;
         self.prev_open = false;
@@ -829,23 +875,29 @@ impl Path {
         self.capacity - self.queued()
     }
     pub fn is_moving(&self) -> bool {
-        self.planner.v > 0.0 || self.planner.a != 0.0 || self.chain.is_moving()
+        self.now.0 > 0.0 || self.now.1 != 0.0 || self.step.ahead() > 0.0 || self.chain.is_moving()
     }
-    /// Path speed, counts/s (in a time-shifted chain, the norm of the velocity).
+    /// Path speed at the last tick, counts/s (in a time-shifted chain, the norm of the
+    /// velocity).
     pub fn speed(&self) -> f64 {
         if self.chain.is_active() {
             self.chain.speed()
         } else {
-            self.planner.v
+            self.now.0
         }
     }
-    /// Path acceleration, counts/s² (in a time-shifted chain, the change of the speed).
+    /// Path acceleration at the last tick, counts/s² (in a time-shifted chain, the change of
+    /// the speed).
     pub fn accel(&self) -> f64 {
         if self.chain.is_active() {
             self.chain.accel()
         } else {
-            self.planner.a
+            self.now.1
         }
+    }
+    /// Servo ticks per planning step (see [`PathLimits::plan_ticks`]).
+    pub fn plan_ticks(&self) -> usize {
+        self.lim.plan_ticks
     }
     /// Commanded position of the last tick.
     pub fn position(&self) -> [f64; MAX_AXES] {
@@ -1443,10 +1495,13 @@ impl Path {
             let turn = dot.clamp(-1.0, 1.0).acos();
             // where a smoothing blend and the previous one rebuilt are built
             let (mut again, mut rec_blend) = (Blend::default(), Blend::default());
+            // (the planner's state is where the step being run ends: the executor gets there
+            // first, whatever it is told now)
             let need = {
                 let pl = &self.planner;
                 1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), self.at, self.jt)
-                    + 4.0 * pl.v * self.lim.ts
+                    + 4.0 * pl.v * self.tsp
+                    + self.step.ahead()
                     + 1e-9
             };
             let rule = match blend {

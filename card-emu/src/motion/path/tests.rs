@@ -13,6 +13,7 @@ pub(super) fn limits(naxes: usize, ts: f64) -> PathLimits {
         jmax: [1e9; MAX_AXES],
         accel: 0.0,
         jerk: 0.0,
+        plan_ticks: 1,
     };
     l.vmax[1] = 4e4;
     l.amax[1] = 3e6;
@@ -42,7 +43,7 @@ pub(super) fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
 
 /// A counter-clockwise arc in the (x, y) plane around `centre` to `end` (a helix if `end`
 /// moves other axes).
-fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segment {
+pub(super) fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segment {
     Segment {
         id,
         geom: Geom::Arc {
@@ -60,9 +61,12 @@ fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segme
 }
 
 pub(super) fn path(naxes: usize, ts: f64, start: V) -> Path {
+    path_with(limits(naxes, ts), start)
+}
+
+pub(super) fn path_with(lim: PathLimits, start: V) -> Path {
     let mut p = Path::with_capacity(4096);
-    p.reset(start, limits(naxes, ts), DEFAULT_LOOKAHEAD)
-        .unwrap();
+    p.reset(start, lim, DEFAULT_LOOKAHEAD).unwrap();
     p
 }
 
@@ -164,7 +168,7 @@ impl Run {
 }
 
 /// The programmed geometry as the test sees it: polyline vertices and arcs.
-enum Piece {
+pub(super) enum Piece {
     Line(V, V),
     /// plane arc: centre, radius, start angle, signed sweep (2D only)
     Arc([f64; 2], f64, f64, f64),
@@ -201,7 +205,7 @@ fn dist_arc(p: &V, c: [f64; 2], r: f64, a0: f64, sw: f64) -> f64 {
     }
 }
 
-fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
+pub(super) fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
     run.pos
         .iter()
         .map(|p| {
@@ -240,7 +244,12 @@ fn max_deviation_in_order(run: &Run, verts: &[V]) -> f64 {
 /// Runs a polyline (from the first vertex) with MaxDeviation(tol): limits, tolerance, ids,
 /// exact end.
 fn polyline(naxes: usize, ts: f64, verts: &[V], feed: f64, tol: f64, what: &str) -> Run {
-    let mut p = path(naxes, ts, verts[0]);
+    polyline_with(limits(naxes, ts), verts, feed, tol, what)
+}
+
+/// [`polyline`] with these limits.
+pub(super) fn polyline_with(lim: PathLimits, verts: &[V], feed: f64, tol: f64, what: &str) -> Run {
+    let mut p = path_with(lim, verts[0]);
     let mut geo = vec![];
     for (i, w) in verts.windows(2).enumerate() {
         let mut s = line(i as u32 + 1, w[1], feed, Transition::MaxDeviation(tol));
@@ -483,7 +492,11 @@ fn blend_speed_rules_set_the_junction_speed() {
 
 #[test]
 fn starving_and_resuming_without_a_jump() {
-    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    starving_and_resuming(limits(2, TS));
+}
+
+pub(super) fn starving_and_resuming(lim: PathLimits) {
+    let mut p = path_with(lim, pt(&[0.0, 0.0]));
     let tr = Transition::MaxDeviation(20.0);
     let mut id = 0;
     let next = |p: &mut Path, id: &mut u32| {
@@ -543,8 +556,16 @@ fn starving_and_resuming_without_a_jump() {
 
 #[test]
 fn halt_in_a_blend_and_in_a_line_then_clear() {
+    halt_then_clear(limits(2, TS), 0);
+}
+
+/// A halt in a blend and in a line, at a tick whose number is `phase` modulo the planner's
+/// steps (a step of the planner may be under way): a stop as short as the state allows, then
+/// a clear and a new program.
+pub(super) fn halt_then_clear(lim: PathLimits, phase: usize) {
+    let ts = lim.ts;
     for in_blend in [true, false] {
-        let mut p = path(2, TS, pt(&[0.0, 0.0]));
+        let mut p = path_with(lim, pt(&[0.0, 0.0]));
         let tr = Transition::CornerDistance(3_000.0);
         for i in 1..=6u32 {
             let x = i as f64 * 10_000.0;
@@ -558,9 +579,13 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         }
         let mut r = Run::default();
         let mut found = false;
-        for _ in 0..100_000 {
+        for k in 0..100_000 {
             r.go(&mut p, 1.0, 1);
-            if p.exec >= 2 && p.in_blend == in_blend && p.speed() > 2e4 {
+            if p.exec >= 2
+                && p.in_blend == in_blend
+                && p.speed() > 2e4
+                && k % lim.plan_ticks == phase
+            {
                 found = true;
                 break;
             }
@@ -569,17 +594,25 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
         let (v, a) = (p.speed(), p.accel());
         let (d, j) = (1e6, 1e8);
         p.halt(d, j);
+        let from = p.distance();
         // bring a to 0, then the stop from the speed reached
-        let bound = a.abs() / j + (v + a.max(0.0).powi(2) / (2.0 * j)) / d + d / j + 3.0 * TS;
+        let bound = a.abs() / j + (v + a.max(0.0).powi(2) / (2.0 * j)) / d + d / j + 3.0 * ts;
         let mut ticks = 0;
         while p.is_moving() {
             r.go(&mut p, 1.0, 1);
             ticks += 1;
             assert!(
-                ticks as f64 * TS <= bound,
+                ticks as f64 * ts <= bound,
                 "halt takes {ticks} ticks > {bound} s"
             );
         }
+        // the stop from the state of the tick it was asked in (no later)
+        let stop = PathSpeedPlanner::stopping_distance(v, a, d, j);
+        let ran = p.distance() - from;
+        assert!(
+            ran <= stop * (1.0 + 1e-6) + v * ts,
+            "halt ran {ran} counts, the stop from there {stop}"
+        );
         // stays halted
         let here = p.position();
         r.go(&mut p, 1.0, 50);
@@ -603,18 +636,24 @@ fn halt_in_a_blend_and_in_a_line_then_clear() {
 
 #[test]
 fn feed_override_zero_holds_and_resumes() {
-    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    override_hold_and_resume(limits(2, TS));
+}
+
+pub(super) fn override_hold_and_resume(lim: PathLimits) {
+    let mut p = path_with(lim, pt(&[0.0, 0.0]));
     let tr = Transition::MaxDeviation(10.0);
     p.push(line(1, pt(&[30_000.0, 0.0]), 5e4, tr)).unwrap();
     p.push(line(2, pt(&[30_000.0, 30_000.0]), 5e4, tr)).unwrap();
     let mut r = Run::default();
-    r.go(&mut p, 1.0, 300);
-    r.go(&mut p, 0.0, 400);
+    // ticks of 0.3 s, 0.4 s, 10 ms
+    let ms = (1e-3 / lim.ts).round() as usize;
+    r.go(&mut p, 1.0, 300 * ms);
+    r.go(&mut p, 0.0, 400 * ms);
     assert!(!p.is_moving());
     let held = p.position();
-    r.go(&mut p, 0.0, 10);
+    r.go(&mut p, 0.0, 10 * ms);
     assert_eq!(p.position(), held);
-    r.go(&mut p, 1.7, 300);
+    r.go(&mut p, 1.7, 300 * ms);
     assert!(r.go(&mut p, 1.0, 100_000));
     r.assert_within(&p.lim, "override");
     assert_eq!(p.position(), pt(&[30_000.0, 30_000.0]));
@@ -623,7 +662,11 @@ fn feed_override_zero_holds_and_resumes() {
 
 #[test]
 fn dwell_and_outputs_fire_in_order() {
-    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    dwell_and_outputs(limits(2, TS));
+}
+
+pub(super) fn dwell_and_outputs(lim: PathLimits) {
+    let mut p = path_with(lim, pt(&[0.0, 0.0]));
     let tr = Transition::MaxDeviation(10.0);
     p.push_output(OutputAction {
         bit: 1,
@@ -688,7 +731,7 @@ fn dwell_and_outputs_fire_in_order() {
     // the dwell: at rest on the corner for ceil(0.0505/Ts) ticks
     let e2 = at(PathEvent::SegmentEnd { id: 2 });
     assert_eq!(at(PathEvent::SegmentStart { id: 2 }), e1);
-    assert_eq!(e2 - e1, 52);
+    assert_eq!(e2 - e1, (0.0505 / lim.ts - 1e-9).ceil() as usize + 1);
     assert!(r.pos[e1..e2].iter().all(|q| *q == pt(&[10_000.0, 0.0])));
 }
 

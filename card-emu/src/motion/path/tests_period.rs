@@ -1,0 +1,337 @@
+//! Planning every few servo ticks (`PathLimits::plan_ticks`): the look-ahead and the speed
+//! planner run once a step, and every tick in between follows the step's own profile. The
+//! commanded positions keep every axis limit (finite differences per servo tick) and the
+//! tolerance, stops start at the tick they are asked in and land exactly, dwells and outputs
+//! keep their servo-tick timing, and the steps are those of the same planner run at the
+//! step's period.
+
+use super::tests::{
+    dwell_and_outputs, halt_then_clear, limits, line, max_deviation, override_hold_and_resume,
+    path_with, polyline_with, pt, starving_and_resuming, Piece, Run,
+};
+use super::*;
+use crate::testkit::rng::Rng;
+
+/// 10 kHz.
+const TS: f64 = 1e-4;
+
+fn lim(naxes: usize, ts: f64, plan_ticks: usize) -> PathLimits {
+    PathLimits {
+        plan_ticks,
+        ..limits(naxes, ts)
+    }
+}
+
+#[test]
+fn polylines_planned_every_few_ticks_keep_every_limit_and_the_tolerance() {
+    let sq = [
+        pt(&[0.0, 0.0]),
+        pt(&[20_000.0, 0.0]),
+        pt(&[20_000.0, 20_000.0]),
+        pt(&[0.0, 20_000.0]),
+        pt(&[0.0, 0.0]),
+    ];
+    let zz: Vec<V> = (0..12)
+        .map(|i| pt(&[i as f64 * 3000.0, if i % 2 == 0 { 0.0 } else { 4000.0 }]))
+        .collect();
+    // a smooth curve in chords of ~0.1 mm
+    let dense: Vec<V> = (0..=1500)
+        .map(|i| {
+            let t = i as f64 / 1500.0 * 150_000.0 / 40_000.0;
+            let r = 40_000.0 + 10_000.0 * (3.0 * t).sin();
+            pt(&[r * t.cos(), r * t.sin()])
+        })
+        .collect();
+    let mut rng = Rng::new(0x9e71);
+    for m in [2, 10, 37] {
+        polyline_with(lim(2, TS, m), &sq, 8e4, 50.0, &format!("square, every {m}"));
+        polyline_with(
+            lim(2, TS, m),
+            &zz,
+            1e5,
+            20.0,
+            &format!("zig-zag, every {m}"),
+        );
+        polyline_with(
+            lim(2, TS, m),
+            &dense,
+            1e5,
+            2.0,
+            &format!("dense, every {m}"),
+        );
+        for naxes in [2, 3] {
+            let mut v = vec![pt(&[0.0; 3][..naxes])];
+            for _ in 0..15 {
+                let mut q = *v.last().unwrap();
+                for x in q[..naxes].iter_mut() {
+                    *x += rng.uniform(-8000.0, 8000.0);
+                }
+                v.push(q);
+            }
+            let (feed, tol) = (rng.uniform(2e4, 1e5), rng.log_uniform(5.0, 200.0));
+            polyline_with(lim(naxes, TS, m), &v, feed, tol, "random polyline");
+        }
+    }
+}
+
+#[test]
+fn lines_and_arcs_planned_every_few_ticks_end_exactly_within_limits_and_tolerance() {
+    for m in [3, 10] {
+        let mut p = path_with(lim(2, TS, m), pt(&[0.0, 0.0]));
+        let tol = 30.0;
+        let tr = Transition::MaxDeviation(tol);
+        p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
+        p.push(Segment {
+            id: 2,
+            geom: Geom::Arc {
+                u: 0,
+                v: 1,
+                centre: [20_000.0, 5_000.0],
+                ccw: true,
+                end: pt(&[25_000.0, 5_000.0]),
+            },
+            feed: 8e4,
+            transition: tr,
+            blend: BlendSpeed::Low,
+            last: false,
+        })
+        .unwrap();
+        let end = pt(&[5_000.0, 20_000.0]);
+        p.push(Segment {
+            last: true,
+            ..line(3, end, 8e4, tr)
+        })
+        .unwrap();
+        let mut r = Run::default();
+        assert!(r.go(&mut p, 1.0, 1_000_000));
+        r.assert_within(&p.lim, "line-arc-line");
+        let geo = [
+            Piece::Line(pt(&[0.0, 0.0]), pt(&[20_000.0, 0.0])),
+            Piece::Arc(
+                [20_000.0, 5_000.0],
+                5_000.0,
+                -std::f64::consts::FRAC_PI_2,
+                std::f64::consts::FRAC_PI_2,
+            ),
+            Piece::Line(pt(&[25_000.0, 5_000.0]), end),
+        ];
+        let dev = max_deviation(&r, &geo);
+        assert!(dev <= tol * (1.0 + 1e-9), "deviation {dev}");
+        r.assert_ids(&[1, 2, 3]);
+        assert_eq!(*r.pos.last().unwrap(), end);
+    }
+}
+
+/// Positions, one per tick, until the path is at rest with nothing queued.
+fn positions(p: &mut Path) -> Vec<V> {
+    let mut pos = vec![];
+    for _ in 0..10_000_000 {
+        pos.push(p.tick(1.0, &mut |_| {}));
+        if p.queued() == 0 && !p.is_moving() {
+            return pos;
+        }
+    }
+    panic!("no end");
+}
+
+#[test]
+fn each_step_ends_where_the_planner_at_the_steps_period_is_at_its_tick() {
+    // a dense curve whose caps change gently (no slowing to half the speed), queued before
+    // the start: planned every m ticks of 0.1 ms, and at every tick of m × 0.1 ms, the same
+    // planner takes the same steps
+    let tr = Transition::MaxDeviation(5.0);
+    let mut segs: Vec<Segment> = (1..=600)
+        .map(|i| {
+            let t = i as f64 / 600.0 * 2.5;
+            let r = 40_000.0 + 10_000.0 * (3.0 * t).sin();
+            line(i, pt(&[r * t.cos() - 40_000.0, r * t.sin()]), 1e5, tr)
+        })
+        .collect();
+    segs.last_mut().unwrap().last = true;
+    for m in [4, 10] {
+        let run = |ts: f64, plan_ticks: usize| {
+            let mut p = Path::with_capacity(1024);
+            p.reset(pt(&[0.0, 0.0]), lim(2, ts, plan_ticks), 256)
+                .unwrap();
+            for s in &segs {
+                p.push(*s).unwrap();
+            }
+            positions(&mut p)
+        };
+        let fine = run(TS, m);
+        let coarse = run(TS * m as f64, 1);
+        // the last step lands within its period: the fine run ends in the coarse run's
+        // last period
+        assert!(
+            fine.len() > (coarse.len() - 1) * m && fine.len() <= coarse.len() * m,
+            "every {m}: {} ticks against {} steps",
+            fine.len(),
+            coarse.len()
+        );
+        // (the stop at the end is re-solved every step from the distance left: there the
+        // rounding of the two runs' positions moves it by a few hundredths of a count at most)
+        let n = coarse.len() - 1;
+        let (mut worst, mut worst_end) = (0.0f64, 0.0f64);
+        for (k, q) in coarse.iter().enumerate().take(n) {
+            let f = fine[(k + 1) * m - 1];
+            let d = (f[0] - q[0]).hypot(f[1] - q[1]);
+            if k < n - n / 50 {
+                worst = worst.max(d);
+            } else {
+                worst_end = worst_end.max(d);
+            }
+        }
+        assert!(worst < 1e-6, "every {m}: a step's end {worst} counts off");
+        assert!(
+            worst_end < 1e-2,
+            "every {m}: a step's end {worst_end} counts off"
+        );
+        assert_eq!(fine.last(), coarse.last());
+    }
+}
+
+#[test]
+fn a_slowing_to_a_much_lower_speed_is_decided_at_the_servo_rate() {
+    // sharp corners with small blends (about 1,000 counts/s from 80,000): planned every 1 ms
+    // or 10 ms, the square takes the time it takes planned every tick, where the planner run
+    // at 1 ms brakes for each corner up to a millisecond early and crawls to it
+    let sq = [
+        pt(&[0.0, 0.0]),
+        pt(&[50_000.0, 0.0]),
+        pt(&[50_000.0, 50_000.0]),
+        pt(&[0.0, 50_000.0]),
+        pt(&[0.0, 0.0]),
+    ];
+    let time = |ts: f64, m: usize| {
+        let l = PathLimits {
+            vmax: [1e5; MAX_AXES],
+            amax: [1e6; MAX_AXES],
+            jmax: [1e8; MAX_AXES],
+            ..lim(2, ts, m)
+        };
+        polyline_with(l, &sq, 8e4, 10.0, "square").pos.len() as f64 * ts
+    };
+    let every_tick = time(TS, 1);
+    for m in [10, 100] {
+        let t = time(TS, m);
+        assert!(
+            (t / every_tick - 1.0).abs() < 0.005,
+            "every {m} ticks: {t} s, every tick {every_tick} s"
+        );
+    }
+    let at_1ms = time(1e-3, 1);
+    assert!(at_1ms > 1.04 * every_tick, "{at_1ms} s, {every_tick} s");
+}
+
+#[test]
+fn halts_stop_at_once_in_the_middle_of_a_step() {
+    for phase in [0, 3, 9] {
+        halt_then_clear(lim(2, TS, 10), phase);
+    }
+    halt_then_clear(lim(2, 1e-3, 4), 2);
+}
+
+#[test]
+fn dwells_outputs_starvation_and_holds_keep_the_servo_ticks() {
+    for (ts, m) in [(TS, 10), (TS, 7), (1e-3, 3)] {
+        dwell_and_outputs(lim(2, ts, m));
+        starving_and_resuming(lim(2, ts, m));
+        override_hold_and_resume(lim(2, ts, m));
+    }
+}
+
+#[test]
+fn the_planner_period_is_whole_ticks_within_its_range() {
+    // 1 ms by default, the nearest whole number of ticks, at least one
+    assert_eq!(plan_ticks(0.0, 1e-4), 10);
+    assert_eq!(plan_ticks(0.0, 1e-3), 1);
+    assert_eq!(plan_ticks(0.0, 2.5e-4), 4);
+    assert_eq!(plan_ticks(0.0, 2e-3), 1);
+    assert_eq!(plan_ticks(5e-3, 1e-4), 50);
+    assert_eq!(plan_ticks(1.24e-3, 2.5e-4), 5);
+    assert_eq!(plan_ticks(1e-5, 1e-4), 1);
+    assert_eq!(plan_ticks(1.0, 1e-4), 100);
+    assert_eq!(plan_ticks(f64::MIN_POSITIVE, 1e-6), 1);
+    // the engine refuses what is out of range
+    let mut p = Path::with_capacity(8);
+    for m in [0, MAX_PLAN_TICKS + 1] {
+        assert_eq!(
+            p.reset(pt(&[0.0, 0.0]), lim(2, TS, m), 8),
+            Err(PathError::BadLimits)
+        );
+    }
+    assert_eq!(
+        p.reset(pt(&[0.0, 0.0]), lim(2, 0.5, 3), 8),
+        Err(PathError::BadLimits)
+    );
+    assert!(p.reset(pt(&[0.0, 0.0]), lim(2, TS, 100), 8).is_ok());
+    assert_eq!(p.plan_ticks(), 100);
+}
+
+#[test]
+fn random_programs_streamed_and_planned_every_few_ticks_keep_every_limit_and_their_order() {
+    let mut rng = Rng::new(0x9e72);
+    for case in 0..16 {
+        let naxes = 2 + case % 2;
+        let m = [3, 10, 25][case % 3];
+        let ts = if case % 4 == 0 { 1e-3 } else { TS };
+        let l = lim(naxes, ts, m);
+        let mut p = Path::with_capacity(16 + rng.int(0, 100));
+        p.reset(pt(&[0.0; 3][..naxes]), l, 1 + rng.int(0, 15))
+            .unwrap();
+        // short and long lines, small and sharp turns, exact stops, dwells
+        let mut segs = vec![];
+        let mut at = pt(&[0.0; 3][..naxes]);
+        for i in 1..=60u32 {
+            let mut q = at;
+            let len = rng.log_uniform(30.0, 20_000.0);
+            for x in q[..naxes].iter_mut() {
+                *x += len * rng.uniform(-1.0, 1.0);
+            }
+            let tr = match rng.int(0, 9) {
+                0 => Transition::Exact,
+                1 => Transition::CornerDistance(rng.log_uniform(1.0, 500.0)),
+                _ => Transition::MaxDeviation(rng.log_uniform(0.5, 100.0)),
+            };
+            let geom = if rng.chance(0.05) {
+                Geom::Dwell {
+                    time: rng.uniform(1e-3, 2e-2),
+                }
+            } else {
+                at = q;
+                Geom::Line { end: q }
+            };
+            segs.push(Segment {
+                id: i,
+                geom,
+                feed: rng.log_uniform(5e3, 1e5),
+                transition: tr,
+                blend: BlendSpeed::Low,
+                last: i == 60,
+            });
+        }
+        let (every, chunk) = (1 + rng.int(0, 20), 1 + rng.int(0, 5));
+        let (ovr_at, ovr) = (rng.int(0, 2000), rng.uniform(0.3, 1.6));
+        let mut r = Run::default();
+        let mut next = 0;
+        for k in 0..5_000_000 {
+            if k % every == 0 {
+                for _ in 0..chunk {
+                    if next == segs.len() || p.free() == 0 {
+                        break;
+                    }
+                    p.push(segs[next]).unwrap();
+                    next += 1;
+                }
+            }
+            r.go(&mut p, if k >= ovr_at { ovr } else { 1.0 }, 1);
+            if next == segs.len() && p.queued() == 0 && !p.is_moving() {
+                break;
+            }
+        }
+        let what = format!("case {case}, every {m} ticks of {ts} s");
+        r.assert_within(&l, &what);
+        r.assert_ids(&(1..=60).collect::<Vec<_>>());
+        assert_eq!(*r.pos.last().unwrap(), at, "{what}: end");
+    }
+}
