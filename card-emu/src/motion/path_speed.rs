@@ -259,6 +259,9 @@ pub struct PathSpeedPlanner {
     lands: bool,
     /// The last tick's profile.
     step: StepProfile,
+    /// The tick the positions are sampled at: `ts`, or a fraction of it where the path
+    /// plans every few servo ticks (`Path::reset`).
+    pub(super) servo_ts: f64,
 }
 
 impl PathSpeedPlanner {
@@ -283,6 +286,7 @@ impl PathSpeedPlanner {
             stopping: false,
             lands: false,
             step: StepProfile::Rest,
+            servo_ts: ts,
         })
     }
 
@@ -299,6 +303,7 @@ impl PathSpeedPlanner {
             stopping: false,
             lands: false,
             step: StepProfile::Rest,
+            servo_ts: 1e-3,
         }
     }
 
@@ -752,12 +757,20 @@ impl PathSpeedPlanner {
         }
         let (v, a) = (self.v, self.a);
         self.lands = false;
-        if v <= 0.0 && a <= 0.0 && remaining <= 0.0 {
+        // At the stop point, or within what a thousandth of the jerk limit moves in a servo
+        // tick of it at a speed and acceleration that move no more there: this tick covers
+        // what is left and lands. (A stop re-solved every tick from a state that small never
+        // lands within a tick: it crept toward the point for thousands of ticks.)
+        let st = self.servo_ts;
+        let crumb = 1e-3 * self.jmax * st * st * st;
+        if (v <= 0.0 && a <= 0.0 && remaining <= 0.0)
+            || (remaining <= crumb && v * st <= crumb && a.abs() * st * st <= crumb)
+        {
             self.v = 0.0;
             self.a = 0.0;
             self.lands = true;
             self.step = StepProfile::Rest;
-            return 0.0;
+            return remaining / ts;
         }
         let (jp, dp) = self.plan_limits();
         let (ds, v1, a1) = match track {

@@ -59,9 +59,20 @@
 //! path (`Seg::start`), so the executor's progress since a walk, and its distance to a
 //! segment's end, are differences, not sums.
 //!
-//! **Tick.** [`Path::tick`] is `tick_plan` (dwells, the look-ahead, the speed planner: this
-//! tick's step) then `tick_move` (the step taken along the pieces, segment events and outputs,
-//! the position interpolated); the cost benchmark (`benches/path.rs`) times the two apart.
+//! **Tick.** [`Path::tick`] is `tick_plan` (dwells, the look-ahead, the speed planner: the
+//! next planning step) then `tick_move` (this tick of the step taken along the pieces, segment
+//! events and outputs, the position interpolated); the cost benchmark (`benches/path.rs`)
+//! times the two apart. A planning step lasts [`PathLimits::plan_ticks`] servo ticks: the
+//! look-ahead and the planner run once a step, with the step's period as their tick, and each
+//! servo tick moves the executor to where the step's own profile is then
+//! (`PathSpeedPlanner::sample_step`: constant jerk per phase, integrated exactly), so the
+//! positions are the planner's profile at the servo rate. A halt cuts the step at its tick; a
+//! step that comes to rest ends at the tick it lands; a tick before a step's last holds at a
+//! stop point rather than cross it; a segment pushed during a step that joins its stop point
+//! to more path turns the landing into the step's distance; a slowing to less than
+//! `FINE_SLOWING` of the speed is re-decided for a step of one tick (up to a step early, it
+//! would reach the slow piece's speed a step's distance before it and crawl there). One tick
+//! per step is the engine planned at the servo rate, to the bit.
 //!
 //! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
 //! [`Path::with_capacity`] allocates everything once.
@@ -822,7 +833,8 @@ impl Path {
             return Err(PathError::BadLookahead);
         }
         let tsp = lim.ts * lim.plan_ticks as f64;
-        let planner = PathSpeedPlanner::new(tsp, at, jt).map_err(|_| PathError::BadLimits)?;
+        let mut planner = PathSpeedPlanner::new(tsp, at, jt).map_err(|_| PathError::BadLimits)?;
+        planner.servo_ts = lim.ts;
         let mut start = start;
         for x in start[lim.naxes..].iter_mut() {
             *x = 0.0;
