@@ -77,6 +77,7 @@ fn configured() -> Card {
     g.configure_path(&PathSettings {
         lookahead: 64,
         low_water: 8,
+        plan_period: 0.002,
         ..PathSettings::uniform(2, 1e5, 1e6, 1e8)
     })
     .unwrap();
@@ -248,6 +249,19 @@ fn the_example_file_round_trips() {
     let b = card();
     b.load_config_file(path).unwrap();
     assert_eq!(b.save_config().unwrap(), text);
+    // a file saved before the planner's period existed loads, with the card's default
+    let old: String = text
+        .lines()
+        .filter(|l| !l.starts_with("plan_period"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert!(old.len() < text.len());
+    let c = card();
+    c.load_config(&old, "old.toml").unwrap();
+    assert_eq!(
+        c.save_config().unwrap(),
+        text.replace("plan_period = 0.002", "plan_period = 0.0")
+    );
 }
 
 /// What a host wrote into a block after the card applied it, or had refused, is not what the

@@ -791,7 +791,8 @@ fn continuous_path_push_tick_halt_and_clear_do_not_touch_the_heap() {
         jmax: [1e8; MAX_AXES],
         accel: 0.0,
         jerk: 0.0,
-        plan_ticks: 1,
+        // planned every 1 ms, as the card does at 10 kHz (steps followed tick by tick)
+        plan_ticks: 10,
     };
     let mut p = Path::with_capacity(4096);
     let mut events = 0usize;

@@ -22,11 +22,13 @@
 //! [axis.N.safety]   # soft/hard limits, alarm and encoder checks, following error, stop ramp
 //! [axis.N.homing]   # method, index, move_to_home, velocities, limits
 //! [group.N]         # axes, accdec, interpolator, tolerance: all four, or none (not configured)
-//! [group.N.path]    # lookahead, low_water, accel, jerk, vmax, amax, jmax (one per group axis)
+//! [group.N.path]    # lookahead, low_water, accel, jerk, vmax, amax, jmax (one per group axis),
+//!                   # plan_period (may be left out: 0, the card's default)
 //! ```
 //!
 //! A file may name any subset of the sections and of the axes and groups: what it does not
-//! name is left as the card holds it. Within a section every key is needed; an unknown key, a
+//! name is left as the card holds it. Within a section every key is needed (but
+//! `plan_period`, which files saved before it existed lack); an unknown key, a
 //! value of the wrong type, an axis or group the card does not have, or a value the card would
 //! refuse is an error. `save` writes every section, in a fixed order, each float in Rust's
 //! shortest representation that reads back to the same bits: load, then save, gives the same
