@@ -43,7 +43,7 @@ pub(super) fn line(id: u32, end: V, feed: f64, tr: Transition) -> Segment {
 
 /// A counter-clockwise arc in the (x, y) plane around `centre` to `end` (a helix if `end`
 /// moves other axes).
-pub(super) fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segment {
+fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transition) -> Segment {
     Segment {
         id,
         geom: Geom::Arc {
@@ -58,6 +58,43 @@ pub(super) fn arc_xy(id: u32, centre: [f64; 2], end: V, feed: f64, tr: Transitio
         blend: BlendSpeed::Low,
         last: false,
     }
+}
+
+/// A random program of `n` segments from the origin (its end returned): short and long
+/// lines, small and sharp turns, some exact stops, some dwells, feeds from 5,000 to 100,000
+/// counts/s.
+pub(super) fn random_program(rng: &mut Rng, naxes: usize, n: u32) -> (Vec<Segment>, V) {
+    let mut segs = vec![];
+    let mut at = pt(&[0.0; 3][..naxes]);
+    for i in 1..=n {
+        let mut q = at;
+        let len = rng.log_uniform(30.0, 20_000.0);
+        for x in q[..naxes].iter_mut() {
+            *x += len * rng.uniform(-1.0, 1.0);
+        }
+        let tr = match rng.int(0, 9) {
+            0 => Transition::Exact,
+            1 => Transition::CornerDistance(rng.log_uniform(1.0, 500.0)),
+            _ => Transition::MaxDeviation(rng.log_uniform(0.5, 100.0)),
+        };
+        let geom = if rng.chance(0.05) {
+            Geom::Dwell {
+                time: rng.uniform(1e-3, 2e-2),
+            }
+        } else {
+            at = q;
+            Geom::Line { end: q }
+        };
+        segs.push(Segment {
+            id: i,
+            geom,
+            feed: rng.log_uniform(5e3, 1e5),
+            transition: tr,
+            blend: BlendSpeed::Low,
+            last: i == n,
+        });
+    }
+    (segs, at)
 }
 
 pub(super) fn path(naxes: usize, ts: f64, start: V) -> Path {
@@ -168,7 +205,7 @@ impl Run {
 }
 
 /// The programmed geometry as the test sees it: polyline vertices and arcs.
-pub(super) enum Piece {
+enum Piece {
     Line(V, V),
     /// plane arc: centre, radius, start angle, signed sweep (2D only)
     Arc([f64; 2], f64, f64, f64),
@@ -205,7 +242,7 @@ fn dist_arc(p: &V, c: [f64; 2], r: f64, a0: f64, sw: f64) -> f64 {
     }
 }
 
-pub(super) fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
+fn max_deviation(run: &Run, geo: &[Piece]) -> f64 {
     run.pos
         .iter()
         .map(|p| {
@@ -325,9 +362,10 @@ fn dense_polyline_of_2000_chords_stays_within_limits() {
     assert!(moving > 0);
 }
 
-#[test]
-fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
-    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+/// A line, a quarter circle tangent to it and a line back up-left under these limits, blended
+/// within 30 counts: limits, tolerance against the lines and the arc, ids, exact end.
+pub(super) fn line_arc_line(lim: PathLimits) {
+    let mut p = path_with(lim, pt(&[0.0, 0.0]));
     let tol = 30.0;
     let tr = Transition::MaxDeviation(tol);
     p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
@@ -340,7 +378,7 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
         tr,
     ))
     .unwrap();
-    let mut end = pt(&[5_000.0, 20_000.0]);
+    let end = pt(&[5_000.0, 20_000.0]);
     let mut s3 = line(3, end, 8e4, tr);
     s3.last = true;
     p.push(s3).unwrap();
@@ -363,7 +401,12 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
     assert!(dev <= tol * (1.0 + 1e-9), "deviation {dev}");
     r.assert_ids(&[1, 2, 3]);
     assert_eq!(*r.pos.last().unwrap(), end);
+}
 
+#[test]
+fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
+    line_arc_line(limits(2, TS));
+    let tr = Transition::MaxDeviation(30.0);
     // a helix of two turns in (x, y) rising on z (slow y), between two lines
     let mut p = path(3, TS, pt(&[10_000.0, 0.0, 0.0]));
     p.push(line(1, pt(&[10_000.0, -5_000.0, 0.0]), 6e4, tr))
@@ -376,7 +419,7 @@ fn line_arc_line_and_helix_keep_limits_tolerance_and_end_exactly() {
         tr,
     ))
     .unwrap();
-    end = pt(&[10_000.0, -5_000.0, 20_000.0]);
+    let end = pt(&[10_000.0, -5_000.0, 20_000.0]);
     p.push(line(3, end, 6e4, tr)).unwrap();
     let mut r = Run::default();
     assert!(r.go(&mut p, 1.0, 100_000));

@@ -6,8 +6,8 @@
 //! step's period.
 
 use super::tests::{
-    dwell_and_outputs, halt_then_clear, limits, line, max_deviation, override_hold_and_resume,
-    path_with, polyline_with, pt, starving_and_resuming, Piece, Run,
+    dwell_and_outputs, halt_then_clear, limits, line, line_arc_line, override_hold_and_resume,
+    path_with, polyline_with, pt, random_program, starving_and_resuming, Run,
 };
 use super::*;
 use crate::testkit::rng::Rng;
@@ -22,15 +22,30 @@ fn lim(naxes: usize, ts: f64, plan_ticks: usize) -> PathLimits {
     }
 }
 
+/// Two axes of 100,000 counts/s, 10⁶ counts/s², 10⁸ counts/s³ (the corner benchmark's).
+fn even(ts: f64, plan_ticks: usize) -> PathLimits {
+    PathLimits {
+        vmax: [1e5; MAX_AXES],
+        amax: [1e6; MAX_AXES],
+        jmax: [1e8; MAX_AXES],
+        ..lim(2, ts, plan_ticks)
+    }
+}
+
+/// A square of `side` counts from the origin, back to it.
+fn square(side: f64) -> [V; 5] {
+    [
+        pt(&[0.0, 0.0]),
+        pt(&[side, 0.0]),
+        pt(&[side, side]),
+        pt(&[0.0, side]),
+        pt(&[0.0, 0.0]),
+    ]
+}
+
 #[test]
 fn polylines_planned_every_few_ticks_keep_every_limit_and_the_tolerance() {
-    let sq = [
-        pt(&[0.0, 0.0]),
-        pt(&[20_000.0, 0.0]),
-        pt(&[20_000.0, 20_000.0]),
-        pt(&[0.0, 20_000.0]),
-        pt(&[0.0, 0.0]),
-    ];
+    let sq = square(20_000.0);
     let zz: Vec<V> = (0..12)
         .map(|i| pt(&[i as f64 * 3000.0, if i % 2 == 0 { 0.0 } else { 4000.0 }]))
         .collect();
@@ -77,48 +92,7 @@ fn polylines_planned_every_few_ticks_keep_every_limit_and_the_tolerance() {
 #[test]
 fn lines_and_arcs_planned_every_few_ticks_end_exactly_within_limits_and_tolerance() {
     for m in [3, 10] {
-        let mut p = path_with(lim(2, TS, m), pt(&[0.0, 0.0]));
-        let tol = 30.0;
-        let tr = Transition::MaxDeviation(tol);
-        p.push(line(1, pt(&[20_000.0, 0.0]), 8e4, tr)).unwrap();
-        p.push(Segment {
-            id: 2,
-            geom: Geom::Arc {
-                u: 0,
-                v: 1,
-                centre: [20_000.0, 5_000.0],
-                ccw: true,
-                end: pt(&[25_000.0, 5_000.0]),
-            },
-            feed: 8e4,
-            transition: tr,
-            blend: BlendSpeed::Low,
-            last: false,
-        })
-        .unwrap();
-        let end = pt(&[5_000.0, 20_000.0]);
-        p.push(Segment {
-            last: true,
-            ..line(3, end, 8e4, tr)
-        })
-        .unwrap();
-        let mut r = Run::default();
-        assert!(r.go(&mut p, 1.0, 1_000_000));
-        r.assert_within(&p.lim, "line-arc-line");
-        let geo = [
-            Piece::Line(pt(&[0.0, 0.0]), pt(&[20_000.0, 0.0])),
-            Piece::Arc(
-                [20_000.0, 5_000.0],
-                5_000.0,
-                -std::f64::consts::FRAC_PI_2,
-                std::f64::consts::FRAC_PI_2,
-            ),
-            Piece::Line(pt(&[25_000.0, 5_000.0]), end),
-        ];
-        let dev = max_deviation(&r, &geo);
-        assert!(dev <= tol * (1.0 + 1e-9), "deviation {dev}");
-        r.assert_ids(&[1, 2, 3]);
-        assert_eq!(*r.pos.last().unwrap(), end);
+        line_arc_line(lim(2, TS, m));
     }
 }
 
@@ -194,22 +168,16 @@ fn each_step_ends_where_the_planner_at_the_steps_period_is_at_its_tick() {
 fn a_slowing_to_a_much_lower_speed_is_decided_at_the_servo_rate() {
     // sharp corners with small blends (about 1,000 counts/s from 80,000): planned every 1 ms
     // or 10 ms, the square takes the time it takes planned every tick, where the planner run
-    // at 1 ms brakes for each corner up to a millisecond early and crawls to it
-    let sq = [
-        pt(&[0.0, 0.0]),
-        pt(&[50_000.0, 0.0]),
-        pt(&[50_000.0, 50_000.0]),
-        pt(&[0.0, 50_000.0]),
-        pt(&[0.0, 0.0]),
-    ];
+    // at 1 ms brakes for each corner up to a millisecond early and crawls to it (the times
+    // are printed)
+    let sq = square(50_000.0);
     let time = |ts: f64, m: usize| {
-        let l = PathLimits {
-            vmax: [1e5; MAX_AXES],
-            amax: [1e6; MAX_AXES],
-            jmax: [1e8; MAX_AXES],
-            ..lim(2, ts, m)
-        };
-        polyline_with(l, &sq, 8e4, 10.0, "square").pos.len() as f64 * ts
+        let t = polyline_with(even(ts, m), &sq, 8e4, 10.0, "square")
+            .pos
+            .len() as f64
+            * ts;
+        eprintln!("square at 10 µm, ticks of {ts} s planned every {m}: {t:.4} s");
+        t
     };
     let every_tick = time(TS, 1);
     for m in [10, 100] {
@@ -279,37 +247,7 @@ fn random_programs_streamed_and_planned_every_few_ticks_keep_every_limit_and_the
         let mut p = Path::with_capacity(16 + rng.int(0, 100));
         p.reset(pt(&[0.0; 3][..naxes]), l, 1 + rng.int(0, 15))
             .unwrap();
-        // short and long lines, small and sharp turns, exact stops, dwells
-        let mut segs = vec![];
-        let mut at = pt(&[0.0; 3][..naxes]);
-        for i in 1..=60u32 {
-            let mut q = at;
-            let len = rng.log_uniform(30.0, 20_000.0);
-            for x in q[..naxes].iter_mut() {
-                *x += len * rng.uniform(-1.0, 1.0);
-            }
-            let tr = match rng.int(0, 9) {
-                0 => Transition::Exact,
-                1 => Transition::CornerDistance(rng.log_uniform(1.0, 500.0)),
-                _ => Transition::MaxDeviation(rng.log_uniform(0.5, 100.0)),
-            };
-            let geom = if rng.chance(0.05) {
-                Geom::Dwell {
-                    time: rng.uniform(1e-3, 2e-2),
-                }
-            } else {
-                at = q;
-                Geom::Line { end: q }
-            };
-            segs.push(Segment {
-                id: i,
-                geom,
-                feed: rng.log_uniform(5e3, 1e5),
-                transition: tr,
-                blend: BlendSpeed::Low,
-                last: i == 60,
-            });
-        }
+        let (segs, at) = random_program(&mut rng, naxes, 60);
         let (every, chunk) = (1 + rng.int(0, 20), 1 + rng.int(0, 5));
         let (ovr_at, ovr) = (rng.int(0, 2000), rng.uniform(0.3, 1.6));
         let mut r = Run::default();
@@ -341,21 +279,10 @@ fn random_programs_streamed_and_planned_every_few_ticks_keep_every_limit_and_the
 /// at 10 kHz, its exact stops taking 5.5 s against 2.9 s).
 #[test]
 fn exact_stops_land_without_creeping_whatever_the_planner_s_period() {
-    let sq = [
-        pt(&[0.0, 0.0]),
-        pt(&[50_000.0, 0.0]),
-        pt(&[50_000.0, 50_000.0]),
-        pt(&[0.0, 50_000.0]),
-        pt(&[0.0, 0.0]),
-    ];
+    let sq = square(50_000.0);
     let mut times = vec![];
     for m in [1, 10] {
-        let l = PathLimits {
-            vmax: [1e5; MAX_AXES],
-            amax: [1e6; MAX_AXES],
-            jmax: [1e8; MAX_AXES],
-            ..lim(2, TS, m)
-        };
+        let l = even(TS, m);
         let mut p = path_with(l, sq[0]);
         for (i, w) in sq.windows(2).enumerate() {
             let mut s = line(i as u32 + 1, w[1], 1e5, Transition::Exact);
@@ -380,6 +307,7 @@ fn exact_stops_land_without_creeping_whatever_the_planner_s_period() {
         assert!(still <= 3 * 2, "every {m}: {still} ticks at rest");
         times.push(r.pos.len() as f64 * TS);
     }
+    eprintln!("square, exact stops, planned every tick and every 10: {times:?} s");
     assert!((times[0] / times[1] - 1.0).abs() < 1e-3, "{times:?}");
     // the time of five rest-to-rest ramps of 0.21 s and 200,000 counts at 98,000 counts/s
     assert!(times[0] < 3.0, "{times:?}");
