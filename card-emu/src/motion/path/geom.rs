@@ -247,7 +247,7 @@ impl Prog {
 }
 
 /// Subintervals of the blend's arc-length table (5-point Gauss–Legendre on each).
-pub(super) const NSUB: usize = 8;
+pub(super) const NSUB: usize = 4;
 
 /// Trim-length factor of the inner control points: B'(0) = 2d·Ta, B'(1) = 2d·Tb for a trim
 /// d, so that the control points of a line–line blend are evenly spaced along the legs
@@ -358,6 +358,20 @@ impl Blend {
         }
         self.len = chord2.sqrt();
         self.len.is_finite() && c.iter().flatten().all(|x| x.is_finite())
+    }
+
+    /// Only the first point of the quintic of [`from_bezier`](Self::from_bezier) and, as its
+    /// length, its chord |B(1) − B(0)|: a blend checked but not built yet (its shape and table
+    /// left as they were). False when the chord is 0 or a control point so large that the
+    /// shape might not be finite (its power-basis coefficients are sums of the control points
+    /// with weights below 10³).
+    pub fn chord_only(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
+        self.q0 = q0;
+        self.n = n;
+        self.len = q[5][..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+        self.len.is_finite()
+            && self.len > 0.0
+            && q.iter().all(|p| p[..n].iter().all(|x| x.abs() < 1e300))
     }
 
     /// The second half of [`fill`](Self::fill): the arc-length table and the length of a

@@ -944,15 +944,16 @@ impl Path {
             .find(|&i| self.seg(i).id == id && self.seg(i).has_blend)
             .map(|i| {
                 let s = self.seg(i);
-                let mut b = s.blend;
-                if self.cap_due == Some(i) {
-                    // not measured yet (see `settle_cap`)
-                    b.measure();
-                }
+                let length = if self.cap_due == Some(i) {
+                    // not built yet (see `settle_cap`)
+                    self.due_blend(i).len
+                } else {
+                    s.blend.len
+                };
                 BlendInfo {
                     trim: s.trim,
                     deviation: s.dev,
-                    length: b.len,
+                    length,
                 }
             })
     }
@@ -1103,8 +1104,9 @@ impl Path {
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
     /// its cap and its deviation from the two lines, or None when the deviation is over
     /// `limit` (or it is not finite; `out` is then left unusable). Without `with_cap` the
-    /// blend is only shaped (`Blend::shape`: no arc-length table, its length the chord) and
-    /// the cap returned is 0: `settle_cap` measures it and computes its cap later.
+    /// blend is only checked, and `out` holds its first point and its chord as its length
+    /// (`Blend::chord_only`, a lower bound of the length): the next push rebuilds it in the
+    /// common case, else `settle_cap` builds it (`due_blend`) and computes its cap.
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,
@@ -1119,38 +1121,28 @@ impl Path {
         out: &mut Blend,
     ) -> Option<(f64, f64)> {
         let n = self.lim.naxes;
+        let (
+            &Prog::Line {
+                dir: ua,
+                p1: corner,
+                ..
+            },
+            &Prog::Line { dir: ub, .. },
+        ) = (pa, pb)
+        else {
+            return None;
+        };
         let mut fa = pa.frame(pa.len() - da);
         fa.k = *ka;
         let mut fb = pb.frame(db);
         fb.k = *kb;
         let q = Blend::controls(n, &fa, &fb, da, db);
-        let built = if with_cap {
-            out.fill(n, fa.p, &q)
-        } else {
-            out.shape(n, fa.p, &q) && out.len > 0.0
-        };
-        if !built {
-            return None;
-        }
-        let b = &*out;
         // the two chords as (start, unit direction, length), from the blend's first point
-        let corner = pa.end();
-        let chord = |a: &V, b: &V| {
-            let mut u = [0.0; MAX_AXES];
-            let mut a0 = [0.0; MAX_AXES];
-            let mut l2 = 0.0;
-            for k in 0..n {
-                u[k] = b[k] - a[k];
-                a0[k] = a[k] - fa.p[k];
-                l2 += u[k] * u[k];
-            }
-            let l = l2.sqrt();
-            for x in u[..n].iter_mut() {
-                *x /= l;
-            }
-            (a0, u, l)
-        };
-        let chords = [chord(&fa.p, &corner), chord(&corner, &fb.p)];
+        let mut c2 = [0.0; MAX_AXES];
+        for k in 0..n {
+            c2[k] = corner[k] - fa.p[k];
+        }
+        let chords = [([0.0; MAX_AXES], ua, da), (c2, ub, db)];
         // the hull's bound first; the samples where it is over the limit
         let hull2 = match n {
             1 => hull_dev2::<1>(&q, &chords),
@@ -1161,18 +1153,24 @@ impl Path {
         let worst2 = if hull2.sqrt() <= limit {
             hull2
         } else {
+            if !out.shape(n, fa.p, &q) {
+                return None;
+            }
             match n {
-                1 => sampled_dev2::<1>(b, &chords, limit)?,
-                2 => sampled_dev2::<2>(b, &chords, limit)?,
-                3 => sampled_dev2::<3>(b, &chords, limit)?,
-                _ => sampled_dev2::<MAX_AXES>(b, &chords, limit)?,
+                1 => sampled_dev2::<1>(out, &chords, limit)?,
+                2 => sampled_dev2::<2>(out, &chords, limit)?,
+                3 => sampled_dev2::<3>(out, &chords, limit)?,
+                _ => sampled_dev2::<MAX_AXES>(out, &chords, limit)?,
             }
         };
         let dev = worst2.sqrt();
         if !with_cap {
-            return Some((0.0, dev));
+            return out.chord_only(n, fa.p, &q).then_some((0.0, dev));
         }
-        let cap = self.blend_cap(b, SMOOTH_CAP_SAMPLES);
+        if !out.fill(n, fa.p, &q) {
+            return None;
+        }
+        let cap = self.blend_cap(out, SMOOTH_CAP_SAMPLES);
         (cap > 0.0 && cap.is_finite()).then_some((cap, dev))
     }
 
@@ -1273,10 +1271,10 @@ impl Path {
     /// distances to what follows it are short, never long) and its cap 0.
     fn settle_cap(&mut self, i: usize) {
         let sl = self.slot(i);
-        // its arc-length table, and its length instead of the chord it had (it is the newest
-        // segment: where the queue ends moves by the difference, nothing after it)
+        // its shape and arc-length table, and its length instead of the chord it had (it is
+        // the newest segment: where the queue ends moves by the difference, nothing after it)
         let chord = self.segs[sl].blend.len;
-        self.segs[sl].blend.measure();
+        self.segs[sl].blend = self.due_blend(i);
         let grown = self.segs[sl].blend.len - chord;
         self.end_dist += grown;
         self.blocks[sl / BLOCK].len += grown;
@@ -1298,6 +1296,24 @@ impl Path {
         b.kg = b.kg.min(cap * cap + 2.0 * self.at * x0);
         self.cap_due = None;
         self.window_changed(i);
+    }
+
+    /// Segment `i`'s smoothing blend as `smooth_piece` checked it without building it (the
+    /// newest one, see `settle_cap`): from the line before, trimmed by its `trim`, to its
+    /// line, trimmed by its `body0`, with the curvature vectors `kstart` and `kend` at its
+    /// ends (`Blend::chord_only` checked that its shape is finite).
+    fn due_blend(&self, i: usize) -> Blend {
+        let (prev, sg) = (self.seg(i - 1), self.seg(i));
+        let n = self.lim.naxes;
+        let mut fa = prev.prog.frame(prev.prog.len() - sg.trim);
+        fa.k = sg.kstart;
+        let mut fb = sg.prog.frame(sg.body0);
+        fb.k = sg.kend;
+        let mut b = sg.blend;
+        let q = Blend::controls(n, &fa, &fb, sg.trim, sg.body0);
+        b.shape(n, fa.p, &q);
+        b.measure();
+        b
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
