@@ -1063,13 +1063,11 @@ impl Path {
                 let (vm, am) = (CAP_MARGIN * l.vmax[k], CAP_MARGIN * l.amax[k]);
                 for i in 0..LANES {
                     let (t, kk) = (tm.t[k][i], tm.k[k][i]);
+                    // t = 0: no velocity cap; kk = 0: no acceleration cap (room/0 is ∞, or
+                    // NaN when room is 0 too, which `min` passes over)
                     let v = vm / t;
                     let room = (am - at * t).max(0.0);
-                    let a = if kk > 0.0 {
-                        (room / kk).sqrt()
-                    } else {
-                        f64::INFINITY
-                    };
+                    let a = (room / kk).sqrt();
                     c[i] = c[i].min(v).min(a);
                 }
             }
