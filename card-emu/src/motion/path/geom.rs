@@ -330,25 +330,18 @@ impl Blend {
     /// bound of the length. False when it is not finite.
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn shape(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
-        // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i
-        const BIN: [[f64; 6]; 6] = [
-            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-            [1.0, 2.0, 1.0, 0.0, 0.0, 0.0],
-            [1.0, 3.0, 3.0, 1.0, 0.0, 0.0],
-            [1.0, 4.0, 6.0, 4.0, 1.0, 0.0],
-            [1.0, 5.0, 10.0, 10.0, 5.0, 1.0],
-        ];
+        // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i; the axes after the
+        // blend's are 0 (`each_term_n` may run over them)
         let c = &mut self.c;
         *c = [Z; 6];
-        for j in 0..6 {
-            for i in 0..=j {
-                let sgn = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
-                let w = BIN[5][j] * sgn * BIN[j][i];
-                for k in 0..n {
-                    c[j][k] += w * q[i][k];
-                }
-            }
+        for k in 0..n {
+            let [q0, q1, q2, q3, q4, q5] = [q[0][k], q[1][k], q[2][k], q[3][k], q[4][k], q[5][k]];
+            c[0][k] = q0;
+            c[1][k] = 5.0 * (q1 - q0);
+            c[2][k] = 10.0 * (q2 - 2.0 * q1 + q0);
+            c[3][k] = 10.0 * (q3 - 3.0 * (q2 - q1) - q0);
+            c[4][k] = 5.0 * (q4 - 4.0 * (q3 + q1) + 6.0 * q2 + q0);
+            c[5][k] = q5 - 5.0 * (q4 - q1) + 10.0 * (q3 - q2) - q0;
         }
         self.q0 = q0;
         self.n = n;
@@ -357,7 +350,7 @@ impl Blend {
             chord2 += q[5][k] * q[5][k];
         }
         self.len = chord2.sqrt();
-        self.len.is_finite() && c.iter().flatten().all(|x| x.is_finite())
+        self.len.is_finite() && c.iter().all(|r| r[..n].iter().all(|x| x.is_finite()))
     }
 
     /// Only the first point of the quintic of [`from_bezier`](Self::from_bezier) and, as its
