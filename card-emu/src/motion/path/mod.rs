@@ -1072,14 +1072,32 @@ impl Path {
                 }
             }
             let mut lowest = c.iter().fold(cap, |m, &x| m.min(x));
+            // the jerk terms at the lowest cap so far, all lanes at once: p·v³ + q·v grows
+            // with v, so a term within its room there is within it at any lower cap, and only
+            // the others are looked at one by one (as the lowest cap falls)
+            let mut over = !lowest.is_finite();
             for k in 0..N {
                 let jm = CAP_MARGIN * l.jmax[k];
                 for i in 0..LANES {
                     let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
                     let room = jm - jt * tm.t[k][i];
-                    if !(lowest.is_finite() && p * lowest * lowest * lowest + q * lowest <= room) {
-                        c[i] = c[i].min(cubic_cap(p, q, room));
-                        lowest = lowest.min(c[i]);
+                    // (NaN: not within)
+                    let within = p * lowest * lowest * lowest + q * lowest <= room;
+                    over |= !within;
+                }
+            }
+            if over {
+                for k in 0..N {
+                    let jm = CAP_MARGIN * l.jmax[k];
+                    for i in 0..LANES {
+                        let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
+                        let room = jm - jt * tm.t[k][i];
+                        if !(lowest.is_finite()
+                            && p * lowest * lowest * lowest + q * lowest <= room)
+                        {
+                            c[i] = c[i].min(cubic_cap(p, q, room));
+                            lowest = lowest.min(c[i]);
+                        }
                     }
                 }
             }
