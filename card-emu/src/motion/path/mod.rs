@@ -160,6 +160,10 @@ pub const MAX_TRIM_SHARE: f64 = 0.45;
 const MAX_TRIM_ANGLE: f64 = core::f64::consts::FRAC_PI_4;
 /// Turns above this (rad) are reversals: exact stop.
 pub const REVERSAL: f64 = 175.0 * core::f64::consts::PI / 180.0;
+/// The cosines of [`SMOOTH_TURN`] and [`REVERSAL`], which a push compares the tangents' dot
+/// product with.
+const COS_SMOOTH_TURN: f64 = 0.8660254037844387;
+const COS_REVERSAL: f64 = -0.9961946980917455;
 /// Tangents closer than this (|Ta − Tb|) with equal curvature join without a blend.
 const TANGENT_EPS: f64 = 1e-9;
 /// The numeric deviation is held this far below the tolerance.
@@ -628,7 +632,8 @@ fn hull_dev2<const N: usize>(q: &[V; 6], chords: &[(V, V, f64); 2]) -> f64 {
         for k in 0..N {
             t += (p[k] - a[k]) * u[k];
         }
-        let t = t.clamp(0.0, *l);
+        // (without a branch; a NaN gives 0, and its distance is passed over by the max below)
+        let t = t.max(0.0).min(*l);
         let mut e2 = 0.0;
         for k in 0..N {
             let e = p[k] - a[k] - t * u[k];
@@ -1536,7 +1541,8 @@ impl Path {
                 dk2 += (fa.k[k] - fb.k[k]) * (fa.k[k] - fb.k[k]);
                 k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
             }
-            let turn = dot.clamp(-1.0, 1.0).acos();
+            // the turn's cosine (the turn itself, an arc cosine, where a corner blend needs it)
+            let cos_turn = dot.clamp(-1.0, 1.0);
             // where a smoothing blend and the previous one rebuilt are built
             let (mut again, mut rec_blend) = (Blend::default(), Blend::default());
             // (the planner's state is where the step being run ends: the executor gets there
@@ -1561,7 +1567,7 @@ impl Path {
                 rec.jfeed = rule;
             } else if let Some(sm) = (!prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
-                && turn <= SMOOTH_TURN)
+                && cos_turn >= COS_SMOOTH_TURN)
                 .then(|| self.smooth(&rec, tol, need, &mut again, &mut rec_blend))
                 .flatten()
             {
@@ -1593,7 +1599,8 @@ impl Path {
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
                 prev_trim = sm.da;
-            } else if turn < REVERSAL {
+            } else if cos_turn > COS_REVERSAL {
+                let turn = cos_turn.acos();
                 // room on each side: the share of the segment, and on the executor's side
                 // what it can still slow down before
                 let mut room = Self::room(&prev.prog)

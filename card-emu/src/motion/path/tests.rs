@@ -310,6 +310,14 @@ pub(super) fn polyline_with(lim: PathLimits, verts: &[V], feed: f64, tol: f64, w
     r
 }
 
+/// The push compares cosines with the tangents' dot product instead of taking its arc
+/// cosine: the constants are the cosines of the angles the module names.
+#[test]
+fn the_turn_cosines_are_those_of_the_turn_limits() {
+    assert_eq!(COS_SMOOTH_TURN, SMOOTH_TURN.cos());
+    assert_eq!(COS_REVERSAL, REVERSAL.cos());
+}
+
 #[test]
 fn square_zigzag_and_random_polylines_keep_every_axis_limit_and_the_tolerance() {
     let sq = [
