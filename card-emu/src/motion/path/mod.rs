@@ -442,12 +442,11 @@ impl Seg {
     fn is_dwell(&self) -> bool {
         matches!(self.prog, Prog::Dwell { .. })
     }
-    /// Joins the previous segment with blend `b` (its geometric and feed caps), trimming
-    /// `trims.0` off the previous segment and `trims.1` off this one.
-    fn join(&mut self, b: Blend, cap: f64, feed: f64, trims: (f64, f64), dev: f64) {
+    /// Joins the previous segment with its blend, built in `blend` (its geometric and feed
+    /// caps), trimming `trims.0` off the previous segment and `trims.1` off this one.
+    fn join(&mut self, cap: f64, feed: f64, trims: (f64, f64), dev: f64) {
         self.stop_before = false;
         self.has_blend = true;
-        self.blend = b;
         self.jgeo = cap;
         self.jfeed = feed;
         self.trim = trims.0;
@@ -1196,12 +1195,12 @@ impl Path {
     }
 
     /// Smoothing of a junction of two lines (see [`Path::push`]): the blend from the middle of
-    /// the last queued line to the middle of `rec`, and the previous smoothing blend rebuilt
-    /// with the curvature the new point gives it, where the executor is far enough away;
-    /// the blends are built in `again` and `new`.
+    /// the last queued line to the middle of `prog` (the new line), and the previous smoothing
+    /// blend rebuilt with the curvature the new point gives it, where the executor is far
+    /// enough away; the blends are built in `again` and `new`.
     fn smooth(
         &self,
-        rec: &Seg,
+        prog: &Prog,
         tol: f64,
         need: f64,
         again: &mut Blend,
@@ -1220,7 +1219,7 @@ impl Path {
             &Prog::Line {
                 p1: p2, len: lb, ..
             },
-        ) = (&prev.prog, &rec.prog)
+        ) = (&prev.prog, prog)
         else {
             return None;
         };
@@ -1257,8 +1256,8 @@ impl Path {
                 );
                 if let Some((cap, dev)) = rebuilt {
                     let z = [0.0; MAX_AXES];
-                    if let Some((_, new_dev)) = self
-                        .smooth_piece(&prev.prog, &rec.prog, da, db, &kmid, &z, limit, false, new)
+                    if let Some((_, new_dev)) =
+                        self.smooth_piece(&prev.prog, prog, da, db, &kmid, &z, limit, false, new)
                     {
                         return Some(Smooth {
                             again: Some((cap, dev, kmid)),
@@ -1273,8 +1272,7 @@ impl Path {
             }
         }
         let z = [0.0; MAX_AXES];
-        let (_, dev) =
-            self.smooth_piece(&prev.prog, &rec.prog, da, db, &z, &z, limit, false, new)?;
+        let (_, dev) = self.smooth_piece(&prev.prog, prog, da, db, &z, &z, limit, false, new)?;
         Some(Smooth {
             again: None,
             kvertex: k1,
@@ -1544,7 +1542,8 @@ impl Path {
             // the turn's cosine (the turn itself, an arc cosine, where a corner blend needs it)
             let cos_turn = dot.clamp(-1.0, 1.0);
             // where a smoothing blend and the previous one rebuilt are built
-            let (mut again, mut rec_blend) = (Blend::default(), Blend::default());
+            // (the new one in the segment's own, which holds nothing until it is joined)
+            let mut again = Blend::default();
             // (the planner's state is where the step being run ends: the executor gets there
             // first, whatever it is told now)
             let need = {
@@ -1568,7 +1567,7 @@ impl Path {
             } else if let Some(sm) = (!prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
                 && cos_turn >= COS_SMOOTH_TURN)
-                .then(|| self.smooth(&rec, tol, need, &mut again, &mut rec_blend))
+                .then(|| self.smooth(&rec.prog, tol, need, &mut again, &mut rec.blend))
                 .flatten()
             {
                 let ps = self.slot(self.tail - 1);
@@ -1594,7 +1593,7 @@ impl Path {
                 // The newest blend ends with curvature 0 and is rebuilt by the next push in
                 // the common case: its cap waits until the look-ahead may reach it (see
                 // `settle_cap`), so that each push computes one cap, not two.
-                rec.join(rec_blend, 0.0, rule, (sm.da, sm.db), sm.dev);
+                rec.join(0.0, rule, (sm.da, sm.db), sm.dev);
                 cap_due = true;
                 rec.smooth = true;
                 rec.kstart = sm.kstart;
@@ -1664,7 +1663,8 @@ impl Path {
                     if let Some(b) = build(d) {
                         let cap = self.blend_cap(&b, BLEND_SAMPLES);
                         if cap > 0.0 && cap.is_finite() {
-                            rec.join(b, cap, rule, (d, d), dev);
+                            rec.blend = b;
+                            rec.join(cap, rule, (d, d), dev);
                             prev_trim = d;
                         }
                     }
