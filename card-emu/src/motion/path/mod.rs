@@ -1009,7 +1009,9 @@ impl Path {
     /// Cap of a body on [s0, s1].
     fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
         match p {
-            Prog::Line { .. } => self.frame_cap(&p.frame(0.0)),
+            // its frame: its direction, no curvature
+            Prog::Line { dir, .. } => (0..self.lim.naxes)
+                .fold(f64::INFINITY, |c, k| self.axis_cap(k, dir[k], 0.0, 0.0, c)),
             Prog::Helix(h) => {
                 let ang = h.sweep().abs() * (s1 - s0) / p.len();
                 let m = ((ang / 1f64.to_radians()).ceil() as usize).clamp(16, 720);
