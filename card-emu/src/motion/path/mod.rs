@@ -9,7 +9,7 @@
 //! when it joins the previous segment with a blend, a blend piece in front of it. All pieces
 //! are parametrised by arc length. A blend is a quintic Bézier matching position, unit tangent
 //! and curvature vector of both sides at the trim points (G2: the acceleration is continuous
-//! through the corner); its arc length is an 8-interval Gauss–Legendre table and Newton on u.
+//! through the corner); its arc length is a 4-interval Gauss–Legendre table and Newton on u.
 //!
 //! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`] with path-wide tangential
 //! limits A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the
@@ -28,9 +28,10 @@
 //! through three vertices, averaged over the two vertices of a line). The newest blend ends
 //! with curvature 0, since the next point is not known yet; when it arrives, that blend is
 //! rebuilt with its end curvature if the executor can still slow down before it. The newest
-//! blend is only shaped (its length is its chord until then): its arc-length table and its
-//! speed cap are made only when that rebuild does not happen, or when the look-ahead window
-//! reaches it first, so that a push measures one blend and computes one cap, not two. The
+//! blend is only checked (its deviation bounded from its control points; its length is its
+//! chord until then): it is built, measured and capped only when that rebuild does not
+//! happen, or when the look-ahead window reaches it first, so that a push builds one blend
+//! and computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
 //! lines is over the tolerance (×0.97) falls back to the corner blend below; the deviation is
@@ -1285,8 +1286,8 @@ impl Path {
         })
     }
 
-    /// Measures segment `i`'s smoothing blend and computes its cap, left for later by
-    /// `append` (the newest blend, which the next push usually rebuilds): when the next push
+    /// Builds and measures segment `i`'s smoothing blend and computes its cap, left for later
+    /// by `append` (the newest blend, which the next push usually rebuilds): when the next push
     /// does not rebuild it, or when the executor's look-ahead window reaches it (`tick`
     /// checks before each look-ahead). Until then its length is its chord, a lower bound (the
     /// distances to what follows it are short, never long) and its cap 0.
@@ -1593,8 +1594,9 @@ impl Path {
                     self.cap_due = None;
                 }
                 // The newest blend ends with curvature 0 and is rebuilt by the next push in
-                // the common case: its cap waits until the look-ahead may reach it (see
-                // `settle_cap`), so that each push computes one cap, not two.
+                // the common case: only checked so far, it is built and capped when the
+                // look-ahead may reach it (see `settle_cap`), so that each push builds one
+                // blend and computes one cap, not two.
                 rec.join(0.0, rule, (sm.da, sm.db), sm.dev);
                 cap_due = true;
                 rec.smooth = true;
