@@ -225,6 +225,18 @@ impl Prog {
         }
     }
 
+    /// The unit tangent and the curvature vector at arc length `s` (a line's without building
+    /// its frame).
+    pub fn tangent_curvature(&self, s: f64) -> (V, V) {
+        match self {
+            Prog::Line { dir, .. } => (*dir, Z),
+            _ => {
+                let f = self.frame(s);
+                (f.t, f.k)
+            }
+        }
+    }
+
     pub fn frame(&self, s: f64) -> Frame {
         match self {
             Prog::Line { dir, .. } => Frame {

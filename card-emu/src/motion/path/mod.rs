@@ -1533,14 +1533,14 @@ impl Path {
         } else if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
             let prev = self.seg(self.tail - 1);
             let la = prev.prog.len();
-            let fa = prev.prog.frame(la);
-            let fb = rec.prog.frame(0.0);
+            let (ta, ka) = prev.prog.tangent_curvature(la);
+            let (tb, kb) = rec.prog.tangent_curvature(0.0);
             let (mut dt2, mut dot, mut dk2, mut k2) = (0.0, 0.0, 0.0, 0.0);
             for k in 0..n {
-                dt2 += (fa.t[k] - fb.t[k]) * (fa.t[k] - fb.t[k]);
-                dot += fa.t[k] * fb.t[k];
-                dk2 += (fa.k[k] - fb.k[k]) * (fa.k[k] - fb.k[k]);
-                k2 += fa.k[k] * fa.k[k] + fb.k[k] * fb.k[k];
+                dt2 += (ta[k] - tb[k]) * (ta[k] - tb[k]);
+                dot += ta[k] * tb[k];
+                dk2 += (ka[k] - kb[k]) * (ka[k] - kb[k]);
+                k2 += ka[k] * ka[k] + kb[k] * kb[k];
             }
             // the turn's cosine (the turn itself, an arc cosine, where a corner blend needs it)
             let cos_turn = dot.clamp(-1.0, 1.0);
