@@ -365,18 +365,13 @@ impl Blend {
         self.len.is_finite() && c.iter().all(|r| r[..n].iter().all(|x| x.is_finite()))
     }
 
-    /// Only the first point of the quintic of [`from_bezier`](Self::from_bezier) and, as its
-    /// length, its chord |B(1) − B(0)|: a blend checked but not built yet (its shape and table
-    /// left as they were). False when the chord is 0 or a control point so large that the
-    /// shape might not be finite (its power-basis coefficients are sums of the control points
-    /// with weights below 10³).
-    pub fn chord_only(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
+    /// Only the first point `q0` of a quintic and, as its length, its chord |B(1) − B(0)|: a
+    /// blend checked but not built yet (its shape and table left as they were; the caller
+    /// checks that its shape would be finite).
+    pub fn chord_only(&mut self, n: usize, q0: V, chord: f64) {
         self.q0 = q0;
         self.n = n;
-        self.len = q[5][..n].iter().map(|x| x * x).sum::<f64>().sqrt();
-        self.len.is_finite()
-            && self.len > 0.0
-            && q.iter().all(|p| p[..n].iter().all(|x| x.abs() < 1e300))
+        self.len = chord;
     }
 
     /// The second half of [`fill`](Self::fill): the arc-length table and the length of a

@@ -34,10 +34,12 @@
 //! and computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
-//! lines is over the tolerance (×0.97) falls back to the corner blend below; the deviation is
-//! first bounded by the blend's control points (cut in two by de Casteljau, each half within
-//! the hull of its points, the distance to a chord convex), and sampled only when that bound
-//! is over (never on the dense benchmark's curve).
+//! lines is over the tolerance (×0.97) falls back to the corner blend below. The newest
+//! blend's deviation is first bounded in closed form, from the trims, the turn and the end
+//! curvatures (`smooth_dev_bound`: within a few per cent on evenly cut curves); the rebuilt
+//! one's, or where that bound is over, by the blend's control points (cut in two by de
+//! Casteljau, each half within the hull of its points, the distance to a chord convex); the
+//! curve is sampled only when that bound is over too (never on the dense benchmark's curve).
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
@@ -618,6 +620,27 @@ fn sampled_dev2<const N: usize>(b: &Blend, chords: &[(V, V, f64); 2], limit: f64
     Some(worst2)
 }
 
+/// An upper bound, in closed form, of the distance from the smoothing blend of two lines (unit
+/// directions `ua`, `ub`; trims `da`, `db`; curvature vectors `ka`, `kb` at its ends; a turn
+/// θ below 90°) to the two lines. Without the curvatures its control points lie on the lines,
+/// at da, 0.6·da and 0.2·da before the corner C and 0.2·db, 0.6·db and db after it
+/// (`Blend::controls`): B(u) = C − a(u)·Ta + b(u)·Tb with a = da·(1 − u)³(1 + u) and
+/// b = db·u³(2 − u), at most min(a, b)·sin θ from the line whose foot is within it, and
+/// min(a, b) ≤ √(ab) ≤ 0.1875·√(da·db) (ab is largest at u = ½). The curvatures move Q2 and
+/// Q3 by (2d)²/20·K, which moves the curve by at most 0.3456 times that (the largest of B₂
+/// and B₃).
+fn smooth_dev_bound(n: usize, ua: &V, ub: &V, da: f64, db: f64, ka: &V, kb: &V) -> f64 {
+    let (mut dt2, mut ka2, mut kb2) = (0.0, 0.0, 0.0);
+    for k in 0..n {
+        dt2 += (ua[k] - ub[k]) * (ua[k] - ub[k]);
+        ka2 += ka[k] * ka[k];
+        kb2 += kb[k] * kb[k];
+    }
+    // |Ta − Tb| = 2 sin(θ/2), sin θ = 2 sin(θ/2) cos(θ/2)
+    let sin = (dt2 * (1.0 - 0.25 * dt2).max(0.0)).sqrt();
+    0.1875 * (da * db).sqrt() * sin + 0.06912 * (da * da * ka2.sqrt() + db * db * kb2.sqrt())
+}
+
 /// An upper bound of the largest squared distance from a quintic Bézier (control points
 /// `q`, relative to its first point, over the first `N` axes) to the nearer of two chords
 /// (start relative to the same point, unit direction, length): the curve cut in two at
@@ -1127,7 +1150,8 @@ impl Path {
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
     /// its cap and its deviation from the two lines, or None when the deviation is over
     /// `limit` (or it is not finite; `out` is then left unusable). Without `with_cap` the
-    /// blend is only checked, and `out` holds its first point and its chord as its length
+    /// blend is only checked (by `smooth_dev_bound` where that is enough, without its control
+    /// points), and `out` holds its first point and its chord as its length
     /// (`Blend::chord_only`, a lower bound of the length): the next push rebuilds it in the
     /// common case, else `settle_cap` builds it (`due_blend`) and computes its cap.
     #[allow(clippy::too_many_arguments)]
@@ -1155,6 +1179,25 @@ impl Path {
         else {
             return None;
         };
+        // A power-basis coefficient is a sum of control points with weights below 10², each
+        // control point within a few trims, chords and curvature offsets of the first: the
+        // shape is finite where these are below 10²⁹⁰.
+        const LARGE: f64 = 1e290;
+        if !with_cap {
+            // the closed-form bound first: without control points, when it is enough
+            let bound = smooth_dev_bound(n, &ua, &ub, da, db, ka, kb);
+            if bound <= limit {
+                let (a, b) = (pa.pos(pa.len() - da), pb.pos(db));
+                let chord = (0..n)
+                    .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
+                    .sum::<f64>()
+                    .sqrt();
+                if chord > 0.0 && da.max(db).max(chord).max(bound) < LARGE {
+                    out.chord_only(n, a, chord);
+                    return Some((0.0, bound));
+                }
+            }
+        }
         let mut fa = pa.frame(pa.len() - da);
         fa.k = *ka;
         let mut fb = pb.frame(db);
@@ -1188,7 +1231,10 @@ impl Path {
         };
         let dev = worst2.sqrt();
         if !with_cap {
-            return out.chord_only(n, fa.p, &q).then_some((0.0, dev));
+            let chord = q[5][..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+            let small = q.iter().all(|p| p[..n].iter().all(|x| x.abs() < LARGE));
+            out.chord_only(n, fa.p, chord);
+            return (chord > 0.0 && chord.is_finite() && small).then_some((0.0, dev));
         }
         if !out.fill(n, fa.p, &q) {
             return None;
