@@ -34,12 +34,12 @@
 //! and computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
 //! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
-//! lines is over the tolerance (×0.97) falls back to the corner blend below. The newest
+//! lines is over the tolerance (×0.97) falls back to the corner blend below. A smoothing
 //! blend's deviation is first bounded in closed form, from the trims, the turn and the end
-//! curvatures (`smooth_dev_bound`: within a few per cent on evenly cut curves); the rebuilt
-//! one's, or where that bound is over, by the blend's control points (cut in two by de
-//! Casteljau, each half within the hull of its points, the distance to a chord convex); the
-//! curve is sampled only when that bound is over too (never on the dense benchmark's curve).
+//! curvatures (`smooth_dev_bound`: within a few per cent on evenly cut curves); where that
+//! bound is over, by the blend's control points (cut in two by de Casteljau, each half within
+//! the hull of its points, the distance to a chord convex); the curve is sampled only when
+//! that bound is over too (never on the dense benchmark's curve).
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
@@ -1151,7 +1151,8 @@ impl Path {
     /// its cap and its deviation from the two lines, or None when the deviation is over
     /// `limit` (or it is not finite; `out` is then left unusable). Without `with_cap` the
     /// blend is only checked (by `smooth_dev_bound` where that is enough, without its control
-    /// points), and `out` holds its first point and its chord as its length
+    /// points; a rebuilt blend is checked by it first too), and `out` holds its first point
+    /// and its chord as its length
     /// (`Blend::chord_only`, a lower bound of the length): the next push rebuilds it in the
     /// common case, else `settle_cap` builds it (`due_blend`) and computes its cap.
     #[allow(clippy::too_many_arguments)]
@@ -1183,19 +1184,19 @@ impl Path {
         // control point within a few trims, chords and curvature offsets of the first: the
         // shape is finite where these are below 10²⁹⁰.
         const LARGE: f64 = 1e290;
-        if !with_cap {
-            // the closed-form bound first: without control points, when it is enough
-            let bound = smooth_dev_bound(n, &ua, &ub, da, db, ka, kb);
-            if bound <= limit {
-                let (a, b) = (pa.pos(pa.len() - da), pb.pos(db));
-                let chord = (0..n)
-                    .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
-                    .sum::<f64>()
-                    .sqrt();
-                if chord > 0.0 && da.max(db).max(chord).max(bound) < LARGE {
-                    out.chord_only(n, a, chord);
-                    return Some((0.0, bound));
-                }
+        // the closed-form bound first (no control points: the newest blend is then only a
+        // chord until it is needed); where it is over, the hull's; the samples where that is
+        // over too
+        let closed = smooth_dev_bound(n, &ua, &ub, da, db, ka, kb);
+        if !with_cap && closed <= limit {
+            let (a, b) = (pa.pos(pa.len() - da), pb.pos(db));
+            let chord = (0..n)
+                .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
+                .sum::<f64>()
+                .sqrt();
+            if chord > 0.0 && da.max(db).max(chord).max(closed) < LARGE {
+                out.chord_only(n, a, chord);
+                return Some((0.0, closed));
             }
         }
         let mut fa = pa.frame(pa.len() - da);
@@ -1203,33 +1204,36 @@ impl Path {
         let mut fb = pb.frame(db);
         fb.k = *kb;
         let q = Blend::controls(n, &fa, &fb, da, db);
-        // the two chords as (start, unit direction, length), from the blend's first point
-        let mut c2 = [0.0; MAX_AXES];
-        for k in 0..n {
-            c2[k] = corner[k] - fa.p[k];
-        }
-        let chords = [([0.0; MAX_AXES], ua, da), (c2, ub, db)];
-        // the hull's bound first; the samples where it is over the limit
-        let hull2 = match n {
-            1 => hull_dev2::<1>(&q, &chords),
-            2 => hull_dev2::<2>(&q, &chords),
-            3 => hull_dev2::<3>(&q, &chords),
-            _ => hull_dev2::<MAX_AXES>(&q, &chords),
-        };
-        let worst2 = if hull2.sqrt() <= limit {
-            hull2
+        let dev = if closed <= limit {
+            closed
         } else {
-            if !out.shape(n, fa.p, &q) {
-                return None;
+            // the two chords as (start, unit direction, length), from the blend's first point
+            let mut c2 = [0.0; MAX_AXES];
+            for k in 0..n {
+                c2[k] = corner[k] - fa.p[k];
             }
-            match n {
-                1 => sampled_dev2::<1>(out, &chords, limit)?,
-                2 => sampled_dev2::<2>(out, &chords, limit)?,
-                3 => sampled_dev2::<3>(out, &chords, limit)?,
-                _ => sampled_dev2::<MAX_AXES>(out, &chords, limit)?,
-            }
+            let chords = [([0.0; MAX_AXES], ua, da), (c2, ub, db)];
+            let hull2 = match n {
+                1 => hull_dev2::<1>(&q, &chords),
+                2 => hull_dev2::<2>(&q, &chords),
+                3 => hull_dev2::<3>(&q, &chords),
+                _ => hull_dev2::<MAX_AXES>(&q, &chords),
+            };
+            let worst2 = if hull2.sqrt() <= limit {
+                hull2
+            } else {
+                if !out.shape(n, fa.p, &q) {
+                    return None;
+                }
+                match n {
+                    1 => sampled_dev2::<1>(out, &chords, limit)?,
+                    2 => sampled_dev2::<2>(out, &chords, limit)?,
+                    3 => sampled_dev2::<3>(out, &chords, limit)?,
+                    _ => sampled_dev2::<MAX_AXES>(out, &chords, limit)?,
+                }
+            };
+            worst2.sqrt()
         };
-        let dev = worst2.sqrt();
         if !with_cap {
             let chord = q[5][..n].iter().map(|x| x * x).sum::<f64>().sqrt();
             let small = q.iter().all(|p| p[..n].iter().all(|x| x.abs() < LARGE));
