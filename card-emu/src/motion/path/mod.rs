@@ -1373,7 +1373,7 @@ impl Path {
     /// Segment `i`'s smoothing blend as `smooth_piece` checked it without building it (the
     /// newest one, see `settle_cap`): from the line before, trimmed by its `trim`, to its
     /// line, trimmed by its `body0`, with the curvature vectors `kstart` and `kend` at its
-    /// ends (`Blend::chord_only` checked that its shape is finite).
+    /// ends (`smooth_piece` checked that its shape is finite).
     fn due_blend(&self, i: usize) -> Blend {
         let (prev, sg) = (self.seg(i - 1), self.seg(i));
         let n = self.lim.naxes;
