@@ -28,8 +28,8 @@
 //! through three vertices, averaged over the two vertices of a line). The newest blend ends
 //! with curvature 0, since the next point is not known yet; when it arrives, that blend is
 //! rebuilt with its end curvature if the executor can still slow down before it. The newest
-//! blend is only checked (its deviation bounded from its control points; its length is its
-//! chord until then): it is built, measured and capped only when that rebuild does not
+//! blend is only checked (its deviation bounded, see below; its length is its chord until
+//! then): it is built, measured and capped only when that rebuild does not
 //! happen, or when the look-ahead window reaches it first, so that a push builds one blend
 //! and computes one cap, not two. The
 //! curvature then follows the curve the points came from instead of dropping to 0 on every
@@ -1152,9 +1152,9 @@ impl Path {
     /// `limit` (or it is not finite; `out` is then left unusable). Without `with_cap` the
     /// blend is only checked (by `smooth_dev_bound` where that is enough, without its control
     /// points; a rebuilt blend is checked by it first too), and `out` holds its first point
-    /// and its chord as its length
-    /// (`Blend::chord_only`, a lower bound of the length): the next push rebuilds it in the
-    /// common case, else `settle_cap` builds it (`due_blend`) and computes its cap.
+    /// and its chord as its length (`Blend::chord_only`, a lower bound of the length): the
+    /// next push rebuilds it in the common case, else `settle_cap` builds it (`due_blend`)
+    /// and computes its cap.
     #[allow(clippy::too_many_arguments)]
     fn smooth_piece(
         &self,

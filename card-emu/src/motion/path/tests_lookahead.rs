@@ -515,18 +515,24 @@ fn a_smoothing_blend_s_sampled_cap_keeps_every_limit_between_the_samples() {
     );
 }
 
+/// A smoothing blend of a dense curve: a turn of up to 3°, in any direction, between chords
+/// 0.5–2× apart.
+fn dense_curve_blend(rng: &mut Rng) -> Option<SmoothCase> {
+    smoothing_blend_of(
+        rng,
+        3f64.to_radians(),
+        |rng| rng.uniform(0.5, 2.0),
+        std::f64::consts::PI,
+    )
+}
+
 /// The closed-form bound on the dense-curve population (any direction, chords 0.5–2× apart).
 #[test]
 fn the_closed_form_bound_holds_for_dense_curve_blends_in_any_direction() {
     let mut rng = Rng::new(0xC105);
     let mut cases = 0;
     for _ in 0..2000 {
-        let Some(c) = smoothing_blend_of(
-            &mut rng,
-            3f64.to_radians(),
-            |rng| rng.uniform(0.5, 2.0),
-            std::f64::consts::PI,
-        ) else {
+        let Some(c) = dense_curve_blend(&mut rng) else {
             continue;
         };
         let chords = case_chords(&c);
@@ -549,12 +555,7 @@ fn the_cap_of_a_dense_curve_s_smoothing_blends_keeps_every_limit_between_the_sam
     let mut p = Path::with_capacity(4);
     let (mut worst, mut cases) = (0.0f64, 0);
     for _ in 0..4000 {
-        let Some(c) = smoothing_blend_of(
-            &mut rng,
-            3f64.to_radians(),
-            |rng| rng.uniform(0.5, 2.0),
-            std::f64::consts::PI,
-        ) else {
+        let Some(c) = dense_curve_blend(&mut rng) else {
             continue;
         };
         let terms = checked_cap(&mut p, &mut rng, &c);
