@@ -199,6 +199,8 @@ fn main() {
     let (pts, _) = dense::dense_points(CHORDS);
     let segs = segments(&pts);
     let mut p = Path::with_capacity(PATH_LEN);
+    // the baseline x86-64 build of the engine, not the x86-64-v3 one (see `path::v3`)
+    p.set_v3(!args.iter().any(|a| a == "--baseline"));
     let mut pos = Vec::with_capacity(200_000);
     if once {
         let c = run(&mut p, m, pts[0], &segs, Clock::Off, &mut pos);

@@ -217,6 +217,7 @@ pub struct Track {
 
 impl Track {
     /// (distance, speed, acceleration) at the end of the tick.
+    #[inline(always)]
     pub fn step(&self) -> (f64, f64, f64) {
         (self.ds, self.v, self.a)
     }
@@ -354,6 +355,7 @@ impl PathSpeedPlanner {
     }
 
     /// Jerk and deceleration the stop decision is planned with.
+    #[inline(always)]
     pub(super) fn plan_limits(&self) -> (f64, f64) {
         (
             self.jmax * (1.0 - PLAN_MARGIN),
@@ -458,6 +460,7 @@ impl PathSpeedPlanner {
 
     /// Distance to come to rest (v = 0, a = 0) from speed `v ≥ 0` and acceleration `a`
     /// with deceleration ≤ `dmax` and jerk `jmax` (time-optimal stop).
+    #[inline(always)]
     pub fn stopping_distance(v: f64, a: f64, dmax: f64, jmax: f64) -> f64 {
         let v = v.max(0.0);
         if v == 0.0 && a <= 0.0 {
@@ -498,6 +501,7 @@ impl PathSpeedPlanner {
     /// from the speed v_p = v + a²/(2j) at a = 0 (a ≤ 0, within its peak) or that stop after
     /// bringing a ≥ 0 down to 0 at speed ≤ v_p (time a/j); from (v_p, 0) the stop is
     /// v_p²/(2d) + v_p·d/(2j) when it reaches d (v_p ≥ d²/j), else v_p·√(v_p/j).
+    #[inline(always)]
     pub fn stopping_distance_bound(v: f64, a: f64, d: f64, j: f64) -> f64 {
         let v = v.max(0.0);
         let vp = v + a * a / (2.0 * j);
@@ -527,6 +531,7 @@ impl PathSpeedPlanner {
     /// a is (a ≥ 0: will be) 0, V = v + a²/(2J), and the distance I of the part between:
     /// from a ≥ 0, bringing a down to 0 (v up to V) adds I ≥ 0; from a < 0 the part from
     /// (V, 0) down to here is done already, I ≤ 0.
+    #[inline(always)]
     pub(crate) fn descent_split(&self, v: f64, a: f64) -> (f64, f64) {
         let j = self.jmax;
         let big = v + a * a / (2.0 * j);
@@ -557,6 +562,7 @@ impl PathSpeedPlanner {
     /// I + `descent_from`(V, vt): a within the limits, and vt below where the ramp would
     /// rather rise (a ≥ 0: below V; a < 0: below v − a²/(2J), where the descent's peak
     /// deceleration √(J·(V − vt)) is beyond |a|).
+    #[inline(always)]
     pub(crate) fn descent_holds(&self, v: f64, a: f64, vt: f64) -> bool {
         let j = self.jmax;
         if !(vt >= 0.0 && a <= self.amax && a >= -self.dmax) {
@@ -572,6 +578,7 @@ impl PathSpeedPlanner {
     /// [`slowing_distance_from`](Self::slowing_distance_from)`(v, a, vt)` in closed form where
     /// the ramp is the descent through (v, a) (see [`descent_holds`](Self::descent_holds)),
     /// with the size of the terms it was made of (for a rounding bound); None elsewhere.
+    #[inline(always)]
     pub(crate) fn slowing_estimate(&self, v: f64, a: f64, vt: f64) -> Option<(f64, f64)> {
         if !self.descent_holds(v, a, vt) {
             return None;
@@ -583,6 +590,7 @@ impl PathSpeedPlanner {
 
     /// Distance the time-optimal ramp from speed `v` and acceleration `a` down to `v_target`
     /// covers (0 when no slowing is needed).
+    #[inline(always)]
     pub fn slowing_distance_from(&self, v: f64, a: f64, v_target: f64) -> f64 {
         let vt = v_target.max(0.0);
         if v <= vt && a <= 0.0 {
@@ -600,6 +608,7 @@ impl PathSpeedPlanner {
     /// One tick of the time-optimal ramp toward `tgt` from the current state, kept so that
     /// [`next_tracked`](Self::next_tracked) does not compute it again (a look-ahead needs the
     /// same step to decide its target).
+    #[inline(always)]
     pub fn track(&self, tgt: f64) -> Track {
         let tgt = if tgt.is_nan() { 0.0 } else { tgt.max(0.0) };
         let (ds, v, a) = self.track_sample(self.v, self.a, tgt, self.ts);
@@ -732,6 +741,7 @@ impl PathSpeedPlanner {
     /// [`next`](Self::next) toward the target of `track`, a [`track`](Self::track) of the
     /// current state (the same result, without computing the ramp's step again; a track of
     /// another state is computed again).
+    #[inline(always)]
     pub fn next_tracked(&mut self, track: Track, remaining: f64) -> f64 {
         self.next_inner(track.tgt, remaining, Some(&track))
     }
@@ -739,6 +749,7 @@ impl PathSpeedPlanner {
     /// [`next`](Self::next), with the ramp's step of `track` when it is of this state and
     /// target. The common tick (the ramp, far from the stop point) is done here; the rest in
     /// [`near_stop`](Self::near_stop), kept out of line.
+    #[inline(always)]
     fn next_inner(&mut self, v_target: f64, remaining: f64, track: Option<&Track>) -> f64 {
         let ts = self.ts;
         let remaining = if remaining.is_nan() {
@@ -799,6 +810,7 @@ impl PathSpeedPlanner {
     /// The distance, speed and acceleration `dt` (0 ≤ dt ≤ the tick) into the last tick's
     /// profile: at the tick, the step and the state it ended at (up to the rounding of the
     /// state's clamps: a speed below 0 is 0, a stop that landed ends at rest).
+    #[inline(always)]
     pub fn sample_step(&self, dt: f64) -> (f64, f64, f64) {
         match self.step {
             StepProfile::Rest => (0.0, 0.0, 0.0),
@@ -824,7 +836,7 @@ impl PathSpeedPlanner {
     /// The rest of [`next_inner`](Self::next_inner) where the bound did not decide, from
     /// (`v`, `a`) with the ramp's `step` toward `tgt`: the ramp still, if the exact (clean)
     /// stopping distance after its step fits in `remaining`, else the stop at `remaining`.
-    #[inline(never)]
+    #[inline(always)]
     fn near_stop(
         &mut self,
         v: f64,

@@ -24,6 +24,7 @@ impl Envelope {
     const SLACK: f64 = 1e-9;
 
     /// No piece of cap c (`c2` = c²) starting `d` ahead can need slowing for.
+    #[inline(always)]
     fn clears(&self, c2: f64, d: f64) -> bool {
         let lhs = c2 + 2.0 * self.dm * (d - self.step);
         lhs >= self.theta + Self::SLACK * (self.theta.abs() + c2 + 2.0 * self.dm * d.abs())
@@ -33,6 +34,7 @@ impl Envelope {
     /// slowing for: `clears` for every such piece, since its test is monotone in c² + 2·D·d
     /// (with room for the rounding of distances found from positions as far as `far` along
     /// the whole path).
+    #[inline(always)]
     pub(super) fn clears_all(&self, low: f64, far: f64) -> bool {
         let room = Self::SLACK * (self.theta.abs() + 2.0 * self.dm * far);
         low * (1.0 - Self::SLACK) >= self.theta + room + 2.0 * self.dm * self.step
@@ -42,6 +44,7 @@ impl Envelope {
     /// start): min(1, D/A_t)·min(kg, min(1, ovr²)·kf) (a feed cap is scaled by the override;
     /// A_t is the rate the keys were made with). No piece of the block, which starts d ahead,
     /// can need slowing for when `clears(low, d)`: every piece k starts at d + x_k or later.
+    #[inline(always)]
     fn block_low(&self, b: &Block, ovr: f64, at: f64) -> f64 {
         (self.dm / at).min(1.0) * b.kg.min((ovr * ovr).min(1.0) * b.kf)
     }
@@ -123,11 +126,13 @@ impl Step {
         tail: 0,
     };
 
+    #[inline(always)]
     pub(super) fn running(&self) -> bool {
         self.done < self.ticks
     }
 
     /// What the executor has still to move in it.
+    #[inline(always)]
     pub(super) fn ahead(&self) -> f64 {
         if self.running() {
             (self.ds - self.moved).max(0.0)
@@ -159,6 +164,7 @@ impl Tested {
         n: 0,
     };
 
+    #[inline(always)]
     fn push(&mut self, start: f64, cap: f64, room: f64) {
         if self.n < TESTED {
             self.at[self.n] = (start, cap, room);
@@ -175,6 +181,7 @@ impl Seen {
     /// covers are tested again, the others' rooms lowered by the bound, and this tick becomes
     /// the state the rooms are counted from. (On false the rooms may be left half updated:
     /// the walk that follows replaces what was seen.)
+    #[inline(always)]
     fn still_safe(
         &mut self,
         pl: &PathSpeedPlanner,
@@ -258,6 +265,7 @@ pub(super) struct Walked {
 /// test of that piece could find it violated: when the piece is nearer than the lower
 /// bound of that distance or than its closed form (`look`'s test, with the rounding of a
 /// distance found from positions along the whole path instead of summed from here).
+#[inline(always)]
 fn retest(
     pl: &PathSpeedPlanner,
     (vn, an, vf, dm, step): (f64, f64, f64, f64, f64),
@@ -298,6 +306,7 @@ fn greater(a: f64, b: f64) -> f64 {
 impl Path {
     /// Where the executor is along the whole path (the `start` of segments ahead minus this
     /// is the distance to them).
+    #[inline(always)]
     pub(super) fn exec_dist(&self) -> f64 {
         let sg = self.seg(self.exec);
         if self.in_blend {
@@ -317,6 +326,7 @@ impl Path {
     }
 
     /// Segment `i` changed (its caps or its length): what a walk saw of it is dropped.
+    #[inline(always)]
     pub(super) fn window_changed(&mut self, i: usize) {
         if self.seen.is_some_and(|w| i < w.end) {
             self.seen = None;
@@ -404,15 +414,16 @@ impl Path {
         Ok(())
     }
 
-    /// Walks the pieces ahead of the executor up to distance `until` (or the window end
+    /// [`walk`](Self::walk)'s body (which `v3.rs` builds twice): walks the pieces ahead of
+    /// the executor up to distance `until` (or the window end
     /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
     /// be below `below` (blocks that have none, or none that `env` says can need slowing
     /// for, are skipped; what they held goes into `passed`). Returns the stop found
     /// (Some(is the end of the queue)) and its distance, or None and a distance beyond
     /// `until`, and the first segment not walked.
     #[allow(clippy::too_many_arguments)]
-    #[inline(never)] // out of `look`'s common tick, which a walk serves (fewer instructions)
-    pub(super) fn walk(
+    #[inline(always)]
+    pub(super) fn walk_impl(
         &self,
         until: f64,
         below: f64,
@@ -501,6 +512,7 @@ impl Path {
 
     /// The planner's target and remaining distance for a step of `ts` (see the module doc;
     /// the slowing test is `nurbs_interp`'s).
+    #[inline(always)]
     pub(super) fn look(&mut self, ovr: f64, ts: f64) -> Look {
         let sg = self.seg(self.exec);
         let (cg, cf) = if self.in_blend {
@@ -690,6 +702,7 @@ impl Path {
         out
     }
 
+    #[inline(always)]
     pub(super) fn fire_outputs(
         &self,
         i: usize,
@@ -739,6 +752,7 @@ impl Path {
         self.segs[sl].fired = f;
     }
 
+    #[inline(always)]
     pub(super) fn start_seg(&mut self, ev: &mut impl FnMut(PathEvent)) {
         self.started = true;
         if self.seg(self.exec).cont {
@@ -750,6 +764,7 @@ impl Path {
         self.dwell_left = self.seg(self.exec).dwell_ticks;
     }
 
+    #[inline(always)]
     pub(super) fn end_seg(&mut self, i: usize, ev: &mut impl FnMut(PathEvent)) {
         let sl = self.slot(i);
         if i + 1 < self.tail && self.seg(i + 1).cont {
@@ -775,6 +790,7 @@ impl Path {
     }
 
     /// Travel of the open segment: Distance outputs crossed.
+    #[inline(always)]
     pub(super) fn travel(&mut self, step: f64, ev: &mut impl FnMut(PathEvent)) {
         if step <= 0.0 {
             return;
@@ -791,6 +807,7 @@ impl Path {
     /// Moves the executor `ds` along the path (or, when `land`, exactly to the stop point the
     /// look-ahead found), with the events on the way; when `hold` (a tick of a planning step
     /// before its last), not past a stop point (the step's last tick lands there or goes on).
+    #[inline(always)]
     pub(super) fn advance(
         &mut self,
         ds: f64,
@@ -896,6 +913,7 @@ impl Path {
         }
     }
 
+    #[inline(always)]
     pub(super) fn eval_here(&self) -> V {
         if self.exec >= self.tail {
             return self.pos;
@@ -922,13 +940,13 @@ impl Path {
         self.now = (0.0, 0.0);
     }
 
-    /// The first half of [`tick`](Self::tick): dwells, then the look-ahead and the speed
-    /// planner decide the next planning step (nothing moves yet), unless one is being run.
-    /// Public for the cost benchmark, which times the two halves apart; call
-    /// [`tick_move`](Self::tick_move) with the result at once.
-    #[doc(hidden)]
-    #[inline(never)]
-    pub fn tick_plan(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> TickPlan {
+    /// [`tick_plan`](Self::tick_plan)'s body (which `v3.rs` builds twice).
+    #[inline(always)]
+    pub(super) fn tick_plan_impl(
+        &mut self,
+        feed_override: f64,
+        ev: &mut impl FnMut(PathEvent),
+    ) -> TickPlan {
         let hold = TickPlan(Plan::Hold);
         if !self.ready {
             return hold;
@@ -1045,11 +1063,13 @@ impl Path {
         TickPlan(Plan::Step)
     }
 
-    /// The second half of [`tick`](Self::tick): moves along the path by the planned step
-    /// (segment events and outputs on the way) and interpolates the position there.
-    #[doc(hidden)]
-    #[inline(never)]
-    pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+    /// [`tick_move`](Self::tick_move)'s body (which `v3.rs` builds twice).
+    #[inline(always)]
+    pub(super) fn tick_move_impl(
+        &mut self,
+        plan: TickPlan,
+        ev: &mut impl FnMut(PathEvent),
+    ) -> [f64; MAX_AXES] {
         match plan.0 {
             Plan::Hold => return self.pos,
             // a time-shifted chain runs its own profiles

@@ -114,6 +114,7 @@ impl Helix {
         self.circle.sweep()
     }
 
+    #[inline(always)]
     fn frame(&self, s: f64) -> Frame {
         let mut f = Frame::default();
         let s = s.clamp(0.0, self.len);
@@ -160,6 +161,7 @@ impl Default for Prog {
 
 impl Prog {
     /// A line from `p0` to `p1` (`len` > 0 checked by the caller).
+    #[inline(always)]
     pub fn line(n: usize, p0: V, p1: V) -> (Self, f64) {
         let mut d2 = 0.0;
         for k in 0..n {
@@ -175,6 +177,7 @@ impl Prog {
         (Prog::Line { p0, p1, dir, len }, len)
     }
 
+    #[inline(always)]
     pub fn len(&self) -> f64 {
         match self {
             Prog::Line { len, .. } => *len,
@@ -184,6 +187,7 @@ impl Prog {
         }
     }
 
+    #[inline(always)]
     pub fn end(&self) -> V {
         match self {
             Prog::Line { p1, .. } => *p1,
@@ -193,11 +197,13 @@ impl Prog {
         }
     }
 
+    #[inline(always)]
     pub fn is_curved(&self) -> bool {
         matches!(self, Prog::Helix(_) | Prog::Curve { .. })
     }
 
     /// Point at arc length `s` (clamped; the ends are the programmed points exactly).
+    #[inline(always)]
     pub fn pos(&self, s: f64) -> V {
         match self {
             Prog::Line { p0, p1, dir, len } => {
@@ -227,6 +233,7 @@ impl Prog {
 
     /// The unit tangent and the curvature vector at arc length `s` (a line's without building
     /// its frame).
+    #[inline(always)]
     pub fn tangent_curvature(&self, s: f64) -> (V, V) {
         match self {
             Prog::Line { dir, .. } => (*dir, Z),
@@ -237,6 +244,7 @@ impl Prog {
         }
     }
 
+    #[inline(always)]
     pub fn frame(&self, s: f64) -> Frame {
         match self {
             Prog::Line { dir, .. } => Frame {
@@ -292,6 +300,7 @@ impl Blend {
 
     /// The Bézier control points of [`new`](Self::new)'s blend, less the first (`a.p`).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[inline(always)]
     pub fn controls(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> [V; 6] {
         let la = LAMBDA * da;
         let lb = LAMBDA * db;
@@ -332,6 +341,7 @@ impl Blend {
     /// Makes this the quintic of [`from_bezier`](Self::from_bezier) in place (a blend is
     /// hundreds of bytes: built where it is kept, not moved there); false (and this blend
     /// unusable) when it is not finite.
+    #[inline(always)]
     pub fn fill(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
         self.shape(n, q0, q) && self.measure()
     }
@@ -341,6 +351,7 @@ impl Blend {
     /// [`measure`](Self::measure) makes; until then `len` is the chord |B(1) − B(0)|, a lower
     /// bound of the length. False when it is not finite.
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[inline(always)]
     pub fn shape(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i; the axes after the
         // blend's are 0 (`each_term_n` may run over them)
@@ -368,6 +379,7 @@ impl Blend {
     /// Only the first point `q0` of a quintic and, as its length, its chord |B(1) − B(0)|: a
     /// blend checked but not built yet (its shape and table left as they were; the caller
     /// checks that its shape would be finite).
+    #[inline(always)]
     pub fn chord_only(&mut self, n: usize, q0: V, chord: f64) {
         self.q0 = q0;
         self.n = n;
@@ -378,6 +390,7 @@ impl Blend {
     /// [`shape`](Self::shape)d quintic. False (the table then spread evenly over the chord,
     /// so that the blend still runs from its start to its end) when it is not finite.
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[inline(always)]
     pub fn measure(&mut self) -> bool {
         let c = &self.c;
         // B'(u) = Σ d_m u^m with d_m = (m + 1)·c_(m+1); |B'|² = Σ_k Σ_(m,l) d_m d_l u^(m+l)
@@ -433,6 +446,7 @@ impl Blend {
     }
 
     /// |B'(u)|.
+    #[inline(always)]
     fn speed(&self, u: f64) -> f64 {
         let q = &self.sp2;
         let s2 = q[0]
@@ -444,6 +458,7 @@ impl Blend {
     }
 
     /// 5-point Gauss–Legendre of |B'| on [a, b].
+    #[inline(always)]
     fn gl(&self, a: f64, b: f64) -> f64 {
         let h = 0.5 * (b - a);
         let m = 0.5 * (a + b);
@@ -456,6 +471,7 @@ impl Blend {
 
     /// The parameter at arc length `s`: the table's subinterval, then Newton on the
     /// Gauss–Legendre length within it (to ~1e-15 in u).
+    #[inline(always)]
     pub fn u_at(&self, s: f64) -> f64 {
         if s <= 0.0 {
             return 0.0;
@@ -485,6 +501,7 @@ impl Blend {
         u
     }
 
+    #[inline(always)]
     pub fn pos_u(&self, u: f64) -> V {
         let mut p = self.q0;
         if u <= 0.0 {
@@ -500,7 +517,7 @@ impl Blend {
 
     /// [`pos_u`](Self::pos_u) less the first point (what the quintic adds to it), over the
     /// first `N` axes (N ≥ the blend's axes; the others are 0).
-    #[inline]
+    #[inline(always)]
     pub fn offset_u_n<const N: usize>(&self, u: f64) -> V {
         let mut p = Z;
         let c = &self.c;
@@ -510,6 +527,7 @@ impl Blend {
         p
     }
 
+    #[inline(always)]
     pub fn pos(&self, s: f64) -> V {
         self.pos_u(self.u_at(s))
     }
@@ -523,6 +541,7 @@ impl Blend {
     }
 
     /// Its axes.
+    #[inline(always)]
     pub fn axes(&self) -> usize {
         self.n
     }
@@ -541,7 +560,7 @@ impl Blend {
     /// T, K and dK/ds at u, axis by axis: `f(axis, T, K, dK/ds)` for each of the blend's
     /// axes (none where B'(u) = 0, where the frame is 0). The speed caps need only these, so
     /// they are handed over without building a whole [`Frame`].
-    #[inline]
+    #[inline(always)]
     pub fn each_term(&self, u: f64, f: impl FnMut(usize, f64, f64, f64)) {
         match self.n {
             1 => self.each_term_n::<1>(u, f),
@@ -554,8 +573,8 @@ impl Blend {
     /// [`each_term`](Self::each_term) over the first `N` axes (N ≥ the blend's axes: the
     /// axes after them are 0 in every coefficient, so they change no sum), with loops the
     /// compiler unrolls for the common 1, 2 and 3 axes.
-    #[inline]
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[inline(always)]
     pub fn each_term_n<const N: usize>(&self, u: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let c = &self.c;
         let (mut r1, mut r2, mut r3) = ([0.0; N], [0.0; N], [0.0; N]);
@@ -577,10 +596,10 @@ impl Blend {
         }
         // T = r1/σ, σ' = r2·T, perp = r2 − σ'T, T' = perp/σ, K = perp/σ²,
         // dperp/du = r3 − (r3·T + r2·T')T − σ'T', dK/ds = (dperp/du/σ² − 2·perp·σ'/σ³)/σ.
-        let sp = s12 / sig;
-        let r3t = s13 / sig;
-        let r2dt = (s22 - sp * sp) / sig;
-        let (i1, i2, i3) = (1.0 / sig, 1.0 / (sig * sig), 1.0 / (sig * sig * sig));
+        // one division: the powers of 1/σ by products
+        let i1 = 1.0 / sig;
+        let (i2, sp, r3t) = (i1 * i1, s12 * i1, s13 * i1);
+        let (i3, r2dt) = (i2 * i1, (s22 - sp * sp) * i1);
         for k in 0..N {
             if N == MAX_AXES && k >= self.n {
                 break;
@@ -612,8 +631,8 @@ impl Blend {
     /// computed lane by lane in the same way (the same figures) so that the compiler can
     /// evaluate several lanes per instruction. A lane where B'(u) = 0 gets 0 everywhere (no
     /// limit), as `each_term_n` calls nothing there.
-    #[inline]
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
+    #[inline(always)]
     pub fn terms_lanes<const N: usize>(&self, u: &[f64; LANES]) -> Lanes<N> {
         let c = &self.c;
         let z = [0.0; LANES];
@@ -645,12 +664,12 @@ impl Blend {
         for i in 0..LANES {
             let sig = s11[i].sqrt();
             ok[i] = sig > 0.0;
-            sp[i] = s12[i] / sig;
-            r3t[i] = s13[i] / sig;
-            r2dt[i] = (s22[i] - sp[i] * sp[i]) / sig;
             i1[i] = 1.0 / sig;
-            i2[i] = 1.0 / (sig * sig);
-            i3[i] = 1.0 / (sig * sig * sig);
+            i2[i] = i1[i] * i1[i];
+            sp[i] = s12[i] * i1[i];
+            r3t[i] = s13[i] * i1[i];
+            i3[i] = i2[i] * i1[i];
+            r2dt[i] = (s22[i] - sp[i] * sp[i]) * i1[i];
         }
         for k in 0..N {
             if N == MAX_AXES && k >= self.n {

@@ -36,7 +36,14 @@ struct Trace {
 }
 
 fn run(s: &Script, walk_every_tick: bool) -> Trace {
+    run_built(s, walk_every_tick, true)
+}
+
+/// [`run`] on the engine's x86-64-v3 build where the CPU has it (`v3`), else on its
+/// baseline build (see `path::v3`).
+fn run_built(s: &Script, walk_every_tick: bool, v3: bool) -> Trace {
     let mut p = Path::with_capacity(s.capacity);
+    p.set_v3(v3);
     let lim = PathLimits {
         plan_ticks: s.plan_ticks,
         ..limits(s.naxes, s.ts)
@@ -103,6 +110,56 @@ fn same_both_ways(s: &Script, what: &str) -> usize {
         exact.pos.len()
     );
     fast.retests
+}
+
+/// The engine's two builds (`path::v3`) give the same positions, speeds and events to the
+/// last bit: a dense curve streamed, planned every tick and every 10, and random programs of
+/// lines (exact stops, corner distances, deviations) and dwells, with halts and override
+/// changes. (On a CPU without x86-64-v3 both
+/// runs are the baseline build: the test then says so.)
+#[test]
+fn the_v3_build_moves_as_the_baseline_build() {
+    let detected = Path::with_capacity(1).runs_v3();
+    if !detected {
+        eprintln!("this CPU has no x86-64-v3: both runs are the baseline build");
+    }
+    let mut scripts = vec![];
+    for plan_ticks in [1, 10] {
+        scripts.push(Script {
+            naxes: 2,
+            ts: 1e-4,
+            capacity: 200,
+            lookahead: 48,
+            segs: curve(1500, 1e5, 2.0),
+            every: 7,
+            chunk: 1,
+            ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
+            halt_at: None,
+            plan_ticks,
+        });
+    }
+    let mut rng = Rng::new(0x0003_b11d);
+    for case in 0..8 {
+        let naxes = 2 + case % 2;
+        let (segs, _) = random_program(&mut rng, naxes, 80);
+        scripts.push(Script {
+            naxes,
+            ts: TS,
+            capacity: 16 + rng.int(0, 100),
+            lookahead: 1 + rng.int(0, 40),
+            segs,
+            every: 1 + rng.int(0, 20),
+            chunk: 1 + rng.int(0, 5),
+            ovr: vec![(rng.int(0, 2000), rng.uniform(0.3, 1.6))],
+            halt_at: rng.chance(0.3).then(|| rng.int(100, 3000)),
+            plan_ticks: 1 + rng.int(0, 9),
+        });
+    }
+    for (i, s) in scripts.iter().enumerate() {
+        let (v3, base) = (run_built(s, false, true), run_built(s, false, false));
+        assert!(v3.pos.len() > 100, "script {i}: {} ticks", v3.pos.len());
+        assert!(v3 == base, "script {i}: the two builds differ");
+    }
 }
 
 /// A smooth closed curve (radius 30–50 mm, 1 count = 1 µm) in `n` chords.
