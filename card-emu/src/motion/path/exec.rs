@@ -303,6 +303,86 @@ fn greater(a: f64, b: f64) -> f64 {
     }
 }
 
+/// What a walk does with each piece it does not pass whole (see `Path::walk`).
+pub(super) trait Visit {
+    /// A piece of cap `cap` that starts `d` ahead.
+    fn visit(&mut self, d: f64, cap: f64);
+}
+
+/// A walk that only looks for the next stop (`Path::halt`).
+pub(super) struct NoVisit;
+
+impl Visit for NoVisit {
+    #[inline(always)]
+    fn visit(&mut self, _: f64, _: f64) {}
+}
+
+/// `look`'s test of each piece a walk meets, with what the walk passed and found: the pieces
+/// passed by their caps or by the envelope (`passed`), the first violated one (`worst`), and
+/// those tested safe with the closed form (least room, highest cap, the pieces; `untracked`:
+/// a piece neither passed nor tested so, after which nothing is kept for the next ticks). A
+/// type with a method rather than a closure so that it is built into the walk (in either of
+/// the engine's builds, see `v3.rs`).
+struct Consider<'a> {
+    vmax: f64,
+    target: f64,
+    env: Envelope,
+    jm: f64,
+    vf: f64,
+    rising: f64,
+    pl: &'a PathSpeedPlanner,
+    vn: f64,
+    an: f64,
+    here: f64,
+    at: f64,
+    worst: Option<(f64, f64)>,
+    passed: Passed,
+    room: f64,
+    cap_tested: f64,
+    untracked: bool,
+    tested: Tested,
+}
+
+impl Visit for Consider<'_> {
+    #[inline(always)]
+    fn visit(&mut self, d: f64, raw: f64) {
+        let (env, dm, step) = (self.env, self.env.dm, self.env.step);
+        if !(raw < self.vmax && raw < self.target) {
+            self.passed.cap = lesser(self.passed.cap, raw);
+        } else if self.worst.is_some_and(|(_, c)| raw >= c) {
+            self.untracked = true;
+        } else if env.clears(raw * raw, d) {
+            self.passed.key = lesser(self.passed.key, raw * raw + 2.0 * dm * d);
+        } else {
+            let (vf, jm, pl, vn, an) = (self.vf, self.jm, self.pl, self.vn, self.an);
+            let dist = d - step;
+            let lower = (vf * vf - raw * raw) / (2.0 * dm);
+            let upper = self.rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
+            // the closed form, and the room it leaves beyond its rounding
+            let clear = pl
+                .slowing_estimate(vn, an, raw)
+                .map(|(e, size)| dist - e - 1e-9 * (size + dist.abs()));
+            let violated = dist < lower
+                || (dist < upper
+                    && match clear {
+                        Some(r) if r >= 0.0 => false,
+                        _ => dist < pl.slowing_distance_from(vn, an, raw),
+                    });
+            if violated {
+                self.worst = Some((self.here + d, raw));
+            }
+            match clear {
+                Some(r) if r >= 0.0 => {
+                    self.room = lesser(self.room, r);
+                    self.cap_tested = greater(self.cap_tested, raw);
+                    self.tested.push(self.at + d, raw, r);
+                }
+                _ => self.untracked = true,
+            }
+        }
+    }
+}
+
 impl Path {
     /// Where the executor is along the whole path (the `start` of segments ahead minus this
     /// is the distance to them).
@@ -371,7 +451,7 @@ impl Path {
             1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.tsp;
         let wend = self.tail.min(self.exec + self.lookahead);
         let mut none = Passed::NONE;
-        let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut |_, _| {});
+        let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut NoVisit);
         self.seen = None;
         if w.stop.is_none() || w.d >= need {
             self.planner.dmax = d;
@@ -416,7 +496,7 @@ impl Path {
 
     /// [`walk`](Self::walk)'s body (which `v3.rs` builds twice): walks the pieces ahead of
     /// the executor up to distance `until` (or the window end
-    /// `wend`), calling `f(distance to the piece's start, cap)` for each piece whose cap may
+    /// `wend`), calling `f.visit(distance to the piece's start, cap)` for each piece whose cap may
     /// be below `below` (blocks that have none, or none that `env` says can need slowing
     /// for, are skipped; what they held goes into `passed`). Returns the stop found
     /// (Some(is the end of the queue)) and its distance, or None and a distance beyond
@@ -431,13 +511,13 @@ impl Path {
         wend: usize,
         env: Option<Envelope>,
         passed: &mut Passed,
-        f: &mut impl FnMut(f64, f64),
+        f: &mut impl Visit,
     ) -> Walked {
         let e = self.exec;
         let sg = self.seg(e);
         let mut d = if self.in_blend {
             let d = sg.blend.len - self.s;
-            f(d, lesser(sg.bgeo, sg.feed * ovr));
+            f.visit(d, lesser(sg.bgeo, sg.feed * ovr));
             d + (sg.body1 - sg.body0)
         } else {
             sg.body1 - self.s
@@ -496,11 +576,11 @@ impl Path {
                     end: j,
                 };
             }
-            f(d, lesser(s.jgeo, s.jfeed * ovr));
+            f.visit(d, lesser(s.jgeo, s.jfeed * ovr));
             if s.has_blend {
                 d += s.blend.len;
             }
-            f(d, lesser(s.bgeo, s.feed * ovr));
+            f.visit(d, lesser(s.bgeo, s.feed * ovr));
             d += s.body1 - s.body0;
             j += 1;
             sl += 1;
@@ -603,62 +683,33 @@ impl Path {
             }
             // the walk goes a little beyond the reach, so that what it saw serves longer
             let until = reach * (1.0 + SEEN_BEYOND);
-            let mut worst: Option<(f64, f64)> = None;
-            let mut passed = Passed::NONE;
-            // tested pieces: found safe with the closed form (least room, highest cap), or
-            // not (then nothing is kept for the next ticks)
-            let (mut room, mut cap_tested, mut untracked) = (f64::INFINITY, 0.0f64, false);
-            let mut tested = Tested::NONE;
-            let mut consider = |d: f64, raw: f64| {
-                if !(raw < vmax && raw < target) {
-                    passed.cap = lesser(passed.cap, raw);
-                } else if worst.is_some_and(|(_, c)| raw >= c) {
-                    untracked = true;
-                } else if env.clears(raw * raw, d) {
-                    passed.key = lesser(passed.key, raw * raw + 2.0 * dm * d);
-                } else {
-                    let dist = d - step;
-                    let lower = (vf * vf - raw * raw) / (2.0 * dm);
-                    let upper = rising + 0.5 * (vf + raw) * ((vf - raw) / dm + dm / jm);
-                    // the closed form, and the room it leaves beyond its rounding
-                    let clear = pl
-                        .slowing_estimate(vn, an, raw)
-                        .map(|(e, size)| dist - e - 1e-9 * (size + dist.abs()));
-                    let violated = dist < lower
-                        || (dist < upper
-                            && match clear {
-                                Some(r) if r >= 0.0 => false,
-                                _ => dist < pl.slowing_distance_from(vn, an, raw),
-                            });
-                    if violated {
-                        worst = Some((here + d, raw));
-                    }
-                    match clear {
-                        Some(r) if r >= 0.0 => {
-                            room = lesser(room, r);
-                            cap_tested = greater(cap_tested, raw);
-                            tested.push(at + d, raw, r);
-                        }
-                        _ => untracked = true,
-                    }
-                }
+            let mut c = Consider {
+                vmax,
+                target,
+                env,
+                jm,
+                vf,
+                rising,
+                pl: &pl,
+                vn,
+                an,
+                here,
+                at,
+                worst: None,
+                passed: Passed::NONE,
+                room: f64::INFINITY,
+                cap_tested: 0.0,
+                untracked: false,
+                tested: Tested::NONE,
             };
             let mut blocks = Passed::NONE;
-            let w = self.walk(
-                until,
-                below,
-                ovr,
-                wend,
-                Some(env),
-                &mut blocks,
-                &mut consider,
-            );
+            let w = self.walk(until, below, ovr, wend, Some(env), &mut blocks, &mut c);
             if it == 0 {
                 out.rem = w.d;
                 out.stop = w.stop.is_some();
                 out.queue_end = w.stop == Some(true);
             }
-            match worst {
+            match c.worst {
                 Some((sc, c)) => {
                     self.slow = Some((sc, c));
                     target = target.min(c);
@@ -668,21 +719,21 @@ impl Path {
                 None => {
                     // the planner follows this very step unless it must stop
                     out.track = Some(track);
-                    self.seen = (!untracked).then_some(Seen {
-                        cap: passed.cap.min(blocks.cap),
-                        key: passed.key.min(blocks.key),
+                    self.seen = (!c.untracked).then_some(Seen {
+                        cap: c.passed.cap.min(blocks.cap),
+                        key: c.passed.key.min(blocks.key),
                         extent: w.d,
                         from: at,
                         end: w.end,
                         ovr,
                         dm,
                         jm,
-                        room,
-                        cap_tested,
+                        room: c.room,
+                        cap_tested: c.cap_tested,
                         split: pl.descent_split(vn, an),
                         step,
                         room_from: at,
-                        tested,
+                        tested: c.tested,
                     });
                     break;
                 }

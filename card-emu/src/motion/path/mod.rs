@@ -1198,13 +1198,14 @@ impl Path {
         out: &mut Blend,
     ) -> Option<(f64, f64)> {
         let n = self.lim.naxes;
+        // (bound by reference: the points are not copied)
         let (
-            &Prog::Line {
+            Prog::Line {
                 dir: ua,
                 p1: corner,
                 ..
             },
-            &Prog::Line { dir: ub, .. },
+            Prog::Line { dir: ub, .. },
         ) = (pa, pb)
         else {
             return None;
@@ -1216,7 +1217,7 @@ impl Path {
         // the closed-form bound first (no control points: the newest blend is then only a
         // chord until it is needed); where it is over, the hull's; the samples where that is
         // over too
-        let closed = smooth_dev_bound(n, &ua, &ub, da, db, ka, kb);
+        let closed = smooth_dev_bound(n, ua, ub, da, db, ka, kb);
         if !with_cap && closed <= limit {
             let (a, b) = (pa.pos(pa.len() - da), pb.pos(db));
             let chord = (0..n)
@@ -1241,7 +1242,7 @@ impl Path {
             for k in 0..n {
                 c2[k] = corner[k] - fa.p[k];
             }
-            let chords = [([0.0; MAX_AXES], ua, da), (c2, ub, db)];
+            let chords = [([0.0; MAX_AXES], *ua, da), (c2, *ub, db)];
             let hull2 = match n {
                 1 => hull_dev2::<1>(&q, &chords),
                 2 => hull_dev2::<2>(&q, &chords),
@@ -1292,32 +1293,34 @@ impl Path {
         let n = self.lim.naxes;
         let pi = self.tail - 1;
         let prev = self.seg(pi);
+        // (bound by reference: the points are not copied)
         let (
-            &Prog::Line {
+            Prog::Line {
                 p0,
                 p1,
                 dir,
                 len: la,
             },
-            &Prog::Line {
+            Prog::Line {
                 p1: p2, len: lb, ..
             },
         ) = (&prev.prog, prog)
         else {
             return None;
         };
+        let (la, lb) = (*la, *lb);
         let da = (0.5 * la).min(la - prev.body0);
         let db = 0.5 * lb;
         if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi) - need < da {
             return None;
         }
         let limit = DEV_SAFETY * tol;
-        let k1 = vertex_k(n, &p0, &p1, &p2);
+        let k1 = vertex_k(n, p0, p1, p2);
         if prev.smooth && self.exec < pi && self.dist_to_body_end(pi - 1) >= need {
             let pp = self.seg(pi - 1);
-            if let Prog::Line { p0: pm, .. } = pp.prog {
+            if let Prog::Line { p0: pm, .. } = &pp.prog {
                 // the vertex at p0, as the push of `prev` found it (the same points)
-                let k0 = pp.kvertex.unwrap_or_else(|| vertex_k(n, &pm, &p0, &p1));
+                let k0 = pp.kvertex.unwrap_or_else(|| vertex_k(n, pm, p0, p1));
                 let mut kmid = [0.0; MAX_AXES];
                 for k in 0..n {
                     kmid[k] = 0.5 * (k0[k] + k1[k]);

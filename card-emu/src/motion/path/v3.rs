@@ -13,7 +13,7 @@
 //! This is the only place of `motion` with `unsafe`: calling a function built for features
 //! the caller's build does not assume, after checking that the CPU has them.
 
-use super::exec::{Envelope, Passed, Walked};
+use super::exec::{Envelope, Passed, Visit, Walked};
 use super::*;
 
 /// Whether this CPU has what the x86-64-v3 build of the engine uses.
@@ -85,7 +85,7 @@ impl Path {
         wend: usize,
         env: Option<Envelope>,
         passed: &mut Passed,
-        f: &mut impl FnMut(f64, f64),
+        f: &mut impl Visit,
     ) -> Walked {
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
@@ -105,7 +105,7 @@ impl Path {
         wend: usize,
         env: Option<Envelope>,
         passed: &mut Passed,
-        f: &mut impl FnMut(f64, f64),
+        f: &mut impl Visit,
     ) -> Walked {
         self.walk_impl(until, below, ovr, wend, env, passed, f)
     }
@@ -155,7 +155,7 @@ impl Path {
         wend: usize,
         env: Option<Envelope>,
         passed: &mut Passed,
-        f: &mut impl FnMut(f64, f64),
+        f: &mut impl Visit,
     ) -> Walked {
         self.walk_impl(until, below, ovr, wend, env, passed, f)
     }
