@@ -613,34 +613,38 @@ impl Blend {
     }
 }
 
-/// Parameters evaluated together by [`Blend::terms_lanes`]: two f64 fill an SSE2 register,
-/// which every x86-64 has (4 and 8 lanes spill registers and cost more instructions, 2 fewer
-/// than one at a time: measured on the dense benchmark with `path_callgrind.sh`).
+/// Parameters evaluated together by [`Blend::terms_lanes`] in the engine's baseline build:
+/// two f64 fill an SSE2 register, which every x86-64 has (4 and 8 lanes spill registers and
+/// cost more instructions, 2 fewer than one at a time: measured on the dense benchmark with
+/// `path_callgrind.sh --baseline`).
 pub(super) const LANES: usize = 2;
+/// The same in its x86-64-v3 build (`v3.rs`): four f64 fill an AVX register (436 fewer
+/// instructions a push than 2 lanes there; the same caps to the bit).
+pub(super) const LANES_V3: usize = 4;
 
-/// |T|, |K| and |dK/ds| of each of the first `N` axes at [`LANES`] parameters (axis-major: one
+/// |T|, |K| and |dK/ds| of each of the first `N` axes at `L` parameters (axis-major: one
 /// row of lanes per axis), as [`Blend::terms_lanes`] gives them.
-pub(super) struct Lanes<const N: usize> {
-    pub t: [[f64; LANES]; N],
-    pub k: [[f64; LANES]; N],
-    pub dk: [[f64; LANES]; N],
+pub(super) struct Lanes<const N: usize, const L: usize> {
+    pub t: [[f64; L]; N],
+    pub k: [[f64; L]; N],
+    pub dk: [[f64; L]; N],
 }
 
 impl Blend {
-    /// [`each_term_n`](Self::each_term_n) at `LANES` parameters at once, as absolute values,
+    /// [`each_term_n`](Self::each_term_n) at `L` parameters at once, as absolute values,
     /// computed lane by lane in the same way (the same figures) so that the compiler can
     /// evaluate several lanes per instruction. A lane where B'(u) = 0 gets 0 everywhere (no
     /// limit), as `each_term_n` calls nothing there.
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     #[inline(always)]
-    pub fn terms_lanes<const N: usize>(&self, u: &[f64; LANES]) -> Lanes<N> {
+    pub fn terms_lanes<const N: usize, const L: usize>(&self, u: &[f64; L]) -> Lanes<N, L> {
         let c = &self.c;
-        let z = [0.0; LANES];
+        let z = [0.0; L];
         let (mut r1, mut r2, mut r3) = ([z; N], [z; N], [z; N]);
         let (mut s11, mut s12, mut s13, mut s22) = (z, z, z, z);
         for k in 0..N {
             let (c1, c2, c3, c4, c5) = (c[1][k], c[2][k], c[3][k], c[4][k], c[5][k]);
-            for i in 0..LANES {
+            for i in 0..L {
                 let u = u[i];
                 let a = c1 + u * (2.0 * c2 + u * (3.0 * c3 + u * (4.0 * c4 + u * 5.0 * c5)));
                 let b = 2.0 * c2 + u * (6.0 * c3 + u * (12.0 * c4 + u * 20.0 * c5));
@@ -659,9 +663,9 @@ impl Blend {
             k: [z; N],
             dk: [z; N],
         };
-        let (mut ok, mut sp, mut r3t, mut r2dt) = ([false; LANES], z, z, z);
+        let (mut ok, mut sp, mut r3t, mut r2dt) = ([false; L], z, z, z);
         let (mut i1, mut i2, mut i3) = (z, z, z);
-        for i in 0..LANES {
+        for i in 0..L {
             let sig = s11[i].sqrt();
             ok[i] = sig > 0.0;
             i1[i] = 1.0 / sig;
@@ -675,7 +679,7 @@ impl Blend {
             if N == MAX_AXES && k >= self.n {
                 break;
             }
-            for i in 0..LANES {
+            for i in 0..L {
                 let t = r1[k][i] * i1[i];
                 let perp = r2[k][i] - sp[i] * t;
                 let dt = perp * i1[i];

@@ -103,7 +103,7 @@ pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
 
-use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, LANES, V};
+use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, LANES, LANES_V3, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
@@ -184,7 +184,7 @@ pub const BLOCK: usize = 8;
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// Samples per smoothing blend for its deviation, and intervals for its cap (16 samples:
-/// eight pairs of `geom::LANES`; see `blend_cap_n`).
+/// eight pairs of `geom::LANES`, or four fours of `geom::LANES_V3`; see `blend_cap_n`).
 const SMOOTH_SAMPLES: usize = 32;
 const SMOOTH_CAP_SAMPLES: usize = 15;
 /// Samples per NURBS piece for its cap.
@@ -1085,15 +1085,25 @@ impl Path {
     /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
     #[inline(always)]
     fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
-        match b.axes() {
-            1 => self.blend_cap_n::<1>(b, samples),
-            2 => self.blend_cap_n::<2>(b, samples),
-            3 => self.blend_cap_n::<3>(b, samples),
-            _ => self.blend_cap_n::<MAX_AXES>(b, samples),
+        // (both widths are in both builds; each build runs its own: `v3.rs`)
+        if self.v3 {
+            self.blend_cap_l::<LANES_V3>(b, samples)
+        } else {
+            self.blend_cap_l::<LANES>(b, samples)
         }
     }
 
-    /// [`blend_cap`](Self::blend_cap) over the first `N` axes, [`LANES`] samples at a time
+    #[inline(always)]
+    fn blend_cap_l<const L: usize>(&self, b: &Blend, samples: usize) -> f64 {
+        match b.axes() {
+            1 => self.blend_cap_n::<1, L>(b, samples),
+            2 => self.blend_cap_n::<2, L>(b, samples),
+            3 => self.blend_cap_n::<3, L>(b, samples),
+            _ => self.blend_cap_n::<MAX_AXES, L>(b, samples),
+        }
+    }
+
+    /// [`blend_cap`](Self::blend_cap) over the first `N` axes, `L` samples at a time
     /// (`Blend::terms_lanes`): each lane's velocity and acceleration caps are computed
     /// together, then the jerk cubic is solved only where the lowest cap so far breaks it, as
     /// [`axis_cap`](Self::axis_cap) does sample by sample. The cap's lowest point lies between
@@ -1102,24 +1112,30 @@ impl Path {
     /// (`tests_lookahead` measures what is left).
     #[allow(clippy::needless_range_loop)] // one index over several lane arrays
     #[inline(always)]
-    fn blend_cap_n<const N: usize>(&self, b: &Blend, samples: usize) -> f64 {
+    fn blend_cap_n<const N: usize, const L: usize>(&self, b: &Blend, samples: usize) -> f64 {
         let l = &self.lim;
         let (at, jt) = (self.at, self.jt);
         let samples = samples.max(1);
         let h = 1.0 / samples as f64;
         let (mut cap, mut low) = (f64::INFINITY, 0.0);
-        // the pairs from the ends inwards (the lowest cap is often near an end: a cap found
+        // the groups from the ends inwards (the lowest cap is often near an end: a cap found
         // early leaves fewer jerk cubics to solve)
-        let pairs = samples / LANES + 1;
-        for m in (0..pairs).map(|m| if m % 2 == 0 { m / 2 } else { pairs - 1 - m / 2 }) {
-            let first = m * LANES;
+        let groups = samples / L + 1;
+        for m in (0..groups).map(|m| {
+            if m % 2 == 0 {
+                m / 2
+            } else {
+                groups - 1 - m / 2
+            }
+        }) {
+            let first = m * L;
             // the last lanes past the end repeat it
-            let u: [f64; LANES] = core::array::from_fn(|j| (first + j).min(samples) as f64 * h);
-            let tm = b.terms_lanes::<N>(&u);
-            let mut c = [f64::INFINITY; LANES];
+            let u: [f64; L] = core::array::from_fn(|j| (first + j).min(samples) as f64 * h);
+            let tm = b.terms_lanes::<N, L>(&u);
+            let mut c = [f64::INFINITY; L];
             for k in 0..N {
                 let (vm, am) = (CAP_MARGIN * l.vmax[k], CAP_MARGIN * l.amax[k]);
-                for i in 0..LANES {
+                for i in 0..L {
                     let (t, kk) = (tm.t[k][i], tm.k[k][i]);
                     // t = 0: no velocity cap; kk = 0: no acceleration cap (room/0 is ∞, or
                     // NaN when room is 0 too, which `min` passes over)
@@ -1136,7 +1152,7 @@ impl Path {
             let mut over = !lowest.is_finite();
             for k in 0..N {
                 let jm = CAP_MARGIN * l.jmax[k];
-                for i in 0..LANES {
+                for i in 0..L {
                     let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
                     let room = jm - jt * tm.t[k][i];
                     // (NaN: not within)
@@ -1147,7 +1163,7 @@ impl Path {
             if over {
                 for k in 0..N {
                     let jm = CAP_MARGIN * l.jmax[k];
-                    for i in 0..LANES {
+                    for i in 0..L {
                         let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
                         let room = jm - jt * tm.t[k][i];
                         if !(lowest.is_finite()
@@ -1159,7 +1175,7 @@ impl Path {
                     }
                 }
             }
-            for i in 0..LANES {
+            for i in 0..L {
                 if c[i] < cap {
                     cap = c[i];
                     low = u[i];

@@ -518,6 +518,12 @@ fn checked_cap(p: &mut Path, rng: &mut Rng, c: &SmoothCase) -> [f64; 3] {
         .unwrap();
     let cap = p.blend_cap(&c.b, SMOOTH_CAP_SAMPLES);
     assert!(cap > 0.0 && cap.is_finite(), "cap {cap}");
+    // the other build's lane width (`geom::LANES`, `LANES_V3`): the same cap to the bit (only
+    // the width is switched here: `blend_cap` calls nothing of the v3 build)
+    p.v3 = !p.v3;
+    let other = p.blend_cap(&c.b, SMOOTH_CAP_SAMPLES);
+    p.v3 = !p.v3;
+    assert_eq!(cap.to_bits(), other.to_bits(), "the two lane widths");
     let terms = limits_used(p, &c.b, cap);
     let most = largest(terms);
     assert!(
