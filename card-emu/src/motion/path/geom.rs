@@ -373,7 +373,14 @@ impl Blend {
             chord2 += q[5][k] * q[5][k];
         }
         self.len = chord2.sqrt();
-        self.len.is_finite() && c.iter().all(|r| r[..n].iter().all(|x| x.is_finite()))
+        // (x·0 is 0 for a finite x, NaN for ∞ and NaN: one test, no branch per coefficient)
+        let mut zero = 0.0;
+        for r in c.iter() {
+            for x in &r[..n] {
+                zero += x * 0.0;
+            }
+        }
+        self.len.is_finite() && zero == 0.0
     }
 
     /// Only the first point `q0` of a quintic and, as its length, its chord |B(1) − B(0)|: a

@@ -585,7 +585,12 @@ fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
     for x in d[..n].iter_mut() {
         *x *= f;
     }
-    if d.iter().all(|x| x.is_finite()) {
+    // (x·0 is 0 for a finite x, NaN for ∞ and NaN: one test, no branch per axis)
+    let mut zero = 0.0;
+    for x in d {
+        zero += x * 0.0;
+    }
+    if zero == 0.0 {
         d
     } else {
         [0.0; MAX_AXES]
@@ -728,10 +733,15 @@ fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
 
 #[inline(always)]
 fn finite_v(n: usize, p: &V) -> Result<(), PathError> {
-    if p[..n].iter().any(|x| !x.is_finite()) {
+    let (mut zero, mut most) = (0.0, 0.0f64);
+    for x in &p[..n] {
+        zero += x * 0.0;
+        most = most.max(x.abs());
+    }
+    if zero != 0.0 {
         return Err(PathError::NotFinite);
     }
-    if p[..n].iter().any(|x| x.abs() > MAX_POS) {
+    if most > MAX_POS {
         return Err(PathError::OutOfRange);
     }
     Ok(())
@@ -1057,8 +1067,14 @@ impl Path {
     fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
         match p {
             // its frame: its direction, no curvature
-            Prog::Line { dir, .. } => (0..self.lim.naxes)
-                .fold(f64::INFINITY, |c, k| self.axis_cap(k, dir[k], 0.0, 0.0, c)),
+            Prog::Line { dir, .. } => {
+                let mut cap = f64::INFINITY;
+                #[allow(clippy::needless_range_loop)] // (an index loop: fewer instructions)
+                for k in 0..self.lim.naxes {
+                    cap = self.axis_cap(k, dir[k], 0.0, 0.0, cap);
+                }
+                cap
+            }
             Prog::Helix(h) => {
                 let ang = h.sweep().abs() * (s1 - s0) / p.len();
                 let m = ((ang / 1f64.to_radians()).ceil() as usize).clamp(16, 720);
@@ -1130,7 +1146,10 @@ impl Path {
         }) {
             let first = m * L;
             // the last lanes past the end repeat it
-            let u: [f64; L] = core::array::from_fn(|j| (first + j).min(samples) as f64 * h);
+            let mut u = [0.0; L];
+            for j in 0..L {
+                u[j] = (first + j).min(samples) as f64 * h;
+            }
             let tm = b.terms_lanes::<N, L>(&u);
             let mut c = [f64::INFINITY; L];
             for k in 0..N {
@@ -1145,7 +1164,10 @@ impl Path {
                     c[i] = c[i].min(v).min(a);
                 }
             }
-            let mut lowest = c.iter().fold(cap, |m, &x| m.min(x));
+            let mut lowest = cap;
+            for x in c {
+                lowest = lowest.min(x);
+            }
             // the jerk terms at the lowest cap so far, all lanes at once: p·v³ + q·v grows
             // with v, so a term within its room there is within it at any lower cap, and only
             // the others are looked at one by one (as the lowest cap falls)
@@ -1236,10 +1258,11 @@ impl Path {
         let closed = smooth_dev_bound(n, ua, ub, da, db, ka, kb);
         if !with_cap && closed <= limit {
             let (a, b) = (pa.pos(pa.len() - da), pb.pos(db));
-            let chord = (0..n)
-                .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
-                .sum::<f64>()
-                .sqrt();
+            let mut chord2 = 0.0;
+            for k in 0..n {
+                chord2 += (b[k] - a[k]) * (b[k] - a[k]);
+            }
+            let chord = chord2.sqrt();
             if chord > 0.0 && da.max(db).max(chord).max(closed) < LARGE {
                 out.chord_only(n, a, chord);
                 return Some((0.0, closed));
@@ -1341,7 +1364,10 @@ impl Path {
                 for k in 0..n {
                     kmid[k] = 0.5 * (k0[k] + k1[k]);
                 }
-                let along: f64 = (0..n).map(|k| kmid[k] * dir[k]).sum();
+                let mut along = 0.0;
+                for k in 0..n {
+                    along += kmid[k] * dir[k];
+                }
                 for k in 0..n {
                     kmid[k] -= along * dir[k];
                 }
@@ -1524,10 +1550,10 @@ impl Path {
                 finite_v(n, &end)?;
                 fix_axes(&mut end);
                 let (p, len) = Prog::line(n, p0, end);
-                let scale = p0[..n]
-                    .iter()
-                    .chain(end[..n].iter())
-                    .fold(1.0f64, |m, x| m.max(x.abs()));
+                let mut scale = 1.0f64;
+                for k in 0..n {
+                    scale = scale.max(p0[k].abs()).max(end[k].abs());
+                }
                 if len.is_nan() || len <= 64.0 * f64::EPSILON * scale {
                     return Err(PathError::ZeroLength);
                 }
