@@ -5,10 +5,12 @@
 //! refilled every 64 ticks as it frees room (what `path_run -- dense` does through the SDK),
 //! the engine ticked until the path is at rest.
 //!
-//! `cargo bench -p card-emu --bench path [-- --runs N] [--plan-ticks M]`
+//! `cargo bench -p card-emu --bench path [-- --runs N] [--plan-ticks M] [--baseline]`
 //!
 //! The engine plans every `M` servo ticks, by default as the card does (its default planner
-//! period, 1 ms: 10 ticks at 10 kHz); `--plan-ticks 1` plans at every tick.
+//! period, 1 ms: 10 ticks at 10 kHz); `--plan-ticks 1` plans at every tick. It runs its
+//! x86-64-v3 build where the CPU has it, as the card does, or with `--baseline` its baseline
+//! x86-64 build (`motion/path/v3.rs`).
 //!
 //! Three parts, each summed over the run and divided by the 10,000 segments:
 //! - push: `Path::push` (validation, the smoothing blend, the previous one rebuilt, caps,
@@ -201,6 +203,7 @@ fn main() {
     let mut p = Path::with_capacity(PATH_LEN);
     // the baseline x86-64 build of the engine, not the x86-64-v3 one (see `path::v3`)
     p.set_v3(!args.iter().any(|a| a == "--baseline"));
+    let build = if p.runs_v3() { "x86-64-v3" } else { "baseline" };
     let mut pos = Vec::with_capacity(200_000);
     if once {
         let c = run(&mut p, m, pts[0], &segs, Clock::Off, &mut pos);
@@ -213,7 +216,7 @@ fn main() {
             std::fs::write(f, bytes).unwrap();
         }
         println!(
-            "path --once: {CHORDS} segments, {} ticks, planning every {m}, positions {sum:016x}",
+            "path --once: {CHORDS} segments, {} ticks, planning every {m}, {build} build, positions {sum:016x}",
             c.ticks
         );
         return;
@@ -236,7 +239,7 @@ fn main() {
         println!("| {name:<58} | {m:>7.3} | {lo:>7.3} – {hi:<7.3} |");
     };
     println!(
-        "\npath engine, dense benchmark: {CHORDS} chords, {ticks} ticks ({:.2} per segment), planning every {m} ticks, {runs} runs",
+        "\npath engine ({build} build), dense benchmark: {CHORDS} chords, {ticks} ticks ({:.2} per segment), planning every {m} ticks, {runs} runs",
         ticks as f64 / n
     );
     println!("| µs per segment (per tick where said)                       |  median | range             |");

@@ -79,7 +79,7 @@
 //!
 //! **Two builds.** `push`, `tick_plan`, `tick_move` and the look-ahead's walk run a build of
 //! their bodies for x86-64-v3 (AVX2, FMA) where the CPU has it, and the baseline x86-64 build
-//! elsewhere (`v3.rs`): the same motion to the last bit, about a tenth fewer instructions.
+//! elsewhere (`v3.rs`): the same motion to the last bit, about a fifth fewer instructions.
 //!
 //! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
 //! [`Path::with_capacity`] allocates everything once.

@@ -3,7 +3,8 @@
 //! ([`detected`], kept in `Path::v3`). Their bodies (`push_impl`, `tick_plan_impl`,
 //! `tick_move_impl`, `walk_impl`) and what those call are `#[inline(always)]`, so that the
 //! compiler builds all of it with three-operand vector instructions instead of SSE2's register
-//! copies: about a tenth fewer instructions on the dense benchmark
+//! copies (and the blend cap four samples at a time, `geom::LANES_V3`): about a fifth fewer
+//! instructions on the dense benchmark
 //! (`benches/path_callgrind.sh`, with and without `--baseline`).
 //!
 //! **The same motion to the last bit.** Rust never fuses a multiplication and an addition
