@@ -3,6 +3,7 @@
 //! with a walk on every tick give the same positions, speeds and events to the last bit. And
 //! the smoothing blends' deviation bound from their control points is a bound.
 
+use super::smooth::{hull_dev2, sampled_dev2, smooth_dev_bound};
 use super::tests::{limits, line, pt, random_program, TS};
 use super::*;
 use crate::testkit::rng::Rng;
