@@ -124,42 +124,55 @@ fn the_v3_build_moves_as_the_baseline_build() {
     if !detected {
         eprintln!("this CPU has no x86-64-v3: both runs are the baseline build");
     }
-    let mut scripts = vec![];
-    for plan_ticks in [1, 10] {
-        scripts.push(Script {
-            naxes: 2,
-            ts: 1e-4,
-            capacity: 200,
-            lookahead: 48,
-            segs: curve(1500, 1e5, 2.0),
-            every: 7,
-            chunk: 1,
-            ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
-            halt_at: None,
-            plan_ticks,
-        });
-    }
+    let segs = curve(1500, 1e5, 2.0);
+    let mut scripts = vec![streamed(&segs, 1), streamed(&segs, 10)];
     let mut rng = Rng::new(0x0003_b11d);
     for case in 0..8 {
-        let naxes = 2 + case % 2;
-        let (segs, _) = random_program(&mut rng, naxes, 80);
-        scripts.push(Script {
-            naxes,
-            ts: TS,
-            capacity: 16 + rng.int(0, 100),
-            lookahead: 1 + rng.int(0, 40),
-            segs,
-            every: 1 + rng.int(0, 20),
-            chunk: 1 + rng.int(0, 5),
-            ovr: vec![(rng.int(0, 2000), rng.uniform(0.3, 1.6))],
-            halt_at: rng.chance(0.3).then(|| rng.int(100, 3000)),
-            plan_ticks: 1 + rng.int(0, 9),
-        });
+        let plan_ticks = 1 + rng.int(0, 9);
+        scripts.push(random_script(&mut rng, 2 + case % 2, plan_ticks));
     }
     for (i, s) in scripts.iter().enumerate() {
         let (v3, base) = (run_built(s, false, true), run_built(s, false, false));
         assert!(v3.pos.len() > 100, "script {i}: {} ticks", v3.pos.len());
         assert!(v3 == base, "script {i}: the two builds differ");
+    }
+}
+
+/// `segs` streamed into a ring of 200 a segment every 7 ticks, a window of 48, the override
+/// turned down and up, planned every `plan_ticks` (10 kHz).
+fn streamed(segs: &[Segment], plan_ticks: usize) -> Script {
+    Script {
+        naxes: 2,
+        ts: 1e-4,
+        capacity: 200,
+        lookahead: 48,
+        segs: segs.to_vec(),
+        every: 7,
+        chunk: 1,
+        ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
+        halt_at: None,
+        plan_ticks,
+    }
+}
+
+/// A random program (`random_program`, 80 segments) streamed in random chunks into a random
+/// ring and window, with an override change and, three times in ten, a halt.
+fn random_script(rng: &mut Rng, naxes: usize, plan_ticks: usize) -> Script {
+    let (segs, _) = random_program(rng, naxes, 80);
+    let halt_at = rng.chance(0.3).then(|| rng.int(100, 3000));
+    let capacity = 16 + rng.int(0, 100);
+    Script {
+        naxes,
+        ts: TS,
+        capacity,
+        // (no longer than the ring)
+        lookahead: (1 + rng.int(0, 40)).min(capacity),
+        segs,
+        every: 1 + rng.int(0, 20),
+        chunk: 1 + rng.int(0, 5),
+        ovr: vec![(rng.int(0, 2000), rng.uniform(0.3, 1.6))],
+        halt_at,
+        plan_ticks,
     }
 }
 
@@ -204,37 +217,9 @@ fn dense_curves_run_the_same_with_and_without_what_earlier_walks_saw() {
     assert!(retests > 100, "{retests} ticks served by testing again");
     // streamed into a short ring (pushes change what the window holds), a short window, the
     // override turned down and up
-    same_both_ways(
-        &Script {
-            naxes: 2,
-            ts: 1e-4,
-            capacity: 200,
-            lookahead: 48,
-            segs: segs.clone(),
-            every: 7,
-            chunk: 1,
-            ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
-            halt_at: None,
-            plan_ticks: 1,
-        },
-        "streamed",
-    );
+    same_both_ways(&streamed(&segs, 1), "streamed");
     // the same planned every 10 ticks (1 ms)
-    same_both_ways(
-        &Script {
-            naxes: 2,
-            ts: 1e-4,
-            capacity: 200,
-            lookahead: 48,
-            segs: segs.clone(),
-            every: 7,
-            chunk: 1,
-            ovr: vec![(4000, 0.6), (9000, 1.3), (15000, 1.0)],
-            halt_at: None,
-            plan_ticks: 10,
-        },
-        "streamed, planned every 10 ticks",
-    );
+    same_both_ways(&streamed(&segs, 10), "streamed, planned every 10 ticks");
     // pushed one at a time about as fast as the path runs them: the window reaches the end
     // of the queue, whose last blend each push rebuilds and whose last line it trims
     for every in [6, 9, 14] {
@@ -276,24 +261,8 @@ fn dense_curves_run_the_same_with_and_without_what_earlier_walks_saw() {
 fn random_programs_run_the_same_with_and_without_what_earlier_walks_saw() {
     let mut rng = Rng::new(0x5eed_0f14);
     for case in 0..12 {
-        let naxes = 2 + case % 2;
-        let (segs, _) = random_program(&mut rng, naxes, 80);
-        let halt_at = rng.chance(0.3).then(|| rng.int(100, 3000));
-        same_both_ways(
-            &Script {
-                naxes,
-                ts: TS,
-                capacity: 16 + rng.int(0, 100),
-                lookahead: 1 + rng.int(0, 40),
-                segs,
-                every: 1 + rng.int(0, 20),
-                chunk: 1 + rng.int(0, 5),
-                ovr: vec![(rng.int(0, 2000), rng.uniform(0.3, 1.6))],
-                halt_at,
-                plan_ticks: 1,
-            },
-            &format!("case {case}"),
-        );
+        let script = random_script(&mut rng, 2 + case % 2, 1);
+        same_both_ways(&script, &format!("case {case}"));
     }
 }
 

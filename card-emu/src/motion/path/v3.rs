@@ -77,7 +77,7 @@ impl Path {
     /// See `walk_impl`. A function of its own, out of `look`'s common tick (which a walk
     /// serves: fewer instructions than inlined).
     #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
+    #[inline(never)]
     pub(super) fn walk(
         &self,
         until: f64,
@@ -93,21 +93,6 @@ impl Path {
             // SAFETY: as in `push`
             return unsafe { self.walk_v3(until, below, ovr, wend, env, passed, f) };
         }
-        self.walk_base(until, below, ovr, wend, env, passed, f)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    #[inline(never)]
-    fn walk_base(
-        &self,
-        until: f64,
-        below: f64,
-        ovr: f64,
-        wend: usize,
-        env: Option<Envelope>,
-        passed: &mut Passed,
-        f: &mut impl Visit,
-    ) -> Walked {
         self.walk_impl(until, below, ovr, wend, env, passed, f)
     }
 
