@@ -2,11 +2,17 @@
 //! open card: live plots of the scope stream, the step and move tests with their figures
 //! ([`crate::tuning`]), and the servo gains, read and applied.
 //!
+//! Every request passes one middleware first ([`guard`], layered over the whole router, its
+//! fallback included): a `Host` naming this server (no DNS rebinding), an `Origin` of its own
+//! page for anything but GET and HEAD (and never another one), the server's token ([`Token`],
+//! printed in the address at start) for everything but the page's files, and `Content-Type:
+//! application/json` for anything but GET and HEAD. The routes are [`ROUTES`]:
+//!
 //! | route | what |
 //! |---|---|
-//! | `GET /` and its files | the page (`serve/web/`, compiled into the binary: nothing is fetched at run time) |
+//! | `GET /` and its files | the page (`serve/web/`, compiled into the binary: nothing is fetched at run time); no token |
 //! | `GET /api/info` | the card, the axis, the figure definitions' constants and the defaults |
-//! | `GET /api/live` | the live stream, server-sent events: `samples` ([`live::Batch`]), `paused`, `resumed`, `failure` |
+//! | `GET /api/live` | the live stream, server-sent events: `samples` ([`live::Batch`]), `paused`, `resumed`, `failure`; the token also as `?token=` (an `EventSource` sets no header) |
 //! | `POST /api/tests` | `{"kind": "step"\|"move", "distance": counts, "limits"?: {vmax, amax, jmax}, "enable"?: bool}`: run a test, answer its [`TestRun`] with an `id` |
 //! | `GET /api/tests/{id}`, `GET /api/tests/last` | a test's answer again (the last 8 are kept) |
 //! | `POST /api/reset` | MC_Reset of the axis (after a trip); answers `{"state"}` |
@@ -14,16 +20,18 @@
 //! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}` or `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}`: apply, answer the gains then held |
 //!
 //! Errors are `{"error": message, "kind": the SDK's error kind (if any)}` with 400 (a bad
-//! request), 404 (a test no longer kept), 409 (the axis not at rest, the scope or the test
-//! slot busy), 422 (the card refused, or ended a test's motion), 500 (a capture that cannot be
-//! measured) or 503 (the card failed).
+//! request), 403 (refused by the guard: Host, Origin or token), 404 (no such route, or a test
+//! no longer kept), 409 (the axis not at rest, the scope or the test slot busy), 415 (not a
+//! GET or HEAD, and not `Content-Type: application/json`), 422 (the card refused, or ended a
+//! test's motion), 500 (a capture that cannot be measured) or 503 (the card failed).
 //!
-//! The card's SDK blocks; the handlers run its calls with `spawn_blocking`. The only guard
+//! The card's SDK blocks; the handlers run its calls with `spawn_blocking`. The only lock guard
 //! held across an `.await` is the one-test guard, which is only ever try-locked (a second test
 //! gets 409, never waits) and which nothing else takes. The live stream is its own thread
 //! ([`live`]); a test pauses it for the capture and the stream resumes when the test ends,
 //! whatever the outcome.
 
+pub mod guard;
 pub mod live;
 
 use crate::tuning::gains::{self, Apply, Gains};
@@ -34,8 +42,9 @@ use axum::extract::State;
 use axum::http::{header, StatusCode};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
-use axum::routing::get;
+use axum::routing::{get, post, MethodRouter};
 use axum::{Json, Router};
+pub use guard::Token;
 use live::{Live, LiveMsg};
 use serde::Deserialize;
 use serde_json::json;
@@ -45,10 +54,14 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// What `mcctl serve` serves.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Options {
-    /// Where to listen (port 0: any free port; the address is printed).
+    /// Where to listen (port 0: any free port; the address is printed). Beyond loopback the
+    /// page is reachable from the network: [`serve`] warns so on stderr.
     pub listen: SocketAddr,
+    /// The token every API request must carry; None: one generated from the OS's random
+    /// source. Printed either way, in the address.
+    pub token: Option<Token>,
     /// The axis the page tunes.
     pub axis: usize,
     /// The card's URI, shown on the page.
@@ -348,39 +361,114 @@ async fn post_gains(
         .map(Json)
 }
 
-fn router(app: Arc<App>) -> Router {
-    Router::new()
-        .route(
-            "/",
-            get(|| async { file(INDEX_HTML, "text/html; charset=utf-8") }),
-        )
-        .route(
-            "/app.js",
-            get(|| async { file(APP_JS, "text/javascript; charset=utf-8") }),
-        )
-        .route(
-            "/style.css",
-            get(|| async { file(STYLE_CSS, "text/css; charset=utf-8") }),
-        )
-        .route(
-            "/vendor/uPlot.iife.min.js",
-            get(|| async { file(UPLOT_JS, "text/javascript; charset=utf-8") }),
-        )
-        .route(
-            "/vendor/uPlot.min.css",
-            get(|| async { file(UPLOT_CSS, "text/css; charset=utf-8") }),
-        )
-        .route(
-            "/vendor/uPlot.LICENSE",
-            get(|| async { file(UPLOT_LICENSE, "text/plain; charset=utf-8") }),
-        )
-        .route("/api/info", get(info))
-        .route("/api/live", get(live_stream))
-        .route("/api/tests", axum::routing::post(run_one))
-        .route("/api/tests/{which}", get(kept_test))
-        .route("/api/gains", get(get_gains).post(post_gains))
-        .route("/api/reset", axum::routing::post(reset_axis))
+/// A route of the server. The router is built from [`ROUTES`] alone and [`guard`] sees every
+/// request before any route does (and the fallback's 404s), so no route escapes the checks.
+pub struct Route {
+    /// The path, in axum's syntax (`{which}`: a path parameter).
+    pub path: &'static str,
+    /// The methods it answers (a GET route answers HEAD too).
+    pub methods: &'static [&'static str],
+    /// One of the page's own files: GET and HEAD need no token (the files hold no secret).
+    pub file: bool,
+    handler: fn() -> MethodRouter<Arc<App>>,
+}
+
+/// Every route of the server: the page's files, then the API.
+pub const ROUTES: &[Route] = &[
+    Route {
+        path: "/",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(INDEX_HTML, "text/html; charset=utf-8") }),
+    },
+    Route {
+        path: "/app.js",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(APP_JS, "text/javascript; charset=utf-8") }),
+    },
+    Route {
+        path: "/style.css",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(STYLE_CSS, "text/css; charset=utf-8") }),
+    },
+    Route {
+        path: "/vendor/uPlot.iife.min.js",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(UPLOT_JS, "text/javascript; charset=utf-8") }),
+    },
+    Route {
+        path: "/vendor/uPlot.min.css",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(UPLOT_CSS, "text/css; charset=utf-8") }),
+    },
+    Route {
+        path: "/vendor/uPlot.LICENSE",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(UPLOT_LICENSE, "text/plain; charset=utf-8") }),
+    },
+    Route {
+        path: "/api/info",
+        methods: &["GET"],
+        file: false,
+        handler: || get(info),
+    },
+    Route {
+        path: LIVE,
+        methods: &["GET"],
+        file: false,
+        handler: || get(live_stream),
+    },
+    Route {
+        path: "/api/tests",
+        methods: &["POST"],
+        file: false,
+        handler: || post(run_one),
+    },
+    Route {
+        path: "/api/tests/{which}",
+        methods: &["GET"],
+        file: false,
+        handler: || get(kept_test),
+    },
+    Route {
+        path: "/api/gains",
+        methods: &["GET", "POST"],
+        file: false,
+        handler: || get(get_gains).post(post_gains),
+    },
+    Route {
+        path: "/api/reset",
+        methods: &["POST"],
+        file: false,
+        handler: || post(reset_axis),
+    },
+];
+
+/// The event stream's path: the one route that also takes its token as `?token=`.
+pub const LIVE: &str = "/api/live";
+
+/// Anything else: 404 (behind the guard as every route).
+async fn not_found() -> ApiError {
+    ApiError(
+        StatusCode::NOT_FOUND,
+        "no such page or API route".into(),
+        None,
+    )
+}
+
+fn router(app: Arc<App>, guard: Arc<guard::Guard>) -> Router {
+    let mut r = Router::new();
+    for route in ROUTES {
+        r = r.route(route.path, (route.handler)());
+    }
+    r.fallback(not_found)
         .with_state(app)
+        .layer(axum::middleware::from_fn_with_state(guard, guard::check))
 }
 
 /// SIGINT or SIGTERM.
@@ -403,10 +491,18 @@ fn io_error(context: String) -> impl FnOnce(std::io::Error) -> Error {
     move |source| Error::Io { context, source }
 }
 
-/// Serve the page for `card` until SIGINT or SIGTERM. Prints `listening on http://ADDR/`
-/// (one line, flushed) once the port is open.
+/// Serve the page for `card` until SIGINT or SIGTERM. Prints `listening on
+/// http://ADDR/#token=TOKEN` (one line, flushed) once the port is open: the address to open,
+/// with the token the page takes from it. A listening address beyond loopback is warned of on
+/// stderr (the page is then reachable from the network, in clear text).
 pub fn serve(card: &Card, opts: &Options) -> Result<String> {
     card.axis(opts.axis)?; // an axis the card has not: refused before anything listens
+    let token = match &opts.token {
+        Some(t) => t.clone(),
+        None => Token::generate().map_err(io_error(
+            "mcctl serve: a token from the OS's random source".into(),
+        ))?,
+    };
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -432,12 +528,39 @@ pub fn serve(card: &Card, opts: &Options) -> Result<String> {
         let addr = listener
             .local_addr()
             .map_err(io_error("mcctl serve: the listening address".into()))?;
+        let guard = Arc::new(guard::Guard {
+            token: token.clone(),
+            listen: addr,
+            public: ROUTES.iter().filter(|r| r.file).map(|r| r.path).collect(),
+            live: LIVE,
+        });
+        if !addr.ip().to_canonical().is_loopback() {
+            let mut err = std::io::stderr().lock();
+            let _ = writeln!(
+                err,
+                "mcctl serve: warning: {addr} is not a loopback address: the tuning page, which \
+                 moves axis {axis}, is reachable from the network, without TLS (the token and \
+                 everything else cross it in clear text; whoever reads the token drives the \
+                 card).{generated} Browse to it by IP address: it answers no host name but \
+                 localhost. Prefer --listen 127.0.0.1:{port} and an SSH tunnel (ssh -L \
+                 {port}:127.0.0.1:{port} THIS-HOST).",
+                axis = opts.axis,
+                port = addr.port(),
+                generated = if opts.token.is_none() {
+                    " The token was generated for this run (--token sets one)."
+                } else {
+                    ""
+                },
+            );
+        }
         let mut out = std::io::stdout().lock();
-        let _ = writeln!(out, "listening on http://{addr}/");
+        let _ = writeln!(out, "listening on http://{addr}/#token={}", token.as_str());
         let _ = out.flush();
         drop(out);
+        let service =
+            router(app.clone(), guard).into_make_service_with_connect_info::<guard::Local>();
         tokio::select! {
-            r = axum::serve(listener, router(app.clone())) => {
+            r = axum::serve(listener, service) => {
                 r.map_err(io_error("mcctl serve".into()))
             }
             _ = shutdown_signal() => Ok(()),

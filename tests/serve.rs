@@ -2,9 +2,13 @@
 //! serve` against it, and the page driven in Debian's headless Chromium by
 //! `tests/browser/drive.mjs` (playwright-core): the live plots, a step test (the figures and the
 //! plotted data against the samples the server answered and against the card), a gain the card
-//! accepts and one it refuses.
+//! accepts and one it refuses, the page without its token and under a rebinding name. And the
+//! guard (`src/serve/guard.rs`) over plain HTTP: every route of `motioncard::serve::ROUTES`
+//! sent bad Hosts, foreign Origins, missing and wrong tokens, each refused (403) with the card
+//! read after (the gains, the axis's state and position as before); `--listen` beyond
+//! loopback and `--token`.
 //!
-//! Needs `chromium` (`apt-get install -y chromium`) and `npm ci --prefix tests/browser`
+//! The browser test needs `chromium` (`apt-get install -y chromium`) and `npm ci --prefix tests/browser`
 //! (`.ci/run` installs both and sets `MOTIONCARD_BROWSER_TEST=required`, under which a missing
 //! tool fails the test, saying what to install; without that variable the browser test says
 //! what is missing and does not run, so the suite passes with the Rust toolchain alone). With
@@ -90,16 +94,34 @@ impl Drop for Proc {
     }
 }
 
-/// `mcctl serve --listen 127.0.0.1:0` against `uri`: the process and the URL it printed.
-fn serve(uri: &str, axis: usize) -> (Proc, String) {
+/// A running `mcctl serve`: what it printed on stdout, and its stderr (read to the end once
+/// the process is stopped: `Served::stop`).
+struct Served {
+    proc: Proc,
+    /// The address printed, as printed: `http://ADDR/#token=TOKEN`.
+    url: String,
+    /// `ADDR` (`127.0.0.1:PORT`, `0.0.0.0:PORT`).
+    addr: String,
+    port: u16,
+    token: String,
+    stderr: std::thread::JoinHandle<String>,
+}
+
+/// `mcctl ARGS`, which must print `listening on http://ADDR/#token=TOKEN`.
+fn serve_with(args: &[&str]) -> Served {
     let mut child = Command::new(MCCTL)
-        .args(["--card", uri, "serve", "--listen", "127.0.0.1:0"])
-        .args(["--axis", &axis.to_string()])
+        .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("start mcctl serve");
     let out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let stderr = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = err.read_to_string(&mut s);
+        s
+    });
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         let mut line = String::new();
@@ -108,47 +130,166 @@ fn serve(uri: &str, axis: usize) -> (Proc, String) {
     });
     let mut proc = Proc(Some(child));
     let line = rx.recv_timeout(Duration::from_secs(15)).unwrap_or_default();
-    let url = line
+    let parsed = line
         .trim()
-        .strip_prefix("listening on ")
-        .map(str::to_string)
-        .unwrap_or_else(|| {
-            let mut err = String::new();
-            if let Some(mut c) = proc.0.take() {
-                let _ = c.kill();
-                let _ = c.stderr.take().map(|mut e| e.read_to_string(&mut err));
-            }
-            panic!("mcctl serve printed {line:?} instead of its address; stderr: {err}")
-        });
-    assert!(
-        url.starts_with("http://127.0.0.1:") && url.ends_with('/'),
-        "{url}"
-    );
-    (proc, url)
+        .strip_prefix("listening on http://")
+        .and_then(|rest| rest.split_once("/#token="));
+    let Some((addr, token)) = parsed else {
+        if let Some(mut c) = proc.0.take() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+        panic!(
+            "mcctl serve printed {line:?} instead of its address; stderr: {}",
+            stderr.join().unwrap()
+        )
+    };
+    let port = addr.rsplit_once(':').unwrap().1.parse().unwrap();
+    Served {
+        proc,
+        url: line
+            .trim()
+            .strip_prefix("listening on ")
+            .unwrap()
+            .to_string(),
+        addr: addr.to_string(),
+        port,
+        token: token.to_string(),
+        stderr,
+    }
 }
 
-/// A GET over plain HTTP/1.1: the status code and the body.
-fn http_get(url: &str, path: &str) -> (u16, String) {
-    let addr = url
-        .trim_start_matches("http://")
-        .trim_end_matches('/')
-        .to_string();
-    let mut s = std::net::TcpStream::connect(&addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
-    write!(
-        s,
-        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
-    )
-    .unwrap();
-    let mut text = String::new();
-    s.read_to_string(&mut text).unwrap();
-    let (head, body) = text.split_once("\r\n\r\n").expect("an HTTP answer");
-    let code = head
-        .split_whitespace()
-        .nth(1)
-        .and_then(|c| c.parse().ok())
-        .unwrap();
-    (code, body.to_string())
+/// `mcctl serve --listen 127.0.0.1:0` against `uri`.
+fn serve(uri: &str, axis: usize) -> Served {
+    let s = serve_with(&[
+        "--card",
+        uri,
+        "serve",
+        "--listen",
+        "127.0.0.1:0",
+        "--axis",
+        &axis.to_string(),
+    ]);
+    assert!(s.addr.starts_with("127.0.0.1:"), "{}", s.url);
+    assert_eq!(s.token.len(), 32, "{}", s.url);
+    assert!(s.token.bytes().all(|b| b.is_ascii_hexdigit()), "{}", s.url);
+    s
+}
+
+impl Served {
+    /// Stop it as a person would (SIGTERM): a clean exit; its stderr.
+    fn stop(mut self) -> String {
+        let pid = self.proc.0.as_ref().unwrap().id().to_string();
+        let killed = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+        assert!(killed.success());
+        let st = self.proc.wait_for(Duration::from_secs(10));
+        assert!(st.is_some_and(|s| s.success()), "mcctl serve: {st:?}");
+        self.stderr.join().unwrap()
+    }
+
+    /// A request as the page sends it: to `127.0.0.1:PORT`, with the token, and for a POST its
+    /// own Origin and a JSON body.
+    fn req(&self, method: &'static str, path: &str, body: &str) -> Req {
+        let host = format!("127.0.0.1:{}", self.port);
+        Req {
+            method,
+            path: path.to_string(),
+            origin: (method != "GET").then(|| format!("http://{host}")),
+            hosts: vec![host],
+            auth: vec![format!("Bearer {}", self.token)],
+            content_type: (method != "GET").then(|| "application/json".to_string()),
+            body: body.to_string(),
+        }
+    }
+
+    /// [`Served::req`], sent; the answer.
+    fn call(&self, method: &'static str, path: &str, body: &str) -> Answer {
+        self.req(method, path, body).send(self.port)
+    }
+
+    /// A GET as the page sends it: the status and the body.
+    fn get(&self, path: &str) -> (u16, String) {
+        let a = self.call("GET", path, "");
+        (a.code, a.body)
+    }
+}
+
+/// An HTTP/1.1 request, written out as given (no header added but Content-Length and
+/// Connection).
+#[derive(Debug, Clone)]
+struct Req {
+    method: &'static str,
+    /// The request target: a path, or the absolute form `http://HOST/path`.
+    path: String,
+    /// Host headers (none, one, or more).
+    hosts: Vec<String>,
+    origin: Option<String>,
+    /// Authorization headers.
+    auth: Vec<String>,
+    content_type: Option<String>,
+    body: String,
+}
+
+/// An answer: the status, the head (lower case) and the body (empty for an event stream).
+#[derive(Debug)]
+struct Answer {
+    code: u16,
+    head: String,
+    body: String,
+}
+
+impl Req {
+    fn send(&self, port: u16) -> Answer {
+        let mut s = std::net::TcpStream::connect(("127.0.0.1", port)).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+        let mut text = format!("{} {} HTTP/1.1\r\n", self.method, self.path);
+        for h in &self.hosts {
+            text += &format!("Host: {h}\r\n");
+        }
+        if let Some(o) = &self.origin {
+            text += &format!("Origin: {o}\r\n");
+        }
+        for a in &self.auth {
+            text += &format!("Authorization: {a}\r\n");
+        }
+        if let Some(c) = &self.content_type {
+            text += &format!("Content-Type: {c}\r\n");
+        }
+        if self.method != "GET" {
+            text += &format!("Content-Length: {}\r\n", self.body.len());
+        }
+        text += "Connection: close\r\n\r\n";
+        text += &self.body;
+        s.write_all(text.as_bytes()).unwrap();
+        // The head, then as much body as it announces (an event stream announces none and
+        // never ends: not read).
+        let mut r = BufReader::new(s);
+        let mut head = String::new();
+        loop {
+            let mut line = String::new();
+            r.read_line(&mut line).unwrap();
+            if line == "\r\n" || line.is_empty() {
+                break;
+            }
+            head += &line.to_ascii_lowercase();
+        }
+        let code = head
+            .split_whitespace()
+            .nth(1)
+            .and_then(|c| c.parse().ok())
+            .unwrap_or_else(|| panic!("not an HTTP answer: {head:?}"));
+        let len = head
+            .lines()
+            .find_map(|l| l.strip_prefix("content-length:"))
+            .map(|n| n.trim().parse::<usize>().unwrap());
+        let mut body = vec![0; len.unwrap_or(0)];
+        r.read_exact(&mut body).unwrap();
+        Answer {
+            code,
+            head,
+            body: String::from_utf8(body).unwrap(),
+        }
+    }
 }
 
 /// Run the page's driver; its JSON report.
@@ -260,14 +401,14 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let uri = format!("emu:{name}");
     let axis = 1;
-    let (mut mcctl, url) = serve(&uri, axis);
+    let served = serve(&uri, axis);
 
     let (step, good_kp, bad_kp) = (400.0, 70.0, -5.0);
     let mut opts = serde_json::json!({ "step": step, "kp": good_kp, "bad_kp": bad_kp });
     if let Some(p) = std::env::var_os("TUNING_SCREENSHOT") {
         opts["screenshot"] = p.to_string_lossy().into();
     }
-    let j = drive(&dir, &chromium, &url, &opts);
+    let j = drive(&dir, &chromium, &served.url, &opts);
 
     // The page loaded everything from the server, without an error in its scripts; the only
     // console error is the refused gain's 422.
@@ -289,13 +430,13 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
 
     // The server's answer for the step test, and the same answer asked for again.
     let api = &j["api"];
-    let (code, kept) = http_get(&url, &format!("/api/tests/{}", api["id"]));
+    let (code, kept) = served.get(&format!("/api/tests/{}", api["id"]));
     assert_eq!(code, 200, "{kept}");
     let kept: Value = serde_json::from_str(&kept).unwrap();
     if let Err(at) = same_json(&kept, api, "") {
         panic!("GET /api/tests/ID is not the page's test: they differ at {at}");
     }
-    let (code, body) = http_get(&url, "/api/tests/99");
+    let (code, body) = served.get("/api/tests/99");
     assert_eq!(code, 404, "{body}");
     assert_eq!(api["kind"], "step");
     assert_eq!(api["axis"], axis);
@@ -466,12 +607,26 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
         "{again}"
     );
 
-    // Stop the server as a person would (SIGTERM): a clean exit.
-    let pid = mcctl.0.as_ref().unwrap().id().to_string();
-    let killed = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
-    assert!(killed.success());
-    let st = mcctl.wait_for(Duration::from_secs(10));
-    assert!(st.is_some_and(|s| s.success()), "mcctl serve: {st:?}");
+    // The page took the token off the address bar; opened without it, it says what it
+    // needs; under another site's name resolved to the server (DNS rebinding), the server
+    // refuses it.
+    let token = &served.token;
+    let after = j["url_after_load"].as_str().unwrap();
+    assert_eq!(after, format!("http://{}/", served.addr));
+    let bare = j["without_token"].as_str().unwrap();
+    assert!(
+        bare.contains("could not start") && bare.contains("open the address"),
+        "{bare}"
+    );
+    let rebound = &j["rebound"];
+    assert_eq!(rebound["status"], 403, "{rebound}");
+    let body = rebound["body"].as_str().unwrap();
+    assert!(body.contains("does not name this server"), "{body}");
+    assert!(!body.contains(token.as_str()), "{body}");
+
+    // Stop the server as a person would (SIGTERM): a clean exit, nothing on stderr.
+    let stderr = served.stop();
+    assert_eq!(stderr, "");
 
     // The card itself: the axis at rest after the last step, running the gain the page
     // applied (and nothing of the refused one).
@@ -498,6 +653,16 @@ fn serve_refuses_bad_arguments_axes_and_busy_ports() {
     assert!(err.contains("--listen"), "{err}");
     let (code, err) = run(&["serve", "--axis", "-1"]);
     assert_eq!(code, 2, "{err}");
+    // A token too short to be a secret, or that would not travel unescaped.
+    let (code, err) = run(&["serve", "--token", "short"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--token") && err.contains("the token has 5 characters"),
+        "{err}"
+    );
+    let (code, err) = run(&["serve", "--token", "a token with spaces in it"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("may hold only"), "{err}");
     let (code, err) = run(&["serve", "--axis", "99", "--listen", "127.0.0.1:0"]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("axis 99"), "{err}");
@@ -506,4 +671,469 @@ fn serve_refuses_bad_arguments_axes_and_busy_ports() {
     let (code, err) = run(&["serve", "--listen", &addr]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains(&format!("listen on {addr}")), "{err}");
+}
+
+// ---- The guard (src/serve/guard.rs): Host, Origin, token and content type on every route ----
+
+/// The axis `mcctl serve` tunes in the guard's tests.
+const AXIS: usize = 1;
+
+/// A move of 2,000,000 counts at 5·10⁵ counts/s, powering the axis on: what a page that got
+/// past the guard would run.
+const FAR_MOVE: &str = r#"{"kind": "move", "distance": 2000000, "enable": true,
+    "limits": {"vmax": 500000, "amax": 10000000, "jmax": 1000000000}}"#;
+
+/// A step test that may not power the axis on: refused (409) naming the axis's state, so it
+/// reads the state through the API without changing it.
+const PROBE: &str = r#"{"kind": "step", "distance": 100, "enable": false}"#;
+
+/// The fallback's 404 (no route), as against a route's own 404.
+const NO_ROUTE: &str = "no such page or API route";
+
+/// An `emu:` card of two axes run in real time by this test, and `mcctl serve` on its axis 1.
+struct Bench {
+    runner: Runner,
+    _server: Server,
+    served: Served,
+}
+
+fn bench(tag: &str) -> Bench {
+    let name = format!("test-serve-{tag}-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let server = Server::start(&name, window, irq).unwrap();
+    let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let served = serve(&format!("emu:{name}"), AXIS);
+    Bench {
+        runner,
+        _server: server,
+        served,
+    }
+}
+
+impl Bench {
+    /// Stop the server (a clean exit, nothing on stderr) and the card: the card's axis.
+    fn finish(self) -> card_emu::firmware::axis::Axis {
+        assert_eq!(self.served.stop(), "", "mcctl serve's stderr");
+        let emu = self.runner.stop().expect("the emulator back");
+        emu.firmware().axis(AXIS).unwrap().clone()
+    }
+}
+
+/// The axis's gains as the API reads them (200).
+fn gains(s: &Served) -> Value {
+    let (code, body) = s.get("/api/gains");
+    assert_eq!(code, 200, "{body}");
+    serde_json::from_str(&body).unwrap()
+}
+
+/// The FFPIV gains `g` with K_P set to `kp`, as `POST /api/gains` takes them.
+fn with_kp(g: &Value, kp: f64) -> String {
+    let mut f = g["ffpiv"].clone();
+    f["law"] = "ffpiv".into();
+    f["kp"] = kp.into();
+    f.to_string()
+}
+
+/// What the API says of the axis's state (the [`PROBE`]'s refusal).
+fn axis_state(s: &Served) -> String {
+    let a = s.call("POST", "/api/tests", PROBE);
+    assert_eq!(a.code, 409, "{a:?}");
+    a.body
+}
+
+/// Every request the server could be asked: each route of `motioncard::serve::ROUTES` with
+/// each method it answers, a method it does not (PUT, DELETE: refused by the guard before
+/// axum's 405), and paths that are no route (the fallback). Each with the body that would do
+/// harm if it got through: K_P = 9000, the [`FAR_MOVE`], a reset. `files`: with the GETs of
+/// the page's files (which need no token).
+fn every_request(g: &Value, files: bool) -> Vec<(&'static str, String, String)> {
+    let mut all = Vec::new();
+    for r in motioncard::serve::ROUTES {
+        let path = r.path.replace("{which}", "last");
+        for &m in r.methods.iter().chain(&["PUT", "DELETE"]) {
+            if r.file && m == "GET" && !files {
+                continue;
+            }
+            let body = match (m, r.path) {
+                ("GET", _) => String::new(),
+                ("POST", "/api/gains") => with_kp(g, 9000.0),
+                ("POST", "/api/tests") => FAR_MOVE.to_string(),
+                ("POST", "/api/reset") | ("PUT" | "DELETE", _) => "{}".to_string(),
+                other => panic!("{other:?}: a route this test does not know; give it a body here"),
+            };
+            all.push((m, path.clone(), body));
+        }
+    }
+    all.push(("GET", "/api/nope".into(), String::new()));
+    all.push(("POST", "/nope".into(), "{}".into()));
+    all
+}
+
+/// A 403 from the guard for `why` (a word of its message), with no CORS header and nothing
+/// of the card in it.
+fn refused(a: &Answer, what: &str, why: &str) {
+    assert_eq!(a.code, 403, "{what}: {a:?}");
+    let body: Value =
+        serde_json::from_str(&a.body).unwrap_or_else(|e| panic!("{what}: {e}: {}", a.body));
+    let msg = body["error"].as_str().unwrap();
+    assert!(
+        msg.starts_with("refused: ") && msg.to_lowercase().contains(why),
+        "{what}: {msg}"
+    );
+    assert!(!a.head.contains("access-control-"), "{what}: {}", a.head);
+    assert!(!a.body.contains("kp"), "{what}: {}", a.body);
+}
+
+/// DNS rebinding: a page of another site whose name resolves to 127.0.0.1 sends its own
+/// name as the Host (and as its Origin), as does anything that names the server without its
+/// port. Every route, with the right token and JSON, is refused, and the card is as before:
+/// the same gains, no test run, the axis still disabled at position 0.
+#[test]
+fn dns_rebinding_hosts_are_refused_on_every_route_and_change_nothing() {
+    let b = bench("host");
+    let s = &b.served;
+    let p = s.port;
+    let g0 = gains(s);
+    let kp0 = g0["ffpiv"]["kp"].as_f64().unwrap();
+    let other_port = if p == u16::MAX { p - 1 } else { p + 1 };
+    let bad_hosts: Vec<Vec<String>> = vec![
+        vec![format!("evil.example:{p}")],
+        vec!["evil.example".into()],
+        vec![format!("localhost.evil.example:{p}")],
+        vec![format!("127.0.0.1.evil.example:{p}")],
+        vec![format!("127.0.0.1:{other_port}")],
+        vec![format!("localhost:{other_port}")],
+        vec!["127.0.0.1".into()],
+        vec!["localhost".into()],
+        vec![format!("[::1]:{p}")], // loopback, but not the address listened on
+        vec![],                     // no Host
+        vec![String::new()],
+        vec![format!("127.0.0.1:{p}"), format!("evil.example:{p}")],
+    ];
+    let requests = every_request(&g0, true);
+    for hosts in &bad_hosts {
+        for (m, path, body) in &requests {
+            let mut r = s.req(m, path, body);
+            r.hosts = hosts.clone();
+            if r.origin.is_some() {
+                r.origin = hosts.first().map(|h| format!("http://{h}"));
+            }
+            refused(&r.send(p), &format!("{m} {path} Host {hosts:?}"), "host");
+        }
+    }
+    // The request line in absolute form, naming another host than the Host header.
+    for (m, body) in [("GET", String::new()), ("POST", with_kp(&g0, 9000.0))] {
+        let r = s.req(m, &format!("http://evil.example:{p}/api/gains"), &body);
+        refused(&r.send(p), &format!("{m} absolute form"), "host");
+    }
+
+    // Nothing changed: the gains, no test kept, the axis still disabled.
+    assert_eq!(gains(s)["ffpiv"]["kp"].as_f64(), Some(kp0));
+    let (code, body) = s.get("/api/tests/last");
+    assert_eq!(code, 404, "{body}");
+    let state = axis_state(s);
+    assert!(state.contains("axis 1 is disabled"), "{state}");
+    // Its own names work: 127.0.0.1:PORT (above) and localhost:PORT, with their origins.
+    let mut r = s.req("GET", "/api/gains", "");
+    r.hosts = vec![format!("localhost:{p}")];
+    let a = r.send(p);
+    assert_eq!(a.code, 200, "{a:?}");
+    let mut r = s.req("POST", "/api/tests", PROBE);
+    r.hosts = vec![format!("LocalHost:{p}")];
+    r.origin = Some(format!("http://localhost:{p}"));
+    let a = r.send(p);
+    assert_eq!(a.code, 409, "{a:?}");
+    assert!(a.body.contains("is disabled"), "{a:?}");
+
+    // The card: K_P as it was, the axis unpowered and never moved.
+    let a = b.finish();
+    // (the API's copy went through the card's read-back: the same to 1e-12)
+    assert!(close(a.config.ffpiv.kp, kp0), "{}", a.config.ffpiv.kp);
+    assert_eq!(a.state, motioncard::AxisState::Disabled);
+    assert_eq!(a.reference().pos, 0.0);
+    assert_eq!(a.last_target(), 0.0);
+}
+
+/// A page of another site cannot use the server even with the token: the issue's simple
+/// cross-site request (`POST /api/reset`, `text/plain`, a foreign Origin) leaves an axis in
+/// ErrorStop in ErrorStop; every route refuses every Origin but the page's own; a POST
+/// without an Origin is refused; the page's own Origin with a body that is not JSON is 415.
+#[test]
+fn a_foreign_origin_cannot_reset_an_axis_in_error_stop_nor_use_any_route() {
+    let b = bench("origin");
+    let s = &b.served;
+    let p = s.port;
+    let g0 = gains(s);
+    let kp0 = g0["ffpiv"]["kp"].as_f64().unwrap();
+    // A step beyond the following-error limit (1000 counts at rest) trips the axis.
+    let trip = s.call(
+        "POST",
+        "/api/tests",
+        r#"{"kind": "step", "distance": 2000, "enable": true}"#,
+    );
+    assert!(trip.body.contains("ErrorStop (FollowingError)"), "{trip:?}");
+    let state = axis_state(s);
+    assert!(state.contains("axis 1 is in ErrorStop"), "{state}");
+
+    // The issue's request, then with the forms' content types, and with the token too.
+    for ct in [
+        "text/plain",
+        "application/x-www-form-urlencoded",
+        "multipart/form-data; boundary=x",
+        "application/json",
+    ] {
+        for auth in [vec![], vec![format!("Bearer {}", s.token)]] {
+            let mut r = s.req("POST", "/api/reset", "{}");
+            r.origin = Some("http://evil.example".into());
+            r.content_type = Some(ct.into());
+            r.auth = auth;
+            let what = format!("reset, {ct}, {} token", r.auth.len());
+            refused(&r.send(p), &what, "origin");
+        }
+    }
+    // Every route, each Origin but the page's own (and none, for what is not a GET), with the
+    // token and JSON.
+    let origins = [
+        Some("http://evil.example".to_string()),
+        Some(format!("http://evil.example:{p}")),
+        Some("null".into()),
+        Some(format!("https://127.0.0.1:{p}")),
+        Some(format!(
+            "http://127.0.0.1:{}",
+            if p == u16::MAX { p - 1 } else { p + 1 }
+        )),
+        Some(format!("http://localhost:{p}")), // this server, but another origin than its Host
+        Some(format!("http://127.0.0.1:{p}/")),
+        Some(format!("http://127.0.0.1:{p}.evil.example")),
+        None,
+    ];
+    for (m, path, body) in every_request(&g0, true) {
+        for o in &origins {
+            if o.is_none() && m == "GET" {
+                continue; // a page's own GETs carry no Origin
+            }
+            let mut r = s.req(m, &path, &body);
+            r.origin = o.clone();
+            refused(&r.send(p), &format!("{m} {path} Origin {o:?}"), "origin");
+        }
+    }
+    // The page's own Origin and the token, but not JSON: 415.
+    for ct in [Some("text/plain"), Some("application/jsonx"), None] {
+        let mut r = s.req("POST", "/api/reset", "{}");
+        r.content_type = ct.map(str::to_string);
+        let a = r.send(p);
+        assert_eq!(a.code, 415, "{ct:?}: {a:?}");
+        assert!(a.body.contains("application/json"), "{a:?}");
+    }
+
+    // Nothing changed: still in ErrorStop, the same gains.
+    let state = axis_state(s);
+    assert!(state.contains("axis 1 is in ErrorStop"), "{state}");
+    assert_eq!(gains(s)["ffpiv"]["kp"].as_f64(), Some(kp0));
+    let a = b.finish();
+    assert_eq!(a.state, motioncard::AxisState::ErrorStop);
+    // (the API's copy went through the card's read-back: the same to 1e-12)
+    assert!(close(a.config.ffpiv.kp, kp0), "{}", a.config.ffpiv.kp);
+}
+
+/// The token: every API route (and every path that is no route) refuses a request without
+/// it, with a wrong one, or with it where it does not go, and changes nothing; the page's
+/// files need none and hold none; with it, every route answers (a method a route does not
+/// list is axum's 405), and the page's requests work: a gain, a test, the stream, a trip and
+/// its reset.
+#[test]
+fn requests_without_the_token_are_refused_and_with_it_every_route_answers() {
+    let b = bench("token");
+    let s = &b.served;
+    let p = s.port;
+    let t = s.token.clone();
+    let g0 = gains(s);
+    let kp0 = g0["ffpiv"]["kp"].as_f64().unwrap();
+    let last = t.chars().last().unwrap();
+    let wrong = format!(
+        "{}{}",
+        &t[..t.len() - 1],
+        if last == '0' { '1' } else { '0' }
+    );
+    let bad_auth: Vec<Vec<String>> = vec![
+        vec![],
+        vec![format!("Bearer {wrong}")],
+        vec![format!("Bearer {}", &t[..t.len() - 1])],
+        vec![format!("Bearer {t}0")],
+        vec![format!("Bearer {}", t.to_uppercase())],
+        vec![format!("Basic {t}")],
+        vec![t.clone()],
+        vec!["Bearer".into()],
+        vec![format!("Bearer {t}"), format!("Bearer {wrong}")],
+    ];
+    let live = motioncard::serve::LIVE;
+    for (m, path, body) in every_request(&g0, false) {
+        for auth in &bad_auth {
+            let mut r = s.req(m, &path, &body);
+            r.auth = auth.clone();
+            refused(&r.send(p), &format!("{m} {path} {auth:?}"), "token");
+        }
+        // In the query, only the event stream takes it.
+        if !(m == "GET" && path == live) {
+            let mut r = s.req(m, &format!("{path}?token={t}"), &body);
+            r.auth = vec![];
+            refused(&r.send(p), &format!("{m} {path}?token="), "token");
+        }
+    }
+    for q in [
+        format!("?token={wrong}"),
+        format!("?token={t}&token={t}"),
+        "?token=".into(),
+        format!("?tok={t}"),
+    ] {
+        let mut r = s.req("GET", &format!("{live}{q}"), "");
+        r.auth = vec![];
+        refused(&r.send(p), &format!("{live}{q}"), "token");
+    }
+    // Nothing changed.
+    assert_eq!(gains(s)["ffpiv"]["kp"].as_f64(), Some(kp0));
+    assert_eq!(s.get("/api/tests/last").0, 404);
+    let state = axis_state(s);
+    assert!(state.contains("axis 1 is disabled"), "{state}");
+
+    // The page's files: no token needed, none in them.
+    for r in motioncard::serve::ROUTES.iter().filter(|r| r.file) {
+        let mut q = s.req("GET", r.path, "");
+        q.auth = vec![];
+        let a = q.send(p);
+        assert_eq!(a.code, 200, "{}: {a:?}", r.path);
+        assert!(!a.body.contains(&t), "{} holds the token", r.path);
+        assert!(!a.head.contains("access-control-"), "{}", a.head);
+        assert!(a.head.contains("x-frame-options: deny"), "{}", a.head);
+    }
+    // With the token every route answers each method it lists (a 403 would be the guard, a
+    // 404 saying NO_ROUTE or a 405 the router), and only those: the rest are 405.
+    for r in motioncard::serve::ROUTES {
+        let path = r.path.replace("{which}", "last");
+        for m in ["GET", "POST", "PUT", "DELETE", "PATCH"] {
+            let body = match (m, r.path) {
+                ("POST", "/api/tests") => PROBE, // 409: the axis is disabled
+                ("POST", "/api/gains") => r#"{"law": "ffpiv"}"#, // 400: no gains in it
+                (_, "/api/reset") => "{}",       // 422: the card resets no disabled axis
+                _ => "{}",
+            };
+            let a = s.call(m, &path, if m == "GET" { "" } else { body });
+            if r.methods.contains(&m) {
+                assert!(
+                    ![403, 405].contains(&a.code) && !a.body.contains(NO_ROUTE),
+                    "{m} {path}: {a:?}"
+                );
+            } else {
+                assert_eq!(a.code, 405, "{m} {path}: {a:?}");
+            }
+            assert!(!a.head.contains("access-control-"), "{}", a.head);
+        }
+    }
+    let a = s.call("GET", "/api/nope", "");
+    assert_eq!(a.code, 404, "{a:?}");
+    assert!(a.body.contains(NO_ROUTE), "{a:?}");
+
+    // What the page does, with the token.
+    let a = s.call("POST", "/api/gains", &with_kp(&g0, 70.0));
+    assert_eq!(a.code, 200, "{a:?}");
+    assert_eq!(gains(s)["ffpiv"]["kp"].as_f64(), Some(70.0));
+    let a = s.call(
+        "POST",
+        "/api/tests",
+        r#"{"kind": "step", "distance": 400, "enable": true}"#,
+    );
+    assert_eq!(a.code, 200, "{a:?}");
+    let run: Value = serde_json::from_str(&a.body).unwrap();
+    assert_eq!(run["in_position"], true, "{}", run["outcome"]);
+    for (path, auth) in [
+        (format!("{live}?token={t}"), vec![]),
+        (live.to_string(), vec![format!("Bearer {t}")]),
+    ] {
+        let mut r = s.req("GET", &path, "");
+        r.auth = auth;
+        let a = r.send(p);
+        assert_eq!(a.code, 200, "{path}: {a:?}");
+        assert!(a.head.contains("content-type: text/event-stream"), "{a:?}");
+    }
+    let trip = s.call(
+        "POST",
+        "/api/tests",
+        r#"{"kind": "step", "distance": 2000, "enable": true}"#,
+    );
+    assert!(trip.body.contains("ErrorStop (FollowingError)"), "{trip:?}");
+    let a = s.call("POST", "/api/reset", "{}");
+    assert_eq!(a.code, 200, "{a:?}");
+    assert_eq!(a.body, r#"{"state":"Disabled"}"#);
+
+    let a = b.finish();
+    assert_eq!(a.state, motioncard::AxisState::Disabled);
+    assert_eq!(a.config.ffpiv.kp, 70.0);
+}
+
+/// `--listen 0.0.0.0:0`: the page is reachable from the network. Without `--token` mcctl
+/// generates one (printed in the address) and warns on stderr, without TLS; with `--token`
+/// it takes that one and no other. On loopback nothing is warned of.
+#[test]
+fn listening_beyond_loopback_warns_and_generates_a_token_or_takes_the_given_one() {
+    let check = |s: &Served, token: &str| {
+        assert_eq!(s.token, token);
+        let p = s.port;
+        // Over loopback, by its address, by the address listened on, and by localhost.
+        for host in [
+            format!("127.0.0.1:{p}"),
+            format!("0.0.0.0:{p}"),
+            format!("localhost:{p}"),
+        ] {
+            let mut r = s.req("GET", "/api/info", "");
+            r.hosts = vec![host.clone()];
+            assert_eq!(r.send(p).code, 200, "{host}");
+        }
+        let mut r = s.req("GET", "/api/info", "");
+        r.hosts = vec![format!("evil.example:{p}")];
+        refused(&r.send(p), "evil.example", "host");
+        for auth in [
+            vec![],
+            vec!["Bearer 0123456789abcdef0123456789abcdef".into()],
+        ] {
+            let mut r = s.req("GET", "/api/info", "");
+            r.auth = auth;
+            refused(&r.send(p), "another token", "token");
+        }
+    };
+    let warned = |err: &str| {
+        err.starts_with("mcctl serve: warning: 0.0.0.0:")
+            && err.contains("is not a loopback address")
+            && err.contains("reachable from the network, without TLS")
+    };
+
+    let s = serve_with(&["serve", "--listen", "0.0.0.0:0"]);
+    assert!(s.addr.starts_with("0.0.0.0:"), "{}", s.url);
+    let token = s.token.clone();
+    assert!(
+        token.len() == 32 && token.bytes().all(|b| b.is_ascii_hexdigit()),
+        "{}",
+        s.url
+    );
+    check(&s, &token);
+    let err = s.stop();
+    assert!(warned(&err), "{err}");
+    assert!(err.contains("The token was generated"), "{err}");
+    assert!(
+        !err.contains(&token),
+        "the token goes to stdout only: {err}"
+    );
+
+    let mine = "a-token-of-my-own_0123456789";
+    let s = serve_with(&["serve", "--listen", "0.0.0.0:0", "--token", mine]);
+    check(&s, mine);
+    let err = s.stop();
+    assert!(warned(&err), "{err}");
+    assert!(!err.contains("generated"), "{err}");
+
+    let s = serve_with(&["serve", "--listen", "127.0.0.1:0", "--token", mine]);
+    assert_eq!(s.token, mine);
+    assert_eq!(s.get("/api/info").0, 200);
+    assert_eq!(s.stop(), "", "loopback: no warning");
 }

@@ -26,7 +26,8 @@
 //! mcctl --card emu:bench1 config save bench1.toml   # what the card holds (read back), as TOML
 //! mcctl --card emu:bench1 config load bench1.toml   # checked whole first; exit 2: bad file
 //! mcctl --card emu:bench1 config diff bench1.toml --json   # exit 0: equal, 1: different
-//! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page
+//! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page (open the
+//!                                                    # http://…/#token=… address it prints)
 //! ```
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use motioncard::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
@@ -575,12 +576,21 @@ enum Cmd {
     /// The tuning page: a local web server for one axis with live plots of the scope stream
     /// (command, actual, following error, DAC), step and move tests with their rise time,
     /// overshoot, settling time and peak following error, and the FFPIV / PD+ gains, editable
-    /// and applied to the card. Prints `listening on http://ADDR/` once open; runs until
-    /// interrupted.
+    /// and applied to the card. Prints `listening on http://ADDR/#token=TOKEN` once open (the
+    /// address to open: the page takes the token from it, and every API request needs it);
+    /// runs until interrupted. Answers only requests addressed to ADDR or localhost, and only
+    /// its own page.
     Serve {
-        /// Address and port to listen on (port 0: any free port).
+        /// Address and port to listen on (port 0: any free port). An address beyond loopback
+        /// (0.0.0.0, a network interface's) makes the page reachable from the network, without
+        /// TLS: mcctl warns so on stderr.
         #[arg(long, default_value = "127.0.0.1:8080")]
         listen: std::net::SocketAddr,
+        /// The token the API requires (16 to 256 characters of A-Z a-z 0-9 - . _ ~), e.g. to
+        /// keep one address across restarts; by default a new one of 128 random bits each
+        /// run. Other users of this machine can read a command line: prefer the default.
+        #[arg(long, value_name = "TOKEN")]
+        token: Option<motioncard::serve::Token>,
         /// The axis the page tunes.
         #[arg(long, default_value_t = 0)]
         axis: usize,
@@ -1099,9 +1109,14 @@ fn main() -> ExitCode {
         }),
         Cmd::Override { axis, factor } => on_card(uri, |c| cli::set_override(c, axis, factor)),
         Cmd::Halt { axis, dmax, jmax } => on_card(uri, |c| cli::halt(c, axis, dmax, jmax)),
-        Cmd::Serve { listen, axis } => {
+        Cmd::Serve {
+            listen,
+            axis,
+            token,
+        } => {
             let opts = motioncard::serve::Options {
                 listen,
+                token,
                 axis,
                 uri: uri.to_string(),
             };

@@ -1,9 +1,11 @@
 // Drives the tuning page of `mcctl serve` in Debian's headless Chromium (tests/serve.rs runs
 // it): load the page, wait for the live plots, run a step test, read the figures the page
 // shows and the arrays its charts plot, apply a good gain and a bad one, and print one JSON
-// object on stdout with everything read, for the Rust test to check.
+// object on stdout with everything read, for the Rust test to check. Then the guard: the page
+// opened without the token, and the page's address under another name that resolves to the
+// server (DNS rebinding, `evil.example`, mapped to 127.0.0.1 by the browser's resolver).
 //
-//   node drive.mjs URL '{"step": 400, "kp": 70, "bad_kp": -5, "screenshot": "/tmp/x.png"}'
+//   node drive.mjs 'http://127.0.0.1:PORT/#token=TOKEN' '{"step": 400, "kp": 70, "bad_kp": -5}'
 //
 // CHROMIUM names the browser (default /usr/bin/chromium). Exits 1 with the reason on stderr
 // when a step fails or the whole run takes longer than 50 s.
@@ -26,6 +28,10 @@ const opt = {
   ...JSON.parse(argJson || "{}"),
 };
 const executablePath = process.env.CHROMIUM || "/usr/bin/chromium";
+// The server's own address, without the token (the page's requests all start with it).
+const base = new URL(url);
+base.hash = "";
+const REBIND = "evil.example";
 const WAIT = { timeout: 20000 };
 
 const deadline = setTimeout(() => {
@@ -49,6 +55,7 @@ try {
       "--disable-background-networking",
       "--disable-component-update",
       "--disable-sync",
+      `--host-resolver-rules=MAP ${REBIND} 127.0.0.1`,
     ],
   });
   const page = ctx.pages()[0] || (await ctx.newPage());
@@ -62,11 +69,13 @@ try {
   // The page must need nothing but the server it came from.
   const foreign = [];
   page.on("request", (r) => {
-    if (!r.url().startsWith(url) && !r.url().startsWith("data:")) foreign.push(r.url());
+    if (!r.url().startsWith(base.href) && !r.url().startsWith("data:")) foreign.push(r.url());
   });
 
   await page.goto(url);
   await page.waitForFunction(() => window.tuning && window.tuning.ready, null, WAIT);
+  // The page took the token off the address bar.
+  const urlAfterLoad = page.url();
   await page.waitForFunction(() => window.tuning.live.points >= 20, null, WAIT);
   const liveBefore = await page.evaluate(() => ({
     state: tuning.live.state,
@@ -157,7 +166,7 @@ try {
       message: document.getElementById("gain-message").textContent,
       held_kp: document.getElementById("held-ffpiv-kp").dataset.value,
       typed_kp: document.getElementById("gain-ffpiv-kp").value,
-      server: await (await fetch("/api/gains")).json(),
+      server: await api("/api/gains"),
     }));
   };
   const good = await apply(opt.kp);
@@ -199,8 +208,27 @@ try {
     message: await page.textContent("#test-message"),
   };
 
+  // The page opened without the token (a new tab: its own sessionStorage) says what it needs.
+  const bare = await ctx.newPage();
+  await bare.goto(base.href);
+  await bare.waitForFunction(
+    () => document.getElementById("card-info").textContent.includes("token"),
+    null,
+    WAIT,
+  );
+  const withoutToken = await bare.textContent("#card-info");
+  // DNS rebinding: another site's name resolved to the server's address.
+  const rebound = new URL(base.href);
+  rebound.hostname = REBIND;
+  const evil = await bare.goto(rebound.href);
+  const reboundPage = { status: evil.status(), body: await evil.text() };
+  await bare.close();
+
   console.log(
     JSON.stringify({
+      url_after_load: urlAfterLoad,
+      without_token: withoutToken,
+      rebound: reboundPage,
       live_before: liveBefore,
       live_after: liveAfter,
       api,

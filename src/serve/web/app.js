@@ -1,6 +1,11 @@
 // The tuning page of `mcctl serve`: live plots from the scope stream, the step and move
 // tests with their figures, and the servo gains. Everything it shows comes from /api/*.
 //
+// Every API request carries the server's token, which the page takes from the address
+// `mcctl serve` printed (`http://ADDR/#token=TOKEN`: a fragment, never sent to a server in a
+// request line or a Referer), keeps for this tab in sessionStorage (no other origin can read
+// it) and takes off the address bar. The server holds it nowhere a page can fetch.
+//
 // For tests and tools, `window.tuning` holds the page's state: `charts` (the uPlot
 // instances; `u.data` is exactly what each plots), `lastTest` (the last test's id, figures
 // and, through `series`, the arrays its charts plot), `gains` (as last read from the server)
@@ -49,6 +54,26 @@ window.tuning = tuning;
 
 const $ = (id) => document.getElementById(id);
 
+const TOKEN_KEY = "motioncard-serve-token";
+const NO_TOKEN =
+  "this page needs the server's token: open the address `mcctl serve` printed, with its #token=…";
+
+// The token from the address (then kept for this tab and taken off the address bar), or the
+// one kept from it; null when neither.
+function takeToken() {
+  const m = /^#token=([A-Za-z0-9._~-]+)$/.exec(location.hash);
+  let kept = null;
+  try {
+    if (m) sessionStorage.setItem(TOKEN_KEY, m[1]);
+    kept = sessionStorage.getItem(TOKEN_KEY);
+  } catch (e) {
+    /* storage disabled: the token lives as long as the page */
+  }
+  if (m) history.replaceState(null, "", location.pathname + location.search);
+  return m ? m[1] : kept;
+}
+const token = takeToken();
+
 function setMessage(el, status, text) {
   el.dataset.status = status;
   el.textContent = text;
@@ -66,9 +91,11 @@ function numberOf(input, name) {
 }
 
 async function api(path, body) {
-  const init = body === undefined ? {} : {
+  if (!token) throw new Error(NO_TOKEN);
+  const headers = { authorization: `Bearer ${token}` };
+  const init = body === undefined ? { headers } : {
     method: "POST",
-    headers: { "content-type": "application/json" },
+    headers: { ...headers, "content-type": "application/json" },
     body: JSON.stringify(body),
   };
   const r = await fetch(path, init);
@@ -244,7 +271,8 @@ function onBatch(b) {
 }
 
 function startLive() {
-  const es = new EventSource("/api/live");
+  // An EventSource sets no header: the stream alone takes the token in its query.
+  const es = new EventSource(`/api/live?token=${encodeURIComponent(token)}`);
   es.addEventListener("samples", (e) => onBatch(JSON.parse(e.data)));
   es.addEventListener("paused", (e) => {
     const j = JSON.parse(e.data);
@@ -256,7 +284,11 @@ function startLive() {
     setLiveState("error", j.error);
   });
   es.onerror = () => {
-    if (tuning.live.state !== "error") setLiveState("connecting", "live: reconnecting…");
+    if (es.readyState === EventSource.CLOSED) {
+      setLiveState("error", "live: the server refused the stream (reload the page)");
+    } else if (tuning.live.state !== "error") {
+      setLiveState("connecting", "live: reconnecting…");
+    }
   };
 }
 
