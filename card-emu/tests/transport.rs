@@ -1,23 +1,24 @@
-//! The `emu:` transport's protections (issue 10, section 3): who may connect to a served card
-//! (the peer's credentials against card-emu's policy), and a DPRAM window whose size no host
-//! can change.
+//! The `emu:` transport's protections (issue 10, section 3; issue 31): who may connect to a
+//! served card (the peer's credentials against card-emu's policy), a window per lease (a past
+//! host cannot reach a later one's card), and a DPRAM window whose size no host can change.
 //!
 //! The cross-user tests need root, to run a host as another user: this test binary runs again
 //! with `MC_TRANSPORT_PEER` set, as uid 65534 (nobody), and its `peer_role` test opens the
 //! card and prints what happened. Without root they say so and check what they can in-process.
 mod common;
 
-use card_emu::emu::server::{self, Server};
+use card_emu::emu::server::{self, LeaseFds, LeaseSource, Server};
 use card_emu::{EmuOptions, Emulator};
 use common::{card_emu, open_when_ready, try_open, Proc};
 use firmware_proto::emu_link::{self, ConnectError};
 use firmware_proto::window::MappedWindow;
+use firmware_proto::{layout, Mem};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
 use nix::errno::Errno;
 use nix::fcntl::{fcntl, FcntlArg, SealFlag};
 use nix::unistd::{ftruncate, Gid, Uid};
 use std::io::Read;
-use std::os::fd::AsFd;
+use std::os::fd::{AsFd, OwnedFd};
 use std::os::unix::process::CommandExt;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -140,10 +141,8 @@ fn a_host_of_another_user_is_refused_with_permission_denied() {
         // another uid, in this process.
         let me = nix::unistd::geteuid().as_raw();
         let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
-        let window = emu.window().fd().try_clone_to_owned().unwrap();
-        let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
         let policy = server::PeerPolicy::new(me + 1);
-        let _server = Server::start_with(&name, window, irq, policy).unwrap();
+        let _server = Server::start_with(&name, emu.lessor(), policy).unwrap();
         let e = Card::open(&uri).err().unwrap();
         assert_eq!(e.kind(), ErrorKind::PermissionDenied, "{e}");
         assert!(e.to_string().contains(&format!("--allow-uid {me}")), "{e}");
@@ -286,12 +285,80 @@ fn a_host_cannot_resize_the_window() {
 #[test]
 fn a_host_refuses_an_unsealed_window() {
     use nix::sys::memfd::{memfd_create, MFdFlags};
+    /// A server that breaks the protocol: an unsealed memfd.
+    struct Unsealed(OwnedFd, nix::sys::eventfd::EventFd);
+    impl LeaseSource for Unsealed {
+        fn next_lease(&self) -> std::io::Result<LeaseFds> {
+            Ok(LeaseFds {
+                window: self.0.try_clone()?,
+                irq: self.1.as_fd().try_clone_to_owned()?,
+            })
+        }
+    }
     let name = format!("unsealed-{}", std::process::id());
     let window = memfd_create("unsealed", MFdFlags::MFD_CLOEXEC).unwrap();
     ftruncate(&window, firmware_proto::DPRAM_SIZE as i64).unwrap();
     let irq = nix::sys::eventfd::EventFd::new().unwrap();
-    let _server = Server::start(&name, window, irq.as_fd().try_clone_to_owned().unwrap()).unwrap();
+    let _server = Server::start(&name, Unsealed(window, irq)).unwrap();
     let e = Card::open(&format!("emu:{name}")).err().unwrap();
     assert_eq!(e.kind(), ErrorKind::Protocol, "{e}");
     assert!(e.to_string().contains("not sealed"), "{e}");
+}
+
+/// Issue 31: a host that kept the window's memfd (and its mapping) after its lease wrote into
+/// the window of the next host: that host's commands failed with a protocol violation and its
+/// axis went to ErrorStop. Each lease now gets a window and an interrupt line of its own: the
+/// past host scribbles over all of its old window and the card, and the host that has it now,
+/// notice nothing.
+#[test]
+fn a_past_host_cannot_reach_a_later_hosts_window() {
+    let name = format!("past-host-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let _emu = Emu::start(&name, &[]);
+    let past = connect_when_ready(&name);
+    let old = MappedWindow::from_fd(past.window).unwrap();
+    let old_irq = past.irq;
+    let t0 = old.read64(layout::TICK);
+    while old.read64(layout::TICK) < t0 + 10 {
+        std::thread::sleep(Duration::from_millis(1)); // the card ticks in it for now
+    }
+    drop(past.lease);
+
+    let card = open_when_ready(&uri);
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    let drain = |fd: &OwnedFd| nix::unistd::read(fd, &mut [0u8; 8]);
+    let _ = drain(&old_irq);
+    // The past host writes garbage over the whole window it kept, twice over a while.
+    for round in 0..2u64 {
+        for off in (0..firmware_proto::DPRAM_SIZE).step_by(8) {
+            old.write64(off, 0xA5A5_5A5A_0000_0000 | off as u64 | round);
+        }
+        ax.jog(1_000.0).unwrap();
+        std::thread::sleep(Duration::from_millis(20));
+        ax.jog_release()
+            .unwrap()
+            .wait(Duration::from_secs(10))
+            .unwrap();
+    }
+    let m = ax
+        .move_relative(-5_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap();
+    m.wait(Duration::from_secs(10)).unwrap();
+    let st = ax.status().unwrap();
+    assert_eq!(st.state, AxisState::Standstill);
+    let safety = card.safety_status().unwrap();
+    assert_eq!(safety.protocol_errors, 0);
+    assert!(!safety.watchdog_tripped);
+    // The card no longer writes the old window: its tick counter stays the garbage written.
+    let t = card.tick().unwrap();
+    while card.tick().unwrap() < t + 100 {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert_eq!(
+        old.read64(layout::TICK),
+        0xA5A5_5A5A_0000_0000 | layout::TICK as u64 | 1
+    );
+    // Nor raises the old interrupt line.
+    assert_eq!(drain(&old_irq), Err(Errno::EAGAIN));
 }

@@ -8,6 +8,16 @@
 //! answered "busy"; when it closes (the host exited or was killed) the card can be opened
 //! again. The card itself keeps running either way, like hardware.
 //!
+//! # A window per lease
+//!
+//! Each lease gets a window and an interrupt line of its own ([`LeaseSource`]; the emulator's
+//! is its [`Lessor`]): between two ticks the card copies its window into a new sealed memfd,
+//! maps that over its own mapping in place, and raises its interrupt on a new eventfd from then
+//! on; the server hands those two to the host and keeps no descriptor of them. A past host
+//! that kept the memfd, its mapping or the eventfd after its lease ended holds memory the card
+//! no longer reads and an eventfd it no longer raises: it cannot reach the card of a later
+//! host.
+//!
 //! # Who may connect
 //!
 //! An abstract socket has no file, so no file permissions: any process in the network
@@ -23,11 +33,11 @@
 //! # What the lease protects, and what it does not
 //!
 //! The lease keeps a second *SDK host* out: only the process holding the connection received
-//! the window from the server. It is not a wall around the window. A process that may open
-//! `/proc/PID/fd/N` of the card-emu process or of the host (the kernel's ptrace read-access
-//! check: in practice the same user, or root) can map the same memfd and write anything into
-//! it, and the card cannot tell its writes from the host's. The card then does what it does
-//! with any host:
+//! the window from the server, and the window of an earlier lease is no longer the card's. It
+//! is not a wall around the current window. A process that may open `/proc/PID/fd/N` of the
+//! card-emu process or of the current host (the kernel's ptrace read-access check: in practice
+//! the same user, or root) can map the same memfd and write anything into it, and the card
+//! cannot tell its writes from the host's. The card then does what it does with any host:
 //! - every command is validated, and an invalid one is nacked without effect; a well-formed
 //!   one is executed whoever wrote it, and a write to the heartbeat feeds the watchdog;
 //! - configuration blocks are validated when a command applies them;
@@ -45,11 +55,12 @@
 //! Nobody can resize the window: its seals ([`firmware_proto::window::WINDOW_SEALS`]) make `ftruncate`
 //! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
+use super::emulator::Lessor;
 use firmware_proto::emu_link::{hello, socket_name, STATUS_BUSY, STATUS_DENIED, STATUS_OK};
 use nix::sys::socket::{getsockopt, sendmsg, sockopt, ControlMessage, MsgFlags};
 use std::collections::BTreeSet;
 use std::io::{IoSlice, Read};
-use std::os::fd::{AsFd, AsRawFd, OwnedFd};
+use std::os::fd::{AsRawFd, OwnedFd};
 use std::os::linux::net::SocketAddrExt;
 use std::os::unix::net::{SocketAddr, UnixListener, UnixStream};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -195,24 +206,47 @@ pub fn resolve_group(group: &str) -> Result<u32, String> {
     }
 }
 
+/// The window and the interrupt line handed to one host.
+pub struct LeaseFds {
+    /// The DPRAM window's memfd, sealed ([`firmware_proto::window::WINDOW_SEALS`]).
+    pub window: OwnedFd,
+    /// The interrupt eventfd.
+    pub irq: OwnedFd,
+}
+
+/// Where each host's window and interrupt line come from.
+pub trait LeaseSource: Send + Sync + 'static {
+    /// The window and the interrupt line of the host that takes the card now. Called once per
+    /// lease, after the host's greeting, never for two leases at a time.
+    fn next_lease(&self) -> std::io::Result<LeaseFds>;
+}
+
+/// The emulator's: a new window and interrupt line for each host ([`Lessor::renew`]).
+impl LeaseSource for Lessor {
+    fn next_lease(&self) -> std::io::Result<LeaseFds> {
+        let (window, irq) = self.renew()?;
+        Ok(LeaseFds { window, irq })
+    }
+}
+
 /// The listening side. Accepts hosts one at a time on a background thread.
 pub struct Server {
     name: String,
 }
 
 impl Server {
-    /// Listen for card `name`, handing out `window` and `irq` to this user and root
+    /// Listen for card `name`, handing each host the window and interrupt line `source` makes
+    /// for it (an emulator's [`Lessor`]: a new window per host), to this user and root
     /// ([`PeerPolicy::this_user`]). Fails with `AddrInUse` when a card of that name is already
     /// served.
-    pub fn start(name: &str, window: OwnedFd, irq: OwnedFd) -> std::io::Result<Self> {
-        Self::start_with(name, window, irq, PeerPolicy::this_user())
+    pub fn start(name: &str, source: impl LeaseSource) -> std::io::Result<Self> {
+        Self::start_with(name, source, PeerPolicy::this_user())
     }
 
     /// [`Server::start`], admitting the peers `policy` admits.
     pub fn start_with(
         name: &str,
-        window: OwnedFd,
-        irq: OwnedFd,
+        source: impl LeaseSource,
         policy: PeerPolicy,
     ) -> std::io::Result<Self> {
         let addr = SocketAddr::from_abstract_name(socket_name(name).as_bytes())?;
@@ -257,14 +291,28 @@ impl Server {
                         );
                         continue;
                     }
-                    let fds = [window.as_fd().as_raw_fd(), irq.as_fd().as_raw_fd()];
+                    let fds = match source.next_lease() {
+                        Ok(fds) => fds,
+                        Err(e) => {
+                            eprintln!(
+                                "card-emu: cannot make the window of a host with uid {} (pid \
+                                 {}): {e}",
+                                peer.uid, peer.pid
+                            );
+                            leased.store(false, Ordering::Release);
+                            continue;
+                        }
+                    };
+                    let raw = [fds.window.as_raw_fd(), fds.irq.as_raw_fd()];
                     let sent = sendmsg::<()>(
                         stream.as_raw_fd(),
                         &[IoSlice::new(&hello(STATUS_OK, 0))],
-                        &[ControlMessage::ScmRights(&fds)],
+                        &[ControlMessage::ScmRights(&raw)],
                         MsgFlags::empty(),
                         None,
                     );
+                    // The server keeps no descriptor of a host's window.
+                    drop(fds);
                     if sent.is_err() {
                         leased.store(false, Ordering::Release);
                         continue;
@@ -294,6 +342,7 @@ impl Server {
 mod tests {
     use super::*;
     use firmware_proto::emu_link::{connect, ConnectError};
+    use std::sync::atomic::AtomicUsize;
 
     fn peer(uid: u32, gid: u32, groups: &[u32]) -> PeerCred {
         PeerCred {
@@ -365,21 +414,45 @@ mod tests {
         drop(b);
     }
 
+    /// A source that hands out one window (and counts the leases it made).
+    struct Counted {
+        window: firmware_proto::window::MappedWindow,
+        leases: AtomicUsize,
+    }
+
+    impl Counted {
+        fn new() -> Arc<Self> {
+            Arc::new(Self {
+                window: firmware_proto::window::MappedWindow::create("server-unit").unwrap(),
+                leases: AtomicUsize::new(0),
+            })
+        }
+    }
+
+    impl LeaseSource for Arc<Counted> {
+        fn next_lease(&self) -> std::io::Result<LeaseFds> {
+            self.leases.fetch_add(1, Ordering::SeqCst);
+            Ok(LeaseFds {
+                window: self.window.dup_fd()?,
+                irq: self.window.dup_fd()?,
+            })
+        }
+    }
+
     #[test]
     fn a_refused_peer_is_told_its_uid_and_gets_no_descriptors() {
         // A policy whose owner is not this process; as root (always admitted) only the
         // greeting is checked below.
         let me = nix::unistd::geteuid().as_raw();
         let name = format!("policy-unit-{}", std::process::id());
-        let w = firmware_proto::window::MappedWindow::create("policy-unit").unwrap();
-        let irq = w.fd().try_clone_to_owned().unwrap();
-        let window = w.fd().try_clone_to_owned().unwrap();
-        let _s =
-            Server::start_with(&name, window, irq, PeerPolicy::new(me.wrapping_add(1))).unwrap();
+        let source = Counted::new();
+        let policy = PeerPolicy::new(me.wrapping_add(1));
+        let _s = Server::start_with(&name, source.clone(), policy).unwrap();
         match connect(&name) {
             Err(ConnectError::Denied { uid }) => {
                 assert_ne!(me, 0);
                 assert_eq!(uid, me);
+                assert_eq!(source.leases.load(Ordering::SeqCst), 0);
             }
             Ok(_) => assert_eq!(me, 0, "only root passes a policy it does not own"),
             Err(e) => panic!("{e:?}"),
