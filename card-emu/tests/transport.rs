@@ -1,16 +1,17 @@
 //! The `emu:` transport's protections (issue 10, section 3; issue 31): who may connect to a
-//! served card (the peer's credentials against card-emu's policy), a window per lease (a past
-//! host cannot reach a later one's card), and a DPRAM window whose size no host can change.
+//! served card (the peer's credentials against card-emu's policy), a connection that says
+//! nothing takes nothing, a window per lease (a past host cannot reach a later one's card), and
+//! a DPRAM window whose size no host can change.
 //!
 //! The cross-user tests need root, to run a host as another user: this test binary runs again
 //! with `MC_TRANSPORT_PEER` set, as uid 65534 (nobody), and its `peer_role` test opens the
 //! card and prints what happened. Without root they say so and check what they can in-process.
 mod common;
 
-use card_emu::emu::server::{self, LeaseFds, LeaseSource, Server};
+use card_emu::emu::server::{self, LeaseFds, LeaseSource, ServeOptions, Server};
 use card_emu::{EmuOptions, Emulator};
 use common::{card_emu, open_when_ready, try_open, Proc};
-use firmware_proto::emu_link::{self, ConnectError};
+use firmware_proto::emu_link::{self, ConnectError, STATUS_TIMEOUT};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::{layout, Mem};
 use motioncard_sdk::{AxisState, Card, ErrorKind, MoveLimits};
@@ -19,6 +20,8 @@ use nix::fcntl::{fcntl, FcntlArg, SealFlag};
 use nix::unistd::{ftruncate, Gid, Uid};
 use std::io::Read;
 use std::os::fd::{AsFd, OwnedFd};
+use std::os::linux::net::SocketAddrExt;
+use std::os::unix::net::{SocketAddr, UnixStream};
 use std::os::unix::process::CommandExt;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -36,7 +39,7 @@ impl Emu {
         let mut args = vec!["--axes", "2"];
         args.extend_from_slice(extra);
         let emu = Emu(card_emu(name, &args));
-        drop(connect_when_ready(name));
+        release(connect_when_ready(name));
         emu
     }
 
@@ -64,6 +67,18 @@ fn connect_when_ready(name: &str) -> emu_link::Connection {
             Err(e) => panic!("connecting to {name}: {e:?}"),
         }
     }
+}
+
+/// End a lease and wait until card-emu has let it go (it closes its end after that), so that
+/// the card is free for whoever connects next.
+fn release(conn: emu_link::Connection) {
+    let mut lease = conn.lease;
+    lease.shutdown(std::net::Shutdown::Write).unwrap();
+    lease
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    let mut b = [0u8; 16];
+    assert_eq!(lease.read(&mut b).unwrap(), 0, "card-emu closed the lease");
 }
 
 fn len(fd: impl AsFd) -> u64 {
@@ -141,8 +156,8 @@ fn a_host_of_another_user_is_refused_with_permission_denied() {
         // another uid, in this process.
         let me = nix::unistd::geteuid().as_raw();
         let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
-        let policy = server::PeerPolicy::new(me + 1);
-        let _server = Server::start_with(&name, emu.lessor(), policy).unwrap();
+        let opts = ServeOptions::new(server::PeerPolicy::new(me + 1));
+        let _server = Server::start_with(&name, emu.lessor(), opts).unwrap();
         let e = Card::open(&uri).err().unwrap();
         assert_eq!(e.kind(), ErrorKind::PermissionDenied, "{e}");
         assert!(e.to_string().contains(&format!("--allow-uid {me}")), "{e}");
@@ -303,6 +318,46 @@ fn a_host_refuses_an_unsealed_window() {
     let e = Card::open(&format!("emu:{name}")).err().unwrap();
     assert_eq!(e.kind(), ErrorKind::Protocol, "{e}");
     assert!(e.to_string().contains("not sealed"), "{e}");
+}
+
+/// Issue 31: a client that connects and never says anything kept every host out ("busy") for
+/// as long as it held the socket. Now the card is leased only after a host's greeting: a host
+/// opens the card while the silent connection is still there, and card-emu closes the silent
+/// one at its deadline (2 s), answering "timeout", and logs it once.
+#[test]
+fn a_silent_connection_locks_no_host_out() {
+    let name = format!("squat-{}", std::process::id());
+    let uri = format!("emu:{name}");
+    let emu = Emu::start(&name, &[]); // and the card is free
+    let addr = SocketAddr::from_abstract_name(emu_link::socket_name(&name).as_bytes()).unwrap();
+    let mut silent = UnixStream::connect_addr(&addr).unwrap();
+    silent
+        .set_read_timeout(Some(Duration::from_secs(30)))
+        .unwrap();
+    let card = open_when_ready(&uri);
+    card.ping().unwrap();
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    ax.disable().unwrap();
+    drop(ax);
+    drop(card);
+    // Still silent; card-emu hangs up on it.
+    let mut greeting = [0u8; 16];
+    silent.read_exact(&mut greeting).unwrap();
+    assert_eq!(greeting[..8], emu_link::HELLO);
+    assert_eq!(greeting[8..12], STATUS_TIMEOUT.to_le_bytes());
+    assert_eq!(greeting[12..16], 2000u32.to_le_bytes(), "the deadline, ms");
+    assert_eq!(silent.read(&mut greeting).unwrap(), 0, "closed by card-emu");
+    // And the next host opens the card.
+    open_when_ready(&uri).ping().unwrap();
+    let log = emu.stop();
+    let me = nix::unistd::geteuid().as_raw();
+    assert_eq!(
+        log.matches(&format!("dropped a connection of uid {me}"))
+            .count(),
+        1,
+        "{log}"
+    );
 }
 
 /// Issue 31: a host that kept the window's memfd (and its mapping) after its lease wrote into

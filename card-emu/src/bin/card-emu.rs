@@ -1,5 +1,5 @@
 //! `card-emu`: serve an emulated motion card to other processes as `emu:NAME`.
-use card_emu::emu::server::{resolve_group, PeerPolicy, Server};
+use card_emu::emu::server::{resolve_group, PeerPolicy, ServeOptions, Server};
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use clap::Parser;
 
@@ -12,9 +12,10 @@ use clap::Parser;
 /// supplementary groups is given with --allow-group. Any other process is refused: its
 /// `Card::open` fails with PermissionDenied (C: MC_ERR_PERMISSION_DENIED) and card-emu logs
 /// each refused uid once on stderr. One admitted host at a time holds the card (the others get
-/// "busy"). Each host gets a window of its own: what a past host writes into the window it
-/// kept reaches no later host. This keeps other SDK hosts out, not a process of the same user
-/// (or root) that maps the current window through /proc/PID/fd.
+/// "busy"), from its greeting (within 2 s of connecting, or the connection is dropped) until it
+/// closes the connection. Each host gets a window of its own: what a past host writes into the
+/// window it kept reaches no later host. This keeps other SDK hosts out, not a process of the
+/// same user (or root) that maps the current window through /proc/PID/fd.
 #[derive(Parser, Debug)]
 #[command(version, about, long_about)]
 struct Args {
@@ -61,7 +62,8 @@ fn main() -> std::process::ExitCode {
             .iter()
             .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
         let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
-        let server = Server::start_with(&args.name, emu.lessor(), policy.clone()).map_err(|e| {
+        let serve = ServeOptions::new(policy.clone());
+        let server = Server::start_with(&args.name, emu.lessor(), serve).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AddrInUse {
                 std::io::Error::new(
                     e.kind(),
