@@ -652,12 +652,9 @@ fn gear_and_cam_from_the_command_line() {
 fn one_card_across_mcctl_processes() {
     use card_emu::emu::server::Server;
     use card_emu::{EmuOptions, Emulator, Runner};
-    use std::os::fd::AsFd;
     let name = format!("test-mcctl-{}", std::process::id());
     let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let _server = Server::start(&name, window, irq).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
     let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let uri = format!("emu:{name}");
     let on = |args: &[&str]| {
@@ -825,12 +822,9 @@ fn scope_from_the_command_line() {
 fn config_save_load_and_diff_from_the_command_line() {
     use card_emu::emu::server::Server;
     use card_emu::{EmuOptions, Emulator, Runner};
-    use std::os::fd::AsFd;
     let name = format!("test-config-{}", std::process::id());
     let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let _server = Server::start(&name, window, irq).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
     let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let uri = format!("emu:{name}");
     let dir = std::env::temp_dir().join(format!("mcctl-config-{}", std::process::id()));

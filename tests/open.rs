@@ -3,13 +3,10 @@ use card_emu::emu::server::Server;
 use card_emu::{EmuOptions, Emulator, Runner};
 use firmware_proto::{layout, Mem};
 use motioncard::{Card, ErrorKind, MoveLimits};
-use std::os::fd::AsFd;
 use std::time::{Duration, Instant};
 
 fn serve(name: &str, emu: Emulator) -> (Server, Runner) {
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let server = Server::start(name, window, irq).unwrap();
+    let server = Server::start(name, emu.lessor()).unwrap();
     (
         server,
         Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap(),
@@ -19,9 +16,7 @@ fn serve(name: &str, emu: Emulator) -> (Server, Runner) {
 /// Serve a card whose firmware does not run (nothing rewrites its window): what a test writes
 /// into the identity block stays there.
 fn serve_frozen(name: &str, emu: &Emulator) -> Server {
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    Server::start(name, window, irq).unwrap()
+    Server::start(name, emu.lessor()).unwrap()
 }
 
 fn unique(tag: &str) -> String {

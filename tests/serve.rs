@@ -18,7 +18,6 @@ use card_emu::{EmuOptions, Emulator, Runner};
 use motioncard::tuning::{figures, Band, Response};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
-use std::os::fd::AsFd;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
@@ -395,9 +394,7 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     };
     let name = format!("test-serve-{}", std::process::id());
     let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let _server = Server::start(&name, window, irq).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
     let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let uri = format!("emu:{name}");
     let axis = 1;

@@ -745,11 +745,8 @@ fn panic_program_is_clean_under_valgrind() {
 /// Serve an `emu:` card named `name` from this process on the real-time clock.
 fn serve_emu(name: &str) -> (card_emu::emu::server::Server, card_emu::Runner) {
     use card_emu::{emu::server::Server, Clock, EmuOptions, Emulator, Runner};
-    use std::os::fd::AsFd;
     let emu = Emulator::create(name, &EmuOptions::new(2, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let server = Server::start(name, window, irq).unwrap();
+    let server = Server::start(name, emu.lessor()).unwrap();
     (server, Runner::spawn(emu, Clock::RealTime, false).unwrap())
 }
 

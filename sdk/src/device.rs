@@ -201,7 +201,6 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
     let window = emu.window().clone();
     let irq = emu
         .irq_fd()
-        .try_clone_to_owned()
         .map_err(|e| Error::io("duplicating the interrupt eventfd", e))?;
     let backend = match opts.clock {
         Clock::Stepped => Backend::SimStepped {

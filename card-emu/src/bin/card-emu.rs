@@ -1,8 +1,7 @@
 //! `card-emu`: serve an emulated motion card to other processes as `emu:NAME`.
-use card_emu::emu::server::{resolve_group, PeerPolicy, Server};
+use card_emu::emu::server::{resolve_group, PeerPolicy, ServeOptions, Server};
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use clap::Parser;
-use std::os::fd::AsFd;
 
 /// Serve an emulated motion card. Hosts open it with the card URI `emu:NAME`.
 ///
@@ -13,8 +12,10 @@ use std::os::fd::AsFd;
 /// supplementary groups is given with --allow-group. Any other process is refused: its
 /// `Card::open` fails with PermissionDenied (C: MC_ERR_PERMISSION_DENIED) and card-emu logs
 /// each refused uid once on stderr. One admitted host at a time holds the card (the others get
-/// "busy"); this keeps other SDK hosts out, not a process of the same user (or root) that maps
-/// the window through /proc/PID/fd.
+/// "busy"), from its greeting (within 2 s of connecting, or the connection is dropped) until it
+/// closes the connection. Each host gets a window of its own: what a past host writes into the
+/// window it kept reaches no later host. This keeps other SDK hosts out, not a process of the
+/// same user (or root) that maps the current window through /proc/PID/fd.
 #[derive(Parser, Debug)]
 #[command(version, about, long_about)]
 struct Args {
@@ -56,14 +57,13 @@ fn main() -> std::process::ExitCode {
     };
     let run = || -> std::io::Result<(Server, Runner, PeerPolicy)> {
         let emu = Emulator::create(&args.name, &opts)?;
-        let window = emu.window().fd().try_clone_to_owned()?;
-        let irq = emu.irq_fd().as_fd().try_clone_to_owned()?;
         let policy = args
             .allow_uid
             .iter()
             .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
         let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
-        let server = Server::start_with(&args.name, window, irq, policy.clone()).map_err(|e| {
+        let serve = ServeOptions::new(policy.clone());
+        let server = Server::start_with(&args.name, emu.lessor(), serve).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AddrInUse {
                 std::io::Error::new(
                     e.kind(),

@@ -8,6 +8,12 @@
 //! - **real-time**: a thread steps on absolute deadlines of the servo period
 //!   (`clock_nanosleep(TIMER_ABSTIME)`), serving commands between ticks, optionally
 //!   busy-polling the command ring instead of sleeping (lowest command latency).
+//!
+//! Each host that takes the card gets a window and an interrupt line of its own ([`Lessor`]):
+//! between two ticks the card moves onto a new memfd holding a copy of its window (mapped over
+//! the old one in place, [`MappedWindow::renew`]) and a new eventfd. A past host that kept the
+//! old descriptors or mappings writes into memory the card no longer reads, and waits on an
+//! eventfd the card no longer raises.
 
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
@@ -19,9 +25,9 @@ use firmware_proto::window::MappedWindow;
 use firmware_proto::{AUX_ENCODERS, MAX_AXES};
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use nix::time::{clock_gettime, clock_nanosleep, ClockId, ClockNanosleepFlags};
-use std::os::fd::{AsFd, BorrowedFd};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::os::fd::{AsFd, OwnedFd};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 
 /// How the card is built.
@@ -85,15 +91,96 @@ impl std::str::FromStr for Clock {
     }
 }
 
+/// What the card's thread holds while it ticks or serves commands: the interrupt line. A
+/// [`Lessor`] takes it between two ticks to move the card onto a new window and line.
+struct Gate {
+    irq: Mutex<EventFd>,
+    /// Lessors waiting for the gate: the card's thread lets them in before it takes the gate
+    /// again (a free-running or busy-polling thread would otherwise take it back at once).
+    waiting: AtomicUsize,
+}
+
+impl Gate {
+    fn new() -> std::io::Result<Self> {
+        Ok(Self {
+            irq: Mutex::new(new_irq()?),
+            waiting: AtomicUsize::new(0),
+        })
+    }
+
+    /// The card's thread, before a tick or a command service.
+    #[inline]
+    fn enter(&self) -> MutexGuard<'_, EventFd> {
+        while self.waiting.load(Ordering::Acquire) != 0 {
+            std::thread::yield_now();
+        }
+        self.irq.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+fn new_irq() -> std::io::Result<EventFd> {
+    Ok(EventFd::from_value_and_flags(
+        0,
+        EfdFlags::EFD_CLOEXEC | EfdFlags::EFD_NONBLOCK,
+    )?)
+}
+
+/// The card's side of a lease (`card_emu::emu::server`): a window and an interrupt line of
+/// its own for each new host. Cloned from [`Emulator::lessor`]; it works whether the card is
+/// stepped, driven by a [`Runner`], or not running at all.
+#[derive(Clone)]
+pub struct Lessor {
+    name: String,
+    window: Arc<MappedWindow>,
+    gate: Arc<Gate>,
+}
+
+impl Lessor {
+    /// Move the card onto a new window and interrupt line and return descriptors of both for
+    /// the next host (the window's memfd, sealed, and the eventfd).
+    ///
+    /// Between two ticks (the card's thread waits meanwhile): the window is copied into a new
+    /// memfd, which is mapped over the card's mapping in place ([`MappedWindow::renew`]: the
+    /// firmware's ring indices, status blocks and everything else carry on as they were), and
+    /// the card raises its interrupt on a new eventfd from then on. The old memfd and eventfd
+    /// are closed here; a past host that kept them holds memory the card no longer reads and
+    /// an eventfd the card no longer raises. On an error nothing changed.
+    pub fn renew(&self) -> std::io::Result<(OwnedFd, OwnedFd)> {
+        // Made (its memory allocated) before the gate is taken: the card waits only for the
+        // copy and the remap.
+        let memfd = MappedWindow::memfd(&self.name)?;
+        let window = memfd.as_fd().try_clone_to_owned()?;
+        let irq = new_irq()?;
+        let irq_out = irq.as_fd().try_clone_to_owned()?;
+        struct Waiting<'a>(&'a AtomicUsize);
+        impl Drop for Waiting<'_> {
+            fn drop(&mut self) {
+                self.0.fetch_sub(1, Ordering::Release);
+            }
+        }
+        self.gate.waiting.fetch_add(1, Ordering::AcqRel);
+        let waiting = Waiting(&self.gate.waiting);
+        let mut line = self.gate.irq.lock().unwrap_or_else(PoisonError::into_inner);
+        let old_window = self.window.renew(memfd)?;
+        let old_irq = std::mem::replace(&mut *line, irq);
+        drop(line);
+        drop(waiting);
+        // Closed with the card running again: freeing the old window's memory takes a while.
+        drop((old_window, old_irq));
+        Ok((window, irq_out))
+    }
+}
+
 /// The card: firmware, plant, interrupt line.
 pub struct Emulator {
+    name: String,
     window: Arc<MappedWindow>,
     fw: Firmware<Arc<MappedWindow>>,
     motors: [Motor; MAX_AXES],
     index: [IndexChannel; MAX_AXES],
     latch: [IndexLatch; MAX_AXES],
     dac: [f64; MAX_AXES],
-    irq: EventFd,
+    gate: Arc<Gate>,
     time: f64,
     faults: FaultInjector,
     /// The digital input pins (layout 1.7).
@@ -112,9 +199,14 @@ pub struct Emulator {
 impl Emulator {
     /// Boot a card in `window`.
     pub fn new(window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
-        let irq = EventFd::from_value_and_flags(0, EfdFlags::EFD_CLOEXEC | EfdFlags::EFD_NONBLOCK)?;
+        Self::named("card", window, opts)
+    }
+
+    fn named(name: &str, window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
+        let gate = Arc::new(Gate::new()?);
         let fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
         Ok(Self {
+            name: name.to_string(),
             window,
             fw,
             motors: opts.motors.map(Motor::new),
@@ -123,7 +215,7 @@ impl Emulator {
             }),
             latch: [IndexLatch::default(); MAX_AXES],
             dac: [0.0; MAX_AXES],
-            irq,
+            gate,
             time: 0.0,
             faults: FaultInjector::default(),
             inputs: InputBank::default(),
@@ -137,18 +229,28 @@ impl Emulator {
 
     /// A card in a fresh memfd window.
     pub fn create(name: &str, opts: &EmuOptions) -> std::io::Result<Self> {
-        Self::new(Arc::new(MappedWindow::create(name)?), opts)
+        Self::named(name, Arc::new(MappedWindow::create(name)?), opts)
     }
 
     /// Serve the command channel now (between ticks). Returns the commands served.
     pub fn serve(&mut self) -> usize {
+        let gate = Arc::clone(&self.gate);
+        let irq = gate.enter();
         let n = self.fw.serve_commands();
-        self.raise_irq();
+        self.raise_irq(&irq);
         n
     }
 
     /// One servo period.
     pub fn step(&mut self) {
+        let gate = Arc::clone(&self.gate);
+        let irq = gate.enter();
+        self.period();
+        self.raise_irq(&irq);
+    }
+
+    /// One servo period, with the gate held.
+    fn period(&mut self) {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
         // [faults] encoders and switch inputs as the card sees them, through injected faults
@@ -205,7 +307,6 @@ impl Emulator {
         self.period_start = start;
         self.period_dac = dac;
         self.time += ts;
-        self.raise_irq();
     }
 
     /// The compare pulses the firmware fired in the period just ended: where the shaft was
@@ -258,10 +359,10 @@ impl Emulator {
         }
     }
 
-    fn raise_irq(&mut self) {
+    fn raise_irq(&mut self, irq: &EventFd) {
         if self.fw.take_irq() {
             // A full counter (2^64 − 2 unread interrupts) cannot happen; nothing else fails.
-            let _ = self.irq.write(1);
+            let _ = irq.write(1);
         }
     }
 
@@ -270,14 +371,26 @@ impl Emulator {
         self.time
     }
 
-    /// The interrupt line: an eventfd that becomes readable when the card raises an interrupt.
-    pub fn irq_fd(&self) -> BorrowedFd<'_> {
-        self.irq.as_fd()
+    /// The interrupt line now: a new descriptor of the eventfd that becomes readable when the
+    /// card raises an interrupt (until a [`Lessor`] gives the card a new one).
+    pub fn irq_fd(&self) -> std::io::Result<OwnedFd> {
+        let irq = self.gate.irq.lock().unwrap_or_else(PoisonError::into_inner);
+        irq.as_fd().try_clone_to_owned()
     }
 
-    /// The DPRAM window.
+    /// The DPRAM window. Its addresses stay the card's when a [`Lessor`] renews it; in-process
+    /// writers (tests) do not race a renewal.
     pub fn window(&self) -> &Arc<MappedWindow> {
         &self.window
+    }
+
+    /// What a server hands each new host: a window and an interrupt line of its own.
+    pub fn lessor(&self) -> Lessor {
+        Lessor {
+            name: self.name.clone(),
+            window: self.window.clone(),
+            gate: self.gate.clone(),
+        }
     }
 
     /// The firmware.
@@ -404,6 +517,85 @@ fn run_realtime(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
                 ClockId::CLOCK_MONOTONIC,
                 ClockNanosleepFlags::TIMER_ABSTIME,
                 &ts,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware_proto::ring::{CmdProducer, CMD_RING};
+    use firmware_proto::{layout, Command, Mem, Opcode};
+
+    fn host(fds: (OwnedFd, OwnedFd)) -> (MappedWindow, OwnedFd) {
+        (MappedWindow::from_fd(fds.0).unwrap(), fds.1)
+    }
+
+    fn raised(irq: &OwnedFd) -> bool {
+        nix::unistd::read(irq, &mut [0u8; 8]).is_ok()
+    }
+
+    /// A renewal between two ticks: the new host's window carries on from the old one (tick,
+    /// ring indices), the card ticks and raises its interrupt there only, and the past host's
+    /// window and eventfd are left behind.
+    #[test]
+    fn each_lease_gets_a_window_and_an_interrupt_line_of_its_own() {
+        let mut emu = Emulator::create("lessor-unit", &EmuOptions::new(2, 10_000)).unwrap();
+        let lessor = emu.lessor();
+        let (a, a_irq) = host(lessor.renew().unwrap());
+        a.write32(layout::IRQ_MASK, u32::MAX); // every event raises the interrupt
+        let mut cmds = CmdProducer::attach(&a, CMD_RING);
+        cmds.push(&Command::new(Opcode::PowerOn, 0)).unwrap();
+        emu.step_n(5);
+        assert!(raised(&a_irq), "the ack raised A's line");
+        let tick = a.read64(layout::TICK);
+        assert_eq!(tick, emu.firmware().tick_count());
+        let head = a.read32(layout::CMD_HEAD);
+
+        let (b, b_irq) = host(lessor.renew().unwrap());
+        assert_eq!(b.read64(layout::TICK), tick, "a copy of the window");
+        assert_eq!(b.read32(layout::CMD_HEAD), head);
+        // A writes over everything it kept; neither the card nor B sees it.
+        for off in (0..firmware_proto::DPRAM_SIZE).step_by(8) {
+            a.write64(off, u64::MAX);
+        }
+        let mut cmds = CmdProducer::attach(&b, CMD_RING);
+        cmds.push(&Command::new(Opcode::PowerOn, 1)).unwrap();
+        emu.step_n(5);
+        assert_eq!(b.read64(layout::TICK), tick + 5);
+        assert_eq!(a.read64(layout::TICK), u64::MAX);
+        assert_eq!(emu.window().read64(layout::TICK), tick + 5);
+        assert!(raised(&b_irq), "the ack raised B's line");
+        assert!(!raised(&a_irq), "A's line is no longer the card's");
+        assert_eq!(b.read32(layout::safety_status::PROTOCOL_ERRORS), 0);
+        assert_eq!(
+            emu.firmware().axis(1).unwrap().state,
+            firmware_proto::AxisState::Standstill
+        );
+    }
+
+    /// A renewal waits for the tick under way and is not starved by a thread that steps or
+    /// serves without pause (free-running, busy-polling); the card's time goes on in the new
+    /// window.
+    #[test]
+    fn a_running_card_is_renewed_between_two_ticks() {
+        for (clock, busy) in [(Clock::FreeRunning, false), (Clock::RealTime, true)] {
+            let emu = Emulator::create("lessor-run", &EmuOptions::new(2, 10_000)).unwrap();
+            let lessor = emu.lessor();
+            let runner = Runner::spawn(emu, clock, busy).unwrap();
+            let mut last = 0;
+            for _ in 0..20 {
+                let (w, _irq) = host(lessor.renew().unwrap());
+                let t = w.read64(layout::TICK);
+                assert!(t >= last, "{clock:?}: tick {t} after {last}");
+                last = t;
+            }
+            let emu = runner.stop().unwrap();
+            assert!(emu.firmware().tick_count() >= last);
+            assert_eq!(
+                emu.window().read32(layout::safety_status::PROTOCOL_ERRORS),
+                0
             );
         }
     }
