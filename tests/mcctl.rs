@@ -431,6 +431,107 @@ fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
     assert_eq!(code, 2);
 }
 
+/// Runs mcctl and reads its peak resident memory (`VmHWM`, kB) from /proc while it runs
+/// (the last reading before it exits: the mark only rises).
+fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak = 0;
+    let code = loop {
+        if let Ok(s) = std::fs::read_to_string(&status) {
+            let hwm = s
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
+            peak = peak.max(hwm.unwrap_or(0));
+        }
+        if let Some(st) = child.try_wait().unwrap() {
+            break st.code().unwrap_or(-1);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    };
+    let (mut out, mut err) = (String::new(), String::new());
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (code, out, err, peak)
+}
+
+/// `mcctl run` in memory that does not grow with the run: a move and a dwell of 40 s
+/// (400,000 ticks of 0.1 ms) peak within 2 MB of the same program with a dwell of 1 s.
+/// Every tick was kept before (24 bytes a tick: 9 MB more), so a program running for hours
+/// ran out of memory.
+#[test]
+fn run_memory_does_not_grow_with_the_run() {
+    let dir = std::env::temp_dir().join(format!("mcctl-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |dwell: u32| {
+        let file = dir.join(format!("dwell{dwell}.ngc"));
+        std::fs::write(&file, format!("G1 X1 F600\nG4 P{dwell}\nX2\n")).unwrap();
+        let (code, out, err, peak) = mcctl_peak_rss(&["run", file.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        (j, peak)
+    };
+    let (short, short_peak) = run(1);
+    let (long, long_peak) = run(40);
+    let ticks = |j: &serde_json::Value| j["ticks_seen"].as_u64().unwrap();
+    assert_eq!(ticks(&long) - ticks(&short), 390_000, "{short} {long}");
+    assert_eq!(long["exact_stops"], 1);
+    assert!(short_peak > 0);
+    assert!(
+        long_peak < short_peak + 2048,
+        "peak {long_peak} kB over 400,000 ticks, {short_peak} kB over 10,000"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `mcctl run` reads the program a line at a time and checks all of it before anything
+/// moves: an error on the last of 200,000 lines names its line and nothing ran; a line
+/// longer than 64 KiB and a program without motion are refused before the card moves.
+#[test]
+fn run_checks_the_whole_program_first() {
+    let dir = std::env::temp_dir().join(format!("mcctl-runcheck-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("long.ngc");
+    let mut text = String::from("G1 F6000\n");
+    for i in 1..200_000 {
+        text += &format!("X{}\n", i % 2);
+    }
+    text += "G28\n";
+    std::fs::write(&file, &text).unwrap();
+    let t0 = std::time::Instant::now();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("line 200001: unsupported code G28"), "{err}");
+    // 200,000 moves of 1 mm would take over half an hour of card time.
+    assert!(t0.elapsed() < std::time::Duration::from_secs(60));
+    std::fs::write(&file, format!("G1 X1 F60 ({})\n", "c".repeat(70_000))).unwrap();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("line 1: longer than 65536 bytes"), "{err}");
+    std::fs::write(&file, "G4 P100\n").unwrap();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("no motion block"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// `mcctl io` sets outputs and reads them back; `mcctl pvt` streams a PT file (a smooth move
 /// of 1000 counts in 0.2 s) to its end on the emulated card; a malformed line is exit status
 /// 2 naming the line.

@@ -1143,10 +1143,10 @@ fn main() -> ExitCode {
             if !(feed_limit > 0.0 && feed_limit.is_finite() && scale > 0.0 && scale.is_finite()) {
                 return bad("--feed-limit and --scale must be positive".into());
             }
-            let text = match std::fs::read_to_string(&file) {
-                Ok(t) => t,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
-            };
+            // Read as it runs; one that cannot be opened is a bad argument.
+            if let Err(e) = std::fs::File::open(&file) {
+                return bad(format!("{}: {e}", file.display()));
+            }
             let opts = motioncard::run::RunOptions {
                 tolerance,
                 feed_limit,
@@ -1156,7 +1156,7 @@ fn main() -> ExitCode {
                 scale,
                 progress: !json,
             };
-            let body = |c: &Card| motioncard::run::run(c, &text, &opts, json);
+            let body = |c: &Card| motioncard::run::run(c, &file, &opts, json);
             if uri == "sim" {
                 // A stepped card: mcctl steps it and measures every tick.
                 let card = match Card::open_sim(motioncard::SimOptions {
