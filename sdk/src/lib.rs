@@ -95,7 +95,7 @@ pub use path::{
 };
 pub use pvt::{PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
-pub use replay::{replay, ReplayReport, TraceHeader};
+pub use replay::{replay, ReplayReport, TraceHeader, MAX_TICKS_PER_SECOND};
 pub use safety::{
     CardSafetySettings, SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT,
 };
