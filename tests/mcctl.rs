@@ -570,6 +570,54 @@ fn io_and_pvt_from_the_command_line() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A point `mcctl pvt` refuses is named by its index in the file and its line, past the card's
+/// 4096-point buffer too (it was the index within the refill, "point 4"), with the card's
+/// true reason: a time not after the one before, or more than the longest segment (10⁶ s)
+/// after it.
+#[test]
+fn a_refused_pvt_point_names_its_line_and_reason() {
+    let dir = std::env::temp_dir().join(format!("mcctl-pvt-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hold.csv");
+    let f = file.to_str().unwrap();
+    for (bad, at, reason) in [
+        (
+            4100,
+            "0.5",
+            "at least one servo period after the one before",
+        ),
+        (
+            4500,
+            "1e9",
+            "at most 1e6 s (the longest move) after the one before",
+        ),
+        (
+            0,
+            "1e9",
+            "at most 1e6 s (the longest move) after the one before",
+        ),
+    ] {
+        // Point k at (k + 1) ms holds the axis where it is; the bad one's time is `at`.
+        let mut text = String::from("# time, position\n");
+        for k in 0..bad + 10 {
+            if k == bad {
+                text += &format!("{at}, 0\n");
+            } else {
+                text += &format!("{}, 0\n", (k + 1) as f64 * 1e-3);
+            }
+        }
+        std::fs::write(&file, &text).unwrap();
+        let (code, _, err) = mcctl(&["pvt", "0", f, "--enable"]);
+        assert_eq!(code, 1, "{err}");
+        let want = format!(
+            "{f}:{}: PT/PVT point {bad} on axis 0 refused: a PT/PVT point must come {reason}",
+            bad + 2
+        );
+        assert!(err.contains(&want), "{err}\nwanted {want}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The one JSON object a subcommand printed, after checking it exited 0.
 fn json_of(args: &[&str]) -> serde_json::Value {
     let (code, out, err) = mcctl(args);

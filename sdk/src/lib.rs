@@ -93,7 +93,7 @@ pub use path::{
     Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
     Segment, StreamError, Transition,
 };
-pub use pvt::{PvtLimits, PvtMode, PvtPoint};
+pub use pvt::{pvt_time_reason, PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
 pub use replay::{replay, ReplayReport, TraceHeader, MAX_TICKS_PER_SECOND};
 pub use safety::{

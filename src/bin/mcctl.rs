@@ -1000,18 +1000,14 @@ fn main() -> ExitCode {
             enable,
             json,
         } => {
-            let text = match std::fs::read_to_string(&file) {
-                Ok(t) => t,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
-            };
-            let (points, velocities) = match cli::pvt_points(&text) {
-                Ok(p) => p,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
+            let file = match cli::pvt_file(&file) {
+                Ok(f) => f,
+                Err(e) => return bad(e),
             };
             if !(vmax.is_finite() && vmax > 0.0 && amax.is_finite() && amax > 0.0) {
                 return bad("--vmax and --amax must be greater than zero".into());
             }
-            let mode = if pt || !velocities {
+            let mode = if pt || !file.velocities {
                 motioncard::PvtMode::Pt
             } else {
                 motioncard::PvtMode::Pvt
@@ -1024,7 +1020,7 @@ fn main() -> ExitCode {
                 if enable {
                     cli::enable_if_needed(c, axis)?;
                 }
-                cli::pvt(c, axis, &points, mode, &limits, json)
+                cli::pvt(c, axis, &file, mode, &limits, json)
             })
         }
         Cmd::Move {
