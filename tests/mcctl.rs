@@ -618,6 +618,127 @@ fn a_refused_pvt_point_names_its_line_and_reason() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--enable` powers only the axes a command moves, once what it arms or loads is accepted, and
+/// powers them off again however it ends: a refused compare, probe or gear left the axes
+/// powered, and a finished one too. On one `emu:` card that outlives each mcctl process.
+#[test]
+fn enable_powers_the_moved_axes_for_the_command_only() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    use std::os::fd::AsFd;
+    let name = format!("test-mcctl-power-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let _server = Server::start(&name, window, irq).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let states = || {
+        let (code, out, err) = on(&["status", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        (0..2)
+            .map(|a| j["axes"][a]["state"].as_str().unwrap().to_string())
+            .collect::<Vec<_>>()
+    };
+    let off = vec!["Disabled".to_string(); 2];
+    let cases: [(&[&str], i32, &str); 5] = [
+        // Refused by the card: nothing was powered for it.
+        (
+            &[
+                "compare", "0", "--output", "99", "--at", "100", "--move", "900", "--enable",
+            ],
+            1,
+            "refused compare_single",
+        ),
+        (
+            &["probe", "0", "--channel", "9", "--move", "900", "--enable"],
+            1,
+            "no such compare or probe channel",
+        ),
+        (
+            &[
+                "gear", "1", "--master", "0", "--ratio", "1/0", "--move", "900", "--enable",
+            ],
+            1,
+            "gear ratio",
+        ),
+        // Watching only: nothing to power.
+        (
+            &[
+                "compare", "0", "--output", "3", "--at", "100", "--for", "0.05", "--enable",
+            ],
+            0,
+            "0 fired",
+        ),
+        // A move: powered for it, off at the end.
+        (
+            &[
+                "compare", "0", "--output", "3", "--at", "100", "--move", "900", "--enable",
+            ],
+            0,
+            "1 fired",
+        ),
+    ];
+    for (args, want, what) in cases {
+        let (code, out, err) = on(args);
+        assert_eq!(code, want, "{args:?}: {out}{err}");
+        assert!(
+            out.contains(what) || err.contains(what),
+            "{args:?}: {out}{err}"
+        );
+        assert_eq!(states(), off, "{args:?}: powered after it");
+    }
+    let (code, out, err) = on(&["gear", "1", "--master", "0", "--move", "1500", "--enable"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("master moved 600"), "{out}");
+    assert_eq!(states(), off, "powered after the gear");
+}
+
+/// `compare --table` checks its file a line at a time (a position out of order is refused
+/// with its line before anything moves) and reads the positions as the channel's table
+/// empties: a table of 10⁶ positions peaks within 4 MB of one of 10 (every position was read
+/// into memory first: 10⁷ took 794 MB).
+#[test]
+fn a_compare_table_is_streamed_from_its_file() {
+    let dir = std::env::temp_dir().join(format!("mcctl-cmp-big-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("table.txt");
+    let f = file.to_str().unwrap();
+    let run = |n: usize| {
+        let text: String = (1..=n).map(|k| format!("{}\n", 100 + 10 * k)).collect();
+        std::fs::write(&file, text).unwrap();
+        let args = [
+            "compare", "0", "--output", "3", "--table", f, "--move", "500", "--enable",
+        ];
+        let (code, out, err, peak) = mcctl_peak_rss(&args);
+        assert_eq!(code, 0, "{err}");
+        // 110 to 500: 40 fired on the way.
+        assert!(out.contains(": 40 fired (110 .. 500), 0 missed"), "{out}");
+        peak
+    };
+    let (small, big) = (run(10_000), run(1_000_000));
+    assert!(
+        big < small + 4096,
+        "peak {big} kB for 10^6 positions, {small} kB for 10^4"
+    );
+    std::fs::write(&file, "100\n200\n# a comment\n150\n300\n").unwrap();
+    let (code, _, err) = mcctl(&[
+        "compare", "0", "--output", "3", "--table", f, "--move", "500",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("line 4: position 150 does not come after 200 in the positive direction"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The one JSON object a subcommand printed, after checking it exited 0.
 fn json_of(args: &[&str]) -> serde_json::Value {
     let (code, out, err) = mcctl(args);

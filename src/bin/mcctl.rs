@@ -86,7 +86,9 @@ struct TravelArgs {
     /// Without --move: seconds to watch.
     #[arg(long = "for", default_value_t = 1.0)]
     hold: f64,
-    /// Power the axes on first if they are disabled.
+    /// Power the axes on first if they are disabled. compare, probe, gear and cam power only
+    /// the axes they move, once what they arm or load is accepted, and power them off again
+    /// when they end, however they end.
     #[arg(long)]
     enable: bool,
 }
@@ -131,6 +133,16 @@ enum DirArg {
     Positive,
     Negative,
     Either,
+}
+
+impl From<DirArg> for Direction {
+    fn from(d: DirArg) -> Self {
+        match d {
+            DirArg::Positive => Direction::Positive,
+            DirArg::Negative => Direction::Negative,
+            DirArg::Either => Direction::Either,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -702,6 +714,7 @@ fn coupling(
         limits: SyncLimits::new(sync.slave_vmax, sync.slave_amax, sync.slave_jmax),
         travel,
         hold: t.hold()?,
+        enable: t.enable,
     })
 }
 
@@ -863,15 +876,10 @@ fn main() -> ExitCode {
                     ))
                     }
                 },
-                (None, None, Some(f)) => {
-                    let rows = std::fs::read_to_string(&f)
-                        .map_err(|e| e.to_string())
-                        .and_then(|t| cli::number_rows(&t, 1..=1, "position"));
-                    match rows {
-                        Ok(r) => ComparePositions::Table(r.into_iter().map(|v| v[0]).collect()),
-                        Err(e) => return bad(format!("{}: {e}", f.display())),
-                    }
-                }
+                (None, None, Some(f)) => match cli::table_positions(&f, direction.into()) {
+                    Ok(_) => ComparePositions::Table(f),
+                    Err(e) => return bad(format!("{}: {e}", f.display())),
+                },
                 _ => return bad("give exactly one of --at, --series and --table".into()),
             };
             let hold = match travel.hold() {
@@ -883,19 +891,13 @@ fn main() -> ExitCode {
                 channel,
                 output,
                 pulse_us,
-                direction: match direction {
-                    DirArg::Positive => Direction::Positive,
-                    DirArg::Negative => Direction::Negative,
-                    DirArg::Either => Direction::Either,
-                },
+                direction: direction.into(),
                 positions,
                 travel: travel.travel(axis),
                 hold,
+                enable: travel.enable,
             };
-            on_card(uri, |c| {
-                enable_all(c, travel.enable, &[axis])?;
-                cli::compare(c, &job, json)
-            })
+            on_card(uri, |c| cli::compare(c, &job, json))
         }
         Cmd::Probe {
             axis,
@@ -923,11 +925,9 @@ fn main() -> ExitCode {
                 },
                 travel: travel.travel(axis),
                 hold,
+                enable: travel.enable,
             };
-            on_card(uri, |c| {
-                enable_all(c, travel.enable, &[axis])?;
-                cli::probe(c, &job, json)
-            })
+            on_card(uri, |c| cli::probe(c, &job, json))
         }
         Cmd::Gear {
             slave,
@@ -941,10 +941,7 @@ fn main() -> ExitCode {
                 Ok(c) => c,
                 Err(m) => return bad(m),
             };
-            on_card(uri, |card| {
-                enable_all(card, travel.enable, &c.axes())?;
-                cli::gear(card, &c, ratio.0, ratio.1, json)
-            })
+            on_card(uri, |card| cli::gear(card, &c, ratio.0, ratio.1, json))
         }
         Cmd::Cam {
             slave,
@@ -986,10 +983,7 @@ fn main() -> ExitCode {
                     relative,
                 },
             };
-            on_card(uri, |card| {
-                enable_all(card, travel.enable, &c.axes())?;
-                cli::cam(card, &c, &job, json)
-            })
+            on_card(uri, |card| cli::cam(card, &c, &job, json))
         }
         Cmd::Pvt {
             axis,
