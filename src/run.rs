@@ -326,9 +326,17 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                     seen_ticks += 1;
                     report.push(p).map_err(report_error)?;
                 }
-                bar.set_position(streamer.progress().accepted);
-                if streamer.progress().sent >= survey.items && g.status()?.0 == GroupState::Standby
+                let progress = streamer.progress();
+                bar.set_position(progress.accepted);
+                // Done: every item accepted, none left on the card, the group at rest.
+                if progress.accepted >= survey.items
+                    && progress.queued == 0
+                    && g.status()?.0 == GroupState::Standby
                 {
+                    return Ok(());
+                }
+                if streamer.is_finished() && streamer.progress().accepted < survey.items {
+                    // Refused or failed: `join` has the error.
                     return Ok(());
                 }
                 std::thread::sleep(Duration::from_micros(20));

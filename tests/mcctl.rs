@@ -985,6 +985,18 @@ fn one_card_across_mcctl_processes() {
     assert!(err.contains("disabled"), "{err}");
     let (code, _, _) = on(&["status", "--watch", "--interval", "-1"]);
     assert_eq!(code, 2);
+    // A G-code program on the real-time card: streamed by a thread of its own while the
+    // positions are sampled; the report measures what it saw.
+    let square = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/gcode/square.ngc");
+    let (code, out, err) = on(&["run", square, "--tolerance", "0.05", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["segments"], 5, "{j}");
+    assert!(j["ticks_seen"].as_u64().unwrap() > 1_000, "{j}");
+    assert!(
+        j["max_deviation"].as_f64().unwrap() <= 0.05 * (1.0 + 1e-9),
+        "{j}"
+    );
 }
 
 /// An API trace of one mcctl run (by the environment), replayed by another; a tampered trace
