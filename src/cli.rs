@@ -17,8 +17,10 @@ use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 mod machine;
+mod rows;
 mod scope;
 pub use machine::*;
+pub use rows::*;
 pub use scope::*;
 
 /// How long mcctl waits for a move to be done.
@@ -590,20 +592,95 @@ pub fn pvt_points(text: &str) -> std::result::Result<(Vec<crate::PvtPoint>, bool
     Ok((pts, velocities))
 }
 
-/// `mcctl pvt`: stream `points` through the axis's PT/PVT buffer (refilled as it runs),
-/// wait for the end; reports the points, the stream's duration and where the axis ended.
+/// A PT/PVT file for `mcctl pvt`: its points, the line of each, and whether every line gave
+/// a velocity (PVT, else PT).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PvtFile {
+    /// The file, as errors name it.
+    pub origin: String,
+    pub points: Vec<crate::PvtPoint>,
+    /// The line (from 1) of each point.
+    pub lines: Vec<usize>,
+    pub velocities: bool,
+}
+
+/// Reads a PT/PVT file a line at a time ([`NumberRows`]: `time, position[, velocity]`).
+pub fn pvt_file(path: &std::path::Path) -> std::result::Result<PvtFile, String> {
+    let origin = path.display().to_string();
+    let mut f = PvtFile {
+        origin: origin.clone(),
+        points: Vec::new(),
+        lines: Vec::new(),
+        velocities: true,
+    };
+    for row in file_rows(path, 2..=3, "time, position[, velocity]")
+        .map_err(|e| format!("{origin}: {e}"))?
+    {
+        let r = row.map_err(|e| format!("{origin}: {e}"))?;
+        f.points
+            .push(crate::PvtPoint::new(r.values[0], r.values[1], r.values[2]));
+        f.lines.push(r.line);
+        f.velocities &= r.n == 3;
+    }
+    if f.points.is_empty() {
+        return Err(format!("{origin}: no points"));
+    }
+    Ok(f)
+}
+
+/// A point's refusal from a push of the points from `from`: the point's index in the file, its
+/// line, and for a time refusal the reason its own gap gives (too soon, or later than the
+/// longest segment).
+fn pvt_refusal(file: &PvtFile, from: usize, e: Error) -> Error {
+    let Error::PvtPoint {
+        target,
+        index,
+        code,
+        reason,
+    } = e
+    else {
+        return e;
+    };
+    let i = from + index;
+    let reason = match code {
+        crate::NackCode::PvtTime => {
+            let before = i.checked_sub(1).map_or(0.0, |b| file.points[b].time);
+            crate::pvt_time_reason(Some(file.points[i].time - before))
+        }
+        _ => reason,
+    };
+    Error::AtLine {
+        origin: file.origin.clone(),
+        line: file.lines[i],
+        source: Box::new(Error::PvtPoint {
+            target,
+            index: i,
+            code,
+            reason,
+        }),
+    }
+}
+
+/// `mcctl pvt`: stream the file's points through the axis's PT/PVT buffer (refilled as it
+/// runs), wait for the end; reports the points, the stream's duration and where the axis
+/// ended. A refused point is named by its index in the file and its line.
 pub fn pvt(
     card: &Card,
     axis: usize,
-    points: &[crate::PvtPoint],
+    file: &PvtFile,
     mode: crate::PvtMode,
     limits: &crate::PvtLimits,
     json: bool,
 ) -> Result<String> {
     let ax = card.axis(axis)?;
+    let points = &file.points[..];
+    let push = |from: usize, to: usize| {
+        ax.pvt_push(&points[from..to], to == points.len())
+            .map_err(|e| pvt_refusal(file, from, e))
+    };
     ax.pvt_begin(mode, limits, 0)?;
     let first = points.len().min(ax.pvt_free().max(1));
-    ax.pvt_push(&points[..first], first == points.len())?;
+    push(0, first)?;
     let motion = ax.pvt_start()?;
     let mut sent = first;
     let bar = progress(Some(points.len() as u64), "streaming points");
@@ -615,7 +692,7 @@ pub fn pvt(
             continue;
         }
         let n = room.min(points.len() - sent);
-        ax.pvt_push(&points[sent..sent + n], sent + n == points.len())?;
+        push(sent, sent + n)?;
         sent += n;
         bar.set_position(sent as u64);
     }

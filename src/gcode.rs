@@ -45,10 +45,14 @@
 //!
 //! # About the `gcode` crate (0.6)
 //!
-//! It tokenises and groups words; this module then regroups every word by its own source
-//! line (the crate attaches a word to the last command seen, even one on an earlier line or
-//! of another kind, so `G1 G90 X1` gives `X1` to `G90`), and re-reads every number from its
-//! source text as `f64` (the crate keeps `f32`, about 0.1 µm of error per metre). The crate
+//! It tokenises and groups words. It is given one source line at a time ([`Parser`]; given a
+//! whole text it joins a letter at the end of a line to a number on the next, and gives a
+//! word to the last command seen, even one on an earlier line), so a program is read in
+//! memory bounded by its longest line ([`Blocks`]) and no word reaches into another line.
+//! This module then regroups the line's words (the crate gives a word to the last command
+//! seen, even one of another kind, so `G1 G90 X1` gives `X1` to `G90`), and re-reads every
+//! number from its source text as `f64` (the crate keeps `f32`, about 0.1 µm of error per
+//! metre). The crate
 //! panics on a sign or point with no digits (`X-`), a stray `)` and a non-ASCII character
 //! outside a comment: those are refused here before it sees them, and the call is fenced by
 //! `catch_unwind` all the same.
@@ -329,33 +333,165 @@ pub fn parse(text: &str) -> Result<Program, GcodeError> {
     parse_from(text, [0.0; 3])
 }
 
-/// Parses `text`, starting at `start` (mm).
+/// Parses `text`, starting at `start` (mm): [`Parser`] over its lines.
 pub fn parse_from(text: &str, start: [f64; 3]) -> Result<Program, GcodeError> {
-    prescan(text)?;
-    let items = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| collect(text))) {
-        Ok(r) => r?,
-        Err(_) => return err(0, "the G-code tokenizer failed on this text"),
-    };
-    let mut state = State::new(start);
-    let mut program = Program::default();
-    let mut i = 0;
-    while i < items.len() {
-        let line = items[i].line;
-        let mut j = i;
-        while j < items.len() && items[j].line == line {
-            j += 1;
-        }
-        state.line(&items[i..j], &mut program)?;
-        i = j;
+    let mut parser = Parser::new(start);
+    let mut blocks = Vec::new();
+    for line in text.split('\n') {
+        parser.line(line, &mut blocks)?;
     }
-    Ok(program)
+    Ok(Program {
+        blocks,
+        dropped_zero_length: parser.dropped_zero_length(),
+    })
 }
 
-/// One word of the source: a command (`G`, `M`, `O`, `T`) or a value word; `line` is
-/// 1-based, `start` the byte offset, `text` as written.
+/// The longest source line read by [`Blocks`], in bytes (RS274/NGC lines are short:
+/// LinuxCNC's limit is 255 characters).
+pub const MAX_LINE_BYTES: usize = 64 * 1024;
+
+/// The program's parser, a line at a time: the modal state of the program so far. A line's
+/// words never reach into the next line (a comment closes on its line), so a program parsed
+/// line by line is the program parsed whole, and the first error is the first in the text.
+#[derive(Debug)]
+pub struct Parser {
+    state: State,
+    /// Lines seen so far.
+    line: usize,
+}
+
+impl Parser {
+    /// A program starting at `start` (mm) in G21 G90 G17, no motion mode, no feed.
+    pub fn new(start: [f64; 3]) -> Self {
+        Parser {
+            state: State::new(start),
+            line: 0,
+        }
+    }
+
+    /// The next source line (without its `\n`): its blocks are appended to `out`. After an
+    /// error the parser is not to be used again.
+    pub fn line(&mut self, text: &str, out: &mut Vec<Block>) -> Result<(), GcodeError> {
+        self.line += 1;
+        let at = |e: GcodeError| GcodeError {
+            line: self.line,
+            message: e.message,
+        };
+        prescan(text).map_err(at)?;
+        let items = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| collect(text))) {
+            Ok(r) => r.map_err(at)?,
+            Err(_) => return err(self.line, "the G-code tokenizer failed on this line"),
+        };
+        if items.is_empty() {
+            return Ok(());
+        }
+        self.state.line(self.line, &items, out)
+    }
+
+    /// Lines seen so far (the 1-based number of the last one).
+    pub fn lines(&self) -> usize {
+        self.line
+    }
+
+    /// Moves no longer than [`ZERO_LENGTH_MM`] dropped so far.
+    pub fn dropped_zero_length(&self) -> usize {
+        self.state.dropped_zero_length
+    }
+}
+
+/// The blocks of a program read from `reader` a line at a time ([`Parser`]): memory bounded
+/// by the longest line ([`MAX_LINE_BYTES`]) whatever the program's length. An unreadable
+/// line (I/O error, not UTF-8, too long) is an error naming it; nothing follows an error.
+pub struct Blocks<R> {
+    reader: R,
+    parser: Parser,
+    /// The current line's blocks not yet taken (at most a dwell, an output and a motion).
+    pending: std::collections::VecDeque<Block>,
+    scratch: Vec<Block>,
+    buf: Vec<u8>,
+    done: bool,
+}
+
+impl<R: std::io::BufRead> Blocks<R> {
+    /// The program in `reader`, starting at `start` (mm).
+    pub fn new(reader: R, start: [f64; 3]) -> Self {
+        Blocks {
+            reader,
+            parser: Parser::new(start),
+            pending: Default::default(),
+            scratch: Vec::new(),
+            buf: Vec::new(),
+            done: false,
+        }
+    }
+
+    /// The parser (its line count and dropped moves so far).
+    pub fn parser(&self) -> &Parser {
+        &self.parser
+    }
+
+    /// Reads the next line into `buf`; `false` at the end.
+    fn next_line(&mut self) -> Result<bool, GcodeError> {
+        use std::io::{BufRead as _, Read as _};
+        self.buf.clear();
+        let line = self.parser.lines() + 1;
+        let limit = MAX_LINE_BYTES as u64 + 1;
+        let n = (&mut self.reader)
+            .take(limit)
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|e| GcodeError {
+                line,
+                message: format!("cannot read: {e}"),
+            })?;
+        if n == 0 {
+            return Ok(false);
+        }
+        if self.buf.last() == Some(&b'\n') {
+            self.buf.pop();
+        }
+        if self.buf.len() > MAX_LINE_BYTES {
+            return err(line, format!("longer than {MAX_LINE_BYTES} bytes"));
+        }
+        Ok(true)
+    }
+}
+
+impl<R: std::io::BufRead> Iterator for Blocks<R> {
+    type Item = Result<Block, GcodeError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        while self.pending.is_empty() {
+            if self.done {
+                return None;
+            }
+            let step = self.next_line().and_then(|more| {
+                if !more {
+                    self.done = true;
+                    return Ok(());
+                }
+                let line = self.parser.lines() + 1;
+                let text = std::str::from_utf8(&self.buf).map_err(|_| GcodeError {
+                    line,
+                    message: "not UTF-8 text".into(),
+                })?;
+                self.scratch.clear();
+                self.parser.line(text, &mut self.scratch)?;
+                self.pending.extend(self.scratch.drain(..));
+                Ok(())
+            });
+            if let Err(e) = step {
+                self.done = true;
+                return Some(Err(e));
+            }
+        }
+        self.pending.pop_front().map(Ok)
+    }
+}
+
+/// One word of a line: a command (`G`, `M`, `O`, `T`) or a value word; `start` the byte
+/// offset, `text` as written.
 #[derive(Debug, Clone)]
 struct Item {
-    line: usize,
     start: usize,
     letter: char,
     value: f64,
@@ -521,7 +657,6 @@ fn collect(src: &str) -> Result<Vec<Item>, GcodeError> {
             return;
         };
         items.push(Item {
-            line,
             start: w.span.start,
             letter: w.letter.to_ascii_uppercase(),
             value,
@@ -546,7 +681,6 @@ fn collect(src: &str) -> Result<Vec<Item>, GcodeError> {
                     return err(line, "unreadable command word");
                 };
                 items.push(Item {
-                    line,
                     start,
                     letter,
                     value,
@@ -587,6 +721,7 @@ enum Motion {
     Ccw,
 }
 
+#[derive(Debug)]
 struct State {
     pos: [f64; 3],
     mm_per_unit: f64,
@@ -595,6 +730,7 @@ struct State {
     motion: Option<Motion>,
     feed: Option<f64>,
     ended: Option<usize>,
+    dropped_zero_length: usize,
 }
 
 /// What a line asks for, gathered before it is executed.
@@ -629,6 +765,7 @@ impl State {
             motion: None,
             feed: None,
             ended: None,
+            dropped_zero_length: 0,
         }
     }
 
@@ -716,8 +853,12 @@ impl State {
         Ok(w)
     }
 
-    fn line(&mut self, items: &[Item], out: &mut Program) -> Result<(), GcodeError> {
-        let line = items[0].line;
+    fn line(
+        &mut self,
+        line: usize,
+        items: &[Item],
+        out: &mut Vec<Block>,
+    ) -> Result<(), GcodeError> {
         if let Some(end) = self.ended {
             return err(
                 line,
@@ -747,7 +888,7 @@ impl State {
             if p < 0.0 {
                 return err(line, format!("dwell P{p} is negative"));
             }
-            out.blocks.push(Block::Dwell { line, seconds: p });
+            out.push(Block::Dwell { line, seconds: p });
         }
         if let Some(p) = w.plane {
             self.plane = p;
@@ -763,7 +904,7 @@ impl State {
                     format!("output number P{p} is not an integer 0..=255"),
                 );
             }
-            out.blocks.push(Block::Output {
+            out.push(Block::Output {
                 line,
                 bit: p as u8,
                 on,
@@ -783,7 +924,12 @@ impl State {
         Ok(())
     }
 
-    fn motion(&mut self, line: usize, w: &LineWords, out: &mut Program) -> Result<(), GcodeError> {
+    fn motion(
+        &mut self,
+        line: usize,
+        w: &LineWords,
+        out: &mut Vec<Block>,
+    ) -> Result<(), GcodeError> {
         let k = self.mm_per_unit;
         let axis_words = AXES.map(|c| w.get(c));
         let has_axes = axis_words.iter().any(Option::is_some);
@@ -827,7 +973,7 @@ impl State {
         let block = match motion {
             Motion::Rapid | Motion::Feed => {
                 if dist(start, end) <= ZERO_LENGTH_MM {
-                    out.dropped_zero_length += 1;
+                    self.dropped_zero_length += 1;
                     return Ok(());
                 }
                 Block::Line {
@@ -855,7 +1001,7 @@ impl State {
         };
         // The arc may have snapped its end onto the start (a full turn).
         self.pos = block.end().unwrap_or(end);
-        out.blocks.push(block);
+        out.push(block);
         Ok(())
     }
 }
@@ -1310,6 +1456,45 @@ mod tests {
         let b = parse_from("G1 X1 F60", [0.0, 2.0, 3.0]).unwrap().blocks;
         assert_eq!(b[0].start(), Some([0.0, 2.0, 3.0]));
         assert_eq!(b[0].end(), Some([1.0, 2.0, 3.0]));
+    }
+
+    /// A program read a line at a time from a reader is the program parsed whole; a word's
+    /// letter and number never join across lines (the crate joined `G` and `0` of "G\n0");
+    /// an unreadable line is named.
+    #[test]
+    fn blocks_from_a_reader_a_line_at_a_time() {
+        let text = include_str!("../examples/gcode/part.ngc");
+        let whole = parse_from(text, [1.0, 2.0, 3.0]).unwrap();
+        let mut read = Blocks::new(text.as_bytes(), [1.0, 2.0, 3.0]);
+        let streamed: Vec<Block> = (&mut read).map(Result::unwrap).collect();
+        assert_eq!(streamed, whole.blocks);
+        assert_eq!(
+            read.parser().dropped_zero_length(),
+            whole.dropped_zero_length
+        );
+        assert_eq!(read.parser().lines(), text.lines().count());
+        for split in ["G\n0 X1", "G0 X\n1", "F\n2"] {
+            let e = error(split);
+            assert_eq!(e.line, 1, "{split:?}: {e}");
+            assert!(e.message.contains("without a number"), "{split:?}: {e}");
+        }
+        let bytes: &[u8] = b"G0 X1\nG0 X2 (\xff)\n";
+        let got: Vec<_> = Blocks::new(bytes, [0.0; 3]).collect();
+        assert_eq!(got.len(), 2);
+        assert_eq!(
+            got[1].as_ref().unwrap_err().to_string(),
+            "line 2: not UTF-8 text"
+        );
+        let long = format!("G0 X1\n({})\nG0 X2\n", "c".repeat(MAX_LINE_BYTES));
+        let got: Vec<_> = Blocks::new(long.as_bytes(), [0.0; 3]).collect();
+        assert_eq!(got.len(), 2, "nothing after the error");
+        assert_eq!(
+            got[1].as_ref().unwrap_err().to_string(),
+            format!("line 2: longer than {MAX_LINE_BYTES} bytes")
+        );
+        // The longest line allowed, a comment.
+        let ok = format!("({})\nG0 X2\n", "c".repeat(MAX_LINE_BYTES - 2));
+        assert_eq!(Blocks::new(ok.as_bytes(), [0.0; 3]).count(), 1);
     }
 
     #[test]

@@ -1,8 +1,11 @@
 //! What a run of a program did, measured from the commanded positions alone.
 //!
-//! [`analyse`] takes the program's blocks (the programmed geometry, from
-//! [`crate::gcode::parse`]), the commanded axis positions of every servo tick (mm, program
-//! coordinates), the servo period and each axis's limits, and reports:
+//! [`Report`] takes the program's blocks as they are queued (the programmed geometry, from
+//! [`crate::gcode`]) and the commanded axis positions of every servo tick as they come (mm,
+//! program coordinates), with the servo period and each axis's limits, in memory that does
+//! not grow with the run (running peaks, the first and last moving ticks, a count of
+//! stops, the largest deviation so far, a sliding window of the programmed path);
+//! [`analyse`] does the same for a whole program and a list of points. It reports:
 //!
 //! - `path_time`: the time the commanded point moves. Tick `k` *moves* when
 //!   `|p[k] − p[k−1]| / ts` is at least the rest speed ([`REST_SPEED`] unless given); the
@@ -13,7 +16,9 @@
 //!   |1st, 2nd, 3rd backward difference| / (ts, ts², ts³) over the axis's limit; the worst
 //!   axis's ratio. Every tick counts, rests included.
 //! - `max_deviation`: the largest distance from a commanded point to the programmed path
-//!   (the union of all lines, arcs and helices, rapids included), in mm. Lines and circles
+//!   (the union of the lines, arcs and helices held when the point comes, rapids included:
+//!   the whole program for [`analyse`]; for [`Report`] the blocks added so far from
+//!   [`WINDOW_BEHIND`] segments behind the point's nearest one), in mm. Lines and circles
 //!   are exact; a helix is sampled (32 samples a turn, over the part of it close enough in
 //!   height) and the best sample refined by golden-section search.
 //! - `exact_stops`: the number of maximal runs of non-moving ticks strictly between the first
@@ -39,8 +44,16 @@
 //! within `d` of the point; never O(blocks) unless the path really crowds the point.
 //! 200,000 ticks over 10,000 blocks cost about 11 segment distances a tick (a test counts
 //! them).
+//!
+//! The tree is over the segments held: [`Report`] adds segments at its end as they are
+//! queued and drops those more than [`WINDOW_BEHIND`] behind the nearest segment of the
+//! last point, so a run of any length holds at most that many plus those queued ahead (the
+//! card's path buffer, 4096), and the tree about log2(12,288 / 8) levels. Over the whole
+//! program the walk grew with the program (in `perf`, the search took 15 % of `mcctl run`
+//! on a 100,000-chord spiral and 33 % on a 300,000-chord one); over the window it does not.
 
 use crate::gcode::{ArcGeom, Block};
+use std::collections::VecDeque;
 use std::f64::consts::TAU;
 use std::fmt;
 
@@ -134,7 +147,8 @@ pub fn analyse(
 }
 
 /// The report of a run; ticks slower than `rest_speed` (mm/s) are at rest (raise it for
-/// positions quantised to encoder counts).
+/// positions quantised to encoder counts). The whole program is held: [`Report`] with every
+/// block added before the first point.
 pub fn analyse_with_rest_speed(
     blocks: &[Block],
     points: &[[f64; 3]],
@@ -142,43 +156,15 @@ pub fn analyse_with_rest_speed(
     limits: &[AxisLimits; 3],
     rest_speed: f64,
 ) -> Result<PathReport, ReportError> {
-    if !(ts > 0.0 && ts.is_finite()) {
-        return Err(ReportError::BadPeriod(ts));
+    let mut r = Report::new(ts, limits, rest_speed)?;
+    r.behind = usize::MAX;
+    for b in blocks {
+        r.add_block(b);
     }
-    for (axis, l) in limits.iter().enumerate() {
-        for (what, value) in [
-            ("velocity", l.vmax),
-            ("acceleration", l.amax),
-            ("jerk", l.jmax),
-        ] {
-            if value.is_nan() || value <= 0.0 {
-                return Err(ReportError::BadLimit { axis, what, value });
-            }
-        }
+    for &p in points {
+        r.push(p)?;
     }
-    if rest_speed.is_nan() || rest_speed < 0.0 {
-        return Err(ReportError::BadRestSpeed(rest_speed));
-    }
-    if let Some(k) = points.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-        return Err(ReportError::NonFinitePoint(k));
-    }
-    let segs: Vec<Seg> = blocks.iter().filter_map(Seg::new).collect();
-    if segs.is_empty() && !points.is_empty() {
-        return Err(ReportError::NoMotion);
-    }
-    let (peak_vel_ratio, peak_accel_ratio, peak_jerk_ratio) = peaks(points, ts, limits);
-    let (path_time, exact_stops) = motion_and_stops(points, ts, rest_speed);
-    let mut max_deviation = 0.0f64;
-    deviations(&segs, points, |_, d| max_deviation = max_deviation.max(d));
-    Ok(PathReport {
-        path_time,
-        segments: segs.len(),
-        peak_vel_ratio,
-        peak_accel_ratio,
-        peak_jerk_ratio,
-        max_deviation,
-        exact_stops,
-    })
+    r.finish()
 }
 
 /// The distance (mm) from `p` to a motion block; `None` for a dwell or an output.
@@ -186,78 +172,208 @@ pub fn distance_to_block(block: &Block, p: [f64; 3]) -> Option<f64> {
     Seg::new(block).map(|s| s.distance(p, f64::INFINITY))
 }
 
-fn peaks(points: &[[f64; 3]], ts: f64, limits: &[AxisLimits; 3]) -> (f64, f64, f64) {
-    let (mut v, mut a, mut j) = ([0.0f64; 3], [0.0f64; 3], [0.0f64; 3]);
-    for k in 1..points.len() {
-        for i in 0..3 {
-            let p = |m: usize| points[k - m][i];
-            v[i] = v[i].max(((p(0) - p(1)) / ts).abs());
-            if k >= 2 {
-                a[i] = a[i].max(((p(0) - 2.0 * p(1) + p(2)) / (ts * ts)).abs());
-            }
-            if k >= 3 {
-                let d3 = p(0) - 3.0 * p(1) + 3.0 * p(2) - p(3);
-                j[i] = j[i].max((d3 / (ts * ts * ts)).abs());
-            }
-        }
-    }
-    let worst = |peak: [f64; 3], lim: fn(&AxisLimits) -> f64| {
-        (0..3)
-            .map(|i| peak[i] / lim(&limits[i]))
-            .fold(0.0, f64::max)
-    };
-    (
-        worst(v, |l| l.vmax),
-        worst(a, |l| l.amax),
-        worst(j, |l| l.jmax),
-    )
+/// Motion segments kept behind the one nearest the last point, for [`Report`]'s deviation.
+/// The card's path buffer holds [`PATH_LEN`](firmware_proto::PATH_LEN) (4096) segments
+/// ahead of the one it runs, so the nearest segment of a point is never more than that
+/// ahead of the running one; twice that behind keeps the running segment and at least 4096
+/// before it.
+pub const WINDOW_BEHIND: usize = 8192;
+/// Points held before the first motion block is added (see [`Report::push`]).
+const PENDING_MAX: usize = 1024;
+
+/// A run's report computed as it runs, in memory that does not grow with the number of
+/// ticks: running peaks of the axes' differences, the first and last moving ticks and the
+/// stops between them, the largest deviation so far. The programmed path is held as a
+/// sliding window: the motion blocks added (in program order, at least up to the one being
+/// run: [`Report::add_block`]) from [`WINDOW_BEHIND`] segments behind the nearest segment of
+/// the last point. A point's deviation is its distance to the segments held when it is
+/// pushed (exactly as the module documentation says when the whole program is held, as in
+/// [`analyse`]); a segment dropped behind, or not yet added, is not searched.
+#[derive(Debug, Clone)]
+pub struct Report {
+    ts: f64,
+    limits: [AxisLimits; 3],
+    rest_speed: f64,
+    /// Segments kept behind the nearest one.
+    behind: usize,
+    /// Points pushed so far.
+    ticks: u64,
+    /// The last four points, the newest at `(ticks - 1) % 4`.
+    last: [[f64; 3]; 4],
+    peak: [[f64; 3]; 3],
+    /// The first and last moving ticks.
+    first_moving: Option<u64>,
+    last_moving: u64,
+    /// A tick at rest since the last moving one.
+    rested: bool,
+    stops: usize,
+    segments: usize,
+    path: Window,
+    /// The nearest segment of the last point (absolute index).
+    cur: usize,
+    max_deviation: f64,
+    /// Points pushed before any motion block (consecutive repeats once).
+    pending: Vec<[f64; 3]>,
+    stack: Vec<(usize, usize)>,
+    /// Segment distances computed.
+    evals: usize,
 }
 
-/// (path_time, exact_stops), as the module documentation defines them.
-fn motion_and_stops(points: &[[f64; 3]], ts: f64, rest_speed: f64) -> (f64, usize) {
-    let moving = |k: usize| dist(points[k], points[k - 1]) / ts >= rest_speed;
-    let Some(first) = (1..points.len()).find(|&k| moving(k)) else {
-        return (0.0, 0);
-    };
-    let last = (1..points.len())
-        .rev()
-        .find(|&k| moving(k))
-        .unwrap_or(first);
-    let mut stops = 0;
-    let mut was_moving = true;
-    for k in first + 1..last {
-        let m = moving(k);
-        if was_moving && !m {
-            stops += 1;
+impl Report {
+    /// An empty report for servo period `ts` (s), the axes' `limits` and the rest speed
+    /// (mm/s, [`REST_SPEED`] by default).
+    pub fn new(ts: f64, limits: &[AxisLimits; 3], rest_speed: f64) -> Result<Report, ReportError> {
+        if !(ts > 0.0 && ts.is_finite()) {
+            return Err(ReportError::BadPeriod(ts));
         }
-        was_moving = m;
+        for (axis, l) in limits.iter().enumerate() {
+            for (what, value) in [
+                ("velocity", l.vmax),
+                ("acceleration", l.amax),
+                ("jerk", l.jmax),
+            ] {
+                if value.is_nan() || value <= 0.0 {
+                    return Err(ReportError::BadLimit { axis, what, value });
+                }
+            }
+        }
+        if rest_speed.is_nan() || rest_speed < 0.0 {
+            return Err(ReportError::BadRestSpeed(rest_speed));
+        }
+        Ok(Report {
+            ts,
+            limits: *limits,
+            rest_speed,
+            behind: WINDOW_BEHIND,
+            ticks: 0,
+            last: [[0.0; 3]; 4],
+            peak: [[0.0; 3]; 3],
+            first_moving: None,
+            last_moving: 0,
+            rested: false,
+            stops: 0,
+            segments: 0,
+            path: Window::default(),
+            cur: 0,
+            max_deviation: 0.0,
+            pending: Vec::new(),
+            stack: Vec::new(),
+            evals: 0,
+        })
     }
-    ((last - first + 1) as f64 * ts, stops)
-}
 
-/// Calls `f(k, distance)` for every point: the window of the module documentation, then
-/// the tree's proof. Returns how many segment distances were computed.
-fn deviations(segs: &[Seg], points: &[[f64; 3]], mut f: impl FnMut(usize, f64)) -> usize {
-    let tree = Tree::new(segs);
-    let mut evals = 0;
-    let mut cur = 0usize;
-    let mut stack = Vec::new();
-    for (k, &p) in points.iter().enumerate() {
-        let lo = cur.saturating_sub(WINDOW_BACK);
-        let hi = (cur + WINDOW_AHEAD + 1).min(segs.len());
-        let (mut best, mut at) = (f64::INFINITY, cur);
-        for (i, s) in segs.iter().enumerate().take(hi).skip(lo) {
-            evals += 1;
-            let d = s.distance(p, best);
+    /// The program's next block (dwells and outputs are passed over).
+    pub fn add_block(&mut self, block: &Block) {
+        let Some(seg) = Seg::new(block) else {
+            return;
+        };
+        self.segments += 1;
+        self.path.add(seg);
+        for p in std::mem::take(&mut self.pending) {
+            self.measure(p);
+        }
+    }
+
+    /// The commanded point of the next tick (mm). A point pushed before any motion block
+    /// was added is measured when the first one is (up to 1024 distinct points: a run adds
+    /// what it queues on the card before it steps it).
+    pub fn push(&mut self, p: [f64; 3]) -> Result<(), ReportError> {
+        if p.iter().any(|x| !x.is_finite()) {
+            return Err(ReportError::NonFinitePoint(self.ticks as usize));
+        }
+        let k = self.ticks;
+        let ts = self.ts;
+        let at = |m: u64| self.last[((k - m) % 4) as usize];
+        if k >= 1 {
+            let (p1, p2, p3) = (at(1), at(2), at(3));
+            for i in 0..3 {
+                let v = &mut self.peak[0][i];
+                *v = v.max(((p[i] - p1[i]) / ts).abs());
+                if k >= 2 {
+                    let a = &mut self.peak[1][i];
+                    *a = a.max(((p[i] - 2.0 * p1[i] + p2[i]) / (ts * ts)).abs());
+                }
+                if k >= 3 {
+                    let d3 = p[i] - 3.0 * p1[i] + 3.0 * p2[i] - p3[i];
+                    let j = &mut self.peak[2][i];
+                    *j = j.max((d3 / (ts * ts * ts)).abs());
+                }
+            }
+            if dist(p, p1) / ts >= self.rest_speed {
+                if self.first_moving.is_none() {
+                    self.first_moving = Some(k);
+                } else if self.rested {
+                    self.stops += 1;
+                }
+                self.last_moving = k;
+                self.rested = false;
+            } else if self.first_moving.is_some() {
+                self.rested = true;
+            }
+        }
+        self.last[(k % 4) as usize] = p;
+        self.ticks += 1;
+        if self.path.is_empty() {
+            if self.pending.last() != Some(&p) && self.pending.len() < PENDING_MAX {
+                self.pending.push(p);
+            }
+        } else {
+            self.measure(p);
+        }
+        Ok(())
+    }
+
+    /// The report of the points pushed so far.
+    pub fn finish(&self) -> Result<PathReport, ReportError> {
+        if self.segments == 0 && self.ticks > 0 {
+            return Err(ReportError::NoMotion);
+        }
+        let worst = |peak: [f64; 3], lim: fn(&AxisLimits) -> f64| {
+            (0..3)
+                .map(|i| peak[i] / lim(&self.limits[i]))
+                .fold(0.0, f64::max)
+        };
+        let path_time = self
+            .first_moving
+            .map_or(0.0, |f| (self.last_moving - f + 1) as f64 * self.ts);
+        Ok(PathReport {
+            path_time,
+            segments: self.segments,
+            peak_vel_ratio: worst(self.peak[0], |l| l.vmax),
+            peak_accel_ratio: worst(self.peak[1], |l| l.amax),
+            peak_jerk_ratio: worst(self.peak[2], |l| l.jmax),
+            max_deviation: self.max_deviation,
+            exact_stops: self.stops,
+        })
+    }
+
+    /// Motion segments held now (for the programmed path's window).
+    pub fn held_segments(&self) -> usize {
+        self.path.segs.len()
+    }
+
+    /// The distance of `p` to the path held: the window of the module documentation, then
+    /// the tree's proof; drops what falls [`WINDOW_BEHIND`] behind the nearest segment.
+    fn measure(&mut self, p: [f64; 3]) -> f64 {
+        let w = &self.path;
+        let (base, end) = (w.base, w.base + w.segs.len());
+        let lo = self.cur.saturating_sub(WINDOW_BACK).max(base);
+        let hi = (self.cur + WINDOW_AHEAD + 1).min(end);
+        let (mut best, mut at) = (f64::INFINITY, self.cur);
+        for i in lo..hi.max(lo) {
+            self.evals += 1;
+            let d = w.segs[i - base].distance(p, best);
             if d <= best {
                 (best, at) = (d, i);
             }
         }
-        evals += tree.improve(segs, p, lo..hi, &mut best, &mut at, &mut stack);
-        cur = at;
-        f(k, best);
+        self.evals += w.improve(p, lo..hi, &mut best, &mut at, &mut self.stack);
+        self.cur = at;
+        self.max_deviation = self.max_deviation.max(best);
+        let keep = at.saturating_sub(self.behind);
+        self.path.drop_before(keep);
+        best
     }
-    evals
 }
 
 /// An axis-aligned box.
@@ -297,38 +413,89 @@ impl Aabb {
     }
 }
 
-/// Boxes over contiguous runs of segments: `levels[0][i]` holds segments
-/// `i·LEAF .. (i+1)·LEAF`, each level above pairs the boxes below it.
-struct Tree {
-    levels: Vec<Vec<Aabb>>,
-}
-
+/// Segments per leaf box.
 const LEAF: usize = 8;
 
-impl Tree {
-    fn new(segs: &[Seg]) -> Tree {
-        let leaves: Vec<Aabb> = segs
-            .chunks(LEAF)
-            .map(|c| c.iter().fold(Aabb::EMPTY, |b, s| b.union(&s.bounds())))
-            .collect();
-        let mut levels = vec![leaves];
-        while levels.last().is_some_and(|l| l.len() > 1) {
-            let up = levels
-                .last()
-                .unwrap_or(&Vec::new())
-                .chunks(2)
-                .map(|c| c.iter().fold(Aabb::EMPTY, |b, x| b.union(x)))
-                .collect();
-            levels.push(up);
+/// One level of the tree: the boxes of nodes `first ..`; node `i` of level `l` holds
+/// segments `i·LEAF·2^l .. (i+1)·LEAF·2^l` (absolute indices).
+#[derive(Debug, Clone, Default)]
+struct Level {
+    first: usize,
+    boxes: VecDeque<Aabb>,
+}
+
+/// The programmed path held: segments `base ..` in program order, and a tree of bounding
+/// boxes over contiguous runs of 8, 16, 32, … of them. Segments are added at the end and
+/// dropped from the front; a box partly dropped keeps its extent (a box holds what it
+/// holds, so it still bounds the distance from below), one wholly dropped goes. Levels are
+/// added until the top has at most two boxes, so a window of `n` segments has about
+/// log2(n / 8) levels, each of a few boxes.
+#[derive(Debug, Clone, Default)]
+struct Window {
+    segs: VecDeque<Seg>,
+    base: usize,
+    levels: Vec<Level>,
+}
+
+impl Window {
+    fn is_empty(&self) -> bool {
+        self.segs.is_empty()
+    }
+
+    fn add(&mut self, seg: Seg) {
+        let idx = self.base + self.segs.len();
+        let b = seg.bounds();
+        self.segs.push_back(seg);
+        if self.levels.is_empty() {
+            self.levels.push(Level {
+                first: idx / LEAF,
+                boxes: VecDeque::new(),
+            });
         }
-        Tree { levels }
+        for (l, level) in self.levels.iter_mut().enumerate() {
+            let node = idx / (LEAF << l);
+            if level.boxes.is_empty() {
+                level.first = node;
+            }
+            while level.first + level.boxes.len() <= node {
+                level.boxes.push_back(Aabb::EMPTY);
+            }
+            let slot = &mut level.boxes[node - level.first];
+            *slot = slot.union(&b);
+        }
+        while let Some(top) = self.levels.last().filter(|t| t.boxes.len() > 2) {
+            let first = top.first / 2;
+            let mut boxes = VecDeque::new();
+            for (i, bx) in top.boxes.iter().enumerate() {
+                let parent = (top.first + i) / 2 - first;
+                if parent == boxes.len() {
+                    boxes.push_back(Aabb::EMPTY);
+                }
+                boxes[parent] = boxes[parent].union(bx);
+            }
+            self.levels.push(Level { first, boxes });
+        }
+    }
+
+    /// Drops the segments before absolute index `keep`.
+    fn drop_before(&mut self, keep: usize) {
+        while self.base < keep && !self.segs.is_empty() {
+            self.segs.pop_front();
+            self.base += 1;
+        }
+        for (l, level) in self.levels.iter_mut().enumerate() {
+            let size = LEAF << l;
+            while !level.boxes.is_empty() && (level.first + 1) * size <= self.base {
+                level.boxes.pop_front();
+                level.first += 1;
+            }
+        }
     }
 
     /// Lowers `best` (and moves `at`) to the nearest segment outside `skip` when one is
     /// nearer; visits only boxes nearer than `best`. Returns the segment distances computed.
     fn improve(
         &self,
-        segs: &[Seg],
         p: [f64; 3],
         skip: std::ops::Range<usize>,
         best: &mut f64,
@@ -337,40 +504,49 @@ impl Tree {
     ) -> usize {
         let mut evals = 0;
         stack.clear();
-        if !self.levels[0].is_empty() {
-            stack.push((self.levels.len() - 1, 0));
-        }
+        let Some(top) = self.levels.len().checked_sub(1) else {
+            return 0;
+        };
+        let node = |l: usize, i: usize| {
+            let level = &self.levels[l];
+            i.checked_sub(level.first)
+                .and_then(|k| level.boxes.get(k))
+                .map_or(f64::INFINITY, |b| b.distance(p))
+        };
+        let push_nearer_last =
+            |stack: &mut Vec<(usize, usize)>, l: usize, mut kids: [(usize, f64); 2], best: f64| {
+                // The nearer one is searched first (pushed last).
+                kids.sort_by(|a, b| b.1.total_cmp(&a.1));
+                for (c, d) in kids {
+                    if d < best {
+                        stack.push((l, c));
+                    }
+                }
+            };
+        let t = &self.levels[top];
+        let kids = [t.first, t.first + 1].map(|i| (i, node(top, i)));
+        push_nearer_last(stack, top, kids, *best);
+        let end = self.base + self.segs.len();
         while let Some((l, i)) = stack.pop() {
-            if self.levels[l][i].distance(p) >= *best {
+            if node(l, i) >= *best {
                 continue;
             }
             if l == 0 {
-                for (s, seg) in segs.iter().enumerate().skip(i * LEAF).take(LEAF) {
+                let (from, to) = ((i * LEAF).max(self.base), ((i + 1) * LEAF).min(end));
+                for s in from..to.max(from) {
                     if skip.contains(&s) {
                         continue;
                     }
                     evals += 1;
-                    let d = seg.distance(p, *best);
+                    let d = self.segs[s - self.base].distance(p, *best);
                     if d < *best {
                         (*best, *at) = (d, s);
                     }
                 }
                 continue;
             }
-            let below = &self.levels[l - 1];
-            let mut kids = [(2 * i, f64::INFINITY), (2 * i + 1, f64::INFINITY)];
-            for k in &mut kids {
-                if k.0 < below.len() {
-                    k.1 = below[k.0].distance(p);
-                }
-            }
-            // The nearer child is searched first (pushed last).
-            kids.sort_by(|a, b| b.1.total_cmp(&a.1));
-            for (c, d) in kids {
-                if d < *best {
-                    stack.push((l - 1, c));
-                }
-            }
+            let kids = [2 * i, 2 * i + 1].map(|c| (c, node(l - 1, c)));
+            push_nearer_last(stack, l - 1, kids, *best);
         }
         evals
     }
@@ -717,6 +893,20 @@ mod tests {
         );
     }
 
+    /// Every point's distance to the path of `blocks` (all held, nothing dropped); returns
+    /// the segment distances computed.
+    fn deviations(blocks: &[Block], pts: &[[f64; 3]], mut f: impl FnMut(usize, f64)) -> usize {
+        let mut r = Report::new(1e-3, &LIM, REST_SPEED).unwrap();
+        r.behind = usize::MAX;
+        for b in blocks {
+            r.add_block(b);
+        }
+        for (k, &p) in pts.iter().enumerate() {
+            f(k, r.measure(p));
+        }
+        r.evals
+    }
+
     /// The brute force: every segment for every point.
     fn brute(segs: &[Seg], p: [f64; 3]) -> f64 {
         segs.iter()
@@ -757,7 +947,7 @@ mod tests {
             }
         }
         let mut got = vec![0.0; pts.len()];
-        deviations(&segs, &pts, |k, d| got[k] = d);
+        deviations(&blocks, &pts, |k, d| got[k] = d);
         for (k, p) in pts.iter().enumerate() {
             let want = brute(&segs, *p);
             assert!(
@@ -790,7 +980,7 @@ mod tests {
             .collect();
         assert_eq!(pts.len(), 200_000);
         let mut worst = 0.0f64;
-        let evals = deviations(&segs, &pts, |_, d| worst = worst.max(d));
+        let evals = deviations(&blocks, &pts, |_, d| worst = worst.max(d));
         // The first point scans everything; the others stay within the 11-segment window.
         eprintln!("{evals} segment distances for {} points", pts.len());
         assert!(
@@ -798,6 +988,102 @@ mod tests {
             "{evals} distance evaluations"
         );
         assert!((worst - 0.001).abs() < 1e-9, "{worst}");
+    }
+
+    /// Chords of a spiral (radius 50 mm growing 0.5 µm a chord, 1 mrad a chord: about
+    /// 50 µm long), `n` of them from `from`.
+    fn spiral(from: usize, n: usize) -> impl Iterator<Item = Block> {
+        let at = |i: usize| {
+            let (th, r) = (i as f64 * 1e-3, 50.0 + 5e-4 * i as f64);
+            [r * th.cos(), r * th.sin(), 0.0]
+        };
+        (from..from + n).map(move |i| Block::Line {
+            line: i + 1,
+            rapid: false,
+            start: at(i),
+            end: at(i + 1),
+            feed: 10.0,
+        })
+    }
+
+    /// A run as `mcctl run` feeds it: 200,000 chords (32 turns) added at most 4096 ahead of
+    /// the one the points are on, four points a chord. The report holds a window of the
+    /// path that does not grow with the run (the old one held every point and every block),
+    /// and its figures are those of the whole program held.
+    #[test]
+    fn a_long_run_holds_a_bounded_window_and_the_same_figures() {
+        let (n, per, ahead) = (200_000, 4, 4096);
+        let offset = 2e-3;
+        let points = |i: usize| {
+            let b = spiral(i, 1).next().unwrap();
+            (0..per).map(move |k| {
+                let q = b.point_at(k as f64 / per as f64).unwrap();
+                // Outwards: the spiral's turns are 3 mm apart.
+                let r = q[0].hypot(q[1]);
+                [q[0] * (1.0 + offset / r), q[1] * (1.0 + offset / r), 0.0]
+            })
+        };
+        let mut r = Report::new(1e-4, &LIM, REST_SPEED).unwrap();
+        let mut blocks = spiral(0, n);
+        let mut added = 0;
+        let mut most = 0;
+        for i in 0..n {
+            while added < n && added < i + ahead {
+                r.add_block(&blocks.next().unwrap());
+                added += 1;
+            }
+            for p in points(i) {
+                r.push(p).unwrap();
+            }
+            most = most.max(r.held_segments());
+        }
+        assert!(most <= WINDOW_BEHIND + ahead + 11, "{most} segments held");
+        assert!(r.path.levels.len() <= 12, "{} levels", r.path.levels.len());
+        let boxes: usize = r.path.levels.iter().map(|l| l.boxes.len()).sum();
+        assert!(boxes <= 2 * (WINDOW_BEHIND + ahead) / LEAF, "{boxes} boxes");
+        // About the 11 window segments a point, and a few more near the boxes' edges.
+        assert!(r.evals <= 13 * per * n, "{} distances", r.evals);
+        let streamed = r.finish().unwrap();
+        assert!(
+            (streamed.max_deviation - offset).abs() < 1e-6,
+            "{streamed:?}"
+        );
+        // The whole program held, every point at once: the same figures to the bit.
+        let all: Vec<Block> = spiral(0, n).collect();
+        let pts: Vec<[f64; 3]> = (0..n).flat_map(points).collect();
+        let whole = analyse(&all, &pts, 1e-4, &LIM).unwrap();
+        assert_eq!(streamed, whole);
+        assert_eq!(streamed.segments, n);
+    }
+
+    /// Points before the first motion block are measured when it arrives; a run of stops
+    /// and moves counted as it goes, as over the whole list.
+    #[test]
+    fn points_before_the_first_block_and_stops_as_they_come() {
+        let blocks = program("G1 X10 F600\nG4 P0.005\nX20\n");
+        let mut r = Report::new(1e-3, &LIM, REST_SPEED).unwrap();
+        let mut pts = vec![[0.0, 0.5, 0.0]; 3];
+        pts.extend((1..=10).map(|i| [i as f64, 0.0, 0.0]));
+        pts.extend([[10.0, 0.0, 0.0]; 4]);
+        pts.extend((11..=20).map(|i| [i as f64, 0.0, 0.0]));
+        for p in &pts[..3] {
+            r.push(*p).unwrap();
+        }
+        assert_eq!(r.pending.len(), 1);
+        for b in &blocks {
+            r.add_block(b);
+        }
+        for p in &pts[3..] {
+            r.push(*p).unwrap();
+        }
+        let got = r.finish().unwrap();
+        assert_eq!(got, analyse(&blocks, &pts, 1e-3, &LIM).unwrap());
+        assert_eq!(got.exact_stops, 1);
+        assert!((got.max_deviation - 0.5).abs() < 1e-12);
+        assert_eq!(
+            r.push([f64::NAN, 0.0, 0.0]),
+            Err(ReportError::NonFinitePoint(pts.len()))
+        );
     }
 
     #[test]

@@ -431,6 +431,107 @@ fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
     assert_eq!(code, 2);
 }
 
+/// Runs mcctl and reads its peak resident memory (`VmHWM`, kB) from /proc while it runs
+/// (the last reading before it exits: the mark only rises).
+fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak = 0;
+    let code = loop {
+        if let Ok(s) = std::fs::read_to_string(&status) {
+            let hwm = s
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
+            peak = peak.max(hwm.unwrap_or(0));
+        }
+        if let Some(st) = child.try_wait().unwrap() {
+            break st.code().unwrap_or(-1);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    };
+    let (mut out, mut err) = (String::new(), String::new());
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (code, out, err, peak)
+}
+
+/// `mcctl run` in memory that does not grow with the run: a move and a dwell of 40 s
+/// (400,000 ticks of 0.1 ms) peak within 2 MB of the same program with a dwell of 1 s.
+/// Every tick was kept before (24 bytes a tick: 9 MB more), so a program running for hours
+/// ran out of memory.
+#[test]
+fn run_memory_does_not_grow_with_the_run() {
+    let dir = std::env::temp_dir().join(format!("mcctl-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |dwell: u32| {
+        let file = dir.join(format!("dwell{dwell}.ngc"));
+        std::fs::write(&file, format!("G1 X1 F600\nG4 P{dwell}\nX2\n")).unwrap();
+        let (code, out, err, peak) = mcctl_peak_rss(&["run", file.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        (j, peak)
+    };
+    let (short, short_peak) = run(1);
+    let (long, long_peak) = run(40);
+    let ticks = |j: &serde_json::Value| j["ticks_seen"].as_u64().unwrap();
+    assert_eq!(ticks(&long) - ticks(&short), 390_000, "{short} {long}");
+    assert_eq!(long["exact_stops"], 1);
+    assert!(short_peak > 0);
+    assert!(
+        long_peak < short_peak + 2048,
+        "peak {long_peak} kB over 400,000 ticks, {short_peak} kB over 10,000"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `mcctl run` reads the program a line at a time and checks all of it before anything
+/// moves: an error on the last of 200,000 lines names its line and nothing ran; a line
+/// longer than 64 KiB and a program without motion are refused before the card moves.
+#[test]
+fn run_checks_the_whole_program_first() {
+    let dir = std::env::temp_dir().join(format!("mcctl-runcheck-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("long.ngc");
+    let mut text = String::from("G1 F6000\n");
+    for i in 1..200_000 {
+        text += &format!("X{}\n", i % 2);
+    }
+    text += "G28\n";
+    std::fs::write(&file, &text).unwrap();
+    let t0 = std::time::Instant::now();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("line 200001: unsupported code G28"), "{err}");
+    // 200,000 moves of 1 mm would take over half an hour of card time.
+    assert!(t0.elapsed() < std::time::Duration::from_secs(60));
+    std::fs::write(&file, format!("G1 X1 F60 ({})\n", "c".repeat(70_000))).unwrap();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("line 1: longer than 65536 bytes"), "{err}");
+    std::fs::write(&file, "G4 P100\n").unwrap();
+    let (code, _, err) = mcctl(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("no motion block"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// `mcctl io` sets outputs and reads them back; `mcctl pvt` streams a PT file (a smooth move
 /// of 1000 counts in 0.2 s) to its end on the emulated card; a malformed line is exit status
 /// 2 naming the line.
@@ -466,6 +567,175 @@ fn io_and_pvt_from_the_command_line() {
     let (code, _, err) = mcctl(&["pvt", "0", f, "--enable"]);
     assert_eq!(code, 2);
     assert!(err.contains("line 3"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A point `mcctl pvt` refuses is named by its index in the file and its line, past the card's
+/// 4096-point buffer too (it was the index within the refill, "point 4"), with the card's
+/// true reason: a time not after the one before, or more than the longest segment (10⁶ s)
+/// after it.
+#[test]
+fn a_refused_pvt_point_names_its_line_and_reason() {
+    let dir = std::env::temp_dir().join(format!("mcctl-pvt-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hold.csv");
+    let f = file.to_str().unwrap();
+    for (bad, at, reason) in [
+        (
+            4100,
+            "0.5",
+            "at least one servo period after the one before",
+        ),
+        (
+            4500,
+            "1e9",
+            "at most 1e6 s (the longest move) after the one before",
+        ),
+        (
+            0,
+            "1e9",
+            "at most 1e6 s (the longest move) after the one before",
+        ),
+    ] {
+        // Point k at (k + 1) ms holds the axis where it is; the bad one's time is `at`.
+        let mut text = String::from("# time, position\n");
+        for k in 0..bad + 10 {
+            if k == bad {
+                text += &format!("{at}, 0\n");
+            } else {
+                text += &format!("{}, 0\n", (k + 1) as f64 * 1e-3);
+            }
+        }
+        std::fs::write(&file, &text).unwrap();
+        let (code, _, err) = mcctl(&["pvt", "0", f, "--enable"]);
+        assert_eq!(code, 1, "{err}");
+        let want = format!(
+            "{f}:{}: PT/PVT point {bad} on axis 0 refused: a PT/PVT point must come {reason}",
+            bad + 2
+        );
+        assert!(err.contains(&want), "{err}\nwanted {want}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--enable` powers only the axes a command moves, once what it arms or loads is accepted, and
+/// powers them off again however it ends: a refused compare, probe or gear left the axes
+/// powered, and a finished one too. On one `emu:` card that outlives each mcctl process.
+#[test]
+fn enable_powers_the_moved_axes_for_the_command_only() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    use std::os::fd::AsFd;
+    let name = format!("test-mcctl-power-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
+    let window = emu.window().fd().try_clone_to_owned().unwrap();
+    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
+    let _server = Server::start(&name, window, irq).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let states = || {
+        let (code, out, err) = on(&["status", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        (0..2)
+            .map(|a| j["axes"][a]["state"].as_str().unwrap().to_string())
+            .collect::<Vec<_>>()
+    };
+    let off = vec!["Disabled".to_string(); 2];
+    let cases: [(&[&str], i32, &str); 5] = [
+        // Refused by the card: nothing was powered for it.
+        (
+            &[
+                "compare", "0", "--output", "99", "--at", "100", "--move", "900", "--enable",
+            ],
+            1,
+            "refused compare_single",
+        ),
+        (
+            &["probe", "0", "--channel", "9", "--move", "900", "--enable"],
+            1,
+            "no such compare or probe channel",
+        ),
+        (
+            &[
+                "gear", "1", "--master", "0", "--ratio", "1/0", "--move", "900", "--enable",
+            ],
+            1,
+            "gear ratio",
+        ),
+        // Watching only: nothing to power.
+        (
+            &[
+                "compare", "0", "--output", "3", "--at", "100", "--for", "0.05", "--enable",
+            ],
+            0,
+            "0 fired",
+        ),
+        // A move: powered for it, off at the end.
+        (
+            &[
+                "compare", "0", "--output", "3", "--at", "100", "--move", "900", "--enable",
+            ],
+            0,
+            "1 fired",
+        ),
+    ];
+    for (args, want, what) in cases {
+        let (code, out, err) = on(args);
+        assert_eq!(code, want, "{args:?}: {out}{err}");
+        assert!(
+            out.contains(what) || err.contains(what),
+            "{args:?}: {out}{err}"
+        );
+        assert_eq!(states(), off, "{args:?}: powered after it");
+    }
+    let (code, out, err) = on(&["gear", "1", "--master", "0", "--move", "1500", "--enable"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("master moved 600"), "{out}");
+    assert_eq!(states(), off, "powered after the gear");
+}
+
+/// `compare --table` checks its file a line at a time (a position out of order is refused
+/// with its line before anything moves) and reads the positions as the channel's table
+/// empties: a table of 10⁶ positions peaks within 4 MB of one of 10 (every position was read
+/// into memory first: 10⁷ took 794 MB).
+#[test]
+fn a_compare_table_is_streamed_from_its_file() {
+    let dir = std::env::temp_dir().join(format!("mcctl-cmp-big-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("table.txt");
+    let f = file.to_str().unwrap();
+    let run = |n: usize| {
+        let text: String = (1..=n).map(|k| format!("{}\n", 100 + 10 * k)).collect();
+        std::fs::write(&file, text).unwrap();
+        let args = [
+            "compare", "0", "--output", "3", "--table", f, "--move", "500", "--enable",
+        ];
+        let (code, out, err, peak) = mcctl_peak_rss(&args);
+        assert_eq!(code, 0, "{err}");
+        // 110 to 500: 40 fired on the way.
+        assert!(out.contains(": 40 fired (110 .. 500), 0 missed"), "{out}");
+        peak
+    };
+    let (small, big) = (run(10_000), run(1_000_000));
+    assert!(
+        big < small + 4096,
+        "peak {big} kB for 10^6 positions, {small} kB for 10^4"
+    );
+    std::fs::write(&file, "100\n200\n# a comment\n150\n300\n").unwrap();
+    let (code, _, err) = mcctl(&[
+        "compare", "0", "--output", "3", "--table", f, "--move", "500",
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("line 4: position 150 does not come after 200 in the positive direction"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -712,6 +982,18 @@ fn one_card_across_mcctl_processes() {
     assert!(err.contains("disabled"), "{err}");
     let (code, _, _) = on(&["status", "--watch", "--interval", "-1"]);
     assert_eq!(code, 2);
+    // A G-code program on the real-time card: streamed by a thread of its own while the
+    // positions are sampled; the report measures what it saw.
+    let square = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/gcode/square.ngc");
+    let (code, out, err) = on(&["run", square, "--tolerance", "0.05", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["segments"], 5, "{j}");
+    assert!(j["ticks_seen"].as_u64().unwrap() > 1_000, "{j}");
+    assert!(
+        j["max_deviation"].as_f64().unwrap() <= 0.05 * (1.0 + 1e-9),
+        "{j}"
+    );
 }
 
 /// An API trace of one mcctl run (by the environment), replayed by another; a tampered trace

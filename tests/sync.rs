@@ -534,6 +534,34 @@ fn pvt_refusals_and_a_dry_buffer() {
         st.raw.stop_reason,
         motioncard::StopReason::Starvation as u32
     );
+    // A time refusal says which bound when the point before is in the same push (too soon, or
+    // later than the longest segment, 10⁶ s: the card's one nack for both); the first point
+    // of a push names both.
+    x.pvt_begin(PvtMode::Pvt, &lim, 0).unwrap();
+    for (pts, index, reason) in [
+        ([0.1, 0.1], 1, "at least one servo period after"),
+        ([0.2, 1e9], 1, "at most 1e6 s (the longest move) after"),
+        (
+            [1e9, 2e9],
+            0,
+            "at least one servo period, and at most 1e6 s (the longest move), after",
+        ),
+    ] {
+        // Held where the axis stands.
+        let pts = pts.map(|t| PvtPoint::new(t, st.command_position, 0.0));
+        let e = x.pvt_push(&pts, false).unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::PvtTime, "{e}");
+        let motioncard::Error::PvtPoint {
+            index: i,
+            reason: r,
+            ..
+        } = &e
+        else {
+            panic!("{e}")
+        };
+        assert_eq!(*i, index, "{e}");
+        assert!(r.contains(reason), "{e}");
+    }
 }
 
 /// 20,000 points (every ms for 20 s) through the 4,096-point buffer, refilled on the low-water

@@ -115,3 +115,85 @@ fn the_environment_turns_the_trace_on() {
     let r = motioncard::replay(&path).unwrap();
     assert_eq!(r.difference, None, "{r:?}");
 }
+
+/// The tick of the trace's last motion-done event set to `tick`.
+fn with_last_motion_tick(text: &str, tick: &str) -> (String, usize) {
+    let kind = (motioncard::EventKind::MotionDone as u16).to_string();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let i = lines
+        .iter()
+        .rposition(|l| l.starts_with("E ") && l.split(' ').nth(2) == Some(kind.as_str()))
+        .expect("a motion-done event");
+    let mut f: Vec<&str> = lines[i].split(' ').collect();
+    f[6] = tick;
+    lines[i] = f.join(" ");
+    (lines.join("\n") + "\n", i + 1)
+}
+
+/// Replays in a thread of its own: `None` if still stepping after 30 s.
+fn replay_within(path: &std::path::Path) -> Option<motioncard::Result<motioncard::ReplayReport>> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let p = path.to_path_buf();
+    std::thread::spawn(move || tx.send(motioncard::replay(&p)));
+    rx.recv_timeout(Duration::from_secs(30)).ok()
+}
+
+/// A recorded tick beyond the trace's own span (10¹⁵ or 2⁶³ in a trace of a fraction of a
+/// second: decades of stepping at 3 s per 10⁶ ticks) or before the event before it is
+/// refused before anything is replayed, naming its line.
+#[test]
+fn a_tick_beyond_the_traces_span_is_refused_before_the_replay() {
+    let path = temp("far.trace");
+    record(&path, Clock::Stepped);
+    let text = std::fs::read_to_string(&path).unwrap();
+    for tick in [
+        "1000000000000000",
+        "9223372036854775808",
+        "18446744073709551615",
+    ] {
+        let (bad, line) = with_last_motion_tick(&text, tick);
+        std::fs::write(&path, bad).unwrap();
+        let t0 = std::time::Instant::now();
+        let r = replay_within(&path).expect("refused at once, not stepped to the tick");
+        let e = r.unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::BadConfig, "{e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains(&format!("line {line}: tick {tick} is ")) && msg.contains("ticks after"),
+            "{msg}"
+        );
+        assert!(t0.elapsed() < Duration::from_secs(5));
+    }
+    let (bad, line) = with_last_motion_tick(&text, "3");
+    std::fs::write(&path, bad).unwrap();
+    let e = motioncard::replay(&path).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains(&format!("line {line}: tick 3 is before")),
+        "{e}"
+    );
+    // A later tick the trace's time allows (every tick from there on 500,000 later): the card's
+    // own event is found where it comes, before that tick.
+    let (_, line) = with_last_motion_tick(&text, "0");
+    let shifted: Vec<String> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut f: Vec<String> = l.split(' ').map(String::from).collect();
+            if i + 1 >= line && f[0] == "E" {
+                f[6] = (f[6].parse::<u64>().unwrap() + 500_000).to_string();
+            }
+            f.join(" ")
+        })
+        .collect();
+    std::fs::write(&path, shifted.join("\n") + "\n").unwrap();
+    let r = replay_within(&path)
+        .expect("found at the card's event")
+        .unwrap();
+    let (n, why) = r.difference.expect("a difference");
+    assert_eq!(n, line, "{why}");
+    assert!(
+        why.contains("MotionDone") && why.contains("the card posted MotionDone"),
+        "{why}"
+    );
+}

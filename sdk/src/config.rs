@@ -689,6 +689,9 @@ impl Config {
     /// Parse a file's text (`origin` names it in errors). Only the syntax and the types are
     /// checked here; [`Card::load_config`] checks the values against a card.
     pub fn parse(text: &str, origin: &str) -> Result<Config> {
+        if text.len() > MAX_CONFIG_BYTES {
+            return Err(too_big(origin, &format!("{} bytes", text.len())));
+        }
         let doc = toml::de::DeTable::parse(text).map_err(|e| {
             let line = e.span().map_or(0, |s| line_of(text, s.start));
             file_error(origin, String::new(), line, e.message().to_string())
@@ -703,17 +706,98 @@ impl Config {
     }
 }
 
+/// The largest configuration file read or parsed, in bytes. The largest file
+/// [`Card::save_config`] can write (8 axes with every section, PD+ included, 8 groups with
+/// their path settings, every number at its longest) is under 32 KiB; a quarter of a MiB
+/// leaves room for comments. Parsing takes about 100 times a file's size in memory: a larger
+/// file is refused before it is read.
+pub const MAX_CONFIG_BYTES: usize = 256 * 1024;
+
+/// Text from a file (a value, a key) is echoed in an error up to this many characters, then
+/// cut with an ellipsis.
+pub const ECHO_CHARS: usize = 60;
+
+fn too_big(origin: &str, size: &str) -> Error {
+    file_error(
+        origin,
+        String::new(),
+        0,
+        format!(
+            "{size} is more than a configuration file may hold ({MAX_CONFIG_BYTES} bytes: the \
+             largest `config save` writes is under 32 KiB); nothing was parsed"
+        ),
+    )
+}
+
 fn read_file(path: &std::path::Path) -> Result<String> {
-    std::fs::read_to_string(path)
-        .map_err(|e| Error::io(format!("{}: cannot read", path.display()), e))
+    use std::io::Read as _;
+    let cannot = |e| Error::io(format!("{}: cannot read", path.display()), e);
+    let origin = path.display().to_string();
+    let f = std::fs::File::open(path).map_err(cannot)?;
+    let meta = f.metadata().map_err(cannot)?;
+    if meta.is_file() && meta.len() > MAX_CONFIG_BYTES as u64 {
+        return Err(too_big(&origin, &format!("{} bytes", meta.len())));
+    }
+    // A pipe or a device says no size: read no more than the limit and one byte.
+    let mut text = String::new();
+    f.take(MAX_CONFIG_BYTES as u64 + 1)
+        .read_to_string(&mut text)
+        .map_err(cannot)?;
+    if text.len() > MAX_CONFIG_BYTES {
+        return Err(too_big(
+            &origin,
+            &format!("more than {MAX_CONFIG_BYTES} bytes"),
+        ));
+    }
+    Ok(text)
+}
+
+/// `s` with every quoted run (between `"` or `` ` ``, `\` escaping) or, for a key, every
+/// dotted part longer than [`ECHO_CHARS`] characters cut to that many and an ellipsis; and
+/// the whole cut to eight times that.
+fn cut_echoes(s: &str, quoted: bool) -> String {
+    let mut out = String::new();
+    let mut kept = 0usize;
+    let (mut run, mut inside, mut escaped) = (0usize, false, false);
+    for c in s.chars() {
+        let delimiter = if quoted {
+            (c == '"' || c == '`') && !escaped
+        } else {
+            c == '.'
+        };
+        escaped = quoted && inside && c == '\\' && !escaped;
+        let keep = if delimiter {
+            inside = quoted && !inside;
+            run = 0;
+            Some(c)
+        } else if quoted && !inside {
+            Some(c)
+        } else {
+            run += 1;
+            match run {
+                r if r <= ECHO_CHARS => Some(c),
+                r if r == ECHO_CHARS + 1 => Some('…'),
+                _ => None,
+            }
+        };
+        if let Some(c) = keep {
+            if kept == 8 * ECHO_CHARS {
+                out.push('…');
+                break;
+            }
+            out.push(c);
+            kept += 1;
+        }
+    }
+    out
 }
 
 fn file_error(origin: &str, key: String, line: usize, message: String) -> Error {
     Error::ConfigFile {
         path: origin.to_string(),
-        key,
+        key: cut_echoes(&key, false),
         line,
-        message,
+        message: cut_echoes(&message, true),
     }
 }
 

@@ -251,7 +251,7 @@ error_kinds! {
     SyncMaster = -75, MC_ERR_SYNC_MASTER, nack SyncMaster, "no such master, the slave itself, or a master axis disabled or in ErrorStop";
     /// A PT/PVT point not at least one servo period after the point before it, or a segment
     /// longer than the longest move.
-    PvtTime = -76, MC_ERR_PVT_TIME, nack PvtTime, "a PT/PVT point must come at least one servo period after the one before";
+    PvtTime = -76, MC_ERR_PVT_TIME, nack PvtTime, "a PT/PVT point must come at least one servo period, and at most 1e6 s (the longest move), after the one before";
     /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit (the
     /// error names the point).
     PvtLimit = -77, MC_ERR_PVT_LIMIT, nack PvtLimit, "the PT/PVT segment into this point breaks the velocity or acceleration limit";
@@ -449,6 +449,17 @@ pub enum Error {
         /// The refusal.
         source: Box<Error>,
     },
+    /// An error about a line of a file the host read (a PT/PVT point of `mcctl pvt`, …): the
+    /// kind is the error's.
+    #[error("{origin}:{line}: {source}")]
+    AtLine {
+        /// The file (or what the text came from).
+        origin: String,
+        /// Its line, 1-based.
+        line: usize,
+        /// The error.
+        source: Box<Error>,
+    },
 }
 
 fn config_place(path: &str, key: &str, line: usize) -> String {
@@ -489,7 +500,7 @@ impl Error {
             Error::Unsupported(_) => ErrorKind::Unsupported,
             Error::BadConfig(_) => ErrorKind::BadConfig,
             Error::ConfigFile { .. } => ErrorKind::ConfigFile,
-            Error::ConfigApply { source, .. } => source.kind(),
+            Error::ConfigApply { source, .. } | Error::AtLine { source, .. } => source.kind(),
         }
     }
 

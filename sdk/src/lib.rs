@@ -58,6 +58,7 @@ pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
     IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
+    ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
@@ -92,9 +93,9 @@ pub use path::{
     Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
     Segment, StreamError, Transition,
 };
-pub use pvt::{PvtLimits, PvtMode, PvtPoint};
+pub use pvt::{pvt_time_reason, PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
-pub use replay::{replay, ReplayReport, TraceHeader};
+pub use replay::{replay, ReplayReport, TraceHeader, MAX_TICKS_PER_SECOND};
 pub use safety::{
     CardSafetySettings, SafetySettings, SafetyStatus, StopInfo, WATCHDOG_TIMEOUT_DEFAULT,
 };

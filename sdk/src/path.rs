@@ -328,6 +328,12 @@ impl PathStreamer {
         }
     }
 
+    /// Has the streaming thread ended (everything sent and answered, cancelled, or refused:
+    /// [`PathStreamer::join`] says which)?
+    pub fn is_finished(&self) -> bool {
+        self.handle.as_ref().is_none_or(|h| h.is_finished())
+    }
+
     /// Stop sending (what was accepted stays queued).
     pub fn cancel(&self) {
         self.cancel.store(true, Ordering::Relaxed);

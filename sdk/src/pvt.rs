@@ -13,7 +13,20 @@
 
 use crate::card::{finite, positive, Axis, Card, Motion};
 use crate::error::{nack_reason, Error, Result, Target};
-use firmware_proto::{layout, NackCode, Opcode, PVT_LAST, PVT_POINTS_MAX, PVT_PT};
+use firmware_proto::{layout, NackCode, Opcode, MAX_MOVE_TIME, PVT_LAST, PVT_POINTS_MAX, PVT_PT};
+
+/// Why the card refused a point for its time (`PvtTime`), given how long after the point
+/// before it comes (`None`: not known; the stream starts at time 0): too soon, or later than
+/// the longest segment, [`MAX_MOVE_TIME`] (10⁶ s).
+pub fn pvt_time_reason(gap: Option<f64>) -> &'static str {
+    match gap {
+        Some(h) if h > MAX_MOVE_TIME => {
+            "a PT/PVT point must come at most 1e6 s (the longest move) after the one before"
+        }
+        Some(_) => "a PT/PVT point must come at least one servo period after the one before",
+        None => nack_reason(NackCode::PvtTime),
+    }
+}
 
 /// How the velocities at the points are given.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,10 +106,10 @@ impl Axis {
                         let end = last && i + k + 1 == points.len();
                         free = self
                             .send_points(std::slice::from_ref(p), end, s)
-                            .map_err(|e| self.point_error(e, i + k))?;
+                            .map_err(|e| self.point_error(e, points, i + k))?;
                     }
                 }
-                Err(e) => return Err(self.point_error(e, i)),
+                Err(e) => return Err(self.point_error(e, points, i)),
             }
             i += n;
         }
@@ -123,13 +136,22 @@ impl Axis {
             .map(|(_, free)| free)
     }
 
-    fn point_error(&self, e: Error, index: usize) -> Error {
+    /// The refusal of `points[index]` as [`Error::PvtPoint`] (the reason of a `PvtTime` from
+    /// the point before it, when it is among `points`).
+    fn point_error(&self, e: Error, points: &[PvtPoint], index: usize) -> Error {
         match e {
             Error::Nack { code, .. } => Error::PvtPoint {
                 target: Target::Axis(self.index()),
                 index,
                 code,
-                reason: nack_reason(code),
+                reason: match code {
+                    NackCode::PvtTime => pvt_time_reason(
+                        index
+                            .checked_sub(1)
+                            .map(|b| points[index].time - points[b].time),
+                    ),
+                    _ => nack_reason(code),
+                },
             },
             e => e,
         }

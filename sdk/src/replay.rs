@@ -14,6 +14,58 @@ enum Record {
     Event(usize, Event),
 }
 
+/// The fastest a card ticks, in ticks per second of the host's time: a card on the clock
+/// ticks at most at `MC_SERVO_RATE_MAX_HZ` (20 kHz), and a stepped emulated card takes
+/// microseconds a tick (stepped through the SDK, 3.5 µs with one axis and 4.6 µs with four on
+/// the machine of BENCHMARKS.md, whose bare firmware tick of 8 axes is 0.73 µs); 10⁸ a second,
+/// 10 ns a tick, is 70 times faster than the bare tick.
+pub const MAX_TICKS_PER_SECOND: u64 = 100_000_000;
+/// Ticks a trace may advance beyond what its host time allows, for the time between a
+/// card's tick and the host's record of it.
+const TICK_SLACK: u64 = 1_000_000;
+
+/// Checks the recorded events' ticks against the trace's own span, so that a replay never
+/// steps further than the recorded card can have gone: they never go back (a card posts
+/// events in order), and no event is more ticks after the first event than the host time
+/// the trace had recorded by then allows ([`MAX_TICKS_PER_SECOND`]; the first event came
+/// after the trace began). A tick of 10¹⁵ in a trace of seconds would take years to step.
+fn check_ticks(records: &[(u64, Record)]) -> std::result::Result<(), String> {
+    let mut first: Option<(usize, u64)> = None;
+    let mut prev = 0u64;
+    for (ns, r) in records {
+        let Record::Event(n, e) = r else {
+            continue;
+        };
+        let Some((n0, t0)) = first else {
+            first = Some((*n, e.tick));
+            prev = e.tick;
+            continue;
+        };
+        if e.tick < prev {
+            return Err(format!(
+                "line {n}: tick {} is before the tick of the event before it ({prev}): a card \
+                 posts its events in order",
+                e.tick
+            ));
+        }
+        prev = e.tick;
+        let allowed =
+            (*ns as u128 * MAX_TICKS_PER_SECOND as u128 / 1_000_000_000) as u64 + TICK_SLACK;
+        if e.tick - t0 > allowed {
+            return Err(format!(
+                "line {n}: tick {} is {} ticks after the first event's (line {n0}, tick {t0}), \
+                 but the trace had recorded {:.3} s by then: no card ticks more than {} times a \
+                 second",
+                e.tick,
+                e.tick - t0,
+                *ns as f64 * 1e-9,
+                MAX_TICKS_PER_SECOND
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// What a trace was recorded on.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TraceHeader {
@@ -27,7 +79,7 @@ pub struct TraceHeader {
     pub uri: String,
 }
 
-fn parse(text: &str) -> std::result::Result<(TraceHeader, Vec<Record>), String> {
+fn parse(text: &str) -> std::result::Result<(TraceHeader, Vec<(u64, Record)>), String> {
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, l)) if l.trim_end() == MAGIC => {}
@@ -61,6 +113,7 @@ fn parse(text: &str) -> std::result::Result<(TraceHeader, Vec<Record>), String> 
                 })
             }
             Some("C") => {
+                let ns = num(1)?;
                 if f.len() != 6 + CMD_ARGS {
                     return Err(bad("a command has 6 fields and its arguments"));
                 }
@@ -75,36 +128,41 @@ fn parse(text: &str) -> std::result::Result<(TraceHeader, Vec<Record>), String> 
                 for k in 0..CMD_ARGS {
                     c.args[k] = float(6 + k)?;
                 }
-                records.push(Record::Command(n, c));
+                records.push((ns, Record::Command(n, c)));
             }
             Some("W") => {
+                let ns = num(1)?;
                 let words = f[3.min(f.len())..]
                     .iter()
                     .map(|s| u64::from_str_radix(s, 16))
                     .collect::<std::result::Result<Vec<_>, _>>()
                     .map_err(|_| bad("a word is not hexadecimal"))?;
-                records.push(Record::Block(n, num(2)? as usize, words));
+                records.push((ns, Record::Block(n, num(2)? as usize, words)));
             }
             Some("E") => {
                 if f.len() != 8 {
                     return Err(bad("an event has 8 fields"));
                 }
-                records.push(Record::Event(
-                    n,
-                    Event {
-                        kind: num(2)? as u16,
-                        axis: num(3)? as u16,
-                        seq: num(4)? as u32,
-                        code: f[5].parse().map_err(|_| bad("the code is not a number"))?,
-                        tick: num(6)?,
-                        value: float(7)?,
-                    },
+                records.push((
+                    num(1)?,
+                    Record::Event(
+                        n,
+                        Event {
+                            kind: num(2)? as u16,
+                            axis: num(3)? as u16,
+                            seq: num(4)? as u32,
+                            code: f[5].parse().map_err(|_| bad("the code is not a number"))?,
+                            tick: num(6)?,
+                            value: float(7)?,
+                        },
+                    ),
                 ));
             }
             Some(_) => return Err(bad("unknown record")),
         }
     }
     let header = header.ok_or("no `I` record: the card the trace was taken on is unknown")?;
+    check_ticks(&records)?;
     Ok((header, records))
 }
 
@@ -162,6 +220,7 @@ pub fn replay(path: &Path) -> Result<ReplayReport> {
         })?,
         None,
     )?;
+    let records: Vec<Record> = records.into_iter().map(|(_, r)| r).collect();
     let r = run_replay(&card, &records);
     let closed = card.close();
     let (commands, events, difference) = r?;
@@ -175,6 +234,9 @@ pub fn replay(path: &Path) -> Result<ReplayReport> {
 }
 
 type Replayed = (usize, usize, Option<(usize, String)>);
+
+/// Ticks stepped at once towards a recorded event before the card's events are looked at.
+const STEP_CHUNK: u64 = 1000;
 
 fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
     let sim = card.sim().expect("a stepped emulated card");
@@ -221,6 +283,18 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
             sim.step(t - now);
         }
     };
+    // To a recorded event's tick, or to the card's next event if it comes first (a card that
+    // went another way is found at its first event, not at the recorded one's tick).
+    let step_to_event = |t: u64, got: &mut std::collections::VecDeque<Event>| -> Result<()> {
+        loop {
+            card.inner().take_raw_events(got)?;
+            let now = tick();
+            if !got.is_empty() || now >= t {
+                return Ok(());
+            }
+            sim.step((t - now).min(STEP_CHUNK));
+        }
+    };
     for r in records {
         match r {
             Record::Block(_, off, words) => {
@@ -262,8 +336,7 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
                         ));
                     }
                 }
-                step_to(want.tick);
-                card.inner().take_raw_events(&mut got)?;
+                step_to_event(want.tick, &mut got)?;
                 events += 1;
                 match got.pop_front() {
                     Some(e) if e == want => {}

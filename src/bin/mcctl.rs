@@ -87,7 +87,9 @@ struct TravelArgs {
     /// Without --move: seconds to watch.
     #[arg(long = "for", default_value_t = 1.0)]
     hold: f64,
-    /// Power the axes on first if they are disabled.
+    /// Power the axes on first if they are disabled. compare, probe, gear and cam power only
+    /// the axes they move, once what they arm or load is accepted, and power them off again
+    /// when they end, however they end.
     #[arg(long)]
     enable: bool,
 }
@@ -132,6 +134,16 @@ enum DirArg {
     Positive,
     Negative,
     Either,
+}
+
+impl From<DirArg> for Direction {
+    fn from(d: DirArg) -> Self {
+        match d {
+            DirArg::Positive => Direction::Positive,
+            DirArg::Negative => Direction::Negative,
+            DirArg::Either => Direction::Either,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -712,6 +724,7 @@ fn coupling(
         limits: SyncLimits::new(sync.slave_vmax, sync.slave_amax, sync.slave_jmax),
         travel,
         hold: t.hold()?,
+        enable: t.enable,
     })
 }
 
@@ -873,15 +886,10 @@ fn main() -> ExitCode {
                     ))
                     }
                 },
-                (None, None, Some(f)) => {
-                    let rows = std::fs::read_to_string(&f)
-                        .map_err(|e| e.to_string())
-                        .and_then(|t| cli::number_rows(&t, 1..=1, "position"));
-                    match rows {
-                        Ok(r) => ComparePositions::Table(r.into_iter().map(|v| v[0]).collect()),
-                        Err(e) => return bad(format!("{}: {e}", f.display())),
-                    }
-                }
+                (None, None, Some(f)) => match cli::table_positions(&f, direction.into()) {
+                    Ok(_) => ComparePositions::Table(f),
+                    Err(e) => return bad(format!("{}: {e}", f.display())),
+                },
                 _ => return bad("give exactly one of --at, --series and --table".into()),
             };
             let hold = match travel.hold() {
@@ -893,19 +901,13 @@ fn main() -> ExitCode {
                 channel,
                 output,
                 pulse_us,
-                direction: match direction {
-                    DirArg::Positive => Direction::Positive,
-                    DirArg::Negative => Direction::Negative,
-                    DirArg::Either => Direction::Either,
-                },
+                direction: direction.into(),
                 positions,
                 travel: travel.travel(axis),
                 hold,
+                enable: travel.enable,
             };
-            on_card(uri, |c| {
-                enable_all(c, travel.enable, &[axis])?;
-                cli::compare(c, &job, json)
-            })
+            on_card(uri, |c| cli::compare(c, &job, json))
         }
         Cmd::Probe {
             axis,
@@ -933,11 +935,9 @@ fn main() -> ExitCode {
                 },
                 travel: travel.travel(axis),
                 hold,
+                enable: travel.enable,
             };
-            on_card(uri, |c| {
-                enable_all(c, travel.enable, &[axis])?;
-                cli::probe(c, &job, json)
-            })
+            on_card(uri, |c| cli::probe(c, &job, json))
         }
         Cmd::Gear {
             slave,
@@ -951,10 +951,7 @@ fn main() -> ExitCode {
                 Ok(c) => c,
                 Err(m) => return bad(m),
             };
-            on_card(uri, |card| {
-                enable_all(card, travel.enable, &c.axes())?;
-                cli::gear(card, &c, ratio.0, ratio.1, json)
-            })
+            on_card(uri, |card| cli::gear(card, &c, ratio.0, ratio.1, json))
         }
         Cmd::Cam {
             slave,
@@ -996,10 +993,7 @@ fn main() -> ExitCode {
                     relative,
                 },
             };
-            on_card(uri, |card| {
-                enable_all(card, travel.enable, &c.axes())?;
-                cli::cam(card, &c, &job, json)
-            })
+            on_card(uri, |card| cli::cam(card, &c, &job, json))
         }
         Cmd::Pvt {
             axis,
@@ -1010,18 +1004,14 @@ fn main() -> ExitCode {
             enable,
             json,
         } => {
-            let text = match std::fs::read_to_string(&file) {
-                Ok(t) => t,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
-            };
-            let (points, velocities) = match cli::pvt_points(&text) {
-                Ok(p) => p,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
+            let file = match cli::pvt_file(&file) {
+                Ok(f) => f,
+                Err(e) => return bad(e),
             };
             if !(vmax.is_finite() && vmax > 0.0 && amax.is_finite() && amax > 0.0) {
                 return bad("--vmax and --amax must be greater than zero".into());
             }
-            let mode = if pt || !velocities {
+            let mode = if pt || !file.velocities {
                 motioncard::PvtMode::Pt
             } else {
                 motioncard::PvtMode::Pvt
@@ -1034,7 +1024,7 @@ fn main() -> ExitCode {
                 if enable {
                     cli::enable_if_needed(c, axis)?;
                 }
-                cli::pvt(c, axis, &points, mode, &limits, json)
+                cli::pvt(c, axis, &file, mode, &limits, json)
             })
         }
         Cmd::Move {
@@ -1158,10 +1148,10 @@ fn main() -> ExitCode {
             if !(feed_limit > 0.0 && feed_limit.is_finite() && scale > 0.0 && scale.is_finite()) {
                 return bad("--feed-limit and --scale must be positive".into());
             }
-            let text = match std::fs::read_to_string(&file) {
-                Ok(t) => t,
-                Err(e) => return bad(format!("{}: {e}", file.display())),
-            };
+            // Read as it runs; one that cannot be opened is a bad argument.
+            if let Err(e) = std::fs::File::open(&file) {
+                return bad(format!("{}: {e}", file.display()));
+            }
             let opts = motioncard::run::RunOptions {
                 tolerance,
                 feed_limit,
@@ -1171,7 +1161,7 @@ fn main() -> ExitCode {
                 scale,
                 progress: !json,
             };
-            let body = |c: &Card| motioncard::run::run(c, &text, &opts, json);
+            let body = |c: &Card| motioncard::run::run(c, &file, &opts, json);
             if uri == "sim" {
                 // A stepped card: mcctl steps it and measures every tick.
                 let card = match Card::open_sim(motioncard::SimOptions {

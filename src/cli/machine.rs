@@ -31,6 +31,67 @@ impl Travel {
     }
 }
 
+/// The axes a command powered for itself (`--enable`): powered off again when it ends, on
+/// every path ([`Powered::release`], or when dropped after an error). An axis still moving
+/// then is halted first at its (deceleration, jerk) and waited for: MC_Power off cuts a
+/// moving axis's power at once.
+pub struct Powered<'a> {
+    card: &'a Card,
+    axes: Vec<(usize, (f64, f64))>,
+}
+
+impl<'a> Powered<'a> {
+    /// Power on those of `axes` (each with the deceleration and jerk it is halted at) that are
+    /// disabled; `enable` false: none.
+    pub fn on(card: &'a Card, enable: bool, axes: &[(usize, (f64, f64))]) -> Result<Self> {
+        let mut p = Powered {
+            card,
+            axes: Vec::new(),
+        };
+        if enable {
+            for &(a, halt) in axes {
+                let ax = card.axis(a)?;
+                if ax.status()?.state == crate::AxisState::Disabled {
+                    ax.enable()?;
+                    p.axes.push((a, halt));
+                }
+            }
+        }
+        Ok(p)
+    }
+
+    /// Power the axes off again (the first error, after trying every axis).
+    pub fn release(mut self) -> Result<()> {
+        self.power_off()
+    }
+
+    fn power_off(&mut self) -> Result<()> {
+        let mut first = Ok(());
+        for (a, (dec, jerk)) in std::mem::take(&mut self.axes).into_iter().rev() {
+            let r = (|| {
+                let ax = self.card.axis(a)?;
+                let st = ax.status()?;
+                if st.command_velocity != 0.0 || st.state != crate::AxisState::Standstill {
+                    if let Ok(m) = ax.halt(dec, jerk) {
+                        let _ = m.wait(WAIT);
+                    }
+                }
+                ax.disable()
+            })();
+            if first.is_ok() {
+                first = r;
+            }
+        }
+        first
+    }
+}
+
+impl Drop for Powered<'_> {
+    fn drop(&mut self) {
+        let _ = self.power_off();
+    }
+}
+
 /// Run `travel` (or let `hold` pass), calling `each` between looks at the card with the
 /// events taken meanwhile. Returns where the moved axis ended (`None` without a move).
 fn run_collecting(
@@ -87,9 +148,43 @@ pub enum ComparePositions {
     At(f64),
     /// `count` positions from `start`, `pitch` apart in the direction.
     Series { start: f64, pitch: f64, count: u32 },
-    /// These positions in order (strictly monotonic in the direction), streamed into the
-    /// channel's table as it empties.
-    Table(Vec<f64>),
+    /// The positions of this file ([`table_positions`]) in order (strictly monotonic in the
+    /// direction), read and streamed into the channel's table as it empties.
+    Table(std::path::PathBuf),
+}
+
+/// Checks a compare table file a line at a time (one finite position a line, strictly
+/// monotonic in `dir` when it is Positive or Negative) and counts its positions, so that a
+/// bad file is refused before anything is armed or moved. Err: the line and what is wrong.
+pub fn table_positions(path: &std::path::Path, dir: Direction) -> std::result::Result<u64, String> {
+    let (mut n, mut last) = (0u64, None::<f64>);
+    for row in super::file_rows(path, 1..=1, "position")? {
+        let r = row?;
+        let p = r.values[0];
+        let onward = match (dir, last) {
+            (Direction::Positive, Some(q)) => p > q,
+            (Direction::Negative, Some(q)) => p < q,
+            _ => true,
+        };
+        if !onward {
+            return Err(format!(
+                "line {}: position {p} does not come after {} in the {} direction",
+                r.line,
+                last.unwrap_or_default(),
+                if dir == Direction::Positive {
+                    "positive"
+                } else {
+                    "negative"
+                }
+            ));
+        }
+        last = Some(p);
+        n += 1;
+    }
+    if n == 0 {
+        return Err("no positions".into());
+    }
+    Ok(n)
 }
 
 /// `mcctl compare`.
@@ -104,15 +199,18 @@ pub struct CompareJob {
     pub travel: Option<Travel>,
     /// Without a move: how long to watch.
     pub hold: Duration,
+    /// Power the axis for the move if it is disabled (`--enable`; off again at the end).
+    pub enable: bool,
 }
 
 /// Arm a compare channel, run the move, and report the channel's own counters with the
 /// positions of the card's events (a fire each; the misses of one tick share one event, with
-/// the last position); the channel is disarmed at the end.
+/// the last position); the channel is disarmed at the end. With `enable`, the axis is powered
+/// only for a move, once the channel is armed, and powered off again however it ends.
 pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
     let ch = card.axis(job.axis)?.compare(job.channel);
     let (out, dir) = (job.output, job.direction);
-    let mut table: &[f64] = &[];
+    let mut table = None;
     match &job.positions {
         ComparePositions::At(p) => ch.arm_single(out, job.pulse_us, *p, dir)?,
         ComparePositions::Series {
@@ -120,12 +218,20 @@ pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
             pitch,
             count,
         } => ch.arm_series(out, job.pulse_us, *start, *pitch, *count, dir)?,
-        ComparePositions::Table(t) => {
-            table = t;
+        ComparePositions::Table(path) => {
+            let rows =
+                super::file_rows(path, 1..=1, "position").map_err(|e| table_error(path, e))?;
             ch.arm_table(out, job.pulse_us, 0, dir)?;
+            table = Some((path.as_path(), rows));
         }
     }
-    let outcome = watch_compare(card, &ch, job, table);
+    let axis = [(job.axis, halt_of(job.travel.as_ref()))];
+    let outcome = Powered::on(card, job.enable && job.travel.is_some(), &axis).and_then(|power| {
+        let r = watch_compare(card, &ch, job, table, json);
+        let released = power.release();
+        let r = r?;
+        released.map(|()| r)
+    });
     let disarmed = ch.disarm();
     let (fired, missed, at) = outcome?;
     disarmed?;
@@ -160,34 +266,67 @@ pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
     })
 }
 
-/// The positions fired and missed (from the card's events) and where the move ended.
+/// The deceleration and jerk a powered axis is halted at when a command ends with it moving.
+fn halt_of(travel: Option<&Travel>) -> (f64, f64) {
+    travel.map_or((1e6, 5e7), |t| (t.limits.deceleration, t.limits.jerk[3]))
+}
+
+/// A table file that could not be read as it was checked (it changed meanwhile).
+fn table_error(path: &std::path::Path, e: String) -> Error {
+    Error::Io {
+        context: path.display().to_string(),
+        source: std::io::Error::other(e),
+    }
+}
+
+/// The positions fired and missed (from the card's events; with `json` every one, else only
+/// the first and the last) and where the move ended.
 type Fires = (Vec<f64>, Vec<f64>, Option<f64>);
 
-fn watch_compare(
+/// A position of an event: every one kept for the JSON, else the first and the last.
+fn keep(v: &mut Vec<f64>, p: f64, all: bool) {
+    if all || v.len() < 2 {
+        v.push(p);
+    } else {
+        v[1] = p;
+    }
+}
+
+fn watch_compare<R: std::io::BufRead>(
     card: &Card,
     ch: &CompareChannel,
     job: &CompareJob,
-    table: &[f64],
+    mut table: Option<(&std::path::Path, super::NumberRows<R>)>,
+    json: bool,
 ) -> Result<Fires> {
-    let (mut fired, mut missed, mut sent) = (Vec::new(), Vec::new(), 0);
+    let (mut fired, mut missed) = (Vec::new(), Vec::new());
+    // At most a table's room of positions in hand.
+    let mut batch = Vec::new();
     let at = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
         match e {
             Some(e) if e.kind == EventKind::Compare && e.axis as usize == job.channel => {
                 match e.code {
-                    COMPARE_FIRED => fired.push(e.value),
-                    COMPARE_MISSED => missed.push(e.value),
+                    COMPARE_FIRED => keep(&mut fired, e.value, json),
+                    COMPARE_MISSED => keep(&mut missed, e.value, json),
                     _ => {}
                 }
             }
             Some(_) => {}
-            None if sent < table.len() => {
-                let n = ch.room()?.min(table.len() - sent);
-                if n > 0 {
-                    ch.push(job.direction, &table[sent..sent + n])?;
-                    sent += n;
+            None => {
+                if let Some((path, rows)) = &mut table {
+                    let room = ch.room()?;
+                    batch.clear();
+                    for row in rows.by_ref().take(room) {
+                        batch.push(row.map_err(|e| table_error(path, e))?.values[0]);
+                    }
+                    if !batch.is_empty() {
+                        ch.push(job.direction, &batch)?;
+                    }
+                    if batch.len() < room {
+                        table = None;
+                    }
                 }
             }
-            None => {}
         }
         Ok(())
     })?;
@@ -202,20 +341,30 @@ pub struct ProbeJob {
     pub trigger: ProbeTrigger,
     pub travel: Option<Travel>,
     pub hold: Duration,
+    /// Power the axis for the move if it is disabled (`--enable`; off again at the end).
+    pub enable: bool,
 }
 
 /// Arm a touch probe (MC_TouchProbe), run the move, and report every capture the card posted;
-/// the probe is aborted at the end (MC_AbortTrigger).
+/// the probe is aborted at the end (MC_AbortTrigger). With `enable`, the axis is powered only
+/// for a move, once the probe is armed, and powered off again however it ends.
 pub fn probe(card: &Card, job: &ProbeJob, json: bool) -> Result<String> {
     let tp = card.axis(job.axis)?.touch_probe(job.channel);
     tp.arm(&job.trigger)?;
     let mut captures = Vec::new();
-    let outcome = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
-        if let Some(e) = e.filter(|e| e.kind == EventKind::Probe && e.axis as usize == job.channel)
-        {
-            captures.push(e.value);
-        }
-        Ok(())
+    let axis = [(job.axis, halt_of(job.travel.as_ref()))];
+    let outcome = Powered::on(card, job.enable && job.travel.is_some(), &axis).and_then(|power| {
+        let r = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
+            if let Some(e) =
+                e.filter(|e| e.kind == EventKind::Probe && e.axis as usize == job.channel)
+            {
+                captures.push(e.value);
+            }
+            Ok(())
+        });
+        let released = power.release();
+        let r = r?;
+        released.map(|()| r)
     });
     let st = tp.status();
     let aborted = tp.abort();
@@ -277,6 +426,9 @@ pub struct Coupling {
     pub limits: SyncLimits,
     pub travel: Option<Travel>,
     pub hold: Duration,
+    /// Power the axes it moves if they are disabled (`--enable`): once the card took what it
+    /// was given (a cam table), and off again at the end, however it ends.
+    pub enable: bool,
 }
 
 impl Coupling {
@@ -287,12 +439,32 @@ impl Coupling {
             .flatten()
             .collect()
     }
+
+    /// [`Coupling::axes`] with the deceleration and jerk each is halted at.
+    fn halts(&self) -> Vec<(usize, (f64, f64))> {
+        let slave = (self.slave, (self.limits.acceleration, self.limits.jerk));
+        std::iter::once(slave)
+            .chain(self.travel.map(|t| (t.axis, halt_of(Some(&t)))))
+            .collect()
+    }
 }
 
 /// The slave engaged (waited until in sync), the master moved, then the slave uncoupled and
 /// halted. Returns the master's and the slave's commanded positions once in sync and at the
 /// end.
 fn couple(
+    card: &Card,
+    c: &Coupling,
+    engage: impl FnOnce() -> Result<Motion>,
+) -> Result<[(f64, f64); 2]> {
+    let power = Powered::on(card, c.enable, &c.halts())?;
+    let r = run_coupled(card, c, engage);
+    let released = power.release();
+    let r = r?;
+    released.map(|()| r)
+}
+
+fn run_coupled(
     card: &Card,
     c: &Coupling,
     engage: impl FnOnce() -> Result<Motion>,
