@@ -1190,6 +1190,13 @@ extern "C" {
 #define MC_STOP_REASON_HOST_CHANGED 32
 
 /**
+ * The card found the axis moving with no host session attached and its watchdog armed, and
+ * stopped it (category 1). Its session gate refuses what could start motion outside a
+ * session, so this names a fault of the card's, never an ordinary close.
+ */
+#define MC_STOP_REASON_NO_SESSION 33
+
+/**
  * IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
  * `mc_safety_settings.limit_stop`): remove power at once.
  */
@@ -2514,7 +2521,8 @@ typedef struct mc_safety_status {
    */
   uint32_t estop_input;
   /**
-   * The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+   * The watchdog is watching: a session is attached (armed by its open, disarmed by its
+   * close). Outside a session the card takes no motion (`MC_ERR_NO_SESSION`).
    */
   uint32_t watchdog_armed;
   /**
@@ -3083,6 +3091,14 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * The card's session belongs to another host.
  */
 #define MC_ERR_SESSION -59
+
+/**
+ * No host session is attached to the card (it was detached, for example by a raw
+ * `MC_OP_HOST_DETACH`): the card refuses motion, power, outputs, configuration and
+ * resets until a host attaches (open the card again). It still takes stops, reads and
+ * the scope.
+ */
+#define MC_ERR_NO_SESSION -108
 
 /**
  * The card went away (its `card-emu` process exited or was killed): every call on it
