@@ -731,9 +731,9 @@ fn replay_a_trace_from_the_command_line() {
     let t = trace.to_str().unwrap();
     let j = json_of(&["replay", t, "--json"]);
     assert_eq!(j["difference"], serde_json::Value::Null, "{j}");
-    // The open reads back each of the 8 axes' settings (to adopt its scale), then the power
-    // and the move.
-    assert_eq!(j["commands"], 8 + 2, "{j}");
+    // The open reads back each of the 8 axes' settings (to adopt its scale), then the power,
+    // the move and the close's detach (the open's attach is the replaying host's own).
+    assert_eq!(j["commands"], 8 + 2 + 1, "{j}");
     let text = std::fs::read_to_string(&trace).unwrap();
     std::fs::write(&trace, text.replacen(" 5000.0 ", " 4999.0 ", 1)).unwrap();
     let (code, out, _) = mcctl(&["replay", t]);

@@ -19,8 +19,9 @@
 //! against a stepped emulated card with the trace's axes and servo rate: each block write
 //! and command at the card tick the recorded card served it, and every recorded event compared
 //! with the replayed one (kind, axis, command, code, tick, value). The first difference is
-//! reported with its line. The session's own commands (attach, detach) are not replayed: the
-//! replaying host has its own.
+//! reported with its line. The session's own attach (the open) is not replayed: the
+//! replaying host has its own session, and the later session commands (a raw detach or attach,
+//! the close's detach) are replayed with the traced session's id replaced by its own.
 
 use crate::error::{Error, Result};
 use firmware_proto::{Command, Event, Mem};
