@@ -194,6 +194,8 @@ pub fn run(card: &Card, text: &str, opts: &RunOptions, json: bool) -> Result<Str
                 points.push(position(card)?);
             }
             bar.set_position(streamer.progress().accepted);
+            // A signal to mcctl: the close that follows halts the path (cli::interrupt).
+            crate::cli::interrupt::check()?;
             if streamer.progress().sent as usize >= items.len()
                 && g.status()?.0 == GroupState::Standby
             {
