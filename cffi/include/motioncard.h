@@ -3451,8 +3451,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
 /**
  * No host session is attached to the card (it was detached, for example by a raw
  * `MC_OP_HOST_DETACH`): the card refuses motion, power, outputs, configuration and
- * resets until a host attaches (open the card again). It still takes stops, reads and
- * the scope.
+ * resets until a host attaches: close the card and open it again (a tool may send a raw
+ * `MC_OP_HOST_ATTACH`). It still takes stops, reads and the scope.
  */
 #define MC_ERR_NO_SESSION -108
 
