@@ -16,6 +16,7 @@ use serde_json::json;
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
+pub mod interrupt;
 mod machine;
 mod rows;
 mod scope;
@@ -74,7 +75,7 @@ pub fn wait_showing(card: &Card, axis: usize, motion: &Motion, what: &str) -> Re
             Err(Error::Timeout(_)) => break Err(Error::Timeout(WAIT)),
             r => break r,
         }
-        if let Err(e) = show_axis(card, axis, &bar) {
+        if let Err(e) = interrupt::check().and_then(|()| show_axis(card, axis, &bar)) {
             break Err(e);
         }
     };
@@ -217,6 +218,7 @@ pub fn watch(
             return Ok(String::new());
         }
         hold_for(card, every);
+        interrupt::check()?;
     }
 }
 
@@ -400,11 +402,20 @@ pub fn run_move(
 }
 
 /// Let `d` pass on the card: a stepped card's time moves only when asked, a real one's on its
-/// own.
+/// own. A signal ([`interrupt`]) ends the wait early.
 fn hold_for(card: &Card, d: Duration) {
     match card.sim() {
         Some(sim) => sim.step((d.as_secs_f64() * card.info().servo_rate_hz as f64).round() as u64),
-        None => std::thread::sleep(d),
+        None => {
+            let end = Instant::now() + d;
+            while interrupt::signal().is_none() {
+                let left = end.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    break;
+                }
+                std::thread::sleep(left.min(Duration::from_millis(10)));
+            }
+        }
     }
 }
 
@@ -416,6 +427,7 @@ fn hold_showing(card: &Card, axis: usize, d: Duration, what: &str) -> Result<()>
     while held < d {
         let step = POLL.min(d - held);
         hold_for(card, step);
+        interrupt::check()?;
         held += step;
         bar.set_position(held.as_millis() as u64);
         show_axis(card, axis, &bar)?;
@@ -686,6 +698,7 @@ pub fn pvt(
     let bar = progress(Some(points.len() as u64), "streaming points");
     bar.set_position(sent as u64);
     while sent < points.len() {
+        interrupt::check()?;
         let room = ax.pvt_free();
         if room == 0 {
             std::thread::sleep(Duration::from_millis(1));

@@ -339,6 +339,8 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                     // Refused or failed: `join` has the error.
                     return Ok(());
                 }
+                // A signal to mcctl: the close that follows halts the path (cli::interrupt).
+                crate::cli::interrupt::check()?;
                 std::thread::sleep(Duration::from_micros(20));
             }
         })();

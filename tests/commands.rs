@@ -156,6 +156,20 @@ fn every_command_gets_exactly_one_answer() {
     };
     let (enc, mut dac) = ([0i64; MAX_AXES], [0.0; MAX_AXES]);
     let mut sent = Vec::new();
+    // A host in command (the session gate refuses motion and power without one), beating
+    // before each tick.
+    let mut attach = Command::new(Opcode::HostAttach, 0);
+    attach.flags = 1;
+    attach.seq = tx.head().wrapping_add(1);
+    tx.push(&attach).unwrap();
+    sent.push(attach.seq);
+    let beat = || {
+        use firmware_proto::{layout, Mem};
+        w.write32(
+            layout::HEARTBEAT,
+            w.read32(layout::HEARTBEAT).wrapping_add(1),
+        );
+    };
     while sent.len() < 1000 {
         // A burst of up to a ring's worth, then the card serves and ticks.
         let burst = 1 + rng.next_u64() % CMD_RING.len as u64;
@@ -181,11 +195,13 @@ fn every_command_gets_exactly_one_answer() {
         while fw.serve_commands() > 0 {
             take(&mut rx, &mut answers);
         }
+        beat();
         fw.tick(&enc, &mut dac);
         take(&mut rx, &mut answers);
     }
     for _ in 0..10 {
         fw.serve_commands();
+        beat();
         fw.tick(&enc, &mut dac);
     }
     take(&mut rx, &mut answers);

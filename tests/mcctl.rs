@@ -625,12 +625,9 @@ fn a_refused_pvt_point_names_its_line_and_reason() {
 fn enable_powers_the_moved_axes_for_the_command_only() {
     use card_emu::emu::server::Server;
     use card_emu::{EmuOptions, Emulator, Runner};
-    use std::os::fd::AsFd;
     let name = format!("test-mcctl-power-{}", std::process::id());
     let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let _server = Server::start(&name, window, irq).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
     let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let uri = format!("emu:{name}");
     let on = |args: &[&str]| {
@@ -1010,9 +1007,9 @@ fn replay_a_trace_from_the_command_line() {
     let t = trace.to_str().unwrap();
     let j = json_of(&["replay", t, "--json"]);
     assert_eq!(j["difference"], serde_json::Value::Null, "{j}");
-    // The open reads back each of the 8 axes' settings (to adopt its scale), then the power
-    // and the move.
-    assert_eq!(j["commands"], 8 + 2, "{j}");
+    // The open reads back each of the 8 axes' settings (to adopt its scale), then the power,
+    // the move and the close's detach (the open's attach is the replaying host's own).
+    assert_eq!(j["commands"], 8 + 2 + 1, "{j}");
     let text = std::fs::read_to_string(&trace).unwrap();
     std::fs::write(&trace, text.replacen(" 5000.0 ", " 4999.0 ", 1)).unwrap();
     let (code, out, _) = mcctl(&["replay", t]);
@@ -1206,4 +1203,134 @@ fn progress_is_drawn_on_a_terminal_only() {
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("axis 0: jogged to "), "{out}");
     assert_eq!(err, "", "nothing drawn on a pipe");
+}
+
+/// SIGTERM (systemd, `timeout`, a supervisor), SIGINT (Ctrl-C) and SIGHUP end mcctl the way
+/// its own end would: the card halts what mcctl started (reason HostDetach: mcctl closed its
+/// session), no watchdog trip latches, the axes mcctl never touched stay as they were, and
+/// mcctl exits with 128 + the signal's number. Each signal is sent once the card shows the
+/// motion under way (read from the card's window by this test, which serves the card), so
+/// nothing depends on timing; a `status --watch` (which moves nothing) is interrupted the same
+/// way.
+#[test]
+fn a_signal_halts_what_mcctl_started_and_closes_its_session() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    use firmware_proto::layout::safety_status as ss;
+    use firmware_proto::{seqlock, AxisState, Mem, StopReason};
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let name = format!("test-mcctl-signal-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
+    let window = emu.window().clone();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let status = |a: usize| seqlock::read_axis_status(&*window, a).unwrap();
+    let state = |a: usize| AxisState::from_raw(status(a).state);
+    let wait_for = |what: &str, done: &dyn Fn() -> bool| {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        while !done() {
+            assert!(Instant::now() < deadline, "never: {what}");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    };
+    let (code, _, err) = mcctl(&["--card", &uri, "enable", "0", "1", "2"]);
+    assert_eq!(code, 0, "{err}");
+
+    let cases: [(Signal, usize, &[&str]); 3] = [
+        (Signal::SIGTERM, 0, &["jog", "0", "20000", "--for", "600"]),
+        (
+            Signal::SIGINT,
+            1,
+            &["move", "1", "-30000", "--velocity", "--for", "600"],
+        ),
+        (Signal::SIGHUP, 0, &["move", "0", "1e8", "--relative"]),
+    ];
+    for (sig, axis, args) in cases {
+        let others: Vec<_> = (0..4)
+            .filter(|&a| a != axis)
+            .map(|a| (a, status(a)))
+            .collect();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+            .args(["--card", uri.as_str()])
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        wait_for(&format!("{sig}: axis {axis} moving"), &|| {
+            status(axis).cmd_vel.abs() > 1000.0
+        });
+        kill(Pid::from_raw(child.id() as i32), sig).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(20);
+        let exit = loop {
+            if let Some(s) = child.try_wait().unwrap() {
+                break s;
+            }
+            assert!(Instant::now() < deadline, "{sig}: mcctl did not exit");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(exit.code(), Some(128 + sig as i32), "{sig}: {exit:?} {err}");
+        assert!(err.contains(sig.as_str()), "{sig}: {err}");
+        // The session closed cleanly: nothing latched, nobody attached, the axis halting on
+        // the detach's ramp and then at rest, in position.
+        assert_eq!(window.read32(ss::FAULTS), 0, "{sig}: a fault latched");
+        assert_eq!(window.read32(ss::SESSION), 0, "{sig}: still attached");
+        assert_eq!(window.read32(ss::WATCHDOG_ARMED), 0, "{sig}");
+        wait_for(&format!("{sig}: axis {axis} at rest"), &|| {
+            state(axis) == Some(AxisState::Standstill) && status(axis).cmd_vel == 0.0
+        });
+        let s = status(axis);
+        assert_eq!(
+            StopReason::from_raw(s.stop_reason),
+            Some(StopReason::HostDetach),
+            "{sig}"
+        );
+        assert_eq!(window.read32(ss::FAULTS), 0, "{sig}: a fault latched");
+        // The axes mcctl never touched: as they were (enabled ones still enabled, still).
+        for (a, before) in &others {
+            let now = status(*a);
+            assert_eq!(now.state, before.state, "{sig}: axis {a}");
+            assert_eq!(now.cmd_pos, before.cmd_pos, "{sig}: axis {a}");
+            assert_eq!(now.stop_reason, before.stop_reason, "{sig}: axis {a}");
+        }
+        assert_eq!(state(2), Some(AxisState::Standstill), "{sig}: axis 2");
+        assert_eq!(state(3), Some(AxisState::Disabled), "{sig}: axis 3");
+    }
+
+    // A watch moves nothing, and a signal ends it with the session closed too.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mcctl"))
+        .args([
+            "--card",
+            uri.as_str(),
+            "status",
+            "--watch",
+            "--interval",
+            "0.05",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for("the watch attached", &|| window.read32(ss::SESSION) != 0);
+    kill(Pid::from_raw(child.id() as i32), Signal::SIGTERM).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let exit = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(Instant::now() < deadline, "the watch did not exit");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert_eq!(exit.code(), Some(143));
+    assert_eq!(window.read32(ss::SESSION), 0);
+    assert_eq!(window.read32(ss::FAULTS), 0);
+    for a in 0..3 {
+        assert_eq!(state(a), Some(AxisState::Standstill), "axis {a}");
+    }
 }

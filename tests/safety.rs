@@ -705,6 +705,12 @@ fn every_safety_nack_code_is_provoked_by_its_own_fault() {
     let mut detach = Command::new(Opcode::HostDetach, 0);
     detach.flags = card.safety_status().unwrap().session ^ 1;
     expect(NackCode::Session, raw(detach));
+    // Outside a session (this host's own, ended by a raw detach) power and motion are refused;
+    // a raw attach of the same session takes the card back.
+    let own = card.safety_status().unwrap().session;
+    assert_eq!(raw(session_command(Opcode::HostDetach, own)), None);
+    expect(NackCode::NoSession, ax.enable().err().map(nack));
+    assert_eq!(raw(session_command(Opcode::HostAttach, own)), None);
     card.set_heartbeat(false);
     sim.step(ticks_of(&card, 0.11));
     expect(NackCode::WatchdogTripped, ax.enable().err().map(nack));
@@ -863,6 +869,258 @@ fn a_member_trip_stops_its_whole_group_the_same_way() {
     let sy = y.status().unwrap();
     assert_eq!(sy.stop_reason(), Some(StopReason::Group));
     assert_eq!((sy.command_velocity, sy.drive_enabled()), (0.0, false));
+    assert_eq!(
+        m.wait(Duration::ZERO).unwrap_err().kind(),
+        ErrorKind::Aborted
+    );
+}
+
+/// The session this host opened, as the card knows it.
+fn session(card: &Card) -> u32 {
+    card.safety_status().unwrap().session
+}
+
+fn raw_answer(card: &Card, cmd: Command) -> Option<NackCode> {
+    let seq = card.send_raw(cmd).unwrap();
+    card.wait_ack(seq).unwrap().err()
+}
+
+fn session_command(op: Opcode, session: u32) -> Command {
+    let mut c = Command::new(op, 0);
+    c.flags = session;
+    c
+}
+
+/// Issue 31: a host detaches its own session through `send_raw` and keeps the card open,
+/// then starts 4 velocity moves at ±100,000 counts/s. Outside a session the card refuses each
+/// (`NoSession`) and nothing moves, however long the card runs: the status shows every axis
+/// at rest with no session and no watchdog, and a host that then falls silent trips nothing.
+/// The typed calls meet the same gate; stops and reads still work.
+#[test]
+fn a_detached_session_moves_nothing() {
+    use motioncard::VelocityLimits;
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let axes: Vec<_> = (0..4).map(|a| card.axis(a).unwrap()).collect();
+    for ax in &axes {
+        ax.enable().unwrap();
+    }
+    sim.step(10);
+    let own = session(&card);
+    assert_ne!(own, 0);
+    assert_eq!(
+        raw_answer(&card, session_command(Opcode::HostDetach, own)),
+        None
+    );
+    for (a, ax) in axes.iter().enumerate() {
+        let v = if a % 2 == 0 { 100_000.0 } else { -100_000.0 };
+        let mv = Command::new(Opcode::MoveVelocity, a as u16).with_args(&[v, 1e6, 1e6, 1e8]);
+        assert_eq!(raw_answer(&card, mv), Some(NackCode::NoSession), "axis {a}");
+        let e = ax
+            .move_velocity(v, &VelocityLimits::new(1e6, 1e8))
+            .unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::NoSession, "axis {a}: {e}");
+        assert_eq!(
+            ax.jog(1000.0).unwrap_err().kind(),
+            ErrorKind::NoSession,
+            "axis {a}"
+        );
+    }
+    // Power, outputs, configuration and resets: refused the same way. Stops and reads: taken.
+    assert_eq!(
+        card.axis(5).unwrap().enable().unwrap_err().kind(),
+        ErrorKind::NoSession
+    );
+    assert_eq!(
+        card.set_outputs(1, 1).unwrap_err().kind(),
+        ErrorKind::NoSession
+    );
+    assert_eq!(
+        card.set_watchdog_timeout(Duration::from_secs(5))
+            .unwrap_err()
+            .kind(),
+        ErrorKind::NoSession
+    );
+    assert_eq!(
+        axes[0].set_override(0.5).unwrap_err().kind(),
+        ErrorKind::NoSession
+    );
+    card.ping().unwrap();
+    axes[0].settings().unwrap();
+    axes[1].halt(1e6, 1e8).unwrap();
+    // 11.5 s later (the issue's measurement), and with the host silent: nothing moved.
+    card.set_heartbeat(false);
+    sim.step(ticks_of(&card, 11.5));
+    let st = card.safety_status().unwrap();
+    assert_eq!((st.session, st.watchdog_armed), (0, false));
+    assert!(!st.watchdog_tripped);
+    for (a, ax) in axes.iter().enumerate() {
+        let s = ax.status().unwrap();
+        assert_eq!(s.state, AxisState::Standstill, "axis {a}");
+        assert_eq!(
+            (s.command_velocity, s.raw.move_count),
+            (0.0, (a == 1) as u32),
+            "axis {a}"
+        );
+        assert!(s.actual_velocity.abs() < 1.0, "axis {a}: {s:?}");
+    }
+}
+
+/// A detach stops what its session started, whatever drives it: a jog, velocity mode, a
+/// position move, homing, a geared slave, a PT/PVT stream and a group's move all halt on
+/// the stop ramps and come to rest, no fault latched and nothing in ErrorStop; each axis's
+/// status says why (`HostDetach`), which is what the next host reads.
+#[test]
+fn a_detach_stops_everything_its_session_started() {
+    use motioncard::{
+        GroupSettings, GroupState, HomingSettings, Master, MoveOptions, PathLimits, PvtLimits,
+        PvtMode, PvtPoint, SyncLimits, VelocityLimits,
+    };
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let ax: Vec<_> = (0..8).map(|a| card.axis(a).unwrap()).collect();
+    for a in &ax {
+        a.enable().unwrap();
+    }
+    let mut motions = Vec::new();
+    motions.push(("jog", ax[0].jog(20_000.0).unwrap()));
+    motions.push((
+        "velocity",
+        ax[1]
+            .move_velocity(-50_000.0, &VelocityLimits::new(5e5, 5e7))
+            .unwrap(),
+    ));
+    motions.push((
+        "move",
+        ax[2]
+            .move_relative(1e7, &MoveLimits::new(1e5, 1e6, 1e8))
+            .unwrap(),
+    ));
+    // Homing on the negative limit switch, which this machine does not have: it searches.
+    ax[3]
+        .configure_homing(&HomingSettings {
+            method: 17,
+            ..HomingSettings::default()
+        })
+        .unwrap();
+    motions.push(("homing", ax[3].home(0.0).unwrap()));
+    // Axis 4 geared 1:2 to the jogging axis 0.
+    motions.push((
+        "gear",
+        ax[4]
+            .gear_in(Master::Commanded(0), 1, 2, &SyncLimits::new(2e5, 2e6, 2e8))
+            .unwrap(),
+    ));
+    // A PT/PVT stream of 5 s on axis 5.
+    let pts: Vec<PvtPoint> = (1..=50)
+        .map(|k| PvtPoint::new(0.1 * k as f64, 1000.0 * k as f64, 10_000.0))
+        .collect();
+    let lim = PvtLimits {
+        velocity: 40_000.0,
+        acceleration: 4e5,
+    };
+    ax[5].pvt_begin(PvtMode::Pt, &lim, 0).unwrap();
+    ax[5].pvt_push(&pts, true).unwrap();
+    motions.push(("pvt", ax[5].pvt_start().unwrap()));
+    // A group line over axes 6 and 7.
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[6, 7])).unwrap();
+    g.enable().unwrap();
+    let gm = g
+        .move_linear(
+            &[2e6, -1e6],
+            &PathLimits::new(50_000.0, 5e5, 5e7),
+            MoveOptions::default(),
+        )
+        .unwrap();
+    sim.step(3000);
+    let moving = [
+        AxisState::ContinuousMotion,
+        AxisState::ContinuousMotion,
+        AxisState::DiscreteMotion,
+        AxisState::Homing,
+        AxisState::SynchronizedMotion,
+        AxisState::SynchronizedMotion,
+        AxisState::SynchronizedMotion,
+        AxisState::SynchronizedMotion,
+    ];
+    for (a, want) in moving.iter().enumerate() {
+        let s = ax[a].status().unwrap();
+        assert_eq!(s.state, *want, "axis {a} before the detach");
+        assert!(
+            s.command_velocity.abs() > 1000.0,
+            "axis {a} not moving: {s:?}"
+        );
+    }
+
+    let own = session(&card);
+    assert_eq!(
+        raw_answer(&card, session_command(Opcode::HostDetach, own)),
+        None
+    );
+    sim.step(ticks_of(&card, 2.5)); // the maximum stop time, and settling
+    let st = card.safety_status().unwrap();
+    assert_eq!((st.session, st.watchdog_armed), (0, false));
+    assert!(
+        !st.watchdog_tripped && !st.estop_command && !st.estop_input,
+        "{st:?}"
+    );
+    for (a, axis) in ax.iter().enumerate() {
+        let s = axis.status().unwrap();
+        assert_eq!(s.state, AxisState::Standstill, "axis {a}: {s:?}");
+        assert_eq!(s.command_velocity, 0.0, "axis {a}");
+        assert!(s.drive_enabled(), "axis {a}: power kept, no fault");
+        assert_eq!(s.stop_reason(), Some(StopReason::HostDetach), "axis {a}");
+    }
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    for (what, m) in &motions {
+        let e = m.wait(Duration::ZERO).unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::Aborted, "{what}: {e}");
+    }
+    assert_eq!(
+        gm.wait(Duration::ZERO).unwrap_err().kind(),
+        ErrorKind::Aborted
+    );
+    // Nothing starts again: the session is gone.
+    assert_eq!(ax[0].jog(1000.0).unwrap_err().kind(), ErrorKind::NoSession);
+}
+
+/// A host that attaches by a raw command (its own session again, after a raw detach) has its
+/// watchdog armed by the attach itself, before any heartbeat: if it then falls silent with an
+/// axis moving, the watchdog stops the axis the timeout after the attach at the latest.
+#[test]
+fn a_raw_attach_arms_the_watchdog_at_once() {
+    let card = stepped_card();
+    let sim = card.sim().unwrap();
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    let own = session(&card);
+    assert_eq!(
+        raw_answer(&card, session_command(Opcode::HostDetach, own)),
+        None
+    );
+    assert!(!card.safety_status().unwrap().watchdog_armed);
+    // Silent from now on: no beat between the attach and the trip.
+    card.set_heartbeat(false);
+    assert_eq!(
+        raw_answer(&card, session_command(Opcode::HostAttach, own)),
+        None
+    );
+    let st = card.safety_status().unwrap();
+    assert_eq!(st.session, own);
+    assert!(st.watchdog_armed, "armed by the attach");
+    assert_eq!(st.last_heartbeat_tick, st.attach_tick);
+    let m = ax
+        .move_velocity(100_000.0, &motioncard::VelocityLimits::new(1e6, 1e8))
+        .unwrap();
+    let timeout = ticks_of(&card, motioncard::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64());
+    sim.step(timeout + 1);
+    let st = card.safety_status().unwrap();
+    assert!(st.watchdog_tripped);
+    assert_eq!(st.watchdog_trip_tick - st.attach_tick, timeout);
+    let s = ax.status().unwrap();
+    assert_eq!(s.state, AxisState::ErrorStop);
+    assert_eq!(s.stop_reason(), Some(StopReason::Watchdog));
     assert_eq!(
         m.wait(Duration::ZERO).unwrap_err().kind(),
         ErrorKind::Aborted

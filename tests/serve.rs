@@ -697,9 +697,7 @@ struct Bench {
 fn bench(tag: &str) -> Bench {
     let name = format!("test-serve-{tag}-{}", std::process::id());
     let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let window = emu.window().fd().try_clone_to_owned().unwrap();
-    let irq = emu.irq_fd().as_fd().try_clone_to_owned().unwrap();
-    let server = Server::start(&name, window, irq).unwrap();
+    let server = Server::start(&name, emu.lessor()).unwrap();
     let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
     let served = serve(&format!("emu:{name}"), AXIS);
     Bench {

@@ -197,3 +197,48 @@ fn a_tick_beyond_the_traces_span_is_refused_before_the_replay() {
         "{why}"
     );
 }
+
+/// A run that ended its own session with a raw detach (and began it again with a raw attach)
+/// replays as recorded: the moves refused outside the session are refused on the replaying
+/// card too (its session ends where the traced one did), and the one after the attach runs.
+#[test]
+fn a_trace_that_detached_its_session_replays_its_refusals() {
+    use motioncard::proto::{Command, Opcode};
+    let path = temp("detached.trace");
+    let card = Card::open_sim_traced(
+        SimOptions {
+            clock: Clock::Stepped,
+            emu: EmuOptions::new(2, 10_000),
+        },
+        &path,
+    )
+    .unwrap();
+    let ax = card.axis(0).unwrap();
+    ax.enable().unwrap();
+    let own = card.safety_status().unwrap().session;
+    let session_op = |op: Opcode| {
+        let mut c = Command::new(op, 0);
+        c.flags = own;
+        card.execute_raw(c)
+    };
+    session_op(Opcode::HostDetach).unwrap();
+    let vel = motioncard::VelocityLimits::new(4e5, 2e7);
+    assert_eq!(
+        ax.move_velocity(5_000.0, &vel).unwrap_err().kind(),
+        ErrorKind::NoSession
+    );
+    session_op(Opcode::HostAttach).unwrap();
+    ax.move_relative(2_000.0, &MoveLimits::new(2e4, 4e5, 2e7))
+        .unwrap()
+        .wait(Duration::from_secs(10))
+        .unwrap();
+    card.close().unwrap();
+    let r = motioncard::replay(&path).unwrap();
+    assert_eq!(r.difference, None, "{r:?}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let detaches = text
+        .lines()
+        .filter(|l| l.starts_with("C ") && l.split(' ').nth(3) == Some("37"))
+        .count();
+    assert_eq!(detaches, 2, "the raw detach and the close's");
+}

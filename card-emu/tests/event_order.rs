@@ -60,6 +60,15 @@ fn every_event_is_visible_only_after_the_status_it_describes() {
     let mut fw = Firmware::boot(spy.clone(), 1, 10_000);
     let mut tx = CmdProducer::attach(spy.window.clone(), CMD_RING);
     let mut rx = EvtConsumer::attach(spy.window.clone(), EVT_RING);
+    // A host in command: attached (the session gate refuses power and motion without one),
+    // beating before each tick.
+    let attach = {
+        let mut c = Command::new(Opcode::HostAttach, 0);
+        c.flags = 1;
+        c.seq = tx.head().wrapping_add(1);
+        tx.push(&c).unwrap();
+        c.seq
+    };
     let mut send = |op: Opcode, args: &[f64]| {
         let mut c = Command::new(op, 0).with_args(args);
         c.seq = tx.head().wrapping_add(1);
@@ -81,6 +90,8 @@ fn every_event_is_visible_only_after_the_status_it_describes() {
         .any(|e| e.kind() == Some(EventKind::MotionDone))
     {
         assert!(fw.tick_count() < 100_000, "the move never finished");
+        let hb = spy.window.read32(layout::HEARTBEAT);
+        spy.window.write32(layout::HEARTBEAT, hb.wrapping_add(1));
         fw.tick(&enc, &mut dac);
         enc[0] = seqlock::read_axis_status(&*spy.window, 0)
             .unwrap()
@@ -105,6 +116,7 @@ fn every_event_is_visible_only_after_the_status_it_describes() {
             "event {k} {e:?} ahead of the status: {at:?}"
         );
         let expect = match (e.kind().unwrap(), e.seq) {
+            (EventKind::Ack, s) if s == attach => AxisState::Disabled as u32,
             (EventKind::Ack, s) if s == power_on => standstill,
             (EventKind::Ack, s) if s == mv => moving,
             (EventKind::StateChanged, _) => e.code as u32,
@@ -120,7 +132,7 @@ fn every_event_is_visible_only_after_the_status_it_describes() {
     assert!(kinds.contains(&EventKind::StateChanged), "{kinds:?}");
     assert_eq!(
         kinds.iter().filter(|k| **k == EventKind::Ack).count(),
-        2,
+        3,
         "{kinds:?}"
     );
 }

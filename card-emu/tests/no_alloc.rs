@@ -206,6 +206,8 @@ struct Rig {
     ticks: u64,
     /// (alloc, realloc, dealloc) inside `Firmware::tick`, summed.
     heap: [usize; 3],
+    /// The host stopped beating (a hung host: the watchdog trips).
+    silent: bool,
 }
 
 impl Rig {
@@ -218,7 +220,7 @@ impl Rig {
         let window = Arc::new(HeapWindow::new());
         let fw = Firmware::boot(window.clone(), MAX_AXES, rate_hz);
         window.write32(layout::IRQ_MASK, u32::MAX);
-        Self {
+        let mut rig = Self {
             cmds: CmdProducer::attach(window.clone(), CMD_RING),
             events: EvtConsumer::attach(window.clone(), EVT_RING),
             window,
@@ -230,7 +232,12 @@ impl Rig {
             log: Vec::new(),
             ticks: 0,
             heap: [0; 3],
-        }
+            silent: false,
+        };
+        // A host in command: attached (the session gate refuses motion without one), and
+        // beating every servo period (`step`).
+        rig.ok(Opcode::HostAttach, 0, 1, &[]);
+        rig
     }
 
     fn drain(&mut self) {
@@ -276,6 +283,10 @@ impl Rig {
 
     /// One servo period: serve, encoders and inputs in, firmware tick (counted), plant.
     fn step(&mut self) {
+        if !self.silent {
+            let hb = self.window.read32(layout::HEARTBEAT);
+            self.window.write32(layout::HEARTBEAT, hb.wrapping_add(1));
+        }
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
         let inputs = self.faults.sense(&self.motors, &mut enc);
@@ -715,8 +726,8 @@ fn faults_do_not_touch_the_heap() {
         }),
         ("e-stop", |r| r.faults.set_estop(true)),
         ("watchdog", |r| {
-            // One beat arms it; then the host falls silent.
-            r.window.write32(layout::HEARTBEAT, 1);
+            // The attach armed it; the host falls silent.
+            r.silent = true;
         }),
     ];
     for (what, fault) in faults {

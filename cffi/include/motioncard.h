@@ -56,7 +56,8 @@
  *   mc_group_move_ptp, mc_group_move_circular, mc_axis_set_filters,
  *   mc_axis_configure_pdplus, mc_set_watchdog_timeout, mc_set_estop_input_category, mc_estop,
  *   mc_configure_safety, mc_configure_homing, mc_home, mc_set_position,
- *   mc_group_configure_path, mc_group_path_push, mc_group_path_output, mc_set_outputs.
+ *   mc_group_configure_path, mc_group_path_push, mc_group_path_output, mc_set_outputs,
+ *   mc_send_raw.
  *   mc_group_move_nurbs
  *   sends the curve as several commands (a begin, data entries, an end) and blocks until the
  *   card has answered each, as does
@@ -1190,6 +1191,13 @@ extern "C" {
 #define MC_STOP_REASON_HOST_CHANGED 32
 
 /**
+ * The card found the axis moving with no host session attached and its watchdog armed, and
+ * stopped it (category 1). Its session gate refuses what could start motion outside a
+ * session, so this names a fault of the card's, never an ordinary close.
+ */
+#define MC_STOP_REASON_NO_SESSION 33
+
+/**
  * IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
  * `mc_safety_settings.limit_stop`): remove power at once.
  */
@@ -1259,6 +1267,361 @@ extern "C" {
  * Output: the axis's amplifier is enabled.
  */
 #define MC_IO_DRIVE_ENABLE 256
+
+/**
+ * Does nothing but answer: the round-trip probe.
+ */
+#define MC_OP_NOP 1
+
+/**
+ * MC_Power, Enable = TRUE.
+ */
+#define MC_OP_POWER_ON 2
+
+/**
+ * MC_Power, Enable = FALSE.
+ */
+#define MC_OP_POWER_OFF 3
+
+/**
+ * MC_MoveAbsolute: args target, vmax, amax, dmax, j1, j3, j5, j7.
+ */
+#define MC_OP_MOVE_ABSOLUTE 4
+
+/**
+ * MC_MoveRelative: args distance, vmax, amax, dmax, j1, j3, j5, j7.
+ */
+#define MC_OP_MOVE_RELATIVE 5
+
+/**
+ * MC_Halt: args dmax, jerk.
+ */
+#define MC_OP_HALT 6
+
+/**
+ * MC_Stop (Execute rising): args dmax, jerk.
+ */
+#define MC_OP_STOP 7
+
+/**
+ * MC_Stop (Execute falling): leave Stopping once at rest.
+ */
+#define MC_OP_STOP_RELEASE 8
+
+/**
+ * MC_Reset.
+ */
+#define MC_OP_RESET 9
+
+/**
+ * Validate and copy `axis_config[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_CONFIG 10
+
+/**
+ * Validate and copy `card_config`.
+ */
+#define MC_OP_APPLY_CARD_CONFIG 11
+
+/**
+ * MC_MoveAdditive: args distance from the target of the last move, then the limits as
+ * `MoveAbsolute`.
+ */
+#define MC_OP_MOVE_ADDITIVE 12
+
+/**
+ * MC_MoveVelocity: args velocity (signed), amax, dmax, jerk.
+ */
+#define MC_OP_MOVE_VELOCITY 13
+
+/**
+ * Jog: velocity mode at the axis's jog limits; arg velocity (signed).
+ */
+#define MC_OP_JOG 14
+
+/**
+ * MC_SetOverride: arg velocity factor, 0 to `OVERRIDE_MAX`.
+ */
+#define MC_OP_SET_OVERRIDE 15
+
+/**
+ * Validate and copy `group_config[group]`.
+ */
+#define MC_OP_GROUP_CONFIGURE 16
+
+/**
+ * Validate and copy `axis_filter[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_FILTER 17
+
+/**
+ * MC_GroupEnable.
+ */
+#define MC_OP_GROUP_ENABLE 18
+
+/**
+ * MC_GroupDisable.
+ */
+#define MC_OP_GROUP_DISABLE 19
+
+/**
+ * MC_GroupStop (Execute rising): args dmax, jerk.
+ */
+#define MC_OP_GROUP_STOP 20
+
+/**
+ * MC_GroupStop (Execute falling).
+ */
+#define MC_OP_GROUP_STOP_RELEASE 21
+
+/**
+ * MC_GroupReset.
+ */
+#define MC_OP_GROUP_RESET 22
+
+/**
+ * MC_GroupHalt: args dmax, jerk.
+ */
+#define MC_OP_GROUP_HALT 23
+
+/**
+ * MC_MoveLinearAbsolute / MC_MoveLinearRelative.
+ */
+#define MC_OP_GROUP_MOVE_LINEAR 24
+
+/**
+ * MC_MoveCircularAbsolute / MC_MoveCircularRelative (and helical).
+ */
+#define MC_OP_GROUP_MOVE_CIRCULAR 25
+
+/**
+ * Synchronised multi-axis point-to-point (Kim eq 10–14).
+ */
+#define MC_OP_GROUP_MOVE_PTP 26
+
+/**
+ * Stage per-axis limits for the next point-to-point move: args first group axis, count, then
+ * v, a, d, j of each.
+ */
+#define MC_OP_GROUP_PTP_LIMITS 30
+
+/**
+ * MC_SetOverride of a group: args feed factor (lines, arcs), rapid factor (point-to-point
+ * moves).
+ */
+#define MC_OP_GROUP_SET_OVERRIDE 31
+
+/**
+ * Open a NURBS curve transfer: args degree, n_ctrl, n_knots, feed, accel, jerk, chord
+ * tolerance, saturation budget.
+ */
+#define MC_OP_NURBS_BEGIN 27
+
+/**
+ * Continuation entry: args offset, count, values.
+ */
+#define MC_OP_NURBS_DATA 28
+
+/**
+ * Validate the curve and queue the move.
+ */
+#define MC_OP_NURBS_END 29
+
+/**
+ * Validate and copy `safety` (watchdog timeout, e-stop input category).
+ */
+#define MC_OP_APPLY_SAFETY_CONFIG 32
+
+/**
+ * Validate and copy `axis_safety[axis]` (limits, following error, stop ramp).
+ */
+#define MC_OP_APPLY_AXIS_SAFETY 33
+
+/**
+ * E-stop every axis: arg category (0, 1 or 2). Latched.
+ */
+#define MC_OP_ESTOP 34
+
+/**
+ * Clear the card-wide latches (watchdog, e-stop) once their causes are gone.
+ */
+#define MC_OP_SAFETY_RESET 35
+
+/**
+ * A host begins its session (flags: the session id): a previous session still open stops every
+ * enabled axis with `StopReason::HostChanged`.
+ */
+#define MC_OP_HOST_ATTACH 36
+
+/**
+ * A host ends its session cleanly (flags: the session id): moving axes halt, the watchdog is
+ * disarmed, no fault.
+ */
+#define MC_OP_HOST_DETACH 37
+
+/**
+ * Validate and copy `axis_homing[axis]` (the CiA 402 homing method and its limits).
+ */
+#define MC_OP_APPLY_AXIS_HOMING 48
+
+/**
+ * MC_Home: arg the position the home point reads (before the home offset).
+ */
+#define MC_OP_HOME 49
+
+/**
+ * MC_SetPosition: arg the position (flags: `SET_POSITION_RELATIVE`).
+ */
+#define MC_OP_SET_POSITION 50
+
+/**
+ * Queue a line in the group's path: args id, feed, tolerance, targets.
+ */
+#define MC_OP_PATH_LINE 56
+
+/**
+ * Queue an arc or helix in the group's path: args id, feed, tolerance, end, aux, the other
+ * axes' targets.
+ */
+#define MC_OP_PATH_ARC 57
+
+/**
+ * Queue a dwell in the group's path: args id, seconds.
+ */
+#define MC_OP_PATH_DWELL 58
+
+/**
+ * An output action for the next path segment: args output, on, distance.
+ */
+#define MC_OP_PATH_OUTPUT 59
+
+/**
+ * Validate and copy `group_path[group]` (look-ahead, low water, axis limits).
+ */
+#define MC_OP_APPLY_GROUP_PATH 60
+
+/**
+ * Set the digital outputs in a mask: args mask, value.
+ */
+#define MC_OP_SET_OUTPUTS 61
+
+/**
+ * A NURBS curve as one path segment (its data follows as for a NURBS move).
+ */
+#define MC_OP_PATH_NURBS 62
+
+/**
+ * Validate and copy `io_config` (input polarity, debounce, edge events).
+ */
+#define MC_OP_APPLY_IO_CONFIG 64
+
+/**
+ * Arm a position-compare channel: args channel, output, pulse_us, low_water, position or
+ * start, pitch, count; flags mode and direction.
+ */
+#define MC_OP_COMPARE_ARM 65
+
+/**
+ * Queue positions in a compare channel's table: args channel, n, positions.
+ */
+#define MC_OP_COMPARE_TABLE 66
+
+/**
+ * Disarm a compare channel and drop its table: arg channel.
+ */
+#define MC_OP_COMPARE_DISARM 67
+
+/**
+ * MC_TouchProbe: args channel, input, window_lo, window_hi; flags edges and mode.
+ */
+#define MC_OP_PROBE_ARM 68
+
+/**
+ * MC_AbortTrigger: arg channel.
+ */
+#define MC_OP_PROBE_ABORT 69
+
+/**
+ * Layout 1.7 (sync): MC_GearIn: args master, numerator, denominator, vmax, amax, jerk; flags
+ * the master source (`MasterSource`).
+ */
+#define MC_OP_GEAR_IN 80
+
+/**
+ * MC_GearInPos: as `GearIn`, then master and slave sync positions.
+ */
+#define MC_OP_GEAR_IN_POS 81
+
+/**
+ * MC_GearOut: the slave leaves the coupling in velocity mode at its velocity.
+ */
+#define MC_OP_GEAR_OUT 82
+
+/**
+ * Open a PT/PVT stream: args vmax, amax, low water; flags `MC_PVT_PT`.
+ */
+#define MC_OP_PVT_BEGIN 83
+
+/**
+ * Append points: args count, then time, position, velocity of each.
+ */
+#define MC_OP_PVT_POINTS 84
+
+/**
+ * Start the streams of an axis mask.
+ */
+#define MC_OP_PVT_START 85
+
+/**
+ * Open a cam table: args table, points; flags cubic, periodic.
+ */
+#define MC_OP_CAM_TABLE 86
+
+/**
+ * Cam table points: args table, first index, count, then master, slave of each.
+ */
+#define MC_OP_CAM_DATA 87
+
+/**
+ * MC_CamIn: args master, table, offsets, scales, vmax, amax, jerk.
+ */
+#define MC_OP_CAM_IN 88
+
+/**
+ * MC_CamOut: as `GearOut`.
+ */
+#define MC_OP_CAM_OUT 89
+
+/**
+ * Layout 1.8: validate and copy `scope_config`.
+ */
+#define MC_OP_SCOPE_CONFIGURE 90
+
+/**
+ * Arm the scope: sample into the pre-trigger history, wait for the trigger.
+ */
+#define MC_OP_SCOPE_ARM 91
+
+/**
+ * Trigger the waiting scope at its next sample.
+ */
+#define MC_OP_SCOPE_TRIGGER 92
+
+/**
+ * Stop the scope.
+ */
+#define MC_OP_SCOPE_STOP 93
+
+/**
+ * Layout 1.8: the card writes the settings it holds into a configuration block: args kind
+ * (`ConfigKind`), index.
+ */
+#define MC_OP_READ_CONFIG 96
+
+/**
+ * Layout 1.8: an axis's scale (counts per user unit), kept for hosts: args scale.
+ */
+#define MC_OP_SET_SCALE 97
 
 /**
  * What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
@@ -2514,7 +2877,8 @@ typedef struct mc_safety_status {
    */
   uint32_t estop_input;
   /**
-   * The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+   * The watchdog is watching: a session is attached (armed by its open, disarmed by its
+   * close). Outside a session the card takes no motion (`MC_ERR_NO_SESSION`).
    */
   uint32_t watchdog_armed;
   /**
@@ -3083,6 +3447,14 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * The card's session belongs to another host.
  */
 #define MC_ERR_SESSION -59
+
+/**
+ * No host session is attached to the card (it was detached, for example by a raw
+ * `MC_OP_HOST_DETACH`): the card refuses motion, power, outputs, configuration and
+ * resets until a host attaches: close the card and open it again (a tool may send a raw
+ * `MC_OP_HOST_ATTACH`). It still takes stops, reads and the scope.
+ */
+#define MC_ERR_NO_SESSION -108
 
 /**
  * The card went away (its `card-emu` process exited or was killed): every call on it
@@ -4693,6 +5065,29 @@ mc_result mc_group_get_settings(mc_card card,
                                 uint32_t group,
                                 struct mc_group_settings *settings,
                                 uint32_t *configured);
+
+/**
+ * Send one command of the card's register map as it is, for tools and tests that need what
+ * the typed calls would refuse: `opcode` one of the `MC_OP_` values (their arguments and
+ * flags are the register map's, `firmware-proto/include/mc_dpram.h` in the source), `axis`
+ * the axis or group it names, `flags` its flags word, and `nargs` (0..14) arguments from
+ * `args` (the rest 0; `args` may be NULL when `nargs` is 0). Blocks until the card answers:
+ * `MC_OK` when it accepted the command (`value`, may be NULL, receives its ack's value), or
+ * the `MC_ERR_` code of its refusal. The card checks it as any other command. It goes around
+ * the library's bookkeeping: a motion started this way has no `mc_motion`, and
+ * `MC_OP_HOST_DETACH` with this program's session (`mc_get_safety_status`) ends the session on
+ * the card while the handle stays open; the card then halts what moves and refuses motion,
+ * power, outputs and configuration (`MC_ERR_NO_SESSION`) until an `MC_OP_HOST_ATTACH` of a
+ * session (which arms the watchdog at once). An `opcode` or `axis` above 65535, or more than
+ * 14 arguments: `MC_ERR_OUT_OF_RANGE`, nothing sent.
+ */
+mc_result mc_send_raw(mc_card card,
+                      uint32_t opcode,
+                      uint32_t axis,
+                      uint32_t flags,
+                      const double *args,
+                      size_t nargs,
+                      double *value);
 
 #ifdef __cplusplus
 }  /* extern "C" */

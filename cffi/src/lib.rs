@@ -36,6 +36,8 @@ pub mod sync;
 pub mod types;
 // Layout 1.8, last: cbindgen writes the header in module order.
 pub mod config;
+// The raw commands (mc_send_raw and the MC_OP_ opcodes) after everything typed.
+pub mod raw_command;
 
 pub use api::*;
 pub use config::*;
@@ -44,6 +46,7 @@ pub use homing::*;
 pub use io::*;
 pub use modes::*;
 pub use path::*;
+pub use raw_command::*;
 pub use registry::{mc_card, mc_event_callback};
 pub use result::*;
 pub use safety::*;

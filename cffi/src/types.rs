@@ -996,6 +996,10 @@ pub const MC_STOP_REASON_STOP_TIMEOUT: u32 = 31;
 /// A host opened the card while the previous host's session was still open (it died without
 /// closing): the motion it left was stopped.
 pub const MC_STOP_REASON_HOST_CHANGED: u32 = 32;
+/// The card found the axis moving with no host session attached and its watchdog armed, and
+/// stopped it (category 1). Its session gate refuses what could start motion outside a
+/// session, so this names a fault of the card's, never an ordinary close.
+pub const MC_STOP_REASON_NO_SESSION: u32 = 33;
 
 /// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
 /// `mc_safety_settings.limit_stop`): remove power at once.
@@ -1054,6 +1058,7 @@ pub(crate) fn stop_reason_code(r: StopReason) -> u32 {
         StopReason::Group => MC_STOP_REASON_GROUP,
         StopReason::StopTimeout => MC_STOP_REASON_STOP_TIMEOUT,
         StopReason::HostChanged => MC_STOP_REASON_HOST_CHANGED,
+        StopReason::NoSession => MC_STOP_REASON_NO_SESSION,
         StopReason::HostDetach => MC_STOP_REASON_HOST_DETACH,
         StopReason::HomingFailed => MC_STOP_REASON_HOMING_FAILED,
     }
@@ -1093,7 +1098,8 @@ pub struct mc_safety_status {
     pub estop_command: u32,
     /// The e-stop input tripped; latched until reset with the input released.
     pub estop_input: u32,
-    /// The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+    /// The watchdog is watching: a session is attached (armed by its open, disarmed by its
+    /// close). Outside a session the card takes no motion (`MC_ERR_NO_SESSION`).
     pub watchdog_armed: u32,
     /// Servo tick at which the card last saw the heartbeat change.
     pub last_heartbeat_tick: u64,

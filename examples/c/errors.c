@@ -41,6 +41,7 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_LIMIT_RANGE,    MC_ERR_PLAN_CHECK,      MC_ERR_EXPIRED,
     MC_ERR_STOP_TOO_LONG,  MC_ERR_SESSION,         MC_ERR_CARD_GONE,
     MC_ERR_CLOSED,         MC_ERR_CANCELLED,       MC_ERR_PERMISSION_DENIED,
+    MC_ERR_NO_SESSION,
     /* motion modes, homing */
     MC_ERR_OVERRIDE_RANGE, MC_ERR_HOMING_METHOD,   MC_ERR_AXIS_HOMING,
     MC_ERR_HOMING_FAILED,
@@ -67,9 +68,9 @@ static const mc_result ALL_CODES[] = {
 #define NCODES (sizeof ALL_CODES / sizeof ALL_CODES[0])
 
 /* Codes this program does not return. Some no emulated card can provoke from C: a card with
-   another layout, one that corrupts the protocol, a full command ring, a command the typed
-   API never sends (an unknown opcode, NURBS data out of sequence, a detach of another
-   session, a command past its deadline), a plan the card's own check refuses (no input
+   another layout, one that corrupts the protocol, a full command ring, a command the library
+   never sends (NURBS data out of sequence, a command past its deadline: mc_send_raw sends no
+   deadline), a plan the card's own check refuses (no input
    reaches it through a correct planner), a limit switch (an input only the
    Rust fault injector presses), another user's card, a path segment id that is not an
    integer in 0..2^32-1 (ids are uint32_t in C), a configuration read-back of a block kind
@@ -79,9 +80,9 @@ static const mc_result ALL_CODES[] = {
    listed as not provokable). */
 static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C */
-    MC_ERR_VERSION_MISMATCH, MC_ERR_PROTOCOL, MC_ERR_RING_FULL, MC_ERR_UNKNOWN_COMMAND,
+    MC_ERR_VERSION_MISMATCH, MC_ERR_PROTOCOL, MC_ERR_RING_FULL,
     MC_ERR_NURBS_SEQUENCE, MC_ERR_HARD_LIMIT, MC_ERR_PLAN_CHECK, MC_ERR_EXPIRED,
-    MC_ERR_SESSION, MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
+    MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
     /* dead_card.c (a card process killed, then stopped) */
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
     /* lifecycle.c (waits in other threads) */
@@ -94,9 +95,11 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_NURBS_KNOTS_DECREASING, MC_ERR_NURBS_KNOT_MULTIPLICITY, MC_ERR_NURBS_NOT_CLAMPED,
     MC_ERR_NURBS_WEIGHT, MC_ERR_NURBS_POINT, MC_ERR_NURBS_START, MC_ERR_NURBS_ZERO_LENGTH,
     MC_ERR_NURBS_KNOT,
-    /* safety.c */
+    /* safety.c (raw commands: a detach of this program's session and of another, an unknown
+       opcode) */
     MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE, MC_ERR_SOFT_LIMIT, MC_ERR_CAUSE_ACTIVE,
-    MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY, MC_ERR_STOP_TOO_LONG,
+    MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY, MC_ERR_STOP_TOO_LONG, MC_ERR_NO_SESSION,
+    MC_ERR_SESSION, MC_ERR_UNKNOWN_COMMAND,
     /* busy.c (a card served by another process), panic.c (a test build's panic hook) */
     MC_ERR_BUSY, MC_ERR_PANIC,
     /* homing.c (and machine.c) */
@@ -246,6 +249,7 @@ static void all_calls_bad_handle(mc_card h) {
     EXPECT(mc_get_statuses(h, &ax0, 1, &st), MC_ERR_BAD_HANDLE);
     EXPECT(mc_configure_safety(h, 0, &saf), MC_ERR_BAD_HANDLE);
     EXPECT(mc_get_stop_info(h, 0, &si), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_send_raw(h, MC_OP_NOP, 0, 0, NULL, 0, &d), MC_ERR_BAD_HANDLE);
     EXPECT(mc_close(h), MC_ERR_BAD_HANDLE);
     ASSERT(info.axes == 99 && st.state == 99 && ev.kind == 99 && u64 == 99 && u32 == 99 &&
                n == 99 && d == 99.0 && fd == 99 && m.seq == 1 && ss.protocol_errors == 99 &&

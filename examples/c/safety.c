@@ -1,6 +1,7 @@
 /*
  * Safety from C: the host watchdog (the heartbeat stopped), an e-stop in categories 1 and 2,
- * a soft limit and a following error. Each trips on a stepped emulated card; the program
+ * a soft limit, a following error, and the session gate (a session ended by a raw detach
+ * moves nothing; a raw attach arms the watchdog). Each trips on a stepped emulated card; the program
  * checks the axes' state, stop reason, fault and I/O bits, the card's timing of the stop
  * (mc_get_stop_info), the MC_EVENT_SAFETY_STOP and MC_EVENT_AT_REST events, each safety
  * MC_ERR_ code the card gives while a fault is latched or a move would go beyond a limit,
@@ -458,6 +459,80 @@ static void following_error(void) {
     CHECK(mc_close(c));
 }
 
+/* Outside a session (issue 31). This program detaches its own session with a raw command
+   (mc_send_raw) and keeps the card open: the card refuses every motion and power command,
+   raw or typed, with MC_ERR_NO_SESSION, and nothing moves while nothing watches; it still
+   takes pings, halts and reads. A raw attach of the same session arms the watchdog at once:
+   silent from then on, the program trips it the timeout after the attach. */
+static void no_session(void) {
+    mc_card c = open_card();
+    for (uint32_t a = 0; a < AXES; a++) CHECK(mc_enable(c, a));
+    CHECK(mc_sim_step(c, 10));
+    const uint32_t own = safety(c).session;
+    ASSERT(own != 0, "no session");
+    /* Only the attached session detaches; an unknown opcode is refused for what it is. */
+    EXPECT(mc_send_raw(c, MC_OP_HOST_DETACH, 0, own ^ 1u, NULL, 0, NULL), MC_ERR_SESSION);
+    EXPECT(mc_send_raw(c, 0x7777, 0, 0, NULL, 0, NULL), MC_ERR_UNKNOWN_COMMAND);
+    EXPECT(mc_send_raw(c, MC_OP_HOST_DETACH, 0, own, NULL, 0, NULL), MC_OK);
+    mc_safety_status ss = safety(c);
+    ASSERT(ss.session == 0 && !ss.watchdog_armed, "session %u armed %u", ss.session,
+           ss.watchdog_armed);
+    for (uint32_t a = 0; a < AXES; a++) {
+        const double v[4] = {a % 2 ? -100000.0 : 100000.0, 1e6, 1e6, 1e8};
+        EXPECT(mc_send_raw(c, MC_OP_MOVE_VELOCITY, a, 0, v, 4, NULL), MC_ERR_NO_SESSION);
+        expect_in_message("no host session");
+    }
+    mc_move_limits lim;
+    CHECK(mc_move_limits_symmetric(1e5, 1e6, 1e8, &lim));
+    EXPECT(mc_move_relative(c, 0, 1000.0, &lim, NULL), MC_ERR_NO_SESSION);
+    EXPECT(mc_set_outputs(c, 1, 1), MC_ERR_NO_SESSION);
+    EXPECT(mc_set_watchdog_timeout(c, 5000000), MC_ERR_NO_SESSION);
+    EXPECT(mc_ping(c), MC_OK);
+    EXPECT(mc_halt(c, 1, 1e6, 1e8, NULL), MC_OK);
+    /* Bad raw commands: nothing sent. */
+    const double fifteen[15] = {0};
+    EXPECT(mc_send_raw(c, 70000, 0, 0, NULL, 0, NULL), MC_ERR_OUT_OF_RANGE);
+    EXPECT(mc_send_raw(c, MC_OP_NOP, 0, 0, fifteen, 15, NULL), MC_ERR_OUT_OF_RANGE);
+    EXPECT(mc_send_raw(c, MC_OP_NOP, 0, 0, NULL, 2, NULL), MC_ERR_NULL_POINTER);
+    /* 2 s with the heartbeat stopped too: nothing moved, nothing tripped. */
+    CHECK(mc_set_heartbeat(c, 0));
+    CHECK(mc_sim_step(c, 2 * RATE));
+    ss = safety(c);
+    ASSERT(!ss.watchdog_tripped && ss.session == 0, "tripped %u session %u",
+           ss.watchdog_tripped, ss.session);
+    for (uint32_t a = 0; a < AXES; a++) {
+        mc_status s = axis(c, a);
+        ASSERT(s.state == MC_AXIS_STATE_STANDSTILL && s.command_velocity == 0.0 &&
+                   fabs(s.actual_velocity) < 1.0 && drive_on(s),
+               "axis %u: state %u velocity %f", a, s.state, s.command_velocity);
+    }
+    /* The same session attached again by a raw command, the program still silent: armed at
+       once, and the watchdog stops the velocity move the timeout (100 ms) after the attach. */
+    EXPECT(mc_send_raw(c, MC_OP_HOST_ATTACH, 0, own, NULL, 0, NULL), MC_OK);
+    ss = safety(c);
+    ASSERT(ss.session == own && ss.watchdog_armed && ss.last_heartbeat_tick == ss.attach_tick,
+           "session %u armed %u heartbeat tick %llu attach tick %llu", ss.session,
+           ss.watchdog_armed, (unsigned long long)ss.last_heartbeat_tick,
+           (unsigned long long)ss.attach_tick);
+    const double v[4] = {100000.0, 1e6, 1e6, 1e8};
+    double value = -1.0;
+    EXPECT(mc_send_raw(c, MC_OP_MOVE_VELOCITY, 0, 0, v, 4, &value), MC_OK);
+    ASSERT(value == 0.0, "ack value %f", value);
+    CHECK(mc_sim_step(c, RATE / 10 + 1));
+    ss = safety(c);
+    ASSERT(ss.watchdog_tripped && ss.watchdog_trip_tick - ss.attach_tick == RATE / 10,
+           "tripped %u at %llu, attached at %llu", ss.watchdog_tripped,
+           (unsigned long long)ss.watchdog_trip_tick, (unsigned long long)ss.attach_tick);
+    mc_status s0 = axis(c, 0);
+    ASSERT(s0.state == MC_AXIS_STATE_ERROR_STOP && s0.stop_reason == MC_STOP_REASON_WATCHDOG,
+           "state %u reason %u", s0.state, s0.stop_reason);
+    CHECK(mc_set_heartbeat(c, 1));
+    CHECK(mc_close(c));
+    printf("no session: 4 velocity moves refused, nothing moved; a raw attach armed the "
+           "watchdog at tick %llu, tripped at %llu\n",
+           (unsigned long long)ss.attach_tick, (unsigned long long)ss.watchdog_trip_tick);
+}
+
 /* NULL pointers and unknown axes on the safety calls: outputs untouched. */
 static void misuse(void) {
     mc_card c = open_card();
@@ -523,13 +598,15 @@ int main(int argc, char **argv) {
     estop();
     soft_limit();
     following_error();
+    no_session();
     misuse();
 
     /* Every safety code was returned, except the one no C program can provoke. */
     const mc_result safety_codes[] = {MC_ERR_WATCHDOG_TRIPPED, MC_ERR_ESTOP_ACTIVE,
                                       MC_ERR_SOFT_LIMIT,       MC_ERR_CAUSE_ACTIVE,
                                       MC_ERR_WATCHDOG_TIMEOUT, MC_ERR_BAD_CATEGORY,
-                                      MC_ERR_STOP_TOO_LONG};
+                                      MC_ERR_STOP_TOO_LONG,    MC_ERR_SESSION,
+                                      MC_ERR_NO_SESSION};
     for (size_t k = 0; k < sizeof safety_codes / sizeof safety_codes[0]; k++) {
         ASSERT(seen[-safety_codes[k]], "code %d (%s) never returned", (int)safety_codes[k],
                mc_result_str(safety_codes[k]));

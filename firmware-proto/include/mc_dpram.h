@@ -51,7 +51,9 @@
                            * read back (MC_OP_READ_CONFIG 96, MC_CONFIG_*, MC_NACK_CONFIG_KIND 116),
                            * each axis's scale on the card (mc_axis_config.scale, MC_OP_SET_SCALE
                            * 97), the path planner's period (mc_group_path.plan_period, from
-                           * its reserved words; 0 keeps the default) */
+                           * its reserved words; 0 keeps the default); the session gate
+                           * (MC_NACK_NO_SESSION 41, MC_STOP_NO_SESSION 33; an attach arms the
+                           * watchdog) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -196,17 +198,34 @@
 #define MC_OP_SAFETY_RESET 35u        /* clear the card-wide latches (watchdog, e-stop) once their
                                        * causes are gone; axes then leave ErrorStop by MC_RESET */
 /* Host sessions (layout 1.3). A host attaches before its first heartbeat and detaches when it
- * closes the card; a host that vanishes never detaches. */
+ * closes the card; a host that vanishes never detaches.
+ *
+ * The session gate (layout 1.8): the card takes a command that can start motion, give power,
+ * change an output, a configuration or a latch only while a session is attached and its watchdog
+ * armed; outside one it refuses it with MC_NACK_NO_SESSION and changes nothing. An attach arms
+ * the watchdog (it counts as the host's first heartbeat), a detach disarms it, so a host that
+ * attached is watched until it detaches. Taken without a session, being safe: MC_OP_NOP,
+ * MC_OP_POWER_OFF, MC_OP_HALT, MC_OP_STOP, MC_OP_GROUP_HALT, MC_OP_GROUP_STOP,
+ * MC_OP_GROUP_DISABLE, MC_OP_ESTOP, MC_OP_COMPARE_DISARM, MC_OP_PROBE_ABORT (they stop or remove
+ * something), MC_OP_HOST_ATTACH, MC_OP_HOST_DETACH, MC_OP_READ_CONFIG, MC_OP_PROBE_ARM,
+ * MC_OP_SCOPE_* (they read or observe), and data staged for a later command, starting nothing
+ * itself: MC_OP_NURBS_BEGIN, MC_OP_NURBS_DATA, MC_OP_GROUP_PTP_LIMITS, MC_OP_PVT_POINTS,
+ * MC_OP_CAM_TABLE, MC_OP_CAM_DATA. Every other opcode (and any opcode added later) is refused,
+ * the configuration applies included: they change what the card does with the next motion or
+ * with an axis holding position. Besides, the card itself stops (category 1, reason
+ * MC_STOP_NO_SESSION) any motion it finds running with no session attached and armed: nothing
+ * moves while nobody is in command. */
 #define MC_OP_HOST_ATTACH 36u /* flags: the new session id (nonzero). If another session is still
                                * attached (its host died or hung without detaching), every enabled
                                * axis makes a category 1 stop with reason MC_STOP_HOST_CHANGED: a
                                * new host never inherits motion it did not start. The ack's value
-                               * is the number of axes that stop made. The watchdog is disarmed
-                               * until the new host's first heartbeat. */
+                               * is the number of axes that stop made. The attach arms the
+                               * watchdog: its heartbeat must come within the watchdog timeout. */
 #define MC_OP_HOST_DETACH 37u /* flags: the session id. A clean close: every moving axis and group
                                * halts along its axis stop ramp (reason MC_STOP_HOST_DETACH, no
                                * fault latched) and the watchdog is disarmed until the next
-                               * attach (later heartbeats do not arm it). MC_NACK_SESSION if
+                               * attach (later heartbeats do not arm it); until then the session
+                               * gate refuses motion (MC_NACK_NO_SESSION). MC_NACK_SESSION if
                                * another session is attached. */
 
 /* Homing opcodes (48..55, layout 1.5): PLCopen MC_Home with the CiA 402 homing methods, and
@@ -822,6 +841,8 @@
 #define MC_NACK_STOP_TOO_LONG 39    /* a stop ramp from max_velocity longer than the maximum stop
                                      * time, or a maximum stop time out of range */
 #define MC_NACK_SESSION 40          /* a detach by a host whose session is not the attached one */
+#define MC_NACK_NO_SESSION 41       /* a command the session gate refuses (see MC_OP_HOST_ATTACH): no
+                                     * session attached with its watchdog armed */
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
 #define MC_STATE_DISABLED 0u
@@ -888,6 +909,7 @@
 #define MC_STOP_GROUP 30u         /* another axis of its group tripped */
 #define MC_STOP_TIMEOUT 31u       /* a stop did not end within the maximum stop time: power removed */
 #define MC_STOP_HOST_CHANGED 32u  /* a host attached while the previous host's session was open */
+#define MC_STOP_NO_SESSION 33u    /* motion found running with no session attached and armed */
 
 /* Axis I/O bits (mc_axis_status_payload.io): the FPGA's inputs and the drive-enable output */
 /* Motion bits (mc_axis_status_payload.motion_flags, layout 1.5) */
@@ -1378,7 +1400,7 @@ struct mc_probe_status {
 /* card writes; independent words (not a snapshot), each written when its event happens */
 struct mc_safety_status {
     uint32_t faults;              /* MC_CARD_FAULT_* latched */
-    uint32_t watchdog_armed;      /* 1 once a heartbeat was seen (after boot or a reset) */
+    uint32_t watchdog_armed;      /* 1 while a session is attached (from its attach to its detach) */
     uint64_t last_heartbeat_tick; /* tick the card last saw host.heartbeat change */
     uint64_t watchdog_trip_tick;  /* tick the watchdog last tripped (0: never) */
     uint32_t protocol_errors;     /* MC_EV_PROTOCOL_ERROR raised since boot */

@@ -337,6 +337,10 @@ code_enum! {
         StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
         /// A detach by a host whose session is not the attached one.
         Session = raw::MC_NACK_SESSION,
+        /// A command the session gate refuses: no host session is attached with its watchdog
+        /// armed, and the command could start motion, give power, or change an output, a
+        /// configuration or a latch.
+        NoSession = raw::MC_NACK_NO_SESSION,
         /// A homing method the axis cannot do: an unknown number, or an index method on an
         /// encoder without an index channel.
         HomingMethod = raw::MC_NACK_HOMING_METHOD,
@@ -626,6 +630,9 @@ code_enum! {
         StopTimeout = raw::MC_STOP_TIMEOUT,
         /// A host attached while the previous host's session was still open.
         HostChanged = raw::MC_STOP_HOST_CHANGED,
+        /// The card found the axis moving with no host session attached and armed, and stopped
+        /// it (category 1).
+        NoSession = raw::MC_STOP_NO_SESSION,
     }
 }
 
@@ -1051,7 +1058,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 78);
+        assert_eq!(NackCode::ALL.len(), 79);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));

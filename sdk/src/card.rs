@@ -304,16 +304,24 @@ impl Card {
             dev,
             trace,
         };
-        // [safety] the session first, then the heartbeat: the card stops what a vanished host
-        // left moving before this host's heartbeat could feed its watchdog.
+        // [safety] the session, then at once the heartbeat. The attach arms the card's watchdog
+        // (it counts as the first heartbeat), so the beats start as it is sent, not after its
+        // ack's round trip, which a short watchdog timeout may not allow. Beats that land
+        // before the card serves the attach (one servo period) are a vanished host's for that
+        // long at most: the attach then stops what that host left moving.
         inner.link.publish_time();
         let mut attach = Command::new(Opcode::HostAttach, 0);
         attach.flags = inner.link.session;
         let seq = inner.send_raw(attach)?;
+        let heartbeat = crate::heartbeat::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
+        *lock(&inner.heartbeat) = Some(heartbeat);
         match inner.wait_answer(seq)? {
             Ok(stopped) => inner.inherited_stops = stopped as u32,
             Err(code) => {
                 inner.link.mark_closed(); // nothing to detach (the attach was refused)
+                if let Some(mut h) = lock(&inner.heartbeat).take() {
+                    h.halt();
+                }
                 return Err(Error::Nack {
                     command: "open",
                     target: Target::Card,
@@ -322,8 +330,6 @@ impl Card {
                 });
             }
         }
-        let heartbeat = crate::heartbeat::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
-        *lock(&inner.heartbeat) = Some(heartbeat);
         let card = Card {
             inner: Arc::new(inner),
         };
@@ -520,8 +526,21 @@ impl Card {
     /// Queue a raw command without waiting for its ack; returns its seq. For tools and tests
     /// that need to send what the typed API would refuse. Its deadline is [`ACK_TIMEOUT`] from
     /// now unless `cmd.deadline_ms` names one.
+    ///
+    /// The card checks a raw command as any other. A raw `MC_OP_HOST_DETACH` of this card's
+    /// own session ends the session on the card while this `Card` stays open: the card halts
+    /// what moves and from then on refuses motion, power, outputs and configuration
+    /// ([`crate::ErrorKind::NoSession`]) until a host attaches again (a raw `MC_OP_HOST_ATTACH`
+    /// with [`crate::SafetyStatus::session`], which arms the watchdog at once).
     pub fn send_raw(&self, cmd: Command) -> Result<u32> {
         self.inner.send_raw(cmd)
+    }
+
+    /// [`Card::send_raw`], then wait for the card's answer: the ack's value, or the nack as
+    /// [`Error::Nack`] (its kind the nack's, e.g. [`crate::ErrorKind::NoSession`]).
+    pub fn execute_raw(&self, cmd: Command) -> Result<f64> {
+        self.execute_value(cmd, "send_raw", Target::Card)
+            .map(|(_, v)| v)
     }
 
     /// Wait for the ack or nack of command `seq`. It returns a failure only when the command

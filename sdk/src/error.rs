@@ -191,6 +191,11 @@ error_kinds! {
     StopTooLong = -58, MC_ERR_STOP_TOO_LONG, nack StopTooLong, "the stop ramp from max velocity is longer than the card's maximum stop time";
     /// The card's session belongs to another host.
     Session = -59, MC_ERR_SESSION, nack Session, "another host's session is attached";
+    /// No host session is attached to the card (it was detached, for example by a raw
+    /// `MC_OP_HOST_DETACH`): the card refuses motion, power, outputs, configuration and
+    /// resets until a host attaches: close the card and open it again (a tool may send a raw
+    /// `MC_OP_HOST_ATTACH`). It still takes stops, reads and the scope.
+    NoSession = -108, MC_ERR_NO_SESSION, nack NoSession, "no host session is attached: the card refuses motion, power, outputs and configuration until a host attaches";
     /// The card went away (its `card-emu` process exited or was killed): every call on it
     /// fails with this.
     CardGone = -60, MC_ERR_CARD_GONE, "the card went away";

@@ -180,9 +180,22 @@ pub struct ReplayReport {
     pub difference: Option<(usize, String)>,
 }
 
-/// A session command: the replaying host has its own.
+/// A session command.
 fn session_op(opcode: u16) -> bool {
     opcode == Opcode::HostAttach as u16 || opcode == Opcode::HostDetach as u16
+}
+
+/// The traced host's own attach, its open (the first command of a trace): not replayed, the
+/// replaying host has its own session. Its seq and the traced session's id.
+fn open_attach(records: &[Record]) -> Option<(u32, u32)> {
+    records
+        .iter()
+        .find_map(|r| match r {
+            Record::Command(_, c) => Some(c),
+            _ => None,
+        })
+        .filter(|c| c.opcode == Opcode::HostAttach as u16)
+        .map(|c| (c.seq, c.flags))
 }
 
 fn show(e: &Event) -> String {
@@ -242,9 +255,14 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
     let sim = card.sim().expect("a stepped emulated card");
     let w = card.window();
     let tick = || w.read64(layout::TICK);
-    // Recorded seq → replayed seq, and the recorded commands not replayed.
+    // Recorded seq → replayed seq, and the recorded commands not replayed: the open's attach.
+    // Every later session command is replayed with the traced session's id replaced by this
+    // host's: a trace that ended its session (a raw detach) refuses what it refused, and its
+    // close's detach ends the replaying session as it ended the recorded one.
     let mut seqs = std::collections::HashMap::new();
     let mut skipped = std::collections::HashSet::new();
+    let open = open_attach(records);
+    let own = card.inner().link.session;
     // The tick each recorded command was answered at (its ack or nack).
     let answered: std::collections::HashMap<u32, u64> = records
         .iter()
@@ -264,7 +282,9 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
     let (mut commands, mut events) = (0, 0);
     // The recorded card's ticks on this card's clock: the first recorded tick is now.
     let first = records.iter().find_map(|r| match r {
-        Record::Command(_, c) if !session_op(c.opcode) => answered.get(&c.seq).copied(),
+        Record::Command(_, c) if open.is_none_or(|(seq, _)| seq != c.seq) => {
+            answered.get(&c.seq).copied()
+        }
         Record::Event(_, e)
             if !matches!(
                 EventKind::from_raw(e.kind),
@@ -302,7 +322,7 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
                     w.write64(off + 8 * k, *v);
                 }
             }
-            Record::Command(_, c) if session_op(c.opcode) => {
+            Record::Command(_, c) if open.is_some_and(|(seq, _)| seq == c.seq) => {
                 skipped.insert(c.seq);
             }
             Record::Command(_, c) => {
@@ -311,6 +331,9 @@ fn run_replay(card: &Card, records: &[Record]) -> Result<Replayed> {
                 }
                 let mut cmd = *c;
                 cmd.deadline_ms = 0;
+                if session_op(c.opcode) && open.is_some_and(|(_, traced)| traced == c.flags) {
+                    cmd.flags = own;
+                }
                 seqs.insert(c.seq, card.inner().send_raw(cmd)?);
                 commands += 1;
             }

@@ -2,11 +2,13 @@
 //! reset, the card-wide safety status, per-axis safety settings (limits, following error, stop
 //! ramp) and stop reasons.
 //!
-//! The card arms its watchdog at the first heartbeat of a host's session
-//! ([`crate::HEARTBEAT_PERIOD_US`]; see the heartbeat module): a host that vanishes without
-//! closing the card makes every enabled axis do a category 1 stop after the timeout, latched
-//! until [`Card::reset_faults`]. Closing the card ([`Card::close`], or dropping the last clone)
-//! halts what moves and disarms the watchdog without a fault. Stepping a stepped card's
+//! The card arms its watchdog when a host's session attaches (the attach counts as its first
+//! heartbeat; [`crate::HEARTBEAT_PERIOD_US`], see the heartbeat module): a host that vanishes
+//! without closing the card makes every enabled axis do a category 1 stop after the timeout,
+//! latched until [`Card::reset_faults`]. Closing the card ([`Card::close`], or dropping the
+//! last clone) halts what moves and disarms the watchdog without a fault. Outside a session
+//! the card refuses what could start motion, give power or change outputs, configuration or
+//! latches ([`crate::ErrorKind::NoSession`]), and stops any motion it finds. Stepping a stepped card's
 //! emulator directly (`Sim::with_emulator`) does not beat: that is how a test makes a host
 //! hang, besides [`Card::set_heartbeat`].
 
@@ -33,7 +35,8 @@ pub struct SafetyStatus {
     pub estop_command: bool,
     /// The e-stop input tripped; latched until reset with the input released.
     pub estop_input: bool,
-    /// The card has seen a heartbeat since boot (or the last reset): the watchdog is watching.
+    /// The watchdog is watching: a session is attached (armed by its attach, disarmed by its
+    /// detach). Outside a session the card takes no motion (`ErrorKind::NoSession`).
     pub watchdog_armed: bool,
     /// Servo tick at which the card last saw the heartbeat change.
     pub last_heartbeat_tick: u64,

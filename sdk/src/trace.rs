@@ -19,12 +19,14 @@
 //! against a stepped emulated card with the trace's axes and servo rate: each block write
 //! and command at the card tick the recorded card served it, and every recorded event compared
 //! with the replayed one (kind, axis, command, code, tick, value). The first difference is
-//! reported with its line. The session's own commands (attach, detach) are not replayed: the
-//! replaying host has its own. Before anything is replayed, every recorded tick is checked
-//! against the trace's own span: events never go back, and none is further after the first
-//! event than the host time recorded by then allows a card to tick
-//! ([`MAX_TICKS_PER_SECOND`](crate::MAX_TICKS_PER_SECOND)), so a tampered tick (10¹⁵) is refused, not stepped to for
-//! years; towards a recorded event the card is stepped until its own next event.
+//! reported with its line. The session's own attach (the open) is not replayed: the
+//! replaying host has its own session, and the later session commands (a raw detach or attach,
+//! the close's detach) are replayed with the traced session's id replaced by its own. Before
+//! anything is replayed, every recorded tick is checked against the trace's own span: events
+//! never go back, and none is further after the first event than the host time recorded by
+//! then allows a card to tick ([`MAX_TICKS_PER_SECOND`](crate::MAX_TICKS_PER_SECOND)), so a
+//! tampered tick (10¹⁵) is refused, not stepped to for years; towards a recorded event the card
+//! is stepped until its own next event.
 
 use crate::error::{Error, Result};
 use firmware_proto::{Command, Event, Mem};

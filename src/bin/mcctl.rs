@@ -617,15 +617,40 @@ enum Cmd {
     },
 }
 
+/// Open the card, run `f` on it and close it. A signal (SIGINT, SIGTERM, SIGHUP: see
+/// `cli::interrupt`) ends `f`'s waits; the close then ends the session cleanly, and the card
+/// halts what mcctl started.
+fn with_card<T>(
+    uri: &str,
+    f: impl FnOnce(&Card) -> motioncard::Result<T>,
+) -> motioncard::Result<T> {
+    let card = Card::open(uri)?;
+    cli::interrupt::watch(Some(&card));
+    let out = match cli::interrupt::check() {
+        Ok(()) => f(&card),
+        Err(e) => Err(e), // the signal came while the card was being opened
+    };
+    let closed = card.close();
+    cli::interrupt::watch(None);
+    out.and_then(|o| closed.map(|()| o))
+}
+
+/// mcctl was interrupted by a signal: it closed the card (or never opened it) and says so;
+/// the exit status is 128 + the signal's number, as a shell reports a process the signal
+/// ended.
+fn interrupted() -> Option<ExitCode> {
+    let s = cli::interrupt::signal()?;
+    eprintln!("mcctl: {s}: stopped; the card halted what mcctl started and the session closed");
+    Some(ExitCode::from(128u8.wrapping_add(s as i32 as u8)))
+}
+
 /// A subcommand that talks to the card: exit status 1 with the SDK's message on an error.
 fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> ExitCode {
-    let run = || -> motioncard::Result<String> {
-        let card = Card::open(uri)?;
-        let out = f(&card);
-        let closed = card.close();
-        out.and_then(|o| closed.map(|()| o))
-    };
-    match run() {
+    let r = with_card(uri, f);
+    if let Some(code) = interrupted() {
+        return code;
+    }
+    match r {
         Ok(text) => {
             print!("{text}");
             if !text.is_empty() && !text.ends_with('\n') {
@@ -644,19 +669,15 @@ fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> Ex
 /// read or written) is exit status 2, a bad argument, and `diff` exits 1 when the file and the
 /// card differ.
 fn config(uri: &str, action: ConfigCmd) -> ExitCode {
-    let run = || -> motioncard::Result<(String, bool)> {
-        let card = Card::open(uri)?;
-        let out = match &action {
-            ConfigCmd::Save { file } => cli::config_save(&card, file).map(|t| (t, false)),
-            ConfigCmd::Load { file, json } => {
-                cli::config_load(&card, file, *json).map(|t| (t, false))
-            }
-            ConfigCmd::Diff { file, json } => cli::config_diff(&card, file, *json),
-        };
-        let closed = card.close();
-        out.and_then(|o| closed.map(|()| o))
-    };
-    match run() {
+    let r = with_card(uri, |card| match &action {
+        ConfigCmd::Save { file } => cli::config_save(card, file).map(|t| (t, false)),
+        ConfigCmd::Load { file, json } => cli::config_load(card, file, *json).map(|t| (t, false)),
+        ConfigCmd::Diff { file, json } => cli::config_diff(card, file, *json),
+    });
+    if let Some(code) = interrupted() {
+        return code;
+    }
+    match r {
         Ok((text, differ)) => {
             print!("{text}");
             if differ {
@@ -746,6 +767,20 @@ fn bad(msg: String) -> ExitCode {
 fn main() -> ExitCode {
     let cli = Cli::parse(); // clap exits with status 2 on malformed arguments
     let uri = cli.card.as_str();
+    // SIGINT, SIGTERM and SIGHUP close the card cleanly (cli::interrupt), before any thread
+    // starts. Not for what opens no card of the user's (`plan`, `replay`, `run` on its own
+    // stepped `sim`), nor for `serve`, whose server takes them itself and then closes.
+    let own_card = match &cli.command {
+        Cmd::Plan { .. } | Cmd::Replay { .. } | Cmd::Serve { .. } => false,
+        Cmd::Run { .. } => uri != "sim",
+        _ => true,
+    };
+    if own_card {
+        if let Err(e) = cli::interrupt::install() {
+            eprintln!("mcctl: {e}");
+            return ExitCode::from(1);
+        }
+    }
     match cli.command {
         Cmd::Status {
             axis,

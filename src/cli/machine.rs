@@ -5,7 +5,7 @@
 //! started, so everything here ends with the process. Positions are the axes' user units,
 //! which mcctl leaves at counts.
 
-use super::{hold_for, progress, show_axis, POLL, WAIT};
+use super::{hold_for, interrupt, progress, show_axis, POLL, WAIT};
 use crate::{
     Card, CardEvent, CompareChannel, Direction, Error, EventKind, Master, Motion, MoveLimits,
     ProbeTrigger, Result, SyncLimits, COMPARE_FIRED, COMPARE_MISSED,
@@ -112,6 +112,7 @@ fn run_collecting(
     // Card time held, so a stepped card holds as long as a real one.
     let mut held = Duration::ZERO;
     let at = loop {
+        interrupt::check()?;
         while let Some(e) = card.next_event(Duration::ZERO)? {
             each(Some(e))?;
         }

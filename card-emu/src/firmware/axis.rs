@@ -1045,6 +1045,12 @@ impl Axis {
         matches!(self.motion, Motion::Run { .. })
     }
 
+    /// Does a goal of its own drive the axis (a position move, velocity mode or jog, or a
+    /// homing method's search), as opposed to a stop ramp, holding or settling?
+    pub(crate) fn has_goal(&self) -> bool {
+        !matches!(self.goal, Goal::None)
+    }
+
     /// Does the drive get the servo output this tick?
     pub(crate) fn is_powered(&self) -> bool {
         match self.state {

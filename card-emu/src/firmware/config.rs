@@ -272,9 +272,13 @@ mod tests {
 
     type Fw = Firmware<Arc<HeapWindow>>;
 
+    /// A card with a host in command (its session attached: the applies need one).
     fn boot() -> (Arc<HeapWindow>, Fw) {
         let w = Arc::new(HeapWindow::new());
-        let fw = Firmware::boot(w.clone(), 2, 10_000);
+        let mut fw = Firmware::boot(w.clone(), 2, 10_000);
+        let mut attach = Command::new(Opcode::HostAttach, 0);
+        attach.flags = 1;
+        assert_eq!(fw.execute(&attach), Ok(0.0));
         (w, fw)
     }
 

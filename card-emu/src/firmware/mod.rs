@@ -362,6 +362,11 @@ impl<M: Mem + Clone> Firmware<M> {
     /// Execute one command: the value of its ack, or its nack.
     fn execute(&mut self, c: &Command) -> Result<f64, NackCode> {
         let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
+        // [safety] the session gate: with nobody in command, only what stops, reads, observes
+        // or stages data (safety.rs)
+        if !self.safety.in_command() && !safety::allowed_without_session(op) {
+            return Err(NackCode::NoSession);
+        }
         if IoUnit::is_io_op(op) {
             // Layout 1.7: digital inputs, compare, probes (io.rs); nothing moves.
             let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
@@ -593,10 +598,11 @@ impl<M: Mem + Clone> Firmware<M> {
         Ok(0.0)
     }
 
-    /// `MC_OP_HOST_DETACH`: the host closes the card cleanly. Every axis moving on its own and
-    /// every moving group halts along its stop ramp (reason `HostDetach`), then the session
-    /// ends and the watchdog is disarmed: nothing is latched, and nothing moves on for a host
-    /// that has gone.
+    /// `MC_OP_HOST_DETACH`: the host closes the card cleanly. Every axis moving on its own
+    /// (moves, velocity mode and jog, homing, a coupling or PT/PVT stream) and every moving
+    /// group (its queue or path) halts along its stop ramp, each axis with reason
+    /// `HostDetach`, then the session ends and the watchdog is disarmed: nothing is latched,
+    /// and nothing moves on for a host that has gone.
     fn detach(&mut self, c: &Command) -> Result<(), NackCode> {
         self.safety.detach(&self.mem, c.flags)?;
         let (tick, max_time) = (self.tick, self.safety.config().max_stop_time());
@@ -608,8 +614,18 @@ impl<M: Mem + Clone> Firmware<M> {
                 continue;
             }
             let hard = hard_stop_ramp(&self.axes, members);
+            let (mut list, n) = ([0usize; MAX_AXES], members.len().min(MAX_AXES));
+            list[..n].copy_from_slice(&members[..n]);
             // Refused only by a group that cannot stop (none that moves).
-            let _ = group.start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox);
+            if group
+                .start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox)
+                .is_ok()
+            {
+                // The members' motion ends by the detach: a new host reads why.
+                for &a in &list[..n] {
+                    self.axes[a].group_stopping(StopReason::HostDetach);
+                }
+            }
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
             // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
@@ -861,6 +877,16 @@ impl<M: Mem + Clone> Firmware<M> {
         for d in dac[self.num_axes..].iter_mut() {
             *d = 0.0;
         }
+        // [safety] nothing moves with nobody in command: the session gate's backstop (safety.rs)
+        if !self.safety.in_command() {
+            let driven = self.driven_axes();
+            self.safety.stop_unattended(
+                &self.mem,
+                self.tick,
+                &mut self.axes[..self.num_axes],
+                &driven,
+            );
+        }
         // [safety] watchdog, e-stop, limits, following error, input faults (safety.rs)
         let evt_ring_ok = self.events.free().is_ok();
         self.safety.tick(
@@ -947,6 +973,32 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.post(e);
             }
         }
+    }
+
+    /// The axes something drives on: a goal of their own (a move, velocity mode, jog), a
+    /// homing method, a coupling or PT/PVT stream, or a group moving and not stopping. An axis
+    /// on a stop ramp (a halt, stop or safety stop), settling or at rest is not driven.
+    fn driven_axes(&self) -> [bool; MAX_AXES] {
+        let mut driven = [false; MAX_AXES];
+        for (i, (d, axis)) in driven
+            .iter_mut()
+            .zip(&self.axes[..self.num_axes])
+            .enumerate()
+        {
+            *d = match axis.state {
+                AxisState::Homing => true,
+                AxisState::DiscreteMotion | AxisState::ContinuousMotion => axis.has_goal(),
+                AxisState::SynchronizedMotion => {
+                    self.gears[i].engaged()
+                        || self.pvt[i].as_ref().is_some_and(|s| s.running())
+                        || self.groups.iter().any(|g| {
+                            g.moving_members().is_some_and(|m| m.contains(&i)) && !g.stopping()
+                        })
+                }
+                _ => false,
+            };
+        }
+        driven
     }
 
     /// Publish the tick counter, the loss counters and every axis's status.
@@ -1284,6 +1336,211 @@ mod tests {
             .filter(|e| e.kind == EventKind::Ack as u16)
             .count();
         assert_eq!(acks as u32, accepted, "every command taken was acked");
+    }
+
+    fn command(op: Opcode, axis: u16, flags: u32, args: &[f64]) -> Command {
+        let mut c = Command::new(op, axis).with_args(args);
+        c.flags = flags;
+        c
+    }
+
+    fn attach(fw: &mut Firmware<Arc<HeapWindow>>, session: u32) {
+        let c = command(Opcode::HostAttach, 0, session, &[]);
+        assert_eq!(fw.execute(&c), Ok(0.0));
+    }
+
+    /// Every opcode with the arguments of a valid command where it matters (a move that could
+    /// run, an e-stop of category 1), else zeros.
+    fn any_command(op: Opcode) -> Command {
+        let args: &[f64] = match op {
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
+                &[1000.0, 1e5, 1e6, 1e6, 1e8, 1e8, 1e8, 1e8]
+            }
+            Opcode::MoveVelocity => &[1e4, 1e6, 1e6, 1e8],
+            Opcode::Jog => &[1e4],
+            Opcode::SetOverride => &[1.5],
+            Opcode::EStop => &[1.0],
+            Opcode::SetOutputs => &[1.0, 1.0],
+            _ => &[],
+        };
+        command(op, 0, 0, args)
+    }
+
+    /// The session gate: with no session attached, every opcode the allowlist does not name is
+    /// refused with `NoSession` and changes nothing (axis, group and outputs as they were); the
+    /// allowlist is exactly the commands that stop, read, observe or stage data. With a session
+    /// attached no command meets the gate.
+    #[test]
+    fn without_a_session_only_the_allowlist_is_taken() {
+        use firmware_proto::Opcode as O;
+        let allowed: std::collections::HashSet<Opcode> = Opcode::ALL
+            .iter()
+            .copied()
+            .filter(|&op| safety::allowed_without_session(op))
+            .collect();
+        let want: std::collections::HashSet<Opcode> = [
+            O::Nop,
+            O::PowerOff,
+            O::Halt,
+            O::Stop,
+            O::GroupStop,
+            O::GroupHalt,
+            O::GroupDisable,
+            O::EStop,
+            O::CompareDisarm,
+            O::ProbeAbort,
+            O::HostAttach,
+            O::HostDetach,
+            O::ReadConfig,
+            O::ProbeArm,
+            O::ScopeConfigure,
+            O::ScopeArm,
+            O::ScopeTrigger,
+            O::ScopeStop,
+            O::NurbsBegin,
+            O::NurbsData,
+            O::GroupPtpLimits,
+            O::PvtPoints,
+            O::CamTable,
+            O::CamData,
+        ]
+        .into_iter()
+        .collect();
+        assert_eq!(
+            allowed, want,
+            "the allowlist changed: name a new opcode here on purpose"
+        );
+        let (_w, mut fw) = boot();
+        let snapshot = |fw: &Firmware<Arc<HeapWindow>>| {
+            let t = fw.tick_count();
+            (
+                fw.axes
+                    .iter()
+                    .map(|a| a.status(t).to_words())
+                    .collect::<Vec<_>>(),
+                fw.groups
+                    .iter()
+                    .map(|g| g.status(t).to_words())
+                    .collect::<Vec<_>>(),
+                fw.outputs(),
+            )
+        };
+        for &op in Opcode::ALL {
+            if op == Opcode::HostAttach {
+                continue; // it would begin a session
+            }
+            let before = snapshot(&fw);
+            let r = fw.execute(&any_command(op));
+            if safety::allowed_without_session(op) {
+                assert_ne!(r, Err(NackCode::NoSession), "{op:?}");
+            } else {
+                assert_eq!(r, Err(NackCode::NoSession), "{op:?}");
+                assert!(
+                    before == snapshot(&fw),
+                    "{op:?} was refused but changed the card"
+                );
+            }
+        }
+        // A session: the gate lets everything through (to the command's own checks).
+        let (_w, mut fw) = boot();
+        attach(&mut fw, 9);
+        for &op in Opcode::ALL {
+            let r = fw.execute(&any_command(op));
+            assert_ne!(r, Err(NackCode::NoSession), "{op:?}");
+        }
+        assert_eq!(
+            fw.safety.session(),
+            9,
+            "the detach of another session was refused"
+        );
+    }
+
+    /// An attach arms the watchdog at once: a host that attaches and never beats trips it
+    /// exactly the timeout later (10 kHz: 1,000 ticks), as one that beat and fell silent.
+    #[test]
+    fn an_attach_arms_the_watchdog() {
+        use firmware_proto::layout::safety_status as ss;
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        assert!(!fw.safety.watchdog_armed());
+        attach(&mut fw, 5);
+        let at = fw.tick_count();
+        assert!(fw.safety.watchdog_armed() && fw.safety.in_command());
+        assert_eq!(w.read32(ss::WATCHDOG_ARMED), 1);
+        assert_eq!(w.read64(ss::LAST_HEARTBEAT_TICK), at);
+        while w.read32(ss::FAULTS) == 0 {
+            assert!(fw.tick_count() < at + 2_000, "never tripped");
+            tick(&mut fw);
+        }
+        assert_eq!(w.read64(ss::WATCHDOG_TRIP_TICK) - at, 1_000);
+        assert_eq!(w.read64(ss::TRIP_HEARTBEAT_TICK), at);
+        // A detach disarms it; beats after it do not arm it again.
+        let c = command(Opcode::HostDetach, 0, 5, &[]);
+        assert_eq!(fw.execute(&c), Ok(0.0));
+        assert!(!fw.safety.watchdog_armed() && !fw.safety.in_command());
+        for k in 0..10 {
+            w.write32(layout::HEARTBEAT, 100 + k);
+            tick(&mut fw);
+        }
+        assert!(!fw.safety.watchdog_armed());
+        assert_eq!(w.read32(ss::WATCHDOG_ARMED), 0);
+    }
+
+    /// The backstop: motion found running with nobody in command (started past the gate, as
+    /// a hole in it would) is stopped on the next tick, category 1 on the stop ramp, reason
+    /// `NoSession`, and its drive is disabled once at rest. With a session it runs on.
+    #[test]
+    fn motion_with_nobody_in_command_is_stopped_by_the_card() {
+        use crate::firmware::axis::MoveKind;
+        use firmware_proto::{AxisState, StopCategory, StopReason};
+        let lim = Limits::symmetric(1e5, 1e6, 1e8);
+        // An ideal plant: each encoder reads its axis's commanded position.
+        let tick = |fw: &mut Firmware<Arc<HeapWindow>>| {
+            let mut enc = [0i64; MAX_AXES];
+            for (e, a) in enc.iter_mut().zip(&fw.axes) {
+                *e = a.reference().pos.round() as i64;
+            }
+            fw.tick(&enc, &mut [0.0; MAX_AXES]);
+        };
+        let start = |fw: &mut Firmware<Arc<HeapWindow>>| {
+            for a in 0..2 {
+                fw.axes[a].power(true).unwrap();
+            }
+            fw.axes[0].start_velocity(11, 5e4, &lim, 10_000).unwrap();
+            fw.axes[1]
+                .start_move(12, MoveKind::Relative, 1e6, &lim, false, 10_000)
+                .unwrap();
+        };
+        // With a session: it runs.
+        let (_w, mut fw) = boot();
+        attach(&mut fw, 3);
+        start(&mut fw);
+        for _ in 0..100 {
+            tick(&mut fw);
+        }
+        assert_eq!(fw.axes[0].state, AxisState::ContinuousMotion);
+        assert_eq!(fw.axes[1].state, AxisState::DiscreteMotion);
+        // Without one (never attached, or detached): stopped on the first tick.
+        let (_w, mut fw) = boot();
+        start(&mut fw);
+        tick(&mut fw);
+        for a in 0..2 {
+            let ax = &fw.axes[a];
+            assert_eq!(ax.state, AxisState::ErrorStop, "axis {a}");
+            assert_eq!(ax.safety.stop_reason, StopReason::NoSession, "axis {a}");
+            let stop = ax.safety.stop.expect("a safety stop");
+            assert_eq!(stop.category, StopCategory::Cat1, "axis {a}");
+            assert!(ax.is_powered(), "axis {a}: a ramp, not a power cut");
+        }
+        for _ in 0..20_000 {
+            tick(&mut fw);
+        }
+        for a in 0..2 {
+            let ax = &fw.axes[a];
+            assert_eq!(ax.reference().vel, 0.0, "axis {a}");
+            assert!(!ax.is_powered(), "axis {a}: disabled at rest");
+            assert!(ax.safety.stop.is_some_and(|s| s.at_rest), "axis {a}");
+        }
     }
 
     /// Debug builds: the same access panics at once.

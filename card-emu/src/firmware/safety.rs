@@ -2,11 +2,12 @@
 //! encoder faults, e-stop, IEC 60204-1 stop categories, and the per-axis stop reason.
 //!
 //! The anchors:
-//! - **Watchdog** (Mesa hostmot2): the host increments `host.heartbeat`; once the card has seen
-//!   it change (the watchdog is then *armed*), a heartbeat as old as the configured timeout
-//!   (default 100 ms; 0 or under 1.5 × the host's declared period is refused) makes every powered
-//!   axis do a category 1 stop. The fault latches: nothing moves again until the host sends
-//!   `MC_OP_SAFETY_RESET` with its heartbeat alive, even if the heartbeat came back.
+//! - **Watchdog** (Mesa hostmot2): the host increments `host.heartbeat`; while a session is
+//!   attached the watchdog is *armed* (the attach counts as the first heartbeat), and a heartbeat
+//!   as old as the configured timeout (default 100 ms; 0 or under 1.5 × the host's declared
+//!   period is refused) makes every powered axis do a category 1 stop. The fault latches: nothing
+//!   moves again until the host sends `MC_OP_SAFETY_RESET` with its heartbeat alive, even if the
+//!   heartbeat came back.
 //! - **Following error** (LinuxCNC `control.c`): the limit is `FERROR · |v_cmd| / v_max`,
 //!   never below `MIN_FERROR`, checked every servo tick on every powered axis; a trip is a
 //!   category 0 stop into ErrorStop.
@@ -23,7 +24,16 @@
 //! - **Host sessions**: a host attaches before its first heartbeat and detaches when it closes
 //!   the card. An attach that finds another session open (its host died or hung) stops every
 //!   enabled axis, category 1, reason `HostChanged`: a new host never inherits motion it did not
-//!   start. A detach halts what moves along the stop ramps and disarms the watchdog, no fault.
+//!   start. The attach arms the watchdog at once; a detach halts what moves along the stop ramps
+//!   and disarms the watchdog, no fault. So "in command" (a session attached, its watchdog
+//!   armed) holds from an attach to its detach.
+//! - **The session gate** ([`allowed_without_session`], [`Safety::in_command`]): with nobody in
+//!   command the card refuses (`NoSession`) every command that could start motion, give power,
+//!   or change an output, a configuration or a latch; an allowlist names the few that stop,
+//!   read, observe or stage data, so an opcode added later is refused by default. And a
+//!   backstop ([`Safety::stop_unattended`], every tick): an axis still driven towards a goal of
+//!   its own, or by a coupling, stream or group, with nobody in command is stopped (category 1,
+//!   `NoSession`): nothing moves without a watchdog.
 //! - **Homing** (CiA 402, `homing.rs`): a homing method that has limit switches in its
 //!   definition watches them itself (it reverses there, or fails), so while the axis homes the
 //!   limit switches it names ([`Axis::homing_limits`]) do not trip it; any other limit still
@@ -181,9 +191,6 @@ pub struct Safety {
     evt_ring_bad: bool,
     protocol_errors: u32,
     session: u32,
-    /// The last host detached: its remaining heartbeats do not arm the watchdog again (only
-    /// the next attach does).
-    detached: bool,
     host_changes: u32,
     late_heartbeats: u32,
     max_heartbeat_gap_us: u32,
@@ -211,7 +218,6 @@ impl Safety {
             evt_ring_bad: false,
             protocol_errors: 0,
             session: 0,
-            detached: false,
             host_changes: 0,
             late_heartbeats: 0,
             max_heartbeat_gap_us: 0,
@@ -250,9 +256,16 @@ impl Safety {
         self.latched
     }
 
-    /// Has the watchdog seen a heartbeat (since boot or the last reset)?
+    /// Is the watchdog armed (a session attached, from its attach to its detach)?
     pub fn watchdog_armed(&self) -> bool {
         self.armed
+    }
+
+    /// Is a host in command: a session attached, its watchdog armed? Only then does the card
+    /// take a command [`allowed_without_session`] does not name, and only then may anything
+    /// move.
+    pub fn in_command(&self) -> bool {
+        self.session != 0 && self.armed
     }
 
     /// The inputs of the coming tick (the emulator samples them from the plant).
@@ -270,9 +283,9 @@ impl Safety {
         self.session
     }
 
-    /// Track the heartbeat word: arm the watchdog at the first beat, measure the gaps between
-    /// beats (late ones counted against the host's declared period). Returns the heartbeat's
-    /// age in µs.
+    /// Track the heartbeat word: measure the gaps between beats while armed (late ones counted
+    /// against the host's declared period). Beats never arm the watchdog: only an attach does.
+    /// Returns the heartbeat's age in µs.
     fn heartbeat<M: Mem>(&mut self, mem: &M, tick: u64, rate_hz: u32) -> u64 {
         let us = |ticks: u64| ticks.saturating_mul(1_000_000) / rate_hz.max(1) as u64;
         let hb = mem.read32(layout::HEARTBEAT);
@@ -292,15 +305,21 @@ impl Safety {
             self.last_heartbeat = hb;
             self.last_heartbeat_tick = tick;
             mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
-            if !self.armed && !self.detached {
-                self.armed = true;
-                mem.write32(ss::WATCHDOG_ARMED, 1);
-            }
         }
         us(tick.saturating_sub(self.last_heartbeat_tick))
     }
 
-    /// Forget the heartbeat: the watchdog waits for the next beat (a new or departing host).
+    /// Arm the watchdog: this tick counts as a heartbeat (an attach).
+    fn arm<M: Mem>(&mut self, mem: &M, tick: u64) {
+        self.armed = true;
+        self.last_heartbeat = mem.read32(layout::HEARTBEAT);
+        self.last_heartbeat_tick = tick;
+        mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
+        mem.write32(ss::WATCHDOG_ARMED, 1);
+    }
+
+    /// Disarm the watchdog (a departing host): until the next attach nothing is watched, and
+    /// nothing may move.
     fn disarm<M: Mem>(&mut self, mem: &M) {
         self.armed = false;
         self.last_heartbeat = mem.read32(layout::HEARTBEAT);
@@ -308,8 +327,9 @@ impl Safety {
     }
 
     /// `MC_OP_HOST_ATTACH`: a new session. Another session still open means its host vanished:
-    /// every enabled axis stops (category 1, [`StopReason::HostChanged`]). Returns how many
-    /// axes that stop reached.
+    /// every enabled axis stops (category 1, [`StopReason::HostChanged`]). The watchdog is
+    /// armed at once: the attach is the new host's first heartbeat, so a host that attaches and
+    /// then dies or hangs trips it after the timeout. Returns how many axes that stop reached.
     fn attach<M: Mem>(
         &mut self,
         mem: &M,
@@ -342,14 +362,13 @@ impl Safety {
             stopped = after.saturating_sub(before) as f64;
         }
         self.session = session;
-        self.detached = false;
         mem.write32(ss::SESSION, session);
         mem.write64(ss::ATTACH_TICK, tick);
         self.late_heartbeats = 0;
         self.max_heartbeat_gap_us = 0;
         mem.write32(ss::LATE_HEARTBEATS, 0);
         mem.write32(ss::MAX_HEARTBEAT_GAP_US, 0);
-        self.disarm(mem);
+        self.arm(mem, tick);
         Ok(stopped)
     }
 
@@ -360,7 +379,6 @@ impl Safety {
             return Err(NackCode::Session);
         }
         self.session = 0;
-        self.detached = true;
         mem.write32(ss::SESSION, 0);
         self.disarm(mem);
         Ok(())
@@ -691,6 +709,36 @@ impl Safety {
         }
     }
 
+    /// The backstop of the session gate, once per servo tick before [`Safety::tick`]: with
+    /// nobody in command ([`Safety::in_command`]), each axis `driven` still marks (moving
+    /// towards a goal of its own, homing, or driven by a coupling, a stream or a moving group;
+    /// not one already stopping) makes a category 1 stop, reason [`StopReason::NoSession`].
+    /// Nothing in the firmware starts motion outside a session, so this finds nothing unless
+    /// a path past the gate exists: then it is stopped on the tick it starts, not left running
+    /// without a watchdog.
+    pub fn stop_unattended<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        axes: &mut [Axis],
+        driven: &[bool; MAX_AXES],
+    ) {
+        if self.in_command() {
+            return;
+        }
+        let trip = Trip {
+            category: StopCategory::Cat1,
+            reason: StopReason::NoSession,
+            fault: Faults::empty(),
+            value: 0.0,
+        };
+        for (i, axis) in axes.iter_mut().enumerate() {
+            if driven[i] && axis.state != AxisState::ErrorStop {
+                self.trip_axis(mem, tick, i, axis, trip);
+            }
+        }
+    }
+
     /// The host broke the command ring (its head is beyond anything it could have written):
     /// every powered axis makes a category 1 stop, and the host is told.
     pub fn protocol_error<M: Mem>(
@@ -879,6 +927,46 @@ impl Safety {
         self.config = config;
         Ok(())
     }
+}
+
+/// The session gate's allowlist: the commands the card takes with nobody in command (no
+/// session attached with its watchdog armed). They stop or remove something (NOP, power off,
+/// halts and stops, the group's disable, e-stop, a compare channel's disarm, a probe's abort),
+/// begin or end a session, read or observe (the configuration read-back, a touch probe, the
+/// scope), or stage data for a later command that starts nothing itself (a NURBS curve's
+/// begin and data, a point-to-point move's limits, PT/PVT points, cam tables). Anything else
+/// is refused with [`NackCode::NoSession`]: motion, power, outputs, the configuration applies
+/// (they change what the next motion or a holding axis does), MC_Reset and the safety reset
+/// (they clear latches), MC_Stop's release, the override (raising it from 0 % resumes motion),
+/// and any opcode added later, until it is named here.
+pub fn allowed_without_session(op: Opcode) -> bool {
+    matches!(
+        op,
+        Opcode::Nop
+            | Opcode::PowerOff
+            | Opcode::Halt
+            | Opcode::Stop
+            | Opcode::GroupHalt
+            | Opcode::GroupStop
+            | Opcode::GroupDisable
+            | Opcode::EStop
+            | Opcode::CompareDisarm
+            | Opcode::ProbeAbort
+            | Opcode::HostAttach
+            | Opcode::HostDetach
+            | Opcode::ReadConfig
+            | Opcode::ProbeArm
+            | Opcode::ScopeConfigure
+            | Opcode::ScopeArm
+            | Opcode::ScopeTrigger
+            | Opcode::ScopeStop
+            | Opcode::NurbsBegin
+            | Opcode::NurbsData
+            | Opcode::GroupPtpLimits
+            | Opcode::PvtPoints
+            | Opcode::CamTable
+            | Opcode::CamData
+    )
 }
 
 /// Would a move of `axis` from `start` to `target` go further into an active limit? Moving out

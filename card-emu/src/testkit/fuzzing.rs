@@ -8,8 +8,10 @@
 //!   plausible command with one or two arguments broken; or a NURBS transfer
 //!   (begin/data.../end continuation entries) with mutations.
 //! - [`Card`]: a booted firmware on a [`HeapWindow`] with a plant, set up through valid
-//!   commands (every axis enabled, groups configured), a host side (command producer, event
-//!   consumer) and the invariant checks.
+//!   commands (a session attached, every axis enabled, groups configured), a host side (command
+//!   producer, event consumer, a heartbeat every tick, a new attach whenever garbage detached
+//!   its session, so that garbage keeps reaching motion past the session gate) and the
+//!   invariant checks.
 //! - [`run_commands`], [`run_dpram`]: the two fuzz targets' bodies; [`sweep`]: the test's sweep.
 //!
 //! The invariants (a violation panics, which is what the fuzzer and the test look for):
@@ -720,6 +722,9 @@ impl Stats {
     }
 }
 
+/// The session id of the harness's host.
+pub const SESSION: u32 = 0x5E55_1011;
+
 /// A booted firmware with its plant and a host.
 pub struct Card {
     window: Arc<HeapWindow>,
@@ -746,9 +751,10 @@ impl Default for Card {
 }
 
 impl Card {
-    /// Boot a card with [`AXES`] axes at 10 kHz, and set it up through valid commands: every
-    /// axis enabled, the groups of [`GROUPS`] configured (the first two enabled), every event
-    /// raising the interrupt. Axes 5–7 are free for single-axis moves.
+    /// Boot a card with [`AXES`] axes at 10 kHz, and set it up through valid commands: a
+    /// session attached ([`SESSION`]), every axis enabled, the groups of [`GROUPS`] configured
+    /// (the first two enabled), every event raising the interrupt. Axes 5–7 are free for
+    /// single-axis moves.
     pub fn new() -> Self {
         let window = Arc::new(HeapWindow::new());
         let fw = Firmware::boot(window.clone(), AXES, 10_000);
@@ -766,6 +772,8 @@ impl Card {
             stats: Stats::new(),
         };
         card.window.write32(layout::IRQ_MASK, u32::MAX);
+        card.attach();
+        assert!(card.fw.safety().in_command(), "setup: no session");
         let ok = |card: &mut Self, op: Opcode, axis: usize| {
             let r = card.send(&RawCmd::new(op as u16, axis as u16, 0, &[0.0; CMD_ARGS]));
             assert_eq!(r, Reply::Ack, "setup: {op:?} {axis}");
@@ -977,8 +985,23 @@ impl Card {
         Some(())
     }
 
+    /// Attach the host's session ([`SESSION`]); its reply is checked as any command's.
+    fn attach(&mut self) -> Reply {
+        let op = Opcode::HostAttach as u16;
+        self.send_one(&RawCmd::new(op, 0, SESSION, &[0.0; CMD_ARGS]))
+    }
+
     /// Push one command (seq = its ring index + 1), let the card serve it, and check its reply.
+    /// A host whose session garbage ended (a detach with its id) attaches again first, so that
+    /// the command meets a card in command, as a host's would.
     pub fn send(&mut self, cmd: &RawCmd) -> Reply {
+        if !self.fw.safety().in_command() {
+            self.attach();
+        }
+        self.send_one(cmd)
+    }
+
+    fn send_one(&mut self, cmd: &RawCmd) -> Reply {
         let trusted = !self.garbage;
         if !trusted {
             self.resync_host();
@@ -1072,6 +1095,9 @@ impl Card {
             for (e, m) in enc.iter_mut().zip(&self.motors) {
                 *e = m.encoder();
             }
+            // The host's heartbeat, once per period (a garbage write to it is one more beat).
+            let hb = self.window.read32(layout::HEARTBEAT);
+            self.window.write32(layout::HEARTBEAT, hb.wrapping_add(1));
             self.fw.tick(&enc, &mut self.dac);
             // Nothing the card does may be refused by the window (the harness skips the
             // host's own wild accesses) or dropped before the event ring.

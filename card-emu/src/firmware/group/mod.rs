@@ -470,6 +470,11 @@ impl Group {
         }
     }
 
+    /// Is a halt or stop of the group under way (MC_GroupHalt, MC_GroupStop, a detach)?
+    pub fn stopping(&self) -> bool {
+        self.stop.is_some() || self.state == GroupState::Stopping
+    }
+
     /// Is axis `a` in this group's configuration?
     pub fn contains(&self, a: usize) -> bool {
         self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))
