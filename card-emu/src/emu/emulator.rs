@@ -546,6 +546,9 @@ mod tests {
         let (a, a_irq) = host(lessor.renew().unwrap());
         a.write32(layout::IRQ_MASK, u32::MAX); // every event raises the interrupt
         let mut cmds = CmdProducer::attach(&a, CMD_RING);
+        let mut attach = Command::new(Opcode::HostAttach, 0);
+        attach.flags = 1; // (a session of its own: the card moves nothing outside one)
+        cmds.push(&attach).unwrap();
         cmds.push(&Command::new(Opcode::PowerOn, 0)).unwrap();
         emu.step_n(5);
         assert!(raised(&a_irq), "the ack raised A's line");
@@ -561,6 +564,8 @@ mod tests {
             a.write64(off, u64::MAX);
         }
         let mut cmds = CmdProducer::attach(&b, CMD_RING);
+        attach.flags = 2;
+        cmds.push(&attach).unwrap();
         cmds.push(&Command::new(Opcode::PowerOn, 1)).unwrap();
         emu.step_n(5);
         assert_eq!(b.read64(layout::TICK), tick + 5);
