@@ -138,6 +138,7 @@ fn group(card: &Card, opts: &RunOptions) -> Result<Group> {
         amax: opts.amax.to_vec(),
         jmax: opts.jmax.to_vec(),
         plan_period: 0.0,
+        chord_fit: true,
     })?;
     Ok(g)
 }

@@ -78,6 +78,7 @@ fn configured() -> Card {
         lookahead: 64,
         low_water: 8,
         plan_period: 0.002,
+        chord_fit: true,
         ..PathSettings::uniform(2, 1e5, 1e6, 1e8)
     })
     .unwrap();

@@ -2708,6 +2708,12 @@ typedef struct mc_path_settings {
    * tick in between follows the jerk-limited profile they chose.
    */
   double plan_period;
+  /**
+   * Nonzero: `mc_group_path_stream` sends runs of lines that sample a smooth curve as that
+   * curve, a cubic B-spline fitted within their tolerance (kept by the library, not the
+   * card; a run sent as one curve reports the id of its last line). 0: every line as it is.
+   */
+  uint32_t chord_fit;
 } mc_path_settings;
 
 /**
@@ -4562,8 +4568,8 @@ mc_result mc_motion_wait_in_velocity(mc_card card,
 
 /**
  * Path settings for `naxes` axes (1..8, else `MC_ERR_BAD_AXIS`) with the same limits:
- * look-ahead 256 segments, no low-water event, tangential limits from the axes' (0). Nothing
- * is checked until `mc_group_configure_path`. Never blocks.
+ * look-ahead 256 segments, no low-water event, tangential limits from the axes' (0), chords
+ * fitted into curves. Nothing is checked until `mc_group_configure_path`. Never blocks.
  */
 mc_result mc_path_settings_uniform(uint32_t naxes,
                                    double vmax,

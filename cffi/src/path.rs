@@ -118,6 +118,10 @@ pub struct mc_path_settings {
     /// whole servo ticks: the look-ahead and the speed planner run once a period, every servo
     /// tick in between follows the jerk-limited profile they chose.
     pub plan_period: f64,
+    /// Nonzero: `mc_group_path_stream` sends runs of lines that sample a smooth curve as that
+    /// curve, a cubic B-spline fitted within their tolerance (kept by the library, not the
+    /// card; a run sent as one curve reports the id of its last line). 0: every line as it is.
+    pub chord_fit: u32,
 }
 
 /// One item of a path: a segment (`MC_SEGMENT_LINE`, `_ARC`, `_NURBS`, `_DWELL`) or an output
@@ -354,8 +358,8 @@ fn stream_failure(e: StreamError) -> Failure {
 // ---------------------------------------------------------------------------------------------
 
 /// Path settings for `naxes` axes (1..8, else `MC_ERR_BAD_AXIS`) with the same limits:
-/// look-ahead 256 segments, no low-water event, tangential limits from the axes' (0). Nothing
-/// is checked until `mc_group_configure_path`. Never blocks.
+/// look-ahead 256 segments, no low-water event, tangential limits from the axes' (0), chords
+/// fitted into curves. Nothing is checked until `mc_group_configure_path`. Never blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_path_settings_uniform(
     naxes: u32,
@@ -381,6 +385,7 @@ pub unsafe extern "C" fn mc_path_settings_uniform(
             accel: p.accel,
             jerk: p.jerk,
             plan_period: p.plan_period,
+            chord_fit: p.chord_fit.into(),
             ..Default::default()
         };
         s.vmax[..n].copy_from_slice(&p.vmax);
@@ -419,6 +424,7 @@ pub unsafe extern "C" fn mc_group_configure_path(
             amax: s.amax[..n].to_vec(),
             jmax: s.jmax[..n].to_vec(),
             plan_period: s.plan_period,
+            chord_fit: s.chord_fit != 0,
         };
         let (_, g) = group_of(card, group)?;
         Ok(g.configure_path(&p)?)
@@ -449,6 +455,7 @@ pub unsafe extern "C" fn mc_group_get_path_settings(
             accel: b.accel / path_scale,
             jerk: b.jerk / path_scale,
             plan_period: b.plan_period,
+            chord_fit: g.chord_fit().into(),
             ..Default::default()
         };
         for (i, scale) in scales.iter().enumerate().take(n) {

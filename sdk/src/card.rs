@@ -151,6 +151,9 @@ const ACK_WAIT: WaitRules = WaitRules {
 pub(crate) struct Inner {
     pub(crate) group_axes: Mutex<[Option<GroupAxes>; firmware_proto::MAX_GROUPS]>,
     pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
+    /// Per group, what this host keeps of its path: whether streams fit chords into curves
+    /// (`PathSettings::chord_fit`) and where the last segment it queued ends.
+    pub(crate) path_host: Mutex<[crate::path::PathHost; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
     tx: Mutex<Tx>,
@@ -300,6 +303,7 @@ impl Card {
             config: Mutex::new(()),
             last_motion: Mutex::new([None; MAX_AXES]),
             last_group_motion: Mutex::new([None; firmware_proto::MAX_GROUPS]),
+            path_host: Mutex::new(Default::default()),
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
             trace,

@@ -27,6 +27,7 @@ mod card;
 mod config;
 mod device;
 mod error;
+mod fit;
 mod group;
 mod heartbeat;
 mod homing;

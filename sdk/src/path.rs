@@ -14,6 +14,7 @@
 
 use crate::card::{finite, positive, Card};
 use crate::error::{Error, Result, Target};
+use crate::fit::{FitIter, Fitted, Fitter};
 use crate::group::{ArcSpec, Group, GroupMotion, Plane};
 use crate::nurbs::Nurbs;
 use firmware_proto::{layout, path_flags, raw, Command, Mem, MoveFlags, NackCode, Opcode};
@@ -254,11 +255,14 @@ pub struct PathSettings {
     /// servo tick in between follows the jerk-limited profile they chose (at a 10 kHz servo
     /// rate, a tenth of the card's planning work, the motion's limits the same).
     pub plan_period: f64,
+    /// A path stream sends runs of lines that sample a smooth curve as that curve, fitted
+    /// within their tolerance (see [`Group::stream_path`]); kept by this host, not the card.
+    pub chord_fit: bool,
 }
 
 impl PathSettings {
     /// `n` axes with the same limits, look-ahead 256, no low-water event, the card's default
-    /// planner period.
+    /// planner period, chords fitted into curves.
     pub fn uniform(n: usize, vmax: f64, amax: f64, jmax: f64) -> Self {
         Self {
             lookahead: 256,
@@ -269,7 +273,43 @@ impl PathSettings {
             amax: vec![amax; n],
             jmax: vec![jmax; n],
             plan_period: 0.0,
+            chord_fit: true,
         }
+    }
+}
+
+/// What a host keeps of a group's path (see `Card`'s `path_host`).
+#[derive(Debug, Clone)]
+pub(crate) struct PathHost {
+    pub chord_fit: bool,
+    /// Where the last segment this host queued ends (user units), when known.
+    pub end: Option<Vec<f64>>,
+}
+
+impl Default for PathHost {
+    fn default() -> Self {
+        Self {
+            chord_fit: true,
+            end: None,
+        }
+    }
+}
+
+/// Where `item` ends, after a path that ends at `prev` (user units; None: not known here).
+pub(crate) fn item_end(prev: Option<Vec<f64>>, item: &PathItem) -> Option<Vec<f64>> {
+    let PathItem::Segment(s) = item else {
+        return prev;
+    };
+    match (&s.geometry, s.relative) {
+        (Geometry::Line { target }, false) => Some(target.clone()),
+        (Geometry::Line { target }, true) => {
+            prev.map(|p| p.iter().zip(target).map(|(a, b)| a + b).collect())
+        }
+        (Geometry::Dwell { .. }, _) => prev,
+        (Geometry::Nurbs { curve, .. }, false) => curve
+            .control_point(curve.n_ctrl() - 1)
+            .map(|p| p.iter().take(curve.dim()).copied().collect()),
+        _ => None,
     }
 }
 
@@ -391,7 +431,34 @@ impl Group {
             self.op(Opcode::ApplyGroupPath),
             "configure path",
             Target::Group(self.index()),
-        )
+        )?;
+        self.path_host(|h| h.chord_fit = s.chord_fit);
+        Ok(())
+    }
+
+    /// Whether this host's path streams fit chords into curves ([`PathSettings::chord_fit`]).
+    pub fn chord_fit(&self) -> bool {
+        self.path_host(|h| h.chord_fit)
+    }
+
+    fn path_host<T>(&self, f: impl FnOnce(&mut PathHost) -> T) -> T {
+        f(&mut crate::card::lock(&self.card_pub().inner().path_host)[self.index()])
+    }
+
+    /// Where the next segment starts (user units), when it is known here: where the group is
+    /// while its path is idle and at rest; else where the last segment this host queued ends.
+    fn path_start(&self) -> Result<Option<Vec<f64>>> {
+        let (n, axes) = self.axes()?;
+        let st = self.status()?.1;
+        if st.path_queued == 0 && st.path_flags == 0 {
+            let s = self.card_pub().statuses(&axes[..n])?;
+            return Ok(Some(s.iter().map(|a| a.command_position).collect()));
+        }
+        Ok(if st.path_queued > 0 {
+            self.path_host(|h| h.end.clone())
+        } else {
+            None
+        })
     }
 
     /// The path configuration the card holds (layout 1.8: read back from the card), in
@@ -532,6 +599,14 @@ impl Group {
     /// path's end when it is the last one queued).
     pub fn path_push(&self, item: &PathItem) -> Result<GroupMotion> {
         let c = self.path_command(item)?;
+        let prev = self.path_start().ok().flatten();
+        self.path_host(|h| h.end = None);
+        let m = self.path_push_inner(item, c)?;
+        self.path_host(|h| h.end = item_end(prev, item));
+        Ok(m)
+    }
+
+    fn path_push_inner(&self, item: &PathItem, c: Command) -> Result<GroupMotion> {
         if let Some(curve) = nurbs_of(item) {
             let seq = self.path_curve(c, curve, None)?;
             return Ok(self.motion(seq));
@@ -624,8 +699,67 @@ impl Group {
         I: IntoIterator,
         I::Item: Into<PathItem>,
     {
+        let items = items.into_iter().map(Into::into);
+        let at_start = |e| StreamError {
+            index: 0,
+            error: e,
+            accepted: 0,
+        };
+        let start = self.path_start().map_err(at_start)?;
+        // where the path ends after each item sent (this host's record, see `path_start`)
+        let end = std::cell::RefCell::new(start.clone());
+        let track = |f: Fitted| {
+            let e = item_end(end.borrow_mut().take(), &f.item);
+            *end.borrow_mut() = e;
+            f
+        };
+        let outcome = if !self.chord_fit() {
+            let plain = items.enumerate().map(|(i, item)| Fitted {
+                item,
+                first: i as u64,
+                last: i as u64,
+            });
+            self.stream_fitted(plain.map(track), cancel, counters, progress)
+        } else {
+            let (n, axes) = self.axes().map_err(at_start)?;
+            let scales: Vec<f64> = axes[..n]
+                .iter()
+                .map(|&a| self.card_pub().scale(a))
+                .collect();
+            let mut fitter = Fitter::new(&scales);
+            if let Some(s) = &start {
+                fitter.set_start(s);
+            }
+            self.stream_fitted(
+                FitIter::new(items, fitter).map(track),
+                cancel,
+                counters,
+                progress,
+            )
+        };
+        // (an item sent but refused leaves the record unknown: the card's end is the last
+        // accepted item's)
+        let end = if outcome.is_ok() {
+            end.into_inner()
+        } else {
+            None
+        };
+        self.path_host(|h| h.end = end);
+        outcome
+    }
+
+    /// The stream of `items`, each standing for the input items `first..=last` (one each,
+    /// or a run of lines fitted into one curve): progress and failures count input items.
+    fn stream_fitted(
+        &self,
+        items: impl Iterator<Item = Fitted>,
+        cancel: &AtomicBool,
+        counters: &[AtomicU64; 2],
+        progress: &mut dyn FnMut(PathProgress),
+    ) -> std::result::Result<Option<GroupMotion>, StreamError> {
         let card: &Card = self.card_pub();
-        let mut in_flight: VecDeque<(u64, u32, bool)> = VecDeque::new();
+        // (first input index, last input index, seq, is a segment)
+        let mut in_flight: VecDeque<(u64, u64, u32, bool)> = VecDeque::new();
         let (mut sent, mut accepted) = (0u64, 0u64);
         let mut last_motion = None;
         // Room on the card as last read, minus the segments sent since.
@@ -635,16 +769,16 @@ impl Group {
             error,
             accepted: 0,
         };
-        let settle_one = |in_flight: &mut VecDeque<(u64, u32, bool)>,
+        let settle_one = |in_flight: &mut VecDeque<(u64, u64, u32, bool)>,
                           accepted: &mut u64,
                           last_motion: &mut Option<GroupMotion>|
          -> std::result::Result<(), StreamError> {
-            let Some((index, seq, is_segment)) = in_flight.pop_front() else {
+            let Some((index, last, seq, is_segment)) = in_flight.pop_front() else {
                 return Ok(());
             };
             match card.wait_ack(seq).map_err(|e| fail(index, e))? {
                 Ok(()) => {
-                    *accepted += 1;
+                    *accepted = last + 1;
                     counters[1].store(*accepted, Ordering::Relaxed);
                     if is_segment {
                         *last_motion = Some(self.motion(seq));
@@ -663,12 +797,11 @@ impl Group {
             }
         };
         let send_all = || -> std::result::Result<(), StreamError> {
-            for item in items {
+            for Fitted { item, first, last } in items {
                 if cancel.load(Ordering::Relaxed) {
                     break;
                 }
-                let item: PathItem = item.into();
-                let cmd = self.path_command(&item).map_err(|e| fail(sent, e))?;
+                let cmd = self.path_command(&item).map_err(|e| fail(first, e))?;
                 if let Some(curve) = nurbs_of(&item) {
                     // A curve's transfer runs alone: what was sent before is answered first,
                     // and its pieces fit when the card says so (the room is read again after).
@@ -677,8 +810,8 @@ impl Group {
                     }
                     let seq = self
                         .path_curve(cmd, curve, Some(cancel))
-                        .map_err(|e| fail(sent, e))?;
-                    accepted += 1;
+                        .map_err(|e| fail(first, e))?;
+                    accepted = last + 1;
                     counters[1].store(accepted, Ordering::Relaxed);
                     last_motion = Some(self.motion(seq));
                     room = 0;
@@ -690,13 +823,13 @@ impl Group {
                             while !in_flight.is_empty() {
                                 settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
                             }
-                            room = self.path_free().map_err(|e| fail(sent, e))?;
+                            room = self.path_free().map_err(|e| fail(first, e))?;
                             if room == 0 {
                                 if cancel.load(Ordering::Relaxed) {
                                     return Ok(());
                                 }
                                 card.wait_next_tick(Duration::from_secs(1))
-                                    .map_err(|e| fail(sent, e))?;
+                                    .map_err(|e| fail(first, e))?;
                             }
                         }
                         room -= 1;
@@ -710,12 +843,12 @@ impl Group {
                             Err(Error::RingFull(_)) if !in_flight.is_empty() => {
                                 settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
                             }
-                            Err(e) => return Err(fail(sent, e)),
+                            Err(e) => return Err(fail(first, e)),
                         }
                     };
-                    in_flight.push_back((sent, seq, is_segment));
+                    in_flight.push_back((first, last, seq, is_segment));
                 }
-                sent += 1;
+                sent = last + 1;
                 counters[0].store(sent, Ordering::Relaxed);
                 if let Ok((done, queued)) = self.path_counts() {
                     progress(PathProgress {

@@ -531,6 +531,7 @@ pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
     let (v, a, j) = FIG10_LIMITS;
     g.configure_path(&PathSettings {
         plan_period: ts,
+        chord_fit: true,
         ..PathSettings::uniform(1, v, a, j)
     })?;
     sim.step(100);
