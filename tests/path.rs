@@ -534,6 +534,8 @@ fn bad_segments_get_their_own_error_and_change_nothing() {
 fn the_buffer_holds_4096_segments_and_reports_its_room() {
     let mut lim = PathSettings::uniform(2, V, A, J);
     lim.low_water = 100;
+    // (collinear lines: each its own segment, not one line)
+    lim.chord_fit = false;
     let (card, g) = path_card(2, &lim);
     // Hold the path still (0 % feed override) and fill the buffer.
     g.set_override(0.0, 1.0).unwrap();
@@ -766,7 +768,10 @@ fn an_aborting_relative_nurbs_segment_starts_where_the_path_stopped() {
 /// time-shifted transition each get their own error.
 #[test]
 fn nurbs_segments_the_card_refuses_change_nothing() {
-    let lim = PathSettings::uniform(2, V, A, J);
+    let lim = PathSettings {
+        chord_fit: false,
+        ..PathSettings::uniform(2, V, A, J)
+    };
     let (card, g) = path_card(2, &lim);
     g.set_override(0.0, 1.0).unwrap();
     let seg = |i: u32| Segment::line(i, &[i as f64 * 10.0, 0.0], 5e4, 1.0);
@@ -877,4 +882,80 @@ fn the_planner_period_is_checked_read_back_and_keeps_the_limits() {
             "path times (ticks) {times:?}"
         );
     }
+}
+
+/// A circle as CAM posts it: 2,000 chords of a 25,400-count radius (1 inch in 1 µm counts),
+/// every coordinate rounded to 2.54 counts (4 decimals in inches). With chord fitting (the
+/// default) the stream sends it as curves: the path stays within the tolerance of the points
+/// and of the true circle, within every axis limit, ends exactly on the last point, and runs
+/// within 10 % of the time of the same circle as one arc. Sent chord by chord it follows the
+/// rounding and takes several times as long.
+#[test]
+fn cam_chords_run_as_the_curve_they_sample() {
+    let r = 25_400.0;
+    let tol = 10.0;
+    let q = |x: f64| (x / 2.54).round() * 2.54;
+    let mut pts: Vec<Vec<f64>> = vec![vec![r, 0.0]];
+    for i in 1..=2000 {
+        let a = std::f64::consts::TAU * i as f64 / 2000.0;
+        let p = vec![q(r * a.cos()), q(r * a.sin())];
+        if p != *pts.last().unwrap() {
+            pts.push(p);
+        }
+    }
+    let feed = 0.8 * V;
+    let timed = |fit: bool, arc: bool| {
+        let lim = PathSettings {
+            chord_fit: fit,
+            ..PathSettings::uniform(2, V, A, J)
+        };
+        let (card, g) = path_card(2, &lim);
+        // to the circle's start first, at rest
+        g.path_push(&Segment::line(1, &[r, 0.0], feed, 0.0).into())
+            .unwrap();
+        run(&card, &g, 2, 100_000);
+        if arc {
+            let c = ArcSpec::Centre {
+                end: [r, 0.0],
+                centre: [0.0, 0.0],
+                ccw: true,
+            };
+            let s = Segment::arc(2, c, Plane::XY, &[], feed, tol).last();
+            g.path_push(&s.into()).unwrap();
+        } else {
+            let n = pts.len();
+            let segs = pts[1..].iter().enumerate().map(|(i, p)| {
+                let s = Segment::line(i as u32 + 2, p, feed, tol);
+                if i + 2 == n {
+                    s.last()
+                } else {
+                    s
+                }
+            });
+            g.stream_path(segs, |_| {}).unwrap();
+        }
+        let rr = run(&card, &g, 2, 2_000_000);
+        assert_limits(&rr, &lim, "the circle");
+        (rr, cmd(&card, 2))
+    };
+    let (arc, _) = timed(true, true);
+    let (fitted, end) = timed(true, false);
+    assert_eq!(&end, pts.last().unwrap(), "ends exactly on the last point");
+    let off = farthest_off(&fitted, &pts);
+    assert!(off <= tol, "{off} counts from the points");
+    let from_circle = fitted
+        .pos
+        .iter()
+        .map(|p| (p[0].hypot(p[1]) - r).abs())
+        .fold(0.0, f64::max);
+    assert!(from_circle <= tol, "{from_circle} counts from the circle");
+    let ratio = fitted.pos.len() as f64 / arc.pos.len() as f64;
+    assert!(ratio <= 1.1, "{ratio}: chords as curves against the arc");
+    let (chords, _) = timed(false, false);
+    assert!(
+        chords.pos.len() as f64 > 2.0 * fitted.pos.len() as f64,
+        "chord by chord: {} ticks, fitted {}",
+        chords.pos.len(),
+        fitted.pos.len()
+    );
 }

@@ -778,7 +778,7 @@ impl Group {
             };
             match card.wait_ack(seq).map_err(|e| fail(index, e))? {
                 Ok(()) => {
-                    *accepted = last + 1;
+                    *accepted += last - index + 1;
                     counters[1].store(*accepted, Ordering::Relaxed);
                     if is_segment {
                         *last_motion = Some(self.motion(seq));
@@ -811,7 +811,7 @@ impl Group {
                     let seq = self
                         .path_curve(cmd, curve, Some(cancel))
                         .map_err(|e| fail(first, e))?;
-                    accepted = last + 1;
+                    accepted += last - first + 1;
                     counters[1].store(accepted, Ordering::Relaxed);
                     last_motion = Some(self.motion(seq));
                     room = 0;
