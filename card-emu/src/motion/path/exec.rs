@@ -449,7 +449,7 @@ impl Path {
         }
         let need =
             1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.tsp;
-        let wend = self.tail.min(self.exec + self.lookahead);
+        let wend = self.tail;
         let mut none = Passed::NONE;
         let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut NoVisit);
         self.seen = None;
@@ -612,7 +612,8 @@ impl Path {
         if self.halted || ovr <= 0.0 {
             target = 0.0;
         }
-        let wend = self.tail.min(self.exec + self.lookahead);
+        // the look-ahead is by distance: whatever is queued, as far as the walk's reach
+        let wend = self.tail;
         let pl = self.planner;
         let (jp, dp) = pl.plan_limits();
         let (jm, dm) = (pl.jmax, pl.dmax);
@@ -653,6 +654,14 @@ impl Path {
                 dm,
                 step,
             };
+            // the walk goes a little beyond the reach, so that what it saw serves longer
+            let until = reach * (1.0 + SEEN_BEYOND);
+            if let Some(i) = self.cap_due {
+                if self.seg(i).start - at <= until * (1.0 + Envelope::SLACK) {
+                    // the walk can reach the newest blend before a push rebuilt it
+                    self.settle_cap(i);
+                }
+            }
             if it == 0 && !self.walks_every_tick() {
                 let safe;
                 if let Some(w) = self.seen.as_mut() {
@@ -681,8 +690,6 @@ impl Path {
                     }
                 }
             }
-            // the walk goes a little beyond the reach, so that what it saw serves longer
-            let until = reach * (1.0 + SEEN_BEYOND);
             let mut c = Consider {
                 vmax,
                 target,
@@ -1040,12 +1047,6 @@ impl Path {
         }
         if self.seg(self.exec).shift {
             return TickPlan(Plan::Shift(ovr));
-        }
-        if let Some(i) = self.cap_due {
-            if i < self.exec + self.lookahead {
-                // the window reaches the newest blend before a push rebuilt it
-                self.settle_cap(i);
-            }
         }
         let before = self.slow;
         let mut ts = self.tsp;
