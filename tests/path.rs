@@ -198,12 +198,18 @@ fn a_blended_square_keeps_within_the_tolerance_and_every_axis_limit() {
         assert_eq!(ids(&r, EventKind::SegmentStart), vec![1, 2, 3, 4]);
         assert_eq!(ids(&r, EventKind::SegmentEnd), vec![1, 2, 3, 4]);
         assert_eq!(r.pos.last().unwrap(), &vec![0.0, 0.0], "the end is exact");
-        // No exact stop at the corners: the path speed stays up through them.
+        // No exact stop at the corners: the path speed stays up through them (until the
+        // end, where the group settles in position).
+        let end = r
+            .pos
+            .iter()
+            .rposition(|p| p != r.pos.last().unwrap())
+            .unwrap();
         let stops = r
             .pos
             .windows(2)
+            .take(end)
             .skip(10)
-            .take(r.pos.len() - 40)
             .filter(|w| w[0] == w[1])
             .count();
         assert_eq!(stops, 0, "tolerance {tol}: the path stopped");
@@ -851,7 +857,11 @@ fn the_planner_period_is_checked_read_back_and_keeps_the_limits() {
         assert_eq!(g.path_config().unwrap().plan_period, 0.0, "{period}");
     }
     // planned at every servo tick, by default and every 10 ms: the same blended square
-    // within the tolerance and every axis limit, in about the same time
+    // within the tolerance and every axis limit, in about the same time (within 2 %: the
+    // look-ahead decides when to brake for a corner with the lowest limits it looks at, the
+    // corner blend's, and a planning step ramps within the limits of what it and the next
+    // step reach, the line's own until the corner is that near; planned every tick, the
+    // line brakes harder than decided and reaches the corner's speed a little early)
     let mut times = vec![];
     for period in [1e-4, 0.0, 0.01] {
         let s = PathSettings {
@@ -878,7 +888,7 @@ fn the_planner_period_is_checked_read_back_and_keeps_the_limits() {
     }
     for t in &times[1..] {
         assert!(
-            (t / times[0] - 1.0).abs() < 0.01,
+            (t / times[0] - 1.0).abs() < 0.02,
             "path times (ticks) {times:?}"
         );
     }

@@ -23,6 +23,20 @@ use super::pos_finite;
 /// stop needs on a curve (the remaining length is re-estimated every tick) always fit.
 pub const PLAN_MARGIN: f64 = 1e-3;
 
+/// An acceleration this far (relative) beyond a limit is brought back within it by a phase
+/// of its own; less is rounding, clamped as before.
+const SHED: f64 = 1e-9;
+
+/// The lesser of two numbers that are not NaN.
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 /// Up to seven phases of constant jerk: a piece of a continuous path-speed profile (speed and
 /// acceleration continuous, |jerk| ≤ J).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -256,6 +270,12 @@ pub struct PathSpeedPlanner {
     pub(super) jmax: f64,
     pub(super) v: f64,
     pub(super) a: f64,
+    /// The deceleration and jerk limits of stops (at most `dmax` and `jmax`, which are used
+    /// where these are higher): a path whose limits differ from piece to piece ramps within
+    /// those of the pieces near it and stops within those of every piece up to the stop point
+    /// (see [`set_limits`](Self::set_limits)). ∞: the same as the ramps'.
+    pub(super) sd: f64,
+    pub(super) sj: f64,
     stopping: bool,
     lands: bool,
     /// The last tick's profile.
@@ -284,6 +304,8 @@ impl PathSpeedPlanner {
             jmax,
             v: 0.0,
             a: 0.0,
+            sd: f64::INFINITY,
+            sj: f64::INFINITY,
             stopping: false,
             lands: false,
             step: StepProfile::Rest,
@@ -301,6 +323,8 @@ impl PathSpeedPlanner {
             jmax: 1.0,
             v: 0.0,
             a: 0.0,
+            sd: f64::INFINITY,
+            sj: f64::INFINITY,
             stopping: false,
             lands: false,
             step: StepProfile::Rest,
@@ -354,13 +378,29 @@ impl PathSpeedPlanner {
         self.lands = false;
     }
 
+    /// The limits of the ramps (acceleration and deceleration `a`, jerk `j`) and of stops
+    /// (`sd`, `sj`: within those of every piece up to where a stop could end; lowered to the
+    /// ramps' where those are lower). An acceleration beyond the new limits is brought within
+    /// them at the jerk limit (never a jump).
+    pub fn set_limits(&mut self, a: f64, j: f64, sd: f64, sj: f64) {
+        self.amax = a;
+        self.dmax = a;
+        self.jmax = j;
+        self.sd = sd;
+        self.sj = sj;
+    }
+
+    /// Deceleration and jerk limits of stops.
+    #[inline(always)]
+    pub(super) fn stop_limits(&self) -> (f64, f64) {
+        (lesser(self.sd, self.dmax), lesser(self.sj, self.jmax))
+    }
+
     /// Jerk and deceleration the stop decision is planned with.
     #[inline(always)]
     pub(super) fn plan_limits(&self) -> (f64, f64) {
-        (
-            self.jmax * (1.0 - PLAN_MARGIN),
-            self.dmax * (1.0 - PLAN_MARGIN),
-        )
+        let (d, j) = self.stop_limits();
+        (j * (1.0 - PLAN_MARGIN), d * (1.0 - PLAN_MARGIN))
     }
 
     /// Time-optimal jerk-limited ramp from (v, a) to speed `tgt` with a = 0 at the end: the
@@ -370,7 +410,33 @@ impl PathSpeedPlanner {
     #[inline(always)]
     fn track_ramp(&self, v: f64, a: f64, tgt: f64) -> (f64, Ramp3) {
         let j = self.jmax;
-        let a = a.clamp(-self.dmax, self.amax);
+        // Beyond a limit lowered under it (a path's limits change from piece to piece): the
+        // acceleration is brought back within it at the jerk limit, then the ramp goes on.
+        if a > self.amax * (1.0 + SHED) {
+            let flat = v + a * a / (2.0 * j);
+            if tgt >= flat {
+                let am = self.amax;
+                return (
+                    a,
+                    [(-j, (a - am) / j), (0.0, (tgt - flat) / am), (-j, am / j)],
+                );
+            }
+        } else if a < -self.dmax * (1.0 + SHED) {
+            let flat = v - a * a / (2.0 * j);
+            if tgt < flat {
+                let dm = self.dmax;
+                return (
+                    a,
+                    [(j, (-a - dm) / j), (0.0, (flat - tgt) / dm), (j, dm / j)],
+                );
+            }
+        }
+        let a = if a > self.amax * (1.0 + SHED) || a < -self.dmax * (1.0 + SHED) {
+            // (the other direction: the ramp turns the acceleration around at once)
+            a
+        } else {
+            a.clamp(-self.dmax, self.amax)
+        };
         // the speed reached by bringing a to zero at once
         let flat = v + a * a.abs() / (2.0 * j);
         let phases = if tgt >= flat {
@@ -454,7 +520,12 @@ impl PathSpeedPlanner {
     /// hard that the speed reaches zero before the acceleration does).
     fn brake_peak(v: f64, a: f64, d: f64, j: f64) -> Option<f64> {
         let opt = (j * v.max(0.0) + 0.5 * a * a).sqrt();
-        let ap = d.min(opt).max(-a);
+        // (a deceleration beyond `d` is brought back within it: see `set_limits`)
+        let ap = if -a <= d * (1.0 + SHED) {
+            d.min(opt).max(-a)
+        } else {
+            d.min(opt)
+        };
         (a >= -opt * (1.0 + 1e-12) && ap > 0.0).then_some(ap)
     }
 
@@ -491,7 +562,7 @@ impl PathSpeedPlanner {
     /// The distance of the ramp toward `tgt` ([`track_ramp`](Self::track_ramp)'s phases, each
     /// counted only when `Phases::push` would keep it: a positive, finite duration), from
     /// the clamped acceleration.
-    fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
+    pub(crate) fn track_distance(&self, v: f64, a: f64, tgt: f64) -> f64 {
         let (a, phases) = self.track_ramp(v, a, tgt);
         phases_distance(phases, v, a)
     }
@@ -670,8 +741,8 @@ impl PathSpeedPlanner {
     /// other.
     #[inline(always)]
     fn ramp_and_stop(&self, v: f64, a: f64, vp: f64) -> (Ramp3, Ramp3) {
-        let j = self.jmax;
-        let ap = self.dmax.min((j * vp).sqrt());
+        let (d, j) = self.stop_limits();
+        let ap = d.min((j * vp).sqrt());
         (
             self.track_ramp(v, a, vp).1,
             Self::brake_ramp(vp, 0.0, ap, j),
@@ -683,14 +754,15 @@ impl PathSpeedPlanner {
     /// from (near) rest, a short ramp up and down. When no stop fits, the nearest.
     fn stop_phases(&self, v: f64, a: f64, r: f64, tgt: f64) -> Phases {
         let (jp, dp) = self.plan_limits();
+        let (sd, sj) = self.stop_limits();
         // the longest stop, when even it is too short: its peak deceleration and jerk
         let mut longest = None;
-        for (j, d) in [(jp, dp), (self.jmax, self.dmax)] {
+        for (j, d) in [(jp, dp), (sj, sd)] {
             let Some(hi) = Self::brake_peak(v, a, d, j) else {
                 continue;
             };
             if Self::brake_phases_distance(v, a, hi, j) > r {
-                if j == self.jmax {
+                if j == sj {
                     // cannot stop in time even at the full limits: the shortest stop
                     return Self::brake_phases(v, a, hi, j);
                 }

@@ -20,7 +20,10 @@ fn runner(cases: u32, seed: u8) -> TestRunner {
         max_shrink_iters: 256,
         ..Config::default()
     };
-    TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]))
+    TestRunner::new_with_rng(
+        config,
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]),
+    )
 }
 
 fn line(id: u32, p: &[f64]) -> PathItem {
@@ -114,7 +117,10 @@ fn samples(c: &Nurbs) -> Vec<Vec<f64>> {
 /// lines it stands for (both ways), and within `truth_tol` of the true curve (`truth`: the
 /// distance of a point from it); the last ends exactly at the last point. Returns the share of
 /// the lines sent as curves or merged lines.
-fn check(pts: &[Vec<f64>], out: &[Fitted], truth: Option<(&dyn Fn(&[f64]) -> f64, f64)>) -> f64 {
+/// The distance of a point from the true curve, and the most a fitted curve may be from it.
+type Truth<'a> = (&'a dyn Fn(&[f64]) -> f64, f64);
+
+fn check(pts: &[Vec<f64>], out: &[Fitted], truth: Option<Truth>) -> f64 {
     let eps = FIT_SHARE * TOL * (1.0 + 1e-9) + 1e-9;
     let mut next = 0u64;
     let mut merged = 0u64;
@@ -321,7 +327,9 @@ fn a_rounded_circle_of_10000_chords_is_a_few_curves() {
 
 #[test]
 fn collinear_pieces_are_one_line() {
-    let pts: Vec<Vec<f64>> = (0..=1000).map(|i| vec![25.4 * i as f64 / 1000.0, 0.0]).collect();
+    let pts: Vec<Vec<f64>> = (0..=1000)
+        .map(|i| vec![25.4 * i as f64 / 1000.0, 0.0])
+        .collect();
     let out = fitted(&pts);
     assert_eq!(out.len(), 1);
     check(&pts, &out, None);
@@ -398,7 +406,13 @@ fn zigzags_beyond_the_tolerance_keep_their_corners() {
 fn a_dense_square_keeps_its_corners_and_sends_each_side_as_a_line() {
     let side = 20.0;
     let per = 400;
-    let corners = [[0.0, 0.0], [side, 0.0], [side, side], [0.0, side], [0.0, 0.0]];
+    let corners = [
+        [0.0, 0.0],
+        [side, 0.0],
+        [side, side],
+        [0.0, side],
+        [0.0, 0.0],
+    ];
     let mut pts = vec![vec![0.0, 0.0]];
     for w in corners.windows(2) {
         for i in 1..=per {

@@ -84,6 +84,10 @@ pub(super) struct Seen {
     /// Where the executor was when `room`, `split` and `step` were found (where the walk
     /// started, or a later tick that tested the pieces again).
     room_from: f64,
+    /// Where (along the whole path) the first piece starts whose tangential limits are below
+    /// those the executor ramps with (∞: none within `extent`): a tick whose near reach gets
+    /// there walks again.
+    drop: f64,
     /// The pieces tested, when there were at most [`TESTED`]: when `room` no longer covers
     /// what their slowing distances can have grown, a tick tests again those it no longer
     /// covers instead of walking (`still_safe`; the pieces passed by their caps or by the
@@ -256,6 +260,34 @@ pub(super) struct Walked {
     pub stop: Option<bool>,
     pub d: f64,
     pub end: usize,
+    /// The lowest tangential limits of the pieces it walked (the executor's included), of
+    /// those that start within the `near` distance it was given, and where (from here) the
+    /// first piece beyond that starts whose limits are below those (∞: none it saw).
+    pub lim: Lim,
+    pub near: Lim,
+    pub drop: f64,
+}
+
+/// The tangential limits a walk meets (see [`Walked`]).
+#[derive(Debug, Clone, Copy)]
+struct Meets {
+    near_at: f64,
+    lim: Lim,
+    near: Lim,
+    drop: f64,
+}
+
+impl Meets {
+    /// A piece (or a block of them) of limits `l` starting `d` ahead.
+    #[inline(always)]
+    fn meet(&mut self, d: f64, l: Lim) {
+        self.lim = self.lim.min(l);
+        if d <= self.near_at {
+            self.near = self.near.min(l);
+        } else if self.drop == f64::INFINITY && l.below(self.near) {
+            self.drop = d;
+        }
+    }
 }
 
 /// The room a piece of cap `cap` that starts at `start` along the whole path has beyond its
@@ -451,11 +483,12 @@ impl Path {
             1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j) + 4.0 * pl.v * self.tsp;
         let wend = self.tail;
         let mut none = Passed::NONE;
-        let w = self.walk(need, 0.0, 0.0, wend, None, &mut none, &mut NoVisit);
+        let w = self.walk((need, 0.0), 0.0, 0.0, wend, None, &mut none, &mut NoVisit);
         self.seen = None;
         if w.stop.is_none() || w.d >= need {
-            self.planner.dmax = d;
-            self.planner.jmax = j;
+            // (within every piece's: the curved pieces' shares are the lowest limits)
+            self.planner.set_limits(d, j, f64::INFINITY, f64::INFINITY);
+            self.halt_lim = true;
         }
     }
 
@@ -485,8 +518,14 @@ impl Path {
         self.npending = 0;
         self.halted = false;
         self.slow = None;
-        self.planner.dmax = self.at;
-        self.planner.jmax = self.jt;
+        self.planner
+            .set_limits(self.at, self.jt, f64::INFINITY, f64::INFINITY);
+        self.dec = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        self.near = self.dec;
+        self.halt_lim = false;
         self.rest();
         self.idle_sent = true;
         self.cap_due = None;
@@ -505,7 +544,7 @@ impl Path {
     #[inline(always)]
     pub(super) fn walk_impl(
         &self,
-        until: f64,
+        (until, near): (f64, f64),
         below: f64,
         ovr: f64,
         wend: usize,
@@ -515,12 +554,28 @@ impl Path {
     ) -> Walked {
         let e = self.exec;
         let sg = self.seg(e);
+        let here = if self.in_blend { sg.jlim } else { sg.blim };
+        let mut m = Meets {
+            near_at: near,
+            lim: here,
+            near: here,
+            drop: f64::INFINITY,
+        };
         let mut d = if self.in_blend {
             let d = sg.blend.len - self.s;
             f.visit(d, lesser(sg.bgeo, sg.feed * ovr));
+            m.meet(d, sg.blim);
             d + (sg.body1 - sg.body0)
         } else {
             sg.body1 - self.s
+        };
+        let walked = |stop, d, end, m: Meets| Walked {
+            stop,
+            d,
+            end,
+            lim: m.lim,
+            near: m.near,
+            drop: m.drop,
         };
         let mut j = e + 1;
         // j's slot, followed along instead of a division per segment (the ring's length is a
@@ -529,18 +584,21 @@ impl Path {
         let mut sl = self.slot(j);
         loop {
             if j >= wend {
-                return Walked {
-                    stop: Some(j >= self.tail),
-                    d,
-                    end: j,
-                };
+                if j >= self.tail && !self.seg(self.tail - 1).last {
+                    // what a push adds at the end of the queue can have the lowest limits
+                    // of any piece: a curved one's
+                    m.meet(
+                        d,
+                        Lim {
+                            a: self.at,
+                            j: self.jt,
+                        },
+                    );
+                }
+                return walked(Some(j >= self.tail), d, j, m);
             }
             if d > until {
-                return Walked {
-                    stop: None,
-                    d,
-                    end: j,
-                };
+                return walked(None, d, j, m);
             }
             if j.is_multiple_of(BLOCK) && j + BLOCK <= wend {
                 let b = &self.blocks[sl / BLOCK];
@@ -559,6 +617,7 @@ impl Path {
                     }
                 }
                 if pass {
+                    m.meet(d, b.lim);
                     d += b.len;
                     j += BLOCK;
                     sl += BLOCK;
@@ -570,17 +629,15 @@ impl Path {
             }
             let s = &self.segs[sl];
             if s.stop_before {
-                return Walked {
-                    stop: Some(false),
-                    d,
-                    end: j,
-                };
+                return walked(Some(false), d, j, m);
             }
             f.visit(d, lesser(s.jgeo, s.jfeed * ovr));
+            m.meet(d, s.jlim);
             if s.has_blend {
                 d += s.blend.len;
             }
             f.visit(d, lesser(s.bgeo, s.feed * ovr));
+            m.meet(d, s.blim);
             d += s.body1 - s.body0;
             j += 1;
             sl += 1;
@@ -615,8 +672,6 @@ impl Path {
         // the look-ahead is by distance: whatever is queued, as far as the walk's reach
         let wend = self.tail;
         let pl = self.planner;
-        let (jp, dp) = pl.plan_limits();
-        let (jm, dm) = (pl.jmax, pl.dmax);
         // where the executor is, for what an earlier walk saw (see `Seen`)
         let at = self.exec_dist();
         let mut out = Look {
@@ -627,130 +682,244 @@ impl Path {
             window_end: wend,
             track: None,
             slowed: false,
+            dec: self.dec,
         };
-        for it in 0..3 {
-            let track = pl.track(target);
-            let (step, vn, an) = track.step();
-            let ap = greater(an, 0.0);
-            let vmax = greater(greater(pl.v, vn), vn + ap * ap / (2.0 * jm));
-            // (with a closed-form bound of the braking distance: nothing beyond its reach can
-            // need slowing for, the reach of the exact one being shorter)
-            let reach =
-                1.05 * PathSpeedPlanner::stopping_distance_bound(
-                    vmax,
-                    greater(greater(an, pl.a), 0.0),
-                    dp,
-                    jp,
-                ) + 4.0 * vmax * ts
-                    + 1e-9;
-            let below = lesser(vmax, target);
-            let vf = vn + ap * ap / (2.0 * jm);
-            let rising = vf * ap / jm;
-            // A piece is violated only if dist < upper (upper ≥ lower), that is
-            // raw² + 2·dm·dist < vf² + 2·dm·rising + (vf + raw)·dm²/jm, with raw < vmax: the
-            // envelope's θ, with which whole blocks and single pieces are passed cheaply.
-            let env = Envelope {
-                theta: vf * vf + greater(2.0 * dm * rising + (vf + vmax) * dm * dm / jm, 0.0),
-                dm,
-                step,
-            };
-            // the walk goes a little beyond the reach, so that what it saw serves longer
-            let until = reach * (1.0 + SEEN_BEYOND);
-            if let Some(i) = self.cap_due {
-                if self.seg(i).start - at <= until * (1.0 + Envelope::SLACK) {
-                    // the walk can reach the newest blend before a push rebuilt it
-                    self.settle_cap(i);
-                }
+        // The decisions are made with the lowest tangential limits of the pieces the walk
+        // looks at (each piece is braked for through those before it, and stops end within
+        // them): those of the last walk, lowered and the look made again when this walk
+        // meets a lower one. The next step ramps within the lowest of the pieces near here.
+        let (slow0, target0) = (self.slow, target);
+        let mut dec = if self.halt_lim {
+            Lim {
+                a: pl.dmax,
+                j: pl.jmax,
             }
-            if it == 0 && !self.walks_every_tick() {
-                let safe;
-                if let Some(w) = self.seen.as_mut() {
-                    let moved = at - w.from;
-                    if w.ovr == ovr
-                        && w.dm == dm
-                        && w.jm == jm
-                        && below <= w.cap
-                        && moved + reach < w.extent * (1.0 - Envelope::SLACK)
-                        && env.clears_all(w.key - 2.0 * dm * moved, at.abs() + moved.abs())
-                        && {
-                            safe = w.still_safe(&pl, (vn, an, vf, dm, step), at);
-                            safe != Safe::No
+        } else {
+            self.dec
+        };
+        let mut again = 0;
+        // what an earlier walk saw serves this step: the limits stay
+        let mut keep = false;
+        let mut kept = None;
+        let low = Lim {
+            a: self.at * (1.0 - crate::motion::path_speed::PLAN_MARGIN),
+            j: self.jt * (1.0 - crate::motion::path_speed::PLAN_MARGIN),
+        };
+        'limits: loop {
+            let mut pld = pl;
+            pld.set_limits(dec.a, dec.j, f64::INFINITY, f64::INFINITY);
+            let (jp, dp) = pld.plan_limits();
+            let (jm, dm) = (pld.jmax, pld.dmax);
+            let mut met: Option<(Lim, Lim, f64, f64)> = None;
+            for it in 0..3 {
+                let track = pl.track(target);
+                let (step, vn, an) = track.step();
+                let ap = greater(an, 0.0);
+                let vmax = greater(greater(pl.v, vn), vn + ap * ap / (2.0 * jm));
+                // (with a closed-form bound of the braking distance: nothing beyond its reach
+                // can need slowing for, the reach of the exact one being shorter; at the
+                // lowest limits any piece has, the curved pieces' shares, so that a piece of
+                // lower limits is seen as far ahead as braking within them needs)
+                let reach =
+                    1.05 * PathSpeedPlanner::stopping_distance_bound(
+                        vmax,
+                        greater(greater(an, pl.a), 0.0),
+                        lesser(dp, low.a),
+                        lesser(jp, low.j),
+                    ) + 4.0 * vmax * ts
+                        + 1e-9;
+                // where the ramp toward the target ends (a = 0 there), after this step and
+                // the next: the next step ramps within the limits of the pieces up to there
+                let near = step + pl.track_distance(vn, an, target) + 2.0 * vmax * ts + 1e-9;
+                let below = lesser(vmax, target);
+                let vf = vn + ap * ap / (2.0 * jm);
+                let rising = vf * ap / jm;
+                // A piece is violated only if dist < upper (upper ≥ lower), that is
+                // raw² + 2·dm·dist < vf² + 2·dm·rising + (vf + raw)·dm²/jm, with raw < vmax:
+                // the envelope's θ, with which whole blocks and single pieces are passed
+                // cheaply.
+                let env = Envelope {
+                    theta: vf * vf + greater(2.0 * dm * rising + (vf + vmax) * dm * dm / jm, 0.0),
+                    dm,
+                    step,
+                };
+                // the walk goes a little beyond the reach, so that what it saw serves longer,
+                // and as far as the ramp's limits are looked for
+                let until = greater(reach * (1.0 + SEEN_BEYOND), near);
+                if let Some(i) = self.cap_due {
+                    if self.seg(i).start - at <= until * (1.0 + Envelope::SLACK) {
+                        // the walk can reach the newest blend before a push rebuilt it
+                        self.settle_cap(i);
+                    }
+                }
+                if it == 0 && again == 0 {
+                    let safe;
+                    let every = self.walks_every_tick();
+                    if let Some(w) = self.seen.as_mut() {
+                        let moved = at - w.from;
+                        if w.ovr == ovr
+                            && w.dm == dm
+                            && w.jm == jm
+                            && below <= w.cap
+                            && moved + greater(reach, near) < w.extent * (1.0 - Envelope::SLACK)
+                            && at + near < w.drop
+                            && env.clears_all(w.key - 2.0 * dm * moved, at.abs() + moved.abs())
+                            && {
+                                safe = w.still_safe(&pld, (vn, an, vf, dm, step), at);
+                                safe != Safe::No
+                            }
+                        {
+                            // The walk would pass every piece within the reach as it did
+                            // then, and meet no stop point within it: nothing to slow for
+                            // (its distance beyond the reach changes nothing the planner
+                            // does); and no lower limits near here. (A test that walks on
+                            // every tick walks, but keeps the limits as they are: the same
+                            // motion.)
+                            keep = true;
+                            kept = Some(*w);
+                            if !every {
+                                out.rem = w.extent - moved;
+                                out.track = Some(track);
+                                #[cfg(test)]
+                                if safe == Safe::Retested {
+                                    self.retests += 1;
+                                }
+                                break;
+                            }
                         }
-                    {
-                        // The walk would pass every piece within the reach as it did then,
-                        // and meet no stop point within it: nothing to slow for (its distance
-                        // beyond the reach changes nothing the planner does).
-                        out.rem = w.extent - moved;
+                    }
+                }
+                let mut c = Consider {
+                    vmax,
+                    target,
+                    env,
+                    jm,
+                    vf,
+                    rising,
+                    pl: &pld,
+                    vn,
+                    an,
+                    here,
+                    at,
+                    worst: None,
+                    passed: Passed::NONE,
+                    room: f64::INFINITY,
+                    cap_tested: 0.0,
+                    untracked: false,
+                    tested: Tested::NONE,
+                };
+                let mut blocks = Passed::NONE;
+                let w = self.walk(
+                    (until, near),
+                    below,
+                    ovr,
+                    wend,
+                    Some(env),
+                    &mut blocks,
+                    &mut c,
+                );
+                met = Some(match met {
+                    None => (w.lim, w.near, at + w.drop, near),
+                    Some((l, n, d, r)) => (l.min(w.lim), n.min(w.near), d.min(at + w.drop), r),
+                });
+                if it == 0 {
+                    out.rem = w.d;
+                    out.stop = w.stop.is_some();
+                    out.queue_end = w.stop == Some(true);
+                }
+                match c.worst {
+                    Some((sc, c)) => {
+                        self.slow = Some((sc, c));
+                        target = target.min(c);
+                        self.seen = None;
+                        out.slowed = true;
+                    }
+                    None => {
+                        // the planner follows this very step unless it must stop
                         out.track = Some(track);
-                        #[cfg(test)]
-                        if safe == Safe::Retested {
-                            self.retests += 1;
-                        }
+                        self.seen = (!c.untracked).then_some(Seen {
+                            cap: c.passed.cap.min(blocks.cap),
+                            key: c.passed.key.min(blocks.key),
+                            extent: w.d,
+                            from: at,
+                            end: w.end,
+                            ovr,
+                            dm,
+                            jm,
+                            room: c.room,
+                            cap_tested: c.cap_tested,
+                            split: pld.descent_split(vn, an),
+                            step,
+                            room_from: at,
+                            tested: c.tested,
+                            drop: at + w.drop,
+                        });
                         break;
                     }
                 }
             }
-            let mut c = Consider {
-                vmax,
-                target,
-                env,
-                jm,
-                vf,
-                rising,
-                pl: &pl,
-                vn,
-                an,
-                here,
-                at,
-                worst: None,
-                passed: Passed::NONE,
-                room: f64::INFINITY,
-                cap_tested: 0.0,
-                untracked: false,
-                tested: Tested::NONE,
-            };
-            let mut blocks = Passed::NONE;
-            let w = self.walk(until, below, ovr, wend, Some(env), &mut blocks, &mut c);
-            if it == 0 {
-                out.rem = w.d;
-                out.stop = w.stop.is_some();
-                out.queue_end = w.stop == Some(true);
+            out.dec = dec;
+            if keep && self.walks_every_tick() {
+                // (a test walking every tick: what the earlier walk saw stays, as it does
+                // where the walk is skipped)
+                self.seen = kept;
             }
-            match c.worst {
-                Some((sc, c)) => {
-                    self.slow = Some((sc, c));
-                    target = target.min(c);
+            if let Some((lim, near, _, _)) = met {
+                if lim.below(dec) && !self.halt_lim && !keep {
+                    // a piece with lower limits than the decisions were made with: again
+                    // with those (a few times at most; then the lowest of any piece)
+                    again += 1;
+                    dec = if again < 8 {
+                        dec.min(lim)
+                    } else {
+                        Lim {
+                            a: self.at,
+                            j: self.jt,
+                        }
+                    };
+                    self.slow = slow0;
+                    target = target0;
                     self.seen = None;
-                    out.slowed = true;
+                    out.slowed = false;
+                    out.track = None;
+                    continue 'limits;
                 }
-                None => {
-                    // the planner follows this very step unless it must stop
-                    out.track = Some(track);
-                    self.seen = (!c.untracked).then_some(Seen {
-                        cap: c.passed.cap.min(blocks.cap),
-                        key: c.passed.key.min(blocks.key),
-                        extent: w.d,
-                        from: at,
-                        end: w.end,
-                        ovr,
-                        dm,
-                        jm,
-                        room: c.room,
-                        cap_tested: c.cap_tested,
-                        split: pl.descent_split(vn, an),
-                        step,
-                        room_from: at,
-                        tested: c.tested,
-                    });
-                    break;
+                if !self.halt_lim && !keep {
+                    // for the next step: the lowest limits ahead (they rise as slower pieces
+                    // are passed); and it ramps within those, or, while it still brings an
+                    // acceleration made within higher limits back to 0, as high as that needs
+                    // (never above those of the pieces it gets to meanwhile)
+                    self.dec = lim;
+                    let (_, vn, an) = match out.track {
+                        Some(t) => t.step(),
+                        None => pl.track(target).step(),
+                    };
+                    let room = if an > 0.0 {
+                        target - vn
+                    } else if target < vn {
+                        vn - target
+                    } else {
+                        vn
+                    };
+                    let guard = Lim {
+                        a: an.abs(),
+                        j: if room > 0.0 {
+                            an * an / (2.0 * room)
+                        } else {
+                            f64::INFINITY
+                        },
+                    };
+                    self.near = near.min(lim.max(guard));
                 }
             }
+            break;
         }
         out.target = target;
         if target == 0.0 {
             // holding or halting: the time-optimal stop from here (re-solved every tick, so
             // it lands with v = a = 0), unless a stop point is nearer
-            let brake = PathSpeedPlanner::stopping_distance(pl.v, pl.a, pl.dmax, pl.jmax);
+            let (d, j) = (lesser(pl.dmax, out.dec.a), lesser(pl.jmax, out.dec.j));
+            let brake = PathSpeedPlanner::stopping_distance(pl.v, pl.a, d, j);
             if brake < out.rem {
                 out.rem = brake;
                 out.stop = false;
@@ -1050,6 +1219,40 @@ impl Path {
         }
         let before = self.slow;
         let mut ts = self.tsp;
+        if !self.halt_lim {
+            // this step ramps within the limits of the pieces near here (the last walk's; at
+            // rest, the executor's own piece's), stops within those of what it looks at
+            let pl = &self.planner;
+            let near = if pl.v == 0.0 && pl.a == 0.0 {
+                // from rest (a start, or after an exact stop): within the pieces up to where
+                // a ramp to the executor's piece's speed at its limits ends, and a step more
+                let sg = self.seg(self.exec);
+                let (l, cap) = if self.in_blend {
+                    (sg.jlim, lesser(sg.jgeo, sg.jfeed))
+                } else {
+                    (sg.blim, lesser(sg.bgeo, sg.feed))
+                };
+                let cap = cap * lesser(greater(ovr, 1.0), 2.0);
+                let mut probe = self.planner;
+                probe.set_limits(l.a, l.j, f64::INFINITY, f64::INFINITY);
+                let span = probe.track_distance(0.0, 0.0, cap) + 2.0 * cap * ts + 1e-9;
+                let mut none = Passed::NONE;
+                let w = self.walk(
+                    (span, span),
+                    0.0,
+                    0.0,
+                    self.tail,
+                    None,
+                    &mut none,
+                    &mut NoVisit,
+                );
+                w.near
+            } else {
+                self.near
+            };
+            let (sd, sj) = (self.planner.sd, self.planner.sj);
+            self.planner.set_limits(near.a, near.j, sd, sj);
+        }
         let mut lk = self.look(ovr, ts);
         let fine =
             lk.slowed && self.lim.plan_ticks > 1 && lk.target < FINE_SLOWING * self.planner.v;
@@ -1062,6 +1265,10 @@ impl Path {
             ts = self.lim.ts;
             self.planner.ts = ts;
             lk = self.look(ovr, ts);
+        }
+        if !self.halt_lim {
+            self.planner.sd = lk.dec.a;
+            self.planner.sj = lk.dec.j;
         }
         let v = match lk.track {
             Some(t) => self.planner.next_tracked(t, lk.rem),
@@ -1192,6 +1399,7 @@ mod tests {
             stop: false,
             kg: f64::INFINITY,
             kf: f64::INFINITY,
+            lim: Lim::NONE,
         };
         let mut segs = vec![];
         for _ in 0..rng.int(1, BLOCK) {

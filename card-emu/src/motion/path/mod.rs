@@ -355,6 +355,51 @@ struct Block {
     /// `exec::Envelope`).
     kg: f64,
     kf: f64,
+    /// Smallest tangential acceleration and jerk limits of its pieces (see `Seg::blim`).
+    lim: Lim,
+}
+
+/// Tangential limits of a piece (acceleration and deceleration, jerk): a line's are every
+/// axis's own limits projected onto its direction; a curved piece's are the shares of the
+/// smallest axis limits ([`ACCEL_SHARE`], [`JERK_SHARE`]) its cap was computed with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Lim {
+    pub a: f64,
+    pub j: f64,
+}
+
+impl Default for Lim {
+    fn default() -> Self {
+        Lim::NONE
+    }
+}
+
+impl Lim {
+    pub(super) const NONE: Lim = Lim {
+        a: f64::INFINITY,
+        j: f64::INFINITY,
+    };
+    /// The lower of each.
+    #[inline(always)]
+    pub(super) fn min(self, o: Lim) -> Lim {
+        Lim {
+            a: if o.a < self.a { o.a } else { self.a },
+            j: if o.j < self.j { o.j } else { self.j },
+        }
+    }
+    /// The greater of each.
+    #[inline(always)]
+    pub(super) fn max(self, o: Lim) -> Lim {
+        Lim {
+            a: if o.a > self.a { o.a } else { self.a },
+            j: if o.j > self.j { o.j } else { self.j },
+        }
+    }
+    /// Lower than `o` in either.
+    #[inline(always)]
+    pub(super) fn below(self, o: Lim) -> bool {
+        self.a < o.a || self.j < o.j
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -371,6 +416,10 @@ struct Seg {
     /// feed (before the override).
     jgeo: f64,
     jfeed: f64,
+    /// Tangential limits of the blend piece (or of the junction point of a tangent join) and
+    /// of the body.
+    jlim: Lim,
+    blim: Lim,
     /// Where it starts, from the start of its block (the block's length before it).
     x0: f64,
     /// Where it starts along the whole path: the distance the executor has covered since
@@ -418,6 +467,8 @@ impl Default for Seg {
             blend: Blend::default(),
             jgeo: 0.0,
             jfeed: 0.0,
+            jlim: Lim::NONE,
+            blim: Lim::NONE,
             x0: 0.0,
             start: 0.0,
             body0: 0.0,
@@ -488,6 +539,8 @@ struct Look {
     track: Option<Track>,
     /// It lowered the target for a piece ahead this tick (it starts slowing for it).
     slowed: bool,
+    /// The tangential limits it decided with: those of stops this step.
+    dec: Lim,
 }
 
 /// The continuous-path engine of one axes group.
@@ -500,6 +553,13 @@ pub struct Path {
     lim: PathLimits,
     at: f64,
     jt: f64,
+    /// The limits the look-ahead decides with and stops are planned with: the lowest of the
+    /// pieces the last walk looked at (see `exec::look`); the limits the next planning step
+    /// ramps with: the lowest of the pieces near the executor; a halt's own limits hold
+    /// instead of both until `clear`.
+    dec: Lim,
+    near: Lim,
+    halt_lim: bool,
     lookahead: usize,
     planner: PathSpeedPlanner,
     /// The planner's period (`plan_ticks` servo ticks), s.
@@ -655,6 +715,9 @@ impl Path {
             lim,
             at: 1.0,
             jt: 1.0,
+            dec: Lim { a: 1.0, j: 1.0 },
+            near: Lim { a: 1.0, j: 1.0 },
+            halt_lim: false,
             lookahead: DEFAULT_LOOKAHEAD.min(capacity),
             planner: PathSpeedPlanner::unplanned(),
             tsp: 1e-3,
@@ -749,6 +812,9 @@ impl Path {
         self.lim = lim;
         self.at = at;
         self.jt = jt;
+        self.dec = Lim { a: at, j: jt };
+        self.near = self.dec;
+        self.halt_lim = false;
         self.lookahead = lookahead;
         self.planner = planner;
         self.tsp = tsp;
@@ -918,12 +984,16 @@ impl Path {
     #[inline(always)]
     fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
         match p {
-            // its frame: its direction, no curvature
+            // its direction, no curvature: each axis's velocity limit, exactly (a line needs
+            // no sampling margin, and its tangential limits are its own: `piece_lim`)
             Prog::Line { dir, .. } => {
                 let mut cap = f64::INFINITY;
                 #[allow(clippy::needless_range_loop)] // (an index loop: fewer instructions)
                 for k in 0..self.lim.naxes {
-                    cap = self.axis_cap(k, dir[k], 0.0, 0.0, cap);
+                    let t = dir[k].abs();
+                    if t * cap > self.lim.vmax[k] {
+                        cap = self.lim.vmax[k] / t;
+                    }
                 }
                 cap
             }
@@ -948,6 +1018,39 @@ impl Path {
             }
             Prog::Dwell { .. } => 0.0,
         }
+    }
+
+    /// The tangential limits of a body (see [`Lim`]): a line's, every axis's acceleration and
+    /// jerk limits projected onto its direction (within the group's tangential limits if
+    /// set); a curved one's, the shares its cap was computed with.
+    #[inline(always)]
+    fn piece_lim(&self, p: &Prog) -> Lim {
+        let curved = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        let Prog::Line { dir, .. } = p else {
+            return curved;
+        };
+        let l = &self.lim;
+        let mut m = Lim::NONE;
+        #[allow(clippy::needless_range_loop)] // (an index loop: fewer instructions)
+        for k in 0..l.naxes {
+            let t = dir[k].abs();
+            if t * m.a > l.amax[k] {
+                m.a = l.amax[k] / t;
+            }
+            if t * m.j > l.jmax[k] {
+                m.j = l.jmax[k] / t;
+            }
+        }
+        if l.accel > 0.0 && l.accel < m.a {
+            m.a = l.accel;
+        }
+        if l.jerk > 0.0 && l.jerk < m.j {
+            m.j = l.jerk;
+        }
+        m
     }
 
     /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
@@ -1224,6 +1327,12 @@ impl Path {
         let len = rec.prog.len();
         rec.body1 = len;
         rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
+        rec.blim = self.piece_lim(&rec.prog);
+        // a blend is curved
+        rec.jlim = Lim {
+            a: self.at,
+            j: self.jt,
+        };
         rec.transition = transition;
         // The junction with the previous segment.
         let idle = self.exec >= self.tail;
@@ -1294,6 +1403,7 @@ impl Path {
                 rec.stop_before = false;
                 rec.jgeo = prev.bgeo.min(rec.bgeo);
                 rec.jfeed = rule;
+                rec.jlim = prev.blim.min(rec.blim);
             } else if let Some(sm) = (!prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
                 && cos_turn >= COS_SMOOTH_TURN)
@@ -1447,9 +1557,14 @@ impl Path {
                 stop: false,
                 kg: f64::INFINITY,
                 kf: f64::INFINITY,
+                lim: Lim::NONE,
             };
         }
         rec.x0 = b.len;
+        b.lim = b.lim.min(rec.blim);
+        if !rec.stop_before {
+            b.lim = b.lim.min(rec.jlim);
+        }
         rec.start = self.end_dist;
         self.end_dist += rec.len();
         b.len += rec.len();

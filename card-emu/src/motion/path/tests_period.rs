@@ -167,9 +167,11 @@ fn each_step_ends_where_the_planner_at_the_steps_period_is_at_its_tick() {
 #[test]
 fn a_slowing_to_a_much_lower_speed_is_decided_at_the_servo_rate() {
     // sharp corners with small blends (about 1,000 counts/s from 80,000): planned every 1 ms
-    // or 10 ms, the square takes the time it takes planned every tick, where the planner run
-    // at 1 ms brakes for each corner up to a millisecond early and crawls to it (the times
-    // are printed)
+    // or 10 ms, the square takes the time it takes planned every tick (within 1 %: a step
+    // ramps within the limits of every piece it and the next can reach, so a long step
+    // brakes for a corner at the blend's limits a little earlier than the line's own would
+    // need), where the planner run at 1 ms brakes for each corner up to a millisecond early
+    // and crawls to it (the times are printed)
     let sq = square(50_000.0);
     let time = |ts: f64, m: usize| {
         let t = polyline_with(even(ts, m), &sq, 8e4, 10.0, "square")
@@ -183,12 +185,12 @@ fn a_slowing_to_a_much_lower_speed_is_decided_at_the_servo_rate() {
     for m in [10, 100] {
         let t = time(TS, m);
         assert!(
-            (t / every_tick - 1.0).abs() < 0.005,
+            (t / every_tick - 1.0).abs() < 0.01,
             "every {m} ticks: {t} s, every tick {every_tick} s"
         );
     }
     let at_1ms = time(1e-3, 1);
-    assert!(at_1ms > 1.04 * every_tick, "{at_1ms} s, {every_tick} s");
+    assert!(at_1ms > 1.02 * every_tick, "{at_1ms} s, {every_tick} s");
 }
 
 #[test]

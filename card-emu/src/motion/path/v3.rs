@@ -80,7 +80,7 @@ impl Path {
     #[inline(never)]
     pub(super) fn walk(
         &self,
-        until: f64,
+        until: (f64, f64),
         below: f64,
         ovr: f64,
         wend: usize,
@@ -135,7 +135,7 @@ impl Path {
     #[inline(never)]
     fn walk_v3(
         &self,
-        until: f64,
+        until: (f64, f64),
         below: f64,
         ovr: f64,
         wend: usize,
