@@ -104,7 +104,9 @@ pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
 
-use self::geom::{dist_to_chord, Blend, Frame, Helix, Prog, LANES, LANES_V3, V};
+#[cfg(test)]
+use self::geom::Frame;
+use self::geom::{dist_to_chord, Blend, Helix, Prog, LANES, LANES_V3, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
@@ -162,6 +164,9 @@ pub const JERK_SHARE: f64 = 0.5;
 /// The speed caps are computed against this fraction of every axis limit (sampling and
 /// rounding margin).
 pub const CAP_MARGIN: f64 = 0.98;
+/// The velocity limits' share an arc's or helix's cap is computed against (see
+/// `Path::curved_cap`).
+pub const ARC_VEL_MARGIN: f64 = 0.9995;
 /// Samples per blend for its cap (and its deviation when not closed-form).
 const BLEND_SAMPLES: usize = 96;
 /// Largest share of a segment a blend may trim (at each end).
@@ -933,30 +938,29 @@ impl Path {
             })
     }
 
-    /// The speed cap of a frame: the largest V within every axis limit (see the module doc).
-    #[inline(always)]
-    fn frame_cap(&self, f: &Frame) -> f64 {
-        self.frame_cap_below(f, f64::INFINITY)
-    }
-
-    /// `min(cap, frame_cap(f))`, solving the jerk cubic only where `cap` breaks it.
-    #[inline(always)]
-    fn frame_cap_below(&self, f: &Frame, mut cap: f64) -> f64 {
-        for k in 0..self.lim.naxes {
-            cap = self.axis_cap(k, f.t[k], f.k[k], f.dk[k], cap);
-        }
-        cap
-    }
-
     /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
     /// derivative `dk` on that axis.
     #[inline(always)]
-    fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, mut cap: f64) -> f64 {
+    fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, cap: f64) -> f64 {
+        self.axis_cap_with(k, t, kk, dk, cap, (self.at, self.jt, CAP_MARGIN))
+    }
+
+    /// [`axis_cap`](Self::axis_cap) with the tangential limits `(at, jt)` reserved, and the
+    /// velocity limits times `vm`.
+    #[inline(always)]
+    fn axis_cap_with(
+        &self,
+        k: usize,
+        t: f64,
+        kk: f64,
+        dk: f64,
+        mut cap: f64,
+        (at, jt, vm): (f64, f64, f64),
+    ) -> f64 {
         let l = &self.lim;
-        let (at, jt) = (self.at, self.jt);
         let (t, kk, dk) = (t.abs(), kk.abs(), dk.abs());
-        if t * cap > CAP_MARGIN * l.vmax[k] {
-            cap = CAP_MARGIN * l.vmax[k] / t;
+        if t * cap > vm * l.vmax[k] {
+            cap = vm * l.vmax[k] / t;
         }
         if kk > 0.0 {
             let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
@@ -973,6 +977,7 @@ impl Path {
     }
 
     /// `min(cap, the cap of blend b at parameter u)`.
+    #[cfg(test)]
     #[inline(always)]
     fn blend_cap_at(&self, b: &Blend, u: f64, cap: f64) -> f64 {
         let mut cap = cap;
@@ -997,27 +1002,100 @@ impl Path {
                 }
                 cap
             }
+            Prog::Helix(_) | Prog::Curve { .. } => self.curved_cap(p, s0, s1, (self.at, self.jt)),
+            Prog::Dwell { .. } => 0.0,
+        }
+    }
+
+    /// Each axis's tangent, curvature and its derivative (k, t, kk, dk) at the points of a
+    /// curved body on [s0, s1] its cap is computed at.
+    #[inline(always)]
+    fn body_terms(&self, p: &Prog, s0: f64, s1: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
+        match p {
             Prog::Helix(h) => {
                 let ang = h.sweep().abs() * (s1 - s0) / p.len();
                 let m = ((ang / 1f64.to_radians()).ceil() as usize).clamp(16, 720);
-                let mut cap = f64::INFINITY;
                 for i in 0..=m {
-                    let s = s0 + (s1 - s0) * i as f64 / m as f64;
-                    cap = cap.min(self.frame_cap(&p.frame(s)));
+                    let fr = p.frame(s0 + (s1 - s0) * i as f64 / m as f64);
+                    for k in 0..self.lim.naxes {
+                        f(k, fr.t[k], fr.k[k], fr.dk[k]);
+                    }
                 }
-                cap
             }
             Prog::Curve { b, .. } => {
                 let (u0, u1) = (b.u_at(s0), b.u_at(s1));
-                let mut cap = f64::INFINITY;
                 for i in 0..=CURVE_CAP_SAMPLES {
-                    let u = u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64;
-                    cap = self.blend_cap_at(b, u, cap);
+                    b.each_term(u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64, &mut f);
                 }
-                cap
             }
-            Prog::Dwell { .. } => 0.0,
+            _ => {}
         }
+    }
+
+    /// The cap of a curved body on [s0, s1] with the tangential limits `lim` reserved. An
+    /// arc's or helix's tangent turns by at most half a degree between two of its samples, so
+    /// that its velocity terms are within 4e-5 of their largest: its velocity limits take
+    /// [`ARC_VEL_MARGIN`]; the others' all take [`CAP_MARGIN`].
+    #[inline(always)]
+    fn curved_cap(&self, p: &Prog, s0: f64, s1: f64, (at, jt): (f64, f64)) -> f64 {
+        let vm = match p {
+            Prog::Helix(_) => ARC_VEL_MARGIN,
+            _ => CAP_MARGIN,
+        };
+        let mut cap = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, dk| {
+            cap = self.axis_cap_with(k, t, kk, dk, cap, (at, jt, vm))
+        });
+        cap
+    }
+
+    /// The tangential limits and the cap of a curved body (an arc, a helix, a curve's piece)
+    /// on [s0, s1] fed at `feed`: the shares of the smallest axis limits (`ACCEL_SHARE`,
+    /// `JERK_SHARE`) reserve room for the curvature at any speed up to the cap they give;
+    /// where the feed is below that cap, all that the curvature leaves at the feed goes to
+    /// the tangential limits instead (an arc at its feed accelerates with nearly each axis's
+    /// whole limit), and the cap is what those leave.
+    fn curved_lim(&self, p: &Prog, s0: f64, s1: f64, feed: f64) -> (Lim, f64) {
+        let shares = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        let cap0 = self.curved_cap(p, s0, s1, (self.at, self.jt));
+        let vs = feed.min(cap0);
+        if !(vs > 0.0 && vs.is_finite()) {
+            return (shares, cap0);
+        }
+        let l = &self.lim;
+        let mut a = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, _| {
+            let t = t.abs();
+            if t > 0.0 {
+                a = a.min((CAP_MARGIN * l.amax[k] - vs * vs * kk.abs()) / t);
+            }
+        });
+        if l.accel > 0.0 {
+            a = a.min(l.accel);
+        }
+        let a = a.max(self.at);
+        let mut j = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, dk| {
+            let t = t.abs();
+            if t > 0.0 {
+                let curv = 3.0 * vs * a * kk.abs() + vs * vs * vs * dk.abs();
+                j = j.min((CAP_MARGIN * l.jmax[k] - curv) / t);
+            }
+        });
+        if l.jerk > 0.0 {
+            j = j.min(l.jerk);
+        }
+        let lim = Lim {
+            a,
+            j: j.max(self.jt),
+        };
+        if lim == shares {
+            return (shares, cap0);
+        }
+        (lim, self.curved_cap(p, s0, s1, (lim.a, lim.j)))
     }
 
     /// The tangential limits of a body (see [`Lim`]): a line's, every axis's acceleration and
@@ -1326,8 +1404,12 @@ impl Path {
         let motion = !rec.is_dwell();
         let len = rec.prog.len();
         rec.body1 = len;
-        rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
-        rec.blim = self.piece_lim(&rec.prog);
+        if rec.prog.is_curved() {
+            (rec.blim, rec.bgeo) = self.curved_lim(&rec.prog, 0.0, len, rec.feed);
+        } else {
+            rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
+            rec.blim = self.piece_lim(&rec.prog);
+        }
         // a blend is curved
         rec.jlim = Lim {
             a: self.at,
@@ -1514,7 +1596,7 @@ impl Path {
         }
         if rec.has_blend && rec.prog.is_curved() {
             // the body's cap without the trimmed start (a line's is the same everywhere)
-            rec.bgeo = self.body_cap(&rec.prog, rec.body0, len);
+            (rec.blim, rec.bgeo) = self.curved_lim(&rec.prog, rec.body0, len, rec.feed);
         }
         if motion {
             rec.outs[..self.npending].copy_from_slice(&self.pending[..self.npending]);
