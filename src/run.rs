@@ -43,6 +43,9 @@ pub struct RunOptions {
     pub scale: f64,
     /// Show a progress bar (on stderr).
     pub progress: bool,
+    /// Runs of short lines that sample a smooth curve are sent as that curve
+    /// ([`PathSettings::chord_fit`]).
+    pub chord_fit: bool,
 }
 
 impl Default for RunOptions {
@@ -56,6 +59,7 @@ impl Default for RunOptions {
             jmax: [100_000.0; 3],
             scale: 1_000.0,
             progress: false,
+            chord_fit: true,
         }
     }
 }
@@ -138,7 +142,7 @@ fn group(card: &Card, opts: &RunOptions) -> Result<Group> {
         amax: opts.amax.to_vec(),
         jmax: opts.jmax.to_vec(),
         plan_period: 0.0,
-        chord_fit: true,
+        chord_fit: opts.chord_fit,
     })?;
     Ok(g)
 }

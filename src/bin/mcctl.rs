@@ -582,6 +582,10 @@ enum Cmd {
         /// Counts per mm.
         #[arg(long, default_value_t = 1000.0)]
         scale: f64,
+        /// Send every line as it is: no runs of short lines sent as the curve they sample
+        /// (see the SDK's chord fitting).
+        #[arg(long)]
+        no_chord_fit: bool,
         #[arg(long)]
         json: bool,
     },
@@ -1155,6 +1159,7 @@ fn main() -> ExitCode {
             amax,
             jmax,
             scale,
+            no_chord_fit,
             json,
         } => {
             let three = |v: &[f64], what: &str| -> Result<[f64; 3], String> {
@@ -1195,6 +1200,7 @@ fn main() -> ExitCode {
                 jmax,
                 scale,
                 progress: !json,
+                chord_fit: !no_chord_fit,
             };
             let body = |c: &Card| motioncard::run::run(c, &file, &opts, json);
             if uri == "sim" {
