@@ -1054,7 +1054,9 @@ impl Path {
     /// `JERK_SHARE`) reserve room for the curvature at any speed up to the cap they give;
     /// where the feed is below that cap, all that the curvature leaves at the feed goes to
     /// the tangential limits instead (an arc at its feed accelerates with nearly each axis's
-    /// whole limit), and the cap is what those leave.
+    /// whole limit), and the cap is what those leave. (Out of line: the lines' push, the common
+    /// one, is built without it.)
+    #[inline(never)]
     fn curved_lim(&self, p: &Prog, s0: f64, s1: f64, feed: f64) -> (Lim, f64) {
         let shares = Lim {
             a: self.at,
@@ -1486,12 +1488,14 @@ impl Path {
                 rec.jgeo = prev.bgeo.min(rec.bgeo);
                 rec.jfeed = rule;
                 rec.jlim = prev.blim.min(rec.blim);
-            } else if let Some(sm) = (!prev.prog.is_curved()
+            } else if let Some(sm) = if !prev.prog.is_curved()
                 && matches!(transition, Transition::MaxDeviation(_))
-                && cos_turn >= COS_SMOOTH_TURN)
-                .then(|| self.smooth(&rec.prog, tol, need, &mut again, &mut rec.blend))
-                .flatten()
+                && cos_turn >= COS_SMOOTH_TURN
             {
+                self.smooth(&rec.prog, tol, need, &mut again, &mut rec.blend)
+            } else {
+                None
+            } {
                 let ps = self.slot(self.tail - 1);
                 self.segs[ps].kvertex = Some(sm.kvertex);
                 if let Some((cap, dev, kend)) = sm.again {
