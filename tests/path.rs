@@ -969,3 +969,92 @@ fn cam_chords_run_as_the_curve_they_sample() {
         fitted.pos.len()
     );
 }
+
+/// Each axis's full limits along a line: one line along X runs X's own S-curve (its time
+/// within 1 % of `Profile::plan`'s, the feed reached in full, every limit held); a thousand
+/// collinear pieces of it sent one by one (no chord fitting) run in the same time, the card
+/// looking ahead over as many of them as braking from the feed takes (25 counts each: 4,000
+/// counts of braking are 160 of them).
+#[test]
+fn a_line_runs_its_axis_s_curve_and_collinear_pieces_run_as_the_line() {
+    use motioncard::plan::{Limits, Profile};
+    let lim = PathSettings {
+        chord_fit: false,
+        ..PathSettings::uniform(2, V, A, J)
+    };
+    let len = 25_400.0;
+    let time = |n: usize| {
+        let (card, g) = path_card(2, &lim);
+        let segs = (1..=n).map(|i| {
+            let s = Segment::line(i as u32, &[len * i as f64 / n as f64, 0.0], V, 10.0);
+            if i == n {
+                s.last()
+            } else {
+                s
+            }
+        });
+        g.stream_path(segs, |_| {}).unwrap();
+        let r = run(&card, &g, 2, 1_000_000);
+        assert_limits(&r, &lim, "a line");
+        let (p, _) = peaks(&r.pos, 0, 1e-4);
+        assert!(p[0] > 0.9999 * V, "the feed reached in full: {}", p[0]);
+        assert_eq!(r.pos.last().unwrap(), &vec![len, 0.0]);
+        // from the first tick that moves to the one that arrives
+        let first = r.pos.iter().position(|q| q[0] != 0.0).unwrap();
+        let last = r.pos.iter().position(|q| q[0] == len).unwrap();
+        (last - first + 1) as f64 * 1e-4
+    };
+    let scurve = Profile::plan(
+        0.0,
+        len,
+        0.0,
+        0.0,
+        &Limits {
+            vmax: V,
+            amax: A,
+            dmax: A,
+            j1: J,
+            j3: J,
+            j5: J,
+            j7: J,
+        },
+    )
+    .unwrap()
+    .duration();
+    let one = time(1);
+    assert!(
+        (one / scurve - 1.0).abs() < 0.01,
+        "{one} s, the S-curve {scurve} s"
+    );
+    let pieces = time(1000);
+    assert!(
+        (pieces / one - 1.0).abs() < 0.001,
+        "{pieces} s, one line {one} s"
+    );
+}
+
+/// An arc at its feed takes for its tangential acceleration and jerk what its curvature
+/// leaves of each axis's limits at that feed: a full circle of 25,400 counts' radius at
+/// 10⁵ counts/s (its centripetal acceleration 39 % of the axes') runs within 4 % of L/F + F/A,
+/// the time of a trapezoid ramping at one axis's whole acceleration (1.081× with the half
+/// shares of before), every limit held.
+#[test]
+fn an_arc_accelerates_with_what_its_curvature_leaves() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    let r = 25_400.0;
+    let c = ArcSpec::Centre {
+        end: [0.0, 0.0],
+        centre: [r, 0.0],
+        ccw: true,
+    };
+    g.path_push(&Segment::arc(1, c, Plane::XY, &[], V, 10.0).last().into())
+        .unwrap();
+    let run = run(&card, &g, 2, 1_000_000);
+    assert_limits(&run, &lim, "the circle");
+    let first = run.pos.iter().position(|q| q[1] != 0.0).unwrap();
+    let last = run.pos.iter().rposition(|q| q != &vec![0.0, 0.0]).unwrap();
+    let t = (last - first + 2) as f64 * 1e-4;
+    let bound = std::f64::consts::TAU * r / V + V / A;
+    assert!(t < 1.04 * bound, "{t} s against {bound} s");
+}

@@ -2675,7 +2675,8 @@ typedef struct mc_path_settings {
    */
   uint32_t naxes;
   /**
-   * Segments the card looks ahead over, 1..`MC_PATH_SEGMENTS`.
+   * Checked (1..`MC_PATH_SEGMENTS`) and kept by the card; it looks ahead by distance, over
+   * as many queued segments as braking from its speed takes, not this many.
    */
   uint32_t lookahead;
   /**

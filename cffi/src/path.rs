@@ -100,7 +100,8 @@ pub const MC_PATH_STATUS_HALTING: u32 = 4;
 pub struct mc_path_settings {
     /// Axes in the group: how many values of `vmax`, `amax`, `jmax` are used.
     pub naxes: u32,
-    /// Segments the card looks ahead over, 1..`MC_PATH_SEGMENTS`.
+    /// Checked (1..`MC_PATH_SEGMENTS`) and kept by the card; it looks ahead by distance, over
+    /// as many queued segments as braking from its speed takes, not this many.
     pub lookahead: u32,
     /// `MC_EVENT_PATH_LOW_WATER` when the segments queued fall to this (0: never).
     pub low_water: u32,

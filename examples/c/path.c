@@ -81,7 +81,8 @@ static mc_path_segment line(uint32_t id, double x, double y, double feed, double
 /* The same settings, field by field (the struct has padding: no memcmp). */
 static int same_settings(const mc_path_settings *a, const mc_path_settings *b) {
     if (a->naxes != b->naxes || a->lookahead != b->lookahead || a->low_water != b->low_water ||
-        a->accel != b->accel || a->jerk != b->jerk || a->plan_period != b->plan_period)
+        a->accel != b->accel || a->jerk != b->jerk || a->plan_period != b->plan_period ||
+        a->chord_fit != b->chord_fit)
         return 0;
     for (int i = 0; i < 8; i++) {
         if (a->vmax[i] != b->vmax[i] || a->amax[i] != b->amax[i] || a->jmax[i] != b->jmax[i])
@@ -99,7 +100,8 @@ static void settings(mc_card c) {
     CHECK(mc_path_settings_uniform(2, 50000.0, 5e5, 5e7, &ps));
     ASSERT(ps.naxes == 2 && ps.lookahead == 256 && ps.low_water == 0 && ps.accel == 0.0 &&
                ps.jerk == 0.0 && ps.vmax[1] == 50000.0 && ps.amax[1] == 5e5 &&
-               ps.jmax[1] == 5e7 && ps.vmax[2] == 0.0 && ps.plan_period == 0.0,
+               ps.jmax[1] == 5e7 && ps.vmax[2] == 0.0 && ps.plan_period == 0.0 &&
+               ps.chord_fit == 1,
            "uniform: %u axes, look-ahead %u", ps.naxes, ps.lookahead);
 
     /* In user units of 2 and 4 counts: the same limits in counts. */
@@ -434,6 +436,41 @@ static void curve(mc_card c) {
     ASSERT(group(c).path_queued == 0, "refused curves queued %u", group(c).path_queued);
 }
 
+/* Chords of a circle streamed as CAM posts them: the library sends them as the curve they
+   sample (mc_path_settings.chord_fit, on from mc_path_settings_uniform), a few segments for 360
+   lines, ending exactly on the last one's end, each line counted as accepted; with chord_fit 0
+   every line is a segment of its own. */
+static void chords(mc_card c) {
+    const double pi = 3.14159265358979323846, r = 20000.0;
+    mc_path_settings ps;
+    for (int fit = 1; fit >= 0; fit--) {
+        CHECK(mc_path_settings_uniform(2, 50000.0, 5e5, 5e7, &ps));
+        ps.chord_fit = (uint32_t)fit;
+        CHECK(mc_group_configure_path(c, G, &ps));
+        const double x0 = axis(c, 0).command_position, y0 = axis(c, 1).command_position;
+        mc_path_segment items[360];
+        for (int i = 0; i < 360; i++) {
+            const double a = (i + 1) * pi / 180.0;
+            /* (rounded to whole counts, as a post rounds to its decimals) */
+            items[i] = line(100u + (uint32_t)i, round(x0 - r + r * cos(a)),
+                            round(y0 + r * sin(a)), 40000.0, 5.0);
+        }
+        items[359].last = 1;
+        size_t accepted = 0;
+        mc_group_motion last = {0, 0};
+        CHECK(mc_group_path_stream(c, G, items, 360, NULL, NULL, &accepted, &last));
+        const uint32_t queued = group(c).path_queued;
+        ASSERT(accepted == 360, "accepted %u of 360 lines", (unsigned)accepted);
+        if (fit)
+            ASSERT(queued <= 8, "fitted: %u segments for 360 chords", queued);
+        else
+            ASSERT(queued == 360, "one by one: %u segments for 360 chords", queued);
+        CHECK(mc_group_motion_wait(c, last, 60000));
+        expect_at(c, round(x0), round(y0), "the chords' end");
+        printf("path: 360 chords of a circle queued as %u segments (chord_fit %d)\n", queued, fit);
+    }
+}
+
 int main(void) {
     mc_card c = 0;
     CHECK(mc_open_sim_stepped(2, RATE, &c));
@@ -457,6 +494,7 @@ int main(void) {
     square(c);
     ASSERT(path_free(c) == 4096, "free %u after the path", path_free(c));
     curve(c);
+    chords(c);
 
     CHECK(mc_close(c));
     printf("PASS path (%u checks)\n", checks);

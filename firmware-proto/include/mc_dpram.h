@@ -280,7 +280,7 @@
 
 /* Continuous path opcodes (56..63, layout 1.6). Each group has a path buffer on the card of
  * MC_PATH_LEN segments: lines, arcs and helices, and dwells, each with a user id (args[0], an
- * integer 0..2^32-1). The card looks ahead over group_path[group].lookahead segments, blends
+ * integer 0..2^32-1). The card looks ahead by distance (as far as braking takes), blends
  * the corners within each segment's tolerance (a curvature-continuous blend: acceleration is
  * continuous through the corner) and runs a jerk-limited tangential feed within every axis's
  * velocity, acceleration and jerk limit (group_path[group].vmax, amax, jmax). It can always
@@ -1317,7 +1317,8 @@ struct mc_axis_homing {
 /** A group's continuous path (layout 1.6). Host writes; the card validates and copies it on
  * MC_OP_APPLY_GROUP_PATH. Per group axis (group axis order), counts and seconds. */
 struct mc_group_path {
-    /** Segments the planner looks ahead over, 1..MC_PATH_LEN (reset 256). */
+    /** Checked (1..MC_PATH_LEN, reset 256) and kept: the planner looks ahead by distance, over
+     * as many queued segments as braking takes (issue 32), not this many. */
     uint32_t lookahead;
     /** MC_EV_PATH_LOW_WATER when the segments queued fall to this (0: never). */
     uint32_t low_water;

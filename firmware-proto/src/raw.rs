@@ -1210,7 +1210,7 @@ const _: () = {
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_group_path {
-    #[doc = " Segments the planner looks ahead over, 1..MC_PATH_LEN (reset 256)."]
+    #[doc = " Checked (1..MC_PATH_LEN, reset 256) and kept: the planner looks ahead by distance, over\n as many queued segments as braking takes (issue 32), not this many."]
     pub lookahead: u32,
     #[doc = " MC_EV_PATH_LOW_WATER when the segments queued fall to this (0: never)."]
     pub low_water: u32,

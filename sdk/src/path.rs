@@ -10,7 +10,9 @@
 //! order), from the caller's thread; [`Group::spawn_path_stream`] does the same from a thread of
 //! its own. Every segment is checked here first with the card's rules, and the first refusal
 //! stops the stream with the segment's index and the card's reason; what was accepted before it
-//! stays queued and runs.
+//! stays queued and runs. A stream sends runs of lines that sample a smooth curve as that
+//! curve (`crate::fit`, [`PathSettings::chord_fit`]); its indices and counts are still those
+//! of the items given.
 
 use crate::card::{finite, positive, Card};
 use crate::error::{Error, Result, Target};
@@ -236,7 +238,8 @@ impl From<Segment> for PathItem {
 /// axis's units; `accel` and `jerk` (tangential, 0: from the axes) in the first axis's.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathSettings {
-    /// Segments the card looks ahead over (1..=PATH_LEN).
+    /// Checked (1..=PATH_LEN) and kept by the card; it looks ahead by distance, over as many
+    /// queued segments as braking from its speed takes, not this many.
     pub lookahead: usize,
     /// The low-water event fires when the queued segments fall to this (0: never).
     pub low_water: usize,
@@ -655,6 +658,17 @@ impl Group {
     /// flight, never more segments than the buffer has room for (it waits for room: the path
     /// runs meanwhile), `progress` called after each accepted item. Returns the motion of the
     /// last segment (wait on it for the end of the path), or where the stream stopped.
+    ///
+    /// With [`PathSettings::chord_fit`] (the default), runs of absolute lines under the same
+    /// `MaxDeviation` tolerance, feed and blending buffer mode that sample a smooth curve are
+    /// sent as that curve, a cubic B-spline within 0.8 of the tolerance of their polyline both
+    /// ways (one line when they are collinear); a corner (a turn beyond 30° at the vertex and
+    /// over 8 tolerances around it) ends a run and stays a corner. Such a segment carries the
+    /// id of the last line it stands for. Where the path starts is the group's position while
+    /// its path is idle, else the end of the last segment this host queued; where that is not
+    /// known here (after an arc, or a path another host is filling), a run starts at the end of
+    /// the first line, which is sent as given. The fitting itself is `crate::fit` (its module
+    /// doc).
     pub fn stream_path<I>(
         &self,
         items: I,

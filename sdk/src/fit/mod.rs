@@ -203,9 +203,16 @@ impl Fitter {
             (Geometry::Line { target }, false) => self.counts(target).map(|p| (p, target.clone())),
             _ => None,
         };
-        let tol = match seg.transition {
-            Transition::MaxDeviation(t) if t > 0.0 && t.is_finite() => t * self.tscale,
+        // (the tolerance taken out first, then tested: another transition's payload is not a
+        // number to compare)
+        let t = match seg.transition {
+            Transition::MaxDeviation(t) => t,
             _ => 0.0,
+        };
+        let tol = if t > 0.0 && t.is_finite() {
+            t * self.tscale
+        } else {
+            0.0
         };
         let blending = matches!(
             seg.buffer,

@@ -1,7 +1,7 @@
 //! The group's continuous path (layout 1.6): a buffer of `PATH_LEN` segments on the card
 //! (lines, arcs and helices, dwells), each with the user's id, run by `motion::path::Path`
-//! (corner blends within each segment's tolerance, look-ahead over `group_path.lookahead`
-//! segments, a jerk-limited tangential feed within every axis's limits).
+//! (corner blends within each segment's tolerance, look-ahead by distance over whatever is
+//! queued, a jerk-limited tangential feed within every axis's limits).
 //!
 //! The command manager validates each segment and pushes it (`path_segment`); `Group::tick`
 //! runs the path instead of the move queue while it holds segments (`path_tick`) and drives

@@ -11,15 +11,27 @@
 //! and curvature vector of both sides at the trim points (G2: the acceleration is continuous
 //! through the corner); its arc length is a 4-interval Gauss–Legendre table and Newton on u.
 //!
-//! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`] with path-wide tangential
-//! limits A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the
-//! group's `accel`/`jerk` if lower). Every piece has a speed cap V such that at each sampled
-//! point, on every axis k, |V T_k| ≤ vmax_k, A_t|T_k| + V²|K_k| ≤ amax_k and
+//! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`]. Every piece has tangential
+//! limits (A_t, J_t) of its own ([`Lim`]) and a speed cap V such that at each sampled point, on
+//! every axis k, |V T_k| ≤ vmax_k, A_t|T_k| + V²|K_k| ≤ amax_k and
 //! J_t|T_k| + 3 V A_t |K_k| + V³|K'_k| ≤ jmax_k (each limit times [`CAP_MARGIN`]); since
-//! |s̈| ≤ A_t and |s⃛| ≤ J_t, the axis velocity s̊T_k, acceleration s̈T_k + v²K_k and jerk
-//! s⃛T_k + 3vs̈K_k + v³K'_k stay within the axis limits wherever v ≤ V. Half of each budget
-//! goes to the tangential motion: the other half is what curvature may use at full tangential
-//! acceleration, which keeps blends fast without starving the straight runs.
+//! |s̈| ≤ A_t and |s⃛| ≤ J_t on the piece, the axis velocity s̊T_k, acceleration s̈T_k + v²K_k and
+//! jerk s⃛T_k + 3vs̈K_k + v³K'_k stay within the axis limits wherever v ≤ V. A line's are every
+//! axis's own limits projected onto its direction (K = 0: all of each budget is the
+//! tangential motion's) and its velocity limits exactly. A blend's are the shares
+//! A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the group's
+//! `accel`/`jerk` if lower): the other half is what curvature may use at full tangential
+//! acceleration. An arc's, a helix's or a curve's piece fed below the cap those shares give
+//! takes for A_t and J_t all that its curvature leaves at its feed (`curved_lim`).
+//!
+//! The planner's limits change from piece to piece: the look-ahead decides with the lowest
+//! limits of the pieces it looks at (what a push may add past an unmarked queue end counts as
+//! the lowest, the shares), and it looks as far as braking at the shares reaches, so that a
+//! piece of lower limits is seen before braking within them is due; stops are planned with
+//! those too. Each planning step ramps within the limits of the pieces up to where its ramp
+//! toward the target ends and a step beyond (`exec::look`): a ramp never runs into limits it
+//! cannot keep; an acceleration made within higher limits is brought back to 0 at the jerk it
+//! needs, never above the limits of the pieces it crosses meanwhile.
 //!
 //! **Smoothing of micro-segments.** A junction of two lines turning by at most
 //! [`SMOOTH_TURN`] under `MaxDeviation` is first tried as a smoothing blend: from the middle of
@@ -43,10 +55,10 @@
 //!
 //! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
 //! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
-//! reach are scanned; blocks of [`BLOCK`] segments whose minimum cap is not below the speed
-//! are skipped, as `nurbs_interp`'s look-ahead does), and its remaining distance is the
-//! distance to the next exact stop, or to the end of what is queued within the look-ahead
-//! window. So the path can always stop within what is queued. A walk that finds nothing to
+//! reach are scanned, however many segments that is; blocks of [`BLOCK`] segments whose
+//! minimum cap is not below the speed are skipped, as `nurbs_interp`'s look-ahead does), and
+//! its remaining distance is the distance to the next exact stop, or to the end of what is
+//! queued. So the path can always stop within what is queued. A walk that finds nothing to
 //! slow for serves the ticks after it (`exec::Seen`): it keeps the smallest cap it passed for
 //! being above the speed, the smallest envelope key c² + 2·D·d it passed for clearing the
 //! envelope, the least room between a piece it tested and that piece's slowing distance (in
