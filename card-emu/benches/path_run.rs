@@ -13,7 +13,8 @@
 //!   segments (see `benches/path.rs` for the engine's own parts, without the SDK);
 //! - streaming: a `card-emu` process at 10 kHz (real time), 100,000 segments of 10 counts at
 //!   150,000 counts/s along a circle streamed from this process (look-ahead 2048): segments
-//!   per second and starvation events.
+//!   per second and starvation events; once with chord fitting off (each chord a segment of the
+//!   card's: the card's segment rate), once with it on (the SDK sends the circle as a curve).
 //!
 //! `cargo bench -p card-emu --bench path_run [-- corners|dense|streaming] [--runs N]` (`--runs`:
 //! the dense part's runs, default 3; its cost figures are the median)
@@ -27,6 +28,9 @@ use dense::{A, J, V};
 use std::process::{Command as Process, Stdio};
 use std::time::{Duration, Instant};
 
+/// The card's group 0 over axes 0 and 1 with `lim`. Chord fitting is the SDK's, and these
+/// benchmarks measure what the card does with each segment: the callers turn it off except
+/// where said.
 fn group(card: &Card, lim: &PathSettings) -> Group {
     for a in 0..2 {
         card.axis(a).unwrap().enable().unwrap();
@@ -151,7 +155,10 @@ fn run_polyline(
 fn corners() {
     println!("\n| corner benchmark (100 mm/s)  | tolerance | path time s | vs exact stop | max deviation µm | peak a/amax | peak j/jmax |");
     println!("|------------------------------|-----------|-------------|---------------|------------------|-------------|-------------|");
-    let lim = PathSettings::uniform(2, V, A, J);
+    let lim = PathSettings {
+        chord_fit: false,
+        ..PathSettings::uniform(2, V, A, J)
+    };
     let s = 50_000.0;
     let square = vec![[0.0, 0.0], [s, 0.0], [s, s], [0.0, s], [0.0, 0.0]];
     let zigzag: Vec<[f64; 2]> = (0..=10)
@@ -186,7 +193,10 @@ fn stats(mut xs: Vec<f64>) -> (f64, f64, f64) {
 }
 
 fn dense(runs: usize) {
-    let lim = PathSettings::uniform(2, V, A, J);
+    let lim = PathSettings {
+        chord_fit: false,
+        ..PathSettings::uniform(2, V, A, J)
+    };
     let (pts, chord_err) = dense::dense_points(dense::CHORDS);
     let len: f64 = pts
         .windows(2)
@@ -255,7 +265,9 @@ fn open(uri: &str) -> Card {
     }
 }
 
-fn streaming() {
+/// 100,000 chords from a separate process: with `fit` off each chord is a segment of the card's
+/// (its segment rate), with it on the SDK sends the circle as the curve the chords sample.
+fn streaming(fit: bool) {
     let name = format!("bench-path-{}", std::process::id());
     let mut child = Process::new(env!("CARGO_BIN_EXE_card-emu"))
         .args(["--name", &name, "--servo-rate", "10000"])
@@ -267,6 +279,7 @@ fn streaming() {
     // look-ahead must see that far
     let mut lim = PathSettings::uniform(2, 2e5, 2e6, 2e8);
     lim.lookahead = 2048;
+    lim.chord_fit = fit;
     let g = group(&card, &lim);
     let n = 100_000u32;
     // A circle of radius 50,000 counts in 10-count chords at 150,000 counts/s: 15,000
@@ -302,7 +315,8 @@ fn streaming() {
     last.wait(Duration::from_secs(120)).unwrap();
     let total = t.elapsed().as_secs_f64();
     count(&card);
-    println!("\n| streaming across processes (card-emu at 10 kHz) | value |");
+    let fitted = if fit { ", fitted" } else { "" };
+    println!("\n| streaming across processes (card-emu at 10 kHz{fitted}) | value |");
     println!("|--------------------------------------------------|-------|");
     println!("| segments streamed                                | {n} |");
     println!(
@@ -342,6 +356,7 @@ fn main() {
         dense(runs);
     }
     if part("streaming") {
-        streaming();
+        streaming(false);
+        streaming(true);
     }
 }
