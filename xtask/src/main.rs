@@ -1,10 +1,14 @@
 //! `cargo xtask codegen [--check]`: regenerate the checked-in generated files, or (with
 //! `--check`) fail when they are stale. Needs libclang (Debian: `libclang-dev`).
 //!
+//! `cargo xtask bench [--write] [--only NAME]`: rerun the main benchmarks and print today's
+//! figures as one table (see `bench.rs`).
+//!
 //! `cargo xtask install --prefix DIR`: build libmotioncard in release (as part of the
 //! workspace's libraries, so an up-to-date `cargo build --workspace --release` is reused as it
 //! is) and install it for C users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
 
+mod bench;
 mod install;
 
 use std::path::{Path, PathBuf};
@@ -80,7 +84,7 @@ fn c_header(root: &Path) -> Result<String, String> {
     Ok(format!("{}{codes}{}", &header[..at], &header[at..]))
 }
 
-const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask install --prefix DIR";
+const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask bench [--write] [--only NAME]\n       cargo xtask install --prefix DIR";
 
 /// Build libmotioncard (release) and install it under the prefix.
 fn install_command(args: &[String]) -> ExitCode {
@@ -132,6 +136,7 @@ fn main() -> ExitCode {
     match args.first().map(String::as_str) {
         Some("codegen") => {}
         Some("install") => return install_command(&args[1..]),
+        Some("bench") => return bench::command(&workspace_root(), &args[1..]),
         _ => {
             eprintln!("{USAGE}");
             return ExitCode::from(2);
