@@ -319,7 +319,10 @@ fn corpus(dir: &Path) {
         };
         stripped += usize::from(cut > 0);
         std::fs::write(&tmp, lines.join("\n") + "\n").unwrap();
-        let r = match run_file(&tmp, true) {
+        let t = std::time::Instant::now();
+        let r = run_file(&tmp, true);
+        eprintln!("{}: {:.1} s", p.display(), t.elapsed().as_secs_f64());
+        let r = match r {
             Ok(r) => r,
             Err(e) => {
                 over.push((p.clone(), format!("failed: {e}")));

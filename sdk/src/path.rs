@@ -625,14 +625,17 @@ impl Group {
     /// Sends a NURBS segment: its begin `c`, its data, its end. When the card has no room for
     /// its pieces yet: in a stream (`cancel` given), waits for the path to run on and sends
     /// the end again (the card keeps the curve staged), until `cancel` is set or the room has
-    /// not changed for 5 s (`QueueFull`); else `QueueFull` at once.
+    /// not changed for 5 s of the card's ticks (`QueueFull`); else `QueueFull` at once.
     fn path_curve(&self, c: Command, curve: &Nurbs, cancel: Option<&AtomicBool>) -> Result<u32> {
         let card = self.card_pub();
         let target = Target::Group(self.index());
         card.execute_seq(c, "path nurbs", target)?;
         let (n, axes) = self.axes()?;
         self.send_data(&self.nurbs_stream(curve, &axes[..n]))?;
-        let mut seen = (usize::MAX, std::time::Instant::now());
+        // The room's last change, counted in the card's ticks (emulated time on a stepped
+        // card: the same answer on a loaded machine).
+        let patience = 5 * u64::from(card.info().servo_rate_hz);
+        let mut seen = (usize::MAX, card.tick()?);
         loop {
             let end = self.op(Opcode::NurbsEnd);
             match card.execute_seq(end, "path nurbs end", target) {
@@ -640,11 +643,11 @@ impl Group {
                     let Some(cancel) = cancel else {
                         return Err(e);
                     };
-                    let free = self.path_free()?;
+                    let (free, now) = (self.path_free()?, card.tick()?);
                     if free != seen.0 {
-                        seen = (free, std::time::Instant::now());
+                        seen = (free, now);
                     }
-                    if seen.1.elapsed() > Duration::from_secs(5) || cancel.load(Ordering::Relaxed) {
+                    if now.saturating_sub(seen.1) > patience || cancel.load(Ordering::Relaxed) {
                         return Err(e);
                     }
                     card.wait_next_tick(Duration::from_secs(1))?;
