@@ -153,7 +153,7 @@ pub(crate) struct Inner {
     pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
     /// Per group, what this host keeps of its path: whether streams fit chords into curves
     /// (`PathSettings::chord_fit`) and where the last segment it queued ends.
-    pub(crate) path_host: Mutex<[crate::path::PathHost; firmware_proto::MAX_GROUPS]>,
+    pub(crate) path_host: Mutex<[PathHost; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
     tx: Mutex<Tx>,
@@ -172,6 +172,23 @@ pub(crate) struct Inner {
     trace: Option<crate::trace::Tracer>,
 }
 
+/// What a host keeps of a group's path (see `Card`'s `path_host`).
+#[derive(Debug, Clone)]
+pub(crate) struct PathHost {
+    pub chord_fit: bool,
+    /// Where the last segment this host queued ends (user units), when known.
+    pub end: Option<Vec<f64>>,
+}
+
+impl Default for PathHost {
+    fn default() -> Self {
+        Self {
+            chord_fit: true,
+            end: None,
+        }
+    }
+}
+
 /// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
 /// threads at once. Dropping the last clone closes it ([`Card::close`]).
 #[derive(Clone)]
@@ -179,7 +196,7 @@ pub struct Card {
     inner: Arc<Inner>,
 }
 
-pub(crate) use crate::session::lock;
+pub(crate) use crate::lock::lock;
 
 impl Card {
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
@@ -1470,12 +1487,6 @@ impl Axis {
     /// scale): FFPIV gains, DAC limit, in-position windows, jog limits, servo law.
     pub fn settings(&self) -> Result<AxisSettings> {
         Ok(self.card.read_axis_config(self.index)?.0)
-    }
-
-    /// Layout 1.8: the PD+ law the axis runs, read back from the card (`None`: it runs FFPIV).
-    pub fn pdplus_settings(&self) -> Result<Option<crate::PdPlusSettings>> {
-        let (cfg, pd) = self.card.read_axis_config(self.index)?;
-        Ok((cfg.servo_law == raw::MC_SERVO_PDPLUS).then_some(pd))
     }
 
     pub(crate) fn scale(&self) -> f64 {
