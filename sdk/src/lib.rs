@@ -22,6 +22,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
+mod axis;
 mod cam;
 mod card;
 mod config;
@@ -32,6 +33,7 @@ mod group;
 mod heartbeat;
 mod homing;
 mod io;
+mod limits;
 mod lock;
 mod modes;
 mod nurbs;
