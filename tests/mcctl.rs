@@ -317,7 +317,7 @@ fn card_commands_move_jog_override_and_status() {
 /// as the library's.
 #[test]
 fn plan_from_any_state_above_vmax_moving_away() {
-    use motioncard::plan::{OtgLimits, Trajectory};
+    use motioncard_sdk::plan::{OtgLimits, Trajectory};
     let (code, out, err) = mcctl(&[
         "plan", "100", "--vmax", "10", "--amax", "100", "--jmax", "1e3", "--v0", "-15", "--a0",
         "0", "--json",
@@ -1000,7 +1000,7 @@ fn replay_a_trace_from_the_command_line() {
     let trace = std::env::temp_dir().join(format!("mcctl-trace-{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_mcctl"))
         .args(["move", "0", "5000", "--enable"])
-        .env(motioncard::TRACE_ENV, &trace)
+        .env(motioncard_sdk::TRACE_ENV, &trace)
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");

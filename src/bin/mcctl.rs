@@ -30,9 +30,9 @@
 //!                                                    # http://…/#token=… address it prints)
 //! ```
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use motioncard::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
-use motioncard::plan::{Limits, OtgLimits, PlanError, Profile, Trajectory};
-use motioncard::{
+use mcctl::cli::{self, ComparePositions, Coupling, MoveCmd, Travel};
+use motioncard_sdk::plan::{Limits, OtgLimits, PlanError, Profile, Trajectory};
+use motioncard_sdk::{
     CamSettings, Card, Direction, Master, MoveKind, MoveLimits, ProbeTrigger, SyncLimits,
     VelocityLimits,
 };
@@ -402,7 +402,7 @@ enum Cmd {
         /// (of an axis), path_speed, path_acc, path_pos (of a group), inputs, outputs,
         /// inputs_raw. Default: cmd_pos, act_pos, ferr and dac of --axis.
         #[arg(long = "channel", value_parser = cli::parse_source)]
-        channels: Vec<motioncard::Source>,
+        channels: Vec<motioncard_sdk::Source>,
         /// Samples from the trigger on.
         #[arg(long, default_value_t = 2000)]
         samples: u32,
@@ -415,7 +415,7 @@ enum Cmd {
         /// immediate, command, fault, level:CHANNEL:LEVEL[:rising|falling|either] (CHANNEL:
         /// its place in the --channel list, from 0) or input:N[:EDGE].
         #[arg(long, default_value = "immediate", allow_hyphen_values = true, value_parser = cli::parse_trigger)]
-        trigger: motioncard::ScopeTrigger,
+        trigger: motioncard_sdk::ScopeTrigger,
         /// The axis of the default channels and of --move.
         #[arg(long, default_value_t = 0)]
         axis: usize,
@@ -606,7 +606,7 @@ enum Cmd {
         /// keep one address across restarts; by default a new one of 128 random bits each
         /// run. Other users of this machine can read a command line: prefer the default.
         #[arg(long, value_name = "TOKEN")]
-        token: Option<motioncard::serve::Token>,
+        token: Option<mcctl::serve::Token>,
         /// The axis the page tunes.
         #[arg(long, default_value_t = 0)]
         axis: usize,
@@ -626,8 +626,8 @@ enum Cmd {
 /// halts what mcctl started.
 fn with_card<T>(
     uri: &str,
-    f: impl FnOnce(&Card) -> motioncard::Result<T>,
-) -> motioncard::Result<T> {
+    f: impl FnOnce(&Card) -> motioncard_sdk::Result<T>,
+) -> motioncard_sdk::Result<T> {
     let card = Card::open(uri)?;
     cli::interrupt::watch(Some(&card));
     let out = match cli::interrupt::check() {
@@ -649,7 +649,7 @@ fn interrupted() -> Option<ExitCode> {
 }
 
 /// A subcommand that talks to the card: exit status 1 with the SDK's message on an error.
-fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard::Result<String>) -> ExitCode {
+fn on_card(uri: &str, f: impl FnOnce(&Card) -> motioncard_sdk::Result<String>) -> ExitCode {
     let r = with_card(uri, f);
     if let Some(code) = interrupted() {
         return code;
@@ -695,7 +695,7 @@ fn config(uri: &str, action: ConfigCmd) -> ExitCode {
         Err(e)
             if matches!(
                 e.kind(),
-                motioncard::ErrorKind::ConfigFile | motioncard::ErrorKind::Io
+                motioncard_sdk::ErrorKind::ConfigFile | motioncard_sdk::ErrorKind::Io
             ) =>
         {
             bad(e.to_string())
@@ -754,7 +754,7 @@ fn coupling(
 }
 
 /// Power on `axes` that are disabled, when asked.
-fn enable_all(card: &Card, enable: bool, axes: &[usize]) -> motioncard::Result<()> {
+fn enable_all(card: &Card, enable: bool, axes: &[usize]) -> motioncard_sdk::Result<()> {
     if enable {
         for &a in axes {
             cli::enable_if_needed(card, a)?;
@@ -819,7 +819,7 @@ fn main() -> ExitCode {
             json,
         } => {
             if channels.is_empty() {
-                use motioncard::{Signal, Source};
+                use motioncard_sdk::{Signal, Source};
                 channels = [Signal::CmdPos, Signal::ActPos, Signal::Ferr, Signal::Dac]
                     .map(|s| Source::axis(s, axis))
                     .to_vec();
@@ -851,7 +851,7 @@ fn main() -> ExitCode {
                     "replay runs against an emulated card (--card sim), not {uri}"
                 ));
             }
-            match motioncard::replay(&file) {
+            match motioncard_sdk::replay(&file) {
                 Ok(r) => {
                     println!("{}", cli::replay_report(&r, json));
                     if r.difference.is_some() {
@@ -860,7 +860,7 @@ fn main() -> ExitCode {
                         ExitCode::SUCCESS
                     }
                 }
-                Err(e @ motioncard::Error::BadConfig(_)) => bad(e.to_string()),
+                Err(e @ motioncard_sdk::Error::BadConfig(_)) => bad(e.to_string()),
                 Err(e) => {
                     eprintln!("mcctl: {e}");
                     ExitCode::from(1)
@@ -882,7 +882,7 @@ fn main() -> ExitCode {
                 let st = c.statuses(&all)?;
                 all.into_iter()
                     .zip(st)
-                    .filter(|(_, s)| s.state == motioncard::AxisState::ErrorStop)
+                    .filter(|(_, s)| s.state == motioncard_sdk::AxisState::ErrorStop)
                     .map(|(a, _)| a)
                     .collect()
             } else {
@@ -1051,11 +1051,11 @@ fn main() -> ExitCode {
                 return bad("--vmax and --amax must be greater than zero".into());
             }
             let mode = if pt || !file.velocities {
-                motioncard::PvtMode::Pt
+                motioncard_sdk::PvtMode::Pt
             } else {
-                motioncard::PvtMode::Pvt
+                motioncard_sdk::PvtMode::Pvt
             };
-            let limits = motioncard::PvtLimits {
+            let limits = motioncard_sdk::PvtLimits {
                 velocity: vmax,
                 acceleration: amax,
             };
@@ -1143,13 +1143,13 @@ fn main() -> ExitCode {
             axis,
             token,
         } => {
-            let opts = motioncard::serve::Options {
+            let opts = mcctl::serve::Options {
                 listen,
                 token,
                 axis,
                 uri: uri.to_string(),
             };
-            on_card(uri, |c| motioncard::serve::serve(c, &opts))
+            on_card(uri, |c| mcctl::serve::serve(c, &opts))
         }
         Cmd::Run {
             file,
@@ -1192,7 +1192,7 @@ fn main() -> ExitCode {
             if let Err(e) = std::fs::File::open(&file) {
                 return bad(format!("{}: {e}", file.display()));
             }
-            let opts = motioncard::run::RunOptions {
+            let opts = mcctl::run::RunOptions {
                 tolerance,
                 feed_limit,
                 vmax,
@@ -1202,11 +1202,11 @@ fn main() -> ExitCode {
                 progress: !json,
                 chord_fit: !no_chord_fit,
             };
-            let body = |c: &Card| motioncard::run::run(c, &file, &opts, json);
+            let body = |c: &Card| mcctl::run::run(c, &file, &opts, json);
             if uri == "sim" {
                 // A stepped card: mcctl steps it and measures every tick.
-                let card = match Card::open_sim(motioncard::SimOptions {
-                    clock: motioncard::Clock::Stepped,
+                let card = match Card::open_sim(motioncard_sdk::SimOptions {
+                    clock: motioncard_sdk::Clock::Stepped,
                     emu: Default::default(),
                 }) {
                     Ok(c) => c,
