@@ -4,7 +4,8 @@
 
 use crate::error::{Error, Result};
 
-/// Limits of a point-to-point move, in user units (see [`Axis::set_scale`](crate::Axis::set_scale)).
+/// Limits of a point-to-point move, in user units (see
+/// [`Axis::set_scale`](crate::Axis::set_scale)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MoveLimits {
     /// Maximum velocity.

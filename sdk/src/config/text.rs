@@ -12,7 +12,8 @@ impl Config {
     }
 
     /// Parse a file's text (`origin` names it in errors). Only the syntax and the types are
-    /// checked here; [`Card::load_config`](crate::Card::load_config) checks the values against a card.
+    /// checked here; [`Card::load_config`](crate::Card::load_config) checks the values
+    /// against a card.
     pub fn parse(text: &str, origin: &str) -> Result<Config> {
         if text.len() > MAX_CONFIG_BYTES {
             return Err(too_big(origin, &format!("{} bytes", text.len())));
@@ -32,9 +33,9 @@ impl Config {
 }
 
 /// The largest configuration file read or parsed, in bytes. The largest file
-/// [`Card::save_config`](crate::Card::save_config) can write (8 axes with every section, PD+ included, 8 groups with
-/// their path settings, every number at its longest) is under 32 KiB; a quarter of a MiB
-/// leaves room for comments. Parsing takes about 100 times a file's size in memory: a larger
+/// [`Card::save_config`](crate::Card::save_config) can write (8 axes with every section, PD+
+/// included, 8 groups with their path settings, every number at its longest) is under 32 KiB;
+/// a quarter of a MiB leaves room for comments. Parsing takes about 100 times a file's size in memory: a larger
 /// file is refused before it is read.
 pub const MAX_CONFIG_BYTES: usize = 256 * 1024;
 
