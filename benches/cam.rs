@@ -24,9 +24,9 @@
 //! deceleration, on 200,000 steps). It leaves the jerk limits out, so it is below any
 //! jerk-limited motion's time: a lower bound.
 
-use motioncard::plan::{Limits, Profile};
-use motioncard::run::{run, RunOptions};
-use motioncard::{
+use mcctl::run::{run, RunOptions};
+use motioncard_sdk::plan::{Limits, Profile};
+use motioncard_sdk::{
     Card, Clock, GroupSettings, GroupState, Nurbs, PathItem, PathSettings, Segment, SimOptions,
 };
 use serde_json::Value;
@@ -207,7 +207,7 @@ fn raster_exact_time() -> f64 {
     })
     .unwrap();
     let mut items: Vec<PathItem> = vec![Segment::line(1, &[0.0, 0.0, surface(0.0, 0.0)], V, TOL)
-        .buffer(motioncard::PathBuffer::Buffered)
+        .buffer(motioncard_sdk::PathBuffer::Buffered)
         .into()];
     // uniform cubic B-spline quasi-interpolant: control points f − h²f''/6 at the knots
     let spans = 240usize;
@@ -238,7 +238,7 @@ fn raster_exact_time() -> f64 {
             };
             ctrl.extend([x, y, surface(x, y) - corr * dd]);
         }
-        let knots = motioncard::clamped_uniform_knots(n_ctrl, 3).unwrap();
+        let knots = motioncard_sdk::clamped_uniform_knots(n_ctrl, 3).unwrap();
         let curve = Nurbs::new(3, 3, &ctrl, &vec![1.0; n_ctrl], &knots).unwrap();
         items.push(Segment::nurbs(2 + 2 * p as u32, curve, V, TOL, 1e-4).into());
         if p + 1 < RASTER_PASSES {
@@ -304,7 +304,7 @@ fn corpus(dir: &Path) {
         let most = lines.len() / 10 + 1;
         let mut cut = 0;
         let prog = loop {
-            match motioncard::gcode::parse(&lines.join("\n")) {
+            match mcctl::gcode::parse(&lines.join("\n")) {
                 Ok(prog) => break Some(prog),
                 Err(e) if cut < most && e.line >= 1 && e.line <= lines.len() => {
                     lines[e.line - 1] = String::new();

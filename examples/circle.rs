@@ -3,8 +3,8 @@
 //!
 //! `cargo run --release --example circle`
 use clap::Parser;
-use motioncard::plot::{lines, Series};
-use motioncard::{
+use mcctl::plot::{lines, Series};
+use motioncard_sdk::{
     AccDec, ArcSpec, Card, Clock, EmuOptions, GroupSettings, GroupState, MoveOptions, PathLimits,
     Plane, SimOptions,
 };

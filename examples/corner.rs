@@ -8,9 +8,9 @@
 //! `cargo run --release --example corner`
 use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
-use motioncard::papers::{shin_corner, ShinMachine, SHIN_FIG12, SHIN_FIT};
-use motioncard::plot::{lines, Series};
-use motioncard::{FilterKind, MotorParams};
+use mcctl::papers::{shin_corner, ShinMachine, SHIN_FIG12, SHIN_FIT};
+use mcctl::plot::{lines, Series};
+use motioncard_sdk::{FilterKind, MotorParams};
 use std::path::PathBuf;
 
 /// Run Shin's corner test.

@@ -11,8 +11,8 @@ use card_emu::motion::saturation::{AxisSample, SaturationAwareFeed};
 use card_emu::presets::{die_bonder_path, die_bonder_volts};
 use card_emu::servo::pdplus::{DriveModelExt, PdPlus};
 use clap::Parser;
-use motioncard::papers::{yeh_die_bonder, DIE_BONDER_FEED};
-use motioncard::plot::{lines, Series};
+use mcctl::papers::{yeh_die_bonder, DIE_BONDER_FEED};
+use mcctl::plot::{lines, Series};
 use std::path::PathBuf;
 
 /// One tick of the host model: time s, feed, and the feasible feed interval of eq 3.6–3.10
@@ -177,7 +177,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             false,
         )?;
     }
-    let feed = |r: &motioncard::papers::DieBonder| {
+    let feed = |r: &mcctl::papers::DieBonder| {
         r.feed
             .iter()
             .map(|p| (p.0 * 1e3, p.1 / 1e3))
@@ -201,7 +201,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         false,
     )?;
     for (axis, name) in [(0usize, "x"), (1, "y")] {
-        let u = |r: &motioncard::papers::DieBonder| {
+        let u = |r: &mcctl::papers::DieBonder| {
             r.u.iter()
                 .map(|p| (p.0 * 1e3, if axis == 0 { p.1 } else { p.2 }))
                 .collect::<Vec<_>>()
@@ -222,7 +222,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             false,
         )?;
     }
-    let path = |r: &motioncard::papers::DieBonder| r.path.iter().map(|p| p.1).collect::<Vec<_>>();
+    let path = |r: &mcctl::papers::DieBonder| r.path.iter().map(|p| p.1).collect::<Vec<_>>();
     let cmd: Vec<(f64, f64)> = with.path.iter().map(|p| p.0).collect();
     lines(
         &args.out.join("nurbs_path.svg"),

@@ -3,12 +3,12 @@
 //! `cargo run --release --example papers`
 use card_emu::servo::ffpiv::FfpivGains;
 use clap::Parser;
-use motioncard::papers::{
+use mcctl::papers::{
     corner_boxes, mm_per_s, um, yeh_die_bonder, yeh_feed_fluctuation, yeh_test_circle,
     yeh_test_sine, yeh_umax_sweep, DieBonder, DIE_BONDER_BUDGET, DIE_BONDER_FEED,
     DIE_BONDER_UM_PER_COUNT, YEH_FLUCTUATION_FEEDS, YEH_FOLLOWING_BOUND_UM, YEH_UMAX_FRACTIONS,
 };
-use motioncard::papers::{
+use mcctl::papers::{
     cruise_error, estimator_lag_error, ff_speed_sweep_on, kim_fig7, kim_sync_ptp, radial_error,
     shin_comparison, shin_fit, shin_resonance_sweep, shin_runs, sweep_frequencies, thinh_fig10,
     thinh_fig11, thinh_fig5, thinh_fig9, thinh_plant, FeedForward, Fig5Axis, ShinMachine,
@@ -16,9 +16,9 @@ use motioncard::papers::{
     RADIAL_CASES, SHIN_FIG12, SHIN_FIT, SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_TARGETS,
     THINH_COUNTS_PER_REV, THINH_GAINS,
 };
-use motioncard::plot::{lines, lines_log_x, Series};
-use motioncard::Transition;
-use motioncard::{FilterKind, Interpolator, MotorParams};
+use mcctl::plot::{lines, lines_log_x, Series};
+use motioncard_sdk::Transition;
+use motioncard_sdk::{FilterKind, Interpolator, MotorParams};
 use std::path::PathBuf;
 
 /// Reproduce Kim 1991 Fig 7, eq 10–14 and §4, Shin's corner test, Thinh 2014 Figs 5, 9
@@ -70,7 +70,7 @@ fn kim(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let mut vel = Vec::new();
     for kind in [FilterKind::Linear, FilterKind::Exponential] {
         let r = kim_fig7(kind)?;
-        let feed = motioncard::papers::KIM_FIG7_FEED;
+        let feed = mcctl::papers::KIM_FIG7_FEED;
         let ramp = r
             .vel
             .iter()
@@ -210,7 +210,7 @@ fn shin(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .corner(FilterKind::Linear, 0.015)?;
             Ok(format!("{:.1} µm at {b:.0} Hz", c.contour))
         })
-        .collect::<Result<_, motioncard::Error>>()?;
+        .collect::<Result<_, motioncard_sdk::Error>>()?;
     println!(
         "servo bandwidth (held at {:.0} Hz), linear 15 ms: {}",
         m.bandwidth_hz,
@@ -413,7 +413,7 @@ fn thinh(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     println!();
     println!(
         "Thinh Fig 5: the same S-curve ({} counts at ≤ {:.0e} counts/s, {:.0e} counts/s², {:.0e} counts/s³), 10 kHz; following error = command − encoder, counts",
-        motioncard::papers::FIG5_DISTANCE,
+        mcctl::papers::FIG5_DISTANCE,
         FIG5_LIMITS.velocity,
         FIG5_LIMITS.acceleration,
         FIG5_LIMITS.jerk[0]

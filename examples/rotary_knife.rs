@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release --example rotary_knife [-- --sheet 20000 --sync 0.8]`
 use clap::Parser;
-use motioncard::{CamSettings, Card, Clock, EmuOptions, Master, SimOptions, SyncLimits};
+use motioncard_sdk::{CamSettings, Card, Clock, EmuOptions, Master, SimOptions, SyncLimits};
 use std::f64::consts::TAU;
 use std::time::Duration;
 
@@ -42,7 +42,7 @@ fn knife_table(a: &Args) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn main() -> motioncard::Result<()> {
+fn main() -> motioncard_sdk::Result<()> {
     let a = Args::parse();
     let rate = 10_000;
     let card = Card::open_sim(SimOptions {

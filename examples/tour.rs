@@ -6,7 +6,7 @@
 //! cargo run --release --example tour -- --card emu:NAME    # a card-emu process
 //! ```
 use clap::Parser;
-use motioncard::{Card, Error, MoveLimits};
+use motioncard_sdk::{Card, Error, MoveLimits};
 use std::time::Duration;
 
 /// Run point-to-point S-curve moves on every axis of a card and report them.

@@ -1,6 +1,9 @@
-//! `motioncard`: the umbrella crate of the workspace. It re-exports the SDK so that the
-//! workspace-level examples and tests read like an application would.
-pub use motioncard_sdk::*;
+//! `mcctl`'s library: the command-line tool's subcommands ([`cli`]), the G-code reader
+//! ([`gcode`]) and `mcctl run` ([`run`], [`path_report`]), the tuning page ([`serve`],
+//! [`tuning`]), plots ([`plot`]), and the papers' figures reproduced on the card ([`papers`],
+//! for the `papers` example and tests). The SDK is the crate `motioncard_sdk`; its items are
+//! in scope here as `crate::…` for these modules' own use, not re-exported.
+pub(crate) use motioncard_sdk::*;
 
 pub mod cli;
 pub mod gcode;

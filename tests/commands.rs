@@ -3,8 +3,8 @@
 mod common;
 
 use common::stepped_card;
-use motioncard::proto::{Command, Opcode};
-use motioncard::{AxisState, Card, ErrorKind, EventKind, MoveLimits, NackCode};
+use motioncard_sdk::proto::{Command, Opcode};
+use motioncard_sdk::{AxisState, Card, ErrorKind, EventKind, MoveLimits, NackCode};
 use std::time::Duration;
 
 fn lim() -> MoveLimits {
@@ -256,7 +256,7 @@ fn sdk_refuses_bad_arguments_before_the_card_sees_them() {
     }
     ax.set_scale(-2.5).unwrap();
     ax.set_scale(1.0).unwrap();
-    let mut cfg = motioncard::AxisSettings::default();
+    let mut cfg = motioncard_sdk::AxisSettings::default();
     cfg.ffpiv.kp = f64::NAN;
     assert_eq!(ax.configure(&cfg).unwrap_err().kind(), ErrorKind::NotFinite);
     cfg.ffpiv.kp = -3.0; // finite but out of range: the card refuses it

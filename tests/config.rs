@@ -5,7 +5,7 @@
 mod common;
 
 use common::stepped_card_with;
-use motioncard::{
+use motioncard_sdk::{
     AccDec, Card, Config, EmuOptions, Error, ErrorKind, FilterKind, FilterSettings, GroupSettings,
     HomingFlags, HomingSettings, Interpolator, IoSettings, PathSettings, SafetySettings,
     StopCategory,
@@ -34,7 +34,7 @@ fn configured() -> Card {
     io.debounce[3] = 100;
     card.configure_io(&io).unwrap();
     let a0 = card.axis(0).unwrap();
-    let mut s = motioncard::AxisSettings::default();
+    let mut s = motioncard_sdk::AxisSettings::default();
     s.ffpiv.kp *= 1.25;
     s.in_pos_window = 2.0;
     s.settle_time = 0.005;
@@ -42,7 +42,7 @@ fn configured() -> Card {
     a0.configure(&s).unwrap();
     a0.set_scale(1000.0).unwrap();
     let a1 = card.axis(1).unwrap();
-    a1.configure_pdplus(&motioncard::die_bonder_pdplus(1))
+    a1.configure_pdplus(&motioncard_sdk::die_bonder_pdplus(1))
         .unwrap();
     a1.set_scale(-2.5e-3).unwrap();
     let a2 = card.axis(2).unwrap();
@@ -271,7 +271,7 @@ fn the_example_file_round_trips() {
 fn the_getters_read_the_card_not_the_last_write() {
     let c = card();
     let a = c.axis(0).unwrap();
-    let bad = motioncard::AxisSettings {
+    let bad = motioncard_sdk::AxisSettings {
         dac_limit_v: 12.0,
         ..Default::default()
     };
@@ -284,10 +284,10 @@ fn the_getters_read_the_card_not_the_last_write() {
     assert!(c.configure_io(&io).is_err());
     assert_eq!(c.io_settings().unwrap().polarity, 0);
     assert_eq!(a.pdplus_settings().unwrap(), None);
-    a.configure_pdplus(&motioncard::die_bonder_pdplus(0))
+    a.configure_pdplus(&motioncard_sdk::die_bonder_pdplus(0))
         .unwrap();
     let pd = a.pdplus_settings().unwrap().unwrap();
-    assert_eq!(pd.gains, motioncard::die_bonder_pdplus(0).gains);
+    assert_eq!(pd.gains, motioncard_sdk::die_bonder_pdplus(0).gains);
     assert!(c.group(1).unwrap().settings().unwrap().is_none());
     assert_eq!(c.servo_rate().unwrap(), 10_000);
     assert_eq!(c.safety_settings().unwrap().max_stop_time_us, 2_000_000);
@@ -379,7 +379,7 @@ fn an_oversized_file_is_refused_unread_and_echoes_are_cut() {
     std::fs::create_dir_all(&dir).unwrap();
     // A valid file padded with comments past the limit.
     let big = dir.join("big.toml");
-    let pad = "# padding\n".repeat(motioncard::MAX_CONFIG_BYTES / 10 + 1);
+    let pad = "# padding\n".repeat(motioncard_sdk::MAX_CONFIG_BYTES / 10 + 1);
     std::fs::write(&big, format!("{before}{pad}")).unwrap();
     let size = std::fs::metadata(&big).unwrap().len();
     for e in [
@@ -390,7 +390,7 @@ fn an_oversized_file_is_refused_unread_and_echoes_are_cut() {
         let msg = e.to_string();
         assert!(
             msg.contains(&format!("{size} bytes is more than"))
-                && msg.contains(&motioncard::MAX_CONFIG_BYTES.to_string()),
+                && msg.contains(&motioncard_sdk::MAX_CONFIG_BYTES.to_string()),
             "{msg}"
         );
     }
@@ -402,12 +402,12 @@ fn an_oversized_file_is_refused_unread_and_echoes_are_cut() {
     assert!(
         e.to_string().contains(&format!(
             "more than {} bytes is more than",
-            motioncard::MAX_CONFIG_BYTES
+            motioncard_sdk::MAX_CONFIG_BYTES
         )),
         "{e}"
     );
     // Just under the limit is read.
-    let under = before.clone() + &"#".repeat(motioncard::MAX_CONFIG_BYTES - before.len() - 1);
+    let under = before.clone() + &"#".repeat(motioncard_sdk::MAX_CONFIG_BYTES - before.len() - 1);
     std::fs::write(&big, under + "\n").unwrap();
     card.load_config_file(&big).unwrap();
     // A long string where a number goes, and a long unknown key: cut.

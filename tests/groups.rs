@@ -2,7 +2,7 @@
 mod common;
 
 use common::stepped_card;
-use motioncard::{
+use motioncard_sdk::{
     AccDec, ArcSpec, AxisState, Card, ErrorKind, FilterKind, FilterSettings, GroupSettings,
     GroupState, Interpolator, MoveLimits, MoveOptions, PathLimits, Plane,
 };
@@ -23,7 +23,7 @@ const T: Duration = Duration::from_secs(30);
 const SNAP_BOUND: f64 = 1e-12;
 
 /// The group's snap corrections (last, largest since enable) are within [`SNAP_BOUND`].
-fn assert_snap(g: &motioncard::Group, what: &str) {
+fn assert_snap(g: &motioncard_sdk::Group, what: &str) {
     let s = g.status().unwrap().1;
     assert!(
         s.snap_last <= SNAP_BOUND && s.snap_max <= SNAP_BOUND,
@@ -38,7 +38,7 @@ fn lim() -> PathLimits {
 }
 
 /// A card with axes `axes` enabled and group 0 over them, enabled.
-fn group_card(axes: &[usize], accdec: AccDec) -> (Card, motioncard::Group) {
+fn group_card(axes: &[usize], accdec: AccDec) -> (Card, motioncard_sdk::Group) {
     let card = stepped_card();
     for &a in axes {
         card.axis(a).unwrap().enable().unwrap();
@@ -105,7 +105,7 @@ fn linear_move_follows_the_line_and_ends_on_target() {
 }
 
 /// Trace the commanded positions of `axes` every tick until the group is at rest.
-fn trace(card: &Card, g: &motioncard::Group, axes: &[usize]) -> Vec<Vec<f64>> {
+fn trace(card: &Card, g: &motioncard_sdk::Group, axes: &[usize]) -> Vec<Vec<f64>> {
     let sim = card.sim().unwrap();
     let mut out = Vec::new();
     for _ in 0..2_000_000 {
@@ -402,7 +402,7 @@ fn group_states_follow_plcopen() {
 
 #[test]
 fn every_group_nack_code_is_provoked() {
-    use motioncard::NackCode as N;
+    use motioncard_sdk::NackCode as N;
     let mut seen = Vec::new();
     let mut expect = |want: ErrorKind, code: N, got: ErrorKind| {
         assert_eq!(got, want, "{code:?}");
@@ -431,8 +431,9 @@ fn every_group_nack_code_is_provoked() {
         other.move_linear(&[1.0, 2.0], &l, o).err().unwrap().kind(),
     );
     // The card's own check, below the SDK's: a raw move on a disabled group.
-    let raw_move = motioncard::proto::Command::new(motioncard::proto::Opcode::GroupMoveLinear, 3)
-        .with_args(&[1e4, 1e5, 1e5, 1e6, 1.0]);
+    let raw_move =
+        motioncard_sdk::proto::Command::new(motioncard_sdk::proto::Opcode::GroupMoveLinear, 3)
+            .with_args(&[1e4, 1e5, 1e5, 1e6, 1.0]);
     let seq = card.send_raw(raw_move).unwrap();
     assert_eq!(card.wait_ack(seq).unwrap(), Err(N::GroupDisabled));
     expect(
@@ -571,7 +572,7 @@ fn every_group_nack_code_is_provoked() {
     );
     // AxisBusy is provoked in group_states_follow_plcopen.
     seen.push(N::AxisBusy);
-    for code in motioncard::NackCode::ALL
+    for code in motioncard_sdk::NackCode::ALL
         .iter()
         .filter(|c| (16..32).contains(&(**c as i32)))
     {
@@ -601,7 +602,7 @@ fn filters_conserve_distance_for_every_kind_and_feed_type() {
             &target,
             &PathLimits::new(33_333.3, 1e6, 1e8),
             MoveOptions {
-                feed_type: motioncard::FeedType::Jog,
+                feed_type: motioncard_sdk::FeedType::Jog,
                 ..Default::default()
             },
         )
@@ -670,7 +671,7 @@ fn linear_path_is_exact_through_every_filter_kind_and_relative_moves_chain() {
 
 /// Commanded (position, velocity, acceleration) of `axes` in counts, every tick until the
 /// group is at rest.
-fn trace_raw(card: &Card, g: &motioncard::Group, axes: &[usize]) -> Vec<Vec<(f64, f64, f64)>> {
+fn trace_raw(card: &Card, g: &motioncard_sdk::Group, axes: &[usize]) -> Vec<Vec<(f64, f64, f64)>> {
     let sim = card.sim().unwrap();
     let mut out = Vec::new();
     for _ in 0..2_000_000 {
@@ -981,8 +982,8 @@ fn ptp_with_per_axis_limits_the_slowest_axis_sets_the_time() {
     assert!(((sim.time() - t0) - common).abs() < 1e-3);
 
     // Refusals: the SDK's and the card's own.
-    use motioncard::proto::{Command, MoveFlags, Opcode};
-    use motioncard::NackCode as N;
+    use motioncard_sdk::proto::{Command, MoveFlags, Opcode};
+    use motioncard_sdk::NackCode as N;
     assert_eq!(
         g.move_ptp_axes(&[1.0, 1.0], &[fast], MoveOptions::default())
             .err()
@@ -1115,7 +1116,7 @@ fn members_keep_statistics_of_their_group_motions() {
     for (ax, share) in [(&x, 0.6), (&y, 0.8)] {
         let s = ax.status().unwrap();
         assert_eq!(s.raw.move_count, 1);
-        assert_eq!(s.stop_reason(), Some(motioncard::StopReason::Done));
+        assert_eq!(s.stop_reason(), Some(motioncard_sdk::StopReason::Done));
         // Each axis's share of the 50,000 counts/s feed along the 3-4-5 line.
         let v = 50_000.0 * share;
         assert!(
@@ -1134,7 +1135,7 @@ fn members_keep_statistics_of_their_group_motions() {
     g.halt(5e5, 5e7).unwrap().wait(T).unwrap();
     let s = x.status().unwrap();
     assert_eq!(s.raw.move_count, 2);
-    assert_eq!(s.stop_reason(), Some(motioncard::StopReason::Halt));
+    assert_eq!(s.stop_reason(), Some(motioncard_sdk::StopReason::Halt));
 }
 
 /// Path limits outside what the card accepts are refused, for lines, halts and point-to-point
@@ -1174,7 +1175,7 @@ fn group_override_scales_the_path_speed_and_holds_at_zero() {
     let l = lim(); // 50,000 counts/s along the path
     let m = g.move_linear(&target, &l, MoveOptions::default()).unwrap();
     sim.step(5_000);
-    let feed = |g: &motioncard::Group| g.status().unwrap().1.feed;
+    let feed = |g: &motioncard_sdk::Group| g.status().unwrap().1.feed;
     assert_eq!(feed(&g), l.velocity);
     g.set_override(0.5, 1.0).unwrap();
     let mut slowest = f64::MAX;

@@ -11,7 +11,7 @@
 mod common;
 
 use common::stepped_card_with;
-use motioncard::{
+use motioncard_sdk::{
     AxisState, Card, EmuOptions, EndStops, ErrorKind, EventKind, Faults, HomeSwitch, HomingError,
     HomingFlags, HomingSettings, IndexPulse, MoveLimits, SafetySettings, Status, StopReason,
     Switches,
@@ -205,7 +205,7 @@ fn repeatable(method: i32, starts: &[f64], expect: impl Fn(f64) -> f64, sw: Swit
     );
 }
 
-fn events(card: &Card) -> Vec<motioncard::CardEvent> {
+fn events(card: &Card) -> Vec<motioncard_sdk::CardEvent> {
     let mut out = Vec::new();
     while let Ok(Some(e)) = card.next_event(Duration::ZERO) {
         out.push(e);
@@ -416,7 +416,7 @@ fn failed(card: &Card) -> (HomingError, f64) {
         .unwrap_err();
     assert_eq!(e.kind(), ErrorKind::HomingFailed, "{e}");
     match e {
-        motioncard::Error::HomingFailed {
+        motioncard_sdk::Error::HomingFailed {
             error: Some(why),
             at,
             ..
@@ -593,7 +593,7 @@ fn a_hard_stop_threshold_beyond_the_following_error_limit_is_refused() {
 /// Every homing nack (codes 64..79) has a command that provokes it.
 #[test]
 fn every_homing_nack_is_provoked() {
-    use motioncard::{Error, NackCode};
+    use motioncard_sdk::{Error, NackCode};
     let card = one_axis();
     let ax = card.axis(0).unwrap();
     let nack = |e: Error| match e {

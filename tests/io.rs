@@ -11,7 +11,7 @@
 mod common;
 
 use common::stepped_card_with;
-use motioncard::{
+use motioncard_sdk::{
     Card, CardEvent, Direction, EmuOptions, ErrorKind, EventKind, IoSettings, IoState,
     ProbeTrigger, Sensor, VelocityLimits, COMPARE_FIRED, COMPARE_LOW_WATER, COMPARE_MISSED,
     COMPARE_TABLE_LEN,
@@ -261,7 +261,7 @@ fn a_table_longer_than_the_buffer_streams_on_low_water() {
 fn compare_and_probe_arguments_are_refused_with_their_own_codes() {
     let card = card();
     let ax = card.axis(0).unwrap();
-    let kind = |r: motioncard::Result<()>| r.unwrap_err().kind();
+    let kind = |r: motioncard_sdk::Result<()>| r.unwrap_err().kind();
     let c = ax.compare(0);
     assert_eq!(
         kind(ax.compare(4).arm_single(0, 1, 10.0, Direction::Positive)),

@@ -120,6 +120,110 @@ fn negative_limits_get_the_must_be_positive_message() {
     assert_eq!(code, 0, "{out}");
 }
 
+/// Numbers outside their range are refused by clap as it parses (exit status 2, the argument
+/// named, what it must be), before any card is opened: the card named here does not exist, so
+/// a value that got past the parsing would fail opening it instead (exit status 1).
+#[test]
+fn values_out_of_range_are_refused_before_a_card_is_opened() {
+    for (args, arg, why) in [
+        (
+            &["move", "0", "100", "--vmax", "-5"][..],
+            "--vmax",
+            "--vmax must be greater than zero, got -5",
+        ),
+        (
+            &["halt", "0", "--dmax", "inf"],
+            "--dmax",
+            "--dmax must be a finite number, got inf",
+        ),
+        (
+            &["jog", "0", "100", "--for", "-0.5"],
+            "--for",
+            "--for must be a number of seconds >= 0, got -0.5",
+        ),
+        (
+            &["status", "--watch", "--interval", "0"],
+            "--interval",
+            "--interval must be a number of seconds > 0, got 0",
+        ),
+        (
+            &["scope", "--divider", "0"],
+            "--divider",
+            "0 is not in 1..=65536",
+        ),
+        (
+            &["scope", "--pre", "1025"],
+            "--pre",
+            "1025 is not in 0..=1024",
+        ),
+        (&["scope", "--samples", "0"], "--samples", "0 is not in 1.."),
+        (
+            &[
+                "compare",
+                "0",
+                "--output",
+                "3",
+                "--at",
+                "5",
+                "--pulse-us",
+                "0",
+            ],
+            "--pulse-us",
+            "0 is not in 1..=1000000",
+        ),
+        (
+            &["gear", "1", "--master", "0", "--slave-jmax", "0"],
+            "--slave-jmax",
+            "--slave-jmax must be greater than zero, got 0",
+        ),
+        (
+            &["run", "part.ngc", "--tolerance", "-0.01"],
+            "--tolerance",
+            "--tolerance must be 0 or more, got -0.01",
+        ),
+        (
+            &["run", "part.ngc", "--amax", "1000,0,1000"],
+            "--amax",
+            "--amax must be greater than zero, got 0",
+        ),
+        (
+            &[
+                "plan",
+                "1",
+                "--vmax",
+                "1",
+                "--amax",
+                "1",
+                "--jmax",
+                "1",
+                "--servo-rate",
+                "0",
+            ],
+            "--servo-rate",
+            "--servo-rate must be between 1000 and 20000 Hz, got 0",
+        ),
+    ] {
+        let mut all = vec!["--card", "emu:no-such-card"];
+        all.extend_from_slice(args);
+        let (code, out, err) = mcctl(&all);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(&format!("for '{arg} <")), "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?}: {out}");
+    }
+    // The same card, with the values in range: the open fails instead.
+    let (code, _, err) = mcctl(&[
+        "--card",
+        "emu:no-such-card",
+        "move",
+        "0",
+        "100",
+        "--vmax",
+        "5",
+    ]);
+    assert_eq!(code, 1, "{err}");
+}
+
 /// Distances and durations beyond what the card accepts are refused with the card's bound.
 #[test]
 fn distances_and_times_beyond_the_card_are_refused() {
@@ -317,7 +421,7 @@ fn card_commands_move_jog_override_and_status() {
 /// as the library's.
 #[test]
 fn plan_from_any_state_above_vmax_moving_away() {
-    use motioncard::plan::{OtgLimits, Trajectory};
+    use motioncard_sdk::plan::{OtgLimits, Trajectory};
     let (code, out, err) = mcctl(&[
         "plan", "100", "--vmax", "10", "--amax", "100", "--jmax", "1e3", "--v0", "-15", "--a0",
         "0", "--json",
@@ -1000,7 +1104,7 @@ fn replay_a_trace_from_the_command_line() {
     let trace = std::env::temp_dir().join(format!("mcctl-trace-{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_mcctl"))
         .args(["move", "0", "5000", "--enable"])
-        .env(motioncard::TRACE_ENV, &trace)
+        .env(motioncard_sdk::TRACE_ENV, &trace)
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");

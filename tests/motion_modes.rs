@@ -6,7 +6,7 @@
 mod common;
 
 use common::stepped_card_with;
-use motioncard::{
+use motioncard_sdk::{
     AxisState, BufferMode, Card, EmuOptions, ErrorKind, MotionFlags, MoveKind, MoveLimits, Status,
     VelocityLimits, AXIS_QUEUE_LEN,
 };
@@ -229,7 +229,7 @@ fn velocity_mode_changes_on_the_fly_and_halts() {
 fn jog_runs_within_its_own_limits_and_release_halts() {
     let card = one_axis();
     let ax = card.axis(0).unwrap();
-    let cfg = motioncard::AxisSettings::default();
+    let cfg = motioncard_sdk::AxisSettings::default();
     let too_fast = ax.jog(cfg.jog_max_vel * 1.01).unwrap_err();
     assert_eq!(too_fast.kind(), ErrorKind::OutOfRange);
     let j = ax.jog(-cfg.jog_max_vel).unwrap();

@@ -3,13 +3,13 @@
 mod common;
 
 use common::stepped_card;
-use motioncard::papers::{
+use mcctl::papers::{
     card_feed_fluctuation, taylor_feed_fluctuation, um, yeh_die_bonder, yeh_feed_fluctuation,
     yeh_test_circle, yeh_test_sine, yeh_umax_sweep, Taylor, DIE_BONDER_UM_PER_COUNT,
     YEH_FLUCTUATION_FEEDS, YEH_FOLLOWING_BOUND_UM, YEH_TS, YEH_UMAX_FRACTIONS,
 };
-use motioncard::proto::{Command, Opcode};
-use motioncard::{
+use motioncard_sdk::proto::{Command, Opcode};
+use motioncard_sdk::{
     clamped_uniform_knots, Card, ErrorKind, GroupSettings, GroupState, MoveOptions, NackCode,
     Nurbs, NurbsFeed,
 };
@@ -64,11 +64,11 @@ fn die_bonder_saturation_aware_feed_keeps_u_within_umax() {
 /// counts, is then 20 mm × 60 mm.
 #[test]
 fn die_bonder_scale_is_ten_thousand_counts_per_ten_millimetres() {
-    let ke = motioncard::die_bonder_pdplus(0).drive.ke;
+    let ke = motioncard_sdk::die_bonder_pdplus(0).drive.ke;
     let counts_per_rev = ke * std::f64::consts::TAU;
     assert!((counts_per_rev - 10_000.0).abs() < 1e-3, "{counts_per_rev}");
     for a in 0..2 {
-        assert_eq!(motioncard::die_bonder_plant(a).counts_per_rev, 10_000);
+        assert_eq!(motioncard_sdk::die_bonder_plant(a).counts_per_rev, 10_000);
     }
     let lead_um = 10_000.0; // 10 mm, the assumption
     assert_eq!(DIE_BONDER_UM_PER_COUNT, lead_um / counts_per_rev.round());
@@ -87,7 +87,7 @@ fn die_bonder_scale_is_ten_thousand_counts_per_ten_millimetres() {
         "{w} × {h} µm"
     );
     assert_eq!(
-        motioncard::papers::mm_per_s(motioncard::papers::DIE_BONDER_FEED),
+        mcctl::papers::mm_per_s(mcctl::papers::DIE_BONDER_FEED),
         400.0
     );
 }
@@ -268,7 +268,7 @@ fn plain_eq31_and_eq32_fluctuate_the_cards_corrected_step_does_not() {
     assert!(slow.max > 0.1, "chord-limited sine at 400 mm/s: {slow:?}");
 }
 
-fn two_axis_group() -> (Card, motioncard::Group) {
+fn two_axis_group() -> (Card, motioncard_sdk::Group) {
     let card = stepped_card();
     for a in 0..2 {
         card.axis(a).unwrap().enable().unwrap();
@@ -491,7 +491,7 @@ fn every_bad_curve_gets_its_own_nack() {
         raw_nurbs(
             &card,
             [3.0, 5.0, 9.0, 1e4, 1e6, 1e8, 1.0, 0.8],
-            motioncard::proto::MoveFlags::NURBS_SATURATION.bits(),
+            motioncard_sdk::proto::MoveFlags::NURBS_SATURATION.bits(),
             &[]
         ),
         Some(NackCode::IncompatibleMode)
@@ -586,7 +586,7 @@ impl Trace {
             ts,
         }
     }
-    fn step(&mut self, card: &Card, g: &motioncard::Group) {
+    fn step(&mut self, card: &Card, g: &motioncard_sdk::Group) {
         card.sim().unwrap().step(1);
         self.pts.push(cmd_xy(card));
         self.seq.push(g.status().unwrap().1.active_seq);
@@ -621,11 +621,14 @@ impl Trace {
 #[test]
 fn split_curve_runs_through_its_joints_at_the_feed() {
     let (ctrl, w, knots) = wave(3000);
-    let big = motioncard::split_nurbs(3, 2, &ctrl, &w, &knots, motioncard::NURBS_MAX_CTRL).unwrap();
+    let big = motioncard_sdk::split_nurbs(3, 2, &ctrl, &w, &knots, motioncard_sdk::NURBS_MAX_CTRL)
+        .unwrap();
     assert_eq!(big.len(), 3, "3000 points in pieces of at most 1024");
-    assert!(big.iter().all(|p| p.n_ctrl() <= motioncard::NURBS_MAX_CTRL));
+    assert!(big
+        .iter()
+        .all(|p| p.n_ctrl() <= motioncard_sdk::NURBS_MAX_CTRL));
     // Smaller pieces for more joints (12), all queued at once.
-    let pieces = motioncard::split_nurbs(3, 2, &ctrl, &w, &knots, 250).unwrap();
+    let pieces = motioncard_sdk::split_nurbs(3, 2, &ctrl, &w, &knots, 250).unwrap();
     assert_eq!(pieces.len(), 13);
     let (card, g) = two_axis_group();
     let (feed, accel, jerk) = (200_000.0, 2e6, 1e8);
@@ -700,7 +703,7 @@ fn split_curve_runs_through_its_joints_at_the_feed() {
 #[test]
 fn starved_stream_stops_within_limits_and_resumes() {
     let (ctrl, w, knots) = wave(600);
-    let pieces = motioncard::split_nurbs(3, 2, &ctrl, &w, &knots, 320).unwrap();
+    let pieces = motioncard_sdk::split_nurbs(3, 2, &ctrl, &w, &knots, 320).unwrap();
     assert_eq!(pieces.len(), 2);
     let (feed, accel, jerk) = (200_000.0, 2e6, 1e8);
     let f = NurbsFeed::new(feed, accel, jerk);
@@ -872,11 +875,11 @@ fn feed_fluctuation_and_chord_error_on_curves_on_the_card() {
         ),
     ];
     for (name, curve, feed, tol, cruises) in cases {
-        let card = common::stepped_card_with(motioncard::EmuOptions::new(2, 1000));
+        let card = common::stepped_card_with(motioncard_sdk::EmuOptions::new(2, 1000));
         for a in 0..2 {
             let ax = card.axis(a).unwrap();
             // the commanded path is what is measured: let the axes lag at the sharp turns
-            ax.configure_safety(&motioncard::SafetySettings {
+            ax.configure_safety(&motioncard_sdk::SafetySettings {
                 ferror: 1e9,
                 min_ferror: 1e9,
                 ..Default::default()
@@ -933,11 +936,11 @@ fn feed_fluctuation_and_chord_error_on_curves_on_the_card() {
 /// post-interpolation filters change what reaches the servo, so the two together are refused.
 #[test]
 fn saturation_aware_feed_with_post_filters_is_refused() {
-    use motioncard::{AccDec, FilterKind, FilterSettings};
+    use motioncard_sdk::{AccDec, FilterKind, FilterSettings};
     let card = stepped_card();
     for a in 0..2 {
         let ax = card.axis(a).unwrap();
-        ax.configure_pdplus(&motioncard::die_bonder_pdplus(a))
+        ax.configure_pdplus(&motioncard_sdk::die_bonder_pdplus(a))
             .unwrap();
         ax.set_filters(&FilterSettings::all(FilterKind::Linear, 0.01))
             .unwrap();
@@ -978,7 +981,7 @@ fn saturation_aware_feed_with_post_filters_is_refused() {
             // back to the start for the next round
             g.move_linear(
                 &[0.0, 0.0],
-                &motioncard::PathLimits::new(5e4, 1e6, 1e8),
+                &motioncard_sdk::PathLimits::new(5e4, 1e6, 1e8),
                 MoveOptions::default(),
             )
             .unwrap()
@@ -1011,7 +1014,7 @@ fn non_finite_knots_get_their_own_nack() {
                 "knot {at} = {bad}"
             );
             let e = Nurbs::new(3, 2, &pts, &w, &k).unwrap_err();
-            assert_eq!(motioncard::Error::from(e).kind(), ErrorKind::NurbsKnot);
+            assert_eq!(motioncard_sdk::Error::from(e).kind(), ErrorKind::NurbsKnot);
         }
     }
     // a non-finite control point keeps its code
@@ -1030,7 +1033,7 @@ fn non_finite_knots_get_their_own_nack() {
 #[test]
 fn halt_before_a_joint_stops_on_the_next_curve() {
     let (ctrl, w, knots) = wave(600);
-    let pieces = motioncard::split_nurbs(3, 2, &ctrl, &w, &knots, 200).unwrap();
+    let pieces = motioncard_sdk::split_nurbs(3, 2, &ctrl, &w, &knots, 200).unwrap();
     assert!(pieces.len() >= 3);
     let (card, g) = two_axis_group();
     let (feed, accel, jerk) = (200_000.0, 2e6, 1e8);

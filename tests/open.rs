@@ -2,7 +2,7 @@
 use card_emu::emu::server::Server;
 use card_emu::{EmuOptions, Emulator, Runner};
 use firmware_proto::{layout, Mem};
-use motioncard::{Card, ErrorKind, MoveLimits};
+use motioncard_sdk::{Card, ErrorKind, MoveLimits};
 use std::time::{Duration, Instant};
 
 fn serve(name: &str, emu: Emulator) -> (Server, Runner) {

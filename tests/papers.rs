@@ -1,10 +1,10 @@
 //! The papers' experiments, reproduced on the stepped emulated card (the runs themselves are in
-//! `motioncard::papers`; here they are checked).
+//! `mcctl::papers`; here they are checked).
 mod common;
 
 use card_emu::motion::filters::exponential_pole;
 use card_emu::servo::ffpiv::FfpivGains;
-use motioncard::papers::{
+use mcctl::papers::{
     acceleration_error, cruise_error, estimator_lag_error, ff_speed_sweep, ff_speed_sweep_on,
     fig11_steps, kim_fig7, kim_sync_ptp, mode_residual_ratio, radial_error, shin_corner, shin_fit,
     shin_resonance_sweep, shin_runs, sweep_frequencies, sweep_peak_ratios, thinh_fig11, thinh_fig5,
@@ -12,7 +12,7 @@ use motioncard::papers::{
     FIG5_LIMITS, FIG9_STEP, KIM_FIG7_FEED, KIM_FIG7_TAU, LIGHT_ZETA, RADIAL_CASES, SHIN_FIT,
     SWEEP_ACCEL, SWEEP_SPEEDS, SYNC_LIMITS, SYNC_SLOW_Z, SYNC_TARGETS, THINH_GAINS,
 };
-use motioncard::{FilterKind, Interpolator, MotorParams};
+use motioncard_sdk::{FilterKind, Interpolator, MotorParams};
 
 /// The largest snap correction a move may show: the commanded positions are error-free sums
 /// of the filters' outputs (every filter's remainder emitted whole), and the interpolator's
@@ -458,7 +458,7 @@ fn thinh_fig11_step_mode_settles_every_step() {
     let full = thinh_fig11(FeedForward::Full).unwrap();
     ended_in_position("Fig 11", &thinh, steps);
     ended_in_position("Fig 11, full", &full, steps);
-    let settle = motioncard::AxisSettings::default().settle_time;
+    let settle = motioncard_sdk::AxisSettings::default().settle_time;
     let bound = full.peak.max(1.0).ln() / FeedForward::Full.apply(gains, &plant).kp + settle;
     for (k, ((p, t), (_, f))) in thinh.step_times.iter().zip(&full.step_times).enumerate() {
         println!(
@@ -528,8 +528,8 @@ fn full_feed_forward_follows_within_one_count_at_every_speed() {
 /// average never steps by more than in the rest-to-rest run) and the following error small.
 #[test]
 fn thinh_fig10_time_shifted_blending_keeps_moving_between_segments() {
-    use motioncard::papers::{thinh_fig10, FIG10_SEGMENTS};
-    use motioncard::Transition;
+    use mcctl::papers::{thinh_fig10, FIG10_SEGMENTS};
+    use motioncard_sdk::Transition;
     let shifted = thinh_fig10(Transition::TimeShift(1.0)).unwrap();
     let stops = thinh_fig10(Transition::None).unwrap();
     let planner = thinh_fig10(Transition::MaxDeviation(1.0)).unwrap();

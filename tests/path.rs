@@ -6,7 +6,7 @@
 mod common;
 
 use common::stepped_card;
-use motioncard::{
+use motioncard_sdk::{
     ArcSpec, Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, Nurbs, OutputAt,
     PathBuffer, PathItem, PathSettings, Plane, Segment, Transition,
 };
@@ -35,7 +35,7 @@ fn path_card(n: usize, settings: &PathSettings) -> (Card, Group) {
 /// What a run recorded: the commanded position of every axis per tick, and the events.
 struct Run {
     pos: Vec<Vec<f64>>,
-    events: Vec<motioncard::CardEvent>,
+    events: Vec<motioncard_sdk::CardEvent>,
 }
 
 fn cmd(card: &Card, n: usize) -> Vec<f64> {
@@ -44,7 +44,7 @@ fn cmd(card: &Card, n: usize) -> Vec<f64> {
         .collect()
 }
 
-fn drain(card: &Card, into: &mut Vec<motioncard::CardEvent>) {
+fn drain(card: &Card, into: &mut Vec<motioncard_sdk::CardEvent>) {
     while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
         into.push(e);
     }
@@ -533,7 +533,7 @@ fn bad_segments_get_their_own_error_and_change_nothing() {
     assert_eq!(push(Segment::dwell(1, -1.0)), ErrorKind::NonPositiveLimit);
     let (state, st) = g.status().unwrap();
     assert_eq!((state, st.path_queued), (GroupState::Standby, 0));
-    assert_eq!(st.path_free, motioncard::proto::PATH_LEN as u32);
+    assert_eq!(st.path_free, motioncard_sdk::proto::PATH_LEN as u32);
 }
 
 #[test]
@@ -988,7 +988,7 @@ fn cam_chords_run_as_the_curve_they_sample() {
 /// counts of braking are 160 of them).
 #[test]
 fn a_line_runs_its_axis_s_curve_and_collinear_pieces_run_as_the_line() {
-    use motioncard::plan::{Limits, Profile};
+    use motioncard_sdk::plan::{Limits, Profile};
     let lim = PathSettings {
         chord_fit: false,
         ..PathSettings::uniform(2, V, A, J)

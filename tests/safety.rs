@@ -3,8 +3,8 @@
 mod common;
 
 use common::{stepped_card, Rng};
-use motioncard::proto::{Command, Faults, Io, Opcode};
-use motioncard::{
+use motioncard_sdk::proto::{Command, Faults, Io, Opcode};
+use motioncard_sdk::{
     AxisState, Card, CardEvent, ErrorKind, EventKind, MoveLimits, NackCode, SafetySettings,
     StopCategory, StopReason, Switches,
 };
@@ -42,7 +42,10 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
     events(&card);
 
     card.set_heartbeat(false);
-    let timeout = ticks_of(&card, motioncard::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64());
+    let timeout = ticks_of(
+        &card,
+        motioncard_sdk::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64(),
+    );
     let mut tripped = None;
     for n in 1..=timeout + 2 {
         sim.step(1);
@@ -138,7 +141,7 @@ fn watchdog_stops_every_axis_and_latches_until_reset() {
 #[test]
 fn watchdog_timeout_under_1_5_host_periods_or_zero_is_refused() {
     let card = stepped_card();
-    let period = Duration::from_micros(motioncard::HEARTBEAT_PERIOD_US as u64);
+    let period = Duration::from_micros(motioncard_sdk::HEARTBEAT_PERIOD_US as u64);
     for bad in [
         Duration::ZERO,
         period,
@@ -722,9 +725,9 @@ fn every_safety_nack_code_is_provoked_by_its_own_fault() {
     }
 }
 
-fn nack(e: motioncard::Error) -> NackCode {
+fn nack(e: motioncard_sdk::Error) -> NackCode {
     match e {
-        motioncard::Error::Nack { code, .. } => code,
+        motioncard_sdk::Error::Nack { code, .. } => code,
         e => panic!("not a nack: {e}"),
     }
 }
@@ -762,7 +765,7 @@ fn corrupt_command_ring_stops_the_axes_with_its_own_reason() {
 /// GroupErrorStop and comes back through the axes' and the group's resets.
 #[test]
 fn a_member_trip_stops_its_whole_group_the_same_way() {
-    use motioncard::{AccDec, GroupSettings, GroupState, MoveOptions, PathLimits};
+    use motioncard_sdk::{AccDec, GroupSettings, GroupState, MoveOptions, PathLimits};
     let card = stepped_card();
     let sim = card.sim().unwrap();
     let (x, y) = (card.axis(0).unwrap(), card.axis(1).unwrap());
@@ -898,7 +901,7 @@ fn session_command(op: Opcode, session: u32) -> Command {
 /// The typed calls meet the same gate; stops and reads still work.
 #[test]
 fn a_detached_session_moves_nothing() {
-    use motioncard::VelocityLimits;
+    use motioncard_sdk::VelocityLimits;
     let card = stepped_card();
     let sim = card.sim().unwrap();
     let axes: Vec<_> = (0..4).map(|a| card.axis(a).unwrap()).collect();
@@ -972,7 +975,7 @@ fn a_detached_session_moves_nothing() {
 /// status says why (`HostDetach`), which is what the next host reads.
 #[test]
 fn a_detach_stops_everything_its_session_started() {
-    use motioncard::{
+    use motioncard_sdk::{
         GroupSettings, GroupState, HomingSettings, Master, MoveOptions, PathLimits, PvtLimits,
         PvtMode, PvtPoint, SyncLimits, VelocityLimits,
     };
@@ -1111,9 +1114,12 @@ fn a_raw_attach_arms_the_watchdog_at_once() {
     assert!(st.watchdog_armed, "armed by the attach");
     assert_eq!(st.last_heartbeat_tick, st.attach_tick);
     let m = ax
-        .move_velocity(100_000.0, &motioncard::VelocityLimits::new(1e6, 1e8))
+        .move_velocity(100_000.0, &motioncard_sdk::VelocityLimits::new(1e6, 1e8))
         .unwrap();
-    let timeout = ticks_of(&card, motioncard::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64());
+    let timeout = ticks_of(
+        &card,
+        motioncard_sdk::WATCHDOG_TIMEOUT_DEFAULT.as_secs_f64(),
+    );
     sim.step(timeout + 1);
     let st = card.safety_status().unwrap();
     assert!(st.watchdog_tripped);

@@ -2,7 +2,7 @@
 mod common;
 
 use common::{stepped_card, Rng};
-use motioncard::{AxisState, EventKind, MoveLimits};
+use motioncard_sdk::{AxisState, EventKind, MoveLimits};
 use std::time::Duration;
 
 const REL: f64 = 1e-9;
@@ -209,7 +209,7 @@ fn done_never_before_in_position() {
     let card = stepped_card();
     let sim = card.sim().unwrap();
     let ax = card.axis(1).unwrap();
-    let mut cfg = motioncard::AxisSettings {
+    let mut cfg = motioncard_sdk::AxisSettings {
         dac_limit_v: 0.3,
         ..Default::default()
     };
@@ -265,7 +265,7 @@ fn done_never_before_in_position() {
 /// following error, and still ends in position.
 #[test]
 fn plant_parameters_are_per_axis() {
-    let mut emu = motioncard::EmuOptions::default();
+    let mut emu = motioncard_sdk::EmuOptions::default();
     emu.motors[1].inertia *= 4.0;
     let card = common::stepped_card_with(emu);
     let lim = MoveLimits::new(2e5, 3e6, 1e8);
@@ -289,8 +289,8 @@ fn plant_parameters_are_per_axis() {
 }
 
 /// A following-error limit wide enough for an axis made to lag on purpose.
-fn lagging() -> motioncard::SafetySettings {
-    motioncard::SafetySettings {
+fn lagging() -> motioncard_sdk::SafetySettings {
+    motioncard_sdk::SafetySettings {
         ferror: 1e7,
         min_ferror: 1e6,
         ..Default::default()

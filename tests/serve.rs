@@ -3,7 +3,7 @@
 //! `tests/browser/drive.mjs` (playwright-core): the live plots, a step test (the figures and the
 //! plotted data against the samples the server answered and against the card), a gain the card
 //! accepts and one it refuses, the page without its token and under a rebinding name. And the
-//! guard (`src/serve/guard.rs`) over plain HTTP: every route of `motioncard::serve::ROUTES`
+//! guard (`src/serve/guard.rs`) over plain HTTP: every route of `mcctl::serve::ROUTES`
 //! sent bad Hosts, foreign Origins, missing and wrong tokens, each refused (403) with the card
 //! read after (the gains, the axis's state and position as before); `--listen` beyond
 //! loopback and `--token`.
@@ -15,7 +15,7 @@
 //! `TUNING_SCREENSHOT=path.png` it saves a screenshot of the page after the step test.
 use card_emu::emu::server::Server;
 use card_emu::{EmuOptions, Emulator, Runner};
-use motioncard::tuning::{figures, Band, Response};
+use mcctl::tuning::{figures, Band, Response};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
@@ -629,7 +629,7 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     // applied (and nothing of the refused one).
     let emu = runner.stop().expect("the emulator back");
     let a = emu.firmware().axis(axis).unwrap();
-    assert_eq!(a.state, motioncard::AxisState::Standstill);
+    assert_eq!(a.state, motioncard_sdk::AxisState::Standstill);
     assert_eq!(a.config.ffpiv.kp, good_kp);
     assert_eq!(a.config.ffpiv.ki, g0["ffpiv"]["ki"].as_f64().unwrap());
 }
@@ -738,14 +738,14 @@ fn axis_state(s: &Served) -> String {
     a.body
 }
 
-/// Every request the server could be asked: each route of `motioncard::serve::ROUTES` with
+/// Every request the server could be asked: each route of `mcctl::serve::ROUTES` with
 /// each method it answers, a method it does not (PUT, DELETE: refused by the guard before
 /// axum's 405), and paths that are no route (the fallback). Each with the body that would do
 /// harm if it got through: K_P = 9000, the [`FAR_MOVE`], a reset. `files`: with the GETs of
 /// the page's files (which need no token).
 fn every_request(g: &Value, files: bool) -> Vec<(&'static str, String, String)> {
     let mut all = Vec::new();
-    for r in motioncard::serve::ROUTES {
+    for r in mcctl::serve::ROUTES {
         let path = r.path.replace("{which}", "last");
         for &m in r.methods.iter().chain(&["PUT", "DELETE"]) {
             if r.file && m == "GET" && !files {
@@ -846,7 +846,7 @@ fn dns_rebinding_hosts_are_refused_on_every_route_and_change_nothing() {
     let a = b.finish();
     // (the API's copy went through the card's read-back: the same to 1e-12)
     assert!(close(a.config.ffpiv.kp, kp0), "{}", a.config.ffpiv.kp);
-    assert_eq!(a.state, motioncard::AxisState::Disabled);
+    assert_eq!(a.state, motioncard_sdk::AxisState::Disabled);
     assert_eq!(a.reference().pos, 0.0);
     assert_eq!(a.last_target(), 0.0);
 }
@@ -928,7 +928,7 @@ fn a_foreign_origin_cannot_reset_an_axis_in_error_stop_nor_use_any_route() {
     assert!(state.contains("axis 1 is in ErrorStop"), "{state}");
     assert_eq!(gains(s)["ffpiv"]["kp"].as_f64(), Some(kp0));
     let a = b.finish();
-    assert_eq!(a.state, motioncard::AxisState::ErrorStop);
+    assert_eq!(a.state, motioncard_sdk::AxisState::ErrorStop);
     // (the API's copy went through the card's read-back: the same to 1e-12)
     assert!(close(a.config.ffpiv.kp, kp0), "{}", a.config.ffpiv.kp);
 }
@@ -963,7 +963,7 @@ fn requests_without_the_token_are_refused_and_with_it_every_route_answers() {
         vec!["Bearer".into()],
         vec![format!("Bearer {t}"), format!("Bearer {wrong}")],
     ];
-    let live = motioncard::serve::LIVE;
+    let live = mcctl::serve::LIVE;
     for (m, path, body) in every_request(&g0, false) {
         for auth in &bad_auth {
             let mut r = s.req(m, &path, &body);
@@ -994,7 +994,7 @@ fn requests_without_the_token_are_refused_and_with_it_every_route_answers() {
     assert!(state.contains("axis 1 is disabled"), "{state}");
 
     // The page's files: no token needed, none in them.
-    for r in motioncard::serve::ROUTES.iter().filter(|r| r.file) {
+    for r in mcctl::serve::ROUTES.iter().filter(|r| r.file) {
         let mut q = s.req("GET", r.path, "");
         q.auth = vec![];
         let a = q.send(p);
@@ -1005,7 +1005,7 @@ fn requests_without_the_token_are_refused_and_with_it_every_route_answers() {
     }
     // With the token every route answers each method it lists (a 403 would be the guard, a
     // 404 saying NO_ROUTE or a 405 the router), and only those: the rest are 405.
-    for r in motioncard::serve::ROUTES {
+    for r in mcctl::serve::ROUTES {
         let path = r.path.replace("{which}", "last");
         for m in ["GET", "POST", "PUT", "DELETE", "PATCH"] {
             let body = match (m, r.path) {
@@ -1063,7 +1063,7 @@ fn requests_without_the_token_are_refused_and_with_it_every_route_answers() {
     assert_eq!(a.body, r#"{"state":"Disabled"}"#);
 
     let a = b.finish();
-    assert_eq!(a.state, motioncard::AxisState::Disabled);
+    assert_eq!(a.state, motioncard_sdk::AxisState::Disabled);
     assert_eq!(a.config.ffpiv.kp, 70.0);
 }
 

@@ -4,8 +4,8 @@
 mod common;
 
 use common::{stepped_card_with, Rng};
-use motioncard::proto::{Command, Faults, Opcode};
-use motioncard::{
+use motioncard_sdk::proto::{Command, Faults, Opcode};
+use motioncard_sdk::{
     AxisState, Card, EmuOptions, ErrorKind, EventKind, MoveLimits, StopReason,
     WATCHDOG_TIMEOUT_DEFAULT,
 };
@@ -182,7 +182,7 @@ fn a_safety_stop_still_running_at_the_bound_loses_power_there() {
     sim.step(ticks_of(&card, 0.7));
     assert_eq!(ax.status().unwrap().command_velocity, 2.5e6);
     while card.next_event(Duration::ZERO).unwrap().is_some() {}
-    card.estop(motioncard::StopCategory::Cat1).unwrap();
+    card.estop(motioncard_sdk::StopCategory::Cat1).unwrap();
     let info = ax.stop_info().unwrap();
     assert!(info.ramp_time > Duration::from_millis(500), "{info:?}");
     sim.step(ticks_of(&card, 0.25) - 1);

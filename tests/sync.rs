@@ -23,8 +23,8 @@
 mod common;
 
 use common::stepped_card_with;
-use motioncard::proto::{Command, Opcode};
-use motioncard::{
+use motioncard_sdk::proto::{Command, Opcode};
+use motioncard_sdk::{
     AxisState, Card, EmuOptions, ErrorKind, EventKind, GearRatio, Master, MoveLimits, NackCode,
     Status, SyncEvent, SyncLimits, VelocityLimits,
 };
@@ -383,7 +383,7 @@ fn the_card_refuses_bad_gear_commands() {
 
 // ---- PT/PVT streaming ----
 
-use motioncard::{PvtEvent, PvtLimits, PvtMode, PvtPoint, PVT_LEN};
+use motioncard_sdk::{PvtEvent, PvtLimits, PvtMode, PvtPoint, PVT_LEN};
 
 /// `n` points every `dt` s of `A (1 − cos 2π t)`, from rest at 0 back to rest at 0 (with their
 /// velocities), the last at `n · dt`.
@@ -482,7 +482,7 @@ fn pvt_refusals_and_a_dry_buffer() {
     let e = x.pvt_push(&pts, false).unwrap_err();
     assert_eq!(e.kind(), ErrorKind::PvtLimit, "{e}");
     assert!(
-        matches!(e, motioncard::Error::PvtPoint { index: 2, .. }),
+        matches!(e, motioncard_sdk::Error::PvtPoint { index: 2, .. }),
         "{e}"
     );
     println!("refused: {e}");
@@ -532,7 +532,7 @@ fn pvt_refusals_and_a_dry_buffer() {
     assert_eq!(st.state, AxisState::Standstill);
     assert_eq!(
         st.raw.stop_reason,
-        motioncard::StopReason::Starvation as u32
+        motioncard_sdk::StopReason::Starvation as u32
     );
     // A time refusal says which bound when the point before is in the same push (too soon, or
     // later than the longest segment, 10⁶ s: the card's one nack for both); the first point
@@ -551,7 +551,7 @@ fn pvt_refusals_and_a_dry_buffer() {
         let pts = pts.map(|t| PvtPoint::new(t, st.command_position, 0.0));
         let e = x.pvt_push(&pts, false).unwrap_err();
         assert_eq!(e.kind(), ErrorKind::PvtTime, "{e}");
-        let motioncard::Error::PvtPoint {
+        let motioncard_sdk::Error::PvtPoint {
             index: i,
             reason: r,
             ..
@@ -625,7 +625,7 @@ fn pvt_streams_more_than_the_buffer() {
 // ---- Camming ----
 
 use card_emu::motion::cam::CamTable;
-use motioncard::CamSettings;
+use motioncard_sdk::CamSettings;
 
 /// A rotary knife's cam over one sheet of `sheet` master counts: the knife turns `rev` counts
 /// per sheet, at the conveyor's speed × `sync` at the cut (m = 0 mod sheet); `n` points.
@@ -772,7 +772,7 @@ fn an_estop_ends_a_coupling() {
         .gear_in(Master::Commanded(1), 1, 1, &SyncLimits::new(2e4, 2e5, 2e7))
         .unwrap();
     gear.wait_in_sync(LONG).unwrap();
-    card.estop(motioncard::StopCategory::Cat1).unwrap();
+    card.estop(motioncard_sdk::StopCategory::Cat1).unwrap();
     assert_eq!(gear.wait(LONG).unwrap_err().kind(), ErrorKind::Aborted);
     card.sim().unwrap().step(20_000);
     let st = status(&card, 0);

@@ -1,6 +1,6 @@
 //! API trace and replay: a recorded run replayed on an emulated card matches; a tampered trace
 //! reports its first difference.
-use motioncard::{Card, Clock, EmuOptions, ErrorKind, MoveLimits, SimOptions, TRACE_ENV};
+use motioncard_sdk::{Card, Clock, EmuOptions, ErrorKind, MoveLimits, SimOptions, TRACE_ENV};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -23,7 +23,7 @@ fn record(path: &std::path::Path, clock: Clock) {
     let (a0, a1) = (card.axis(0).unwrap(), card.axis(1).unwrap());
     a0.enable().unwrap();
     a1.enable().unwrap();
-    a1.configure(&motioncard::AxisSettings {
+    a1.configure(&motioncard_sdk::AxisSettings {
         in_pos_window: 3.0,
         ..Default::default()
     })
@@ -37,7 +37,7 @@ fn record(path: &std::path::Path, clock: Clock) {
         ErrorKind::NotFinite
     );
     m1.wait(Duration::from_secs(10)).unwrap();
-    a0.move_velocity(-5_000.0, &motioncard::VelocityLimits::new(4e5, 2e7))
+    a0.move_velocity(-5_000.0, &motioncard_sdk::VelocityLimits::new(4e5, 2e7))
         .unwrap();
     let h = a0.halt(4e5, 2e7).unwrap();
     h.wait(Duration::from_secs(10)).unwrap();
@@ -54,7 +54,7 @@ fn a_recorded_run_replays_without_a_difference() {
         text.lines().any(|l| l.starts_with("W ")),
         "a block write is traced"
     );
-    let r = motioncard::replay(&path).unwrap();
+    let r = motioncard_sdk::replay(&path).unwrap();
     assert_eq!(r.difference, None, "{r:?}");
     assert!(r.commands >= 7 && r.events >= 15, "{r:?}");
     assert_eq!(r.header.axes, 3);
@@ -64,7 +64,7 @@ fn a_recorded_run_replays_without_a_difference() {
 fn a_run_on_a_real_time_card_replays_too() {
     let path = temp("realtime.trace");
     record(&path, Clock::RealTime);
-    let r = motioncard::replay(&path).unwrap();
+    let r = motioncard_sdk::replay(&path).unwrap();
     assert_eq!(r.difference, None, "{r:?}");
 }
 
@@ -85,14 +85,14 @@ fn a_tampered_trace_reports_its_first_difference() {
     f[6] = "3001.0";
     lines[i] = f.join(" ");
     std::fs::write(&path, lines.join("\n") + "\n").unwrap();
-    let r = motioncard::replay(&path).unwrap();
+    let r = motioncard_sdk::replay(&path).unwrap();
     let (n, why) = r.difference.expect("a difference");
     assert!(n > i + 1, "after the tampered command: line {n}");
     assert!(why.contains("MotionDone") || why.contains("value"), "{why}");
     // Not a trace at all.
     std::fs::write(&path, "hello\n").unwrap();
     assert_eq!(
-        motioncard::replay(&path).unwrap_err().kind(),
+        motioncard_sdk::replay(&path).unwrap_err().kind(),
         ErrorKind::BadConfig
     );
 }
@@ -112,13 +112,13 @@ fn the_environment_turns_the_trace_on() {
         text.lines().filter(|l| l.starts_with("C ")).count() >= 3,
         "{text}"
     );
-    let r = motioncard::replay(&path).unwrap();
+    let r = motioncard_sdk::replay(&path).unwrap();
     assert_eq!(r.difference, None, "{r:?}");
 }
 
 /// The tick of the trace's last motion-done event set to `tick`.
 fn with_last_motion_tick(text: &str, tick: &str) -> (String, usize) {
-    let kind = (motioncard::EventKind::MotionDone as u16).to_string();
+    let kind = (motioncard_sdk::EventKind::MotionDone as u16).to_string();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let i = lines
         .iter()
@@ -131,10 +131,12 @@ fn with_last_motion_tick(text: &str, tick: &str) -> (String, usize) {
 }
 
 /// Replays in a thread of its own: `None` if still stepping after 30 s.
-fn replay_within(path: &std::path::Path) -> Option<motioncard::Result<motioncard::ReplayReport>> {
+fn replay_within(
+    path: &std::path::Path,
+) -> Option<motioncard_sdk::Result<motioncard_sdk::ReplayReport>> {
     let (tx, rx) = std::sync::mpsc::channel();
     let p = path.to_path_buf();
-    std::thread::spawn(move || tx.send(motioncard::replay(&p)));
+    std::thread::spawn(move || tx.send(motioncard_sdk::replay(&p)));
     rx.recv_timeout(Duration::from_secs(30)).ok()
 }
 
@@ -166,7 +168,7 @@ fn a_tick_beyond_the_traces_span_is_refused_before_the_replay() {
     }
     let (bad, line) = with_last_motion_tick(&text, "3");
     std::fs::write(&path, bad).unwrap();
-    let e = motioncard::replay(&path).unwrap_err();
+    let e = motioncard_sdk::replay(&path).unwrap_err();
     assert!(
         e.to_string()
             .contains(&format!("line {line}: tick 3 is before")),
@@ -203,7 +205,7 @@ fn a_tick_beyond_the_traces_span_is_refused_before_the_replay() {
 /// card too (its session ends where the traced one did), and the one after the attach runs.
 #[test]
 fn a_trace_that_detached_its_session_replays_its_refusals() {
-    use motioncard::proto::{Command, Opcode};
+    use motioncard_sdk::proto::{Command, Opcode};
     let path = temp("detached.trace");
     let card = Card::open_sim_traced(
         SimOptions {
@@ -222,7 +224,7 @@ fn a_trace_that_detached_its_session_replays_its_refusals() {
         card.execute_raw(c)
     };
     session_op(Opcode::HostDetach).unwrap();
-    let vel = motioncard::VelocityLimits::new(4e5, 2e7);
+    let vel = motioncard_sdk::VelocityLimits::new(4e5, 2e7);
     assert_eq!(
         ax.move_velocity(5_000.0, &vel).unwrap_err().kind(),
         ErrorKind::NoSession
@@ -233,7 +235,7 @@ fn a_trace_that_detached_its_session_replays_its_refusals() {
         .wait(Duration::from_secs(10))
         .unwrap();
     card.close().unwrap();
-    let r = motioncard::replay(&path).unwrap();
+    let r = motioncard_sdk::replay(&path).unwrap();
     assert_eq!(r.difference, None, "{r:?}");
     let text = std::fs::read_to_string(&path).unwrap();
     let detaches = text

@@ -153,23 +153,40 @@ pub(crate) struct Inner {
     pub(crate) last_group_motion: Mutex<[Option<u32>; firmware_proto::MAX_GROUPS]>,
     /// Per group, what this host keeps of its path: whether streams fit chords into curves
     /// (`PathSettings::chord_fit`) and where the last segment it queued ends.
-    pub(crate) path_host: Mutex<[crate::path::PathHost; firmware_proto::MAX_GROUPS]>,
+    pub(crate) path_host: Mutex<[PathHost; firmware_proto::MAX_GROUPS]>,
     dev: Device,
     info: CardInfo,
     tx: Mutex<Tx>,
     rx: Mutex<Rx>,
     rx_cond: Condvar,
-    scale: Mutex<[f64; MAX_AXES]>,
+    pub(crate) scale: Mutex<[f64; MAX_AXES]>,
     /// Layout 1.8: held while a configuration block is written and applied, or read back, so
     /// that a read-back never interleaves with another thread's write of the same block.
     config: Mutex<()>,
-    last_motion: Mutex<[Option<u32>; MAX_AXES]>,
+    pub(crate) last_motion: Mutex<[Option<u32>; MAX_AXES]>,
     pub(crate) link: Arc<Link>,
     heartbeat: Mutex<Option<crate::heartbeat::Heartbeat>>,
     /// Axes the attach stopped because the previous host had vanished without closing.
     inherited_stops: u32,
     /// The API trace, when one is recorded.
     trace: Option<crate::trace::Tracer>,
+}
+
+/// What a host keeps of a group's path (see `Card`'s `path_host`).
+#[derive(Debug, Clone)]
+pub(crate) struct PathHost {
+    pub chord_fit: bool,
+    /// Where the last segment this host queued ends (user units), when known.
+    pub end: Option<Vec<f64>>,
+}
+
+impl Default for PathHost {
+    fn default() -> Self {
+        Self {
+            chord_fit: true,
+            end: None,
+        }
+    }
 }
 
 /// An open card. Cheap to clone; every clone talks to the same card. Safe to use from several
@@ -179,7 +196,9 @@ pub struct Card {
     inner: Arc<Inner>,
 }
 
-pub(crate) use crate::session::lock;
+pub use crate::limits::MoveLimits;
+pub(crate) use crate::limits::{finite, positive};
+pub(crate) use crate::lock::lock;
 
 impl Card {
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
@@ -739,7 +758,7 @@ impl Card {
     }
 
     /// A consistent snapshot of axis `a`'s status block, in counts.
-    fn read_axis_status(&self, a: usize) -> Result<AxisStatus> {
+    pub(crate) fn read_axis_status(&self, a: usize) -> Result<AxisStatus> {
         self.inner.link.check()?;
         self.read_snapshot(&format!("axis {a}"), |w| seqlock::read_axis_status(w, a))
     }
@@ -780,7 +799,7 @@ impl Card {
 }
 
 impl Status {
-    fn from_raw(axis: usize, raw: AxisStatus, s: f64) -> Result<Status> {
+    pub(crate) fn from_raw(axis: usize, raw: AxisStatus, s: f64) -> Result<Status> {
         let state = raw.state().ok_or_else(|| {
             Error::Protocol(format!("axis {axis} reports unknown state {}", raw.state))
         })?;
@@ -1276,76 +1295,6 @@ impl Sim {
     }
 }
 
-/// Limits of a point-to-point move, in user units (see [`Axis::set_scale`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MoveLimits {
-    /// Maximum velocity.
-    pub velocity: f64,
-    /// Maximum acceleration.
-    pub acceleration: f64,
-    /// Maximum deceleration.
-    pub deceleration: f64,
-    /// Jerk of the seven-segment phases 1, 3 (acceleration) and 5, 7 (deceleration).
-    pub jerk: [f64; 4],
-}
-
-impl MoveLimits {
-    /// Symmetric limits: deceleration = acceleration, one jerk for all phases.
-    pub fn new(velocity: f64, acceleration: f64, jerk: f64) -> Self {
-        Self {
-            velocity,
-            acceleration,
-            deceleration: acceleration,
-            jerk: [jerk; 4],
-        }
-    }
-
-    /// With a different deceleration.
-    pub fn deceleration(mut self, d: f64) -> Self {
-        self.deceleration = d;
-        self
-    }
-
-    /// With a different jerk for the deceleration phases (5 and 7).
-    pub fn decel_jerk(mut self, j: f64) -> Self {
-        self.jerk[2] = j;
-        self.jerk[3] = j;
-        self
-    }
-
-    fn check(&self) -> Result<()> {
-        let named = [
-            ("velocity", self.velocity),
-            ("acceleration", self.acceleration),
-            ("deceleration", self.deceleration),
-            ("jerk (phase 1)", self.jerk[0]),
-            ("jerk (phase 3)", self.jerk[1]),
-            ("jerk (phase 5)", self.jerk[2]),
-            ("jerk (phase 7)", self.jerk[3]),
-        ];
-        named
-            .into_iter()
-            .try_for_each(|(what, v)| positive(what, v))
-    }
-}
-
-/// Finite and greater than zero (a limit): `NotFinite` or `NonPositiveLimit` otherwise.
-pub(crate) fn positive(what: &'static str, v: f64) -> Result<()> {
-    finite(what, v)?;
-    if v <= 0.0 {
-        return Err(Error::NonPositive { what, value: v });
-    }
-    Ok(())
-}
-
-pub(crate) fn finite(what: &'static str, v: f64) -> Result<()> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::NotFinite { what, value: v })
-    }
-}
-
 /// An axis's status, in user units (and the raw counts in `raw`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Status {
@@ -1437,191 +1386,6 @@ impl Axis {
     /// Axis number.
     pub fn index(&self) -> usize {
         self.index
-    }
-
-    /// Counts per user unit (default 1: positions in counts; negative: the user's axis runs
-    /// against the encoder). |scale| must lie in [`SCALE_RANGE`]: zero, subnormal and absurd
-    /// scales are refused (`BadConfig`). Layout 1.8: the card keeps it for hosts (it does not
-    /// use it itself), so a host that opens the card later adopts it, and a configuration file
-    /// saves it; a card of an older layout keeps none, and the scale is this host's only.
-    pub fn set_scale(&self, counts_per_unit: f64) -> Result<()> {
-        finite("scale", counts_per_unit)?;
-        if !SCALE_RANGE.contains(&counts_per_unit.abs()) {
-            return Err(Error::BadConfig(format!(
-                "scale {counts_per_unit:e} counts per unit: |scale| must lie in {:e}..={:e}",
-                SCALE_RANGE.start(),
-                SCALE_RANGE.end()
-            )));
-        }
-        if self.card.info().layout.1 >= 8 {
-            let cmd = self.op(Opcode::SetScale).with_args(&[counts_per_unit]);
-            self.run(cmd, "set_scale")?;
-        }
-        lock(&self.card.inner.scale)[self.index] = counts_per_unit;
-        Ok(())
-    }
-
-    /// The counts per user unit this host converts the axis's positions with.
-    pub fn scale_factor(&self) -> f64 {
-        self.scale()
-    }
-
-    /// Layout 1.8: the servo configuration the card holds (read back from the card, with its
-    /// scale): FFPIV gains, DAC limit, in-position windows, jog limits, servo law.
-    pub fn settings(&self) -> Result<AxisSettings> {
-        Ok(self.card.read_axis_config(self.index)?.0)
-    }
-
-    /// Layout 1.8: the PD+ law the axis runs, read back from the card (`None`: it runs FFPIV).
-    pub fn pdplus_settings(&self) -> Result<Option<crate::PdPlusSettings>> {
-        let (cfg, pd) = self.card.read_axis_config(self.index)?;
-        Ok((cfg.servo_law == raw::MC_SERVO_PDPLUS).then_some(pd))
-    }
-
-    pub(crate) fn scale(&self) -> f64 {
-        self.card.scale(self.index)
-    }
-
-    pub(crate) fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
-        self.card.execute_seq(cmd, what, Target::Axis(self.index))
-    }
-
-    pub(crate) fn op(&self, op: Opcode) -> Command {
-        Command::new(op, self.index as u16)
-    }
-
-    /// MC_Power on.
-    pub fn enable(&self) -> Result<()> {
-        self.run(self.op(Opcode::PowerOn), "enable").map(|_| ())
-    }
-
-    /// MC_Power off (a moving axis loses power at once).
-    pub fn disable(&self) -> Result<()> {
-        self.run(self.op(Opcode::PowerOff), "disable").map(|_| ())
-    }
-
-    pub(crate) fn start_move(
-        &self,
-        op: Opcode,
-        value: f64,
-        lim: &MoveLimits,
-        flags: u32,
-        what: &'static str,
-    ) -> Result<Motion> {
-        finite(
-            if op == Opcode::MoveAbsolute {
-                "target position"
-            } else {
-                "distance"
-            },
-            value,
-        )?;
-        lim.check()?;
-        let s = self.scale().abs();
-        let args = [
-            value * self.scale(),
-            lim.velocity * s,
-            lim.acceleration * s,
-            lim.deceleration * s,
-            lim.jerk[0] * s,
-            lim.jerk[1] * s,
-            lim.jerk[2] * s,
-            lim.jerk[3] * s,
-        ];
-        let mut cmd = self.op(op).with_args(&args);
-        cmd.flags = flags;
-        let seq = self.run(cmd, what)?;
-        Ok(self.started(seq))
-    }
-
-    /// The motion of command `seq`, now the last one started on this axis.
-    pub(crate) fn started(&self, seq: u32) -> Motion {
-        lock(&self.card.inner.last_motion)[self.index] = Some(seq);
-        Motion::new(self.card.clone(), self.index, seq)
-    }
-
-    /// MC_MoveAbsolute (Aborting): a time-optimal S-curve to `target` within `limits`, from
-    /// whatever the axis is doing (see [`Axis::move_with`]).
-    pub fn move_absolute(&self, target: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveAbsolute, target, limits, 0, "move_absolute")
-    }
-
-    /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded
-    /// position within `limits`.
-    pub fn move_relative(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveRelative, distance, limits, 0, "move_relative")
-    }
-
-    fn stopping(
-        &self,
-        op: Opcode,
-        deceleration: f64,
-        jerk: f64,
-        what: &'static str,
-    ) -> Result<Motion> {
-        positive("deceleration", deceleration)?;
-        positive("jerk", jerk)?;
-        let s = self.scale().abs();
-        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
-        Ok(self.started(seq))
-    }
-
-    /// MC_Halt: decelerate within the limits, then Standstill. The interrupted move is aborted.
-    pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
-        self.stopping(Opcode::Halt, deceleration, jerk, "halt")
-    }
-
-    /// MC_Stop: decelerate and stay in Stopping until [`Axis::release_stop`].
-    pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
-        self.stopping(Opcode::Stop, deceleration, jerk, "stop")
-    }
-
-    /// Leave Stopping (once at rest the axis goes to Standstill).
-    pub fn release_stop(&self) -> Result<()> {
-        self.run(self.op(Opcode::StopRelease), "release_stop")
-            .map(|_| ())
-    }
-
-    /// MC_Reset: ErrorStop → Standstill.
-    pub fn reset(&self) -> Result<()> {
-        self.run(self.op(Opcode::Reset), "reset").map(|_| ())
-    }
-
-    /// Wait for the last motion started through this library on this axis.
-    pub fn wait_done(&self, timeout: Duration) -> Result<f64> {
-        let seq = lock(&self.card.inner.last_motion)[self.index]
-            .ok_or_else(|| Error::Unsupported("no motion was started on this axis".into()))?;
-        self.card
-            .wait_outcome(Target::Axis(self.index), seq, timeout)
-    }
-
-    /// A consistent snapshot of the axis's status. Never stale: when the card's tick counter
-    /// has stood still longer than [`Card::stale_limit`] this is `NotResponding`, not the old
-    /// snapshot.
-    pub fn status(&self) -> Result<Status> {
-        let raw = self.card.read_axis_status(self.index)?;
-        self.card.link_alive(raw.tick)?;
-        Status::from_raw(self.index, raw, self.scale())
-    }
-
-    /// Write the servo and in-position configuration (FFPIV) and have the card check and apply
-    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`. The
-    /// settings' `scale` is ignored (see [`Axis::set_scale`]); [`Axis::settings`] reads back
-    /// what the card holds.
-    pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
-        let a = self.index;
-        self.card.apply_block(
-            layout::AXIS_CONFIG.at(a),
-            |b| {
-                *b = AxisSettings {
-                    servo_law: raw::MC_SERVO_FFPIV,
-                    ..*cfg
-                }
-            },
-            self.op(Opcode::ApplyAxisConfig),
-            "configure",
-            Target::Axis(a),
-        )
     }
 }
 

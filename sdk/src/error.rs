@@ -361,7 +361,7 @@ pub enum Error {
     Aborted { target: Target, by: String },
     /// See [`ErrorKind::HomingFailed`]: why (`None`: a code this library does not know), and
     /// the actual position where it failed (user units).
-    #[error("homing of {target} failed at {at}: {}", crate::homing::failure_reason(*.error))]
+    #[error("homing of {target} failed at {at}: {}", failure_reason(*.error))]
     HomingFailed {
         target: Target,
         error: Option<firmware_proto::HomingError>,
@@ -548,6 +548,23 @@ pub(crate) fn fault_name(code: i32) -> Option<&'static str> {
         .iter()
         .find(|(bit, _)| bit.bits() as i32 == code)
         .map(|(_, n)| *n)
+}
+
+/// What a homing failure means, in words.
+pub(crate) fn failure_reason(e: Option<firmware_proto::HomingError>) -> &'static str {
+    use firmware_proto::HomingError;
+    match e {
+        Some(HomingError::LimitReached) => {
+            "a limit switch the method does not reverse at: the switch is missing"
+        }
+        Some(HomingError::DistanceExceeded) => {
+            "the maximum distance from the start, without the switch or hard stop"
+        }
+        Some(HomingError::Timeout) => "not homed within the timeout",
+        Some(HomingError::NoIndex) => "no index pulse within the index distance",
+        Some(HomingError::Plan) => "a motion of the method could not be planned",
+        None => "a reason this library does not know",
+    }
 }
 
 #[cfg(test)]

@@ -88,19 +88,3 @@ impl Status {
         self.motion.contains(MotionFlags::HOMED)
     }
 }
-
-/// What a homing failure means, in words.
-pub(crate) fn failure_reason(e: Option<HomingError>) -> &'static str {
-    match e {
-        Some(HomingError::LimitReached) => {
-            "a limit switch the method does not reverse at: the switch is missing"
-        }
-        Some(HomingError::DistanceExceeded) => {
-            "the maximum distance from the start, without the switch or hard stop"
-        }
-        Some(HomingError::Timeout) => "not homed within the timeout",
-        Some(HomingError::NoIndex) => "no index pulse within the index distance",
-        Some(HomingError::Plan) => "a motion of the method could not be planned",
-        None => "a reason this library does not know",
-    }
-}

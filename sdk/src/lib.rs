@@ -22,6 +22,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
+mod axis;
 mod cam;
 mod card;
 mod config;
@@ -32,6 +33,8 @@ mod group;
 mod heartbeat;
 mod homing;
 mod io;
+mod limits;
+mod lock;
 mod modes;
 mod nurbs;
 mod path;
@@ -40,6 +43,7 @@ mod pvt;
 mod replay;
 mod safety;
 mod scope;
+mod segment;
 mod session;
 mod sync;
 pub mod trace;
@@ -90,10 +94,7 @@ pub use nurbs::{
     clamped_uniform_knots, die_bonder_pdplus, split_nurbs, Nurbs, NurbsError, NurbsFeed,
     PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
-pub use path::{
-    Geometry, GroupPath, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings, PathStreamer,
-    Segment, StreamError, Transition,
-};
+pub use path::{GroupPath, PathProgress, PathSettings, PathStreamer, StreamError};
 pub use pvt::{pvt_time_reason, PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
 pub use replay::{replay, ReplayReport, TraceHeader, MAX_TICKS_PER_SECOND};
@@ -104,6 +105,7 @@ pub use scope::{
     Capture, Scope, ScopeEvent, ScopeSettings, ScopeStatus, ScopeTrigger, Signal, SignalOwner,
     SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,
 };
+pub use segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;

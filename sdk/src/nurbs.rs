@@ -62,6 +62,12 @@ impl Axis {
             )
             .map(|_| ())
     }
+
+    /// Layout 1.8: the PD+ law the axis runs, read back from the card (`None`: it runs FFPIV).
+    pub fn pdplus_settings(&self) -> Result<Option<PdPlusSettings>> {
+        let (cfg, pd) = self.card().read_axis_config(self.index())?;
+        Ok((cfg.servo_law == raw::MC_SERVO_PDPLUS).then_some(pd))
+    }
 }
 
 /// How a NURBS curve is followed (path units of the group's first axis).

@@ -16,7 +16,7 @@
 
 use crate::card::Card;
 use crate::error::{nack_reason, Error, Result, Target};
-use crate::session::lock;
+use crate::lock::lock;
 use firmware_proto::{
     check_config, layout, raw, Command, Edge, Opcode, ScopeConfig, ScopeConsumer, ScopeMode,
     ScopeSample, ScopeState, Source, SCOPE_CHANNELS, SCOPE_RING,

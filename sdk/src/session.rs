@@ -18,22 +18,18 @@
 //! card process goes away every call fails with `CardGone`.
 
 use crate::error::{Error, Result};
+use crate::lock::lock;
 use firmware_proto::{layout, Mem};
 use nix::sys::eventfd::{EfdFlags, EventFd};
 use std::os::fd::{AsFd, BorrowedFd};
 use std::sync::atomic::{fence, AtomicBool, AtomicU64, Ordering};
-use std::sync::{Mutex, MutexGuard};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// A command's deadline: the card refuses a command it takes later than this after it was
 /// sent (`MC_NACK_EXPIRED`), and the SDK reports a failure only once the command can no longer
 /// run.
 pub const ACK_TIMEOUT: Duration = Duration::from_secs(2);
-
-/// Lock a mutex, recovering from a poisoned one (a panicking user thread must not brick the card).
-pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
 
 pub(crate) type Window = std::sync::Arc<firmware_proto::window::MappedWindow>;
 

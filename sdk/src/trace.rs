@@ -80,13 +80,13 @@ impl Tracer {
     /// full disk) is dropped silently: the program it watches goes on.
     fn line(&self, tag: char, rest: std::fmt::Arguments) {
         let ns = self.t0.elapsed().as_nanos();
-        let mut out = crate::card::lock(&self.out);
+        let mut out = crate::lock::lock(&self.out);
         let _ = writeln!(out, "{tag} {ns} {rest}");
         let _ = out.flush();
     }
 
     pub(crate) fn header(&self, uri: &str, layout: (u16, u16), axes: usize, rate: u32) {
-        let mut out = crate::card::lock(&self.out);
+        let mut out = crate::lock::lock(&self.out);
         let _ = writeln!(out, "{MAGIC}");
         let _ = writeln!(out, "I {} {} {axes} {rate} {uri}", layout.0, layout.1);
         let _ = out.flush();

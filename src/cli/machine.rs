@@ -1,17 +1,13 @@
-//! `mcctl compare`, `probe`, `gear` and `cam`: a machine's I/O and synchronised motion tried
-//! from the command line. Each arms or couples, optionally runs the move that exercises it
-//! (an absolute move of the axis watched, or of the master), collects what the card reports
-//! meanwhile and prints it. The move is mcctl's own: the card halts what a leaving host
-//! started, so everything here ends with the process. Positions are the axes' user units,
+//! What `mcctl compare`, `probe`, `gear` and `cam` share: a machine's I/O and synchronised
+//! motion tried from the command line. Each arms or couples, optionally runs the move that
+//! exercises it (an absolute move of the axis watched, or of the master), collects what the
+//! card reports meanwhile and prints it. The move is mcctl's own: the card halts what a leaving
+//! host started, so everything here ends with the process. Positions are the axes' user units,
 //! which mcctl leaves at counts.
 
+use super::args::{SyncArgs, TravelArgs};
 use super::{hold_for, interrupt, progress, show_axis, POLL, WAIT};
-use crate::{
-    Card, CardEvent, CompareChannel, Direction, Error, EventKind, Master, Motion, MoveLimits,
-    ProbeTrigger, Result, SyncLimits, COMPARE_FIRED, COMPARE_MISSED,
-};
-use card_emu::motion::cam::CamTable;
-use serde_json::json;
+use crate::{Card, CardEvent, Error, Master, Motion, MoveLimits, Result, SyncLimits};
 use std::time::Duration;
 
 /// An absolute move that exercises what was armed or coupled.
@@ -25,7 +21,7 @@ pub struct Travel {
 }
 
 impl Travel {
-    fn start(&self, card: &Card) -> Result<Motion> {
+    pub(crate) fn start(&self, card: &Card) -> Result<Motion> {
         card.axis(self.axis)?
             .move_absolute(self.target, &self.limits)
     }
@@ -94,7 +90,7 @@ impl Drop for Powered<'_> {
 
 /// Run `travel` (or let `hold` pass), calling `each` between looks at the card with the
 /// events taken meanwhile. Returns where the moved axis ended (`None` without a move).
-fn run_collecting(
+pub(crate) fn run_collecting(
     card: &Card,
     travel: Option<&Travel>,
     hold: Duration,
@@ -142,256 +138,9 @@ fn run_collecting(
     Ok(at)
 }
 
-/// Where a compare channel fires.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ComparePositions {
-    /// Once, at this position.
-    At(f64),
-    /// `count` positions from `start`, `pitch` apart in the direction.
-    Series { start: f64, pitch: f64, count: u32 },
-    /// The positions of this file ([`table_positions`]) in order (strictly monotonic in the
-    /// direction), read and streamed into the channel's table as it empties.
-    Table(std::path::PathBuf),
-}
-
-/// Checks a compare table file a line at a time (one finite position a line, strictly
-/// monotonic in `dir` when it is Positive or Negative) and counts its positions, so that a
-/// bad file is refused before anything is armed or moved. Err: the line and what is wrong.
-pub fn table_positions(path: &std::path::Path, dir: Direction) -> std::result::Result<u64, String> {
-    let (mut n, mut last) = (0u64, None::<f64>);
-    for row in super::file_rows(path, 1..=1, "position")? {
-        let r = row?;
-        let p = r.values[0];
-        let onward = match (dir, last) {
-            (Direction::Positive, Some(q)) => p > q,
-            (Direction::Negative, Some(q)) => p < q,
-            _ => true,
-        };
-        if !onward {
-            return Err(format!(
-                "line {}: position {p} does not come after {} in the {} direction",
-                r.line,
-                last.unwrap_or_default(),
-                if dir == Direction::Positive {
-                    "positive"
-                } else {
-                    "negative"
-                }
-            ));
-        }
-        last = Some(p);
-        n += 1;
-    }
-    if n == 0 {
-        return Err("no positions".into());
-    }
-    Ok(n)
-}
-
-/// `mcctl compare`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CompareJob {
-    pub axis: usize,
-    pub channel: usize,
-    pub output: u32,
-    pub pulse_us: u32,
-    pub direction: Direction,
-    pub positions: ComparePositions,
-    pub travel: Option<Travel>,
-    /// Without a move: how long to watch.
-    pub hold: Duration,
-    /// Power the axis for the move if it is disabled (`--enable`; off again at the end).
-    pub enable: bool,
-}
-
-/// Arm a compare channel, run the move, and report the channel's own counters with the
-/// positions of the card's events (a fire each; the misses of one tick share one event, with
-/// the last position); the channel is disarmed at the end. With `enable`, the axis is powered
-/// only for a move, once the channel is armed, and powered off again however it ends.
-pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
-    let ch = card.axis(job.axis)?.compare(job.channel);
-    let (out, dir) = (job.output, job.direction);
-    let mut table = None;
-    match &job.positions {
-        ComparePositions::At(p) => ch.arm_single(out, job.pulse_us, *p, dir)?,
-        ComparePositions::Series {
-            start,
-            pitch,
-            count,
-        } => ch.arm_series(out, job.pulse_us, *start, *pitch, *count, dir)?,
-        ComparePositions::Table(path) => {
-            let rows =
-                super::file_rows(path, 1..=1, "position").map_err(|e| table_error(path, e))?;
-            ch.arm_table(out, job.pulse_us, 0, dir)?;
-            table = Some((path.as_path(), rows));
-        }
-    }
-    let axis = [(job.axis, halt_of(job.travel.as_ref()))];
-    let outcome = Powered::on(card, job.enable && job.travel.is_some(), &axis).and_then(|power| {
-        let r = watch_compare(card, &ch, job, table, json);
-        let released = power.release();
-        let r = r?;
-        released.map(|()| r)
-    });
-    let disarmed = ch.disarm();
-    let (fired, missed, at) = outcome?;
-    disarmed?;
-    let st = ch.status()?;
-    Ok(if json {
-        json!({
-            "axis": job.axis,
-            "channel": job.channel,
-            "output": job.output,
-            "fires": st.fires,
-            "missed": st.missed,
-            "fired_at": fired,
-            "missed_at": missed,
-            "position": at,
-        })
-        .to_string()
-    } else {
-        let span = |v: &[f64]| match (v.first(), v.last()) {
-            (Some(a), Some(b)) => format!(" ({a} .. {b})"),
-            _ => String::new(),
-        };
-        format!(
-            "compare {} on axis {}: {} fired{}, {} missed{}, output {}\n",
-            job.channel,
-            job.axis,
-            st.fires,
-            span(&fired),
-            st.missed,
-            span(&missed),
-            job.output
-        )
-    })
-}
-
 /// The deceleration and jerk a powered axis is halted at when a command ends with it moving.
-fn halt_of(travel: Option<&Travel>) -> (f64, f64) {
+pub(crate) fn halt_of(travel: Option<&Travel>) -> (f64, f64) {
     travel.map_or((1e6, 5e7), |t| (t.limits.deceleration, t.limits.jerk[3]))
-}
-
-/// A table file that could not be read as it was checked (it changed meanwhile).
-fn table_error(path: &std::path::Path, e: String) -> Error {
-    Error::Io {
-        context: path.display().to_string(),
-        source: std::io::Error::other(e),
-    }
-}
-
-/// The positions fired and missed (from the card's events; with `json` every one, else only
-/// the first and the last) and where the move ended.
-type Fires = (Vec<f64>, Vec<f64>, Option<f64>);
-
-/// A position of an event: every one kept for the JSON, else the first and the last.
-fn keep(v: &mut Vec<f64>, p: f64, all: bool) {
-    if all || v.len() < 2 {
-        v.push(p);
-    } else {
-        v[1] = p;
-    }
-}
-
-fn watch_compare<R: std::io::BufRead>(
-    card: &Card,
-    ch: &CompareChannel,
-    job: &CompareJob,
-    mut table: Option<(&std::path::Path, super::NumberRows<R>)>,
-    json: bool,
-) -> Result<Fires> {
-    let (mut fired, mut missed) = (Vec::new(), Vec::new());
-    // At most a table's room of positions in hand.
-    let mut batch = Vec::new();
-    let at = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
-        match e {
-            Some(e) if e.kind == EventKind::Compare && e.axis as usize == job.channel => {
-                match e.code {
-                    COMPARE_FIRED => keep(&mut fired, e.value, json),
-                    COMPARE_MISSED => keep(&mut missed, e.value, json),
-                    _ => {}
-                }
-            }
-            Some(_) => {}
-            None => {
-                if let Some((path, rows)) = &mut table {
-                    let room = ch.room()?;
-                    batch.clear();
-                    for row in rows.by_ref().take(room) {
-                        batch.push(row.map_err(|e| table_error(path, e))?.values[0]);
-                    }
-                    if !batch.is_empty() {
-                        ch.push(job.direction, &batch)?;
-                    }
-                    if batch.len() < room {
-                        table = None;
-                    }
-                }
-            }
-        }
-        Ok(())
-    })?;
-    Ok((fired, missed, at))
-}
-
-/// `mcctl probe`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProbeJob {
-    pub axis: usize,
-    pub channel: usize,
-    pub trigger: ProbeTrigger,
-    pub travel: Option<Travel>,
-    pub hold: Duration,
-    /// Power the axis for the move if it is disabled (`--enable`; off again at the end).
-    pub enable: bool,
-}
-
-/// Arm a touch probe (MC_TouchProbe), run the move, and report every capture the card posted;
-/// the probe is aborted at the end (MC_AbortTrigger). With `enable`, the axis is powered only
-/// for a move, once the probe is armed, and powered off again however it ends.
-pub fn probe(card: &Card, job: &ProbeJob, json: bool) -> Result<String> {
-    let tp = card.axis(job.axis)?.touch_probe(job.channel);
-    tp.arm(&job.trigger)?;
-    let mut captures = Vec::new();
-    let axis = [(job.axis, halt_of(job.travel.as_ref()))];
-    let outcome = Powered::on(card, job.enable && job.travel.is_some(), &axis).and_then(|power| {
-        let r = run_collecting(card, job.travel.as_ref(), job.hold, |e| {
-            if let Some(e) =
-                e.filter(|e| e.kind == EventKind::Probe && e.axis as usize == job.channel)
-            {
-                captures.push(e.value);
-            }
-            Ok(())
-        });
-        let released = power.release();
-        let r = r?;
-        released.map(|()| r)
-    });
-    let st = tp.status();
-    let aborted = tp.abort();
-    let at = outcome?;
-    let st = st?;
-    aborted?;
-    Ok(if json {
-        json!({
-            "axis": job.axis,
-            "channel": job.channel,
-            "captures": st.captures,
-            "outside_window": st.outside,
-            "positions": captures,
-            "position": at,
-        })
-        .to_string()
-    } else {
-        let mut s = format!(
-            "probe {} on axis {}: {} captures, {} edges outside the window\n",
-            job.channel, job.axis, st.captures, st.outside
-        );
-        for (k, p) in captures.iter().enumerate() {
-            s += &format!("  {:>4} {p}\n", k + 1);
-        }
-        s
-    })
 }
 
 /// A master as `mcctl` names it: `N` (axis N's commanded position), `actual:N`, `aux:K`.
@@ -410,7 +159,7 @@ pub fn parse_master(s: &str) -> std::result::Result<Master, String> {
 
 /// A master's position now: the commanded or actual position of an axis, or an auxiliary
 /// encoder's count.
-fn master_position(card: &Card, m: Master) -> Result<f64> {
+pub(crate) fn master_position(card: &Card, m: Master) -> Result<f64> {
     Ok(match m {
         Master::Commanded(a) => card.axis(a)?.status()?.command_position,
         Master::Actual(a) => card.axis(a)?.status()?.actual_position,
@@ -453,7 +202,7 @@ impl Coupling {
 /// The slave engaged (waited until in sync), the master moved, then the slave uncoupled and
 /// halted. Returns the master's and the slave's commanded positions once in sync and at the
 /// end.
-fn couple(
+pub(crate) fn couple(
     card: &Card,
     c: &Coupling,
     engage: impl FnOnce() -> Result<Motion>,
@@ -491,86 +240,30 @@ fn run_coupled(
     Ok([start, end])
 }
 
-/// `mcctl gear`: MC_GearIn at `numerator / denominator`, the master's move, MC_GearOut. Reports
-/// both travels and the slave's error against the ratio (0 on the card's integer arithmetic).
-pub fn gear(
-    card: &Card,
-    c: &Coupling,
-    numerator: i64,
-    denominator: i64,
-    json: bool,
-) -> Result<String> {
-    let slave = card.axis(c.slave)?;
-    let [(m0, s0), (m1, s1)] = couple(card, c, || {
-        slave.gear_in(c.master, numerator, denominator, &c.limits)
-    })?;
-    let (dm, ds) = (m1 - m0, s1 - s0);
-    let error = ds - dm * numerator as f64 / denominator as f64;
-    Ok(if json {
-        json!({
-            "slave": c.slave,
-            "ratio": [numerator, denominator],
-            "master_travel": dm,
-            "slave_travel": ds,
-            "error": error,
-        })
-        .to_string()
-    } else {
-        format!(
-            "axis {} geared {numerator}/{denominator}: master moved {dm}, slave {ds} (error \
-             {error})\n",
-            c.slave
-        )
-    })
-}
-
-/// A cam table's shape and the mapping of `mcctl cam`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CamJob {
-    pub points: Vec<(f64, f64)>,
-    pub cubic: bool,
-    pub periodic: bool,
-    pub settings: crate::CamSettings,
-}
-
-/// `mcctl cam`: load the table, MC_CamIn, the master's move, MC_CamOut. Reports where the
-/// slave ended against where the table puts it for the master's end position (relative: the
-/// table's difference from where the cam started).
-pub fn cam(card: &Card, c: &Coupling, job: &CamJob, json: bool) -> Result<String> {
-    let cs = &job.settings;
-    // The card's refusal first (`CamTable`, `NotFinite`); then the same table on the host.
-    card.load_cam_table(cs.table, &job.points, job.cubic, job.periodic)?;
-    let table = CamTable::new(&job.points, job.cubic, job.periodic).map_err(|e| {
-        Error::Protocol(format!("the card took a cam table the host refuses: {e:?}"))
-    })?;
-    let slave = card.axis(c.slave)?;
-    let [(m0, s0), (m, s)] = couple(card, c, || slave.cam_in(c.master, cs, &c.limits))?;
-    let at = |m: f64| cs.slave_scale * table.eval((m - cs.master_offset) / cs.master_scale).s;
-    // Relative: the card moved the offset so that the cam started where the slave stood.
-    let want = if cs.relative {
-        s0 + at(m) - at(m0)
-    } else {
-        cs.slave_offset + at(m)
+/// The coupling of `mcctl gear` and `mcctl cam`: the master's move needs a master axis.
+pub fn coupling(
+    slave: usize,
+    master: Master,
+    sync: &SyncArgs,
+    t: &TravelArgs,
+) -> Result<Coupling, String> {
+    let axis = match master {
+        Master::Commanded(a) | Master::Actual(a) => Some(a),
+        Master::Aux(_) => None,
     };
-    Ok(if json {
-        json!({
-            "slave": c.slave,
-            "table": cs.table,
-            "points": job.points.len(),
-            "master": m,
-            "slave_position": s,
-            "table_position": want,
-            "error": s - want,
-        })
-        .to_string()
-    } else {
-        format!(
-            "axis {} on cam table {} ({} points): master at {m}, slave at {s}, the table says \
-             {want} (error {})\n",
-            c.slave,
-            cs.table,
-            job.points.len(),
-            s - want
-        )
+    let travel = match (axis, t.target) {
+        (Some(a), _) => t.travel(a),
+        (None, None) => None,
+        (None, Some(_)) => {
+            return Err("--move needs a master axis, not an auxiliary encoder".into())
+        }
+    };
+    Ok(Coupling {
+        slave,
+        master,
+        limits: SyncLimits::new(sync.slave_vmax, sync.slave_amax, sync.slave_jmax),
+        travel,
+        hold: t.hold,
+        enable: t.enable,
     })
 }

@@ -1,5 +1,6 @@
-//! Files of numbers read a row at a time (`mcctl pvt`, `compare --table`): memory bounded by
-//! the longest line whatever the file's length.
+//! Files of numbers: read whole ([`number_rows`], `mcctl cam`'s table) or a row at a time
+//! (`mcctl pvt`, `compare --table`: memory bounded by the longest line whatever the file's
+//! length).
 
 use std::io::BufRead;
 use std::path::Path;
@@ -17,7 +18,7 @@ pub struct Row {
     pub n: usize,
 }
 
-/// The rows of a file of numbers, as [`super::number_rows`] reads them (`widths` finite
+/// The rows of a file of numbers, as [`number_rows`] reads them (`widths` finite
 /// numbers a line, commas or blanks between, `#` starts a comment, blank lines skipped),
 /// one at a time. An error names its line (from 1); nothing follows it.
 pub struct NumberRows<R> {
@@ -118,6 +119,41 @@ impl<R: BufRead> Iterator for NumberRows<R> {
     }
 }
 
+/// The rows of a file of numbers: `widths` finite numbers per line (commas or blanks between;
+/// `#` starts a comment; blank lines skipped), `what` naming a row in the error. Err: the line
+/// number (from 1) and what is wrong.
+pub fn number_rows(
+    text: &str,
+    widths: std::ops::RangeInclusive<usize>,
+    what: &str,
+) -> std::result::Result<Vec<Vec<f64>>, String> {
+    let mut rows = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let vals: std::result::Result<Vec<f64>, _> = line
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .map(str::parse::<f64>)
+            .collect();
+        match vals {
+            Ok(v) if widths.contains(&v.len()) && v.iter().all(|x| x.is_finite()) => rows.push(v),
+            _ => {
+                return Err(format!(
+                    "line {}: expected `{what}` (finite numbers), got `{line}`",
+                    i + 1
+                ))
+            }
+        }
+    }
+    if rows.is_empty() {
+        return Err("no points".into());
+    }
+    Ok(rows)
+}
+
 /// The rows of the file at `path` (an error names the file's line, not the file).
 pub fn file_rows(
     path: &Path,
@@ -144,7 +180,7 @@ mod tests {
             (4, [0.2, 6.0, 0.0], 2)
         );
         assert_eq!(rows[2].values, [0.3, 7.0, 1.0]);
-        let want: Vec<Vec<f64>> = super::super::number_rows(text, 2..=3, "t, p").unwrap();
+        let want: Vec<Vec<f64>> = super::number_rows(text, 2..=3, "t, p").unwrap();
         assert_eq!(
             want,
             rows.iter()

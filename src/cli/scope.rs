@@ -1,13 +1,103 @@
 //! `mcctl scope`: a one-shot capture of the card's scope, optionally of a move started while
 //! it is armed, to CSV and to an SVG plot, with a summary per channel.
 
+use super::args::{positive_duration, TravelArgs};
 use super::machine::Travel;
-use crate::{Card, Result};
+use super::{enable_if_needed, on_card};
+use crate::{Card, Result, SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX};
 use crate::{Edge, ScopeMode, ScopeSettings, ScopeTrigger, Signal, SignalOwner, Source};
+use clap::Args as ClapArgs;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::process::ExitCode;
 use std::time::Duration;
+
+/// `mcctl scope`.
+#[derive(ClapArgs)]
+pub struct Args {
+    /// A channel SIGNAL[:INDEX] (repeat for more, up to 16): cmd_pos, cmd_vel, cmd_acc,
+    /// act_pos, act_vel, ferr, dac, u_request, encoder, servo_p, servo_i, servo_d, servo_ff
+    /// (of an axis), path_speed, path_acc, path_pos (of a group), inputs, outputs,
+    /// inputs_raw. Default: cmd_pos, act_pos, ferr and dac of --axis.
+    #[arg(long = "channel", value_parser = parse_source)]
+    pub channels: Vec<Source>,
+    /// Samples from the trigger on.
+    #[arg(long, default_value_t = 2000, value_parser = clap::value_parser!(u32).range(1..))]
+    pub samples: u32,
+    /// Samples kept from before the trigger.
+    #[arg(
+        long,
+        default_value_t = 0,
+        value_parser = clap::value_parser!(u32).range(..=SCOPE_PRETRIGGER_MAX as i64)
+    )]
+    pub pre: u32,
+    /// A sample every N servo ticks.
+    #[arg(
+        long,
+        default_value_t = 1,
+        value_parser = clap::value_parser!(u32).range(1..=SCOPE_DIVIDER_MAX as i64)
+    )]
+    pub divider: u32,
+    /// immediate, command, fault, level:CHANNEL:LEVEL[:rising|falling|either] (CHANNEL:
+    /// its place in the --channel list, from 0) or input:N[:EDGE].
+    #[arg(
+        long,
+        default_value = "immediate",
+        allow_hyphen_values = true,
+        value_parser = parse_trigger
+    )]
+    pub trigger: ScopeTrigger,
+    /// The axis of the default channels and of --move.
+    #[arg(long, default_value_t = 0)]
+    pub axis: usize,
+    /// Write the samples here (tick, seconds from the trigger, one column a channel).
+    #[arg(long)]
+    pub csv: Option<std::path::PathBuf>,
+    /// Plot the channels against time here.
+    #[arg(long)]
+    pub svg: Option<std::path::PathBuf>,
+    /// Seconds the whole capture may take.
+    #[arg(
+        long,
+        default_value = "10",
+        allow_negative_numbers = true,
+        value_parser = positive_duration("--timeout")
+    )]
+    pub timeout: Duration,
+    #[command(flatten)]
+    pub travel: TravelArgs,
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Capture (the default channels of --axis without --channel) and report.
+pub fn run(uri: &str, a: Args) -> ExitCode {
+    let mut channels = a.channels;
+    if channels.is_empty() {
+        channels = [Signal::CmdPos, Signal::ActPos, Signal::Ferr, Signal::Dac]
+            .map(|s| Source::axis(s, a.axis))
+            .to_vec();
+    }
+    let job = ScopeJob {
+        channels,
+        divider: a.divider,
+        trigger: a.trigger,
+        pre_trigger: a.pre,
+        samples: a.samples,
+        travel: a.travel.travel(a.axis),
+        csv: a.csv,
+        svg: a.svg,
+        timeout: a.timeout,
+    };
+    let (axis, enable) = (a.axis, a.travel.enable);
+    on_card(uri, |c| {
+        if enable {
+            enable_if_needed(c, axis)?;
+        }
+        scope(c, &job, a.json)
+    })
+}
 
 /// A signal's name on the command line (the `MC_SIG_*` name in lower case).
 fn signal_name(s: Signal) -> String {

@@ -12,9 +12,9 @@ use crate::{AxisSettings, Card, PdPlusSettings, Result};
 use serde::{Deserialize, Serialize};
 
 /// FFPIV gains, as a configuration file's `[axis.N.ffpiv]` spells them.
-pub use crate::FfpivSection as Ffpiv;
+pub use motioncard_sdk::FfpivSection as Ffpiv;
 /// PD+ gains, drive model and drive limit, as a configuration file's `[axis.N.pdplus]`.
-pub use crate::PdPlusSection as PdPlus;
+pub use motioncard_sdk::PdPlusSection as PdPlus;
 
 /// The servo law an axis runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,8 +1,8 @@
 //! Helpers shared by the end-to-end tests.
 #![allow(dead_code)]
 
-use motioncard::plan::{Limits, Profile};
-use motioncard::{Card, Clock, EmuOptions, PathLimits, SimOptions};
+use motioncard_sdk::plan::{Limits, Profile};
+use motioncard_sdk::{Card, Clock, EmuOptions, PathLimits, SimOptions};
 
 /// A stepped emulated card: deterministic on any machine.
 pub fn stepped_card() -> Card {

@@ -36,7 +36,7 @@ pub(crate) mod spline;
 #[cfg(test)]
 mod tests;
 
-use crate::path::{Geometry, PathBuffer, PathItem, Segment, Transition};
+use crate::segment::{Geometry, PathBuffer, PathItem, Segment, Transition};
 use spline::{correct, deviation, dist_to_segment, fit, FitSpec, Spline, Start};
 use std::collections::VecDeque;
 

@@ -1,0 +1,192 @@
+//! An axis's own commands: its scale, MC_Power, MC_MoveAbsolute and MC_MoveRelative, MC_Halt,
+//! MC_Stop and MC_Reset, its status and its servo configuration. The other motions of an axis
+//! are in the modules of their kind (modes, homing, pvt, sync, cam, io, nurbs).
+
+use crate::card::{
+    finite, lock, positive, Axis, AxisSettings, Motion, MoveLimits, Status, SCALE_RANGE,
+};
+use crate::error::{Error, Result, Target};
+use firmware_proto::{layout, raw, Command, Opcode};
+use std::time::Duration;
+
+impl Axis {
+    /// Counts per user unit (default 1: positions in counts; negative: the user's axis runs
+    /// against the encoder). |scale| must lie in [`SCALE_RANGE`]: zero, subnormal and absurd
+    /// scales are refused (`BadConfig`). Layout 1.8: the card keeps it for hosts (it does not
+    /// use it itself), so a host that opens the card later adopts it, and a configuration file
+    /// saves it; a card of an older layout keeps none, and the scale is this host's only.
+    pub fn set_scale(&self, counts_per_unit: f64) -> Result<()> {
+        finite("scale", counts_per_unit)?;
+        if !SCALE_RANGE.contains(&counts_per_unit.abs()) {
+            return Err(Error::BadConfig(format!(
+                "scale {counts_per_unit:e} counts per unit: |scale| must lie in {:e}..={:e}",
+                SCALE_RANGE.start(),
+                SCALE_RANGE.end()
+            )));
+        }
+        if self.card().info().layout.1 >= 8 {
+            let cmd = self.op(Opcode::SetScale).with_args(&[counts_per_unit]);
+            self.run(cmd, "set_scale")?;
+        }
+        lock(&self.card().inner().scale)[self.index()] = counts_per_unit;
+        Ok(())
+    }
+
+    /// The counts per user unit this host converts the axis's positions with.
+    pub fn scale_factor(&self) -> f64 {
+        self.scale()
+    }
+
+    /// Layout 1.8: the servo configuration the card holds (read back from the card, with its
+    /// scale): FFPIV gains, DAC limit, in-position windows, jog limits, servo law.
+    pub fn settings(&self) -> Result<AxisSettings> {
+        Ok(self.card().read_axis_config(self.index())?.0)
+    }
+
+    pub(crate) fn scale(&self) -> f64 {
+        self.card().scale(self.index())
+    }
+
+    pub(crate) fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
+        self.card()
+            .execute_seq(cmd, what, Target::Axis(self.index()))
+    }
+
+    pub(crate) fn op(&self, op: Opcode) -> Command {
+        Command::new(op, self.index() as u16)
+    }
+
+    /// MC_Power on.
+    pub fn enable(&self) -> Result<()> {
+        self.run(self.op(Opcode::PowerOn), "enable").map(|_| ())
+    }
+
+    /// MC_Power off (a moving axis loses power at once).
+    pub fn disable(&self) -> Result<()> {
+        self.run(self.op(Opcode::PowerOff), "disable").map(|_| ())
+    }
+
+    pub(crate) fn start_move(
+        &self,
+        op: Opcode,
+        value: f64,
+        lim: &MoveLimits,
+        flags: u32,
+        what: &'static str,
+    ) -> Result<Motion> {
+        finite(
+            if op == Opcode::MoveAbsolute {
+                "target position"
+            } else {
+                "distance"
+            },
+            value,
+        )?;
+        lim.check()?;
+        let s = self.scale().abs();
+        let args = [
+            value * self.scale(),
+            lim.velocity * s,
+            lim.acceleration * s,
+            lim.deceleration * s,
+            lim.jerk[0] * s,
+            lim.jerk[1] * s,
+            lim.jerk[2] * s,
+            lim.jerk[3] * s,
+        ];
+        let mut cmd = self.op(op).with_args(&args);
+        cmd.flags = flags;
+        let seq = self.run(cmd, what)?;
+        Ok(self.started(seq))
+    }
+
+    /// The motion of command `seq`, now the last one started on this axis.
+    pub(crate) fn started(&self, seq: u32) -> Motion {
+        lock(&self.card().inner().last_motion)[self.index()] = Some(seq);
+        Motion::new(self.card().clone(), self.index(), seq)
+    }
+
+    /// MC_MoveAbsolute (Aborting): a time-optimal S-curve to `target` within `limits`, from
+    /// whatever the axis is doing (see [`Axis::move_with`]).
+    pub fn move_absolute(&self, target: f64, limits: &MoveLimits) -> Result<Motion> {
+        self.start_move(Opcode::MoveAbsolute, target, limits, 0, "move_absolute")
+    }
+
+    /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded
+    /// position within `limits`.
+    pub fn move_relative(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
+        self.start_move(Opcode::MoveRelative, distance, limits, 0, "move_relative")
+    }
+
+    fn stopping(
+        &self,
+        op: Opcode,
+        deceleration: f64,
+        jerk: f64,
+        what: &'static str,
+    ) -> Result<Motion> {
+        positive("deceleration", deceleration)?;
+        positive("jerk", jerk)?;
+        let s = self.scale().abs();
+        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
+        Ok(self.started(seq))
+    }
+
+    /// MC_Halt: decelerate within the limits, then Standstill. The interrupted move is aborted.
+    pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
+        self.stopping(Opcode::Halt, deceleration, jerk, "halt")
+    }
+
+    /// MC_Stop: decelerate and stay in Stopping until [`Axis::release_stop`].
+    pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
+        self.stopping(Opcode::Stop, deceleration, jerk, "stop")
+    }
+
+    /// Leave Stopping (once at rest the axis goes to Standstill).
+    pub fn release_stop(&self) -> Result<()> {
+        self.run(self.op(Opcode::StopRelease), "release_stop")
+            .map(|_| ())
+    }
+
+    /// MC_Reset: ErrorStop → Standstill.
+    pub fn reset(&self) -> Result<()> {
+        self.run(self.op(Opcode::Reset), "reset").map(|_| ())
+    }
+
+    /// Wait for the last motion started through this library on this axis.
+    pub fn wait_done(&self, timeout: Duration) -> Result<f64> {
+        let seq = lock(&self.card().inner().last_motion)[self.index()]
+            .ok_or_else(|| Error::Unsupported("no motion was started on this axis".into()))?;
+        self.card()
+            .wait_outcome(Target::Axis(self.index()), seq, timeout)
+    }
+
+    /// A consistent snapshot of the axis's status. Never stale: when the card's tick counter
+    /// has stood still longer than [`Card::stale_limit`] this is `NotResponding`, not the old
+    /// snapshot.
+    pub fn status(&self) -> Result<Status> {
+        let raw = self.card().read_axis_status(self.index())?;
+        self.card().link_alive(raw.tick)?;
+        Status::from_raw(self.index(), raw, self.scale())
+    }
+
+    /// Write the servo and in-position configuration (FFPIV) and have the card check and apply
+    /// it: a value that is not finite is `NotFinite`, one out of range `BadConfig`. The
+    /// settings' `scale` is ignored (see [`Axis::set_scale`]); [`Axis::settings`] reads back
+    /// what the card holds.
+    pub fn configure(&self, cfg: &AxisSettings) -> Result<()> {
+        let a = self.index();
+        self.card().apply_block(
+            layout::AXIS_CONFIG.at(a),
+            |b| {
+                *b = AxisSettings {
+                    servo_law: raw::MC_SERVO_FFPIV,
+                    ..*cfg
+                }
+            },
+            self.op(Opcode::ApplyAxisConfig),
+            "configure",
+            Target::Axis(a),
+        )
+    }
+}

@@ -1,0 +1,637 @@
+//! The sections of a configuration file (see the config module): their types, as serde reads
+//! and writes them, and the card's blocks each one stands for.
+
+use firmware_proto::{raw, AxisConfig, AxisPdPlus, MAX_AXES};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The first lines of a saved file.
+pub const CONFIG_HEADER: &str = "# motioncard card configuration (layout 1.8): what the card holds, in counts, seconds,\n# volts, Hz and microseconds. Written by `mcctl config save`; `mcctl config load` checks\n# all of it before it applies any.\n\n";
+
+/// A card's configuration: every setting the card holds (see the module doc).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// The servo rate.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub card: Option<CardSection>,
+    /// The card-wide safety settings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub safety: Option<SafetySection>,
+    /// The digital inputs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub io: Option<IoSection>,
+    /// Axes by number (`"0"`…).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub axis: BTreeMap<String, AxisSection>,
+    /// Groups by number (`"0"`…).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub group: BTreeMap<String, GroupSection>,
+}
+
+/// `[card]`: `mc_card_config`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CardSection {
+    /// Servo rate, Hz.
+    pub servo_rate_hz: u32,
+}
+
+/// `[safety]`: `mc_safety_config`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SafetySection {
+    /// Watchdog timeout, µs.
+    pub watchdog_timeout_us: u32,
+    /// The stop category of the e-stop input (0, 1, 2).
+    pub estop_input_category: u32,
+    /// Maximum stop time, µs.
+    pub max_stop_time_us: u32,
+}
+
+/// `[io]`: `mc_io_config`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IoSection {
+    /// Bit i: input i is active low.
+    pub polarity: u32,
+    /// Bit i: an event when input i becomes active.
+    pub rise_events: u32,
+    /// Bit i: an event when input i becomes inactive.
+    pub fall_events: u32,
+    /// Ticks each input must hold a new level (one per input).
+    pub debounce: Vec<u16>,
+}
+
+/// A servo law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ServoLaw {
+    /// FFPIV (Thinh Fig 5).
+    Ffpiv,
+    /// PD+ (Yeh eq 2.12) with `[axis.N.pdplus]`.
+    Pdplus,
+}
+
+/// `[axis.N]`: `mc_axis_config` (with the scale), and the axis's other blocks below it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSection {
+    /// Counts per user unit (kept by the card for hosts).
+    pub scale: f64,
+    /// The servo law.
+    pub servo_law: ServoLaw,
+    /// Output clamp, V.
+    pub dac_limit_v: f64,
+    /// In-position window, counts.
+    pub in_pos_window: f64,
+    /// In-velocity window, counts/s.
+    pub in_vel_window: f64,
+    /// Settle time, s.
+    pub settle_time: f64,
+    /// Largest jog velocity, counts/s.
+    pub jog_max_vel: f64,
+    /// Jog acceleration, counts/s².
+    pub jog_accel: f64,
+    /// Jog jerk, counts/s³.
+    pub jog_jerk: f64,
+    /// The FFPIV gains (`mc_ffpiv_gains`).
+    pub ffpiv: FfpivSection,
+    /// The PD+ law (`mc_axis_pdplus`): present exactly when `servo_law` is `pdplus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pdplus: Option<PdPlusSection>,
+    /// The acc/dec filters (`mc_axis_filter`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<FilterSection>,
+    /// The axis's safety (`mc_axis_safety`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub safety: Option<AxisSafetySection>,
+    /// Homing (`mc_axis_homing`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub homing: Option<HomingSection>,
+}
+
+/// `[axis.N.ffpiv]`: the FFPIV gains (`mc_ffpiv_gains`, Thinh Fig 5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FfpivSection {
+    /// Position gain K_P, 1/s.
+    pub kp: f64,
+    /// Velocity-loop integral gain K_I, 1/s.
+    pub ki: f64,
+    /// Velocity-loop gain K_V, V per count/s.
+    pub kv: f64,
+    /// Velocity feed-forward K_VFF, 0..2.
+    pub kvff: f64,
+    /// Acceleration feed-forward K_AFF, V per count/s².
+    pub kaff: f64,
+    /// Cut-off of the measured velocity's filter, Hz.
+    pub vel_filter_hz: f64,
+}
+
+impl From<&firmware_proto::FfpivGains> for FfpivSection {
+    fn from(g: &firmware_proto::FfpivGains) -> Self {
+        Self {
+            kp: g.kp,
+            ki: g.ki,
+            kv: g.kv,
+            kvff: g.kvff,
+            kaff: g.kaff,
+            vel_filter_hz: g.vel_filter_hz,
+        }
+    }
+}
+
+impl FfpivSection {
+    /// The card's block of these gains.
+    pub fn gains(&self) -> firmware_proto::FfpivGains {
+        firmware_proto::FfpivGains {
+            kp: self.kp,
+            ki: self.ki,
+            kv: self.kv,
+            kvff: self.kvff,
+            kaff: self.kaff,
+            vel_filter_hz: self.vel_filter_hz,
+        }
+    }
+}
+
+/// `[axis.N.pdplus]`: the PD+ gains (Yeh eq 2.12), the drive model (eq 2.2) and the drive
+/// limit (`mc_axis_pdplus`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PdPlusSection {
+    /// V/count.
+    pub kp: f64,
+    /// V per count/s.
+    pub kd: f64,
+    /// V per count/s of reference velocity.
+    pub kv: f64,
+    /// V per count/s² of reference acceleration.
+    pub ka: f64,
+    /// Drive model K_c, (rad/s)/V.
+    pub kc: f64,
+    /// Drive model τ, s.
+    pub tau: f64,
+    /// Drive model K_e, counts/rad.
+    pub ke: f64,
+    /// Drive limit, V.
+    pub umax: f64,
+}
+
+impl From<&AxisPdPlus> for PdPlusSection {
+    fn from(p: &AxisPdPlus) -> Self {
+        Self {
+            kp: p.gains.kp,
+            kd: p.gains.kd,
+            kv: p.gains.kv,
+            ka: p.gains.ka,
+            kc: p.drive.kc,
+            tau: p.drive.tau,
+            ke: p.drive.ke,
+            umax: p.umax,
+        }
+    }
+}
+
+impl PdPlusSection {
+    /// `base` with these gains, drive model and limit (the rest of the block as in `base`).
+    pub fn onto(&self, base: AxisPdPlus) -> AxisPdPlus {
+        let mut s = base;
+        s.gains.kp = self.kp;
+        s.gains.kd = self.kd;
+        s.gains.kv = self.kv;
+        s.gains.ka = self.ka;
+        s.drive.kc = self.kc;
+        s.drive.tau = self.tau;
+        s.drive.ke = self.ke;
+        s.umax = self.umax;
+        s
+    }
+}
+
+/// A filter kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[allow(missing_docs)]
+pub enum FilterName {
+    None,
+    Linear,
+    Exponential,
+    Bell,
+}
+
+/// `[axis.N.filter]`: kind and time constant (s) per feed type.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct FilterSection {
+    pub rapid_kind: FilterName,
+    pub rapid_tau: f64,
+    pub cutting_kind: FilterName,
+    pub cutting_tau: f64,
+    pub jog_kind: FilterName,
+    pub jog_tau: f64,
+}
+
+/// `[axis.N.safety]`, in counts and seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct AxisSafetySection {
+    pub soft_limits: bool,
+    pub hard_limits: bool,
+    pub amp_alarm: bool,
+    pub encoder_checks: bool,
+    /// The stop category of a limit (0, 1, 2).
+    pub limit_stop: u32,
+    pub soft_limit_neg: f64,
+    pub soft_limit_pos: f64,
+    pub ferror: f64,
+    pub min_ferror: f64,
+    pub max_velocity: f64,
+    pub stop_deceleration: f64,
+    pub stop_jerk: f64,
+    pub encoder_max_velocity: f64,
+}
+
+/// `[axis.N.homing]`, in counts and seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct HomingSection {
+    /// The CiA 402 method.
+    pub method: i32,
+    /// The encoder has an index channel.
+    pub index: bool,
+    /// End at the home point.
+    pub move_to_home: bool,
+    pub search_vel: f64,
+    pub creep_vel: f64,
+    pub accel: f64,
+    pub jerk: f64,
+    pub home_offset: f64,
+    pub timeout: f64,
+    pub max_distance: f64,
+    pub index_distance: f64,
+    pub hard_stop_ferror: f64,
+    pub hard_stop_dwell: f64,
+}
+
+/// A group's acc/dec mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[allow(missing_docs)]
+pub enum AccDecName {
+    Pre,
+    Post,
+    Both,
+}
+
+/// A group's arc interpolator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[allow(missing_docs)]
+pub enum InterpolatorName {
+    Exact,
+    ReferenceWord,
+}
+
+/// `[group.N]`: `mc_group_config` (all four keys, or none: not configured) and the path.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupSection {
+    /// Card axes of the group's axes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<Vec<u8>>,
+    /// Acc/dec mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accdec: Option<AccDecName>,
+    /// Arc interpolator.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interpolator: Option<InterpolatorName>,
+    /// Geometry tolerance, counts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// The continuous path (`mc_group_path`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<PathSection>,
+}
+
+/// `[group.N.path]`: the arrays hold one value per group axis slot (8).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct PathSection {
+    pub lookahead: u32,
+    pub low_water: u32,
+    pub accel: f64,
+    pub jerk: f64,
+    pub vmax: Vec<f64>,
+    pub amax: Vec<f64>,
+    pub jmax: Vec<f64>,
+    /// The planner's period, s (0, or absent from a file: the card's default).
+    #[serde(default)]
+    pub plan_period: f64,
+}
+
+/// One key where a file and the card differ ([`Card::diff_config`](crate::Card::diff_config)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigDifference {
+    /// The key, dotted (`axis.0.ffpiv.kp`).
+    pub key: String,
+    /// Its value in the file, as TOML.
+    pub file: String,
+    /// What the card holds, as TOML (`None`: the card has no such value, e.g. a group it
+    /// holds unconfigured).
+    pub card: Option<String>,
+}
+
+// ----- blocks <-> sections ---------------------------------------------------------------
+
+fn filter_name(k: u32) -> FilterName {
+    match k {
+        raw::MC_FILTER_LINEAR => FilterName::Linear,
+        raw::MC_FILTER_EXPONENTIAL => FilterName::Exponential,
+        raw::MC_FILTER_BELL => FilterName::Bell,
+        _ => FilterName::None,
+    }
+}
+
+fn filter_raw(k: FilterName) -> u32 {
+    match k {
+        FilterName::None => raw::MC_FILTER_NONE,
+        FilterName::Linear => raw::MC_FILTER_LINEAR,
+        FilterName::Exponential => raw::MC_FILTER_EXPONENTIAL,
+        FilterName::Bell => raw::MC_FILTER_BELL,
+    }
+}
+
+impl AxisSection {
+    pub(super) fn from_blocks(
+        c: &AxisConfig,
+        pd: &AxisPdPlus,
+        f: &raw::mc_axis_filter,
+        s: &raw::mc_axis_safety,
+        h: &raw::mc_axis_homing,
+    ) -> Self {
+        let g = &c.ffpiv;
+        let pdplus = c.servo_law == raw::MC_SERVO_PDPLUS;
+        let flag = |bits: u32, b: u32| bits & b != 0;
+        Self {
+            scale: c.scale,
+            servo_law: if pdplus {
+                ServoLaw::Pdplus
+            } else {
+                ServoLaw::Ffpiv
+            },
+            dac_limit_v: c.dac_limit_v,
+            in_pos_window: c.in_pos_window,
+            in_vel_window: c.in_vel_window,
+            settle_time: c.settle_time,
+            jog_max_vel: c.jog_max_vel,
+            jog_accel: c.jog_accel,
+            jog_jerk: c.jog_jerk,
+            ffpiv: FfpivSection::from(g),
+            pdplus: pdplus.then(|| PdPlusSection::from(pd)),
+            filter: Some(FilterSection {
+                rapid_kind: filter_name(f.kind[0]),
+                rapid_tau: f.tau[0],
+                cutting_kind: filter_name(f.kind[1]),
+                cutting_tau: f.tau[1],
+                jog_kind: filter_name(f.kind[2]),
+                jog_tau: f.tau[2],
+            }),
+            safety: Some(AxisSafetySection {
+                soft_limits: flag(s.flags, raw::MC_AXSAFE_SOFT_LIMITS),
+                hard_limits: flag(s.flags, raw::MC_AXSAFE_HARD_LIMITS),
+                amp_alarm: flag(s.flags, raw::MC_AXSAFE_AMP_ALARM),
+                encoder_checks: flag(s.flags, raw::MC_AXSAFE_ENCODER),
+                limit_stop: s.limit_category,
+                soft_limit_neg: s.soft_limit_neg,
+                soft_limit_pos: s.soft_limit_pos,
+                ferror: s.ferror,
+                min_ferror: s.min_ferror,
+                max_velocity: s.max_velocity,
+                stop_deceleration: s.stop_decel,
+                stop_jerk: s.stop_jerk,
+                encoder_max_velocity: s.encoder_max_velocity,
+            }),
+            homing: Some(HomingSection {
+                method: h.method,
+                index: flag(h.flags, raw::MC_HOMING_INDEX),
+                move_to_home: flag(h.flags, raw::MC_HOMING_MOVE_TO_HOME),
+                search_vel: h.search_vel,
+                creep_vel: h.creep_vel,
+                accel: h.accel,
+                jerk: h.jerk,
+                home_offset: h.home_offset,
+                timeout: h.timeout,
+                max_distance: h.max_distance,
+                index_distance: h.index_distance,
+                hard_stop_ferror: h.hard_stop_ferror,
+                hard_stop_dwell: h.hard_stop_dwell,
+            }),
+        }
+    }
+
+    /// The axis configuration block and the PD+ block (zero without PD+).
+    pub(super) fn servo_blocks(&self) -> (AxisConfig, AxisPdPlus) {
+        let cfg = AxisConfig {
+            servo_law: match self.servo_law {
+                ServoLaw::Ffpiv => raw::MC_SERVO_FFPIV,
+                ServoLaw::Pdplus => raw::MC_SERVO_PDPLUS,
+            },
+            ffpiv: self.ffpiv.gains(),
+            dac_limit_v: self.dac_limit_v,
+            in_pos_window: self.in_pos_window,
+            in_vel_window: self.in_vel_window,
+            settle_time: self.settle_time,
+            jog_max_vel: self.jog_max_vel,
+            jog_accel: self.jog_accel,
+            jog_jerk: self.jog_jerk,
+            scale: self.scale,
+            ..AxisConfig::default()
+        };
+        let pd = card_emu::firmware::config::pdplus_block(None);
+        (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)))
+    }
+}
+
+impl FilterSection {
+    pub(super) fn block(&self) -> raw::mc_axis_filter {
+        raw::mc_axis_filter {
+            kind: [
+                filter_raw(self.rapid_kind),
+                filter_raw(self.cutting_kind),
+                filter_raw(self.jog_kind),
+            ],
+            tau: [self.rapid_tau, self.cutting_tau, self.jog_tau],
+            ..Default::default()
+        }
+    }
+}
+
+impl AxisSafetySection {
+    pub(super) fn block(&self) -> raw::mc_axis_safety {
+        let bit = |on: bool, b: u32| if on { b } else { 0 };
+        raw::mc_axis_safety {
+            flags: bit(self.soft_limits, raw::MC_AXSAFE_SOFT_LIMITS)
+                | bit(self.hard_limits, raw::MC_AXSAFE_HARD_LIMITS)
+                | bit(self.amp_alarm, raw::MC_AXSAFE_AMP_ALARM)
+                | bit(self.encoder_checks, raw::MC_AXSAFE_ENCODER),
+            limit_category: self.limit_stop,
+            soft_limit_neg: self.soft_limit_neg,
+            soft_limit_pos: self.soft_limit_pos,
+            ferror: self.ferror,
+            min_ferror: self.min_ferror,
+            max_velocity: self.max_velocity,
+            stop_decel: self.stop_deceleration,
+            stop_jerk: self.stop_jerk,
+            encoder_max_velocity: self.encoder_max_velocity,
+            ..Default::default()
+        }
+    }
+}
+
+impl HomingSection {
+    pub(super) fn block(&self) -> raw::mc_axis_homing {
+        let bit = |on: bool, b: u32| if on { b } else { 0 };
+        raw::mc_axis_homing {
+            method: self.method,
+            flags: bit(self.index, raw::MC_HOMING_INDEX)
+                | bit(self.move_to_home, raw::MC_HOMING_MOVE_TO_HOME),
+            search_vel: self.search_vel,
+            creep_vel: self.creep_vel,
+            accel: self.accel,
+            jerk: self.jerk,
+            home_offset: self.home_offset,
+            timeout: self.timeout,
+            max_distance: self.max_distance,
+            index_distance: self.index_distance,
+            hard_stop_ferror: self.hard_stop_ferror,
+            hard_stop_dwell: self.hard_stop_dwell,
+            _reserved: [0.0; 5],
+        }
+    }
+}
+
+impl GroupSection {
+    pub(super) fn from_blocks(c: &raw::mc_group_config, p: &raw::mc_group_path) -> Self {
+        let n = c.naxes as usize;
+        let configured = (1..=MAX_AXES).contains(&n);
+        let pre = c.accdec & raw::MC_ACCDEC_PRE != 0;
+        let post = c.accdec & raw::MC_ACCDEC_POST != 0;
+        Self {
+            axes: configured.then(|| c.axes[..n].to_vec()),
+            accdec: configured.then_some(match (pre, post) {
+                (true, true) => AccDecName::Both,
+                (false, true) => AccDecName::Post,
+                _ => AccDecName::Pre,
+            }),
+            interpolator: configured.then_some(
+                if c.interpolator == raw::MC_INTERP_REFERENCE_WORD {
+                    InterpolatorName::ReferenceWord
+                } else {
+                    InterpolatorName::Exact
+                },
+            ),
+            tolerance: configured.then_some(c.tolerance),
+            path: Some(PathSection {
+                lookahead: p.lookahead,
+                low_water: p.low_water,
+                accel: p.accel,
+                jerk: p.jerk,
+                vmax: p.vmax.to_vec(),
+                amax: p.amax.to_vec(),
+                jmax: p.jmax.to_vec(),
+                plan_period: p.plan_period,
+            }),
+        }
+    }
+
+    /// The group configuration block, if the section configures the group (all four keys).
+    pub(super) fn config_block(&self) -> Option<raw::mc_group_config> {
+        let (Some(axes), Some(accdec), Some(interp), Some(tol)) =
+            (&self.axes, self.accdec, self.interpolator, self.tolerance)
+        else {
+            return None;
+        };
+        let mut b = raw::mc_group_config {
+            naxes: axes.len() as u32,
+            accdec: match accdec {
+                AccDecName::Pre => raw::MC_ACCDEC_PRE,
+                AccDecName::Post => raw::MC_ACCDEC_POST,
+                AccDecName::Both => raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST,
+            },
+            interpolator: match interp {
+                InterpolatorName::Exact => raw::MC_INTERP_EXACT,
+                InterpolatorName::ReferenceWord => raw::MC_INTERP_REFERENCE_WORD,
+            },
+            tolerance: tol,
+            ..Default::default()
+        };
+        for (d, &a) in b.axes.iter_mut().zip(axes) {
+            *d = a;
+        }
+        Some(b)
+    }
+}
+
+impl PathSection {
+    /// The block (the arrays' lengths are checked before).
+    pub(super) fn block(&self) -> raw::mc_group_path {
+        let arr = |v: &[f64]| {
+            let mut a = [0.0; MAX_AXES];
+            for (d, x) in a.iter_mut().zip(v) {
+                *d = *x;
+            }
+            a
+        };
+        raw::mc_group_path {
+            lookahead: self.lookahead,
+            low_water: self.low_water,
+            accel: self.accel,
+            jerk: self.jerk,
+            vmax: arr(&self.vmax),
+            amax: arr(&self.amax),
+            jmax: arr(&self.jmax),
+            plan_period: self.plan_period,
+            _reserved: [0.0; 5],
+        }
+    }
+}
+
+impl IoSection {
+    pub(super) fn block(&self) -> raw::mc_io_config {
+        let mut b = raw::mc_io_config {
+            polarity: self.polarity,
+            rise_events: self.rise_events,
+            fall_events: self.fall_events,
+            ..Default::default()
+        };
+        for (d, x) in b.debounce.iter_mut().zip(&self.debounce) {
+            *d = *x;
+        }
+        b
+    }
+}
+
+impl SafetySection {
+    pub(super) fn block(&self) -> raw::mc_safety_config {
+        raw::mc_safety_config {
+            watchdog_timeout_us: self.watchdog_timeout_us,
+            estop_input_category: self.estop_input_category,
+            max_stop_time_us: self.max_stop_time_us,
+            ..Default::default()
+        }
+    }
+}
+
+impl From<&raw::mc_group_path> for PathSection {
+    fn from(p: &raw::mc_group_path) -> Self {
+        GroupSection::from_blocks(&Default::default(), p)
+            .path
+            .expect("always a path")
+    }
+}
