@@ -4,7 +4,12 @@
 //! `cargo xtask install --prefix DIR`: build libmotioncard in release (as part of the
 //! workspace's libraries, so an up-to-date `cargo build --workspace --release` is reused as it
 //! is) and install it for C users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
+//!
+//! `cargo xtask cycles [CRATE...]`: report the import cycles between the files of each named
+//! workspace crate (package name or directory; every crate without arguments) and fail when
+//! there are any. The rules of the graph are in `cycles.rs`.
 
+mod cycles;
 mod install;
 
 use std::path::{Path, PathBuf};
@@ -80,7 +85,7 @@ fn c_header(root: &Path) -> Result<String, String> {
     Ok(format!("{}{codes}{}", &header[..at], &header[at..]))
 }
 
-const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask install --prefix DIR";
+const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask install --prefix DIR\n       cargo xtask cycles [CRATE...]";
 
 /// Build libmotioncard (release) and install it under the prefix.
 fn install_command(args: &[String]) -> ExitCode {
@@ -132,6 +137,7 @@ fn main() -> ExitCode {
     match args.first().map(String::as_str) {
         Some("codegen") => {}
         Some("install") => return install_command(&args[1..]),
+        Some("cycles") => return cycles::command(&workspace_root(), &args[1..]),
         _ => {
             eprintln!("{USAGE}");
             return ExitCode::from(2);
