@@ -1,126 +1,27 @@
-//! The plain structs and constants of the C ABI, and their conversions from the SDK's types.
+//! The plain structs of the C ABI and their conversions from the SDK's types.
 //!
 //! Enumerations cross as `uint32_t` fields with `MC_` constants (a C enum holding a value the
-//! library does not know would be undefined behaviour in C++). The constants are literals for
-//! cbindgen; the tests check them against the SDK.
+//! library does not know would be undefined behaviour in C++). The constants that are the
+//! card's codes are generated from the register map (`crate::codes`); those here are the C
+//! ABI's own (the emulated card's options, the feed types, `MC_GROUP_ACCDEC_BOTH`,
+//! `MC_EVENT_CARD_WIDE`).
 
-use crate::result::Failure;
+use crate::codes::{
+    MC_ARC_BY_BORDER, MC_ARC_BY_CENTRE, MC_ARC_BY_RADIUS, MC_ARC_PLANE_XY, MC_ARC_PLANE_YZ,
+    MC_ARC_PLANE_ZX, MC_FILTER_KIND_BELL, MC_FILTER_KIND_EXPONENTIAL, MC_FILTER_KIND_LINEAR,
+    MC_FILTER_KIND_NONE, MC_GROUP_ACCDEC_POST, MC_GROUP_ACCDEC_PRE, MC_GROUP_INTERP_EXACT,
+    MC_GROUP_INTERP_REFERENCE_WORD, MC_GROUP_MAX_AXES, MC_STOP_CATEGORY_0, MC_STOP_CATEGORY_1,
+    MC_STOP_CATEGORY_2,
+};
+use crate::result::{unknown, Failure};
 use motioncard_sdk::ErrorKind;
 #[cfg(feature = "emulator")]
 use motioncard_sdk::{die_bonder_plant, Clock, EmuOptions, SimOptions};
 use motioncard_sdk::{
-    AccDec, ArcSpec, AxisState, CardEvent, CardInfo, EventKind, FeedType, FilterKind,
-    FilterSettings, GroupSettings, GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions,
-    NurbsFeed, PathLimits, Plane, SafetySettings, SafetyStatus, Status, StopCategory, StopInfo,
-    StopReason,
+    AccDec, ArcSpec, CardEvent, CardInfo, FeedType, FilterKind, FilterSettings, GroupSettings,
+    GroupState, GroupStatus, Interpolator, MoveLimits, MoveOptions, NurbsFeed, PathLimits, Plane,
+    SafetySettings, SafetyStatus, Status, StopCategory, StopInfo,
 };
-
-/// Most axes in a group, as a length.
-const MAX_AXES: usize = MC_GROUP_MAX_AXES as usize;
-
-/// Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
-pub const MC_AXIS_STATE_DISABLED: u32 = 0;
-/// Powered, at rest, ready for a move.
-pub const MC_AXIS_STATE_STANDSTILL: u32 = 1;
-/// Homing.
-pub const MC_AXIS_STATE_HOMING: u32 = 2;
-/// A point-to-point move.
-pub const MC_AXIS_STATE_DISCRETE_MOTION: u32 = 3;
-/// A velocity move.
-pub const MC_AXIS_STATE_CONTINUOUS_MOTION: u32 = 4;
-/// Coupled to another axis or a group.
-pub const MC_AXIS_STATE_SYNCHRONIZED_MOTION: u32 = 5;
-/// `mc_stop` in progress or held (until `mc_release_stop`).
-pub const MC_AXIS_STATE_STOPPING: u32 = 6;
-/// Stopped by a fault; only `mc_reset` leaves it.
-pub const MC_AXIS_STATE_ERROR_STOP: u32 = 7;
-
-/// Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
-pub const MC_AXIS_FAULT_DAC_SATURATED: u32 = 1;
-/// Fault bit: the host watchdog tripped (the heartbeat stopped).
-pub const MC_AXIS_FAULT_WATCHDOG: u32 = 0x100;
-/// Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
-pub const MC_AXIS_FAULT_ESTOP: u32 = 0x200;
-/// Fault bit: at or beyond the positive limit switch.
-pub const MC_AXIS_FAULT_HARD_LIMIT_POS: u32 = 0x400;
-/// Fault bit: at or beyond the negative limit switch.
-pub const MC_AXIS_FAULT_HARD_LIMIT_NEG: u32 = 0x800;
-/// Fault bit: beyond the positive soft limit.
-pub const MC_AXIS_FAULT_SOFT_LIMIT_POS: u32 = 0x1000;
-/// Fault bit: beyond the negative soft limit.
-pub const MC_AXIS_FAULT_SOFT_LIMIT_NEG: u32 = 0x2000;
-/// Fault bit: the following error exceeded its limit.
-pub const MC_AXIS_FAULT_FOLLOWING_ERROR: u32 = 0x4000;
-/// Fault bit: the amplifier's alarm input.
-pub const MC_AXIS_FAULT_AMP_ALARM: u32 = 0x8000;
-/// Fault bit: encoder loss or a jump.
-pub const MC_AXIS_FAULT_ENCODER: u32 = 0x10000;
-/// Fault bit: the host broke the protocol (corrupt ring indices).
-pub const MC_AXIS_FAULT_PROTOCOL: u32 = 0x20000;
-/// Fault bit: a stop ran past the card's maximum stop time; its power was removed.
-pub const MC_AXIS_FAULT_STOP_TIMEOUT: u32 = 0x40000;
-
-/// Capability bit of `mc_card_info.capabilities`: S-curve profiles.
-pub const MC_CARD_CAP_SCURVE: u32 = 1;
-/// Capability bit: FFPIV servo loop.
-pub const MC_CARD_CAP_FFPIV: u32 = 2;
-/// Capability bit: events raise an interrupt (`mc_irq_fd` works).
-pub const MC_CARD_CAP_EVENT_IRQ: u32 = 4;
-
-/// Event kind (`mc_event.kind`): a command was accepted. Taken by the library, never delivered.
-pub const MC_EVENT_ACK: u32 = 1;
-/// A command was refused. Taken by the library, never delivered.
-pub const MC_EVENT_NACK: u32 = 2;
-/// The axis finished its move and is in position; `value` is the actual position (user units).
-pub const MC_EVENT_MOTION_DONE: u32 = 3;
-/// The axis changed state; `code` is the new `MC_AXIS_STATE_`, `value` the old one.
-pub const MC_EVENT_STATE_CHANGED: u32 = 4;
-/// A fault was raised; `code` is the `MC_AXIS_FAULT_` bit, `value` a measurement.
-pub const MC_EVENT_FAULT: u32 = 5;
-/// A move ended before its target; `code` is the command (opcode) or fault that ended it.
-pub const MC_EVENT_MOTION_ABORTED: u32 = 6;
-/// A group move finished (`axis`: the group; `value` 1 when the group is at rest in position).
-pub const MC_EVENT_GROUP_MOTION_DONE: u32 = 8;
-/// A group changed state (`axis`: the group; `code`: the new group state).
-pub const MC_EVENT_GROUP_STATE_CHANGED: u32 = 9;
-/// A group move was aborted (`axis`: the group).
-pub const MC_EVENT_GROUP_MOTION_ABORTED: u32 = 10;
-/// A buffered move started (PLCopen Active); `value` is its target (velocity mode: its
-/// velocity), user units.
-pub const MC_EVENT_MOTION_ACTIVE: u32 = 11;
-/// Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
-pub const MC_EVENT_IN_VELOCITY: u32 = 12;
-/// Homing ended without a home point (`mc_home`): `code` is an `MC_HOMING_ERROR_` value,
-/// `value` the actual position; the axis is at rest, not homed.
-pub const MC_EVENT_HOMING_FAILED: u32 = 13;
-/// A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
-/// `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
-pub const MC_EVENT_SAFETY_STOP: u32 = 16;
-/// A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
-pub const MC_EVENT_AT_REST: u32 = 17;
-/// The host broke the protocol (`code`: what, `value`: the index).
-pub const MC_EVENT_PROTOCOL_ERROR: u32 = 18;
-/// A path segment started (`axis`: the group; `seq`: its command, as in its `mc_group_motion`;
-/// `value`: its id).
-pub const MC_EVENT_SEGMENT_START: u32 = 20;
-/// A path segment ended (the path left it); as `MC_EVENT_SEGMENT_START`.
-pub const MC_EVENT_SEGMENT_END: u32 = 21;
-/// The segments queued in a group's path fell to its `low_water` mark (`axis`: the group;
-/// `value`: segments queued).
-pub const MC_EVENT_PATH_LOW_WATER: u32 = 22;
-/// A group's path brakes for the end of what is queued, whose last segment is not marked
-/// `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
-pub const MC_EVENT_PATH_STARVED: u32 = 23;
-/// A debounced digital input edge (`axis`: the input; `code`: 1 rising, 0 falling; `value`:
-/// the debounced input word).
-pub const MC_EVENT_INPUT: u32 = 24;
-/// A compare channel fired or missed (`axis`: the channel; `seq`: its arm; `code`:
-/// `MC_COMPARE_FIRED`, `_MISSED` or `_LOW_WATER`; `value`: the position in counts, the last
-/// of its tick, or the positions queued).
-pub const MC_EVENT_COMPARE: u32 = 25;
-/// A touch probe captured (`axis`: the channel; `code`: the capture number since the arm;
-/// `value`: the position in counts).
-pub const MC_EVENT_PROBE: u32 = 26;
 
 /// `mc_event.axis` of an event about the whole card.
 pub const MC_EVENT_CARD_WIDE: u32 = 0xFFFF;
@@ -242,56 +143,11 @@ pub struct mc_status {
     pub io: u32,
 }
 
-/// The `MC_AXIS_STATE_` value of a state.
-pub(crate) fn state_code(s: AxisState) -> u32 {
-    match s {
-        AxisState::Disabled => MC_AXIS_STATE_DISABLED,
-        AxisState::Standstill => MC_AXIS_STATE_STANDSTILL,
-        AxisState::Homing => MC_AXIS_STATE_HOMING,
-        AxisState::DiscreteMotion => MC_AXIS_STATE_DISCRETE_MOTION,
-        AxisState::ContinuousMotion => MC_AXIS_STATE_CONTINUOUS_MOTION,
-        AxisState::SynchronizedMotion => MC_AXIS_STATE_SYNCHRONIZED_MOTION,
-        AxisState::Stopping => MC_AXIS_STATE_STOPPING,
-        AxisState::ErrorStop => MC_AXIS_STATE_ERROR_STOP,
-    }
-}
-
-/// The `MC_EVENT_` value of an event kind.
-pub(crate) fn event_code(k: EventKind) -> u32 {
-    match k {
-        EventKind::Ack => MC_EVENT_ACK,
-        EventKind::Nack => MC_EVENT_NACK,
-        EventKind::MotionDone => MC_EVENT_MOTION_DONE,
-        EventKind::StateChanged => MC_EVENT_STATE_CHANGED,
-        EventKind::Fault => MC_EVENT_FAULT,
-        EventKind::MotionAborted => MC_EVENT_MOTION_ABORTED,
-        EventKind::GroupMotionDone => MC_EVENT_GROUP_MOTION_DONE,
-        EventKind::GroupStateChanged => MC_EVENT_GROUP_STATE_CHANGED,
-        EventKind::GroupMotionAborted => MC_EVENT_GROUP_MOTION_ABORTED,
-        EventKind::SafetyStop => MC_EVENT_SAFETY_STOP,
-        EventKind::AtRest => MC_EVENT_AT_REST,
-        EventKind::ProtocolError => MC_EVENT_PROTOCOL_ERROR,
-        EventKind::MotionActive => MC_EVENT_MOTION_ACTIVE,
-        EventKind::InVelocity => MC_EVENT_IN_VELOCITY,
-        EventKind::HomingFailed => MC_EVENT_HOMING_FAILED,
-        EventKind::SegmentStart => MC_EVENT_SEGMENT_START,
-        EventKind::SegmentEnd => MC_EVENT_SEGMENT_END,
-        EventKind::PathLowWater => MC_EVENT_PATH_LOW_WATER,
-        EventKind::PathStarved => MC_EVENT_PATH_STARVED,
-        EventKind::Input => MC_EVENT_INPUT,
-        EventKind::Compare => MC_EVENT_COMPARE,
-        EventKind::Probe => MC_EVENT_PROBE,
-        EventKind::Sync => crate::sync::MC_EVENT_SYNC,
-        EventKind::Pvt => crate::sync::MC_EVENT_PVT,
-        EventKind::Scope => crate::scope::MC_EVENT_SCOPE,
-    }
-}
-
 impl From<&Status> for mc_status {
     fn from(s: &Status) -> Self {
         let r = &s.raw;
         Self {
-            state: state_code(s.state),
+            state: s.state as u32,
             faults: s.faults.bits(),
             command_position: s.command_position,
             command_velocity: s.command_velocity,
@@ -301,7 +157,7 @@ impl From<&Status> for mc_status {
             following_error: s.following_error,
             dac_volts: s.dac_volts,
             raw: *r,
-            stop_reason: s.stop_reason().map_or(r.stop_reason, stop_reason_code),
+            stop_reason: s.stop_reason().map_or(r.stop_reason, |r| r as u32),
             io: s.io().bits(),
         }
     }
@@ -330,7 +186,7 @@ pub struct mc_event {
 impl From<&CardEvent> for mc_event {
     fn from(e: &CardEvent) -> Self {
         Self {
-            kind: event_code(e.kind),
+            kind: e.kind as u32,
             axis: e.axis as u32,
             seq: e.seq,
             code: e.code,
@@ -434,38 +290,12 @@ impl From<SimOptions> for mc_sim_options {
 // Axes groups, filters, PD+, NURBS
 // ---------------------------------------------------------------------------------------------
 
-/// Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
-pub const MC_GROUP_COUNT: u32 = 4;
-/// Most axes in one group (`mc_group_settings.axes`).
-pub const MC_GROUP_MAX_AXES: u32 = 8;
+/// Most axes in a group, as a length.
+const MAX_AXES: usize = MC_GROUP_MAX_AXES as usize;
 
-/// Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
-/// GroupDisabled.
-pub const MC_GROUP_STATE_DISABLED: u32 = 0;
-/// GroupStandby: enabled, at rest, ready for a move.
-pub const MC_GROUP_STATE_STANDBY: u32 = 1;
-/// GroupMoving: interpolating.
-pub const MC_GROUP_STATE_MOVING: u32 = 2;
-/// GroupHoming.
-pub const MC_GROUP_STATE_HOMING: u32 = 3;
-/// GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
-pub const MC_GROUP_STATE_STOPPING: u32 = 4;
-/// GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
-pub const MC_GROUP_STATE_ERROR_STOP: u32 = 5;
-
-/// Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
-/// interpolation.
-pub const MC_GROUP_ACCDEC_PRE: u32 = 1;
-/// Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
-/// interpolation.
-pub const MC_GROUP_ACCDEC_POST: u32 = 2;
-/// Both: the S-curve, then the filters.
-pub const MC_GROUP_ACCDEC_BOTH: u32 = 3;
-
-/// Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
-pub const MC_GROUP_INTERP_EXACT: u32 = 0;
-/// Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
-pub const MC_GROUP_INTERP_REFERENCE_WORD: u32 = 1;
+/// Acc/dec mode (`mc_group_settings.accdec`), besides `MC_GROUP_ACCDEC_PRE` and
+/// `MC_GROUP_ACCDEC_POST`: both, the S-curve, then the filters.
+pub const MC_GROUP_ACCDEC_BOTH: u32 = MC_GROUP_ACCDEC_PRE | MC_GROUP_ACCDEC_POST;
 
 /// Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
 /// feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
@@ -474,36 +304,6 @@ pub const MC_FEED_TYPE_CUTTING: u32 = 0;
 pub const MC_FEED_TYPE_RAPID: u32 = 1;
 /// Jog.
 pub const MC_FEED_TYPE_JOG: u32 = 2;
-
-/// Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
-pub const MC_ARC_PLANE_XY: u32 = 0;
-/// Group axes 1 and 2.
-pub const MC_ARC_PLANE_YZ: u32 = 1;
-/// Group axes 2 and 0.
-pub const MC_ARC_PLANE_ZX: u32 = 2;
-
-/// Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
-/// full circle.
-pub const MC_ARC_BY_CENTRE: u32 = 0;
-/// Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
-pub const MC_ARC_BY_RADIUS: u32 = 1;
-/// Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
-/// is ignored).
-pub const MC_ARC_BY_BORDER: u32 = 2;
-
-/// Acc/dec filter kind (`mc_filter.kind`): pass-through.
-pub const MC_FILTER_KIND_NONE: u32 = 0;
-/// Moving average (linear acc/dec; Kim eq 1).
-pub const MC_FILTER_KIND_LINEAR: u32 = 1;
-/// First order (exponential acc/dec; Kim eq 7–9).
-pub const MC_FILTER_KIND_EXPONENTIAL: u32 = 2;
-/// Linear followed by exponential (bell-shaped; Shin eq 40).
-pub const MC_FILTER_KIND_BELL: u32 = 3;
-
-/// An unknown enumeration value from C.
-pub(crate) fn unknown(what: &str, v: u32) -> Failure {
-    Failure::new(ErrorKind::BadConfig.code(), format!("unknown {what} {v}"))
-}
 
 /// A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
 #[repr(C)]
@@ -749,22 +549,10 @@ pub struct mc_group_status {
     pub path_done: u32,
 }
 
-/// The `MC_GROUP_STATE_` value of a group state.
-pub(crate) fn group_state_code(s: GroupState) -> u32 {
-    match s {
-        GroupState::Disabled => MC_GROUP_STATE_DISABLED,
-        GroupState::Standby => MC_GROUP_STATE_STANDBY,
-        GroupState::Moving => MC_GROUP_STATE_MOVING,
-        GroupState::Homing => MC_GROUP_STATE_HOMING,
-        GroupState::Stopping => MC_GROUP_STATE_STOPPING,
-        GroupState::ErrorStop => MC_GROUP_STATE_ERROR_STOP,
-    }
-}
-
 impl From<(GroupState, GroupStatus)> for mc_group_status {
     fn from((state, s): (GroupState, GroupStatus)) -> Self {
         Self {
-            state: group_state_code(state),
+            state: state as u32,
             queued: s.queued,
             active_seq: s.active_seq,
             move_count: s.move_count,
@@ -946,133 +734,6 @@ impl From<mc_nurbs_feed> for NurbsFeed {
 // Safety
 // ---------------------------------------------------------------------------------------------
 
-/// Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
-/// `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
-pub const MC_STOP_REASON_NONE: u32 = 0;
-/// The move reached its target and is in position.
-pub const MC_STOP_REASON_DONE: u32 = 1;
-/// `mc_halt`.
-pub const MC_STOP_REASON_HALT: u32 = 2;
-/// `mc_stop`.
-pub const MC_STOP_REASON_STOP: u32 = 3;
-/// `mc_disable` by the host.
-pub const MC_STOP_REASON_POWER_OFF: u32 = 4;
-/// The host closed the card (`mc_close`): the motion halted, no fault.
-pub const MC_STOP_REASON_HOST_DETACH: u32 = 5;
-/// Homing failed (`MC_EVENT_HOMING_FAILED`): the axis stopped, not homed.
-pub const MC_STOP_REASON_HOMING_FAILED: u32 = 6;
-/// The host heartbeat stopped (watchdog). Safety reasons are this value and above.
-pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
-/// The host's e-stop (`mc_estop`).
-pub const MC_STOP_REASON_ESTOP_COMMAND: u32 = 17;
-/// The card's e-stop input.
-pub const MC_STOP_REASON_ESTOP_INPUT: u32 = 18;
-/// The positive limit switch.
-pub const MC_STOP_REASON_HARD_LIMIT_POS: u32 = 19;
-/// The negative limit switch.
-pub const MC_STOP_REASON_HARD_LIMIT_NEG: u32 = 20;
-/// The positive soft limit.
-pub const MC_STOP_REASON_SOFT_LIMIT_POS: u32 = 21;
-/// The negative soft limit.
-pub const MC_STOP_REASON_SOFT_LIMIT_NEG: u32 = 22;
-/// The following error exceeded its limit.
-pub const MC_STOP_REASON_FOLLOWING_ERROR: u32 = 23;
-/// The amplifier's alarm input.
-pub const MC_STOP_REASON_AMP_ALARM: u32 = 24;
-/// The encoder's line-break detector.
-pub const MC_STOP_REASON_ENCODER_LOSS: u32 = 25;
-/// An encoder count change larger than physically possible.
-pub const MC_STOP_REASON_ENCODER_JUMP: u32 = 26;
-/// Queued motion ran out: a planned stop at the end of what was queued.
-pub const MC_STOP_REASON_STARVATION: u32 = 27;
-/// The command ring's indices were corrupt.
-pub const MC_STOP_REASON_CMD_RING: u32 = 28;
-/// The event ring's indices were corrupt.
-pub const MC_STOP_REASON_EVT_RING: u32 = 29;
-/// Another axis of its group tripped.
-pub const MC_STOP_REASON_GROUP: u32 = 30;
-/// A stop did not end within the card's maximum stop time: its power was removed.
-pub const MC_STOP_REASON_STOP_TIMEOUT: u32 = 31;
-/// A host opened the card while the previous host's session was still open (it died without
-/// closing): the motion it left was stopped.
-pub const MC_STOP_REASON_HOST_CHANGED: u32 = 32;
-/// The card found the axis moving with no host session attached and its watchdog armed, and
-/// stopped it (category 1). Its session gate refuses what could start motion outside a
-/// session, so this names a fault of the card's, never an ordinary close.
-pub const MC_STOP_REASON_NO_SESSION: u32 = 33;
-
-/// IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
-/// `mc_safety_settings.limit_stop`): remove power at once.
-pub const MC_STOP_CATEGORY_0: u32 = 0;
-/// A controlled stop, then power removed.
-pub const MC_STOP_CATEGORY_1: u32 = 1;
-/// A controlled stop, power kept (the axis holds its position).
-pub const MC_STOP_CATEGORY_2: u32 = 2;
-
-/// Motion bit of `mc_status.raw.motion_flags`: velocity mode at its (overridden) velocity.
-pub const MC_MOTION_IN_VELOCITY: u32 = 0x1;
-/// Motion bit: held still by a 0 % override, in its motion state.
-pub const MC_MOTION_PAUSED: u32 = 0x2;
-/// Motion bit: the position was set by homing or MC_SetPosition.
-pub const MC_MOTION_HOMED: u32 = 0x4;
-/// Motion bit: the motion running is one that was buffered.
-pub const MC_MOTION_BUFFERED_ACTIVE: u32 = 0x8;
-
-/// Bit of `mc_status.io`: the positive limit switch input.
-pub const MC_IO_LIMIT_POS: u32 = 0x1;
-/// The negative limit switch input.
-pub const MC_IO_LIMIT_NEG: u32 = 0x2;
-/// The home switch input.
-pub const MC_IO_HOME: u32 = 0x4;
-/// The amplifier alarm input.
-pub const MC_IO_AMP_ALARM: u32 = 0x8;
-/// The encoder line-break detector.
-pub const MC_IO_ENCODER_FAULT: u32 = 0x10;
-/// The card's e-stop input (the same on every axis).
-pub const MC_IO_ESTOP: u32 = 0x20;
-/// Output: the axis's amplifier is enabled.
-pub const MC_IO_DRIVE_ENABLE: u32 = 0x100;
-
-/// The `MC_STOP_REASON_` value of a stop reason.
-pub(crate) fn stop_reason_code(r: StopReason) -> u32 {
-    match r {
-        StopReason::None => MC_STOP_REASON_NONE,
-        StopReason::Done => MC_STOP_REASON_DONE,
-        StopReason::Halt => MC_STOP_REASON_HALT,
-        StopReason::Stop => MC_STOP_REASON_STOP,
-        StopReason::PowerOff => MC_STOP_REASON_POWER_OFF,
-        StopReason::Watchdog => MC_STOP_REASON_WATCHDOG,
-        StopReason::EStopCommand => MC_STOP_REASON_ESTOP_COMMAND,
-        StopReason::EStopInput => MC_STOP_REASON_ESTOP_INPUT,
-        StopReason::HardLimitPos => MC_STOP_REASON_HARD_LIMIT_POS,
-        StopReason::HardLimitNeg => MC_STOP_REASON_HARD_LIMIT_NEG,
-        StopReason::SoftLimitPos => MC_STOP_REASON_SOFT_LIMIT_POS,
-        StopReason::SoftLimitNeg => MC_STOP_REASON_SOFT_LIMIT_NEG,
-        StopReason::FollowingError => MC_STOP_REASON_FOLLOWING_ERROR,
-        StopReason::AmpAlarm => MC_STOP_REASON_AMP_ALARM,
-        StopReason::EncoderLoss => MC_STOP_REASON_ENCODER_LOSS,
-        StopReason::EncoderJump => MC_STOP_REASON_ENCODER_JUMP,
-        StopReason::Starvation => MC_STOP_REASON_STARVATION,
-        StopReason::CmdRing => MC_STOP_REASON_CMD_RING,
-        StopReason::EvtRing => MC_STOP_REASON_EVT_RING,
-        StopReason::Group => MC_STOP_REASON_GROUP,
-        StopReason::StopTimeout => MC_STOP_REASON_STOP_TIMEOUT,
-        StopReason::HostChanged => MC_STOP_REASON_HOST_CHANGED,
-        StopReason::NoSession => MC_STOP_REASON_NO_SESSION,
-        StopReason::HostDetach => MC_STOP_REASON_HOST_DETACH,
-        StopReason::HomingFailed => MC_STOP_REASON_HOMING_FAILED,
-    }
-}
-
-/// The `MC_STOP_CATEGORY_` value of a stop category.
-pub(crate) fn category_code(c: StopCategory) -> u32 {
-    match c {
-        StopCategory::Cat0 => MC_STOP_CATEGORY_0,
-        StopCategory::Cat1 => MC_STOP_CATEGORY_1,
-        StopCategory::Cat2 => MC_STOP_CATEGORY_2,
-    }
-}
-
 /// The stop category of an `MC_STOP_CATEGORY_` value; any other value is
 /// `MC_ERR_BAD_CATEGORY`, the code the card gives for one.
 pub(crate) fn stop_category(v: u32) -> Result<StopCategory, Failure> {
@@ -1206,7 +867,7 @@ impl From<SafetySettings> for mc_safety_settings {
             hard_limits: s.hard_limits.into(),
             amp_alarm: s.amp_alarm.into(),
             encoder_checks: s.encoder_checks.into(),
-            limit_stop: category_code(s.limit_stop),
+            limit_stop: s.limit_stop as u32,
             soft_limit_neg: neg,
             soft_limit_pos: pos,
             ferror: s.ferror,
@@ -1240,7 +901,7 @@ pub struct mc_stop_info {
 impl From<StopInfo> for mc_stop_info {
     fn from(i: StopInfo) -> Self {
         Self {
-            reason: stop_reason_code(i.reason),
+            reason: i.reason as u32,
             at_rest: i.rest_tick.is_some().into(),
             stop_tick: i.stop_tick,
             rest_tick: i.rest_tick.unwrap_or(0),
@@ -1250,88 +911,77 @@ impl From<StopInfo> for mc_stop_info {
 }
 
 #[cfg(test)]
-mod tests {
+mod axis_tests {
+    use super::*;
+
+    #[test]
+    fn limits_and_settings_round_trip() {
+        let l = MoveLimits::new(1.0, 2.0, 3.0)
+            .deceleration(4.0)
+            .decel_jerk(5.0);
+        assert_eq!(MoveLimits::from(mc_move_limits::from(l)), l);
+    }
+}
+
+#[cfg(all(test, feature = "emulator"))]
+mod sim_tests {
+    use super::*;
+    use motioncard_sdk::ErrorKind;
+
+    #[test]
+    fn sim_options_round_trip_and_unknown_values_are_refused() {
+        let d = mc_sim_options::from(SimOptions::default());
+        assert_eq!(
+            d,
+            mc_sim_options {
+                clock: MC_SIM_CLOCK_REAL_TIME,
+                axes: 8,
+                servo_rate_hz: 10_000,
+                plant: MC_SIM_PLANT_DEFAULT
+            }
+        );
+        assert_eq!(d.to_sdk().unwrap(), SimOptions::default());
+        for c in [Clock::RealTime, Clock::FreeRunning, Clock::Stepped] {
+            let o = mc_sim_options {
+                clock: clock_code(c),
+                ..d
+            };
+            assert_eq!(o.to_sdk().unwrap().clock, c);
+        }
+        let bonder = mc_sim_options {
+            plant: MC_SIM_PLANT_DIE_BONDER,
+            axes: 3,
+            ..d
+        }
+        .to_sdk()
+        .unwrap();
+        assert_eq!(bonder.emu.motors[0], die_bonder_plant(0));
+        assert_eq!(bonder.emu.motors[1], die_bonder_plant(1));
+        assert_eq!(bonder.emu.motors[7], die_bonder_plant(1));
+        for bad in [
+            mc_sim_options { clock: 3, ..d },
+            mc_sim_options { plant: 2, ..d },
+        ] {
+            assert_eq!(
+                bad.to_sdk().unwrap_err().code,
+                ErrorKind::BadConfig.code(),
+                "{bad:?}"
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod group_tests {
     use super::*;
     use motioncard_sdk::proto::raw;
 
     #[test]
-    fn constants_match_the_card() {
-        for s in AxisState::ALL {
-            assert_eq!(state_code(*s), *s as u32, "{s:?}");
-        }
-        for k in EventKind::ALL {
-            assert_eq!(event_code(*k), *k as u32, "{k:?}");
-        }
-        for r in StopReason::ALL {
-            assert_eq!(stop_reason_code(*r), *r as u32, "{r:?}");
-        }
-        for c in StopCategory::ALL {
-            assert_eq!(category_code(*c), *c as u32, "{c:?}");
-            assert_eq!(stop_category(category_code(*c)).unwrap(), *c);
-        }
-        use motioncard_sdk::{Faults, Io, MotionFlags};
-        for (ours, card) in [
-            (MC_AXIS_FAULT_DAC_SATURATED, Faults::DAC_SATURATED.bits()),
-            (MC_AXIS_FAULT_WATCHDOG, Faults::WATCHDOG.bits()),
-            (MC_AXIS_FAULT_ESTOP, Faults::ESTOP.bits()),
-            (MC_AXIS_FAULT_HARD_LIMIT_POS, Faults::HARD_LIMIT_POS.bits()),
-            (MC_AXIS_FAULT_HARD_LIMIT_NEG, Faults::HARD_LIMIT_NEG.bits()),
-            (MC_AXIS_FAULT_SOFT_LIMIT_POS, Faults::SOFT_LIMIT_POS.bits()),
-            (MC_AXIS_FAULT_SOFT_LIMIT_NEG, Faults::SOFT_LIMIT_NEG.bits()),
-            (
-                MC_AXIS_FAULT_FOLLOWING_ERROR,
-                Faults::FOLLOWING_ERROR.bits(),
-            ),
-            (MC_AXIS_FAULT_AMP_ALARM, Faults::AMP_ALARM.bits()),
-            (MC_AXIS_FAULT_ENCODER, Faults::ENCODER.bits()),
-            (MC_AXIS_FAULT_PROTOCOL, Faults::PROTOCOL.bits()),
-            (MC_AXIS_FAULT_STOP_TIMEOUT, Faults::STOP_TIMEOUT.bits()),
-            (MC_IO_LIMIT_POS, Io::LIMIT_POS.bits()),
-            (MC_IO_LIMIT_NEG, Io::LIMIT_NEG.bits()),
-            (MC_IO_HOME, Io::HOME.bits()),
-            (MC_IO_AMP_ALARM, Io::AMP_ALARM.bits()),
-            (MC_IO_ENCODER_FAULT, Io::ENCODER_FAULT.bits()),
-            (MC_IO_ESTOP, Io::ESTOP.bits()),
-            (MC_IO_DRIVE_ENABLE, Io::DRIVE_ENABLE.bits()),
-            (MC_MOTION_IN_VELOCITY, MotionFlags::IN_VELOCITY.bits()),
-            (MC_MOTION_PAUSED, MotionFlags::PAUSED.bits()),
-            (MC_MOTION_HOMED, MotionFlags::HOMED.bits()),
-            (
-                MC_MOTION_BUFFERED_ACTIVE,
-                MotionFlags::BUFFERED_ACTIVE.bits(),
-            ),
-        ] {
-            assert_eq!(ours, card, "{ours:#x}");
-        }
-        assert_eq!(MC_CARD_CAP_SCURVE, raw::MC_CAP_SCURVE);
-        assert_eq!(MC_CARD_CAP_FFPIV, raw::MC_CAP_FFPIV);
-        assert_eq!(MC_CARD_CAP_EVENT_IRQ, raw::MC_CAP_EVENT_IRQ);
-        for s in GroupState::ALL {
-            assert_eq!(group_state_code(*s), *s as u32, "{s:?}");
-        }
-        assert_eq!(MC_GROUP_COUNT, raw::MC_MAX_GROUPS);
-        assert_eq!(MC_GROUP_MAX_AXES, raw::MC_MAX_AXES);
-        assert_eq!(MC_GROUP_ACCDEC_PRE, raw::MC_ACCDEC_PRE);
-        assert_eq!(MC_GROUP_ACCDEC_POST, raw::MC_ACCDEC_POST);
+    fn both_is_pre_and_post() {
         assert_eq!(
             MC_GROUP_ACCDEC_BOTH,
             raw::MC_ACCDEC_PRE | raw::MC_ACCDEC_POST
         );
-        assert_eq!(MC_GROUP_INTERP_EXACT, raw::MC_INTERP_EXACT);
-        assert_eq!(
-            MC_GROUP_INTERP_REFERENCE_WORD,
-            raw::MC_INTERP_REFERENCE_WORD
-        );
-        assert_eq!(MC_ARC_PLANE_XY, raw::MC_PLANE_XY);
-        assert_eq!(MC_ARC_PLANE_YZ, raw::MC_PLANE_YZ);
-        assert_eq!(MC_ARC_PLANE_ZX, raw::MC_PLANE_ZX);
-        assert_eq!(MC_ARC_BY_CENTRE, raw::MC_CIRC_BY_CENTRE);
-        assert_eq!(MC_ARC_BY_RADIUS, raw::MC_CIRC_BY_RADIUS);
-        assert_eq!(MC_ARC_BY_BORDER, raw::MC_CIRC_BY_BORDER);
-        assert_eq!(MC_FILTER_KIND_NONE, raw::MC_FILTER_NONE);
-        assert_eq!(MC_FILTER_KIND_LINEAR, raw::MC_FILTER_LINEAR);
-        assert_eq!(MC_FILTER_KIND_EXPONENTIAL, raw::MC_FILTER_EXPONENTIAL);
-        assert_eq!(MC_FILTER_KIND_BELL, raw::MC_FILTER_BELL);
     }
 
     #[test]
@@ -1461,6 +1111,20 @@ mod tests {
             assert_eq!(NurbsFeed::from(mc_nurbs_feed::from(f)), f);
         }
     }
+}
+
+#[cfg(test)]
+mod safety_tests {
+    use super::*;
+    use crate::codes::MC_STOP_REASON_SOFT_LIMIT_NEG;
+    use motioncard_sdk::StopReason;
+
+    #[test]
+    fn stop_categories_round_trip() {
+        for c in StopCategory::ALL {
+            assert_eq!(stop_category(*c as u32).unwrap(), *c);
+        }
+    }
 
     #[test]
     fn safety_types_round_trip_and_unknown_categories_are_refused() {
@@ -1516,55 +1180,5 @@ mod tests {
                 ramp_time: 0.02
             }
         );
-    }
-
-    #[test]
-    fn sim_options_round_trip_and_unknown_values_are_refused() {
-        let d = mc_sim_options::from(SimOptions::default());
-        assert_eq!(
-            d,
-            mc_sim_options {
-                clock: MC_SIM_CLOCK_REAL_TIME,
-                axes: 8,
-                servo_rate_hz: 10_000,
-                plant: MC_SIM_PLANT_DEFAULT
-            }
-        );
-        assert_eq!(d.to_sdk().unwrap(), SimOptions::default());
-        for c in [Clock::RealTime, Clock::FreeRunning, Clock::Stepped] {
-            let o = mc_sim_options {
-                clock: clock_code(c),
-                ..d
-            };
-            assert_eq!(o.to_sdk().unwrap().clock, c);
-        }
-        let bonder = mc_sim_options {
-            plant: MC_SIM_PLANT_DIE_BONDER,
-            axes: 3,
-            ..d
-        }
-        .to_sdk()
-        .unwrap();
-        assert_eq!(bonder.emu.motors[0], die_bonder_plant(0));
-        assert_eq!(bonder.emu.motors[1], die_bonder_plant(1));
-        assert_eq!(bonder.emu.motors[7], die_bonder_plant(1));
-        for bad in [
-            mc_sim_options { clock: 3, ..d },
-            mc_sim_options { plant: 2, ..d },
-        ] {
-            assert_eq!(
-                bad.to_sdk().unwrap_err().code,
-                ErrorKind::BadConfig.code(),
-                "{bad:?}"
-            );
-        }
-    }
-
-    #[test]
-    fn limits_and_settings_round_trip() {
-        let l = MoveLimits::new(1.0, 2.0, 3.0)
-            .deceleration(4.0)
-            .decel_jerk(5.0);
-        assert_eq!(MoveLimits::from(mc_move_limits::from(l)), l);
     }
 }
