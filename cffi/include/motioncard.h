@@ -1654,6 +1654,28 @@ extern "C" {
 #define MC_EVENT_CARD_WIDE 65535
 
 /**
+ * Acc/dec mode (`mc_group_settings.accdec`), besides `MC_GROUP_ACCDEC_PRE` and
+ * `MC_GROUP_ACCDEC_POST`: both, the S-curve, then the filters.
+ */
+#define MC_GROUP_ACCDEC_BOTH (MC_GROUP_ACCDEC_PRE | MC_GROUP_ACCDEC_POST)
+
+/**
+ * Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
+ * feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+ */
+#define MC_FEED_TYPE_CUTTING 0
+
+/**
+ * Rapid traverse (G00).
+ */
+#define MC_FEED_TYPE_RAPID 1
+
+/**
+ * Jog.
+ */
+#define MC_FEED_TYPE_JOG 2
+
+/**
  * Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
  * as `mc_open("sim")`.
  */
@@ -1681,28 +1703,6 @@ extern "C" {
  * with `mc_pdplus_settings_die_bonder` and a 1000 Hz servo rate, as in the paper.
  */
 #define MC_SIM_PLANT_DIE_BONDER 1
-
-/**
- * Acc/dec mode (`mc_group_settings.accdec`), besides `MC_GROUP_ACCDEC_PRE` and
- * `MC_GROUP_ACCDEC_POST`: both, the S-curve, then the filters.
- */
-#define MC_GROUP_ACCDEC_BOTH (MC_GROUP_ACCDEC_PRE | MC_GROUP_ACCDEC_POST)
-
-/**
- * Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
- * feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
- */
-#define MC_FEED_TYPE_CUTTING 0
-
-/**
- * Rapid traverse (G00).
- */
-#define MC_FEED_TYPE_RAPID 1
-
-/**
- * Jog.
- */
-#define MC_FEED_TYPE_JOG 2
 
 /**
  * What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on
