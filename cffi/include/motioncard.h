@@ -113,6 +113,1012 @@ extern "C" {
 
 
 /**
+ * Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's fields;
+ * positions in `value` are in user units. `MC_EVENT_ACK` and `MC_EVENT_NACK` are taken by the
+ * library, never delivered.
+ *
+ * The command with this seq was accepted.
+ */
+#define MC_EVENT_ACK 1
+
+/**
+ * The command with this seq was refused. code: `MC_NACK_*`.
+ */
+#define MC_EVENT_NACK 2
+
+/**
+ * Value: final actual position.
+ */
+#define MC_EVENT_MOTION_DONE 3
+
+/**
+ * Code: new state, value: old state.
+ */
+#define MC_EVENT_STATE_CHANGED 4
+
+/**
+ * Code: fault bit, value: a measurement.
+ */
+#define MC_EVENT_FAULT 5
+
+/**
+ * Code: reason (a command opcode or fault bit).
+ */
+#define MC_EVENT_MOTION_ABORTED 6
+
+/**
+ * Axis: group; seq: the move; value: 1 when the group is at rest in position.
+ */
+#define MC_EVENT_GROUP_MOTION_DONE 8
+
+/**
+ * Axis: group; code: new state, value: old state.
+ */
+#define MC_EVENT_GROUP_STATE_CHANGED 9
+
+/**
+ * Axis: group; seq: the move; code: the opcode that ended it.
+ */
+#define MC_EVENT_GROUP_MOTION_ABORTED 10
+
+/**
+ * A buffered move started (PLCopen Active). seq: the move; value: its target (velocity mode: its
+ * velocity).
+ */
+#define MC_EVENT_MOTION_ACTIVE 11
+
+/**
+ * Velocity mode reached its velocity (PLCopen InVelocity). seq: the command; value: the velocity.
+ */
+#define MC_EVENT_IN_VELOCITY 12
+
+/**
+ * Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERR_*`;
+ * value: the actual position where it failed. Posted once the axis is at rest in Standstill, not
+ * homed.
+ */
+#define MC_EVENT_HOMING_FAILED 13
+
+/**
+ * A safety stop began. code: `MC_STOP_REASON_*` reason, value: the measurement (following error,
+ * position, heartbeat age s); axis 0xFFFF for the card-wide cause (watchdog, e-stop).
+ */
+#define MC_EVENT_SAFETY_STOP 16
+
+/**
+ * The stopped axis reached rest (and, category 1, its drive was disabled). code:
+ * `MC_STOP_REASON_*` reason, value: s since the stop began.
+ */
+#define MC_EVENT_AT_REST 17
+
+/**
+ * The host broke the protocol. code: `MC_PROTO_*`, value: index.
+ */
+#define MC_EVENT_PROTOCOL_ERROR 18
+
+/**
+ * A path segment started (layout 1.6). axis: group; seq: its command; value: its id.
+ */
+#define MC_EVENT_SEGMENT_START 20
+
+/**
+ * A path segment ended (the path left it). As `MC_EVENT_SEGMENT_START`.
+ */
+#define MC_EVENT_SEGMENT_END 21
+
+/**
+ * The segments queued fell to `group_path.low_water`. axis: group; value: segments queued.
+ */
+#define MC_EVENT_PATH_LOW_WATER 22
+
+/**
+ * The path brakes for the end of what is queued, which is not marked `MC_PATH_LAST`. axis: group;
+ * value: the last id queued.
+ */
+#define MC_EVENT_PATH_STARVED 23
+
+/**
+ * A debounced input edge (layout 1.7). axis: the input; code: 1 rising (active), 0 falling; value:
+ * the debounced input word.
+ */
+#define MC_EVENT_INPUT 24
+
+/**
+ * A compare channel fired or missed. axis: the channel; seq: its `MC_OP_COMPARE_ARM`; code:
+ * `MC_CMP_*`; value: the position.
+ */
+#define MC_EVENT_COMPARE 25
+
+/**
+ * A touch probe captured. axis: the channel; seq: its `MC_OP_PROBE_ARM`; code: the capture number
+ * since the arm (1, 2, ...); value: the position captured.
+ */
+#define MC_EVENT_PROBE 26
+
+/**
+ * Synchronised motion. axis: the slave; seq: the gear command; code: `MC_SYNC_*`; value: the
+ * slave's commanded position (master lost: the master's number).
+ */
+#define MC_EVENT_SYNC 27
+
+/**
+ * A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EV_*`; value: the
+ * points queued (low water), the time of the last point run (starved), the last position (done).
+ */
+#define MC_EVENT_PVT 28
+
+/**
+ * The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see there.
+ */
+#define MC_EVENT_SCOPE 29
+
+/**
+ * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
+ *
+ * Power off.
+ */
+#define MC_AXIS_STATE_DISABLED 0
+
+/**
+ * Powered, at rest, ready for a move.
+ */
+#define MC_AXIS_STATE_STANDSTILL 1
+
+/**
+ * `MC_Home` runs.
+ */
+#define MC_AXIS_STATE_HOMING 2
+
+/**
+ * A point-to-point move.
+ */
+#define MC_AXIS_STATE_DISCRETE_MOTION 3
+
+/**
+ * A velocity move.
+ */
+#define MC_AXIS_STATE_CONTINUOUS_MOTION 4
+
+/**
+ * Coupled to another axis or a group.
+ */
+#define MC_AXIS_STATE_SYNCHRONIZED_MOTION 5
+
+/**
+ * `MC_Stop` in progress or held (until `MC_OP_STOP_RELEASE`).
+ */
+#define MC_AXIS_STATE_STOPPING 6
+
+/**
+ * Stopped by a fault; only `MC_Reset` leaves it.
+ */
+#define MC_AXIS_STATE_ERROR_STOP 7
+
+/**
+ * Group state (`mc_group_status.state`, the `code` of `MC_EVENT_GROUP_STATE_CHANGED`): PLCopen's
+ * group states.
+ *
+ * GroupDisabled.
+ */
+#define MC_GROUP_STATE_DISABLED 0
+
+/**
+ * GroupStandby: enabled, at rest, ready for a move.
+ */
+#define MC_GROUP_STATE_STANDBY 1
+
+/**
+ * GroupMoving: interpolating.
+ */
+#define MC_GROUP_STATE_MOVING 2
+
+/**
+ * GroupHoming.
+ */
+#define MC_GROUP_STATE_HOMING 3
+
+/**
+ * GroupStopping: `MC_GroupStop` in progress or held.
+ */
+#define MC_GROUP_STATE_STOPPING 4
+
+/**
+ * GroupErrorStop: stopped by a fault; only `MC_GroupReset` leaves it.
+ */
+#define MC_GROUP_STATE_ERROR_STOP 5
+
+/**
+ * IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
+ * `mc_safety_settings.limit_stop`).
+ *
+ * Remove power now.
+ */
+#define MC_STOP_CATEGORY_0 0
+
+/**
+ * Controlled stop, then remove power.
+ */
+#define MC_STOP_CATEGORY_1 1
+
+/**
+ * Controlled stop, power kept.
+ */
+#define MC_STOP_CATEGORY_2 2
+
+/**
+ * Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
+ * `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`). Safety reasons are `MC_STOP_REASON_WATCHDOG` and
+ * above.
+ *
+ * A motion runs, or none has run.
+ */
+#define MC_STOP_REASON_NONE 0
+
+/**
+ * Reached its target, in position.
+ */
+#define MC_STOP_REASON_DONE 1
+
+/**
+ * `MC_Halt`.
+ */
+#define MC_STOP_REASON_HALT 2
+
+/**
+ * `MC_Stop`.
+ */
+#define MC_STOP_REASON_STOP 3
+
+/**
+ * `MC_Power` off by the host.
+ */
+#define MC_STOP_REASON_POWER_OFF 4
+
+/**
+ * The host closed the card (`MC_OP_HOST_DETACH`): halted.
+ */
+#define MC_STOP_REASON_HOST_DETACH 5
+
+/**
+ * Homing failed (`MC_EVENT_HOMING_FAILED`): stopped, not homed.
+ */
+#define MC_STOP_REASON_HOMING_FAILED 6
+
+/**
+ * Host heartbeat lost.
+ */
+#define MC_STOP_REASON_WATCHDOG 16
+
+/**
+ * `MC_OP_ESTOP`.
+ */
+#define MC_STOP_REASON_ESTOP_COMMAND 17
+
+/**
+ * The card's e-stop input.
+ */
+#define MC_STOP_REASON_ESTOP_INPUT 18
+
+/**
+ * The positive limit switch.
+ */
+#define MC_STOP_REASON_HARD_LIMIT_POS 19
+
+/**
+ * The negative limit switch.
+ */
+#define MC_STOP_REASON_HARD_LIMIT_NEG 20
+
+/**
+ * The positive soft limit.
+ */
+#define MC_STOP_REASON_SOFT_LIMIT_POS 21
+
+/**
+ * The negative soft limit.
+ */
+#define MC_STOP_REASON_SOFT_LIMIT_NEG 22
+
+/**
+ * The following error exceeded its limit.
+ */
+#define MC_STOP_REASON_FOLLOWING_ERROR 23
+
+/**
+ * The amplifier's alarm input.
+ */
+#define MC_STOP_REASON_AMP_ALARM 24
+
+/**
+ * The encoder's line-break detector.
+ */
+#define MC_STOP_REASON_ENCODER_LOSS 25
+
+/**
+ * A count change larger than physically possible.
+ */
+#define MC_STOP_REASON_ENCODER_JUMP 26
+
+/**
+ * Queued motion ran out: planned stop at the end of the queue.
+ */
+#define MC_STOP_REASON_STARVATION 27
+
+/**
+ * Command ring indices corrupt.
+ */
+#define MC_STOP_REASON_CMD_RING 28
+
+/**
+ * Event ring indices corrupt.
+ */
+#define MC_STOP_REASON_EVT_RING 29
+
+/**
+ * Another axis of its group tripped.
+ */
+#define MC_STOP_REASON_GROUP 30
+
+/**
+ * A stop did not end within the maximum stop time: power removed.
+ */
+#define MC_STOP_REASON_STOP_TIMEOUT 31
+
+/**
+ * A host attached while the previous host's session was open.
+ */
+#define MC_STOP_REASON_HOST_CHANGED 32
+
+/**
+ * Motion found running with no session attached and armed.
+ */
+#define MC_STOP_REASON_NO_SESSION 33
+
+/**
+ * Fault bit of `mc_status.faults` (the `code` of `MC_EVENT_FAULT`).
+ *
+ * The servo output hit the DAC limit.
+ */
+#define MC_AXIS_FAULT_DAC_SATURATED 1
+
+/**
+ * The host watchdog tripped (the heartbeat stopped).
+ */
+#define MC_AXIS_FAULT_WATCHDOG 256
+
+/**
+ * An e-stop (`MC_OP_ESTOP` or the card's input) stopped the axis.
+ */
+#define MC_AXIS_FAULT_ESTOP 512
+
+/**
+ * At or beyond the positive limit switch.
+ */
+#define MC_AXIS_FAULT_HARD_LIMIT_POS 1024
+
+/**
+ * At or beyond the negative limit switch.
+ */
+#define MC_AXIS_FAULT_HARD_LIMIT_NEG 2048
+
+/**
+ * Beyond the positive soft limit.
+ */
+#define MC_AXIS_FAULT_SOFT_LIMIT_POS 4096
+
+/**
+ * Beyond the negative soft limit.
+ */
+#define MC_AXIS_FAULT_SOFT_LIMIT_NEG 8192
+
+/**
+ * The following error exceeded its limit.
+ */
+#define MC_AXIS_FAULT_FOLLOWING_ERROR 16384
+
+/**
+ * The amplifier's alarm input.
+ */
+#define MC_AXIS_FAULT_AMP_ALARM 32768
+
+/**
+ * Encoder loss or a jump.
+ */
+#define MC_AXIS_FAULT_ENCODER 65536
+
+/**
+ * The host broke the protocol (corrupt ring indices).
+ */
+#define MC_AXIS_FAULT_PROTOCOL 131072
+
+/**
+ * A stop ran past the maximum stop time (layout 1.3).
+ */
+#define MC_AXIS_FAULT_STOP_TIMEOUT 262144
+
+/**
+ * Capability bit of `mc_card_info.capabilities`.
+ *
+ * S-curve profiles.
+ */
+#define MC_CARD_CAP_SCURVE 1
+
+/**
+ * The FFPIV servo loop.
+ */
+#define MC_CARD_CAP_FFPIV 2
+
+/**
+ * Events raise an interrupt.
+ */
+#define MC_CARD_CAP_EVENT_IRQ 4
+
+/**
+ * Motion bit of `mc_status.raw.motion_flags`.
+ *
+ * Velocity mode at its (overridden) velocity.
+ */
+#define MC_MOTION_IN_VELOCITY 1
+
+/**
+ * Held still by a 0 % override, in its motion state.
+ */
+#define MC_MOTION_PAUSED 2
+
+/**
+ * The position was set by homing or `MC_SetPosition`.
+ */
+#define MC_MOTION_HOMED 4
+
+/**
+ * The motion running is one that was buffered.
+ */
+#define MC_MOTION_BUFFERED_ACTIVE 8
+
+/**
+ * Layout 1.7 (sync): the slave follows its master (InGear).
+ */
+#define MC_MOTION_IN_SYNC 256
+
+/**
+ * Bit of `mc_status.io`.
+ *
+ * The positive limit switch input.
+ */
+#define MC_IO_LIMIT_POS 1
+
+/**
+ * The negative limit switch input.
+ */
+#define MC_IO_LIMIT_NEG 2
+
+/**
+ * The home switch input.
+ */
+#define MC_IO_HOME 4
+
+/**
+ * The amplifier alarm input.
+ */
+#define MC_IO_AMP_ALARM 8
+
+/**
+ * The encoder line-break detector.
+ */
+#define MC_IO_ENCODER_FAULT 16
+
+/**
+ * The card's e-stop input, mirrored on every axis.
+ */
+#define MC_IO_ESTOP 32
+
+/**
+ * Output: the amplifier is enabled.
+ */
+#define MC_IO_DRIVE_ENABLE 256
+
+/**
+ * Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
+ */
+#define MC_GROUP_COUNT 4
+
+/**
+ * Most axes in one group (`mc_group_settings.axes`): as many as the card can have.
+ */
+#define MC_GROUP_MAX_AXES 8
+
+/**
+ * Acc/dec mode (`mc_group_settings.accdec`).
+ *
+ * S-curve of the tangential feed along the path.
+ */
+#define MC_GROUP_ACCDEC_PRE 1
+
+/**
+ * Per-axis acc/dec filters after interpolation.
+ */
+#define MC_GROUP_ACCDEC_POST 2
+
+/**
+ * Arc interpolator (`mc_group_settings.interpolator`).
+ *
+ * Points exactly on the circle.
+ */
+#define MC_GROUP_INTERP_EXACT 0
+
+/**
+ * Kim eq 15-23 for arcs (constant feed: needs `MC_GROUP_ACCDEC_POST` only).
+ */
+#define MC_GROUP_INTERP_REFERENCE_WORD 1
+
+/**
+ * Plane of an arc (`mc_group_move_circular`, path arcs).
+ *
+ * Group axes 0, 1.
+ */
+#define MC_ARC_PLANE_XY 0
+
+/**
+ * Group axes 1, 2.
+ */
+#define MC_ARC_PLANE_YZ 1
+
+/**
+ * Group axes 2, 0.
+ */
+#define MC_ARC_PLANE_ZX 2
+
+/**
+ * How an arc is given (`mc_arc.mode`): `aux` and `end` are in the coordinates of its plane.
+ *
+ * Aux = centre.
+ */
+#define MC_ARC_BY_CENTRE 0
+
+/**
+ * `aux_u` = radius (negative: the arc longer than half a turn).
+ */
+#define MC_ARC_BY_RADIUS 1
+
+/**
+ * Aux = a point on the arc (three-point circle).
+ */
+#define MC_ARC_BY_BORDER 2
+
+/**
+ * Acc/dec filter kind (`mc_filter.kind`).
+ *
+ * Pass-through.
+ */
+#define MC_FILTER_KIND_NONE 0
+
+/**
+ * Moving average (linear acc/dec; Kim eq 1).
+ */
+#define MC_FILTER_KIND_LINEAR 1
+
+/**
+ * First order (exponential acc/dec; Kim eq 7-9).
+ */
+#define MC_FILTER_KIND_EXPONENTIAL 2
+
+/**
+ * Linear followed by exponential (bell-shaped; Shin eq 40).
+ */
+#define MC_FILTER_KIND_BELL 3
+
+/**
+ * Opcode of a raw command (`mc_send_raw`).
+ *
+ * Does nothing but answer: the round-trip probe.
+ */
+#define MC_OP_NOP 1
+
+/**
+ * `MC_Power` Enable=TRUE.
+ */
+#define MC_OP_POWER_ON 2
+
+/**
+ * `MC_Power` Enable=FALSE.
+ */
+#define MC_OP_POWER_OFF 3
+
+/**
+ * Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`.
+ */
+#define MC_OP_MOVE_ABSOLUTE 4
+
+/**
+ * Args: distance (from the commanded position), then as `MOVE_ABSOLUTE`.
+ */
+#define MC_OP_MOVE_RELATIVE 5
+
+/**
+ * Args: dmax, jerk. Decelerate, then Standstill.
+ */
+#define MC_OP_HALT 6
+
+/**
+ * Args: dmax, jerk. Decelerate, stay in Stopping.
+ */
+#define MC_OP_STOP 7
+
+/**
+ * Leave Stopping once at rest (`MC_Stop` Execute=FALSE).
+ */
+#define MC_OP_STOP_RELEASE 8
+
+/**
+ * `MC_Reset`: ErrorStop -> Standstill or Disabled.
+ */
+#define MC_OP_RESET 9
+
+/**
+ * Copy and validate `axis_config[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_CONFIG 10
+
+/**
+ * Copy and validate `card_config` (axis field ignored).
+ */
+#define MC_OP_APPLY_CARD_CONFIG 11
+
+/**
+ * Args: distance (from the target of the last move), then as `MOVE_ABSOLUTE`.
+ */
+#define MC_OP_MOVE_ADDITIVE 12
+
+/**
+ * `MC_MoveVelocity`: args: velocity (signed), amax, dmax, jerk. ContinuousMotion;
+ * `MC_EVENT_IN_VELOCITY` once at the velocity. Aborting.
+ */
+#define MC_OP_MOVE_VELOCITY 13
+
+/**
+ * Velocity mode with the jog feed: args: velocity (signed, |v| <= `axis_config.jog_max_vel`, else
+ * `MC_NACK_OUT_OF_RANGE`) at the axis's `jog_accel` and `jog_jerk`. Releasing the button is
+ * `MC_OP_HALT`.
+ */
+#define MC_OP_JOG 14
+
+/**
+ * `MC_SetOverride`: args: velocity factor `0..MC_OVERRIDE_MAX` (else `MC_NACK_OVERRIDE_RANGE`).
+ * Scales the axis's velocity limit (moves) or velocity (velocity mode); the change is planned from
+ * the current state within the acceleration and jerk limits. 0 holds the axis still in its motion
+ * state; a factor > 0 resumes from there.
+ */
+#define MC_OP_SET_OVERRIDE 15
+
+/**
+ * Copy and validate `group_config[group]` (group disabled).
+ */
+#define MC_OP_GROUP_CONFIGURE 16
+
+/**
+ * Copy and validate `axis_filter[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_FILTER 17
+
+/**
+ * `MC_GroupEnable`.
+ */
+#define MC_OP_GROUP_ENABLE 18
+
+/**
+ * `MC_GroupDisable`.
+ */
+#define MC_OP_GROUP_DISABLE 19
+
+/**
+ * `MC_GroupStop`: args: dmax, jerk (along the path).
+ */
+#define MC_OP_GROUP_STOP 20
+
+/**
+ * Leave GroupStopping once at rest (`MC_GroupStop` Execute=FALSE).
+ */
+#define MC_OP_GROUP_STOP_RELEASE 21
+
+/**
+ * `MC_GroupReset`.
+ */
+#define MC_OP_GROUP_RESET 22
+
+/**
+ * `MC_GroupHalt`: args: dmax, jerk.
+ */
+#define MC_OP_GROUP_HALT 23
+
+/**
+ * `MC_MoveLinear*`: args: v, a, d, j, then one target per group axis.
+ */
+#define MC_OP_GROUP_MOVE_LINEAR 24
+
+/**
+ * `MC_MoveCircular*`: args: v, a, d, j, `end_u`, `end_v`, `aux_u`, `aux_v`, then the helical
+ * targets of the group's other axes, in group order.
+ */
+#define MC_OP_GROUP_MOVE_CIRCULAR 25
+
+/**
+ * Synchronised point-to-point (Kim eq 10-14): args: v, a, d, j (per axis), then one target per
+ * group axis. Flag `MC_PTP_AXIS_LIMITS`: each axis also within the limits staged for it (the
+ * smaller wins).
+ */
+#define MC_OP_GROUP_MOVE_PTP 26
+
+/**
+ * Args: degree, `n_ctrl`, `n_knots`, feed, accel, jerk, chord tolerance, saturation budget (0..1]
+ * ; flags: `MC_MOVE_BUFFERED`, `MC_NURBS_SATURATION`.
+ */
+#define MC_OP_NURBS_BEGIN 27
+
+/**
+ * Args: offset into the stream, count (1..12), then count values.
+ */
+#define MC_OP_NURBS_DATA 28
+
+/**
+ * Validate the curve and queue the move.
+ */
+#define MC_OP_NURBS_END 29
+
+/**
+ * Stage per-axis limits for the next `MC_OP_GROUP_MOVE_PTP` (above).
+ */
+#define MC_OP_GROUP_PTP_LIMITS 30
+
+/**
+ * `MC_SetOverride` of a group (above).
+ */
+#define MC_OP_GROUP_SET_OVERRIDE 31
+
+/**
+ * Copy and validate safety (axis field ignored).
+ */
+#define MC_OP_APPLY_SAFETY_CONFIG 32
+
+/**
+ * Copy and validate `axis_safety[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_SAFETY 33
+
+/**
+ * Args: category (0, 1 or 2). Every axis; latched.
+ */
+#define MC_OP_ESTOP 34
+
+/**
+ * Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then leave
+ * ErrorStop by `MC_RESET`.
+ */
+#define MC_OP_SAFETY_RESET 35
+
+/**
+ * Flags: the new session id (nonzero). If another session is still attached (its host died or hung
+ * without detaching), every enabled axis makes a category 1 stop with reason
+ * `MC_STOP_REASON_HOST_CHANGED`: a new host never inherits motion it did not start. The ack's
+ * value is the number of axes that stop made. The attach arms the watchdog: its heartbeat must
+ * come within the watchdog timeout.
+ */
+#define MC_OP_HOST_ATTACH 36
+
+/**
+ * Flags: the session id. A clean close: every moving axis and group halts along its axis stop ramp
+ * (reason `MC_STOP_REASON_HOST_DETACH`, no fault latched) and the watchdog is disarmed until the
+ * next attach (later heartbeats do not arm it); until then the session gate refuses motion
+ * (`MC_NACK_NO_SESSION`). `MC_NACK_SESSION` if another session is attached.
+ */
+#define MC_OP_HOST_DETACH 37
+
+/**
+ * Copy and validate `axis_homing[axis]`.
+ */
+#define MC_OP_APPLY_AXIS_HOMING 48
+
+/**
+ * `MC_Home`: args: position (what the home point reads, before the home offset). From Standstill.
+ */
+#define MC_OP_HOME 49
+
+/**
+ * `MC_SetPosition`: args: position; flags: `MC_SET_POSITION_RELATIVE`. The actual and commanded
+ * positions become position (relative: move by it) without moving; sets `MC_MOTION_HOMED`.
+ * Standstill or Disabled.
+ */
+#define MC_OP_SET_POSITION 50
+
+/**
+ * Args: id, feed, tolerance, then one target per group axis. flags: `MC_MOVE_RELATIVE`,
+ * `MC_PATH_*`.
+ */
+#define MC_OP_PATH_LINE 56
+
+/**
+ * Args: id, feed, tolerance, `end_u`, `end_v`, `aux_u`, `aux_v` (as `MC_OP_GROUP_MOVE_CIRCULAR`),
+ * then the targets of the other group axes in order (a helix). flags: `MC_MOVE_RELATIVE`,
+ * `MC_CIRC_*`, `MC_PATH_*`.
+ */
+#define MC_OP_PATH_ARC 57
+
+/**
+ * Args: id, seconds (0 < t <= `MC_MAX_MOVE_TIME`): an exact stop, then a wait. flags:
+ * `MC_PATH_LAST`.
+ */
+#define MC_OP_PATH_DWELL 58
+
+/**
+ * Args: output (`0..MC_OUTPUTS-1`), on (0 or 1), distance. flags: `MC_PATH_OUT_*`. Sets or clears
+ * the output when the next motion segment queued starts, ends, or has run `distance` counts; at
+ * most `MC_PATH_OUTPUTS_PENDING` before that segment.
+ */
+#define MC_OP_PATH_OUTPUT 59
+
+/**
+ * Copy and validate `group_path[group]` (path empty and at rest).
+ */
+#define MC_OP_APPLY_GROUP_PATH 60
+
+/**
+ * Args: mask, value (`0..2^MC_OUTPUTS-1`): set the outputs in mask to value now (axis field
+ * ignored).
+ */
+#define MC_OP_SET_OUTPUTS 61
+
+/**
+ * A NURBS curve as one path segment: args: id, feed, tolerance, degree, `n_ctrl`, `n_knots`, fit
+ * tolerance (> 0: the largest distance of the commanded path from the curve, counts). flags:
+ * `MC_MOVE_RELATIVE` (control points from the path's end), `MC_PATH_*` (a time-shifted transition
+ * is refused). The curve follows in `MC_OP_NURBS_DATA` entries and is queued by `MC_OP_NURBS_END`,
+ * as a NURBS move; it must start within the fit tolerance of the path's end
+ * (`MC_NACK_NURBS_START`). On the card it takes one buffer entry per piece: quintics fitted to the
+ * curve, curvature-continuous where it is (`MC_NACK_QUEUE_FULL` until they fit;
+ * `MC_NACK_PATH_CURVE`).
+ */
+#define MC_OP_PATH_NURBS 62
+
+/**
+ * Copy and validate `io_config` (axis field ignored).
+ */
+#define MC_OP_APPLY_IO_CONFIG 64
+
+/**
+ * Axis: the axis watched. args: channel, output (`0..MC_OUTPUTS-1`), `pulse_us`, `low_water`
+ * (table: the `MC_EVENT_COMPARE` low-water mark, 0: none), position (single) or start (series),
+ * pitch (series, counts, >= 1), count (series, 1..2^31-1). flags: `MC_CMP_MODE_*` and
+ * `MC_CMP_DIR_*`. `MC_NACK_COMPARE_BUSY` if the channel is armed (a channel done may be armed
+ * again) or another armed channel pulses that output. A table channel fires what was queued before
+ * (`MC_OP_COMPARE_TABLE`) and what is queued after; its queue is kept from one arm to the next
+ * until `MC_OP_COMPARE_DISARM`.
+ */
+#define MC_OP_COMPARE_ARM 65
+
+/**
+ * Args: channel, n (`1..MC_COMPARE_TABLE_MAX`), then n positions (strictly beyond the last queued
+ * in the direction, else `MC_NACK_COMPARE_ORDER`; no room: `MC_NACK_COMPARE_FULL`, none taken).
+ * flags: `MC_CMP_DIR_POS` or `_NEG` (the table's; the arm must agree). Ack value: the free room
+ * after.
+ */
+#define MC_OP_COMPARE_TABLE 66
+
+/**
+ * Args: channel. Stops the channel, drops its table, ends its pulse.
+ */
+#define MC_OP_COMPARE_DISARM 67
+
+/**
+ * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
+ * `MC_PROBE_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_RISING` / `_FALLING` (one or
+ * both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
+ */
+#define MC_OP_PROBE_ARM 68
+
+/**
+ * `MC_AbortTrigger`. args: channel.
+ */
+#define MC_OP_PROBE_ABORT 69
+
+/**
+ * Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting; from
+ * Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+ */
+#define MC_OP_GEAR_IN 80
+
+/**
+ * As `MC_OP_GEAR_IN`, then args: master sync position, slave sync position: the slave reaches the
+ * slave position exactly when the master reaches the master position, along a quintic in the
+ * master's position (velocity and acceleration continuous), checked against vmax, amax, jerk at
+ * the master's present velocity (else `MC_NACK_INFEASIBLE`; a master at rest or moving away: the
+ * same).
+ */
+#define MC_OP_GEAR_IN_POS 81
+
+/**
+ * `MC_GearOut`: the slave leaves the coupling in velocity mode at its velocity (ContinuousMotion,
+ * `MC_EVENT_IN_VELOCITY` with this command's seq), its acceleration ramped to 0 within the gear's
+ * amax and jerk; stop it with `MC_OP_HALT`. The gear command: `MC_EVENT_MOTION_ABORTED` (code
+ * `MC_OP_GEAR_OUT`).
+ */
+#define MC_OP_GEAR_OUT 82
+
+/**
+ * Args: vmax, amax, low water (points, 0: none). flags: `MC_PVT_PT`. Standstill, no stream running
+ * (else `MC_NACK_PVT_SEQUENCE`).
+ */
+#define MC_OP_PVT_BEGIN 83
+
+/**
+ * Args: count (`1..MC_PVT_POINTS_MAX`), then time, position, velocity of each (PT: velocity
+ * ignored). flags: `MC_PVT_LAST` (the last of these is the stream's last). Ack value: the points
+ * still free.
+ */
+#define MC_OP_PVT_POINTS 84
+
+/**
+ * Args: axis mask (bit i: axis i; 0: this axis): the streams of every axis in it start on the same
+ * tick.
+ */
+#define MC_OP_PVT_START 85
+
+/**
+ * Args: table, points (`2..MC_CAM_MAX_POINTS`; cubic: 3..). flags: `MC_CAM_CUBIC`,
+ * `MC_CAM_PERIODIC`. Any axis.
+ */
+#define MC_OP_CAM_TABLE 86
+
+/**
+ * Args: table, index of the first point, count (`1..MC_CAM_DATA_MAX`), then master, slave of each.
+ */
+#define MC_OP_CAM_DATA 87
+
+/**
+ * Args: master, table, master offset, slave offset, master scale, slave scale, vmax, amax, jerk.
+ * flags: `MC_MASTER_*` | `MC_CAM_AT_CYCLE_END`.
+ */
+#define MC_OP_CAM_IN 88
+
+/**
+ * As `MC_OP_GEAR_OUT`.
+ */
+#define MC_OP_CAM_OUT 89
+
+/**
+ * Validate and copy `scope_config` (axis field ignored).
+ */
+#define MC_OP_SCOPE_CONFIGURE 90
+
+/**
+ * Start sampling and wait for the trigger (scope idle or done).
+ */
+#define MC_OP_SCOPE_ARM 91
+
+/**
+ * Trigger at the next sample (the scope waits for a trigger).
+ */
+#define MC_OP_SCOPE_TRIGGER 92
+
+/**
+ * Stop sampling: the scope is idle (armed, waiting or done).
+ */
+#define MC_OP_SCOPE_STOP 93
+
+/**
+ * Args: block kind (`MC_CONFIG_*`), index (axis or group; 0 for the card-wide blocks). A kind the
+ * card does not know, or an argument that is not an integer: `MC_NACK_CONFIG_KIND`; an axis beyond
+ * `identity.num_axes`: `MC_NACK_BAD_AXIS`; a group beyond `MC_GROUP_COUNT`: `MC_NACK_BAD_GROUP`.
+ */
+#define MC_OP_READ_CONFIG 96
+
+/**
+ * Axis: the axis. args: counts per user unit (|scale| in `MC_SCALE_MIN..MC_SCALE_MAX`, negative:
+ * the user's axis runs against the encoder; else `MC_NACK_OUT_OF_RANGE`, NaN:
+ * `MC_NACK_NOT_FINITE`). Kept for hosts, read back in `axis_config.scale`; the card does not use
+ * it. Any state.
+ */
+#define MC_OP_SET_SCALE 97
+
+/**
  * `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
  * linear).
  */
@@ -593,11 +1599,6 @@ extern "C" {
 #define MC_SCOPE_STATE_DONE 3
 
 /**
- * `kind` of the scope's events (`code`: `MC_SCOPE_EVENT_*`; `seq`: the arm).
- */
-#define MC_EVENT_SCOPE 29
-
-/**
  * Triggered (`value`: the trigger sample's tick).
  */
 #define MC_SCOPE_EVENT_TRIGGERED 1
@@ -633,17 +1634,6 @@ extern "C" {
 #define MC_AUX_ENCODERS 2
 
 /**
- * Event kind: synchronised motion (`code`: `MC_SYNC_`; `seq`: the gear command; `value`: the
- * slave's commanded position, or for `MC_SYNC_MASTER_LOST` the master's number).
- */
-#define MC_EVENT_SYNC 27
-
-/**
- * Event kind: a PT/PVT stream (reserved).
- */
-#define MC_EVENT_PVT 28
-
-/**
  * `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
  */
 #define MC_SYNC_IN_GEAR 1
@@ -659,249 +1649,31 @@ extern "C" {
 #define MC_SYNC_MASTER_LOST 3
 
 /**
- * Motion bit of `mc_status.raw.motion_flags`: the slave follows its master (in gear).
- */
-#define MC_MOTION_IN_SYNC 256
-
-/**
- * Axis state (`mc_status.state`, `MC_EVENT_STATE_CHANGED` codes): PLCopen's states.
- */
-#define MC_AXIS_STATE_DISABLED 0
-
-/**
- * Powered, at rest, ready for a move.
- */
-#define MC_AXIS_STATE_STANDSTILL 1
-
-/**
- * Homing.
- */
-#define MC_AXIS_STATE_HOMING 2
-
-/**
- * A point-to-point move.
- */
-#define MC_AXIS_STATE_DISCRETE_MOTION 3
-
-/**
- * A velocity move.
- */
-#define MC_AXIS_STATE_CONTINUOUS_MOTION 4
-
-/**
- * Coupled to another axis or a group.
- */
-#define MC_AXIS_STATE_SYNCHRONIZED_MOTION 5
-
-/**
- * `mc_stop` in progress or held (until `mc_release_stop`).
- */
-#define MC_AXIS_STATE_STOPPING 6
-
-/**
- * Stopped by a fault; only `mc_reset` leaves it.
- */
-#define MC_AXIS_STATE_ERROR_STOP 7
-
-/**
- * Fault bit of `mc_status.faults`: the servo output hit the DAC limit.
- */
-#define MC_AXIS_FAULT_DAC_SATURATED 1
-
-/**
- * Fault bit: the host watchdog tripped (the heartbeat stopped).
- */
-#define MC_AXIS_FAULT_WATCHDOG 256
-
-/**
- * Fault bit: an e-stop (`mc_estop` or the card's input) stopped the axis.
- */
-#define MC_AXIS_FAULT_ESTOP 512
-
-/**
- * Fault bit: at or beyond the positive limit switch.
- */
-#define MC_AXIS_FAULT_HARD_LIMIT_POS 1024
-
-/**
- * Fault bit: at or beyond the negative limit switch.
- */
-#define MC_AXIS_FAULT_HARD_LIMIT_NEG 2048
-
-/**
- * Fault bit: beyond the positive soft limit.
- */
-#define MC_AXIS_FAULT_SOFT_LIMIT_POS 4096
-
-/**
- * Fault bit: beyond the negative soft limit.
- */
-#define MC_AXIS_FAULT_SOFT_LIMIT_NEG 8192
-
-/**
- * Fault bit: the following error exceeded its limit.
- */
-#define MC_AXIS_FAULT_FOLLOWING_ERROR 16384
-
-/**
- * Fault bit: the amplifier's alarm input.
- */
-#define MC_AXIS_FAULT_AMP_ALARM 32768
-
-/**
- * Fault bit: encoder loss or a jump.
- */
-#define MC_AXIS_FAULT_ENCODER 65536
-
-/**
- * Fault bit: the host broke the protocol (corrupt ring indices).
- */
-#define MC_AXIS_FAULT_PROTOCOL 131072
-
-/**
- * Fault bit: a stop ran past the card's maximum stop time; its power was removed.
- */
-#define MC_AXIS_FAULT_STOP_TIMEOUT 262144
-
-/**
- * Capability bit of `mc_card_info.capabilities`: S-curve profiles.
- */
-#define MC_CARD_CAP_SCURVE 1
-
-/**
- * Capability bit: FFPIV servo loop.
- */
-#define MC_CARD_CAP_FFPIV 2
-
-/**
- * Capability bit: events raise an interrupt (`mc_irq_fd` works).
- */
-#define MC_CARD_CAP_EVENT_IRQ 4
-
-/**
- * Event kind (`mc_event.kind`): a command was accepted. Taken by the library, never delivered.
- */
-#define MC_EVENT_ACK 1
-
-/**
- * A command was refused. Taken by the library, never delivered.
- */
-#define MC_EVENT_NACK 2
-
-/**
- * The axis finished its move and is in position; `value` is the actual position (user units).
- */
-#define MC_EVENT_MOTION_DONE 3
-
-/**
- * The axis changed state; `code` is the new `MC_AXIS_STATE_`, `value` the old one.
- */
-#define MC_EVENT_STATE_CHANGED 4
-
-/**
- * A fault was raised; `code` is the `MC_AXIS_FAULT_` bit, `value` a measurement.
- */
-#define MC_EVENT_FAULT 5
-
-/**
- * A move ended before its target; `code` is the command (opcode) or fault that ended it.
- */
-#define MC_EVENT_MOTION_ABORTED 6
-
-/**
- * A group move finished (`axis`: the group; `value` 1 when the group is at rest in position).
- */
-#define MC_EVENT_GROUP_MOTION_DONE 8
-
-/**
- * A group changed state (`axis`: the group; `code`: the new group state).
- */
-#define MC_EVENT_GROUP_STATE_CHANGED 9
-
-/**
- * A group move was aborted (`axis`: the group).
- */
-#define MC_EVENT_GROUP_MOTION_ABORTED 10
-
-/**
- * A buffered move started (PLCopen Active); `value` is its target (velocity mode: its
- * velocity), user units.
- */
-#define MC_EVENT_MOTION_ACTIVE 11
-
-/**
- * Velocity mode reached its velocity (PLCopen InVelocity); `value` is the velocity.
- */
-#define MC_EVENT_IN_VELOCITY 12
-
-/**
- * Homing ended without a home point (`mc_home`): `code` is an `MC_HOMING_ERROR_` value,
- * `value` the actual position; the axis is at rest, not homed.
- */
-#define MC_EVENT_HOMING_FAILED 13
-
-/**
- * A safety stop began (`code`: the stop reason, `value`: the measurement; `axis`
- * `MC_EVENT_CARD_WIDE` for the watchdog and e-stop).
- */
-#define MC_EVENT_SAFETY_STOP 16
-
-/**
- * A safety-stopped axis reached rest (`code`: the stop reason, `value`: seconds since the stop).
- */
-#define MC_EVENT_AT_REST 17
-
-/**
- * The host broke the protocol (`code`: what, `value`: the index).
- */
-#define MC_EVENT_PROTOCOL_ERROR 18
-
-/**
- * A path segment started (`axis`: the group; `seq`: its command, as in its `mc_group_motion`;
- * `value`: its id).
- */
-#define MC_EVENT_SEGMENT_START 20
-
-/**
- * A path segment ended (the path left it); as `MC_EVENT_SEGMENT_START`.
- */
-#define MC_EVENT_SEGMENT_END 21
-
-/**
- * The segments queued in a group's path fell to its `low_water` mark (`axis`: the group;
- * `value`: segments queued).
- */
-#define MC_EVENT_PATH_LOW_WATER 22
-
-/**
- * A group's path brakes for the end of what is queued, whose last segment is not marked
- * `last` (`axis`: the group; `value`: the last id queued): the stream fell behind.
- */
-#define MC_EVENT_PATH_STARVED 23
-
-/**
- * A debounced digital input edge (`axis`: the input; `code`: 1 rising, 0 falling; `value`:
- * the debounced input word).
- */
-#define MC_EVENT_INPUT 24
-
-/**
- * A compare channel fired or missed (`axis`: the channel; `seq`: its arm; `code`:
- * `MC_COMPARE_FIRED`, `_MISSED` or `_LOW_WATER`; `value`: the position in counts, the last
- * of its tick, or the positions queued).
- */
-#define MC_EVENT_COMPARE 25
-
-/**
- * A touch probe captured (`axis`: the channel; `code`: the capture number since the arm;
- * `value`: the position in counts).
- */
-#define MC_EVENT_PROBE 26
-
-/**
  * `mc_event.axis` of an event about the whole card.
  */
 #define MC_EVENT_CARD_WIDE 65535
+
+/**
+ * Acc/dec mode (`mc_group_settings.accdec`), besides `MC_GROUP_ACCDEC_PRE` and
+ * `MC_GROUP_ACCDEC_POST`: both, the S-curve, then the filters.
+ */
+#define MC_GROUP_ACCDEC_BOTH (MC_GROUP_ACCDEC_PRE | MC_GROUP_ACCDEC_POST)
+
+/**
+ * Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
+ * feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
+ */
+#define MC_FEED_TYPE_CUTTING 0
+
+/**
+ * Rapid traverse (G00).
+ */
+#define MC_FEED_TYPE_RAPID 1
+
+/**
+ * Jog.
+ */
+#define MC_FEED_TYPE_JOG 2
 
 /**
  * Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
@@ -931,697 +1703,6 @@ extern "C" {
  * with `mc_pdplus_settings_die_bonder` and a 1000 Hz servo rate, as in the paper.
  */
 #define MC_SIM_PLANT_DIE_BONDER 1
-
-/**
- * Axes groups on a card (group numbers 0 .. `MC_GROUP_COUNT` - 1).
- */
-#define MC_GROUP_COUNT 4
-
-/**
- * Most axes in one group (`mc_group_settings.axes`).
- */
-#define MC_GROUP_MAX_AXES 8
-
-/**
- * Group state (`mc_group_status.state`, `MC_EVENT_GROUP_STATE_CHANGED` codes): PLCopen's
- * GroupDisabled.
- */
-#define MC_GROUP_STATE_DISABLED 0
-
-/**
- * GroupStandby: enabled, at rest, ready for a move.
- */
-#define MC_GROUP_STATE_STANDBY 1
-
-/**
- * GroupMoving: interpolating.
- */
-#define MC_GROUP_STATE_MOVING 2
-
-/**
- * GroupHoming.
- */
-#define MC_GROUP_STATE_HOMING 3
-
-/**
- * GroupStopping: `mc_group_stop` in progress or held (until `mc_group_release_stop`).
- */
-#define MC_GROUP_STATE_STOPPING 4
-
-/**
- * GroupErrorStop: stopped by a fault; only `mc_group_reset` leaves it.
- */
-#define MC_GROUP_STATE_ERROR_STOP 5
-
-/**
- * Acc/dec mode (`mc_group_settings.accdec`): an S-curve of the feed along the path, before
- * interpolation.
- */
-#define MC_GROUP_ACCDEC_PRE 1
-
-/**
- * Constant feed along the path; each axis's acc/dec filter (`mc_axis_set_filters`) after
- * interpolation.
- */
-#define MC_GROUP_ACCDEC_POST 2
-
-/**
- * Both: the S-curve, then the filters.
- */
-#define MC_GROUP_ACCDEC_BOTH 3
-
-/**
- * Arc interpolator (`mc_group_settings.interpolator`): points exactly on the circle.
- */
-#define MC_GROUP_INTERP_EXACT 0
-
-/**
- * Kim's reference-word interpolator (constant angle steps); needs `MC_GROUP_ACCDEC_POST`.
- */
-#define MC_GROUP_INTERP_REFERENCE_WORD 1
-
-/**
- * Feed type (`mc_move_options.feed_type`), which selects each axis's acc/dec filter: cutting
- * feed (G01/G02/G03). 0, so a zeroed `mc_move_options` is the default.
- */
-#define MC_FEED_TYPE_CUTTING 0
-
-/**
- * Rapid traverse (G00).
- */
-#define MC_FEED_TYPE_RAPID 1
-
-/**
- * Jog.
- */
-#define MC_FEED_TYPE_JOG 2
-
-/**
- * Plane of an arc (`mc_group_move_circular`): group axes 0 and 1.
- */
-#define MC_ARC_PLANE_XY 0
-
-/**
- * Group axes 1 and 2.
- */
-#define MC_ARC_PLANE_YZ 1
-
-/**
- * Group axes 2 and 0.
- */
-#define MC_ARC_PLANE_ZX 2
-
-/**
- * Arc given by its centre (`mc_arc.mode`): `aux` is the centre; `end` equal to the start is a
- * full circle.
- */
-#define MC_ARC_BY_CENTRE 0
-
-/**
- * Arc given by its radius: `aux[0]` is the radius (negative: the arc longer than half a turn).
- */
-#define MC_ARC_BY_RADIUS 1
-
-/**
- * Arc through a point: `aux` is a point on the arc; the direction follows the points (`ccw`
- * is ignored).
- */
-#define MC_ARC_BY_BORDER 2
-
-/**
- * Acc/dec filter kind (`mc_filter.kind`): pass-through.
- */
-#define MC_FILTER_KIND_NONE 0
-
-/**
- * Moving average (linear acc/dec; Kim eq 1).
- */
-#define MC_FILTER_KIND_LINEAR 1
-
-/**
- * First order (exponential acc/dec; Kim eq 7–9).
- */
-#define MC_FILTER_KIND_EXPONENTIAL 2
-
-/**
- * Linear followed by exponential (bell-shaped; Shin eq 40).
- */
-#define MC_FILTER_KIND_BELL 3
-
-/**
- * Stop reason (`mc_status.stop_reason`, `mc_stop_info.reason`, the `code` of
- * `MC_EVENT_SAFETY_STOP` and `MC_EVENT_AT_REST`): a motion runs, or none has run.
- */
-#define MC_STOP_REASON_NONE 0
-
-/**
- * The move reached its target and is in position.
- */
-#define MC_STOP_REASON_DONE 1
-
-/**
- * `mc_halt`.
- */
-#define MC_STOP_REASON_HALT 2
-
-/**
- * `mc_stop`.
- */
-#define MC_STOP_REASON_STOP 3
-
-/**
- * `mc_disable` by the host.
- */
-#define MC_STOP_REASON_POWER_OFF 4
-
-/**
- * The host closed the card (`mc_close`): the motion halted, no fault.
- */
-#define MC_STOP_REASON_HOST_DETACH 5
-
-/**
- * Homing failed (`MC_EVENT_HOMING_FAILED`): the axis stopped, not homed.
- */
-#define MC_STOP_REASON_HOMING_FAILED 6
-
-/**
- * The host heartbeat stopped (watchdog). Safety reasons are this value and above.
- */
-#define MC_STOP_REASON_WATCHDOG 16
-
-/**
- * The host's e-stop (`mc_estop`).
- */
-#define MC_STOP_REASON_ESTOP_COMMAND 17
-
-/**
- * The card's e-stop input.
- */
-#define MC_STOP_REASON_ESTOP_INPUT 18
-
-/**
- * The positive limit switch.
- */
-#define MC_STOP_REASON_HARD_LIMIT_POS 19
-
-/**
- * The negative limit switch.
- */
-#define MC_STOP_REASON_HARD_LIMIT_NEG 20
-
-/**
- * The positive soft limit.
- */
-#define MC_STOP_REASON_SOFT_LIMIT_POS 21
-
-/**
- * The negative soft limit.
- */
-#define MC_STOP_REASON_SOFT_LIMIT_NEG 22
-
-/**
- * The following error exceeded its limit.
- */
-#define MC_STOP_REASON_FOLLOWING_ERROR 23
-
-/**
- * The amplifier's alarm input.
- */
-#define MC_STOP_REASON_AMP_ALARM 24
-
-/**
- * The encoder's line-break detector.
- */
-#define MC_STOP_REASON_ENCODER_LOSS 25
-
-/**
- * An encoder count change larger than physically possible.
- */
-#define MC_STOP_REASON_ENCODER_JUMP 26
-
-/**
- * Queued motion ran out: a planned stop at the end of what was queued.
- */
-#define MC_STOP_REASON_STARVATION 27
-
-/**
- * The command ring's indices were corrupt.
- */
-#define MC_STOP_REASON_CMD_RING 28
-
-/**
- * The event ring's indices were corrupt.
- */
-#define MC_STOP_REASON_EVT_RING 29
-
-/**
- * Another axis of its group tripped.
- */
-#define MC_STOP_REASON_GROUP 30
-
-/**
- * A stop did not end within the card's maximum stop time: its power was removed.
- */
-#define MC_STOP_REASON_STOP_TIMEOUT 31
-
-/**
- * A host opened the card while the previous host's session was still open (it died without
- * closing): the motion it left was stopped.
- */
-#define MC_STOP_REASON_HOST_CHANGED 32
-
-/**
- * The card found the axis moving with no host session attached and its watchdog armed, and
- * stopped it (category 1). Its session gate refuses what could start motion outside a
- * session, so this names a fault of the card's, never an ordinary close.
- */
-#define MC_STOP_REASON_NO_SESSION 33
-
-/**
- * IEC 60204-1 stop category (`mc_estop`, `mc_set_estop_input_category`,
- * `mc_safety_settings.limit_stop`): remove power at once.
- */
-#define MC_STOP_CATEGORY_0 0
-
-/**
- * A controlled stop, then power removed.
- */
-#define MC_STOP_CATEGORY_1 1
-
-/**
- * A controlled stop, power kept (the axis holds its position).
- */
-#define MC_STOP_CATEGORY_2 2
-
-/**
- * Motion bit of `mc_status.raw.motion_flags`: velocity mode at its (overridden) velocity.
- */
-#define MC_MOTION_IN_VELOCITY 1
-
-/**
- * Motion bit: held still by a 0 % override, in its motion state.
- */
-#define MC_MOTION_PAUSED 2
-
-/**
- * Motion bit: the position was set by homing or MC_SetPosition.
- */
-#define MC_MOTION_HOMED 4
-
-/**
- * Motion bit: the motion running is one that was buffered.
- */
-#define MC_MOTION_BUFFERED_ACTIVE 8
-
-/**
- * Bit of `mc_status.io`: the positive limit switch input.
- */
-#define MC_IO_LIMIT_POS 1
-
-/**
- * The negative limit switch input.
- */
-#define MC_IO_LIMIT_NEG 2
-
-/**
- * The home switch input.
- */
-#define MC_IO_HOME 4
-
-/**
- * The amplifier alarm input.
- */
-#define MC_IO_AMP_ALARM 8
-
-/**
- * The encoder line-break detector.
- */
-#define MC_IO_ENCODER_FAULT 16
-
-/**
- * The card's e-stop input (the same on every axis).
- */
-#define MC_IO_ESTOP 32
-
-/**
- * Output: the axis's amplifier is enabled.
- */
-#define MC_IO_DRIVE_ENABLE 256
-
-/**
- * Does nothing but answer: the round-trip probe.
- */
-#define MC_OP_NOP 1
-
-/**
- * MC_Power, Enable = TRUE.
- */
-#define MC_OP_POWER_ON 2
-
-/**
- * MC_Power, Enable = FALSE.
- */
-#define MC_OP_POWER_OFF 3
-
-/**
- * MC_MoveAbsolute: args target, vmax, amax, dmax, j1, j3, j5, j7.
- */
-#define MC_OP_MOVE_ABSOLUTE 4
-
-/**
- * MC_MoveRelative: args distance, vmax, amax, dmax, j1, j3, j5, j7.
- */
-#define MC_OP_MOVE_RELATIVE 5
-
-/**
- * MC_Halt: args dmax, jerk.
- */
-#define MC_OP_HALT 6
-
-/**
- * MC_Stop (Execute rising): args dmax, jerk.
- */
-#define MC_OP_STOP 7
-
-/**
- * MC_Stop (Execute falling): leave Stopping once at rest.
- */
-#define MC_OP_STOP_RELEASE 8
-
-/**
- * MC_Reset.
- */
-#define MC_OP_RESET 9
-
-/**
- * Validate and copy `axis_config[axis]`.
- */
-#define MC_OP_APPLY_AXIS_CONFIG 10
-
-/**
- * Validate and copy `card_config`.
- */
-#define MC_OP_APPLY_CARD_CONFIG 11
-
-/**
- * MC_MoveAdditive: args distance from the target of the last move, then the limits as
- * `MoveAbsolute`.
- */
-#define MC_OP_MOVE_ADDITIVE 12
-
-/**
- * MC_MoveVelocity: args velocity (signed), amax, dmax, jerk.
- */
-#define MC_OP_MOVE_VELOCITY 13
-
-/**
- * Jog: velocity mode at the axis's jog limits; arg velocity (signed).
- */
-#define MC_OP_JOG 14
-
-/**
- * MC_SetOverride: arg velocity factor, 0 to `OVERRIDE_MAX`.
- */
-#define MC_OP_SET_OVERRIDE 15
-
-/**
- * Validate and copy `group_config[group]`.
- */
-#define MC_OP_GROUP_CONFIGURE 16
-
-/**
- * Validate and copy `axis_filter[axis]`.
- */
-#define MC_OP_APPLY_AXIS_FILTER 17
-
-/**
- * MC_GroupEnable.
- */
-#define MC_OP_GROUP_ENABLE 18
-
-/**
- * MC_GroupDisable.
- */
-#define MC_OP_GROUP_DISABLE 19
-
-/**
- * MC_GroupStop (Execute rising): args dmax, jerk.
- */
-#define MC_OP_GROUP_STOP 20
-
-/**
- * MC_GroupStop (Execute falling).
- */
-#define MC_OP_GROUP_STOP_RELEASE 21
-
-/**
- * MC_GroupReset.
- */
-#define MC_OP_GROUP_RESET 22
-
-/**
- * MC_GroupHalt: args dmax, jerk.
- */
-#define MC_OP_GROUP_HALT 23
-
-/**
- * MC_MoveLinearAbsolute / MC_MoveLinearRelative.
- */
-#define MC_OP_GROUP_MOVE_LINEAR 24
-
-/**
- * MC_MoveCircularAbsolute / MC_MoveCircularRelative (and helical).
- */
-#define MC_OP_GROUP_MOVE_CIRCULAR 25
-
-/**
- * Synchronised multi-axis point-to-point (Kim eq 10–14).
- */
-#define MC_OP_GROUP_MOVE_PTP 26
-
-/**
- * Stage per-axis limits for the next point-to-point move: args first group axis, count, then
- * v, a, d, j of each.
- */
-#define MC_OP_GROUP_PTP_LIMITS 30
-
-/**
- * MC_SetOverride of a group: args feed factor (lines, arcs), rapid factor (point-to-point
- * moves).
- */
-#define MC_OP_GROUP_SET_OVERRIDE 31
-
-/**
- * Open a NURBS curve transfer: args degree, n_ctrl, n_knots, feed, accel, jerk, chord
- * tolerance, saturation budget.
- */
-#define MC_OP_NURBS_BEGIN 27
-
-/**
- * Continuation entry: args offset, count, values.
- */
-#define MC_OP_NURBS_DATA 28
-
-/**
- * Validate the curve and queue the move.
- */
-#define MC_OP_NURBS_END 29
-
-/**
- * Validate and copy `safety` (watchdog timeout, e-stop input category).
- */
-#define MC_OP_APPLY_SAFETY_CONFIG 32
-
-/**
- * Validate and copy `axis_safety[axis]` (limits, following error, stop ramp).
- */
-#define MC_OP_APPLY_AXIS_SAFETY 33
-
-/**
- * E-stop every axis: arg category (0, 1 or 2). Latched.
- */
-#define MC_OP_ESTOP 34
-
-/**
- * Clear the card-wide latches (watchdog, e-stop) once their causes are gone.
- */
-#define MC_OP_SAFETY_RESET 35
-
-/**
- * A host begins its session (flags: the session id): a previous session still open stops every
- * enabled axis with `StopReason::HostChanged`.
- */
-#define MC_OP_HOST_ATTACH 36
-
-/**
- * A host ends its session cleanly (flags: the session id): moving axes halt, the watchdog is
- * disarmed, no fault.
- */
-#define MC_OP_HOST_DETACH 37
-
-/**
- * Validate and copy `axis_homing[axis]` (the CiA 402 homing method and its limits).
- */
-#define MC_OP_APPLY_AXIS_HOMING 48
-
-/**
- * MC_Home: arg the position the home point reads (before the home offset).
- */
-#define MC_OP_HOME 49
-
-/**
- * MC_SetPosition: arg the position (flags: `SET_POSITION_RELATIVE`).
- */
-#define MC_OP_SET_POSITION 50
-
-/**
- * Queue a line in the group's path: args id, feed, tolerance, targets.
- */
-#define MC_OP_PATH_LINE 56
-
-/**
- * Queue an arc or helix in the group's path: args id, feed, tolerance, end, aux, the other
- * axes' targets.
- */
-#define MC_OP_PATH_ARC 57
-
-/**
- * Queue a dwell in the group's path: args id, seconds.
- */
-#define MC_OP_PATH_DWELL 58
-
-/**
- * An output action for the next path segment: args output, on, distance.
- */
-#define MC_OP_PATH_OUTPUT 59
-
-/**
- * Validate and copy `group_path[group]` (look-ahead, low water, axis limits).
- */
-#define MC_OP_APPLY_GROUP_PATH 60
-
-/**
- * Set the digital outputs in a mask: args mask, value.
- */
-#define MC_OP_SET_OUTPUTS 61
-
-/**
- * A NURBS curve as one path segment (its data follows as for a NURBS move).
- */
-#define MC_OP_PATH_NURBS 62
-
-/**
- * Validate and copy `io_config` (input polarity, debounce, edge events).
- */
-#define MC_OP_APPLY_IO_CONFIG 64
-
-/**
- * Arm a position-compare channel: args channel, output, pulse_us, low_water, position or
- * start, pitch, count; flags mode and direction.
- */
-#define MC_OP_COMPARE_ARM 65
-
-/**
- * Queue positions in a compare channel's table: args channel, n, positions.
- */
-#define MC_OP_COMPARE_TABLE 66
-
-/**
- * Disarm a compare channel and drop its table: arg channel.
- */
-#define MC_OP_COMPARE_DISARM 67
-
-/**
- * MC_TouchProbe: args channel, input, window_lo, window_hi; flags edges and mode.
- */
-#define MC_OP_PROBE_ARM 68
-
-/**
- * MC_AbortTrigger: arg channel.
- */
-#define MC_OP_PROBE_ABORT 69
-
-/**
- * Layout 1.7 (sync): MC_GearIn: args master, numerator, denominator, vmax, amax, jerk; flags
- * the master source (`MasterSource`).
- */
-#define MC_OP_GEAR_IN 80
-
-/**
- * MC_GearInPos: as `GearIn`, then master and slave sync positions.
- */
-#define MC_OP_GEAR_IN_POS 81
-
-/**
- * MC_GearOut: the slave leaves the coupling in velocity mode at its velocity.
- */
-#define MC_OP_GEAR_OUT 82
-
-/**
- * Open a PT/PVT stream: args vmax, amax, low water; flags `MC_PVT_PT`.
- */
-#define MC_OP_PVT_BEGIN 83
-
-/**
- * Append points: args count, then time, position, velocity of each.
- */
-#define MC_OP_PVT_POINTS 84
-
-/**
- * Start the streams of an axis mask.
- */
-#define MC_OP_PVT_START 85
-
-/**
- * Open a cam table: args table, points; flags cubic, periodic.
- */
-#define MC_OP_CAM_TABLE 86
-
-/**
- * Cam table points: args table, first index, count, then master, slave of each.
- */
-#define MC_OP_CAM_DATA 87
-
-/**
- * MC_CamIn: args master, table, offsets, scales, vmax, amax, jerk.
- */
-#define MC_OP_CAM_IN 88
-
-/**
- * MC_CamOut: as `GearOut`.
- */
-#define MC_OP_CAM_OUT 89
-
-/**
- * Layout 1.8: validate and copy `scope_config`.
- */
-#define MC_OP_SCOPE_CONFIGURE 90
-
-/**
- * Arm the scope: sample into the pre-trigger history, wait for the trigger.
- */
-#define MC_OP_SCOPE_ARM 91
-
-/**
- * Trigger the waiting scope at its next sample.
- */
-#define MC_OP_SCOPE_TRIGGER 92
-
-/**
- * Stop the scope.
- */
-#define MC_OP_SCOPE_STOP 93
-
-/**
- * Layout 1.8: the card writes the settings it holds into a configuration block: args kind
- * (`ConfigKind`), index.
- */
-#define MC_OP_READ_CONFIG 96
-
-/**
- * Layout 1.8: an axis's scale (counts per user unit), kept for hosts: args scale.
- */
-#define MC_OP_SET_SCALE 97
 
 /**
  * What every `mc_` function returns: `MC_OK` (0) on success, a negative `MC_ERR_` code on

@@ -847,7 +847,7 @@ mod tests {
         // SAFETY: `user` is the counter the test registered; `event` is valid during the call.
         let (n, e) = unsafe { (&mut *user.cast::<u32>(), *event) };
         *n += 1;
-        assert_eq!(e.kind, crate::types::MC_EVENT_STATE_CHANGED);
+        assert_eq!(e.kind, crate::codes::MC_EVENT_STATE_CHANGED);
         assert_eq!(
             mc_close(card),
             if *n == 1 { MC_OK } else { MC_ERR_BAD_HANDLE }

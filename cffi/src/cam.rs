@@ -5,9 +5,9 @@
 use crate::api::{axis_of, motion_of, ms, started};
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::{self, mc_card};
-use crate::result::{guard, mc_result, Failure};
+use crate::result::{guard, mc_result, unknown, Failure};
 use crate::sync::{master_of, mc_sync_limits};
-use crate::types::{mc_motion, unknown};
+use crate::types::mc_motion;
 use motioncard_sdk::{CamSettings, Error, SyncLimits};
 
 /// `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else

@@ -2,13 +2,13 @@
 //! skin as [`crate::api`] (check the pointers, look the handle up, call the SDK, write the
 //! outputs, all inside [`guard`]).
 
+use crate::codes::MC_GROUP_MAX_AXES;
 use crate::ffi::{read_at, read_in, read_slice, ArrayBuf, Out};
 use crate::registry::{self, mc_card, Entry};
 use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_HANDLE};
 use crate::types::{
     filter_kind, mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
     mc_move_options, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
-    MC_GROUP_MAX_AXES,
 };
 use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{

@@ -124,7 +124,7 @@ pub extern "C" fn mc_set_position(
 ) -> mc_result {
     guard(|| {
         if flags & !MC_SET_POSITION_RELATIVE != 0 {
-            return Err(crate::types::unknown("set_position flags", flags));
+            return Err(crate::result::unknown("set_position flags", flags));
         }
         let (_, a) = axis_of(card, axis)?;
         Ok(a.set_position(position, flags & MC_SET_POSITION_RELATIVE != 0)?)

@@ -5,8 +5,7 @@
 use crate::api::{axis_of, ms};
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::{self, mc_card};
-use crate::result::{guard, mc_result};
-use crate::types::unknown;
+use crate::result::{guard, mc_result, unknown};
 use motioncard_sdk::{
     CompareStatus, Direction, IoSettings, IoState, ProbeStatus, ProbeTrigger, COMPARE_TABLE_LEN,
 };

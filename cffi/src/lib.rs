@@ -19,6 +19,10 @@
 // The safety contract is common to every function and stated once, above and in the header.
 #![allow(clippy::missing_safety_doc)]
 
+// Generated from the register map (`cargo xtask codegen`): the C ABI's constants that are the
+// card's codes. First: cbindgen writes the header in module order.
+pub mod codes;
+
 pub mod api;
 pub mod cam;
 mod ffi;
@@ -36,10 +40,11 @@ pub mod sync;
 pub mod types;
 // Layout 1.8, last: cbindgen writes the header in module order.
 pub mod config;
-// The raw commands (mc_send_raw and the MC_OP_ opcodes) after everything typed.
+// The raw commands (mc_send_raw) after everything typed.
 pub mod raw_command;
 
 pub use api::*;
+pub use codes::*;
 pub use config::*;
 pub use group::*;
 pub use homing::*;

@@ -4,8 +4,8 @@
 use crate::api::{axis_of, motion_of, ms, started};
 use crate::ffi::{read_in, Out};
 use crate::registry::mc_card;
-use crate::result::{guard, mc_result, Failure};
-use crate::types::{mc_motion, mc_move_limits, unknown};
+use crate::result::{guard, mc_result, unknown, Failure};
+use crate::types::{mc_motion, mc_move_limits};
 use motioncard_sdk::{BufferMode, MoveKind, MoveLimits, VelocityLimits};
 
 /// `mc_move` kind: MC_MoveAbsolute, `value` is the target.

@@ -6,11 +6,12 @@
 //! Units are the group's: targets in each axis's user units; feeds, tolerances, distances and
 //! the tangential limits in the first group axis's.
 
+use crate::codes::MC_GROUP_MAX_AXES;
 use crate::ffi::{read_at, read_in, Out};
 use crate::group::{axis_values, group_of, nurbs_curve, started};
 use crate::registry::{self, mc_card};
-use crate::result::{guard, mc_result, Failure};
-use crate::types::{mc_arc, mc_group_motion, mc_nurbs_curve, plane_of, unknown, MC_GROUP_MAX_AXES};
+use crate::result::{guard, mc_result, unknown, Failure};
+use crate::types::{mc_arc, mc_group_motion, mc_nurbs_curve, plane_of};
 use motioncard_sdk::{
     Error, ErrorKind, Geometry, Group, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings,
     Segment, StreamError, Transition,

@@ -5,8 +5,8 @@
 use crate::api::{axis_of, started};
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::mc_card;
-use crate::result::{guard, mc_result};
-use crate::types::{mc_motion, unknown};
+use crate::result::{guard, mc_result, unknown};
+use crate::types::mc_motion;
 use motioncard_sdk::{Error, PvtLimits, PvtMode, PvtPoint};
 
 /// `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours

@@ -27,6 +27,11 @@ pub(crate) fn code_of(kind: ErrorKind) -> mc_result {
     kind.code()
 }
 
+/// An unknown enumeration value from C.
+pub(crate) fn unknown(what: &str, v: u32) -> Failure {
+    Failure::new(ErrorKind::BadConfig.code(), format!("unknown {what} {v}"))
+}
+
 /// The static description of a code (`mc_result_str`).
 pub(crate) fn describe(code: mc_result) -> &'static CStr {
     match code {
@@ -228,7 +233,7 @@ mod tests {
         // The card and the thread carry on.
         // SAFETY: as above.
         assert_eq!(unsafe { mc_get_status(h, 0, &mut st) }, MC_OK);
-        assert_eq!(st.state, crate::types::MC_AXIS_STATE_DISABLED);
+        assert_eq!(st.state, crate::codes::MC_AXIS_STATE_DISABLED);
         assert_eq!(mc_close(h), MC_OK);
     }
 

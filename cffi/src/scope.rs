@@ -73,8 +73,6 @@ pub const MC_SCOPE_STATE_IDLE: u32 = 0;
 pub const MC_SCOPE_STATE_WAITING: u32 = 1;
 pub const MC_SCOPE_STATE_CAPTURING: u32 = 2;
 pub const MC_SCOPE_STATE_DONE: u32 = 3;
-/// `kind` of the scope's events (`code`: `MC_SCOPE_EVENT_*`; `seq`: the arm).
-pub const MC_EVENT_SCOPE: u32 = 29;
 /// Triggered (`value`: the trigger sample's tick).
 pub const MC_SCOPE_EVENT_TRIGGERED: i32 = 1;
 /// A one-shot capture ended (`value`: its samples).
@@ -239,7 +237,6 @@ mod tests {
             (MC_SCOPE_STATE_WAITING, raw::MC_SCOPE_WAITING),
             (MC_SCOPE_STATE_CAPTURING, raw::MC_SCOPE_CAPTURING),
             (MC_SCOPE_STATE_DONE, raw::MC_SCOPE_DONE),
-            (MC_EVENT_SCOPE, raw::MC_EV_SCOPE),
         ];
         for (k, (a, b)) in pairs.iter().enumerate() {
             assert_eq!(a, b, "pair {k}");

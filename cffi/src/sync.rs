@@ -5,8 +5,8 @@
 use crate::api::{axis_of, motion_of, ms, started};
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};
-use crate::result::{guard, mc_result, Failure};
-use crate::types::{mc_motion, unknown};
+use crate::result::{guard, mc_result, unknown, Failure};
+use crate::types::mc_motion;
 use motioncard_sdk::{Master, SyncLimits};
 
 /// `master_kind` of `mc_gear_in`: the commanded position of the master axis.
@@ -18,19 +18,12 @@ pub const MC_MASTER_AUX: u32 = 2;
 /// Auxiliary encoder inputs of the card.
 pub const MC_AUX_ENCODERS: u32 = 2;
 
-/// Event kind: synchronised motion (`code`: `MC_SYNC_`; `seq`: the gear command; `value`: the
-/// slave's commanded position, or for `MC_SYNC_MASTER_LOST` the master's number).
-pub const MC_EVENT_SYNC: u32 = 27;
-/// Event kind: a PT/PVT stream (reserved).
-pub const MC_EVENT_PVT: u32 = 28;
 /// `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
 pub const MC_SYNC_IN_GEAR: i32 = 1;
 /// MC_GearInPos reached its sync point (InSync).
 pub const MC_SYNC_IN_SYNC: i32 = 2;
 /// The master axis was disabled or faulted: the slave stops on its stop ramp.
 pub const MC_SYNC_MASTER_LOST: i32 = 3;
-/// Motion bit of `mc_status.raw.motion_flags`: the slave follows its master (in gear).
-pub const MC_MOTION_IN_SYNC: u32 = 0x100;
 
 /// The slave's own limits while it engages, in its user units.
 #[repr(C)]
@@ -195,7 +188,7 @@ pub extern "C" fn mc_sim_set_aux_velocity(card: mc_card, k: u32, velocity: f64) 
 mod tests {
     use super::*;
     use motioncard_sdk::proto::raw;
-    use motioncard_sdk::{EventKind, MotionFlags, SyncEvent};
+    use motioncard_sdk::SyncEvent;
 
     #[test]
     fn constants_match_the_card() {
@@ -203,11 +196,8 @@ mod tests {
         assert_eq!(MC_MASTER_ACTUAL, raw::MC_MASTER_ACTUAL);
         assert_eq!(MC_MASTER_AUX, raw::MC_MASTER_AUX);
         assert_eq!(MC_AUX_ENCODERS, raw::MC_AUX_ENCODERS);
-        assert_eq!(MC_EVENT_SYNC, EventKind::Sync as u32);
-        assert_eq!(MC_EVENT_PVT, EventKind::Pvt as u32);
         assert_eq!(MC_SYNC_IN_GEAR, SyncEvent::InGear as i32);
         assert_eq!(MC_SYNC_IN_SYNC, SyncEvent::InSync as i32);
         assert_eq!(MC_SYNC_MASTER_LOST, SyncEvent::MasterLost as i32);
-        assert_eq!(MC_MOTION_IN_SYNC, MotionFlags::IN_SYNC.bits());
     }
 }

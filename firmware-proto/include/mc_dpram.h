@@ -79,9 +79,9 @@
 #define MC_MAX_MOVE_TIME 1000000.0
 
 /* identity.capabilities bits */
-#define MC_CAP_SCURVE (1u << 0)
-#define MC_CAP_FFPIV (1u << 1)
-#define MC_CAP_EVENT_IRQ (1u << 2)
+#define MC_CAP_SCURVE (1u << 0)    /* S-curve profiles */
+#define MC_CAP_FFPIV (1u << 1)     /* the FFPIV servo loop */
+#define MC_CAP_EVENT_IRQ (1u << 2) /* events raise an interrupt */
 
 /* identity.card_state */
 #define MC_CARD_BOOTING 0u
@@ -90,7 +90,7 @@
 
 /* Command opcodes (mc_cmd.opcode). Every command is answered by exactly one ACK or NACK event
  * carrying its seq. */
-#define MC_OP_NOP 1u
+#define MC_OP_NOP 1u               /* does nothing but answer: the round-trip probe */
 #define MC_OP_POWER_ON 2u          /* MC_Power Enable=TRUE */
 #define MC_OP_POWER_OFF 3u         /* MC_Power Enable=FALSE */
 #define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED */
@@ -127,7 +127,7 @@
 #define MC_OP_GROUP_ENABLE 18u      /* MC_GroupEnable */
 #define MC_OP_GROUP_DISABLE 19u     /* MC_GroupDisable */
 #define MC_OP_GROUP_STOP 20u        /* MC_GroupStop: args: dmax, jerk (along the path) */
-#define MC_OP_GROUP_STOP_RELEASE 21u
+#define MC_OP_GROUP_STOP_RELEASE 21u /* leave GroupStopping once at rest (MC_GroupStop Execute=FALSE) */
 #define MC_OP_GROUP_RESET 22u       /* MC_GroupReset */
 #define MC_OP_GROUP_HALT 23u        /* MC_GroupHalt: args: dmax, jerk */
 #define MC_OP_GROUP_MOVE_LINEAR 24u /* MC_MoveLinear*: args: v, a, d, j, then one target per group axis */
@@ -146,14 +146,14 @@
 #define MC_NURBS_DATA_MAX 12u
 /* Per-axis limits of the next MC_OP_GROUP_MOVE_PTP (any outcome consumes them; so do configure
  * and disable): args: first group axis, count (1..MC_PTP_LIMITS_MAX), then v, a, d, j of each */
-#define MC_OP_GROUP_PTP_LIMITS 30u
+#define MC_OP_GROUP_PTP_LIMITS 30u /* stage per-axis limits for the next MC_OP_GROUP_MOVE_PTP (above) */
 /* Layout 1.5: MC_SetOverride of a group: args: feed factor (lines, arcs), rapid factor (MC_OP_GROUP_MOVE_PTP
  * moves), each 0..MC_OVERRIDE_MAX (else MC_NACK_OVERRIDE_RANGE). An S-curve feed is replanned from the
  * path's current speed and acceleration within the path limits (the geometry unchanged); a constant feed
  * (post-interpolation acc/dec) is scaled and smoothed by the filters. 0 holds the group still on its
  * path in Moving; a factor > 0 resumes. Reference-word arcs and NURBS curves run at their programmed
  * feed (the override applies from the next move). */
-#define MC_OP_GROUP_SET_OVERRIDE 31u
+#define MC_OP_GROUP_SET_OVERRIDE 31u  /* MC_SetOverride of a group (above) */
 #define MC_PTP_LIMITS_MAX 3u
 #define MC_NURBS_SATURATION (1u << 2) /* saturation-aware feed (Yeh 3.4): needs PD+ axes */
 
@@ -183,14 +183,14 @@
 #define MC_ACCDEC_POST (1u << 1) /* per-axis acc/dec filters after interpolation */
 
 /* group_config.interpolator */
-#define MC_INTERP_EXACT 0u
+#define MC_INTERP_EXACT 0u          /* points exactly on the circle */
 #define MC_INTERP_REFERENCE_WORD 1u /* Kim eq 15-23 for arcs (constant feed: needs MC_ACCDEC_POST only) */
 
 /* axis_filter.kind[] */
-#define MC_FILTER_NONE 0u
-#define MC_FILTER_LINEAR 1u
-#define MC_FILTER_EXPONENTIAL 2u
-#define MC_FILTER_BELL 3u
+#define MC_FILTER_NONE 0u        /* pass-through */
+#define MC_FILTER_LINEAR 1u      /* moving average (linear acc/dec; Kim eq 1) */
+#define MC_FILTER_EXPONENTIAL 2u /* first order (exponential acc/dec; Kim eq 7-9) */
+#define MC_FILTER_BELL 3u        /* linear followed by exponential (bell-shaped; Shin eq 40) */
 /* Safety opcodes (32..47). */
 #define MC_OP_APPLY_SAFETY_CONFIG 32u /* copy and validate safety (axis field ignored) */
 #define MC_OP_APPLY_AXIS_SAFETY 33u   /* copy and validate axis_safety[axis] */
@@ -715,8 +715,8 @@
                                    * that is not an integer */
 
 /* Event kinds (mc_event.kind) */
-#define MC_EV_ACK 1u
-#define MC_EV_NACK 2u
+#define MC_EV_ACK 1u             /* the command with this seq was accepted */
+#define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
 #define MC_EV_MOTION_DONE 3u     /* value: final actual position */
 #define MC_EV_STATE_CHANGED 4u   /* code: new state, value: old state */
 #define MC_EV_FAULT 5u           /* code: fault bit, value: a measurement */
@@ -845,37 +845,37 @@
                                      * session attached with its watchdog armed */
 
 /* PLCopen axis states (mc_axis_status_payload.state) */
-#define MC_STATE_DISABLED 0u
-#define MC_STATE_STANDSTILL 1u
-#define MC_STATE_HOMING 2u
-#define MC_STATE_DISCRETE_MOTION 3u
-#define MC_STATE_CONTINUOUS_MOTION 4u
-#define MC_STATE_SYNCHRONIZED_MOTION 5u
-#define MC_STATE_STOPPING 6u
-#define MC_STATE_ERROR_STOP 7u
+#define MC_STATE_DISABLED 0u            /* power off */
+#define MC_STATE_STANDSTILL 1u          /* powered, at rest, ready for a move */
+#define MC_STATE_HOMING 2u              /* MC_Home runs */
+#define MC_STATE_DISCRETE_MOTION 3u     /* a point-to-point move */
+#define MC_STATE_CONTINUOUS_MOTION 4u   /* a velocity move */
+#define MC_STATE_SYNCHRONIZED_MOTION 5u /* coupled to another axis or a group */
+#define MC_STATE_STOPPING 6u            /* MC_Stop in progress or held (until MC_OP_STOP_RELEASE) */
+#define MC_STATE_ERROR_STOP 7u          /* stopped by a fault; only MC_Reset leaves it */
 
 /* PLCopen group states (mc_group_status_payload.state) */
-#define MC_GROUP_DISABLED 0u
-#define MC_GROUP_STANDBY 1u
-#define MC_GROUP_MOVING 2u
-#define MC_GROUP_HOMING 3u
-#define MC_GROUP_STOPPING 4u
-#define MC_GROUP_ERROR_STOP 5u
+#define MC_GROUP_DISABLED 0u   /* GroupDisabled */
+#define MC_GROUP_STANDBY 1u    /* GroupStandby: enabled, at rest, ready for a move */
+#define MC_GROUP_MOVING 2u     /* GroupMoving: interpolating */
+#define MC_GROUP_HOMING 3u     /* GroupHoming */
+#define MC_GROUP_STOPPING 4u   /* GroupStopping: MC_GroupStop in progress or held */
+#define MC_GROUP_ERROR_STOP 5u /* GroupErrorStop: stopped by a fault; only MC_GroupReset leaves it */
 
 /* Fault bits (mc_axis_status_payload.faults) */
-#define MC_FAULT_DAC_SATURATED (1u << 0)
+#define MC_FAULT_DAC_SATURATED (1u << 0) /* the servo output hit the DAC limit */
 /* Safety fault bits (8..31): latched until MC_RESET (limits: while the input or position is
  * beyond the limit). */
-#define MC_FAULT_WATCHDOG (1u << 8)
-#define MC_FAULT_ESTOP (1u << 9)
-#define MC_FAULT_HARD_LIMIT_POS (1u << 10)
-#define MC_FAULT_HARD_LIMIT_NEG (1u << 11)
-#define MC_FAULT_SOFT_LIMIT_POS (1u << 12)
-#define MC_FAULT_SOFT_LIMIT_NEG (1u << 13)
-#define MC_FAULT_FOLLOWING_ERROR (1u << 14)
-#define MC_FAULT_AMP_ALARM (1u << 15)
-#define MC_FAULT_ENCODER (1u << 16)
-#define MC_FAULT_PROTOCOL (1u << 17)
+#define MC_FAULT_WATCHDOG (1u << 8)         /* the host watchdog tripped (the heartbeat stopped) */
+#define MC_FAULT_ESTOP (1u << 9)            /* an e-stop (MC_OP_ESTOP or the card's input) stopped the axis */
+#define MC_FAULT_HARD_LIMIT_POS (1u << 10)  /* at or beyond the positive limit switch */
+#define MC_FAULT_HARD_LIMIT_NEG (1u << 11)  /* at or beyond the negative limit switch */
+#define MC_FAULT_SOFT_LIMIT_POS (1u << 12)  /* beyond the positive soft limit */
+#define MC_FAULT_SOFT_LIMIT_NEG (1u << 13)  /* beyond the negative soft limit */
+#define MC_FAULT_FOLLOWING_ERROR (1u << 14) /* the following error exceeded its limit */
+#define MC_FAULT_AMP_ALARM (1u << 15)       /* the amplifier's alarm input */
+#define MC_FAULT_ENCODER (1u << 16)         /* encoder loss or a jump */
+#define MC_FAULT_PROTOCOL (1u << 17)        /* the host broke the protocol (corrupt ring indices) */
 #define MC_FAULT_STOP_TIMEOUT (1u << 18) /* a stop ran past the maximum stop time (layout 1.3) */
 
 /* Stop categories (IEC 60204-1) */
@@ -885,7 +885,7 @@
 
 /* Stop reasons (mc_axis_status_payload.stop_reason): why the axis's last motion ended.
  * 0 while a motion runs (or none has run). */
-#define MC_STOP_NONE 0u
+#define MC_STOP_NONE 0u             /* a motion runs, or none has run */
 #define MC_STOP_DONE 1u           /* reached its target, in position */
 #define MC_STOP_HALT 2u           /* MC_Halt */
 #define MC_STOP_STOP 3u           /* MC_Stop */
@@ -895,12 +895,12 @@
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
-#define MC_STOP_HARD_LIMIT_POS 19u
-#define MC_STOP_HARD_LIMIT_NEG 20u
-#define MC_STOP_SOFT_LIMIT_POS 21u
-#define MC_STOP_SOFT_LIMIT_NEG 22u
-#define MC_STOP_FOLLOWING_ERROR 23u
-#define MC_STOP_AMP_ALARM 24u
+#define MC_STOP_HARD_LIMIT_POS 19u  /* the positive limit switch */
+#define MC_STOP_HARD_LIMIT_NEG 20u  /* the negative limit switch */
+#define MC_STOP_SOFT_LIMIT_POS 21u  /* the positive soft limit */
+#define MC_STOP_SOFT_LIMIT_NEG 22u  /* the negative soft limit */
+#define MC_STOP_FOLLOWING_ERROR 23u /* the following error exceeded its limit */
+#define MC_STOP_AMP_ALARM 24u       /* the amplifier's alarm input */
 #define MC_STOP_ENCODER_LOSS 25u  /* the encoder's line-break detector */
 #define MC_STOP_ENCODER_JUMP 26u  /* a count change larger than physically possible */
 #define MC_STOP_STARVATION 27u    /* queued motion ran out: planned stop at the end of the queue */
@@ -918,11 +918,11 @@
 #define MC_MOTION_HOMED (1u << 2)       /* the position was set by homing or MC_SetPosition */
 #define MC_MOTION_BUFFERED_ACTIVE (1u << 3) /* the motion running is one that was buffered */
 
-#define MC_IO_LIMIT_POS (1u << 0)
-#define MC_IO_LIMIT_NEG (1u << 1)
-#define MC_IO_HOME (1u << 2)
-#define MC_IO_AMP_ALARM (1u << 3)
-#define MC_IO_ENCODER_FAULT (1u << 4)
+#define MC_IO_LIMIT_POS (1u << 0)     /* the positive limit switch input */
+#define MC_IO_LIMIT_NEG (1u << 1)     /* the negative limit switch input */
+#define MC_IO_HOME (1u << 2)          /* the home switch input */
+#define MC_IO_AMP_ALARM (1u << 3)     /* the amplifier alarm input */
+#define MC_IO_ENCODER_FAULT (1u << 4) /* the encoder line-break detector */
 #define MC_IO_ESTOP (1u << 5)        /* the card's e-stop input, mirrored on every axis */
 #define MC_IO_DRIVE_ENABLE (1u << 8) /* output: the amplifier is enabled */
 

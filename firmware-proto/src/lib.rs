@@ -11,7 +11,9 @@
 //!   pinned by compile-time asserts;
 //! - [`ring`], the single-producer single-consumer rings (command and event);
 //! - [`seqlock`], the per-axis status blocks;
-//! - [`wire`], the encodings of commands, events and status, and the code enums;
+//! - [`wire`], the encodings of commands, events and status, and the code enums (those that
+//!   list a kind of the header's codes, such as [`Opcode`], are generated from it by `cargo
+//!   xtask codegen`, checked in like [`raw`]);
 //! - [`window`], a DPRAM window mapped from a file (a memfd, a UIO map, a PCI BAR), and
 //!   [`emu_link`], the host's side of the `emu:` transport: what host and card share besides
 //!   the register map.
@@ -27,7 +29,8 @@ compile_error!("the DPRAM layout is little-endian; big-endian hosts need byte sw
 
 /// An enum of the header's codes (`MC_*` of one kind): its variants, `ALL` in declaration
 /// order, and `from_raw`, `None` for a value the layout does not define. Defined before the
-/// modules so each of them (`wire`, `scope`) can declare its codes with it.
+/// modules so each of them (`codes`, generated from the header, `wire`, `scope`) can declare its
+/// codes with it.
 macro_rules! code_enum {
     ($(#[$m:meta])* $name:ident : $repr:ty { $($(#[$vm:meta])* $variant:ident = $value:expr),+ $(,)? }) => {
         $(#[$m])*
@@ -47,6 +50,8 @@ macro_rules! code_enum {
 
 #[allow(missing_docs)]
 pub mod raw;
+// Generated from the header: the enums of its codes (`cargo xtask codegen`).
+mod codes;
 
 pub mod block;
 pub mod layout;

@@ -8,7 +8,6 @@
 //! table, a homing method) and the override factor are left to the card, which refuses them
 //! with its reason (exit status 1): how many axes a card has is the card's to say.
 
-use super::machine::Travel;
 use crate::MoveLimits;
 use clap::Args;
 use std::time::Duration;
@@ -155,17 +154,6 @@ pub struct TravelArgs {
     /// when they end, however they end.
     #[arg(long)]
     pub enable: bool,
-}
-
-impl TravelArgs {
-    /// The move of `axis` to --move, when given.
-    pub fn travel(&self, axis: usize) -> Option<Travel> {
-        self.target.map(|target| Travel {
-            axis,
-            target,
-            limits: self.limits.limits(),
-        })
-    }
 }
 
 /// A slave's limits while it engages (gear, cam).

@@ -20,6 +20,17 @@ pub struct Travel {
     pub limits: MoveLimits,
 }
 
+impl TravelArgs {
+    /// The move of `axis` to --move, when given.
+    pub fn travel(&self, axis: usize) -> Option<Travel> {
+        self.target.map(|target| Travel {
+            axis,
+            target,
+            limits: self.limits.limits(),
+        })
+    }
+}
+
 impl Travel {
     pub(crate) fn start(&self, card: &Card) -> Result<Motion> {
         card.axis(self.axis)?

@@ -1,5 +1,9 @@
 //! `cargo xtask codegen [--check]`: regenerate the checked-in generated files, or (with
-//! `--check`) fail when they are stale. Needs libclang (Debian: `libclang-dev`).
+//! `--check`) fail when they are stale. Needs libclang (Debian: `libclang-dev`). From
+//! `firmware-proto/include/mc_dpram.h`: the bindings (`firmware-proto/src/raw.rs`, bindgen), the
+//! code enums (`firmware-proto/src/codes.rs`) and the C ABI's constants of the same codes
+//! (`cffi/src/codes.rs`, see `codes.rs` here); then the C header from cffi's source
+//! (`cffi/include/motioncard.h`, cbindgen).
 //!
 //! `cargo xtask bench [--write] [--only NAME]`: rerun the main benchmarks and print today's
 //! figures as one table (see `bench.rs`).
@@ -7,8 +11,14 @@
 //! `cargo xtask install --prefix DIR`: build libmotioncard in release (as part of the
 //! workspace's libraries, so an up-to-date `cargo build --workspace --release` is reused as it
 //! is) and install it for C users under DIR (`lib/`, `include/`, `lib/pkgconfig/motioncard.pc`).
+//!
+//! `cargo xtask cycles [CRATE...]`: report the import cycles between the files of each named
+//! workspace crate (package name or directory; every crate without arguments) and fail when
+//! there are any. The rules of the graph are in `cycles.rs`.
 
 mod bench;
+mod codes;
+mod cycles;
 mod install;
 
 use std::path::{Path, PathBuf};
@@ -22,11 +32,14 @@ fn workspace_root() -> PathBuf {
 }
 
 /// Makes one generated file from the workspace root.
-type Generator = fn(&Path) -> Result<String, String>;
+type Generator<'a> = &'a dyn Fn(&Path) -> Result<String, String>;
+
+/// The register map, the one listing of the layout and its codes.
+const HEADER: &str = "firmware-proto/include/mc_dpram.h";
 
 /// Rust bindings of the DPRAM register map, from firmware-proto/include/mc_dpram.h.
 fn dpram_bindings(root: &Path) -> Result<String, String> {
-    let header = root.join("firmware-proto/include/mc_dpram.h");
+    let header = root.join(HEADER);
     let bindings = bindgen::Builder::default()
         .header(header.to_string_lossy())
         .use_core()
@@ -84,7 +97,7 @@ fn c_header(root: &Path) -> Result<String, String> {
     Ok(format!("{}{codes}{}", &header[..at], &header[at..]))
 }
 
-const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask bench [--write] [--only NAME]\n       cargo xtask install --prefix DIR";
+const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask bench [--write] [--only NAME]\n       cargo xtask install --prefix DIR\n       cargo xtask cycles [CRATE...]";
 
 /// Build libmotioncard (release) and install it under the prefix.
 fn install_command(args: &[String]) -> ExitCode {
@@ -137,17 +150,39 @@ fn main() -> ExitCode {
         Some("codegen") => {}
         Some("install") => return install_command(&args[1..]),
         Some("bench") => return bench::command(&workspace_root(), &args[1..]),
+        Some("cycles") => return cycles::command(&workspace_root(), &args[1..]),
         _ => {
             eprintln!("{USAGE}");
             return ExitCode::from(2);
         }
     }
     let root = workspace_root();
+    let header = match std::fs::read_to_string(root.join(HEADER)) {
+        Ok(h) => h,
+        Err(e) => {
+            eprintln!("cannot read {HEADER}: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let bindings = match dpram_bindings(&root) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::FAILURE;
+        }
+    };
     // In order: the C header takes the register-map structs it shares (mc_axis_config) from
-    // the bindings, so it is generated after they are written.
-    let outputs: [(&str, Generator); 2] = [
-        ("firmware-proto/src/raw.rs", dpram_bindings),
-        ("cffi/include/motioncard.h", c_header),
+    // the bindings and the codes from cffi/src/codes.rs, so it is generated after they are
+    // written.
+    let outputs: [(&str, Generator); 4] = [
+        ("firmware-proto/src/raw.rs", &|_| Ok(bindings.clone())),
+        ("firmware-proto/src/codes.rs", &|_| {
+            codes::rust_enums(&header, &bindings)
+        }),
+        ("cffi/src/codes.rs", &|_| {
+            codes::c_constants(&header, &bindings)
+        }),
+        ("cffi/include/motioncard.h", &c_header),
     ];
     let mut stale = false;
     for (rel, generate) in outputs {

@@ -1,0 +1,124 @@
+//! The code enums generated from the header (`src/codes.rs`, `cargo xtask codegen`) against the
+//! header itself, read here as text: every define of each kind is one variant, named after the
+//! define (its name after the prefix, in CamelCase) and with its value, and there is no other
+//! variant. A header edited without regenerating fails here as well as in `codegen --check`.
+
+use firmware_proto::{AxisState, EventKind, GroupState, Opcode, StopCategory, StopReason};
+use std::fmt::Debug;
+
+const HEADER: &str = include_str!("../include/mc_dpram.h");
+
+/// Variants not named by the rule (the generator's exceptions).
+const RENAMED: &[(&str, &str)] = &[
+    ("MC_OP_ESTOP", "EStop"),
+    ("MC_STOP_ESTOP_COMMAND", "EStopCommand"),
+    ("MC_STOP_ESTOP_INPUT", "EStopInput"),
+    ("MC_STOP_TIMEOUT", "StopTimeout"),
+];
+
+/// The header's integer defines whose names start with `prefix` (less `except`), with their
+/// values (`12u`, `12`, `(1u << 3)`).
+fn defines(prefix: &str, except: &[&str]) -> Vec<(String, u64)> {
+    let mut out = Vec::new();
+    for line in HEADER.lines() {
+        let Some(rest) = line.trim().strip_prefix("#define ") else {
+            continue;
+        };
+        let mut words = rest.split_whitespace();
+        let name = words.next().unwrap();
+        if !name.starts_with(prefix) || except.iter().any(|e| name.starts_with(e)) {
+            continue;
+        }
+        let value = rest[name.len()..].split("/*").next().unwrap().trim();
+        let int = |s: &str| s.trim().trim_end_matches('u').parse::<u64>().unwrap();
+        let v = match value.strip_prefix('(').and_then(|v| v.strip_suffix(')')) {
+            Some(shift) => {
+                let (a, b) = shift.split_once("<<").unwrap();
+                int(a) << int(b)
+            }
+            None => int(value),
+        };
+        out.push((name.to_string(), v));
+    }
+    out
+}
+
+fn camel(stem: &str) -> String {
+    stem.split('_')
+        .map(|w| w[..1].to_string() + &w[1..].to_ascii_lowercase())
+        .collect()
+}
+
+fn check<T: Debug + Copy>(
+    all: &[T],
+    value: impl Fn(T) -> u64,
+    from_raw: impl Fn(u64) -> Option<T>,
+    prefix: &str,
+    strip: &str,
+    except: &[&str],
+) {
+    let defs = defines(prefix, except);
+    assert!(!defs.is_empty(), "no {prefix} defines");
+    assert_eq!(all.len(), defs.len(), "{prefix}: {all:?} against {defs:?}");
+    for (name, v) in &defs {
+        let variant = from_raw(*v).unwrap_or_else(|| panic!("{name} = {v} has no variant"));
+        assert_eq!(value(variant), *v);
+        let expected = RENAMED
+            .iter()
+            .find(|(d, _)| d == name)
+            .map_or_else(|| camel(&name[strip.len()..]), |(_, v)| v.to_string());
+        assert_eq!(format!("{variant:?}"), expected, "{name}");
+    }
+}
+
+#[test]
+fn each_generated_enum_is_its_defines() {
+    check(
+        Opcode::ALL,
+        |o| o as u64,
+        |v| Opcode::from_raw(u16::try_from(v).ok()?),
+        "MC_OP_",
+        "MC_OP_",
+        &[],
+    );
+    check(
+        EventKind::ALL,
+        |k| k as u64,
+        |v| EventKind::from_raw(u16::try_from(v).ok()?),
+        "MC_EV_",
+        "MC_EV_",
+        &[],
+    );
+    check(
+        AxisState::ALL,
+        |s| s as u64,
+        |v| AxisState::from_raw(u32::try_from(v).ok()?),
+        "MC_STATE_",
+        "MC_STATE_",
+        &[],
+    );
+    check(
+        GroupState::ALL,
+        |s| s as u64,
+        |v| GroupState::from_raw(u32::try_from(v).ok()?),
+        "MC_GROUP_",
+        "MC_GROUP_",
+        &["MC_GROUP_QUEUE_LEN"],
+    );
+    check(
+        StopCategory::ALL,
+        |c| c as u64,
+        |v| StopCategory::from_raw(u32::try_from(v).ok()?),
+        "MC_STOP_CAT_",
+        "MC_STOP_",
+        &[],
+    );
+    check(
+        StopReason::ALL,
+        |r| r as u64,
+        |v| StopReason::from_raw(u32::try_from(v).ok()?),
+        "MC_STOP_",
+        "MC_STOP_",
+        &["MC_STOP_CAT_"],
+    );
+}
