@@ -1,6 +1,8 @@
 //! The motion card in software, in layers:
 //!
-//! - [`firmware`]: the card's firmware — boot and the servo tick, the command manager, PLCopen
+//! - [`firmware`], [`motion`], [`servo`], [`presets`]: the crate `card-firmware`, re-exported
+//!   here.
+//!   [`firmware`]: the card's firmware — boot and the servo tick, the command manager, PLCopen
 //!   axes and groups, the safety layer. It sees only the DPRAM window and plain values (encoder
 //!   counts and input bits in, DAC volts out), exactly as on the card's DSP.
 //! - [`motion`]: the pure motion algorithms, used by the firmware and by the host: the S-curve
@@ -17,14 +19,12 @@
 //! binary); without it the crate is the firmware and the algorithms a host uses.
 #![deny(unsafe_op_in_unsafe_fn)]
 
+pub use card_firmware::{firmware, motion, presets, servo};
+
 #[cfg(feature = "emulator")]
 pub mod emu;
-pub mod firmware;
-pub mod motion;
 #[cfg(feature = "emulator")]
 pub mod plant;
-pub mod presets;
-pub mod servo;
 #[doc(hidden)]
 pub mod testkit;
 

@@ -1,0 +1,28 @@
+//! The motion card's firmware and the motion algorithms it runs, in layers:
+//!
+//! - [`firmware`]: the card's firmware — boot and the servo tick, the command manager, PLCopen
+//!   axes and groups, the safety layer, homing, I/O, sync, the scope. It sees only the DPRAM
+//!   window and plain values (encoder counts and input bits in, DAC volts out), exactly as on
+//!   the card's DSP.
+//! - [`motion`]: the pure motion algorithms, used by the firmware and by the host: the S-curve
+//!   planner, the acc/dec filters, the arc interpolators, NURBS curves, the speed-controlled
+//!   NURBS interpolation with its path-speed planner and saturation-aware feed.
+//! - [`servo`]: the servo laws (FFPIV, PD+).
+//! - [`presets`]: the papers' parameter sets (drive models, gains, paths).
+//! - `testkit`: the tests' seeded generator and trajectory cases (doc-hidden).
+//!
+//! The emulated card (`card-emu`) wraps this crate with a plant, clocks and a server.
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod firmware;
+pub mod motion;
+pub mod presets;
+pub mod servo;
+
+pub use firmware::Firmware;
+
+pub use firmware_proto::{
+    limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,
+};
+#[doc(hidden)]
+pub mod testkit;
