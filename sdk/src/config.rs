@@ -39,12 +39,12 @@
 
 use crate::card::{Card, SCALE_RANGE};
 use crate::error::{nack_reason, Error, Result};
-use card_emu::firmware::axis_safety::AxisSafetyConfig;
-use card_emu::firmware::config::{decode_axis_filter, validate_axis_config, validate_group_config};
-use card_emu::firmware::group::validate_path_config;
-use card_emu::firmware::homing::HomingConfig;
-use card_emu::firmware::io::IoConfig;
-use card_emu::firmware::safety::SafetyConfig;
+use card_firmware::host::validate_path_config;
+use card_firmware::host::AxisSafetyConfig;
+use card_firmware::host::HomingConfig;
+use card_firmware::host::IoConfig;
+use card_firmware::host::SafetyConfig;
+use card_firmware::host::{decode_axis_filter, validate_axis_config, validate_group_config};
 use firmware_proto::Mem as _;
 use firmware_proto::{
     layout, raw, AxisConfig, AxisPdPlus, AxisState, ConfigKind, GroupState, NackCode, INPUTS,
@@ -502,7 +502,7 @@ impl AxisSection {
             scale: self.scale,
             ..AxisConfig::default()
         };
-        let pd = card_emu::firmware::config::pdplus_block(None);
+        let pd = card_firmware::host::pdplus_block(None);
         (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)))
     }
 }
@@ -1000,7 +1000,7 @@ fn good_axis() -> AxisSection {
             ..AxisConfig::default()
         },
         &crate::nurbs::die_bonder_pdplus(0),
-        &card_emu::firmware::group::FilterConfig::default().to_block(),
+        &card_firmware::host::FilterConfig::default().to_block(),
         &AxisSafetyConfig::default().to_block(),
         &firmware_proto::AxisHoming::default(),
     )
@@ -1038,9 +1038,9 @@ fn check(file: &Config, cx: &Context<'_>) -> std::result::Result<(), Refusal> {
     let safety = file.safety.or(card.safety).map(|s| s.block());
     if let Some(s) = &file.safety {
         let good = SafetySection {
-            watchdog_timeout_us: card_emu::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US,
+            watchdog_timeout_us: card_firmware::host::WATCHDOG_TIMEOUT_DEFAULT_US,
             estop_input_category: 1,
-            max_stop_time_us: card_emu::firmware::safety::MAX_STOP_TIME_DEFAULT_US,
+            max_stop_time_us: card_firmware::host::MAX_STOP_TIME_DEFAULT_US,
         };
         let period = cx.host_period_us;
         refuse("safety", s, &good, |s| {

@@ -11,10 +11,14 @@
 //! - [`presets`]: the papers' parameter sets (drive models, gains, paths).
 //! - `testkit`: the tests' seeded generator and trajectory cases (doc-hidden).
 //!
+//! [`host`] is what a host shares with the card (configuration checks, offline planners): the
+//! SDK uses this crate only through it.
+//!
 //! The emulated card (`card-emu`) wraps this crate with a plant, clocks and a server.
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod firmware;
+pub mod host;
 pub mod motion;
 pub mod presets;
 pub mod servo;
