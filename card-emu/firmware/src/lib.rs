@@ -15,12 +15,22 @@
 //! SDK uses this crate only through it.
 //!
 //! The emulated card (`card-emu`) wraps this crate with a plant, clocks and a server.
+#![cfg_attr(not(test), no_std)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
+#[cfg(any(test, feature = "host"))]
+extern crate alloc;
+#[cfg(all(feature = "host", not(test)))]
+extern crate std;
+
 pub mod firmware;
+#[cfg(feature = "host")]
 pub mod host;
+pub mod math;
 pub mod motion;
+#[cfg(feature = "host")]
 pub mod presets;
+pub mod ram;
 pub mod servo;
 
 pub use firmware::Firmware;
@@ -28,5 +38,6 @@ pub use firmware::Firmware;
 pub use firmware_proto::{
     limit_range, MAX_MOVE_TIME, MAX_POSITION, SERVO_RATE_MAX_HZ, SERVO_RATE_MIN_HZ,
 };
+#[cfg(feature = "host")]
 #[doc(hidden)]
 pub mod testkit;

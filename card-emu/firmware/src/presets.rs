@@ -5,6 +5,7 @@
 
 use crate::motion::nurbs::{clamped_uniform_knots, Nurbs};
 use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains, PdPlusGainsExt};
+use alloc::vec::Vec;
 
 /// Two-axis die bonder of Yeh Table 1 (X, Y) at Ts = 1 ms.
 #[derive(Debug, Clone, Copy, PartialEq)]

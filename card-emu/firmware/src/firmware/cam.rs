@@ -13,6 +13,7 @@
 use crate::firmware::gear::{CamLaw, GearCommand, Law, Master, SyncLimits};
 use crate::firmware::nack::check_ranges;
 use crate::firmware::Firmware;
+use crate::math;
 use crate::motion::cam::{CamError, CamTable};
 use firmware_proto::{
     Command, MasterSource, Mem, NackCode, Opcode, AUX_ENCODERS, CAM_AT_CYCLE_END, CAM_CUBIC,
@@ -56,7 +57,7 @@ impl CamStore {
 
 /// An integer argument in `0..n`.
 fn index(x: f64, n: usize) -> Option<usize> {
-    (x.is_finite() && x.fract() == 0.0 && x >= 0.0 && x < n as f64).then_some(x as usize)
+    (x.is_finite() && math::fract(x) == 0.0 && x >= 0.0 && x < n as f64).then_some(x as usize)
 }
 
 impl GearCommand {
@@ -118,7 +119,7 @@ impl GearCommand {
 impl<M: Mem + Clone> Firmware<M> {
     /// The cam tables (empty until the first is opened).
     pub(super) fn cam_tables(&self) -> &[Option<CamTable>] {
-        self.cams.as_deref().map_or(&[], |c| c.tables())
+        self.cams.as_ref().map_or(&[], |c| c.tables())
     }
 
     /// A loaded cam table (for inspection by tests).
@@ -145,7 +146,7 @@ impl<M: Mem + Clone> Firmware<M> {
             if self.gears.iter().any(|g| g.cam_table() == Some(table)) {
                 return Err(NackCode::CamTable);
             }
-            let store = self.cams.get_or_insert_with(|| Box::new(CamStore::new()));
+            let store = self.cams.get_or_insert_with(CamStore::new);
             store.tables[table] = None;
             let mut l = store.loading.take().unwrap_or(Loading {
                 table,

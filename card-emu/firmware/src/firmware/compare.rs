@@ -23,6 +23,8 @@
 //!
 //! Pure logic over plain numbers: no window, no clock, no allocation after [`Compare::new`].
 
+use crate::math;
+use crate::ram::FixedVec;
 use firmware_proto::{raw, NackCode, COMPARE_TABLE_LEN, MAX_POSITION, OUTPUTS};
 
 /// Positions a channel examines per tick at most (fires and misses); the rest wait for the
@@ -138,7 +140,7 @@ pub struct TickReport {
 pub struct Compare {
     arm: Option<Arm>,
     done: bool,
-    table: Box<[f64]>,
+    table: FixedVec<f64, COMPARE_TABLE_LEN>,
     head: usize,
     len: usize,
     /// The table's direction (+1, −1), fixed by its first entry; 0 while empty.
@@ -167,7 +169,7 @@ impl Compare {
         Self {
             arm: None,
             done: false,
-            table: vec![0.0; COMPARE_TABLE_LEN].into_boxed_slice(),
+            table: FixedVec::from_elem(0.0, COMPARE_TABLE_LEN),
             head: 0,
             len: 0,
             table_dir: 0,
@@ -347,7 +349,8 @@ impl Compare {
             {
                 let p = start + f64::from(next) * pitch;
                 if behind(x0, p, arm.dir) {
-                    let n = (((x0 - p) / pitch).floor() + 1.0).clamp(1.0, f64::from(count - next));
+                    let n =
+                        (math::floor((x0 - p) / pitch) + 1.0).clamp(1.0, f64::from(count - next));
                     let n = n as u32;
                     self.missed = self.missed.wrapping_add(n);
                     self.last_missed = start + f64::from(next + n - 1) * pitch;
@@ -384,7 +387,7 @@ impl Compare {
             self.last_fired = p;
             self.last_fire_tick = at;
             self.pulse_end = at + arm.pulse_ticks;
-            self.pulse_left = (arm.pulse_ticks.ceil() as u32).max(1);
+            self.pulse_left = (math::ceil(arm.pulse_ticks) as u32).max(1);
             out.fired = Some(p);
             let _ = fires.push(Fire {
                 channel,
@@ -464,7 +467,7 @@ pub fn validate_arm(
         (true, true) if mode == raw::MC_CMP_MODE_SINGLE => 0,
         _ => return Err(NackCode::CompareMode),
     };
-    let int_in = |x: f64, lo: f64, hi: f64| x.fract() == 0.0 && (lo..=hi).contains(&x);
+    let int_in = |x: f64, lo: f64, hi: f64| math::fract(x) == 0.0 && (lo..=hi).contains(&x);
     let finite = [output, pulse_us, low_water, p0, pitch, count];
     let used = match mode {
         raw::MC_CMP_MODE_SINGLE => &finite[..4],

@@ -20,13 +20,14 @@
 use super::axis::AxisConfig;
 use super::group::{FilterConfig, GroupConfig};
 use super::Firmware;
+use crate::math;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
 use firmware_proto::{layout, raw, AxisPdPlus, Command, ConfigKind, Mem, NackCode, MAX_AXES};
 use firmware_proto::{MAX_GROUPS, SCALE_RANGE};
 
 /// An argument that must be a small non-negative integer.
 fn index_arg(x: f64) -> Option<usize> {
-    (x.is_finite() && x.fract() == 0.0 && (0.0..=u16::MAX as f64).contains(&x))
+    (x.is_finite() && math::fract(x) == 0.0 && (0.0..=u16::MAX as f64).contains(&x))
         .then_some(x as usize)
 }
 

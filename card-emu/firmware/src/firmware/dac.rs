@@ -1,5 +1,7 @@
 //! The card's 12-bit ±10 V DAC: what the servo law's output becomes on the wire to the drive.
 
+use crate::math;
+
 /// The 12-bit bipolar DAC: code 2048 is 0 V, one LSB is 20/4096 V, codes saturate at 0 and 4095.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Dac;
@@ -13,7 +15,7 @@ impl Dac {
         if volts.is_nan() {
             return 2048;
         }
-        let c = (volts / Self::LSB).round() + 2048.0;
+        let c = math::round(volts / Self::LSB) + 2048.0;
         c.clamp(0.0, 4095.0) as u16
     }
 

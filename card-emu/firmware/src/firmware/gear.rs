@@ -49,6 +49,7 @@
 use crate::firmware::axis::Axis;
 use crate::firmware::nack::{check_ranges, plan_nack};
 use crate::firmware::Firmware;
+use crate::math;
 use crate::motion::cam::CamTable;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::servo::ffpiv::Reference;
@@ -141,7 +142,7 @@ impl Master {
                 if self.source == MasterSource::Commanded {
                     let r = a.reference();
                     MasterSample {
-                        count: (r.pos * COMMANDED_SUBCOUNTS as f64).round() as i128,
+                        count: math::round(r.pos * COMMANDED_SUBCOUNTS as f64) as i128,
                         vel: r.vel,
                         acc: r.acc,
                         lost,
@@ -366,7 +367,7 @@ impl GearCommand {
             _ => num_axes,
         };
         let index = a[0];
-        if index.fract() != 0.0 || index < 0.0 || index >= count as f64 {
+        if math::fract(index) != 0.0 || index < 0.0 || index >= count as f64 {
             return Err(NackCode::SyncMaster);
         }
         let index = index as usize;
@@ -511,7 +512,7 @@ impl Gear {
                     return Err(NackCode::InvalidState);
                 };
                 let r = ratio.as_f64();
-                let anchor_m = (master_at * per_count as f64).round() as i128;
+                let anchor_m = math::round(master_at * per_count as f64) as i128;
                 run.anchor_m = anchor_m;
                 run.anchor_x = slave_at;
                 let geared = run.law_state(m, tables).map_or(0.0, |s| s.pos);
@@ -749,7 +750,7 @@ impl<M: Mem + Clone> Firmware<M> {
         };
         let mut cmd = cmd;
         let m = cmd.master.sample(&self.axes[..self.num_axes], &self.aux);
-        let tables = self.cams.as_deref().map_or(&[][..], |s| s.tables());
+        let tables = self.cams.as_ref().map_or(&[][..], |s| s.tables());
         if let (Law::Cam(law), true) = (&mut cmd.law, c.flags & CAM_RELATIVE != 0) {
             // StartMode relative: the table's position here is moved onto the slave's.
             let t = tables
@@ -775,7 +776,7 @@ impl<M: Mem + Clone> Firmware<M> {
         let n = self.num_axes;
         let samples = sample_masters(&self.gears, &self.axes[..n], &self.aux);
         let max_stop_time = self.safety.config().max_stop_time();
-        let tables = self.cams.as_deref().map_or(&[][..], |s| s.tables());
+        let tables = self.cams.as_ref().map_or(&[][..], |s| s.tables());
         core::array::from_fn(|i| match (self.axes[..n].get_mut(i), samples.get(i)) {
             (Some(axis), Some(m)) => self.gears[i].tick(axis, m, tables, ts, max_stop_time),
             _ => SyncReport::default(),

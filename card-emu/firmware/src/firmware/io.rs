@@ -20,6 +20,7 @@ use super::compare::{self, Compare, Fire};
 use super::outbox::EventQueue;
 use super::probe::{self, Probe, Trigger};
 use super::safety::IndexLatch;
+use crate::math;
 use firmware_proto::{
     layout, raw, Command, Event, EventKind, Mem, NackCode, Opcode, COMPARE_CHANNELS,
     COMPARE_TABLE_MAX, INPUTS, MAX_AXES, PROBE_CHANNELS,
@@ -205,7 +206,7 @@ fn channel(x: f64, n: usize) -> Result<usize, NackCode> {
     if !x.is_finite() {
         return Err(NackCode::NotFinite);
     }
-    if x.fract() != 0.0 || !(0.0..n as f64).contains(&x) {
+    if math::fract(x) != 0.0 || !(0.0..n as f64).contains(&x) {
         return Err(NackCode::IoChannel);
     }
     Ok(x as usize)
@@ -296,7 +297,7 @@ impl IoUnit {
                 if !n.is_finite() {
                     return Err(NackCode::NotFinite);
                 }
-                if n.fract() != 0.0 || !(1.0..=COMPARE_TABLE_MAX as f64).contains(&n) {
+                if math::fract(n) != 0.0 || !(1.0..=COMPARE_TABLE_MAX as f64).contains(&n) {
                     return Err(NackCode::CompareMode);
                 }
                 let dir = match c.flags {

@@ -25,11 +25,13 @@ pub mod scope;
 
 use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
 use self::gear::{AuxInputs, Gear};
-use self::group::{filter_bank, AxisFilter, FilterConfig, Group, Outbox};
+use self::group::{filter_bank, FilterConfig, Group, Outbox};
 use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
 use self::io::{DigitalInputs, IoUnit};
 use self::safety::{Inputs, Safety};
+use crate::math;
 use crate::motion::scurve::Limits;
+use crate::ram::Lazy;
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
@@ -51,7 +53,7 @@ pub const EVENT_RESERVE: u32 = 4 * MAX_AXES as u32;
 /// The servo rate of a sample time, Hz (the steps that get only `ts` plan with the card's
 /// ranges at its rate).
 pub(crate) fn rate_hz(ts: f64) -> u32 {
-    (1.0 / ts).round() as u32
+    math::round(1.0 / ts) as u32
 }
 
 /// The card's firmware over a DPRAM window `M`.
@@ -65,11 +67,11 @@ pub struct Firmware<M: Mem + Clone> {
     gears: [Gear; MAX_AXES],
     aux: AuxInputs,
     /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
-    cams: Option<Box<cam::CamStore>>,
+    cams: Lazy<cam::CamStore>,
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
-    filters: Box<[AxisFilter]>,
+    filters: group::FilterBank,
     outbox: Outbox,
     /// The digital outputs (layout 1.6), bit i = output i.
     outputs: u32,
@@ -85,7 +87,7 @@ pub struct Firmware<M: Mem + Clone> {
     cmds_accepted: u32,
     safety: Safety,
     /// Layout 1.8: the scope, made on the first MC_OP_SCOPE_CONFIGURE, and its ring.
-    scope: Option<Box<scope::Scope>>,
+    scope: Lazy<scope::Scope>,
     scope_ring: ScopeProducer<M>,
 }
 
@@ -114,14 +116,14 @@ impl<M: Mem + Clone> Firmware<M> {
             cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
             events: EvtProducer::attach(mem.clone(), EVT_RING),
             scope_ring: ScopeProducer::attach(mem.clone(), firmware_proto::SCOPE_RING),
-            scope: None,
+            scope: Lazy::new(),
             mem,
             axes: core::array::from_fn(|_| Axis::new()),
             homing: [Homing::default(); MAX_AXES],
             gears: [Gear::default(); MAX_AXES],
             aux: AuxInputs::default(),
-            pvt: core::array::from_fn(|_| None),
-            cams: None,
+            pvt: core::array::from_fn(|_| Lazy::new()),
+            cams: Lazy::new(),
             groups: core::array::from_fn(Group::new),
             filters: filter_bank(),
             outbox: Outbox::default(),
@@ -157,7 +159,7 @@ impl<M: Mem + Clone> Firmware<M> {
         fw.mem.store32(
             layout::CARD_STATE,
             raw::MC_CARD_RUNNING,
-            std::sync::atomic::Ordering::Release,
+            core::sync::atomic::Ordering::Release,
         );
         fw
     }
@@ -352,10 +354,10 @@ impl<M: Mem + Clone> Firmware<M> {
         if c.deadline_ms == 0 {
             return false;
         }
-        std::sync::atomic::fence(std::sync::atomic::Ordering::SeqCst);
+        core::sync::atomic::fence(core::sync::atomic::Ordering::SeqCst);
         let now = self
             .mem
-            .load32(layout::HOST_TIME_MS, std::sync::atomic::Ordering::SeqCst);
+            .load32(layout::HOST_TIME_MS, core::sync::atomic::Ordering::SeqCst);
         now != 0 && (now.wrapping_sub(c.deadline_ms) as i32) > 0
     }
 
@@ -762,7 +764,7 @@ impl<M: Mem + Clone> Firmware<M> {
     fn set_outputs(&mut self, c: &Command) -> Result<(), NackCode> {
         let all = (1u64 << firmware_proto::OUTPUTS) - 1;
         let word = |x: f64| {
-            (x.is_finite() && x.fract() == 0.0 && (0.0..=all as f64).contains(&x))
+            (x.is_finite() && math::fract(x) == 0.0 && (0.0..=all as f64).contains(&x))
                 .then_some(x as u32)
         };
         let (Some(mask), Some(value)) = (word(c.args[0]), word(c.args[1])) else {
@@ -1031,11 +1033,11 @@ impl<M: Mem + Clone> Firmware<M> {
 impl<M: Mem + Clone> Firmware<M> {
     fn scope_command(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
         let tick = self.tick;
-        if op == Opcode::ScopeConfigure && self.scope.is_none() {
+        if op == Opcode::ScopeConfigure && !self.scope.is_some() {
             // Checked before the scope (and its history) is made: a refusal changes nothing.
             let block = layout::SCOPE_CONFIG.read(&self.mem);
             firmware_proto::check_config(&block, self.num_axes)?;
-            self.scope = Some(Box::new(scope::Scope::new()));
+            self.scope.get_or_insert_with(scope::Scope::new);
         }
         let Some(sc) = self.scope.as_mut() else {
             return Err(NackCode::ScopeState);
@@ -1056,7 +1058,7 @@ impl<M: Mem + Clone> Firmware<M> {
     /// Take this tick's sample if the scope wants one; what it did.
     fn scope_tick(&mut self) -> scope::SampleReport {
         let tick = self.tick;
-        let Some(sc) = self.scope.as_deref_mut() else {
+        let Some(sc) = self.scope.as_mut() else {
             return Default::default();
         };
         if !sc.samples_at(tick) {

@@ -12,6 +12,7 @@
 //!
 //! Pure logic over plain numbers: no window, no clock, no allocation.
 
+use crate::math;
 use firmware_proto::{raw, NackCode, INPUTS, MAX_POSITION, PROBE_QUEUE};
 
 /// The probe's trigger input: an input number, or the encoder index.
@@ -53,7 +54,7 @@ pub fn validate_arm(axis: usize, flags: u32, args: &[f64], seq: u32) -> Result<P
     if !input.is_finite() {
         return Err(NackCode::NotFinite);
     }
-    if input.fract() != 0.0 || !(0.0..=f64::from(INDEX)).contains(&input) {
+    if math::fract(input) != 0.0 || !(0.0..=f64::from(INDEX)).contains(&input) {
         return Err(NackCode::ProbeInput);
     }
     let window = if flags & raw::MC_PROBE_WINDOW != 0 {

@@ -18,9 +18,11 @@
 
 use crate::firmware::axis::Axis;
 use crate::firmware::Firmware;
+use crate::math;
 use crate::motion::pvt::{
     check_point, check_segment, pt_velocity, sample, PvtError, PvtLimits, PvtPoint,
 };
+use crate::ram::Lazy;
 use crate::servo::ffpiv::Reference;
 use firmware_proto::{
     AxisState, Command, EventKind, Mem, NackCode, Opcode, PvtEvent, MAX_AXES, MAX_MOVE_TIME,
@@ -249,13 +251,13 @@ impl PvtStream {
 }
 
 /// Every axis's stream slot, made on the axis's first `MC_OP_PVT_BEGIN`.
-pub type PvtStreams = [Option<Box<PvtStream>>; MAX_AXES];
+pub type PvtStreams = [Lazy<PvtStream>; MAX_AXES];
 
 // ---- The command manager's and the control loop's side (Firmware's fields are the parent's) ----
 impl<M: Mem + Clone> Firmware<M> {
     /// One axis's PT/PVT stream (for inspection by tests), once it has one.
     pub fn pvt(&self, i: usize) -> Option<&PvtStream> {
-        self.pvt.get(i).and_then(|s| s.as_deref())
+        self.pvt.get(i).and_then(|s| s.as_ref())
     }
 
     /// `MC_OP_PVT_BEGIN`, `_POINTS`, `_START` on axis `ax` (one of the card's, not in an
@@ -275,7 +277,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
                 crate::firmware::nack::check_ranges(self.servo_rate_hz, &[(1, a[0]), (2, a[1])])?;
                 let lw = a[2];
-                if lw.fract() != 0.0 || !(0.0..PVT_LEN as f64).contains(&lw) {
+                if math::fract(lw) != 0.0 || !(0.0..PVT_LEN as f64).contains(&lw) {
                     return Err(NackCode::OutOfRange);
                 }
                 if c.flags & !PVT_PT != 0 {
@@ -296,7 +298,7 @@ impl<M: Mem + Clone> Firmware<M> {
                     p: axis.reference().pos,
                     v: 0.0,
                 };
-                let s = self.pvt[ax].get_or_insert_with(|| Box::new(PvtStream::new()));
+                let s = self.pvt[ax].get_or_insert_with(PvtStream::new);
                 s.buf.clear();
                 s.phase = Phase::Loading;
                 s.pt_mode = c.flags & PVT_PT != 0;
@@ -320,7 +322,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 if !n.is_finite() {
                     return Err(NackCode::NotFinite);
                 }
-                if n.fract() != 0.0 || !(1.0..=PVT_POINTS_MAX as f64).contains(&n) {
+                if math::fract(n) != 0.0 || !(1.0..=PVT_POINTS_MAX as f64).contains(&n) {
                     return Err(NackCode::OutOfRange);
                 }
                 if c.flags & !PVT_LAST != 0 {
@@ -347,7 +349,7 @@ impl<M: Mem + Clone> Firmware<M> {
                     return Err(NackCode::NotFinite);
                 }
                 let all = (1u32 << self.num_axes) - 1;
-                if m.fract() != 0.0 || !(0.0..=all as f64).contains(&m) {
+                if math::fract(m) != 0.0 || !(0.0..=all as f64).contains(&m) {
                     return Err(NackCode::BadAxis);
                 }
                 let mask = if m == 0.0 { 1 << ax } else { m as u32 };

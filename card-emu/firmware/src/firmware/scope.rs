@@ -13,6 +13,7 @@
 //! Plain data: the window and the ring are the caller's (`push`), so the trigger, history and
 //! loss rules are tested here with numbers.
 
+use crate::ram::FixedVec;
 use firmware_proto::{
     check_config, raw, Edge, NackCode, ScopeConfig, ScopeMode, ScopeSample, ScopeState, Source,
     Trigger, SCOPE_CHANNELS, SCOPE_PRETRIGGER_MAX,
@@ -42,7 +43,7 @@ pub struct Scope {
     forced: bool,
     /// The pre-trigger history: a ring of `pre_trigger` slots, `hist_len` of them filled,
     /// the next one written at `hist_next`.
-    history: Box<[ScopeSample]>,
+    history: FixedVec<ScopeSample, SCOPE_PRETRIGGER_MAX>,
     hist_next: usize,
     hist_len: usize,
     /// The previous sample's trigger inputs: the level channel's value, the inputs, the
@@ -75,7 +76,7 @@ impl Scope {
             arm_seq: 0,
             arm_tick: 0,
             forced: false,
-            history: vec![ScopeSample::default(); SCOPE_PRETRIGGER_MAX].into_boxed_slice(),
+            history: FixedVec::from_elem(ScopeSample::default(), SCOPE_PRETRIGGER_MAX),
             hist_next: 0,
             hist_len: 0,
             prev: None,

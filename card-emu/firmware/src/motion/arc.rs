@@ -12,6 +12,7 @@
 //! Units: counts, seconds, radians. Angles are counter-clockwise from +x.
 #![forbid(unsafe_code)]
 
+use crate::math;
 use core::f64::consts::{PI, TAU};
 use core::fmt;
 
@@ -71,7 +72,7 @@ impl fmt::Display for CircleError {
     }
 }
 
-impl std::error::Error for CircleError {}
+impl core::error::Error for CircleError {}
 
 /// Direction of travel (G02 = clockwise, G03 = counter-clockwise).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -99,18 +100,18 @@ fn arc_from_points(
     }
     let (sx, sy) = (start.0 - centre.0, start.1 - centre.1);
     let (ex, ey) = (end.0 - centre.0, end.1 - centre.1);
-    let r = sx.hypot(sy);
+    let r = math::hypot(sx, sy);
     if !(r.is_finite() && r > 0.0) {
         return Err(CircleError::InvalidRadius);
     }
-    let re = ex.hypot(ey);
+    let re = math::hypot(ex, ey);
     // Inputs are finite, so `re` is finite or +inf (never NaN).
     if (re - r).abs() > END_RADIUS_TOLERANCE + 1.0e-9 * r {
         return Err(CircleError::EndPointOffCircle);
     }
-    let theta_s = sy.atan2(sx);
-    let theta_e = ey.atan2(ex);
-    let d = (theta_e - theta_s).rem_euclid(TAU); // CCW angle, [0, 2π]
+    let theta_s = math::atan2(sy, sx);
+    let theta_e = math::atan2(ey, ex);
+    let d = math::rem_euclid(theta_e - theta_s, TAU); // CCW angle, [0, 2π]
     let full = !(FULL_CIRCLE_EPS..=TAU - FULL_CIRCLE_EPS).contains(&d);
     let sweep = match (dir, full) {
         (ArcDirection::Ccw, true) => TAU,
@@ -210,12 +211,12 @@ impl ReferenceWordCircle {
             return Err(CircleError::InvalidSweep);
         }
         let (sx, sy) = (start.0 - centre.0, start.1 - centre.1);
-        let r = sx.hypot(sy);
+        let r = math::hypot(sx, sy);
         if !(r.is_finite() && r > 0.0) {
             return Err(CircleError::InvalidRadius);
         }
-        let te = sy.atan2(sx) + sweep;
-        let end = (centre.0 + r * te.cos(), centre.1 + r * te.sin());
+        let te = math::atan2(sy, sx) + sweep;
+        let end = (centre.0 + r * math::cos(te), centre.1 + r * math::sin(te));
         Self::build(centre, start, end, r, sweep, feed, ts)
     }
 
@@ -242,22 +243,22 @@ impl ReferenceWordCircle {
         if alpha > MAX_STEP_ANGLE {
             return Err(CircleError::StepAngleTooLarge);
         }
-        let n = (sweep.abs() / alpha - 1.0e-9).ceil().max(1.0);
+        let n = math::ceil(sweep.abs() / alpha - 1.0e-9).max(1.0);
         if !(n.is_finite() && n <= MAX_STEPS as f64) {
             return Err(CircleError::TooManySteps);
         }
         // Kim eq 16, B signed by the direction.
         let sin_a = if sweep > 0.0 {
-            alpha.sin()
+            math::sin(alpha)
         } else {
-            -alpha.sin()
+            -math::sin(alpha)
         };
         Ok(Self {
             centre,
             radius: r,
             inv_r2: 1.0 / (r * r),
             alpha,
-            cos_a: alpha.cos(),
+            cos_a: math::cos(alpha),
             sin_a,
             sweep,
             rel: (start.0 - centre.0, start.1 - centre.1),
@@ -406,10 +407,13 @@ impl ExactCircle {
             start_angle,
             sweep,
             start: (
-                centre.0 + radius * start_angle.cos(),
-                centre.1 + radius * start_angle.sin(),
+                centre.0 + radius * math::cos(start_angle),
+                centre.1 + radius * math::sin(start_angle),
             ),
-            end: (centre.0 + radius * te.cos(), centre.1 + radius * te.sin()),
+            end: (
+                centre.0 + radius * math::cos(te),
+                centre.1 + radius * math::sin(te),
+            ),
         })
     }
 
@@ -483,8 +487,8 @@ impl ExactCircle {
             return Ok(self.end);
         }
         Ok((
-            self.centre.0 + self.radius * theta.cos(),
-            self.centre.1 + self.radius * theta.sin(),
+            self.centre.0 + self.radius * math::cos(theta),
+            self.centre.1 + self.radius * math::sin(theta),
         ))
     }
 
@@ -492,7 +496,7 @@ impl ExactCircle {
     pub fn tangent_at(&self, s: f64) -> Result<(f64, f64), CircleError> {
         let theta = self.angle_at(s)?;
         let sgn = if self.sweep > 0.0 { 1.0 } else { -1.0 };
-        Ok((-sgn * theta.sin(), sgn * theta.cos()))
+        Ok((-sgn * math::sin(theta), sgn * math::cos(theta)))
     }
 }
 
@@ -521,12 +525,12 @@ pub fn linear_filter_radial_error(r: f64, v: f64, ts: f64, m: usize) -> f64 {
     }
     let w = v * ts / r; // ΩT
     let half = 0.5 * w;
-    let s_half = half.sin();
+    let s_half = math::sin(half);
     if s_half == 0.0 {
         return 0.0;
     }
     let mf = m as f64;
-    let gain = (2.0 * (mf * half).sin() / (mf * 2.0 * s_half)).abs();
+    let gain = (2.0 * math::sin(mf * half) / (mf * 2.0 * s_half)).abs();
     r * (1.0 - gain)
 }
 
@@ -544,10 +548,10 @@ pub fn exponential_filter_radial_error(r: f64, v: f64, ts: f64, a: f64) -> f64 {
         return f64::NAN;
     }
     let w = v * ts / r;
-    let sh = (0.5 * w).sin();
+    let sh = math::sin(0.5 * w);
     let one_minus_c0 = 2.0 * sh * sh;
     let q = 2.0 * a * one_minus_c0 / ((a - 1.0) * (a - 1.0));
-    let s = (1.0 + q).sqrt();
+    let s = math::sqrt(1.0 + q);
     r * (q / (s * (1.0 + s)))
 }
 

@@ -16,6 +16,7 @@
 //! `eval` allocates nothing and never panics.
 #![forbid(unsafe_code)]
 
+use crate::math;
 use heapless::Vec;
 
 /// The largest table.
@@ -116,7 +117,7 @@ impl CamTable {
         let (mut x, mut base, mut cycle) = (x, 0.0, 0i64);
         if self.periodic {
             let (p, r) = self.period();
-            let k = ((x - m0) / p).floor();
+            let k = math::floor((x - m0) / p);
             if k.is_finite() {
                 x -= k * p;
                 base = k * r;

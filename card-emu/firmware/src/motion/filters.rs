@@ -39,6 +39,7 @@
 //! to the per-tick functions are rejected by the `try_step` variants.
 #![forbid(unsafe_code)]
 
+use crate::math;
 use core::fmt;
 
 /// Capacity of the linear filter's delay line (samples).
@@ -97,7 +98,7 @@ impl fmt::Display for FilterError {
     }
 }
 
-impl std::error::Error for FilterError {}
+impl core::error::Error for FilterError {}
 
 fn check_ts(ts: f64) -> Result<(), FilterError> {
     if ts.is_finite() && ts > 0.0 {
@@ -268,7 +269,7 @@ impl LinearFilter {
     pub fn from_time_constant(tau_s: f64, ts: f64) -> Result<Self, FilterError> {
         check_ts(ts)?;
         check_tau(tau_s)?;
-        let ratio = (tau_s / ts).round();
+        let ratio = math::round(tau_s / ts);
         if !ratio.is_finite() || ratio > MAX_TAPS as f64 {
             return Err(FilterError::TooManyTaps);
         }
@@ -426,8 +427,8 @@ pub struct ExponentialFilter {
 impl ExponentialFilter {
     fn build(pole: f64, gain: f64) -> Self {
         // -ln a: ticks per e-fold of the decaying tail.
-        let neg_ln_a = -pole.ln();
-        let n = (SETTLE_LOG_RANGE / neg_ln_a).ceil();
+        let neg_ln_a = -math::ln(pole);
+        let n = math::ceil(SETTLE_LOG_RANGE / neg_ln_a);
         // `as` saturates; n is at most ~7e8 for pole <= MAX_POLE.
         let settle_ticks = (n as u64).max(1);
         Self {

@@ -59,7 +59,7 @@ impl fmt::Display for InterpError {
     }
 }
 
-impl std::error::Error for InterpError {}
+impl core::error::Error for InterpError {}
 
 impl From<ModelError> for InterpError {
     fn from(e: ModelError) -> Self {

@@ -12,6 +12,10 @@
 use core::fmt;
 use nalgebra::SVector;
 
+use crate::ram::FixedVec;
+#[cfg(feature = "host")]
+use alloc::{vec, vec::Vec};
+
 /// Highest supported degree p.
 pub const MAX_DEGREE: usize = 5;
 /// Highest supported spatial dimension (number of axes).
@@ -125,7 +129,7 @@ impl fmt::Display for NurbsError {
     }
 }
 
-impl std::error::Error for NurbsError {}
+impl core::error::Error for NurbsError {}
 
 /// A clamped NURBS curve. Its storage holds exactly its control points and knots, or, for a
 /// curve made by [`with_capacity`](Self::with_capacity), room for the largest curve, which
@@ -136,9 +140,9 @@ pub struct Nurbs {
     dim: usize,
     n_ctrl: usize,
     /// Homogeneous control points `(w·P, w)`, `n_ctrl` rows.
-    pw: Vec<[f64; HW]>,
+    pw: FixedVec<[f64; HW], MAX_CTRL>,
     /// Knot vector, `n_ctrl + degree + 1` entries.
-    knots: Vec<f64>,
+    knots: FixedVec<f64, MAX_KNOTS>,
 }
 
 /// Two curves are equal when they have the same degree, dimension, homogeneous control points
@@ -175,8 +179,8 @@ impl Nurbs {
             degree: 0,
             dim: 0,
             n_ctrl: 0,
-            pw: Vec::with_capacity(n_ctrl),
-            knots: Vec::with_capacity(knots.len()),
+            pw: FixedVec::with_capacity(n_ctrl),
+            knots: FixedVec::with_capacity(knots.len()),
         };
         c.fill(degree, dim, n_ctrl, ctrl, weights, knots);
         Ok(c)
@@ -190,8 +194,8 @@ impl Nurbs {
             degree: 0,
             dim: 0,
             n_ctrl: 0,
-            pw: Vec::with_capacity(MAX_CTRL),
-            knots: Vec::with_capacity(MAX_KNOTS),
+            pw: FixedVec::with_capacity(MAX_CTRL),
+            knots: FixedVec::with_capacity(MAX_KNOTS),
         };
         c.fill(
             1,
@@ -230,18 +234,18 @@ impl Nurbs {
         weights: &[f64],
         knots: &[f64],
     ) {
+        // checked: at most MAX_CTRL points, MAX_KNOTS knots
         self.pw.clear();
-        self.pw
-            .extend(ctrl.chunks_exact(dim).zip(weights).map(|(p, &w)| {
-                let mut row = [0.0; HW];
-                for (dst, &c) in row.iter_mut().zip(p.iter()) {
-                    *dst = c * w;
-                }
-                row[W] = w;
-                row
-            }));
+        for (p, &w) in ctrl.chunks_exact(dim).zip(weights) {
+            let mut row = [0.0; HW];
+            for (dst, &c) in row.iter_mut().zip(p.iter()) {
+                *dst = c * w;
+            }
+            row[W] = w;
+            let _ = self.pw.push(row);
+        }
         self.knots.clear();
-        self.knots.extend_from_slice(knots);
+        let _ = self.knots.extend_from_slice(knots);
         self.degree = degree;
         self.dim = dim;
         self.n_ctrl = n_ctrl;
@@ -553,6 +557,7 @@ fn validate_knots(p: usize, n_ctrl: usize, knots: &[f64]) -> Result<(), NurbsErr
 
 /// Clamped uniform knot vector on [0, 1] for `n_ctrl` control points of `degree`:
 /// `p+1` zeros, `n_ctrl-p-1` equally spaced interior knots, `p+1` ones. Host-side helper.
+#[cfg(feature = "host")]
 pub fn clamped_uniform_knots(n_ctrl: usize, degree: usize) -> Result<Vec<f64>, NurbsError> {
     if degree == 0 || degree > MAX_DEGREE {
         return Err(NurbsError::BadDegree { degree });
@@ -654,6 +659,7 @@ fn check_curve(
 /// curve exactly (up to rounding), keep its parametrisation, and share their end points
 /// bit for bit. Arguments as for [`Nurbs::new`] except the control point count; `max_ctrl` is
 /// at most [`MAX_CTRL`] and at least `degree + 1`.
+#[cfg(feature = "host")]
 pub fn split_curve(
     degree: usize,
     dim: usize,
@@ -715,6 +721,7 @@ pub fn split_curve(
 
 /// NURBS Book A5.1 `CurveKnotIns`: inserts `u` (in span `k`, U[k] ≤ u < U[k+1], already of
 /// multiplicity `s`) `r` times into the homogeneous control polygon `pw` with knots `up`.
+#[cfg(feature = "host")]
 fn insert_knot(
     p: usize,
     pw: &[[f64; HW]],

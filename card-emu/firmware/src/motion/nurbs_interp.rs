@@ -19,6 +19,8 @@ use super::path_speed::PathSpeedPlanner;
 use super::pos_finite;
 pub use super::saturation::GUARD_MARGIN;
 use super::saturation::{AxisSample, FeedDecision, SaturationAwareFeed};
+use crate::math;
+use crate::ram::FixedVec;
 
 /// Capacity of the look-ahead feed profile (samples along the curve).
 pub const MAX_PROFILE: usize = 8192;
@@ -89,7 +91,7 @@ pub fn chord_feed_limit(rho: f64, ts: f64, tol: f64) -> f64 {
     if tol >= rho {
         return 2.0 * rho / ts;
     }
-    2.0 / ts * (tol * (2.0 * rho - tol)).sqrt()
+    2.0 / ts * math::sqrt(tol * (2.0 * rho - tol))
 }
 
 /// Radius of curvature from C' and C'' (any dimension): ρ = |C'|³ / √(|C'|²|C''|² − (C'·C'')²).
@@ -104,7 +106,7 @@ pub fn radius_of_curvature(d1: &Point, d2: &Point) -> f64 {
         return f64::INFINITY;
     }
     // κ = |C''_⊥| / |C'|²
-    n1 / perp2.sqrt()
+    n1 / math::sqrt(perp2)
 }
 
 /// One interpolation sample (the reference for the servo loops).
@@ -142,6 +144,8 @@ struct ProfileSample {
 
 /// Samples per block of the block-minimum table used to skip the look-ahead scan.
 const BLOCK: usize = 32;
+/// Blocks of the largest profile.
+const BLOCKS: usize = MAX_PROFILE.div_ceil(BLOCK);
 
 #[derive(Clone, Copy)]
 struct Step {
@@ -166,9 +170,9 @@ pub struct Interpolator {
     curve: Nurbs,
     cfg: InterpConfig,
     /// The look-ahead profile (at most `MAX_PROFILE` samples).
-    profile: Vec<ProfileSample>,
+    profile: FixedVec<ProfileSample, MAX_PROFILE>,
     /// Smallest `raw` of each `BLOCK` samples of the profile.
-    blocks: Vec<f64>,
+    blocks: FixedVec<f64, BLOCKS>,
     length: f64,
     slow: Option<(f64, f64)>,
     planner: PathSpeedPlanner,
@@ -363,7 +367,7 @@ fn smallest_positive_root(a: f64, b: f64, c: f64) -> f64 {
     if disc < 0.0 {
         return best;
     }
-    let sq = disc.sqrt();
+    let sq = math::sqrt(disc);
     // numerically stable pair
     let q = -0.5 * (b + b.signum() * sq);
     for r in [q / a, if q != 0.0 { c / q } else { f64::NAN }] {
@@ -379,7 +383,7 @@ fn unit_tangent_and_curvature(d1: &Point, d2: &Point) -> (Point, Point) {
     if n1 <= 0.0 || !n1.is_finite() {
         return (Point::zeros(), Point::zeros());
     }
-    let t = d1 / n1.sqrt();
+    let t = d1 / math::sqrt(n1);
     // curvature vector d²C/ds² = (C'' - (C''·T)T)/|C'|²
     let k = (d2 - t * d2.dot(&t)) / n1;
     (t, k)
@@ -417,8 +421,8 @@ impl Interpolator {
     pub fn with_capacity() -> Self {
         let mut ip = Self::shell(
             Nurbs::with_capacity(),
-            Vec::with_capacity(MAX_PROFILE),
-            Vec::with_capacity(MAX_PROFILE.div_ceil(BLOCK)),
+            FixedVec::with_capacity(MAX_PROFILE),
+            FixedVec::with_capacity(BLOCKS),
         );
         ip.done = true;
         ip
@@ -463,8 +467,8 @@ impl Interpolator {
 
     /// Plan the curve held, as [`new`](Self::new) (`limits` None) or
     /// [`with_actuator_limits`](Self::with_actuator_limits) (`limits` = the feed model and the
-    /// budget) would: the profile goes into this interpolator's storage (only the planning's
-    /// scratch tables allocate). On an error there is no motion (done, at rest).
+    /// budget) would: the profile goes into this interpolator's storage. On an error there is
+    /// no motion (done, at rest).
     pub fn plan_curve(
         &mut self,
         cfg: InterpConfig,
@@ -479,7 +483,11 @@ impl Interpolator {
     }
 
     /// An interpolator of `curve` with the given (empty) profile storage, not planned.
-    fn shell(curve: Nurbs, profile: Vec<ProfileSample>, blocks: Vec<f64>) -> Self {
+    fn shell(
+        curve: Nurbs,
+        profile: FixedVec<ProfileSample, MAX_PROFILE>,
+        blocks: FixedVec<f64, BLOCKS>,
+    ) -> Self {
         let cfg = InterpConfig::default();
         Self {
             curve,
@@ -514,7 +522,7 @@ impl Interpolator {
         cfg: InterpConfig,
         act: Option<ActuatorPlan<'_>>,
     ) -> Result<Self, InterpError> {
-        let mut ip = Self::shell(curve, Vec::new(), Vec::new());
+        let mut ip = Self::shell(curve, FixedVec::new(), FixedVec::new());
         ip.plan(cfg, act)?;
         Ok(ip)
     }
@@ -542,11 +550,12 @@ impl Interpolator {
             &mut self.profile,
         )?;
         self.blocks.clear();
-        self.blocks.extend(
-            self.profile
-                .chunks(BLOCK)
-                .map(|c| c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw))),
-        );
+        for c in self.profile.chunks(BLOCK) {
+            // BLOCKS blocks of BLOCK hold the largest profile
+            let _ = self
+                .blocks
+                .push(c.iter().fold(f64::INFINITY, |m, x| m.min(x.raw)));
+        }
         let length = self.profile.last().map_or(0.0, |p| p.s);
         if !(length.is_finite() && length > 0.0) {
             return Err(InterpError::ZeroLengthCurve);
@@ -670,10 +679,7 @@ impl Interpolator {
             return None;
         }
         // the angle from its chord: accurate for small angles, unlike acos
-        let theta = 2.0
-            * (0.5 * (self.end_tan - next.start_tan).norm())
-                .min(1.0)
-                .asin();
+        let theta = 2.0 * math::asin((0.5 * (self.end_tan - next.start_tan).norm()).min(1.0));
         let turn = if theta > 0.0 {
             a.amax.min(a.dmax) * a.ts / theta
         } else {
@@ -754,11 +760,11 @@ impl Interpolator {
         let mut du = if guess <= 0.0 {
             0.0
         } else if n1 > 0.0 {
-            let du2 = guess / n1.sqrt() - 0.5 * d1.dot(d2) * guess * guess / (n1 * n1);
+            let du2 = guess / math::sqrt(n1) - 0.5 * d1.dot(d2) * guess * guess / (n1 * n1);
             if du2 > 0.0 {
                 du2
             } else {
-                guess / n1.sqrt() // Yeh eq 3.2 (first order) when the second-order term dominates
+                guess / math::sqrt(n1) // Yeh eq 3.2 (first order) when the second-order term dominates
             }
         } else {
             f64::NAN
@@ -767,7 +773,7 @@ impl Interpolator {
             // |C'| = 0 here: C(u) ≈ C0 + ½C''Δu² gives Δu = √(2 len/|C''|)
             let n2 = d2.norm();
             du = if n2 > 0.0 {
-                (2.0 * guess / n2).sqrt()
+                math::sqrt(2.0 * guess / n2)
             } else {
                 1e-6 * (ue - u0)
             };
@@ -996,7 +1002,9 @@ impl Interpolator {
         for _ in 0..3 {
             let (step, vn, an) = pl.track_step(target);
             // the speed reached before the acceleration is back to zero
-            let vmax = v.max(vn).max(vn + an.max(0.0).powi(2) / (2.0 * pl.jmax));
+            let vmax = v
+                .max(vn)
+                .max(vn + math::powi(an.max(0.0), 2) / (2.0 * pl.jmax));
             let reach = PathSpeedPlanner::stopping_distance(vmax, an.max(pl.a).max(0.0), dp, jp)
                 + 2.0 * vmax * cfg.ts;
             let mut worst: Option<(f64, f64)> = None;
@@ -1334,7 +1342,7 @@ fn cap_at(p: &[ProfileSample], s: f64, hint: &mut usize) -> f64 {
     // interpolate v² (exact for constant deceleration between the samples)
     let t = ((s - a.s) / ds).clamp(0.0, 1.0);
     let sq = |c: f64| if c.is_finite() { c * c } else { f64::INFINITY };
-    (sq(a.cap) + t * (sq(b.cap) - sq(a.cap))).sqrt()
+    math::sqrt(sq(a.cap) + t * (sq(b.cap) - sq(a.cap)))
 }
 
 /// The actuator limits of a look-ahead: a budget in (0, 1] and a model of the curve's axes.
@@ -1355,33 +1363,50 @@ fn actuator_plan<'a>(
     Ok(ActuatorPlan { sat, budget })
 }
 
-/// The look-ahead profile of `curve`, written into `samples` (at most `MAX_PROFILE` of them:
-/// no allocation when it has that capacity).
+/// The look-ahead profile of `curve`, written into `samples` (at most `MAX_PROFILE` of them),
+/// with no other storage: the parameters of the samples go into `samples` first.
 fn build_profile(
     curve: &Nurbs,
     cfg: &InterpConfig,
     dmax: f64,
     act: Option<ActuatorPlan<'_>>,
-    samples: &mut Vec<ProfileSample>,
+    samples: &mut FixedVec<ProfileSample, MAX_PROFILE>,
 ) -> Result<(), InterpError> {
     let knots = curve.knots();
     let p = curve.degree();
-    let spans: Vec<(f64, f64)> = knots[p..knots.len() - p]
-        .windows(2)
-        .filter(|w| w[1] > w[0])
-        .map(|w| (w[0], w[1]))
-        .collect();
-    if spans.is_empty() {
+    let spans = || {
+        knots[p..knots.len() - p]
+            .windows(2)
+            .filter(|w| w[1] > w[0])
+            .map(|w| (w[0], w[1]))
+    };
+    let n_spans = spans().count();
+    let Some((_, u_last)) = spans().next_back() else {
         return Err(InterpError::ZeroLengthCurve);
-    }
-    let per_span = ((MAX_PROFILE - 1) / spans.len()).clamp(1, 512);
-    let mut us = Vec::with_capacity(spans.len() * per_span + 1);
-    for &(a, b) in &spans {
+    };
+    let per_span = ((MAX_PROFILE - 1) / n_spans).clamp(1, 512);
+    samples.clear();
+    let at = |u: f64| ProfileSample {
+        s: 0.0,
+        raw: 0.0,
+        cap: 0.0,
+        u,
+        ds_du: 0.0,
+    };
+    // n_spans · per_span + 1 ≤ MAX_PROFILE (a curve has at most MAX_CTRL spans)
+    for (a, b) in spans() {
         for i in 0..per_span {
-            us.push(a + (b - a) * i as f64 / per_span as f64);
+            if samples
+                .push(at(a + (b - a) * i as f64 / per_span as f64))
+                .is_err()
+            {
+                return Err(InterpError::ZeroLengthCurve);
+            }
         }
     }
-    us.push(spans[spans.len() - 1].1);
+    if samples.push(at(u_last)).is_err() {
+        return Err(InterpError::ZeroLengthCurve);
+    }
     // local limits at sample points and midpoints
     let local = |u: f64| -> (f64, Point, Point, f64) {
         let (_, d1, d2) = curve.eval_clamped(u);
@@ -1396,30 +1421,28 @@ fn build_profile(
         }
         (cap, t, k, d1.norm())
     };
-    let n = us.len();
-    samples.clear();
-    let mut tk: Vec<(Point, Point)> = Vec::with_capacity(n);
+    let n = samples.len();
     let mut s = 0.0;
     let mut prev_mid_cap = f64::INFINITY;
     for i in 0..n {
-        let (cap, t, k, ds_du) = local(us[i]);
+        let u = samples[i].u;
+        let (cap, _, _, ds_du) = local(u);
         let mut c = cap.min(prev_mid_cap);
         if i + 1 < n {
-            let (mid_cap, _, _, _) = local(0.5 * (us[i] + us[i + 1]));
+            let (mid_cap, _, _, _) = local(0.5 * (u + samples[i + 1].u));
             c = c.min(mid_cap);
             prev_mid_cap = mid_cap;
         }
         if i > 0 {
-            s += arc_length(curve, us[i - 1], us[i]);
+            s += arc_length(curve, samples[i - 1].u, u);
         }
-        samples.push(ProfileSample {
+        samples[i] = ProfileSample {
             s,
             raw: c,
             cap: c,
-            u: us[i],
+            u,
             ds_du,
-        });
-        tk.push((t, k));
+        };
     }
     // Backward pass: v_i² ≤ v_{i+1}² + 2·d_i·Δs with d_i the tangential deceleration
     // available (the planner's limit, and the actuator budget when given). The final stop
@@ -1427,15 +1450,20 @@ fn build_profile(
     for i in (0..n.saturating_sub(1)).rev() {
         let ds = samples[i + 1].s - samples[i].s;
         let v_next = samples[i + 1].cap;
-        let (t, k) = tk[i];
-        let decel_at = |v: f64| match act {
-            Some(a) => a.decel(&t, &k, v, dmax),
-            None => dmax,
+        // the tangent and curvature at the sample, as `local` found them (evaluated again
+        // rather than kept: a table of them would be 1 MB)
+        let tk = act.map(|_| {
+            let (_, d1, d2) = curve.eval_clamped(samples[i].u);
+            unit_tangent_and_curvature(&d1, &d2)
+        });
+        let decel_at = |v: f64| match (act, &tk) {
+            (Some(a), Some((t, k))) => a.decel(t, k, v, dmax),
+            _ => dmax,
         };
         let d0 = decel_at(v_next);
-        let vc = (v_next * v_next + 2.0 * d0 * ds).sqrt();
+        let vc = math::sqrt(v_next * v_next + 2.0 * d0 * ds);
         let d = d0.min(decel_at(vc));
-        let v = (v_next * v_next + 2.0 * d * ds).sqrt();
+        let v = math::sqrt(v_next * v_next + 2.0 * d * ds);
         if v < samples[i].cap {
             samples[i].cap = v;
         }

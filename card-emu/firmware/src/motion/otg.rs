@@ -91,6 +91,7 @@
 #![forbid(unsafe_code)]
 
 use super::scurve::{check_limits, Limits, PlanError, Profile, State};
+use crate::math;
 
 /// Relative slack of [`Trajectory::verify`] on the limits and the joints (as `scurve`'s).
 const CHECK_SLACK: f64 = 1e-9;
@@ -434,8 +435,8 @@ fn acceleration_brake(v0: f64, a0: f64, l: &Lim, s: f64, segs: &mut Segs) {
 fn velocity_brake(v0: f64, a0: f64, l: &Lim, s: f64, segs: &mut Segs) {
     let j = l.j;
     let t_amin = (a0 - l.amin) / j;
-    let t_vmax = (a0 + (a0 * a0 + 2.0 * j * (v0 - l.vmax)).sqrt()) / j;
-    let t_vmin = (a0 + (0.5 * a0 * a0 + j * (v0 - l.vmin)).sqrt()) / j;
+    let t_vmax = (a0 + math::sqrt(a0 * a0 + 2.0 * j * (v0 - l.vmax))) / j;
+    let t_vmin = (a0 + math::sqrt(0.5 * a0 * a0 + j * (v0 - l.vmin))) / j;
     // (f64::min ignores a NaN: a time that does not exist is not the first)
     let t_first = t_vmax.min(t_vmin);
     if t_amin < t_first {
@@ -739,15 +740,15 @@ impl Step {
         if !(s1 >= 0.0 && s2 >= 0.0) {
             return;
         }
-        let (s1, s2) = (s1.sqrt(), s2.sqrt());
+        let (s1, s2) = (math::sqrt(s1), math::sqrt(s2));
         let mut lo = (d / (l.amax + s1)).max(-d / (s2 - l.amin)).max(0.0);
         let hi = (l.amax + s1).min(s2 - l.amin);
         if d > 0.0 {
-            lo = lo.max(d.sqrt());
+            lo = lo.max(math::sqrt(d));
         }
         let s0 = a0 * a0 - d;
         if s0 > 0.0 {
-            let s0 = s0.sqrt();
+            let s0 = math::sqrt(s0);
             lo = lo.max(if a0 >= 0.0 { a0 + s0 } else { -d / (s0 - a0) });
         }
         if lo.is_nan() || hi.is_nan() || lo > hi {
@@ -798,8 +799,8 @@ impl Step {
         let mut cuts = [f64::NAN; 2];
         let disc = 4.0 * c * c - 3.0 * d * d;
         if c < 0.0 && disc >= 0.0 {
-            let w1 = (-2.0 * c + disc.sqrt()) / 3.0;
-            cuts = [w1.sqrt(), (d * d / (3.0 * w1)).sqrt()];
+            let w1 = (-2.0 * c + math::sqrt(disc)) / 3.0;
+            cuts = [math::sqrt(w1), math::sqrt(d * d / (3.0 * w1))];
         }
         self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
@@ -810,7 +811,7 @@ impl Step {
         let (a0, d, j, ij) = (self.a0, self.d, l.j, self.ij);
         let lo = l.amin;
         let q = l.amax * l.amax - d;
-        let hi = if q > 0.0 { -q.sqrt() } else { 0.0 };
+        let hi = if q > 0.0 { -math::sqrt(q) } else { 0.0 };
         if lo.is_nan() || hi.is_nan() || lo > hi {
             return;
         }
@@ -864,7 +865,7 @@ impl Step {
         };
         let mut cuts = [f64::NAN; 2];
         if vf < 0.0 {
-            cuts[0] = 4.0 * j * vf / (am + (am * am - 16.0 * j * vf).sqrt());
+            cuts[0] = 4.0 * j * vf / (am + math::sqrt(am * am - 16.0 * j * vf));
         }
         self.pieces(lo, hi, cuts, &poly, &prof, &slope, best);
     }
@@ -874,7 +875,7 @@ impl Step {
         let l = &self.l;
         let (a0, d, j, ij) = (self.a0, self.d, l.j, self.ij);
         let q = d + l.amin * l.amin;
-        let s = if q > 0.0 { q.sqrt() } else { 0.0 };
+        let s = if q > 0.0 { math::sqrt(q) } else { 0.0 };
         let lo = a0.max(l.amin);
         let e = 2.0 * j * self.v0 - a0 * a0;
         let prof = |a1: f64| Prof {
@@ -911,7 +912,7 @@ impl Step {
         let disc = an * an - 8.0 * e;
         let mut cuts = [f64::NAN; 2];
         if disc >= 0.0 {
-            let r1 = (an - disc.sqrt()) / 4.0;
+            let r1 = (an - math::sqrt(disc)) / 4.0;
             cuts = [r1, if r1 != 0.0 { e / (2.0 * r1) } else { 0.0 }];
         }
         // a1 outside (-s, s): up to two intervals. The duration grows with a1 (its
@@ -968,7 +969,7 @@ impl Step {
         if disc.is_nan() || disc < 0.0 {
             return;
         }
-        let sq = disc.sqrt();
+        let sq = math::sqrt(disc);
         // Stable pair of roots of alpha h² + s h + r = 0.
         let qq = -0.5 * (s_lo + if s_lo >= 0.0 { sq } else { -sq });
         let mut roots = [f64::NAN; 2];
@@ -1122,7 +1123,7 @@ fn pulse(v: f64, a: f64, v1: f64, amax: f64, j: f64) -> Option<(f64, f64, f64, f
     if q.is_nan() || q < 0.0 {
         return None;
     }
-    let peak = q.sqrt().max(a);
+    let peak = math::sqrt(q).max(a);
     if peak > amax {
         let a1 = amax.max(a);
         Some((

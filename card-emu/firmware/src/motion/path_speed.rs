@@ -17,6 +17,7 @@
 
 use super::interp_error::InterpError;
 use super::pos_finite;
+use crate::math;
 
 /// Relative margin below the jerk and deceleration limits with which the planner decides
 /// when to stop: the stop it then follows may use the full limits, so the small corrections a
@@ -441,7 +442,7 @@ impl PathSpeedPlanner {
         let flat = v + a * a.abs() / (2.0 * j);
         let phases = if tgt >= flat {
             let dv = tgt - v;
-            let mut ap = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut ap = math::sqrt((j * dv + 0.5 * a * a).max(0.0));
             let mut th = 0.0;
             if ap > self.amax {
                 ap = self.amax;
@@ -451,7 +452,7 @@ impl PathSpeedPlanner {
             [(j, (ap - a) / j), (0.0, th), (-j, ap / j)]
         } else {
             let dv = v - tgt;
-            let mut dp = (j * dv + 0.5 * a * a).max(0.0).sqrt();
+            let mut dp = math::sqrt((j * dv + 0.5 * a * a).max(0.0));
             let mut th = 0.0;
             if dp > self.dmax {
                 dp = self.dmax;
@@ -519,7 +520,7 @@ impl PathSpeedPlanner {
     /// `j`; None when the state cannot come to rest without a jump in acceleration (braking so
     /// hard that the speed reaches zero before the acceleration does).
     fn brake_peak(v: f64, a: f64, d: f64, j: f64) -> Option<f64> {
-        let opt = (j * v.max(0.0) + 0.5 * a * a).sqrt();
+        let opt = math::sqrt(j * v.max(0.0) + 0.5 * a * a);
         // (a deceleration beyond `d` is brought back within it: see `set_limits`)
         let ap = if -a <= d * (1.0 + SHED) {
             d.min(opt).max(-a)
@@ -541,7 +542,7 @@ impl PathSpeedPlanner {
             Some(ap) => Self::brake_distance(v, a, ap, jmax).max(0.0),
             None => {
                 // release at +J until the speed is zero
-                let t = (-a - (a * a - 2.0 * jmax * v).max(0.0).sqrt()) / jmax;
+                let t = (-a - math::sqrt((a * a - 2.0 * jmax * v).max(0.0))) / jmax;
                 (v * t + 0.5 * a * t * t + jmax * t * t * t / 6.0).max(0.0)
             }
         }
@@ -582,7 +583,7 @@ impl PathSpeedPlanner {
         let from_peak = if vp * j >= d * d {
             vp * vp / (2.0 * d) + vp * d / (2.0 * j)
         } else {
-            vp * (vp / j).sqrt()
+            vp * math::sqrt(vp / j)
         };
         let bound = from_peak + a.max(0.0) * vp / j;
         // rounding room (the exact distance is summed differently)
@@ -624,7 +625,7 @@ impl PathSpeedPlanner {
         if j * dv >= d * d {
             dv * (big + vt) / (2.0 * d) + (big + vt) * d / (2.0 * j)
         } else {
-            (big + vt) * (dv / j).sqrt()
+            (big + vt) * math::sqrt(dv / j)
         }
     }
 
@@ -742,7 +743,7 @@ impl PathSpeedPlanner {
     #[inline(always)]
     fn ramp_and_stop(&self, v: f64, a: f64, vp: f64) -> (Ramp3, Ramp3) {
         let (d, j) = self.stop_limits();
-        let ap = d.min((j * vp).sqrt());
+        let ap = d.min(math::sqrt(j * vp));
         (
             self.track_ramp(v, a, vp).1,
             Self::brake_ramp(vp, 0.0, ap, j),

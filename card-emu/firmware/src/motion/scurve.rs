@@ -52,6 +52,7 @@
 //! counts velocities and accelerations under `f64::MIN_POSITIVE` as zero.
 #![forbid(unsafe_code)]
 
+use crate::math;
 use core::fmt;
 
 /// Kinematic limits. All values must be finite and strictly positive.
@@ -182,7 +183,7 @@ impl fmt::Display for PlanError {
     }
 }
 
-impl std::error::Error for PlanError {}
+impl core::error::Error for PlanError {}
 
 /// Kinematic state (world frame, signed).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -270,7 +271,7 @@ fn ramp(dv: f64, amax: f64, ja: f64, jb: f64) -> ([f64; 3], f64) {
         ([amax / ja, (dv - dv_sat) / amax, amax / jb], amax)
     } else {
         // (sqrt(dv) / sqrt(half_k): dv / half_k underflows for a subnormal dv and a small jerk)
-        let peak = (dv.sqrt() / half_k.sqrt()).min(amax);
+        let peak = (math::sqrt(dv) / math::sqrt(half_k)).min(amax);
         ([peak / ja, 0.0, peak / jb], peak)
     }
 }
@@ -284,7 +285,7 @@ fn ramp_distance_slope(vs: f64, dv: f64, amax: f64, ja: f64, jb: f64) -> f64 {
         (vs + dv) / amax + 0.5 * amax / jb
     } else {
         // S = vs a_p k + c a_p^3,  vp = vs + a_p^2 k / 2
-        let ap = dv.max(0.0).sqrt() / half_k.sqrt();
+        let ap = math::sqrt(dv.max(0.0)) / math::sqrt(half_k);
         if ap <= 0.0 {
             return f64::INFINITY;
         }
@@ -368,11 +369,11 @@ impl Move {
             let qa = 0.5 / l.amax + 0.5 / l.dmax;
             let qb = self.slope(lo);
             // (hypot: qb^2 + 4 qa r underflows, or overflows, at the ends of the range)
-            lo + 2.0 * r / (qb + qb.hypot(2.0 * qa.sqrt() * r.sqrt()))
+            lo + 2.0 * r / (qb + math::hypot(qb, 2.0 * math::sqrt(qa) * math::sqrt(r)))
         } else if hi <= ba && hi <= bd && self.v0 == 0.0 && self.v1 == 0.0 {
             // Both ramps triangular from/to rest: dist = c * vp^(3/2).
             // (cbrt(q)^2, not cbrt(q^2): q^2 underflows to 0 for a tiny target)
-            let c = (target / self.dist(hi)).cbrt();
+            let c = math::cbrt(target / self.dist(hi));
             hi * c * c
         } else {
             0.5 * (lo + hi)
@@ -584,7 +585,7 @@ impl Profile {
                 let c = (vc - vmin).max(0.0);
                 // (hypot: qb^2 + 4 q c underflows to 0 for a tiny speed and a large jerk, and
                 // r would become infinite: a full-dmax stop that reverses)
-                let r = 2.0 * c / (qb + qb.hypot(2.0 * q.sqrt() * c.sqrt()));
+                let r = 2.0 * c / (qb + math::hypot(qb, 2.0 * math::sqrt(q) * math::sqrt(c)));
                 let r = if r > 0.0 { r.min(dm - ad) } else { 0.0 };
                 (ad + r, r)
             };
@@ -998,7 +999,7 @@ impl Profile {
                 let disc = a * a - 2.0 * j * v;
                 if disc >= 0.0 {
                     // (the stable pair of roots of j/2 s^2 + a s + v)
-                    let q = -(a + a.signum() * disc.sqrt());
+                    let q = -(a + a.signum() * math::sqrt(disc));
                     if q != 0.0 {
                         cut(q / j);
                         cut(2.0 * v / q);

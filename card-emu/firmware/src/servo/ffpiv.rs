@@ -24,6 +24,7 @@
 //! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_drive`] derives ours
 //! from the plant instead.
 
+use crate::math;
 pub use firmware_proto::reset::{DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH};
 /// FFPIV gains and the velocity estimator's cut-off: the register map's `mc_ffpiv_gains`
 /// (its `Default` is the default tuning, [`FfpivGains::for_drive`] places gains for a drive).
@@ -46,7 +47,7 @@ pub fn gains_valid(g: &FfpivGains) -> bool {
 /// The gain of the velocity estimator's first-order low-pass per tick: the exact
 /// discretisation of `1/(1 + s/ω_f)`, `1 − e^(−ω_f·T)`.
 fn velocity_filter_gain(gains: &FfpivGains, ts: f64) -> f64 {
-    1.0 - (-2.0 * core::f64::consts::PI * gains.vel_filter_hz * ts).exp()
+    1.0 - math::exp(-2.0 * core::f64::consts::PI * gains.vel_filter_hz * ts)
 }
 
 /// The FFPIV loop's state.
@@ -135,7 +136,7 @@ impl Ffpiv {
         // and integrating a half-count error would make the axis hunt between the two counts
         // around a target that lies between them.
         let pos = if r.vel == 0.0 && r.acc == 0.0 {
-            r.pos.round()
+            math::round(r.pos)
         } else {
             r.pos
         };

@@ -7,6 +7,7 @@
 //! (volts on the card). [`PdPlus::update`] and [`DriveModel::step`] allocate nothing and never
 //! panic.
 
+use crate::math;
 use core::fmt;
 
 /// Why a PD+ law or its drive model is refused.
@@ -33,7 +34,7 @@ impl fmt::Display for ModelError {
     }
 }
 
-impl std::error::Error for ModelError {}
+impl core::error::Error for ModelError {}
 
 fn pos_finite(x: f64) -> bool {
     x.is_finite() && x > 0.0
@@ -78,8 +79,8 @@ impl DriveModelExt for DriveModel {
 
     fn step(&self, ts: f64, theta: f64, vel: f64, u: f64) -> (f64, f64) {
         let g = self.counts_gain();
-        let a = (-ts / self.tau).exp();
-        let one_m_a = -(-ts / self.tau).exp_m1(); // 1 - a, accurate for small ts/τ
+        let a = math::exp(-ts / self.tau);
+        let one_m_a = -math::exp_m1(-ts / self.tau); // 1 - a, accurate for small ts/τ
         let vel_next = a * vel + one_m_a * g * u;
         let theta_next = theta + self.tau * one_m_a * vel + g * u * (ts - self.tau * one_m_a);
         (theta_next, vel_next)

@@ -49,6 +49,7 @@ use self::nurbs_rx::{curve_header, NurbsRx, STAGE_LEN};
 pub use self::path::validate_path_config;
 use crate::firmware::axis::Axis;
 pub use crate::firmware::outbox::Outbox;
+use crate::math;
 use crate::motion::arc::{ArcDirection, ExactCircle, ReferenceWordCircle};
 use crate::motion::filters::{AccDecFilter, CompensatedSum, FilterKind};
 use crate::motion::nurbs::NurbsError;
@@ -56,6 +57,7 @@ use crate::motion::nurbs_interp::{InterpConfig, InterpError};
 use crate::motion::otg::Trajectory;
 use crate::motion::saturation::SaturationAwareFeed;
 use crate::motion::scurve::{Limits, Profile};
+use crate::ram::{FixedVec, Lazy};
 use crate::servo::ffpiv::Reference;
 use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
 use firmware_proto::{
@@ -319,7 +321,7 @@ enum Feed {
 
 /// An exact non-negative integer carried in an f64 argument.
 fn whole(x: f64) -> Option<usize> {
-    (x.is_finite() && x.fract() == 0.0 && (0.0..=1e9).contains(&x)).then_some(x as usize)
+    (x.is_finite() && math::fract(x) == 0.0 && (0.0..=1e9).contains(&x)).then_some(x as usize)
 }
 
 /// A queued move.
@@ -403,7 +405,7 @@ pub struct Group {
     /// MC_SetOverride: (feed factor, rapid factor), each 0..=OVERRIDE_MAX.
     overrides: (f64, f64),
     /// The continuous path (made when the group first needs it).
-    path: Option<Box<path::PathRun>>,
+    path: Lazy<path::PathRun>,
     /// Its configuration (`group_path`, validated).
     path_cfg: firmware_proto::GroupPath,
 }
@@ -428,7 +430,7 @@ impl Group {
             move_count: 0,
             prev_vel: [0.0; MAX_AXES],
             rx: NurbsRx {
-                stage: vec![0.0; STAGE_LEN].into_boxed_slice(),
+                stage: FixedVec::from_elem(0.0, STAGE_LEN),
                 ..NurbsRx::default()
             },
             pos: [CompensatedSum::new(); MAX_AXES],
@@ -439,7 +441,7 @@ impl Group {
             ptp_stage: [None; MAX_AXES],
             nurbs: NurbsPool::new(),
             overrides: (1.0, 1.0),
-            path: None,
+            path: Lazy::new(),
             path_cfg: firmware_proto::GroupPath::default(),
         }
     }
@@ -874,7 +876,7 @@ impl Group {
                 let len = if op == Opcode::GroupMovePtp {
                     delta[..n].iter().fold(0.0f64, |m, d| m.max(d.abs()))
                 } else {
-                    delta[..n].iter().map(|d| d * d).sum::<f64>().sqrt()
+                    math::sqrt(delta[..n].iter().map(|d| d * d).sum::<f64>())
                 };
                 Geometry::Line { start, delta, len }
             }
@@ -1038,7 +1040,7 @@ impl Group {
         } else {
             ArcDirection::Cw
         };
-        let dist = |p: (f64, f64), q: (f64, f64)| (p.0 - q.0).hypot(p.1 - q.1);
+        let dist = |p: (f64, f64), q: (f64, f64)| math::hypot(p.0 - q.0, p.1 - q.1);
         let (centre, dir) = match (c.flags >> move_flags::CIRC_MODE_SHIFT) & 3 {
             raw::MC_CIRC_BY_CENTRE => {
                 let centre = (rel(u, a[6]), rel(v, a[7]));
@@ -1060,7 +1062,7 @@ impl Group {
                 if r.abs() < chord / 2.0 - tol {
                     return Err(NackCode::RadiusTooSmall);
                 }
-                let h = (r * r - chord * chord / 4.0).max(0.0).sqrt();
+                let h = math::sqrt((r * r - chord * chord / 4.0).max(0.0));
                 let mid = ((p0.0 + p1.0) / 2.0, (p0.1 + p1.1) / 2.0);
                 let (dx, dy) = ((p1.0 - p0.0) / chord, (p1.1 - p0.1) / chord);
                 // The centre on the left of start→end gives the short arc when going CCW.
@@ -1123,7 +1125,7 @@ impl Group {
             }
         }
         let hl = helix.iter().map(|h| h * h).sum::<f64>();
-        let len = (arc.length() * arc.length() + hl).sqrt();
+        let len = math::sqrt(arc.length() * arc.length() + hl);
         let geom = Geometry::Arc {
             start: *start,
             u,
@@ -1323,9 +1325,16 @@ fn axis_event(out: &mut Outbox, axis: usize, old: Option<AxisState>, new: AxisSt
     }
 }
 
-/// The filter bank of a card, allocated once at boot (a linear filter holds 4096 taps).
-pub fn filter_bank() -> Box<[AxisFilter]> {
-    (0..MAX_AXES).map(|_| AxisFilter::new()).collect()
+/// A card's filters, one per axis (a linear filter holds 4096 taps).
+pub type FilterBank = FixedVec<AxisFilter, MAX_AXES>;
+
+/// The filter bank of a card, made once at boot.
+pub fn filter_bank() -> FilterBank {
+    let mut bank = FilterBank::with_capacity(MAX_AXES);
+    for _ in 0..MAX_AXES {
+        let _ = bank.push(AxisFilter::new()); // room for MAX_AXES
+    }
+    bank
 }
 
 #[cfg(test)]

@@ -8,14 +8,16 @@
 //! without touching the heap. There is a slot for every move the group can hold; were every
 //! slot taken all the same, the next curve would be refused with `QueueFull`.
 //!
-//! A slot's storage (about 410 kB) is allocated the first time the command manager needs the
+//! A slot's storage (about 410 kB) is made the first time the command manager needs the
 //! slot, and kept for the life of the card: the pool never shrinks, and neither the tick nor
-//! a curve that ends frees anything. Boot allocates none of it: reserving all 33 slots of the
-//! four groups at boot (528 allocations, 54 MB of address space) made booting a card seven
-//! times slower and the garbage sweep, which boots tens of thousands of cards, 38 % slower.
+//! a curve that ends frees anything. On a host (the emulator) boot allocates none of it:
+//! reserving all 33 slots of the four groups at boot (528 allocations, 54 MB of address
+//! space) made booting a card seven times slower and the garbage sweep, which boots tens of
+//! thousands of cards, 38 % slower. On the card the slots are its RAM (see `crate::ram`).
 
 use crate::motion::nurbs_interp::Interpolator;
 use crate::motion::saturation::SaturationAwareFeed;
+use crate::ram::FixedVec;
 
 /// NURBS curves a group holds at once: as many as it has moves, the active one and a full
 /// queue, so a path of curves queues as deep as any other (a slot short of that would only
@@ -43,7 +45,7 @@ impl core::fmt::Debug for NurbsFeed {
 /// A group's curve slots: at most [`NURBS_SLOTS`], made as the command manager needs them.
 #[derive(Clone, Default)]
 pub(super) struct NurbsPool {
-    slots: Vec<NurbsFeed>,
+    slots: FixedVec<NurbsFeed, NURBS_SLOTS>,
 }
 
 impl core::fmt::Debug for NurbsPool {
@@ -90,14 +92,11 @@ impl NurbsPool {
         if let Some(k) = (0..self.slots.len()).find(|&k| !taken(k)) {
             return Some(k);
         }
-        if self.slots.len() >= NURBS_SLOTS {
-            return None;
-        }
-        self.slots.reserve_exact(NURBS_SLOTS - self.slots.len());
-        self.slots.push(NurbsFeed {
+        let slot = NurbsFeed {
             interp: Interpolator::with_capacity(),
             sat: None,
-        });
+        };
+        self.slots.push(slot).ok()?; // all NURBS_SLOTS taken
         Some(self.slots.len() - 1)
     }
 

@@ -23,7 +23,7 @@ pub(super) struct NurbsRx {
     /// tolerance, id.
     pub(super) path: bool,
     /// Control points, weights, knots: allocated once at boot.
-    pub(super) stage: Box<[f64]>,
+    pub(super) stage: FixedVec<f64, STAGE_LEN>,
 }
 
 /// Values one transfer can hold: control points of up to 8 axes, weights, knots.

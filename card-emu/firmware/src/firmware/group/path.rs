@@ -17,15 +17,16 @@ use crate::motion::path::{
     BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits, Segment,
     Transition,
 };
+use crate::ram::FixedVec;
 use firmware_proto::{path_flags, GroupPath, OUTPUTS, PATH_LEN};
-use std::collections::VecDeque;
+use heapless::Deque;
 
 /// A group's path and what the firmware keeps about its segments.
 #[derive(Clone)]
 pub(super) struct PathRun {
     path: Path,
     /// The command seq of every segment not finished yet, in order (front: the oldest).
-    seqs: VecDeque<u32>,
+    seqs: Deque<u32, PATH_LEN>,
     /// How many of `seqs` have started.
     started: usize,
     /// The id of the last segment queued.
@@ -54,7 +55,7 @@ pub(super) struct PathRun {
     /// The NURBS curve being queued (room for the largest, allocated with the path), and its
     /// control points moved to the path's end (a relative curve).
     curve: Nurbs,
-    moved: Vec<f64>,
+    moved: FixedVec<f64, { crate::motion::nurbs::MAX_CTRL * MAX_AXES }>,
 }
 
 impl core::fmt::Debug for PathRun {
@@ -86,7 +87,7 @@ impl PathRun {
     fn new() -> Self {
         Self {
             path: Path::with_capacity(PATH_LEN),
-            seqs: VecDeque::with_capacity(PATH_LEN),
+            seqs: Deque::new(),
             started: 0,
             last_id: 0,
             low_armed: false,
@@ -100,7 +101,7 @@ impl PathRun {
             last_seq: 0,
             pending: None,
             curve: Nurbs::with_capacity(),
-            moved: Vec::with_capacity(crate::motion::nurbs::MAX_CTRL * MAX_AXES),
+            moved: FixedVec::with_capacity(crate::motion::nurbs::MAX_CTRL * MAX_AXES),
         }
     }
 
@@ -200,7 +201,7 @@ impl Group {
     /// for its next segment).
     fn path_ready(&mut self, cfg: &GroupConfig, ts: f64) -> Result<&mut PathRun, NackCode> {
         let n = cfg.naxes;
-        let run = self.path.get_or_insert_with(|| Box::new(PathRun::new()));
+        let run = self.path.get_or_insert_with(PathRun::new);
         if run.is_idle() && (run.stale || run.path.position()[..n] != self.queue_end[..n]) {
             run.stale = false;
             let b = &self.path_cfg;
@@ -357,7 +358,8 @@ impl Group {
             return Err(NackCode::QueueFull);
         }
         push(run)?;
-        run.seqs.push_back(seq);
+        // Room checked above: the segment and its seq go in together.
+        let _ = run.seqs.push_back(seq);
         run.engaged = true;
         run.last_id = id;
         if run.seqs.len() > low_water {
@@ -451,7 +453,10 @@ impl Group {
             let pts = if relative {
                 run.moved.clear();
                 for p in pts.chunks_exact(n) {
-                    run.moved.extend(p.iter().zip(&start).map(|(x, s)| x + s));
+                    for (x, s) in p.iter().zip(&start) {
+                        // `pts` holds at most MAX_CTRL points of n ≤ MAX_AXES values
+                        let _ = run.moved.push(x + s);
+                    }
                 }
                 if run.moved.iter().any(|x| x.abs() > crate::MAX_POSITION) {
                     return Err(NackCode::OutOfRange);
@@ -547,7 +552,7 @@ impl Group {
             clear,
             last_seq,
             ..
-        } = &mut **run;
+        } = &mut *run;
         let pos = path.tick(factor, &mut |e| match e {
             PathEvent::SegmentStart { id } => {
                 let seq = seqs.get(*started).copied().unwrap_or(0);

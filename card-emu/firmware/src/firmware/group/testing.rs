@@ -3,6 +3,7 @@
 //! command manager queues them.
 
 use super::*;
+use crate::math;
 
 /// The fixtures' servo period, s (10 kHz).
 pub(super) const TS: f64 = 1e-4;
@@ -11,7 +12,7 @@ pub(super) const TS: f64 = 1e-4;
 pub(super) struct Bench {
     pub(super) g: Group,
     pub(super) axes: [Axis; MAX_AXES],
-    pub(super) filters: Box<[AxisFilter]>,
+    pub(super) filters: FilterBank,
     pub(super) out: Outbox,
     pub(super) tick: u64,
 }
@@ -147,7 +148,7 @@ impl Bench {
     /// The encoders read the references exactly (a perfect plant).
     pub(super) fn follow(&mut self) {
         for a in self.axes.iter_mut() {
-            a.sense(a.reference().pos.round() as i64, TS);
+            a.sense(math::round(a.reference().pos) as i64, TS);
         }
     }
 

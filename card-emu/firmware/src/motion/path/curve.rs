@@ -17,6 +17,7 @@
 //! measured from the curve's start.
 
 use super::{BlendSpeed, Path, PathError, Prog, Seg, Transition, MAX_AXES, V};
+use crate::math;
 use crate::motion::nurbs::Nurbs;
 use crate::motion::path::geom::Blend;
 
@@ -63,8 +64,8 @@ fn piece(
     };
     let (mut pa, da, dda) = ends(ua);
     let (pb, db, ddb) = ends(ub);
-    let norm = |v: &V| v[..n].iter().map(|x| x * x).sum::<f64>().sqrt();
-    let chord = (0..n).map(|k| (pb[k] - pa[k]).powi(2)).sum::<f64>().sqrt();
+    let norm = |v: &V| math::sqrt(v[..n].iter().map(|x| x * x).sum::<f64>());
+    let chord = math::sqrt((0..n).map(|k| math::powi(pb[k] - pa[k], 2)).sum::<f64>());
     if !(norm(&da) > 1e-6 * chord && norm(&db) > 1e-6 * chord) {
         return None;
     }
@@ -77,7 +78,7 @@ fn piece(
         let w = j as f64 / FIT_SAMPLES as f64;
         let q = b.pos_u(w);
         let p = c.eval_in_span(span, ua + w * h).0;
-        let d = (0..n).map(|k| (q[k] - p[k]).powi(2)).sum::<f64>().sqrt();
+        let d = math::sqrt((0..n).map(|k| math::powi(q[k] - p[k], 2)).sum::<f64>());
         if d.is_nan() {
             return None;
         }
@@ -85,7 +86,9 @@ fn piece(
     }
     // the end: the polynomial's sum against the curve's point
     let q = b.pos_u(1.0);
-    err = err.max((0..n).map(|k| (q[k] - pb[k]).powi(2)).sum::<f64>().sqrt());
+    err = err.max(math::sqrt(
+        (0..n).map(|k| math::powi(q[k] - pb[k], 2)).sum::<f64>(),
+    ));
     Some((b, pb, err))
 }
 
@@ -117,10 +120,7 @@ impl Path {
         let start = self.last_end;
         let (u0, _) = c.domain();
         let p0 = c.eval_clamped(u0).0;
-        let off = (0..n)
-            .map(|k| (p0[k] - start[k]).powi(2))
-            .sum::<f64>()
-            .sqrt();
+        let off = math::sqrt((0..n).map(|k| math::powi(p0[k] - start[k], 2)).sum::<f64>());
         if off.is_nan() || off > fit {
             return Err(PathError::CurveStart);
         }
@@ -156,7 +156,8 @@ impl Path {
                 if self.breaks.len() >= self.capacity {
                     return Err(PathError::Curve);
                 }
-                self.breaks.push((span, ua, ub));
+                // room checked above (capacity ≤ MAX_RING)
+                let _ = self.breaks.push((span, ua, ub));
                 h = 2.0 * (ub - ua);
                 ua = ub;
             }

@@ -3,6 +3,7 @@
 //! the way (see the module doc of `path`).
 
 use super::*;
+use crate::math;
 
 /// The braking envelope of one look-ahead pass: a piece of cap c whose start is d ahead can
 /// need the planner to slow for it only if c² + 2·D·(d − step) < θ (D the deceleration limit;
@@ -1297,7 +1298,7 @@ impl Path {
         // (a step that does not move lasts a tick: a resume starts at once)
         let ticks = match self.planner.rest_time() {
             _ if fine => 1,
-            Some(t) => ((t / self.lim.ts - 1e-9).ceil() as usize).clamp(1, self.lim.plan_ticks),
+            Some(t) => (math::ceil(t / self.lim.ts - 1e-9) as usize).clamp(1, self.lim.plan_ticks),
             None => self.lim.plan_ticks,
         };
         self.planner.ts = self.tsp;

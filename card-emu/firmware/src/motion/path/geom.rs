@@ -3,6 +3,7 @@
 //! at both trim points).
 
 use super::MAX_AXES;
+use crate::math;
 use crate::motion::arc::{ArcDirection, CircleError, ExactCircle};
 use crate::motion::nurbs_interp::{GL_W, GL_X};
 
@@ -78,7 +79,7 @@ impl Helix {
         let circle =
             ExactCircle::from_points((centre[0], centre[1]), (p0[u], p0[v]), (p1[u], p1[v]), dir)?;
         let r0 = circle.radius();
-        let r1 = (p1[u] - centre[0]).hypot(p1[v] - centre[1]);
+        let r1 = math::hypot(p1[u] - centre[0], p1[v] - centre[1]);
         let lp = circle.length();
         let mut h2 = 0.0;
         for k in 0..n {
@@ -86,7 +87,7 @@ impl Helix {
                 h2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
             }
         }
-        let len = lp.hypot(h2.sqrt());
+        let len = math::hypot(lp, math::sqrt(h2));
         if !(len.is_finite() && len > 0.0 && r0.is_finite()) {
             return Err(CircleError::InvalidRadius);
         }
@@ -124,7 +125,7 @@ impl Helix {
             .circle
             .angle_at(sigma)
             .unwrap_or(self.circle.start_angle());
-        let (sn, cs) = th.sin_cos();
+        let (sn, cs) = math::sin_cos(th);
         if s <= 0.0 {
             f.p = self.p0;
         } else if s >= self.len {
@@ -167,7 +168,7 @@ impl Prog {
         for k in 0..n {
             d2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
         }
-        let len = d2.sqrt();
+        let len = math::sqrt(d2);
         let mut dir = Z;
         if len > 0.0 {
             for k in 0..n {
@@ -372,7 +373,7 @@ impl Blend {
         for k in 0..n {
             chord2 += q[5][k] * q[5][k];
         }
-        self.len = chord2.sqrt();
+        self.len = math::sqrt(chord2);
         // (x·0 is 0 for a finite x, NaN for ∞ and NaN: one test, no branch per coefficient)
         let mut zero = 0.0;
         for r in c.iter() {
@@ -461,7 +462,7 @@ impl Blend {
                 + u * (q[2]
                     + u * (q[3] + u * (q[4] + u * (q[5] + u * (q[6] + u * (q[7] + u * q[8])))))));
         // rounding may take a square that is 0 just below it
-        s2.max(0.0).sqrt()
+        math::sqrt(s2.max(0.0))
     }
 
     /// 5-point Gauss–Legendre of |B'| on [a, b].
@@ -597,7 +598,7 @@ impl Blend {
             s13 += r1[k] * r3[k];
             s22 += r2[k] * r2[k];
         }
-        let sig = s11.sqrt();
+        let sig = math::sqrt(s11);
         if sig.is_nan() || sig <= 0.0 {
             return;
         }
@@ -673,7 +674,7 @@ impl Blend {
         let (mut ok, mut sp, mut r3t, mut r2dt) = ([false; L], z, z, z);
         let (mut i1, mut i2, mut i3) = (z, z, z);
         for i in 0..L {
-            let sig = s11[i].sqrt();
+            let sig = math::sqrt(s11[i]);
             ok[i] = sig > 0.0;
             i1[i] = 1.0 / sig;
             i2[i] = i1[i] * i1[i];
@@ -720,7 +721,7 @@ pub(super) fn dist_to_chord(n: usize, p: &V, a: &V, b: &V) -> f64 {
         let q = a[k] + t * (b[k] - a[k]) - p[k];
         d2 += q * q;
     }
-    d2.sqrt()
+    math::sqrt(d2)
 }
 
 #[cfg(test)]

@@ -115,6 +115,8 @@ mod v3;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
+use crate::math;
+use crate::ram::FixedVec;
 
 #[cfg(test)]
 use self::geom::Frame;
@@ -153,7 +155,7 @@ pub fn plan_ticks(period: f64, ts: f64) -> usize {
     } else {
         DEFAULT_PLAN_PERIOD
     };
-    let m = (period / ts).round();
+    let m = math::round(period / ts);
     if m.is_finite() && m >= 1.0 {
         (m as usize).min(MAX_PLAN_TICKS)
     } else {
@@ -199,6 +201,13 @@ const DEV_SAFETY: f64 = 0.97;
 /// reach spans a few dozen segments, and a block is passed only when none of its caps is
 /// below the speed (32 passed almost none of them on the dense-curve benchmark).
 pub const BLOCK: usize = 8;
+/// The most segments a path's ring holds (a power of two): the card's own path buffer
+/// (`MC_PATH_LEN`); a host's engine (feature `host`, the tests and benches) takes longer paths.
+pub const MAX_RING: usize = if cfg!(feature = "host") {
+    1 << 16
+} else {
+    firmware_proto::PATH_LEN.next_power_of_two()
+};
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
 /// Samples per smoothing blend for its deviation, and intervals for its cap (16 samples:
@@ -563,8 +572,8 @@ struct Look {
 /// The continuous-path engine of one axes group.
 #[derive(Debug, Clone)]
 pub struct Path {
-    segs: Vec<Seg>,
-    blocks: Vec<Block>,
+    segs: FixedVec<Seg, MAX_RING>,
+    blocks: FixedVec<Block, { MAX_RING / BLOCK }>,
     capacity: usize,
     ready: bool,
     lim: PathLimits,
@@ -620,7 +629,7 @@ pub struct Path {
     /// The time-shifted executor, while the executor's segment is one of its lines.
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
-    breaks: Vec<(usize, f64, f64)>,
+    breaks: FixedVec<(usize, f64, f64), MAX_RING>,
     /// Push and tick run the engine's x86-64-v3 build (see `v3`): where the CPU has it.
     v3: bool,
 }
@@ -636,7 +645,7 @@ fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
         v = r / q;
     }
     if p > 0.0 {
-        v = v.min((r / p).cbrt());
+        v = v.min(math::cbrt(r / p));
     } else {
         return v;
     }
@@ -707,10 +716,10 @@ fn check_tol(x: f64) -> Result<f64, PathError> {
 }
 
 impl Path {
-    /// A path with room for `segments` queued segments (at least 1); everything is allocated
-    /// here. Call [`reset`](Self::reset) before use.
+    /// A path with room for `segments` queued segments (at least 1, at most [`MAX_RING`]);
+    /// everything is made here. Call [`reset`](Self::reset) before use.
     pub fn with_capacity(segments: usize) -> Self {
-        let capacity = segments.max(1);
+        let capacity = segments.clamp(1, MAX_RING);
         // a power of two (of blocks): a slot is an index masked, not divided (a division
         // costs tens of cycles, and the executor looks its segments up several times a tick)
         let ring = capacity.next_power_of_two().max(BLOCK);
@@ -725,8 +734,8 @@ impl Path {
             plan_ticks: 1,
         };
         Self {
-            segs: vec![Seg::default(); ring],
-            blocks: vec![Block::default(); ring / BLOCK],
+            segs: FixedVec::from_elem(Seg::default(), ring),
+            blocks: FixedVec::from_elem(Block::default(), ring / BLOCK),
             capacity,
             ready: false,
             lim,
@@ -765,7 +774,7 @@ impl Path {
             #[cfg(test)]
             retests: 0,
             chain: Chain::default(),
-            breaks: Vec::with_capacity(capacity),
+            breaks: FixedVec::with_capacity(capacity),
             v3: v3::detected(),
         }
     }
@@ -977,7 +986,7 @@ impl Path {
         if kk > 0.0 {
             let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
             if kk * cap * cap > room {
-                cap = (room / kk).sqrt();
+                cap = math::sqrt(room / kk);
             }
         }
         let room = CAP_MARGIN * l.jmax[k] - jt * t;
@@ -1026,7 +1035,7 @@ impl Path {
         match p {
             Prog::Helix(h) => {
                 let ang = h.sweep().abs() * (s1 - s0) / p.len();
-                let m = ((ang / 1f64.to_radians()).ceil() as usize).clamp(16, 720);
+                let m = (math::ceil(ang / 1f64.to_radians()) as usize).clamp(16, 720);
                 for i in 0..=m {
                     let fr = p.frame(s0 + (s1 - s0) * i as f64 / m as f64);
                     for k in 0..self.lim.naxes {
@@ -1207,7 +1216,7 @@ impl Path {
                     // NaN when room is 0 too, which `min` passes over)
                     let v = vm / t;
                     let room = (am - at * t).max(0.0);
-                    let a = (room / kk).sqrt();
+                    let a = math::sqrt(room / kk);
                     c[i] = c[i].min(v).min(a);
                 }
             }
@@ -1285,11 +1294,7 @@ impl Path {
         let mut sag = 0.0f64;
         for p in [pa, pb] {
             if p.is_curved() {
-                let k = p.frame(0.0).k[..n]
-                    .iter()
-                    .map(|x| x * x)
-                    .sum::<f64>()
-                    .sqrt();
+                let k = math::sqrt(p.frame(0.0).k[..n].iter().map(|x| x * x).sum::<f64>());
                 let h = d / M as f64;
                 sag = sag.max(k * h * h / 8.0 * 1.01);
             }
@@ -1374,8 +1379,8 @@ impl Path {
                 }
                 fix_axes(&mut end);
                 let h = Helix::new(n, p0, end, u, v, centre, ccw).map_err(PathError::BadArc)?;
-                let r0 = (p0[u] - centre[0]).hypot(p0[v] - centre[1]);
-                let r1 = (end[u] - centre[0]).hypot(end[v] - centre[1]);
+                let r0 = math::hypot(p0[u] - centre[0], p0[v] - centre[1]);
+                let r1 = math::hypot(end[u] - centre[0], end[v] - centre[1]);
                 if (r1 - r0).abs() > 1e-6 * r0.max(1.0) {
                     return Err(PathError::ArcEndOffCircle);
                 }
@@ -1392,7 +1397,7 @@ impl Path {
                     return Err(PathError::OutOfRange);
                 }
                 rec.prog = Prog::Dwell { p: p0 };
-                rec.dwell_ticks = (time / self.lim.ts - 1e-9).ceil().max(0.0) as u64;
+                rec.dwell_ticks = math::ceil(time / self.lim.ts - 1e-9).max(0.0) as u64;
             }
         }
         self.append(rec, seg.transition, seg.blend, tol)
@@ -1494,7 +1499,7 @@ impl Path {
                 BlendSpeed::Next => rec.feed,
                 BlendSpeed::High => prev.feed.max(rec.feed),
             };
-            if dt2.sqrt() <= TANGENT_EPS && dk2 <= 1e-18 * k2 {
+            if math::sqrt(dt2) <= TANGENT_EPS && dk2 <= 1e-18 * k2 {
                 // tangent and curvature-continuous: no blend, the caps of both sides
                 rec.stop_before = false;
                 rec.jgeo = prev.bgeo.min(rec.bgeo);
@@ -1538,7 +1543,7 @@ impl Path {
                 rec.kstart = sm.kstart;
                 prev_trim = sm.da;
             } else if cos_turn > COS_REVERSAL {
-                let turn = cos_turn.acos();
+                let turn = math::acos(cos_turn);
                 // room on each side: the share of the segment, and on the executor's side
                 // what it can still slow down before
                 let mut room = Self::room(&prev.prog)
@@ -1552,7 +1557,7 @@ impl Path {
                 let (d, dev) = match transition {
                     Transition::MaxDeviation(tol) => {
                         if line_line {
-                            let f = 0.375 * (0.5 * turn).sin();
+                            let f = 0.375 * math::sin(0.5 * turn);
                             let d = if f > 0.0 { (tol / f).min(room) } else { room };
                             (d, f * d)
                         } else {
@@ -1587,7 +1592,7 @@ impl Path {
                     Transition::CornerDistance(cd) => {
                         let d = cd.min(room);
                         let dev = if line_line {
-                            0.375 * (0.5 * turn).sin() * d
+                            0.375 * math::sin(0.5 * turn) * d
                         } else {
                             build(d)
                                 .map(|b| Self::deviation(n, &b, &prev.prog, &rec.prog, d))

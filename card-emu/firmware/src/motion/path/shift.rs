@@ -23,6 +23,7 @@
 //! change a chain: its profiles are planned at the programmed feed.
 
 use super::{Path, PathEvent, Transition, DEV_SAFETY, MAX_AXES};
+use crate::math;
 use crate::motion::path::geom::{dist_to_chord, Prog, V};
 use crate::motion::scurve::{plan_stop, Limits, PlanError, Profile};
 
@@ -345,7 +346,7 @@ impl Path {
                 self.segs[sl].fired = f;
             }
         }
-        let speed = vel[..n].iter().map(|v| v * v).sum::<f64>().sqrt();
+        let speed = math::sqrt(vel[..n].iter().map(|v| v * v).sum::<f64>());
         self.chain.accel = (speed - self.chain.speed) / ts;
         self.chain.speed = speed;
         self.pos = p;

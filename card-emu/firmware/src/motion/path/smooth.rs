@@ -8,6 +8,7 @@
 //! and sampled (`sampled_dev2`).
 
 use super::*;
+use crate::math;
 
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
 /// deviation; its end curvature), the new one, its start curvature and its trims.
@@ -35,7 +36,7 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
         lbc += (c[k] - b[k]) * (c[k] - b[k]);
         lac += (c[k] - a[k]) * (c[k] - a[k]);
     }
-    let (lab, lbc, lac) = (lab.sqrt(), lbc.sqrt(), lac.sqrt());
+    let (lab, lbc, lac) = (math::sqrt(lab), math::sqrt(lbc), math::sqrt(lac));
     let mut d = [0.0; MAX_AXES];
     let mut sum2 = 0.0;
     for k in 0..n {
@@ -43,7 +44,7 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
         d[k] = tc - ta;
         sum2 += (ta + tc) * (ta + tc);
     }
-    let f = sum2.sqrt() / lac;
+    let f = math::sqrt(sum2) / lac;
     for x in d[..n].iter_mut() {
         *x *= f;
     }
@@ -92,7 +93,7 @@ pub(super) fn sampled_dev2<const N: usize>(
         }
         if d2 > worst2 {
             worst2 = d2;
-            if d2.sqrt() > limit {
+            if math::sqrt(d2) > limit {
                 return None;
             }
         }
@@ -118,8 +119,9 @@ pub(super) fn smooth_dev_bound(n: usize, ua: &V, ub: &V, da: f64, db: f64, ka: &
         kb2 += kb[k] * kb[k];
     }
     // |Ta − Tb| = 2 sin(θ/2), sin θ = 2 sin(θ/2) cos(θ/2)
-    let sin = (dt2 * (1.0 - 0.25 * dt2).max(0.0)).sqrt();
-    0.1875 * (da * db).sqrt() * sin + 0.06912 * (da * da * ka2.sqrt() + db * db * kb2.sqrt())
+    let sin = math::sqrt(dt2 * (1.0 - 0.25 * dt2).max(0.0));
+    0.1875 * math::sqrt(da * db) * sin
+        + 0.06912 * (da * da * math::sqrt(ka2) + db * db * math::sqrt(kb2))
 }
 
 /// An upper bound of the largest squared distance from a quintic Bézier (control points
@@ -213,7 +215,7 @@ impl Path {
             for k in 0..n {
                 chord2 += (b[k] - a[k]) * (b[k] - a[k]);
             }
-            let chord = chord2.sqrt();
+            let chord = math::sqrt(chord2);
             if chord > 0.0 && da.max(db).max(chord).max(closed) < LARGE {
                 out.chord_only(n, a, chord);
                 return Some((0.0, closed));
@@ -239,7 +241,7 @@ impl Path {
                 3 => hull_dev2::<3>(&q, &chords),
                 _ => hull_dev2::<MAX_AXES>(&q, &chords),
             };
-            let worst2 = if hull2.sqrt() <= limit {
+            let worst2 = if math::sqrt(hull2) <= limit {
                 hull2
             } else {
                 if !out.shape(n, fa.p, &q) {
@@ -252,10 +254,10 @@ impl Path {
                     _ => sampled_dev2::<MAX_AXES>(out, &chords, limit)?,
                 }
             };
-            worst2.sqrt()
+            math::sqrt(worst2)
         };
         if !with_cap {
-            let chord = q[5][..n].iter().map(|x| x * x).sum::<f64>().sqrt();
+            let chord = math::sqrt(q[5][..n].iter().map(|x| x * x).sum::<f64>());
             let small = q.iter().all(|p| p[..n].iter().all(|x| x.abs() < LARGE));
             out.chord_only(n, fa.p, chord);
             return (chord > 0.0 && chord.is_finite() && small).then_some((0.0, dev));

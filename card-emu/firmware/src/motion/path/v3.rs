@@ -19,7 +19,8 @@ use super::*;
 
 /// Whether this CPU has what the x86-64-v3 build of the engine uses.
 pub(super) fn detected() -> bool {
-    #[cfg(target_arch = "x86_64")]
+    // The CPU is asked through std; a build without it (the card's) runs the baseline build.
+    #[cfg(all(target_arch = "x86_64", feature = "host"))]
     {
         std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("fma")
@@ -27,7 +28,7 @@ pub(super) fn detected() -> bool {
             && std::arch::is_x86_feature_detected!("bmi2")
             && std::arch::is_x86_feature_detected!("lzcnt")
     }
-    #[cfg(not(target_arch = "x86_64"))]
+    #[cfg(not(all(target_arch = "x86_64", feature = "host")))]
     {
         false
     }
