@@ -681,6 +681,7 @@ impl Axis {
     }
 
     /// Read this tick's encoder: actual position, raw and filtered velocity.
+    #[inline] // called from the generic tick, instantiated in the crate that runs it
     pub fn sense(&mut self, encoder: i64, ts: f64) {
         self.raw_vel = encoder.wrapping_sub(self.encoder) as f64 / ts;
         self.encoder = encoder;

@@ -442,6 +442,7 @@ impl IoUnit {
     }
 
     /// Event `i` of the last tick.
+    #[inline]
     pub fn event(&self, i: usize) -> Option<Event> {
         self.events.get(i)
     }
@@ -462,6 +463,7 @@ impl IoUnit {
     }
 
     /// The outputs the compare pulses hold on now.
+    #[inline]
     pub fn pulse_outputs(&self) -> u32 {
         self.compare.iter().fold(0, |m, c| m | c.pulse_bits())
     }

@@ -185,6 +185,7 @@ impl Probe {
     }
 
     /// The status block.
+    #[inline]
     pub fn status(&self) -> raw::mc_probe_status {
         let state = match self.arm {
             None => raw::MC_IO_IDLE,

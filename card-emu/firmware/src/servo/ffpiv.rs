@@ -124,6 +124,7 @@ impl Ffpiv {
 
     /// The control output before the DAC (volts), for measured position `x`. The caller clamps
     /// it to `limit`; the integrator stops growing while the output is beyond it (anti-windup).
+    #[inline] // called from the generic tick, instantiated in the crate that runs it
     pub fn update(
         &mut self,
         r: &Reference,
