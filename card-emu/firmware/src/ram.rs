@@ -196,3 +196,38 @@ impl<T: core::fmt::Debug> core::fmt::Debug for Lazy<T> {
         self.as_ref().fmt(f)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_full_vector_refuses_and_keeps_what_it_holds() {
+        let mut v: FixedVec<u32, 4> = FixedVec::with_capacity(2);
+        for x in 0..4 {
+            assert_eq!(v.push(x), Ok(()));
+        }
+        assert_eq!(v.push(9), Err(9));
+        assert_eq!(&v[..], &[0, 1, 2, 3]);
+        v.truncate(1);
+        assert_eq!(v.extend_from_slice(&[5, 6, 7, 8]), Err(Full));
+        assert_eq!(&v[..], &[0]);
+        assert_eq!(v.extend_from_slice(&[5, 6, 7]), Ok(()));
+        assert_eq!(&v[..], &[0, 5, 6, 7]);
+        v.clear();
+        assert!(v.is_empty());
+        let f: FixedVec<f64, 3> = FixedVec::from_elem(1.5, 5);
+        assert_eq!(&f[..], &[1.5; 3]);
+    }
+
+    #[test]
+    fn a_lazy_store_is_made_once() {
+        let mut l: Lazy<FixedVec<u8, 8>> = Lazy::new();
+        assert!(!l.is_some() && l.as_ref().is_none());
+        let _ = l.get_or_insert_with(|| FixedVec::from_elem(1, 2)).push(2);
+        let _ = l.get_or_insert_with(|| FixedVec::from_elem(7, 8));
+        assert_eq!(l.as_ref().map(|v| &v[..]), Some(&[1, 1, 2][..]));
+        let _ = l.as_mut().map(|v| v.clear());
+        assert_eq!(l.as_ref().map(|v| v.len()), Some(0));
+    }
+}
