@@ -16,7 +16,7 @@
 //! - [`testkit`]: the fuzzing harness and the tests' seeded generator (doc-hidden).
 //!
 //! The cargo feature `emulator` (default) brings `plant` and `emu` (and the `card-emu`
-//! binary); without it the crate is the firmware and the algorithms a host uses.
+//! binary); without it the crate is only the firmware crate's re-exports.
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub use card_firmware::{firmware, motion, presets, servo};
