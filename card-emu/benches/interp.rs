@@ -34,7 +34,7 @@ fn group(
 ) -> (
     Group,
     [Axis; MAX_AXES],
-    Box<[card_emu::firmware::group::AxisFilter]>,
+    card_emu::firmware::group::FilterBank,
     Outbox,
 ) {
     let mut axes = core::array::from_fn(|_| Axis::new());

@@ -1,6 +1,8 @@
 //! The motion card in software, in layers:
 //!
-//! - [`firmware`]: the card's firmware — boot and the servo tick, the command manager, PLCopen
+//! - [`firmware`], [`motion`], [`servo`], [`presets`]: the crate `card-firmware`, re-exported
+//!   here.
+//!   [`firmware`]: the card's firmware — boot and the servo tick, the command manager, PLCopen
 //!   axes and groups, the safety layer. It sees only the DPRAM window and plain values (encoder
 //!   counts and input bits in, DAC volts out), exactly as on the card's DSP.
 //! - [`motion`]: the pure motion algorithms, used by the firmware and by the host: the S-curve
@@ -14,17 +16,15 @@
 //! - [`testkit`]: the fuzzing harness and the tests' seeded generator (doc-hidden).
 //!
 //! The cargo feature `emulator` (default) brings `plant` and `emu` (and the `card-emu`
-//! binary); without it the crate is the firmware and the algorithms a host uses.
+//! binary); without it the crate is only the firmware crate's re-exports.
 #![deny(unsafe_op_in_unsafe_fn)]
+
+pub use card_firmware::{firmware, motion, presets, servo};
 
 #[cfg(feature = "emulator")]
 pub mod emu;
-pub mod firmware;
-pub mod motion;
 #[cfg(feature = "emulator")]
 pub mod plant;
-pub mod presets;
-pub mod servo;
 #[doc(hidden)]
 pub mod testkit;
 

@@ -21,6 +21,7 @@
 //! Memory-ordering rules (see ARCHITECTURE.md): each side loads its own ring index plainly and
 //! the peer's with Acquire, and publishes with Release; every index read from the window is
 //! validated before use, because the other side may be buggy.
+#![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
@@ -63,13 +64,15 @@ pub mod scope;
 pub mod seqlock;
 pub mod wire;
 
-#[cfg(not(loom))]
+#[cfg(all(feature = "std", not(loom)))]
 pub mod emu_link;
-#[cfg(not(loom))]
+#[cfg(all(feature = "std", not(loom)))]
 pub mod window;
 
 pub use block::{Block, BlockAt, Blocks};
-pub use mem::{Dpram, Mem};
+#[cfg(target_has_atomic = "64")]
+pub use mem::Dpram;
+pub use mem::Mem;
 pub use motion_sync::*;
 pub use reset::{
     AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, GroupPath, PdPlusGains,
@@ -79,10 +82,10 @@ pub use scope::*;
 pub use wire::*;
 
 pub(crate) mod sync {
+    #[cfg(not(loom))]
+    pub use core::sync::atomic::{fence, Ordering};
     #[cfg(loom)]
     pub use loom::sync::atomic::{fence, Ordering};
-    #[cfg(not(loom))]
-    pub use std::sync::atomic::{fence, Ordering};
 }
 
 /// Layout version this build speaks. A card whose major version differs is refused.
@@ -142,7 +145,29 @@ pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = raw::MC_SCALE_MIN..=raw:
 /// construction; the card refuses them with [`NackCode::LimitRange`].
 pub fn limit_range(order: i32, servo_rate_hz: u32) -> core::ops::RangeInclusive<f64> {
     let rate = servo_rate_hz.clamp(SERVO_RATE_MIN_HZ, SERVO_RATE_MAX_HZ) as f64;
-    MAX_MOVE_TIME.powi(-order)..=MAX_POSITION * rate.powi(order)
+    powi(MAX_MOVE_TIME, -order)..=MAX_POSITION * powi(rate, order)
+}
+
+/// `x^n` by repeated squaring, the multiplications `f64::powi` makes (compiler-rt's
+/// `__powidf2`), without std.
+fn powi(mut x: f64, n: i32) -> f64 {
+    let mut k = n.unsigned_abs();
+    let mut r = 1.0;
+    loop {
+        if k & 1 == 1 {
+            r *= x;
+        }
+        k >>= 1;
+        if k == 0 {
+            break;
+        }
+        x *= x;
+    }
+    if n < 0 {
+        1.0 / r
+    } else {
+        r
+    }
 }
 
 const _: () = assert!(core::mem::size_of::<raw::mc_dpram>() <= DPRAM_SIZE);

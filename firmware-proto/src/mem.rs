@@ -5,8 +5,12 @@
 //! payload words and the ordering of a protocol is made with Acquire/Release on its index or
 //! sequence words. No Rust reference to DPRAM memory outlives a single access.
 
-use core::ptr::NonNull;
-use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+use core::sync::atomic::Ordering;
+#[cfg(target_has_atomic = "64")]
+use core::{
+    ptr::NonNull,
+    sync::atomic::{AtomicU32, AtomicU64},
+};
 
 /// Shared memory addressed by byte offset. An offset that is out of range or misaligned is a
 /// bug (the layout makes them impossible): debug builds panic on it at once; release builds
@@ -78,6 +82,7 @@ impl<T: Mem + ?Sized> Mem for &T {
     }
 }
 
+#[cfg(feature = "std")]
 impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
     #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
@@ -101,11 +106,13 @@ impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
     }
 }
 
-/// A mapped DPRAM window: a base pointer and a length. It does not own the mapping; whoever
+/// A mapped DPRAM window: a base pointer and a length. It needs 64-bit atomics (a card whose
+/// processor has none implements [`Mem`] over its bus itself). It does not own the mapping; whoever
 /// creates it keeps the mapping alive for as long as the `Dpram` is used.
 ///
 /// Everything that shares the handle (`&Dpram`, an `Arc` of a window holding it) shares its
 /// count of refused accesses ([`Mem::bad_accesses`]).
+#[cfg(target_has_atomic = "64")]
 #[derive(Debug)]
 pub struct Dpram {
     base: NonNull<u8>,
@@ -115,8 +122,10 @@ pub struct Dpram {
 
 // SAFETY: all access goes through atomic operations on the shared window, which is designed to
 // be used by several threads and processes at once.
+#[cfg(target_has_atomic = "64")]
 unsafe impl Send for Dpram {}
 // SAFETY: as above: `&Dpram` only ever performs atomic loads and stores.
+#[cfg(target_has_atomic = "64")]
 unsafe impl Sync for Dpram {}
 
 /// The window is too small or misaligned for the layout.
@@ -134,8 +143,9 @@ impl core::fmt::Display for WindowError {
     }
 }
 
-impl std::error::Error for WindowError {}
+impl core::error::Error for WindowError {}
 
+#[cfg(target_has_atomic = "64")]
 impl Dpram {
     /// Wrap a mapped window.
     ///
@@ -191,6 +201,7 @@ impl Dpram {
     }
 }
 
+#[cfg(target_has_atomic = "64")]
 impl Mem for Dpram {
     #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {
@@ -229,6 +240,7 @@ impl Mem for Dpram {
 }
 
 /// A DPRAM window in ordinary heap memory: the `sim` card and unit tests use it.
+#[cfg(feature = "std")]
 pub struct HeapWindow {
     // Atomic words: interior mutability, so the raw pointer in `dpram` stays valid while the
     // Box is moved or borrowed.
@@ -236,6 +248,7 @@ pub struct HeapWindow {
     dpram: Dpram,
 }
 
+#[cfg(feature = "std")]
 impl HeapWindow {
     /// A zeroed window of [`crate::DPRAM_SIZE`] bytes.
     pub fn new() -> Self {
@@ -257,12 +270,14 @@ impl HeapWindow {
     }
 }
 
+#[cfg(feature = "std")]
 impl Default for HeapWindow {
     fn default() -> Self {
         Self::new()
     }
 }
 
+#[cfg(feature = "std")]
 impl Mem for HeapWindow {
     #[inline]
     fn load32(&self, off: usize, order: Ordering) -> u32 {

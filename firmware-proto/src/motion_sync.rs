@@ -138,7 +138,7 @@ impl GearRatio {
     /// nonzero, the denominator positive, and both of magnitude ≤ [`GEAR_RATIO_MAX`] (NaN and
     /// infinities included).
     pub fn from_args(num: f64, den: f64) -> Option<Self> {
-        let int = |x: f64| x.is_finite() && x.fract() == 0.0 && x.abs() <= GEAR_RATIO_MAX;
+        let int = |x: f64| x.is_finite() && x % 1.0 == 0.0 && x.abs() <= GEAR_RATIO_MAX;
         (int(num) && int(den) && num != 0.0 && den > 0.0).then_some(Self {
             num: num as i64,
             den: den as i64,

@@ -99,7 +99,7 @@ impl core::fmt::Display for RingError {
     }
 }
 
-impl std::error::Error for RingError {}
+impl core::error::Error for RingError {}
 
 fn slot_offset(layout: &RingLayout, index: u32) -> usize {
     layout.entries + (index & (layout.len - 1)) as usize * layout.entry_bytes

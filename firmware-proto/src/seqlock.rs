@@ -28,7 +28,7 @@ impl core::fmt::Display for SnapshotError {
     }
 }
 
-impl std::error::Error for SnapshotError {}
+impl core::error::Error for SnapshotError {}
 
 /// Retries before [`SnapshotError::Busy`].
 pub const MAX_RETRIES: u32 = 1000;

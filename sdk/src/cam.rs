@@ -8,7 +8,7 @@
 //! `slave = slave_offset + slave_scale · table((master − master_offset) / master_scale)`,
 //! caught up within [`SyncLimits`](crate::SyncLimits) as gearing does;
 //! [`Axis::cam_switch`] takes another table at the end of the current cycle, the slave's position
-//! continuous; [`Axis::cam_out`] leaves it in velocity mode. `card_emu::motion::cam` and the
+//! continuous; [`Axis::cam_out`] leaves it in velocity mode. `card_firmware::motion::cam` and the
 //! register map's header (`MC_OP_CAM_TABLE`) have the rules.
 
 use crate::card::{finite, Axis, Card, Motion, Outcome};

@@ -2,7 +2,7 @@
 //!
 //! [`Card::save_config`] writes what the card holds, read back from the card
 //! (`MC_OP_READ_CONFIG`), never the SDK's memory; [`Card::load_config`] checks a whole file
-//! first, with the card's own checks (`card_emu::firmware::config` and the functions beside
+//! first, with the card's own checks (`card_firmware::host` and the functions beside
 //! each block's type), and applies nothing if any value is wrong: the error names the key
 //! (`axis.2.ffpiv.kp`) and its line. Then it applies the sections that differ from what the
 //! card holds, reads the card back and compares. [`Card::diff_config`] lists, key by key, where
@@ -50,12 +50,12 @@ pub use text::{ECHO_CHARS, MAX_CONFIG_BYTES};
 
 use crate::card::{Card, SCALE_RANGE};
 use crate::error::{nack_reason, Error, Result};
-use card_emu::firmware::axis_safety::AxisSafetyConfig;
-use card_emu::firmware::config::{decode_axis_filter, validate_axis_config, validate_group_config};
-use card_emu::firmware::group::validate_path_config;
-use card_emu::firmware::homing::HomingConfig;
-use card_emu::firmware::io::IoConfig;
-use card_emu::firmware::safety::SafetyConfig;
+use card_firmware::host::validate_path_config;
+use card_firmware::host::AxisSafetyConfig;
+use card_firmware::host::HomingConfig;
+use card_firmware::host::IoConfig;
+use card_firmware::host::SafetyConfig;
+use card_firmware::host::{decode_axis_filter, validate_axis_config, validate_group_config};
 use firmware_proto::Mem as _;
 use firmware_proto::{
     layout, raw, AxisConfig, AxisState, ConfigKind, GroupState, NackCode, INPUTS, MAX_AXES,
@@ -187,7 +187,7 @@ fn good_axis() -> AxisSection {
             ..AxisConfig::default()
         },
         &crate::nurbs::die_bonder_pdplus(0),
-        &card_emu::firmware::group::FilterConfig::default().to_block(),
+        &card_firmware::host::FilterConfig::default().to_block(),
         &AxisSafetyConfig::default().to_block(),
         &firmware_proto::AxisHoming::default(),
     )
@@ -244,9 +244,9 @@ fn check_safety(file: &Config, cx: &Context<'_>) -> std::result::Result<f64, Ref
     let safety = file.safety.or(cx.card.safety).map(|s| s.block());
     if let Some(s) = &file.safety {
         let good = SafetySection {
-            watchdog_timeout_us: card_emu::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US,
+            watchdog_timeout_us: card_firmware::host::WATCHDOG_TIMEOUT_DEFAULT_US,
             estop_input_category: 1,
-            max_stop_time_us: card_emu::firmware::safety::MAX_STOP_TIME_DEFAULT_US,
+            max_stop_time_us: card_firmware::host::MAX_STOP_TIME_DEFAULT_US,
         };
         let period = cx.host_period_us;
         refuse("safety", s, &good, |s| {

@@ -1,6 +1,6 @@
 //! The SDK's one error type.
 
-use card_emu::motion::nurbs::NurbsError;
+use card_firmware::host::NurbsError;
 use firmware_proto::NackCode;
 use std::time::Duration;
 
@@ -294,7 +294,7 @@ impl From<NurbsError> for ErrorKind {
     /// curve refused by [`crate::Nurbs::new`] on the host and one refused by the card have one
     /// code.
     fn from(e: NurbsError) -> Self {
-        card_emu::firmware::group::nurbs_nack(e).into()
+        card_firmware::host::nurbs_nack(e).into()
     }
 }
 

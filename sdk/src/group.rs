@@ -10,7 +10,7 @@ use firmware_proto::{
 };
 use std::time::Duration;
 
-pub use card_emu::motion::filters::FilterKind;
+pub use card_firmware::host::FilterKind;
 
 /// Where the tangential acceleration comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -715,12 +715,12 @@ impl FilterSettings {
     /// Shin Table 1 for the x and y axes: rapid bell 35 ms, cutting linear 30 ms, jog
     /// exponential 50 ms (the card's default).
     pub fn shin_table1() -> Self {
-        Self::from_preset(card_emu::motion::filters::FilterPreset::shin_table1())
+        Self::from_preset(card_firmware::host::FilterPreset::shin_table1())
     }
 
     /// Shin Table 1 for the z axis: rapid bell 85 ms, cutting linear 30 ms, jog exponential 40 ms.
     pub fn shin_table1_z() -> Self {
-        Self::from_preset(card_emu::motion::filters::FilterPreset::shin_table1_z())
+        Self::from_preset(card_firmware::host::FilterPreset::shin_table1_z())
     }
 
     /// One filter for every feed type.
@@ -732,7 +732,7 @@ impl FilterSettings {
         }
     }
 
-    fn from_preset(p: card_emu::motion::filters::FilterPreset) -> Self {
+    fn from_preset(p: card_firmware::host::FilterPreset) -> Self {
         Self {
             rapid: (p.rapid.kind, p.rapid.time_constant_s),
             cutting: (p.cutting.kind, p.cutting.time_constant_s),
@@ -750,7 +750,7 @@ impl Axis {
             firmware_proto::ConfigKind::AxisFilter,
             a,
         )?;
-        let f = card_emu::firmware::config::decode_axis_filter(&b)
+        let f = card_firmware::host::decode_axis_filter(&b)
             .map_err(|_| Error::Protocol(format!("axis {a}: the card holds an unknown filter")))?;
         Ok(FilterSettings {
             rapid: (f.kind[0], f.tau[0]),
@@ -765,7 +765,7 @@ impl Axis {
         let mut block = raw::mc_axis_filter::default();
         for (i, (kind, tau)) in [f.rapid, f.cutting, f.jog].into_iter().enumerate() {
             finite("filter time constant", tau)?;
-            block.kind[i] = card_emu::firmware::group::FilterConfig::kind_to_raw(kind);
+            block.kind[i] = card_firmware::host::FilterConfig::kind_to_raw(kind);
             block.tau[i] = tau;
         }
         let _guard = self.card().config_lock();

@@ -6,7 +6,7 @@
 //! [`Axis::home`] plus the configured `home_offset`. The settings are the card's register block
 //! (`mc_axis_homing`), in counts and seconds like [`crate::AxisSettings`]; the method numbers
 //! and what each does are listed in the register map's header (`MC_OP_HOME`) and in
-//! `card_emu::firmware::homing`.
+//! `card_firmware::firmware::homing`.
 
 use crate::card::{finite, Axis, Motion, Status};
 use crate::error::{Result, Target};

@@ -111,10 +111,9 @@ pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;
 
 /// The card's S-curve planner, and the time-optimal planner from any state
-/// (`card_emu::motion::otg`), for previewing a move on the host (`mcctl plan`).
+/// (`card_firmware::host::plan`), for previewing a move on the host (`mcctl plan`).
 pub mod plan {
-    pub use card_emu::motion::otg::{OtgLimits, Trajectory};
-    pub use card_emu::motion::scurve::*;
+    pub use card_firmware::host::plan::*;
 }
 
 /// Raw protocol types, for tools and tests that talk to the card below the typed API.

@@ -10,10 +10,10 @@ use std::time::Duration;
 /// Split a curve with more control points than the card takes ([`NURBS_MAX_CTRL`]) into
 /// pieces for [`Group::move_nurbs_path`]: exact (knot insertion at the cut knots), in order,
 /// each piece starting where the one before ends.
-pub use card_emu::motion::nurbs::split_curve as split_nurbs;
-pub use card_emu::motion::nurbs::{clamped_uniform_knots, Nurbs, NurbsError};
+pub use card_firmware::host::split_curve as split_nurbs;
+pub use card_firmware::host::{clamped_uniform_knots, Nurbs, NurbsError};
 /// Limits of a [`Nurbs`] curve: degree, dimension (axes), control points, knots.
-pub use card_emu::motion::nurbs::{
+pub use card_firmware::host::{
     MAX_CTRL as NURBS_MAX_CTRL, MAX_DEGREE as NURBS_MAX_DEGREE, MAX_DIM as NURBS_MAX_DIM,
     MAX_KNOTS as NURBS_MAX_KNOTS,
 };
@@ -26,7 +26,7 @@ pub use firmware_proto::AxisPdPlus as PdPlusSettings;
 
 /// Yeh Table 1, axis 0 (X) or 1 (Y), in volts (1 DU = 10 V).
 pub fn die_bonder_pdplus(axis: usize) -> PdPlusSettings {
-    let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
+    let m = card_firmware::host::die_bonder_volts().axes[axis.min(1)];
     PdPlusSettings {
         gains: m.gains,
         drive: m.plant,
@@ -38,7 +38,7 @@ pub fn die_bonder_pdplus(axis: usize) -> PdPlusSettings {
 /// The plant of Yeh's die bonder, axis 0 (X) or 1 (Y), for an emulated card.
 #[cfg(feature = "emulator")]
 pub fn die_bonder_plant(axis: usize) -> card_emu::MotorParams {
-    let m = card_emu::presets::die_bonder_volts().axes[axis.min(1)];
+    let m = card_firmware::host::die_bonder_volts().axes[axis.min(1)];
     card_emu::MotorParams::die_bonder(m.plant.kc, m.plant.tau)
 }
 

@@ -24,7 +24,7 @@ use std::time::Duration;
 
 /// The card's default watchdog timeout.
 pub const WATCHDOG_TIMEOUT_DEFAULT: Duration =
-    Duration::from_micros(card_emu::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US as u64);
+    Duration::from_micros(card_firmware::host::WATCHDOG_TIMEOUT_DEFAULT_US as u64);
 
 /// The card-wide safety state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -110,7 +110,7 @@ pub struct SafetySettings {
 impl Default for SafetySettings {
     /// The card's defaults, in counts.
     fn default() -> Self {
-        let c = card_emu::firmware::axis_safety::AxisSafetyConfig::default();
+        let c = card_firmware::host::AxisSafetyConfig::default();
         let has = |f| c.flags.contains(f);
         Self {
             soft_limits: has(AxisSafetyFlags::SOFT_LIMITS)
@@ -263,7 +263,7 @@ impl Axis {
             firmware_proto::ConfigKind::AxisSafety,
             a,
         )?;
-        let c = card_emu::firmware::axis_safety::AxisSafetyConfig::from_block(&b)
+        let c = card_firmware::host::AxisSafetyConfig::from_block(&b)
             .map_err(|_| Error::Protocol(format!("axis {a}: unknown stop category")))?;
         let scale = self.scale();
         let k = scale.abs();
@@ -318,7 +318,10 @@ impl Axis {
             // In counts: a negative scale turns the user's negative limit into the larger count.
             Some((neg, pos)) if scale < 0.0 => (pos * scale, neg * scale),
             Some((neg, pos)) => (neg * scale, pos * scale),
-            None => (-card_emu::MAX_POSITION, card_emu::MAX_POSITION),
+            None => (
+                -card_firmware::host::MAX_POSITION,
+                card_firmware::host::MAX_POSITION,
+            ),
         };
         let mut flags = AxisSafetyFlags::empty();
         flags.set(AxisSafetyFlags::SOFT_LIMITS, s.soft_limits.is_some());

@@ -9,7 +9,7 @@
 //! [`SyncLimits`], then [`Motion::wait_in_sync`] returns; [`Axis::gear_out`] leaves it moving
 //! at its velocity (velocity mode, [`Motion::wait_in_velocity`]); stop it with
 //! [`Axis::halt`]. The full rules are in the register map's header (`MC_OP_GEAR_IN`) and in
-//! `card_emu::firmware::gear`.
+//! `card_firmware::firmware::gear`.
 
 use crate::card::{finite, positive, Axis, Card, Motion, Outcome, Status};
 use crate::error::{Error, Result, Target};

@@ -1,6 +1,6 @@
-//! Test support shared by the fuzz targets, the garbage tests and the unit tests.
+//! Test support shared by the fuzz targets, the garbage tests and the unit tests. The seeded
+//! generator and the trajectory cases are the firmware crate's (its own tests use them).
 
 #[cfg(feature = "emulator")]
 pub mod fuzzing;
-pub mod otg;
-pub mod rng;
+pub use card_firmware::testkit::{otg, rng};

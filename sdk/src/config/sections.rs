@@ -453,7 +453,7 @@ impl AxisSection {
             scale: self.scale,
             ..AxisConfig::default()
         };
-        let pd = card_emu::firmware::config::pdplus_block(None);
+        let pd = card_firmware::host::pdplus_block(None);
         (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)))
     }
 }

@@ -45,7 +45,7 @@ pub const FIT_SHARE: f64 = 0.8;
 /// Share of the tolerance the card's own pieces may be from the fitted spline.
 pub const CARD_FIT_SHARE: f64 = 0.05;
 /// Largest turn (rad) at a vertex inside a run: the card's smoothing angle.
-pub const SMOOTH_TURN: f64 = card_emu::motion::path::SMOOTH_TURN;
+pub const SMOOTH_TURN: f64 = card_firmware::host::SMOOTH_TURN;
 /// The corner test's long view: the points about this many tolerances before and after a
 /// vertex.
 pub const BASELINE: f64 = 8.0;
@@ -573,7 +573,7 @@ impl Fitter {
         let cont = matches!(run.start, Start::Continue { .. });
         let kmin = if cont || !pin_end { 2 } else { 1 };
         let kmax = (chords / POINTS_PER_SPAN)
-            .min(card_emu::motion::nurbs::MAX_CTRL - spline::DEGREE)
+            .min(card_firmware::host::MAX_CTRL - spline::DEGREE)
             .max(kmin);
         let smooth = 1e-6 * np as f64;
         let ghost = run.ghost;

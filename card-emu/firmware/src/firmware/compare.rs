@@ -1,0 +1,724 @@
+//! Position compare: the "EQU" outputs of a motion card's encoder interface (layout 1.7).
+//!
+//! A channel watches one axis's actual position and pulses one digital output when the
+//! position crosses a compare position in the channel's direction: a single position (either
+//! direction allowed), a linear series `start + k·pitch` (k = 0..count−1, the pitch signed by
+//! the direction), or a table streamed in with `MC_OP_COMPARE_TABLE` (a ring of
+//! [`COMPARE_TABLE_LEN`] positions, strictly monotonic in the direction).
+//!
+//! The firing instant is found the way an FPGA comparator on the encoder counter would find
+//! it: between the counts at the two ends of the tick, each count `n` taken as the middle of
+//! its cell (`n + 0.5`; the shaft is somewhere in `[n, n+1)`), linearly interpolated
+//! ([`crossing`]). With the tick's motion nearly linear (the shaft's acceleration over one
+//! period moves it `a·T²/8` off the chord: 0.0125 counts at 10⁷ counts/s² and 10 kHz) the
+//! instant is within half a count of the crossing, at any speed.
+//!
+//! Nothing is skipped silently. A position already behind the axis when it becomes the next one
+//! (armed behind, queued too late, passed while the loop bound deferred it) is **missed**; so
+//! is one whose instant falls inside the pulse before it (the output is still on and cannot
+//! make a second pulse), and one the axis crossed and crossed back within one tick (the
+//! encoder interface's extreme counts of the tick reach it while neither end does: there is
+//! no instant to give it, [`crossed_back`]). Every fire and miss is counted; the firmware posts one
+//! `MC_EV_COMPARE` per code, channel and tick (the last position of that tick).
+//!
+//! Pure logic over plain numbers: no window, no clock, no allocation after [`Compare::new`].
+
+use crate::math;
+use crate::ram::FixedVec;
+use firmware_proto::{raw, NackCode, COMPARE_TABLE_LEN, MAX_POSITION, OUTPUTS};
+
+/// Positions a channel examines per tick at most (fires and misses); the rest wait for the
+/// next tick (and are then missed if the axis passed them: reported, never silent). A pulse
+/// is at least 1 µs, so no more than 100 fires fit in a 10 kHz tick.
+pub const MAX_PER_TICK: usize = 512;
+
+/// The crossing instant of `p` between the positions `x0` and `x1` at the two ends of a tick,
+/// as a fraction of the tick in `(0, 1]`: moving up (`dir > 0`) when `x0 < p <= x1`, down
+/// (`dir < 0`) when `x0 > p >= x1`, either way for `dir == 0`.
+pub fn crossing(x0: f64, x1: f64, p: f64, dir: i8) -> Option<f64> {
+    let up = x0 < p && p <= x1;
+    let down = x0 > p && p >= x1;
+    let hit = match dir {
+        1 => up,
+        -1 => down,
+        _ => up || down,
+    };
+    hit.then(|| ((p - x0) / (x1 - x0)).clamp(0.0, 1.0))
+}
+
+/// Did the axis cross `p` in `dir` and come back within the tick, seen from the ends `x0`, `x1`
+/// (no [`crossing`] between them) and the extremes `lo`, `hi` it reached in between?
+pub fn crossed_back(x0: f64, x1: f64, (lo, hi): (f64, f64), p: f64, dir: i8) -> bool {
+    let up = x0 < p && x1 < p && hi >= p;
+    let down = x0 > p && x1 > p && lo <= p;
+    match dir {
+        1 => up,
+        -1 => down,
+        _ => up || down,
+    }
+}
+
+/// Is `p` behind the position `x` for a channel moving in `dir` (already passed)?
+fn behind(x: f64, p: f64, dir: i8) -> bool {
+    match dir {
+        1 => x >= p,
+        -1 => x <= p,
+        _ => false,
+    }
+}
+
+/// What a channel fires at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Source {
+    /// One position; `dir` 0 fires either way.
+    Single {
+        /// The position, counts.
+        at: f64,
+    },
+    /// `start + k·pitch`, k = `next`..`count` (pitch signed by the direction).
+    Series {
+        /// The first position.
+        start: f64,
+        /// The step, signed.
+        pitch: f64,
+        /// How many.
+        count: u32,
+        /// The next k.
+        next: u32,
+    },
+    /// The channel's table, in queue order.
+    Table,
+}
+
+/// An armed channel's parameters, validated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arm {
+    /// The axis watched.
+    pub axis: usize,
+    /// The output pulsed.
+    pub output: u32,
+    /// The pulse width, ticks (fractional).
+    pub pulse_ticks: f64,
+    /// `MC_EV_COMPARE` low water when the table's queue falls to this (0: none).
+    pub low_water: u32,
+    /// +1 up, −1 down, 0 either way (single only).
+    pub dir: i8,
+    /// What it fires at.
+    pub source: Source,
+    /// The arm command's seq.
+    pub seq: u32,
+}
+
+/// One fire, for whoever records the output (the emulator's output recorder).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fire {
+    /// The channel.
+    pub channel: u8,
+    /// The output pulsed.
+    pub output: u8,
+    /// The axis watched.
+    pub axis: u8,
+    /// The position programmed, counts.
+    pub position: f64,
+    /// The instant within the tick just ended, a fraction of the period in `(0, 1]`.
+    pub frac: f64,
+}
+
+/// What a channel did in a tick.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TickReport {
+    /// The last position fired this tick.
+    pub fired: Option<f64>,
+    /// The last position missed this tick.
+    pub missed: Option<f64>,
+    /// The table's queue fell to the low-water mark: how many are queued.
+    pub low_water: Option<u32>,
+}
+
+/// The state of one compare channel.
+#[derive(Debug)]
+pub struct Compare {
+    arm: Option<Arm>,
+    done: bool,
+    table: FixedVec<f64, COMPARE_TABLE_LEN>,
+    head: usize,
+    len: usize,
+    /// The table's direction (+1, −1), fixed by its first entry; 0 while empty.
+    table_dir: i8,
+    fires: u32,
+    missed: u32,
+    last_fired: f64,
+    last_fire_tick: f64,
+    last_missed: f64,
+    /// When the current pulse ends, ticks since boot (fractional).
+    pulse_end: f64,
+    /// Ticks the output stays on in `card.outputs`.
+    pulse_left: u32,
+    low_water_sent: bool,
+}
+
+impl Default for Compare {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Compare {
+    /// A disarmed channel with room for its table (the only allocation).
+    pub fn new() -> Self {
+        Self {
+            arm: None,
+            done: false,
+            table: FixedVec::from_elem(0.0, COMPARE_TABLE_LEN),
+            head: 0,
+            len: 0,
+            table_dir: 0,
+            fires: 0,
+            missed: 0,
+            last_fired: 0.0,
+            last_fire_tick: 0.0,
+            last_missed: 0.0,
+            pulse_end: f64::NEG_INFINITY,
+            pulse_left: 0,
+            low_water_sent: false,
+        }
+    }
+
+    /// Is the channel armed (firing, or waiting for table positions)?
+    pub fn armed(&self) -> Option<&Arm> {
+        self.arm.as_ref()
+    }
+
+    /// The output it holds, as a mask: while armed, and while its last pulse is on (0
+    /// otherwise).
+    pub fn output_mask(&self) -> u32 {
+        match self.arm {
+            Some(a) if !self.done || self.pulse_left > 0 => 1 << a.output,
+            _ => 0,
+        }
+    }
+
+    /// The output bit while a pulse is on.
+    pub fn pulse_bits(&self) -> u32 {
+        match self.arm {
+            Some(a) if self.pulse_left > 0 => 1 << a.output,
+            _ => 0,
+        }
+    }
+
+    /// Arm with `arm` (a position already behind the axis is missed at the next tick); a
+    /// channel that is done may be armed again. `MC_NACK_COMPARE_BUSY` when armed, or a table
+    /// channel whose queue runs the other way.
+    pub fn start(&mut self, arm: Arm) -> Result<(), NackCode> {
+        if self.arm.is_some() && !self.done {
+            return Err(NackCode::CompareBusy);
+        }
+        if matches!(arm.source, Source::Table) && self.table_dir != 0 && self.table_dir != arm.dir {
+            return Err(NackCode::CompareBusy);
+        }
+        self.arm = Some(arm);
+        self.done = false;
+        self.fires = 0;
+        self.missed = 0;
+        self.pulse_end = f64::NEG_INFINITY;
+        self.pulse_left = 0;
+        self.low_water_sent = false;
+        Ok(())
+    }
+
+    /// Disarm, drop the table, end the pulse.
+    pub fn stop(&mut self) {
+        self.arm = None;
+        self.done = false;
+        self.head = 0;
+        self.len = 0;
+        self.table_dir = 0;
+        self.pulse_left = 0;
+    }
+
+    /// Queue `positions` in the table, moving in `dir`: all or none. Returns the room left.
+    pub fn queue(&mut self, dir: i8, positions: &[f64]) -> Result<u32, NackCode> {
+        if let Some(a) = self.arm {
+            if !matches!(a.source, Source::Table) || a.dir != dir {
+                return Err(NackCode::CompareBusy);
+            }
+        }
+        if self.table_dir != 0 && self.table_dir != dir {
+            return Err(NackCode::CompareBusy);
+        }
+        if positions.iter().any(|p| !p.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        if positions.iter().any(|p| p.abs() > MAX_POSITION) {
+            return Err(NackCode::OutOfRange);
+        }
+        if positions.len() > self.table.len() - self.len {
+            return Err(NackCode::CompareFull);
+        }
+        let mut last =
+            (self.len > 0).then(|| self.table[(self.head + self.len - 1) % self.table.len()]);
+        for &p in positions {
+            if let Some(l) = last {
+                if (p - l) * f64::from(dir) <= 0.0 {
+                    return Err(NackCode::CompareOrder);
+                }
+            }
+            last = Some(p);
+        }
+        let n = self.table.len();
+        for &p in positions {
+            self.table[(self.head + self.len) % n] = p;
+            self.len += 1;
+        }
+        self.table_dir = dir;
+        if self.len > self.arm.map_or(0, |a| a.low_water) as usize {
+            self.low_water_sent = false;
+        }
+        Ok((n - self.len) as u32)
+    }
+
+    /// The next position, if any.
+    fn next(&self) -> Option<f64> {
+        let a = self.arm?;
+        match a.source {
+            Source::Single { at } => (!self.done).then_some(at),
+            Source::Series {
+                start,
+                pitch,
+                count,
+                next,
+            } => (next < count).then(|| start + f64::from(next) * pitch),
+            Source::Table => (self.len > 0).then(|| self.table[self.head]),
+        }
+    }
+
+    /// Positions still to come.
+    pub fn pending(&self) -> u32 {
+        match self.arm.map(|a| a.source) {
+            Some(Source::Single { .. }) => u32::from(!self.done),
+            Some(Source::Series { count, next, .. }) => count - next,
+            _ => self.len as u32,
+        }
+    }
+
+    /// Consume the next position.
+    fn advance(&mut self) {
+        let Some(a) = self.arm.as_mut() else { return };
+        match &mut a.source {
+            Source::Single { .. } => self.done = true,
+            Source::Series { next, count, .. } => {
+                *next += 1;
+                self.done = *next >= *count;
+            }
+            Source::Table => {
+                self.head = (self.head + 1) % self.table.len();
+                self.len -= 1;
+                if self.len == 0 {
+                    self.table_dir = a.dir; // the queue keeps its direction while armed
+                }
+            }
+        }
+    }
+
+    /// One tick: the axis moved from `x0` to `x1` (cell middles, the axis frame) over the tick
+    /// ending at `tick`, reaching `range` (lowest, highest) in between. Fires go to `fires` (as
+    /// many as fit; the count is what matters).
+    pub fn tick<const N: usize>(
+        &mut self,
+        channel: u8,
+        (x0, x1): (f64, f64),
+        range: (f64, f64),
+        tick: u64,
+        fires: &mut heapless::Vec<Fire, N>,
+    ) -> TickReport {
+        self.pulse_left = self.pulse_left.saturating_sub(1);
+        let mut out = TickReport::default();
+        let Some(arm) = self.arm else { return out };
+        let t0 = tick as f64 - 1.0;
+        for _ in 0..MAX_PER_TICK {
+            if self.done {
+                break;
+            }
+            // A series entirely behind the axis is missed in one step.
+            if let Source::Series {
+                start,
+                pitch,
+                count,
+                next,
+            } = arm_source(&self.arm)
+            {
+                let p = start + f64::from(next) * pitch;
+                if behind(x0, p, arm.dir) {
+                    let n =
+                        (math::floor((x0 - p) / pitch) + 1.0).clamp(1.0, f64::from(count - next));
+                    let n = n as u32;
+                    self.missed = self.missed.wrapping_add(n);
+                    self.last_missed = start + f64::from(next + n - 1) * pitch;
+                    out.missed = Some(self.last_missed);
+                    if let Some(Arm {
+                        source: Source::Series { next: k, .. },
+                        ..
+                    }) = self.arm.as_mut()
+                    {
+                        *k += n;
+                        self.done = *k >= count;
+                    }
+                    continue;
+                }
+            }
+            let Some(p) = self.next() else { break };
+            if behind(x0, p, arm.dir) {
+                self.miss(p, &mut out);
+                continue;
+            }
+            let Some(frac) = crossing(x0, x1, p, arm.dir) else {
+                if crossed_back(x0, x1, range, p, arm.dir) {
+                    self.miss(p, &mut out);
+                    continue;
+                }
+                break;
+            };
+            let at = t0 + frac;
+            if at < self.pulse_end {
+                self.miss(p, &mut out);
+                continue;
+            }
+            self.fires = self.fires.wrapping_add(1);
+            self.last_fired = p;
+            self.last_fire_tick = at;
+            self.pulse_end = at + arm.pulse_ticks;
+            self.pulse_left = (math::ceil(arm.pulse_ticks) as u32).max(1);
+            out.fired = Some(p);
+            let _ = fires.push(Fire {
+                channel,
+                output: arm.output as u8,
+                axis: arm.axis as u8,
+                position: p,
+                frac,
+            });
+            self.advance();
+        }
+        if matches!(arm.source, Source::Table)
+            && arm.low_water > 0
+            && self.len <= arm.low_water as usize
+            && !self.low_water_sent
+        {
+            self.low_water_sent = true;
+            out.low_water = Some(self.len as u32);
+        }
+        out
+    }
+
+    fn miss(&mut self, p: f64, out: &mut TickReport) {
+        self.missed = self.missed.wrapping_add(1);
+        self.last_missed = p;
+        out.missed = Some(p);
+        self.advance();
+    }
+
+    /// The status block.
+    pub fn status(&self) -> raw::mc_compare_status {
+        let (state, axis, output) = match self.arm {
+            None => (raw::MC_IO_IDLE, 0, 0),
+            Some(a) if self.done => (raw::MC_IO_DONE, a.axis as u32, a.output),
+            Some(a) => (raw::MC_IO_ARMED, a.axis as u32, a.output),
+        };
+        raw::mc_compare_status {
+            state,
+            axis,
+            fires: self.fires,
+            missed: self.missed,
+            pending: self.pending(),
+            output,
+            next: self.next().unwrap_or(0.0),
+            last_fired: self.last_fired,
+            last_fire_tick: self.last_fire_tick,
+            last_missed: self.last_missed,
+        }
+    }
+}
+
+fn arm_source(a: &Option<Arm>) -> Source {
+    a.map_or(Source::Table, |a| a.source)
+}
+
+/// Validate `MC_OP_COMPARE_ARM`'s arguments (after the channel): output, pulse_us, low_water,
+/// position/start, pitch, count; `flags` the mode and direction; `rate_hz` the servo rate.
+pub fn validate_arm(
+    axis: usize,
+    flags: u32,
+    args: &[f64],
+    rate_hz: u32,
+    seq: u32,
+) -> Result<Arm, NackCode> {
+    let [output, pulse_us, low_water, p0, pitch, count, ..] = *args else {
+        return Err(NackCode::CompareMode);
+    };
+    if flags & !(raw::MC_CMP_MODE_MASK | raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG) != 0 {
+        return Err(NackCode::CompareMode);
+    }
+    let mode = flags & raw::MC_CMP_MODE_MASK;
+    let dir: i8 = match (
+        flags & raw::MC_CMP_DIR_POS != 0,
+        flags & raw::MC_CMP_DIR_NEG != 0,
+    ) {
+        (true, false) => 1,
+        (false, true) => -1,
+        (true, true) if mode == raw::MC_CMP_MODE_SINGLE => 0,
+        _ => return Err(NackCode::CompareMode),
+    };
+    let int_in = |x: f64, lo: f64, hi: f64| math::fract(x) == 0.0 && (lo..=hi).contains(&x);
+    let finite = [output, pulse_us, low_water, p0, pitch, count];
+    let used = match mode {
+        raw::MC_CMP_MODE_SINGLE => &finite[..4],
+        raw::MC_CMP_MODE_SERIES => &finite[..],
+        raw::MC_CMP_MODE_TABLE => &finite[..3],
+        _ => return Err(NackCode::CompareMode),
+    };
+    if used.iter().any(|x| !x.is_finite()) {
+        return Err(NackCode::NotFinite);
+    }
+    if !int_in(output, 0.0, (OUTPUTS - 1) as f64)
+        || !int_in(pulse_us, 1.0, f64::from(raw::MC_PULSE_MAX_US))
+        || !int_in(low_water, 0.0, (COMPARE_TABLE_LEN - 1) as f64)
+    {
+        return Err(NackCode::CompareMode);
+    }
+    let source = match mode {
+        raw::MC_CMP_MODE_SINGLE => {
+            if p0.abs() > MAX_POSITION {
+                return Err(NackCode::OutOfRange);
+            }
+            Source::Single { at: p0 }
+        }
+        raw::MC_CMP_MODE_SERIES => {
+            if !(1.0..=MAX_POSITION).contains(&pitch) || !int_in(count, 1.0, f64::from(i32::MAX)) {
+                return Err(NackCode::CompareMode);
+            }
+            let end = p0 + f64::from(dir) * pitch * (count - 1.0);
+            if p0.abs() > MAX_POSITION || end.abs() > MAX_POSITION {
+                return Err(NackCode::OutOfRange);
+            }
+            Source::Series {
+                start: p0,
+                pitch: f64::from(dir) * pitch,
+                count: count as u32,
+                next: 0,
+            }
+        }
+        _ => Source::Table,
+    };
+    Ok(Arm {
+        axis,
+        output: output as u32,
+        pulse_ticks: pulse_us * 1e-6 * f64::from(rate_hz),
+        low_water: low_water as u32,
+        dir,
+        source,
+        seq,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arm(dir: i8, source: Source) -> Arm {
+        Arm {
+            axis: 0,
+            output: 3,
+            pulse_ticks: 0.1,
+            low_water: 0,
+            dir,
+            source,
+            seq: 7,
+        }
+    }
+
+    type Fires = heapless::Vec<Fire, 1024>;
+
+    /// Run a channel over a ramp of positions `x(k)`, k = 0..n; the fires' instants.
+    fn run(c: &mut Compare, x: impl Fn(u64) -> f64, n: u64) -> (Vec<(f64, f64)>, TickReport) {
+        let mut all = Vec::new();
+        let mut last = TickReport::default();
+        for k in 1..=n {
+            let mut f = Fires::new();
+            let (x0, x1) = (x(k - 1), x(k));
+            let r = c.tick(0, (x0, x1), (x0.min(x1), x0.max(x1)), k, &mut f);
+            if r != TickReport::default() {
+                last = r;
+            }
+            all.extend(f.iter().map(|f| (f.position, k as f64 - 1.0 + f.frac)));
+        }
+        (all, last)
+    }
+
+    #[test]
+    fn the_crossing_instant_is_interpolated_within_the_tick() {
+        assert_eq!(crossing(0.5, 200.5, 50.5, 1), Some(0.25));
+        assert_eq!(crossing(0.5, 200.5, 50.5, -1), None);
+        assert_eq!(crossing(200.5, 0.5, 50.5, -1), Some(0.75));
+        assert_eq!(crossing(200.5, 0.5, 50.5, 0), Some(0.75));
+        assert_eq!(crossing(0.5, 0.5, 0.5, 0), None, "no motion, no crossing");
+        assert_eq!(crossing(0.5, 1.5, 1.5, 1), Some(1.0));
+    }
+
+    /// A series at 200 counts per tick, pitch 50: every position fires once, at the instant
+    /// the ramp passes it, and the series ends done.
+    #[test]
+    fn a_series_fires_every_position_at_its_instant() {
+        let mut c = Compare::new();
+        let source = Source::Series {
+            start: 1_000.0,
+            pitch: 50.0,
+            count: 100,
+            next: 0,
+        };
+        c.start(arm(1, source)).unwrap();
+        let (fires, _) = run(&mut c, |k| 0.5 + 200.0 * k as f64, 100);
+        assert_eq!(fires.len(), 100);
+        for (i, (p, t)) in fires.iter().enumerate() {
+            assert_eq!(*p, 1_000.0 + 50.0 * i as f64);
+            assert!((0.5 + 200.0 * t - p).abs() < 1e-9, "{p} at {t}");
+        }
+        let s = c.status();
+        assert_eq!(
+            (s.state, s.fires, s.missed, s.pending),
+            (raw::MC_IO_DONE, 100, 0, 0)
+        );
+    }
+
+    /// Armed behind the axis: the positions already passed are missed (counted, the last
+    /// reported), the rest fire.
+    #[test]
+    fn positions_passed_before_the_arm_are_missed() {
+        let mut c = Compare::new();
+        let source = Source::Series {
+            start: 0.0,
+            pitch: 10.0,
+            count: 20,
+            next: 0,
+        };
+        c.start(arm(1, source)).unwrap();
+        let (fires, last) = run(&mut c, |k| 95.5 + k as f64, 200);
+        assert_eq!(fires.len(), 10); // 100..190
+        assert_eq!((c.status().missed, c.status().fires), (10, 10));
+        assert!(last.fired.is_some());
+        let mut c = Compare::new();
+        c.start(arm(-1, Source::Single { at: 500.0 })).unwrap();
+        let mut f = Fires::new();
+        let r = c.tick(0, (400.5, 300.5), (300.5, 400.5), 1, &mut f);
+        assert_eq!(r.missed, Some(500.0));
+        assert_eq!(c.status().state, raw::MC_IO_DONE);
+        assert_eq!(c.output_mask(), 0, "done: the output is free");
+        c.start(arm(-1, Source::Single { at: 200.0 })).unwrap();
+        assert_eq!(
+            c.start(arm(-1, Source::Single { at: 100.0 })),
+            Err(NackCode::CompareBusy)
+        );
+        assert_eq!((c.status().state, c.status().missed), (raw::MC_IO_ARMED, 0));
+    }
+
+    /// Crossed and crossed back within one tick: no instant, reported missed; a single either
+    /// way too. Not reached: nothing.
+    #[test]
+    fn a_position_crossed_and_crossed_back_in_one_tick_is_missed() {
+        assert!(crossed_back(9.5, 9.5, (9.5, 10.5), 10.0, 1));
+        assert!(!crossed_back(9.5, 9.5, (9.5, 9.5), 10.0, 1));
+        assert!(!crossed_back(9.5, 9.5, (9.5, 10.5), 10.0, -1));
+        assert!(crossed_back(10.5, 10.5, (9.5, 10.5), 10.0, 0));
+        let mut c = Compare::new();
+        c.start(arm(1, Source::Single { at: 10.0 })).unwrap();
+        let mut f = Fires::new();
+        let r = c.tick(0, (9.5, 9.5), (9.5, 9.5), 1, &mut f);
+        assert_eq!(r, TickReport::default());
+        let r = c.tick(0, (9.5, 9.5), (9.5, 10.5), 2, &mut f);
+        assert_eq!((r.missed, r.fired, f.len()), (Some(10.0), None, 0));
+        assert_eq!(c.status().state, raw::MC_IO_DONE);
+    }
+
+    /// Two positions closer than the pulse: the second comes while the output is on and is
+    /// reported missed.
+    #[test]
+    fn a_position_inside_the_pulse_before_is_missed() {
+        let mut c = Compare::new();
+        let source = Source::Series {
+            start: 10.0,
+            pitch: 5.0,
+            count: 4,
+            next: 0,
+        };
+        let a = Arm {
+            pulse_ticks: 0.06, // 12 counts at 200 counts per tick
+            ..arm(1, source)
+        };
+        c.start(a).unwrap();
+        let (fires, _) = run(&mut c, |k| 0.5 + 200.0 * k as f64, 1);
+        assert_eq!(fires.iter().map(|f| f.0).collect::<Vec<_>>(), [10.0, 25.0]);
+        assert_eq!(c.status().missed, 2);
+        assert_eq!(c.pulse_bits(), 1 << 3);
+    }
+
+    /// A table streamed in: order checked, all or nothing, full refused, low water once.
+    #[test]
+    fn the_table_streams_with_room_order_and_low_water() {
+        let mut c = Compare::new();
+        assert_eq!(c.queue(1, &[1.0, 2.0, 2.0]), Err(NackCode::CompareOrder));
+        assert_eq!(c.status().pending, 0, "nothing taken");
+        let n = COMPARE_TABLE_LEN as u32;
+        assert_eq!(c.queue(1, &[10.0, 20.0]), Ok(n - 2));
+        assert_eq!(c.queue(1, &[15.0]), Err(NackCode::CompareOrder));
+        assert_eq!(c.queue(-1, &[5.0]), Err(NackCode::CompareBusy));
+        let a = Arm {
+            low_water: 2,
+            ..arm(1, Source::Table)
+        };
+        c.start(a).unwrap();
+        assert_eq!(c.queue(1, &[30.0, 40.0]), Ok(n - 4));
+        let (fires, last) = run(&mut c, |k| 0.5 + 5.0 * k as f64, 5);
+        assert_eq!(fires.len(), 2);
+        assert_eq!((last.fired, last.low_water), (Some(20.0), Some(2)));
+        let mut f = Fires::new();
+        let r = c.tick(0, (25.5, 25.6), (25.5, 25.6), 6, &mut f);
+        assert_eq!(r.low_water, None, "once");
+        assert_eq!(c.status().pending, 2);
+        let many: Vec<f64> = (0..COMPARE_TABLE_LEN).map(|i| 100.0 + i as f64).collect();
+        assert_eq!(c.queue(1, &many), Err(NackCode::CompareFull));
+        assert_eq!(c.queue(1, &many[..COMPARE_TABLE_LEN - 2]), Ok(0));
+    }
+
+    #[test]
+    fn the_arm_is_validated() {
+        let ok = [2.0, 10.0, 0.0, 100.0, 5.0, 10.0];
+        let series = raw::MC_CMP_MODE_SERIES | raw::MC_CMP_DIR_POS;
+        assert!(validate_arm(0, series, &ok, 10_000, 1).is_ok());
+        let bad = |i: usize, v: f64| {
+            let mut a = ok;
+            a[i] = v;
+            validate_arm(0, series, &a, 10_000, 1)
+        };
+        assert_eq!(bad(0, 16.0).unwrap_err(), NackCode::CompareMode);
+        assert_eq!(bad(0, 1.5).unwrap_err(), NackCode::CompareMode);
+        assert_eq!(bad(1, 0.0).unwrap_err(), NackCode::CompareMode);
+        assert_eq!(bad(1, f64::NAN).unwrap_err(), NackCode::NotFinite);
+        assert_eq!(bad(3, 1e300).unwrap_err(), NackCode::OutOfRange);
+        assert_eq!(bad(4, 1e-310).unwrap_err(), NackCode::CompareMode);
+        assert_eq!(bad(5, 0.0).unwrap_err(), NackCode::CompareMode);
+        assert_eq!(bad(4, MAX_POSITION).unwrap_err(), NackCode::OutOfRange);
+        let both = raw::MC_CMP_MODE_SERIES | raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG;
+        assert_eq!(
+            validate_arm(0, both, &ok, 10_000, 1).unwrap_err(),
+            NackCode::CompareMode
+        );
+        let single = raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG;
+        assert_eq!(validate_arm(0, single, &ok, 10_000, 1).unwrap().dir, 0);
+        assert_eq!(
+            validate_arm(0, 3, &ok, 10_000, 1).unwrap_err(),
+            NackCode::CompareMode
+        );
+        assert_eq!(
+            validate_arm(0, 1 << 9, &ok, 10_000, 1).unwrap_err(),
+            NackCode::CompareMode
+        );
+    }
+}

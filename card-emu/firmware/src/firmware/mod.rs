@@ -1,0 +1,1556 @@
+//! The firmware: boot, the command manager and the control loop (Thinh Fig 6–7).
+//!
+//! It is pure and deterministic: [`Firmware::serve_commands`] reads the command ring and
+//! answers every command with exactly one ack or nack; [`Firmware::tick`] takes the encoder
+//! readings, runs profiles and servo loops, and returns the DAC voltages. Time is the tick
+//! count; nothing reads a clock, calls the OS, allocates or panics.
+#![forbid(unsafe_code)]
+
+pub mod axis;
+pub mod axis_safety;
+pub mod cam;
+pub mod compare;
+pub mod config;
+pub mod dac;
+pub mod gear;
+pub mod group;
+pub mod homing;
+pub mod io;
+pub mod nack;
+pub mod outbox;
+pub mod probe;
+pub mod pvt;
+pub mod safety;
+pub mod scope;
+
+use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
+use self::gear::{AuxInputs, Gear};
+use self::group::{filter_bank, FilterConfig, Group, Outbox};
+use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
+use self::io::{DigitalInputs, IoUnit};
+use self::safety::{Inputs, Safety};
+use crate::math;
+use crate::motion::scurve::Limits;
+use crate::ram::Lazy;
+use firmware_proto::layout;
+use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
+use firmware_proto::{
+    raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, MoveFlags, NackCode,
+    Opcode, StopReason, MAX_AXES, MAX_GROUPS,
+};
+use firmware_proto::{ScopeEvent, ScopeProducer, Signal};
+
+/// Firmware version reported in the identity block: major << 16 | minor << 8 | patch.
+pub const FW_VERSION: u32 = 1 << 16;
+
+/// Commands served per call of [`Firmware::serve_commands`], so a flood cannot starve the loop.
+pub const MAX_CMDS_PER_SERVE: usize = 16;
+
+/// Event slots kept free for asynchronous events: a command is only taken from the ring when
+/// its ack and this many events still fit, so acks are never lost.
+pub const EVENT_RESERVE: u32 = 4 * MAX_AXES as u32;
+
+/// The servo rate of a sample time, Hz (the steps that get only `ts` plan with the card's
+/// ranges at its rate).
+pub(crate) fn rate_hz(ts: f64) -> u32 {
+    math::round(1.0 / ts) as u32
+}
+
+/// The card's firmware over a DPRAM window `M`.
+pub struct Firmware<M: Mem + Clone> {
+    mem: M,
+    cmds: CmdConsumer<M>,
+    events: EvtProducer<M>,
+    axes: [Axis; MAX_AXES],
+    homing: [Homing; MAX_AXES],
+    /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
+    gears: [Gear; MAX_AXES],
+    aux: AuxInputs,
+    /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
+    cams: Lazy<cam::CamStore>,
+    /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
+    pvt: pvt::PvtStreams,
+    groups: [Group; MAX_GROUPS],
+    filters: group::FilterBank,
+    outbox: Outbox,
+    /// The digital outputs (layout 1.6), bit i = output i.
+    outputs: u32,
+    /// Digital inputs, position compare and touch probes (layout 1.7).
+    io: IoUnit,
+    num_axes: usize,
+    /// Layout 1.8: each axis's scale, counts per user unit, kept for hosts (not used here).
+    scales: [f64; MAX_AXES],
+    servo_rate_hz: u32,
+    tick: u64,
+    irq_pending: bool,
+    events_lost: u32,
+    cmds_accepted: u32,
+    safety: Safety,
+    /// Layout 1.8: the scope, made on the first MC_OP_SCOPE_CONFIGURE, and its ring.
+    scope: Lazy<scope::Scope>,
+    scope_ring: ScopeProducer<M>,
+}
+
+impl<M: Mem + Clone> Firmware<M> {
+    /// Initialise the window (identity, rings, status) and start.
+    pub fn boot(mem: M, num_axes: usize, servo_rate_hz: u32) -> Self {
+        let num_axes = num_axes.clamp(1, MAX_AXES);
+        let servo_rate_hz = servo_rate_hz.clamp(
+            firmware_proto::SERVO_RATE_MIN_HZ,
+            firmware_proto::SERVO_RATE_MAX_HZ,
+        );
+        mem.write32(layout::CARD_STATE, raw::MC_CARD_BOOTING);
+        for off in [
+            layout::CMD_HEAD,
+            layout::CMD_TAIL,
+            layout::EVT_HEAD,
+            layout::EVT_TAIL,
+            layout::SCOPE_HEAD,
+            layout::SCOPE_TAIL,
+        ] {
+            mem.write32(off, 0);
+        }
+        let safety = Safety::boot(&mem);
+        let mut fw = Self {
+            safety,
+            cmds: CmdConsumer::attach(mem.clone(), CMD_RING),
+            events: EvtProducer::attach(mem.clone(), EVT_RING),
+            scope_ring: ScopeProducer::attach(mem.clone(), firmware_proto::SCOPE_RING),
+            scope: Lazy::new(),
+            mem,
+            axes: core::array::from_fn(|_| Axis::new()),
+            homing: [Homing::default(); MAX_AXES],
+            gears: [Gear::default(); MAX_AXES],
+            aux: AuxInputs::default(),
+            pvt: core::array::from_fn(|_| Lazy::new()),
+            cams: Lazy::new(),
+            groups: core::array::from_fn(Group::new),
+            filters: filter_bank(),
+            outbox: Outbox::default(),
+            outputs: 0,
+            io: IoUnit::new(),
+            num_axes,
+            scales: [1.0; MAX_AXES],
+            servo_rate_hz,
+            tick: 0,
+            irq_pending: false,
+            events_lost: 0,
+            cmds_accepted: 0,
+        };
+        layout::CARD_CONFIG.write(
+            &fw.mem,
+            &raw::mc_card_config {
+                servo_rate_hz,
+                ..Default::default()
+            },
+        );
+        for a in 0..MAX_AXES {
+            fw.write_axis_config(a, &AxisConfig::default());
+            fw.write_axis_filter(a, &FilterConfig::default());
+            layout::AXIS_HOMING
+                .at(a)
+                .write(&fw.mem, &fw.homing[a].config().block);
+        }
+        for (g, group) in fw.groups.iter().enumerate() {
+            layout::GROUP_PATH.at(g).write(&fw.mem, group.path_config());
+        }
+        layout::IO_CONFIG.write(&fw.mem, &fw.io.config().to_block());
+        fw.publish();
+        fw.mem.store32(
+            layout::CARD_STATE,
+            raw::MC_CARD_RUNNING,
+            core::sync::atomic::Ordering::Release,
+        );
+        fw
+    }
+
+    /// Write the identity block. The card owns it: it is republished every tick, so a stray
+    /// write by a host (or anything else mapping the window) cannot lock the next host out.
+    fn publish_identity(&self) {
+        let m = &self.mem;
+        m.write32(layout::MAGIC, firmware_proto::MAGIC);
+        m.write32(
+            layout::LAYOUT,
+            firmware_proto::LAYOUT_MAJOR as u32 | (firmware_proto::LAYOUT_MINOR as u32) << 16,
+        );
+        m.write32(layout::FW_VERSION, FW_VERSION);
+        m.write32(
+            layout::CAPABILITIES,
+            raw::MC_CAP_SCURVE | raw::MC_CAP_FFPIV | raw::MC_CAP_EVENT_IRQ,
+        );
+        m.write32(layout::NUM_AXES, self.num_axes as u32);
+        m.write32(layout::SERVO_RATE_HZ, self.servo_rate_hz);
+        m.write32(layout::CMD_RING_LEN, CMD_RING.len);
+        m.write32(layout::EVT_RING_LEN, EVT_RING.len);
+    }
+
+    /// Sample time, s.
+    pub fn ts(&self) -> f64 {
+        1.0 / self.servo_rate_hz as f64
+    }
+
+    /// Servo rate, Hz.
+    pub fn servo_rate_hz(&self) -> u32 {
+        self.servo_rate_hz
+    }
+
+    /// Servo ticks since boot.
+    pub fn tick_count(&self) -> u64 {
+        self.tick
+    }
+
+    /// Axes on this card.
+    pub fn num_axes(&self) -> usize {
+        self.num_axes
+    }
+
+    /// One axis (for inspection by tests and benches).
+    pub fn axis(&self, i: usize) -> Option<&Axis> {
+        self.axes[..self.num_axes].get(i)
+    }
+
+    /// The safety layer (watchdog, latches, configuration).
+    pub fn safety(&self) -> &Safety {
+        &self.safety
+    }
+
+    /// One axis's homing (its configuration, and whether it runs).
+    pub fn homing(&self, i: usize) -> Option<&Homing> {
+        self.homing[..self.num_axes].get(i)
+    }
+
+    /// The card's inputs (limit, home and alarm switches, encoder fault, e-stop) for the next
+    /// tick, as the FPGA samples them.
+    pub fn set_inputs(&mut self, inputs: Inputs) {
+        self.safety.set_inputs(inputs);
+    }
+
+    /// The digital input pins for the next tick, with their edges' instants (layout 1.7).
+    pub fn set_digital_inputs(&mut self, inputs: DigitalInputs) {
+        self.io.set_inputs(inputs);
+    }
+
+    /// The lowest and highest count of each encoder over the period the next tick ends, as
+    /// the encoder interface tracks them (layout 1.7's compare sees a crossing undone within
+    /// the tick).
+    pub fn set_encoder_spans(&mut self, spans: io::EncoderSpans) {
+        self.io.set_spans(spans);
+    }
+
+    /// Digital inputs, compare channels and probes.
+    pub fn io(&self) -> &IoUnit {
+        &self.io
+    }
+
+    /// Post an event of this tick about `axis` (or a channel).
+    fn post_axis_event(&mut self, kind: EventKind, seq: u32, axis: u16, code: i32, value: f64) {
+        self.post(Event {
+            seq,
+            kind: kind as u16,
+            axis,
+            code,
+            tick: self.tick,
+            value,
+        });
+    }
+
+    fn post_safety_events(&mut self) {
+        for k in 0..self.safety.events.len() {
+            if let Some(e) = self.safety.events.get(k) {
+                self.post(e);
+            }
+        }
+        self.safety.events.clear();
+        self.mem
+            .write32(layout::SAFETY_EVENTS_LOST, self.safety.events.lost());
+    }
+
+    /// Was an interrupt raised since the last call? Clears the flag.
+    pub fn take_irq(&mut self) -> bool {
+        let raised = core::mem::take(&mut self.irq_pending);
+        if raised {
+            let n = self.mem.read32(layout::IRQ_COUNT).wrapping_add(1);
+            self.mem.write32(layout::IRQ_COUNT, n);
+        }
+        raised
+    }
+
+    /// The command manager: answer up to [`MAX_CMDS_PER_SERVE`] waiting commands. Returns how
+    /// many were served.
+    pub fn serve_commands(&mut self) -> usize {
+        let mut served = 0;
+        while served < MAX_CMDS_PER_SERVE {
+            // Never take a command whose ack might not fit.
+            match self.events.free() {
+                Ok(free) if free > EVENT_RESERVE => {}
+                _ => break,
+            }
+            let cmd: Command = match self.cmds.pop() {
+                Ok(Some(c)) => c,
+                Ok(None) => break,
+                Err(e) => {
+                    // The host's head is beyond anything it could have written: drop what is
+                    // there rather than act on garbage, stop the axes, and tell the host.
+                    self.cmds.resync();
+                    let head = match e {
+                        firmware_proto::RingError::Corrupt { head, .. } => head,
+                        firmware_proto::RingError::Full => 0,
+                    };
+                    // [safety] category 1 stop of every axis, protocol-error event
+                    self.safety.protocol_error(
+                        &self.mem,
+                        self.tick,
+                        &mut self.axes[..self.num_axes],
+                        raw::MC_PROTO_CMD_RING as i32,
+                        head,
+                    );
+                    self.post_safety_events();
+                    break;
+                }
+            };
+            served += 1;
+            self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
+            self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
+            let outcome = if self.expired(&cmd) {
+                Err(NackCode::Expired)
+            } else {
+                self.execute(&cmd)
+            };
+            let reply = match outcome {
+                Ok(value) => Event {
+                    seq: cmd.seq,
+                    kind: EventKind::Ack as u16,
+                    axis: cmd.axis,
+                    code: 0,
+                    tick: self.tick,
+                    value,
+                },
+                Err(code) => Event {
+                    seq: cmd.seq,
+                    kind: EventKind::Nack as u16,
+                    axis: cmd.axis,
+                    code: code as i32,
+                    tick: self.tick,
+                    value: 0.0,
+                },
+            };
+            if reply.kind == EventKind::Ack as u16 {
+                // The status first, then the events about it: a host that has the ack reads
+                // the state the command left (see `tick`).
+                self.publish();
+            }
+            self.post(reply);
+            self.post_outbox();
+            self.post_safety_events(); // [safety] events of the command (e-stop)
+        }
+        served
+    }
+
+    /// Has the command's deadline passed? The host's clock is read after the command was
+    /// taken from the ring (its tail published): a host that gives up on a command first
+    /// advances its clock past the deadline, then looks whether the card took it, so either
+    /// the host sees it taken or the card sees it expired (a store-load pair of SeqCst fences).
+    fn expired(&self, c: &Command) -> bool {
+        if c.deadline_ms == 0 {
+            return false;
+        }
+        core::sync::atomic::fence(core::sync::atomic::Ordering::SeqCst);
+        let now = self
+            .mem
+            .load32(layout::HOST_TIME_MS, core::sync::atomic::Ordering::SeqCst);
+        now != 0 && (now.wrapping_sub(c.deadline_ms) as i32) > 0
+    }
+
+    /// Execute one command: the value of its ack, or its nack.
+    fn execute(&mut self, c: &Command) -> Result<f64, NackCode> {
+        let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
+        // [safety] the session gate: with nobody in command, only what stops, reads, observes
+        // or stages data (safety.rs)
+        if !self.safety.in_command() && !safety::allowed_without_session(op) {
+            return Err(NackCode::NoSession);
+        }
+        if IoUnit::is_io_op(op) {
+            // Layout 1.7: digital inputs, compare, probes (io.rs); nothing moves.
+            let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
+            return self.io.command(mem, c, op, n, rate);
+        }
+        if is_group_op(op) {
+            return self.execute_group(c, op).map(|()| 0.0);
+        }
+        if is_scope_op(op) {
+            // Layout 1.8: the scope (scope.rs); nothing moves.
+            return self.scope_command(c, op).map(|()| 0.0);
+        }
+        let nargs = match op {
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => 8,
+            Opcode::MoveVelocity => 4,
+            Opcode::Halt | Opcode::Stop => 2,
+            Opcode::Jog | Opcode::SetOverride | Opcode::Home | Opcode::SetPosition => 1,
+            _ => 0,
+        };
+        if c.args[..nargs].iter().any(|a| !a.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        match op {
+            Opcode::Nop => return Ok(0.0),
+            Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
+            // Layout 1.8: the configuration read back, the scale kept for hosts (config.rs).
+            Opcode::ReadConfig => return self.read_config(c).map(|()| 0.0),
+            Opcode::SetScale => return self.set_scale(c).map(|()| 0.0),
+            Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
+            Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
+            // Layout 1.7 (sync): cam tables are the card's, not an axis's (cam.rs).
+            Opcode::CamTable | Opcode::CamData => return self.execute_cam_table(c, op),
+            _ => {}
+        }
+        // [safety] opcodes 32..47 (safety.rs)
+        if let Some(r) = self.safety.command(
+            &self.mem,
+            c,
+            op,
+            self.tick,
+            self.servo_rate_hz,
+            &mut self.axes[..self.num_axes],
+        ) {
+            return r;
+        }
+        let ax = c.axis as usize;
+        if ax >= self.num_axes {
+            return Err(NackCode::BadAxis);
+        }
+        // [safety] card-wide latches, causes still present, limits (safety.rs)
+        self.safety
+            .check_command(op, c.flags, &c.args, &self.axes[ax])?;
+        let tick = self.tick;
+        let pending = self.axes[ax].pending_motion();
+        let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
+        match op {
+            Opcode::ApplyAxisConfig => {
+                let block = layout::AXIS_CONFIG.at(ax).read(&self.mem);
+                let pdplus = layout::AXIS_PDPLUS.at(ax).read(&self.mem);
+                let cfg = config::validate_axis_config(&block, &pdplus)?;
+                let ts = self.ts();
+                self.axes[ax].apply_config(cfg, ts);
+            }
+            Opcode::ApplyAxisFilter => {
+                let cfg = config::decode_axis_filter(&layout::AXIS_FILTER.at(ax).read(&self.mem))?;
+                cfg.validate(self.ts())?;
+                if !self.filters[ax].is_settled() {
+                    return Err(NackCode::FilterBusy);
+                }
+                self.filters[ax].config = cfg;
+                return Ok(0.0);
+            }
+            Opcode::MoveAbsolute
+            | Opcode::MoveRelative
+            | Opcode::MoveAdditive
+            | Opcode::MoveVelocity
+            | Opcode::Jog
+            | Opcode::SetOverride
+            | Opcode::Halt
+            | Opcode::Stop
+            | Opcode::StopRelease
+            | Opcode::PowerOff
+            | Opcode::Home
+            | Opcode::SetPosition
+            | Opcode::GearIn
+            | Opcode::GearInPos
+            | Opcode::GearOut
+            | Opcode::CamIn
+            | Opcode::CamOut
+            | Opcode::PvtBegin
+            | Opcode::PvtPoints
+            | Opcode::PvtStart
+                if grouped =>
+            {
+                return Err(NackCode::AxisGrouped)
+            }
+            _ => {}
+        }
+        // Layout 1.7 (sync): PT/PVT streams (pvt.rs): from Standstill, nothing aborted; the
+        // ack's value is the points still free.
+        if matches!(op, Opcode::PvtBegin | Opcode::PvtPoints | Opcode::PvtStart) {
+            let (changed, value) = self.execute_pvt(c, op, ax)?;
+            self.axes[ax].accepted(c.seq);
+            if let Some(old) = changed {
+                let e = state_event(c.axis, old, self.axes[ax].state, tick);
+                self.outbox.push(e);
+            }
+            return Ok(value);
+        }
+        // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
+        let gear = matches!(
+            op,
+            Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut | Opcode::CamIn | Opcode::CamOut
+        );
+        let (gear_changed, gear_takes_over) = if gear {
+            self.execute_gear(c, op, ax)?
+        } else {
+            (None, false)
+        };
+        let axis = &mut self.axes[ax];
+        let rate = self.servo_rate_hz;
+        // Does the command take over the axis (PLCopen Aborting): the motion in progress and
+        // every buffered move are aborted.
+        let mut aborting = matches!(
+            op,
+            Opcode::MoveVelocity
+                | Opcode::Jog
+                | Opcode::Halt
+                | Opcode::Stop
+                | Opcode::PowerOff
+                | Opcode::Home
+        ) || gear_takes_over;
+        let changed = match op {
+            Opcode::PowerOn => axis.power(true)?,
+            Opcode::PowerOff => axis.power(false)?,
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
+                let a = &c.args;
+                let lim = Limits {
+                    vmax: a[1],
+                    amax: a[2],
+                    dmax: a[3],
+                    j1: a[4],
+                    j3: a[5],
+                    j5: a[6],
+                    j7: a[7],
+                };
+                lim.check_range(rate).map_err(nack::plan_nack)?;
+                let kind = match op {
+                    Opcode::MoveAbsolute => MoveKind::Absolute,
+                    Opcode::MoveRelative => MoveKind::Relative,
+                    _ => MoveKind::Additive,
+                };
+                let buffered = c.flags & MoveFlags::BUFFERED.bits() != 0;
+                let (changed, started) =
+                    axis.start_move(c.seq, kind, a[0], &lim, buffered, rate)?;
+                aborting = started == Started::Now;
+                changed
+            }
+            Opcode::MoveVelocity | Opcode::Jog => {
+                let a = &c.args;
+                let (vel, lim) = if op == Opcode::Jog {
+                    let cfg = &axis.config;
+                    if a[0].abs() > cfg.jog_max_vel {
+                        return Err(NackCode::OutOfRange);
+                    }
+                    let (acc, jerk) = (cfg.jog_accel, cfg.jog_jerk);
+                    (a[0], Limits::symmetric(cfg.jog_max_vel, acc, jerk))
+                } else {
+                    let lim = Limits {
+                        vmax: a[0].abs(),
+                        amax: a[1],
+                        dmax: a[2],
+                        ..Limits::symmetric(0.0, 0.0, a[3])
+                    };
+                    (a[0], lim)
+                };
+                if a[0].abs() > *firmware_proto::limit_range(1, rate).end() {
+                    return Err(NackCode::OutOfRange);
+                }
+                nack::check_ranges(rate, &[(2, lim.amax), (2, lim.dmax), (3, lim.j1)])?;
+                axis.start_velocity(c.seq, vel, &lim, rate)?
+            }
+            Opcode::SetOverride => {
+                axis.set_override(c.args[0], rate)?;
+                None
+            }
+            Opcode::Halt | Opcode::Stop => {
+                nack::check_ranges(rate, &[(2, c.args[0]), (3, c.args[1])])?;
+                let max_time = self.safety.config().max_stop_time();
+                axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
+            }
+            Opcode::StopRelease => {
+                axis.release_stop()?;
+                None
+            }
+            Opcode::Reset => axis.reset()?,
+            Opcode::ApplyAxisHoming => {
+                let block = layout::AXIS_HOMING.at(ax).read(&self.mem);
+                self.homing[ax].apply(HomingConfig::validate(&block, rate)?);
+                None
+            }
+            Opcode::Home => self.homing[ax].start(axis, c.seq, c.args[0], rate)?,
+            Opcode::SetPosition => {
+                let relative = c.flags & firmware_proto::SET_POSITION_RELATIVE != 0;
+                homing::set_position(axis, c.args[0], relative)?;
+                None
+            }
+            _ => gear_changed,
+        };
+        let axis = &mut self.axes[ax];
+        axis.accepted(c.seq);
+        if aborting {
+            // The motion still waiting for its done, and every buffered move, end here.
+            let dropped = axis.drain_queue();
+            for seq in pending.into_iter().filter(|&s| s != c.seq).chain(dropped) {
+                self.outbox.push(Event {
+                    seq,
+                    kind: EventKind::MotionAborted as u16,
+                    axis: c.axis,
+                    code: op as i32,
+                    tick,
+                    value: 0.0,
+                });
+            }
+        }
+        if let Some(old) = changed {
+            self.outbox.push(state_event(c.axis, old, axis.state, tick));
+        }
+        Ok(0.0)
+    }
+
+    /// `MC_OP_HOST_DETACH`: the host closes the card cleanly. Every axis moving on its own
+    /// (moves, velocity mode and jog, homing, a coupling or PT/PVT stream) and every moving
+    /// group (its queue or path) halts along its stop ramp, each axis with reason
+    /// `HostDetach`, then the session ends and the watchdog is disarmed: nothing is latched,
+    /// and nothing moves on for a host that has gone.
+    fn detach(&mut self, c: &Command) -> Result<(), NackCode> {
+        self.safety.detach(&self.mem, c.flags)?;
+        let (tick, max_time) = (self.tick, self.safety.config().max_stop_time());
+        for group in self.groups.iter_mut() {
+            let Some(members) = group.moving_members() else {
+                continue;
+            };
+            if group.state == GroupState::Stopping {
+                continue;
+            }
+            let hard = hard_stop_ramp(&self.axes, members);
+            let (mut list, n) = ([0usize; MAX_AXES], members.len().min(MAX_AXES));
+            list[..n].copy_from_slice(&members[..n]);
+            // Refused only by a group that cannot stop (none that moves).
+            if group
+                .start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox)
+                .is_ok()
+            {
+                // The members' motion ends by the detach: a new host reads why.
+                for &a in &list[..n] {
+                    self.axes[a].group_stopping(StopReason::HostDetach);
+                }
+            }
+        }
+        for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
+            // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
+            let geared = axis.state == AxisState::SynchronizedMotion
+                && (self.gears[i].engaged() || self.pvt[i].as_ref().is_some_and(|s| s.running()));
+            if !geared
+                && !matches!(
+                    axis.state,
+                    AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
+                )
+            {
+                continue;
+            }
+            let pending = axis.pending_motion();
+            let sc = axis.safety.config;
+            if axis
+                .start_stop(c.seq, false, sc.stop_decel, sc.stop_jerk, max_time)
+                .is_ok()
+            {
+                axis.safety.stop_reason = StopReason::HostDetach;
+                for old in pending.into_iter().chain(axis.drain_queue()) {
+                    self.outbox.push(Event {
+                        seq: old,
+                        kind: EventKind::MotionAborted as u16,
+                        axis: i as u16,
+                        code: Opcode::HostDetach as i32,
+                        tick,
+                        value: 0.0,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn execute_group(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
+        let g = c.axis as usize;
+        if g >= MAX_GROUPS {
+            return Err(NackCode::BadGroup);
+        }
+        let (tick, ts) = (self.tick, self.ts());
+        if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
+            nack::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
+        }
+        let max_time = self.safety.config().max_stop_time();
+        let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
+            hard_stop_ramp(&self.axes, &cfg.axes[..cfg.naxes])
+        });
+        let group = &mut self.groups[g];
+        let out = &mut self.outbox;
+        match op {
+            Opcode::GroupConfigure => {
+                let block = layout::GROUP_CONFIG.at(g).read(&self.mem);
+                let cfg = config::validate_group_config(&block, self.num_axes)?;
+                let taken =
+                    self.groups.iter().enumerate().any(|(i, o)| {
+                        i != g && cfg.axes[..cfg.naxes].iter().any(|&a| o.contains(a))
+                    });
+                if taken {
+                    return Err(NackCode::AxisInOtherGroup);
+                }
+                self.groups[g].configure(cfg)
+            }
+            Opcode::GroupEnable => group.enable(&mut self.axes, tick, out),
+            Opcode::GroupDisable => {
+                group.disable(&mut self.axes, &mut self.filters, tick, out);
+                Ok(())
+            }
+            Opcode::GroupReset => group.reset(&mut self.axes, tick, out),
+            Opcode::GroupStop | Opcode::GroupHalt => {
+                let stop = op == Opcode::GroupStop;
+                group.start_stop(
+                    c.seq,
+                    stop,
+                    (c.args[0], c.args[1]),
+                    hard,
+                    max_time,
+                    tick,
+                    out,
+                )?;
+                // The members' motion ends by this halt or stop (their stop reason).
+                let reason = if stop {
+                    StopReason::Stop
+                } else {
+                    StopReason::Halt
+                };
+                for &a in group
+                    .config
+                    .as_ref()
+                    .map_or(&[][..], |c| &c.axes[..c.naxes])
+                {
+                    self.axes[a].group_stopping(reason);
+                }
+                Ok(())
+            }
+            Opcode::GroupStopRelease => group.release_stop(),
+            Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes, ts),
+            Opcode::NurbsData => group.nurbs_data(c),
+            Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
+            Opcode::GroupPtpLimits => group.stage_ptp_limits(c, ts),
+            Opcode::GroupSetOverride => {
+                group.set_override(c.args[0], c.args[1], self.servo_rate_hz)
+            }
+            Opcode::PathLine | Opcode::PathArc | Opcode::PathDwell => {
+                group.path_segment(c, op, ts, tick, out)
+            }
+            Opcode::PathOutput => group.path_output(c, ts),
+            Opcode::PathNurbs => group.path_nurbs_begin(c, ts),
+            Opcode::ApplyGroupPath => {
+                let block = layout::GROUP_PATH.at(g).read(&self.mem);
+                group.apply_path(block, self.servo_rate_hz)
+            }
+            _ => group.queue_move(c, op, ts, tick, out),
+        }
+    }
+
+    /// An axes group (for inspection by tests and benches).
+    pub fn group(&self, g: usize) -> Option<&Group> {
+        self.groups.get(g)
+    }
+
+    fn post_outbox(&mut self) {
+        for i in 0..self.outbox.len() {
+            if let Some(e) = self.outbox.get(i) {
+                self.post(e);
+            }
+        }
+        self.outbox.clear();
+        let lost = self.outbox.lost().wrapping_add(self.io.events_lost());
+        self.mem.write32(layout::OUTBOX_LOST, lost);
+    }
+
+    /// MC_OP_SET_OUTPUTS: the outputs in `mask` become `value`.
+    fn set_outputs(&mut self, c: &Command) -> Result<(), NackCode> {
+        let all = (1u64 << firmware_proto::OUTPUTS) - 1;
+        let word = |x: f64| {
+            (x.is_finite() && math::fract(x) == 0.0 && (0.0..=all as f64).contains(&x))
+                .then_some(x as u32)
+        };
+        let (Some(mask), Some(value)) = (word(c.args[0]), word(c.args[1])) else {
+            return Err(NackCode::PathOutput);
+        };
+        self.outputs = (self.outputs & !mask) | (value & mask);
+        Ok(())
+    }
+
+    fn apply_card_config(&mut self) -> Result<(), NackCode> {
+        let rate = layout::CARD_CONFIG.read(&self.mem).servo_rate_hz;
+        if !(firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ).contains(&rate)
+        {
+            return Err(NackCode::BadConfig);
+        }
+        if self.axes[..self.num_axes]
+            .iter()
+            .any(|a| a.state != AxisState::Disabled)
+        {
+            return Err(NackCode::AxesEnabled);
+        }
+        self.servo_rate_hz = rate;
+        let ts = self.ts();
+        for axis in self.axes.iter_mut() {
+            let cfg = axis.config;
+            axis.apply_config(cfg, ts);
+        }
+        self.mem.write32(layout::SERVO_RATE_HZ, rate);
+        Ok(())
+    }
+
+    fn write_axis_config(&self, a: usize, c: &AxisConfig) {
+        layout::AXIS_CONFIG.at(a).write(&self.mem, &c.block);
+    }
+
+    fn write_axis_filter(&self, a: usize, c: &FilterConfig) {
+        layout::AXIS_FILTER.at(a).write(&self.mem, &c.to_block());
+    }
+
+    fn post(&mut self, e: Event) {
+        if self.events.push(&e).is_err() {
+            self.events_lost = self.events_lost.wrapping_add(1);
+            self.mem.write32(layout::EVENTS_LOST, self.events_lost);
+            return;
+        }
+        let mask = self.mem.read32(layout::IRQ_MASK);
+        if e.kind < 32 && mask & (1 << e.kind) != 0 {
+            self.irq_pending = true;
+        }
+    }
+
+    /// The control loop: one servo tick. `encoders` are the counts of each axis; the DAC
+    /// voltages are written to `dac`.
+    pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
+        self.tick += 1;
+        let ts = self.ts();
+        // Sensors first, so a group's interpolator sees this tick's measurements.
+        for (axis, enc) in self.axes[..self.num_axes].iter_mut().zip(encoders) {
+            axis.sense(*enc, ts);
+        }
+        for g in self.groups.iter_mut() {
+            g.tick(
+                &mut self.axes,
+                &mut self.filters,
+                ts,
+                self.tick,
+                &mut self.outbox,
+            );
+            // Outputs a path sets or clears at a segment's start, end or distance.
+            let (set, clear) = g.take_path_outputs();
+            self.outputs = (self.outputs & !clear) | set;
+        }
+        // Geared slaves follow their masters (gear.rs).
+        let synced = self.gear_tick(ts);
+        // PT/PVT streams drive their axes (pvt.rs).
+        let streamed = self.pvt_tick();
+        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
+        let inputs = *self.safety.inputs();
+        // Digital inputs, compare and probes on the motion just sensed (io.rs).
+        self.io.tick(
+            self.tick,
+            encoders,
+            &inputs.index,
+            &self.axes[..self.num_axes],
+        );
+        let max_stop_time = self.safety.config().max_stop_time();
+        let mut homed = [HomingReport::default(); MAX_AXES];
+        for (i, (axis, homing)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(self.homing.iter_mut())
+            .enumerate()
+        {
+            let inp = HomingInputs {
+                io: inputs.axis[i],
+                index: inputs.index[i],
+                ts,
+                rate_hz: self.servo_rate_hz,
+                max_stop_time,
+            };
+            homed[i] = homing.tick(axis, &inp);
+        }
+        let mut reports: [TickReport; MAX_AXES] = Default::default();
+        for (i, (axis, report)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(reports.iter_mut())
+            .enumerate()
+        {
+            let (volts, r) = axis.control(ts);
+            dac[i] = volts;
+            *report = r;
+        }
+        for d in dac[self.num_axes..].iter_mut() {
+            *d = 0.0;
+        }
+        // [safety] nothing moves with nobody in command: the session gate's backstop (safety.rs)
+        if !self.safety.in_command() {
+            let driven = self.driven_axes();
+            self.safety.stop_unattended(
+                &self.mem,
+                self.tick,
+                &mut self.axes[..self.num_axes],
+                &driven,
+            );
+        }
+        // [safety] watchdog, e-stop, limits, following error, input faults (safety.rs)
+        let evt_ring_ok = self.events.free().is_ok();
+        self.safety.tick(
+            &self.mem,
+            self.tick,
+            self.servo_rate_hz,
+            &mut self.axes[..self.num_axes],
+            encoders,
+            dac,
+            evt_ring_ok,
+        );
+        // [safety] a group stop still running at the maximum stop time: its members lose power
+        let max_time = self.safety.config().max_stop_time();
+        for g in &mut self.groups {
+            if let (Some(elapsed), Some(cfg)) = (g.stop_overdue(max_time), g.config) {
+                for &a in &cfg.axes[..cfg.naxes] {
+                    if self.axes[a].state == AxisState::SynchronizedMotion {
+                        self.safety.stop_overran(
+                            &self.mem,
+                            self.tick,
+                            a,
+                            &mut self.axes[a],
+                            elapsed,
+                        );
+                        dac[a] = 0.0;
+                    }
+                }
+            }
+        }
+        // [safety] a member that tripped stops the rest of its moving group the same way
+        for g in &self.groups {
+            if let Some(members) = g.moving_members() {
+                self.safety.trip_group(
+                    &self.mem,
+                    self.tick,
+                    &mut self.axes[..self.num_axes],
+                    members,
+                    dac,
+                );
+            }
+        }
+        // The status first, then the events about it: a host that takes motion done (or a
+        // state change) and then reads the status sees this tick's, never the one before.
+        self.publish();
+        // The scope samples what was just published (scope.rs).
+        let scoped = self.scope_tick();
+        self.post_safety_events();
+        self.post_outbox();
+        self.post_scope_events(&scoped);
+        for i in 0..io::IO_EVENTS {
+            if let Some(e) = self.io.event(i) {
+                self.post(e);
+            }
+        }
+        self.post_sync_events(&synced);
+        self.post_pvt_events(&streamed);
+        for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
+            let axis = i as u16;
+            let done = h.done.or(report.done);
+            if let Some((seq, pos)) = done {
+                self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
+            }
+            for &seq in &report.dropped {
+                self.post_axis_event(
+                    EventKind::MotionAborted,
+                    seq,
+                    axis,
+                    NackCode::Infeasible as i32,
+                    0.0,
+                );
+            }
+            if let Some((seq, value)) = report.active {
+                self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
+            }
+            if let Some((seq, value)) = report.in_velocity {
+                self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
+            }
+            if let Some((seq, why, at)) = h.failed {
+                self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
+            }
+            // The homing step ran before the servo loop: its state change came first.
+            if let Some(old) = h.state_from.or(report.state_from) {
+                let e = state_event(axis, old, self.axes[i].state, self.tick);
+                self.post(e);
+            }
+        }
+    }
+
+    /// The axes something drives on: a goal of their own (a move, velocity mode, jog), a
+    /// homing method, a coupling or PT/PVT stream, or a group moving and not stopping. An axis
+    /// on a stop ramp (a halt, stop or safety stop), settling or at rest is not driven.
+    fn driven_axes(&self) -> [bool; MAX_AXES] {
+        let mut driven = [false; MAX_AXES];
+        for (i, (d, axis)) in driven
+            .iter_mut()
+            .zip(&self.axes[..self.num_axes])
+            .enumerate()
+        {
+            *d = match axis.state {
+                AxisState::Homing => true,
+                AxisState::DiscreteMotion | AxisState::ContinuousMotion => axis.has_goal(),
+                AxisState::SynchronizedMotion => {
+                    self.gears[i].engaged()
+                        || self.pvt[i].as_ref().is_some_and(|s| s.running())
+                        || self.groups.iter().any(|g| {
+                            g.moving_members().is_some_and(|m| m.contains(&i)) && !g.stopping()
+                        })
+                }
+                _ => false,
+            };
+        }
+        driven
+    }
+
+    /// Publish the tick counter, the loss counters and every axis's status.
+    fn publish(&mut self) {
+        self.publish_identity();
+        self.mem.write64(layout::TICK, self.tick);
+        // Layout 1.4: this card's refused accesses to the window (release builds; a debug
+        // build panics on the access).
+        self.mem
+            .write32(layout::BAD_ACCESSES, self.mem.bad_accesses());
+        for i in 0..self.num_axes {
+            seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
+        }
+        for (g, group) in self.groups.iter().enumerate() {
+            seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
+        }
+        self.mem.write32(layout::OUTPUTS, self.outputs());
+        self.io.publish(&self.mem);
+        self.publish_sync();
+    }
+
+    /// The digital outputs (bit i = output i): the host's and the path's, and the compare
+    /// channels' pulses.
+    pub fn outputs(&self) -> u32 {
+        self.outputs | self.io.pulse_outputs()
+    }
+}
+
+/// Layout 1.8: the scope's commands, sampling and events.
+impl<M: Mem + Clone> Firmware<M> {
+    fn scope_command(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
+        let tick = self.tick;
+        if op == Opcode::ScopeConfigure && !self.scope.is_some() {
+            // Checked before the scope (and its history) is made: a refusal changes nothing.
+            let block = layout::SCOPE_CONFIG.read(&self.mem);
+            firmware_proto::check_config(&block, self.num_axes)?;
+            self.scope.get_or_insert_with(scope::Scope::new);
+        }
+        let Some(sc) = self.scope.as_mut() else {
+            return Err(NackCode::ScopeState);
+        };
+        match op {
+            Opcode::ScopeConfigure => {
+                let block = layout::SCOPE_CONFIG.read(&self.mem);
+                sc.configure(&block, self.num_axes)?
+            }
+            Opcode::ScopeArm => sc.arm(c.seq, tick)?,
+            Opcode::ScopeTrigger => sc.force_trigger()?,
+            _ => sc.stop()?,
+        }
+        layout::SCOPE_STATUS.write(&self.mem, &sc.status());
+        Ok(())
+    }
+
+    /// Take this tick's sample if the scope wants one; what it did.
+    fn scope_tick(&mut self) -> scope::SampleReport {
+        let tick = self.tick;
+        let Some(sc) = self.scope.as_mut() else {
+            return Default::default();
+        };
+        if !sc.samples_at(tick) {
+            return Default::default();
+        }
+        let mut s = firmware_proto::ScopeSample {
+            tick,
+            ..Default::default()
+        };
+        let (inputs, inputs_raw) = self.io.inputs();
+        let outputs = self.outputs | self.io.pulse_outputs();
+        let mut axis_cache: [Option<firmware_proto::AxisStatus>; MAX_AXES] = [None; MAX_AXES];
+        let mut group_cache: [Option<firmware_proto::GroupStatus>; MAX_GROUPS] = [None; MAX_GROUPS];
+        for (v, src) in s.value.iter_mut().zip(sc.sources()) {
+            let i = (src.index as usize).min(MAX_AXES - 1);
+            let g = (src.index as usize).min(MAX_GROUPS - 1);
+            let axes = &self.axes;
+            let mut ax = || *axis_cache[i].get_or_insert_with(|| axes[i].status(tick));
+            let groups = &self.groups;
+            let mut gr = || *group_cache[g].get_or_insert_with(|| groups[g].status(tick));
+            *v = match src.signal {
+                Signal::CmdPos => ax().cmd_pos,
+                Signal::CmdVel => ax().cmd_vel,
+                Signal::CmdAcc => ax().cmd_acc,
+                Signal::ActPos => ax().act_pos,
+                Signal::ActVel => ax().act_vel,
+                Signal::Ferr => ax().ferr,
+                Signal::Dac => ax().dac_v,
+                Signal::URequest => ax().u_request,
+                Signal::Encoder => ax().encoder as f64,
+                Signal::ServoP => self.axes[i].servo_terms().p,
+                Signal::ServoI => self.axes[i].servo_terms().i,
+                Signal::ServoD => self.axes[i].servo_terms().d,
+                Signal::ServoFf => self.axes[i].servo_terms().ff,
+                Signal::PathSpeed => gr().feed,
+                Signal::PathAcc => gr().feed_acc,
+                Signal::PathPos => gr().path_pos,
+                Signal::Inputs => inputs as f64,
+                Signal::Outputs => outputs as f64,
+                Signal::InputsRaw => inputs_raw as f64,
+            };
+        }
+        let faults = if sc.wants_faults() {
+            self.axes[..self.num_axes]
+                .iter()
+                .fold(0, |f, a| f | a.status(tick).faults)
+                & !0xFF
+        } else {
+            0
+        };
+        let ring = &mut self.scope_ring;
+        let report = sc.on_sample(&s, inputs, faults, &mut |x| ring.push(x).is_ok());
+        layout::SCOPE_STATUS.write(&self.mem, &sc.status());
+        report
+    }
+
+    fn post_scope_events(&mut self, r: &scope::SampleReport) {
+        let Some(seq) = self.scope.as_ref().map(|s| s.arm_seq()) else {
+            return;
+        };
+        let codes = [
+            (ScopeEvent::Triggered, r.triggered),
+            (ScopeEvent::Lost, r.lost),
+            (ScopeEvent::Done, r.done),
+        ];
+        for (code, value) in codes {
+            if let Some(v) = value {
+                self.post_axis_event(EventKind::Scope, seq, 0, code as i32, v as f64);
+            }
+        }
+    }
+}
+
+fn is_scope_op(op: Opcode) -> bool {
+    matches!(
+        op,
+        Opcode::ScopeConfigure | Opcode::ScopeArm | Opcode::ScopeTrigger | Opcode::ScopeStop
+    )
+}
+
+/// The hardest stop ramp every member of a group allows along its path: the smallest of their
+/// stop decelerations and jerks (an axis's share of the path's acceleration is at most the
+/// path's own).
+fn hard_stop_ramp(axes: &[Axis], members: &[usize]) -> (f64, f64) {
+    members
+        .iter()
+        .filter_map(|&a| axes.get(a))
+        .fold((f64::MAX, f64::MAX), |(d, j), ax| {
+            let c = &ax.safety.config;
+            (d.min(c.stop_decel), j.min(c.stop_jerk))
+        })
+}
+
+fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
+    Event {
+        seq: 0,
+        kind: EventKind::StateChanged as u16,
+        axis,
+        code: new as i32,
+        tick,
+        value: old as u32 as f64,
+    }
+}
+
+fn is_group_op(op: Opcode) -> bool {
+    matches!(
+        op,
+        Opcode::GroupConfigure
+            | Opcode::GroupEnable
+            | Opcode::GroupDisable
+            | Opcode::GroupStop
+            | Opcode::GroupStopRelease
+            | Opcode::GroupReset
+            | Opcode::GroupHalt
+            | Opcode::GroupMoveLinear
+            | Opcode::GroupMoveCircular
+            | Opcode::GroupMovePtp
+            | Opcode::GroupPtpLimits
+            | Opcode::GroupSetOverride
+            | Opcode::NurbsBegin
+            | Opcode::NurbsData
+            | Opcode::NurbsEnd
+            | Opcode::PathLine
+            | Opcode::PathArc
+            | Opcode::PathDwell
+            | Opcode::PathOutput
+            | Opcode::PathNurbs
+            | Opcode::ApplyGroupPath
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware_proto::mem::HeapWindow;
+    use std::sync::Arc;
+
+    fn boot() -> (Arc<HeapWindow>, Firmware<Arc<HeapWindow>>) {
+        let w = Arc::new(HeapWindow::new());
+        let fw = Firmware::boot(w.clone(), 2, 10_000);
+        (w, fw)
+    }
+
+    fn tick(fw: &mut Firmware<Arc<HeapWindow>>) {
+        fw.tick(&[0; MAX_AXES], &mut [0.0; MAX_AXES]);
+    }
+
+    /// Release builds: accesses out of range or misaligned through the card's window handle
+    /// are counted, and the count is in the card control block after the next tick.
+    #[test]
+    #[cfg(not(debug_assertions))]
+    fn bad_window_accesses_are_published() {
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 0);
+        assert_eq!(w.read32(firmware_proto::DPRAM_SIZE), 0); // out of range
+        w.write64(layout::BAD_ACCESSES, 1); // misaligned (148 is not 8-aligned)
+        w.read64(firmware_proto::DPRAM_SIZE - 4); // straddles the end
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::BAD_ACCESSES), 3);
+        assert_eq!(
+            w.read32(layout::BAD_ACCESSES + 4),
+            0,
+            "the bad store touched nothing"
+        );
+    }
+
+    fn marker(n: u32) -> Event {
+        Event {
+            seq: n,
+            kind: EventKind::StateChanged as u16,
+            axis: 0,
+            code: 0,
+            tick: 0,
+            value: 0.0,
+        }
+    }
+
+    /// The host's view of the event ring: every event waiting.
+    fn drain(w: &Arc<HeapWindow>) -> Vec<Event> {
+        let mut rx = firmware_proto::ring::EvtConsumer::attach(w.clone(), EVT_RING);
+        let mut out = Vec::new();
+        while let Ok(Some(e)) = rx.pop::<Event>() {
+            out.push(e);
+        }
+        out
+    }
+
+    /// More events than the outbox holds, raised before the firmware posts them: the first
+    /// `CAP` reach the event ring in order, the rest are counted in `card.outbox_lost`.
+    #[test]
+    fn outbox_overflow_is_counted_in_the_window() {
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        drain(&w);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 0);
+        let n = Outbox::CAP as u32 + 3;
+        for k in 0..n {
+            fw.outbox.push(marker(1000 + k));
+        }
+        assert_eq!(fw.outbox.len(), Outbox::CAP);
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 3);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        let seqs: Vec<u32> = drain(&w)
+            .iter()
+            .map(|e| e.seq)
+            .filter(|&s| s >= 1000)
+            .collect();
+        assert_eq!(seqs, (1000..1000 + Outbox::CAP as u32).collect::<Vec<_>>());
+        // The count is cumulative; a tick with room loses nothing more.
+        fw.outbox.push(marker(1));
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 3);
+    }
+
+    /// The same for the safety layer's event buffer: counted in `card.safety_events_lost`.
+    #[test]
+    fn safety_event_overflow_is_counted_in_the_window() {
+        use super::outbox::SafetyEvents;
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        drain(&w);
+        assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 0);
+        let n = SafetyEvents::CAP as u32 + 5;
+        for k in 0..n {
+            fw.safety.events.push(marker(1000 + k));
+        }
+        assert_eq!(fw.safety.events.len(), SafetyEvents::CAP);
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::SAFETY_EVENTS_LOST), 5);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        let seqs: Vec<u32> = drain(&w)
+            .iter()
+            .map(|e| e.seq)
+            .filter(|&s| s >= 1000)
+            .collect();
+        assert_eq!(
+            seqs,
+            (1000..1000 + SafetyEvents::CAP as u32).collect::<Vec<_>>()
+        );
+    }
+
+    /// A host that never takes events: the card stops taking commands once an ack and
+    /// [`EVENT_RESERVE`] more events might not fit (no ack is lost), and the asynchronous
+    /// events that then find the ring full are counted in `card.events_lost`.
+    #[test]
+    fn event_ring_overflow_is_counted_in_the_window() {
+        let (w, mut fw) = boot();
+        let mut tx = firmware_proto::ring::CmdProducer::attach(w.clone(), CMD_RING);
+        let mut seq = 0;
+        loop {
+            while tx.free().is_ok_and(|f| f > 0) {
+                seq += 1;
+                let mut c = Command::new(Opcode::Nop, 0);
+                c.seq = seq;
+                tx.push(&c).unwrap();
+            }
+            if fw.serve_commands() == 0 {
+                break;
+            }
+        }
+        let accepted = w.read32(layout::CMDS_ACCEPTED);
+        assert_eq!(accepted, EVT_RING.len - EVENT_RESERVE, "commands taken");
+        assert_eq!(w.read32(layout::EVENTS_LOST), 0);
+        // Asynchronous events beyond the reserve.
+        for k in 0..EVENT_RESERVE + 7 {
+            fw.outbox.push(marker(1000 + k));
+        }
+        tick(&mut fw);
+        assert_eq!(w.read32(layout::EVENTS_LOST), 7);
+        assert_eq!(w.read32(layout::OUTBOX_LOST), 0);
+        let events = drain(&w);
+        assert_eq!(events.len(), EVT_RING.len as usize, "the ring was full");
+        let acks = events
+            .iter()
+            .filter(|e| e.kind == EventKind::Ack as u16)
+            .count();
+        assert_eq!(acks as u32, accepted, "every command taken was acked");
+    }
+
+    fn command(op: Opcode, axis: u16, flags: u32, args: &[f64]) -> Command {
+        let mut c = Command::new(op, axis).with_args(args);
+        c.flags = flags;
+        c
+    }
+
+    fn attach(fw: &mut Firmware<Arc<HeapWindow>>, session: u32) {
+        let c = command(Opcode::HostAttach, 0, session, &[]);
+        assert_eq!(fw.execute(&c), Ok(0.0));
+    }
+
+    /// Every opcode with the arguments of a valid command where it matters (a move that could
+    /// run, an e-stop of category 1), else zeros.
+    fn any_command(op: Opcode) -> Command {
+        let args: &[f64] = match op {
+            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
+                &[1000.0, 1e5, 1e6, 1e6, 1e8, 1e8, 1e8, 1e8]
+            }
+            Opcode::MoveVelocity => &[1e4, 1e6, 1e6, 1e8],
+            Opcode::Jog => &[1e4],
+            Opcode::SetOverride => &[1.5],
+            Opcode::EStop => &[1.0],
+            Opcode::SetOutputs => &[1.0, 1.0],
+            _ => &[],
+        };
+        command(op, 0, 0, args)
+    }
+
+    /// The session gate: with no session attached, every opcode the allowlist does not name is
+    /// refused with `NoSession` and changes nothing (axis, group and outputs as they were); the
+    /// allowlist is exactly the commands that stop, read, observe or stage data. With a session
+    /// attached no command meets the gate.
+    #[test]
+    fn without_a_session_only_the_allowlist_is_taken() {
+        use firmware_proto::Opcode as O;
+        let allowed: std::collections::HashSet<Opcode> = Opcode::ALL
+            .iter()
+            .copied()
+            .filter(|&op| safety::allowed_without_session(op))
+            .collect();
+        let want: std::collections::HashSet<Opcode> = [
+            O::Nop,
+            O::PowerOff,
+            O::Halt,
+            O::Stop,
+            O::GroupStop,
+            O::GroupHalt,
+            O::GroupDisable,
+            O::EStop,
+            O::CompareDisarm,
+            O::ProbeAbort,
+            O::HostAttach,
+            O::HostDetach,
+            O::ReadConfig,
+            O::ProbeArm,
+            O::ScopeConfigure,
+            O::ScopeArm,
+            O::ScopeTrigger,
+            O::ScopeStop,
+            O::NurbsBegin,
+            O::NurbsData,
+            O::GroupPtpLimits,
+            O::PvtPoints,
+            O::CamTable,
+            O::CamData,
+        ]
+        .into_iter()
+        .collect();
+        assert_eq!(
+            allowed, want,
+            "the allowlist changed: name a new opcode here on purpose"
+        );
+        let (_w, mut fw) = boot();
+        let snapshot = |fw: &Firmware<Arc<HeapWindow>>| {
+            let t = fw.tick_count();
+            (
+                fw.axes
+                    .iter()
+                    .map(|a| a.status(t).to_words())
+                    .collect::<Vec<_>>(),
+                fw.groups
+                    .iter()
+                    .map(|g| g.status(t).to_words())
+                    .collect::<Vec<_>>(),
+                fw.outputs(),
+            )
+        };
+        for &op in Opcode::ALL {
+            if op == Opcode::HostAttach {
+                continue; // it would begin a session
+            }
+            let before = snapshot(&fw);
+            let r = fw.execute(&any_command(op));
+            if safety::allowed_without_session(op) {
+                assert_ne!(r, Err(NackCode::NoSession), "{op:?}");
+            } else {
+                assert_eq!(r, Err(NackCode::NoSession), "{op:?}");
+                assert!(
+                    before == snapshot(&fw),
+                    "{op:?} was refused but changed the card"
+                );
+            }
+        }
+        // A session: the gate lets everything through (to the command's own checks).
+        let (_w, mut fw) = boot();
+        attach(&mut fw, 9);
+        for &op in Opcode::ALL {
+            let r = fw.execute(&any_command(op));
+            assert_ne!(r, Err(NackCode::NoSession), "{op:?}");
+        }
+        assert_eq!(
+            fw.safety.session(),
+            9,
+            "the detach of another session was refused"
+        );
+    }
+
+    /// An attach arms the watchdog at once: a host that attaches and never beats trips it
+    /// exactly the timeout later (10 kHz: 1,000 ticks), as one that beat and fell silent.
+    #[test]
+    fn an_attach_arms_the_watchdog() {
+        use firmware_proto::layout::safety_status as ss;
+        let (w, mut fw) = boot();
+        tick(&mut fw);
+        assert!(!fw.safety.watchdog_armed());
+        attach(&mut fw, 5);
+        let at = fw.tick_count();
+        assert!(fw.safety.watchdog_armed() && fw.safety.in_command());
+        assert_eq!(w.read32(ss::WATCHDOG_ARMED), 1);
+        assert_eq!(w.read64(ss::LAST_HEARTBEAT_TICK), at);
+        while w.read32(ss::FAULTS) == 0 {
+            assert!(fw.tick_count() < at + 2_000, "never tripped");
+            tick(&mut fw);
+        }
+        assert_eq!(w.read64(ss::WATCHDOG_TRIP_TICK) - at, 1_000);
+        assert_eq!(w.read64(ss::TRIP_HEARTBEAT_TICK), at);
+        // A detach disarms it; beats after it do not arm it again.
+        let c = command(Opcode::HostDetach, 0, 5, &[]);
+        assert_eq!(fw.execute(&c), Ok(0.0));
+        assert!(!fw.safety.watchdog_armed() && !fw.safety.in_command());
+        for k in 0..10 {
+            w.write32(layout::HEARTBEAT, 100 + k);
+            tick(&mut fw);
+        }
+        assert!(!fw.safety.watchdog_armed());
+        assert_eq!(w.read32(ss::WATCHDOG_ARMED), 0);
+    }
+
+    /// The backstop: motion found running with nobody in command (started past the gate, as
+    /// a hole in it would) is stopped on the next tick, category 1 on the stop ramp, reason
+    /// `NoSession`, and its drive is disabled once at rest. With a session it runs on.
+    #[test]
+    fn motion_with_nobody_in_command_is_stopped_by_the_card() {
+        use crate::firmware::axis::MoveKind;
+        use firmware_proto::{AxisState, StopCategory, StopReason};
+        let lim = Limits::symmetric(1e5, 1e6, 1e8);
+        // An ideal plant: each encoder reads its axis's commanded position.
+        let tick = |fw: &mut Firmware<Arc<HeapWindow>>| {
+            let mut enc = [0i64; MAX_AXES];
+            for (e, a) in enc.iter_mut().zip(&fw.axes) {
+                *e = a.reference().pos.round() as i64;
+            }
+            fw.tick(&enc, &mut [0.0; MAX_AXES]);
+        };
+        let start = |fw: &mut Firmware<Arc<HeapWindow>>| {
+            for a in 0..2 {
+                fw.axes[a].power(true).unwrap();
+            }
+            fw.axes[0].start_velocity(11, 5e4, &lim, 10_000).unwrap();
+            fw.axes[1]
+                .start_move(12, MoveKind::Relative, 1e6, &lim, false, 10_000)
+                .unwrap();
+        };
+        // With a session: it runs.
+        let (_w, mut fw) = boot();
+        attach(&mut fw, 3);
+        start(&mut fw);
+        for _ in 0..100 {
+            tick(&mut fw);
+        }
+        assert_eq!(fw.axes[0].state, AxisState::ContinuousMotion);
+        assert_eq!(fw.axes[1].state, AxisState::DiscreteMotion);
+        // Without one (never attached, or detached): stopped on the first tick.
+        let (_w, mut fw) = boot();
+        start(&mut fw);
+        tick(&mut fw);
+        for a in 0..2 {
+            let ax = &fw.axes[a];
+            assert_eq!(ax.state, AxisState::ErrorStop, "axis {a}");
+            assert_eq!(ax.safety.stop_reason, StopReason::NoSession, "axis {a}");
+            let stop = ax.safety.stop.expect("a safety stop");
+            assert_eq!(stop.category, StopCategory::Cat1, "axis {a}");
+            assert!(ax.is_powered(), "axis {a}: a ramp, not a power cut");
+        }
+        for _ in 0..20_000 {
+            tick(&mut fw);
+        }
+        for a in 0..2 {
+            let ax = &fw.axes[a];
+            assert_eq!(ax.reference().vel, 0.0, "axis {a}");
+            assert!(!ax.is_powered(), "axis {a}: disabled at rest");
+            assert!(ax.safety.stop.is_some_and(|s| s.at_rest), "axis {a}");
+        }
+    }
+
+    /// Debug builds: the same access panics at once.
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "DPRAM access out of range or misaligned")]
+    fn bad_window_access_panics_in_debug_builds() {
+        let (w, _fw) = boot();
+        w.write64(layout::BAD_ACCESSES, 1);
+    }
+}

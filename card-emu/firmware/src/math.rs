@@ -1,0 +1,181 @@
+//! The floating-point functions of the firmware and its algorithms, from `libm`: the same code
+//! on the card and in the emulator, so the emulator computes bit for bit what the card does.
+//! (Rust's `f64` methods need `std`, and on a host call its C library, whose `sin`, `exp` or
+//! `pow` may differ from the card's in the last bit.) `sqrt`, `floor`, `ceil`, `round`,
+//! `trunc`, `fract`, `rem_euclid` and `powi` are exact or exactly specified, so they agree
+//! with the methods of the same name wherever those exist.
+//!
+//! Called as `math::sqrt(x)`, never as methods: with `std` linked anywhere in the build, a
+//! method call on an `f64` would silently take `std`'s.
+
+/// √x, correctly rounded.
+#[inline]
+pub fn sqrt(x: f64) -> f64 {
+    libm::sqrt(x)
+}
+
+/// ∛x.
+#[inline]
+pub fn cbrt(x: f64) -> f64 {
+    libm::cbrt(x)
+}
+
+/// sin x.
+#[inline]
+pub fn sin(x: f64) -> f64 {
+    libm::sin(x)
+}
+
+/// cos x.
+#[inline]
+pub fn cos(x: f64) -> f64 {
+    libm::cos(x)
+}
+
+/// (sin x, cos x), as two calls.
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    (libm::sin(x), libm::cos(x))
+}
+
+/// The angle of (x, y) in (−π, π], as `y.atan2(x)`.
+#[inline]
+pub fn atan2(y: f64, x: f64) -> f64 {
+    libm::atan2(y, x)
+}
+
+/// asin x.
+#[inline]
+pub fn asin(x: f64) -> f64 {
+    libm::asin(x)
+}
+
+/// acos x.
+#[inline]
+pub fn acos(x: f64) -> f64 {
+    libm::acos(x)
+}
+
+/// eˣ.
+#[inline]
+pub fn exp(x: f64) -> f64 {
+    libm::exp(x)
+}
+
+/// eˣ − 1, accurate near 0.
+#[inline]
+pub fn exp_m1(x: f64) -> f64 {
+    libm::expm1(x)
+}
+
+/// ln x.
+#[inline]
+pub fn ln(x: f64) -> f64 {
+    libm::log(x)
+}
+
+/// ln(1 + x), accurate near 0.
+#[inline]
+pub fn ln_1p(x: f64) -> f64 {
+    libm::log1p(x)
+}
+
+/// xʸ.
+#[inline]
+pub fn powf(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}
+
+/// √(x² + y²) without overflow or underflow.
+#[inline]
+pub fn hypot(x: f64, y: f64) -> f64 {
+    libm::hypot(x, y)
+}
+
+/// xⁿ by repeated squaring: the multiplications `f64::powi` makes (compiler-rt's
+/// `__powidf2`), so the result is the same bit for bit.
+#[inline]
+pub fn powi(mut x: f64, n: i32) -> f64 {
+    let mut k = n.unsigned_abs();
+    let mut r = 1.0;
+    loop {
+        if k & 1 == 1 {
+            r *= x;
+        }
+        k >>= 1;
+        if k == 0 {
+            break;
+        }
+        x *= x;
+    }
+    if n < 0 {
+        1.0 / r
+    } else {
+        r
+    }
+}
+
+/// The largest integer ≤ x.
+#[inline]
+pub fn floor(x: f64) -> f64 {
+    libm::floor(x)
+}
+
+/// The smallest integer ≥ x.
+#[inline]
+pub fn ceil(x: f64) -> f64 {
+    libm::ceil(x)
+}
+
+/// The nearest integer, halves away from zero.
+#[inline]
+pub fn round(x: f64) -> f64 {
+    libm::round(x)
+}
+
+/// The integer part, towards zero.
+#[inline]
+pub fn trunc(x: f64) -> f64 {
+    libm::trunc(x)
+}
+
+/// x − trunc(x).
+#[inline]
+pub fn fract(x: f64) -> f64 {
+    x - libm::trunc(x)
+}
+
+/// The least non-negative remainder of x / y, as `f64::rem_euclid`.
+#[inline]
+pub fn rem_euclid(x: f64, y: f64) -> f64 {
+    let r = x % y;
+    if r < 0.0 {
+        r + y.abs()
+    } else {
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact ones agree with std's methods, and powi with std's to the bit.
+    #[test]
+    fn the_exact_functions_agree_with_std() {
+        let mut rng = crate::testkit::rng::Rng::new(0x5eed);
+        for _ in 0..100_000 {
+            let x = rng.uniform(-1e6, 1e6) * 10f64.powi(rng.uniform(-8.0, 8.0) as i32);
+            assert_eq!(sqrt(x.abs()).to_bits(), x.abs().sqrt().to_bits());
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits());
+            assert_eq!(ceil(x).to_bits(), x.ceil().to_bits());
+            assert_eq!(round(x).to_bits(), x.round().to_bits());
+            assert_eq!(trunc(x).to_bits(), x.trunc().to_bits());
+            assert_eq!(fract(x).to_bits(), x.fract().to_bits());
+            assert_eq!(rem_euclid(x, 6.5).to_bits(), x.rem_euclid(6.5).to_bits());
+            for n in -4..=7 {
+                assert_eq!(powi(x, n).to_bits(), x.powi(n).to_bits(), "{x}^{n}");
+            }
+        }
+    }
+}

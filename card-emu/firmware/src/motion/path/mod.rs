@@ -1,0 +1,1722 @@
+//! The continuous-path engine of an axes group: a deep ring of programmed segments (lines,
+//! arcs/helices, dwells), G2 corner blends within a tolerance, look-ahead, and a per-tick
+//! executor that returns the commanded position of every axis.
+//!
+//! Units: positions in counts, time in s. One [`Path`] per group: the owner pushes validated
+//! segments ([`Path::push`]) and calls [`Path::tick`] once per servo tick.
+//!
+//! **Pieces.** Each motion segment is a body (its line or helix between its trim points) and,
+//! when it joins the previous segment with a blend, a blend piece in front of it. All pieces
+//! are parametrised by arc length. A blend is a quintic Bézier matching position, unit tangent
+//! and curvature vector of both sides at the trim points (G2: the acceleration is continuous
+//! through the corner); its arc length is a 4-interval Gauss–Legendre table and Newton on u.
+//!
+//! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`]. Every piece has tangential
+//! limits (A_t, J_t) of its own ([`Lim`]) and a speed cap V such that at each sampled point, on
+//! every axis k, |V T_k| ≤ vmax_k, A_t|T_k| + V²|K_k| ≤ amax_k and
+//! J_t|T_k| + 3 V A_t |K_k| + V³|K'_k| ≤ jmax_k (each limit times [`CAP_MARGIN`]); since
+//! |s̈| ≤ A_t and |s⃛| ≤ J_t on the piece, the axis velocity s̊T_k, acceleration s̈T_k + v²K_k and
+//! jerk s⃛T_k + 3vs̈K_k + v³K'_k stay within the axis limits wherever v ≤ V. A line's are every
+//! axis's own limits projected onto its direction (K = 0: all of each budget is the
+//! tangential motion's) and its velocity limits exactly. A blend's are the shares
+//! A_t = [`ACCEL_SHARE`]·min_k amax_k and J_t = [`JERK_SHARE`]·min_k jmax_k (or the group's
+//! `accel`/`jerk` if lower): the other half is what curvature may use at full tangential
+//! acceleration. An arc's, a helix's or a curve's piece fed below the cap those shares give
+//! takes for A_t and J_t all that its curvature leaves at its feed (`curved_lim`).
+//!
+//! The planner's limits change from piece to piece: the look-ahead decides with the lowest
+//! limits of the pieces it looks at (what a push may add past an unmarked queue end counts as
+//! the lowest, the shares), and it looks as far as braking at the shares reaches, so that a
+//! piece of lower limits is seen before braking within them is due; stops are planned with
+//! those too. Each planning step ramps within the limits of the pieces up to where its ramp
+//! toward the target ends and a step beyond (`exec::look`): a ramp never runs into limits it
+//! cannot keep; an acceleration made within higher limits is brought back to 0 at the jerk it
+//! needs, never above the limits of the pieces it crosses meanwhile.
+//!
+//! **Smoothing of micro-segments.** A junction of two lines turning by at most
+//! [`SMOOTH_TURN`] under `MaxDeviation` is first tried as a smoothing blend: from the middle of
+//! the previous line to the middle of the new one (nothing of either line is left straight),
+//! with the curvature vector at its ends estimated from the neighbouring points (the circle
+//! through three vertices, averaged over the two vertices of a line). The newest blend ends
+//! with curvature 0, since the next point is not known yet; when it arrives, that blend is
+//! rebuilt with its end curvature if the executor can still slow down before it. The newest
+//! blend is only checked (its deviation bounded, see below; its length is its chord until
+//! then): it is built, measured and capped only when that rebuild does not
+//! happen, or when the look-ahead window reaches it first, so that a push builds one blend
+//! and computes one cap, not two. The
+//! curvature then follows the curve the points came from instead of dropping to 0 on every
+//! chord, which is what made dense paths slow. A smoothing blend whose deviation from the two
+//! lines is over the tolerance (×0.97) falls back to the corner blend below. A smoothing
+//! blend's deviation is first bounded in closed form, from the trims, the turn and the end
+//! curvatures (`smooth_dev_bound`: within a few per cent on evenly cut curves); where that
+//! bound is over, by the blend's control points (cut in two by de Casteljau, each half within
+//! the hull of its points, the distance to a chord convex); the curve is sampled only when
+//! that bound is over too (never on the dense benchmark's curve).
+//!
+//! **Look-ahead.** Each tick the planner's target is the current piece's cap, lowered for any
+//! lower cap ahead it must start slowing for now (the pieces within its jerk-limited braking
+//! reach are scanned, however many segments that is; blocks of [`BLOCK`] segments whose
+//! minimum cap is not below the speed are skipped, as `nurbs_interp`'s look-ahead does), and
+//! its remaining distance is the distance to the next exact stop, or to the end of what is
+//! queued. So the path can always stop within what is queued. A walk that finds nothing to
+//! slow for serves the ticks after it (`exec::Seen`): it keeps the smallest cap it passed for
+//! being above the speed, the smallest envelope key c² + 2·D·d it passed for clearing the
+//! envelope, the least room between a piece it tested and that piece's slowing distance (in
+//! closed form), and how far it went; while the tick's speed bound is not above that cap, the
+//! keys still clear from where the executor has got to, the room covers what the slowing
+//! distances can have grown (the state on the same descent, its speed at a = 0 no higher),
+//! and the reach ends before where the walk ended, the walk would find nothing again, and is
+//! skipped (the same motion to the last bit: `tests_lookahead`). When the room no longer
+//! covers that growth, the pieces the walk tested (it keeps up to 32) whose own room does not
+//! cover it are tested again from the tick's state instead of walking again, and the rooms
+//! are counted from there on. A push or a late cap that changes a segment the walk saw drops
+//! it. Segments know where they start along the whole
+//! path (`Seg::start`), so the executor's progress since a walk, and its distance to a
+//! segment's end, are differences, not sums.
+//!
+//! **Tick.** [`Path::tick`] is `tick_plan` (dwells, the look-ahead, the speed planner: the
+//! next planning step) then `tick_move` (this tick of the step taken along the pieces, segment
+//! events and outputs, the position interpolated); the cost benchmark (`benches/path.rs`)
+//! times the two apart. A planning step lasts [`PathLimits::plan_ticks`] servo ticks: the
+//! look-ahead and the planner run once a step, with the step's period as their tick, and each
+//! servo tick moves the executor to where the step's own profile is then
+//! (`PathSpeedPlanner::sample_step`: constant jerk per phase, integrated exactly), so the
+//! positions are the planner's profile at the servo rate. A halt cuts the step at its tick; a
+//! step that comes to rest ends at the tick it lands; a tick before a step's last holds at a
+//! stop point rather than cross it; a segment pushed during a step that joins its stop point
+//! to more path turns the landing into the step's distance; a slowing to less than
+//! `FINE_SLOWING` of the speed is re-decided for a step of one tick (up to a step early, it
+//! would reach the slow piece's speed a step's distance before it and crawl there). One tick
+//! per step is the engine planned at the servo rate, to the bit.
+//!
+//! **Two builds.** `push`, `tick_plan`, `tick_move` and the look-ahead's walk run a build of
+//! their bodies for x86-64-v3 (AVX2, FMA) where the CPU has it, and the baseline x86-64 build
+//! elsewhere (`v3.rs`): the same motion to the last bit, about a fifth fewer instructions.
+//!
+//! `push`, `push_output`, `tick`, `halt` and `clear` allocate nothing and never panic;
+//! [`Path::with_capacity`] allocates everything once.
+
+mod curve;
+mod exec;
+mod geom;
+mod shift;
+mod smooth;
+#[cfg(test)]
+mod tests;
+#[cfg(test)]
+mod tests_curve;
+#[cfg(test)]
+mod tests_lookahead;
+#[cfg(test)]
+mod tests_period;
+#[allow(unsafe_code)] // the calls into the x86-64-v3 build, after the CPU check
+mod v3;
+
+pub use self::curve::{CurveSegment, FIT_SAMPLES};
+#[doc(hidden)]
+pub use self::exec::TickPlan;
+use crate::math;
+use crate::ram::FixedVec;
+
+#[cfg(test)]
+use self::geom::Frame;
+use self::geom::{dist_to_chord, Blend, Helix, Prog, LANES, LANES_V3, V};
+use self::shift::Chain;
+use crate::motion::arc::CircleError;
+use crate::motion::path_speed::{PathSpeedPlanner, Track};
+use crate::motion::pos_finite;
+
+/// Axes of a group.
+pub const MAX_AXES: usize = 8;
+/// Largest |position|, counts.
+pub const MAX_POS: f64 = 4.5e15;
+/// Feed range, counts/s.
+pub const MIN_FEED: f64 = 1e-6;
+pub const MAX_FEED: f64 = 1e12;
+/// Range of a blend tolerance or corner distance (0 = exact stop), counts.
+pub const MIN_TOL: f64 = 1e-9;
+pub const MAX_TOL: f64 = 1e15;
+/// Longest dwell, s.
+pub const MAX_DWELL: f64 = 1e6;
+/// Ranges of the axis limits (velocity, acceleration, jerk) and of the sample time.
+pub const LIMIT_RANGE: (f64, f64) = (1e-6, 1e18);
+pub const TS_RANGE: (f64, f64) = (1e-6, 1.0);
+/// Most servo ticks per planning step ([`PathLimits::plan_ticks`]).
+pub const MAX_PLAN_TICKS: usize = 1000;
+/// The planner's period when its owner chooses none, and the longest it may choose, s.
+pub const DEFAULT_PLAN_PERIOD: f64 = 1e-3;
+pub const MAX_PLAN_PERIOD: f64 = 0.01;
+
+/// Servo ticks per planning step for a planner period of `period` s (0: the default) at the
+/// servo period `ts`: the nearest whole number of ticks, at least one.
+pub fn plan_ticks(period: f64, ts: f64) -> usize {
+    let period = if period > 0.0 {
+        period.min(MAX_PLAN_PERIOD)
+    } else {
+        DEFAULT_PLAN_PERIOD
+    };
+    let m = math::round(period / ts);
+    if m.is_finite() && m >= 1.0 {
+        (m as usize).min(MAX_PLAN_TICKS)
+    } else {
+        1
+    }
+}
+/// Look-ahead window (segments) when the owner has no reason to choose another.
+pub const DEFAULT_LOOKAHEAD: usize = 256;
+/// Outputs waiting for the next motion segment, and outputs per segment.
+pub const MAX_OUTPUTS: usize = 4;
+/// Output bits.
+pub const OUTPUT_BITS: u8 = 32;
+
+/// Share of the smallest axis acceleration limit the tangential acceleration A_t may use;
+/// the rest is what the curvature term v²|K_k| has left at full tangential acceleration.
+pub const ACCEL_SHARE: f64 = 0.5;
+/// Share of the smallest axis jerk limit the tangential jerk J_t may use; the rest is for
+/// 3·v·A_t·|K_k| + v³|K'_k|.
+pub const JERK_SHARE: f64 = 0.5;
+/// The speed caps are computed against this fraction of every axis limit (sampling and
+/// rounding margin).
+pub const CAP_MARGIN: f64 = 0.98;
+/// The velocity limits' share an arc's or helix's cap is computed against (see
+/// `Path::curved_cap`).
+pub const ARC_VEL_MARGIN: f64 = 0.9995;
+/// Samples per blend for its cap (and its deviation when not closed-form).
+const BLEND_SAMPLES: usize = 96;
+/// Largest share of a segment a blend may trim (at each end).
+pub const MAX_TRIM_SHARE: f64 = 0.45;
+/// Largest angle of an arc a blend may trim, rad.
+const MAX_TRIM_ANGLE: f64 = core::f64::consts::FRAC_PI_4;
+/// Turns above this (rad) are reversals: exact stop.
+pub const REVERSAL: f64 = 175.0 * core::f64::consts::PI / 180.0;
+/// The cosines of [`SMOOTH_TURN`] and [`REVERSAL`], which a push compares the tangents' dot
+/// product with.
+const COS_SMOOTH_TURN: f64 = 0.8660254037844387;
+const COS_REVERSAL: f64 = -0.9961946980917455;
+/// Tangents closer than this (|Ta − Tb|) with equal curvature join without a blend.
+const TANGENT_EPS: f64 = 1e-9;
+/// The numeric deviation is held this far below the tolerance.
+const DEV_SAFETY: f64 = 0.97;
+/// Segments per block of the look-ahead's block minima. Small: on dense paths the braking
+/// reach spans a few dozen segments, and a block is passed only when none of its caps is
+/// below the speed (32 passed almost none of them on the dense-curve benchmark).
+pub const BLOCK: usize = 8;
+/// The most segments a path's ring holds (a power of two): the card's own path buffer
+/// (`MC_PATH_LEN`); a host's engine (feature `host`, the tests and benches) takes longer paths.
+pub const MAX_RING: usize = if cfg!(feature = "host") {
+    1 << 16
+} else {
+    firmware_proto::PATH_LEN.next_power_of_two()
+};
+/// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
+pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
+/// Samples per smoothing blend for its deviation, and intervals for its cap (16 samples:
+/// eight pairs of `geom::LANES`, or four fours of `geom::LANES_V3`; see `blend_cap_n`).
+const SMOOTH_SAMPLES: usize = 32;
+const SMOOTH_CAP_SAMPLES: usize = 15;
+/// Samples per NURBS piece for its cap.
+const CURVE_CAP_SAMPLES: usize = 32;
+
+/// Limits of the group, per axis (counts/s, /s², /s³), and optional tangential limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathLimits {
+    pub naxes: usize,
+    pub ts: f64,
+    pub vmax: [f64; MAX_AXES],
+    pub amax: [f64; MAX_AXES],
+    pub jmax: [f64; MAX_AXES],
+    /// Tangential acceleration limit, 0 = derive from the axes.
+    pub accel: f64,
+    /// Tangential jerk limit, 0 = derive from the axes.
+    pub jerk: f64,
+    /// Servo ticks per planning step (1..=[`MAX_PLAN_TICKS`]): the look-ahead and the speed
+    /// planner run once a step, and every tick in between follows the step's own
+    /// jerk-limited profile (see the module doc).
+    pub plan_ticks: usize,
+}
+
+/// The geometry of a segment. Arc: the plane is axes (u, v) of the group, `centre` in that
+/// plane; the other axes move linearly with the arc length (a helix).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Geom {
+    Line {
+        end: [f64; MAX_AXES],
+    },
+    Arc {
+        u: usize,
+        v: usize,
+        centre: [f64; 2],
+        ccw: bool,
+        end: [f64; MAX_AXES],
+    },
+    Dwell {
+        time: f64,
+    },
+}
+
+/// How a segment joins the previous one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Transition {
+    /// Exact stop at the corner.
+    Exact,
+    /// Blend whose distance to the corner geometry it replaces is ≤ the tolerance (0 = exact).
+    MaxDeviation(f64),
+    /// Blend trimming this length off each side (0 = exact).
+    CornerDistance(f64),
+    /// Thinh's blending of two lines (see `shift.rs`): each runs as its own rest-to-rest
+    /// S-curve, this one starting while the previous one decelerates, within this deviation
+    /// from the corner (0 = exact stop).
+    TimeShift(f64),
+}
+
+/// PLCopen BlendingLow/Previous/Next/High: the feed cap at the junction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlendSpeed {
+    Low,
+    Previous,
+    Next,
+    High,
+}
+
+/// One programmed segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    pub id: u32,
+    pub geom: Geom,
+    /// Programmed feed, counts/s (ignored by a dwell).
+    pub feed: f64,
+    pub transition: Transition,
+    pub blend: BlendSpeed,
+    /// The final segment of a program: stopping there is the end, not starvation.
+    pub last: bool,
+}
+
+/// Where an output fires, in the next motion segment pushed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OutputAt {
+    Start,
+    End,
+    /// This far along the path from where the segment starts (its `SegmentStart`); at its
+    /// end when the segment is shorter.
+    Distance(f64),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputAction {
+    pub bit: u8,
+    pub on: bool,
+    pub at: OutputAt,
+}
+
+/// What happened in a tick, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathEvent {
+    SegmentStart {
+        id: u32,
+    },
+    SegmentEnd {
+        id: u32,
+    },
+    Output {
+        bit: u8,
+        on: bool,
+        id: u32,
+    },
+    /// Started braking for the end of the queue (not marked `last`).
+    Starving,
+    /// Came to rest with nothing left.
+    Idle,
+}
+
+/// Refusals. The path is unchanged after each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathError {
+    /// `reset` was never called.
+    NotReady,
+    /// A value is NaN or infinite.
+    NotFinite,
+    /// A value that must be positive (feed) or not negative (tolerance, time, distance) is
+    /// not.
+    NonPositive,
+    /// A value is outside its range (includes subnormal feeds and tolerances, positions beyond
+    /// [`MAX_POS`], output bits ≥ [`OUTPUT_BITS`]).
+    OutOfRange,
+    /// The ring (or the pending outputs) is full.
+    Full,
+    /// A line of no length.
+    ZeroLength,
+    /// An arc the circle code refuses (radius, end off the circle).
+    BadArc(CircleError),
+    /// An arc's end more than 1e-6·radius off its circle (a jump).
+    ArcEndOffCircle,
+    /// An axis index ≥ the group's axes, an arc plane of one axis, or naxes not in 1..=8.
+    BadAxis,
+    /// A limit or the sample time is not finite, positive and in range.
+    BadLimits,
+    /// The look-ahead window is not in 1..=capacity.
+    BadLookahead,
+    /// `clear` while moving.
+    Moving,
+    /// A time-shifted transition on an arc or a curve, or after one, or a blend after a
+    /// time-shifted line.
+    TimeShift,
+    /// A NURBS curve that does not start within its tolerance of where the path ends.
+    CurveStart,
+    /// A NURBS curve with a point of zero tangent, or that needs more pieces than the ring
+    /// holds.
+    Curve,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Block {
+    /// Smallest geometric cap and smallest feed cap of its pieces.
+    geo: f64,
+    feed: f64,
+    /// Path length of its segments.
+    len: f64,
+    stop: bool,
+    /// Smallest c² + 2·A_t·x over its segments, x where a segment starts from the block's
+    /// start and c its smallest geometric cap (`kg`) or feed cap (`kf`): a lower bound of the
+    /// braking envelope that lets the look-ahead pass the whole block in one test (see
+    /// `exec::Envelope`).
+    kg: f64,
+    kf: f64,
+    /// Smallest tangential acceleration and jerk limits of its pieces (see `Seg::blim`).
+    lim: Lim,
+}
+
+/// Tangential limits of a piece (acceleration and deceleration, jerk): a line's are every
+/// axis's own limits projected onto its direction; a curved piece's are the shares of the
+/// smallest axis limits ([`ACCEL_SHARE`], [`JERK_SHARE`]) its cap was computed with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Lim {
+    pub a: f64,
+    pub j: f64,
+}
+
+impl Default for Lim {
+    fn default() -> Self {
+        Lim::NONE
+    }
+}
+
+impl Lim {
+    pub(super) const NONE: Lim = Lim {
+        a: f64::INFINITY,
+        j: f64::INFINITY,
+    };
+    /// The lower of each.
+    #[inline(always)]
+    pub(super) fn min(self, o: Lim) -> Lim {
+        Lim {
+            a: if o.a < self.a { o.a } else { self.a },
+            j: if o.j < self.j { o.j } else { self.j },
+        }
+    }
+    /// The greater of each.
+    #[inline(always)]
+    pub(super) fn max(self, o: Lim) -> Lim {
+        Lim {
+            a: if o.a > self.a { o.a } else { self.a },
+            j: if o.j > self.j { o.j } else { self.j },
+        }
+    }
+    /// Lower than `o` in either.
+    #[inline(always)]
+    pub(super) fn below(self, o: Lim) -> bool {
+        self.a < o.a || self.j < o.j
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Seg {
+    id: u32,
+    prog: Prog,
+    feed: f64,
+    last: bool,
+    /// Exact stop at its start (the junction with the previous segment).
+    stop_before: bool,
+    has_blend: bool,
+    blend: Blend,
+    /// Caps of the blend piece (or of the junction point of a tangent join): geometric and
+    /// feed (before the override).
+    jgeo: f64,
+    jfeed: f64,
+    /// Tangential limits of the blend piece (or of the junction point of a tangent join) and
+    /// of the body.
+    jlim: Lim,
+    blim: Lim,
+    /// Where it starts, from the start of its block (the block's length before it).
+    x0: f64,
+    /// Where it starts along the whole path: the distance the executor has covered since
+    /// `reset` when it gets there (see `Path::exec_dist`).
+    start: f64,
+    /// The body: [body0, body1] in the segment's own arc length.
+    body0: f64,
+    body1: f64,
+    bgeo: f64,
+    /// The blend with the previous segment: trim length on the previous segment (on this
+    /// one it is `body0`) and deviation.
+    trim: f64,
+    dev: f64,
+    /// The blend is a smoothing blend (from the middle of the previous line to the middle of
+    /// this one), with these curvature vectors at its ends.
+    smooth: bool,
+    kstart: V,
+    kend: V,
+    /// The curvature of the vertex where this line ends and the next one starts, when a
+    /// smoothing blend was built there (`vertex_k`; the next push's rebuild needs it again).
+    kvertex: Option<V>,
+    outs: [OutputAction; MAX_OUTPUTS],
+    nouts: usize,
+    fired: u8,
+    dwell_ticks: u64,
+    /// Runs as a time-shifted profile (see `shift.rs`), overlapping the previous one when
+    /// `shift_join`.
+    shift: bool,
+    shift_join: bool,
+    transition: Transition,
+    /// A piece of a NURBS curve after its first: the same user segment as the piece before
+    /// (no segment events between them; the outputs carry over).
+    cont: bool,
+}
+
+impl Default for Seg {
+    fn default() -> Self {
+        Self {
+            id: 0,
+            prog: Prog::default(),
+            feed: 0.0,
+            last: false,
+            stop_before: true,
+            has_blend: false,
+            blend: Blend::default(),
+            jgeo: 0.0,
+            jfeed: 0.0,
+            jlim: Lim::NONE,
+            blim: Lim::NONE,
+            x0: 0.0,
+            start: 0.0,
+            body0: 0.0,
+            body1: 0.0,
+            bgeo: 0.0,
+            trim: 0.0,
+            dev: 0.0,
+            smooth: false,
+            kstart: [0.0; MAX_AXES],
+            kend: [0.0; MAX_AXES],
+            kvertex: None,
+            outs: [OutputAction {
+                bit: 0,
+                on: false,
+                at: OutputAt::Start,
+            }; MAX_OUTPUTS],
+            nouts: 0,
+            fired: 0,
+            dwell_ticks: 0,
+            shift: false,
+            shift_join: false,
+            transition: Transition::Exact,
+            cont: false,
+        }
+    }
+}
+
+impl Seg {
+    fn len(&self) -> f64 {
+        (if self.has_blend { self.blend.len } else { 0.0 }) + (self.body1 - self.body0)
+    }
+    fn is_dwell(&self) -> bool {
+        matches!(self.prog, Prog::Dwell { .. })
+    }
+    /// Joins the previous segment with its blend, built in `blend` (its geometric and feed
+    /// caps), trimming `trims.0` off the previous segment and `trims.1` off this one.
+    fn join(&mut self, cap: f64, feed: f64, trims: (f64, f64), dev: f64) {
+        self.stop_before = false;
+        self.has_blend = true;
+        self.jgeo = cap;
+        self.jfeed = feed;
+        self.trim = trims.0;
+        self.body0 = trims.1;
+        self.dev = dev;
+    }
+}
+
+/// The blend of a junction, as built: trim length on each side and the deviation from the
+/// programmed corner geometry (an upper bound where not closed-form).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlendInfo {
+    pub trim: f64,
+    pub deviation: f64,
+    pub length: f64,
+}
+
+/// What the look-ahead found for this tick.
+#[derive(Debug, Clone, Copy)]
+struct Look {
+    target: f64,
+    rem: f64,
+    /// `rem` is a stop point (exact stop, the end of the queue or of the window).
+    stop: bool,
+    queue_end: bool,
+    window_end: usize,
+    /// The planner's step toward `target` when the look-ahead computed it (see
+    /// `PathSpeedPlanner::next_tracked`).
+    track: Option<Track>,
+    /// It lowered the target for a piece ahead this tick (it starts slowing for it).
+    slowed: bool,
+    /// The tangential limits it decided with: those of stops this step.
+    dec: Lim,
+}
+
+/// The continuous-path engine of one axes group.
+#[derive(Debug, Clone)]
+pub struct Path {
+    segs: FixedVec<Seg, MAX_RING>,
+    blocks: FixedVec<Block, { MAX_RING / BLOCK }>,
+    capacity: usize,
+    ready: bool,
+    lim: PathLimits,
+    at: f64,
+    jt: f64,
+    /// The limits the look-ahead decides with and stops are planned with: the lowest of the
+    /// pieces the last walk looked at (see `exec::look`); the limits the next planning step
+    /// ramps with: the lowest of the pieces near the executor; a halt's own limits hold
+    /// instead of both until `clear`.
+    dec: Lim,
+    near: Lim,
+    halt_lim: bool,
+    lookahead: usize,
+    planner: PathSpeedPlanner,
+    /// The planner's period (`plan_ticks` servo ticks), s.
+    tsp: f64,
+    /// The planning step being run (see `exec::Step`).
+    step: exec::Step,
+    /// Path speed and acceleration at the last tick (within a step, its profile's).
+    now: (f64, f64),
+    /// Absolute indices: the segment whose piece the executor is in, and the next free one.
+    exec: usize,
+    tail: usize,
+    /// In the first half of exec's blend: exec − 1 has not ended yet.
+    prev_open: bool,
+    in_blend: bool,
+    /// Position within the piece (blend: its arc length; body: the segment's arc length).
+    s: f64,
+    started: bool,
+    seg_travel: f64,
+    dwell_left: u64,
+    pos: V,
+    last_end: V,
+    halted: bool,
+    slow: Option<(f64, f64)>,
+    distance: f64,
+    pending: [OutputAction; MAX_OUTPUTS],
+    npending: usize,
+    starving_sent: bool,
+    idle_sent: bool,
+    /// The newest segment, whose smoothing blend has no cap yet (see `settle_cap`).
+    cap_due: Option<usize>,
+    /// Where the queued path ends, along the whole path (the next segment's `start`).
+    end_dist: f64,
+    /// What the last look-ahead walk passed (see `exec::Seen`).
+    seen: Option<exec::Seen>,
+    /// Tests run the look-ahead without what earlier walks saw, to compare, and count the
+    /// ticks served by testing the pieces a walk tested again (`exec::Seen::still_safe`).
+    #[cfg(test)]
+    walk_every_tick: bool,
+    #[cfg(test)]
+    retests: usize,
+    /// The time-shifted executor, while the executor's segment is one of its lines.
+    chain: Chain,
+    /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
+    breaks: FixedVec<(usize, f64, f64), MAX_RING>,
+    /// Push and tick run the engine's x86-64-v3 build (see `v3`): where the CPU has it.
+    v3: bool,
+}
+
+/// Largest v ≥ 0 with p·v³ + q·v ≤ r (p, q ≥ 0, r > 0).
+#[inline(always)]
+fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
+    if r <= 0.0 {
+        return 0.0;
+    }
+    let mut v = f64::INFINITY;
+    if q > 0.0 {
+        v = r / q;
+    }
+    if p > 0.0 {
+        v = v.min(math::cbrt(r / p));
+    } else {
+        return v;
+    }
+    if q == 0.0 {
+        return v;
+    }
+    // Newton from above on an increasing convex function: monotone
+    for _ in 0..60 {
+        let f = p * v * v * v + q * v - r;
+        let d = 3.0 * p * v * v + q;
+        let nv = v - f / d;
+        if nv.is_nan() || nv >= v || nv <= 0.0 {
+            break;
+        }
+        let done = v - nv <= 1e-14 * v;
+        v = nv;
+        if done {
+            break;
+        }
+    }
+    v
+}
+
+#[inline(always)]
+fn finite_v(n: usize, p: &V) -> Result<(), PathError> {
+    let (mut zero, mut most) = (0.0, 0.0f64);
+    for x in &p[..n] {
+        zero += x * 0.0;
+        most = most.max(x.abs());
+    }
+    if zero != 0.0 {
+        return Err(PathError::NotFinite);
+    }
+    if most > MAX_POS {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(())
+}
+
+/// A feed: finite, positive, in [MIN_FEED, MAX_FEED].
+#[inline(always)]
+fn check_feed(x: f64) -> Result<f64, PathError> {
+    if !x.is_finite() {
+        return Err(PathError::NotFinite);
+    }
+    if x <= 0.0 {
+        return Err(PathError::NonPositive);
+    }
+    if !(MIN_FEED..=MAX_FEED).contains(&x) {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(x)
+}
+
+/// A tolerance-like value: finite, ≥ 0, 0 or in [MIN_TOL, MAX_TOL].
+#[inline(always)]
+fn check_tol(x: f64) -> Result<f64, PathError> {
+    if !x.is_finite() {
+        return Err(PathError::NotFinite);
+    }
+    if x < 0.0 {
+        return Err(PathError::NonPositive);
+    }
+    if x != 0.0 && !(MIN_TOL..=MAX_TOL).contains(&x) {
+        return Err(PathError::OutOfRange);
+    }
+    Ok(x)
+}
+
+impl Path {
+    /// A path with room for `segments` queued segments (at least 1, at most [`MAX_RING`]);
+    /// everything is made here. Call [`reset`](Self::reset) before use.
+    pub fn with_capacity(segments: usize) -> Self {
+        let capacity = segments.clamp(1, MAX_RING);
+        // a power of two (of blocks): a slot is an index masked, not divided (a division
+        // costs tens of cycles, and the executor looks its segments up several times a tick)
+        let ring = capacity.next_power_of_two().max(BLOCK);
+        let lim = PathLimits {
+            naxes: 1,
+            ts: 1e-3,
+            vmax: [1.0; MAX_AXES],
+            amax: [1.0; MAX_AXES],
+            jmax: [1.0; MAX_AXES],
+            accel: 0.0,
+            jerk: 0.0,
+            plan_ticks: 1,
+        };
+        Self {
+            segs: FixedVec::from_elem(Seg::default(), ring),
+            blocks: FixedVec::from_elem(Block::default(), ring / BLOCK),
+            capacity,
+            ready: false,
+            lim,
+            at: 1.0,
+            jt: 1.0,
+            dec: Lim { a: 1.0, j: 1.0 },
+            near: Lim { a: 1.0, j: 1.0 },
+            halt_lim: false,
+            lookahead: DEFAULT_LOOKAHEAD.min(capacity),
+            planner: PathSpeedPlanner::unplanned(),
+            tsp: 1e-3,
+            step: exec::Step::NONE,
+            now: (0.0, 0.0),
+            exec: 0,
+            tail: 0,
+            prev_open: false,
+            in_blend: false,
+            s: 0.0,
+            started: false,
+            seg_travel: 0.0,
+            dwell_left: 0,
+            pos: [0.0; MAX_AXES],
+            last_end: [0.0; MAX_AXES],
+            halted: false,
+            slow: None,
+            distance: 0.0,
+            pending: [Seg::default().outs[0]; MAX_OUTPUTS],
+            npending: 0,
+            starving_sent: false,
+            idle_sent: true,
+            cap_due: None,
+            end_dist: 0.0,
+            seen: None,
+            #[cfg(test)]
+            walk_every_tick: false,
+            #[cfg(test)]
+            retests: 0,
+            chain: Chain::default(),
+            breaks: FixedVec::with_capacity(capacity),
+            v3: v3::detected(),
+        }
+    }
+
+    /// Checks the limits: (A_t, J_t).
+    fn check_limits(lim: &PathLimits) -> Result<(f64, f64), PathError> {
+        if !(1..=MAX_AXES).contains(&lim.naxes) {
+            return Err(PathError::BadAxis);
+        }
+        let ok = |x: f64| x.is_finite() && (LIMIT_RANGE.0..=LIMIT_RANGE.1).contains(&x);
+        if !(lim.ts.is_finite() && (TS_RANGE.0..=TS_RANGE.1).contains(&lim.ts)) {
+            return Err(PathError::BadLimits);
+        }
+        if !(1..=MAX_PLAN_TICKS).contains(&lim.plan_ticks) || lim.ts * lim.plan_ticks as f64 > 1.0 {
+            return Err(PathError::BadLimits);
+        }
+        let n = lim.naxes;
+        if !(lim.vmax[..n].iter().all(|&x| ok(x))
+            && lim.amax[..n].iter().all(|&x| ok(x))
+            && lim.jmax[..n].iter().all(|&x| ok(x)))
+        {
+            return Err(PathError::BadLimits);
+        }
+        if !(lim.accel == 0.0 || ok(lim.accel)) || !(lim.jerk == 0.0 || ok(lim.jerk)) {
+            return Err(PathError::BadLimits);
+        }
+        let amin = lim.amax[..n].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let jmin = lim.jmax[..n].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let mut at = ACCEL_SHARE * amin;
+        let mut jt = JERK_SHARE * jmin;
+        if lim.accel > 0.0 {
+            at = at.min(lim.accel);
+        }
+        if lim.jerk > 0.0 {
+            jt = jt.min(lim.jerk);
+        }
+        Ok((at, jt))
+    }
+
+    /// At rest at `start`, empty, with these limits; `lookahead` = segments the planner
+    /// considers (1..=capacity).
+    pub fn reset(
+        &mut self,
+        start: [f64; MAX_AXES],
+        lim: PathLimits,
+        lookahead: usize,
+    ) -> Result<(), PathError> {
+        let (at, jt) = Self::check_limits(&lim)?;
+        finite_v(lim.naxes, &start)?;
+        if !(1..=self.capacity).contains(&lookahead) {
+            return Err(PathError::BadLookahead);
+        }
+        let tsp = lim.ts * lim.plan_ticks as f64;
+        let mut planner = PathSpeedPlanner::new(tsp, at, jt).map_err(|_| PathError::BadLimits)?;
+        planner.servo_ts = lim.ts;
+        let mut start = start;
+        for x in start[lim.naxes..].iter_mut() {
+            *x = 0.0;
+        }
+        self.ready = true;
+        self.lim = lim;
+        self.at = at;
+        self.jt = jt;
+        self.dec = Lim { a: at, j: jt };
+        self.near = self.dec;
+        self.halt_lim = false;
+        self.lookahead = lookahead;
+        self.planner = planner;
+        self.tsp = tsp;
+        self.step = exec::Step::NONE;
+        self.now = (0.0, 0.0);
+        self.exec = 0;
+        self.tail = 0;
+        self.prev_open = false;
+        self.in_blend = false;
+        self.s = 0.0;
+        self.started = false;
+        self.seg_travel = 0.0;
+        self.dwell_left = 0;
+        self.pos = start;
+        self.last_end = start;
+        self.halted = false;
+        self.slow = None;
+        self.distance = 0.0;
+        self.npending = 0;
+        self.starving_sent = false;
+        self.idle_sent = true;
+        self.cap_due = None;
+        self.end_dist = 0.0;
+        self.seen = None;
+        self.shift_clear();
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn slot(&self, i: usize) -> usize {
+        i & (self.segs.len() - 1)
+    }
+    #[inline(always)]
+    fn seg(&self, i: usize) -> &Seg {
+        &self.segs[self.slot(i)]
+    }
+
+    /// Segments queued (not ended yet).
+    pub fn queued(&self) -> usize {
+        self.tail - self.exec + usize::from(self.prev_open)
+    }
+    /// Room left, segments.
+    pub fn free(&self) -> usize {
+        self.capacity - self.queued()
+    }
+    #[inline(always)]
+    pub fn is_moving(&self) -> bool {
+        self.now.0 > 0.0 || self.now.1 != 0.0 || self.step.ahead() > 0.0 || self.chain.is_moving()
+    }
+    /// Path speed at the last tick, counts/s (in a time-shifted chain, the norm of the
+    /// velocity).
+    pub fn speed(&self) -> f64 {
+        if self.chain.is_active() {
+            self.chain.speed()
+        } else {
+            self.now.0
+        }
+    }
+    /// Path acceleration at the last tick, counts/s² (in a time-shifted chain, the change of
+    /// the speed).
+    pub fn accel(&self) -> f64 {
+        if self.chain.is_active() {
+            self.chain.accel()
+        } else {
+            self.now.1
+        }
+    }
+    /// Servo ticks per planning step (see [`PathLimits::plan_ticks`]).
+    pub fn plan_ticks(&self) -> usize {
+        self.lim.plan_ticks
+    }
+    /// Commanded position of the last tick.
+    pub fn position(&self) -> [f64; MAX_AXES] {
+        self.pos
+    }
+    /// Where the last segment queued ends (where the next one starts).
+    pub fn end(&self) -> [f64; MAX_AXES] {
+        self.last_end
+    }
+    /// The segment the path is in (until a blend's middle, the one before it).
+    pub fn current_id(&self) -> Option<u32> {
+        if self.prev_open {
+            Some(self.seg(self.exec - 1).id)
+        } else if self.exec < self.tail {
+            Some(self.seg(self.exec).id)
+        } else {
+            None
+        }
+    }
+    /// Distance along the path since `reset`, counts.
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+    /// The tangential limits in use (A_t, J_t).
+    pub fn tangential_limits(&self) -> (f64, f64) {
+        (self.at, self.jt)
+    }
+    /// The blend joining the queued segment `id` to the one before it (None: no blend, or
+    /// not queued).
+    pub fn blend_info(&self, id: u32) -> Option<BlendInfo> {
+        (self.exec.saturating_sub(1)..self.tail)
+            .find(|&i| self.seg(i).id == id && self.seg(i).has_blend)
+            .map(|i| {
+                let s = self.seg(i);
+                let length = if self.cap_due == Some(i) {
+                    // not built yet (see `settle_cap`)
+                    self.due_blend(i).len
+                } else {
+                    s.blend.len
+                };
+                BlendInfo {
+                    trim: s.trim,
+                    deviation: s.dev,
+                    length,
+                }
+            })
+    }
+
+    /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
+    /// derivative `dk` on that axis.
+    #[inline(always)]
+    fn axis_cap(&self, k: usize, t: f64, kk: f64, dk: f64, cap: f64) -> f64 {
+        self.axis_cap_with(k, t, kk, dk, cap, (self.at, self.jt, CAP_MARGIN))
+    }
+
+    /// [`axis_cap`](Self::axis_cap) with the tangential limits `(at, jt)` reserved, and the
+    /// velocity limits times `vm`.
+    #[inline(always)]
+    fn axis_cap_with(
+        &self,
+        k: usize,
+        t: f64,
+        kk: f64,
+        dk: f64,
+        mut cap: f64,
+        (at, jt, vm): (f64, f64, f64),
+    ) -> f64 {
+        let l = &self.lim;
+        let (t, kk, dk) = (t.abs(), kk.abs(), dk.abs());
+        if t * cap > vm * l.vmax[k] {
+            cap = vm * l.vmax[k] / t;
+        }
+        if kk > 0.0 {
+            let room = (CAP_MARGIN * l.amax[k] - at * t).max(0.0);
+            if kk * cap * cap > room {
+                cap = math::sqrt(room / kk);
+            }
+        }
+        let room = CAP_MARGIN * l.jmax[k] - jt * t;
+        let (p, q) = (dk, 3.0 * at * kk);
+        if !(cap.is_finite() && p * cap * cap * cap + q * cap <= room) {
+            cap = cap.min(cubic_cap(p, q, room));
+        }
+        cap
+    }
+
+    /// `min(cap, the cap of blend b at parameter u)`.
+    #[cfg(test)]
+    #[inline(always)]
+    fn blend_cap_at(&self, b: &Blend, u: f64, cap: f64) -> f64 {
+        let mut cap = cap;
+        b.each_term(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
+        cap
+    }
+
+    /// Cap of a body on [s0, s1].
+    #[inline(always)]
+    fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
+        match p {
+            // its direction, no curvature: each axis's velocity limit, exactly (a line needs
+            // no sampling margin, and its tangential limits are its own: `piece_lim`)
+            Prog::Line { dir, .. } => {
+                let mut cap = f64::INFINITY;
+                #[allow(clippy::needless_range_loop)] // (an index loop: fewer instructions)
+                for k in 0..self.lim.naxes {
+                    let t = dir[k].abs();
+                    if t * cap > self.lim.vmax[k] {
+                        cap = self.lim.vmax[k] / t;
+                    }
+                }
+                cap
+            }
+            Prog::Helix(_) | Prog::Curve { .. } => self.curved_cap(p, s0, s1, (self.at, self.jt)),
+            Prog::Dwell { .. } => 0.0,
+        }
+    }
+
+    /// Each axis's tangent, curvature and its derivative (k, t, kk, dk) at the points of a
+    /// curved body on [s0, s1] its cap is computed at.
+    #[inline(always)]
+    fn body_terms(&self, p: &Prog, s0: f64, s1: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
+        match p {
+            Prog::Helix(h) => {
+                let ang = h.sweep().abs() * (s1 - s0) / p.len();
+                let m = (math::ceil(ang / 1f64.to_radians()) as usize).clamp(16, 720);
+                for i in 0..=m {
+                    let fr = p.frame(s0 + (s1 - s0) * i as f64 / m as f64);
+                    for k in 0..self.lim.naxes {
+                        f(k, fr.t[k], fr.k[k], fr.dk[k]);
+                    }
+                }
+            }
+            Prog::Curve { b, .. } => {
+                let (u0, u1) = (b.u_at(s0), b.u_at(s1));
+                for i in 0..=CURVE_CAP_SAMPLES {
+                    b.each_term(u0 + (u1 - u0) * i as f64 / CURVE_CAP_SAMPLES as f64, &mut f);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The cap of a curved body on [s0, s1] with the tangential limits `lim` reserved. An
+    /// arc's or helix's tangent turns by at most half a degree between two of its samples, so
+    /// that its velocity terms are within 4e-5 of their largest: its velocity limits take
+    /// [`ARC_VEL_MARGIN`]; the others' all take [`CAP_MARGIN`].
+    #[inline(always)]
+    fn curved_cap(&self, p: &Prog, s0: f64, s1: f64, (at, jt): (f64, f64)) -> f64 {
+        let vm = match p {
+            Prog::Helix(_) => ARC_VEL_MARGIN,
+            _ => CAP_MARGIN,
+        };
+        let mut cap = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, dk| {
+            cap = self.axis_cap_with(k, t, kk, dk, cap, (at, jt, vm))
+        });
+        cap
+    }
+
+    /// The tangential limits and the cap of a curved body (an arc, a helix, a curve's piece)
+    /// on [s0, s1] fed at `feed`: the shares of the smallest axis limits (`ACCEL_SHARE`,
+    /// `JERK_SHARE`) reserve room for the curvature at any speed up to the cap they give;
+    /// where the feed is below that cap, all that the curvature leaves at the feed goes to
+    /// the tangential limits instead (an arc at its feed accelerates with nearly each axis's
+    /// whole limit), and the cap is what those leave. (Out of line: the lines' push, the common
+    /// one, is built without it.)
+    #[inline(never)]
+    fn curved_lim(&self, p: &Prog, s0: f64, s1: f64, feed: f64) -> (Lim, f64) {
+        let shares = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        let cap0 = self.curved_cap(p, s0, s1, (self.at, self.jt));
+        let vs = feed.min(cap0);
+        if !(vs > 0.0 && vs.is_finite()) {
+            return (shares, cap0);
+        }
+        let l = &self.lim;
+        let mut a = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, _| {
+            let t = t.abs();
+            if t > 0.0 {
+                a = a.min((CAP_MARGIN * l.amax[k] - vs * vs * kk.abs()) / t);
+            }
+        });
+        if l.accel > 0.0 {
+            a = a.min(l.accel);
+        }
+        let a = a.max(self.at);
+        let mut j = f64::INFINITY;
+        self.body_terms(p, s0, s1, |k, t, kk, dk| {
+            let t = t.abs();
+            if t > 0.0 {
+                let curv = 3.0 * vs * a * kk.abs() + vs * vs * vs * dk.abs();
+                j = j.min((CAP_MARGIN * l.jmax[k] - curv) / t);
+            }
+        });
+        if l.jerk > 0.0 {
+            j = j.min(l.jerk);
+        }
+        let lim = Lim {
+            a,
+            j: j.max(self.jt),
+        };
+        if lim == shares {
+            return (shares, cap0);
+        }
+        (lim, self.curved_cap(p, s0, s1, (lim.a, lim.j)))
+    }
+
+    /// The tangential limits of a body (see [`Lim`]): a line's, every axis's acceleration and
+    /// jerk limits projected onto its direction (within the group's tangential limits if
+    /// set); a curved one's, the shares its cap was computed with.
+    #[inline(always)]
+    fn piece_lim(&self, p: &Prog) -> Lim {
+        let curved = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        let Prog::Line { dir, .. } = p else {
+            return curved;
+        };
+        let l = &self.lim;
+        let mut m = Lim::NONE;
+        #[allow(clippy::needless_range_loop)] // (an index loop: fewer instructions)
+        for k in 0..l.naxes {
+            let t = dir[k].abs();
+            if t * m.a > l.amax[k] {
+                m.a = l.amax[k] / t;
+            }
+            if t * m.j > l.jmax[k] {
+                m.j = l.jmax[k] / t;
+            }
+        }
+        if l.accel > 0.0 && l.accel < m.a {
+            m.a = l.accel;
+        }
+        if l.jerk > 0.0 && l.jerk < m.j {
+            m.j = l.jerk;
+        }
+        m
+    }
+
+    /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
+    #[inline(always)]
+    fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
+        // (both widths are in both builds; each build runs its own: `v3.rs`)
+        if self.v3 {
+            self.blend_cap_l::<LANES_V3>(b, samples)
+        } else {
+            self.blend_cap_l::<LANES>(b, samples)
+        }
+    }
+
+    #[inline(always)]
+    fn blend_cap_l<const L: usize>(&self, b: &Blend, samples: usize) -> f64 {
+        match b.axes() {
+            1 => self.blend_cap_n::<1, L>(b, samples),
+            2 => self.blend_cap_n::<2, L>(b, samples),
+            3 => self.blend_cap_n::<3, L>(b, samples),
+            _ => self.blend_cap_n::<MAX_AXES, L>(b, samples),
+        }
+    }
+
+    /// [`blend_cap`](Self::blend_cap) over the first `N` axes, `L` samples at a time
+    /// (`Blend::terms_lanes`): each lane's velocity and acceleration caps are computed
+    /// together, then the jerk cubic is solved only where the lowest cap so far breaks it, as
+    /// [`axis_cap`](Self::axis_cap) does sample by sample. The cap's lowest point lies between
+    /// two samples, up to a few per cent below the lowest sample: the middles of the two
+    /// intervals next to the lowest sample are sampled too, which finds most of it
+    /// (`tests_lookahead` measures what is left).
+    #[allow(clippy::needless_range_loop)] // one index over several lane arrays
+    #[inline(always)]
+    fn blend_cap_n<const N: usize, const L: usize>(&self, b: &Blend, samples: usize) -> f64 {
+        let l = &self.lim;
+        let (at, jt) = (self.at, self.jt);
+        let samples = samples.max(1);
+        let h = 1.0 / samples as f64;
+        let (mut cap, mut low) = (f64::INFINITY, 0.0);
+        // the groups from the ends inwards (the lowest cap is often near an end: a cap found
+        // early leaves fewer jerk cubics to solve)
+        let groups = samples / L + 1;
+        for m in (0..groups).map(|m| {
+            if m % 2 == 0 {
+                m / 2
+            } else {
+                groups - 1 - m / 2
+            }
+        }) {
+            let first = m * L;
+            // the last lanes past the end repeat it
+            let mut u = [0.0; L];
+            for j in 0..L {
+                u[j] = (first + j).min(samples) as f64 * h;
+            }
+            let tm = b.terms_lanes::<N, L>(&u);
+            let mut c = [f64::INFINITY; L];
+            for k in 0..N {
+                let (vm, am) = (CAP_MARGIN * l.vmax[k], CAP_MARGIN * l.amax[k]);
+                for i in 0..L {
+                    let (t, kk) = (tm.t[k][i], tm.k[k][i]);
+                    // t = 0: no velocity cap; kk = 0: no acceleration cap (room/0 is ∞, or
+                    // NaN when room is 0 too, which `min` passes over)
+                    let v = vm / t;
+                    let room = (am - at * t).max(0.0);
+                    let a = math::sqrt(room / kk);
+                    c[i] = c[i].min(v).min(a);
+                }
+            }
+            let mut lowest = cap;
+            for x in c {
+                lowest = lowest.min(x);
+            }
+            // the jerk terms at the lowest cap so far, all lanes at once: p·v³ + q·v grows
+            // with v, so a term within its room there is within it at any lower cap, and only
+            // the others are looked at one by one (as the lowest cap falls)
+            let mut over = !lowest.is_finite();
+            for k in 0..N {
+                let jm = CAP_MARGIN * l.jmax[k];
+                for i in 0..L {
+                    let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
+                    let room = jm - jt * tm.t[k][i];
+                    // (NaN: not within)
+                    let within = p * lowest * lowest * lowest + q * lowest <= room;
+                    over |= !within;
+                }
+            }
+            if over {
+                for k in 0..N {
+                    let jm = CAP_MARGIN * l.jmax[k];
+                    for i in 0..L {
+                        let (p, q) = (tm.dk[k][i], 3.0 * at * tm.k[k][i]);
+                        let room = jm - jt * tm.t[k][i];
+                        if !(lowest.is_finite()
+                            && p * lowest * lowest * lowest + q * lowest <= room)
+                        {
+                            c[i] = c[i].min(cubic_cap(p, q, room));
+                            lowest = lowest.min(c[i]);
+                        }
+                    }
+                }
+            }
+            for i in 0..L {
+                if c[i] < cap {
+                    cap = c[i];
+                    low = u[i];
+                }
+            }
+        }
+        for u in [low - 0.5 * h, low + 0.5 * h] {
+            if (0.0..=1.0).contains(&u) {
+                b.each_term_n::<N>(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
+            }
+        }
+        cap
+    }
+
+    /// Most a blend may trim off `p` at one end (share, angle).
+    fn room(p: &Prog) -> f64 {
+        let l = p.len();
+        match p {
+            Prog::Helix(h) => (MAX_TRIM_SHARE * l).min(MAX_TRIM_ANGLE * l / h.sweep().abs()),
+            _ => MAX_TRIM_SHARE * l,
+        }
+    }
+
+    /// Upper bound of the distance between `b` and the programmed geometry it replaces (the
+    /// last `d` of `pa`, the first `d` of `pb`): the blend sampled against chords of the
+    /// geometry, plus their sagitta.
+    fn deviation(n: usize, b: &Blend, pa: &Prog, pb: &Prog, d: f64) -> f64 {
+        const M: usize = 32;
+        let la = pa.len();
+        let mut pts = [[0.0; MAX_AXES]; 2 * M + 1];
+        for (i, q) in pts.iter_mut().enumerate() {
+            *q = if i <= M {
+                pa.pos(la - d + d * i as f64 / M as f64)
+            } else {
+                pb.pos(d * (i - M) as f64 / M as f64)
+            };
+        }
+        let mut sag = 0.0f64;
+        for p in [pa, pb] {
+            if p.is_curved() {
+                let k = math::sqrt(p.frame(0.0).k[..n].iter().map(|x| x * x).sum::<f64>());
+                let h = d / M as f64;
+                sag = sag.max(k * h * h / 8.0 * 1.01);
+            }
+        }
+        let mut worst = 0.0f64;
+        for i in 0..=BLEND_SAMPLES {
+            let q = b.pos_u(i as f64 / BLEND_SAMPLES as f64);
+            let mut best = f64::INFINITY;
+            for w in pts.windows(2) {
+                best = best.min(dist_to_chord(n, &q, &w[0], &w[1]));
+            }
+            worst = worst.max(best);
+        }
+        worst + sag
+    }
+
+    /// Distance from the executor to the end of segment `upto`'s body (a queued segment at
+    /// or after the executor's).
+    #[inline(always)]
+    fn dist_to_body_end(&self, upto: usize) -> f64 {
+        let sg = self.seg(upto);
+        sg.start + sg.len() - self.exec_dist()
+    }
+
+    /// [`push`](Self::push)'s body (which `v3.rs` builds twice).
+    #[inline(always)]
+    pub(super) fn push_impl(&mut self, seg: Segment) -> Result<(), PathError> {
+        if !self.ready {
+            return Err(PathError::NotReady);
+        }
+        let n = self.lim.naxes;
+        let p0 = self.last_end;
+        let mut rec = Seg {
+            id: seg.id,
+            last: seg.last,
+            ..Seg::default()
+        };
+        if !matches!(seg.geom, Geom::Dwell { .. }) {
+            rec.feed = check_feed(seg.feed)?;
+        }
+        let tol = match seg.transition {
+            Transition::Exact => 0.0,
+            Transition::MaxDeviation(x)
+            | Transition::CornerDistance(x)
+            | Transition::TimeShift(x) => check_tol(x)?,
+        };
+        let fix_axes = |e: &mut V| {
+            for x in e[n..].iter_mut() {
+                *x = 0.0;
+            }
+        };
+        match seg.geom {
+            Geom::Line { mut end } => {
+                finite_v(n, &end)?;
+                fix_axes(&mut end);
+                let (p, len) = Prog::line(n, p0, end);
+                let mut scale = 1.0f64;
+                for k in 0..n {
+                    scale = scale.max(p0[k].abs()).max(end[k].abs());
+                }
+                if len.is_nan() || len <= 64.0 * f64::EPSILON * scale {
+                    return Err(PathError::ZeroLength);
+                }
+                rec.prog = p;
+            }
+            Geom::Arc {
+                u,
+                v,
+                centre,
+                ccw,
+                mut end,
+            } => {
+                if u >= n || v >= n || u == v {
+                    return Err(PathError::BadAxis);
+                }
+                finite_v(n, &end)?;
+                if !(centre[0].is_finite() && centre[1].is_finite()) {
+                    return Err(PathError::NotFinite);
+                }
+                if centre.iter().any(|x| x.abs() > MAX_POS) {
+                    return Err(PathError::OutOfRange);
+                }
+                fix_axes(&mut end);
+                let h = Helix::new(n, p0, end, u, v, centre, ccw).map_err(PathError::BadArc)?;
+                let r0 = math::hypot(p0[u] - centre[0], p0[v] - centre[1]);
+                let r1 = math::hypot(end[u] - centre[0], end[v] - centre[1]);
+                if (r1 - r0).abs() > 1e-6 * r0.max(1.0) {
+                    return Err(PathError::ArcEndOffCircle);
+                }
+                rec.prog = Prog::Helix(h);
+            }
+            Geom::Dwell { time } => {
+                if !time.is_finite() {
+                    return Err(PathError::NotFinite);
+                }
+                if time < 0.0 {
+                    return Err(PathError::NonPositive);
+                }
+                if time > MAX_DWELL {
+                    return Err(PathError::OutOfRange);
+                }
+                rec.prog = Prog::Dwell { p: p0 };
+                rec.dwell_ticks = math::ceil(time / self.lim.ts - 1e-9).max(0.0) as u64;
+            }
+        }
+        self.append(rec, seg.transition, seg.blend, tol)
+    }
+
+    /// Appends a validated segment or curve piece `rec` (its feed and program set), joining
+    /// it to the previous one as `transition` and `blend` say (`tol`: the transition's
+    /// checked tolerance). Nothing changes when it fails (it fails only before it changes
+    /// anything).
+    #[inline(always)]
+    fn append(
+        &mut self,
+        mut rec: Seg,
+        transition: Transition,
+        blend: BlendSpeed,
+        tol: f64,
+    ) -> Result<(), PathError> {
+        if self.queued() >= self.capacity {
+            return Err(PathError::Full);
+        }
+        let n = self.lim.naxes;
+        let p0 = self.last_end;
+        let motion = !rec.is_dwell();
+        let len = rec.prog.len();
+        rec.body1 = len;
+        if rec.prog.is_curved() {
+            (rec.blim, rec.bgeo) = self.curved_lim(&rec.prog, 0.0, len, rec.feed);
+        } else {
+            rec.bgeo = self.body_cap(&rec.prog, 0.0, len);
+            rec.blim = self.piece_lim(&rec.prog);
+        }
+        // a blend is curved
+        rec.jlim = Lim {
+            a: self.at,
+            j: self.jt,
+        };
+        rec.transition = transition;
+        // The junction with the previous segment.
+        let idle = self.exec >= self.tail;
+        let prev_live = !idle && self.tail > self.exec;
+        let mut prev_trim = 0.0;
+        let mut convert_prev = false;
+        let mut cap_due = false;
+        if let Transition::TimeShift(_) = transition {
+            if rec.prog.is_curved() || (prev_live && self.seg(self.tail - 1).prog.is_curved()) {
+                return Err(PathError::TimeShift);
+            }
+            if self.shift_profile(&rec.prog, rec.feed, 0.0).is_err() {
+                return Err(PathError::OutOfRange);
+            }
+            rec.shift = true;
+            if prev_live && tol > 0.0 {
+                let pi = self.tail - 1;
+                let prev = self.seg(pi);
+                if prev.shift {
+                    rec.shift_join = true;
+                } else if !prev.is_dwell()
+                    && prev.stop_before
+                    && (self.exec < pi || (!self.in_blend && self.s == 0.0 && !self.is_moving()))
+                    && self.shift_profile(&prev.prog, prev.feed, 0.0).is_ok()
+                {
+                    // the line before starts from rest and has not moved: it runs as the
+                    // chain's first profile (else this corner is an exact stop)
+                    convert_prev = true;
+                    rec.shift_join = true;
+                }
+            }
+        } else if motion && prev_live && tol > 0.0 && self.seg(self.tail - 1).shift {
+            return Err(PathError::TimeShift);
+        } else if motion && prev_live && tol > 0.0 && !self.seg(self.tail - 1).is_dwell() {
+            let prev = self.seg(self.tail - 1);
+            let la = prev.prog.len();
+            let (ta, ka) = prev.prog.tangent_curvature(la);
+            let (tb, kb) = rec.prog.tangent_curvature(0.0);
+            let (mut dt2, mut dot, mut dk2, mut k2) = (0.0, 0.0, 0.0, 0.0);
+            for k in 0..n {
+                dt2 += (ta[k] - tb[k]) * (ta[k] - tb[k]);
+                dot += ta[k] * tb[k];
+                dk2 += (ka[k] - kb[k]) * (ka[k] - kb[k]);
+                k2 += ka[k] * ka[k] + kb[k] * kb[k];
+            }
+            // the turn's cosine (the turn itself, an arc cosine, where a corner blend needs it)
+            let cos_turn = dot.clamp(-1.0, 1.0);
+            // where a smoothing blend and the previous one rebuilt are built
+            // (the new one in the segment's own, which holds nothing until it is joined)
+            let mut again = Blend::default();
+            // (the planner's state is where the step being run ends: the executor gets there
+            // first, whatever it is told now)
+            let need = {
+                let pl = &self.planner;
+                1.05 * PathSpeedPlanner::stopping_distance(pl.v, pl.a.max(0.0), self.at, self.jt)
+                    + 4.0 * pl.v * self.tsp
+                    + self.step.ahead()
+                    + 1e-9
+            };
+            let rule = match blend {
+                BlendSpeed::Low => prev.feed.min(rec.feed),
+                BlendSpeed::Previous => prev.feed,
+                BlendSpeed::Next => rec.feed,
+                BlendSpeed::High => prev.feed.max(rec.feed),
+            };
+            if math::sqrt(dt2) <= TANGENT_EPS && dk2 <= 1e-18 * k2 {
+                // tangent and curvature-continuous: no blend, the caps of both sides
+                rec.stop_before = false;
+                rec.jgeo = prev.bgeo.min(rec.bgeo);
+                rec.jfeed = rule;
+                rec.jlim = prev.blim.min(rec.blim);
+            } else if let Some(sm) = if !prev.prog.is_curved()
+                && matches!(transition, Transition::MaxDeviation(_))
+                && cos_turn >= COS_SMOOTH_TURN
+            {
+                self.smooth(&rec.prog, tol, need, &mut again, &mut rec.blend)
+            } else {
+                None
+            } {
+                let ps = self.slot(self.tail - 1);
+                self.segs[ps].kvertex = Some(sm.kvertex);
+                if let Some((cap, dev, kend)) = sm.again {
+                    let pi = self.tail - 1;
+                    let ps = self.slot(pi);
+                    let old = self.segs[ps].blend.len;
+                    let sp = &mut self.segs[ps];
+                    sp.blend = again;
+                    sp.jgeo = cap;
+                    sp.dev = dev;
+                    sp.kend = kend;
+                    let x0 = sp.x0;
+                    let new_len = sp.blend.len;
+                    self.end_dist += new_len - old;
+                    let bk = &mut self.blocks[ps / BLOCK];
+                    bk.len += new_len - old;
+                    bk.geo = bk.geo.min(cap);
+                    bk.kg = bk.kg.min(cap * cap + 2.0 * self.at * x0);
+                    self.cap_due = None;
+                }
+                // The newest blend ends with curvature 0 and is rebuilt by the next push in
+                // the common case: only checked so far, it is built and capped when the
+                // look-ahead may reach it (see `settle_cap`), so that each push builds one
+                // blend and computes one cap, not two.
+                rec.join(0.0, rule, (sm.da, sm.db), sm.dev);
+                cap_due = true;
+                rec.smooth = true;
+                rec.kstart = sm.kstart;
+                prev_trim = sm.da;
+            } else if cos_turn > COS_REVERSAL {
+                let turn = math::acos(cos_turn);
+                // room on each side: the share of the segment, and on the executor's side
+                // what it can still slow down before
+                let mut room = Self::room(&prev.prog)
+                    .min(la - prev.body0)
+                    .min(Self::room(&rec.prog));
+                let to_corner = self.dist_to_body_end(self.tail - 1);
+                room = room.min(to_corner - need);
+                let build =
+                    |d: f64| Blend::new(n, &prev.prog.frame(la - d), &rec.prog.frame(d), d, d);
+                let line_line = !prev.prog.is_curved() && !rec.prog.is_curved();
+                let (d, dev) = match transition {
+                    Transition::MaxDeviation(tol) => {
+                        if line_line {
+                            let f = 0.375 * math::sin(0.5 * turn);
+                            let d = if f > 0.0 { (tol / f).min(room) } else { room };
+                            (d, f * d)
+                        } else {
+                            let target = DEV_SAFETY * tol;
+                            let dev_at = |d: f64| match build(d) {
+                                Some(b) => Self::deviation(n, &b, &prev.prog, &rec.prog, d),
+                                None => f64::INFINITY,
+                            };
+                            let dmax = dev_at(room.max(0.0));
+                            if room > 0.0 && dmax <= target {
+                                (room, dmax)
+                            } else {
+                                let (mut lo, mut hi) = (0.0, room.max(0.0));
+                                let mut dev_lo = 0.0;
+                                for _ in 0..40 {
+                                    let mid = 0.5 * (lo + hi);
+                                    let dm = dev_at(mid);
+                                    if dm <= target {
+                                        lo = mid;
+                                        dev_lo = dm;
+                                    } else {
+                                        hi = mid;
+                                    }
+                                    if hi - lo <= 1e-6 * hi {
+                                        break;
+                                    }
+                                }
+                                (lo, dev_lo)
+                            }
+                        }
+                    }
+                    Transition::CornerDistance(cd) => {
+                        let d = cd.min(room);
+                        let dev = if line_line {
+                            0.375 * math::sin(0.5 * turn) * d
+                        } else {
+                            build(d)
+                                .map(|b| Self::deviation(n, &b, &prev.prog, &rec.prog, d))
+                                .unwrap_or(f64::INFINITY)
+                        };
+                        (d, dev)
+                    }
+                    Transition::Exact | Transition::TimeShift(_) => (0.0, 0.0),
+                };
+                let scale = p0[..n].iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                if d > 1e3 * f64::EPSILON * scale && d.is_finite() {
+                    if let Some(b) = build(d) {
+                        let cap = self.blend_cap(&b, BLEND_SAMPLES);
+                        if cap > 0.0 && cap.is_finite() {
+                            rec.blend = b;
+                            rec.join(cap, rule, (d, d), dev);
+                            prev_trim = d;
+                        }
+                    }
+                }
+            }
+        }
+        if rec.has_blend && rec.prog.is_curved() {
+            // the body's cap without the trimmed start (a line's is the same everywhere)
+            (rec.blim, rec.bgeo) = self.curved_lim(&rec.prog, rec.body0, len, rec.feed);
+        }
+        if motion {
+            rec.outs[..self.npending].copy_from_slice(&self.pending[..self.npending]);
+            rec.nouts = self.npending;
+            self.npending = 0;
+        }
+        // commit
+        if let Some(i) = self.cap_due {
+            // not rebuilt by this push: the previous blend keeps its shape and gets its cap
+            self.settle_cap(i);
+        }
+        if convert_prev {
+            let ps = self.slot(self.tail - 1);
+            self.segs[ps].shift = true;
+        }
+        if prev_trim > 0.0 {
+            let pi = self.tail - 1;
+            let ps = self.slot(pi);
+            self.segs[ps].body1 -= prev_trim;
+            self.blocks[ps / BLOCK].len -= prev_trim;
+            self.end_dist -= prev_trim;
+        }
+        if self.tail > 0 {
+            // the segment before is rebuilt or trimmed above
+            self.window_changed(self.tail - 1);
+        }
+        if idle {
+            self.in_blend = false;
+            self.prev_open = false;
+            self.s = 0.0;
+            self.started = false;
+        }
+        let sl = self.slot(self.tail);
+        let b = &mut self.blocks[sl / BLOCK];
+        if sl.is_multiple_of(BLOCK) {
+            *b = Block {
+                geo: f64::INFINITY,
+                feed: f64::INFINITY,
+                len: 0.0,
+                stop: false,
+                kg: f64::INFINITY,
+                kf: f64::INFINITY,
+                lim: Lim::NONE,
+            };
+        }
+        rec.x0 = b.len;
+        b.lim = b.lim.min(rec.blim);
+        if !rec.stop_before {
+            b.lim = b.lim.min(rec.jlim);
+        }
+        rec.start = self.end_dist;
+        self.end_dist += rec.len();
+        b.len += rec.len();
+        b.stop |= rec.stop_before;
+        b.geo = b.geo.min(rec.bgeo);
+        b.feed = b.feed.min(rec.feed);
+        let (mut g, mut f) = (rec.bgeo, rec.feed);
+        if !rec.stop_before {
+            if !cap_due {
+                g = g.min(rec.jgeo);
+            }
+            f = f.min(rec.jfeed);
+        }
+        b.geo = b.geo.min(g);
+        b.feed = b.feed.min(f);
+        b.kg = b.kg.min(g * g + 2.0 * self.at * rec.x0);
+        b.kf = b.kf.min(f * f + 2.0 * self.at * rec.x0);
+        if cap_due {
+            self.cap_due = Some(self.tail);
+        }
+        self.last_end = rec.prog.end();
+        self.segs[sl] = rec;
+        self.tail += 1;
+        self.starving_sent = false;
+        self.idle_sent = false;
+        Ok(())
+    }
+
+    /// Attaches an output to the next motion segment pushed (at most [`MAX_OUTPUTS`]).
+    pub fn push_output(&mut self, o: OutputAction) -> Result<(), PathError> {
+        if o.bit >= OUTPUT_BITS {
+            return Err(PathError::OutOfRange);
+        }
+        if let OutputAt::Distance(d) = o.at {
+            if !d.is_finite() {
+                return Err(PathError::NotFinite);
+            }
+            if d < 0.0 {
+                return Err(PathError::NonPositive);
+            }
+            if d > 4.0 * MAX_POS {
+                return Err(PathError::OutOfRange);
+            }
+        }
+        if self.npending >= MAX_OUTPUTS {
+            return Err(PathError::Full);
+        }
+        self.pending[self.npending] = o;
+        self.npending += 1;
+        Ok(())
+    }
+}
