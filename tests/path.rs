@@ -1069,3 +1069,46 @@ fn an_arc_accelerates_with_what_its_curvature_leaves() {
     let bound = std::f64::consts::TAU * r / V + V / A;
     assert!(t < 1.04 * bound, "{t} s against {bound} s");
 }
+
+/// A slow arc moves and ends: a quarter circle fed far below its cap (a CAM program's small
+/// fillet at a low feed) runs at its feed and stops on its end point, every limit held.
+/// Before, such an arc's tangential limits left no room where its tangent lies along an axis
+/// (that axis's curvature term is 0 there but for rounding): its cap came out 0 and the group
+/// stayed Moving at rest for ever.
+#[test]
+fn a_slow_arc_moves_and_ends() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    for (feed, r) in [
+        (833.0, 250.0),
+        (1_400.0, 250.0),
+        (833.0, 100.0),
+        (833.0, 10_000.0),
+        (20_000.0, 100_000.0),
+    ] {
+        let (card, g) = path_card(2, &lim);
+        let c = ArcSpec::Centre {
+            end: [r, r],
+            centre: [0.0, r],
+            ccw: true,
+        };
+        g.path_push(&Segment::arc(1, c, Plane::XY, &[], feed, 10.0).last().into())
+            .unwrap();
+        let len = std::f64::consts::FRAC_PI_2 * r;
+        let ticks = (len / feed * 1e4) as usize;
+        let run = run(&card, &g, 2, 2 * ticks + 10_000);
+        let what = format!("a quarter circle of radius {r} at {feed} counts/s");
+        assert_eq!(
+            g.status().unwrap().0,
+            GroupState::Standby,
+            "{what}: not ended"
+        );
+        assert_eq!(run.pos.last().unwrap(), &vec![r, r], "{what}: its end");
+        assert_limits(&run, &lim, &what);
+        let t = run.pos.len() as f64 * 1e-4;
+        assert!(
+            t < 1.05 * len / feed + 0.01,
+            "{what}: {t} s against {} s at the feed",
+            len / feed
+        );
+    }
+}

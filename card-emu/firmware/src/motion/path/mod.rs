@@ -181,6 +181,12 @@ pub const CAP_MARGIN: f64 = 0.98;
 /// The velocity limits' share an arc's or helix's cap is computed against (see
 /// `Path::curved_cap`).
 pub const ARC_VEL_MARGIN: f64 = 0.9995;
+
+/// What a curved piece fed below its cap keeps of the tangential room its curvature leaves
+/// (`curved_lim`): the room less a millionth, so that the cap found with those limits is the
+/// feed's, not a rounding's (where a tangent lies along an axis, the axis's curvature term is
+/// 0 to within rounding, and no room at all would give a cap of 0 there).
+const LIM_SLACK: f64 = 1.0 - 1e-6;
 /// Samples per blend for its cap (and its deviation when not closed-form).
 const BLEND_SAMPLES: usize = 96;
 /// Largest share of a segment a blend may trim (at each end).
@@ -1099,7 +1105,7 @@ impl Path {
         if l.accel > 0.0 {
             a = a.min(l.accel);
         }
-        let a = a.max(self.at);
+        let a = (a * LIM_SLACK).max(self.at);
         let mut j = f64::INFINITY;
         self.body_terms(p, s0, s1, |k, t, kk, dk| {
             let t = t.abs();
@@ -1113,12 +1119,17 @@ impl Path {
         }
         let lim = Lim {
             a,
-            j: j.max(self.jt),
+            j: (j * LIM_SLACK).max(self.jt),
         };
         if lim == shares {
             return (shares, cap0);
         }
-        (lim, self.curved_cap(p, s0, s1, (lim.a, lim.j)))
+        // (never below the feed the limits were found for: the shares' cap otherwise)
+        let cap = self.curved_cap(p, s0, s1, (lim.a, lim.j));
+        if cap < vs {
+            return (shares, cap0);
+        }
+        (lim, cap)
     }
 
     /// The tangential limits of a body (see [`Lim`]): a line's, every axis's acceleration and
