@@ -90,7 +90,7 @@ mod tests {
             (0.0, 0.0, 0.0, 0.0)
         );
         assert_eq!(act.mv.geom.len(), 500.0);
-        assert_eq!(b.g.q_len, 0);
+        assert_eq!(b.g.queue.len(), 0);
         for a in 0..2 {
             assert_eq!(b.axes[a].state, AxisState::SynchronizedMotion);
         }
@@ -103,7 +103,7 @@ mod tests {
         b.line(8, &[0.0, 0.0], 0);
         activate(&mut b);
         assert_eq!(b.g.active.as_ref().unwrap().mv.seq, 7);
-        assert_eq!(b.g.q_len, 1);
+        assert_eq!(b.g.queue.len(), 1);
     }
 
     #[test]
@@ -126,7 +126,7 @@ mod tests {
         b.g.stop = Some(StopKind::Halt(9));
         activate(&mut b);
         assert!(b.g.active.is_none());
-        assert_eq!(b.g.q_len, 1);
+        assert_eq!(b.g.queue.len(), 1);
     }
 
     /// A move of another feed type waits until the filters are empty, then switches them.

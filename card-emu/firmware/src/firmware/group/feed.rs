@@ -55,17 +55,12 @@ impl Group {
             let len = act.mv.geom.len();
             let prev_v = act.v;
             let adv = if let Feed::Nurbs(k) = act.mv.feed {
-                let mut q = Queue {
-                    moves: &mut self.queue,
-                    head: &mut self.q_head,
-                    len: &mut self.q_len,
-                };
                 let m = (&theta_a, &w_a);
                 nurbs_feed(
                     act,
                     k,
                     join,
-                    &mut q,
+                    &mut self.queue,
                     &mut self.nurbs,
                     n,
                     m,
@@ -134,7 +129,7 @@ impl Group {
                 self.pop();
             }
         }
-        if self.q_len > 0 && self.stop.is_none() {
+        if !self.queue.is_empty() && self.stop.is_none() {
             // More queued: this one is done as soon as the next takes over.
             out.push(self.event(EventKind::GroupMotionDone, act.mv.seq, 0, 0.0, tick));
         } else if self.stop.is_none() {
@@ -142,13 +137,6 @@ impl Group {
             self.settled_for = 0.0;
         }
     }
-}
-
-/// The group's move queue, borrowed while the active move is.
-struct Queue<'a> {
-    moves: &'a mut [Option<Move>; GROUP_QUEUE_LEN],
-    head: &'a mut usize,
-    len: &'a mut usize,
 }
 
 /// The move's own feed (not stopping, not a curve): S-curve, constant or reference word;
@@ -256,7 +244,7 @@ fn nurbs_feed(
     act: &mut Active,
     k: usize,
     join: bool,
-    queue: &mut Queue<'_>,
+    queue: &mut Deque<Move, GROUP_QUEUE_LEN>,
     nurbs: &mut NurbsPool,
     n: usize,
     (theta_a, w_a): (&Point, &Point),
@@ -269,7 +257,7 @@ fn nurbs_feed(
     let mut finished = false;
     let mut hand_over = false;
     let mut stopped = false;
-    let next_slot = match (join, queue.moves[*queue.head].as_ref()) {
+    let next_slot = match (join, queue.front()) {
         (
             true,
             Some(Move {
@@ -322,10 +310,7 @@ fn nurbs_feed(
         return Advance { point, finished };
     }
     // The curve ended inside this tick's step: the next one takes the rest of it.
-    let slot = *queue.head;
-    *queue.head = (*queue.head + 1) % GROUP_QUEUE_LEN;
-    *queue.len -= 1;
-    let Some(next) = queue.moves[slot].take() else {
+    let Some(next) = queue.pop_front() else {
         return Advance {
             point,
             finished: true,
@@ -524,7 +509,7 @@ mod tests {
             if handed.is_none() && b.pushed(EventKind::GroupMotionDone, 1) {
                 handed = Some(ticks);
                 assert_eq!(b.g.active.as_ref().unwrap().mv.seq, 2);
-                assert_eq!(b.g.q_len, 0);
+                assert_eq!(b.g.queue.len(), 0);
             }
             if let (Some(_), Some(act)) = (handed, b.g.active.as_ref()) {
                 if act.s < 0.5 * act.mv.geom.len() {

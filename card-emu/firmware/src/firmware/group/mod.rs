@@ -1,6 +1,7 @@
-//! Axes groups: PLCopen group states, a queue of buffered moves, the interpolators (linear,
-//! circular, helical, synchronised point-to-point) and the tangential feed, feeding the axes
-//! through their post-interpolation acc/dec filters.
+//! Axes groups: PLCopen group states, a queue of buffered moves (a `heapless::Deque` of
+//! `GROUP_QUEUE_LEN`), the interpolators (linear, circular, helical, synchronised
+//! point-to-point) and the tangential feed, feeding the axes through their post-interpolation
+//! acc/dec filters.
 //!
 //! Per servo tick a moving group runs these steps, one file each, each with its own tests:
 //! - `activate.rs`: the next queued move starts (the filters switch feed type only when empty);
@@ -64,6 +65,7 @@ use firmware_proto::{
     move_flags, raw, AxisState, Command, Event, EventKind, GroupState, GroupStatus, NackCode,
     Opcode, GROUP_QUEUE_LEN, MAX_AXES,
 };
+use heapless::Deque;
 
 /// A validated group configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -372,9 +374,8 @@ pub struct Group {
     pub state: GroupState,
     /// Configuration (None until configured).
     pub config: Option<GroupConfig>,
-    queue: [Option<Move>; GROUP_QUEUE_LEN],
-    q_head: usize,
-    q_len: usize,
+    /// The buffered moves, oldest first.
+    queue: Deque<Move, GROUP_QUEUE_LEN>,
     active: Option<Active>,
     /// Programmed end of everything queued (group axis order).
     queue_end: [f64; MAX_AXES],
@@ -417,9 +418,7 @@ impl Group {
             index: index as u16,
             state: GroupState::Disabled,
             config: None,
-            queue: core::array::from_fn(|_| None),
-            q_head: 0,
-            q_len: 0,
+            queue: Deque::new(),
             active: None,
             queue_end: [0.0; MAX_AXES],
             final_seq: None,
@@ -624,23 +623,19 @@ impl Group {
     /// Reports every queued move aborted, but keeps the first `keep` (NURBS curves a stop runs
     /// on into), marked as run-out.
     fn flush_queue_keeping(&mut self, keep: usize, by: Opcode, tick: u64, out: &mut Outbox) {
-        let keep = keep.min(self.q_len);
-        for i in 0..self.q_len {
-            let slot = (self.q_head + i) % GROUP_QUEUE_LEN;
-            let Some(m) = self.queue[slot].as_mut() else {
-                continue;
+        for i in 0..self.queue.len() {
+            let Some(m) = self.queue.get_mut(i) else {
+                break;
             };
             let (seq, reported) = (m.seq, m.runout);
             if i < keep {
                 m.runout = true;
-            } else {
-                self.queue[slot] = None;
             }
             if !reported {
                 out.push(self.event(EventKind::GroupMotionAborted, seq, by as i32, 0.0, tick));
             }
         }
-        self.q_len = keep;
+        self.queue.truncate(keep);
     }
 
     /// How many queued NURBS curves a stop of the active curve at `dmax`/`jerk` runs on into:
@@ -684,10 +679,7 @@ impl Group {
         i: usize,
         post: bool,
     ) -> Option<(usize, usize)> {
-        if i >= self.q_len {
-            return None;
-        }
-        let mv = self.queue[(self.q_head + i) % GROUP_QUEUE_LEN].as_ref()?;
+        let mv = self.queue.get(i)?;
         let Feed::Nurbs(k) = mv.feed else {
             return None;
         };
@@ -700,21 +692,11 @@ impl Group {
     }
 
     fn pop(&mut self) -> Option<Move> {
-        if self.q_len == 0 {
-            return None;
-        }
-        let m = self.queue[self.q_head].take();
-        self.q_head = (self.q_head + 1) % GROUP_QUEUE_LEN;
-        self.q_len -= 1;
-        m
+        self.queue.pop_front()
     }
 
     fn peek(&self) -> Option<&Move> {
-        if self.q_len == 0 {
-            None
-        } else {
-            self.queue[self.q_head].as_ref()
-        }
+        self.queue.front()
     }
 
     /// A halt or stop that has run for `max_time` s or more without coming to rest: how long it
@@ -993,7 +975,7 @@ impl Group {
         if self.path.as_ref().is_some_and(|p| p.engaged) {
             return Err(NackCode::PathBusy);
         }
-        if self.q_len >= GROUP_QUEUE_LEN {
+        if self.queue.is_full() {
             return Err(NackCode::QueueFull);
         }
         Ok(cfg)
@@ -1001,9 +983,8 @@ impl Group {
 
     fn push(&mut self, mv: Move, n: usize, tick: u64, out: &mut Outbox) {
         self.queue_end = mv.geom.end(n);
-        let slot = (self.q_head + self.q_len) % GROUP_QUEUE_LEN;
-        self.queue[slot] = Some(mv);
-        self.q_len += 1;
+        // (never full: `can_queue` refused the move then)
+        let _ = self.queue.push_back(mv);
         self.move_count = self.move_count.wrapping_add(1);
         if self.state == GroupState::Standby {
             self.final_seq = None;
@@ -1175,7 +1156,7 @@ impl Group {
         self.activate(&cfg, axes, filters, ts, tick, out);
         let inc = self.feed(&cfg, axes, ts, tick, out);
         let settled = self.filter(&cfg, &inc, axes, filters, ts);
-        if self.active.is_none() && (self.q_len == 0 || self.stop.is_some()) && settled {
+        if self.active.is_none() && (self.queue.is_empty() || self.stop.is_some()) && settled {
             let members = &cfg.axes[..cfg.naxes];
             self.snap(members, axes);
             self.settle(members, axes, ts, tick, out);
@@ -1233,7 +1214,7 @@ impl Group {
         };
         let mut s = GroupStatus {
             state: self.state as u32,
-            queued: self.q_len as u32,
+            queued: self.queue.len() as u32,
             active_seq,
             move_count: self.move_count,
             path_pos,
@@ -1252,21 +1233,10 @@ impl Group {
     }
 }
 
-/// Is NURBS slot `k` named by the active move or one of the `q_len` queued from `q_head`?
-fn slot_taken(
-    active: &Option<Active>,
-    queue: &[Option<Move>; GROUP_QUEUE_LEN],
-    q_head: usize,
-    q_len: usize,
-    k: usize,
-) -> bool {
+/// Is NURBS slot `k` named by the active move or one of the queued ones?
+fn slot_taken(active: &Option<Active>, queue: &Deque<Move, GROUP_QUEUE_LEN>, k: usize) -> bool {
     let names = |m: &Move| matches!(m.feed, Feed::Nurbs(j) if j == k);
-    active.as_ref().is_some_and(|a| names(&a.mv))
-        || (0..q_len).any(|i| {
-            queue[(q_head + i) % GROUP_QUEUE_LEN]
-                .as_ref()
-                .is_some_and(names)
-        })
+    active.as_ref().is_some_and(|a| names(&a.mv)) || queue.iter().any(names)
 }
 
 /// The limits along a synchronised point-to-point line of length `len` (the largest axis
@@ -1342,6 +1312,49 @@ mod tests {
     use super::testing::{Bench, TS};
     use super::*;
 
+    /// The queue holds `GROUP_QUEUE_LEN` moves besides the active one and refuses the next
+    /// (leaving `queue_end` as it was); they start in the order queued, and a stop aborts every
+    /// queued one in order, then the active one, and leaves the queue empty.
+    #[test]
+    fn queue_holds_its_length_in_order_and_a_stop_aborts_them_all() {
+        let len = GROUP_QUEUE_LEN as u32;
+        let mut b = Bench::new(2, true, false);
+        for k in 1..=len {
+            b.line(k, &[100.0 * k as f64, 0.0], 0);
+        }
+        assert_eq!(b.g.status(b.tick).queued, len);
+        let mut extra =
+            Command::new(Opcode::GroupMoveLinear, 0).with_args(&[1e5, 1e6, 1e6, 1e8, -5.0, -5.0]);
+        extra.seq = 99;
+        extra.flags = move_flags::BUFFERED;
+        let refused = |b: &mut Bench| {
+            let tick = b.tick;
+            b.g.queue_move(&extra, Opcode::GroupMoveLinear, TS, tick, &mut b.out)
+        };
+        assert_eq!(refused(&mut b), Err(NackCode::QueueFull));
+        assert_eq!(b.g.queue_end[..2], [100.0 * len as f64, 0.0]);
+        b.tick();
+        assert_eq!(b.g.active.as_ref().map(|a| a.mv.seq), Some(1));
+        assert_eq!(b.g.status(b.tick).queued, len - 1);
+        b.line(len + 1, &[0.0, 100.0], 0);
+        assert_eq!(refused(&mut b), Err(NackCode::QueueFull));
+        assert_eq!(b.g.queue_end[..2], [0.0, 100.0]);
+        b.events();
+        let tick = b.tick;
+        b.g.start_stop(100, true, (1e6, 1e8), (1e7, 1e9), 1.0, tick, &mut b.out)
+            .unwrap();
+        let aborted: Vec<u32> = b
+            .events()
+            .iter()
+            .filter(|e| e.kind == EventKind::GroupMotionAborted as u16)
+            .map(|e| e.seq)
+            .collect();
+        let mut expected: Vec<u32> = (2..=len + 1).collect();
+        expected.push(1);
+        assert_eq!(aborted, expected);
+        assert_eq!(b.g.status(b.tick).queued, 0);
+    }
+
     /// A member that faults takes the moving group to ErrorStop: the active and queued moves
     /// are aborted, the members released; the group then does nothing until reset.
     #[test]
@@ -1360,7 +1373,7 @@ mod tests {
             b.g.guard(&cfg, &mut b.axes, &mut b.filters, TS, 101, &mut b.out);
         assert!(!moving);
         assert_eq!(b.g.state, GroupState::ErrorStop);
-        assert!(b.g.active.is_none() && b.g.q_len == 0);
+        assert!(b.g.active.is_none() && b.g.queue.is_empty());
         assert!(b.pushed(EventKind::GroupMotionAborted, 1));
         assert!(b.pushed(EventKind::GroupMotionAborted, 2));
         assert_eq!(b.axes[0].state, AxisState::Standstill);

@@ -223,10 +223,10 @@ impl Group {
         let Some((pts, (weights, knots))) = split else {
             return Err(NackCode::NurbsSequence);
         };
-        let (active, queue, q_head, q_len) = (&self.active, &self.queue, self.q_head, self.q_len);
+        let (active, queue) = (&self.active, &self.queue);
         let slot = self
             .nurbs
-            .free(|k| slot_taken(active, queue, q_head, q_len, k))
+            .free(|k| slot_taken(active, queue, k))
             .ok_or(NackCode::QueueFull)?;
         let Some(nf) = self.nurbs.get_mut(slot) else {
             return Err(NackCode::QueueFull);

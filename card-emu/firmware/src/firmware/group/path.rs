@@ -186,7 +186,7 @@ impl Group {
             // Post-interpolation filters would round the corners again, beyond the tolerance.
             return Err(NackCode::IncompatibleMode);
         }
-        if self.active.is_some() || self.q_len > 0 {
+        if self.active.is_some() || !self.queue.is_empty() {
             return Err(NackCode::PathBusy);
         }
         if self.stop.is_some() || self.path.as_ref().is_some_and(|p| p.halting) {
