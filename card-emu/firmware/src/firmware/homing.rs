@@ -4,7 +4,7 @@
 //! A homing method finds a *home point* and sets the axis's position so that the home point
 //! reads `position + home_offset` (`position`: MC_Home's argument; `home_offset`: the axis's
 //! homing block), as CiA 402 drives set their actual position to the home offset there. The
-//! position is a frame over the encoder count (`axis.rs`): it moves, the count never does.
+//! position is a frame over the encoder count (`axis/`): it moves, the count never does.
 //!
 //! | method        | home point                                   | final approach      |
 //! | ------------- | -------------------------------------------- | ------------------- |

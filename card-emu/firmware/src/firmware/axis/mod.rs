@@ -1346,3 +1346,6 @@ impl Axis {
         changed
     }
 }
+
+#[cfg(test)]
+mod tests;
