@@ -562,11 +562,19 @@ impl Axis {
 
     /// Start the next buffered move, if any, now that the motion before it is done (or, in
     /// velocity mode, at its velocity). A move that cannot be planned from here (its limits
-    /// no longer fit the state) is aborted: `Err(seq)`.
-    fn start_next(&mut self, rate_hz: u32) -> Option<Result<(u32, f64), u32>> {
+    /// no longer fit the state) is aborted: `Err(seq)`. A state it changes (velocity mode's
+    /// ContinuousMotion to DiscreteMotion) goes into `state_from`.
+    fn start_next(
+        &mut self,
+        rate_hz: u32,
+        state_from: &mut Option<AxisState>,
+    ) -> Option<Result<(u32, f64), u32>> {
         let q = self.queue.pop_front()?;
         Some(match self.run_goal(q.seq, q.goal, rate_hz) {
-            Ok(_) => {
+            Ok(changed) => {
+                if let Some(old) = changed {
+                    state_from.get_or_insert(old);
+                }
                 self.buffered_active = true;
                 let value = match q.goal {
                     Goal::Position { target, .. } => target,
@@ -857,7 +865,7 @@ impl Axis {
                     self.goal = Goal::None;
                     if self.state == AxisState::DiscreteMotion {
                         // PLCopen Buffered: the next move starts once this one is done.
-                        match self.start_next(rate_hz(ts)) {
+                        match self.start_next(rate_hz(ts), &mut report.state_from) {
                             Some(Ok(active)) => report.active = Some(active),
                             Some(Err(seq)) => {
                                 let _ = report.dropped.push(seq);
@@ -874,7 +882,7 @@ impl Axis {
         }
         // A move buffered behind velocity mode starts once the velocity is reached.
         if report.in_velocity.is_some() {
-            match self.start_next(rate_hz(ts)) {
+            match self.start_next(rate_hz(ts), &mut report.state_from) {
                 Some(Ok(active)) => report.active = Some(active),
                 Some(Err(seq)) => {
                     let _ = report.dropped.push(seq);

@@ -407,6 +407,7 @@ fn velocity_mode_reports_in_velocity_once_and_starts_the_move_behind_it() {
     assert_eq!(report.in_velocity, Some((3, 5000.0)));
     assert_eq!(report.active, Some((4, 50_000.0)));
     assert_eq!(report.done, None);
+    assert_eq!(report.state_from, Some(AxisState::ContinuousMotion));
     assert_eq!(ax.state, AxisState::DiscreteMotion);
     let (_, report) = run_until(&mut ax, 100_000, |r| {
         assert_eq!(r.in_velocity, None, "InVelocity twice");
