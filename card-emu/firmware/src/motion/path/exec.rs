@@ -151,6 +151,19 @@ impl Step {
 /// `Path::tick_plan`).
 const FINE_SLOWING: f64 = 0.5;
 
+/// Ticks held at rest on an exact stop before the next segment starts. A stop lands within
+/// its last tick with up to a tick's jerk of acceleration left, and the next segment started
+/// at once, the other way where the corner turns back: the positions' third differences
+/// mixed the two (with a start ramped within the limits of the line before, 2.7 times an
+/// axis's jerk limit, in a random streamed program whose near-reversal became an exact stop).
+/// Two ticks at rest keep the landing's and the start's out of any one difference. (A dwell
+/// holds at rest itself.)
+const STOP_SETTLE_TICKS: u8 = 2;
+
+/// A slowing that reaches its speed more than this many ticks at that speed before its piece
+/// lets go and is decided again (see `Path::look`).
+const CRAWL_TICKS: f64 = 64.0;
+
 /// Most pieces a [`Seen`] keeps to test again.
 const TESTED: usize = 32;
 
@@ -663,6 +676,18 @@ impl Path {
         if matches!(self.slow, Some((sc, _)) if here >= sc) {
             self.slow = None;
         }
+        if let Some((sc, c)) = self.slow {
+            // A slowing that has come down to its piece's speed, with no acceleration left,
+            // more than `CRAWL_TICKS` at that speed before the piece: let go, so that the walk
+            // decides again from here. (It decides with the lowest limits within its reach
+            // and ramps with those of the pieces near here: it can get there early, and
+            // behind a near-reversal's blend, capped at a few counts a second, the crawl to
+            // it took minutes.)
+            let pl = &self.planner;
+            if pl.v <= c && pl.a.abs() <= 1e-9 * self.at && sc - here > CRAWL_TICKS * c * ts {
+                self.slow = None;
+            }
+        }
         let mut target = match self.slow {
             Some((_, c)) => lesser(ceiling, c),
             None => ceiling,
@@ -1115,7 +1140,15 @@ impl Path {
             // that the window moves on
             let window_stop = land && next >= wend;
             if ns_stop {
-                // never past an exact stop without landing on it
+                // never past an exact stop without landing on it; and at rest on it for a
+                // few ticks before the next segment starts
+                if !self.seg(next).is_dwell() {
+                    self.settle = STOP_SETTLE_TICKS;
+                }
+                // at rest: the next segment starts from rest within its own limits (a landing
+                // leaves a hair of speed and acceleration in the planner, and a start from
+                // there ramped within the limits of the pieces before the stop)
+                self.planner.settle();
                 self.end_seg(self.exec, ev);
                 self.exec = next;
                 self.in_blend = false;
@@ -1181,6 +1214,10 @@ impl Path {
         }
         if self.step.running() {
             return TickPlan(Plan::Step);
+        }
+        if self.settle > 0 {
+            self.settle -= 1;
+            return hold;
         }
         let ovr = if feed_override.is_nan() {
             0.0

@@ -1596,3 +1596,66 @@ fn time_shift_refusals() {
     let (_, en) = r.ids();
     assert_eq!(en, [1, 2, 3, 4]);
 }
+
+/// Two lines that turn by 168° (LinuxCNC's tort.ngc: a rapid down and back up) at 10 counts
+/// of tolerance: the blend that fits folds into a near-cusp, capped at 11 counts/s, and the
+/// slowing for it came down to that speed 6,800 counts early: 0.6 s of path took 616 s. Now the
+/// corner is an exact stop, and the run takes about the time of exact stops.
+#[test]
+fn a_near_reversal_runs_as_fast_as_an_exact_stop() {
+    let l = PathLimits {
+        vmax: [1e5; MAX_AXES],
+        amax: [1e6; MAX_AXES],
+        jmax: [1e8; MAX_AXES],
+        ..limits(3, TS)
+    };
+    let v = [
+        pt(&[-1828.427, 7449.383, 31656.854]),
+        pt(&[0.0, 0.0, 20000.0]),
+        pt(&[0.0, 3500.0, 24000.0]),
+    ];
+    let blended = polyline_with(l, &v, 1e5, 10.0, "near-reversal");
+    let mut p = path_with(l, v[0]);
+    for (i, w) in v.windows(2).enumerate() {
+        let mut s = line(i as u32 + 1, w[1], 1e5, Transition::Exact);
+        s.last = i == 1;
+        p.push(s).unwrap();
+    }
+    let mut exact = Run::default();
+    assert!(exact.go(&mut p, 1.0, 100_000));
+    let (tb, te) = (blended.pos.len(), exact.pos.len());
+    assert!(tb <= te + 2, "{tb} ticks blended, {te} with an exact stop");
+    assert!(te < 500, "{te} ticks");
+}
+
+/// A slowing decided within the lowest limits ahead and ramped within the higher ones of the
+/// line it is on gets to the slow piece's speed early; a slow enough piece made that a crawl
+/// of minutes. A slow arc (10 counts/s) after a long line: the time spent at its speed before
+/// its blend starts is a few ticks.
+#[test]
+fn a_slowing_that_arrives_early_does_not_crawl_to_its_piece() {
+    let mut p = path(2, TS, pt(&[0.0, 0.0]));
+    p.push(line(1, pt(&[20_000.0, 0.0]), 1e5, Transition::Exact))
+        .unwrap();
+    let mut arc = arc_xy(
+        2,
+        [20_000.0, 100.0],
+        pt(&[20_100.0, 100.0]),
+        10.0,
+        Transition::MaxDeviation(5.0),
+    );
+    arc.last = true;
+    p.push(arc).unwrap();
+    // the arc's slow feed holds from the blend into it on
+    let slow_from = 20_000.0 - p.blend_info(2).unwrap().trim;
+    let mut r = Run::default();
+    assert!(r.go(&mut p, 1.0, 3_000_000), "never idle");
+    r.assert_within(&p.lim, "line and slow arc");
+    let slow_before = (3..r.pos.len())
+        .filter(|&i| r.speed[i] <= 10.0 * 1.001 && r.pos[i][0] < slow_from - 1e-6)
+        .count();
+    assert!(
+        slow_before < 100,
+        "{slow_before} ticks at the arc's speed before it"
+    );
+}

@@ -314,3 +314,54 @@ fn exact_stops_land_without_creeping_whatever_the_planner_s_period() {
     // the time of five rest-to-rest ramps of 0.21 s and 200,000 counts at 98,000 counts/s
     assert!(times[0] < 3.0, "{times:?}");
 }
+
+/// Exact stops where the path turns back, planned every few ticks at 10 kHz: a stop lands with
+/// a tick's jerk of acceleration left, and the next line started at once the other way,
+/// within the limits of the line before: 2.7 times an axis's jerk limit.
+#[test]
+fn exact_stops_where_the_path_turns_back_keep_the_jerk_limit() {
+    let mut rng = Rng::new(0x5eed);
+    for m in [1, 3, 10] {
+        let l = lim(2, TS, m);
+        let mut v = vec![pt(&[0.0, 0.0])];
+        let mut heading: f64 = rng.uniform(0.0, 6.3);
+        for _ in 0..30 {
+            heading += core::f64::consts::PI + rng.uniform(-1.0, 1.0);
+            let len = rng.uniform(200.0, 5000.0);
+            let q = *v.last().unwrap();
+            v.push(pt(&[
+                q[0] + len * heading.cos(),
+                q[1] + len * heading.sin(),
+            ]));
+        }
+        let segs: Vec<Segment> = v
+            .windows(2)
+            .enumerate()
+            .map(|(i, w)| {
+                let mut s = line(i as u32 + 1, w[1], rng.uniform(2e4, 1e5), Transition::Exact);
+                s.last = i + 2 == v.len();
+                s
+            })
+            .collect();
+        // streamed two segments every 8 ticks, at 157 % feed
+        let mut p = path_with(l, v[0]);
+        let mut r = Run::default();
+        let mut next = 0;
+        for k in 0..1_000_000 {
+            if k % 8 == 0 {
+                for s in segs.iter().skip(next).take(2) {
+                    p.push(*s).unwrap();
+                    next += 1;
+                }
+            }
+            r.go(&mut p, 1.57, 1);
+            if next == segs.len() && p.queued() == 0 && !p.is_moving() {
+                break;
+            }
+        }
+        r.assert_within(&l, &format!("turns back, planned every {m} ticks"));
+        for c in &v[1..] {
+            assert!(r.pos.contains(c), "every {m}: not exactly at {c:?}");
+        }
+    }
+}
