@@ -288,6 +288,9 @@ fn corpus(dir: &Path) {
             }
         }
     }
+    // (a directory reached twice through a symbolic link is run once)
+    files.sort_by_key(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()));
+    files.dedup_by_key(|p| std::fs::canonicalize(&*p).unwrap_or_else(|_| p.clone()));
     files.sort();
     let (mut refused, mut stripped, mut ran) = (0, 0, 0);
     let mut over: Vec<(PathBuf, String)> = vec![];
