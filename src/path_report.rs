@@ -178,6 +178,9 @@ pub fn distance_to_block(block: &Block, p: [f64; 3]) -> Option<f64> {
 /// ahead of the running one; twice that behind keeps the running segment and at least 4096
 /// before it.
 pub const WINDOW_BEHIND: usize = 8192;
+/// Most source lines one fitted item stands for, as [`Report::running`] counts them (the
+/// SDK's chord fitter: a chunk, or a straight run).
+const FITTED_LINES: usize = 16 * 1024;
 /// Points held before the first motion block is added (see [`Report::push`]).
 const PENDING_MAX: usize = 1024;
 
@@ -211,6 +214,9 @@ pub struct Report {
     path: Window,
     /// The nearest segment of the last point (absolute index).
     cur: usize,
+    /// The source line of the segment the card runs, when the caller says
+    /// ([`Report::running`]).
+    running: Option<usize>,
     max_deviation: f64,
     /// Points pushed before any motion block (consecutive repeats once).
     pending: Vec<[f64; 3]>,
@@ -245,6 +251,7 @@ impl Report {
             limits: *limits,
             rest_speed,
             behind: WINDOW_BEHIND,
+            running: None,
             ticks: 0,
             last: [[0.0; 3]; 4],
             peak: [[0.0; 3]; 3],
@@ -268,10 +275,21 @@ impl Report {
             return;
         };
         self.segments += 1;
-        self.path.add(seg);
+        self.path.add(seg, block.line());
         for p in std::mem::take(&mut self.pending) {
             self.measure(p);
         }
+    }
+
+    /// The card runs the segment of this source line (an item fitted from many lines carries
+    /// the last one's). Nothing from the segment before its first line on is dropped from
+    /// the window: where blocks are added far ahead of the card (the chord fitter holds
+    /// thousands of lines before it sends their curve) and the path comes back near itself
+    /// (a trochoid's next loops), the nearest segment can be one far ahead, and the window
+    /// dropped the segments the card was still running (10.55 mm of "deviation" on
+    /// LinuxCNC's trochoidal.ngc).
+    pub fn running(&mut self, line: usize) {
+        self.running = Some(line);
     }
 
     /// The commanded point of the next tick (mm). A point pushed before any motion block
@@ -370,7 +388,13 @@ impl Report {
         self.evals += w.improve(p, lo..hi, &mut best, &mut at, &mut self.stack);
         self.cur = at;
         self.max_deviation = self.max_deviation.max(best);
-        let keep = at.saturating_sub(self.behind);
+        let mut keep_from = at;
+        if let Some(line) = self.running {
+            // (the fitted item's first line is at most a fitter's chunk before its last)
+            let first = line.saturating_sub(FITTED_LINES);
+            keep_from = keep_from.min(w.base + w.lines.partition_point(|&l| l < first));
+        }
+        let keep = keep_from.saturating_sub(self.behind);
         self.path.drop_before(keep);
         best
     }
@@ -433,6 +457,8 @@ struct Level {
 #[derive(Debug, Clone, Default)]
 struct Window {
     segs: VecDeque<Seg>,
+    /// Each held segment's source line (increasing).
+    lines: VecDeque<usize>,
     base: usize,
     levels: Vec<Level>,
 }
@@ -442,10 +468,11 @@ impl Window {
         self.segs.is_empty()
     }
 
-    fn add(&mut self, seg: Seg) {
+    fn add(&mut self, seg: Seg, line: usize) {
         let idx = self.base + self.segs.len();
         let b = seg.bounds();
         self.segs.push_back(seg);
+        self.lines.push_back(line);
         if self.levels.is_empty() {
             self.levels.push(Level {
                 first: idx / LEAF,
@@ -481,6 +508,7 @@ impl Window {
     fn drop_before(&mut self, keep: usize) {
         while self.base < keep && !self.segs.is_empty() {
             self.segs.pop_front();
+            self.lines.pop_front();
             self.base += 1;
         }
         for (l, level) in self.levels.iter_mut().enumerate() {
@@ -1054,6 +1082,50 @@ mod tests {
         let whole = analyse(&all, &pts, 1e-4, &LIM).unwrap();
         assert_eq!(streamed, whole);
         assert_eq!(streamed.segments, n);
+    }
+
+    /// Blocks added far ahead of the card (as the chord fitter makes a run add them) on a
+    /// path that comes back through where the card is: a line, and 20,000 later chords of a
+    /// circle that passes through the points run 1 µm off the line. At that point the nearest segment is the circle's
+    /// last chord, and the window dropped the line the card was on: the rest of the line
+    /// measured 6 mm from the circle. Told the line the card runs, the window keeps it.
+    #[test]
+    fn blocks_far_ahead_on_a_path_that_comes_back_keep_the_running_segment() {
+        let mut text = String::from("G1 X-10 Y0 F600\n");
+        for i in 1..=200 {
+            text += &format!("X{:.3} Y0\n", -10.0 + 0.1 * i as f64);
+        }
+        // (the circle of radius 5 about (0, 5.001) passes 1 µm above the origin, through the
+        // points, which run 1 µm above the line)
+        text += "X0 Y0.001\n";
+        for i in 1..=20_000 {
+            let a = i as f64 * 0.05;
+            text += &format!("X{:.6} Y{:.6}\n", 5.0 * a.sin(), 5.001 - 5.0 * a.cos());
+        }
+        let blocks = program(&text);
+        let run = |tell: bool| {
+            let mut r = Report::new(1e-3, &LIM, REST_SPEED).unwrap();
+            for b in &blocks {
+                r.add_block(b);
+            }
+            // along the line, its chords' source lines 2..=201
+            for (k, b) in blocks[1..201].iter().enumerate() {
+                if tell {
+                    r.running(b.line());
+                }
+                for j in 0..10 {
+                    r.push([-10.0 + 0.1 * k as f64 + 0.01 * j as f64, 0.001, 0.0])
+                        .unwrap();
+                }
+            }
+            r.finish().unwrap().max_deviation
+        };
+        assert!(
+            run(false) > 5.0,
+            "the window did not drop the line: {}",
+            run(false)
+        );
+        assert!((run(true) - 0.001).abs() < 1e-9, "{}", run(true));
     }
 
     /// Points before the first motion block are measured when it arrives; a run of stops

@@ -17,6 +17,11 @@
 
 use crate::gcode::{Block, Blocks, GcodeError, Program};
 use crate::path_report::{AxisLimits, Report, ReportError};
+use crate::proto::raw::MC_PATHST_RUNNING;
+
+/// Program lines a stepped run reads ahead of the line the card runs (more than the SDK's
+/// chord fitter holds before it sends a curve: a straight run of 16 chunks of 1024 points).
+const AHEAD_LINES: usize = 32 * 1024;
 use crate::{
     ArcSpec, Card, Error, Group, GroupSettings, GroupState, PathItem, PathSettings, Result,
     Segment, Transition,
@@ -272,11 +277,22 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         let mut chunk = Vec::new();
         let mut sent = 0u64;
         let mut started = false;
+        // the source line of the segment the card runs
+        let mut running = 0usize;
         loop {
             let room = g.path_free()?;
             if room > 0 && next.is_some() {
                 let mut segs = 0;
                 while segs < room {
+                    // (blocks reach the report at most AHEAD_LINES ahead of the card, so
+                    // that the window it holds stays bounded when chords are fitted: a
+                    // fitted curve of a thousand lines is one of the card's segments)
+                    if next
+                        .as_ref()
+                        .is_some_and(|(b, _)| b.line() > running + AHEAD_LINES)
+                    {
+                        break;
+                    }
                     let Some((b, item)) = next.take() else {
                         break;
                     };
@@ -297,8 +313,13 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
             }
             sim.step(1);
             seen_ticks += 1;
+            let (state, st) = g.status()?;
+            if st.path_flags & MC_PATHST_RUNNING != 0 {
+                running = st.path_id as usize;
+                report.running(running);
+            }
             report.push(position(card)?).map_err(report_error)?;
-            if next.is_none() && g.status()?.0 == GroupState::Standby {
+            if next.is_none() && state == GroupState::Standby {
                 break;
             }
             if seen_ticks > 1_000_000_000 {
@@ -329,6 +350,10 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                 if let Some(p) = at {
                     last_tick = tick;
                     seen_ticks += 1;
+                    let (_, st) = g.status()?;
+                    if st.path_flags & MC_PATHST_RUNNING != 0 {
+                        report.running(st.path_id as usize);
+                    }
                     report.push(p).map_err(report_error)?;
                 }
                 let progress = streamer.progress();
