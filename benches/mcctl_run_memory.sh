@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Peak resident memory and wall time of `mcctl run` on the stepped `sim` card at default
-# settings, for a program of 10^6 lines and for a one-hour dwell (BENCHMARKS.md, "mcctl run:
-# memory"). Needs GNU time (/usr/bin/time, Debian's `time`). Usage, from the workspace root:
+# settings, for a program of 10^6 lines and for a one-hour dwell (BENCHMARKS.md, "Inputs that
+# eat memory or never end"). Needs GNU time (/usr/bin/time, Debian's `time`). Usage, from the
+# workspace root:
 #   cargo build --release --bin mcctl && benches/mcctl_run_memory.sh [lines] [dwell seconds]
 # MCCTL=path picks another binary.
 set -euo pipefail

@@ -7,7 +7,7 @@
 //! single shot and continuous, and on the index pulse.
 //!
 //! `cargo test --release --test io -- --nocapture` prints the accuracy tables
-//! (BENCHMARKS.md).
+//! (BENCHMARKS.md, "Position compare and touch probe accuracy").
 mod common;
 
 use common::stepped_card_with;
