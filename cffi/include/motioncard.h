@@ -173,7 +173,7 @@ extern "C" {
 #define MC_EVENT_IN_VELOCITY 12
 
 /**
- * Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERR_*`;
+ * Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERROR_*`;
  * value: the actual position where it failed. Posted once the axis is at rest in Standstill, not
  * homed.
  */
@@ -225,7 +225,7 @@ extern "C" {
 
 /**
  * A compare channel fired or missed. axis: the channel; seq: its `MC_OP_COMPARE_ARM`; code:
- * `MC_CMP_*`; value: the position.
+ * `MC_COMPARE_*`; value: the position.
  */
 #define MC_EVENT_COMPARE 25
 
@@ -708,6 +708,233 @@ extern "C" {
 #define MC_FILTER_KIND_BELL 3
 
 /**
+ * Bit of `mc_homing_settings.flags`.
+ *
+ * The encoder has an index channel (index methods need it).
+ */
+#define MC_HOMING_FLAG_INDEX 1
+
+/**
+ * End at the home point.
+ */
+#define MC_HOMING_FLAG_MOVE_TO_HOME 2
+
+/**
+ * Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.
+ *
+ * A limit switch the method did not reverse at: the switch is missing.
+ */
+#define MC_HOMING_ERROR_LIMIT 1
+
+/**
+ * `max_distance` from the start without the switch or hard stop.
+ */
+#define MC_HOMING_ERROR_DISTANCE 2
+
+/**
+ * Not homed within the timeout.
+ */
+#define MC_HOMING_ERROR_TIMEOUT 3
+
+/**
+ * No index pulse within `index_distance`.
+ */
+#define MC_HOMING_ERROR_NO_INDEX 4
+
+/**
+ * A motion of the method could not be planned.
+ */
+#define MC_HOMING_ERROR_PLAN 5
+
+/**
+ * `flags` of `mc_set_position`: the position moves by the argument (else it becomes the argument).
+ */
+#define MC_SET_POSITION_RELATIVE 1
+
+/**
+ * Segments in a group's path buffer.
+ */
+#define MC_PATH_SEGMENTS 4096
+
+/**
+ * The card's digital outputs (card.outputs).
+ */
+#define MC_CARD_OUTPUTS 16
+
+/**
+ * `mc_path_segment.buffer` (PLCopen BufferMode): how a segment joins the one before it.
+ *
+ * The path stops along its geometry within its limits, the rest is aborted, and this segment
+ * starts from there.
+ */
+#define MC_PATH_BUFFER_ABORTING 0
+
+/**
+ * Exact stop at the corner, then this segment.
+ */
+#define MC_PATH_BUFFER_BUFFERED 1
+
+/**
+ * Blend; corner speed <= the lower of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_LOW 2
+
+/**
+ * Blend; corner speed <= the previous segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_PREVIOUS 3
+
+/**
+ * Blend; corner speed <= this segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_NEXT 4
+
+/**
+ * Blend; corner speed <= the higher of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_HIGH 5
+
+/**
+ * `mc_path_segment.transition` (PLCopen TransitionMode): how a blend is made. `tolerance` is in
+ * user units of the first group axis.
+ *
+ * No blend: an exact stop at the corner.
+ */
+#define MC_PATH_TRANSITION_NONE 0
+
+/**
+ * The blend keeps within `tolerance` counts of the corner.
+ */
+#define MC_PATH_TRANSITION_MAX_DEVIATION 1
+
+/**
+ * The blend begins `tolerance` counts before the corner.
+ */
+#define MC_PATH_TRANSITION_CORNER_DISTANCE 2
+
+/**
+ * Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+ * while the one before decelerates, within `tolerance` counts of the corner; refused
+ * (`MC_NACK_PATH_MODE`) on or after an arc, and a blend after such a line is refused too.
+ */
+#define MC_PATH_TRANSITION_TIME_SHIFT 3
+
+/**
+ * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`); `distance` is in
+ * user units of the first group axis.
+ *
+ * As the segment starts.
+ */
+#define MC_OUTPUT_AT_START 0
+
+/**
+ * As the segment ends.
+ */
+#define MC_OUTPUT_AT_END 1
+
+/**
+ * Once the segment has run `distance` counts.
+ */
+#define MC_OUTPUT_AT_DISTANCE 2
+
+/**
+ * Bit of `mc_group_status.path_flags`.
+ *
+ * A segment is running (`path_id` is valid).
+ */
+#define MC_PATH_STATUS_RUNNING 1
+
+/**
+ * Braking for the end of what is queued.
+ */
+#define MC_PATH_STATUS_STARVING 2
+
+/**
+ * A halt or stop runs along the path.
+ */
+#define MC_PATH_STATUS_HALTING 4
+
+/**
+ * The card's digital inputs (card.inputs).
+ */
+#define MC_CARD_INPUTS 16
+
+/**
+ * Compare channels of the card.
+ */
+#define MC_COMPARE_CHANNELS 4
+
+/**
+ * Positions queued per compare channel.
+ */
+#define MC_COMPARE_TABLE_LEN 4096
+
+/**
+ * Touch-probe channels of the card.
+ */
+#define MC_PROBE_CHANNELS 4
+
+/**
+ * The length of `mc_probe_info.positions`.
+ *
+ * Captures kept in `probe_status` (a ring).
+ */
+#define MC_PROBE_QUEUE 8
+
+/**
+ * The `code` of `MC_EVENT_COMPARE`.
+ *
+ * A position fired.
+ */
+#define MC_COMPARE_FIRED 1
+
+/**
+ * A position missed: passed when it became the next one, or inside the pulse before it.
+ */
+#define MC_COMPARE_MISSED 2
+
+/**
+ * The table's queue fell to `low_water`; value: queued.
+ */
+#define MC_COMPARE_LOW_WATER 3
+
+/**
+ * `state` of a compare channel or a touch probe (`mc_compare_info.state`, `mc_probe_info.state`).
+ *
+ * Not armed.
+ */
+#define MC_IO_STATE_IDLE 0
+
+/**
+ * Armed: watching or capturing.
+ */
+#define MC_IO_STATE_ARMED 1
+
+/**
+ * A single compare or series fired (or missed) all; a single-shot probe captured.
+ */
+#define MC_IO_STATE_DONE 2
+
+/**
+ * `mc_probe_trigger.input` that is not an input.
+ *
+ * Probe input: the axis's encoder index pulse.
+ */
+#define MC_PROBE_INPUT_INDEX 16
+
+/**
+ * Bit of `mc_probe_trigger.edges` (one or both).
+ *
+ * Capture as the input becomes active.
+ */
+#define MC_PROBE_EDGE_RISING 1
+
+/**
+ * Capture as the input becomes inactive.
+ */
+#define MC_PROBE_EDGE_FALLING 2
+
+/**
  * Opcode of a raw command (`mc_send_raw`).
  *
  * Does nothing but answer: the round-trip probe.
@@ -1009,8 +1236,8 @@ extern "C" {
 
 /**
  * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
- * `MC_PROBE_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_RISING` / `_FALLING` (one or
- * both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
+ * `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
+ * (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
  */
 #define MC_OP_PROBE_ARM 68
 
@@ -1151,18 +1378,6 @@ extern "C" {
 #define MC_SYNC_CAM_SWITCH 5
 
 /**
- * `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
- * else `MC_ERR_HOMING_METHOD`).
- */
-#define MC_HOMING_FLAG_INDEX 1
-
-/**
- * `mc_homing_settings.flags`: the axis ends at the home point (else where it came to rest
- * after finding it).
- */
-#define MC_HOMING_FLAG_MOVE_TO_HOME 2
-
-/**
  * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
  * following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
  * it.
@@ -1191,62 +1406,6 @@ extern "C" {
 #define MC_HOMING_METHOD_CURRENT_POSITION 37
 
 /**
- * `code` of `MC_EVENT_HOMING_FAILED`: a limit switch the method does not reverse at (its
- * switch is missing).
- */
-#define MC_HOMING_ERROR_LIMIT 1
-
-/**
- * The maximum distance from the start without the switch or hard stop.
- */
-#define MC_HOMING_ERROR_DISTANCE 2
-
-/**
- * Not homed within the timeout.
- */
-#define MC_HOMING_ERROR_TIMEOUT 3
-
-/**
- * No index pulse within the index distance.
- */
-#define MC_HOMING_ERROR_NO_INDEX 4
-
-/**
- * A motion of the method could not be planned.
- */
-#define MC_HOMING_ERROR_PLAN 5
-
-/**
- * `mc_set_position`: the position moves by the argument (else it becomes the argument).
- */
-#define MC_SET_POSITION_RELATIVE 1
-
-/**
- * The card's digital inputs (`mc_get_inputs` bit i is input i).
- */
-#define MC_CARD_INPUTS 16
-
-/**
- * Compare channels per card.
- */
-#define MC_COMPARE_CHANNELS 4
-
-/**
- * Positions a compare channel's table holds.
- */
-#define MC_COMPARE_TABLE_LEN 4096
-
-/**
- * Touch-probe channels per card.
- */
-#define MC_PROBE_CHANNELS 4
-
-/**
- * Captures a probe keeps (`mc_probe_info.positions`).
- */
-#define MC_PROBE_QUEUE 8
-
-/**
  * Compare direction: fire crossing upwards (increasing position).
  */
 #define MC_COMPARE_POSITIVE 1
@@ -1260,53 +1419,6 @@ extern "C" {
  * Compare direction: either way (`mc_compare_single` only).
  */
 #define MC_COMPARE_EITHER 3
-
-/**
- * `code` of `MC_EVENT_COMPARE`: a position fired.
- */
-#define MC_COMPARE_FIRED 1
-
-/**
- * `code` of `MC_EVENT_COMPARE`: a position was missed (behind the axis when it came up, or
- * inside the pulse before it).
- */
-#define MC_COMPARE_MISSED 2
-
-/**
- * `code` of `MC_EVENT_COMPARE`: the table fell to its low-water mark.
- */
-#define MC_COMPARE_LOW_WATER 3
-
-/**
- * `state` of a compare channel or probe: not armed.
- */
-#define MC_IO_STATE_IDLE 0
-
-/**
- * Armed.
- */
-#define MC_IO_STATE_ARMED 1
-
-/**
- * A single compare or series fired (or missed) all its positions; a single-shot probe
- * captured.
- */
-#define MC_IO_STATE_DONE 2
-
-/**
- * `mc_probe_trigger.input`: the axis's encoder index pulse instead of an input.
- */
-#define MC_PROBE_INPUT_INDEX 16
-
-/**
- * `mc_probe_trigger.edges`: the input becoming active.
- */
-#define MC_PROBE_EDGE_RISING 1
-
-/**
- * `mc_probe_trigger.edges`: the input becoming inactive.
- */
-#define MC_PROBE_EDGE_FALLING 2
 
 /**
  * `mc_move` kind: MC_MoveAbsolute, `value` is the target.
@@ -1335,16 +1447,6 @@ extern "C" {
  * until the motion before it is done; `mc_motion_wait_active` tells when it starts.
  */
 #define MC_BUFFER_BUFFERED 1
-
-/**
- * Segments a group's path buffer holds on the card.
- */
-#define MC_PATH_SEGMENTS 4096
-
-/**
- * The card's digital outputs (`mc_get_outputs` bit i is output i).
- */
-#define MC_CARD_OUTPUTS 16
 
 /**
  * `mc_path_segment.kind`: a straight line to `target` (`naxes` values, one per group axis).
@@ -1380,93 +1482,6 @@ extern "C" {
  * The curve's arrays are read during the call that queues it.
  */
 #define MC_SEGMENT_NURBS 4
-
-/**
- * `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
- * the running path stops along its geometry within its limits, everything queued is aborted,
- * and this segment starts from where it came to rest.
- */
-#define MC_PATH_BUFFER_ABORTING 0
-
-/**
- * An exact stop at the corner, then this segment.
- */
-#define MC_PATH_BUFFER_BUFFERED 1
-
-/**
- * A blend; the corner speed is at most the lower of the two feeds.
- */
-#define MC_PATH_BUFFER_BLEND_LOW 2
-
-/**
- * A blend; the corner speed is at most the previous segment's feed.
- */
-#define MC_PATH_BUFFER_BLEND_PREVIOUS 3
-
-/**
- * A blend; the corner speed is at most this segment's feed.
- */
-#define MC_PATH_BUFFER_BLEND_NEXT 4
-
-/**
- * A blend; the corner speed is at most the higher of the two feeds.
- */
-#define MC_PATH_BUFFER_BLEND_HIGH 5
-
-/**
- * `mc_path_segment.transition` (PLCopen TransitionMode), how a blend is sized: no blend, an
- * exact stop at the corner (`tolerance` ignored).
- */
-#define MC_PATH_TRANSITION_NONE 0
-
-/**
- * The blend stays within `tolerance` of the programmed corner (0: an exact stop).
- */
-#define MC_PATH_TRANSITION_MAX_DEVIATION 1
-
-/**
- * The blend begins `tolerance` before the corner (and ends as far after it).
- */
-#define MC_PATH_TRANSITION_CORNER_DISTANCE 2
-
-/**
- * Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
- * while the one before decelerates, within `tolerance` of the corner (0: an exact stop).
- * Refused (`MC_ERR_PATH_MODE`) on or after an arc, and a blend after such a line is refused
- * too.
- */
-#define MC_PATH_TRANSITION_TIME_SHIFT 3
-
-/**
- * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
- * segment starts.
- */
-#define MC_OUTPUT_AT_START 0
-
-/**
- * As its segment ends.
- */
-#define MC_OUTPUT_AT_END 1
-
-/**
- * Once its segment has run `distance` (user units of the first group axis, >= 0).
- */
-#define MC_OUTPUT_AT_DISTANCE 2
-
-/**
- * `mc_group_status.path_flags` bit: a segment is running (`path_id` is valid).
- */
-#define MC_PATH_STATUS_RUNNING 1
-
-/**
- * Braking for the end of what is queued.
- */
-#define MC_PATH_STATUS_STARVING 2
-
-/**
- * A halt or stop runs along the path.
- */
-#define MC_PATH_STATUS_HALTING 4
 
 /**
  * `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours

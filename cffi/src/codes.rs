@@ -43,7 +43,7 @@ pub const MC_EVENT_MOTION_ACTIVE: u32 = 11;
 /// Velocity mode reached its velocity (PLCopen InVelocity). seq: the command; value: the velocity.
 pub const MC_EVENT_IN_VELOCITY: u32 = 12;
 
-/// Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERR_*`;
+/// Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERROR_*`;
 /// value: the actual position where it failed. Posted once the axis is at rest in Standstill, not
 /// homed.
 pub const MC_EVENT_HOMING_FAILED: u32 = 13;
@@ -77,7 +77,7 @@ pub const MC_EVENT_PATH_STARVED: u32 = 23;
 pub const MC_EVENT_INPUT: u32 = 24;
 
 /// A compare channel fired or missed. axis: the channel; seq: its `MC_OP_COMPARE_ARM`; code:
-/// `MC_CMP_*`; value: the position.
+/// `MC_COMPARE_*`; value: the position.
 pub const MC_EVENT_COMPARE: u32 = 25;
 
 /// A touch probe captured. axis: the channel; seq: its `MC_OP_PROBE_ARM`; code: the capture number
@@ -380,6 +380,153 @@ pub const MC_FILTER_KIND_EXPONENTIAL: u32 = 2;
 /// Linear followed by exponential (bell-shaped; Shin eq 40).
 pub const MC_FILTER_KIND_BELL: u32 = 3;
 
+/// Bit of `mc_homing_settings.flags`.
+///
+/// The encoder has an index channel (index methods need it).
+pub const MC_HOMING_FLAG_INDEX: u32 = 1;
+
+/// End at the home point.
+pub const MC_HOMING_FLAG_MOVE_TO_HOME: u32 = 2;
+
+/// Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.
+///
+/// A limit switch the method did not reverse at: the switch is missing.
+pub const MC_HOMING_ERROR_LIMIT: i32 = 1;
+
+/// `max_distance` from the start without the switch or hard stop.
+pub const MC_HOMING_ERROR_DISTANCE: i32 = 2;
+
+/// Not homed within the timeout.
+pub const MC_HOMING_ERROR_TIMEOUT: i32 = 3;
+
+/// No index pulse within `index_distance`.
+pub const MC_HOMING_ERROR_NO_INDEX: i32 = 4;
+
+/// A motion of the method could not be planned.
+pub const MC_HOMING_ERROR_PLAN: i32 = 5;
+
+/// `flags` of `mc_set_position`: the position moves by the argument (else it becomes the argument).
+pub const MC_SET_POSITION_RELATIVE: u32 = 1;
+
+/// Segments in a group's path buffer.
+pub const MC_PATH_SEGMENTS: u32 = 4096;
+
+/// The card's digital outputs (card.outputs).
+pub const MC_CARD_OUTPUTS: u32 = 16;
+
+/// `mc_path_segment.buffer` (PLCopen BufferMode): how a segment joins the one before it.
+///
+/// The path stops along its geometry within its limits, the rest is aborted, and this segment
+/// starts from there.
+pub const MC_PATH_BUFFER_ABORTING: u32 = 0;
+
+/// Exact stop at the corner, then this segment.
+pub const MC_PATH_BUFFER_BUFFERED: u32 = 1;
+
+/// Blend; corner speed <= the lower of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_LOW: u32 = 2;
+
+/// Blend; corner speed <= the previous segment's feed.
+pub const MC_PATH_BUFFER_BLEND_PREVIOUS: u32 = 3;
+
+/// Blend; corner speed <= this segment's feed.
+pub const MC_PATH_BUFFER_BLEND_NEXT: u32 = 4;
+
+/// Blend; corner speed <= the higher of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_HIGH: u32 = 5;
+
+/// `mc_path_segment.transition` (PLCopen TransitionMode): how a blend is made. `tolerance` is in
+/// user units of the first group axis.
+///
+/// No blend: an exact stop at the corner.
+pub const MC_PATH_TRANSITION_NONE: u32 = 0;
+
+/// The blend keeps within `tolerance` counts of the corner.
+pub const MC_PATH_TRANSITION_MAX_DEVIATION: u32 = 1;
+
+/// The blend begins `tolerance` counts before the corner.
+pub const MC_PATH_TRANSITION_CORNER_DISTANCE: u32 = 2;
+
+/// Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+/// while the one before decelerates, within `tolerance` counts of the corner; refused
+/// (`MC_NACK_PATH_MODE`) on or after an arc, and a blend after such a line is refused too.
+pub const MC_PATH_TRANSITION_TIME_SHIFT: u32 = 3;
+
+/// When an output action fires (`mc_path_segment.at`, `mc_group_path_output`); `distance` is in
+/// user units of the first group axis.
+///
+/// As the segment starts.
+pub const MC_OUTPUT_AT_START: u32 = 0;
+
+/// As the segment ends.
+pub const MC_OUTPUT_AT_END: u32 = 1;
+
+/// Once the segment has run `distance` counts.
+pub const MC_OUTPUT_AT_DISTANCE: u32 = 2;
+
+/// Bit of `mc_group_status.path_flags`.
+///
+/// A segment is running (`path_id` is valid).
+pub const MC_PATH_STATUS_RUNNING: u32 = 1;
+
+/// Braking for the end of what is queued.
+pub const MC_PATH_STATUS_STARVING: u32 = 2;
+
+/// A halt or stop runs along the path.
+pub const MC_PATH_STATUS_HALTING: u32 = 4;
+
+/// The card's digital inputs (card.inputs).
+pub const MC_CARD_INPUTS: u32 = 16;
+
+/// Compare channels of the card.
+pub const MC_COMPARE_CHANNELS: u32 = 4;
+
+/// Positions queued per compare channel.
+pub const MC_COMPARE_TABLE_LEN: u32 = 4096;
+
+/// Touch-probe channels of the card.
+pub const MC_PROBE_CHANNELS: u32 = 4;
+
+/// The length of `mc_probe_info.positions`.
+///
+/// Captures kept in `probe_status` (a ring).
+pub const MC_PROBE_QUEUE: u32 = 8;
+
+/// The `code` of `MC_EVENT_COMPARE`.
+///
+/// A position fired.
+pub const MC_COMPARE_FIRED: i32 = 1;
+
+/// A position missed: passed when it became the next one, or inside the pulse before it.
+pub const MC_COMPARE_MISSED: i32 = 2;
+
+/// The table's queue fell to `low_water`; value: queued.
+pub const MC_COMPARE_LOW_WATER: i32 = 3;
+
+/// `state` of a compare channel or a touch probe (`mc_compare_info.state`, `mc_probe_info.state`).
+///
+/// Not armed.
+pub const MC_IO_STATE_IDLE: u32 = 0;
+
+/// Armed: watching or capturing.
+pub const MC_IO_STATE_ARMED: u32 = 1;
+
+/// A single compare or series fired (or missed) all; a single-shot probe captured.
+pub const MC_IO_STATE_DONE: u32 = 2;
+
+/// `mc_probe_trigger.input` that is not an input.
+///
+/// Probe input: the axis's encoder index pulse.
+pub const MC_PROBE_INPUT_INDEX: u32 = 16;
+
+/// Bit of `mc_probe_trigger.edges` (one or both).
+///
+/// Capture as the input becomes active.
+pub const MC_PROBE_EDGE_RISING: u32 = 1;
+
+/// Capture as the input becomes inactive.
+pub const MC_PROBE_EDGE_FALLING: u32 = 2;
+
 /// Opcode of a raw command (`mc_send_raw`).
 ///
 /// Does nothing but answer: the round-trip probe.
@@ -579,8 +726,8 @@ pub const MC_OP_COMPARE_TABLE: u32 = 66;
 pub const MC_OP_COMPARE_DISARM: u32 = 67;
 
 /// `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
-/// `MC_PROBE_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_RISING` / `_FALLING` (one or
-/// both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
+/// `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
+/// (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
 pub const MC_OP_PROBE_ARM: u32 = 68;
 
 /// `MC_AbortTrigger`. args: channel.

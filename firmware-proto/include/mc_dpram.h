@@ -391,19 +391,20 @@
 #define MC_CMP_DIR_POS (1u << 2)     /* fire crossing upwards */
 #define MC_CMP_DIR_NEG (1u << 3)     /* fire crossing downwards (single: both bits, either way) */
 /* mc_compare_status.state, mc_probe_status.state */
-#define MC_IO_IDLE 0u
-#define MC_IO_ARMED 1u
+#define MC_IO_IDLE 0u                /* not armed */
+#define MC_IO_ARMED 1u               /* armed: watching or capturing */
 #define MC_IO_DONE 2u                /* a single compare or series fired (or missed) all; a
                                       * single-shot probe captured */
 /* MC_OP_PROBE_ARM flags */
-#define MC_PROBE_RISING (1u << 0)
-#define MC_PROBE_FALLING (1u << 1)
+#define MC_PROBE_RISING (1u << 0)    /* capture as the input becomes active */
+#define MC_PROBE_FALLING (1u << 1)   /* capture as the input becomes inactive */
 #define MC_PROBE_CONTINUOUS (1u << 2)
 #define MC_PROBE_WINDOW (1u << 3)
 /* MC_EV_COMPARE codes. At most one event of each code per channel per tick: value is the
  * last position of that tick; compare_status counts every one */
-#define MC_CMP_FIRED 1
-#define MC_CMP_MISSED 2
+#define MC_CMP_FIRED 1               /* a position fired */
+#define MC_CMP_MISSED 2              /* a position missed: passed when it became the next one,
+                                      * or inside the pulse before it */
 #define MC_CMP_LOW_WATER 3           /* the table's queue fell to low_water; value: queued */
 
 /* MC_OP_PATH_LINE / _ARC flags */
@@ -413,9 +414,9 @@
                                       *   rest is aborted, and this segment starts from there */
 #define MC_PATH_BUFFERED 1u          /*   exact stop at the corner, then this segment */
 #define MC_PATH_BLEND_LOW 2u         /*   blend; corner speed <= the lower of the two feeds */
-#define MC_PATH_BLEND_PREVIOUS 3u    /*   ... <= the previous segment's feed */
-#define MC_PATH_BLEND_NEXT 4u        /*   ... <= this segment's feed */
-#define MC_PATH_BLEND_HIGH 5u        /*   ... <= the higher of the two */
+#define MC_PATH_BLEND_PREVIOUS 3u    /*   blend; corner speed <= the previous segment's feed */
+#define MC_PATH_BLEND_NEXT 4u        /*   blend; corner speed <= this segment's feed */
+#define MC_PATH_BLEND_HIGH 5u        /*   blend; corner speed <= the higher of the two feeds */
 #define MC_PATH_TRANSITION_SHIFT 19u /* 2 bits, PLCopen TransitionMode of a blend: */
 #define MC_TM_NONE 0u                /*   no blend: an exact stop at the corner */
 #define MC_TM_MAX_DEVIATION 1u       /*   the blend keeps within `tolerance` counts of the corner */
@@ -427,9 +428,9 @@
                                       *   and a blend after such a line is refused too */
 #define MC_PATH_LAST (1u << 21)      /* the last segment of a program: its stop is not starvation */
 /* MC_OP_PATH_OUTPUT flags: when */
-#define MC_PATH_OUT_AT_START 0u
-#define MC_PATH_OUT_AT_END 1u
-#define MC_PATH_OUT_AT_DISTANCE 2u
+#define MC_PATH_OUT_AT_START 0u      /* as the segment starts */
+#define MC_PATH_OUT_AT_END 1u        /* as the segment ends */
+#define MC_PATH_OUT_AT_DISTANCE 2u   /* once the segment has run `distance` counts */
 /* Path status bits (mc_group_status_payload.path_flags) */
 #define MC_PATHST_RUNNING (1u << 0)  /* a segment is running (path_id is valid) */
 #define MC_PATHST_STARVING (1u << 1) /* braking for the end of what is queued */
