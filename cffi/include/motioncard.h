@@ -242,13 +242,13 @@ extern "C" {
 #define MC_EVENT_SYNC 27
 
 /**
- * A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EV_*`; value: the
+ * A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EVENT_*`; value: the
  * points queued (low water), the time of the last point run (starved), the last position (done).
  */
 #define MC_EVENT_PVT 28
 
 /**
- * The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see there.
+ * The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
  */
 #define MC_EVENT_SCOPE 29
 
@@ -935,6 +935,306 @@ extern "C" {
 #define MC_PROBE_EDGE_FALLING 2
 
 /**
+ * What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, `mc_cam_in`).
+ *
+ * Flags: the master axis's commanded position.
+ */
+#define MC_MASTER_COMMANDED 0
+
+/**
+ * The master axis's actual position (its encoder).
+ */
+#define MC_MASTER_ACTUAL 1
+
+/**
+ * An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+ */
+#define MC_MASTER_AUX 2
+
+/**
+ * Auxiliary encoder inputs of the card (conveyor, handwheel).
+ */
+#define MC_AUX_ENCODERS 2
+
+/**
+ * The `code` of `MC_EVENT_SYNC`.
+ *
+ * `MC_GearIn` caught up: the slave follows the ratio (InGear).
+ */
+#define MC_SYNC_IN_GEAR 1
+
+/**
+ * `MC_GearInPos` reached its sync point (InSync).
+ */
+#define MC_SYNC_IN_SYNC 2
+
+/**
+ * The master is disabled or in ErrorStop: the slave stops.
+ */
+#define MC_SYNC_MASTER_LOST 3
+
+/**
+ * `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+ */
+#define MC_SYNC_CAM_END 4
+
+/**
+ * `MC_EVENT_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that asked
+ * for it).
+ */
+#define MC_SYNC_CAM_SWITCH 5
+
+/**
+ * Points buffered per axis.
+ */
+#define MC_PVT_LEN 4096
+
+/**
+ * The `code` of `MC_EVENT_PVT`.
+ *
+ * The points queued fell to the stream's low water.
+ */
+#define MC_PVT_EVENT_LOW_WATER 1
+
+/**
+ * The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+ * Standstill; `MC_EVENT_MOTION_ABORTED`).
+ */
+#define MC_PVT_EVENT_STARVED 2
+
+/**
+ * The last point was reached (motion done follows in position).
+ */
+#define MC_PVT_EVENT_DONE 3
+
+/**
+ * Bit of the `flags` of `mc_cam_load_table`.
+ *
+ * A cubic spline: velocity and acceleration continuous (else linear).
+ */
+#define MC_CAM_CUBIC 1
+
+/**
+ * Periodic: the master's period is the table's span.
+ */
+#define MC_CAM_PERIODIC 2
+
+/**
+ * Cam tables the card holds.
+ */
+#define MC_CAM_TABLES 4
+
+/**
+ * Points of a cam table, at most.
+ */
+#define MC_CAM_MAX_POINTS 1024
+
+/**
+ * Channels per sample, at most (`mc_scope_settings.n_channels`).
+ */
+#define MC_SCOPE_CHANNELS 16
+
+/**
+ * Samples in the scope ring (a power of two).
+ */
+#define MC_SCOPE_RING_LEN 4096
+
+/**
+ * Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
+ * (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+ * the group) the group status's, card signals (48..50; index 0) the card's words.
+ *
+ * Commanded position, counts (`cmd_pos`).
+ */
+#define MC_SCOPE_SIG_CMD_POS 1
+
+/**
+ * Commanded velocity, counts/s (`cmd_vel`).
+ */
+#define MC_SCOPE_SIG_CMD_VEL 2
+
+/**
+ * Commanded acceleration, counts/s^2 (`cmd_acc`).
+ */
+#define MC_SCOPE_SIG_CMD_ACC 3
+
+/**
+ * Actual position, counts (`act_pos`).
+ */
+#define MC_SCOPE_SIG_ACT_POS 4
+
+/**
+ * Actual velocity, filtered, counts/s (`act_vel`).
+ */
+#define MC_SCOPE_SIG_ACT_VEL 5
+
+/**
+ * Following error, counts (ferr).
+ */
+#define MC_SCOPE_SIG_FERR 6
+
+/**
+ * DAC output, V (`dac_v`).
+ */
+#define MC_SCOPE_SIG_DAC 7
+
+/**
+ * The servo law's output before the DAC clamp, V (`u_request`).
+ */
+#define MC_SCOPE_SIG_U_REQUEST 8
+
+/**
+ * The raw encoder count (encoder).
+ */
+#define MC_SCOPE_SIG_ENCODER 9
+
+/**
+ * The proportional term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_P 10
+
+/**
+ * The integral term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_I 11
+
+/**
+ * The velocity feedback (FFPIV) or derivative (PD+) term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_D 12
+
+/**
+ * The feed-forward terms, V.
+ */
+#define MC_SCOPE_SIG_SERVO_FF 13
+
+/**
+ * Tangential velocity before the filters, counts/s (feed).
+ */
+#define MC_SCOPE_SIG_PATH_SPEED 32
+
+/**
+ * Tangential acceleration, counts/s^2 (`feed_acc`).
+ */
+#define MC_SCOPE_SIG_PATH_ACC 33
+
+/**
+ * Distance along the active move, counts (`path_pos`).
+ */
+#define MC_SCOPE_SIG_PATH_POS 34
+
+/**
+ * The debounced digital inputs, bit i = input i (card.inputs).
+ */
+#define MC_SCOPE_SIG_INPUTS 48
+
+/**
+ * The digital outputs (card.outputs).
+ */
+#define MC_SCOPE_SIG_OUTPUTS 49
+
+/**
+ * The inputs as sampled (`card.inputs_raw`).
+ */
+#define MC_SCOPE_SIG_INPUTS_RAW 50
+
+/**
+ * `mc_scope_settings.mode`.
+ *
+ * `post_trigger` samples from the trigger sample on, then done.
+ */
+#define MC_SCOPE_ONE_SHOT 0
+
+/**
+ * Until `MC_OP_SCOPE_STOP`.
+ */
+#define MC_SCOPE_CONTINUOUS 1
+
+/**
+ * `mc_scope_settings.trigger`: when the capture starts.
+ *
+ * The first sample after the arm.
+ */
+#define MC_SCOPE_TRIG_IMMEDIATE 0
+
+/**
+ * The first sample after an `MC_OP_SCOPE_TRIGGER`.
+ */
+#define MC_SCOPE_TRIG_COMMAND 1
+
+/**
+ * Channel `trigger_channel` crosses level.
+ */
+#define MC_SCOPE_TRIG_LEVEL 2
+
+/**
+ * An edge of debounced input `trigger_input`.
+ */
+#define MC_SCOPE_TRIG_INPUT 3
+
+/**
+ * A safety fault bit of an axis appears.
+ */
+#define MC_SCOPE_TRIG_FAULT 4
+
+/**
+ * `mc_scope_settings.edge`: which way a level or input trigger fires.
+ *
+ * Previous < level <= this one; an input becoming active.
+ */
+#define MC_SCOPE_RISING 0
+
+/**
+ * Previous > level >= this one; an input becoming inactive.
+ */
+#define MC_SCOPE_FALLING 1
+
+/**
+ * Either way.
+ */
+#define MC_SCOPE_EITHER 2
+
+/**
+ * `mc_scope_info.state`.
+ *
+ * Not sampling.
+ */
+#define MC_SCOPE_STATE_IDLE 0
+
+/**
+ * Armed: sampling into the history, waiting for the trigger.
+ */
+#define MC_SCOPE_STATE_WAITING 1
+
+/**
+ * Triggered: samples go to the ring.
+ */
+#define MC_SCOPE_STATE_CAPTURING 2
+
+/**
+ * A one-shot capture ended.
+ */
+#define MC_SCOPE_STATE_DONE 3
+
+/**
+ * The `code` of `MC_EVENT_SCOPE`.
+ *
+ * Value: the trigger sample's tick.
+ */
+#define MC_SCOPE_EVENT_TRIGGERED 1
+
+/**
+ * A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+ * `post_trigger`).
+ */
+#define MC_SCOPE_EVENT_DONE 2
+
+/**
+ * A sample found the ring full; value: `scope_status.lost`.
+ */
+#define MC_SCOPE_EVENT_LOST 3
+
+/**
  * Opcode of a raw command (`mc_send_raw`).
  *
  * Does nothing but answer: the round-trip probe.
@@ -1346,38 +1646,6 @@ extern "C" {
 #define MC_OP_SET_SCALE 97
 
 /**
- * `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
- * linear).
- */
-#define MC_CAM_CUBIC 1
-
-/**
- * `flags` of `mc_cam_load_table`: periodic (the table repeats every span of the master, the
- * slave rising by its last minus first point a cycle).
- */
-#define MC_CAM_PERIODIC 2
-
-/**
- * Cam tables the card holds.
- */
-#define MC_CAM_TABLES 4
-
-/**
- * Points of a cam table.
- */
-#define MC_CAM_MAX_POINTS 1024
-
-/**
- * `code` of `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
- */
-#define MC_SYNC_CAM_END 4
-
-/**
- * `code` of `MC_EVENT_SYNC`: the table switched at the end of a cycle.
- */
-#define MC_SYNC_CAM_SWITCH 5
-
-/**
  * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
  * following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
  * it.
@@ -1493,175 +1761,6 @@ extern "C" {
  * PVT: each point's velocity as given.
  */
 #define MC_PVT_MODE_PVT 1
-
-/**
- * Points the card buffers per axis.
- */
-#define MC_PVT_LEN 4096
-
-/**
- * `code` of `MC_EVENT_PVT`: the points queued fell to the low water (`value`: how many).
- */
-#define MC_PVT_EVENT_LOW_WATER 1
-
-/**
- * The stream ran dry before its last point: the axis stops on its stop ramp.
- */
-#define MC_PVT_EVENT_STARVED 2
-
-/**
- * The last point was reached (motion done follows in position).
- */
-#define MC_PVT_EVENT_DONE 3
-
-/**
- * Channels per sample, at most.
- */
-#define MC_SCOPE_CHANNELS 16
-
-/**
- * Samples the card's ring holds (204.8 ms at 20 kHz).
- */
-#define MC_SCOPE_RING_LEN 4096
-
-/**
- * Axis signals (index: the axis): commanded position, velocity, acceleration, actual
- * position and velocity, following error, DAC volts, the servo output before the clamp, the
- * raw encoder count, the servo law's P, I, D (velocity feedback) and feed-forward terms.
- */
-#define MC_SCOPE_SIG_CMD_POS 1
-
-#define MC_SCOPE_SIG_CMD_VEL 2
-
-#define MC_SCOPE_SIG_CMD_ACC 3
-
-#define MC_SCOPE_SIG_ACT_POS 4
-
-#define MC_SCOPE_SIG_ACT_VEL 5
-
-#define MC_SCOPE_SIG_FERR 6
-
-#define MC_SCOPE_SIG_DAC 7
-
-#define MC_SCOPE_SIG_U_REQUEST 8
-
-#define MC_SCOPE_SIG_ENCODER 9
-
-#define MC_SCOPE_SIG_SERVO_P 10
-
-#define MC_SCOPE_SIG_SERVO_I 11
-
-#define MC_SCOPE_SIG_SERVO_D 12
-
-#define MC_SCOPE_SIG_SERVO_FF 13
-
-/**
- * Group signals (index: the group): path speed, path acceleration, distance along the move.
- */
-#define MC_SCOPE_SIG_PATH_SPEED 32
-
-#define MC_SCOPE_SIG_PATH_ACC 33
-
-#define MC_SCOPE_SIG_PATH_POS 34
-
-/**
- * Card signals (index 0): debounced inputs, outputs, inputs as sampled.
- */
-#define MC_SCOPE_SIG_INPUTS 48
-
-#define MC_SCOPE_SIG_OUTPUTS 49
-
-#define MC_SCOPE_SIG_INPUTS_RAW 50
-
-/**
- * `mode`.
- */
-#define MC_SCOPE_ONE_SHOT 0
-
-#define MC_SCOPE_CONTINUOUS 1
-
-/**
- * `trigger`.
- */
-#define MC_SCOPE_TRIG_IMMEDIATE 0
-
-#define MC_SCOPE_TRIG_COMMAND 1
-
-#define MC_SCOPE_TRIG_LEVEL 2
-
-#define MC_SCOPE_TRIG_INPUT 3
-
-#define MC_SCOPE_TRIG_FAULT 4
-
-/**
- * `edge`.
- */
-#define MC_SCOPE_RISING 0
-
-#define MC_SCOPE_FALLING 1
-
-#define MC_SCOPE_EITHER 2
-
-/**
- * `mc_scope_info.state`.
- */
-#define MC_SCOPE_STATE_IDLE 0
-
-#define MC_SCOPE_STATE_WAITING 1
-
-#define MC_SCOPE_STATE_CAPTURING 2
-
-#define MC_SCOPE_STATE_DONE 3
-
-/**
- * Triggered (`value`: the trigger sample's tick).
- */
-#define MC_SCOPE_EVENT_TRIGGERED 1
-
-/**
- * A one-shot capture ended (`value`: its samples).
- */
-#define MC_SCOPE_EVENT_DONE 2
-
-/**
- * A sample found the ring full (`value`: the samples lost since the arm).
- */
-#define MC_SCOPE_EVENT_LOST 3
-
-/**
- * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
- */
-#define MC_MASTER_COMMANDED 0
-
-/**
- * The actual position (encoder) of the master axis.
- */
-#define MC_MASTER_ACTUAL 1
-
-/**
- * An auxiliary encoder input of the card (0 .. `MC_AUX_ENCODERS` - 1).
- */
-#define MC_MASTER_AUX 2
-
-/**
- * Auxiliary encoder inputs of the card.
- */
-#define MC_AUX_ENCODERS 2
-
-/**
- * `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
- */
-#define MC_SYNC_IN_GEAR 1
-
-/**
- * MC_GearInPos reached its sync point (InSync).
- */
-#define MC_SYNC_IN_SYNC 2
-
-/**
- * The master axis was disabled or faulted: the slave stops on its stop ramp.
- */
-#define MC_SYNC_MASTER_LOST 3
 
 /**
  * `mc_event.axis` of an event about the whole card.

@@ -88,11 +88,11 @@ pub const MC_EVENT_PROBE: u32 = 26;
 /// slave's commanded position (master lost: the master's number).
 pub const MC_EVENT_SYNC: u32 = 27;
 
-/// A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EV_*`; value: the
+/// A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EVENT_*`; value: the
 /// points queued (low water), the time of the last point run (starved), the last position (done).
 pub const MC_EVENT_PVT: u32 = 28;
 
-/// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see there.
+/// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
 pub const MC_EVENT_SCOPE: u32 = 29;
 
 /// Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
@@ -526,6 +526,196 @@ pub const MC_PROBE_EDGE_RISING: u32 = 1;
 
 /// Capture as the input becomes inactive.
 pub const MC_PROBE_EDGE_FALLING: u32 = 2;
+
+/// What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, `mc_cam_in`).
+///
+/// Flags: the master axis's commanded position.
+pub const MC_MASTER_COMMANDED: u32 = 0;
+
+/// The master axis's actual position (its encoder).
+pub const MC_MASTER_ACTUAL: u32 = 1;
+
+/// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+pub const MC_MASTER_AUX: u32 = 2;
+
+/// Auxiliary encoder inputs of the card (conveyor, handwheel).
+pub const MC_AUX_ENCODERS: u32 = 2;
+
+/// The `code` of `MC_EVENT_SYNC`.
+///
+/// `MC_GearIn` caught up: the slave follows the ratio (InGear).
+pub const MC_SYNC_IN_GEAR: i32 = 1;
+
+/// `MC_GearInPos` reached its sync point (InSync).
+pub const MC_SYNC_IN_SYNC: i32 = 2;
+
+/// The master is disabled or in ErrorStop: the slave stops.
+pub const MC_SYNC_MASTER_LOST: i32 = 3;
+
+/// `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+pub const MC_SYNC_CAM_END: i32 = 4;
+
+/// `MC_EVENT_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that asked
+/// for it).
+pub const MC_SYNC_CAM_SWITCH: i32 = 5;
+
+/// Points buffered per axis.
+pub const MC_PVT_LEN: u32 = 4096;
+
+/// The `code` of `MC_EVENT_PVT`.
+///
+/// The points queued fell to the stream's low water.
+pub const MC_PVT_EVENT_LOW_WATER: i32 = 1;
+
+/// The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+/// Standstill; `MC_EVENT_MOTION_ABORTED`).
+pub const MC_PVT_EVENT_STARVED: i32 = 2;
+
+/// The last point was reached (motion done follows in position).
+pub const MC_PVT_EVENT_DONE: i32 = 3;
+
+/// Bit of the `flags` of `mc_cam_load_table`.
+///
+/// A cubic spline: velocity and acceleration continuous (else linear).
+pub const MC_CAM_CUBIC: u32 = 1;
+
+/// Periodic: the master's period is the table's span.
+pub const MC_CAM_PERIODIC: u32 = 2;
+
+/// Cam tables the card holds.
+pub const MC_CAM_TABLES: u32 = 4;
+
+/// Points of a cam table, at most.
+pub const MC_CAM_MAX_POINTS: u32 = 1024;
+
+/// Channels per sample, at most (`mc_scope_settings.n_channels`).
+pub const MC_SCOPE_CHANNELS: u32 = 16;
+
+/// Samples in the scope ring (a power of two).
+pub const MC_SCOPE_RING_LEN: u32 = 4096;
+
+/// Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
+/// (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+/// the group) the group status's, card signals (48..50; index 0) the card's words.
+///
+/// Commanded position, counts (`cmd_pos`).
+pub const MC_SCOPE_SIG_CMD_POS: u32 = 1;
+
+/// Commanded velocity, counts/s (`cmd_vel`).
+pub const MC_SCOPE_SIG_CMD_VEL: u32 = 2;
+
+/// Commanded acceleration, counts/s^2 (`cmd_acc`).
+pub const MC_SCOPE_SIG_CMD_ACC: u32 = 3;
+
+/// Actual position, counts (`act_pos`).
+pub const MC_SCOPE_SIG_ACT_POS: u32 = 4;
+
+/// Actual velocity, filtered, counts/s (`act_vel`).
+pub const MC_SCOPE_SIG_ACT_VEL: u32 = 5;
+
+/// Following error, counts (ferr).
+pub const MC_SCOPE_SIG_FERR: u32 = 6;
+
+/// DAC output, V (`dac_v`).
+pub const MC_SCOPE_SIG_DAC: u32 = 7;
+
+/// The servo law's output before the DAC clamp, V (`u_request`).
+pub const MC_SCOPE_SIG_U_REQUEST: u32 = 8;
+
+/// The raw encoder count (encoder).
+pub const MC_SCOPE_SIG_ENCODER: u32 = 9;
+
+/// The proportional term, V.
+pub const MC_SCOPE_SIG_SERVO_P: u32 = 10;
+
+/// The integral term, V.
+pub const MC_SCOPE_SIG_SERVO_I: u32 = 11;
+
+/// The velocity feedback (FFPIV) or derivative (PD+) term, V.
+pub const MC_SCOPE_SIG_SERVO_D: u32 = 12;
+
+/// The feed-forward terms, V.
+pub const MC_SCOPE_SIG_SERVO_FF: u32 = 13;
+
+/// Tangential velocity before the filters, counts/s (feed).
+pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
+
+/// Tangential acceleration, counts/s^2 (`feed_acc`).
+pub const MC_SCOPE_SIG_PATH_ACC: u32 = 33;
+
+/// Distance along the active move, counts (`path_pos`).
+pub const MC_SCOPE_SIG_PATH_POS: u32 = 34;
+
+/// The debounced digital inputs, bit i = input i (card.inputs).
+pub const MC_SCOPE_SIG_INPUTS: u32 = 48;
+
+/// The digital outputs (card.outputs).
+pub const MC_SCOPE_SIG_OUTPUTS: u32 = 49;
+
+/// The inputs as sampled (`card.inputs_raw`).
+pub const MC_SCOPE_SIG_INPUTS_RAW: u32 = 50;
+
+/// `mc_scope_settings.mode`.
+///
+/// `post_trigger` samples from the trigger sample on, then done.
+pub const MC_SCOPE_ONE_SHOT: u32 = 0;
+
+/// Until `MC_OP_SCOPE_STOP`.
+pub const MC_SCOPE_CONTINUOUS: u32 = 1;
+
+/// `mc_scope_settings.trigger`: when the capture starts.
+///
+/// The first sample after the arm.
+pub const MC_SCOPE_TRIG_IMMEDIATE: u32 = 0;
+
+/// The first sample after an `MC_OP_SCOPE_TRIGGER`.
+pub const MC_SCOPE_TRIG_COMMAND: u32 = 1;
+
+/// Channel `trigger_channel` crosses level.
+pub const MC_SCOPE_TRIG_LEVEL: u32 = 2;
+
+/// An edge of debounced input `trigger_input`.
+pub const MC_SCOPE_TRIG_INPUT: u32 = 3;
+
+/// A safety fault bit of an axis appears.
+pub const MC_SCOPE_TRIG_FAULT: u32 = 4;
+
+/// `mc_scope_settings.edge`: which way a level or input trigger fires.
+///
+/// Previous < level <= this one; an input becoming active.
+pub const MC_SCOPE_RISING: u32 = 0;
+
+/// Previous > level >= this one; an input becoming inactive.
+pub const MC_SCOPE_FALLING: u32 = 1;
+
+/// Either way.
+pub const MC_SCOPE_EITHER: u32 = 2;
+
+/// `mc_scope_info.state`.
+///
+/// Not sampling.
+pub const MC_SCOPE_STATE_IDLE: u32 = 0;
+
+/// Armed: sampling into the history, waiting for the trigger.
+pub const MC_SCOPE_STATE_WAITING: u32 = 1;
+
+/// Triggered: samples go to the ring.
+pub const MC_SCOPE_STATE_CAPTURING: u32 = 2;
+
+/// A one-shot capture ended.
+pub const MC_SCOPE_STATE_DONE: u32 = 3;
+
+/// The `code` of `MC_EVENT_SCOPE`.
+///
+/// Value: the trigger sample's tick.
+pub const MC_SCOPE_EVENT_TRIGGERED: i32 = 1;
+
+/// A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+/// `post_trigger`).
+pub const MC_SCOPE_EVENT_DONE: i32 = 2;
+
+/// A sample found the ring full; value: `scope_status.lost`.
+pub const MC_SCOPE_EVENT_LOST: i32 = 3;
 
 /// Opcode of a raw command (`mc_send_raw`).
 ///

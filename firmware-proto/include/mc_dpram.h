@@ -560,8 +560,9 @@
 #define MC_CAM_TABLES 4u
 #define MC_CAM_MAX_POINTS 1024u
 #define MC_CAM_DATA_MAX 5u
-#define MC_CAM_CUBIC (1u << 0)
-#define MC_CAM_PERIODIC (1u << 1)
+#define MC_CAM_CUBIC (1u << 0)        /* a cubic spline: velocity and acceleration continuous
+                                       * (else linear) */
+#define MC_CAM_PERIODIC (1u << 1)     /* periodic: the master's period is the table's span */
 #define MC_CAM_AT_CYCLE_END (1u << 4) /* MC_OP_CAM_IN flag (beside the master source) */
 #define MC_CAM_RELATIVE (1u << 5) /* MC_OP_CAM_IN flag: PLCopen StartMode relative. The slave
                                    * offset is shifted by where the slave stands minus where the
@@ -636,10 +637,10 @@
  * rounding). FFPIV (Thinh Fig 5): P = kv kp (x_ref - x), I = kv ki integral,
  * D = -kv v_est, FF = kv kvff v_ref_est + kaff a_ref. PD+ (Yeh eq 2.12): P = kp e,
  * I = 0, D = kd (w_d - w_a), FF = kv w_d + ka alpha_d. */
-#define MC_SIG_SERVO_P 10u
-#define MC_SIG_SERVO_I 11u
-#define MC_SIG_SERVO_D 12u
-#define MC_SIG_SERVO_FF 13u
+#define MC_SIG_SERVO_P 10u   /* the proportional term, V */
+#define MC_SIG_SERVO_I 11u   /* the integral term, V */
+#define MC_SIG_SERVO_D 12u   /* the velocity feedback (FFPIV) or derivative (PD+) term, V */
+#define MC_SIG_SERVO_FF 13u  /* the feed-forward terms, V */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
@@ -649,20 +650,20 @@
 #define MC_SIG_OUTPUTS 49u    /* the digital outputs (card.outputs) */
 #define MC_SIG_INPUTS_RAW 50u /* the inputs as sampled (card.inputs_raw) */
 /* scope_config.mode */
-#define MC_SCOPE_ONE_SHOT 0u
-#define MC_SCOPE_CONTINUOUS 1u
+#define MC_SCOPE_ONE_SHOT 0u       /* post_trigger samples from the trigger sample on, then done */
+#define MC_SCOPE_CONTINUOUS 1u     /* until MC_OP_SCOPE_STOP */
 /* scope_config.trigger */
-#define MC_SCOPE_TRIG_IMMEDIATE 0u
-#define MC_SCOPE_TRIG_COMMAND 1u
-#define MC_SCOPE_TRIG_LEVEL 2u
-#define MC_SCOPE_TRIG_INPUT 3u
-#define MC_SCOPE_TRIG_FAULT 4u
+#define MC_SCOPE_TRIG_IMMEDIATE 0u /* the first sample after the arm */
+#define MC_SCOPE_TRIG_COMMAND 1u   /* the first sample after an MC_OP_SCOPE_TRIGGER */
+#define MC_SCOPE_TRIG_LEVEL 2u     /* channel trigger_channel crosses level */
+#define MC_SCOPE_TRIG_INPUT 3u     /* an edge of debounced input trigger_input */
+#define MC_SCOPE_TRIG_FAULT 4u     /* a safety fault bit of an axis appears */
 /* scope_config.edge (level and input triggers) */
-#define MC_SCOPE_RISING 0u
-#define MC_SCOPE_FALLING 1u
-#define MC_SCOPE_EITHER 2u
+#define MC_SCOPE_RISING 0u    /* previous < level <= this one; an input becoming active */
+#define MC_SCOPE_FALLING 1u   /* previous > level >= this one; an input becoming inactive */
+#define MC_SCOPE_EITHER 2u    /* either way */
 /* scope_status.state */
-#define MC_SCOPE_IDLE 0u
+#define MC_SCOPE_IDLE 0u      /* not sampling */
 #define MC_SCOPE_WAITING 1u   /* armed: sampling into the history, waiting for the trigger */
 #define MC_SCOPE_CAPTURING 2u /* triggered: samples go to the ring */
 #define MC_SCOPE_DONE 3u      /* a one-shot capture ended */

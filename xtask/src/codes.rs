@@ -461,6 +461,118 @@ pub const SETS: &[Set] = &[
             "Bit of `mc_probe_trigger.edges` (one or both).",
         ),
     ),
+    // Synchronised motion: gearing, PT/PVT streams, camming (layout 1.7).
+    c_only(
+        Select::Prefix("MC_MASTER_"),
+        c(
+            "MC_MASTER_",
+            "MC_MASTER_",
+            "What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, \
+             `mc_cam_in`).",
+        ),
+    ),
+    c_only(
+        Select::One("MC_AUX_ENCODERS"),
+        c("MC_AUX_ENCODERS", "MC_AUX_ENCODERS", ""),
+    ),
+    c_only(
+        Select::Prefix("MC_SYNC_"),
+        c_event_code("MC_SYNC_", "MC_SYNC_", "The `code` of `MC_EVENT_SYNC`."),
+    ),
+    c_only(Select::One("MC_PVT_LEN"), c("MC_PVT_LEN", "MC_PVT_LEN", "")),
+    c_only(
+        Select::Prefix("MC_PVT_EV_"),
+        c_event_code(
+            "MC_PVT_EV_",
+            "MC_PVT_EVENT_",
+            "The `code` of `MC_EVENT_PVT`.",
+        ),
+    ),
+    c_only(
+        Select::List(&["MC_CAM_CUBIC", "MC_CAM_PERIODIC"]),
+        c(
+            "MC_CAM_",
+            "MC_CAM_",
+            "Bit of the `flags` of `mc_cam_load_table`.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_CAM_TABLES"),
+        c(
+            "MC_CAM_TABLES",
+            "MC_CAM_TABLES",
+            "Cam tables the card holds.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_CAM_MAX_POINTS"),
+        c(
+            "MC_CAM_MAX_POINTS",
+            "MC_CAM_MAX_POINTS",
+            "Points of a cam table, at most.",
+        ),
+    ),
+    // The scope (layout 1.8).
+    c_only(
+        Select::One("MC_SCOPE_CHANNELS"),
+        c(
+            "MC_SCOPE_CHANNELS",
+            "MC_SCOPE_CHANNELS",
+            "Channels per sample, at most (`mc_scope_settings.n_channels`).",
+        ),
+    ),
+    c_only(
+        Select::One("MC_SCOPE_RING_LEN"),
+        c("MC_SCOPE_RING_LEN", "MC_SCOPE_RING_LEN", ""),
+    ),
+    c_only(
+        Select::Prefix("MC_SIG_"),
+        c(
+            "MC_SIG_",
+            "MC_SCOPE_SIG_",
+            "Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. \
+             Axis signals (1..13; index: the axis) are the axis status's values of the tick, \
+             group signals (32..34; index: the group) the group status's, card signals (48..50; \
+             index 0) the card's words.",
+        ),
+    ),
+    c_only(
+        Select::List(&["MC_SCOPE_ONE_SHOT", "MC_SCOPE_CONTINUOUS"]),
+        c("MC_SCOPE_", "MC_SCOPE_", "`mc_scope_settings.mode`."),
+    ),
+    c_only(
+        Select::Prefix("MC_SCOPE_TRIG_"),
+        c(
+            "MC_SCOPE_TRIG_",
+            "MC_SCOPE_TRIG_",
+            "`mc_scope_settings.trigger`: when the capture starts.",
+        ),
+    ),
+    c_only(
+        Select::List(&["MC_SCOPE_RISING", "MC_SCOPE_FALLING", "MC_SCOPE_EITHER"]),
+        c(
+            "MC_SCOPE_",
+            "MC_SCOPE_",
+            "`mc_scope_settings.edge`: which way a level or input trigger fires.",
+        ),
+    ),
+    c_only(
+        Select::List(&[
+            "MC_SCOPE_IDLE",
+            "MC_SCOPE_WAITING",
+            "MC_SCOPE_CAPTURING",
+            "MC_SCOPE_DONE",
+        ]),
+        c("MC_SCOPE_", "MC_SCOPE_STATE_", "`mc_scope_info.state`."),
+    ),
+    c_only(
+        Select::Prefix("MC_SCOPE_EV_"),
+        c_event_code(
+            "MC_SCOPE_EV_",
+            "MC_SCOPE_EVENT_",
+            "The `code` of `MC_EVENT_SCOPE`.",
+        ),
+    ),
     Set {
         select: Select::Prefix("MC_OP_"),
         rust: rust("Opcode", "u16", "Command opcodes.", "MC_OP_"),
