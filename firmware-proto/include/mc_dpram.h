@@ -758,16 +758,18 @@
                                   * MC_SCOPE_EV_*; value: see there */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
-#define MC_NACK_UNKNOWN_OPCODE 1
-#define MC_NACK_BAD_AXIS 2
-#define MC_NACK_NOT_FINITE 3
-#define MC_NACK_NON_POSITIVE_LIMIT 4
-#define MC_NACK_AXIS_DISABLED 5
-#define MC_NACK_INVALID_STATE 6
-#define MC_NACK_BAD_CONFIG 7
-#define MC_NACK_INFEASIBLE 8
-#define MC_NACK_OUT_OF_RANGE 9
-#define MC_NACK_AXES_ENABLED 10
+#define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
+#define MC_NACK_BAD_AXIS 2              /* the axis number is not one of this card's axes */
+#define MC_NACK_NOT_FINITE 3            /* an argument is NaN or infinite */
+#define MC_NACK_NON_POSITIVE_LIMIT 4    /* a velocity, acceleration or jerk limit is zero or
+                                         * negative */
+#define MC_NACK_AXIS_DISABLED 5         /* a move was commanded on a disabled axis */
+#define MC_NACK_INVALID_STATE 6         /* the command is not allowed in the axis's current state */
+#define MC_NACK_BAD_CONFIG 7            /* a configuration block holds a value out of its range */
+#define MC_NACK_INFEASIBLE 8            /* no profile satisfies the request */
+#define MC_NACK_OUT_OF_RANGE 9          /* a position or distance is beyond the card's range */
+#define MC_NACK_AXES_ENABLED 10         /* the card configuration can only change while every
+                                         * axis is disabled */
 #define MC_NACK_LIMIT_RANGE 11  /* a kinematic limit outside its range (see MC_MAX_MOVE_TIME) */
 #define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
                                  * |d|/vmax, off its target or beyond a limit): refused, not run */
@@ -778,8 +780,9 @@
 #define MC_NACK_AXIS_NOT_IN_GROUP 18    /* the move needs an axis the group does not have */
 #define MC_NACK_AXIS_BUSY 19            /* a group axis is moving on its own */
 #define MC_NACK_AXIS_GROUPED 20         /* single-axis motion on an axis of an enabled group */
-#define MC_NACK_ZERO_LENGTH_ARC 21
-#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
+#define MC_NACK_ZERO_LENGTH_ARC 21      /* the arc has zero length (or zero radius) */
+#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22 /* the centre is not equidistant from start and end
+                                           * within the tolerance */
 #define MC_NACK_RADIUS_TOO_SMALL 23     /* the radius is shorter than half the chord */
 #define MC_NACK_COLLINEAR_POINTS 24     /* the three points of a border-point arc are on one line */
 #define MC_NACK_QUEUE_FULL 25           /* the group's (or the axis's) move queue is full */
@@ -792,13 +795,13 @@
 #define MC_NACK_NURBS_DIMENSION 50      /* the group has fewer than 2 axes */
 #define MC_NACK_NURBS_CTRL_COUNT 51     /* fewer than degree+1 or more than 1024 control points */
 #define MC_NACK_NURBS_KNOT_COUNT 52     /* n_knots != n_ctrl + degree + 1 */
-#define MC_NACK_NURBS_KNOTS_DECREASING 53
+#define MC_NACK_NURBS_KNOTS_DECREASING 53 /* knots decrease */
 #define MC_NACK_NURBS_KNOT_MULTIPLICITY 54 /* an interior knot repeated more than degree times */
 #define MC_NACK_NURBS_NOT_CLAMPED 55    /* end knots not repeated degree+1 times, or an empty domain */
 #define MC_NACK_NURBS_WEIGHT 56         /* a weight not finite and > 0 */
 #define MC_NACK_NURBS_POINT 57          /* a control point not finite */
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
-#define MC_NACK_NURBS_ZERO_LENGTH 59
+#define MC_NACK_NURBS_ZERO_LENGTH 59    /* the curve has zero length */
 #define MC_NACK_NURBS_KNOT 60           /* a knot not finite (NaN or infinite) */
 /* Homing nack codes (64..79, layout 1.5). */
 #define MC_NACK_HOMING_METHOD 64        /* a homing method the axis cannot do: an unknown number, or an

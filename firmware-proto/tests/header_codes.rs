@@ -3,7 +3,10 @@
 //! define (its name after the prefix, in CamelCase) and with its value, and there is no other
 //! variant. A header edited without regenerating fails here as well as in `codegen --check`.
 
-use firmware_proto::{AxisState, EventKind, GroupState, Opcode, StopCategory, StopReason};
+use firmware_proto::{
+    AxisState, ConfigKind, EventKind, GroupState, HomingError, NackCode, Opcode, StopCategory,
+    StopReason,
+};
 use std::fmt::Debug;
 
 const HEADER: &str = include_str!("../include/mc_dpram.h");
@@ -11,6 +14,9 @@ const HEADER: &str = include_str!("../include/mc_dpram.h");
 /// Variants not named by the rule (the generator's exceptions).
 const RENAMED: &[(&str, &str)] = &[
     ("MC_OP_ESTOP", "EStop"),
+    ("MC_NACK_ESTOP_ACTIVE", "EStopActive"),
+    ("MC_HOMING_ERR_LIMIT", "LimitReached"),
+    ("MC_HOMING_ERR_DISTANCE", "DistanceExceeded"),
     ("MC_STOP_ESTOP_COMMAND", "EStopCommand"),
     ("MC_STOP_ESTOP_INPUT", "EStopInput"),
     ("MC_STOP_TIMEOUT", "StopTimeout"),
@@ -120,5 +126,29 @@ fn each_generated_enum_is_its_defines() {
         "MC_STOP_",
         "MC_STOP_",
         &["MC_STOP_CAT_"],
+    );
+    check(
+        NackCode::ALL,
+        |c| c as u64,
+        |v| NackCode::from_raw(i32::try_from(v).ok()?),
+        "MC_NACK_",
+        "MC_NACK_",
+        &[],
+    );
+    check(
+        ConfigKind::ALL,
+        |k| k as u64,
+        |v| ConfigKind::from_raw(u32::try_from(v).ok()?),
+        "MC_CONFIG_",
+        "MC_CONFIG_",
+        &[],
+    );
+    check(
+        HomingError::ALL,
+        |e| e as u64,
+        |v| HomingError::from_raw(i32::try_from(v).ok()?),
+        "MC_HOMING_ERR_",
+        "MC_HOMING_ERR_",
+        &[],
     );
 }

@@ -61,6 +61,9 @@ pub struct Set {
 /// Variants whose names are not the CamelCase of the define's name after the prefix.
 pub const VARIANT_NAMES: &[(&str, &str)] = &[
     ("MC_OP_ESTOP", "EStop"),
+    ("MC_NACK_ESTOP_ACTIVE", "EStopActive"),
+    ("MC_HOMING_ERR_LIMIT", "LimitReached"),
+    ("MC_HOMING_ERR_DISTANCE", "DistanceExceeded"),
     ("MC_STOP_ESTOP_COMMAND", "EStopCommand"),
     ("MC_STOP_ESTOP_INPUT", "EStopInput"),
     ("MC_STOP_TIMEOUT", "StopTimeout"),
@@ -309,6 +312,26 @@ pub const SETS: &[Set] = &[
             "Acc/dec filter kind (`mc_filter.kind`).",
         ),
     },
+    Set {
+        select: Select::Prefix("MC_NACK_"),
+        rust: rust(
+            "NackCode",
+            "i32",
+            "Why a command was refused. One code per distinct fault.",
+            "MC_NACK_",
+        ),
+        c: None,
+    },
+    Set {
+        select: Select::Prefix("MC_CONFIG_"),
+        rust: rust(
+            "ConfigKind",
+            "u32",
+            "Layout 1.8: the configuration blocks `MC_OP_READ_CONFIG` reads back (`MC_CONFIG_*`).",
+            "MC_CONFIG_",
+        ),
+        c: None,
+    },
     // Homing (layout 1.5).
     c_only(
         Select::Block {
@@ -321,14 +344,20 @@ pub const SETS: &[Set] = &[
             "Bit of `mc_homing_settings.flags`.",
         ),
     ),
-    c_only(
-        Select::Prefix("MC_HOMING_ERR_"),
-        c_event_code(
+    Set {
+        select: Select::Prefix("MC_HOMING_ERR_"),
+        rust: rust(
+            "HomingError",
+            "i32",
+            "Why homing failed (the `code` of [`EventKind::HomingFailed`]).",
+            "MC_HOMING_ERR_",
+        ),
+        c: c_event_code(
             "MC_HOMING_ERR_",
             "MC_HOMING_ERROR_",
             "Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.",
         ),
-    ),
+    },
     c_only(
         Select::One("MC_SET_POSITION_RELATIVE"),
         c(
