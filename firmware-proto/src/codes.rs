@@ -411,6 +411,116 @@ code_enum! {
 }
 
 code_enum! {
+    /// What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values, group
+    /// signals the group status's, card signals the card control block's words.
+    Signal: u32 {
+        /// Commanded position, counts (`cmd_pos`).
+        CmdPos = raw::MC_SIG_CMD_POS,
+        /// Commanded velocity, counts/s (`cmd_vel`).
+        CmdVel = raw::MC_SIG_CMD_VEL,
+        /// Commanded acceleration, counts/s^2 (`cmd_acc`).
+        CmdAcc = raw::MC_SIG_CMD_ACC,
+        /// Actual position, counts (`act_pos`).
+        ActPos = raw::MC_SIG_ACT_POS,
+        /// Actual velocity, filtered, counts/s (`act_vel`).
+        ActVel = raw::MC_SIG_ACT_VEL,
+        /// Following error, counts (ferr).
+        Ferr = raw::MC_SIG_FERR,
+        /// DAC output, V (`dac_v`).
+        Dac = raw::MC_SIG_DAC,
+        /// The servo law's output before the DAC clamp, V (`u_request`).
+        URequest = raw::MC_SIG_U_REQUEST,
+        /// The raw encoder count (encoder).
+        Encoder = raw::MC_SIG_ENCODER,
+        /// The proportional term, V.
+        ServoP = raw::MC_SIG_SERVO_P,
+        /// The integral term, V.
+        ServoI = raw::MC_SIG_SERVO_I,
+        /// The velocity feedback (FFPIV) or derivative (PD+) term, V.
+        ServoD = raw::MC_SIG_SERVO_D,
+        /// The feed-forward terms, V.
+        ServoFf = raw::MC_SIG_SERVO_FF,
+        /// Tangential velocity before the filters, counts/s (feed).
+        PathSpeed = raw::MC_SIG_PATH_SPEED,
+        /// Tangential acceleration, counts/s^2 (`feed_acc`).
+        PathAcc = raw::MC_SIG_PATH_ACC,
+        /// Distance along the active move, counts (`path_pos`).
+        PathPos = raw::MC_SIG_PATH_POS,
+        /// The debounced digital inputs, bit i = input i (card.inputs).
+        Inputs = raw::MC_SIG_INPUTS,
+        /// The digital outputs (card.outputs).
+        Outputs = raw::MC_SIG_OUTPUTS,
+        /// The inputs as sampled (`card.inputs_raw`).
+        InputsRaw = raw::MC_SIG_INPUTS_RAW,
+    }
+}
+
+code_enum! {
+    /// One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).
+    ScopeMode: u32 {
+        /// `post_trigger` samples from the trigger sample on, then done.
+        OneShot = raw::MC_SCOPE_ONE_SHOT,
+        /// Until `MC_OP_SCOPE_STOP`.
+        Continuous = raw::MC_SCOPE_CONTINUOUS,
+    }
+}
+
+code_enum! {
+    /// When the capture starts (`MC_SCOPE_TRIG_*`).
+    Trigger: u32 {
+        /// The first sample after the arm.
+        Immediate = raw::MC_SCOPE_TRIG_IMMEDIATE,
+        /// The first sample after an `MC_OP_SCOPE_TRIGGER`.
+        Command = raw::MC_SCOPE_TRIG_COMMAND,
+        /// Channel `trigger_channel` crosses level.
+        Level = raw::MC_SCOPE_TRIG_LEVEL,
+        /// An edge of debounced input `trigger_input`.
+        Input = raw::MC_SCOPE_TRIG_INPUT,
+        /// A safety fault bit of an axis appears.
+        Fault = raw::MC_SCOPE_TRIG_FAULT,
+    }
+}
+
+code_enum! {
+    /// Which way a level or input trigger fires (`MC_SCOPE_RISING`…).
+    Edge: u32 {
+        /// Previous < level <= this one; an input becoming active.
+        Rising = raw::MC_SCOPE_RISING,
+        /// Previous > level >= this one; an input becoming inactive.
+        Falling = raw::MC_SCOPE_FALLING,
+        /// Either way.
+        Either = raw::MC_SCOPE_EITHER,
+    }
+}
+
+code_enum! {
+    /// The scope's state (`scope_status.state`).
+    ScopeState: u32 {
+        /// Not sampling.
+        Idle = raw::MC_SCOPE_IDLE,
+        /// Armed: sampling into the history, waiting for the trigger.
+        Waiting = raw::MC_SCOPE_WAITING,
+        /// Triggered: samples go to the ring.
+        Capturing = raw::MC_SCOPE_CAPTURING,
+        /// A one-shot capture ended.
+        Done = raw::MC_SCOPE_DONE,
+    }
+}
+
+code_enum! {
+    /// The codes of `MC_EV_SCOPE`.
+    ScopeEvent: i32 {
+        /// Value: the trigger sample's tick.
+        Triggered = raw::MC_SCOPE_EV_TRIGGERED,
+        /// A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+        /// `post_trigger`).
+        Done = raw::MC_SCOPE_EV_DONE,
+        /// A sample found the ring full; value: `scope_status.lost`.
+        Lost = raw::MC_SCOPE_EV_LOST,
+    }
+}
+
+code_enum! {
     /// Command opcodes.
     Opcode: u16 {
         /// Does nothing but answer: the round-trip probe.

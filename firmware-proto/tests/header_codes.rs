@@ -4,8 +4,8 @@
 //! variant. A header edited without regenerating fails here as well as in `codegen --check`.
 
 use firmware_proto::{
-    AxisState, ConfigKind, EventKind, GroupState, HomingError, NackCode, Opcode, StopCategory,
-    StopReason,
+    AxisState, ConfigKind, Edge, EventKind, GroupState, HomingError, NackCode, Opcode, ScopeEvent,
+    ScopeMode, ScopeState, Signal, StopCategory, StopReason, Trigger,
 };
 use std::fmt::Debug;
 
@@ -22,9 +22,9 @@ const RENAMED: &[(&str, &str)] = &[
     ("MC_STOP_TIMEOUT", "StopTimeout"),
 ];
 
-/// The header's integer defines whose names start with `prefix` (less `except`), with their
-/// values (`12u`, `12`, `(1u << 3)`).
-fn defines(prefix: &str, except: &[&str]) -> Vec<(String, u64)> {
+/// The header's integer defines whose names `keep` takes, with their values (`12u`, `12`,
+/// `(1u << 3)`).
+fn defines_where(keep: impl Fn(&str) -> bool) -> Vec<(String, u64)> {
     let mut out = Vec::new();
     for line in HEADER.lines() {
         let Some(rest) = line.trim().strip_prefix("#define ") else {
@@ -32,7 +32,7 @@ fn defines(prefix: &str, except: &[&str]) -> Vec<(String, u64)> {
         };
         let mut words = rest.split_whitespace();
         let name = words.next().unwrap();
-        if !name.starts_with(prefix) || except.iter().any(|e| name.starts_with(e)) {
+        if !keep(name) {
             continue;
         }
         let value = rest[name.len()..].split("/*").next().unwrap().trim();
@@ -49,6 +49,11 @@ fn defines(prefix: &str, except: &[&str]) -> Vec<(String, u64)> {
     out
 }
 
+/// The header's integer defines whose names start with `prefix` (less `except`).
+fn defines(prefix: &str, except: &[&str]) -> Vec<(String, u64)> {
+    defines_where(|name| name.starts_with(prefix) && !except.iter().any(|e| name.starts_with(e)))
+}
+
 fn camel(stem: &str) -> String {
     stem.split('_')
         .map(|w| w[..1].to_string() + &w[1..].to_ascii_lowercase())
@@ -63,10 +68,40 @@ fn check<T: Debug + Copy>(
     strip: &str,
     except: &[&str],
 ) {
-    let defs = defines(prefix, except);
-    assert!(!defs.is_empty(), "no {prefix} defines");
-    assert_eq!(all.len(), defs.len(), "{prefix}: {all:?} against {defs:?}");
-    for (name, v) in &defs {
+    check_defs(
+        all,
+        value,
+        from_raw,
+        &defines(prefix, except),
+        prefix,
+        strip,
+    );
+}
+
+/// A kind whose defines share their prefix with other kinds': the defines named.
+fn check_named<T: Debug + Copy>(
+    all: &[T],
+    value: impl Fn(T) -> u64,
+    from_raw: impl Fn(u64) -> Option<T>,
+    names: &[&str],
+    strip: &str,
+) {
+    let defs = defines_where(|name| names.contains(&name));
+    assert_eq!(defs.len(), names.len(), "{names:?}: {defs:?}");
+    check_defs(all, value, from_raw, &defs, names[0], strip);
+}
+
+fn check_defs<T: Debug + Copy>(
+    all: &[T],
+    value: impl Fn(T) -> u64,
+    from_raw: impl Fn(u64) -> Option<T>,
+    defs: &[(String, u64)],
+    what: &str,
+    strip: &str,
+) {
+    assert!(!defs.is_empty(), "no {what} defines");
+    assert_eq!(all.len(), defs.len(), "{what}: {all:?} against {defs:?}");
+    for (name, v) in defs {
         let variant = from_raw(*v).unwrap_or_else(|| panic!("{name} = {v} has no variant"));
         assert_eq!(value(variant), *v);
         let expected = RENAMED
@@ -150,5 +185,55 @@ fn each_generated_enum_is_its_defines() {
         "MC_HOMING_ERR_",
         "MC_HOMING_ERR_",
         &[],
+    );
+    check(
+        Signal::ALL,
+        |s| s as u64,
+        |v| Signal::from_raw(u32::try_from(v).ok()?),
+        "MC_SIG_",
+        "MC_SIG_",
+        &[],
+    );
+    check(
+        Trigger::ALL,
+        |t| t as u64,
+        |v| Trigger::from_raw(u32::try_from(v).ok()?),
+        "MC_SCOPE_TRIG_",
+        "MC_SCOPE_TRIG_",
+        &[],
+    );
+    check(
+        ScopeEvent::ALL,
+        |e| e as u64,
+        |v| ScopeEvent::from_raw(i32::try_from(v).ok()?),
+        "MC_SCOPE_EV_",
+        "MC_SCOPE_EV_",
+        &[],
+    );
+    check_named(
+        ScopeMode::ALL,
+        |m| m as u64,
+        |v| ScopeMode::from_raw(u32::try_from(v).ok()?),
+        &["MC_SCOPE_ONE_SHOT", "MC_SCOPE_CONTINUOUS"],
+        "MC_SCOPE_",
+    );
+    check_named(
+        Edge::ALL,
+        |e| e as u64,
+        |v| Edge::from_raw(u32::try_from(v).ok()?),
+        &["MC_SCOPE_RISING", "MC_SCOPE_FALLING", "MC_SCOPE_EITHER"],
+        "MC_SCOPE_",
+    );
+    check_named(
+        ScopeState::ALL,
+        |s| s as u64,
+        |v| ScopeState::from_raw(u32::try_from(v).ok()?),
+        &[
+            "MC_SCOPE_IDLE",
+            "MC_SCOPE_WAITING",
+            "MC_SCOPE_CAPTURING",
+            "MC_SCOPE_DONE",
+        ],
+        "MC_SCOPE_",
     );
 }

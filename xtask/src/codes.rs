@@ -554,9 +554,16 @@ pub const SETS: &[Set] = &[
         Select::One("MC_SCOPE_RING_LEN"),
         c("MC_SCOPE_RING_LEN", "MC_SCOPE_RING_LEN", ""),
     ),
-    c_only(
-        Select::Prefix("MC_SIG_"),
-        c(
+    Set {
+        select: Select::Prefix("MC_SIG_"),
+        rust: rust(
+            "Signal",
+            "u32",
+            "What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values, \
+             group signals the group status's, card signals the card control block's words.",
+            "MC_SIG_",
+        ),
+        c: c(
             "MC_SIG_",
             "MC_SCOPE_SIG_",
             "Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. \
@@ -564,44 +571,74 @@ pub const SETS: &[Set] = &[
              group signals (32..34; index: the group) the group status's, card signals (48..50; \
              index 0) the card's words.",
         ),
-    ),
-    c_only(
-        Select::List(&["MC_SCOPE_ONE_SHOT", "MC_SCOPE_CONTINUOUS"]),
-        c("MC_SCOPE_", "MC_SCOPE_", "`mc_scope_settings.mode`."),
-    ),
-    c_only(
-        Select::Prefix("MC_SCOPE_TRIG_"),
-        c(
+    },
+    Set {
+        select: Select::List(&["MC_SCOPE_ONE_SHOT", "MC_SCOPE_CONTINUOUS"]),
+        rust: rust(
+            "ScopeMode",
+            "u32",
+            "One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).",
+            "MC_SCOPE_",
+        ),
+        c: c("MC_SCOPE_", "MC_SCOPE_", "`mc_scope_settings.mode`."),
+    },
+    Set {
+        select: Select::Prefix("MC_SCOPE_TRIG_"),
+        rust: rust(
+            "Trigger",
+            "u32",
+            "When the capture starts (`MC_SCOPE_TRIG_*`).",
+            "MC_SCOPE_TRIG_",
+        ),
+        c: c(
             "MC_SCOPE_TRIG_",
             "MC_SCOPE_TRIG_",
             "`mc_scope_settings.trigger`: when the capture starts.",
         ),
-    ),
-    c_only(
-        Select::List(&["MC_SCOPE_RISING", "MC_SCOPE_FALLING", "MC_SCOPE_EITHER"]),
-        c(
+    },
+    Set {
+        select: Select::List(&["MC_SCOPE_RISING", "MC_SCOPE_FALLING", "MC_SCOPE_EITHER"]),
+        rust: rust(
+            "Edge",
+            "u32",
+            "Which way a level or input trigger fires (`MC_SCOPE_RISING`…).",
+            "MC_SCOPE_",
+        ),
+        c: c(
             "MC_SCOPE_",
             "MC_SCOPE_",
             "`mc_scope_settings.edge`: which way a level or input trigger fires.",
         ),
-    ),
-    c_only(
-        Select::List(&[
+    },
+    Set {
+        select: Select::List(&[
             "MC_SCOPE_IDLE",
             "MC_SCOPE_WAITING",
             "MC_SCOPE_CAPTURING",
             "MC_SCOPE_DONE",
         ]),
-        c("MC_SCOPE_", "MC_SCOPE_STATE_", "`mc_scope_info.state`."),
-    ),
-    c_only(
-        Select::Prefix("MC_SCOPE_EV_"),
-        c_event_code(
+        rust: rust(
+            "ScopeState",
+            "u32",
+            "The scope's state (`scope_status.state`).",
+            "MC_SCOPE_",
+        ),
+        c: c("MC_SCOPE_", "MC_SCOPE_STATE_", "`mc_scope_info.state`."),
+    },
+    Set {
+        select: Select::Prefix("MC_SCOPE_EV_"),
+        rust: rust(
+            "ScopeEvent",
+            "i32",
+            "The codes of `MC_EV_SCOPE`.",
+            "MC_SCOPE_EV_",
+        ),
+        c: c_event_code(
             "MC_SCOPE_EV_",
             "MC_SCOPE_EVENT_",
             "The `code` of `MC_EVENT_SCOPE`.",
         ),
-    ),
+    },
     Set {
         select: Select::Prefix("MC_OP_"),
         rust: rust("Opcode", "u16", "Command opcodes.", "MC_OP_"),
