@@ -411,6 +411,48 @@ code_enum! {
 }
 
 code_enum! {
+    /// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
+    MasterSource: u32 {
+        /// Flags: the master axis's commanded position.
+        Commanded = raw::MC_MASTER_COMMANDED,
+        /// The master axis's actual position (its encoder).
+        Actual = raw::MC_MASTER_ACTUAL,
+        /// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+        Aux = raw::MC_MASTER_AUX,
+    }
+}
+
+code_enum! {
+    /// The sub-cases of `MC_EV_SYNC` (its `code`).
+    SyncEvent: i32 {
+        /// `MC_GearIn` caught up: the slave follows the ratio (InGear).
+        InGear = raw::MC_SYNC_IN_GEAR,
+        /// `MC_GearInPos` reached its sync point (InSync).
+        InSync = raw::MC_SYNC_IN_SYNC,
+        /// The master is disabled or in ErrorStop: the slave stops.
+        MasterLost = raw::MC_SYNC_MASTER_LOST,
+        /// `MC_EV_SYNC`: a cam that is not periodic passed its table's end.
+        CamEnd = raw::MC_SYNC_CAM_END,
+        /// `MC_EV_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that
+        /// asked for it).
+        CamSwitch = raw::MC_SYNC_CAM_SWITCH,
+    }
+}
+
+code_enum! {
+    /// The sub-cases of `MC_EV_PVT` (its `code`).
+    PvtEvent: i32 {
+        /// The points queued fell to the stream's low water.
+        LowWater = raw::MC_PVT_EV_LOW_WATER,
+        /// The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+        /// Standstill; `MC_EV_MOTION_ABORTED`).
+        Starved = raw::MC_PVT_EV_STARVED,
+        /// The last point was reached (motion done follows in position).
+        Done = raw::MC_PVT_EV_DONE,
+    }
+}
+
+code_enum! {
     /// What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values, group
     /// signals the group status's, card signals the card control block's words.
     Signal: u32 {

@@ -4,8 +4,9 @@
 //! variant. A header edited without regenerating fails here as well as in `codegen --check`.
 
 use firmware_proto::{
-    AxisState, ConfigKind, Edge, EventKind, GroupState, HomingError, NackCode, Opcode, ScopeEvent,
-    ScopeMode, ScopeState, Signal, StopCategory, StopReason, Trigger,
+    AxisState, ConfigKind, Edge, EventKind, GroupState, HomingError, MasterSource, NackCode,
+    Opcode, PvtEvent, ScopeEvent, ScopeMode, ScopeState, Signal, StopCategory, StopReason,
+    SyncEvent, Trigger,
 };
 use std::fmt::Debug;
 
@@ -208,6 +209,30 @@ fn each_generated_enum_is_its_defines() {
         |v| ScopeEvent::from_raw(i32::try_from(v).ok()?),
         "MC_SCOPE_EV_",
         "MC_SCOPE_EV_",
+        &[],
+    );
+    check(
+        MasterSource::ALL,
+        |m| m as u64,
+        |v| MasterSource::from_raw(u32::try_from(v).ok()?),
+        "MC_MASTER_",
+        "MC_MASTER_",
+        &[],
+    );
+    check(
+        SyncEvent::ALL,
+        |e| e as u64,
+        |v| SyncEvent::from_raw(i32::try_from(v).ok()?),
+        "MC_SYNC_",
+        "MC_SYNC_",
+        &[],
+    );
+    check(
+        PvtEvent::ALL,
+        |e| e as u64,
+        |v| PvtEvent::from_raw(i32::try_from(v).ok()?),
+        "MC_PVT_EV_",
+        "MC_PVT_EV_",
         &[],
     );
     check_named(

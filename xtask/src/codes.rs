@@ -491,32 +491,50 @@ pub const SETS: &[Set] = &[
         ),
     ),
     // Synchronised motion: gearing, PT/PVT streams, camming (layout 1.7).
-    c_only(
-        Select::Prefix("MC_MASTER_"),
-        c(
+    Set {
+        select: Select::Prefix("MC_MASTER_"),
+        rust: rust(
+            "MasterSource",
+            "u32",
+            "What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).",
+            "MC_MASTER_",
+        ),
+        c: c(
             "MC_MASTER_",
             "MC_MASTER_",
             "What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, \
              `mc_cam_in`).",
         ),
-    ),
+    },
     c_only(
         Select::One("MC_AUX_ENCODERS"),
         c("MC_AUX_ENCODERS", "MC_AUX_ENCODERS", ""),
     ),
-    c_only(
-        Select::Prefix("MC_SYNC_"),
-        c_event_code("MC_SYNC_", "MC_SYNC_", "The `code` of `MC_EVENT_SYNC`."),
-    ),
+    Set {
+        select: Select::Prefix("MC_SYNC_"),
+        rust: rust(
+            "SyncEvent",
+            "i32",
+            "The sub-cases of `MC_EV_SYNC` (its `code`).",
+            "MC_SYNC_",
+        ),
+        c: c_event_code("MC_SYNC_", "MC_SYNC_", "The `code` of `MC_EVENT_SYNC`."),
+    },
     c_only(Select::One("MC_PVT_LEN"), c("MC_PVT_LEN", "MC_PVT_LEN", "")),
-    c_only(
-        Select::Prefix("MC_PVT_EV_"),
-        c_event_code(
+    Set {
+        select: Select::Prefix("MC_PVT_EV_"),
+        rust: rust(
+            "PvtEvent",
+            "i32",
+            "The sub-cases of `MC_EV_PVT` (its `code`).",
+            "MC_PVT_EV_",
+        ),
+        c: c_event_code(
             "MC_PVT_EV_",
             "MC_PVT_EVENT_",
             "The `code` of `MC_EVENT_PVT`.",
         ),
-    ),
+    },
     c_only(
         Select::List(&["MC_CAM_CUBIC", "MC_CAM_PERIODIC"]),
         c(
