@@ -173,7 +173,7 @@ extern "C" {
 #define MC_EVENT_IN_VELOCITY 12
 
 /**
- * Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERR_*`;
+ * Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERROR_*`;
  * value: the actual position where it failed. Posted once the axis is at rest in Standstill, not
  * homed.
  */
@@ -225,7 +225,7 @@ extern "C" {
 
 /**
  * A compare channel fired or missed. axis: the channel; seq: its `MC_OP_COMPARE_ARM`; code:
- * `MC_CMP_*`; value: the position.
+ * `MC_COMPARE_*`; value: the position.
  */
 #define MC_EVENT_COMPARE 25
 
@@ -242,13 +242,13 @@ extern "C" {
 #define MC_EVENT_SYNC 27
 
 /**
- * A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EV_*`; value: the
+ * A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EVENT_*`; value: the
  * points queued (low water), the time of the last point run (starved), the last position (done).
  */
 #define MC_EVENT_PVT 28
 
 /**
- * The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see there.
+ * The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
  */
 #define MC_EVENT_SCOPE 29
 
@@ -708,6 +708,533 @@ extern "C" {
 #define MC_FILTER_KIND_BELL 3
 
 /**
+ * Bit of `mc_homing_settings.flags`.
+ *
+ * The encoder has an index channel (index methods need it).
+ */
+#define MC_HOMING_FLAG_INDEX 1
+
+/**
+ * End at the home point.
+ */
+#define MC_HOMING_FLAG_MOVE_TO_HOME 2
+
+/**
+ * Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.
+ *
+ * A limit switch the method did not reverse at: the switch is missing.
+ */
+#define MC_HOMING_ERROR_LIMIT 1
+
+/**
+ * `max_distance` from the start without the switch or hard stop.
+ */
+#define MC_HOMING_ERROR_DISTANCE 2
+
+/**
+ * Not homed within the timeout.
+ */
+#define MC_HOMING_ERROR_TIMEOUT 3
+
+/**
+ * No index pulse within `index_distance`.
+ */
+#define MC_HOMING_ERROR_NO_INDEX 4
+
+/**
+ * A motion of the method could not be planned.
+ */
+#define MC_HOMING_ERROR_PLAN 5
+
+/**
+ * `flags` of `mc_set_position`: the position moves by the argument (else it becomes the argument).
+ */
+#define MC_SET_POSITION_RELATIVE 1
+
+/**
+ * Segments in a group's path buffer.
+ */
+#define MC_PATH_SEGMENTS 4096
+
+/**
+ * The card's digital outputs (card.outputs).
+ */
+#define MC_CARD_OUTPUTS 16
+
+/**
+ * `mc_path_segment.buffer` (PLCopen BufferMode): how a segment joins the one before it.
+ *
+ * The path stops along its geometry within its limits, the rest is aborted, and this segment
+ * starts from there.
+ */
+#define MC_PATH_BUFFER_ABORTING 0
+
+/**
+ * Exact stop at the corner, then this segment.
+ */
+#define MC_PATH_BUFFER_BUFFERED 1
+
+/**
+ * Blend; corner speed <= the lower of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_LOW 2
+
+/**
+ * Blend; corner speed <= the previous segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_PREVIOUS 3
+
+/**
+ * Blend; corner speed <= this segment's feed.
+ */
+#define MC_PATH_BUFFER_BLEND_NEXT 4
+
+/**
+ * Blend; corner speed <= the higher of the two feeds.
+ */
+#define MC_PATH_BUFFER_BLEND_HIGH 5
+
+/**
+ * `mc_path_segment.transition` (PLCopen TransitionMode): how a blend is made. `tolerance` is in
+ * user units of the first group axis.
+ *
+ * No blend: an exact stop at the corner.
+ */
+#define MC_PATH_TRANSITION_NONE 0
+
+/**
+ * The blend keeps within `tolerance` counts of the corner.
+ */
+#define MC_PATH_TRANSITION_MAX_DEVIATION 1
+
+/**
+ * The blend begins `tolerance` counts before the corner.
+ */
+#define MC_PATH_TRANSITION_CORNER_DISTANCE 2
+
+/**
+ * Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+ * while the one before decelerates, within `tolerance` counts of the corner; refused
+ * (`MC_NACK_PATH_MODE`) on or after an arc, and a blend after such a line is refused too.
+ */
+#define MC_PATH_TRANSITION_TIME_SHIFT 3
+
+/**
+ * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`); `distance` is in
+ * user units of the first group axis.
+ *
+ * As the segment starts.
+ */
+#define MC_OUTPUT_AT_START 0
+
+/**
+ * As the segment ends.
+ */
+#define MC_OUTPUT_AT_END 1
+
+/**
+ * Once the segment has run `distance` counts.
+ */
+#define MC_OUTPUT_AT_DISTANCE 2
+
+/**
+ * Bit of `mc_group_status.path_flags`.
+ *
+ * A segment is running (`path_id` is valid).
+ */
+#define MC_PATH_STATUS_RUNNING 1
+
+/**
+ * Braking for the end of what is queued.
+ */
+#define MC_PATH_STATUS_STARVING 2
+
+/**
+ * A halt or stop runs along the path.
+ */
+#define MC_PATH_STATUS_HALTING 4
+
+/**
+ * The card's digital inputs (card.inputs).
+ */
+#define MC_CARD_INPUTS 16
+
+/**
+ * Compare channels of the card.
+ */
+#define MC_COMPARE_CHANNELS 4
+
+/**
+ * Positions queued per compare channel.
+ */
+#define MC_COMPARE_TABLE_LEN 4096
+
+/**
+ * Touch-probe channels of the card.
+ */
+#define MC_PROBE_CHANNELS 4
+
+/**
+ * The length of `mc_probe_info.positions`.
+ *
+ * Captures kept in `probe_status` (a ring).
+ */
+#define MC_PROBE_QUEUE 8
+
+/**
+ * The `code` of `MC_EVENT_COMPARE`.
+ *
+ * A position fired.
+ */
+#define MC_COMPARE_FIRED 1
+
+/**
+ * A position missed: passed when it became the next one, or inside the pulse before it.
+ */
+#define MC_COMPARE_MISSED 2
+
+/**
+ * The table's queue fell to `low_water`; value: queued.
+ */
+#define MC_COMPARE_LOW_WATER 3
+
+/**
+ * `state` of a compare channel or a touch probe (`mc_compare_info.state`, `mc_probe_info.state`).
+ *
+ * Not armed.
+ */
+#define MC_IO_STATE_IDLE 0
+
+/**
+ * Armed: watching or capturing.
+ */
+#define MC_IO_STATE_ARMED 1
+
+/**
+ * A single compare or series fired (or missed) all; a single-shot probe captured.
+ */
+#define MC_IO_STATE_DONE 2
+
+/**
+ * `mc_probe_trigger.input` that is not an input.
+ *
+ * Probe input: the axis's encoder index pulse.
+ */
+#define MC_PROBE_INPUT_INDEX 16
+
+/**
+ * Bit of `mc_probe_trigger.edges` (one or both).
+ *
+ * Capture as the input becomes active.
+ */
+#define MC_PROBE_EDGE_RISING 1
+
+/**
+ * Capture as the input becomes inactive.
+ */
+#define MC_PROBE_EDGE_FALLING 2
+
+/**
+ * What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, `mc_cam_in`).
+ *
+ * Flags: the master axis's commanded position.
+ */
+#define MC_MASTER_COMMANDED 0
+
+/**
+ * The master axis's actual position (its encoder).
+ */
+#define MC_MASTER_ACTUAL 1
+
+/**
+ * An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+ */
+#define MC_MASTER_AUX 2
+
+/**
+ * Auxiliary encoder inputs of the card (conveyor, handwheel).
+ */
+#define MC_AUX_ENCODERS 2
+
+/**
+ * The `code` of `MC_EVENT_SYNC`.
+ *
+ * `MC_GearIn` caught up: the slave follows the ratio (InGear).
+ */
+#define MC_SYNC_IN_GEAR 1
+
+/**
+ * `MC_GearInPos` reached its sync point (InSync).
+ */
+#define MC_SYNC_IN_SYNC 2
+
+/**
+ * The master is disabled or in ErrorStop: the slave stops.
+ */
+#define MC_SYNC_MASTER_LOST 3
+
+/**
+ * `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+ */
+#define MC_SYNC_CAM_END 4
+
+/**
+ * `MC_EVENT_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that asked
+ * for it).
+ */
+#define MC_SYNC_CAM_SWITCH 5
+
+/**
+ * Points buffered per axis.
+ */
+#define MC_PVT_LEN 4096
+
+/**
+ * The `code` of `MC_EVENT_PVT`.
+ *
+ * The points queued fell to the stream's low water.
+ */
+#define MC_PVT_EVENT_LOW_WATER 1
+
+/**
+ * The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+ * Standstill; `MC_EVENT_MOTION_ABORTED`).
+ */
+#define MC_PVT_EVENT_STARVED 2
+
+/**
+ * The last point was reached (motion done follows in position).
+ */
+#define MC_PVT_EVENT_DONE 3
+
+/**
+ * Bit of the `flags` of `mc_cam_load_table`.
+ *
+ * A cubic spline: velocity and acceleration continuous (else linear).
+ */
+#define MC_CAM_CUBIC 1
+
+/**
+ * Periodic: the master's period is the table's span.
+ */
+#define MC_CAM_PERIODIC 2
+
+/**
+ * Cam tables the card holds.
+ */
+#define MC_CAM_TABLES 4
+
+/**
+ * Points of a cam table, at most.
+ */
+#define MC_CAM_MAX_POINTS 1024
+
+/**
+ * Channels per sample, at most (`mc_scope_settings.n_channels`).
+ */
+#define MC_SCOPE_CHANNELS 16
+
+/**
+ * Samples in the scope ring (a power of two).
+ */
+#define MC_SCOPE_RING_LEN 4096
+
+/**
+ * Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
+ * (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+ * the group) the group status's, card signals (48..50; index 0) the card's words.
+ *
+ * Commanded position, counts (`cmd_pos`).
+ */
+#define MC_SCOPE_SIG_CMD_POS 1
+
+/**
+ * Commanded velocity, counts/s (`cmd_vel`).
+ */
+#define MC_SCOPE_SIG_CMD_VEL 2
+
+/**
+ * Commanded acceleration, counts/s^2 (`cmd_acc`).
+ */
+#define MC_SCOPE_SIG_CMD_ACC 3
+
+/**
+ * Actual position, counts (`act_pos`).
+ */
+#define MC_SCOPE_SIG_ACT_POS 4
+
+/**
+ * Actual velocity, filtered, counts/s (`act_vel`).
+ */
+#define MC_SCOPE_SIG_ACT_VEL 5
+
+/**
+ * Following error, counts (ferr).
+ */
+#define MC_SCOPE_SIG_FERR 6
+
+/**
+ * DAC output, V (`dac_v`).
+ */
+#define MC_SCOPE_SIG_DAC 7
+
+/**
+ * The servo law's output before the DAC clamp, V (`u_request`).
+ */
+#define MC_SCOPE_SIG_U_REQUEST 8
+
+/**
+ * The raw encoder count (encoder).
+ */
+#define MC_SCOPE_SIG_ENCODER 9
+
+/**
+ * The proportional term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_P 10
+
+/**
+ * The integral term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_I 11
+
+/**
+ * The velocity feedback (FFPIV) or derivative (PD+) term, V.
+ */
+#define MC_SCOPE_SIG_SERVO_D 12
+
+/**
+ * The feed-forward terms, V.
+ */
+#define MC_SCOPE_SIG_SERVO_FF 13
+
+/**
+ * Tangential velocity before the filters, counts/s (feed).
+ */
+#define MC_SCOPE_SIG_PATH_SPEED 32
+
+/**
+ * Tangential acceleration, counts/s^2 (`feed_acc`).
+ */
+#define MC_SCOPE_SIG_PATH_ACC 33
+
+/**
+ * Distance along the active move, counts (`path_pos`).
+ */
+#define MC_SCOPE_SIG_PATH_POS 34
+
+/**
+ * The debounced digital inputs, bit i = input i (card.inputs).
+ */
+#define MC_SCOPE_SIG_INPUTS 48
+
+/**
+ * The digital outputs (card.outputs).
+ */
+#define MC_SCOPE_SIG_OUTPUTS 49
+
+/**
+ * The inputs as sampled (`card.inputs_raw`).
+ */
+#define MC_SCOPE_SIG_INPUTS_RAW 50
+
+/**
+ * `mc_scope_settings.mode`.
+ *
+ * `post_trigger` samples from the trigger sample on, then done.
+ */
+#define MC_SCOPE_ONE_SHOT 0
+
+/**
+ * Until `MC_OP_SCOPE_STOP`.
+ */
+#define MC_SCOPE_CONTINUOUS 1
+
+/**
+ * `mc_scope_settings.trigger`: when the capture starts.
+ *
+ * The first sample after the arm.
+ */
+#define MC_SCOPE_TRIG_IMMEDIATE 0
+
+/**
+ * The first sample after an `MC_OP_SCOPE_TRIGGER`.
+ */
+#define MC_SCOPE_TRIG_COMMAND 1
+
+/**
+ * Channel `trigger_channel` crosses level.
+ */
+#define MC_SCOPE_TRIG_LEVEL 2
+
+/**
+ * An edge of debounced input `trigger_input`.
+ */
+#define MC_SCOPE_TRIG_INPUT 3
+
+/**
+ * A safety fault bit of an axis appears.
+ */
+#define MC_SCOPE_TRIG_FAULT 4
+
+/**
+ * `mc_scope_settings.edge`: which way a level or input trigger fires.
+ *
+ * Previous < level <= this one; an input becoming active.
+ */
+#define MC_SCOPE_RISING 0
+
+/**
+ * Previous > level >= this one; an input becoming inactive.
+ */
+#define MC_SCOPE_FALLING 1
+
+/**
+ * Either way.
+ */
+#define MC_SCOPE_EITHER 2
+
+/**
+ * `mc_scope_info.state`.
+ *
+ * Not sampling.
+ */
+#define MC_SCOPE_STATE_IDLE 0
+
+/**
+ * Armed: sampling into the history, waiting for the trigger.
+ */
+#define MC_SCOPE_STATE_WAITING 1
+
+/**
+ * Triggered: samples go to the ring.
+ */
+#define MC_SCOPE_STATE_CAPTURING 2
+
+/**
+ * A one-shot capture ended.
+ */
+#define MC_SCOPE_STATE_DONE 3
+
+/**
+ * The `code` of `MC_EVENT_SCOPE`.
+ *
+ * Value: the trigger sample's tick.
+ */
+#define MC_SCOPE_EVENT_TRIGGERED 1
+
+/**
+ * A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+ * `post_trigger`).
+ */
+#define MC_SCOPE_EVENT_DONE 2
+
+/**
+ * A sample found the ring full; value: `scope_status.lost`.
+ */
+#define MC_SCOPE_EVENT_LOST 3
+
+/**
  * Opcode of a raw command (`mc_send_raw`).
  *
  * Does nothing but answer: the round-trip probe.
@@ -1009,8 +1536,8 @@ extern "C" {
 
 /**
  * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
- * `MC_PROBE_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_RISING` / `_FALLING` (one or
- * both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
+ * `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
+ * (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
  */
 #define MC_OP_PROBE_ARM 68
 
@@ -1119,50 +1646,6 @@ extern "C" {
 #define MC_OP_SET_SCALE 97
 
 /**
- * `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
- * linear).
- */
-#define MC_CAM_CUBIC 1
-
-/**
- * `flags` of `mc_cam_load_table`: periodic (the table repeats every span of the master, the
- * slave rising by its last minus first point a cycle).
- */
-#define MC_CAM_PERIODIC 2
-
-/**
- * Cam tables the card holds.
- */
-#define MC_CAM_TABLES 4
-
-/**
- * Points of a cam table.
- */
-#define MC_CAM_MAX_POINTS 1024
-
-/**
- * `code` of `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
- */
-#define MC_SYNC_CAM_END 4
-
-/**
- * `code` of `MC_EVENT_SYNC`: the table switched at the end of a cycle.
- */
-#define MC_SYNC_CAM_SWITCH 5
-
-/**
- * `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
- * else `MC_ERR_HOMING_METHOD`).
- */
-#define MC_HOMING_FLAG_INDEX 1
-
-/**
- * `mc_homing_settings.flags`: the axis ends at the home point (else where it came to rest
- * after finding it).
- */
-#define MC_HOMING_FLAG_MOVE_TO_HOME 2
-
-/**
  * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
  * following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
  * it.
@@ -1191,62 +1674,6 @@ extern "C" {
 #define MC_HOMING_METHOD_CURRENT_POSITION 37
 
 /**
- * `code` of `MC_EVENT_HOMING_FAILED`: a limit switch the method does not reverse at (its
- * switch is missing).
- */
-#define MC_HOMING_ERROR_LIMIT 1
-
-/**
- * The maximum distance from the start without the switch or hard stop.
- */
-#define MC_HOMING_ERROR_DISTANCE 2
-
-/**
- * Not homed within the timeout.
- */
-#define MC_HOMING_ERROR_TIMEOUT 3
-
-/**
- * No index pulse within the index distance.
- */
-#define MC_HOMING_ERROR_NO_INDEX 4
-
-/**
- * A motion of the method could not be planned.
- */
-#define MC_HOMING_ERROR_PLAN 5
-
-/**
- * `mc_set_position`: the position moves by the argument (else it becomes the argument).
- */
-#define MC_SET_POSITION_RELATIVE 1
-
-/**
- * The card's digital inputs (`mc_get_inputs` bit i is input i).
- */
-#define MC_CARD_INPUTS 16
-
-/**
- * Compare channels per card.
- */
-#define MC_COMPARE_CHANNELS 4
-
-/**
- * Positions a compare channel's table holds.
- */
-#define MC_COMPARE_TABLE_LEN 4096
-
-/**
- * Touch-probe channels per card.
- */
-#define MC_PROBE_CHANNELS 4
-
-/**
- * Captures a probe keeps (`mc_probe_info.positions`).
- */
-#define MC_PROBE_QUEUE 8
-
-/**
  * Compare direction: fire crossing upwards (increasing position).
  */
 #define MC_COMPARE_POSITIVE 1
@@ -1260,53 +1687,6 @@ extern "C" {
  * Compare direction: either way (`mc_compare_single` only).
  */
 #define MC_COMPARE_EITHER 3
-
-/**
- * `code` of `MC_EVENT_COMPARE`: a position fired.
- */
-#define MC_COMPARE_FIRED 1
-
-/**
- * `code` of `MC_EVENT_COMPARE`: a position was missed (behind the axis when it came up, or
- * inside the pulse before it).
- */
-#define MC_COMPARE_MISSED 2
-
-/**
- * `code` of `MC_EVENT_COMPARE`: the table fell to its low-water mark.
- */
-#define MC_COMPARE_LOW_WATER 3
-
-/**
- * `state` of a compare channel or probe: not armed.
- */
-#define MC_IO_STATE_IDLE 0
-
-/**
- * Armed.
- */
-#define MC_IO_STATE_ARMED 1
-
-/**
- * A single compare or series fired (or missed) all its positions; a single-shot probe
- * captured.
- */
-#define MC_IO_STATE_DONE 2
-
-/**
- * `mc_probe_trigger.input`: the axis's encoder index pulse instead of an input.
- */
-#define MC_PROBE_INPUT_INDEX 16
-
-/**
- * `mc_probe_trigger.edges`: the input becoming active.
- */
-#define MC_PROBE_EDGE_RISING 1
-
-/**
- * `mc_probe_trigger.edges`: the input becoming inactive.
- */
-#define MC_PROBE_EDGE_FALLING 2
 
 /**
  * `mc_move` kind: MC_MoveAbsolute, `value` is the target.
@@ -1335,16 +1715,6 @@ extern "C" {
  * until the motion before it is done; `mc_motion_wait_active` tells when it starts.
  */
 #define MC_BUFFER_BUFFERED 1
-
-/**
- * Segments a group's path buffer holds on the card.
- */
-#define MC_PATH_SEGMENTS 4096
-
-/**
- * The card's digital outputs (`mc_get_outputs` bit i is output i).
- */
-#define MC_CARD_OUTPUTS 16
 
 /**
  * `mc_path_segment.kind`: a straight line to `target` (`naxes` values, one per group axis).
@@ -1382,93 +1752,6 @@ extern "C" {
 #define MC_SEGMENT_NURBS 4
 
 /**
- * `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
- * the running path stops along its geometry within its limits, everything queued is aborted,
- * and this segment starts from where it came to rest.
- */
-#define MC_PATH_BUFFER_ABORTING 0
-
-/**
- * An exact stop at the corner, then this segment.
- */
-#define MC_PATH_BUFFER_BUFFERED 1
-
-/**
- * A blend; the corner speed is at most the lower of the two feeds.
- */
-#define MC_PATH_BUFFER_BLEND_LOW 2
-
-/**
- * A blend; the corner speed is at most the previous segment's feed.
- */
-#define MC_PATH_BUFFER_BLEND_PREVIOUS 3
-
-/**
- * A blend; the corner speed is at most this segment's feed.
- */
-#define MC_PATH_BUFFER_BLEND_NEXT 4
-
-/**
- * A blend; the corner speed is at most the higher of the two feeds.
- */
-#define MC_PATH_BUFFER_BLEND_HIGH 5
-
-/**
- * `mc_path_segment.transition` (PLCopen TransitionMode), how a blend is sized: no blend, an
- * exact stop at the corner (`tolerance` ignored).
- */
-#define MC_PATH_TRANSITION_NONE 0
-
-/**
- * The blend stays within `tolerance` of the programmed corner (0: an exact stop).
- */
-#define MC_PATH_TRANSITION_MAX_DEVIATION 1
-
-/**
- * The blend begins `tolerance` before the corner (and ends as far after it).
- */
-#define MC_PATH_TRANSITION_CORNER_DISTANCE 2
-
-/**
- * Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
- * while the one before decelerates, within `tolerance` of the corner (0: an exact stop).
- * Refused (`MC_ERR_PATH_MODE`) on or after an arc, and a blend after such a line is refused
- * too.
- */
-#define MC_PATH_TRANSITION_TIME_SHIFT 3
-
-/**
- * When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
- * segment starts.
- */
-#define MC_OUTPUT_AT_START 0
-
-/**
- * As its segment ends.
- */
-#define MC_OUTPUT_AT_END 1
-
-/**
- * Once its segment has run `distance` (user units of the first group axis, >= 0).
- */
-#define MC_OUTPUT_AT_DISTANCE 2
-
-/**
- * `mc_group_status.path_flags` bit: a segment is running (`path_id` is valid).
- */
-#define MC_PATH_STATUS_RUNNING 1
-
-/**
- * Braking for the end of what is queued.
- */
-#define MC_PATH_STATUS_STARVING 2
-
-/**
- * A halt or stop runs along the path.
- */
-#define MC_PATH_STATUS_HALTING 4
-
-/**
  * `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours
  * (the stream starts, and at a last point ends, at rest).
  */
@@ -1478,175 +1761,6 @@ extern "C" {
  * PVT: each point's velocity as given.
  */
 #define MC_PVT_MODE_PVT 1
-
-/**
- * Points the card buffers per axis.
- */
-#define MC_PVT_LEN 4096
-
-/**
- * `code` of `MC_EVENT_PVT`: the points queued fell to the low water (`value`: how many).
- */
-#define MC_PVT_EVENT_LOW_WATER 1
-
-/**
- * The stream ran dry before its last point: the axis stops on its stop ramp.
- */
-#define MC_PVT_EVENT_STARVED 2
-
-/**
- * The last point was reached (motion done follows in position).
- */
-#define MC_PVT_EVENT_DONE 3
-
-/**
- * Channels per sample, at most.
- */
-#define MC_SCOPE_CHANNELS 16
-
-/**
- * Samples the card's ring holds (204.8 ms at 20 kHz).
- */
-#define MC_SCOPE_RING_LEN 4096
-
-/**
- * Axis signals (index: the axis): commanded position, velocity, acceleration, actual
- * position and velocity, following error, DAC volts, the servo output before the clamp, the
- * raw encoder count, the servo law's P, I, D (velocity feedback) and feed-forward terms.
- */
-#define MC_SCOPE_SIG_CMD_POS 1
-
-#define MC_SCOPE_SIG_CMD_VEL 2
-
-#define MC_SCOPE_SIG_CMD_ACC 3
-
-#define MC_SCOPE_SIG_ACT_POS 4
-
-#define MC_SCOPE_SIG_ACT_VEL 5
-
-#define MC_SCOPE_SIG_FERR 6
-
-#define MC_SCOPE_SIG_DAC 7
-
-#define MC_SCOPE_SIG_U_REQUEST 8
-
-#define MC_SCOPE_SIG_ENCODER 9
-
-#define MC_SCOPE_SIG_SERVO_P 10
-
-#define MC_SCOPE_SIG_SERVO_I 11
-
-#define MC_SCOPE_SIG_SERVO_D 12
-
-#define MC_SCOPE_SIG_SERVO_FF 13
-
-/**
- * Group signals (index: the group): path speed, path acceleration, distance along the move.
- */
-#define MC_SCOPE_SIG_PATH_SPEED 32
-
-#define MC_SCOPE_SIG_PATH_ACC 33
-
-#define MC_SCOPE_SIG_PATH_POS 34
-
-/**
- * Card signals (index 0): debounced inputs, outputs, inputs as sampled.
- */
-#define MC_SCOPE_SIG_INPUTS 48
-
-#define MC_SCOPE_SIG_OUTPUTS 49
-
-#define MC_SCOPE_SIG_INPUTS_RAW 50
-
-/**
- * `mode`.
- */
-#define MC_SCOPE_ONE_SHOT 0
-
-#define MC_SCOPE_CONTINUOUS 1
-
-/**
- * `trigger`.
- */
-#define MC_SCOPE_TRIG_IMMEDIATE 0
-
-#define MC_SCOPE_TRIG_COMMAND 1
-
-#define MC_SCOPE_TRIG_LEVEL 2
-
-#define MC_SCOPE_TRIG_INPUT 3
-
-#define MC_SCOPE_TRIG_FAULT 4
-
-/**
- * `edge`.
- */
-#define MC_SCOPE_RISING 0
-
-#define MC_SCOPE_FALLING 1
-
-#define MC_SCOPE_EITHER 2
-
-/**
- * `mc_scope_info.state`.
- */
-#define MC_SCOPE_STATE_IDLE 0
-
-#define MC_SCOPE_STATE_WAITING 1
-
-#define MC_SCOPE_STATE_CAPTURING 2
-
-#define MC_SCOPE_STATE_DONE 3
-
-/**
- * Triggered (`value`: the trigger sample's tick).
- */
-#define MC_SCOPE_EVENT_TRIGGERED 1
-
-/**
- * A one-shot capture ended (`value`: its samples).
- */
-#define MC_SCOPE_EVENT_DONE 2
-
-/**
- * A sample found the ring full (`value`: the samples lost since the arm).
- */
-#define MC_SCOPE_EVENT_LOST 3
-
-/**
- * `master_kind` of `mc_gear_in`: the commanded position of the master axis.
- */
-#define MC_MASTER_COMMANDED 0
-
-/**
- * The actual position (encoder) of the master axis.
- */
-#define MC_MASTER_ACTUAL 1
-
-/**
- * An auxiliary encoder input of the card (0 .. `MC_AUX_ENCODERS` - 1).
- */
-#define MC_MASTER_AUX 2
-
-/**
- * Auxiliary encoder inputs of the card.
- */
-#define MC_AUX_ENCODERS 2
-
-/**
- * `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
- */
-#define MC_SYNC_IN_GEAR 1
-
-/**
- * MC_GearInPos reached its sync point (InSync).
- */
-#define MC_SYNC_IN_SYNC 2
-
-/**
- * The master axis was disabled or faulted: the slave stops on its stop ramp.
- */
-#define MC_SYNC_MASTER_LOST 3
 
 /**
  * `mc_event.axis` of an event about the whole card.
@@ -3763,8 +3877,6 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
-
-
 
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).

@@ -3,27 +3,13 @@
 //! handle up, call the SDK, write the outputs, all inside [`guard`].
 
 use crate::api::{axis_of, motion_of, ms, started};
+use crate::codes::{MC_CAM_CUBIC, MC_CAM_MAX_POINTS, MC_CAM_PERIODIC};
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, unknown, Failure};
 use crate::sync::{master_of, mc_sync_limits};
 use crate::types::mc_motion;
 use motioncard_sdk::{CamSettings, Error, SyncLimits};
-
-/// `flags` of `mc_cam_load_table`: a cubic spline (velocity and acceleration continuous; else
-/// linear).
-pub const MC_CAM_CUBIC: u32 = 1;
-/// `flags` of `mc_cam_load_table`: periodic (the table repeats every span of the master, the
-/// slave rising by its last minus first point a cycle).
-pub const MC_CAM_PERIODIC: u32 = 2;
-/// Cam tables the card holds.
-pub const MC_CAM_TABLES: u32 = 4;
-/// Points of a cam table.
-pub const MC_CAM_MAX_POINTS: u32 = 1024;
-/// `code` of `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
-pub const MC_SYNC_CAM_END: i32 = 4;
-/// `code` of `MC_EVENT_SYNC`: the table switched at the end of a cycle.
-pub const MC_SYNC_CAM_SWITCH: i32 = 5;
 
 /// Which cam table, and how it maps the master onto the slave (counts): slave = slave_offset +
 /// slave_scale × table((master − master_offset) / master_scale).
@@ -175,21 +161,4 @@ pub unsafe extern "C" fn mc_motion_wait_cam_switch(
         }
         Ok::<(), Failure>(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use motioncard_sdk::proto::raw;
-    use motioncard_sdk::SyncEvent;
-
-    #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_CAM_CUBIC, raw::MC_CAM_CUBIC);
-        assert_eq!(MC_CAM_PERIODIC, raw::MC_CAM_PERIODIC);
-        assert_eq!(MC_CAM_TABLES, raw::MC_CAM_TABLES);
-        assert_eq!(MC_CAM_MAX_POINTS, raw::MC_CAM_MAX_POINTS);
-        assert_eq!(MC_SYNC_CAM_END, SyncEvent::CamEnd as i32);
-        assert_eq!(MC_SYNC_CAM_SWITCH, SyncEvent::CamSwitch as i32);
-    }
 }

@@ -43,7 +43,7 @@ pub const MC_EVENT_MOTION_ACTIVE: u32 = 11;
 /// Velocity mode reached its velocity (PLCopen InVelocity). seq: the command; value: the velocity.
 pub const MC_EVENT_IN_VELOCITY: u32 = 12;
 
-/// Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERR_*`;
+/// Homing ended without a home point (layout 1.5). seq: the `MC_Home`; code: `MC_HOMING_ERROR_*`;
 /// value: the actual position where it failed. Posted once the axis is at rest in Standstill, not
 /// homed.
 pub const MC_EVENT_HOMING_FAILED: u32 = 13;
@@ -77,7 +77,7 @@ pub const MC_EVENT_PATH_STARVED: u32 = 23;
 pub const MC_EVENT_INPUT: u32 = 24;
 
 /// A compare channel fired or missed. axis: the channel; seq: its `MC_OP_COMPARE_ARM`; code:
-/// `MC_CMP_*`; value: the position.
+/// `MC_COMPARE_*`; value: the position.
 pub const MC_EVENT_COMPARE: u32 = 25;
 
 /// A touch probe captured. axis: the channel; seq: its `MC_OP_PROBE_ARM`; code: the capture number
@@ -88,11 +88,11 @@ pub const MC_EVENT_PROBE: u32 = 26;
 /// slave's commanded position (master lost: the master's number).
 pub const MC_EVENT_SYNC: u32 = 27;
 
-/// A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EV_*`; value: the
+/// A PT/PVT stream. axis: the axis; seq: its `MC_OP_PVT_START`; code: `MC_PVT_EVENT_*`; value: the
 /// points queued (low water), the time of the last point run (starved), the last position (done).
 pub const MC_EVENT_PVT: u32 = 28;
 
-/// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see there.
+/// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
 pub const MC_EVENT_SCOPE: u32 = 29;
 
 /// Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
@@ -380,6 +380,343 @@ pub const MC_FILTER_KIND_EXPONENTIAL: u32 = 2;
 /// Linear followed by exponential (bell-shaped; Shin eq 40).
 pub const MC_FILTER_KIND_BELL: u32 = 3;
 
+/// Bit of `mc_homing_settings.flags`.
+///
+/// The encoder has an index channel (index methods need it).
+pub const MC_HOMING_FLAG_INDEX: u32 = 1;
+
+/// End at the home point.
+pub const MC_HOMING_FLAG_MOVE_TO_HOME: u32 = 2;
+
+/// Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.
+///
+/// A limit switch the method did not reverse at: the switch is missing.
+pub const MC_HOMING_ERROR_LIMIT: i32 = 1;
+
+/// `max_distance` from the start without the switch or hard stop.
+pub const MC_HOMING_ERROR_DISTANCE: i32 = 2;
+
+/// Not homed within the timeout.
+pub const MC_HOMING_ERROR_TIMEOUT: i32 = 3;
+
+/// No index pulse within `index_distance`.
+pub const MC_HOMING_ERROR_NO_INDEX: i32 = 4;
+
+/// A motion of the method could not be planned.
+pub const MC_HOMING_ERROR_PLAN: i32 = 5;
+
+/// `flags` of `mc_set_position`: the position moves by the argument (else it becomes the argument).
+pub const MC_SET_POSITION_RELATIVE: u32 = 1;
+
+/// Segments in a group's path buffer.
+pub const MC_PATH_SEGMENTS: u32 = 4096;
+
+/// The card's digital outputs (card.outputs).
+pub const MC_CARD_OUTPUTS: u32 = 16;
+
+/// `mc_path_segment.buffer` (PLCopen BufferMode): how a segment joins the one before it.
+///
+/// The path stops along its geometry within its limits, the rest is aborted, and this segment
+/// starts from there.
+pub const MC_PATH_BUFFER_ABORTING: u32 = 0;
+
+/// Exact stop at the corner, then this segment.
+pub const MC_PATH_BUFFER_BUFFERED: u32 = 1;
+
+/// Blend; corner speed <= the lower of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_LOW: u32 = 2;
+
+/// Blend; corner speed <= the previous segment's feed.
+pub const MC_PATH_BUFFER_BLEND_PREVIOUS: u32 = 3;
+
+/// Blend; corner speed <= this segment's feed.
+pub const MC_PATH_BUFFER_BLEND_NEXT: u32 = 4;
+
+/// Blend; corner speed <= the higher of the two feeds.
+pub const MC_PATH_BUFFER_BLEND_HIGH: u32 = 5;
+
+/// `mc_path_segment.transition` (PLCopen TransitionMode): how a blend is made. `tolerance` is in
+/// user units of the first group axis.
+///
+/// No blend: an exact stop at the corner.
+pub const MC_PATH_TRANSITION_NONE: u32 = 0;
+
+/// The blend keeps within `tolerance` counts of the corner.
+pub const MC_PATH_TRANSITION_MAX_DEVIATION: u32 = 1;
+
+/// The blend begins `tolerance` counts before the corner.
+pub const MC_PATH_TRANSITION_CORNER_DISTANCE: u32 = 2;
+
+/// Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
+/// while the one before decelerates, within `tolerance` counts of the corner; refused
+/// (`MC_NACK_PATH_MODE`) on or after an arc, and a blend after such a line is refused too.
+pub const MC_PATH_TRANSITION_TIME_SHIFT: u32 = 3;
+
+/// When an output action fires (`mc_path_segment.at`, `mc_group_path_output`); `distance` is in
+/// user units of the first group axis.
+///
+/// As the segment starts.
+pub const MC_OUTPUT_AT_START: u32 = 0;
+
+/// As the segment ends.
+pub const MC_OUTPUT_AT_END: u32 = 1;
+
+/// Once the segment has run `distance` counts.
+pub const MC_OUTPUT_AT_DISTANCE: u32 = 2;
+
+/// Bit of `mc_group_status.path_flags`.
+///
+/// A segment is running (`path_id` is valid).
+pub const MC_PATH_STATUS_RUNNING: u32 = 1;
+
+/// Braking for the end of what is queued.
+pub const MC_PATH_STATUS_STARVING: u32 = 2;
+
+/// A halt or stop runs along the path.
+pub const MC_PATH_STATUS_HALTING: u32 = 4;
+
+/// The card's digital inputs (card.inputs).
+pub const MC_CARD_INPUTS: u32 = 16;
+
+/// Compare channels of the card.
+pub const MC_COMPARE_CHANNELS: u32 = 4;
+
+/// Positions queued per compare channel.
+pub const MC_COMPARE_TABLE_LEN: u32 = 4096;
+
+/// Touch-probe channels of the card.
+pub const MC_PROBE_CHANNELS: u32 = 4;
+
+/// The length of `mc_probe_info.positions`.
+///
+/// Captures kept in `probe_status` (a ring).
+pub const MC_PROBE_QUEUE: u32 = 8;
+
+/// The `code` of `MC_EVENT_COMPARE`.
+///
+/// A position fired.
+pub const MC_COMPARE_FIRED: i32 = 1;
+
+/// A position missed: passed when it became the next one, or inside the pulse before it.
+pub const MC_COMPARE_MISSED: i32 = 2;
+
+/// The table's queue fell to `low_water`; value: queued.
+pub const MC_COMPARE_LOW_WATER: i32 = 3;
+
+/// `state` of a compare channel or a touch probe (`mc_compare_info.state`, `mc_probe_info.state`).
+///
+/// Not armed.
+pub const MC_IO_STATE_IDLE: u32 = 0;
+
+/// Armed: watching or capturing.
+pub const MC_IO_STATE_ARMED: u32 = 1;
+
+/// A single compare or series fired (or missed) all; a single-shot probe captured.
+pub const MC_IO_STATE_DONE: u32 = 2;
+
+/// `mc_probe_trigger.input` that is not an input.
+///
+/// Probe input: the axis's encoder index pulse.
+pub const MC_PROBE_INPUT_INDEX: u32 = 16;
+
+/// Bit of `mc_probe_trigger.edges` (one or both).
+///
+/// Capture as the input becomes active.
+pub const MC_PROBE_EDGE_RISING: u32 = 1;
+
+/// Capture as the input becomes inactive.
+pub const MC_PROBE_EDGE_FALLING: u32 = 2;
+
+/// What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, `mc_cam_in`).
+///
+/// Flags: the master axis's commanded position.
+pub const MC_MASTER_COMMANDED: u32 = 0;
+
+/// The master axis's actual position (its encoder).
+pub const MC_MASTER_ACTUAL: u32 = 1;
+
+/// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+pub const MC_MASTER_AUX: u32 = 2;
+
+/// Auxiliary encoder inputs of the card (conveyor, handwheel).
+pub const MC_AUX_ENCODERS: u32 = 2;
+
+/// The `code` of `MC_EVENT_SYNC`.
+///
+/// `MC_GearIn` caught up: the slave follows the ratio (InGear).
+pub const MC_SYNC_IN_GEAR: i32 = 1;
+
+/// `MC_GearInPos` reached its sync point (InSync).
+pub const MC_SYNC_IN_SYNC: i32 = 2;
+
+/// The master is disabled or in ErrorStop: the slave stops.
+pub const MC_SYNC_MASTER_LOST: i32 = 3;
+
+/// `MC_EVENT_SYNC`: a cam that is not periodic passed its table's end.
+pub const MC_SYNC_CAM_END: i32 = 4;
+
+/// `MC_EVENT_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that asked
+/// for it).
+pub const MC_SYNC_CAM_SWITCH: i32 = 5;
+
+/// Points buffered per axis.
+pub const MC_PVT_LEN: u32 = 4096;
+
+/// The `code` of `MC_EVENT_PVT`.
+///
+/// The points queued fell to the stream's low water.
+pub const MC_PVT_EVENT_LOW_WATER: i32 = 1;
+
+/// The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+/// Standstill; `MC_EVENT_MOTION_ABORTED`).
+pub const MC_PVT_EVENT_STARVED: i32 = 2;
+
+/// The last point was reached (motion done follows in position).
+pub const MC_PVT_EVENT_DONE: i32 = 3;
+
+/// Bit of the `flags` of `mc_cam_load_table`.
+///
+/// A cubic spline: velocity and acceleration continuous (else linear).
+pub const MC_CAM_CUBIC: u32 = 1;
+
+/// Periodic: the master's period is the table's span.
+pub const MC_CAM_PERIODIC: u32 = 2;
+
+/// Cam tables the card holds.
+pub const MC_CAM_TABLES: u32 = 4;
+
+/// Points of a cam table, at most.
+pub const MC_CAM_MAX_POINTS: u32 = 1024;
+
+/// Channels per sample, at most (`mc_scope_settings.n_channels`).
+pub const MC_SCOPE_CHANNELS: u32 = 16;
+
+/// Samples in the scope ring (a power of two).
+pub const MC_SCOPE_RING_LEN: u32 = 4096;
+
+/// Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
+/// (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+/// the group) the group status's, card signals (48..50; index 0) the card's words.
+///
+/// Commanded position, counts (`cmd_pos`).
+pub const MC_SCOPE_SIG_CMD_POS: u32 = 1;
+
+/// Commanded velocity, counts/s (`cmd_vel`).
+pub const MC_SCOPE_SIG_CMD_VEL: u32 = 2;
+
+/// Commanded acceleration, counts/s^2 (`cmd_acc`).
+pub const MC_SCOPE_SIG_CMD_ACC: u32 = 3;
+
+/// Actual position, counts (`act_pos`).
+pub const MC_SCOPE_SIG_ACT_POS: u32 = 4;
+
+/// Actual velocity, filtered, counts/s (`act_vel`).
+pub const MC_SCOPE_SIG_ACT_VEL: u32 = 5;
+
+/// Following error, counts (ferr).
+pub const MC_SCOPE_SIG_FERR: u32 = 6;
+
+/// DAC output, V (`dac_v`).
+pub const MC_SCOPE_SIG_DAC: u32 = 7;
+
+/// The servo law's output before the DAC clamp, V (`u_request`).
+pub const MC_SCOPE_SIG_U_REQUEST: u32 = 8;
+
+/// The raw encoder count (encoder).
+pub const MC_SCOPE_SIG_ENCODER: u32 = 9;
+
+/// The proportional term, V.
+pub const MC_SCOPE_SIG_SERVO_P: u32 = 10;
+
+/// The integral term, V.
+pub const MC_SCOPE_SIG_SERVO_I: u32 = 11;
+
+/// The velocity feedback (FFPIV) or derivative (PD+) term, V.
+pub const MC_SCOPE_SIG_SERVO_D: u32 = 12;
+
+/// The feed-forward terms, V.
+pub const MC_SCOPE_SIG_SERVO_FF: u32 = 13;
+
+/// Tangential velocity before the filters, counts/s (feed).
+pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
+
+/// Tangential acceleration, counts/s^2 (`feed_acc`).
+pub const MC_SCOPE_SIG_PATH_ACC: u32 = 33;
+
+/// Distance along the active move, counts (`path_pos`).
+pub const MC_SCOPE_SIG_PATH_POS: u32 = 34;
+
+/// The debounced digital inputs, bit i = input i (card.inputs).
+pub const MC_SCOPE_SIG_INPUTS: u32 = 48;
+
+/// The digital outputs (card.outputs).
+pub const MC_SCOPE_SIG_OUTPUTS: u32 = 49;
+
+/// The inputs as sampled (`card.inputs_raw`).
+pub const MC_SCOPE_SIG_INPUTS_RAW: u32 = 50;
+
+/// `mc_scope_settings.mode`.
+///
+/// `post_trigger` samples from the trigger sample on, then done.
+pub const MC_SCOPE_ONE_SHOT: u32 = 0;
+
+/// Until `MC_OP_SCOPE_STOP`.
+pub const MC_SCOPE_CONTINUOUS: u32 = 1;
+
+/// `mc_scope_settings.trigger`: when the capture starts.
+///
+/// The first sample after the arm.
+pub const MC_SCOPE_TRIG_IMMEDIATE: u32 = 0;
+
+/// The first sample after an `MC_OP_SCOPE_TRIGGER`.
+pub const MC_SCOPE_TRIG_COMMAND: u32 = 1;
+
+/// Channel `trigger_channel` crosses level.
+pub const MC_SCOPE_TRIG_LEVEL: u32 = 2;
+
+/// An edge of debounced input `trigger_input`.
+pub const MC_SCOPE_TRIG_INPUT: u32 = 3;
+
+/// A safety fault bit of an axis appears.
+pub const MC_SCOPE_TRIG_FAULT: u32 = 4;
+
+/// `mc_scope_settings.edge`: which way a level or input trigger fires.
+///
+/// Previous < level <= this one; an input becoming active.
+pub const MC_SCOPE_RISING: u32 = 0;
+
+/// Previous > level >= this one; an input becoming inactive.
+pub const MC_SCOPE_FALLING: u32 = 1;
+
+/// Either way.
+pub const MC_SCOPE_EITHER: u32 = 2;
+
+/// `mc_scope_info.state`.
+///
+/// Not sampling.
+pub const MC_SCOPE_STATE_IDLE: u32 = 0;
+
+/// Armed: sampling into the history, waiting for the trigger.
+pub const MC_SCOPE_STATE_WAITING: u32 = 1;
+
+/// Triggered: samples go to the ring.
+pub const MC_SCOPE_STATE_CAPTURING: u32 = 2;
+
+/// A one-shot capture ended.
+pub const MC_SCOPE_STATE_DONE: u32 = 3;
+
+/// The `code` of `MC_EVENT_SCOPE`.
+///
+/// Value: the trigger sample's tick.
+pub const MC_SCOPE_EVENT_TRIGGERED: i32 = 1;
+
+/// A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+/// `post_trigger`).
+pub const MC_SCOPE_EVENT_DONE: i32 = 2;
+
+/// A sample found the ring full; value: `scope_status.lost`.
+pub const MC_SCOPE_EVENT_LOST: i32 = 3;
+
 /// Opcode of a raw command (`mc_send_raw`).
 ///
 /// Does nothing but answer: the round-trip probe.
@@ -579,8 +916,8 @@ pub const MC_OP_COMPARE_TABLE: u32 = 66;
 pub const MC_OP_COMPARE_DISARM: u32 = 67;
 
 /// `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
-/// `MC_PROBE_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_RISING` / `_FALLING` (one or
-/// both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
+/// `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
+/// (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
 pub const MC_OP_PROBE_ARM: u32 = 68;
 
 /// `MC_AbortTrigger`. args: channel.

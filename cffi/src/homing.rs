@@ -3,6 +3,7 @@
 //! outputs, all inside [`guard`].
 
 use crate::api::{axis_of, started};
+use crate::codes::MC_SET_POSITION_RELATIVE;
 use crate::ffi::{read_in, Out};
 use crate::registry::mc_card;
 use crate::result::{guard, mc_result};
@@ -19,13 +20,6 @@ use motioncard_sdk::HomingSettings;
 #[allow(non_camel_case_types)]
 pub type mc_homing_settings = firmware_proto::raw::mc_axis_homing;
 
-/// `mc_homing_settings.flags`: the encoder has an index channel (the index methods need it,
-/// else `MC_ERR_HOMING_METHOD`).
-pub const MC_HOMING_FLAG_INDEX: u32 = 1;
-/// `mc_homing_settings.flags`: the axis ends at the home point (else where it came to rest
-/// after finding it).
-pub const MC_HOMING_FLAG_MOVE_TO_HOME: u32 = 2;
-
 /// Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
 /// following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
 /// it.
@@ -39,21 +33,6 @@ pub const MC_HOMING_METHOD_HARD_STOP_NEG: i32 = -3;
 pub const MC_HOMING_METHOD_HARD_STOP_POS: i32 = -4;
 /// Homing method: the current position (nothing moves).
 pub const MC_HOMING_METHOD_CURRENT_POSITION: i32 = 37;
-
-/// `code` of `MC_EVENT_HOMING_FAILED`: a limit switch the method does not reverse at (its
-/// switch is missing).
-pub const MC_HOMING_ERROR_LIMIT: i32 = 1;
-/// The maximum distance from the start without the switch or hard stop.
-pub const MC_HOMING_ERROR_DISTANCE: i32 = 2;
-/// Not homed within the timeout.
-pub const MC_HOMING_ERROR_TIMEOUT: i32 = 3;
-/// No index pulse within the index distance.
-pub const MC_HOMING_ERROR_NO_INDEX: i32 = 4;
-/// A motion of the method could not be planned.
-pub const MC_HOMING_ERROR_PLAN: i32 = 5;
-
-/// `mc_set_position`: the position moves by the argument (else it becomes the argument).
-pub const MC_SET_POSITION_RELATIVE: u32 = 1;
 
 /// The homing configuration the card loads at boot: method 37 (the current position), search
 /// at 20000 counts/s, creep at 1000 counts/s, 200000 counts/s², 2e7 counts/s³, no offset, a 60 s
@@ -134,27 +113,9 @@ pub extern "C" fn mc_set_position(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use motioncard_sdk::proto::raw;
-    use motioncard_sdk::{HomingError, HomingFlags};
 
     #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_HOMING_FLAG_INDEX, HomingFlags::INDEX.bits());
-        assert_eq!(
-            MC_HOMING_FLAG_MOVE_TO_HOME,
-            HomingFlags::MOVE_TO_HOME.bits()
-        );
-        for (ours, card) in [
-            (MC_HOMING_ERROR_LIMIT, HomingError::LimitReached),
-            (MC_HOMING_ERROR_DISTANCE, HomingError::DistanceExceeded),
-            (MC_HOMING_ERROR_TIMEOUT, HomingError::Timeout),
-            (MC_HOMING_ERROR_NO_INDEX, HomingError::NoIndex),
-            (MC_HOMING_ERROR_PLAN, HomingError::Plan),
-        ] {
-            assert_eq!(ours, card as i32);
-        }
-        assert_eq!(HomingError::ALL.len(), 5);
-        assert_eq!(MC_SET_POSITION_RELATIVE, raw::MC_SET_POSITION_RELATIVE);
+    fn the_boot_method_is_the_current_position() {
         let d = HomingSettings::default();
         assert_eq!(d.method, MC_HOMING_METHOD_CURRENT_POSITION);
     }

@@ -3,6 +3,10 @@
 //! the handle up, call the SDK, write the outputs, all inside [`guard`].
 
 use crate::api::{axis_of, ms};
+use crate::codes::{
+    MC_IO_STATE_ARMED, MC_IO_STATE_DONE, MC_IO_STATE_IDLE, MC_PROBE_EDGE_FALLING,
+    MC_PROBE_EDGE_RISING, MC_PROBE_INPUT_INDEX,
+};
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, unknown};
@@ -17,46 +21,12 @@ use motioncard_sdk::{
 #[allow(non_camel_case_types)]
 pub type mc_io_settings = firmware_proto::raw::mc_io_config;
 
-/// The card's digital inputs (`mc_get_inputs` bit i is input i).
-pub const MC_CARD_INPUTS: u32 = 16;
-/// Compare channels per card.
-pub const MC_COMPARE_CHANNELS: u32 = 4;
-/// Positions a compare channel's table holds.
-pub const MC_COMPARE_TABLE_LEN: u32 = 4096;
-/// Touch-probe channels per card.
-pub const MC_PROBE_CHANNELS: u32 = 4;
-/// Captures a probe keeps (`mc_probe_info.positions`).
-pub const MC_PROBE_QUEUE: u32 = 8;
-
 /// Compare direction: fire crossing upwards (increasing position).
 pub const MC_COMPARE_POSITIVE: u32 = 1;
 /// Compare direction: fire crossing downwards.
 pub const MC_COMPARE_NEGATIVE: u32 = 2;
 /// Compare direction: either way (`mc_compare_single` only).
 pub const MC_COMPARE_EITHER: u32 = 3;
-
-/// `code` of `MC_EVENT_COMPARE`: a position fired.
-pub const MC_COMPARE_FIRED: i32 = 1;
-/// `code` of `MC_EVENT_COMPARE`: a position was missed (behind the axis when it came up, or
-/// inside the pulse before it).
-pub const MC_COMPARE_MISSED: i32 = 2;
-/// `code` of `MC_EVENT_COMPARE`: the table fell to its low-water mark.
-pub const MC_COMPARE_LOW_WATER: i32 = 3;
-
-/// `state` of a compare channel or probe: not armed.
-pub const MC_IO_STATE_IDLE: u32 = 0;
-/// Armed.
-pub const MC_IO_STATE_ARMED: u32 = 1;
-/// A single compare or series fired (or missed) all its positions; a single-shot probe
-/// captured.
-pub const MC_IO_STATE_DONE: u32 = 2;
-
-/// `mc_probe_trigger.input`: the axis's encoder index pulse instead of an input.
-pub const MC_PROBE_INPUT_INDEX: u32 = 16;
-/// `mc_probe_trigger.edges`: the input becoming active.
-pub const MC_PROBE_EDGE_RISING: u32 = 1;
-/// `mc_probe_trigger.edges`: the input becoming inactive.
-pub const MC_PROBE_EDGE_FALLING: u32 = 2;
 
 /// A compare channel's status (`mc_compare_get_status`), positions in the axis's user units.
 #[repr(C)]
@@ -465,28 +435,4 @@ pub extern "C" fn mc_sim_set_sensor(
             Err(crate::api::no_emulator())
         }
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use motioncard_sdk::proto::raw;
-
-    #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_CARD_INPUTS, raw::MC_INPUTS);
-        assert_eq!(MC_COMPARE_CHANNELS, raw::MC_COMPARE_CHANNELS);
-        assert_eq!(MC_COMPARE_TABLE_LEN, raw::MC_COMPARE_TABLE_LEN);
-        assert_eq!(MC_PROBE_CHANNELS, raw::MC_PROBE_CHANNELS);
-        assert_eq!(MC_PROBE_QUEUE, raw::MC_PROBE_QUEUE);
-        assert_eq!(MC_PROBE_INPUT_INDEX, raw::MC_PROBE_INDEX);
-        assert_eq!(MC_COMPARE_FIRED, raw::MC_CMP_FIRED as i32);
-        assert_eq!(MC_COMPARE_MISSED, raw::MC_CMP_MISSED as i32);
-        assert_eq!(MC_COMPARE_LOW_WATER, raw::MC_CMP_LOW_WATER as i32);
-        assert_eq!(
-            (MC_IO_STATE_IDLE, MC_IO_STATE_ARMED, MC_IO_STATE_DONE),
-            (raw::MC_IO_IDLE, raw::MC_IO_ARMED, raw::MC_IO_DONE)
-        );
-        assert_eq!(MC_COMPARE_TABLE_LEN as usize, COMPARE_TABLE_LEN);
-    }
 }

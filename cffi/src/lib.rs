@@ -56,3 +56,63 @@ pub use registry::{mc_card, mc_event_callback};
 pub use result::*;
 pub use safety::*;
 pub use types::*;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use firmware_proto::raw;
+
+    /// Each C name equals the define of the register map it stands for, and has the type.
+    macro_rules! same {
+        ($ty:ty: $($ours:ident = $card:ident),+ $(,)?) => {
+            $(assert_eq!($ours, raw::$card as $ty, stringify!($ours));)+
+        };
+    }
+
+    /// `codes.rs` is generated (`cargo xtask codegen`, whose `--check` fails when it is stale):
+    /// one C name of each set against the define it stands for, so that a rule of
+    /// `xtask/src/codes.rs` that picks the wrong define, or a value copied wrong, fails here.
+    /// An event's codes are `int32_t`, as `mc_event.code`.
+    #[test]
+    fn the_generated_codes_are_the_cards() {
+        same!(u32:
+            MC_EVENT_SCOPE = MC_EV_SCOPE,
+            MC_AXIS_STATE_HOMING = MC_STATE_HOMING,
+            MC_STOP_REASON_STOP_TIMEOUT = MC_STOP_TIMEOUT,
+            MC_GROUP_COUNT = MC_MAX_GROUPS,
+            MC_OP_SCOPE_ARM = MC_OP_SCOPE_ARM,
+            MC_HOMING_FLAG_MOVE_TO_HOME = MC_HOMING_MOVE_TO_HOME,
+            MC_SET_POSITION_RELATIVE = MC_SET_POSITION_RELATIVE,
+            MC_PATH_SEGMENTS = MC_PATH_LEN,
+            MC_CARD_OUTPUTS = MC_OUTPUTS,
+            MC_PATH_BUFFER_BLEND_PREVIOUS = MC_PATH_BLEND_PREVIOUS,
+            MC_PATH_TRANSITION_TIME_SHIFT = MC_TM_TIME_SHIFT,
+            MC_OUTPUT_AT_DISTANCE = MC_PATH_OUT_AT_DISTANCE,
+            MC_PATH_STATUS_HALTING = MC_PATHST_HALTING,
+            MC_CARD_INPUTS = MC_INPUTS,
+            MC_COMPARE_TABLE_LEN = MC_COMPARE_TABLE_LEN,
+            MC_PROBE_QUEUE = MC_PROBE_QUEUE,
+            MC_IO_STATE_DONE = MC_IO_DONE,
+            MC_PROBE_INPUT_INDEX = MC_PROBE_INDEX,
+            MC_PROBE_EDGE_FALLING = MC_PROBE_FALLING,
+            MC_MASTER_AUX = MC_MASTER_AUX,
+            MC_AUX_ENCODERS = MC_AUX_ENCODERS,
+            MC_PVT_LEN = MC_PVT_LEN,
+            MC_CAM_PERIODIC = MC_CAM_PERIODIC,
+            MC_CAM_MAX_POINTS = MC_CAM_MAX_POINTS,
+            MC_SCOPE_RING_LEN = MC_SCOPE_RING_LEN,
+            MC_SCOPE_SIG_SERVO_FF = MC_SIG_SERVO_FF,
+            MC_SCOPE_CONTINUOUS = MC_SCOPE_CONTINUOUS,
+            MC_SCOPE_TRIG_FAULT = MC_SCOPE_TRIG_FAULT,
+            MC_SCOPE_EITHER = MC_SCOPE_EITHER,
+            MC_SCOPE_STATE_CAPTURING = MC_SCOPE_CAPTURING,
+        );
+        same!(i32:
+            MC_HOMING_ERROR_NO_INDEX = MC_HOMING_ERR_NO_INDEX,
+            MC_COMPARE_MISSED = MC_CMP_MISSED,
+            MC_SYNC_CAM_SWITCH = MC_SYNC_CAM_SWITCH,
+            MC_PVT_EVENT_STARVED = MC_PVT_EV_STARVED,
+            MC_SCOPE_EVENT_LOST = MC_SCOPE_EV_LOST,
+        );
+    }
+}

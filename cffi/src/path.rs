@@ -6,7 +6,13 @@
 //! Units are the group's: targets in each axis's user units; feeds, tolerances, distances and
 //! the tangential limits in the first group axis's.
 
-use crate::codes::MC_GROUP_MAX_AXES;
+use crate::codes::{
+    MC_CARD_OUTPUTS, MC_GROUP_MAX_AXES, MC_OUTPUT_AT_DISTANCE, MC_OUTPUT_AT_END,
+    MC_OUTPUT_AT_START, MC_PATH_BUFFER_ABORTING, MC_PATH_BUFFER_BLEND_HIGH,
+    MC_PATH_BUFFER_BLEND_LOW, MC_PATH_BUFFER_BLEND_NEXT, MC_PATH_BUFFER_BLEND_PREVIOUS,
+    MC_PATH_BUFFER_BUFFERED, MC_PATH_TRANSITION_CORNER_DISTANCE, MC_PATH_TRANSITION_MAX_DEVIATION,
+    MC_PATH_TRANSITION_NONE, MC_PATH_TRANSITION_TIME_SHIFT,
+};
 use crate::ffi::{read_at, read_in, Out};
 use crate::group::{axis_values, group_of, nurbs_curve, started};
 use crate::registry::{self, mc_card};
@@ -21,11 +27,6 @@ use std::ffi::c_void;
 
 /// Most axes in a group, as a length.
 const MAX_AXES: usize = MC_GROUP_MAX_AXES as usize;
-
-/// Segments a group's path buffer holds on the card.
-pub const MC_PATH_SEGMENTS: u32 = 4096;
-/// The card's digital outputs (`mc_get_outputs` bit i is output i).
-pub const MC_CARD_OUTPUTS: u32 = 16;
 
 /// `mc_path_segment.kind`: a straight line to `target` (`naxes` values, one per group axis).
 pub const MC_SEGMENT_LINE: u32 = 0;
@@ -47,49 +48,6 @@ pub const MC_SEGMENT_OUTPUT: u32 = 3;
 /// `MC_ERR_QUEUE_FULL`; `MC_ERR_PATH_CURVE` for a cusp or more pieces than the buffer holds.
 /// The curve's arrays are read during the call that queues it.
 pub const MC_SEGMENT_NURBS: u32 = 4;
-
-/// `mc_path_segment.buffer` (PLCopen BufferMode), how a segment joins the one before it:
-/// the running path stops along its geometry within its limits, everything queued is aborted,
-/// and this segment starts from where it came to rest.
-pub const MC_PATH_BUFFER_ABORTING: u32 = 0;
-/// An exact stop at the corner, then this segment.
-pub const MC_PATH_BUFFER_BUFFERED: u32 = 1;
-/// A blend; the corner speed is at most the lower of the two feeds.
-pub const MC_PATH_BUFFER_BLEND_LOW: u32 = 2;
-/// A blend; the corner speed is at most the previous segment's feed.
-pub const MC_PATH_BUFFER_BLEND_PREVIOUS: u32 = 3;
-/// A blend; the corner speed is at most this segment's feed.
-pub const MC_PATH_BUFFER_BLEND_NEXT: u32 = 4;
-/// A blend; the corner speed is at most the higher of the two feeds.
-pub const MC_PATH_BUFFER_BLEND_HIGH: u32 = 5;
-
-/// `mc_path_segment.transition` (PLCopen TransitionMode), how a blend is sized: no blend, an
-/// exact stop at the corner (`tolerance` ignored).
-pub const MC_PATH_TRANSITION_NONE: u32 = 0;
-/// The blend stays within `tolerance` of the programmed corner (0: an exact stop).
-pub const MC_PATH_TRANSITION_MAX_DEVIATION: u32 = 1;
-/// The blend begins `tolerance` before the corner (and ends as far after it).
-pub const MC_PATH_TRANSITION_CORNER_DISTANCE: u32 = 2;
-/// Thinh's blending of two lines: each runs as its own rest-to-rest S-curve, this one starting
-/// while the one before decelerates, within `tolerance` of the corner (0: an exact stop).
-/// Refused (`MC_ERR_PATH_MODE`) on or after an arc, and a blend after such a line is refused
-/// too.
-pub const MC_PATH_TRANSITION_TIME_SHIFT: u32 = 3;
-
-/// When an output action fires (`mc_path_segment.at`, `mc_group_path_output`): as its
-/// segment starts.
-pub const MC_OUTPUT_AT_START: u32 = 0;
-/// As its segment ends.
-pub const MC_OUTPUT_AT_END: u32 = 1;
-/// Once its segment has run `distance` (user units of the first group axis, >= 0).
-pub const MC_OUTPUT_AT_DISTANCE: u32 = 2;
-
-/// `mc_group_status.path_flags` bit: a segment is running (`path_id` is valid).
-pub const MC_PATH_STATUS_RUNNING: u32 = 1;
-/// Braking for the end of what is queued.
-pub const MC_PATH_STATUS_STARVING: u32 = 2;
-/// A halt or stop runs along the path.
-pub const MC_PATH_STATUS_HALTING: u32 = 4;
 
 /// A group's path configuration (`mc_group_configure_path`), in user units: `vmax`, `amax`,
 /// `jmax` per group axis (the first `naxes`, in group order, each in its axis's units);
@@ -849,37 +807,7 @@ pub extern "C" fn mc_set_outputs(card: mc_card, mask: u32, value: u32) -> mc_res
 #[cfg(test)]
 mod tests {
     use super::*;
-    use motioncard_sdk::proto::{raw, OUTPUTS, PATH_LEN};
     use motioncard_sdk::Nurbs;
-
-    #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_PATH_SEGMENTS as usize, PATH_LEN);
-        assert_eq!(MC_CARD_OUTPUTS as usize, OUTPUTS);
-        for (ours, card) in [
-            (MC_PATH_BUFFER_ABORTING, raw::MC_PATH_ABORTING),
-            (MC_PATH_BUFFER_BUFFERED, raw::MC_PATH_BUFFERED),
-            (MC_PATH_BUFFER_BLEND_LOW, raw::MC_PATH_BLEND_LOW),
-            (MC_PATH_BUFFER_BLEND_PREVIOUS, raw::MC_PATH_BLEND_PREVIOUS),
-            (MC_PATH_BUFFER_BLEND_NEXT, raw::MC_PATH_BLEND_NEXT),
-            (MC_PATH_BUFFER_BLEND_HIGH, raw::MC_PATH_BLEND_HIGH),
-            (MC_PATH_TRANSITION_NONE, raw::MC_TM_NONE),
-            (MC_PATH_TRANSITION_MAX_DEVIATION, raw::MC_TM_MAX_DEVIATION),
-            (
-                MC_PATH_TRANSITION_CORNER_DISTANCE,
-                raw::MC_TM_CORNER_DISTANCE,
-            ),
-            (MC_PATH_TRANSITION_TIME_SHIFT, raw::MC_TM_TIME_SHIFT),
-            (MC_OUTPUT_AT_START, raw::MC_PATH_OUT_AT_START),
-            (MC_OUTPUT_AT_END, raw::MC_PATH_OUT_AT_END),
-            (MC_OUTPUT_AT_DISTANCE, raw::MC_PATH_OUT_AT_DISTANCE),
-            (MC_PATH_STATUS_RUNNING, raw::MC_PATHST_RUNNING),
-            (MC_PATH_STATUS_STARVING, raw::MC_PATHST_STARVING),
-            (MC_PATH_STATUS_HALTING, raw::MC_PATHST_HALTING),
-        ] {
-            assert_eq!(ours, card);
-        }
-    }
 
     #[test]
     fn segments_convert_and_unknown_modes_are_path_mode() {

@@ -3,6 +3,7 @@
 //! handle up, call the SDK, write the outputs, all inside [`guard`].
 
 use crate::api::{axis_of, started};
+use crate::codes::MC_PVT_LEN;
 use crate::ffi::{read_in, read_slice, Out};
 use crate::registry::mc_card;
 use crate::result::{guard, mc_result, unknown};
@@ -14,14 +15,6 @@ use motioncard_sdk::{Error, PvtLimits, PvtMode, PvtPoint};
 pub const MC_PVT_MODE_PT: u32 = 0;
 /// PVT: each point's velocity as given.
 pub const MC_PVT_MODE_PVT: u32 = 1;
-/// Points the card buffers per axis.
-pub const MC_PVT_LEN: u32 = 4096;
-/// `code` of `MC_EVENT_PVT`: the points queued fell to the low water (`value`: how many).
-pub const MC_PVT_EVENT_LOW_WATER: i32 = 1;
-/// The stream ran dry before its last point: the axis stops on its stop ramp.
-pub const MC_PVT_EVENT_STARVED: i32 = 2;
-/// The last point was reached (motion done follows in position).
-pub const MC_PVT_EVENT_DONE: i32 = 3;
 
 /// One point, user units: seconds from the start of the stream, position, velocity (PVT).
 #[repr(C)]
@@ -151,18 +144,4 @@ pub unsafe extern "C" fn mc_pvt_room(
         }
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use motioncard_sdk::{PvtEvent, PVT_LEN};
-
-    #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_PVT_LEN as usize, PVT_LEN);
-        assert_eq!(MC_PVT_EVENT_LOW_WATER, PvtEvent::LowWater as i32);
-        assert_eq!(MC_PVT_EVENT_STARVED, PvtEvent::Starved as i32);
-        assert_eq!(MC_PVT_EVENT_DONE, PvtEvent::Done as i32);
-    }
 }

@@ -27,59 +27,6 @@ pub type mc_scope_sample = firmware_proto::raw::mc_scope_sample;
 #[allow(non_camel_case_types)]
 pub type mc_scope_info = firmware_proto::raw::mc_scope_status;
 
-/// Channels per sample, at most.
-pub const MC_SCOPE_CHANNELS: u32 = 16;
-/// Samples the card's ring holds (204.8 ms at 20 kHz).
-pub const MC_SCOPE_RING_LEN: u32 = 4096;
-/// Axis signals (index: the axis): commanded position, velocity, acceleration, actual
-/// position and velocity, following error, DAC volts, the servo output before the clamp, the
-/// raw encoder count, the servo law's P, I, D (velocity feedback) and feed-forward terms.
-pub const MC_SCOPE_SIG_CMD_POS: u32 = 1;
-pub const MC_SCOPE_SIG_CMD_VEL: u32 = 2;
-pub const MC_SCOPE_SIG_CMD_ACC: u32 = 3;
-pub const MC_SCOPE_SIG_ACT_POS: u32 = 4;
-pub const MC_SCOPE_SIG_ACT_VEL: u32 = 5;
-pub const MC_SCOPE_SIG_FERR: u32 = 6;
-pub const MC_SCOPE_SIG_DAC: u32 = 7;
-pub const MC_SCOPE_SIG_U_REQUEST: u32 = 8;
-pub const MC_SCOPE_SIG_ENCODER: u32 = 9;
-pub const MC_SCOPE_SIG_SERVO_P: u32 = 10;
-pub const MC_SCOPE_SIG_SERVO_I: u32 = 11;
-pub const MC_SCOPE_SIG_SERVO_D: u32 = 12;
-pub const MC_SCOPE_SIG_SERVO_FF: u32 = 13;
-/// Group signals (index: the group): path speed, path acceleration, distance along the move.
-pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
-pub const MC_SCOPE_SIG_PATH_ACC: u32 = 33;
-pub const MC_SCOPE_SIG_PATH_POS: u32 = 34;
-/// Card signals (index 0): debounced inputs, outputs, inputs as sampled.
-pub const MC_SCOPE_SIG_INPUTS: u32 = 48;
-pub const MC_SCOPE_SIG_OUTPUTS: u32 = 49;
-pub const MC_SCOPE_SIG_INPUTS_RAW: u32 = 50;
-/// `mode`.
-pub const MC_SCOPE_ONE_SHOT: u32 = 0;
-pub const MC_SCOPE_CONTINUOUS: u32 = 1;
-/// `trigger`.
-pub const MC_SCOPE_TRIG_IMMEDIATE: u32 = 0;
-pub const MC_SCOPE_TRIG_COMMAND: u32 = 1;
-pub const MC_SCOPE_TRIG_LEVEL: u32 = 2;
-pub const MC_SCOPE_TRIG_INPUT: u32 = 3;
-pub const MC_SCOPE_TRIG_FAULT: u32 = 4;
-/// `edge`.
-pub const MC_SCOPE_RISING: u32 = 0;
-pub const MC_SCOPE_FALLING: u32 = 1;
-pub const MC_SCOPE_EITHER: u32 = 2;
-/// `mc_scope_info.state`.
-pub const MC_SCOPE_STATE_IDLE: u32 = 0;
-pub const MC_SCOPE_STATE_WAITING: u32 = 1;
-pub const MC_SCOPE_STATE_CAPTURING: u32 = 2;
-pub const MC_SCOPE_STATE_DONE: u32 = 3;
-/// Triggered (`value`: the trigger sample's tick).
-pub const MC_SCOPE_EVENT_TRIGGERED: i32 = 1;
-/// A one-shot capture ended (`value`: its samples).
-pub const MC_SCOPE_EVENT_DONE: i32 = 2;
-/// A sample found the ring full (`value`: the samples lost since the arm).
-pub const MC_SCOPE_EVENT_LOST: i32 = 3;
-
 /// A configuration to start from: no channels, every tick, immediate trigger, one-shot.
 /// Never blocks.
 #[no_mangle]
@@ -192,57 +139,4 @@ pub unsafe extern "C" fn mc_scope_get_info(card: mc_card, info: *mut mc_scope_in
         unsafe { out.write(i) };
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use firmware_proto::raw;
-
-    #[test]
-    fn the_constants_are_the_cards() {
-        let pairs = [
-            (MC_SCOPE_CHANNELS, raw::MC_SCOPE_CHANNELS),
-            (MC_SCOPE_RING_LEN, raw::MC_SCOPE_RING_LEN),
-            (MC_SCOPE_SIG_CMD_POS, raw::MC_SIG_CMD_POS),
-            (MC_SCOPE_SIG_CMD_VEL, raw::MC_SIG_CMD_VEL),
-            (MC_SCOPE_SIG_CMD_ACC, raw::MC_SIG_CMD_ACC),
-            (MC_SCOPE_SIG_ACT_POS, raw::MC_SIG_ACT_POS),
-            (MC_SCOPE_SIG_ACT_VEL, raw::MC_SIG_ACT_VEL),
-            (MC_SCOPE_SIG_FERR, raw::MC_SIG_FERR),
-            (MC_SCOPE_SIG_DAC, raw::MC_SIG_DAC),
-            (MC_SCOPE_SIG_U_REQUEST, raw::MC_SIG_U_REQUEST),
-            (MC_SCOPE_SIG_ENCODER, raw::MC_SIG_ENCODER),
-            (MC_SCOPE_SIG_SERVO_P, raw::MC_SIG_SERVO_P),
-            (MC_SCOPE_SIG_SERVO_I, raw::MC_SIG_SERVO_I),
-            (MC_SCOPE_SIG_SERVO_D, raw::MC_SIG_SERVO_D),
-            (MC_SCOPE_SIG_SERVO_FF, raw::MC_SIG_SERVO_FF),
-            (MC_SCOPE_SIG_PATH_SPEED, raw::MC_SIG_PATH_SPEED),
-            (MC_SCOPE_SIG_PATH_ACC, raw::MC_SIG_PATH_ACC),
-            (MC_SCOPE_SIG_PATH_POS, raw::MC_SIG_PATH_POS),
-            (MC_SCOPE_SIG_INPUTS, raw::MC_SIG_INPUTS),
-            (MC_SCOPE_SIG_OUTPUTS, raw::MC_SIG_OUTPUTS),
-            (MC_SCOPE_SIG_INPUTS_RAW, raw::MC_SIG_INPUTS_RAW),
-            (MC_SCOPE_ONE_SHOT, raw::MC_SCOPE_ONE_SHOT),
-            (MC_SCOPE_CONTINUOUS, raw::MC_SCOPE_CONTINUOUS),
-            (MC_SCOPE_TRIG_IMMEDIATE, raw::MC_SCOPE_TRIG_IMMEDIATE),
-            (MC_SCOPE_TRIG_COMMAND, raw::MC_SCOPE_TRIG_COMMAND),
-            (MC_SCOPE_TRIG_LEVEL, raw::MC_SCOPE_TRIG_LEVEL),
-            (MC_SCOPE_TRIG_INPUT, raw::MC_SCOPE_TRIG_INPUT),
-            (MC_SCOPE_TRIG_FAULT, raw::MC_SCOPE_TRIG_FAULT),
-            (MC_SCOPE_RISING, raw::MC_SCOPE_RISING),
-            (MC_SCOPE_FALLING, raw::MC_SCOPE_FALLING),
-            (MC_SCOPE_EITHER, raw::MC_SCOPE_EITHER),
-            (MC_SCOPE_STATE_IDLE, raw::MC_SCOPE_IDLE),
-            (MC_SCOPE_STATE_WAITING, raw::MC_SCOPE_WAITING),
-            (MC_SCOPE_STATE_CAPTURING, raw::MC_SCOPE_CAPTURING),
-            (MC_SCOPE_STATE_DONE, raw::MC_SCOPE_DONE),
-        ];
-        for (k, (a, b)) in pairs.iter().enumerate() {
-            assert_eq!(a, b, "pair {k}");
-        }
-        assert_eq!(MC_SCOPE_EVENT_TRIGGERED, raw::MC_SCOPE_EV_TRIGGERED as i32);
-        assert_eq!(MC_SCOPE_EVENT_DONE, raw::MC_SCOPE_EV_DONE as i32);
-        assert_eq!(MC_SCOPE_EVENT_LOST, raw::MC_SCOPE_EV_LOST as i32);
-    }
 }

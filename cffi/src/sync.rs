@@ -3,27 +3,12 @@
 //! call the SDK, write the outputs, all inside [`guard`].
 
 use crate::api::{axis_of, motion_of, ms, started};
+use crate::codes::{MC_MASTER_ACTUAL, MC_MASTER_AUX, MC_MASTER_COMMANDED};
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, unknown, Failure};
 use crate::types::mc_motion;
 use motioncard_sdk::{Master, SyncLimits};
-
-/// `master_kind` of `mc_gear_in`: the commanded position of the master axis.
-pub const MC_MASTER_COMMANDED: u32 = 0;
-/// The actual position (encoder) of the master axis.
-pub const MC_MASTER_ACTUAL: u32 = 1;
-/// An auxiliary encoder input of the card (0 .. `MC_AUX_ENCODERS` - 1).
-pub const MC_MASTER_AUX: u32 = 2;
-/// Auxiliary encoder inputs of the card.
-pub const MC_AUX_ENCODERS: u32 = 2;
-
-/// `code` of `MC_EVENT_SYNC`: MC_GearIn caught up, the slave follows the ratio (InGear).
-pub const MC_SYNC_IN_GEAR: i32 = 1;
-/// MC_GearInPos reached its sync point (InSync).
-pub const MC_SYNC_IN_SYNC: i32 = 2;
-/// The master axis was disabled or faulted: the slave stops on its stop ramp.
-pub const MC_SYNC_MASTER_LOST: i32 = 3;
 
 /// The slave's own limits while it engages, in its user units.
 #[repr(C)]
@@ -182,22 +167,4 @@ pub extern "C" fn mc_sim_set_aux_velocity(card: mc_card, k: u32, velocity: f64) 
             Err(crate::api::no_emulator())
         }
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use motioncard_sdk::proto::raw;
-    use motioncard_sdk::SyncEvent;
-
-    #[test]
-    fn constants_match_the_card() {
-        assert_eq!(MC_MASTER_COMMANDED, raw::MC_MASTER_COMMANDED);
-        assert_eq!(MC_MASTER_ACTUAL, raw::MC_MASTER_ACTUAL);
-        assert_eq!(MC_MASTER_AUX, raw::MC_MASTER_AUX);
-        assert_eq!(MC_AUX_ENCODERS, raw::MC_AUX_ENCODERS);
-        assert_eq!(MC_SYNC_IN_GEAR, SyncEvent::InGear as i32);
-        assert_eq!(MC_SYNC_IN_SYNC, SyncEvent::InSync as i32);
-        assert_eq!(MC_SYNC_MASTER_LOST, SyncEvent::MasterLost as i32);
-    }
 }

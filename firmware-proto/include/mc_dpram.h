@@ -391,19 +391,20 @@
 #define MC_CMP_DIR_POS (1u << 2)     /* fire crossing upwards */
 #define MC_CMP_DIR_NEG (1u << 3)     /* fire crossing downwards (single: both bits, either way) */
 /* mc_compare_status.state, mc_probe_status.state */
-#define MC_IO_IDLE 0u
-#define MC_IO_ARMED 1u
+#define MC_IO_IDLE 0u                /* not armed */
+#define MC_IO_ARMED 1u               /* armed: watching or capturing */
 #define MC_IO_DONE 2u                /* a single compare or series fired (or missed) all; a
                                       * single-shot probe captured */
 /* MC_OP_PROBE_ARM flags */
-#define MC_PROBE_RISING (1u << 0)
-#define MC_PROBE_FALLING (1u << 1)
+#define MC_PROBE_RISING (1u << 0)    /* capture as the input becomes active */
+#define MC_PROBE_FALLING (1u << 1)   /* capture as the input becomes inactive */
 #define MC_PROBE_CONTINUOUS (1u << 2)
 #define MC_PROBE_WINDOW (1u << 3)
 /* MC_EV_COMPARE codes. At most one event of each code per channel per tick: value is the
  * last position of that tick; compare_status counts every one */
-#define MC_CMP_FIRED 1
-#define MC_CMP_MISSED 2
+#define MC_CMP_FIRED 1               /* a position fired */
+#define MC_CMP_MISSED 2              /* a position missed: passed when it became the next one,
+                                      * or inside the pulse before it */
 #define MC_CMP_LOW_WATER 3           /* the table's queue fell to low_water; value: queued */
 
 /* MC_OP_PATH_LINE / _ARC flags */
@@ -413,9 +414,9 @@
                                       *   rest is aborted, and this segment starts from there */
 #define MC_PATH_BUFFERED 1u          /*   exact stop at the corner, then this segment */
 #define MC_PATH_BLEND_LOW 2u         /*   blend; corner speed <= the lower of the two feeds */
-#define MC_PATH_BLEND_PREVIOUS 3u    /*   ... <= the previous segment's feed */
-#define MC_PATH_BLEND_NEXT 4u        /*   ... <= this segment's feed */
-#define MC_PATH_BLEND_HIGH 5u        /*   ... <= the higher of the two */
+#define MC_PATH_BLEND_PREVIOUS 3u    /*   blend; corner speed <= the previous segment's feed */
+#define MC_PATH_BLEND_NEXT 4u        /*   blend; corner speed <= this segment's feed */
+#define MC_PATH_BLEND_HIGH 5u        /*   blend; corner speed <= the higher of the two feeds */
 #define MC_PATH_TRANSITION_SHIFT 19u /* 2 bits, PLCopen TransitionMode of a blend: */
 #define MC_TM_NONE 0u                /*   no blend: an exact stop at the corner */
 #define MC_TM_MAX_DEVIATION 1u       /*   the blend keeps within `tolerance` counts of the corner */
@@ -427,9 +428,9 @@
                                       *   and a blend after such a line is refused too */
 #define MC_PATH_LAST (1u << 21)      /* the last segment of a program: its stop is not starvation */
 /* MC_OP_PATH_OUTPUT flags: when */
-#define MC_PATH_OUT_AT_START 0u
-#define MC_PATH_OUT_AT_END 1u
-#define MC_PATH_OUT_AT_DISTANCE 2u
+#define MC_PATH_OUT_AT_START 0u      /* as the segment starts */
+#define MC_PATH_OUT_AT_END 1u        /* as the segment ends */
+#define MC_PATH_OUT_AT_DISTANCE 2u   /* once the segment has run `distance` counts */
 /* Path status bits (mc_group_status_payload.path_flags) */
 #define MC_PATHST_RUNNING (1u << 0)  /* a segment is running (path_id is valid) */
 #define MC_PATHST_STARVING (1u << 1) /* braking for the end of what is queued */
@@ -559,8 +560,9 @@
 #define MC_CAM_TABLES 4u
 #define MC_CAM_MAX_POINTS 1024u
 #define MC_CAM_DATA_MAX 5u
-#define MC_CAM_CUBIC (1u << 0)
-#define MC_CAM_PERIODIC (1u << 1)
+#define MC_CAM_CUBIC (1u << 0)        /* a cubic spline: velocity and acceleration continuous
+                                       * (else linear) */
+#define MC_CAM_PERIODIC (1u << 1)     /* periodic: the master's period is the table's span */
 #define MC_CAM_AT_CYCLE_END (1u << 4) /* MC_OP_CAM_IN flag (beside the master source) */
 #define MC_CAM_RELATIVE (1u << 5) /* MC_OP_CAM_IN flag: PLCopen StartMode relative. The slave
                                    * offset is shifted by where the slave stands minus where the
@@ -635,10 +637,10 @@
  * rounding). FFPIV (Thinh Fig 5): P = kv kp (x_ref - x), I = kv ki integral,
  * D = -kv v_est, FF = kv kvff v_ref_est + kaff a_ref. PD+ (Yeh eq 2.12): P = kp e,
  * I = 0, D = kd (w_d - w_a), FF = kv w_d + ka alpha_d. */
-#define MC_SIG_SERVO_P 10u
-#define MC_SIG_SERVO_I 11u
-#define MC_SIG_SERVO_D 12u
-#define MC_SIG_SERVO_FF 13u
+#define MC_SIG_SERVO_P 10u   /* the proportional term, V */
+#define MC_SIG_SERVO_I 11u   /* the integral term, V */
+#define MC_SIG_SERVO_D 12u   /* the velocity feedback (FFPIV) or derivative (PD+) term, V */
+#define MC_SIG_SERVO_FF 13u  /* the feed-forward terms, V */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
@@ -648,20 +650,20 @@
 #define MC_SIG_OUTPUTS 49u    /* the digital outputs (card.outputs) */
 #define MC_SIG_INPUTS_RAW 50u /* the inputs as sampled (card.inputs_raw) */
 /* scope_config.mode */
-#define MC_SCOPE_ONE_SHOT 0u
-#define MC_SCOPE_CONTINUOUS 1u
+#define MC_SCOPE_ONE_SHOT 0u       /* post_trigger samples from the trigger sample on, then done */
+#define MC_SCOPE_CONTINUOUS 1u     /* until MC_OP_SCOPE_STOP */
 /* scope_config.trigger */
-#define MC_SCOPE_TRIG_IMMEDIATE 0u
-#define MC_SCOPE_TRIG_COMMAND 1u
-#define MC_SCOPE_TRIG_LEVEL 2u
-#define MC_SCOPE_TRIG_INPUT 3u
-#define MC_SCOPE_TRIG_FAULT 4u
+#define MC_SCOPE_TRIG_IMMEDIATE 0u /* the first sample after the arm */
+#define MC_SCOPE_TRIG_COMMAND 1u   /* the first sample after an MC_OP_SCOPE_TRIGGER */
+#define MC_SCOPE_TRIG_LEVEL 2u     /* channel trigger_channel crosses level */
+#define MC_SCOPE_TRIG_INPUT 3u     /* an edge of debounced input trigger_input */
+#define MC_SCOPE_TRIG_FAULT 4u     /* a safety fault bit of an axis appears */
 /* scope_config.edge (level and input triggers) */
-#define MC_SCOPE_RISING 0u
-#define MC_SCOPE_FALLING 1u
-#define MC_SCOPE_EITHER 2u
+#define MC_SCOPE_RISING 0u    /* previous < level <= this one; an input becoming active */
+#define MC_SCOPE_FALLING 1u   /* previous > level >= this one; an input becoming inactive */
+#define MC_SCOPE_EITHER 2u    /* either way */
 /* scope_status.state */
-#define MC_SCOPE_IDLE 0u
+#define MC_SCOPE_IDLE 0u      /* not sampling */
 #define MC_SCOPE_WAITING 1u   /* armed: sampling into the history, waiting for the trigger */
 #define MC_SCOPE_CAPTURING 2u /* triggered: samples go to the ring */
 #define MC_SCOPE_DONE 3u      /* a one-shot capture ended */
@@ -756,16 +758,18 @@
                                   * MC_SCOPE_EV_*; value: see there */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
-#define MC_NACK_UNKNOWN_OPCODE 1
-#define MC_NACK_BAD_AXIS 2
-#define MC_NACK_NOT_FINITE 3
-#define MC_NACK_NON_POSITIVE_LIMIT 4
-#define MC_NACK_AXIS_DISABLED 5
-#define MC_NACK_INVALID_STATE 6
-#define MC_NACK_BAD_CONFIG 7
-#define MC_NACK_INFEASIBLE 8
-#define MC_NACK_OUT_OF_RANGE 9
-#define MC_NACK_AXES_ENABLED 10
+#define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
+#define MC_NACK_BAD_AXIS 2              /* the axis number is not one of this card's axes */
+#define MC_NACK_NOT_FINITE 3            /* an argument is NaN or infinite */
+#define MC_NACK_NON_POSITIVE_LIMIT 4    /* a velocity, acceleration or jerk limit is zero or
+                                         * negative */
+#define MC_NACK_AXIS_DISABLED 5         /* a move was commanded on a disabled axis */
+#define MC_NACK_INVALID_STATE 6         /* the command is not allowed in the axis's current state */
+#define MC_NACK_BAD_CONFIG 7            /* a configuration block holds a value out of its range */
+#define MC_NACK_INFEASIBLE 8            /* no profile satisfies the request */
+#define MC_NACK_OUT_OF_RANGE 9          /* a position or distance is beyond the card's range */
+#define MC_NACK_AXES_ENABLED 10         /* the card configuration can only change while every
+                                         * axis is disabled */
 #define MC_NACK_LIMIT_RANGE 11  /* a kinematic limit outside its range (see MC_MAX_MOVE_TIME) */
 #define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
                                  * |d|/vmax, off its target or beyond a limit): refused, not run */
@@ -776,8 +780,9 @@
 #define MC_NACK_AXIS_NOT_IN_GROUP 18    /* the move needs an axis the group does not have */
 #define MC_NACK_AXIS_BUSY 19            /* a group axis is moving on its own */
 #define MC_NACK_AXIS_GROUPED 20         /* single-axis motion on an axis of an enabled group */
-#define MC_NACK_ZERO_LENGTH_ARC 21
-#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
+#define MC_NACK_ZERO_LENGTH_ARC 21      /* the arc has zero length (or zero radius) */
+#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22 /* the centre is not equidistant from start and end
+                                           * within the tolerance */
 #define MC_NACK_RADIUS_TOO_SMALL 23     /* the radius is shorter than half the chord */
 #define MC_NACK_COLLINEAR_POINTS 24     /* the three points of a border-point arc are on one line */
 #define MC_NACK_QUEUE_FULL 25           /* the group's (or the axis's) move queue is full */
@@ -790,13 +795,13 @@
 #define MC_NACK_NURBS_DIMENSION 50      /* the group has fewer than 2 axes */
 #define MC_NACK_NURBS_CTRL_COUNT 51     /* fewer than degree+1 or more than 1024 control points */
 #define MC_NACK_NURBS_KNOT_COUNT 52     /* n_knots != n_ctrl + degree + 1 */
-#define MC_NACK_NURBS_KNOTS_DECREASING 53
+#define MC_NACK_NURBS_KNOTS_DECREASING 53 /* knots decrease */
 #define MC_NACK_NURBS_KNOT_MULTIPLICITY 54 /* an interior knot repeated more than degree times */
 #define MC_NACK_NURBS_NOT_CLAMPED 55    /* end knots not repeated degree+1 times, or an empty domain */
 #define MC_NACK_NURBS_WEIGHT 56         /* a weight not finite and > 0 */
 #define MC_NACK_NURBS_POINT 57          /* a control point not finite */
 #define MC_NACK_NURBS_START 58          /* the curve does not start where the group's path is */
-#define MC_NACK_NURBS_ZERO_LENGTH 59
+#define MC_NACK_NURBS_ZERO_LENGTH 59    /* the curve has zero length */
 #define MC_NACK_NURBS_KNOT 60           /* a knot not finite (NaN or infinite) */
 /* Homing nack codes (64..79, layout 1.5). */
 #define MC_NACK_HOMING_METHOD 64        /* a homing method the axis cannot do: an unknown number, or an

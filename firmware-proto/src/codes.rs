@@ -186,6 +186,383 @@ code_enum! {
 }
 
 code_enum! {
+    /// Why a command was refused. One code per distinct fault.
+    NackCode: i32 {
+        /// The opcode is not defined by this firmware.
+        UnknownOpcode = raw::MC_NACK_UNKNOWN_OPCODE,
+        /// The axis number is not one of this card's axes.
+        BadAxis = raw::MC_NACK_BAD_AXIS,
+        /// An argument is NaN or infinite.
+        NotFinite = raw::MC_NACK_NOT_FINITE,
+        /// A velocity, acceleration or jerk limit is zero or negative.
+        NonPositiveLimit = raw::MC_NACK_NON_POSITIVE_LIMIT,
+        /// A move was commanded on a disabled axis.
+        AxisDisabled = raw::MC_NACK_AXIS_DISABLED,
+        /// The command is not allowed in the axis's current state.
+        InvalidState = raw::MC_NACK_INVALID_STATE,
+        /// A configuration block holds a value out of its range.
+        BadConfig = raw::MC_NACK_BAD_CONFIG,
+        /// No profile satisfies the request.
+        Infeasible = raw::MC_NACK_INFEASIBLE,
+        /// A position or distance is beyond the card's range.
+        OutOfRange = raw::MC_NACK_OUT_OF_RANGE,
+        /// The card configuration can only change while every axis is disabled.
+        AxesEnabled = raw::MC_NACK_AXES_ENABLED,
+        /// A kinematic limit outside its range (see `MC_MAX_MOVE_TIME`).
+        LimitRange = raw::MC_NACK_LIMIT_RANGE,
+        /// The planned profile failed the card's own check (shorter than |d|/vmax, off its target
+        /// or beyond a limit): refused, not run.
+        PlanCheck = raw::MC_NACK_PLAN_CHECK,
+        /// Served after its deadline (`mc_cmd.deadline_ms`): not executed.
+        Expired = raw::MC_NACK_EXPIRED,
+        /// An override factor outside `0..MC_OVERRIDE_MAX`.
+        OverrideRange = raw::MC_NACK_OVERRIDE_RANGE,
+        /// No such group.
+        BadGroup = raw::MC_NACK_BAD_GROUP,
+        /// An axis already belongs to another group.
+        AxisInOtherGroup = raw::MC_NACK_AXIS_IN_OTHER_GROUP,
+        /// The move needs an axis the group does not have.
+        AxisNotInGroup = raw::MC_NACK_AXIS_NOT_IN_GROUP,
+        /// A group axis is moving on its own.
+        AxisBusy = raw::MC_NACK_AXIS_BUSY,
+        /// Single-axis motion on an axis of an enabled group.
+        AxisGrouped = raw::MC_NACK_AXIS_GROUPED,
+        /// The arc has zero length (or zero radius).
+        ZeroLengthArc = raw::MC_NACK_ZERO_LENGTH_ARC,
+        /// The centre is not equidistant from start and end within the tolerance.
+        CentreNotEquidistant = raw::MC_NACK_CENTRE_NOT_EQUIDISTANT,
+        /// The radius is shorter than half the chord.
+        RadiusTooSmall = raw::MC_NACK_RADIUS_TOO_SMALL,
+        /// The three points of a border-point arc are on one line.
+        CollinearPoints = raw::MC_NACK_COLLINEAR_POINTS,
+        /// The group's (or the axis's) move queue is full.
+        QueueFull = raw::MC_NACK_QUEUE_FULL,
+        /// The interpolator cannot run with the group's acc/dec mode.
+        IncompatibleMode = raw::MC_NACK_INCOMPATIBLE_MODE,
+        /// A move on a disabled group.
+        GroupDisabled = raw::MC_NACK_GROUP_DISABLED,
+        /// Filters can change only while they hold no distance.
+        FilterBusy = raw::MC_NACK_FILTER_BUSY,
+        /// The host watchdog fault is latched: `MC_OP_SAFETY_RESET` first.
+        WatchdogTripped = raw::MC_NACK_WATCHDOG_TRIPPED,
+        /// An e-stop is latched: `MC_OP_SAFETY_RESET` first.
+        EStopActive = raw::MC_NACK_ESTOP_ACTIVE,
+        /// The move goes further into an active limit switch.
+        HardLimit = raw::MC_NACK_HARD_LIMIT,
+        /// The move goes further beyond a soft limit.
+        SoftLimit = raw::MC_NACK_SOFT_LIMIT,
+        /// Reset refused: the cause (alarm, encoder fault, e-stop input, missing heartbeat) is
+        /// still present.
+        CauseActive = raw::MC_NACK_CAUSE_ACTIVE,
+        /// Watchdog timeout 0 or under 1.5 x `host.host_period_us`.
+        WatchdogTimeout = raw::MC_NACK_WATCHDOG_TIMEOUT,
+        /// A stop category other than 0, 1 or 2.
+        BadCategory = raw::MC_NACK_BAD_CATEGORY,
+        /// A stop ramp from `max_velocity` longer than the maximum stop time, or a maximum stop
+        /// time out of range.
+        StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
+        /// A detach by a host whose session is not the attached one.
+        Session = raw::MC_NACK_SESSION,
+        /// A command the session gate refuses (see `MC_OP_HOST_ATTACH`): no session attached with
+        /// its watchdog armed.
+        NoSession = raw::MC_NACK_NO_SESSION,
+        /// DATA/END without BEGIN, data out of order or missing.
+        NurbsSequence = raw::MC_NACK_NURBS_SEQUENCE,
+        /// Degree outside 1..5.
+        NurbsDegree = raw::MC_NACK_NURBS_DEGREE,
+        /// The group has fewer than 2 axes.
+        NurbsDimension = raw::MC_NACK_NURBS_DIMENSION,
+        /// Fewer than degree+1 or more than 1024 control points.
+        NurbsCtrlCount = raw::MC_NACK_NURBS_CTRL_COUNT,
+        /// `n_knots` != `n_ctrl` + degree + 1.
+        NurbsKnotCount = raw::MC_NACK_NURBS_KNOT_COUNT,
+        /// Knots decrease.
+        NurbsKnotsDecreasing = raw::MC_NACK_NURBS_KNOTS_DECREASING,
+        /// An interior knot repeated more than degree times.
+        NurbsKnotMultiplicity = raw::MC_NACK_NURBS_KNOT_MULTIPLICITY,
+        /// End knots not repeated degree+1 times, or an empty domain.
+        NurbsNotClamped = raw::MC_NACK_NURBS_NOT_CLAMPED,
+        /// A weight not finite and > 0.
+        NurbsWeight = raw::MC_NACK_NURBS_WEIGHT,
+        /// A control point not finite.
+        NurbsPoint = raw::MC_NACK_NURBS_POINT,
+        /// The curve does not start where the group's path is.
+        NurbsStart = raw::MC_NACK_NURBS_START,
+        /// The curve has zero length.
+        NurbsZeroLength = raw::MC_NACK_NURBS_ZERO_LENGTH,
+        /// A knot not finite (NaN or infinite).
+        NurbsKnot = raw::MC_NACK_NURBS_KNOT,
+        /// A homing method the axis cannot do: an unknown number, or an index method without
+        /// `MC_HOMING_INDEX`.
+        HomingMethod = raw::MC_NACK_HOMING_METHOD,
+        /// A move, jog, `MC_SetPosition` or `MC_Home` on an axis that is homing.
+        AxisHoming = raw::MC_NACK_AXIS_HOMING,
+        /// A buffer or transition mode the card does not know, or a time-shifted transition it
+        /// cannot make (`MC_TM_TIME_SHIFT`).
+        PathMode = raw::MC_NACK_PATH_MODE,
+        /// A line of length zero.
+        PathZeroLength = raw::MC_NACK_PATH_ZERO_LENGTH,
+        /// An output number >= `MC_OUTPUTS`, a value other than 0/1, or more than
+        /// `MC_PATH_OUTPUTS_PENDING` actions pending.
+        PathOutput = raw::MC_NACK_PATH_OUTPUT,
+        /// A path segment while group moves run, a group move while the path runs, or `group_path`
+        /// applied while it runs.
+        PathBusy = raw::MC_NACK_PATH_BUSY,
+        /// A segment id that is not an integer in 0..2^32-1.
+        PathId = raw::MC_NACK_PATH_ID,
+        /// A NURBS path segment with a point of zero tangent, or needing more pieces than the path
+        /// buffer holds.
+        PathCurve = raw::MC_NACK_PATH_CURVE,
+        /// `io_config`: a mask bit beyond `MC_INPUTS` or a debounce over `MC_DEBOUNCE_MAX`.
+        IoConfig = raw::MC_NACK_IO_CONFIG,
+        /// A compare or probe channel that is not an integer in `0..MC_COMPARE_CHANNELS-1`
+        /// (`MC_PROBE_CHANNELS-1`).
+        IoChannel = raw::MC_NACK_IO_CHANNEL,
+        /// An unknown mode or direction, an output >= `MC_OUTPUTS`, a pulse width, low-water mark,
+        /// pitch or count out of its range, or table data of the wrong size.
+        CompareMode = raw::MC_NACK_COMPARE_MODE,
+        /// The table has no room for the entry's positions.
+        CompareFull = raw::MC_NACK_COMPARE_FULL,
+        /// Table positions not strictly monotonic in the direction.
+        CompareOrder = raw::MC_NACK_COMPARE_ORDER,
+        /// The channel is armed (or armed in another mode, or its table has the other direction),
+        /// or its output is another armed channel's.
+        CompareBusy = raw::MC_NACK_COMPARE_BUSY,
+        /// A probe input beyond `MC_PROBE_INDEX`, no edge or an unknown flag, or a window with
+        /// `window_lo` > `window_hi`.
+        ProbeInput = raw::MC_NACK_PROBE_INPUT,
+        /// A ratio that is not integer, a zero numerator, a denominator <= 0, or a magnitude above
+        /// `MC_GEAR_RATIO_MAX`.
+        GearRatio = raw::MC_NACK_GEAR_RATIO,
+        /// A master source the card does not know, a master axis or aux encoder it does not have,
+        /// the slave itself, or a master axis disabled or in ErrorStop.
+        SyncMaster = raw::MC_NACK_SYNC_MASTER,
+        /// A point not at least one servo period after the one before, or a segment longer than
+        /// `MC_MAX_MOVE_TIME`.
+        PvtTime = raw::MC_NACK_PVT_TIME,
+        /// A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a
+        /// velocity.
+        PvtLimit = raw::MC_NACK_PVT_LIMIT,
+        /// Points without an open stream or after its last point, a start without points or on an
+        /// axis that moved, a begin while one runs.
+        PvtSequence = raw::MC_NACK_PVT_SEQUENCE,
+        /// A table number, point count or flags out of range, points not strictly increasing in the
+        /// master or not finite, a table not loaded, or one in use.
+        CamTable = raw::MC_NACK_CAM_TABLE,
+        /// Cam data without an open table or out of order.
+        CamSequence = raw::MC_NACK_CAM_SEQUENCE,
+        /// An unknown signal, or an axis or group index the card has not.
+        ScopeSignal = raw::MC_NACK_SCOPE_SIGNAL,
+        /// `n_channels` 0 or above `MC_SCOPE_CHANNELS`.
+        ScopeChannels = raw::MC_NACK_SCOPE_CHANNELS,
+        /// A divider 0 or above `MC_SCOPE_DIVIDER_MAX`.
+        ScopeDivider = raw::MC_NACK_SCOPE_DIVIDER,
+        /// An unknown mode, trigger kind or edge, a trigger channel >= `n_channels`, a trigger
+        /// input >= `MC_INPUTS`, a level not finite, or a one-shot with `post_trigger` 0.
+        ScopeTrigger = raw::MC_NACK_SCOPE_TRIGGER,
+        /// `pre_trigger` above `MC_SCOPE_PRETRIGGER_MAX`.
+        ScopePretrigger = raw::MC_NACK_SCOPE_PRETRIGGER,
+        /// Configure or arm while armed, trigger while not waiting, stop while idle, arm before a
+        /// configure.
+        ScopeState = raw::MC_NACK_SCOPE_STATE,
+        /// `MC_OP_READ_CONFIG`: an unknown block kind, or a kind or index that is not an integer.
+        ConfigKind = raw::MC_NACK_CONFIG_KIND,
+    }
+}
+
+code_enum! {
+    /// Layout 1.8: the configuration blocks `MC_OP_READ_CONFIG` reads back (`MC_CONFIG_*`).
+    ConfigKind: u32 {
+        /// `card_config` (index 0).
+        Card = raw::MC_CONFIG_CARD,
+        /// `axis_config[i]` and `axis_pdplus[i]`.
+        Axis = raw::MC_CONFIG_AXIS,
+        /// `axis_filter[i]`.
+        AxisFilter = raw::MC_CONFIG_AXIS_FILTER,
+        /// `group_config[i]`.
+        Group = raw::MC_CONFIG_GROUP,
+        /// Safety (index 0).
+        Safety = raw::MC_CONFIG_SAFETY,
+        /// `axis_safety[i]`.
+        AxisSafety = raw::MC_CONFIG_AXIS_SAFETY,
+        /// `axis_homing[i]`.
+        AxisHoming = raw::MC_CONFIG_AXIS_HOMING,
+        /// `group_path[i]`.
+        GroupPath = raw::MC_CONFIG_GROUP_PATH,
+        /// `io_config` (index 0).
+        Io = raw::MC_CONFIG_IO,
+    }
+}
+
+code_enum! {
+    /// Why homing failed (the `code` of [`EventKind::HomingFailed`]).
+    HomingError: i32 {
+        /// A limit switch the method did not reverse at: the switch is missing.
+        LimitReached = raw::MC_HOMING_ERR_LIMIT,
+        /// `max_distance` from the start without the switch or hard stop.
+        DistanceExceeded = raw::MC_HOMING_ERR_DISTANCE,
+        /// Not homed within the timeout.
+        Timeout = raw::MC_HOMING_ERR_TIMEOUT,
+        /// No index pulse within `index_distance`.
+        NoIndex = raw::MC_HOMING_ERR_NO_INDEX,
+        /// A motion of the method could not be planned.
+        Plan = raw::MC_HOMING_ERR_PLAN,
+    }
+}
+
+code_enum! {
+    /// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
+    MasterSource: u32 {
+        /// Flags: the master axis's commanded position.
+        Commanded = raw::MC_MASTER_COMMANDED,
+        /// The master axis's actual position (its encoder).
+        Actual = raw::MC_MASTER_ACTUAL,
+        /// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
+        Aux = raw::MC_MASTER_AUX,
+    }
+}
+
+code_enum! {
+    /// The sub-cases of `MC_EV_SYNC` (its `code`).
+    SyncEvent: i32 {
+        /// `MC_GearIn` caught up: the slave follows the ratio (InGear).
+        InGear = raw::MC_SYNC_IN_GEAR,
+        /// `MC_GearInPos` reached its sync point (InSync).
+        InSync = raw::MC_SYNC_IN_SYNC,
+        /// The master is disabled or in ErrorStop: the slave stops.
+        MasterLost = raw::MC_SYNC_MASTER_LOST,
+        /// `MC_EV_SYNC`: a cam that is not periodic passed its table's end.
+        CamEnd = raw::MC_SYNC_CAM_END,
+        /// `MC_EV_SYNC`: the table switched at the end of a cycle (seq: the `MC_OP_CAM_IN` that
+        /// asked for it).
+        CamSwitch = raw::MC_SYNC_CAM_SWITCH,
+    }
+}
+
+code_enum! {
+    /// The sub-cases of `MC_EV_PVT` (its `code`).
+    PvtEvent: i32 {
+        /// The points queued fell to the stream's low water.
+        LowWater = raw::MC_PVT_EV_LOW_WATER,
+        /// The stream ran dry before a last point: the axis stops on its stop ramp (Stopping, then
+        /// Standstill; `MC_EV_MOTION_ABORTED`).
+        Starved = raw::MC_PVT_EV_STARVED,
+        /// The last point was reached (motion done follows in position).
+        Done = raw::MC_PVT_EV_DONE,
+    }
+}
+
+code_enum! {
+    /// What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values, group
+    /// signals the group status's, card signals the card control block's words.
+    Signal: u32 {
+        /// Commanded position, counts (`cmd_pos`).
+        CmdPos = raw::MC_SIG_CMD_POS,
+        /// Commanded velocity, counts/s (`cmd_vel`).
+        CmdVel = raw::MC_SIG_CMD_VEL,
+        /// Commanded acceleration, counts/s^2 (`cmd_acc`).
+        CmdAcc = raw::MC_SIG_CMD_ACC,
+        /// Actual position, counts (`act_pos`).
+        ActPos = raw::MC_SIG_ACT_POS,
+        /// Actual velocity, filtered, counts/s (`act_vel`).
+        ActVel = raw::MC_SIG_ACT_VEL,
+        /// Following error, counts (ferr).
+        Ferr = raw::MC_SIG_FERR,
+        /// DAC output, V (`dac_v`).
+        Dac = raw::MC_SIG_DAC,
+        /// The servo law's output before the DAC clamp, V (`u_request`).
+        URequest = raw::MC_SIG_U_REQUEST,
+        /// The raw encoder count (encoder).
+        Encoder = raw::MC_SIG_ENCODER,
+        /// The proportional term, V.
+        ServoP = raw::MC_SIG_SERVO_P,
+        /// The integral term, V.
+        ServoI = raw::MC_SIG_SERVO_I,
+        /// The velocity feedback (FFPIV) or derivative (PD+) term, V.
+        ServoD = raw::MC_SIG_SERVO_D,
+        /// The feed-forward terms, V.
+        ServoFf = raw::MC_SIG_SERVO_FF,
+        /// Tangential velocity before the filters, counts/s (feed).
+        PathSpeed = raw::MC_SIG_PATH_SPEED,
+        /// Tangential acceleration, counts/s^2 (`feed_acc`).
+        PathAcc = raw::MC_SIG_PATH_ACC,
+        /// Distance along the active move, counts (`path_pos`).
+        PathPos = raw::MC_SIG_PATH_POS,
+        /// The debounced digital inputs, bit i = input i (card.inputs).
+        Inputs = raw::MC_SIG_INPUTS,
+        /// The digital outputs (card.outputs).
+        Outputs = raw::MC_SIG_OUTPUTS,
+        /// The inputs as sampled (`card.inputs_raw`).
+        InputsRaw = raw::MC_SIG_INPUTS_RAW,
+    }
+}
+
+code_enum! {
+    /// One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).
+    ScopeMode: u32 {
+        /// `post_trigger` samples from the trigger sample on, then done.
+        OneShot = raw::MC_SCOPE_ONE_SHOT,
+        /// Until `MC_OP_SCOPE_STOP`.
+        Continuous = raw::MC_SCOPE_CONTINUOUS,
+    }
+}
+
+code_enum! {
+    /// When the capture starts (`MC_SCOPE_TRIG_*`).
+    Trigger: u32 {
+        /// The first sample after the arm.
+        Immediate = raw::MC_SCOPE_TRIG_IMMEDIATE,
+        /// The first sample after an `MC_OP_SCOPE_TRIGGER`.
+        Command = raw::MC_SCOPE_TRIG_COMMAND,
+        /// Channel `trigger_channel` crosses level.
+        Level = raw::MC_SCOPE_TRIG_LEVEL,
+        /// An edge of debounced input `trigger_input`.
+        Input = raw::MC_SCOPE_TRIG_INPUT,
+        /// A safety fault bit of an axis appears.
+        Fault = raw::MC_SCOPE_TRIG_FAULT,
+    }
+}
+
+code_enum! {
+    /// Which way a level or input trigger fires (`MC_SCOPE_RISING`…).
+    Edge: u32 {
+        /// Previous < level <= this one; an input becoming active.
+        Rising = raw::MC_SCOPE_RISING,
+        /// Previous > level >= this one; an input becoming inactive.
+        Falling = raw::MC_SCOPE_FALLING,
+        /// Either way.
+        Either = raw::MC_SCOPE_EITHER,
+    }
+}
+
+code_enum! {
+    /// The scope's state (`scope_status.state`).
+    ScopeState: u32 {
+        /// Not sampling.
+        Idle = raw::MC_SCOPE_IDLE,
+        /// Armed: sampling into the history, waiting for the trigger.
+        Waiting = raw::MC_SCOPE_WAITING,
+        /// Triggered: samples go to the ring.
+        Capturing = raw::MC_SCOPE_CAPTURING,
+        /// A one-shot capture ended.
+        Done = raw::MC_SCOPE_DONE,
+    }
+}
+
+code_enum! {
+    /// The codes of `MC_EV_SCOPE`.
+    ScopeEvent: i32 {
+        /// Value: the trigger sample's tick.
+        Triggered = raw::MC_SCOPE_EV_TRIGGERED,
+        /// A one-shot capture ended; value: the samples it put in the ring or lost (pre-trigger +
+        /// `post_trigger`).
+        Done = raw::MC_SCOPE_EV_DONE,
+        /// A sample found the ring full; value: `scope_status.lost`.
+        Lost = raw::MC_SCOPE_EV_LOST,
+    }
+}
+
+code_enum! {
     /// Command opcodes.
     Opcode: u16 {
         /// Does nothing but answer: the round-trip probe.

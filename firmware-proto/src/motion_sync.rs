@@ -6,6 +6,10 @@
 
 use crate::raw;
 
+// The master sources and the codes of `MC_EV_SYNC` and `MC_EV_PVT`, generated from the header's
+// defines (`cargo xtask codegen`).
+pub use crate::codes::{MasterSource, PvtEvent, SyncEvent};
+
 /// Auxiliary encoder inputs of the card.
 pub const AUX_ENCODERS: usize = raw::MC_AUX_ENCODERS as usize;
 /// The largest |numerator| and denominator of a gear ratio.
@@ -22,27 +26,6 @@ pub const PVT_PT: u32 = raw::MC_PVT_PT;
 /// `MC_OP_PVT_POINTS` flag: the last point of the command ends the stream.
 pub const PVT_LAST: u32 = raw::MC_PVT_LAST;
 
-/// The sub-cases of `MC_EV_PVT` (its `code`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(i32)]
-pub enum PvtEvent {
-    /// The points queued fell to the low water.
-    LowWater = raw::MC_PVT_EV_LOW_WATER as i32,
-    /// The stream ran dry before its last point: the axis stops.
-    Starved = raw::MC_PVT_EV_STARVED as i32,
-    /// The last point was reached.
-    Done = raw::MC_PVT_EV_DONE as i32,
-}
-
-impl PvtEvent {
-    /// Decode, or `None` for a code this layout does not define.
-    pub fn from_raw(v: i32) -> Option<Self> {
-        [Self::LowWater, Self::Starved, Self::Done]
-            .into_iter()
-            .find(|e| *e as i32 == v)
-    }
-}
-
 /// Cam tables the card holds.
 pub const CAM_TABLES: usize = raw::MC_CAM_TABLES as usize;
 /// Points of a cam table.
@@ -58,69 +41,10 @@ pub const CAM_AT_CYCLE_END: u32 = raw::MC_CAM_AT_CYCLE_END;
 /// `MC_OP_CAM_IN` flag: PLCopen StartMode relative (the cam starts where the slave stands).
 pub const CAM_RELATIVE: u32 = raw::MC_CAM_RELATIVE;
 
-/// What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum MasterSource {
-    /// The commanded position of the master axis.
-    Commanded,
-    /// The actual position (encoder) of the master axis.
-    Actual,
-    /// An auxiliary encoder input.
-    Aux,
-}
-
 impl MasterSource {
-    /// Every source.
-    pub const ALL: [MasterSource; 3] = [Self::Commanded, Self::Actual, Self::Aux];
-
-    /// Decode the flags word, or `None` for a source the layout does not define.
-    pub fn from_raw(v: u32) -> Option<Self> {
-        match v {
-            raw::MC_MASTER_COMMANDED => Some(Self::Commanded),
-            raw::MC_MASTER_ACTUAL => Some(Self::Actual),
-            raw::MC_MASTER_AUX => Some(Self::Aux),
-            _ => None,
-        }
-    }
-
     /// The flags word.
     pub fn to_raw(self) -> u32 {
-        match self {
-            Self::Commanded => raw::MC_MASTER_COMMANDED,
-            Self::Actual => raw::MC_MASTER_ACTUAL,
-            Self::Aux => raw::MC_MASTER_AUX,
-        }
-    }
-}
-
-/// The sub-cases of `MC_EV_SYNC` (its `code`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(i32)]
-pub enum SyncEvent {
-    /// MC_GearIn caught up: the slave follows the ratio.
-    InGear = raw::MC_SYNC_IN_GEAR as i32,
-    /// MC_GearInPos reached its sync point.
-    InSync = raw::MC_SYNC_IN_SYNC as i32,
-    /// The master is disabled or in ErrorStop: the slave stops.
-    MasterLost = raw::MC_SYNC_MASTER_LOST as i32,
-    /// A cam that is not periodic passed its table's end.
-    CamEnd = raw::MC_SYNC_CAM_END as i32,
-    /// The cam table switched at the end of a cycle.
-    CamSwitch = raw::MC_SYNC_CAM_SWITCH as i32,
-}
-
-impl SyncEvent {
-    /// Decode, or `None` for a code this layout does not define.
-    pub fn from_raw(v: i32) -> Option<Self> {
-        [
-            Self::InGear,
-            Self::InSync,
-            Self::MasterLost,
-            Self::CamEnd,
-            Self::CamSwitch,
-        ]
-        .into_iter()
-        .find(|e| *e as i32 == v)
+        self as u32
     }
 }
 

@@ -11,6 +11,9 @@ use crate::raw;
 use crate::ring::{Consumer, Entry, Producer, RingLayout};
 use crate::wire::NackCode;
 
+// The scope's code enums, generated from the header's defines (`cargo xtask codegen`).
+pub use crate::codes::{Edge, ScopeEvent, ScopeMode, ScopeState, Signal, Trigger};
+
 /// Channels per sample.
 pub const SCOPE_CHANNELS: usize = raw::MC_SCOPE_CHANNELS as usize;
 /// Samples in the scope ring.
@@ -79,51 +82,6 @@ impl Entry<SCOPE_WORDS> for ScopeSample {
     }
 }
 
-code_enum! {
-    /// What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values,
-    /// group signals the group status's, card signals the card control block's words.
-    Signal: u32 {
-        /// Commanded position, counts.
-        CmdPos = raw::MC_SIG_CMD_POS,
-        /// Commanded velocity, counts/s.
-        CmdVel = raw::MC_SIG_CMD_VEL,
-        /// Commanded acceleration, counts/s².
-        CmdAcc = raw::MC_SIG_CMD_ACC,
-        /// Actual position, counts.
-        ActPos = raw::MC_SIG_ACT_POS,
-        /// Actual velocity (filtered), counts/s.
-        ActVel = raw::MC_SIG_ACT_VEL,
-        /// Following error, counts.
-        Ferr = raw::MC_SIG_FERR,
-        /// DAC output, V.
-        Dac = raw::MC_SIG_DAC,
-        /// The servo law's output before the DAC clamp, V.
-        URequest = raw::MC_SIG_U_REQUEST,
-        /// The raw encoder count.
-        Encoder = raw::MC_SIG_ENCODER,
-        /// The servo law's proportional term, V.
-        ServoP = raw::MC_SIG_SERVO_P,
-        /// Its integral term, V.
-        ServoI = raw::MC_SIG_SERVO_I,
-        /// Its velocity-feedback (FFPIV) or derivative (PD+) term, V.
-        ServoD = raw::MC_SIG_SERVO_D,
-        /// Its feed-forward terms, V.
-        ServoFf = raw::MC_SIG_SERVO_FF,
-        /// A group's tangential velocity before the filters, counts/s.
-        PathSpeed = raw::MC_SIG_PATH_SPEED,
-        /// A group's tangential acceleration, counts/s².
-        PathAcc = raw::MC_SIG_PATH_ACC,
-        /// A group's distance along its active move, counts.
-        PathPos = raw::MC_SIG_PATH_POS,
-        /// The debounced digital inputs.
-        Inputs = raw::MC_SIG_INPUTS,
-        /// The digital outputs.
-        Outputs = raw::MC_SIG_OUTPUTS,
-        /// The digital inputs as sampled.
-        InputsRaw = raw::MC_SIG_INPUTS_RAW,
-    }
-}
-
 /// What a signal's index names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SignalOwner {
@@ -182,70 +140,6 @@ impl Source {
             SignalOwner::Group => i < crate::MAX_GROUPS,
             SignalOwner::Card => i == 0,
         }
-    }
-}
-
-code_enum! {
-    /// When the capture starts (`MC_SCOPE_TRIG_*`).
-    Trigger: u32 {
-        /// At the first sample after the arm.
-        Immediate = raw::MC_SCOPE_TRIG_IMMEDIATE,
-        /// At the first sample after an `MC_OP_SCOPE_TRIGGER`.
-        Command = raw::MC_SCOPE_TRIG_COMMAND,
-        /// When a channel crosses a level.
-        Level = raw::MC_SCOPE_TRIG_LEVEL,
-        /// At an edge of a debounced digital input.
-        Input = raw::MC_SCOPE_TRIG_INPUT,
-        /// When a safety fault of an axis appears.
-        Fault = raw::MC_SCOPE_TRIG_FAULT,
-    }
-}
-
-code_enum! {
-    /// Which way a level or input trigger fires (`MC_SCOPE_RISING`…).
-    Edge: u32 {
-        /// From below the level (inactive) to at or above it (active).
-        Rising = raw::MC_SCOPE_RISING,
-        /// From above the level (active) to at or below it (inactive).
-        Falling = raw::MC_SCOPE_FALLING,
-        /// Either way.
-        Either = raw::MC_SCOPE_EITHER,
-    }
-}
-
-code_enum! {
-    /// One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).
-    ScopeMode: u32 {
-        /// `post_trigger` samples from the trigger on, then done.
-        OneShot = raw::MC_SCOPE_ONE_SHOT,
-        /// Until stopped.
-        Continuous = raw::MC_SCOPE_CONTINUOUS,
-    }
-}
-
-code_enum! {
-    /// The scope's state (`scope_status.state`).
-    ScopeState: u32 {
-        /// Not sampling.
-        Idle = raw::MC_SCOPE_IDLE,
-        /// Armed: sampling into the history, waiting for the trigger.
-        Waiting = raw::MC_SCOPE_WAITING,
-        /// Triggered: samples go to the ring.
-        Capturing = raw::MC_SCOPE_CAPTURING,
-        /// A one-shot capture ended.
-        Done = raw::MC_SCOPE_DONE,
-    }
-}
-
-code_enum! {
-    /// The codes of `MC_EV_SCOPE`.
-    ScopeEvent: i32 {
-        /// The trigger fired; value: the trigger sample's tick.
-        Triggered = raw::MC_SCOPE_EV_TRIGGERED,
-        /// A one-shot capture ended; value: its samples.
-        Done = raw::MC_SCOPE_EV_DONE,
-        /// A sample found the ring full; value: the samples lost since the arm.
-        Lost = raw::MC_SCOPE_EV_LOST,
     }
 }
 

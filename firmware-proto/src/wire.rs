@@ -7,7 +7,10 @@
 use crate::raw;
 
 // The code enums whose variants are the header's defines, generated from it.
-pub use crate::codes::{AxisState, EventKind, GroupState, Opcode, StopCategory, StopReason};
+pub use crate::codes::{
+    AxisState, ConfigKind, EventKind, GroupState, HomingError, NackCode, Opcode, StopCategory,
+    StopReason,
+};
 
 /// Arguments per command.
 pub const CMD_ARGS: usize = raw::MC_CMD_ARGS as usize;
@@ -21,206 +24,6 @@ pub const NURBS_DATA_MAX: usize = raw::MC_NURBS_DATA_MAX as usize;
 pub const PTP_LIMITS_MAX: usize = raw::MC_PTP_LIMITS_MAX as usize;
 /// Words of a status payload.
 pub const STATUS_WORDS: usize = crate::layout::STATUS_WORDS;
-
-code_enum! {
-    /// Why a command was refused. One code per distinct fault.
-    NackCode: i32 {
-        /// The opcode is not defined by this firmware.
-        UnknownOpcode = raw::MC_NACK_UNKNOWN_OPCODE,
-        /// The axis number is not one of this card's axes.
-        BadAxis = raw::MC_NACK_BAD_AXIS,
-        /// An argument is NaN or infinite.
-        NotFinite = raw::MC_NACK_NOT_FINITE,
-        /// A velocity, acceleration or jerk limit is zero or negative.
-        NonPositiveLimit = raw::MC_NACK_NON_POSITIVE_LIMIT,
-        /// A move was commanded on a disabled axis.
-        AxisDisabled = raw::MC_NACK_AXIS_DISABLED,
-        /// The command is not allowed in the axis's current state.
-        InvalidState = raw::MC_NACK_INVALID_STATE,
-        /// A configuration block holds a value out of its range.
-        BadConfig = raw::MC_NACK_BAD_CONFIG,
-        /// No profile satisfies the request.
-        Infeasible = raw::MC_NACK_INFEASIBLE,
-        /// A position or distance is beyond the card's range.
-        OutOfRange = raw::MC_NACK_OUT_OF_RANGE,
-        /// The card configuration can only change while every axis is disabled.
-        AxesEnabled = raw::MC_NACK_AXES_ENABLED,
-        /// No such group.
-        BadGroup = raw::MC_NACK_BAD_GROUP,
-        /// An axis already belongs to another group.
-        AxisInOtherGroup = raw::MC_NACK_AXIS_IN_OTHER_GROUP,
-        /// The move needs an axis the group does not have.
-        AxisNotInGroup = raw::MC_NACK_AXIS_NOT_IN_GROUP,
-        /// An axis of the group is moving on its own.
-        AxisBusy = raw::MC_NACK_AXIS_BUSY,
-        /// Single-axis motion on an axis of an enabled group.
-        AxisGrouped = raw::MC_NACK_AXIS_GROUPED,
-        /// The arc has zero length (or zero radius).
-        ZeroLengthArc = raw::MC_NACK_ZERO_LENGTH_ARC,
-        /// The centre is not equidistant from start and end within the tolerance.
-        CentreNotEquidistant = raw::MC_NACK_CENTRE_NOT_EQUIDISTANT,
-        /// The radius is shorter than half the chord.
-        RadiusTooSmall = raw::MC_NACK_RADIUS_TOO_SMALL,
-        /// The three points of a border-point arc are on one line.
-        CollinearPoints = raw::MC_NACK_COLLINEAR_POINTS,
-        /// The group's move queue is full.
-        QueueFull = raw::MC_NACK_QUEUE_FULL,
-        /// The interpolator cannot run with the group's acc/dec mode.
-        IncompatibleMode = raw::MC_NACK_INCOMPATIBLE_MODE,
-        /// A move on a disabled group.
-        GroupDisabled = raw::MC_NACK_GROUP_DISABLED,
-        /// Filters can change only while they hold no distance.
-        FilterBusy = raw::MC_NACK_FILTER_BUSY,
-        /// NURBS data or end without a begin, out of order, or missing.
-        NurbsSequence = raw::MC_NACK_NURBS_SEQUENCE,
-        /// NURBS degree outside 1..5.
-        NurbsDegree = raw::MC_NACK_NURBS_DEGREE,
-        /// NURBS on a group of fewer than 2 axes.
-        NurbsDimension = raw::MC_NACK_NURBS_DIMENSION,
-        /// Too few or too many control points.
-        NurbsCtrlCount = raw::MC_NACK_NURBS_CTRL_COUNT,
-        /// Knot count is not n_ctrl + degree + 1.
-        NurbsKnotCount = raw::MC_NACK_NURBS_KNOT_COUNT,
-        /// Knots decrease.
-        NurbsKnotsDecreasing = raw::MC_NACK_NURBS_KNOTS_DECREASING,
-        /// An interior knot repeated more than degree times.
-        NurbsKnotMultiplicity = raw::MC_NACK_NURBS_KNOT_MULTIPLICITY,
-        /// End knots not repeated degree + 1 times, or an empty domain.
-        NurbsNotClamped = raw::MC_NACK_NURBS_NOT_CLAMPED,
-        /// A weight is not finite and positive.
-        NurbsWeight = raw::MC_NACK_NURBS_WEIGHT,
-        /// A control point is not finite.
-        NurbsPoint = raw::MC_NACK_NURBS_POINT,
-        /// The curve does not start where the group's path is.
-        NurbsStart = raw::MC_NACK_NURBS_START,
-        /// The curve has zero length.
-        NurbsZeroLength = raw::MC_NACK_NURBS_ZERO_LENGTH,
-        /// A knot is not finite (NaN or infinite).
-        NurbsKnot = raw::MC_NACK_NURBS_KNOT,
-        /// The host watchdog fault is latched: reset it first.
-        WatchdogTripped = raw::MC_NACK_WATCHDOG_TRIPPED,
-        /// An e-stop is latched: reset it first.
-        EStopActive = raw::MC_NACK_ESTOP_ACTIVE,
-        /// The move goes further into an active limit switch.
-        HardLimit = raw::MC_NACK_HARD_LIMIT,
-        /// The move goes further beyond a soft limit.
-        SoftLimit = raw::MC_NACK_SOFT_LIMIT,
-        /// A reset was refused: its cause is still present.
-        CauseActive = raw::MC_NACK_CAUSE_ACTIVE,
-        /// A watchdog timeout of 0 or under 1.5 × the host's declared period.
-        WatchdogTimeout = raw::MC_NACK_WATCHDOG_TIMEOUT,
-        /// A stop category other than 0, 1 or 2.
-        BadCategory = raw::MC_NACK_BAD_CATEGORY,
-        /// A kinematic limit outside its range ([`limit_range`]).
-        LimitRange = raw::MC_NACK_LIMIT_RANGE,
-        /// The planned profile failed the card's own check: refused, not run.
-        PlanCheck = raw::MC_NACK_PLAN_CHECK,
-        /// Served after its deadline: not executed.
-        Expired = raw::MC_NACK_EXPIRED,
-        /// An override factor outside 0 to [`OVERRIDE_MAX`](crate::OVERRIDE_MAX).
-        OverrideRange = raw::MC_NACK_OVERRIDE_RANGE,
-        /// A stop ramp longer than the maximum stop time, or a maximum stop time out of range.
-        StopTooLong = raw::MC_NACK_STOP_TOO_LONG,
-        /// A detach by a host whose session is not the attached one.
-        Session = raw::MC_NACK_SESSION,
-        /// A command the session gate refuses: no host session is attached with its watchdog
-        /// armed, and the command could start motion, give power, or change an output, a
-        /// configuration or a latch.
-        NoSession = raw::MC_NACK_NO_SESSION,
-        /// A homing method the axis cannot do: an unknown number, or an index method on an
-        /// encoder without an index channel.
-        HomingMethod = raw::MC_NACK_HOMING_METHOD,
-        /// A move, jog or MC_Home on an axis that is homing.
-        AxisHoming = raw::MC_NACK_AXIS_HOMING,
-        /// A path buffer mode or transition mode the card does not know.
-        PathMode = raw::MC_NACK_PATH_MODE,
-        /// A path line of length zero.
-        PathZeroLength = raw::MC_NACK_PATH_ZERO_LENGTH,
-        /// A bad output number or value, or too many output actions pending.
-        PathOutput = raw::MC_NACK_PATH_OUTPUT,
-        /// A path segment while group moves run, a group move while the path runs, or the
-        /// path configuration applied while it runs.
-        PathBusy = raw::MC_NACK_PATH_BUSY,
-        /// A segment id that is not an integer in 0..2³²−1.
-        PathId = raw::MC_NACK_PATH_ID,
-        /// A NURBS path segment with a point of zero tangent, or needing more pieces than the
-        /// path buffer holds.
-        PathCurve = raw::MC_NACK_PATH_CURVE,
-        /// `io_config`: a mask bit beyond the inputs, or a debounce too long.
-        IoConfig = raw::MC_NACK_IO_CONFIG,
-        /// A compare or probe channel that does not exist.
-        IoChannel = raw::MC_NACK_IO_CHANNEL,
-        /// A compare mode, direction, output, pulse width, low-water mark, pitch or count out
-        /// of its range.
-        CompareMode = raw::MC_NACK_COMPARE_MODE,
-        /// The compare table has no room for the positions.
-        CompareFull = raw::MC_NACK_COMPARE_FULL,
-        /// Compare table positions not strictly monotonic in the direction.
-        CompareOrder = raw::MC_NACK_COMPARE_ORDER,
-        /// The compare channel (or its output) is in use.
-        CompareBusy = raw::MC_NACK_COMPARE_BUSY,
-        /// A probe input, edge or window the card cannot take.
-        ProbeInput = raw::MC_NACK_PROBE_INPUT,
-        /// Layout 1.7 (sync): a gear ratio that is not integer, a zero numerator, a
-        /// denominator ≤ 0, or a magnitude above `MC_GEAR_RATIO_MAX`.
-        GearRatio = raw::MC_NACK_GEAR_RATIO,
-        /// A master source the card does not know, a master it does not have, the slave
-        /// itself, or a master axis disabled or in ErrorStop.
-        SyncMaster = raw::MC_NACK_SYNC_MASTER,
-        /// A PT/PVT point not at least one servo period after the one before, or a segment
-        /// longer than the longest move.
-        PvtTime = raw::MC_NACK_PVT_TIME,
-        /// A PT/PVT point whose segment breaks the stream's velocity or acceleration limit.
-        PvtLimit = raw::MC_NACK_PVT_LIMIT,
-        /// PT/PVT commands out of sequence.
-        PvtSequence = raw::MC_NACK_PVT_SEQUENCE,
-        /// A cam table number, point count or flags out of range, points not strictly
-        /// increasing in the master or not finite, a table not loaded, or one in use.
-        CamTable = raw::MC_NACK_CAM_TABLE,
-        /// Cam data without an open table or out of order.
-        CamSequence = raw::MC_NACK_CAM_SEQUENCE,
-        /// Layout 1.8: a scope signal the card does not know, or an axis or group it has not.
-        ScopeSignal = raw::MC_NACK_SCOPE_SIGNAL,
-        /// Scope channels 0 or more than `MC_SCOPE_CHANNELS`.
-        ScopeChannels = raw::MC_NACK_SCOPE_CHANNELS,
-        /// A scope divider 0 or above `MC_SCOPE_DIVIDER_MAX`.
-        ScopeDivider = raw::MC_NACK_SCOPE_DIVIDER,
-        /// An unknown scope mode, trigger or edge, a trigger channel or input out of range, a
-        /// level not finite, or a one-shot capture of no samples.
-        ScopeTrigger = raw::MC_NACK_SCOPE_TRIGGER,
-        /// More pre-trigger samples than the card keeps (`MC_SCOPE_PRETRIGGER_MAX`).
-        ScopePretrigger = raw::MC_NACK_SCOPE_PRETRIGGER,
-        /// A scope command its state does not allow (configure or arm while armed, trigger
-        /// while not waiting, stop while idle, arm before a configure).
-        ScopeState = raw::MC_NACK_SCOPE_STATE,
-        /// Layout 1.8: a configuration read-back of a block kind the card does not know.
-        ConfigKind = raw::MC_NACK_CONFIG_KIND,
-    }
-}
-
-code_enum! {
-    /// Layout 1.8: the configuration blocks `MC_OP_READ_CONFIG` reads back (`MC_CONFIG_*`).
-    ConfigKind: u32 {
-        /// `card_config` (index 0).
-        Card = raw::MC_CONFIG_CARD,
-        /// `axis_config[i]` (with the scale) and `axis_pdplus[i]`.
-        Axis = raw::MC_CONFIG_AXIS,
-        /// `axis_filter[i]`.
-        AxisFilter = raw::MC_CONFIG_AXIS_FILTER,
-        /// `group_config[i]` (`naxes` 0: not configured).
-        Group = raw::MC_CONFIG_GROUP,
-        /// `safety` (index 0).
-        Safety = raw::MC_CONFIG_SAFETY,
-        /// `axis_safety[i]`.
-        AxisSafety = raw::MC_CONFIG_AXIS_SAFETY,
-        /// `axis_homing[i]`.
-        AxisHoming = raw::MC_CONFIG_AXIS_HOMING,
-        /// `group_path[i]`.
-        GroupPath = raw::MC_CONFIG_GROUP_PATH,
-        /// `io_config` (index 0).
-        Io = raw::MC_CONFIG_IO,
-    }
-}
 
 impl ConfigKind {
     /// Is the index an axis (else a group, or 0 for a card-wide block)?
@@ -309,22 +112,6 @@ pub mod path_flags {
     /// The transition mode of a segment's flags.
     pub fn transition(flags: u32) -> u32 {
         (flags >> TRANSITION_SHIFT) & 3
-    }
-}
-
-code_enum! {
-    /// Why homing failed (the `code` of [`EventKind::HomingFailed`]).
-    HomingError: i32 {
-        /// A limit switch the method did not reverse at: its switch is missing.
-        LimitReached = raw::MC_HOMING_ERR_LIMIT,
-        /// The axis went the maximum distance from the start without the switch or hard stop.
-        DistanceExceeded = raw::MC_HOMING_ERR_DISTANCE,
-        /// Not homed within the timeout.
-        Timeout = raw::MC_HOMING_ERR_TIMEOUT,
-        /// No index pulse within the index distance.
-        NoIndex = raw::MC_HOMING_ERR_NO_INDEX,
-        /// A motion of the method could not be planned.
-        Plan = raw::MC_HOMING_ERR_PLAN,
     }
 }
 

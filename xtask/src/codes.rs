@@ -23,6 +23,9 @@ pub enum Select {
     },
     /// One define.
     One(&'static str),
+    /// The defines named, in this order: the kinds whose defines share no prefix or block
+    /// with defines of another kind.
+    List(&'static [&'static str]),
 }
 
 /// A code enum of firmware-proto (`code_enum!`).
@@ -40,8 +43,11 @@ pub struct RustEnum {
 pub struct CNames {
     pub from: &'static str,
     pub to: &'static str,
-    /// Put before the first constant's own doc: where the C ABI uses the codes.
+    /// Put before the first constant's own doc: where the C ABI uses the codes ("": the
+    /// header's comments alone).
     pub intro: &'static str,
+    /// The constants' Rust type when it is not bindgen's (`i32`: the `code` of an event).
+    pub ty: Option<&'static str>,
 }
 
 /// One kind of code.
@@ -55,6 +61,9 @@ pub struct Set {
 /// Variants whose names are not the CamelCase of the define's name after the prefix.
 pub const VARIANT_NAMES: &[(&str, &str)] = &[
     ("MC_OP_ESTOP", "EStop"),
+    ("MC_NACK_ESTOP_ACTIVE", "EStopActive"),
+    ("MC_HOMING_ERR_LIMIT", "LimitReached"),
+    ("MC_HOMING_ERR_DISTANCE", "DistanceExceeded"),
     ("MC_STOP_ESTOP_COMMAND", "EStopCommand"),
     ("MC_STOP_ESTOP_INPUT", "EStopInput"),
     ("MC_STOP_TIMEOUT", "StopTimeout"),
@@ -78,7 +87,31 @@ const fn rust(
 }
 
 const fn c(from: &'static str, to: &'static str, intro: &'static str) -> Option<CNames> {
-    Some(CNames { from, to, intro })
+    Some(CNames {
+        from,
+        to,
+        intro,
+        ty: None,
+    })
+}
+
+/// C names of codes that go in `mc_event.code`, an `int32_t`.
+const fn c_event_code(from: &'static str, to: &'static str, intro: &'static str) -> Option<CNames> {
+    Some(CNames {
+        from,
+        to,
+        intro,
+        ty: Some("i32"),
+    })
+}
+
+/// A set of C constants only.
+const fn c_only(select: Select, c: Option<CNames>) -> Set {
+    Set {
+        select,
+        rust: None,
+        c,
+    }
 }
 
 /// The sets, in the order they are generated (the opcodes last: in motioncard.h after the
@@ -280,6 +313,351 @@ pub const SETS: &[Set] = &[
         ),
     },
     Set {
+        select: Select::Prefix("MC_NACK_"),
+        rust: rust(
+            "NackCode",
+            "i32",
+            "Why a command was refused. One code per distinct fault.",
+            "MC_NACK_",
+        ),
+        c: None,
+    },
+    Set {
+        select: Select::Prefix("MC_CONFIG_"),
+        rust: rust(
+            "ConfigKind",
+            "u32",
+            "Layout 1.8: the configuration blocks `MC_OP_READ_CONFIG` reads back (`MC_CONFIG_*`).",
+            "MC_CONFIG_",
+        ),
+        c: None,
+    },
+    // Homing (layout 1.5).
+    c_only(
+        Select::Block {
+            first: "MC_HOMING_INDEX",
+            prefix: "MC_HOMING_",
+        },
+        c(
+            "MC_HOMING_",
+            "MC_HOMING_FLAG_",
+            "Bit of `mc_homing_settings.flags`.",
+        ),
+    ),
+    Set {
+        select: Select::Prefix("MC_HOMING_ERR_"),
+        rust: rust(
+            "HomingError",
+            "i32",
+            "Why homing failed (the `code` of [`EventKind::HomingFailed`]).",
+            "MC_HOMING_ERR_",
+        ),
+        c: c_event_code(
+            "MC_HOMING_ERR_",
+            "MC_HOMING_ERROR_",
+            "Why homing failed: the `code` of `MC_EVENT_HOMING_FAILED`.",
+        ),
+    },
+    c_only(
+        Select::One("MC_SET_POSITION_RELATIVE"),
+        c(
+            "MC_SET_POSITION_RELATIVE",
+            "MC_SET_POSITION_RELATIVE",
+            "`flags` of `mc_set_position`: the position moves by the argument (else it becomes \
+             the argument).",
+        ),
+    ),
+    // The continuous path (layout 1.6).
+    c_only(
+        Select::One("MC_PATH_LEN"),
+        c("MC_PATH_LEN", "MC_PATH_SEGMENTS", ""),
+    ),
+    c_only(
+        Select::One("MC_OUTPUTS"),
+        c("MC_OUTPUTS", "MC_CARD_OUTPUTS", ""),
+    ),
+    c_only(
+        Select::List(&[
+            "MC_PATH_ABORTING",
+            "MC_PATH_BUFFERED",
+            "MC_PATH_BLEND_LOW",
+            "MC_PATH_BLEND_PREVIOUS",
+            "MC_PATH_BLEND_NEXT",
+            "MC_PATH_BLEND_HIGH",
+        ]),
+        c(
+            "MC_PATH_",
+            "MC_PATH_BUFFER_",
+            "`mc_path_segment.buffer` (PLCopen BufferMode): how a segment joins the one before \
+             it.",
+        ),
+    ),
+    c_only(
+        Select::Prefix("MC_TM_"),
+        c(
+            "MC_TM_",
+            "MC_PATH_TRANSITION_",
+            "`mc_path_segment.transition` (PLCopen TransitionMode): how a blend is made. \
+             `tolerance` is in user units of the first group axis.",
+        ),
+    ),
+    c_only(
+        Select::Prefix("MC_PATH_OUT_AT_"),
+        c(
+            "MC_PATH_OUT_AT_",
+            "MC_OUTPUT_AT_",
+            "When an output action fires (`mc_path_segment.at`, `mc_group_path_output`); \
+             `distance` is in user units of the first group axis.",
+        ),
+    ),
+    c_only(
+        Select::Prefix("MC_PATHST_"),
+        c(
+            "MC_PATHST_",
+            "MC_PATH_STATUS_",
+            "Bit of `mc_group_status.path_flags`.",
+        ),
+    ),
+    // Digital I/O, position compare and touch probes (layout 1.7).
+    c_only(
+        Select::One("MC_INPUTS"),
+        c("MC_INPUTS", "MC_CARD_INPUTS", ""),
+    ),
+    c_only(
+        Select::One("MC_COMPARE_CHANNELS"),
+        c(
+            "MC_COMPARE_CHANNELS",
+            "MC_COMPARE_CHANNELS",
+            "Compare channels of the card.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_COMPARE_TABLE_LEN"),
+        c("MC_COMPARE_TABLE_LEN", "MC_COMPARE_TABLE_LEN", ""),
+    ),
+    c_only(
+        Select::One("MC_PROBE_CHANNELS"),
+        c(
+            "MC_PROBE_CHANNELS",
+            "MC_PROBE_CHANNELS",
+            "Touch-probe channels of the card.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_PROBE_QUEUE"),
+        c(
+            "MC_PROBE_QUEUE",
+            "MC_PROBE_QUEUE",
+            "The length of `mc_probe_info.positions`.",
+        ),
+    ),
+    c_only(
+        Select::Block {
+            first: "MC_CMP_FIRED",
+            prefix: "MC_CMP_",
+        },
+        c_event_code(
+            "MC_CMP_",
+            "MC_COMPARE_",
+            "The `code` of `MC_EVENT_COMPARE`.",
+        ),
+    ),
+    c_only(
+        Select::Block {
+            first: "MC_IO_IDLE",
+            prefix: "MC_IO_",
+        },
+        c(
+            "MC_IO_",
+            "MC_IO_STATE_",
+            "`state` of a compare channel or a touch probe (`mc_compare_info.state`, \
+             `mc_probe_info.state`).",
+        ),
+    ),
+    c_only(
+        Select::One("MC_PROBE_INDEX"),
+        c(
+            "MC_PROBE_INDEX",
+            "MC_PROBE_INPUT_INDEX",
+            "`mc_probe_trigger.input` that is not an input.",
+        ),
+    ),
+    c_only(
+        Select::List(&["MC_PROBE_RISING", "MC_PROBE_FALLING"]),
+        c(
+            "MC_PROBE_",
+            "MC_PROBE_EDGE_",
+            "Bit of `mc_probe_trigger.edges` (one or both).",
+        ),
+    ),
+    // Synchronised motion: gearing, PT/PVT streams, camming (layout 1.7).
+    Set {
+        select: Select::Prefix("MC_MASTER_"),
+        rust: rust(
+            "MasterSource",
+            "u32",
+            "What a slave follows (the flags of `MC_OP_GEAR_IN` / `_POS`).",
+            "MC_MASTER_",
+        ),
+        c: c(
+            "MC_MASTER_",
+            "MC_MASTER_",
+            "What a slave follows (`master_kind` of `mc_gear_in`, `mc_gear_in_pos`, \
+             `mc_cam_in`).",
+        ),
+    },
+    c_only(
+        Select::One("MC_AUX_ENCODERS"),
+        c("MC_AUX_ENCODERS", "MC_AUX_ENCODERS", ""),
+    ),
+    Set {
+        select: Select::Prefix("MC_SYNC_"),
+        rust: rust(
+            "SyncEvent",
+            "i32",
+            "The sub-cases of `MC_EV_SYNC` (its `code`).",
+            "MC_SYNC_",
+        ),
+        c: c_event_code("MC_SYNC_", "MC_SYNC_", "The `code` of `MC_EVENT_SYNC`."),
+    },
+    c_only(Select::One("MC_PVT_LEN"), c("MC_PVT_LEN", "MC_PVT_LEN", "")),
+    Set {
+        select: Select::Prefix("MC_PVT_EV_"),
+        rust: rust(
+            "PvtEvent",
+            "i32",
+            "The sub-cases of `MC_EV_PVT` (its `code`).",
+            "MC_PVT_EV_",
+        ),
+        c: c_event_code(
+            "MC_PVT_EV_",
+            "MC_PVT_EVENT_",
+            "The `code` of `MC_EVENT_PVT`.",
+        ),
+    },
+    c_only(
+        Select::List(&["MC_CAM_CUBIC", "MC_CAM_PERIODIC"]),
+        c(
+            "MC_CAM_",
+            "MC_CAM_",
+            "Bit of the `flags` of `mc_cam_load_table`.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_CAM_TABLES"),
+        c(
+            "MC_CAM_TABLES",
+            "MC_CAM_TABLES",
+            "Cam tables the card holds.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_CAM_MAX_POINTS"),
+        c(
+            "MC_CAM_MAX_POINTS",
+            "MC_CAM_MAX_POINTS",
+            "Points of a cam table, at most.",
+        ),
+    ),
+    // The scope (layout 1.8).
+    c_only(
+        Select::One("MC_SCOPE_CHANNELS"),
+        c(
+            "MC_SCOPE_CHANNELS",
+            "MC_SCOPE_CHANNELS",
+            "Channels per sample, at most (`mc_scope_settings.n_channels`).",
+        ),
+    ),
+    c_only(
+        Select::One("MC_SCOPE_RING_LEN"),
+        c("MC_SCOPE_RING_LEN", "MC_SCOPE_RING_LEN", ""),
+    ),
+    Set {
+        select: Select::Prefix("MC_SIG_"),
+        rust: rust(
+            "Signal",
+            "u32",
+            "What a scope channel samples (`MC_SIG_*`). Axis signals are the axis status's values, \
+             group signals the group status's, card signals the card control block's words.",
+            "MC_SIG_",
+        ),
+        c: c(
+            "MC_SIG_",
+            "MC_SCOPE_SIG_",
+            "Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. \
+             Axis signals (1..13; index: the axis) are the axis status's values of the tick, \
+             group signals (32..34; index: the group) the group status's, card signals (48..50; \
+             index 0) the card's words.",
+        ),
+    },
+    Set {
+        select: Select::List(&["MC_SCOPE_ONE_SHOT", "MC_SCOPE_CONTINUOUS"]),
+        rust: rust(
+            "ScopeMode",
+            "u32",
+            "One shot or continuous (`MC_SCOPE_ONE_SHOT`, `MC_SCOPE_CONTINUOUS`).",
+            "MC_SCOPE_",
+        ),
+        c: c("MC_SCOPE_", "MC_SCOPE_", "`mc_scope_settings.mode`."),
+    },
+    Set {
+        select: Select::Prefix("MC_SCOPE_TRIG_"),
+        rust: rust(
+            "Trigger",
+            "u32",
+            "When the capture starts (`MC_SCOPE_TRIG_*`).",
+            "MC_SCOPE_TRIG_",
+        ),
+        c: c(
+            "MC_SCOPE_TRIG_",
+            "MC_SCOPE_TRIG_",
+            "`mc_scope_settings.trigger`: when the capture starts.",
+        ),
+    },
+    Set {
+        select: Select::List(&["MC_SCOPE_RISING", "MC_SCOPE_FALLING", "MC_SCOPE_EITHER"]),
+        rust: rust(
+            "Edge",
+            "u32",
+            "Which way a level or input trigger fires (`MC_SCOPE_RISING`…).",
+            "MC_SCOPE_",
+        ),
+        c: c(
+            "MC_SCOPE_",
+            "MC_SCOPE_",
+            "`mc_scope_settings.edge`: which way a level or input trigger fires.",
+        ),
+    },
+    Set {
+        select: Select::List(&[
+            "MC_SCOPE_IDLE",
+            "MC_SCOPE_WAITING",
+            "MC_SCOPE_CAPTURING",
+            "MC_SCOPE_DONE",
+        ]),
+        rust: rust(
+            "ScopeState",
+            "u32",
+            "The scope's state (`scope_status.state`).",
+            "MC_SCOPE_",
+        ),
+        c: c("MC_SCOPE_", "MC_SCOPE_STATE_", "`mc_scope_info.state`."),
+    },
+    Set {
+        select: Select::Prefix("MC_SCOPE_EV_"),
+        rust: rust(
+            "ScopeEvent",
+            "i32",
+            "The codes of `MC_EV_SCOPE`.",
+            "MC_SCOPE_EV_",
+        ),
+        c: c_event_code(
+            "MC_SCOPE_EV_",
+            "MC_SCOPE_EVENT_",
+            "The `code` of `MC_EVENT_SCOPE`.",
+        ),
+    },
+    Set {
         select: Select::Prefix("MC_OP_"),
         rust: rust("Opcode", "u16", "Command opcodes.", "MC_OP_"),
         c: c(
@@ -430,6 +808,15 @@ pub fn select(
                 .ok_or(format!("the header has no {name}"))?;
             out.push(code(d)?);
         }
+        Select::List(names) => {
+            for name in names {
+                let d = defs
+                    .iter()
+                    .find(|d| d.name == *name)
+                    .ok_or(format!("the header has no {name}"))?;
+                out.push(code(d)?);
+            }
+        }
     }
     if out.is_empty() {
         return Err(format!("{:?} selects no define", set.select));
@@ -460,12 +847,14 @@ pub fn variant_name(e: &RustEnum, define: &str) -> String {
 }
 
 /// The C ABI's name of a define of a set.
-pub fn c_name(c: &CNames, define: &str) -> String {
-    C_NAMES
-        .iter()
-        .find(|(d, _)| *d == define)
-        .map(|(_, n)| n.to_string())
-        .unwrap_or_else(|| format!("{}{}", c.to, define.strip_prefix(c.from).unwrap_or(define)))
+pub fn c_name(c: &CNames, define: &str) -> Result<String, String> {
+    if let Some((_, n)) = C_NAMES.iter().find(|(d, _)| *d == define) {
+        return Ok(n.to_string());
+    }
+    let stem = define
+        .strip_prefix(c.from)
+        .ok_or(format!("{define} does not start with {}", c.from))?;
+    Ok(format!("{}{stem}", c.to))
 }
 
 /// A define's comment as a doc paragraph: first letter capitalised, a full stop at the end,
@@ -579,11 +968,12 @@ fn c_renames(
     let mut map = BTreeMap::new();
     for set in SETS {
         let Some(c) = &set.c else { continue };
-        if !matches!(set.select, Select::One(_)) {
+        // A pattern names every define with the prefix: only a set of all of them renames it.
+        if matches!(set.select, Select::Prefix(_) | Select::Block { .. }) {
             map.insert(format!("{}*", c.from), format!("{}*", c.to));
         }
         for code in select(set, defs, values)? {
-            map.insert(code.name.clone(), c_name(c, &code.name));
+            map.insert(code.name.clone(), c_name(c, &code.name)?);
         }
     }
     Ok(map)
@@ -602,29 +992,33 @@ pub fn c_constants(header: &str, bindings: &str) -> Result<String, String> {
          //! `MC_EVENT_`, ...), with the define's value and comment. Literals, so that cbindgen\n\
          //! writes them into motioncard.h. The rules are in `xtask/src/codes.rs`.\n"
     );
+    let mut named = std::collections::BTreeSet::new();
     for set in SETS {
         let Some(c) = &set.c else { continue };
         let codes = select(set, &defs, &values)?;
         for (i, code) in codes.iter().enumerate() {
+            let name = c_name(c, &code.name)?;
+            if !named.insert(name.clone()) {
+                return Err(format!("two sets make {name}"));
+            }
             let own = doc_text(&code.comment, &rename);
-            let doc = match (i, own.is_empty()) {
-                (0, true) => c.intro.to_string(),
-                (0, false) => format!("{}\n\n{own}", c.intro),
-                (_, false) => own,
-                (_, true) => {
+            let intro = if i == 0 { c.intro } else { "" };
+            let doc = match (intro.is_empty(), own.is_empty()) {
+                (false, true) => intro.to_string(),
+                (false, false) => format!("{intro}\n\n{own}"),
+                (true, false) => own,
+                (true, true) => {
                     return Err(format!(
-                        "{} has no comment in the header: its comment is the doc of {}",
-                        code.name,
-                        c_name(c, &code.name)
+                        "{} has no comment in the header: its comment is the doc of {name}",
+                        code.name
                     ))
                 }
             };
             out.push('\n');
             out.push_str(&doc_lines(&doc, "", 100));
             out.push_str(&format!(
-                "pub const {}: {} = {};\n",
-                c_name(c, &code.name),
-                code.ty,
+                "pub const {name}: {} = {};\n",
+                c.ty.unwrap_or(&code.ty),
                 code.value
             ));
         }
@@ -693,6 +1087,10 @@ mod tests {
             ["MC_X_ONE", "MC_X_TWO", "MC_X_THREE", "MC_X_FOUR"]
         );
         assert_eq!(names(Select::One("MC_Y_A")), ["MC_Y_A"]);
+        assert_eq!(
+            names(Select::List(&["MC_X_THREE", "MC_X_ONE"])),
+            ["MC_X_THREE", "MC_X_ONE"]
+        );
     }
 
     #[test]
@@ -709,8 +1107,10 @@ mod tests {
             from: "MC_EV_",
             to: "MC_EVENT_",
             intro: "",
+            ty: None,
         };
-        assert_eq!(c_name(&ev, "MC_EV_AT_REST"), "MC_EVENT_AT_REST");
+        assert_eq!(c_name(&ev, "MC_EV_AT_REST").unwrap(), "MC_EVENT_AT_REST");
+        assert!(c_name(&ev, "MC_OP_NOP").is_err());
         assert_eq!(
             doc_text(
                 "code: MC_STOP_* reason (axis_config[axis]), see MC_X.",
