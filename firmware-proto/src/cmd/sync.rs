@@ -13,6 +13,10 @@ use crate::wire::{Command, NackCode, Opcode, CMD_ARGS};
 use crate::MAX_AXES;
 use heapless::Vec;
 
+// The pairs of a cam data entry and the points of a PT/PVT entry fit in a command.
+const _: () = assert!(3 + 2 * CAM_DATA_MAX <= CMD_ARGS);
+const _: () = assert!(3 * PVT_POINTS_MAX < CMD_ARGS);
+
 /// What a slave follows: the source (the flags) and its number (`args[0]`: the master axis, or
 /// an auxiliary encoder). Decoding refuses an unknown source and a number that is not an
 /// integer below [`MAX_AXES`] (an axis) or [`AUX_ENCODERS`] (`MC_NACK_SYNC_MASTER`); the card
