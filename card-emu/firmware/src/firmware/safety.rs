@@ -809,11 +809,7 @@ impl Safety {
                 }
                 let (start, target) = match cmd {
                     AxisCmd::Move(kind, m) => {
-                        let kind = match kind {
-                            cmd::MoveKind::Absolute => MoveKind::Absolute,
-                            cmd::MoveKind::Relative => MoveKind::Relative,
-                            cmd::MoveKind::Additive => MoveKind::Additive,
-                        };
+                        let kind = MoveKind::from(*kind);
                         let start = if m.buffered {
                             axis.last_target()
                         } else {

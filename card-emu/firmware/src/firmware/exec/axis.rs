@@ -11,12 +11,14 @@ use crate::motion::scurve::Limits;
 use firmware_proto::cmd::{self, AxisCmd};
 use firmware_proto::{AxisState, Command, Mem, NackCode, Opcode};
 
-/// The axis's move kind of a position move's.
-fn move_kind(k: cmd::MoveKind) -> MoveKind {
-    match k {
-        cmd::MoveKind::Absolute => MoveKind::Absolute,
-        cmd::MoveKind::Relative => MoveKind::Relative,
-        cmd::MoveKind::Additive => MoveKind::Additive,
+/// The axis's move kind of a decoded position move's (the safety layer's check uses it too).
+impl From<cmd::MoveKind> for MoveKind {
+    fn from(k: cmd::MoveKind) -> Self {
+        match k {
+            cmd::MoveKind::Absolute => MoveKind::Absolute,
+            cmd::MoveKind::Relative => MoveKind::Relative,
+            cmd::MoveKind::Additive => MoveKind::Additive,
+        }
     }
 }
 
@@ -79,7 +81,7 @@ impl<M: Mem + Clone> Firmware<M> {
                     j7: l.j7,
                 };
                 lim.check_range(rate).map_err(nack::plan_nack)?;
-                let kind = move_kind(*kind);
+                let kind = MoveKind::from(*kind);
                 let (changed, started) =
                     axis.start_move(c.seq, kind, m.position, &lim, m.buffered, rate)?;
                 aborting = started == Started::Now;
