@@ -389,6 +389,18 @@ pub enum Cmd {
     Scope(ScopeCmd),
 }
 
+macro_rules! from_family {
+    ($($family:ident => $variant:ident),+) => {
+        $(impl From<$family> for Cmd {
+            fn from(c: $family) -> Self {
+                Self::$variant(c)
+            }
+        })+
+    };
+}
+
+from_family!(AxisCmd => Axis, GroupCmd => Group, SyncCmd => Sync, IoCmd => Io, CardCmd => Card, ScopeCmd => Scope);
+
 impl Cmd {
     /// Decode an entry's opcode, flags and arguments.
     pub fn decode(opcode: u16, flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
