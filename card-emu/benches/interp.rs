@@ -2,9 +2,10 @@
 //!
 //! `cargo bench -p card-emu --bench interp`
 use card_emu::firmware::axis::Axis;
-use card_emu::firmware::group::{filter_bank, FilterConfig, Group, GroupConfig, Outbox};
+use card_emu::firmware::group::{filter_bank, FilterConfig, Group, GroupConfig, GroupMove, Outbox};
 use card_emu::motion::filters::{AccDecFilter, FilterKind};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use firmware_proto::cmd::GroupCmd;
 use firmware_proto::{move_flags, raw, Command, Opcode, MAX_AXES};
 
 fn filters(c: &mut Criterion) {
@@ -67,10 +68,18 @@ fn group(
     (g, axes, bank, out)
 }
 
+/// Queue a move as the command manager does: the entry decoded, then queued.
 fn queue(g: &mut Group, op: Opcode, args: &[f64], flags: u32, out: &mut Outbox) {
     let mut c = Command::new(op, 0).with_args(args);
     c.flags = flags | move_flags::BUFFERED;
-    let _ = g.queue_move(&c, op, 1e-4, 0, out);
+    let decoded = GroupCmd::decode(op, c.flags, &c.args);
+    let mv = match &decoded {
+        Ok(GroupCmd::MoveLinear(m)) => GroupMove::Linear(m),
+        Ok(GroupCmd::MoveCircular(m)) => GroupMove::Circular(m),
+        Ok(GroupCmd::MovePtp(m)) => GroupMove::Ptp(m),
+        other => panic!("not a move: {other:?}"),
+    };
+    let _ = g.queue_move(0, mv, 1e-4, 0, out);
 }
 
 fn interpolators(c: &mut Criterion) {

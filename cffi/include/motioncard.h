@@ -3878,6 +3878,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
  */
 #define MC_ERR_PANIC -103
 
+
+
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).
  * Never NULL; the string lives as long as the program. Never blocks, never fails.

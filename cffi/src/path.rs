@@ -18,6 +18,7 @@ use crate::group::{axis_values, group_of, nurbs_curve, started};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, unknown, Failure};
 use crate::types::{mc_arc, mc_group_motion, mc_nurbs_curve, plane_of};
+use firmware_proto::cmd::{Cmd, GroupCmd};
 use motioncard_sdk::{
     Error, ErrorKind, Geometry, Group, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings,
     Segment, StreamError, Transition,
@@ -285,18 +286,24 @@ impl mc_path_segment {
 ///
 /// The SDK keeps the scales and the group's axes to itself (no public accessor); its public
 /// `Group::path_command` applies them, so a probe line of unit targets, converted and never
-/// sent, gives them back: `args` is `[id, feed * path scale, tolerance * path scale, target[i]
-/// * scale[i]...]`. The probe is refused as `BadAxis` until its length is the group's.
+/// sent, gives them back: decoded, its feed is the path scale and its targets the scales. The
+/// probe is refused as `BadAxis` until its length is the group's.
 fn group_scales(g: &Group) -> Result<(usize, f64, [f64; MAX_AXES]), Failure> {
     for n in 1..=MAX_AXES {
         let probe = PathItem::Segment(Segment::line(0, &[1.0; MAX_AXES][..n], 1.0, 0.0));
         match g.path_command(&probe) {
             Ok(c) => {
+                let Ok(Cmd::Group(GroupCmd::PathLine(line))) = Cmd::from_command(&c) else {
+                    return Err(Failure::new(
+                        ErrorKind::Protocol.code(),
+                        "a path line's command did not decode as one",
+                    ));
+                };
                 let mut scales = [0.0; MAX_AXES];
-                for (s, a) in scales.iter_mut().zip(&c.args[3..3 + n]) {
+                for (s, a) in scales.iter_mut().zip(&line.targets[..n]) {
                     *s = a.abs();
                 }
-                return Ok((n, c.args[1], scales));
+                return Ok((n, line.feed, scales));
             }
             Err(Error::BadAxis { .. }) => continue,
             Err(e) => return Err(e.into()),

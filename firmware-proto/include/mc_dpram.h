@@ -1013,7 +1013,9 @@ struct mc_cmd {
     uint32_t flags;
     uint32_t deadline_ms; /* layout 1.3: the card refuses the command (MC_NACK_EXPIRED) once
                            * host.host_time_ms has passed this (wrapping compare); 0: none */
-    double args[MC_CMD_ARGS];
+    double args[MC_CMD_ARGS]; /* per opcode, as its MC_OP_* comment lists them; unused ones 0.
+                               * In Rust each opcode's arguments are one typed struct that
+                               * encodes and decodes them (firmware-proto's `cmd`) */
 };
 
 /* card writes (event ring entries) */

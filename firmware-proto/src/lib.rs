@@ -14,6 +14,8 @@
 //! - [`wire`], the encodings of commands, events and status, and the code enums (those that
 //!   list a kind of the header's codes, such as [`Opcode`], are generated from it by `cargo
 //!   xtask codegen`, checked in like [`raw`]);
+//! - [`cmd`], the typed commands: one struct per opcode's arguments, encoded into and decoded
+//!   from a command entry in one place;
 //! - [`window`], a DPRAM window mapped from a file (a memfd, a UIO map, a PCI BAR), and
 //!   [`emu_link`], the host's side of the `emu:` transport: what host and card share besides
 //!   the register map.
@@ -55,6 +57,7 @@ pub mod raw;
 mod codes;
 
 pub mod block;
+pub mod cmd;
 pub mod layout;
 pub mod mem;
 pub mod motion_sync;

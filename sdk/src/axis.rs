@@ -6,7 +6,8 @@ use crate::card::{
     finite, lock, positive, Axis, AxisSettings, Motion, MoveLimits, Status, SCALE_RANGE,
 };
 use crate::error::{Error, Result, Target};
-use firmware_proto::{layout, raw, Command, Opcode};
+use firmware_proto::cmd::{self, AxisCmd, CardCmd, Cmd, PositionMove, StopRamp};
+use firmware_proto::{layout, raw, Command};
 use std::time::Duration;
 
 impl Axis {
@@ -25,8 +26,10 @@ impl Axis {
             )));
         }
         if self.card().info().layout.1 >= 8 {
-            let cmd = self.op(Opcode::SetScale).with_args(&[counts_per_unit]);
-            self.run(cmd, "set_scale")?;
+            let scale = cmd::SetScale {
+                scale: counts_per_unit,
+            };
+            self.run(self.cmd(CardCmd::SetScale(scale)), "set_scale")?;
         }
         lock(&self.card().inner().scale)[self.index()] = counts_per_unit;
         Ok(())
@@ -52,30 +55,31 @@ impl Axis {
             .execute_seq(cmd, what, Target::Axis(self.index()))
     }
 
-    pub(crate) fn op(&self, op: Opcode) -> Command {
-        Command::new(op, self.index() as u16)
+    /// The entry of a command to this axis.
+    pub(crate) fn cmd(&self, c: impl Into<Cmd>) -> Command {
+        c.into().command(self.index() as u16)
     }
 
     /// MC_Power on.
     pub fn enable(&self) -> Result<()> {
-        self.run(self.op(Opcode::PowerOn), "enable").map(|_| ())
+        self.run(self.cmd(AxisCmd::PowerOn), "enable").map(|_| ())
     }
 
     /// MC_Power off (a moving axis loses power at once).
     pub fn disable(&self) -> Result<()> {
-        self.run(self.op(Opcode::PowerOff), "disable").map(|_| ())
+        self.run(self.cmd(AxisCmd::PowerOff), "disable").map(|_| ())
     }
 
     pub(crate) fn start_move(
         &self,
-        op: Opcode,
+        kind: cmd::MoveKind,
         value: f64,
         lim: &MoveLimits,
-        flags: u32,
+        buffered: bool,
         what: &'static str,
     ) -> Result<Motion> {
         finite(
-            if op == Opcode::MoveAbsolute {
+            if kind == cmd::MoveKind::Absolute {
                 "target position"
             } else {
                 "distance"
@@ -84,19 +88,20 @@ impl Axis {
         )?;
         lim.check()?;
         let s = self.scale().abs();
-        let args = [
-            value * self.scale(),
-            lim.velocity * s,
-            lim.acceleration * s,
-            lim.deceleration * s,
-            lim.jerk[0] * s,
-            lim.jerk[1] * s,
-            lim.jerk[2] * s,
-            lim.jerk[3] * s,
-        ];
-        let mut cmd = self.op(op).with_args(&args);
-        cmd.flags = flags;
-        let seq = self.run(cmd, what)?;
+        let m = PositionMove {
+            position: value * self.scale(),
+            limits: cmd::MoveLimits {
+                vmax: lim.velocity * s,
+                amax: lim.acceleration * s,
+                dmax: lim.deceleration * s,
+                j1: lim.jerk[0] * s,
+                j3: lim.jerk[1] * s,
+                j5: lim.jerk[2] * s,
+                j7: lim.jerk[3] * s,
+            },
+            buffered,
+        };
+        let seq = self.run(self.cmd(AxisCmd::Move(kind, m)), what)?;
         Ok(self.started(seq))
     }
 
@@ -109,18 +114,30 @@ impl Axis {
     /// MC_MoveAbsolute (Aborting): a time-optimal S-curve to `target` within `limits`, from
     /// whatever the axis is doing (see [`Axis::move_with`]).
     pub fn move_absolute(&self, target: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveAbsolute, target, limits, 0, "move_absolute")
+        self.start_move(
+            cmd::MoveKind::Absolute,
+            target,
+            limits,
+            false,
+            "move_absolute",
+        )
     }
 
     /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded
     /// position within `limits`.
     pub fn move_relative(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
-        self.start_move(Opcode::MoveRelative, distance, limits, 0, "move_relative")
+        self.start_move(
+            cmd::MoveKind::Relative,
+            distance,
+            limits,
+            false,
+            "move_relative",
+        )
     }
 
     fn stopping(
         &self,
-        op: Opcode,
+        stop: bool,
         deceleration: f64,
         jerk: f64,
         what: &'static str,
@@ -128,29 +145,38 @@ impl Axis {
         positive("deceleration", deceleration)?;
         positive("jerk", jerk)?;
         let s = self.scale().abs();
-        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
+        let ramp = StopRamp {
+            dmax: deceleration * s,
+            jerk: jerk * s,
+        };
+        let c = if stop {
+            AxisCmd::Stop(ramp)
+        } else {
+            AxisCmd::Halt(ramp)
+        };
+        let seq = self.run(self.cmd(c), what)?;
         Ok(self.started(seq))
     }
 
     /// MC_Halt: decelerate within the limits, then Standstill. The interrupted move is aborted.
     pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
-        self.stopping(Opcode::Halt, deceleration, jerk, "halt")
+        self.stopping(false, deceleration, jerk, "halt")
     }
 
     /// MC_Stop: decelerate and stay in Stopping until [`Axis::release_stop`].
     pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<Motion> {
-        self.stopping(Opcode::Stop, deceleration, jerk, "stop")
+        self.stopping(true, deceleration, jerk, "stop")
     }
 
     /// Leave Stopping (once at rest the axis goes to Standstill).
     pub fn release_stop(&self) -> Result<()> {
-        self.run(self.op(Opcode::StopRelease), "release_stop")
+        self.run(self.cmd(AxisCmd::StopRelease), "release_stop")
             .map(|_| ())
     }
 
     /// MC_Reset: ErrorStop → Standstill.
     pub fn reset(&self) -> Result<()> {
-        self.run(self.op(Opcode::Reset), "reset").map(|_| ())
+        self.run(self.cmd(AxisCmd::Reset), "reset").map(|_| ())
     }
 
     /// Wait for the last motion started through this library on this axis.
@@ -184,7 +210,7 @@ impl Axis {
                     ..*cfg
                 }
             },
-            self.op(Opcode::ApplyAxisConfig),
+            self.cmd(CardCmd::ApplyAxisConfig),
             "configure",
             Target::Axis(a),
         )

@@ -14,9 +14,8 @@
 use crate::card::{finite, Axis, Card, Motion, Outcome};
 use crate::error::{Result, Target};
 use crate::sync::{Master, SyncLimits};
-use firmware_proto::{
-    Opcode, SyncEvent, CAM_AT_CYCLE_END, CAM_CUBIC, CAM_DATA_MAX, CAM_PERIODIC, CAM_RELATIVE,
-};
+use firmware_proto::cmd::{self, SyncCmd};
+use firmware_proto::{SyncEvent, CAM_DATA_MAX};
 use std::time::Duration;
 
 /// Which cam table, and how it maps the master onto the slave (counts).
@@ -66,20 +65,35 @@ impl Card {
         periodic: bool,
     ) -> Result<()> {
         let axis = self.axis(0)?;
-        let mut open = axis
-            .op(Opcode::CamTable)
-            .with_args(&[table as f64, points.len() as f64]);
-        open.flags = if cubic { CAM_CUBIC } else { 0 } | if periodic { CAM_PERIODIC } else { 0 };
-        self.execute(open, "load_cam_table", Target::Card)?;
+        // A table or a count the card does not take is its to refuse (`CamTable`).
+        let table = table.min(u8::MAX as usize) as u8;
+        let open = cmd::CamTable {
+            table,
+            points: points.len().min(u16::MAX as usize) as u16,
+            cubic,
+            periodic,
+        };
+        self.execute(
+            axis.cmd(SyncCmd::CamTable(open)),
+            "load_cam_table",
+            Target::Card,
+        )?;
         for (k, chunk) in points.chunks(CAM_DATA_MAX).enumerate() {
-            let mut args = vec![table as f64, (k * CAM_DATA_MAX) as f64, chunk.len() as f64];
             for (m, s) in chunk {
                 finite("cam master", *m)?;
                 finite("cam slave", *s)?;
-                args.extend([*m, *s]);
             }
-            let cmd = axis.op(Opcode::CamData).with_args(&args);
-            self.execute(cmd, "load_cam_table", Target::Card)?;
+            let data = cmd::CamData {
+                table,
+                // The card took the table: at most MC_CAM_MAX_POINTS points.
+                first: (k * CAM_DATA_MAX) as u16,
+                points: chunk.iter().copied().collect(),
+            };
+            self.execute(
+                axis.cmd(SyncCmd::CamData(data)),
+                "load_cam_table",
+                Target::Card,
+            )?;
         }
         Ok(())
     }
@@ -91,7 +105,7 @@ impl Axis {
         master: Master,
         cam: &CamSettings,
         limits: &SyncLimits,
-        flags: u32,
+        (at_cycle_end, relative): (bool, bool),
         what: &'static str,
     ) -> Result<Motion> {
         for (w, v) in [
@@ -107,19 +121,22 @@ impl Axis {
         crate::card::positive("jerk", limits.jerk)?;
         let (source, index) = master.source();
         let s = self.scale().abs();
-        let mut cmd = self.op(Opcode::CamIn).with_args(&[
-            index as f64,
-            cam.table as f64,
-            cam.master_offset,
-            cam.slave_offset,
-            cam.master_scale,
-            cam.slave_scale,
-            limits.velocity * s,
-            limits.acceleration * s,
-            limits.jerk * s,
-        ]);
-        cmd.flags = source.to_raw() | flags;
-        let seq = self.run(cmd, what)?;
+        let cam_in = cmd::CamIn {
+            // A master the card does not have is its to refuse (`SyncMaster`).
+            master: cmd::Master {
+                source,
+                index: index.min(u8::MAX as usize) as u8,
+            },
+            table: cam.table as f64,
+            master_offset: cam.master_offset,
+            slave_offset: cam.slave_offset,
+            master_scale: cam.master_scale,
+            slave_scale: cam.slave_scale,
+            limits: limits.counts(s),
+            at_cycle_end,
+            relative,
+        };
+        let seq = self.run(self.cmd(SyncCmd::CamIn(cam_in)), what)?;
         Ok(Motion::new(self.card().clone(), self.index(), seq))
     }
 
@@ -128,8 +145,7 @@ impl Axis {
     /// `CamTable` (not loaded), `SyncMaster`, `OutOfRange` (a scale of 0 or beyond 10^±9),
     /// `Infeasible`.
     pub fn cam_in(&self, master: Master, cam: &CamSettings, limits: &SyncLimits) -> Result<Motion> {
-        let start = if cam.relative { CAM_RELATIVE } else { 0 };
-        let m = self.cam_command(master, cam, limits, start, "cam_in")?;
+        let m = self.cam_command(master, cam, limits, (false, cam.relative), "cam_in")?;
         Ok(self.started(m.seq()))
     }
 
@@ -143,12 +159,12 @@ impl Axis {
         cam: &CamSettings,
         limits: &SyncLimits,
     ) -> Result<Motion> {
-        self.cam_command(master, cam, limits, CAM_AT_CYCLE_END, "cam_switch")
+        self.cam_command(master, cam, limits, (true, false), "cam_switch")
     }
 
     /// MC_CamOut: as [`Axis::gear_out`], velocity mode at the slave's velocity.
     pub fn cam_out(&self) -> Result<Motion> {
-        let seq = self.run(self.op(Opcode::CamOut), "cam_out")?;
+        let seq = self.run(self.cmd(SyncCmd::CamOut), "cam_out")?;
         Ok(self.started(seq))
     }
 }

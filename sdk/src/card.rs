@@ -7,6 +7,7 @@ use crate::error::{nack_reason, Error, Result, Target};
 use crate::session::{host_ms, passed, Link};
 #[cfg(feature = "emulator")]
 use card_emu::Emulator;
+use firmware_proto::cmd::{CardCmd, ReadConfig, Session};
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, RingError, CMD_RING, EVT_RING};
 use firmware_proto::seqlock::{self, SnapshotError};
@@ -333,9 +334,10 @@ impl Card {
         // before the card serves the attach (one servo period) are a vanished host's for that
         // long at most: the attach then stops what that host left moving.
         inner.link.publish_time();
-        let mut attach = Command::new(Opcode::HostAttach, 0);
-        attach.flags = inner.link.session;
-        let seq = inner.send_raw(attach)?;
+        let attach = CardCmd::HostAttach(Session {
+            id: inner.link.session,
+        });
+        let seq = inner.send_raw(attach.command(0))?;
         let heartbeat = crate::heartbeat::Heartbeat::start(&inner.dev, inner.link.clone(), lease)?;
         *lock(&inner.heartbeat) = Some(heartbeat);
         match inner.wait_answer(seq)? {
@@ -394,8 +396,14 @@ impl Card {
         } else {
             Target::Card
         };
-        let cmd =
-            Command::new(Opcode::ReadConfig, 0).with_args(&[kind as u32 as f64, index as f64]);
+        // An index beyond the card's integers is refused as the card would (`ConfigKind`).
+        let index = u16::try_from(index).map_err(|_| Error::Refused {
+            command: "read configuration",
+            target,
+            code: NackCode::ConfigKind,
+            reason: crate::error::nack_reason(NackCode::ConfigKind),
+        })?;
+        let cmd = CardCmd::ReadConfig(ReadConfig { kind, index }).command(0);
         self.execute(cmd, "read configuration", target)?;
         Ok(at.read(self.window()))
     }
@@ -514,7 +522,7 @@ impl Card {
         let _guard = self.config_lock();
         self.write_block(layout::CARD_CONFIG, &block);
         self.execute(
-            Command::new(Opcode::ApplyCardConfig, 0),
+            CardCmd::ApplyCardConfig.command(0),
             "set_servo_rate",
             Target::Card,
         )
@@ -522,7 +530,7 @@ impl Card {
 
     /// A command that does nothing but come back: the round trip through the card.
     pub fn ping(&self) -> Result<()> {
-        self.execute(Command::new(Opcode::Nop, 0), "ping", Target::Card)
+        self.execute(CardCmd::Nop.command(0), "ping", Target::Card)
     }
 
     /// Close the card: a clean end of this host's session. Moving axes and groups halt along
@@ -1207,8 +1215,10 @@ impl Inner {
         }
         drop(lock(&self.rx));
         self.rx_cond.notify_all();
-        let mut detach = Command::new(Opcode::HostDetach, 0);
-        detach.flags = self.link.session;
+        let detach = CardCmd::HostDetach(Session {
+            id: self.link.session,
+        })
+        .command(0);
         // A card that is gone or does not answer cannot be detached: closing still ends the
         // session on this side (the card's watchdog then does what it must).
         let sent = self

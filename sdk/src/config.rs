@@ -713,7 +713,7 @@ impl Card {
                 self.apply_block(
                     layout::SAFETY_CONFIG,
                     |x| *x = b,
-                    firmware_proto::Command::new(firmware_proto::Opcode::ApplySafetyConfig, 0),
+                    firmware_proto::cmd::CardCmd::ApplySafetyConfig.command(0),
                     "load configuration",
                     crate::Target::Card,
                 )
@@ -741,8 +741,7 @@ impl Card {
                 (AxisConfig { scale: 0.0, ..c }, p)
             };
             if was.map(servo) != Some(servo(ax)) {
-                let apply =
-                    firmware_proto::Command::new(firmware_proto::Opcode::ApplyAxisConfig, a as u16);
+                let apply = firmware_proto::cmd::CardCmd::ApplyAxisConfig.command(a as u16);
                 let _g = self.config_lock();
                 let w = self.window();
                 let saved = (
@@ -785,7 +784,7 @@ impl Card {
                 if !differs {
                     continue;
                 }
-                let cmd = |op| firmware_proto::Command::new(op, a as u16);
+                let cmd = |c: firmware_proto::cmd::CardCmd| c.command(a as u16);
                 let t = crate::Target::Axis(a);
                 let what = "load configuration";
                 let r = match kind {
@@ -794,7 +793,7 @@ impl Card {
                         self.apply_block(
                             layout::AXIS_FILTER.at(a),
                             |x| *x = b,
-                            cmd(firmware_proto::Opcode::ApplyAxisFilter),
+                            cmd(firmware_proto::cmd::CardCmd::ApplyAxisFilter),
                             what,
                             t,
                         )
@@ -804,7 +803,7 @@ impl Card {
                         self.apply_block(
                             layout::AXIS_SAFETY.at(a),
                             |x| *x = b,
-                            cmd(firmware_proto::Opcode::ApplyAxisSafety),
+                            cmd(firmware_proto::cmd::CardCmd::ApplyAxisSafety),
                             what,
                             t,
                         )
@@ -814,7 +813,7 @@ impl Card {
                         self.apply_block(
                             layout::AXIS_HOMING.at(a),
                             |x| *x = b,
-                            cmd(firmware_proto::Opcode::ApplyAxisHoming),
+                            cmd(firmware_proto::cmd::CardCmd::ApplyAxisHoming),
                             what,
                             t,
                         )
@@ -836,10 +835,7 @@ impl Card {
                     self.apply_block(
                         layout::GROUP_CONFIG.at(gi),
                         |x| *x = b,
-                        firmware_proto::Command::new(
-                            firmware_proto::Opcode::GroupConfigure,
-                            gi as u16,
-                        ),
+                        firmware_proto::cmd::GroupCmd::Configure.command(gi as u16),
                         "load configuration",
                         t,
                     )
@@ -862,7 +858,7 @@ impl Card {
                 self.apply_block(
                     layout::GROUP_PATH.at(gi),
                     |x| *x = b,
-                    firmware_proto::Command::new(firmware_proto::Opcode::ApplyGroupPath, gi as u16),
+                    firmware_proto::cmd::GroupCmd::ApplyPath.command(gi as u16),
                     "load configuration",
                     t,
                 )

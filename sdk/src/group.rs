@@ -3,11 +3,13 @@
 
 use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result, Target};
+use firmware_proto::cmd::{
+    ArcFlags, ArcGeometry, CardCmd, CircularMove, Cmd, FeedLimits, GroupCmd, GroupOverride,
+    LinearMove, MoveOpts, PtpLimits, PtpMove, StopRamp,
+};
 use firmware_proto::layout;
 use firmware_proto::seqlock;
-use firmware_proto::{
-    move_flags, raw, Command, GroupState, GroupStatus, MoveFlags, Opcode, MAX_AXES, MAX_GROUPS,
-};
+use firmware_proto::{raw, Command, GroupState, GroupStatus, MAX_AXES, MAX_GROUPS};
 use std::time::Duration;
 
 pub use card_firmware::host::FilterKind;
@@ -212,8 +214,9 @@ impl Group {
         self.index
     }
 
-    pub(crate) fn op(&self, op: Opcode) -> Command {
-        Command::new(op, self.index as u16)
+    /// The entry of a command to this group.
+    pub(crate) fn cmd(&self, c: impl Into<Cmd>) -> Command {
+        c.into().command(self.index as u16)
     }
 
     pub(crate) fn run(&self, cmd: Command, what: &'static str) -> Result<u32> {
@@ -260,8 +263,8 @@ impl Group {
         &self.card
     }
 
-    pub(crate) fn flags_pub(opts: &MoveOptions) -> MoveFlags {
-        Self::flags(opts)
+    pub(crate) fn opts_pub(opts: &MoveOptions) -> MoveOpts {
+        Self::opts(opts)
     }
 
     pub(crate) fn motion_pub(&self, seq: u32) -> GroupMotion {
@@ -305,7 +308,7 @@ impl Group {
         let guard = self.card.config_lock();
         self.card
             .write_block(layout::GROUP_CONFIG.at(self.index), &block);
-        self.run(self.op(Opcode::GroupConfigure), "group configure")?;
+        self.run(self.cmd(GroupCmd::Configure), "group configure")?;
         drop(guard);
         let mut axes = [0usize; MAX_AXES];
         axes[..n].copy_from_slice(&s.axes);
@@ -347,25 +350,25 @@ impl Group {
 
     /// MC_GroupEnable: every axis must be enabled and at rest.
     pub fn enable(&self) -> Result<()> {
-        self.run(self.op(Opcode::GroupEnable), "group enable")
+        self.run(self.cmd(GroupCmd::Enable), "group enable")
             .map(|_| ())
     }
 
     /// MC_GroupDisable: aborts queued moves, leaves the axes enabled where they are.
     pub fn disable(&self) -> Result<()> {
-        self.run(self.op(Opcode::GroupDisable), "group disable")
+        self.run(self.cmd(GroupCmd::Disable), "group disable")
             .map(|_| ())
     }
 
     /// MC_GroupReset: GroupErrorStop → GroupStandby.
     pub fn reset(&self) -> Result<()> {
-        self.run(self.op(Opcode::GroupReset), "group reset")
+        self.run(self.cmd(GroupCmd::Reset), "group reset")
             .map(|_| ())
     }
 
     fn stopping(
         &self,
-        op: Opcode,
+        stop: bool,
         deceleration: f64,
         jerk: f64,
         what: &'static str,
@@ -373,18 +376,27 @@ impl Group {
         positive("deceleration", deceleration)?;
         positive("jerk", jerk)?;
         let s = self.path_scale()?;
-        let seq = self.run(self.op(op).with_args(&[deceleration * s, jerk * s]), what)?;
+        let ramp = StopRamp {
+            dmax: deceleration * s,
+            jerk: jerk * s,
+        };
+        let c = if stop {
+            GroupCmd::Stop(ramp)
+        } else {
+            GroupCmd::Halt(ramp)
+        };
+        let seq = self.run(self.cmd(c), what)?;
         Ok(self.motion(seq))
     }
 
     /// MC_GroupHalt: decelerate along the path, then GroupStandby. Queued moves are aborted.
     pub fn halt(&self, deceleration: f64, jerk: f64) -> Result<GroupMotion> {
-        self.stopping(Opcode::GroupHalt, deceleration, jerk, "group halt")
+        self.stopping(false, deceleration, jerk, "group halt")
     }
 
     /// MC_GroupStop: decelerate along the path and stay in GroupStopping until released.
     pub fn stop(&self, deceleration: f64, jerk: f64) -> Result<GroupMotion> {
-        self.stopping(Opcode::GroupStop, deceleration, jerk, "group stop")
+        self.stopping(true, deceleration, jerk, "group stop")
     }
 
     /// MC_SetOverride of the group: `feed` scales the path speed of lines and arcs, `rapid`
@@ -397,7 +409,7 @@ impl Group {
         finite("feed override", feed)?;
         finite("rapid override", rapid)?;
         self.run(
-            self.op(Opcode::GroupSetOverride).with_args(&[feed, rapid]),
+            self.cmd(GroupCmd::SetOverride(GroupOverride { feed, rapid })),
             "group override",
         )
         .map(|_| ())
@@ -405,7 +417,7 @@ impl Group {
 
     /// Leave GroupStopping.
     pub fn release_stop(&self) -> Result<()> {
-        self.run(self.op(Opcode::GroupStopRelease), "group stop release")
+        self.run(self.cmd(GroupCmd::StopRelease), "group stop release")
             .map(|_| ())
     }
 
@@ -429,7 +441,7 @@ impl Group {
         Ok(self.card.scale(axes[0]).abs())
     }
 
-    fn path_args(&self, lim: &PathLimits) -> Result<[f64; 4]> {
+    fn path_limits(&self, lim: &PathLimits) -> Result<FeedLimits> {
         let named = [
             ("feed", lim.velocity),
             ("acceleration", lim.acceleration),
@@ -442,20 +454,29 @@ impl Group {
             positive(what, v)?;
             *o = v * s;
         }
-        Ok(out)
+        Ok(FeedLimits::from_array(out))
     }
 
-    /// The flags of a move: its single-bit flags, and its feed type shifted in.
-    fn flags(opts: &MoveOptions) -> MoveFlags {
+    /// The options of a move as the command carries them.
+    fn opts(opts: &MoveOptions) -> MoveOpts {
         let feed = match opts.feed_type {
             FeedType::Rapid => raw::MC_FEED_RAPID,
             FeedType::Cutting => raw::MC_FEED_CUTTING,
             FeedType::Jog => raw::MC_FEED_JOG,
         };
-        let mut f = MoveFlags::from_bits_retain(feed << move_flags::FEED_TYPE_SHIFT);
-        f.set(MoveFlags::RELATIVE, opts.relative);
-        f.set(MoveFlags::BUFFERED, opts.buffered);
-        f
+        MoveOpts {
+            relative: opts.relative,
+            buffered: opts.buffered,
+            feed_type: feed as u8,
+        }
+    }
+
+    /// One target per group axis, in counts, as a move carries them (the rest 0).
+    pub(crate) fn target_array(&self, target: &[f64]) -> Result<[f64; MAX_AXES]> {
+        let t = self.targets(target)?;
+        let mut out = [0.0; MAX_AXES];
+        out[..t.len()].copy_from_slice(&t);
+        Ok(out)
     }
 
     pub(crate) fn targets(&self, target: &[f64]) -> Result<Vec<f64>> {
@@ -476,19 +497,29 @@ impl Group {
             .collect()
     }
 
+    /// A line (`ptp`: synchronised point-to-point) to `target`.
     fn line(
         &self,
-        op: Opcode,
+        ptp: bool,
         target: &[f64],
         lim: &PathLimits,
         opts: &MoveOptions,
         what: &'static str,
     ) -> Result<GroupMotion> {
-        let mut args = self.path_args(lim)?.to_vec();
-        args.extend(self.targets(target)?);
-        let mut cmd = self.op(op).with_args(&args);
-        cmd.flags = Self::flags(opts).bits();
-        let seq = self.run(cmd, what)?;
+        let line = LinearMove {
+            limits: self.path_limits(lim)?,
+            targets: self.target_array(target)?,
+            opts: Self::opts(opts),
+        };
+        let c = if ptp {
+            GroupCmd::MovePtp(PtpMove {
+                line,
+                axis_limits: false,
+            })
+        } else {
+            GroupCmd::MoveLinear(line)
+        };
+        let seq = self.run(self.cmd(c), what)?;
         Ok(self.motion(seq))
     }
 
@@ -500,7 +531,7 @@ impl Group {
         lim: &PathLimits,
         opts: MoveOptions,
     ) -> Result<GroupMotion> {
-        self.line(Opcode::GroupMoveLinear, target, lim, &opts, "move linear")
+        self.line(false, target, lim, &opts, "move linear")
     }
 
     /// A point-to-point move's options: the cutting feed type becomes rapid (G00).
@@ -526,7 +557,7 @@ impl Group {
         opts: MoveOptions,
     ) -> Result<GroupMotion> {
         let opts = Self::ptp_options(opts);
-        self.line(Opcode::GroupMovePtp, target, lim, &opts, "move ptp")
+        self.line(true, target, lim, &opts, "move ptp")
     }
 
     /// Synchronised point-to-point with each axis's own limits (Kim eq 10–14): `limits[i]`
@@ -548,7 +579,7 @@ impl Group {
                 count: n,
             });
         }
-        let targets = self.targets(target)?;
+        let targets = self.target_array(target)?;
         let mut per = Vec::with_capacity(n);
         let mut widest = [0.0f64; 4];
         for (l, &a) in limits.iter().zip(&axes[..n]) {
@@ -568,23 +599,24 @@ impl Group {
             per.push(counts);
         }
         for (k, chunk) in per.chunks(firmware_proto::PTP_LIMITS_MAX).enumerate() {
-            let mut args = vec![
-                (k * firmware_proto::PTP_LIMITS_MAX) as f64,
-                chunk.len() as f64,
-            ];
-            args.extend(chunk.iter().flatten());
-            self.run(
-                self.op(Opcode::GroupPtpLimits).with_args(&args),
-                "ptp axis limits",
-            )?;
+            let staged = PtpLimits {
+                first: (k * firmware_proto::PTP_LIMITS_MAX) as u32,
+                // At most PTP_LIMITS_MAX (the chunk).
+                limits: chunk.iter().map(|l| FeedLimits::from_array(*l)).collect(),
+            };
+            self.run(self.cmd(GroupCmd::PtpLimits(staged)), "ptp axis limits")?;
         }
         // The command's limits apply to every axis too (the smaller wins): the widest of the
         // axes' own leaves each axis at its own.
-        let mut args = widest.to_vec();
-        args.extend(targets);
-        let mut cmd = self.op(Opcode::GroupMovePtp).with_args(&args);
-        cmd.flags = (Self::flags(&Self::ptp_options(opts)) | MoveFlags::PTP_AXIS_LIMITS).bits();
-        let seq = self.run(cmd, "move ptp")?;
+        let ptp = PtpMove {
+            line: LinearMove {
+                limits: FeedLimits::from_array(widest),
+                targets,
+                opts: Self::opts(&Self::ptp_options(opts)),
+            },
+            axis_limits: true,
+        };
+        let seq = self.run(self.cmd(GroupCmd::MovePtp(ptp)), "move ptp")?;
         Ok(self.motion(seq))
     }
 
@@ -598,24 +630,23 @@ impl Group {
         lim: &PathLimits,
         opts: MoveOptions,
     ) -> Result<GroupMotion> {
-        let (geometry, arc_flags) = self.arc_args(arc, plane, helix)?;
-        let mut args = self.path_args(lim)?.to_vec();
-        args.extend(geometry);
-        let mut cmd = self.op(Opcode::GroupMoveCircular).with_args(&args);
-        cmd.flags = Self::flags(&opts).bits() | arc_flags;
-        let seq = self.run(cmd, "move circular")?;
+        let m = CircularMove {
+            arc: self.arc_geometry(arc, plane, helix)?,
+            limits: self.path_limits(lim)?,
+            opts: Self::opts(&opts),
+        };
+        let seq = self.run(self.cmd(GroupCmd::MoveCircular(m)), "move circular")?;
         Ok(self.motion(seq))
     }
 
-    /// An arc's arguments in counts (end, aux, then the other axes' targets) and its flags
-    /// (mode, direction, plane, helix relative), as MC_OP_GROUP_MOVE_CIRCULAR and
-    /// MC_OP_PATH_ARC take them.
-    pub(crate) fn arc_args(
+    /// An arc in counts (end, aux, the other axes' targets) with its flags (mode, direction,
+    /// plane, helix relative), as MC_OP_GROUP_MOVE_CIRCULAR and MC_OP_PATH_ARC take it.
+    pub(crate) fn arc_geometry(
         &self,
         arc: &ArcSpec,
         plane: Plane,
         helix: &[f64],
-    ) -> Result<(Vec<f64>, u32)> {
+    ) -> Result<ArcGeometry> {
         let (n, axes) = self.axes()?;
         let (u, v) = match plane {
             Plane::XY => (0, 1),
@@ -644,34 +675,34 @@ impl Group {
         for x in end.iter().chain(aux.iter()).chain(helix) {
             finite("arc coordinate", *x)?;
         }
-        let mut args = vec![end[0] * su, end[1] * sv, aux[0], aux[1]];
         let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
-        for (h, i) in helix.iter().zip(&others) {
-            args.push(h * self.card.scale(axes[*i]));
-        }
         // No helical targets: the other axes stay where they are (distance 0).
-        let mut flags = MoveFlags::empty();
-        if helix.is_empty() {
-            args.extend(std::iter::repeat_n(0.0, others.len()));
-            flags |= MoveFlags::CIRC_HELIX_RELATIVE;
-        } else if helix.len() != others.len() {
+        if !helix.is_empty() && helix.len() != others.len() {
             return Err(Error::BadAxis {
                 axis: helix.len(),
                 count: others.len(),
             });
+        }
+        let mut h = [0.0; MAX_AXES - 2];
+        for ((d, x), i) in h.iter_mut().zip(helix).zip(&others) {
+            *d = x * self.card.scale(axes[*i]);
         }
         let plane_bits = match plane {
             Plane::XY => raw::MC_PLANE_XY,
             Plane::YZ => raw::MC_PLANE_YZ,
             Plane::ZX => raw::MC_PLANE_ZX,
         };
-        flags.set(MoveFlags::CIRC_CCW, ccw);
-        Ok((
-            args,
-            flags.bits()
-                | mode << move_flags::CIRC_MODE_SHIFT
-                | plane_bits << move_flags::PLANE_SHIFT,
-        ))
+        Ok(ArcGeometry {
+            end: [end[0] * su, end[1] * sv],
+            aux,
+            helix: h,
+            flags: ArcFlags {
+                mode: mode as u8,
+                plane: plane_bits as u8,
+                ccw,
+                helix_relative: helix.is_empty(),
+            },
+        })
     }
 
     /// Wait for the last move queued through this library on this group.
@@ -772,7 +803,7 @@ impl Axis {
         self.card().write_block(layout::AXIS_FILTER.at(a), &block);
         self.card()
             .execute_seq(
-                Command::new(Opcode::ApplyAxisFilter, a as u16),
+                CardCmd::ApplyAxisFilter.command(a as u16),
                 "set filters",
                 Target::Axis(a),
             )

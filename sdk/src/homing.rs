@@ -10,7 +10,8 @@
 
 use crate::card::{finite, Axis, Motion, Status};
 use crate::error::{Result, Target};
-use firmware_proto::{layout, ConfigKind, MotionFlags, Opcode, SET_POSITION_RELATIVE};
+use firmware_proto::cmd::{AxisCmd, CardCmd, Home, SetPosition};
+use firmware_proto::{layout, ConfigKind, MotionFlags};
 
 /// An axis's homing configuration, in counts and seconds: the card's `mc_axis_homing` block
 /// (its fields are listed in the register map's header). `Default` is what the card loads at
@@ -39,7 +40,7 @@ impl Axis {
         self.card().apply_block(
             layout::AXIS_HOMING.at(a),
             |b| *b = *settings,
-            self.op(Opcode::ApplyAxisHoming),
+            self.cmd(CardCmd::ApplyAxisHoming),
             "configure_homing",
             Target::Axis(a),
         )
@@ -61,8 +62,10 @@ impl Axis {
     /// jogs meanwhile are `AxisHoming`.
     pub fn home(&self, position: f64) -> Result<Motion> {
         finite("home position", position)?;
-        let cmd = self.op(Opcode::Home).with_args(&[position * self.scale()]);
-        let seq = self.run(cmd, "home")?;
+        let home = Home {
+            position: position * self.scale(),
+        };
+        let seq = self.run(self.cmd(AxisCmd::Home(home)), "home")?;
         Ok(self.started(seq))
     }
 
@@ -71,13 +74,12 @@ impl Axis {
     /// limits take effect). At standstill or disabled; `AxisHoming` while it homes.
     pub fn set_position(&self, position: f64, relative: bool) -> Result<()> {
         finite("position", position)?;
-        let mut cmd = self
-            .op(Opcode::SetPosition)
-            .with_args(&[position * self.scale()]);
-        if relative {
-            cmd.flags = SET_POSITION_RELATIVE;
-        }
-        self.run(cmd, "set_position").map(|_| ())
+        let set = SetPosition {
+            position: position * self.scale(),
+            relative,
+        };
+        self.run(self.cmd(AxisCmd::SetPosition(set)), "set_position")
+            .map(|_| ())
     }
 }
 

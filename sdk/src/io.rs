@@ -26,8 +26,9 @@
 //! [`EventKind::Probe`]: crate::EventKind::Probe
 
 use crate::card::{finite, Axis, Card};
-use crate::error::{Error, Result, Target};
-use firmware_proto::{layout, raw, Command, Mem, Opcode, COMPARE_TABLE_MAX, PROBE_QUEUE};
+use crate::error::{nack_reason, Error, Result, Target};
+use firmware_proto::cmd::{self, CompareKind, IoCmd};
+use firmware_proto::{layout, raw, Mem, NackCode, COMPARE_TABLE_MAX, PROBE_QUEUE};
 use std::time::Duration;
 
 /// The digital inputs' configuration, the card's `io_config` block: `polarity` (bit i: input
@@ -62,7 +63,7 @@ impl Card {
         self.apply_block(
             layout::IO_CONFIG,
             |b| *b = *settings,
-            Command::new(Opcode::ApplyIoConfig, 0),
+            IoCmd::ApplyConfig.command(0),
             "configure_io",
             Target::Card,
         )
@@ -162,8 +163,9 @@ fn no_channel(what: &'static str) -> Error {
 }
 
 /// A channel number the card might have: the card checks it (`IoChannel`).
-fn channel_arg(channel: usize) -> f64 {
-    channel.min(u32::MAX as usize) as f64
+/// A channel number as the command carries it (the card refuses one it does not have).
+fn channel_arg(channel: usize) -> u8 {
+    channel.min(u8::MAX as usize) as u8
 }
 
 impl Axis {
@@ -190,21 +192,42 @@ impl CompareChannel {
         self.channel
     }
 
-    fn dir_flags(&self, dir: Direction) -> u32 {
+    /// The direction in counts (`None`: either way).
+    fn direction(&self, dir: Direction) -> Option<cmd::Direction> {
         let flip = self.axis.scale() < 0.0;
         match (dir, flip) {
-            (Direction::Positive, false) | (Direction::Negative, true) => raw::MC_CMP_DIR_POS,
-            (Direction::Negative, false) | (Direction::Positive, true) => raw::MC_CMP_DIR_NEG,
-            (Direction::Either, _) => raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG,
+            (Direction::Positive, false) | (Direction::Negative, true) => Some(cmd::Direction::Up),
+            (Direction::Negative, false) | (Direction::Positive, true) => {
+                Some(cmd::Direction::Down)
+            }
+            (Direction::Either, _) => None,
         }
     }
 
-    fn arm(&self, flags: u32, args: &[f64], what: &'static str) -> Result<()> {
-        let mut all = vec![channel_arg(self.channel)];
-        all.extend_from_slice(args);
-        let mut cmd = self.axis.op(Opcode::CompareArm).with_args(&all);
-        cmd.flags = flags;
-        self.axis.run(cmd, what).map(|_| ())
+    /// `MC_OP_COMPARE_ARM`: `kind` in `dir`; output, pulse width, low water; position (or
+    /// start), pitch, count in counts.
+    fn arm(
+        &self,
+        kind: CompareKind,
+        dir: Direction,
+        [output, pulse_us, low_water]: [u32; 3],
+        [position, pitch, count]: [f64; 3],
+        what: &'static str,
+    ) -> Result<()> {
+        let arm = cmd::CompareArm {
+            channel: channel_arg(self.channel),
+            kind,
+            direction: self.direction(dir),
+            output: output as f64,
+            pulse_us: pulse_us as f64,
+            low_water: low_water as f64,
+            position,
+            pitch,
+            count,
+        };
+        self.axis
+            .run(self.axis.cmd(IoCmd::CompareArm(arm)), what)
+            .map(|_| ())
     }
 
     /// Pulse `output` for `pulse_us` µs when the axis crosses `position` in `dir`. A position
@@ -217,11 +240,12 @@ impl CompareChannel {
         dir: Direction,
     ) -> Result<()> {
         finite("compare position", position)?;
-        let flags = raw::MC_CMP_MODE_SINGLE | self.dir_flags(dir);
         let p = position * self.axis.scale();
         self.arm(
-            flags,
-            &[output as f64, pulse_us as f64, 0.0, p],
+            CompareKind::Single,
+            dir,
+            [output, pulse_us, 0],
+            [p, 0.0, 0.0],
             "compare_single",
         )
     }
@@ -240,16 +264,13 @@ impl CompareChannel {
         finite("compare start", start)?;
         finite("compare pitch", pitch)?;
         let s = self.axis.scale();
-        let flags = raw::MC_CMP_MODE_SERIES | self.dir_flags(dir);
-        let args = [
-            output as f64,
-            pulse_us as f64,
-            0.0,
-            start * s,
-            pitch * s.abs(),
-            count as f64,
-        ];
-        self.arm(flags, &args, "compare_series")
+        self.arm(
+            CompareKind::Series,
+            dir,
+            [output, pulse_us, 0],
+            [start * s, pitch * s.abs(), count as f64],
+            "compare_series",
+        )
     }
 
     /// Fire at the positions of the table in order (queued before with [`Self::push`], or
@@ -263,10 +284,11 @@ impl CompareChannel {
         low_water: u32,
         dir: Direction,
     ) -> Result<()> {
-        let flags = raw::MC_CMP_MODE_TABLE | self.dir_flags(dir);
         self.arm(
-            flags,
-            &[output as f64, pulse_us as f64, low_water as f64],
+            CompareKind::Table,
+            dir,
+            [output, pulse_us, low_water],
+            [0.0; 3],
             "compare_table",
         )
     }
@@ -279,14 +301,22 @@ impl CompareChannel {
             finite("compare position", p)?;
         }
         let s = self.axis.scale();
-        let flags = self.dir_flags(dir);
         let mut room = self.room()?;
         for chunk in positions.chunks(COMPARE_TABLE_MAX) {
-            let mut args = vec![channel_arg(self.channel), chunk.len() as f64];
-            args.extend(chunk.iter().map(|p| p * s));
-            let mut cmd =
-                Command::new(Opcode::CompareTable, self.axis.index() as u16).with_args(&args);
-            cmd.flags = flags;
+            // A table runs one way: the card refuses either way (`CompareMode`).
+            let direction = self.direction(dir).ok_or(Error::Refused {
+                command: "compare_push",
+                target: Target::Card,
+                code: NackCode::CompareMode,
+                reason: nack_reason(NackCode::CompareMode),
+            })?;
+            let table = cmd::CompareTable {
+                channel: channel_arg(self.channel),
+                direction,
+                // At most COMPARE_TABLE_MAX positions (the chunk).
+                positions: chunk.iter().map(|p| p * s).collect(),
+            };
+            let cmd = self.axis.cmd(IoCmd::CompareTable(table));
             let (_, v) = self
                 .axis
                 .card()
@@ -303,8 +333,10 @@ impl CompareChannel {
 
     /// Stop the channel, drop its table, end its pulse.
     pub fn disarm(&self) -> Result<()> {
-        let cmd = Command::new(Opcode::CompareDisarm, self.axis.index() as u16)
-            .with_args(&[channel_arg(self.channel)]);
+        let disarm = cmd::CompareDisarm {
+            channel: channel_arg(self.channel),
+        };
+        let cmd = self.axis.cmd(IoCmd::CompareDisarm(disarm));
         self.axis
             .card()
             .execute(cmd, "compare_disarm", Target::Card)
@@ -395,40 +427,36 @@ impl TouchProbe {
     /// MC_TouchProbe: arm (again: a re-arm restarts the count).
     pub fn arm(&self, t: &ProbeTrigger) -> Result<()> {
         let s = self.axis.scale();
-        let (mut lo, mut hi) = (0.0, 0.0);
-        let mut flags = 0;
+        let mut window = None;
         if let Some((a, b)) = t.window {
             finite("window", a)?;
             finite("window", b)?;
-            (lo, hi) = if s < 0.0 {
+            window = Some(if s < 0.0 {
                 (b * s, a * s)
             } else {
                 (a * s, b * s)
-            };
-            flags |= raw::MC_PROBE_WINDOW;
+            });
         }
-        if t.rising {
-            flags |= raw::MC_PROBE_RISING;
-        }
-        if t.falling {
-            flags |= raw::MC_PROBE_FALLING;
-        }
-        if t.continuous {
-            flags |= raw::MC_PROBE_CONTINUOUS;
-        }
-        let input = t.input.unwrap_or(raw::MC_PROBE_INDEX) as f64;
-        let mut cmd =
-            self.axis
-                .op(Opcode::ProbeArm)
-                .with_args(&[channel_arg(self.channel), input, lo, hi]);
-        cmd.flags = flags;
-        self.axis.run(cmd, "touch_probe").map(|_| ())
+        let arm = cmd::ProbeArm {
+            channel: channel_arg(self.channel),
+            // An input the card does not have is refused by it (`ProbeInput`).
+            input: t.input.unwrap_or(raw::MC_PROBE_INDEX).min(u8::MAX as u32) as u8,
+            rising: t.rising,
+            falling: t.falling,
+            continuous: t.continuous,
+            window,
+        };
+        self.axis
+            .run(self.axis.cmd(IoCmd::ProbeArm(arm)), "touch_probe")
+            .map(|_| ())
     }
 
     /// MC_AbortTrigger.
     pub fn abort(&self) -> Result<()> {
-        let cmd = Command::new(Opcode::ProbeAbort, self.axis.index() as u16)
-            .with_args(&[channel_arg(self.channel)]);
+        let abort = cmd::ProbeAbort {
+            channel: channel_arg(self.channel),
+        };
+        let cmd = self.axis.cmd(IoCmd::ProbeAbort(abort));
         self.axis.card().execute(cmd, "abort_trigger", Target::Card)
     }
 

@@ -3,7 +3,8 @@
 
 use crate::card::{finite, positive, Axis, Motion, MoveLimits, Outcome};
 use crate::error::Result;
-use firmware_proto::{layout, MoveFlags, Opcode};
+use firmware_proto::cmd::{AxisCmd, Jog, Override, VelocityMove};
+use firmware_proto::layout;
 use std::time::Duration;
 
 /// PLCopen BufferMode of a single-axis move.
@@ -19,17 +20,11 @@ pub enum BufferMode {
     Buffered,
 }
 
-/// Which of PLCopen's position moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MoveKind {
-    /// MC_MoveAbsolute: to a target position.
-    Absolute,
-    /// MC_MoveRelative: by a distance from the commanded position (buffered: from the target
-    /// of the move before it).
-    Relative,
-    /// MC_MoveAdditive: by a distance from the target of the last move.
-    Additive,
-}
+/// Which of PLCopen's position moves: MC_MoveAbsolute (to a target position),
+/// MC_MoveRelative (by a distance from the commanded position; buffered: from the target of
+/// the move before it), MC_MoveAdditive (by a distance from the target of the last move). The
+/// card's own command type.
+pub use firmware_proto::cmd::MoveKind;
 
 /// Limits of velocity mode, in user units (see [`Axis::set_scale`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,16 +80,13 @@ impl Axis {
         limits: &MoveLimits,
         mode: BufferMode,
     ) -> Result<Motion> {
-        let (op, what) = match kind {
-            MoveKind::Absolute => (Opcode::MoveAbsolute, "move_absolute"),
-            MoveKind::Relative => (Opcode::MoveRelative, "move_relative"),
-            MoveKind::Additive => (Opcode::MoveAdditive, "move_additive"),
+        let what = match kind {
+            MoveKind::Absolute => "move_absolute",
+            MoveKind::Relative => "move_relative",
+            MoveKind::Additive => "move_additive",
         };
-        let flags = match mode {
-            BufferMode::Aborting => 0,
-            BufferMode::Buffered => MoveFlags::BUFFERED.bits(),
-        };
-        self.start_move(op, value, limits, flags, what)
+        let buffered = mode == BufferMode::Buffered;
+        self.start_move(kind, value, limits, buffered, what)
     }
 
     /// MC_MoveAdditive (Aborting): by `distance` from the target of the last move.
@@ -112,16 +104,13 @@ impl Axis {
         positive("deceleration", limits.deceleration)?;
         positive("jerk", limits.jerk)?;
         let s = self.scale();
-        let args = [
-            velocity * s,
-            limits.acceleration * s.abs(),
-            limits.deceleration * s.abs(),
-            limits.jerk * s.abs(),
-        ];
-        let seq = self.run(
-            self.op(Opcode::MoveVelocity).with_args(&args),
-            "move_velocity",
-        )?;
+        let m = VelocityMove {
+            velocity: velocity * s,
+            amax: limits.acceleration * s.abs(),
+            dmax: limits.deceleration * s.abs(),
+            jerk: limits.jerk * s.abs(),
+        };
+        let seq = self.run(self.cmd(AxisCmd::MoveVelocity(m)), "move_velocity")?;
         Ok(self.started(seq))
     }
 
@@ -130,8 +119,10 @@ impl Axis {
     /// `jog_max_vel` is `OutOfRange`. Release the button with [`Axis::jog_release`].
     pub fn jog(&self, velocity: f64) -> Result<Motion> {
         finite("jog velocity", velocity)?;
-        let cmd = self.op(Opcode::Jog).with_args(&[velocity * self.scale()]);
-        let seq = self.run(cmd, "jog")?;
+        let jog = Jog {
+            velocity: velocity * self.scale(),
+        };
+        let seq = self.run(self.cmd(AxisCmd::Jog(jog)), "jog")?;
         Ok(self.started(seq))
     }
 
@@ -153,7 +144,7 @@ impl Axis {
         finite("override", factor)?;
         // The range is the card's to check (OVERRIDE_MAX): it never trusts the host.
         self.run(
-            self.op(Opcode::SetOverride).with_args(&[factor]),
+            self.cmd(AxisCmd::SetOverride(Override { factor })),
             "set_override",
         )
         .map(|_| ())

@@ -3,8 +3,9 @@
 use crate::card::{finite, positive, Axis};
 use crate::error::{Error, Result, Target};
 use crate::group::{Group, GroupMotion, MoveOptions};
+use firmware_proto::cmd::{self, CardCmd, CurveSize, GroupCmd};
 use firmware_proto::layout;
-use firmware_proto::{raw, Command, Mem, MoveFlags, NackCode, Opcode, NURBS_DATA_MAX};
+use firmware_proto::{raw, Mem, NackCode, NURBS_DATA_MAX};
 use std::time::Duration;
 
 /// Split a curve with more control points than the card takes ([`NURBS_MAX_CTRL`]) into
@@ -56,7 +57,7 @@ impl Axis {
         self.card().inner().traced(law..law + 4);
         self.card()
             .execute_seq(
-                Command::new(Opcode::ApplyAxisConfig, a as u16),
+                CardCmd::ApplyAxisConfig.command(a as u16),
                 "configure PD+",
                 Target::Axis(a),
             )
@@ -136,27 +137,31 @@ impl Group {
         let budget = f.saturation.unwrap_or(0.0);
         finite("saturation budget", budget)?;
         let stream = self.nurbs_stream(curve, &axes[..n]);
-        let mut flags = Self::flags_pub(&opts);
-        if f.saturation.is_some() {
-            flags |= MoveFlags::NURBS_SATURATION;
-        }
-        let header = [
-            curve.degree() as f64,
-            curve.n_ctrl() as f64,
-            curve.knots().len() as f64,
-            f.feed * s,
-            f.accel * s,
-            f.jerk * s,
-            chord,
+        let o = Self::opts_pub(&opts);
+        let begin = cmd::NurbsBegin {
+            size: CurveSize {
+                degree: curve.degree() as f64,
+                n_ctrl: curve.n_ctrl() as f64,
+                n_knots: curve.knots().len() as f64,
+            },
+            feed: f.feed * s,
+            accel: f.accel * s,
+            jerk: f.jerk * s,
+            chord_tolerance: chord,
             budget,
-        ];
-        let mut begin = Command::new(Opcode::NurbsBegin, self.index() as u16).with_args(&header);
-        begin.flags = flags.bits();
-        self.card_pub()
-            .execute_seq(begin, "nurbs begin", Target::Group(self.index()))?;
+            buffered: o.buffered,
+            saturation: f.saturation.is_some(),
+            feed_type: o.feed_type,
+        };
+        // (A NURBS move's control points are absolute: `opts.relative` is not sent.)
+        self.card_pub().execute_seq(
+            self.cmd(GroupCmd::NurbsBegin(begin)),
+            "nurbs begin",
+            Target::Group(self.index()),
+        )?;
         self.send_data(&stream)?;
         let seq = self.card_pub().execute_seq(
-            Command::new(Opcode::NurbsEnd, self.index() as u16),
+            self.cmd(GroupCmd::NurbsEnd),
             "nurbs end",
             Target::Group(self.index()),
         )?;
@@ -194,9 +199,12 @@ impl Group {
             }
         };
         for (k, chunk) in values.chunks(NURBS_DATA_MAX).enumerate() {
-            let mut args = vec![(k * NURBS_DATA_MAX) as f64, chunk.len() as f64];
-            args.extend_from_slice(chunk);
-            let cmd = Command::new(Opcode::NurbsData, self.index() as u16).with_args(&args);
+            let data = cmd::NurbsData {
+                offset: (k * NURBS_DATA_MAX) as u32,
+                // At most NURBS_DATA_MAX values (the chunk).
+                values: chunk.iter().copied().collect(),
+            };
+            let cmd = self.cmd(GroupCmd::NurbsData(data));
             loop {
                 match card.send_raw(cmd) {
                     Ok(seq) => {

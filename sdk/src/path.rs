@@ -20,7 +20,11 @@ use crate::fit::{FitIter, Fitted, Fitter};
 use crate::group::{Group, GroupMotion};
 use crate::nurbs::Nurbs;
 use crate::segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
-use firmware_proto::{layout, path_flags, raw, Command, Mem, MoveFlags, NackCode, Opcode};
+use firmware_proto::cmd::{
+    CurveSize, GroupCmd, IoCmd, PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
+    SetOutputs,
+};
+use firmware_proto::{layout, raw, Command, Mem, NackCode};
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
@@ -208,7 +212,7 @@ impl Group {
         self.card_pub().apply_block(
             layout::GROUP_PATH.at(self.index()),
             |blk| *blk = b,
-            self.op(Opcode::ApplyGroupPath),
+            self.cmd(GroupCmd::ApplyPath),
             "configure path",
             Target::Group(self.index()),
         )?;
@@ -284,24 +288,24 @@ impl Group {
                         (raw::MC_PATH_OUT_AT_DISTANCE, d * ps)
                     }
                 };
-                let mut c = self.op(Opcode::PathOutput).with_args(&[
-                    *output as f64,
-                    if *on { 1.0 } else { 0.0 },
-                    d,
-                ]);
-                c.flags = flags;
-                return Ok(c);
+                let o = PathOutput {
+                    output: *output as f64,
+                    on: if *on { 1.0 } else { 0.0 },
+                    distance: d,
+                    when: flags as u8,
+                };
+                return Ok(self.cmd(GroupCmd::PathOutput(o)));
             }
             PathItem::Segment(s) => s,
         };
-        let last = if seg.last { path_flags::LAST } else { 0 };
         if let Geometry::Dwell { seconds } = seg.geometry {
             positive("dwell", seconds)?;
-            let mut c = self
-                .op(Opcode::PathDwell)
-                .with_args(&[seg.id as f64, seconds]);
-            c.flags = last;
-            return Ok(c);
+            let d = PathDwell {
+                id: seg.id as f64,
+                seconds,
+                last: seg.last,
+            };
+            return Ok(self.cmd(GroupCmd::PathDwell(d)));
         }
         positive("feed", seg.feed)?;
         let (tm, tol) = match seg.transition {
@@ -322,26 +326,28 @@ impl Group {
             PathBuffer::BlendingNext => raw::MC_PATH_BLEND_NEXT,
             PathBuffer::BlendingHigh => raw::MC_PATH_BLEND_HIGH,
         };
-        let mut args = vec![seg.id as f64, seg.feed * ps, tol * ps];
-        let mut flags = buffer << path_flags::BUFFER_SHIFT
-            | tm << path_flags::TRANSITION_SHIFT
-            | last
-            | if seg.relative {
-                MoveFlags::RELATIVE.bits()
-            } else {
-                0
-            };
-        let op = match &seg.geometry {
-            Geometry::Line { target } => {
-                args.extend(self.targets(target)?);
-                Opcode::PathLine
-            }
-            Geometry::Arc { arc, plane, helix } => {
-                let (geometry, arc_flags) = self.arc_args(arc, *plane, helix)?;
-                args.extend(geometry);
-                flags |= arc_flags;
-                Opcode::PathArc
-            }
+        let (id, feed, tolerance) = (seg.id as f64, seg.feed * ps, tol * ps);
+        let flags = PathFlags {
+            relative: seg.relative,
+            buffer: buffer as u8,
+            transition: tm as u8,
+            last: seg.last,
+        };
+        let c = match &seg.geometry {
+            Geometry::Line { target } => GroupCmd::PathLine(PathLine {
+                id,
+                feed,
+                tolerance,
+                targets: self.target_array(target)?,
+                flags,
+            }),
+            Geometry::Arc { arc, plane, helix } => GroupCmd::PathArc(PathArc {
+                id,
+                feed,
+                tolerance,
+                arc: self.arc_geometry(arc, *plane, helix)?,
+                flags,
+            }),
             Geometry::Nurbs {
                 curve,
                 fit_tolerance,
@@ -351,19 +357,22 @@ impl Group {
                     return Err(self.refused("path nurbs", NackCode::NurbsDimension));
                 }
                 positive("fit tolerance", *fit_tolerance)?;
-                args.extend([
-                    curve.degree() as f64,
-                    curve.n_ctrl() as f64,
-                    curve.knots().len() as f64,
-                    fit_tolerance * ps,
-                ]);
-                Opcode::PathNurbs
+                GroupCmd::PathNurbs(PathNurbs {
+                    id,
+                    feed,
+                    tolerance,
+                    size: CurveSize {
+                        degree: curve.degree() as f64,
+                        n_ctrl: curve.n_ctrl() as f64,
+                        n_knots: curve.knots().len() as f64,
+                    },
+                    fit_tolerance: fit_tolerance * ps,
+                    flags,
+                })
             }
             Geometry::Dwell { .. } => unreachable!("handled above"),
         };
-        let mut c = self.op(op).with_args(&args);
-        c.flags = flags;
-        Ok(c)
+        Ok(self.cmd(c))
     }
 
     fn refused(&self, command: &'static str, code: NackCode) -> Error {
@@ -414,7 +423,7 @@ impl Group {
         let patience = 5 * u64::from(card.info().servo_rate_hz);
         let mut seen = (usize::MAX, card.tick()?);
         loop {
-            let end = self.op(Opcode::NurbsEnd);
+            let end = self.cmd(GroupCmd::NurbsEnd);
             match card.execute_seq(end, "path nurbs end", target) {
                 Err(e) if e.kind() == crate::ErrorKind::QueueFull => {
                     let Some(cancel) = cancel else {
@@ -694,7 +703,7 @@ impl Card {
 
     /// Set the outputs in `mask` to the bits of `value` now.
     pub fn set_outputs(&self, mask: u32, value: u32) -> Result<()> {
-        let c = Command::new(Opcode::SetOutputs, 0).with_args(&[mask as f64, value as f64]);
+        let c = IoCmd::SetOutputs(SetOutputs { mask, value }).command(0);
         self.execute(c, "set outputs", Target::Card)
     }
 }

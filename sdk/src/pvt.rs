@@ -13,7 +13,8 @@
 
 use crate::card::{finite, positive, Axis, Card, Motion};
 use crate::error::{nack_reason, Error, Result, Target};
-use firmware_proto::{layout, NackCode, Opcode, MAX_MOVE_TIME, PVT_LAST, PVT_POINTS_MAX, PVT_PT};
+use firmware_proto::cmd::{self, SyncCmd};
+use firmware_proto::{layout, NackCode, MAX_MOVE_TIME, PVT_POINTS_MAX};
 
 /// Why the card refused a point for its time (`PvtTime`), given how long after the point
 /// before it comes (`None`: not known; the stream starts at time 0): too soon, or later than
@@ -79,13 +80,15 @@ impl Axis {
         positive("velocity", limits.velocity)?;
         positive("acceleration", limits.acceleration)?;
         let s = self.scale().abs();
-        let mut cmd = self.op(Opcode::PvtBegin).with_args(&[
-            limits.velocity * s,
-            limits.acceleration * s,
-            low_water as f64,
-        ]);
-        cmd.flags = if mode == PvtMode::Pt { PVT_PT } else { 0 };
-        self.run(cmd, "pvt_begin").map(|_| ())
+        let begin = cmd::PvtBegin {
+            vmax: limits.velocity * s,
+            amax: limits.acceleration * s,
+            low_water: low_water as f64,
+            pt: mode == PvtMode::Pt,
+            other_flags: 0,
+        };
+        self.run(self.cmd(SyncCmd::PvtBegin(begin)), "pvt_begin")
+            .map(|_| ())
     }
 
     /// Append `points` to the stream (the last of them ends it when `last`), four to a
@@ -117,22 +120,23 @@ impl Axis {
     }
 
     fn send_points(&self, pts: &[PvtPoint], last: bool, s: f64) -> Result<f64> {
-        let mut args = [0.0; 1 + 3 * PVT_POINTS_MAX];
-        args[0] = pts.len() as f64;
-        for (k, p) in pts.iter().enumerate() {
-            finite("point time", p.time)?;
-            finite("point position", p.position)?;
-            finite("point velocity", p.velocity)?;
-            args[1 + 3 * k] = p.time;
-            args[2 + 3 * k] = p.position * s;
-            args[3 + 3 * k] = p.velocity * s;
-        }
-        let mut cmd = self
-            .op(Opcode::PvtPoints)
-            .with_args(&args[..1 + 3 * pts.len()]);
-        cmd.flags = if last { PVT_LAST } else { 0 };
+        // At most PVT_POINTS_MAX points (the caller's chunks).
+        let points = pts
+            .iter()
+            .map(|p| {
+                finite("point time", p.time)?;
+                finite("point position", p.position)?;
+                finite("point velocity", p.velocity)?;
+                Ok(cmd::PvtPoint {
+                    time: p.time,
+                    position: p.position * s,
+                    velocity: p.velocity * s,
+                })
+            })
+            .collect::<Result<_>>()?;
+        let c = self.cmd(SyncCmd::PvtPoints(cmd::PvtPoints { points, last }));
         self.card()
-            .execute_value(cmd, "pvt_push", Target::Axis(self.index()))
+            .execute_value(c, "pvt_push", Target::Axis(self.index()))
             .map(|(_, free)| free)
     }
 
@@ -161,7 +165,8 @@ impl Axis {
     /// reached and the axis in position; it is `Aborted` if the stream runs dry first (the
     /// axis stops on its stop ramp) or by a halt, stop or safety stop.
     pub fn pvt_start(&self) -> Result<Motion> {
-        let seq = self.run(self.op(Opcode::PvtStart), "pvt_start")?;
+        let start = cmd::PvtStart { mask: 0 };
+        let seq = self.run(self.cmd(SyncCmd::PvtStart(start)), "pvt_start")?;
         Ok(self.started(seq))
     }
 
@@ -197,8 +202,10 @@ impl Card {
             reason: nack_reason(NackCode::PvtSequence),
         })?;
         let x = self.axis(first)?;
-        let cmd = x.op(Opcode::PvtStart).with_args(&[mask as f64]);
-        let seq = x.run(cmd, "pvt_start")?;
+        let seq = x.run(
+            x.cmd(SyncCmd::PvtStart(cmd::PvtStart { mask })),
+            "pvt_start",
+        )?;
         axes.iter()
             .map(|&a| Ok(self.axis(a)?.started(seq)))
             .collect()

@@ -14,10 +14,10 @@
 
 use crate::card::{Axis, Card, Status};
 use crate::error::{Error, Result, Target};
+use firmware_proto::cmd::{CardCmd, EStop};
 use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
-    raw, AxisSafetyFlags, AxisState, CardFaults, Command, Io, Mem, Opcode, StopCategory,
-    StopReason, MAX_AXES,
+    raw, AxisSafetyFlags, AxisState, CardFaults, Io, Mem, StopCategory, StopReason, MAX_AXES,
 };
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -164,7 +164,7 @@ impl Card {
         self.apply_block(
             layout::SAFETY_CONFIG,
             change,
-            Command::new(Opcode::ApplySafetyConfig, 0),
+            CardCmd::ApplySafetyConfig.command(0),
             what,
             Target::Card,
         )
@@ -174,7 +174,7 @@ impl Card {
     /// [`Card::reset_faults`].
     pub fn estop(&self, category: StopCategory) -> Result<()> {
         self.execute(
-            Command::new(Opcode::EStop, 0).with_args(&[category as u32 as f64]),
+            CardCmd::EStop(EStop { category }).command(0),
             "estop",
             Target::Card,
         )
@@ -187,7 +187,7 @@ impl Card {
     /// Standstill.
     pub fn reset_faults(&self) -> Result<()> {
         self.execute(
-            Command::new(Opcode::SafetyReset, 0),
+            CardCmd::SafetyReset.command(0),
             "reset_faults",
             Target::Card,
         )?;
@@ -345,7 +345,7 @@ impl Axis {
         self.card().apply_block(
             layout::AXIS_SAFETY.at(a),
             |b| *b = block,
-            Command::new(Opcode::ApplyAxisSafety, a as u16),
+            CardCmd::ApplyAxisSafety.command(a as u16),
             "configure_safety",
             Target::Axis(a),
         )

@@ -17,9 +17,10 @@
 use crate::card::Card;
 use crate::error::{nack_reason, Error, Result, Target};
 use crate::lock::lock;
+use firmware_proto::cmd::ScopeCmd;
 use firmware_proto::{
-    check_config, layout, raw, Command, Edge, Opcode, ScopeConfig, ScopeConsumer, ScopeMode,
-    ScopeSample, ScopeState, Source, SCOPE_CHANNELS, SCOPE_RING,
+    check_config, layout, raw, Edge, ScopeConfig, ScopeConsumer, ScopeMode, ScopeSample,
+    ScopeState, Source, SCOPE_CHANNELS, SCOPE_RING,
 };
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -187,7 +188,7 @@ impl Scope {
         self.card.apply_block(
             layout::SCOPE_CONFIG,
             |b| *b = block,
-            Command::new(Opcode::ScopeConfigure, 0),
+            ScopeCmd::Configure.command(),
             "scope_configure",
             Target::Card,
         )
@@ -199,25 +200,19 @@ impl Scope {
         self.card.inner().link.check()?;
         lock(&self.ring).resync();
         self.card
-            .execute_seq(Command::new(Opcode::ScopeArm, 0), "scope_arm", Target::Card)
+            .execute_seq(ScopeCmd::Arm.command(), "scope_arm", Target::Card)
     }
 
     /// Trigger the waiting scope at its next sample (any trigger kind).
     pub fn trigger(&self) -> Result<()> {
-        self.card.execute(
-            Command::new(Opcode::ScopeTrigger, 0),
-            "scope_trigger",
-            Target::Card,
-        )
+        self.card
+            .execute(ScopeCmd::Trigger.command(), "scope_trigger", Target::Card)
     }
 
     /// Stop sampling (a continuous capture ends here). Samples in the ring stay to be read.
     pub fn stop(&self) -> Result<()> {
-        self.card.execute(
-            Command::new(Opcode::ScopeStop, 0),
-            "scope_stop",
-            Target::Card,
-        )
+        self.card
+            .execute(ScopeCmd::Stop.command(), "scope_stop", Target::Card)
     }
 
     /// The card's scope status.

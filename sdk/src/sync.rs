@@ -13,8 +13,9 @@
 
 use crate::card::{finite, positive, Axis, Card, Motion, Outcome, Status};
 use crate::error::{Error, Result, Target};
+use firmware_proto::cmd::{self, GearIn, GearInPos, SyncCmd};
 use firmware_proto::{
-    layout, GearRatio, MasterSource, MotionFlags, NackCode, Opcode, SyncEvent, AUX_ENCODERS,
+    layout, GearRatio, MasterSource, MotionFlags, NackCode, SyncEvent, AUX_ENCODERS,
 };
 use std::time::Duration;
 
@@ -52,6 +53,15 @@ pub struct SyncLimits {
 }
 
 impl SyncLimits {
+    /// In counts, for an axis of `s` counts per user unit (|scale|).
+    pub(crate) fn counts(&self, s: f64) -> cmd::SyncLimits {
+        cmd::SyncLimits {
+            vmax: self.velocity * s,
+            amax: self.acceleration * s,
+            jerk: self.jerk * s,
+        }
+    }
+
     /// Velocity, acceleration, jerk.
     pub fn new(velocity: f64, acceleration: f64, jerk: f64) -> Self {
         Self {
@@ -79,7 +89,6 @@ pub fn gear_ratio(numerator: i64, denominator: i64) -> Result<GearRatio> {
 impl Axis {
     fn gear_command(
         &self,
-        op: Opcode,
         master: Master,
         (numerator, denominator): (i64, i64),
         limits: &SyncLimits,
@@ -113,26 +122,32 @@ impl Axis {
             });
         }
         let s = self.scale().abs();
-        let mut args = vec![
-            index as f64,
-            ratio.num as f64,
-            ratio.den as f64,
-            limits.velocity * s,
-            limits.acceleration * s,
-            limits.jerk * s,
-        ];
-        if let Some((m, x)) = sync_at {
-            finite("master position", m)?;
-            finite("slave position", x)?;
-            let master_scale = match source {
-                MasterSource::Aux => 1.0,
-                _ => self.card().scale(index),
-            };
-            args.extend([m * master_scale, x * self.scale()]);
-        }
-        let mut cmd = self.op(op).with_args(&args);
-        cmd.flags = source.to_raw();
-        let seq = self.run(cmd, what)?;
+        let gear = GearIn {
+            master: cmd::Master {
+                source,
+                index: index as u8, // below the card's axes or its aux encoders (checked above)
+            },
+            numerator: ratio.num as f64,
+            denominator: ratio.den as f64,
+            limits: limits.counts(s),
+        };
+        let c = match sync_at {
+            None => SyncCmd::GearIn(gear),
+            Some((m, x)) => {
+                finite("master position", m)?;
+                finite("slave position", x)?;
+                let master_scale = match source {
+                    MasterSource::Aux => 1.0,
+                    _ => self.card().scale(index),
+                };
+                SyncCmd::GearInPos(GearInPos {
+                    gear,
+                    master_position: m * master_scale,
+                    slave_position: x * self.scale(),
+                })
+            }
+        };
+        let seq = self.run(self.cmd(c), what)?;
         Ok(self.started(seq))
     }
 
@@ -149,14 +164,7 @@ impl Axis {
         denominator: i64,
         limits: &SyncLimits,
     ) -> Result<Motion> {
-        self.gear_command(
-            Opcode::GearIn,
-            master,
-            (numerator, denominator),
-            limits,
-            None,
-            "gear_in",
-        )
+        self.gear_command(master, (numerator, denominator), limits, None, "gear_in")
     }
 
     /// MC_GearInPos (Aborting): as [`Axis::gear_in`], synchronised at a point: this axis is at
@@ -175,7 +183,6 @@ impl Axis {
         limits: &SyncLimits,
     ) -> Result<Motion> {
         self.gear_command(
-            Opcode::GearInPos,
             master,
             (numerator, denominator),
             limits,
@@ -189,7 +196,7 @@ impl Axis {
     /// returned motion's [`Motion::wait_in_velocity`] gives the velocity. The gear motion ends
     /// `Aborted` by `GearOut`. `InvalidState` unless the axis is geared.
     pub fn gear_out(&self) -> Result<Motion> {
-        let seq = self.run(self.op(Opcode::GearOut), "gear_out")?;
+        let seq = self.run(self.cmd(SyncCmd::GearOut), "gear_out")?;
         Ok(self.started(seq))
     }
 }

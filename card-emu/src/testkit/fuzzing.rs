@@ -33,14 +33,24 @@
 
 use crate::firmware::Firmware;
 use crate::plant::{Motor, MotorParams};
+use firmware_proto::cmd::{
+    ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable, CardCmd, CircularMove, Cmd,
+    CompareArm, CompareDisarm, CompareKind, CompareTable, CurveSize, Direction, EStop, FeedLimits,
+    GearIn, GearInPos, GroupCmd, GroupOverride, IoCmd, Jog, LinearMove, Master, MoveKind,
+    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine,
+    PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin,
+    PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits,
+    VelocityMove,
+};
 use firmware_proto::layout;
 use firmware_proto::mem::HeapWindow;
 use firmware_proto::ring::{CmdProducer, EvtConsumer, CMD_RING, EVT_RING};
 use firmware_proto::ring::{Entry, RingError};
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS, STATUS_WORDS};
 use firmware_proto::{
-    raw, AxisState, Command, Event, EventKind, GroupState, Io, Mem, NackCode, Opcode, MAX_AXES,
-    MAX_GROUPS,
+    raw, AxisState, Command, ConfigKind, Event, EventKind, GroupState, Io, MasterSource, Mem,
+    NackCode, Opcode, StopCategory, CAM_AT_CYCLE_END, CAM_CUBIC, CAM_DATA_MAX, CAM_PERIODIC,
+    CAM_RELATIVE, COMPARE_TABLE_MAX, MAX_AXES, MAX_GROUPS, NURBS_DATA_MAX, PVT_POINTS_MAX,
 };
 use std::sync::Arc;
 
@@ -280,241 +290,617 @@ fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     }
 }
 
-/// Arguments a well-behaved host could send for `op`.
-fn plausible_args<S: Source>(s: &mut S, op: Opcode) -> [f64; CMD_ARGS] {
-    let mut a = [0.0; CMD_ARGS];
-    let limits = |s: &mut S, a: &mut [f64]| {
-        let v = magnitude(s, 2.0, 6.5);
-        a[0] = v;
-        a[1] = magnitude(s, 3.0, 8.5);
-        a[2] = magnitude(s, 3.0, 8.5);
-        a[3] = magnitude(s, 5.0, 11.0);
+/// What the card refuses to decode that a plausible draw asked for: written over the encoded
+/// entry, since no command type holds it (an e-stop category 3, a block kind 0 or 10, compare
+/// and probe flags the card refuses).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Overwrite {
+    /// `args[i]` is this.
+    Arg(usize, f64),
+    /// The flags word is this.
+    Flags(u32),
+}
+
+/// A command a well-behaved host could send: typed, and the field a type cannot hold that the
+/// draw asked for (`None` mostly).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plausible {
+    /// The command.
+    pub cmd: Cmd,
+    /// Written over its entry.
+    pub over: Option<Overwrite>,
+}
+
+impl Plausible {
+    fn typed(cmd: impl Into<Cmd>) -> Self {
+        Self {
+            cmd: cmd.into(),
+            over: None,
+        }
+    }
+
+    /// The entry for `target`.
+    pub fn entry(&self, target: u16) -> Command {
+        let mut c = self.cmd.command(target);
+        match self.over {
+            Some(Overwrite::Arg(i, x)) => c.args[i] = x,
+            Some(Overwrite::Flags(f)) => c.flags = f,
+            None => {}
+        }
+        c
+    }
+}
+
+/// The limits of a group move or a PTP axis: v, a, d, j.
+fn feed_limits<S: Source>(s: &mut S) -> FeedLimits {
+    FeedLimits {
+        vmax: magnitude(s, 2.0, 6.5),
+        amax: magnitude(s, 3.0, 8.5),
+        dmax: magnitude(s, 3.0, 8.5),
+        jerk: magnitude(s, 5.0, 11.0),
+    }
+}
+
+/// `N` positions.
+fn positions<S: Source, const N: usize>(s: &mut S) -> [f64; N] {
+    core::array::from_fn(|_| position(s))
+}
+
+/// A command a well-behaved host could send for `op`, made through the typed commands
+/// (`firmware_proto::cmd`). The bytes are read in the order of its arguments, then its flags
+/// (the feed type first, drawn for every opcode), so an input means what it meant when the
+/// harness wrote arguments by hand.
+pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
+    use Opcode as O;
+    let feed = |s: &mut S| s.u8() % 3;
+    let path_flags = |s: &mut S, relative_and_ccw: u8| {
+        let mode = s.u8() % 3;
+        let buffer = s.u8() % 7;
+        let transition = s.u8() % 4;
+        let bits = s.u8() & relative_and_ccw;
+        (
+            PathFlags {
+                relative: bits & 1 != 0,
+                buffer,
+                transition,
+                last: false,
+            },
+            mode,
+            bits & move_flags::CIRC_CCW as u8 != 0,
+        )
     };
     match op {
-        Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
-            a[0] = position(s);
-            limits(s, &mut a[1..5]);
-            for k in 5..8 {
-                a[k] = if s.u8() & 1 == 0 {
-                    a[4]
-                } else {
-                    magnitude(s, 5.0, 11.0)
-                };
+        O::MoveAbsolute | O::MoveRelative | O::MoveAdditive => {
+            let position = position(s);
+            let l = feed_limits(s);
+            let mut j = [l.jerk; 3];
+            for x in j.iter_mut() {
+                if s.u8() & 1 != 0 {
+                    *x = magnitude(s, 5.0, 11.0);
+                }
+            }
+            let limits = MoveLimits {
+                vmax: l.vmax,
+                amax: l.amax,
+                dmax: l.dmax,
+                j1: l.jerk,
+                j3: j[0],
+                j5: j[1],
+                j7: j[2],
+            };
+            feed(s);
+            let buffered = s.u8() as u32 & move_flags::BUFFERED != 0;
+            let kind = match op {
+                O::MoveAbsolute => MoveKind::Absolute,
+                O::MoveRelative => MoveKind::Relative,
+                _ => MoveKind::Additive,
+            };
+            let m = PositionMove {
+                position,
+                limits,
+                buffered,
+            };
+            Plausible::typed(AxisCmd::Move(kind, m))
+        }
+        O::Halt | O::Stop | O::GroupHalt | O::GroupStop => {
+            let r = StopRamp {
+                dmax: magnitude(s, 3.0, 8.5),
+                jerk: magnitude(s, 5.0, 11.0),
+            };
+            feed(s);
+            match op {
+                O::Halt => Plausible::typed(AxisCmd::Halt(r)),
+                O::Stop => Plausible::typed(AxisCmd::Stop(r)),
+                O::GroupHalt => Plausible::typed(GroupCmd::Halt(r)),
+                _ => Plausible::typed(GroupCmd::Stop(r)),
             }
         }
-        Opcode::Halt | Opcode::Stop | Opcode::GroupHalt | Opcode::GroupStop => {
-            a[0] = magnitude(s, 3.0, 8.5);
-            a[1] = magnitude(s, 5.0, 11.0);
+        O::EStop => {
+            let k = s.u8() % 4;
+            feed(s);
+            let category = StopCategory::from_raw(k as u32).unwrap_or(StopCategory::Cat0);
+            let mut p = Plausible::typed(CardCmd::EStop(EStop { category }));
+            if StopCategory::from_raw(k as u32).is_none() {
+                p.over = Some(Overwrite::Arg(0, k as f64));
+            }
+            p
         }
-        Opcode::EStop => a[0] = (s.u8() % 4) as f64,
-        Opcode::MoveVelocity => {
+        O::MoveVelocity => {
             let v = magnitude(s, 2.0, 6.5);
-            a[0] = if s.u8() & 1 == 0 { v } else { -v };
-            a[1] = magnitude(s, 3.0, 8.5);
-            a[2] = magnitude(s, 3.0, 8.5);
-            a[3] = magnitude(s, 5.0, 11.0);
+            let velocity = if s.u8() & 1 == 0 { v } else { -v };
+            let m = VelocityMove {
+                velocity,
+                amax: magnitude(s, 3.0, 8.5),
+                dmax: magnitude(s, 3.0, 8.5),
+                jerk: magnitude(s, 5.0, 11.0),
+            };
+            feed(s);
+            Plausible::typed(AxisCmd::MoveVelocity(m))
         }
-        Opcode::Jog => {
+        O::Jog => {
             let v = magnitude(s, 2.0, 5.0);
-            a[0] = if s.u8() & 1 == 0 { v } else { -v };
+            let velocity = if s.u8() & 1 == 0 { v } else { -v };
+            feed(s);
+            Plausible::typed(AxisCmd::Jog(Jog { velocity }))
         }
-        Opcode::SetOverride | Opcode::GroupSetOverride => {
-            a[0] = (s.u8() % 21) as f64 / 10.0;
-            a[1] = (s.u8() % 21) as f64 / 10.0;
-        }
-        Opcode::GroupMoveLinear | Opcode::GroupMovePtp => {
-            limits(s, &mut a[..4]);
-            for x in a[4..].iter_mut() {
-                *x = position(s);
+        O::SetOverride | O::GroupSetOverride => {
+            let feed_factor = (s.u8() % 21) as f64 / 10.0;
+            let rapid = (s.u8() % 21) as f64 / 10.0;
+            feed(s);
+            if op == O::SetOverride {
+                Plausible::typed(AxisCmd::SetOverride(Override {
+                    factor: feed_factor,
+                }))
+            } else {
+                Plausible::typed(GroupCmd::SetOverride(GroupOverride {
+                    feed: feed_factor,
+                    rapid,
+                }))
             }
         }
-        Opcode::GroupMoveCircular => {
-            limits(s, &mut a[..4]);
+        O::GroupMoveLinear | O::GroupMovePtp => {
+            let limits = feed_limits(s);
+            let all: [f64; CMD_ARGS - 4] = positions(s);
+            let targets = core::array::from_fn(|k| all[k]);
+            let feed_type = feed(s);
+            let bits = s.u8() & 3;
+            let line = LinearMove {
+                limits,
+                targets,
+                opts: MoveOpts {
+                    relative: bits & 1 != 0,
+                    buffered: bits & 2 != 0,
+                    feed_type,
+                },
+            };
+            if op == O::GroupMoveLinear {
+                Plausible::typed(GroupCmd::MoveLinear(line))
+            } else {
+                let ptp = PtpMove {
+                    line,
+                    axis_limits: false,
+                };
+                Plausible::typed(GroupCmd::MovePtp(ptp))
+            }
+        }
+        O::GroupMoveCircular => {
+            let limits = feed_limits(s);
             // End point, then centre, radius or border point, then helical targets.
-            for x in a[4..].iter_mut() {
-                *x = position(s);
-            }
+            let mut a: [f64; CMD_ARGS - 4] = positions(s);
             if s.u8() & 1 == 0 {
-                a[6] = (a[4] * a[4] + a[5] * a[5]).sqrt() * (0.5 + s.u8() as f64 / 64.0);
+                a[2] = (a[0] * a[0] + a[1] * a[1]).sqrt() * (0.5 + s.u8() as f64 / 64.0);
             }
+            let feed_type = feed(s);
+            let mode = s.u8() % 3;
+            let plane = s.u8() % 3;
+            let bits = s.u8() & (3 | move_flags::CIRC_CCW as u8);
+            let m = CircularMove {
+                limits,
+                arc: ArcGeometry {
+                    end: [a[0], a[1]],
+                    aux: [a[2], a[3]],
+                    helix: core::array::from_fn(|k| a[4 + k]),
+                    flags: ArcFlags {
+                        mode,
+                        plane,
+                        ccw: bits & move_flags::CIRC_CCW as u8 != 0,
+                        helix_relative: false,
+                    },
+                },
+                opts: MoveOpts {
+                    relative: bits & 1 != 0,
+                    buffered: bits & 2 != 0,
+                    feed_type,
+                },
+            };
+            Plausible::typed(GroupCmd::MoveCircular(m))
         }
-        Opcode::PathLine | Opcode::PathArc => {
-            a[0] = s.u16() as f64;
-            a[1] = magnitude(s, 2.0, 6.5);
-            a[2] = if s.u8() & 1 == 0 {
+        O::PathLine | O::PathArc => {
+            let id = s.u16() as f64;
+            let feed_v = magnitude(s, 2.0, 6.5);
+            let tolerance = if s.u8() & 1 == 0 {
                 0.0
             } else {
                 magnitude(s, -1.0, 3.0)
             };
-            for x in a[3..].iter_mut() {
-                *x = position(s);
+            let a: [f64; CMD_ARGS - 3] = positions(s);
+            feed(s);
+            let relative_and_ccw = 1 | move_flags::CIRC_CCW as u8;
+            let (flags, mode, ccw) = path_flags(s, relative_and_ccw);
+            if op == O::PathLine {
+                Plausible::typed(GroupCmd::PathLine(PathLine {
+                    id,
+                    feed: feed_v,
+                    tolerance,
+                    targets: core::array::from_fn(|k| a[k]),
+                    flags,
+                }))
+            } else {
+                let arc = ArcGeometry {
+                    end: [a[0], a[1]],
+                    aux: [a[2], a[3]],
+                    helix: core::array::from_fn(|k| a[4 + k]),
+                    flags: ArcFlags {
+                        mode,
+                        plane: 0,
+                        ccw,
+                        helix_relative: false,
+                    },
+                };
+                Plausible::typed(GroupCmd::PathArc(PathArc {
+                    id,
+                    feed: feed_v,
+                    tolerance,
+                    arc,
+                    flags,
+                }))
             }
         }
-        Opcode::PathDwell => {
-            a[0] = s.u16() as f64;
-            a[1] = magnitude(s, -4.0, 0.0);
+        O::PathDwell => {
+            let id = s.u16() as f64;
+            let seconds = magnitude(s, -4.0, 0.0);
+            feed(s);
+            Plausible::typed(GroupCmd::PathDwell(PathDwell {
+                id,
+                seconds,
+                last: false,
+            }))
         }
-        Opcode::PathOutput => {
-            a[0] = (s.u8() % 20) as f64;
-            a[1] = (s.u8() % 3) as f64;
-            a[2] = magnitude(s, 0.0, 5.0);
+        O::PathOutput => {
+            let output = (s.u8() % 20) as f64;
+            let on = (s.u8() % 3) as f64;
+            let distance = magnitude(s, 0.0, 5.0);
+            feed(s);
+            let when = s.u8() % 4;
+            Plausible::typed(GroupCmd::PathOutput(PathOutput {
+                output,
+                on,
+                distance,
+                when,
+            }))
         }
-        Opcode::SetOutputs => {
-            a[0] = s.u16() as f64;
-            a[1] = s.u16() as f64;
+        O::SetOutputs => {
+            let mask = s.u16() as u32;
+            let value = s.u16() as u32;
+            feed(s);
+            Plausible::typed(IoCmd::SetOutputs(SetOutputs { mask, value }))
         }
         // Layout 1.7: compare and probe channels (one past the last now and then).
-        Opcode::CompareArm => {
-            a[0] = (s.u8() % 5) as f64;
-            a[1] = (s.u8() % 17) as f64;
-            a[2] = (1 + s.u16() % 2000) as f64;
-            a[3] = (s.u8() % 64) as f64;
-            a[4] = position(s);
-            a[5] = magnitude(s, 0.0, 4.0).round();
-            a[6] = (1 + s.u16() % 5000) as f64;
+        O::CompareArm => {
+            let channel = s.u8() % 5;
+            let output = (s.u8() % 17) as f64;
+            let pulse_us = (1 + s.u16() % 2000) as f64;
+            let low_water = (s.u8() % 64) as f64;
+            let position = position(s);
+            let pitch = magnitude(s, 0.0, 4.0).round();
+            let count = (1 + s.u16() % 5000) as f64;
+            feed(s);
+            let bits = (s.u8() & 0x1F) as u32;
+            let kind = match bits & raw::MC_CMP_MODE_MASK {
+                raw::MC_CMP_MODE_SERIES => CompareKind::Series,
+                raw::MC_CMP_MODE_TABLE => CompareKind::Table,
+                _ => CompareKind::Single,
+            };
+            let direction = match (bits & raw::MC_CMP_DIR_POS, bits & raw::MC_CMP_DIR_NEG) {
+                (0, 0) => None,
+                (_, 0) => Some(Direction::Up),
+                (0, _) => Some(Direction::Down),
+                _ => None,
+            };
+            let arm = CompareArm {
+                channel,
+                kind,
+                direction,
+                output,
+                pulse_us,
+                low_water,
+                position,
+                pitch,
+                count,
+            };
+            let mut p = Plausible::typed(IoCmd::CompareArm(arm));
+            if CompareArm::decode(bits, &[0.0; CMD_ARGS]).is_err() {
+                p.over = Some(Overwrite::Flags(bits)); // flags the card refuses
+            }
+            p
         }
-        Opcode::CompareTable => {
-            a[0] = (s.u8() % 5) as f64;
+        O::CompareTable => {
+            let channel = s.u8() % 5;
             let n = 1 + s.u8() as usize % 13;
-            a[1] = n as f64;
             let mut p = position(s);
-            for x in a[2..].iter_mut() {
+            let mut all = [0.0; CMD_ARGS - 2];
+            for x in all.iter_mut() {
                 *x = p;
                 p += magnitude(s, 0.0, 3.0);
             }
+            feed(s);
+            let bits = [4, 8, 12, 0][(s.u8() % 4) as usize];
+            let table = CompareTable {
+                channel,
+                direction: if bits == raw::MC_CMP_DIR_NEG {
+                    Direction::Down
+                } else {
+                    Direction::Up
+                },
+                positions: all[..n.min(COMPARE_TABLE_MAX)].iter().copied().collect(),
+            };
+            let mut p = Plausible::typed(IoCmd::CompareTable(table));
+            if n > COMPARE_TABLE_MAX {
+                p.over = Some(Overwrite::Arg(1, n as f64)); // a count the card refuses
+            } else if bits != raw::MC_CMP_DIR_POS && bits != raw::MC_CMP_DIR_NEG {
+                p.over = Some(Overwrite::Flags(bits)); // no direction, or both
+            }
+            p
         }
-        Opcode::CompareDisarm | Opcode::ProbeAbort => a[0] = (s.u8() % 5) as f64,
-        Opcode::ProbeArm => {
-            a[0] = (s.u8() % 5) as f64;
-            a[1] = (s.u8() % 18) as f64;
-            a[2] = position(s);
-            a[3] = a[2] + magnitude(s, 0.0, 5.0);
+        O::CompareDisarm | O::ProbeAbort => {
+            let channel = s.u8() % 5;
+            feed(s);
+            if op == O::CompareDisarm {
+                Plausible::typed(IoCmd::CompareDisarm(CompareDisarm { channel }))
+            } else {
+                Plausible::typed(IoCmd::ProbeAbort(ProbeAbort { channel }))
+            }
         }
-        Opcode::GearIn | Opcode::GearInPos => {
+        O::ProbeArm => {
+            let channel = s.u8() % 5;
+            let input = s.u8() % 18;
+            let lo = position(s);
+            let hi = lo + magnitude(s, 0.0, 5.0);
+            feed(s);
+            let bits = (s.u8() & 0x1F) as u32;
+            let arm = ProbeArm {
+                channel,
+                input,
+                rising: bits & raw::MC_PROBE_RISING != 0,
+                falling: bits & raw::MC_PROBE_FALLING != 0,
+                continuous: bits & raw::MC_PROBE_CONTINUOUS != 0,
+                window: (bits & raw::MC_PROBE_WINDOW != 0).then_some((lo, hi)),
+            };
+            let mut p = Plausible::typed(IoCmd::ProbeArm(arm));
+            let mut args = [0.0; CMD_ARGS];
+            args[1] = 1.0;
+            if ProbeArm::decode(bits, &args).is_err() {
+                p.over = Some(Overwrite::Flags(bits)); // no edge, or a bit it does not know
+            }
+            p
+        }
+        O::GearIn | O::GearInPos => {
             // Layout 1.7 (sync): master, ratio, limits, then the sync point.
-            a[0] = (s.u8() % 3) as f64;
+            let index = s.u8() % 3;
             let n = 1 + (s.u8() % 16) as i32;
-            a[1] = if s.u8() & 1 == 0 { n } else { -n } as f64;
-            a[2] = (1 + s.u8() % 16) as f64;
-            a[3] = magnitude(s, 2.0, 6.5);
-            a[4] = magnitude(s, 3.0, 8.5);
-            a[5] = magnitude(s, 5.0, 11.0);
-            a[6] = position(s);
-            a[7] = position(s);
+            let numerator = if s.u8() & 1 == 0 { n } else { -n } as f64;
+            let denominator = (1 + s.u8() % 16) as f64;
+            let limits = SyncLimits {
+                vmax: magnitude(s, 2.0, 6.5),
+                amax: magnitude(s, 3.0, 8.5),
+                jerk: magnitude(s, 5.0, 11.0),
+            };
+            let master_position = position(s);
+            let slave_position = position(s);
+            feed(s);
+            let source = MasterSource::from_raw((s.u8() % 3) as u32).unwrap_or(MasterSource::Aux);
+            let gear = GearIn {
+                master: Master { source, index },
+                numerator,
+                denominator,
+                limits,
+            };
+            if op == O::GearIn {
+                Plausible::typed(SyncCmd::GearIn(gear))
+            } else {
+                Plausible::typed(SyncCmd::GearInPos(GearInPos {
+                    gear,
+                    master_position,
+                    slave_position,
+                }))
+            }
         }
-        Opcode::PvtBegin => {
-            a[0] = magnitude(s, 2.0, 6.5);
-            a[1] = magnitude(s, 3.0, 8.5);
-            a[2] = (s.u8() % 8) as f64;
+        O::PvtBegin => {
+            let vmax = magnitude(s, 2.0, 6.5);
+            let amax = magnitude(s, 3.0, 8.5);
+            let low_water = (s.u8() % 8) as f64;
+            feed(s);
+            let pt = s.u8() % 2 == 1;
+            Plausible::typed(SyncCmd::PvtBegin(PvtBegin {
+                vmax,
+                amax,
+                low_water,
+                pt,
+                other_flags: 0,
+            }))
         }
-        Opcode::PvtPoints => {
+        O::PvtPoints => {
             // Layout 1.7 (sync): count, then time, position, velocity of each.
-            a[0] = (1 + s.u8() % 4) as f64;
+            let n = 1 + (s.u8() % 4) as usize;
             let mut t = 0.0;
-            for k in 0..4 {
+            let mut all = [PvtPoint {
+                time: 0.0,
+                position: 0.0,
+                velocity: 0.0,
+            }; PVT_POINTS_MAX];
+            for p in all.iter_mut() {
                 t += magnitude(s, -3.0, 0.0);
-                a[1 + 3 * k] = t;
-                a[2 + 3 * k] = position(s);
-                a[3 + 3 * k] = magnitude(s, 0.0, 4.0);
+                p.time = t;
+                p.position = position(s);
+                p.velocity = magnitude(s, 0.0, 4.0);
             }
+            feed(s);
+            let last = s.u8() % 2 == 1;
+            Plausible::typed(SyncCmd::PvtPoints(PvtPoints {
+                points: all[..n].iter().copied().collect(),
+                last,
+            }))
         }
-        Opcode::PvtStart => a[0] = (s.u8() % 4) as f64,
-        Opcode::ReadConfig => {
+        O::PvtStart => {
+            let mask = (s.u8() % 4) as u32;
+            feed(s);
+            Plausible::typed(SyncCmd::PvtStart(PvtStart { mask }))
+        }
+        O::ReadConfig => {
             // Layout 1.8: a block kind (0 and 10 are none) and an index (axes, groups).
-            a[0] = (s.u8() % 11) as f64;
-            a[1] = (s.u8() % 10) as f64;
+            let k = s.u8() % 11;
+            let index = (s.u8() % 10) as u16;
+            feed(s);
+            let kind = ConfigKind::from_raw(k as u32).unwrap_or(ConfigKind::Card);
+            let mut p = Plausible::typed(CardCmd::ReadConfig(ReadConfig { kind, index }));
+            if ConfigKind::from_raw(k as u32).is_none() {
+                p.over = Some(Overwrite::Arg(0, k as f64));
+            }
+            p
         }
-        Opcode::SetScale => {
+        O::SetScale => {
             let sign = if s.u8() & 1 == 0 { 1.0 } else { -1.0 };
-            a[0] = sign * magnitude(s, -10.0, 13.0);
+            let scale = sign * magnitude(s, -10.0, 13.0);
+            feed(s);
+            Plausible::typed(CardCmd::SetScale(SetScale { scale }))
         }
-        Opcode::CamTable => {
-            a[0] = (s.u8() % 5) as f64;
-            a[1] = (s.u8() % 12) as f64;
+        O::CamTable => {
+            let table = s.u8() % 5;
+            let points = (s.u8() % 12) as u16;
+            feed(s);
+            let bits = s.u8() % 4;
+            Plausible::typed(SyncCmd::CamTable(CamTable {
+                table,
+                points,
+                cubic: bits as u32 & CAM_CUBIC != 0,
+                periodic: bits as u32 & CAM_PERIODIC != 0,
+            }))
         }
-        Opcode::CamData => {
-            a[0] = (s.u8() % 5) as f64;
-            a[1] = (s.u8() % 12) as f64;
-            a[2] = (1 + s.u8() % 5) as f64;
+        O::CamData => {
+            let table = s.u8() % 5;
+            let first = (s.u8() % 12) as u16;
+            let n = 1 + (s.u8() % 5) as usize;
             let mut m = 0.0;
-            for k in 0..5 {
+            let mut all = [(0.0, 0.0); CAM_DATA_MAX];
+            for p in all.iter_mut() {
                 m += magnitude(s, 0.0, 4.0);
-                a[3 + 2 * k] = m;
-                a[4 + 2 * k] = position(s);
+                *p = (m, position(s));
             }
+            feed(s);
+            Plausible::typed(SyncCmd::CamData(CamData {
+                table,
+                first,
+                points: all[..n].iter().copied().collect(),
+            }))
         }
-        Opcode::CamIn => {
-            a[0] = (s.u8() % 3) as f64;
-            a[1] = (s.u8() % 5) as f64;
-            a[2] = position(s);
-            a[3] = position(s);
-            a[4] = 1.0 + (s.u8() % 4) as f64;
-            a[5] = 1.0 + (s.u8() % 4) as f64;
-            a[6] = magnitude(s, 2.0, 6.5);
-            a[7] = magnitude(s, 3.0, 8.5);
-            a[8] = magnitude(s, 5.0, 11.0);
+        O::CamIn => {
+            let index = s.u8() % 3;
+            let table = (s.u8() % 5) as f64;
+            let master_offset = position(s);
+            let slave_offset = position(s);
+            let master_scale = 1.0 + (s.u8() % 4) as f64;
+            let slave_scale = 1.0 + (s.u8() % 4) as f64;
+            let limits = SyncLimits {
+                vmax: magnitude(s, 2.0, 6.5),
+                amax: magnitude(s, 3.0, 8.5),
+                jerk: magnitude(s, 5.0, 11.0),
+            };
+            feed(s);
+            let source = MasterSource::from_raw((s.u8() % 3) as u32).unwrap_or(MasterSource::Aux);
+            let bits = s.u8() as u32;
+            Plausible::typed(SyncCmd::CamIn(CamIn {
+                master: Master { source, index },
+                table,
+                master_offset,
+                slave_offset,
+                master_scale,
+                slave_scale,
+                limits,
+                at_cycle_end: bits & CAM_AT_CYCLE_END != 0,
+                relative: bits & CAM_RELATIVE != 0,
+            }))
         }
-        Opcode::NurbsData => {
-            a[0] = (s.u8() % 64) as f64;
-            a[1] = (1 + s.u8() % 12) as f64;
-            for x in a[2..].iter_mut() {
-                *x = position(s);
-            }
+        O::NurbsData => {
+            let offset = (s.u8() % 64) as u32;
+            let n = 1 + (s.u8() % 12) as usize;
+            let values: [f64; NURBS_DATA_MAX] = positions(s);
+            feed(s);
+            Plausible::typed(GroupCmd::NurbsData(NurbsData {
+                offset,
+                values: values[..n].iter().copied().collect(),
+            }))
         }
-        Opcode::PathNurbs => {
+        O::PathNurbs => {
             let degree = 1 + s.u8() % 5;
             let n_ctrl = degree + 1 + s.u8() % 8;
-            a[0] = s.u16() as f64;
-            a[1] = magnitude(s, 2.0, 6.5);
-            a[2] = magnitude(s, -1.0, 3.0);
-            a[3..6].copy_from_slice(&[degree as f64, n_ctrl as f64, (n_ctrl + degree + 1) as f64]);
-            a[6] = magnitude(s, -2.0, 1.0);
+            let id = s.u16() as f64;
+            let feed_v = magnitude(s, 2.0, 6.5);
+            let tolerance = magnitude(s, -1.0, 3.0);
+            let fit_tolerance = magnitude(s, -2.0, 1.0);
+            feed(s);
+            let (flags, _, _) = path_flags(s, 1 | move_flags::CIRC_CCW as u8);
+            Plausible::typed(GroupCmd::PathNurbs(PathNurbs {
+                id,
+                feed: feed_v,
+                tolerance,
+                size: CurveSize {
+                    degree: degree as f64,
+                    n_ctrl: n_ctrl as f64,
+                    n_knots: (n_ctrl + degree + 1) as f64,
+                },
+                fit_tolerance,
+                flags,
+            }))
         }
-        Opcode::NurbsBegin => {
+        O::NurbsBegin => {
             let degree = 1 + s.u8() % 5;
             let n_ctrl = degree + 1 + s.u8() % 8;
-            a[..3].copy_from_slice(&[degree as f64, n_ctrl as f64, (n_ctrl + degree + 1) as f64]);
-            limits(s, &mut a[3..7]);
-            a[6] = magnitude(s, -2.0, 1.0);
-            a[7] = s.u8() as f64 / 255.0;
+            let l = feed_limits(s);
+            let chord_tolerance = magnitude(s, -2.0, 1.0);
+            let budget = s.u8() as f64 / 255.0;
+            let feed_type = feed(s);
+            let buffered = s.u8() as u32 & move_flags::BUFFERED != 0;
+            Plausible::typed(GroupCmd::NurbsBegin(NurbsBegin {
+                size: CurveSize {
+                    degree: degree as f64,
+                    n_ctrl: n_ctrl as f64,
+                    n_knots: (n_ctrl + degree + 1) as f64,
+                },
+                feed: l.vmax,
+                accel: l.amax,
+                jerk: l.dmax,
+                chord_tolerance,
+                budget,
+                buffered,
+                saturation: false,
+                feed_type,
+            }))
         }
-        _ => {}
-    }
-    a
-}
-
-fn plausible_flags<S: Source>(s: &mut S, op: Opcode) -> u32 {
-    let feed = ((s.u8() % 3) as u32) << move_flags::FEED_TYPE_SHIFT;
-    match op {
-        Opcode::GroupMoveLinear | Opcode::GroupMovePtp => feed | (s.u8() & 3) as u32,
-        Opcode::GroupMoveCircular => {
-            let mode = ((s.u8() % 3) as u32) << move_flags::CIRC_MODE_SHIFT;
-            let plane = ((s.u8() % 3) as u32) << move_flags::PLANE_SHIFT;
-            feed | mode | plane | (s.u8() as u32 & (3 | move_flags::CIRC_CCW))
+        O::GroupPtpLimits => {
+            feed(s);
+            // Zeros: no axis counted (the card refuses it, BadConfig).
+            let zero = FeedLimits::from_array([0.0; 4]);
+            let limits = core::iter::once(zero).collect();
+            let mut p = Plausible::typed(GroupCmd::PtpLimits(PtpLimits { first: 0, limits }));
+            p.over = Some(Overwrite::Arg(1, 0.0));
+            p
         }
-        Opcode::NurbsBegin => feed | (s.u8() as u32 & move_flags::BUFFERED),
-        Opcode::PathLine | Opcode::PathArc | Opcode::PathNurbs => {
-            let mode = ((s.u8() % 3) as u32) << move_flags::CIRC_MODE_SHIFT;
-            let buffer = ((s.u8() % 7) as u32) << firmware_proto::path_flags::BUFFER_SHIFT;
-            let tm = ((s.u8() % 4) as u32) << firmware_proto::path_flags::TRANSITION_SHIFT;
-            mode | buffer | tm | (s.u8() as u32 & (1 | move_flags::CIRC_CCW))
+        _ => {
+            feed(s);
+            let cmd = Cmd::decode(op as u16, 0, &[0.0; CMD_ARGS])
+                .expect("an opcode without arguments decodes from zeros");
+            Plausible::typed(cmd)
         }
-        Opcode::PathOutput => (s.u8() % 4) as u32,
-        Opcode::CompareArm | Opcode::ProbeArm => (s.u8() & 0x1F) as u32,
-        Opcode::CompareTable => [4, 8, 12, 0][(s.u8() % 4) as usize],
-        Opcode::GearIn | Opcode::GearInPos => (s.u8() % 3) as u32,
-        Opcode::PvtBegin => (s.u8() % 2) as u32,
-        Opcode::CamTable => (s.u8() % 4) as u32,
-        Opcode::CamIn => {
-            (s.u8() % 3) as u32
-                | (s.u8() as u32
-                    & (firmware_proto::CAM_AT_CYCLE_END | firmware_proto::CAM_RELATIVE))
-        }
-        Opcode::PvtPoints => (s.u8() % 2) as u32 * firmware_proto::PVT_LAST,
-        Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
-            s.u8() as u32 & move_flags::BUFFERED
-        }
-        _ => 0,
     }
 }
 
@@ -527,14 +913,17 @@ fn nurbs_transfer<S: Source>(s: &mut S, out: &mut Vec<RawCmd>) {
     let degree = 1 + (s.u8() % 5) as usize;
     let n_ctrl = degree + 1 + (s.u8() % 6) as usize;
     let n_knots = n_ctrl + degree + 1;
-    let mut header = plausible_args(s, Opcode::NurbsBegin);
-    header[..3].copy_from_slice(&[degree as f64, n_ctrl as f64, n_knots as f64]);
-    let flags = plausible_flags(s, Opcode::NurbsBegin)
-        | if s.u8() < 32 {
-            move_flags::NURBS_SATURATION
-        } else {
-            0
-        };
+    let Cmd::Group(GroupCmd::NurbsBegin(mut begin)) = plausible(s, Opcode::NurbsBegin).cmd else {
+        unreachable!("a NURBS begin is one")
+    };
+    begin.size = CurveSize {
+        degree: degree as f64,
+        n_ctrl: n_ctrl as f64,
+        n_knots: n_knots as f64,
+    };
+    begin.saturation = s.u8() < 32;
+    let mut header = [0.0; CMD_ARGS];
+    let flags = begin.encode(&mut header);
     // The stream: control points, weights, knots.
     let mut stream = Vec::with_capacity(n_ctrl * (n + 1) + n_knots);
     for i in 0..n_ctrl * n {
@@ -575,10 +964,16 @@ fn nurbs_transfer<S: Source>(s: &mut S, out: &mut Vec<RawCmd>) {
     let mut entries = nurbs_entries(g, flags, &header, &stream, |_| 1 + s.u8() as usize % 12);
     if s.u8() < 64 {
         // the curve as a path segment
-        let mut a = plausible_args(s, Opcode::PathNurbs);
-        a[3..6].copy_from_slice(&header[..3]);
-        let flags = plausible_flags(s, Opcode::PathNurbs);
-        entries[0] = RawCmd::new(Opcode::PathNurbs as u16, g, flags, &a);
+        let Cmd::Group(GroupCmd::PathNurbs(mut path)) = plausible(s, Opcode::PathNurbs).cmd else {
+            unreachable!("a path NURBS is one")
+        };
+        // The header's sizes, as the mutations left them.
+        path.size = CurveSize {
+            degree: header[0],
+            n_ctrl: header[1],
+            n_knots: header[2],
+        };
+        entries[0] = RawCmd(GroupCmd::PathNurbs(path).command(g).to_words());
     }
     match s.u8() % 8 {
         0 if entries.len() > 1 => {
@@ -615,14 +1010,14 @@ pub fn nurbs_entries(
     while off < stream.len() {
         let n = count(off).clamp(1, firmware_proto::NURBS_DATA_MAX);
         let n = n.min(stream.len() - off);
-        let mut a = [0.0; CMD_ARGS];
-        a[0] = off as f64;
-        a[1] = n as f64;
-        a[2..2 + n].copy_from_slice(&stream[off..off + n]);
-        entries.push(RawCmd::new(Opcode::NurbsData as u16, g, 0, &a));
+        let data = NurbsData {
+            offset: off as u32,
+            values: stream[off..off + n].iter().copied().collect(),
+        };
+        entries.push(RawCmd(GroupCmd::NurbsData(data).command(g).to_words()));
         off += n;
     }
-    entries.push(RawCmd::new(Opcode::NurbsEnd as u16, g, 0, &[0.0; CMD_ARGS]));
+    entries.push(RawCmd(GroupCmd::NurbsEnd.command(g).to_words()));
     entries
 }
 
@@ -655,18 +1050,17 @@ pub fn garbage_unit<S: Source>(s: &mut S, out: &mut Vec<RawCmd>) {
         _ => {
             let op = Opcode::ALL[s.u8() as usize % Opcode::ALL.len()];
             let axis = target_index(s, is_group_op(op));
-            let mut a = plausible_args(s, op);
-            let mut flags = plausible_flags(s, op);
+            let mut c = plausible(s, op).entry(axis);
             let broken = [0, 1, 1, 1, 2, 2, 2, 3][(s.u8() % 8) as usize];
             for _ in 0..broken {
                 match s.u8() % 8 {
-                    0 => flags ^= 1 << (s.u8() % 32),
+                    0 => c.flags ^= 1 << (s.u8() % 32),
                     // Mostly the arguments the opcode reads.
-                    1..=5 => a[(s.u8() % 8) as usize] = garbage_f64(s),
-                    _ => a[s.u8() as usize % CMD_ARGS] = garbage_f64(s),
+                    1..=5 => c.args[(s.u8() % 8) as usize] = garbage_f64(s),
+                    _ => c.args[s.u8() as usize % CMD_ARGS] = garbage_f64(s),
                 }
             }
-            out.push(RawCmd::new(op as u16, axis, flags, &a));
+            out.push(RawCmd(c.to_words()));
         }
     }
 }
@@ -1451,5 +1845,34 @@ mod tests {
         }
         let last = Opcode::ALL.iter().map(|&o| o as u16).max().unwrap();
         assert!(OPCODE_GAPS.contains(&(last + 1)), "the edge after {last}");
+    }
+
+    /// Every opcode has plausible commands, made through its type: an entry that decodes (a
+    /// typed index may still be one past the card's) decodes back to the same entry, and one a
+    /// draw wrote over (a value no type holds) does not decode.
+    #[test]
+    fn plausible_commands_go_through_their_types() {
+        let mut s = RngSource::new(33);
+        let mut overwritten = 0;
+        for _ in 0..200 {
+            for &op in Opcode::ALL {
+                let p = plausible(&mut s, op);
+                assert_eq!(p.cmd.opcode(), op);
+                let e = p.entry(3);
+                let back = Cmd::from_command(&e);
+                match p.over {
+                    None => {
+                        if let Ok(c) = back {
+                            assert_eq!(c.command(3).to_words(), e.to_words(), "{op:?}");
+                        }
+                    }
+                    Some(_) => {
+                        overwritten += 1;
+                        assert!(back.is_err(), "{op:?} {:?} decoded", p.over);
+                    }
+                }
+            }
+        }
+        assert!(overwritten > 0);
     }
 }

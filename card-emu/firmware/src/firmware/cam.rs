@@ -15,14 +15,9 @@ use crate::firmware::nack::check_ranges;
 use crate::firmware::Firmware;
 use crate::math;
 use crate::motion::cam::{CamError, CamTable};
-use firmware_proto::{
-    Command, MasterSource, Mem, NackCode, Opcode, AUX_ENCODERS, CAM_AT_CYCLE_END, CAM_CUBIC,
-    CAM_DATA_MAX, CAM_MAX_POINTS, CAM_PERIODIC, CAM_RELATIVE, CAM_TABLES,
-};
+use firmware_proto::cmd;
+use firmware_proto::{MasterSource, Mem, NackCode, CAM_MAX_POINTS, CAM_TABLES};
 use heapless::Vec;
-
-// The pairs of a data entry fit in a command.
-const _: () = assert!(3 + 2 * CAM_DATA_MAX <= firmware_proto::CMD_ARGS);
 
 /// A table being loaded.
 #[derive(Debug)]
@@ -61,41 +56,36 @@ fn index(x: f64, n: usize) -> Option<usize> {
 }
 
 impl GearCommand {
-    /// Decode and check `MC_OP_CAM_IN` for slave `slave` (the table is checked when it runs).
-    pub fn decode_cam(
-        args: &[f64],
-        flags: u32,
+    /// Check `MC_OP_CAM_IN` for slave `slave` after decoding (which found every argument
+    /// finite, the master source known and its number an integer of its range; the table is
+    /// checked when it runs).
+    pub fn cam(
+        ci: &cmd::CamIn,
         slave: usize,
         num_axes: usize,
         rate_hz: u32,
     ) -> Result<Self, NackCode> {
-        let a = &args[..9];
-        if a.iter().any(|x| !x.is_finite()) {
-            return Err(NackCode::NotFinite);
+        let source = ci.master.source;
+        let master = ci.master.index as usize;
+        if source != MasterSource::Aux && master >= num_axes {
+            return Err(NackCode::SyncMaster);
         }
-        let source = MasterSource::from_raw(flags & !(CAM_AT_CYCLE_END | CAM_RELATIVE))
-            .ok_or(NackCode::SyncMaster)?;
-        let count = match source {
-            MasterSource::Aux => AUX_ENCODERS,
-            _ => num_axes,
-        };
-        let master = index(a[0], count).ok_or(NackCode::SyncMaster)?;
         if source != MasterSource::Aux && master == slave {
             return Err(NackCode::SyncMaster);
         }
-        let table = index(a[1], CAM_TABLES).ok_or(NackCode::CamTable)?;
+        let table = index(ci.table, CAM_TABLES).ok_or(NackCode::CamTable)?;
         let big = firmware_proto::MAX_POSITION;
-        if a[2].abs() > big || a[3].abs() > big {
+        if ci.master_offset.abs() > big || ci.slave_offset.abs() > big {
             return Err(NackCode::OutOfRange);
         }
         let scale_ok = |x: f64| x.is_normal() && x.abs() <= 1e9 && x.abs() >= 1e-9;
-        if !scale_ok(a[4]) || !scale_ok(a[5]) {
+        if !scale_ok(ci.master_scale) || !scale_ok(ci.slave_scale) {
             return Err(NackCode::OutOfRange);
         }
         let lim = SyncLimits {
-            vmax: a[6],
-            amax: a[7],
-            jerk: a[8],
+            vmax: ci.limits.vmax,
+            amax: ci.limits.amax,
+            jerk: ci.limits.jerk,
         };
         check_ranges(rate_hz, &[(1, lim.vmax), (2, lim.amax), (3, lim.jerk)])?;
         Ok(Self {
@@ -105,10 +95,10 @@ impl GearCommand {
             },
             law: Law::Cam(CamLaw {
                 table,
-                m_off: a[2],
-                s_off: a[3],
-                m_scale: a[4],
-                s_scale: a[5],
+                m_off: ci.master_offset,
+                s_off: ci.slave_offset,
+                m_scale: ci.master_scale,
+                s_scale: ci.slave_scale,
             }),
             lim,
             sync_at: None,
@@ -127,57 +117,52 @@ impl<M: Mem + Clone> Firmware<M> {
         self.cam_tables().get(t)?.as_ref()
     }
 
-    /// `MC_OP_CAM_TABLE` and `MC_OP_CAM_DATA`.
-    pub(super) fn execute_cam_table(&mut self, c: &Command, op: Opcode) -> Result<f64, NackCode> {
-        let a = &c.args;
-        if op == Opcode::CamTable {
-            if a[..2].iter().any(|x| !x.is_finite()) {
-                return Err(NackCode::NotFinite);
-            }
-            let table = index(a[0], CAM_TABLES).ok_or(NackCode::CamTable)?;
-            let cubic = c.flags & CAM_CUBIC != 0;
-            let min = if cubic { 3 } else { 2 };
-            let n = index(a[1], CAM_MAX_POINTS + 1)
-                .filter(|&n| n >= min)
-                .ok_or(NackCode::CamTable)?;
-            if c.flags & !(CAM_CUBIC | CAM_PERIODIC) != 0 {
-                return Err(NackCode::CamTable);
-            }
-            if self.gears.iter().any(|g| g.cam_table() == Some(table)) {
-                return Err(NackCode::CamTable);
-            }
-            let store = self.cams.get_or_insert_with(CamStore::new);
-            store.tables[table] = None;
-            let mut l = store.loading.take().unwrap_or(Loading {
-                table,
-                n,
-                cubic,
-                periodic: false,
-                points: Vec::new(),
-            });
-            l.points.clear();
-            (l.table, l.n, l.cubic, l.periodic) = (table, n, cubic, c.flags & CAM_PERIODIC != 0);
-            store.loading = Some(l);
-            return Ok(0.0);
+    /// `MC_OP_CAM_TABLE`: open table `t.table` for its points (its other faults were found by
+    /// decoding); a table a slave follows cannot be reloaded.
+    pub(super) fn cam_table_open(&mut self, t: &cmd::CamTable) -> Result<f64, NackCode> {
+        let (table, n, cubic) = (t.table as usize, t.points as usize, t.cubic);
+        if self.gears.iter().any(|g| g.cam_table() == Some(table)) {
+            return Err(NackCode::CamTable);
         }
-        // MC_OP_CAM_DATA: table, first index, count, then pairs.
-        if a.iter().any(|x| !x.is_finite()) {
-            return Err(NackCode::NotFinite);
+        let store = self.cams.get_or_insert_with(CamStore::new);
+        store.tables[table] = None;
+        let mut l = store.loading.take().unwrap_or(Loading {
+            table,
+            n,
+            cubic,
+            periodic: false,
+            points: Vec::new(),
+        });
+        l.points.clear();
+        (l.table, l.n, l.cubic, l.periodic) = (table, n, cubic, t.periodic);
+        store.loading = Some(l);
+        Ok(0.0)
+    }
+
+    /// `MC_OP_CAM_DATA`: the next points of the table being loaded, in order; the last builds
+    /// it. A fault decoding found (every argument finite, then the table, the count, the first
+    /// index) is the card's answer where it always was: a NaN before anything, the others
+    /// after the table being loaded is looked for.
+    pub(super) fn cam_data(
+        &mut self,
+        d: Result<&cmd::CamData, cmd::DecodeError>,
+    ) -> Result<f64, NackCode> {
+        if let Err(e) = d {
+            if e.fault == cmd::Fault::NotFinite {
+                return Err(e.nack);
+            }
         }
         let store = self.cams.as_mut().ok_or(NackCode::CamSequence)?;
         let l = store.loading.as_mut().ok_or(NackCode::CamSequence)?;
-        let table = index(a[0], CAM_TABLES).ok_or(NackCode::CamTable)?;
-        let count = index(a[2], CAM_DATA_MAX + 1)
-            .filter(|&k| k >= 1)
-            .ok_or(NackCode::CamSequence)?;
-        if table != l.table || index(a[1], CAM_MAX_POINTS) != Some(l.points.len()) {
+        let d = d.map_err(|e| e.nack)?;
+        if d.table as usize != l.table || d.first as usize != l.points.len() {
             return Err(NackCode::CamSequence);
         }
-        if l.points.len() + count > l.n {
+        if l.points.len() + d.points.len() > l.n {
             return Err(NackCode::CamSequence);
         }
-        for k in 0..count {
-            let _ = l.points.push((a[3 + 2 * k], a[4 + 2 * k])); // n <= capacity
+        for p in &d.points {
+            let _ = l.points.push(*p); // n <= capacity
         }
         if l.points.len() < l.n {
             return Ok((l.n - l.points.len()) as f64);

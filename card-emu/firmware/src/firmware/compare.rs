@@ -25,6 +25,7 @@
 
 use crate::math;
 use crate::ram::FixedVec;
+use firmware_proto::cmd::{CompareArm, CompareKind, Direction};
 use firmware_proto::{raw, NackCode, COMPARE_TABLE_LEN, MAX_POSITION, OUTPUTS};
 
 /// Positions a channel examines per tick at most (fires and misses); the rest wait for the
@@ -442,38 +443,19 @@ fn arm_source(a: &Option<Arm>) -> Source {
     a.map_or(Source::Table, |a| a.source)
 }
 
-/// Validate `MC_OP_COMPARE_ARM`'s arguments (after the channel): output, pulse_us, low_water,
-/// position/start, pitch, count; `flags` the mode and direction; `rate_hz` the servo rate.
-pub fn validate_arm(
-    axis: usize,
-    flags: u32,
-    args: &[f64],
-    rate_hz: u32,
-    seq: u32,
-) -> Result<Arm, NackCode> {
-    let [output, pulse_us, low_water, p0, pitch, count, ..] = *args else {
-        return Err(NackCode::CompareMode);
-    };
-    if flags & !(raw::MC_CMP_MODE_MASK | raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG) != 0 {
-        return Err(NackCode::CompareMode);
-    }
-    let mode = flags & raw::MC_CMP_MODE_MASK;
-    let dir: i8 = match (
-        flags & raw::MC_CMP_DIR_POS != 0,
-        flags & raw::MC_CMP_DIR_NEG != 0,
-    ) {
-        (true, false) => 1,
-        (false, true) => -1,
-        (true, true) if mode == raw::MC_CMP_MODE_SINGLE => 0,
-        _ => return Err(NackCode::CompareMode),
-    };
+/// Validate `MC_OP_COMPARE_ARM`'s numbers (decoding checked the channel, the mode and the
+/// direction): output, pulse_us, low_water, position/start, pitch, count; `rate_hz` the servo
+/// rate.
+pub fn validate_arm(axis: usize, a: &CompareArm, rate_hz: u32, seq: u32) -> Result<Arm, NackCode> {
+    let (output, pulse_us, low_water) = (a.output, a.pulse_us, a.low_water);
+    let (p0, pitch, count) = (a.position, a.pitch, a.count);
+    let dir: i8 = a.direction.map_or(0, Direction::sign);
     let int_in = |x: f64, lo: f64, hi: f64| math::fract(x) == 0.0 && (lo..=hi).contains(&x);
     let finite = [output, pulse_us, low_water, p0, pitch, count];
-    let used = match mode {
-        raw::MC_CMP_MODE_SINGLE => &finite[..4],
-        raw::MC_CMP_MODE_SERIES => &finite[..],
-        raw::MC_CMP_MODE_TABLE => &finite[..3],
-        _ => return Err(NackCode::CompareMode),
+    let used = match a.kind {
+        CompareKind::Single => &finite[..4],
+        CompareKind::Series => &finite[..],
+        CompareKind::Table => &finite[..3],
     };
     if used.iter().any(|x| !x.is_finite()) {
         return Err(NackCode::NotFinite);
@@ -484,14 +466,14 @@ pub fn validate_arm(
     {
         return Err(NackCode::CompareMode);
     }
-    let source = match mode {
-        raw::MC_CMP_MODE_SINGLE => {
+    let source = match a.kind {
+        CompareKind::Single => {
             if p0.abs() > MAX_POSITION {
                 return Err(NackCode::OutOfRange);
             }
             Source::Single { at: p0 }
         }
-        raw::MC_CMP_MODE_SERIES => {
+        CompareKind::Series => {
             if !(1.0..=MAX_POSITION).contains(&pitch) || !int_in(count, 1.0, f64::from(i32::MAX)) {
                 return Err(NackCode::CompareMode);
             }
@@ -506,7 +488,7 @@ pub fn validate_arm(
                 next: 0,
             }
         }
-        _ => Source::Table,
+        CompareKind::Table => Source::Table,
     };
     Ok(Arm {
         axis,
@@ -685,6 +667,22 @@ mod tests {
         let many: Vec<f64> = (0..COMPARE_TABLE_LEN).map(|i| 100.0 + i as f64).collect();
         assert_eq!(c.queue(1, &many), Err(NackCode::CompareFull));
         assert_eq!(c.queue(1, &many[..COMPARE_TABLE_LEN - 2]), Ok(0));
+    }
+
+    /// `MC_OP_COMPARE_ARM` with these flags and arguments (after the channel, 0), decoded as
+    /// the card decodes it, then validated.
+    fn validate_arm(
+        axis: usize,
+        flags: u32,
+        args: &[f64],
+        rate_hz: u32,
+        seq: u32,
+    ) -> Result<Arm, NackCode> {
+        use firmware_proto::cmd::Args;
+        let mut a = [0.0; firmware_proto::CMD_ARGS];
+        a[1..1 + args.len()].copy_from_slice(args);
+        let arm = CompareArm::decode(flags, &a).map_err(|e| e.nack)?;
+        super::validate_arm(axis, &arm, rate_hz, seq)
     }
 
     #[test]

@@ -20,24 +20,16 @@
 use super::axis::AxisConfig;
 use super::group::{FilterConfig, GroupConfig};
 use super::Firmware;
-use crate::math;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
-use firmware_proto::{layout, raw, AxisPdPlus, Command, ConfigKind, Mem, NackCode, MAX_AXES};
+use firmware_proto::cmd::ReadConfig;
+use firmware_proto::{layout, raw, AxisPdPlus, ConfigKind, Mem, NackCode, MAX_AXES};
 use firmware_proto::{MAX_GROUPS, SCALE_RANGE};
 
-/// An argument that must be a small non-negative integer.
-fn index_arg(x: f64) -> Option<usize> {
-    (x.is_finite() && math::fract(x) == 0.0 && (0.0..=u16::MAX as f64).contains(&x))
-        .then_some(x as usize)
-}
-
 impl<M: Mem + Clone> Firmware<M> {
-    /// `MC_OP_READ_CONFIG`: write the settings the card holds into the block asked for.
-    pub(super) fn read_config(&mut self, c: &Command) -> Result<(), NackCode> {
-        let kind = index_arg(c.args[0])
-            .and_then(|k| ConfigKind::from_raw(k as u32))
-            .ok_or(NackCode::ConfigKind)?;
-        let i = index_arg(c.args[1]).ok_or(NackCode::ConfigKind)?;
+    /// `MC_OP_READ_CONFIG`: write the settings the card holds into the block asked for
+    /// (decoding checked the kind and the index are integers, the kind one of the card's).
+    pub(super) fn read_config(&mut self, r: &ReadConfig) -> Result<(), NackCode> {
+        let (kind, i) = (r.kind, r.index as usize);
         if kind.per_axis() && i >= self.num_axes {
             return Err(NackCode::BadAxis);
         }
@@ -95,13 +87,13 @@ impl<M: Mem + Clone> Firmware<M> {
         Ok(())
     }
 
-    /// `MC_OP_SET_SCALE`: keep an axis's scale for hosts (any state; nothing else changes).
-    pub(super) fn set_scale(&mut self, c: &Command) -> Result<(), NackCode> {
-        let a = c.axis as usize;
+    /// `MC_OP_SET_SCALE` on axis `axis`: keep its scale `s` for hosts (any state; nothing
+    /// else changes).
+    pub(super) fn set_scale(&mut self, axis: u16, s: f64) -> Result<(), NackCode> {
+        let a = axis as usize;
         if a >= self.num_axes {
             return Err(NackCode::BadAxis);
         }
-        let s = c.args[0];
         if !s.is_finite() {
             return Err(NackCode::NotFinite);
         }
@@ -268,7 +260,7 @@ pub fn decode_axis_filter(block: &raw::mc_axis_filter) -> Result<FilterConfig, N
 mod tests {
     use super::*;
     use firmware_proto::mem::HeapWindow;
-    use firmware_proto::Opcode;
+    use firmware_proto::{Command, Opcode};
     use std::sync::Arc;
 
     type Fw = Firmware<Arc<HeapWindow>>;

@@ -53,10 +53,10 @@ use crate::math;
 use crate::motion::cam::CamTable;
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::servo::ffpiv::Reference;
+use firmware_proto::cmd;
 use firmware_proto::{
-    layout, raw, AxisState, Command, EventKind, GearRatio, MasterSource, Mem, NackCode, Opcode,
-    SyncEvent, AUX_ENCODERS, CAM_AT_CYCLE_END, CAM_RELATIVE, COMMANDED_SUBCOUNTS, MAX_AXES,
-    MAX_MOVE_TIME,
+    layout, raw, AxisState, EventKind, GearRatio, MasterSource, Mem, NackCode, Opcode, SyncEvent,
+    AUX_ENCODERS, COMMANDED_SUBCOUNTS, MAX_AXES, MAX_MOVE_TIME,
 };
 
 /// Samples of the quintic checked against the slave's limits (MC_GearInPos).
@@ -346,50 +346,37 @@ pub struct GearCommand {
 }
 
 impl GearCommand {
-    /// Decode and check the arguments of `MC_OP_GEAR_IN` (`pos = false`) or `_POS` for slave
-    /// `slave` on a card of `num_axes` axes at `rate_hz`. Nothing on the card changes.
-    pub fn decode(
-        args: &[f64],
-        flags: u32,
-        pos: bool,
+    /// Check `MC_OP_GEAR_IN` (`sync_at: None`) or `_POS` (the master's and the slave's sync
+    /// positions) for slave `slave` on a card of `num_axes` axes at `rate_hz`, after decoding
+    /// (which found every argument finite, the master source known and its number an integer
+    /// of its range). Nothing on the card changes.
+    pub fn gear(
+        g: &cmd::GearIn,
+        sync_at: Option<(f64, f64)>,
         slave: usize,
         num_axes: usize,
         rate_hz: u32,
     ) -> Result<Self, NackCode> {
-        let n = if pos { 8 } else { 6 };
-        let a = args.get(..n).ok_or(NackCode::BadConfig)?;
-        if a.iter().any(|x| !x.is_finite()) {
-            return Err(NackCode::NotFinite);
-        }
-        let source = MasterSource::from_raw(flags).ok_or(NackCode::SyncMaster)?;
-        let count = match source {
-            MasterSource::Aux => AUX_ENCODERS,
-            _ => num_axes,
-        };
-        let index = a[0];
-        if math::fract(index) != 0.0 || index < 0.0 || index >= count as f64 {
+        let source = g.master.source;
+        let index = g.master.index as usize;
+        if source != MasterSource::Aux && index >= num_axes {
             return Err(NackCode::SyncMaster);
         }
-        let index = index as usize;
         if source != MasterSource::Aux && index == slave {
             return Err(NackCode::SyncMaster);
         }
-        let ratio = GearRatio::from_args(a[1], a[2]).ok_or(NackCode::GearRatio)?;
+        let ratio = GearRatio::from_args(g.numerator, g.denominator).ok_or(NackCode::GearRatio)?;
         let lim = SyncLimits {
-            vmax: a[3],
-            amax: a[4],
-            jerk: a[5],
+            vmax: g.limits.vmax,
+            amax: g.limits.amax,
+            jerk: g.limits.jerk,
         };
         check_ranges(rate_hz, &[(1, lim.vmax), (2, lim.amax), (3, lim.jerk)])?;
-        let sync_at = if pos {
-            let (m, s) = (a[6], a[7]);
+        if let Some((m, s)) = sync_at {
             if m.abs() > firmware_proto::MAX_POSITION || s.abs() > firmware_proto::MAX_POSITION {
                 return Err(NackCode::OutOfRange);
             }
-            Some((m, s))
-        } else {
-            None
-        };
+        }
         Ok(Self {
             master: Master { source, index },
             law: Law::Gear(ratio),
@@ -717,41 +704,27 @@ impl<M: Mem + Clone> Firmware<M> {
         self.gears[..self.num_axes].get(i)
     }
 
-    /// `MC_OP_GEAR_IN`, `_POS`, `_OUT` on axis `ax` (checked to be one of the card's, not in an
-    /// enabled group, no latch): the old state, or the nack.
+    /// MC_GearIn, MC_GearInPos or MC_CamIn (command `seq`, checked: `cmd`) on axis `ax` (one of
+    /// the card's, not in an enabled group, no latch): the old state and whether it took the
+    /// axis over, or the nack. `at_cycle_end`, `relative`: MC_CamIn's flags.
     pub(super) fn execute_gear(
         &mut self,
-        c: &Command,
-        op: Opcode,
+        seq: u32,
         ax: usize,
+        mut cmd: GearCommand,
+        at_cycle_end: bool,
+        relative: bool,
     ) -> Result<(Option<AxisState>, bool), NackCode> {
-        let rate = self.servo_rate_hz;
-        let cmd = match op {
-            Opcode::GearOut | Opcode::CamOut => {
-                return self.gears[ax]
-                    .gear_out(&mut self.axes[ax], c.seq, rate)
-                    .map(|s| (s, true))
+        if let (Law::Cam(law), true) = (cmd.law, at_cycle_end) {
+            // MC_CamTableSelect at the end of the cycle: nothing is taken over now.
+            if self.cam_table(law.table).is_none() {
+                return Err(NackCode::CamTable);
             }
-            Opcode::CamIn => {
-                let cmd = GearCommand::decode_cam(&c.args, c.flags, ax, self.num_axes, rate)?;
-                if let (Law::Cam(law), true) = (cmd.law, c.flags & CAM_AT_CYCLE_END != 0) {
-                    // MC_CamTableSelect at the end of the cycle: nothing is taken over now.
-                    if self.cam_table(law.table).is_none() {
-                        return Err(NackCode::CamTable);
-                    }
-                    return self.gears[ax].queue_cam(c.seq, law).map(|()| (None, false));
-                }
-                cmd
-            }
-            _ => {
-                let pos = op == Opcode::GearInPos;
-                GearCommand::decode(&c.args, c.flags, pos, ax, self.num_axes, rate)?
-            }
-        };
-        let mut cmd = cmd;
+            return self.gears[ax].queue_cam(seq, law).map(|()| (None, false));
+        }
         let m = cmd.master.sample(&self.axes[..self.num_axes], &self.aux);
         let tables = self.cams.as_ref().map_or(&[][..], |s| s.tables());
-        if let (Law::Cam(law), true) = (&mut cmd.law, c.flags & CAM_RELATIVE != 0) {
+        if let (Law::Cam(law), true) = (&mut cmd.law, relative) {
             // StartMode relative: the table's position here is moved onto the slave's.
             let t = tables
                 .get(law.table)
@@ -765,7 +738,20 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         }
         self.gears[ax]
-            .start(&mut self.axes[ax], c.seq, &cmd, &m, tables)
+            .start(&mut self.axes[ax], seq, &cmd, &m, tables)
+            .map(|s| (s, true))
+    }
+
+    /// MC_GearOut, MC_CamOut (command `seq`) on axis `ax`: the old state; it takes the axis
+    /// over.
+    pub(super) fn execute_gear_out(
+        &mut self,
+        seq: u32,
+        ax: usize,
+    ) -> Result<(Option<AxisState>, bool), NackCode> {
+        let rate = self.servo_rate_hz;
+        self.gears[ax]
+            .gear_out(&mut self.axes[ax], seq, rate)
             .map(|s| (s, true))
     }
 
@@ -888,7 +874,13 @@ mod tests {
     #[test]
     fn commands_are_checked() {
         let ok = [1.0, 3.0, 7.0, 1e4, 1e5, 1e7, 0.0, 0.0];
-        let d = |a: &[f64], f: u32| GearCommand::decode(a, f, false, 0, 2, 10_000);
+        // Decoded as the card decodes an entry, then checked.
+        let d = |a: &[f64], f: u32| {
+            let mut args = [0.0; firmware_proto::CMD_ARGS];
+            args[..a.len()].copy_from_slice(a);
+            let g = <cmd::GearIn as cmd::Args>::decode(f, &args).map_err(|e| e.nack)?;
+            GearCommand::gear(&g, None, 0, 2, 10_000)
+        };
         assert!(d(&ok, 0).is_ok());
         assert_eq!(d(&ok, 7).unwrap_err(), NackCode::SyncMaster);
         let mut a = ok;

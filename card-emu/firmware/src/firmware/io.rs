@@ -20,10 +20,10 @@ use super::compare::{self, Compare, Fire};
 use super::outbox::EventQueue;
 use super::probe::{self, Probe, Trigger};
 use super::safety::IndexLatch;
-use crate::math;
+use firmware_proto::cmd::IoCmd;
 use firmware_proto::{
-    layout, raw, Command, Event, EventKind, Mem, NackCode, Opcode, COMPARE_CHANNELS,
-    COMPARE_TABLE_MAX, INPUTS, MAX_AXES, PROBE_CHANNELS,
+    layout, raw, Event, EventKind, Mem, NackCode, COMPARE_CHANNELS, INPUTS, MAX_AXES,
+    PROBE_CHANNELS,
 };
 
 /// The input pins as the encoder interface samples them at a tick.
@@ -201,15 +201,14 @@ impl Default for IoUnit {
     }
 }
 
-/// A channel number from a command argument.
-fn channel(x: f64, n: usize) -> Result<usize, NackCode> {
-    if !x.is_finite() {
-        return Err(NackCode::NotFinite);
+/// The axis a compare or probe arm names (`axis`), if it is one of the card's `num_axes`.
+pub fn arm_axis(axis: u16, num_axes: usize) -> Result<usize, NackCode> {
+    let a = axis as usize;
+    if a < num_axes {
+        Ok(a)
+    } else {
+        Err(NackCode::BadAxis)
     }
-    if math::fract(x) != 0.0 || !(0.0..n as f64).contains(&x) {
-        return Err(NackCode::IoChannel);
-    }
-    Ok(x as usize)
 }
 
 impl IoUnit {
@@ -239,46 +238,27 @@ impl IoUnit {
         self.spans = spans;
     }
 
-    /// Is `op` one of this unit's opcodes?
-    pub fn is_io_op(op: Opcode) -> bool {
-        matches!(
-            op,
-            Opcode::ApplyIoConfig
-                | Opcode::CompareArm
-                | Opcode::CompareTable
-                | Opcode::CompareDisarm
-                | Opcode::ProbeArm
-                | Opcode::ProbeAbort
-        )
-    }
-
-    /// Execute an I/O command (the opcode is one of [`IoUnit::is_io_op`]); `num_axes` bounds
-    /// the axis of an arm.
+    /// Execute an I/O command of this unit (all but `MC_OP_SET_OUTPUTS`, the firmware's) of
+    /// command `seq` naming axis `axis`; `num_axes` bounds the axis of an arm.
     pub fn command<M: Mem>(
         &mut self,
         mem: &M,
-        c: &Command,
-        op: Opcode,
+        seq: u32,
+        axis: u16,
+        cmd: &IoCmd,
         num_axes: usize,
         rate_hz: u32,
     ) -> Result<f64, NackCode> {
-        let axis = || {
-            let a = c.axis as usize;
-            if a < num_axes {
-                Ok(a)
-            } else {
-                Err(NackCode::BadAxis)
-            }
-        };
-        match op {
-            Opcode::ApplyIoConfig => {
+        let axis = || arm_axis(axis, num_axes);
+        match cmd {
+            IoCmd::ApplyConfig => {
                 let cfg = IoConfig::validate(&layout::IO_CONFIG.read(mem))?;
                 self.debounce.apply(cfg);
                 Ok(0.0)
             }
-            Opcode::CompareArm => {
-                let ch = channel(c.args[0], COMPARE_CHANNELS)?;
-                let arm = compare::validate_arm(axis()?, c.flags, &c.args[1..], rate_hz, c.seq)?;
+            IoCmd::CompareArm(a) => {
+                let ch = a.channel as usize;
+                let arm = compare::validate_arm(axis()?, a, rate_hz, seq)?;
                 let others = self
                     .compare
                     .iter()
@@ -291,40 +271,25 @@ impl IoUnit {
                 self.compare[ch].start(arm)?;
                 Ok(0.0)
             }
-            Opcode::CompareTable => {
-                let ch = channel(c.args[0], COMPARE_CHANNELS)?;
-                let n = c.args[1];
-                if !n.is_finite() {
-                    return Err(NackCode::NotFinite);
-                }
-                if math::fract(n) != 0.0 || !(1.0..=COMPARE_TABLE_MAX as f64).contains(&n) {
-                    return Err(NackCode::CompareMode);
-                }
-                let dir = match c.flags {
-                    raw::MC_CMP_DIR_POS => 1,
-                    raw::MC_CMP_DIR_NEG => -1,
-                    _ => return Err(NackCode::CompareMode),
-                };
-                let room = self.compare[ch].queue(dir, &c.args[2..2 + n as usize])?;
+            IoCmd::CompareTable(t) => {
+                let room =
+                    self.compare[t.channel as usize].queue(t.direction.sign(), &t.positions)?;
                 Ok(f64::from(room))
             }
-            Opcode::CompareDisarm => {
-                let ch = channel(c.args[0], COMPARE_CHANNELS)?;
-                self.compare[ch].stop();
+            IoCmd::CompareDisarm(d) => {
+                self.compare[d.channel as usize].stop();
                 Ok(0.0)
             }
-            Opcode::ProbeArm => {
-                let ch = channel(c.args[0], PROBE_CHANNELS)?;
-                let arm = probe::validate_arm(axis()?, c.flags, &c.args[1..], c.seq)?;
-                self.probes[ch].start(arm);
+            IoCmd::ProbeArm(p) => {
+                let arm = probe::validate_arm(axis()?, p, seq)?;
+                self.probes[p.channel as usize].start(arm);
                 Ok(0.0)
             }
-            Opcode::ProbeAbort => {
-                let ch = channel(c.args[0], PROBE_CHANNELS)?;
-                self.probes[ch].abort();
+            IoCmd::ProbeAbort(p) => {
+                self.probes[p.channel as usize].abort();
                 Ok(0.0)
             }
-            _ => Err(NackCode::UnknownOpcode),
+            IoCmd::SetOutputs(_) => Err(NackCode::UnknownOpcode),
         }
     }
 
@@ -544,6 +509,17 @@ mod tests {
         assert_eq!(IoConfig::validate(&b), Err(NackCode::IoConfig));
         b.debounce[15] = raw::MC_DEBOUNCE_MAX as u16;
         assert_eq!(IoConfig::validate(&b).unwrap().to_block(), b);
+    }
+
+    /// A channel number as the card decodes it (`firmware_proto::cmd`: a compare disarm's).
+    fn channel(x: f64, n: usize) -> Result<usize, NackCode> {
+        use firmware_proto::cmd::{Args, CompareDisarm};
+        assert_eq!(n, COMPARE_CHANNELS);
+        let mut a = [0.0; firmware_proto::CMD_ARGS];
+        a[0] = x;
+        CompareDisarm::decode(0, &a)
+            .map(|d| d.channel as usize)
+            .map_err(|e| e.nack)
     }
 
     #[test]

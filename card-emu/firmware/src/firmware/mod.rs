@@ -12,6 +12,7 @@ pub mod cam;
 pub mod compare;
 pub mod config;
 pub mod dac;
+mod exec;
 pub mod gear;
 pub mod group;
 pub mod homing;
@@ -23,20 +24,18 @@ pub mod pvt;
 pub mod safety;
 pub mod scope;
 
-use self::axis::{Axis, AxisConfig, MoveKind, Started, TickReport};
+use self::axis::{Axis, AxisConfig, TickReport};
 use self::gear::{AuxInputs, Gear};
 use self::group::{filter_bank, FilterConfig, Group, Outbox};
-use self::homing::{Homing, HomingConfig, HomingInputs, HomingReport};
+use self::homing::{Homing, HomingInputs, HomingReport};
 use self::io::{DigitalInputs, IoUnit};
 use self::safety::{Inputs, Safety};
 use crate::math;
-use crate::motion::scurve::Limits;
 use crate::ram::Lazy;
 use firmware_proto::layout;
 use firmware_proto::ring::{CmdConsumer, EvtProducer, CMD_RING, EVT_RING};
 use firmware_proto::{
-    raw, seqlock, AxisState, Command, Event, EventKind, GroupState, Mem, MoveFlags, NackCode,
-    Opcode, StopReason, MAX_AXES, MAX_GROUPS,
+    raw, seqlock, AxisState, Command, Event, EventKind, Mem, NackCode, MAX_AXES, MAX_GROUPS,
 };
 use firmware_proto::{ScopeEvent, ScopeProducer, Signal};
 
@@ -361,389 +360,6 @@ impl<M: Mem + Clone> Firmware<M> {
         now != 0 && (now.wrapping_sub(c.deadline_ms) as i32) > 0
     }
 
-    /// Execute one command: the value of its ack, or its nack.
-    fn execute(&mut self, c: &Command) -> Result<f64, NackCode> {
-        let op = Opcode::from_raw(c.opcode).ok_or(NackCode::UnknownOpcode)?;
-        // [safety] the session gate: with nobody in command, only what stops, reads, observes
-        // or stages data (safety.rs)
-        if !self.safety.in_command() && !safety::allowed_without_session(op) {
-            return Err(NackCode::NoSession);
-        }
-        if IoUnit::is_io_op(op) {
-            // Layout 1.7: digital inputs, compare, probes (io.rs); nothing moves.
-            let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
-            return self.io.command(mem, c, op, n, rate);
-        }
-        if is_group_op(op) {
-            return self.execute_group(c, op).map(|()| 0.0);
-        }
-        if is_scope_op(op) {
-            // Layout 1.8: the scope (scope.rs); nothing moves.
-            return self.scope_command(c, op).map(|()| 0.0);
-        }
-        let nargs = match op {
-            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => 8,
-            Opcode::MoveVelocity => 4,
-            Opcode::Halt | Opcode::Stop => 2,
-            Opcode::Jog | Opcode::SetOverride | Opcode::Home | Opcode::SetPosition => 1,
-            _ => 0,
-        };
-        if c.args[..nargs].iter().any(|a| !a.is_finite()) {
-            return Err(NackCode::NotFinite);
-        }
-        match op {
-            Opcode::Nop => return Ok(0.0),
-            Opcode::ApplyCardConfig => return self.apply_card_config().map(|()| 0.0),
-            // Layout 1.8: the configuration read back, the scale kept for hosts (config.rs).
-            Opcode::ReadConfig => return self.read_config(c).map(|()| 0.0),
-            Opcode::SetScale => return self.set_scale(c).map(|()| 0.0),
-            Opcode::SetOutputs => return self.set_outputs(c).map(|()| 0.0),
-            Opcode::HostDetach => return self.detach(c).map(|()| 0.0),
-            // Layout 1.7 (sync): cam tables are the card's, not an axis's (cam.rs).
-            Opcode::CamTable | Opcode::CamData => return self.execute_cam_table(c, op),
-            _ => {}
-        }
-        // [safety] opcodes 32..47 (safety.rs)
-        if let Some(r) = self.safety.command(
-            &self.mem,
-            c,
-            op,
-            self.tick,
-            self.servo_rate_hz,
-            &mut self.axes[..self.num_axes],
-        ) {
-            return r;
-        }
-        let ax = c.axis as usize;
-        if ax >= self.num_axes {
-            return Err(NackCode::BadAxis);
-        }
-        // [safety] card-wide latches, causes still present, limits (safety.rs)
-        self.safety
-            .check_command(op, c.flags, &c.args, &self.axes[ax])?;
-        let tick = self.tick;
-        let pending = self.axes[ax].pending_motion();
-        let grouped = self.groups.iter().any(|g| g.owns_enabled(ax));
-        match op {
-            Opcode::ApplyAxisConfig => {
-                let block = layout::AXIS_CONFIG.at(ax).read(&self.mem);
-                let pdplus = layout::AXIS_PDPLUS.at(ax).read(&self.mem);
-                let cfg = config::validate_axis_config(&block, &pdplus)?;
-                let ts = self.ts();
-                self.axes[ax].apply_config(cfg, ts);
-            }
-            Opcode::ApplyAxisFilter => {
-                let cfg = config::decode_axis_filter(&layout::AXIS_FILTER.at(ax).read(&self.mem))?;
-                cfg.validate(self.ts())?;
-                if !self.filters[ax].is_settled() {
-                    return Err(NackCode::FilterBusy);
-                }
-                self.filters[ax].config = cfg;
-                return Ok(0.0);
-            }
-            Opcode::MoveAbsolute
-            | Opcode::MoveRelative
-            | Opcode::MoveAdditive
-            | Opcode::MoveVelocity
-            | Opcode::Jog
-            | Opcode::SetOverride
-            | Opcode::Halt
-            | Opcode::Stop
-            | Opcode::StopRelease
-            | Opcode::PowerOff
-            | Opcode::Home
-            | Opcode::SetPosition
-            | Opcode::GearIn
-            | Opcode::GearInPos
-            | Opcode::GearOut
-            | Opcode::CamIn
-            | Opcode::CamOut
-            | Opcode::PvtBegin
-            | Opcode::PvtPoints
-            | Opcode::PvtStart
-                if grouped =>
-            {
-                return Err(NackCode::AxisGrouped)
-            }
-            _ => {}
-        }
-        // Layout 1.7 (sync): PT/PVT streams (pvt.rs): from Standstill, nothing aborted; the
-        // ack's value is the points still free.
-        if matches!(op, Opcode::PvtBegin | Opcode::PvtPoints | Opcode::PvtStart) {
-            let (changed, value) = self.execute_pvt(c, op, ax)?;
-            self.axes[ax].accepted(c.seq);
-            if let Some(old) = changed {
-                let e = state_event(c.axis, old, self.axes[ax].state, tick);
-                self.outbox.push(e);
-            }
-            return Ok(value);
-        }
-        // Layout 1.7 (sync): gearing (gear.rs). Aborting, as the commands below.
-        let gear = matches!(
-            op,
-            Opcode::GearIn | Opcode::GearInPos | Opcode::GearOut | Opcode::CamIn | Opcode::CamOut
-        );
-        let (gear_changed, gear_takes_over) = if gear {
-            self.execute_gear(c, op, ax)?
-        } else {
-            (None, false)
-        };
-        let axis = &mut self.axes[ax];
-        let rate = self.servo_rate_hz;
-        // Does the command take over the axis (PLCopen Aborting): the motion in progress and
-        // every buffered move are aborted.
-        let mut aborting = matches!(
-            op,
-            Opcode::MoveVelocity
-                | Opcode::Jog
-                | Opcode::Halt
-                | Opcode::Stop
-                | Opcode::PowerOff
-                | Opcode::Home
-        ) || gear_takes_over;
-        let changed = match op {
-            Opcode::PowerOn => axis.power(true)?,
-            Opcode::PowerOff => axis.power(false)?,
-            Opcode::MoveAbsolute | Opcode::MoveRelative | Opcode::MoveAdditive => {
-                let a = &c.args;
-                let lim = Limits {
-                    vmax: a[1],
-                    amax: a[2],
-                    dmax: a[3],
-                    j1: a[4],
-                    j3: a[5],
-                    j5: a[6],
-                    j7: a[7],
-                };
-                lim.check_range(rate).map_err(nack::plan_nack)?;
-                let kind = match op {
-                    Opcode::MoveAbsolute => MoveKind::Absolute,
-                    Opcode::MoveRelative => MoveKind::Relative,
-                    _ => MoveKind::Additive,
-                };
-                let buffered = c.flags & MoveFlags::BUFFERED.bits() != 0;
-                let (changed, started) =
-                    axis.start_move(c.seq, kind, a[0], &lim, buffered, rate)?;
-                aborting = started == Started::Now;
-                changed
-            }
-            Opcode::MoveVelocity | Opcode::Jog => {
-                let a = &c.args;
-                let (vel, lim) = if op == Opcode::Jog {
-                    let cfg = &axis.config;
-                    if a[0].abs() > cfg.jog_max_vel {
-                        return Err(NackCode::OutOfRange);
-                    }
-                    let (acc, jerk) = (cfg.jog_accel, cfg.jog_jerk);
-                    (a[0], Limits::symmetric(cfg.jog_max_vel, acc, jerk))
-                } else {
-                    let lim = Limits {
-                        vmax: a[0].abs(),
-                        amax: a[1],
-                        dmax: a[2],
-                        ..Limits::symmetric(0.0, 0.0, a[3])
-                    };
-                    (a[0], lim)
-                };
-                if a[0].abs() > *firmware_proto::limit_range(1, rate).end() {
-                    return Err(NackCode::OutOfRange);
-                }
-                nack::check_ranges(rate, &[(2, lim.amax), (2, lim.dmax), (3, lim.j1)])?;
-                axis.start_velocity(c.seq, vel, &lim, rate)?
-            }
-            Opcode::SetOverride => {
-                axis.set_override(c.args[0], rate)?;
-                None
-            }
-            Opcode::Halt | Opcode::Stop => {
-                nack::check_ranges(rate, &[(2, c.args[0]), (3, c.args[1])])?;
-                let max_time = self.safety.config().max_stop_time();
-                axis.start_stop(c.seq, op == Opcode::Stop, c.args[0], c.args[1], max_time)?
-            }
-            Opcode::StopRelease => {
-                axis.release_stop()?;
-                None
-            }
-            Opcode::Reset => axis.reset()?,
-            Opcode::ApplyAxisHoming => {
-                let block = layout::AXIS_HOMING.at(ax).read(&self.mem);
-                self.homing[ax].apply(HomingConfig::validate(&block, rate)?);
-                None
-            }
-            Opcode::Home => self.homing[ax].start(axis, c.seq, c.args[0], rate)?,
-            Opcode::SetPosition => {
-                let relative = c.flags & firmware_proto::SET_POSITION_RELATIVE != 0;
-                homing::set_position(axis, c.args[0], relative)?;
-                None
-            }
-            _ => gear_changed,
-        };
-        let axis = &mut self.axes[ax];
-        axis.accepted(c.seq);
-        if aborting {
-            // The motion still waiting for its done, and every buffered move, end here.
-            let dropped = axis.drain_queue();
-            for seq in pending.into_iter().filter(|&s| s != c.seq).chain(dropped) {
-                self.outbox.push(Event {
-                    seq,
-                    kind: EventKind::MotionAborted as u16,
-                    axis: c.axis,
-                    code: op as i32,
-                    tick,
-                    value: 0.0,
-                });
-            }
-        }
-        if let Some(old) = changed {
-            self.outbox.push(state_event(c.axis, old, axis.state, tick));
-        }
-        Ok(0.0)
-    }
-
-    /// `MC_OP_HOST_DETACH`: the host closes the card cleanly. Every axis moving on its own
-    /// (moves, velocity mode and jog, homing, a coupling or PT/PVT stream) and every moving
-    /// group (its queue or path) halts along its stop ramp, each axis with reason
-    /// `HostDetach`, then the session ends and the watchdog is disarmed: nothing is latched,
-    /// and nothing moves on for a host that has gone.
-    fn detach(&mut self, c: &Command) -> Result<(), NackCode> {
-        self.safety.detach(&self.mem, c.flags)?;
-        let (tick, max_time) = (self.tick, self.safety.config().max_stop_time());
-        for group in self.groups.iter_mut() {
-            let Some(members) = group.moving_members() else {
-                continue;
-            };
-            if group.state == GroupState::Stopping {
-                continue;
-            }
-            let hard = hard_stop_ramp(&self.axes, members);
-            let (mut list, n) = ([0usize; MAX_AXES], members.len().min(MAX_AXES));
-            list[..n].copy_from_slice(&members[..n]);
-            // Refused only by a group that cannot stop (none that moves).
-            if group
-                .start_stop(c.seq, false, hard, hard, max_time, tick, &mut self.outbox)
-                .is_ok()
-            {
-                // The members' motion ends by the detach: a new host reads why.
-                for &a in &list[..n] {
-                    self.axes[a].group_stopping(StopReason::HostDetach);
-                }
-            }
-        }
-        for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
-            let geared = axis.state == AxisState::SynchronizedMotion
-                && (self.gears[i].engaged() || self.pvt[i].as_ref().is_some_and(|s| s.running()));
-            if !geared
-                && !matches!(
-                    axis.state,
-                    AxisState::DiscreteMotion | AxisState::ContinuousMotion | AxisState::Homing
-                )
-            {
-                continue;
-            }
-            let pending = axis.pending_motion();
-            let sc = axis.safety.config;
-            if axis
-                .start_stop(c.seq, false, sc.stop_decel, sc.stop_jerk, max_time)
-                .is_ok()
-            {
-                axis.safety.stop_reason = StopReason::HostDetach;
-                for old in pending.into_iter().chain(axis.drain_queue()) {
-                    self.outbox.push(Event {
-                        seq: old,
-                        kind: EventKind::MotionAborted as u16,
-                        axis: i as u16,
-                        code: Opcode::HostDetach as i32,
-                        tick,
-                        value: 0.0,
-                    });
-                }
-            }
-        }
-        Ok(())
-    }
-
-    fn execute_group(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
-        let g = c.axis as usize;
-        if g >= MAX_GROUPS {
-            return Err(NackCode::BadGroup);
-        }
-        let (tick, ts) = (self.tick, self.ts());
-        if matches!(op, Opcode::GroupStop | Opcode::GroupHalt) {
-            nack::check_ranges(self.servo_rate_hz, &[(2, c.args[0]), (3, c.args[1])])?;
-        }
-        let max_time = self.safety.config().max_stop_time();
-        let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
-            hard_stop_ramp(&self.axes, &cfg.axes[..cfg.naxes])
-        });
-        let group = &mut self.groups[g];
-        let out = &mut self.outbox;
-        match op {
-            Opcode::GroupConfigure => {
-                let block = layout::GROUP_CONFIG.at(g).read(&self.mem);
-                let cfg = config::validate_group_config(&block, self.num_axes)?;
-                let taken =
-                    self.groups.iter().enumerate().any(|(i, o)| {
-                        i != g && cfg.axes[..cfg.naxes].iter().any(|&a| o.contains(a))
-                    });
-                if taken {
-                    return Err(NackCode::AxisInOtherGroup);
-                }
-                self.groups[g].configure(cfg)
-            }
-            Opcode::GroupEnable => group.enable(&mut self.axes, tick, out),
-            Opcode::GroupDisable => {
-                group.disable(&mut self.axes, &mut self.filters, tick, out);
-                Ok(())
-            }
-            Opcode::GroupReset => group.reset(&mut self.axes, tick, out),
-            Opcode::GroupStop | Opcode::GroupHalt => {
-                let stop = op == Opcode::GroupStop;
-                group.start_stop(
-                    c.seq,
-                    stop,
-                    (c.args[0], c.args[1]),
-                    hard,
-                    max_time,
-                    tick,
-                    out,
-                )?;
-                // The members' motion ends by this halt or stop (their stop reason).
-                let reason = if stop {
-                    StopReason::Stop
-                } else {
-                    StopReason::Halt
-                };
-                for &a in group
-                    .config
-                    .as_ref()
-                    .map_or(&[][..], |c| &c.axes[..c.naxes])
-                {
-                    self.axes[a].group_stopping(reason);
-                }
-                Ok(())
-            }
-            Opcode::GroupStopRelease => group.release_stop(),
-            Opcode::NurbsBegin => group.nurbs_begin(c, &self.axes, ts),
-            Opcode::NurbsData => group.nurbs_data(c),
-            Opcode::NurbsEnd => group.nurbs_end(c, &self.axes, ts, tick, out),
-            Opcode::GroupPtpLimits => group.stage_ptp_limits(c, ts),
-            Opcode::GroupSetOverride => {
-                group.set_override(c.args[0], c.args[1], self.servo_rate_hz)
-            }
-            Opcode::PathLine | Opcode::PathArc | Opcode::PathDwell => {
-                group.path_segment(c, op, ts, tick, out)
-            }
-            Opcode::PathOutput => group.path_output(c, ts),
-            Opcode::PathNurbs => group.path_nurbs_begin(c, ts),
-            Opcode::ApplyGroupPath => {
-                let block = layout::GROUP_PATH.at(g).read(&self.mem);
-                group.apply_path(block, self.servo_rate_hz)
-            }
-            _ => group.queue_move(c, op, ts, tick, out),
-        }
-    }
-
     /// An axes group (for inspection by tests and benches).
     pub fn group(&self, g: usize) -> Option<&Group> {
         self.groups.get(g)
@@ -758,42 +374,6 @@ impl<M: Mem + Clone> Firmware<M> {
         self.outbox.clear();
         let lost = self.outbox.lost().wrapping_add(self.io.events_lost());
         self.mem.write32(layout::OUTBOX_LOST, lost);
-    }
-
-    /// MC_OP_SET_OUTPUTS: the outputs in `mask` become `value`.
-    fn set_outputs(&mut self, c: &Command) -> Result<(), NackCode> {
-        let all = (1u64 << firmware_proto::OUTPUTS) - 1;
-        let word = |x: f64| {
-            (x.is_finite() && math::fract(x) == 0.0 && (0.0..=all as f64).contains(&x))
-                .then_some(x as u32)
-        };
-        let (Some(mask), Some(value)) = (word(c.args[0]), word(c.args[1])) else {
-            return Err(NackCode::PathOutput);
-        };
-        self.outputs = (self.outputs & !mask) | (value & mask);
-        Ok(())
-    }
-
-    fn apply_card_config(&mut self) -> Result<(), NackCode> {
-        let rate = layout::CARD_CONFIG.read(&self.mem).servo_rate_hz;
-        if !(firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ).contains(&rate)
-        {
-            return Err(NackCode::BadConfig);
-        }
-        if self.axes[..self.num_axes]
-            .iter()
-            .any(|a| a.state != AxisState::Disabled)
-        {
-            return Err(NackCode::AxesEnabled);
-        }
-        self.servo_rate_hz = rate;
-        let ts = self.ts();
-        for axis in self.axes.iter_mut() {
-            let cfg = axis.config;
-            axis.apply_config(cfg, ts);
-        }
-        self.mem.write32(layout::SERVO_RATE_HZ, rate);
-        Ok(())
     }
 
     fn write_axis_config(&self, a: usize, c: &AxisConfig) {
@@ -1031,30 +611,6 @@ impl<M: Mem + Clone> Firmware<M> {
 
 /// Layout 1.8: the scope's commands, sampling and events.
 impl<M: Mem + Clone> Firmware<M> {
-    fn scope_command(&mut self, c: &Command, op: Opcode) -> Result<(), NackCode> {
-        let tick = self.tick;
-        if op == Opcode::ScopeConfigure && !self.scope.is_some() {
-            // Checked before the scope (and its history) is made: a refusal changes nothing.
-            let block = layout::SCOPE_CONFIG.read(&self.mem);
-            firmware_proto::check_config(&block, self.num_axes)?;
-            self.scope.get_or_insert_with(scope::Scope::new);
-        }
-        let Some(sc) = self.scope.as_mut() else {
-            return Err(NackCode::ScopeState);
-        };
-        match op {
-            Opcode::ScopeConfigure => {
-                let block = layout::SCOPE_CONFIG.read(&self.mem);
-                sc.configure(&block, self.num_axes)?
-            }
-            Opcode::ScopeArm => sc.arm(c.seq, tick)?,
-            Opcode::ScopeTrigger => sc.force_trigger()?,
-            _ => sc.stop()?,
-        }
-        layout::SCOPE_STATUS.write(&self.mem, &sc.status());
-        Ok(())
-    }
-
     /// Take this tick's sample if the scope wants one; what it did.
     fn scope_tick(&mut self) -> scope::SampleReport {
         let tick = self.tick;
@@ -1132,26 +688,6 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 }
 
-fn is_scope_op(op: Opcode) -> bool {
-    matches!(
-        op,
-        Opcode::ScopeConfigure | Opcode::ScopeArm | Opcode::ScopeTrigger | Opcode::ScopeStop
-    )
-}
-
-/// The hardest stop ramp every member of a group allows along its path: the smallest of their
-/// stop decelerations and jerks (an axis's share of the path's acceleration is at most the
-/// path's own).
-fn hard_stop_ramp(axes: &[Axis], members: &[usize]) -> (f64, f64) {
-    members
-        .iter()
-        .filter_map(|&a| axes.get(a))
-        .fold((f64::MAX, f64::MAX), |(d, j), ax| {
-            let c = &ax.safety.config;
-            (d.min(c.stop_decel), j.min(c.stop_jerk))
-        })
-}
-
 fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
     Event {
         seq: 0,
@@ -1163,37 +699,12 @@ fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
     }
 }
 
-fn is_group_op(op: Opcode) -> bool {
-    matches!(
-        op,
-        Opcode::GroupConfigure
-            | Opcode::GroupEnable
-            | Opcode::GroupDisable
-            | Opcode::GroupStop
-            | Opcode::GroupStopRelease
-            | Opcode::GroupReset
-            | Opcode::GroupHalt
-            | Opcode::GroupMoveLinear
-            | Opcode::GroupMoveCircular
-            | Opcode::GroupMovePtp
-            | Opcode::GroupPtpLimits
-            | Opcode::GroupSetOverride
-            | Opcode::NurbsBegin
-            | Opcode::NurbsData
-            | Opcode::NurbsEnd
-            | Opcode::PathLine
-            | Opcode::PathArc
-            | Opcode::PathDwell
-            | Opcode::PathOutput
-            | Opcode::PathNurbs
-            | Opcode::ApplyGroupPath
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::motion::scurve::Limits;
     use firmware_proto::mem::HeapWindow;
+    use firmware_proto::Opcode;
     use std::sync::Arc;
 
     fn boot() -> (Arc<HeapWindow>, Firmware<Arc<HeapWindow>>) {

@@ -12,7 +12,7 @@
 //!
 //! Pure logic over plain numbers: no window, no clock, no allocation.
 
-use crate::math;
+use firmware_proto::cmd;
 use firmware_proto::{raw, NackCode, INPUTS, MAX_POSITION, PROBE_QUEUE};
 
 /// The probe's trigger input: an input number, or the encoder index.
@@ -37,46 +37,30 @@ pub struct ProbeArm {
     pub seq: u32,
 }
 
-/// Validate `MC_OP_PROBE_ARM`'s arguments after the channel: input, window_lo, window_hi.
-pub fn validate_arm(axis: usize, flags: u32, args: &[f64], seq: u32) -> Result<ProbeArm, NackCode> {
-    let [input, lo, hi, ..] = *args else {
-        return Err(NackCode::ProbeInput);
-    };
-    let known = raw::MC_PROBE_RISING
-        | raw::MC_PROBE_FALLING
-        | raw::MC_PROBE_CONTINUOUS
-        | raw::MC_PROBE_WINDOW;
-    let rising = flags & raw::MC_PROBE_RISING != 0;
-    let falling = flags & raw::MC_PROBE_FALLING != 0;
-    if flags & !known != 0 || !(rising || falling) {
-        return Err(NackCode::ProbeInput);
-    }
-    if !input.is_finite() {
-        return Err(NackCode::NotFinite);
-    }
-    if math::fract(input) != 0.0 || !(0.0..=f64::from(INDEX)).contains(&input) {
-        return Err(NackCode::ProbeInput);
-    }
-    let window = if flags & raw::MC_PROBE_WINDOW != 0 {
-        if !(lo.is_finite() && hi.is_finite()) {
-            return Err(NackCode::NotFinite);
+/// Validate `MC_OP_PROBE_ARM`'s window (decoding checked the channel, the flags and the
+/// input): finite, in the position range, `lo <= hi`.
+pub fn validate_arm(axis: usize, p: &cmd::ProbeArm, seq: u32) -> Result<ProbeArm, NackCode> {
+    let window = match p.window {
+        Some((lo, hi)) => {
+            if !(lo.is_finite() && hi.is_finite()) {
+                return Err(NackCode::NotFinite);
+            }
+            if lo.abs() > MAX_POSITION || hi.abs() > MAX_POSITION {
+                return Err(NackCode::OutOfRange);
+            }
+            if lo > hi {
+                return Err(NackCode::ProbeInput);
+            }
+            Some((lo, hi))
         }
-        if lo.abs() > MAX_POSITION || hi.abs() > MAX_POSITION {
-            return Err(NackCode::OutOfRange);
-        }
-        if lo > hi {
-            return Err(NackCode::ProbeInput);
-        }
-        Some((lo, hi))
-    } else {
-        None
+        None => None,
     };
     Ok(ProbeArm {
         axis,
-        input: input as u32,
-        rising,
-        falling,
-        continuous: flags & raw::MC_PROBE_CONTINUOUS != 0,
+        input: u32::from(p.input),
+        rising: p.rising,
+        falling: p.falling,
+        continuous: p.continuous,
         window,
         seq,
     })
@@ -209,6 +193,16 @@ const _: () = assert!(INDEX as usize == INPUTS);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `MC_OP_PROBE_ARM` with these flags and arguments (after the channel, 0), decoded as the
+    /// card decodes it, then validated.
+    fn validate_arm(axis: usize, flags: u32, args: &[f64], seq: u32) -> Result<ProbeArm, NackCode> {
+        use firmware_proto::cmd::Args;
+        let mut a = [0.0; firmware_proto::CMD_ARGS];
+        a[1..1 + args.len()].copy_from_slice(args);
+        let arm = cmd::ProbeArm::decode(flags, &a).map_err(|e| e.nack)?;
+        super::validate_arm(axis, &arm, seq)
+    }
 
     fn arm(flags: u32, window: [f64; 2]) -> ProbeArm {
         validate_arm(1, flags, &[4.0, window[0], window[1]], 9).unwrap()

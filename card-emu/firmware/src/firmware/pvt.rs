@@ -24,9 +24,10 @@ use crate::motion::pvt::{
 };
 use crate::ram::Lazy;
 use crate::servo::ffpiv::Reference;
+use firmware_proto::cmd;
 use firmware_proto::{
-    AxisState, Command, EventKind, Mem, NackCode, Opcode, PvtEvent, MAX_AXES, MAX_MOVE_TIME,
-    PVT_LAST, PVT_LEN, PVT_POINTS_MAX, PVT_PT,
+    AxisState, EventKind, Mem, NackCode, Opcode, PvtEvent, MAX_AXES, MAX_MOVE_TIME, PVT_LEN,
+    PVT_POINTS_MAX,
 };
 use heapless::{Deque, Vec};
 
@@ -260,129 +261,121 @@ impl<M: Mem + Clone> Firmware<M> {
         self.pvt.get(i).and_then(|s| s.as_ref())
     }
 
-    /// `MC_OP_PVT_BEGIN`, `_POINTS`, `_START` on axis `ax` (one of the card's, not in an
-    /// enabled group, no latch): the old state and the ack's value, or the nack.
-    pub(super) fn execute_pvt(
+    /// `MC_OP_PVT_BEGIN` on axis `ax` (one of the card's, not in an enabled group, no latch):
+    /// the old state and the ack's value (the points free), or the nack.
+    pub(super) fn pvt_begin(
         &mut self,
-        c: &Command,
-        op: Opcode,
         ax: usize,
+        b: &cmd::PvtBegin,
+    ) -> Result<(Option<AxisState>, f64), NackCode> {
+        let a = [b.vmax, b.amax, b.low_water];
+        if a.iter().any(|x| !x.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        crate::firmware::nack::check_ranges(self.servo_rate_hz, &[(1, a[0]), (2, a[1])])?;
+        let lw = a[2];
+        if math::fract(lw) != 0.0 || !(0.0..PVT_LEN as f64).contains(&lw) {
+            return Err(NackCode::OutOfRange);
+        }
+        if b.other_flags != 0 {
+            return Err(NackCode::BadConfig);
+        }
+        if self.pvt[ax].as_ref().is_some_and(|s| s.running()) {
+            return Err(NackCode::PvtSequence);
+        }
+        let axis = &self.axes[ax];
+        match axis.state {
+            AxisState::Standstill => {}
+            AxisState::Disabled => return Err(NackCode::AxisDisabled),
+            AxisState::Homing => return Err(NackCode::AxisHoming),
+            _ => return Err(NackCode::InvalidState),
+        }
+        let origin = PvtPoint {
+            t: 0.0,
+            p: axis.reference().pos,
+            v: 0.0,
+        };
+        let s = self.pvt[ax].get_or_insert_with(PvtStream::new);
+        s.buf.clear();
+        s.phase = Phase::Loading;
+        s.pt_mode = b.pt;
+        s.lim = PvtLimits {
+            vmax: a[0],
+            amax: a[1],
+        };
+        s.low_water = lw as u32;
+        s.low_armed = false;
+        s.prev = Slot {
+            pt: origin,
+            known: true,
+            last: false,
+        };
+        s.before_back = origin;
+        s.closed = false;
+        Ok((None, s.free() as f64))
+    }
+
+    /// `MC_OP_PVT_POINTS` on axis `ax`: the ack's value is the points still free.
+    pub(super) fn pvt_points(
+        &mut self,
+        ax: usize,
+        p: &cmd::PvtPoints,
     ) -> Result<(Option<AxisState>, f64), NackCode> {
         let ts = self.ts();
-        match op {
-            Opcode::PvtBegin => {
-                let a = &c.args[..3];
-                if a.iter().any(|x| !x.is_finite()) {
-                    return Err(NackCode::NotFinite);
-                }
-                crate::firmware::nack::check_ranges(self.servo_rate_hz, &[(1, a[0]), (2, a[1])])?;
-                let lw = a[2];
-                if math::fract(lw) != 0.0 || !(0.0..PVT_LEN as f64).contains(&lw) {
-                    return Err(NackCode::OutOfRange);
-                }
-                if c.flags & !PVT_PT != 0 {
-                    return Err(NackCode::BadConfig);
-                }
-                if self.pvt[ax].as_ref().is_some_and(|s| s.running()) {
-                    return Err(NackCode::PvtSequence);
-                }
-                let axis = &self.axes[ax];
-                match axis.state {
-                    AxisState::Standstill => {}
-                    AxisState::Disabled => return Err(NackCode::AxisDisabled),
-                    AxisState::Homing => return Err(NackCode::AxisHoming),
-                    _ => return Err(NackCode::InvalidState),
-                }
-                let origin = PvtPoint {
-                    t: 0.0,
-                    p: axis.reference().pos,
-                    v: 0.0,
-                };
-                let s = self.pvt[ax].get_or_insert_with(PvtStream::new);
-                s.buf.clear();
-                s.phase = Phase::Loading;
-                s.pt_mode = c.flags & PVT_PT != 0;
-                s.lim = PvtLimits {
-                    vmax: a[0],
-                    amax: a[1],
-                };
-                s.low_water = lw as u32;
-                s.low_armed = false;
-                s.prev = Slot {
-                    pt: origin,
-                    known: true,
-                    last: false,
-                };
-                s.before_back = origin;
-                s.closed = false;
-                Ok((None, s.free() as f64))
-            }
-            Opcode::PvtPoints => {
-                let n = c.args[0];
-                if !n.is_finite() {
-                    return Err(NackCode::NotFinite);
-                }
-                if math::fract(n) != 0.0 || !(1.0..=PVT_POINTS_MAX as f64).contains(&n) {
-                    return Err(NackCode::OutOfRange);
-                }
-                if c.flags & !PVT_LAST != 0 {
-                    return Err(NackCode::BadConfig);
-                }
-                let n = n as usize;
-                let mut pts: Vec<PvtPoint, PVT_POINTS_MAX> = Vec::new();
-                for i in 0..n {
-                    let a = &c.args[1 + 3 * i..4 + 3 * i];
-                    let _ = pts.push(PvtPoint {
-                        t: a[0],
-                        p: a[1],
-                        v: a[2],
-                    });
-                }
-                let s = self.pvt[ax].as_mut().ok_or(NackCode::PvtSequence)?;
-                s.push(&pts, c.flags & PVT_LAST != 0, ts)?;
-                Ok((None, s.free() as f64))
-            }
-            _ => {
-                // MC_OP_PVT_START over a mask: all checked, then all started.
-                let m = c.args[0];
-                if !m.is_finite() {
-                    return Err(NackCode::NotFinite);
-                }
-                let all = (1u32 << self.num_axes) - 1;
-                if math::fract(m) != 0.0 || !(0.0..=all as f64).contains(&m) {
-                    return Err(NackCode::BadAxis);
-                }
-                let mask = if m == 0.0 { 1 << ax } else { m as u32 };
-                let members = (0..self.num_axes).filter(|i| mask & (1 << i) != 0);
-                for i in members.clone() {
-                    let ok = self.pvt[i].as_ref().is_some_and(|s| {
-                        s.phase == Phase::Loading
-                            && !s.buf.is_empty()
-                            && self.axes[i].state == AxisState::Standstill
-                            && self.axes[i].reference().pos == s.prev.pt.p
-                    });
-                    let grouped = self.groups.iter().any(|g| g.owns_enabled(i));
-                    if !ok || grouped {
-                        return Err(NackCode::PvtSequence);
-                    }
-                }
-                let mut changed = None;
-                for i in members {
-                    let was = self.axes[i].begin_sync(c.seq)?;
-                    if i == ax {
-                        changed = was;
-                    } else if let Some(old) = was {
-                        let e = super::state_event(i as u16, old, self.axes[i].state, self.tick);
-                        self.outbox.push(e);
-                    }
-                    if let Some(s) = self.pvt[i].as_mut() {
-                        s.phase = Phase::Running { k: 0 };
-                        s.seq = c.seq;
-                    }
-                }
-                Ok((changed, 0.0))
+        let mut pts: Vec<PvtPoint, PVT_POINTS_MAX> = Vec::new();
+        for q in &p.points {
+            let _ = pts.push(PvtPoint {
+                t: q.time,
+                p: q.position,
+                v: q.velocity,
+            });
+        }
+        let s = self.pvt[ax].as_mut().ok_or(NackCode::PvtSequence)?;
+        s.push(&pts, p.last, ts)?;
+        Ok((None, s.free() as f64))
+    }
+
+    /// `MC_OP_PVT_START` (command `seq`) over a mask of axes (0: axis `ax`): all checked, then
+    /// all started.
+    pub(super) fn pvt_start(
+        &mut self,
+        seq: u32,
+        ax: usize,
+        st: &cmd::PvtStart,
+    ) -> Result<(Option<AxisState>, f64), NackCode> {
+        let all = (1u32 << self.num_axes) - 1;
+        if st.mask > all {
+            return Err(NackCode::BadAxis);
+        }
+        let mask = if st.mask == 0 { 1 << ax } else { st.mask };
+        let members = (0..self.num_axes).filter(|i| mask & (1 << i) != 0);
+        for i in members.clone() {
+            let ok = self.pvt[i].as_ref().is_some_and(|s| {
+                s.phase == Phase::Loading
+                    && !s.buf.is_empty()
+                    && self.axes[i].state == AxisState::Standstill
+                    && self.axes[i].reference().pos == s.prev.pt.p
+            });
+            let grouped = self.groups.iter().any(|g| g.owns_enabled(i));
+            if !ok || grouped {
+                return Err(NackCode::PvtSequence);
             }
         }
+        let mut changed = None;
+        for i in members {
+            let was = self.axes[i].begin_sync(seq)?;
+            if i == ax {
+                changed = was;
+            } else if let Some(old) = was {
+                let e = super::state_event(i as u16, old, self.axes[i].state, self.tick);
+                self.outbox.push(e);
+            }
+            if let Some(s) = self.pvt[i].as_mut() {
+                s.phase = Phase::Running { k: 0 };
+                s.seq = seq;
+            }
+        }
+        Ok((changed, 0.0))
     }
 
     /// The PT/PVT step of a tick.

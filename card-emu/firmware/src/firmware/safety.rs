@@ -54,10 +54,11 @@ use crate::firmware::axis_safety::{ActiveStop, AxisSafetyConfig, LIVE_FAULTS};
 use crate::firmware::outbox::SafetyEvents;
 use crate::motion::scurve::plan_stop;
 use crate::motion::scurve::Profile;
+use firmware_proto::cmd::{self, AxisCmd, CardCmd};
 use firmware_proto::layout::{self, safety_status as ss};
 use firmware_proto::{
-    raw, AxisSafetyFlags, AxisState, CardFaults, Command, Event, EventKind, Faults, Io, Mem,
-    MoveFlags, NackCode, Opcode, StopCategory, StopReason, MAX_AXES,
+    raw, AxisSafetyFlags, AxisState, CardFaults, Event, EventKind, Faults, Io, Mem, NackCode,
+    Opcode, StopCategory, StopReason, MAX_AXES,
 };
 
 /// Axis number of card-wide events.
@@ -767,18 +768,12 @@ impl Safety {
         self.trip_all(mem, tick, axes, trip);
     }
 
-    /// The check every command passes before it acts on axis `axis` (already validated):
-    /// card-wide latches for power-on and reset, causes still present for reset, and limits
-    /// for moves. Commands that move an axis to a target (this firmware's MC_MoveAbsolute and
-    /// MC_MoveRelative; a group or queued move for each of its axes) must pass
-    /// [`check_target`] with the axis's start and target.
-    pub fn check_command(
-        &self,
-        op: Opcode,
-        flags: u32,
-        args: &[f64],
-        axis: &Axis,
-    ) -> Result<(), NackCode> {
+    /// The check every single-axis command (decoded: `cmd`) passes before it acts on axis
+    /// `axis` (already validated): card-wide latches for power-on and reset, causes still
+    /// present for reset, and limits for moves. Commands that move an axis to a target (this
+    /// firmware's MC_MoveAbsolute, MC_MoveRelative and MC_MoveAdditive; a group or queued move
+    /// for each of its axes) must pass [`check_target`] with the axis's start and target.
+    pub fn check_command(&self, cmd: &AxisCmd, axis: &Axis) -> Result<(), NackCode> {
         let latch = || {
             if self.latched.contains(CardFaults::WATCHDOG) {
                 Err(NackCode::WatchdogTripped)
@@ -791,9 +786,9 @@ impl Safety {
                 Ok(())
             }
         };
-        match op {
-            Opcode::PowerOn => latch(),
-            Opcode::Reset if axis.state == AxisState::ErrorStop => {
+        match cmd {
+            AxisCmd::PowerOn => latch(),
+            AxisCmd::Reset if axis.state == AxisState::ErrorStop => {
                 latch()?;
                 let s = &axis.safety;
                 if s.stop.is_some_and(|st| !st.at_rest) {
@@ -807,43 +802,35 @@ impl Safety {
                 }
                 Ok(())
             }
-            Opcode::MoveAbsolute
-            | Opcode::MoveRelative
-            | Opcode::MoveAdditive
-            | Opcode::MoveVelocity
-            | Opcode::Jog => {
+            AxisCmd::Move(..) | AxisCmd::MoveVelocity(_) | AxisCmd::Jog(_) => {
                 // A move refused for a stop the card latched names the latch, not the state.
                 if axis.state == AxisState::ErrorStop {
                     latch()?;
                 }
-                let arg = args.first().copied().unwrap_or(0.0);
-                let buffered = flags & MoveFlags::BUFFERED.bits() != 0;
-                let (start, target) = match op {
+                let (start, target) = match cmd {
+                    AxisCmd::Move(kind, m) => {
+                        let kind = MoveKind::from(*kind);
+                        let start = if m.buffered {
+                            axis.last_target()
+                        } else {
+                            axis.reference().pos
+                        };
+                        (start, axis.move_target(kind, m.position, m.buffered)?)
+                    }
                     // Velocity mode: only the direction counts.
-                    Opcode::MoveVelocity | Opcode::Jog => {
+                    AxisCmd::MoveVelocity(cmd::VelocityMove { velocity: v, .. })
+                    | AxisCmd::Jog(cmd::Jog { velocity: v }) => {
                         let start = axis.reference().pos;
-                        let step = if arg > 0.0 {
+                        let step = if *v > 0.0 {
                             1.0
-                        } else if arg < 0.0 {
+                        } else if *v < 0.0 {
                             -1.0
                         } else {
                             0.0
                         };
                         (start, start + step)
                     }
-                    _ => {
-                        let kind = match op {
-                            Opcode::MoveAbsolute => MoveKind::Absolute,
-                            Opcode::MoveRelative => MoveKind::Relative,
-                            _ => MoveKind::Additive,
-                        };
-                        let start = if buffered {
-                            axis.last_target()
-                        } else {
-                            axis.reference().pos
-                        };
-                        (start, axis.move_target(kind, arg, buffered)?)
-                    }
+                    _ => return Ok(()),
                 };
                 check_target(axis, start, target)
             }
@@ -851,51 +838,43 @@ impl Safety {
         }
     }
 
-    /// The safety opcodes (and the host attach). `None` for any other opcode; else the
-    /// outcome, with the ack's value.
+    /// The safety opcodes and the host attach (decoded: `cmd`; `axis`: the command's target).
+    /// `None` for any other command; else the outcome, with the ack's value.
     pub fn command<M: Mem>(
         &mut self,
         mem: &M,
-        c: &Command,
-        op: Opcode,
+        cmd: &CardCmd,
+        axis: u16,
         tick: u64,
         rate_hz: u32,
         axes: &mut [Axis],
     ) -> Option<Result<f64, NackCode>> {
-        if op == Opcode::HostAttach {
-            return Some(self.attach(mem, c.flags, tick, axes));
+        if let CardCmd::HostAttach(s) = cmd {
+            return Some(self.attach(mem, s.id, tick, axes));
         }
         Some(
-            match op {
-                Opcode::ApplySafetyConfig => self.apply_config(mem, axes),
-                Opcode::ApplyAxisSafety => match axes.get_mut(c.axis as usize) {
+            match cmd {
+                CardCmd::ApplySafetyConfig => self.apply_config(mem, axes),
+                CardCmd::ApplyAxisSafety => match axes.get_mut(axis as usize) {
                     None => Err(NackCode::BadAxis),
-                    Some(axis) => read_axis_safety(mem, c.axis as usize).and_then(|cfg| {
+                    Some(ax) => read_axis_safety(mem, axis as usize).and_then(|cfg| {
                         cfg.validate_on_card(rate_hz, self.config.max_stop_time())?;
-                        axis.safety.config = cfg;
+                        ax.safety.config = cfg;
                         Ok(())
                     }),
                 },
-                Opcode::EStop => {
-                    let a = c.args[0];
-                    if !a.is_finite() {
-                        return Some(Err(NackCode::NotFinite));
-                    }
-                    let Some(category) = StopCategory::ALL.iter().find(|k| **k as u32 as f64 == a)
-                    else {
-                        return Some(Err(NackCode::BadCategory));
-                    };
+                CardCmd::EStop(e) => {
                     self.latch(mem, CardFaults::ESTOP_COMMAND);
                     let trip = Trip {
-                        category: *category,
+                        category: e.category,
                         reason: StopReason::EStopCommand,
                         fault: Faults::ESTOP,
-                        value: a,
+                        value: e.category as u32 as f64,
                     };
                     self.trip_all(mem, tick, axes, trip);
                     Ok(())
                 }
-                Opcode::SafetyReset => {
+                CardCmd::SafetyReset => {
                     let age_us = self.heartbeat(mem, tick, rate_hz);
                     let heartbeat_dead = self.latched.contains(CardFaults::WATCHDOG)
                         && age_us >= self.config.watchdog_timeout_us as u64;

@@ -47,7 +47,7 @@ use self::nurbs_pool::NurbsPool;
 pub use self::nurbs_pool::NURBS_SLOTS;
 pub use self::nurbs_rx::nurbs_nack;
 use self::nurbs_rx::{curve_header, NurbsRx, STAGE_LEN};
-pub use self::path::validate_path_config;
+pub use self::path::{validate_path_config, SegmentCmd};
 use crate::firmware::axis::Axis;
 pub use crate::firmware::outbox::Outbox;
 use crate::math;
@@ -61,11 +61,56 @@ use crate::motion::scurve::{Limits, Profile};
 use crate::ram::{FixedVec, Lazy};
 use crate::servo::ffpiv::Reference;
 use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
-use firmware_proto::{
-    move_flags, raw, AxisState, Command, Event, EventKind, GroupState, GroupStatus, NackCode,
-    Opcode, GROUP_QUEUE_LEN, MAX_AXES,
+use firmware_proto::cmd::{
+    ArcGeometry, CircularMove, FeedLimits, LinearMove, MoveOpts, PtpLimits, PtpMove,
 };
 use heapless::Deque;
+use firmware_proto::{
+    raw, AxisState, Event, EventKind, GroupState, GroupStatus, NackCode, Opcode, GROUP_QUEUE_LEN,
+    MAX_AXES,
+};
+
+// The steps' tests name the move flags (through `super::*`).
+#[cfg(test)]
+use firmware_proto::move_flags;
+
+/// A group move command, decoded: MC_MoveLinear, synchronised point-to-point, MC_MoveCircular.
+#[derive(Debug, Clone, Copy)]
+pub enum GroupMove<'a> {
+    /// `MC_OP_GROUP_MOVE_LINEAR`.
+    Linear(&'a LinearMove),
+    /// `MC_OP_GROUP_MOVE_PTP`.
+    Ptp(&'a PtpMove),
+    /// `MC_OP_GROUP_MOVE_CIRCULAR`.
+    Circular(&'a CircularMove),
+}
+
+impl GroupMove<'_> {
+    /// The limits along the path and the move's options.
+    fn limits_opts(&self) -> (FeedLimits, MoveOpts) {
+        match self {
+            Self::Linear(m) => (m.limits, m.opts),
+            Self::Ptp(m) => (m.line.limits, m.line.opts),
+            Self::Circular(m) => (m.limits, m.opts),
+        }
+    }
+
+    /// Are the numbers the move gives a group of `n` axes finite: the limits, then the targets
+    /// (a line's) or the end, aux and helical targets (an arc's)?
+    fn finite(&self, n: usize) -> bool {
+        let (lim, _) = self.limits_opts();
+        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        all(&lim.to_array())
+            && match self {
+                Self::Linear(m) => all(&m.targets[..n]),
+                Self::Ptp(m) => all(&m.line.targets[..n]),
+                Self::Circular(m) => {
+                    let a = &m.arc;
+                    all(&a.end) && all(&a.aux) && all(&a.helix[..n.saturating_sub(2)])
+                }
+            }
+    }
+}
 
 /// A validated group configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -800,77 +845,79 @@ impl Group {
         Ok(())
     }
 
-    /// Validate a move command and queue it.
+    /// Validate a move command (of command `seq`) and queue it.
     pub fn queue_move(
         &mut self,
-        c: &Command,
-        op: Opcode,
+        seq: u32,
+        mv: GroupMove<'_>,
         ts: f64,
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
+        let ptp = matches!(mv, GroupMove::Ptp(_));
         // Limits staged for a point-to-point move belong to the next one, whatever becomes of it.
-        let staged = if op == Opcode::GroupMovePtp {
+        let staged = if ptp {
             core::mem::replace(&mut self.ptp_stage, [None; MAX_AXES])
         } else {
             [None; MAX_AXES]
         };
-        let cfg = self.can_queue(c.flags)?;
+        let (lim, opts) = mv.limits_opts();
+        let cfg = self.can_queue(opts.buffered)?;
         let n = cfg.naxes;
-        let a = &c.args;
-        let nargs = match op {
-            Opcode::GroupMoveCircular => 8 + n.saturating_sub(2),
-            _ => 4 + n,
-        };
-        if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) || nargs > a.len() {
+        if !mv.finite(n) {
             return Err(NackCode::NotFinite);
         }
         let rate = crate::firmware::rate_hz(ts);
-        crate::firmware::nack::check_ranges(rate, &[(1, a[0]), (2, a[1]), (2, a[2]), (3, a[3])])?;
+        let ranges = [(1, lim.vmax), (2, lim.amax), (2, lim.dmax), (3, lim.jerk)];
+        crate::firmware::nack::check_ranges(rate, &ranges)?;
         let limits = Limits {
-            vmax: a[0],
-            amax: a[1],
-            dmax: a[2],
-            j1: a[3],
-            j3: a[3],
-            j5: a[3],
-            j7: a[3],
+            vmax: lim.vmax,
+            amax: lim.amax,
+            dmax: lim.dmax,
+            j1: lim.jerk,
+            j3: lim.jerk,
+            j5: lim.jerk,
+            j7: lim.jerk,
         };
-        let feed_type = ((c.flags >> move_flags::FEED_TYPE_SHIFT) & 3) as usize;
+        let feed_type = opts.feed_type as usize;
         if feed_type > 2 {
             return Err(NackCode::BadConfig);
         }
-        let relative = c.flags & move_flags::RELATIVE != 0;
+        let relative = opts.relative;
         let start = self.queue_end;
         let target = |i: usize, v: f64| if relative { start[i] + v } else { v };
         let in_range = |p: &[f64; MAX_AXES]| p[..n].iter().all(|x| x.abs() <= crate::MAX_POSITION);
-        let geom = match op {
-            Opcode::GroupMoveLinear | Opcode::GroupMovePtp => {
+        let geom = match mv {
+            GroupMove::Linear(LinearMove { targets, .. })
+            | GroupMove::Ptp(PtpMove {
+                line: LinearMove { targets, .. },
+                ..
+            }) => {
                 let mut delta = [0.0; MAX_AXES];
                 let mut end = start;
                 for i in 0..n {
-                    end[i] = target(i, a[4 + i]);
+                    end[i] = target(i, targets[i]);
                     delta[i] = end[i] - start[i];
                 }
                 if !in_range(&end) {
                     return Err(NackCode::OutOfRange);
                 }
-                let len = if op == Opcode::GroupMovePtp {
+                let len = if ptp {
                     delta[..n].iter().fold(0.0f64, |m, d| m.max(d.abs()))
                 } else {
                     math::sqrt(delta[..n].iter().map(|d| d * d).sum::<f64>())
                 };
                 Geometry::Line { start, delta, len }
             }
-            _ => self.arc(&cfg, c, &start, relative)?,
+            GroupMove::Circular(c) => self.arc(&cfg, &c.arc, &start, relative)?,
         };
-        let limits = match geom {
-            Geometry::Line { delta, len, .. } if op == Opcode::GroupMovePtp => {
-                let own = c.flags & move_flags::PTP_AXIS_LIMITS != 0;
+        let limits = match (&geom, mv) {
+            (Geometry::Line { delta, len, .. }, GroupMove::Ptp(p)) => {
+                let own = p.axis_limits;
                 if own && staged[..n].iter().any(Option::is_none) {
                     return Err(NackCode::BadConfig);
                 }
-                ptp_path_limits(&limits, &delta[..n], len, own.then_some(&staged[..n]))
+                ptp_path_limits(&limits, &delta[..n], *len, own.then_some(&staged[..n]))
             }
             _ => limits,
         };
@@ -912,11 +959,11 @@ impl Group {
         };
         self.push(
             Move {
-                seq: c.seq,
+                seq,
                 geom,
                 feed,
                 feed_type,
-                ptp: op == Opcode::GroupMovePtp,
+                ptp,
                 runout: false,
             },
             n,
@@ -927,49 +974,50 @@ impl Group {
     }
 
     /// MC_OP_GROUP_PTP_LIMITS: stage the limits (v, a, d, j) of `count` group axes from
-    /// `first` for the next point-to-point move (used with `MC_PTP_AXIS_LIMITS`).
-    pub fn stage_ptp_limits(&mut self, c: &Command, ts: f64) -> Result<(), NackCode> {
+    /// `first` for the next point-to-point move (used with `MC_PTP_AXIS_LIMITS`). `l` is the
+    /// decoded command, or the nack of a malformed first axis or count, which the group's
+    /// state comes before.
+    pub fn stage_ptp_limits(
+        &mut self,
+        l: Result<&PtpLimits, NackCode>,
+        ts: f64,
+    ) -> Result<(), NackCode> {
         let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
         if self.state == GroupState::Disabled {
             return Err(NackCode::GroupDisabled);
         }
-        let a = &c.args;
-        if !(a[0].is_finite() && a[1].is_finite()) {
-            return Err(NackCode::NotFinite);
-        }
-        let (Some(first), Some(count)) = (whole(a[0]), whole(a[1])) else {
-            return Err(NackCode::BadConfig);
-        };
-        if count == 0 || count > firmware_proto::PTP_LIMITS_MAX {
-            return Err(NackCode::BadConfig);
-        }
+        let l = l?;
+        let (first, count) = (l.first as usize, l.limits.len());
         if first + count > cfg.naxes {
             return Err(NackCode::AxisNotInGroup);
         }
-        let values = &a[2..2 + 4 * count];
-        if values.iter().any(|x| !x.is_finite()) {
+        if l.limits
+            .iter()
+            .flat_map(|x| x.to_array())
+            .any(|x| !x.is_finite())
+        {
             return Err(NackCode::NotFinite);
         }
         let rate = crate::firmware::rate_hz(ts);
-        for l in values.chunks_exact(4) {
+        for l in &l.limits {
             crate::firmware::nack::check_ranges(
                 rate,
-                &[(1, l[0]), (2, l[1]), (2, l[2]), (3, l[3])],
+                &[(1, l.vmax), (2, l.amax), (2, l.dmax), (3, l.jerk)],
             )?;
         }
-        for (k, l) in values.chunks_exact(4).enumerate() {
-            self.ptp_stage[first + k] = Some([l[0], l[1], l[2], l[3]]);
+        for (k, l) in l.limits.iter().enumerate() {
+            self.ptp_stage[first + k] = Some(l.to_array());
         }
         Ok(())
     }
 
-    /// The group accepts a move now (`flags`: the command's; buffered or not)?
-    fn can_queue(&self, flags: u32) -> Result<GroupConfig, NackCode> {
+    /// The group accepts a move now (`buffered`: the command's)?
+    fn can_queue(&self, buffered: bool) -> Result<GroupConfig, NackCode> {
         let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
         match self.state {
             GroupState::Disabled => return Err(NackCode::GroupDisabled),
             GroupState::Standby => {}
-            GroupState::Moving if flags & move_flags::BUFFERED != 0 && self.stop.is_none() => {}
+            GroupState::Moving if buffered && self.stop.is_none() => {}
             _ => return Err(NackCode::InvalidState),
         }
         if self.path.as_ref().is_some_and(|p| p.engaged) {
@@ -996,13 +1044,12 @@ impl Group {
     fn arc(
         &self,
         cfg: &GroupConfig,
-        c: &Command,
+        a: &ArcGeometry,
         start: &[f64; MAX_AXES],
         relative: bool,
     ) -> Result<Geometry, NackCode> {
         let n = cfg.naxes;
-        let a = &c.args;
-        let (u, v) = match (c.flags >> move_flags::PLANE_SHIFT) & 3 {
+        let (u, v) = match a.flags.plane as u32 {
             raw::MC_PLANE_XY => (0, 1),
             raw::MC_PLANE_YZ => (1, 2),
             raw::MC_PLANE_ZX => (2, 0),
@@ -1014,17 +1061,17 @@ impl Group {
         let tol = cfg.tolerance;
         let rel = |i: usize, x: f64| if relative { start[i] + x } else { x };
         let p0 = (start[u], start[v]);
-        let p1 = (rel(u, a[4]), rel(v, a[5]));
-        let ccw = c.flags & move_flags::CIRC_CCW != 0;
+        let p1 = (rel(u, a.end[0]), rel(v, a.end[1]));
+        let ccw = a.flags.ccw;
         let dir = if ccw {
             ArcDirection::Ccw
         } else {
             ArcDirection::Cw
         };
         let dist = |p: (f64, f64), q: (f64, f64)| math::hypot(p.0 - q.0, p.1 - q.1);
-        let (centre, dir) = match (c.flags >> move_flags::CIRC_MODE_SHIFT) & 3 {
+        let (centre, dir) = match a.flags.mode as u32 {
             raw::MC_CIRC_BY_CENTRE => {
-                let centre = (rel(u, a[6]), rel(v, a[7]));
+                let centre = (rel(u, a.aux[0]), rel(v, a.aux[1]));
                 let (r0, r1) = (dist(p0, centre), dist(p1, centre));
                 if r0 <= tol {
                     return Err(NackCode::ZeroLengthArc);
@@ -1035,7 +1082,7 @@ impl Group {
                 (centre, dir)
             }
             raw::MC_CIRC_BY_RADIUS => {
-                let r = a[6];
+                let r = a.aux[0];
                 let chord = dist(p0, p1);
                 if chord <= tol || r.abs() <= tol {
                     return Err(NackCode::ZeroLengthArc);
@@ -1052,7 +1099,7 @@ impl Group {
                 ((mid.0 - s * dy * h, mid.1 + s * dx * h), dir)
             }
             raw::MC_CIRC_BY_BORDER => {
-                let b = (rel(u, a[6]), rel(v, a[7]));
+                let b = (rel(u, a.aux[0]), rel(v, a.aux[1]));
                 if dist(p0, p1) <= tol || dist(p0, b) <= tol || dist(b, p1) <= tol {
                     return Err(NackCode::ZeroLengthArc);
                 }
@@ -1093,14 +1140,14 @@ impl Group {
             .map_err(|_| NackCode::ZeroLengthArc)?;
         // Helical part: the other group axes, in group order.
         let mut helix = [0.0; MAX_AXES];
-        let mut k = 8;
-        let helix_relative = relative || c.flags & move_flags::CIRC_HELIX_RELATIVE != 0;
+        let mut k = 0;
+        let helix_relative = relative || a.flags.helix_relative;
         for (i, h) in helix.iter_mut().enumerate().take(n) {
             if i != u && i != v {
                 *h = if helix_relative {
-                    a[k]
+                    a.helix[k]
                 } else {
-                    a[k] - start[i]
+                    a.helix[k] - start[i]
                 };
                 k += 1;
             }

@@ -4,6 +4,7 @@
 //! `path.rs`).
 
 use super::*;
+use firmware_proto::cmd::{NurbsBegin, NurbsData, PathFlags};
 
 /// A NURBS transfer in progress: header and the staged data stream.
 #[derive(Debug, Clone, Default)]
@@ -18,10 +19,11 @@ pub(super) struct NurbsRx {
     /// feed, accel, jerk, chord tolerance, saturation budget.
     pub(super) params: [f64; 5],
     pub(super) saturation: bool,
-    pub(super) flags: u32,
-    /// The curve is a path segment (MC_OP_PATH_NURBS): `params` are feed, tolerance, fit
-    /// tolerance, id.
-    pub(super) path: bool,
+    /// A move's: buffered, feed type.
+    pub(super) opts: MoveOpts,
+    /// The curve is a path segment (MC_OP_PATH_NURBS) with these flags: `params` are feed,
+    /// tolerance, fit tolerance, id.
+    pub(super) path: Option<PathFlags>,
     /// Control points, weights, knots: allocated once at boot.
     pub(super) stage: FixedVec<f64, STAGE_LEN>,
 }
@@ -82,14 +84,24 @@ impl Group {
     /// unfinished one).
     pub fn nurbs_begin(
         &mut self,
-        c: &Command,
+        b: &NurbsBegin,
         axes: &[Axis; MAX_AXES],
         ts: f64,
     ) -> Result<(), NackCode> {
         self.rx.open = false;
-        let cfg = self.can_queue(c.flags)?;
-        let a = &c.args;
-        if a[..8].iter().any(|x| !x.is_finite()) {
+        let cfg = self.can_queue(b.buffered)?;
+        let [degree, n_ctrl, n_knots] = b.size.to_array();
+        let a = [
+            degree,
+            n_ctrl,
+            n_knots,
+            b.feed,
+            b.accel,
+            b.jerk,
+            b.chord_tolerance,
+            b.budget,
+        ];
+        if a.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
         let (degree, n_ctrl) = curve_header(a[0], a[1], a[2], cfg.naxes)?;
@@ -98,7 +110,7 @@ impl Group {
         }
         let rate = crate::firmware::rate_hz(ts);
         crate::firmware::nack::check_ranges(rate, &[(1, a[3]), (2, a[4]), (3, a[5])])?;
-        let saturation = c.flags & move_flags::NURBS_SATURATION != 0;
+        let saturation = b.saturation;
         if !(0.0..=1.0).contains(&a[7]) || (saturation && a[7] == 0.0) {
             return Err(NackCode::BadConfig);
         }
@@ -116,24 +128,24 @@ impl Group {
             return Err(NackCode::IncompatibleMode);
         }
         let params = [a[3], a[4], a[5], a[6], a[7]];
-        self.open_rx(
-            (degree, cfg.naxes, n_ctrl),
-            params,
-            saturation,
-            c.flags,
-            false,
-        );
+        let opts = MoveOpts {
+            relative: false,
+            buffered: b.buffered,
+            feed_type: b.feed_type,
+        };
+        self.open_rx((degree, cfg.naxes, n_ctrl), params, saturation, opts, None);
         Ok(())
     }
 
-    /// Opens a curve transfer of (degree, axes, control points) into the staging buffer.
+    /// Opens a curve transfer of (degree, axes, control points) into the staging buffer: a
+    /// move's (with `opts`) or a path segment's (with its flags, `path`).
     pub(super) fn open_rx(
         &mut self,
         (degree, n, n_ctrl): (usize, usize, usize),
         params: [f64; 5],
         saturation: bool,
-        flags: u32,
-        path: bool,
+        opts: MoveOpts,
+        path: Option<PathFlags>,
     ) {
         self.rx = NurbsRx {
             open: true,
@@ -144,18 +156,16 @@ impl Group {
             received: 0,
             params,
             saturation,
-            flags,
+            opts,
             path,
             stage: core::mem::take(&mut self.rx.stage),
         };
     }
 
     /// MC_OP_NURBS_DATA: the next values of the stream, in order.
-    pub fn nurbs_data(&mut self, c: &Command) -> Result<(), NackCode> {
+    pub fn nurbs_data(&mut self, d: &NurbsData) -> Result<(), NackCode> {
         let rx = &mut self.rx;
-        let (Some(offset), Some(count)) = (whole(c.args[0]), whole(c.args[1])) else {
-            return Err(NackCode::NurbsSequence);
-        };
+        let (offset, count) = (d.offset as usize, d.values.len());
         if !rx.open
             || offset != rx.received
             || count == 0
@@ -167,7 +177,7 @@ impl Group {
         }
         let n = rx.naxes;
         let weights = rx.n_ctrl * n..rx.n_ctrl * (n + 1);
-        for (i, v) in c.args[2..2 + count].iter().enumerate() {
+        for (i, v) in d.values.iter().enumerate() {
             let k = offset + i;
             if !v.is_finite() {
                 return Err(if weights.contains(&k) {
@@ -187,7 +197,7 @@ impl Group {
         let Some(dst) = rx.stage.get_mut(offset..offset + count) else {
             return Err(NackCode::NurbsSequence);
         };
-        dst.copy_from_slice(&c.args[2..2 + count]);
+        dst.copy_from_slice(&d.values);
         rx.received += count;
         Ok(())
     }
@@ -197,7 +207,7 @@ impl Group {
     /// (`QueueFull` when none is free); only the planning's scratch tables allocate.
     pub fn nurbs_end(
         &mut self,
-        c: &Command,
+        seq: u32,
         axes: &[Axis; MAX_AXES],
         ts: f64,
         tick: u64,
@@ -208,10 +218,10 @@ impl Group {
             return Err(NackCode::NurbsSequence);
         }
         self.rx.open = false;
-        if self.rx.path {
-            return self.path_curve(c, ts, tick, out);
+        if self.rx.path.is_some() {
+            return self.path_curve(seq, ts, tick, out);
         }
-        let cfg = self.can_queue(self.rx.flags)?;
+        let cfg = self.can_queue(self.rx.opts.buffered)?;
         let n = cfg.naxes;
         let rx = &self.rx;
         // (A reconfigured group closes the transfer; the layout is checked all the same.)
@@ -303,10 +313,10 @@ impl Group {
             end: e,
             len,
         };
-        let feed_type = ((rx.flags >> move_flags::FEED_TYPE_SHIFT) & 3).min(2) as usize;
+        let feed_type = rx.opts.feed_type.min(2) as usize;
         self.push(
             Move {
-                seq: c.seq,
+                seq,
                 geom,
                 feed: Feed::Nurbs(slot),
                 feed_type,

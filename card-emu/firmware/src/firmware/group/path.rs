@@ -18,8 +18,23 @@ use crate::motion::path::{
     Transition,
 };
 use crate::ram::FixedVec;
-use firmware_proto::{path_flags, GroupPath, OUTPUTS, PATH_LEN};
+use firmware_proto::cmd::{PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput};
+use firmware_proto::{GroupPath, OUTPUTS, PATH_LEN};
 use heapless::Deque;
+
+/// A path segment command, decoded: `MC_OP_PATH_LINE`, `_ARC`, `_DWELL`; or the
+/// `MC_OP_NURBS_END` of a NURBS segment (its curve staged), as an Aborting segment waits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SegmentCmd {
+    /// A line.
+    Line(PathLine),
+    /// An arc or helix.
+    Arc(PathArc),
+    /// A dwell.
+    Dwell(PathDwell),
+    /// A NURBS curve, staged in the group's transfer.
+    Curve,
+}
 
 /// A group's path and what the firmware keeps about its segments.
 #[derive(Clone)]
@@ -49,9 +64,9 @@ pub(super) struct PathRun {
     stale: bool,
     /// The seq of the last segment that ended.
     last_seq: u32,
-    /// An Aborting segment waiting for the path to come to rest: its command (for a NURBS
-    /// curve, its MC_OP_NURBS_END; the curve stays staged).
-    pending: Option<Command>,
+    /// An Aborting segment waiting for the path to come to rest: its command's seq and the
+    /// segment (for a NURBS curve, its MC_OP_NURBS_END's seq; the curve stays staged).
+    pending: Option<(u32, SegmentCmd)>,
     /// The NURBS curve being queued (room for the largest, allocated with the path), and its
     /// control points moved to the path's end (a relative curve).
     curve: Nurbs,
@@ -228,30 +243,40 @@ impl Group {
         Ok(run)
     }
 
-    /// MC_OP_PATH_LINE, _ARC, _DWELL: validate a segment and queue it in the path.
+    /// MC_OP_PATH_LINE, _ARC, _DWELL (command `seq`): validate a segment and queue it in
+    /// the path. (`SegmentCmd::Curve` is `path_curve`'s.)
     pub fn path_segment(
         &mut self,
-        c: &Command,
-        op: Opcode,
+        seq: u32,
+        sc: &SegmentCmd,
         ts: f64,
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
+        let (head, flags) = match sc {
+            SegmentCmd::Line(l) => ([l.id, l.feed, l.tolerance], l.flags),
+            SegmentCmd::Arc(a) => ([a.id, a.feed, a.tolerance], a.flags),
+            SegmentCmd::Dwell(d) => ([d.id, d.seconds, 0.0], PathFlags::default()),
+            SegmentCmd::Curve => return self.path_curve(seq, ts, tick, out),
+        };
         let cfg = self.can_path()?;
         let n = cfg.naxes;
-        let a = &c.args;
-        let nargs = match op {
-            Opcode::PathLine => 3 + n,
-            Opcode::PathArc => 7 + n.saturating_sub(2),
-            _ => 2,
+        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let finite = match sc {
+            SegmentCmd::Line(l) => all(&head) && all(&l.targets[..n]),
+            SegmentCmd::Arc(a) => {
+                let g = &a.arc;
+                all(&head) && all(&g.end) && all(&g.aux) && all(&g.helix[..n.saturating_sub(2)])
+            }
+            _ => all(&head[..2]),
         };
-        if a[..nargs.min(a.len())].iter().any(|x| !x.is_finite()) {
+        if !finite {
             return Err(NackCode::NotFinite);
         }
+        let a = head;
         let id = segment_id(a[0])?;
-        let last = c.flags & path_flags::LAST != 0;
         let rate = crate::firmware::rate_hz(ts);
-        if op == Opcode::PathDwell {
+        if let SegmentCmd::Dwell(d) = sc {
             if !(a[1] > 0.0 && a[1] <= crate::MAX_MOVE_TIME) {
                 return Err(NackCode::OutOfRange);
             }
@@ -261,21 +286,22 @@ impl Group {
                 feed: 1.0,
                 transition: Transition::Exact,
                 blend: BlendSpeed::Low,
-                last,
+                last: d.last,
             };
-            return self.path_push(seg, c.seq, &cfg, ts, tick, out);
+            return self.path_push(seg, seq, &cfg, ts, tick, out);
         }
+        let last = flags.last;
         crate::firmware::nack::check_ranges(rate, &[(1, a[1])])?;
-        let (transition, blend) = path_mode(c.flags, a[2])?;
-        let relative = c.flags & move_flags::RELATIVE != 0;
+        let (transition, blend) = path_mode(&flags, a[2])?;
+        let relative = flags.relative;
         let start = self.queue_end;
-        let geom = if op == Opcode::PathLine {
+        let geom = if let SegmentCmd::Line(l) = sc {
             let mut end = start;
             for i in 0..n {
                 end[i] = if relative {
-                    start[i] + a[3 + i]
+                    start[i] + l.targets[i]
                 } else {
-                    a[3 + i]
+                    l.targets[i]
                 };
             }
             if !end[..n].iter().all(|x| x.abs() <= crate::MAX_POSITION) {
@@ -285,11 +311,8 @@ impl Group {
                 return Err(NackCode::PathZeroLength);
             }
             Geom::Line { end }
-        } else {
-            // The arc's arguments sit one place earlier than MC_OP_GROUP_MOVE_CIRCULAR's.
-            let mut shim = *c;
-            shim.args[4..].copy_from_slice(&c.args[3..firmware_proto::CMD_ARGS - 1]);
-            let g = self.arc(&cfg, &shim, &start, relative)?;
+        } else if let SegmentCmd::Arc(arc) = sc {
+            let g = self.arc(&cfg, &arc.arc, &start, relative)?;
             let Geometry::Arc { u, v, arc, .. } = g else {
                 return Err(NackCode::BadConfig);
             };
@@ -301,6 +324,8 @@ impl Group {
                 ccw: arc.sweep() > 0.0,
                 end: g.end(n),
             }
+        } else {
+            return Err(NackCode::UnknownOpcode);
         };
         let seg = Segment {
             id,
@@ -310,7 +335,7 @@ impl Group {
             blend,
             last,
         };
-        if path_flags::buffer(c.flags) == raw::MC_PATH_ABORTING && self.path_busy() {
+        if flags.buffer as u32 == raw::MC_PATH_ABORTING && self.path_busy() {
             // PLCopen Aborting on a running path: it stops along its geometry within its
             // limits, what it held is aborted at rest, and this segment starts from there
             // (relative targets from there). Until then the group takes no other segment
@@ -318,11 +343,11 @@ impl Group {
             if let Some(run) = self.path.as_mut() {
                 run.path.halt(f64::MAX, f64::MAX);
                 run.halting = true;
-                run.pending = Some(*c);
+                run.pending = Some((seq, *sc));
             }
             return Ok(());
         }
-        self.path_push(seg, c.seq, &cfg, ts, tick, out)
+        self.path_push(seg, seq, &cfg, ts, tick, out)
     }
 
     fn path_push(
@@ -379,37 +404,53 @@ impl Group {
 
     /// MC_OP_PATH_NURBS: check a NURBS path segment's header and open its transfer (its data
     /// follows in MC_OP_NURBS_DATA, MC_OP_NURBS_END queues it: `path_curve`).
-    pub fn path_nurbs_begin(&mut self, c: &Command, ts: f64) -> Result<(), NackCode> {
+    pub fn path_nurbs_begin(&mut self, p: &PathNurbs, ts: f64) -> Result<(), NackCode> {
         self.rx.open = false;
         let cfg = self.can_path()?;
-        let a = &c.args;
-        if a[..7].iter().any(|x| !x.is_finite()) {
+        let [degree, n_ctrl, n_knots] = p.size.to_array();
+        let a = [
+            p.id,
+            p.feed,
+            p.tolerance,
+            degree,
+            n_ctrl,
+            n_knots,
+            p.fit_tolerance,
+        ];
+        if a.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
         let id = segment_id(a[0])?;
         crate::firmware::nack::check_ranges(crate::firmware::rate_hz(ts), &[(1, a[1])])?;
-        path_mode(c.flags, a[2])?;
+        path_mode(&p.flags, a[2])?;
         let (degree, n_ctrl) = curve_header(a[3], a[4], a[5], cfg.naxes)?;
         if a[6] <= 0.0 {
             return Err(NackCode::NonPositiveLimit);
         }
         let params = [a[1], a[2], a[6], id as f64, 0.0];
-        self.open_rx((degree, cfg.naxes, n_ctrl), params, false, c.flags, true);
+        let opts = MoveOpts::default();
+        self.open_rx(
+            (degree, cfg.naxes, n_ctrl),
+            params,
+            false,
+            opts,
+            Some(p.flags),
+        );
         Ok(())
     }
 
-    /// MC_OP_NURBS_END of a path segment (`c`): validate the staged curve and queue it. A
-    /// curve refused for want of room (`QueueFull`) stays staged: the host sends the end
+    /// MC_OP_NURBS_END of a path segment (command `seq`): validate the staged curve and queue
+    /// it. A curve refused for want of room (`QueueFull`) stays staged: the host sends the end
     /// again once the path has run on.
     pub(super) fn path_curve(
         &mut self,
-        c: &Command,
+        seq: u32,
         ts: f64,
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
         let stage = core::mem::take(&mut self.rx.stage);
-        let r = self.path_curve_from(&stage, c, ts, tick, out);
+        let r = self.path_curve_from(&stage, seq, ts, tick, out);
         self.rx.stage = stage;
         self.rx.open = r == Err(NackCode::QueueFull);
         r
@@ -418,7 +459,7 @@ impl Group {
     fn path_curve_from(
         &mut self,
         stage: &[f64],
-        c: &Command,
+        seq: u32,
         ts: f64,
         tick: u64,
         out: &mut Outbox,
@@ -426,30 +467,30 @@ impl Group {
         let cfg = self.can_path()?;
         let n = cfg.naxes;
         let rx = &self.rx;
-        let (degree, n_ctrl, flags) = (rx.degree, rx.n_ctrl, rx.flags);
+        let (degree, n_ctrl, flags) = (rx.degree, rx.n_ctrl, rx.path.unwrap_or_default());
         let [feed, tol, fit, id, _] = rx.params;
         if n != rx.naxes || stage.len() < rx.total {
             return Err(NackCode::NurbsSequence);
         }
-        let (transition, blend) = path_mode(flags, tol)?;
-        if path_flags::buffer(flags) == raw::MC_PATH_ABORTING && self.path_busy() {
+        let (transition, blend) = path_mode(&flags, tol)?;
+        if flags.buffer as u32 == raw::MC_PATH_ABORTING && self.path_busy() {
             // as for a line: the path stops along its geometry, and the curve (still staged)
             // is queued from there
             if let Some(run) = self.path.as_mut() {
                 run.path.halt(f64::MAX, f64::MAX);
                 run.halting = true;
-                run.pending = Some(*c);
+                run.pending = Some((seq, SegmentCmd::Curve));
             }
             return Ok(());
         }
         let (pts, rest) = stage.split_at(n_ctrl * n);
         let (weights, rest) = rest.split_at(n_ctrl);
         let knots = &rest[..n_ctrl + degree + 1];
-        let relative = flags & move_flags::RELATIVE != 0;
+        let relative = flags.relative;
         let start = self.queue_end;
-        let last = flags & path_flags::LAST != 0;
+        let last = flags.last;
         let id = id as u32;
-        self.path_push_with(id, c.seq, &cfg, ts, tick, out, |run| {
+        self.path_push_with(id, seq, &cfg, ts, tick, out, |run| {
             let pts = if relative {
                 run.moved.clear();
                 for p in pts.chunks_exact(n) {
@@ -482,10 +523,10 @@ impl Group {
     }
 
     /// MC_OP_PATH_OUTPUT: an output action for the next motion segment queued.
-    pub fn path_output(&mut self, c: &Command, ts: f64) -> Result<(), NackCode> {
+    pub fn path_output(&mut self, o: &PathOutput, ts: f64) -> Result<(), NackCode> {
         let cfg = self.can_path()?;
-        let a = &c.args;
-        if a[..3].iter().any(|x| !x.is_finite()) {
+        let a = [o.output, o.on, o.distance];
+        if a.iter().any(|x| !x.is_finite()) {
             return Err(NackCode::NotFinite);
         }
         let bit = whole(a[0])
@@ -496,7 +537,7 @@ impl Group {
             1.0 => true,
             _ => return Err(NackCode::PathOutput),
         };
-        let at = match c.flags & 3 {
+        let at = match o.when as u32 {
             raw::MC_PATH_OUT_AT_START => OutputAt::Start,
             raw::MC_PATH_OUT_AT_END => OutputAt::End,
             raw::MC_PATH_OUT_AT_DISTANCE if a[2] >= 0.0 => OutputAt::Distance(a[2]),
@@ -627,17 +668,12 @@ impl Group {
             run.started = 0;
             run.stale = true;
             self.queue_end = run.path.position();
-            if let Some(c) = run.pending.take() {
+            if let Some((seq, sc)) = run.pending.take() {
                 // The Aborting segment starts from here; one that cannot is aborted with the
                 // nack it would have had as its code.
-                let op = Opcode::from_raw(c.opcode).unwrap_or(Opcode::PathLine);
-                let r = if op == Opcode::NurbsEnd {
-                    self.path_curve(&c, ts, tick, out)
-                } else {
-                    self.path_segment(&c, op, ts, tick, out)
-                };
+                let r = self.path_segment(seq, &sc, ts, tick, out);
                 if let Err(e) = r {
-                    out.push(self.event(EventKind::GroupMotionAborted, c.seq, e as i32, 0.0, tick));
+                    out.push(self.event(EventKind::GroupMotionAborted, seq, e as i32, 0.0, tick));
                 } else {
                     return false;
                 }
@@ -740,11 +776,11 @@ fn segment_id(x: f64) -> Result<u32, NackCode> {
 }
 
 /// A segment's PLCopen BufferMode and TransitionMode (its flags) with its tolerance `tol`.
-fn path_mode(flags: u32, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
+fn path_mode(flags: &PathFlags, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
     if tol < 0.0 {
         return Err(NackCode::OutOfRange);
     }
-    match path_flags::buffer(flags) {
+    match flags.buffer as u32 {
         raw::MC_PATH_ABORTING | raw::MC_PATH_BUFFERED => Ok((Transition::Exact, BlendSpeed::Low)),
         m @ raw::MC_PATH_BLEND_LOW..=raw::MC_PATH_BLEND_HIGH => {
             let blend = match m {
@@ -753,7 +789,7 @@ fn path_mode(flags: u32, tol: f64) -> Result<(Transition, BlendSpeed), NackCode>
                 raw::MC_PATH_BLEND_NEXT => BlendSpeed::Next,
                 _ => BlendSpeed::High,
             };
-            let t = match path_flags::transition(flags) {
+            let t = match flags.transition as u32 {
                 raw::MC_TM_NONE => Transition::Exact,
                 raw::MC_TM_MAX_DEVIATION => Transition::MaxDeviation(tol),
                 raw::MC_TM_CORNER_DISTANCE => Transition::CornerDistance(tol),

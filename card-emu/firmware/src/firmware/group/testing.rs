@@ -4,6 +4,8 @@
 
 use super::*;
 use crate::math;
+use firmware_proto::cmd::{Args, CircularMove, LinearMove, NurbsBegin, NurbsData};
+use firmware_proto::{move_flags, Command};
 
 /// The fixtures' servo period, s (10 kHz).
 pub(super) const TS: f64 = 1e-4;
@@ -68,8 +70,9 @@ impl Bench {
         let mut c = Command::new(Opcode::GroupMoveLinear, 0).with_args(&args);
         c.seq = seq;
         c.flags = flags | move_flags::BUFFERED;
+        let m = LinearMove::decode(c.flags, &c.args).unwrap();
         self.g
-            .queue_move(&c, Opcode::GroupMoveLinear, TS, self.tick, &mut self.out)
+            .queue_move(seq, GroupMove::Linear(&m), TS, self.tick, &mut self.out)
             .unwrap();
     }
 
@@ -84,8 +87,9 @@ impl Bench {
             | move_flags::CIRC_CCW
             | (raw::MC_CIRC_BY_CENTRE << move_flags::CIRC_MODE_SHIFT)
             | (raw::MC_PLANE_XY << move_flags::PLANE_SHIFT);
+        let m = CircularMove::decode(c.flags, &c.args).unwrap();
         self.g
-            .queue_move(&c, Opcode::GroupMoveCircular, TS, self.tick, &mut self.out)
+            .queue_move(seq, GroupMove::Circular(&m), TS, self.tick, &mut self.out)
             .unwrap();
     }
 
@@ -112,7 +116,8 @@ impl Bench {
         ];
         let mut c = Command::new(Opcode::NurbsBegin, 0).with_args(&header);
         c.flags = move_flags::BUFFERED;
-        self.g.nurbs_begin(&c, &self.axes, TS).unwrap();
+        let b = NurbsBegin::decode(c.flags, &c.args).unwrap();
+        self.g.nurbs_begin(&b, &self.axes, TS).unwrap();
         for (k, chunk) in stream.chunks(firmware_proto::NURBS_DATA_MAX).enumerate() {
             let mut args = vec![
                 (k * firmware_proto::NURBS_DATA_MAX) as f64,
@@ -120,12 +125,12 @@ impl Bench {
             ];
             args.extend_from_slice(chunk);
             let c = Command::new(Opcode::NurbsData, 0).with_args(&args);
-            self.g.nurbs_data(&c).unwrap();
+            self.g
+                .nurbs_data(&NurbsData::decode(c.flags, &c.args).unwrap())
+                .unwrap();
         }
-        let mut c = Command::new(Opcode::NurbsEnd, 0);
-        c.seq = seq;
         self.g
-            .nurbs_end(&c, &self.axes, TS, self.tick, &mut self.out)
+            .nurbs_end(seq, &self.axes, TS, self.tick, &mut self.out)
             .unwrap();
     }
 

@@ -1,0 +1,146 @@
+//! Single-axis motion: MC_Power, MC_MoveAbsolute/Relative/Additive, MC_MoveVelocity and jog,
+//! MC_SetOverride, MC_Halt, MC_Stop and its release, MC_Reset, MC_Home, MC_SetPosition.
+//!
+//! The card's order: the command's numbers finite, the axis one of the card's, the safety
+//! layer's check (latches, causes, limits), not an axis of an enabled group (but power on and
+//! reset), then the axis's own checks as it takes the command.
+
+use super::super::axis::{Axis, MoveKind, Started};
+use super::super::{homing, nack, Firmware};
+use crate::motion::scurve::Limits;
+use firmware_proto::cmd::{self, AxisCmd};
+use firmware_proto::{AxisState, Command, Mem, NackCode, Opcode};
+
+/// The axis's move kind of a decoded position move's (the safety layer's check uses it too).
+impl From<cmd::MoveKind> for MoveKind {
+    fn from(k: cmd::MoveKind) -> Self {
+        match k {
+            cmd::MoveKind::Absolute => MoveKind::Absolute,
+            cmd::MoveKind::Relative => MoveKind::Relative,
+            cmd::MoveKind::Additive => MoveKind::Additive,
+        }
+    }
+}
+
+/// Are the numbers the command carries finite?
+fn finite(c: &AxisCmd) -> bool {
+    let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    match c {
+        AxisCmd::Move(_, m) => m.position.is_finite() && all(&m.limits.to_array()),
+        AxisCmd::MoveVelocity(v) => all(&[v.velocity, v.amax, v.dmax, v.jerk]),
+        AxisCmd::Halt(r) | AxisCmd::Stop(r) => all(&[r.dmax, r.jerk]),
+        AxisCmd::Jog(j) => j.velocity.is_finite(),
+        AxisCmd::SetOverride(o) => o.factor.is_finite(),
+        AxisCmd::Home(h) => h.position.is_finite(),
+        AxisCmd::SetPosition(p) => p.position.is_finite(),
+        AxisCmd::PowerOn | AxisCmd::PowerOff | AxisCmd::StopRelease | AxisCmd::Reset => true,
+    }
+}
+
+impl<M: Mem + Clone> Firmware<M> {
+    /// A single-axis motion command (`op` of [`cmd::Family::Axis`]).
+    pub(super) fn execute_axis(&mut self, c: &Command, op: Opcode) -> Result<f64, NackCode> {
+        // Every argument is a plain number: decoding never refuses one.
+        let cmd = AxisCmd::decode(op, c.flags, &c.args).map_err(|e| e.nack)?;
+        if !finite(&cmd) {
+            return Err(NackCode::NotFinite);
+        }
+        let ax = self.target_axis(c)?;
+        // [safety] card-wide latches, causes still present, limits (safety.rs)
+        self.safety.check_command(&cmd, &self.axes[ax])?;
+        let pending = self.axes[ax].pending_motion();
+        if !matches!(cmd, AxisCmd::PowerOn | AxisCmd::Reset) && self.grouped(ax) {
+            return Err(NackCode::AxisGrouped);
+        }
+        let rate = self.servo_rate_hz;
+        let max_stop_time = self.safety.config().max_stop_time();
+        let axis = &mut self.axes[ax];
+        // Does the command take over the axis (PLCopen Aborting): the motion in progress and
+        // every buffered move are aborted.
+        let mut aborting = matches!(
+            cmd,
+            AxisCmd::MoveVelocity(_)
+                | AxisCmd::Jog(_)
+                | AxisCmd::Halt(_)
+                | AxisCmd::Stop(_)
+                | AxisCmd::PowerOff
+                | AxisCmd::Home(_)
+        );
+        let changed = match &cmd {
+            AxisCmd::PowerOn => axis.power(true)?,
+            AxisCmd::PowerOff => axis.power(false)?,
+            AxisCmd::Move(kind, m) => {
+                let l = &m.limits;
+                let lim = Limits {
+                    vmax: l.vmax,
+                    amax: l.amax,
+                    dmax: l.dmax,
+                    j1: l.j1,
+                    j3: l.j3,
+                    j5: l.j5,
+                    j7: l.j7,
+                };
+                lim.check_range(rate).map_err(nack::plan_nack)?;
+                let kind = MoveKind::from(*kind);
+                let (changed, started) =
+                    axis.start_move(c.seq, kind, m.position, &lim, m.buffered, rate)?;
+                aborting = started == Started::Now;
+                changed
+            }
+            AxisCmd::MoveVelocity(v) => {
+                let lim = Limits {
+                    vmax: v.velocity.abs(),
+                    amax: v.amax,
+                    dmax: v.dmax,
+                    ..Limits::symmetric(0.0, 0.0, v.jerk)
+                };
+                velocity_mode(axis, c.seq, v.velocity, &lim, rate)?
+            }
+            AxisCmd::Jog(j) => {
+                let cfg = &axis.config;
+                if j.velocity.abs() > cfg.jog_max_vel {
+                    return Err(NackCode::OutOfRange);
+                }
+                let lim = Limits::symmetric(cfg.jog_max_vel, cfg.jog_accel, cfg.jog_jerk);
+                velocity_mode(axis, c.seq, j.velocity, &lim, rate)?
+            }
+            AxisCmd::SetOverride(o) => {
+                axis.set_override(o.factor, rate)?;
+                None
+            }
+            AxisCmd::Halt(r) | AxisCmd::Stop(r) => {
+                nack::check_ranges(rate, &[(2, r.dmax), (3, r.jerk)])?;
+                let stop = matches!(cmd, AxisCmd::Stop(_));
+                axis.start_stop(c.seq, stop, r.dmax, r.jerk, max_stop_time)?
+            }
+            AxisCmd::StopRelease => {
+                axis.release_stop()?;
+                None
+            }
+            AxisCmd::Reset => axis.reset()?,
+            AxisCmd::Home(h) => self.homing[ax].start(axis, c.seq, h.position, rate)?,
+            AxisCmd::SetPosition(p) => {
+                homing::set_position(axis, p.position, p.relative)?;
+                None
+            }
+        };
+        self.finish_axis_command(c, op, ax, pending, aborting, changed);
+        Ok(0.0)
+    }
+}
+
+/// MC_MoveVelocity or jog (command `seq`): velocity mode at `vel` within `lim`'s acceleration,
+/// deceleration and jerk, each in the card's range.
+fn velocity_mode(
+    axis: &mut Axis,
+    seq: u32,
+    vel: f64,
+    lim: &Limits,
+    rate: u32,
+) -> Result<Option<AxisState>, NackCode> {
+    if vel.abs() > *firmware_proto::limit_range(1, rate).end() {
+        return Err(NackCode::OutOfRange);
+    }
+    nack::check_ranges(rate, &[(2, lim.amax), (2, lim.dmax), (3, lim.j1)])?;
+    axis.start_velocity(seq, vel, lim, rate)
+}

@@ -1,0 +1,380 @@
+//! Digital outputs, position compare and touch probes (layout 1.7; the outputs 1.6). A compare
+//! or probe command's target is the axis it watches; its channel is `args[0]`.
+
+use super::{bit, not_in_family, put, set, uint, Args, DecodeError, Fault};
+use crate::wire::{Command, NackCode, Opcode, CMD_ARGS};
+use crate::{raw, COMPARE_CHANNELS, COMPARE_TABLE_MAX, OUTPUTS, PROBE_CHANNELS};
+use heapless::Vec;
+
+/// The largest output word (`2^MC_OUTPUTS - 1`).
+const OUTPUT_WORD: u64 = (1 << OUTPUTS) - 1;
+
+/// `MC_OP_SET_OUTPUTS` (args: mask, value, each 0..2^MC_OUTPUTS-1, else `MC_NACK_PATH_OUTPUT`):
+/// the outputs in `mask` become `value`'s bits now.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SetOutputs {
+    /// The outputs set (bit i: output i).
+    pub mask: u32,
+    /// Their new values.
+    pub value: u32,
+}
+
+impl Args for SetOutputs {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &[self.mask as f64, self.value as f64]);
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let bad = NackCode::PathOutput;
+        Ok(Self {
+            mask: uint(args, 0, OUTPUT_WORD, bad, bad)? as u32,
+            value: uint(args, 1, OUTPUT_WORD, bad, bad)? as u32,
+        })
+    }
+}
+
+/// A channel number in `args[0]`: NaN is `NotFinite`, anything but an integer below `n`
+/// `IoChannel`.
+fn channel(args: &[f64; CMD_ARGS], n: usize) -> Result<u8, DecodeError> {
+    uint(
+        args,
+        0,
+        n as u64 - 1,
+        NackCode::NotFinite,
+        NackCode::IoChannel,
+    )
+    .map(|c| c as u8)
+}
+
+/// The direction a compare position is crossed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Upwards (`MC_CMP_DIR_POS`).
+    Up,
+    /// Downwards (`MC_CMP_DIR_NEG`).
+    Down,
+}
+
+impl Direction {
+    fn bits(self) -> u32 {
+        match self {
+            Self::Up => raw::MC_CMP_DIR_POS,
+            Self::Down => raw::MC_CMP_DIR_NEG,
+        }
+    }
+
+    /// +1 up, -1 down.
+    pub fn sign(self) -> i8 {
+        match self {
+            Self::Up => 1,
+            Self::Down => -1,
+        }
+    }
+}
+
+/// What a compare channel fires on (`MC_CMP_MODE_*`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CompareKind {
+    /// One position.
+    Single,
+    /// `start + k * pitch`, `k = 0..count-1`.
+    Series,
+    /// The positions queued with `MC_OP_COMPARE_TABLE`.
+    Table,
+}
+
+/// `MC_OP_COMPARE_ARM` (args: channel, output, pulse_us, low_water, position or start, pitch,
+/// count; flags: `MC_CMP_MODE_*`, `MC_CMP_DIR_*`). The channel and the flags are decoded; the
+/// numbers are the card's to check (after the axis and the flags, each in its own order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompareArm {
+    /// The channel.
+    pub channel: u8,
+    /// Single, series or table.
+    pub kind: CompareKind,
+    /// The crossing direction; `None`: either way (a single position only).
+    pub direction: Option<Direction>,
+    /// The output pulsed (an integer, 0..MC_OUTPUTS-1).
+    pub output: f64,
+    /// The pulse width, µs (an integer, 1..MC_PULSE_MAX_US).
+    pub pulse_us: f64,
+    /// A table's low-water mark (an integer below MC_COMPARE_TABLE_LEN; 0: none).
+    pub low_water: f64,
+    /// The position (single) or the first one (series), counts.
+    pub position: f64,
+    /// The series' pitch (counts, ≥ 1).
+    pub pitch: f64,
+    /// The series' count (an integer, 1..2^31-1).
+    pub count: f64,
+}
+
+impl Args for CompareArm {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.channel as f64;
+        put(
+            args,
+            1,
+            &[
+                self.output,
+                self.pulse_us,
+                self.low_water,
+                self.position,
+                self.pitch,
+                self.count,
+            ],
+        );
+        let kind = match self.kind {
+            CompareKind::Single => raw::MC_CMP_MODE_SINGLE,
+            CompareKind::Series => raw::MC_CMP_MODE_SERIES,
+            CompareKind::Table => raw::MC_CMP_MODE_TABLE,
+        };
+        let dir = self
+            .direction
+            .map_or(raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG, |d| d.bits());
+        kind | dir
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let channel = channel(args, COMPARE_CHANNELS)?;
+        let bad = DecodeError::flags(NackCode::CompareMode);
+        if flags & !(raw::MC_CMP_MODE_MASK | raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG) != 0 {
+            return Err(bad);
+        }
+        let kind = match flags & raw::MC_CMP_MODE_MASK {
+            raw::MC_CMP_MODE_SINGLE => CompareKind::Single,
+            raw::MC_CMP_MODE_SERIES => CompareKind::Series,
+            raw::MC_CMP_MODE_TABLE => CompareKind::Table,
+            _ => return Err(bad),
+        };
+        let direction = match (
+            bit(flags, raw::MC_CMP_DIR_POS),
+            bit(flags, raw::MC_CMP_DIR_NEG),
+        ) {
+            (true, false) => Some(Direction::Up),
+            (false, true) => Some(Direction::Down),
+            (true, true) if kind == CompareKind::Single => None,
+            _ => return Err(bad),
+        };
+        let [output, pulse_us, low_water, position, pitch, count] = super::take(args, 1);
+        Ok(Self {
+            channel,
+            kind,
+            direction,
+            output,
+            pulse_us,
+            low_water,
+            position,
+            pitch,
+            count,
+        })
+    }
+}
+
+/// `MC_OP_COMPARE_TABLE` (args: channel, n (1..MC_COMPARE_TABLE_MAX), then n positions; flags:
+/// the table's direction, `MC_CMP_DIR_POS` or `_NEG`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareTable {
+    /// The channel.
+    pub channel: u8,
+    /// The table's direction.
+    pub direction: Direction,
+    /// The positions queued, counts (1 to [`COMPARE_TABLE_MAX`]).
+    pub positions: Vec<f64, COMPARE_TABLE_MAX>,
+}
+
+impl Args for CompareTable {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.channel as f64;
+        args[1] = self.positions.len() as f64;
+        put(args, 2, &self.positions);
+        self.direction.bits()
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let channel = channel(args, COMPARE_CHANNELS)?;
+        let n = uint(
+            args,
+            1,
+            COMPARE_TABLE_MAX as u64,
+            NackCode::NotFinite,
+            NackCode::CompareMode,
+        )?;
+        if n == 0 {
+            return Err(DecodeError::arg(
+                1,
+                Fault::OutOfRange,
+                NackCode::CompareMode,
+            ));
+        }
+        let direction = match flags {
+            raw::MC_CMP_DIR_POS => Direction::Up,
+            raw::MC_CMP_DIR_NEG => Direction::Down,
+            _ => return Err(DecodeError::flags(NackCode::CompareMode)),
+        };
+        let n = n as usize;
+        Ok(Self {
+            channel,
+            direction,
+            positions: Vec::from_slice(&args[2..2 + n]).unwrap_or_default(),
+        })
+    }
+}
+
+/// `MC_OP_COMPARE_DISARM` (args: channel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct CompareDisarm {
+    /// The channel.
+    pub channel: u8,
+}
+
+impl Args for CompareDisarm {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.channel as f64;
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            channel: channel(args, COMPARE_CHANNELS)?,
+        })
+    }
+}
+
+/// The probe input of the axis's encoder index pulse (`MC_PROBE_INDEX`).
+pub const PROBE_INDEX: u8 = raw::MC_PROBE_INDEX as u8;
+
+/// `MC_OP_PROBE_ARM`, MC_TouchProbe (args: channel, input, window_lo, window_hi; flags:
+/// `MC_PROBE_RISING` / `_FALLING` (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProbeArm {
+    /// The channel.
+    pub channel: u8,
+    /// The input (0..MC_INPUTS-1), or [`PROBE_INDEX`].
+    pub input: u8,
+    /// Capture on rising edges.
+    pub rising: bool,
+    /// Capture on falling edges.
+    pub falling: bool,
+    /// Keep capturing (else one capture).
+    pub continuous: bool,
+    /// Only edges whose position lies in `[lo, hi]` (counts; checked by the card).
+    pub window: Option<(f64, f64)>,
+}
+
+impl Args for ProbeArm {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        let (lo, hi) = self.window.unwrap_or((0.0, 0.0));
+        put(args, 0, &[self.channel as f64, self.input as f64, lo, hi]);
+        set(self.rising, raw::MC_PROBE_RISING)
+            | set(self.falling, raw::MC_PROBE_FALLING)
+            | set(self.continuous, raw::MC_PROBE_CONTINUOUS)
+            | set(self.window.is_some(), raw::MC_PROBE_WINDOW)
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let channel = channel(args, PROBE_CHANNELS)?;
+        let known = raw::MC_PROBE_RISING
+            | raw::MC_PROBE_FALLING
+            | raw::MC_PROBE_CONTINUOUS
+            | raw::MC_PROBE_WINDOW;
+        let rising = bit(flags, raw::MC_PROBE_RISING);
+        let falling = bit(flags, raw::MC_PROBE_FALLING);
+        if flags & !known != 0 || !(rising || falling) {
+            return Err(DecodeError::flags(NackCode::ProbeInput));
+        }
+        let input = uint(
+            args,
+            1,
+            PROBE_INDEX as u64,
+            NackCode::NotFinite,
+            NackCode::ProbeInput,
+        )?;
+        Ok(Self {
+            channel,
+            input: input as u8,
+            rising,
+            falling,
+            continuous: bit(flags, raw::MC_PROBE_CONTINUOUS),
+            window: bit(flags, raw::MC_PROBE_WINDOW).then_some((args[2], args[3])),
+        })
+    }
+}
+
+/// `MC_OP_PROBE_ABORT`, MC_AbortTrigger (args: channel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ProbeAbort {
+    /// The channel.
+    pub channel: u8,
+}
+
+impl Args for ProbeAbort {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.channel as f64;
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            channel: channel(args, PROBE_CHANNELS)?,
+        })
+    }
+}
+
+/// Outputs, position compare and touch probes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum IoCmd {
+    /// `MC_OP_SET_OUTPUTS` (card-wide).
+    SetOutputs(SetOutputs),
+    /// `MC_OP_APPLY_IO_CONFIG` (card-wide).
+    ApplyConfig,
+    /// `MC_OP_COMPARE_ARM`.
+    CompareArm(CompareArm),
+    /// `MC_OP_COMPARE_TABLE`.
+    CompareTable(CompareTable),
+    /// `MC_OP_COMPARE_DISARM`.
+    CompareDisarm(CompareDisarm),
+    /// `MC_OP_PROBE_ARM`.
+    ProbeArm(ProbeArm),
+    /// `MC_OP_PROBE_ABORT`.
+    ProbeAbort(ProbeAbort),
+}
+
+impl IoCmd {
+    /// The opcode.
+    pub fn opcode(&self) -> Opcode {
+        match self {
+            Self::SetOutputs(_) => Opcode::SetOutputs,
+            Self::ApplyConfig => Opcode::ApplyIoConfig,
+            Self::CompareArm(_) => Opcode::CompareArm,
+            Self::CompareTable(_) => Opcode::CompareTable,
+            Self::CompareDisarm(_) => Opcode::CompareDisarm,
+            Self::ProbeArm(_) => Opcode::ProbeArm,
+            Self::ProbeAbort(_) => Opcode::ProbeAbort,
+        }
+    }
+
+    /// Decode an entry of an opcode of this family.
+    pub fn decode(op: Opcode, flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let f = flags;
+        Ok(match op {
+            Opcode::SetOutputs => Self::SetOutputs(Args::decode(f, args)?),
+            Opcode::ApplyIoConfig => Self::ApplyConfig,
+            Opcode::CompareArm => Self::CompareArm(Args::decode(f, args)?),
+            Opcode::CompareTable => Self::CompareTable(Args::decode(f, args)?),
+            Opcode::CompareDisarm => Self::CompareDisarm(Args::decode(f, args)?),
+            Opcode::ProbeArm => Self::ProbeArm(Args::decode(f, args)?),
+            Opcode::ProbeAbort => Self::ProbeAbort(Args::decode(f, args)?),
+            _ => return Err(not_in_family()),
+        })
+    }
+
+    /// The entry for `target` (the axis of a compare or probe command, else 0; seq 0, no
+    /// deadline).
+    pub fn command(&self, target: u16) -> Command {
+        let op = self.opcode();
+        match self {
+            Self::SetOutputs(a) => super::entry(op, target, a),
+            Self::ApplyConfig => Command::new(op, target),
+            Self::CompareArm(a) => super::entry(op, target, a),
+            Self::CompareTable(a) => super::entry(op, target, a),
+            Self::CompareDisarm(a) => super::entry(op, target, a),
+            Self::ProbeArm(a) => super::entry(op, target, a),
+            Self::ProbeAbort(a) => super::entry(op, target, a),
+        }
+    }
+}
