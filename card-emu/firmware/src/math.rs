@@ -5,12 +5,20 @@
 //! `trunc`, `fract`, `rem_euclid` and `powi` are exact or exactly specified, so they agree
 //! with the methods of the same name wherever those exist.
 //!
+//! On a host (`host`, or the tests) `sqrt`, `floor`, `ceil` and `trunc` are `std`'s (the same
+//! results to the bit: they are exactly rounded): the CPU's instructions inline, where
+//! `libm`'s are calls into another crate (the path engine's push spent 12 % more
+//! instructions with them).
+//!
 //! Called as `math::sqrt(x)`, never as methods: with `std` linked anywhere in the build, a
 //! method call on an `f64` would silently take `std`'s.
 
 /// √x, correctly rounded.
 #[inline]
 pub fn sqrt(x: f64) -> f64 {
+    #[cfg(any(test, feature = "host"))]
+    return f64::sqrt(x);
+    #[cfg(not(any(test, feature = "host")))]
     libm::sqrt(x)
 }
 
@@ -118,12 +126,18 @@ pub fn powi(mut x: f64, n: i32) -> f64 {
 /// The largest integer ≤ x.
 #[inline]
 pub fn floor(x: f64) -> f64 {
+    #[cfg(any(test, feature = "host"))]
+    return f64::floor(x);
+    #[cfg(not(any(test, feature = "host")))]
     libm::floor(x)
 }
 
 /// The smallest integer ≥ x.
 #[inline]
 pub fn ceil(x: f64) -> f64 {
+    #[cfg(any(test, feature = "host"))]
+    return f64::ceil(x);
+    #[cfg(not(any(test, feature = "host")))]
     libm::ceil(x)
 }
 
@@ -136,6 +150,9 @@ pub fn round(x: f64) -> f64 {
 /// The integer part, towards zero.
 #[inline]
 pub fn trunc(x: f64) -> f64 {
+    #[cfg(any(test, feature = "host"))]
+    return f64::trunc(x);
+    #[cfg(not(any(test, feature = "host")))]
     libm::trunc(x)
 }
 
