@@ -301,7 +301,9 @@ impl Report {
         }
         let k = self.ticks;
         let ts = self.ts;
-        let at = |m: u64| self.last[((k - m) % 4) as usize];
+        // (wrapping: the older points are only read from the tick they exist; 2⁶⁴ is a
+        // multiple of 4)
+        let at = |m: u64| self.last[(k.wrapping_sub(m) % 4) as usize];
         if k >= 1 {
             let (p1, p2, p3) = (at(1), at(2), at(3));
             for i in 0..3 {

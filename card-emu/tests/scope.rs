@@ -448,7 +448,11 @@ fn a_20_khz_16_channel_capture_across_processes_loses_nothing() {
     assert_eq!(r[1000].tick, remote.trigger_tick);
     assert_eq!(local.samples.len(), r.len());
     for (k, (a, b)) in r.iter().zip(&local.samples).enumerate() {
-        assert_eq!(a.tick - remote.trigger_tick, b.tick - local.trigger_tick);
+        // (samples before the trigger: signed)
+        assert_eq!(
+            a.tick as i64 - remote.trigger_tick as i64,
+            b.tick as i64 - local.trigger_tick as i64
+        );
         for c in 0..16 {
             assert_eq!(
                 a.value[c].to_bits(),

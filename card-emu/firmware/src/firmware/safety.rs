@@ -44,7 +44,7 @@
 //! ([`Safety::tick`], from `Firmware::tick`), one check per command
 //! ([`Safety::check_command`], from `Firmware::execute`), the safety opcodes
 //! ([`Safety::command`]), the ring-corruption report ([`Safety::protocol_error`]), and in
-//! `axis.rs` the ErrorStop power flag, MC_Reset and the starvation stop at the end of a profile
+//! `axis/` the ErrorStop power flag, MC_Reset and the starvation stop at the end of a profile
 //! that ends moving ([`starvation_stop`]).
 //!
 //! Like the rest of the firmware: no allocation, no panic, no clock; time is the tick count.

@@ -64,11 +64,11 @@ use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
 use firmware_proto::cmd::{
     ArcGeometry, CircularMove, FeedLimits, LinearMove, MoveOpts, PtpLimits, PtpMove,
 };
-use heapless::Deque;
 use firmware_proto::{
     raw, AxisState, Event, EventKind, GroupState, GroupStatus, NackCode, Opcode, GROUP_QUEUE_LEN,
     MAX_AXES,
 };
+use heapless::Deque;
 
 // The steps' tests name the move flags (through `super::*`).
 #[cfg(test)]
