@@ -1358,6 +1358,7 @@ pub fn filter_bank() -> FilterBank {
 mod tests {
     use super::testing::{Bench, TS};
     use super::*;
+    use firmware_proto::cmd::Args;
 
     /// The queue holds `GROUP_QUEUE_LEN` moves besides the active one and refuses the next
     /// (leaving `queue_end` as it was); they start in the order queued, and a stop aborts every
@@ -1370,13 +1371,12 @@ mod tests {
             b.line(k, &[100.0 * k as f64, 0.0], 0);
         }
         assert_eq!(b.g.status(b.tick).queued, len);
-        let mut extra =
-            Command::new(Opcode::GroupMoveLinear, 0).with_args(&[1e5, 1e6, 1e6, 1e8, -5.0, -5.0]);
-        extra.seq = 99;
-        extra.flags = move_flags::BUFFERED;
+        let c = firmware_proto::Command::new(Opcode::GroupMoveLinear, 0)
+            .with_args(&[1e5, 1e6, 1e6, 1e8, -5.0, -5.0]);
+        let extra = LinearMove::decode(move_flags::BUFFERED, &c.args).unwrap();
         let refused = |b: &mut Bench| {
             let tick = b.tick;
-            b.g.queue_move(&extra, Opcode::GroupMoveLinear, TS, tick, &mut b.out)
+            b.g.queue_move(99, GroupMove::Linear(&extra), TS, tick, &mut b.out)
         };
         assert_eq!(refused(&mut b), Err(NackCode::QueueFull));
         assert_eq!(b.g.queue_end[..2], [100.0 * len as f64, 0.0]);
