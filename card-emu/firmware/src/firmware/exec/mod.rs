@@ -79,7 +79,13 @@ impl<M: Mem + Clone> Firmware<M> {
         if aborting {
             // The motion still waiting for its done, and every buffered move, end here.
             let dropped = axis.drain_queue();
-            for seq in pending.into_iter().filter(|&s| s != c.seq).chain(dropped) {
+            // (the pending motion tested on its own, not filtered out of a chain: valgrind
+            // saw the optimised chain branch on the payload of a `None`)
+            let first = match pending {
+                Some(s) if s != c.seq => Some(s),
+                _ => None,
+            };
+            for seq in first.into_iter().chain(dropped) {
                 self.outbox.push(Event {
                     seq,
                     kind: EventKind::MotionAborted as u16,
