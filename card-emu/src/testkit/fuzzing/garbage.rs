@@ -190,7 +190,7 @@ pub fn garbage_f64<S: Source>(s: &mut S) -> f64 {
     }
 }
 
-/// Group layout of [`Card::new`]: (card axes, accdec, interpolator, enabled).
+/// Group layout of `Card::new` (in the parent module): (card axes, accdec, interpolator, enabled).
 pub const GROUPS: [(&[u8], u32, u32, bool); 3] = [
     (&[0, 1], raw::MC_ACCDEC_PRE, raw::MC_INTERP_EXACT, true),
     (&[2, 3, 4], raw::MC_ACCDEC_POST, raw::MC_INTERP_EXACT, true),
