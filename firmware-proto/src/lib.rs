@@ -152,8 +152,9 @@ pub fn limit_range(order: i32, servo_rate_hz: u32) -> core::ops::RangeInclusive<
 }
 
 /// `x^n` by repeated squaring, the multiplications `f64::powi` makes (compiler-rt's
-/// `__powidf2`), without std.
-fn powi(mut x: f64, n: i32) -> f64 {
+/// `__powidf2`), so the result is the same bit for bit, without std (the firmware's
+/// `math::powi` too).
+pub fn powi(mut x: f64, n: i32) -> f64 {
     let mut k = n.unsigned_abs();
     let mut r = 1.0;
     loop {

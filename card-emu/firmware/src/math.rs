@@ -101,26 +101,11 @@ pub fn hypot(x: f64, y: f64) -> f64 {
 }
 
 /// xⁿ by repeated squaring: the multiplications `f64::powi` makes (compiler-rt's
-/// `__powidf2`), so the result is the same bit for bit.
+/// `__powidf2`), so the result is the same bit for bit (firmware-proto's, which the limits of
+/// the register map use).
 #[inline]
-pub fn powi(mut x: f64, n: i32) -> f64 {
-    let mut k = n.unsigned_abs();
-    let mut r = 1.0;
-    loop {
-        if k & 1 == 1 {
-            r *= x;
-        }
-        k >>= 1;
-        if k == 0 {
-            break;
-        }
-        x *= x;
-    }
-    if n < 0 {
-        1.0 / r
-    } else {
-        r
-    }
+pub fn powi(x: f64, n: i32) -> f64 {
+    firmware_proto::powi(x, n)
 }
 
 /// The largest integer ≤ x.
