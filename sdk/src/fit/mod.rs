@@ -58,8 +58,14 @@ pub const CHUNK: usize = 1024;
 pub const OVERLAP: usize = 128;
 /// Points a run may hold while it is still straight (a straight run is one line).
 const STRAIGHT_MAX: usize = 16 * CHUNK;
+/// Share of the fit tolerance a fit's sampled deviation may reach: the samples (four a
+/// chord) can miss a little of the largest distance between them.
+const DEV_MARGIN: f64 = 0.99;
 /// Parameter corrections per fit.
 const CORRECTIONS: usize = 2;
+/// How far from a fitted item's end (tolerances of arc) the corner blend there may reach: its
+/// distance from the points there is taken from that corner's tolerance.
+const CORNER_REACH: f64 = 32.0;
 /// Points the corner test looks back and ahead at most.
 const LOOK: usize = 64;
 
@@ -115,6 +121,10 @@ pub(crate) struct Fitter {
     end: Option<(P, Vec<f64>)>,
     /// The next motion segment is sent as it is (an output action waits for it).
     plain_next: bool,
+    /// How far the last segment handed on is from its points near its end (counts; 0 for a
+    /// line as given): the corner after it is blended within what that leaves of its
+    /// tolerance.
+    end_dev: f64,
 }
 
 fn dist(a: &P, b: &P, n: usize) -> f64 {
@@ -142,6 +152,18 @@ fn cos_between(a: &P, b: &P, n: usize) -> f64 {
     a[..n].iter().zip(&b[..n]).map(|(x, y)| x * y).sum()
 }
 
+/// The largest distance of the points within `reach` of each end of the line from the first
+/// point to the last (the points they stand for).
+fn line_end_devs(pts: &[P], n: usize, reach: f64) -> (f64, f64) {
+    let (a, b) = (&pts[0], &pts[pts.len() - 1]);
+    let worst = |it: &mut dyn Iterator<Item = &P>, from: &P| {
+        it.take_while(|p| dist(p, from, n) <= reach)
+            .map(|p| dist_to_segment(&p[..n], &a[..n], &b[..n]))
+            .fold(0.0f64, f64::max)
+    };
+    (worst(&mut pts.iter(), a), worst(&mut pts.iter().rev(), b))
+}
+
 impl Fitter {
     /// A fitter for a group of `scales.len()` axes with these counts per user unit; the
     /// tolerances are in the first axis's units.
@@ -156,6 +178,7 @@ impl Fitter {
             run: None,
             end: None,
             plain_next: false,
+            end_dev: 0.0,
         }
     }
 
@@ -181,11 +204,30 @@ impl Fitter {
     }
 
     fn pass(&mut self, item: PathItem, index: u64) {
-        self.out.push_back(Fitted {
+        let f = Fitted {
             item,
             first: index,
             last: index,
-        });
+        };
+        self.emit(f, 0.0, 0.0);
+    }
+
+    /// Hands on `f`, a fitted item `start_dev` and `end_dev` from its points near its start
+    /// and its end (counts; 0 for a line as given). The corner at its start is blended
+    /// within the tolerance less the larger of its and the item before's distance there, so
+    /// that the blend and the fit together stay within the tolerance of the points (0 left:
+    /// an exact stop).
+    fn emit(&mut self, mut f: Fitted, start_dev: f64, end_dev: f64) {
+        if let PathItem::Segment(s) = &mut f.item {
+            let near = self.end_dev.max(start_dev) / self.tscale;
+            if let Transition::MaxDeviation(t) = &mut s.transition {
+                if near > 0.0 && *t > 0.0 {
+                    *t = (*t - near).max(0.0);
+                }
+            }
+            self.end_dev = end_dev;
+        }
+        self.out.push_back(f);
     }
 
     /// Takes the next input item (its index in the stream).
@@ -340,7 +382,9 @@ impl Fitter {
     /// The run ends at vertex v (a corner); a new one starts there with what follows.
     fn split_at_corner(&mut self, v: usize) {
         let mut run = self.run.take().expect("a run");
+        // (the corner is the last point of this run and the first of the next)
         let rest_pts = run.pts.split_off(v);
+        run.pts.push(rest_pts[0]);
         let rest_chords = run.chords.split_off(v);
         let start_user = run.chords.last().map(|c| match &c.seg.geometry {
             Geometry::Line { target } => target.clone(),
@@ -409,17 +453,23 @@ impl Fitter {
         let last = run.chords.last().expect("chords").clone();
         let item = if run.ghost.is_none() && Self::straight(&run.pts, n, FIT_SHARE * run.tol) {
             // one line from the run's start to its end: the last line, extended back
-            Some(PathItem::Segment(last.seg.clone()))
+            let devs = line_end_devs(&run.pts, n, CORNER_REACH * run.tol);
+            Some((PathItem::Segment(last.seg.clone()), devs))
         } else {
-            self.best_fit(&run, true)
-                .map(|(s, _)| self.curve_item(&s, &run, &last.seg, true))
+            self.best_fit(&run, true).map(|(s, _, devs)| {
+                let devs = (if run.ghost.is_some() { 0.0 } else { devs.0 }, devs.1);
+                (self.curve_item(&s, &run, &last.seg, true), devs)
+            })
         };
         match item {
-            Some(item) => self.out.push_back(Fitted {
-                item,
-                first,
-                last: last.index,
-            }),
+            Some((item, (sd, ed))) => {
+                let f = Fitted {
+                    item,
+                    first,
+                    last: last.index,
+                };
+                self.emit(f, sd, ed)
+            }
             // no spline within the tolerance: the lines as they are (a continued run's first
             // goes from the spline's end, on the polyline within the tolerance)
             None => self.emit_lines(run.chords),
@@ -457,7 +507,7 @@ impl Fitter {
         let mut run = run;
         let cut_point = m - 1 - OVERLAP;
         match self.best_fit(&run, false) {
-            Some((s, t)) => {
+            Some((s, t, (sd, _))) => {
                 let k = s.n_ctrl() - spline::DEGREE;
                 let mut mk = ((t[cut_point] * k as f64).round() as usize).clamp(1, k - 1);
                 // the cut must leave points on both sides
@@ -484,11 +534,15 @@ impl Fitter {
                 rest_pts.insert(0, c);
                 let last = run.chords.last().expect("chords").clone();
                 let item = self.curve_item(&left, &run, &last.seg, false);
-                self.out.push_back(Fitted {
+                let f = Fitted {
                     item,
                     first: run.chords[0].index,
                     last: last.index,
-                });
+                };
+                // (it ends where the next curve starts with its tangent and curvature: no
+                // corner there)
+                let sd = if run.ghost.is_some() { 0.0 } else { sd };
+                self.emit(f, sd, 0.0);
                 let tested = run.tested.saturating_sub(covered).max(1);
                 self.run = Some(Run {
                     feed: run.feed,
@@ -511,6 +565,7 @@ impl Fitter {
     /// are); a new run starts at that vertex with the rest.
     fn cut_as_lines_or_line(&mut self, mut run: Run, cut: usize, line: bool) {
         let rest_pts = run.pts.split_off(cut);
+        run.pts.push(rest_pts[0]);
         let rest_chords = run.chords.split_off(cut);
         let start_user = run.chords.last().map(|c| match &c.seg.geometry {
             Geometry::Line { target } => target.clone(),
@@ -532,20 +587,23 @@ impl Fitter {
         if line && run.ghost.is_none() {
             let first = run.chords[0].index;
             let last = run.chords.last().expect("chords");
-            self.out.push_back(Fitted {
+            let f = Fitted {
                 item: PathItem::Segment(last.seg.clone()),
                 first,
                 last: last.index,
-            });
+            };
+            let (sd, ed) = line_end_devs(&run.pts, self.n, CORNER_REACH * run.tol);
+            self.emit(f, sd, ed);
         } else {
             self.emit_lines(run.chords);
         }
         self.run = Some(next);
     }
 
-    /// The least-squares spline with the fewest spans within the fit tolerance, and the
-    /// points' parameters on it.
-    fn best_fit(&self, run: &Run, pin_end: bool) -> Option<(Spline, Vec<f64>)> {
+    /// The least-squares spline with the fewest spans within the fit tolerance, the points'
+    /// parameters on it, and its largest distance from them within [`CORNER_REACH`]
+    /// tolerances of its start and of its end.
+    fn best_fit(&self, run: &Run, pin_end: bool) -> Option<(Spline, Vec<f64>, (f64, f64))> {
         let n = self.n;
         let np = run.pts.len();
         let chords = np - 1;
@@ -594,12 +652,12 @@ impl Fitter {
             let (mut dev, _) = deviation(&s, &flat, &t);
             if let Some(g) = ghost {
                 // the first chord's programmed start is the vertex before the join
-                for f in [0.0, 1.0 / 3.0, 2.0 / 3.0] {
+                for f in [0.0, 0.25, 0.5, 0.75] {
                     let (p, _, _) = s.eval(f * t[1]);
                     dev = dev.max(dist_to_segment(&p[..n], &g[..n], &flat[n..2 * n]));
                 }
             }
-            (dev <= eps).then_some((s, t, dev))
+            (dev <= DEV_MARGIN * eps).then_some((s, t, dev))
         };
         // doubling, then bisection, for the fewest spans that pass
         let mut k = kmin;
@@ -625,7 +683,15 @@ impl Fitter {
                 None => lo = mid,
             }
         }
-        Some((best.0, best.1))
+        let (s, t) = (best.0, best.1);
+        let r = CORNER_REACH * run.tol / total;
+        let head = t.partition_point(|&x| x <= r) + 1;
+        let tail = t.partition_point(|&x| x < 1.0 - r).saturating_sub(1);
+        let devs = (
+            deviation(&s, &flat[..head.min(np) * n], &t[..head.min(np)]).0,
+            deviation(&s, &flat[tail * n..], &t[tail..]).0,
+        );
+        Some((s, t, devs))
     }
 
     /// The NURBS segment of spline `s` (counts) for `run`, with `last`'s id and flags.

@@ -494,3 +494,49 @@ fn other_items_break_runs_and_keep_their_places() {
     assert_eq!(last.feed, 50.0);
     assert_eq!(last.id, 150);
 }
+
+/// A run of chords that ends at a corner is fitted through the corner's point: the run used
+/// to end one point short, its spline was fitted through the point before the corner and its
+/// last control point then moved to the corner, 0.03 mm from the chords (a CAM program of
+/// LinuxCNC's test set, `Cereal.ngc`). Arcs of chords, rounded to 3 decimals, each ending
+/// at a corner into a line (and the next arc).
+#[test]
+fn a_run_that_ends_at_a_corner_is_fitted_through_the_corner() {
+    let mut pts = vec![vec![0.0, 0.0, 0.0]];
+    let round = |x: f64| (x * 1000.0).round() / 1000.0;
+    for (r, n) in [(20.0, 63), (7.0, 22), (35.0, 110)] {
+        let [x0, y0, z0] = [0, 1, 2].map(|k| pts.last().unwrap()[k]);
+        // a quarter of a circle leaving along +x, then a corner: a line along +y ... and so on
+        for i in 1..=n {
+            let a = std::f64::consts::FRAC_PI_2 * i as f64 / n as f64;
+            let z = z0 - 0.001 * i as f64;
+            pts.push(vec![
+                round(x0 + r * a.sin()),
+                round(y0 + r * (1.0 - a.cos())),
+                round(z),
+            ]);
+        }
+        let p = pts.last().unwrap().clone();
+        pts.push(vec![p[0] - 5.0, p[1] + 0.5, p[2]]);
+    }
+    let out = fitted(&pts);
+    let curves = out
+        .iter()
+        .filter(|f| {
+            matches!(
+                &f.item,
+                PathItem::Segment(Segment {
+                    geometry: Geometry::Nurbs { .. },
+                    ..
+                })
+            )
+        })
+        .count();
+    let r: Vec<_> = out
+        .iter()
+        .filter(|f| f.first != f.last)
+        .map(|f| (f.first, f.last))
+        .collect();
+    assert_eq!(curves, 3, "{} items {r:?}", out.len());
+    check(&pts, &out, None);
+}

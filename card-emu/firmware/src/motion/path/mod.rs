@@ -224,10 +224,18 @@ pub const MAX_RING: usize = if cfg!(feature = "host") {
 };
 /// Largest turn (rad) of a junction of two lines that may be smoothed (see [`Path::push`]).
 pub const SMOOTH_TURN: f64 = 30.0 * core::f64::consts::PI / 180.0;
+/// Longest ratio of two lines' lengths a smoothing blend joins. A blend from the middle of a
+/// long line to the middle of a short one curves in its last few per cent: capped for that
+/// curvature along all of its length (a 2 mm line before 2 µm zigzag chords ran at 0.04 mm/s),
+/// and its curvature changing faster than its samples see (1.7 times an axis's jerk limit).
+pub const SMOOTH_RATIO: f64 = 4.0;
 /// Samples per smoothing blend for its deviation, and intervals for its cap (16 samples:
 /// eight pairs of `geom::LANES`, or four fours of `geom::LANES_V3`; see `blend_cap_n`).
 const SMOOTH_SAMPLES: usize = 32;
 const SMOOTH_CAP_SAMPLES: usize = 15;
+/// Golden sections per peak of a smoothing blend's sampled deviation (see
+/// `smooth::sampled_dev2`): 0.618³⁰ of two sample steps, 10⁻⁸ of the blend's parameter.
+const PEAK_STEPS: usize = 30;
 /// Samples per NURBS piece for its cap.
 const CURVE_CAP_SAMPLES: usize = 32;
 

@@ -60,20 +60,22 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
     }
 }
 
-/// The largest squared distance from [`SMOOTH_SAMPLES`] + 1 points of blend `b` to the
-/// nearer of two chords (start relative to the blend's first point, unit direction, length),
-/// over the first `N` axes (N ≥ the
-/// group's axes, the others being 0 everywhere); None when one is over `limit` (its root only
-/// taken when the largest grows: the same figure without a root per sample) or not a number.
+/// The largest squared distance from blend `b` to the nearer of two chords (start relative
+/// to the blend's first point, unit direction, length), over the first `N` axes (N ≥ the
+/// group's axes, the others being 0 everywhere): [`SMOOTH_SAMPLES`] + 1 points, then each
+/// peak of those samples (within half the largest distance) found to [`PEAK_STEPS`] golden
+/// sections between its neighbours; None when one is over `limit` (its root only taken when
+/// the largest grows: the same figure without a root per sample) or not a number. (The
+/// distance to the nearer chord peaks where the two distances cross, a kink the samples
+/// straddle: on its own, 33 samples saw 9.70 counts of a blend 10.16 from its lines.)
 #[allow(clippy::needless_range_loop)] // one index over several axis arrays
 pub(super) fn sampled_dev2<const N: usize>(
     b: &Blend,
     chords: &[(V, V, f64); 2],
     limit: f64,
 ) -> Option<f64> {
-    let mut worst2 = 0.0f64;
-    for i in 0..=SMOOTH_SAMPLES {
-        let q = b.offset_u_n::<N>(i as f64 / SMOOTH_SAMPLES as f64);
+    let at = |u: f64| {
+        let q = b.offset_u_n::<N>(u);
         let mut d2 = f64::INFINITY;
         for (a, u, l) in chords {
             let mut t = 0.0;
@@ -88,14 +90,59 @@ pub(super) fn sampled_dev2<const N: usize>(
             }
             d2 = d2.min(e2);
         }
+        d2
+    };
+    let mut worst2 = 0.0f64;
+    let mut seen = [0.0; SMOOTH_SAMPLES + 1];
+    let step = 1.0 / SMOOTH_SAMPLES as f64;
+    let grow = |d2: f64, worst2: &mut f64| {
         if d2.is_nan() {
+            return false;
+        }
+        if d2 > *worst2 {
+            *worst2 = d2;
+            if math::sqrt(d2) > limit {
+                return false;
+            }
+        }
+        true
+    };
+    for (i, d) in seen.iter_mut().enumerate() {
+        *d = at(i as f64 * step);
+        if !grow(*d, &mut worst2) {
             return None;
         }
-        if d2 > worst2 {
-            worst2 = d2;
-            if math::sqrt(d2) > limit {
+    }
+    for i in 0..=SMOOTH_SAMPLES {
+        let (before, after) = (seen[i.saturating_sub(1)], seen[(i + 1).min(SMOOTH_SAMPLES)]);
+        if seen[i] < before || seen[i] < after || 4.0 * seen[i] < worst2 {
+            continue;
+        }
+        // golden sections of [u − step, u + step] for the largest distance there
+        let (mut lo, mut hi) = ((i as f64 - 1.0) * step, (i as f64 + 1.0) * step);
+        lo = lo.max(0.0);
+        hi = hi.min(1.0);
+        const G: f64 = 0.618_033_988_749_894_8;
+        let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+        let (mut f1, mut f2) = (at(x1), at(x2));
+        for _ in 0..PEAK_STEPS {
+            if !(grow(f1, &mut worst2) && grow(f2, &mut worst2)) {
                 return None;
             }
+            if f1 < f2 {
+                lo = x1;
+                (x1, f1) = (x2, f2);
+                x2 = lo + G * (hi - lo);
+                f2 = at(x2);
+            } else {
+                hi = x2;
+                (x2, f2) = (x1, f1);
+                x1 = hi - G * (hi - lo);
+                f1 = at(x1);
+            }
+        }
+        if !(grow(f1, &mut worst2) && grow(f2, &mut worst2)) {
+            return None;
         }
     }
     Some(worst2)
@@ -303,7 +350,10 @@ impl Path {
         let (la, lb) = (*la, *lb);
         let da = (0.5 * la).min(la - prev.body0);
         let db = 0.5 * lb;
-        if !(da > 0.0 && db > 0.0) || self.dist_to_body_end(pi) - need < da {
+        if !(da > 0.0 && db > 0.0)
+            || la.max(lb) > SMOOTH_RATIO * la.min(lb)
+            || self.dist_to_body_end(pi) - need < da
+        {
             return None;
         }
         let limit = DEV_SAFETY * tol;

@@ -1382,3 +1382,75 @@ fn a_slowing_that_arrives_early_does_not_crawl_to_its_piece() {
         "{slow_before} ticks at the arc's speed before it"
     );
 }
+
+/// LinuxCNC's `zigzag_0.002_0.0005.ngc` read in mm, its first 1,961 chords fitted into one
+/// line by the SDK: a 3,922-count line, then 2-count chords that zigzag by a count, then
+/// back. The line and the first chord were smoothed as one blend from the line's middle: it
+/// curved in its last few per cent, was capped for that all along (0.04 mm/s, 45 s in all),
+/// and its curvature changed faster than its samples saw (1.69 times the jerk limit). Lines
+/// of lengths this far apart are not smoothed now.
+#[test]
+fn a_long_line_into_micro_chords_is_not_smoothed_from_its_middle() {
+    let l = PathLimits {
+        vmax: [1e5; MAX_AXES],
+        amax: [1e6; MAX_AXES],
+        jmax: [1e8; MAX_AXES],
+        plan_ticks: 10,
+        ..limits(3, 1e-4)
+    };
+    let mut v = vec![pt(&[0.0, 0.0, 0.0]), pt(&[3922.0, -0.5, 0.0])];
+    for i in 1962..=2000 {
+        v.push(pt(&[
+            2.0 * i as f64,
+            if i % 2 == 1 { -0.5 } else { 0.5 },
+            0.0,
+        ]));
+    }
+    v.push(pt(&[0.0, 0.0, 0.0]));
+    let r = polyline_with(l, &v, 1e5, 10.0, "long line into micro chords");
+    let w = r.worst(&l);
+    assert!(w[2] <= 1.0 + 1e-6, "v, a, j ratios {w:?}");
+    // the line alone, there and back, takes about 1,300 ticks; the 39 chords, blended at a
+    // few tens of counts a second, about 13,000
+    assert!(r.pos.len() < 20_000, "{} ticks", r.pos.len());
+}
+
+/// Twenty-two points of a CAM program (LinuxCNC's test program `Pasta.ngc`, in µm counts): the
+/// smoothing blend at the sixth-degree turn into (31102, −35775) was accepted at 9.70 counts
+/// of a 10-count tolerance by its 33 samples and ran 10.15 from its lines (the distance to
+/// the nearer line peaks at a kink between two samples). Within the tolerance now.
+#[test]
+fn a_smoothing_blend_is_checked_at_its_peak_not_only_at_its_samples() {
+    let l = PathLimits {
+        vmax: [1e5; MAX_AXES],
+        amax: [1e6; MAX_AXES],
+        jmax: [1e8; MAX_AXES],
+        plan_ticks: 10,
+        ..limits(3, 1e-4)
+    };
+    let v = vec![
+        pt(&[25785.0, -36684.0, -949.0]),
+        pt(&[25835.0, -36647.0, -1013.0]),
+        pt(&[27624.0, -36646.0, -1015.0]),
+        pt(&[28220.0, -36631.0, -1041.0]),
+        pt(&[28816.0, -36581.0, -1127.0]),
+        pt(&[29313.0, -36503.0, -1263.0]),
+        pt(&[29810.0, -36379.0, -1477.0]),
+        pt(&[30208.0, -36237.0, -1722.0]),
+        pt(&[30605.0, -36058.0, -2033.0]),
+        pt(&[31102.0, -35775.0, -2523.0]),
+        pt(&[31599.0, -35426.0, -3127.0]),
+        pt(&[31997.0, -35104.0, -3685.0]),
+        pt(&[32494.0, -35502.0, -2996.0]),
+        pt(&[32991.0, -35838.0, -2415.0]),
+        pt(&[33388.0, -36058.0, -2033.0]),
+        pt(&[33786.0, -36237.0, -1722.0]),
+        pt(&[34184.0, -36379.0, -1477.0]),
+        pt(&[34581.0, -36481.0, -1300.0]),
+        pt(&[35078.0, -36568.0, -1149.0]),
+        pt(&[35674.0, -36623.0, -1054.0]),
+        pt(&[36469.0, -36646.0, -1014.0]),
+        pt(&[38159.0, -36647.0, -1013.0]),
+    ];
+    polyline_with(l, &v, 2e4, 10.0, "CAM points");
+}
