@@ -981,6 +981,63 @@ fn cam_chords_run_as_the_curve_they_sample() {
     );
 }
 
+/// A corner next to a fitted curve: the card blends it within its tolerance of the curve,
+/// and the curve is up to 0.8 of the tolerance from the points, so the stream gives that
+/// corner only what the curve leaves near it. Twenty-two points of a CAM program (LinuxCNC's
+/// test program `130207L.ngc`, in µm counts) with a sharp turn between two fitted runs ran
+/// 10.9 counts from them at a 10-count tolerance; within it now.
+#[test]
+fn a_corner_beside_a_fitted_curve_keeps_the_tolerance_of_the_points() {
+    let pts: Vec<Vec<f64>> = [
+        [7961.0, 2670.6, -52.2],
+        [7953.3, 2641.8, -45.1],
+        [7953.0, 2640.7, -44.9],
+        [7944.3, 2587.1, -37.5],
+        [7943.2, 2577.2, -36.7],
+        [7939.2, 2517.6, -34.1],
+        [7937.9, 2485.2, -33.7],
+        [7937.0, 2466.5, -33.4],
+        [7932.9, 2432.3, -31.6],
+        [7929.5, 2407.6, -31.1],
+        [7922.0, 2348.4, -34.3],
+        [7921.8, 2347.1, -34.5],
+        [7922.5, 2326.9, -40.0],
+        [7929.3, 2302.3, -53.2],
+        [7941.1, 2303.8, -46.9],
+        [7963.2, 2309.9, -38.8],
+        [7971.4, 2313.1, -37.2],
+        [8016.6, 2327.2, -31.6],
+        [8018.2, 2327.6, -31.6],
+        [8048.2, 2334.4, -30.7],
+        [8086.4, 2341.0, -32.0],
+        [8117.0, 2344.5, -34.5],
+    ]
+    .iter()
+    .map(|p| p.to_vec())
+    .collect();
+    let lim = PathSettings::uniform(3, V, A, J);
+    let (card, g) = path_card(3, &lim);
+    let feed = 2e4;
+    g.path_push(&Segment::line(1, &pts[0], feed, 0.0).into())
+        .unwrap();
+    run(&card, &g, 3, 100_000);
+    let n = pts.len();
+    let segs = pts[1..].iter().enumerate().map(|(i, p)| {
+        let s = Segment::line(i as u32 + 2, p, feed, 10.0);
+        if i + 2 == n {
+            s.last()
+        } else {
+            s
+        }
+    });
+    g.stream_path(segs, |_| {}).unwrap();
+    let r = run(&card, &g, 3, 1_000_000);
+    assert_limits(&r, &lim, "CAM points");
+    assert_eq!(cmd(&card, 3), pts[n - 1], "ends on the last point");
+    let off = farthest_off(&r, &pts);
+    assert!(off <= 10.0, "{off} counts from the points");
+}
+
 /// Each axis's full limits along a line: one line along X runs X's own S-curve (its time
 /// within 1 % of `Profile::plan`'s, the feed reached in full, every limit held); a thousand
 /// collinear pieces of it sent one by one (no chord fitting) run in the same time, the card
