@@ -22,6 +22,13 @@ use crate::proto::raw::MC_PATHST_RUNNING;
 /// Program lines a stepped run reads ahead of the line the card runs (more than the SDK's
 /// chord fitter holds before it sends a curve: a straight run of 16 chunks of 1024 points).
 const AHEAD_LINES: usize = 32 * 1024;
+/// Room in the card's path buffer (segments) a stepped run waits for before it sends more.
+/// Each send is a stream of its own, and the
+/// chord fitter fits within a stream: sent as the room came, a segment or two a tick, a
+/// program's chords after a stretch the fitter cannot shorten went as they were, the buffer
+/// staying full of single lines. A quarter of the buffer still queued is far more than the
+/// look-ahead needs.
+const SEND_ROOM: usize = 512;
 use crate::{
     ArcSpec, Card, Error, Group, GroupSettings, GroupState, PathItem, PathSettings, Result,
     Segment, Transition,
@@ -281,7 +288,7 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         let mut running = 0usize;
         loop {
             let room = g.path_free()?;
-            if room > 0 && next.is_some() {
+            if room >= SEND_ROOM && next.is_some() {
                 let mut segs = 0;
                 while segs < room {
                     // (blocks reach the report at most AHEAD_LINES ahead of the card, so
@@ -302,8 +309,18 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                     next = items.next().transpose()?;
                 }
                 sent += chunk.len() as u64;
+                let before = card.tick()?;
                 g.stream_path(chunk.drain(..), |_| {})
                     .map_err(|e| e.error)?;
+                let stepped = card.tick()? - before;
+                if stepped > 0 {
+                    // (the stepped card runs a stream between two ticks; one that needed ticks
+                    // would leave them out of the report)
+                    return Err(Error::Unsupported(format!(
+                        "the card ran {stepped} ticks while a batch was sent: the report \
+                         would miss them"
+                    )));
+                }
                 bar.set_position(sent);
             }
             if !started {

@@ -535,6 +535,47 @@ fn run_reports_a_blended_square_within_its_tolerance_and_limits() {
     assert_eq!(code, 2);
 }
 
+/// A stepped run sends when the card's buffer has room for a batch, not a segment or two a
+/// tick: each send is a stream of its own, and the chord fitter fits within one. Behind 4,500
+/// collinear pieces it cannot merge (their feeds alternate: a buffer full of single lines), a
+/// circle of 2,000 chords runs about as fast as it does alone: it is sent as curves all the
+/// same. (And the batch runs between two ticks: every tick is in the report.)
+#[test]
+fn chords_behind_a_full_buffer_are_still_fitted() {
+    let dir = std::env::temp_dir().join(format!("mcctl-behind-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let pieces: String = (1..=4500)
+        .map(|i| format!("G1 F{} X{:.3}\n", 6000 - 10 * (i % 2), 0.05 * i as f64))
+        .collect();
+    let circle: String = (1..=2000)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 2000.0;
+            let (x, y) = (200.0 + 25.4 * a.cos(), 25.4 * a.sin());
+            format!("G1 F6000 X{x:.3} Y{y:.3}\n")
+        })
+        .collect();
+    let time = |name: &str, text: String| {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        let j = json_of(&["run", file.to_str().unwrap(), "--json"]);
+        for k in ["peak_vel_ratio", "peak_accel_ratio", "peak_jerk_ratio"] {
+            assert!(j[k].as_f64().unwrap() <= 1.01, "{name} {k}: {j}");
+        }
+        j["path_time"].as_f64().unwrap()
+    };
+    // (the pieces end at X225, the circle's start, at rest: an exact stop before the circle)
+    let start = "G1 F6000 X225.4\nG4 P0.01\n";
+    let alone = time("pieces.ngc", pieces.clone() + start);
+    let both = time("both.ngc", pieces + start + &circle);
+    let circle_alone = time("circle.ngc", "G0 X225.4\n".to_string() + &circle);
+    let extra = both - alone;
+    assert!(
+        extra <= 1.1 * circle_alone,
+        "the circle took {extra} s behind the pieces, {circle_alone} s alone"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Runs mcctl and reads its peak resident memory (`VmHWM`, kB) from /proc while it runs
 /// (the last reading before it exits: the mark only rises).
 fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
