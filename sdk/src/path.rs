@@ -456,8 +456,10 @@ impl Group {
     /// id of the last line it stands for. Where the path starts is the group's position while
     /// its path is idle, else the end of the last segment this host queued; where that is not
     /// known here (after an arc, or a path another host is filling), a run starts at the end of
-    /// the first line, which is sent as given. The fitting itself is `crate::fit` (its module
-    /// doc).
+    /// the first line, which is sent as given. A corner next to a fitted curve is blended
+    /// within what the curve leaves of the tolerance near it. Runs do not cross calls: give a
+    /// program as one stream (or batches of hundreds of items), not an item or two a call.
+    /// The fitting itself is `crate::fit` (its module doc).
     pub fn stream_path<I>(
         &self,
         items: I,

@@ -31,6 +31,10 @@
 //! The fitted segment carries the id of the last line it covers (its `SegmentEnd` is that
 //! line's end), its feed, buffer mode and tolerance, and a fit tolerance of
 //! [`CARD_FIT_SHARE`] of the tolerance for the card (a cubic is one exact piece on the card).
+//! The card blends a corner within the tolerance of the pieces it joins; beside a fitted item
+//! those are up to [`FIT_SHARE`] of it from the points, so the segment that starts at such a
+//! corner gets its tolerance less the fitted item's distance from its points within
+//! [`CORNER_REACH`] tolerances of the corner (`Fitter::emit`).
 
 pub(crate) mod spline;
 #[cfg(test)]
@@ -65,7 +69,7 @@ const DEV_MARGIN: f64 = 0.99;
 const CORRECTIONS: usize = 2;
 /// How far from a fitted item's end (tolerances of arc) the corner blend there may reach: its
 /// distance from the points there is taken from that corner's tolerance.
-const CORNER_REACH: f64 = 32.0;
+pub const CORNER_REACH: f64 = 32.0;
 /// Points the corner test looks back and ahead at most.
 const LOOK: usize = 64;
 
