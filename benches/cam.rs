@@ -335,7 +335,7 @@ fn corpus(dir: &Path) {
         ran += 1;
         for k in ["peak_vel_ratio", "peak_accel_ratio", "peak_jerk_ratio"] {
             if f(&r, k) > 1.0 + 1e-6 {
-                over.push((p.clone(), format!("{k} {:.4}", f(&r, k))));
+                over.push((p.clone(), format!("{k} 1 + {:.1e}", f(&r, k) - 1.0)));
             }
         }
         if f(&r, "max_deviation") > TOL * (1.0 + 1e-6) {
