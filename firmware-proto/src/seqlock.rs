@@ -40,10 +40,7 @@ pub fn write_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS])
     let seq = seq & !1;
     mem.store32(seq_off, seq.wrapping_add(1), Ordering::Relaxed);
     fence(Ordering::Release);
-    let base = seq_off + layout::STATUS_PAYLOAD;
-    for (i, w) in words.iter().enumerate() {
-        mem.store64(base + 8 * i, *w, Ordering::Relaxed);
-    }
+    mem.write64s(seq_off + layout::STATUS_PAYLOAD, words);
     mem.store32(seq_off, seq.wrapping_add(2), Ordering::Release);
 }
 
