@@ -308,41 +308,50 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
             };
             served += 1;
-            self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
-            self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
-            let outcome = if self.expired(&cmd) {
-                Err(NackCode::Expired)
-            } else {
-                self.execute(&cmd)
-            };
-            let reply = match outcome {
-                Ok(value) => Event {
-                    seq: cmd.seq,
-                    kind: EventKind::Ack as u16,
-                    axis: cmd.axis,
-                    code: 0,
-                    tick: self.tick,
-                    value,
-                },
-                Err(code) => Event {
-                    seq: cmd.seq,
-                    kind: EventKind::Nack as u16,
-                    axis: cmd.axis,
-                    code: code as i32,
-                    tick: self.tick,
-                    value: 0.0,
-                },
-            };
-            if reply.kind == EventKind::Ack as u16 {
-                // The status first, then the events about it: a host that has the ack reads
-                // the state the command left (see `tick`).
-                self.publish();
-            }
-            self.post(reply);
-            self.post_outbox();
-            self.post_safety_events(); // [safety] events of the command (e-stop)
+            self.answer(&cmd);
         }
         served
+    }
+
+    /// Take one command off the ring: execute it (unless expired), then its ack or nack and the
+    /// events it raised. Out of line: commands come seldom next to ticks, and the frame of
+    /// `execute` (every command's locals) is large; [`Firmware::serve_commands`] with an empty
+    /// ring should not touch it.
+    #[inline(never)]
+    fn answer(&mut self, cmd: &Command) {
+        self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
+        self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
+        let outcome = if self.expired(cmd) {
+            Err(NackCode::Expired)
+        } else {
+            self.execute(cmd)
+        };
+        let reply = match outcome {
+            Ok(value) => Event {
+                seq: cmd.seq,
+                kind: EventKind::Ack as u16,
+                axis: cmd.axis,
+                code: 0,
+                tick: self.tick,
+                value,
+            },
+            Err(code) => Event {
+                seq: cmd.seq,
+                kind: EventKind::Nack as u16,
+                axis: cmd.axis,
+                code: code as i32,
+                tick: self.tick,
+                value: 0.0,
+            },
+        };
+        if reply.kind == EventKind::Ack as u16 {
+            // The status first, then the events about it: a host that has the ack reads
+            // the state the command left (see `tick`).
+            self.publish();
+        }
+        self.post(reply);
+        self.post_outbox();
+        self.post_safety_events(); // [safety] events of the command (e-stop)
     }
 
     /// Has the command's deadline passed? The host's clock is read after the command was
