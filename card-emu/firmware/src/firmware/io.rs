@@ -412,6 +412,12 @@ impl IoUnit {
         self.events.get(i)
     }
 
+    /// Events of the last tick.
+    #[inline]
+    pub fn events_len(&self) -> usize {
+        self.events.len()
+    }
+
     /// Events that did not fit (never, by its size; counted with the outbox's).
     pub fn events_lost(&self) -> u32 {
         self.events.lost()

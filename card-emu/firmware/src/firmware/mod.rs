@@ -430,40 +430,22 @@ impl<M: Mem + Clone> Firmware<M> {
         let synced = self.gear_tick(ts);
         // PT/PVT streams drive their axes (pvt.rs).
         let streamed = self.pvt_tick();
-        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
-        let inputs = *self.safety.inputs();
         // Digital inputs, compare and probes on the motion just sensed (io.rs).
         self.io.tick(
             self.tick,
             encoders,
-            &inputs.index,
+            &self.safety.inputs().index,
             &self.axes[..self.num_axes],
         );
-        let max_stop_time = self.safety.config().max_stop_time();
-        let mut homed = [HomingReport::default(); MAX_AXES];
-        for (i, (axis, homing)) in self.axes[..self.num_axes]
-            .iter_mut()
-            .zip(self.homing.iter_mut())
-            .enumerate()
-        {
-            let inp = HomingInputs {
-                io: inputs.axis[i],
-                index: inputs.index[i],
-                ts,
-                rate_hz: self.servo_rate_hz,
-                max_stop_time,
-            };
-            homed[i] = homing.tick(axis, &inp);
-        }
+        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
+        let homed = self.homing_tick(ts);
         let mut reports: [TickReport; MAX_AXES] = Default::default();
         for (i, (axis, report)) in self.axes[..self.num_axes]
             .iter_mut()
             .zip(reports.iter_mut())
             .enumerate()
         {
-            let (volts, r) = axis.control(ts);
-            dac[i] = volts;
-            *report = r;
+            dac[i] = axis.control_into(ts, report);
         }
         for d in dac[self.num_axes..].iter_mut() {
             *d = 0.0;
@@ -527,14 +509,15 @@ impl<M: Mem + Clone> Firmware<M> {
         self.post_safety_events();
         self.post_outbox();
         self.post_scope_events(&scoped);
-        for i in 0..io::IO_EVENTS {
+        for i in 0..self.io.events_len() {
             if let Some(e) = self.io.event(i) {
                 self.post(e);
             }
         }
         self.post_sync_events(&synced);
         self.post_pvt_events(&streamed);
-        for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
+        for (i, report) in reports[..self.num_axes].iter().enumerate() {
+            let h = homed.as_ref().map_or(HomingReport::default(), |h| h[i]);
             let axis = i as u16;
             let done = h.done.or(report.done);
             if let Some((seq, pos)) = done {
@@ -564,6 +547,38 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.post(e);
             }
         }
+    }
+
+    /// The homing methods' step (homing.rs); `None` when no axis homes (each axis's step
+    /// returns at once then, with nothing to report).
+    fn homing_tick(&mut self, ts: f64) -> Option<[HomingReport; MAX_AXES]> {
+        if !self.homing[..self.num_axes].iter().any(Homing::active) {
+            return None;
+        }
+        Some(self.homing_step(ts))
+    }
+
+    /// Some axis homes.
+    #[inline(never)]
+    fn homing_step(&mut self, ts: f64) -> [HomingReport; MAX_AXES] {
+        let inputs = *self.safety.inputs();
+        let max_stop_time = self.safety.config().max_stop_time();
+        let mut homed = [HomingReport::default(); MAX_AXES];
+        for (i, (axis, homing)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(self.homing.iter_mut())
+            .enumerate()
+        {
+            let inp = HomingInputs {
+                io: inputs.axis[i],
+                index: inputs.index[i],
+                ts,
+                rate_hz: self.servo_rate_hz,
+                max_stop_time,
+            };
+            homed[i] = homing.tick(axis, &inp);
+        }
+        homed
     }
 
     /// The axes something drives on: a goal of their own (a move, velocity mode, jog), a

@@ -716,6 +716,13 @@ impl Axis {
     /// The servo loop and the motion bookkeeping of one tick, after [`Axis::sense`].
     pub fn control(&mut self, ts: f64) -> (f64, TickReport) {
         let mut report = TickReport::default();
+        let volts = self.control_into(ts, &mut report);
+        (volts, report)
+    }
+
+    /// [`Axis::control`] with its report written into `report` (a default one: nothing to
+    /// tell) rather than returned: the firmware's tick keeps its reports in place.
+    pub fn control_into(&mut self, ts: f64, report: &mut TickReport) -> f64 {
         let vel = self.servo.velocity();
 
         if self.state == AxisState::Disabled
@@ -733,7 +740,7 @@ impl Axis {
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
             self.faults.remove(Faults::DAC_SATURATED);
-            return (0.0, report);
+            return 0.0;
         }
 
         // Trajectory generator.
@@ -891,7 +898,7 @@ impl Axis {
                 None => {}
             }
         }
-        (volts, report)
+        volts
     }
 
     /// Set the commanded reference from outside (an axes group drives this axis).
