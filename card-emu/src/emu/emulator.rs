@@ -279,13 +279,16 @@ impl Emulator {
         for a in &mut self.aux {
             a.step(ts);
         }
-        let start = self.motors;
+        // The period's start (the compare pulses above replayed the period before from the
+        // old one).
+        self.period_start = self.motors;
+        let start = &self.period_start;
         for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
             self.faults.step_motor(i, m, u, ts);
         }
         let (faults, dac) = (&self.faults, self.dac);
         self.inputs
-            .after_period(&start, &self.motors, ts, |a, m, dt| {
+            .after_period(start, &self.motors, ts, |a, m, dt| {
                 faults.step_motor(a, m, dac[a], dt)
             });
         // The encoder interface's extreme counts of the period (through the encoder's faults).
@@ -304,7 +307,6 @@ impl Emulator {
                 }
             });
         }
-        self.period_start = start;
         self.period_dac = dac;
         self.time += ts;
     }
