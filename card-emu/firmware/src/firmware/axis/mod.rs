@@ -960,6 +960,7 @@ impl Axis {
     }
 
     /// The status block to publish.
+    #[inline]
     pub fn status(&self, tick: u64) -> AxisStatus {
         let st = &self.stats;
         AxisStatus {
