@@ -204,6 +204,15 @@ impl Dpram {
         Some(unsafe { self.base.as_ptr().add(off) })
     }
 
+    /// A run of words not wholly in range or aligned: word by word, each bad one refused.
+    #[cold]
+    #[inline(never)]
+    fn write64s_one_by_one(&self, off: usize, words: &[u64]) {
+        for (i, w) in words.iter().enumerate() {
+            self.store64(off + 8 * i, *w, Ordering::Relaxed);
+        }
+    }
+
     #[cold]
     #[inline(never)]
     fn refuse(&self, off: usize, width: usize) {
@@ -259,9 +268,7 @@ impl Mem for Dpram {
             .and_then(|n| off.checked_add(n))
             .is_some_and(|end| end <= self.len);
         if !in_range || !off.is_multiple_of(8) {
-            for (i, w) in words.iter().enumerate() {
-                self.store64(off + 8 * i, *w, Ordering::Relaxed);
-            }
+            self.write64s_one_by_one(off, words);
             return;
         }
         // SAFETY: `off + 8 * words.len() <= len` (checked), so every word stays inside the
