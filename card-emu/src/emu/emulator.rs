@@ -19,7 +19,7 @@ use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
-use crate::plant::io::{encoder_span, FireRecord, InputBank};
+use crate::plant::io::{encoder_span_from, FireRecord, InputBank};
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::{AUX_ENCODERS, MAX_AXES};
@@ -253,17 +253,20 @@ impl Emulator {
     fn period(&mut self) {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
+        // The shafts' counts at the period's start (the encoder readings below and the
+        // period's span take them).
+        let counts = self.motors.map(|m| m.encoder());
         // [faults] encoders and switch inputs as the card sees them, through injected faults
-        let mut inputs = self.faults.sense(&self.motors, &mut enc);
+        let mut inputs = self.faults.sense_counts(&self.motors, &counts, &mut enc);
         // The encoder interface's index latch: the pulse comes from the shaft, the count it
         // captures is the counter's (with any corruption injected into the counter).
         for (i, ch) in self.index.iter_mut().enumerate() {
-            let f = self.faults.get(i).copied().unwrap_or_default();
+            let f = self.faults.get(i);
             let before = ch.latches;
-            ch.sample(self.motors[i].encoder(), f.encoder_lost.is_none());
+            ch.sample(counts[i], f.is_none_or(|f| f.encoder_lost.is_none()));
             if ch.latches != before {
                 self.latch[i] = IndexLatch {
-                    count: ch.count.wrapping_add(f.encoder_offset),
+                    count: ch.count.wrapping_add(f.map_or(0, |f| f.encoder_offset)),
                     latches: ch.latches,
                 };
             }
@@ -293,17 +296,17 @@ impl Emulator {
             });
         // The encoder interface's extreme counts of the period (through the encoder's faults).
         for (i, span) in self.spans.iter_mut().enumerate() {
-            let f = faults.get(i).copied().unwrap_or_default();
-            *span = Some(match f.encoder_lost {
+            let (lost, offset) = faults
+                .get(i)
+                .map_or((None, 0), |f| (f.encoder_lost, f.encoder_offset));
+            *span = Some(match lost {
                 Some(frozen) => (frozen, frozen),
                 None => {
-                    let (lo, hi) = encoder_span(&start[i], &self.motors[i], ts, |m, dt| {
-                        faults.step_motor(i, m, dac[i], dt)
-                    });
-                    (
-                        lo.wrapping_add(f.encoder_offset),
-                        hi.wrapping_add(f.encoder_offset),
-                    )
+                    let (lo, hi) =
+                        encoder_span_from(counts[i], &start[i], &self.motors[i], ts, |m, dt| {
+                            faults.step_motor(i, m, dac[i], dt)
+                        });
+                    (lo.wrapping_add(offset), hi.wrapping_add(offset))
                 }
             });
         }
