@@ -34,7 +34,7 @@ impl core::error::Error for SnapshotError {}
 pub const MAX_RETRIES: u32 = 1000;
 
 /// Write a payload under the seqlock at `seq_off` (payload at `seq_off + STATUS_PAYLOAD`).
-#[inline]
+#[inline(always)]
 pub fn write_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS]) {
     let seq = mem.load32(seq_off, Ordering::Relaxed);
     // An even sequence normally; if the window was scribbled, realign to even first.
