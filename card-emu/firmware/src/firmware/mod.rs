@@ -439,13 +439,15 @@ impl<M: Mem + Clone> Firmware<M> {
         );
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let homed = self.homing_tick(ts);
-        let mut reports: [TickReport; MAX_AXES] = Default::default();
-        for (i, (axis, report)) in self.axes[..self.num_axes]
-            .iter_mut()
-            .zip(reports.iter_mut())
-            .enumerate()
-        {
-            dac[i] = axis.control_into(ts, report);
+        // The reports with something to tell, in axis order (most ticks: none).
+        let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
+        let mut report = TickReport::default();
+        for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
+            dac[i] = axis.control_into(ts, &mut report);
+            if !report.is_empty() {
+                // One an axis: never full.
+                let _ = reports.push((i, core::mem::take(&mut report)));
+            }
         }
         for d in dac[self.num_axes..].iter_mut() {
             *d = 0.0;
@@ -516,36 +518,52 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.post_sync_events(&synced);
         self.post_pvt_events(&streamed);
-        for (i, report) in reports[..self.num_axes].iter().enumerate() {
-            let h = homed.as_ref().map_or(HomingReport::default(), |h| h[i]);
-            let axis = i as u16;
-            let done = h.done.or(report.done);
-            if let Some((seq, pos)) = done {
-                self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
+        match &homed {
+            None => {
+                for (i, report) in &reports {
+                    self.post_axis_events(*i, report, &HomingReport::default());
+                }
             }
-            for &seq in &report.dropped {
-                self.post_axis_event(
-                    EventKind::MotionAborted,
-                    seq,
-                    axis,
-                    NackCode::Infeasible as i32,
-                    0.0,
-                );
+            Some(homed) => {
+                let none = TickReport::default();
+                let mut reports = reports.iter().peekable();
+                for (i, h) in homed[..self.num_axes].iter().enumerate() {
+                    let report = reports.next_if(|(j, _)| *j == i).map_or(&none, |(_, r)| r);
+                    self.post_axis_events(i, report, h);
+                }
             }
-            if let Some((seq, value)) = report.active {
-                self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
-            }
-            if let Some((seq, value)) = report.in_velocity {
-                self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
-            }
-            if let Some((seq, why, at)) = h.failed {
-                self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
-            }
-            // The homing step ran before the servo loop: its state change came first.
-            if let Some(old) = h.state_from.or(report.state_from) {
-                let e = state_event(axis, old, self.axes[i].state, self.tick);
-                self.post(e);
-            }
+        }
+    }
+
+    /// The events of axis `i`'s tick, from its report and its homing step's.
+    fn post_axis_events(&mut self, i: usize, report: &TickReport, h: &HomingReport) {
+        let axis = i as u16;
+        let done = h.done.or(report.done);
+        if let Some((seq, pos)) = done {
+            self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
+        }
+        for &seq in &report.dropped {
+            self.post_axis_event(
+                EventKind::MotionAborted,
+                seq,
+                axis,
+                NackCode::Infeasible as i32,
+                0.0,
+            );
+        }
+        if let Some((seq, value)) = report.active {
+            self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
+        }
+        if let Some((seq, value)) = report.in_velocity {
+            self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
+        }
+        if let Some((seq, why, at)) = h.failed {
+            self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
+        }
+        // The homing step ran before the servo loop: its state change came first.
+        if let Some(old) = h.state_from.or(report.state_from) {
+            let e = state_event(axis, old, self.axes[i].state, self.tick);
+            self.post(e);
         }
     }
 

@@ -147,6 +147,18 @@ pub struct TickReport {
     pub state_from: Option<AxisState>,
 }
 
+impl TickReport {
+    /// Nothing to tell (the default).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.done.is_none()
+            && self.active.is_none()
+            && self.in_velocity.is_none()
+            && self.dropped.is_empty()
+            && self.state_from.is_none()
+    }
+}
+
 /// The seqs of the buffered moves a command or a fault dropped.
 pub type Dropped = Vec<u32, AXIS_QUEUE_LEN>;
 
