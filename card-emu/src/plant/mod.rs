@@ -234,6 +234,9 @@ impl Motor {
     /// A shaft past an end stop is put back on it, stopped (what moved it into the stop
     /// pushes on without moving it: the motor stalls).
     fn end_stop(&mut self) {
+        if self.end_stops == EndStops::default() {
+            return; // none: no angle is beyond ±∞ (the checks below would find nothing)
+        }
         let c = self.params.counts_per_rad();
         let (lo, hi) = (self.end_stops.neg / c, self.end_stops.pos / c);
         if self.theta > hi {
