@@ -1008,6 +1008,7 @@ impl Axis {
     }
 
     /// The motion bits of the status.
+    #[inline]
     pub fn motion_flags(&self) -> MotionFlags {
         let mut f = MotionFlags::empty();
         let homing = self.state == AxisState::Homing;
