@@ -137,14 +137,30 @@ impl<B: Block> BlockAt<B> {
         unsafe { out.assume_init() }
     }
 
-    /// Write the whole block (relaxed 64-bit stores).
+    /// Write the whole block (relaxed 64-bit stores, in order: [`Mem::write64s`]).
     pub fn write(self, m: &impl Mem, b: &B) {
         let p = (b as *const B).cast::<u64>();
-        for i in 0..B::WORDS {
+        if align_of::<B>() >= align_of::<u64>() {
             // SAFETY: `b` is `B::WORDS` words of plain data with no padding that could be
-            // uninitialised (Block); `i` is in range; unaligned as in `read`.
-            let w = unsafe { p.add(i).read_unaligned() };
-            m.write64(self.off + 8 * i, w);
+            // uninitialised (Block), aligned for `u64` (the condition above), and borrowed for
+            // the call.
+            let words = unsafe { core::slice::from_raw_parts(p, B::WORDS) };
+            m.write64s(self.off, words);
+            return;
+        }
+        // A block only 4-byte aligned: through an aligned copy, a few words at a time.
+        const CHUNK: usize = 16;
+        let mut buf = [0u64; CHUNK];
+        let mut i = 0;
+        while i < B::WORDS {
+            let n = (B::WORDS - i).min(CHUNK);
+            for (k, w) in buf[..n].iter_mut().enumerate() {
+                // SAFETY: `i + k < B::WORDS`, within `b` (plain data, see above); unaligned as
+                // in `read`.
+                *w = unsafe { p.add(i + k).read_unaligned() };
+            }
+            m.write64s(self.off + 8 * i, &buf[..n]);
+            i += n;
         }
     }
 }

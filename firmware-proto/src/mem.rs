@@ -42,6 +42,14 @@ pub trait Mem {
     fn write64(&self, off: usize, val: u64) {
         self.store64(off, val, Ordering::Relaxed)
     }
+    /// Relaxed 64-bit stores of consecutive words, the first at `off`: the same as a
+    /// [`Mem::write64`] of each word in order (what this default does). An implementation may
+    /// check the whole run once instead of each word ([`Dpram`] does).
+    fn write64s(&self, off: usize, words: &[u64]) {
+        for (i, w) in words.iter().enumerate() {
+            self.write64(off + 8 * i, *w);
+        }
+    }
     /// Relaxed load of an IEEE-754 double.
     fn read_f64(&self, off: usize) -> f64 {
         f64::from_bits(self.read64(off))
@@ -77,6 +85,10 @@ impl<T: Mem + ?Sized> Mem for &T {
         (**self).store64(off, val, order)
     }
     #[inline]
+    fn write64s(&self, off: usize, words: &[u64]) {
+        (**self).write64s(off, words)
+    }
+    #[inline]
     fn bad_accesses(&self) -> u32 {
         (**self).bad_accesses()
     }
@@ -99,6 +111,10 @@ impl<T: Mem + ?Sized> Mem for std::sync::Arc<T> {
     #[inline]
     fn store64(&self, off: usize, val: u64, order: Ordering) {
         (**self).store64(off, val, order)
+    }
+    #[inline]
+    fn write64s(&self, off: usize, words: &[u64]) {
+        (**self).write64s(off, words)
     }
     #[inline]
     fn bad_accesses(&self) -> u32 {
@@ -188,6 +204,15 @@ impl Dpram {
         Some(unsafe { self.base.as_ptr().add(off) })
     }
 
+    /// A run of words not wholly in range or aligned: word by word, each bad one refused.
+    #[cold]
+    #[inline(never)]
+    fn write64s_one_by_one(&self, off: usize, words: &[u64]) {
+        for (i, w) in words.iter().enumerate() {
+            self.store64(off + 8 * i, *w, Ordering::Relaxed);
+        }
+    }
+
     #[cold]
     #[inline(never)]
     fn refuse(&self, off: usize, width: usize) {
@@ -231,6 +256,28 @@ impl Mem for Dpram {
         if let Some(p) = self.word_ptr(off, 8) {
             // SAFETY: in bounds and 8-aligned (checked); the memory is only accessed atomically.
             unsafe { AtomicU64::from_ptr(p.cast()) }.store(val, order)
+        }
+    }
+    /// One check for the whole run; a run that is not wholly in range and aligned is stored
+    /// word by word, as the default does (the good words stored, each bad one refused).
+    #[inline]
+    fn write64s(&self, off: usize, words: &[u64]) {
+        let in_range = words
+            .len()
+            .checked_mul(8)
+            .and_then(|n| off.checked_add(n))
+            .is_some_and(|end| end <= self.len);
+        if !in_range || !off.is_multiple_of(8) {
+            self.write64s_one_by_one(off, words);
+            return;
+        }
+        // SAFETY: `off + 8 * words.len() <= len` (checked), so every word stays inside the
+        // mapping.
+        let p = unsafe { self.base.as_ptr().add(off) }.cast::<u64>();
+        for (i, w) in words.iter().enumerate() {
+            // SAFETY: in bounds (above) and 8-aligned (`off` is, and the mapping's base: see
+            // `from_raw`); the memory is only accessed atomically.
+            unsafe { AtomicU64::from_ptr(p.add(i)) }.store(*w, Ordering::Relaxed);
         }
     }
     #[inline]
@@ -296,6 +343,10 @@ impl Mem for HeapWindow {
         self.dpram.store64(off, val, order)
     }
     #[inline]
+    fn write64s(&self, off: usize, words: &[u64]) {
+        self.dpram.write64s(off, words)
+    }
+    #[inline]
     fn bad_accesses(&self) -> u32 {
         self.dpram.bad_accesses()
     }
@@ -332,6 +383,29 @@ mod tests {
         assert_eq!(by_ref.bad_accesses(), 5);
         shared.read64(d.len() - 4);
         assert_eq!(w.bad_accesses(), 6);
+    }
+
+    /// A run of words lands as the word-by-word stores would: in order at `off`; a run that
+    /// ends past the window stores its words in range and refuses (counts) the rest.
+    #[test]
+    fn a_run_of_words_is_stored_as_its_words_would_be() {
+        let w = HeapWindow::new();
+        let d = w.dpram();
+        d.write64s(64, &[1, 2, 3]);
+        assert_eq!([d.read64(64), d.read64(72), d.read64(80)], [1, 2, 3]);
+        assert_eq!(d.read64(88), 0);
+        d.write64s(64, &[]);
+        assert_eq!(d.read64(64), 1);
+        #[cfg(not(debug_assertions))]
+        {
+            let end = d.len();
+            d.write64s(end - 16, &[7, 8, 9, 10]);
+            assert_eq!([d.read64(end - 16), d.read64(end - 8)], [7, 8]);
+            assert_eq!(d.bad_accesses(), 2, "the two words past the end");
+            d.write64s(4, &[5]);
+            assert_eq!(d.read64(0), 0, "the misaligned run touched nothing");
+            assert_eq!(d.bad_accesses(), 3);
+        }
     }
 
     #[test]

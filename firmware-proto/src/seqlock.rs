@@ -34,16 +34,14 @@ impl core::error::Error for SnapshotError {}
 pub const MAX_RETRIES: u32 = 1000;
 
 /// Write a payload under the seqlock at `seq_off` (payload at `seq_off + STATUS_PAYLOAD`).
+#[inline(always)]
 pub fn write_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS]) {
     let seq = mem.load32(seq_off, Ordering::Relaxed);
     // An even sequence normally; if the window was scribbled, realign to even first.
     let seq = seq & !1;
     mem.store32(seq_off, seq.wrapping_add(1), Ordering::Relaxed);
     fence(Ordering::Release);
-    let base = seq_off + layout::STATUS_PAYLOAD;
-    for (i, w) in words.iter().enumerate() {
-        mem.store64(base + 8 * i, *w, Ordering::Relaxed);
-    }
+    mem.write64s(seq_off + layout::STATUS_PAYLOAD, words);
     mem.store32(seq_off, seq.wrapping_add(2), Ordering::Release);
 }
 
@@ -75,6 +73,7 @@ pub fn read_words<M: Mem>(
 }
 
 /// Publish an axis's status (card side).
+#[inline]
 pub fn write_axis_status<M: Mem>(mem: &M, axis: usize, status: &AxisStatus) {
     write_words(mem, layout::axis_status(axis), &status.to_words());
 }
@@ -242,6 +241,7 @@ mod tests {
 }
 
 /// Publish a group's status (card side).
+#[inline]
 pub fn write_group_status<M: Mem>(mem: &M, group: usize, status: &GroupStatus) {
     write_words(mem, layout::group_status(group), &status.to_words());
 }

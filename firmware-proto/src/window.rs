@@ -241,6 +241,10 @@ impl Mem for MappedWindow {
         self.dpram.store64(off, val, order)
     }
     #[inline]
+    fn write64s(&self, off: usize, words: &[u64]) {
+        self.dpram.write64s(off, words)
+    }
+    #[inline]
     fn bad_accesses(&self) -> u32 {
         self.dpram.bad_accesses()
     }

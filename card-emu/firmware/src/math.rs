@@ -8,7 +8,8 @@
 //! On a host (`host`, or the tests) `sqrt`, `floor`, `ceil` and `trunc` are `std`'s (the same
 //! results to the bit: they are exactly rounded): the CPU's instructions inline, where
 //! `libm`'s are calls into another crate (the path engine's push spent 12 % more
-//! instructions with them).
+//! instructions with them). `round` is written out here (inline, on the card too), tested
+//! against libm's to the bit: the servo loop and the DAC round on every axis every tick.
 //!
 //! Called as `math::sqrt(x)`, never as methods: with `std` linked anywhere in the build, a
 //! method call on an `f64` would silently take `std`'s.
@@ -126,10 +127,25 @@ pub fn ceil(x: f64) -> f64 {
     libm::ceil(x)
 }
 
-/// The nearest integer, halves away from zero.
+/// The nearest integer, halves away from zero (libm's `round` to the bit, inline: the servo
+/// loop and the DAC call it every tick on every axis). Below 2⁵², the integer part `t` of `x`
+/// and the fraction `x − t` are exact, so comparing the fraction with ½ decides; the sign of
+/// `x` is the result's (−0.3 rounds to −0). From 2⁵² up every `f64` is an integer, and
+/// infinities and NaN come back as they are, as from libm.
 #[inline]
 pub fn round(x: f64) -> f64 {
-    libm::round(x)
+    const TWO_52: f64 = 4_503_599_627_370_496.0;
+    if x.abs() < TWO_52 {
+        let t = x as i64 as f64;
+        let r = if (x - t).abs() >= 0.5 {
+            t + 1f64.copysign(x)
+        } else {
+            t
+        };
+        r.copysign(x)
+    } else {
+        x
+    }
 }
 
 /// The integer part, towards zero.
@@ -178,6 +194,61 @@ mod tests {
             for n in -4..=7 {
                 assert_eq!(powi(x, n).to_bits(), x.powi(n).to_bits(), "{x}^{n}");
             }
+        }
+    }
+
+    /// `round` is libm's (the card's) to the bit: halves, the numbers next to them, signed
+    /// zeros, the edges of 2⁵² and 2⁵³, infinities, NaN, and random numbers of every size.
+    #[test]
+    fn round_is_libms() {
+        let same = |x: f64| {
+            let (a, b) = (round(x), libm::round(x));
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "round({x:e}) = {a:e}, libm {b:e}"
+            );
+        };
+        let edges = [
+            0.0,
+            0.5,
+            1.5,
+            2.5,
+            0.49999999999999994,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9_007_199_254_740_991.0,
+            9_007_199_254_740_992.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for x in edges {
+            for y in [
+                x,
+                -x,
+                f64::from_bits(x.to_bits() + 1),
+                f64::from_bits(x.to_bits().saturating_sub(1)),
+            ] {
+                same(y);
+                same(-y);
+            }
+        }
+        for k in -2000..2000 {
+            let h = k as f64 + 0.5;
+            for y in [
+                h,
+                f64::from_bits(h.to_bits() + 1),
+                f64::from_bits(h.to_bits() - 1),
+            ] {
+                same(y);
+            }
+        }
+        let mut rng = crate::testkit::rng::Rng::new(0x0d0d);
+        for _ in 0..200_000 {
+            let x = rng.uniform(-1.0, 1.0) * 2f64.powi(rng.uniform(-60.0, 70.0) as i32);
+            same(x);
         }
     }
 }

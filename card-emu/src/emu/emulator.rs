@@ -19,7 +19,7 @@ use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
-use crate::plant::io::{encoder_span, FireRecord, InputBank};
+use crate::plant::io::{encoder_span_from, FireRecord, InputBank};
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::{AUX_ENCODERS, MAX_AXES};
@@ -253,17 +253,20 @@ impl Emulator {
     fn period(&mut self) {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
+        // The shafts' counts at the period's start (the encoder readings below and the
+        // period's span take them).
+        let counts = self.motors.map(|m| m.encoder());
         // [faults] encoders and switch inputs as the card sees them, through injected faults
-        let mut inputs = self.faults.sense(&self.motors, &mut enc);
+        let mut inputs = self.faults.sense_counts(&self.motors, &counts, &mut enc);
         // The encoder interface's index latch: the pulse comes from the shaft, the count it
         // captures is the counter's (with any corruption injected into the counter).
         for (i, ch) in self.index.iter_mut().enumerate() {
-            let f = self.faults.get(i).copied().unwrap_or_default();
+            let f = self.faults.get(i);
             let before = ch.latches;
-            ch.sample(self.motors[i].encoder(), f.encoder_lost.is_none());
+            ch.sample(counts[i], f.is_none_or(|f| f.encoder_lost.is_none()));
             if ch.latches != before {
                 self.latch[i] = IndexLatch {
-                    count: ch.count.wrapping_add(f.encoder_offset),
+                    count: ch.count.wrapping_add(f.map_or(0, |f| f.encoder_offset)),
                     latches: ch.latches,
                 };
             }
@@ -279,32 +282,34 @@ impl Emulator {
         for a in &mut self.aux {
             a.step(ts);
         }
-        let start = self.motors;
+        // The period's start (the compare pulses above replayed the period before from the
+        // old one).
+        self.period_start = self.motors;
+        let start = &self.period_start;
         for (i, (m, u)) in self.motors.iter_mut().zip(self.dac).enumerate() {
             self.faults.step_motor(i, m, u, ts);
         }
         let (faults, dac) = (&self.faults, self.dac);
         self.inputs
-            .after_period(&start, &self.motors, ts, |a, m, dt| {
+            .after_period(start, &self.motors, ts, |a, m, dt| {
                 faults.step_motor(a, m, dac[a], dt)
             });
         // The encoder interface's extreme counts of the period (through the encoder's faults).
         for (i, span) in self.spans.iter_mut().enumerate() {
-            let f = faults.get(i).copied().unwrap_or_default();
-            *span = Some(match f.encoder_lost {
+            let (lost, offset) = faults
+                .get(i)
+                .map_or((None, 0), |f| (f.encoder_lost, f.encoder_offset));
+            *span = Some(match lost {
                 Some(frozen) => (frozen, frozen),
                 None => {
-                    let (lo, hi) = encoder_span(&start[i], &self.motors[i], ts, |m, dt| {
-                        faults.step_motor(i, m, dac[i], dt)
-                    });
-                    (
-                        lo.wrapping_add(f.encoder_offset),
-                        hi.wrapping_add(f.encoder_offset),
-                    )
+                    let (lo, hi) =
+                        encoder_span_from(counts[i], &start[i], &self.motors[i], ts, |m, dt| {
+                            faults.step_motor(i, m, dac[i], dt)
+                        });
+                    (lo.wrapping_add(offset), hi.wrapping_add(offset))
                 }
             });
         }
-        self.period_start = start;
         self.period_dac = dac;
         self.time += ts;
     }

@@ -117,6 +117,16 @@ impl FaultInjector {
 
     /// Sample what the card sees this tick: fills the encoder counts and returns the inputs.
     pub fn sense(&self, motors: &[Motor; MAX_AXES], enc: &mut [i64; MAX_AXES]) -> Inputs {
+        self.sense_counts(motors, &motors.map(|m| m.encoder()), enc)
+    }
+
+    /// [`FaultInjector::sense`] with the shafts' encoder readings (`Motor::encoder`) given.
+    pub fn sense_counts(
+        &self,
+        motors: &[Motor; MAX_AXES],
+        counts: &[i64; MAX_AXES],
+        enc: &mut [i64; MAX_AXES],
+    ) -> Inputs {
         let mut inputs = Inputs {
             estop: self.estop,
             ..Inputs::default()
@@ -138,7 +148,7 @@ impl FaultInjector {
                     bits |= Io::ENCODER_FAULT;
                     frozen
                 }
-                None => m.encoder().wrapping_add(f.encoder_offset),
+                None => counts[i].wrapping_add(f.encoder_offset),
             };
             inputs.axis[i] = bits;
         }

@@ -46,6 +46,8 @@ impl Sensor {
 pub struct InputBank {
     levels: u32,
     sensors: [Option<Sensor>; INPUTS],
+    /// Bit i: input i has a sensor (the pins a period's motion can switch).
+    sensed: u32,
     edge_at: [f64; INPUTS],
     initialised: bool,
 }
@@ -57,6 +59,7 @@ impl InputBank {
             return;
         }
         self.sensors[i] = None;
+        self.sensed &= !(1 << i);
         if self.level(i) != high {
             self.levels ^= 1 << i;
             self.edge_at[i] = 1.0;
@@ -67,6 +70,7 @@ impl InputBank {
     pub fn set_sensor(&mut self, i: usize, sensor: Option<Sensor>) {
         if let Some(s) = self.sensors.get_mut(i) {
             *s = sensor;
+            self.sensed = (self.sensed & !(1 << i)) | (u32::from(sensor.is_some()) << i);
         }
         self.initialised = false;
     }
@@ -112,6 +116,9 @@ impl InputBank {
         ts: f64,
         replay: impl Fn(usize, &mut Motor, f64),
     ) {
+        if self.sensed == 0 {
+            return; // levels only: they change when set, not with the motion
+        }
         for i in 0..INPUTS {
             let Some(s) = self.sensors[i].filter(|s| s.axis < MAX_AXES) else {
                 continue;
@@ -154,7 +161,18 @@ pub fn encoder_span(
     ts: f64,
     replay: impl Fn(&mut Motor, f64),
 ) -> (i64, i64) {
-    let (a, b) = (start.encoder(), end.encoder());
+    encoder_span_from(start.encoder(), start, end, ts, replay)
+}
+
+/// [`encoder_span`] with the reading at the start (`start.encoder()`) given.
+pub fn encoder_span_from(
+    a: i64,
+    start: &Motor,
+    end: &Motor,
+    ts: f64,
+    replay: impl Fn(&mut Motor, f64),
+) -> (i64, i64) {
+    let b = end.encoder();
     let (mut lo, mut hi) = (a.min(b), a.max(b));
     if start.omega * end.omega >= 0.0 {
         return (lo, hi);

@@ -206,8 +206,9 @@ impl Motor {
     }
 
     /// The encoder reading: the angle quantised to whole counts.
+    #[inline]
     pub fn encoder(&self) -> i64 {
-        (self.theta * self.params.counts_per_rad()).floor() as i64
+        floor_i64(self.theta * self.params.counts_per_rad())
     }
 
     /// Position in (unquantised) counts.
@@ -233,6 +234,9 @@ impl Motor {
     /// A shaft past an end stop is put back on it, stopped (what moved it into the stop
     /// pushes on without moving it: the motor stalls).
     fn end_stop(&mut self) {
+        if self.end_stops == EndStops::default() {
+            return; // none: no angle is beyond ±∞ (the checks below would find nothing)
+        }
         let c = self.params.counts_per_rad();
         let (lo, hi) = (self.end_stops.neg / c, self.end_stops.pos / c);
         if self.theta > hi {
@@ -342,6 +346,21 @@ impl Motor {
         if t_zero <= dt {
             self.omega = 0.0;
         }
+        t
+    }
+}
+
+/// `x.floor() as i64` for every `x`, inline (`f64::floor` is a call on the baseline x86-64,
+/// and the plant takes four encoder readings an axis a period). The cast truncates towards
+/// zero and saturates (NaN gives 0); a truncation above `x` is a negative `x` with a fraction,
+/// whose floor is one lower. The truncated value is exact as an `f64` wherever `x` has a
+/// fraction (|x| < 2⁵²), and beyond that `x` is an integer, so the comparison is exact too.
+#[inline]
+pub(crate) fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if t as f64 > x {
+        t.saturating_sub(1)
+    } else {
         t
     }
 }
@@ -525,6 +544,44 @@ impl IndexChannel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `floor_i64` is `floor` then the saturating cast, for every kind of `f64`.
+    #[test]
+    fn floor_i64_is_floor_then_cast() {
+        let same = |x: f64| assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
+        let edges = [
+            0.0,
+            0.5,
+            1.0,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9_007_199_254_740_993.0,
+            9.223_372_036_854_775e18,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+            5e-324,
+        ];
+        for x in edges {
+            for y in [
+                x,
+                f64::from_bits(x.to_bits() + 1),
+                f64::from_bits(x.to_bits().saturating_sub(1)),
+            ] {
+                same(y);
+                same(-y);
+            }
+        }
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let m = (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            let e = (x % 140) as i32 - 70;
+            same(m * 2f64.powi(e));
+        }
+    }
 
     /// The servo's default tuning assumes this plant's default motor: they agree.
     #[test]

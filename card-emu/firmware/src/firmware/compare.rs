@@ -321,6 +321,13 @@ impl Compare {
         }
     }
 
+    /// [`Compare::tick`] of a channel not armed: its last pulse counts down, nothing else.
+    #[inline]
+    pub fn tick_unarmed(&mut self) {
+        debug_assert!(self.arm.is_none());
+        self.pulse_left = self.pulse_left.saturating_sub(1);
+    }
+
     /// One tick: the axis moved from `x0` to `x1` (cell middles, the axis frame) over the tick
     /// ending at `tick`, reaching `range` (lowest, highest) in between. Fires go to `fires` (as
     /// many as fit; the count is what matters).

@@ -757,8 +757,19 @@ impl<M: Mem + Clone> Firmware<M> {
 
     /// The gearing step of a tick (after the groups, before homing and the servo loops): the
     /// auxiliary encoders are sensed, every master sampled, then every slave driven.
-    pub(super) fn gear_tick(&mut self, ts: f64) -> [SyncReport; MAX_AXES] {
+    /// `None` when no slave is coupled: then the step is nothing but the auxiliary encoders'
+    /// (each slave's step returns at once without a coupling), and there is nothing to post.
+    pub(super) fn gear_tick(&mut self, ts: f64) -> Option<[SyncReport; MAX_AXES]> {
         self.aux.sense(ts);
+        if !self.gears[..self.num_axes].iter().any(Gear::engaged) {
+            return None;
+        }
+        Some(self.gear_step(ts))
+    }
+
+    /// The slaves' step, some coupled.
+    #[inline(never)]
+    fn gear_step(&mut self, ts: f64) -> [SyncReport; MAX_AXES] {
         let n = self.num_axes;
         let samples = sample_masters(&self.gears, &self.axes[..n], &self.aux);
         let max_stop_time = self.safety.config().max_stop_time();
@@ -770,7 +781,8 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     /// Post the events of a gearing step (after the status was published).
-    pub(super) fn post_sync_events(&mut self, reports: &[SyncReport; MAX_AXES]) {
+    pub(super) fn post_sync_events(&mut self, reports: &Option<[SyncReport; MAX_AXES]>) {
+        let Some(reports) = reports else { return };
         for (i, r) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;
             if let Some((seq, what, pos)) = r.locked {

@@ -136,6 +136,12 @@ impl Debounce {
         };
         self.raw = raw;
         let before = self.debounced;
+        if raw == self.debounced {
+            // Every input as debounced: each count starts again (the loop below would clear
+            // them one by one).
+            self.held = [0; INPUTS];
+            return (raw_edges, Edges::default());
+        }
         for i in 0..INPUTS {
             let bit = 1 << i;
             if (raw ^ self.debounced) & bit == 0 {
@@ -306,23 +312,59 @@ impl IoUnit {
         self.events.clear();
         self.fires.clear();
         let (raw_edges, edges) = self.debounce.tick(self.inputs.levels);
-        let cfg = *self.debounce.config();
+        let (rise_events, fall_events) = {
+            let cfg = self.debounce.config();
+            (cfg.rise_events, cfg.fall_events)
+        };
         let word = self.debounce.debounced();
-        for i in 0..INPUTS as u16 {
-            let bit = 1 << i;
-            let rise = edges.rising & cfg.rise_events & bit != 0;
-            let fall = edges.falling & cfg.fall_events & bit != 0;
-            if rise || fall {
-                self.events.push(Event {
-                    seq: 0,
-                    kind: EventKind::Input as u16,
-                    axis: i,
-                    code: i32::from(rise),
-                    tick,
-                    value: f64::from(word),
-                });
+        let posted = (edges.rising & rise_events) | (edges.falling & fall_events);
+        if posted != 0 {
+            for i in 0..INPUTS as u16 {
+                let bit = 1 << i;
+                let rise = edges.rising & rise_events & bit != 0;
+                let fall = edges.falling & fall_events & bit != 0;
+                if rise || fall {
+                    self.events.push(Event {
+                        seq: 0,
+                        kind: EventKind::Input as u16,
+                        axis: i,
+                        code: i32::from(rise),
+                        tick,
+                        value: f64::from(word),
+                    });
+                }
             }
         }
+        // The compare channels and the probes watch the axes' motion; with none of them armed
+        // the tick only keeps the counts and index latches it compares against next time (and
+        // counts down the last pulses).
+        let armed = self.compare.iter().any(|c| c.armed().is_some())
+            || self.probes.iter().any(|p| p.armed().is_some());
+        if !armed {
+            for (a, last) in self.last_count.iter_mut().enumerate().take(axes.len()) {
+                *last = Some(counts[a]);
+            }
+            for c in &mut self.compare {
+                c.tick_unarmed();
+            }
+            for (a, last) in self.last_index.iter_mut().enumerate().take(axes.len()) {
+                *last = index[a].latches;
+            }
+            return;
+        }
+        self.tick_armed(tick, counts, index, axes, raw_edges);
+    }
+
+    /// The rest of [`IoUnit::tick`] with a compare channel or a probe armed.
+    #[inline(never)]
+    fn tick_armed(
+        &mut self,
+        tick: u64,
+        counts: &[i64; MAX_AXES],
+        index: &[IndexLatch; MAX_AXES],
+        axes: &[Axis],
+        raw_edges: Edges,
+    ) {
         // Each axis's motion over the tick, cell middles in its frame.
         let mut x = [(0.0, 0.0); MAX_AXES];
         let mut range = [(0.0, 0.0); MAX_AXES];
@@ -410,6 +452,12 @@ impl IoUnit {
     #[inline]
     pub fn event(&self, i: usize) -> Option<Event> {
         self.events.get(i)
+    }
+
+    /// Events of the last tick.
+    #[inline]
+    pub fn events_len(&self) -> usize {
+        self.events.len()
     }
 
     /// Events that did not fit (never, by its size; counted with the outbox's).

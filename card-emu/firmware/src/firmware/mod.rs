@@ -308,41 +308,50 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
             };
             served += 1;
-            self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
-            self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
-            let outcome = if self.expired(&cmd) {
-                Err(NackCode::Expired)
-            } else {
-                self.execute(&cmd)
-            };
-            let reply = match outcome {
-                Ok(value) => Event {
-                    seq: cmd.seq,
-                    kind: EventKind::Ack as u16,
-                    axis: cmd.axis,
-                    code: 0,
-                    tick: self.tick,
-                    value,
-                },
-                Err(code) => Event {
-                    seq: cmd.seq,
-                    kind: EventKind::Nack as u16,
-                    axis: cmd.axis,
-                    code: code as i32,
-                    tick: self.tick,
-                    value: 0.0,
-                },
-            };
-            if reply.kind == EventKind::Ack as u16 {
-                // The status first, then the events about it: a host that has the ack reads
-                // the state the command left (see `tick`).
-                self.publish();
-            }
-            self.post(reply);
-            self.post_outbox();
-            self.post_safety_events(); // [safety] events of the command (e-stop)
+            self.answer(&cmd);
         }
         served
+    }
+
+    /// Take one command off the ring: execute it (unless expired), then its ack or nack and the
+    /// events it raised. Out of line: commands come seldom next to ticks, and the frame of
+    /// `execute` (every command's locals) is large; [`Firmware::serve_commands`] with an empty
+    /// ring should not touch it.
+    #[inline(never)]
+    fn answer(&mut self, cmd: &Command) {
+        self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
+        self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
+        let outcome = if self.expired(cmd) {
+            Err(NackCode::Expired)
+        } else {
+            self.execute(cmd)
+        };
+        let reply = match outcome {
+            Ok(value) => Event {
+                seq: cmd.seq,
+                kind: EventKind::Ack as u16,
+                axis: cmd.axis,
+                code: 0,
+                tick: self.tick,
+                value,
+            },
+            Err(code) => Event {
+                seq: cmd.seq,
+                kind: EventKind::Nack as u16,
+                axis: cmd.axis,
+                code: code as i32,
+                tick: self.tick,
+                value: 0.0,
+            },
+        };
+        if reply.kind == EventKind::Ack as u16 {
+            // The status first, then the events about it: a host that has the ack reads
+            // the state the command left (see `tick`).
+            self.publish();
+        }
+        self.post(reply);
+        self.post_outbox();
+        self.post_safety_events(); // [safety] events of the command (e-stop)
     }
 
     /// Has the command's deadline passed? The host's clock is read after the command was
@@ -421,40 +430,24 @@ impl<M: Mem + Clone> Firmware<M> {
         let synced = self.gear_tick(ts);
         // PT/PVT streams drive their axes (pvt.rs).
         let streamed = self.pvt_tick();
-        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
-        let inputs = *self.safety.inputs();
         // Digital inputs, compare and probes on the motion just sensed (io.rs).
         self.io.tick(
             self.tick,
             encoders,
-            &inputs.index,
+            &self.safety.inputs().index,
             &self.axes[..self.num_axes],
         );
-        let max_stop_time = self.safety.config().max_stop_time();
-        let mut homed = [HomingReport::default(); MAX_AXES];
-        for (i, (axis, homing)) in self.axes[..self.num_axes]
-            .iter_mut()
-            .zip(self.homing.iter_mut())
-            .enumerate()
-        {
-            let inp = HomingInputs {
-                io: inputs.axis[i],
-                index: inputs.index[i],
-                ts,
-                rate_hz: self.servo_rate_hz,
-                max_stop_time,
-            };
-            homed[i] = homing.tick(axis, &inp);
-        }
-        let mut reports: [TickReport; MAX_AXES] = Default::default();
-        for (i, (axis, report)) in self.axes[..self.num_axes]
-            .iter_mut()
-            .zip(reports.iter_mut())
-            .enumerate()
-        {
-            let (volts, r) = axis.control(ts);
-            dac[i] = volts;
-            *report = r;
+        // Homing methods look at this tick's inputs and drive their axes (homing.rs).
+        let homed = self.homing_tick(ts);
+        // The reports with something to tell, in axis order (most ticks: none).
+        let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
+        let mut report = TickReport::default();
+        for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
+            dac[i] = axis.control_into(ts, &mut report);
+            if !report.is_empty() {
+                // One an axis: never full.
+                let _ = reports.push((i, core::mem::take(&mut report)));
+            }
         }
         for d in dac[self.num_axes..].iter_mut() {
             *d = 0.0;
@@ -518,43 +511,92 @@ impl<M: Mem + Clone> Firmware<M> {
         self.post_safety_events();
         self.post_outbox();
         self.post_scope_events(&scoped);
-        for i in 0..io::IO_EVENTS {
+        for i in 0..self.io.events_len() {
             if let Some(e) = self.io.event(i) {
                 self.post(e);
             }
         }
         self.post_sync_events(&synced);
         self.post_pvt_events(&streamed);
-        for (i, (report, h)) in reports[..self.num_axes].iter().zip(&homed).enumerate() {
-            let axis = i as u16;
-            let done = h.done.or(report.done);
-            if let Some((seq, pos)) = done {
-                self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
+        match &homed {
+            None => {
+                for (i, report) in &reports {
+                    self.post_axis_events(*i, report, &HomingReport::default());
+                }
             }
-            for &seq in &report.dropped {
-                self.post_axis_event(
-                    EventKind::MotionAborted,
-                    seq,
-                    axis,
-                    NackCode::Infeasible as i32,
-                    0.0,
-                );
-            }
-            if let Some((seq, value)) = report.active {
-                self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
-            }
-            if let Some((seq, value)) = report.in_velocity {
-                self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
-            }
-            if let Some((seq, why, at)) = h.failed {
-                self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
-            }
-            // The homing step ran before the servo loop: its state change came first.
-            if let Some(old) = h.state_from.or(report.state_from) {
-                let e = state_event(axis, old, self.axes[i].state, self.tick);
-                self.post(e);
+            Some(homed) => {
+                let none = TickReport::default();
+                let mut reports = reports.iter().peekable();
+                for (i, h) in homed[..self.num_axes].iter().enumerate() {
+                    let report = reports.next_if(|(j, _)| *j == i).map_or(&none, |(_, r)| r);
+                    self.post_axis_events(i, report, h);
+                }
             }
         }
+    }
+
+    /// The events of axis `i`'s tick, from its report and its homing step's.
+    fn post_axis_events(&mut self, i: usize, report: &TickReport, h: &HomingReport) {
+        let axis = i as u16;
+        let done = h.done.or(report.done);
+        if let Some((seq, pos)) = done {
+            self.post_axis_event(EventKind::MotionDone, seq, axis, 0, pos);
+        }
+        for &seq in &report.dropped {
+            self.post_axis_event(
+                EventKind::MotionAborted,
+                seq,
+                axis,
+                NackCode::Infeasible as i32,
+                0.0,
+            );
+        }
+        if let Some((seq, value)) = report.active {
+            self.post_axis_event(EventKind::MotionActive, seq, axis, 0, value);
+        }
+        if let Some((seq, value)) = report.in_velocity {
+            self.post_axis_event(EventKind::InVelocity, seq, axis, 0, value);
+        }
+        if let Some((seq, why, at)) = h.failed {
+            self.post_axis_event(EventKind::HomingFailed, seq, axis, why as i32, at);
+        }
+        // The homing step ran before the servo loop: its state change came first.
+        if let Some(old) = h.state_from.or(report.state_from) {
+            let e = state_event(axis, old, self.axes[i].state, self.tick);
+            self.post(e);
+        }
+    }
+
+    /// The homing methods' step (homing.rs); `None` when no axis homes (each axis's step
+    /// returns at once then, with nothing to report).
+    fn homing_tick(&mut self, ts: f64) -> Option<[HomingReport; MAX_AXES]> {
+        if !self.homing[..self.num_axes].iter().any(Homing::active) {
+            return None;
+        }
+        Some(self.homing_step(ts))
+    }
+
+    /// Some axis homes.
+    #[inline(never)]
+    fn homing_step(&mut self, ts: f64) -> [HomingReport; MAX_AXES] {
+        let inputs = *self.safety.inputs();
+        let max_stop_time = self.safety.config().max_stop_time();
+        let mut homed = [HomingReport::default(); MAX_AXES];
+        for (i, (axis, homing)) in self.axes[..self.num_axes]
+            .iter_mut()
+            .zip(self.homing.iter_mut())
+            .enumerate()
+        {
+            let inp = HomingInputs {
+                io: inputs.axis[i],
+                index: inputs.index[i],
+                ts,
+                rate_hz: self.servo_rate_hz,
+                max_stop_time,
+            };
+            homed[i] = homing.tick(axis, &inp);
+        }
+        homed
     }
 
     /// The axes something drives on: a goal of their own (a move, velocity mode, jog), a

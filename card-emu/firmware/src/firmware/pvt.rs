@@ -379,7 +379,21 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     /// The PT/PVT step of a tick.
-    pub(super) fn pvt_tick(&mut self) -> [PvtReport; MAX_AXES] {
+    /// `None` when no stream runs: each stream's step returns at once then, with nothing to
+    /// post.
+    pub(super) fn pvt_tick(&mut self) -> Option<[PvtReport; MAX_AXES]> {
+        let running = self.pvt[..self.num_axes]
+            .iter()
+            .any(|s| s.as_ref().is_some_and(|s| s.running()));
+        if !running {
+            return None;
+        }
+        Some(self.pvt_step())
+    }
+
+    /// The streams' step, some running.
+    #[inline(never)]
+    fn pvt_step(&mut self) -> [PvtReport; MAX_AXES] {
         let (rate, n) = (self.servo_rate_hz, self.num_axes);
         let max_stop_time = self.safety.config().max_stop_time();
         core::array::from_fn(
@@ -391,7 +405,8 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     /// Post the events of a PT/PVT step (after the status was published).
-    pub(super) fn post_pvt_events(&mut self, reports: &[PvtReport; MAX_AXES]) {
+    pub(super) fn post_pvt_events(&mut self, reports: &Option<[PvtReport; MAX_AXES]>) {
+        let Some(reports) = reports else { return };
         for (i, r) in reports[..self.num_axes].iter().enumerate() {
             let axis = i as u16;
             let tick = self.tick;

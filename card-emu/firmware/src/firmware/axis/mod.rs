@@ -147,6 +147,18 @@ pub struct TickReport {
     pub state_from: Option<AxisState>,
 }
 
+impl TickReport {
+    /// Nothing to tell (the default).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.done.is_none()
+            && self.active.is_none()
+            && self.in_velocity.is_none()
+            && self.dropped.is_empty()
+            && self.state_from.is_none()
+    }
+}
+
 /// The seqs of the buffered moves a command or a fault dropped.
 pub type Dropped = Vec<u32, AXIS_QUEUE_LEN>;
 
@@ -716,6 +728,13 @@ impl Axis {
     /// The servo loop and the motion bookkeeping of one tick, after [`Axis::sense`].
     pub fn control(&mut self, ts: f64) -> (f64, TickReport) {
         let mut report = TickReport::default();
+        let volts = self.control_into(ts, &mut report);
+        (volts, report)
+    }
+
+    /// [`Axis::control`] with its report written into `report` (a default one: nothing to
+    /// tell) rather than returned: the firmware's tick keeps its reports in place.
+    pub fn control_into(&mut self, ts: f64, report: &mut TickReport) -> f64 {
         let vel = self.servo.velocity();
 
         if self.state == AxisState::Disabled
@@ -733,7 +752,7 @@ impl Axis {
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
             self.faults.remove(Faults::DAC_SATURATED);
-            return (0.0, report);
+            return 0.0;
         }
 
         // Trajectory generator.
@@ -891,7 +910,7 @@ impl Axis {
                 None => {}
             }
         }
-        (volts, report)
+        volts
     }
 
     /// Set the commanded reference from outside (an axes group drives this axis).
@@ -953,6 +972,7 @@ impl Axis {
     }
 
     /// The status block to publish.
+    #[inline]
     pub fn status(&self, tick: u64) -> AxisStatus {
         let st = &self.stats;
         AxisStatus {
@@ -988,6 +1008,7 @@ impl Axis {
     }
 
     /// The motion bits of the status.
+    #[inline]
     pub fn motion_flags(&self) -> MotionFlags {
         let mut f = MotionFlags::empty();
         let homing = self.state == AxisState::Homing;

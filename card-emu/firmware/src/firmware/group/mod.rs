@@ -1192,17 +1192,33 @@ impl Group {
             }
             return;
         }
+        self.tick_moving(&cfg, axes, filters, ts, tick, out);
+    }
+
+    /// The tick of a group that moves (past [`Group::guard`]). Out of line: its frame is large
+    /// (the path engine's and the filters' locals), and a group with nothing to do (most, most
+    /// of the time) should not pay for it in stack touched.
+    #[inline(never)]
+    fn tick_moving(
+        &mut self,
+        cfg: &GroupConfig,
+        axes: &mut [Axis; MAX_AXES],
+        filters: &mut [AxisFilter],
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) {
         if self.path.as_ref().is_some_and(|p| p.engaged) {
-            if self.path_tick(&cfg, axes, ts, tick, out) {
+            if self.path_tick(cfg, axes, ts, tick, out) {
                 let members = &cfg.axes[..cfg.naxes];
                 self.snap(members, axes);
                 self.settle(members, axes, ts, tick, out);
             }
             return;
         }
-        self.activate(&cfg, axes, filters, ts, tick, out);
-        let inc = self.feed(&cfg, axes, ts, tick, out);
-        let settled = self.filter(&cfg, &inc, axes, filters, ts);
+        self.activate(cfg, axes, filters, ts, tick, out);
+        let inc = self.feed(cfg, axes, ts, tick, out);
+        let settled = self.filter(cfg, &inc, axes, filters, ts);
         if self.active.is_none() && (self.queue.is_empty() || self.stop.is_some()) && settled {
             let members = &cfg.axes[..cfg.naxes];
             self.snap(members, axes);
