@@ -347,7 +347,11 @@ fn corpus(dir: &Path) {
             .fold(0.0f64, |m, x| m.max(x.abs()));
         let jerk_floor = 8.0 * f64::EPSILON * far / (TS * TS * TS * J);
         for k in ["peak_vel_ratio", "peak_accel_ratio", "peak_jerk_ratio"] {
-            let floor = if k == "peak_jerk_ratio" { jerk_floor } else { 0.0 };
+            let floor = if k == "peak_jerk_ratio" {
+                jerk_floor
+            } else {
+                0.0
+            };
             if f(&r, k) > 1.0 + 1e-6 + floor {
                 over.push((p.clone(), format!("{k} 1 + {:.1e}", f(&r, k) - 1.0)));
             }
