@@ -17,8 +17,8 @@ enum Record {
 /// The fastest a card ticks, in ticks per second of the host's time: a card on the clock
 /// ticks at most at `MC_SERVO_RATE_MAX_HZ` (20 kHz), and a stepped emulated card takes
 /// microseconds a tick (stepped through the SDK, 3.5 µs with one axis and 4.6 µs with four on
-/// the machine of BENCHMARKS.md, whose bare firmware tick of 8 axes is 0.73 µs); 10⁸ a second,
-/// 10 ns a tick, is 70 times faster than the bare tick.
+/// the machine of BENCHMARKS.md, whose bare firmware tick of 8 axes is 1.1–1.6 µs); 10⁸ a
+/// second, 10 ns a tick, is over 100 times faster than the bare tick.
 pub const MAX_TICKS_PER_SECOND: u64 = 100_000_000;
 /// Ticks a trace may advance beyond what its host time allows, for the time between a
 /// card's tick and the host's record of it.
