@@ -23,11 +23,10 @@ use crate::proto::raw::MC_PATHST_RUNNING;
 /// chord fitter holds before it sends a curve: a straight run of 16 chunks of 1024 points).
 const AHEAD_LINES: usize = 32 * 1024;
 /// Room in the card's path buffer (segments) a stepped run waits for before it sends more.
-/// Each send is a stream of its own, and the
-/// chord fitter fits within a stream: sent as the room came, a segment or two a tick, a
-/// program's chords after a stretch the fitter cannot shorten went as they were, the buffer
-/// staying full of single lines. A quarter of the buffer still queued is far more than the
-/// look-ahead needs.
+/// Each send is a stream of its own, and the chord fitter fits within a stream: sent as the
+/// room came, a segment or two a tick, a program's chords after a stretch the fitter cannot
+/// shorten went as they were, the buffer staying full of single lines. An eighth of the
+/// buffer free leaves far more queued than the look-ahead needs.
 const SEND_ROOM: usize = 512;
 use crate::{
     ArcSpec, Card, Error, Group, GroupSettings, GroupState, PathItem, PathSettings, Result,

@@ -111,6 +111,33 @@ struct Run {
     straight_checked: usize,
 }
 
+impl Run {
+    /// Cuts the run at vertex `v`: it ends there, and the run returned starts there (from
+    /// that point, as programmed) with the chords after it.
+    fn split(&mut self, v: usize) -> Run {
+        let pts = self.pts.split_off(v);
+        // (the vertex is the last point of this run and the first of the next)
+        self.pts.push(pts[0]);
+        let chords = self.chords.split_off(v);
+        let start_user = self.chords.last().map(|c| match &c.seg.geometry {
+            Geometry::Line { target } => target.clone(),
+            _ => unreachable!("runs hold lines"),
+        });
+        Run {
+            feed: self.feed,
+            tol: self.tol,
+            buffer: self.buffer,
+            pts,
+            start_user,
+            chords,
+            start: Start::Point,
+            ghost: None,
+            tested: self.tested.saturating_sub(v).max(1),
+            straight_checked: 0,
+        }
+    }
+}
+
 /// The chord fitter of a path stream (see the module doc).
 #[derive(Debug)]
 pub(crate) struct Fitter {
@@ -386,26 +413,7 @@ impl Fitter {
     /// The run ends at vertex v (a corner); a new one starts there with what follows.
     fn split_at_corner(&mut self, v: usize) {
         let mut run = self.run.take().expect("a run");
-        // (the corner is the last point of this run and the first of the next)
-        let rest_pts = run.pts.split_off(v);
-        run.pts.push(rest_pts[0]);
-        let rest_chords = run.chords.split_off(v);
-        let start_user = run.chords.last().map(|c| match &c.seg.geometry {
-            Geometry::Line { target } => target.clone(),
-            _ => unreachable!("runs hold lines"),
-        });
-        let next = Run {
-            feed: run.feed,
-            tol: run.tol,
-            buffer: run.buffer,
-            pts: rest_pts,
-            start_user,
-            chords: rest_chords,
-            start: Start::Point,
-            ghost: None,
-            tested: 1,
-            straight_checked: 0,
-        };
+        let next = run.split(v);
         self.emit_final(run);
         self.run = Some(next);
     }
@@ -460,10 +468,8 @@ impl Fitter {
             let devs = line_end_devs(&run.pts, n, CORNER_REACH * run.tol);
             Some((PathItem::Segment(last.seg.clone()), devs))
         } else {
-            self.best_fit(&run, true).map(|(s, _, devs)| {
-                let devs = (if run.ghost.is_some() { 0.0 } else { devs.0 }, devs.1);
-                (self.curve_item(&s, &run, &last.seg, true), devs)
-            })
+            self.best_fit(&run, true)
+                .map(|(s, _, devs)| (self.curve_item(&s, &run, &last.seg, true), devs))
         };
         match item {
             Some((item, (sd, ed))) => {
@@ -545,7 +551,6 @@ impl Fitter {
                 };
                 // (it ends where the next curve starts with its tangent and curvature: no
                 // corner there)
-                let sd = if run.ghost.is_some() { 0.0 } else { sd };
                 self.emit(f, sd, 0.0);
                 let tested = run.tested.saturating_sub(covered).max(1);
                 self.run = Some(Run {
@@ -568,26 +573,7 @@ impl Fitter {
     /// Sends the run's chords up to vertex `cut` (as one line when `line`, else as they
     /// are); a new run starts at that vertex with the rest.
     fn cut_as_lines_or_line(&mut self, mut run: Run, cut: usize, line: bool) {
-        let rest_pts = run.pts.split_off(cut);
-        run.pts.push(rest_pts[0]);
-        let rest_chords = run.chords.split_off(cut);
-        let start_user = run.chords.last().map(|c| match &c.seg.geometry {
-            Geometry::Line { target } => target.clone(),
-            _ => unreachable!("runs hold lines"),
-        });
-        let tested = run.tested.saturating_sub(cut).max(1);
-        let next = Run {
-            feed: run.feed,
-            tol: run.tol,
-            buffer: run.buffer,
-            pts: rest_pts,
-            start_user,
-            chords: rest_chords,
-            start: Start::Point,
-            ghost: None,
-            tested,
-            straight_checked: 0,
-        };
+        let next = run.split(cut);
         if line && run.ghost.is_none() {
             let first = run.chords[0].index;
             let last = run.chords.last().expect("chords");
@@ -606,7 +592,8 @@ impl Fitter {
 
     /// The least-squares spline with the fewest spans within the fit tolerance, the points'
     /// parameters on it, and its largest distance from them within [`CORNER_REACH`]
-    /// tolerances of its start and of its end.
+    /// tolerances of its start (0 where it continues the curve before: no corner there) and of
+    /// its end.
     fn best_fit(&self, run: &Run, pin_end: bool) -> Option<(Spline, Vec<f64>, (f64, f64))> {
         let n = self.n;
         let np = run.pts.len();
@@ -691,8 +678,13 @@ impl Fitter {
         let r = CORNER_REACH * run.tol / total;
         let head = t.partition_point(|&x| x <= r) + 1;
         let tail = t.partition_point(|&x| x < 1.0 - r).saturating_sub(1);
+        let head = head.min(np);
         let devs = (
-            deviation(&s, &flat[..head.min(np) * n], &t[..head.min(np)]).0,
+            if cont {
+                0.0
+            } else {
+                deviation(&s, &flat[..head * n], &t[..head]).0
+            },
             deviation(&s, &flat[tail * n..], &t[tail..]).0,
         );
         Some((s, t, devs))

@@ -125,24 +125,26 @@ pub(super) fn sampled_dev2<const N: usize>(
         const G: f64 = 0.618_033_988_749_894_8;
         let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
         let (mut f1, mut f2) = (at(x1), at(x2));
+        if !(grow(f1, &mut worst2) && grow(f2, &mut worst2)) {
+            return None;
+        }
         for _ in 0..PEAK_STEPS {
-            if !(grow(f1, &mut worst2) && grow(f2, &mut worst2)) {
-                return None;
-            }
-            if f1 < f2 {
+            let f = if f1 < f2 {
                 lo = x1;
                 (x1, f1) = (x2, f2);
                 x2 = lo + G * (hi - lo);
                 f2 = at(x2);
+                f2
             } else {
                 hi = x2;
                 (x2, f2) = (x1, f1);
                 x1 = hi - G * (hi - lo);
                 f1 = at(x1);
+                f1
+            };
+            if !grow(f, &mut worst2) {
+                return None;
             }
-        }
-        if !(grow(f1, &mut worst2) && grow(f2, &mut worst2)) {
-            return None;
         }
     }
     Some(worst2)
