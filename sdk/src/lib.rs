@@ -29,6 +29,7 @@ mod config;
 mod device;
 mod error;
 mod fit;
+pub mod gcode;
 mod group;
 mod heartbeat;
 mod homing;
