@@ -287,6 +287,9 @@ error_kinds! {
     /// A configuration file that does not parse, or a value in it that the card would refuse
     /// (the error names the key and its line); nothing of the file was applied.
     ConfigFile = -107, MC_ERR_CONFIG_FILE, "the configuration file does not parse or validate";
+    /// A G-code program refused by the interpreter (the error names the line and what is
+    /// wrong there); nothing after that line was queued.
+    Gcode = -109, MC_ERR_GCODE, "the G-code program has an error (see the error's line)";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -442,6 +445,9 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A G-code program the interpreter refuses (see [`ErrorKind::Gcode`]).
+    #[error("G-code {0}")]
+    Gcode(#[from] crate::gcode::GcodeError),
     /// The card refused a block of a configuration file that had passed the host's checks
     /// (its state changed meanwhile): the kind is the refusal's; `applied` lists the sections
     /// applied before it.
@@ -505,6 +511,7 @@ impl Error {
             Error::Unsupported(_) => ErrorKind::Unsupported,
             Error::BadConfig(_) => ErrorKind::BadConfig,
             Error::ConfigFile { .. } => ErrorKind::ConfigFile,
+            Error::Gcode(_) => ErrorKind::Gcode,
             Error::ConfigApply { source, .. } | Error::AtLine { source, .. } => source.kind(),
         }
     }

@@ -22,6 +22,7 @@ mod interp;
 mod ops;
 mod params;
 mod reader;
+pub mod run;
 mod tools;
 
 pub use block::{Block, GCode};

@@ -1,0 +1,653 @@
+//! A program on a card: its operations ([`Op`]) turned into path items and streamed into a
+//! group's path buffer as it frees room; what the path cannot carry (spindle, coolant, tool
+//! changes, pauses, hooks, waits on inputs) waits for the motion before it to end and goes to
+//! the host's [`Hooks`].
+//!
+//! The group's axes are the program's, in the order [`RunSettings::axes`] names them, in mm
+//! and degrees (the axes' scales make them so). The runner is polled ([`Runner::poll`]: it
+//! never blocks) or run to the end ([`Runner::run`]); on a stepped in-process card `run`
+//! steps the card itself.
+
+use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
+use crate::{
+    ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, Result, Segment, Transition,
+};
+use std::time::{Duration, Instant};
+
+/// How a program runs on a group.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSettings {
+    /// The program's axis letter of each group axis, in group order (`"XYZ"`, `"XYZA"`, …).
+    /// Arcs need X, Y and Z as the group's first three axes.
+    pub axes: String,
+    /// The speed of rapids (G0), mm/s.
+    pub rapid_feed: f64,
+    /// The largest feed, mm/s: a faster programmed feed runs at this.
+    pub max_feed: f64,
+    /// The corner tolerance of G64 without P, mm.
+    pub tolerance: f64,
+    /// How closely splines (G5) are followed, mm.
+    pub spline_tolerance: f64,
+    /// Items held before a batch is sent: the chord fitter fits within a batch.
+    pub batch: usize,
+}
+
+impl Default for RunSettings {
+    /// X, Y, Z; rapids and feeds up to 100 mm/s; 0.01 mm corners and splines; batches of 512.
+    fn default() -> Self {
+        Self {
+            axes: "XYZ".into(),
+            rapid_feed: 100.0,
+            max_feed: 100.0,
+            tolerance: 0.01,
+            spline_tolerance: 0.01,
+            batch: 512,
+        }
+    }
+}
+
+/// What the host does for the operations the card's path does not carry. Each is called
+/// once the motion before it has ended (M64/M65 and messages do not wait). The defaults do
+/// nothing, refuse what needs hardware they cannot know (M100–M199), and make M0/M60 (and
+/// M1 with the optional stop on) pause the runner until [`Runner::resume`].
+pub trait Hooks {
+    /// M3/M4/M5, S.
+    fn spindle(&mut self, _speed: f64, _dir: SpindleDir) -> Result<()> {
+        Ok(())
+    }
+    /// M7/M8/M9.
+    fn coolant(&mut self, _mist: bool, _flood: bool) -> Result<()> {
+        Ok(())
+    }
+    /// M6.
+    fn tool_change(&mut self, _tool: u32) -> Result<()> {
+        Ok(())
+    }
+    /// `(MSG, …)`.
+    fn message(&mut self, _line: usize, _text: &str) {}
+    /// M100–M199.
+    fn hook(&mut self, code: u32, _p: Option<f64>, _q: Option<f64>) -> Result<()> {
+        Err(Error::Unsupported(format!("M{code}: no host hook for it")))
+    }
+    /// M0, M1, M60: `true` pauses the runner (the default).
+    fn pause(&mut self, _kind: PauseKind) -> bool {
+        true
+    }
+}
+
+/// Hooks that do nothing but pause at M0/M1/M60.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct NoHooks;
+
+impl Hooks for NoHooks {}
+
+/// Where a run is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunState {
+    /// Items are being queued or run.
+    Running,
+    /// Waiting for the motion queued so far to end (before a spindle, tool or pause
+    /// operation, or at the end).
+    Draining,
+    /// Paused (M0/M1/M60 or [`Runner::pause`]) with the motion ended: [`Runner::resume`]
+    /// goes on.
+    Paused,
+    /// The program ended and every motion of it is done.
+    Done,
+    /// Aborted: the path halted along its geometry, nothing more is read.
+    Aborted,
+}
+
+/// A program running on a group.
+pub struct Runner<S: Source, H: Hooks = NoHooks> {
+    program: Program<S>,
+    group: Group,
+    settings: RunSettings,
+    hooks: H,
+    /// Group axis of each program axis (X..C), if the group has it.
+    axis_of: [Option<usize>; 6],
+    /// Items made and not yet sent.
+    batch: Vec<PathItem>,
+    /// The last segment made, held back so that the last of the program can be marked.
+    held: Option<Segment>,
+    /// An operation that waits for the motion before it to end.
+    waiting: Option<Op>,
+    state: RunState,
+    pause_requested: bool,
+    read_all: bool,
+    ops: u64,
+    error_line: usize,
+}
+
+impl<S: Source, H: Hooks> Runner<S, H> {
+    /// `program` on `group` (enabled, its path configured), with `hooks`. The group's axes are
+    /// checked against `settings.axes`.
+    pub fn new(group: &Group, program: Program<S>, settings: RunSettings, hooks: H) -> Result<Self> {
+        let n = group.axes()?.0;
+        let letters: Vec<char> = settings.axes.chars().map(|c| c.to_ascii_uppercase()).collect();
+        if letters.len() != n {
+            return Err(Error::BadConfig(format!(
+                "the group has {n} axes, the run names {} ('{}')",
+                letters.len(),
+                settings.axes
+            )));
+        }
+        let mut axis_of = [None; 6];
+        for (g, l) in letters.iter().enumerate() {
+            let i = super::AXIS_LETTERS
+                .iter()
+                .position(|a| a == l)
+                .ok_or_else(|| Error::BadConfig(format!("'{l}' is not an axis of G-code")))?;
+            if axis_of[i].replace(g).is_some() {
+                return Err(Error::BadConfig(format!("axis '{l}' named twice")));
+            }
+        }
+        for (what, v) in [
+            ("rapid feed", settings.rapid_feed),
+            ("largest feed", settings.max_feed),
+            ("spline tolerance", settings.spline_tolerance),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::BadConfig(format!("the {what} must be above 0, not {v}")));
+            }
+        }
+        if !(settings.tolerance.is_finite() && settings.tolerance >= 0.0) {
+            return Err(Error::BadConfig(format!(
+                "the tolerance must be 0 or more, not {}",
+                settings.tolerance
+            )));
+        }
+        Ok(Runner {
+            program,
+            group: group.clone(),
+            batch: Vec::with_capacity(settings.batch.max(1)),
+            settings,
+            hooks,
+            axis_of,
+            held: None,
+            waiting: None,
+            state: RunState::Running,
+            pause_requested: false,
+            read_all: false,
+            ops: 0,
+            error_line: 0,
+        })
+    }
+
+    /// One step of the run, never blocking: items queued while the path has room, an
+    /// operation that waits done once the motion before it has ended. The state after it.
+    pub fn poll(&mut self) -> Result<RunState> {
+        match self.state {
+            RunState::Done | RunState::Aborted | RunState::Paused => return Ok(self.state),
+            RunState::Running | RunState::Draining => {}
+        }
+        let r = self.advance();
+        if r.is_err() {
+            // Nothing more is queued after an error; what is queued runs to its end.
+            self.state = RunState::Aborted;
+        }
+        r
+    }
+
+    fn advance(&mut self) -> Result<RunState> {
+        loop {
+            if self.waiting.is_some() || (self.read_all && self.held.is_none()) {
+                // Everything before it must be sent and done.
+                self.flush(true)?;
+                if !self.motion_done()? {
+                    self.state = RunState::Draining;
+                    return Ok(self.state);
+                }
+                match self.waiting.take() {
+                    Some(op) => {
+                        if self.sync_op(&op)? {
+                            self.state = RunState::Paused;
+                            return Ok(self.state);
+                        }
+                        continue;
+                    }
+                    None => {
+                        self.state = RunState::Done;
+                        return Ok(self.state);
+                    }
+                }
+            }
+            if self.pause_requested {
+                self.flush(true)?;
+                if !self.motion_done()? {
+                    self.state = RunState::Draining;
+                    return Ok(self.state);
+                }
+                self.pause_requested = false;
+                self.state = RunState::Paused;
+                return Ok(self.state);
+            }
+            if self.read_all {
+                self.flush(true)?;
+                continue;
+            }
+            // Read while the batch has room.
+            if self.batch.len() >= self.settings.batch.max(1) {
+                if self.group.path_free()? < self.batch.len() {
+                    self.state = RunState::Running;
+                    return Ok(self.state);
+                }
+                self.flush(false)?;
+                continue;
+            }
+            match self.program.next_op() {
+                None => self.read_all = true,
+                Some(Err(e)) => {
+                    self.error_line = e.line;
+                    // What came before the error runs; nothing after it.
+                    self.flush(true)?;
+                    return Err(e.into());
+                }
+                Some(Ok(op)) => {
+                    self.ops += 1;
+                    self.take(op)?;
+                }
+            }
+        }
+    }
+
+    /// Whether the group has run everything queued.
+    fn motion_done(&self) -> Result<bool> {
+        let (state, st) = self.group.status()?;
+        Ok(state == GroupState::Standby && st.path_queued == 0)
+    }
+
+    /// Sends the batch (`last`: the held segment too, marked last of its stretch).
+    fn flush(&mut self, last: bool) -> Result<()> {
+        if last {
+            if let Some(s) = self.held.take() {
+                self.batch.push(s.last().into());
+            }
+        }
+        if self.batch.is_empty() {
+            return Ok(());
+        }
+        let items: Vec<PathItem> = self.batch.drain(..).collect();
+        self.group
+            .stream_path(items, |_| {})
+            .map_err(|e| e.error)?;
+        Ok(())
+    }
+
+    /// An operation read: an item for the path, or one that waits for the motion.
+    fn take(&mut self, op: Op) -> Result<()> {
+        let err = |m: String| Error::Gcode(GcodeError::new(op.line, m));
+        match &op.kind {
+            OpKind::Message { text } => self.hooks.message(op.line, text),
+            OpKind::Output {
+                index,
+                on,
+                synced: true,
+            } => self.batch.push(PathItem::Output {
+                output: u8::try_from(*index).map_err(|_| err(format!("no output {index}")))?,
+                on: *on,
+                at: crate::OutputAt::Start,
+            }),
+            OpKind::Output {
+                index,
+                on,
+                synced: false,
+            } => {
+                let bit = 1u32
+                    .checked_shl(*index)
+                    .ok_or_else(|| err(format!("no output {index}")))?;
+                self.group
+                    .card_pub()
+                    .set_outputs(bit, if *on { bit } else { 0 })?;
+            }
+            OpKind::AnalogOutput { .. } => {
+                return Err(err("M67/M68: this card has no analog outputs".into()))
+            }
+            OpKind::Probe { .. } => {
+                return Err(err("G38 probing is not run on the card yet".into()))
+            }
+            OpKind::SpindleSync { .. } => {
+                return Err(err("G33/G33.1: this card has no spindle encoder".into()))
+            }
+            OpKind::WaitInput { .. }
+            | OpKind::Spindle { .. }
+            | OpKind::Coolant { .. }
+            | OpKind::ToolChange { .. }
+            | OpKind::Pause { .. }
+            | OpKind::Overrides { .. }
+            | OpKind::Hook { .. }
+            | OpKind::End { .. } => self.waiting = Some(op.clone()),
+            _ => {
+                for seg in self.segments(&op)? {
+                    if let Some(prev) = self.held.replace(seg) {
+                        self.batch.push(prev.into());
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// An operation that waited for the motion before it: `true` pauses the run.
+    fn sync_op(&mut self, op: &Op) -> Result<bool> {
+        match op.kind {
+            OpKind::Spindle { speed, dir } => self.hooks.spindle(speed, dir)?,
+            OpKind::Coolant { mist, flood } => self.hooks.coolant(mist, flood)?,
+            OpKind::ToolChange { tool } => self.hooks.tool_change(tool)?,
+            OpKind::Hook { code, p, q } => self.hooks.hook(code, p, q)?,
+            OpKind::Pause { kind } => return Ok(self.hooks.pause(kind)),
+            OpKind::WaitInput {
+                index,
+                analog,
+                mode,
+                timeout,
+            } => {
+                let v = self.wait_input(op.line, index, analog, mode, timeout)?;
+                self.program.input_result(v);
+            }
+            // The overrides' switches are the operator's; End: nothing after it is read.
+            _ => {}
+        }
+        Ok(false)
+    }
+
+    /// M66 on a digital input: mode 0 reads at once, 1/2 wait for a rising/falling edge, 3/4
+    /// for high/low; the input's value, or −1 after `timeout` seconds.
+    fn wait_input(&self, line: usize, index: u32, analog: bool, mode: u8, timeout: f64) -> Result<f64> {
+        if analog || index >= 32 {
+            return Err(Error::Gcode(GcodeError::new(
+                line,
+                format!("M66: no {} input {index}", if analog { "analog" } else { "digital" }),
+            )));
+        }
+        let card = self.group.card_pub();
+        let read = || -> Result<bool> { Ok(card.inputs()? >> index & 1 == 1) };
+        let first = read()?;
+        if mode == 0 {
+            return Ok(f64::from(u8::from(first)));
+        }
+        let deadline = Instant::now() + Duration::from_secs_f64(timeout.clamp(0.0, 1e6));
+        let mut prev = first;
+        loop {
+            let now = read()?;
+            let met = match mode {
+                1 => now && !prev,
+                2 => !now && prev,
+                3 => now,
+                _ => !now,
+            };
+            if met {
+                return Ok(f64::from(u8::from(now)));
+            }
+            prev = now;
+            if Instant::now() >= deadline {
+                return Ok(-1.0);
+            }
+            match card.sim() {
+                Some(sim) => sim.step(1),
+                None => std::thread::sleep(Duration::from_micros(200)),
+            }
+        }
+    }
+
+    /// The group axes' values of a program position.
+    fn target(&self, p: &Pos, line: usize) -> Result<Vec<f64>> {
+        let n = self.settings.axes.len();
+        let mut t = vec![0.0; n];
+        for (i, g) in self.axis_of.iter().enumerate() {
+            match g {
+                Some(g) => t[*g] = p[i],
+                None if p[i] != 0.0 => {
+                    return Err(Error::Gcode(GcodeError::new(
+                        line,
+                        format!("the program moves {}, which the group does not have", super::AXIS_LETTERS[i]),
+                    )))
+                }
+                None => {}
+            }
+        }
+        Ok(t)
+    }
+
+    /// How a motion joins the one before it.
+    fn join(&self, blend: Blend) -> (PathBuffer, Transition) {
+        match blend {
+            Blend::ExactStop => (PathBuffer::Buffered, Transition::None),
+            // Exact path: no rounding; a corner stops, a tangent join keeps the speed (a
+            // deviation of a nanometre is no rounding a machine can show).
+            Blend::ExactPath => (PathBuffer::BlendingLow, Transition::MaxDeviation(1e-6)),
+            Blend::Blended { tolerance, .. } => (
+                PathBuffer::BlendingLow,
+                Transition::MaxDeviation(tolerance.unwrap_or(self.settings.tolerance)),
+            ),
+        }
+    }
+
+    /// The segments of a motion (an arc with extra turns is one segment a turn).
+    fn segments(&self, op: &Op) -> Result<Vec<Segment>> {
+        let id = u32::try_from(op.line).unwrap_or(u32::MAX);
+        let feed = |f: f64| f.min(self.settings.max_feed);
+        let with = |s: Segment, blend: Blend| {
+            let (b, t) = self.join(blend);
+            s.buffer(b).transition(t)
+        };
+        let segs = match &op.kind {
+            OpKind::Rapid { start, end, blend } => {
+                if start == end {
+                    return Ok(Vec::new());
+                }
+                vec![with(
+                    Segment::line(id, &self.target(end, op.line)?, self.settings.rapid_feed, 0.0),
+                    *blend,
+                )]
+            }
+            OpKind::Feed {
+                start,
+                end,
+                feed: f,
+                blend,
+            } => {
+                if start == end {
+                    return Ok(Vec::new());
+                }
+                vec![with(
+                    Segment::line(id, &self.target(end, op.line)?, feed(*f), 0.0),
+                    *blend,
+                )]
+            }
+            OpKind::Dwell { seconds } => vec![Segment::dwell(id, *seconds)],
+            OpKind::Arc {
+                start,
+                end,
+                centre,
+                plane,
+                ccw,
+                turns,
+                feed: f,
+                blend,
+            } => {
+                let mut out = Vec::new();
+                let sweep = arc_sweep(start, end, centre, *plane, *ccw);
+                let total = sweep.abs() + f64::from(*turns) * std::f64::consts::TAU;
+                let (a, b, _) = plane.axes();
+                // Full turns first, each ending where the arc started, the other axes moved
+                // by their share of the whole sweep; then the arc to its end.
+                let mut turn_end = *start;
+                for k in 1..=*turns {
+                    let share = f64::from(k) * std::f64::consts::TAU / total;
+                    for i in 0..6 {
+                        if i != a && i != b {
+                            turn_end[i] = start[i] + share * (end[i] - start[i]);
+                        }
+                    }
+                    out.push(self.arc_segment(id, &turn_end, centre, *plane, *ccw, feed(*f), op.line)?);
+                }
+                out.push(self.arc_segment(id, end, centre, *plane, *ccw, feed(*f), op.line)?);
+                out.into_iter().map(|s| with(s, *blend)).collect()
+            }
+            OpKind::Spline {
+                spline,
+                feed: f,
+                blend,
+                ..
+            } => {
+                let dim = self.settings.axes.len();
+                let mut ctrl = Vec::with_capacity(spline.points.len() * dim);
+                for p in &spline.points {
+                    ctrl.extend(self.target(p, op.line)?);
+                }
+                let curve = Nurbs::new(spline.degree, dim, &ctrl, &spline.weights, &spline.knots)
+                    .map_err(|e| {
+                        Error::Gcode(GcodeError::new(op.line, format!("the spline: {e:?}")))
+                    })?;
+                vec![with(
+                    Segment::nurbs(id, curve, feed(*f), 0.0, self.settings.spline_tolerance),
+                    *blend,
+                )]
+            }
+            _ => Vec::new(),
+        };
+        Ok(segs)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn arc_segment(
+        &self,
+        id: u32,
+        end: &Pos,
+        centre: &[f64; 3],
+        plane: Plane,
+        ccw: bool,
+        feed: f64,
+        line: usize,
+    ) -> Result<Segment> {
+        let (a, b, _) = plane.axes();
+        if self.axis_of[..3] != [Some(0), Some(1), Some(2)] {
+            return Err(Error::Gcode(GcodeError::new(
+                line,
+                "arcs need X, Y and Z as the group's first three axes",
+            )));
+        }
+        let target = self.target(end, line)?;
+        let helix: Vec<f64> = (0..target.len())
+            .filter(|&g| g != a && g != b)
+            .map(|g| target[g])
+            .collect();
+        let plane = match plane {
+            Plane::Xy => crate::Plane::XY,
+            Plane::Yz => crate::Plane::YZ,
+            Plane::Zx => crate::Plane::ZX,
+        };
+        let arc = ArcSpec::Centre {
+            end: [end[a], end[b]],
+            centre: [centre[a], centre[b]],
+            ccw,
+        };
+        Ok(Segment::arc(id, arc, plane, &helix, feed, 0.0))
+    }
+
+    /// Pauses at the end of the blocks already queued on the card: nothing more is sent, the
+    /// motion queued runs to its end, then [`RunState::Paused`].
+    pub fn pause(&mut self) {
+        if matches!(self.state, RunState::Running | RunState::Draining) {
+            self.pause_requested = true;
+        }
+    }
+
+    /// Goes on after a pause.
+    pub fn resume(&mut self) {
+        if self.state == RunState::Paused {
+            self.state = RunState::Running;
+        }
+    }
+
+    /// Halts the path along its geometry (within `deceleration` and `jerk`, mm/s² and
+    /// mm/s³) and ends the run: nothing more is read.
+    pub fn abort(&mut self, deceleration: f64, jerk: f64) -> Result<()> {
+        self.state = RunState::Aborted;
+        self.batch.clear();
+        self.held = None;
+        self.waiting = None;
+        if !self.motion_done()? {
+            self.group.halt(deceleration, jerk)?;
+        }
+        Ok(())
+    }
+
+    /// Polls until the run is done, paused or aborted; a stepped in-process card is stepped
+    /// a tick at a time, another waited on. `timeout` bounds the whole.
+    pub fn run(&mut self, timeout: Duration) -> Result<RunState> {
+        let deadline = Instant::now() + timeout;
+        let sim = self.group.card_pub().sim();
+        loop {
+            let s = self.poll()?;
+            if matches!(s, RunState::Done | RunState::Paused | RunState::Aborted) {
+                return Ok(s);
+            }
+            if Instant::now() >= deadline {
+                return Err(Error::Timeout(timeout));
+            }
+            match &sim {
+                Some(sim) => sim.step(1),
+                None => std::thread::sleep(Duration::from_micros(500)),
+            }
+        }
+    }
+
+    /// Where the run is.
+    pub fn state(&self) -> RunState {
+        self.state
+    }
+
+    /// The source line of the segment the card runs (0 when none runs): the id of the
+    /// running segment.
+    pub fn running_line(&self) -> Result<usize> {
+        let (_, st) = self.group.status()?;
+        Ok(if st.path_flags & firmware_proto::raw::MC_PATHST_RUNNING != 0 {
+            st.path_id as usize
+        } else {
+            0
+        })
+    }
+
+    /// The source line the reader has reached.
+    pub fn read_line(&self) -> usize {
+        self.program.line()
+    }
+
+    /// The line of the error that stopped the run (0: none).
+    pub fn error_line(&self) -> usize {
+        self.error_line
+    }
+
+    /// Operations read so far.
+    pub fn operations(&self) -> u64 {
+        self.ops
+    }
+
+    /// The program (its interpreter's state and parameters).
+    pub fn program(&self) -> &Program<S> {
+        &self.program
+    }
+
+    /// The hooks.
+    pub fn hooks_mut(&mut self) -> &mut H {
+        &mut self.hooks
+    }
+}
+
+/// The signed sweep (radians, positive counter-clockwise) of an arc from `start` to `end`
+/// about `centre` in `plane`: a full turn when they coincide in the plane.
+pub fn arc_sweep(start: &Pos, end: &Pos, centre: &[f64; 3], plane: Plane, ccw: bool) -> f64 {
+    let (a, b, _) = plane.axes();
+    let t0 = (start[b] - centre[b]).atan2(start[a] - centre[a]);
+    let t1 = (end[b] - centre[b]).atan2(end[a] - centre[a]);
+    let tau = std::f64::consts::TAU;
+    let full = (end[a] - start[a]).hypot(end[b] - start[b]) <= 1e-9 * (1.0 + start[a].abs().max(start[b].abs()));
+    match (full, ccw) {
+        (true, true) => tau,
+        (true, false) => -tau,
+        (false, true) => (t1 - t0).rem_euclid(tau),
+        (false, false) => -(t0 - t1).rem_euclid(tau),
+    }
+}
