@@ -117,9 +117,12 @@ enum Cmd {
     /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
     /// for the moves that follow, whoever commands them.
     Override(cli::set_override::Args),
-    /// Run a G-code program (RS274/NGC subset: G0-G4, G17-G19, G20/G21, G90/G91, F,
-    /// M62-M65) on group 0 over axes 0, 1, 2 through the card's path buffer, with corner
-    /// blending, and report the path time, the peak axis velocity, acceleration and jerk over
+    /// Read a G-code program (RS274/NGC as LinuxCNC documents it for milling) without a card
+    /// and print its canonical operations in machine coordinates (--json: one object a line,
+    /// with `line`, `kind`, and for motions `end` and `length`).
+    Gcode(cli::gcode::Args),
+    /// Run a G-code program (RS274/NGC, as `mcctl gcode` reads it) on group 0 over axes 0, 1,
+    /// 2 (X, Y, Z) through the card's path buffer, with corner blending, and report the path time, the peak axis velocity, acceleration and jerk over
     /// their limits, the largest deviation from the programmed path (mm) and the exact stops.
     /// On `--card sim` the card is stepped by mcctl and every tick is measured.
     Run(cli::run::Args),
@@ -142,7 +145,7 @@ fn main() -> ExitCode {
     // starts. Not for what opens no card of the user's (`plan`, `replay`, `run` on its own
     // stepped `sim`), nor for `serve`, whose server takes them itself and then closes.
     let own_card = match &cli.command {
-        Cmd::Plan(_) | Cmd::Replay(_) | Cmd::Serve(_) => false,
+        Cmd::Plan(_) | Cmd::Replay(_) | Cmd::Serve(_) | Cmd::Gcode(_) => false,
         Cmd::Run(_) => uri != "sim",
         _ => true,
     };
@@ -174,6 +177,7 @@ fn main() -> ExitCode {
         Cmd::Home(a) => cli::home::run(uri, a),
         Cmd::Override(a) => cli::set_override::run(uri, a),
         Cmd::Run(a) => cli::run::run(uri, a),
+        Cmd::Gcode(a) => cli::gcode::run(a),
         Cmd::Serve(a) => cli::serve::run(uri, a),
         Cmd::Halt(a) => cli::halt::run(uri, a),
     }

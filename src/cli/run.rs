@@ -62,6 +62,9 @@ pub struct Args {
     /// (see the SDK's chord fitting).
     #[arg(long)]
     pub no_chord_fit: bool,
+    /// The tool table, in LinuxCNC's format (`T1 P1 Z10 D6 ;comment`, lengths in mm).
+    #[arg(long)]
+    pub tool_table: Option<std::path::PathBuf>,
     #[arg(long)]
     pub json: bool,
 }
@@ -93,7 +96,15 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
     if let Err(e) = std::fs::File::open(&a.file) {
         return bad(format!("{}: {e}", a.file.display()));
     }
+    let tools = match &a.tool_table {
+        Some(f) => match motioncard_sdk::gcode::ToolTable::load(f) {
+            Ok(t) => t,
+            Err(e) => return bad(format!("--tool-table {}: {e}", f.display())),
+        },
+        None => Default::default(),
+    };
     let opts = crate::run::RunOptions {
+        tools,
         tolerance: a.tolerance,
         feed_limit: a.feed_limit,
         vmax,

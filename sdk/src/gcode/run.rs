@@ -51,6 +51,8 @@ impl Default for RunSettings {
 /// nothing, refuse what needs hardware they cannot know (M100–M199), and make M0/M60 (and
 /// M1 with the optional stop on) pause the runner until [`Runner::resume`].
 pub trait Hooks {
+    /// Every operation as it is read, before it is queued (a report, a preview).
+    fn op(&mut self, _op: &Op) {}
     /// M3/M4/M5, S.
     fn spindle(&mut self, _speed: f64, _dir: SpindleDir) -> Result<()> {
         Ok(())
@@ -115,6 +117,8 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     state: RunState,
     pause_requested: bool,
     read_all: bool,
+    /// The reader stops before this source line until the limit moves.
+    read_limit: Option<usize>,
     ops: u64,
     error_line: usize,
 }
@@ -169,6 +173,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             state: RunState::Running,
             pause_requested: false,
             read_all: false,
+            read_limit: None,
             ops: 0,
             error_line: 0,
         })
@@ -235,6 +240,17 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 self.flush(false)?;
                 continue;
             }
+            if self
+                .read_limit
+                .is_some_and(|l| self.program.line() >= l)
+            {
+                // Held at the limit: what is made goes as soon as it fits.
+                if self.group.path_free()? >= self.batch.len() {
+                    self.flush(false)?;
+                }
+                self.state = RunState::Running;
+                return Ok(self.state);
+            }
             match self.program.next_op() {
                 None => self.read_all = true,
                 Some(Err(e)) => {
@@ -245,6 +261,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 }
                 Some(Ok(op)) => {
                     self.ops += 1;
+                    self.hooks.op(&op);
                     self.take(op)?;
                 }
             }
@@ -592,6 +609,13 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 None => std::thread::sleep(Duration::from_micros(500)),
             }
         }
+    }
+
+    /// Reads no source line at or past `line` (`None`: no limit) until the limit moves: a
+    /// host that keeps something per line read (a report) bounds it so, whatever the chord
+    /// fitter makes of the lines.
+    pub fn set_read_limit(&mut self, line: Option<usize>) {
+        self.read_limit = line;
     }
 
     /// Where the run is.
