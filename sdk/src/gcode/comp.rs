@@ -1,7 +1,20 @@
 //! Cutter radius compensation (G41/G42) in the plane: the programmed path's lines and arcs
 //! offset by the tool radius, arcs added at convex corners, intersections at concave ones,
 //! after LinuxCNC's `convert_straight_comp1/2` and `convert_arc_comp1/2` (see
-//! [`Compensator::push`] for the rules and where they differ).
+//! [`Compensator::push`] for the rules).
+//!
+//! Where it differs from LinuxCNC 2.9's code:
+//! - The entry line ends at the tangent point from its start to the circle of the radius about
+//!   the programmed end (as NIST's rs274ngc and the LinuxCNC manual's figure have it), not at
+//!   the programmed end offset perpendicular to the entry line: the tool then meets the
+//!   programmed end exactly tangent, and the entry line is the offset of a line through the
+//!   programmed end, which the next corner treats like any other.
+//! - Corners are told apart at [`ANGLE_TOL`] (1e-9 rad), not LinuxCNC's 0.05 rad: a slightly
+//!   concave corner ends at the exact intersection instead of joining with a slightly skewed
+//!   line, a slightly convex one gets its small arc, so every offset piece stays exactly at
+//!   the radius.
+//! - A reversal is classified by the two moves' curvatures (LinuxCNC special-cases the line
+//!   or arc into an arc the tool is outside of, its "h" and "m" shapes, with the same result).
 
 /// Which side of the programmed path the tool runs on, looking along the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

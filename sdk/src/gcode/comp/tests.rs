@@ -212,6 +212,45 @@ fn concave_corners_end_at_the_intersection() {
 }
 
 #[test]
+fn concave_line_to_arc_and_arc_to_line() {
+    // +x into (0, 0), then ccw about (−5, 0) (leaving upward): a left turn, G41 inside the
+    // arc (radius 4). The line's offset y = 1 meets it at (√15 − 5, 1).
+    let (out, end) = run(
+        [-20.0, -10.0],
+        Side::Left,
+        1.0,
+        &[
+            line(-10.0, 0.0),
+            line(0.0, 0.0),
+            arc(-5.0, 5.0, -5.0, 0.0, true),
+        ],
+    )
+    .unwrap();
+    assert_continuous([-20.0, -10.0], &out, EPS);
+    let x = [15f64.sqrt() - 5.0, 1.0];
+    assert_close(ends(&of(&out, 1)).1, x);
+    assert_close(ends(&of(&out, 2)).0, x);
+    assert_close(end, [-5.0, 4.0]);
+    // Back: ccw about (−5, 0) from (−5, 5) to (0, 0) (arriving downward), then −x: a right
+    // turn, G42 inside the arc (radius 4): the same point mirrored in time.
+    let (out, end) = run(
+        [-5.0, 20.0],
+        Side::Right,
+        1.0,
+        &[
+            line(-5.0, 5.0),
+            arc(0.0, 0.0, -5.0, 0.0, false),
+            line(-10.0, 0.0),
+        ],
+    )
+    .unwrap();
+    assert_continuous([-5.0, 20.0], &out, EPS);
+    assert_close(ends(&of(&out, 1)).1, x);
+    assert_close(ends(&of(&out, 2)).0, x);
+    assert_close(end, [-10.0, 1.0]);
+}
+
+#[test]
 fn tangent_line_and_arc_join_without_a_corner() {
     // A line along +x, a ccw quarter about (0, 5), then a line up: all tangent.
     let pieces = [
