@@ -346,7 +346,8 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
             let mut from = xyz(start);
             for k in 1..=*turns {
                 let mut to = xyz(start);
-                to[n] = start[n] + f64::from(k) * std::f64::consts::TAU / total * (end[n] - start[n]);
+                to[n] =
+                    start[n] + f64::from(k) * std::f64::consts::TAU / total * (end[n] - start[n]);
                 out.push(arc(from, to));
                 from = to;
             }

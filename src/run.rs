@@ -198,7 +198,12 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         batch: SEND_ROOM,
         ..RunSettings::default()
     };
-    let mut runner = Runner::new(&g, program(file, start, opts)?, settings, Measure::default())?;
+    let mut runner = Runner::new(
+        &g,
+        program(file, start, opts)?,
+        settings,
+        Measure::default(),
+    )?;
     let bar = indicatif::ProgressBar::new(survey.ops);
     if let Ok(style) =
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} operations, {msg}")

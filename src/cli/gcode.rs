@@ -5,7 +5,9 @@
 use super::bad;
 use crate::gcode::{blocks_of, Block};
 use clap::Args as ClapArgs;
-use motioncard_sdk::gcode::{Op, OpKind, Options, Pos, Program, SpindleDir, ToolTable, AXIS_LETTERS};
+use motioncard_sdk::gcode::{
+    Op, OpKind, Options, Pos, Program, SpindleDir, ToolTable, AXIS_LETTERS,
+};
 use std::io::Write as _;
 use std::process::ExitCode;
 

@@ -183,3 +183,17 @@ impl<S: Source> Iterator for Program<S> {
         self.next_op()
     }
 }
+
+/// A boxed source is a source (a host that reads programs from files and from memory keeps
+/// one type of runner).
+impl<S: Source + ?Sized> Source for Box<S> {
+    fn read_line(&mut self, buf: &mut String) -> std::io::Result<bool> {
+        (**self).read_line(buf)
+    }
+    fn tell(&mut self) -> u64 {
+        (**self).tell()
+    }
+    fn seek(&mut self, pos: u64) -> std::io::Result<()> {
+        (**self).seek(pos)
+    }
+}

@@ -126,9 +126,18 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
 impl<S: Source, H: Hooks> Runner<S, H> {
     /// `program` on `group` (enabled, its path configured), with `hooks`. The group's axes are
     /// checked against `settings.axes`.
-    pub fn new(group: &Group, program: Program<S>, settings: RunSettings, hooks: H) -> Result<Self> {
+    pub fn new(
+        group: &Group,
+        program: Program<S>,
+        settings: RunSettings,
+        hooks: H,
+    ) -> Result<Self> {
         let n = group.axes()?.0;
-        let letters: Vec<char> = settings.axes.chars().map(|c| c.to_ascii_uppercase()).collect();
+        let letters: Vec<char> = settings
+            .axes
+            .chars()
+            .map(|c| c.to_ascii_uppercase())
+            .collect();
         if letters.len() != n {
             return Err(Error::BadConfig(format!(
                 "the group has {n} axes, the run names {} ('{}')",
@@ -152,7 +161,9 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             ("spline tolerance", settings.spline_tolerance),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(Error::BadConfig(format!("the {what} must be above 0, not {v}")));
+                return Err(Error::BadConfig(format!(
+                    "the {what} must be above 0, not {v}"
+                )));
             }
         }
         if !(settings.tolerance.is_finite() && settings.tolerance >= 0.0) {
@@ -240,10 +251,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 self.flush(false)?;
                 continue;
             }
-            if self
-                .read_limit
-                .is_some_and(|l| self.program.line() >= l)
-            {
+            if self.read_limit.is_some_and(|l| self.program.line() >= l) {
                 // Held at the limit: what is made goes as soon as it fits.
                 if self.group.path_free()? >= self.batch.len() {
                     self.flush(false)?;
@@ -285,9 +293,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             return Ok(());
         }
         let items: Vec<PathItem> = self.batch.drain(..).collect();
-        self.group
-            .stream_path(items, |_| {})
-            .map_err(|e| e.error)?;
+        self.group.stream_path(items, |_| {}).map_err(|e| e.error)?;
         Ok(())
     }
 
@@ -370,11 +376,21 @@ impl<S: Source, H: Hooks> Runner<S, H> {
 
     /// M66 on a digital input: mode 0 reads at once, 1/2 wait for a rising/falling edge, 3/4
     /// for high/low; the input's value, or −1 after `timeout` seconds.
-    fn wait_input(&self, line: usize, index: u32, analog: bool, mode: u8, timeout: f64) -> Result<f64> {
+    fn wait_input(
+        &self,
+        line: usize,
+        index: u32,
+        analog: bool,
+        mode: u8,
+        timeout: f64,
+    ) -> Result<f64> {
         if analog || index >= 32 {
             return Err(Error::Gcode(GcodeError::new(
                 line,
-                format!("M66: no {} input {index}", if analog { "analog" } else { "digital" }),
+                format!(
+                    "M66: no {} input {index}",
+                    if analog { "analog" } else { "digital" }
+                ),
             )));
         }
         let card = self.group.card_pub();
@@ -400,10 +416,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             if Instant::now() >= deadline {
                 return Ok(-1.0);
             }
-            match card.sim() {
-                Some(sim) => sim.step(1),
-                None => std::thread::sleep(Duration::from_micros(200)),
-            }
+            let_card_run(card, Duration::from_micros(200));
         }
     }
 
@@ -417,7 +430,10 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 None if p[i] != 0.0 => {
                     return Err(Error::Gcode(GcodeError::new(
                         line,
-                        format!("the program moves {}, which the group does not have", super::AXIS_LETTERS[i]),
+                        format!(
+                            "the program moves {}, which the group does not have",
+                            super::AXIS_LETTERS[i]
+                        ),
                     )))
                 }
                 None => {}
@@ -454,7 +470,12 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                     return Ok(Vec::new());
                 }
                 vec![with(
-                    Segment::line(id, &self.target(end, op.line)?, self.settings.rapid_feed, 0.0),
+                    Segment::line(
+                        id,
+                        &self.target(end, op.line)?,
+                        self.settings.rapid_feed,
+                        0.0,
+                    ),
                     *blend,
                 )]
             }
@@ -497,7 +518,15 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                             turn_end[i] = start[i] + share * (end[i] - start[i]);
                         }
                     }
-                    out.push(self.arc_segment(id, &turn_end, centre, *plane, *ccw, feed(*f), op.line)?);
+                    out.push(self.arc_segment(
+                        id,
+                        &turn_end,
+                        centre,
+                        *plane,
+                        *ccw,
+                        feed(*f),
+                        op.line,
+                    )?);
                 }
                 out.push(self.arc_segment(id, end, centre, *plane, *ccw, feed(*f), op.line)?);
                 out.into_iter().map(|s| with(s, *blend)).collect()
@@ -515,8 +544,8 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 }
                 let curve = Nurbs::new(spline.degree, dim, &ctrl, &spline.weights, &spline.knots)
                     .map_err(|e| {
-                        Error::Gcode(GcodeError::new(op.line, format!("the spline: {e:?}")))
-                    })?;
+                    Error::Gcode(GcodeError::new(op.line, format!("the spline: {e:?}")))
+                })?;
                 vec![with(
                     Segment::nurbs(id, curve, feed(*f), 0.0, self.settings.spline_tolerance),
                     *blend,
@@ -595,7 +624,6 @@ impl<S: Source, H: Hooks> Runner<S, H> {
     /// a tick at a time, another waited on. `timeout` bounds the whole.
     pub fn run(&mut self, timeout: Duration) -> Result<RunState> {
         let deadline = Instant::now() + timeout;
-        let sim = self.group.card_pub().sim();
         loop {
             let s = self.poll()?;
             if matches!(s, RunState::Done | RunState::Paused | RunState::Aborted) {
@@ -604,10 +632,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             if Instant::now() >= deadline {
                 return Err(Error::Timeout(timeout));
             }
-            match &sim {
-                Some(sim) => sim.step(1),
-                None => std::thread::sleep(Duration::from_micros(500)),
-            }
+            self.idle();
         }
     }
 
@@ -627,11 +652,13 @@ impl<S: Source, H: Hooks> Runner<S, H> {
     /// running segment.
     pub fn running_line(&self) -> Result<usize> {
         let (_, st) = self.group.status()?;
-        Ok(if st.path_flags & firmware_proto::raw::MC_PATHST_RUNNING != 0 {
-            st.path_id as usize
-        } else {
-            0
-        })
+        Ok(
+            if st.path_flags & firmware_proto::raw::MC_PATHST_RUNNING != 0 {
+                st.path_id as usize
+            } else {
+                0
+            },
+        )
     }
 
     /// The source line the reader has reached.
@@ -654,10 +681,43 @@ impl<S: Source, H: Hooks> Runner<S, H> {
         &self.program
     }
 
+    /// Lets the card run between two polls: a tick of a stepped in-process card (which only
+    /// moves when stepped), else half a millisecond.
+    pub fn idle(&self) {
+        let_card_run(self.group.card_pub(), Duration::from_micros(500));
+    }
+
     /// The hooks.
     pub fn hooks_mut(&mut self) -> &mut H {
         &mut self.hooks
     }
+}
+
+/// One tick of a stepped in-process card (it moves only when stepped), else `sleep`.
+fn let_card_run(card: &crate::Card, sleep: Duration) {
+    #[cfg(feature = "emulator")]
+    if let Some(sim) = card.sim() {
+        sim.step(1);
+        return;
+    }
+    let _ = card;
+    std::thread::sleep(sleep);
+}
+
+/// Where `group` is, as a program position: each group axis's commanded position under the
+/// letter `axes` gives it (`"XYZ"`: group axes 0, 1, 2 are X, Y, Z), the others 0. A program
+/// run on the group starts here ([`super::Options::start`]).
+pub fn group_position(group: &Group, axes: &str) -> Result<Pos> {
+    let (n, ids) = group.axes()?;
+    let status = group.card_pub().statuses(&ids[..n])?;
+    let mut p = [0.0; 6];
+    for (s, l) in status.iter().zip(axes.chars()) {
+        let l = l.to_ascii_uppercase();
+        if let Some(i) = super::AXIS_LETTERS.iter().position(|&a| a == l) {
+            p[i] = s.command_position;
+        }
+    }
+    Ok(p)
 }
 
 /// The signed sweep (radians, positive counter-clockwise) of an arc from `start` to `end`
@@ -667,7 +727,8 @@ pub fn arc_sweep(start: &Pos, end: &Pos, centre: &[f64; 3], plane: Plane, ccw: b
     let t0 = (start[b] - centre[b]).atan2(start[a] - centre[a]);
     let t1 = (end[b] - centre[b]).atan2(end[a] - centre[a]);
     let tau = std::f64::consts::TAU;
-    let full = (end[a] - start[a]).hypot(end[b] - start[b]) <= 1e-9 * (1.0 + start[a].abs().max(start[b].abs()));
+    let full = (end[a] - start[a]).hypot(end[b] - start[b])
+        <= 1e-9 * (1.0 + start[a].abs().max(start[b].abs()));
     match (full, ccw) {
         (true, true) => tau,
         (true, false) => -tau,
