@@ -196,6 +196,8 @@ pub struct Reader<S: Source> {
     started: bool,
     /// The end of the program was met, or an error.
     done: bool,
+    /// `#<_value>` and `#<_value_returned>` have been given their first values.
+    primed: bool,
     /// Open constructs, innermost last.
     stack: Vec<Ctl>,
     /// Lines being skipped, if any.
@@ -222,6 +224,7 @@ impl<S: Source> Reader<S> {
             sets: Vec::new(),
             started: false,
             done: false,
+            primed: false,
             stack: Vec::new(),
             skip: None,
             subs: HashMap::new(),
@@ -237,6 +240,16 @@ impl<S: Source> Reader<S> {
     pub fn next_block(&mut self, params: &mut Params) -> Result<Option<Block>, GcodeError> {
         if self.done {
             return Ok(None);
+        }
+        if !self.primed {
+            // LinuxCNC's predefined `#<_value>` and `#<_value_returned>`: 0 before any
+            // subroutine returns.
+            self.primed = true;
+            for name in ["_value", "_value_returned"] {
+                if params.named(name).is_none() {
+                    params.set_named(name, 0.0);
+                }
+            }
         }
         let r = self.read_block(params);
         if !matches!(r, Ok(Some(_))) {

@@ -346,7 +346,7 @@ impl<'a> Cursor<'a> {
         Some(op)
     }
 
-    /// A function: `NAME[arg]`, `ATAN[y]/[x]` or `EXISTS[#<name>]`.
+    /// A function: `NAME[arg]`, `ATAN[y]/[x]`, `EXISTS[#<name>]` or `EXISTS[#n]`.
     fn function(&mut self, p: &Params) -> Result<f64, String> {
         let name = self.letters();
         let shown = String::from_utf8_lossy(name).to_ascii_uppercase();
@@ -355,13 +355,17 @@ impl<'a> Cursor<'a> {
         }
         self.bump();
         if name == b"exists" {
-            self.expect(b'#', "in EXISTS[#<name>]")?;
-            if self.peek() != Some(b'<') {
-                return Err("EXISTS takes a named parameter: EXISTS[#<name>]".into());
-            }
-            let n = self.name()?;
+            self.expect(b'#', "in EXISTS[#<name>] or EXISTS[#n]")?;
+            let there = if self.peek() == Some(b'<') {
+                let n = self.name()?;
+                p.named(&n).is_some()
+            } else {
+                // A numbered parameter exists when its number is in range (LinuxCNC).
+                let v = self.value(p)?;
+                integer(v).is_some_and(|n| n >= 1.0 && p.get(n as u32).is_some())
+            };
             self.expect(b']', "after EXISTS's parameter")?;
-            return Ok(if p.named(&n).is_some() { 1.0 } else { 0.0 });
+            return Ok(if there { 1.0 } else { 0.0 });
         }
         let x = self.expression(p)?;
         let deg = |r: f64| r.to_degrees();

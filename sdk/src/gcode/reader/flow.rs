@@ -587,7 +587,9 @@ impl<S: Source> Reader<S> {
         else {
             return Ok(());
         };
-        if called != label {
+        // `return` may carry any label (LinuxCNC's own examples return with the label of
+        // an enclosing `if`); `endsub` closes its own subroutine.
+        if kw == Kw::Endsub && called != label {
             return Err(self.err(format!(
                 "o{shown} {} inside subroutine o{}",
                 kw.name(),

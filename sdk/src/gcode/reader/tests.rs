@@ -185,7 +185,8 @@ fn malformed_values_are_errors() {
         "#<nope>",
         "#<>",
         "#<open",
-        "exists[#1]",
+        "exists[1]",
+        "exists[#<a>+1]",
     ] {
         let e = error(&format!("G1 X{v}"));
         assert_eq!(e.line, 1, "{v}");
@@ -343,6 +344,22 @@ fn named_parameters() {
     assert_eq!(e.line, 2, "a name set on a line is not yet set on it");
     assert!(e.message.contains("#<x>"), "{e}");
     assert_eq!(eval("exists[#<nope>]"), 0.0);
+    // LinuxCNC's exists test: a numbered parameter exists when in range.
+    let b = read(
+        "#<a>=999\nG0 X EXISTS[#1] Y EXISTS[#99999] Z EXISTS[#<a>] A EXISTS[#<b>]\n\
+                  #1=2\n#2=99999\nG0 X EXISTS[##1] Y EXISTS[##2] Z EXISTS[###1]",
+    );
+    let got: Vec<_> = b
+        .iter()
+        .map(|b| [b.word('X'), b.word('Y'), b.word('Z'), b.word('A')])
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            [Some(1.0), Some(0.0), Some(1.0), Some(0.0)],
+            [Some(1.0), Some(0.0), Some(0.0), None]
+        ]
+    );
     assert_eq!(read("#<a>=0\nX EXISTS[#<A>]")[0].word('X'), Some(1.0));
     assert_eq!(error("#5603=1").line, 1);
     assert_eq!(error("#0=1").line, 1);
@@ -441,6 +458,21 @@ o2 call
         [p.get(10), p.get(11), p.get(12), p.get(13)],
         [Some(2.5), Some(1.0), Some(0.0), Some(0.0)]
     );
+    // Defined (0) before any call; `return` may carry an enclosing construct's label
+    // (LinuxCNC's retval example).
+    let src = "\
+X#<_value> Y#<_value_returned>
+o1000 sub
+o1010 if [#1 GT 0]
+o1010    return [123*[#1]]
+o1010 endif
+o1000 endsub [4712]
+o1000 call [2]
+X#<_value>
+o1000 call [-2]
+X#<_value>
+";
+    assert_eq!(xs(src), vec![0.0, 246.0, 4712.0]);
 }
 
 #[test]
@@ -603,7 +635,7 @@ fn mismatched_and_unterminated_constructs_name_their_lines() {
         ("o1 endsub\n", 1),
         ("o1 return\n", 1),
         ("G0\n\no9 call\n", 3),
-        ("o1 sub\no2 return\no1 endsub\no1 call\n", 2),
+        ("o1 sub\no2 endsub\no1 endsub\no1 call\n", 2),
         ("o1 sub\no2 if [1]\no1 endsub\no1 call\n", 2),
         ("o1 if [1]\no2 sub\no2 endsub\no1 endif\n", 2),
         ("o1 if [1]\no1 if [1]\no1 endif\no1 endif\n", 2),
