@@ -31,6 +31,10 @@ pub const MAX_LINE_BYTES: usize = 64 * 1024;
 /// How many times loops may go round without the reader giving a block (then it is an error,
 /// so that a program cannot hang the reader).
 const MAX_PASSES: u64 = 1_000_000;
+/// How many lines may be read again (after a loop went back or a subroutine was called)
+/// without the reader giving a block: the same guard for long loop bodies and for
+/// subroutines calling each other many times.
+const MAX_REREAD: u64 = 10_000_000;
 
 /// Where the reader gets its lines, with positions it can come back to (loops, calls).
 pub trait Source {
@@ -209,6 +213,11 @@ pub struct Reader<S: Source> {
     /// Loop passes since the last block given, and how many are allowed.
     passes: u64,
     max_passes: u64,
+    /// Lines read since the last block given after going back or calling (counted from
+    /// the first such jump), and how many are allowed.
+    rereading: bool,
+    reread: u64,
+    max_reread: u64,
 }
 
 impl<S: Source> Reader<S> {
@@ -231,6 +240,9 @@ impl<S: Source> Reader<S> {
             scanned: false,
             passes: 0,
             max_passes: MAX_PASSES,
+            rereading: false,
+            reread: 0,
+            max_reread: MAX_REREAD,
         }
     }
 
@@ -267,6 +279,18 @@ impl<S: Source> Reader<S> {
     fn read_block(&mut self, params: &mut Params) -> Result<Option<Block>, GcodeError> {
         loop {
             let pos = self.source.tell();
+            if self.rereading {
+                self.reread += 1;
+                if self.reread > self.max_reread {
+                    return Err(GcodeError::new(
+                        self.line,
+                        format!(
+                            "{} lines read in loops or subroutines without a block to run",
+                            self.max_reread
+                        ),
+                    ));
+                }
+            }
             match self.source.read_line(&mut self.buf) {
                 Ok(true) => self.line += 1,
                 Ok(false) => return self.end(),
@@ -296,6 +320,8 @@ impl<S: Source> Reader<S> {
             self.code = code;
             if let Some(b) = r? {
                 self.passes = 0;
+                self.rereading = false;
+                self.reread = 0;
                 return Ok(Some(b));
             }
         }

@@ -237,6 +237,7 @@ impl<S: Source> Reader<S> {
     /// Goes back to `pos`, where the next line is `line_before + 1`; counts the pass.
     fn loop_back(&mut self, pos: u64, line_before: usize) -> Result<(), GcodeError> {
         self.passes += 1;
+        self.rereading = true;
         if self.passes > self.max_passes {
             return Err(self.err(format!(
                 "a loop went round {} times without a block to run",
@@ -560,6 +561,7 @@ impl<S: Source> Reader<S> {
             pos,
         });
         params.call(args);
+        self.rereading = true;
         self.goto(body, sub_line)
     }
 

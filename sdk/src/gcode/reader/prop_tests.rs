@@ -4,11 +4,12 @@ use super::*;
 use proptest::prelude::*;
 
 /// Reads up to `max_blocks` blocks (a program may loop forever giving blocks: that is its
-/// consumer's business), with loops limited to `1000` passes without a block. Returns how
+/// consumer's business), with loops limited to 1000 passes and 20000 lines read again without a block. Returns how
 /// many blocks came before the end or an error.
 fn drive<S: Source>(source: S, block_delete: bool, max_blocks: usize) -> usize {
     let mut r = Reader::new(source, block_delete);
     r.max_passes = 1_000;
+    r.max_reread = 20_000;
     let mut p = Params::new();
     for n in 0..max_blocks {
         match r.next_block(&mut p) {
@@ -193,10 +194,12 @@ proptest! {
         std::fs::write(&path, &bytes).unwrap();
         let mut a = Reader::new(FileSource::open(&path).unwrap(), false);
         a.max_passes = 1_000;
+        a.max_reread = 20_000;
         let from_file = collect(a);
         std::fs::remove_file(&path).ok();
         let mut b = Reader::new(TextSource::new(String::from_utf8(bytes).unwrap()), false);
         b.max_passes = 1_000;
+        b.max_reread = 20_000;
         let from_text = collect(b);
         prop_assert_eq!(from_file, from_text);
     }

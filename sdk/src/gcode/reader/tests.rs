@@ -685,6 +685,24 @@ fn a_loop_without_blocks_is_stopped() {
         Some(1_000_001.0),
         "the pass over the limit is refused"
     );
+    // Long bodies and subroutines calling each other are held by the count of lines read
+    // again: 2^40 calls without a block would otherwise run for days.
+    let src = "\
+o1 sub
+o2 if [#1 LT 40]
+o1 call [#1 + 1]
+o1 call [#1 + 1]
+o2 endif
+o1 endsub
+G0
+o1 call [0]
+";
+    let mut r = Reader::new(TextSource::new(src.into()), false);
+    r.max_reread = 200_000;
+    let mut p = Params::new();
+    assert!(r.next_block(&mut p).unwrap().is_some());
+    let e = r.next_block(&mut p).unwrap_err();
+    assert!(e.message.contains("200000 lines"), "{e}");
     // A loop giving blocks goes on as long as its consumer reads.
     let mut r = Reader::new(
         TextSource::new("o1 while [1]\nX1\no1 endwhile\n".into()),
