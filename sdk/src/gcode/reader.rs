@@ -10,6 +10,12 @@
 //! parameter settings are applied after it (RS274/NGC's rule), then its message is
 //! formatted. Lines holding nothing for the interpreter (blank, comments, settings only,
 //! O-words) give no block.
+//!
+//! Not read (an error naming the line): polar words `@` and `^`, spindle selection `$`,
+//! Fanuc-style subprograms (`O` alone, `M98`/`M99` as calls), computed O-word labels
+//! (`o#1`, `o[…]`), subroutines in separate files, and LinuxCNC's `#<_ini[…]>` and
+//! `#<_hal[…]>` parameters. Comments other than messages (`(LOG,…)`, `(ABORT,…)`, …) are
+//! comments.
 
 mod expr;
 mod flow;
