@@ -1646,6 +1646,34 @@ extern "C" {
 #define MC_OP_SET_SCALE 97
 
 /**
+ * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
+ */
+#define MC_GCODE_RUNNING 0
+
+/**
+ * Waiting for the motion queued so far to end (before a spindle, tool or pause operation,
+ * or at the end).
+ */
+#define MC_GCODE_DRAINING 1
+
+/**
+ * Paused (M0, M1 with the optional stop on, M60, or `mc_gcode_pause`), the motion ended:
+ * `mc_gcode_resume` goes on.
+ */
+#define MC_GCODE_PAUSED 2
+
+/**
+ * The program ended and all its motion is done.
+ */
+#define MC_GCODE_DONE 3
+
+/**
+ * Aborted (`mc_gcode_abort`, or an error: `mc_gcode_error` says which line): nothing more
+ * is read.
+ */
+#define MC_GCODE_ABORTED 4
+
+/**
  * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
  * following error of `hard_stop_ferror` held `hard_stop_dwell`, then the index pulse away from
  * it.
@@ -2279,6 +2307,83 @@ typedef struct mc_sync_limits {
    */
   double jerk;
 } mc_sync_limits;
+
+/**
+ * How a program runs (`mc_gcode_default_settings` fills the defaults).
+ */
+typedef struct mc_gcode_settings {
+  /**
+   * The program's axis letter of each group axis in group order, NUL-terminated: "XYZ"
+   * (the default), "XYZA", ... Arcs need X, Y, Z as the group's first three axes. The
+   * group's axes are taken to be in mm and degrees.
+   */
+  char axes[8];
+  /**
+   * Rapid (G0) speed, mm/s.
+   */
+  double rapid_feed;
+  /**
+   * The largest feed, mm/s: a faster programmed feed runs at this.
+   */
+  double max_feed;
+  /**
+   * Corner tolerance of G64 without P, mm (a P in the program wins).
+   */
+  double tolerance;
+  /**
+   * How closely splines (G5) are followed, mm.
+   */
+  double spline_tolerance;
+  /**
+   * 1: lines starting with '/' are skipped.
+   */
+  uint32_t block_delete;
+  /**
+   * 1: M1 pauses.
+   */
+  uint32_t optional_stop;
+} mc_gcode_settings;
+
+/**
+ * A program handle: an integer (`generation << 16 | (slot + 1)`, as card handles). 0 is
+ * never a handle.
+ */
+typedef uint32_t mc_gcode;
+
+/**
+ * The host's hooks, called inside `mc_gcode_poll` and `mc_gcode_run` once the motion
+ * before the operation has ended (the message hook does not wait). Each may be NULL: the
+ * operation is then passed, except M100–M199, which are then an error
+ * (`MC_ERR_UNSUPPORTED`). A hook returning non-zero stops the run with that code.
+ * `direction`: 3 (M3, clockwise), 4 (M4) or 5 (M5, off). `pause`: 0 M0, 1 M1, 2 M60;
+ * return 1 to pause, 0 to go on. `user` is the pointer given to `mc_gcode_set_hooks`.
+ */
+typedef struct mc_gcode_hooks {
+  /**
+   * M3/M4/M5 and S (rpm).
+   */
+  int32_t (*spindle)(double speed, uint32_t direction, void *user);
+  /**
+   * M7/M8/M9: mist and flood on (1) or off (0).
+   */
+  int32_t (*coolant)(uint32_t mist, uint32_t flood, void *user);
+  /**
+   * M6 with its T.
+   */
+  int32_t (*tool_change)(uint32_t tool, void *user);
+  /**
+   * (MSG, ...): `text` is valid during the call.
+   */
+  void (*message)(uint32_t line, const char *text, void *user);
+  /**
+   * M100-M199 with P and Q (`has_p`, `has_q`: 1 when given).
+   */
+  int32_t (*hook)(uint32_t code, uint32_t has_p, double p, uint32_t has_q, double q, void *user);
+  /**
+   * M0, M1, M60.
+   */
+  int32_t (*pause)(uint32_t kind, void *user);
+} mc_gcode_hooks;
 
 /**
  * A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
@@ -3858,6 +3963,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_CONFIG_FILE -107
 
 /**
+ * A G-code program refused by the interpreter (the error names the line and what is
+ * wrong there); nothing after that line was queued.
+ */
+#define MC_ERR_GCODE -109
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4229,6 +4340,92 @@ mc_result mc_motion_wait_cam_switch(mc_card card,
                                     struct mc_motion motion,
                                     uint32_t timeout_ms,
                                     double *position);
+
+/**
+ * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
+ * block delete and optional stop off.
+ */
+mc_result mc_gcode_default_settings(struct mc_gcode_settings *settings);
+
+/**
+ * Load the program file `path` for `group` of `card` (enabled, its path configured with
+ * `mc_group_configure_path`): it is read whole once and checked (`MC_ERR_GCODE` for the
+ * first wrong line, `mc_last_error_message` giving `line N: what`; nothing is queued), then
+ * `*program` is its handle. It starts where the group is. `tool_table` (may be NULL) is a
+ * tool table file in LinuxCNC's format; `settings` may be NULL for the defaults.
+ */
+mc_result mc_gcode_load_file(mc_card card,
+                             uint32_t group,
+                             const char *path,
+                             const char *tool_table,
+                             const struct mc_gcode_settings *settings,
+                             mc_gcode *program);
+
+/**
+ * `mc_gcode_load_file` for a program in memory: `text`, NUL-terminated (copied).
+ */
+mc_result mc_gcode_load_string(mc_card card,
+                               uint32_t group,
+                               const char *text,
+                               const char *tool_table,
+                               const struct mc_gcode_settings *settings,
+                               mc_gcode *program);
+
+/**
+ * Set the program's hooks (`hooks` copied; NULL clears them) and the `user` pointer they
+ * get back.
+ */
+mc_result mc_gcode_set_hooks(mc_gcode program, const struct mc_gcode_hooks *hooks, void *user);
+
+/**
+ * One step of the run, never blocking: program lines read and queued while the path has
+ * room, a waiting operation done once the motion before it has ended (its hook called).
+ * `*state` (may be NULL): `MC_GCODE_*`. An error (`MC_ERR_GCODE` for a wrong line, or the
+ * card's or a hook's code) aborts the run; what was queued before it runs to its end.
+ */
+mc_result mc_gcode_poll(mc_gcode program, uint32_t *state);
+
+/**
+ * Poll until the program is done, paused or aborted, at most `timeout_ms` (`MC_ERR_TIMEOUT`
+ * after it, the run going on). A stepped in-process card is stepped here. Another thread
+ * may call `mc_gcode_pause`, `mc_gcode_abort` or `mc_gcode_line` meanwhile.
+ */
+mc_result mc_gcode_run(mc_gcode program, uint32_t timeout_ms, uint32_t *state);
+
+/**
+ * Pause at the end of the blocks already queued on the card: nothing more is sent, and once
+ * the queued motion has ended the state is `MC_GCODE_PAUSED`.
+ */
+mc_result mc_gcode_pause(mc_gcode program);
+
+/**
+ * Go on after a pause (M0/M1/M60 or `mc_gcode_pause`).
+ */
+mc_result mc_gcode_resume(mc_gcode program);
+
+/**
+ * Abort: the path halts along its geometry within `deceleration` (mm/s²) and `jerk`
+ * (mm/s³), nothing more is read; the state is `MC_GCODE_ABORTED`.
+ */
+mc_result mc_gcode_abort(mc_gcode program, double deceleration, double jerk);
+
+/**
+ * `*running` (may be NULL): the source line of the segment the card runs (0 when none);
+ * `*read` (may be NULL): the last source line read.
+ */
+mc_result mc_gcode_line(mc_gcode program, uint32_t *running, uint32_t *read);
+
+/**
+ * The error that stopped the run: `*line` its source line (0: no error, or none to name)
+ * and its message into `buf` (the string conventions; "" when none).
+ */
+mc_result mc_gcode_error(mc_gcode program, uint32_t *line, char *buf, size_t len, size_t *needed);
+
+/**
+ * Close the program: its handle is no longer valid. Motion already queued on the card runs
+ * on (`mc_gcode_abort` first to stop it).
+ */
+mc_result mc_gcode_close(mc_gcode program);
 
 /**
  * Settings for a group of the `naxes` card axes in `axes` (group axis 0 is X, 1 is Y, …):

@@ -1163,3 +1163,11 @@ fn scope_program_is_clean_under_valgrind() {
     let out = run_under_valgrind("scope");
     assert!(out.contains("PASS scope\n"), "{out}");
 }
+
+#[test]
+fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
+    let out = run(&compile("gcode", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS gcode ("), "{out}");
+    assert!(out.contains("G-code part: paused at line 12"), "{out}");
+    assert!(out.contains("ended at X42 Z-3"), "{out}");
+}

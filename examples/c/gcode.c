@@ -1,0 +1,233 @@
+/*
+ * A G-code program from C: a part program in memory (a work offset set by G10 L2 and used, a
+ * rectangle with blended corners, the spindle and coolant through the host's hooks, an M0
+ * pause and a resume, a message), run on a 3-axis group of a stepped emulated card; the end
+ * position checked exactly in machine coordinates. Then a program file with a subroutine and
+ * a loop; the refusals (a wrong line named with its number before anything moves, an M100
+ * with no hook, NULL pointers, bad and closed handles).
+ *
+ * Positions in mm (scale 1000 counts per mm).
+ *
+ *     cc -std=c11 gcode.c $(pkg-config --cflags --libs motioncard) -lm -o gcode && ./gcode
+ */
+#include "expect.h"
+
+#include <math.h>
+
+#define RATE 10000u
+
+static const uint32_t G = 0;
+static const uint32_t XYZ[3] = {0, 1, 2};
+
+/* What the hooks saw. */
+struct seen_hooks {
+    int spindle_calls;
+    double speed;
+    uint32_t direction;
+    int coolant_calls;
+    uint32_t flood;
+    int messages;
+    char message[64];
+    int pauses;
+};
+
+static int on_spindle(double speed, uint32_t direction, void *user) {
+    struct seen_hooks *s = user;
+    s->spindle_calls++;
+    s->speed = speed;
+    s->direction = direction;
+    return 0;
+}
+
+static int on_coolant(uint32_t mist, uint32_t flood, void *user) {
+    struct seen_hooks *s = user;
+    (void)mist;
+    s->coolant_calls++;
+    s->flood = flood;
+    return 0;
+}
+
+static void on_message(uint32_t line, const char *text, void *user) {
+    struct seen_hooks *s = user;
+    (void)line;
+    s->messages++;
+    snprintf(s->message, sizeof s->message, "%s", text);
+}
+
+static int on_pause(uint32_t kind, void *user) {
+    struct seen_hooks *s = user;
+    (void)kind;
+    s->pauses++;
+    return 1; /* pause */
+}
+
+static void expect_machine_at(mc_card c, double x, double y, double z, const char *what) {
+    const double t[3] = {x, y, z};
+    for (int i = 0; i < 3; i++) {
+        mc_status s;
+        CHECK(mc_get_status(c, XYZ[i], &s));
+        ASSERT(fabs(s.command_position - t[i]) < 1e-9, "%s: axis %d at %.9f, expected %.9f",
+               what, i, s.command_position, t[i]);
+    }
+    checks++;
+}
+
+static const char PART[] =
+    "%\n"
+    "(a rectangle 20 x 10 in G54, which G10 puts at X10 Y5)\n"
+    "G21 G90 G17 G64 P0.01\n"
+    "G10 L2 P1 X10 Y5\n"
+    "G54 G0 X0 Y0\n"
+    "S1200 M3 M8\n"
+    "(MSG, cutting)\n"
+    "G1 X20 F1200\n"
+    "Y10\n"
+    "X0\n"
+    "Y0\n"
+    "M0\n"
+    "G0 Z2\n"
+    "M5 M9\n"
+    "M2\n"
+    "%\n";
+
+static void part(mc_card c) {
+    mc_gcode_settings s;
+    CHECK(mc_gcode_default_settings(&s));
+    ASSERT(strcmp(s.axes, "XYZ") == 0 && s.rapid_feed > 0.0 && s.tolerance > 0.0,
+           "defaults: axes %s, rapid %f, tolerance %f", s.axes, s.rapid_feed, s.tolerance);
+    mc_gcode p = 0;
+    CHECK(mc_gcode_load_string(c, G, PART, NULL, &s, &p));
+    ASSERT(p != 0, "handle %u", p);
+    struct seen_hooks seen = {0};
+    mc_gcode_hooks hooks = {0};
+    hooks.spindle = on_spindle;
+    hooks.coolant = on_coolant;
+    hooks.message = on_message;
+    hooks.pause = on_pause;
+    CHECK(mc_gcode_set_hooks(p, &hooks, &seen));
+
+    uint32_t state = 99;
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_PAUSED, "state %u at the M0", state);
+    ASSERT(seen.pauses == 1, "%d pauses", seen.pauses);
+    uint32_t running = 99, read = 0;
+    CHECK(mc_gcode_line(p, &running, &read));
+    ASSERT(read == 12, "paused having read line %u, the M0 is line 12", read);
+    /* The rectangle closed at the work origin: machine X10 Y5. */
+    expect_machine_at(c, 10.0, 5.0, 0.0, "at the M0");
+    ASSERT(seen.spindle_calls == 1 && seen.speed == 1200.0 && seen.direction == 3,
+           "spindle: %d calls, %f rpm, M%u", seen.spindle_calls, seen.speed, seen.direction);
+    ASSERT(seen.coolant_calls == 1 && seen.flood == 1, "coolant: %d calls, flood %u",
+           seen.coolant_calls, seen.flood);
+    ASSERT(seen.messages == 1 && strstr(seen.message, "cutting"), "message %d '%s'",
+           seen.messages, seen.message);
+
+    CHECK(mc_gcode_resume(p));
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_DONE, "state %u at the end", state);
+    expect_machine_at(c, 10.0, 5.0, 2.0, "at the end");
+    ASSERT(seen.spindle_calls == 2 && seen.direction == 5, "spindle off: %d calls, M%u",
+           seen.spindle_calls, seen.direction);
+    ASSERT(seen.coolant_calls == 2 && seen.flood == 0, "coolant off: %d calls, flood %u",
+           seen.coolant_calls, seen.flood);
+    uint32_t line = 99;
+    char text[128];
+    size_t needed = 0;
+    CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
+    ASSERT(line == 0 && text[0] == 0 && needed == 1, "no error: line %u '%s'", line, text);
+    CHECK(mc_gcode_close(p));
+    EXPECT(mc_gcode_close(p), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_gcode_poll(p, &state), MC_ERR_BAD_HANDLE);
+    printf("G-code part: paused at line %u, ended at machine X10 Y5 Z2\n", read);
+}
+
+/* A subroutine called in a while loop, from a file: three passes down in Z. */
+static void file_with_a_loop(mc_card c) {
+    const char *path = "gcode_loop.ngc";
+    FILE *f = fopen(path, "w");
+    ASSERT(f != NULL, "cannot write %s", path);
+    fputs("o100 sub\n"
+          "  G1 Z[#1] F600\n"
+          "o100 endsub\n"
+          "#1 = 42\n"
+          "#2 = 0\n"
+          "o101 while [#2 LT 3]\n"
+          "  #2 = [#2 + 1]\n"
+          "  o100 call [-#2]\n"
+          "o101 endwhile\n"
+          "G0 X[#1]\n"
+          "M30\n",
+          f);
+    fclose(f);
+    mc_gcode p = 0;
+    CHECK(mc_gcode_load_file(c, G, path, NULL, NULL, &p));
+    uint32_t state = 99;
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_DONE, "state %u", state);
+    /* Three passes to Z -3; #1 restored to 42 after each call. A program's parameters are
+       its own: the G54 offset of the part before is not this one's. */
+    expect_machine_at(c, 42.0, 5.0, -3.0, "after the loop");
+    CHECK(mc_gcode_close(p));
+    remove(path);
+    printf("G-code file: a subroutine in a loop, ended at X42 Z-3\n");
+}
+
+static void refusals(mc_card c) {
+    mc_gcode p = 0;
+    /* A wrong line: refused at load, nothing queued, the line in the message. */
+    EXPECT(mc_gcode_load_string(c, G, "G1 X1 F100\nG1 X2 Y\n", NULL, NULL, &p), MC_ERR_GCODE);
+    expect_in_message("line 2");
+    ASSERT(p == 0, "handle written on failure: %u", p);
+    EXPECT(mc_gcode_load_string(c, G, NULL, NULL, NULL, &p), MC_ERR_NULL_POINTER);
+    EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, NULL, NULL), MC_ERR_NULL_POINTER);
+    EXPECT(mc_gcode_load_file(c, G, "/nonexistent/part.ngc", NULL, NULL, &p), MC_ERR_IO);
+    EXPECT(mc_gcode_load_string(c, 7, "G0 X1", NULL, NULL, &p), MC_ERR_BAD_GROUP);
+    mc_gcode_settings bad;
+    CHECK(mc_gcode_default_settings(&bad));
+    bad.rapid_feed = NAN;
+    EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
+    CHECK(mc_gcode_default_settings(&bad));
+    strcpy(bad.axes, "XY");
+    EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
+    EXPECT(mc_gcode_poll(0, NULL), MC_ERR_BAD_HANDLE);
+    EXPECT(mc_gcode_default_settings(NULL), MC_ERR_NULL_POINTER);
+
+    /* M100 with no hook: the run stops there with its line. */
+    CHECK(mc_gcode_load_string(c, G, "G0 X1\nM100 P3\nG0 X2\n", NULL, NULL, &p));
+    uint32_t state = 99;
+    EXPECT(mc_gcode_run(p, 60000, &state), MC_ERR_UNSUPPORTED);
+    uint32_t line = 0;
+    char text[256];
+    size_t needed = 0;
+    CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
+    ASSERT(line == 2 && strstr(text, "M100"), "error at line %u: %s", line, text);
+    CHECK(mc_gcode_poll(p, &state));
+    ASSERT(state == MC_GCODE_ABORTED, "state %u after the error", state);
+    expect_machine_at(c, 1.0, 5.0, -3.0, "stopped before line 3");
+    CHECK(mc_gcode_close(p));
+    printf("G-code refusals: %u checks\n", checks);
+}
+
+int main(void) {
+    mc_card c = 0;
+    CHECK(mc_open_sim_stepped(3, RATE, &c));
+    for (int i = 0; i < 3; i++) {
+        CHECK(mc_set_scale(c, XYZ[i], 1000.0));
+        CHECK(mc_enable(c, XYZ[i]));
+    }
+    mc_group_settings gs;
+    CHECK(mc_group_settings_new(XYZ, 3, &gs));
+    CHECK(mc_group_configure(c, G, &gs));
+    CHECK(mc_group_enable(c, G));
+    mc_path_settings ps;
+    CHECK(mc_path_settings_uniform(3, 100.0, 1000.0, 1e5, &ps));
+    CHECK(mc_group_configure_path(c, G, &ps));
+
+    part(c);
+    file_with_a_loop(c);
+    refusals(c);
+
+    CHECK(mc_close(c));
+    printf("PASS gcode (%u checks)\n", checks);
+    return 0;
+}
