@@ -103,7 +103,12 @@ impl Cycle<'_> {
 
 impl Interp {
     /// One block of a canned cycle `g` (its L repeats).
-    pub(super) fn cycle(&mut self, b: &Block, g: GCode, out: &mut Vec<Op>) -> Result<(), GcodeError> {
+    pub(super) fn cycle(
+        &mut self,
+        b: &Block,
+        g: GCode,
+        out: &mut Vec<Op>,
+    ) -> Result<(), GcodeError> {
         let line = b.line;
         let name = gname(g);
         if g == 870 {
@@ -120,12 +125,18 @@ impl Interp {
                 return err(line, format!("{name} with a zero feed rate (no F given)"))
             }
             FeedMode::PerRevolution if self.feed_rev <= 0.0 => {
-                return err(line, format!("{name} with a zero feed per revolution (no F given)"))
+                return err(
+                    line,
+                    format!("{name} with a zero feed per revolution (no F given)"),
+                )
             }
             _ => {}
         }
         if self.comp_mode != CompMode::Off {
-            return err(line, "canned cycles cannot run with cutter radius compensation on");
+            return err(
+                line,
+                "canned cycles cannot run with cutter radius compensation on",
+            );
         }
         if self.rotation != 0.0 && self.plane != Plane::Xy {
             return err(
@@ -172,7 +183,9 @@ impl Interp {
             None => self.cycle.p,
         };
         let q = match b.word('Q') {
-            Some(q) if q <= 0.0 => return err(line, format!("{name} Q{q}: the peck must be positive")),
+            Some(q) if q <= 0.0 => {
+                return err(line, format!("{name} Q{q}: the peck must be positive"))
+            }
             Some(q) => q * k,
             None if same || !matches!(g, 730 | 830) => self.cycle.q,
             None => return err(line, format!("{name} needs Q (the peck depth)")),

@@ -38,7 +38,10 @@ fn sub(a: Pos, b: Pos) -> Pos {
 
 impl Frame {
     pub fn to_machine(&self, w: Pos) -> Pos {
-        add(add(rotate(add(w, self.g92), self.rotation), self.origin), self.tool)
+        add(
+            add(rotate(add(w, self.g92), self.rotation), self.origin),
+            self.tool,
+        )
     }
 
     pub fn to_work(&self, m: Pos) -> Pos {
@@ -97,7 +100,10 @@ impl Interp {
 
     fn no_comp(&self, line: usize, what: &str) -> Result<(), GcodeError> {
         if self.comp.is_some() {
-            return err(line, format!("cannot {what} with cutter radius compensation on"));
+            return err(
+                line,
+                format!("cannot {what} with cutter radius compensation on"),
+            );
         }
         Ok(())
     }
@@ -154,7 +160,8 @@ impl Interp {
                     Some(r) => r,
                     None => params.get(base + 9).unwrap_or(0.0),
                 };
-                let mut origin: Pos = std::array::from_fn(|i| params.get(base + i as u32).unwrap_or(0.0));
+                let mut origin: Pos =
+                    std::array::from_fn(|i| params.get(base + i as u32).unwrap_or(0.0));
                 if l == 2 {
                     for i in 0..6 {
                         if let Some(v) = words[i] {
@@ -205,7 +212,10 @@ impl Interp {
                     }
                 }
                 if p < 1 {
-                    return err(line, format!("G10 L{l} P{p}: P is a tool number, 1 or more"));
+                    return err(
+                        line,
+                        format!("G10 L{l} P{p}: P is a tool number, 1 or more"),
+                    );
                 }
                 let k = self.k();
                 let frame = self.frame();
@@ -244,7 +254,10 @@ impl Interp {
                 self.publish_tool(params);
                 Ok(())
             }
-            _ => err(line, format!("G10 L{l} is not supported (L1, L2, L10, L20 are)")),
+            _ => err(
+                line,
+                format!("G10 L{l} is not supported (L1, L2, L10, L20 are)"),
+            ),
         }
     }
 

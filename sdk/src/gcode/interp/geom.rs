@@ -37,8 +37,7 @@ impl OpKind {
                 let e = [end[a], end[b]];
                 let c = [centre[a], centre[b]];
                 let r = (s[0] - c[0]).hypot(s[1] - c[1]);
-                let theta =
-                    sweep(s, e, c, *ccw) + 2.0 * std::f64::consts::PI * f64::from(*turns);
+                let theta = sweep(s, e, c, *ccw) + 2.0 * std::f64::consts::PI * f64::from(*turns);
                 let lin = (r * theta).hypot(end[n] - start[n]);
                 let (_, ang) = distances(*start, *end);
                 pick(lin, ang)
@@ -156,4 +155,3 @@ fn adaptive(f: &impl Fn(f64) -> f64, a: f64, b: f64, whole: f64, depth: u32) -> 
         adaptive(f, a, m, l, depth + 1) + adaptive(f, m, b, r, depth + 1)
     }
 }
-

@@ -452,7 +452,10 @@ impl Interp {
             }
             Some((_, false)) if p.must_trip => err(
                 line,
-                format!("the probe move of line {} ended without the probe tripping", p.line),
+                format!(
+                    "the probe move of line {} ended without the probe tripping",
+                    p.line
+                ),
             ),
             Some(_) => Ok(()),
         }
@@ -535,7 +538,10 @@ impl Interp {
         }
         if let Some(m) = l.m_group(6) {
             if self.comp.is_some() || self.comp_mode != CompMode::Off {
-                return err(line, "cannot change tools with cutter radius compensation on");
+                return err(
+                    line,
+                    "cannot change tools with cutter radius compensation on",
+                );
             }
             if m == 6 {
                 out.push(Op {
@@ -567,7 +573,11 @@ impl Interp {
             };
             self.spindle_op(line, out);
         }
-        let coolant: Vec<u32> = b.m.iter().copied().filter(|m| (7..=9).contains(m)).collect();
+        let coolant: Vec<u32> =
+            b.m.iter()
+                .copied()
+                .filter(|m| (7..=9).contains(m))
+                .collect();
         if !coolant.is_empty() {
             for m in &coolant {
                 match m {

@@ -7,7 +7,12 @@ use crate::gcode::{Block, GCode, GcodeError};
 
 /// The G codes understood, by modal group (LinuxCNC's numbering).
 const G_GROUPS: &[(u8, &[GCode])] = &[
-    (0, &[40, 100, 280, 281, 300, 301, 520, 530, 53, 920, 921, 922, 923]),
+    (
+        0,
+        &[
+            40, 100, 280, 281, 300, 301, 520, 530, 53, 920, 921, 922, 923,
+        ],
+    ),
     (
         1,
         &[
@@ -33,12 +38,18 @@ const G_REFUSED: &[(GCode, &str)] = &[
     (70, "G7 (lathe diameter mode) is not supported on a mill"),
     (80, "G8 (lathe radius mode) is not supported on a mill"),
     (62, "G6.2 (LinuxCNC's other NURBS form) is not supported"),
-    (760, "G76 (lathe threading cycle) is not supported on a mill"),
+    (
+        760,
+        "G76 (lathe threading cycle) is not supported on a mill",
+    ),
     (960, "G96 (constant surface speed) is not supported"),
     (171, "G17.1 (UV plane) is not supported: no U or V axis"),
     (181, "G18.1 (WU plane) is not supported: no U or W axis"),
     (191, "G19.1 (VW plane) is not supported: no V or W axis"),
-    (700, "G70 (lathe finishing cycle) is not supported on a mill"),
+    (
+        700,
+        "G70 (lathe finishing cycle) is not supported on a mill",
+    ),
     (710, "G71 (lathe roughing cycle) is not supported on a mill"),
     (720, "G72 (lathe roughing cycle) is not supported on a mill"),
 ];
@@ -102,7 +113,10 @@ impl Line {
 pub(super) fn int_word(line: usize, letter: char, v: f64, min: f64) -> Result<u32, GcodeError> {
     let r = v.round();
     if (v - r).abs() > 1e-4 || r < min || r > u32::MAX as f64 {
-        return err(line, format!("{letter}{v}: a whole number of at least {min} is needed"));
+        return err(
+            line,
+            format!("{letter}{v}: a whole number of at least {min} is needed"),
+        );
     }
     Ok(r as u32)
 }
@@ -118,7 +132,10 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
             if let Some((_, why)) = G_REFUSED.iter().find(|(c, _)| *c == g) {
                 return err(line, *why);
             }
-            return err(line, format!("{} is not a G code of this interpreter", gname(g)));
+            return err(
+                line,
+                format!("{} is not a G code of this interpreter", gname(g)),
+            );
         };
         if let Some(prev) = l.g[n as usize] {
             return err(
@@ -164,7 +181,10 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
     if let Some(m1) = mode1 {
         if m1 == 800 {
             if axis && !covets {
-                return err(line, "axis words with G80 (and no G10, G28, G30, G52 or G92)");
+                return err(
+                    line,
+                    "axis words with G80 (and no G10, G28, G30, G52 or G92)",
+                );
             }
         } else if covets {
             return err(
@@ -183,7 +203,10 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
         // G10, G28, G30 may go without axis words; G52 and G92 may not.
     } else if axis {
         if it.motion.is_none() && !matches!(tlo, Some(431 | 432)) {
-            return err(line, "axis words with no motion mode (G80 in effect) to use them");
+            return err(
+                line,
+                "axis words with no motion mode (G80 in effect) to use them",
+            );
         }
         if tlo != Some(431) {
             l.motion = it.motion;
@@ -192,7 +215,10 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
         l.motion = it.motion;
     }
     if matches!(mode0, Some(520 | 920)) && !axis {
-        return err(line, format!("{} without any axis word", gname(mode0.unwrap_or(0))));
+        return err(
+            line,
+            format!("{} without any axis word", gname(mode0.unwrap_or(0))),
+        );
     }
     if mode0 == Some(40) {
         if b.word('P').is_none() {
@@ -207,11 +233,17 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
             return err(line, "G53 needs G0 or G1 on its line (or in effect)");
         }
         if l.g[3] == Some(910) || (l.g[3].is_none() && !it.absolute) {
-            return err(line, "G53 cannot be used in incremental distance mode (G91)");
+            return err(
+                line,
+                "G53 cannot be used in incremental distance mode (G91)",
+            );
         }
     }
     if mode0 == Some(53) && mode1.is_some_and(|m| m != 52) {
-        return err(line, "between G5.2 and G5.3 only further G5.2 codes are allowed");
+        return err(
+            line,
+            "between G5.2 and G5.3 only further G5.2 codes are allowed",
+        );
     }
     check_words(b, &l)?;
     Ok(l)
@@ -233,11 +265,11 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
             return err(line, format!("{c} word with a canned cycle"));
         }
     }
-    if b.word('D').is_some()
-        && !matches!(comp, Some(410 | 411 | 420 | 421))
-        && !is(&[730, 830])
-    {
-        return err(line, "D word with no G41, G41.1, G42, G42.1, G73 or G83 to use it");
+    if b.word('D').is_some() && !matches!(comp, Some(410 | 411 | 420 | 421)) && !is(&[730, 830]) {
+        return err(
+            line,
+            "D word with no G41, G41.1, G42, G42.1, G73 or G83 to use it",
+        );
     }
     if b.word('E').is_some() && !matches!(m5, Some(66..=68)) {
         return err(line, "E word with no M66, M67 or M68 to use it");
@@ -247,16 +279,21 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
     }
     let g10 = g0 == Some(100);
     if b.word('I').is_some() && !is(&[20, 30, 50, 51, 870]) && !g10 {
-        return err(line, "I word with no G2, G3, G5, G5.1, G10 or G87 to use it");
+        return err(
+            line,
+            "I word with no G2, G3, G5, G5.1, G10 or G87 to use it",
+        );
     }
     if b.word('J').is_some() && !is(&[20, 30, 50, 51, 870]) && !g10 {
-        return err(line, "J word with no G2, G3, G5, G5.1, G10 or G87 to use it");
+        return err(
+            line,
+            "J word with no G2, G3, G5, G5.1, G10 or G87 to use it",
+        );
     }
     if b.word('K').is_some() && !is(&[20, 30, 330, 331, 870]) {
         return err(line, "K word with no G2, G3, G33, G33.1 or G87 to use it");
     }
-    if b.word('L').is_some() && !cycle && !is(&[52]) && !g10 && comp.is_none() && m5 != Some(66)
-    {
+    if b.word('L').is_some() && !cycle && !is(&[52]) && !g10 && comp.is_none() && m5 != Some(66) {
         return err(
             line,
             "L word with no G10, cutter compensation, canned cycle, M66 or G5.2 to use it",
@@ -279,7 +316,10 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
         if is(&[20, 30]) {
             let r = p.round();
             if (p - r).abs() > 0.001 || r < 1.0 {
-                return err(line, format!("P{p} with G2/G3: a whole number of turns, 1 or more"));
+                return err(
+                    line,
+                    format!("P{p} with G2/G3: a whole number of turns, 1 or more"),
+                );
             }
         }
     }
@@ -305,7 +345,10 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
             return err(line, "G33 and G33.1 need K (the pitch)");
         }
         if b.word('F').is_some() {
-            return err(line, "F word with G33 or G33.1 (the spindle sets the speed)");
+            return err(
+                line,
+                "F word with G33 or G33.1 (the spindle sets the speed)",
+            );
         }
     }
     Ok(())

@@ -55,7 +55,10 @@ impl Interp {
         match self.feed_mode {
             FeedMode::InverseTime => {
                 let Some(f) = b.word('F') else {
-                    return err(line, "a feed move in inverse time mode (G93) needs F on its line");
+                    return err(
+                        line,
+                        "a feed move in inverse time mode (G93) needs F on its line",
+                    );
                 };
                 if f <= 0.0 {
                     return err(line, format!("F{f} in inverse time mode (G93)"));
@@ -76,7 +79,10 @@ impl Interp {
             }
             FeedMode::PerRevolution => {
                 if self.feed_rev <= 0.0 {
-                    return err(line, "a feed move with a zero feed per revolution (no F given)");
+                    return err(
+                        line,
+                        "a feed move with a zero feed per revolution (no F given)",
+                    );
                 }
                 if self.speed <= 0.0 {
                     return err(line, "feed per revolution (G95) with spindle speed S0");
@@ -121,7 +127,12 @@ impl Interp {
     }
 
     /// G53 G0/G1: the axis words are machine coordinates, on this line only.
-    fn machine_move(&mut self, b: &Block, rapid: bool, out: &mut Vec<Op>) -> Result<(), GcodeError> {
+    fn machine_move(
+        &mut self,
+        b: &Block,
+        rapid: bool,
+        out: &mut Vec<Op>,
+    ) -> Result<(), GcodeError> {
         if self.comp.is_some() {
             return err(b.line, "G53 with cutter radius compensation on");
         }
@@ -131,7 +142,13 @@ impl Interp {
     }
 
     /// A straight move from here to `end` (machine).
-    fn line_to(&mut self, b: &Block, rapid: bool, end: Pos, out: &mut Vec<Op>) -> Result<(), GcodeError> {
+    fn line_to(
+        &mut self,
+        b: &Block,
+        rapid: bool,
+        end: Pos,
+        out: &mut Vec<Op>,
+    ) -> Result<(), GcodeError> {
         let start = self.position;
         let kind = if rapid {
             OpKind::Rapid {
@@ -311,16 +328,16 @@ impl Interp {
             (None, (None, None)) => {
                 return err(
                     line,
-                    format!(
-                        "an arc needs R or the centre ({}, {})",
-                        offs[a], offs[bb]
-                    ),
+                    format!("an arc needs R or the centre ({}, {})", offs[a], offs[bb]),
                 )
             }
             (Some(r), _) => {
                 let r = r * k;
                 if chord < 1e-9 {
-                    return err(line, "an R arc whose end is its start (use I, J, K for a circle)");
+                    return err(
+                        line,
+                        "an R arc whose end is its start (use I, J, K for a circle)",
+                    );
                 }
                 let half = chord / 2.0;
                 let ar = r.abs();
@@ -355,12 +372,17 @@ impl Interp {
                 if r0 < r_tol || r1 < r_tol {
                     return err(
                         line,
-                        format!("a zero-radius arc (radius {:.6} at the start, {:.6} at the end)", r0 / k, r1 / k),
+                        format!(
+                            "a zero-radius arc (radius {:.6} at the start, {:.6} at the end)",
+                            r0 / k,
+                            r1 / k
+                        ),
                     );
                 }
                 let abs_err = (r0 - r1).abs();
                 let rel_err = abs_err / r0.max(r1);
-                if abs_err > 100.0 * abs_tol || (rel_err > RADIUS_REL_TOLERANCE && abs_err > abs_tol)
+                if abs_err > 100.0 * abs_tol
+                    || (rel_err > RADIUS_REL_TOLERANCE && abs_err > abs_tol)
                 {
                     return err(
                         line,
@@ -396,7 +418,10 @@ impl Interp {
         let (_, ang) = distances(start, end);
         if self.comp.is_some() {
             if turns > 0 {
-                return err(line, "an arc of more than one turn (P) with cutter radius compensation");
+                return err(
+                    line,
+                    "an arc of more than one turn (P) with cutter radius compensation",
+                );
             }
             let feed = self.feed_rate(b, lin, ang)?;
             return self.comp_push(
@@ -450,7 +475,10 @@ impl Interp {
             return err(line, "G33/G33.1 with cutter radius compensation on");
         }
         if tap && b.word('I').is_some() {
-            return err(line, "G33.1 with I (retract speed multiplier) is not supported");
+            return err(
+                line,
+                "G33.1 with I (retract speed multiplier) is not supported",
+            );
         }
         let pitch = b.word('K').unwrap_or(0.0) * self.k();
         if pitch <= 0.0 {

@@ -22,7 +22,10 @@ impl Interp {
         }
         let cur = self.cur_work();
         if (self.target(b)[2] - cur[2]).abs() > 0.0 {
-            return err(line, format!("{what} moves in the XY plane only: Z may not change"));
+            return err(
+                line,
+                format!("{what} moves in the XY plane only: Z may not change"),
+            );
         }
         Ok(())
     }
@@ -63,7 +66,12 @@ impl Interp {
     }
 
     /// G5 / G5.1.
-    pub(super) fn spline(&mut self, b: &Block, quadratic: bool, out: &mut Vec<Op>) -> Result<(), GcodeError> {
+    pub(super) fn spline(
+        &mut self,
+        b: &Block,
+        quadratic: bool,
+        out: &mut Vec<Op>,
+    ) -> Result<(), GcodeError> {
         let line = b.line;
         let name = if quadratic { "G5.1" } else { "G5" };
         self.spline_checks(b, name)?;
@@ -94,7 +102,14 @@ impl Interp {
             let [i, j] = ij.unwrap_or(self.spline_ij);
             let (p, q) = (p * k, q * k);
             let pts = vec![s, at(s, i, j), at(e, p, q), e];
-            self.emit_spline(b, pts, vec![1.0; 4], 3, vec![0., 0., 0., 0., 1., 1., 1., 1.], out)?;
+            self.emit_spline(
+                b,
+                pts,
+                vec![1.0; 4],
+                3,
+                vec![0., 0., 0., 0., 1., 1., 1., 1.],
+                out,
+            )?;
             self.spline_ij = [-p, -q];
             Ok(())
         }
@@ -119,7 +134,10 @@ impl Interp {
             self.nurbs_order = 3;
             self.nurbs_line = line;
         } else if x.is_none() {
-            return err(line, "G5.2 without X and Y: P alone is only for the first point");
+            return err(
+                line,
+                "G5.2 without X and Y: P alone is only for the first point",
+            );
         }
         if let Some(l) = b.word('L') {
             let l = super::modal::int_word(line, 'L', l, 0.0)? as usize;
