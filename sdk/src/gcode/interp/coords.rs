@@ -37,14 +37,14 @@ fn sub(a: Pos, b: Pos) -> Pos {
 }
 
 impl Frame {
-    pub fn to_machine(&self, w: Pos) -> Pos {
+    pub fn to_machine(self, w: Pos) -> Pos {
         add(
             add(rotate(add(w, self.g92), self.rotation), self.origin),
             self.tool,
         )
     }
 
-    pub fn to_work(&self, m: Pos) -> Pos {
+    pub fn to_work(self, m: Pos) -> Pos {
         sub(
             rotate(sub(sub(m, self.origin), self.tool), -self.rotation),
             self.g92,
@@ -223,9 +223,9 @@ impl Interp {
                     return err(line, format!("G10 L{l}: tool {p} is not in the tool table"));
                 };
                 if l == 1 {
-                    for i in 0..6 {
-                        if let Some(v) = words[i] {
-                            tool.offset[i] = v;
+                    for (o, w) in tool.offset.iter_mut().zip(words) {
+                        if let Some(v) = w {
+                            *o = v;
                         }
                     }
                 } else {

@@ -71,8 +71,9 @@ fn de_boor(p: usize, knots: &[f64], c: &[[f64; 4]], u: f64) -> [f64; 4] {
             let i = j + k - p;
             let den = knots[i + 1 + p - r] - knots[i];
             let alpha = if den > 0.0 { (u - knots[i]) / den } else { 0.0 };
-            for m in 0..4 {
-                d[j][m] = (1.0 - alpha) * d[j - 1][m] + alpha * d[j][m];
+            let prev = d[j - 1];
+            for (m, v) in d[j].iter_mut().enumerate() {
+                *v = (1.0 - alpha) * prev[m] + alpha * *v;
             }
         }
     }

@@ -199,7 +199,7 @@ pub(crate) fn err<T>(line: usize, message: impl Into<String>) -> Result<T, Gcode
 
 /// `G38.2` for 382, `G1` for 10.
 pub(crate) fn gname(g: GCode) -> String {
-    if g % 10 == 0 {
+    if g.is_multiple_of(10) {
         format!("G{}", g / 10)
     } else {
         format!("G{}.{}", g / 10, g % 10)

@@ -1,6 +1,5 @@
 //! Motion: G0, G1, G2/G3, G33/G33.1, G38.x, with G53, feed modes and cutter compensation.
 
-use super::coords::Frame;
 use super::modal::Line;
 use super::{err, gname, CompRun, FeedMode, Interp, Payload, PendingProbe, Units};
 use crate::gcode::comp::{Offset, Piece};
@@ -542,7 +541,7 @@ impl Interp {
 
     /// A work position on the machine, through the frame in effect.
     pub(super) fn machine(&self, w: Pos) -> Pos {
-        Frame::to_machine(&self.frame(), w)
+        self.frame().to_machine(w)
     }
 }
 
