@@ -98,8 +98,9 @@ impl Interp {
         }
     }
 
-    fn no_comp(&self, line: usize, what: &str) -> Result<(), GcodeError> {
-        if self.comp.is_some() {
+    /// An error when cutter radius compensation is on (even with a zero radius).
+    pub(super) fn no_comp(&self, line: usize, what: &str) -> Result<(), GcodeError> {
+        if self.comp_mode != super::CompMode::Off {
             return err(
                 line,
                 format!("cannot {what} with cutter radius compensation on"),

@@ -1,6 +1,32 @@
 //! The interpreter: evaluated blocks → canonical operations in machine coordinates, with the
 //! modal state of RS274/NGC as LinuxCNC runs it for a mill.
 //!
+//! # What is understood
+//!
+//! | codes | notes |
+//! | --- | --- |
+//! | G0 G1 | G0/G1 without axis words only set the mode |
+//! | G2 G3 | I J K (G91.1 from the start, G90.1 absolute) or R (negative: the long arc); P turns; LinuxCNC's radius tolerances; the centre moved onto the chord's bisector; start = end is a full turn |
+//! | G4 | P seconds |
+//! | G5 G5.1 G5.2/G5.3 | XY plane only; Bézier pieces and NURBS ([`crate::gcode::Spline`]) |
+//! | G10 L1 L2 L10 L20 | tool table (the interpreter's copy), coordinate systems with R (rotation about Z) |
+//! | G17 G18 G19 | arcs, cycles and compensation (G17, G18) in every one |
+//! | G20 G21 G90 G91 G90.1 G91.1 G93 G94 G95 | |
+//! | G28 G28.1 G30 G30.1 | through the axis words' point, then home for the named axes (all when none) |
+//! | G33 G33.1 | K pitch |
+//! | G38.2–G38.5 | see [`Interp::probe_result`] |
+//! | G40 G41 G42 G41.1 G42.1 | through [`crate::gcode::comp::Compensator`] |
+//! | G43 G43.1 G43.2 G49 | |
+//! | G52 G53 G54–G59.3 G92 G92.1 G92.2 G92.3 | |
+//! | G61 G61.1 G64 P Q | |
+//! | G73 G74 G80–G86 G88 G89 G98 G99 | see `canned`; G87 refused |
+//! | G97 | (G96 refused) |
+//! | M0 M1 M2 M30 M60 M3 M4 M5 M6 M61 M7 M8 M9 M48–M51 M62–M68 M100–M199 | M19, M52, M53, M70–M73 refused |
+//!
+//! Anything else (G7, G8, G12, G76, G96, U V W words, …) is an error naming its line, as is
+//! a word no code on its line uses (LinuxCNC's rules). Moves of length zero are emitted as
+//! programmed.
+//!
 //! # Coordinates
 //!
 //! Inside, every length is in mm and every angle in degrees, whatever G20/G21 says; program
@@ -514,13 +540,14 @@ impl Interp {
             }
         }
         let spindle_m = l.m_group(7);
+        let mut speed_changed = false;
         if let Some(s) = b.word('S') {
             if s < 0.0 {
                 return err(line, format!("negative spindle speed S{s}"));
             }
-            let changed = s != self.speed;
+            speed_changed = s != self.speed;
             self.speed = s;
-            if changed && spindle_m.is_none() {
+            if speed_changed && spindle_m.is_none() {
                 self.spindle_op(line, out);
             }
         }
@@ -566,12 +593,15 @@ impl Interp {
             self.publish_tool(params);
         }
         if let Some(m) = spindle_m {
-            self.dir = match m {
+            let dir = match m {
                 3 => SpindleDir::Cw,
                 4 => SpindleDir::Ccw,
                 _ => SpindleDir::Off,
             };
-            self.spindle_op(line, out);
+            if dir != self.dir || speed_changed {
+                self.dir = dir;
+                self.spindle_op(line, out);
+            }
         }
         let coolant: Vec<u32> =
             b.m.iter()

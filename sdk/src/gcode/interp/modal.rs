@@ -198,7 +198,11 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
         } else if !axis && !matches!(m1, 0 | 10 | 20 | 30 | 52) {
             return err(line, format!("{} without any axis word", gname(m1)));
         }
-        l.motion = Some(m1);
+        // G0/G1 without axis words only set the mode (LinuxCNC would emit a move of
+        // length zero).
+        if axis || !matches!(m1, 0 | 10) {
+            l.motion = Some(m1);
+        }
     } else if covets {
         // G10, G28, G30 may go without axis words; G52 and G92 may not.
     } else if axis {

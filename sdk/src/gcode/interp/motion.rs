@@ -132,9 +132,7 @@ impl Interp {
         rapid: bool,
         out: &mut Vec<Op>,
     ) -> Result<(), GcodeError> {
-        if self.comp.is_some() {
-            return err(b.line, "G53 with cutter radius compensation on");
-        }
+        self.no_comp(b.line, "use G53")?;
         let w = self.axis_words(b);
         let end: Pos = std::array::from_fn(|i| w[i].unwrap_or(self.position[i]));
         self.line_to(b, rapid, end, out)
@@ -470,9 +468,7 @@ impl Interp {
     /// G33 / G33.1.
     fn spindle_sync(&mut self, b: &Block, tap: bool, out: &mut Vec<Op>) -> Result<(), GcodeError> {
         let line = b.line;
-        if self.comp.is_some() {
-            return err(line, "G33/G33.1 with cutter radius compensation on");
-        }
+        self.no_comp(line, "use G33/G33.1")?;
         if tap && b.word('I').is_some() {
             return err(
                 line,
@@ -502,9 +498,7 @@ impl Interp {
     /// G38.2–G38.5.
     fn probe(&mut self, b: &Block, g: GCode, out: &mut Vec<Op>) -> Result<(), GcodeError> {
         let line = b.line;
-        if self.comp.is_some() {
-            return err(line, "a probe move with cutter radius compensation on");
-        }
+        self.no_comp(line, "probe")?;
         if self.feed_mode == FeedMode::InverseTime {
             return err(line, "a probe move in inverse time mode (G93)");
         }

@@ -163,6 +163,18 @@ fn compensation_refuses_what_linuxcnc_refuses() {
     assert!(e.message.contains("compensation"), "{e}");
     let e = run_with(&o, &["T2 M6", "G41", "G42"]).unwrap_err();
     assert!(e.message.contains("G40 first"), "{e}");
+    for what in [
+        "G28",
+        "G53 G0 X1",
+        "G38.2 Z-1 F10",
+        "G92 X0",
+        "G55",
+        "G33 Z-1 K1",
+    ] {
+        let e = run_with(&o, &["T2 M6", "G41", what]).unwrap_err();
+        assert_eq!(e.line, 3, "{what}: {e}");
+        assert!(e.message.contains("compensation"), "{what}: {e}");
+    }
     let e = run_with(&o, &["T2 M6", "G41", "T1 M6"]).unwrap_err();
     assert!(e.message.contains("tools"), "{e}");
 }

@@ -478,3 +478,32 @@ fn a_g52_offset_adds_to_the_work_system() {
     assert_rapid(r.motion(2), [11.0, 0.0, 0.0]);
     assert_rapid(r.motion(4), [1.0, 0.0, 0.0]);
 }
+
+#[test]
+fn the_spindle_reports_changes_only() {
+    let r = run(&["S100 M3", "M3", "S100", "S200", "M5"]).unwrap();
+    assert_eq!(r.line(1).len(), 1);
+    assert!(r.line(2).is_empty() && r.line(3).is_empty());
+    assert_eq!(
+        r.line(4),
+        vec![&OpKind::Spindle {
+            speed: 200.0,
+            dir: SpindleDir::Cw
+        }]
+    );
+    assert_eq!(
+        r.line(5),
+        vec![&OpKind::Spindle {
+            speed: 200.0,
+            dir: SpindleDir::Off
+        }]
+    );
+}
+
+#[test]
+fn a_motion_code_alone_sets_the_mode_without_moving() {
+    let r = run(&["G1", "G0", "X3"]).unwrap();
+    assert!(r.line(1).is_empty() && r.line(2).is_empty());
+    assert_rapid(r.motion(3), [3.0, 0.0, 0.0]);
+    assert_eq!(r.it.motion_mode(), Some(0));
+}
