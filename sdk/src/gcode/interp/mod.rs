@@ -51,6 +51,7 @@
 
 mod canned;
 mod coords;
+mod cutter;
 mod geom;
 mod modal;
 mod motion;
@@ -296,6 +297,7 @@ impl Interp {
         self.settle_probe(b.line, params)?;
         let line = modal::check(self, b)?;
         let flow = self.execute(b, &line, params, out)?;
+        self.publish_tool(params);
         self.publish_position(params);
         Ok(flow)
     }
@@ -519,11 +521,18 @@ impl Interp {
         }
         // Feed mode, F, S.
         if let Some(g) = l.group(5) {
-            self.feed_mode = match g {
-                930 => FeedMode::InverseTime,
-                940 => FeedMode::PerMinute,
-                _ => FeedMode::PerRevolution,
-            };
+            // As LinuxCNC: G94 and G95 set the feed to zero (an F must follow).
+            match g {
+                930 => self.feed_mode = FeedMode::InverseTime,
+                940 => {
+                    self.feed_mode = FeedMode::PerMinute;
+                    (self.feed_lin, self.feed_ang) = (0.0, 0.0);
+                }
+                _ => {
+                    self.feed_mode = FeedMode::PerRevolution;
+                    self.feed_rev = 0.0;
+                }
+            }
         }
         if let Some(f) = b.word('F') {
             if f < 0.0 {
@@ -847,88 +856,6 @@ impl Interp {
             }
         };
         out.push(Op { line, kind });
-        Ok(())
-    }
-
-    /// G40, G41, G42, G41.1, G42.1.
-    fn set_comp(&mut self, b: &Block, g: GCode, out: &mut Vec<Op>) -> Result<(), GcodeError> {
-        let line = b.line;
-        if g == 400 {
-            self.comp_off(line, out)?;
-            self.comp_mode = CompMode::Off;
-            self.comp_code = 400;
-            return Ok(());
-        }
-        if self.comp_mode != CompMode::Off {
-            return err(
-                line,
-                format!(
-                    "{} while cutter radius compensation is on: G40 first",
-                    gname(g)
-                ),
-            );
-        }
-        if self.plane == Plane::Yz {
-            return err(
-                line,
-                "cutter radius compensation is allowed only in the XY (G17) and XZ (G18) planes",
-            );
-        }
-        let side = if g == 410 || g == 411 {
-            Side::Left
-        } else {
-            Side::Right
-        };
-        let radius = if g == 411 || g == 421 {
-            let Some(d) = b.word('D') else {
-                return err(line, format!("{} needs D (the tool diameter)", gname(g)));
-            };
-            if d < 0.0 {
-                return err(line, format!("{} D{d}: a negative diameter", gname(g)));
-            }
-            d * self.k() / 2.0
-        } else {
-            let n = match b.word('D') {
-                Some(d) => modal::int_word(line, 'D', d, 0.0)?,
-                None => self.tool,
-            };
-            if n == 0 {
-                0.0
-            } else {
-                match self.tools.tools.iter().find(|t| t.number == n) {
-                    Some(t) => t.diameter / 2.0,
-                    None => return err(line, format!("tool D{n} is not in the tool table")),
-                }
-            }
-        };
-        if radius < 0.0 {
-            return err(line, "a negative tool diameter in the tool table");
-        }
-        self.comp_mode = CompMode::On { side, radius };
-        self.comp_code = g;
-        if radius > 0.0 {
-            let w = self.cur_work();
-            let (a, bb, _) = self.plane.axes();
-            self.comp = Some(CompRun {
-                engine: Compensator::new([w[a], w[bb]], side, radius),
-                prog: w,
-            });
-        }
-        Ok(())
-    }
-
-    /// G40 (and the end): the compensator's last pieces, then the machine is where it says.
-    fn comp_off(&mut self, line: usize, out: &mut Vec<Op>) -> Result<(), GcodeError> {
-        self.comp_mode = CompMode::Off;
-        self.comp_code = 400;
-        let Some(mut run) = self.comp.take() else {
-            return Ok(());
-        };
-        let mut pieces = Vec::new();
-        run.engine
-            .finish(&mut pieces)
-            .map_err(|e| GcodeError::new(line, format!("cutter compensation: {}", e.0)))?;
-        self.emit_pieces(pieces, out)?;
         Ok(())
     }
 }

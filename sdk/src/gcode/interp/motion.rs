@@ -1,8 +1,8 @@
 //! Motion: G0, G1, G2/G3, G33/G33.1, G38.x, with G53, feed modes and cutter compensation.
 
 use super::modal::Line;
-use super::{err, gname, CompRun, FeedMode, Interp, Payload, PendingProbe, Units};
-use crate::gcode::comp::{Offset, Piece};
+use super::{err, gname, FeedMode, Interp, Payload, PendingProbe, Units};
+use crate::gcode::comp::Piece;
 use crate::gcode::{Block, GCode, GcodeError, Op, OpKind, Plane, Pos};
 use std::f64::consts::PI;
 
@@ -196,92 +196,6 @@ impl Interp {
         }
         let end = self.frame().to_machine(end);
         self.line_to(b, rapid, end, out)
-    }
-
-    /// A programmed move through the compensator.
-    fn comp_push(
-        &mut self,
-        line: usize,
-        piece: Piece,
-        pay: Payload,
-        out: &mut Vec<Op>,
-    ) -> Result<(), GcodeError> {
-        let end = pay.end;
-        let run: &mut CompRun = self.comp.as_mut().expect("called with compensation on");
-        let mut pieces = Vec::new();
-        run.engine
-            .push(piece, pay, &mut pieces)
-            .map_err(|e| GcodeError::new(line, format!("cutter compensation: {}", e.0)))?;
-        run.prog = end;
-        self.emit_pieces(pieces, out)
-    }
-
-    /// The compensator's pieces as operations: the plane's coordinates from the piece, the
-    /// other axes from the programmed move (still during a corner arc).
-    pub(super) fn emit_pieces(
-        &mut self,
-        pieces: Vec<(Offset, bool, Payload)>,
-        out: &mut Vec<Op>,
-    ) -> Result<(), GcodeError> {
-        let (a, bb, n) = self.plane.axes();
-        let frame = self.frame();
-        for (piece, corner, pay) in pieces {
-            let start = self.position;
-            let mut end_w = if corner {
-                frame.to_work(start)
-            } else {
-                pay.end
-            };
-            let plane_end = match piece {
-                Offset::Line { end, .. } | Offset::Arc { end, .. } => end,
-            };
-            end_w[a] = plane_end[0];
-            end_w[bb] = plane_end[1];
-            let end = frame.to_machine(end_w);
-            let kind = match piece {
-                Offset::Line { .. } if pay.rapid => OpKind::Rapid {
-                    start,
-                    end,
-                    blend: pay.blend,
-                },
-                Offset::Line { .. } => OpKind::Feed {
-                    start,
-                    end,
-                    feed: pay.feed,
-                    blend: pay.blend,
-                },
-                Offset::Arc { centre, ccw, .. } => {
-                    if pay.feed <= 0.0 {
-                        return err(
-                            pay.line,
-                            "a corner arc of cutter compensation on a rapid needs a feed rate (F)",
-                        );
-                    }
-                    let mut c = end_w;
-                    c[a] = centre[0];
-                    c[bb] = centre[1];
-                    let cm = frame.to_machine(c);
-                    let mut centre3 = [cm[0], cm[1], cm[2]];
-                    centre3[n] = start[n];
-                    OpKind::Arc {
-                        start,
-                        end,
-                        centre: centre3,
-                        plane: self.plane,
-                        ccw,
-                        turns: 0,
-                        feed: pay.feed,
-                        blend: pay.blend,
-                    }
-                }
-            };
-            out.push(Op {
-                line: pay.line,
-                kind,
-            });
-            self.position = end;
-        }
-        Ok(())
     }
 
     /// G2 / G3.

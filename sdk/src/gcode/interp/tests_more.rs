@@ -507,3 +507,23 @@ fn a_motion_code_alone_sets_the_mode_without_moving() {
     assert_rapid(r.motion(3), [3.0, 0.0, 0.0]);
     assert_eq!(r.it.motion_mode(), Some(0));
 }
+
+#[test]
+fn g94_and_g95_clear_the_feed_as_linuxcnc_does() {
+    let e = run_err(&["G1 X1 F100", "G94", "X2"]);
+    assert_eq!(e.line, 3);
+    let r = run(&["G1 X1 F100", "G93 X2 F30", "G94 X3 F120"]).unwrap();
+    assert_feed(r.motion(3), [3.0, 0.0, 0.0], 2.0);
+}
+
+#[test]
+fn tool_parameters_follow_the_units() {
+    let opts = Options {
+        tools: tools(&[(1, 25.4, 12.7)]),
+        ..Options::default()
+    };
+    let r = run_with(&opts, &["T1 M6", "G20"]).unwrap();
+    assert_eq!(r.params.get(5400), Some(1.0));
+    assert!(close(r.params.get(5403).unwrap(), 1.0));
+    assert!(close(r.params.get(5410).unwrap(), 0.5));
+}
