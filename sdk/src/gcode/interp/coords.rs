@@ -366,7 +366,6 @@ impl Interp {
     /// G43, G43.1, G43.2, G49.
     pub(super) fn set_tool_length(&mut self, b: &Block, g: GCode) -> Result<(), GcodeError> {
         let line = b.line;
-        self.no_comp(line, "change the tool length offset")?;
         let words = self.axis_words(b);
         let table = |it: &Interp, h: u32| -> Result<Pos, GcodeError> {
             if h == 0 {
@@ -404,8 +403,15 @@ impl Interp {
                 add(self.tool_offset, add_on)
             }
         };
+        // The programmed point stays where it is on the machine while compensation runs
+        // (elsewhere the machine position is the truth already).
+        let old = self.frame();
         self.tool_offset = off;
         self.tlo_code = g;
+        let new = self.frame();
+        if let Some(run) = self.comp.as_mut() {
+            run.prog = new.to_work(old.to_machine(run.prog));
+        }
         Ok(())
     }
 }

@@ -7,8 +7,9 @@
 //! coordinates from the piece, the other axes (normal axis, A B C) from the payload's end,
 //! and a corner arc keeps them still. The program's position is the programmed one
 //! ([`CompRun::prog`]); the machine's lags one move behind until G40 (or M2/M30, or the end
-//! of the text) calls `finish`. Offsets, tool length, coordinate system and plane cannot
-//! change while it runs, so one work → machine frame holds for every pending piece.
+//! of the text) calls `finish`. Offsets, coordinate system and plane cannot change while it
+//! runs; the tool length can (G43/G49): each payload carries the work → machine frame of
+//! its move.
 
 use super::{err, gname, CompMode, CompRun, Interp, Payload};
 use crate::gcode::comp::{Compensator, Offset, Piece, Side};
@@ -95,10 +96,24 @@ impl Interp {
             return Ok(());
         };
         let mut pieces = Vec::new();
-        run.engine
+        let centre = run
+            .engine
             .finish(&mut pieces)
             .map_err(|e| GcodeError::new(line, format!("cutter compensation: {}", e.0)))?;
         self.emit_pieces(pieces, out)?;
+        // The exit move starts where the tool's centre is: the last piece's end.
+        let w = self.frame().to_work(self.position);
+        let (a, b, _) = self.plane.axes();
+        if (w[a] - centre[0]).hypot(w[b] - centre[1]) > 1e-6 {
+            return err(
+                line,
+                format!(
+                    "cutter compensation ends at ({:.6}, {:.6}), not at its last piece's end \
+                     ({:.6}, {:.6})",
+                    centre[0], centre[1], w[a], w[b]
+                ),
+            );
+        }
         Ok(())
     }
 
@@ -128,8 +143,8 @@ impl Interp {
         out: &mut Vec<Op>,
     ) -> Result<(), GcodeError> {
         let (a, bb, n) = self.plane.axes();
-        let frame = self.frame();
         for (piece, corner, pay) in pieces {
+            let frame = pay.frame;
             let start = self.position;
             let mut end_w = if corner {
                 frame.to_work(start)

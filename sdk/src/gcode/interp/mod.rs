@@ -136,6 +136,9 @@ struct Payload {
     blend: Blend,
     /// The programmed end, work coordinates.
     end: Pos,
+    /// Work → machine when the move was programmed (the tool length may change while
+    /// compensation runs).
+    frame: Frame,
 }
 
 /// Compensation running with a non-zero radius.
@@ -410,6 +413,21 @@ impl Interp {
     /// Cutter radius compensation.
     pub fn comp_mode(&self) -> CompMode {
         self.comp_mode
+    }
+
+    /// The G code of cutter radius compensation in effect (400 for G40, 411 for G41.1, …).
+    pub fn comp_code(&self) -> GCode {
+        self.comp_code
+    }
+
+    /// The G code of the tool length offset in effect (490 for G49, 430, 431, 432).
+    pub fn tool_length_code(&self) -> GCode {
+        self.tlo_code
+    }
+
+    /// G98 (`false`: back to the initial level) or G99 (`true`: to R).
+    pub fn retract_to_r(&self) -> bool {
+        self.retract_r
     }
 
     /// Spindle speed (rpm) and direction.

@@ -190,6 +190,7 @@ impl Interp {
                     feed,
                     blend: self.blend,
                     end,
+                    frame: self.frame(),
                 },
                 out,
             );
@@ -348,6 +349,7 @@ impl Interp {
                     feed,
                     blend: self.blend,
                     end,
+                    frame: self.frame(),
                 },
                 out,
             );

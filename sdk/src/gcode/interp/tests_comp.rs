@@ -144,9 +144,15 @@ fn compensation_flushes_at_the_end_of_the_program() {
 
 #[test]
 fn a_zero_diameter_runs_the_programmed_path() {
-    let r = run_with(&opts(), &["T2 M6", "G41 G1 X10 Y0 F600", "Y10", "G40"]).unwrap();
-    assert_feed(r.motion(2), [10.0, 0.0, 0.0], 10.0);
-    assert_feed(r.motion(3), [10.0, 10.0, 0.0], 10.0);
+    let o = Options {
+        tools: tools(&[(1, 0.0, 2.0), (2, 5.0, 0.0)]),
+        ..Options::default()
+    };
+    let r = run_with(&o, &["T2 M6", "G41 G43 G1 X10 Y0 Z0 F600", "Y10", "G40"]).unwrap();
+    assert_eq!(r.it.comp_code(), 400);
+    assert_eq!(r.it.tool_length_code(), 430);
+    assert_feed(r.motion(2), [10.0, 0.0, 5.0], 10.0);
+    assert_feed(r.motion(3), [10.0, 10.0, 5.0], 10.0);
 }
 
 #[test]
