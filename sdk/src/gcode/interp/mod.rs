@@ -390,6 +390,11 @@ impl Interp {
         self.tool
     }
 
+    /// The interpreter's tool table: [`Options::tools`] as G10 L1/L10 left it.
+    pub fn tool_table(&self) -> &ToolTable {
+        &self.tools
+    }
+
     /// The tool selected by the last T.
     pub fn selected_tool(&self) -> u32 {
         self.selected

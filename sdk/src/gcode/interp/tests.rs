@@ -517,6 +517,7 @@ fn g10_l1_and_l10_edit_the_tool_table() {
     // L10: the current position (machine Z 40) reads Z10 with this tool.
     let r = run_with(&opts, &["T1 M6", "G10 L10 P1 Z10", "G43", "G0 Z0"]).unwrap();
     assert_rapid(r.motion(4), [0.0, 0.0, 30.0]);
+    assert_eq!(r.it.tool_table().tools[0].offset[2], 30.0);
 }
 
 #[test]
