@@ -297,7 +297,13 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
     if b.word('K').is_some() && !is(&[20, 30, 330, 331, 870]) {
         return err(line, "K word with no G2, G3, G33, G33.1 or G87 to use it");
     }
-    if b.word('L').is_some() && !cycle && !is(&[52]) && !g10 && comp.is_none() && m5 != Some(66) {
+    if b.word('L').is_some()
+        && !cycle
+        && !is(&[52])
+        && !g10
+        && !matches!(comp, Some(410 | 411 | 420 | 421))
+        && m5 != Some(66)
+    {
         return err(
             line,
             "L word with no G10, cutter compensation, canned cycle, M66 or G5.2 to use it",

@@ -440,6 +440,7 @@ fn lines_linuxcnc_refuses_are_refused_with_their_line() {
         (&["G0 X1", "G0 X2 Q1"], "Q word"),
         (&["G0 X1", "G0 X2 R1"], "R word"),
         (&["G0 X1", "G0 X2 L1"], "L word"),
+        (&["G0 X1", "G40 L1"], "L word"),
         (&["G0 X1", "G0 X2 H1"], "H word"),
         (&["G0 X1", "G0 X2 D1"], "D word"),
         (&["G0 X1", "G0 X2 E1"], "E word"),
