@@ -4,10 +4,7 @@
 //! operations become blocks here ([`blocks_of`]), for [`crate::path_report`] and `mcctl run`.
 
 pub use motioncard_sdk::gcode::GcodeError;
-use motioncard_sdk::gcode::{Op, OpKind, Options, Pos};
-
-/// Moves no longer than this (mm) are dropped.
-pub const ZERO_LENGTH_MM: f64 = 1e-6;
+use motioncard_sdk::gcode::{Op, OpKind, Options, Pos, ZERO_LENGTH};
 
 /// The plane of an arc (G17, G18, G19).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -173,7 +170,7 @@ impl Block {
         let c = [centre[a], centre[b]];
         let theta0 = (start[b] - c[1]).atan2(start[a] - c[0]);
         let theta1 = (end[b] - c[1]).atan2(end[a] - c[0]);
-        let full = (end[a] - start[a]).hypot(end[b] - start[b]) <= ZERO_LENGTH_MM;
+        let full = (end[a] - start[a]).hypot(end[b] - start[b]) <= ZERO_LENGTH;
         let tau = std::f64::consts::TAU;
         let sweep = match (full, ccw) {
             (true, true) => tau,
@@ -227,7 +224,7 @@ impl Block {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Program {
     pub blocks: Vec<Block>,
-    /// Moves no longer than [`ZERO_LENGTH_MM`], dropped.
+    /// Moves no longer than [`ZERO_LENGTH`], dropped.
     pub dropped_zero_length: usize,
 }
 
@@ -263,11 +260,9 @@ pub fn parse_from(text: &str, start: [f64; 3]) -> Result<Program, GcodeError> {
     let mut p = Program::default();
     for op in motioncard_sdk::gcode::Program::from_text(text, &opts) {
         let op = op?;
-        if let Some((s, e)) = op.kind.ends() {
-            if s == e {
-                p.dropped_zero_length += 1;
-                continue;
-            }
+        if op.kind.is_null_motion() {
+            p.dropped_zero_length += 1;
+            continue;
         }
         blocks_of(&op, &mut p.blocks);
     }
@@ -329,8 +324,7 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
                 motioncard_sdk::gcode::Plane::Zx => Plane::Zx,
                 motioncard_sdk::gcode::Plane::Yz => Plane::Yz,
             };
-            let sweep = motioncard_sdk::gcode::run::arc_sweep(start, end, centre, *sdk_plane, *ccw);
-            let total = sweep.abs() + f64::from(*turns) * std::f64::consts::TAU;
+            let total = op.kind.arc_sweep().unwrap_or(std::f64::consts::TAU);
             let n = plane.axes().2;
             let arc = |start: [f64; 3], end: [f64; 3]| Block::Arc {
                 line,
@@ -397,5 +391,84 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
             synced: *synced,
         }),
         _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn blocks(text: &str) -> Vec<Block> {
+        parse(text).unwrap_or_else(|e| panic!("{e}")).blocks
+    }
+
+    #[test]
+    fn a_full_circle_is_one_arc_of_a_whole_turn() {
+        let b = blocks("G0 X10\nG2 X10 Y0 I-10 F60\n");
+        assert_eq!(b.len(), 2);
+        let g = b[1].arc_geom().unwrap();
+        assert!((g.sweep + 2.0 * PI).abs() < 1e-12);
+        assert!((b[1].length() - 20.0 * PI).abs() < 1e-9);
+        assert!((dist(b[1].point_at(0.25).unwrap(), [0.0, -10.0, 0.0])) < 1e-9);
+    }
+
+    #[test]
+    fn extra_turns_are_an_arc_a_turn_the_helix_shared_by_angle() {
+        // A quarter turn plus two whole turns (P3), Z falling 9 mm over the 2.25 turns.
+        let b = blocks("G0 X10\nG3 X0 Y10 Z-9 I-10 P3 F60\n");
+        assert_eq!(b.len(), 4);
+        let total = 2.25 * 2.0 * PI;
+        for (k, blk) in b[1..3].iter().enumerate() {
+            let end = blk.end().unwrap();
+            let z = -9.0 * (k as f64 + 1.0) * 2.0 * PI / total;
+            assert!(dist(end, [10.0, 0.0, z]) < 1e-9, "turn {k}: {end:?}");
+        }
+        assert!(dist(b[3].end().unwrap(), [0.0, 10.0, -9.0]) < 1e-12);
+        let length: f64 = b[1..].iter().map(Block::length).sum();
+        assert!(
+            (length - (10.0 * total).hypot(9.0)).abs() < 1e-9,
+            "{length}"
+        );
+    }
+
+    #[test]
+    fn a_spline_is_a_polyline_on_its_curve() {
+        // G5.1: the quadratic from (0,0) with control point (5,10) to (10,0).
+        let b = blocks("G1 X0 Y0 F60\nG5.1 X10 Y0 I5 J10\n");
+        assert_eq!(b.len(), SPLINE_SAMPLES);
+        assert!(dist(b.last().unwrap().end().unwrap(), [10.0, 0.0, 0.0]) < 1e-12);
+        // The apex of the parabola, halfway: (5, 5).
+        let mid = b[SPLINE_SAMPLES / 2 - 1].end().unwrap();
+        assert!(dist(mid, [5.0, 5.0, 0.0]) < 1e-9, "{mid:?}");
+    }
+
+    #[test]
+    fn null_moves_are_counted_not_kept() {
+        let p = parse("G0 X0 Y0\nG1 X5 F60\nX5\nG91 X0\nG90 G0 X5.0000001\nG0 X6\n").unwrap();
+        assert_eq!(p.dropped_zero_length, 4);
+        assert_eq!(p.motion_count(), 2);
+    }
+
+    #[test]
+    fn example_programs_parse() {
+        let square = parse(include_str!("../examples/gcode/square.ngc")).unwrap();
+        assert_eq!(square.motion_count(), 5);
+        let cuts: Vec<_> = square
+            .blocks
+            .iter()
+            .filter(|b| !matches!(b, Block::Line { rapid: true, .. }))
+            .collect();
+        assert_eq!(cuts.len(), 4);
+        assert!(cuts
+            .iter()
+            .all(|b| b.feed() == Some(50.0) && (b.length() - 50.0).abs() < 1e-12));
+        for text in [
+            include_str!("../examples/gcode/part.ngc"),
+            include_str!("../examples/gcode/zigzag.ngc"),
+        ] {
+            let p = parse(text).unwrap();
+            assert!(p.motion_count() > 10 && p.length() > 0.0);
+        }
     }
 }

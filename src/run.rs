@@ -145,12 +145,10 @@ fn survey(file: &Path, start: [f64; 3], opts: &RunOptions) -> Result<Survey> {
     for op in program(file, start, opts)? {
         let op = op?;
         s.ops += 1;
-        if let Some((a, b)) = op.kind.ends() {
-            if a == b {
-                s.dropped_zero_length += 1;
-            } else {
-                s.motions += 1;
-            }
+        if op.kind.is_null_motion() {
+            s.dropped_zero_length += 1;
+        } else if op.kind.ends().is_some() {
+            s.motions += 1;
         }
     }
     Ok(s)

@@ -3,7 +3,6 @@
 //! are taken as tripping at their programmed ends.
 
 use super::bad;
-use crate::gcode::{blocks_of, Block};
 use clap::Args as ClapArgs;
 use motioncard_sdk::gcode::{
     Op, OpKind, Options, Pos, Program, SpindleDir, ToolTable, AXIS_LETTERS,
@@ -30,11 +29,9 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Path length (mm, X Y Z) of a motion: its lines and arcs as the path report sees them.
+/// Path length of a motion (mm over X Y Z; degrees for A B C alone).
 pub fn length(op: &Op) -> f64 {
-    let mut blocks = Vec::new();
-    blocks_of(op, &mut blocks);
-    blocks.iter().map(Block::length).sum()
+    op.kind.length().unwrap_or(0.0)
 }
 
 fn pos_json(p: &Pos) -> serde_json::Value {

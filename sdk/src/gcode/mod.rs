@@ -27,7 +27,9 @@ mod tools;
 
 pub use block::{Block, GCode};
 pub use interp::{CompMode, FeedMode, Interp, Options, Units};
-pub use ops::{Blend, Op, OpKind, PauseKind, Plane, Pos, SpindleDir, Spline, AXIS_LETTERS};
+pub use ops::{
+    Blend, Op, OpKind, PauseKind, Plane, Pos, SpindleDir, Spline, AXIS_LETTERS, ZERO_LENGTH,
+};
 pub use params::{Params, CALL_PARAMS, MAX_PARAM};
 pub use reader::{FileSource, Reader, Source, TextSource, MAX_LINE_BYTES};
 pub use tools::{Tool, ToolTable};

@@ -5,6 +5,10 @@
 /// A position in machine coordinates: X, Y, Z in mm, A, B, C in degrees.
 pub type Pos = [f64; 6];
 
+/// Moves whose ends are no farther apart than this on any axis (mm, degrees) do not move: the
+/// card refuses them, and the runner does not send them.
+pub const ZERO_LENGTH: f64 = 1e-6;
+
 /// Axis letters in [`Pos`] order.
 pub const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
@@ -210,6 +214,22 @@ impl OpKind {
             OpKind::Overrides { .. } => "overrides",
             OpKind::Hook { .. } => "hook",
             OpKind::End { .. } => "end",
+        }
+    }
+
+    /// A straight motion (rapid, feed, probe, spindle-synchronised) whose ends are within
+    /// [`ZERO_LENGTH`] of each other on every axis. Arcs and splines are never null: start and
+    /// end coinciding make a full turn or a closed curve.
+    pub fn is_null_motion(&self) -> bool {
+        match *self {
+            OpKind::Rapid { start, end, .. }
+            | OpKind::Feed { start, end, .. }
+            | OpKind::Probe { start, end, .. }
+            | OpKind::SpindleSync { start, end, .. } => start
+                .iter()
+                .zip(&end)
+                .all(|(a, b)| (a - b).abs() <= ZERO_LENGTH),
+            _ => false,
         }
     }
 

@@ -464,11 +464,11 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             let (b, t) = self.join(blend);
             s.buffer(b).transition(t)
         };
+        if op.kind.is_null_motion() {
+            return Ok(Vec::new());
+        }
         let segs = match &op.kind {
-            OpKind::Rapid { start, end, blend } => {
-                if start == end {
-                    return Ok(Vec::new());
-                }
+            OpKind::Rapid { end, blend, .. } => {
                 vec![with(
                     Segment::line(
                         id,
@@ -480,14 +480,11 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 )]
             }
             OpKind::Feed {
-                start,
                 end,
                 feed: f,
                 blend,
+                ..
             } => {
-                if start == end {
-                    return Ok(Vec::new());
-                }
                 vec![with(
                     Segment::line(id, &self.target(end, op.line)?, feed(*f), 0.0),
                     *blend,
@@ -505,8 +502,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 blend,
             } => {
                 let mut out = Vec::new();
-                let sweep = arc_sweep(start, end, centre, *plane, *ccw);
-                let total = sweep.abs() + f64::from(*turns) * std::f64::consts::TAU;
+                let total = op.kind.arc_sweep().unwrap_or(std::f64::consts::TAU);
                 let (a, b, _) = plane.axes();
                 // Full turns first, each ending where the arc started, the other axes moved
                 // by their share of the whole sweep; then the arc to its end.
@@ -718,21 +714,4 @@ pub fn group_position(group: &Group, axes: &str) -> Result<Pos> {
         }
     }
     Ok(p)
-}
-
-/// The signed sweep (radians, positive counter-clockwise) of an arc from `start` to `end`
-/// about `centre` in `plane`: a full turn when they coincide in the plane.
-pub fn arc_sweep(start: &Pos, end: &Pos, centre: &[f64; 3], plane: Plane, ccw: bool) -> f64 {
-    let (a, b, _) = plane.axes();
-    let t0 = (start[b] - centre[b]).atan2(start[a] - centre[a]);
-    let t1 = (end[b] - centre[b]).atan2(end[a] - centre[a]);
-    let tau = std::f64::consts::TAU;
-    let full = (end[a] - start[a]).hypot(end[b] - start[b])
-        <= 1e-9 * (1.0 + start[a].abs().max(start[b].abs()));
-    match (full, ccw) {
-        (true, true) => tau,
-        (true, false) => -tau,
-        (false, true) => (t1 - t0).rem_euclid(tau),
-        (false, false) => -(t0 - t1).rem_euclid(tau),
-    }
 }

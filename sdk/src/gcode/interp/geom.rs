@@ -5,6 +5,31 @@ use super::motion::{distances, sweep};
 use crate::gcode::{OpKind, Spline};
 
 impl OpKind {
+    /// The angle an arc turns through (radians, > 0), its extra turns included; `None` for
+    /// what is not an arc.
+    pub fn arc_sweep(&self) -> Option<f64> {
+        let OpKind::Arc {
+            start,
+            end,
+            centre,
+            plane,
+            ccw,
+            turns,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let (a, b, _) = plane.axes();
+        let partial = sweep(
+            [start[a], start[b]],
+            [end[a], end[b]],
+            [centre[a], centre[b]],
+            *ccw,
+        );
+        Some(partial + std::f64::consts::TAU * f64::from(*turns))
+    }
+
     /// The length of a motion along its path: in mm over X Y Z, or, for a motion of A B C
     /// alone, in degrees. A rigid tap (G33.1) counts its way in and out. `None` for what is
     /// not a motion.

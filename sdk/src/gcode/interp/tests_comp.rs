@@ -1,8 +1,6 @@
-//! Cutter radius compensation through `comp.rs`.
-//!
-//! The tests marked `#[ignore = "needs comp.rs"]` drive the [`Compensator`] and so panic on
-//! its `todo!()` until its body lands: run them with `cargo test -- --include-ignored` (and
-//! drop the marks) then. The others do not reach the compensator and run now.
+//! Cutter radius compensation through `comp.rs`: the interpreter's side of it (what becomes
+//! of the other axes, flushing at G40, M2 and the end of the text, what is refused while it
+//! is on).
 
 use super::tests::*;
 use super::*;
@@ -68,7 +66,6 @@ fn corner_arcs(r: &Run) -> Vec<([f64; 3], f64, bool)> {
 }
 
 #[test]
-#[ignore = "needs comp.rs"]
 fn g41_runs_a_square_at_the_radius_outside_with_arcs_at_its_corners() {
     let r = run_with(&opts(), SQUARE).unwrap();
     assert_continuous(&r.ops);
@@ -100,7 +97,6 @@ fn g41_runs_a_square_at_the_radius_outside_with_arcs_at_its_corners() {
 }
 
 #[test]
-#[ignore = "needs comp.rs"]
 fn g41_1_takes_the_diameter_from_d_and_g42_the_other_side() {
     let mut lines = SQUARE.to_vec();
     lines[2] = "G41.1 D2 G1 X0 Y0 F600";
@@ -116,7 +112,6 @@ fn g41_1_takes_the_diameter_from_d_and_g42_the_other_side() {
 }
 
 #[test]
-#[ignore = "needs comp.rs"]
 fn other_axes_move_along_the_pieces_and_stand_still_in_corner_arcs() {
     let mut lines = SQUARE.to_vec();
     lines[4] = "X10 Z-2";
@@ -132,7 +127,6 @@ fn other_axes_move_along_the_pieces_and_stand_still_in_corner_arcs() {
 }
 
 #[test]
-#[ignore = "needs comp.rs"]
 fn compensation_flushes_at_the_end_of_the_program() {
     let r = run_with(&opts(), &SQUARE[..7]).unwrap();
     let s4 = feeds_of(&r, 7);
