@@ -8,7 +8,7 @@
 use crate::layout;
 use crate::mem::Mem;
 use crate::sync::{fence, Ordering};
-use crate::wire::{AxisStatus, GroupStatus, STATUS_WORDS};
+use crate::wire::{status_checksum, AxisStatus, GroupStatus, STATUS_WORDS};
 
 /// A consistent copy could not be taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,10 +72,29 @@ pub fn read_words<M: Mem>(
     Err(SnapshotError::Busy)
 }
 
+/// Write a status payload under the seqlock at `seq_off`, its checksum (the last word, which
+/// `words` need not hold) computed after the other words are stored: the same words as
+/// [`write_words`] of `to_words()`, but the payload is not held in registers across the
+/// checksum (the card publishes 12 a tick, and computing the checksum first spilled them).
+#[inline(always)]
+pub fn write_status_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS]) {
+    let seq = mem.load32(seq_off, Ordering::Relaxed) & !1;
+    mem.store32(seq_off, seq.wrapping_add(1), Ordering::Relaxed);
+    fence(Ordering::Release);
+    let base = seq_off + layout::STATUS_PAYLOAD;
+    mem.write64s(base, &words[..STATUS_WORDS - 1]);
+    mem.write64(base + 8 * (STATUS_WORDS - 1), status_checksum(words));
+    mem.store32(seq_off, seq.wrapping_add(2), Ordering::Release);
+}
+
 /// Publish an axis's status (card side).
 #[inline]
 pub fn write_axis_status<M: Mem>(mem: &M, axis: usize, status: &AxisStatus) {
-    write_words(mem, layout::axis_status(axis), &status.to_words());
+    write_status_words(
+        mem,
+        layout::axis_status(axis),
+        &crate::block::to_words(status),
+    );
 }
 
 /// Read an axis's status (host side): consistent and checksum-verified.
@@ -243,7 +262,11 @@ mod tests {
 /// Publish a group's status (card side).
 #[inline]
 pub fn write_group_status<M: Mem>(mem: &M, group: usize, status: &GroupStatus) {
-    write_words(mem, layout::group_status(group), &status.to_words());
+    write_status_words(
+        mem,
+        layout::group_status(group),
+        &crate::block::to_words(status),
+    );
 }
 
 /// Read a group's status (host side): consistent and checksum-verified.

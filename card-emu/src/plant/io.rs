@@ -165,6 +165,7 @@ pub fn encoder_span(
 }
 
 /// [`encoder_span`] with the reading at the start (`start.encoder()`) given.
+#[inline]
 pub fn encoder_span_from(
     a: i64,
     start: &Motor,
@@ -173,10 +174,23 @@ pub fn encoder_span_from(
     replay: impl Fn(&mut Motor, f64),
 ) -> (i64, i64) {
     let b = end.encoder();
-    let (mut lo, mut hi) = (a.min(b), a.max(b));
+    let (lo, hi) = (a.min(b), a.max(b));
     if start.omega * end.omega >= 0.0 {
         return (lo, hi);
     }
+    replayed_span(lo, hi, start, ts, replay)
+}
+
+/// The span of a period in which the shaft reversed: the period replayed in samples. Out of
+/// line: the emulator takes a span of every axis each period, and few of them reverse.
+#[inline(never)]
+fn replayed_span(
+    mut lo: i64,
+    mut hi: i64,
+    start: &Motor,
+    ts: f64,
+    replay: impl Fn(&mut Motor, f64),
+) -> (i64, i64) {
     let mut m = *start;
     let h = ts / f64::from(SPAN_SAMPLES);
     for _ in 0..SPAN_SAMPLES {

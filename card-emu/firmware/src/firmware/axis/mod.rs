@@ -83,10 +83,15 @@ impl AxisConfig {
 enum Motion {
     /// Holding the commanded position.
     Hold,
-    /// Running a trajectory; `t` is the time into it. Moves and halts end in Standstill once
-    /// in position; a stop stays in Stopping until released; velocity mode runs on at the
+    /// Running a trajectory; `t` is the time into it, `seg` the segment it was last sampled in
+    /// (where the next sample's search starts). Moves and halts end in Standstill once in
+    /// position; a stop stays in Stopping until released; velocity mode runs on at the
     /// trajectory's end velocity.
-    Run { traj: Trajectory, t: f64 },
+    Run {
+        traj: Trajectory,
+        t: f64,
+        seg: usize,
+    },
 }
 
 /// What the running motion is for: what a retarget or an override plans towards again.
@@ -468,7 +473,13 @@ impl Axis {
             && self.goal != Goal::None;
         if replan {
             match self.plan(&self.goal, rate_hz) {
-                Ok(traj) => self.motion = Motion::Run { traj, t: 0.0 },
+                Ok(traj) => {
+                    self.motion = Motion::Run {
+                        traj,
+                        t: 0.0,
+                        seg: 0,
+                    }
+                }
                 Err(e) => {
                     self.override_factor = old;
                     return Err(e);
@@ -568,7 +579,11 @@ impl Axis {
         }
         self.goal = goal;
         self.in_velocity = false;
-        self.motion = Motion::Run { traj, t: 0.0 };
+        self.motion = Motion::Run {
+            traj,
+            t: 0.0,
+            seg: 0,
+        };
         self.stop_elapsed = None;
     }
 
@@ -641,6 +656,7 @@ impl Axis {
         self.motion = Motion::Run {
             traj: Trajectory::from_profile(p),
             t: 0.0,
+            seg: 0,
         };
     }
 
@@ -756,9 +772,9 @@ impl Axis {
         }
 
         // Trajectory generator.
-        if let Motion::Run { traj, t } = &mut self.motion {
+        if let Motion::Run { traj, t, seg } = &mut self.motion {
             *t += ts;
-            let s = traj.sample(*t);
+            let s = traj.sample_from(*t, seg);
             self.cmd = Reference {
                 pos: s.pos,
                 vel: s.vel,
@@ -780,7 +796,13 @@ impl Axis {
                     // that cannot be planned, the starvation stop below takes over next tick.)
                     let goal = self.goal;
                     match self.plan(&goal, rate_hz(ts)) {
-                        Ok(traj) => self.motion = Motion::Run { traj, t: 0.0 },
+                        Ok(traj) => {
+                            self.motion = Motion::Run {
+                                traj,
+                                t: 0.0,
+                                seg: 0,
+                            }
+                        }
                         Err(_) => self.goal = Goal::None,
                     }
                 } else if end.vel != 0.0 || end.acc != 0.0 {
@@ -792,6 +814,7 @@ impl Axis {
                         Some(p) => Motion::Run {
                             traj: Trajectory::from_profile(&p),
                             t: 0.0,
+                            seg: 0,
                         },
                         None => Motion::Hold,
                     };

@@ -783,6 +783,15 @@ impl Trajectory {
     /// state continued at constant velocity with zero acceleration
     /// (`pos = end.pos + end.vel * (t - duration)`).
     pub fn sample(&self, t: f64) -> State {
+        self.sample_from(t, &mut 0)
+    }
+
+    /// [`Trajectory::sample`], the segment search starting at `*seg` (where the last sample
+    /// was: a profile runs forward) when `t` is not before it, and `*seg` set to the segment
+    /// sampled. The segments' start times never decrease, so no segment before `*seg` can hold
+    /// `t`: the same state as [`Trajectory::sample`] whatever `*seg` holds.
+    #[inline]
+    pub fn sample_from(&self, t: f64, seg: &mut usize) -> State {
         let t = if t > 0.0 { t } else { 0.0 };
         let n = self.n.min(MAX_SEGS);
         let total = self.t0[n];
@@ -796,10 +805,15 @@ impl Trajectory {
                 ..e
             };
         }
-        let mut i = 0;
+        let mut i = if *seg < n && t >= self.t0[*seg] {
+            *seg
+        } else {
+            0
+        };
         while i + 1 < n && t >= self.t0[i + 1] {
             i += 1;
         }
+        *seg = i;
         let tau = t - self.t0[i];
         let (x0, v0, a0, jerk) = (self.x[i], self.v[i], self.a[i], self.jerk[i]);
         // The same expressions as `scurve::Profile::sample` (Thinh eq 1-28), so that
