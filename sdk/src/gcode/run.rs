@@ -207,64 +207,49 @@ impl<S: Source, H: Hooks> Runner<S, H> {
 
     fn advance(&mut self) -> Result<RunState> {
         loop {
-            if self.waiting.is_some() || (self.read_all && self.held.is_none()) {
+            if self.waiting.is_some() || self.read_all || self.pause_requested {
                 // Everything before it must be sent and done.
-                self.flush(true)?;
+                if !self.flush(true)? {
+                    return Ok(self.set(RunState::Running));
+                }
                 if !self.motion_done()? {
-                    self.state = RunState::Draining;
-                    return Ok(self.state);
+                    return Ok(self.set(RunState::Draining));
                 }
-                match self.waiting.take() {
-                    Some(op) => {
-                        if self.sync_op(&op)? {
-                            self.state = RunState::Paused;
-                            return Ok(self.state);
-                        }
-                        continue;
+                if let Some(op) = self.waiting.take() {
+                    if self.sync_op(&op)? {
+                        return Ok(self.set(RunState::Paused));
                     }
-                    None => {
-                        self.state = RunState::Done;
-                        return Ok(self.state);
-                    }
+                    continue;
                 }
-            }
-            if self.pause_requested {
-                self.flush(true)?;
-                if !self.motion_done()? {
-                    self.state = RunState::Draining;
-                    return Ok(self.state);
+                if self.pause_requested {
+                    self.pause_requested = false;
+                    return Ok(self.set(RunState::Paused));
                 }
-                self.pause_requested = false;
-                self.state = RunState::Paused;
-                return Ok(self.state);
-            }
-            if self.read_all {
-                self.flush(true)?;
-                continue;
+                return Ok(self.set(RunState::Done));
             }
             // Read while the batch has room.
             if self.batch.len() >= self.settings.batch.max(1) {
-                if self.group.path_free()? < self.batch.len() {
-                    self.state = RunState::Running;
-                    return Ok(self.state);
+                if !self.flush(false)? {
+                    return Ok(self.set(RunState::Running));
                 }
-                self.flush(false)?;
                 continue;
             }
             if self.read_limit.is_some_and(|l| self.program.line() >= l) {
                 // Held at the limit: what is made goes as soon as it fits.
-                if self.group.path_free()? >= self.batch.len() {
-                    self.flush(false)?;
-                }
-                self.state = RunState::Running;
-                return Ok(self.state);
+                self.flush(false)?;
+                return Ok(self.set(RunState::Running));
             }
             match self.program.next_op() {
                 None => self.read_all = true,
                 Some(Err(e)) => {
                     self.error_line = e.line;
-                    // What came before the error runs; nothing after it.
-                    self.flush(true)?;
+                    // What came before the error runs (waiting for room if it must);
+                    // nothing after it.
+                    if let Some(s) = self.held.take() {
+                        self.batch.push(s.last().into());
+                    }
+                    let items: Vec<PathItem> = self.batch.drain(..).collect();
+                    self.group.stream_path(items, |_| {}).map_err(|e| e.error)?;
                     return Err(e.into());
                 }
                 Some(Ok(op)) => {
@@ -276,25 +261,35 @@ impl<S: Source, H: Hooks> Runner<S, H> {
         }
     }
 
+    fn set(&mut self, s: RunState) -> RunState {
+        self.state = s;
+        s
+    }
+
     /// Whether the group has run everything queued.
     fn motion_done(&self) -> Result<bool> {
         let (state, st) = self.group.status()?;
         Ok(state == GroupState::Standby && st.path_queued == 0)
     }
 
-    /// Sends the batch (`last`: the held segment too, marked last of its stretch).
-    fn flush(&mut self, last: bool) -> Result<()> {
+    /// Sends the batch (`last`: the held segment too, marked the last of its stretch) when
+    /// the path has room for all of it: `false` when it must wait (a send never blocks).
+    fn flush(&mut self, last: bool) -> Result<bool> {
+        let n = self.batch.len() + usize::from(last && self.held.is_some());
+        if n == 0 {
+            return Ok(true);
+        }
+        if self.group.path_free()? < n {
+            return Ok(false);
+        }
         if last {
             if let Some(s) = self.held.take() {
                 self.batch.push(s.last().into());
             }
         }
-        if self.batch.is_empty() {
-            return Ok(());
-        }
         let items: Vec<PathItem> = self.batch.drain(..).collect();
         self.group.stream_path(items, |_| {}).map_err(|e| e.error)?;
-        Ok(())
+        Ok(true)
     }
 
     /// An operation read: an item for the path, or one that waits for the motion.
