@@ -98,38 +98,38 @@ static void part(mc_card c) {
     mc_gcode p = 0;
     CHECK(mc_gcode_load_string(c, G, PART, NULL, &s, &p));
     ASSERT(p != 0, "handle %u", p);
-    struct seen_hooks seen = {0};
+    struct seen_hooks hooked = {0};
     mc_gcode_hooks hooks = {0};
     hooks.spindle = on_spindle;
     hooks.coolant = on_coolant;
     hooks.message = on_message;
     hooks.pause = on_pause;
-    CHECK(mc_gcode_set_hooks(p, &hooks, &seen));
+    CHECK(mc_gcode_set_hooks(p, &hooks, &hooked));
 
     uint32_t state = 99;
     CHECK(mc_gcode_run(p, 60000, &state));
     ASSERT(state == MC_GCODE_PAUSED, "state %u at the M0", state);
-    ASSERT(seen.pauses == 1, "%d pauses", seen.pauses);
+    ASSERT(hooked.pauses == 1, "%d pauses", hooked.pauses);
     uint32_t running = 99, read = 0;
     CHECK(mc_gcode_line(p, &running, &read));
     ASSERT(read == 12, "paused having read line %u, the M0 is line 12", read);
     /* The rectangle closed at the work origin: machine X10 Y5. */
     expect_machine_at(c, 10.0, 5.0, 0.0, "at the M0");
-    ASSERT(seen.spindle_calls == 1 && seen.speed == 1200.0 && seen.direction == 3,
-           "spindle: %d calls, %f rpm, M%u", seen.spindle_calls, seen.speed, seen.direction);
-    ASSERT(seen.coolant_calls == 1 && seen.flood == 1, "coolant: %d calls, flood %u",
-           seen.coolant_calls, seen.flood);
-    ASSERT(seen.messages == 1 && strstr(seen.message, "cutting"), "message %d '%s'",
-           seen.messages, seen.message);
+    ASSERT(hooked.spindle_calls == 1 && hooked.speed == 1200.0 && hooked.direction == 3,
+           "spindle: %d calls, %f rpm, M%u", hooked.spindle_calls, hooked.speed, hooked.direction);
+    ASSERT(hooked.coolant_calls == 1 && hooked.flood == 1, "coolant: %d calls, flood %u",
+           hooked.coolant_calls, hooked.flood);
+    ASSERT(hooked.messages == 1 && strstr(hooked.message, "cutting"), "message %d '%s'",
+           hooked.messages, hooked.message);
 
     CHECK(mc_gcode_resume(p));
     CHECK(mc_gcode_run(p, 60000, &state));
     ASSERT(state == MC_GCODE_DONE, "state %u at the end", state);
     expect_machine_at(c, 10.0, 5.0, 2.0, "at the end");
-    ASSERT(seen.spindle_calls == 2 && seen.direction == 5, "spindle off: %d calls, M%u",
-           seen.spindle_calls, seen.direction);
-    ASSERT(seen.coolant_calls == 2 && seen.flood == 0, "coolant off: %d calls, flood %u",
-           seen.coolant_calls, seen.flood);
+    ASSERT(hooked.spindle_calls == 2 && hooked.direction == 5, "spindle off: %d calls, M%u",
+           hooked.spindle_calls, hooked.direction);
+    ASSERT(hooked.coolant_calls == 2 && hooked.flood == 0, "coolant off: %d calls, flood %u",
+           hooked.coolant_calls, hooked.flood);
     uint32_t line = 99;
     char text[128];
     size_t needed = 0;
