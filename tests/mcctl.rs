@@ -1,17 +1,8 @@
 //! `mcctl plan` from the outside: output, JSON, exit codes.
-use std::process::Command;
+mod common;
 
-fn mcctl(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_mcctl"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use common::{mcctl, mcctl_peak_rss};
+use std::process::Command;
 
 #[test]
 fn plan_json_matches_the_hand_computed_profile() {
@@ -574,47 +565,6 @@ fn chords_behind_a_full_buffer_are_still_fitted() {
         "the circle took {extra} s behind the pieces, {circle_alone} s alone"
     );
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Runs mcctl and reads its peak resident memory (`VmHWM`, kB) from /proc while it runs
-/// (the last reading before it exits: the mark only rises).
-fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
-    use std::io::Read;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_mcctl"))
-        .args(args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let status = format!("/proc/{}/status", child.id());
-    let mut peak = 0;
-    let code = loop {
-        if let Ok(s) = std::fs::read_to_string(&status) {
-            let hwm = s
-                .lines()
-                .find_map(|l| l.strip_prefix("VmHWM:"))
-                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
-            peak = peak.max(hwm.unwrap_or(0));
-        }
-        if let Some(st) = child.try_wait().unwrap() {
-            break st.code().unwrap_or(-1);
-        }
-        std::thread::sleep(std::time::Duration::from_millis(2));
-    };
-    let (mut out, mut err) = (String::new(), String::new());
-    child
-        .stdout
-        .take()
-        .unwrap()
-        .read_to_string(&mut out)
-        .unwrap();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    (code, out, err, peak)
 }
 
 /// `mcctl run` in memory that does not grow with the run: a move and a dwell of 40 s

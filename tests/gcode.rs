@@ -1,0 +1,315 @@
+//! RS274/NGC programs end to end: through the SDK's runner on a stepped card (machine
+//! positions exact), through `mcctl gcode`'s dry run (the operations' JSON) and `mcctl run`
+//! (blending measured), with answers worked out from the RS274/NGC rules, not from our output;
+//! and the reader's memory on a million lines and on a 10 MB line.
+mod common;
+
+use common::{mcctl, mcctl_peak_rss, stepped_card};
+use motioncard_sdk::gcode::run::{group_position, Hooks, RunSettings, RunState, Runner};
+use motioncard_sdk::gcode::{Op, Options, Pos, Program};
+use motioncard_sdk::{Card, Group, GroupSettings, PathSettings};
+use std::f64::consts::PI;
+use std::time::Duration;
+
+/// A stepped card with group 0 over X, Y, Z in mm (1000 counts a mm).
+fn xyz_card() -> (Card, Group) {
+    let card = stepped_card();
+    for a in 0..3 {
+        let axis = card.axis(a).unwrap();
+        axis.set_scale(1000.0).unwrap();
+        axis.enable().unwrap();
+    }
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[0, 1, 2])).unwrap();
+    g.enable().unwrap();
+    g.configure_path(&PathSettings::uniform(3, 100.0, 1000.0, 1e5))
+        .unwrap();
+    (card, g)
+}
+
+/// Every operation's end, as the runner reads them.
+#[derive(Default)]
+struct Ends(Vec<(usize, Pos)>);
+
+impl Hooks for Ends {
+    fn op(&mut self, op: &Op) {
+        if let Some((_, e)) = op.kind.ends() {
+            self.0.push((op.line, e));
+        }
+    }
+}
+
+/// Runs `text` on group 0 of a fresh stepped card to its end: the ends of its motions, and
+/// the card's commanded X, Y, Z after it.
+fn run_on_card(text: &str) -> (Vec<(usize, Pos)>, [f64; 3]) {
+    let (card, g) = xyz_card();
+    let opts = Options {
+        start: group_position(&g, "XYZ").unwrap(),
+        ..Options::default()
+    };
+    let program = Program::from_text(text, &opts);
+    let mut r = Runner::new(&g, program, RunSettings::default(), Ends::default()).unwrap();
+    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
+    let s = card.statuses(&[0, 1, 2]).unwrap();
+    let at = [
+        s[0].command_position,
+        s[1].command_position,
+        s[2].command_position,
+    ];
+    (std::mem::take(&mut r.hooks_mut().0), at)
+}
+
+fn near(a: &[f64], b: &[f64], tol: f64) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+/// A work offset set by G10 L2 and used, G92 then G92.1, G53, a subroutine whose #1 is
+/// restored after the call, a while loop: each move's machine end, and the card there.
+#[test]
+fn offsets_subroutines_and_loops_end_where_the_rules_say() {
+    let text = "\
+G21 G90 G64 P0.01
+G10 L2 P1 X10 Y5
+G54 G0 X0 Y0
+G92 X100 Y100
+G0 X101
+G92.1
+G0 X1 Y1
+G53 G0 X0 Y0 Z5
+#1 = 7
+o10 sub
+  G0 Z[#1]
+o10 endsub
+o10 call [2]
+G0 X#1
+#2 = 0
+o20 while [#2 LT 4]
+  #2 = [#2 + 1]
+  G91 G0 Y1
+o20 endwhile
+G90
+M2
+";
+    let (ends, at) = run_on_card(text);
+    let want: &[(usize, [f64; 3])] = &[
+        // G54 at X10 Y5: the work origin.
+        (3, [10.0, 5.0, 0.0]),
+        // G92 makes here X100 Y100: X101 is one more.
+        (5, [11.0, 5.0, 0.0]),
+        // G92.1 cleared it: X1 Y1 in G54.
+        (7, [11.0, 6.0, 0.0]),
+        // G53: machine coordinates, this line only.
+        (8, [0.0, 0.0, 5.0]),
+        // the call's #1 is 2
+        (11, [0.0, 0.0, 2.0]),
+        // #1 is 7 again after the call: X7 in G54.
+        (14, [17.0, 0.0, 2.0]),
+        (18, [17.0, 1.0, 2.0]),
+        (18, [17.0, 2.0, 2.0]),
+        (18, [17.0, 3.0, 2.0]),
+        (18, [17.0, 4.0, 2.0]),
+    ];
+    assert_eq!(ends.len(), want.len(), "{ends:?}");
+    for ((line, e), (wline, w)) in ends.iter().zip(want) {
+        assert_eq!(line, wline);
+        assert!(near(&e[..3], w, 1e-12), "line {line}: {e:?}, want {w:?}");
+    }
+    assert!(near(&at, &[17.0, 4.0, 2.0], 1e-9), "the card at {at:?}");
+}
+
+/// G2 with P2 goes round twice: on the card it ends where it started its last turn, and the
+/// dry run gives its length as 4π·r.
+#[test]
+fn g2_with_p2_turns_twice() {
+    let text = "G0 X10\nG2 X10 Y0 I-10 P2 F1200\nM2\n";
+    let (_, at) = run_on_card(text);
+    assert!(near(&at, &[10.0, 0.0, 0.0], 1e-9), "{at:?}");
+    let dir = tempdir("p2");
+    let file = dir.join("p2.ngc");
+    std::fs::write(&file, text).unwrap();
+    let ops = dry_run(&[file.to_str().unwrap()]);
+    let arc = &ops[1];
+    assert_eq!(arc["kind"], "arc");
+    assert_eq!(arc["line"], 2);
+    let length = arc["length"].as_f64().unwrap();
+    assert!((length - 4.0 * PI * 10.0).abs() < 1e-9, "{length}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+fn tempdir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("gcode-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `mcctl gcode FILE … --json`: one object a line.
+fn dry_run(args: &[&str]) -> Vec<serde_json::Value> {
+    let mut a = vec!["gcode"];
+    a.extend_from_slice(args);
+    a.push("--json");
+    let (code, out, err) = mcctl(&a);
+    assert_eq!(code, 0, "{err}");
+    out.lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect()
+}
+
+fn end_of(op: &serde_json::Value) -> [f64; 3] {
+    ["x", "y", "z"].map(|k| op["end"][k].as_f64().unwrap())
+}
+
+/// G81 with G98, in inches, under G43 with a tool 10 mm long (the tool table file): rapid
+/// over the hole at the initial level, rapid to R, feed to the bottom, rapid back to the
+/// initial level, every Z raised by the tool's length; the feed 10 in/min.
+#[test]
+fn a_drilling_cycle_in_inches_under_tool_length_compensation() {
+    let dir = tempdir("g81");
+    let tools = dir.join("tool.tbl");
+    std::fs::write(&tools, "T1 P1 Z10 D6 ;6 mm drill\n").unwrap();
+    let file = dir.join("g81.ngc");
+    std::fs::write(
+        &file,
+        "G20 G90 G17\nT1 M6\nG43 H1\nG0 X0 Y0 Z1\nG98 G81 X1 Y0.5 Z-0.25 R0.1 F10\nG80\nM2\n",
+    )
+    .unwrap();
+    let ops = dry_run(&[
+        file.to_str().unwrap(),
+        "--tool-table",
+        tools.to_str().unwrap(),
+    ]);
+    let kinds: Vec<&str> = ops.iter().map(|o| o["kind"].as_str().unwrap()).collect();
+    assert_eq!(
+        kinds,
+        ["tool_change", "rapid", "rapid", "rapid", "feed", "rapid", "end"],
+        "{ops:?}"
+    );
+    assert_eq!(ops[0]["tool"], 1);
+    let initial = 25.4 + 10.0;
+    let want = [
+        [0.0, 0.0, initial],
+        [25.4, 12.7, initial],
+        [25.4, 12.7, 2.54 + 10.0],
+        [25.4, 12.7, -6.35 + 10.0],
+        [25.4, 12.7, initial],
+    ];
+    for (op, w) in ops[1..6].iter().zip(want) {
+        assert!(near(&end_of(op), &w, 1e-9), "{op} want {w:?}");
+        assert_eq!(op["line"], if w == [0.0, 0.0, initial] { 4 } else { 5 });
+    }
+    let feed = &ops[4];
+    assert!((feed["feed"].as_f64().unwrap() - 254.0 / 60.0).abs() < 1e-12);
+    assert!((feed["length"].as_f64().unwrap() - 8.89).abs() < 1e-9);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// G41 around a 20 mm square with a 4 mm tool (radius 2), clockwise (the tool on the left is
+/// outside): every side's end 2 mm outside the square, an arc of radius 2 round each convex
+/// corner.
+#[test]
+fn g41_keeps_the_tool_outside_a_square() {
+    let dir = tempdir("g41");
+    let tools = dir.join("tool.tbl");
+    std::fs::write(&tools, "T2 P2 D4\n").unwrap();
+    let file = dir.join("g41.ngc");
+    std::fs::write(
+        &file,
+        "T2 M6\nG0 X-10 Y-10\nG41 D2\nG1 X0 Y0 F600\nY20\nX20\nY0\nX0\nG40\nG0 X-10 Y-10\nM2\n",
+    )
+    .unwrap();
+    let ops = dry_run(&[
+        file.to_str().unwrap(),
+        "--tool-table",
+        tools.to_str().unwrap(),
+    ]);
+    // The sides (lines 5 to 8) and their corner arcs, after the entry move.
+    let cut: Vec<&serde_json::Value> = ops
+        .iter()
+        .filter(|o| (5..=8).contains(&o["line"].as_u64().unwrap()))
+        .collect();
+    let feeds = cut.iter().filter(|o| o["kind"] == "feed").count();
+    let arcs: Vec<_> = cut.iter().filter(|o| o["kind"] == "arc").collect();
+    assert_eq!(feeds, 4, "{cut:?}");
+    assert_eq!(arcs.len(), 3, "three convex corners between the four sides: {cut:?}");
+    for a in &arcs {
+        assert!((a["length"].as_f64().unwrap() - PI).abs() < 1e-9, "{a}");
+    }
+    // The distance of a point outside the square [0, 20]² from it.
+    let outside = |p: [f64; 3]| {
+        let dx = (-p[0]).max(p[0] - 20.0).max(0.0);
+        let dy = (-p[1]).max(p[1] - 20.0).max(0.0);
+        dx.hypot(dy)
+    };
+    for o in cut.iter().filter(|o| o["kind"] == "feed") {
+        let d = outside(end_of(o));
+        assert!((d - 2.0).abs() < 1e-9, "{o}: {d} from the square");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The same corners under G64 P0.05 and under G61 on the card (`mcctl run`, every tick
+/// measured): the blends stay within 0.05 mm (and use it: more than `--tolerance`), G61
+/// stops at every corner, and blending is faster.
+#[test]
+fn g64_p_blends_within_its_tolerance_and_g61_stops() {
+    let dir = tempdir("g64");
+    let zigzag: String = (1..=8)
+        .map(|i| format!("X{} Y{}\n", 5 * i, if i % 2 == 1 { 5 } else { 0 }))
+        .collect();
+    let run = |mode: &str| {
+        let file = dir.join(format!("{}.ngc", mode.replace(' ', "")));
+        std::fs::write(&file, format!("{mode}\nG1 F3000\n{zigzag}M2\n")).unwrap();
+        let (code, out, err) = mcctl(&[
+            "run",
+            file.to_str().unwrap(),
+            "--tolerance",
+            "0.001",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let (blend, exact) = (run("G64 P0.05"), run("G61"));
+    let f = |j: &serde_json::Value, k: &str| j[k].as_f64().unwrap();
+    let dev = f(&blend, "max_deviation");
+    assert!(dev <= 0.05 * (1.0 + 1e-6), "G64 P0.05 went {dev} mm from the path");
+    assert!(dev > 0.001, "G64 P0.05 used only {dev} mm: the P is not in effect");
+    assert_eq!(exact["exact_stops"], 7, "{exact}");
+    assert!(f(&exact, "max_deviation") < 1e-6, "{exact}");
+    assert!(
+        f(&blend, "path_time") < f(&exact, "path_time"),
+        "G64 {blend} G61 {exact}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The reader's memory is bounded by its longest line: a million lines peak within 2 MB of
+/// ten thousand, and a line of 10 MB is refused, naming its line, without holding it.
+#[test]
+fn a_million_lines_and_a_ten_megabyte_line_in_bounded_memory() {
+    let dir = tempdir("memory");
+    let write = |name: &str, n: usize| {
+        let file = dir.join(name);
+        let mut text = String::from("G1 F600\n");
+        for i in 0..n {
+            text += &format!("X{}.{:03} Y{}\n", i % 100, i % 1000, i % 7);
+        }
+        std::fs::write(&file, text).unwrap();
+        file
+    };
+    let peak = |file: &std::path::Path| {
+        let (code, out, err, peak) = mcctl_peak_rss(&["gcode", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        (out.lines().count(), peak)
+    };
+    let (small_ops, small) = peak(&write("small.ngc", 10_000));
+    let (big_ops, big) = peak(&write("big.ngc", 1_000_000));
+    assert_eq!((small_ops, big_ops), (10_000, 1_000_000));
+    assert!(big < small + 2048, "{big} kB for 10^6 lines, {small} kB for 10^4");
+    let long = dir.join("long.ngc");
+    std::fs::write(&long, format!("G0 X1\nG0 X2 ({})\n", "c".repeat(10 << 20))).unwrap();
+    let (code, _, err, long_peak) = mcctl_peak_rss(&["gcode", long.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("line 2: line longer than"), "{err}");
+    assert!(long_peak < small + 2048, "{long_peak} kB for a 10 MB line");
+    std::fs::remove_dir_all(&dir).ok();
+}
