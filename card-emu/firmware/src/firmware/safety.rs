@@ -1044,7 +1044,7 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
         }
     }
     // Following error (LinuxCNC): on every axis whose servo ran this tick. NaN trips too.
-    let within = ferr.abs() <= c.ferror_limit(r.vel);
+    let within = c.ferror_within(ferr, r.vel);
     if powered && !within {
         out[3] = cat0(StopReason::FollowingError, Faults::FOLLOWING_ERROR, ferr);
     }
