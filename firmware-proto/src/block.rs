@@ -75,6 +75,16 @@ pub(crate) fn to_words<B: Block, const N: usize>(b: &B) -> [u64; N] {
     unsafe { (b as *const B).cast::<[u64; N]>().read_unaligned() }
 }
 
+/// A block seen as `N` words, in place (`N` must be its size in words, and the block 8-byte
+/// aligned: both checked at compile time).
+#[inline]
+pub(crate) fn as_words<B: Block, const N: usize>(b: &B) -> &[u64; N] {
+    const { assert!(size_of::<B>() == 8 * N && align_of::<B>() >= align_of::<u64>()) };
+    // SAFETY: `b` is `N` words of plain data without padding (Block, and the assert above),
+    // aligned for `u64` (the assert), and borrowed for as long as the result.
+    unsafe { &*(b as *const B).cast::<[u64; N]>() }
+}
+
 /// A block from `N` words (`N` must be its size in words: checked at compile time).
 #[inline]
 pub(crate) fn from_words<B: Block, const N: usize>(w: &[u64; N]) -> B {

@@ -76,25 +76,40 @@ pub fn read_words<M: Mem>(
 /// `words` need not hold) computed after the other words are stored: the same words as
 /// [`write_words`] of `to_words()`, but the payload is not held in registers across the
 /// checksum (the card publishes 12 a tick, and computing the checksum first spilled them).
+/// Returns the checksum written.
 #[inline(always)]
-pub fn write_status_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS]) {
+pub fn write_status_words<M: Mem>(mem: &M, seq_off: usize, words: &[u64; STATUS_WORDS]) -> u64 {
     let seq = mem.load32(seq_off, Ordering::Relaxed) & !1;
     mem.store32(seq_off, seq.wrapping_add(1), Ordering::Relaxed);
     fence(Ordering::Release);
     let base = seq_off + layout::STATUS_PAYLOAD;
     mem.write64s(base, &words[..STATUS_WORDS - 1]);
-    mem.write64(base + 8 * (STATUS_WORDS - 1), status_checksum(words));
+    let checksum = status_checksum(words);
+    mem.write64(base + 8 * (STATUS_WORDS - 1), checksum);
+    mem.store32(seq_off, seq.wrapping_add(2), Ordering::Release);
+    checksum
+}
+
+/// Rewrite word `i` of the status payload under the seqlock at `seq_off` as `value`, and its
+/// checksum as `checksum` (the caller's, e.g. [`crate::status_checksum_after`]), leaving the
+/// other words as they are: for a writer that knows nothing else changed since it last wrote
+/// the whole payload (the card's groups at rest: only their tick moves).
+#[inline]
+pub fn write_status_word<M: Mem>(mem: &M, seq_off: usize, i: usize, value: u64, checksum: u64) {
+    debug_assert!(i < STATUS_WORDS - 1);
+    let seq = mem.load32(seq_off, Ordering::Relaxed) & !1;
+    mem.store32(seq_off, seq.wrapping_add(1), Ordering::Relaxed);
+    fence(Ordering::Release);
+    let base = seq_off + layout::STATUS_PAYLOAD;
+    mem.write64(base + 8 * i, value);
+    mem.write64(base + 8 * (STATUS_WORDS - 1), checksum);
     mem.store32(seq_off, seq.wrapping_add(2), Ordering::Release);
 }
 
 /// Publish an axis's status (card side).
 #[inline]
 pub fn write_axis_status<M: Mem>(mem: &M, axis: usize, status: &AxisStatus) {
-    write_status_words(
-        mem,
-        layout::axis_status(axis),
-        &crate::block::to_words(status),
-    );
+    write_status_words(mem, layout::axis_status(axis), status.as_words());
 }
 
 /// Read an axis's status (host side): consistent and checksum-verified.
@@ -259,14 +274,10 @@ mod tests {
     }
 }
 
-/// Publish a group's status (card side).
+/// Publish a group's status (card side). Returns the checksum written.
 #[inline]
-pub fn write_group_status<M: Mem>(mem: &M, group: usize, status: &GroupStatus) {
-    write_status_words(
-        mem,
-        layout::group_status(group),
-        &crate::block::to_words(status),
-    );
+pub fn write_group_status<M: Mem>(mem: &M, group: usize, status: &GroupStatus) -> u64 {
+    write_status_words(mem, layout::group_status(group), status.as_words())
 }
 
 /// Read a group's status (host side): consistent and checksum-verified.

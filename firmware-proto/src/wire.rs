@@ -45,6 +45,12 @@ impl ConfigKind {
 pub type GroupStatus = raw::mc_group_status_payload;
 
 impl raw::mc_group_status_payload {
+    /// The payload as words, in place (its checksum word as it is, not computed).
+    #[inline]
+    pub fn as_words(&self) -> &[u64; STATUS_WORDS] {
+        crate::block::as_words(self)
+    }
+
     /// Encode as words, with the checksum in the last word.
     #[inline]
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
@@ -381,6 +387,12 @@ const _: () = {
 pub type AxisStatus = raw::mc_axis_status_payload;
 
 impl raw::mc_axis_status_payload {
+    /// The payload as words, in place (its checksum word as it is, not computed).
+    #[inline]
+    pub fn as_words(&self) -> &[u64; STATUS_WORDS] {
+        crate::block::as_words(self)
+    }
+
     /// Encode as words, with the checksum in the last word.
     #[inline]
     pub fn to_words(&self) -> [u64; STATUS_WORDS] {
@@ -435,15 +447,31 @@ impl raw::mc_axis_status_payload {
 #[inline]
 pub fn status_checksum(w: &[u64; STATUS_WORDS]) -> u64 {
     const N: usize = STATUS_WORDS - 1;
-    let rot = |k: usize| (7 * k % 64) as u32;
     w[..N].iter().enumerate().fold(
-        (raw::MC_STATUS_CHECK as u64).rotate_left(rot(N)),
-        |acc, (i, x)| {
-            acc ^ x
-                .wrapping_mul(0x9E37_79B9_7F4A_7C15 ^ i as u64)
-                .rotate_left(rot(N - 1 - i))
-        },
+        (raw::MC_STATUS_CHECK as u64).rotate_left(checksum_rotation(N)),
+        |acc, (i, &x)| acc ^ checksum_term(i, x),
     )
+}
+
+/// The checksum of a status payload whose word `i` (one before the checksum) changed from
+/// `old` to `new`, from `checksum`, the payload's checksum before: word `i` enters
+/// [`status_checksum`] as a term of its own, xored in, so the other words need not be read.
+#[inline]
+pub fn status_checksum_after(checksum: u64, i: usize, old: u64, new: u64) -> u64 {
+    debug_assert!(i < STATUS_WORDS - 1);
+    checksum ^ checksum_term(i, old) ^ checksum_term(i, new)
+}
+
+/// Word `i`'s term of [`status_checksum`].
+#[inline(always)]
+fn checksum_term(i: usize, x: u64) -> u64 {
+    x.wrapping_mul(0x9E37_79B9_7F4A_7C15 ^ i as u64)
+        .rotate_left(checksum_rotation(STATUS_WORDS - 2 - i))
+}
+
+#[inline(always)]
+fn checksum_rotation(k: usize) -> u32 {
+    (7 * k % 64) as u32
 }
 
 #[cfg(test)]
@@ -535,6 +563,31 @@ mod tests {
             status_checksum(&[u64::MAX; STATUS_WORDS]),
             chain(&[u64::MAX; STATUS_WORDS])
         );
+    }
+
+    /// The checksum after one word changed, from the one before, against the whole sum.
+    #[test]
+    fn status_checksum_after_one_word_is_the_whole_sum() {
+        let mut x = 0x0F1E_2D3C_4B5A_6978u64;
+        let mut next = || {
+            // xorshift64
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut w = [0u64; STATUS_WORDS];
+        for v in &mut w {
+            *v = next();
+        }
+        let mut sum = status_checksum(&w);
+        for k in 0..1000 {
+            let i = k % (STATUS_WORDS - 1);
+            let new = next();
+            sum = status_checksum_after(sum, i, w[i], new);
+            w[i] = new;
+            assert_eq!(sum, status_checksum(&w), "word {i}, step {k}");
+        }
     }
 
     #[test]

@@ -20,7 +20,7 @@ use crate::firmware::Firmware;
 use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
 use crate::plant::io::{encoder_span_from, FireRecord, InputBank};
-use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams};
+use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams, Reading};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::{AUX_ENCODERS, MAX_AXES};
 use nix::sys::eventfd::{EfdFlags, EventFd};
@@ -185,6 +185,8 @@ pub struct Emulator {
     faults: FaultInjector,
     /// The digital input pins (layout 1.7).
     inputs: InputBank,
+    /// Each shaft's reading at the end of the period just run (the next one starts from it).
+    readings: [Reading; MAX_AXES],
     /// The shafts and DAC outputs at the start of the period just run, to replay it.
     period_start: [Motor; MAX_AXES],
     period_dac: [f64; MAX_AXES],
@@ -210,6 +212,7 @@ impl Emulator {
             window,
             fw,
             motors: opts.motors.map(Motor::new),
+            readings: opts.motors.map(|p| Motor::new(p).reading()),
             index: core::array::from_fn(|i| {
                 IndexChannel::new(opts.index[i], opts.motors[i].counts_per_rev)
             }),
@@ -253,11 +256,14 @@ impl Emulator {
     fn period(&mut self) {
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
-        // The shafts' counts at the period's start (the encoder readings below and the
-        // period's span take them).
-        let counts = self.motors.map(|m| m.encoder());
+        // The shafts' readings at the period's start (the encoder readings below and the
+        // period's span take them): the end of the period before's, unless a shaft was moved.
+        for (r, m) in self.readings.iter_mut().zip(&self.motors) {
+            *r = r.again(m);
+        }
+        let counts: [i64; MAX_AXES] = core::array::from_fn(|i| self.readings[i].count);
         // [faults] encoders and switch inputs as the card sees them, through injected faults
-        let mut inputs = self.faults.sense_counts(&self.motors, &counts, &mut enc);
+        let mut inputs = self.faults.sense_counts(&self.readings, &mut enc);
         // The encoder interface's index latch: the pulse comes from the shaft, the count it
         // captures is the counter's (with any corruption injected into the counter).
         for (i, ch) in self.index.iter_mut().enumerate() {
@@ -296,14 +302,17 @@ impl Emulator {
             });
         // The encoder interface's extreme counts of the period (through the encoder's faults).
         for (i, span) in self.spans.iter_mut().enumerate() {
+            // The next period's start reads the same, unless the shaft is moved in between.
+            self.readings[i] = self.motors[i].reading();
             let (lost, offset) = faults
                 .get(i)
                 .map_or((None, 0), |f| (f.encoder_lost, f.encoder_offset));
             *span = Some(match lost {
                 Some(frozen) => (frozen, frozen),
                 None => {
+                    let ends = (counts[i], self.readings[i].count);
                     let (lo, hi) =
-                        encoder_span_from(counts[i], &start[i], &self.motors[i], ts, |m, dt| {
+                        encoder_span_from(ends, &start[i], &self.motors[i], ts, |m, dt| {
                             faults.step_motor(i, m, dac[i], dt)
                         });
                     (lo.wrapping_add(offset), hi.wrapping_add(offset))

@@ -7,7 +7,7 @@
 //! killing the host is a process kill.
 
 use crate::firmware::safety::Inputs;
-use crate::plant::{Motor, Switches};
+use crate::plant::{Motor, Reading, Switches};
 use firmware_proto::{Io, MAX_AXES};
 
 /// A limit switch's direction.
@@ -117,14 +117,14 @@ impl FaultInjector {
 
     /// Sample what the card sees this tick: fills the encoder counts and returns the inputs.
     pub fn sense(&self, motors: &[Motor; MAX_AXES], enc: &mut [i64; MAX_AXES]) -> Inputs {
-        self.sense_counts(motors, &motors.map(|m| m.encoder()), enc)
+        let readings = core::array::from_fn(|i| motors[i].reading());
+        self.sense_counts(&readings, enc)
     }
 
-    /// [`FaultInjector::sense`] with the shafts' encoder readings (`Motor::encoder`) given.
+    /// [`FaultInjector::sense`] with the shafts' readings (`Motor::reading`) given.
     pub fn sense_counts(
         &self,
-        motors: &[Motor; MAX_AXES],
-        counts: &[i64; MAX_AXES],
+        readings: &[Reading; MAX_AXES],
         enc: &mut [i64; MAX_AXES],
     ) -> Inputs {
         let mut inputs = Inputs {
@@ -132,8 +132,8 @@ impl FaultInjector {
             ..Inputs::default()
         };
         for i in 0..MAX_AXES {
-            let (f, m) = (&self.axes[i], &motors[i]);
-            let mut bits = f.switches.inputs(m.position_counts());
+            let (f, r) = (&self.axes[i], &readings[i]);
+            let mut bits = f.switches.inputs(r.position);
             if f.forced_limits[0] {
                 bits |= Io::LIMIT_POS;
             }
@@ -148,7 +148,7 @@ impl FaultInjector {
                     bits |= Io::ENCODER_FAULT;
                     frozen
                 }
-                None => counts[i].wrapping_add(f.encoder_offset),
+                None => r.count.wrapping_add(f.encoder_offset),
             };
             inputs.axis[i] = bits;
         }

@@ -161,19 +161,19 @@ pub fn encoder_span(
     ts: f64,
     replay: impl Fn(&mut Motor, f64),
 ) -> (i64, i64) {
-    encoder_span_from(start.encoder(), start, end, ts, replay)
+    encoder_span_from((start.encoder(), end.encoder()), start, end, ts, replay)
 }
 
-/// [`encoder_span`] with the reading at the start (`start.encoder()`) given.
+/// [`encoder_span`] with the readings at the start and the end (`start.encoder()`,
+/// `end.encoder()`) given.
 #[inline]
 pub fn encoder_span_from(
-    a: i64,
+    (a, b): (i64, i64),
     start: &Motor,
     end: &Motor,
     ts: f64,
     replay: impl Fn(&mut Motor, f64),
 ) -> (i64, i64) {
-    let b = end.encoder();
     let (lo, hi) = (a.min(b), a.max(b));
     if start.omega * end.omega >= 0.0 {
         return (lo, hi);

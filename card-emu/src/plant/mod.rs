@@ -253,6 +253,12 @@ impl Motor {
         self.theta * self.params.counts_per_rad()
     }
 
+    /// The shaft's position and encoder reading now, [`Reading::of`].
+    #[inline]
+    pub fn reading(&self) -> Reading {
+        Reading::of(self)
+    }
+
     /// Advance by `dt` seconds with the amplifier input `volts` held.
     pub fn step(&mut self, volts: f64, dt: f64) {
         let p = self.params;
@@ -403,6 +409,47 @@ pub(crate) fn floor_i64(x: f64) -> i64 {
         t.saturating_sub(1)
     } else {
         t
+    }
+}
+
+/// A shaft's position in counts ([`Motor::position_counts`]) and its encoder reading
+/// ([`Motor::encoder`]), with the angle and resolution they were taken at. The emulator reads
+/// every shaft at the end of a period and again at the start of the next (a division each);
+/// a shaft nothing moved in between reads the same, and [`Reading::again`] reuses the reading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reading {
+    theta: f64,
+    counts_per_rev: u32,
+    /// Position, counts.
+    pub position: f64,
+    /// The encoder count.
+    pub count: i64,
+}
+
+impl Reading {
+    /// The reading of `m` now.
+    #[inline]
+    pub fn of(m: &Motor) -> Self {
+        let position = m.position_counts();
+        Self {
+            theta: m.theta,
+            counts_per_rev: m.params.counts_per_rev,
+            position,
+            count: floor_i64(position),
+        }
+    }
+
+    /// This reading if it was taken of `m` as it is now (the same angle, to the bit, and
+    /// resolution), else a new one.
+    #[inline]
+    pub fn again(self, m: &Motor) -> Self {
+        if self.theta.to_bits() == m.theta.to_bits()
+            && self.counts_per_rev == m.params.counts_per_rev
+        {
+            self
+        } else {
+            Self::of(m)
+        }
     }
 }
 

@@ -152,6 +152,15 @@ impl AxisSafetyConfig {
         (self.ferror * v.abs() / self.max_velocity).max(self.min_ferror)
     }
 
+    /// Is the following error `ferr` within [`AxisSafetyConfig::ferror_limit`] at `v`? The
+    /// limit is never below `MIN_FERROR`, so an error within that needs no division (most
+    /// ticks of most axes). NaN is not within.
+    #[inline]
+    pub fn ferror_within(&self, ferr: f64, v: f64) -> bool {
+        let e = ferr.abs();
+        e <= self.min_ferror || e <= self.ferror_limit(v)
+    }
+
     pub(crate) fn has(&self, flag: AxisSafetyFlags) -> bool {
         self.flags.intersects(flag)
     }
@@ -267,6 +276,21 @@ mod tests {
         assert_eq!(c.ferror_limit(50.0), 10.0);
         assert_eq!(c.ferror_limit(-500.0), 50.0);
         assert_eq!(c.ferror_limit(2000.0), 200.0);
+        // Within, at and beyond each side of the limit, and NaN.
+        for (ferr, v, within) in [
+            (10.0, 0.0, true),
+            (-10.0, 50.0, true),
+            (10.5, 50.0, false),
+            (-50.0, -500.0, true),
+            (50.5, -500.0, false),
+            (200.0, 2000.0, true),
+            (-200.1, 2000.0, false),
+            (f64::NAN, 0.0, false),
+            (f64::NAN, 2000.0, false),
+        ] {
+            assert_eq!(c.ferror_within(ferr, v), within, "{ferr} at {v}");
+            assert_eq!(ferr.abs() <= c.ferror_limit(v), within, "{ferr} at {v}");
+        }
     }
 
     #[test]

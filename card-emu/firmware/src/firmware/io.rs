@@ -19,6 +19,7 @@ use super::axis::Axis;
 use super::compare::{self, Compare, Fire};
 use super::outbox::EventQueue;
 use super::probe::{self, Probe, Trigger};
+use super::quiet::REWRITE_TICKS;
 use super::safety::IndexLatch;
 use firmware_proto::cmd::IoCmd;
 use firmware_proto::{
@@ -199,6 +200,10 @@ pub struct IoUnit {
     last_index: [u32; MAX_AXES],
     fires: heapless::Vec<Fire, FIRES_PER_TICK>,
     events: EventQueue<IO_EVENTS>,
+    /// The window's compare and probe status blocks hold the channels' statuses of now: no
+    /// command and no armed tick since [`IoUnit::publish`] wrote them (only those change a
+    /// channel's status; an unarmed tick counts down a pulse, which is not in it).
+    statuses_written: bool,
 }
 
 impl Default for IoUnit {
@@ -231,6 +236,7 @@ impl IoUnit {
             last_index: [0; MAX_AXES],
             fires: heapless::Vec::new(),
             events: EventQueue::new(),
+            statuses_written: false,
         }
     }
 
@@ -255,6 +261,7 @@ impl IoUnit {
         num_axes: usize,
         rate_hz: u32,
     ) -> Result<f64, NackCode> {
+        self.statuses_written = false;
         let axis = || arm_axis(axis, num_axes);
         match cmd {
             IoCmd::ApplyConfig => {
@@ -365,6 +372,7 @@ impl IoUnit {
         axes: &[Axis],
         raw_edges: Edges,
     ) {
+        self.statuses_written = false;
         // Each axis's motion over the tick, cell middles in its frame.
         let mut x = [(0.0, 0.0); MAX_AXES];
         let mut range = [(0.0, 0.0); MAX_AXES];
@@ -481,10 +489,23 @@ impl IoUnit {
         self.compare.iter().fold(0, |m, c| m | c.pulse_bits())
     }
 
-    /// Publish the input words and the compare and probe status blocks.
-    pub fn publish<M: Mem>(&self, mem: &M) {
+    /// Publish the input words, and the compare and probe status blocks of tick `tick`.
+    ///
+    /// The blocks are written when a channel's status may have changed since the last write,
+    /// and whole every [`REWRITE_TICKS`] ticks: the card is their only writer (the header's
+    /// rules), so what it wrote stays, and the periodic rewrite bounds how long a stray write
+    /// into them could (quiet.rs has the same reasoning for the group status blocks).
+    pub fn publish<M: Mem>(&mut self, mem: &M, tick: u64) {
         mem.write32(layout::INPUTS, self.debounce.debounced());
         mem.write32(layout::INPUTS_RAW, self.debounce.raw());
+        // The whole rewrite half a period from the groups' turns: no tick takes both.
+        let due = tick
+            .wrapping_add(REWRITE_TICKS / 2)
+            .is_multiple_of(REWRITE_TICKS);
+        if self.statuses_written && !due {
+            return;
+        }
+        self.statuses_written = true;
         for (i, c) in self.compare.iter().enumerate() {
             layout::COMPARE_STATUS.at(i).write(mem, &c.status());
         }

@@ -21,6 +21,7 @@ pub mod nack;
 pub mod outbox;
 pub mod probe;
 pub mod pvt;
+pub mod quiet;
 pub mod safety;
 pub mod scope;
 
@@ -70,6 +71,9 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
+    /// What each group's status block holds (a block whose content stands still gets only
+    /// its tick rewritten: quiet.rs).
+    group_blocks: [quiet::GroupBlock; MAX_GROUPS],
     filters: group::FilterBank,
     outbox: Outbox,
     /// The digital outputs (layout 1.6), bit i = output i.
@@ -124,6 +128,7 @@ impl<M: Mem + Clone> Firmware<M> {
             pvt: core::array::from_fn(|_| Lazy::new()),
             cams: Lazy::new(),
             groups: core::array::from_fn(Group::new),
+            group_blocks: [quiet::GroupBlock::default(); MAX_GROUPS],
             filters: filter_bank(),
             outbox: Outbox::default(),
             outputs: 0,
@@ -636,11 +641,11 @@ impl<M: Mem + Clone> Firmware<M> {
         for i in 0..self.num_axes {
             seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
         }
-        for (g, group) in self.groups.iter().enumerate() {
-            seqlock::write_group_status(&self.mem, g, &group.status(self.tick));
+        for (g, (group, block)) in self.groups.iter().zip(&mut self.group_blocks).enumerate() {
+            block.publish(&self.mem, g, &group.status(self.tick), self.tick);
         }
         self.mem.write32(layout::OUTPUTS, self.outputs());
-        self.io.publish(&self.mem);
+        self.io.publish(&self.mem, self.tick);
         self.publish_sync();
     }
 

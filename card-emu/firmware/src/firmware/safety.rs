@@ -286,9 +286,9 @@ impl Safety {
 
     /// Track the heartbeat word: measure the gaps between beats while armed (late ones counted
     /// against the host's declared period). Beats never arm the watchdog: only an attach does.
-    /// Returns the heartbeat's age in µs.
+    /// Returns the heartbeat's age in ticks.
     fn heartbeat<M: Mem>(&mut self, mem: &M, tick: u64, rate_hz: u32) -> u64 {
-        let us = |ticks: u64| ticks.saturating_mul(1_000_000) / rate_hz.max(1) as u64;
+        let us = |ticks: u64| ticks_us(ticks, rate_hz);
         let hb = mem.read32(layout::HEARTBEAT);
         if hb != self.last_heartbeat {
             if self.armed {
@@ -307,7 +307,7 @@ impl Safety {
             self.last_heartbeat_tick = tick;
             mem.write64(ss::LAST_HEARTBEAT_TICK, tick);
         }
-        us(tick.saturating_sub(self.last_heartbeat_tick))
+        tick.saturating_sub(self.last_heartbeat_tick)
     }
 
     /// Arm the watchdog: this tick counts as a heartbeat (an attach).
@@ -408,11 +408,12 @@ impl Safety {
     ) {
         let ts = 1.0 / rate_hz.max(1) as f64;
         // Host watchdog.
-        let age_us = self.heartbeat(mem, tick, rate_hz);
+        let age = self.heartbeat(mem, tick, rate_hz);
         if self.armed
             && !self.latched.contains(CardFaults::WATCHDOG)
-            && age_us >= self.config.watchdog_timeout_us as u64
+            && ticks_reach_us(age, rate_hz, self.config.watchdog_timeout_us)
         {
+            let age_us = ticks_us(age, rate_hz);
             self.latch(mem, CardFaults::WATCHDOG);
             mem.write64(ss::WATCHDOG_TRIP_TICK, tick);
             mem.write64(ss::TRIP_HEARTBEAT_TICK, self.last_heartbeat_tick);
@@ -875,9 +876,9 @@ impl Safety {
                     Ok(())
                 }
                 CardCmd::SafetyReset => {
-                    let age_us = self.heartbeat(mem, tick, rate_hz);
+                    let age = self.heartbeat(mem, tick, rate_hz);
                     let heartbeat_dead = self.latched.contains(CardFaults::WATCHDOG)
-                        && age_us >= self.config.watchdog_timeout_us as u64;
+                        && ticks_reach_us(age, rate_hz, self.config.watchdog_timeout_us);
                     let estop_held =
                         self.latched.contains(CardFaults::ESTOP_INPUT) && self.inputs.estop;
                     if heartbeat_dead || estop_held {
@@ -970,6 +971,18 @@ pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode
     Ok(())
 }
 
+/// `ticks` servo ticks at `rate_hz`, in whole µs (rounded down; saturating).
+fn ticks_us(ticks: u64, rate_hz: u32) -> u64 {
+    ticks.saturating_mul(1_000_000) / u64::from(rate_hz.max(1))
+}
+
+/// Have `ticks` servo ticks at `rate_hz` reached `limit_us` µs, counted as [`ticks_us`] counts
+/// them? The same answer as `ticks_us(ticks, rate_hz) >= limit_us` (⌊a/r⌋ ≥ t ⇔ a ≥ t·r for
+/// integers, and t·r fits in 64 bits) without the division: the watchdog asks every tick.
+fn ticks_reach_us(ticks: u64, rate_hz: u32, limit_us: u32) -> bool {
+    ticks.saturating_mul(1_000_000) >= u64::from(limit_us) * u64::from(rate_hz.max(1))
+}
+
 /// Everything that trips an axis this tick, given its inputs and encoder reading. Also
 /// refreshes the live limit fault bits.
 fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 4] {
@@ -1044,7 +1057,7 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
         }
     }
     // Following error (LinuxCNC): on every axis whose servo ran this tick. NaN trips too.
-    let within = ferr.abs() <= c.ferror_limit(r.vel);
+    let within = c.ferror_within(ferr, r.vel);
     if powered && !within {
         out[3] = cat0(StopReason::FollowingError, Faults::FOLLOWING_ERROR, ferr);
     }
@@ -1062,6 +1075,33 @@ fn read_axis_safety<M: Mem>(mem: &M, a: usize) -> Result<AxisSafetyConfig, NackC
 mod tests {
     use super::*;
     use crate::motion::scurve::Limits;
+
+    /// The watchdog's comparison without the division answers as the one with it, at the
+    /// edges and where the product saturates.
+    #[test]
+    fn ticks_reach_us_is_the_division_compared() {
+        let rates = [1, 3, 1000, 7919, 10_000, 40_000, u32::MAX];
+        let limits = [0, 1, 99, 100, 100_000, 123_457, u32::MAX];
+        let mut ticks: Vec<u64> = vec![0, 1, 2, 999, 1000, 1001, u64::MAX / 1_000_000 + 1];
+        ticks.push(u64::MAX);
+        for &r in &rates {
+            for &t in &limits {
+                // Around the exact boundary t·r / 10⁶ ticks.
+                let b = (u64::from(t) * u64::from(r)) / 1_000_000;
+                for k in ticks
+                    .iter()
+                    .copied()
+                    .chain([b.saturating_sub(1), b, b + 1, b + 2])
+                {
+                    assert_eq!(
+                        ticks_reach_us(k, r, t),
+                        ticks_us(k, r) >= u64::from(t),
+                        "{k} ticks at {r} Hz against {t} us"
+                    );
+                }
+            }
+        }
+    }
 
     /// A profile that ends moving (a queue that ran dry) continues as a planned stop: the
     /// commanded velocity never jumps, and the axis comes to rest with reason Starvation.

@@ -733,7 +733,10 @@ impl Group {
         }
     }
 
-    /// The path's words of the group status.
+    /// The path's words of the group status. Inline: the status does not leave registers and
+    /// the stack frame of the publish it is built in (a call taking it would make it be copied
+    /// out again, every group every tick).
+    #[inline]
     pub(super) fn path_status(&self, s: &mut GroupStatus) {
         let Some(run) = self.path.as_ref() else {
             s.path_free = PATH_LEN as u32;
