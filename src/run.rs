@@ -178,6 +178,10 @@ impl Hooks for Measure {
 /// is computed as the run goes ([`Report`]): memory does not grow with the program's length
 /// or duration.
 pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<String> {
+    let t0 = std::time::Instant::now();
+    // (wall-clock time from here to the first tick that moves: the program checked whole,
+    // the group set up, the first batch sent)
+    let mut first_motion: Option<Duration> = None;
     let g = group(card, opts)?;
     let start = position(card)?;
     let survey = survey(file, start, opts)?;
@@ -275,7 +279,11 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
             running = line;
             report.running(running);
         }
-        report.push(position(card)?).map_err(report_error)?;
+        let p = position(card)?;
+        if first_motion.is_none() && p != start {
+            first_motion = Some(t0.elapsed());
+        }
+        report.push(p).map_err(report_error)?;
         if seen_ticks > 1_000_000_000 {
             return Err(Error::Unsupported("the program did not end".into()));
         }
@@ -288,6 +296,9 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         j["ticks_seen"] = seen_ticks.into();
         j["dropped_zero_length"] = survey.dropped_zero_length.into();
         j["operations"] = runner.operations().into();
+        j["first_motion_ms"] = first_motion
+            .map_or(f64::NAN, |d| d.as_secs_f64() * 1e3)
+            .into();
         j["end"] = serde_json::json!({"x": end[0], "y": end[1], "z": end[2]});
         return Ok(j.to_string());
     }

@@ -180,7 +180,15 @@ fn a_drilling_cycle_in_inches_under_tool_length_compensation() {
     let kinds: Vec<&str> = ops.iter().map(|o| o["kind"].as_str().unwrap()).collect();
     assert_eq!(
         kinds,
-        ["tool_change", "rapid", "rapid", "rapid", "feed", "rapid", "end"],
+        [
+            "tool_change",
+            "rapid",
+            "rapid",
+            "rapid",
+            "feed",
+            "rapid",
+            "end"
+        ],
         "{ops:?}"
     );
     assert_eq!(ops[0]["tool"], 1);
@@ -229,7 +237,11 @@ fn g41_keeps_the_tool_outside_a_square() {
     let feeds = cut.iter().filter(|o| o["kind"] == "feed").count();
     let arcs: Vec<_> = cut.iter().filter(|o| o["kind"] == "arc").collect();
     assert_eq!(feeds, 4, "{cut:?}");
-    assert_eq!(arcs.len(), 3, "three convex corners between the four sides: {cut:?}");
+    assert_eq!(
+        arcs.len(),
+        3,
+        "three convex corners between the four sides: {cut:?}"
+    );
     for a in &arcs {
         assert!((a["length"].as_f64().unwrap() - PI).abs() < 1e-9, "{a}");
     }
@@ -271,8 +283,14 @@ fn g64_p_blends_within_its_tolerance_and_g61_stops() {
     let (blend, exact) = (run("G64 P0.05"), run("G61"));
     let f = |j: &serde_json::Value, k: &str| j[k].as_f64().unwrap();
     let dev = f(&blend, "max_deviation");
-    assert!(dev <= 0.05 * (1.0 + 1e-6), "G64 P0.05 went {dev} mm from the path");
-    assert!(dev > 0.001, "G64 P0.05 used only {dev} mm: the P is not in effect");
+    assert!(
+        dev <= 0.05 * (1.0 + 1e-6),
+        "G64 P0.05 went {dev} mm from the path"
+    );
+    assert!(
+        dev > 0.001,
+        "G64 P0.05 used only {dev} mm: the P is not in effect"
+    );
     assert_eq!(exact["exact_stops"], 7, "{exact}");
     assert!(f(&exact, "max_deviation") < 1e-6, "{exact}");
     assert!(
@@ -304,7 +322,10 @@ fn a_million_lines_and_a_ten_megabyte_line_in_bounded_memory() {
     let (small_ops, small) = peak(&write("small.ngc", 10_000));
     let (big_ops, big) = peak(&write("big.ngc", 1_000_000));
     assert_eq!((small_ops, big_ops), (10_000, 1_000_000));
-    assert!(big < small + 2048, "{big} kB for 10^6 lines, {small} kB for 10^4");
+    assert!(
+        big < small + 2048,
+        "{big} kB for 10^6 lines, {small} kB for 10^4"
+    );
     let long = dir.join("long.ngc");
     std::fs::write(&long, format!("G0 X1\nG0 X2 ({})\n", "c".repeat(10 << 20))).unwrap();
     let (code, _, err, long_peak) = mcctl_peak_rss(&["gcode", long.to_str().unwrap()]);

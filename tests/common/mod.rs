@@ -63,6 +63,16 @@ pub fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
+    // (drained as it runs: a child writing more than a pipe holds would wait for us forever)
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut s = String::new();
+            r.read_to_string(&mut s).unwrap();
+            s
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().unwrap()));
+    let err = drain(Box::new(child.stderr.take().unwrap()));
     let status = format!("/proc/{}/status", child.id());
     let mut peak = 0;
     let code = loop {
@@ -78,18 +88,5 @@ pub fn mcctl_peak_rss(args: &[&str]) -> (i32, String, String, u64) {
         }
         std::thread::sleep(std::time::Duration::from_millis(2));
     };
-    let (mut out, mut err) = (String::new(), String::new());
-    child
-        .stdout
-        .take()
-        .unwrap()
-        .read_to_string(&mut out)
-        .unwrap();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    (code, out, err, peak)
+    (code, out.join().unwrap(), err.join().unwrap(), peak)
 }
