@@ -183,8 +183,11 @@ struct Job {
     error: Option<(usize, String)>,
 }
 
-/// The programs, by handle: (generation, program) per slot.
-static JOBS: Mutex<Vec<(u16, Option<Arc<Mutex<Job>>>)>> = Mutex::new(Vec::new());
+/// A slot of the table: its generation, and its program when one is loaded there.
+type Slot = (u16, Option<Arc<Mutex<Job>>>);
+
+/// The programs, by handle.
+static JOBS: Mutex<Vec<Slot>> = Mutex::new(Vec::new());
 
 fn bad_handle(h: mc_gcode) -> Failure {
     Failure::new(
