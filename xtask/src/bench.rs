@@ -180,6 +180,23 @@ const RUNS: &[Run] = &[
             },
         ],
     },
+    Run {
+        name: "gcode",
+        cargo: &["bench", "--bench", "gcode"],
+        env: &[],
+        rows: &[
+            Row {
+                what: "G-code interpreter, a 100,000-block CAM program read from its file",
+                find: Find::Cells("interpreter, ", &[1]),
+                goal: "",
+            },
+            Row {
+                what: "`mcctl run` of it: to the first motion",
+                find: Find::Cells("to the first motion", &[1]),
+                goal: "",
+            },
+        ],
+    },
 ];
 
 /// The middle estimate of a criterion benchmark's `time: [lo mid hi]`.
