@@ -259,17 +259,25 @@ fn g41_keeps_the_tool_outside_a_square() {
 }
 
 /// The same corners under G64 P0.05 and under G61 on the card (`mcctl run`, every tick
-/// measured): the blends stay within 0.05 mm (and use it: more than `--tolerance`), G61
-/// stops at every corner, and blending is faster.
+/// measured): a polyline of 7.07 mm sides turning 30° at each corner, as a CAM contour does.
+/// The blends stay within 0.05 mm (and use it: more than `--tolerance`), G61 stops at every
+/// corner and stays on the path, and blending is faster. (At 90° corners at these limits an
+/// exact stop is as fast as any blend within 0.05 mm: the reversing axis's jerk and
+/// acceleration leave no faster way round.)
 #[test]
 fn g64_p_blends_within_its_tolerance_and_g61_stops() {
     let dir = tempdir("g64");
-    let zigzag: String = (1..=8)
-        .map(|i| format!("X{} Y{}\n", 5 * i, if i % 2 == 1 { 5 } else { 0 }))
-        .collect();
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut contour = String::new();
+    for i in 1..=8 {
+        let a = if i % 2 == 1 { 15f64 } else { -15.0 }.to_radians();
+        x += 7.07 * a.cos();
+        y += 7.07 * a.sin();
+        contour += &format!("X{x:.4} Y{y:.4}\n");
+    }
     let run = |mode: &str| {
         let file = dir.join(format!("{}.ngc", mode.replace(' ', "")));
-        std::fs::write(&file, format!("{mode}\nG1 F3000\n{zigzag}M2\n")).unwrap();
+        std::fs::write(&file, format!("{mode}\nG1 F3000\n{contour}M2\n")).unwrap();
         let (code, out, err) = mcctl(&[
             "run",
             file.to_str().unwrap(),
@@ -288,13 +296,14 @@ fn g64_p_blends_within_its_tolerance_and_g61_stops() {
         "G64 P0.05 went {dev} mm from the path"
     );
     assert!(
-        dev > 0.001,
+        dev > 0.01,
         "G64 P0.05 used only {dev} mm: the P is not in effect"
     );
+    assert_eq!(blend["exact_stops"], 0, "{blend}");
     assert_eq!(exact["exact_stops"], 7, "{exact}");
     assert!(f(&exact, "max_deviation") < 1e-6, "{exact}");
     assert!(
-        f(&blend, "path_time") < f(&exact, "path_time"),
+        f(&blend, "path_time") < 0.9 * f(&exact, "path_time"),
         "G64 {blend} G61 {exact}"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -138,6 +138,15 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
             );
         };
         if let Some(prev) = l.g[n as usize] {
+            // LinuxCNC lets G80 share a line with another motion code, which wins (programs
+            // start `G90 G17 G40 G80 G00`).
+            if g == 800 {
+                continue;
+            }
+            if prev == 800 {
+                l.g[n as usize] = Some(g);
+                continue;
+            }
             return err(
                 line,
                 format!(

@@ -187,6 +187,15 @@ fn cycle_errors() {
     // G80 cancels; axis words after it have nothing to use them.
     let e = run_err(&["G81 X0 Y0 Z-1 R1 F60", "G80", "X2"]);
     assert_eq!(e.line, 3);
+    // G80 beside another motion code on a line (as LinuxCNC reads it): the other one wins,
+    // in either order; two others are still an error.
+    for line in ["G90 G17 G40 G80 G00 X1", "G0 G80 X1"] {
+        let r = run(&["G81 X0 Y0 Z-1 R1 F60", line]).unwrap();
+        assert_rapid(&r.ops.last().unwrap().kind, [1.0, 0.0, 1.0]);
+    }
+    assert!(run_err(&["G80 G0 G1 X1"])
+        .message
+        .contains("same modal group"));
 }
 
 #[test]
