@@ -20,11 +20,6 @@
 use super::{err, gname, CompMode, FeedMode, Interp};
 use crate::gcode::{Blend, Block, GCode, GcodeError, Op, OpKind, Plane, Pos, SpindleDir};
 
-/// Whether `g` is a canned cycle (G80 is not).
-pub(super) fn is_cycle(g: GCode) -> bool {
-    matches!(g, 730 | 740 | 810..=890)
-}
-
 /// LinuxCNC's default peck clearance of G73 and G83 on a metric machine (mm).
 const PECK_CLEARANCE_MM: f64 = 1.0;
 

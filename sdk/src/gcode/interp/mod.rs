@@ -804,7 +804,7 @@ impl Interp {
 
     /// The motion mode becomes `g` (a cycle's initial level is forgotten when it is not one).
     fn set_motion_mode(&mut self, g: GCode) {
-        if !canned::is_cycle(g) {
+        if !modal::is_cycle(g) {
             self.cycle.initial = None;
         }
         self.motion = if g == 800 { None } else { Some(g) };

@@ -2,6 +2,11 @@
 //! it runs anything (`check_items`, `enhance_block`): two codes of one group, axis words with
 //! nothing to use them, a word no code on the line uses.
 
+/// Whether `g` is a canned cycle (G80 is not).
+pub(super) fn is_cycle(g: GCode) -> bool {
+    matches!(g, 730 | 740 | 810..=890)
+}
+
 use super::{err, gname, Interp};
 use crate::gcode::{Block, GCode, GcodeError};
 
@@ -267,7 +272,7 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
     let line = b.line;
     let motion = l.motion;
     let is = |codes: &[GCode]| motion.is_some_and(|m| codes.contains(&m));
-    let cycle = motion.is_some_and(super::canned::is_cycle);
+    let cycle = motion.is_some_and(is_cycle);
     let g0 = l.g[0];
     let comp = l.g[7];
     let m5 = l.m[5];
