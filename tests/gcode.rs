@@ -343,3 +343,92 @@ fn a_million_lines_and_a_ten_megabyte_line_in_bounded_memory() {
     assert!(long_peak < small + 2048, "{long_peak} kB for a 10 MB line");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A pause asked for while the program runs takes effect at the end of what is queued: the
+/// card comes to rest on a programmed end, nothing more is read until `resume`, and the run
+/// then ends where the program does. An abort halts along the path and reads nothing more.
+#[test]
+fn pause_resume_and_abort_from_the_host() {
+    let sides: String = (1..=20)
+        .map(|i| format!("X{} Y{}\n", 10 * i, if i % 2 == 1 { 10 } else { 0 }))
+        .collect();
+    let text = format!("G61 G1 F6000\n{sides}M2\n");
+    let start = || {
+        let (card, g) = xyz_card();
+        let opts = Options::default();
+        let settings = RunSettings::default();
+        let r = Runner::new(
+            &g,
+            Program::from_text(text.clone(), &opts),
+            settings,
+            Ends::default(),
+        )
+        .unwrap();
+        (card, r)
+    };
+    let at = |card: &Card| {
+        let s = card.statuses(&[0, 1, 2]).unwrap();
+        [
+            s[0].command_position,
+            s[1].command_position,
+            s[2].command_position,
+        ]
+    };
+    // Read up to line 5 (the fourth side) and paused: at rest at the end of the fourth side.
+    let (card, mut r) = start();
+    r.set_read_limit(Some(6));
+    assert_eq!(r.poll().unwrap(), RunState::Running);
+    r.pause();
+    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Paused);
+    let read = r.read_line();
+    assert!(near(&at(&card), &[40.0, 0.0, 0.0], 1e-9), "{:?}", at(&card));
+    for _ in 0..100 {
+        assert_eq!(r.poll().unwrap(), RunState::Paused);
+        r.idle();
+    }
+    assert_eq!(r.read_line(), read, "nothing read while paused");
+    r.set_read_limit(None);
+    r.resume();
+    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
+    assert!(
+        near(&at(&card), &[200.0, 0.0, 0.0], 1e-9),
+        "{:?}",
+        at(&card)
+    );
+
+    // Aborted a second into the run: halted on the path, short of its end, nothing more read.
+    let (card, mut r) = start();
+    for _ in 0..10_000 {
+        r.poll().unwrap();
+        r.idle();
+    }
+    r.abort(1000.0, 1e5).unwrap();
+    assert_eq!(r.poll().unwrap(), RunState::Aborted);
+    for _ in 0..5_000 {
+        r.idle();
+    }
+    let end = at(&card);
+    assert!(end[0] > 0.0 && end[0] < 200.0, "{end:?}");
+    let g = card.group(0).unwrap();
+    assert_eq!(g.status().unwrap().0, motioncard_sdk::GroupState::Standby);
+}
+
+/// The fuzzer's corpus for the reader and interpreter (`fuzz/corpus/gcode`, grown by `cargo
+/// +nightly fuzz run gcode` from the example programs), replayed on stable: no input panics,
+/// and none runs on (at most 100,000 operations are taken, as the fuzz target does).
+#[test]
+fn the_fuzz_corpus_reads_without_a_panic() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/corpus/gcode");
+    let mut inputs = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let data = std::fs::read(entry.unwrap().path()).unwrap();
+        let text = String::from_utf8_lossy(&data).into_owned();
+        for op in Program::from_text(text, &Options::default()).take(100_000) {
+            if op.is_err() {
+                break;
+            }
+        }
+        inputs += 1;
+    }
+    assert!(inputs > 100, "{inputs} inputs in {dir}");
+}

@@ -234,7 +234,11 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 }
                 continue;
             }
-            if self.read_limit.is_some_and(|l| self.program.line() >= l) {
+            // (the next line read is at least the one after the last)
+            if self
+                .read_limit
+                .is_some_and(|l| self.program.line() + 1 >= l)
+            {
                 // Held at the limit: what is made goes as soon as it fits.
                 self.flush(false)?;
                 return Ok(self.set(RunState::Running));
@@ -327,12 +331,14 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             OpKind::SpindleSync { .. } => {
                 return Err(err("G33/G33.1: this card has no spindle encoder".into()))
             }
+            // The override switches are the operator's (the card's override is set by the
+            // host): nothing to do, and no reason to stop the motion.
+            OpKind::Overrides { .. } => {}
             OpKind::WaitInput { .. }
             | OpKind::Spindle { .. }
             | OpKind::Coolant { .. }
             | OpKind::ToolChange { .. }
             | OpKind::Pause { .. }
-            | OpKind::Overrides { .. }
             | OpKind::Hook { .. }
             | OpKind::End { .. } => self.waiting = Some(op.clone()),
             _ => {
@@ -363,7 +369,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 let v = self.wait_input(op.line, index, analog, mode, timeout)?;
                 self.program.input_result(v);
             }
-            // The overrides' switches are the operator's; End: nothing after it is read.
+            // End: nothing after it is read.
             _ => {}
         }
         Ok(false)
