@@ -61,6 +61,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_SCOPE_TRIGGER,  MC_ERR_SCOPE_PRETRIGGER, MC_ERR_SCOPE_STATE,
     /* configuration files (layout 1.8) */
     MC_ERR_CONFIG_KIND,    MC_ERR_CONFIG_FILE,
+    /* G-code programs */
+    MC_ERR_GCODE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -122,6 +124,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_CONFIG_KIND,
     /* config.c (a file that does not validate, one that cannot be read) */
     MC_ERR_CONFIG_FILE, MC_ERR_IO,
+    /* gcode.c (a program with a wrong line) */
+    MC_ERR_GCODE,
 };
 
 static void result_strings(void) {
