@@ -28,7 +28,8 @@ pub struct RunSettings {
     pub tolerance: f64,
     /// How closely splines (G5) are followed, mm.
     pub spline_tolerance: f64,
-    /// Items held before a batch is sent: the chord fitter fits within a batch.
+    /// Items held before a batch is sent (then as many more as the path has room for): the
+    /// chord fitter fits within a batch.
     pub batch: usize,
 }
 
@@ -110,6 +111,9 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     axis_of: [Option<usize>; 6],
     /// Items made and not yet sent.
     batch: Vec<PathItem>,
+    /// The size the batch is filled to (the path's room when it reached `settings.batch`;
+    /// 0: not decided).
+    fill_to: usize,
     /// The last segment made, held back so that the last of the program can be marked.
     held: Option<Segment>,
     /// An operation that waits for the motion before it to end.
@@ -176,6 +180,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             program,
             group: group.clone(),
             batch: Vec::with_capacity(settings.batch.max(1)),
+            fill_to: 0,
             settings,
             hooks,
             axis_of,
@@ -227,12 +232,20 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 }
                 return Ok(self.set(RunState::Done));
             }
-            // Read while the batch has room.
+            // A batch is at least `settings.batch` items and as many more as the path has
+            // room for when it reaches that: the fitter's runs are cut only where batches
+            // meet.
             if self.batch.len() >= self.settings.batch.max(1) {
-                if !self.flush(false)? {
-                    return Ok(self.set(RunState::Running));
+                if self.fill_to == 0 {
+                    self.fill_to = self.group.path_free()?;
                 }
-                continue;
+                if self.batch.len() >= self.fill_to {
+                    if !self.flush(false)? {
+                        self.fill_to = 0;
+                        return Ok(self.set(RunState::Running));
+                    }
+                    continue;
+                }
             }
             // (the next line read is at least the one after the last)
             if self
@@ -291,6 +304,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 self.batch.push(s.last().into());
             }
         }
+        self.fill_to = 0;
         let items: Vec<PathItem> = self.batch.drain(..).collect();
         self.group.stream_path(items, |_| {}).map_err(|e| e.error)?;
         Ok(true)
