@@ -59,6 +59,7 @@ fn opts(chord_fit: bool) -> RunOptions {
         progress: false,
         chord_fit,
         tools: Default::default(),
+        probe_input: None,
     }
 }
 

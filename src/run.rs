@@ -57,6 +57,8 @@ pub struct RunOptions {
     pub chord_fit: bool,
     /// The tool table (G43, G41/G42, M6).
     pub tools: ToolTable,
+    /// The input of the touch probe (G38).
+    pub probe_input: Option<u32>,
 }
 
 impl Default for RunOptions {
@@ -72,6 +74,7 @@ impl Default for RunOptions {
             progress: false,
             chord_fit: true,
             tools: ToolTable::default(),
+            probe_input: None,
         }
     }
 }
@@ -198,6 +201,7 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         tolerance: opts.tolerance,
         spline_tolerance: opts.tolerance.max(1e-3),
         batch: SEND_ROOM,
+        probe_input: opts.probe_input,
         ..RunSettings::default()
     };
     let mut runner = Runner::new(

@@ -432,3 +432,129 @@ fn the_fuzz_corpus_reads_without_a_panic() {
     }
     assert!(inputs > 100, "{inputs} inputs in {dir}");
 }
+
+/// `(DEBUG, …)` texts, as the runner reads them.
+#[derive(Default)]
+struct Debug(Vec<String>);
+
+impl Hooks for Debug {
+    fn message(&mut self, _line: usize, text: &str) {
+        self.0.push(text.to_string());
+    }
+}
+
+/// G38.2–G38.5 on the card, a probe on input 5 switching as Z passes −3.217 mm (active
+/// below): the card halts the group itself on the capture, #5063 holds the trip within a
+/// count, the program goes on from where Z came to rest (just past the trip); G38.4/G38.5
+/// find the same point from the other side (the probe opening); a G38.3 that touches nothing ends at its end with
+/// #5070 = 0, a G38.2 that touches nothing is an error, and so is a probe already tripped.
+#[test]
+fn g38_probes_on_the_card_and_the_program_uses_the_result() {
+    const TRIP: f64 = -3.217;
+    let start = |text: &str, input: Option<u32>| {
+        let (card, g) = xyz_card();
+        card.sim().unwrap().with_emulator(|e| {
+            e.inputs().set_sensor(
+                5,
+                Some(motioncard_sdk::Sensor {
+                    axis: 2,
+                    at: TRIP * 1000.0,
+                    active_above: false,
+                }),
+            )
+        });
+        card.sim().unwrap().step(2);
+        let settings = RunSettings {
+            probe_input: input,
+            ..RunSettings::default()
+        };
+        let program = Program::from_text(text.to_string(), &Options::default());
+        let r = Runner::new(&g, program, settings, Debug::default()).unwrap();
+        (card, r)
+    };
+    let z = |card: &Card| card.statuses(&[2]).unwrap()[0].command_position;
+    let text = "\
+G21 G90 G0 X1 Y2 Z0
+G38.2 Z-10 F100
+(DEBUG, #5063 #5070 #5422)
+G38.4 Z5 F50
+(DEBUG, #5063 #5070 #5422)
+G38.3 Z-10 F50
+(DEBUG, #5063 #5070 #5422)
+G38.5 Z5 F20
+(DEBUG, #5063 #5070 #5422)
+G0 Z[#5063 + 1]
+G38.3 Z[#5063 + 0.5] F100
+(DEBUG, #5063 #5070 #5422)
+M2
+";
+    let (card, mut r) = start(text, Some(5));
+    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
+    let seen: Vec<Vec<f64>> = r
+        .hooks_mut()
+        .0
+        .iter()
+        .map(|t| t.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(seen.len(), 5, "{seen:?}");
+    // G38.2 down, G38.4 up (until the probe opens), G38.3 down, G38.5 up: each trip within
+    // a count (1 µm) of the switching point, and Z at rest just past it (#5422, the
+    // program's position), never short of it.
+    for (k, (s, down)) in seen[..4].iter().zip([true, false, true, false]).enumerate() {
+        assert!(
+            (s[0] - TRIP).abs() <= 0.0011,
+            "probe {k}: tripped at {}",
+            s[0]
+        );
+        assert_eq!(s[1], 1.0);
+        let past = if down { s[0] - s[2] } else { s[2] - s[0] };
+        assert!(
+            past > 0.0 && past < 0.05,
+            "probe {k}: rest {} mm past",
+            past
+        );
+    }
+    // The G0 to the trip + 1 mm from where the last probe stopped, then a G38.3 that
+    // touches nothing: it ends at its end, #5070 = 0.
+    // (the texts print 6 decimals)
+    let tripped = seen[3][0];
+    assert!((seen[4][0] - (tripped + 0.5)).abs() < 2e-6, "{seen:?}");
+    assert_eq!(seen[4][1], 0.0);
+    assert!(
+        (z(&card) - (tripped + 0.5)).abs() < 2e-6,
+        "{} {seen:?}",
+        z(&card)
+    );
+    assert_eq!(
+        card.axis(2).unwrap().touch_probe(0).status().unwrap().state,
+        motioncard_sdk::IoState::Idle,
+        "the probes are disarmed after the move"
+    );
+
+    // G38.2 that touches nothing: an error at the block after it, the machine at its end.
+    let (card, mut r) = start("G0 Z0\nG38.2 Z-1 F100\nG0 Z1\n", Some(5));
+    let e = r.run(Duration::from_secs(600)).unwrap_err();
+    match e {
+        motioncard_sdk::Error::Gcode(e) => {
+            assert_eq!(e.line, 3);
+            assert!(e.message.contains("line 2"), "{e}");
+        }
+        e => panic!("{e}"),
+    }
+    assert!((z(&card) + 1.0).abs() < 1e-9);
+    // Already tripped; and no probe input set.
+    for (text, input, line, says) in [
+        ("G0 Z-5\nG38.2 Z-10 F100\n", Some(5), 2, "already tripped"),
+        ("G0 Z0\nG38.4 Z-10 F100\n", Some(5), 2, "already open"),
+        ("G38.2 Z-10 F100\n", None, 1, "no probe input"),
+    ] {
+        let (_card, mut r) = start(text, input);
+        match r.run(Duration::from_secs(600)).unwrap_err() {
+            motioncard_sdk::Error::Gcode(e) => {
+                assert_eq!(e.line, line, "{text}: {e}");
+                assert!(e.message.contains(says), "{text}: {e}");
+            }
+            e => panic!("{text}: {e}"),
+        }
+    }
+}

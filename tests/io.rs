@@ -487,3 +487,58 @@ fn continuous_index_probe_in_a_window() {
     p.abort().unwrap();
     assert_eq!(p.status().unwrap().state, IoState::Idle);
 }
+
+/// A probe armed with `halt` stops the axis's motion itself, in the tick it captures: the
+/// velocity move is aborted, the axis comes to rest on its stop ramp just past the capture
+/// (never short of it, never reversing) with stop reason `Probe`; the same probe without
+/// `halt` leaves the axis running.
+#[test]
+fn a_halting_probe_stops_the_axis_on_the_capture() {
+    for halt in [false, true] {
+        let card = card();
+        let ax = card.axis(0).unwrap();
+        run_at(&card, 1e5);
+        let part = position(&card) + 1234.567;
+        card.sim().unwrap().with_emulator(|e| {
+            e.inputs().set_sensor(
+                3,
+                Some(Sensor {
+                    axis: 0,
+                    at: part,
+                    active_above: true,
+                }),
+            )
+        });
+        card.sim().unwrap().step(1);
+        let p = ax.touch_probe(1);
+        p.arm(&ProbeTrigger {
+            halt,
+            ..ProbeTrigger::rising(3)
+        })
+        .unwrap();
+        let got = p.wait_capture(1, LONG).unwrap();
+        assert!((got - part).abs() <= 1.0, "{got} for {part}");
+        let t0 = card.tick().unwrap();
+        card.sim().unwrap().step(2000); // 0.2 s
+        let st = ax.status().unwrap();
+        if !halt {
+            assert_eq!(st.state, motioncard_sdk::AxisState::ContinuousMotion);
+            assert!(st.actual_position > got + 1e4);
+            continue;
+        }
+        assert_eq!(st.state, motioncard_sdk::AxisState::Standstill);
+        assert_eq!(ax.stop_reason().unwrap(), motioncard_sdk::StopReason::Probe);
+        let beyond = st.command_position - got;
+        // 1e5 counts/s stopped on the stop ramp: the braking distance, never behind.
+        assert!(
+            beyond > 0.0 && beyond < 1e5 * 0.05,
+            "{beyond} counts past the capture"
+        );
+        let ev = events(&card);
+        assert!(
+            ev.iter().any(|e| e.kind == EventKind::MotionAborted),
+            "{ev:?}"
+        );
+        assert!(card.tick().unwrap() >= t0 + 2000);
+    }
+}

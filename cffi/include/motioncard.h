@@ -385,6 +385,11 @@ extern "C" {
 #define MC_STOP_REASON_HOMING_FAILED 6
 
 /**
+ * A touch probe armed with `MC_PROBE_HALT` captured: halted.
+ */
+#define MC_STOP_REASON_PROBE 7
+
+/**
  * Host heartbeat lost.
  */
 #define MC_STOP_REASON_WATCHDOG 16
@@ -2342,6 +2347,11 @@ typedef struct mc_gcode_settings {
    * 1: M1 pauses.
    */
   uint32_t optional_stop;
+  /**
+   * The card's digital input (0..15) the touch probe of G38.2–G38.5 is wired to; -1
+   * (the default): none, a probing move is then an error.
+   */
+  int32_t probe_input;
 } mc_gcode_settings;
 
 /**
@@ -2913,6 +2923,12 @@ typedef struct mc_probe_trigger {
    * The window, user units.
    */
   double window_hi;
+  /**
+   * Nonzero: the capture halts the axis's motion, by the card in the tick it sees it (its
+   * group along the path on the members' stop ramps, or the axis on its stop ramp; stop
+   * reason `MC_STOP_PROBE`): a probing move.
+   */
+  uint32_t halt;
 } mc_probe_trigger;
 
 /**
@@ -4343,7 +4359,7 @@ mc_result mc_motion_wait_cam_switch(mc_card card,
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
- * block delete and optional stop off.
+ * block delete and optional stop off, no probe input.
  */
 mc_result mc_gcode_default_settings(struct mc_gcode_settings *settings);
 

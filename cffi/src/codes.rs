@@ -179,6 +179,9 @@ pub const MC_STOP_REASON_HOST_DETACH: u32 = 5;
 /// Homing failed (`MC_EVENT_HOMING_FAILED`): stopped, not homed.
 pub const MC_STOP_REASON_HOMING_FAILED: u32 = 6;
 
+/// A touch probe armed with `MC_PROBE_HALT` captured: halted.
+pub const MC_STOP_REASON_PROBE: u32 = 7;
+
 /// Host heartbeat lost.
 pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
 

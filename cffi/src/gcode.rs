@@ -56,6 +56,9 @@ pub struct mc_gcode_settings {
     pub block_delete: u32,
     /// 1: M1 pauses.
     pub optional_stop: u32,
+    /// The card's digital input (0..15) the touch probe of G38.2–G38.5 is wired to; -1
+    /// (the default): none, a probing move is then an error.
+    pub probe_input: i32,
 }
 
 /// The host's hooks, called inside `mc_gcode_poll` and `mc_gcode_run` once the motion
@@ -242,6 +245,16 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
         max_feed: s.max_feed,
         tolerance: s.tolerance,
         spline_tolerance: s.spline_tolerance,
+        probe_input: match s.probe_input {
+            -1 => None,
+            i @ 0..=15 => Some(i as u32),
+            i => {
+                return Err(Failure::new(
+                    ErrorKind::BadConfig.code(),
+                    format!("settings.probe_input {i}: an input 0..15, or -1 for none"),
+                ))
+            }
+        },
         ..RunSettings::default()
     };
     let opts = Options {
@@ -253,7 +266,7 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
 }
 
 /// The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
-/// block delete and optional stop off.
+/// block delete and optional stop off, no probe input.
 #[no_mangle]
 pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_settings) -> mc_result {
     guard(|| {
@@ -273,6 +286,7 @@ pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_setti
                 spline_tolerance: d.spline_tolerance,
                 block_delete: 0,
                 optional_stop: 0,
+                probe_input: -1,
             })
         };
         Ok(())

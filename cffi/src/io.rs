@@ -70,6 +70,10 @@ pub struct mc_probe_trigger {
     pub window_lo: f64,
     /// The window, user units.
     pub window_hi: f64,
+    /// Nonzero: the capture halts the axis's motion, by the card in the tick it sees it (its
+    /// group along the path on the members' stop ramps, or the axis on its stop ramp; stop
+    /// reason `MC_STOP_PROBE`): a probing move.
+    pub halt: u32,
 }
 
 /// A touch probe's status (`mc_probe_get_status`), positions in user units.
@@ -333,6 +337,7 @@ pub unsafe extern "C" fn mc_touch_probe(
             falling: t.edges & MC_PROBE_EDGE_FALLING != 0,
             continuous: t.continuous != 0,
             window: (t.use_window != 0).then_some((t.window_lo, t.window_hi)),
+            halt: t.halt != 0,
         };
         Ok(a.touch_probe(channel as usize).arm(&trig)?)
     })

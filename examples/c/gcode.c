@@ -189,6 +189,10 @@ static void refusals(mc_card c) {
     CHECK(mc_gcode_default_settings(&bad));
     strcpy(bad.axes, "XY");
     EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
+    CHECK(mc_gcode_default_settings(&bad));
+    ASSERT(bad.probe_input == -1, "default probe input %d", bad.probe_input);
+    bad.probe_input = 16;
+    EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
     EXPECT(mc_gcode_poll(0, NULL), MC_ERR_BAD_HANDLE);
     EXPECT(mc_gcode_default_settings(NULL), MC_ERR_NULL_POINTER);
 
@@ -204,6 +208,13 @@ static void refusals(mc_card c) {
     CHECK(mc_gcode_poll(p, &state));
     ASSERT(state == MC_GCODE_ABORTED, "state %u after the error", state);
     expect_machine_at(c, 1.0, 5.0, -3.0, "stopped before line 3");
+    CHECK(mc_gcode_close(p));
+
+    /* A probing move with no probe input in the settings: an error naming its line. */
+    CHECK(mc_gcode_load_string(c, G, "G0 X2\nG38.2 Z-10 F100\n", NULL, NULL, &p));
+    EXPECT(mc_gcode_run(p, 60000, &state), MC_ERR_GCODE);
+    CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
+    ASSERT(line == 2 && strstr(text, "probe input"), "error at line %u: %s", line, text);
     CHECK(mc_gcode_close(p));
     printf("G-code refusals: %u checks\n", checks);
 }

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 8u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 9u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -53,7 +53,8 @@
                            * 97), the path planner's period (mc_group_path.plan_period, from
                            * its reserved words; 0 keeps the default); the session gate
                            * (MC_NACK_NO_SESSION 41, MC_STOP_NO_SESSION 33; an attach arms the
-                           * watchdog) */
+                           * watchdog); 9: a touch probe that halts its axis's motion on the
+                           * capture (MC_PROBE_HALT, MC_STOP_PROBE 7) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -348,7 +349,11 @@
  * pulse (input MC_PROBE_INDEX: the exact count latched). The position at the edge is
  * interpolated between the counts at the tick's two ends as the comparator does. With
  * MC_PROBE_WINDOW only edges whose position lies in [window_lo, window_hi] count. Single shot
- * ends after the first capture; continuous keeps capturing into probe_status's queue. */
+ * ends after the first capture; continuous keeps capturing into probe_status's queue.
+ * With MC_PROBE_HALT (layout 1.9, a probing move: G38) the capture halts the axis's motion in
+ * the tick it is detected, by the card and not the host: the axis's group halts along its
+ * path (MC_GroupHalt on the members' stop ramps, queued path dropped), or the axis alone on its
+ * stop ramp; the axes' stop reason is MC_STOP_PROBE. Nothing moving: nothing to halt. */
 #define MC_INPUTS 16u                /* the card's digital inputs (card.inputs) */
 #define MC_DEBOUNCE_MAX 10000u       /* io_config.debounce, ticks */
 #define MC_COMPARE_CHANNELS 4u
@@ -400,6 +405,7 @@
 #define MC_PROBE_FALLING (1u << 1)   /* capture as the input becomes inactive */
 #define MC_PROBE_CONTINUOUS (1u << 2)
 #define MC_PROBE_WINDOW (1u << 3)
+#define MC_PROBE_HALT (1u << 4)      /* a capture halts the axis's group or the axis (layout 1.9) */
 /* MC_EV_COMPARE codes. At most one event of each code per channel per tick: value is the
  * last position of that tick; compare_status counts every one */
 #define MC_CMP_FIRED 1               /* a position fired */
@@ -897,6 +903,7 @@
 #define MC_STOP_POWER_OFF 4u      /* MC_Power off by the host */
 #define MC_STOP_HOST_DETACH 5u    /* the host closed the card (MC_OP_HOST_DETACH): halted */
 #define MC_STOP_HOMING_FAILED 6u  /* homing failed (MC_EV_HOMING_FAILED): stopped, not homed */
+#define MC_STOP_PROBE 7u          /* a touch probe armed with MC_PROBE_HALT captured: halted */
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */

@@ -146,6 +146,8 @@ code_enum! {
         HostDetach = raw::MC_STOP_HOST_DETACH,
         /// Homing failed (`MC_EV_HOMING_FAILED`): stopped, not homed.
         HomingFailed = raw::MC_STOP_HOMING_FAILED,
+        /// A touch probe armed with `MC_PROBE_HALT` captured: halted.
+        Probe = raw::MC_STOP_PROBE,
         /// Host heartbeat lost.
         Watchdog = raw::MC_STOP_WATCHDOG,
         /// `MC_OP_ESTOP`.

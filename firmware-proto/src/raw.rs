@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 8;
+pub const MC_LAYOUT_MINOR: u32 = 9;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -133,6 +133,7 @@ pub const MC_PROBE_RISING: u32 = 1;
 pub const MC_PROBE_FALLING: u32 = 2;
 pub const MC_PROBE_CONTINUOUS: u32 = 4;
 pub const MC_PROBE_WINDOW: u32 = 8;
+pub const MC_PROBE_HALT: u32 = 16;
 pub const MC_CMP_FIRED: u32 = 1;
 pub const MC_CMP_MISSED: u32 = 2;
 pub const MC_CMP_LOW_WATER: u32 = 3;
@@ -394,6 +395,7 @@ pub const MC_STOP_STOP: u32 = 3;
 pub const MC_STOP_POWER_OFF: u32 = 4;
 pub const MC_STOP_HOST_DETACH: u32 = 5;
 pub const MC_STOP_HOMING_FAILED: u32 = 6;
+pub const MC_STOP_PROBE: u32 = 7;
 pub const MC_STOP_WATCHDOG: u32 = 16;
 pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
 pub const MC_STOP_ESTOP_INPUT: u32 = 18;

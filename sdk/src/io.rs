@@ -378,6 +378,11 @@ pub struct ProbeTrigger {
     pub continuous: bool,
     /// Only edges with the position in `[lo, hi]` (user units) count.
     pub window: Option<(f64, f64)>,
+    /// The capture halts the axis's motion, by the card in the tick it detects it: the
+    /// axis's group halts along its path on its members' stop ramps (its queued path dropped),
+    /// or the axis alone on its stop ramp; stop reason [`crate::StopReason::Probe`]. A
+    /// probing move (G38) is made of this.
+    pub halt: bool,
 }
 
 impl ProbeTrigger {
@@ -389,6 +394,7 @@ impl ProbeTrigger {
             falling: false,
             continuous: false,
             window: None,
+            halt: false,
         }
     }
 
@@ -445,6 +451,7 @@ impl TouchProbe {
             falling: t.falling,
             continuous: t.continuous,
             window,
+            halt: t.halt,
         };
         self.axis
             .run(self.axis.cmd(IoCmd::ProbeArm(arm)), "touch_probe")

@@ -36,6 +36,9 @@ pub struct Args {
         value_parser = finite("--window")
     )]
     pub window: Option<Vec<f64>>,
+    /// The capture halts the axis's motion (the card stops it in the tick it sees the edge).
+    #[arg(long)]
+    pub halt: bool,
     #[command(flatten)]
     pub travel: TravelArgs,
     #[arg(long)]
@@ -60,6 +63,7 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
             falling: !matches!(a.edge, EdgeArg::Rising),
             continuous: a.continuous,
             window: a.window.map(|w| (w[0], w[1])),
+            halt: a.halt,
         },
         travel: a.travel.travel(a.axis),
         hold: a.travel.hold,

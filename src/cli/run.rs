@@ -65,6 +65,10 @@ pub struct Args {
     /// The tool table, in LinuxCNC's format (`T1 P1 Z10 D6 ;comment`, lengths in mm).
     #[arg(long)]
     pub tool_table: Option<std::path::PathBuf>,
+    /// The card's digital input the touch probe is wired to (G38.2–G38.5; without it a
+    /// probing move is an error).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..16))]
+    pub probe_input: Option<u32>,
     #[arg(long)]
     pub json: bool,
 }
@@ -113,6 +117,7 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
         scale: a.scale,
         progress: !a.json,
         chord_fit: !a.no_chord_fit,
+        probe_input: a.probe_input,
     };
     let (file, json) = (a.file, a.json);
     let body = |c: &Card| crate::run::run(c, &file, &opts, json);

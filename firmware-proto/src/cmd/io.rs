@@ -256,6 +256,8 @@ pub struct ProbeArm {
     pub continuous: bool,
     /// Only edges whose position lies in `[lo, hi]` (counts; checked by the card).
     pub window: Option<(f64, f64)>,
+    /// A capture halts the axis's group or the axis (`MC_PROBE_HALT`).
+    pub halt: bool,
 }
 
 impl Args for ProbeArm {
@@ -266,13 +268,15 @@ impl Args for ProbeArm {
             | set(self.falling, raw::MC_PROBE_FALLING)
             | set(self.continuous, raw::MC_PROBE_CONTINUOUS)
             | set(self.window.is_some(), raw::MC_PROBE_WINDOW)
+            | set(self.halt, raw::MC_PROBE_HALT)
     }
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         let channel = channel(args, PROBE_CHANNELS)?;
         let known = raw::MC_PROBE_RISING
             | raw::MC_PROBE_FALLING
             | raw::MC_PROBE_CONTINUOUS
-            | raw::MC_PROBE_WINDOW;
+            | raw::MC_PROBE_WINDOW
+            | raw::MC_PROBE_HALT;
         let rising = bit(flags, raw::MC_PROBE_RISING);
         let falling = bit(flags, raw::MC_PROBE_FALLING);
         if flags & !known != 0 || !(rising || falling) {
@@ -292,6 +296,7 @@ impl Args for ProbeArm {
             falling,
             continuous: bit(flags, raw::MC_PROBE_CONTINUOUS),
             window: bit(flags, raw::MC_PROBE_WINDOW).then_some((args[2], args[3])),
+            halt: bit(flags, raw::MC_PROBE_HALT),
         })
     }
 }

@@ -456,8 +456,9 @@ fn io_cmd() -> BoxedStrategy<IoCmd> {
             prop_oneof![Just((true, false)), Just((false, true)), Just((true, true))],
             any::<bool>(),
             proptest::option::of(nums::<2>()),
+            any::<bool>(),
         )
-            .prop_map(|(channel, input, (rising, falling), continuous, w)| {
+            .prop_map(|(channel, input, (rising, falling), continuous, w, halt)| {
                 IoCmd::ProbeArm(ProbeArm {
                     channel,
                     input,
@@ -465,6 +466,7 @@ fn io_cmd() -> BoxedStrategy<IoCmd> {
                     falling,
                     continuous,
                     window: w.map(|[lo, hi]| (lo, hi)),
+                    halt,
                 })
             })
             .boxed(),
@@ -720,7 +722,7 @@ fn malformed_entries_give_their_fault_and_nack() {
             flags(N::CompareMode),
         ),
         (O::ProbeArm, 0, &[0.0, 1.0], flags(N::ProbeInput)),
-        (O::ProbeArm, 1 << 4 | 1, &[0.0, 1.0], flags(N::ProbeInput)),
+        (O::ProbeArm, 1 << 5 | 1, &[0.0, 1.0], flags(N::ProbeInput)),
         (O::ProbeArm, 1, &[0.0, nan], arg(1, NotFinite, N::NotFinite)),
         (
             O::ProbeArm,

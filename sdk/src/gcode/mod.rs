@@ -21,6 +21,7 @@ pub mod comp;
 mod interp;
 mod ops;
 mod params;
+mod probe;
 mod reader;
 pub mod run;
 mod tools;
@@ -149,11 +150,13 @@ impl<S: Source> Program<S> {
         Ok(())
     }
 
-    /// Where the last probe ([`OpKind::Probe`]) stopped, and whether it tripped: the
-    /// program's position and #5061–#5070 follow. Without it (a dry run) a probe is taken as
-    /// tripping at its programmed end.
-    pub fn probe_result(&mut self, at: Pos, tripped: bool) {
-        self.interp.probe_result(at, tripped, &mut self.params);
+    /// The last probe's ([`OpKind::Probe`]) result: where it tripped (`at`; its end if it did
+    /// not), where the motion came to rest (`stopped`), and whether it tripped. #5061–#5070
+    /// report `at`, the program goes on from `stopped`. Without it (a dry run) a probe is
+    /// taken as tripping at its programmed end.
+    pub fn probe_result(&mut self, at: Pos, stopped: Pos, tripped: bool) {
+        self.interp
+            .probe_result(at, stopped, tripped, &mut self.params);
     }
 
     /// The result of the last [`OpKind::WaitInput`] (#5399: the input's value, −1 on a

@@ -8,6 +8,7 @@
 //! never blocks) or run to the end ([`Runner::run`]); on a stepped in-process card `run`
 //! steps the card itself.
 
+use super::probe::ProbeRun;
 use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
 use crate::{
     ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, Result, Segment, Transition,
@@ -31,6 +32,9 @@ pub struct RunSettings {
     /// Items held before a batch is sent (then as many more as the path has room for): the
     /// chord fitter fits within a batch.
     pub batch: usize,
+    /// The card's digital input the touch probe of G38.2–G38.5 is wired to (none: G38 is an
+    /// error). See [`super::probe`](self) for how the move runs.
+    pub probe_input: Option<u32>,
 }
 
 impl Default for RunSettings {
@@ -43,6 +47,7 @@ impl Default for RunSettings {
             tolerance: 0.01,
             spline_tolerance: 0.01,
             batch: 512,
+            probe_input: None,
         }
     }
 }
@@ -118,6 +123,8 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     held: Option<Segment>,
     /// An operation that waits for the motion before it to end.
     waiting: Option<Op>,
+    /// A probing move under way: nothing is read until it ends.
+    probing: Option<ProbeRun>,
     state: RunState,
     pause_requested: bool,
     read_all: bool,
@@ -186,6 +193,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             axis_of,
             held: None,
             waiting: None,
+            probing: None,
             state: RunState::Running,
             pause_requested: false,
             read_all: false,
@@ -212,6 +220,15 @@ impl<S: Source, H: Hooks> Runner<S, H> {
 
     fn advance(&mut self) -> Result<RunState> {
         loop {
+            if self.probing.is_some() {
+                if !self.motion_done()? {
+                    return Ok(self.set(RunState::Running));
+                }
+                if let Some(p) = self.probing.take() {
+                    let r = p.finish(&self.group, &self.settings.axes)?;
+                    self.program.probe_result(r.at, r.stopped, r.tripped);
+                }
+            }
             if self.waiting.is_some() || self.read_all || self.pause_requested {
                 // Everything before it must be sent and done.
                 if !self.flush(true)? {
@@ -339,9 +356,6 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             OpKind::AnalogOutput { .. } => {
                 return Err(err("M67/M68: this card has no analog outputs".into()))
             }
-            OpKind::Probe { .. } => {
-                return Err(err("G38 probing is not run on the card yet".into()))
-            }
             OpKind::SpindleSync { .. } => {
                 return Err(err("G33/G33.1: this card has no spindle encoder".into()))
             }
@@ -349,6 +363,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             // host): nothing to do, and no reason to stop the motion.
             OpKind::Overrides { .. } => {}
             OpKind::WaitInput { .. }
+            | OpKind::Probe { .. }
             | OpKind::Spindle { .. }
             | OpKind::Coolant { .. }
             | OpKind::ToolChange { .. }
@@ -382,6 +397,23 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             } => {
                 let v = self.wait_input(op.line, index, analog, mode, timeout)?;
                 self.program.input_result(v);
+            }
+            OpKind::Probe {
+                start,
+                end,
+                feed,
+                toward,
+                ..
+            } => {
+                self.probing = Some(ProbeRun::start(
+                    &self.group,
+                    &self.axis_of,
+                    self.target(&end, op.line)?,
+                    (op.line, start, end),
+                    feed.min(self.settings.max_feed),
+                    toward,
+                    self.settings.probe_input,
+                )?);
             }
             // End: nothing after it is read.
             _ => {}

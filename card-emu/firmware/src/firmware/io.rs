@@ -200,6 +200,9 @@ pub struct IoUnit {
     last_index: [u32; MAX_AXES],
     fires: heapless::Vec<Fire, FIRES_PER_TICK>,
     events: EventQueue<IO_EVENTS>,
+    /// The axes a halting probe captured on in the last tick, with the arm's seq (a bit an
+    /// axis; the firmware halts their motion).
+    halts: (u32, u32),
     /// The window's compare and probe status blocks hold the channels' statuses of now: no
     /// command and no armed tick since [`IoUnit::publish`] wrote them (only those change a
     /// channel's status; an unarmed tick counts down a pulse, which is not in it).
@@ -236,6 +239,7 @@ impl IoUnit {
             last_index: [0; MAX_AXES],
             fires: heapless::Vec::new(),
             events: EventQueue::new(),
+            halts: (0, 0),
             statuses_written: false,
         }
     }
@@ -318,6 +322,7 @@ impl IoUnit {
     ) {
         self.events.clear();
         self.fires.clear();
+        self.halts = (0, 0);
         let (raw_edges, edges) = self.debounce.tick(self.inputs.levels);
         let (rise_events, fall_events) = {
             let cfg = self.debounce.config();
@@ -444,6 +449,9 @@ impl IoUnit {
             };
             let (x0, x1) = x[arm.axis];
             if let Some(c) = p.tick(x0, x1, tick, trigger) {
+                if arm.halt {
+                    self.halts = (self.halts.0 | 1 << arm.axis, arm.seq);
+                }
                 self.events.push(Event {
                     seq: c.seq,
                     kind: EventKind::Probe as u16,
@@ -471,6 +479,13 @@ impl IoUnit {
     /// Events that did not fit (never, by its size; counted with the outbox's).
     pub fn events_lost(&self) -> u32 {
         self.events.lost()
+    }
+
+    /// The axes (a bit each) whose motion a halting probe's capture stops, and the arm's
+    /// seq, from the last tick.
+    #[inline]
+    pub fn halts(&self) -> (u32, u32) {
+        self.halts
     }
 
     /// The fires of the last tick, with their instants (for the output recorder).

@@ -442,6 +442,16 @@ impl<M: Mem + Clone> Firmware<M> {
             &self.safety.inputs().index,
             &self.axes[..self.num_axes],
         );
+        // Layout 1.9: a capture of a probe armed with MC_PROBE_HALT halts its axis's motion.
+        let (halts, seq) = self.io.halts();
+        if halts != 0 {
+            self.halt_motion(
+                seq,
+                halts,
+                firmware_proto::StopReason::Probe,
+                firmware_proto::Opcode::ProbeArm,
+            );
+        }
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let homed = self.homing_tick(ts);
         // The reports with something to tell, in axis order (most ticks: none).

@@ -33,6 +33,8 @@ pub struct ProbeArm {
     pub continuous: bool,
     /// Only edges with the position in `[lo, hi]` count.
     pub window: Option<(f64, f64)>,
+    /// A capture halts the axis's motion (`MC_PROBE_HALT`).
+    pub halt: bool,
     /// The arm command's seq.
     pub seq: u32,
 }
@@ -62,6 +64,7 @@ pub fn validate_arm(axis: usize, p: &cmd::ProbeArm, seq: u32) -> Result<ProbeArm
         falling: p.falling,
         continuous: p.continuous,
         window,
+        halt: p.halt,
         seq,
     })
 }

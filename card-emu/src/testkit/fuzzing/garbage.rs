@@ -632,7 +632,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             let lo = position(s);
             let hi = lo + magnitude(s, 0.0, 5.0);
             feed(s);
-            let bits = (s.u8() & 0x1F) as u32;
+            let bits = (s.u8() & 0x3F) as u32;
             let arm = ProbeArm {
                 channel,
                 input,
@@ -640,6 +640,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 falling: bits & raw::MC_PROBE_FALLING != 0,
                 continuous: bits & raw::MC_PROBE_CONTINUOUS != 0,
                 window: (bits & raw::MC_PROBE_WINDOW != 0).then_some((lo, hi)),
+                halt: bits & raw::MC_PROBE_HALT != 0,
             };
             let mut p = Plausible::typed(IoCmd::ProbeArm(arm));
             let mut args = [0.0; CMD_ARGS];

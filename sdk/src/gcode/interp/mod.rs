@@ -156,7 +156,7 @@ struct PendingProbe {
     end: Pos,
     must_trip: bool,
     line: usize,
-    answered: Option<(Pos, bool)>,
+    answered: Option<bool>,
 }
 
 /// What canned cycles remember between blocks (LinuxCNC's `cycle_*`).
@@ -328,17 +328,16 @@ impl Interp {
         Ok(())
     }
 
-    /// Where the last probe stopped and whether it tripped.
-    pub fn probe_result(&mut self, at: Pos, tripped: bool, params: &mut Params) {
-        if let Some(p) = self.probe.as_mut() {
-            p.answered = Some((at, tripped));
-        }
+    /// The last probe's result: where the probe tripped (`at`, its end if it did not) and
+    /// where the motion came to rest (`stopped`, a little past `at` when it tripped), machine
+    /// coordinates. #5061–#5070 report `at`; the program goes on from `stopped`.
+    pub fn probe_result(&mut self, at: Pos, stopped: Pos, tripped: bool, params: &mut Params) {
         // Settled at once so the position and #5061–#5070 are right for the caller; a
         // G38.2/G38.4 that did not trip is reported at the next block.
         if let Some(p) = self.probe {
-            self.apply_probe(at, tripped, params);
+            self.apply_probe(at, stopped, tripped, params);
             self.probe = (!tripped && p.must_trip).then_some(PendingProbe {
-                answered: Some((at, tripped)),
+                answered: Some(tripped),
                 ..p
             });
         }
@@ -498,10 +497,10 @@ impl Interp {
         };
         match p.answered {
             None => {
-                self.apply_probe(p.end, true, params);
+                self.apply_probe(p.end, p.end, true, params);
                 Ok(())
             }
-            Some((_, false)) if p.must_trip => err(
+            Some(false) if p.must_trip => err(
                 line,
                 format!(
                     "the probe move of line {} ended without the probe tripping",
@@ -512,9 +511,10 @@ impl Interp {
         }
     }
 
-    /// The probe stopped at `at` (machine): the position and #5061–#5070.
-    fn apply_probe(&mut self, at: Pos, tripped: bool, params: &mut Params) {
-        self.position = at;
+    /// The probe tripped at `at` and stopped at `stopped` (machine): #5061–#5070 and the
+    /// position.
+    fn apply_probe(&mut self, at: Pos, stopped: Pos, tripped: bool, params: &mut Params) {
+        self.position = stopped;
         let w = self.frame().to_work(at);
         for (i, v) in w.iter().enumerate() {
             let v = if i < 3 { v / self.k() } else { *v };

@@ -224,17 +224,25 @@ fn probing_dry_run_and_with_a_result() {
     let mut ops = Vec::new();
     it.block(&blk(1, "G38.3 Z-10 F60"), &mut params, &mut ops)
         .unwrap();
-    it.probe_result([0.0, 0.0, -4.0, 0.0, 0.0, 0.0], true, &mut params);
+    // Tripped at −4, came to rest at −4.2: the parameters report the trip, the program
+    // goes on from where the motion stopped.
+    it.probe_result(
+        [0.0, 0.0, -4.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, -4.2, 0.0, 0.0, 0.0],
+        true,
+        &mut params,
+    );
     assert_eq!(params.get(5063), Some(-4.0));
     it.block(&blk(2, "G1 Z0"), &mut params, &mut ops).unwrap();
-    assert_pos(ops[1].kind.ends().unwrap().0, [0.0, 0.0, -4.0]);
+    assert_pos(ops[1].kind.ends().unwrap().0, [0.0, 0.0, -4.2]);
 
     // G38.2 not tripping: an error at the next block.
     let mut params = Params::new();
     let mut it = Interp::new(&Options::default(), &mut params);
     it.block(&blk(1, "G38.2 Z-10 F60"), &mut params, &mut ops)
         .unwrap();
-    it.probe_result([0.0, 0.0, -10.0, 0.0, 0.0, 0.0], false, &mut params);
+    let end = [0.0, 0.0, -10.0, 0.0, 0.0, 0.0];
+    it.probe_result(end, end, false, &mut params);
     assert_eq!(params.get(5070), Some(0.0));
     let e = it
         .block(&blk(2, "G0 Z0"), &mut params, &mut ops)
@@ -245,7 +253,8 @@ fn probing_dry_run_and_with_a_result() {
     let mut it = Interp::new(&Options::default(), &mut params);
     it.block(&blk(1, "G38.3 Z-10 F60"), &mut params, &mut ops)
         .unwrap();
-    it.probe_result([0.0, 0.0, -10.0, 0.0, 0.0, 0.0], false, &mut params);
+    let end = [0.0, 0.0, -10.0, 0.0, 0.0, 0.0];
+    it.probe_result(end, end, false, &mut params);
     assert!(it.block(&blk(2, "G0 Z0"), &mut params, &mut ops).is_ok());
 }
 

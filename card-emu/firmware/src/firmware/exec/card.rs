@@ -108,12 +108,28 @@ impl<M: Mem + Clone> Firmware<M> {
     /// and nothing moves on for a host that has gone.
     fn detach(&mut self, seq: u32, session: Session) -> Result<(), NackCode> {
         self.safety.detach(&self.mem, session.id)?;
+        self.halt_motion(seq, u32::MAX, StopReason::HostDetach, Opcode::HostDetach);
+        Ok(())
+    }
+
+    /// Halts the motion of the axes in `mask` (a bit an axis; all: `u32::MAX`), for command
+    /// or arm `seq`: each moving group with such a member halts along its path on its members'
+    /// stop ramps (as MC_GroupHalt), and each such axis moving on its own (a move, velocity
+    /// mode or jog, homing, a coupling or PT/PVT stream) on its stop ramp, each axis with
+    /// stop reason `reason`; the motion queued behind is aborted (`by` the events' code).
+    pub(in crate::firmware) fn halt_motion(
+        &mut self,
+        seq: u32,
+        mask: u32,
+        reason: StopReason,
+        by: Opcode,
+    ) {
         let (tick, max_time) = (self.tick, self.safety.config().max_stop_time());
         for group in self.groups.iter_mut() {
             let Some(members) = group.moving_members() else {
                 continue;
             };
-            if group.state == GroupState::Stopping {
+            if group.state == GroupState::Stopping || !members.iter().any(|&a| mask >> a & 1 == 1) {
                 continue;
             }
             let hard = hard_stop_ramp(&self.axes, members);
@@ -124,13 +140,16 @@ impl<M: Mem + Clone> Firmware<M> {
                 .start_stop(seq, false, hard, hard, max_time, tick, &mut self.outbox)
                 .is_ok()
             {
-                // The members' motion ends by the detach: a new host reads why.
+                // The members' motion ends by the halt: the host reads why.
                 for &a in &list[..n] {
-                    self.axes[a].group_stopping(StopReason::HostDetach);
+                    self.axes[a].group_stopping(reason);
                 }
             }
         }
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
+            if mask >> i & 1 == 0 {
+                continue;
+            }
             // Layout 1.7 (sync): a coupled slave or a PT/PVT stream halts too.
             let geared = axis.state == AxisState::SynchronizedMotion
                 && (self.gears[i].engaged() || self.pvt[i].as_ref().is_some_and(|s| s.running()));
@@ -148,19 +167,18 @@ impl<M: Mem + Clone> Firmware<M> {
                 .start_stop(seq, false, sc.stop_decel, sc.stop_jerk, max_time)
                 .is_ok()
             {
-                axis.safety.stop_reason = StopReason::HostDetach;
+                axis.safety.stop_reason = reason;
                 for old in pending.into_iter().chain(axis.drain_queue()) {
                     self.outbox.push(Event {
                         seq: old,
                         kind: EventKind::MotionAborted as u16,
                         axis: i as u16,
-                        code: Opcode::HostDetach as i32,
+                        code: by as i32,
                         tick,
                         value: 0.0,
                     });
                 }
             }
         }
-        Ok(())
     }
 }
