@@ -9,6 +9,124 @@ pub const MAX_PARAM: u32 = 5602;
 /// The parameters a subroutine call passes and restores: #1 to #30.
 pub const CALL_PARAMS: usize = 30;
 
+/// LinuxCNC's predefined named parameters: read-only, kept by the interpreter after every
+/// block (see [`Predefined`] for what each holds).
+pub const PREDEFINED: [&str; Predefined::COUNT] = [
+    "_vmajor",
+    "_vminor",
+    "_line",
+    "_motion_mode",
+    "_plane",
+    "_ccomp",
+    "_metric",
+    "_imperial",
+    "_absolute",
+    "_incremental",
+    "_inverse_time",
+    "_units_per_minute",
+    "_units_per_rev",
+    "_coord_system",
+    "_tool_offset",
+    "_retract_r_plane",
+    "_retract_old_z",
+    "_spindle_rpm_mode",
+    "_spindle_css_mode",
+    "_ijk_absolute_mode",
+    "_lathe_diameter_mode",
+    "_lathe_radius_mode",
+    "_spindle_on",
+    "_spindle_cw",
+    "_mist",
+    "_flood",
+    "_speed_override",
+    "_feed_override",
+    "_adaptive_feed",
+    "_feed_hold",
+    "_feed",
+    "_rpm",
+    "_x",
+    "_y",
+    "_z",
+    "_a",
+    "_b",
+    "_c",
+    "_u",
+    "_v",
+    "_w",
+    "_abs_x",
+    "_abs_y",
+    "_abs_z",
+    "_abs_a",
+    "_abs_b",
+    "_abs_c",
+    "_current_tool",
+    "_current_pocket",
+    "_selected_tool",
+    "_selected_pocket",
+    "_call_level",
+    "_remap_level",
+    "_task",
+];
+
+/// The predefined named parameters, in [`PREDEFINED`]'s order. Flags are 1 or 0; codes are
+/// a G-code times ten (`_motion_mode` 10 for G1, 382 for G38.2, 800 after G80; `_plane` 170;
+/// `_ccomp` 400/410/420; `_coord_system` 540 … 593); `_feed` is F in program units, `_rpm` S;
+/// `_x` … `_w` the position in program coordinates and units (#5420–#5428), `_abs_x` … in
+/// machine coordinates (program units); `_line` the source line being read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+#[repr(usize)]
+pub enum Predefined {
+    Vmajor,
+    Vminor,
+    Line,
+    MotionMode,
+    Plane,
+    Ccomp,
+    Metric,
+    Imperial,
+    Absolute,
+    Incremental,
+    InverseTime,
+    UnitsPerMinute,
+    UnitsPerRev,
+    CoordSystem,
+    ToolOffset,
+    RetractRPlane,
+    RetractOldZ,
+    SpindleRpmMode,
+    SpindleCssMode,
+    IjkAbsoluteMode,
+    LatheDiameterMode,
+    LatheRadiusMode,
+    SpindleOn,
+    SpindleCw,
+    Mist,
+    Flood,
+    SpeedOverride,
+    FeedOverride,
+    AdaptiveFeed,
+    FeedHold,
+    Feed,
+    Rpm,
+    /// `_x`; `_y` … `_w` follow.
+    X,
+    /// `_abs_x`; `_abs_y` … `_abs_c` follow.
+    AbsX = 41,
+    CurrentTool = 47,
+    CurrentPocket,
+    SelectedTool,
+    SelectedPocket,
+    CallLevel,
+    RemapLevel,
+    Task,
+}
+
+impl Predefined {
+    /// How many there are.
+    pub const COUNT: usize = 54;
+}
+
 /// One call's saved state: the caller's #1–#30 and the callee's named locals.
 #[derive(Debug, Clone, Default)]
 struct Frame {
@@ -21,6 +139,7 @@ struct Frame {
 pub struct Params {
     numbered: Vec<f64>,
     globals: HashMap<String, f64>,
+    predefined: [f64; Predefined::COUNT],
     /// The main program's frame first, then one per active call.
     frames: Vec<Frame>,
 }
@@ -37,6 +156,7 @@ impl Params {
         Params {
             numbered: vec![0.0; MAX_PARAM as usize + 1],
             globals: HashMap::new(),
+            predefined: [0.0; Predefined::COUNT],
             frames: vec![Frame::default()],
         }
     }
@@ -61,18 +181,34 @@ impl Params {
     /// start with `_` are global; others are the current call's.
     pub fn named(&self, name: &str) -> Option<f64> {
         if name.starts_with('_') {
-            self.globals.get(name).copied()
+            match PREDEFINED.iter().position(|&p| p == name) {
+                Some(i) => Some(self.predefined[i]),
+                None => self.globals.get(name).copied(),
+            }
         } else {
             self.frames.last().and_then(|f| f.locals.get(name).copied())
         }
     }
 
-    /// Sets a named parameter (global when it starts with `_`).
-    pub fn set_named(&mut self, name: &str, v: f64) {
+    /// Sets a named parameter (global when it starts with `_`); `false` (and nothing set)
+    /// for a predefined one, which the program may only read.
+    pub fn set_named(&mut self, name: &str, v: f64) -> bool {
         if name.starts_with('_') {
+            if PREDEFINED.contains(&name) {
+                return false;
+            }
             self.globals.insert(name.to_owned(), v);
         } else if let Some(f) = self.frames.last_mut() {
             f.locals.insert(name.to_owned(), v);
+        }
+        true
+    }
+
+    /// Sets predefined parameter `p` (the interpreter's; `offset` for the ones that follow
+    /// it, as `_y` after `_x`).
+    pub fn set_predefined(&mut self, p: Predefined, offset: usize, v: f64) {
+        if let Some(slot) = self.predefined.get_mut(p as usize + offset) {
+            *slot = v;
         }
     }
 
@@ -130,6 +266,30 @@ mod tests {
         assert_eq!(p.named("x"), Some(2.0));
         assert_eq!(p.named("_g"), Some(4.0));
         assert!(!p.ret());
+    }
+
+    #[test]
+    fn the_predefined_names_are_in_their_order_and_read_only() {
+        use Predefined as P;
+        for (p, name) in [
+            (P::Vmajor, "_vmajor"),
+            (P::Rpm, "_rpm"),
+            (P::X, "_x"),
+            (P::AbsX, "_abs_x"),
+            (P::CurrentTool, "_current_tool"),
+            (P::Task, "_task"),
+        ] {
+            assert_eq!(PREDEFINED[p as usize], name);
+        }
+        assert_eq!(PREDEFINED[P::X as usize + 8], "_w");
+        assert_eq!(PREDEFINED[P::AbsX as usize + 5], "_abs_c");
+        let mut params = Params::new();
+        params.set_predefined(P::X, 1, 2.5);
+        assert_eq!(params.named("_y"), Some(2.5));
+        assert!(!params.set_named("_y", 1.0));
+        assert_eq!(params.named("_y"), Some(2.5));
+        assert!(params.set_named("_mine", 1.0));
+        assert_eq!(params.named("_mine"), Some(1.0));
     }
 
     #[test]

@@ -343,6 +343,7 @@ impl<S: Source> Reader<S> {
     ) -> Result<Option<Block>, GcodeError> {
         let line = self.line;
         let at = |m: String| GcodeError::new(line, m);
+        params.set_predefined(crate::gcode::params::Predefined::Line, 0, line as f64);
         let mut cur = Cursor::new(code);
         cur.skip_line_number().map_err(at)?;
         if cur.peek() == Some(b'o') {
@@ -381,7 +382,13 @@ impl<S: Source> Reader<S> {
                 ParamRef::Number(n) => {
                     params.set(n, v);
                 }
-                ParamRef::Named(name) => params.set_named(&name, v),
+                ParamRef::Named(name) => {
+                    if !params.set_named(&name, v) {
+                        return Err(at(format!(
+                            "#<{name}> is a predefined parameter: it may be read, not set"
+                        )));
+                    }
+                }
             }
         }
         if let Some(range) = cleaned.message.clone() {

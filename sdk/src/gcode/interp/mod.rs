@@ -287,6 +287,7 @@ impl Interp {
         it.load_g92(params);
         it.publish_tool(params);
         it.publish_position(params);
+        it.publish_predefined(params);
         it
     }
 
@@ -302,6 +303,7 @@ impl Interp {
         let flow = self.execute(b, &line, params, out)?;
         self.publish_tool(params);
         self.publish_position(params);
+        self.publish_predefined(params);
         Ok(flow)
     }
 
@@ -471,6 +473,99 @@ impl Interp {
         }
         for n in 5426..=5428 {
             params.set(n, 0.0);
+        }
+    }
+
+    /// LinuxCNC's predefined named parameters (`#<_x>`, `#<_motion_mode>`, …) after a
+    /// block (`_line` is the reader's).
+    fn publish_predefined(&self, params: &mut Params) {
+        use super::params::Predefined as P;
+        let flag = |b: bool| f64::from(u8::from(b));
+        let cs = [540, 550, 560, 570, 580, 590, 591, 592, 593];
+        let pocket = |n: u32| {
+            let t = self.tools.tools.iter().find(|t| t.number == n);
+            t.map_or(0.0, |t| f64::from(t.pocket))
+        };
+        let feed = match self.feed_mode {
+            FeedMode::PerMinute => self.feed_ang,
+            FeedMode::PerRevolution => self.feed_rev / self.k(),
+            FeedMode::InverseTime => 0.0,
+        };
+        let depth = params.depth() as f64;
+        let values = [
+            (P::Vmajor, 2.0),
+            (P::Vminor, 9.0),
+            (P::MotionMode, f64::from(self.motion.unwrap_or(800))),
+            (
+                P::Plane,
+                match self.plane {
+                    Plane::Xy => 170.0,
+                    Plane::Zx => 180.0,
+                    Plane::Yz => 190.0,
+                },
+            ),
+            (P::Ccomp, f64::from(self.comp_code)),
+            (P::Metric, flag(self.units == Units::Mm)),
+            (P::Imperial, flag(self.units == Units::Inch)),
+            (P::Absolute, flag(self.absolute)),
+            (P::Incremental, flag(!self.absolute)),
+            (
+                P::InverseTime,
+                flag(self.feed_mode == FeedMode::InverseTime),
+            ),
+            (
+                P::UnitsPerMinute,
+                flag(self.feed_mode == FeedMode::PerMinute),
+            ),
+            (
+                P::UnitsPerRev,
+                flag(self.feed_mode == FeedMode::PerRevolution),
+            ),
+            (
+                P::CoordSystem,
+                f64::from(cs[(self.cs as usize).clamp(1, 9) - 1]),
+            ),
+            (P::ToolOffset, flag(self.tlo_code != 490)),
+            (P::RetractRPlane, flag(self.retract_r)),
+            (P::RetractOldZ, flag(!self.retract_r)),
+            (P::SpindleRpmMode, 1.0),
+            (P::SpindleCssMode, 0.0),
+            (P::IjkAbsoluteMode, flag(self.arc_absolute)),
+            (P::LatheDiameterMode, 0.0),
+            (P::LatheRadiusMode, 0.0),
+            (P::SpindleOn, flag(self.dir != SpindleDir::Off)),
+            (P::SpindleCw, flag(self.dir == SpindleDir::Cw)),
+            (P::Mist, flag(self.mist)),
+            (P::Flood, flag(self.flood)),
+            (P::SpeedOverride, flag(self.spindle_override)),
+            (P::FeedOverride, flag(self.feed_override)),
+            (P::AdaptiveFeed, 0.0),
+            (P::FeedHold, 0.0),
+            (P::Feed, feed),
+            (P::Rpm, self.speed),
+            (P::CurrentTool, f64::from(self.tool)),
+            (P::CurrentPocket, pocket(self.tool)),
+            (P::SelectedTool, f64::from(self.selected)),
+            (P::SelectedPocket, pocket(self.selected)),
+            (P::CallLevel, depth),
+            (P::RemapLevel, 0.0),
+            (P::Task, 1.0),
+        ];
+        for (p, v) in values {
+            params.set_predefined(p, 0, v);
+        }
+        let (work, machine) = (self.cur_work(), self.position);
+        for i in 0..9 {
+            let v = match work.get(i) {
+                Some(v) if i < 3 => v / self.k(),
+                Some(v) => *v,
+                None => 0.0,
+            };
+            params.set_predefined(P::X, i, v);
+        }
+        for (i, v) in machine.iter().enumerate() {
+            let v = if i < 3 { v / self.k() } else { *v };
+            params.set_predefined(P::AbsX, i, v);
         }
     }
 

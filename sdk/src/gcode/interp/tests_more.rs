@@ -546,3 +546,41 @@ fn tool_parameters_follow_the_units() {
     assert!(close(r.params.get(5403).unwrap(), 1.0));
     assert!(close(r.params.get(5410).unwrap(), 0.5));
 }
+
+/// The messages of a program read whole (`(DEBUG, …)` with parameters substituted), or its
+/// error.
+fn debug_texts(text: &str) -> Result<Vec<String>, GcodeError> {
+    let mut p = crate::gcode::Program::from_text(text.to_string(), &Options::default());
+    let mut out = Vec::new();
+    for op in &mut p {
+        if let OpKind::Message { text } = op?.kind {
+            out.push(text.trim().to_string());
+        }
+    }
+    Ok(out)
+}
+
+#[test]
+fn predefined_named_parameters_follow_the_modal_state() {
+    let t = debug_texts(
+        "G20 G91 G55 G1 X1 F20 S1200 M3 M8\n\
+         (DEBUG, #<_x> #<_abs_x> #<_motion_mode> #<_imperial> #<_incremental> #<_coord_system>)\n\
+         (DEBUG, #<_feed> #<_rpm> #<_spindle_on> #<_flood> #<_plane> #<_line>)\n\
+         G21 G90 G54 G0 X2 G18 M5\n\
+         (DEBUG, #<_x> #<_motion_mode> #<_metric> #<_absolute> #<_coord_system> #<_plane>)\n\
+         (DEBUG, #<_spindle_on> #<_vmajor> #<_task> #<_call_level>)\n",
+    )
+    .unwrap();
+    assert_eq!(
+        t,
+        [
+            "1.000000 1.000000 10.000000 1.000000 1.000000 550.000000",
+            "20.000000 1200.000000 1.000000 1.000000 170.000000 3.000000",
+            "2.000000 0.000000 1.000000 1.000000 540.000000 180.000000",
+            "0.000000 2.000000 1.000000 0.000000",
+        ]
+    );
+    let e = debug_texts("#<_x> = 3\n").unwrap_err();
+    assert!(e.message.contains("predefined"), "{e}");
+    assert_eq!(e.line, 1);
+}
