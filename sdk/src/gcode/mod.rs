@@ -134,7 +134,7 @@ impl<S: Source> Program<S> {
     /// Reads and interprets one block (or finishes at the end of the text).
     fn step(&mut self) -> Result<(), GcodeError> {
         self.scratch.clear();
-        match self.reader.next_block(&mut self.params)? {
+        match self.reader.next_item(&mut self.params)? {
             Some(b) => {
                 if self.interp.block(&b, &mut self.params, &mut self.scratch)? == Flow::End {
                     self.done = true;

@@ -224,6 +224,9 @@ pub struct Reader<S: Source> {
     rereading: bool,
     reread: u64,
     max_reread: u64,
+    /// A subroutine has just returned: an empty block marks it for the interpreter (M73's
+    /// restore happens there, before the caller's next line is read).
+    returned: Option<usize>,
 }
 
 impl<S: Source> Reader<S> {
@@ -247,6 +250,7 @@ impl<S: Source> Reader<S> {
             passes: 0,
             max_passes: MAX_PASSES,
             rereading: false,
+            returned: None,
             reread: 0,
             max_reread: MAX_REREAD,
         }
@@ -256,6 +260,18 @@ impl<S: Source> Reader<S> {
     /// `%`), parameters of the line assigned and control flow taken. After an error (or the
     /// end) it gives `None`.
     pub fn next_block(&mut self, params: &mut Params) -> Result<Option<Block>, GcodeError> {
+        loop {
+            match self.next_item(params)? {
+                Some(b) if b.is_empty() => continue,
+                b => return Ok(b),
+            }
+        }
+    }
+
+    /// As [`Reader::next_block`], and an empty block (of the `endsub` or `return` line) each
+    /// time a subroutine returns, before the caller's next line is read: the interpreter
+    /// restores what M73 saved there.
+    pub fn next_item(&mut self, params: &mut Params) -> Result<Option<Block>, GcodeError> {
         if self.done {
             return Ok(None);
         }
@@ -329,6 +345,13 @@ impl<S: Source> Reader<S> {
                 self.rereading = false;
                 self.reread = 0;
                 return Ok(Some(b));
+            }
+            if let Some(line) = self.returned.take() {
+                // (not a block run: the loop guards keep counting)
+                return Ok(Some(Block {
+                    line,
+                    ..Block::default()
+                }));
             }
         }
     }

@@ -21,7 +21,7 @@
 //! | G61 G61.1 G64 P Q | |
 //! | G73 G74 G80–G86 G88 G89 G98 G99 | see `canned`; G87 refused |
 //! | G97 | (G96 refused) |
-//! | M0 M1 M2 M30 M60 M3 M4 M5 M6 M61 M7 M8 M9 M48–M51 M62–M68 M100–M199 | M19, M52, M53, M70–M73 refused |
+//! | M0 M1 M2 M30 M60 M3 M4 M5 M6 M61 M7 M8 M9 M48–M51 M62–M68 M70–M73 M100–M199 | M19, M52, M53 refused |
 //!
 //! Anything else (G7, G8, G12, G76, G96, U V W words, …) is an error naming its line, as is
 //! a word no code on its line uses (LinuxCNC's rules). Moves of length zero are emitted as
@@ -56,6 +56,7 @@ mod geom;
 mod modal;
 mod motion;
 mod spline;
+mod state;
 
 #[cfg(test)]
 mod tests;
@@ -220,6 +221,8 @@ pub struct Interp {
     comp_code: GCode,
     comp: Option<CompRun>,
     probe: Option<PendingProbe>,
+    /// M70/M73 saves, by call level (innermost last).
+    saved: Vec<state::Saved>,
 }
 
 /// A feed mode word check etc. helper: an error at `line`.
@@ -281,6 +284,7 @@ impl Interp {
             comp_code: 400,
             comp: None,
             probe: None,
+            saved: Vec::new(),
         };
         params.set(5220, 1.0);
         it.load_coordinate_system(params);
@@ -299,6 +303,7 @@ impl Interp {
         out: &mut Vec<Op>,
     ) -> Result<Flow, GcodeError> {
         self.settle_probe(b.line, params)?;
+        self.auto_restore(b.line, params, out);
         let line = modal::check(self, b)?;
         let flow = self.execute(b, &line, params, out)?;
         self.publish_tool(params);
@@ -476,99 +481,6 @@ impl Interp {
         }
     }
 
-    /// LinuxCNC's predefined named parameters (`#<_x>`, `#<_motion_mode>`, …) after a
-    /// block (`_line` is the reader's).
-    fn publish_predefined(&self, params: &mut Params) {
-        use super::params::Predefined as P;
-        let flag = |b: bool| f64::from(u8::from(b));
-        let cs = [540, 550, 560, 570, 580, 590, 591, 592, 593];
-        let pocket = |n: u32| {
-            let t = self.tools.tools.iter().find(|t| t.number == n);
-            t.map_or(0.0, |t| f64::from(t.pocket))
-        };
-        let feed = match self.feed_mode {
-            FeedMode::PerMinute => self.feed_ang,
-            FeedMode::PerRevolution => self.feed_rev / self.k(),
-            FeedMode::InverseTime => 0.0,
-        };
-        let depth = params.depth() as f64;
-        let values = [
-            (P::Vmajor, 2.0),
-            (P::Vminor, 9.0),
-            (P::MotionMode, f64::from(self.motion.unwrap_or(800))),
-            (
-                P::Plane,
-                match self.plane {
-                    Plane::Xy => 170.0,
-                    Plane::Zx => 180.0,
-                    Plane::Yz => 190.0,
-                },
-            ),
-            (P::Ccomp, f64::from(self.comp_code)),
-            (P::Metric, flag(self.units == Units::Mm)),
-            (P::Imperial, flag(self.units == Units::Inch)),
-            (P::Absolute, flag(self.absolute)),
-            (P::Incremental, flag(!self.absolute)),
-            (
-                P::InverseTime,
-                flag(self.feed_mode == FeedMode::InverseTime),
-            ),
-            (
-                P::UnitsPerMinute,
-                flag(self.feed_mode == FeedMode::PerMinute),
-            ),
-            (
-                P::UnitsPerRev,
-                flag(self.feed_mode == FeedMode::PerRevolution),
-            ),
-            (
-                P::CoordSystem,
-                f64::from(cs[(self.cs as usize).clamp(1, 9) - 1]),
-            ),
-            (P::ToolOffset, flag(self.tlo_code != 490)),
-            (P::RetractRPlane, flag(self.retract_r)),
-            (P::RetractOldZ, flag(!self.retract_r)),
-            (P::SpindleRpmMode, 1.0),
-            (P::SpindleCssMode, 0.0),
-            (P::IjkAbsoluteMode, flag(self.arc_absolute)),
-            (P::LatheDiameterMode, 0.0),
-            (P::LatheRadiusMode, 0.0),
-            (P::SpindleOn, flag(self.dir != SpindleDir::Off)),
-            (P::SpindleCw, flag(self.dir == SpindleDir::Cw)),
-            (P::Mist, flag(self.mist)),
-            (P::Flood, flag(self.flood)),
-            (P::SpeedOverride, flag(self.spindle_override)),
-            (P::FeedOverride, flag(self.feed_override)),
-            (P::AdaptiveFeed, 0.0),
-            (P::FeedHold, 0.0),
-            (P::Feed, feed),
-            (P::Rpm, self.speed),
-            (P::CurrentTool, f64::from(self.tool)),
-            (P::CurrentPocket, pocket(self.tool)),
-            (P::SelectedTool, f64::from(self.selected)),
-            (P::SelectedPocket, pocket(self.selected)),
-            (P::CallLevel, depth),
-            (P::RemapLevel, 0.0),
-            (P::Task, 1.0),
-        ];
-        for (p, v) in values {
-            params.set_predefined(p, 0, v);
-        }
-        let (work, machine) = (self.cur_work(), self.position);
-        for i in 0..9 {
-            let v = match work.get(i) {
-                Some(v) if i < 3 => v / self.k(),
-                Some(v) => *v,
-                None => 0.0,
-            };
-            params.set_predefined(P::X, i, v);
-        }
-        for (i, v) in machine.iter().enumerate() {
-            let v = if i < 3 { v / self.k() } else { *v };
-            params.set_predefined(P::AbsX, i, v);
-        }
-    }
-
     /// #5400 tool number, #5401–#5409 its table offsets (program units), #5410 diameter.
     fn publish_tool(&self, params: &mut Params) {
         params.set(5400, self.tool as f64);
@@ -729,6 +641,9 @@ impl Interp {
                 self.dir = dir;
                 self.spindle_op(line, out);
             }
+        }
+        if let Some(m) = l.m_group(11) {
+            self.modal_save(line, m, params, out)?;
         }
         let coolant: Vec<u32> =
             b.m.iter()

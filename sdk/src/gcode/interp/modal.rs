@@ -69,6 +69,7 @@ fn m_group(m: u32) -> Option<u8> {
         7..=9 => 8,
         48..=51 => 9,
         100..=199 => 10,
+        70..=73 => 11,
         _ => return None,
     })
 }
@@ -78,7 +79,6 @@ fn m_refused(m: u32) -> String {
         19 => "M19 (spindle orientation) is not supported".into(),
         52 => "M52 (adaptive feed) is not supported".into(),
         53 => "M53 (feed stop) is not supported".into(),
-        70..=73 => format!("M{m} (modal state save/restore) is not supported"),
         98 | 99 => format!("M{m} (Fanuc-style subprogram) is not supported"),
         _ => format!("M{m} is not supported"),
     }
@@ -95,7 +95,7 @@ fn g_group(g: GCode) -> Option<u8> {
 #[derive(Debug, Clone, Default)]
 pub(super) struct Line {
     g: [Option<GCode>; 15],
-    m: [Option<u32>; 11],
+    m: [Option<u32>; 12],
     /// LinuxCNC's `motion_to_be`: the motion the line makes (its own group 1 code, or the
     /// modal one when it has axis words and no group 0 code takes them).
     pub motion: Option<GCode>,

@@ -584,3 +584,62 @@ fn predefined_named_parameters_follow_the_modal_state() {
     assert!(e.message.contains("predefined"), "{e}");
     assert_eq!(e.line, 1);
 }
+
+#[test]
+fn m70_to_m73_save_and_restore_the_modal_state() {
+    let text = "\
+o100 sub
+  M73
+  G20 G91 G55 G18 S500 M4 M8 F7
+  (DEBUG, #<_imperial> #<_incremental> #<_coord_system> #<_plane> #<_rpm> #<_flood>)
+o100 endsub
+G21 G90 G17 S1000 M3 F100
+o100 call
+(DEBUG, #<_metric> #<_absolute> #<_coord_system> #<_plane> #<_rpm> #<_spindle_cw> #<_flood> #<_feed>)
+M70
+G20 M9 M5
+M72
+(DEBUG, #<_metric> #<_spindle_on> #<_flood>)
+M71
+M72
+";
+    let mut p = crate::gcode::Program::from_text(text.to_string(), &Options::default());
+    let mut texts = Vec::new();
+    let mut spindle = Vec::new();
+    let mut e = None;
+    for op in &mut p {
+        match op {
+            Ok(op) => match op.kind {
+                OpKind::Message { text } => texts.push(text.trim().to_string()),
+                OpKind::Spindle { speed, dir } => spindle.push((op.line, speed, dir)),
+                _ => {}
+            },
+            Err(err) => e = Some(err),
+        }
+    }
+    assert_eq!(
+        texts,
+        [
+            "1.000000 1.000000 550.000000 180.000000 500.000000 1.000000",
+            "1.000000 1.000000 540.000000 170.000000 1000.000000 1.000000 0.000000 100.000000",
+            "1.000000 1.000000 0.000000",
+        ]
+    );
+    // M3 S1000, the sub's M4 S500, its restore at its endsub, M5, M72's restore (M3 S1000).
+    assert_eq!(
+        spindle
+            .iter()
+            .map(|&(l, s, d)| (l, s, d == SpindleDir::Cw))
+            .collect::<Vec<_>>(),
+        [
+            (6, 1000.0, true),
+            (3, 500.0, false),
+            (5, 1000.0, true),
+            (10, 1000.0, false),
+            (11, 1000.0, true),
+        ]
+    );
+    let e = e.expect("M72 after M71");
+    assert_eq!(e.line, 14);
+    assert!(e.message.contains("M72"), "{e}");
+}

@@ -603,6 +603,7 @@ impl<S: Source> Reader<S> {
         }
         self.stack.truncate(i);
         params.ret();
+        self.returned = Some(self.line);
         params.set_named("_value", value.unwrap_or(0.0));
         params.set_named("_value_returned", if value.is_some() { 1.0 } else { 0.0 });
         self.goto(pos, line)
