@@ -1646,6 +1646,29 @@ extern "C" {
 #define MC_OP_SET_SCALE 97
 
 /**
+ * Axis: the axis. args: points (`0..MC_COMP_MAX_POINTS`), bound (the largest |correction +
+ * backlash/2| allowed, counts, > 0), backlash (counts, >= 0), ramp velocity (counts/s), ramp
+ * acceleration (counts/s^2) (both in the kinematic limit range). flags: `MC_COMP_BIDIR`. A bad
+ * count, bound, backlash, ramp or flags: `MC_NACK_COMP_TABLE`.
+ */
+#define MC_OP_COMP_TABLE 98
+
+/**
+ * Axis: the axis. args: index of the first point, count (`1..MC_COMP_DATA_MAX`), then position,
+ * forward correction, reverse correction of each (counts). Every argument finite (else
+ * `MC_NACK_NOT_FINITE`); no open table or out of order: `MC_NACK_COMP_SEQUENCE`; positions not
+ * strictly increasing: `MC_NACK_COMP_ORDER`; a correction beyond the bound (with half the
+ * backlash), or reverse != forward without `MC_COMP_BIDIR`: `MC_NACK_COMP_BOUND`.
+ */
+#define MC_OP_COMP_DATA 99
+
+/**
+ * Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state; taken
+ * without a session (it reads).
+ */
+#define MC_OP_COMP_READ 100
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -2053,7 +2076,8 @@ typedef struct mc_axis_status_payload {
    */
   double cmd_acc;
   /**
-   * Actual (encoder) position, counts.
+   * Actual position, counts: the encoder's, less the compensation's correction (layout 1.9:
+   * where the load is; the encoder's own without compensation).
    */
   double act_pos;
   /**
@@ -2149,6 +2173,12 @@ typedef struct mc_axis_status_payload {
    * Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX.
    */
   double override_factor;
+  /**
+   * Payload word 23 (layout 1.9): the compensated position, the motor's reference the servo
+   * follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without
+   * compensation).
+   */
+  double comp_pos;
   /**
    * A mix of the words before it, seeded with MC_STATUS_CHECK.
    */
