@@ -817,6 +817,7 @@ impl Status {
             command_velocity: raw.cmd_vel / s,
             command_acceleration: raw.cmd_acc / s,
             actual_position: raw.act_pos / s,
+            compensated_position: raw.comp_pos / s,
             actual_velocity: raw.act_vel / s,
             following_error: raw.ferr / s,
             dac_volts: raw.dac_v,
@@ -1323,8 +1324,13 @@ pub struct Status {
     pub command_velocity: f64,
     /// Commanded acceleration.
     pub command_acceleration: f64,
-    /// Actual position.
+    /// Actual position (layout 1.9: the load's, the encoder's less the compensation's
+    /// correction).
     pub actual_position: f64,
+    /// Layout 1.9: the compensated position, the motor's reference (the commanded position
+    /// plus the pitch-error and backlash correction; the commanded position without
+    /// compensation).
+    pub compensated_position: f64,
     /// Actual velocity.
     pub actual_velocity: f64,
     /// Following error (commanded − actual).

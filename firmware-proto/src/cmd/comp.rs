@@ -121,7 +121,13 @@ impl Args for CompData {
     }
     fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         let seq = NackCode::CompSequence;
-        let first = uint(args, 0, COMP_MAX_POINTS as u64 - 1, NackCode::NotFinite, seq)? as u16;
+        let first = uint(
+            args,
+            0,
+            COMP_MAX_POINTS as u64 - 1,
+            NackCode::NotFinite,
+            seq,
+        )? as u16;
         let n = uint(args, 1, COMP_DATA_MAX as u64, NackCode::NotFinite, seq)? as usize;
         if n == 0 {
             return Err(DecodeError::arg(1, Fault::OutOfRange, seq));

@@ -317,8 +317,7 @@ impl CompState {
         } else if self.q != (0.0, 0.0, 0.0) {
             // Plan from the state the jump left: to rest at 0. A plan that fails (it cannot
             // with valid limits) is tried again next tick, the jump held meanwhile.
-            match Trajectory::to_position(self.q.0, self.q.1, self.q.2, 0.0, 0.0, &self.limits)
-            {
+            match Trajectory::to_position(self.q.0, self.q.1, self.q.2, 0.0, 0.0, &self.limits) {
                 Ok(traj) => self.ramp = Some((traj, 0.0, 0)),
                 Err(_) => self.q = (self.q.0, 0.0, 0.0),
             }

@@ -891,9 +891,7 @@ impl Axis {
         let u = match &mut self.pd {
             // Yeh eq 2.12: u = kp e + kd ė + kv v_ref + ka a_ref.
             Some(pd) => pd.update(r.pos, r.vel, r.acc, motor),
-            None => self
-                .servo
-                .update(&r, motor, &self.config.ffpiv, ts, limit),
+            None => self.servo.update(&r, motor, &self.config.ffpiv, ts, limit),
         };
         self.u_request = u;
         self.servo_terms = match &self.pd {

@@ -12,7 +12,11 @@ fn pt(position: f64, forward: f64, reverse: f64) -> CompPoint {
 }
 
 fn table() -> [CompPoint; 3] {
-    [pt(0.0, 0.0, 2.0), pt(1000.0, 10.0, 14.0), pt(3000.0, -10.0, -4.0)]
+    [
+        pt(0.0, 0.0, 2.0),
+        pt(1000.0, 10.0, 14.0),
+        pt(3000.0, -10.0, -4.0),
+    ]
 }
 
 fn params() -> CompParams {
@@ -34,7 +38,10 @@ fn interpolation_is_linear_between_points_and_holds_the_ends() {
     assert_eq!(interpolate(&t, 1000.0, true).0, 10.0);
     assert_eq!(interpolate(&t, 2000.0, true), (0.0, -0.01));
     let (c, slope) = interpolate(&t, 2500.0, false);
-    assert!((c - 0.5).abs() < 1e-12 && (slope + 0.009).abs() < 1e-15, "{c} {slope}");
+    assert!(
+        (c - 0.5).abs() < 1e-12 && (slope + 0.009).abs() < 1e-15,
+        "{c} {slope}"
+    );
     // Outside: the end point's correction, no slope.
     assert_eq!(interpolate(&t, -1e9, true), (0.0, 0.0));
     assert_eq!(interpolate(&t, -1e9, false), (2.0, 0.0));
@@ -70,10 +77,7 @@ fn table_checks_name_each_fault() {
     bad[1].reverse = 20.5;
     assert_eq!(p.check_table(&bad, RATE), Err(CompError::Bound));
     // One column: the reverse correction must be the forward one.
-    let one = CompParams {
-        bidir: false,
-        ..p
-    };
+    let one = CompParams { bidir: false, ..p };
     assert_eq!(one.check_table(&t, RATE), Err(CompError::Bound));
     let same = t.map(|q| pt(q.position, q.forward, q.forward));
     assert_eq!(one.check_table(&same, RATE), Ok(()));
@@ -97,10 +101,7 @@ fn table_checks_name_each_fault() {
             backlash: -1.0,
             ..p
         },
-        CompParams {
-            ramp_vel: 0.0,
-            ..p
-        },
+        CompParams { ramp_vel: 0.0, ..p },
         CompParams {
             ramp_acc: 1e300,
             ..p
@@ -186,7 +187,10 @@ fn a_reversal_is_taken_up_by_a_ramp_within_its_limits_never_a_step() {
     // 0.4 s of a 0.2 s period: a reversal at each of its four turning points.
     assert!(reversals >= 4, "{reversals} reversals");
     // Each reversal took a ramp: 4 + 6 counts at 2000 counts/s are a few ms each.
-    assert!(ramping_ticks >= reversals * 20, "{ramping_ticks} ticks ramping");
+    assert!(
+        ramping_ticks >= reversals * 20,
+        "{ramping_ticks} ticks ramping"
+    );
 }
 
 #[test]
@@ -217,7 +221,10 @@ fn the_ramp_acceleration_is_within_its_limit() {
         assert!(acc.abs() <= p.ramp_acc * (1.0 + 1e-6), "acc {acc}");
     }
     let peak = vel.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    assert!(peak <= p.ramp_vel * (1.0 + 1e-9) && peak > 0.5 * p.ramp_vel, "{peak}");
+    assert!(
+        peak <= p.ramp_vel * (1.0 + 1e-9) && peak > 0.5 * p.ramp_vel,
+        "{peak}"
+    );
     // Off again: it ramps out to exactly 0, then costs nothing.
     s.changed(None);
     for _ in 0..2000 {
