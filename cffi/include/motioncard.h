@@ -2339,6 +2339,50 @@ typedef struct mc_sync_limits {
 } mc_sync_limits;
 
 /**
+ * An axis's compensation settings, in the axis's user units and seconds.
+ */
+typedef struct mc_comp_settings {
+  /**
+   * Nonzero: each point gives a forward and a reverse correction (else they must be equal).
+   */
+  uint32_t bidirectional;
+  /**
+   * Backlash (>= 0): +backlash/2 moving forward, -backlash/2 in reverse.
+   */
+  double backlash;
+  /**
+   * The largest |correction ± backlash/2| allowed (> 0).
+   */
+  double bound;
+  /**
+   * The velocity of the ramp that takes up a jump of the correction (> 0).
+   */
+  double ramp_velocity;
+  /**
+   * Its acceleration (> 0).
+   */
+  double ramp_acceleration;
+} mc_comp_settings;
+
+/**
+ * One point of a compensation table, user units.
+ */
+typedef struct mc_comp_table_point {
+  /**
+   * Position (strictly increasing along the table).
+   */
+  double position;
+  /**
+   * Correction moving forward.
+   */
+  double forward;
+  /**
+   * Correction moving in reverse.
+   */
+  double reverse;
+} mc_comp_table_point;
+
+/**
  * How a program runs (`mc_gcode_default_settings` fills the defaults).
  */
 typedef struct mc_gcode_settings {
@@ -3987,6 +4031,34 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_CONFIG_KIND -106
 
 /**
+ * Layout 1.9: a compensation table's point count (over 256), bound (not > 0), backlash
+ * (negative, or over twice the bound), ramp velocity or acceleration (outside the card's
+ * range) out of range.
+ */
+#define MC_ERR_COMP_TABLE -110
+
+/**
+ * Compensation data without an open table, or out of order.
+ */
+#define MC_ERR_COMP_SEQUENCE -111
+
+/**
+ * Compensation positions that are not strictly increasing.
+ */
+#define MC_ERR_COMP_ORDER -112
+
+/**
+ * A correction (with half the backlash) beyond the table's bound, or a table of one
+ * column whose reverse correction differs from its forward one.
+ */
+#define MC_ERR_COMP_BOUND -113
+
+/**
+ * A compensation table changed on an axis that is not at rest.
+ */
+#define MC_ERR_COMP_BUSY -114
+
+/**
  * A configuration file that does not parse, or a value in it that the card would refuse
  * (the error names the key and its line); nothing of the file was applied.
  */
@@ -4370,6 +4442,37 @@ mc_result mc_motion_wait_cam_switch(mc_card card,
                                     struct mc_motion motion,
                                     uint32_t timeout_ms,
                                     double *position);
+
+/**
+ * Load `axis`'s compensation: `settings` and `n` points (at most 256; 0: only the backlash, or
+ * compensation off). Checked whole first: `MC_ERR_COMP_TABLE` (count, bound, backlash, ramp),
+ * `MC_ERR_COMP_ORDER` (positions not strictly increasing), `MC_ERR_COMP_BOUND`,
+ * `MC_ERR_NOT_FINITE`; `MC_ERR_COMP_BUSY` if the axis is not at rest. A refusal changes
+ * nothing. Blocks until the card answers.
+ */
+mc_result mc_axis_set_compensation(mc_card card,
+                                   uint32_t axis,
+                                   const struct mc_comp_settings *settings,
+                                   const struct mc_comp_table_point *points,
+                                   size_t n);
+
+/**
+ * Switch `axis`'s compensation off (its correction ramps out). `MC_ERR_COMP_BUSY` if the axis
+ * is not at rest.
+ */
+mc_result mc_axis_clear_compensation(mc_card card, uint32_t axis);
+
+/**
+ * Read `axis`'s compensation back from the card: its settings into `*settings` and its points
+ * into `points` (room for `len`), their count into `*needed` (0 and zero settings: no
+ * compensation). `MC_ERR_BUFFER_TOO_SMALL` (only `*needed` written) if `len` is short.
+ */
+mc_result mc_axis_get_compensation(mc_card card,
+                                   uint32_t axis,
+                                   struct mc_comp_settings *settings,
+                                   struct mc_comp_table_point *points,
+                                   size_t len,
+                                   size_t *needed);
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
