@@ -87,6 +87,19 @@ fn second_open_is_busy_until_the_first_closes() {
     );
 }
 
+/// Layout 1.9 moved the status blocks' checksum: a 1.8 card's status cannot be read, so the
+/// card is refused at the open, not with corrupt statuses later.
+#[test]
+fn a_card_of_layout_1_8_is_refused() {
+    let name = unique("version18");
+    let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
+    emu.window().write32(layout::LAYOUT, 1 | 8 << 16);
+    let _server = serve_frozen(&name, &emu);
+    let e = Card::open(&format!("emu:{name}")).err().unwrap();
+    assert_eq!(e.kind(), ErrorKind::VersionMismatch);
+    assert!(e.to_string().contains("1.8"), "{e}");
+}
+
 #[test]
 fn a_card_with_another_layout_major_is_refused_naming_both_versions() {
     let name = unique("version");

@@ -1651,6 +1651,29 @@ extern "C" {
 #define MC_OP_SET_SCALE 97
 
 /**
+ * Axis: the axis. args: points (`0..MC_COMP_MAX_POINTS`), bound (the largest |correction +
+ * backlash/2| allowed, counts, > 0), backlash (counts, >= 0), ramp velocity (counts/s), ramp
+ * acceleration (counts/s^2) (both in the kinematic limit range). flags: `MC_COMP_BIDIR`. A bad
+ * count, bound, backlash, ramp or flags: `MC_NACK_COMP_TABLE`.
+ */
+#define MC_OP_COMP_TABLE 98
+
+/**
+ * Axis: the axis. args: index of the first point, count (`1..MC_COMP_DATA_MAX`), then position,
+ * forward correction, reverse correction of each (counts). Every argument finite (else
+ * `MC_NACK_NOT_FINITE`); no open table or out of order: `MC_NACK_COMP_SEQUENCE`; positions not
+ * strictly increasing: `MC_NACK_COMP_ORDER`; a correction beyond the bound (with half the
+ * backlash), or reverse != forward without `MC_COMP_BIDIR`: `MC_NACK_COMP_BOUND`.
+ */
+#define MC_OP_COMP_DATA 99
+
+/**
+ * Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state; taken
+ * without a session (it reads).
+ */
+#define MC_OP_COMP_READ 100
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -2058,7 +2081,8 @@ typedef struct mc_axis_status_payload {
    */
   double cmd_acc;
   /**
-   * Actual (encoder) position, counts.
+   * Actual position, counts: the encoder's, less the compensation's correction (layout 1.9:
+   * where the load is; the encoder's own without compensation).
    */
   double act_pos;
   /**
@@ -2154,6 +2178,12 @@ typedef struct mc_axis_status_payload {
    * Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX.
    */
   double override_factor;
+  /**
+   * Payload word 23 (layout 1.9): the compensated position, the motor's reference the servo
+   * follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without
+   * compensation).
+   */
+  double comp_pos;
   /**
    * A mix of the words before it, seeded with MC_STATUS_CHECK.
    */
@@ -2312,6 +2342,50 @@ typedef struct mc_sync_limits {
    */
   double jerk;
 } mc_sync_limits;
+
+/**
+ * An axis's compensation settings, in the axis's user units and seconds.
+ */
+typedef struct mc_comp_settings {
+  /**
+   * Nonzero: each point gives a forward and a reverse correction (else they must be equal).
+   */
+  uint32_t bidirectional;
+  /**
+   * Backlash (>= 0): +backlash/2 moving forward, -backlash/2 in reverse.
+   */
+  double backlash;
+  /**
+   * The largest |correction ± backlash/2| allowed (> 0).
+   */
+  double bound;
+  /**
+   * The velocity of the ramp that takes up a jump of the correction (> 0).
+   */
+  double ramp_velocity;
+  /**
+   * Its acceleration (> 0).
+   */
+  double ramp_acceleration;
+} mc_comp_settings;
+
+/**
+ * One point of a compensation table, user units.
+ */
+typedef struct mc_comp_table_point {
+  /**
+   * Position (strictly increasing along the table).
+   */
+  double position;
+  /**
+   * Correction moving forward.
+   */
+  double forward;
+  /**
+   * Correction moving in reverse.
+   */
+  double reverse;
+} mc_comp_table_point;
 
 /**
  * How a program runs (`mc_gcode_default_settings` fills the defaults).
@@ -3973,6 +4047,34 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_CONFIG_KIND -106
 
 /**
+ * Layout 1.9: a compensation table's point count (over 256), bound (not > 0), backlash
+ * (negative, or over twice the bound), ramp velocity or acceleration (outside the card's
+ * range) out of range.
+ */
+#define MC_ERR_COMP_TABLE -110
+
+/**
+ * Compensation data without an open table, or out of order.
+ */
+#define MC_ERR_COMP_SEQUENCE -111
+
+/**
+ * Compensation positions that are not strictly increasing.
+ */
+#define MC_ERR_COMP_ORDER -112
+
+/**
+ * A correction (with half the backlash) beyond the table's bound, or a table of one
+ * column whose reverse correction differs from its forward one.
+ */
+#define MC_ERR_COMP_BOUND -113
+
+/**
+ * A compensation table changed on an axis that is not at rest.
+ */
+#define MC_ERR_COMP_BUSY -114
+
+/**
  * A configuration file that does not parse, or a value in it that the card would refuse
  * (the error names the key and its line); nothing of the file was applied.
  */
@@ -4356,6 +4458,37 @@ mc_result mc_motion_wait_cam_switch(mc_card card,
                                     struct mc_motion motion,
                                     uint32_t timeout_ms,
                                     double *position);
+
+/**
+ * Load `axis`'s compensation: `settings` and `n` points (at most 256; 0: only the backlash, or
+ * compensation off). Checked whole first: `MC_ERR_COMP_TABLE` (count, bound, backlash, ramp),
+ * `MC_ERR_COMP_ORDER` (positions not strictly increasing), `MC_ERR_COMP_BOUND`,
+ * `MC_ERR_NOT_FINITE`; `MC_ERR_COMP_BUSY` if the axis is not at rest. A refusal changes
+ * nothing. Blocks until the card answers.
+ */
+mc_result mc_axis_set_compensation(mc_card card,
+                                   uint32_t axis,
+                                   const struct mc_comp_settings *settings,
+                                   const struct mc_comp_table_point *points,
+                                   size_t n);
+
+/**
+ * Switch `axis`'s compensation off (its correction ramps out). `MC_ERR_COMP_BUSY` if the axis
+ * is not at rest.
+ */
+mc_result mc_axis_clear_compensation(mc_card card, uint32_t axis);
+
+/**
+ * Read `axis`'s compensation back from the card: its settings into `*settings` and its points
+ * into `points` (room for `len`), their count into `*needed` (0 and zero settings: no
+ * compensation). `MC_ERR_BUFFER_TOO_SMALL` (only `*needed` written) if `len` is short.
+ */
+mc_result mc_axis_get_compensation(mc_card card,
+                                   uint32_t axis,
+                                   struct mc_comp_settings *settings,
+                                   struct mc_comp_table_point *points,
+                                   size_t len,
+                                   size_t *needed);
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,

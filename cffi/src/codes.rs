@@ -992,3 +992,20 @@ pub const MC_OP_READ_CONFIG: u32 = 96;
 /// `MC_NACK_NOT_FINITE`). Kept for hosts, read back in `axis_config.scale`; the card does not use
 /// it. Any state.
 pub const MC_OP_SET_SCALE: u32 = 97;
+
+/// Axis: the axis. args: points (`0..MC_COMP_MAX_POINTS`), bound (the largest |correction +
+/// backlash/2| allowed, counts, > 0), backlash (counts, >= 0), ramp velocity (counts/s), ramp
+/// acceleration (counts/s^2) (both in the kinematic limit range). flags: `MC_COMP_BIDIR`. A bad
+/// count, bound, backlash, ramp or flags: `MC_NACK_COMP_TABLE`.
+pub const MC_OP_COMP_TABLE: u32 = 98;
+
+/// Axis: the axis. args: index of the first point, count (`1..MC_COMP_DATA_MAX`), then position,
+/// forward correction, reverse correction of each (counts). Every argument finite (else
+/// `MC_NACK_NOT_FINITE`); no open table or out of order: `MC_NACK_COMP_SEQUENCE`; positions not
+/// strictly increasing: `MC_NACK_COMP_ORDER`; a correction beyond the bound (with half the
+/// backlash), or reverse != forward without `MC_COMP_BIDIR`: `MC_NACK_COMP_BOUND`.
+pub const MC_OP_COMP_DATA: u32 = 99;
+
+/// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state; taken
+/// without a session (it reads).
+pub const MC_OP_COMP_READ: u32 = 100;

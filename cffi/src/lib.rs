@@ -25,6 +25,7 @@ pub mod codes;
 
 pub mod api;
 pub mod cam;
+pub mod comp;
 mod ffi;
 pub mod gcode;
 pub mod group;

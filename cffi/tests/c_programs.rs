@@ -681,6 +681,18 @@ fn config_from_c() {
     assert!(out.contains("PASS config\n"), "{out}");
 }
 
+/// Layout 1.9: leadscrew compensation from C: each refusal's code, the table read back, the
+/// correction in the status after moves from both sides, a change refused while moving.
+#[test]
+fn compensation_from_c() {
+    let out = run(&compile("comp", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS comp\n"), "{out}");
+    assert!(
+        out.contains("comp: at 7500 the correction is -2.000 counts"),
+        "{out}"
+    );
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");

@@ -53,8 +53,11 @@
                            * 97), the path planner's period (mc_group_path.plan_period, from
                            * its reserved words; 0 keeps the default); the session gate
                            * (MC_NACK_NO_SESSION 41, MC_STOP_NO_SESSION 33; an attach arms the
-                           * watchdog); 9: a touch probe that halts its axis's motion on the
-                           * capture (MC_PROBE_HALT, MC_STOP_PROBE 7) */
+                           * watchdog); 9: leadscrew compensation (MC_OP_COMP_* 98..100,
+                           * MC_NACK_COMP_* 120..124, comp_readback appended), the status
+                           * payloads grew to 25 words (axis: comp_pos; group: a reserved word),
+                           * their checksum is word 24; a touch probe that halts its axis's
+                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -62,7 +65,7 @@
 #define MC_CMD_RING_LEN 64u
 #define MC_EVT_RING_LEN 256u
 #define MC_CMD_ARGS 14u
-#define MC_STATUS_WORDS 24u
+#define MC_STATUS_WORDS 25u
 #define MC_STATUS_CHECK 0xA5A5A5A5A5A5A5A5ull
 
 #define MC_SERVO_RATE_MIN_HZ 1000u
@@ -722,6 +725,51 @@
 #define MC_NACK_CONFIG_KIND 116   /* MC_OP_READ_CONFIG: an unknown block kind, or a kind or index
                                    * that is not an integer */
 
+/* Layout 1.9: leadscrew pitch-error and backlash compensation, per axis. A table of points
+ * (position, forward correction, reverse correction), positions strictly increasing, in the
+ * axis's position frame (the homed one: the table is used only while the axis is homed,
+ * MC_MOTION_HOMED, and not homing). Between points the correction is linear in the position;
+ * outside the table the end point's holds. A table without MC_COMP_BIDIR has one correction per
+ * point (the forward one; the reverse one must be equal). Backlash adds +backlash/2 moving
+ * forward and -backlash/2 moving in reverse. The direction is that of the commanded velocity (at
+ * rest: the last one). The servo follows commanded + correction, so the encoder (on the motor)
+ * is driven to where the load is right; the status's act_pos is the load's position (encoder
+ * position - correction) and comp_pos the motor's reference. Whenever the correction would jump
+ * (a reversal, a table loaded or cleared, homed gained or lost) the jump is taken up by a ramp
+ * within the table's ramp velocity and acceleration (jerk: acceleration x 1000 /s): never a step.
+ * Loading: MC_OP_COMP_TABLE opens a table (0 points and 0 backlash: compensation off, at once),
+ * MC_OP_COMP_DATA sends its points in order, the last one makes it the axis's; any refusal
+ * leaves the table in force as it was and closes the open one. An axis that is not at rest
+ * (Standstill, Disabled or ErrorStop with no motion) refuses both (MC_NACK_COMP_BUSY).
+ * MC_OP_COMP_READ writes the table in force into comp_readback (MC_COMP_READ_MAX points from a
+ * first index) before its ack. */
+#define MC_OP_COMP_TABLE 98u  /* axis: the axis. args: points (0..MC_COMP_MAX_POINTS), bound (the
+                               * largest |correction + backlash/2| allowed, counts, > 0), backlash
+                               * (counts, >= 0), ramp velocity (counts/s), ramp acceleration
+                               * (counts/s^2) (both in the kinematic limit range). flags:
+                               * MC_COMP_BIDIR. A bad count, bound, backlash, ramp or flags:
+                               * MC_NACK_COMP_TABLE */
+#define MC_OP_COMP_DATA 99u   /* axis: the axis. args: index of the first point, count
+                               * (1..MC_COMP_DATA_MAX), then position, forward correction, reverse
+                               * correction of each (counts). Every argument finite (else
+                               * MC_NACK_NOT_FINITE); no open table or out of order:
+                               * MC_NACK_COMP_SEQUENCE; positions not strictly increasing:
+                               * MC_NACK_COMP_ORDER; a correction beyond the bound (with half the
+                               * backlash), or reverse != forward without MC_COMP_BIDIR:
+                               * MC_NACK_COMP_BOUND */
+#define MC_OP_COMP_READ 100u  /* axis: the axis. args: index of the first point (0..MC_COMP_MAX_POINTS).
+                               * Any state; taken without a session (it reads) */
+#define MC_COMP_MAX_POINTS 256u
+#define MC_COMP_DATA_MAX 4u
+#define MC_COMP_READ_MAX 32u
+#define MC_COMP_BIDIR (1u << 0) /* the table gives a correction per direction */
+#define MC_NACK_COMP_TABLE 120  /* compensation: a point count, bound, backlash, ramp or flags out
+                                 * of range */
+#define MC_NACK_COMP_SEQUENCE 121 /* compensation data without an open table, or out of order */
+#define MC_NACK_COMP_ORDER 122  /* compensation positions not strictly increasing */
+#define MC_NACK_COMP_BOUND 123  /* a correction beyond the table's bound */
+#define MC_NACK_COMP_BUSY 124   /* the axis is not at rest: its compensation cannot change */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
 #define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
@@ -1147,7 +1195,7 @@ struct mc_group_status_payload {
     /** Path segments ended since MC_GroupEnable (wrapping). */
     uint32_t path_done;
     uint32_t _reserved0;
-    uint64_t _reserved[9];
+    uint64_t _reserved[10];
     /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };
@@ -1156,7 +1204,7 @@ struct mc_group_status {
     uint32_t seq;
     uint32_t _pad;
     struct mc_group_status_payload p;
-    uint64_t _reserved[7];
+    uint64_t _reserved[6];
 };
 
 /** The PD+ law (Yeh eq 2.12): u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s). */
@@ -1204,7 +1252,8 @@ struct mc_axis_status_payload {
     double cmd_vel;
     /** Commanded acceleration, counts/s^2. */
     double cmd_acc;
-    /** Actual (encoder) position, counts. */
+    /** Actual position, counts: the encoder's, less the compensation's correction (layout 1.9:
+     * where the load is; the encoder's own without compensation). */
     double act_pos;
     /** Actual velocity (filtered), counts/s. */
     double act_vel;
@@ -1253,6 +1302,10 @@ struct mc_axis_status_payload {
     uint32_t queued;
     /** Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX. */
     double override_factor;
+    /** Payload word 23 (layout 1.9): the compensated position, the motor's reference the servo
+     * follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without
+     * compensation). */
+    double comp_pos;
     /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
     uint64_t checksum;
 };
@@ -1262,7 +1315,7 @@ struct mc_axis_status {
     uint32_t seq; /* odd while the card writes the payload */
     uint32_t _pad;
     struct mc_axis_status_payload p;
-    uint64_t _reserved[7];
+    uint64_t _reserved[6];
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_SAFETY_CONFIG */
@@ -1503,6 +1556,38 @@ struct mc_scope_sample {
     double value[MC_SCOPE_CHANNELS];
 };
 
+/** One compensation point (layout 1.9), counts. */
+struct mc_comp_point {
+    /** Position, in the axis's (homed) frame. */
+    double position;
+    /** Correction added moving forward (or at rest after a forward motion). */
+    double forward;
+    /** Correction added moving in reverse (equal to forward without MC_COMP_BIDIR). */
+    double reverse;
+};
+
+/** A compensation table read back (layout 1.9, MC_OP_COMP_READ). Card writes, before the ack. */
+struct mc_comp_readback {
+    /** The axis. */
+    uint32_t axis;
+    /** The table's points (0: no table). */
+    uint32_t points;
+    /** The index of point[0]. */
+    uint32_t first;
+    /** Points written here (at most MC_COMP_READ_MAX). */
+    uint32_t count;
+    /** MC_COMP_BIDIR. */
+    uint32_t flags;
+    uint32_t _reserved0[3];
+    /** The bound, backlash, ramp velocity and acceleration (0 for an axis without compensation). */
+    double bound;
+    double backlash;
+    double ramp_vel;
+    double ramp_acc;
+    double _reserved[4];
+    struct mc_comp_point point[MC_COMP_READ_MAX];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -1543,6 +1628,8 @@ struct mc_dpram {
     struct mc_ring_index scope_head;                              /* card writes */
     struct mc_ring_index scope_tail;                              /* host writes */
     struct mc_scope_sample scope_ring[MC_SCOPE_RING_LEN];         /* card writes */
+    /* layout 1.9 */
+    struct mc_comp_readback comp_readback;                        /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

@@ -64,6 +64,7 @@ blocks!(
     mc_sync_status,
     mc_scope_config,
     mc_scope_status,
+    mc_comp_readback,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -369,6 +369,16 @@ code_enum! {
         ScopeState = raw::MC_NACK_SCOPE_STATE,
         /// `MC_OP_READ_CONFIG`: an unknown block kind, or a kind or index that is not an integer.
         ConfigKind = raw::MC_NACK_CONFIG_KIND,
+        /// Compensation: a point count, bound, backlash, ramp or flags out of range.
+        CompTable = raw::MC_NACK_COMP_TABLE,
+        /// Compensation data without an open table, or out of order.
+        CompSequence = raw::MC_NACK_COMP_SEQUENCE,
+        /// Compensation positions not strictly increasing.
+        CompOrder = raw::MC_NACK_COMP_ORDER,
+        /// A correction beyond the table's bound.
+        CompBound = raw::MC_NACK_COMP_BOUND,
+        /// The axis is not at rest: its compensation cannot change.
+        CompBusy = raw::MC_NACK_COMP_BUSY,
     }
 }
 
@@ -773,5 +783,20 @@ code_enum! {
         /// `MC_NACK_NOT_FINITE`). Kept for hosts, read back in `axis_config.scale`; the card does
         /// not use it. Any state.
         SetScale = raw::MC_OP_SET_SCALE,
+        /// Axis: the axis. args: points (`0..MC_COMP_MAX_POINTS`), bound (the largest |correction +
+        /// backlash/2| allowed, counts, > 0), backlash (counts, >= 0), ramp velocity (counts/s),
+        /// ramp acceleration (counts/s^2) (both in the kinematic limit range). flags:
+        /// `MC_COMP_BIDIR`. A bad count, bound, backlash, ramp or flags: `MC_NACK_COMP_TABLE`.
+        CompTable = raw::MC_OP_COMP_TABLE,
+        /// Axis: the axis. args: index of the first point, count (`1..MC_COMP_DATA_MAX`), then
+        /// position, forward correction, reverse correction of each (counts). Every argument finite
+        /// (else `MC_NACK_NOT_FINITE`); no open table or out of order: `MC_NACK_COMP_SEQUENCE`;
+        /// positions not strictly increasing: `MC_NACK_COMP_ORDER`; a correction beyond the bound
+        /// (with half the backlash), or reverse != forward without `MC_COMP_BIDIR`:
+        /// `MC_NACK_COMP_BOUND`.
+        CompData = raw::MC_OP_COMP_DATA,
+        /// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state;
+        /// taken without a session (it reads).
+        CompRead = raw::MC_OP_COMP_READ,
     }
 }

@@ -210,6 +210,17 @@ const _: () = {
     assert!(MC_SCOPE_RING_LEN as u64 * 10 >= MC_SERVO_RATE_MAX_HZ as u64);
     assert!(SCOPE_RING + MC_SCOPE_RING_LEN as usize * SCOPE_SAMPLE_BYTES <= crate::DPRAM_SIZE);
 };
+/// Layout 1.9: a compensation table read back (`MC_OP_COMP_READ`). Card writes.
+pub const COMP_READBACK: BlockAt<mc_comp_readback> = BlockAt::new(off!(comp_readback));
+/// Its size.
+pub const COMP_READBACK_BYTES: usize = size_of::<mc_comp_readback>();
+const _: () = {
+    // Layout 1.9 appended after the scope ring: everything before it where 1.8 put it.
+    assert!(COMP_READBACK.offset() == SCOPE_RING + MC_SCOPE_RING_LEN as usize * SCOPE_SAMPLE_BYTES);
+    assert!(COMP_READBACK.offset().is_multiple_of(8));
+    assert!(COMP_READBACK.offset() + COMP_READBACK_BYTES <= crate::DPRAM_SIZE);
+    assert!(size_of::<mc_comp_point>() == 24);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.
@@ -271,7 +282,8 @@ const _: () = {
     assert!(offset_of!(mc_axis_status_payload, move_time) == 18 * 8);
     assert!(offset_of!(mc_axis_status_payload, stop_reason) == 19 * 8);
     assert!(offset_of!(mc_axis_status_payload, io) == 19 * 8 + 4);
-    assert!(offset_of!(mc_axis_status_payload, checksum) == 23 * 8);
+    assert!(offset_of!(mc_axis_status_payload, comp_pos) == 23 * 8);
+    assert!(offset_of!(mc_axis_status_payload, checksum) == 24 * 8);
     assert!(AXIS_SAFETY_BYTES == 128 && AXIS_SAFETY.at(0).offset().is_multiple_of(64));
     assert!(
         SAFETY_STATUS.is_multiple_of(64) && safety_status::LAST_HEARTBEAT_TICK.is_multiple_of(8)

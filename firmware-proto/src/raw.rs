@@ -12,7 +12,7 @@ pub const MC_GROUP_QUEUE_LEN: u32 = 32;
 pub const MC_CMD_RING_LEN: u32 = 64;
 pub const MC_EVT_RING_LEN: u32 = 256;
 pub const MC_CMD_ARGS: u32 = 14;
-pub const MC_STATUS_WORDS: u32 = 24;
+pub const MC_STATUS_WORDS: u32 = 25;
 pub const MC_STATUS_CHECK: i64 = -6510615555426900571;
 pub const MC_SERVO_RATE_MIN_HZ: u32 = 1000;
 pub const MC_SERVO_RATE_MAX_HZ: u32 = 20000;
@@ -271,6 +271,18 @@ pub const MC_CONFIG_IO: u32 = 9;
 pub const MC_SCALE_MIN: f64 = 0.000000001;
 pub const MC_SCALE_MAX: f64 = 1000000000000.0;
 pub const MC_NACK_CONFIG_KIND: u32 = 116;
+pub const MC_OP_COMP_TABLE: u32 = 98;
+pub const MC_OP_COMP_DATA: u32 = 99;
+pub const MC_OP_COMP_READ: u32 = 100;
+pub const MC_COMP_MAX_POINTS: u32 = 256;
+pub const MC_COMP_DATA_MAX: u32 = 4;
+pub const MC_COMP_READ_MAX: u32 = 32;
+pub const MC_COMP_BIDIR: u32 = 1;
+pub const MC_NACK_COMP_TABLE: u32 = 120;
+pub const MC_NACK_COMP_SEQUENCE: u32 = 121;
+pub const MC_NACK_COMP_ORDER: u32 = 122;
+pub const MC_NACK_COMP_BOUND: u32 = 123;
+pub const MC_NACK_COMP_BUSY: u32 = 124;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -801,14 +813,14 @@ pub struct mc_group_status_payload {
     #[doc = " Path segments ended since MC_GroupEnable (wrapping)."]
     pub path_done: u32,
     pub _reserved0: u32,
-    pub _reserved: [u64; 9usize],
+    pub _reserved: [u64; 10usize],
     #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
     ["Size of mc_group_status_payload"]
-        [::core::mem::size_of::<mc_group_status_payload>() - 192usize];
+        [::core::mem::size_of::<mc_group_status_payload>() - 200usize];
     ["Alignment of mc_group_status_payload"]
         [::core::mem::align_of::<mc_group_status_payload>() - 8usize];
     ["Offset of field: mc_group_status_payload::state"]
@@ -852,7 +864,7 @@ const _: () = {
     ["Offset of field: mc_group_status_payload::_reserved"]
         [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 112usize];
     ["Offset of field: mc_group_status_payload::checksum"]
-        [::core::mem::offset_of!(mc_group_status_payload, checksum) - 184usize];
+        [::core::mem::offset_of!(mc_group_status_payload, checksum) - 192usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -860,7 +872,7 @@ pub struct mc_group_status {
     pub seq: u32,
     pub _pad: u32,
     pub p: mc_group_status_payload,
-    pub _reserved: [u64; 7usize],
+    pub _reserved: [u64; 6usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -872,7 +884,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status, _pad) - 4usize];
     ["Offset of field: mc_group_status::p"][::core::mem::offset_of!(mc_group_status, p) - 8usize];
     ["Offset of field: mc_group_status::_reserved"]
-        [::core::mem::offset_of!(mc_group_status, _reserved) - 200usize];
+        [::core::mem::offset_of!(mc_group_status, _reserved) - 208usize];
 };
 #[doc = " The PD+ law (Yeh eq 2.12): u = kp e + kd de/dt + kv v_ref + ka a_ref (volts, counts, s)."]
 #[repr(C)]
@@ -952,7 +964,7 @@ pub struct mc_axis_status_payload {
     pub cmd_vel: f64,
     #[doc = " Commanded acceleration, counts/s^2."]
     pub cmd_acc: f64,
-    #[doc = " Actual (encoder) position, counts."]
+    #[doc = " Actual position, counts: the encoder's, less the compensation's correction (layout 1.9:\n where the load is; the encoder's own without compensation)."]
     pub act_pos: f64,
     #[doc = " Actual velocity (filtered), counts/s."]
     pub act_vel: f64,
@@ -1000,12 +1012,14 @@ pub struct mc_axis_status_payload {
     pub queued: u32,
     #[doc = " Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX."]
     pub override_factor: f64,
+    #[doc = " Payload word 23 (layout 1.9): the compensated position, the motor's reference the servo\n follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without\n compensation)."]
+    pub comp_pos: f64,
     #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_axis_status_payload"][::core::mem::size_of::<mc_axis_status_payload>() - 192usize];
+    ["Size of mc_axis_status_payload"][::core::mem::size_of::<mc_axis_status_payload>() - 200usize];
     ["Alignment of mc_axis_status_payload"]
         [::core::mem::align_of::<mc_axis_status_payload>() - 8usize];
     ["Offset of field: mc_axis_status_payload::cmd_pos"]
@@ -1062,8 +1076,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status_payload, queued) - 172usize];
     ["Offset of field: mc_axis_status_payload::override_factor"]
         [::core::mem::offset_of!(mc_axis_status_payload, override_factor) - 176usize];
+    ["Offset of field: mc_axis_status_payload::comp_pos"]
+        [::core::mem::offset_of!(mc_axis_status_payload, comp_pos) - 184usize];
     ["Offset of field: mc_axis_status_payload::checksum"]
-        [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 184usize];
+        [::core::mem::offset_of!(mc_axis_status_payload, checksum) - 192usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -1071,7 +1087,7 @@ pub struct mc_axis_status {
     pub seq: u32,
     pub _pad: u32,
     pub p: mc_axis_status_payload,
-    pub _reserved: [u64; 7usize],
+    pub _reserved: [u64; 6usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -1082,7 +1098,7 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_status, _pad) - 4usize];
     ["Offset of field: mc_axis_status::p"][::core::mem::offset_of!(mc_axis_status, p) - 8usize];
     ["Offset of field: mc_axis_status::_reserved"]
-        [::core::mem::offset_of!(mc_axis_status, _reserved) - 200usize];
+        [::core::mem::offset_of!(mc_axis_status, _reserved) - 208usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -1570,6 +1586,80 @@ const _: () = {
     ["Offset of field: mc_scope_sample::value"]
         [::core::mem::offset_of!(mc_scope_sample, value) - 8usize];
 };
+#[doc = " One compensation point (layout 1.9), counts."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_comp_point {
+    #[doc = " Position, in the axis's (homed) frame."]
+    pub position: f64,
+    #[doc = " Correction added moving forward (or at rest after a forward motion)."]
+    pub forward: f64,
+    #[doc = " Correction added moving in reverse (equal to forward without MC_COMP_BIDIR)."]
+    pub reverse: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_comp_point"][::core::mem::size_of::<mc_comp_point>() - 24usize];
+    ["Alignment of mc_comp_point"][::core::mem::align_of::<mc_comp_point>() - 8usize];
+    ["Offset of field: mc_comp_point::position"]
+        [::core::mem::offset_of!(mc_comp_point, position) - 0usize];
+    ["Offset of field: mc_comp_point::forward"]
+        [::core::mem::offset_of!(mc_comp_point, forward) - 8usize];
+    ["Offset of field: mc_comp_point::reverse"]
+        [::core::mem::offset_of!(mc_comp_point, reverse) - 16usize];
+};
+#[doc = " A compensation table read back (layout 1.9, MC_OP_COMP_READ). Card writes, before the ack."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_comp_readback {
+    #[doc = " The axis."]
+    pub axis: u32,
+    #[doc = " The table's points (0: no table)."]
+    pub points: u32,
+    #[doc = " The index of point[0]."]
+    pub first: u32,
+    #[doc = " Points written here (at most MC_COMP_READ_MAX)."]
+    pub count: u32,
+    #[doc = " MC_COMP_BIDIR."]
+    pub flags: u32,
+    pub _reserved0: [u32; 3usize],
+    #[doc = " The bound, backlash, ramp velocity and acceleration (0 for an axis without compensation)."]
+    pub bound: f64,
+    pub backlash: f64,
+    pub ramp_vel: f64,
+    pub ramp_acc: f64,
+    pub _reserved: [f64; 4usize],
+    pub point: [mc_comp_point; 32usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_comp_readback"][::core::mem::size_of::<mc_comp_readback>() - 864usize];
+    ["Alignment of mc_comp_readback"][::core::mem::align_of::<mc_comp_readback>() - 8usize];
+    ["Offset of field: mc_comp_readback::axis"]
+        [::core::mem::offset_of!(mc_comp_readback, axis) - 0usize];
+    ["Offset of field: mc_comp_readback::points"]
+        [::core::mem::offset_of!(mc_comp_readback, points) - 4usize];
+    ["Offset of field: mc_comp_readback::first"]
+        [::core::mem::offset_of!(mc_comp_readback, first) - 8usize];
+    ["Offset of field: mc_comp_readback::count"]
+        [::core::mem::offset_of!(mc_comp_readback, count) - 12usize];
+    ["Offset of field: mc_comp_readback::flags"]
+        [::core::mem::offset_of!(mc_comp_readback, flags) - 16usize];
+    ["Offset of field: mc_comp_readback::_reserved0"]
+        [::core::mem::offset_of!(mc_comp_readback, _reserved0) - 20usize];
+    ["Offset of field: mc_comp_readback::bound"]
+        [::core::mem::offset_of!(mc_comp_readback, bound) - 32usize];
+    ["Offset of field: mc_comp_readback::backlash"]
+        [::core::mem::offset_of!(mc_comp_readback, backlash) - 40usize];
+    ["Offset of field: mc_comp_readback::ramp_vel"]
+        [::core::mem::offset_of!(mc_comp_readback, ramp_vel) - 48usize];
+    ["Offset of field: mc_comp_readback::ramp_acc"]
+        [::core::mem::offset_of!(mc_comp_readback, ramp_acc) - 56usize];
+    ["Offset of field: mc_comp_readback::_reserved"]
+        [::core::mem::offset_of!(mc_comp_readback, _reserved) - 64usize];
+    ["Offset of field: mc_comp_readback::point"]
+        [::core::mem::offset_of!(mc_comp_readback, point) - 96usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1605,10 +1695,11 @@ pub struct mc_dpram {
     pub scope_head: mc_ring_index,
     pub scope_tail: mc_ring_index,
     pub scope_ring: [mc_scope_sample; 4096usize],
+    pub comp_readback: mc_comp_readback,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 584512usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 585376usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1665,6 +1756,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, scope_tail) - 27392usize];
     ["Offset of field: mc_dpram::scope_ring"]
         [::core::mem::offset_of!(mc_dpram, scope_ring) - 27456usize];
+    ["Offset of field: mc_dpram::comp_readback"]
+        [::core::mem::offset_of!(mc_dpram, comp_readback) - 584512usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

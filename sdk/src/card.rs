@@ -261,9 +261,10 @@ impl Card {
         }
         let lv = w.read32(layout::LAYOUT);
         let (major, minor) = (lv as u16, (lv >> 16) as u16);
-        // Host sessions and command deadlines came with layout 1.3: an older card cannot keep
-        // a new host from inheriting motion.
-        if major != firmware_proto::LAYOUT_MAJOR || minor < 3 {
+        // Layout 1.9 moved the status blocks' checksum (25-word payloads): an older card's
+        // status cannot be read (and before 1.3 it could not keep a new host from inheriting
+        // motion).
+        if major != firmware_proto::LAYOUT_MAJOR || minor < 9 {
             return Err(Error::VersionMismatch {
                 card_major: major,
                 card_minor: minor,
@@ -817,6 +818,7 @@ impl Status {
             command_velocity: raw.cmd_vel / s,
             command_acceleration: raw.cmd_acc / s,
             actual_position: raw.act_pos / s,
+            compensated_position: raw.comp_pos / s,
             actual_velocity: raw.act_vel / s,
             following_error: raw.ferr / s,
             dac_volts: raw.dac_v,
@@ -1323,8 +1325,13 @@ pub struct Status {
     pub command_velocity: f64,
     /// Commanded acceleration.
     pub command_acceleration: f64,
-    /// Actual position.
+    /// Actual position (layout 1.9: the load's, the encoder's less the compensation's
+    /// correction).
     pub actual_position: f64,
+    /// Layout 1.9: the compensated position, the motor's reference (the commanded position
+    /// plus the pitch-error and backlash correction; the commanded position without
+    /// compensation).
+    pub compensated_position: f64,
     /// Actual velocity.
     pub actual_velocity: f64,
     /// Following error (commanded − actual).

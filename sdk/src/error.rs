@@ -284,6 +284,19 @@ error_kinds! {
     /// Layout 1.8: a configuration read-back of a block kind the card does not know (a card
     /// older than the library, or a kind or index that is not an integer).
     ConfigKind = -106, MC_ERR_CONFIG_KIND, nack ConfigKind, "the card does not know that configuration block";
+    /// Layout 1.9: a compensation table's point count (over 256), bound (not > 0), backlash
+    /// (negative, or over twice the bound), ramp velocity or acceleration (outside the card's
+    /// range) out of range.
+    CompTable = -110, MC_ERR_COMP_TABLE, nack CompTable, "bad compensation table: point count, bound, backlash or ramp limits out of range";
+    /// Compensation data without an open table, or out of order.
+    CompSequence = -111, MC_ERR_COMP_SEQUENCE, nack CompSequence, "compensation table data out of sequence";
+    /// Compensation positions that are not strictly increasing.
+    CompOrder = -112, MC_ERR_COMP_ORDER, nack CompOrder, "compensation positions must be strictly increasing";
+    /// A correction (with half the backlash) beyond the table's bound, or a table of one
+    /// column whose reverse correction differs from its forward one.
+    CompBound = -113, MC_ERR_COMP_BOUND, nack CompBound, "a compensation correction is beyond the table's bound";
+    /// A compensation table changed on an axis that is not at rest.
+    CompBusy = -114, MC_ERR_COMP_BUSY, nack CompBusy, "the axis is not at rest: its compensation cannot change";
     /// A configuration file that does not parse, or a value in it that the card would refuse
     /// (the error names the key and its line); nothing of the file was applied.
     ConfigFile = -107, MC_ERR_CONFIG_FILE, "the configuration file does not parse or validate";

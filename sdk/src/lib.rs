@@ -25,6 +25,7 @@
 mod axis;
 mod cam;
 mod card;
+mod comp;
 mod config;
 mod device;
 mod error;
@@ -60,6 +61,7 @@ pub use card::{
 pub use card_emu::{
     Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
 };
+pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,

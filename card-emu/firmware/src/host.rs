@@ -36,3 +36,10 @@ pub mod plan {
     pub use crate::motion::otg::{OtgLimits, Trajectory};
     pub use crate::motion::scurve::*;
 }
+
+/// Layout 1.9: the compensation table's checks and arithmetic, which the SDK runs on a table
+/// before it sends any of it (the card runs the same on each point).
+pub use crate::firmware::comp::comp_nack;
+pub use crate::motion::comp::{
+    interpolate, CompError, CompParams, CompPoint, MAX_POINTS as COMP_MAX_POINTS,
+};

@@ -20,6 +20,7 @@ use crate::firmware::Firmware;
 use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
 use crate::plant::io::{encoder_span_from, FireRecord, InputBank};
+use crate::plant::leadscrew::Leadscrew;
 use crate::plant::{IndexChannel, IndexPulse, Motor, MotorParams, Reading};
 use firmware_proto::window::MappedWindow;
 use firmware_proto::{AUX_ENCODERS, MAX_AXES};
@@ -196,6 +197,8 @@ pub struct Emulator {
     spans: [Option<(i64, i64)>; MAX_AXES],
     /// Layout 1.7 (sync): the auxiliary encoders.
     aux: [AuxEncoder; AUX_ENCODERS],
+    /// Layout 1.9: each axis's leadscrew between motor and load, if modelled.
+    leadscrews: [Option<Leadscrew>; MAX_AXES],
 }
 
 impl Emulator {
@@ -227,6 +230,7 @@ impl Emulator {
             fires: None,
             spans: [None; MAX_AXES],
             aux: [AuxEncoder::default(); AUX_ENCODERS],
+            leadscrews: Default::default(),
         })
     }
 
@@ -321,6 +325,11 @@ impl Emulator {
         }
         self.period_dac = dac;
         self.time += ts;
+        for (ls, m) in self.leadscrews.iter_mut().zip(&self.motors) {
+            if let Some(ls) = ls {
+                ls.follow(m.load_position_counts());
+            }
+        }
     }
 
     /// The compare pulses the firmware fired in the period just ended: where the shaft was
@@ -344,6 +353,27 @@ impl Emulator {
                 velocity: m.omega * m.params.counts_per_rad(),
             });
         }
+    }
+
+    /// Layout 1.9: put a leadscrew (pitch error, backlash) between axis `axis`'s motor and its
+    /// load, or take it away (`None`). The nut starts where the motor is now, mid-band.
+    pub fn set_leadscrew(&mut self, axis: usize, screw: Option<Leadscrew>) {
+        if let (Some(slot), Some(m)) = (self.leadscrews.get_mut(axis), self.motors.get(axis)) {
+            *slot = screw.map(|mut s| {
+                s.follow(m.load_position_counts());
+                s
+            });
+        }
+    }
+
+    /// Where axis `axis`'s load is, counts of its encoder: past the leadscrew if one is
+    /// modelled, else the motor's load position.
+    pub fn load_position(&self, axis: usize) -> Option<f64> {
+        let m = self.motors.get(axis)?;
+        Some(match self.leadscrews.get(axis).and_then(Option::as_ref) {
+            Some(s) => s.load(),
+            None => m.load_position_counts(),
+        })
     }
 
     /// The digital input pins: levels the test sets, or sensors on an axis's travel.

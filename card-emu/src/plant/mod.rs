@@ -11,6 +11,7 @@
 pub mod aux;
 pub mod faults;
 pub mod io;
+pub mod leadscrew;
 
 use core::f64::consts::TAU;
 use firmware_proto::Io;

@@ -197,6 +197,12 @@ pub enum AxisCmd {
     Home(Home),
     /// `MC_OP_SET_POSITION`.
     SetPosition(SetPosition),
+    /// `MC_OP_COMP_TABLE` (layout 1.9).
+    CompTable(super::CompHeader),
+    /// `MC_OP_COMP_DATA`.
+    CompData(super::CompData),
+    /// `MC_OP_COMP_READ`.
+    CompRead(super::CompRead),
 }
 
 impl AxisCmd {
@@ -215,6 +221,9 @@ impl AxisCmd {
             Self::Reset => Opcode::Reset,
             Self::Home(_) => Opcode::Home,
             Self::SetPosition(_) => Opcode::SetPosition,
+            Self::CompTable(_) => Opcode::CompTable,
+            Self::CompData(_) => Opcode::CompData,
+            Self::CompRead(_) => Opcode::CompRead,
         }
     }
 
@@ -236,6 +245,9 @@ impl AxisCmd {
             Opcode::Reset => Self::Reset,
             Opcode::Home => Self::Home(Args::decode(f, args)?),
             Opcode::SetPosition => Self::SetPosition(Args::decode(f, args)?),
+            Opcode::CompTable => Self::CompTable(Args::decode(f, args)?),
+            Opcode::CompData => Self::CompData(Args::decode(f, args)?),
+            Opcode::CompRead => Self::CompRead(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -254,6 +266,9 @@ impl AxisCmd {
             Self::Home(v) => super::entry(op, axis, v),
             Self::Halt(r) | Self::Stop(r) => super::entry(op, axis, r),
             Self::SetPosition(p) => super::entry(op, axis, p),
+            Self::CompTable(h) => super::entry(op, axis, h),
+            Self::CompData(d) => super::entry(op, axis, d),
+            Self::CompRead(r) => super::entry(op, axis, r),
         }
     }
 }

@@ -29,6 +29,7 @@
 
 mod axis;
 mod card;
+mod comp;
 mod group;
 mod io;
 mod sync;
@@ -37,6 +38,7 @@ mod tests;
 
 pub use axis::*;
 pub use card::*;
+pub use comp::*;
 pub use group::*;
 pub use io::*;
 pub use sync::*;
@@ -259,7 +261,10 @@ pub fn family(op: Opcode) -> Family {
         | O::StopRelease
         | O::Reset
         | O::Home
-        | O::SetPosition => Family::Axis,
+        | O::SetPosition
+        | O::CompTable
+        | O::CompData
+        | O::CompRead => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable

@@ -187,8 +187,77 @@ fn axis_cmd() -> BoxedStrategy<AxisCmd> {
                 AxisCmd::SetPosition(SetPosition { position, relative })
             })
             .boxed(),
+        // Layout 1.9: compensation.
+        (0..=COMP_MAX_POINTS as u16, nums::<4>(), any::<bool>())
+            .prop_map(|(points, [bound, backlash, ramp_vel, ramp_acc], bidir)| {
+                AxisCmd::CompTable(CompHeader {
+                    points,
+                    bound,
+                    backlash,
+                    ramp_vel,
+                    ramp_acc,
+                    bidir,
+                })
+            })
+            .boxed(),
+        (
+            0..COMP_MAX_POINTS as u16,
+            proptest::collection::vec(nums::<3>(), 1..=COMP_DATA_MAX),
+        )
+            .prop_map(|(first, pts)| {
+                let pts: Vec<CompPointArgs> = pts
+                    .into_iter()
+                    .map(|[position, forward, reverse]| CompPointArgs {
+                        position,
+                        forward,
+                        reverse,
+                    })
+                    .collect();
+                AxisCmd::CompData(CompData::new(first, &pts))
+            })
+            .boxed(),
+        (0..=COMP_MAX_POINTS as u16)
+            .prop_map(|first| AxisCmd::CompRead(CompRead { first }))
+            .boxed(),
     ])
     .boxed()
+}
+
+#[test]
+fn compensation_commands_refuse_counts_and_flags_out_of_range() {
+    let mut args = [0.0; CMD_ARGS];
+    args[0] = 257.0;
+    let e = CompHeader::decode(0, &args).unwrap_err();
+    assert_eq!(e.nack, NackCode::CompTable);
+    args[0] = 3.0;
+    assert_eq!(
+        CompHeader::decode(2, &args).unwrap_err().nack,
+        NackCode::CompTable
+    );
+    args[0] = f64::NAN;
+    assert_eq!(
+        CompHeader::decode(0, &args).unwrap_err().nack,
+        NackCode::NotFinite
+    );
+    let mut args = [0.0; CMD_ARGS];
+    args[1] = 5.0;
+    assert_eq!(
+        CompData::decode(0, &args).unwrap_err().nack,
+        NackCode::CompSequence
+    );
+    args[1] = 0.0;
+    assert_eq!(
+        CompData::decode(0, &args).unwrap_err().nack,
+        NackCode::CompSequence
+    );
+    args[1] = 4.0;
+    args[0] = 256.0;
+    assert_eq!(
+        CompData::decode(0, &args).unwrap_err().nack,
+        NackCode::CompSequence
+    );
+    args[0] = 252.0;
+    assert_eq!(CompData::decode(0, &args).unwrap().points().len(), 4);
 }
 
 fn group_cmd() -> BoxedStrategy<GroupCmd> {

@@ -384,7 +384,7 @@ impl IoUnit {
         for (a, axis) in axes.iter().enumerate().take(MAX_AXES) {
             let now = counts[a];
             let before = self.last_count[a].replace(now).unwrap_or(now);
-            let at = |n: i64| axis.position_of_count(n) + 0.5;
+            let at = |n: i64| axis.load_position_of_count(n) + 0.5;
             x[a] = (at(before), at(now));
             let (lo, hi) = self.spans[a].unwrap_or((before.min(now), before.max(now)));
             range[a] = (
@@ -426,7 +426,7 @@ impl IoUnit {
         for (a, axis) in axes.iter().enumerate().take(MAX_AXES) {
             let l = index[a];
             if l.latches != self.last_index[a] {
-                index_moved[a] = Some(axis.position_of_count(l.count) + 0.5);
+                index_moved[a] = Some(axis.load_position_of_count(l.count) + 0.5);
             }
             self.last_index[a] = l.latches;
         }

@@ -9,6 +9,7 @@
 pub mod axis;
 pub mod axis_safety;
 pub mod cam;
+pub mod comp;
 pub mod compare;
 pub mod config;
 pub mod dac;
@@ -68,6 +69,8 @@ pub struct Firmware<M: Mem + Clone> {
     aux: AuxInputs,
     /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
     cams: Lazy<cam::CamStore>,
+    /// Layout 1.9: the compensation tables, made on the first MC_OP_COMP_TABLE.
+    comp: Lazy<comp::CompStore>,
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
@@ -127,6 +130,7 @@ impl<M: Mem + Clone> Firmware<M> {
             aux: AuxInputs::default(),
             pvt: core::array::from_fn(|_| Lazy::new()),
             cams: Lazy::new(),
+            comp: Lazy::new(),
             groups: core::array::from_fn(Group::new),
             group_blocks: [quiet::GroupBlock::default(); MAX_GROUPS],
             filters: filter_bank(),
@@ -457,8 +461,9 @@ impl<M: Mem + Clone> Firmware<M> {
         // The reports with something to tell, in axis order (most ticks: none).
         let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
         let mut report = TickReport::default();
+        let tables = self.comp.as_ref();
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            dac[i] = axis.control_into(ts, &mut report);
+            dac[i] = axis.control_into(ts, &mut report, tables.and_then(|t| t.table(i)));
             if !report.is_empty() {
                 // One an axis: never full.
                 let _ = reports.push((i, core::mem::take(&mut report)));

@@ -935,6 +935,7 @@ pub fn allowed_without_session(op: Opcode) -> bool {
             | Opcode::HostAttach
             | Opcode::HostDetach
             | Opcode::ReadConfig
+            | Opcode::CompRead
             | Opcode::ProbeArm
             | Opcode::ScopeConfigure
             | Opcode::ScopeArm

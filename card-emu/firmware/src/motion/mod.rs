@@ -4,6 +4,7 @@
 
 pub mod arc;
 pub mod cam;
+pub mod comp;
 pub mod filters;
 pub mod interp_error;
 pub mod nurbs;

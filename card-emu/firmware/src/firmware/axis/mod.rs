@@ -6,10 +6,18 @@
 // The position frame: the card works in `encoder + pos_offset`. Homing and MC_SetPosition move
 // the offset, never the count, so the raw count the status publishes and the safety layer's
 // encoder checks (which see raw counts) only ever see the shaft.
+//
+// Layout 1.9, leadscrew compensation: `encoder + pos_offset` is the motor's position; the
+// axis's position (`act_pos`, the commanded and target positions, soft limits, in-position,
+// following error) is the load's, the motor's less the correction in force. The servo follows
+// `cmd + correction` (`comp_ref`, published as `comp_pos`). Homing runs with the correction
+// taken out (the table is used only while homed and not homing), so its switch and index
+// positions (`position_of_count`) are the motor's, which is then the load's.
 
 use crate::firmware::axis_safety::AxisSafety;
 use crate::firmware::nack::plan_nack;
 use crate::firmware::rate_hz;
+use crate::motion::comp::{CompParams, CompPoint, CompState};
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference, ServoTerms};
@@ -216,6 +224,11 @@ pub struct Axis {
     stats: MoveStats,
     /// Layout 1.7 (sync): a geared slave follows its master (`MC_MOTION_IN_SYNC`).
     in_sync: bool,
+    /// Layout 1.9: the leadscrew compensation's state (the table is the firmware's:
+    /// `firmware::comp`). `act_pos` is the motor's position less its correction.
+    comp: CompState,
+    /// The servo's reference: `cmd` plus the correction (the motor's frame).
+    comp_ref: Reference,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -279,6 +292,12 @@ impl Axis {
             stop_elapsed: None,
             stats: MoveStats::default(),
             in_sync: false,
+            comp: CompState::new(),
+            comp_ref: Reference {
+                pos: 0.0,
+                vel: 0.0,
+                acc: 0.0,
+            },
         }
     }
 
@@ -721,7 +740,9 @@ impl Axis {
     pub fn sense(&mut self, encoder: i64, ts: f64) {
         self.raw_vel = encoder.wrapping_sub(self.encoder) as f64 / ts;
         self.encoder = encoder;
-        self.act_pos = encoder as f64 + self.pos_offset;
+        // The load's position: the motor's less the correction in force (0 without
+        // compensation, and then the subtraction changes nothing).
+        self.act_pos = encoder as f64 + self.pos_offset - self.comp.applied().0;
         self.servo.measure(encoder, &self.config.ffpiv, ts);
     }
 
@@ -744,13 +765,19 @@ impl Axis {
     /// The servo loop and the motion bookkeeping of one tick, after [`Axis::sense`].
     pub fn control(&mut self, ts: f64) -> (f64, TickReport) {
         let mut report = TickReport::default();
-        let volts = self.control_into(ts, &mut report);
+        let volts = self.control_into(ts, &mut report, None);
         (volts, report)
     }
 
     /// [`Axis::control`] with its report written into `report` (a default one: nothing to
-    /// tell) rather than returned: the firmware's tick keeps its reports in place.
-    pub fn control_into(&mut self, ts: f64, report: &mut TickReport) -> f64 {
+    /// tell) rather than returned: the firmware's tick keeps its reports in place. `comp`: the
+    /// axis's compensation table and settings, if it has one (layout 1.9).
+    pub fn control_into(
+        &mut self,
+        ts: f64,
+        report: &mut TickReport,
+        comp: Option<(&[CompPoint], &CompParams)>,
+    ) -> f64 {
         let vel = self.servo.velocity();
 
         if self.state == AxisState::Disabled
@@ -764,6 +791,14 @@ impl Axis {
             };
             self.cmd_jerk = 0.0;
             self.prev_cmd_acc = 0.0;
+            // The correction stays as it was (the motor does not follow a reference now): on
+            // power the reference is the motor's position, no jump.
+            let c = self.comp.applied().0;
+            self.comp_ref = Reference {
+                pos: self.act_pos + c,
+                vel: 0.0,
+                acc: 0.0,
+            };
             self.ferr = 0.0;
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
@@ -841,15 +876,22 @@ impl Axis {
             self.set_state(AxisState::Standstill, &mut report.state_from);
         }
 
+        // Leadscrew compensation (layout 1.9): the servo follows the commanded position plus
+        // the correction; the table is in use once the axis is homed and not homing.
+        let (r, motor) = if comp.is_none() && self.comp.idle() {
+            (self.cmd, self.act_pos)
+        } else {
+            self.compensate(comp, ts)
+        };
+        self.comp_ref = r;
+
         // Servo loop.
-        self.ferr = self.cmd.pos - self.act_pos;
+        self.ferr = r.pos - motor;
         let limit = self.config.dac_limit_v;
         let u = match &mut self.pd {
             // Yeh eq 2.12: u = kp e + kd ė + kv v_ref + ka a_ref.
-            Some(pd) => pd.update(self.cmd.pos, self.cmd.vel, self.cmd.acc, self.act_pos),
-            None => self
-                .servo
-                .update(&self.cmd, self.act_pos, &self.config.ffpiv, ts, limit),
+            Some(pd) => pd.update(r.pos, r.vel, r.acc, motor),
+            None => self.servo.update(&r, motor, &self.config.ffpiv, ts, limit),
         };
         self.u_request = u;
         self.servo_terms = match &self.pd {
@@ -893,6 +935,7 @@ impl Axis {
         {
             let st = &mut self.stats;
             let in_pos = self.motion == Motion::Hold
+                && self.comp.settled()
                 && (self.target - self.act_pos).abs() <= self.config.in_pos_window
                 && vel.abs() <= self.config.in_vel_window;
             if in_pos {
@@ -1026,8 +1069,48 @@ impl Axis {
             motion_flags: self.motion_flags().bits(),
             queued: self.queue.len() as u32,
             override_factor: self.override_factor,
+            comp_pos: self.comp_ref.pos,
             ..Default::default()
         }
+    }
+
+    /// Layout 1.9: the compensation's step of this tick. Returns the servo's reference and the
+    /// motor's position (the load's position `act_pos` is set for the new correction).
+    #[inline(never)]
+    fn compensate(
+        &mut self,
+        comp: Option<(&[CompPoint], &CompParams)>,
+        ts: f64,
+    ) -> (Reference, f64) {
+        let motor = self.act_pos + self.comp.applied().0;
+        let in_use = comp.filter(|_| self.homed && self.state != AxisState::Homing);
+        let (c, cv, ca) = self
+            .comp
+            .step(in_use, self.cmd.pos, self.cmd.vel, self.cmd.acc, ts);
+        self.act_pos = motor - c;
+        let r = Reference {
+            pos: self.cmd.pos + c,
+            vel: self.cmd.vel + cv,
+            acc: self.cmd.acc + ca,
+        };
+        (r, motor)
+    }
+
+    /// Layout 1.9: the compensation table or its settings changed (the ramp's limits: the new
+    /// settings').
+    pub fn compensation_changed(&mut self, limits: Option<OtgLimits>) {
+        self.comp.changed(limits);
+    }
+
+    /// The correction in force, counts (0 without compensation).
+    pub fn correction(&self) -> f64 {
+        self.comp.applied().0
+    }
+
+    /// The position in the load's frame of an encoder count: the motor's position there
+    /// less the correction in force (compare and probe positions, layout 1.9).
+    pub(crate) fn load_position_of_count(&self, count: i64) -> f64 {
+        count as f64 + self.pos_offset - self.comp.applied().0
     }
 
     /// The motion bits of the status.
@@ -1270,6 +1353,8 @@ impl Axis {
         debug_assert!(!self.profile_running());
         self.pos_offset += delta;
         self.act_pos += delta;
+        // The table's frame moved under the axis: a jump of its correction is ramped.
+        self.comp.changed(None);
         self.cmd.pos += delta;
         self.target += delta;
         if let Some(pd) = &mut self.pd {

@@ -33,7 +33,16 @@ fn finite(c: &AxisCmd) -> bool {
         AxisCmd::SetOverride(o) => o.factor.is_finite(),
         AxisCmd::Home(h) => h.position.is_finite(),
         AxisCmd::SetPosition(p) => p.position.is_finite(),
-        AxisCmd::PowerOn | AxisCmd::PowerOff | AxisCmd::StopRelease | AxisCmd::Reset => true,
+        AxisCmd::CompTable(h) => all(&[h.bound, h.backlash, h.ramp_vel, h.ramp_acc]),
+        AxisCmd::CompData(d) => d
+            .points()
+            .iter()
+            .all(|p| all(&[p.position, p.forward, p.reverse])),
+        AxisCmd::PowerOn
+        | AxisCmd::PowerOff
+        | AxisCmd::StopRelease
+        | AxisCmd::Reset
+        | AxisCmd::CompRead(_) => true,
     }
 }
 
@@ -46,6 +55,9 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::NotFinite);
         }
         let ax = self.target_axis(c)?;
+        if let AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) = cmd {
+            return self.execute_comp(ax, &cmd);
+        }
         // [safety] card-wide latches, causes still present, limits (safety.rs)
         self.safety.check_command(&cmd, &self.axes[ax])?;
         let pending = self.axes[ax].pending_motion();
@@ -67,6 +79,10 @@ impl<M: Mem + Clone> Firmware<M> {
                 | AxisCmd::Home(_)
         );
         let changed = match &cmd {
+            // Served by `execute_comp` above.
+            AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) => {
+                return Err(NackCode::UnknownOpcode)
+            }
             AxisCmd::PowerOn => axis.power(true)?,
             AxisCmd::PowerOff => axis.power(false)?,
             AxisCmd::Move(kind, m) => {
@@ -143,4 +159,54 @@ fn velocity_mode(
     }
     nack::check_ranges(rate, &[(2, lim.amax), (2, lim.dmax), (3, lim.j1)])?;
     axis.start_velocity(seq, vel, lim, rate)
+}
+
+impl<M: Mem + Clone> Firmware<M> {
+    /// Layout 1.9: the compensation commands of axis `ax` (`firmware::comp`). A table changes
+    /// only on an axis at rest (`MC_NACK_COMP_BUSY`); the read-back is taken in any state.
+    fn execute_comp(&mut self, ax: usize, cmd: &AxisCmd) -> Result<f64, NackCode> {
+        use firmware_proto::layout;
+        let rate = self.servo_rate_hz;
+        if let AxisCmd::CompRead(r) = cmd {
+            let b = match self.comp.as_ref() {
+                Some(store) => store.readback(ax, usize::from(r.first)),
+                None => super::super::comp::readback(None, ax, usize::from(r.first)),
+            };
+            layout::COMP_READBACK.write(&self.mem, &b);
+            return Ok(f64::from(b.points));
+        }
+        let axis = &self.axes[ax];
+        let at_rest = matches!(
+            axis.state,
+            AxisState::Standstill | AxisState::Disabled | AxisState::ErrorStop
+        ) && !axis.busy_with_motion()
+            && !self.grouped_moving(ax);
+        if !at_rest {
+            if let Some(store) = self.comp.as_mut() {
+                if store.open_for(ax) {
+                    // A refusal closes the transfer: nothing half-loaded stays.
+                    store.close();
+                }
+            }
+            return Err(NackCode::CompBusy);
+        }
+        let store = self
+            .comp
+            .get_or_insert_with(super::super::comp::CompStore::new);
+        let in_force = match cmd {
+            AxisCmd::CompTable(h) => store.begin(ax, h, rate)?,
+            AxisCmd::CompData(d) => store.data(ax, d)?,
+            _ => None,
+        };
+        if let Some(params) = in_force {
+            // The new table's correction ramps in from the one in force (its limits).
+            self.axes[ax].compensation_changed(Some(params.ramp_limits()));
+        }
+        Ok(0.0)
+    }
+
+    /// Is axis `ax` driven by a group that moves?
+    fn grouped_moving(&self, ax: usize) -> bool {
+        self.axes[ax].state == AxisState::SynchronizedMotion && self.grouped(ax)
+    }
 }
