@@ -23,6 +23,7 @@ mod ops;
 mod params;
 mod reader;
 pub mod run;
+pub mod spindle;
 mod tools;
 
 pub use block::{Block, GCode};
