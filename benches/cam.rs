@@ -58,7 +58,7 @@ fn opts(chord_fit: bool) -> RunOptions {
         scale: 1000.0,
         progress: false,
         chord_fit,
-        tools: Default::default(),
+        ..RunOptions::default()
     }
 }
 

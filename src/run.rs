@@ -18,7 +18,7 @@
 use crate::gcode::{blocks_of, Block};
 use crate::path_report::{AxisLimits, Report, ReportError};
 use motioncard_sdk::gcode::{
-    run::{Hooks, RunSettings, RunState, Runner},
+    run::{Hooks, RunSettings, RunState, Runner, SpindleSettings},
     Op, Options, Program, ToolTable,
 };
 
@@ -57,10 +57,18 @@ pub struct RunOptions {
     pub chord_fit: bool,
     /// The tool table (G43, G41/G42, M6).
     pub tools: ToolTable,
+    /// The spindle on a card axis, and its encoder's counts per revolution (the axis's scale
+    /// is set to it and the axis enabled).
+    pub spindle: Option<(SpindleSettings, f64)>,
+    /// The card output of mist coolant (M7).
+    pub mist_output: Option<u32>,
+    /// The card output of flood coolant (M8).
+    pub flood_output: Option<u32>,
 }
 
 impl Default for RunOptions {
-    /// 0.01 mm tolerance, 100 mm/s, 100 mm/s, 1000 mm/s², 1e5 mm/s³ per axis, 1 µm counts.
+    /// 0.01 mm tolerance, 100 mm/s, 100 mm/s, 1000 mm/s², 1e5 mm/s³ per axis, 1 µm counts;
+    /// no spindle or coolant on the card.
     fn default() -> Self {
         Self {
             tolerance: 0.01,
@@ -72,6 +80,9 @@ impl Default for RunOptions {
             progress: false,
             chord_fit: true,
             tools: ToolTable::default(),
+            spindle: None,
+            mist_output: None,
+            flood_output: None,
         }
     }
 }
@@ -80,6 +91,13 @@ fn group(card: &Card, opts: &RunOptions) -> Result<Group> {
     for a in 0..3 {
         let axis = card.axis(a)?;
         axis.set_scale(opts.scale)?;
+        if axis.status()?.state == crate::AxisState::Disabled {
+            axis.enable()?;
+        }
+    }
+    if let Some((sp, scale)) = &opts.spindle {
+        let axis = card.axis(sp.axis)?;
+        axis.set_scale(*scale)?;
         if axis.status()?.state == crate::AxisState::Disabled {
             axis.enable()?;
         }
@@ -198,6 +216,9 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         tolerance: opts.tolerance,
         spline_tolerance: opts.tolerance.max(1e-3),
         batch: SEND_ROOM,
+        spindle: opts.spindle.as_ref().map(|s| s.0.clone()),
+        mist_output: opts.mist_output,
+        flood_output: opts.flood_output,
         ..RunSettings::default()
     };
     let mut runner = Runner::new(

@@ -381,3 +381,39 @@ fn thread_errors_name_their_line() {
     let e = Runner::new(&g, p, bad, Msgs::default()).err().unwrap();
     assert_eq!(e.kind(), ErrorKind::BadConfig);
 }
+
+/// `mcctl run` with the spindle on axis 3: a tap comes back to its start (the JSON's end);
+/// without `--spindle-axis` the same program is refused at the G33.1's line.
+#[test]
+fn mcctl_run_taps_with_the_spindle_on_a_card_axis() {
+    let dir = std::env::temp_dir().join(format!("gcode-spindle-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("tap.ngc");
+    std::fs::write(
+        &file,
+        "G21 G90\nS600 M3 M8\nG0 X5 Z2\nG33.1 Z-6 K1\nM9 M5\nM2\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let (code, out, err) = common::mcctl(&[
+        "run",
+        f,
+        "--spindle-axis",
+        "3",
+        "--flood-output",
+        "5",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let end = &j["end"];
+    assert!((end["x"].as_f64().unwrap() - 5.0).abs() < 1e-6, "{j}");
+    assert!((end["z"].as_f64().unwrap() - 2.0).abs() < 1e-6, "{j}");
+    let (code, _, err) = common::mcctl(&["run", f, "--json"]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("line 4") && err.contains("no spindle"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
