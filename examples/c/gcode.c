@@ -223,10 +223,7 @@ static void spindle_on_the_card(mc_card c) {
            s.flood_output);
     mc_gcode p = 0;
     /* Without a spindle on the card G33 is refused when it is read, with its line. */
-    CHECK(mc_gcode_load_string(c, G, "S600 M3
-G33 Z-8 K1
-M2
-", NULL, &s, &p));
+    CHECK(mc_gcode_load_string(c, G, "S600 M3\nG33 Z-8 K1\nM2\n", NULL, &s, &p));
     uint32_t state = 99;
     EXPECT(mc_gcode_run(p, 60000, &state), MC_ERR_GCODE);
     uint32_t line = 0;
@@ -237,16 +234,11 @@ M2
     CHECK(mc_gcode_close(p));
     /* A spindle axis that is one of the group's is a bad configuration. */
     s.spindle_axis = 2;
-    EXPECT(mc_gcode_load_string(c, G, "M2
-", NULL, &s, &p), MC_ERR_BAD_CONFIG);
+    EXPECT(mc_gcode_load_string(c, G, "M2\n", NULL, &s, &p), MC_ERR_BAD_CONFIG);
 
     s.spindle_axis = (int32_t)SPINDLE;
     s.flood_output = 5;
-    CHECK(mc_gcode_load_string(c, G, "S600 M3 M8
-G0 Z2
-G33.1 Z-3 K1
-M2
-", NULL, &s, &p));
+    CHECK(mc_gcode_load_string(c, G, "S600 M3 M8\nG0 Z2\nG33.1 Z-3 K1\nM2\n", NULL, &s, &p));
     CHECK(mc_gcode_run(p, 60000, &state));
     ASSERT(state == MC_GCODE_DONE, "state %u", state);
     expect_machine_at(c, 1.0, 5.0, 2.0, "after the tap");
