@@ -417,3 +417,38 @@ fn mcctl_run_taps_with_the_spindle_on_a_card_axis() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// An abort in the middle of a thread halts its axes within their limits (Z short of the end,
+/// a few tenths of a millimetre past where the abort came), ends the run, and leaves the group
+/// disabled with its axes at rest.
+#[test]
+fn an_abort_in_a_thread_halts_its_axes() {
+    let (card, g) = spindle_card();
+    let opts = Options {
+        start: group_position(&g, "XYZ").unwrap(),
+        ..Options::default()
+    };
+    let program = Program::from_text("S600 M3\nG33 Z-20 K1.5\nM2\n", &opts);
+    let mut r = Runner::new(&g, program, settings(), Msgs::default()).unwrap();
+    let sim = card.sim().unwrap();
+    let z = || card.axis(2).unwrap().status().unwrap();
+    let mut ticks = 0;
+    while z().command_position > -5.0 {
+        assert_eq!(r.poll().unwrap(), RunState::Draining);
+        sim.step(1);
+        ticks += 1;
+        assert!(ticks < 100_000, "Z does not get to -5");
+    }
+    r.abort(1000.0, 1e5).unwrap();
+    assert_eq!(r.poll().unwrap(), RunState::Aborted);
+    sim.step(5000);
+    let s = z();
+    assert_eq!(s.state, AxisState::Standstill);
+    // 15 mm/s stopped within 1000 mm/s² and 10⁵ mm/s³: v²/2a + v·a/2j = 0.19 mm.
+    assert!(
+        (-5.3..-5.0).contains(&s.command_position),
+        "Z stopped at {}",
+        s.command_position
+    );
+    assert_eq!(g.status().unwrap().0, motioncard_sdk::GroupState::Disabled);
+}
