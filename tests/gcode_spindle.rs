@@ -452,3 +452,32 @@ fn an_abort_in_a_thread_halts_its_axes() {
     );
     assert_eq!(g.status().unwrap().0, motioncard_sdk::GroupState::Disabled);
 }
+
+/// With the spindle turning backward (M4) the axes follow it the same way: on the thread Z is
+/// `pitch` per backward revolution from the helix through the index, and the pass ends at its
+/// end.
+#[test]
+fn g33_with_m4_follows_the_spindle_backward() {
+    let (card, g) = spindle_card();
+    let text = "M4 S450\nG0 Z1\nG33 Z-9 K1.25\nM2\n";
+    let (r, ticks, _) = run_sampled(&card, &g, text, settings());
+    assert_eq!(r.unwrap(), RunState::Done);
+    let at_start = ticks.iter().position(|t| t.z >= 1.0 - 1e-9).unwrap();
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    for t in ticks[at_start..].iter().filter(|t| t.z < 0.5 && t.z > -8.5) {
+        // The spindle's revolutions counted backward.
+        worst = worst.max(helix_error(1.0 - t.z, -t.turns, 1.25).abs());
+        n += 1;
+    }
+    // 9 mm at 9.375 mm/s: about 9,600 ticks.
+    assert!(n > 9_000, "{n} ticks on the thread");
+    assert!(worst < 1e-4, "{worst} mm off the helix");
+    let last = ticks.last().unwrap();
+    assert!((last.z + 9.0).abs() < 1e-6, "the pass ends at {}", last.z);
+    assert!(
+        last.turns < -5.0,
+        "the spindle turned backward: {}",
+        last.turns
+    );
+}
