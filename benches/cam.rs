@@ -58,8 +58,7 @@ fn opts(chord_fit: bool) -> RunOptions {
         scale: 1000.0,
         progress: false,
         chord_fit,
-        tools: Default::default(),
-        probe_input: None,
+        ..RunOptions::default()
     }
 }
 

@@ -18,7 +18,7 @@
 use crate::gcode::{blocks_of, Block};
 use crate::path_report::{AxisLimits, Report, ReportError};
 use motioncard_sdk::gcode::{
-    run::{Hooks, RunSettings, RunState, Runner},
+    run::{Hooks, RunSettings, RunState, Runner, SpindleSettings},
     Op, Options, Program, ToolTable,
 };
 
@@ -59,10 +59,18 @@ pub struct RunOptions {
     pub tools: ToolTable,
     /// The input of the touch probe (G38).
     pub probe_input: Option<u32>,
+    /// The spindle on a card axis, and its encoder's counts per revolution (the axis's scale
+    /// is set to it and the axis enabled).
+    pub spindle: Option<(SpindleSettings, f64)>,
+    /// The card output of mist coolant (M7).
+    pub mist_output: Option<u32>,
+    /// The card output of flood coolant (M8).
+    pub flood_output: Option<u32>,
 }
 
 impl Default for RunOptions {
-    /// 0.01 mm tolerance, 100 mm/s, 100 mm/s, 1000 mm/s², 1e5 mm/s³ per axis, 1 µm counts.
+    /// 0.01 mm tolerance, 100 mm/s, 100 mm/s, 1000 mm/s², 1e5 mm/s³ per axis, 1 µm counts;
+    /// no spindle or coolant on the card.
     fn default() -> Self {
         Self {
             tolerance: 0.01,
@@ -75,6 +83,9 @@ impl Default for RunOptions {
             chord_fit: true,
             tools: ToolTable::default(),
             probe_input: None,
+            spindle: None,
+            mist_output: None,
+            flood_output: None,
         }
     }
 }
@@ -83,6 +94,13 @@ fn group(card: &Card, opts: &RunOptions) -> Result<Group> {
     for a in 0..3 {
         let axis = card.axis(a)?;
         axis.set_scale(opts.scale)?;
+        if axis.status()?.state == crate::AxisState::Disabled {
+            axis.enable()?;
+        }
+    }
+    if let Some((sp, scale)) = &opts.spindle {
+        let axis = card.axis(sp.axis)?;
+        axis.set_scale(*scale)?;
         if axis.status()?.state == crate::AxisState::Disabled {
             axis.enable()?;
         }
@@ -202,6 +220,9 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         spline_tolerance: opts.tolerance.max(1e-3),
         batch: SEND_ROOM,
         probe_input: opts.probe_input,
+        spindle: opts.spindle.as_ref().map(|s| s.0.clone()),
+        mist_output: opts.mist_output,
+        flood_output: opts.flood_output,
         ..RunSettings::default()
     };
     let mut runner = Runner::new(

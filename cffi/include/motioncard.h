@@ -2426,6 +2426,34 @@ typedef struct mc_gcode_settings {
    * (the default): none, a probing move is then an error.
    */
   int32_t probe_input;
+  /**
+   * The spindle's card axis (enabled, not one of the group's; its user unit a revolution:
+   * its scale the encoder's counts per revolution, whole revolutions its index), or -1
+   * (the default): no spindle on the card, the spindle hook only, G33/G33.1 refused. With
+   * one, M3/M4 with S turn it (M3 forward), M5 halts it, and G33/G33.1 follow its encoder.
+   */
+  int32_t spindle_axis;
+  /**
+   * The card output M7 sets (M9 clears), or -1 (the default): none.
+   */
+  int32_t mist_output;
+  /**
+   * The card output M8 sets (M9 clears), or -1 (the default): none.
+   */
+  int32_t flood_output;
+  /**
+   * The spindle's largest speed, rpm (default 3000): a larger S runs at this, with a
+   * message.
+   */
+  double spindle_max_rpm;
+  /**
+   * The spindle's acceleration, rev/s² (default 100).
+   */
+  double spindle_acceleration;
+  /**
+   * The spindle's jerk, rev/s³ (default 2000).
+   */
+  double spindle_jerk;
 } mc_gcode_settings;
 
 /**
@@ -4492,7 +4520,8 @@ mc_result mc_axis_get_compensation(mc_card card,
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
- * block delete and optional stop off, no probe input.
+ * block delete and optional stop off, no probe input, no spindle or coolant outputs on
+ * the card (-1).
  */
 mc_result mc_gcode_default_settings(struct mc_gcode_settings *settings);
 

@@ -2,13 +2,17 @@
 //! milling) read by the SDK's interpreter and run on a group's path (`motioncard_sdk::gcode`).
 //! A program is an integer handle (`mc_gcode`), as cards are; the host's hooks (spindle,
 //! coolant, tool change, messages, M100–M199, pauses) are callbacks run inside
-//! `mc_gcode_poll` and `mc_gcode_run`, on the caller's thread.
+//! `mc_gcode_poll` and `mc_gcode_run`, on the caller's thread. A spindle on a card axis and
+//! coolant on card outputs are settings (`mc_gcode_settings.spindle_axis`, `mist_output`,
+//! `flood_output`; `motioncard_sdk::gcode::spindle`): G33/G33.1 need the spindle.
 
 use crate::ffi::{read_in, uri, Out, StrBuf};
 use crate::group::group_of;
 use crate::registry::mc_card;
 use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_HANDLE};
-use motioncard_sdk::gcode::run::{group_position, Hooks, RunSettings, RunState, Runner};
+use motioncard_sdk::gcode::run::{
+    group_position, Hooks, RunSettings, RunState, Runner, SpindleSettings,
+};
 use motioncard_sdk::gcode::{
     FileSource, Options, PauseKind, Program, Source, SpindleDir, TextSource, ToolTable,
 };
@@ -59,6 +63,37 @@ pub struct mc_gcode_settings {
     /// The card's digital input (0..15) the touch probe of G38.2–G38.5 is wired to; -1
     /// (the default): none, a probing move is then an error.
     pub probe_input: i32,
+    /// The spindle's card axis (enabled, not one of the group's; its user unit a revolution:
+    /// its scale the encoder's counts per revolution, whole revolutions its index), or -1
+    /// (the default): no spindle on the card, the spindle hook only, G33/G33.1 refused. With
+    /// one, M3/M4 with S turn it (M3 forward), M5 halts it, and G33/G33.1 follow its encoder.
+    pub spindle_axis: i32,
+    /// The card output M7 sets (M9 clears), or -1 (the default): none.
+    pub mist_output: i32,
+    /// The card output M8 sets (M9 clears), or -1 (the default): none.
+    pub flood_output: i32,
+    /// The spindle's largest speed, rpm (default 3000): a larger S runs at this, with a
+    /// message.
+    pub spindle_max_rpm: f64,
+    /// The spindle's acceleration, rev/s² (default 100).
+    pub spindle_acceleration: f64,
+    /// The spindle's jerk, rev/s³ (default 2000).
+    pub spindle_jerk: f64,
+}
+
+/// The C settings' defaults of the spindle: 3000 rpm, 100 rev/s², 2000 rev/s³.
+const SPINDLE_DEFAULTS: (f64, f64, f64) = (3000.0, 100.0, 2000.0);
+
+/// An axis or output number, or -1 for none.
+fn optional(v: i32, what: &str) -> Result<Option<u32>, Failure> {
+    match v {
+        -1 => Ok(None),
+        v if v >= 0 => Ok(Some(v as u32)),
+        v => Err(Failure::new(
+            ErrorKind::BadConfig.code(),
+            format!("settings.{what} is {v}: a number, or -1 for none"),
+        )),
+    }
 }
 
 /// The host's hooks, called inside `mc_gcode_poll` and `mc_gcode_run` once the motion
@@ -255,6 +290,16 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
                 ))
             }
         },
+        spindle: optional(s.spindle_axis, "spindle_axis")?.map(|a| {
+            SpindleSettings::new(
+                a as usize,
+                s.spindle_max_rpm,
+                s.spindle_acceleration,
+                s.spindle_jerk,
+            )
+        }),
+        mist_output: optional(s.mist_output, "mist_output")?,
+        flood_output: optional(s.flood_output, "flood_output")?,
         ..RunSettings::default()
     };
     let opts = Options {
@@ -266,7 +311,8 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
 }
 
 /// The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
-/// block delete and optional stop off, no probe input.
+/// block delete and optional stop off, no probe input, no spindle or coolant outputs on
+/// the card (-1).
 #[no_mangle]
 pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_settings) -> mc_result {
     guard(|| {
@@ -287,6 +333,12 @@ pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_setti
                 block_delete: 0,
                 optional_stop: 0,
                 probe_input: -1,
+                spindle_axis: -1,
+                mist_output: -1,
+                flood_output: -1,
+                spindle_max_rpm: SPINDLE_DEFAULTS.0,
+                spindle_acceleration: SPINDLE_DEFAULTS.1,
+                spindle_jerk: SPINDLE_DEFAULTS.2,
             })
         };
         Ok(())

@@ -1182,4 +1182,9 @@ fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
     assert!(out.contains("PASS gcode ("), "{out}");
     assert!(out.contains("G-code part: paused at line 12"), "{out}");
     assert!(out.contains("ended at X42 Z-3"), "{out}");
+    // The spindle on a card axis: a rigid tap back at its start, the spindle forward again.
+    assert!(
+        out.contains("G-code spindle: a tap to Z-3 and back to Z2, the spindle at 10.0 rev/s"),
+        "{out}"
+    );
 }

@@ -4,7 +4,9 @@
  * pause and a resume, a message), run on a 3-axis group of a stepped emulated card; the end
  * position checked exactly in machine coordinates. Then a program file with a subroutine and
  * a loop; the refusals (a wrong line named with its number before anything moves, an M100
- * with no hook, NULL pointers, bad and closed handles).
+ * with no hook, NULL pointers, bad and closed handles). Last, the spindle on the card's axis 3
+ * and flood coolant on output 5: a rigid tap (G33.1) that goes down and comes back to its
+ * start with the spindle turning forward again; G33 without a spindle refused with its line.
  *
  * Positions in mm (scale 1000 counts per mm).
  *
@@ -219,9 +221,54 @@ static void refusals(mc_card c) {
     printf("G-code refusals: %u checks\n", checks);
 }
 
+/* The spindle on axis 3 (revolutions: 10,000 counts each), flood on output 5: S600 M3 turns
+   it at 10 rev/s, M8 sets the output, G33.1 taps 5 mm at 1 mm a turn and comes back. */
+static void spindle_on_the_card(mc_card c) {
+    const uint32_t SPINDLE = 3;
+    CHECK(mc_set_scale(c, SPINDLE, 10000.0));
+    CHECK(mc_enable(c, SPINDLE));
+    mc_gcode_settings s;
+    CHECK(mc_gcode_default_settings(&s));
+    ASSERT(s.spindle_axis == -1 && s.mist_output == -1 && s.flood_output == -1,
+           "defaults: spindle %d, mist %d, flood %d", s.spindle_axis, s.mist_output,
+           s.flood_output);
+    mc_gcode p = 0;
+    /* Without a spindle on the card G33 is refused when it is read, with its line. */
+    CHECK(mc_gcode_load_string(c, G, "S600 M3\nG33 Z-8 K1\nM2\n", NULL, &s, &p));
+    uint32_t state = 99;
+    EXPECT(mc_gcode_run(p, 60000, &state), MC_ERR_GCODE);
+    uint32_t line = 0;
+    char text[256];
+    size_t needed = 0;
+    CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
+    ASSERT(line == 2 && strstr(text, "no spindle"), "error at line %u: %s", line, text);
+    CHECK(mc_gcode_close(p));
+    /* A spindle axis that is one of the group's is a bad configuration. */
+    s.spindle_axis = 2;
+    EXPECT(mc_gcode_load_string(c, G, "M2\n", NULL, &s, &p), MC_ERR_BAD_CONFIG);
+
+    s.spindle_axis = (int32_t)SPINDLE;
+    s.flood_output = 5;
+    CHECK(mc_gcode_load_string(c, G, "S600 M3 M8\nG0 Z2\nG33.1 Z-3 K1\nM2\n", NULL, &s, &p));
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_DONE, "state %u", state);
+    expect_machine_at(c, 1.0, 5.0, 2.0, "after the tap");
+    mc_status sp;
+    CHECK(mc_get_status(c, SPINDLE, &sp));
+    ASSERT(sp.command_velocity == 10.0, "the spindle at %f rev/s after the tap",
+           sp.command_velocity);
+    uint32_t outputs = 0;
+    CHECK(mc_get_outputs(c, &outputs));
+    ASSERT(outputs & (1u << 5), "flood output off: %08x", outputs);
+    CHECK(mc_gcode_close(p));
+    checks++;
+    printf("G-code spindle: a tap to Z-3 and back to Z2, the spindle at %.1f rev/s\n",
+           sp.command_velocity);
+}
+
 int main(void) {
     mc_card c = 0;
-    CHECK(mc_open_sim_stepped(3, RATE, &c));
+    CHECK(mc_open_sim_stepped(4, RATE, &c));
     for (int i = 0; i < 3; i++) {
         CHECK(mc_set_scale(c, XYZ[i], 1000.0));
         CHECK(mc_enable(c, XYZ[i]));
@@ -237,6 +284,7 @@ int main(void) {
     part(c);
     file_with_a_loop(c);
     refusals(c);
+    spindle_on_the_card(c);
 
     CHECK(mc_close(c));
     printf("PASS gcode (%u checks)\n", checks);

@@ -69,6 +69,28 @@ pub struct Args {
     /// probing move is an error).
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..16))]
     pub probe_input: Option<u32>,
+    /// The spindle's card axis (not 0, 1, 2): M3/M4/M5 and S turn it, G33/G33.1 follow its
+    /// encoder. Without it the spindle is not on the card and G33/G33.1 are refused.
+    #[arg(long)]
+    pub spindle_axis: Option<usize>,
+    /// The spindle's encoder counts per revolution (its scale: its user unit a revolution).
+    #[arg(long, default_value_t = 10_000.0, value_parser = positive("--spindle-scale"))]
+    pub spindle_scale: f64,
+    /// The spindle's largest speed, rpm (a larger S runs at this).
+    #[arg(long, default_value_t = 3000.0, value_parser = positive("--spindle-max-rpm"))]
+    pub spindle_max_rpm: f64,
+    /// The spindle's acceleration, rev/s².
+    #[arg(long, default_value_t = 100.0, value_parser = positive("--spindle-accel"))]
+    pub spindle_accel: f64,
+    /// The spindle's jerk, rev/s³.
+    #[arg(long, default_value_t = 2000.0, value_parser = positive("--spindle-jerk"))]
+    pub spindle_jerk: f64,
+    /// The card output M7 (mist) sets and M9 clears.
+    #[arg(long)]
+    pub mist_output: Option<u32>,
+    /// The card output M8 (flood) sets and M9 clears.
+    #[arg(long)]
+    pub flood_output: Option<u32>,
     #[arg(long)]
     pub json: bool,
 }
@@ -118,6 +140,19 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
         progress: !a.json,
         chord_fit: !a.no_chord_fit,
         probe_input: a.probe_input,
+        spindle: a.spindle_axis.map(|axis| {
+            (
+                motioncard_sdk::gcode::run::SpindleSettings::new(
+                    axis,
+                    a.spindle_max_rpm,
+                    a.spindle_accel,
+                    a.spindle_jerk,
+                ),
+                a.spindle_scale,
+            )
+        }),
+        mist_output: a.mist_output,
+        flood_output: a.flood_output,
     };
     let (file, json) = (a.file, a.json);
     let body = |c: &Card| crate::run::run(c, &file, &opts, json);

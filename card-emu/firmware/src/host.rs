@@ -10,6 +10,8 @@
 //!   ([`plan`]), NURBS curves (their checks, knot vectors, the split into pieces the card
 //!   takes), the acc/dec filters' kinds and the papers' presets, the path engine's smoothing
 //!   turn.
+//! - Cam tables as the card builds and evaluates them ([`CamTable`]): a host that makes a table
+//!   checks what the card will follow (the G-code runner's threads).
 
 pub use crate::firmware::axis_safety::AxisSafetyConfig;
 pub use crate::firmware::config::{
@@ -21,6 +23,7 @@ pub use crate::firmware::io::IoConfig;
 pub use crate::firmware::safety::{
     SafetyConfig, MAX_STOP_TIME_DEFAULT_US, WATCHDOG_TIMEOUT_DEFAULT_US,
 };
+pub use crate::motion::cam::{CamSample, CamTable};
 pub use crate::motion::filters::{FilterKind, FilterPreset};
 pub use crate::motion::nurbs::{
     clamped_uniform_knots, split_curve, Nurbs, NurbsError, MAX_CTRL, MAX_DEGREE, MAX_DIM, MAX_KNOTS,

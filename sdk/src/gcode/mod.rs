@@ -24,6 +24,7 @@ mod params;
 mod probe;
 mod reader;
 pub mod run;
+pub mod spindle;
 mod tools;
 
 pub use block::{Block, GCode};

@@ -1,7 +1,8 @@
 //! A program on a card: its operations ([`Op`]) turned into path items and streamed into a
 //! group's path buffer as it frees room; what the path cannot carry (spindle, coolant, tool
 //! changes, pauses, hooks, waits on inputs) waits for the motion before it to end and goes to
-//! the host's [`Hooks`].
+//! the host's [`Hooks`]. A spindle on a card axis, coolant outputs and G33/G33.1 on the
+//! card's camming are [`super::spindle`]'s (with [`RunSettings::spindle`]).
 //!
 //! The group's axes are the program's, in the order [`RunSettings::axes`] names them, in mm
 //! and degrees (the axes' scales make them so). The runner is polled ([`Runner::poll`]: it
@@ -9,6 +10,8 @@
 //! steps the card itself.
 
 use super::probe::ProbeRun;
+pub use super::spindle::SpindleSettings;
+use super::spindle::SpindleUnit;
 use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
 use crate::{
     ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, Result, Segment, Transition,
@@ -35,10 +38,18 @@ pub struct RunSettings {
     /// The card's digital input the touch probe of G38.2–G38.5 is wired to (none: G38 is an
     /// error). See [`super::probe`](self) for how the move runs.
     pub probe_input: Option<u32>,
+    /// The spindle on a card axis (M3/M4/M5, S, G33, G33.1); `None`: the spindle is the
+    /// host's ([`Hooks::spindle`] only) and G33/G33.1 are refused.
+    pub spindle: Option<SpindleSettings>,
+    /// The card output M7 turns on (M9 off), if any.
+    pub mist_output: Option<u32>,
+    /// The card output M8 turns on (M9 off), if any.
+    pub flood_output: Option<u32>,
 }
 
 impl Default for RunSettings {
-    /// X, Y, Z; rapids and feeds up to 100 mm/s; 0.01 mm corners and splines; batches of 512.
+    /// X, Y, Z; rapids and feeds up to 100 mm/s; 0.01 mm corners and splines; batches of 512;
+    /// no spindle or coolant on the card.
     fn default() -> Self {
         Self {
             axes: "XYZ".into(),
@@ -48,6 +59,9 @@ impl Default for RunSettings {
             spline_tolerance: 0.01,
             batch: 512,
             probe_input: None,
+            spindle: None,
+            mist_output: None,
+            flood_output: None,
         }
     }
 }
@@ -59,11 +73,13 @@ impl Default for RunSettings {
 pub trait Hooks {
     /// Every operation as it is read, before it is queued (a report, a preview).
     fn op(&mut self, _op: &Op) {}
-    /// M3/M4/M5, S.
+    /// M3/M4/M5, S (rpm as programmed; with [`RunSettings::spindle`], called before the card's
+    /// spindle is set).
     fn spindle(&mut self, _speed: f64, _dir: SpindleDir) -> Result<()> {
         Ok(())
     }
-    /// M7/M8/M9.
+    /// M7/M8/M9 (with [`RunSettings::mist_output`] or `flood_output`, called before the
+    /// outputs are set).
     fn coolant(&mut self, _mist: bool, _flood: bool) -> Result<()> {
         Ok(())
     }
@@ -95,7 +111,8 @@ pub enum RunState {
     /// Items are being queued or run.
     Running,
     /// Waiting for the motion queued so far to end (before a spindle, tool or pause
-    /// operation, or at the end).
+    /// operation, or at the end), or for the card's spindle (to reach its speed, or a
+    /// G33/G33.1 pass to end).
     Draining,
     /// Paused (M0/M1/M60 or [`Runner::pause`]) with the motion ended: [`Runner::resume`]
     /// goes on.
@@ -132,6 +149,8 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     read_limit: Option<usize>,
     ops: u64,
     error_line: usize,
+    /// The spindle and coolant on the card.
+    spindle: SpindleUnit,
 }
 
 impl<S: Source, H: Hooks> Runner<S, H> {
@@ -183,7 +202,14 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 settings.tolerance
             )));
         }
+        let spindle = SpindleUnit::new(
+            group,
+            settings.spindle.clone(),
+            settings.mist_output,
+            settings.flood_output,
+        )?;
         Ok(Runner {
+            spindle,
             program,
             group: group.clone(),
             batch: Vec::with_capacity(settings.batch.max(1)),
@@ -228,6 +254,11 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                     let r = p.finish(&self.group, &self.settings.axes)?;
                     self.program.probe_result(r.at, r.stopped, r.tripped);
                 }
+            }
+            // The spindle's work (a speed to reach, a thread off the group) ends before
+            // anything more is read or sent.
+            if !self.spindle.poll(&self.group)? {
+                return Ok(self.set(RunState::Draining));
             }
             if self.waiting.is_some() || self.read_all || self.pause_requested {
                 // Everything before it must be sent and done.
@@ -356,8 +387,11 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             OpKind::AnalogOutput { .. } => {
                 return Err(err("M67/M68: this card has no analog outputs".into()))
             }
-            OpKind::SpindleSync { .. } => {
-                return Err(err("G33/G33.1: this card has no spindle encoder".into()))
+            OpKind::SpindleSync { tap, .. } if !self.spindle.configured() => {
+                return Err(err(format!(
+                    "{}: no spindle is configured on the card",
+                    if *tap { "G33.1" } else { "G33" }
+                )))
             }
             // The override switches are the operator's (the card's override is set by the
             // host): nothing to do, and no reason to stop the motion.
@@ -365,6 +399,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             OpKind::WaitInput { .. }
             | OpKind::Probe { .. }
             | OpKind::Spindle { .. }
+            | OpKind::SpindleSync { .. }
             | OpKind::Coolant { .. }
             | OpKind::ToolChange { .. }
             | OpKind::Pause { .. }
@@ -384,8 +419,26 @@ impl<S: Source, H: Hooks> Runner<S, H> {
     /// An operation that waited for the motion before it: `true` pauses the run.
     fn sync_op(&mut self, op: &Op) -> Result<bool> {
         match op.kind {
-            OpKind::Spindle { speed, dir } => self.hooks.spindle(speed, dir)?,
-            OpKind::Coolant { mist, flood } => self.hooks.coolant(mist, flood)?,
+            OpKind::Spindle { speed, dir } => {
+                self.hooks.spindle(speed, dir)?;
+                if let Some(m) = self.spindle.set(&self.group, op.line, speed, dir)? {
+                    self.hooks.message(op.line, &m);
+                }
+            }
+            OpKind::Coolant { mist, flood } => {
+                self.hooks.coolant(mist, flood)?;
+                self.spindle.coolant(&self.group, mist, flood)?;
+            }
+            OpKind::SpindleSync {
+                start,
+                end,
+                pitch,
+                tap,
+            } => {
+                let (s, e) = (self.target(&start, op.line)?, self.target(&end, op.line)?);
+                self.spindle
+                    .start_thread(&self.group, op.line, (&s, &e), pitch, tap)?;
+            }
             OpKind::ToolChange { tool } => self.hooks.tool_change(tool)?,
             OpKind::Hook { code, p, q } => self.hooks.hook(code, p, q)?,
             OpKind::Pause { kind } => return Ok(self.hooks.pause(kind)),
@@ -657,7 +710,8 @@ impl<S: Source, H: Hooks> Runner<S, H> {
         self.batch.clear();
         self.held = None;
         self.waiting = None;
-        if !self.motion_done()? {
+        // A thread's axes are off the group: they and a tap's spindle halt.
+        if !self.spindle.abort(&self.group) && !self.motion_done()? {
             self.group.halt(deceleration, jerk)?;
         }
         Ok(())
