@@ -481,3 +481,60 @@ fn g33_with_m4_follows_the_spindle_backward() {
         last.turns
     );
 }
+
+/// M19 on the card: the turning spindle halts, then turns on to the angle (P0: forward, the
+/// way M3 turns), and rests there; P1 goes back to it. G87 back bores with two oriented
+/// stops: the spindle rests at its index each time the tool passes through the hole, and
+/// turns again (M3's way) after.
+#[test]
+fn m19_orients_the_spindle_and_g87_back_bores_through_it() {
+    let (card, g) = spindle_card();
+    let text = "\
+S600 M3
+G4 P0.3
+M19 R90
+G4 P0.1
+M19 R45 P1
+G4 P0.1
+G0 X0 Y0 Z5
+M3
+G98 G87 X2 Y3 Z-5 R1 I1 J-0.5 K-1 F600
+G80
+M2
+";
+    let (r, ticks, _) = run_sampled(&card, &g, text, settings());
+    assert_eq!(r.unwrap(), RunState::Done);
+    let on =
+        |line: usize| -> Vec<Tick> { ticks.iter().filter(|t| t.line == line).copied().collect() };
+    let frac = |turns: f64| turns.rem_euclid(1.0);
+    // Line 4: at rest at 90° (a quarter turn), reached turning forward.
+    let d = on(4);
+    let before = on(2).last().unwrap().turns;
+    assert!(d.iter().all(|t| t.spindle == AxisState::Standstill));
+    let at = d.last().unwrap().turns;
+    assert!((frac(at) - 0.25).abs() < 2e-4, "at {at}");
+    assert!(at > before, "{at} after {before}: went back");
+    // Line 6: back to 45°, less than a turn behind.
+    let at6 = on(6).last().unwrap().turns;
+    assert!((frac(at6) - 0.125).abs() < 2e-4, "at {at6}");
+    assert!(at6 < at && at - at6 < 1.0, "{at6} after {at}");
+    // G87: while the tool goes down through the hole at the offset point (X3 Y2.5) the
+    // spindle rests at its index; over the back bore (X2 Y3) it turns.
+    let g87 = on(9);
+    let down: Vec<_> = g87
+        .iter()
+        .filter(|t| (t.x - 3.0).abs() < 1e-9 && t.z < 0.0)
+        .collect();
+    assert!(!down.is_empty());
+    for t in &down {
+        assert_eq!(t.spindle, AxisState::Standstill);
+        let f = frac(t.turns);
+        assert!(f.min(1.0 - f) < 2e-4, "through the hole at {} rev", t.turns);
+    }
+    assert!(g87
+        .iter()
+        .any(|t| (t.x - 2.0).abs() < 1e-9 && t.z > -1.5 && t.rps_cmd == 10.0));
+    let last = ticks.last().unwrap();
+    assert!((last.z - 5.0).abs() < 1e-9 && (last.x - 2.0).abs() < 1e-9);
+    assert_eq!(last.rps_cmd, 10.0, "the spindle turns again after G87");
+}

@@ -65,6 +65,15 @@ pub fn op_json(op: &Op) -> serde_json::Value {
             }
             .into();
         }
+        OpKind::SpindleOrient { angle, dir } => {
+            j["angle"] = (*angle).into();
+            j["direction"] = match dir {
+                SpindleDir::Cw => "cw",
+                SpindleDir::Ccw => "ccw",
+                SpindleDir::Off => "shortest",
+            }
+            .into();
+        }
         OpKind::Coolant { mist, flood } => {
             j["mist"] = (*mist).into();
             j["flood"] = (*flood).into();

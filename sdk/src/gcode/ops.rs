@@ -156,6 +156,10 @@ pub enum OpKind {
     Dwell { seconds: f64 },
     /// M3/M4/M5 and S: the spindle's speed (rpm) and direction.
     Spindle { speed: f64, dir: SpindleDir },
+    /// M19 (and G87's oriented stops): the spindle stopped at `angle` degrees from its index,
+    /// turning to it clockwise (`dir` Cw, M19 P0), counter-clockwise (Ccw, P1) or the shorter
+    /// way (Off, P2).
+    SpindleOrient { angle: f64, dir: SpindleDir },
     /// M7/M8/M9: coolant state after the block.
     Coolant { mist: bool, flood: bool },
     /// M62–M65: digital output `index` on or off, `synced` with the next motion's start
@@ -205,6 +209,7 @@ impl OpKind {
             OpKind::SpindleSync { .. } => "spindle_sync",
             OpKind::Dwell { .. } => "dwell",
             OpKind::Spindle { .. } => "spindle",
+            OpKind::SpindleOrient { .. } => "spindle_orient",
             OpKind::Coolant { .. } => "coolant",
             OpKind::Output { .. } | OpKind::AnalogOutput { .. } => "output",
             OpKind::WaitInput { .. } => "wait_input",

@@ -399,6 +399,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             OpKind::WaitInput { .. }
             | OpKind::Probe { .. }
             | OpKind::Spindle { .. }
+            | OpKind::SpindleOrient { .. }
             | OpKind::SpindleSync { .. }
             | OpKind::Coolant { .. }
             | OpKind::ToolChange { .. }
@@ -424,6 +425,9 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 if let Some(m) = self.spindle.set(&self.group, op.line, speed, dir)? {
                     self.hooks.message(op.line, &m);
                 }
+            }
+            OpKind::SpindleOrient { angle, dir } => {
+                self.spindle.orient(&self.group, op.line, angle, dir)?;
             }
             OpKind::Coolant { mist, flood } => {
                 self.hooks.coolant(mist, flood)?;

@@ -45,8 +45,8 @@
 
 use super::{GcodeError, SpindleDir};
 use crate::{
-    AxisState, CamSettings, Error, Group, Master, MotionFlags, Result, Status, SyncLimits,
-    VelocityLimits, CAM_MAX_POINTS, CAM_TABLES,
+    AxisState, CamSettings, Error, Group, Master, MotionFlags, MoveLimits, Result, Status,
+    SyncLimits, VelocityLimits, CAM_MAX_POINTS, CAM_TABLES,
 };
 use firmware_proto::OUTPUTS;
 
@@ -313,6 +313,14 @@ enum Job {
     Ramp { line: usize },
     /// A thread.
     Thread(Box<Thread>),
+    /// M19: stopping, then turning to `target` (revolutions, once chosen).
+    Orient {
+        line: usize,
+        /// The angle, a fraction of a revolution in [0, 1).
+        angle: f64,
+        dir: SpindleDir,
+        target: Option<f64>,
+    },
 }
 
 /// Where a thread is.
@@ -453,6 +461,36 @@ impl SpindleUnit {
         self.velocity = v;
         self.job = Job::Ramp { line };
         Ok(note)
+    }
+
+    /// M19 at `line`: the spindle halts, then turns to `angle` degrees from its index (a
+    /// whole revolution), clockwise (forward, as M3), counter-clockwise or the shorter way
+    /// (`dir` Off); the run waits until it rests there ([`SpindleUnit::poll`]).
+    pub(super) fn orient(
+        &mut self,
+        group: &Group,
+        line: usize,
+        angle: f64,
+        dir: SpindleDir,
+    ) -> Result<()> {
+        let Some(cfg) = self.cfg.clone() else {
+            return Err(gcode_err(line, "M19: no spindle is configured on the card"));
+        };
+        if !angle.is_finite() {
+            return Err(gcode_err(line, format!("M19 R{angle}")));
+        }
+        let axis = group.card_pub().axis(cfg.axis)?;
+        if axis.status()?.state != AxisState::Standstill {
+            axis.halt(cfg.acceleration, cfg.jerk)?;
+        }
+        self.velocity = 0.0;
+        self.job = Job::Orient {
+            line,
+            angle: (angle / 360.0).rem_euclid(1.0),
+            dir,
+            target: None,
+        };
+        Ok(())
     }
 
     /// M7/M8/M9: the mist and flood outputs that are given.
@@ -628,6 +666,59 @@ impl SpindleUnit {
                 Ok(false)
             }
             Job::Thread(_) => self.poll_thread(group),
+            Job::Orient { .. } => self.poll_orient(group),
+        }
+    }
+
+    fn poll_orient(&mut self, group: &Group) -> Result<bool> {
+        let (
+            Job::Orient {
+                line,
+                angle,
+                dir,
+                target,
+            },
+            Some(cfg),
+        ) = (&mut self.job, self.cfg.as_ref())
+        else {
+            return Ok(true);
+        };
+        let s = group.card_pub().axis(cfg.axis)?.status()?;
+        if matches!(s.state, AxisState::ErrorStop | AxisState::Disabled) {
+            let line = *line;
+            self.job = Job::Idle;
+            return Err(gcode_err(
+                line,
+                format!("M19: the spindle's axis is in {:?}", s.state),
+            ));
+        }
+        if s.state != AxisState::Standstill {
+            return Ok(false);
+        }
+        match *target {
+            None => {
+                // At rest: the angle's position ahead (M3's way), behind, or the nearer.
+                let p = s.command_position;
+                let base = p.floor() + *angle;
+                let t = match dir {
+                    SpindleDir::Cw if base < p => base + 1.0,
+                    SpindleDir::Ccw if base > p => base - 1.0,
+                    SpindleDir::Off => [base - 1.0, base, base + 1.0]
+                        .into_iter()
+                        .min_by(|a, b| (a - p).abs().total_cmp(&(b - p).abs()))
+                        .unwrap_or(base),
+                    _ => base,
+                };
+                let limits = MoveLimits::new(cfg.max_rpm / 60.0, cfg.acceleration, cfg.jerk);
+                group.card_pub().axis(cfg.axis)?.move_absolute(t, &limits)?;
+                *target = Some(t);
+                Ok(false)
+            }
+            Some(t) if (s.command_position - t).abs() < 1e-9 => {
+                self.job = Job::Idle;
+                Ok(true)
+            }
+            Some(_) => Ok(false),
         }
     }
 

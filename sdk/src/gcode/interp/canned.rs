@@ -1,4 +1,4 @@
-//! Canned cycles G73, G74, G81–G86, G88, G89, as LinuxCNC's `interp_cycles.cc` makes them,
+//! Canned cycles G73, G74, G81–G89, as LinuxCNC's `interp_cycles.cc` makes them,
 //! in any of the three planes: `aa`, `bb` the plane's axes, `cc` its normal (Z in G17).
 //!
 //! | cycle | after the preliminary moves (at the hole, at R) |
@@ -12,8 +12,12 @@
 //! | G86 | feed, dwell P, spindle stop, rapid out, spindle restarted |
 //! | G88 | feed, dwell P, spindle stop, pause (M0: LinuxCNC's manual retract), rapid out, spindle restarted |
 //! | G89 | feed, dwell P, feed out |
+//! | G87 | rapid to the offset point (I, J), oriented stop, rapid down to the bottom, rapid to the hole, spindle on, feed up to K, feed back to the bottom, oriented stop, rapid to the offset point, rapid up to the clearance level and to the hole, spindle on |
 //!
-//! G87 (back boring) needs an oriented spindle stop (M19): refused. The clearance level is
+//! G87 (back boring, LinuxCNC's form): I and J offset the point where the tool goes through the
+//! hole from the hole (incremental always), K is the top of the back bore (absolute in G90,
+//! from the bottom in G91); in G18/G19 the plane's axes take the letters of their axes (K and
+//! I in G18, J and K in G19) and the normal's letter gives the top. The clearance level is
 //! the initial level (G98) or R (G99); the initial level is kept while cycles follow each
 //! other. Every move of a cycle runs in exact path mode (G61.1), as in LinuxCNC.
 
@@ -88,6 +92,13 @@ impl Cycle<'_> {
         });
     }
 
+    fn orient(&mut self, dir: SpindleDir) {
+        self.out.push(Op {
+            line: self.line,
+            kind: OpKind::SpindleOrient { angle: 0.0, dir },
+        });
+    }
+
     fn overrides(&mut self, feed: bool, spindle: bool) {
         self.out.push(Op {
             line: self.line,
@@ -106,12 +117,6 @@ impl Interp {
     ) -> Result<(), GcodeError> {
         let line = b.line;
         let name = gname(g);
-        if g == 870 {
-            return err(
-                line,
-                "G87 (back boring) needs an oriented spindle stop (M19): not supported",
-            );
-        }
         match self.feed_mode {
             FeedMode::InverseTime => {
                 return err(line, "canned cycles cannot run in inverse time mode (G93)")
@@ -186,6 +191,20 @@ impl Interp {
             None => return err(line, format!("{name} needs Q (the peck depth)")),
         };
         let clearance = b.word('D').map_or(PECK_CLEARANCE_MM, |d| d * k);
+        // G87's offsets and top, by axis (I for X, J for Y, K for Z).
+        let mut ijk = self.cycle.ijk;
+        if g == 870 {
+            let (pa, pb, pc) = self.plane.axes();
+            for (i, c) in ['I', 'J', 'K'].into_iter().enumerate() {
+                match b.word(c) {
+                    Some(v) => ijk[i] = v * k,
+                    None if !same && [pa, pb, pc].contains(&i) => {
+                        return err(line, format!("{name} needs {c} the first time"))
+                    }
+                    None => {}
+                }
+            }
+        }
         let spindle = self.dir;
         match g {
             840 if spindle != SpindleDir::Cw => {
@@ -194,7 +213,7 @@ impl Interp {
             740 if spindle != SpindleDir::Ccw => {
                 return err(line, "G74 needs the spindle turning counter-clockwise (M4)")
             }
-            860 | 880 if spindle == SpindleDir::Off => {
+            860 | 870 | 880 if spindle == SpindleDir::Off => {
                 return err(line, format!("{name} needs the spindle turning"))
             }
             _ => {}
@@ -225,6 +244,11 @@ impl Interp {
                 format!("{name}: R is below the bottom ({})", letters[cc]),
             );
         }
+        let top = if self.absolute {
+            ijk[cc]
+        } else {
+            bottom + ijk[cc]
+        };
         self.cycle.initial = Some(old_cc);
         let saved_blend = self.blend;
         self.blend = Blend::ExactPath;
@@ -324,6 +348,21 @@ impl Interp {
                         c.dwell(p);
                         c.feed(a, bv, clear)?;
                     }
+                    870 => {
+                        let (oa, ob) = (a + ijk[aa], bv + ijk[bb]);
+                        c.rapid(oa, ob, r);
+                        c.orient(spindle);
+                        c.rapid(oa, ob, bottom);
+                        c.rapid(a, bv, bottom);
+                        c.spindle(spindle);
+                        c.feed(a, bv, top)?;
+                        c.feed(a, bv, bottom)?;
+                        c.orient(spindle);
+                        c.rapid(oa, ob, bottom);
+                        c.rapid(oa, ob, clear);
+                        c.rapid(a, bv, clear);
+                        c.spindle(spindle);
+                    }
                     _ => return err(line, format!("{name} is not a canned cycle")),
                 }
             }
@@ -335,6 +374,7 @@ impl Interp {
         self.cycle.cc = cc_word;
         self.cycle.p = p;
         self.cycle.q = q;
+        self.cycle.ijk = ijk;
         Ok(())
     }
 }

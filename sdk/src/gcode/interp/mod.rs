@@ -19,9 +19,9 @@
 //! | G43 G43.1 G43.2 G49 | |
 //! | G52 G53 G54–G59.3 G92 G92.1 G92.2 G92.3 | |
 //! | G61 G61.1 G64 P Q | |
-//! | G73 G74 G80–G86 G88 G89 G98 G99 | see `canned`; G87 refused |
+//! | G73 G74 G80–G89 G98 G99 | see `canned` |
 //! | G97 | (G96 refused) |
-//! | M0 M1 M2 M30 M60 M3 M4 M5 M6 M61 M7 M8 M9 M48–M51 M62–M68 M70–M73 M100–M199 | M19, M52, M53 refused |
+//! | M0 M1 M2 M30 M60 M3 M4 M5 M6 M61 M7 M8 M9 M19 M48–M51 M62–M68 M70–M73 M100–M199 | M52, M53 refused |
 //!
 //! Anything else (G7, G8, G12, G76, G96, U V W words, …) is an error naming its line, as is
 //! a word no code on its line uses (LinuxCNC's rules). Moves of length zero are emitted as
@@ -171,6 +171,8 @@ struct CycleMemory {
     cc: f64,
     p: f64,
     q: f64,
+    /// G87's I, J, K as last programmed (mm; by axis X, Y, Z).
+    ijk: [f64; 3],
 }
 
 /// The modal state and the position.
@@ -631,7 +633,9 @@ impl Interp {
             }
             self.publish_tool(params);
         }
-        if let Some(m) = spindle_m {
+        if spindle_m == Some(19) {
+            self.orient(b, out)?;
+        } else if let Some(m) = spindle_m {
             let dir = match m {
                 3 => SpindleDir::Cw,
                 4 => SpindleDir::Ccw,
@@ -828,6 +832,29 @@ impl Interp {
                 dir: self.dir,
             },
         });
+    }
+
+    /// M19 R (degrees, 0 by default) P (0 clockwise, 1 counter-clockwise, 2 the shorter
+    /// way): the spindle stops, turned to R. (Q, LinuxCNC's time to wait for it, is taken and
+    /// not used: the run waits until the spindle is there.)
+    fn orient(&mut self, b: &Block, out: &mut Vec<Op>) -> Result<(), GcodeError> {
+        let line = b.line;
+        let angle = b.word('R').unwrap_or(0.0);
+        let dir = match b.word('P').unwrap_or(0.0) {
+            p if p == 0.0 => SpindleDir::Cw,
+            p if p == 1.0 => SpindleDir::Ccw,
+            p if p == 2.0 => SpindleDir::Off,
+            p => return err(line, format!("M19 P{p}: P is 0, 1 or 2")),
+        };
+        if b.word('Q').is_some_and(|q| q < 0.0) {
+            return err(line, "M19 with a negative Q (the time to wait)");
+        }
+        self.dir = SpindleDir::Off;
+        out.push(Op {
+            line,
+            kind: OpKind::SpindleOrient { angle, dir },
+        });
+        Ok(())
     }
 
     /// M62–M68.

@@ -65,7 +65,7 @@ fn m_group(m: u32) -> Option<u8> {
         0 | 1 | 2 | 30 | 60 => 4,
         62..=68 => 5,
         6 | 61 => 6,
-        3..=5 => 7,
+        3..=5 | 19 => 7,
         7..=9 => 8,
         48..=51 => 9,
         100..=199 => 10,
@@ -76,7 +76,6 @@ fn m_group(m: u32) -> Option<u8> {
 
 fn m_refused(m: u32) -> String {
     match m {
-        19 => "M19 (spindle orientation) is not supported".into(),
         52 => "M52 (adaptive feed) is not supported".into(),
         53 => "M53 (feed stop) is not supported".into(),
         98 | 99 => format!("M{m} (Fanuc-style subprogram) is not supported"),
@@ -329,12 +328,13 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
             || is(&[820, 860, 880, 890, 50, 52, 20, 30, 740, 840])
             || matches!(m9, Some(50 | 51))
             || matches!(m5, Some(62..=66))
+            || l.m[7] == Some(19)
             || user_m;
         if !ok {
             return err(
                 line,
                 "P word with no G2, G3, G4, G5, G5.2, G10, G64, G74, G82, G84, G86, G88, G89, \
-                 M50, M51, M62-M66 or M100-M199 to use it",
+                 M19, M50, M51, M62-M66 or M100-M199 to use it",
             );
         }
         if is(&[20, 30]) {
@@ -353,16 +353,21 @@ fn check_words(b: &Block, l: &Line) -> Result<(), GcodeError> {
             || matches!(m5, Some(66..=68))
             || g10
             || l.m[6] == Some(61)
+            || l.m[7] == Some(19)
             || l.g[13] == Some(640);
         if !ok {
             return err(
                 line,
-                "Q word with no G5, G10, G64, G73, G83, M61, M66, M67, M68 or M100-M199 to use it",
+                "Q word with no G5, G10, G64, G73, G83, M19, M61, M66, M67, M68 or M100-M199 to \
+                 use it",
             );
         }
     }
-    if b.word('R').is_some() && !is(&[20, 30, 730]) && !cycle && !g10 {
-        return err(line, "R word with no G2, G3, G10 or canned cycle to use it");
+    if b.word('R').is_some() && !is(&[20, 30, 730]) && !cycle && !g10 && l.m[7] != Some(19) {
+        return err(
+            line,
+            "R word with no G2, G3, G10, M19 or canned cycle to use it",
+        );
     }
     if is(&[330, 331]) {
         if b.word('K').is_none() {

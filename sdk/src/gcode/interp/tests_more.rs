@@ -168,8 +168,47 @@ fn dwelling_and_boring_cycles() {
     assert_feed(ops[4], [0.0, 0.0, 5.0], 1.0);
     let e = run_err(&["G0 Z5", "G82 X0 Y0 Z-5 R1 F60"]);
     assert!(e.message.contains("P"), "{e}");
+    // G87 (LinuxCNC's interp_cycles.cc): through the hole at the offset point with the
+    // spindle oriented, back bore up to K and down again, out the same way.
     let e = run_err(&["G0 Z5", "G87 X0 Y0 Z-5 R1 I1 J0 K-1 F60"]);
-    assert!(e.message.contains("G87"), "{e}");
+    assert!(e.message.contains("spindle"), "{e}");
+    let e = run_err(&["G0 Z5 M3 S100", "G87 X0 Y0 Z-5 R1 I1 K-1 F60"]);
+    assert!(e.message.contains("needs J"), "{e}");
+    let r = run(&["G0 Z5 M4 S100", "G98 G87 X2 Y3 Z-5 R1 I1 J-0.5 K-1 F60"]).unwrap();
+    let ops = r.line(2);
+    let orient = OpKind::SpindleOrient {
+        angle: 0.0,
+        dir: SpindleDir::Ccw,
+    };
+    let on = OpKind::Spindle {
+        speed: 100.0,
+        dir: SpindleDir::Ccw,
+    };
+    assert_eq!(ops.len(), 14, "{ops:?}");
+    assert_rapid(ops[0], [2.0, 3.0, 5.0]);
+    assert_rapid(ops[1], [2.0, 3.0, 1.0]);
+    assert_rapid(ops[2], [3.0, 2.5, 1.0]);
+    assert_eq!(ops[3], &orient);
+    assert_rapid(ops[4], [3.0, 2.5, -5.0]);
+    assert_rapid(ops[5], [2.0, 3.0, -5.0]);
+    assert_eq!(ops[6], &on);
+    assert_feed(ops[7], [2.0, 3.0, -1.0], 1.0);
+    assert_feed(ops[8], [2.0, 3.0, -5.0], 1.0);
+    assert_eq!(ops[9], &orient);
+    assert_rapid(ops[10], [3.0, 2.5, -5.0]);
+    assert_rapid(ops[11], [3.0, 2.5, 5.0]);
+    assert_rapid(ops[12], [2.0, 3.0, 5.0]);
+    assert_eq!(ops[13], &on);
+    // M19: R, P; a bad P.
+    let r = run(&["M3 S100", "M19 R90 P2"]).unwrap();
+    assert_eq!(
+        r.line(2),
+        [&OpKind::SpindleOrient {
+            angle: 90.0,
+            dir: SpindleDir::Off
+        }]
+    );
+    assert!(run_err(&["M19 P3"]).message.contains("P3"));
 }
 
 #[test]
@@ -464,7 +503,7 @@ fn lines_linuxcnc_refuses_are_refused_with_their_line() {
         (&["G0 X1", "G0 X2 E1"], "E word"),
         (&["G0 X1", "G0 X2 K1"], "K word"),
         (&["G0 X1", "G12 X1"], "G12"),
-        (&["G0 X1", "M19"], "M19"),
+        (&["G0 X1", "M3 M19"], "same modal group"),
         (&["G0 X1", "M222"], "M222"),
         (&["G0 X1", "G92"], "axis word"),
         (&["G0 X1", "G38.2 F10"], "without any axis word"),
