@@ -10,7 +10,6 @@
 //! inactive. A probe already in the state the move looks for is an error, as in LinuxCNC. The
 //! move uses touch-probe channels 0, 1 and 2 (X, Y, Z), which are disarmed after it.
 
-use super::run::group_position;
 use super::{GcodeError, Pos};
 use crate::{Error, Group, IoState, PathBuffer, ProbeTrigger, Result, Segment, Transition};
 
@@ -109,12 +108,11 @@ impl ProbeRun {
         })
     }
 
-    /// The move's result once its motion has ended: where the probe tripped (the captures of
-    /// the moving axes, the others where they were) and where the group came to rest. The
-    /// probes are disarmed.
-    pub fn finish(self, group: &Group, axes: &str) -> Result<ProbeResult> {
+    /// The move's result once its motion has ended with the group at `stopped` (program
+    /// axes): where the probe tripped (the captures of the moving axes, the others where they
+    /// were) and where the group came to rest. The probes are disarmed.
+    pub fn finish(self, group: &Group, stopped: Pos) -> Result<ProbeResult> {
         let card = group.card_pub();
-        let stopped = group_position(group, axes)?;
         let mut at = stopped;
         let mut tripped = false;
         for &(i, axis, channel) in &self.captured {

@@ -251,7 +251,8 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                     return Ok(self.set(RunState::Running));
                 }
                 if let Some(p) = self.probing.take() {
-                    let r = p.finish(&self.group, &self.settings.axes)?;
+                    let stopped = group_position(&self.group, &self.settings.axes)?;
+                    let r = p.finish(&self.group, stopped)?;
                     self.program.probe_result(r.at, r.stopped, r.tripped);
                 }
             }

@@ -840,11 +840,12 @@ impl Interp {
     fn orient(&mut self, b: &Block, out: &mut Vec<Op>) -> Result<(), GcodeError> {
         let line = b.line;
         let angle = b.word('R').unwrap_or(0.0);
-        let dir = match b.word('P').unwrap_or(0.0) {
-            p if p == 0.0 => SpindleDir::Cw,
-            p if p == 1.0 => SpindleDir::Ccw,
-            p if p == 2.0 => SpindleDir::Off,
-            p => return err(line, format!("M19 P{p}: P is 0, 1 or 2")),
+        let p = b.word('P').unwrap_or(0.0);
+        let dir = match p as u8 {
+            0 if p == 0.0 => SpindleDir::Cw,
+            1 if p == 1.0 => SpindleDir::Ccw,
+            2 if p == 2.0 => SpindleDir::Off,
+            _ => return err(line, format!("M19 P{p}: P is 0, 1 or 2")),
         };
         if b.word('Q').is_some_and(|q| q < 0.0) {
             return err(line, "M19 with a negative Q (the time to wait)");
