@@ -16,6 +16,8 @@ pub struct Block {
     /// Value words by letter: `words[i]` is the letter `b'A' + i`. G, M, N and O never
     /// appear here (G and M are above; N and O are the reader's).
     pub words: [Option<f64>; 26],
+    /// Polar coordinates of X and Y: `@` (the distance) and `^` (the angle, degrees).
+    pub polar: [Option<f64>; 2],
     /// `(MSG, …)`, `(PRINT, …)` or `(DEBUG, …)` text on the line, parameters substituted.
     pub message: Option<String>,
 }
@@ -33,5 +35,6 @@ impl Block {
             && self.m.is_empty()
             && self.message.is_none()
             && self.words.iter().all(Option::is_none)
+            && self.polar.iter().all(Option::is_none)
     }
 }

@@ -67,14 +67,32 @@ impl Interp {
     }
 
     /// The end of a move in work coordinates: the axis words, absolute or incremental.
+    /// Polar coordinates (`@` distance, `^` angle in degrees) give X and Y about the work
+    /// origin, as LinuxCNC's: absolute, the point at that distance and angle (the one missing
+    /// taken from the current point); incremental, the current point's distance and angle
+    /// increased by them.
     pub(super) fn target(&self, b: &Block) -> Pos {
         let cur = self.cur_work();
         let w = self.axis_words(b);
-        std::array::from_fn(|i| match w[i] {
+        let mut t: Pos = std::array::from_fn(|i| match w[i] {
             Some(v) if self.absolute => v,
             Some(v) => cur[i] + v,
             None => cur[i],
-        })
+        });
+        let [r, a] = b.polar;
+        if r.is_some() || a.is_some() {
+            let (r0, a0) = (cur[0].hypot(cur[1]), cur[1].atan2(cur[0]));
+            let r = r.map(|v| v * self.k());
+            let a = a.map(f64::to_radians);
+            let (r, a) = if self.absolute {
+                (r.unwrap_or(r0), a.unwrap_or(a0))
+            } else {
+                (r0 + r.unwrap_or(0.0), a0 + a.unwrap_or(0.0))
+            };
+            t[0] = r * a.cos();
+            t[1] = r * a.sin();
+        }
+        t
     }
 
     /// The active system's offsets from #5221… (#5220 says which).

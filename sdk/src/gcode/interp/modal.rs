@@ -185,7 +185,11 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
             return err(line, format!("no {letter} axis on this machine"));
         }
     }
-    let axis = AXES.iter().any(|&c| b.word(c).is_some());
+    let polar = b.polar.iter().any(Option::is_some);
+    if polar && (b.word('X').is_some() || b.word('Y').is_some()) {
+        return err(line, "X or Y words with polar coordinates (@, ^)");
+    }
+    let axis = polar || AXES.iter().any(|&c| b.word(c).is_some());
     let ijk = ['I', 'J', 'K'].iter().any(|&c| b.word(c).is_some());
     let mode0 = l.g[0];
     let mode1 = l.g[1];
@@ -243,6 +247,20 @@ pub(super) fn check(it: &Interp, b: &Block) -> Result<Line, GcodeError> {
         }
         if matches!(l.motion, Some(20 | 30)) {
             return err(line, "G4 with G2 or G3: both use P");
+        }
+    }
+    if polar && (mode0.is_some() || !matches!(l.motion, Some(0 | 10))) {
+        return err(line, "polar coordinates (@, ^) are for G0 and G1 only");
+    }
+    if polar {
+        // (LinuxCNC's: no angle to take or turn about the origin)
+        let cur = it.cur_work();
+        let absolute = l.g[3].map_or(it.absolute, |g| g == 900);
+        if cur[0] == 0.0 && cur[1] == 0.0 && (!absolute || b.polar[1].is_none()) {
+            return err(
+                line,
+                "polar coordinates at the work origin need ^ (the angle), and G90",
+            );
         }
     }
     if mode0 == Some(530) {

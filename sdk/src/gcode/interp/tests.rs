@@ -37,6 +37,8 @@ pub(super) fn blk(line: usize, text: &str) -> Block {
             'G' => b.g.push((v * 10.0).round() as u16),
             'M' => b.m.push(v as u32),
             'N' => {}
+            '@' => b.polar[0] = Some(v),
+            '^' => b.polar[1] = Some(v),
             c => {
                 let k = (c as u8 - b'A') as usize;
                 assert!(b.words[k].is_none(), "{c} twice in {text:?}");

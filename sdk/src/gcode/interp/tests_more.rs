@@ -682,3 +682,27 @@ M72
     assert_eq!(e.line, 14);
     assert!(e.message.contains("M72"), "{e}");
 }
+
+#[test]
+fn polar_coordinates_as_linuxcnc_reads_them() {
+    // G90: the point at @ and ^ about the work origin; one missing is the current point's.
+    let r = run(&["G0 @10 ^90", "G1 ^0 F60", "G1 @5", "G91 G1 ^90", "G1 @-1"]).unwrap();
+    assert_rapid(r.motion(1), [0.0, 10.0, 0.0]);
+    assert_feed(r.motion(2), [10.0, 0.0, 0.0], 1.0);
+    assert_feed(r.motion(3), [5.0, 0.0, 0.0], 1.0);
+    // G91: the current distance and angle increased.
+    assert_feed(r.motion(4), [0.0, 5.0, 0.0], 1.0);
+    assert_feed(r.motion(5), [0.0, 4.0, 0.0], 1.0);
+    // In inches, from a work offset.
+    let r = run(&["G10 L2 P1 X100", "G20 G0 @1 ^180"]).unwrap();
+    assert_rapid(r.motion(2), [100.0 - 25.4, 0.0, 0.0]);
+    for (lines, says) in [
+        (&["G0 @1"][..], "origin"),
+        (&["G91 G0 ^90"][..], "origin"),
+        (&["G0 @1 ^0 X1"][..], "X or Y"),
+        (&["G2 @1 ^0 R1"][..], "G0 and G1"),
+    ] {
+        let e = run_err(lines);
+        assert!(e.message.contains(says), "{lines:?}: {e}");
+    }
+}

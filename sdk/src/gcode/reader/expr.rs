@@ -467,6 +467,14 @@ impl<'a> Cursor<'a> {
                     let v = self.value(p)?;
                     block.m.push(m_code(v)?);
                 }
+                b'@' | b'^' => {
+                    let v = self.value(p)?;
+                    let slot = &mut block.polar[usize::from(c == b'^')];
+                    if slot.is_some() {
+                        return Err(format!("two {} words on one line", char::from(c)));
+                    }
+                    *slot = Some(v);
+                }
                 b'n' => return Err("N (line number) must start the line".into()),
                 b'o' => return Err("O-word must start the line".into()),
                 b'a'..=b'z' => {
