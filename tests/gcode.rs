@@ -4,28 +4,12 @@
 //! and the reader's memory on a million lines and on a 10 MB line.
 mod common;
 
-use common::{mcctl, mcctl_peak_rss, stepped_card};
+use common::{mcctl, mcctl_peak_rss, xyz_card};
 use motioncard_sdk::gcode::run::{group_position, Hooks, RunSettings, RunState, Runner};
 use motioncard_sdk::gcode::{Op, Options, Pos, Program};
-use motioncard_sdk::{Card, Group, GroupSettings, PathSettings};
+use motioncard_sdk::Card;
 use std::f64::consts::PI;
 use std::time::Duration;
-
-/// A stepped card with group 0 over X, Y, Z in mm (1000 counts a mm).
-fn xyz_card() -> (Card, Group) {
-    let card = stepped_card();
-    for a in 0..3 {
-        let axis = card.axis(a).unwrap();
-        axis.set_scale(1000.0).unwrap();
-        axis.enable().unwrap();
-    }
-    let g = card.group(0).unwrap();
-    g.configure(&GroupSettings::new(&[0, 1, 2])).unwrap();
-    g.enable().unwrap();
-    g.configure_path(&PathSettings::uniform(3, 100.0, 1000.0, 1e5))
-        .unwrap();
-    (card, g)
-}
 
 /// Every operation's end, as the runner reads them.
 #[derive(Default)]

@@ -3,12 +3,12 @@
 //! tap's way in and out, the spindle's speed, and the errors with their lines.
 mod common;
 
-use common::stepped_card;
+use common::xyz_card;
 use motioncard_sdk::gcode::run::{
     group_position, Hooks, RunSettings, RunState, Runner, SpindleSettings,
 };
 use motioncard_sdk::gcode::{Options, Program};
-use motioncard_sdk::{AxisState, Card, Error, ErrorKind, Group, GroupSettings, PathSettings};
+use motioncard_sdk::{AxisState, Card, Error, ErrorKind, Group};
 
 /// The servo period of the stepped card, s.
 const TS: f64 = 1e-4;
@@ -21,20 +21,10 @@ const FLOOD: u32 = 5;
 /// A stepped card: group 0 over X, Y, Z in mm (1000 counts a mm; 100 mm/s, 1000 mm/s², 10⁵
 /// mm/s³), axis 3 the spindle in revolutions (its encoder's 10,000 counts a revolution).
 fn spindle_card() -> (Card, Group) {
-    let card = stepped_card();
-    for a in 0..3 {
-        let axis = card.axis(a).unwrap();
-        axis.set_scale(1000.0).unwrap();
-        axis.enable().unwrap();
-    }
+    let (card, g) = xyz_card();
     let sp = card.axis(SPINDLE).unwrap();
     sp.set_scale(10_000.0).unwrap();
     sp.enable().unwrap();
-    let g = card.group(0).unwrap();
-    g.configure(&GroupSettings::new(&[0, 1, 2])).unwrap();
-    g.enable().unwrap();
-    g.configure_path(&PathSettings::uniform(3, 100.0, 1000.0, 1e5))
-        .unwrap();
     (card, g)
 }
 

@@ -58,21 +58,11 @@ pub fn op_json(op: &Op) -> serde_json::Value {
         OpKind::Dwell { seconds } => j["seconds"] = (*seconds).into(),
         OpKind::Spindle { speed, dir } => {
             j["speed"] = (*speed).into();
-            j["direction"] = match dir {
-                SpindleDir::Cw => "cw",
-                SpindleDir::Ccw => "ccw",
-                SpindleDir::Off => "off",
-            }
-            .into();
+            j["direction"] = direction(*dir, "off").into();
         }
         OpKind::SpindleOrient { angle, dir } => {
             j["angle"] = (*angle).into();
-            j["direction"] = match dir {
-                SpindleDir::Cw => "cw",
-                SpindleDir::Ccw => "ccw",
-                SpindleDir::Off => "shortest",
-            }
-            .into();
+            j["direction"] = direction(*dir, "shortest").into();
         }
         OpKind::Coolant { mist, flood } => {
             j["mist"] = (*mist).into();
@@ -163,4 +153,13 @@ pub fn run(a: Args) -> ExitCode {
     }
     let _ = out.flush();
     ExitCode::SUCCESS
+}
+
+/// A spindle direction's name in the JSON (`off`: what `SpindleDir::Off` means there).
+fn direction(d: SpindleDir, off: &'static str) -> &'static str {
+    match d {
+        SpindleDir::Cw => "cw",
+        SpindleDir::Ccw => "ccw",
+        SpindleDir::Off => off,
+    }
 }

@@ -2,7 +2,26 @@
 #![allow(dead_code)]
 
 use motioncard_sdk::plan::{Limits, Profile};
-use motioncard_sdk::{Card, Clock, EmuOptions, PathLimits, SimOptions};
+use motioncard_sdk::{
+    Card, Clock, EmuOptions, Group, GroupSettings, PathLimits, PathSettings, SimOptions,
+};
+
+/// A stepped card with group 0 over X, Y, Z in mm (1000 counts a mm; 100 mm/s, 1000 mm/s²,
+/// 10⁵ mm/s³), enabled, its path configured.
+pub fn xyz_card() -> (Card, Group) {
+    let card = stepped_card();
+    for a in 0..3 {
+        let axis = card.axis(a).unwrap();
+        axis.set_scale(1000.0).unwrap();
+        axis.enable().unwrap();
+    }
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[0, 1, 2])).unwrap();
+    g.enable().unwrap();
+    g.configure_path(&PathSettings::uniform(3, 100.0, 1000.0, 1e5))
+        .unwrap();
+    (card, g)
+}
 
 /// A stepped emulated card: deterministic on any machine.
 pub fn stepped_card() -> Card {
