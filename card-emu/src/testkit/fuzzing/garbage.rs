@@ -4,12 +4,12 @@
 
 use firmware_proto::cmd::{
     ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable, CardCmd, CircularMove, Cmd,
-    CompareArm, CompareDisarm, CompareKind, CompareTable, CurveSize, Direction, EStop, FeedLimits,
-    GearIn, GearInPos, GroupCmd, GroupOverride, IoCmd, Jog, LinearMove, Master, MoveKind,
-    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine,
-    PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin,
-    PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits,
-    VelocityMove,
+    CompData, CompHeader, CompPointArgs, CompRead, CompareArm, CompareDisarm, CompareKind,
+    CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn, GearInPos, GroupCmd,
+    GroupOverride, IoCmd, Jog, LinearMove, Master, MoveKind, MoveLimits, MoveOpts, NurbsBegin,
+    NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
+    PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin, PvtPoint, PvtPoints,
+    PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits, VelocityMove,
 };
 use firmware_proto::ring::Entry;
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS};
@@ -241,7 +241,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 16] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 98, 256, 0x7FFF, 0x8000, 0xFFFF,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 101, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -750,6 +750,47 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 points,
                 cubic: bits as u32 & CAM_CUBIC != 0,
                 periodic: bits as u32 & CAM_PERIODIC != 0,
+            }))
+        }
+        // Layout 1.9: leadscrew compensation, a table's header, its points (rising positions,
+        // small corrections), a read-back.
+        O::CompTable => {
+            let points = u16::from(s.u8() % 8);
+            let header = CompHeader {
+                points,
+                bound: magnitude(s, 0.0, 3.0),
+                backlash: magnitude(s, -1.0, 1.0),
+                ramp_vel: magnitude(s, 2.0, 5.0),
+                ramp_acc: magnitude(s, 3.0, 7.0),
+                bidir: s.u8() & 1 == 1,
+            };
+            feed(s);
+            Plausible::typed(AxisCmd::CompTable(header))
+        }
+        O::CompData => {
+            let first = u16::from(s.u8() % 8);
+            let count = 1 + s.u8() % firmware_proto::cmd::COMP_DATA_MAX as u8;
+            let mut x = position(s);
+            let mut point = [CompPointArgs::default(); firmware_proto::cmd::COMP_DATA_MAX];
+            for p in point.iter_mut().take(usize::from(count)) {
+                x += magnitude(s, 0.0, 4.0);
+                *p = CompPointArgs {
+                    position: x,
+                    forward: magnitude(s, -1.0, 1.0),
+                    reverse: -magnitude(s, -1.0, 1.0),
+                };
+            }
+            feed(s);
+            Plausible::typed(AxisCmd::CompData(CompData {
+                first,
+                count,
+                point,
+            }))
+        }
+        O::CompRead => {
+            feed(s);
+            Plausible::typed(AxisCmd::CompRead(CompRead {
+                first: u16::from(s.u8()),
             }))
         }
         O::CamData => {
