@@ -114,8 +114,8 @@ extern "C" {
 
 /**
  * Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's fields;
- * positions in `value` are in user units. `MC_EVENT_ACK` and `MC_EVENT_NACK` are taken by the
- * library, never delivered.
+ * positions and distances in `value` are in user units (the rule of `mc_event`). `MC_EVENT_ACK`
+ * and `MC_EVENT_NACK` are taken by the library, never delivered.
  *
  * The command with this seq was accepted.
  */
@@ -2221,7 +2221,13 @@ typedef struct mc_status {
 } mc_status;
 
 /**
- * An event from the card, in user units.
+ * An event from the card. The unit rule, one for every kind: a `value` that is a position
+ * or a distance is in user units of the axis it concerns (`axis`, or for `MC_EVENT_COMPARE`
+ * and `MC_EVENT_PROBE` the axis the channel watches), as `mc_status` gives them: motion done
+ * and active, in velocity (user units/s), homing failed, sync, PVT done, compare fired or
+ * missed, probe captures, and the safety stops whose measurement is a position, a following
+ * error or an encoder count. Every other value is as the card posts it: states, times in
+ * seconds, counts of things, ids, words.
  */
 typedef struct mc_event {
   /**
@@ -2246,7 +2252,7 @@ typedef struct mc_event {
    */
   uint64_t tick;
   /**
-   * Kind-specific value (positions in user units).
+   * Kind-specific value (positions and distances in user units: the rule above).
    */
   double value;
 } mc_event;

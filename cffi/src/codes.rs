@@ -6,8 +6,8 @@
 //! writes them into motioncard.h. The rules are in `xtask/src/codes.rs`.
 
 /// Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's fields;
-/// positions in `value` are in user units. `MC_EVENT_ACK` and `MC_EVENT_NACK` are taken by the
-/// library, never delivered.
+/// positions and distances in `value` are in user units (the rule of `mc_event`). `MC_EVENT_ACK`
+/// and `MC_EVENT_NACK` are taken by the library, never delivered.
 ///
 /// The command with this seq was accepted.
 pub const MC_EVENT_ACK: u32 = 1;

@@ -1171,3 +1171,11 @@ fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
     assert!(out.contains("G-code part: paused at line 12"), "{out}");
     assert!(out.contains("ended at X42 Z-3"), "{out}");
 }
+
+/// Issue 39: one unit rule for every event. On an axis of 1000 counts/mm, the compare, probe
+/// and motion-done events report millimetres (compare within a count of 1 mm).
+#[test]
+fn every_event_position_is_in_user_units_from_c() {
+    let out = run(&compile("units", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS units\n"), "{out}");
+}

@@ -80,7 +80,13 @@ pub enum Outcome {
     Sync(i32, f64),
 }
 
-/// An event from the card, in user units.
+/// An event from the card. One unit rule for every kind: a `value` that is a position or a
+/// distance is in user units of the axis it concerns (the event's axis; a compare or probe
+/// channel's: the axis the channel watches), whatever the kind (motion done and active, in
+/// velocity (a velocity: user units/s), homing failed, sync, PVT done, compare fired or
+/// missed, probe captures, and the safety stops whose measurement is a position, a following
+/// error or an encoder count: limits, following error, encoder, amplifier alarm). Every other
+/// value is as the card posts it: states, times in seconds, counts of things, ids, words.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CardEvent {
     /// Kind.
@@ -93,7 +99,7 @@ pub struct CardEvent {
     pub code: i32,
     /// Servo tick.
     pub tick: u64,
-    /// Kind-specific value (positions in user units).
+    /// Kind-specific value (positions and distances in user units, see [`CardEvent`]).
     pub value: f64,
 }
 
@@ -171,7 +177,14 @@ pub(crate) struct Inner {
     inherited_stops: u32,
     /// The API trace, when one is recorded.
     trace: Option<crate::trace::Tracer>,
+    /// The axis of each compare or probe arm this host sent, by the arm's seq (the last
+    /// [`IO_ARMS`]): their events name the channel, not the axis, and carry the arm's seq, so
+    /// the drain finds the axis whose scale converts their positions.
+    io_arms: Mutex<VecDeque<(u32, u16)>>,
 }
+
+/// How many compare and probe arms [`Inner`] remembers the axis of.
+const IO_ARMS: usize = 64;
 
 /// What a host keeps of a group's path (see `Card`'s `path_host`).
 #[derive(Debug, Clone)]
@@ -327,6 +340,7 @@ impl Card {
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
             trace,
+            io_arms: Mutex::new(VecDeque::new()),
         };
         // [safety] the session, then at once the heartbeat. The attach arms the card's watchdog
         // (it counts as the first heartbeat), so the beats start as it is sent, not after its
@@ -887,6 +901,15 @@ impl Inner {
             )));
         }
         cmd.seq = tx.ring.head().wrapping_add(1);
+        if cmd.opcode == raw::MC_OP_COMPARE_ARM as u16 || cmd.opcode == raw::MC_OP_PROBE_ARM as u16
+        {
+            // Before the ring: no event of this arm can be drained before it is known.
+            let mut arms = lock(&self.io_arms);
+            if arms.len() >= IO_ARMS {
+                arms.pop_front();
+            }
+            arms.push_back((cmd.seq, cmd.axis));
+        }
         if cmd.deadline_ms == 0 {
             cmd.deadline_ms = self.link.deadline();
         }
@@ -990,6 +1013,60 @@ impl Inner {
         r?.map_err(corrupt)
     }
 
+    /// The axis in whose units an event's value is a position or a distance (`None`: the value
+    /// is no position: a state, a time, a count, an id, a word). The one rule of
+    /// [`CardEvent::value`]: every position or distance is in user units.
+    fn position_axis(&self, kind: EventKind, e: &Event) -> Option<usize> {
+        let axis = e.axis as usize;
+        match kind {
+            EventKind::MotionDone
+            | EventKind::MotionActive
+            | EventKind::InVelocity
+            | EventKind::HomingFailed => Some(axis),
+            EventKind::Sync => {
+                (e.code != firmware_proto::SyncEvent::MasterLost as i32).then_some(axis)
+            }
+            EventKind::Pvt => (e.code == firmware_proto::PvtEvent::Done as i32).then_some(axis),
+            EventKind::SafetyStop if e.axis != 0xFFFF => {
+                let reason = firmware_proto::StopReason::from_raw(e.code as u32)?;
+                use firmware_proto::StopReason as R;
+                matches!(
+                    reason,
+                    R::HardLimitPos
+                        | R::HardLimitNeg
+                        | R::SoftLimitPos
+                        | R::SoftLimitNeg
+                        | R::FollowingError
+                        | R::EncoderLoss
+                        | R::EncoderJump
+                        | R::AmpAlarm
+                )
+                .then_some(axis)
+            }
+            // The channel's axis: the arm's, by its seq (else the card's word for the
+            // channel, when this host did not send the arm).
+            EventKind::Compare if e.code != raw::MC_CMP_LOW_WATER as i32 => {
+                self.io_arm_axis(e.seq).or_else(|| {
+                    let b = layout::COMPARE_STATUS.try_at(axis)?;
+                    Some(b.read(&self.dev.window).axis as usize)
+                })
+            }
+            EventKind::Probe => self.io_arm_axis(e.seq).or_else(|| {
+                let b = layout::PROBE_STATUS.try_at(axis)?;
+                Some(b.read(&self.dev.window).axis as usize)
+            }),
+            _ => None,
+        }
+    }
+
+    fn io_arm_axis(&self, seq: u32) -> Option<usize> {
+        lock(&self.io_arms)
+            .iter()
+            .rev()
+            .find(|(s, _)| *s == seq)
+            .map(|(_, a)| *a as usize)
+    }
+
     fn drain(&self, rx: &mut Rx) -> Result<()> {
         loop {
             let e: Event = match rx.ring.pop() {
@@ -1008,19 +1085,9 @@ impl Inner {
                     push_capped(&mut rx.acks, (e.seq, Err(code)), OUTCOME_CAP)
                 }
                 _ => {
-                    let scale = self.scale(e.axis as usize);
-                    let value = if matches!(
-                        kind,
-                        EventKind::MotionDone
-                            | EventKind::MotionActive
-                            | EventKind::InVelocity
-                            | EventKind::HomingFailed
-                    ) || (kind == EventKind::Sync
-                        && e.code != firmware_proto::SyncEvent::MasterLost as i32)
-                    {
-                        e.value / scale
-                    } else {
-                        e.value
+                    let value = match self.position_axis(kind, &e) {
+                        Some(axis) => e.value / self.scale(axis),
+                        None => e.value,
                     };
                     match kind {
                         EventKind::MotionDone | EventKind::GroupMotionDone => push_capped(
