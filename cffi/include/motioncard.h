@@ -3473,7 +3473,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_NOT_FOUND -2
 
 /**
- * Another process has the card open.
+ * The card is open already: in another process, or in this one (a card is opened once
+ * per process; the message says which).
  */
 #define MC_ERR_BUSY -3
 
@@ -3975,6 +3976,13 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_GCODE -109
 
 /**
+ * A wait for the last motion of an axis (or the last move of a group) when this library
+ * has started none there since the card was opened: there is nothing to wait for (the
+ * axis or group may still move, by motion of another kind: a raw command, another host).
+ */
+#define MC_ERR_NO_MOTION -110
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4237,7 +4245,8 @@ mc_result mc_motion_wait(mc_card card,
 
 /**
  * Wait for the last motion started on this axis by this process, as `mc_motion_wait`
- * (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+ * (`position` may be NULL). `MC_ERR_NO_MOTION` when none was started since the card was opened
+ * (nothing to wait for). Blocks.
  */
 mc_result mc_wait_done(mc_card card, uint32_t axis, uint32_t timeout_ms, double *position);
 
@@ -4660,7 +4669,8 @@ mc_result mc_group_motion_wait(mc_card card, struct mc_group_motion motion, uint
 
 /**
  * Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
- * `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+ * `MC_ERR_NO_MOTION` when none was queued since the card was opened (nothing to
+ * wait for). Blocks.
  */
 mc_result mc_group_wait_done(mc_card card, uint32_t group, uint32_t timeout_ms);
 

@@ -604,7 +604,8 @@ pub(crate) fn motion_of(
 }
 
 /// Wait for the last motion started on this axis by this process, as `mc_motion_wait`
-/// (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+/// (`position` may be NULL). `MC_ERR_NO_MOTION` when none was started since the card was opened
+/// (nothing to wait for). Blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_wait_done(
     card: mc_card,

@@ -99,6 +99,9 @@ pub(crate) struct Device {
     pub window: Arc<MappedWindow>,
     pub irq: Irq,
     pub backend: Backend,
+    /// Marks the URI open in this process while the device lives (see [`Held`]); last, so
+    /// that it is let go after the backend.
+    held: Option<Held>,
 }
 
 impl Backend {
@@ -145,8 +148,47 @@ impl Device {
     }
 }
 
+/// The URIs of the cards this process has open (`emu:`, `uio:`, `pci:`; every `sim` is a card
+/// of its own): a second open of one of them is [`Error::Busy`] that says the card is open in
+/// this process, not in another.
+static OPEN_HERE: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+/// A URI in [`OPEN_HERE`] for as long as it lives.
+struct Held(String);
+
+impl Held {
+    /// Mark `uri` open here; `None` when it already is.
+    fn take(uri: &str) -> Option<Held> {
+        let mut open = crate::lock::lock(&OPEN_HERE);
+        if open.iter().any(|u| u == uri) {
+            return None;
+        }
+        open.push(uri.to_string());
+        Some(Held(uri.to_string()))
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        crate::lock::lock(&OPEN_HERE).retain(|u| *u != self.0);
+    }
+}
+
 /// Parse and open a card URI.
 pub(crate) fn open(uri: &str) -> Result<Device> {
+    if uri == "sim" {
+        return open_uri(uri);
+    }
+    let held = Held::take(uri).ok_or_else(|| Error::Busy {
+        uri: uri.into(),
+        in_this_process: true,
+    })?;
+    let mut dev = open_uri(uri)?;
+    dev.held = Some(held);
+    Ok(dev)
+}
+
+fn open_uri(uri: &str) -> Result<Device> {
     if uri == "sim" {
         #[cfg(feature = "emulator")]
         return open_sim(&SimOptions::default());
@@ -215,6 +257,7 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
         window,
         irq: Irq::EventFd(irq),
         backend,
+        held: None,
     })
 }
 
@@ -226,7 +269,10 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
                 "no card-emu process is serving '{name}' (start one with `card-emu --name {name}`)"
             ),
         },
-        ConnectError::Busy => Error::Busy { uri: uri.into() },
+        ConnectError::Busy => Error::Busy {
+            uri: uri.into(),
+            in_this_process: false,
+        },
         ConnectError::Denied { uid } => Error::PermissionDenied {
             uri: uri.into(),
             reason: format!(
@@ -251,6 +297,7 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
         window: Arc::new(window),
         irq: Irq::EventFd(conn.irq),
         backend: Backend::Emu { lease: conn.lease },
+        held: None,
     })
 }
 
@@ -261,7 +308,10 @@ fn lock_exclusive(uri: &str, file: &File) -> Result<Flock<File>> {
         .try_clone()
         .map_err(|e| Error::io(format!("locking {uri}"), e))?;
     Flock::lock(dup, FlockArg::LockExclusiveNonblock).map_err(|(_, e)| match e {
-        nix::errno::Errno::EWOULDBLOCK => Error::Busy { uri: uri.into() },
+        nix::errno::Errno::EWOULDBLOCK => Error::Busy {
+            uri: uri.into(),
+            in_this_process: false,
+        },
         e => Error::io(format!("locking {uri}"), e),
     })
 }
@@ -306,6 +356,7 @@ fn open_uio(uri: &str, path: &str, n: &str) -> Result<Device> {
         window: Arc::new(window),
         irq: Irq::Uio(irq_file),
         backend: Backend::Hardware { _lock: lock },
+        held: None,
     })
 }
 
@@ -323,6 +374,7 @@ fn open_pci(uri: &str, addr: &str) -> Result<Device> {
         window: Arc::new(window),
         irq: Irq::None,
         backend: Backend::Hardware { _lock: lock },
+        held: None,
     })
 }
 
