@@ -22,10 +22,14 @@ use std::time::Duration;
 /// What a slave follows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Master {
-    /// The commanded position of an axis (followed one servo tick late when it runs a
-    /// single-axis move: its reference is computed after its slaves').
+    /// The commanded position of an axis, followed in the same servo tick: the slave's
+    /// reference of a tick is the ratio applied to the master's reference of that tick (a
+    /// master driven by homing or a PT/PVT stream: one tick late).
     Commanded(usize),
-    /// The actual position (encoder) of an axis.
+    /// The actual position (encoder) of an axis, latched at the tick's start: the slave's
+    /// servo reaches it one tick later, so at a master velocity `v` the slave trails the
+    /// ratio line by `ratio · v · Ts` (one tick of the master's travel) on top of its own
+    /// following error. Follow `Commanded` where the master's command is the truth.
     Actual(usize),
     /// An auxiliary encoder input, 0..[`AUX_ENCODERS`].
     Aux(usize),

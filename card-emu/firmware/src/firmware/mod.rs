@@ -431,6 +431,9 @@ impl<M: Mem + Clone> Firmware<M> {
             let (set, clear) = g.take_path_outputs();
             self.outputs = (self.outputs & !clear) | set;
         }
+        // The commanded-position masters of geared slaves take this tick's reference first,
+        // so that their slaves follow it in the same tick (gear.rs).
+        let mut early = self.advance_commanded_masters(ts);
         // Geared slaves follow their masters (gear.rs).
         let synced = self.gear_tick(ts);
         // PT/PVT streams drive their axes (pvt.rs).
@@ -448,7 +451,17 @@ impl<M: Mem + Clone> Firmware<M> {
         let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
         let mut report = TickReport::default();
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            dac[i] = axis.control_into(ts, &mut report);
+            dac[i] = match early.get_mut(i).and_then(Option::take) {
+                Some((powered, r)) => {
+                    report = r;
+                    if powered {
+                        axis.servo_into(ts, &mut report)
+                    } else {
+                        0.0
+                    }
+                }
+                None => axis.control_into(ts, &mut report),
+            };
             if !report.is_empty() {
                 // One an axis: never full.
                 let _ = reports.push((i, core::mem::take(&mut report)));
