@@ -79,7 +79,9 @@
  * process hangs or dies, or mc_set_heartbeat(card, 0)), every axis stops after the watchdog
  * timeout and the trip stays latched (MC_ERR_WATCHDOG_TRIPPED) until mc_reset_faults. Safety
  * stops end in MC_AXIS_STATE_ERROR_STOP with their MC_STOP_REASON_ in mc_status.stop_reason
- * and an MC_EVENT_SAFETY_STOP event.
+ * and an MC_EVENT_SAFETY_STOP event. Debugging under gdb or valgrind: set the environment
+ * variable MOTIONCARD_SIM_WATCHDOG_MS (milliseconds) and a real-time sim card boots with that
+ * watchdog timeout and keeps it as the least mc_set_watchdog_timeout sets (still armed).
  *
  * Event loop: put the descriptor of mc_irq_fd in your poll/epoll set (level-triggered);
  * when it is readable, call mc_dispatch_events(card, 0, &n). Waits in other threads
@@ -5206,8 +5208,9 @@ mc_result mc_set_heartbeat(mc_card card, uint32_t on);
 /**
  * Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
  * host without real-time scheduling). The card refuses zero and anything under
- * 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
- * card answers.
+ * 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. On a `sim` card
+ * opened with `MOTIONCARD_SIM_WATCHDOG_MS` set (debugging), a shorter timeout gets that one.
+ * Blocks until the card answers.
  */
 mc_result mc_set_watchdog_timeout(mc_card card, uint32_t timeout_us);
 

@@ -212,6 +212,11 @@ fn run_to_end(mut cmd: Command) -> Output {
 
 /// Run a compiled program with the installed library on its path; returns its stdout.
 fn run(exe: &Path, args: &[&str], wrapper: &[&str]) -> String {
+    run_env(exe, args, wrapper, &[])
+}
+
+/// [`run`] with these environment variables set.
+fn run_env(exe: &Path, args: &[&str], wrapper: &[&str], env: &[(&str, &str)]) -> String {
     let inst = installed();
     let mut cmd = match wrapper.split_first() {
         Some((w, rest)) => {
@@ -222,7 +227,8 @@ fn run(exe: &Path, args: &[&str], wrapper: &[&str]) -> String {
         None => Command::new(exe),
     };
     cmd.args(args)
-        .env("LD_LIBRARY_PATH", inst.prefix.join("lib"));
+        .env("LD_LIBRARY_PATH", inst.prefix.join("lib"))
+        .envs(env.iter().copied());
     let out = run_to_end(cmd);
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -1178,4 +1184,39 @@ fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
 fn every_event_position_is_in_user_units_from_c() {
     let out = run(&compile("units", Link::Shared), &[], &[]);
     assert!(out.contains("PASS units\n"), "{out}");
+}
+
+/// Issue 39: debugging a C program on the emulated card. With `MOTIONCARD_SIM_WATCHDOG_MS`
+/// the real-time `sim` card boots with that watchdog timeout and keeps it as the least a
+/// program sets, still armed (2 s: a heartbeat stopped for 2.5 s trips it); under valgrind
+/// with 10 s, the first `mc_enable` works (with the default 100 ms it failed with
+/// `MC_ERR_WATCHDOG_TRIPPED`, the heartbeat thread held up for seconds).
+#[test]
+fn the_sim_card_has_a_debugging_watchdog_timeout() {
+    let exe = compile("debug", Link::Shared);
+    let out = run_env(
+        &exe,
+        &["2000"],
+        &[],
+        &[("MOTIONCARD_SIM_WATCHDOG_MS", "2000")],
+    );
+    assert!(out.contains("PASS debug\n"), "{out}");
+    assert!(
+        out.contains("the watchdog tripped after 2500 ms without a heartbeat"),
+        "{out}"
+    );
+    let out = run_env(
+        &exe,
+        &["10000"],
+        &[
+            "valgrind",
+            "--error-exitcode=1",
+            "--leak-check=full",
+            "--errors-for-leak-kinds=definite,indirect",
+            "-q",
+        ],
+        &[("MOTIONCARD_SIM_WATCHDOG_MS", "10000")],
+    );
+    assert!(out.contains("PASS debug\n"), "{out}");
+    assert!(out.contains("watchdog timeout 10000 ms"), "{out}");
 }

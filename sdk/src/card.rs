@@ -1059,6 +1059,12 @@ impl Inner {
         }
     }
 
+    /// The least watchdog timeout this card takes from a host, µs (0: none; see
+    /// [`crate::SIM_WATCHDOG_ENV`]).
+    pub(crate) fn watchdog_floor_us(&self) -> u32 {
+        self.dev.watchdog_floor_us
+    }
+
     fn io_arm_axis(&self, seq: u32) -> Option<usize> {
         lock(&self.io_arms)
             .iter()

@@ -213,6 +213,11 @@ impl<M: Mem + Clone> Firmware<M> {
         self.axes[..self.num_axes].get(i)
     }
 
+    /// The board's watchdog timeout at boot, µs ([`Safety::set_boot_watchdog_timeout`]).
+    pub fn set_boot_watchdog_timeout(&mut self, us: u32) -> Result<(), firmware_proto::NackCode> {
+        self.safety.set_boot_watchdog_timeout(&self.mem, us)
+    }
+
     /// The safety layer (watchdog, latches, configuration).
     pub fn safety(&self) -> &Safety {
         &self.safety
