@@ -21,6 +21,10 @@
  *   MC_ERR_BAD_HANDLE; closing twice is harmless (the second close returns MC_ERR_BAD_HANDLE).
  *   0 is never a valid handle.
  * - A panic inside the library never crosses into C: it becomes MC_ERR_PANIC.
+ * - Every MC_ and mc_ name a comment of this header cites is defined in it (the register
+ *   map's own constants that the comments cite, flags and codes of raw commands among them,
+ *   come last). MC_ and a CamelCase word (MC_Power, MC_MoveAbsolute) is the name of a PLCopen
+ *   function block, not a C name.
  * - Positions, velocities and limits are in user units: counts divided by the axis's scale
  *   (mc_set_scale; default 1, i.e. counts). Time-outs are in milliseconds; on a stepped sim
  *   card (mc_open_sim_stepped) they are in emulated time and waiting advances the card.
@@ -1420,7 +1424,7 @@ extern "C" {
 
 /**
  * Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then leave
- * ErrorStop by `MC_RESET`.
+ * ErrorStop by `MC_OP_RESET`.
  */
 #define MC_OP_SAFETY_RESET 35
 
@@ -1478,7 +1482,7 @@ extern "C" {
 #define MC_OP_PATH_DWELL 58
 
 /**
- * Args: output (`0..MC_OUTPUTS-1`), on (0 or 1), distance. flags: `MC_PATH_OUT_*`. Sets or clears
+ * Args: output (`0..MC_CARD_OUTPUTS-1`), on (0 or 1), distance. flags: `MC_OUTPUT_AT_*`. Sets or clears
  * the output when the next motion segment queued starts, ends, or has run `distance` counts; at
  * most `MC_PATH_OUTPUTS_PENDING` before that segment.
  */
@@ -1490,7 +1494,7 @@ extern "C" {
 #define MC_OP_APPLY_GROUP_PATH 60
 
 /**
- * Args: mask, value (`0..2^MC_OUTPUTS-1`): set the outputs in mask to value now (axis field
+ * Args: mask, value (`0..2^MC_CARD_OUTPUTS-1`): set the outputs in mask to value now (axis field
  * ignored).
  */
 #define MC_OP_SET_OUTPUTS 61
@@ -1513,7 +1517,7 @@ extern "C" {
 #define MC_OP_APPLY_IO_CONFIG 64
 
 /**
- * Axis: the axis watched. args: channel, output (`0..MC_OUTPUTS-1`), `pulse_us`, `low_water`
+ * Axis: the axis watched. args: channel, output (`0..MC_CARD_OUTPUTS-1`), `pulse_us`, `low_water`
  * (table: the `MC_EVENT_COMPARE` low-water mark, 0: none), position (single) or start (series),
  * pitch (series, counts, >= 1), count (series, 1..2^31-1). flags: `MC_CMP_MODE_*` and
  * `MC_CMP_DIR_*`. `MC_NACK_COMPARE_BUSY` if the channel is armed (a channel done may be armed
@@ -1537,7 +1541,7 @@ extern "C" {
 #define MC_OP_COMPARE_DISARM 67
 
 /**
- * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
+ * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_CARD_INPUTS-1` or
  * `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
  * (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
  */
@@ -2075,11 +2079,11 @@ typedef struct mc_axis_status_payload {
    */
   double target;
   /**
-   * PLCopen state, MC_STATE_*.
+   * PLCopen state, MC_AXIS_STATE_*.
    */
   uint32_t state;
   /**
-   * Fault bits, MC_FAULT_*.
+   * Fault bits, MC_AXIS_FAULT_*.
    */
   uint32_t faults;
   /**
@@ -2152,7 +2156,7 @@ typedef struct mc_axis_status_payload {
    */
   double override_factor;
   /**
-   * A mix of the words before it, seeded with MC_STATUS_CHECK.
+   * A mix of the words before it: the checksum the seqlock reader checks.
    */
   uint64_t checksum;
 } mc_axis_status_payload;
@@ -2780,17 +2784,17 @@ typedef struct mc_axis_homing {
   double home_offset;
   /**
    * The whole homing ends within this, s (0 < timeout <= MC_MAX_MOVE_TIME), else
-   * MC_HOMING_ERR_TIMEOUT.
+   * MC_HOMING_ERROR_TIMEOUT.
    */
   double timeout;
   /**
    * The farthest the axis goes from where homing began, counts (> 0), else
-   * MC_HOMING_ERR_DISTANCE.
+   * MC_HOMING_ERROR_DISTANCE.
    */
   double max_distance;
   /**
    * The farthest the index pulse may be beyond the edge or hard stop, counts (> 0; a
-   * revolution and a margin), else MC_HOMING_ERR_NO_INDEX. Also the limit of methods 33, 34.
+   * revolution and a margin), else MC_HOMING_ERROR_NO_INDEX. Also the limit of methods 33, 34.
    */
   double index_distance;
   /**
@@ -2827,11 +2831,11 @@ typedef struct mc_io_config {
    */
   uint32_t polarity;
   /**
-   * Bit i: MC_EV_INPUT when debounced input i becomes active.
+   * Bit i: MC_EVENT_INPUT when debounced input i becomes active.
    */
   uint32_t rise_events;
   /**
-   * Bit i: MC_EV_INPUT when debounced input i becomes inactive.
+   * Bit i: MC_EVENT_INPUT when debounced input i becomes inactive.
    */
   uint32_t fall_events;
   uint32_t _reserved0;
@@ -3337,7 +3341,7 @@ typedef struct mc_scope_config {
    */
   uint32_t divider;
   /**
-   * Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index).
+   * Channel k's source, MC_SCOPE_SOURCE(MC_SCOPE_SIG_*, index).
    */
   uint32_t source[16];
   /**
@@ -3353,7 +3357,7 @@ typedef struct mc_scope_config {
    */
   uint32_t trigger_channel;
   /**
-   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1.
+   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_CARD_INPUTS-1.
    */
   uint32_t trigger_input;
   /**
@@ -3408,7 +3412,7 @@ typedef struct mc_scope_sample {
  */
 typedef struct mc_scope_status {
   /**
-   * MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE.
+   * MC_SCOPE_STATE_IDLE, _WAITING, _CAPTURING or _DONE.
    */
   uint32_t state;
   /**
@@ -3701,12 +3705,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_UNSUPPORTED -21
 
 /**
- * The host watchdog tripped and is latched: `Card::reset_faults` first.
+ * The host watchdog tripped and is latched: `mc_reset_faults` first.
  */
 #define MC_ERR_WATCHDOG_TRIPPED -47
 
 /**
- * An e-stop is latched: `Card::reset_faults` first.
+ * An e-stop is latched: `mc_reset_faults` first.
  */
 #define MC_ERR_ESTOP_ACTIVE -48
 
@@ -3738,7 +3742,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * A kinematic limit outside the range the card accepts
- * (`limit_range`: denormal, absurdly small or large).
+ * (denormal, absurdly small or large).
  */
 #define MC_ERR_LIMIT_RANGE -55
 
@@ -3779,12 +3783,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_CARD_GONE -60
 
 /**
- * The card was closed (`Card::close`) while the call waited, or before it.
+ * The card was closed (`mc_close`) while the call waited, or before it.
  */
 #define MC_ERR_CLOSED -61
 
 /**
- * The wait was cancelled from another thread (`Card::cancel_waits`).
+ * The wait was cancelled from another thread (`mc_cancel_waits`).
  */
 #define MC_ERR_CANCELLED -62
 
@@ -3800,7 +3804,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
- * encoder without an index channel (`HomingSettings`).
+ * encoder without an index channel (`mc_homing_settings`).
  */
 #define MC_ERR_HOMING_METHOD -65
 
@@ -3850,7 +3854,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * The digital inputs' configuration: an input beyond the card's 16, or a debounce over
- * 10,000 ticks (`IoSettings`).
+ * 10,000 ticks (`mc_io_settings`).
  */
 #define MC_ERR_IO_CONFIG -90
 
@@ -5507,6 +5511,621 @@ mc_result mc_send_raw(mc_card card,
                       size_t nargs,
                       double *value);
 
+
+/*
+ * The register map's own constants that the comments of this header cite (firmware-proto/include/mc_dpram.h,
+ * generated with it): the flags, sizes and codes of raw commands (mc_send_raw) and of the register map's blocks.
+ * MC_NACK_ codes are what the card answers a raw command (positive); the library's calls return
+ * MC_ERR_ codes.
+ */
+
+/**
+ * `MC_OP_CAM_IN` flag (beside the master source).
+ */
+#define MC_CAM_AT_CYCLE_END (1u << 4)
+
+#define MC_CAM_DATA_MAX 5u
+
+/**
+ * Aux = a point on the arc (three-point circle).
+ */
+#define MC_CIRC_BY_BORDER 2u
+
+/**
+ * Aux = centre.
+ */
+#define MC_CIRC_BY_CENTRE 0u
+
+/**
+ * `aux_u` = radius (negative: the arc longer than half a turn).
+ */
+#define MC_CIRC_BY_RADIUS 1u
+
+/**
+ * Else clockwise (ignored for border-point arcs).
+ */
+#define MC_CIRC_CCW (1u << 4)
+
+/**
+ * Helical targets are distances even in an absolute move.
+ */
+#define MC_CIRC_HELIX_RELATIVE (1u << 7)
+
+/**
+ * 2 bits:.
+ */
+#define MC_CIRC_MODE_SHIFT 2u
+
+/**
+ * 2 bits:.
+ */
+#define MC_CIRC_PLANE_SHIFT 5u
+
+/**
+ * Fire crossing downwards (single: both bits, either way).
+ */
+#define MC_CMP_DIR_NEG (1u << 3)
+
+/**
+ * Fire crossing upwards.
+ */
+#define MC_CMP_DIR_POS (1u << 2)
+
+#define MC_CMP_MODE_MASK 3u
+
+#define MC_CMP_MODE_SERIES 1u
+
+#define MC_CMP_MODE_SINGLE 0u
+
+#define MC_CMP_MODE_TABLE 2u
+
+/**
+ * Positions per `MC_OP_COMPARE_TABLE` entry.
+ */
+#define MC_COMPARE_TABLE_MAX 12u
+
+/**
+ * `axis_config[i]` and `axis_pdplus[i]`.
+ */
+#define MC_CONFIG_AXIS 2u
+
+/**
+ * `axis_filter[i]`.
+ */
+#define MC_CONFIG_AXIS_FILTER 3u
+
+/**
+ * `axis_homing[i]`.
+ */
+#define MC_CONFIG_AXIS_HOMING 7u
+
+/**
+ * `axis_safety[i]`.
+ */
+#define MC_CONFIG_AXIS_SAFETY 6u
+
+/**
+ * `card_config` (index 0).
+ */
+#define MC_CONFIG_CARD 1u
+
+/**
+ * `group_config[i]`.
+ */
+#define MC_CONFIG_GROUP 4u
+
+/**
+ * `group_path[i]`.
+ */
+#define MC_CONFIG_GROUP_PATH 8u
+
+/**
+ * `io_config` (index 0).
+ */
+#define MC_CONFIG_IO 9u
+
+/**
+ * Safety (index 0).
+ */
+#define MC_CONFIG_SAFETY 5u
+
+/**
+ * `io_config.debounce`, ticks.
+ */
+#define MC_DEBOUNCE_MAX 10000u
+
+#define MC_MAX_MOVE_TIME 1000000.0
+
+/**
+ * Start when the queued moves end (else: a group must be at rest; an axis aborts what it does).
+ */
+#define MC_MOVE_BUFFERED (1u << 1)
+
+#define MC_MOVE_RELATIVE (1u << 0)
+
+/**
+ * The card configuration can only change while every axis is disabled.
+ */
+#define MC_NACK_AXES_ENABLED 10
+
+/**
+ * A group axis is moving on its own.
+ */
+#define MC_NACK_AXIS_BUSY 19
+
+/**
+ * A move was commanded on a disabled axis.
+ */
+#define MC_NACK_AXIS_DISABLED 5
+
+/**
+ * Single-axis motion on an axis of an enabled group.
+ */
+#define MC_NACK_AXIS_GROUPED 20
+
+/**
+ * A move, jog, `MC_SetPosition` or `MC_Home` on an axis that is homing.
+ */
+#define MC_NACK_AXIS_HOMING 65
+
+/**
+ * An axis already belongs to another group.
+ */
+#define MC_NACK_AXIS_IN_OTHER_GROUP 17
+
+/**
+ * The move needs an axis the group does not have.
+ */
+#define MC_NACK_AXIS_NOT_IN_GROUP 18
+
+/**
+ * The axis number is not one of this card's axes.
+ */
+#define MC_NACK_BAD_AXIS 2
+
+/**
+ * A stop category other than 0, 1 or 2.
+ */
+#define MC_NACK_BAD_CATEGORY 38
+
+/**
+ * A configuration block holds a value out of its range.
+ */
+#define MC_NACK_BAD_CONFIG 7
+
+/**
+ * No such group.
+ */
+#define MC_NACK_BAD_GROUP 16
+
+/**
+ * Cam data without an open table or out of order.
+ */
+#define MC_NACK_CAM_SEQUENCE 106
+
+/**
+ * A table number, point count or flags out of range, points not strictly increasing in the master or not finite, a table not loaded, or one in use.
+ */
+#define MC_NACK_CAM_TABLE 105
+
+/**
+ * Reset refused: the cause (alarm, encoder fault, e-stop input, missing heartbeat) is still present.
+ */
+#define MC_NACK_CAUSE_ACTIVE 36
+
+/**
+ * The centre is not equidistant from start and end within the tolerance.
+ */
+#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
+
+/**
+ * The three points of a border-point arc are on one line.
+ */
+#define MC_NACK_COLLINEAR_POINTS 24
+
+/**
+ * The channel is armed (or armed in another mode, or its table has the other direction), or its output is another armed channel's.
+ */
+#define MC_NACK_COMPARE_BUSY 95
+
+/**
+ * The table has no room for the entry's positions.
+ */
+#define MC_NACK_COMPARE_FULL 93
+
+/**
+ * An unknown mode or direction, an output >= `MC_CARD_OUTPUTS`, a pulse width, low-water mark, pitch or count out of its range, or table data of the wrong size.
+ */
+#define MC_NACK_COMPARE_MODE 92
+
+/**
+ * Table positions not strictly monotonic in the direction.
+ */
+#define MC_NACK_COMPARE_ORDER 94
+
+/**
+ * `MC_OP_READ_CONFIG`: an unknown block kind, or a kind or index that is not an integer.
+ */
+#define MC_NACK_CONFIG_KIND 116
+
+/**
+ * An e-stop is latched: `MC_OP_SAFETY_RESET` first.
+ */
+#define MC_NACK_ESTOP_ACTIVE 33
+
+/**
+ * Served after its deadline (the command's `deadline_ms`): not executed.
+ */
+#define MC_NACK_EXPIRED 13
+
+/**
+ * Filters can change only while they hold no distance.
+ */
+#define MC_NACK_FILTER_BUSY 28
+
+/**
+ * A ratio that is not integer, a zero numerator, a denominator <= 0, or a magnitude above `MC_GEAR_RATIO_MAX`.
+ */
+#define MC_NACK_GEAR_RATIO 100
+
+/**
+ * A move on a disabled group.
+ */
+#define MC_NACK_GROUP_DISABLED 27
+
+/**
+ * The move goes further into an active limit switch.
+ */
+#define MC_NACK_HARD_LIMIT 34
+
+/**
+ * A homing method the axis cannot do: an unknown number, or an index method without `MC_HOMING_FLAG_INDEX`.
+ */
+#define MC_NACK_HOMING_METHOD 64
+
+/**
+ * The interpolator cannot run with the group's acc/dec mode.
+ */
+#define MC_NACK_INCOMPATIBLE_MODE 26
+
+/**
+ * No profile satisfies the request.
+ */
+#define MC_NACK_INFEASIBLE 8
+
+/**
+ * The command is not allowed in the axis's current state.
+ */
+#define MC_NACK_INVALID_STATE 6
+
+/**
+ * A compare or probe channel that is not an integer in `0..MC_COMPARE_CHANNELS-1` (`MC_PROBE_CHANNELS-1`).
+ */
+#define MC_NACK_IO_CHANNEL 91
+
+/**
+ * `io_config`: a mask bit beyond `MC_CARD_INPUTS` or a debounce over `MC_DEBOUNCE_MAX`.
+ */
+#define MC_NACK_IO_CONFIG 90
+
+/**
+ * A kinematic limit outside its range (see `MC_MAX_MOVE_TIME`).
+ */
+#define MC_NACK_LIMIT_RANGE 11
+
+/**
+ * A velocity, acceleration or jerk limit is zero or negative.
+ */
+#define MC_NACK_NON_POSITIVE_LIMIT 4
+
+/**
+ * An argument is NaN or infinite.
+ */
+#define MC_NACK_NOT_FINITE 3
+
+/**
+ * A command the session gate refuses (see `MC_OP_HOST_ATTACH`): no session attached with its watchdog armed.
+ */
+#define MC_NACK_NO_SESSION 41
+
+/**
+ * Fewer than degree+1 or more than 1024 control points.
+ */
+#define MC_NACK_NURBS_CTRL_COUNT 51
+
+/**
+ * Degree outside 1..5.
+ */
+#define MC_NACK_NURBS_DEGREE 49
+
+/**
+ * The group has fewer than 2 axes.
+ */
+#define MC_NACK_NURBS_DIMENSION 50
+
+/**
+ * A knot not finite (NaN or infinite).
+ */
+#define MC_NACK_NURBS_KNOT 60
+
+/**
+ * Knots decrease.
+ */
+#define MC_NACK_NURBS_KNOTS_DECREASING 53
+
+/**
+ * `n_knots` != `n_ctrl` + degree + 1.
+ */
+#define MC_NACK_NURBS_KNOT_COUNT 52
+
+/**
+ * An interior knot repeated more than degree times.
+ */
+#define MC_NACK_NURBS_KNOT_MULTIPLICITY 54
+
+/**
+ * End knots not repeated degree+1 times, or an empty domain.
+ */
+#define MC_NACK_NURBS_NOT_CLAMPED 55
+
+/**
+ * A control point not finite.
+ */
+#define MC_NACK_NURBS_POINT 57
+
+/**
+ * DATA/END without BEGIN, data out of order or missing.
+ */
+#define MC_NACK_NURBS_SEQUENCE 48
+
+/**
+ * The curve does not start where the group's path is.
+ */
+#define MC_NACK_NURBS_START 58
+
+/**
+ * A weight not finite and > 0.
+ */
+#define MC_NACK_NURBS_WEIGHT 56
+
+/**
+ * The curve has zero length.
+ */
+#define MC_NACK_NURBS_ZERO_LENGTH 59
+
+/**
+ * A position or distance is beyond the card's range.
+ */
+#define MC_NACK_OUT_OF_RANGE 9
+
+/**
+ * An override factor outside `0..MC_OVERRIDE_MAX`.
+ */
+#define MC_NACK_OVERRIDE_RANGE 14
+
+/**
+ * A path segment while group moves run, a group move while the path runs, or `group_path` applied while it runs.
+ */
+#define MC_NACK_PATH_BUSY 83
+
+/**
+ * A NURBS path segment with a point of zero tangent, or needing more pieces than the path buffer holds.
+ */
+#define MC_NACK_PATH_CURVE 85
+
+/**
+ * A segment id that is not an integer in 0..2^32-1.
+ */
+#define MC_NACK_PATH_ID 84
+
+/**
+ * A buffer or transition mode the card does not know, or a time-shifted transition it cannot make (`MC_PATH_TRANSITION_TIME_SHIFT`).
+ */
+#define MC_NACK_PATH_MODE 80
+
+/**
+ * An output number >= `MC_CARD_OUTPUTS`, a value other than 0/1, or more than `MC_PATH_OUTPUTS_PENDING` actions pending.
+ */
+#define MC_NACK_PATH_OUTPUT 82
+
+/**
+ * A line of length zero.
+ */
+#define MC_NACK_PATH_ZERO_LENGTH 81
+
+/**
+ * The planned profile failed the card's own check (shorter than |d|/vmax, off its target or beyond a limit): refused, not run.
+ */
+#define MC_NACK_PLAN_CHECK 12
+
+/**
+ * A probe input beyond `MC_PROBE_INPUT_INDEX`, no edge or an unknown flag, or a window with `window_lo` > `window_hi`.
+ */
+#define MC_NACK_PROBE_INPUT 96
+
+/**
+ * A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a velocity.
+ */
+#define MC_NACK_PVT_LIMIT 103
+
+/**
+ * Points without an open stream or after its last point, a start without points or on an axis that moved, a begin while one runs.
+ */
+#define MC_NACK_PVT_SEQUENCE 104
+
+/**
+ * A point not at least one servo period after the one before, or a segment longer than `MC_MAX_MOVE_TIME`.
+ */
+#define MC_NACK_PVT_TIME 102
+
+/**
+ * The group's (or the axis's) move queue is full.
+ */
+#define MC_NACK_QUEUE_FULL 25
+
+/**
+ * The radius is shorter than half the chord.
+ */
+#define MC_NACK_RADIUS_TOO_SMALL 23
+
+/**
+ * `n_channels` 0 or above `MC_SCOPE_CHANNELS`.
+ */
+#define MC_NACK_SCOPE_CHANNELS 111
+
+/**
+ * A divider 0 or above `MC_SCOPE_DIVIDER_MAX`.
+ */
+#define MC_NACK_SCOPE_DIVIDER 112
+
+/**
+ * `pre_trigger` above `MC_SCOPE_PRETRIGGER_MAX`.
+ */
+#define MC_NACK_SCOPE_PRETRIGGER 114
+
+/**
+ * An unknown signal, or an axis or group index the card has not.
+ */
+#define MC_NACK_SCOPE_SIGNAL 110
+
+/**
+ * Configure or arm while armed, trigger while not waiting, stop while idle, arm before a configure.
+ */
+#define MC_NACK_SCOPE_STATE 115
+
+/**
+ * An unknown mode, trigger kind or edge, a trigger channel >= `n_channels`, a trigger input >= `MC_CARD_INPUTS`, a level not finite, or a one-shot with `post_trigger` 0.
+ */
+#define MC_NACK_SCOPE_TRIGGER 113
+
+/**
+ * A detach by a host whose session is not the attached one.
+ */
+#define MC_NACK_SESSION 40
+
+/**
+ * The move goes further beyond a soft limit.
+ */
+#define MC_NACK_SOFT_LIMIT 35
+
+/**
+ * A stop ramp from `max_velocity` longer than the maximum stop time, or a maximum stop time out of range.
+ */
+#define MC_NACK_STOP_TOO_LONG 39
+
+/**
+ * A master source the card does not know, a master axis or aux encoder it does not have, the slave itself, or a master axis disabled or in ErrorStop.
+ */
+#define MC_NACK_SYNC_MASTER 101
+
+/**
+ * The opcode is not defined by this firmware.
+ */
+#define MC_NACK_UNKNOWN_OPCODE 1
+
+/**
+ * Watchdog timeout 0 or under 1.5 x `host.host_period_us`.
+ */
+#define MC_NACK_WATCHDOG_TIMEOUT 37
+
+/**
+ * The host watchdog fault is latched: `MC_OP_SAFETY_RESET` first.
+ */
+#define MC_NACK_WATCHDOG_TRIPPED 32
+
+/**
+ * The arc has zero length (or zero radius).
+ */
+#define MC_NACK_ZERO_LENGTH_ARC 21
+
+/**
+ * Saturation-aware feed (Yeh 3.4): needs PD+ axes.
+ */
+#define MC_NURBS_SATURATION (1u << 2)
+
+/**
+ * 200 %.
+ */
+#define MC_OVERRIDE_MAX 2.0
+
+/**
+ * The last segment of a program: its stop is not starvation.
+ */
+#define MC_PATH_LAST (1u << 21)
+
+#define MC_PATH_OUTPUTS_PENDING 8u
+
+#define MC_PROBE_CONTINUOUS (1u << 2)
+
+#define MC_PROBE_WINDOW (1u << 3)
+
+/**
+ * `cmd_head` - `cmd_tail` > `MC_CMD_RING_LEN`.
+ */
+#define MC_PROTO_CMD_RING 1
+
+/**
+ * `evt_head` - `evt_tail` > `MC_EVT_RING_LEN`.
+ */
+#define MC_PROTO_EVT_RING 2
+
+/**
+ * `MC_OP_GROUP_MOVE_PTP`: every axis's limits were staged (else `MC_NACK_BAD_CONFIG`).
+ */
+#define MC_PTP_AXIS_LIMITS (1u << 10)
+
+#define MC_PVT_LAST (1u << 1)
+
+/**
+ * Points per `MC_OP_PVT_POINTS`.
+ */
+#define MC_PVT_POINTS_MAX 4u
+
+#define MC_PVT_PT (1u << 0)
+
+/**
+ * Encoder to a kilometre on a fine one.
+ */
+#define MC_SCALE_MAX 1e12
+
+/**
+ * |counts per user unit|: a nanometre-class unit on a coarse.
+ */
+#define MC_SCALE_MIN 1e-9
+
+/**
+ * `scope_config.divider`: `1..MC_SCOPE_DIVIDER_MAX`.
+ */
+#define MC_SCOPE_DIVIDER_MAX 65536u
+
+/**
+ * `scope_config.pre_trigger`: `0..MC_SCOPE_PRETRIGGER_MAX`.
+ */
+#define MC_SCOPE_PRETRIGGER_MAX 1024u
+
+#define MC_SCOPE_SOURCE(signal, index) ((uint32_t)(signal) | ((uint32_t)(index) << 16))
+
+#define MC_SERVO_FFPIV 0u
+
+/**
+ * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+ */
+#define MC_SERVO_PDPLUS 1u
+
+#define MC_SERVO_RATE_MAX_HZ 20000u
+
+#define MC_SERVO_RATE_MIN_HZ 1000u
+
+#define MC_STATUS_WORDS 24u
+
+#define MC_CMD_RING_LEN 64u
+
+#define MC_EVT_RING_LEN 256u
+
+/**
+ * |numerator|, denominator <= 2^31 - 1.
+ */
+#define MC_GEAR_RATIO_MAX 2147483647.0
 #ifdef __cplusplus
 }  /* extern "C" */
 #endif

@@ -832,7 +832,7 @@ pub const MC_OP_APPLY_AXIS_SAFETY: u32 = 33;
 pub const MC_OP_ESTOP: u32 = 34;
 
 /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then leave
-/// ErrorStop by `MC_RESET`.
+/// ErrorStop by `MC_OP_RESET`.
 pub const MC_OP_SAFETY_RESET: u32 = 35;
 
 /// Flags: the new session id (nonzero). If another session is still attached (its host died or hung

@@ -196,7 +196,7 @@
 #define MC_OP_APPLY_AXIS_SAFETY 33u   /* copy and validate axis_safety[axis] */
 #define MC_OP_ESTOP 34u               /* args: category (0, 1 or 2). Every axis; latched */
 #define MC_OP_SAFETY_RESET 35u        /* clear the card-wide latches (watchdog, e-stop) once their
-                                       * causes are gone; axes then leave ErrorStop by MC_RESET */
+                                       * causes are gone; axes then leave ErrorStop by MC_OP_RESET */
 /* Host sessions (layout 1.3). A host attaches before its first heartbeat and detaches when it
  * closes the card; a host that vanishes never detaches.
  *
@@ -773,7 +773,7 @@
 #define MC_NACK_LIMIT_RANGE 11  /* a kinematic limit outside its range (see MC_MAX_MOVE_TIME) */
 #define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
                                  * |d|/vmax, off its target or beyond a limit): refused, not run */
-#define MC_NACK_EXPIRED 13      /* served after its deadline (mc_cmd.deadline_ms): not executed */
+#define MC_NACK_EXPIRED 13      /* served after its deadline (the command's deadline_ms): not executed */
 #define MC_NACK_OVERRIDE_RANGE 14 /* an override factor outside 0..MC_OVERRIDE_MAX */
 #define MC_NACK_BAD_GROUP 16            /* no such group */
 #define MC_NACK_AXIS_IN_OTHER_GROUP 17  /* an axis already belongs to another group */
@@ -869,7 +869,7 @@
 
 /* Fault bits (mc_axis_status_payload.faults) */
 #define MC_FAULT_DAC_SATURATED (1u << 0) /* the servo output hit the DAC limit */
-/* Safety fault bits (8..31): latched until MC_RESET (limits: while the input or position is
+/* Safety fault bits (8..31): latched until MC_OP_RESET (limits: while the input or position is
  * beyond the limit). */
 #define MC_FAULT_WATCHDOG (1u << 8)         /* the host watchdog tripped (the heartbeat stopped) */
 #define MC_FAULT_ESTOP (1u << 9)            /* an e-stop (MC_OP_ESTOP or the card's input) stopped the axis */
@@ -1141,7 +1141,7 @@ struct mc_group_status_payload {
     uint32_t path_done;
     uint32_t _reserved0;
     uint64_t _reserved[9];
-    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
+    /** A mix of the words before it: the checksum the seqlock reader checks. */
     uint64_t checksum;
 };
 
@@ -1246,7 +1246,7 @@ struct mc_axis_status_payload {
     uint32_t queued;
     /** Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX. */
     double override_factor;
-    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
+    /** A mix of the words before it: the checksum the seqlock reader checks. */
     uint64_t checksum;
 };
 

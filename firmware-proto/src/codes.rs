@@ -213,7 +213,7 @@ code_enum! {
         /// The planned profile failed the card's own check (shorter than |d|/vmax, off its target
         /// or beyond a limit): refused, not run.
         PlanCheck = raw::MC_NACK_PLAN_CHECK,
-        /// Served after its deadline (`mc_cmd.deadline_ms`): not executed.
+        /// Served after its deadline (the command's `deadline_ms`): not executed.
         Expired = raw::MC_NACK_EXPIRED,
         /// An override factor outside `0..MC_OVERRIDE_MAX`.
         OverrideRange = raw::MC_NACK_OVERRIDE_RANGE,
@@ -645,7 +645,7 @@ code_enum! {
         /// Args: category (0, 1 or 2). Every axis; latched.
         EStop = raw::MC_OP_ESTOP,
         /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then
-        /// leave ErrorStop by `MC_RESET`.
+        /// leave ErrorStop by `MC_OP_RESET`.
         SafetyReset = raw::MC_OP_SAFETY_RESET,
         /// Flags: the new session id (nonzero). If another session is still attached (its host died
         /// or hung without detaching), every enabled axis makes a category 1 stop with reason

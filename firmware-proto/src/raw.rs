@@ -800,7 +800,7 @@ pub struct mc_group_status_payload {
     pub path_done: u32,
     pub _reserved0: u32,
     pub _reserved: [u64; 9usize],
-    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
+    #[doc = " A mix of the words before it: the checksum the seqlock reader checks."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -998,7 +998,7 @@ pub struct mc_axis_status_payload {
     pub queued: u32,
     #[doc = " Payload word 22: the velocity override factor in force, 0..MC_OVERRIDE_MAX."]
     pub override_factor: f64,
-    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
+    #[doc = " A mix of the words before it: the checksum the seqlock reader checks."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]

@@ -961,7 +961,7 @@ pub fn rust_enums(header: &str, bindings: &str) -> Result<String, String> {
 }
 
 /// The C ABI's names of the header's names and `PREFIX_*` patterns that the sets rename.
-fn c_renames(
+pub fn c_renames(
     defs: &[Define],
     values: &BTreeMap<String, (String, String)>,
 ) -> Result<BTreeMap<String, String>, String> {
