@@ -2640,7 +2640,9 @@ typedef struct mc_group_status {
    */
   uint32_t path_flags;
   /**
-   * Path segments ended since the group was enabled (wrapping).
+   * Path segments ended since the group's last `mc_group_enable` (wrapping): 0 after each
+   * enable, whatever ran before it (a disable keeps the count until the next enable; a
+   * program that opens the card finds the count of the enable before it).
    */
   uint32_t path_done;
 } mc_group_status;
@@ -3439,13 +3441,22 @@ typedef struct mc_scope_status {
    * Samples lost since the arm (the ring was full).
    */
   uint64_t lost;
-  uint64_t _reserved[3];
+  /**
+   * The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,
+   * or fewer when the trigger came before that many samples were taken since the arm (0
+   * until the trigger).
+   */
+  uint32_t pre_captured;
+  uint32_t _reserved0;
+  uint64_t _reserved[2];
 } mc_scope_status;
 
 /**
  * The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
  * divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
- * the arm.
+ * the arm, and `pre_captured`: how many pre-trigger samples the capture took, first in the
+ * ring (`pre_trigger`, or fewer when the trigger came before that many samples had been
+ * taken since the arm; 0 until the trigger).
  */
 typedef struct mc_scope_status mc_scope_info;
 
@@ -4230,8 +4241,9 @@ mc_result mc_get_status(mc_card card, uint32_t axis, struct mc_status *status);
 
 /**
  * The status of several axes in one call: `statuses[i]` is the status of axis `axes[i]`, for
- * `n` axes (1..=8; each a valid axis, repeats allowed). One pass over the card's status
- * blocks, each a consistent snapshot, and one check that the card is alive. Like
+ * `n` axes (1..=8; each a valid axis, repeats allowed), all of the same servo tick (equal
+ * `raw.tick`: a read that straddles two ticks is read again), each a consistent snapshot,
+ * and one check that the card is alive. Like
  * `mc_get_status`, never stale: `MC_ERR_NOT_RESPONDING` when the card's tick has stood still
  * too long. Does not wait for the card.
  */
@@ -5321,6 +5333,17 @@ mc_result mc_scope_read(mc_card card, struct mc_scope_sample *buf, size_t len, s
  * The scope's state, counters included. Never blocks.
  */
 mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
+
+/**
+ * Wait up to `timeout_ms` (emulated time on a stepped sim, which is stepped) until the
+ * one-shot capture armed last is done, or the scope was stopped; `info` (may be NULL)
+ * receives the scope's state then (as `mc_scope_get_info`). `MC_ERR_TIMEOUT` while it still
+ * waits for its trigger or captures; `MC_ERR_SCOPE_STATE` when the scope is not armed or
+ * runs a continuous capture (which never ends: `mc_scope_stop` it). Reads nothing from the
+ * ring: a capture longer than `MC_SCOPE_RING_LEN` samples loses what does not fit unless
+ * another thread calls `mc_scope_read` meanwhile. Blocks.
+ */
+mc_result mc_scope_wait(mc_card card, uint32_t timeout_ms, mc_scope_info *info);
 
 /**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)

@@ -1162,6 +1162,12 @@ fn scope_from_c() {
         out.contains("captured 6500 samples x 16 channels, 0 lost"),
         "{out}"
     );
+    // Issue 39: a trigger 4 samples after the arm gives 4 pre-trigger samples of the 50
+    // asked, and mc_scope_info.pre_captured says so.
+    assert!(
+        out.contains("pre-trigger: 4 samples of the 50 asked"),
+        "{out}"
+    );
 }
 
 #[test]

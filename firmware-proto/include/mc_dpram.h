@@ -1485,7 +1485,12 @@ struct mc_scope_status {
     uint64_t samples;
     /** Samples lost since the arm (the ring was full). */
     uint64_t lost;
-    uint64_t _reserved[3];
+    /** The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,
+     * or fewer when the trigger came before that many samples were taken since the arm (0
+     * until the trigger). */
+    uint32_t pre_captured;
+    uint32_t _reserved0;
+    uint64_t _reserved[2];
 };
 
 /** A scope ring entry (layout 1.8): one sample. Card writes. */

@@ -1527,7 +1527,10 @@ pub struct mc_scope_status {
     pub samples: u64,
     #[doc = " Samples lost since the arm (the ring was full)."]
     pub lost: u64,
-    pub _reserved: [u64; 3usize],
+    #[doc = " The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,\n or fewer when the trigger came before that many samples were taken since the arm (0\n until the trigger)."]
+    pub pre_captured: u32,
+    pub _reserved0: u32,
+    pub _reserved: [u64; 2usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -1547,8 +1550,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_scope_status, samples) - 24usize];
     ["Offset of field: mc_scope_status::lost"]
         [::core::mem::offset_of!(mc_scope_status, lost) - 32usize];
+    ["Offset of field: mc_scope_status::pre_captured"]
+        [::core::mem::offset_of!(mc_scope_status, pre_captured) - 40usize];
+    ["Offset of field: mc_scope_status::_reserved0"]
+        [::core::mem::offset_of!(mc_scope_status, _reserved0) - 44usize];
     ["Offset of field: mc_scope_status::_reserved"]
-        [::core::mem::offset_of!(mc_scope_status, _reserved) - 40usize];
+        [::core::mem::offset_of!(mc_scope_status, _reserved) - 48usize];
 };
 #[doc = " A scope ring entry (layout 1.8): one sample. Card writes."]
 #[repr(C)]

@@ -723,10 +723,11 @@ impl Card {
 
 impl Card {
     /// The status of several axes in one call (`GT_GetSts` with a count, `APS_get_*` over
-    /// axes): one pass over their status blocks, each a consistent snapshot, and one check that
-    /// the card is alive. Axes appear in the order asked.
+    /// axes): every one of the same servo tick (the card publishes every axis each tick; a
+    /// pass that straddles two ticks is read again, for up to 100 ms, then `NotResponding`),
+    /// each a consistent snapshot, and one check that the card is alive. Axes appear in the
+    /// order asked.
     pub fn statuses(&self, axes: &[usize]) -> Result<Vec<Status>> {
-        let mut raws = Vec::with_capacity(axes.len());
         for &a in axes {
             if a >= self.inner.info.axes {
                 return Err(Error::BadAxis {
@@ -734,8 +735,24 @@ impl Card {
                     count: self.inner.info.axes,
                 });
             }
-            raws.push((a, self.read_axis_status(a)?));
         }
+        let until = Instant::now() + Duration::from_millis(100);
+        let raws = loop {
+            let mut raws = Vec::with_capacity(axes.len());
+            for &a in axes {
+                raws.push((a, self.read_axis_status(a)?));
+            }
+            let first = raws.first().map(|(_, r)| r.tick);
+            if raws.iter().all(|(_, r)| Some(r.tick) == first) {
+                break raws;
+            }
+            if Instant::now() > until {
+                return Err(Error::NotResponding(format!(
+                    "the statuses of axes {axes:?} were never all of one tick in 100 ms"
+                )));
+            }
+            std::thread::yield_now();
+        };
         let newest = raws.iter().map(|(_, r)| r.tick).max();
         self.link_alive(newest.unwrap_or_else(|| self.inner.dev.window.read64(layout::TICK)))?;
         raws.into_iter()
