@@ -2091,7 +2091,9 @@ typedef struct mc_axis_status_payload {
    */
   uint32_t last_seq;
   /**
-   * Moves started since boot.
+   * Moves started since boot: each of the axis's own moves, and each group motion it takes
+   * part in counts one (a continuous path, from the group leaving Standby until it is at
+   * rest again, is one move however many segments it runs).
    */
   uint32_t move_count;
   /**
@@ -2104,7 +2106,8 @@ typedef struct mc_axis_status_payload {
   int64_t encoder;
   /**
    * Max |commanded velocity| of the current or last move (statistics of the current or
-   * last move are reset when a move starts), counts/s.
+   * last move are reset when a move starts; a group motion, a whole continuous path
+   * included, is one move: its peaks, following error and time), counts/s.
    */
   double peak_vel;
   /**

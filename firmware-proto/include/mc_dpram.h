@@ -1108,7 +1108,8 @@ struct mc_group_status_payload {
     uint32_t queued;
     /** Seq of the move being interpolated, 0 if none. */
     uint32_t active_seq;
-    /** Group moves started since boot. */
+    /** Group moves started since boot (each path segment queued counts one; the member axes'
+     * statistics count a whole path as one move). */
     uint32_t move_count;
     /** Distance along the active move, counts. */
     double path_pos;
@@ -1213,14 +1214,17 @@ struct mc_axis_status_payload {
     uint32_t faults;
     /** Seq of the last command accepted for this axis. */
     uint32_t last_seq;
-    /** Moves started since boot. */
+    /** Moves started since boot: each of the axis's own moves, and each group motion it takes
+     * part in counts one (a continuous path, from the group leaving Standby until it is at
+     * rest again, is one move however many segments it runs). */
     uint32_t move_count;
     /** Servo tick of this snapshot. */
     uint64_t tick;
     /** Raw encoder count. */
     int64_t encoder;
     /** Max |commanded velocity| of the current or last move (statistics of the current or
-     * last move are reset when a move starts), counts/s. */
+     * last move are reset when a move starts; a group motion, a whole continuous path
+     * included, is one move: its peaks, following error and time), counts/s. */
     double peak_vel;
     /** Max commanded acceleration in the direction of motion, counts/s^2. */
     double peak_acc;

@@ -768,7 +768,7 @@ pub struct mc_group_status_payload {
     pub queued: u32,
     #[doc = " Seq of the move being interpolated, 0 if none."]
     pub active_seq: u32,
-    #[doc = " Group moves started since boot."]
+    #[doc = " Group moves started since boot (each path segment queued counts one; the member axes'\n statistics count a whole path as one move)."]
     pub move_count: u32,
     #[doc = " Distance along the active move, counts."]
     pub path_pos: f64,
@@ -966,13 +966,13 @@ pub struct mc_axis_status_payload {
     pub faults: u32,
     #[doc = " Seq of the last command accepted for this axis."]
     pub last_seq: u32,
-    #[doc = " Moves started since boot."]
+    #[doc = " Moves started since boot: each of the axis's own moves, and each group motion it takes\n part in counts one (a continuous path, from the group leaving Standby until it is at\n rest again, is one move however many segments it runs)."]
     pub move_count: u32,
     #[doc = " Servo tick of this snapshot."]
     pub tick: u64,
     #[doc = " Raw encoder count."]
     pub encoder: i64,
-    #[doc = " Max |commanded velocity| of the current or last move (statistics of the current or\n last move are reset when a move starts), counts/s."]
+    #[doc = " Max |commanded velocity| of the current or last move (statistics of the current or\n last move are reset when a move starts; a group motion, a whole continuous path\n included, is one move: its peaks, following error and time), counts/s."]
     pub peak_vel: f64,
     #[doc = " Max commanded acceleration in the direction of motion, counts/s^2."]
     pub peak_acc: f64,
