@@ -1554,7 +1554,10 @@ extern "C" {
 
 /**
  * Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting; from
- * Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+ * Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio). The ack's
+ * value (and `MC_OP_GEAR_IN_POS's`): the coupling's offset, slave counts with the master at 0 (in
+ * gear: slave = offset + ratio x master, counts; anchored where both were at the engagement, or at
+ * the sync point).
  */
 #define MC_OP_GEAR_IN 80
 
@@ -5351,7 +5354,12 @@ mc_result mc_scope_wait(mc_card card, uint32_t timeout_ms, mc_scope_info *info);
 /**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
  * at `numerator / denominator` encoder counts per master count, computed on the card in
- * integer arithmetic (no drift). It catches up within `limits`;
+ * integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
+ * moves by the ratio times the master's travel from where both were when the card took the
+ * command (`mc_gear_get_offset` reads the anchor back as an offset). A commanded master is
+ * followed in the same servo tick; an actual one (its encoder, latched at the tick's start)
+ * a tick behind, the slave trailing the ratio line by ratio x its velocity x the servo
+ * period. It catches up within `limits`;
  * `mc_motion_wait_in_sync` on `*motion` (may be NULL) returns once it is in gear. Refused:
  * `MC_ERR_GEAR_RATIO`, `MC_ERR_SYNC_MASTER` (no such master, the axis itself, a master axis
  * disabled or in ErrorStop), `MC_ERR_INFEASIBLE` (the master runs faster than `limits` let
@@ -5385,6 +5393,18 @@ mc_result mc_gear_in_pos(mc_card card,
                          double slave_position,
                          const struct mc_sync_limits *limits,
                          struct mc_motion *motion);
+
+/**
+ * The engagement offset of `axis`'s gear coupling (`mc_gear_in`, `mc_gear_in_pos`), in
+ * counts: in gear the slave's commanded position is `offset + ratio * master` (both in
+ * counts; a commanded master's position in counts; the ratio is the coupling's numerator
+ * over its denominator). The coupling is relative to the engagement: `mc_gear_in` anchors the
+ * ratio line where the slave and the master were when the card took it, `mc_gear_in_pos` at
+ * the sync point; the offset is where that line puts the slave with the master at 0.
+ * `MC_ERR_INVALID_STATE` when the axis is not geared (or was not geared through this
+ * library). Never blocks.
+ */
+mc_result mc_gear_get_offset(mc_card card, uint32_t axis, double *offset);
 
 /**
  * MC_GearOut: the slave leaves the coupling and keeps moving at its velocity (velocity mode);

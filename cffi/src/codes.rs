@@ -924,7 +924,10 @@ pub const MC_OP_PROBE_ARM: u32 = 68;
 pub const MC_OP_PROBE_ABORT: u32 = 69;
 
 /// Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting; from
-/// Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+/// Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio). The ack's
+/// value (and `MC_OP_GEAR_IN_POS's`): the coupling's offset, slave counts with the master at 0 (in
+/// gear: slave = offset + ratio x master, counts; anchored where both were at the engagement, or at
+/// the sync point).
 pub const MC_OP_GEAR_IN: u32 = 80;
 
 /// As `MC_OP_GEAR_IN`, then args: master sync position, slave sync position: the slave reaches the

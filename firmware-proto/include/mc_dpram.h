@@ -467,7 +467,11 @@
  * with one servo tick of delay (its reference is computed after the slaves'). */
 #define MC_OP_GEAR_IN 80u     /* args: master, numerator, denominator, vmax, amax, jerk. flags:
                                * MC_MASTER_*. Aborting; from Standstill, DiscreteMotion,
-                               * ContinuousMotion or SynchronizedMotion (a new ratio) */
+                               * ContinuousMotion or SynchronizedMotion (a new ratio). The
+                               * ack's value (and MC_OP_GEAR_IN_POS's): the coupling's offset,
+                               * slave counts with the master at 0 (in gear: slave = offset +
+                               * ratio x master, counts; anchored where both were at the
+                               * engagement, or at the sync point) */
 #define MC_OP_GEAR_IN_POS 81u /* as MC_OP_GEAR_IN, then args: master sync position, slave sync
                                * position: the slave reaches the slave position exactly when the
                                * master reaches the master position, along a quintic in the

@@ -181,6 +181,8 @@ pub(crate) struct Inner {
     /// [`IO_ARMS`]): their events name the channel, not the axis, and carry the arm's seq, so
     /// the drain finds the axis whose scale converts their positions.
     io_arms: Mutex<VecDeque<(u32, u16)>>,
+    /// Per axis, the offset of the last gear command this host sent (its ack's value).
+    pub(crate) gear_offset: Mutex<[Option<f64>; MAX_AXES]>,
 }
 
 /// How many compare and probe arms [`Inner`] remembers the axis of.
@@ -341,6 +343,7 @@ impl Card {
             dev,
             trace,
             io_arms: Mutex::new(VecDeque::new()),
+            gear_offset: Mutex::new([None; MAX_AXES]),
         };
         // [safety] the session, then at once the heartbeat. The attach arms the card's watchdog
         // (it counts as the first heartbeat), so the beats start as it is sent, not after its

@@ -417,6 +417,18 @@ impl Gear {
         }
     }
 
+    /// The coupling's offset (gearing): where the ratio line puts the slave when the master
+    /// is at 0, in slave counts, so that in gear `slave = offset + ratio · master` (counts;
+    /// the anchor of MC_GearIn is where the slave and the master were at the engagement, of
+    /// MC_GearInPos the sync point). `None` for a cam or no coupling.
+    pub fn offset(&self) -> Option<f64> {
+        let run = self.run?;
+        match run.law {
+            Law::Gear(r) => Some(run.anchor_x + r.distance(-run.anchor_m, run.master.per_count())),
+            Law::Cam(_) => None,
+        }
+    }
+
     /// The cam table the axis follows, if any.
     pub fn cam_table(&self) -> Option<usize> {
         match self.run?.law {
