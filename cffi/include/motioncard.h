@@ -3156,6 +3156,12 @@ typedef struct mc_path_progress {
 typedef void (*mc_path_progress_callback)(const struct mc_path_progress *progress, void *user);
 
 /**
+ * A path stream running in a thread of the library (`mc_group_path_stream_start`): an
+ * integer handle, never 0, valid until `mc_path_streamer_join`.
+ */
+typedef uint32_t mc_path_streamer;
+
+/**
  * A stream's limits, user units: every segment's velocity and acceleration stay within them.
  */
 typedef struct mc_pvt_limits {
@@ -5163,6 +5169,52 @@ mc_result mc_group_path_stream(mc_card card,
                                void *user,
                                size_t *accepted,
                                struct mc_group_motion *last);
+
+/**
+ * Start streaming `n` items (`segments`, may be NULL when `n` is 0) into a group's path from
+ * a thread of the library, as `mc_group_path_stream` streams them, and return at once with
+ * its handle in `*streamer`. Every item is checked and copied first (a NURBS item's arrays
+ * too: the caller's memory is not read after this call): an item the library refuses is
+ * returned with its code (the message names the item) and nothing is sent. The thread calls
+ * no application code. Watch it with `mc_path_streamer_progress`, stop it with
+ * `mc_path_streamer_cancel`, and end it with `mc_path_streamer_join` (which every handle
+ * needs: it frees it). Blocks only while the items are checked.
+ */
+mc_result mc_group_path_stream_start(mc_card card,
+                                     uint32_t group,
+                                     const struct mc_path_segment *segments,
+                                     size_t n,
+                                     mc_path_streamer *streamer);
+
+/**
+ * The stream's progress (`sent` and `accepted` items, the card's `done` and `queued`
+ * segments) and, in `*finished` (may be NULL), 1 once its thread has ended (everything sent
+ * and answered, cancelled, or stopped by a refusal: `mc_path_streamer_join` says which), else
+ * 0. Never blocks (it reads the card's window).
+ */
+mc_result mc_path_streamer_progress(mc_path_streamer streamer,
+                                    struct mc_path_progress *progress,
+                                    uint32_t *finished);
+
+/**
+ * Stop sending: the items not sent yet are dropped, what the card accepted stays queued and
+ * runs (`mc_group_halt` stops that too). The thread ends once the commands in flight are
+ * answered; `mc_path_streamer_join` then returns `MC_ERR_CANCELLED`. Never blocks.
+ */
+mc_result mc_path_streamer_cancel(mc_path_streamer streamer);
+
+/**
+ * Wait for the stream's thread to end and free the handle (always, whatever it returns).
+ * Returns the stream's result as `mc_group_path_stream` does: `MC_OK` when every item was
+ * accepted (`*last`, may be NULL: the motion of the last segment, seq 0 when there was
+ * none), `MC_ERR_CANCELLED` after `mc_path_streamer_cancel`, or the code of the item that
+ * stopped it (the message names it). `accepted` (may be NULL) always receives how many
+ * items the card accepted. Blocks until the thread ends (at most until the items are sent,
+ * waiting for room as the path runs).
+ */
+mc_result mc_path_streamer_join(mc_path_streamer streamer,
+                                size_t *accepted,
+                                struct mc_group_motion *last);
 
 /**
  * The card's digital outputs as it drives them (bit i = output i, `MC_CARD_OUTPUTS` of them):

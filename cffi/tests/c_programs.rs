@@ -1421,3 +1421,17 @@ fn every_name_the_header_cites_compiles_in_c() {
         cited.len()
     );
 }
+
+/// Issue 39: a path streamed from a thread of the library, watched and joined from C: 4500
+/// lines (more than the card's buffer) all accepted, the path ending on the last; a slow one
+/// cancelled while it waits for room (`MC_ERR_CANCELLED`, what the card took reported); an
+/// item the library refuses gives no handle.
+#[test]
+fn a_path_streams_in_the_background_from_c() {
+    let out = run(&compile("path_stream", Link::Shared), &["sim"], &[]);
+    assert!(out.contains("PASS path_stream\n"), "{out}");
+    assert!(
+        out.contains("4500 lines streamed from the library's thread"),
+        "{out}"
+    );
+}
