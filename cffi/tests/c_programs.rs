@@ -4,7 +4,10 @@
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `config`,
-//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards).
+//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt`, `cam` and `units` choose their
+//! cards; `debug` and `path_stream` run on `sim`, `debug` once under valgrind with the
+//! debugging watchdog of `MOTIONCARD_SIM_WATCHDOG_MS`). A program of the tests' own compiles a
+//! use of every name the header's comments cite.
 //! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
 //! Rust static library; `errors`, `groups`, `safety`, `machine`, `homing`, `config`,
 //! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also
