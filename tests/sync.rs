@@ -259,10 +259,10 @@ fn gear_in_pos_meets_the_sync_point() {
     let at = gear.wait_in_sync(LONG).unwrap();
     // The slave follows the master's position of the same tick: at every tick in sync
     // x = S + (m − M) exactly; before, the master had not reached M.
-    for k in locked..rows.len() {
-        let m = rows[k][1].command_position;
+    for (k, row) in rows.iter().enumerate().skip(locked) {
+        let m = row[1].command_position;
         assert!(m >= m_sync, "tick {k}: master at {m}");
-        let x = rows[k][0].command_position;
+        let x = row[0].command_position;
         assert!(
             (x - (s_sync + (m - m_sync))).abs() <= 1.0 / 65_536.0,
             "tick {k}: {x}"
@@ -750,11 +750,11 @@ fn a_cam_cycle_matches_its_table_and_switches_at_the_cycle_end() {
     // Two cycles: 4 s.
     let rows = record(&card, &[0, 1], 40_000);
     let mut worst = 0.0f64;
-    for k in 1..rows.len() {
+    for row in rows.iter().skip(1) {
         // The master's command of the same tick (issue 39: no tick of latency).
-        let x_m = rows[k][1].command_position;
+        let x_m = row[1].command_position;
         let want = table.eval(x_m).s;
-        worst = worst.max((rows[k][0].command_position - want).abs());
+        worst = worst.max((row[0].command_position - want).abs());
     }
     let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
     let (v, a, j) = peaks(&xs);
