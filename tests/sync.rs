@@ -208,7 +208,7 @@ fn a_geared_slave_follows_a_commanded_master_in_the_same_tick() {
         }
     }
     println!(
-        "gearing 3/2 on a commanded master line at 50 mm/s: largest deviation from the ratio          line over {} ticks ({cruise} at cruise) {:.3e} counts",
+        "gearing 3/2 on a commanded master line at 50 mm/s: largest deviation from the ratio line over {} ticks ({cruise} at cruise) {:.3e} counts",
         rows.len(),
         worst * 1000.0
     );
