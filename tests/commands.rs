@@ -398,3 +398,28 @@ fn servo_rate_is_configurable_between_1_and_20_khz() {
         ErrorKind::BadConfig
     );
 }
+
+/// Issue 39: `Card::statuses` (C: `mc_get_statuses`) gives every axis of one servo tick, on a
+/// card whose firmware publishes a tick every 100 µs while the host reads: 20,000 reads of all
+/// 8 axes, each with one tick (two axes came from ticks 959653 and 959657 before).
+#[test]
+fn statuses_of_several_axes_are_of_one_tick() {
+    let card = Card::open("sim").unwrap();
+    let axes: Vec<usize> = (0..8).collect();
+    let mut ticks = std::collections::BTreeSet::new();
+    for _ in 0..20_000 {
+        let s = card.statuses(&axes).unwrap();
+        let t = s[0].raw.tick;
+        assert!(
+            s.iter().all(|st| st.raw.tick == t),
+            "{:?}",
+            s.iter().map(|st| st.raw.tick).collect::<Vec<_>>()
+        );
+        ticks.insert(t);
+    }
+    assert!(
+        ticks.len() > 10,
+        "the card ran while the host read ({} ticks)",
+        ticks.len()
+    );
+}

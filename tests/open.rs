@@ -58,6 +58,12 @@ fn second_open_is_busy_until_the_first_closes() {
     let e = Card::open(&uri).err().unwrap();
     assert_eq!(e.kind(), ErrorKind::Busy);
     assert!(e.to_string().contains(&uri));
+    // Opened by this process: the message says so, not "another process" (issue 39).
+    assert!(
+        e.to_string().contains("already open in this process")
+            && !e.to_string().contains("another process"),
+        "{e}"
+    );
     // The first host works while the second was refused.
     let ax = first.axis(0).unwrap();
     ax.enable().unwrap();

@@ -217,6 +217,43 @@ fn a_blended_square_keeps_within_the_tolerance_and_every_axis_limit() {
     }
 }
 
+/// Issue 39: `path_done` counts the segments ended since the group's last enable: 4 after a
+/// square, 0 again after a disable and an enable, 4 after the next square (it carried on,
+/// 504 to 1008, before).
+#[test]
+fn path_done_counts_from_the_last_group_enable() {
+    let lim = PathSettings::uniform(2, V, A, J);
+    let (card, g) = path_card(2, &lim);
+    for round in 0..2 {
+        stream_polyline(
+            &g,
+            &square(20_000.0),
+            80_000.0,
+            10.0,
+            PathBuffer::BlendingLow,
+        );
+        run(&card, &g, 2, 200_000);
+        let st = g.status().unwrap();
+        assert_eq!(
+            (st.0, st.1.path_done),
+            (GroupState::Standby, 4),
+            "round {round}"
+        );
+        g.disable().unwrap();
+        assert_eq!(
+            g.status().unwrap().1.path_done,
+            4,
+            "a disable keeps the count"
+        );
+        g.enable().unwrap();
+        assert_eq!(
+            g.status().unwrap().1.path_done,
+            0,
+            "round {round}: enabled again"
+        );
+    }
+}
+
 #[test]
 fn tolerance_zero_and_buffered_stop_exactly_at_every_corner() {
     let lim = PathSettings::uniform(2, V, A, J);

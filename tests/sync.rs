@@ -127,7 +127,7 @@ fn gearing_is_exact_after_a_billion_master_counts() {
 /// The slave at rest engages on a master axis running at 20,000 counts/s at 1/2: it catches
 /// up within its own limits (finite differences of its commanded position per tick within
 /// 1.01 × vmax, amax, jerk), is in gear with the master's velocity × 1/2, then follows it
-/// exactly (its increments half the master's, one tick late).
+/// exactly (its increments half the master's of the same tick).
 #[test]
 fn engaging_holds_the_slave_limits() {
     let card = card(2);
@@ -157,11 +157,11 @@ fn engaging_holds_the_slave_limits() {
     assert!(v <= 1.01 * lim.velocity, "velocity {v}");
     assert!(a <= 1.01 * lim.acceleration, "acceleration {a}");
     assert!(j <= 1.01 * lim.jerk, "jerk {j}");
-    // In gear: half the master's increments, one tick late (the master counts in 1/65536
+    // In gear: half the master's increments of the same tick (the master counts in 1/65536
     // count: the slave's increment is within half of that of half the master's).
     for k in locked + 2..rows.len() {
         let ds = rows[k][0].command_position - rows[k - 1][0].command_position;
-        let dm = rows[k - 1][1].command_position - rows[k - 2][1].command_position;
+        let dm = rows[k][1].command_position - rows[k - 1][1].command_position;
         assert!(
             (ds - dm / 2.0).abs() <= 1.0 / 65_536.0,
             "tick {k}: {ds} {dm}"
@@ -170,6 +170,57 @@ fn engaging_holds_the_slave_limits() {
     let last = rows.last().unwrap();
     assert_eq!(last[0].command_velocity, 10_000.0);
     assert!(last[0].following_error.abs() < 5.0);
+}
+
+/// Issue 39: a slave geared at 3/2 to a commanded master follows the master's command of the
+/// same tick. Both axes in mm (1000 counts/mm); the master at rest, then a line at 50 mm/s
+/// (5 counts per tick) and back to rest: at every tick of it the slave's commanded position
+/// is 3/2 of the master's travel from where it engaged, within the master's rounding to
+/// 1/65536 count (one tick late it would trail by 7.5 counts while the master cruises).
+#[test]
+fn a_geared_slave_follows_a_commanded_master_in_the_same_tick() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    for a in [&slave, &master] {
+        a.set_scale(1000.0).unwrap();
+    }
+    let lim = SyncLimits::new(1e3, 1e4, 1e6);
+    slave
+        .gear_in(Master::Commanded(1), 3, 2, &lim)
+        .unwrap()
+        .wait_in_sync(LONG)
+        .unwrap();
+    let (s0, m0) = (
+        status(&card, 0).command_position,
+        status(&card, 1).command_position,
+    );
+    let line = master
+        .move_relative(100.0, &MoveLimits::new(50.0, 500.0, 5e4))
+        .unwrap();
+    let rows = record(&card, &[0, 1], 25_000);
+    line.wait(Duration::ZERO).unwrap();
+    let (mut worst, mut cruise) = (0.0f64, 0);
+    for r in &rows {
+        let want = s0 + 1.5 * (r[1].command_position - m0);
+        worst = worst.max((r[0].command_position - want).abs());
+        if (r[1].command_velocity - 50.0).abs() < 1e-9 {
+            cruise += 1;
+        }
+    }
+    println!(
+        "gearing 3/2 on a commanded master line at 50 mm/s: largest deviation from the ratio line over {} ticks ({cruise} at cruise) {:.3e} counts",
+        rows.len(),
+        worst * 1000.0
+    );
+    assert!(cruise > 10_000, "{cruise} ticks at 50 mm/s");
+    // 1.5 × half a 1/65536 count, and the float rounding of mm.
+    assert!(
+        worst * 1000.0 <= 1.5 / 65_536.0,
+        "{} counts",
+        worst * 1000.0
+    );
+    let last = rows.last().unwrap();
+    assert!((last[1].command_position - (m0 + 100.0)).abs() < 1e-9);
 }
 
 /// MC_GearInPos: the slave at rest at 0 is at 20,000 counts when the master (10,000 counts/s)
@@ -206,18 +257,18 @@ fn gear_in_pos_meets_the_sync_point() {
     let rows = record(&card, &[0, 1], 25_000);
     let locked = rows.iter().position(|r| r[0].in_sync()).expect("in sync");
     let at = gear.wait_in_sync(LONG).unwrap();
-    // The slave follows the master's position of the tick before: at every tick in sync
+    // The slave follows the master's position of the same tick: at every tick in sync
     // x = S + (m − M) exactly; before, the master had not reached M.
-    for k in locked..rows.len() {
-        let m = rows[k - 1][1].command_position;
+    for (k, row) in rows.iter().enumerate().skip(locked) {
+        let m = row[1].command_position;
         assert!(m >= m_sync, "tick {k}: master at {m}");
-        let x = rows[k][0].command_position;
+        let x = row[0].command_position;
         assert!(
             (x - (s_sync + (m - m_sync))).abs() <= 1.0 / 65_536.0,
             "tick {k}: {x}"
         );
     }
-    assert!(rows[locked - 2][1].command_position < m_sync);
+    assert!(rows[locked - 1][1].command_position < m_sync);
     let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
     let (v, a, j) = peaks(&xs);
     println!(
@@ -699,10 +750,11 @@ fn a_cam_cycle_matches_its_table_and_switches_at_the_cycle_end() {
     // Two cycles: 4 s.
     let rows = record(&card, &[0, 1], 40_000);
     let mut worst = 0.0f64;
-    for k in 1..rows.len() {
-        let x_m = rows[k - 1][1].command_position;
+    for row in rows.iter().skip(1) {
+        // The master's command of the same tick (issue 39: no tick of latency).
+        let x_m = row[1].command_position;
         let want = table.eval(x_m).s;
-        worst = worst.max((rows[k][0].command_position - want).abs());
+        worst = worst.max((row[0].command_position - want).abs());
     }
     let xs: Vec<f64> = rows.iter().map(|r| r[0].command_position).collect();
     let (v, a, j) = peaks(&xs);
@@ -738,10 +790,10 @@ fn a_cam_cycle_matches_its_table_and_switches_at_the_cycle_end() {
     assert!(jump < 1e-3, "the position stays smooth: {jump}");
     // After the switch: the second table, shifted to continue from the boundary.
     let k = rows.len() - 1;
-    let x_m = rows[k - 1][1].command_position;
+    let x_m = rows[k][1].command_position;
     let (d_now, d_ref) = (
         rows[k][0].command_position - rows[k - 100][0].command_position,
-        table2.eval(x_m).s - table2.eval(rows[k - 101][1].command_position).s,
+        table2.eval(x_m).s - table2.eval(rows[k - 100][1].command_position).s,
     );
     assert!((d_now - d_ref).abs() < 1e-3, "{d_now} {d_ref}");
     assert_eq!(

@@ -21,6 +21,10 @@
  *   MC_ERR_BAD_HANDLE; closing twice is harmless (the second close returns MC_ERR_BAD_HANDLE).
  *   0 is never a valid handle.
  * - A panic inside the library never crosses into C: it becomes MC_ERR_PANIC.
+ * - Every MC_ and mc_ name a comment of this header cites is defined in it (the register
+ *   map's own constants that the comments cite, flags and codes of raw commands among them,
+ *   come last). MC_ and a CamelCase word (MC_Power, MC_MoveAbsolute) is the name of a PLCopen
+ *   function block, not a C name.
  * - Positions, velocities and limits are in user units: counts divided by the axis's scale
  *   (mc_set_scale; default 1, i.e. counts). Time-outs are in milliseconds; on a stepped sim
  *   card (mc_open_sim_stepped) they are in emulated time and waiting advances the card.
@@ -79,7 +83,9 @@
  * process hangs or dies, or mc_set_heartbeat(card, 0)), every axis stops after the watchdog
  * timeout and the trip stays latched (MC_ERR_WATCHDOG_TRIPPED) until mc_reset_faults. Safety
  * stops end in MC_AXIS_STATE_ERROR_STOP with their MC_STOP_REASON_ in mc_status.stop_reason
- * and an MC_EVENT_SAFETY_STOP event.
+ * and an MC_EVENT_SAFETY_STOP event. Debugging under gdb or valgrind: set the environment
+ * variable MOTIONCARD_SIM_WATCHDOG_MS (milliseconds) and a real-time sim card boots with that
+ * watchdog timeout and keeps it as the least mc_set_watchdog_timeout sets (still armed).
  *
  * Event loop: put the descriptor of mc_irq_fd in your poll/epoll set (level-triggered);
  * when it is readable, call mc_dispatch_events(card, 0, &n). Waits in other threads
@@ -114,8 +120,8 @@ extern "C" {
 
 /**
  * Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's fields;
- * positions in `value` are in user units. `MC_EVENT_ACK` and `MC_EVENT_NACK` are taken by the
- * library, never delivered.
+ * positions and distances in `value` are in user units (the rule of `mc_event`). `MC_EVENT_ACK`
+ * and `MC_EVENT_NACK` are taken by the library, never delivered.
  *
  * The command with this seq was accepted.
  */
@@ -1423,7 +1429,7 @@ extern "C" {
 
 /**
  * Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then leave
- * ErrorStop by `MC_RESET`.
+ * ErrorStop by `MC_OP_RESET`.
  */
 #define MC_OP_SAFETY_RESET 35
 
@@ -1481,7 +1487,7 @@ extern "C" {
 #define MC_OP_PATH_DWELL 58
 
 /**
- * Args: output (`0..MC_OUTPUTS-1`), on (0 or 1), distance. flags: `MC_PATH_OUT_*`. Sets or clears
+ * Args: output (`0..MC_CARD_OUTPUTS-1`), on (0 or 1), distance. flags: `MC_OUTPUT_AT_*`. Sets or clears
  * the output when the next motion segment queued starts, ends, or has run `distance` counts; at
  * most `MC_PATH_OUTPUTS_PENDING` before that segment.
  */
@@ -1493,7 +1499,7 @@ extern "C" {
 #define MC_OP_APPLY_GROUP_PATH 60
 
 /**
- * Args: mask, value (`0..2^MC_OUTPUTS-1`): set the outputs in mask to value now (axis field
+ * Args: mask, value (`0..2^MC_CARD_OUTPUTS-1`): set the outputs in mask to value now (axis field
  * ignored).
  */
 #define MC_OP_SET_OUTPUTS 61
@@ -1516,7 +1522,7 @@ extern "C" {
 #define MC_OP_APPLY_IO_CONFIG 64
 
 /**
- * Axis: the axis watched. args: channel, output (`0..MC_OUTPUTS-1`), `pulse_us`, `low_water`
+ * Axis: the axis watched. args: channel, output (`0..MC_CARD_OUTPUTS-1`), `pulse_us`, `low_water`
  * (table: the `MC_EVENT_COMPARE` low-water mark, 0: none), position (single) or start (series),
  * pitch (series, counts, >= 1), count (series, 1..2^31-1). flags: `MC_CMP_MODE_*` and
  * `MC_CMP_DIR_*`. `MC_NACK_COMPARE_BUSY` if the channel is armed (a channel done may be armed
@@ -1540,7 +1546,7 @@ extern "C" {
 #define MC_OP_COMPARE_DISARM 67
 
 /**
- * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_INPUTS-1` or
+ * `MC_TouchProbe`. axis: the axis captured. args: channel, input (`0..MC_CARD_INPUTS-1` or
  * `MC_PROBE_INPUT_INDEX`), `window_lo`, `window_hi`. flags: `MC_PROBE_EDGE_RISING` / `_FALLING`
  * (one or both), `MC_PROBE_CONTINUOUS`, `MC_PROBE_WINDOW`. Re-arming restarts the channel.
  */
@@ -1553,7 +1559,10 @@ extern "C" {
 
 /**
  * Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting; from
- * Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+ * Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio). The ack's
+ * value (and `MC_OP_GEAR_IN_POS's`): the coupling's offset, slave counts with the master at 0 (in
+ * gear: slave = offset + ratio x master, counts; anchored where both were at the engagement, or at
+ * the sync point).
  */
 #define MC_OP_GEAR_IN 80
 
@@ -2102,11 +2111,11 @@ typedef struct mc_axis_status_payload {
    */
   double target;
   /**
-   * PLCopen state, MC_STATE_*.
+   * PLCopen state, MC_AXIS_STATE_*.
    */
   uint32_t state;
   /**
-   * Fault bits, MC_FAULT_*.
+   * Fault bits, MC_AXIS_FAULT_*.
    */
   uint32_t faults;
   /**
@@ -2114,7 +2123,9 @@ typedef struct mc_axis_status_payload {
    */
   uint32_t last_seq;
   /**
-   * Moves started since boot.
+   * Moves started since boot: each of the axis's own moves, and each group motion it takes
+   * part in counts one (a continuous path, from the group leaving Standby until it is at
+   * rest again, is one move however many segments it runs).
    */
   uint32_t move_count;
   /**
@@ -2127,7 +2138,8 @@ typedef struct mc_axis_status_payload {
   int64_t encoder;
   /**
    * Max |commanded velocity| of the current or last move (statistics of the current or
-   * last move are reset when a move starts), counts/s.
+   * last move are reset when a move starts; a group motion, a whole continuous path
+   * included, is one move: its peaks, following error and time), counts/s.
    */
   double peak_vel;
   /**
@@ -2185,7 +2197,7 @@ typedef struct mc_axis_status_payload {
    */
   double comp_pos;
   /**
-   * A mix of the words before it, seeded with MC_STATUS_CHECK.
+   * A mix of the words before it: the checksum the seqlock reader checks.
    */
   uint64_t checksum;
 } mc_axis_status_payload;
@@ -2256,7 +2268,13 @@ typedef struct mc_status {
 } mc_status;
 
 /**
- * An event from the card, in user units.
+ * An event from the card. The unit rule, one for every kind: a `value` that is a position
+ * or a distance is in user units of the axis it concerns (`axis`, or for `MC_EVENT_COMPARE`
+ * and `MC_EVENT_PROBE` the axis the channel watches), as `mc_status` gives them: motion done
+ * and active, in velocity (user units/s), homing failed, sync, PVT done, compare fired or
+ * missed, probe captures, and the safety stops whose measurement is a position, a following
+ * error or an encoder count. Every other value is as the card posts it: states, times in
+ * seconds, counts of things, ids, words.
  */
 typedef struct mc_event {
   /**
@@ -2281,7 +2299,7 @@ typedef struct mc_event {
    */
   uint64_t tick;
   /**
-   * Kind-specific value (positions in user units).
+   * Kind-specific value (positions and distances in user units: the rule above).
    */
   double value;
 } mc_event;
@@ -2740,7 +2758,9 @@ typedef struct mc_group_status {
    */
   uint32_t path_flags;
   /**
-   * Path segments ended since the group was enabled (wrapping).
+   * Path segments ended since the group's last `mc_group_enable` (wrapping): 0 after each
+   * enable, whatever ran before it (a disable keeps the count until the next enable; a
+   * program that opens the card finds the count of the enable before it).
    */
   uint32_t path_done;
 } mc_group_status;
@@ -2884,17 +2904,17 @@ typedef struct mc_axis_homing {
   double home_offset;
   /**
    * The whole homing ends within this, s (0 < timeout <= MC_MAX_MOVE_TIME), else
-   * MC_HOMING_ERR_TIMEOUT.
+   * MC_HOMING_ERROR_TIMEOUT.
    */
   double timeout;
   /**
    * The farthest the axis goes from where homing began, counts (> 0), else
-   * MC_HOMING_ERR_DISTANCE.
+   * MC_HOMING_ERROR_DISTANCE.
    */
   double max_distance;
   /**
    * The farthest the index pulse may be beyond the edge or hard stop, counts (> 0; a
-   * revolution and a margin), else MC_HOMING_ERR_NO_INDEX. Also the limit of methods 33, 34.
+   * revolution and a margin), else MC_HOMING_ERROR_NO_INDEX. Also the limit of methods 33, 34.
    */
   double index_distance;
   /**
@@ -2931,11 +2951,11 @@ typedef struct mc_io_config {
    */
   uint32_t polarity;
   /**
-   * Bit i: MC_EV_INPUT when debounced input i becomes active.
+   * Bit i: MC_EVENT_INPUT when debounced input i becomes active.
    */
   uint32_t rise_events;
   /**
-   * Bit i: MC_EV_INPUT when debounced input i becomes inactive.
+   * Bit i: MC_EVENT_INPUT when debounced input i becomes inactive.
    */
   uint32_t fall_events;
   uint32_t _reserved0;
@@ -3028,7 +3048,7 @@ typedef struct mc_probe_trigger {
   /**
    * Nonzero: the capture halts the axis's motion, by the card in the tick it sees it (its
    * group along the path on the members' stop ramps, or the axis on its stop ramp; stop
-   * reason `MC_STOP_PROBE`): a probing move.
+   * reason `MC_STOP_REASON_PROBE`): a probing move.
    */
   uint32_t halt;
 } mc_probe_trigger;
@@ -3254,6 +3274,12 @@ typedef struct mc_path_progress {
 typedef void (*mc_path_progress_callback)(const struct mc_path_progress *progress, void *user);
 
 /**
+ * A path stream running in a thread of the library (`mc_group_path_stream_start`): an
+ * integer handle, never 0, valid until `mc_path_streamer_join`.
+ */
+typedef uint32_t mc_path_streamer;
+
+/**
  * A stream's limits, user units: every segment's velocity and acceleration stay within them.
  */
 typedef struct mc_pvt_limits {
@@ -3447,7 +3473,7 @@ typedef struct mc_scope_config {
    */
   uint32_t divider;
   /**
-   * Channel k's source, MC_SCOPE_SOURCE(MC_SIG_*, index).
+   * Channel k's source, MC_SCOPE_SOURCE(MC_SCOPE_SIG_*, index).
    */
   uint32_t source[16];
   /**
@@ -3463,7 +3489,7 @@ typedef struct mc_scope_config {
    */
   uint32_t trigger_channel;
   /**
-   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_INPUTS-1.
+   * MC_SCOPE_TRIG_INPUT: the input, 0..MC_CARD_INPUTS-1.
    */
   uint32_t trigger_input;
   /**
@@ -3518,7 +3544,7 @@ typedef struct mc_scope_sample {
  */
 typedef struct mc_scope_status {
   /**
-   * MC_SCOPE_IDLE, _WAITING, _CAPTURING or _DONE.
+   * MC_SCOPE_STATE_IDLE, _WAITING, _CAPTURING or _DONE.
    */
   uint32_t state;
   /**
@@ -3545,13 +3571,22 @@ typedef struct mc_scope_status {
    * Samples lost since the arm (the ring was full).
    */
   uint64_t lost;
-  uint64_t _reserved[3];
+  /**
+   * The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,
+   * or fewer when the trigger came before that many samples were taken since the arm (0
+   * until the trigger).
+   */
+  uint32_t pre_captured;
+  uint32_t _reserved0;
+  uint64_t _reserved[2];
 } mc_scope_status;
 
 /**
  * The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
  * divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
- * the arm.
+ * the arm, and `pre_captured`: how many pre-trigger samples the capture took, first in the
+ * ring (`pre_trigger`, or fewer when the trigger came before that many samples had been
+ * taken since the arm; 0 until the trigger).
  */
 typedef struct mc_scope_status mc_scope_info;
 
@@ -3585,7 +3620,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_NOT_FOUND -2
 
 /**
- * Another process has the card open.
+ * The card is open already: in another process, or in this one (a card is opened once
+ * per process; the message says which).
  */
 #define MC_ERR_BUSY -3
 
@@ -3810,12 +3846,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_UNSUPPORTED -21
 
 /**
- * The host watchdog tripped and is latched: `Card::reset_faults` first.
+ * The host watchdog tripped and is latched: `mc_reset_faults` first.
  */
 #define MC_ERR_WATCHDOG_TRIPPED -47
 
 /**
- * An e-stop is latched: `Card::reset_faults` first.
+ * An e-stop is latched: `mc_reset_faults` first.
  */
 #define MC_ERR_ESTOP_ACTIVE -48
 
@@ -3847,7 +3883,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * A kinematic limit outside the range the card accepts
- * (`limit_range`: denormal, absurdly small or large).
+ * (denormal, absurdly small or large).
  */
 #define MC_ERR_LIMIT_RANGE -55
 
@@ -3888,12 +3924,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_CARD_GONE -60
 
 /**
- * The card was closed (`Card::close`) while the call waited, or before it.
+ * The card was closed (`mc_close`) while the call waited, or before it.
  */
 #define MC_ERR_CLOSED -61
 
 /**
- * The wait was cancelled from another thread (`Card::cancel_waits`).
+ * The wait was cancelled from another thread (`mc_cancel_waits`).
  */
 #define MC_ERR_CANCELLED -62
 
@@ -3909,7 +3945,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * A homing method the axis cannot do: an unknown CiA 402 number, or an index method on an
- * encoder without an index channel (`HomingSettings`).
+ * encoder without an index channel (`mc_homing_settings`).
  */
 #define MC_ERR_HOMING_METHOD -65
 
@@ -3959,7 +3995,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 /**
  * The digital inputs' configuration: an input beyond the card's 16, or a debounce over
- * 10,000 ticks (`IoSettings`).
+ * 10,000 ticks (`mc_io_settings`).
  */
 #define MC_ERR_IO_CONFIG -90
 
@@ -4113,6 +4149,13 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * wrong there); nothing after that line was queued.
  */
 #define MC_ERR_GCODE -109
+
+/**
+ * A wait for the last motion of an axis (or the last move of a group) when this library
+ * has started none there since the card was opened: there is nothing to wait for (the
+ * axis or group may still move, by motion of another kind: a raw command, another host).
+ */
+#define MC_ERR_NO_MOTION -115
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -4356,8 +4399,9 @@ mc_result mc_get_status(mc_card card, uint32_t axis, struct mc_status *status);
 
 /**
  * The status of several axes in one call: `statuses[i]` is the status of axis `axes[i]`, for
- * `n` axes (1..=8; each a valid axis, repeats allowed). One pass over the card's status
- * blocks, each a consistent snapshot, and one check that the card is alive. Like
+ * `n` axes (1..=8; each a valid axis, repeats allowed), all of the same servo tick (equal
+ * `raw.tick`: a read that straddles two ticks is read again), each a consistent snapshot,
+ * and one check that the card is alive. Like
  * `mc_get_status`, never stale: `MC_ERR_NOT_RESPONDING` when the card's tick has stood still
  * too long. Does not wait for the card.
  */
@@ -4377,7 +4421,8 @@ mc_result mc_motion_wait(mc_card card,
 
 /**
  * Wait for the last motion started on this axis by this process, as `mc_motion_wait`
- * (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+ * (`position` may be NULL). `MC_ERR_NO_MOTION` when none was started since the card was opened
+ * (nothing to wait for). Blocks.
  */
 mc_result mc_wait_done(mc_card card, uint32_t axis, uint32_t timeout_ms, double *position);
 
@@ -4832,7 +4877,8 @@ mc_result mc_group_motion_wait(mc_card card, struct mc_group_motion motion, uint
 
 /**
  * Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
- * `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+ * `MC_ERR_NO_MOTION` when none was queued since the card was opened (nothing to
+ * wait for). Blocks.
  */
 mc_result mc_group_wait_done(mc_card card, uint32_t group, uint32_t timeout_ms);
 
@@ -5303,6 +5349,52 @@ mc_result mc_group_path_stream(mc_card card,
                                struct mc_group_motion *last);
 
 /**
+ * Start streaming `n` items (`segments`, may be NULL when `n` is 0) into a group's path from
+ * a thread of the library, as `mc_group_path_stream` streams them, and return at once with
+ * its handle in `*streamer`. Every item is checked and copied first (a NURBS item's arrays
+ * too: the caller's memory is not read after this call): an item the library refuses is
+ * returned with its code (the message names the item) and nothing is sent. The thread calls
+ * no application code. Watch it with `mc_path_streamer_progress`, stop it with
+ * `mc_path_streamer_cancel`, and end it with `mc_path_streamer_join` (which every handle
+ * needs: it frees it). Blocks only while the items are checked.
+ */
+mc_result mc_group_path_stream_start(mc_card card,
+                                     uint32_t group,
+                                     const struct mc_path_segment *segments,
+                                     size_t n,
+                                     mc_path_streamer *streamer);
+
+/**
+ * The stream's progress (`sent` and `accepted` items, the card's `done` and `queued`
+ * segments) and, in `*finished` (may be NULL), 1 once its thread has ended (everything sent
+ * and answered, cancelled, or stopped by a refusal: `mc_path_streamer_join` says which), else
+ * 0. Never blocks (it reads the card's window).
+ */
+mc_result mc_path_streamer_progress(mc_path_streamer streamer,
+                                    struct mc_path_progress *progress,
+                                    uint32_t *finished);
+
+/**
+ * Stop sending: the items not sent yet are dropped, what the card accepted stays queued and
+ * runs (`mc_group_halt` stops that too). The thread ends once the commands in flight are
+ * answered; `mc_path_streamer_join` then returns `MC_ERR_CANCELLED`. Never blocks.
+ */
+mc_result mc_path_streamer_cancel(mc_path_streamer streamer);
+
+/**
+ * Wait for the stream's thread to end and free the handle (always, whatever it returns).
+ * Returns the stream's result as `mc_group_path_stream` does: `MC_OK` when every item was
+ * accepted (`*last`, may be NULL: the motion of the last segment, seq 0 when there was
+ * none), `MC_ERR_CANCELLED` after `mc_path_streamer_cancel`, or the code of the item that
+ * stopped it (the message names it). `accepted` (may be NULL) always receives how many
+ * items the card accepted. Blocks until the thread ends (at most until the items are sent,
+ * waiting for room as the path runs).
+ */
+mc_result mc_path_streamer_join(mc_path_streamer streamer,
+                                size_t *accepted,
+                                struct mc_group_motion *last);
+
+/**
  * The card's digital outputs as it drives them (bit i = output i, `MC_CARD_OUTPUTS` of them):
  * set by `mc_set_outputs` or by a path's output actions. Never blocks.
  */
@@ -5368,8 +5460,9 @@ mc_result mc_set_heartbeat(mc_card card, uint32_t on);
 /**
  * Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
  * host without real-time scheduling). The card refuses zero and anything under
- * 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
- * card answers.
+ * 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. On a `sim` card
+ * opened with `MOTIONCARD_SIM_WATCHDOG_MS` set (debugging), a shorter timeout gets that one.
+ * Blocks until the card answers.
  */
 mc_result mc_set_watchdog_timeout(mc_card card, uint32_t timeout_us);
 
@@ -5478,9 +5571,25 @@ mc_result mc_scope_read(mc_card card, struct mc_scope_sample *buf, size_t len, s
 mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
 
 /**
+ * Wait up to `timeout_ms` (emulated time on a stepped sim, which is stepped) until the
+ * one-shot capture armed last is done, or the scope was stopped; `info` (may be NULL)
+ * receives the scope's state then (as `mc_scope_get_info`). `MC_ERR_TIMEOUT` while it still
+ * waits for its trigger or captures; `MC_ERR_SCOPE_STATE` when the scope is not armed or
+ * runs a continuous capture (which never ends: `mc_scope_stop` it). Reads nothing from the
+ * ring: a capture longer than `MC_SCOPE_RING_LEN` samples loses what does not fit unless
+ * another thread calls `mc_scope_read` meanwhile. Blocks.
+ */
+mc_result mc_scope_wait(mc_card card, uint32_t timeout_ms, mc_scope_info *info);
+
+/**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
  * at `numerator / denominator` encoder counts per master count, computed on the card in
- * integer arithmetic (no drift). It catches up within `limits`;
+ * integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
+ * moves by the ratio times the master's travel from where both were when the card took the
+ * command (`mc_gear_get_offset` reads the anchor back as an offset). A commanded master is
+ * followed in the same servo tick; an actual one (its encoder, latched at the tick's start)
+ * a tick behind, the slave trailing the ratio line by ratio x its velocity x the servo
+ * period. It catches up within `limits`;
  * `mc_motion_wait_in_sync` on `*motion` (may be NULL) returns once it is in gear. Refused:
  * `MC_ERR_GEAR_RATIO`, `MC_ERR_SYNC_MASTER` (no such master, the axis itself, a master axis
  * disabled or in ErrorStop), `MC_ERR_INFEASIBLE` (the master runs faster than `limits` let
@@ -5514,6 +5623,18 @@ mc_result mc_gear_in_pos(mc_card card,
                          double slave_position,
                          const struct mc_sync_limits *limits,
                          struct mc_motion *motion);
+
+/**
+ * The engagement offset of `axis`'s gear coupling (`mc_gear_in`, `mc_gear_in_pos`), in
+ * counts: in gear the slave's commanded position is `offset + ratio * master` (both in
+ * counts; a commanded master's position in counts; the ratio is the coupling's numerator
+ * over its denominator). The coupling is relative to the engagement: `mc_gear_in` anchors the
+ * ratio line where the slave and the master were when the card took it, `mc_gear_in_pos` at
+ * the sync point; the offset is where that line puts the slave with the master at 0.
+ * `MC_ERR_INVALID_STATE` when the axis is not geared (or was not geared through this
+ * library). Never blocks.
+ */
+mc_result mc_gear_get_offset(mc_card card, uint32_t axis, double *offset);
 
 /**
  * MC_GearOut: the slave leaves the coupling and keeps moving at its velocity (velocity mode);
@@ -5666,6 +5787,660 @@ mc_result mc_send_raw(mc_card card,
                       size_t nargs,
                       double *value);
 
+
+/*
+ * The register map's own constants that the comments of this header cite (firmware-proto/include/mc_dpram.h,
+ * generated with it): the flags, sizes and codes of raw commands (mc_send_raw) and of the register map's blocks.
+ * MC_NACK_ codes are what the card answers a raw command (positive); the library's calls return
+ * MC_ERR_ codes.
+ */
+
+/**
+ * `MC_OP_CAM_IN` flag (beside the master source).
+ */
+#define MC_CAM_AT_CYCLE_END (1u << 4)
+
+#define MC_CAM_DATA_MAX 5u
+
+/**
+ * Aux = a point on the arc (three-point circle).
+ */
+#define MC_CIRC_BY_BORDER 2u
+
+/**
+ * Aux = centre.
+ */
+#define MC_CIRC_BY_CENTRE 0u
+
+/**
+ * `aux_u` = radius (negative: the arc longer than half a turn).
+ */
+#define MC_CIRC_BY_RADIUS 1u
+
+/**
+ * Else clockwise (ignored for border-point arcs).
+ */
+#define MC_CIRC_CCW (1u << 4)
+
+/**
+ * Helical targets are distances even in an absolute move.
+ */
+#define MC_CIRC_HELIX_RELATIVE (1u << 7)
+
+/**
+ * 2 bits:.
+ */
+#define MC_CIRC_MODE_SHIFT 2u
+
+/**
+ * 2 bits:.
+ */
+#define MC_CIRC_PLANE_SHIFT 5u
+
+/**
+ * Fire crossing downwards (single: both bits, either way).
+ */
+#define MC_CMP_DIR_NEG (1u << 3)
+
+/**
+ * Fire crossing upwards.
+ */
+#define MC_CMP_DIR_POS (1u << 2)
+
+#define MC_CMP_MODE_MASK 3u
+
+#define MC_CMP_MODE_SERIES 1u
+
+#define MC_CMP_MODE_SINGLE 0u
+
+#define MC_CMP_MODE_TABLE 2u
+
+/**
+ * Positions per `MC_OP_COMPARE_TABLE` entry.
+ */
+#define MC_COMPARE_TABLE_MAX 12u
+
+/**
+ * The table gives a correction per direction.
+ */
+#define MC_COMP_BIDIR (1u << 0)
+
+#define MC_COMP_DATA_MAX 4u
+
+#define MC_COMP_MAX_POINTS 256u
+
+/**
+ * `axis_config[i]` and `axis_pdplus[i]`.
+ */
+#define MC_CONFIG_AXIS 2u
+
+/**
+ * `axis_filter[i]`.
+ */
+#define MC_CONFIG_AXIS_FILTER 3u
+
+/**
+ * `axis_homing[i]`.
+ */
+#define MC_CONFIG_AXIS_HOMING 7u
+
+/**
+ * `axis_safety[i]`.
+ */
+#define MC_CONFIG_AXIS_SAFETY 6u
+
+/**
+ * `card_config` (index 0).
+ */
+#define MC_CONFIG_CARD 1u
+
+/**
+ * `group_config[i]`.
+ */
+#define MC_CONFIG_GROUP 4u
+
+/**
+ * `group_path[i]`.
+ */
+#define MC_CONFIG_GROUP_PATH 8u
+
+/**
+ * `io_config` (index 0).
+ */
+#define MC_CONFIG_IO 9u
+
+/**
+ * Safety (index 0).
+ */
+#define MC_CONFIG_SAFETY 5u
+
+/**
+ * `io_config.debounce`, ticks.
+ */
+#define MC_DEBOUNCE_MAX 10000u
+
+#define MC_MAX_MOVE_TIME 1000000.0
+
+/**
+ * Start when the queued moves end (else: a group must be at rest; an axis aborts what it does).
+ */
+#define MC_MOVE_BUFFERED (1u << 1)
+
+#define MC_MOVE_RELATIVE (1u << 0)
+
+/**
+ * The card configuration can only change while every axis is disabled.
+ */
+#define MC_NACK_AXES_ENABLED 10
+
+/**
+ * A group axis is moving on its own.
+ */
+#define MC_NACK_AXIS_BUSY 19
+
+/**
+ * A move was commanded on a disabled axis.
+ */
+#define MC_NACK_AXIS_DISABLED 5
+
+/**
+ * Single-axis motion on an axis of an enabled group.
+ */
+#define MC_NACK_AXIS_GROUPED 20
+
+/**
+ * A move, jog, `MC_SetPosition` or `MC_Home` on an axis that is homing.
+ */
+#define MC_NACK_AXIS_HOMING 65
+
+/**
+ * An axis already belongs to another group.
+ */
+#define MC_NACK_AXIS_IN_OTHER_GROUP 17
+
+/**
+ * The move needs an axis the group does not have.
+ */
+#define MC_NACK_AXIS_NOT_IN_GROUP 18
+
+/**
+ * The axis number is not one of this card's axes.
+ */
+#define MC_NACK_BAD_AXIS 2
+
+/**
+ * A stop category other than 0, 1 or 2.
+ */
+#define MC_NACK_BAD_CATEGORY 38
+
+/**
+ * A configuration block holds a value out of its range.
+ */
+#define MC_NACK_BAD_CONFIG 7
+
+/**
+ * No such group.
+ */
+#define MC_NACK_BAD_GROUP 16
+
+/**
+ * Cam data without an open table or out of order.
+ */
+#define MC_NACK_CAM_SEQUENCE 106
+
+/**
+ * A table number, point count or flags out of range, points not strictly increasing in the master or not finite, a table not loaded, or one in use.
+ */
+#define MC_NACK_CAM_TABLE 105
+
+/**
+ * Reset refused: the cause (alarm, encoder fault, e-stop input, missing heartbeat) is still present.
+ */
+#define MC_NACK_CAUSE_ACTIVE 36
+
+/**
+ * The centre is not equidistant from start and end within the tolerance.
+ */
+#define MC_NACK_CENTRE_NOT_EQUIDISTANT 22
+
+/**
+ * The three points of a border-point arc are on one line.
+ */
+#define MC_NACK_COLLINEAR_POINTS 24
+
+/**
+ * The channel is armed (or armed in another mode, or its table has the other direction), or its output is another armed channel's.
+ */
+#define MC_NACK_COMPARE_BUSY 95
+
+/**
+ * The table has no room for the entry's positions.
+ */
+#define MC_NACK_COMPARE_FULL 93
+
+/**
+ * An unknown mode or direction, an output >= `MC_CARD_OUTPUTS`, a pulse width, low-water mark, pitch or count out of its range, or table data of the wrong size.
+ */
+#define MC_NACK_COMPARE_MODE 92
+
+/**
+ * Table positions not strictly monotonic in the direction.
+ */
+#define MC_NACK_COMPARE_ORDER 94
+
+/**
+ * A correction beyond the table's bound.
+ */
+#define MC_NACK_COMP_BOUND 123
+
+/**
+ * The axis is not at rest: its compensation cannot change.
+ */
+#define MC_NACK_COMP_BUSY 124
+
+/**
+ * Compensation positions not strictly increasing.
+ */
+#define MC_NACK_COMP_ORDER 122
+
+/**
+ * Compensation data without an open table, or out of order.
+ */
+#define MC_NACK_COMP_SEQUENCE 121
+
+/**
+ * Compensation: a point count, bound, backlash, ramp or flags out of range.
+ */
+#define MC_NACK_COMP_TABLE 120
+
+/**
+ * `MC_OP_READ_CONFIG`: an unknown block kind, or a kind or index that is not an integer.
+ */
+#define MC_NACK_CONFIG_KIND 116
+
+/**
+ * An e-stop is latched: `MC_OP_SAFETY_RESET` first.
+ */
+#define MC_NACK_ESTOP_ACTIVE 33
+
+/**
+ * Served after its deadline (the command's `deadline_ms`): not executed.
+ */
+#define MC_NACK_EXPIRED 13
+
+/**
+ * Filters can change only while they hold no distance.
+ */
+#define MC_NACK_FILTER_BUSY 28
+
+/**
+ * A ratio that is not integer, a zero numerator, a denominator <= 0, or a magnitude above `MC_GEAR_RATIO_MAX`.
+ */
+#define MC_NACK_GEAR_RATIO 100
+
+/**
+ * A move on a disabled group.
+ */
+#define MC_NACK_GROUP_DISABLED 27
+
+/**
+ * The move goes further into an active limit switch.
+ */
+#define MC_NACK_HARD_LIMIT 34
+
+/**
+ * A homing method the axis cannot do: an unknown number, or an index method without `MC_HOMING_FLAG_INDEX`.
+ */
+#define MC_NACK_HOMING_METHOD 64
+
+/**
+ * The interpolator cannot run with the group's acc/dec mode.
+ */
+#define MC_NACK_INCOMPATIBLE_MODE 26
+
+/**
+ * No profile satisfies the request.
+ */
+#define MC_NACK_INFEASIBLE 8
+
+/**
+ * The command is not allowed in the axis's current state.
+ */
+#define MC_NACK_INVALID_STATE 6
+
+/**
+ * A compare or probe channel that is not an integer in `0..MC_COMPARE_CHANNELS-1` (`MC_PROBE_CHANNELS-1`).
+ */
+#define MC_NACK_IO_CHANNEL 91
+
+/**
+ * `io_config`: a mask bit beyond `MC_CARD_INPUTS` or a debounce over `MC_DEBOUNCE_MAX`.
+ */
+#define MC_NACK_IO_CONFIG 90
+
+/**
+ * A kinematic limit outside its range (see `MC_MAX_MOVE_TIME`).
+ */
+#define MC_NACK_LIMIT_RANGE 11
+
+/**
+ * A velocity, acceleration or jerk limit is zero or negative.
+ */
+#define MC_NACK_NON_POSITIVE_LIMIT 4
+
+/**
+ * An argument is NaN or infinite.
+ */
+#define MC_NACK_NOT_FINITE 3
+
+/**
+ * A command the session gate refuses (see `MC_OP_HOST_ATTACH`): no session attached with its watchdog armed.
+ */
+#define MC_NACK_NO_SESSION 41
+
+/**
+ * Fewer than degree+1 or more than 1024 control points.
+ */
+#define MC_NACK_NURBS_CTRL_COUNT 51
+
+/**
+ * Degree outside 1..5.
+ */
+#define MC_NACK_NURBS_DEGREE 49
+
+/**
+ * The group has fewer than 2 axes.
+ */
+#define MC_NACK_NURBS_DIMENSION 50
+
+/**
+ * A knot not finite (NaN or infinite).
+ */
+#define MC_NACK_NURBS_KNOT 60
+
+/**
+ * Knots decrease.
+ */
+#define MC_NACK_NURBS_KNOTS_DECREASING 53
+
+/**
+ * `n_knots` != `n_ctrl` + degree + 1.
+ */
+#define MC_NACK_NURBS_KNOT_COUNT 52
+
+/**
+ * An interior knot repeated more than degree times.
+ */
+#define MC_NACK_NURBS_KNOT_MULTIPLICITY 54
+
+/**
+ * End knots not repeated degree+1 times, or an empty domain.
+ */
+#define MC_NACK_NURBS_NOT_CLAMPED 55
+
+/**
+ * A control point not finite.
+ */
+#define MC_NACK_NURBS_POINT 57
+
+/**
+ * DATA/END without BEGIN, data out of order or missing.
+ */
+#define MC_NACK_NURBS_SEQUENCE 48
+
+/**
+ * The curve does not start where the group's path is.
+ */
+#define MC_NACK_NURBS_START 58
+
+/**
+ * A weight not finite and > 0.
+ */
+#define MC_NACK_NURBS_WEIGHT 56
+
+/**
+ * The curve has zero length.
+ */
+#define MC_NACK_NURBS_ZERO_LENGTH 59
+
+/**
+ * A position or distance is beyond the card's range.
+ */
+#define MC_NACK_OUT_OF_RANGE 9
+
+/**
+ * An override factor outside `0..MC_OVERRIDE_MAX`.
+ */
+#define MC_NACK_OVERRIDE_RANGE 14
+
+/**
+ * A path segment while group moves run, a group move while the path runs, or `group_path` applied while it runs.
+ */
+#define MC_NACK_PATH_BUSY 83
+
+/**
+ * A NURBS path segment with a point of zero tangent, or needing more pieces than the path buffer holds.
+ */
+#define MC_NACK_PATH_CURVE 85
+
+/**
+ * A segment id that is not an integer in 0..2^32-1.
+ */
+#define MC_NACK_PATH_ID 84
+
+/**
+ * A buffer or transition mode the card does not know, or a time-shifted transition it cannot make (`MC_PATH_TRANSITION_TIME_SHIFT`).
+ */
+#define MC_NACK_PATH_MODE 80
+
+/**
+ * An output number >= `MC_CARD_OUTPUTS`, a value other than 0/1, or more than `MC_PATH_OUTPUTS_PENDING` actions pending.
+ */
+#define MC_NACK_PATH_OUTPUT 82
+
+/**
+ * A line of length zero.
+ */
+#define MC_NACK_PATH_ZERO_LENGTH 81
+
+/**
+ * The planned profile failed the card's own check (shorter than |d|/vmax, off its target or beyond a limit): refused, not run.
+ */
+#define MC_NACK_PLAN_CHECK 12
+
+/**
+ * A probe input beyond `MC_PROBE_INPUT_INDEX`, no edge or an unknown flag, or a window with `window_lo` > `window_hi`.
+ */
+#define MC_NACK_PROBE_INPUT 96
+
+/**
+ * A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a velocity.
+ */
+#define MC_NACK_PVT_LIMIT 103
+
+/**
+ * Points without an open stream or after its last point, a start without points or on an axis that moved, a begin while one runs.
+ */
+#define MC_NACK_PVT_SEQUENCE 104
+
+/**
+ * A point not at least one servo period after the one before, or a segment longer than `MC_MAX_MOVE_TIME`.
+ */
+#define MC_NACK_PVT_TIME 102
+
+/**
+ * The group's (or the axis's) move queue is full.
+ */
+#define MC_NACK_QUEUE_FULL 25
+
+/**
+ * The radius is shorter than half the chord.
+ */
+#define MC_NACK_RADIUS_TOO_SMALL 23
+
+/**
+ * `n_channels` 0 or above `MC_SCOPE_CHANNELS`.
+ */
+#define MC_NACK_SCOPE_CHANNELS 111
+
+/**
+ * A divider 0 or above `MC_SCOPE_DIVIDER_MAX`.
+ */
+#define MC_NACK_SCOPE_DIVIDER 112
+
+/**
+ * `pre_trigger` above `MC_SCOPE_PRETRIGGER_MAX`.
+ */
+#define MC_NACK_SCOPE_PRETRIGGER 114
+
+/**
+ * An unknown signal, or an axis or group index the card has not.
+ */
+#define MC_NACK_SCOPE_SIGNAL 110
+
+/**
+ * Configure or arm while armed, trigger while not waiting, stop while idle, arm before a configure.
+ */
+#define MC_NACK_SCOPE_STATE 115
+
+/**
+ * An unknown mode, trigger kind or edge, a trigger channel >= `n_channels`, a trigger input >= `MC_CARD_INPUTS`, a level not finite, or a one-shot with `post_trigger` 0.
+ */
+#define MC_NACK_SCOPE_TRIGGER 113
+
+/**
+ * A detach by a host whose session is not the attached one.
+ */
+#define MC_NACK_SESSION 40
+
+/**
+ * The move goes further beyond a soft limit.
+ */
+#define MC_NACK_SOFT_LIMIT 35
+
+/**
+ * A stop ramp from `max_velocity` longer than the maximum stop time, or a maximum stop time out of range.
+ */
+#define MC_NACK_STOP_TOO_LONG 39
+
+/**
+ * A master source the card does not know, a master axis or aux encoder it does not have, the slave itself, or a master axis disabled or in ErrorStop.
+ */
+#define MC_NACK_SYNC_MASTER 101
+
+/**
+ * The opcode is not defined by this firmware.
+ */
+#define MC_NACK_UNKNOWN_OPCODE 1
+
+/**
+ * Watchdog timeout 0 or under 1.5 x `host.host_period_us`.
+ */
+#define MC_NACK_WATCHDOG_TIMEOUT 37
+
+/**
+ * The host watchdog fault is latched: `MC_OP_SAFETY_RESET` first.
+ */
+#define MC_NACK_WATCHDOG_TRIPPED 32
+
+/**
+ * The arc has zero length (or zero radius).
+ */
+#define MC_NACK_ZERO_LENGTH_ARC 21
+
+/**
+ * Saturation-aware feed (Yeh 3.4): needs PD+ axes.
+ */
+#define MC_NURBS_SATURATION (1u << 2)
+
+/**
+ * 200 %.
+ */
+#define MC_OVERRIDE_MAX 2.0
+
+/**
+ * The last segment of a program: its stop is not starvation.
+ */
+#define MC_PATH_LAST (1u << 21)
+
+#define MC_PATH_OUTPUTS_PENDING 8u
+
+#define MC_PROBE_CONTINUOUS (1u << 2)
+
+/**
+ * A capture halts the axis's group or the axis (layout 1.9).
+ */
+#define MC_PROBE_HALT (1u << 4)
+
+#define MC_PROBE_WINDOW (1u << 3)
+
+/**
+ * `cmd_head` - `cmd_tail` > `MC_CMD_RING_LEN`.
+ */
+#define MC_PROTO_CMD_RING 1
+
+/**
+ * `evt_head` - `evt_tail` > `MC_EVT_RING_LEN`.
+ */
+#define MC_PROTO_EVT_RING 2
+
+/**
+ * `MC_OP_GROUP_MOVE_PTP`: every axis's limits were staged (else `MC_NACK_BAD_CONFIG`).
+ */
+#define MC_PTP_AXIS_LIMITS (1u << 10)
+
+#define MC_PVT_LAST (1u << 1)
+
+/**
+ * Points per `MC_OP_PVT_POINTS`.
+ */
+#define MC_PVT_POINTS_MAX 4u
+
+#define MC_PVT_PT (1u << 0)
+
+/**
+ * Encoder to a kilometre on a fine one.
+ */
+#define MC_SCALE_MAX 1e12
+
+/**
+ * |counts per user unit|: a nanometre-class unit on a coarse.
+ */
+#define MC_SCALE_MIN 1e-9
+
+/**
+ * `scope_config.divider`: `1..MC_SCOPE_DIVIDER_MAX`.
+ */
+#define MC_SCOPE_DIVIDER_MAX 65536u
+
+/**
+ * `scope_config.pre_trigger`: `0..MC_SCOPE_PRETRIGGER_MAX`.
+ */
+#define MC_SCOPE_PRETRIGGER_MAX 1024u
+
+#define MC_SCOPE_SOURCE(signal, index) ((uint32_t)(signal) | ((uint32_t)(index) << 16))
+
+#define MC_SERVO_FFPIV 0u
+
+/**
+ * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+ */
+#define MC_SERVO_PDPLUS 1u
+
+#define MC_SERVO_RATE_MAX_HZ 20000u
+
+#define MC_SERVO_RATE_MIN_HZ 1000u
+
+#define MC_STATUS_WORDS 25u
+
+#define MC_CMD_RING_LEN 64u
+
+#define MC_EVT_RING_LEN 256u
+
+/**
+ * |numerator|, denominator <= 2^31 - 1.
+ */
+#define MC_GEAR_RATIO_MAX 2147483647.0
 #ifdef __cplusplus
 }  /* extern "C" */
 #endif

@@ -527,8 +527,9 @@ pub unsafe extern "C" fn mc_get_status(
 }
 
 /// The status of several axes in one call: `statuses[i]` is the status of axis `axes[i]`, for
-/// `n` axes (1..=8; each a valid axis, repeats allowed). One pass over the card's status
-/// blocks, each a consistent snapshot, and one check that the card is alive. Like
+/// `n` axes (1..=8; each a valid axis, repeats allowed), all of the same servo tick (equal
+/// `raw.tick`: a read that straddles two ticks is read again), each a consistent snapshot,
+/// and one check that the card is alive. Like
 /// `mc_get_status`, never stale: `MC_ERR_NOT_RESPONDING` when the card's tick has stood still
 /// too long. Does not wait for the card.
 #[no_mangle]
@@ -604,7 +605,8 @@ pub(crate) fn motion_of(
 }
 
 /// Wait for the last motion started on this axis by this process, as `mc_motion_wait`
-/// (`position` may be NULL). `MC_ERR_UNSUPPORTED` when none was started. Blocks.
+/// (`position` may be NULL). `MC_ERR_NO_MOTION` when none was started since the card was opened
+/// (nothing to wait for). Blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_wait_done(
     card: mc_card,

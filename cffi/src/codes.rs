@@ -6,8 +6,8 @@
 //! writes them into motioncard.h. The rules are in `xtask/src/codes.rs`.
 
 /// Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's fields;
-/// positions in `value` are in user units. `MC_EVENT_ACK` and `MC_EVENT_NACK` are taken by the
-/// library, never delivered.
+/// positions and distances in `value` are in user units (the rule of `mc_event`). `MC_EVENT_ACK`
+/// and `MC_EVENT_NACK` are taken by the library, never delivered.
 ///
 /// The command with this seq was accepted.
 pub const MC_EVENT_ACK: u32 = 1;
@@ -835,7 +835,7 @@ pub const MC_OP_APPLY_AXIS_SAFETY: u32 = 33;
 pub const MC_OP_ESTOP: u32 = 34;
 
 /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then leave
-/// ErrorStop by `MC_RESET`.
+/// ErrorStop by `MC_OP_RESET`.
 pub const MC_OP_SAFETY_RESET: u32 = 35;
 
 /// Flags: the new session id (nonzero). If another session is still attached (its host died or hung
@@ -927,7 +927,10 @@ pub const MC_OP_PROBE_ARM: u32 = 68;
 pub const MC_OP_PROBE_ABORT: u32 = 69;
 
 /// Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting; from
-/// Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+/// Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio). The ack's
+/// value (and `MC_OP_GEAR_IN_POS's`): the coupling's offset, slave counts with the master at 0 (in
+/// gear: slave = offset + ratio x master, counts; anchored where both were at the engagement, or at
+/// the sync point).
 pub const MC_OP_GEAR_IN: u32 = 80;
 
 /// As `MC_OP_GEAR_IN`, then args: master sync position, slave sync position: the slave reaches the

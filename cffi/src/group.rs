@@ -595,7 +595,8 @@ pub extern "C" fn mc_group_motion_wait(
 }
 
 /// Wait for the last move queued on this group by this process, as `mc_group_motion_wait`.
-/// `MC_ERR_UNSUPPORTED` when none was queued. Blocks.
+/// `MC_ERR_NO_MOTION` when none was queued since the card was opened (nothing to
+/// wait for). Blocks.
 #[no_mangle]
 pub extern "C" fn mc_group_wait_done(card: mc_card, group: u32, timeout_ms: u32) -> mc_result {
     guard(|| Ok(group_of(card, group)?.1.wait_done(ms(timeout_ms))?))

@@ -787,6 +787,225 @@ pub unsafe extern "C" fn mc_group_path_stream(
     r
 }
 
+/// A path stream running in a thread of the library (`mc_group_path_stream_start`): an
+/// integer handle, never 0, valid until `mc_path_streamer_join`.
+#[allow(non_camel_case_types)]
+pub type mc_path_streamer = u32;
+
+/// A streamer: the SDK's, and what its end needs (the card's entry, the group).
+struct Streamer {
+    streamer: motioncard_sdk::PathStreamer,
+    entry: std::sync::Arc<registry::Entry>,
+    group: u32,
+    /// Items given.
+    n: usize,
+}
+
+/// The streamers, by slot (handle: slot + 1 in the low 16 bits, the slot's generation above).
+static STREAMERS: std::sync::Mutex<Vec<(u16, Option<Streamer>)>> =
+    std::sync::Mutex::new(Vec::new());
+
+fn no_streamer(h: mc_path_streamer) -> Failure {
+    Failure::new(
+        crate::result::MC_ERR_BAD_HANDLE,
+        format!("no path streamer with handle {h}"),
+    )
+}
+
+/// Run `f` on the streamer of handle `h`; `take` removes it (its handle is then invalid).
+fn with_streamer<T>(
+    h: mc_path_streamer,
+    take: bool,
+    f: impl FnOnce(&mut Option<Streamer>) -> T,
+) -> Result<T, Failure> {
+    let mut all = STREAMERS.lock().unwrap_or_else(|p| p.into_inner());
+    let slot = ((h & 0xffff) as usize)
+        .checked_sub(1)
+        .filter(|&s| s < all.len())
+        .ok_or_else(|| no_streamer(h))?;
+    let (generation, st) = &mut all[slot];
+    if *generation != (h >> 16) as u16 || st.is_none() {
+        return Err(no_streamer(h));
+    }
+    let out = f(st);
+    if take {
+        *st = None;
+        *generation = generation.wrapping_add(1).max(1);
+    }
+    Ok(out)
+}
+
+/// Start streaming `n` items (`segments`, may be NULL when `n` is 0) into a group's path from
+/// a thread of the library, as `mc_group_path_stream` streams them, and return at once with
+/// its handle in `*streamer`. Every item is checked and copied first (a NURBS item's arrays
+/// too: the caller's memory is not read after this call): an item the library refuses is
+/// returned with its code (the message names the item) and nothing is sent. The thread calls
+/// no application code. Watch it with `mc_path_streamer_progress`, stop it with
+/// `mc_path_streamer_cancel`, and end it with `mc_path_streamer_join` (which every handle
+/// needs: it frees it). Blocks only while the items are checked.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_path_stream_start(
+    card: mc_card,
+    group: u32,
+    segments: *const mc_path_segment,
+    n: usize,
+    streamer: *mut mc_path_streamer,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(streamer, "streamer")?;
+        if segments.is_null() && n > 0 {
+            return Err(Failure::null("segments"));
+        }
+        let (e, g) = group_of(card, group)?;
+        let mut items = Vec::with_capacity(n);
+        for i in 0..n {
+            // SAFETY: non-NULL when n > 0 (checked above); `n` readable items by the contract
+            // (and a NURBS item's arrays readable, by the contract).
+            let checked = unsafe { read_at(segments, i).to_sdk() }
+                .and_then(|it| g.path_command(&it).map(|_| it).map_err(Failure::from));
+            match checked {
+                Ok(it) => items.push(it),
+                Err(f) => {
+                    return Err(Failure::new(
+                        f.code,
+                        format!("path item {i}: {}", f.message),
+                    ))
+                }
+            }
+        }
+        let st = Streamer {
+            streamer: g.spawn_path_stream(items),
+            entry: e,
+            group,
+            n,
+        };
+        let mut all = STREAMERS.lock().unwrap_or_else(|p| p.into_inner());
+        let slot = match all.iter().position(|(_, s)| s.is_none()) {
+            Some(i) => i,
+            None if all.len() < 0xffff => {
+                all.push((1, None));
+                all.len() - 1
+            }
+            None => {
+                st.streamer.cancel();
+                return Err(Failure::new(
+                    crate::result::MC_ERR_BAD_HANDLE,
+                    "65535 path streamers are open: join some",
+                ));
+            }
+        };
+        let h = (all[slot].0 as u32) << 16 | (slot as u32 + 1);
+        all[slot].1 = Some(st);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(h) };
+        Ok(())
+    })
+}
+
+/// The stream's progress (`sent` and `accepted` items, the card's `done` and `queued`
+/// segments) and, in `*finished` (may be NULL), 1 once its thread has ended (everything sent
+/// and answered, cancelled, or stopped by a refusal: `mc_path_streamer_join` says which), else
+/// 0. Never blocks (it reads the card's window).
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_streamer_progress(
+    streamer: mc_path_streamer,
+    progress: *mut mc_path_progress,
+    finished: *mut u32,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(progress, "progress")?;
+        let fin = Out::optional(finished);
+        let (p, f) = with_streamer(streamer, false, |s| {
+            let s = s.as_ref().expect("checked");
+            (s.streamer.progress(), s.streamer.is_finished())
+        })?;
+        // SAFETY: checked non-NULL (`finished`: when given); valid by the caller's contract.
+        unsafe {
+            out.write(p.into());
+            if let Some(fin) = fin {
+                fin.write(f as u32);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Stop sending: the items not sent yet are dropped, what the card accepted stays queued and
+/// runs (`mc_group_halt` stops that too). The thread ends once the commands in flight are
+/// answered; `mc_path_streamer_join` then returns `MC_ERR_CANCELLED`. Never blocks.
+#[no_mangle]
+pub extern "C" fn mc_path_streamer_cancel(streamer: mc_path_streamer) -> mc_result {
+    guard(|| {
+        with_streamer(streamer, false, |s| {
+            s.as_ref().expect("checked").streamer.cancel()
+        })
+    })
+}
+
+/// Wait for the stream's thread to end and free the handle (always, whatever it returns).
+/// Returns the stream's result as `mc_group_path_stream` does: `MC_OK` when every item was
+/// accepted (`*last`, may be NULL: the motion of the last segment, seq 0 when there was
+/// none), `MC_ERR_CANCELLED` after `mc_path_streamer_cancel`, or the code of the item that
+/// stopped it (the message names it). `accepted` (may be NULL) always receives how many
+/// items the card accepted. Blocks until the thread ends (at most until the items are sent,
+/// waiting for room as the path runs).
+#[no_mangle]
+pub unsafe extern "C" fn mc_path_streamer_join(
+    streamer: mc_path_streamer,
+    accepted: *mut usize,
+    last: *mut mc_group_motion,
+) -> mc_result {
+    let accepted_out = Out::optional(accepted);
+    let mut count = 0usize;
+    let r = guard(|| {
+        let st = with_streamer(streamer, true, |s| s.take().expect("checked"))?;
+        while !st.streamer.is_finished() {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        let sent = st.streamer.progress().accepted as usize;
+        let cancelled = st.streamer.is_cancelled();
+        match st.streamer.join() {
+            Ok(_) if cancelled && sent < st.n => {
+                count = sent;
+                Err(Failure::new(
+                    motioncard_sdk::ErrorKind::Cancelled.code(),
+                    format!(
+                        "the path stream was cancelled after {sent} of {} items",
+                        st.n
+                    ),
+                ))
+            }
+            Ok(m) => {
+                count = st.n;
+                match m {
+                    Some(m) => started(&st.entry, m, st.group, last),
+                    None => {
+                        if let Some(out) = Out::optional(last) {
+                            // SAFETY: non-NULL; valid for writes by the caller's contract.
+                            unsafe {
+                                out.write(mc_group_motion {
+                                    group: st.group,
+                                    seq: 0,
+                                })
+                            };
+                        }
+                        Ok(())
+                    }
+                }
+            }
+            Err(se) => {
+                count = se.accepted as usize;
+                Err(stream_failure(se))
+            }
+        }
+    });
+    if let Some(out) = accepted_out {
+        // SAFETY: non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(count) };
+    }
+    r
+}
+
 // ---------------------------------------------------------------------------------------------
 // Outputs
 // ---------------------------------------------------------------------------------------------

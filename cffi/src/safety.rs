@@ -26,8 +26,9 @@ pub extern "C" fn mc_set_heartbeat(card: mc_card, on: u32) -> mc_result {
 
 /// Set the card's watchdog timeout, µs (default 100000: above the heartbeat gaps of a loaded
 /// host without real-time scheduling). The card refuses zero and anything under
-/// 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. Blocks until the
-/// card answers.
+/// 1.5 × the library's heartbeat period of 1 ms: `MC_ERR_WATCHDOG_TIMEOUT`. On a `sim` card
+/// opened with `MOTIONCARD_SIM_WATCHDOG_MS` set (debugging), a shorter timeout gets that one.
+/// Blocks until the card answers.
 #[no_mangle]
 pub extern "C" fn mc_set_watchdog_timeout(card: mc_card, timeout_us: u32) -> mc_result {
     guard(|| {

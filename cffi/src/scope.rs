@@ -17,13 +17,19 @@ use crate::result::{guard, mc_result, Failure, MC_ERR_BUFFER_TOO_SMALL};
 /// trigger. Start from `mc_scope_settings_default`.
 #[allow(non_camel_case_types)]
 pub type mc_scope_settings = firmware_proto::raw::mc_scope_config;
-/// One sample: the servo tick it was taken at and each channel's value (counts, seconds,
-/// volts, words as their double), exactly the card's status values of that tick.
+/// One sample: the servo tick it was taken at and each channel's value, exactly the card's
+/// status value of that tick in the card's units, not user units (the scope runs on the
+/// card): positions, following errors and distances in encoder counts, velocities in
+/// counts/s, accelerations in counts/s², the DAC in volts, times in seconds, states, bits
+/// and words as their double. Divide a position by the axis's scale (`mc_set_scale`) for
+/// user units.
 #[allow(non_camel_case_types)]
 pub type mc_scope_sample = firmware_proto::raw::mc_scope_sample;
 /// The scope's state: `state` `MC_SCOPE_STATE_*`, the arm's seq, the capture's channels and
 /// divider, the trigger sample's tick (0: not yet), the samples put in the ring and lost since
-/// the arm.
+/// the arm, and `pre_captured`: how many pre-trigger samples the capture took, first in the
+/// ring (`pre_trigger`, or fewer when the trigger came before that many samples had been
+/// taken since the arm; 0 until the trigger).
 #[allow(non_camel_case_types)]
 pub type mc_scope_info = firmware_proto::raw::mc_scope_status;
 
@@ -133,10 +139,49 @@ pub unsafe extern "C" fn mc_scope_get_info(card: mc_card, info: *mut mc_scope_in
             trigger_tick: s.trigger_tick,
             samples: s.samples,
             lost: s.lost,
+            pre_captured: s.pre_trigger,
             ..Default::default()
         };
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(i) };
+        Ok(())
+    })
+}
+
+/// Wait up to `timeout_ms` (emulated time on a stepped sim, which is stepped) until the
+/// one-shot capture armed last is done, or the scope was stopped; `info` (may be NULL)
+/// receives the scope's state then (as `mc_scope_get_info`). `MC_ERR_TIMEOUT` while it still
+/// waits for its trigger or captures; `MC_ERR_SCOPE_STATE` when the scope is not armed or
+/// runs a continuous capture (which never ends: `mc_scope_stop` it). Reads nothing from the
+/// ring: a capture longer than `MC_SCOPE_RING_LEN` samples loses what does not fit unless
+/// another thread calls `mc_scope_read` meanwhile. Blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_scope_wait(
+    card: mc_card,
+    timeout_ms: u32,
+    info: *mut mc_scope_info,
+) -> mc_result {
+    guard(|| {
+        let out = Out::optional(info);
+        let s = registry::get(card)?
+            .card
+            .scope()
+            .wait_done(std::time::Duration::from_millis(timeout_ms.into()))?;
+        if let Some(out) = out {
+            let i = mc_scope_info {
+                state: s.state as u32,
+                arm_seq: s.arm_seq,
+                n_channels: s.channels as u32,
+                divider: s.divider,
+                trigger_tick: s.trigger_tick,
+                samples: s.samples,
+                lost: s.lost,
+                pre_captured: s.pre_trigger,
+                ..Default::default()
+            };
+            // SAFETY: non-NULL; valid for writes by the caller's contract.
+            unsafe { out.write(i) };
+        }
         Ok(())
     })
 }

@@ -41,7 +41,12 @@ fn limits_of(l: *const mc_sync_limits) -> Result<SyncLimits, Failure> {
 
 /// MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
 /// at `numerator / denominator` encoder counts per master count, computed on the card in
-/// integer arithmetic (no drift). It catches up within `limits`;
+/// integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
+/// moves by the ratio times the master's travel from where both were when the card took the
+/// command (`mc_gear_get_offset` reads the anchor back as an offset). A commanded master is
+/// followed in the same servo tick; an actual one (its encoder, latched at the tick's start)
+/// a tick behind, the slave trailing the ratio line by ratio x its velocity x the servo
+/// period. It catches up within `limits`;
 /// `mc_motion_wait_in_sync` on `*motion` (may be NULL) returns once it is in gear. Refused:
 /// `MC_ERR_GEAR_RATIO`, `MC_ERR_SYNC_MASTER` (no such master, the axis itself, a master axis
 /// disabled or in ErrorStop), `MC_ERR_INFEASIBLE` (the master runs faster than `limits` let
@@ -98,6 +103,35 @@ pub unsafe extern "C" fn mc_gear_in_pos(
             &l,
         )?;
         started(&e, mv, axis, motion)
+    })
+}
+
+/// The engagement offset of `axis`'s gear coupling (`mc_gear_in`, `mc_gear_in_pos`), in
+/// counts: in gear the slave's commanded position is `offset + ratio * master` (both in
+/// counts; a commanded master's position in counts; the ratio is the coupling's numerator
+/// over its denominator). The coupling is relative to the engagement: `mc_gear_in` anchors the
+/// ratio line where the slave and the master were when the card took it, `mc_gear_in_pos` at
+/// the sync point; the offset is where that line puts the slave with the master at 0.
+/// `MC_ERR_INVALID_STATE` when the axis is not geared (or was not geared through this
+/// library). Never blocks.
+#[no_mangle]
+pub unsafe extern "C" fn mc_gear_get_offset(
+    card: mc_card,
+    axis: u32,
+    offset: *mut f64,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(offset, "offset")?;
+        let (_, a) = axis_of(card, axis)?;
+        let o = a.gear_offset().ok_or_else(|| {
+            Failure::new(
+                motioncard_sdk::ErrorKind::InvalidState.code(),
+                format!("axis {axis} is not geared through this library"),
+            )
+        })?;
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(o) };
+        Ok(())
     })
 }
 

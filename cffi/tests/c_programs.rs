@@ -4,7 +4,10 @@
 //! `-pedantic-errors` under `-std=c89` and `-std=gnu89`) and the flags pkg-config
 //! reads from the installed `motioncard.pc`, and run against the emulated card, both `sim`
 //! (real-time) and `stepped` (`groups`, `errors`, `safety`, `machine`, `homing`, `config`,
-//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt` and `cam` choose their cards).
+//! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt`, `cam` and `units` choose their
+//! cards; `debug` and `path_stream` run on `sim`, `debug` once under valgrind with the
+//! debugging watchdog of `MOTIONCARD_SIM_WATCHDOG_MS`). A program of the tests' own compiles a
+//! use of every name the header's comments cite.
 //! `move` and `c89` are also linked statically, and a program of the tests' own beside a second
 //! Rust static library; `errors`, `groups`, `safety`, `machine`, `homing`, `config`,
 //! `nurbs_path`, `path`, `compare`, `probe`, `gearing`, `pvt`, `cam`, `scope` and `panic` also
@@ -212,6 +215,11 @@ fn run_to_end(mut cmd: Command) -> Output {
 
 /// Run a compiled program with the installed library on its path; returns its stdout.
 fn run(exe: &Path, args: &[&str], wrapper: &[&str]) -> String {
+    run_env(exe, args, wrapper, &[])
+}
+
+/// [`run`] with these environment variables set.
+fn run_env(exe: &Path, args: &[&str], wrapper: &[&str], env: &[(&str, &str)]) -> String {
     let inst = installed();
     let mut cmd = match wrapper.split_first() {
         Some((w, rest)) => {
@@ -222,7 +230,8 @@ fn run(exe: &Path, args: &[&str], wrapper: &[&str]) -> String {
         None => Command::new(exe),
     };
     cmd.args(args)
-        .env("LD_LIBRARY_PATH", inst.prefix.join("lib"));
+        .env("LD_LIBRARY_PATH", inst.prefix.join("lib"))
+        .envs(env.iter().copied());
     let out = run_to_end(cmd);
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -975,6 +984,7 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_PERMISSION_DENIED",
     "MC_ERR_PATH_ID",
     "MC_ERR_CAM_SEQUENCE",
+    "MC_ERR_COMP_SEQUENCE",
     "MC_ERR_CONFIG_KIND",
 ];
 
@@ -1168,6 +1178,12 @@ fn scope_from_c() {
         out.contains("captured 6500 samples x 16 channels, 0 lost"),
         "{out}"
     );
+    // Issue 39: a trigger 4 samples after the arm gives 4 pre-trigger samples of the 50
+    // asked, and mc_scope_info.pre_captured says so.
+    assert!(
+        out.contains("pre-trigger: 4 samples of the 50 asked"),
+        "{out}"
+    );
 }
 
 #[test]
@@ -1185,6 +1201,258 @@ fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
     // The spindle on a card axis: a rigid tap back at its start, the spindle forward again.
     assert!(
         out.contains("G-code spindle: a tap to Z-3 and back to Z2, the spindle at 10.0 rev/s"),
+        "{out}"
+    );
+}
+
+/// Issue 39: one unit rule for every event. On an axis of 1000 counts/mm, the compare, probe
+/// and motion-done events report millimetres (compare within a count of 1 mm).
+#[test]
+fn every_event_position_is_in_user_units_from_c() {
+    let out = run(&compile("units", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS units\n"), "{out}");
+}
+
+/// Issue 39: debugging a C program on the emulated card. With `MOTIONCARD_SIM_WATCHDOG_MS`
+/// the real-time `sim` card boots with that watchdog timeout and keeps it as the least a
+/// program sets, still armed (2 s: a heartbeat stopped for 2.5 s trips it); under valgrind
+/// with 10 s, the first `mc_enable` works (with the default 100 ms it failed with
+/// `MC_ERR_WATCHDOG_TRIPPED`, the heartbeat thread held up for seconds).
+#[test]
+fn the_sim_card_has_a_debugging_watchdog_timeout() {
+    let exe = compile("debug", Link::Shared);
+    let out = run_env(
+        &exe,
+        &["2000"],
+        &[],
+        &[("MOTIONCARD_SIM_WATCHDOG_MS", "2000")],
+    );
+    assert!(out.contains("PASS debug\n"), "{out}");
+    assert!(
+        out.contains("the watchdog tripped after 2500 ms without a heartbeat"),
+        "{out}"
+    );
+    let out = run_env(
+        &exe,
+        &["10000"],
+        &[
+            "valgrind",
+            "--error-exitcode=1",
+            "--leak-check=full",
+            "--errors-for-leak-kinds=definite,indirect",
+            "-q",
+        ],
+        &[("MOTIONCARD_SIM_WATCHDOG_MS", "10000")],
+    );
+    assert!(out.contains("PASS debug\n"), "{out}");
+    assert!(out.contains("watchdog timeout 10000 ms"), "{out}");
+}
+
+/// The C names of the header's comments: `MC_` and upper-case letters, digits, `_`, or `mc_`
+/// and lower-case ones (`MC_` and a CamelCase word is PLCopen's, not C's); `(name, pattern)`,
+/// a pattern being `NAME*` or a prefix ending in `_`. File names (`mc_dpram.h`) are none.
+fn names_cited(comments: &str) -> BTreeSet<(String, bool)> {
+    let b = comments.as_bytes();
+    let id = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut out = BTreeSet::new();
+    let mut i = 0;
+    while i < b.len() {
+        if !id(b[i]) || (i > 0 && id(b[i - 1])) {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < b.len() && id(b[j]) {
+            j += 1;
+        }
+        let w = &comments[i..j];
+        let upper = w.starts_with("MC_")
+            && w[3..]
+                .bytes()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == b'_');
+        let lower = w.starts_with("mc_")
+            && w[3..]
+                .bytes()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'_');
+        if (upper || lower) && !comments[j..].starts_with(".h") {
+            out.insert((w.to_string(), b.get(j) == Some(&b'*') || w.ends_with('_')));
+        }
+        i = j;
+    }
+    out
+}
+
+/// Issue 39: every name a comment of the header cites exists in the header. Each `MC_` or
+/// `mc_` name of the comments (and every name of a pattern `MC_STATE_*` or prefix `MC_ERR_`)
+/// gets a use in a C program that includes the installed header: a constant is evaluated, a
+/// function-like macro called, a type's size taken, a function's address taken; gcc compiles
+/// it with `-std=c11 -pedantic-errors -Werror`. A name the header does not have fails by name
+/// before gcc runs. The comments name no SDK (Rust) item either: no `Card::`, no `crate::`.
+#[test]
+fn every_name_the_header_cites_compiles_in_c() {
+    let inst = installed();
+    let header = std::fs::read_to_string(inst.prefix.join("include/motioncard.h")).unwrap();
+    // Comments and code apart.
+    let (mut comments, mut code) = (String::new(), String::new());
+    let mut rest = header.as_str();
+    while let Some(s) = rest.find("/*") {
+        code.push_str(&rest[..s]);
+        code.push(' ');
+        let e = rest[s..].find("*/").expect("a comment ends") + s + 2;
+        comments.push_str(&rest[s..e]);
+        comments.push('\n');
+        rest = &rest[e..];
+    }
+    code.push_str(rest);
+    assert!(
+        !comments.contains("Card::") && !comments.contains("crate::"),
+        "the header's comments name the Rust SDK"
+    );
+    // What the code declares, by kind.
+    let (mut objects, mut macros) = (BTreeSet::new(), HashMap::new());
+    for line in code.lines() {
+        if let Some(d) = line.trim().strip_prefix("#define ") {
+            let name: String = d
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if let Some(params) = d[name.len()..].strip_prefix('(') {
+                let params = &params[..params.find(')').unwrap()];
+                macros.insert(name, params.split(',').count());
+            } else {
+                objects.insert(name);
+            }
+        }
+    }
+    let words = |s: &str| -> Vec<String> {
+        s.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .filter(|w| !w.is_empty())
+            .map(String::from)
+            .collect()
+    };
+    let (mut types, mut tags, mut functions) = (BTreeSet::new(), BTreeSet::new(), BTreeSet::new());
+    // Statements at brace depth 0 (the code without the preprocessor lines).
+    let body: String = code
+        .lines()
+        .filter(|l| !l.trim_start().starts_with('#') && !l.contains("extern \"C\""))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let (mut depth, mut stmt) = (0i32, String::new());
+    for ch in body.chars() {
+        match ch {
+            '{' => depth += 1,
+            '}' => depth -= 1,
+            _ => {}
+        }
+        stmt.push(ch);
+        if ch == ';' && depth == 0 {
+            let s = std::mem::take(&mut stmt);
+            let w = words(&s);
+            for (i, t) in w.iter().enumerate() {
+                if t == "struct" {
+                    if let Some(tag) = w.get(i + 1) {
+                        tags.insert(tag.clone());
+                    }
+                }
+            }
+            if w.first().is_some_and(|f| f == "typedef") {
+                let name = match s.find("(*") {
+                    Some(at) => words(&s[at..]).into_iter().next(),
+                    None => w.last().cloned(),
+                };
+                types.extend(name);
+            } else if let Some(open) = s.find('(') {
+                functions.extend(words(&s[..open]).pop());
+            }
+        }
+    }
+    let use_of = |name: &str| -> Option<String> {
+        if objects.contains(name) {
+            Some(format!("    (void)({name});\n"))
+        } else if let Some(n) = macros.get(name) {
+            let args = vec!["1"; *n].join(", ");
+            Some(format!("    (void)({name}({args}));\n"))
+        } else if types.contains(name) {
+            Some(format!("    (void)sizeof({name});\n"))
+        } else if tags.contains(name) {
+            Some(format!("    (void)sizeof(struct {name});\n"))
+        } else if functions.contains(name) {
+            Some(format!("    (void)&{name};\n"))
+        } else {
+            None
+        }
+    };
+    let all: BTreeSet<&String> = objects
+        .iter()
+        .chain(macros.keys())
+        .chain(&types)
+        .chain(&tags)
+        .chain(&functions)
+        .collect();
+    let cited = names_cited(&comments);
+    assert!(cited.len() > 300, "{} names cited", cited.len());
+    let (mut src, mut missing, mut uses) = (String::new(), Vec::new(), 0);
+    for (name, pattern) in &cited {
+        let names: Vec<&String> = if *pattern {
+            all.iter()
+                .copied()
+                .filter(|n| n.starts_with(name.as_str()) && *n != name)
+                .collect()
+        } else {
+            all.iter().copied().filter(|n| *n == name).collect()
+        };
+        if names.is_empty() {
+            missing.push(format!("{name}{}", if *pattern { "*" } else { "" }));
+        }
+        for n in names {
+            src.push_str(&use_of(n).unwrap());
+            uses += 1;
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "the header's comments cite names it does not have: {missing:?}"
+    );
+    let file = inst.work.join("cited.c");
+    std::fs::write(
+        &file,
+        format!("#include <motioncard.h>\n\nint main(void) {{\n{src}    return 0;\n}}\n"),
+    )
+    .unwrap();
+    let out = Command::new("gcc")
+        .args([
+            "-std=c11",
+            "-pedantic-errors",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-fsyntax-only",
+        ])
+        .arg(format!("-I{}", inst.prefix.join("include").display()))
+        .arg(&file)
+        .output()
+        .expect("gcc is needed");
+    assert!(
+        out.status.success(),
+        "a use of a cited name does not compile:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!(
+        "the header's comments cite {} names and patterns; {uses} uses of them compile",
+        cited.len()
+    );
+}
+
+/// Issue 39: a path streamed from a thread of the library, watched and joined from C: 4500
+/// lines (more than the card's buffer) all accepted, the path ending on the last; a slow one
+/// cancelled while it waits for room (`MC_ERR_CANCELLED`, what the card took reported); an
+/// item the library refuses gives no handle.
+#[test]
+fn a_path_streams_in_the_background_from_c() {
+    let out = run(&compile("path_stream", Link::Shared), &["sim"], &[]);
+    assert!(out.contains("PASS path_stream\n"), "{out}");
+    assert!(
+        out.contains("4500 lines streamed from the library's thread"),
         "{out}"
     );
 }

@@ -68,16 +68,16 @@ int main(int argc, char **argv) {
     CHECK(mc_motion_wait_in_sync(c, mc, 10000, NULL));
     EXPECT(mc_cam_load_table(c, 0, m, s, NPTS, MC_CAM_CUBIC | MC_CAM_PERIODIC), MC_ERR_CAM_TABLE);
 
-    /* One cycle: whenever the master (the tick before) is on a table point, the slave is on the
-       table's value there (the table repeats, rising a turn per sheet). */
-    double prev_m = axis(c, master).command_position;
+    /* One cycle: whenever the master (its command of the same tick) is on a table point, the
+       slave is on the table's value there (the table repeats, rising a turn per sheet). */
     int hits = 0;
     double worst = 0.0;
     for (int t = 0; t < 20000; t++) {
         CHECK(mc_sim_step(c, 1));
         const double x = axis(c, slave).command_position;
-        const double cycles = floor(prev_m / SHEET);
-        const double u = prev_m - cycles * SHEET;
+        const double mm = axis(c, master).command_position;
+        const double cycles = floor(mm / SHEET);
+        const double u = mm - cycles * SHEET;
         const double step = SHEET / (NPTS - 1);
         const double idx = u / step;
         if (fabs(idx - round(idx)) * step < 1e-6) {
@@ -86,7 +86,6 @@ int main(int argc, char **argv) {
             if (err > worst) worst = err;
             hits++;
         }
-        prev_m = axis(c, master).command_position;
     }
     ASSERT(hits >= 32 && worst < 1e-6, "%d points met, worst %g", hits, worst);
     printf("cam: %d table points met, worst error %g counts\n", hits, worst);

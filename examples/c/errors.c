@@ -63,6 +63,11 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_CONFIG_KIND,    MC_ERR_CONFIG_FILE,
     /* G-code programs */
     MC_ERR_GCODE,
+    /* leadscrew compensation (layout 1.9) */
+    MC_ERR_COMP_TABLE,     MC_ERR_COMP_SEQUENCE,   MC_ERR_COMP_ORDER,
+    MC_ERR_COMP_BOUND,     MC_ERR_COMP_BUSY,
+    /* waits with nothing to wait for */
+    MC_ERR_NO_MOTION,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -126,6 +131,10 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_CONFIG_FILE, MC_ERR_IO,
     /* gcode.c (a program with a wrong line) */
     MC_ERR_GCODE,
+    /* comp.c */
+    MC_ERR_COMP_TABLE, MC_ERR_COMP_ORDER, MC_ERR_COMP_BOUND, MC_ERR_COMP_BUSY,
+    /* not provokable from C: the ABI sends a compensation table in order */
+    MC_ERR_COMP_SEQUENCE,
 };
 
 static void result_strings(void) {
@@ -349,7 +358,7 @@ static void null_outputs(mc_card c) {
            "after a wait without position: state %u at %f", st.state, st.actual_position);
     /* With or without a position, a wait checks its handle and times out alike. */
     EXPECT(mc_motion_wait(c, m, 0, NULL), MC_ERR_BAD_HANDLE);
-    EXPECT(mc_wait_done(c, 0, 0, NULL), MC_ERR_UNSUPPORTED);
+    EXPECT(mc_wait_done(c, 0, 0, NULL), MC_ERR_NO_MOTION);
     mc_motion far;
     EXPECT(mc_move_relative(c, 1, 1e6, &lim, &far), MC_OK);
     EXPECT(mc_motion_wait(c, far, 5, NULL), MC_ERR_TIMEOUT);
@@ -448,7 +457,9 @@ static void states(mc_card c) {
     mc_move_limits lim;
     CHECK(mc_move_limits_symmetric(1e5, 1e6, 5e7, &lim));
     double at = -1.0;
-    EXPECT(mc_wait_done(c, 0, 0, &at), MC_ERR_UNSUPPORTED);
+    EXPECT(mc_wait_done(c, 0, 0, &at), MC_ERR_NO_MOTION);
+    ASSERT(at == -1.0, "position written by a wait with nothing to wait for");
+    expect_in_message("nothing to wait for on axis 0");
     EXPECT(mc_reset(c, 0), MC_ERR_INVALID_STATE); /* only from ErrorStop */
     EXPECT(mc_release_stop(c, 0), MC_ERR_INVALID_STATE);
     mc_motion unknown = {0, 999999};
@@ -565,11 +576,15 @@ static void group_refusals(void) {
     EXPECT(mc_group_move_circular(c, 0, &arc, MC_ARC_PLANE_YZ, NULL, 0, &feed, &now, &m),
            MC_ERR_AXIS_NOT_IN_GROUP);
     expect_in_message("on group 0"); /* the group, not "axis 0" */
-    /* Refused by the library before anything was sent: it says so. */
+    /* Refused by the library before anything was sent: the message names the group and the
+       card's groups, once (not "group on group 7 not sent: no such group"). */
     mc_group_status gst;
     EXPECT(mc_group_get_status(c, 7, &gst), MC_ERR_BAD_GROUP);
-    expect_in_message("group 7");
-    expect_in_message("not sent");
+    expect_in_message("group 7 does not exist: the card has 4 groups (0 to 3)");
+    {
+        char msg[512];
+        ASSERT(!strstr(last_error(msg, sizeof msg), "on group"), "message \"%s\"", msg);
+    }
     /* The queue holds 32 moves, the running one included (time stands still meanwhile). */
     double t[2] = {1e6, 0.0};
     EXPECT(mc_group_move_linear(c, 0, t, 2, &feed, &now, NULL), MC_OK);

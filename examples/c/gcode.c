@@ -213,7 +213,7 @@ static void refusals(mc_card c) {
     CHECK(mc_gcode_close(p));
 
     /* A probing move with no probe input in the settings: an error naming its line. */
-    CHECK(mc_gcode_load_string(c, G, "G0 X2\nG38.2 Z-10 F100\n", NULL, NULL, &p));
+    CHECK(mc_gcode_load_string(c, G, "G0 X1\nG38.2 Z-10 F100\n", NULL, NULL, &p));
     EXPECT(mc_gcode_run(p, 60000, &state), MC_ERR_GCODE);
     CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
     ASSERT(line == 2 && strstr(text, "probe input"), "error at line %u: %s", line, text);

@@ -50,6 +50,9 @@ int main(int argc, char **argv) {
     EXPECT(mc_gear_in(c, slave, MC_MASTER_AUX, 0, 1, 1, &bad, NULL), MC_ERR_NOT_FINITE);
     EXPECT(mc_gear_out(c, slave, NULL), MC_ERR_INVALID_STATE);
     EXPECT(mc_aux_encoder(c, 5, &(int64_t){0}), MC_ERR_SYNC_MASTER);
+    double offset = -1.0;
+    EXPECT(mc_gear_get_offset(c, slave, &offset), MC_ERR_INVALID_STATE); /* not geared */
+    EXPECT(mc_gear_get_offset(c, slave, NULL), MC_ERR_NULL_POINTER);
 
     /* A conveyor on aux encoder 0 at 10^8 counts/s for 10^5 ticks: 10^9 counts. */
     const double x0 = axis(c, slave).command_position;
@@ -90,6 +93,18 @@ int main(int argc, char **argv) {
     ASSERT(in_sync(c, slave) && s.command_velocity == 10000.0, "in gear at %f counts/s",
            s.command_velocity);
     printf("in gear at 1/2: %.1f counts/s\n", s.command_velocity);
+    /* The coupling is relative to the engagement: slave = offset + master / 2 (counts), the
+       offset where the card anchored the line; exact each tick, the master's command of the
+       same tick (within its 1/65536 count). */
+    CHECK(mc_gear_get_offset(c, slave, &offset));
+    for (int k = 0; k < 100; k++) {
+        CHECK(mc_sim_step(c, 1));
+        const double x = axis(c, slave).command_position;
+        const double m = axis(c, master).command_position;
+        ASSERT(fabs(x - (offset + m / 2.0)) <= 1.0 / 65536.0, "tick %d: slave %f, master %f, "
+               "offset %f", k, x, m, offset);
+    }
+    printf("gear offset %.4f counts: slave = offset + master / 2\n", offset);
 
     /* MC_GearOut: the slave keeps its velocity. */
     mc_motion out;
@@ -110,8 +125,12 @@ int main(int argc, char **argv) {
     CHECK(mc_gear_in_pos(c, slave, MC_MASTER_COMMANDED, master, 1, 2, m_sync, s_sync, &lim,
                          &g));
     CHECK(mc_motion_wait_in_sync(c, g, 30000, &at));
-    ASSERT(fabs(at - s_sync) < 1e-3 && axis(c, master).command_position >= m_sync,
-           "in sync at %f (master %f)", at, axis(c, master).command_position);
+    /* In sync in the tick the master's command reaches the sync point (within the 1/65536
+       count the card counts a commanded master in). */
+    ASSERT(fabs(at - s_sync) < 1e-3 &&
+               axis(c, master).command_position >= m_sync - 1.0 / 65536.0,
+           "in sync at %f, not %f (master %f, sync point %f)", at, s_sync,
+           axis(c, master).command_position, m_sync);
     printf("in sync: slave %.3f when the master passed %.0f\n", at, m_sync);
 
     /* The master disabled: the slave stops on its stop ramp, and a sync event says why. */

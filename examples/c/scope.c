@@ -13,7 +13,7 @@
 
 #define POST 6000
 #define PRE 500
-#define SRC(sig, index) ((uint32_t)(sig) | ((uint32_t)(index) << 16))
+#define SRC(sig, index) MC_SCOPE_SOURCE(sig, index)
 
 static mc_scope_sample buf[1024];
 
@@ -96,6 +96,7 @@ int main(int argc, char **argv) {
            total, (unsigned long long)info.lost);
     ASSERT(trigger_tick == info.trigger_tick && first_vel > 0.0, "trigger at %llu",
            (unsigned long long)trigger_tick);
+    ASSERT(info.pre_captured == PRE, "%u pre-trigger samples", info.pre_captured);
     printf("captured %zu samples x 16 channels, %llu lost, trigger at tick %llu\n", total,
            (unsigned long long)info.lost, (unsigned long long)trigger_tick);
     (void)last_pos;
@@ -106,6 +107,27 @@ int main(int argc, char **argv) {
         done |= e.kind == MC_EVENT_SCOPE && e.code == MC_SCOPE_EVENT_DONE && e.value == PRE + POST;
     }
     ASSERT(triggered && done, "scope events %d %d", triggered, done);
+
+    /* A trigger 4 samples after the arm: 4 pre-trigger samples of the 50 asked, and the
+       status says so; mc_scope_wait returns once the capture is done. */
+    mc_scope_info wi;
+    EXPECT(mc_scope_wait(c, 10, &wi), MC_OK); /* the last capture is done */
+    s.trigger = MC_SCOPE_TRIG_COMMAND;
+    s.pre_trigger = 50;
+    s.post_trigger = 100;
+    CHECK(mc_scope_configure(c, &s));
+    CHECK(mc_scope_arm(c, NULL));
+    CHECK(mc_sim_step(c, 4));
+    EXPECT(mc_scope_wait(c, 0, &wi), MC_ERR_TIMEOUT); /* waiting for its trigger */
+    CHECK(mc_scope_trigger(c));
+    CHECK(mc_scope_wait(c, 1000, &wi));
+    ASSERT(wi.state == MC_SCOPE_STATE_DONE && wi.pre_captured < 50 && wi.pre_captured >= 4 &&
+               wi.samples == wi.pre_captured + 100,
+           "state %u, %u pre-trigger samples, %llu in all", wi.state, wi.pre_captured,
+           (unsigned long long)wi.samples);
+    printf("pre-trigger: %u samples of the 50 asked (triggered early)\n", wi.pre_captured);
+    while (mc_scope_read(c, buf, sizeof buf / sizeof buf[0], &n) == MC_OK && n > 0) {
+    }
 
     /* Continuous, triggered by command, nobody reads: the ring fills, the rest is counted. */
     s.mode = MC_SCOPE_CONTINUOUS;
@@ -118,6 +140,7 @@ int main(int argc, char **argv) {
     CHECK(mc_sim_step(c, 10));
     CHECK(mc_scope_trigger(c));
     CHECK(mc_sim_step(c, MC_SCOPE_RING_LEN + 100));
+    EXPECT(mc_scope_wait(c, 0, NULL), MC_ERR_SCOPE_STATE); /* continuous: never done */
     CHECK(mc_scope_get_info(c, &info));
     ASSERT(info.state == MC_SCOPE_STATE_CAPTURING && info.samples == MC_SCOPE_RING_LEN &&
                info.lost == 100,

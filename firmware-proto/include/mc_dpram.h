@@ -200,7 +200,7 @@
 #define MC_OP_APPLY_AXIS_SAFETY 33u   /* copy and validate axis_safety[axis] */
 #define MC_OP_ESTOP 34u               /* args: category (0, 1 or 2). Every axis; latched */
 #define MC_OP_SAFETY_RESET 35u        /* clear the card-wide latches (watchdog, e-stop) once their
-                                       * causes are gone; axes then leave ErrorStop by MC_RESET */
+                                       * causes are gone; axes then leave ErrorStop by MC_OP_RESET */
 /* Host sessions (layout 1.3). A host attaches before its first heartbeat and detaches when it
  * closes the card; a host that vanishes never detaches.
  *
@@ -476,7 +476,11 @@
  * with one servo tick of delay (its reference is computed after the slaves'). */
 #define MC_OP_GEAR_IN 80u     /* args: master, numerator, denominator, vmax, amax, jerk. flags:
                                * MC_MASTER_*. Aborting; from Standstill, DiscreteMotion,
-                               * ContinuousMotion or SynchronizedMotion (a new ratio) */
+                               * ContinuousMotion or SynchronizedMotion (a new ratio). The
+                               * ack's value (and MC_OP_GEAR_IN_POS's): the coupling's offset,
+                               * slave counts with the master at 0 (in gear: slave = offset +
+                               * ratio x master, counts; anchored where both were at the
+                               * engagement, or at the sync point) */
 #define MC_OP_GEAR_IN_POS 81u /* as MC_OP_GEAR_IN, then args: master sync position, slave sync
                                * position: the slave reaches the slave position exactly when the
                                * master reaches the master position, along a quintic in the
@@ -827,7 +831,7 @@
 #define MC_NACK_LIMIT_RANGE 11  /* a kinematic limit outside its range (see MC_MAX_MOVE_TIME) */
 #define MC_NACK_PLAN_CHECK 12   /* the planned profile failed the card's own check (shorter than
                                  * |d|/vmax, off its target or beyond a limit): refused, not run */
-#define MC_NACK_EXPIRED 13      /* served after its deadline (mc_cmd.deadline_ms): not executed */
+#define MC_NACK_EXPIRED 13      /* served after its deadline (the command's deadline_ms): not executed */
 #define MC_NACK_OVERRIDE_RANGE 14 /* an override factor outside 0..MC_OVERRIDE_MAX */
 #define MC_NACK_BAD_GROUP 16            /* no such group */
 #define MC_NACK_AXIS_IN_OTHER_GROUP 17  /* an axis already belongs to another group */
@@ -923,7 +927,7 @@
 
 /* Fault bits (mc_axis_status_payload.faults) */
 #define MC_FAULT_DAC_SATURATED (1u << 0) /* the servo output hit the DAC limit */
-/* Safety fault bits (8..31): latched until MC_RESET (limits: while the input or position is
+/* Safety fault bits (8..31): latched until MC_OP_RESET (limits: while the input or position is
  * beyond the limit). */
 #define MC_FAULT_WATCHDOG (1u << 8)         /* the host watchdog tripped (the heartbeat stopped) */
 #define MC_FAULT_ESTOP (1u << 9)            /* an e-stop (MC_OP_ESTOP or the card's input) stopped the axis */
@@ -1163,7 +1167,8 @@ struct mc_group_status_payload {
     uint32_t queued;
     /** Seq of the move being interpolated, 0 if none. */
     uint32_t active_seq;
-    /** Group moves started since boot. */
+    /** Group moves started since boot (each path segment queued counts one; the member axes'
+     * statistics count a whole path as one move). */
     uint32_t move_count;
     /** Distance along the active move, counts. */
     double path_pos;
@@ -1196,7 +1201,7 @@ struct mc_group_status_payload {
     uint32_t path_done;
     uint32_t _reserved0;
     uint64_t _reserved[10];
-    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
+    /** A mix of the words before it: the checksum the seqlock reader checks. */
     uint64_t checksum;
 };
 
@@ -1269,14 +1274,17 @@ struct mc_axis_status_payload {
     uint32_t faults;
     /** Seq of the last command accepted for this axis. */
     uint32_t last_seq;
-    /** Moves started since boot. */
+    /** Moves started since boot: each of the axis's own moves, and each group motion it takes
+     * part in counts one (a continuous path, from the group leaving Standby until it is at
+     * rest again, is one move however many segments it runs). */
     uint32_t move_count;
     /** Servo tick of this snapshot. */
     uint64_t tick;
     /** Raw encoder count. */
     int64_t encoder;
     /** Max |commanded velocity| of the current or last move (statistics of the current or
-     * last move are reset when a move starts), counts/s. */
+     * last move are reset when a move starts; a group motion, a whole continuous path
+     * included, is one move: its peaks, following error and time), counts/s. */
     double peak_vel;
     /** Max commanded acceleration in the direction of motion, counts/s^2. */
     double peak_acc;
@@ -1306,7 +1314,7 @@ struct mc_axis_status_payload {
      * follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without
      * compensation). */
     double comp_pos;
-    /** A mix of the words before it, seeded with MC_STATUS_CHECK. */
+    /** A mix of the words before it: the checksum the seqlock reader checks. */
     uint64_t checksum;
 };
 
@@ -1545,7 +1553,12 @@ struct mc_scope_status {
     uint64_t samples;
     /** Samples lost since the arm (the ring was full). */
     uint64_t lost;
-    uint64_t _reserved[3];
+    /** The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,
+     * or fewer when the trigger came before that many samples were taken since the arm (0
+     * until the trigger). */
+    uint32_t pre_captured;
+    uint32_t _reserved0;
+    uint64_t _reserved[2];
 };
 
 /** A scope ring entry (layout 1.8): one sample. Card writes. */

@@ -215,7 +215,7 @@ code_enum! {
         /// The planned profile failed the card's own check (shorter than |d|/vmax, off its target
         /// or beyond a limit): refused, not run.
         PlanCheck = raw::MC_NACK_PLAN_CHECK,
-        /// Served after its deadline (`mc_cmd.deadline_ms`): not executed.
+        /// Served after its deadline (the command's `deadline_ms`): not executed.
         Expired = raw::MC_NACK_EXPIRED,
         /// An override factor outside `0..MC_OVERRIDE_MAX`.
         OverrideRange = raw::MC_NACK_OVERRIDE_RANGE,
@@ -657,7 +657,7 @@ code_enum! {
         /// Args: category (0, 1 or 2). Every axis; latched.
         EStop = raw::MC_OP_ESTOP,
         /// Clear the card-wide latches (watchdog, e-stop) once their causes are gone; axes then
-        /// leave ErrorStop by `MC_RESET`.
+        /// leave ErrorStop by `MC_OP_RESET`.
         SafetyReset = raw::MC_OP_SAFETY_RESET,
         /// Flags: the new session id (nonzero). If another session is still attached (its host died
         /// or hung without detaching), every enabled axis makes a category 1 stop with reason
@@ -732,6 +732,9 @@ code_enum! {
         ProbeAbort = raw::MC_OP_PROBE_ABORT,
         /// Args: master, numerator, denominator, vmax, amax, jerk. flags: `MC_MASTER_*`. Aborting;
         /// from Standstill, DiscreteMotion, ContinuousMotion or SynchronizedMotion (a new ratio).
+        /// The ack's value (and `MC_OP_GEAR_IN_POS's`): the coupling's offset, slave counts with
+        /// the master at 0 (in gear: slave = offset + ratio x master, counts; anchored where both
+        /// were at the engagement, or at the sync point).
         GearIn = raw::MC_OP_GEAR_IN,
         /// As `MC_OP_GEAR_IN`, then args: master sync position, slave sync position: the slave
         /// reaches the slave position exactly when the master reaches the master position, along a

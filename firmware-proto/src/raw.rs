@@ -782,7 +782,7 @@ pub struct mc_group_status_payload {
     pub queued: u32,
     #[doc = " Seq of the move being interpolated, 0 if none."]
     pub active_seq: u32,
-    #[doc = " Group moves started since boot."]
+    #[doc = " Group moves started since boot (each path segment queued counts one; the member axes'\n statistics count a whole path as one move)."]
     pub move_count: u32,
     #[doc = " Distance along the active move, counts."]
     pub path_pos: f64,
@@ -814,7 +814,7 @@ pub struct mc_group_status_payload {
     pub path_done: u32,
     pub _reserved0: u32,
     pub _reserved: [u64; 10usize],
-    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
+    #[doc = " A mix of the words before it: the checksum the seqlock reader checks."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -980,13 +980,13 @@ pub struct mc_axis_status_payload {
     pub faults: u32,
     #[doc = " Seq of the last command accepted for this axis."]
     pub last_seq: u32,
-    #[doc = " Moves started since boot."]
+    #[doc = " Moves started since boot: each of the axis's own moves, and each group motion it takes\n part in counts one (a continuous path, from the group leaving Standby until it is at\n rest again, is one move however many segments it runs)."]
     pub move_count: u32,
     #[doc = " Servo tick of this snapshot."]
     pub tick: u64,
     #[doc = " Raw encoder count."]
     pub encoder: i64,
-    #[doc = " Max |commanded velocity| of the current or last move (statistics of the current or\n last move are reset when a move starts), counts/s."]
+    #[doc = " Max |commanded velocity| of the current or last move (statistics of the current or\n last move are reset when a move starts; a group motion, a whole continuous path\n included, is one move: its peaks, following error and time), counts/s."]
     pub peak_vel: f64,
     #[doc = " Max commanded acceleration in the direction of motion, counts/s^2."]
     pub peak_acc: f64,
@@ -1014,7 +1014,7 @@ pub struct mc_axis_status_payload {
     pub override_factor: f64,
     #[doc = " Payload word 23 (layout 1.9): the compensated position, the motor's reference the servo\n follows: cmd_pos + the pitch-error and backlash correction, counts (cmd_pos without\n compensation)."]
     pub comp_pos: f64,
-    #[doc = " A mix of the words before it, seeded with MC_STATUS_CHECK."]
+    #[doc = " A mix of the words before it: the checksum the seqlock reader checks."]
     pub checksum: u64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
@@ -1545,7 +1545,10 @@ pub struct mc_scope_status {
     pub samples: u64,
     #[doc = " Samples lost since the arm (the ring was full)."]
     pub lost: u64,
-    pub _reserved: [u64; 3usize],
+    #[doc = " The pre-trigger samples the capture took, put in the ring (or lost) first: pre_trigger,\n or fewer when the trigger came before that many samples were taken since the arm (0\n until the trigger)."]
+    pub pre_captured: u32,
+    pub _reserved0: u32,
+    pub _reserved: [u64; 2usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -1565,8 +1568,12 @@ const _: () = {
         [::core::mem::offset_of!(mc_scope_status, samples) - 24usize];
     ["Offset of field: mc_scope_status::lost"]
         [::core::mem::offset_of!(mc_scope_status, lost) - 32usize];
+    ["Offset of field: mc_scope_status::pre_captured"]
+        [::core::mem::offset_of!(mc_scope_status, pre_captured) - 40usize];
+    ["Offset of field: mc_scope_status::_reserved0"]
+        [::core::mem::offset_of!(mc_scope_status, _reserved0) - 44usize];
     ["Offset of field: mc_scope_status::_reserved"]
-        [::core::mem::offset_of!(mc_scope_status, _reserved) - 40usize];
+        [::core::mem::offset_of!(mc_scope_status, _reserved) - 48usize];
 };
 #[doc = " A scope ring entry (layout 1.8): one sample. Card writes."]
 #[repr(C)]

@@ -179,10 +179,11 @@ impl Axis {
         self.run(self.cmd(AxisCmd::Reset), "reset").map(|_| ())
     }
 
-    /// Wait for the last motion started through this library on this axis.
+    /// Wait for the last motion started through this library on this axis. `NoMotion` when
+    /// none was started since the card was opened (nothing to wait for).
     pub fn wait_done(&self, timeout: Duration) -> Result<f64> {
         let seq = lock(&self.card().inner().last_motion)[self.index()]
-            .ok_or_else(|| Error::Unsupported("no motion was started on this axis".into()))?;
+            .ok_or(Error::NoMotion(Target::Axis(self.index())))?;
         self.card()
             .wait_outcome(Target::Axis(self.index()), seq, timeout)
     }

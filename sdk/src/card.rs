@@ -80,7 +80,13 @@ pub enum Outcome {
     Sync(i32, f64),
 }
 
-/// An event from the card, in user units.
+/// An event from the card. One unit rule for every kind: a `value` that is a position or a
+/// distance is in user units of the axis it concerns (the event's axis; a compare or probe
+/// channel's: the axis the channel watches), whatever the kind (motion done and active, in
+/// velocity (a velocity: user units/s), homing failed, sync, PVT done, compare fired or
+/// missed, probe captures, and the safety stops whose measurement is a position, a following
+/// error or an encoder count: limits, following error, encoder, amplifier alarm). Every other
+/// value is as the card posts it: states, times in seconds, counts of things, ids, words.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CardEvent {
     /// Kind.
@@ -93,7 +99,7 @@ pub struct CardEvent {
     pub code: i32,
     /// Servo tick.
     pub tick: u64,
-    /// Kind-specific value (positions in user units).
+    /// Kind-specific value (positions and distances in user units, see [`CardEvent`]).
     pub value: f64,
 }
 
@@ -171,7 +177,16 @@ pub(crate) struct Inner {
     inherited_stops: u32,
     /// The API trace, when one is recorded.
     trace: Option<crate::trace::Tracer>,
+    /// The axis of each compare or probe arm this host sent, by the arm's seq (the last
+    /// [`IO_ARMS`]): their events name the channel, not the axis, and carry the arm's seq, so
+    /// the drain finds the axis whose scale converts their positions.
+    io_arms: Mutex<VecDeque<(u32, u16)>>,
+    /// Per axis, the offset of the last gear command this host sent (its ack's value).
+    pub(crate) gear_offset: Mutex<[Option<f64>; MAX_AXES]>,
 }
+
+/// How many compare and probe arms [`Inner`] remembers the axis of.
+const IO_ARMS: usize = 64;
 
 /// What a host keeps of a group's path (see `Card`'s `path_host`).
 #[derive(Debug, Clone)]
@@ -328,6 +343,8 @@ impl Card {
             group_axes: Mutex::new([None; firmware_proto::MAX_GROUPS]),
             dev,
             trace,
+            io_arms: Mutex::new(VecDeque::new()),
+            gear_offset: Mutex::new([None; MAX_AXES]),
         };
         // [safety] the session, then at once the heartbeat. The attach arms the card's watchdog
         // (it counts as the first heartbeat), so the beats start as it is sent, not after its
@@ -710,10 +727,11 @@ impl Card {
 
 impl Card {
     /// The status of several axes in one call (`GT_GetSts` with a count, `APS_get_*` over
-    /// axes): one pass over their status blocks, each a consistent snapshot, and one check that
-    /// the card is alive. Axes appear in the order asked.
+    /// axes): every one of the same servo tick (the card publishes every axis each tick; a
+    /// pass that straddles two ticks is read again, for up to 100 ms, then `NotResponding`),
+    /// each a consistent snapshot, and one check that the card is alive. Axes appear in the
+    /// order asked.
     pub fn statuses(&self, axes: &[usize]) -> Result<Vec<Status>> {
-        let mut raws = Vec::with_capacity(axes.len());
         for &a in axes {
             if a >= self.inner.info.axes {
                 return Err(Error::BadAxis {
@@ -721,8 +739,24 @@ impl Card {
                     count: self.inner.info.axes,
                 });
             }
-            raws.push((a, self.read_axis_status(a)?));
         }
+        let until = Instant::now() + Duration::from_millis(100);
+        let raws = loop {
+            let mut raws = Vec::with_capacity(axes.len());
+            for &a in axes {
+                raws.push((a, self.read_axis_status(a)?));
+            }
+            let first = raws.first().map(|(_, r)| r.tick);
+            if raws.iter().all(|(_, r)| Some(r.tick) == first) {
+                break raws;
+            }
+            if Instant::now() > until {
+                return Err(Error::NotResponding(format!(
+                    "the statuses of axes {axes:?} were never all of one tick in 100 ms"
+                )));
+            }
+            std::thread::yield_now();
+        };
         let newest = raws.iter().map(|(_, r)| r.tick).max();
         self.link_alive(newest.unwrap_or_else(|| self.inner.dev.window.read64(layout::TICK)))?;
         raws.into_iter()
@@ -889,6 +923,15 @@ impl Inner {
             )));
         }
         cmd.seq = tx.ring.head().wrapping_add(1);
+        if cmd.opcode == raw::MC_OP_COMPARE_ARM as u16 || cmd.opcode == raw::MC_OP_PROBE_ARM as u16
+        {
+            // Before the ring: no event of this arm can be drained before it is known.
+            let mut arms = lock(&self.io_arms);
+            if arms.len() >= IO_ARMS {
+                arms.pop_front();
+            }
+            arms.push_back((cmd.seq, cmd.axis));
+        }
         if cmd.deadline_ms == 0 {
             cmd.deadline_ms = self.link.deadline();
         }
@@ -992,6 +1035,66 @@ impl Inner {
         r?.map_err(corrupt)
     }
 
+    /// The axis in whose units an event's value is a position or a distance (`None`: the value
+    /// is no position: a state, a time, a count, an id, a word). The one rule of
+    /// [`CardEvent::value`]: every position or distance is in user units.
+    fn position_axis(&self, kind: EventKind, e: &Event) -> Option<usize> {
+        let axis = e.axis as usize;
+        match kind {
+            EventKind::MotionDone
+            | EventKind::MotionActive
+            | EventKind::InVelocity
+            | EventKind::HomingFailed => Some(axis),
+            EventKind::Sync => {
+                (e.code != firmware_proto::SyncEvent::MasterLost as i32).then_some(axis)
+            }
+            EventKind::Pvt => (e.code == firmware_proto::PvtEvent::Done as i32).then_some(axis),
+            EventKind::SafetyStop if e.axis != 0xFFFF => {
+                let reason = firmware_proto::StopReason::from_raw(e.code as u32)?;
+                use firmware_proto::StopReason as R;
+                matches!(
+                    reason,
+                    R::HardLimitPos
+                        | R::HardLimitNeg
+                        | R::SoftLimitPos
+                        | R::SoftLimitNeg
+                        | R::FollowingError
+                        | R::EncoderLoss
+                        | R::EncoderJump
+                        | R::AmpAlarm
+                )
+                .then_some(axis)
+            }
+            // The channel's axis: the arm's, by its seq (else the card's word for the
+            // channel, when this host did not send the arm).
+            EventKind::Compare if e.code != raw::MC_CMP_LOW_WATER as i32 => {
+                self.io_arm_axis(e.seq).or_else(|| {
+                    let b = layout::COMPARE_STATUS.try_at(axis)?;
+                    Some(b.read(&self.dev.window).axis as usize)
+                })
+            }
+            EventKind::Probe => self.io_arm_axis(e.seq).or_else(|| {
+                let b = layout::PROBE_STATUS.try_at(axis)?;
+                Some(b.read(&self.dev.window).axis as usize)
+            }),
+            _ => None,
+        }
+    }
+
+    /// The least watchdog timeout this card takes from a host, µs (0: none; see
+    /// [`crate::SIM_WATCHDOG_ENV`]).
+    pub(crate) fn watchdog_floor_us(&self) -> u32 {
+        self.dev.watchdog_floor_us
+    }
+
+    fn io_arm_axis(&self, seq: u32) -> Option<usize> {
+        lock(&self.io_arms)
+            .iter()
+            .rev()
+            .find(|(s, _)| *s == seq)
+            .map(|(_, a)| *a as usize)
+    }
+
     fn drain(&self, rx: &mut Rx) -> Result<()> {
         loop {
             let e: Event = match rx.ring.pop() {
@@ -1010,19 +1113,9 @@ impl Inner {
                     push_capped(&mut rx.acks, (e.seq, Err(code)), OUTCOME_CAP)
                 }
                 _ => {
-                    let scale = self.scale(e.axis as usize);
-                    let value = if matches!(
-                        kind,
-                        EventKind::MotionDone
-                            | EventKind::MotionActive
-                            | EventKind::InVelocity
-                            | EventKind::HomingFailed
-                    ) || (kind == EventKind::Sync
-                        && e.code != firmware_proto::SyncEvent::MasterLost as i32)
-                    {
-                        e.value / scale
-                    } else {
-                        e.value
+                    let value = match self.position_axis(kind, &e) {
+                        Some(axis) => e.value / self.scale(axis),
+                        None => e.value,
                     };
                     match kind {
                         EventKind::MotionDone | EventKind::GroupMotionDone => push_capped(

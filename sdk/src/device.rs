@@ -21,6 +21,30 @@ use std::sync::Arc;
 #[cfg(feature = "emulator")]
 use std::sync::Mutex;
 
+/// The environment variable that sets up a real-time (or free-running) `sim` card for
+/// debugging a host under gdb or valgrind: its value, in milliseconds (1 to 3,600,000), is the
+/// card's watchdog timeout at boot and the least one a host can set on it
+/// ([`crate::Card::set_watchdog_timeout`] asks for more or gets this). The watchdog stays
+/// armed: a host that stops for longer still trips it. Unset (the default): 100 ms, and no
+/// floor. A stepped card beats once per emulated tick and needs none of it.
+pub const SIM_WATCHDOG_ENV: &str = "MOTIONCARD_SIM_WATCHDOG_MS";
+
+/// The debugging watchdog timeout of [`SIM_WATCHDOG_ENV`], µs (`None`: unset). A value that is
+/// not a whole number of milliseconds in 1..=3,600,000 is `BadConfig`.
+pub fn sim_watchdog_from_env() -> Result<Option<u32>> {
+    let Some(v) = std::env::var_os(SIM_WATCHDOG_ENV) else {
+        return Ok(None);
+    };
+    let v = v.to_string_lossy();
+    match v.trim().parse::<u32>() {
+        Ok(ms @ 1..=3_600_000) => Ok(Some(ms * 1000)),
+        _ => Err(Error::BadConfig(format!(
+            "{SIM_WATCHDOG_ENV}={v}: the emulated card's debugging watchdog timeout is a whole \
+             number of milliseconds, 1 to 3600000"
+        ))),
+    }
+}
+
 #[cfg(feature = "emulator")]
 /// How an in-process emulated card (`sim`) is built and driven. [`crate::Card::open_sim`]
 /// refuses axes outside 1..=8 and servo rates outside 1,000..=20,000 Hz
@@ -96,9 +120,15 @@ pub(crate) enum Backend {
 
 /// An opened device: window + interrupt + backend.
 pub(crate) struct Device {
+    /// The least watchdog timeout a host may set, µs (0: none): a `sim` card set up for
+    /// debugging ([`SIM_WATCHDOG_ENV`]).
+    pub watchdog_floor_us: u32,
     pub window: Arc<MappedWindow>,
     pub irq: Irq,
     pub backend: Backend,
+    /// Marks the URI open in this process while the device lives (see [`Held`]); last, so
+    /// that it is let go after the backend.
+    held: Option<Held>,
 }
 
 impl Backend {
@@ -145,8 +175,47 @@ impl Device {
     }
 }
 
+/// The URIs of the cards this process has open (`emu:`, `uio:`, `pci:`; every `sim` is a card
+/// of its own): a second open of one of them is [`Error::Busy`] that says the card is open in
+/// this process, not in another.
+static OPEN_HERE: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+/// A URI in [`OPEN_HERE`] for as long as it lives.
+struct Held(String);
+
+impl Held {
+    /// Mark `uri` open here; `None` when it already is.
+    fn take(uri: &str) -> Option<Held> {
+        let mut open = crate::lock::lock(&OPEN_HERE);
+        if open.iter().any(|u| u == uri) {
+            return None;
+        }
+        open.push(uri.to_string());
+        Some(Held(uri.to_string()))
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        crate::lock::lock(&OPEN_HERE).retain(|u| *u != self.0);
+    }
+}
+
 /// Parse and open a card URI.
 pub(crate) fn open(uri: &str) -> Result<Device> {
+    if uri == "sim" {
+        return open_uri(uri);
+    }
+    let held = Held::take(uri).ok_or_else(|| Error::Busy {
+        uri: uri.into(),
+        in_this_process: true,
+    })?;
+    let mut dev = open_uri(uri)?;
+    dev.held = Some(held);
+    Ok(dev)
+}
+
+fn open_uri(uri: &str) -> Result<Device> {
     if uri == "sim" {
         #[cfg(feature = "emulator")]
         return open_sim(&SimOptions::default());
@@ -196,7 +265,17 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
             rates.end()
         )));
     }
-    let emu = Emulator::create("sim", &opts.emu)
+    // [safety] debugging (SIM_WATCHDOG_ENV): a longer watchdog timeout, still armed; a
+    // stepped card beats once per tick and keeps what it was given.
+    let floor = match opts.clock {
+        Clock::Stepped => None,
+        _ => sim_watchdog_from_env()?,
+    };
+    let mut emu_opts = opts.emu;
+    if let Some(us) = floor {
+        emu_opts.watchdog_timeout_us = emu_opts.watchdog_timeout_us.max(us);
+    }
+    let emu = Emulator::create("sim", &emu_opts)
         .map_err(|e| Error::io("creating the emulated card", e))?;
     let window = emu.window().clone();
     let irq = emu
@@ -212,9 +291,11 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
         },
     };
     Ok(Device {
+        watchdog_floor_us: floor.unwrap_or(0),
         window,
         irq: Irq::EventFd(irq),
         backend,
+        held: None,
     })
 }
 
@@ -226,7 +307,10 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
                 "no card-emu process is serving '{name}' (start one with `card-emu --name {name}`)"
             ),
         },
-        ConnectError::Busy => Error::Busy { uri: uri.into() },
+        ConnectError::Busy => Error::Busy {
+            uri: uri.into(),
+            in_this_process: false,
+        },
         ConnectError::Denied { uid } => Error::PermissionDenied {
             uri: uri.into(),
             reason: format!(
@@ -248,9 +332,11 @@ fn open_emu(uri: &str, name: &str) -> Result<Device> {
         }
     })?;
     Ok(Device {
+        watchdog_floor_us: 0,
         window: Arc::new(window),
         irq: Irq::EventFd(conn.irq),
         backend: Backend::Emu { lease: conn.lease },
+        held: None,
     })
 }
 
@@ -261,7 +347,10 @@ fn lock_exclusive(uri: &str, file: &File) -> Result<Flock<File>> {
         .try_clone()
         .map_err(|e| Error::io(format!("locking {uri}"), e))?;
     Flock::lock(dup, FlockArg::LockExclusiveNonblock).map_err(|(_, e)| match e {
-        nix::errno::Errno::EWOULDBLOCK => Error::Busy { uri: uri.into() },
+        nix::errno::Errno::EWOULDBLOCK => Error::Busy {
+            uri: uri.into(),
+            in_this_process: false,
+        },
         e => Error::io(format!("locking {uri}"), e),
     })
 }
@@ -303,9 +392,11 @@ fn open_uio(uri: &str, path: &str, n: &str) -> Result<Device> {
     // Enable the interrupt (uio_pci_generic and most UIO drivers take a write of 1).
     let _ = nix::unistd::write(&irq_file, &1u32.to_ne_bytes());
     Ok(Device {
+        watchdog_floor_us: 0,
         window: Arc::new(window),
         irq: Irq::Uio(irq_file),
         backend: Backend::Hardware { _lock: lock },
+        held: None,
     })
 }
 
@@ -320,9 +411,11 @@ fn open_pci(uri: &str, addr: &str) -> Result<Device> {
     let window = MappedWindow::map(file, 0, firmware_proto::DPRAM_SIZE)
         .map_err(|e| Error::io(format!("mapping {path}"), e))?;
     Ok(Device {
+        watchdog_floor_us: 0,
         window: Arc::new(window),
         irq: Irq::None,
         backend: Backend::Hardware { _lock: lock },
+        held: None,
     })
 }
 

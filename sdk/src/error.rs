@@ -73,8 +73,9 @@ error_kinds! {
     BadUri = -1, MC_ERR_BAD_URI, "bad card URI";
     /// No card at that URI.
     NotFound = -2, MC_ERR_NOT_FOUND, "no card at that URI";
-    /// Another process has the card open.
-    Busy = -3, MC_ERR_BUSY, "the card is in use by another process";
+    /// The card is open already: in another process, or in this one (a card is opened once
+    /// per process; the message says which).
+    Busy = -3, MC_ERR_BUSY, "the card is already open (by another process, or by this one)";
     /// The card's DPRAM layout major version differs from this library's.
     VersionMismatch = -4, MC_ERR_VERSION_MISMATCH, "the card's DPRAM layout version differs from the library's";
     /// The card does not answer (its tick counter stopped, or it was removed).
@@ -303,6 +304,10 @@ error_kinds! {
     /// A G-code program refused by the interpreter (the error names the line and what is
     /// wrong there); nothing after that line was queued.
     Gcode = -109, MC_ERR_GCODE, "the G-code program has an error (see the error's line)";
+    /// A wait for the last motion of an axis (or the last move of a group) when this library
+    /// has started none there since the card was opened: there is nothing to wait for (the
+    /// axis or group may still move, by motion of another kind: a raw command, another host).
+    NoMotion = -115, MC_ERR_NO_MOTION, "no motion to wait for: none was started there by this process since the card was opened";
 }
 
 impl From<NurbsError> for ErrorKind {
@@ -346,9 +351,16 @@ pub enum Error {
     /// See [`ErrorKind::NotFound`].
     #[error("no card at '{uri}': {reason}")]
     NotFound { uri: String, reason: String },
-    /// See [`ErrorKind::Busy`].
-    #[error("card '{uri}' is in use by another process")]
-    Busy { uri: String },
+    /// See [`ErrorKind::Busy`]: `in_this_process` when this process has the card open
+    /// already (a card is opened once per process: use the handle it returned, from any
+    /// thread), else another process (or host) has it.
+    #[error("card '{uri}' is {}", if *.in_this_process {
+        "already open in this process: a card is opened once per process; use the handle that \
+         open returned (from any thread), or close it first"
+    } else {
+        "in use by another process"
+    })]
+    Busy { uri: String, in_this_process: bool },
     /// See [`ErrorKind::PermissionDenied`].
     #[error("card '{uri}' refused this process: {reason}")]
     PermissionDenied { uri: String, reason: String },
@@ -386,6 +398,9 @@ pub enum Error {
     /// See [`ErrorKind::BadAxis`].
     #[error("axis {axis} does not exist: the card has {count} axes")]
     BadAxis { axis: usize, count: usize },
+    /// See [`ErrorKind::BadGroup`]: a group number the card does not have.
+    #[error("group {group} does not exist: the card has {count} groups (0 to {})", count - 1)]
+    BadGroup { group: usize, count: usize },
     /// See [`ErrorKind::NotFinite`].
     #[error("{what} is not a finite number ({value})")]
     NotFinite { what: &'static str, value: f64 },
@@ -441,6 +456,9 @@ pub enum Error {
     /// See [`ErrorKind::Unsupported`].
     #[error("not supported: {0}")]
     Unsupported(String),
+    /// See [`ErrorKind::NoMotion`].
+    #[error("nothing to wait for on {0}: no motion was started there through this library since the card was opened")]
+    NoMotion(Target),
     /// A configuration the host refuses before any card sees it (see [`ErrorKind::BadConfig`]).
     #[error("bad configuration: {0}")]
     BadConfig(String),
@@ -511,6 +529,7 @@ impl Error {
             Error::Aborted { .. } => ErrorKind::Aborted,
             Error::HomingFailed { .. } => ErrorKind::HomingFailed,
             Error::BadAxis { .. } => ErrorKind::BadAxis,
+            Error::BadGroup { .. } => ErrorKind::BadGroup,
             Error::NotFinite { .. } => ErrorKind::NotFinite,
             Error::NonPositive { .. } => ErrorKind::NonPositiveLimit,
             Error::Nack { code, .. }
@@ -522,6 +541,7 @@ impl Error {
             Error::Nurbs(e) => (*e).into(),
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
+            Error::NoMotion(_) => ErrorKind::NoMotion,
             Error::BadConfig(_) => ErrorKind::BadConfig,
             Error::ConfigFile { .. } => ErrorKind::ConfigFile,
             Error::Gcode(_) => ErrorKind::Gcode,

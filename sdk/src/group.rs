@@ -194,11 +194,9 @@ impl Card {
     /// An axes group handle (`0..MAX_GROUPS`).
     pub fn group(&self, index: usize) -> Result<Group> {
         if index >= MAX_GROUPS {
-            return Err(Error::Refused {
-                command: "group",
-                target: Target::Group(index),
-                code: firmware_proto::NackCode::BadGroup,
-                reason: crate::nack_reason(firmware_proto::NackCode::BadGroup),
+            return Err(Error::BadGroup {
+                group: index,
+                count: MAX_GROUPS,
             });
         }
         Ok(Group {
@@ -705,10 +703,11 @@ impl Group {
         })
     }
 
-    /// Wait for the last move queued through this library on this group.
+    /// Wait for the last move queued through this library on this group. `NoMotion` when none
+    /// was queued since the card was opened (nothing to wait for).
     pub fn wait_done(&self, timeout: Duration) -> Result<()> {
         let seq = lock(&self.card.inner().last_group_motion)[self.index]
-            .ok_or_else(|| Error::Unsupported("no move was queued on this group".into()))?;
+            .ok_or(Error::NoMotion(Target::Group(self.index)))?;
         self.card
             .wait_outcome(Target::Group(self.index), seq, timeout)
             .map(|_| ())

@@ -10,11 +10,12 @@
 //!   crossing's instant within the servo tick from the encoder's motion, so the pulse comes
 //!   within a count of the position at any speed; every fire and every missed position is
 //!   counted ([`CompareStatus`]) and reported ([`EventKind::Compare`]: code
-//!   [`COMPARE_FIRED`], [`COMPARE_MISSED`] or [`COMPARE_LOW_WATER`], value in counts).
+//!   [`COMPARE_FIRED`], [`COMPARE_MISSED`] or [`COMPARE_LOW_WATER`], value the position in
+//!   user units, or the positions queued).
 //! - **Touch probe** ([`Axis::touch_probe`], PLCopen MC_TouchProbe / MC_AbortTrigger): capture
 //!   the axis's position at an input edge or at the encoder's index pulse, interpolated within
 //!   the tick; optionally only inside a window; single shot or continuous
-//!   ([`EventKind::Probe`]: code the capture number, value the position in counts).
+//!   ([`EventKind::Probe`]: code the capture number, value the position in user units).
 //!
 //! Positions are in the axis's user units (see [`Axis::set_scale`]); a negative scale turns the
 //! direction over. The card checks every argument again and answers with its own error kinds

@@ -70,6 +70,7 @@ pub use config::{
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
+pub use device::{sim_watchdog_from_env, SIM_WATCHDOG_ENV};
 pub use error::{nack_reason, Error, ErrorKind, Result, Target};
 pub use firmware_proto::{
     AxisState, EventKind, Faults, GroupState, GroupStatus, Io, MotionFlags, NackCode, StopCategory,

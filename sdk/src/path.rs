@@ -163,6 +163,11 @@ impl PathStreamer {
         self.cancel.store(true, Ordering::Relaxed);
     }
 
+    /// Was [`PathStreamer::cancel`] called?
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
     /// Wait for the stream to end: the motion of its last segment, to wait on.
     pub fn join(mut self) -> std::result::Result<Option<GroupMotion>, StreamError> {
         match self.handle.take().map(|h| h.join()) {

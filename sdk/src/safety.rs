@@ -141,9 +141,13 @@ impl Card {
     /// a much shorter one, down to 1.5 × [`HEARTBEAT_PERIOD_US`]; see
     /// [`SafetyStatus::late_heartbeats`] for how close a host runs). The card refuses zero and anything under
     /// 1.5 × the heartbeat period ([`HEARTBEAT_PERIOD_US`]) with
-    /// [`crate::ErrorKind::WatchdogTimeout`].
+    /// [`crate::ErrorKind::WatchdogTimeout`]. On a `sim` card opened with
+    /// [`crate::SIM_WATCHDOG_ENV`] set (debugging), a shorter timeout gets that one.
     pub fn set_watchdog_timeout(&self, timeout: Duration) -> Result<()> {
         let us = u32::try_from(timeout.as_micros()).unwrap_or(u32::MAX);
+        // A `sim` card set up for debugging (SIM_WATCHDOG_ENV) keeps its longer timeout.
+        let floor = self.inner().watchdog_floor_us();
+        let us = if us == 0 { us } else { us.max(floor) };
         self.apply_safety_config(|b| b.watchdog_timeout_us = us, "set_watchdog_timeout")
     }
 

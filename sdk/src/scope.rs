@@ -141,6 +141,10 @@ pub struct ScopeStatus {
     pub samples: u64,
     /// Samples lost since the arm (the ring was full).
     pub lost: u64,
+    /// The pre-trigger samples the capture took (first in the ring): the configuration's
+    /// `pre_trigger`, or fewer when the trigger came before that many samples were taken
+    /// since the arm (0 until the trigger).
+    pub pre_trigger: u32,
 }
 
 /// A finished one-shot capture.
@@ -154,6 +158,9 @@ pub struct Capture {
     pub trigger_tick: u64,
     /// Samples lost (the ring was full).
     pub lost: u64,
+    /// The pre-trigger samples at the start of `samples` (fewer than asked when the trigger
+    /// came early: see [`ScopeStatus::pre_trigger`]).
+    pub pre_trigger: u32,
 }
 
 /// The card's scope. See the [module](self).
@@ -228,7 +235,41 @@ impl Scope {
             trigger_tick: b.trigger_tick,
             samples: b.samples,
             lost: b.lost,
+            pre_trigger: b.pre_captured,
         })
+    }
+
+    /// Wait until the one-shot capture armed last is done (or the scope was stopped), and
+    /// return its status; `Timeout` (emulated time on a stepped card, which is stepped) when it
+    /// is still waiting for its trigger or capturing, `ScopeState` when the scope is not armed
+    /// (never was, or a continuous capture, which never ends: stop it). Reads nothing from
+    /// the ring: a capture longer than the ring (`SCOPE_RING_LEN` samples) loses what does not
+    /// fit unless another thread reads meanwhile ([`Scope::capture`] drains as it waits).
+    pub fn wait_done(&self, timeout: Duration) -> Result<ScopeStatus> {
+        let start = Instant::now();
+        let rate = self.card.info().servo_rate_hz.max(1) as f64;
+        let mut stepped_s = 0.0;
+        let continuous =
+            layout::SCOPE_CONFIG.read(self.card.window()).mode == ScopeMode::Continuous as u32;
+        loop {
+            let st = self.status()?;
+            match st.state {
+                ScopeState::Done => return Ok(st),
+                ScopeState::Idle if st.arm_seq != 0 => return Ok(st),
+                ScopeState::Idle => return Err(refused(firmware_proto::NackCode::ScopeState)),
+                _ if continuous => return Err(refused(firmware_proto::NackCode::ScopeState)),
+                _ => {}
+            }
+            let elapsed = if stepped_s > 0.0 {
+                Duration::from_secs_f64(stepped_s)
+            } else {
+                start.elapsed()
+            };
+            if elapsed > timeout {
+                return Err(Error::Timeout(timeout));
+            }
+            stepped_s += self.idle(rate);
+        }
     }
 
     /// Samples waiting in the ring.
@@ -297,6 +338,7 @@ impl Scope {
                     channels: settings.channels.len(),
                     trigger_tick: st.trigger_tick,
                     lost: st.lost,
+                    pre_trigger: st.pre_trigger,
                 });
             }
             let elapsed = if stepped_s > 0.0 {

@@ -11,7 +11,7 @@
 //! [`Axis::halt`]. The full rules are in the register map's header (`MC_OP_GEAR_IN`) and in
 //! `card_firmware::firmware::gear`.
 
-use crate::card::{finite, positive, Axis, Card, Motion, Outcome, Status};
+use crate::card::{finite, lock, positive, Axis, Card, Motion, Outcome, Status};
 use crate::error::{Error, Result, Target};
 use firmware_proto::cmd::{self, GearIn, GearInPos, SyncCmd};
 use firmware_proto::{
@@ -22,10 +22,14 @@ use std::time::Duration;
 /// What a slave follows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Master {
-    /// The commanded position of an axis (followed one servo tick late when it runs a
-    /// single-axis move: its reference is computed after its slaves').
+    /// The commanded position of an axis, followed in the same servo tick: the slave's
+    /// reference of a tick is the ratio applied to the master's reference of that tick (a
+    /// master driven by homing or a PT/PVT stream: one tick late).
     Commanded(usize),
-    /// The actual position (encoder) of an axis.
+    /// The actual position (encoder) of an axis, latched at the tick's start: the slave's
+    /// servo reaches it one tick later, so at a master velocity `v` the slave trails the
+    /// ratio line by `ratio · v · Ts` (one tick of the master's travel) on top of its own
+    /// following error. Follow `Commanded` where the master's command is the truth.
     Actual(usize),
     /// An auxiliary encoder input, 0..[`AUX_ENCODERS`].
     Aux(usize),
@@ -147,7 +151,10 @@ impl Axis {
                 })
             }
         };
-        let seq = self.run(self.cmd(c), what)?;
+        let (seq, offset) =
+            self.card()
+                .execute_value(self.cmd(c), what, Target::Axis(self.index()))?;
+        lock(&self.card().inner().gear_offset)[self.index()] = Some(offset);
         Ok(self.started(seq))
     }
 
@@ -250,6 +257,18 @@ impl Axis {
             .get(self.index())
             .copied()
             .filter(|r| *r != 0.0 && r.is_finite())
+    }
+
+    /// The coupling's engagement offset, in counts: in gear the slave's commanded position is
+    /// `offset + ratio · master` (counts of both; a commanded master's position in counts,
+    /// [`Axis::gear_ratio`] the ratio). The coupling is relative to where it was taken:
+    /// MC_GearIn anchors the ratio line where the slave and the master were at the
+    /// engagement, MC_GearInPos at the sync point; the offset is where that line puts the
+    /// slave with the master at 0. The card computes it when it takes the command (its ack);
+    /// `None` when the axis is not geared, or was not geared through this library.
+    pub fn gear_offset(&self) -> Option<f64> {
+        self.gear_ratio()?;
+        lock(&self.card().inner().gear_offset)[self.index()]
     }
 }
 

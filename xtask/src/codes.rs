@@ -124,7 +124,7 @@ pub const SETS: &[Set] = &[
             "MC_EV_",
             "MC_EVENT_",
             "Event kind (`mc_event.kind`). `axis`, `seq`, `code` and `value` are the event's \
-             fields; positions in `value` are in user units. `MC_EVENT_ACK` and \
+             fields; positions and distances in `value` are in user units (the rule of `mc_event`). `MC_EVENT_ACK` and \
              `MC_EVENT_NACK` are taken by the library, never delivered.",
         ),
     },
@@ -961,7 +961,7 @@ pub fn rust_enums(header: &str, bindings: &str) -> Result<String, String> {
 }
 
 /// The C ABI's names of the header's names and `PREFIX_*` patterns that the sets rename.
-fn c_renames(
+pub fn c_renames(
     defs: &[Define],
     values: &BTreeMap<String, (String, String)>,
 ) -> Result<BTreeMap<String, String>, String> {

@@ -17,6 +17,7 @@
 //! there are any. The rules of the graph are in `cycles.rs`.
 
 mod bench;
+mod cite;
 mod codes;
 mod cycles;
 mod install;
@@ -61,6 +62,17 @@ fn dpram_bindings(root: &Path) -> Result<String, String> {
     Ok(bindings.to_string())
 }
 
+/// The SDK's names the error kinds' docs cite, and the C ABI's for them (the C header names
+/// no Rust; `cffi/tests/c_programs.rs` checks that no `Card::` is left).
+const RUST_TO_C: &[(&str, &str)] = &[
+    ("`Card::reset_faults`", "`mc_reset_faults`"),
+    ("`Card::close`", "`mc_close`"),
+    ("`Card::cancel_waits`", "`mc_cancel_waits`"),
+    ("`HomingSettings`", "`mc_homing_settings`"),
+    ("`IoSettings`", "`mc_io_settings`"),
+    ("(`limit_range`: ", "("),
+];
+
 /// The C header of libmotioncard, from the cffi crate's source and `cffi/cbindgen.toml`.
 fn c_header(root: &Path) -> Result<String, String> {
     let dir = root.join("cffi");
@@ -84,17 +96,32 @@ fn c_header(root: &Path) -> Result<String, String> {
     for k in motioncard_sdk::ErrorKind::ALL {
         codes.push_str("\n/**\n");
         // Rustdoc links become plain code spans: "[`crate::Card::close`]" -> "`Card::close`".
-        let doc = k.doc().replace("[`", "`").replace("`]", "`");
-        for line in doc
+        let mut doc = k
+            .doc()
+            .replace("[`", "`")
+            .replace("`]", "`")
             .replace("`crate::", "`")
-            .replace("`firmware_proto::", "`")
-            .lines()
-        {
+            .replace("`firmware_proto::", "`");
+        // The SDK's names in the kinds' docs, as a C user calls them.
+        for (rust, c) in RUST_TO_C {
+            doc = doc.replace(rust, c);
+        }
+        for line in doc.lines() {
             codes.push_str(&format!(" *{line}\n"));
         }
         codes.push_str(&format!(" */\n#define {} {}\n", k.c_name(), k.code()));
     }
-    Ok(format!("{}{codes}{}", &header[..at], &header[at..]))
+    let header = format!("{}{codes}{}", &header[..at], &header[at..]);
+    // Every name a comment cites, in the header (cite.rs).
+    let read = |rel: &str| {
+        std::fs::read_to_string(root.join(rel)).map_err(|e| format!("cannot read {rel}: {e}"))
+    };
+    cite::complete(
+        &header,
+        &read(HEADER)?,
+        &read("firmware-proto/src/raw.rs")?,
+        "#ifdef __cplusplus\n}  /* extern \"C\" */",
+    )
 }
 
 const USAGE: &str = "usage: cargo xtask codegen [--check]\n       cargo xtask bench [--write] [--only NAME]\n       cargo xtask install --prefix DIR\n       cargo xtask cycles [CRATE...]";

@@ -28,6 +28,10 @@ struct Args {
     /// Servo rate in Hz (1000..=20000).
     #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u32).range(1000..=20000))]
     servo_rate: u32,
+    /// The watchdog timeout at boot in ms (until a host sets its own; default 100): a longer
+    /// one to debug a host under gdb or valgrind (the watchdog stays armed).
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u32).range(1..=3_600_000))]
+    watchdog_timeout_ms: Option<u32>,
     /// realtime (paced to the servo rate) or free-running (as fast as possible).
     #[arg(long, default_value = "realtime")]
     clock: Clock,
@@ -53,6 +57,9 @@ fn main() -> std::process::ExitCode {
     let opts = EmuOptions {
         axes: args.axes as usize,
         servo_rate_hz: args.servo_rate,
+        watchdog_timeout_us: args
+            .watchdog_timeout_ms
+            .map_or(EmuOptions::default().watchdog_timeout_us, |ms| ms * 1000),
         ..EmuOptions::default()
     };
     let run = || -> std::io::Result<(Server, Runner, PeerPolicy)> {

@@ -43,6 +43,10 @@ pub struct EmuOptions {
     /// The index channel of each axis's encoder (default: a pulse per motor revolution at
     /// count 0 and its multiples).
     pub index: [IndexPulse; MAX_AXES],
+    /// The card's watchdog timeout at boot, µs (until a host sets its own): the firmware's
+    /// default (100 ms), or longer on a card set up for debugging a host under gdb or
+    /// valgrind (the SDK's `MOTIONCARD_SIM_WATCHDOG_MS`, `card-emu --watchdog-timeout-ms`).
+    pub watchdog_timeout_us: u32,
 }
 
 impl EmuOptions {
@@ -63,6 +67,7 @@ impl Default for EmuOptions {
             servo_rate_hz: 10_000,
             motors: [MotorParams::default_servo(); MAX_AXES],
             index: [IndexPulse::default(); MAX_AXES],
+            watchdog_timeout_us: crate::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US,
         }
     }
 }
@@ -209,7 +214,9 @@ impl Emulator {
 
     fn named(name: &str, window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
         let gate = Arc::new(Gate::new()?);
-        let fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
+        let mut fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
+        fw.set_boot_watchdog_timeout(opts.watchdog_timeout_us)
+            .map_err(|_| std::io::Error::other("a watchdog timeout of 0"))?;
         Ok(Self {
             name: name.to_string(),
             window,

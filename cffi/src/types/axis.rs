@@ -143,7 +143,13 @@ impl From<&Status> for mc_status {
     }
 }
 
-/// An event from the card, in user units.
+/// An event from the card. The unit rule, one for every kind: a `value` that is a position
+/// or a distance is in user units of the axis it concerns (`axis`, or for `MC_EVENT_COMPARE`
+/// and `MC_EVENT_PROBE` the axis the channel watches), as `mc_status` gives them: motion done
+/// and active, in velocity (user units/s), homing failed, sync, PVT done, compare fired or
+/// missed, probe captures, and the safety stops whose measurement is a position, a following
+/// error or an encoder count. Every other value is as the card posts it: states, times in
+/// seconds, counts of things, ids, words.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[allow(non_camel_case_types)]
@@ -159,7 +165,7 @@ pub struct mc_event {
     pub code: i32,
     /// Servo tick at which the card raised it.
     pub tick: u64,
-    /// Kind-specific value (positions in user units).
+    /// Kind-specific value (positions and distances in user units: the rule above).
     pub value: f64,
 }
 

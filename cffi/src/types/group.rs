@@ -268,7 +268,9 @@ pub struct mc_group_status {
     pub path_id: u32,
     /// `MC_PATH_STATUS_` bits.
     pub path_flags: u32,
-    /// Path segments ended since the group was enabled (wrapping).
+    /// Path segments ended since the group's last `mc_group_enable` (wrapping): 0 after each
+    /// enable, whatever ran before it (a disable keeps the count until the next enable; a
+    /// program that opens the card finds the count of the enable before it).
     pub path_done: u32,
 }
 

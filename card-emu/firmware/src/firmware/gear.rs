@@ -34,8 +34,19 @@
 //!
 //! The master's velocity (and acceleration) are the master axis's commanded ones, or, for an
 //! encoder, the filtered velocity of the axis / the last tick's difference of an auxiliary
-//! encoder. A single-axis commanded master is followed one tick late: its reference is computed
-//! after its slaves' in the tick.
+//! encoder.
+//!
+//! **Latency.** A commanded-position master is followed in the same tick: a master axis that
+//! runs its own trajectory takes this tick's reference before the gear step
+//! (`advance_commanded_masters`), a group's axis took it in the group's step before, so the
+//! slave's reference of tick k is the ratio applied to the master's reference of tick k,
+//! exactly (a master driven by homing or a PT/PVT stream, or one that is itself a slave later in
+//! the axis order, is followed one tick late: those set its reference after the gear step). An
+//! actual-position master (its encoder, or an auxiliary encoder) is the count latched at the
+//! tick's start: the slave's reference of tick k is the ratio applied to the master's position
+//! sensed at tick k, which the slave's servo reaches one tick later, so at a master velocity v
+//! the slave trails the ratio line by ratio · v · Ts (one tick of the master's travel, on top of
+//! the slave's own following error).
 //!
 //! **Leaving.** MC_GearOut puts the slave into velocity mode at its velocity (PLCopen: the slave
 //! keeps moving; ContinuousMotion, `InVelocity` with the GearOut's seq), its acceleration ramped
@@ -46,7 +57,7 @@
 //! No allocation, no panic, no clock; time is the tick count.
 #![forbid(unsafe_code)]
 
-use crate::firmware::axis::Axis;
+use crate::firmware::axis::{Axis, TickReport};
 use crate::firmware::nack::{check_ranges, plan_nack};
 use crate::firmware::Firmware;
 use crate::math;
@@ -402,6 +413,18 @@ impl Gear {
     pub fn ratio(&self) -> Option<GearRatio> {
         match self.run?.law {
             Law::Gear(r) => Some(r),
+            Law::Cam(_) => None,
+        }
+    }
+
+    /// The coupling's offset (gearing): where the ratio line puts the slave when the master
+    /// is at 0, in slave counts, so that in gear `slave = offset + ratio · master` (counts;
+    /// the anchor of MC_GearIn is where the slave and the master were at the engagement, of
+    /// MC_GearInPos the sync point). `None` for a cam or no coupling.
+    pub fn offset(&self) -> Option<f64> {
+        let run = self.run?;
+        match run.law {
+            Law::Gear(r) => Some(run.anchor_x + r.distance(-run.anchor_m, run.master.per_count())),
             Law::Cam(_) => None,
         }
     }
@@ -765,6 +788,37 @@ impl<M: Mem + Clone> Firmware<M> {
             return None;
         }
         Some(self.gear_step(ts))
+    }
+
+    /// Run [`Axis::reference_into`] now for every axis that is the commanded-position master
+    /// of an engaged coupling (and no slave itself: a slave takes its reference from the gear
+    /// step): its slaves then follow the master's reference of this tick. What it returned
+    /// (powered, and the report so far) goes to the servo half in the tick's axis loop.
+    pub(super) fn advance_commanded_masters(
+        &mut self,
+        ts: f64,
+    ) -> [Option<(bool, TickReport)>; MAX_AXES] {
+        let n = self.num_axes;
+        let mut early: [Option<(bool, TickReport)>; MAX_AXES] = Default::default();
+        if !self.gears[..n].iter().any(Gear::engaged) {
+            return early;
+        }
+        let mut masters = [false; MAX_AXES];
+        for g in &self.gears[..n] {
+            if let Some(m) = g.master() {
+                if m.source == MasterSource::Commanded && m.index < n {
+                    masters[m.index] = true;
+                }
+            }
+        }
+        for (i, axis) in self.axes[..n].iter_mut().enumerate() {
+            if masters[i] && !self.gears[i].engaged() {
+                let mut r = TickReport::default();
+                let powered = axis.reference_into(ts, &mut r);
+                early[i] = Some((powered, r));
+            }
+        }
+        early
     }
 
     /// The slaves' step, some coupled.

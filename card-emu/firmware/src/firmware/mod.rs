@@ -217,6 +217,11 @@ impl<M: Mem + Clone> Firmware<M> {
         self.axes[..self.num_axes].get(i)
     }
 
+    /// The board's watchdog timeout at boot, µs ([`Safety::set_boot_watchdog_timeout`]).
+    pub fn set_boot_watchdog_timeout(&mut self, us: u32) -> Result<(), firmware_proto::NackCode> {
+        self.safety.set_boot_watchdog_timeout(&self.mem, us)
+    }
+
     /// The safety layer (watchdog, latches, configuration).
     pub fn safety(&self) -> &Safety {
         &self.safety
@@ -435,6 +440,9 @@ impl<M: Mem + Clone> Firmware<M> {
             let (set, clear) = g.take_path_outputs();
             self.outputs = (self.outputs & !clear) | set;
         }
+        // The commanded-position masters of geared slaves take this tick's reference first,
+        // so that their slaves follow it in the same tick (gear.rs).
+        let mut early = self.advance_commanded_masters(ts);
         // Geared slaves follow their masters (gear.rs).
         let synced = self.gear_tick(ts);
         // PT/PVT streams drive their axes (pvt.rs).
@@ -463,7 +471,18 @@ impl<M: Mem + Clone> Firmware<M> {
         let mut report = TickReport::default();
         let tables = self.comp.as_ref();
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
-            dac[i] = axis.control_into(ts, &mut report, tables.and_then(|t| t.table(i)));
+            let comp = tables.and_then(|t| t.table(i));
+            dac[i] = match early.get_mut(i).and_then(Option::take) {
+                Some((powered, r)) => {
+                    report = r;
+                    if powered {
+                        axis.servo_into(ts, &mut report, comp)
+                    } else {
+                        0.0
+                    }
+                }
+                None => axis.control_into(ts, &mut report, comp),
+            };
             if !report.is_empty() {
                 // One an axis: never full.
                 let _ = reports.push((i, core::mem::take(&mut report)));
@@ -978,6 +997,8 @@ mod tests {
             O::PvtPoints,
             O::CamTable,
             O::CamData,
+            // Layout 1.9: the compensation table read back (a read, nothing moves).
+            O::CompRead,
         ]
         .into_iter()
         .collect();

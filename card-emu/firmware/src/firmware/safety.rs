@@ -200,6 +200,19 @@ pub struct Safety {
 }
 
 impl Safety {
+    /// The board's watchdog timeout at boot, µs, instead of [`WATCHDOG_TIMEOUT_DEFAULT_US`]
+    /// (an emulated card set up for debugging a host under gdb or valgrind: the watchdog
+    /// stays armed, with a longer timeout). Before the first tick; a host may change it as
+    /// ever. `WatchdogTimeout` for 0.
+    pub fn set_boot_watchdog_timeout<M: Mem>(&mut self, mem: &M, us: u32) -> Result<(), NackCode> {
+        if us == 0 {
+            return Err(NackCode::WatchdogTimeout);
+        }
+        self.config.watchdog_timeout_us = us;
+        layout::SAFETY_CONFIG.write(mem, &self.config.to_block());
+        Ok(())
+    }
+
     /// Boot: write the default configuration blocks and a clean status into the window.
     pub fn boot<M: Mem>(mem: &M) -> Self {
         let config = SafetyConfig::default();

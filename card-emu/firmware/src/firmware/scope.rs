@@ -55,6 +55,8 @@ pub struct Scope {
     lost: u64,
     /// Samples from the trigger on.
     post: u64,
+    /// The pre-trigger samples of the capture (the history at the trigger).
+    pre_captured: u32,
     /// The last sample was lost (a run of losses posts one event).
     losing: bool,
 }
@@ -84,6 +86,7 @@ impl Scope {
             samples: 0,
             lost: 0,
             post: 0,
+            pre_captured: 0,
             losing: false,
         }
     }
@@ -126,6 +129,7 @@ impl Scope {
         self.samples = 0;
         self.lost = 0;
         self.post = 0;
+        self.pre_captured = 0;
         self.losing = false;
         Ok(())
     }
@@ -175,6 +179,7 @@ impl Scope {
             trigger_tick: self.trigger_tick,
             samples: self.samples,
             lost: self.lost,
+            pre_captured: self.pre_captured,
             ..Default::default()
         }
     }
@@ -205,6 +210,7 @@ impl Scope {
                 self.trigger_tick = s.tick;
                 report.triggered = Some(s.tick);
                 let pre = self.config.pre_trigger as usize;
+                self.pre_captured = self.hist_len as u32;
                 for k in 0..self.hist_len {
                     let slot = (self.hist_next + pre - self.hist_len + k) % pre;
                     let h = self.history[slot];

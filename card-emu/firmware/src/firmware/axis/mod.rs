@@ -778,8 +778,20 @@ impl Axis {
         report: &mut TickReport,
         comp: Option<(&[CompPoint], &CompParams)>,
     ) -> f64 {
-        let vel = self.servo.velocity();
+        if self.reference_into(ts, report) {
+            self.servo_into(ts, report, comp)
+        } else {
+            0.0
+        }
+    }
 
+    /// The first half of [`Axis::control_into`]: this tick's reference from the axis's own
+    /// trajectory (and the state changes that come with it). `false`: the axis is unpowered
+    /// (its reference follows the actual position, its output is 0 V) and
+    /// [`Axis::servo_into`] must not run. The firmware runs it early for an axis that is the
+    /// commanded-position master of a geared slave, so that the slave follows this tick's
+    /// reference, not the last one's.
+    pub fn reference_into(&mut self, ts: f64, report: &mut TickReport) -> bool {
         if self.state == AxisState::Disabled
             || (self.state == AxisState::ErrorStop && !self.safety.powered)
         {
@@ -803,7 +815,7 @@ impl Axis {
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
             self.faults.remove(Faults::DAC_SATURATED);
-            return 0.0;
+            return false;
         }
 
         // Trajectory generator.
@@ -875,6 +887,18 @@ impl Axis {
         if self.state == AxisState::Stopping && self.motion == Motion::Hold && self.stop_released {
             self.set_state(AxisState::Standstill, &mut report.state_from);
         }
+        true
+    }
+
+    /// The second half of [`Axis::control_into`], after [`Axis::reference_into`] returned
+    /// `true`: the servo loop on this tick's reference, the move's statistics, in-position.
+    pub fn servo_into(
+        &mut self,
+        ts: f64,
+        report: &mut TickReport,
+        comp: Option<(&[CompPoint], &CompParams)>,
+    ) -> f64 {
+        let vel = self.servo.velocity();
 
         // Leadscrew compensation (layout 1.9): the servo follows the commanded position plus
         // the correction; the table is in use once the axis is homed and not homing.

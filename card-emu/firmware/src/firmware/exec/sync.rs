@@ -36,14 +36,19 @@ impl<M: Mem + Clone> Firmware<M> {
             SyncCmd::PvtBegin(b) => (self.pvt_begin(ax, b)?, false),
             SyncCmd::PvtPoints(p) => (self.pvt_points(ax, p)?, false),
             SyncCmd::PvtStart(s) => (self.pvt_start(seq, ax, s)?, false),
+            // The ack's value: the coupling's offset (`Gear::offset`).
             SyncCmd::GearIn(g) => {
                 let g = GearCommand::gear(g, None, ax, n, rate)?;
-                gear(self.execute_gear(seq, ax, g, false, false)?)
+                let (outcome, over) = gear(self.execute_gear(seq, ax, g, false, false)?);
+                let offset = self.gears[ax].offset().unwrap_or(0.0);
+                ((outcome.0, offset), over)
             }
             SyncCmd::GearInPos(p) => {
                 let at = Some((p.master_position, p.slave_position));
                 let g = GearCommand::gear(&p.gear, at, ax, n, rate)?;
-                gear(self.execute_gear(seq, ax, g, false, false)?)
+                let (outcome, over) = gear(self.execute_gear(seq, ax, g, false, false)?);
+                let offset = self.gears[ax].offset().unwrap_or(0.0);
+                ((outcome.0, offset), over)
             }
             SyncCmd::CamIn(ci) => {
                 let g = GearCommand::cam(ci, ax, n, rate)?;

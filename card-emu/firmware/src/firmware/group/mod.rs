@@ -591,6 +591,11 @@ impl Group {
         self.snap_last = 0.0;
         self.snap_max = 0.0;
         self.prev_vel = [0.0; MAX_AXES];
+        // `path_done` counts the segments ended since this enable (issue 39: it carried on
+        // across disable and enable, and across hosts).
+        if let Some(p) = self.path.as_mut() {
+            p.reset_done();
+        }
         self.set_state(GroupState::Standby, tick, out);
         Ok(())
     }

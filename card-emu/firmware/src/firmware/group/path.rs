@@ -84,6 +84,11 @@ impl core::fmt::Debug for PathRun {
 }
 
 impl PathRun {
+    /// MC_GroupEnable: `path_done` starts again from 0.
+    pub(super) fn reset_done(&mut self) {
+        self.done = 0;
+    }
+
     /// `GroupMotionAborted` (code: the opcode `by`) for every segment not finished, oldest
     /// first; none is left.
     fn abort_unfinished(&mut self, group: u16, by: Opcode, tick: u64, out: &mut Outbox) {
