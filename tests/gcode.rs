@@ -432,6 +432,7 @@ impl Hooks for Debug {
 /// count, the program goes on from where Z came to rest (just past the trip); G38.4/G38.5
 /// find the same point from the other side (the probe opening); a G38.3 that touches nothing ends at its end with
 /// #5070 = 0, a G38.2 that touches nothing is an error, and so is a probe already tripped.
+/// `cargo test --release --test gcode g38 -- --nocapture` prints the trips.
 #[test]
 fn g38_probes_on_the_card_and_the_program_uses_the_result() {
     const TRIP: f64 = -3.217;
@@ -484,7 +485,19 @@ M2
     // G38.2 down, G38.4 up (until the probe opens), G38.3 down, G38.5 up: each trip within
     // a count (1 µm) of the switching point, and Z at rest just past it (#5422, the
     // program's position), never short of it.
+    println!(
+        "| probe | feed, mm/min | tripped at (#5063) | error, µm | came to rest past it, µm |"
+    );
+    println!("|---|---:|---:|---:|---:|");
     for (k, (s, down)) in seen[..4].iter().zip([true, false, true, false]).enumerate() {
+        println!(
+            "| {} | {} | {:.6} | {:+.1} | {:.1} |",
+            ["G38.2 down", "G38.4 up", "G38.3 down", "G38.5 up"][k],
+            [100, 50, 50, 20][k],
+            s[0],
+            (s[0] - TRIP) * 1e3,
+            (s[0] - s[2]).abs() * 1e3
+        );
         assert!(
             (s[0] - TRIP).abs() <= 0.0011,
             "probe {k}: tripped at {}",
