@@ -223,6 +223,67 @@ fn a_geared_slave_follows_a_commanded_master_in_the_same_tick() {
     assert!((last[1].command_position - (m0 + 100.0)).abs() < 1e-9);
 }
 
+/// Issue 39: an actual-position master is latched at the tick's start and the slave's servo
+/// reaches its reference a tick later, so with `Master::Actual` the slave's reference of a
+/// tick is 3/2 of where the master *was*: 7.5 counts behind 3/2 of the master's actual
+/// position of the next tick at 50 mm/s (5 counts a tick). `Master::ActualLead` leads the
+/// encoder by its velocity estimate over a period: the slave's reference meets the master's
+/// next position, within the estimate's noise.
+#[test]
+fn an_actual_lead_master_takes_out_the_tick_of_lag() {
+    let mut lags = Vec::new();
+    for lead in [false, true] {
+        let card = card(2);
+        let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+        for a in [&slave, &master] {
+            a.set_scale(1000.0).unwrap();
+        }
+        let m = if lead {
+            Master::ActualLead(1)
+        } else {
+            Master::Actual(1)
+        };
+        slave
+            .gear_in(m, 3, 2, &SyncLimits::new(1e3, 1e4, 1e6))
+            .unwrap()
+            .wait_in_sync(LONG)
+            .unwrap();
+        let (s0, m0) = (
+            status(&card, 0).command_position,
+            status(&card, 1).actual_position,
+        );
+        master
+            .move_velocity(50.0, &VelocityLimits::new(500.0, 5e4))
+            .unwrap()
+            .wait_in_velocity(LONG)
+            .unwrap();
+        let rows = record(&card, &[0, 1], 5_000);
+        // Counts: the slave's reference against 3/2 of the master's next actual position.
+        let d: Vec<f64> = rows
+            .windows(2)
+            .skip(1_000)
+            .map(|w| (w[0][0].command_position - s0 - 1.5 * (w[1][1].actual_position - m0)) * 1e3)
+            .collect();
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let worst = d.iter().fold(0.0f64, |a, x| a.max((x - mean).abs()));
+        println!(
+            "gearing 3/2 on an {} master at 50 mm/s: the slave's reference {mean:+.3} counts from 3/2 of the master's next position (spread ±{worst:.3})",
+            if lead { "actual-lead" } else { "actual" }
+        );
+        lags.push(mean);
+    }
+    assert!(
+        (lags[0] + 7.5).abs() < 0.5,
+        "actual master: {} counts",
+        lags[0]
+    );
+    assert!(
+        lags[1].abs() < 0.5,
+        "actual-lead master: {} counts",
+        lags[1]
+    );
+}
+
 /// MC_GearInPos: the slave at rest at 0 is at 20,000 counts when the master (10,000 counts/s)
 /// reaches 20,000 counts beyond where it is, ratio 1/1, within its limits on the way; a point too close for the limits
 /// is refused (`Infeasible`), and so is a master at rest.

@@ -963,6 +963,12 @@ extern "C" {
 #define MC_MASTER_AUX 2
 
 /**
+ * The master axis's actual position led by one servo period (encoder + v x Ts, v its velocity
+ * estimate), in 1/65536 count: no tick of lag at a constant velocity (layout 1.9).
+ */
+#define MC_MASTER_ACTUAL_LEAD 3
+
+/**
  * Auxiliary encoder inputs of the card (conveyor, handwheel).
  */
 #define MC_AUX_ENCODERS 2

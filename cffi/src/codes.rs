@@ -541,6 +541,10 @@ pub const MC_MASTER_ACTUAL: u32 = 1;
 /// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
 pub const MC_MASTER_AUX: u32 = 2;
 
+/// The master axis's actual position led by one servo period (encoder + v x Ts, v its velocity
+/// estimate), in 1/65536 count: no tick of lag at a constant velocity (layout 1.9).
+pub const MC_MASTER_ACTUAL_LEAD: u32 = 3;
+
 /// Auxiliary encoder inputs of the card (conveyor, handwheel).
 pub const MC_AUX_ENCODERS: u32 = 2;
 

@@ -3,7 +3,7 @@
 //! call the SDK, write the outputs, all inside [`guard`].
 
 use crate::api::{axis_of, motion_of, ms, started};
-use crate::codes::{MC_MASTER_ACTUAL, MC_MASTER_AUX, MC_MASTER_COMMANDED};
+use crate::codes::{MC_MASTER_ACTUAL, MC_MASTER_ACTUAL_LEAD, MC_MASTER_AUX, MC_MASTER_COMMANDED};
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, unknown, Failure};
@@ -28,6 +28,7 @@ pub(crate) fn master_of(kind: u32, index: u32) -> Result<Master, Failure> {
     match kind {
         MC_MASTER_COMMANDED => Ok(Master::Commanded(i)),
         MC_MASTER_ACTUAL => Ok(Master::Actual(i)),
+        MC_MASTER_ACTUAL_LEAD => Ok(Master::ActualLead(i)),
         MC_MASTER_AUX => Ok(Master::Aux(i)),
         k => Err(unknown("master kind", k)),
     }

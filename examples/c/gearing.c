@@ -43,6 +43,8 @@ int main(int argc, char **argv) {
            MC_ERR_SYNC_MASTER);
     EXPECT(mc_gear_in(c, slave, MC_MASTER_AUX, MC_AUX_ENCODERS, 1, 1, &lim, NULL),
            MC_ERR_SYNC_MASTER);
+    EXPECT(mc_gear_in(c, slave, MC_MASTER_ACTUAL_LEAD, slave, 1, 1, &lim, NULL),
+           MC_ERR_SYNC_MASTER);
     EXPECT(mc_gear_in(c, slave, 9, 0, 1, 1, &lim, NULL), MC_ERR_BAD_CONFIG);
     EXPECT(mc_gear_in(c, slave, MC_MASTER_AUX, 0, 1, 1, NULL, NULL), MC_ERR_NULL_POINTER);
     mc_sync_limits bad = lim;

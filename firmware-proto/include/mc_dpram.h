@@ -472,8 +472,12 @@
  * disabled or in ErrorStop: the slave stops on its stop ramp (MC_EV_SYNC code
  * MC_SYNC_MASTER_LOST, MC_EV_MOTION_ABORTED for the gear command, the axis Stopping then
  * Standstill). Halt, stop and the safety stops end the coupling as any motion; the override does
- * not scale a coupled slave (it follows its master). A commanded single-axis master is followed
- * with one servo tick of delay (its reference is computed after the slaves'). */
+ * not scale a coupled slave (it follows its master). A commanded master is followed in the same
+ * servo tick (its reference is computed before the slaves'; one driven by homing or a PT/PVT
+ * stream: a tick late). An actual-position master is the encoder latched at the tick's start,
+ * which the slave's servo reaches a tick later: the slave trails it by ratio x v x Ts, unless
+ * the master is MC_MASTER_ACTUAL_LEAD (layout 1.9), the encoder led by its velocity estimate
+ * over one servo period. */
 #define MC_OP_GEAR_IN 80u     /* args: master, numerator, denominator, vmax, amax, jerk. flags:
                                * MC_MASTER_*. Aborting; from Standstill, DiscreteMotion,
                                * ContinuousMotion or SynchronizedMotion (a new ratio). The
@@ -495,6 +499,9 @@
 #define MC_MASTER_COMMANDED 0u /* flags: the master axis's commanded position */
 #define MC_MASTER_ACTUAL 1u    /* the master axis's actual position (its encoder) */
 #define MC_MASTER_AUX 2u       /* an auxiliary encoder input (0..MC_AUX_ENCODERS-1) */
+#define MC_MASTER_ACTUAL_LEAD 3u /* the master axis's actual position led by one servo period
+                                  * (encoder + v x Ts, v its velocity estimate), in 1/65536
+                                  * count: no tick of lag at a constant velocity (layout 1.9) */
 #define MC_AUX_ENCODERS 2u     /* auxiliary encoder inputs of the card (conveyor, handwheel) */
 #define MC_GEAR_RATIO_MAX 2147483647.0 /* |numerator|, denominator <= 2^31 - 1 */
 #define MC_EV_SYNC 27u         /* synchronised motion. axis: the slave; seq: the gear command;

@@ -431,6 +431,10 @@ code_enum! {
         Actual = raw::MC_MASTER_ACTUAL,
         /// An auxiliary encoder input (`0..MC_AUX_ENCODERS-1`).
         Aux = raw::MC_MASTER_AUX,
+        /// The master axis's actual position led by one servo period (encoder + v x Ts, v its
+        /// velocity estimate), in 1/65536 count: no tick of lag at a constant velocity (layout
+        /// 1.9).
+        ActualLead = raw::MC_MASTER_ACTUAL_LEAD,
     }
 }
 

@@ -169,6 +169,7 @@ pub const MC_OP_GEAR_OUT: u32 = 82;
 pub const MC_MASTER_COMMANDED: u32 = 0;
 pub const MC_MASTER_ACTUAL: u32 = 1;
 pub const MC_MASTER_AUX: u32 = 2;
+pub const MC_MASTER_ACTUAL_LEAD: u32 = 3;
 pub const MC_AUX_ENCODERS: u32 = 2;
 pub const MC_GEAR_RATIO_MAX: f64 = 2147483647.0;
 pub const MC_EV_SYNC: u32 = 27;

@@ -31,6 +31,11 @@ pub enum Master {
     /// ratio line by `ratio · v · Ts` (one tick of the master's travel) on top of its own
     /// following error. Follow `Commanded` where the master's command is the truth.
     Actual(usize),
+    /// The actual position of an axis led by one servo period (its encoder plus its velocity
+    /// estimate times the period): at a constant master velocity the slave meets the master's
+    /// actual position of the same tick, without `Actual`'s tick of lag (the estimate's noise
+    /// and a changing velocity are followed as they are).
+    ActualLead(usize),
     /// An auxiliary encoder input, 0..[`AUX_ENCODERS`].
     Aux(usize),
 }
@@ -40,6 +45,7 @@ impl Master {
         match *self {
             Master::Commanded(a) => (MasterSource::Commanded, a),
             Master::Actual(a) => (MasterSource::Actual, a),
+            Master::ActualLead(a) => (MasterSource::ActualLead, a),
             Master::Aux(k) => (MasterSource::Aux, k),
         }
     }

@@ -154,17 +154,21 @@ pub(crate) fn halt_of(travel: Option<&Travel>) -> (f64, f64) {
     travel.map_or((1e6, 5e7), |t| (t.limits.deceleration, t.limits.jerk[3]))
 }
 
-/// A master as `mcctl` names it: `N` (axis N's commanded position), `actual:N`, `aux:K`.
+/// A master as `mcctl` names it: `N` (axis N's commanded position), `actual:N`, `lead:N`
+/// (actual, led by a servo period), `aux:K`.
 pub fn parse_master(s: &str) -> std::result::Result<Master, String> {
     let num = |t: &str| {
         t.parse::<usize>()
-            .map_err(|_| format!("`{s}` is not a master: N, actual:N or aux:K"))
+            .map_err(|_| format!("`{s}` is not a master: N, actual:N, lead:N or aux:K"))
     };
     match s.split_once(':') {
         None => num(s).map(Master::Commanded),
         Some(("actual", n)) => num(n).map(Master::Actual),
+        Some(("lead", n)) => num(n).map(Master::ActualLead),
         Some(("aux", k)) => num(k).map(Master::Aux),
-        Some(_) => Err(format!("`{s}` is not a master: N, actual:N or aux:K")),
+        Some(_) => Err(format!(
+            "`{s}` is not a master: N, actual:N, lead:N or aux:K"
+        )),
     }
 }
 
@@ -173,7 +177,7 @@ pub fn parse_master(s: &str) -> std::result::Result<Master, String> {
 pub(crate) fn master_position(card: &Card, m: Master) -> Result<f64> {
     Ok(match m {
         Master::Commanded(a) => card.axis(a)?.status()?.command_position,
-        Master::Actual(a) => card.axis(a)?.status()?.actual_position,
+        Master::Actual(a) | Master::ActualLead(a) => card.axis(a)?.status()?.actual_position,
         Master::Aux(k) => card.aux_encoder(k)? as f64,
     })
 }
@@ -259,7 +263,7 @@ pub fn coupling(
     t: &TravelArgs,
 ) -> Result<Coupling, String> {
     let axis = match master {
-        Master::Commanded(a) | Master::Actual(a) => Some(a),
+        Master::Commanded(a) | Master::Actual(a) | Master::ActualLead(a) => Some(a),
         Master::Aux(_) => None,
     };
     let travel = match (axis, t.target) {

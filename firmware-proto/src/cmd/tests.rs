@@ -101,6 +101,10 @@ fn master() -> BoxedStrategy<Master> {
             source: MasterSource::Actual,
             index
         }),
+        (0..MAX_AXES as u8).prop_map(|index| Master {
+            source: MasterSource::ActualLead,
+            index
+        }),
         (0..AUX_ENCODERS as u8).prop_map(|index| Master {
             source: MasterSource::Aux,
             index
@@ -867,7 +871,7 @@ fn malformed_entries_give_their_fault_and_nack() {
             &[1.0, 1.0, 1.0, nan],
             arg(3, NotFinite, N::NotFinite),
         ),
-        (O::GearIn, 3, &[1.0, 1.0, 1.0], flags(N::SyncMaster)),
+        (O::GearIn, 4, &[1.0, 1.0, 1.0], flags(N::SyncMaster)),
         (
             O::GearIn,
             0,

@@ -85,6 +85,8 @@ pub struct AuxInputs {
     pub vel: [f64; AUX_ENCODERS],
     /// Counts per second² over the last tick.
     pub acc: [f64; AUX_ENCODERS],
+    /// The servo period of the last tick, s (an actual-lead master leads by it).
+    pub ts: f64,
     latest: [i64; AUX_ENCODERS],
     primed: bool,
 }
@@ -97,6 +99,7 @@ impl AuxInputs {
 
     /// Take the latched counts as this tick's (sample time `ts`).
     pub fn sense(&mut self, ts: f64) {
+        self.ts = ts;
         for k in 0..AUX_ENCODERS {
             let v = if self.primed {
                 self.latest[k].wrapping_sub(self.count[k]) as f64 / ts
@@ -128,7 +131,7 @@ impl Master {
     /// Master units per count.
     fn per_count(&self) -> i128 {
         match self.source {
-            MasterSource::Commanded => COMMANDED_SUBCOUNTS,
+            MasterSource::Commanded | MasterSource::ActualLead => COMMANDED_SUBCOUNTS,
             _ => 1,
         }
     }
@@ -156,6 +159,16 @@ impl Master {
                         count: math::round(r.pos * COMMANDED_SUBCOUNTS as f64) as i128,
                         vel: r.vel,
                         acc: r.acc,
+                        lost,
+                    }
+                } else if self.source == MasterSource::ActualLead {
+                    // The encoder a servo period ahead, where the slave's servo meets it.
+                    let vel = a.velocity_estimate();
+                    let led = a.encoder() as f64 + vel * aux.ts;
+                    MasterSample {
+                        count: math::round(led * COMMANDED_SUBCOUNTS as f64) as i128,
+                        vel,
+                        acc: 0.0,
                         lost,
                     }
                 } else {

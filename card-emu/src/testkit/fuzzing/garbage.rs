@@ -664,7 +664,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             let master_position = position(s);
             let slave_position = position(s);
             feed(s);
-            let source = MasterSource::from_raw((s.u8() % 3) as u32).unwrap_or(MasterSource::Aux);
+            let source = MasterSource::from_raw((s.u8() % 4) as u32).unwrap_or(MasterSource::Aux);
             let gear = GearIn {
                 master: Master { source, index },
                 numerator,
@@ -823,7 +823,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 jerk: magnitude(s, 5.0, 11.0),
             };
             feed(s);
-            let source = MasterSource::from_raw((s.u8() % 3) as u32).unwrap_or(MasterSource::Aux);
+            let source = MasterSource::from_raw((s.u8() % 4) as u32).unwrap_or(MasterSource::Aux);
             let bits = s.u8() as u32;
             Plausible::typed(SyncCmd::CamIn(CamIn {
                 master: Master { source, index },
