@@ -234,3 +234,53 @@ fn a_negative_scale_keeps_the_table_in_user_units() {
     }
     assert!((back.backlash - c.backlash).abs() < 1e-15);
 }
+
+/// `[axis.N.compensation]` in the configuration file: a card's table saved, loaded into another
+/// card (read back equal, no difference left), and a file with positions out of order refused
+/// naming the section, nothing applied.
+#[test]
+fn the_table_goes_through_the_configuration_file() {
+    let a = card();
+    a.axis(0).unwrap().set_compensation(&table()).unwrap();
+    let text = a.save_config().unwrap();
+    assert!(text.contains("[axis.0.compensation]"), "{text}");
+    let b = card();
+    assert_eq!(b.axis(0).unwrap().compensation().unwrap(), None);
+    let report = b.load_config(&text, "a.toml").unwrap();
+    assert!(
+        report.applied.iter().any(|k| k == "axis.0.compensation"),
+        "{:?}",
+        report.applied
+    );
+    let back = b.axis(0).unwrap().compensation().unwrap().unwrap();
+    assert_eq!(back, a.axis(0).unwrap().compensation().unwrap().unwrap());
+    assert!(b.diff_config(&text, "a.toml").unwrap().is_empty());
+
+    let c = card();
+    let mut t = table();
+    t.points.swap(0, 1);
+    let out_of_order = text.replace(
+        &format!(
+            "{:?}",
+            [
+                t.points[1].position,
+                t.points[1].forward,
+                t.points[1].reverse
+            ]
+        ),
+        &format!(
+            "{:?}",
+            [
+                t.points[0].position,
+                t.points[0].forward,
+                t.points[0].reverse
+            ]
+        ),
+    );
+    assert_ne!(out_of_order, text);
+    match c.load_config(&out_of_order, "bad.toml").unwrap_err() {
+        motioncard_sdk::Error::ConfigFile { key, .. } => assert_eq!(key, "axis.0.compensation"),
+        e => panic!("{e}"),
+    }
+    assert_eq!(c.axis(0).unwrap().compensation().unwrap(), None);
+}

@@ -109,6 +109,17 @@ impl Compensation {
         (params, pts)
     }
 
+    /// The card's checks of this table on an axis of `scale` counts per unit at `rate` Hz:
+    /// the refusal it would give.
+    pub(crate) fn nack(
+        &self,
+        scale: f64,
+        rate: u32,
+    ) -> std::result::Result<(), firmware_proto::NackCode> {
+        let (params, pts) = self.to_counts(scale);
+        params.check_table(&pts, rate).map_err(comp_nack)
+    }
+
     fn from_counts(params: &CompParams, pts: &[CardPoint], scale: f64) -> Self {
         let k = scale.abs();
         let mut points: Vec<CompPoint> = pts

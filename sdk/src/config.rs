@@ -21,6 +21,8 @@
 //! [axis.N.filter]   # rapid_kind, rapid_tau, cutting_kind, cutting_tau, jog_kind, jog_tau
 //! [axis.N.safety]   # soft/hard limits, alarm and encoder checks, following error, stop ramp
 //! [axis.N.homing]   # method, index, move_to_home, velocities, limits
+//! [axis.N.compensation] # backlash, bound, ramp_velocity, ramp_acceleration, bidirectional,
+//!                   # points ([position, forward, reverse] each, user units): layout 1.9
 //! [group.N]         # axes, accdec, interpolator, tolerance: all four, or none (not configured)
 //! [group.N.path]    # lookahead, low_water, accel, jerk, vmax, amax, jmax (one per group axis),
 //!                   # plan_period (may be left out: 0, the card's default)
@@ -41,9 +43,10 @@ mod sections;
 mod text;
 
 pub use sections::{
-    AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
-    FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
-    IoSection, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
+    AccDecName, AxisSafetySection, AxisSection, CardSection, CompensationSection, Config,
+    ConfigDifference, FfpivSection, FilterName, FilterSection, GroupSection, HomingSection,
+    InterpolatorName, IoSection, PathSection, PdPlusSection, SafetySection, ServoLaw,
+    CONFIG_HEADER,
 };
 use text::{file_error, line_of_key, read_file};
 pub use text::{ECHO_CHARS, MAX_CONFIG_BYTES};
@@ -324,7 +327,14 @@ fn check_axis(
     })?;
     check_axis_filter(&p, ax, &good, rate)?;
     check_axis_safety(&p, ax, &good, rate, max_stop)?;
-    check_axis_homing(&p, ax, &good, rate)
+    check_axis_homing(&p, ax, &good, rate)?;
+    // [axis.N.compensation]: the card's checks of the table, in the file's scale.
+    if let Some(c) = &ax.compensation {
+        crate::Compensation::from(c)
+            .nack(ax.scale, rate)
+            .map_err(|code| (format!("{p}.compensation"), nack_text(code)))?;
+    }
+    Ok(())
 }
 
 /// `[axis.N.filter]`: the acc/dec filters at the servo rate.
@@ -583,8 +593,12 @@ impl Card {
             let f = self.read_block(layout::AXIS_FILTER.at(a), ConfigKind::AxisFilter, a)?;
             let s = self.read_block(layout::AXIS_SAFETY.at(a), ConfigKind::AxisSafety, a)?;
             let h = self.read_block(layout::AXIS_HOMING.at(a), ConfigKind::AxisHoming, a)?;
-            cfg.axis
-                .insert(a.to_string(), AxisSection::from_blocks(&c, &pd, &f, &s, &h));
+            let mut ax = AxisSection::from_blocks(&c, &pd, &f, &s, &h);
+            ax.compensation = self
+                .axis(a)?
+                .compensation()?
+                .map(|c| CompensationSection::from(&c));
+            cfg.axis.insert(a.to_string(), ax);
         }
         for g in 0..MAX_GROUPS {
             let c = self.read_block(layout::GROUP_CONFIG.at(g), ConfigKind::Group, g)?;
@@ -762,6 +776,13 @@ impl Card {
                 axis.set_scale(ax.scale)
                     .map_err(|e| (format!("axis.{a}.scale"), e))?;
                 done(format!("axis.{a}.scale"));
+            }
+            if let Some(c) = &ax.compensation {
+                if was.and_then(|w| w.compensation.as_ref()) != Some(c) {
+                    axis.set_compensation(&crate::Compensation::from(c))
+                        .map_err(|e| (format!("axis.{a}.compensation"), e))?;
+                    done(format!("axis.{a}.compensation"));
+                }
             }
             let subs: [(&str, bool, ConfigKind); 3] = [
                 (

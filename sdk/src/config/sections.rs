@@ -109,6 +109,70 @@ pub struct AxisSection {
     /// Homing (`mc_axis_homing`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub homing: Option<HomingSection>,
+    /// Leadscrew compensation (layout 1.9): absent, the card's table is left as it is (and
+    /// read back absent when the card holds none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compensation: Option<CompensationSection>,
+}
+
+/// `[axis.N.compensation]`: the pitch-error table and backlash ([`crate::Compensation`]),
+/// user units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CompensationSection {
+    /// Backlash (>= 0).
+    pub backlash: f64,
+    /// The largest |correction ± backlash/2| allowed.
+    pub bound: f64,
+    /// The ramp that takes up a jump of the correction: velocity, user units/s.
+    pub ramp_velocity: f64,
+    /// Its acceleration, user units/s².
+    pub ramp_acceleration: f64,
+    /// A correction per direction (else the reverse one equals the forward one).
+    #[serde(default)]
+    pub bidirectional: bool,
+    /// The points: `[position, forward correction, reverse correction]`, positions strictly
+    /// increasing.
+    #[serde(default)]
+    pub points: Vec<[f64; 3]>,
+}
+
+impl From<&crate::Compensation> for CompensationSection {
+    fn from(c: &crate::Compensation) -> Self {
+        Self {
+            backlash: c.backlash,
+            bound: c.bound,
+            ramp_velocity: c.ramp_velocity,
+            ramp_acceleration: c.ramp_acceleration,
+            bidirectional: c.bidirectional,
+            points: c
+                .points
+                .iter()
+                .map(|p| [p.position, p.forward, p.reverse])
+                .collect(),
+        }
+    }
+}
+
+impl From<&CompensationSection> for crate::Compensation {
+    fn from(c: &CompensationSection) -> Self {
+        Self {
+            points: c
+                .points
+                .iter()
+                .map(|p| crate::CompPoint {
+                    position: p[0],
+                    forward: p[1],
+                    reverse: p[2],
+                })
+                .collect(),
+            bidirectional: c.bidirectional,
+            backlash: c.backlash,
+            bound: c.bound,
+            ramp_velocity: c.ramp_velocity,
+            ramp_acceleration: c.ramp_acceleration,
+        }
+    }
 }
 
 /// `[axis.N.ffpiv]`: the FFPIV gains (`mc_ffpiv_gains`, Thinh Fig 5).
@@ -432,6 +496,7 @@ impl AxisSection {
                 hard_stop_ferror: h.hard_stop_ferror,
                 hard_stop_dwell: h.hard_stop_dwell,
             }),
+            compensation: None,
         }
     }
 
