@@ -6,6 +6,7 @@
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};
 use crate::result::{guard, mc_result, Failure, MC_ERR_BUFFER_TOO_SMALL};
+use motioncard_sdk::ScopeStatus;
 
 /// The scope's configuration: the card's `mc_scope_config` register block. `source[k]` is
 /// channel k's signal: `MC_SCOPE_SIG_*` | index << 16 (the axis for axis signals, the group for
@@ -125,25 +126,29 @@ pub unsafe extern "C" fn mc_scope_read(
     })
 }
 
+/// The C view of the scope's status.
+fn info_of(s: &ScopeStatus) -> mc_scope_info {
+    mc_scope_info {
+        state: s.state as u32,
+        arm_seq: s.arm_seq,
+        n_channels: s.channels as u32,
+        divider: s.divider,
+        trigger_tick: s.trigger_tick,
+        samples: s.samples,
+        lost: s.lost,
+        pre_captured: s.pre_trigger,
+        ..Default::default()
+    }
+}
+
 /// The scope's state, counters included. Never blocks.
 #[no_mangle]
 pub unsafe extern "C" fn mc_scope_get_info(card: mc_card, info: *mut mc_scope_info) -> mc_result {
     guard(|| {
         let out = Out::new(info, "info")?;
         let s = registry::get(card)?.card.scope().status()?;
-        let i = mc_scope_info {
-            state: s.state as u32,
-            arm_seq: s.arm_seq,
-            n_channels: s.channels as u32,
-            divider: s.divider,
-            trigger_tick: s.trigger_tick,
-            samples: s.samples,
-            lost: s.lost,
-            pre_captured: s.pre_trigger,
-            ..Default::default()
-        };
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
-        unsafe { out.write(i) };
+        unsafe { out.write(info_of(&s)) };
         Ok(())
     })
 }
@@ -168,19 +173,8 @@ pub unsafe extern "C" fn mc_scope_wait(
             .scope()
             .wait_done(std::time::Duration::from_millis(timeout_ms.into()))?;
         if let Some(out) = out {
-            let i = mc_scope_info {
-                state: s.state as u32,
-                arm_seq: s.arm_seq,
-                n_channels: s.channels as u32,
-                divider: s.divider,
-                trigger_tick: s.trigger_tick,
-                samples: s.samples,
-                lost: s.lost,
-                pre_captured: s.pre_trigger,
-                ..Default::default()
-            };
             // SAFETY: non-NULL; valid for writes by the caller's contract.
-            unsafe { out.write(i) };
+            unsafe { out.write(info_of(&s)) };
         }
         Ok(())
     })
