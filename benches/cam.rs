@@ -310,7 +310,7 @@ fn corpus(dir: &Path) {
         let most = lines.len() / 10 + 1;
         let mut cut = 0;
         let prog = loop {
-            match mcctl::gcode::parse(&lines.join("\n")) {
+            match motioncard_sdk::report::parse(&lines.join("\n")) {
                 Ok(prog) => break Some(prog),
                 Err(e) if cut < most && e.line >= 1 && e.line <= lines.len() => {
                     lines[e.line - 1] = String::new();

@@ -1,30 +1,26 @@
-//! `mcctl run FILE.ngc`: a G-code program (the RS274/NGC subset of [`crate::gcode`]) turned
-//! into path segments, streamed into the card's path buffer as it frees room, and measured
-//! ([`crate::path_report`]): path time, peak axis velocity, acceleration and jerk against their
-//! limits, the largest deviation from the programmed path, exact stops.
+//! `mcctl run FILE.ngc`: a G-code program (the SDK's [`motioncard_sdk::gcode`]) turned into
+//! path segments, streamed into the card's path buffer as it frees room, and measured by the
+//! runner's report ([`motioncard_sdk::report`]): path time, peak axis velocity, acceleration
+//! and jerk against their limits, the largest deviation of the commanded and of the actual
+//! path from the programmed one, the largest following error, exact stops.
 //!
 //! The machine: group 0 over axes 0, 1, 2 (X, Y, Z) with `scale` counts per mm. On the
 //! in-process card (`sim`) the card is stepped by this program and every servo tick's
 //! commanded position is measured, so the report is exact. On another card the positions are
-//! sampled from the status as fast as the host reads it; the report then takes the ticks it
-//! saw as consecutive (and says how many it saw).
+//! sampled from the status as fast as the host reads it; the report's peaks then come from the
+//! consecutive ticks it saw, and it says how many it saw.
 //!
 //! Memory stays bounded whatever the program's length or duration: the file is read a line
 //! at a time (twice: checked whole first, then streamed as the card frees room), at most the
 //! card's path buffer of items is in hand, and the report is computed as the run goes
-//! ([`Report`]: running peaks, stops and deviation, over a sliding window of the programmed
-//! path).
+//! (the runner's report: running peaks, stops and deviation, over a sliding window of the
+//! programmed path).
 
-use crate::gcode::{blocks_of, Block};
-use crate::path_report::{AxisLimits, Report, ReportError};
 use motioncard_sdk::gcode::{
     run::{Hooks, RunSettings, RunState, Runner, SpindleSettings},
-    Op, Options, Program, ToolTable,
+    Options, Program, ToolTable,
 };
-
-/// Program lines a stepped run reads ahead of the line the card runs (more than the SDK's
-/// chord fitter holds before it sends a curve: a straight run of 16 chunks of 1024 points).
-const AHEAD_LINES: usize = 32 * 1024;
+use motioncard_sdk::report::PathReport;
 /// Room in the card's path buffer (segments) a stepped run waits for before it sends more.
 /// Each send is a stream of its own, and the chord fitter fits within a stream: sent as the
 /// room came, a segment or two a tick, a program's chords after a stretch the fitter cannot
@@ -175,21 +171,30 @@ fn survey(file: &Path, start: [f64; 3], opts: &RunOptions) -> Result<Survey> {
     Ok(s)
 }
 
-/// The run's hooks: each operation's blocks kept for the report until the loop takes them.
-#[derive(Default)]
-struct Measure {
-    blocks: Vec<Block>,
-}
+/// The run's hooks: unattended, a pause (M0, M1, M60) is passed.
+struct Unattended;
 
-impl Hooks for Measure {
-    fn op(&mut self, op: &Op) {
-        blocks_of(op, &mut self.blocks);
-    }
-
+impl Hooks for Unattended {
     fn pause(&mut self, _kind: motioncard_sdk::gcode::PauseKind) -> bool {
-        // Unattended: a pause is passed.
         false
     }
+}
+
+/// The report as one JSON object.
+fn report_json(r: &PathReport) -> serde_json::Value {
+    serde_json::json!({
+        "path_time": r.path_time,
+        "segments": r.segments,
+        "peak_vel_ratio": r.peak_vel_ratio,
+        "peak_accel_ratio": r.peak_accel_ratio,
+        "peak_jerk_ratio": r.peak_jerk_ratio,
+        "max_deviation": r.max_deviation,
+        "max_contour_error": r.max_contour_error,
+        "max_following_error": r.max_following_error,
+        "exact_stops": r.exact_stops,
+        "ticks": r.ticks,
+        "ticks_seen": r.ticks_seen,
+    })
 }
 
 /// Run the program in `file` on `card`: the report as text or one JSON object.
@@ -225,12 +230,7 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
         flood_output: opts.flood_output,
         ..RunSettings::default()
     };
-    let mut runner = Runner::new(
-        &g,
-        program(file, start, opts)?,
-        settings,
-        Measure::default(),
-    )?;
+    let mut runner = Runner::new(&g, program(file, start, opts)?, settings, Unattended)?;
     let bar = indicatif::ProgressBar::new(survey.ops);
     if let Ok(style) =
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} operations, {msg}")
@@ -240,28 +240,9 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
     if !opts.progress {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    let ts = 1.0 / card.info().servo_rate_hz as f64;
-    let limits = [0, 1, 2].map(|a| AxisLimits {
-        vmax: opts.vmax[a],
-        amax: opts.amax[a],
-        jmax: opts.jmax[a],
-    });
-    // Positions are f64 sums on the card: a tick slower than a thousandth of a count per tick
-    // is at rest.
-    let rest = 1e-3 / opts.scale / ts;
-    let report_error = |e: ReportError| Error::Unsupported(format!("report: {e:?}"));
-    let mut report = Report::new(ts, &limits, rest).map_err(report_error)?;
-    let mut seen_ticks = 1u64;
     let sim = card.sim();
-    let mut started = false;
-    let mut last_tick = card.tick()?;
-    // the source line of the segment the card runs
-    let mut running = 0usize;
+    let mut ticks = 0u64;
     loop {
-        // (blocks reach the report at most AHEAD_LINES ahead of the card, so that the window
-        // it holds stays bounded when chords are fitted: a fitted curve of a thousand lines is
-        // one of the card's segments)
-        runner.set_read_limit(Some(running + AHEAD_LINES));
         let before = card.tick()?;
         let state = runner.poll()?;
         if sim.is_some() && card.tick()? != before {
@@ -272,16 +253,8 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                 card.tick()? - before
             )));
         }
-        for b in runner.hooks_mut().blocks.drain(..) {
-            report.add_block(&b);
-        }
         bar.set_position(runner.operations());
-        bar.set_message(format!("line {running}"));
-        if !started {
-            // The start, measured against what was just queued.
-            report.push(start).map_err(report_error)?;
-            started = true;
-        }
+        bar.set_message(format!("line {}", runner.running_line()?));
         if state == RunState::Done {
             break;
         }
@@ -293,32 +266,24 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
                 std::thread::sleep(Duration::from_micros(20));
             }
         }
-        let tick = card.tick()?;
-        if tick == last_tick {
-            continue;
-        }
-        last_tick = tick;
-        seen_ticks += 1;
-        let line = runner.running_line()?;
-        if line != 0 {
-            running = line;
-            report.running(running);
-        }
-        let p = position(card)?;
-        if first_motion.is_none() && p != start {
+        // (every tick of the stepped card; as many as the host reads of another)
+        runner.sample()?;
+        ticks += 1;
+        if first_motion.is_none() && position(card)? != start {
             first_motion = Some(t0.elapsed());
         }
-        report.push(p).map_err(report_error)?;
-        if seen_ticks > 1_000_000_000 {
+        if ticks > 1_000_000_000 {
             return Err(Error::Unsupported("the program did not end".into()));
         }
     }
     bar.finish_and_clear();
-    let r = report.finish().map_err(report_error)?;
+    let r = runner
+        .report()
+        .ok_or_else(|| Error::Unsupported("the run was not measured".into()))?
+        .map_err(|e| Error::Unsupported(format!("report: {e}")))?;
     let end = position(card)?;
     if json {
-        let mut j = r.to_json();
-        j["ticks_seen"] = seen_ticks.into();
+        let mut j = report_json(&r);
         j["dropped_zero_length"] = survey.dropped_zero_length.into();
         j["operations"] = runner.operations().into();
         j["first_motion_ms"] = first_motion
@@ -329,14 +294,16 @@ pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<St
     }
     Ok(format!(
         "path time {:.4} s, {} segments, peak velocity {:.4}, acceleration {:.4}, jerk {:.4} \
-         of the limits, max deviation {:.6} mm, {} exact stops, {} operations, end at \
-         ({:.4}, {:.4}, {:.4})",
+         of the limits, max deviation {:.6} mm (actual path {:.6} mm, following error {:.6} \
+         mm), {} exact stops, {} operations, end at ({:.4}, {:.4}, {:.4})",
         r.path_time,
         r.segments,
         r.peak_vel_ratio,
         r.peak_accel_ratio,
         r.peak_jerk_ratio,
         r.max_deviation,
+        r.max_contour_error,
+        r.max_following_error,
         r.exact_stops,
         runner.operations(),
         end[0],

@@ -368,7 +368,7 @@ fn pause_resume_and_abort_from_the_host() {
     assert!(near(&at(&card), &[40.0, 0.0, 0.0], 1e-9), "{:?}", at(&card));
     for _ in 0..100 {
         assert_eq!(r.poll().unwrap(), RunState::Paused);
-        r.idle();
+        r.idle().unwrap();
     }
     assert_eq!(r.read_line(), read, "nothing read while paused");
     r.set_read_limit(None);
@@ -384,12 +384,12 @@ fn pause_resume_and_abort_from_the_host() {
     let (card, mut r) = start();
     for _ in 0..10_000 {
         r.poll().unwrap();
-        r.idle();
+        r.idle().unwrap();
     }
     r.abort(1000.0, 1e5).unwrap();
     assert_eq!(r.poll().unwrap(), RunState::Aborted);
     for _ in 0..5_000 {
-        r.idle();
+        r.idle().unwrap();
     }
     let end = at(&card);
     assert!(end[0] > 0.0 && end[0] < 200.0, "{end:?}");

@@ -2478,6 +2478,10 @@ typedef struct mc_gcode_settings {
    * The spindle's jerk, rev/s³ (default 2000).
    */
   double spindle_jerk;
+  /**
+   * 1 (the default): the run is measured as it goes, for `mc_gcode_report`; 0: not.
+   */
+  uint32_t report;
 } mc_gcode_settings;
 
 /**
@@ -2520,6 +2524,64 @@ typedef struct mc_gcode_hooks {
    */
   int32_t (*pause)(uint32_t kind, void *user);
 } mc_gcode_hooks;
+
+/**
+ * What a run did (`mc_gcode_report`), measured from the X, Y and Z axes' commanded and
+ * actual positions of every tick the run saw: each poll of `mc_gcode_poll` or
+ * `mc_gcode_run` samples the card once, so on a stepped card (`mc_gcode_run` steps it a
+ * tick a poll) every tick is seen, and on a card running on its own those read
+ * (`ticks_seen` of `ticks`; the peaks then come from consecutive ticks only). Lengths in
+ * mm, the programmed path taken from the program (splines as fine polylines).
+ */
+typedef struct mc_path_report {
+  /**
+   * Seconds from the last tick at rest before the motion to the first at rest after it.
+   */
+  double path_time;
+  /**
+   * Motion blocks of the program so far (lines and arcs, rapids included; an arc with P
+   * turns counts one a turn; a spline its polyline).
+   */
+  uint64_t segments;
+  /**
+   * The worst axis's peak commanded velocity over its path limit
+   * (`mc_group_configure_path`'s `vmax`; an axis with none counts 0).
+   */
+  double peak_velocity_ratio;
+  /**
+   * The same for acceleration (`amax`).
+   */
+  double peak_acceleration_ratio;
+  /**
+   * The same for jerk (`jmax`).
+   */
+  double peak_jerk_ratio;
+  /**
+   * The largest distance from a commanded point to the programmed path, mm.
+   */
+  double max_deviation;
+  /**
+   * The largest distance from an actual point (the encoders) to the programmed path, mm:
+   * the contour error.
+   */
+  double max_contour_error;
+  /**
+   * The largest distance between the commanded and the actual point of one tick, mm.
+   */
+  double max_following_error;
+  /**
+   * Stops between the first and the last move (dwells count).
+   */
+  uint64_t exact_stops;
+  /**
+   * Ticks from the first sample to the last.
+   */
+  uint64_t ticks;
+  /**
+   * Of them, the ticks sampled.
+   */
+  uint64_t ticks_seen;
+} mc_path_report;
 
 /**
  * A group's configuration (`mc_group_configure`). Start from `mc_group_settings_new`.
@@ -4572,7 +4634,7 @@ mc_result mc_axis_get_compensation(mc_card card,
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
  * block delete and optional stop off, no probe input, no spindle or coolant outputs on
- * the card (-1).
+ * the card (-1), the run measured (`report` 1).
  */
 mc_result mc_gcode_default_settings(struct mc_gcode_settings *settings);
 
@@ -4643,6 +4705,13 @@ mc_result mc_gcode_abort(mc_gcode program, double deceleration, double jerk);
  * `*read` (may be NULL): the last source line read.
  */
 mc_result mc_gcode_line(mc_gcode program, uint32_t *running, uint32_t *read);
+
+/**
+ * What the run did so far (`mc_path_report`): during the run, or after it (done, paused or
+ * aborted). `MC_ERR_UNSUPPORTED` when the program was loaded with `settings.report` 0, or
+ * when the card moved before the program had a motion to measure it against.
+ */
+mc_result mc_gcode_report(mc_gcode program, struct mc_path_report *report);
 
 /**
  * The error that stopped the run: `*line` its source line (0: no error, or none to name)

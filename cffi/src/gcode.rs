@@ -79,6 +79,44 @@ pub struct mc_gcode_settings {
     pub spindle_acceleration: f64,
     /// The spindle's jerk, rev/s³ (default 2000).
     pub spindle_jerk: f64,
+    /// 1 (the default): the run is measured as it goes, for `mc_gcode_report`; 0: not.
+    pub report: u32,
+}
+
+/// What a run did (`mc_gcode_report`), measured from the X, Y and Z axes' commanded and
+/// actual positions of every tick the run saw: each poll of `mc_gcode_poll` or
+/// `mc_gcode_run` samples the card once, so on a stepped card (`mc_gcode_run` steps it a
+/// tick a poll) every tick is seen, and on a card running on its own those read
+/// (`ticks_seen` of `ticks`; the peaks then come from consecutive ticks only). Lengths in
+/// mm, the programmed path taken from the program (splines as fine polylines).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct mc_path_report {
+    /// Seconds from the last tick at rest before the motion to the first at rest after it.
+    pub path_time: f64,
+    /// Motion blocks of the program so far (lines and arcs, rapids included; an arc with P
+    /// turns counts one a turn; a spline its polyline).
+    pub segments: u64,
+    /// The worst axis's peak commanded velocity over its path limit
+    /// (`mc_group_configure_path`'s `vmax`; an axis with none counts 0).
+    pub peak_velocity_ratio: f64,
+    /// The same for acceleration (`amax`).
+    pub peak_acceleration_ratio: f64,
+    /// The same for jerk (`jmax`).
+    pub peak_jerk_ratio: f64,
+    /// The largest distance from a commanded point to the programmed path, mm.
+    pub max_deviation: f64,
+    /// The largest distance from an actual point (the encoders) to the programmed path, mm:
+    /// the contour error.
+    pub max_contour_error: f64,
+    /// The largest distance between the commanded and the actual point of one tick, mm.
+    pub max_following_error: f64,
+    /// Stops between the first and the last move (dwells count).
+    pub exact_stops: u64,
+    /// Ticks from the first sample to the last.
+    pub ticks: u64,
+    /// Of them, the ticks sampled.
+    pub ticks_seen: u64,
 }
 
 /// The C settings' defaults of the spindle: 3000 rpm, 100 rev/s², 2000 rev/s³.
@@ -300,6 +338,15 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
         }),
         mist_output: optional(s.mist_output, "mist_output")?,
         flood_output: optional(s.flood_output, "flood_output")?,
+        report: match s.report {
+            0 | 1 => s.report == 1,
+            r => {
+                return Err(Failure::new(
+                    ErrorKind::BadConfig.code(),
+                    format!("settings.report is {r}: 1 to measure the run, 0 not to"),
+                ))
+            }
+        },
         ..RunSettings::default()
     };
     let opts = Options {
@@ -312,7 +359,7 @@ fn settings_of(s: &mc_gcode_settings) -> Result<(RunSettings, Options), Failure>
 
 /// The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
 /// block delete and optional stop off, no probe input, no spindle or coolant outputs on
-/// the card (-1).
+/// the card (-1), the run measured (`report` 1).
 #[no_mangle]
 pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_settings) -> mc_result {
     guard(|| {
@@ -339,6 +386,7 @@ pub unsafe extern "C" fn mc_gcode_default_settings(settings: *mut mc_gcode_setti
                 spindle_max_rpm: SPINDLE_DEFAULTS.0,
                 spindle_acceleration: SPINDLE_DEFAULTS.1,
                 spindle_jerk: SPINDLE_DEFAULTS.2,
+                report: u32::from(d.report),
             })
         };
         Ok(())
@@ -531,7 +579,7 @@ pub unsafe extern "C" fn mc_gcode_run(
             }
             // (a tick of a stepped card, else half a millisecond: short enough to hold the
             // lock through)
-            j.lock().unwrap_or_else(|p| p.into_inner()).runner.idle();
+            j.lock().unwrap_or_else(|p| p.into_inner()).runner.idle()?;
         }
     })
 }
@@ -597,6 +645,45 @@ pub unsafe extern "C" fn mc_gcode_line(
                 o.write(l);
             }
         }
+        Ok(())
+    })
+}
+
+/// What the run did so far (`mc_path_report`): during the run, or after it (done, paused or
+/// aborted). `MC_ERR_UNSUPPORTED` when the program was loaded with `settings.report` 0, or
+/// when the card moved before the program had a motion to measure it against.
+#[no_mangle]
+pub unsafe extern "C" fn mc_gcode_report(
+    program: mc_gcode,
+    report: *mut mc_path_report,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(report, "report")?;
+        let j = job(program)?;
+        let j = j.lock().unwrap_or_else(|p| p.into_inner());
+        let r = j
+            .runner
+            .report()
+            .ok_or_else(|| {
+                Error::Unsupported("the program was loaded with settings.report 0".into())
+            })?
+            .map_err(|e| Error::Unsupported(format!("the run's report: {e}")))?;
+        // SAFETY: checked non-NULL; valid by the caller's contract.
+        unsafe {
+            out.write(mc_path_report {
+                path_time: r.path_time,
+                segments: r.segments as u64,
+                peak_velocity_ratio: r.peak_vel_ratio,
+                peak_acceleration_ratio: r.peak_accel_ratio,
+                peak_jerk_ratio: r.peak_jerk_ratio,
+                max_deviation: r.max_deviation,
+                max_contour_error: r.max_contour_error,
+                max_following_error: r.max_following_error,
+                exact_stops: r.exact_stops as u64,
+                ticks: r.ticks,
+                ticks_seen: r.ticks_seen,
+            })
+        };
         Ok(())
     })
 }

@@ -1197,6 +1197,7 @@ fn a_gcode_program_with_hooks_a_pause_a_loop_and_its_refusals() {
     let out = run(&compile("gcode", Link::Shared), &[], &[]);
     assert!(out.contains("PASS gcode ("), "{out}");
     assert!(out.contains("G-code part: paused at line 12"), "{out}");
+    assert!(out.contains("G-code report: "), "{out}");
     assert!(out.contains("ended at X42 Z-3"), "{out}");
     // The spindle on a card axis: a rigid tap back at its start, the spindle forward again.
     assert!(

@@ -4,7 +4,8 @@
  * pause and a resume, a message), run on a 3-axis group of a stepped emulated card; the end
  * position checked exactly in machine coordinates. Then a program file with a subroutine and
  * a loop; the refusals (a wrong line named with its number before anything moves, an M100
- * with no hook, NULL pointers, bad and closed handles). Last, the spindle on the card's axis 3
+ * with no hook, NULL pointers, bad and closed handles). The run's report (mc_gcode_report): its
+ * time, deviation, contour and following errors. Last, the spindle on the card's axis 3
  * and flood coolant on output 5: a rigid tap (G33.1) that goes down and comes back to its
  * start with the spindle turning forward again; G33 without a spindle refused with its line.
  *
@@ -137,6 +138,29 @@ static void part(mc_card c) {
     size_t needed = 0;
     CHECK(mc_gcode_error(p, &line, text, sizeof text, &needed));
     ASSERT(line == 0 && text[0] == 0 && needed == 1, "no error: line %u '%s'", line, text);
+
+    /* What the run did: the card was stepped a tick a poll, so every tick was seen. Six
+     * motions (two rapids, four cuts); the 60 mm of cuts at 20 mm/s alone take 3 s; the
+     * corners blended within the program's P0.01; the actual path (the plant's encoders)
+     * trails the commanded one. */
+    mc_path_report r;
+    CHECK(mc_gcode_report(p, &r));
+    ASSERT(r.segments == 6, "%llu segments", (unsigned long long)r.segments);
+    ASSERT(r.ticks == r.ticks_seen && r.ticks > 3 * RATE, "ticks %llu, seen %llu",
+           (unsigned long long)r.ticks, (unsigned long long)r.ticks_seen);
+    ASSERT(r.path_time > 3.0 && r.path_time < 10.0, "path time %f s", r.path_time);
+    ASSERT(r.max_deviation <= 0.0101, "deviation %f mm", r.max_deviation);
+    ASSERT(r.peak_velocity_ratio <= 1.0 + 1e-9 && r.peak_acceleration_ratio <= 1.0 + 1e-9,
+           "peaks %f %f", r.peak_velocity_ratio, r.peak_acceleration_ratio);
+    ASSERT(r.max_following_error > 0.0 && r.max_contour_error > 0.0 &&
+               r.max_contour_error <= r.max_following_error + r.max_deviation,
+           "following %f mm, contour %f mm", r.max_following_error, r.max_contour_error);
+    ASSERT(r.exact_stops >= 2, "%llu stops (the spindle's wait, the M0)",
+           (unsigned long long)r.exact_stops);
+    printf("G-code report: %.4f s, deviation %.6f mm, contour error %.6f mm, following error "
+           "%.6f mm, %llu ticks\n",
+           r.path_time, r.max_deviation, r.max_contour_error, r.max_following_error,
+           (unsigned long long)r.ticks);
     CHECK(mc_gcode_close(p));
     EXPECT(mc_gcode_close(p), MC_ERR_BAD_HANDLE);
     EXPECT(mc_gcode_poll(p, &state), MC_ERR_BAD_HANDLE);
@@ -195,8 +219,20 @@ static void refusals(mc_card c) {
     ASSERT(bad.probe_input == -1, "default probe input %d", bad.probe_input);
     bad.probe_input = 16;
     EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
+    CHECK(mc_gcode_default_settings(&bad));
+    ASSERT(bad.report == 1, "default report %u", bad.report);
+    bad.report = 2;
+    EXPECT(mc_gcode_load_string(c, G, "G0 X1", NULL, &bad, &p), MC_ERR_BAD_CONFIG);
     EXPECT(mc_gcode_poll(0, NULL), MC_ERR_BAD_HANDLE);
     EXPECT(mc_gcode_default_settings(NULL), MC_ERR_NULL_POINTER);
+    mc_path_report r;
+    EXPECT(mc_gcode_report(0, &r), MC_ERR_BAD_HANDLE);
+    /* Loaded not to be measured: no report. */
+    bad.report = 0;
+    CHECK(mc_gcode_load_string(c, G, "G0 X1\n", NULL, &bad, &p));
+    EXPECT(mc_gcode_report(p, &r), MC_ERR_UNSUPPORTED);
+    EXPECT(mc_gcode_report(p, NULL), MC_ERR_NULL_POINTER);
+    CHECK(mc_gcode_close(p));
 
     /* M100 with no hook: the run stops there with its line. */
     CHECK(mc_gcode_load_string(c, G, "G0 X1\nM100 P3\nG0 X2\n", NULL, NULL, &p));

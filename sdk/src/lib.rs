@@ -43,6 +43,7 @@ mod path;
 mod pvt;
 #[cfg(feature = "emulator")]
 mod replay;
+pub mod report;
 mod safety;
 mod scope;
 mod segment;

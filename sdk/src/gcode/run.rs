@@ -13,6 +13,7 @@ use super::probe::ProbeRun;
 pub use super::spindle::SpindleSettings;
 use super::spindle::SpindleUnit;
 use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
+use crate::report::{blocks_of, AxisLimits, Block, PathReport, Report, ReportError};
 use crate::{
     ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, Result, Segment, Transition,
 };
@@ -45,6 +46,9 @@ pub struct RunSettings {
     pub mist_output: Option<u32>,
     /// The card output M8 turns on (M9 off), if any.
     pub flood_output: Option<u32>,
+    /// Measure the run as it goes ([`Runner::report`]): each tick the runner sees, the X, Y
+    /// and Z axes' commanded and actual positions against the programmed path.
+    pub report: bool,
 }
 
 impl Default for RunSettings {
@@ -62,6 +66,7 @@ impl Default for RunSettings {
             spindle: None,
             mist_output: None,
             flood_output: None,
+            report: true,
         }
     }
 }
@@ -151,6 +156,83 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     error_line: usize,
     /// The spindle and coolant on the card.
     spindle: SpindleUnit,
+    /// The run's report, with [`RunSettings::report`].
+    monitor: Option<Monitor>,
+}
+
+/// Program lines a reporting run reads ahead of the line the card runs (more than the chord
+/// fitter holds before it sends a curve: a straight run of 16 chunks of 1024 points), so
+/// that the programmed path the report holds stays bounded whatever the fitter makes of the
+/// lines.
+const AHEAD_LINES: usize = 32 * 1024;
+
+/// A run's report as it goes ([`Report`]) and where it samples the card.
+struct Monitor {
+    report: Report,
+    /// The card axes of X, Y and Z (a program axis the group lacks is 0).
+    axes: [Option<usize>; 3],
+    /// The card's tick of the last sample.
+    tick: Option<u64>,
+    /// The source line the card runs (0: none yet).
+    running: usize,
+    blocks: Vec<Block>,
+    error: Option<ReportError>,
+}
+
+impl Monitor {
+    /// The report of a run on `group`: the servo period and the path's per-axis limits
+    /// (mm/s, mm/s², mm/s³; one the card leaves unlimited counts as infinite), a tick at
+    /// rest when its point moves less than a thousandth of a count.
+    fn new(group: &Group, axis_of: &[Option<usize>; 6]) -> Result<Monitor> {
+        let card = group.card_pub();
+        let (_, ids) = group.axes_pub()?;
+        let path = group.path_config()?;
+        let ts = 1.0 / f64::from(card.info().servo_rate_hz.max(1));
+        let axes = [0, 1, 2].map(|i| axis_of[i].map(|g| ids[g]));
+        let mut limits = [AxisLimits {
+            vmax: f64::INFINITY,
+            amax: f64::INFINITY,
+            jmax: f64::INFINITY,
+        }; 3];
+        let mut finest = f64::INFINITY;
+        for i in 0..3 {
+            let (Some(g), Some(a)) = (axis_of[i], axes[i]) else {
+                continue;
+            };
+            let s = card.scale(a).abs();
+            finest = finest.min(1.0 / s);
+            let unit = |v: f64| if v > 0.0 { v / s } else { f64::INFINITY };
+            limits[i] = AxisLimits {
+                vmax: unit(path.vmax[g]),
+                amax: unit(path.amax[g]),
+                jmax: unit(path.jmax[g]),
+            };
+        }
+        let rest = if finest.is_finite() {
+            1e-3 * finest / ts
+        } else {
+            0.0
+        };
+        let report = Report::new(ts, &limits, rest)
+            .map_err(|e| Error::BadConfig(format!("the run's report: {e}")))?;
+        Ok(Monitor {
+            report,
+            axes,
+            tick: None,
+            running: 0,
+            blocks: Vec::new(),
+            error: None,
+        })
+    }
+
+    /// The blocks of an operation read, added to the programmed path.
+    fn add(&mut self, op: &Op) {
+        self.blocks.clear();
+        blocks_of(op, &mut self.blocks);
+        for b in &self.blocks {
+            self.report.add_block(b);
+        }
+    }
 }
 
 impl<S: Source, H: Hooks> Runner<S, H> {
@@ -208,7 +290,13 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             settings.mist_output,
             settings.flood_output,
         )?;
+        let monitor = if settings.report {
+            Some(Monitor::new(group, &axis_of)?)
+        } else {
+            None
+        };
         Ok(Runner {
+            monitor,
             spindle,
             program,
             group: group.clone(),
@@ -236,6 +324,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             RunState::Done | RunState::Aborted | RunState::Paused => return Ok(self.state),
             RunState::Running | RunState::Draining => {}
         }
+        self.sample()?;
         let r = self.advance();
         if r.is_err() {
             // Nothing more is queued after an error; what is queued runs to its end.
@@ -297,10 +386,12 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 }
             }
             // (the next line read is at least the one after the last)
-            if self
-                .read_limit
-                .is_some_and(|l| self.program.line() + 1 >= l)
-            {
+            let report_limit = self.monitor.as_ref().map(|m| m.running + AHEAD_LINES);
+            let limit = match (self.read_limit, report_limit) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            if limit.is_some_and(|l| self.program.line() + 1 >= l) {
                 // Held at the limit: what is made goes as soon as it fits.
                 self.flush(false)?;
                 return Ok(self.set(RunState::Running));
@@ -321,6 +412,9 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 Some(Ok(op)) => {
                     self.ops += 1;
                     self.hooks.op(&op);
+                    if let Some(m) = &mut self.monitor {
+                        m.add(&op);
+                    }
                     self.take(op)?;
                 }
             }
@@ -734,7 +828,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             if Instant::now() >= deadline {
                 return Err(Error::Timeout(timeout));
             }
-            self.idle();
+            self.idle()?;
         }
     }
 
@@ -784,9 +878,67 @@ impl<S: Source, H: Hooks> Runner<S, H> {
     }
 
     /// Lets the card run between two polls: a tick of a stepped in-process card (which only
-    /// moves when stepped), else half a millisecond.
-    pub fn idle(&self) {
+    /// moves when stepped), else half a millisecond; then the report's sample.
+    pub fn idle(&mut self) -> Result<()> {
         let_card_run(self.group.card_pub(), Duration::from_micros(500));
+        self.sample()
+    }
+
+    /// With [`RunSettings::report`]: the card's tick, if new since the last sample, measured
+    /// (the X, Y, Z axes' commanded and actual positions, all of one tick, and the line the
+    /// card runs). [`Runner::poll`] and [`Runner::idle`] sample; a host that lets the card
+    /// run by itself between polls samples after each tick it lets run. On a stepped card
+    /// polled and stepped a tick at a time every tick is seen; on a card running on its own,
+    /// those the host reads ([`PathReport::ticks_seen`]).
+    pub fn sample(&mut self) -> Result<()> {
+        let Some(m) = &mut self.monitor else {
+            return Ok(());
+        };
+        let ids: Vec<usize> = m.axes.iter().flatten().copied().collect();
+        if ids.is_empty() {
+            return Ok(());
+        }
+        let card = self.group.card_pub();
+        let st = card.statuses(&ids)?;
+        let tick = st[0].raw.tick;
+        if m.tick.is_some_and(|t| tick <= t) {
+            return Ok(());
+        }
+        m.tick = Some(tick);
+        let (_, gs) = self.group.status()?;
+        if gs.path_flags & firmware_proto::raw::MC_PATHST_RUNNING != 0 && gs.path_id != 0 {
+            m.running = gs.path_id as usize;
+            m.report.running(m.running);
+        }
+        let (mut cmd, mut act) = ([0.0; 3], [0.0; 3]);
+        let mut k = 0;
+        for (i, a) in m.axes.iter().enumerate() {
+            if a.is_some() {
+                cmd[i] = st[k].command_position;
+                act[i] = st[k].actual_position;
+                k += 1;
+            }
+        }
+        let r = m
+            .report
+            .push_at(tick, cmd)
+            .and_then(|()| m.report.push_actual(act));
+        if let Err(e) = r {
+            m.error.get_or_insert(e);
+        }
+        Ok(())
+    }
+
+    /// The run's report so far (with [`RunSettings::report`]; `None` without): path time,
+    /// peaks against the path's limits, the largest deviation of the commanded path and of
+    /// the actual one from the programmed path, the largest following error, stops, and how
+    /// many ticks were seen.
+    pub fn report(&self) -> Option<std::result::Result<PathReport, ReportError>> {
+        let m = self.monitor.as_ref()?;
+        Some(match &m.error {
+            Some(e) => Err(e.clone()),
+            None => m.report.finish(),
+        })
     }
 
     /// The hooks.

@@ -1,7 +1,9 @@
-//! What a run of a program did, measured from the commanded positions alone.
+//! What a run of a program did, measured from the commanded positions (and the actual ones,
+//! where given). The G-code runner keeps one as it runs ([`crate::gcode::run::Runner::report`],
+//! C `mc_gcode_report`); `mcctl run` prints it.
 //!
 //! [`Report`] takes the program's blocks as they are queued (the programmed geometry, from
-//! [`crate::gcode`]) and the commanded axis positions of every servo tick as they come (mm,
+//! [`blocks`]) and the commanded axis positions of every servo tick as they come (mm,
 //! program coordinates), with the servo period and each axis's limits, in memory that does
 //! not grow with the run (running peaks, the first and last moving ticks, a count of
 //! stops, the largest deviation so far, a sliding window of the programmed path);
@@ -26,6 +28,15 @@
 //!   dwells count** (a G4 is a rest like any other: this report looks only at the motion);
 //!   subtract the program's `Dwell` blocks that fall between moves if only the planner's
 //!   stops are wanted.
+//! - `max_following_error`, `max_contour_error`: with the actual point of a tick
+//!   ([`Report::push_actual`]), its largest distance to the commanded point of the same tick,
+//!   and to the programmed path (searched as the deviation is, from the actual point's own
+//!   nearest segment). 0 when no actual point was given.
+//! - `ticks`, `ticks_seen`: the ticks from the first point to the last and how many of them
+//!   had a point. A host sampling a card that runs on its own misses ticks
+//!   ([`Report::push_at`]): the peaks then come only from differences over consecutive ticks
+//!   seen, and a tick counts as moving when its point moved at the rest speed or faster on
+//!   average since the last point seen.
 //!
 //! # The window rule for the deviation
 //!
@@ -52,7 +63,9 @@
 //! program the walk grew with the program (in `perf`, the search took 15 % of `mcctl run`
 //! on a 100,000-chord spiral and 33 % on a 300,000-chord one); over the window it does not.
 
-use crate::gcode::{ArcGeom, Block};
+pub mod blocks;
+
+pub use blocks::{blocks_of, parse, parse_from, ArcGeom, Block, Blocks};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 use std::fmt;
@@ -68,8 +81,11 @@ const HELIX_SAMPLES_PER_TURN: f64 = 32.0;
 /// One axis's limits: mm/s, mm/s², mm/s³.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisLimits {
+    /// mm/s.
     pub vmax: f64,
+    /// mm/s².
     pub amax: f64,
+    /// mm/s³.
     pub jmax: f64,
 }
 
@@ -78,27 +94,30 @@ pub struct AxisLimits {
 pub struct PathReport {
     /// s.
     pub path_time: f64,
+    /// Motion blocks.
     pub segments: usize,
+    /// The worst axis's peak velocity over its limit.
     pub peak_vel_ratio: f64,
+    /// The same for acceleration.
     pub peak_accel_ratio: f64,
+    /// The same for jerk.
     pub peak_jerk_ratio: f64,
     /// mm.
     pub max_deviation: f64,
+    /// Stops between the first and the last move.
     pub exact_stops: usize,
-}
-
-impl PathReport {
-    pub fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "path_time": self.path_time,
-            "segments": self.segments,
-            "peak_vel_ratio": self.peak_vel_ratio,
-            "peak_accel_ratio": self.peak_accel_ratio,
-            "peak_jerk_ratio": self.peak_jerk_ratio,
-            "max_deviation": self.max_deviation,
-            "exact_stops": self.exact_stops,
-        })
-    }
+    /// The largest distance between the commanded and the actual point of one tick, mm
+    /// (0 when no actual point was given: [`Report::push_actual`]).
+    pub max_following_error: f64,
+    /// The largest distance from an actual point to the programmed path, mm (0 when no
+    /// actual point was given).
+    pub max_contour_error: f64,
+    /// Ticks from the first point to the last, and of them the ticks whose point was given
+    /// (all of them on a stepped card; fewer when the card runs on its own and the host
+    /// samples it: [`Report::push_at`]).
+    pub ticks: u64,
+    /// See `ticks`.
+    pub ticks_seen: u64,
 }
 
 /// Why no report could be made.
@@ -108,8 +127,11 @@ pub enum ReportError {
     BadPeriod(f64),
     /// A limit is not positive (an infinite one is allowed: its ratio is 0).
     BadLimit {
+        /// 0, 1, 2: X, Y, Z.
         axis: usize,
+        /// Which limit.
         what: &'static str,
+        /// Its value.
         value: f64,
     },
     /// The rest speed is negative or NaN.
@@ -118,6 +140,13 @@ pub enum ReportError {
     NonFinitePoint(usize),
     /// There are positions but the program has no motion block to measure them against.
     NoMotion,
+    /// A point given for a tick not after the last one's.
+    TickOrder {
+        /// The point's tick.
+        tick: u64,
+        /// The last point's.
+        last: u64,
+    },
 }
 
 impl fmt::Display for ReportError {
@@ -130,6 +159,12 @@ impl fmt::Display for ReportError {
             ReportError::BadRestSpeed(v) => write!(f, "rest speed {v} is not >= 0"),
             ReportError::NonFinitePoint(k) => write!(f, "position of tick {k} is not finite"),
             ReportError::NoMotion => write!(f, "the program has no motion block"),
+            ReportError::TickOrder { tick, last } => {
+                write!(
+                    f,
+                    "a point for tick {tick}, not after the last one's ({last})"
+                )
+            }
         }
     }
 }
@@ -199,9 +234,15 @@ pub struct Report {
     rest_speed: f64,
     /// Segments kept behind the nearest one.
     behind: usize,
-    /// Points pushed so far.
+    /// Ticks covered so far (points pushed and ticks missed between them).
     ticks: u64,
-    /// The last four points, the newest at `(ticks - 1) % 4`.
+    /// Points pushed so far.
+    pushed: u64,
+    /// The card's tick of the last point, when the caller gives ticks ([`Report::push_at`]).
+    last_tick: Option<u64>,
+    /// Consecutive ticks ending with the newest point (differences reach back this far).
+    run: u64,
+    /// The last four points, the newest at `(pushed - 1) % 4`.
     last: [[f64; 3]; 4],
     peak: [[f64; 3]; 3],
     /// The first and last moving ticks.
@@ -218,6 +259,10 @@ pub struct Report {
     /// ([`Report::running`]).
     running: Option<usize>,
     max_deviation: f64,
+    /// The nearest segment of the last actual point, and the largest errors so far.
+    cur_actual: Option<usize>,
+    max_following: f64,
+    max_contour: f64,
     /// Points pushed before any motion block (consecutive repeats once).
     pending: Vec<[f64; 3]>,
     stack: Vec<(usize, usize)>,
@@ -253,6 +298,12 @@ impl Report {
             behind: WINDOW_BEHIND,
             running: None,
             ticks: 0,
+            pushed: 0,
+            last_tick: None,
+            run: 0,
+            cur_actual: None,
+            max_following: 0.0,
+            max_contour: 0.0,
             last: [[0.0; 3]; 4],
             peak: [[0.0; 3]; 3],
             first_moving: None,
@@ -296,30 +347,57 @@ impl Report {
     /// was added is measured when the first one is (up to 1024 distinct points: a run adds
     /// what it queues on the card before it steps it).
     pub fn push(&mut self, p: [f64; 3]) -> Result<(), ReportError> {
+        self.last_tick = self.last_tick.map(|t| t.wrapping_add(1));
+        self.advance(0, p)
+    }
+
+    /// The commanded point of the card's tick `tick` (mm), for a host that samples a card
+    /// running on its own: the ticks between the last point's and this one are missed. Only
+    /// differences over consecutive ticks count towards the peaks; the path time and the
+    /// stops count every tick.
+    pub fn push_at(&mut self, tick: u64, p: [f64; 3]) -> Result<(), ReportError> {
+        let missed = match self.last_tick {
+            Some(last) if tick <= last => return Err(ReportError::TickOrder { tick, last }),
+            Some(last) => tick - last - 1,
+            None => 0,
+        };
+        self.advance(missed, p)?;
+        self.last_tick = Some(tick);
+        Ok(())
+    }
+
+    fn advance(&mut self, missed: u64, p: [f64; 3]) -> Result<(), ReportError> {
         if p.iter().any(|x| !x.is_finite()) {
             return Err(ReportError::NonFinitePoint(self.ticks as usize));
         }
+        if self.pushed > 0 {
+            self.ticks += missed;
+        }
         let k = self.ticks;
+        let n = self.pushed;
         let ts = self.ts;
-        // (wrapping: the older points are only read from the tick they exist; 2⁶⁴ is a
-        // multiple of 4)
-        let at = |m: u64| self.last[(k.wrapping_sub(m) % 4) as usize];
-        if k >= 1 {
+        // (differences reach back over the consecutive ticks before this one; wrapping: the
+        // older points are only read once they exist, and 2⁶⁴ is a multiple of 4)
+        let reach = if missed == 0 { self.run.min(3) } else { 0 };
+        let at = |m: u64| self.last[(n.wrapping_sub(m) % 4) as usize];
+        if n >= 1 {
             let (p1, p2, p3) = (at(1), at(2), at(3));
             for i in 0..3 {
-                let v = &mut self.peak[0][i];
-                *v = v.max(((p[i] - p1[i]) / ts).abs());
-                if k >= 2 {
+                if reach >= 1 {
+                    let v = &mut self.peak[0][i];
+                    *v = v.max(((p[i] - p1[i]) / ts).abs());
+                }
+                if reach >= 2 {
                     let a = &mut self.peak[1][i];
                     *a = a.max(((p[i] - 2.0 * p1[i] + p2[i]) / (ts * ts)).abs());
                 }
-                if k >= 3 {
+                if reach >= 3 {
                     let d3 = p[i] - 3.0 * p1[i] + 3.0 * p2[i] - p3[i];
                     let j = &mut self.peak[2][i];
                     *j = j.max((d3 / (ts * ts * ts)).abs());
                 }
             }
-            if dist(p, p1) / ts >= self.rest_speed {
+            if dist(p, p1) / (ts * (missed + 1) as f64) >= self.rest_speed {
                 if self.first_moving.is_none() {
                     self.first_moving = Some(k);
                 } else if self.rested {
@@ -331,7 +409,9 @@ impl Report {
                 self.rested = true;
             }
         }
-        self.last[(k % 4) as usize] = p;
+        self.run = if missed == 0 { self.run + 1 } else { 1 };
+        self.last[(n % 4) as usize] = p;
+        self.pushed += 1;
         self.ticks += 1;
         if self.path.is_empty() {
             if self.pending.last() != Some(&p) && self.pending.len() < PENDING_MAX {
@@ -340,6 +420,26 @@ impl Report {
         } else {
             self.measure(p);
         }
+        Ok(())
+    }
+
+    /// The actual point (mm) of the tick of the last commanded point: its distance to the
+    /// commanded point (the following error) and to the programmed path (the contour
+    /// error). An actual point before any motion block, or before any commanded point, is
+    /// not measured.
+    pub fn push_actual(&mut self, a: [f64; 3]) -> Result<(), ReportError> {
+        if a.iter().any(|x| !x.is_finite()) {
+            return Err(ReportError::NonFinitePoint(self.ticks as usize));
+        }
+        if self.pushed == 0 || self.path.is_empty() {
+            return Ok(());
+        }
+        let p = self.last[((self.pushed - 1) % 4) as usize];
+        self.max_following = self.max_following.max(dist(p, a));
+        let from = self.cur_actual.unwrap_or(self.cur).max(self.path.base);
+        let (best, at) = self.nearest(a, from);
+        self.cur_actual = Some(at);
+        self.max_contour = self.max_contour.max(best);
         Ok(())
     }
 
@@ -364,6 +464,10 @@ impl Report {
             peak_jerk_ratio: worst(self.peak[2], |l| l.jmax),
             max_deviation: self.max_deviation,
             exact_stops: self.stops,
+            max_following_error: self.max_following,
+            max_contour_error: self.max_contour,
+            ticks: self.ticks,
+            ticks_seen: self.pushed,
         })
     }
 
@@ -375,11 +479,30 @@ impl Report {
     /// The distance of `p` to the path held: the window of the module documentation, then
     /// the tree's proof; drops what falls [`WINDOW_BEHIND`] behind the nearest segment.
     fn measure(&mut self, p: [f64; 3]) -> f64 {
+        let (best, at) = self.nearest(p, self.cur);
+        self.cur = at;
+        self.max_deviation = self.max_deviation.max(best);
+        // (the actual point's segment is kept too: it lags the commanded one)
+        let mut keep_from = self.cur_actual.map_or(at, |c| at.min(c));
+        if let Some(line) = self.running {
+            // (the fitted item's first line is at most a fitter's chunk before its last)
+            let first = line.saturating_sub(FITTED_LINES);
+            let w = &self.path;
+            keep_from = keep_from.min(w.base + w.lines.partition_point(|&l| l < first));
+        }
+        let keep = keep_from.saturating_sub(self.behind);
+        self.path.drop_before(keep);
+        best
+    }
+
+    /// The distance of `p` to the path held and its nearest segment, searched from segment
+    /// `cur` (the window, then the tree).
+    fn nearest(&mut self, p: [f64; 3], cur: usize) -> (f64, usize) {
         let w = &self.path;
         let (base, end) = (w.base, w.base + w.segs.len());
-        let lo = self.cur.saturating_sub(WINDOW_BACK).max(base);
-        let hi = (self.cur + WINDOW_AHEAD + 1).min(end);
-        let (mut best, mut at) = (f64::INFINITY, self.cur);
+        let lo = cur.saturating_sub(WINDOW_BACK).max(base);
+        let hi = (cur + WINDOW_AHEAD + 1).min(end);
+        let (mut best, mut at) = (f64::INFINITY, cur);
         for i in lo..hi.max(lo) {
             self.evals += 1;
             let d = w.segs[i - base].distance(p, best);
@@ -388,17 +511,7 @@ impl Report {
             }
         }
         self.evals += w.improve(p, lo..hi, &mut best, &mut at, &mut self.stack);
-        self.cur = at;
-        self.max_deviation = self.max_deviation.max(best);
-        let mut keep_from = at;
-        if let Some(line) = self.running {
-            // (the fitted item's first line is at most a fitter's chunk before its last)
-            let first = line.saturating_sub(FITTED_LINES);
-            keep_from = keep_from.min(w.base + w.lines.partition_point(|&l| l < first));
-        }
-        let keep = keep_from.saturating_sub(self.behind);
-        self.path.drop_before(keep);
-        best
+        (best, at)
     }
 }
 
@@ -746,7 +859,6 @@ fn arc_distance(g: &ArcGeom, p: [f64; 3], best: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gcode::parse;
     use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
 
     const LIM: [AxisLimits; 3] = [AxisLimits {
@@ -858,10 +970,72 @@ mod tests {
         );
         assert_eq!(r.segments, 3);
         assert!(r.max_deviation < 1e-12);
-        let j = r.to_json();
-        assert_eq!(j["exact_stops"], 2);
-        assert_eq!(j["segments"], 3);
-        assert!(j["path_time"].as_f64().unwrap() > 0.3);
+        assert_eq!(
+            (r.ticks, r.ticks_seen),
+            (pts.len() as u64, pts.len() as u64)
+        );
+    }
+
+    #[test]
+    fn sampled_ticks_give_peaks_from_consecutive_ticks_only() {
+        // x = t² (a = 2 mm/s²) sampled at ticks 0, 1, 2, then 10, 11, 12 (ticks 3..9 missed):
+        // the differences across the gap (a "velocity" of 7 ticks' travel over one tick)
+        // must not count.
+        let ts = 1e-3;
+        let x = |k: u64| (k as f64 * ts).powi(2) * 1e3; // mm, a = 2000 mm/s²
+        let blocks = program("G1 X10 F600");
+        let mut r = Report::new(ts, &LIM, REST_SPEED).unwrap();
+        for b in &blocks {
+            r.add_block(b);
+        }
+        for k in [0, 1, 2, 10, 11, 12] {
+            r.push_at(1000 + k, [x(k), 0.0, 0.0]).unwrap();
+        }
+        let f = r.finish().unwrap();
+        // The fastest seen over one tick: ticks 11 → 12, (x(12) − x(11))/ts = 23 mm/s.
+        let v = (x(12) - x(11)) / ts;
+        assert!((f.peak_vel_ratio - v / 100.0).abs() < 1e-12, "{f:?}");
+        assert!((f.peak_accel_ratio - 2000.0 / 1000.0).abs() < 1e-6, "{f:?}");
+        assert_eq!((f.ticks, f.ticks_seen), (13, 6));
+        // Moving from tick 1 (the first difference) to tick 12.
+        assert!((f.path_time - 12.0 * ts).abs() < 1e-15, "{f:?}");
+        assert_eq!(f.exact_stops, 0);
+        // A tick not after the last: refused, nothing counted.
+        assert_eq!(
+            r.push_at(1012, [1.0, 0.0, 0.0]),
+            Err(ReportError::TickOrder {
+                tick: 1012,
+                last: 1012
+            })
+        );
+        assert_eq!(r.finish().unwrap(), f);
+    }
+
+    #[test]
+    fn actual_points_give_the_following_and_the_contour_error() {
+        // The commanded point on the X axis line; the actual one 0.003 behind and 0.004 to
+        // the side: following error 0.005, contour error 0.004.
+        let blocks = program("G1 X10 F600");
+        let mut r = Report::new(1e-3, &LIM, REST_SPEED).unwrap();
+        // Before any block or point: not measured.
+        assert_eq!(r.push_actual([5.0, 5.0, 0.0]), Ok(()));
+        for b in &blocks {
+            r.add_block(b);
+        }
+        for k in 0..=100 {
+            let x = k as f64 * 0.1;
+            r.push([x, 0.0, 0.0]).unwrap();
+            let side = if k == 50 { 0.004 } else { 0.0 };
+            r.push_actual([(x - 0.003).max(0.0), side, 0.0]).unwrap();
+        }
+        let f = r.finish().unwrap();
+        assert!((f.max_following_error - 0.005).abs() < 1e-12, "{f:?}");
+        assert!((f.max_contour_error - 0.004).abs() < 1e-12, "{f:?}");
+        assert!(f.max_deviation < 1e-12);
+        assert_eq!(
+            r.push_actual([f64::NAN, 0.0, 0.0]),
+            Err(ReportError::NonFinitePoint(101))
+        );
     }
 
     #[test]

@@ -1,51 +1,9 @@
 //! The path report's view of a G-code program: the X, Y, Z geometry of its motions (lines,
 //! arcs and helices, splines as fine polylines), dwells and outputs, as [`Block`]s. The
-//! program is read by the SDK's interpreter ([`motioncard_sdk::gcode`]): its canonical
-//! operations become blocks here ([`blocks_of`]), for [`crate::path_report`] and `mcctl run`.
+//! program is read by the SDK's interpreter ([`crate::gcode`]): its canonical
+//! operations become blocks here ([`blocks_of`]), for [`super`] (the path report) and `mcctl run`.
 
-pub use motioncard_sdk::gcode::GcodeError;
-use motioncard_sdk::gcode::{Op, OpKind, Options, Pos, ZERO_LENGTH};
-
-/// The plane of an arc (G17, G18, G19).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Plane {
-    /// G17: X then Y, normal Z.
-    Xy,
-    /// G18: Z then X, normal Y.
-    Zx,
-    /// G19: Y then Z, normal X.
-    Yz,
-}
-
-impl Plane {
-    /// The axis indices (first, second, normal): a right-handed triple.
-    pub const fn axes(self) -> (usize, usize, usize) {
-        match self {
-            Plane::Xy => (0, 1, 2),
-            Plane::Zx => (2, 0, 1),
-            Plane::Yz => (1, 2, 0),
-        }
-    }
-
-    /// The G-code that selects this plane.
-    pub const fn code(self) -> &'static str {
-        match self {
-            Plane::Xy => "G17",
-            Plane::Zx => "G18",
-            Plane::Yz => "G19",
-        }
-    }
-}
-
-impl From<Plane> for motioncard_sdk::Plane {
-    fn from(p: Plane) -> Self {
-        match p {
-            Plane::Xy => motioncard_sdk::Plane::XY,
-            Plane::Zx => motioncard_sdk::Plane::ZX,
-            Plane::Yz => motioncard_sdk::Plane::YZ,
-        }
-    }
-}
+use crate::gcode::{GcodeError, Op, OpKind, Options, Plane, Pos, ZERO_LENGTH};
 
 /// One block in machine terms. `line` is the 1-based source line; positions are absolute
 /// mm, feeds mm/s.
@@ -53,32 +11,53 @@ impl From<Plane> for motioncard_sdk::Plane {
 pub enum Block {
     /// A straight move. `feed` is `f64::INFINITY` for a rapid (the runner picks the rapid feed).
     Line {
+        /// The source line.
         line: usize,
+        /// G0.
         rapid: bool,
+        /// Where it starts and ends.
         start: [f64; 3],
+        /// See `start`.
         end: [f64; 3],
+        /// mm/s.
         feed: f64,
     },
     /// A circular arc in `plane`, with the plane's normal axis moving linearly from `start`
     /// to `end` (a helix when they differ). `centre` is absolute; its normal coordinate is
     /// the start's. Start and end coinciding in the plane make a full turn.
     Arc {
+        /// The source line.
         line: usize,
+        /// Where it starts and ends.
         start: [f64; 3],
+        /// See `start`.
         end: [f64; 3],
+        /// The centre.
         centre: [f64; 3],
+        /// G17, G18 or G19.
         plane: Plane,
+        /// G3.
         ccw: bool,
+        /// mm/s.
         feed: f64,
     },
     /// G4: wait `seconds`.
-    Dwell { line: usize, seconds: f64 },
+    Dwell {
+        /// The source line.
+        line: usize,
+        /// How long.
+        seconds: f64,
+    },
     /// M62–M65: digital output `bit` on or off, `synced` with the start of the next motion
     /// (M62/M63) or at once (M64/M65).
     Output {
+        /// The source line.
         line: usize,
+        /// The card output.
         bit: u8,
+        /// On (M62, M64) or off.
         on: bool,
+        /// M62/M63.
         synced: bool,
     },
 }
@@ -92,13 +71,15 @@ pub struct ArcGeom {
     pub axes: (usize, usize, usize),
     /// The centre in (a, b).
     pub centre: [f64; 2],
+    /// mm.
     pub radius: f64,
     /// Angle of the start, radians, from the a axis towards b.
     pub theta0: f64,
     /// Signed angle travelled: positive counter-clockwise, in (0, 2π] or [−2π, 0).
     pub sweep: f64,
-    /// Normal-axis coordinate at the start and at the end.
+    /// Normal-axis coordinate at the start.
     pub n0: f64,
+    /// Normal-axis coordinate at the end.
     pub n1: f64,
 }
 
@@ -222,13 +203,14 @@ impl Block {
 
 /// A parsed program.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Program {
+pub struct Blocks {
+    /// In program order.
     pub blocks: Vec<Block>,
     /// Moves no longer than [`ZERO_LENGTH`], dropped.
     pub dropped_zero_length: usize,
 }
 
-impl Program {
+impl Blocks {
     /// How many blocks move (lines and arcs).
     pub fn motion_count(&self) -> usize {
         self.blocks.iter().filter(|b| b.is_motion()).count()
@@ -246,19 +228,19 @@ fn dist(p: [f64; 3], q: [f64; 3]) -> f64 {
 }
 
 /// Parses `text`, starting at the origin.
-pub fn parse(text: &str) -> Result<Program, GcodeError> {
+pub fn parse(text: &str) -> Result<Blocks, GcodeError> {
     parse_from(text, [0.0; 3])
 }
 
 /// Parses `text`, starting at `start` (mm), through the SDK's interpreter: every operation's
 /// blocks ([`blocks_of`]).
-pub fn parse_from(text: &str, start: [f64; 3]) -> Result<Program, GcodeError> {
+pub fn parse_from(text: &str, start: [f64; 3]) -> Result<Blocks, GcodeError> {
     let opts = Options {
         start: [start[0], start[1], start[2], 0.0, 0.0, 0.0],
         ..Options::default()
     };
-    let mut p = Program::default();
-    for op in motioncard_sdk::gcode::Program::from_text(text, &opts) {
+    let mut p = Blocks::default();
+    for op in crate::gcode::Program::from_text(text, &opts) {
         let op = op?;
         if op.kind.is_null_motion() {
             p.dropped_zero_length += 1;
@@ -313,17 +295,12 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
             start,
             end,
             centre,
-            plane: sdk_plane,
+            plane,
             ccw,
             turns,
             feed,
             ..
         } => {
-            let plane = match sdk_plane {
-                motioncard_sdk::gcode::Plane::Xy => Plane::Xy,
-                motioncard_sdk::gcode::Plane::Zx => Plane::Zx,
-                motioncard_sdk::gcode::Plane::Yz => Plane::Yz,
-            };
             let total = op.kind.arc_sweep().unwrap_or(std::f64::consts::TAU);
             let n = plane.axes().2;
             let arc = |start: [f64; 3], end: [f64; 3]| Block::Arc {
@@ -331,7 +308,7 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
                 start,
                 end,
                 centre: *centre,
-                plane,
+                plane: *plane,
                 ccw: *ccw,
                 feed: *feed,
             };
@@ -355,8 +332,7 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
             ..
         } => {
             let pts: Vec<f64> = spline.points.iter().flat_map(xyz).collect();
-            let curve =
-                motioncard_sdk::Nurbs::new(spline.degree, 3, &pts, &spline.weights, &spline.knots);
+            let curve = crate::Nurbs::new(spline.degree, 3, &pts, &spline.weights, &spline.knots);
             let mut from = xyz(start);
             let mut line_to = |to: [f64; 3]| {
                 out.push(Block::Line {
@@ -452,7 +428,7 @@ mod tests {
 
     #[test]
     fn example_programs_parse() {
-        let square = parse(include_str!("../examples/gcode/square.ngc")).unwrap();
+        let square = parse(include_str!("../../../examples/gcode/square.ngc")).unwrap();
         assert_eq!(square.motion_count(), 5);
         let cuts: Vec<_> = square
             .blocks
@@ -464,8 +440,8 @@ mod tests {
             .iter()
             .all(|b| b.feed() == Some(50.0) && (b.length() - 50.0).abs() < 1e-12));
         for text in [
-            include_str!("../examples/gcode/part.ngc"),
-            include_str!("../examples/gcode/zigzag.ngc"),
+            include_str!("../../../examples/gcode/part.ngc"),
+            include_str!("../../../examples/gcode/zigzag.ngc"),
         ] {
             let p = parse(text).unwrap();
             assert!(p.motion_count() > 10 && p.length() > 0.0);
