@@ -555,3 +555,69 @@ M2
         }
     }
 }
+
+/// G64 Q, LinuxCNC's "naive CAM" tolerance, is the chord fitter's: a circle of 10 mm radius
+/// posted as 720 chords rounded to 3 decimals runs as the chords themselves under Q0 (every
+/// one a segment on the card) and as a few fitted curves under Q0.005, each within its Q of
+/// the points; without Q the fitter takes P's tolerance, as LinuxCNC does. The runner's own
+/// report (`Runner::report`, every tick seen on the stepped card) measures each run.
+#[test]
+fn g64_q_is_the_chord_fitters_tolerance() {
+    let mut chords = String::new();
+    for k in 1..=720 {
+        let a = (k as f64 * 0.5).to_radians();
+        chords += &format!("X{:.3} Y{:.3}\n", 10.0 * a.cos() - 10.0, 10.0 * a.sin());
+    }
+    let run = |mode: &str| {
+        let (card, g) = xyz_card();
+        let opts = Options {
+            start: group_position(&g, "XYZ").unwrap(),
+            ..Options::default()
+        };
+        let text = format!("{mode}\nG1 F3000\n{chords}M2\n");
+        let program = Program::from_text(&text, &opts);
+        let mut r = Runner::new(&g, program, RunSettings::default(), Ends::default()).unwrap();
+        assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
+        let done = g.status().unwrap().1.path_done;
+        let report = r.report().unwrap().unwrap();
+        assert_eq!(report.ticks, report.ticks_seen, "{mode}: {report:?}");
+        assert_eq!(report.segments, 720, "{mode}");
+        drop(card);
+        (done, report)
+    };
+    let (naive_off, off) = run("G64 P0.05 Q0");
+    let (fitted, fit) = run("G64 P0.05 Q0.005");
+    let (default, _) = run("G64 P0.05");
+    // Finer than the coordinates' rounding: the fitter cannot hold the points so closely.
+    let (fine, _) = run("G64 P0.05 Q0.0001");
+    assert!(fine > 10 * fitted.max(1), "Q0.0001: {fine} segments");
+    assert_eq!(naive_off, 720, "Q0: every chord a segment");
+    assert!(fitted < 40, "Q0.005: {fitted} segments");
+    assert!(
+        default <= fitted,
+        "no Q: P's tolerance ({default} vs {fitted})"
+    );
+    // Within Q of the points (and their 0.5 µm rounding) and the circle's 0.4 µm chord sag.
+    assert!(fit.max_deviation < 0.005 + 1e-3, "{fit:?}");
+    assert!(off.max_deviation < 0.05, "{off:?}");
+    for r in [&off, &fit] {
+        assert!(r.peak_vel_ratio <= 1.0 + 1e-9, "{r:?}");
+        assert!(r.peak_accel_ratio <= 1.0 + 1e-6, "{r:?}");
+        assert!(
+            r.max_following_error > 0.0 && r.max_contour_error > 0.0,
+            "{r:?}"
+        );
+    }
+    eprintln!(
+        "G64 Q: Q0 {naive_off} segments {:.4} s, Q0.005 {fitted} segments {:.4} s, no Q \
+         {default} segments, Q0.0001 {fine} segments",
+        off.path_time, fit.path_time
+    );
+    // A negative Q is refused, naming its line.
+    let opts = Options::default();
+    let err = Program::from_text("G1 X1 F100\nG64 P0.1 Q-1\n", &opts)
+        .find_map(|op| op.err())
+        .unwrap();
+    assert_eq!(err.line, 2, "{err}");
+    assert!(err.to_string().contains("G64 Q-1"), "{err}");
+}

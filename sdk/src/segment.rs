@@ -94,6 +94,10 @@ pub struct Segment {
     pub relative: bool,
     /// The last segment of a program: the stop at its end is the end, not starvation.
     pub last: bool,
+    /// How far the chord fitter may take a run of lines from their points (G64 Q, LinuxCNC's
+    /// "naive CAM" tolerance), first group axis's units; `None`: the transition's
+    /// tolerance; 0: the line is sent as it is.
+    pub fit_tolerance: Option<f64>,
 }
 
 impl Segment {
@@ -110,6 +114,7 @@ impl Segment {
             transition: Transition::MaxDeviation(tolerance),
             relative: false,
             last: false,
+            fit_tolerance: None,
         }
     }
 
@@ -176,6 +181,13 @@ impl Segment {
     /// Marked as the last of its program.
     pub fn last(mut self) -> Self {
         self.last = true;
+        self
+    }
+
+    /// Fitted by the chord fitter within `tolerance` of its points (G64 Q) rather than the
+    /// transition's tolerance; 0 sends it as it is.
+    pub fn fit_within(mut self, tolerance: f64) -> Self {
+        self.fit_tolerance = Some(tolerance);
         self
     }
 }

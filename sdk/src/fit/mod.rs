@@ -282,6 +282,11 @@ impl Fitter {
             Transition::MaxDeviation(t) => t,
             _ => 0.0,
         };
+        // (a fit tolerance of its own, G64 Q, only where the segment blends at all)
+        let t = match seg.fit_tolerance {
+            Some(q) if t > 0.0 => q,
+            _ => t,
+        };
         let tol = if t > 0.0 && t.is_finite() {
             t * self.tscale
         } else {

@@ -45,8 +45,8 @@ pub enum Blend {
     /// G61.1: exact path (no corner rounding), speed kept where the corner allows.
     ExactPath,
     /// G64: blend within `tolerance` mm of the corner (`None`: G64 without P, the best
-    /// speed: the runner's own tolerance). `naive` is Q: collinear moves within it may be
-    /// merged (mm, `None` when not given).
+    /// speed: the runner's own tolerance). `naive` is Q, LinuxCNC's "naive CAM" tolerance:
+    /// the chord fitter's (mm; 0 sends each line as it is; `None`: P's, as LinuxCNC).
     #[allow(missing_docs)]
     Blended {
         tolerance: Option<f64>,

@@ -661,7 +661,12 @@ impl<S: Source, H: Hooks> Runner<S, H> {
         let feed = |f: f64| f.min(self.settings.max_feed);
         let with = |s: Segment, blend: Blend| {
             let (b, t) = self.join(blend);
-            s.buffer(b).transition(t)
+            let s = s.buffer(b).transition(t);
+            // G64 Q: the chord fitter's own tolerance (none: P's, as LinuxCNC's default)
+            match blend {
+                Blend::Blended { naive: Some(q), .. } => s.fit_within(q),
+                _ => s,
+            }
         };
         if op.kind.is_null_motion() {
             return Ok(Vec::new());

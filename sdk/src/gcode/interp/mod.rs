@@ -745,10 +745,20 @@ impl Interp {
             self.blend = match g {
                 610 => Blend::ExactStop,
                 611 => Blend::ExactPath,
-                _ => Blend::Blended {
-                    tolerance: b.word('P').map(|p| p * self.k()),
-                    naive: b.word('Q').map(|q| q * self.k()),
-                },
+                _ => {
+                    for w in ['P', 'Q'] {
+                        if let Some(v) = b.word(w).filter(|v| v.is_nan() || *v < 0.0) {
+                            return Err(GcodeError::new(
+                                line,
+                                format!("G64 {w}{v}: a tolerance of 0 or more"),
+                            ));
+                        }
+                    }
+                    Blend::Blended {
+                        tolerance: b.word('P').map(|p| p * self.k()),
+                        naive: b.word('Q').map(|q| q * self.k()),
+                    }
+                }
             };
         }
         if let Some(g) = l.group(3) {
