@@ -277,6 +277,8 @@ impl mc_path_segment {
             transition,
             relative: self.relative != 0,
             last: self.last != 0,
+            // (the chord fitter's tolerance is the transition's: mc_path_settings.chord_fit)
+            fit_tolerance: None,
         }))
     }
 }
