@@ -53,6 +53,8 @@ pub struct RunOptions {
     pub chord_fit: bool,
     /// The tool table (G43, G41/G42, M6).
     pub tools: ToolTable,
+    /// Where `o<name> call` looks for `name.ngc` (then the program's directory).
+    pub subroutine_path: Vec<std::path::PathBuf>,
     /// The input of the touch probe (G38).
     pub probe_input: Option<u32>,
     /// The spindle on a card axis, and its encoder's counts per revolution (the axis's scale
@@ -78,6 +80,7 @@ impl Default for RunOptions {
             progress: false,
             chord_fit: true,
             tools: ToolTable::default(),
+            subroutine_path: Vec::new(),
             probe_input: None,
             spindle: None,
             mist_output: None,
@@ -142,6 +145,7 @@ fn program(
     let options = Options {
         start: [start[0], start[1], start[2], 0.0, 0.0, 0.0],
         tools: opts.tools.clone(),
+        subroutine_path: opts.subroutine_path.clone(),
         ..Options::default()
     };
     Ok(Program::open(file, &options)?)

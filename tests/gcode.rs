@@ -621,3 +621,74 @@ fn g64_q_is_the_chord_fitters_tolerance() {
     assert_eq!(err.line, 2, "{err}");
     assert!(err.to_string().contains("G64 Q-1"), "{err}");
 }
+
+/// Subroutines in files (LinuxCNC's `SUBROUTINE_PATH`): `o<caller> call` runs `caller.ngc`
+/// from the subroutine path, which calls `helper.ngc` from the program's own directory; #1
+/// is the caller's again after the helper returns, and the caller's return value reaches the
+/// program. As in LinuxCNC's `nested-sub-in-file-error` test, a second subroutine in a
+/// subroutine file is not callable. Each error names its line and its file.
+#[test]
+fn subroutines_in_files_on_the_subroutine_path() {
+    let dir = tempdir("subfiles");
+    let subs = dir.join("subs");
+    std::fs::create_dir_all(&subs).unwrap();
+    let write = |path: std::path::PathBuf, text: &str| std::fs::write(path, text).unwrap();
+    write(
+        subs.join("caller.ngc"),
+        "o<caller> sub\nG1 X#1 Y#2 Z#3 F600\no<helper> call [4] [5] [6]\nG1 X[#1*10]\n\
+         o<caller> endsub [#1+#2+#3]\nM2\n",
+    );
+    write(
+        dir.join("helper.ngc"),
+        "o<helper> sub\nG1 X#1 Y#2 Z#3 F600\no<helper> endsub\nM2\n",
+    );
+    write(
+        subs.join("sequential.ngc"),
+        "o<sequential> sub\no200 call [4] [5] [6]\no<sequential> endsub\n\n\
+         o200 sub\nG1 X#1\no200 endsub\nM2\n",
+    );
+    write(
+        subs.join("other.ngc"),
+        "o<another> sub\nG0 X1\no<another> endsub\n",
+    );
+    let opts = Options {
+        subroutine_path: vec![subs.clone()],
+        ..Options::default()
+    };
+    let run = |main: &str| {
+        let file = dir.join("main.ngc");
+        write(file.clone(), main);
+        Program::open(&file, &opts)
+            .unwrap()
+            .collect::<Result<Vec<Op>, _>>()
+    };
+    let ops = run("G21 G90\no<caller> call [1] [2] [3]\nG0 Z[#<_value>*2]\nM2\n").unwrap();
+    let ends: Vec<(usize, [f64; 3])> = ops
+        .iter()
+        .filter_map(|op| op.kind.ends().map(|(_, e)| (op.line, [e[0], e[1], e[2]])))
+        .collect();
+    assert_eq!(
+        ends,
+        vec![
+            (2, [1.0, 2.0, 3.0]),   // caller.ngc line 2
+            (2, [4.0, 5.0, 6.0]),   // helper.ngc line 2
+            (4, [10.0, 5.0, 6.0]),  // caller.ngc line 4: #1 is 1 again
+            (3, [10.0, 5.0, 12.0]), // main.ngc line 3: Z = 2 (1 + 2 + 3)
+        ]
+    );
+    let err = run("o<sequential> call [7] [8] [9]\nM2\n").unwrap_err();
+    assert_eq!(err.line, 2, "{err}");
+    assert!(
+        err.message.contains("no subroutine o200") && err.message.contains("sequential.ngc"),
+        "{err}"
+    );
+    let err = run("G0 X1\no<missing> call\n").unwrap_err();
+    assert_eq!(err.line, 2, "{err}");
+    assert!(err.message.contains("no missing.ngc"), "{err}");
+    let err = run("o<other> call\n").unwrap_err();
+    assert!(
+        err.message.contains("does not define o<other> sub"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

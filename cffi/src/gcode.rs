@@ -401,6 +401,7 @@ unsafe fn load(
     tool_table: *const c_char,
     settings: *const mc_gcode_settings,
     program: *mut mc_gcode,
+    dir: Option<&std::path::Path>,
     open: impl Fn() -> Result<Box<dyn Source + Send>, Failure>,
 ) -> Result<(), Failure> {
     let out = Out::new(program, "program")?;
@@ -415,6 +416,8 @@ unsafe fn load(
         unsafe { read_in(settings, "settings") }?
     };
     let (run, mut opts) = settings_of(&s)?;
+    // (a file's subroutine files are looked for beside it)
+    opts.subroutine_path.extend(dir.map(|d| d.to_path_buf()));
     if !tool_table.is_null() {
         // SAFETY: NUL-terminated by the caller's contract.
         let path = unsafe { uri(tool_table, "tool_table") }?;
@@ -440,7 +443,9 @@ unsafe fn load(
 /// `mc_group_configure_path`): it is read whole once and checked (`MC_ERR_GCODE` for the
 /// first wrong line, `mc_last_error_message` giving `line N: what`; nothing is queued), then
 /// `*program` is its handle. It starts where the group is. `tool_table` (may be NULL) is a
-/// tool table file in LinuxCNC's format; `settings` may be NULL for the defaults.
+/// tool table file in LinuxCNC's format; `settings` may be NULL for the defaults. A call of
+/// a subroutine the program does not define (`o<name> call`) runs `name.ngc` from the
+/// program's directory.
 #[no_mangle]
 pub unsafe extern "C" fn mc_gcode_load_file(
     card: mc_card,
@@ -460,8 +465,12 @@ pub unsafe extern "C" fn mc_gcode_load_file(
             })?;
             Ok(Box::new(f))
         };
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => ".".into(),
+        };
         // SAFETY: the caller's contract, passed on.
-        unsafe { load(card, group, tool_table, settings, program, open) }
+        unsafe { load(card, group, tool_table, settings, program, Some(&dir), open) }
     })
 }
 
@@ -482,7 +491,7 @@ pub unsafe extern "C" fn mc_gcode_load_string(
             Ok(Box::new(TextSource::new(text.clone())))
         };
         // SAFETY: the caller's contract, passed on.
-        unsafe { load(card, group, tool_table, settings, program, open) }
+        unsafe { load(card, group, tool_table, settings, program, None, open) }
     })
 }
 

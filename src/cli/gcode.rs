@@ -18,6 +18,10 @@ pub struct Args {
     /// The tool table, in LinuxCNC's format (`T1 P1 Z10 D6 ;comment`, lengths in mm).
     #[arg(long)]
     pub tool_table: Option<std::path::PathBuf>,
+    /// A directory where `o<name> call` looks for `name.ngc` when the program does not
+    /// define the subroutine (before the program's own directory; may be repeated).
+    #[arg(long)]
+    pub subroutine_path: Vec<std::path::PathBuf>,
     /// Lines starting with `/` are skipped.
     #[arg(long)]
     pub block_delete: bool,
@@ -108,6 +112,7 @@ pub fn run(a: Args) -> ExitCode {
         tools,
         block_delete: a.block_delete,
         optional_stop: a.optional_stop,
+        subroutine_path: a.subroutine_path.clone(),
         ..Options::default()
     };
     let program = match Program::open(&a.file, &opts) {

@@ -65,6 +65,10 @@ pub struct Args {
     /// The tool table, in LinuxCNC's format (`T1 P1 Z10 D6 ;comment`, lengths in mm).
     #[arg(long)]
     pub tool_table: Option<std::path::PathBuf>,
+    /// A directory where `o<name> call` looks for `name.ngc` when the program does not
+    /// define the subroutine (before the program's own directory; may be repeated).
+    #[arg(long)]
+    pub subroutine_path: Vec<std::path::PathBuf>,
     /// The card's digital input the touch probe is wired to (G38.2–G38.5; without it a
     /// probing move is an error).
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..16))]
@@ -131,6 +135,7 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
     };
     let opts = crate::run::RunOptions {
         tools,
+        subroutine_path: a.subroutine_path,
         tolerance: a.tolerance,
         feed_limit: a.feed_limit,
         vmax,

@@ -98,7 +98,11 @@ impl Program<FileSource> {
     pub fn open(path: &std::path::Path, opts: &Options) -> Result<Self, GcodeError> {
         let src = FileSource::open(path)
             .map_err(|e| GcodeError::new(0, format!("cannot open {}: {e}", path.display())))?;
-        Ok(Program::new(src, opts))
+        let mut opts = opts.clone();
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+        opts.subroutine_path
+            .push(dir.map_or_else(|| ".".into(), |d| d.to_path_buf()));
+        Ok(Program::new(src, &opts))
     }
 }
 
@@ -108,7 +112,8 @@ impl<S: Source> Program<S> {
         let mut params = Params::new();
         let interp = Interp::new(opts, &mut params);
         Program {
-            reader: Reader::new(source, opts.block_delete),
+            reader: Reader::new(source, opts.block_delete)
+                .with_subroutine_path(opts.subroutine_path.clone()),
             interp,
             params,
             pending: VecDeque::new(),

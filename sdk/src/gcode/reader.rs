@@ -5,6 +5,9 @@
 //! - [`expr`]: numbers, parameters, expressions and functions; a line's words and parameter
 //!   settings.
 //! - [`flow`]: O-words (subroutines, conditionals, loops), with [`Source::seek`] to go back.
+//!   A call of a subroutine the program does not define opens `name.ngc` on the subroutine
+//!   path (LinuxCNC's `SUBROUTINE_PATH`): the file's own `o<name> sub` is run, its lines
+//!   numbered within it, and an error there names the file.
 //!
 //! A line's values are all computed with the parameters as they were before the line; its
 //! parameter settings are applied after it (RS274/NGC's rule), then its message is
@@ -13,7 +16,7 @@
 //!
 //! Not read (an error naming the line): polar words `@` and `^`, spindle selection `$`,
 //! Fanuc-style subprograms (`O` alone, `M98`/`M99` as calls), computed O-word labels
-//! (`o#1`, `o[…]`), subroutines in separate files, and LinuxCNC's `#<_ini[…]>` and
+//! (`o#1`, `o[…]`), and LinuxCNC's `#<_ini[…]>` and
 //! `#<_hal[…]>` parameters. Comments other than messages (`(LOG,…)`, `(ABORT,…)`, …) are
 //! comments.
 
@@ -191,9 +194,61 @@ impl Source for FileSource {
     }
 }
 
+/// Subroutine files a program may open (`o<name> call` of `name.ngc`).
+const MAX_SUB_FILES: usize = 256;
+/// A position in [`Sources`]: the offset in its file, the file's index above these bits.
+const FILE_SHIFT: u32 = 48;
+
+/// The program's source and the subroutine files its calls opened, as one source: a
+/// position is the offset in its file with the file's index (0: the program) in the bits
+/// from [`FILE_SHIFT`] up, so a call into a file and the return from it are a seek.
+struct Sources<S> {
+    main: S,
+    /// Each file's name as the errors show it, and the file.
+    files: Vec<(String, FileSource)>,
+    /// The file lines are read from (0: the program).
+    cur: usize,
+}
+
+impl<S: Source> Source for Sources<S> {
+    fn read_line(&mut self, buf: &mut String) -> io::Result<bool> {
+        match self.cur {
+            0 => self.main.read_line(buf),
+            k => self.files[k - 1].1.read_line(buf),
+        }
+    }
+
+    fn tell(&mut self) -> u64 {
+        let p = match self.cur {
+            0 => self.main.tell(),
+            k => self.files[k - 1].1.tell(),
+        };
+        ((self.cur as u64) << FILE_SHIFT) | p
+    }
+
+    fn seek(&mut self, pos: u64) -> io::Result<()> {
+        let k = (pos >> FILE_SHIFT) as usize;
+        let p = pos & ((1 << FILE_SHIFT) - 1);
+        match k {
+            0 => self.main.seek(p)?,
+            k if k <= self.files.len() => self.files[k - 1].1.seek(p)?,
+            _ => {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    format!("no subroutine file {k}"),
+                ))
+            }
+        }
+        self.cur = k;
+        Ok(())
+    }
+}
+
 /// Source lines → blocks.
 pub struct Reader<S: Source> {
-    source: S,
+    source: Sources<S>,
+    /// Where a call looks for a subroutine file.
+    sub_path: Vec<std::path::PathBuf>,
     block_delete: bool,
     /// The last line read.
     line: usize,
@@ -234,7 +289,12 @@ impl<S: Source> Reader<S> {
     /// `/` is ignored).
     pub fn new(source: S, block_delete: bool) -> Self {
         Reader {
-            source,
+            source: Sources {
+                main: source,
+                files: Vec::new(),
+                cur: 0,
+            },
+            sub_path: Vec::new(),
             block_delete,
             line: 0,
             buf: String::new(),
@@ -254,6 +314,12 @@ impl<S: Source> Reader<S> {
             reread: 0,
             max_reread: MAX_REREAD,
         }
+    }
+
+    /// Looks for the subroutine files of calls in `dirs`, in order.
+    pub fn with_subroutine_path(mut self, dirs: Vec<std::path::PathBuf>) -> Self {
+        self.sub_path = dirs;
+        self
     }
 
     /// The next block the program runs (`None` at the end of the text or after a closing
@@ -285,9 +351,13 @@ impl<S: Source> Reader<S> {
                 }
             }
         }
-        let r = self.read_block(params);
+        let mut r = self.read_block(params);
         if !matches!(r, Ok(Some(_))) {
             self.done = true;
+        }
+        if let (Err(e), k @ 1..) = (&mut r, self.source.cur) {
+            // (a line of a subroutine file: its number is the file's)
+            e.message = format!("{} (in {})", e.message, self.source.files[k - 1].0);
         }
         r
     }
@@ -437,8 +507,15 @@ impl<S: Source> Reader<S> {
     /// on from where it was.
     fn scan_subs(&mut self) -> Result<(), GcodeError> {
         self.scanned = true;
+        self.scan_file(0, None)
+    }
+
+    /// Notes every subroutine of file `k` of the sources (0: the program; a subroutine file
+    /// only its `only`, as LinuxCNC, which runs nothing else of it), then reads on from where
+    /// it was.
+    fn scan_file(&mut self, k: usize, only: Option<&str>) -> Result<(), GcodeError> {
         let (back, back_line) = (self.source.tell(), self.line);
-        self.goto(0, 0)?;
+        self.goto((k as u64) << FILE_SHIFT, 0)?;
         let mut line = 0;
         let mut started = false;
         let mut buf = String::new();
@@ -468,11 +545,52 @@ impl<S: Source> Reader<S> {
             if cur.skip_line_number().is_err() || cur.peek() != Some(b'o') {
                 continue;
             }
-            if let Ok((label, b"sub")) = cur.o_head() {
-                let body = self.source.tell();
-                self.note_sub(&label, body, line)?;
+            match cur.o_head() {
+                Ok((label, b"sub")) if only.is_none_or(|o| o == label) => {
+                    let body = self.source.tell();
+                    self.note_sub(&label, body, line)?;
+                }
+                _ => {}
             }
         }
         self.goto(back, back_line)
+    }
+
+    /// `o<label> call` of a subroutine the program does not define: `label.ngc` from the
+    /// first directory of the subroutine path that has it, opened and its `o<label> sub`
+    /// noted (only it: another subroutine in the file is not callable, as in LinuxCNC).
+    /// `Ok(false)` when no directory has it.
+    fn open_sub_file(&mut self, label: &str) -> Result<bool, GcodeError> {
+        let name = format!("{label}.ngc");
+        let Some(path) = self
+            .sub_path
+            .iter()
+            .map(|d| d.join(&name))
+            .find(|p| p.is_file())
+        else {
+            return Ok(false);
+        };
+        if self.source.files.len() >= MAX_SUB_FILES {
+            return Err(GcodeError::new(
+                self.line,
+                format!("{name}: more than {MAX_SUB_FILES} subroutine files"),
+            ));
+        }
+        let file = FileSource::open(&path).map_err(|e| {
+            GcodeError::new(self.line, format!("cannot open {}: {e}", path.display()))
+        })?;
+        self.source.files.push((path.display().to_string(), file));
+        let k = self.source.files.len();
+        self.scan_file(k, Some(label))?;
+        if !self.subs.contains_key(label) {
+            return Err(GcodeError::new(
+                self.line,
+                format!(
+                    "o<{label}> call: {} does not define o<{label}> sub",
+                    path.display()
+                ),
+            ));
+        }
+        Ok(true)
     }
 }

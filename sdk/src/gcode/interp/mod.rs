@@ -81,6 +81,10 @@ pub struct Options {
     pub block_delete: bool,
     /// M1 pauses.
     pub optional_stop: bool,
+    /// Where `o<name> call` looks for `name.ngc` when the program does not define
+    /// `o<name> sub` itself (LinuxCNC's `SUBROUTINE_PATH`), in order. [`super::Program::open`]
+    /// adds the program file's own directory after these.
+    pub subroutine_path: Vec<std::path::PathBuf>,
 }
 
 /// Length units of the program (G20, G21).

@@ -549,11 +549,13 @@ impl<S: Source> Reader<S> {
         if !self.subs.contains_key(&label) && !self.scanned {
             self.scan_subs()?;
         }
-        let Some(&(body, sub_line)) = self.subs.get(&label) else {
+        if !self.subs.contains_key(&label) && !self.open_sub_file(&label)? {
             return Err(self.err(format!(
-                "o{shown} call: no subroutine o{shown} in the program"
+                "o{shown} call: no subroutine o{shown} in the program, and no {label}.ngc on \
+                 the subroutine path"
             )));
-        };
+        }
+        let (body, sub_line) = self.subs[&label];
         let pos = self.source.tell();
         self.stack.push(Ctl::Call {
             label,
