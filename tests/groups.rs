@@ -165,11 +165,7 @@ fn arcs_by_centre_radius_and_border_point_in_every_plane() {
         ),
     ];
     for plane in [Plane::XY, Plane::YZ, Plane::ZX] {
-        let (u, v) = match plane {
-            Plane::XY => (0, 1),
-            Plane::YZ => (1, 2),
-            Plane::ZX => (2, 0),
-        };
+        let (u, v) = plane.axes();
         for (spec, ccw) in specs {
             let (card, g) = group_card(&[0, 1, 2], AccDec::Pre);
             let m = g
@@ -244,6 +240,111 @@ fn helical_move_climbs_linearly_with_the_angle() {
         }
     }
     assert_eq!(cmd(&card, 2), 5_000.0);
+}
+
+/// Layout 1.10: an arc in the plane of any two group axes, here group axes 3 and 0 of a
+/// four-axis group (a rotary table's plane), group axes 1 and 2 moving linearly with the
+/// angle (a helix); the same path through the path buffer; the plane (0, 1) is exactly
+/// `Plane::XY`. One axis named twice is the card's refusal (`MC_NACK_PLANE_AXES`), an axis
+/// beyond the group the SDK's.
+#[test]
+fn arcs_in_the_plane_of_any_two_group_axes() {
+    let r = 10_000.0;
+    let turn = ArcSpec::Centre {
+        end: [0.0, 0.0],
+        centre: [r, 0.0],
+        ccw: true,
+    };
+    let (card, g) = group_card(&[0, 1, 2, 3], AccDec::Pre);
+    let m = g
+        .move_circular(
+            &turn,
+            Plane::Axes(3, 0),
+            &[2_000.0, -3_000.0],
+            &lim(),
+            MoveOptions::default(),
+        )
+        .unwrap();
+    let pts = trace(&card, &g, &[3, 0, 1, 2]);
+    m.wait(T).unwrap();
+    let tau = std::f64::consts::TAU;
+    for p in &pts {
+        let rad = (p[0] - r).hypot(p[1]);
+        assert!((rad - r).abs() < 1e-6, "radius {rad} at {p:?}");
+        // Counter-clockwise from axis 3 towards axis 0, from the angle π.
+        let swept = (p[1].atan2(p[0] - r) - std::f64::consts::PI).rem_euclid(tau);
+        if p[2] > 1.0 && p[2] < 1_999.0 {
+            assert!((p[2] - 2_000.0 * swept / tau).abs() < 1e-3, "{p:?}");
+            assert!((p[3] + 3_000.0 * swept / tau).abs() < 1e-3, "{p:?}");
+        }
+    }
+    let quarter = &pts[pts.len() / 4];
+    assert!(quarter[1] < -0.5 * r, "went the wrong way: {quarter:?}");
+    assert_eq!((cmd(&card, 1), cmd(&card, 2)), (2_000.0, -3_000.0));
+    assert!(cmd(&card, 3).abs() < 1e-6 && cmd(&card, 0).abs() < 1e-6);
+
+    // The plane (0, 1) is XY's, tick for tick.
+    let run = |plane: Plane| {
+        let (card, g) = group_card(&[0, 1, 2], AccDec::Pre);
+        g.move_circular(&turn, plane, &[500.0], &lim(), MoveOptions::default())
+            .unwrap();
+        trace(&card, &g, &[0, 1, 2])
+    };
+    assert_eq!(run(Plane::Axes(0, 1)), run(Plane::XY));
+
+    // One axis twice: the card refuses it; an axis beyond the group: the SDK.
+    let e = g
+        .move_circular(
+            &turn,
+            Plane::Axes(2, 2),
+            &[],
+            &lim(),
+            MoveOptions::default(),
+        )
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::PlaneAxes, "{e}");
+    let e = g
+        .move_circular(
+            &turn,
+            Plane::Axes(0, 4),
+            &[],
+            &lim(),
+            MoveOptions::default(),
+        )
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::BadAxis, "{e}");
+
+    // Through the path buffer: a line, then the helix in the plane (3, 0).
+    g.configure_path(&motioncard_sdk::PathSettings::uniform(
+        4, 50_000.0, 5e5, 5e7,
+    ))
+    .unwrap();
+    let items = [
+        motioncard_sdk::Segment::line(1, &[0.0, 2_000.0, -3_000.0, 5_000.0], 40_000.0, 0.0),
+        motioncard_sdk::Segment::arc(
+            2,
+            ArcSpec::Centre {
+                end: [5_000.0, 0.0],
+                centre: [5_000.0 + r, 0.0],
+                ccw: false,
+            },
+            Plane::Axes(3, 0),
+            &[0.0, 0.0],
+            40_000.0,
+            0.0,
+        )
+        .last(),
+    ];
+    g.stream_path(items.map(motioncard_sdk::PathItem::from), |_| {})
+        .map_err(|e| e.error)
+        .unwrap();
+    let pts = trace(&card, &g, &[3, 0, 1, 2]);
+    assert!(pts.len() > 1000, "{} ticks", pts.len());
+    let end = [3, 0, 1, 2].map(|a| cmd(&card, a));
+    assert!(
+        (end[0] - 5_000.0).abs() < 1e-6 && end[1].abs() < 1e-6 && end[2] == 0.0 && end[3] == 0.0,
+        "{end:?}"
+    );
 }
 
 #[test]

@@ -680,6 +680,11 @@ extern "C" {
 #define MC_ARC_PLANE_ZX 2
 
 /**
+ * Any two group axes u, v, named apart (layout 1.10).
+ */
+#define MC_ARC_PLANE_AXES 3
+
+/**
  * How an arc is given (`mc_arc.mode`): `aux` and `end` are in the coordinates of its plane.
  *
  * Aux = centre.
@@ -1859,6 +1864,18 @@ extern "C" {
  * Jog.
  */
 #define MC_FEED_TYPE_JOG 2
+
+/**
+ * `MC_ARC_PLANE_AXES`: a plane value names its two group axes u and v (counter-clockwise
+ * from u towards v) as `MC_ARC_PLANE_AXES | u << MC_ARC_PLANE_U_SHIFT | v <<
+ * MC_ARC_PLANE_V_SHIFT` (u, v 0..7; one axis twice is `MC_ERR_PLANE_AXES`).
+ */
+#define MC_ARC_PLANE_U_SHIFT 8
+
+/**
+ * See `MC_ARC_PLANE_U_SHIFT`.
+ */
+#define MC_ARC_PLANE_V_SHIFT 12
 
 /**
  * Clock of an emulated card (`mc_sim_options.clock`): paced to the servo rate in real time,
@@ -4226,6 +4243,11 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_NO_MOTION -115
 
 /**
+ * An arc whose plane of two group axes names one axis twice.
+ */
+#define MC_ERR_PLANE_AXES -130
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4643,7 +4665,9 @@ mc_result mc_gcode_default_settings(struct mc_gcode_settings *settings);
  * `mc_group_configure_path`): it is read whole once and checked (`MC_ERR_GCODE` for the
  * first wrong line, `mc_last_error_message` giving `line N: what`; nothing is queued), then
  * `*program` is its handle. It starts where the group is. `tool_table` (may be NULL) is a
- * tool table file in LinuxCNC's format; `settings` may be NULL for the defaults.
+ * tool table file in LinuxCNC's format; `settings` may be NULL for the defaults. A call of
+ * a subroutine the program does not define (`o<name> call`) runs `name.ngc` from the
+ * program's directory.
  */
 mc_result mc_gcode_load_file(mc_card card,
                              uint32_t group,
@@ -5913,6 +5937,16 @@ mc_result mc_send_raw(mc_card card,
 #define MC_CIRC_PLANE_SHIFT 5u
 
 /**
+ * `MC_ARC_PLANE_AXES`: 3 bits, the plane's first group axis (u).
+ */
+#define MC_CIRC_U_SHIFT 22u
+
+/**
+ * `MC_ARC_PLANE_AXES`: 3 bits, its second (v): counter-clockwise turns from u towards v; u == v is `MC_NACK_PLANE_AXES`.
+ */
+#define MC_CIRC_V_SHIFT 25u
+
+/**
  * Fire crossing downwards (single: both bits, either way).
  */
 #define MC_CMP_DIR_NEG (1u << 3)
@@ -6317,6 +6351,11 @@ mc_result mc_send_raw(mc_card card,
  * A line of length zero.
  */
 #define MC_NACK_PATH_ZERO_LENGTH 81
+
+/**
+ * An arc's plane of two group axes names one axis twice.
+ */
+#define MC_NACK_PLANE_AXES 139
 
 /**
  * The planned profile failed the card's own check (shorter than |d|/vmax, off its target or beyond a limit): refused, not run.

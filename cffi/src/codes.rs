@@ -358,6 +358,9 @@ pub const MC_ARC_PLANE_YZ: u32 = 1;
 /// Group axes 2, 0.
 pub const MC_ARC_PLANE_ZX: u32 = 2;
 
+/// Any two group axes u, v, named apart (layout 1.10).
+pub const MC_ARC_PLANE_AXES: u32 = 3;
+
 /// How an arc is given (`mc_arc.mode`): `aux` and `end` are in the coordinates of its plane.
 ///
 /// Aux = centre.

@@ -26,7 +26,7 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_AXIS_BUSY,      MC_ERR_AXIS_GROUPED,    MC_ERR_ZERO_LENGTH_ARC,
     MC_ERR_CENTRE_NOT_EQUIDISTANT, MC_ERR_RADIUS_TOO_SMALL, MC_ERR_COLLINEAR_POINTS,
     MC_ERR_QUEUE_FULL,     MC_ERR_INCOMPATIBLE_MODE, MC_ERR_GROUP_DISABLED,
-    MC_ERR_FILTER_BUSY,
+    MC_ERR_FILTER_BUSY,    MC_ERR_PLANE_AXES,
     /* NURBS */
     MC_ERR_NURBS_SEQUENCE, MC_ERR_NURBS_DEGREE,    MC_ERR_NURBS_DIMENSION,
     MC_ERR_NURBS_CTRL_COUNT, MC_ERR_NURBS_KNOT_COUNT, MC_ERR_NURBS_KNOTS_DECREASING,
@@ -576,6 +576,18 @@ static void group_refusals(void) {
     EXPECT(mc_group_move_circular(c, 0, &arc, MC_ARC_PLANE_YZ, NULL, 0, &feed, &now, &m),
            MC_ERR_AXIS_NOT_IN_GROUP);
     expect_in_message("on group 0"); /* the group, not "axis 0" */
+    /* A plane of any two group axes (layout 1.10): one axis twice is the card's refusal, an
+       axis beyond the group's two the library's. */
+    EXPECT(mc_group_move_circular(c, 0, &arc,
+                                  MC_ARC_PLANE_AXES | 1u << MC_ARC_PLANE_U_SHIFT |
+                                      1u << MC_ARC_PLANE_V_SHIFT,
+                                  NULL, 0, &feed, &now, &m),
+           MC_ERR_PLANE_AXES);
+    EXPECT(mc_group_move_circular(c, 0, &arc,
+                                  MC_ARC_PLANE_AXES | 0u << MC_ARC_PLANE_U_SHIFT |
+                                      2u << MC_ARC_PLANE_V_SHIFT,
+                                  NULL, 0, &feed, &now, &m),
+           MC_ERR_BAD_AXIS);
     /* Refused by the library before anything was sent: the message names the group and the
        card's groups, once (not "group on group 7 not sent: no such group"). */
     mc_group_status gst;

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 9u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 10u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -57,7 +57,9 @@
                            * MC_NACK_COMP_* 120..124, comp_readback appended), the status
                            * payloads grew to 25 words (axis: comp_pos; group: a reserved word),
                            * their checksum is word 24; a touch probe that halts its axis's
-                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7) */
+                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7); 10: arcs in the
+                           * plane of any two group axes (MC_PLANE_AXES, MC_CIRC_U_SHIFT,
+                           * MC_CIRC_V_SHIFT, MC_NACK_PLANE_AXES) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -174,6 +176,10 @@
 #define MC_PLANE_XY 0u                 /*   group axes 0, 1 */
 #define MC_PLANE_YZ 1u                 /*   group axes 1, 2 */
 #define MC_PLANE_ZX 2u                 /*   group axes 2, 0 */
+#define MC_PLANE_AXES 3u               /*   any two group axes u, v, named apart (layout 1.10) */
+#define MC_CIRC_U_SHIFT 22u            /* MC_PLANE_AXES: 3 bits, the plane's first group axis (u) */
+#define MC_CIRC_V_SHIFT 25u            /* MC_PLANE_AXES: 3 bits, its second (v): counter-clockwise
+                                        * turns from u towards v; u == v is MC_NACK_PLANE_AXES */
 #define MC_CIRC_HELIX_RELATIVE (1u << 7) /* helical targets are distances even in an absolute move */
 #define MC_FEED_TYPE_SHIFT 8u          /* 2 bits: the feed type selecting the acc/dec filters */
 #define MC_FEED_RAPID 0u
@@ -780,6 +786,7 @@
 #define MC_NACK_COMP_ORDER 122  /* compensation positions not strictly increasing */
 #define MC_NACK_COMP_BOUND 123  /* a correction beyond the table's bound */
 #define MC_NACK_COMP_BUSY 124   /* the axis is not at rest: its compensation cannot change */
+#define MC_NACK_PLANE_AXES 139  /* an arc's plane of two group axes names one axis twice */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

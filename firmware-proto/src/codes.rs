@@ -379,6 +379,8 @@ code_enum! {
         CompBound = raw::MC_NACK_COMP_BOUND,
         /// The axis is not at rest: its compensation cannot change.
         CompBusy = raw::MC_NACK_COMP_BUSY,
+        /// An arc's plane of two group axes names one axis twice.
+        PlaneAxes = raw::MC_NACK_PLANE_AXES,
     }
 }
 

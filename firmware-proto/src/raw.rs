@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 9;
+pub const MC_LAYOUT_MINOR: u32 = 10;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -71,6 +71,9 @@ pub const MC_CIRC_PLANE_SHIFT: u32 = 5;
 pub const MC_PLANE_XY: u32 = 0;
 pub const MC_PLANE_YZ: u32 = 1;
 pub const MC_PLANE_ZX: u32 = 2;
+pub const MC_PLANE_AXES: u32 = 3;
+pub const MC_CIRC_U_SHIFT: u32 = 22;
+pub const MC_CIRC_V_SHIFT: u32 = 25;
 pub const MC_CIRC_HELIX_RELATIVE: u32 = 128;
 pub const MC_FEED_TYPE_SHIFT: u32 = 8;
 pub const MC_FEED_RAPID: u32 = 0;
@@ -284,6 +287,7 @@ pub const MC_NACK_COMP_SEQUENCE: u32 = 121;
 pub const MC_NACK_COMP_ORDER: u32 = 122;
 pub const MC_NACK_COMP_BOUND: u32 = 123;
 pub const MC_NACK_COMP_BUSY: u32 = 124;
+pub const MC_NACK_PLANE_AXES: u32 = 139;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;

@@ -91,6 +91,10 @@ pub mod move_flags {
     pub const CIRC_CCW: u32 = MoveFlags::CIRC_CCW.bits();
     /// Shift of the 2-bit plane (`MC_PLANE_*`).
     pub const PLANE_SHIFT: u32 = raw::MC_CIRC_PLANE_SHIFT;
+    /// `MC_PLANE_AXES`: shifts of the 3-bit group axes u and v of the plane.
+    pub const CIRC_U_SHIFT: u32 = raw::MC_CIRC_U_SHIFT;
+    /// See [`CIRC_U_SHIFT`].
+    pub const CIRC_V_SHIFT: u32 = raw::MC_CIRC_V_SHIFT;
     /// Helical targets are distances even in an absolute move.
     pub const CIRC_HELIX_RELATIVE: u32 = MoveFlags::CIRC_HELIX_RELATIVE.bits();
     /// Saturation-aware feed for a NURBS move (Yeh §3.4).
@@ -371,8 +375,11 @@ bitflags::bitflags! {
 // of the multi-bit fields (but the NURBS flag, whose opcode has no circle mode).
 const _: () = {
     assert!(AxisSafetyFlags::all().bits() == raw::MC_AXSAFE_ALL);
-    let fields =
-        3 << raw::MC_CIRC_MODE_SHIFT | 3 << raw::MC_CIRC_PLANE_SHIFT | 3 << raw::MC_FEED_TYPE_SHIFT;
+    let fields = 3 << raw::MC_CIRC_MODE_SHIFT
+        | 3 << raw::MC_CIRC_PLANE_SHIFT
+        | 3 << raw::MC_FEED_TYPE_SHIFT
+        | 7 << raw::MC_CIRC_U_SHIFT
+        | 7 << raw::MC_CIRC_V_SHIFT;
     assert!(
         MoveFlags::all()
             .difference(MoveFlags::NURBS_SATURATION)

@@ -308,6 +308,8 @@ error_kinds! {
     /// has started none there since the card was opened: there is nothing to wait for (the
     /// axis or group may still move, by motion of another kind: a raw command, another host).
     NoMotion = -115, MC_ERR_NO_MOTION, "no motion to wait for: none was started there by this process since the card was opened";
+    /// An arc whose plane of two group axes names one axis twice.
+    PlaneAxes = -130, MC_ERR_PLANE_AXES, nack PlaneAxes, "an arc's plane names one group axis twice";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -128,6 +128,21 @@ pub enum Plane {
     YZ,
     /// Group axes 2 and 0.
     ZX,
+    /// Any two group axes (u, v), counter-clockwise from u towards v (layout 1.10): a
+    /// rotary table's plane, a second XY pair. Two different axes.
+    Axes(usize, usize),
+}
+
+impl Plane {
+    /// The plane's group axes (u, v).
+    pub fn axes(self) -> (usize, usize) {
+        match self {
+            Plane::XY => (0, 1),
+            Plane::YZ => (1, 2),
+            Plane::ZX => (2, 0),
+            Plane::Axes(u, v) => (u, v),
+        }
+    }
 }
 
 /// An arc, in the coordinates of its plane (`end`, `centre`, `via`: plane coordinates of the
@@ -646,11 +661,23 @@ impl Group {
         helix: &[f64],
     ) -> Result<ArcGeometry> {
         let (n, axes) = self.axes()?;
-        let (u, v) = match plane {
-            Plane::XY => (0, 1),
-            Plane::YZ => (1, 2),
-            Plane::ZX => (2, 0),
-        };
+        let (u, v) = plane.axes();
+        if let Plane::Axes(..) = plane {
+            // (one axis twice is the card's to refuse: MC_NACK_PLANE_AXES, ErrorKind::PlaneAxes)
+            for a in [u, v] {
+                if a >= n {
+                    return Err(Error::BadAxis { axis: a, count: n });
+                }
+            }
+            let layout = self.card.info().layout;
+            if layout.1 < 10 {
+                return Err(Error::Unsupported(format!(
+                    "arcs in the plane of group axes {u}, {v} need layout 1.10 (the card has \
+                     1.{})",
+                    layout.1
+                )));
+            }
+        }
         let su = self.card.scale(axes[u.min(n.saturating_sub(1))]);
         let sv = self.card.scale(axes[v.min(n.saturating_sub(1))]);
         let (mode, end, aux, ccw) = match *arc {
@@ -685,10 +712,11 @@ impl Group {
         for ((d, x), i) in h.iter_mut().zip(helix).zip(&others) {
             *d = x * self.card.scale(axes[*i]);
         }
-        let plane_bits = match plane {
-            Plane::XY => raw::MC_PLANE_XY,
-            Plane::YZ => raw::MC_PLANE_YZ,
-            Plane::ZX => raw::MC_PLANE_ZX,
+        let (plane_bits, plane_axes) = match plane {
+            Plane::XY => (raw::MC_PLANE_XY, (0, 0)),
+            Plane::YZ => (raw::MC_PLANE_YZ, (0, 0)),
+            Plane::ZX => (raw::MC_PLANE_ZX, (0, 0)),
+            Plane::Axes(u, v) => (raw::MC_PLANE_AXES, (u as u8, v as u8)),
         };
         Ok(ArcGeometry {
             end: [end[0] * su, end[1] * sv],
@@ -697,6 +725,7 @@ impl Group {
             flags: ArcFlags {
                 mode: mode as u8,
                 plane: plane_bits as u8,
+                axes: plane_axes,
                 ccw,
                 helix_relative: helix.is_empty(),
             },

@@ -1,10 +1,10 @@
 //! Axes groups, their moves and filters, PD+ and NURBS.
 
 use crate::codes::{
-    MC_ARC_BY_BORDER, MC_ARC_BY_CENTRE, MC_ARC_BY_RADIUS, MC_ARC_PLANE_XY, MC_ARC_PLANE_YZ,
-    MC_ARC_PLANE_ZX, MC_FILTER_KIND_BELL, MC_FILTER_KIND_EXPONENTIAL, MC_FILTER_KIND_LINEAR,
-    MC_FILTER_KIND_NONE, MC_GROUP_ACCDEC_POST, MC_GROUP_ACCDEC_PRE, MC_GROUP_INTERP_EXACT,
-    MC_GROUP_INTERP_REFERENCE_WORD, MC_GROUP_MAX_AXES,
+    MC_ARC_BY_BORDER, MC_ARC_BY_CENTRE, MC_ARC_BY_RADIUS, MC_ARC_PLANE_AXES, MC_ARC_PLANE_XY,
+    MC_ARC_PLANE_YZ, MC_ARC_PLANE_ZX, MC_FILTER_KIND_BELL, MC_FILTER_KIND_EXPONENTIAL,
+    MC_FILTER_KIND_LINEAR, MC_FILTER_KIND_NONE, MC_GROUP_ACCDEC_POST, MC_GROUP_ACCDEC_PRE,
+    MC_GROUP_INTERP_EXACT, MC_GROUP_INTERP_REFERENCE_WORD, MC_GROUP_MAX_AXES,
 };
 use crate::result::{unknown, Failure};
 use motioncard_sdk::ErrorKind;
@@ -208,12 +208,24 @@ impl mc_arc {
     }
 }
 
+/// `MC_ARC_PLANE_AXES`: a plane value names its two group axes u and v (counter-clockwise
+/// from u towards v) as `MC_ARC_PLANE_AXES | u << MC_ARC_PLANE_U_SHIFT | v <<
+/// MC_ARC_PLANE_V_SHIFT` (u, v 0..7; one axis twice is `MC_ERR_PLANE_AXES`).
+pub const MC_ARC_PLANE_U_SHIFT: u32 = 8;
+/// See `MC_ARC_PLANE_U_SHIFT`.
+pub const MC_ARC_PLANE_V_SHIFT: u32 = 12;
+
 /// The plane of an `MC_ARC_PLANE_` value.
 pub(crate) fn plane_of(v: u32) -> Result<Plane, Failure> {
+    let axis = |shift: u32| (v >> shift & 0xf) as usize;
     match v {
         MC_ARC_PLANE_XY => Ok(Plane::XY),
         MC_ARC_PLANE_YZ => Ok(Plane::YZ),
         MC_ARC_PLANE_ZX => Ok(Plane::ZX),
+        v if v & 0xff == MC_ARC_PLANE_AXES && v >> 16 == 0 => Ok(Plane::Axes(
+            axis(MC_ARC_PLANE_U_SHIFT),
+            axis(MC_ARC_PLANE_V_SHIFT),
+        )),
         v => Err(unknown("plane", v)),
     }
 }
@@ -564,7 +576,16 @@ mod tests {
             ErrorKind::BadConfig.code()
         );
         assert_eq!(plane_of(MC_ARC_PLANE_ZX).unwrap(), Plane::ZX);
-        assert_eq!(plane_of(3).unwrap_err().code, ErrorKind::BadConfig.code());
+        assert_eq!(plane_of(4).unwrap_err().code, ErrorKind::BadConfig.code());
+        assert_eq!(
+            plane_of(MC_ARC_PLANE_AXES | 3 << MC_ARC_PLANE_U_SHIFT | 1 << MC_ARC_PLANE_V_SHIFT)
+                .unwrap(),
+            Plane::Axes(3, 1)
+        );
+        assert_eq!(
+            plane_of(MC_ARC_PLANE_AXES | 1 << 16).unwrap_err().code,
+            ErrorKind::BadConfig.code()
+        );
 
         let feed = mc_nurbs_feed {
             feed: 1.0,

@@ -126,8 +126,10 @@ impl Args for PtpMove {
 pub struct ArcFlags {
     /// `MC_CIRC_BY_CENTRE`, `_RADIUS` or `_BORDER` (2 bits; 3 is none: the card refuses it).
     pub mode: u8,
-    /// `MC_PLANE_XY`, `_YZ` or `_ZX` (2 bits; 3 is none: refused).
+    /// `MC_PLANE_XY`, `_YZ`, `_ZX` or `_AXES` (2 bits).
     pub plane: u8,
+    /// `MC_PLANE_AXES`: the plane's group axes (3 bits each; 0 otherwise).
+    pub axes: (u8, u8),
     /// Counter-clockwise (else clockwise; ignored for a border-point arc).
     pub ccw: bool,
     /// The helical targets are distances even in an absolute move.
@@ -138,6 +140,8 @@ impl ArcFlags {
     fn bits(&self) -> u32 {
         (self.mode as u32 & 3) << move_flags::CIRC_MODE_SHIFT
             | (self.plane as u32 & 3) << move_flags::PLANE_SHIFT
+            | (self.axes.0 as u32 & 7) << move_flags::CIRC_U_SHIFT
+            | (self.axes.1 as u32 & 7) << move_flags::CIRC_V_SHIFT
             | set(self.ccw, move_flags::CIRC_CCW)
             | set(self.helix_relative, move_flags::CIRC_HELIX_RELATIVE)
     }
@@ -146,6 +150,10 @@ impl ArcFlags {
         Self {
             mode: ((f >> move_flags::CIRC_MODE_SHIFT) & 3) as u8,
             plane: ((f >> move_flags::PLANE_SHIFT) & 3) as u8,
+            axes: (
+                ((f >> move_flags::CIRC_U_SHIFT) & 7) as u8,
+                ((f >> move_flags::CIRC_V_SHIFT) & 7) as u8,
+            ),
             ccw: bit(f, move_flags::CIRC_CCW),
             helix_relative: bit(f, move_flags::CIRC_HELIX_RELATIVE),
         }

@@ -59,15 +59,17 @@ fn arc() -> BoxedStrategy<ArcGeometry> {
         0u8..4,
         0u8..4,
         any::<(bool, bool)>(),
+        (0u8..8, 0u8..8),
     )
         .prop_map(
-            |(end, aux, helix, mode, plane, (ccw, helix_relative))| ArcGeometry {
+            |(end, aux, helix, mode, plane, (ccw, helix_relative), axes)| ArcGeometry {
                 end,
                 aux,
                 helix,
                 flags: ArcFlags {
                     mode,
                     plane,
+                    axes,
                     ccw,
                     helix_relative,
                 },

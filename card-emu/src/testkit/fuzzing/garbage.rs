@@ -457,7 +457,8 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             }
             let feed_type = feed(s);
             let mode = s.u8() % 3;
-            let plane = s.u8() % 3;
+            let plane = s.u8() % 4;
+            let axes = (s.u8() % 8, s.u8() % 8);
             let bits = s.u8() & (3 | move_flags::CIRC_CCW as u8);
             let m = CircularMove {
                 limits,
@@ -468,6 +469,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                     flags: ArcFlags {
                         mode,
                         plane,
+                        axes,
                         ccw: bits & move_flags::CIRC_CCW as u8 != 0,
                         helix_relative: false,
                     },
@@ -508,6 +510,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                     flags: ArcFlags {
                         mode,
                         plane: 0,
+                        axes: (0, 0),
                         ccw,
                         helix_relative: false,
                     },

@@ -1058,6 +1058,13 @@ impl Group {
             raw::MC_PLANE_XY => (0, 1),
             raw::MC_PLANE_YZ => (1, 2),
             raw::MC_PLANE_ZX => (2, 0),
+            raw::MC_PLANE_AXES => {
+                let (u, v) = (a.flags.axes.0 as usize, a.flags.axes.1 as usize);
+                if u == v {
+                    return Err(NackCode::PlaneAxes);
+                }
+                (u, v)
+            }
             _ => return Err(NackCode::BadConfig),
         };
         if u >= n || v >= n {
