@@ -1689,6 +1689,23 @@ extern "C" {
 #define MC_OP_COMP_READ 100
 
 /**
+ * Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
+ * `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio| <=
+ * `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per detent,
+ * `1..MC_HANDWHEEL_DETENT_MAX`) (else `MC_NACK_HANDWHEEL_RATIO`). From Standstill, Discrete or
+ * ContinuousMotion (Aborting: the target starts where the axis's jog ramp stops it) or the axis's
+ * own handwheel (a new input or ratio, from the target it has: the motion and its seq go on).
+ */
+#define MC_OP_HANDWHEEL 104
+
+/**
+ * Axis: the axis, whose handwheel runs (else `MC_NACK_INVALID_STATE`): the axis goes on to the
+ * wheel's last target as a DiscreteMotion, `MC_EVENT_MOTION_DONE` with its `MC_OP_HANDWHEEL's`
+ * seq, then Standstill.
+ */
+#define MC_OP_HANDWHEEL_OFF 105
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -5925,6 +5942,10 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_DEBOUNCE_MAX 10000u
 
+#define MC_HANDWHEEL_DETENT_MAX 1024u
+
+#define MC_HANDWHEEL_RATIO_MAX 10000u
+
 #define MC_MAX_MOVE_TIME 1000000.0
 
 /**
@@ -6088,6 +6109,16 @@ mc_result mc_send_raw(mc_card card,
  * A move on a disabled group.
  */
 #define MC_NACK_GROUP_DISABLED 27
+
+/**
+ * A handwheel input the card does not have (not a whole number in `0..MC_AUX_ENCODERS-1`).
+ */
+#define MC_NACK_HANDWHEEL_INPUT 129
+
+/**
+ * A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a detent outside `1..MC_HANDWHEEL_DETENT_MAX`.
+ */
+#define MC_NACK_HANDWHEEL_RATIO 130
 
 /**
  * The move goes further into an active limit switch.

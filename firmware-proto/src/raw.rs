@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 9;
+pub const MC_LAYOUT_MINOR: u32 = 10;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -284,6 +284,12 @@ pub const MC_NACK_COMP_SEQUENCE: u32 = 121;
 pub const MC_NACK_COMP_ORDER: u32 = 122;
 pub const MC_NACK_COMP_BOUND: u32 = 123;
 pub const MC_NACK_COMP_BUSY: u32 = 124;
+pub const MC_OP_HANDWHEEL: u32 = 104;
+pub const MC_OP_HANDWHEEL_OFF: u32 = 105;
+pub const MC_HANDWHEEL_RATIO_MAX: u32 = 10000;
+pub const MC_HANDWHEEL_DETENT_MAX: u32 = 1024;
+pub const MC_NACK_HANDWHEEL_INPUT: u32 = 129;
+pub const MC_NACK_HANDWHEEL_RATIO: u32 = 130;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
