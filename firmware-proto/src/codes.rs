@@ -816,11 +816,11 @@ code_enum! {
         /// detent, `1..MC_HANDWHEEL_DETENT_MAX`) (else `MC_NACK_HANDWHEEL_RATIO`). From Standstill,
         /// Discrete or ContinuousMotion (Aborting: the target starts where the axis's jog ramp
         /// stops it) or the axis's own handwheel (a new input or ratio, from the target it has: the
-        /// motion and its seq go on).
+        /// motion and its seq go on). Ack value: the seq of the handwheel's motion.
         Handwheel = raw::MC_OP_HANDWHEEL,
         /// Axis: the axis, whose handwheel runs (else `MC_NACK_INVALID_STATE`): the axis goes on to
-        /// the wheel's last target as a DiscreteMotion, `MC_EV_MOTION_DONE` with its
-        /// `MC_OP_HANDWHEEL's` seq, then Standstill.
+        /// the wheel's last target as a DiscreteMotion, `MC_EV_MOTION_DONE` with the seq of its
+        /// `MC_OP_HANDWHEEL`, then Standstill.
         HandwheelOff = raw::MC_OP_HANDWHEEL_OFF,
     }
 }
