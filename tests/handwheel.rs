@@ -21,8 +21,8 @@ mod common;
 use common::stepped_card_with;
 use motioncard_sdk::proto::{Command, Opcode};
 use motioncard_sdk::{
-    AxisState, Card, EmuOptions, ErrorKind, GroupSettings, Handwheel, MoveLimits, NackCode,
-    SafetySettings, StopCategory, StopReason, VelocityLimits,
+    AxisState, Card, EmuOptions, ErrorKind, GroupSettings, Handwheel, MotionFlags, MoveLimits,
+    NackCode, SafetySettings, StopCategory, StopReason, VelocityLimits,
 };
 use std::time::Duration;
 
@@ -102,9 +102,12 @@ fn a_detent_moves_the_axis_by_the_ratio_exactly() {
     let p0 = ax.status().unwrap().command_position;
     let m = ax.handwheel(&Handwheel::new(1).ratio(10)).unwrap();
     assert_eq!(ax.status().unwrap().state, AxisState::SynchronizedMotion);
-    // 7 detents of 4 counts, ×10.
+    // 7 detents of 4 counts, ×10; the override (0 %: held) does not scale the wheel.
+    ax.set_override(0.0).unwrap();
     turn(&card, 1, 28);
     assert_eq!(settle(&card, 0), p0 + 70.0);
+    assert!(!ax.status().unwrap().motion.contains(MotionFlags::PAUSED));
+    ax.set_override(1.0).unwrap();
     // Two counts: half a detent, half the ratio.
     turn(&card, 1, -2);
     assert_eq!(settle(&card, 0), p0 + 65.0);

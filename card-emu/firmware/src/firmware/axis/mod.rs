@@ -1142,7 +1142,11 @@ impl Axis {
     pub fn motion_flags(&self) -> MotionFlags {
         let mut f = MotionFlags::empty();
         let homing = self.state == AxisState::Homing;
-        let moving = self.awaiting_done && self.goal != Goal::None && !homing;
+        // Homing and the handwheel (SynchronizedMotion) are not scaled by the override.
+        let moving = self.awaiting_done
+            && self.goal != Goal::None
+            && !homing
+            && self.state != AxisState::SynchronizedMotion;
         f.set(MotionFlags::IN_VELOCITY, self.in_velocity && !homing);
         f.set(MotionFlags::HOMED, self.homed);
         f.set(MotionFlags::PAUSED, moving && self.override_factor == 0.0);
