@@ -20,6 +20,7 @@ pub mod config;
 pub mod gcode;
 pub mod gear;
 pub mod halt;
+pub mod handwheel;
 pub mod home;
 pub mod info;
 pub mod interrupt;

@@ -327,6 +327,56 @@ fn limits_outside_the_cards_range_are_refused() {
     assert_eq!(code, 0, "{err}");
 }
 
+/// Layout 1.10: `mcctl handwheel` selects the wheel, holds it, lets go (the wheel on a `sim`
+/// card stands still: the axis stays); `--off` without a wheel, a bad input, ratio or detent
+/// exit with status 1 and the card's reason.
+#[test]
+fn handwheel_selects_holds_and_lets_go() {
+    let (code, out, err) = mcctl(&[
+        "handwheel",
+        "2",
+        "--input",
+        "1",
+        "--ratio",
+        "10",
+        "--for",
+        "0.1",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["axis"], 2, "{out}");
+    assert_eq!(j["ratio"], 10, "{out}");
+    assert_eq!(j["detent"], 4, "{out}");
+    assert_eq!(j["turned"], 0, "{out}");
+    assert_eq!(j["moved"], 0.0, "{out}");
+    for (args, why) in [
+        (
+            vec!["handwheel", "0", "--off"],
+            "not allowed in the axis's current state",
+        ),
+        (
+            vec!["handwheel", "0", "--input", "2", "--enable"],
+            "no such handwheel",
+        ),
+        (
+            vec!["handwheel", "0", "--ratio", "0", "--enable"],
+            "bad handwheel ratio",
+        ),
+        (
+            vec!["handwheel", "0", "--detent", "0", "--enable"],
+            "bad handwheel ratio",
+        ),
+    ] {
+        let (code, _, err) = mcctl(&args);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let (code, _, err) = mcctl(&["handwheel", "0", "--off", "--ratio", "10"]);
+    assert_eq!(code, 2, "{err}");
+}
+
 /// The card subcommands against an emulated card (`--card sim`, real time): a move waited for,
 /// velocity mode for a while, jog, status as JSON; the card's refusals exit with status 1 and
 /// its reason.

@@ -1052,6 +1052,37 @@ fn gearing_does_not_touch_the_heap() {
     r.assert_no_heap("gearing");
 }
 
+/// Layout 1.10: the handwheel. Selected from rest, turned beyond the reach and back,
+/// reselected, its input handed over, let go, halted: every tick without the heap.
+#[test]
+fn the_handwheel_does_not_touch_the_heap() {
+    let mut r = Rig::new();
+    r.power_on(0..2);
+    let first = r.ok(Opcode::Handwheel, 0, 0, &[0.0, 100.0, 4.0]);
+    let mut m = 0i64;
+    let mut turn = |r: &mut Rig, ticks: usize, by: i64| {
+        for _ in 0..ticks {
+            m += by;
+            r.fw.set_aux_encoders([m, 0]);
+            r.step();
+        }
+    };
+    turn(&mut r, 3_000, 7);
+    turn(&mut r, 1_000, -3);
+    r.ok(Opcode::Handwheel, 0, 0, &[0.0, 10.0, 4.0]);
+    turn(&mut r, 500, 1);
+    r.ok(Opcode::Handwheel, 1, 0, &[0.0, 1.0, 4.0]);
+    turn(&mut r, 1_000, 1);
+    assert!(r.run_until(20_000, |r| r.got(EventKind::MotionDone, first)));
+    r.ok(Opcode::HandwheelOff, 1, 0, &[]);
+    let halted = r.ok(Opcode::Handwheel, 1, 0, &[0.0, 100.0, 4.0]);
+    turn(&mut r, 500, 5);
+    r.ok(Opcode::Halt, 1, 0, &[2e6, 1e8]);
+    assert!(r.got(EventKind::MotionAborted, halted));
+    assert!(r.run_until(20_000, |r| r.axis_state(1) == AxisState::Standstill));
+    r.assert_no_heap("handwheel");
+}
+
 /// Layout 1.7 (sync): PT/PVT streams. PVT and PT to their last points, a stream that runs dry,
 /// a halted one, and a refill on the low-water event: every tick without the heap (the
 /// buffers are made by the first MC_OP_PVT_BEGIN of each axis, in the command manager).

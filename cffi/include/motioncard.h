@@ -1694,6 +1694,24 @@ extern "C" {
 #define MC_OP_COMP_READ 100
 
 /**
+ * Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
+ * `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio| <=
+ * `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per detent,
+ * `1..MC_HANDWHEEL_DETENT_MAX`) (else `MC_NACK_HANDWHEEL_RATIO`). From Standstill, Discrete or
+ * ContinuousMotion (Aborting: the target starts where the axis's jog ramp stops it) or the axis's
+ * own handwheel (a new input or ratio, from the target it has: the motion and its seq go on). Ack
+ * value: the seq of the handwheel's motion.
+ */
+#define MC_OP_HANDWHEEL 104
+
+/**
+ * Axis: the axis, whose handwheel runs (else `MC_NACK_INVALID_STATE`): the axis goes on to the
+ * wheel's last target as a DiscreteMotion, `MC_EVENT_MOTION_DONE` with the seq of its
+ * `MC_OP_HANDWHEEL`, then Standstill.
+ */
+#define MC_OP_HANDWHEEL_OFF 105
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -1720,6 +1738,12 @@ extern "C" {
  * is read.
  */
 #define MC_GCODE_ABORTED 4
+
+/**
+ * The default detent of `mc_handwheel_select`: 4 auxiliary counts (a quadrature wheel with
+ * one detent per cycle, 100 detents a turn).
+ */
+#define MC_HANDWHEEL_DEFAULT_DETENT 4
 
 /**
  * Homing method: a hard stop (a mechanical end stop) in the negative direction, found as a
@@ -4224,6 +4248,17 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_COMP_BUSY -114
 
 /**
+ * Layout 1.10: a handwheel input the card does not have.
+ */
+#define MC_ERR_HANDWHEEL_INPUT -120
+
+/**
+ * A handwheel ratio of 0 or beyond the maximum (10000 counts per detent), or a detent
+ * outside 1..=1024 auxiliary counts.
+ */
+#define MC_ERR_HANDWHEEL_RATIO -121
+
+/**
  * A configuration file that does not parse, or a value in it that the card would refuse
  * (the error names the key and its line); nothing of the file was applied.
  */
@@ -5028,6 +5063,39 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *setti
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
 mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
+
+/**
+ * Select auxiliary encoder `input` as the handwheel of `axis`: each detent (`detent`
+ * auxiliary counts, 1..1024, usually `MC_HANDWHEEL_DEFAULT_DETENT`) moves the axis by `ratio`
+ * encoder counts (x1, x10, x100; 1 <= |ratio| <= 10000, negative: the other way; on an axis
+ * whose scale is negative the ratio is negated, so the wheel turns the axis forward in user
+ * units). The axis follows within its jog limits (`jog_max_vel`, `jog_accel`, `jog_jerk` of
+ * `mc_axis_settings`), in SynchronizedMotion; turned faster, the excess is dropped: once the
+ * wheel stops, the axis stops within its stop distance from `jog_max_vel` plus one servo
+ * period at it. Once homed with soft limits on, the wheel stops the axis at a soft limit.
+ * From Standstill, or taking over a move or velocity mode (aborted; the wheel starts where the
+ * jog ramp stops the axis), or on the axis's own handwheel (a new input, ratio or detent: the
+ * motion goes on, and `*motion` is the first selection's). An input selected for another axis
+ * is handed over: that axis goes on to where the wheel put it, its motion done. `motion` (may
+ * be NULL) receives the motion, done once the handwheel is let go (`mc_handwheel_off`, or its
+ * input handed over) and the axis in position; `MC_ERR_ABORTED` after a halt, stop or fault.
+ * Refused: `MC_ERR_HANDWHEEL_INPUT` (no such input), `MC_ERR_HANDWHEEL_RATIO` (a ratio of 0 or
+ * beyond 10000, a detent outside 1..1024), `MC_ERR_AXIS_GROUPED`, `MC_ERR_AXIS_DISABLED`,
+ * `MC_ERR_INVALID_STATE` (homing, stopping, geared, ErrorStop). Blocks until the card answers.
+ */
+mc_result mc_handwheel_select(mc_card card,
+                              uint32_t axis,
+                              uint32_t input,
+                              int32_t ratio,
+                              uint32_t detent,
+                              struct mc_motion *motion);
+
+/**
+ * Let go of the handwheel of `axis`: the axis goes on to where the wheel put it, and the
+ * handwheel's motion is done there. `MC_ERR_INVALID_STATE` when no handwheel drives the axis.
+ * Blocks until the card answers.
+ */
+mc_result mc_handwheel_off(mc_card card, uint32_t axis);
 
 /**
  * The homing configuration the card loads at boot: method 37 (the current position), search
@@ -6028,6 +6096,10 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_DEBOUNCE_MAX 10000u
 
+#define MC_HANDWHEEL_DETENT_MAX 1024u
+
+#define MC_HANDWHEEL_RATIO_MAX 10000u
+
 #define MC_MAX_MOVE_TIME 1000000.0
 
 /**
@@ -6191,6 +6263,16 @@ mc_result mc_send_raw(mc_card card,
  * A move on a disabled group.
  */
 #define MC_NACK_GROUP_DISABLED 27
+
+/**
+ * A handwheel input the card does not have (not a whole number in `0..MC_AUX_ENCODERS-1`).
+ */
+#define MC_NACK_HANDWHEEL_INPUT 129
+
+/**
+ * A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a detent outside `1..MC_HANDWHEEL_DETENT_MAX`.
+ */
+#define MC_NACK_HANDWHEEL_RATIO 130
 
 /**
  * The move goes further into an active limit switch.

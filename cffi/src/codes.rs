@@ -1019,3 +1019,17 @@ pub const MC_OP_COMP_DATA: u32 = 99;
 /// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state; taken
 /// without a session (it reads).
 pub const MC_OP_COMP_READ: u32 = 100;
+
+/// Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
+/// `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio| <=
+/// `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per detent,
+/// `1..MC_HANDWHEEL_DETENT_MAX`) (else `MC_NACK_HANDWHEEL_RATIO`). From Standstill, Discrete or
+/// ContinuousMotion (Aborting: the target starts where the axis's jog ramp stops it) or the axis's
+/// own handwheel (a new input or ratio, from the target it has: the motion and its seq go on). Ack
+/// value: the seq of the handwheel's motion.
+pub const MC_OP_HANDWHEEL: u32 = 104;
+
+/// Axis: the axis, whose handwheel runs (else `MC_NACK_INVALID_STATE`): the axis goes on to the
+/// wheel's last target as a DiscreteMotion, `MC_EVENT_MOTION_DONE` with the seq of its
+/// `MC_OP_HANDWHEEL`, then Standstill.
+pub const MC_OP_HANDWHEEL_OFF: u32 = 105;

@@ -29,6 +29,7 @@ pub mod comp;
 mod ffi;
 pub mod gcode;
 pub mod group;
+pub mod handwheel;
 pub mod homing;
 pub mod io;
 pub mod modes;

@@ -702,6 +702,17 @@ fn compensation_from_c() {
     );
 }
 
+/// Layout 1.10: the handwheel from C (x10, handed over, let go, the refusals).
+#[test]
+fn handwheel_from_c() {
+    let out = run(&compile("handwheel", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS handwheel\n"), "{out}");
+    assert!(
+        out.contains("handwheel: 10 detents x10: 100.0 counts"),
+        "{out}"
+    );
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");

@@ -66,6 +66,8 @@ static const mc_result ALL_CODES[] = {
     /* leadscrew compensation (layout 1.9) */
     MC_ERR_COMP_TABLE,     MC_ERR_COMP_SEQUENCE,   MC_ERR_COMP_ORDER,
     MC_ERR_COMP_BOUND,     MC_ERR_COMP_BUSY,
+    /* the handwheel (layout 1.10) */
+    MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
     /* waits with nothing to wait for */
     MC_ERR_NO_MOTION,
     /* the ABI's own */
@@ -135,6 +137,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_COMP_TABLE, MC_ERR_COMP_ORDER, MC_ERR_COMP_BOUND, MC_ERR_COMP_BUSY,
     /* not provokable from C: the ABI sends a compensation table in order */
     MC_ERR_COMP_SEQUENCE,
+    /* handwheel.c */
+    MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
 };
 
 static void result_strings(void) {

@@ -57,9 +57,11 @@
                            * MC_NACK_COMP_* 120..124, comp_readback appended), the status
                            * payloads grew to 25 words (axis: comp_pos; group: a reserved word),
                            * their checksum is word 24; a touch probe that halts its axis's
-                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7); 10: arcs in the
-                           * plane of any two group axes (MC_PLANE_AXES, MC_CIRC_U_SHIFT,
-                           * MC_CIRC_V_SHIFT, MC_NACK_PLANE_AXES) */
+                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7);
+                           * 10: arcs in the plane of any two group axes (MC_PLANE_AXES,
+                           * MC_CIRC_U_SHIFT, MC_CIRC_V_SHIFT, MC_NACK_PLANE_AXES 139); the
+                           * handwheel (MC_OP_HANDWHEEL 104, MC_OP_HANDWHEEL_OFF 105,
+                           * MC_NACK_HANDWHEEL_INPUT 129, MC_NACK_HANDWHEEL_RATIO 130) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -787,6 +789,43 @@
 #define MC_NACK_COMP_BOUND 123  /* a correction beyond the table's bound */
 #define MC_NACK_COMP_BUSY 124   /* the axis is not at rest: its compensation cannot change */
 #define MC_NACK_PLANE_AXES 139  /* an arc's plane of two group axes names one axis twice */
+
+/* layout 1.10: the handwheel (MPG). An auxiliary encoder input jogs an axis: each detent of the
+ * wheel (`detent` auxiliary counts, 4 for a quadrature wheel with one detent per cycle) moves the
+ * axis's target by `ratio` counts (x1, x10, x100...), exactly: the target is the anchor plus
+ * ratio * (aux count - anchor count) / detent, nothing summed tick by tick. The axis follows the
+ * target from its commanded state along a time-optimal jerk-limited trajectory within its jog
+ * limits (axis_config.jog_max_vel, jog_accel, jog_jerk; the override does not scale it), in
+ * SynchronizedMotion. The target is never further ahead of the commanded position than the
+ * axis's stop distance from jog_max_vel (at jog_accel, jog_jerk) plus one servo period at
+ * jog_max_vel: what the wheel turns beyond that is dropped (the anchor moves), so nothing runs on
+ * when the wheel stops. Once homed with soft limits on, the wheel cannot move the target beyond a
+ * soft limit (the turns beyond are dropped: the axis stops at the limit, no trip). An input
+ * drives one axis at a time: selecting it for another axis hands it over (the first one goes on
+ * to its target as a DiscreteMotion: MC_EV_MOTION_DONE with the seq of its MC_OP_HANDWHEEL,
+ * then Standstill). MC_OP_HALT, MC_OP_STOP, power off and safety stops end it as any motion, and a
+ * move, jog, MC_Home or gearing on the axis is refused (MC_NACK_INVALID_STATE) while it runs. */
+#define MC_OP_HANDWHEEL 104u     /* axis: the axis (not in an enabled group). args: input
+                                  * (0..MC_AUX_ENCODERS-1, else MC_NACK_HANDWHEEL_INPUT), ratio
+                                  * (axis counts per detent, a whole number, 1 <= |ratio| <=
+                                  * MC_HANDWHEEL_RATIO_MAX; negative: the other way), detent
+                                  * (auxiliary counts per detent, 1..MC_HANDWHEEL_DETENT_MAX)
+                                  * (else MC_NACK_HANDWHEEL_RATIO). From Standstill, Discrete or
+                                  * ContinuousMotion (Aborting: the target starts where the
+                                  * axis's jog ramp stops it) or the axis's own handwheel (a new
+                                  * input or ratio, from the target it has: the motion and its
+                                  * seq go on). Ack value: the seq of the handwheel's motion */
+#define MC_OP_HANDWHEEL_OFF 105u /* axis: the axis, whose handwheel runs (else
+                                  * MC_NACK_INVALID_STATE): the axis goes on to the wheel's last
+                                  * target as a DiscreteMotion, MC_EV_MOTION_DONE with the seq
+                                  * of its MC_OP_HANDWHEEL, then Standstill */
+#define MC_HANDWHEEL_RATIO_MAX 10000u
+#define MC_HANDWHEEL_DETENT_MAX 1024u
+#define MC_NACK_HANDWHEEL_INPUT 129 /* a handwheel input the card does not have (not a whole
+                                     * number in 0..MC_AUX_ENCODERS-1) */
+#define MC_NACK_HANDWHEEL_RATIO 130 /* a handwheel ratio that is 0, not a whole number or beyond
+                                     * MC_HANDWHEEL_RATIO_MAX, or a detent outside
+                                     * 1..MC_HANDWHEEL_DETENT_MAX */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

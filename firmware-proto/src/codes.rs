@@ -379,6 +379,11 @@ code_enum! {
         CompBound = raw::MC_NACK_COMP_BOUND,
         /// The axis is not at rest: its compensation cannot change.
         CompBusy = raw::MC_NACK_COMP_BUSY,
+        /// A handwheel input the card does not have (not a whole number in `0..MC_AUX_ENCODERS-1`).
+        HandwheelInput = raw::MC_NACK_HANDWHEEL_INPUT,
+        /// A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a
+        /// detent outside `1..MC_HANDWHEEL_DETENT_MAX`.
+        HandwheelRatio = raw::MC_NACK_HANDWHEEL_RATIO,
         /// An arc's plane of two group axes names one axis twice.
         PlaneAxes = raw::MC_NACK_PLANE_AXES,
     }
@@ -807,5 +812,17 @@ code_enum! {
         /// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state;
         /// taken without a session (it reads).
         CompRead = raw::MC_OP_COMP_READ,
+        /// Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
+        /// `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio|
+        /// <= `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per
+        /// detent, `1..MC_HANDWHEEL_DETENT_MAX`) (else `MC_NACK_HANDWHEEL_RATIO`). From Standstill,
+        /// Discrete or ContinuousMotion (Aborting: the target starts where the axis's jog ramp
+        /// stops it) or the axis's own handwheel (a new input or ratio, from the target it has: the
+        /// motion and its seq go on). Ack value: the seq of the handwheel's motion.
+        Handwheel = raw::MC_OP_HANDWHEEL,
+        /// Axis: the axis, whose handwheel runs (else `MC_NACK_INVALID_STATE`): the axis goes on to
+        /// the wheel's last target as a DiscreteMotion, `MC_EV_MOTION_DONE` with the seq of its
+        /// `MC_OP_HANDWHEEL`, then Standstill.
+        HandwheelOff = raw::MC_OP_HANDWHEEL_OFF,
     }
 }

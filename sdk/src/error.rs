@@ -298,6 +298,11 @@ error_kinds! {
     CompBound = -113, MC_ERR_COMP_BOUND, nack CompBound, "a compensation correction is beyond the table's bound";
     /// A compensation table changed on an axis that is not at rest.
     CompBusy = -114, MC_ERR_COMP_BUSY, nack CompBusy, "the axis is not at rest: its compensation cannot change";
+    /// Layout 1.10: a handwheel input the card does not have.
+    HandwheelInput = -120, MC_ERR_HANDWHEEL_INPUT, nack HandwheelInput, "the card has no such handwheel (auxiliary encoder) input";
+    /// A handwheel ratio of 0 or beyond the maximum (10000 counts per detent), or a detent
+    /// outside 1..=1024 auxiliary counts.
+    HandwheelRatio = -121, MC_ERR_HANDWHEEL_RATIO, nack HandwheelRatio, "bad handwheel ratio (0 or beyond 10000 counts per detent) or detent (1 to 1024 counts)";
     /// A configuration file that does not parse, or a value in it that the card would refuse
     /// (the error names the key and its line); nothing of the file was applied.
     ConfigFile = -107, MC_ERR_CONFIG_FILE, "the configuration file does not parse or validate";

@@ -32,6 +32,7 @@ mod error;
 mod fit;
 pub mod gcode;
 mod group;
+mod handwheel;
 mod heartbeat;
 mod homing;
 mod io;
@@ -85,6 +86,7 @@ pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
     Interpolator, MoveOptions, PathLimits, Plane,
 };
+pub use handwheel::{Handwheel, HANDWHEEL_DETENT_MAX, HANDWHEEL_RATIO_MAX};
 pub use heartbeat::HEARTBEAT_PERIOD_US;
 pub use homing::{HomingError, HomingFlags, HomingSettings};
 pub use io::{

@@ -16,6 +16,7 @@
 //! mcctl --card emu:bench1 override 0 0.5             # 50 %
 //! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
+//! mcctl --card emu:bench1 handwheel 0 --input 0 --ratio 10 --for 60   # aux 0 jogs axis 0, x10
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
 //! mcctl --card emu:bench1 io --set-outputs 0x0F 0x05   # digital outputs, then inputs/outputs
 //! mcctl --card emu:bench1 pvt 0 points.csv --vmax 1e5 --amax 1e6 --enable   # a PT/PVT stream
@@ -112,6 +113,10 @@ enum Cmd {
     /// Jog at a signed velocity with the axis's jog limits, for --for seconds (the button
     /// held), then release (a halt at the jog deceleration).
     Jog(cli::jog::Args),
+    /// Layout 1.10: an auxiliary encoder (--input) jogs the axis, --ratio encoder counts per
+    /// detent (x1, x10, x100), for --for seconds, then lets go (the axis goes on to where the
+    /// wheel put it). --off only lets go.
+    Handwheel(cli::handwheel::Args),
     /// MC_Home with the axis's homing settings (CiA 402 methods), waited for.
     Home(cli::home::Args),
     /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
@@ -174,6 +179,7 @@ fn main() -> ExitCode {
         Cmd::Reset(a) => cli::reset::run(uri, a),
         Cmd::Move(a) => cli::moves::run(uri, a),
         Cmd::Jog(a) => cli::jog::run(uri, a),
+        Cmd::Handwheel(a) => cli::handwheel::run(uri, a),
         Cmd::Home(a) => cli::home::run(uri, a),
         Cmd::Override(a) => cli::set_override::run(uri, a),
         Cmd::Run(a) => cli::run::run(uri, a),

@@ -2,8 +2,9 @@
 //! MC_Halt and MC_Stop, MC_Reset, MC_Home and MC_SetPosition. Every argument is a plain number
 //! (counts, seconds): decoding never fails, the card checks the values.
 
-use super::{bit, not_in_family, put, set, take, Args, DecodeError, StopRamp};
-use crate::wire::{Command, MoveFlags, Opcode, CMD_ARGS, SET_POSITION_RELATIVE};
+use super::{bit, not_in_family, put, set, take, uint, Args, DecodeError, Fault, StopRamp};
+use crate::raw::{MC_HANDWHEEL_DETENT_MAX, MC_HANDWHEEL_RATIO_MAX};
+use crate::wire::{Command, MoveFlags, NackCode, Opcode, CMD_ARGS, SET_POSITION_RELATIVE};
 
 /// Which of PLCopen's single-axis position moves (the opcode of a [`PositionMove`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -170,6 +171,66 @@ impl Args for SetPosition {
     }
 }
 
+/// `MC_OP_HANDWHEEL` (layout 1.10): an auxiliary encoder jogs the axis (args: input, ratio,
+/// detent). Decoding refuses an input the card does not have (`HandwheelInput`) and a ratio or
+/// detent that is not a whole number in its range (`HandwheelRatio`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Handwheel {
+    /// The auxiliary encoder input, `0..AUX_ENCODERS`.
+    pub input: u8,
+    /// Axis counts per detent, `1 ≤ |ratio| ≤ MC_HANDWHEEL_RATIO_MAX` (negative: the other way).
+    pub ratio: i32,
+    /// Auxiliary counts per detent, `1..=MC_HANDWHEEL_DETENT_MAX`.
+    pub detent: u16,
+}
+
+impl Args for Handwheel {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(
+            args,
+            0,
+            &[
+                f64::from(self.input),
+                f64::from(self.ratio),
+                f64::from(self.detent),
+            ],
+        );
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let last = crate::AUX_ENCODERS as u64 - 1;
+        let input = uint(args, 0, last, NackCode::NotFinite, NackCode::HandwheelInput)? as u8;
+        let bad = NackCode::HandwheelRatio;
+        let r = args[1];
+        if !r.is_finite() {
+            return Err(DecodeError::arg(1, Fault::NotFinite, NackCode::NotFinite));
+        }
+        let max = f64::from(MC_HANDWHEEL_RATIO_MAX);
+        if r == 0.0 || r.abs() > max {
+            return Err(DecodeError::arg(1, Fault::OutOfRange, bad));
+        }
+        let ratio = r as i32; // |r| <= the maximum: exact when whole
+        if f64::from(ratio) != r {
+            return Err(DecodeError::arg(1, Fault::NotInteger, bad));
+        }
+        let detent = uint(
+            args,
+            2,
+            u64::from(MC_HANDWHEEL_DETENT_MAX),
+            NackCode::NotFinite,
+            bad,
+        )?;
+        if detent == 0 {
+            return Err(DecodeError::arg(2, Fault::OutOfRange, bad));
+        }
+        Ok(Self {
+            input,
+            ratio,
+            detent: detent as u16,
+        })
+    }
+}
+
 /// A single-axis motion command (the command's target is the axis).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AxisCmd {
@@ -203,6 +264,10 @@ pub enum AxisCmd {
     CompData(super::CompData),
     /// `MC_OP_COMP_READ`.
     CompRead(super::CompRead),
+    /// `MC_OP_HANDWHEEL` (layout 1.10).
+    Handwheel(Handwheel),
+    /// `MC_OP_HANDWHEEL_OFF`.
+    HandwheelOff,
 }
 
 impl AxisCmd {
@@ -224,6 +289,8 @@ impl AxisCmd {
             Self::CompTable(_) => Opcode::CompTable,
             Self::CompData(_) => Opcode::CompData,
             Self::CompRead(_) => Opcode::CompRead,
+            Self::Handwheel(_) => Opcode::Handwheel,
+            Self::HandwheelOff => Opcode::HandwheelOff,
         }
     }
 
@@ -248,6 +315,8 @@ impl AxisCmd {
             Opcode::CompTable => Self::CompTable(Args::decode(f, args)?),
             Opcode::CompData => Self::CompData(Args::decode(f, args)?),
             Opcode::CompRead => Self::CompRead(Args::decode(f, args)?),
+            Opcode::Handwheel => Self::Handwheel(Args::decode(f, args)?),
+            Opcode::HandwheelOff => Self::HandwheelOff,
             _ => return Err(not_in_family()),
         })
     }
@@ -256,9 +325,11 @@ impl AxisCmd {
     pub fn command(&self, axis: u16) -> Command {
         let op = self.opcode();
         match self {
-            Self::PowerOn | Self::PowerOff | Self::StopRelease | Self::Reset => {
-                Command::new(op, axis)
-            }
+            Self::PowerOn
+            | Self::PowerOff
+            | Self::StopRelease
+            | Self::Reset
+            | Self::HandwheelOff => Command::new(op, axis),
             Self::Move(_, m) => super::entry(op, axis, m),
             Self::MoveVelocity(m) => super::entry(op, axis, m),
             Self::Jog(v) => super::entry(op, axis, v),
@@ -269,6 +340,7 @@ impl AxisCmd {
             Self::CompTable(h) => super::entry(op, axis, h),
             Self::CompData(d) => super::entry(op, axis, d),
             Self::CompRead(r) => super::entry(op, axis, r),
+            Self::Handwheel(h) => super::entry(op, axis, h),
         }
     }
 }

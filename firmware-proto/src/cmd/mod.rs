@@ -264,7 +264,9 @@ pub fn family(op: Opcode) -> Family {
         | O::SetPosition
         | O::CompTable
         | O::CompData
-        | O::CompRead => Family::Axis,
+        | O::CompRead
+        | O::Handwheel
+        | O::HandwheelOff => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable

@@ -225,6 +225,23 @@ fn axis_cmd() -> BoxedStrategy<AxisCmd> {
         (0..=COMP_MAX_POINTS as u16)
             .prop_map(|first| AxisCmd::CompRead(CompRead { first }))
             .boxed(),
+        // Layout 1.10: the handwheel.
+        (
+            0..AUX_ENCODERS as u8,
+            1..=10_000i32,
+            any::<bool>(),
+            1..=1024u16,
+        )
+            .prop_map(|(input, r, neg, detent)| {
+                let ratio = if neg { -r } else { r };
+                AxisCmd::Handwheel(Handwheel {
+                    input,
+                    ratio,
+                    detent,
+                })
+            })
+            .boxed(),
+        Just(AxisCmd::HandwheelOff).boxed(),
     ])
     .boxed()
 }
@@ -960,6 +977,61 @@ fn malformed_entries_give_their_fault_and_nack() {
         (O::PvtStart, 0, &[nan], arg(0, NotFinite, N::NotFinite)),
         (O::PvtStart, 0, &[256.0], arg(0, OutOfRange, N::BadAxis)),
         (O::PvtStart, 0, &[0.25], arg(0, NotInteger, N::BadAxis)),
+        // Layout 1.10: the handwheel's input, ratio and detent.
+        (
+            O::Handwheel,
+            0,
+            &[2.0, 1.0, 4.0],
+            arg(0, OutOfRange, N::HandwheelInput),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[0.5, 1.0, 4.0],
+            arg(0, NotInteger, N::HandwheelInput),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[nan, 1.0, 4.0],
+            arg(0, NotFinite, N::NotFinite),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, 0.0, 4.0],
+            arg(1, OutOfRange, N::HandwheelRatio),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, 10001.0, 4.0],
+            arg(1, OutOfRange, N::HandwheelRatio),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, -2.5, 4.0],
+            arg(1, NotInteger, N::HandwheelRatio),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, nan, 4.0],
+            arg(1, NotFinite, N::NotFinite),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, 10.0, 0.0],
+            arg(2, OutOfRange, N::HandwheelRatio),
+        ),
+        (
+            O::Handwheel,
+            0,
+            &[1.0, 10.0, 1025.0],
+            arg(2, OutOfRange, N::HandwheelRatio),
+        ),
     ];
     for (op, f, lead, want) in cases {
         assert_eq!(

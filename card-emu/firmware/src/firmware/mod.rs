@@ -16,6 +16,7 @@ pub mod dac;
 mod exec;
 pub mod gear;
 pub mod group;
+pub mod handwheel;
 pub mod homing;
 pub mod io;
 pub mod nack;
@@ -67,6 +68,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.7 (sync): each axis's gearing as a slave, and the auxiliary encoders.
     gears: [Gear; MAX_AXES],
     aux: AuxInputs,
+    /// Layout 1.10: each axis's handwheel.
+    handwheels: handwheel::Handwheels,
     /// Layout 1.7 (sync): the cam tables, made on the first MC_OP_CAM_TABLE.
     cams: Lazy<cam::CamStore>,
     /// Layout 1.9: the compensation tables, made on the first MC_OP_COMP_TABLE.
@@ -128,6 +131,7 @@ impl<M: Mem + Clone> Firmware<M> {
             homing: [Homing::default(); MAX_AXES],
             gears: [Gear::default(); MAX_AXES],
             aux: AuxInputs::default(),
+            handwheels: [None; MAX_AXES],
             pvt: core::array::from_fn(|_| Lazy::new()),
             cams: Lazy::new(),
             comp: Lazy::new(),
@@ -445,6 +449,8 @@ impl<M: Mem + Clone> Firmware<M> {
         let mut early = self.advance_commanded_masters(ts);
         // Geared slaves follow their masters (gear.rs).
         let synced = self.gear_tick(ts);
+        // Handwheels drive their axes from the auxiliary encoders just sensed (handwheel.rs).
+        self.handwheel_tick();
         // PT/PVT streams drive their axes (pvt.rs).
         let streamed = self.pvt_tick();
         // Digital inputs, compare and probes on the motion just sensed (io.rs).
@@ -653,6 +659,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 AxisState::DiscreteMotion | AxisState::ContinuousMotion => axis.has_goal(),
                 AxisState::SynchronizedMotion => {
                     self.gears[i].engaged()
+                        || self.handwheel_drives(i)
                         || self.pvt[i].as_ref().is_some_and(|s| s.running())
                         || self.groups.iter().any(|g| {
                             g.moving_members().is_some_and(|m| m.contains(&i)) && !g.stopping()

@@ -816,6 +816,9 @@ impl Safety {
                 }
                 Ok(())
             }
+            // Layout 1.10: the handwheel moves only where the wheel turns it, within the soft
+            // limits (handwheel.rs); a latched stop is named as for a jog.
+            AxisCmd::Handwheel(_) if axis.state == AxisState::ErrorStop => latch(),
             AxisCmd::Move(..) | AxisCmd::MoveVelocity(_) | AxisCmd::Jog(_) => {
                 // A move refused for a stop the card latched names the latch, not the state.
                 if axis.state == AxisState::ErrorStop {

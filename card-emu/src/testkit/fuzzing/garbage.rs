@@ -6,10 +6,11 @@ use firmware_proto::cmd::{
     ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable, CardCmd, CircularMove, Cmd,
     CompData, CompHeader, CompPointArgs, CompRead, CompareArm, CompareDisarm, CompareKind,
     CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn, GearInPos, GroupCmd,
-    GroupOverride, IoCmd, Jog, LinearMove, Master, MoveKind, MoveLimits, MoveOpts, NurbsBegin,
-    NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
-    PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin, PvtPoint, PvtPoints,
-    PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits, VelocityMove,
+    GroupOverride, Handwheel, IoCmd, Jog, LinearMove, Master, MoveKind, MoveLimits, MoveOpts,
+    NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine, PathNurbs,
+    PathOutput, PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin, PvtPoint,
+    PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits,
+    VelocityMove,
 };
 use firmware_proto::ring::Entry;
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS};
@@ -241,7 +242,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 16] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 101, 256, 0x7FFF, 0x8000, 0xFFFF,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -789,6 +790,20 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 count,
                 point,
             }))
+        }
+        O::Handwheel => {
+            let ratio = [1, 10, 100, -10][usize::from(s.u8() % 4)];
+            let h = Handwheel {
+                input: s.u8() % 3,
+                ratio,
+                detent: 1 + u16::from(s.u8() % 8),
+            };
+            feed(s);
+            Plausible::typed(AxisCmd::Handwheel(h))
+        }
+        O::HandwheelOff => {
+            feed(s);
+            Plausible::typed(AxisCmd::HandwheelOff)
         }
         O::CompRead => {
             feed(s);

@@ -1142,7 +1142,11 @@ impl Axis {
     pub fn motion_flags(&self) -> MotionFlags {
         let mut f = MotionFlags::empty();
         let homing = self.state == AxisState::Homing;
-        let moving = self.awaiting_done && self.goal != Goal::None && !homing;
+        // Homing and the handwheel (SynchronizedMotion) are not scaled by the override.
+        let moving = self.awaiting_done
+            && self.goal != Goal::None
+            && !homing
+            && self.state != AxisState::SynchronizedMotion;
         f.set(MotionFlags::IN_VELOCITY, self.in_velocity && !homing);
         f.set(MotionFlags::HOMED, self.homed);
         f.set(MotionFlags::PAUSED, moving && self.override_factor == 0.0);
@@ -1502,6 +1506,67 @@ impl Axis {
         self.target = target;
         self.motion = Motion::Hold;
         self.goal = Goal::None;
+        self.settled_for = 0.0;
+        self.set_state(AxisState::DiscreteMotion, &mut changed);
+        changed
+    }
+}
+
+// ---- Handwheel hooks: what handwheel.rs needs from an axis (the wheel lives there) ----
+impl Axis {
+    /// MC_OP_HANDWHEEL accepted (command `seq`): SynchronizedMotion from Standstill or any
+    /// motion of its own (Aborting: the caller drops the queue), running to `target` within
+    /// `lim` from the commanded state (the override does not scale it). Returns the old state.
+    pub(crate) fn begin_handwheel(
+        &mut self,
+        seq: u32,
+        target: f64,
+        lim: &Limits,
+        rate_hz: u32,
+    ) -> Result<Option<AxisState>, NackCode> {
+        let goal = Goal::Position { target, lim: *lim };
+        let c = self.cmd;
+        let traj = if c.vel == 0.0 && c.acc == 0.0 && target == c.pos {
+            None
+        } else {
+            Some(self.plan_scaled(&goal, rate_hz, 1.0)?)
+        };
+        self.begin_motion(seq, traj.map_or(0.0, |t| t.duration()));
+        self.buffered_active = false;
+        match traj {
+            Some(traj) => self.take_goal(goal, traj),
+            None => {
+                self.target = target;
+                self.goal = goal;
+                self.in_velocity = false;
+                self.motion = Motion::Hold;
+                self.stop_elapsed = None;
+            }
+        }
+        let mut changed = None;
+        self.set_state(AxisState::SynchronizedMotion, &mut changed);
+        Ok(changed)
+    }
+
+    /// The handwheel's target moved: run to `target` within `lim` from the commanded state
+    /// (time-optimal, jerk-limited). Nothing changes if it cannot be planned.
+    pub(crate) fn handwheel_target(
+        &mut self,
+        target: f64,
+        lim: &Limits,
+        rate_hz: u32,
+    ) -> Result<(), NackCode> {
+        let goal = Goal::Position { target, lim: *lim };
+        let traj = self.plan_scaled(&goal, rate_hz, 1.0)?;
+        self.take_goal(goal, traj);
+        Ok(())
+    }
+
+    /// The handwheel let go of the axis (deselected, or its input handed over): the axis goes
+    /// on to the target as a DiscreteMotion, motion done with the handwheel's seq once in
+    /// position, then Standstill. Returns the old state.
+    pub(crate) fn end_handwheel(&mut self) -> Option<AxisState> {
+        let mut changed = None;
         self.settled_for = 0.0;
         self.set_state(AxisState::DiscreteMotion, &mut changed);
         changed

@@ -42,7 +42,9 @@ fn finite(c: &AxisCmd) -> bool {
         | AxisCmd::PowerOff
         | AxisCmd::StopRelease
         | AxisCmd::Reset
-        | AxisCmd::CompRead(_) => true,
+        | AxisCmd::CompRead(_)
+        | AxisCmd::Handwheel(_)
+        | AxisCmd::HandwheelOff => true,
     }
 }
 
@@ -64,6 +66,9 @@ impl<M: Mem + Clone> Firmware<M> {
         if !matches!(cmd, AxisCmd::PowerOn | AxisCmd::Reset) && self.grouped(ax) {
             return Err(NackCode::AxisGrouped);
         }
+        if let AxisCmd::Handwheel(_) | AxisCmd::HandwheelOff = cmd {
+            return self.execute_handwheel(c, op, ax, &cmd, pending);
+        }
         let rate = self.servo_rate_hz;
         let max_stop_time = self.safety.config().max_stop_time();
         let axis = &mut self.axes[ax];
@@ -79,10 +84,12 @@ impl<M: Mem + Clone> Firmware<M> {
                 | AxisCmd::Home(_)
         );
         let changed = match &cmd {
-            // Served by `execute_comp` above.
-            AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) => {
-                return Err(NackCode::UnknownOpcode)
-            }
+            // Served by `execute_comp` and `execute_handwheel` above.
+            AxisCmd::CompTable(_)
+            | AxisCmd::CompData(_)
+            | AxisCmd::CompRead(_)
+            | AxisCmd::Handwheel(_)
+            | AxisCmd::HandwheelOff => return Err(NackCode::UnknownOpcode),
             AxisCmd::PowerOn => axis.power(true)?,
             AxisCmd::PowerOff => axis.power(false)?,
             AxisCmd::Move(kind, m) => {
@@ -162,6 +169,33 @@ fn velocity_mode(
 }
 
 impl<M: Mem + Clone> Firmware<M> {
+    /// Layout 1.10: `MC_OP_HANDWHEEL` and `MC_OP_HANDWHEEL_OFF` on axis `ax` (`handwheel.rs`).
+    /// A selection that takes the axis over aborts its motion (PLCopen Aborting); an axis the
+    /// input was handed over from reports its state change too.
+    fn execute_handwheel(
+        &mut self,
+        c: &Command,
+        op: Opcode,
+        ax: usize,
+        cmd: &AxisCmd,
+        pending: Option<u32>,
+    ) -> Result<f64, NackCode> {
+        let (changed, aborting, value) = match cmd {
+            AxisCmd::Handwheel(h) => {
+                let s = self.start_handwheel(c.seq, ax, h)?;
+                if let Some((b, Some(old))) = s.handed {
+                    let e = super::super::state_event(b as u16, old, self.axes[b].state, self.tick);
+                    self.outbox.push(e);
+                }
+                // The ack's value: the seq of the handwheel's motion.
+                (s.changed, s.takes_over, f64::from(s.seq))
+            }
+            _ => (self.stop_handwheel(ax)?, false, 0.0),
+        };
+        self.finish_axis_command(c, op, ax, pending, aborting, changed);
+        Ok(value)
+    }
+
     /// Layout 1.9: the compensation commands of axis `ax` (`firmware::comp`). A table changes
     /// only on an axis at rest (`MC_NACK_COMP_BUSY`); the read-back is taken in any state.
     fn execute_comp(&mut self, ax: usize, cmd: &AxisCmd) -> Result<f64, NackCode> {
