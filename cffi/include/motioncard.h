@@ -1749,6 +1749,11 @@ extern "C" {
 #define MC_OP_GANTRY_HOME 110
 
 /**
+ * Most slaves of a gantry.
+ */
+#define MC_GANTRY_SLAVES_MAX 4
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -2470,6 +2475,63 @@ typedef struct mc_comp_table_point {
    */
   double reverse;
 } mc_comp_table_point;
+
+/**
+ * A gantry's yaw loop and skew limit (the limit in the master's user units).
+ */
+typedef struct mc_gantry_settings {
+  /**
+   * Proportional gain of the yaw loop, 1/s² (0..1e9): the slave's acceleration correction
+   * per count of skew.
+   */
+  double kp;
+  /**
+   * Integral gain of the yaw loop, 1/s³ (0..1e12).
+   */
+  double ki;
+  /**
+   * The skew beyond which every axis of the gantry stops (> 0).
+   */
+  double skew_limit;
+} mc_gantry_settings;
+
+/**
+ * A gantry as the card reports it (the master's user units).
+ */
+typedef struct mc_gantry_info {
+  /**
+   * 1 coupled, 2 homing, 3 squaring (`MC_GANTRY_*` of the register map).
+   */
+  uint32_t phase;
+  /**
+   * The master axis.
+   */
+  uint32_t master;
+  /**
+   * Slaves in use.
+   */
+  uint32_t nslaves;
+  /**
+   * Nonzero once `mc_gantry_home` squared the bridge.
+   */
+  uint32_t squared;
+  /**
+   * The slave axes.
+   */
+  uint32_t slave[4];
+  /**
+   * Each slave's skew of the last tick: slave actual - master actual - offset in force.
+   */
+  double skew[4];
+  /**
+   * Each slave's largest |skew| while coupled since the gantry was formed.
+   */
+  double max_skew[4];
+  /**
+   * Each slave's offset in force.
+   */
+  double hold[4];
+} mc_gantry_info;
 
 /**
  * How a program runs (`mc_gcode_default_settings` fills the defaults).
@@ -4655,6 +4717,42 @@ mc_result mc_axis_get_compensation(mc_card card,
                                    struct mc_comp_table_point *points,
                                    size_t len,
                                    size_t *needed);
+
+/**
+ * Form gantry `index` (0..3) of `master` and `nslaves` slaves (1..4, each with the master's
+ * scale), `offsets` the slaves' square offsets (NULL: all 0). Every member at rest, all
+ * powered or all disabled; nothing moves. Refused: `MC_ERR_GANTRY_AXES` (the master among the
+ * slaves, a slave twice, a count), `MC_ERR_BAD_AXIS`, `MC_ERR_GANTRY_GAINS`,
+ * `MC_ERR_NOT_FINITE`, `MC_ERR_GANTRY_IN_USE` (a member in another gantry, geared, streaming;
+ * a slave in a group), `MC_ERR_GANTRY_STATE`, `MC_ERR_BAD_CONFIG` (different scales).
+ */
+mc_result mc_gantry_form(mc_card card,
+                         uint32_t index,
+                         uint32_t master,
+                         const uint32_t *slaves,
+                         size_t nslaves,
+                         const struct mc_gantry_settings *settings,
+                         const double *offsets);
+
+/**
+ * Home gantry `index` and wait up to `timeout_ms`: each side runs its own homing method, then
+ * the slaves square the bridge to their offsets. `*skew` (may be NULL): slave 0's skew once
+ * squared. `MC_ERR_HOMING_FAILED` when a side failed (the message names the gantry and the
+ * axis; the gantry is coupled where it stopped), `MC_ERR_GANTRY_STATE` when a member is not at
+ * rest, `MC_ERR_TIMEOUT`.
+ */
+mc_result mc_gantry_home(mc_card card, uint32_t index, uint32_t timeout_ms, double *skew);
+
+/**
+ * Gantry `index`'s status. `MC_ERR_GANTRY_STATE` when it is not formed.
+ */
+mc_result mc_gantry_get_info(mc_card card, uint32_t index, struct mc_gantry_info *info);
+
+/**
+ * Dissolve gantry `index`: the master at rest (`MC_ERR_GANTRY_STATE`); the slaves hold where
+ * they are, each its own axis again.
+ */
+mc_result mc_gantry_dissolve(mc_card card, uint32_t index);
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
