@@ -121,7 +121,7 @@ fn a_jammed_side_stops_both_within_the_stop_bound() {
         "the skew beyond the limit: {}",
         fault.value
     );
-    for a in 0..2 {
+    for (a, rest) in at_rest.iter().enumerate() {
         let st = card.axis(a).unwrap().status().unwrap();
         assert_eq!(st.state, AxisState::ErrorStop, "axis {a}");
         // The jammed side cannot follow the stop ramp either: its following error trips it
@@ -133,7 +133,7 @@ fn a_jammed_side_stops_both_within_the_stop_bound() {
             &[StopReason::GantrySkew, StopReason::FollowingError]
         };
         assert!(expected.contains(&reason), "axis {a}: {reason:?}");
-        let t = at_rest[a].expect("at rest");
+        let t = rest.expect("at rest");
         assert!(
             t <= max_stop + 1e-3,
             "axis {a} at rest after {t} s (bound {max_stop} s)"
@@ -368,11 +368,11 @@ fn homing_squares_the_bridge_to_its_offset_from_any_start() {
     {
         let card = card();
         let sim = card.sim().unwrap();
-        for a in 0..2 {
+        for (a, &edge) in EDGE.iter().enumerate() {
             sim.with_emulator(|e| {
                 e.faults().set_switches(
                     a,
-                    Switches::limits(-1e7, 1e7).with_home(HomeSwitch::Above(EDGE[a])),
+                    Switches::limits(-1e7, 1e7).with_home(HomeSwitch::Above(edge)),
                 )
             });
             let ax = card.axis(a).unwrap();
