@@ -479,3 +479,33 @@ fn a_failed_side_ends_gantry_homing_naming_the_gantry_and_the_axis() {
         AxisState::SynchronizedMotion
     );
 }
+
+#[test]
+fn a_safety_stop_of_one_side_stops_the_other() {
+    let card = card();
+    enable(&card, &[0, 1]);
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let m = g.master().unwrap();
+    let sim = card.sim().unwrap();
+    let _motion = m.move_absolute(5e6, &full_speed()).unwrap();
+    sim.step(2000);
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    // The slave's amplifier alarms: it loses power at once, and the master stops with it.
+    sim.with_emulator(|e| e.faults().set_alarm(1, true));
+    sim.step(1);
+    let mut fault = None;
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        if e.kind == EventKind::GantryFault {
+            fault = Some(e);
+        }
+    }
+    let fault = fault.expect("a gantry fault event");
+    assert_eq!((fault.axis, fault.code), (0, StopReason::AmpAlarm as i32));
+    assert_eq!(fault.value, 1.0, "the side that stopped first");
+    assert_eq!(m.status().unwrap().state, AxisState::ErrorStop);
+    assert_eq!(m.stop_reason().unwrap(), StopReason::Gantry);
+    assert_eq!(
+        card.axis(1).unwrap().stop_reason().unwrap(),
+        StopReason::AmpAlarm
+    );
+}
