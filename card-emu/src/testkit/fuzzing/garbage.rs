@@ -722,6 +722,20 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             feed(s);
             Plausible::typed(SyncCmd::PvtStart(PvtStart { mask }))
         }
+        O::GantryForm => {
+            // Layout 1.10: a master and one slave of the first four axes.
+            let master = s.u8() % 4;
+            let axis = (master + 1 + s.u8() % 3) % 4;
+            feed(s);
+            let slave = firmware_proto::cmd::GantrySlave { axis, offset: 0.0 };
+            Plausible::typed(SyncCmd::GantryForm(firmware_proto::cmd::GantryForm {
+                master,
+                kp: 1e6,
+                ki: 0.0,
+                skew_limit: 100.0,
+                slaves: core::iter::once(slave).collect(),
+            }))
+        }
         O::ReadConfig => {
             // Layout 1.8: a block kind (0 and 10 are none) and an index (axes, groups).
             let k = s.u8() % 11;
