@@ -5,7 +5,10 @@
 //! A second figure has three of the axes in a group running lines (S-curve feed and the
 //! post-interpolation filters): the group's tick steps on top.
 //!
-//! A third is what a new `emu:` host costs card-emu: `Lessor::renew`, a new memfd (its 1 MiB
+//! A third has axes 0 and 1 a gantry (layout 1.10: axis 1 follows axis 0 with its yaw loop)
+//! and the 7 other axes moving: the gantry's step on top of the 8 servo loops.
+//!
+//! A fourth is what a new `emu:` host costs card-emu: `Lessor::renew`, a new memfd (its 1 MiB
 //! allocated), the window copied into it and mapped over the card's mapping in place, a new
 //! eventfd, the old memfd freed. The card's thread waits only for the copy and the remap.
 //!
@@ -32,7 +35,8 @@ fn moving_card() -> (
     (emu, host)
 }
 
-/// Start a long move (to the other end of ±1e6 counts) on every axis standing still.
+/// Start a long move (to the other end of ±1e6 counts) on every axis standing still (a
+/// gantry's slave is in SynchronizedMotion: never).
 fn keep_moving(
     emu: &mut Emulator,
     host: &mut CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
@@ -185,5 +189,42 @@ fn renew(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, tick, group_tick, renew);
+/// Axes 0 and 1 a gantry (kp 10⁶/s², skew limit 10⁴ counts), every axis powered.
+fn gantry_tick(c: &mut Criterion) {
+    let (mut emu, mut host) = moving_card();
+    let args = [0.0, 1.0, 1e6, 0.0, 1e4, 1.0, 0.0];
+    host.push(&Command::new(Opcode::GantryForm, 0).with_args(&args))
+        .unwrap();
+    emu.serve();
+    assert!(emu.firmware().gantry(0).is_some(), "the gantry is formed");
+    keep_moving(&mut emu, &mut host);
+    let mut n = 0u64;
+    c.bench_function(
+        "firmware tick, a gantry of 2 axes + 6 axes moving + plant",
+        |b| {
+            b.iter(|| {
+                emu.step();
+                n += 1;
+                if n.is_multiple_of(256) {
+                    beat(&emu);
+                }
+                if n.is_multiple_of(1024) {
+                    let w = emu.window();
+                    use firmware_proto::Mem;
+                    let head = w.read32(firmware_proto::layout::EVT_HEAD);
+                    w.write32(firmware_proto::layout::EVT_TAIL, head);
+                    keep_moving(&mut emu, &mut host);
+                }
+            })
+        },
+    );
+    let st = emu.firmware().axis(1).map(|x| x.state);
+    assert_eq!(
+        st,
+        Some(AxisState::SynchronizedMotion),
+        "the slave followed"
+    );
+}
+
+criterion_group!(benches, tick, group_tick, gantry_tick, renew);
 criterion_main!(benches);

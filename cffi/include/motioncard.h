@@ -259,6 +259,19 @@ extern "C" {
 #define MC_EVENT_SCOPE 29
 
 /**
+ * A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_REASON_GANTRY_SKEW` (value: the
+ * skew, counts, of the slave beyond the limit) or the `MC_STOP_REASON_*` reason of the member
+ * whose safety stop stopped the others (value: that axis).
+ */
+#define MC_EVENT_GANTRY_FAULT 32
+
+/**
+ * `MC_OP_GANTRY_HOME` ended. axis: the gantry; seq: the command; code: 0 squared (value: slave 0's
+ * skew, counts) or `MC_HOMING_ERROR_*` (value: the axis that failed).
+ */
+#define MC_EVENT_GANTRY_HOMED 33
+
+/**
  * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
  *
  * Power off.
@@ -484,6 +497,16 @@ extern "C" {
  * Motion found running with no session attached and armed.
  */
 #define MC_STOP_REASON_NO_SESSION 33
+
+/**
+ * The gantry's skew exceeded its limit (layout 1.10).
+ */
+#define MC_STOP_REASON_GANTRY_SKEW 34
+
+/**
+ * Another axis of its gantry made a safety stop (layout 1.10).
+ */
+#define MC_STOP_REASON_GANTRY 35
 
 /**
  * Fault bit of `mc_status.faults` (the `code` of `MC_EVENT_FAULT`).
@@ -1131,6 +1154,12 @@ extern "C" {
 #define MC_SCOPE_SIG_SERVO_FF 13
 
 /**
+ * Layout 1.10: the skew of a gantry's slave (index: the slave), counts; 0 for an axis that is no
+ * gantry's slave.
+ */
+#define MC_SCOPE_SIG_GANTRY_SKEW 14
+
+/**
  * Tangential velocity before the filters, counts/s (feed).
  */
 #define MC_SCOPE_SIG_PATH_SPEED 32
@@ -1710,6 +1739,42 @@ extern "C" {
  * `MC_OP_HANDWHEEL`, then Standstill.
  */
 #define MC_OP_HANDWHEEL_OFF 105
+
+/**
+ * Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n (`1..MC_GANTRY_MAX_SLAVES`),
+ * kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in the position range), then each slave's axis
+ * and square offset (counts, in the position range). Every member Standstill, or every member
+ * Disabled. A gantry index, master or slave that is no axis of the card, a count out of range,
+ * master == slave or a slave twice: `MC_NACK_GANTRY_AXES`; gains, limit or offset out of range:
+ * `MC_NACK_GANTRY_GAINS`; a member in another gantry, a slave that is a member of a configured
+ * group, a member geared, cammed or streaming: `MC_NACK_GANTRY_IN_USE`; the gantry formed already,
+ * the members not all at rest with the same power: `MC_NACK_GANTRY_STATE`.
+ */
+#define MC_OP_GANTRY_FORM 108
+
+/**
+ * Axis: the gantry. The master at rest (Standstill, Disabled or ErrorStop with no ramp running),
+ * else `MC_NACK_GANTRY_STATE` (as for a gantry not formed); the slaves hold where they are
+ * (Standstill).
+ */
+#define MC_OP_GANTRY_DISSOLVE 109
+
+/**
+ * Axis: the gantry. Every member Standstill (else `MC_NACK_GANTRY_STATE`): each member runs its
+ * own `MC_OP_HOME` (its `axis_homing` block, home position 0) with the coupling suspended; once
+ * all are homed, each slave moves (within its homing block's velocity and acceleration) until
+ * slave - master = its square offset, which becomes its hold; then the gantry is coupled again and
+ * `MC_EVENT_GANTRY_HOMED` posts (code 0, value: slave 0's skew). A side that fails: the others
+ * halt, the gantry is coupled where they stand, `MC_EVENT_GANTRY_HOMED` with the failure's
+ * `MC_HOMING_ERROR_*` and the failing axis as value. The members' own `MC_EVENT_MOTION_DONE` /
+ * `MC_EVENT_HOMING_FAILED` carry this seq.
+ */
+#define MC_OP_GANTRY_HOME 110
+
+/**
+ * Most slaves of a gantry.
+ */
+#define MC_GANTRY_SLAVES_MAX 4
 
 /**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
@@ -2451,6 +2516,63 @@ typedef struct mc_comp_table_point {
    */
   double reverse;
 } mc_comp_table_point;
+
+/**
+ * A gantry's yaw loop and skew limit (the limit in the master's user units).
+ */
+typedef struct mc_gantry_settings {
+  /**
+   * Proportional gain of the yaw loop, 1/s² (0..1e9): the slave's acceleration correction
+   * per count of skew.
+   */
+  double kp;
+  /**
+   * Integral gain of the yaw loop, 1/s³ (0..1e12).
+   */
+  double ki;
+  /**
+   * The skew beyond which every axis of the gantry stops (> 0).
+   */
+  double skew_limit;
+} mc_gantry_settings;
+
+/**
+ * A gantry as the card reports it (the master's user units).
+ */
+typedef struct mc_gantry_info {
+  /**
+   * 1 coupled, 2 homing, 3 squaring (`MC_GANTRY_*` of the register map).
+   */
+  uint32_t phase;
+  /**
+   * The master axis.
+   */
+  uint32_t master;
+  /**
+   * Slaves in use.
+   */
+  uint32_t nslaves;
+  /**
+   * Nonzero once `mc_gantry_home` squared the bridge.
+   */
+  uint32_t squared;
+  /**
+   * The slave axes.
+   */
+  uint32_t slave[4];
+  /**
+   * Each slave's skew of the last tick: slave actual - master actual - offset in force.
+   */
+  double skew[4];
+  /**
+   * Each slave's largest |skew| while coupled since the gantry was formed.
+   */
+  double max_skew[4];
+  /**
+   * Each slave's offset in force.
+   */
+  double hold[4];
+} mc_gantry_info;
 
 /**
  * How a program runs (`mc_gcode_default_settings` fills the defaults).
@@ -4278,6 +4400,33 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_NO_MOTION -115
 
 /**
+ * Layout 1.10: the axis is a slave of a formed gantry; it moves only with its master.
+ */
+#define MC_ERR_GANTRY_SLAVE -125
+
+/**
+ * A gantry member already in use: in another gantry, a slave in a group, geared, cammed
+ * or streaming.
+ */
+#define MC_ERR_GANTRY_IN_USE -126
+
+/**
+ * A gantry's axes: an index, master or slave out of range, the master among its slaves,
+ * a slave twice, no slave or too many.
+ */
+#define MC_ERR_GANTRY_AXES -127
+
+/**
+ * A gantry's yaw gains, skew limit or square offset out of range.
+ */
+#define MC_ERR_GANTRY_GAINS -128
+
+/**
+ * The gantry (or its axes) is not in a state that takes the command.
+ */
+#define MC_ERR_GANTRY_STATE -129
+
+/**
  * An arc whose plane of two group axes names one axis twice.
  */
 #define MC_ERR_PLANE_AXES -130
@@ -4687,6 +4836,42 @@ mc_result mc_axis_get_compensation(mc_card card,
                                    struct mc_comp_table_point *points,
                                    size_t len,
                                    size_t *needed);
+
+/**
+ * Form gantry `index` (0..3) of `master` and `nslaves` slaves (1..4, each with the master's
+ * scale), `offsets` the slaves' square offsets (NULL: all 0). Every member at rest, all
+ * powered or all disabled; nothing moves. Refused: `MC_ERR_GANTRY_AXES` (the master among the
+ * slaves, a slave twice, a count), `MC_ERR_BAD_AXIS`, `MC_ERR_GANTRY_GAINS`,
+ * `MC_ERR_NOT_FINITE`, `MC_ERR_GANTRY_IN_USE` (a member in another gantry, geared, streaming;
+ * a slave in a group), `MC_ERR_GANTRY_STATE`, `MC_ERR_BAD_CONFIG` (different scales).
+ */
+mc_result mc_gantry_form(mc_card card,
+                         uint32_t index,
+                         uint32_t master,
+                         const uint32_t *slaves,
+                         size_t nslaves,
+                         const struct mc_gantry_settings *settings,
+                         const double *offsets);
+
+/**
+ * Home gantry `index` and wait up to `timeout_ms`: each side runs its own homing method, then
+ * the slaves square the bridge to their offsets. `*skew` (may be NULL): slave 0's skew once
+ * squared. `MC_ERR_HOMING_FAILED` when a side failed (the message names the gantry and the
+ * axis; the gantry is coupled where it stopped), `MC_ERR_GANTRY_STATE` when a member is not at
+ * rest, `MC_ERR_TIMEOUT`.
+ */
+mc_result mc_gantry_home(mc_card card, uint32_t index, uint32_t timeout_ms, double *skew);
+
+/**
+ * Gantry `index`'s status. `MC_ERR_GANTRY_STATE` when it is not formed.
+ */
+mc_result mc_gantry_get_info(mc_card card, uint32_t index, struct mc_gantry_info *info);
+
+/**
+ * Dissolve gantry `index`: the master at rest (`MC_ERR_GANTRY_STATE`); the slaves hold where
+ * they are, each its own axis again.
+ */
+mc_result mc_gantry_dissolve(mc_card card, uint32_t index);
 
 /**
  * The defaults: axes "XYZ", rapids and feeds up to 100 mm/s, 0.01 mm corners and splines,
@@ -6096,9 +6281,13 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_DEBOUNCE_MAX 10000u
 
+#define MC_GANTRY_MAX_SLAVES 4u
+
 #define MC_HANDWHEEL_DETENT_MAX 1024u
 
 #define MC_HANDWHEEL_RATIO_MAX 10000u
+
+#define MC_MAX_GANTRIES 4u
 
 #define MC_MAX_MOVE_TIME 1000000.0
 
@@ -6253,6 +6442,31 @@ mc_result mc_send_raw(mc_card card,
  * Filters can change only while they hold no distance.
  */
 #define MC_NACK_FILTER_BUSY 28
+
+/**
+ * Gantry index, master or slaves out of range, master == slave, a slave twice.
+ */
+#define MC_NACK_GANTRY_AXES 136
+
+/**
+ * Kp, ki, skew limit or square offset out of range.
+ */
+#define MC_NACK_GANTRY_GAINS 137
+
+/**
+ * A gantry member already in a gantry, a group, geared or streaming.
+ */
+#define MC_NACK_GANTRY_IN_USE 135
+
+/**
+ * The axis is a slave of a formed gantry: it cannot be used by itself.
+ */
+#define MC_NACK_GANTRY_SLAVE 134
+
+/**
+ * The gantry (or its members) not in a state that takes this.
+ */
+#define MC_NACK_GANTRY_STATE 138
 
 /**
  * A ratio that is not integer, a zero numerator, a denominator <= 0, or a magnitude above `MC_GEAR_RATIO_MAX`.

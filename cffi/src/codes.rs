@@ -95,6 +95,15 @@ pub const MC_EVENT_PVT: u32 = 28;
 /// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
 pub const MC_EVENT_SCOPE: u32 = 29;
 
+/// A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_REASON_GANTRY_SKEW` (value: the
+/// skew, counts, of the slave beyond the limit) or the `MC_STOP_REASON_*` reason of the member
+/// whose safety stop stopped the others (value: that axis).
+pub const MC_EVENT_GANTRY_FAULT: u32 = 32;
+
+/// `MC_OP_GANTRY_HOME` ended. axis: the gantry; seq: the command; code: 0 squared (value: slave 0's
+/// skew, counts) or `MC_HOMING_ERROR_*` (value: the axis that failed).
+pub const MC_EVENT_GANTRY_HOMED: u32 = 33;
+
 /// Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
 ///
 /// Power off.
@@ -235,6 +244,12 @@ pub const MC_STOP_REASON_HOST_CHANGED: u32 = 32;
 
 /// Motion found running with no session attached and armed.
 pub const MC_STOP_REASON_NO_SESSION: u32 = 33;
+
+/// The gantry's skew exceeded its limit (layout 1.10).
+pub const MC_STOP_REASON_GANTRY_SKEW: u32 = 34;
+
+/// Another axis of its gantry made a safety stop (layout 1.10).
+pub const MC_STOP_REASON_GANTRY: u32 = 35;
 
 /// Fault bit of `mc_status.faults` (the `code` of `MC_EVENT_FAULT`).
 ///
@@ -647,6 +662,10 @@ pub const MC_SCOPE_SIG_SERVO_D: u32 = 12;
 /// The feed-forward terms, V.
 pub const MC_SCOPE_SIG_SERVO_FF: u32 = 13;
 
+/// Layout 1.10: the skew of a gantry's slave (index: the slave), counts; 0 for an axis that is no
+/// gantry's slave.
+pub const MC_SCOPE_SIG_GANTRY_SKEW: u32 = 14;
+
 /// Tangential velocity before the filters, counts/s (feed).
 pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
 
@@ -1033,3 +1052,28 @@ pub const MC_OP_HANDWHEEL: u32 = 104;
 /// wheel's last target as a DiscreteMotion, `MC_EVENT_MOTION_DONE` with the seq of its
 /// `MC_OP_HANDWHEEL`, then Standstill.
 pub const MC_OP_HANDWHEEL_OFF: u32 = 105;
+
+/// Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n (`1..MC_GANTRY_MAX_SLAVES`),
+/// kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in the position range), then each slave's axis
+/// and square offset (counts, in the position range). Every member Standstill, or every member
+/// Disabled. A gantry index, master or slave that is no axis of the card, a count out of range,
+/// master == slave or a slave twice: `MC_NACK_GANTRY_AXES`; gains, limit or offset out of range:
+/// `MC_NACK_GANTRY_GAINS`; a member in another gantry, a slave that is a member of a configured
+/// group, a member geared, cammed or streaming: `MC_NACK_GANTRY_IN_USE`; the gantry formed already,
+/// the members not all at rest with the same power: `MC_NACK_GANTRY_STATE`.
+pub const MC_OP_GANTRY_FORM: u32 = 108;
+
+/// Axis: the gantry. The master at rest (Standstill, Disabled or ErrorStop with no ramp running),
+/// else `MC_NACK_GANTRY_STATE` (as for a gantry not formed); the slaves hold where they are
+/// (Standstill).
+pub const MC_OP_GANTRY_DISSOLVE: u32 = 109;
+
+/// Axis: the gantry. Every member Standstill (else `MC_NACK_GANTRY_STATE`): each member runs its
+/// own `MC_OP_HOME` (its `axis_homing` block, home position 0) with the coupling suspended; once
+/// all are homed, each slave moves (within its homing block's velocity and acceleration) until
+/// slave - master = its square offset, which becomes its hold; then the gantry is coupled again and
+/// `MC_EVENT_GANTRY_HOMED` posts (code 0, value: slave 0's skew). A side that fails: the others
+/// halt, the gantry is coupled where they stand, `MC_EVENT_GANTRY_HOMED` with the failure's
+/// `MC_HOMING_ERROR_*` and the failing axis as value. The members' own `MC_EVENT_MOTION_DONE` /
+/// `MC_EVENT_HOMING_FAILED` carry this seq.
+pub const MC_OP_GANTRY_HOME: u32 = 110;

@@ -27,6 +27,7 @@ pub mod api;
 pub mod cam;
 pub mod comp;
 mod ffi;
+pub mod gantry;
 pub mod gcode;
 pub mod group;
 pub mod handwheel;

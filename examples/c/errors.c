@@ -70,6 +70,9 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
     /* waits with nothing to wait for */
     MC_ERR_NO_MOTION,
+    /* gantry axes (layout 1.10) */
+    MC_ERR_GANTRY_SLAVE,   MC_ERR_GANTRY_IN_USE,   MC_ERR_GANTRY_AXES,
+    MC_ERR_GANTRY_GAINS,   MC_ERR_GANTRY_STATE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -139,6 +142,10 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_COMP_SEQUENCE,
     /* handwheel.c */
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
+    /* no example program yet: cffi's own test (gantry.rs) returns the axes, gains and state
+       refusals, tests/gantry.rs every one through the SDK */
+    MC_ERR_GANTRY_SLAVE, MC_ERR_GANTRY_IN_USE, MC_ERR_GANTRY_AXES, MC_ERR_GANTRY_GAINS,
+    MC_ERR_GANTRY_STATE,
 };
 
 static void result_strings(void) {

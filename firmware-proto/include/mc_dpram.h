@@ -61,7 +61,10 @@
                            * 10: arcs in the plane of any two group axes (MC_PLANE_AXES,
                            * MC_CIRC_U_SHIFT, MC_CIRC_V_SHIFT, MC_NACK_PLANE_AXES 139); the
                            * handwheel (MC_OP_HANDWHEEL 104, MC_OP_HANDWHEEL_OFF 105,
-                           * MC_NACK_HANDWHEEL_INPUT 129, MC_NACK_HANDWHEEL_RATIO 130) */
+                           * MC_NACK_HANDWHEEL_INPUT 129, MC_NACK_HANDWHEEL_RATIO 130); gantry
+                           * axes (MC_OP_GANTRY_* 108..110, MC_NACK_GANTRY_* 134..138,
+                           * MC_EV_GANTRY_FAULT 32, MC_EV_GANTRY_HOMED 33, MC_STOP_GANTRY_SKEW 34,
+                           * MC_STOP_GANTRY 35, MC_SIG_GANTRY_SKEW 14, gantry_status[] appended) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -669,6 +672,8 @@
 #define MC_SIG_SERVO_I 11u   /* the integral term, V */
 #define MC_SIG_SERVO_D 12u   /* the velocity feedback (FFPIV) or derivative (PD+) term, V */
 #define MC_SIG_SERVO_FF 13u  /* the feed-forward terms, V */
+#define MC_SIG_GANTRY_SKEW 14u /* layout 1.10: the skew of a gantry's slave (index: the slave), counts;
+                                * 0 for an axis that is no gantry's slave */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
@@ -827,6 +832,68 @@
                                      * MC_HANDWHEEL_RATIO_MAX, or a detent outside
                                      * 1..MC_HANDWHEEL_DETENT_MAX */
 
+/* Gantry axes (layout 1.10). A gantry is one logical axis driven by a master and 1..MC_GANTRY_MAX_SLAVES
+ * slaves, each with its own servo loop and drive. Every tick each slave's reference is the master's
+ * commanded reference of the same tick (position, velocity, acceleration) plus the slave's offset in
+ * force (hold) on the position and the yaw loop's correction c on the acceleration (which the servo
+ * law turns into drive output at once, through its acceleration feed-forward):
+ *   skew e = (slave actual - master actual) - hold             (counts, sensed this tick)
+ *   moving (the master's reference velocity or acceleration not 0):
+ *     I += ki * (e - clamp(e, -1, 1)) * Ts;   c = -(kp * e + I)
+ *   at rest: I = 0;   c = -kp * (e - clamp(e, -1, 1))          (no hunting within a count)
+ *   |I|, |c| <= the slave's stop_decel;   slave reference = (m.pos + hold, m.vel, m.acc + c)
+ * kp in 1/s^2, ki in 1/s^3. hold is the skew the slave had when it was coupled (so forming never
+ * moves a slave), and becomes the slave's square offset once MC_OP_GANTRY_HOME has squared the bridge.
+ * |e| > skew_limit while coupled stops every axis of the gantry together (category 1,
+ * MC_STOP_GANTRY_SKEW; the slaves follow the master's stop ramp while they have power) and posts
+ * MC_EV_GANTRY_FAULT. A safety stop of any member stops the others (category of the member's stop,
+ * MC_STOP_GANTRY) and posts MC_EV_GANTRY_FAULT. While formed the slaves are driven by the gantry only
+ * (SynchronizedMotion): every command naming a slave as its axis, a group member, or a geared slave is
+ * refused with MC_NACK_GANTRY_SLAVE (the compensation commands and reads excepted);
+ * MC_OP_POWER_ON/OFF and MC_OP_RESET of the master act on every member; MC_OP_HOME and
+ * MC_OP_SET_POSITION of the master are refused with MC_NACK_GANTRY_STATE (they move the master's
+ * frame: MC_OP_GANTRY_HOME homes a gantry). A group, a path, gearing or a stream that drives the
+ * master drives the slaves. */
+#define MC_MAX_GANTRIES 4u
+#define MC_GANTRY_MAX_SLAVES 4u
+#define MC_GANTRY_KP_MAX 1e9     /* kp in [0, MC_GANTRY_KP_MAX], 1/s^2 */
+#define MC_GANTRY_KI_MAX 1e12    /* ki in [0, MC_GANTRY_KI_MAX], 1/s^3 */
+#define MC_OP_GANTRY_FORM 108u   /* axis: the gantry (0..MC_MAX_GANTRIES-1). args: master, slaves n
+                                  * (1..MC_GANTRY_MAX_SLAVES), kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in
+                                  * the position range), then each slave's axis and square offset
+                                  * (counts, in the position range). Every member Standstill, or every
+                                  * member Disabled. A gantry index, master or slave that is no axis of
+                                  * the card, a count out of range, master == slave or a slave twice:
+                                  * MC_NACK_GANTRY_AXES; gains, limit or offset out of range:
+                                  * MC_NACK_GANTRY_GAINS; a member in another gantry, a slave that is a
+                                  * member of a configured group, a member geared, cammed or streaming:
+                                  * MC_NACK_GANTRY_IN_USE; the gantry formed already, the members not
+                                  * all at rest with the same power: MC_NACK_GANTRY_STATE */
+#define MC_OP_GANTRY_DISSOLVE 109u /* axis: the gantry. The master at rest (Standstill, Disabled or
+                                    * ErrorStop with no ramp running), else MC_NACK_GANTRY_STATE (as for a
+                                    * gantry not formed); the slaves hold where they are (Standstill) */
+#define MC_OP_GANTRY_HOME 110u   /* axis: the gantry. Every member Standstill (else MC_NACK_GANTRY_STATE):
+                                  * each member runs its own MC_OP_HOME (its axis_homing block, home
+                                  * position 0) with the coupling suspended; once all are homed, each
+                                  * slave moves (within its homing block's velocity and acceleration)
+                                  * until slave - master = its square offset, which becomes its hold;
+                                  * then the gantry is coupled again and MC_EV_GANTRY_HOMED posts (code
+                                  * 0, value: slave 0's skew). A side that fails: the others halt, the
+                                  * gantry is coupled where they stand, MC_EV_GANTRY_HOMED with the
+                                  * failure's MC_HOMING_ERR_* and the failing axis as value. The
+                                  * members' own MC_EV_MOTION_DONE / MC_EV_HOMING_FAILED carry this seq */
+#define MC_NACK_GANTRY_SLAVE 134  /* the axis is a slave of a formed gantry: it cannot be used by itself */
+#define MC_NACK_GANTRY_IN_USE 135 /* a gantry member already in a gantry, a group, geared or streaming */
+#define MC_NACK_GANTRY_AXES 136   /* gantry index, master or slaves out of range, master == slave, a
+                                   * slave twice */
+#define MC_NACK_GANTRY_GAINS 137  /* kp, ki, skew limit or square offset out of range */
+#define MC_NACK_GANTRY_STATE 138  /* the gantry (or its members) not in a state that takes this */
+/* gantry_status[].phase */
+#define MC_GANTRY_NONE 0u      /* not formed */
+#define MC_GANTRY_COUPLED 1u   /* the slaves follow the master */
+#define MC_GANTRY_HOMING 2u    /* MC_OP_GANTRY_HOME: each side homes on its own */
+#define MC_GANTRY_SQUARING 3u  /* MC_OP_GANTRY_HOME: the slaves move to their square offsets */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
 #define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
@@ -867,6 +934,13 @@
                                   * (1, 2, ...); value: the position captured */
 #define MC_EV_SCOPE 29u          /* the scope (layout 1.8). seq: its MC_OP_SCOPE_ARM; code:
                                   * MC_SCOPE_EV_*; value: see there */
+#define MC_EV_GANTRY_FAULT 32u   /* a gantry stopped (layout 1.10). axis: the gantry; code: MC_STOP_GANTRY_SKEW
+                                  * (value: the skew, counts, of the slave beyond the limit) or the MC_STOP_*
+                                  * reason of the member whose safety stop stopped the others (value:
+                                  * that axis) */
+#define MC_EV_GANTRY_HOMED 33u   /* MC_OP_GANTRY_HOME ended. axis: the gantry; seq: the command; code: 0
+                                  * squared (value: slave 0's skew, counts) or MC_HOMING_ERR_* (value:
+                                  * the axis that failed) */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
@@ -1027,6 +1101,8 @@
 #define MC_STOP_TIMEOUT 31u       /* a stop did not end within the maximum stop time: power removed */
 #define MC_STOP_HOST_CHANGED 32u  /* a host attached while the previous host's session was open */
 #define MC_STOP_NO_SESSION 33u    /* motion found running with no session attached and armed */
+#define MC_STOP_GANTRY_SKEW 34u   /* the gantry's skew exceeded its limit (layout 1.10) */
+#define MC_STOP_GANTRY 35u        /* another axis of its gantry made a safety stop (layout 1.10) */
 
 /* Axis I/O bits (mc_axis_status_payload.io): the FPGA's inputs and the drive-enable output */
 /* Motion bits (mc_axis_status_payload.motion_flags, layout 1.5) */
@@ -1549,6 +1625,35 @@ struct mc_safety_status {
     uint64_t attach_tick;            /* tick of the last attach (0: none) */
 };
 
+/** A gantry (layout 1.10). Card writes: every tick while formed, once when dissolved. */
+struct mc_gantry_status {
+    /** MC_GANTRY_*: MC_GANTRY_NONE when not formed (the rest 0). */
+    uint32_t phase;
+    /** The master axis. */
+    uint32_t master;
+    /** Slaves in use. */
+    uint32_t nslaves;
+    /** 1 once MC_OP_GANTRY_HOME squared the bridge (cleared by a failed one or a new formation). */
+    uint32_t squared;
+    /** The slave axes (nslaves of them). */
+    uint32_t slave[MC_GANTRY_MAX_SLAVES];
+    /** The yaw loop's gains (kp, ki 1/s) and the skew limit (counts). */
+    double kp;
+    double ki;
+    double skew_limit;
+    double _reserved0;
+    /** Each slave's square offset (configured), counts. */
+    double offset[MC_GANTRY_MAX_SLAVES];
+    /** Each slave's offset in force (hold), counts. */
+    double hold[MC_GANTRY_MAX_SLAVES];
+    /** Each slave's skew of the tick: slave actual - master actual - hold, counts. */
+    double skew[MC_GANTRY_MAX_SLAVES];
+    /** Each slave's yaw correction of the tick, counts. */
+    double correction[MC_GANTRY_MAX_SLAVES];
+    /** The largest |skew| of each slave while coupled since formed, counts. */
+    double max_skew[MC_GANTRY_MAX_SLAVES];
+};
+
 /** Synchronised motion (layout 1.7 (sync)). Card writes, every tick. */
 struct mc_sync_status {
     /** The auxiliary encoder inputs, counts. */
@@ -1696,6 +1801,8 @@ struct mc_dpram {
     struct mc_scope_sample scope_ring[MC_SCOPE_RING_LEN];         /* card writes */
     /* layout 1.9 */
     struct mc_comp_readback comp_readback;                        /* card writes */
+    /* layout 1.10 */
+    struct mc_gantry_status gantry_status[MC_MAX_GANTRIES];       /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

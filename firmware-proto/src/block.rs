@@ -65,6 +65,7 @@ blocks!(
     mc_scope_config,
     mc_scope_status,
     mc_comp_readback,
+    mc_gantry_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

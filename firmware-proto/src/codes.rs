@@ -73,6 +73,13 @@ code_enum! {
         /// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see
         /// there.
         Scope = raw::MC_EV_SCOPE,
+        /// A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_GANTRY_SKEW` (value:
+        /// the skew, counts, of the slave beyond the limit) or the `MC_STOP_*` reason of the member
+        /// whose safety stop stopped the others (value: that axis).
+        GantryFault = raw::MC_EV_GANTRY_FAULT,
+        /// `MC_OP_GANTRY_HOME` ended. axis: the gantry; seq: the command; code: 0 squared (value:
+        /// slave 0's skew, counts) or `MC_HOMING_ERR_*` (value: the axis that failed).
+        GantryHomed = raw::MC_EV_GANTRY_HOMED,
     }
 }
 
@@ -184,6 +191,10 @@ code_enum! {
         HostChanged = raw::MC_STOP_HOST_CHANGED,
         /// Motion found running with no session attached and armed.
         NoSession = raw::MC_STOP_NO_SESSION,
+        /// The gantry's skew exceeded its limit (layout 1.10).
+        GantrySkew = raw::MC_STOP_GANTRY_SKEW,
+        /// Another axis of its gantry made a safety stop (layout 1.10).
+        Gantry = raw::MC_STOP_GANTRY,
     }
 }
 
@@ -384,6 +395,16 @@ code_enum! {
         /// A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a
         /// detent outside `1..MC_HANDWHEEL_DETENT_MAX`.
         HandwheelRatio = raw::MC_NACK_HANDWHEEL_RATIO,
+        /// The axis is a slave of a formed gantry: it cannot be used by itself.
+        GantrySlave = raw::MC_NACK_GANTRY_SLAVE,
+        /// A gantry member already in a gantry, a group, geared or streaming.
+        GantryInUse = raw::MC_NACK_GANTRY_IN_USE,
+        /// Gantry index, master or slaves out of range, master == slave, a slave twice.
+        GantryAxes = raw::MC_NACK_GANTRY_AXES,
+        /// Kp, ki, skew limit or square offset out of range.
+        GantryGains = raw::MC_NACK_GANTRY_GAINS,
+        /// The gantry (or its members) not in a state that takes this.
+        GantryState = raw::MC_NACK_GANTRY_STATE,
         /// An arc's plane of two group axes names one axis twice.
         PlaneAxes = raw::MC_NACK_PLANE_AXES,
     }
@@ -505,6 +526,9 @@ code_enum! {
         ServoD = raw::MC_SIG_SERVO_D,
         /// The feed-forward terms, V.
         ServoFf = raw::MC_SIG_SERVO_FF,
+        /// Layout 1.10: the skew of a gantry's slave (index: the slave), counts; 0 for an axis that
+        /// is no gantry's slave.
+        GantrySkew = raw::MC_SIG_GANTRY_SKEW,
         /// Tangential velocity before the filters, counts/s (feed).
         PathSpeed = raw::MC_SIG_PATH_SPEED,
         /// Tangential acceleration, counts/s^2 (`feed_acc`).
@@ -824,5 +848,29 @@ code_enum! {
         /// the wheel's last target as a DiscreteMotion, `MC_EV_MOTION_DONE` with the seq of its
         /// `MC_OP_HANDWHEEL`, then Standstill.
         HandwheelOff = raw::MC_OP_HANDWHEEL_OFF,
+        /// Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n
+        /// (`1..MC_GANTRY_MAX_SLAVES`), kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in the
+        /// position range), then each slave's axis and square offset (counts, in the position
+        /// range). Every member Standstill, or every member Disabled. A gantry index, master or
+        /// slave that is no axis of the card, a count out of range, master == slave or a slave
+        /// twice: `MC_NACK_GANTRY_AXES`; gains, limit or offset out of range:
+        /// `MC_NACK_GANTRY_GAINS`; a member in another gantry, a slave that is a member of a
+        /// configured group, a member geared, cammed or streaming: `MC_NACK_GANTRY_IN_USE`; the
+        /// gantry formed already, the members not all at rest with the same power:
+        /// `MC_NACK_GANTRY_STATE`.
+        GantryForm = raw::MC_OP_GANTRY_FORM,
+        /// Axis: the gantry. The master at rest (Standstill, Disabled or ErrorStop with no ramp
+        /// running), else `MC_NACK_GANTRY_STATE` (as for a gantry not formed); the slaves hold
+        /// where they are (Standstill).
+        GantryDissolve = raw::MC_OP_GANTRY_DISSOLVE,
+        /// Axis: the gantry. Every member Standstill (else `MC_NACK_GANTRY_STATE`): each member
+        /// runs its own `MC_OP_HOME` (its `axis_homing` block, home position 0) with the coupling
+        /// suspended; once all are homed, each slave moves (within its homing block's velocity and
+        /// acceleration) until slave - master = its square offset, which becomes its hold; then the
+        /// gantry is coupled again and `MC_EV_GANTRY_HOMED` posts (code 0, value: slave 0's skew).
+        /// A side that fails: the others halt, the gantry is coupled where they stand,
+        /// `MC_EV_GANTRY_HOMED` with the failure's `MC_HOMING_ERR_*` and the failing axis as value.
+        /// The members' own `MC_EV_MOTION_DONE` / `MC_EV_HOMING_FAILED` carry this seq.
+        GantryHome = raw::MC_OP_GANTRY_HOME,
     }
 }

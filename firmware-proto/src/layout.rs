@@ -221,6 +221,20 @@ const _: () = {
     assert!(COMP_READBACK.offset() + COMP_READBACK_BYTES <= crate::DPRAM_SIZE);
     assert!(size_of::<mc_comp_point>() == 24);
 };
+/// Layout 1.10: the gantries' status blocks (`mc_gantry_status`). Card writes.
+pub const GANTRY_STATUS: Blocks<mc_gantry_status, { MC_MAX_GANTRIES as usize }> =
+    Blocks::new(off!(gantry_status));
+/// One block's size.
+pub const GANTRY_STATUS_BYTES: usize = size_of::<mc_gantry_status>();
+const _: () = {
+    // Layout 1.10 appended after the compensation read-back.
+    assert!(GANTRY_STATUS.at(0).offset() == COMP_READBACK.offset() + COMP_READBACK_BYTES);
+    assert!(GANTRY_STATUS.at(0).offset().is_multiple_of(8));
+    assert!(
+        GANTRY_STATUS.at(MC_MAX_GANTRIES as usize - 1).offset() + GANTRY_STATUS_BYTES
+            <= crate::DPRAM_SIZE
+    );
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

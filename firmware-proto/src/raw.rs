@@ -232,6 +232,7 @@ pub const MC_SIG_SERVO_P: u32 = 10;
 pub const MC_SIG_SERVO_I: u32 = 11;
 pub const MC_SIG_SERVO_D: u32 = 12;
 pub const MC_SIG_SERVO_FF: u32 = 13;
+pub const MC_SIG_GANTRY_SKEW: u32 = 14;
 pub const MC_SIG_PATH_SPEED: u32 = 32;
 pub const MC_SIG_PATH_ACC: u32 = 33;
 pub const MC_SIG_PATH_POS: u32 = 34;
@@ -294,6 +295,22 @@ pub const MC_HANDWHEEL_RATIO_MAX: u32 = 10000;
 pub const MC_HANDWHEEL_DETENT_MAX: u32 = 1024;
 pub const MC_NACK_HANDWHEEL_INPUT: u32 = 129;
 pub const MC_NACK_HANDWHEEL_RATIO: u32 = 130;
+pub const MC_MAX_GANTRIES: u32 = 4;
+pub const MC_GANTRY_MAX_SLAVES: u32 = 4;
+pub const MC_GANTRY_KP_MAX: f64 = 1000000000.0;
+pub const MC_GANTRY_KI_MAX: f64 = 1000000000000.0;
+pub const MC_OP_GANTRY_FORM: u32 = 108;
+pub const MC_OP_GANTRY_DISSOLVE: u32 = 109;
+pub const MC_OP_GANTRY_HOME: u32 = 110;
+pub const MC_NACK_GANTRY_SLAVE: u32 = 134;
+pub const MC_NACK_GANTRY_IN_USE: u32 = 135;
+pub const MC_NACK_GANTRY_AXES: u32 = 136;
+pub const MC_NACK_GANTRY_GAINS: u32 = 137;
+pub const MC_NACK_GANTRY_STATE: u32 = 138;
+pub const MC_GANTRY_NONE: u32 = 0;
+pub const MC_GANTRY_COUPLED: u32 = 1;
+pub const MC_GANTRY_HOMING: u32 = 2;
+pub const MC_GANTRY_SQUARING: u32 = 3;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -317,6 +334,8 @@ pub const MC_EV_INPUT: u32 = 24;
 pub const MC_EV_COMPARE: u32 = 25;
 pub const MC_EV_PROBE: u32 = 26;
 pub const MC_EV_SCOPE: u32 = 29;
+pub const MC_EV_GANTRY_FAULT: u32 = 32;
+pub const MC_EV_GANTRY_HOMED: u32 = 33;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -437,6 +456,8 @@ pub const MC_STOP_GROUP: u32 = 30;
 pub const MC_STOP_TIMEOUT: u32 = 31;
 pub const MC_STOP_HOST_CHANGED: u32 = 32;
 pub const MC_STOP_NO_SESSION: u32 = 33;
+pub const MC_STOP_GANTRY_SKEW: u32 = 34;
+pub const MC_STOP_GANTRY: u32 = 35;
 pub const MC_MOTION_IN_VELOCITY: u32 = 1;
 pub const MC_MOTION_PAUSED: u32 = 2;
 pub const MC_MOTION_HOMED: u32 = 4;
@@ -1453,6 +1474,69 @@ const _: () = {
     ["Offset of field: mc_safety_status::attach_tick"]
         [::core::mem::offset_of!(mc_safety_status, attach_tick) - 248usize];
 };
+#[doc = " A gantry (layout 1.10). Card writes: every tick while formed, once when dissolved."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_gantry_status {
+    #[doc = " MC_GANTRY_*: MC_GANTRY_NONE when not formed (the rest 0)."]
+    pub phase: u32,
+    #[doc = " The master axis."]
+    pub master: u32,
+    #[doc = " Slaves in use."]
+    pub nslaves: u32,
+    #[doc = " 1 once MC_OP_GANTRY_HOME squared the bridge (cleared by a failed one or a new formation)."]
+    pub squared: u32,
+    #[doc = " The slave axes (nslaves of them)."]
+    pub slave: [u32; 4usize],
+    #[doc = " The yaw loop's gains (kp, ki 1/s) and the skew limit (counts)."]
+    pub kp: f64,
+    pub ki: f64,
+    pub skew_limit: f64,
+    pub _reserved0: f64,
+    #[doc = " Each slave's square offset (configured), counts."]
+    pub offset: [f64; 4usize],
+    #[doc = " Each slave's offset in force (hold), counts."]
+    pub hold: [f64; 4usize],
+    #[doc = " Each slave's skew of the tick: slave actual - master actual - hold, counts."]
+    pub skew: [f64; 4usize],
+    #[doc = " Each slave's yaw correction of the tick, counts."]
+    pub correction: [f64; 4usize],
+    #[doc = " The largest |skew| of each slave while coupled since formed, counts."]
+    pub max_skew: [f64; 4usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_gantry_status"][::core::mem::size_of::<mc_gantry_status>() - 224usize];
+    ["Alignment of mc_gantry_status"][::core::mem::align_of::<mc_gantry_status>() - 8usize];
+    ["Offset of field: mc_gantry_status::phase"]
+        [::core::mem::offset_of!(mc_gantry_status, phase) - 0usize];
+    ["Offset of field: mc_gantry_status::master"]
+        [::core::mem::offset_of!(mc_gantry_status, master) - 4usize];
+    ["Offset of field: mc_gantry_status::nslaves"]
+        [::core::mem::offset_of!(mc_gantry_status, nslaves) - 8usize];
+    ["Offset of field: mc_gantry_status::squared"]
+        [::core::mem::offset_of!(mc_gantry_status, squared) - 12usize];
+    ["Offset of field: mc_gantry_status::slave"]
+        [::core::mem::offset_of!(mc_gantry_status, slave) - 16usize];
+    ["Offset of field: mc_gantry_status::kp"]
+        [::core::mem::offset_of!(mc_gantry_status, kp) - 32usize];
+    ["Offset of field: mc_gantry_status::ki"]
+        [::core::mem::offset_of!(mc_gantry_status, ki) - 40usize];
+    ["Offset of field: mc_gantry_status::skew_limit"]
+        [::core::mem::offset_of!(mc_gantry_status, skew_limit) - 48usize];
+    ["Offset of field: mc_gantry_status::_reserved0"]
+        [::core::mem::offset_of!(mc_gantry_status, _reserved0) - 56usize];
+    ["Offset of field: mc_gantry_status::offset"]
+        [::core::mem::offset_of!(mc_gantry_status, offset) - 64usize];
+    ["Offset of field: mc_gantry_status::hold"]
+        [::core::mem::offset_of!(mc_gantry_status, hold) - 96usize];
+    ["Offset of field: mc_gantry_status::skew"]
+        [::core::mem::offset_of!(mc_gantry_status, skew) - 128usize];
+    ["Offset of field: mc_gantry_status::correction"]
+        [::core::mem::offset_of!(mc_gantry_status, correction) - 160usize];
+    ["Offset of field: mc_gantry_status::max_skew"]
+        [::core::mem::offset_of!(mc_gantry_status, max_skew) - 192usize];
+};
 #[doc = " Synchronised motion (layout 1.7 (sync)). Card writes, every tick."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -1714,10 +1798,11 @@ pub struct mc_dpram {
     pub scope_tail: mc_ring_index,
     pub scope_ring: [mc_scope_sample; 4096usize],
     pub comp_readback: mc_comp_readback,
+    pub gantry_status: [mc_gantry_status; 4usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 585376usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 586272usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1776,6 +1861,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, scope_ring) - 27456usize];
     ["Offset of field: mc_dpram::comp_readback"]
         [::core::mem::offset_of!(mc_dpram, comp_readback) - 584512usize];
+    ["Offset of field: mc_dpram::gantry_status"]
+        [::core::mem::offset_of!(mc_dpram, gantry_status) - 585376usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

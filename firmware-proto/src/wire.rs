@@ -624,8 +624,8 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        // layout 1.10: the plane of two axes' one, the handwheel's two
-        assert_eq!(NackCode::ALL.len(), 87);
+        // layout 1.10: the plane of two axes' one, the handwheel's two, the gantries' five
+        assert_eq!(NackCode::ALL.len(), 92);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
@@ -635,6 +635,7 @@ mod tests {
         assert!(StopReason::Watchdog.is_safety() && !StopReason::Halt.is_safety());
         assert!(StopReason::HostChanged.is_safety() && StopReason::StopTimeout.is_safety());
         assert!(!StopReason::HostDetach.is_safety());
+        assert!(StopReason::GantrySkew.is_safety() && StopReason::Gantry.is_safety());
         let mut codes: Vec<i32> = NackCode::ALL.iter().map(|c| *c as i32).collect();
         codes.dedup();
         assert_eq!(codes.len(), NackCode::ALL.len());

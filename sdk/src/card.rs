@@ -78,6 +78,10 @@ pub enum Outcome {
     /// Layout 1.7 (sync): a gear motion's `MC_SYNC_*` event (raw code) and the slave's
     /// commanded position then (user units).
     Sync(i32, f64),
+    /// Layout 1.10: a gantry's homing ended: code 0 squared (the value: slave 0's skew, user
+    /// units of the master), else the `MC_HOMING_ERR_*` (or -1: a stop ended it) and the
+    /// axis that failed.
+    GantryHomed(i32, f64),
 }
 
 /// An event from the card. One unit rule for every kind: a `value` that is a position or a
@@ -726,6 +730,29 @@ impl Card {
 }
 
 impl Card {
+    /// Layout 1.10: wait for the end of gantry `g`'s homing `seq` (its members' own motion
+    /// events carry the same seq and are not it): slave 0's skew once squared, user units.
+    pub(crate) fn wait_gantry_homed(&self, g: usize, seq: u32, timeout: Duration) -> Result<f64> {
+        let (code, value) = self
+            .inner
+            .wait_until(Instant::now() + timeout, USER_WAIT, |rx| {
+                rx.outcomes.iter().find_map(|(s, o)| match *o {
+                    Outcome::GantryHomed(code, value) if *s == seq => Some((code, value)),
+                    _ => None,
+                })
+            })?;
+        if code == 0 {
+            return Ok(value);
+        }
+        Err(Error::GantryHomingFailed {
+            gantry: g,
+            axis: value as usize,
+            error: firmware_proto::HomingError::from_raw(code),
+        })
+    }
+}
+
+impl Card {
     /// The status of several axes in one call (`GT_GetSts` with a count, `APS_get_*` over
     /// axes): every one of the same servo tick (the card publishes every axis each tick; a
     /// pass that straddles two ticks is read again, for up to 100 ms, then `NotResponding`),
@@ -1049,6 +1076,11 @@ impl Inner {
                 (e.code != firmware_proto::SyncEvent::MasterLost as i32).then_some(axis)
             }
             EventKind::Pvt => (e.code == firmware_proto::PvtEvent::Done as i32).then_some(axis),
+            // Layout 1.10: a skew or a squared gantry's skew, in its master's units.
+            EventKind::GantryHomed if e.code == 0 => self.gantry_master(axis),
+            EventKind::GantryFault if e.code == firmware_proto::StopReason::GantrySkew as i32 => {
+                self.gantry_master(axis)
+            }
             EventKind::SafetyStop if e.axis != 0xFFFF => {
                 let reason = firmware_proto::StopReason::from_raw(e.code as u32)?;
                 use firmware_proto::StopReason as R;
@@ -1079,6 +1111,12 @@ impl Inner {
             }),
             _ => None,
         }
+    }
+
+    /// The master of gantry `g`, as its status block says (`None`: not formed).
+    fn gantry_master(&self, g: usize) -> Option<usize> {
+        let b = layout::GANTRY_STATUS.try_at(g)?.read(&self.dev.window);
+        (b.phase != raw::MC_GANTRY_NONE).then_some(b.master as usize)
     }
 
     /// The least watchdog timeout this card takes from a host, µs (0: none; see
@@ -1146,6 +1184,11 @@ impl Inner {
                         EventKind::Sync => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::Sync(e.code, value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::GantryHomed => push_capped(
+                            &mut rx.outcomes,
+                            (e.seq, Outcome::GantryHomed(e.code, value)),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {

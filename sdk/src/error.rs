@@ -313,6 +313,18 @@ error_kinds! {
     /// has started none there since the card was opened: there is nothing to wait for (the
     /// axis or group may still move, by motion of another kind: a raw command, another host).
     NoMotion = -115, MC_ERR_NO_MOTION, "no motion to wait for: none was started there by this process since the card was opened";
+    /// Layout 1.10: the axis is a slave of a formed gantry; it moves only with its master.
+    GantrySlave = -125, MC_ERR_GANTRY_SLAVE, nack GantrySlave, "the axis is a gantry's slave: command its master";
+    /// A gantry member already in use: in another gantry, a slave in a group, geared, cammed
+    /// or streaming.
+    GantryInUse = -126, MC_ERR_GANTRY_IN_USE, nack GantryInUse, "a gantry axis is already in use (another gantry, a group, gearing or a stream)";
+    /// A gantry's axes: an index, master or slave out of range, the master among its slaves,
+    /// a slave twice, no slave or too many.
+    GantryAxes = -127, MC_ERR_GANTRY_AXES, nack GantryAxes, "bad gantry axes: out of range, master among the slaves, a slave twice, or a bad count";
+    /// A gantry's yaw gains, skew limit or square offset out of range.
+    GantryGains = -128, MC_ERR_GANTRY_GAINS, nack GantryGains, "gantry kp, ki, skew limit or offset out of range";
+    /// The gantry (or its axes) is not in a state that takes the command.
+    GantryState = -129, MC_ERR_GANTRY_STATE, nack GantryState, "the gantry or its axes are not in a state that takes this";
     /// An arc whose plane of two group axes names one axis twice.
     PlaneAxes = -130, MC_ERR_PLANE_AXES, nack PlaneAxes, "an arc's plane names one group axis twice";
 }
@@ -335,6 +347,8 @@ pub enum Target {
     Axis(usize),
     /// An axes group.
     Group(usize),
+    /// A gantry (layout 1.10).
+    Gantry(usize),
 }
 
 impl std::fmt::Display for Target {
@@ -343,6 +357,7 @@ impl std::fmt::Display for Target {
             Target::Card => f.write_str("the card"),
             Target::Axis(a) => write!(f, "axis {a}"),
             Target::Group(g) => write!(f, "group {g}"),
+            Target::Gantry(g) => write!(f, "gantry {g}"),
         }
     }
 }
@@ -401,6 +416,15 @@ pub enum Error {
         target: Target,
         error: Option<firmware_proto::HomingError>,
         at: f64,
+    },
+    /// Gantry homing ended without squaring the bridge (kind [`ErrorKind::HomingFailed`]):
+    /// the axis that failed and why (`None`: a halt, stop, power off or safety stop ended its
+    /// homing, or a code this library does not know). The gantry is coupled where it stopped.
+    #[error("homing of gantry {gantry} failed on axis {axis}: {}", gantry_failure(*.error))]
+    GantryHomingFailed {
+        gantry: usize,
+        axis: usize,
+        error: Option<firmware_proto::HomingError>,
     },
     /// See [`ErrorKind::BadAxis`].
     #[error("axis {axis} does not exist: the card has {count} axes")]
@@ -511,6 +535,13 @@ pub enum Error {
     },
 }
 
+fn gantry_failure(e: Option<firmware_proto::HomingError>) -> String {
+    match e {
+        Some(e) => failure_reason(Some(e)).into(),
+        None => "its homing was ended by a halt, stop, power off or safety stop".into(),
+    }
+}
+
 fn config_place(path: &str, key: &str, line: usize) -> String {
     match (key.is_empty(), line) {
         (true, 0) => path.to_string(),
@@ -534,7 +565,9 @@ impl Error {
             Error::RingFull(_) => ErrorKind::RingFull,
             Error::Timeout(_) => ErrorKind::Timeout,
             Error::Aborted { .. } => ErrorKind::Aborted,
-            Error::HomingFailed { .. } => ErrorKind::HomingFailed,
+            Error::HomingFailed { .. } | Error::GantryHomingFailed { .. } => {
+                ErrorKind::HomingFailed
+            }
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::BadGroup { .. } => ErrorKind::BadGroup,
             Error::NotFinite { .. } => ErrorKind::NotFinite,

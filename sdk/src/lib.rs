@@ -30,6 +30,7 @@ mod config;
 mod device;
 mod error;
 mod fit;
+mod gantry;
 pub mod gcode;
 mod group;
 mod handwheel;
@@ -81,6 +82,9 @@ pub use firmware_proto::{
 pub use firmware_proto::{Edge, ScopeMode, ScopeSample, ScopeState, Source, SCOPE_CHANNELS};
 pub use firmware_proto::{
     GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
+};
+pub use gantry::{
+    Gantry, GantryConfig, GantryHoming, GantryPhase, GantrySide, GantryStatus, GANTRIES_MAX,
 };
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,

@@ -30,6 +30,7 @@
 mod axis;
 mod card;
 mod comp;
+mod gantry;
 mod group;
 mod io;
 mod sync;
@@ -39,6 +40,7 @@ mod tests;
 pub use axis::*;
 pub use card::*;
 pub use comp::*;
+pub use gantry::*;
 pub use group::*;
 pub use io::*;
 pub use sync::*;
@@ -234,7 +236,7 @@ pub enum Family {
     Axis,
     /// Axes groups, NURBS curves and the path ([`GroupCmd`]).
     Group,
-    /// Gearing, camming, PT/PVT ([`SyncCmd`]).
+    /// Gearing, camming, PT/PVT, gantries ([`SyncCmd`]).
     Sync,
     /// Outputs, position compare, touch probes ([`IoCmd`]).
     Io,
@@ -297,7 +299,10 @@ pub fn family(op: Opcode) -> Family {
         | O::CamOut
         | O::PvtBegin
         | O::PvtPoints
-        | O::PvtStart => Family::Sync,
+        | O::PvtStart
+        | O::GantryForm
+        | O::GantryDissolve
+        | O::GantryHome => Family::Sync,
         O::SetOutputs
         | O::ApplyIoConfig
         | O::CompareArm

@@ -427,6 +427,12 @@ pub enum SyncCmd {
     PvtPoints(PvtPoints),
     /// `MC_OP_PVT_START`.
     PvtStart(PvtStart),
+    /// `MC_OP_GANTRY_FORM` (target: the gantry; layout 1.10).
+    GantryForm(super::GantryForm),
+    /// `MC_OP_GANTRY_DISSOLVE` (target: the gantry).
+    GantryDissolve,
+    /// `MC_OP_GANTRY_HOME` (target: the gantry).
+    GantryHome,
 }
 
 impl SyncCmd {
@@ -443,6 +449,9 @@ impl SyncCmd {
             Self::PvtBegin(_) => Opcode::PvtBegin,
             Self::PvtPoints(_) => Opcode::PvtPoints,
             Self::PvtStart(_) => Opcode::PvtStart,
+            Self::GantryForm(_) => Opcode::GantryForm,
+            Self::GantryDissolve => Opcode::GantryDissolve,
+            Self::GantryHome => Opcode::GantryHome,
         }
     }
 
@@ -460,6 +469,12 @@ impl SyncCmd {
             Opcode::PvtBegin => Self::PvtBegin(Args::decode(f, args)?),
             Opcode::PvtPoints => Self::PvtPoints(Args::decode(f, args)?),
             Opcode::PvtStart => Self::PvtStart(Args::decode(f, args)?),
+            Opcode::GantryForm => Self::GantryForm(Args::decode(f, args)?),
+            Opcode::GantryDissolve | Opcode::GantryHome if f != 0 => {
+                return Err(DecodeError::flags(NackCode::GantryState))
+            }
+            Opcode::GantryDissolve => Self::GantryDissolve,
+            Opcode::GantryHome => Self::GantryHome,
             _ => return Err(not_in_family()),
         })
     }
@@ -477,6 +492,8 @@ impl SyncCmd {
             Self::PvtBegin(a) => super::entry(op, axis, a),
             Self::PvtPoints(a) => super::entry(op, axis, a),
             Self::PvtStart(a) => super::entry(op, axis, a),
+            Self::GantryForm(a) => super::entry(op, axis, a),
+            Self::GantryDissolve | Self::GantryHome => Command::new(op, axis),
         }
     }
 }

@@ -435,16 +435,10 @@ impl Homing {
         self.config = cfg;
     }
 
-    /// MC_Home (command `seq`): the home point will read `position` + the home offset. From
-    /// Standstill; a hard-stop method whose threshold the axis's following-error limit would
-    /// trip first is refused (`BadConfig`). Returns the old state.
-    pub fn start(
-        &mut self,
-        axis: &mut Axis,
-        seq: u32,
-        position: f64,
-        rate_hz: u32,
-    ) -> Result<Option<AxisState>, NackCode> {
+    /// The checks of [`Homing::start`] made without starting (its configuration against the
+    /// axis, the home position): the home point's position, or the nack. A gantry checks
+    /// every side before any starts (`gantry.rs`).
+    pub fn check(&self, axis: &Axis, position: f64, rate_hz: u32) -> Result<f64, NackCode> {
         let cfg = self.config;
         let b = &cfg.block;
         let home = position + b.home_offset;
@@ -458,6 +452,21 @@ impl Homing {
             }
         }
         speeds_in_range(b, rate_hz)?;
+        Ok(home)
+    }
+
+    /// MC_Home (command `seq`): the home point will read `position` + the home offset. From
+    /// Standstill; a hard-stop method whose threshold the axis's following-error limit would
+    /// trip first is refused (`BadConfig`). Returns the old state.
+    pub fn start(
+        &mut self,
+        axis: &mut Axis,
+        seq: u32,
+        position: f64,
+        rate_hz: u32,
+    ) -> Result<Option<AxisState>, NackCode> {
+        let home = self.check(axis, position, rate_hz)?;
+        let cfg = self.config;
         let changed = axis.begin_homing(seq, cfg.method.watched_limits())?;
         self.run = Some(Run {
             seq,

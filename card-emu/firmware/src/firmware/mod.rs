@@ -14,6 +14,7 @@ pub mod compare;
 pub mod config;
 pub mod dac;
 mod exec;
+pub mod gantry;
 pub mod gear;
 pub mod group;
 pub mod handwheel;
@@ -74,6 +75,9 @@ pub struct Firmware<M: Mem + Clone> {
     cams: Lazy<cam::CamStore>,
     /// Layout 1.9: the compensation tables, made on the first MC_OP_COMP_TABLE.
     comp: Lazy<comp::CompStore>,
+    /// Layout 1.10: the gantries (gantry.rs), and those whose status block must be cleared.
+    gantries: [Option<gantry::Gantry>; gantry::MAX_GANTRIES],
+    gantry_dirty: u8,
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
@@ -135,6 +139,8 @@ impl<M: Mem + Clone> Firmware<M> {
             pvt: core::array::from_fn(|_| Lazy::new()),
             cams: Lazy::new(),
             comp: Lazy::new(),
+            gantries: Default::default(),
+            gantry_dirty: 0,
             groups: core::array::from_fn(Group::new),
             group_blocks: [quiet::GroupBlock::default(); MAX_GROUPS],
             filters: filter_bank(),
@@ -472,22 +478,28 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         // Homing methods look at this tick's inputs and drive their axes (homing.rs).
         let homed = self.homing_tick(ts);
+        // Gantries: the slaves follow their masters' references of this tick (gantry.rs).
+        let follow = self.gantry_tick(ts, &mut early, &homed, dac);
         // The reports with something to tell, in axis order (most ticks: none).
         let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
         let mut report = TickReport::default();
         let tables = self.comp.as_ref();
         for (i, axis) in self.axes[..self.num_axes].iter_mut().enumerate() {
             let comp = tables.and_then(|t| t.table(i));
-            dac[i] = match early.get_mut(i).and_then(Option::take) {
+            let powered = match early.get_mut(i).and_then(Option::take) {
                 Some((powered, r)) => {
                     report = r;
-                    if powered {
-                        axis.servo_into(ts, &mut report, comp)
-                    } else {
-                        0.0
-                    }
+                    powered
                 }
-                None => axis.control_into(ts, &mut report, comp),
+                None => axis.reference_into(ts, &mut report),
+            };
+            dac[i] = if powered {
+                if let Some(r) = follow.as_ref().and_then(|f| f[i]) {
+                    axis.drive(r);
+                }
+                axis.servo_into(ts, &mut report, comp)
+            } else {
+                0.0
             };
             if !report.is_empty() {
                 // One an axis: never full.
@@ -518,6 +530,8 @@ impl<M: Mem + Clone> Firmware<M> {
             dac,
             evt_ring_ok,
         );
+        // [safety] a gantry stops as one (gantry.rs)
+        self.gantry_trips(dac);
         // [safety] a group stop still running at the maximum stop time: its members lose power
         let max_time = self.safety.config().max_stop_time();
         for g in &mut self.groups {
@@ -688,6 +702,7 @@ impl<M: Mem + Clone> Firmware<M> {
         self.mem.write32(layout::OUTPUTS, self.outputs());
         self.io.publish(&self.mem, self.tick);
         self.publish_sync();
+        self.publish_gantries();
     }
 
     /// The digital outputs (bit i = output i): the host's and the path's, and the compare
@@ -737,6 +752,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 Signal::ServoI => self.axes[i].servo_terms().i,
                 Signal::ServoD => self.axes[i].servo_terms().d,
                 Signal::ServoFf => self.axes[i].servo_terms().ff,
+                Signal::GantrySkew => gantry::skew_of(&self.gantries, i),
                 Signal::PathSpeed => gr().feed,
                 Signal::PathAcc => gr().feed_acc,
                 Signal::PathPos => gr().path_pos,

@@ -724,6 +724,43 @@ impl Safety {
         }
     }
 
+    /// Layout 1.10: a gantry stops as one (`gantry.rs`). Every member of `members` that is
+    /// not already in ErrorStop (nor Disabled) makes a `category` stop with `reason` (the skew
+    /// limit: [`StopReason::GantrySkew`]; a member's own safety stop: [`StopReason::Gantry`]),
+    /// `value` its event's measurement. A category 0 stop zeroes its output in `dac` now.
+    #[allow(clippy::too_many_arguments)]
+    pub fn trip_gantry<M: Mem>(
+        &mut self,
+        mem: &M,
+        tick: u64,
+        axes: &mut [Axis],
+        members: &[usize],
+        category: StopCategory,
+        reason: StopReason,
+        value: f64,
+        dac: &mut [f64; MAX_AXES],
+    ) {
+        let trip = Trip {
+            category,
+            reason,
+            fault: Faults::empty(),
+            value,
+        };
+        for &a in members {
+            let Some(axis) = axes.get_mut(a) else {
+                continue;
+            };
+            if matches!(axis.state, AxisState::ErrorStop | AxisState::Disabled) {
+                continue;
+            }
+            self.trip_axis(mem, tick, a, axis, trip);
+            if !axis.is_powered() {
+                dac[a] = 0.0;
+                axis.safety.io.remove(Io::DRIVE_ENABLE);
+            }
+        }
+    }
+
     /// The backstop of the session gate, once per servo tick before [`Safety::tick`]: with
     /// nobody in command ([`Safety::in_command`]), each axis `driven` still marks (moving
     /// towards a goal of its own, homing, or driven by a coupling, a stream or a moving group;

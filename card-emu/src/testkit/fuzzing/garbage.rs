@@ -242,7 +242,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 16] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 256, 0x7FFF, 0x8000, 0xFFFF,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 111, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -725,6 +725,20 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             let mask = (s.u8() % 4) as u32;
             feed(s);
             Plausible::typed(SyncCmd::PvtStart(PvtStart { mask }))
+        }
+        O::GantryForm => {
+            // Layout 1.10: a master and one slave of the first four axes.
+            let master = s.u8() % 4;
+            let axis = (master + 1 + s.u8() % 3) % 4;
+            feed(s);
+            let slave = firmware_proto::cmd::GantrySlave { axis, offset: 0.0 };
+            Plausible::typed(SyncCmd::GantryForm(firmware_proto::cmd::GantryForm {
+                master,
+                kp: 1e6,
+                ki: 0.0,
+                skew_limit: 100.0,
+                slaves: core::iter::once(slave).collect(),
+            }))
         }
         O::ReadConfig => {
             // Layout 1.8: a block kind (0 and 10 are none) and an index (axes, groups).

@@ -1050,6 +1050,21 @@ impl Axis {
         self.leave_group_motion()
     }
 
+    /// Layout 1.10: its gantry no longer drives this slave (dissolved, or its homing begins):
+    /// from SynchronizedMotion to Standstill, holding where the reference is. Returns the old
+    /// state if it changed.
+    pub fn release_from_gantry(&mut self) -> Option<AxisState> {
+        let mut changed = None;
+        if self.state == AxisState::SynchronizedMotion {
+            self.cmd.vel = 0.0;
+            self.cmd.acc = 0.0;
+            self.target = self.cmd.pos;
+            self.awaiting_done = false;
+            self.set_state(AxisState::Standstill, &mut changed);
+        }
+        changed
+    }
+
     /// Within the in-position windows of `target` (position and velocity)?
     pub fn in_position_at(&self, target: f64) -> bool {
         (target - self.act_pos).abs() <= self.config.in_pos_window

@@ -60,8 +60,11 @@ impl<M: Mem + Clone> Firmware<M> {
         if let AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) = cmd {
             return self.execute_comp(ax, &cmd);
         }
+        // Layout 1.10: a gantry's slave is the gantry's; its master's frame is the gantry's.
+        self.gantry_gate(ax, &cmd)?;
         // [safety] card-wide latches, causes still present, limits (safety.rs)
         self.safety.check_command(&cmd, &self.axes[ax])?;
+        self.gantry_slaves_check(ax, &cmd)?;
         let pending = self.axes[ax].pending_motion();
         if !matches!(cmd, AxisCmd::PowerOn | AxisCmd::Reset) && self.grouped(ax) {
             return Err(NackCode::AxisGrouped);
@@ -148,6 +151,10 @@ impl<M: Mem + Clone> Firmware<M> {
             }
         };
         self.finish_axis_command(c, op, ax, pending, aborting, changed);
+        if let AxisCmd::PowerOn | AxisCmd::PowerOff | AxisCmd::Reset = cmd {
+            // A gantry's master powers and resets its slaves.
+            self.gantry_slaves_follow(ax, &cmd);
+        }
         Ok(0.0)
     }
 }

@@ -44,6 +44,13 @@ impl<M: Mem + Clone> Firmware<M> {
                 if taken {
                     return Err(NackCode::AxisInOtherGroup);
                 }
+                // Layout 1.10: a gantry's slave is driven by its master, never as a member.
+                if cfg.axes[..cfg.naxes]
+                    .iter()
+                    .any(|&a| self.gantry_of_slave(a).is_some())
+                {
+                    return Err(NackCode::GantrySlave);
+                }
                 self.groups[g].configure(cfg)
             }
             GroupCmd::Enable => group.enable(&mut self.axes, tick, out),

@@ -1,11 +1,13 @@
 //! Synchronised motion (layout 1.7): gearing and camming (`gear.rs`, `cam.rs`) and PT/PVT
-//! streams (`pvt.rs`).
+//! streams (`pvt.rs`); gantries (layout 1.10, `gantry.rs`), whose commands name the gantry.
+//! A gantry's slave refuses every other command of the family (`GantrySlave`).
 //!
 //! The cam tables are the card's, not an axis's: their commands name any axis and are not
 //! checked against it. The others are an axis's: the axis one of the card's and not in an
 //! enabled group, then the command's own checks (a malformed gear or stream command is refused
 //! after those, as it always was).
 
+use super::super::gantry::MAX_GANTRIES;
 use super::super::gear::GearCommand;
 use super::super::Firmware;
 use firmware_proto::cmd::SyncCmd;
@@ -23,7 +25,25 @@ impl<M: Mem + Clone> Firmware<M> {
             (Opcode::CamData, Err(e)) => return self.cam_data(Err(*e)),
             _ => {}
         }
+        // Layout 1.10: the gantry commands' target is the gantry.
+        if matches!(
+            op,
+            Opcode::GantryForm | Opcode::GantryDissolve | Opcode::GantryHome
+        ) {
+            let g = c.axis as usize;
+            if g >= MAX_GANTRIES {
+                return Err(NackCode::GantryAxes);
+            }
+            return match decoded.map_err(|e| e.nack)? {
+                SyncCmd::GantryForm(f) => self.gantry_form(g, &f),
+                SyncCmd::GantryDissolve => self.gantry_dissolve(g),
+                _ => self.gantry_home(g, c.seq),
+            };
+        }
         let ax = self.target_axis(c)?;
+        if self.gantry_of_slave(ax).is_some() {
+            return Err(NackCode::GantrySlave);
+        }
         let pending = self.axes[ax].pending_motion();
         if self.grouped(ax) {
             return Err(NackCode::AxisGrouped);
@@ -56,7 +76,11 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             SyncCmd::GearOut | SyncCmd::CamOut => gear(self.execute_gear_out(seq, ax)?),
             // Served above.
-            SyncCmd::CamTable(_) | SyncCmd::CamData(_) => return Err(NackCode::UnknownOpcode),
+            SyncCmd::CamTable(_)
+            | SyncCmd::CamData(_)
+            | SyncCmd::GantryForm(_)
+            | SyncCmd::GantryDissolve
+            | SyncCmd::GantryHome => return Err(NackCode::UnknownOpcode),
         };
         self.finish_axis_command(c, op, ax, pending, aborting, changed);
         Ok(value)

@@ -1,0 +1,511 @@
+//! Layout 1.10: gantry axes on the stepped card. A bridge of two axes (master 0, slave 1),
+//! each its own default servo motor, the slave's load 30 % heavier (`MotorParams::inertia`):
+//! the skew held to two counts on a full-speed S-curve (23 without the yaw loop),
+//! a jammed side stopping both within the stop bound, homing squaring the bridge to its
+//! offset from any start, a group driving the slave through its master, and every refusal.
+//! The figures are printed: `cargo test --release --test gantry -- --nocapture`.
+mod common;
+
+use common::stepped_card_with;
+use motioncard_sdk::{
+    AxisState, Card, EmuOptions, ErrorKind, EventKind, GantryConfig, GantryPhase, GroupSettings,
+    HomeSwitch, HomingSettings, Master, MoveLimits, PathSettings, StopReason, Switches, SyncLimits,
+};
+use std::time::Duration;
+
+const RATE: u32 = 10_000;
+const LONG: Duration = Duration::from_secs(30);
+/// The slave's load, relative to the master's.
+const HEAVIER: f64 = 1.3;
+
+/// Three axes of the default servo, axis 1's inertia 30 % more.
+fn card() -> Card {
+    let mut emu = EmuOptions::new(3, RATE);
+    emu.motors[1].inertia *= HEAVIER;
+    stepped_card_with(emu)
+}
+
+fn enable(card: &Card, axes: &[usize]) {
+    for &a in axes {
+        card.axis(a).unwrap().enable().unwrap();
+    }
+}
+
+fn cfg(kp: f64, ki: f64) -> GantryConfig {
+    GantryConfig {
+        kp,
+        ki,
+        skew_limit: 200.0,
+        offsets: vec![0.0],
+    }
+}
+
+/// The axes' full speed: the safety layer's default velocity limit (10⁶ counts/s, 100 rev/s),
+/// an acceleration the heavier side still has a third of its current in reserve for.
+fn full_speed() -> MoveLimits {
+    MoveLimits::new(1e6, 5e6, 5e8)
+}
+
+/// The largest |skew| over an S-curve out and back at full speed (counts), every tick.
+fn skew_over_s_curve(kp: f64, ki: f64) -> f64 {
+    let card = card();
+    enable(&card, &[0, 1]);
+    let g = card.gantry(0, &[1], &cfg(kp, ki)).unwrap();
+    assert_eq!(
+        card.axis(1).unwrap().status().unwrap().state,
+        AxisState::SynchronizedMotion
+    );
+    let m = g.master().unwrap();
+    for target in [2e6, 0.0] {
+        m.move_absolute(target, &full_speed())
+            .unwrap()
+            .wait(LONG)
+            .unwrap();
+    }
+    card.sim().unwrap().step(2000);
+    let st = g.status().unwrap();
+    assert_eq!(st.phase, GantryPhase::Coupled);
+    // The slave followed: it stands where the master does.
+    let (a0, a1) = (
+        m.status().unwrap().actual_position,
+        card.axis(1).unwrap().status().unwrap().actual_position,
+    );
+    assert!((a1 - a0 - st.slaves[0].hold).abs() <= 1.0, "{a0} {a1}");
+    st.slaves[0].max_skew
+}
+
+#[test]
+fn skew_is_held_to_two_counts_on_a_full_speed_s_curve_with_one_side_heavier() {
+    let with = skew_over_s_curve(1e6, 0.0);
+    let without = skew_over_s_curve(0.0, 0.0);
+    println!("gantry skew, 2·10⁶ counts out and back at 10⁶ counts/s, 5·10⁶ counts/s², slave load +30 %: {with} counts with the yaw loop (kp 10⁶/s²), {without} without");
+    // The skew is two encoders' difference: 2 counts is a true skew between 1 and 3.
+    assert!(with <= 2.0, "skew {with} counts");
+    assert!(without > 10.0, "the yaw loop is what holds it: {without}");
+}
+
+#[test]
+fn a_jammed_side_stops_both_within_the_stop_bound() {
+    let card = card();
+    enable(&card, &[0, 1]);
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let m = g.master().unwrap();
+    let sim = card.sim().unwrap();
+    let _motion = m.move_absolute(5e6, &full_speed()).unwrap();
+    sim.step(3000); // at full speed
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    sim.with_emulator(|e| e.faults().stall(1, true));
+    let max_stop = card.safety_settings().unwrap().max_stop_time_us as f64 * 1e-6;
+    let t0 = sim.time();
+    let mut fault = None;
+    let mut at_rest = [None, None];
+    let mut steps = 0;
+    while at_rest.iter().any(Option::is_none) && steps < 20_000 {
+        sim.step(1);
+        steps += 1;
+        while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+            match e.kind {
+                EventKind::GantryFault => fault = Some(e),
+                EventKind::AtRest if (e.axis as usize) < 2 => {
+                    at_rest[e.axis as usize] = Some(sim.time() - t0)
+                }
+                _ => {}
+            }
+        }
+    }
+    let fault = fault.expect("a gantry fault event");
+    assert_eq!(fault.axis, 0, "it names the gantry");
+    assert_eq!(fault.code, StopReason::GantrySkew as i32);
+    assert!(
+        fault.value.abs() > 200.0,
+        "the skew beyond the limit: {}",
+        fault.value
+    );
+    for (a, rest) in at_rest.iter().enumerate() {
+        let st = card.axis(a).unwrap().status().unwrap();
+        assert_eq!(st.state, AxisState::ErrorStop, "axis {a}");
+        // The jammed side cannot follow the stop ramp either: its following error trips it
+        // harder (category 0) on the way.
+        let reason = card.axis(a).unwrap().stop_reason().unwrap();
+        let expected: &[StopReason] = if a == 0 {
+            &[StopReason::GantrySkew]
+        } else {
+            &[StopReason::GantrySkew, StopReason::FollowingError]
+        };
+        assert!(expected.contains(&reason), "axis {a}: {reason:?}");
+        let t = rest.expect("at rest");
+        assert!(
+            t <= max_stop + 1e-3,
+            "axis {a} at rest after {t} s (bound {max_stop} s)"
+        );
+    }
+    println!(
+        "gantry skew fault (slave jammed at 10⁶ counts/s): both sides at rest after {:.4} s and {:.4} s, stop bound {max_stop} s",
+        at_rest[0].unwrap(),
+        at_rest[1].unwrap()
+    );
+    // MC_Reset of the master resets both; the gantry couples again where they stand.
+    sim.with_emulator(|e| e.faults().stall(1, false));
+    m.reset().unwrap();
+    sim.step(2);
+    assert_eq!(m.status().unwrap().state, AxisState::Disabled);
+    m.enable().unwrap();
+    sim.step(2);
+    assert_eq!(
+        card.axis(1).unwrap().status().unwrap().state,
+        AxisState::SynchronizedMotion
+    );
+    assert!(!g.status().unwrap().squared);
+}
+
+#[test]
+fn a_slave_cannot_be_used_by_itself() {
+    let card = card();
+    enable(&card, &[0, 1]);
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let slave = card.axis(1).unwrap();
+    let lim = MoveLimits::new(1e5, 1e6, 1e8);
+    let kind = |r: motioncard_sdk::Result<_>| r.err().map(|e: motioncard_sdk::Error| e.kind());
+    assert_eq!(
+        kind(slave.move_absolute(10.0, &lim).map(|_| ())),
+        Some(ErrorKind::GantrySlave)
+    );
+    assert_eq!(kind(slave.disable()), Some(ErrorKind::GantrySlave));
+    assert_eq!(
+        kind(slave.halt(1e6, 1e8).map(|_| ())),
+        Some(ErrorKind::GantrySlave)
+    );
+    let sync = SyncLimits {
+        velocity: 1e5,
+        acceleration: 1e6,
+        jerk: 1e8,
+    };
+    assert_eq!(
+        kind(slave.gear_in(Master::Commanded(2), 1, 1, &sync).map(|_| ())),
+        Some(ErrorKind::GantrySlave)
+    );
+    let group = card.group(0).unwrap();
+    assert_eq!(
+        kind(group.configure(&GroupSettings::new(&[1, 2]))),
+        Some(ErrorKind::GantrySlave)
+    );
+    // The master homes only as the gantry.
+    assert_eq!(
+        kind(card.axis(0).unwrap().home(0.0).map(|_| ())),
+        Some(ErrorKind::GantryState)
+    );
+    // The master powers both off and on.
+    card.axis(0).unwrap().disable().unwrap();
+    assert_eq!(slave.status().unwrap().state, AxisState::Disabled);
+    card.axis(0).unwrap().enable().unwrap();
+    card.sim().unwrap().step(1);
+    assert_eq!(slave.status().unwrap().state, AxisState::SynchronizedMotion);
+    // Dissolved, the slave is its own axis again, where it stood.
+    g.dissolve().unwrap();
+    assert_eq!(slave.status().unwrap().state, AxisState::Standstill);
+    slave.move_absolute(10.0, &lim).unwrap().wait(LONG).unwrap();
+}
+
+#[test]
+fn formations_are_refused_for_their_own_reasons() {
+    let card = card();
+    for a in 0..3 {
+        card.axis(a).unwrap().enable().unwrap();
+    }
+    let c = cfg(1e6, 0.0);
+    let kind = |r: motioncard_sdk::Result<motioncard_sdk::Gantry>| r.err().unwrap().kind();
+    assert_eq!(kind(card.gantry(0, &[0], &c)), ErrorKind::GantryAxes);
+    assert_eq!(kind(card.gantry(0, &[1, 1], &c)), ErrorKind::GantryAxes);
+    assert_eq!(kind(card.gantry(0, &[], &c)), ErrorKind::GantryAxes);
+    assert_eq!(kind(card.gantry(0, &[5], &c)), ErrorKind::BadAxis);
+    for bad in [
+        GantryConfig {
+            kp: 2e9,
+            ..c.clone()
+        },
+        GantryConfig {
+            ki: -1.0,
+            ..c.clone()
+        },
+        GantryConfig {
+            skew_limit: 0.0,
+            ..c.clone()
+        },
+        GantryConfig {
+            offsets: vec![0.0, 1.0],
+            ..c.clone()
+        },
+    ] {
+        assert_eq!(
+            kind(card.gantry(0, &[1], &bad)),
+            ErrorKind::GantryGains,
+            "{bad:?}"
+        );
+    }
+    assert_eq!(
+        kind(card.gantry(
+            0,
+            &[1],
+            &GantryConfig {
+                kp: f64::NAN,
+                ..c.clone()
+            }
+        )),
+        ErrorKind::NotFinite
+    );
+    // The card's own checks, past the SDK's.
+    let raw = |args: &[f64]| {
+        let mut cmd =
+            motioncard_sdk::proto::Command::new(motioncard_sdk::proto::Opcode::GantryForm, 0);
+        cmd.args[..args.len()].copy_from_slice(args);
+        card.execute_raw(cmd).err().map(|e| e.kind())
+    };
+    assert_eq!(
+        raw(&[0.0, 1.0, 1e6, 0.0, 10.0, 0.0, 0.0]),
+        Some(ErrorKind::GantryAxes)
+    );
+    assert_eq!(
+        raw(&[0.0, 1.0, -1.0, 0.0, 10.0, 1.0, 0.0]),
+        Some(ErrorKind::GantryGains)
+    );
+    assert_eq!(
+        raw(&[0.0, 1.0, 1e6, 0.0, -1.0, 1.0, 0.0]),
+        Some(ErrorKind::GantryGains)
+    );
+    assert_eq!(
+        raw(&[0.0, 5.0, 1e6, 0.0, 10.0, 1.0, 0.0]),
+        Some(ErrorKind::GantryAxes)
+    );
+    // A slave in use: geared, or in another gantry.
+    let sync = SyncLimits {
+        velocity: 1e5,
+        acceleration: 1e6,
+        jerk: 1e8,
+    };
+    card.axis(2)
+        .unwrap()
+        .gear_in(Master::Commanded(0), 1, 1, &sync)
+        .unwrap();
+    assert_eq!(kind(card.gantry(0, &[2], &c)), ErrorKind::GantryInUse);
+    card.axis(2)
+        .unwrap()
+        .halt(1e6, 1e8)
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    let g = card.gantry(0, &[1], &c).unwrap();
+    assert_eq!(g.index(), 0);
+    assert_eq!(
+        kind(card.gantry(1, &[2], &c)),
+        ErrorKind::GantryInUse,
+        "the master is in gantry 0"
+    );
+    assert_eq!(
+        kind(card.gantry(2, &[1], &c)),
+        ErrorKind::GantryInUse,
+        "axis 1 is in gantry 0"
+    );
+    assert_eq!(
+        kind(card.gantry_at(0, 2, &[1], &c)),
+        ErrorKind::GantryState,
+        "gantry 0 is formed"
+    );
+    // A slave in a group as its own axis.
+    g.dissolve().unwrap();
+    card.group(0)
+        .unwrap()
+        .configure(&GroupSettings::new(&[0, 2]))
+        .unwrap();
+    assert_eq!(kind(card.gantry(1, &[2], &c)), ErrorKind::GantryInUse);
+    // The master may be in a group.
+    card.gantry(0, &[1], &c).unwrap();
+}
+
+#[test]
+fn a_group_with_the_master_drives_the_slave() {
+    let card = card();
+    enable(&card, &[0, 1, 2]);
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let group = card.group(0).unwrap();
+    group.configure(&GroupSettings::new(&[0, 2])).unwrap();
+    group.enable().unwrap();
+    group
+        .configure_path(&PathSettings::uniform(2, 2e5, 2e6, 2e8))
+        .unwrap();
+    let lim = motioncard_sdk::PathLimits::new(2e5, 2e6, 2e8);
+    group
+        .move_linear(&[40_000.0, 30_000.0], &lim, Default::default())
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    let s1 = card.axis(1).unwrap().status().unwrap();
+    let st = g.status().unwrap();
+    assert!((s1.command_position - 40_000.0 - st.slaves[0].hold).abs() < 1.0);
+    assert!(
+        (s1.actual_position - 40_000.0).abs() <= 1.0,
+        "{}",
+        s1.actual_position
+    );
+    assert!(st.slaves[0].max_skew <= 1.0, "{}", st.slaves[0].max_skew);
+}
+
+/// Each side's home switch: active above its edge, the slave's 137.5 counts further out
+/// than the master's (the bridge's two switches are not square).
+const EDGE: [f64; 2] = [-2_000.5, -1_863.0];
+const OFFSET: f64 = 25.0;
+
+#[test]
+fn homing_squares_the_bridge_to_its_offset_from_any_start() {
+    let mut squared = Vec::new();
+    for (k, start) in [
+        (0.0, 0.0),
+        (3_000.0, 3_040.0),
+        (-500.0, -620.0),
+        (8_000.0, 7_950.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let card = card();
+        let sim = card.sim().unwrap();
+        for (a, &edge) in EDGE.iter().enumerate() {
+            sim.with_emulator(|e| {
+                e.faults().set_switches(
+                    a,
+                    Switches::limits(-1e7, 1e7).with_home(HomeSwitch::Above(edge)),
+                )
+            });
+            let ax = card.axis(a).unwrap();
+            ax.configure_homing(&HomingSettings {
+                method: 19,
+                ..HomingSettings::default()
+            })
+            .unwrap();
+            ax.enable().unwrap();
+        }
+        // The bridge racked by the start's difference: each side where the start says.
+        let lim = MoveLimits::new(1e5, 1e6, 1e8);
+        for (a, p) in [start.0, start.1].into_iter().enumerate() {
+            card.axis(a)
+                .unwrap()
+                .move_absolute(p, &lim)
+                .unwrap()
+                .wait(LONG)
+                .unwrap();
+        }
+        let g = card
+            .gantry(
+                0,
+                &[1],
+                &GantryConfig {
+                    offsets: vec![OFFSET],
+                    ..cfg(1e6, 0.0)
+                },
+            )
+            .unwrap();
+        let skew = g.home().unwrap().wait(LONG).unwrap();
+        sim.step(2000);
+        let st = g.status().unwrap();
+        assert!(st.squared && st.phase == GantryPhase::Coupled);
+        assert_eq!(st.slaves[0].hold, OFFSET);
+        // Square: the encoders' difference, the same from every start.
+        let enc = |a: usize| card.axis(a).unwrap().status().unwrap().raw.encoder as f64;
+        squared.push(enc(1) - enc(0));
+        println!(
+            "start {k} {start:?}: squared with skew {skew} counts, encoders apart by {}",
+            enc(1) - enc(0)
+        );
+        assert!(skew.abs() <= 1.0);
+    }
+    let (lo, hi) = squared
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+    println!(
+        "gantry squaring at homing: encoder difference {lo}..{hi} over {} starts",
+        squared.len()
+    );
+    // The switches are 137.5 counts apart, the offset 25: square is 162.5 ± a count.
+    assert!(hi - lo <= 2.0, "{squared:?}");
+    assert!(
+        (lo - 162.5).abs() <= 1.5 && (hi - 162.5).abs() <= 1.5,
+        "{squared:?}"
+    );
+}
+
+#[test]
+fn a_failed_side_ends_gantry_homing_naming_the_gantry_and_the_axis() {
+    let card = card();
+    let sim = card.sim().unwrap();
+    for a in 0..2 {
+        // The slave has no home switch: it runs to its maximum distance.
+        let home = if a == 0 {
+            HomeSwitch::Above(EDGE[0])
+        } else {
+            HomeSwitch::None
+        };
+        sim.with_emulator(|e| {
+            e.faults()
+                .set_switches(a, Switches::limits(-1e7, 1e7).with_home(home))
+        });
+        let ax = card.axis(a).unwrap();
+        ax.configure_homing(&HomingSettings {
+            method: 19,
+            max_distance: 20_000.0,
+            ..HomingSettings::default()
+        })
+        .unwrap();
+        ax.enable().unwrap();
+    }
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let err = g.home().unwrap().wait(LONG).unwrap_err();
+    assert_eq!(err.kind(), ErrorKind::HomingFailed);
+    match err {
+        motioncard_sdk::Error::GantryHomingFailed {
+            gantry,
+            axis,
+            error,
+        } => {
+            assert_eq!((gantry, axis), (0, 1));
+            assert_eq!(error, Some(motioncard_sdk::HomingError::DistanceExceeded));
+        }
+        e => panic!("{e}"),
+    }
+    sim.step(5000);
+    let st = g.status().unwrap();
+    assert_eq!(st.phase, GantryPhase::Coupled);
+    assert!(!st.squared);
+    assert_eq!(
+        card.axis(1).unwrap().status().unwrap().state,
+        AxisState::SynchronizedMotion
+    );
+}
+
+#[test]
+fn a_safety_stop_of_one_side_stops_the_other() {
+    let card = card();
+    enable(&card, &[0, 1]);
+    let g = card.gantry(0, &[1], &cfg(1e6, 0.0)).unwrap();
+    let m = g.master().unwrap();
+    let sim = card.sim().unwrap();
+    let _motion = m.move_absolute(5e6, &full_speed()).unwrap();
+    sim.step(2000);
+    while card.next_event(Duration::ZERO).unwrap().is_some() {}
+    // The slave's amplifier alarms: it loses power at once, and the master stops with it.
+    sim.with_emulator(|e| e.faults().set_alarm(1, true));
+    sim.step(1);
+    let mut fault = None;
+    while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+        if e.kind == EventKind::GantryFault {
+            fault = Some(e);
+        }
+    }
+    let fault = fault.expect("a gantry fault event");
+    assert_eq!((fault.axis, fault.code), (0, StopReason::AmpAlarm as i32));
+    assert_eq!(fault.value, 1.0, "the side that stopped first");
+    assert_eq!(m.status().unwrap().state, AxisState::ErrorStop);
+    assert_eq!(m.stop_reason().unwrap(), StopReason::Gantry);
+    assert_eq!(
+        card.axis(1).unwrap().stop_reason().unwrap(),
+        StopReason::AmpAlarm
+    );
+}
