@@ -1269,7 +1269,8 @@ extern "C" {
 #define MC_OP_POWER_OFF 3
 
 /**
- * Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`.
+ * Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`, a direction (layout
+ * 1.10: `MC_MOVE_DIR_*`, modulo axes only).
  */
 #define MC_OP_MOVE_ABSOLUTE 4
 
@@ -1689,6 +1690,15 @@ extern "C" {
 #define MC_OP_COMP_READ 100
 
 /**
+ * Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
+ * rounded to `1/MC_COMMANDED_SUBCOUNTS` count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of
+ * range: `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop
+ * with no motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+ * `axis_config.modulo`.
+ */
+#define MC_OP_SET_MODULO 101
+
+/**
  * `mc_gcode_poll` / `mc_gcode_run`: items are queued or run.
  */
 #define MC_GCODE_RUNNING 0
@@ -2030,7 +2040,12 @@ typedef struct mc_axis_config {
    * it. 1 at boot.
    */
   double scale;
-  double _reserved[1];
+  /**
+   * Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on
+   * MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at
+   * boot.
+   */
+  double modulo;
 } mc_axis_config;
 
 /**
@@ -5928,9 +5943,44 @@ mc_result mc_send_raw(mc_card card,
 #define MC_MAX_MOVE_TIME 1000000.0
 
 /**
+ * The largest period, counts (a position within the turn times 65536 stays exact in a double).
+ */
+#define MC_MODULO_MAX 1e11
+
+/**
+ * The smallest period, counts.
+ */
+#define MC_MODULO_MIN 1.0
+
+/**
  * Start when the queued moves end (else: a group must be at rest; an axis aborts what it does).
  */
 #define MC_MOVE_BUFFERED (1u << 1)
+
+/**
+ * The direction of the motion in progress, else of the last one (positive if the axis never moved).
+ */
+#define MC_MOVE_DIR_CURRENT 3u
+
+/**
+ * Negative.
+ */
+#define MC_MOVE_DIR_NEGATIVE 2u
+
+/**
+ * Positive: up to a turn less a count forward.
+ */
+#define MC_MOVE_DIR_POSITIVE 1u
+
+/**
+ * 2 bits of `MC_OP_MOVE_ABSOLUTE's` flags (PLCopen `MC_Direction`):.
+ */
+#define MC_MOVE_DIR_SHIFT 8u
+
+/**
+ * The shorter way round (the default).
+ */
+#define MC_MOVE_DIR_SHORTEST 0u
 
 #define MC_MOVE_RELATIVE (1u << 0)
 
@@ -6128,6 +6178,26 @@ mc_result mc_send_raw(mc_card card,
  * A kinematic limit outside its range (see `MC_MAX_MOVE_TIME`).
  */
 #define MC_NACK_LIMIT_RANGE 11
+
+/**
+ * The axis is not at rest: its period cannot change.
+ */
+#define MC_NACK_MODULO_BUSY 126
+
+/**
+ * A direction other than `MC_MOVE_DIR_SHORTEST` on a linear axis.
+ */
+#define MC_NACK_MODULO_DIRECTION 128
+
+/**
+ * A modulo period below `MC_MODULO_MIN` or above `MC_MODULO_MAX`, or negative.
+ */
+#define MC_NACK_MODULO_RANGE 125
+
+/**
+ * An absolute target outside `[0`, modulo) on a modulo axis.
+ */
+#define MC_NACK_MODULO_TARGET 127
 
 /**
  * A velocity, acceleration or jerk limit is zero or negative.

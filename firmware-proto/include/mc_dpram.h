@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 9u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 10u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -57,7 +57,11 @@
                            * MC_NACK_COMP_* 120..124, comp_readback appended), the status
                            * payloads grew to 25 words (axis: comp_pos; group: a reserved word),
                            * their checksum is word 24; a touch probe that halts its axis's
-                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7) */
+                           * motion on the capture (MC_PROBE_HALT, MC_STOP_PROBE 7);
+                           * 10: rotary (modulo) axes (MC_OP_SET_MODULO 101,
+                           * mc_axis_config.modulo from its reserved word, the direction of
+                           * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
+                           * 125..128); the status's positions wrap into [0, modulo) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -97,7 +101,8 @@
 #define MC_OP_NOP 1u               /* does nothing but answer: the round-trip probe */
 #define MC_OP_POWER_ON 2u          /* MC_Power Enable=TRUE */
 #define MC_OP_POWER_OFF 3u         /* MC_Power Enable=FALSE */
-#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED */
+#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED,
+                                    * a direction (layout 1.10: MC_MOVE_DIR_*, modulo axes only) */
 #define MC_OP_MOVE_RELATIVE 5u     /* args: distance (from the commanded position), then as MOVE_ABSOLUTE */
 #define MC_OP_HALT 6u              /* args: dmax, jerk. Decelerate, then Standstill */
 #define MC_OP_STOP 7u              /* args: dmax, jerk. Decelerate, stay in Stopping */
@@ -781,6 +786,38 @@
 #define MC_NACK_COMP_BOUND 123  /* a correction beyond the table's bound */
 #define MC_NACK_COMP_BUSY 124   /* the axis is not at rest: its compensation cannot change */
 
+/* Layout 1.10: rotary (modulo) axes. An axis with a modulo period m > 0 (counts) reports its
+ * commanded, actual and target positions, MC_EV_MOTION_DONE's position and its probe captures
+ * wrapped into [0, m); the raw encoder count is the shaft's, unwrapped. The card keeps the turn
+ * count and the position within the turn apart (integers: the period is held in
+ * 1/65536 count, the encoder is an integer), so the wrapped position does not
+ * drift however many turns the axis makes. MC_OP_MOVE_ABSOLUTE takes a target in [0, m) (else
+ * MC_NACK_MODULO_TARGET) and goes there the way its flags name (PLCopen MC_Direction; shortest
+ * by default; a tie of exactly half a turn goes positive; a target where the axis is: no
+ * motion); relative and additive moves go their distance, turns included. Soft limits do not
+ * apply to a modulo axis (they are kept, and hold again once the axis is linear). */
+#define MC_OP_SET_MODULO 101u  /* axis: the axis. args: the period, counts (0: linear; else
+                                * MC_MODULO_MIN..MC_MODULO_MAX, rounded to 1/65536
+                                * count; NaN or infinite: MC_NACK_NOT_FINITE; out of range:
+                                * MC_NACK_MODULO_RANGE). Only at rest (Standstill with no motion,
+                                * Disabled, or ErrorStop with no motion; else MC_NACK_MODULO_BUSY).
+                                * The positions are wrapped at once. Read back in
+                                * axis_config.modulo */
+#define MC_MODULO_MIN 1.0          /* the smallest period, counts */
+#define MC_MODULO_MAX 1e11         /* the largest period, counts (a position within the turn
+                                    * times 65536 stays exact in a double) */
+#define MC_MOVE_DIR_SHIFT 14u      /* 2 bits of MC_OP_MOVE_ABSOLUTE's flags (PLCopen MC_Direction): */
+#define MC_MOVE_DIR_SHORTEST 0u    /*   the shorter way round (the default) */
+#define MC_MOVE_DIR_POSITIVE 1u    /*   positive: up to a turn less a count forward */
+#define MC_MOVE_DIR_NEGATIVE 2u    /*   negative */
+#define MC_MOVE_DIR_CURRENT 3u     /*   the direction of the motion in progress, else of the last one
+                                    *   (positive if the axis never moved) */
+#define MC_NACK_MODULO_RANGE 125   /* a modulo period below MC_MODULO_MIN or above MC_MODULO_MAX,
+                                    * or negative */
+#define MC_NACK_MODULO_BUSY 126    /* the axis is not at rest: its period cannot change */
+#define MC_NACK_MODULO_TARGET 127  /* an absolute target not in 0 <= target < modulo on a modulo axis */
+#define MC_NACK_MODULO_DIRECTION 128 /* a direction other than MC_MOVE_DIR_SHORTEST on a linear axis */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
 #define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
@@ -1137,7 +1174,10 @@ struct mc_axis_config {
      * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
      * it. 1 at boot. */
     double scale;
-    double _reserved[1];
+    /** Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on
+     * MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at
+     * boot. */
+    double modulo;
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */

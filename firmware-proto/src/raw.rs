@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 9;
+pub const MC_LAYOUT_MINOR: u32 = 10;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -284,6 +284,18 @@ pub const MC_NACK_COMP_SEQUENCE: u32 = 121;
 pub const MC_NACK_COMP_ORDER: u32 = 122;
 pub const MC_NACK_COMP_BOUND: u32 = 123;
 pub const MC_NACK_COMP_BUSY: u32 = 124;
+pub const MC_OP_SET_MODULO: u32 = 101;
+pub const MC_MODULO_MIN: f64 = 1.0;
+pub const MC_MODULO_MAX: f64 = 100000000000.0;
+pub const MC_MOVE_DIR_SHIFT: u32 = 8;
+pub const MC_MOVE_DIR_SHORTEST: u32 = 0;
+pub const MC_MOVE_DIR_POSITIVE: u32 = 1;
+pub const MC_MOVE_DIR_NEGATIVE: u32 = 2;
+pub const MC_MOVE_DIR_CURRENT: u32 = 3;
+pub const MC_NACK_MODULO_RANGE: u32 = 125;
+pub const MC_NACK_MODULO_BUSY: u32 = 126;
+pub const MC_NACK_MODULO_TARGET: u32 = 127;
+pub const MC_NACK_MODULO_DIRECTION: u32 = 128;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -676,7 +688,8 @@ pub struct mc_axis_config {
     pub jog_jerk: f64,
     #[doc = " Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card\n writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores\n it. 1 at boot."]
     pub scale: f64,
-    pub _reserved: [f64; 1usize],
+    #[doc = " Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on\n MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at\n boot."]
+    pub modulo: f64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -704,8 +717,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, jog_jerk) - 104usize];
     ["Offset of field: mc_axis_config::scale"]
         [::core::mem::offset_of!(mc_axis_config, scale) - 112usize];
-    ["Offset of field: mc_axis_config::_reserved"]
-        [::core::mem::offset_of!(mc_axis_config, _reserved) - 120usize];
+    ["Offset of field: mc_axis_config::modulo"]
+        [::core::mem::offset_of!(mc_axis_config, modulo) - 120usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

@@ -3,6 +3,7 @@
 //! (counts, seconds): decoding never fails, the card checks the values.
 
 use super::{bit, not_in_family, put, set, take, Args, DecodeError, StopRamp};
+use crate::raw;
 use crate::wire::{Command, MoveFlags, Opcode, CMD_ARGS, SET_POSITION_RELATIVE};
 
 /// Which of PLCopen's single-axis position moves (the opcode of a [`PositionMove`]).
@@ -74,8 +75,56 @@ impl MoveLimits {
     }
 }
 
+/// Which way an absolute move on a modulo axis goes (layout 1.10, PLCopen `MC_Direction`; the
+/// 2-bit field `MC_MOVE_DIR_*` of `MC_OP_MOVE_ABSOLUTE`'s flags).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum MoveDirection {
+    /// `mcShortestWay` (`MC_MOVE_DIR_SHORTEST`): the shorter way round; the only one a linear
+    /// axis takes.
+    #[default]
+    Shortest,
+    /// `mcPositiveDirection` (`MC_MOVE_DIR_POSITIVE`).
+    Positive,
+    /// `mcNegativeDirection` (`MC_MOVE_DIR_NEGATIVE`).
+    Negative,
+    /// `mcCurrentDirection` (`MC_MOVE_DIR_CURRENT`): that of the motion in progress, else of the
+    /// last one (positive if the axis never moved).
+    Current,
+}
+
+impl MoveDirection {
+    /// Every direction.
+    pub const ALL: [MoveDirection; 4] = [
+        Self::Shortest,
+        Self::Positive,
+        Self::Negative,
+        Self::Current,
+    ];
+
+    /// The `MC_MOVE_DIR_*` code.
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Shortest => raw::MC_MOVE_DIR_SHORTEST,
+            Self::Positive => raw::MC_MOVE_DIR_POSITIVE,
+            Self::Negative => raw::MC_MOVE_DIR_NEGATIVE,
+            Self::Current => raw::MC_MOVE_DIR_CURRENT,
+        }
+    }
+
+    /// From a `MC_MOVE_DIR_*` code (two bits: every value is one).
+    pub fn from_code(code: u32) -> Self {
+        match code & 3 {
+            raw::MC_MOVE_DIR_POSITIVE => Self::Positive,
+            raw::MC_MOVE_DIR_NEGATIVE => Self::Negative,
+            raw::MC_MOVE_DIR_CURRENT => Self::Current,
+            _ => Self::Shortest,
+        }
+    }
+}
+
 /// `MC_OP_MOVE_ABSOLUTE`, `_RELATIVE`, `_ADDITIVE` (args: target or distance, vmax, amax, dmax,
-/// j1, j3, j5, j7; flags: `MC_MOVE_BUFFERED`).
+/// j1, j3, j5, j7; flags: `MC_MOVE_BUFFERED`, and for an absolute move the direction,
+/// `MC_MOVE_DIR_*` at `MC_MOVE_DIR_SHIFT`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PositionMove {
     /// The target (absolute) or the distance (relative, additive), counts.
@@ -84,6 +133,9 @@ pub struct PositionMove {
     pub limits: MoveLimits,
     /// PLCopen Buffered (else Aborting).
     pub buffered: bool,
+    /// The way round on a modulo axis (layout 1.10): an absolute move's; the card ignores it in
+    /// a relative or additive move (their distance says the way), the SDK sends `Shortest`.
+    pub direction: MoveDirection,
 }
 
 impl Args for PositionMove {
@@ -91,14 +143,23 @@ impl Args for PositionMove {
         args[0] = self.position;
         put(args, 1, &self.limits.to_array());
         set(self.buffered, MoveFlags::BUFFERED.bits())
+            | (self.direction.code() << raw::MC_MOVE_DIR_SHIFT)
     }
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         Ok(Self {
             position: args[0],
             limits: MoveLimits::from_array(take(args, 1)),
             buffered: bit(flags, MoveFlags::BUFFERED.bits()),
+            direction: MoveDirection::from_code(flags >> raw::MC_MOVE_DIR_SHIFT),
         })
     }
+}
+
+super::value_args! {
+    /// `MC_OP_SET_MODULO` (layout 1.10; args: the period): an axis's modulo period.
+    SetModulo { /// The period, counts (0: a linear axis; else in
+    /// [`crate::MODULO_RANGE`]).
+    modulo }
 }
 
 /// `MC_OP_MOVE_VELOCITY`, MC_MoveVelocity (args: velocity (signed), amax, dmax, jerk).
@@ -203,6 +264,8 @@ pub enum AxisCmd {
     CompData(super::CompData),
     /// `MC_OP_COMP_READ`.
     CompRead(super::CompRead),
+    /// `MC_OP_SET_MODULO` (layout 1.10).
+    SetModulo(SetModulo),
 }
 
 impl AxisCmd {
@@ -224,6 +287,7 @@ impl AxisCmd {
             Self::CompTable(_) => Opcode::CompTable,
             Self::CompData(_) => Opcode::CompData,
             Self::CompRead(_) => Opcode::CompRead,
+            Self::SetModulo(_) => Opcode::SetModulo,
         }
     }
 
@@ -248,6 +312,7 @@ impl AxisCmd {
             Opcode::CompTable => Self::CompTable(Args::decode(f, args)?),
             Opcode::CompData => Self::CompData(Args::decode(f, args)?),
             Opcode::CompRead => Self::CompRead(Args::decode(f, args)?),
+            Opcode::SetModulo => Self::SetModulo(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -269,6 +334,7 @@ impl AxisCmd {
             Self::CompTable(h) => super::entry(op, axis, h),
             Self::CompData(d) => super::entry(op, axis, d),
             Self::CompRead(r) => super::entry(op, axis, r),
+            Self::SetModulo(m) => super::entry(op, axis, m),
         }
     }
 }

@@ -264,7 +264,8 @@ pub fn family(op: Opcode) -> Family {
         | O::SetPosition
         | O::CompTable
         | O::CompData
-        | O::CompRead => Family::Axis,
+        | O::CompRead
+        | O::SetModulo => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable
