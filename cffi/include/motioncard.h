@@ -1691,9 +1691,9 @@ extern "C" {
 
 /**
  * Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
- * rounded to `1/MC_COMMANDED_SUBCOUNTS` count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of
- * range: `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop
- * with no motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+ * rounded to 1/65536 count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of range:
+ * `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop with no
+ * motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
  * `axis_config.modulo`.
  */
 #define MC_OP_SET_MODULO 101
@@ -4160,6 +4160,29 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_COMP_BUSY -114
 
 /**
+ * Layout 1.10: a modulo period of zero given to `set_modulo` (a period must be a positive
+ * length; `clear_modulo` makes an axis linear).
+ */
+#define MC_ERR_MODULO_ZERO -116
+
+/**
+ * A modulo period that is negative, not finite, or outside the card's range (1 count to
+ * 10^11 counts).
+ */
+#define MC_ERR_MODULO_RANGE -117
+
+/**
+ * A modulo period changed on an axis that is not at rest.
+ */
+#define MC_ERR_MODULO_BUSY -118
+
+/**
+ * An absolute move that does not fit the axis: on a modulo axis a target outside
+ * [0, modulo), on a linear axis a direction other than the shortest way.
+ */
+#define MC_ERR_MODULO_MOVE -119
+
+/**
  * A configuration file that does not parse, or a value in it that the card would refuse
  * (the error names the key and its line); nothing of the file was applied.
  */
@@ -4198,6 +4221,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 
 
@@ -5975,7 +6000,7 @@ mc_result mc_send_raw(mc_card card,
 /**
  * 2 bits of `MC_OP_MOVE_ABSOLUTE's` flags (PLCopen `MC_Direction`):.
  */
-#define MC_MOVE_DIR_SHIFT 8u
+#define MC_MOVE_DIR_SHIFT 14u
 
 /**
  * The shorter way round (the default).
@@ -6185,19 +6210,14 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_MODULO_BUSY 126
 
 /**
- * A direction other than `MC_MOVE_DIR_SHORTEST` on a linear axis.
+ * An absolute move that does not fit the axis: on a modulo axis a target not in 0 <= target < modulo, on a linear axis a direction other than `MC_MOVE_DIR_SHORTEST`.
  */
-#define MC_NACK_MODULO_DIRECTION 128
+#define MC_NACK_MODULO_MOVE 127
 
 /**
  * A modulo period below `MC_MODULO_MIN` or above `MC_MODULO_MAX`, or negative.
  */
 #define MC_NACK_MODULO_RANGE 125
-
-/**
- * An absolute target outside `[0`, modulo) on a modulo axis.
- */
-#define MC_NACK_MODULO_TARGET 127
 
 /**
  * A velocity, acceleration or jerk limit is zero or negative.

@@ -61,7 +61,7 @@
                            * 10: rotary (modulo) axes (MC_OP_SET_MODULO 101,
                            * mc_axis_config.modulo from its reserved word, the direction of
                            * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
-                           * 125..128); the status's positions wrap into [0, modulo) */
+                           * 125..127); the status's positions wrap into [0, modulo) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -792,7 +792,7 @@
  * count and the position within the turn apart (integers: the period is held in
  * 1/65536 count, the encoder is an integer), so the wrapped position does not
  * drift however many turns the axis makes. MC_OP_MOVE_ABSOLUTE takes a target in [0, m) (else
- * MC_NACK_MODULO_TARGET) and goes there the way its flags name (PLCopen MC_Direction; shortest
+ * MC_NACK_MODULO_MOVE) and goes there the way its flags name (PLCopen MC_Direction; shortest
  * by default; a tie of exactly half a turn goes positive; a target where the axis is: no
  * motion); relative and additive moves go their distance, turns included. Soft limits do not
  * apply to a modulo axis (they are kept, and hold again once the axis is linear). */
@@ -815,8 +815,9 @@
 #define MC_NACK_MODULO_RANGE 125   /* a modulo period below MC_MODULO_MIN or above MC_MODULO_MAX,
                                     * or negative */
 #define MC_NACK_MODULO_BUSY 126    /* the axis is not at rest: its period cannot change */
-#define MC_NACK_MODULO_TARGET 127  /* an absolute target not in 0 <= target < modulo on a modulo axis */
-#define MC_NACK_MODULO_DIRECTION 128 /* a direction other than MC_MOVE_DIR_SHORTEST on a linear axis */
+#define MC_NACK_MODULO_MOVE 127    /* an absolute move that does not fit the axis: on a modulo axis
+                                    * a target not in 0 <= target < modulo, on a linear axis a
+                                    * direction other than MC_MOVE_DIR_SHORTEST */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

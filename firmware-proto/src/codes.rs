@@ -383,10 +383,9 @@ code_enum! {
         ModuloRange = raw::MC_NACK_MODULO_RANGE,
         /// The axis is not at rest: its period cannot change.
         ModuloBusy = raw::MC_NACK_MODULO_BUSY,
-        /// An absolute target outside `[0`, modulo) on a modulo axis.
-        ModuloTarget = raw::MC_NACK_MODULO_TARGET,
-        /// A direction other than `MC_MOVE_DIR_SHORTEST` on a linear axis.
-        ModuloDirection = raw::MC_NACK_MODULO_DIRECTION,
+        /// An absolute move that does not fit the axis: on a modulo axis a target not in 0 <=
+        /// target < modulo, on a linear axis a direction other than `MC_MOVE_DIR_SHORTEST`.
+        ModuloMove = raw::MC_NACK_MODULO_MOVE,
     }
 }
 
@@ -815,11 +814,10 @@ code_enum! {
         /// taken without a session (it reads).
         CompRead = raw::MC_OP_COMP_READ,
         /// Axis: the axis. args: the period, counts (0: linear; else
-        /// `MC_MODULO_MIN..MC_MODULO_MAX`, rounded to `1/MC_COMMANDED_SUBCOUNTS` count; NaN or
-        /// infinite: `MC_NACK_NOT_FINITE`; out of range: `MC_NACK_MODULO_RANGE`). Only at rest
-        /// (Standstill with no motion, Disabled, or ErrorStop with no motion; else
-        /// `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
-        /// `axis_config.modulo`.
+        /// `MC_MODULO_MIN..MC_MODULO_MAX`, rounded to 1/65536 count; NaN or infinite:
+        /// `MC_NACK_NOT_FINITE`; out of range: `MC_NACK_MODULO_RANGE`). Only at rest (Standstill
+        /// with no motion, Disabled, or ErrorStop with no motion; else `MC_NACK_MODULO_BUSY`). The
+        /// positions are wrapped at once. Read back in `axis_config.modulo`.
         SetModulo = raw::MC_OP_SET_MODULO,
     }
 }

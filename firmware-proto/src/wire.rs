@@ -617,7 +617,7 @@ mod tests {
     fn codes_match_the_header() {
         assert_eq!(Opcode::from_raw(raw::MC_OP_HALT as u16), Some(Opcode::Halt));
         assert_eq!(Opcode::from_raw(0), None);
-        assert_eq!(NackCode::ALL.len(), 88);
+        assert_eq!(NackCode::ALL.len(), 87);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));

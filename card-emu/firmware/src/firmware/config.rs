@@ -461,10 +461,10 @@ mod tests {
         mv.flags = raw::MC_MOVE_DIR_POSITIVE << raw::MC_MOVE_DIR_SHIFT;
         run(&mut fw, Opcode::SetModulo, 0, &[0.0]).unwrap();
         run(&mut fw, Opcode::PowerOn, 0, &[]).unwrap();
-        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloDirection));
+        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloMove));
         run(&mut fw, Opcode::SetModulo, 0, &[5.0]).unwrap();
         mv.args[0] = 5.0;
-        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloTarget));
+        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloMove));
         mv.args[0] = 4.5;
         assert_eq!(fw.execute(&mv), Ok(0.0));
     }

@@ -450,10 +450,10 @@ impl Axis {
     }
 
     /// [`Axis::move_target`] with an absolute move's direction (layout 1.10): on a modulo axis
-    /// the target is in [0, m) (else `ModuloTarget`) and the move goes the way `dir` names, from
+    /// the target is in [0, m) (else `ModuloMove`) and the move goes the way `dir` names, from
     /// the commanded position (buffered: the last target) to the target's place in the turn; a
     /// target within the in-position window of the start is no turn at all. On a linear axis a
-    /// direction other than `Shortest` is refused (`ModuloDirection`).
+    /// direction other than `Shortest` is refused (`ModuloMove`).
     pub fn move_target_dir(
         &self,
         kind: MoveKind,
@@ -466,7 +466,7 @@ impl Axis {
                 return self.modulo_target(arg, buffered, dir);
             }
             if dir != MoveDirection::Shortest {
-                return Err(NackCode::ModuloDirection);
+                return Err(NackCode::ModuloMove);
             }
         }
         let target = match kind {
@@ -488,7 +488,7 @@ impl Axis {
             return Err(NackCode::OutOfRange);
         }
         if !(0.0..m).contains(&arg) {
-            return Err(NackCode::ModuloTarget);
+            return Err(NackCode::ModuloMove);
         }
         let from = if buffered {
             self.last_target()
@@ -506,7 +506,8 @@ impl Axis {
         let back = fwd - m;
         let w = self.config.in_pos_window;
         let positive = match dir {
-            MoveDirection::Shortest => fwd <= m / 2.0,
+            // A tie (half a turn, to the rounding of the host's unit conversion) goes positive.
+            MoveDirection::Shortest => fwd <= m / 2.0 * (1.0 + 1e-12),
             MoveDirection::Positive => true,
             MoveDirection::Negative => false,
             MoveDirection::Current => {

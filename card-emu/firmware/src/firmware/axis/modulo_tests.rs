@@ -123,7 +123,7 @@ fn absolute_moves_go_the_way_they_name() {
     assert_eq!(t(Negative, 100.0), Ok(100.0), "where it is: no turn");
     assert_eq!(t(Current, 50.0), Ok(50.0 + m), "never moved: positive");
     for bad in [-0.5, m, 1e6, -m] {
-        assert_eq!(t(Shortest, bad), Err(NackCode::ModuloTarget), "{bad}");
+        assert_eq!(t(Shortest, bad), Err(NackCode::ModuloMove), "{bad}");
     }
     // Relative moves go their distance, turns and all.
     assert_eq!(
@@ -133,7 +133,7 @@ fn absolute_moves_go_the_way_they_name() {
     let lin = Axis::new();
     assert_eq!(
         lin.move_target_dir(MoveKind::Absolute, 10.0, false, Positive),
-        Err(NackCode::ModuloDirection)
+        Err(NackCode::ModuloMove)
     );
     assert_eq!(
         lin.move_target_dir(MoveKind::Absolute, 1e6, false, Shortest),
