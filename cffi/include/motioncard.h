@@ -5494,6 +5494,43 @@ mc_result mc_pvt_start(mc_card card, uint32_t axis, struct mc_motion *motion);
 mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free);
 
 /**
+ * Make `axis` a rotary (modulo) axis of `period` user units (for example 360 with a scale in
+ * counts per degree): its status's positions, motion done's and probe captures wrap into
+ * [0, period) without drift; soft limits do not apply. At rest only (`MC_ERR_MODULO_BUSY`). A
+ * period of 0 is `MC_ERR_MODULO_ZERO` (`mc_axis_clear_modulo` makes an axis linear), a
+ * negative, non-finite or out-of-range one (1 to 1e11 counts) `MC_ERR_MODULO_RANGE`; the axis
+ * needs a positive scale (`MC_ERR_BAD_CONFIG`). A refusal changes nothing.
+ */
+mc_result mc_axis_set_modulo(mc_card card, uint32_t axis, double period);
+
+/**
+ * Make `axis` linear again (its position stays where it is). At rest only
+ * (`MC_ERR_MODULO_BUSY`).
+ */
+mc_result mc_axis_clear_modulo(mc_card card, uint32_t axis);
+
+/**
+ * The modulo period the card holds for `axis` (read back), in user units; 0 for a linear
+ * axis. `*period` is written on success.
+ */
+mc_result mc_axis_get_modulo(mc_card card, uint32_t axis, double *period);
+
+/**
+ * MC_MoveAbsolute (Aborting) the way `direction` names (`MC_MOVE_DIR_SHORTEST`, `_POSITIVE`,
+ * `_NEGATIVE`, `_CURRENT`; another value: `MC_ERR_BAD_CONFIG`). On a modulo axis
+ * `target` must be in [0, period) (else `MC_ERR_MODULO_MOVE`); the shortest way takes a tie of
+ * half a turn positive, and a target within the in-position window of where the axis is is no
+ * turn. On a linear axis only `MC_MOVE_DIR_SHORTEST` (else `MC_ERR_MODULO_MOVE`). Otherwise as
+ * `mc_move_absolute`.
+ */
+mc_result mc_move_absolute_dir(mc_card card,
+                               uint32_t axis,
+                               double target,
+                               uint32_t direction,
+                               const struct mc_move_limits *limits,
+                               struct mc_motion *motion);
+
+/**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
  * heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
  * a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
