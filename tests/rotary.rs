@@ -47,8 +47,7 @@ fn the_period_is_set_read_back_and_refused_with_its_own_kinds() {
     axis.set_scale(SCALE).unwrap();
     assert_eq!(axis.modulo().unwrap(), 0.0, "linear at boot");
     axis.set_modulo(360.0).unwrap();
-    let m = axis.modulo().unwrap();
-    assert!((m - 360.0).abs() < 1e-12, "{m}");
+    assert_eq!(axis.modulo().unwrap(), 360.0, "read back as written");
     assert_eq!(axis.settings().unwrap().modulo, COUNTS_PER_TURN);
     let refusals = [
         (0.0, ErrorKind::ModuloZero, -116),
@@ -238,4 +237,43 @@ fn soft_limits_do_not_apply_to_a_modulo_axis() {
     axis.clear_modulo().unwrap();
     let e = axis.move_absolute(200.0, &limits()).unwrap_err();
     assert_eq!(e.kind(), ErrorKind::SoftLimit, "{e}");
+}
+
+/// `modulo` in `[axis.N]` of the configuration file: a card's period saved (in the file's
+/// user units), loaded into another card (applied, no difference left), `modulo = 0` makes the
+/// axis linear again, and a negative period is refused naming the key, nothing applied.
+#[test]
+fn the_period_goes_through_the_configuration_file() {
+    let a = card(1);
+    let ax = a.axis(0).unwrap();
+    ax.set_scale(SCALE).unwrap();
+    ax.set_modulo(360.0).unwrap();
+    let text = a.save_config().unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("modulo"))
+        .expect("modulo saved");
+    assert_eq!(line, "modulo = 360.0");
+    let b = card(1);
+    let report = b.load_config(&text, "a.toml").unwrap();
+    assert!(
+        report.applied.iter().any(|k| k == "axis.0.modulo"),
+        "{:?}",
+        report.applied
+    );
+    assert!((b.axis(0).unwrap().modulo().unwrap() - 360.0).abs() < 1e-9);
+    assert!(b.diff_config(&text, "a.toml").unwrap().is_empty());
+
+    let linear = text.replace(line, "modulo = 0.0");
+    b.load_config(&linear, "l.toml").unwrap();
+    assert_eq!(b.axis(0).unwrap().modulo().unwrap(), 0.0);
+
+    let c = card(1);
+    let bad = text.replace(line, "modulo = -360.0");
+    match c.load_config(&bad, "bad.toml").unwrap_err() {
+        motioncard_sdk::Error::ConfigFile { key, .. } => assert_eq!(key, "axis.0.modulo"),
+        e => panic!("{e}"),
+    }
+    assert_eq!(c.axis(0).unwrap().modulo().unwrap(), 0.0);
+    assert_eq!(c.axis(0).unwrap().scale_factor(), 1.0, "nothing applied");
 }

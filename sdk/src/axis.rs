@@ -207,7 +207,8 @@ impl Axis {
 
     /// Layout 1.10: the modulo period the card holds, in user units (0: a linear axis).
     pub fn modulo(&self) -> Result<f64> {
-        Ok(self.settings()?.modulo / self.scale())
+        let counts = self.settings()?.modulo;
+        Ok(crate::config::user_modulo(counts, self.scale()))
     }
 
     /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded
