@@ -124,8 +124,11 @@ pub struct AxisSection {
 /// shortest decimal that the card would hold as the same period, so that `360` written with a
 /// scale of 10000/360 reads back as `360`, not `360.00000000000006`.
 pub(crate) fn user_modulo(counts: f64, scale: f64) -> f64 {
+    if counts == 0.0 {
+        return 0.0;
+    }
     let m = counts / scale;
-    if counts == 0.0 || !m.is_finite() {
+    if !m.is_finite() {
         return m;
     }
     let held = firmware_proto::modulo_subcounts(counts);
