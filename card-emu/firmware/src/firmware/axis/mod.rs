@@ -548,6 +548,32 @@ impl Axis {
         r
     }
 
+    /// Velocity mode at `vel` on a modulo axis: cruise in integers from the commanded position
+    /// (out of line: a linear axis's tick does not carry its i128s).
+    #[inline(never)]
+    fn start_cruise(&mut self, vel: f64, ts: f64) {
+        self.motion = Motion::Cruise {
+            base: math::round(self.cmd.pos * CRUISE_SUB) as i128,
+            step: math::round(vel * ts * CRUISE_SUB) as i128,
+            k: 0,
+            vel,
+        };
+    }
+
+    /// One tick of the cruise: the commanded position `(base + k · step) / 2^32`.
+    #[inline(never)]
+    fn cruise_step(&mut self) {
+        if let Motion::Cruise { base, step, k, vel } = &mut self.motion {
+            *k += 1;
+            let q = *base + *step * *k as i128;
+            self.cmd = Reference {
+                pos: q as f64 / CRUISE_SUB,
+                vel: *vel,
+                acc: 0.0,
+            };
+        }
+    }
+
     /// The modulo period, counts (0: linear).
     pub fn modulo(&self) -> f64 {
         self.modulo
@@ -1104,12 +1130,7 @@ impl Axis {
                     }
                     if self.modulo_q != 0 && self.state != AxisState::Homing {
                         // A modulo axis cruises in integers from here (no time summed).
-                        self.motion = Motion::Cruise {
-                            base: math::round(self.cmd.pos * CRUISE_SUB) as i128,
-                            step: math::round(end.vel * ts * CRUISE_SUB) as i128,
-                            k: 0,
-                            vel: end.vel,
-                        };
+                        self.start_cruise(end.vel, ts);
                     }
                 } else if let (Goal::Position { .. }, true) = (self.goal, end.vel != 0.0) {
                     // The ramp down to a lowered velocity limit ended: on to the target. (If
@@ -1150,14 +1171,8 @@ impl Axis {
                     self.motion = Motion::Hold;
                 }
             }
-        } else if let Motion::Cruise { base, step, k, vel } = &mut self.motion {
-            *k += 1;
-            let q = *base + *step * *k as i128;
-            self.cmd = Reference {
-                pos: q as f64 / CRUISE_SUB,
-                vel: *vel,
-                acc: 0.0,
-            };
+        } else if let Motion::Cruise { .. } = self.motion {
+            self.cruise_step();
         }
         if self.modulo_q != 0 {
             self.wrap_frame();
