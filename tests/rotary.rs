@@ -277,3 +277,34 @@ fn the_period_goes_through_the_configuration_file() {
     assert_eq!(c.axis(0).unwrap().modulo().unwrap(), 0.0);
     assert_eq!(c.axis(0).unwrap().scale_factor(), 1.0, "nothing applied");
 }
+
+/// A probe on a modulo axis reports its captures wrapped: continuous capture on the index
+/// pulse (every 10,000 counts of the plant) of an axis whose period is 25,000 counts, in
+/// velocity mode over five turns: the k-th pulse at count 10,000·k is captured at
+/// (10,000·k mod 25,000) + 0.5 (the cell's middle), across every wrap.
+#[test]
+fn probe_captures_on_a_modulo_axis_are_wrapped() {
+    use motioncard_sdk::ProbeTrigger;
+    let card = card(1);
+    let ax = card.axis(0).unwrap();
+    ax.set_modulo(25_000.0).unwrap();
+    let p = ax.touch_probe(1);
+    p.arm(&ProbeTrigger {
+        continuous: true,
+        ..ProbeTrigger::index()
+    })
+    .unwrap();
+    ax.move_velocity(5e5, &VelocityLimits::new(5e6, 5e8))
+        .unwrap();
+    let sim = card.sim().unwrap();
+    while status(&card, 0).raw.encoder < 125_000 {
+        sim.step(10);
+    }
+    let st = p.status().unwrap();
+    let n = st.captures as i64;
+    assert_eq!(n, 12, "{st:?}");
+    let want: Vec<f64> = (n - 7..=n)
+        .map(|k| (10_000 * k).rem_euclid(25_000) as f64 + 0.5)
+        .collect();
+    assert_eq!(st.positions, want);
+}
