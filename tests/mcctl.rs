@@ -1482,3 +1482,88 @@ fn a_signal_halts_what_mcctl_started_and_closes_its_session() {
         assert_eq!(state(a), Some(AxisState::Standstill), "axis {a}");
     }
 }
+
+/// Layout 1.10: a rotary axis from the command line against one `emu:` card served by this
+/// test: `modulo` set with `mcctl config load` (and saved back), then `mcctl move
+/// --direction`: to 9000 of a 10,000-count turn negatively from 0 goes back 1000 counts, to 500
+/// positively goes forward 1500; a direction on a relative move is a usage error, a target
+/// outside the turn the card's refusal.
+#[test]
+fn a_rotary_axis_from_the_command_line() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    let name = format!("test-rotary-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(1, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let dir = std::env::temp_dir().join(format!("mcctl-rotary-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).display().to_string();
+    let (code, _, err) = mcctl(&["--card", &uri, "config", "save", &path("a.toml")]);
+    assert_eq!(code, 0, "{err}");
+    let a = std::fs::read_to_string(path("a.toml")).unwrap();
+    assert!(a.contains("\nmodulo = 0.0\n"), "{a}");
+    std::fs::write(
+        path("r.toml"),
+        a.replace("\nmodulo = 0.0\n", "\nmodulo = 10000.0\n"),
+    )
+    .unwrap();
+    let (code, out, err) = mcctl(&["--card", &uri, "config", "load", &path("r.toml"), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("axis.0.modulo"), "{out}");
+    let (code, out, _) = mcctl(&["--card", &uri, "config", "save", "-"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("\nmodulo = 10000.0\n"), "{out}");
+
+    let enc = || {
+        let (_, out, _) = mcctl(&["--card", &uri, "status", "--json"]);
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        j["axes"][0]["encoder"].as_i64().unwrap()
+    };
+    let mv = |target: &str, dir: &str| {
+        let (code, out, err) = mcctl(&[
+            "--card",
+            &uri,
+            "move",
+            "0",
+            target,
+            "--direction",
+            dir,
+            "--enable",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        j["position"].as_f64().unwrap()
+    };
+    let e0 = enc();
+    let at = mv("9000", "negative");
+    let e1 = enc();
+    assert!(
+        (at - 9000.0).abs() <= 1.0 && (e1 - e0 + 1000).abs() <= 2,
+        "{at} {e0} {e1}"
+    );
+    let at = mv("500", "positive");
+    let e2 = enc();
+    assert!(
+        (at - 500.0).abs() <= 1.0 && (e2 - e1 - 1500).abs() <= 2,
+        "{at} {e1} {e2}"
+    );
+
+    let (code, _, err) = mcctl(&[
+        "--card",
+        &uri,
+        "move",
+        "0",
+        "5",
+        "--relative",
+        "--direction",
+        "positive",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = mcctl(&["--card", &uri, "move", "0", "10000", "--enable"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("modulo"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1303,7 +1303,8 @@ extern "C" {
 #define MC_OP_POWER_OFF 3
 
 /**
- * Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`.
+ * Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`, a direction (layout
+ * 1.10: `MC_MOVE_DIR_*`, modulo axes only).
  */
 #define MC_OP_MOVE_ABSOLUTE 4
 
@@ -1723,6 +1724,15 @@ extern "C" {
 #define MC_OP_COMP_READ 100
 
 /**
+ * Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
+ * rounded to 1/65536 count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of range:
+ * `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop with no
+ * motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+ * `axis_config.modulo`.
+ */
+#define MC_OP_SET_MODULO 101
+
+/**
  * Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
  * `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio| <=
  * `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per detent,
@@ -2136,7 +2146,12 @@ typedef struct mc_axis_config {
    * it. 1 at boot.
    */
   double scale;
-  double _reserved[1];
+  /**
+   * Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on
+   * MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at
+   * boot.
+   */
+  double modulo;
 } mc_axis_config;
 
 /**
@@ -4370,6 +4385,29 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_COMP_BUSY -114
 
 /**
+ * Layout 1.10: a modulo period of zero given to `set_modulo` (a period must be a positive
+ * length; `clear_modulo` makes an axis linear).
+ */
+#define MC_ERR_MODULO_ZERO -116
+
+/**
+ * A modulo period that is negative, not finite, or outside the card's range (1 count to
+ * 10^11 counts).
+ */
+#define MC_ERR_MODULO_RANGE -117
+
+/**
+ * A modulo period changed on an axis that is not at rest.
+ */
+#define MC_ERR_MODULO_BUSY -118
+
+/**
+ * An absolute move that does not fit the axis: on a modulo axis a target outside
+ * [0, modulo), on a linear axis a direction other than the shortest way.
+ */
+#define MC_ERR_MODULO_MOVE -119
+
+/**
  * Layout 1.10: a handwheel input the card does not have.
  */
 #define MC_ERR_HANDWHEEL_INPUT -120
@@ -4451,6 +4489,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 
 
@@ -5800,6 +5840,43 @@ mc_result mc_pvt_start(mc_card card, uint32_t axis, struct mc_motion *motion);
 mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free);
 
 /**
+ * Make `axis` a rotary (modulo) axis of `period` user units (for example 360 with a scale in
+ * counts per degree): its status's positions, motion done's and probe captures wrap into
+ * [0, period) without drift; soft limits do not apply. At rest only (`MC_ERR_MODULO_BUSY`). A
+ * period of 0 is `MC_ERR_MODULO_ZERO` (`mc_axis_clear_modulo` makes an axis linear), a
+ * negative, non-finite or out-of-range one (1 to 1e11 counts) `MC_ERR_MODULO_RANGE`; the axis
+ * needs a positive scale (`MC_ERR_BAD_CONFIG`). A refusal changes nothing.
+ */
+mc_result mc_axis_set_modulo(mc_card card, uint32_t axis, double period);
+
+/**
+ * Make `axis` linear again (its position stays where it is). At rest only
+ * (`MC_ERR_MODULO_BUSY`).
+ */
+mc_result mc_axis_clear_modulo(mc_card card, uint32_t axis);
+
+/**
+ * The modulo period the card holds for `axis` (read back), in user units; 0 for a linear
+ * axis. `*period` is written on success.
+ */
+mc_result mc_axis_get_modulo(mc_card card, uint32_t axis, double *period);
+
+/**
+ * MC_MoveAbsolute (Aborting) the way `direction` names (`MC_MOVE_DIR_SHORTEST`, `_POSITIVE`,
+ * `_NEGATIVE`, `_CURRENT`; another value: `MC_ERR_BAD_CONFIG`). On a modulo axis
+ * `target` must be in [0, period) (else `MC_ERR_MODULO_MOVE`); the shortest way takes a tie of
+ * half a turn positive, and a target within the in-position window of where the axis is is no
+ * turn. On a linear axis only `MC_MOVE_DIR_SHORTEST` (else `MC_ERR_MODULO_MOVE`). Otherwise as
+ * `mc_move_absolute`.
+ */
+mc_result mc_move_absolute_dir(mc_card card,
+                               uint32_t axis,
+                               double target,
+                               uint32_t direction,
+                               const struct mc_move_limits *limits,
+                               struct mc_motion *motion);
+
+/**
  * Stop (`on` = 0) or resume (non-zero) this process's heartbeat to the card. A stopped
  * heartbeat is a hung host to the card: its watchdog trips after the timeout, every axis makes
  * a category 1 stop, and the trip stays latched until `mc_reset_faults`. On a real-time card a
@@ -6292,9 +6369,44 @@ mc_result mc_send_raw(mc_card card,
 #define MC_MAX_MOVE_TIME 1000000.0
 
 /**
+ * The largest period, counts (a position within the turn times 65536 stays exact in a double).
+ */
+#define MC_MODULO_MAX 1e11
+
+/**
+ * The smallest period, counts.
+ */
+#define MC_MODULO_MIN 1.0
+
+/**
  * Start when the queued moves end (else: a group must be at rest; an axis aborts what it does).
  */
 #define MC_MOVE_BUFFERED (1u << 1)
+
+/**
+ * The direction of the motion in progress, else of the last one (positive if the axis never moved).
+ */
+#define MC_MOVE_DIR_CURRENT 3u
+
+/**
+ * Negative.
+ */
+#define MC_MOVE_DIR_NEGATIVE 2u
+
+/**
+ * Positive: up to a turn less a count forward.
+ */
+#define MC_MOVE_DIR_POSITIVE 1u
+
+/**
+ * 2 bits of `MC_OP_MOVE_ABSOLUTE's` flags (PLCopen `MC_Direction`):.
+ */
+#define MC_MOVE_DIR_SHIFT 14u
+
+/**
+ * The shorter way round (the default).
+ */
+#define MC_MOVE_DIR_SHORTEST 0u
 
 #define MC_MOVE_RELATIVE (1u << 0)
 
@@ -6527,6 +6639,21 @@ mc_result mc_send_raw(mc_card card,
  * A kinematic limit outside its range (see `MC_MAX_MOVE_TIME`).
  */
 #define MC_NACK_LIMIT_RANGE 11
+
+/**
+ * The axis is not at rest: its period cannot change.
+ */
+#define MC_NACK_MODULO_BUSY 126
+
+/**
+ * An absolute move that does not fit the axis: on a modulo axis a target not in 0 <= target < modulo, on a linear axis a direction other than `MC_MOVE_DIR_SHORTEST`.
+ */
+#define MC_NACK_MODULO_MOVE 127
+
+/**
+ * A modulo period below `MC_MODULO_MIN` or above `MC_MODULO_MAX`, or negative.
+ */
+#define MC_NACK_MODULO_RANGE 125
 
 /**
  * A velocity, acceleration or jerk limit is zero or negative.

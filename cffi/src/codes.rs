@@ -757,7 +757,8 @@ pub const MC_OP_POWER_ON: u32 = 2;
 /// `MC_Power` Enable=FALSE.
 pub const MC_OP_POWER_OFF: u32 = 3;
 
-/// Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`.
+/// Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`, a direction (layout
+/// 1.10: `MC_MOVE_DIR_*`, modulo axes only).
 pub const MC_OP_MOVE_ABSOLUTE: u32 = 4;
 
 /// Args: distance (from the commanded position), then as `MOVE_ABSOLUTE`.
@@ -1038,6 +1039,13 @@ pub const MC_OP_COMP_DATA: u32 = 99;
 /// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state; taken
 /// without a session (it reads).
 pub const MC_OP_COMP_READ: u32 = 100;
+
+/// Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
+/// rounded to 1/65536 count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of range:
+/// `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop with no
+/// motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+/// `axis_config.modulo`.
+pub const MC_OP_SET_MODULO: u32 = 101;
 
 /// Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
 /// `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio| <=

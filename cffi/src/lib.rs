@@ -38,6 +38,7 @@ pub mod path;
 pub mod pvt;
 pub mod registry;
 pub mod result;
+pub mod rotary;
 pub mod safety;
 pub mod scope;
 pub mod sync;

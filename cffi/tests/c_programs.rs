@@ -713,6 +713,18 @@ fn handwheel_from_c() {
     );
 }
 
+/// Layout 1.10: `examples/c/rotary.c`: a modulo axis's period set, read back and refused
+/// (zero, out of range, while moving), absolute moves the way they name, the status wrapping.
+#[test]
+fn rotary_axes_from_c() {
+    let out = run(&compile("rotary", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS rotary\n"), "{out}");
+    assert!(
+        out.contains("rotary: shortest to 350 moved -556 counts, positive to 340 moved 9722"),
+        "{out}"
+    );
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");

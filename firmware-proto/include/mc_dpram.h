@@ -64,7 +64,11 @@
                            * MC_NACK_HANDWHEEL_INPUT 129, MC_NACK_HANDWHEEL_RATIO 130); gantry
                            * axes (MC_OP_GANTRY_* 108..110, MC_NACK_GANTRY_* 134..138,
                            * MC_EV_GANTRY_FAULT 32, MC_EV_GANTRY_HOMED 33, MC_STOP_GANTRY_SKEW 34,
-                           * MC_STOP_GANTRY 35, MC_SIG_GANTRY_SKEW 14, gantry_status[] appended) */
+                           * MC_STOP_GANTRY 35, MC_SIG_GANTRY_SKEW 14, gantry_status[] appended);
+                           * rotary (modulo) axes (MC_OP_SET_MODULO 101,
+                           * mc_axis_config.modulo from its reserved word, the direction of
+                           * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
+                           * 125..127); the status's positions wrap into [0, modulo) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -104,7 +108,8 @@
 #define MC_OP_NOP 1u               /* does nothing but answer: the round-trip probe */
 #define MC_OP_POWER_ON 2u          /* MC_Power Enable=TRUE */
 #define MC_OP_POWER_OFF 3u         /* MC_Power Enable=FALSE */
-#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED */
+#define MC_OP_MOVE_ABSOLUTE 4u     /* args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: MC_MOVE_BUFFERED,
+                                    * a direction (layout 1.10: MC_MOVE_DIR_*, modulo axes only) */
 #define MC_OP_MOVE_RELATIVE 5u     /* args: distance (from the commanded position), then as MOVE_ABSOLUTE */
 #define MC_OP_HALT 6u              /* args: dmax, jerk. Decelerate, then Standstill */
 #define MC_OP_STOP 7u              /* args: dmax, jerk. Decelerate, stay in Stopping */
@@ -894,6 +899,39 @@
 #define MC_GANTRY_HOMING 2u    /* MC_OP_GANTRY_HOME: each side homes on its own */
 #define MC_GANTRY_SQUARING 3u  /* MC_OP_GANTRY_HOME: the slaves move to their square offsets */
 
+/* Layout 1.10: rotary (modulo) axes. An axis with a modulo period m > 0 (counts) reports its
+ * commanded, actual and target positions, MC_EV_MOTION_DONE's position and its probe captures
+ * wrapped into [0, m); the raw encoder count is the shaft's, unwrapped. The card keeps the turn
+ * count and the position within the turn apart (integers: the period is held in
+ * 1/65536 count, the encoder is an integer), so the wrapped position does not
+ * drift however many turns the axis makes. MC_OP_MOVE_ABSOLUTE takes a target in [0, m) (else
+ * MC_NACK_MODULO_MOVE) and goes there the way its flags name (PLCopen MC_Direction; shortest
+ * by default; a tie of exactly half a turn goes positive; a target where the axis is: no
+ * motion); relative and additive moves go their distance, turns included. Soft limits do not
+ * apply to a modulo axis (they are kept, and hold again once the axis is linear). */
+#define MC_OP_SET_MODULO 101u  /* axis: the axis. args: the period, counts (0: linear; else
+                                * MC_MODULO_MIN..MC_MODULO_MAX, rounded to 1/65536
+                                * count; NaN or infinite: MC_NACK_NOT_FINITE; out of range:
+                                * MC_NACK_MODULO_RANGE). Only at rest (Standstill with no motion,
+                                * Disabled, or ErrorStop with no motion; else MC_NACK_MODULO_BUSY).
+                                * The positions are wrapped at once. Read back in
+                                * axis_config.modulo */
+#define MC_MODULO_MIN 1.0          /* the smallest period, counts */
+#define MC_MODULO_MAX 1e11         /* the largest period, counts (a position within the turn
+                                    * times 65536 stays exact in a double) */
+#define MC_MOVE_DIR_SHIFT 14u      /* 2 bits of MC_OP_MOVE_ABSOLUTE's flags (PLCopen MC_Direction): */
+#define MC_MOVE_DIR_SHORTEST 0u    /*   the shorter way round (the default) */
+#define MC_MOVE_DIR_POSITIVE 1u    /*   positive: up to a turn less a count forward */
+#define MC_MOVE_DIR_NEGATIVE 2u    /*   negative */
+#define MC_MOVE_DIR_CURRENT 3u     /*   the direction of the motion in progress, else of the last one
+                                    *   (positive if the axis never moved) */
+#define MC_NACK_MODULO_RANGE 125   /* a modulo period below MC_MODULO_MIN or above MC_MODULO_MAX,
+                                    * or negative */
+#define MC_NACK_MODULO_BUSY 126    /* the axis is not at rest: its period cannot change */
+#define MC_NACK_MODULO_MOVE 127    /* an absolute move that does not fit the axis: on a modulo axis
+                                    * a target not in 0 <= target < modulo, on a linear axis a
+                                    * direction other than MC_MOVE_DIR_SHORTEST */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
 #define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
@@ -1259,7 +1297,10 @@ struct mc_axis_config {
      * writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores
      * it. 1 at boot. */
     double scale;
-    double _reserved[1];
+    /** Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on
+     * MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at
+     * boot. */
+    double modulo;
 };
 
 /* host writes; the card validates and copies on MC_OP_APPLY_CARD_CONFIG */

@@ -390,6 +390,13 @@ code_enum! {
         CompBound = raw::MC_NACK_COMP_BOUND,
         /// The axis is not at rest: its compensation cannot change.
         CompBusy = raw::MC_NACK_COMP_BUSY,
+        /// A modulo period below `MC_MODULO_MIN` or above `MC_MODULO_MAX`, or negative.
+        ModuloRange = raw::MC_NACK_MODULO_RANGE,
+        /// The axis is not at rest: its period cannot change.
+        ModuloBusy = raw::MC_NACK_MODULO_BUSY,
+        /// An absolute move that does not fit the axis: on a modulo axis a target not in 0 <=
+        /// target < modulo, on a linear axis a direction other than `MC_MOVE_DIR_SHORTEST`.
+        ModuloMove = raw::MC_NACK_MODULO_MOVE,
         /// A handwheel input the card does not have (not a whole number in `0..MC_AUX_ENCODERS-1`).
         HandwheelInput = raw::MC_NACK_HANDWHEEL_INPUT,
         /// A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a
@@ -618,7 +625,8 @@ code_enum! {
         PowerOn = raw::MC_OP_POWER_ON,
         /// `MC_Power` Enable=FALSE.
         PowerOff = raw::MC_OP_POWER_OFF,
-        /// Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`.
+        /// Args: target, vmax, amax, dmax, j1, j3, j5, j7. flags: `MC_MOVE_BUFFERED`, a direction
+        /// (layout 1.10: `MC_MOVE_DIR_*`, modulo axes only).
         MoveAbsolute = raw::MC_OP_MOVE_ABSOLUTE,
         /// Args: distance (from the commanded position), then as `MOVE_ABSOLUTE`.
         MoveRelative = raw::MC_OP_MOVE_RELATIVE,
@@ -836,6 +844,12 @@ code_enum! {
         /// Axis: the axis. args: index of the first point (`0..MC_COMP_MAX_POINTS`). Any state;
         /// taken without a session (it reads).
         CompRead = raw::MC_OP_COMP_READ,
+        /// Axis: the axis. args: the period, counts (0: linear; else
+        /// `MC_MODULO_MIN..MC_MODULO_MAX`, rounded to 1/65536 count; NaN or infinite:
+        /// `MC_NACK_NOT_FINITE`; out of range: `MC_NACK_MODULO_RANGE`). Only at rest (Standstill
+        /// with no motion, Disabled, or ErrorStop with no motion; else `MC_NACK_MODULO_BUSY`). The
+        /// positions are wrapped at once. Read back in `axis_config.modulo`.
+        SetModulo = raw::MC_OP_SET_MODULO,
         /// Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else
         /// `MC_NACK_HANDWHEEL_INPUT`), ratio (axis counts per detent, a whole number, 1 <= |ratio|
         /// <= `MC_HANDWHEEL_RATIO_MAX`; negative: the other way), detent (auxiliary counts per

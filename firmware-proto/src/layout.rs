@@ -242,7 +242,7 @@ const _: () = {
     assert!(size_of::<mc_axis_config>() == 128);
     assert!(offset_of!(mc_axis_config, jog_jerk) == 104);
     assert!(offset_of!(mc_axis_config, scale) == 112);
-    assert!(offset_of!(mc_axis_config, _reserved) == 120);
+    assert!(offset_of!(mc_axis_config, modulo) == 120); // layout 1.10: its reserved word
 };
 
 /// The card-written safety status block (`mc_safety_status`).

@@ -140,6 +140,22 @@ pub const AXIS_QUEUE_LEN: usize = raw::MC_AXIS_QUEUE_LEN as usize;
 /// (`MC_SCALE_MIN..=MC_SCALE_MAX`): from a nanometre-class unit on a coarse encoder to a
 /// kilometre on a fine one. The card keeps each axis's scale for hosts (`MC_OP_SET_SCALE`).
 pub const SCALE_RANGE: core::ops::RangeInclusive<f64> = raw::MC_SCALE_MIN..=raw::MC_SCALE_MAX;
+/// A modulo axis's period, counts (layout 1.10, `MC_OP_SET_MODULO`; 0 is a linear axis). The card
+/// holds it in 1/[`COMMANDED_SUBCOUNTS`] count.
+pub const MODULO_RANGE: core::ops::RangeInclusive<f64> = raw::MC_MODULO_MIN..=raw::MC_MODULO_MAX;
+
+/// A modulo period as the card holds it: `modulo` rounded to 1/[`COMMANDED_SUBCOUNTS`] count
+/// (0 for 0). The caller has checked it (0, or in [`MODULO_RANGE`]).
+pub fn modulo_subcounts(modulo: f64) -> i64 {
+    let q = modulo * COMMANDED_SUBCOUNTS as f64;
+    // round half away from zero without std (the period is positive)
+    let f = q as i64;
+    if q - f as f64 >= 0.5 {
+        f + 1
+    } else {
+        f
+    }
+}
 
 /// The range the card accepts for a kinematic limit of order `order` (1 velocity, 2
 /// acceleration, 3 jerk; counts and seconds) at `servo_rate_hz`:

@@ -311,6 +311,17 @@ pub const MC_GANTRY_NONE: u32 = 0;
 pub const MC_GANTRY_COUPLED: u32 = 1;
 pub const MC_GANTRY_HOMING: u32 = 2;
 pub const MC_GANTRY_SQUARING: u32 = 3;
+pub const MC_OP_SET_MODULO: u32 = 101;
+pub const MC_MODULO_MIN: f64 = 1.0;
+pub const MC_MODULO_MAX: f64 = 100000000000.0;
+pub const MC_MOVE_DIR_SHIFT: u32 = 14;
+pub const MC_MOVE_DIR_SHORTEST: u32 = 0;
+pub const MC_MOVE_DIR_POSITIVE: u32 = 1;
+pub const MC_MOVE_DIR_NEGATIVE: u32 = 2;
+pub const MC_MOVE_DIR_CURRENT: u32 = 3;
+pub const MC_NACK_MODULO_RANGE: u32 = 125;
+pub const MC_NACK_MODULO_BUSY: u32 = 126;
+pub const MC_NACK_MODULO_MOVE: u32 = 127;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -707,7 +718,8 @@ pub struct mc_axis_config {
     pub jog_jerk: f64,
     #[doc = " Layout 1.8: counts per user unit, kept for hosts (the card does not use it). The card\n writes it on MC_OP_READ_CONFIG; MC_OP_SET_SCALE sets it; MC_OP_APPLY_AXIS_CONFIG ignores\n it. 1 at boot."]
     pub scale: f64,
-    pub _reserved: [f64; 1usize],
+    #[doc = " Layout 1.10: the modulo period, counts (0: a linear axis). The card writes it on\n MC_OP_READ_CONFIG; MC_OP_SET_MODULO sets it; MC_OP_APPLY_AXIS_CONFIG ignores it. 0 at\n boot."]
+    pub modulo: f64,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -735,8 +747,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_axis_config, jog_jerk) - 104usize];
     ["Offset of field: mc_axis_config::scale"]
         [::core::mem::offset_of!(mc_axis_config, scale) - 112usize];
-    ["Offset of field: mc_axis_config::_reserved"]
-        [::core::mem::offset_of!(mc_axis_config, _reserved) - 120usize];
+    ["Offset of field: mc_axis_config::modulo"]
+        [::core::mem::offset_of!(mc_axis_config, modulo) - 120usize];
 };
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]

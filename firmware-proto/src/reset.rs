@@ -117,7 +117,7 @@ impl Default for AxisConfig {
             jog_accel: 500_000.0,
             jog_jerk: 5e7,
             scale: 1.0,
-            _reserved: [0.0; 1],
+            modulo: 0.0,
         }
     }
 }

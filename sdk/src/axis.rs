@@ -7,6 +7,10 @@ use crate::card::{
 };
 use crate::error::{Error, Result, Target};
 use firmware_proto::cmd::{self, AxisCmd, CardCmd, Cmd, PositionMove, StopRamp};
+
+/// Which way an absolute move on a modulo axis goes (PLCopen `MC_Direction`): the card's own
+/// type ([`Axis::move_absolute_dir`], [`Axis::move_with_dir`]).
+pub use firmware_proto::cmd::MoveDirection;
 use firmware_proto::{layout, raw, Command};
 use std::time::Duration;
 
@@ -78,6 +82,18 @@ impl Axis {
         buffered: bool,
         what: &'static str,
     ) -> Result<Motion> {
+        self.start_move_dir(kind, value, lim, buffered, MoveDirection::Shortest, what)
+    }
+
+    pub(crate) fn start_move_dir(
+        &self,
+        kind: cmd::MoveKind,
+        value: f64,
+        lim: &MoveLimits,
+        buffered: bool,
+        direction: MoveDirection,
+        what: &'static str,
+    ) -> Result<Motion> {
         finite(
             if kind == cmd::MoveKind::Absolute {
                 "target position"
@@ -100,6 +116,7 @@ impl Axis {
                 j7: lim.jerk[3] * s,
             },
             buffered,
+            direction,
         };
         let seq = self.run(self.cmd(AxisCmd::Move(kind, m)), what)?;
         Ok(self.started(seq))
@@ -121,6 +138,77 @@ impl Axis {
             false,
             "move_absolute",
         )
+    }
+
+    /// MC_MoveAbsolute (Aborting) on a modulo axis, the way `direction` names (PLCopen
+    /// `MC_Direction`): `target` in [0, modulo) (else `ModuloMove`; the card does not
+    /// normalise it: 370° on a 360° axis is a mistake more often than a wish), reached the
+    /// shortest way (a tie of exactly half a turn: positive), positive, negative, or the way the
+    /// axis moves now (at rest: the way it last moved). A target within the in-position window
+    /// of where the axis is is no turn whichever way is named. On a linear axis only
+    /// `Shortest` (else `ModuloMove`). [`Axis::move_absolute`] is this with `Shortest`.
+    pub fn move_absolute_dir(
+        &self,
+        target: f64,
+        direction: MoveDirection,
+        limits: &MoveLimits,
+    ) -> Result<Motion> {
+        self.start_move_dir(
+            cmd::MoveKind::Absolute,
+            target,
+            limits,
+            false,
+            direction,
+            "move_absolute",
+        )
+    }
+
+    /// Layout 1.10: make the axis a rotary (modulo) axis of `period` user units (for example
+    /// 360.0 with a scale in counts per degree). At rest only (`ModuloBusy`); a period of zero
+    /// is `ModuloZero` (use [`Axis::clear_modulo`]), a negative, non-finite or out-of-range one
+    /// (the card takes 1 to 10¹¹ counts) `ModuloRange`; a refused call changes nothing. The
+    /// axis needs a positive scale (`BadConfig`). The card holds the period to 1/65536 count
+    /// ([`Axis::modulo`] reads back what it holds). From then on the status's positions, motion
+    /// done's and probe captures are in [0, period), without drift however many turns it
+    /// makes; soft limits do not apply (the card keeps them for when the axis is linear again).
+    pub fn set_modulo(&self, period: f64) -> Result<()> {
+        if period == 0.0 {
+            return Err(Error::ModuloZero(self.index()));
+        }
+        if !period.is_finite() || period < 0.0 {
+            return Err(Error::Refused {
+                command: "set_modulo",
+                target: Target::Axis(self.index()),
+                code: firmware_proto::NackCode::ModuloRange,
+                reason: "the period must be a positive, finite length",
+            });
+        }
+        let s = self.scale();
+        if s < 0.0 {
+            return Err(Error::BadConfig(format!(
+                "set_modulo on axis {}: a modulo axis needs a positive scale (it is {s})",
+                self.index()
+            )));
+        }
+        self.send_modulo(period * s)
+    }
+
+    /// Layout 1.10: make the axis linear again (its position stays where it is, in the turn it
+    /// was in). At rest only (`ModuloBusy`).
+    pub fn clear_modulo(&self) -> Result<()> {
+        self.send_modulo(0.0)
+    }
+
+    fn send_modulo(&self, counts: f64) -> Result<()> {
+        let m = cmd::SetModulo { modulo: counts };
+        self.run(self.cmd(AxisCmd::SetModulo(m)), "set_modulo")
+            .map(|_| ())
+    }
+
+    /// Layout 1.10: the modulo period the card holds, in user units (0: a linear axis).
+    pub fn modulo(&self) -> Result<f64> {
+        let counts = self.settings()?.modulo;
+        Ok(crate::config::user_modulo(counts, self.scale()))
     }
 
     /// MC_MoveRelative (Aborting): a time-optimal S-curve by `distance` from the commanded

@@ -15,7 +15,8 @@
 //! [card]            # servo_rate_hz
 //! [safety]          # watchdog_timeout_us, estop_input_category, max_stop_time_us
 //! [io]              # polarity, rise_events, fall_events (bit i: input i), debounce (ticks)
-//! [axis.N]          # scale, servo_law ("ffpiv" | "pdplus"), dac_limit_v, windows, jog limits
+//! [axis.N]          # scale, servo_law ("ffpiv" | "pdplus"), dac_limit_v, windows, jog limits,
+//!                   # modulo (a rotary axis's period, user units; 0: linear; layout 1.10)
 //! [axis.N.ffpiv]    # kp, ki, kv, kvff, kaff, vel_filter_hz
 //! [axis.N.pdplus]   # kp, kd, kv, ka, kc, tau, ke, umax: only with servo_law = "pdplus"
 //! [axis.N.filter]   # rapid_kind, rapid_tau, cutting_kind, cutting_tau, jog_kind, jog_tau
@@ -42,6 +43,7 @@
 mod sections;
 mod text;
 
+pub(crate) use sections::user_modulo;
 pub use sections::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, CompensationSection, Config,
     ConfigDifference, FfpivSection, FilterName, FilterSection, GroupSection, HomingSection,
@@ -328,6 +330,22 @@ fn check_axis(
     check_axis_filter(&p, ax, &good, rate)?;
     check_axis_safety(&p, ax, &good, rate, max_stop)?;
     check_axis_homing(&p, ax, &good, rate)?;
+    // `modulo` (layout 1.10): the card's range in the file's scale, and a positive scale.
+    if let Some(m) = ax.modulo {
+        let counts = m * ax.scale;
+        let bad = if !m.is_finite() || m < 0.0 {
+            Some("the period must be a positive, finite length (0: linear)".to_string())
+        } else if m != 0.0 && ax.scale < 0.0 {
+            Some("a modulo axis needs a positive scale".to_string())
+        } else if m != 0.0 && !firmware_proto::MODULO_RANGE.contains(&counts) {
+            Some(nack_text(NackCode::ModuloRange))
+        } else {
+            None
+        };
+        if let Some(why) = bad {
+            return Err((format!("{p}.modulo"), why));
+        }
+    }
     // [axis.N.compensation]: the card's checks of the table, in the file's scale.
     if let Some(c) = &ax.compensation {
         crate::Compensation::from(c)
@@ -776,6 +794,19 @@ impl Card {
                 axis.set_scale(ax.scale)
                     .map_err(|e| (format!("axis.{a}.scale"), e))?;
                 done(format!("axis.{a}.scale"));
+            }
+            if let Some(m) = ax.modulo {
+                let held = was.and_then(|w| w.modulo).unwrap_or(0.0);
+                // Read back through the card's 1/65536 count: a difference below that is none.
+                if (held - m).abs() * ax.scale.abs() > 1.0 / 65_536.0 {
+                    if m == 0.0 {
+                        axis.clear_modulo()
+                    } else {
+                        axis.set_modulo(m)
+                    }
+                    .map_err(|e| (format!("axis.{a}.modulo"), e))?;
+                    done(format!("axis.{a}.modulo"));
+                }
             }
             if let Some(c) = &ax.compensation {
                 if was.and_then(|w| w.compensation.as_ref()) != Some(c) {

@@ -298,6 +298,17 @@ error_kinds! {
     CompBound = -113, MC_ERR_COMP_BOUND, nack CompBound, "a compensation correction is beyond the table's bound";
     /// A compensation table changed on an axis that is not at rest.
     CompBusy = -114, MC_ERR_COMP_BUSY, nack CompBusy, "the axis is not at rest: its compensation cannot change";
+    /// Layout 1.10: a modulo period of zero given to `set_modulo` (a period must be a positive
+    /// length; `clear_modulo` makes an axis linear).
+    ModuloZero = -116, MC_ERR_MODULO_ZERO, "a modulo period of zero: use clear_modulo to make the axis linear";
+    /// A modulo period that is negative, not finite, or outside the card's range (1 count to
+    /// 10^11 counts).
+    ModuloRange = -117, MC_ERR_MODULO_RANGE, nack ModuloRange, "modulo period out of range (negative, not finite, under 1 count or over 1e11 counts)";
+    /// A modulo period changed on an axis that is not at rest.
+    ModuloBusy = -118, MC_ERR_MODULO_BUSY, nack ModuloBusy, "the axis is not at rest: its modulo period cannot change";
+    /// An absolute move that does not fit the axis: on a modulo axis a target outside
+    /// [0, modulo), on a linear axis a direction other than the shortest way.
+    ModuloMove = -119, MC_ERR_MODULO_MOVE, nack ModuloMove, "the move does not fit the axis: a modulo axis takes targets in [0, modulo), a linear axis no direction";
     /// Layout 1.10: a handwheel input the card does not have.
     HandwheelInput = -120, MC_ERR_HANDWHEEL_INPUT, nack HandwheelInput, "the card has no such handwheel (auxiliary encoder) input";
     /// A handwheel ratio of 0 or beyond the maximum (10000 counts per detent), or a detent
@@ -487,6 +498,9 @@ pub enum Error {
     /// See [`ErrorKind::Unsupported`].
     #[error("not supported: {0}")]
     Unsupported(String),
+    /// See [`ErrorKind::ModuloZero`]: `set_modulo(0)` on this axis (nothing was sent).
+    #[error("set_modulo on axis {0}: a period of zero is no rotary axis; use clear_modulo to make the axis linear")]
+    ModuloZero(usize),
     /// See [`ErrorKind::NoMotion`].
     #[error("nothing to wait for on {0}: no motion was started there through this library since the card was opened")]
     NoMotion(Target),
@@ -582,6 +596,7 @@ impl Error {
             Error::Io { .. } => ErrorKind::Io,
             Error::Unsupported(_) => ErrorKind::Unsupported,
             Error::NoMotion(_) => ErrorKind::NoMotion,
+            Error::ModuloZero(_) => ErrorKind::ModuloZero,
             Error::BadConfig(_) => ErrorKind::BadConfig,
             Error::ConfigFile { .. } => ErrorKind::ConfigFile,
             Error::Gcode(_) => ErrorKind::Gcode,

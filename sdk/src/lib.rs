@@ -53,6 +53,7 @@ mod session;
 mod sync;
 pub mod trace;
 
+pub use axis::MoveDirection;
 pub use cam::CamSettings;
 #[cfg(feature = "emulator")]
 pub use card::Sim;

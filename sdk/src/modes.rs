@@ -89,6 +89,34 @@ impl Axis {
         self.start_move(kind, value, limits, buffered, what)
     }
 
+    /// [`Axis::move_with`] with an absolute move's direction on a modulo axis (layout 1.10; see
+    /// [`Axis::move_absolute_dir`]). Relative and additive moves go their distance: they take
+    /// `Direction::Shortest` only (else `ModuloMove`, nothing sent).
+    pub fn move_with_dir(
+        &self,
+        kind: MoveKind,
+        value: f64,
+        limits: &MoveLimits,
+        mode: BufferMode,
+        direction: crate::MoveDirection,
+    ) -> Result<Motion> {
+        if kind != MoveKind::Absolute && direction != crate::MoveDirection::Shortest {
+            return Err(crate::Error::Refused {
+                command: "move_with_dir",
+                target: crate::error::Target::Axis(self.index()),
+                code: firmware_proto::NackCode::ModuloMove,
+                reason: "a relative or additive move goes its distance: it takes no direction",
+            });
+        }
+        let what = match kind {
+            MoveKind::Absolute => "move_absolute",
+            MoveKind::Relative => "move_relative",
+            MoveKind::Additive => "move_additive",
+        };
+        let buffered = mode == BufferMode::Buffered;
+        self.start_move_dir(kind, value, limits, buffered, direction, what)
+    }
+
     /// MC_MoveAdditive (Aborting): by `distance` from the target of the last move.
     pub fn move_additive(&self, distance: f64, limits: &MoveLimits) -> Result<Motion> {
         self.move_with(MoveKind::Additive, distance, limits, BufferMode::Aborting)

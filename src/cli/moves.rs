@@ -3,8 +3,8 @@
 
 use super::args::{duration, finite, MoveArgs};
 use super::{enable_if_needed, hold_showing, on_card, wait_showing};
-use crate::{BufferMode, Card, MoveKind, MoveLimits, Result, VelocityLimits};
-use clap::Args as ClapArgs;
+use crate::{BufferMode, Card, MoveDirection, MoveKind, MoveLimits, Result, VelocityLimits};
+use clap::{Args as ClapArgs, ValueEnum};
 use serde_json::json;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -25,6 +25,10 @@ pub struct Args {
     /// VALUE is a velocity (velocity mode, ContinuousMotion).
     #[arg(long)]
     pub velocity: bool,
+    /// An absolute move on a rotary (modulo) axis: the way round (PLCopen MC_Direction; a linear
+    /// axis takes only `shortest`).
+    #[arg(long, value_enum, default_value = "shortest", conflicts_with_all = ["relative", "additive", "velocity"])]
+    pub direction: Direction,
     /// Velocity mode: seconds at the velocity before the halt.
     #[arg(
         long = "for",
@@ -42,6 +46,30 @@ pub struct Args {
     pub json: bool,
 }
 
+/// `mcctl move --direction`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Direction {
+    /// The shorter way round (a tie of half a turn: positive).
+    Shortest,
+    /// Positive.
+    Positive,
+    /// Negative.
+    Negative,
+    /// The way the axis moves now (at rest: the way it last moved).
+    Current,
+}
+
+impl From<Direction> for MoveDirection {
+    fn from(d: Direction) -> Self {
+        match d {
+            Direction::Shortest => MoveDirection::Shortest,
+            Direction::Positive => MoveDirection::Positive,
+            Direction::Negative => MoveDirection::Negative,
+            Direction::Current => MoveDirection::Current,
+        }
+    }
+}
+
 /// The move, waited for.
 pub fn run(uri: &str, a: Args) -> ExitCode {
     let l = a.limits;
@@ -57,7 +85,7 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
             (_, true) => MoveKind::Additive,
             _ => MoveKind::Absolute,
         };
-        MoveCmd::Position(kind, l.limits())
+        MoveCmd::Position(kind, l.limits(), a.direction.into())
     };
     on_card(uri, |c| {
         if a.enable {
@@ -70,8 +98,9 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
 /// What `mcctl move` moves by.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum MoveCmd {
-    /// A position move (absolute, relative or additive) within the limits.
-    Position(MoveKind, MoveLimits),
+    /// A position move (absolute, relative or additive) within the limits, an absolute one
+    /// the way named (a modulo axis).
+    Position(MoveKind, MoveLimits, MoveDirection),
     /// Velocity mode at the value, within the limits.
     Velocity(VelocityLimits),
 }
@@ -88,8 +117,8 @@ pub fn run_move(
 ) -> Result<String> {
     let ax = card.axis(axis)?;
     let at = match cmd {
-        MoveCmd::Position(kind, lim) => {
-            let m = ax.move_with(kind, value, &lim, BufferMode::Aborting)?;
+        MoveCmd::Position(kind, lim, dir) => {
+            let m = ax.move_with_dir(kind, value, &lim, BufferMode::Aborting, dir)?;
             wait_showing(card, axis, &m, "moving")?
         }
         MoveCmd::Velocity(lim) => {

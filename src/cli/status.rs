@@ -60,6 +60,8 @@ fn status_json(axis: usize, s: &Status) -> serde_json::Value {
         "queued": s.queued,
         "override": s.override_factor,
         "target": s.raw.target,
+        // The raw count: on a rotary axis the shaft's, past its turns (the positions wrap).
+        "encoder": s.raw.encoder,
         "tick": s.raw.tick,
     })
 }

@@ -3,6 +3,7 @@
 //! (counts, seconds): decoding never fails, the card checks the values.
 
 use super::{bit, not_in_family, put, set, take, uint, Args, DecodeError, Fault, StopRamp};
+use crate::raw;
 use crate::raw::{MC_HANDWHEEL_DETENT_MAX, MC_HANDWHEEL_RATIO_MAX};
 use crate::wire::{Command, MoveFlags, NackCode, Opcode, CMD_ARGS, SET_POSITION_RELATIVE};
 
@@ -75,8 +76,56 @@ impl MoveLimits {
     }
 }
 
+/// Which way an absolute move on a modulo axis goes (layout 1.10, PLCopen `MC_Direction`; the
+/// 2-bit field `MC_MOVE_DIR_*` of `MC_OP_MOVE_ABSOLUTE`'s flags).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum MoveDirection {
+    /// `mcShortestWay` (`MC_MOVE_DIR_SHORTEST`): the shorter way round; the only one a linear
+    /// axis takes.
+    #[default]
+    Shortest,
+    /// `mcPositiveDirection` (`MC_MOVE_DIR_POSITIVE`).
+    Positive,
+    /// `mcNegativeDirection` (`MC_MOVE_DIR_NEGATIVE`).
+    Negative,
+    /// `mcCurrentDirection` (`MC_MOVE_DIR_CURRENT`): that of the motion in progress, else of the
+    /// last one (positive if the axis never moved).
+    Current,
+}
+
+impl MoveDirection {
+    /// Every direction.
+    pub const ALL: [MoveDirection; 4] = [
+        Self::Shortest,
+        Self::Positive,
+        Self::Negative,
+        Self::Current,
+    ];
+
+    /// The `MC_MOVE_DIR_*` code.
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Shortest => raw::MC_MOVE_DIR_SHORTEST,
+            Self::Positive => raw::MC_MOVE_DIR_POSITIVE,
+            Self::Negative => raw::MC_MOVE_DIR_NEGATIVE,
+            Self::Current => raw::MC_MOVE_DIR_CURRENT,
+        }
+    }
+
+    /// From a `MC_MOVE_DIR_*` code (two bits: every value is one).
+    pub fn from_code(code: u32) -> Self {
+        match code & 3 {
+            raw::MC_MOVE_DIR_POSITIVE => Self::Positive,
+            raw::MC_MOVE_DIR_NEGATIVE => Self::Negative,
+            raw::MC_MOVE_DIR_CURRENT => Self::Current,
+            _ => Self::Shortest,
+        }
+    }
+}
+
 /// `MC_OP_MOVE_ABSOLUTE`, `_RELATIVE`, `_ADDITIVE` (args: target or distance, vmax, amax, dmax,
-/// j1, j3, j5, j7; flags: `MC_MOVE_BUFFERED`).
+/// j1, j3, j5, j7; flags: `MC_MOVE_BUFFERED`, and for an absolute move the direction,
+/// `MC_MOVE_DIR_*` at `MC_MOVE_DIR_SHIFT`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PositionMove {
     /// The target (absolute) or the distance (relative, additive), counts.
@@ -85,6 +134,9 @@ pub struct PositionMove {
     pub limits: MoveLimits,
     /// PLCopen Buffered (else Aborting).
     pub buffered: bool,
+    /// The way round on a modulo axis (layout 1.10): an absolute move's; the card ignores it in
+    /// a relative or additive move (their distance says the way), the SDK sends `Shortest`.
+    pub direction: MoveDirection,
 }
 
 impl Args for PositionMove {
@@ -92,14 +144,23 @@ impl Args for PositionMove {
         args[0] = self.position;
         put(args, 1, &self.limits.to_array());
         set(self.buffered, MoveFlags::BUFFERED.bits())
+            | (self.direction.code() << raw::MC_MOVE_DIR_SHIFT)
     }
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         Ok(Self {
             position: args[0],
             limits: MoveLimits::from_array(take(args, 1)),
             buffered: bit(flags, MoveFlags::BUFFERED.bits()),
+            direction: MoveDirection::from_code(flags >> raw::MC_MOVE_DIR_SHIFT),
         })
     }
+}
+
+super::value_args! {
+    /// `MC_OP_SET_MODULO` (layout 1.10; args: the period): an axis's modulo period.
+    SetModulo { /// The period, counts (0: a linear axis; else in
+    /// [`crate::MODULO_RANGE`]).
+    modulo }
 }
 
 /// `MC_OP_MOVE_VELOCITY`, MC_MoveVelocity (args: velocity (signed), amax, dmax, jerk).
@@ -268,6 +329,8 @@ pub enum AxisCmd {
     Handwheel(Handwheel),
     /// `MC_OP_HANDWHEEL_OFF`.
     HandwheelOff,
+    /// `MC_OP_SET_MODULO` (layout 1.10).
+    SetModulo(SetModulo),
 }
 
 impl AxisCmd {
@@ -291,6 +354,7 @@ impl AxisCmd {
             Self::CompRead(_) => Opcode::CompRead,
             Self::Handwheel(_) => Opcode::Handwheel,
             Self::HandwheelOff => Opcode::HandwheelOff,
+            Self::SetModulo(_) => Opcode::SetModulo,
         }
     }
 
@@ -317,6 +381,7 @@ impl AxisCmd {
             Opcode::CompRead => Self::CompRead(Args::decode(f, args)?),
             Opcode::Handwheel => Self::Handwheel(Args::decode(f, args)?),
             Opcode::HandwheelOff => Self::HandwheelOff,
+            Opcode::SetModulo => Self::SetModulo(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -341,6 +406,7 @@ impl AxisCmd {
             Self::CompData(d) => super::entry(op, axis, d),
             Self::CompRead(r) => super::entry(op, axis, r),
             Self::Handwheel(h) => super::entry(op, axis, h),
+            Self::SetModulo(m) => super::entry(op, axis, m),
         }
     }
 }

@@ -268,7 +268,8 @@ pub fn family(op: Opcode) -> Family {
         | O::CompData
         | O::CompRead
         | O::Handwheel
-        | O::HandwheelOff => Family::Axis,
+        | O::HandwheelOff
+        | O::SetModulo => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable

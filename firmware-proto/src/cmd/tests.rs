@@ -153,14 +153,15 @@ fn axis_cmd() -> BoxedStrategy<AxisCmd> {
     Union::new(vec![
         Just(AxisCmd::PowerOn).boxed(),
         Just(AxisCmd::PowerOff).boxed(),
-        (kind, num(), nums::<7>(), any::<bool>())
-            .prop_map(|(k, position, l, buffered)| {
+        (kind, num(), nums::<7>(), any::<bool>(), 0..4u32)
+            .prop_map(|(k, position, l, buffered, dir)| {
                 AxisCmd::Move(
                     k,
                     PositionMove {
                         position,
                         limits: MoveLimits::from_array(l),
                         buffered,
+                        direction: MoveDirection::ALL[dir as usize],
                     },
                 )
             })
@@ -242,6 +243,9 @@ fn axis_cmd() -> BoxedStrategy<AxisCmd> {
             })
             .boxed(),
         Just(AxisCmd::HandwheelOff).boxed(),
+        num()
+            .prop_map(|modulo| AxisCmd::SetModulo(SetModulo { modulo }))
+            .boxed(),
     ])
     .boxed()
 }
@@ -1055,6 +1059,7 @@ fn plain_numbers_are_the_cards_to_check() {
         O::Home,
         O::SetPosition,
         O::SetScale,
+        O::SetModulo,
         O::GroupMoveLinear,
         O::GroupMoveCircular,
         O::GroupMovePtp,

@@ -113,6 +113,29 @@ pub struct AxisSection {
     /// read back absent when the card holds none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compensation: Option<CompensationSection>,
+    /// Layout 1.10: the modulo period of a rotary axis, user units (in the file's `scale`);
+    /// `0` makes the axis linear (and is read back for one). Absent, the card's period is left
+    /// as it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modulo: Option<f64>,
+}
+
+/// The period of `counts` (as the card holds it, 1/65536 count) in user units of `scale`: the
+/// shortest decimal that the card would hold as the same period, so that `360` written with a
+/// scale of 10000/360 reads back as `360`, not `360.00000000000006`.
+pub(crate) fn user_modulo(counts: f64, scale: f64) -> f64 {
+    if counts == 0.0 {
+        return 0.0;
+    }
+    let m = counts / scale;
+    if !m.is_finite() {
+        return m;
+    }
+    let held = firmware_proto::modulo_subcounts(counts);
+    (0..17)
+        .filter_map(|k| format!("{m:.k$e}").parse::<f64>().ok())
+        .find(|x| firmware_proto::modulo_subcounts(x * scale) == held)
+        .unwrap_or(m)
 }
 
 /// `[axis.N.compensation]`: the pitch-error table and backlash ([`crate::Compensation`]),
@@ -497,6 +520,7 @@ impl AxisSection {
                 hard_stop_dwell: h.hard_stop_dwell,
             }),
             compensation: None,
+            modulo: Some(user_modulo(c.modulo, c.scale)),
         }
     }
 

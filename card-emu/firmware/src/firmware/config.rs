@@ -49,8 +49,8 @@ impl<M: Mem + Clone> Firmware<M> {
                 let cfg = &self.axes[i].config;
                 let block = firmware_proto::AxisConfig {
                     scale: self.scales[i],
+                    modulo: self.axes[i].modulo(),
                     _reserved0: 0,
-                    _reserved: [0.0; 1],
                     ..cfg.block
                 };
                 layout::AXIS_CONFIG.at(i).write(m, &block);
@@ -404,5 +404,68 @@ mod tests {
             Err(NackCode::BadAxis)
         );
         assert_eq!(run(&mut fw, Opcode::SetScale, 0, &[1e12]), Ok(0.0));
+    }
+
+    /// Layout 1.10: `MC_OP_SET_MODULO` sets the period (rounded to 1/65536 count), read back in
+    /// `axis_config.modulo`; 0 makes the axis linear; every refusal has its nack and changes
+    /// nothing; a moving axis refuses it.
+    #[test]
+    fn modulo_is_checked_set_and_read_back() {
+        let (w, mut fw) = boot();
+        let at = layout::AXIS_CONFIG.at(1);
+        assert_eq!(
+            run(&mut fw, Opcode::SetModulo, 1, &[360_000.0]),
+            Ok(360_000.0)
+        );
+        // 1/3 of a count is held to 1/65536.
+        let third: f64 = 1000.0 + 1.0 / 3.0;
+        let held = (third * 65536.0).round() / 65536.0;
+        assert_eq!(run(&mut fw, Opcode::SetModulo, 0, &[third]), Ok(held));
+        for (m, e) in [
+            (-360.0, NackCode::ModuloRange),
+            (0.5, NackCode::ModuloRange),
+            (2e11, NackCode::ModuloRange),
+            (f64::NAN, NackCode::NotFinite),
+            (f64::INFINITY, NackCode::NotFinite),
+        ] {
+            assert_eq!(run(&mut fw, Opcode::SetModulo, 1, &[m]), Err(e), "{m}");
+        }
+        assert_eq!(
+            run(&mut fw, Opcode::SetModulo, 2, &[360.0]),
+            Err(NackCode::BadAxis)
+        );
+        read(&mut fw, ConfigKind::Axis, 1).unwrap();
+        assert_eq!(
+            at.read(&w).modulo,
+            360_000.0,
+            "the refusals changed nothing"
+        );
+        read(&mut fw, ConfigKind::Axis, 0).unwrap();
+        assert_eq!(layout::AXIS_CONFIG.at(0).read(&w).modulo, held);
+        // Moving: refused, unchanged.
+        run(&mut fw, Opcode::PowerOn, 1, &[]).unwrap();
+        run(&mut fw, Opcode::MoveVelocity, 1, &[1000.0, 1e5, 1e5, 1e7]).unwrap();
+        assert_eq!(
+            run(&mut fw, Opcode::SetModulo, 1, &[720.0]),
+            Err(NackCode::ModuloBusy)
+        );
+        assert_eq!(
+            run(&mut fw, Opcode::SetModulo, 1, &[0.0]),
+            Err(NackCode::ModuloBusy)
+        );
+        read(&mut fw, ConfigKind::Axis, 1).unwrap();
+        assert_eq!(at.read(&w).modulo, 360_000.0);
+        // A linear axis takes no direction; a modulo one no target outside its turn.
+        let mut mv = Command::new(Opcode::MoveAbsolute, 0)
+            .with_args(&[10.0, 1e4, 1e5, 1e5, 1e7, 1e7, 1e7, 1e7]);
+        mv.flags = raw::MC_MOVE_DIR_POSITIVE << raw::MC_MOVE_DIR_SHIFT;
+        run(&mut fw, Opcode::SetModulo, 0, &[0.0]).unwrap();
+        run(&mut fw, Opcode::PowerOn, 0, &[]).unwrap();
+        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloMove));
+        run(&mut fw, Opcode::SetModulo, 0, &[5.0]).unwrap();
+        mv.args[0] = 5.0;
+        assert_eq!(fw.execute(&mv), Err(NackCode::ModuloMove));
+        mv.args[0] = 4.5;
+        assert_eq!(fw.execute(&mv), Ok(0.0));
     }
 }

@@ -155,8 +155,11 @@ impl Master {
                 let lost = matches!(a.state, AxisState::Disabled | AxisState::ErrorStop);
                 if self.source == MasterSource::Commanded {
                     let r = a.reference();
+                    // A modulo master's turns added back (layout 1.10): the count runs on
+                    // across its wrap, in integers.
                     MasterSample {
-                        count: math::round(r.pos * COMMANDED_SUBCOUNTS as f64) as i128,
+                        count: math::round(r.pos * COMMANDED_SUBCOUNTS as f64) as i128
+                            + a.turn_subcounts(),
                         vel: r.vel,
                         acc: r.acc,
                         lost,

@@ -448,7 +448,8 @@ impl IoUnit {
                 })
             };
             let (x0, x1) = x[arm.axis];
-            if let Some(c) = p.tick(x0, x1, tick, trigger) {
+            let ax = &axes[arm.axis];
+            if let Some(c) = p.tick_wrapped(x0, x1, tick, trigger, |x| ax.wrap(x)) {
                 if arm.halt {
                     self.halts = (self.halts.0 | 1 << arm.axis, arm.seq);
                 }

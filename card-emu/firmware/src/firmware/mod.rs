@@ -694,7 +694,12 @@ impl<M: Mem + Clone> Firmware<M> {
         self.mem
             .write32(layout::BAD_ACCESSES, self.mem.bad_accesses());
         for i in 0..self.num_axes {
-            seqlock::write_axis_status(&self.mem, i, &self.axes[i].status(self.tick));
+            let ax = &self.axes[i];
+            let mut st = ax.status(self.tick);
+            if ax.is_modulo() {
+                ax.wrap_status(&mut st);
+            }
+            seqlock::write_axis_status(&self.mem, i, &st);
         }
         for (g, (group, block)) in self.groups.iter().zip(&mut self.group_blocks).enumerate() {
             block.publish(&self.mem, g, &group.status(self.tick), self.tick);
@@ -735,7 +740,16 @@ impl<M: Mem + Clone> Firmware<M> {
             let i = (src.index as usize).min(MAX_AXES - 1);
             let g = (src.index as usize).min(MAX_GROUPS - 1);
             let axes = &self.axes;
-            let mut ax = || *axis_cache[i].get_or_insert_with(|| axes[i].status(tick));
+            // The status as published: a modulo axis's positions wrapped (layout 1.10).
+            let mut ax = || {
+                *axis_cache[i].get_or_insert_with(|| {
+                    let mut st = axes[i].status(tick);
+                    if axes[i].is_modulo() {
+                        axes[i].wrap_status(&mut st);
+                    }
+                    st
+                })
+            };
             let groups = &self.groups;
             let mut gr = || *group_cache[g].get_or_insert_with(|| groups[g].status(tick));
             *v = match src.signal {

@@ -137,6 +137,19 @@ impl Probe {
         tick: u64,
         trigger: Option<Trigger>,
     ) -> Option<Capture> {
+        self.tick_wrapped(x0, x1, tick, trigger, |x| x)
+    }
+
+    /// [`Probe::tick`] on an axis whose captured position is reported as `wrap` makes it (a
+    /// modulo axis's, layout 1.10: into [0, modulo); the window is checked on it).
+    pub fn tick_wrapped(
+        &mut self,
+        x0: f64,
+        x1: f64,
+        tick: u64,
+        trigger: Option<Trigger>,
+        wrap: impl Fn(f64) -> f64,
+    ) -> Option<Capture> {
         let arm = *self.armed()?;
         let (position, frac) = match trigger? {
             Trigger::Edge { frac, rising } => {
@@ -154,6 +167,7 @@ impl Probe {
                 (position, frac)
             }
         };
+        let position = wrap(position);
         if let Some((lo, hi)) = arm.window {
             if !(lo..=hi).contains(&position) {
                 self.outside = self.outside.wrapping_add(1);

@@ -1014,9 +1014,11 @@ pub fn check_target(axis: &Axis, start: f64, target: f64) -> Result<(), NackCode
     {
         return Err(NackCode::HardLimit);
     }
-    // Soft limits hold once the axis is homed: before that its positions mean nothing.
+    // Soft limits hold once the axis is homed: before that its positions mean nothing. Not on a
+    // modulo axis (layout 1.10): every position comes round again.
     if c.has(AxisSafetyFlags::SOFT_LIMITS)
         && axis.homed()
+        && !axis.is_modulo()
         && ((target > c.soft_limit_pos && target > start)
             || (target < c.soft_limit_neg && target < start))
     {
@@ -1046,7 +1048,7 @@ fn axis_trips(axis: &mut Axis, inputs: Io, enc: i64, ts: f64) -> [Option<Trip>; 
     let ferr = axis.following_error();
     // [homing] the limit switches the homing method watches itself, and soft limits once homed
     let homing_limits = axis.homing_limits();
-    let soft = c.has(AxisSafetyFlags::SOFT_LIMITS) && axis.homed();
+    let soft = c.has(AxisSafetyFlags::SOFT_LIMITS) && axis.homed() && !axis.is_modulo();
     let s = &mut axis.safety;
     let mut out = [None; 4];
     let cat0 = |reason, fault, value| {

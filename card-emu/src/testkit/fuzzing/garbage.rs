@@ -365,6 +365,9 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 position,
                 limits,
                 buffered,
+                // The generator's byte stream unchanged: the shortest way (the only one a
+                // linear axis takes).
+                direction: firmware_proto::cmd::MoveDirection::Shortest,
             };
             Plausible::typed(AxisCmd::Move(kind, m))
         }

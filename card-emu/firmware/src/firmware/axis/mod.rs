@@ -13,15 +13,30 @@
 // `cmd + correction` (`comp_ref`, published as `comp_pos`). Homing runs with the correction
 // taken out (the table is used only while homed and not homing), so its switch and index
 // positions (`position_of_count`) are the motor's, which is then the load's.
+//
+// Layout 1.10, rotary (modulo) axes: with a period m (held as `modulo_q`, an integer in
+// 1/65536 count) the frame is `encoder - turns·m + pos_offset`, the turn count `turns` an
+// integer beside it, computed in i128 (`frame_position`): the position within the turn never
+// grows, and nothing is summed, so it does not drift. Whenever the commanded position leaves
+// [0, m) on the axis's own motion the frame moves by whole turns (`wrap_frame`): the commanded,
+// actual and target positions, the running trajectory, the queued targets and the PD+ state
+// move by the same multiple of m, so nothing the servo sees jumps. Velocity mode's cruise on a
+// modulo axis is an integer too (`Motion::Cruise`: a start and a step per tick in 2^-32 count
+// and the tick count), not a time summed tick by tick. While homing or in SynchronizedMotion
+// (a group, a coupling, a PT/PVT stream sets the reference) the frame stands still and only the
+// published positions wrap; it catches up at the first tick of the axis's own motion. A linear
+// axis (`modulo_q == 0`) pays one branch in `sense` and one in `reference_into`.
 
 use crate::firmware::axis_safety::AxisSafety;
 use crate::firmware::nack::plan_nack;
 use crate::firmware::rate_hz;
+use crate::math;
 use crate::motion::comp::{CompParams, CompPoint, CompState};
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference, ServoTerms};
 use crate::servo::pdplus::{AxisModel, PdPlus};
+use firmware_proto::cmd::MoveDirection;
 use firmware_proto::{
     AxisState, AxisStatus, Faults, Io, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN,
     OVERRIDE_MAX,
@@ -100,7 +115,19 @@ enum Motion {
         t: f64,
         seg: usize,
     },
+    /// Layout 1.10: velocity mode at its velocity on a modulo axis, in integers: the commanded
+    /// position is `(base + k · step) / 2^32` counts (`k` ticks since `base`, `step` the
+    /// velocity times the period rounded to 2^-32 count), `vel` the commanded velocity.
+    Cruise {
+        base: i128,
+        step: i128,
+        k: u64,
+        vel: f64,
+    },
 }
+
+/// Sub-counts of a cruise's position (`Motion::Cruise`): 2^32 a count.
+const CRUISE_SUB: f64 = 4_294_967_296.0;
 
 /// What the running motion is for: what a retarget or an override plans towards again.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -229,6 +256,13 @@ pub struct Axis {
     comp: CompState,
     /// The servo's reference: `cmd` plus the correction (the motor's frame).
     comp_ref: Reference,
+    /// Layout 1.10: the modulo period in 1/65536 count (0: a linear axis), the same in counts,
+    /// and the whole turns the frame has moved by (see the module's head).
+    modulo_q: i64,
+    modulo: f64,
+    turns: i64,
+    /// The direction of the last motion planned (+1 or −1): `MC_MOVE_DIR_CURRENT` at rest.
+    last_dir: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -298,6 +332,10 @@ impl Axis {
                 vel: 0.0,
                 acc: 0.0,
             },
+            modulo_q: 0,
+            modulo: 0.0,
+            turns: 0,
+            last_dir: 1.0,
         }
     }
 
@@ -408,6 +446,29 @@ impl Axis {
     /// commanded position (relative; buffered: from the last target) or from the last target
     /// (additive). `OutOfRange` beyond the position range.
     pub fn move_target(&self, kind: MoveKind, arg: f64, buffered: bool) -> Result<f64, NackCode> {
+        self.move_target_dir(kind, arg, buffered, MoveDirection::Shortest)
+    }
+
+    /// [`Axis::move_target`] with an absolute move's direction (layout 1.10): on a modulo axis
+    /// the target is in [0, m) (else `ModuloMove`) and the move goes the way `dir` names, from
+    /// the commanded position (buffered: the last target) to the target's place in the turn; a
+    /// target within the in-position window of the start is no turn at all. On a linear axis a
+    /// direction other than `Shortest` is refused (`ModuloMove`).
+    pub fn move_target_dir(
+        &self,
+        kind: MoveKind,
+        arg: f64,
+        buffered: bool,
+        dir: MoveDirection,
+    ) -> Result<f64, NackCode> {
+        if kind == MoveKind::Absolute {
+            if self.modulo_q != 0 {
+                return self.modulo_target(arg, buffered, dir);
+            }
+            if dir != MoveDirection::Shortest {
+                return Err(NackCode::ModuloMove);
+            }
+        }
         let target = match kind {
             MoveKind::Absolute => arg,
             MoveKind::Relative if !buffered => self.cmd.pos + arg,
@@ -417,6 +478,201 @@ impl Axis {
             return Err(NackCode::OutOfRange);
         }
         Ok(target)
+    }
+
+    /// An absolute move's target in the frame on a modulo axis (see [`Axis::move_target_dir`]).
+    #[inline(never)]
+    fn modulo_target(&self, arg: f64, buffered: bool, dir: MoveDirection) -> Result<f64, NackCode> {
+        let m = self.modulo;
+        if !arg.is_finite() {
+            return Err(NackCode::OutOfRange);
+        }
+        if !(0.0..m).contains(&arg) {
+            return Err(NackCode::ModuloMove);
+        }
+        let from = if buffered {
+            self.last_target()
+        } else {
+            self.cmd.pos
+        };
+        // The way forward to the target, in [0, m).
+        let mut fwd = arg - self.wrap(from);
+        if fwd < 0.0 {
+            fwd += m;
+        }
+        if fwd >= m {
+            fwd -= m;
+        }
+        let back = fwd - m;
+        let w = self.config.in_pos_window;
+        let positive = match dir {
+            // A tie (half a turn, to the rounding of the host's unit conversion) goes positive.
+            MoveDirection::Shortest => fwd <= m / 2.0 * (1.0 + 1e-12),
+            MoveDirection::Positive => true,
+            MoveDirection::Negative => false,
+            MoveDirection::Current => {
+                let v = self.cmd.vel;
+                if v != 0.0 {
+                    v > 0.0
+                } else {
+                    self.last_dir > 0.0
+                }
+            }
+        };
+        // Where the axis is (within the window) is no turn whichever way is named.
+        let d = if positive && fwd <= m - w || !positive && fwd < w {
+            fwd
+        } else {
+            back
+        };
+        Ok(from + d)
+    }
+
+    /// `x` wrapped into [0, m) on a modulo axis (`x` itself on a linear one).
+    #[inline]
+    pub fn wrap(&self, x: f64) -> f64 {
+        if self.modulo_q == 0 {
+            return x;
+        }
+        let m = self.modulo;
+        let mut r = x - math::floor(x / m) * m;
+        if r >= m {
+            r -= m;
+        }
+        if r < 0.0 {
+            r += m;
+            if r >= m {
+                r = 0.0;
+            }
+        }
+        r
+    }
+
+    /// Velocity mode at `vel` on a modulo axis: cruise in integers from the commanded position
+    /// (out of line: a linear axis's tick does not carry its i128s).
+    #[inline(never)]
+    fn start_cruise(&mut self, vel: f64, ts: f64) {
+        self.motion = Motion::Cruise {
+            base: math::round(self.cmd.pos * CRUISE_SUB) as i128,
+            step: math::round(vel * ts * CRUISE_SUB) as i128,
+            k: 0,
+            vel,
+        };
+    }
+
+    /// One tick of the cruise: the commanded position `(base + k · step) / 2^32`.
+    #[inline(never)]
+    fn cruise_step(&mut self) {
+        if let Motion::Cruise { base, step, k, vel } = &mut self.motion {
+            *k += 1;
+            let q = *base + *step * *k as i128;
+            self.cmd = Reference {
+                pos: q as f64 / CRUISE_SUB,
+                vel: *vel,
+                acc: 0.0,
+            };
+        }
+    }
+
+    /// The modulo period, counts (0: linear).
+    pub fn modulo(&self) -> f64 {
+        self.modulo
+    }
+
+    /// Is this a modulo axis?
+    #[inline]
+    pub fn is_modulo(&self) -> bool {
+        self.modulo_q != 0
+    }
+
+    /// The frame's whole turns in 1/65536 count (`turns · m`; 0 on a linear axis): a
+    /// commanded-position master's count runs on across its wrap (gear.rs).
+    #[inline]
+    pub fn turn_subcounts(&self) -> i128 {
+        self.turns as i128 * self.modulo_q as i128
+    }
+
+    /// The whole turns the frame has moved by since the period was set (see the module's head).
+    pub fn turns(&self) -> i64 {
+        self.turns
+    }
+
+    /// `MC_OP_SET_MODULO`, checked by the caller (at rest; 0 or in range, in 1/65536 count):
+    /// the new period. The position stays where it is (the old turns folded into the offset),
+    /// then the frame is wrapped into the new period at once.
+    pub fn set_modulo(&mut self, modulo_q: i64) {
+        if self.turns != 0 {
+            // Back to an unwrapped frame: the turns folded into the offset, rounded once.
+            let d = self.turns as f64 * self.modulo;
+            self.turns = 0;
+            self.pos_offset -= d;
+        }
+        self.modulo_q = modulo_q;
+        self.modulo = modulo_q as f64 / firmware_proto::COMMANDED_SUBCOUNTS as f64;
+        self.act_pos = self.frame_position(self.encoder) + self.pos_offset - self.comp.applied().0;
+        self.wrap_frame();
+    }
+
+    /// The frame's position of the raw count `count`, before the offset: `count − turns · m`,
+    /// in integers (exact for any count; rounded once, within the turn, to a double).
+    #[inline(never)]
+    fn frame_position(&self, count: i64) -> f64 {
+        let sub = firmware_proto::COMMANDED_SUBCOUNTS;
+        let q = count as i128 * sub - self.turns as i128 * self.modulo_q as i128;
+        q as f64 / sub as f64
+    }
+
+    /// Move the frame by whole turns when the commanded position left [0, m) on the axis's own
+    /// motion (a modulo axis; not while homing or in SynchronizedMotion, whose references come
+    /// from outside in the frame they started in).
+    #[inline(never)]
+    fn wrap_frame(&mut self) {
+        if self.modulo_q == 0
+            || matches!(
+                self.state,
+                AxisState::Homing | AxisState::SynchronizedMotion
+            )
+        {
+            return;
+        }
+        let m = self.modulo;
+        let p = self.cmd.pos;
+        if (0.0..m).contains(&p) || !p.is_finite() {
+            return;
+        }
+        let mut j = math::floor(p / m) as i64;
+        if j == 0 {
+            j = if p < 0.0 { -1 } else { 1 };
+        }
+        self.shift_turns(j);
+    }
+
+    /// The frame moves by `j` whole turns: every position the axis holds moves by `−j · m`.
+    fn shift_turns(&mut self, j: i64) {
+        let sub = firmware_proto::COMMANDED_SUBCOUNTS;
+        let dq = j as i128 * self.modulo_q as i128;
+        let d = dq as f64 / sub as f64;
+        self.turns += j;
+        self.act_pos = self.frame_position(self.encoder) + self.pos_offset - self.comp.applied().0;
+        self.cmd.pos -= d;
+        self.comp_ref.pos -= d;
+        self.target -= d;
+        match &mut self.motion {
+            Motion::Run { traj, .. } => traj.shift(-d),
+            Motion::Cruise { base, .. } => *base -= dq << 16,
+            Motion::Hold => {}
+        }
+        if let Goal::Position { target, .. } = &mut self.goal {
+            *target -= d;
+        }
+        for q in self.queue.iter_mut() {
+            if let Goal::Position { target, .. } = &mut q.goal {
+                *target -= d;
+            }
+        }
+        if let Some(pd) = &mut self.pd {
+            pd.shift(-d);
+        }
     }
 
     /// Is the axis running a motion a buffered move has to wait for (a move or halt not yet
@@ -438,8 +694,25 @@ impl Axis {
         buffered: bool,
         rate_hz: u32,
     ) -> Result<(Option<AxisState>, Started), NackCode> {
+        let dir = MoveDirection::Shortest;
+        self.start_move_dir(seq, kind, arg, limits, buffered, rate_hz, dir)
+    }
+
+    /// [`Axis::start_move`] with an absolute move's direction on a modulo axis (layout 1.10,
+    /// see [`Axis::move_target_dir`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn start_move_dir(
+        &mut self,
+        seq: u32,
+        kind: MoveKind,
+        arg: f64,
+        limits: &Limits,
+        buffered: bool,
+        rate_hz: u32,
+        dir: MoveDirection,
+    ) -> Result<(Option<AxisState>, Started), NackCode> {
         self.check_can_move()?;
-        let target = self.move_target(kind, arg, buffered)?;
+        let target = self.move_target_dir(kind, arg, buffered, dir)?;
         let goal = Goal::Position {
             target,
             lim: *limits,
@@ -584,6 +857,15 @@ impl Axis {
             Goal::Position { .. } => AxisState::DiscreteMotion,
             _ => AxisState::ContinuousMotion,
         };
+        // MC_MOVE_DIR_CURRENT at rest: the way the last motion went.
+        let way = match goal {
+            Goal::Position { target, .. } => target - self.cmd.pos,
+            Goal::Velocity { vel, .. } => vel,
+            Goal::None => 0.0,
+        };
+        if way != 0.0 {
+            self.last_dir = way.signum();
+        }
         self.begin_motion(seq, traj.duration());
         self.take_goal(goal, traj);
         let mut changed = None;
@@ -742,7 +1024,12 @@ impl Axis {
         self.encoder = encoder;
         // The load's position: the motor's less the correction in force (0 without
         // compensation, and then the subtraction changes nothing).
-        self.act_pos = encoder as f64 + self.pos_offset - self.comp.applied().0;
+        let frame = if self.modulo_q == 0 {
+            encoder as f64
+        } else {
+            self.frame_position(encoder)
+        };
+        self.act_pos = frame + self.pos_offset - self.comp.applied().0;
         self.servo.measure(encoder, &self.config.ffpiv, ts);
     }
 
@@ -815,6 +1102,9 @@ impl Axis {
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
             self.faults.remove(Faults::DAC_SATURATED);
+            if self.modulo_q != 0 {
+                self.wrap_frame();
+            }
             return false;
         }
 
@@ -837,6 +1127,10 @@ impl Axis {
                         if self.state != AxisState::Homing {
                             report.in_velocity = Some((self.motion_seq, end.vel));
                         }
+                    }
+                    if self.modulo_q != 0 && self.state != AxisState::Homing {
+                        // A modulo axis cruises in integers from here (no time summed).
+                        self.start_cruise(end.vel, ts);
                     }
                 } else if let (Goal::Position { .. }, true) = (self.goal, end.vel != 0.0) {
                     // The ramp down to a lowered velocity limit ended: on to the target. (If
@@ -877,6 +1171,11 @@ impl Axis {
                     self.motion = Motion::Hold;
                 }
             }
+        } else if let Motion::Cruise { .. } = self.motion {
+            self.cruise_step();
+        }
+        if self.modulo_q != 0 {
+            self.wrap_frame();
         }
         if let Some(t) = &mut self.stop_elapsed {
             *t += ts;
@@ -970,7 +1269,7 @@ impl Axis {
                     if self.safety.stop_reason == StopReason::None {
                         self.safety.stop_reason = StopReason::Done;
                     }
-                    report.done = Some((self.motion_seq, self.act_pos));
+                    report.done = Some((self.motion_seq, self.wrap(self.act_pos)));
                     self.goal = Goal::None;
                     if self.state == AxisState::DiscreteMotion {
                         // PLCopen Buffered: the next move starts once this one is done.
@@ -1113,6 +1412,15 @@ impl Axis {
         }
     }
 
+    /// [`Axis::status`] with a modulo axis's positions wrapped into [0, m) (layout 1.10).
+    #[inline(never)]
+    pub fn wrap_status(&self, s: &mut AxisStatus) {
+        s.cmd_pos = self.wrap(s.cmd_pos);
+        s.act_pos = self.wrap(s.act_pos);
+        s.target = self.wrap(s.target);
+        s.comp_pos = self.wrap(s.comp_pos);
+    }
+
     /// Layout 1.9: the compensation's step of this tick. Returns the servo's reference and the
     /// motor's position (the load's position `act_pos` is set for the new correction).
     #[inline(never)]
@@ -1149,6 +1457,9 @@ impl Axis {
     /// The position in the load's frame of an encoder count: the motor's position there
     /// less the correction in force (compare and probe positions, layout 1.9).
     pub(crate) fn load_position_of_count(&self, count: i64) -> f64 {
+        if self.modulo_q != 0 {
+            return self.frame_position(count) + self.pos_offset - self.comp.applied().0;
+        }
         count as f64 + self.pos_offset - self.comp.applied().0
     }
 
@@ -1221,7 +1532,7 @@ impl Axis {
 
     /// Is a profile (move or stop ramp) still running?
     pub(crate) fn profile_running(&self) -> bool {
-        matches!(self.motion, Motion::Run { .. })
+        matches!(self.motion, Motion::Run { .. } | Motion::Cruise { .. })
     }
 
     /// Does a goal of its own drive the axis (a position move, velocity mode or jog, or a
@@ -1278,6 +1589,9 @@ impl Axis {
 
     /// The position (in the axis's frame) of the raw encoder count `count`.
     pub(crate) fn position_of_count(&self, count: i64) -> f64 {
+        if self.modulo_q != 0 {
+            return self.frame_position(count) + self.pos_offset;
+        }
         count as f64 + self.pos_offset
     }
 
@@ -1588,5 +1902,7 @@ impl Axis {
     }
 }
 
+#[cfg(test)]
+mod modulo_tests;
 #[cfg(test)]
 mod tests;

@@ -45,6 +45,7 @@ fn finite(c: &AxisCmd) -> bool {
         | AxisCmd::CompRead(_)
         | AxisCmd::Handwheel(_)
         | AxisCmd::HandwheelOff => true,
+        AxisCmd::SetModulo(m) => m.modulo.is_finite(),
     }
 }
 
@@ -62,6 +63,9 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         // Layout 1.10: a gantry's slave is the gantry's; its master's frame is the gantry's.
         self.gantry_gate(ax, &cmd)?;
+        if let AxisCmd::SetModulo(m) = cmd {
+            return self.execute_modulo(ax, m.modulo);
+        }
         // [safety] card-wide latches, causes still present, limits (safety.rs)
         self.safety.check_command(&cmd, &self.axes[ax])?;
         self.gantry_slaves_check(ax, &cmd)?;
@@ -87,12 +91,13 @@ impl<M: Mem + Clone> Firmware<M> {
                 | AxisCmd::Home(_)
         );
         let changed = match &cmd {
-            // Served by `execute_comp` and `execute_handwheel` above.
+            // Served by `execute_comp`, `execute_handwheel` and `execute_modulo` above.
             AxisCmd::CompTable(_)
             | AxisCmd::CompData(_)
             | AxisCmd::CompRead(_)
             | AxisCmd::Handwheel(_)
-            | AxisCmd::HandwheelOff => return Err(NackCode::UnknownOpcode),
+            | AxisCmd::HandwheelOff
+            | AxisCmd::SetModulo(_) => return Err(NackCode::UnknownOpcode),
             AxisCmd::PowerOn => axis.power(true)?,
             AxisCmd::PowerOff => axis.power(false)?,
             AxisCmd::Move(kind, m) => {
@@ -108,8 +113,13 @@ impl<M: Mem + Clone> Firmware<M> {
                 };
                 lim.check_range(rate).map_err(nack::plan_nack)?;
                 let kind = MoveKind::from(*kind);
+                // The direction is an absolute move's (relative and additive ignore it).
+                let dir = match kind {
+                    MoveKind::Absolute => m.direction,
+                    _ => cmd::MoveDirection::Shortest,
+                };
                 let (changed, started) =
-                    axis.start_move(c.seq, kind, m.position, &lim, m.buffered, rate)?;
+                    axis.start_move_dir(c.seq, kind, m.position, &lim, m.buffered, rate, dir)?;
                 aborting = started == Started::Now;
                 changed
             }
@@ -244,6 +254,28 @@ impl<M: Mem + Clone> Firmware<M> {
             self.axes[ax].compensation_changed(Some(params.ramp_limits()));
         }
         Ok(0.0)
+    }
+
+    /// Layout 1.10: `MC_OP_SET_MODULO` on axis `ax` (finite, checked by the caller): 0 makes
+    /// it linear, else the period must be in `MODULO_RANGE` (`ModuloRange`); it changes only
+    /// on an axis at rest (`ModuloBusy`), as compensation does, and nothing changes on a
+    /// refusal.
+    fn execute_modulo(&mut self, ax: usize, modulo: f64) -> Result<f64, NackCode> {
+        if modulo != 0.0 && !firmware_proto::MODULO_RANGE.contains(&modulo) {
+            return Err(NackCode::ModuloRange);
+        }
+        let axis = &self.axes[ax];
+        let at_rest = matches!(
+            axis.state,
+            AxisState::Standstill | AxisState::Disabled | AxisState::ErrorStop
+        ) && !axis.busy_with_motion()
+            && !self.grouped_moving(ax);
+        if !at_rest {
+            return Err(NackCode::ModuloBusy);
+        }
+        let q = firmware_proto::modulo_subcounts(modulo);
+        self.axes[ax].set_modulo(q);
+        Ok(self.axes[ax].modulo())
     }
 
     /// Is axis `ax` driven by a group that moves?

@@ -835,6 +835,13 @@ impl Trajectory {
         self.end
     }
 
+    /// The same trajectory moved by `d` in position (layout 1.10: a modulo axis's frame moving
+    /// by whole turns under it). Its times, velocities and accelerations are unchanged.
+    pub fn shift(&mut self, d: f64) {
+        self.p0 += d;
+        self.end.pos += d;
+    }
+
     /// Frame state at the end of segment `i`.
     fn seg_end(&self, i: usize) -> (f64, f64, f64) {
         advance(self.x[i], self.v[i], self.a[i], self.jerk[i], self.dur[i])

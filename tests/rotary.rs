@@ -1,0 +1,310 @@
+//! Layout 1.10: rotary (modulo) axes on the stepped card. The period is set, read back and
+//! refused with its own error kind (and C code) when it is zero, out of range, or changed
+//! while the axis moves; the status wraps into [0, period) in velocity mode with the encoder
+//! running on; absolute moves go the shortest way or the way they name; a slave geared to a
+//! modulo master does not jump when the master wraps; soft limits do not hold on a modulo
+//! axis.
+mod common;
+
+use common::stepped_card_with;
+use motioncard_sdk::{
+    AxisState, Card, EmuOptions, ErrorKind, Master, MoveDirection, MoveLimits, Status, SyncLimits,
+    VelocityLimits,
+};
+use std::time::Duration;
+
+const RATE: u32 = 10_000;
+const LONG: Duration = Duration::from_secs(60);
+/// 10,000 counts a turn (the default motor's), the positions in degrees.
+const COUNTS_PER_TURN: f64 = 10_000.0;
+const SCALE: f64 = COUNTS_PER_TURN / 360.0;
+
+fn card(axes: usize) -> Card {
+    let card = stepped_card_with(EmuOptions::new(axes, RATE));
+    for a in 0..axes {
+        card.axis(a).unwrap().enable().unwrap();
+    }
+    card
+}
+
+fn status(card: &Card, a: usize) -> Status {
+    card.axis(a).unwrap().status().unwrap()
+}
+
+fn limits() -> MoveLimits {
+    // Degrees: 720 °/s, 36,000 °/s², 3.6e6 °/s³.
+    MoveLimits::new(720.0, 36_000.0, 3.6e6)
+}
+
+/// The period is read back as set (held to 1/65536 count), 0 through `set_modulo` is its own
+/// refusal (`ModuloZero`, -116, nothing sent), a negative or non-finite period is refused
+/// before it is sent and one the card finds out of range by the card (`ModuloRange`, -117), a
+/// change while moving `ModuloBusy` (-118): none of them changes the period.
+#[test]
+fn the_period_is_set_read_back_and_refused_with_its_own_kinds() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    assert_eq!(axis.modulo().unwrap(), 0.0, "linear at boot");
+    axis.set_modulo(360.0).unwrap();
+    assert_eq!(axis.modulo().unwrap(), 360.0, "read back as written");
+    assert_eq!(axis.settings().unwrap().modulo, COUNTS_PER_TURN);
+    let refusals = [
+        (0.0, ErrorKind::ModuloZero, -116),
+        (-360.0, ErrorKind::ModuloRange, -117),
+        (f64::NAN, ErrorKind::ModuloRange, -117),
+        (f64::INFINITY, ErrorKind::ModuloRange, -117),
+        (1e10, ErrorKind::ModuloRange, -117), // 2.8e11 counts: the card's refusal
+        (1e-3, ErrorKind::ModuloRange, -117), // 0.028 counts
+    ];
+    for (p, kind, code) in refusals {
+        let e = axis.set_modulo(p).unwrap_err();
+        assert_eq!((e.kind(), e.kind().code()), (kind, code), "{p}: {e}");
+        assert_eq!(axis.settings().unwrap().modulo, COUNTS_PER_TURN, "{p}");
+    }
+    axis.move_velocity(90.0, &VelocityLimits::new(3600.0, 3.6e5))
+        .unwrap();
+    card.sim().unwrap().step(10);
+    for p in [720.0, 180.0] {
+        let e = axis.set_modulo(p).unwrap_err();
+        assert_eq!((e.kind(), e.kind().code()), (ErrorKind::ModuloBusy, -118));
+    }
+    let e = axis.clear_modulo().unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::ModuloBusy);
+    assert_eq!(axis.settings().unwrap().modulo, COUNTS_PER_TURN);
+    axis.halt(36_000.0, 3.6e6).unwrap().wait(LONG).unwrap();
+    axis.clear_modulo().unwrap();
+    assert_eq!(axis.modulo().unwrap(), 0.0);
+}
+
+/// Velocity mode on a modulo axis: 5 turns a second for 4 s of the stepped card (20 turns).
+/// Every tick's status is in [0, 360), and the actual position is the encoder's count within
+/// its turn, exactly (the encoder itself, the shaft's count, runs on past 200,000).
+#[test]
+fn velocity_mode_wraps_the_status_and_the_encoder_runs_on() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    axis.move_velocity(1800.0, &VelocityLimits::new(36_000.0, 3.6e6))
+        .unwrap();
+    let sim = card.sim().unwrap();
+    let mut wraps = 0;
+    let mut last = status(&card, 0).actual_position;
+    for _ in 0..40_000 {
+        sim.step(1);
+        let s = status(&card, 0);
+        for x in [s.command_position, s.actual_position] {
+            assert!((0.0..360.0).contains(&x), "{x}");
+        }
+        let enc = s.raw.encoder;
+        let in_turn = enc.rem_euclid(COUNTS_PER_TURN as i64) as f64 / SCALE;
+        assert!(
+            (s.actual_position - in_turn).abs() < 1e-9,
+            "{} against the count {enc}",
+            s.actual_position
+        );
+        if s.actual_position < last - 180.0 {
+            wraps += 1;
+        }
+        last = s.actual_position;
+    }
+    let enc = status(&card, 0).raw.encoder;
+    assert!(enc > 190_000, "the raw count runs on: {enc}");
+    assert!(wraps >= 19, "{wraps} wraps");
+}
+
+/// From 10°: to 350° the shortest way goes back 20°; positively it goes forward 340°; to
+/// 20° negatively it goes back 350°; `Current` after that goes back again. The encoder moves
+/// by exactly those distances (within the in-position window), and each move ends done at its
+/// target in [0, 360).
+#[test]
+fn absolute_moves_go_the_shortest_way_or_the_way_they_name() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    axis.move_absolute(10.0, &limits())
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    let cases = [
+        (350.0, MoveDirection::Shortest, -20.0),
+        (340.0, MoveDirection::Positive, 350.0),
+        (20.0, MoveDirection::Negative, -320.0),
+        (10.0, MoveDirection::Current, -10.0),
+        (20.0, MoveDirection::Current, -350.0),
+        (200.0, MoveDirection::Shortest, 180.0), // half a turn: positive
+    ];
+    for (target, dir, way) in cases {
+        let e0 = status(&card, 0).raw.encoder;
+        let done = axis
+            .move_absolute_dir(target, dir, &limits())
+            .unwrap()
+            .wait(LONG)
+            .unwrap();
+        let moved = (status(&card, 0).raw.encoder - e0) as f64 / SCALE;
+        assert!(
+            (moved - way).abs() < 2.0 / SCALE,
+            "to {target} {dir:?}: moved {moved}°, not {way}°"
+        );
+        assert!((done - target).abs() < 2.0 / SCALE, "done at {done}");
+        let s = status(&card, 0);
+        assert_eq!(s.state, AxisState::Standstill);
+        assert!((0.0..360.0).contains(&s.actual_position));
+    }
+    // A target outside the turn, and a direction on a linear axis: ModuloMove (-119).
+    for t in [360.0, -1.0, 725.0] {
+        let e = axis.move_absolute(t, &limits()).unwrap_err();
+        assert_eq!((e.kind(), e.kind().code()), (ErrorKind::ModuloMove, -119));
+    }
+    axis.clear_modulo().unwrap();
+    let e = axis
+        .move_absolute_dir(10.0, MoveDirection::Positive, &limits())
+        .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::ModuloMove);
+}
+
+/// A slave geared 1:2 to a modulo master's command runs on smoothly while the master wraps
+/// (each of its per-tick increments half the master's unwrapped one, to the master's
+/// rounding to 1/65536 count): the master turns 4 times, the slave's position never jumps.
+#[test]
+fn a_slave_geared_to_a_modulo_master_does_not_jump_at_the_wrap() {
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master.set_modulo(COUNTS_PER_TURN).unwrap();
+    master
+        .move_velocity(20_000.0, &VelocityLimits::new(2e5, 2e7))
+        .unwrap()
+        .wait_in_velocity(LONG)
+        .unwrap();
+    slave
+        .gear_in(
+            Master::Commanded(1),
+            1,
+            2,
+            &SyncLimits::new(15_000.0, 1e5, 1e7),
+        )
+        .unwrap()
+        .wait_in_sync(LONG)
+        .unwrap();
+    let sim = card.sim().unwrap();
+    let mut prev = card.statuses(&[0, 1]).unwrap();
+    let mut wraps = 0;
+    for k in 0..20_000 {
+        sim.step(1);
+        let now = card.statuses(&[0, 1]).unwrap();
+        let mut dm = now[1].command_position - prev[1].command_position;
+        if dm < -COUNTS_PER_TURN / 2.0 {
+            dm += COUNTS_PER_TURN;
+            wraps += 1;
+        }
+        let ds = now[0].command_position - prev[0].command_position;
+        assert!((dm - 2.0).abs() < 1e-6, "tick {k}: master moved {dm}");
+        assert!(
+            (ds - dm / 2.0).abs() <= 1.0 / 65_536.0,
+            "tick {k}: slave {ds}, master {dm}"
+        );
+        prev = now;
+    }
+    assert_eq!(wraps, 4, "{wraps} wraps");
+}
+
+/// Soft limits do not hold on a modulo axis: a homed axis with soft limits at ±90° runs in
+/// velocity mode through them (a turn and more) without a trip; made linear again, they hold.
+#[test]
+fn soft_limits_do_not_apply_to_a_modulo_axis() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    let mut s = axis.safety_settings().unwrap();
+    s.soft_limits = Some((-90.0, 90.0));
+    axis.configure_safety(&s).unwrap();
+    axis.set_position(0.0, false).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    axis.move_velocity(720.0, &VelocityLimits::new(36_000.0, 3.6e6))
+        .unwrap();
+    card.sim().unwrap().step(10_000);
+    let st = status(&card, 0);
+    assert_eq!(st.state, AxisState::ContinuousMotion);
+    assert!(
+        st.raw.encoder > 15_000,
+        "a turn and more: {}",
+        st.raw.encoder
+    );
+    axis.halt(36_000.0, 3.6e6).unwrap().wait(LONG).unwrap();
+    // Linear again (the position where it was, within its turn): the limits hold.
+    axis.clear_modulo().unwrap();
+    let e = axis.move_absolute(200.0, &limits()).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::SoftLimit, "{e}");
+}
+
+/// `modulo` in `[axis.N]` of the configuration file: a card's period saved (in the file's
+/// user units), loaded into another card (applied, no difference left), `modulo = 0` makes the
+/// axis linear again, and a negative period is refused naming the key, nothing applied.
+#[test]
+fn the_period_goes_through_the_configuration_file() {
+    let a = card(1);
+    let ax = a.axis(0).unwrap();
+    ax.set_scale(SCALE).unwrap();
+    ax.set_modulo(360.0).unwrap();
+    let text = a.save_config().unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("modulo"))
+        .expect("modulo saved");
+    assert_eq!(line, "modulo = 360.0");
+    let b = card(1);
+    let report = b.load_config(&text, "a.toml").unwrap();
+    assert!(
+        report.applied.iter().any(|k| k == "axis.0.modulo"),
+        "{:?}",
+        report.applied
+    );
+    assert!((b.axis(0).unwrap().modulo().unwrap() - 360.0).abs() < 1e-9);
+    assert!(b.diff_config(&text, "a.toml").unwrap().is_empty());
+
+    let linear = text.replace(line, "modulo = 0.0");
+    b.load_config(&linear, "l.toml").unwrap();
+    assert_eq!(b.axis(0).unwrap().modulo().unwrap(), 0.0);
+
+    let c = card(1);
+    let bad = text.replace(line, "modulo = -360.0");
+    match c.load_config(&bad, "bad.toml").unwrap_err() {
+        motioncard_sdk::Error::ConfigFile { key, .. } => assert_eq!(key, "axis.0.modulo"),
+        e => panic!("{e}"),
+    }
+    assert_eq!(c.axis(0).unwrap().modulo().unwrap(), 0.0);
+    assert_eq!(c.axis(0).unwrap().scale_factor(), 1.0, "nothing applied");
+}
+
+/// A probe on a modulo axis reports its captures wrapped: continuous capture on the index
+/// pulse (every 10,000 counts of the plant) of an axis whose period is 25,000 counts, in
+/// velocity mode over five turns: the k-th pulse at count 10,000·k is captured at
+/// (10,000·k mod 25,000) + 0.5 (the cell's middle), across every wrap.
+#[test]
+fn probe_captures_on_a_modulo_axis_are_wrapped() {
+    use motioncard_sdk::ProbeTrigger;
+    let card = card(1);
+    let ax = card.axis(0).unwrap();
+    ax.set_modulo(25_000.0).unwrap();
+    let p = ax.touch_probe(1);
+    p.arm(&ProbeTrigger {
+        continuous: true,
+        ..ProbeTrigger::index()
+    })
+    .unwrap();
+    ax.move_velocity(5e5, &VelocityLimits::new(5e6, 5e8))
+        .unwrap();
+    let sim = card.sim().unwrap();
+    while status(&card, 0).raw.encoder < 125_000 {
+        sim.step(10);
+    }
+    let st = p.status().unwrap();
+    let n = st.captures as i64;
+    assert_eq!(n, 12, "{st:?}");
+    let want: Vec<f64> = (n - 7..=n)
+        .map(|k| (10_000 * k).rem_euclid(25_000) as f64 + 0.5)
+        .collect();
+    assert_eq!(st.positions, want);
+}
