@@ -73,6 +73,9 @@ static const mc_result ALL_CODES[] = {
     /* gantry axes (layout 1.10) */
     MC_ERR_GANTRY_SLAVE,   MC_ERR_GANTRY_IN_USE,   MC_ERR_GANTRY_AXES,
     MC_ERR_GANTRY_GAINS,   MC_ERR_GANTRY_STATE,
+    /* rotary (modulo) axes (layout 1.10) */
+    MC_ERR_MODULO_ZERO,    MC_ERR_MODULO_RANGE,    MC_ERR_MODULO_BUSY,
+    MC_ERR_MODULO_MOVE,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -142,10 +145,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_COMP_SEQUENCE,
     /* handwheel.c */
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
-    /* no example program yet: cffi's own test (gantry.rs) returns the axes, gains and state
-       refusals, tests/gantry.rs every one through the SDK */
-    MC_ERR_GANTRY_SLAVE, MC_ERR_GANTRY_IN_USE, MC_ERR_GANTRY_AXES, MC_ERR_GANTRY_GAINS,
-    MC_ERR_GANTRY_STATE,
+    /* rotary.c */
+    MC_ERR_MODULO_ZERO, MC_ERR_MODULO_RANGE, MC_ERR_MODULO_BUSY, MC_ERR_MODULO_MOVE,
 };
 
 static void result_strings(void) {
@@ -621,6 +622,29 @@ static void group_refusals(void) {
     CHECK(mc_close(c));
 }
 
+/* Gantries (layout 1.10): each refusal with its own code. */
+static void gantry_refusals(void) {
+    mc_card c = 0;
+    CHECK(mc_open_sim_stepped(3, 10000, &c));
+    for (uint32_t a = 0; a < 3; a++) CHECK(mc_enable(c, a));
+    const mc_gantry_settings s = {.kp = 1e6, .ki = 0.0, .skew_limit = 100.0};
+    const uint32_t self[1] = {0}, one[1] = {1};
+    EXPECT(mc_gantry_form(c, 0, 0, self, 1, &s, NULL), MC_ERR_GANTRY_AXES);
+    const mc_gantry_settings bad = {.kp = -1.0, .ki = 0.0, .skew_limit = 100.0};
+    EXPECT(mc_gantry_form(c, 0, 0, one, 1, &bad, NULL), MC_ERR_GANTRY_GAINS);
+    mc_gantry_info info;
+    EXPECT(mc_gantry_get_info(c, 0, &info), MC_ERR_GANTRY_STATE);
+    CHECK(mc_gantry_form(c, 0, 0, one, 1, &s, NULL));
+    /* The slave moves only with its master; it cannot join another gantry. */
+    mc_move_limits lim;
+    CHECK(mc_move_limits_symmetric(1e5, 1e6, 5e7, &lim));
+    EXPECT(mc_move_relative(c, 1, 1000.0, &lim, NULL), MC_ERR_GANTRY_SLAVE);
+    EXPECT(mc_gantry_form(c, 1, 2, one, 1, &s, NULL), MC_ERR_GANTRY_IN_USE);
+    CHECK(mc_gantry_dissolve(c, 0));
+    EXPECT(mc_gantry_dissolve(c, 0), MC_ERR_GANTRY_STATE);
+    CHECK(mc_close(c));
+}
+
 static void realtime_card(void) {
     /* Stepping is for stepped cards only. */
     mc_card rt = 0;
@@ -650,6 +674,7 @@ int main(int argc, char **argv) {
     all_calls_bad_handle(c);
     constructors();
     group_refusals();
+    gantry_refusals();
     realtime_card();
 
     /* Every code was returned by some call, except those no emulated card can provoke. */
