@@ -284,3 +284,44 @@ fn the_table_goes_through_the_configuration_file() {
     }
     assert_eq!(c.axis(0).unwrap().compensation().unwrap(), None);
 }
+
+/// Layout 1.10: the scope samples the compensated position (`Signal::CompPos`, counts): on
+/// every tick of a move with the table loaded it is the status's, and it differs from the
+/// commanded position by the correction (a count or more somewhere on the move).
+#[test]
+fn the_scope_samples_the_compensated_position() {
+    use motioncard_sdk::{ScopeSettings, Signal, Source};
+    let card = card();
+    let axis = card.axis(0).unwrap();
+    axis.set_compensation(&table()).unwrap();
+    let settings = ScopeSettings::new(
+        &[
+            Source::axis(Signal::CmdPos, 0),
+            Source::axis(Signal::CompPos, 0),
+        ],
+        2_000,
+    );
+    let cap = card
+        .scope()
+        .capture(&settings, LONG, |_| {
+            axis.move_absolute(20_000.0, &MoveLimits::new(2e5, 2e6, 1e8))
+                .map(|_| ())
+        })
+        .unwrap();
+    assert_eq!(cap.samples.len(), 2_000);
+    let largest = cap
+        .samples
+        .iter()
+        .map(|s| (s.value[1] - s.value[0]).abs())
+        .fold(0.0, f64::max);
+    assert!(largest >= 1.0, "correction never above a count: {largest}");
+    // At rest after the move, the last sample is the status's.
+    card.sim().unwrap().step(20_000);
+    let cap = card
+        .scope()
+        .capture(&ScopeSettings::new(&settings.channels, 1), LONG, |_| Ok(()))
+        .unwrap();
+    let s = axis.status().unwrap();
+    assert_eq!(cap.samples[0].value[1], s.raw.comp_pos);
+    assert_eq!(cap.samples[0].value[0], s.raw.cmd_pos);
+}

@@ -1160,6 +1160,12 @@ extern "C" {
 #define MC_SCOPE_SIG_GANTRY_SKEW 14
 
 /**
+ * Layout 1.10: the compensated position, the motor's reference, counts (`comp_pos`: `cmd_pos` plus
+ * the pitch-error and backlash correction).
+ */
+#define MC_SCOPE_SIG_COMP_POS 15
+
+/**
  * Tangential velocity before the filters, counts/s (feed).
  */
 #define MC_SCOPE_SIG_PATH_SPEED 32

@@ -666,6 +666,10 @@ pub const MC_SCOPE_SIG_SERVO_FF: u32 = 13;
 /// gantry's slave.
 pub const MC_SCOPE_SIG_GANTRY_SKEW: u32 = 14;
 
+/// Layout 1.10: the compensated position, the motor's reference, counts (`comp_pos`: `cmd_pos` plus
+/// the pitch-error and backlash correction).
+pub const MC_SCOPE_SIG_COMP_POS: u32 = 15;
+
 /// Tangential velocity before the filters, counts/s (feed).
 pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
 

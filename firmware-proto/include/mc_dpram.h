@@ -65,6 +65,7 @@
                            * axes (MC_OP_GANTRY_* 108..110, MC_NACK_GANTRY_* 134..138,
                            * MC_EV_GANTRY_FAULT 32, MC_EV_GANTRY_HOMED 33, MC_STOP_GANTRY_SKEW 34,
                            * MC_STOP_GANTRY 35, MC_SIG_GANTRY_SKEW 14, gantry_status[] appended);
+                           * the scope's MC_SIG_COMP_POS 15;
                            * rotary (modulo) axes (MC_OP_SET_MODULO 101,
                            * mc_axis_config.modulo from its reserved word, the direction of
                            * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
@@ -679,6 +680,8 @@
 #define MC_SIG_SERVO_FF 13u  /* the feed-forward terms, V */
 #define MC_SIG_GANTRY_SKEW 14u /* layout 1.10: the skew of a gantry's slave (index: the slave), counts;
                                 * 0 for an axis that is no gantry's slave */
+#define MC_SIG_COMP_POS 15u  /* layout 1.10: the compensated position, the motor's reference, counts
+                              * (comp_pos: cmd_pos plus the pitch-error and backlash correction) */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */

@@ -536,6 +536,9 @@ code_enum! {
         /// Layout 1.10: the skew of a gantry's slave (index: the slave), counts; 0 for an axis that
         /// is no gantry's slave.
         GantrySkew = raw::MC_SIG_GANTRY_SKEW,
+        /// Layout 1.10: the compensated position, the motor's reference, counts (`comp_pos`:
+        /// `cmd_pos` plus the pitch-error and backlash correction).
+        CompPos = raw::MC_SIG_COMP_POS,
         /// Tangential velocity before the filters, counts/s (feed).
         PathSpeed = raw::MC_SIG_PATH_SPEED,
         /// Tangential acceleration, counts/s^2 (`feed_acc`).

@@ -233,6 +233,7 @@ pub const MC_SIG_SERVO_I: u32 = 11;
 pub const MC_SIG_SERVO_D: u32 = 12;
 pub const MC_SIG_SERVO_FF: u32 = 13;
 pub const MC_SIG_GANTRY_SKEW: u32 = 14;
+pub const MC_SIG_COMP_POS: u32 = 15;
 pub const MC_SIG_PATH_SPEED: u32 = 32;
 pub const MC_SIG_PATH_ACC: u32 = 33;
 pub const MC_SIG_PATH_POS: u32 = 34;

@@ -767,6 +767,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 Signal::ServoD => self.axes[i].servo_terms().d,
                 Signal::ServoFf => self.axes[i].servo_terms().ff,
                 Signal::GantrySkew => gantry::skew_of(&self.gantries, i),
+                Signal::CompPos => ax().comp_pos,
                 Signal::PathSpeed => gr().feed,
                 Signal::PathAcc => gr().feed_acc,
                 Signal::PathPos => gr().path_pos,
