@@ -328,22 +328,30 @@ fn a_million_lines_and_a_ten_megabyte_line_in_bounded_memory() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A pause asked for while the program runs takes effect at the end of what is queued: the
-/// card comes to rest on a programmed end, nothing more is read until `resume`, and the run
-/// then ends where the program does. An abort halts along the path and reads nothing more.
+/// A pause asked for while the program runs takes effect at the end of a block: under G61
+/// (an exact stop at every corner) the end of the block running, at rest on its programmed
+/// end; under G64 P0.05 the end of the first block the path can stop at, where the blend into
+/// the next starts (within 0.05 mm of the block's end). What was queued stays queued, and
+/// after `resume` the run ends where the program does. An abort halts along the path and
+/// reads nothing more.
 #[test]
 fn pause_resume_and_abort_from_the_host() {
     let sides: String = (1..=20)
         .map(|i| format!("X{} Y{}\n", 10 * i, if i % 2 == 1 { 10 } else { 0 }))
         .collect();
-    let text = format!("G61 G1 F6000\n{sides}M2\n");
-    let start = || {
+    // line n + 1 ends side n
+    let corner = |line: usize| {
+        let i = line - 1;
+        [10.0 * i as f64, if i % 2 == 1 { 10.0 } else { 0.0 }, 0.0]
+    };
+    let start = |mode: &str| {
+        let text = format!("{mode} G1 F6000\n{sides}M2\n");
         let (card, g) = xyz_card();
         let opts = Options::default();
         let settings = RunSettings::default();
         let r = Runner::new(
             &g,
-            Program::from_text(text.clone(), &opts),
+            Program::from_text(text, &opts),
             settings,
             Ends::default(),
         )
@@ -358,30 +366,53 @@ fn pause_resume_and_abort_from_the_host() {
             s[2].command_position,
         ]
     };
-    // Read up to line 5 (the fourth side) and paused: at rest at the end of the fourth side.
-    let (card, mut r) = start();
-    r.set_read_limit(Some(6));
-    assert_eq!(r.poll().unwrap(), RunState::Running);
-    r.pause();
-    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Paused);
-    let read = r.read_line();
-    assert!(near(&at(&card), &[40.0, 0.0, 0.0], 1e-9), "{:?}", at(&card));
-    for _ in 0..100 {
-        assert_eq!(r.poll().unwrap(), RunState::Paused);
-        r.idle().unwrap();
+    for (mode, tol) in [("G61", 1e-9), ("G64 P0.05", 0.05 + 1e-9)] {
+        let (card, mut r) = start(mode);
+        // run until the fourth side (line 5) is running
+        let mut k = 0;
+        while r.running_line().unwrap() != 5 {
+            r.poll().unwrap();
+            r.idle().unwrap();
+            k += 1;
+            assert!(k < 100_000, "{mode}: line 5 never ran");
+        }
+        r.pause().unwrap();
+        assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Paused);
+        let line = r.running_line().unwrap();
+        if mode == "G61" {
+            assert_eq!(line, 5, "{mode}: paused at the end of the block running");
+        } else {
+            assert!((5..=6).contains(&line), "{mode}: paused after line {line}");
+        }
+        let here = at(&card);
+        assert!(
+            near(&here, &corner(line), tol),
+            "{mode}: at {here:?}, line {line} ends at {:?}",
+            corner(line)
+        );
+        assert!(matches!(
+            card.group(0).unwrap().path_pause_state().unwrap(),
+            motioncard_sdk::PauseState::Paused { id } if id as usize == line
+        ));
+        for _ in 0..100 {
+            assert_eq!(r.poll().unwrap(), RunState::Paused);
+            r.idle().unwrap();
+        }
+        assert_eq!(at(&card), here, "{mode}: held");
+        r.resume().unwrap();
+        assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
+        assert!(
+            near(&at(&card), &[200.0, 0.0, 0.0], 1e-9),
+            "{mode}: {:?}",
+            at(&card)
+        );
+        // the path was the program's: within its tolerance all along
+        let rep = r.report().unwrap().unwrap();
+        assert!(rep.max_deviation <= tol.max(1e-6), "{mode}: {rep:?}");
     }
-    assert_eq!(r.read_line(), read, "nothing read while paused");
-    r.set_read_limit(None);
-    r.resume();
-    assert_eq!(r.run(Duration::from_secs(600)).unwrap(), RunState::Done);
-    assert!(
-        near(&at(&card), &[200.0, 0.0, 0.0], 1e-9),
-        "{:?}",
-        at(&card)
-    );
 
     // Aborted a second into the run: halted on the path, short of its end, nothing more read.
-    let (card, mut r) = start();
+    let (card, mut r) = start("G61");
     for _ in 0..10_000 {
         r.poll().unwrap();
         r.idle().unwrap();

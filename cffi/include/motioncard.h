@@ -272,6 +272,12 @@ extern "C" {
 #define MC_EVENT_GANTRY_HOMED 33
 
 /**
+ * Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of the
+ * segment it ends (-1: none ran).
+ */
+#define MC_EVENT_PATH_PAUSED 36
+
+/**
  * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
  *
  * Power off.
@@ -892,6 +898,16 @@ extern "C" {
  * A halt or stop runs along the path.
  */
 #define MC_PATH_STATUS_HALTING 4
+
+/**
+ * Layout 1.11: braking for the pause point (`MC_OP_PATH_PAUSE`).
+ */
+#define MC_PATH_STATUS_PAUSING 8
+
+/**
+ * At rest on the pause point (`path_id`: the segment it ends).
+ */
+#define MC_PATH_STATUS_PAUSED 16
 
 /**
  * The card's digital inputs (card.inputs).
@@ -1786,6 +1802,11 @@ extern "C" {
  * `MC_EVENT_HOMING_FAILED` carry this seq.
  */
 #define MC_OP_GANTRY_HOME 110
+
+/**
+ * Args: 1 pause at the end of a segment, 0 go on (above).
+ */
+#define MC_OP_PATH_PAUSE 120
 
 /**
  * Most slaves of a gantry.

@@ -104,6 +104,10 @@ pub const MC_EVENT_GANTRY_FAULT: u32 = 32;
 /// skew, counts) or `MC_HOMING_ERROR_*` (value: the axis that failed).
 pub const MC_EVENT_GANTRY_HOMED: u32 = 33;
 
+/// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of the
+/// segment it ends (-1: none ran).
+pub const MC_EVENT_PATH_PAUSED: u32 = 36;
+
 /// Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
 ///
 /// Power off.
@@ -495,6 +499,12 @@ pub const MC_PATH_STATUS_STARVING: u32 = 2;
 
 /// A halt or stop runs along the path.
 pub const MC_PATH_STATUS_HALTING: u32 = 4;
+
+/// Layout 1.11: braking for the pause point (`MC_OP_PATH_PAUSE`).
+pub const MC_PATH_STATUS_PAUSING: u32 = 8;
+
+/// At rest on the pause point (`path_id`: the segment it ends).
+pub const MC_PATH_STATUS_PAUSED: u32 = 16;
 
 /// The card's digital inputs (card.inputs).
 pub const MC_CARD_INPUTS: u32 = 16;
@@ -1089,3 +1099,6 @@ pub const MC_OP_GANTRY_DISSOLVE: u32 = 109;
 /// `MC_HOMING_ERROR_*` and the failing axis as value. The members' own `MC_EVENT_MOTION_DONE` /
 /// `MC_EVENT_HOMING_FAILED` carry this seq.
 pub const MC_OP_GANTRY_HOME: u32 = 110;
+
+/// Args: 1 pause at the end of a segment, 0 go on (above).
+pub const MC_OP_PATH_PAUSE: u32 = 120;

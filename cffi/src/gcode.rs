@@ -593,8 +593,11 @@ pub unsafe extern "C" fn mc_gcode_run(
     })
 }
 
-/// Pause at the end of the blocks already queued on the card: nothing more is sent, and once
-/// the queued motion has ended the state is `MC_GCODE_PAUSED`.
+/// Pause at the end of a block: the card brings the path to rest at the end of the first block
+/// it can stop at within its limits from where it is (the running block where it can; an exact
+/// stop or a dwell's end always can), and `mc_gcode_run` then returns `MC_GCODE_PAUSED`. A block
+/// followed by a blend pauses where the blend starts, within its tolerance of the block's end.
+/// What is queued stays queued; `mc_gcode_resume` goes on along the same path.
 #[no_mangle]
 pub extern "C" fn mc_gcode_pause(program: mc_gcode) -> mc_result {
     guard(|| {
@@ -602,8 +605,8 @@ pub extern "C" fn mc_gcode_pause(program: mc_gcode) -> mc_result {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .runner
-            .pause();
-        Ok(())
+            .pause()
+            .map_err(Into::into)
     })
 }
 
@@ -615,8 +618,8 @@ pub extern "C" fn mc_gcode_resume(program: mc_gcode) -> mc_result {
             .lock()
             .unwrap_or_else(|p| p.into_inner())
             .runner
-            .resume();
-        Ok(())
+            .resume()
+            .map_err(Into::into)
     })
 }
 

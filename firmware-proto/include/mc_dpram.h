@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 10u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 11u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -69,7 +69,9 @@
                            * rotary (modulo) axes (MC_OP_SET_MODULO 101,
                            * mc_axis_config.modulo from its reserved word, the direction of
                            * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
-                           * 125..127); the status's positions wrap into [0, modulo) */
+                           * 125..127); the status's positions wrap into [0, modulo);
+                           * 11: a pause at the end of a path segment (MC_OP_PATH_PAUSE 120,
+                           * MC_PATHST_PAUSING, MC_PATHST_PAUSED, MC_EV_PATH_PAUSED 36) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -461,6 +463,21 @@
 #define MC_PATHST_RUNNING (1u << 0)  /* a segment is running (path_id is valid) */
 #define MC_PATHST_STARVING (1u << 1) /* braking for the end of what is queued */
 #define MC_PATHST_HALTING (1u << 2)  /* a halt or stop runs along the path */
+#define MC_PATHST_PAUSING (1u << 3)  /* layout 1.11: braking for the pause point (MC_OP_PATH_PAUSE) */
+#define MC_PATHST_PAUSED (1u << 4)   /* at rest on the pause point (path_id: the segment it ends) */
+/* Layout 1.11: MC_OP_PATH_PAUSE (args: 1 pause, 0 go on; else MC_NACK_OUT_OF_RANGE, NaN:
+ * MC_NACK_NOT_FINITE). A pause comes to rest at the end of the first segment the path can stop
+ * at within its limits from where it is (an exact stop or a dwell's end ahead, or the first
+ * segment end beyond the braking distance; at rest with nothing queued, at once): at the end of
+ * the segment's body, which is its programmed end where no blend follows it and the start of
+ * the blend into the next segment (within the segment's tolerance of its programmed end) where
+ * one does. Nothing queued changes, segments may still be queued, and after 0 the path goes on
+ * along the same geometry from rest (0 before the pause point is reached: the path does not
+ * stop there). MC_EV_PATH_PAUSED posts on coming to rest there; the status shows
+ * MC_PATHST_PAUSING, then MC_PATHST_PAUSED. A halt, stop or fault ends the pause (the path is
+ * dropped as by any halt); a pause while halting is MC_NACK_INVALID_STATE; without a path
+ * (MC_OP_APPLY_GROUP_PATH not done) MC_NACK_INVALID_STATE too. */
+#define MC_OP_PATH_PAUSE 120u /* args: 1 pause at the end of a segment, 0 go on (above) */
 
 /* mc_axis_homing.flags */
 #define MC_HOMING_INDEX (1u << 0)        /* the encoder has an index channel (index methods need it) */
@@ -982,6 +999,8 @@
 #define MC_EV_GANTRY_HOMED 33u   /* MC_OP_GANTRY_HOME ended. axis: the gantry; seq: the command; code: 0
                                   * squared (value: slave 0's skew, counts) or MC_HOMING_ERR_* (value:
                                   * the axis that failed) */
+#define MC_EV_PATH_PAUSED 36u    /* layout 1.11: the path came to rest on its pause point. axis: the
+                                  * group; value: the id of the segment it ends (-1: none ran) */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */

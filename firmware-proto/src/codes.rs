@@ -80,6 +80,9 @@ code_enum! {
         /// `MC_OP_GANTRY_HOME` ended. axis: the gantry; seq: the command; code: 0 squared (value:
         /// slave 0's skew, counts) or `MC_HOMING_ERR_*` (value: the axis that failed).
         GantryHomed = raw::MC_EV_GANTRY_HOMED,
+        /// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of
+        /// the segment it ends (-1: none ran).
+        PathPaused = raw::MC_EV_PATH_PAUSED,
     }
 }
 
@@ -889,5 +892,7 @@ code_enum! {
         /// `MC_EV_GANTRY_HOMED` with the failure's `MC_HOMING_ERR_*` and the failing axis as value.
         /// The members' own `MC_EV_MOTION_DONE` / `MC_EV_HOMING_FAILED` carry this seq.
         GantryHome = raw::MC_OP_GANTRY_HOME,
+        /// Args: 1 pause at the end of a segment, 0 go on (above).
+        PathPause = raw::MC_OP_PATH_PAUSE,
     }
 }

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 10;
+pub const MC_LAYOUT_MINOR: u32 = 11;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -159,6 +159,9 @@ pub const MC_PATH_OUT_AT_DISTANCE: u32 = 2;
 pub const MC_PATHST_RUNNING: u32 = 1;
 pub const MC_PATHST_STARVING: u32 = 2;
 pub const MC_PATHST_HALTING: u32 = 4;
+pub const MC_PATHST_PAUSING: u32 = 8;
+pub const MC_PATHST_PAUSED: u32 = 16;
+pub const MC_OP_PATH_PAUSE: u32 = 120;
 pub const MC_HOMING_INDEX: u32 = 1;
 pub const MC_HOMING_MOVE_TO_HOME: u32 = 2;
 pub const MC_HOMING_ERR_LIMIT: u32 = 1;
@@ -348,6 +351,7 @@ pub const MC_EV_PROBE: u32 = 26;
 pub const MC_EV_SCOPE: u32 = 29;
 pub const MC_EV_GANTRY_FAULT: u32 = 32;
 pub const MC_EV_GANTRY_HOMED: u32 = 33;
+pub const MC_EV_PATH_PAUSED: u32 = 36;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;

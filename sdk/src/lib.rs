@@ -106,7 +106,7 @@ pub use nurbs::{
     clamped_uniform_knots, die_bonder_pdplus, split_nurbs, Nurbs, NurbsError, NurbsFeed,
     PdPlusSettings, NURBS_MAX_CTRL, NURBS_MAX_DEGREE, NURBS_MAX_DIM, NURBS_MAX_KNOTS,
 };
-pub use path::{GroupPath, PathProgress, PathSettings, PathStreamer, StreamError};
+pub use path::{GroupPath, PathProgress, PathSettings, PathStreamer, PauseState, StreamError};
 pub use pvt::{pvt_time_reason, PvtLimits, PvtMode, PvtPoint};
 #[cfg(feature = "emulator")]
 pub use replay::{replay, ReplayReport, TraceHeader, MAX_TICKS_PER_SECOND};

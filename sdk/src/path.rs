@@ -22,7 +22,7 @@ use crate::nurbs::Nurbs;
 use crate::segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
 use firmware_proto::cmd::{
     CurveSize, GroupCmd, IoCmd, PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
-    SetOutputs,
+    PathPause, SetOutputs,
 };
 use firmware_proto::{layout, raw, Command, Mem, NackCode};
 use std::collections::VecDeque;
@@ -31,6 +31,20 @@ use std::sync::Arc;
 use std::time::Duration;
 
 pub use firmware_proto::GroupPath;
+
+/// Where a path's pause is ([`Group::path_pause`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PauseState {
+    /// No pause asked for.
+    None,
+    /// Braking for the pause point.
+    Pausing,
+    /// At rest on it: the end of segment `id` (the path's `path_id`; 0 when none ran).
+    Paused {
+        /// The segment it ended (0 when none ran).
+        id: u32,
+    },
+}
 
 /// A group's path configuration, in user units: `vmax`, `amax`, `jmax` per group axis in that
 /// axis's units; `accel` and `jerk` (tangential, 0: from the axes) in the first axis's.
@@ -239,7 +253,8 @@ impl Group {
     fn path_start(&self) -> Result<Option<Vec<f64>>> {
         let (n, axes) = self.axes()?;
         let st = self.status()?.1;
-        if st.path_queued == 0 && st.path_flags == 0 {
+        let pause = raw::MC_PATHST_PAUSING | raw::MC_PATHST_PAUSED;
+        if st.path_queued == 0 && st.path_flags & !pause == 0 {
             let s = self.card_pub().statuses(&axes[..n])?;
             return Ok(Some(s.iter().map(|a| a.command_position).collect()));
         }
@@ -259,6 +274,44 @@ impl Group {
             firmware_proto::ConfigKind::GroupPath,
             g,
         )
+    }
+
+    /// Pauses the path at the end of a segment (layout 1.11): it comes to rest at the end of
+    /// the first segment it can stop at within its limits from where it is (an exact stop or a
+    /// dwell's end ahead, or the first segment end beyond its braking distance; with nothing
+    /// queued and at rest, at once), holds there, and goes on along the same path at
+    /// [`path_resume`](Self::path_resume). Nothing queued changes, and more may be queued
+    /// meanwhile. The end of a segment followed by a blend is where the blend starts, within the
+    /// segment's tolerance of its programmed end. [`path_pause_state`](Self::path_pause_state)
+    /// says when it is there; the card also posts `MC_EV_PATH_PAUSED`.
+    pub fn path_pause(&self) -> Result<()> {
+        self.run(
+            self.cmd(GroupCmd::PathPause(PathPause { on: 1.0 })),
+            "path pause",
+        )
+        .map(|_| ())
+    }
+
+    /// Ends a pause: the path goes on from the pause point (asked before it got there, it does
+    /// not stop).
+    pub fn path_resume(&self) -> Result<()> {
+        self.run(
+            self.cmd(GroupCmd::PathPause(PathPause { on: 0.0 })),
+            "path resume",
+        )
+        .map(|_| ())
+    }
+
+    /// Where a pause is, from the status.
+    pub fn path_pause_state(&self) -> Result<PauseState> {
+        let st = self.status()?.1;
+        Ok(if st.path_flags & raw::MC_PATHST_PAUSED != 0 {
+            PauseState::Paused { id: st.path_id }
+        } else if st.path_flags & raw::MC_PATHST_PAUSING != 0 {
+            PauseState::Pausing
+        } else {
+            PauseState::None
+        })
     }
 
     /// Free segments in the card's path buffer.

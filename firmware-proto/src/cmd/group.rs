@@ -556,6 +556,24 @@ impl Args for PathOutput {
     }
 }
 
+/// `MC_OP_PATH_PAUSE` (args: on): 1 pauses the path at the end of the first segment it can
+/// stop at, 0 goes on. The card checks the number (0 or 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathPause {
+    /// 1: pause; 0: go on.
+    pub on: f64,
+}
+
+impl Args for PathPause {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &[self.on]);
+        0
+    }
+    fn decode(_flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self { on: args[0] })
+    }
+}
+
 /// `MC_OP_PATH_NURBS` (args: id, feed, tolerance, degree, n_ctrl, n_knots, fit tolerance;
 /// flags: [`PathFlags`]): a NURBS curve as one path segment; its data follows as a NURBS
 /// move's.
@@ -637,6 +655,8 @@ pub enum GroupCmd {
     PathOutput(PathOutput),
     /// `MC_OP_PATH_NURBS`.
     PathNurbs(PathNurbs),
+    /// `MC_OP_PATH_PAUSE` (layout 1.11).
+    PathPause(PathPause),
     /// `MC_OP_APPLY_GROUP_PATH`.
     ApplyPath,
 }
@@ -665,6 +685,7 @@ impl GroupCmd {
             Self::PathDwell(_) => Opcode::PathDwell,
             Self::PathOutput(_) => Opcode::PathOutput,
             Self::PathNurbs(_) => Opcode::PathNurbs,
+            Self::PathPause(_) => Opcode::PathPause,
             Self::ApplyPath => Opcode::ApplyGroupPath,
         }
     }
@@ -693,6 +714,7 @@ impl GroupCmd {
             Opcode::PathDwell => Self::PathDwell(Args::decode(f, args)?),
             Opcode::PathOutput => Self::PathOutput(Args::decode(f, args)?),
             Opcode::PathNurbs => Self::PathNurbs(Args::decode(f, args)?),
+            Opcode::PathPause => Self::PathPause(Args::decode(f, args)?),
             Opcode::ApplyGroupPath => Self::ApplyPath,
             _ => return Err(not_in_family()),
         })
@@ -715,6 +737,7 @@ impl GroupCmd {
             Self::PathDwell(a) => super::entry(op, group, a),
             Self::PathOutput(a) => super::entry(op, group, a),
             Self::PathNurbs(a) => super::entry(op, group, a),
+            Self::PathPause(a) => super::entry(op, group, a),
             Self::Configure
             | Self::Enable
             | Self::Disable

@@ -290,6 +290,7 @@ pub fn family(op: Opcode) -> Family {
         | O::PathDwell
         | O::PathOutput
         | O::PathNurbs
+        | O::PathPause
         | O::ApplyGroupPath => Family::Group,
         O::GearIn
         | O::GearInPos

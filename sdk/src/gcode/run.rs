@@ -15,7 +15,8 @@ use super::spindle::SpindleUnit;
 use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
 use crate::report::{blocks_of, AxisLimits, Block, PathReport, Report, ReportError};
 use crate::{
-    ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, Result, Segment, Transition,
+    ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, PauseState, Result, Segment,
+    Transition,
 };
 use std::time::{Duration, Instant};
 
@@ -119,8 +120,8 @@ pub enum RunState {
     /// operation, or at the end), or for the card's spindle (to reach its speed, or a
     /// G33/G33.1 pass to end).
     Draining,
-    /// Paused (M0/M1/M60 or [`Runner::pause`]) with the motion ended: [`Runner::resume`]
-    /// goes on.
+    /// Paused: M0/M1/M60 with the motion before it ended, or [`Runner::pause`] at rest at the
+    /// end of a block (more may be queued on the card). [`Runner::resume`] goes on.
     Paused,
     /// The program ended and every motion of it is done.
     Done,
@@ -148,7 +149,8 @@ pub struct Runner<S: Source, H: Hooks = NoHooks> {
     /// A probing move under way: nothing is read until it ends.
     probing: Option<ProbeRun>,
     state: RunState,
-    pause_requested: bool,
+    /// [`Runner::pause`] asked the card to pause.
+    pausing: bool,
     read_all: bool,
     /// The reader stops before this source line until the limit moves.
     read_limit: Option<usize>,
@@ -309,7 +311,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             waiting: None,
             probing: None,
             state: RunState::Running,
-            pause_requested: false,
+            pausing: false,
             read_all: false,
             read_limit: None,
             ops: 0,
@@ -330,7 +332,20 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             // Nothing more is queued after an error; what is queued runs to its end.
             self.state = RunState::Aborted;
         }
-        r
+        let s = r?;
+        if !self.pausing {
+            return Ok(s);
+        }
+        if s != RunState::Running && s != RunState::Draining {
+            // (the pause point was the program's end, or an M0's stop came first)
+            self.pausing = false;
+            self.group.path_resume()?;
+            return Ok(s);
+        }
+        if matches!(self.group.path_pause_state()?, PauseState::Paused { .. }) {
+            return Ok(self.set(RunState::Paused));
+        }
+        Ok(s)
     }
 
     fn advance(&mut self) -> Result<RunState> {
@@ -350,7 +365,7 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             if !self.spindle.poll(&self.group)? {
                 return Ok(self.set(RunState::Draining));
             }
-            if self.waiting.is_some() || self.read_all || self.pause_requested {
+            if self.waiting.is_some() || self.read_all {
                 // Everything before it must be sent and done.
                 if !self.flush(true)? {
                     return Ok(self.set(RunState::Running));
@@ -363,10 +378,6 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                         return Ok(self.set(RunState::Paused));
                     }
                     continue;
-                }
-                if self.pause_requested {
-                    self.pause_requested = false;
-                    return Ok(self.set(RunState::Paused));
                 }
                 return Ok(self.set(RunState::Done));
             }
@@ -792,25 +803,40 @@ impl<S: Source, H: Hooks> Runner<S, H> {
         Ok(Segment::arc(id, arc, plane, &helix, feed, 0.0))
     }
 
-    /// Pauses at the end of the blocks already queued on the card: nothing more is sent, the
-    /// motion queued runs to its end, then [`RunState::Paused`].
-    pub fn pause(&mut self) {
-        if matches!(self.state, RunState::Running | RunState::Draining) {
-            self.pause_requested = true;
+    /// Pauses at the end of a block: the card brings the path to rest at the end of the first
+    /// block it can stop at within its limits from where it is (the block running if it can,
+    /// and it can where an exact stop or a dwell ends it; see [`Group::path_pause`]), and
+    /// the state is [`RunState::Paused`] once it is there. What is queued stays queued, and
+    /// [`resume`](Self::resume) goes on along the same path. A block followed by a blend
+    /// pauses where the blend starts, within its tolerance of the block's end.
+    pub fn pause(&mut self) -> Result<()> {
+        if matches!(self.state, RunState::Running | RunState::Draining) && !self.pausing {
+            self.group.path_pause()?;
+            self.pausing = true;
         }
+        Ok(())
     }
 
-    /// Goes on after a pause.
-    pub fn resume(&mut self) {
+    /// Goes on after a pause (M0/M1/M60 or [`pause`](Self::pause)).
+    pub fn resume(&mut self) -> Result<()> {
+        if self.pausing {
+            self.group.path_resume()?;
+            self.pausing = false;
+        }
         if self.state == RunState::Paused {
             self.state = RunState::Running;
         }
+        Ok(())
     }
 
     /// Halts the path along its geometry (within `deceleration` and `jerk`, mm/s² and
     /// mm/s³) and ends the run: nothing more is read.
     pub fn abort(&mut self, deceleration: f64, jerk: f64) -> Result<()> {
         self.state = RunState::Aborted;
+        // (a halt ends the card's pause; a path at rest has nothing to go on with)
+        if std::mem::take(&mut self.pausing) {
+            self.group.path_resume()?;
+        }
         self.batch.clear();
         self.held = None;
         self.waiting = None;
@@ -850,16 +876,16 @@ impl<S: Source, H: Hooks> Runner<S, H> {
     }
 
     /// The source line of the segment the card runs (0 when none runs): the id of the
-    /// running segment.
+    /// running segment; paused, the block the pause ended.
     pub fn running_line(&self) -> Result<usize> {
         let (_, st) = self.group.status()?;
-        Ok(
-            if st.path_flags & firmware_proto::raw::MC_PATHST_RUNNING != 0 {
-                st.path_id as usize
-            } else {
-                0
-            },
-        )
+        let running =
+            firmware_proto::raw::MC_PATHST_RUNNING | firmware_proto::raw::MC_PATHST_PAUSED;
+        Ok(if st.path_flags & running != 0 {
+            st.path_id as usize
+        } else {
+            0
+        })
     }
 
     /// The source line the reader has reached.

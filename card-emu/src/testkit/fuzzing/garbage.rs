@@ -241,16 +241,16 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 }
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
-const OPCODE_GAPS: [u16; 17] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 111, 256, 0x7FFF, 0x8000, 0xFFFF,
+const OPCODE_GAPS: [u16; 18] = [
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 111, 121, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
     let k = s.u8();
     if k < 232 {
         Opcode::ALL[k as usize % Opcode::ALL.len()] as u16
-    } else if k < 248 {
-        OPCODE_GAPS[(k - 232) as usize]
+    } else if usize::from(k) < 232 + OPCODE_GAPS.len() {
+        OPCODE_GAPS[usize::from(k) - 232]
     } else {
         s.u16()
     }

@@ -94,6 +94,7 @@ impl<M: Mem + Clone> Firmware<M> {
                 group.path_segment(seq, &SegmentCmd::Dwell(*s), ts, tick, out)
             }
             GroupCmd::PathOutput(o) => group.path_output(o, ts),
+            GroupCmd::PathPause(p) => group.path_pause(p.on, ts, tick, out),
             GroupCmd::PathNurbs(p) => group.path_nurbs_begin(p, ts),
             GroupCmd::ApplyPath => {
                 let block = layout::GROUP_PATH.at(g).read(&self.mem);

@@ -14,8 +14,8 @@
 use super::*;
 use crate::motion::nurbs::Nurbs;
 use crate::motion::path::{
-    BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits, Segment,
-    Transition,
+    BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits,
+    PauseState, Segment, Transition,
 };
 use crate::ram::FixedVec;
 use firmware_proto::cmd::{PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput};
@@ -629,6 +629,9 @@ impl Group {
                 }
             }
             PathEvent::Idle => {}
+            PathEvent::Paused { id } => {
+                out.push(ev(EventKind::PathPaused, 0, id.map_or(-1.0, f64::from)));
+            }
         });
         if path.is_moving() {
             run.starving &= run.path.speed() > 0.0;
@@ -699,6 +702,46 @@ impl Group {
         true
     }
 
+    /// MC_OP_PATH_PAUSE: 1 pauses the path at the end of the first segment it can stop at,
+    /// 0 goes on (see `motion::path::pause`).
+    pub fn path_pause(
+        &mut self,
+        on: f64,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        if !on.is_finite() {
+            return Err(NackCode::NotFinite);
+        }
+        let on = match on {
+            0.0 => false,
+            1.0 => true,
+            _ => return Err(NackCode::OutOfRange),
+        };
+        let cfg = self.can_path()?;
+        let index = self.index;
+        let run = self.path_ready(&cfg, ts)?;
+        if !on {
+            run.path.resume();
+        } else if run.path.pause() {
+            // at rest with nothing queued: paused now
+            let id = match run.path.pause_state() {
+                PauseState::Paused { id } => id.map_or(-1.0, f64::from),
+                _ => -1.0,
+            };
+            out.push(Event {
+                seq: 0,
+                kind: EventKind::PathPaused as u16,
+                axis: index,
+                code: 0,
+                tick,
+                value: id,
+            });
+        }
+        Ok(())
+    }
+
     /// A halt or stop on a running path: along its geometry within its limits.
     pub(super) fn path_halt(&mut self, dmax: f64, jerk: f64) -> bool {
         match self.path.as_mut() {
@@ -765,6 +808,16 @@ impl Group {
         }
         if run.halting {
             flags |= raw::MC_PATHST_HALTING;
+        }
+        match run.path.pause_state() {
+            PauseState::None => {}
+            PauseState::Pausing => flags |= raw::MC_PATHST_PAUSING,
+            PauseState::Paused { id } => {
+                flags |= raw::MC_PATHST_PAUSED;
+                if let Some(id) = id {
+                    s.path_id = id;
+                }
+            }
         }
         s.path_flags = flags;
         if run.path.is_moving() || !run.seqs.is_empty() {

@@ -113,6 +113,8 @@ pub(super) struct Step {
     moved: f64,
     /// It ends on the stop point the look-ahead found (at its last tick).
     land: bool,
+    /// It comes to rest on a pause point (at its last tick: see `pause`).
+    pub(super) rest: bool,
     /// The look-ahead window's end, and the queue's when it was planned: a segment pushed
     /// since may have joined the stop point to what follows (then the last tick moves the
     /// step's distance, not on to the next stop point).
@@ -127,6 +129,7 @@ impl Step {
         ds: 0.0,
         moved: 0.0,
         land: false,
+        rest: false,
         wend: 0,
         tail: 0,
     };
@@ -469,6 +472,7 @@ impl Path {
             return;
         }
         self.halted = true;
+        self.pause = super::pause::Pause::Off;
         if self.step.running() {
             // the stop starts now, not at the end of the step being run
             self.planner.cut_at(self.now.0, self.now.1);
@@ -531,6 +535,7 @@ impl Path {
         self.last_end = self.pos;
         self.npending = 0;
         self.halted = false;
+        self.pause = super::pause::Pause::Off;
         self.slow = None;
         self.planner
             .set_limits(self.at, self.jt, f64::INFINITY, f64::INFINITY);
@@ -709,6 +714,7 @@ impl Path {
             track: None,
             slowed: false,
             dec: self.dec,
+            pause: false,
         };
         // The decisions are made with the lowest tangential limits of the pieces the walk
         // looks at (each piece is braked for through those before it, and stops end within
@@ -941,6 +947,17 @@ impl Path {
             break;
         }
         out.target = target;
+        if let Some(d) = self.pause_dist() {
+            // a pause point nearer than the stop the walk found: a stop there
+            // (at the stop point the walk found, within rounding, it is that stop)
+            let r = greater(d - at, 0.0);
+            if r < out.rem - 1e-9 * (d.abs() + 1.0) {
+                out.rem = r;
+                out.stop = true;
+                out.queue_end = false;
+                out.pause = true;
+            }
+        }
         if target == 0.0 {
             // holding or halting: the time-optimal stop from here (re-solved every tick, so
             // it lands with v = a = 0), unless a stop point is nearer
@@ -1224,6 +1241,10 @@ impl Path {
         } else {
             feed_override.clamp(0.0, 2.0)
         };
+        if self.pause == super::pause::Pause::Pending {
+            // (asked in a dwell: the pause is at its end)
+            self.pause_choose();
+        }
         // dwells
         while self.exec < self.tail && self.seg(self.exec).is_dwell() {
             if !self.started {
@@ -1240,9 +1261,12 @@ impl Path {
             self.s = 0.0;
             self.in_blend = false;
             self.started = false;
-            if self.exec < self.tail {
+            if self.exec < self.tail && !self.pause_at(self.exec) {
                 self.start_seg(ev);
             }
+        }
+        if self.pause_tick(ev) {
+            return hold;
         }
         if self.exec >= self.tail {
             self.rest();
@@ -1313,13 +1337,15 @@ impl Path {
             None => self.planner.next(lk.target, lk.rem),
         };
         let mut ds = (v * ts).max(0.0);
-        let mut land = false;
+        let (mut land, mut rest) = (false, false);
         if lk.stop {
             // a stop that comes to rest on the stop point lands on it exactly (one that comes
             // to rest short of it, such as a short ramp up and down from near rest in a long
             // planning step, has not arrived: the next step goes on from there)
             if self.planner.lands() && lk.rem - ds <= 1e-9 * lk.rem + 1e-6 {
-                land = true;
+                // (a pause point may be within a piece: the step moves to it, no further)
+                land = !lk.pause;
+                rest = lk.pause;
                 ds = lk.rem;
             } else if ds >= lk.rem {
                 ds = lk.rem;
@@ -1354,6 +1380,7 @@ impl Path {
             ds,
             moved: 0.0,
             land,
+            rest,
             wend: lk.window_end,
             tail: self.tail,
         };

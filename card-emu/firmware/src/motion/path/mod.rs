@@ -105,6 +105,7 @@ mod caps;
 mod curve;
 mod exec;
 mod geom;
+mod pause;
 mod shift;
 mod smooth;
 #[cfg(test)]
@@ -113,6 +114,8 @@ mod tests;
 mod tests_curve;
 #[cfg(test)]
 mod tests_lookahead;
+#[cfg(test)]
+mod tests_pause;
 #[cfg(test)]
 mod tests_period;
 #[cfg(test)]
@@ -123,6 +126,7 @@ mod v3;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
+pub use self::pause::PauseState;
 use crate::math;
 use crate::ram::FixedVec;
 
@@ -348,6 +352,11 @@ pub enum PathEvent {
     Starving,
     /// Came to rest with nothing left.
     Idle,
+    /// At rest at the pause point (`Path::pause`): the end of segment `id` (None: before any
+    /// segment).
+    Paused {
+        id: Option<u32>,
+    },
 }
 
 /// Refusals. The path is unchanged after each.
@@ -589,6 +598,8 @@ struct Look {
     slowed: bool,
     /// The tangential limits it decided with: those of stops this step.
     dec: Lim,
+    /// `rem` is a pause point's (see `pause`), not a stop point's.
+    pause: bool,
 }
 
 /// The continuous-path engine of one axes group.
@@ -654,6 +665,8 @@ pub struct Path {
     chain: Chain,
     /// Scratch of `push_curve`: the pieces of a curve (knot span, ua, ub).
     breaks: FixedVec<(usize, f64, f64), MAX_RING>,
+    /// A pause at the end of a segment (see `pause`).
+    pause: pause::Pause,
     /// Push and tick run the engine's x86-64-v3 build (see `v3`): where the CPU has it.
     v3: bool,
 }
@@ -764,6 +777,7 @@ impl Path {
             #[cfg(test)]
             retests: 0,
             chain: Chain::default(),
+            pause: pause::Pause::Off,
             breaks: FixedVec::with_capacity(capacity),
             v3: v3::detected(),
         }
@@ -856,6 +870,7 @@ impl Path {
         self.cap_due = None;
         self.end_dist = 0.0;
         self.seen = None;
+        self.pause = pause::Pause::Off;
         self.shift_clear();
         Ok(())
     }
