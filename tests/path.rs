@@ -8,7 +8,7 @@ mod common;
 use common::stepped_card;
 use motioncard_sdk::{
     ArcSpec, Card, ErrorKind, EventKind, Group, GroupSettings, GroupState, Nurbs, OutputAt,
-    PathBuffer, PathItem, PathSettings, Plane, Segment, Transition,
+    PathBuffer, PathItem, PathSettings, PauseState, Plane, Segment, Transition,
 };
 use std::time::Duration;
 
@@ -1205,4 +1205,61 @@ fn a_slow_arc_moves_and_ends() {
             len / feed
         );
     }
+}
+
+/// A pause on the card (`MC_OP_PATH_PAUSE`): the square under way comes to rest on the end of
+/// a segment (within the 100-count tolerance of its corner: the middle of the blend), posts
+/// `MC_EV_PATH_PAUSED` with that segment's id, shows it in the status and holds there with the
+/// rest queued; a resume runs the rest to the square's end within every limit. The card's own
+/// checks refuse a NaN and anything but 0 and 1.
+#[test]
+fn a_pause_rests_at_the_end_of_a_segment_and_a_resume_runs_the_rest() {
+    let (card, g, lim) = square_under_way();
+    let sim = card.sim().unwrap();
+    let before = cmd(&card, 2);
+    g.path_pause().unwrap();
+    assert_eq!(g.path_pause_state().unwrap(), PauseState::Pausing);
+    let mut r = Run {
+        pos: vec![before],
+        events: Vec::new(),
+    };
+    while !r.events.iter().any(|e| e.kind == EventKind::PathPaused) {
+        sim.step(1);
+        r.pos.push(cmd(&card, 2));
+        drain(&card, &mut r.events);
+        assert!(r.pos.len() < 100_000, "no pause");
+    }
+    let id = ids(&r, EventKind::PathPaused)[0];
+    assert!((1..4).contains(&id), "paused after {id}");
+    assert_eq!(g.path_pause_state().unwrap(), PauseState::Paused { id });
+    let corner = &square(50_000.0)[id as usize];
+    let here = cmd(&card, 2);
+    let off = (here[0] - corner[0]).hypot(here[1] - corner[1]);
+    assert!(off <= 100.0 + 1e-6, "{off} counts from the end of {id}");
+    // held, with the rest queued
+    sim.step(500);
+    assert_eq!(cmd(&card, 2), here);
+    assert_eq!(g.status().unwrap().0, GroupState::Moving);
+    assert!(g.status().unwrap().1.path_queued > 0);
+    // the card's own checks
+    let raw = |on: f64| {
+        let mut c =
+            motioncard_sdk::proto::Command::new(motioncard_sdk::proto::Opcode::PathPause, 0);
+        c.args[0] = on;
+        card.execute_raw(c).err().map(|e| e.kind())
+    };
+    assert_eq!(raw(f64::NAN), Some(ErrorKind::NotFinite));
+    assert_eq!(raw(2.0), Some(ErrorKind::OutOfRange));
+    assert_eq!(raw(0.5), Some(ErrorKind::OutOfRange));
+    assert_eq!(g.path_pause_state().unwrap(), PauseState::Paused { id });
+    // and on along the same path
+    g.path_resume().unwrap();
+    assert_eq!(g.path_pause_state().unwrap(), PauseState::None);
+    let rest = run(&card, &g, 2, 200_000);
+    r.pos.extend(rest.pos);
+    r.events.extend(rest.events);
+    assert_eq!(r.pos.last().unwrap(), &vec![0.0, 0.0]);
+    assert_limits(&r, &lim, "pause and resume");
+    let ends = ids(&r, EventKind::SegmentEnd);
+    assert_eq!(ends.last(), Some(&4));
 }

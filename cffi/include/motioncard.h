@@ -1954,6 +1954,21 @@ extern "C" {
 #define MC_SEGMENT_NURBS 4
 
 /**
+ * No pause asked for (`mc_group_path_pause_state`).
+ */
+#define MC_PATH_PAUSE_NONE 0
+
+/**
+ * Braking for the pause point.
+ */
+#define MC_PATH_PAUSE_PAUSING 1
+
+/**
+ * At rest on it.
+ */
+#define MC_PATH_PAUSE_PAUSED 2
+
+/**
  * `mode` of `mc_pvt_begin`: PT, the card estimates each point's velocity from its neighbours
  * (the stream starts, and at a last point ends, at rest).
  */
@@ -4995,8 +5010,11 @@ mc_result mc_gcode_poll(mc_gcode program, uint32_t *state);
 mc_result mc_gcode_run(mc_gcode program, uint32_t timeout_ms, uint32_t *state);
 
 /**
- * Pause at the end of the blocks already queued on the card: nothing more is sent, and once
- * the queued motion has ended the state is `MC_GCODE_PAUSED`.
+ * Pause at the end of a block: the card brings the path to rest at the end of the first block
+ * it can stop at within its limits from where it is (the running block where it can; an exact
+ * stop or a dwell's end always can), and `mc_gcode_run` then returns `MC_GCODE_PAUSED`. A block
+ * followed by a blend pauses where the blend starts, within its tolerance of the block's end.
+ * What is queued stays queued; `mc_gcode_resume` goes on along the same path.
  */
 mc_result mc_gcode_pause(mc_gcode program);
 
@@ -5643,6 +5661,31 @@ mc_result mc_group_get_path_settings(mc_card card,
  * the card, as `mc_group_get_status`.
  */
 mc_result mc_group_path_free(mc_card card, uint32_t group, uint32_t *free);
+
+/**
+ * Pause a group's path at the end of a segment: it comes to rest at the end of the first
+ * segment it can stop at within its limits from where it is (an exact stop or a dwell's end
+ * ahead, or the first segment end beyond its braking distance; with nothing queued and at
+ * rest, at once), and holds there. The end of a segment followed by a blend is the blend's
+ * middle, within the segment's tolerance of its programmed end. Nothing queued changes and
+ * more may be queued; `mc_group_path_resume` goes on along the same path. The card posts
+ * `MC_EVENT_PATH_PAUSED` (value: the segment's id) on coming to rest. Blocks until the card
+ * answers.
+ */
+mc_result mc_group_path_pause(mc_card card, uint32_t group);
+
+/**
+ * End a pause (`mc_group_path_pause`): the path goes on from the pause point (asked before
+ * it got there, it does not stop). Blocks until the card answers.
+ */
+mc_result mc_group_path_resume(mc_card card, uint32_t group);
+
+/**
+ * Where a group's pause is: `*state` `MC_PATH_PAUSE_*`, `*id` (may be NULL) the id of the
+ * segment it ended when paused (0 when none ran; else 0). From the status: does not wait
+ * for the card.
+ */
+mc_result mc_group_path_pause_state(mc_card card, uint32_t group, uint32_t *state, uint32_t *id);
 
 /**
  * A line to `target` (`n` values, one per group axis, user units; at most 8, else

@@ -21,7 +21,7 @@ use crate::types::{mc_arc, mc_group_motion, mc_nurbs_curve, plane_of};
 use firmware_proto::cmd::{Cmd, GroupCmd};
 use motioncard_sdk::{
     Error, ErrorKind, Geometry, Group, OutputAt, PathBuffer, PathItem, PathProgress, PathSettings,
-    Segment, StreamError, Transition,
+    PauseState, Segment, StreamError, Transition,
 };
 use std::cell::RefCell;
 use std::ffi::c_void;
@@ -451,6 +451,62 @@ pub unsafe extern "C" fn mc_group_path_free(
         let n = group_of(card, group)?.1.path_free()?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(n.min(u32::MAX as usize) as u32) };
+        Ok(())
+    })
+}
+
+/// No pause asked for (`mc_group_path_pause_state`).
+pub const MC_PATH_PAUSE_NONE: u32 = 0;
+/// Braking for the pause point.
+pub const MC_PATH_PAUSE_PAUSING: u32 = 1;
+/// At rest on it.
+pub const MC_PATH_PAUSE_PAUSED: u32 = 2;
+
+/// Pause a group's path at the end of a segment: it comes to rest at the end of the first
+/// segment it can stop at within its limits from where it is (an exact stop or a dwell's end
+/// ahead, or the first segment end beyond its braking distance; with nothing queued and at
+/// rest, at once), and holds there. The end of a segment followed by a blend is the blend's
+/// middle, within the segment's tolerance of its programmed end. Nothing queued changes and
+/// more may be queued; `mc_group_path_resume` goes on along the same path. The card posts
+/// `MC_EV_PATH_PAUSED` (value: the segment's id) on coming to rest. Blocks until the card
+/// answers.
+#[no_mangle]
+pub extern "C" fn mc_group_path_pause(card: mc_card, group: u32) -> mc_result {
+    guard(|| Ok(group_of(card, group)?.1.path_pause()?))
+}
+
+/// End a pause (`mc_group_path_pause`): the path goes on from the pause point (asked before
+/// it got there, it does not stop). Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_group_path_resume(card: mc_card, group: u32) -> mc_result {
+    guard(|| Ok(group_of(card, group)?.1.path_resume()?))
+}
+
+/// Where a group's pause is: `*state` `MC_PATH_PAUSE_*`, `*id` (may be NULL) the id of the
+/// segment it ended when paused (0 when none ran; else 0). From the status: does not wait
+/// for the card.
+#[no_mangle]
+pub unsafe extern "C" fn mc_group_path_pause_state(
+    card: mc_card,
+    group: u32,
+    state: *mut u32,
+    id: *mut u32,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(state, "state")?;
+        let out_id = Out::optional(id);
+        let (st, i) = match group_of(card, group)?.1.path_pause_state()? {
+            PauseState::None => (MC_PATH_PAUSE_NONE, 0),
+            PauseState::Pausing => (MC_PATH_PAUSE_PAUSING, 0),
+            PauseState::Paused { id } => (MC_PATH_PAUSE_PAUSED, id),
+        };
+        // SAFETY: checked non-NULL / optional; valid for writes by the caller's contract.
+        unsafe {
+            out.write(st);
+            if let Some(o) = out_id {
+                o.write(i);
+            }
+        }
         Ok(())
     })
 }

@@ -3,7 +3,7 @@
  * rectangle with blended corners, the spindle and coolant through the host's hooks, an M0
  * pause and a resume, a message), run on a 3-axis group of a stepped emulated card; the end
  * position checked exactly in machine coordinates. Then a program file with a subroutine and
- * a loop; the refusals (a wrong line named with its number before anything moves, an M100
+ * a loop; a host's pause at the end of a block (mc_gcode_pause); the refusals (a wrong line named with its number before anything moves, an M100
  * with no hook, NULL pointers, bad and closed handles). The run's report (mc_gcode_report): its
  * time, deviation, contour and following errors. Last, the spindle on the card's axis 3
  * and flood coolant on output 5: a rigid tap (G33.1) that goes down and comes back to its
@@ -167,6 +167,51 @@ static void part(mc_card c) {
     printf("G-code part: paused at line %u, ended at machine X10 Y5 Z2\n", read);
 }
 
+/* A host's pause at the end of a block: a zigzag under G61 (an exact stop at every corner),
+ * paused while its fourth side (line 5) runs, comes to rest exactly on that side's end and
+ * holds there; the group's own pause state says so; a resume runs the rest. */
+static void pause_at_the_end_of_a_block(mc_card c) {
+    char text[512] = "G61 G1 F3000 Z2\n";
+    for (int i = 1; i <= 8; i++) {
+        char line[32];
+        snprintf(line, sizeof line, "X%d Y%d\n", 10 * i, i % 2 ? 10 : 0);
+        strcat(text, line);
+    }
+    /* (back where the program before left the machine, for the refusals after) */
+    strcat(text, "G0 X42 Y5 Z-3\nM2\n");
+    mc_gcode p = 0;
+    CHECK(mc_gcode_load_string(c, G, text, NULL, NULL, &p));
+    uint32_t state = 99, running = 0, read = 0;
+    for (int k = 0; running != 5; k++) {
+        ASSERT(k < 100000, "line 5 never ran (at %u)", running);
+        CHECK(mc_gcode_poll(p, &state));
+        CHECK(mc_sim_step(c, 1));
+        CHECK(mc_gcode_line(p, &running, &read));
+    }
+    CHECK(mc_gcode_pause(p));
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_PAUSED, "state %u after the pause", state);
+    CHECK(mc_gcode_line(p, &running, &read));
+    ASSERT(running == 5, "paused after line %u", running);
+    uint32_t ps = 99, id = 0;
+    CHECK(mc_group_path_pause_state(c, G, &ps, &id));
+    ASSERT(ps == MC_PATH_PAUSE_PAUSED && id == 5, "pause state %u, id %u", ps, id);
+    /* line 1 lifts Z to 2; line n + 1 is the n-th side: line 5 ends at X40 Y0 (this
+       program's coordinates are the machine's: no offset of the part before is its own) */
+    expect_machine_at(c, 40.0, 0.0, 2.0, "paused");
+    CHECK(mc_sim_step(c, 1000));
+    expect_machine_at(c, 40.0, 0.0, 2.0, "held");
+    CHECK(mc_gcode_resume(p));
+    CHECK(mc_gcode_run(p, 60000, &state));
+    ASSERT(state == MC_GCODE_DONE, "state %u at the end", state);
+    expect_machine_at(c, 42.0, 5.0, -3.0, "at the end");
+    CHECK(mc_group_path_pause_state(c, G, &ps, NULL));
+    ASSERT(ps == MC_PATH_PAUSE_NONE, "pause state %u after the run", ps);
+    EXPECT(mc_group_path_pause_state(c, G, NULL, NULL), MC_ERR_NULL_POINTER);
+    CHECK(mc_gcode_close(p));
+    printf("G-code pause: at rest on the end of line 5 (X40 Y0), then on to the end\n");
+}
+
 /* A subroutine called in a while loop, from a file: three passes down in Z. */
 static void file_with_a_loop(mc_card c) {
     const char *path = "gcode_loop.ngc";
@@ -319,6 +364,7 @@ int main(void) {
 
     part(c);
     file_with_a_loop(c);
+    pause_at_the_end_of_a_block(c);
     refusals(c);
     spindle_on_the_card(c);
 

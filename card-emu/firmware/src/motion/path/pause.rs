@@ -36,7 +36,9 @@ pub enum PauseState {
     /// Braking for the pause point.
     Pausing,
     /// At rest at it (`id`: the segment it ends, if any segment was run).
-    Paused { id: Option<u32> },
+    Paused {
+        id: Option<u32>,
+    },
 }
 
 impl Path {

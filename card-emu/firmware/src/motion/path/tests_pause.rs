@@ -133,7 +133,10 @@ fn pause_in_every_phase(lim: PathLimits) {
         // within the blend's tolerance (10 counts) of the segment's programmed end
         let corner = CORNERS[id - 1];
         let off = (p.position()[0] - corner[0]).hypot(p.position()[1] - corner[1]);
-        assert!(off <= 10.0 + 1e-6, "asked at {ask}: {off} from the end of {id}");
+        assert!(
+            off <= 10.0 + 1e-6,
+            "asked at {ask}: {off} from the end of {id}"
+        );
         // the first end it could stop at: every end before it is behind (or at: at rest on a
         // segment's end, the next is the one running) or nearer than the stop from the state
         // it was asked in (at the path's tangential limits, the lowest)
