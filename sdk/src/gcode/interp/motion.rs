@@ -203,12 +203,9 @@ impl Interp {
     fn arc(&mut self, b: &Block, ccw: bool, out: &mut Vec<Op>) -> Result<(), GcodeError> {
         let line = b.line;
         let (a, bb, n) = self.plane.axes();
-        if self.rotation != 0.0 && self.plane != Plane::Xy {
-            return err(
-                line,
-                "an arc outside the XY plane in a coordinate system rotated about Z",
-            );
-        }
+        // In a coordinate system rotated about Z, an arc outside the XY plane is in an
+        // oblique plane of the machine: it runs as its exact rational NURBS.
+        let oblique = self.rotation != 0.0 && self.plane != Plane::Xy;
         let offs = ['I', 'J', 'K'];
         if let Some(v) = b.word(offs[n]) {
             return err(
@@ -328,6 +325,47 @@ impl Interp {
         let normal = end[n] - start[n];
         let lin = if n < 3 { along.hypot(normal) } else { along };
         let (_, ang) = distances(start, end);
+        if oblique {
+            if self.comp.is_some() {
+                return err(
+                    line,
+                    "cutter radius compensation on an arc outside the XY plane",
+                );
+            }
+            if (0..6).any(|i| i != a && i != bb && end[i] != start[i]) {
+                return err(
+                    line,
+                    "a helix (or an arc moving A, B, C) outside the XY plane in a coordinate \
+                     system rotated about Z",
+                );
+            }
+            let theta = if ccw { theta } else { -theta };
+            let spline = arc_nurbs(start, [a, bb], centre, radius, theta, e);
+            let feed = self.feed_rate(b, lin, ang)?;
+            let frame = self.frame();
+            let spline = crate::gcode::Spline {
+                points: spline
+                    .points
+                    .into_iter()
+                    .map(|p| frame.to_machine(p))
+                    .collect(),
+                ..spline
+            };
+            let start_m = self.position;
+            let end_m = frame.to_machine(end);
+            out.push(Op {
+                line,
+                kind: OpKind::Spline {
+                    start: start_m,
+                    end: end_m,
+                    spline,
+                    feed,
+                    blend: self.blend,
+                },
+            });
+            self.position = end_m;
+            return Ok(());
+        }
         if self.comp.is_some() {
             if turns > 0 {
                 return err(
@@ -452,6 +490,56 @@ impl Interp {
     /// A work position on the machine, through the frame in effect.
     pub(super) fn machine(&self, w: Pos) -> Pos {
         self.frame().to_machine(w)
+    }
+}
+
+/// The arc from `start` (work coordinates) about `centre` (in the plane of axes `uv`) of
+/// signed sweep `theta` (positive counter-clockwise in (u, v)), ending at `end` (u, v), as a
+/// rational quadratic NURBS: pieces of at most 90°, each with its middle control point at the
+/// crossing of the piece's end tangents and weight cos(half its sweep), which is exactly the
+/// circle (Piegl & Tiller, The NURBS Book, §7.5). The other axes stay at `start`'s.
+pub(super) fn arc_nurbs(
+    start: Pos,
+    uv: [usize; 2],
+    centre: [f64; 2],
+    radius: f64,
+    theta: f64,
+    end: [f64; 2],
+) -> crate::gcode::Spline {
+    let pieces = ((theta.abs() / (0.5 * PI)) - 1e-9).ceil().max(1.0) as usize;
+    let d = theta / pieces as f64;
+    let a0 = (start[uv[1]] - centre[1]).atan2(start[uv[0]] - centre[0]);
+    let at = |ang: f64, r: f64| {
+        let mut p = start;
+        p[uv[0]] = centre[0] + r * ang.cos();
+        p[uv[1]] = centre[1] + r * ang.sin();
+        p
+    };
+    let w = (0.5 * d).cos();
+    let mut points = vec![start];
+    let mut weights = vec![1.0];
+    let mut knots = vec![0.0; 3];
+    for i in 0..pieces {
+        let phi = a0 + d * i as f64;
+        points.push(at(phi + 0.5 * d, radius / w));
+        weights.push(w);
+        let mut p = at(phi + d, radius);
+        if i + 1 == pieces {
+            p[uv[0]] = end[0];
+            p[uv[1]] = end[1];
+        } else {
+            let k = (i + 1) as f64 / pieces as f64;
+            knots.extend([k, k]);
+        }
+        points.push(p);
+        weights.push(1.0);
+    }
+    knots.extend([1.0; 3]);
+    crate::gcode::Spline {
+        degree: 2,
+        points,
+        weights,
+        knots,
     }
 }
 
