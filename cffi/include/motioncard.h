@@ -259,6 +259,19 @@ extern "C" {
 #define MC_EVENT_SCOPE 29
 
 /**
+ * `MC_OP_GROUP_HOME` ended with every member homed (layout 1.11). axis: the group; seq: the
+ * command; code: 0; value: the stages run.
+ */
+#define MC_EVENT_GROUP_HOMED 30
+
+/**
+ * `MC_OP_GROUP_HOME` failed as a whole (layout 1.11). axis: the group; seq: the command; code: the
+ * failing member's `MC_HOMING_ERROR_*` or `MC_GROUP_HOME_ABORTED`; value: that card axis (-1: the
+ * group's own halt, stop or disable).
+ */
+#define MC_EVENT_GROUP_HOMING_FAILED 31
+
+/**
  * A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_REASON_GANTRY_SKEW` (value: the
  * skew, counts, of the slave beyond the limit) or the `MC_STOP_REASON_*` reason of the member
  * whose safety stop stopped the others (value: that axis).
@@ -332,7 +345,7 @@ extern "C" {
 #define MC_GROUP_STATE_MOVING 2
 
 /**
- * GroupHoming.
+ * GroupHoming: `MC_OP_GROUP_HOME` runs (layout 1.11).
  */
 #define MC_GROUP_STATE_HOMING 3
 
@@ -407,6 +420,11 @@ extern "C" {
  * A touch probe armed with `MC_PROBE_HALT` captured: halted.
  */
 #define MC_STOP_REASON_PROBE 7
+
+/**
+ * Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
+ */
+#define MC_STOP_REASON_GROUP_HOMING 8
 
 /**
  * Host heartbeat lost.
@@ -1755,6 +1773,12 @@ extern "C" {
  * `MC_OP_HANDWHEEL`, then Standstill.
  */
 #define MC_OP_HANDWHEEL_OFF 105
+
+/**
+ * `MC_GroupHome`. axis: the group. args: the stage count (0: the configured order), then each
+ * stage's mask of group axes.
+ */
+#define MC_OP_GROUP_HOME 106
 
 /**
  * Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n (`1..MC_GANTRY_MAX_SLAVES`),
@@ -6366,6 +6390,11 @@ mc_result mc_send_raw(mc_card card,
 
 #define MC_GANTRY_MAX_SLAVES 4u
 
+/**
+ * `MC_EVENT_GROUP_HOMING_FAILED's` code when a halt, stop, disable or safety stop ended it (not one of the `MC_HOMING_ERROR_*`).
+ */
+#define MC_GROUP_HOME_ABORTED (-1)
+
 #define MC_HANDWHEEL_DETENT_MAX 1024u
 
 #define MC_HANDWHEEL_RATIO_MAX 10000u
@@ -6610,6 +6639,21 @@ mc_result mc_send_raw(mc_card card,
  * The move goes further into an active limit switch.
  */
 #define MC_NACK_HARD_LIMIT 34
+
+/**
+ * A home order names an axis the group does not have.
+ */
+#define MC_NACK_HOME_AXIS 131
+
+/**
+ * A home order with an empty stage (or no stages, and none configured).
+ */
+#define MC_NACK_HOME_STAGE 133
+
+/**
+ * A home order names an axis in two stages.
+ */
+#define MC_NACK_HOME_TWICE 132
 
 /**
  * A homing method the axis cannot do: an unknown number, or an index method without `MC_HOMING_FLAG_INDEX`.

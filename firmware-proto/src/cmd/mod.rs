@@ -290,7 +290,8 @@ pub fn family(op: Opcode) -> Family {
         | O::PathDwell
         | O::PathOutput
         | O::PathNurbs
-        | O::ApplyGroupPath => Family::Group,
+        | O::ApplyGroupPath
+        | O::GroupHome => Family::Group,
         O::GearIn
         | O::GearInPos
         | O::GearOut
