@@ -4495,6 +4495,23 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_GANTRY_STATE -129
 
 /**
+ * Layout 1.11: a group home order that names an axis the group does not have (a group
+ * axis index at or beyond its axis count).
+ */
+#define MC_ERR_HOME_AXIS -122
+
+/**
+ * A group home order that names an axis in two stages (or twice in one).
+ */
+#define MC_ERR_HOME_TWICE -123
+
+/**
+ * A group home order with an empty stage, or none at all when the group has no
+ * configured order.
+ */
+#define MC_ERR_HOME_STAGE -124
+
+/**
  * An arc whose plane of two group axes names one axis twice.
  */
 #define MC_ERR_PLANE_AXES -130
@@ -5318,6 +5335,29 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *setti
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
 mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
+
+/**
+ * Home group `group` in stages and wait up to `timeout_ms`. The order is `nstages` stages of
+ * group axis indices (0: the group's first axis, X), one after another in `axes`, stage k
+ * holding `stage_sizes[k]` of them: `axes = {2, 0, 1}`, `stage_sizes = {1, 2}` homes Z, then X
+ * and Y together. `nstages` 0 (the pointers may be NULL): the group's configured order (the
+ * configuration file's `home_order`). Each axis homes with its own homing settings; a
+ * member that is a gantry's master homes its gantry. `*stages_run` (may be NULL): the stages
+ * run. The group is in GroupHoming until it ends, then GroupStandby. Refused:
+ * `MC_ERR_HOME_AXIS` (an index the group does not have), `MC_ERR_HOME_TWICE` (an axis twice),
+ * `MC_ERR_HOME_STAGE` (an empty stage; or no order and none configured), `MC_ERR_BAD_CONFIG`
+ * (more than 8 stages), `MC_ERR_GROUP_DISABLED`, `MC_ERR_INVALID_STATE` (not at rest),
+ * `MC_ERR_AXIS_BUSY`, and each axis's homing refusals. `MC_ERR_HOMING_FAILED` when it failed
+ * as a whole (the message names the axis and its error; the group's other members were
+ * halted and the group is at rest), `MC_ERR_TIMEOUT`.
+ */
+mc_result mc_group_home(mc_card card,
+                        uint32_t group,
+                        const uint32_t *axes,
+                        const uint32_t *stage_sizes,
+                        size_t nstages,
+                        uint32_t timeout_ms,
+                        uint32_t *stages_run);
 
 /**
  * Select auxiliary encoder `input` as the handwheel of `axis`: each detent (`detent`
