@@ -291,3 +291,104 @@ fn the_home_order_round_trips_through_the_configuration_file() {
     assert_eq!(err.kind(), ErrorKind::ConfigFile, "{err}");
     assert!(err.to_string().contains("home_order"), "{err}");
 }
+
+/// A gantry's master in a stage homes its gantry, squaring included: card axes 0 (master) and
+/// 1 (slave, square offset 40 counts) form gantry 0; group 0 is X = the gantry's master and
+/// Y = axis 2. Y homes first, then the gantry; the group then stands by with the bridge
+/// squared, and both stages' axes homed.
+#[test]
+fn a_gantry_master_in_a_stage_homes_its_gantry() {
+    let card = stepped_card_with(EmuOptions::new(3, RATE));
+    let sim = card.sim().unwrap();
+    for (a, &edge) in EDGE.iter().enumerate() {
+        sim.with_emulator(|e| {
+            e.faults().set_switches(
+                a,
+                Switches::limits(-1e7, 1e7).with_home(HomeSwitch::Above(edge)),
+            )
+        });
+        let ax = card.axis(a).unwrap();
+        ax.configure_homing(&HomingSettings {
+            method: 19,
+            ..HomingSettings::default()
+        })
+        .unwrap();
+        ax.enable().unwrap();
+    }
+    let gantry = card
+        .gantry_at(
+            0,
+            0,
+            &[1],
+            &motioncard_sdk::GantryConfig {
+                kp: 1e6,
+                ki: 0.0,
+                skew_limit: 500.0,
+                offsets: vec![40.0],
+            },
+        )
+        .unwrap();
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[0, 2])).unwrap();
+    g.enable().unwrap();
+    let homing = g.home(&[&[1], &[0]]).unwrap();
+    sim.step(100);
+    assert_eq!(g.status().unwrap().0, GroupState::Homing);
+    assert_eq!(
+        card.axis(0).unwrap().status().unwrap().state,
+        AxisState::Standstill
+    );
+    assert_eq!(homing.wait(LONG).unwrap(), 2);
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    let st = gantry.status().unwrap();
+    assert!(st.squared, "the bridge is squared");
+    assert_eq!(st.phase, motioncard_sdk::GantryPhase::Coupled);
+    assert!((st.slaves[0].hold - 40.0).abs() < 1e-9);
+    for a in 0..3 {
+        assert!(card.axis(a).unwrap().status().unwrap().homed(), "axis {a}");
+    }
+}
+
+/// MC_GroupStop during group homing: the group is in GroupStopping at once, the members halt
+/// (stop reason Stop), the failure posts once they are at rest, and the group stays in
+/// GroupStopping until released. MC_GroupDisable during group homing ends it at once.
+#[test]
+fn a_group_stop_holds_the_group_and_a_disable_ends_it() {
+    let card = card();
+    let sim = card.sim().unwrap();
+    let g = card.group(0).unwrap();
+    let homing = g.home(&[&[0, 1, 2]]).unwrap();
+    sim.step(500);
+    g.stop(1e6, 1e8).unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Stopping);
+    match homing.wait(LONG).unwrap_err() {
+        Error::GroupHomingFailed { axis, error, .. } => assert_eq!((axis, error), (None, None)),
+        e => panic!("{e}"),
+    }
+    sim.step(100);
+    assert_eq!(g.status().unwrap().0, GroupState::Stopping);
+    for a in 0..3 {
+        assert_eq!(
+            card.axis(a).unwrap().stop_reason().unwrap(),
+            StopReason::Stop
+        );
+    }
+    g.release_stop().unwrap();
+    sim.step(100);
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+
+    let homing = g.home(&[&[0, 1, 2]]).unwrap();
+    sim.step(500);
+    g.disable().unwrap();
+    assert_eq!(g.status().unwrap().0, GroupState::Disabled);
+    assert!(matches!(
+        homing.wait(LONG).unwrap_err(),
+        Error::GroupHomingFailed { axis: None, .. }
+    ));
+    sim.step(5000);
+    for a in 0..3 {
+        let st = card.axis(a).unwrap().status().unwrap();
+        assert_eq!(st.state, AxisState::Standstill, "axis {a}");
+        assert_eq!(st.command_velocity, 0.0, "axis {a} at rest");
+    }
+}
