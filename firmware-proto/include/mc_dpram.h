@@ -913,11 +913,11 @@
  * (MC_OP_GANTRY_HOME, squaring included). The order is MC_OP_GROUP_HOME's, or the group's
  * configured one (group_config.home_stages, home_order[]). From GroupStandby (MC_NACK_GROUP_DISABLED
  * for a disabled group, MC_NACK_INVALID_STATE for one not at rest, MC_NACK_AXIS_BUSY for a member
- * that moves on its own); checked in this order: the stage count (1..MC_GROUP_HOME_STAGES, else
- * MC_NACK_BAD_CONFIG; 0 without a configured order: MC_NACK_HOME_STAGE), each stage's mask (an
- * integer 0..255; a bit beyond the group's axes: MC_NACK_HOME_AXIS; 0: MC_NACK_HOME_STAGE), an
- * axis in two stages (MC_NACK_HOME_TWICE), then every axis's homing as MC_OP_HOME checks it. The
- * group is in MC_GROUP_HOMING meanwhile (its members in Homing, or at rest waiting for their stage
+ * that moves on its own); then the order, NaN or infinite: MC_NACK_NOT_FINITE, in this order: the
+ * stage count (1..MC_GROUP_HOME_STAGES, else MC_NACK_BAD_CONFIG; 0 without a configured order:
+ * MC_NACK_HOME_STAGE), each stage's mask (an integer 0..255; a bit beyond the group's axes:
+ * MC_NACK_HOME_AXIS; 0: MC_NACK_HOME_STAGE), an axis in two stages (MC_NACK_HOME_TWICE), then
+ * every axis's homing as MC_OP_HOME checks it (a gantry: MC_NACK_GANTRY_STATE). The group is in MC_GROUP_HOMING meanwhile (its members in Homing, or at rest waiting for their stage
  * or homed); once all are homed and at rest it goes to GroupStandby and MC_EV_GROUP_HOMED posts. A
  * member whose homing fails ends it as a whole: every other member still homing halts on its stop
  * ramp (stop reason MC_STOP_GROUP_HOMING), the later stages never start, and once they are at rest
@@ -1373,7 +1373,8 @@ struct mc_group_config {
                            * (0: none configured; MC_OP_GROUP_HOME then needs its own order) */
     double tolerance;    /* geometry tolerance (centre equidistance, radius), counts */
     uint8_t home_order[8]; /* layout 1.11: stage k's group axes, a mask (bit i: group axis i);
-                            * the stages beyond home_stages 0. Checked as MC_OP_GROUP_HOME's */
+                            * the stages beyond home_stages are ignored. Checked as
+                            * MC_OP_GROUP_HOME's order, on MC_OP_GROUP_CONFIGURE */
     double _reserved[3];
 };
 
