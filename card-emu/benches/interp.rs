@@ -61,6 +61,7 @@ fn group(
         post,
         reference_word: rw,
         tolerance: 2.0,
+        home: Default::default(),
     })
     .unwrap();
     let mut out = Outbox::default();

@@ -259,6 +259,19 @@ extern "C" {
 #define MC_EVENT_SCOPE 29
 
 /**
+ * `MC_OP_GROUP_HOME` ended with every member homed (layout 1.11). axis: the group; seq: the
+ * command; code: 0; value: the stages run.
+ */
+#define MC_EVENT_GROUP_HOMED 30
+
+/**
+ * `MC_OP_GROUP_HOME` failed as a whole (layout 1.11). axis: the group; seq: the command; code: the
+ * failing member's `MC_HOMING_ERROR_*` or `MC_GROUP_HOME_ABORTED`; value: that card axis (-1: the
+ * group's own halt, stop or disable).
+ */
+#define MC_EVENT_GROUP_HOMING_FAILED 31
+
+/**
  * A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_REASON_GANTRY_SKEW` (value: the
  * skew, counts, of the slave beyond the limit) or the `MC_STOP_REASON_*` reason of the member
  * whose safety stop stopped the others (value: that axis).
@@ -338,7 +351,7 @@ extern "C" {
 #define MC_GROUP_STATE_MOVING 2
 
 /**
- * GroupHoming.
+ * GroupHoming: `MC_OP_GROUP_HOME` runs (layout 1.11).
  */
 #define MC_GROUP_STATE_HOMING 3
 
@@ -413,6 +426,11 @@ extern "C" {
  * A touch probe armed with `MC_PROBE_HALT` captured: halted.
  */
 #define MC_STOP_REASON_PROBE 7
+
+/**
+ * Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
+ */
+#define MC_STOP_REASON_GROUP_HOMING 8
 
 /**
  * Host heartbeat lost.
@@ -1771,6 +1789,12 @@ extern "C" {
  * `MC_OP_HANDWHEEL`, then Standstill.
  */
 #define MC_OP_HANDWHEEL_OFF 105
+
+/**
+ * `MC_GroupHome`. axis: the group. args: the stage count (0: the configured order), then each
+ * stage's mask of group axes.
+ */
+#define MC_OP_GROUP_HOME 106
 
 /**
  * Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n (`1..MC_GANTRY_MAX_SLAVES`),
@@ -4507,6 +4531,23 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_GANTRY_STATE -129
 
 /**
+ * Layout 1.11: a group home order that names an axis the group does not have (a group
+ * axis index at or beyond its axis count).
+ */
+#define MC_ERR_HOME_AXIS -122
+
+/**
+ * A group home order that names an axis in two stages (or twice in one).
+ */
+#define MC_ERR_HOME_TWICE -123
+
+/**
+ * A group home order with an empty stage, or none at all when the group has no
+ * configured order.
+ */
+#define MC_ERR_HOME_STAGE -124
+
+/**
  * An arc whose plane of two group axes names one axis twice.
  */
 #define MC_ERR_PLANE_AXES -130
@@ -5333,6 +5374,29 @@ mc_result mc_pdplus_settings_die_bonder(uint32_t axis, mc_pdplus_settings *setti
  * saturation-aware NURBS feed. Blocks until the card answers.
  */
 mc_result mc_axis_configure_pdplus(mc_card card, uint32_t axis, const mc_pdplus_settings *settings);
+
+/**
+ * Home group `group` in stages and wait up to `timeout_ms`. The order is `nstages` stages of
+ * group axis indices (0: the group's first axis, X), one after another in `axes`, stage k
+ * holding `stage_sizes[k]` of them: `axes = {2, 0, 1}`, `stage_sizes = {1, 2}` homes Z, then X
+ * and Y together. `nstages` 0 (the pointers may be NULL): the group's configured order (the
+ * configuration file's `home_order`). Each axis homes with its own homing settings; a
+ * member that is a gantry's master homes its gantry. `*stages_run` (may be NULL): the stages
+ * run. The group is in GroupHoming until it ends, then GroupStandby. Refused:
+ * `MC_ERR_HOME_AXIS` (an index the group does not have), `MC_ERR_HOME_TWICE` (an axis twice),
+ * `MC_ERR_HOME_STAGE` (an empty stage; or no order and none configured), `MC_ERR_BAD_CONFIG`
+ * (more than 8 stages), `MC_ERR_GROUP_DISABLED`, `MC_ERR_INVALID_STATE` (not at rest),
+ * `MC_ERR_AXIS_BUSY`, and each axis's homing refusals. `MC_ERR_HOMING_FAILED` when it failed
+ * as a whole (the message names the axis and its error; the group's other members were
+ * halted and the group is at rest), `MC_ERR_TIMEOUT`.
+ */
+mc_result mc_group_home(mc_card card,
+                        uint32_t group,
+                        const uint32_t *axes,
+                        const uint32_t *stage_sizes,
+                        size_t nstages,
+                        uint32_t timeout_ms,
+                        uint32_t *stages_run);
 
 /**
  * Select auxiliary encoder `input` as the handwheel of `axis`: each detent (`detent`
@@ -6430,6 +6494,11 @@ mc_result mc_send_raw(mc_card card,
 
 #define MC_GANTRY_MAX_SLAVES 4u
 
+/**
+ * `MC_EVENT_GROUP_HOMING_FAILED's` code when a halt, stop, disable or safety stop ended it (not one of the `MC_HOMING_ERROR_*`).
+ */
+#define MC_GROUP_HOME_ABORTED (-1)
+
 #define MC_HANDWHEEL_DETENT_MAX 1024u
 
 #define MC_HANDWHEEL_RATIO_MAX 10000u
@@ -6674,6 +6743,21 @@ mc_result mc_send_raw(mc_card card,
  * The move goes further into an active limit switch.
  */
 #define MC_NACK_HARD_LIMIT 34
+
+/**
+ * A home order names an axis the group does not have.
+ */
+#define MC_NACK_HOME_AXIS 131
+
+/**
+ * A home order with an empty stage (or no stages, and none configured).
+ */
+#define MC_NACK_HOME_STAGE 133
+
+/**
+ * A home order names an axis in two stages.
+ */
+#define MC_NACK_HOME_TWICE 132
 
 /**
  * A homing method the axis cannot do: an unknown number, or an index method without `MC_HOMING_FLAG_INDEX`.

@@ -95,6 +95,15 @@ pub const MC_EVENT_PVT: u32 = 28;
 /// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EVENT_*`; value: see there.
 pub const MC_EVENT_SCOPE: u32 = 29;
 
+/// `MC_OP_GROUP_HOME` ended with every member homed (layout 1.11). axis: the group; seq: the
+/// command; code: 0; value: the stages run.
+pub const MC_EVENT_GROUP_HOMED: u32 = 30;
+
+/// `MC_OP_GROUP_HOME` failed as a whole (layout 1.11). axis: the group; seq: the command; code: the
+/// failing member's `MC_HOMING_ERROR_*` or `MC_GROUP_HOME_ABORTED`; value: that card axis (-1: the
+/// group's own halt, stop or disable).
+pub const MC_EVENT_GROUP_HOMING_FAILED: u32 = 31;
+
 /// A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_REASON_GANTRY_SKEW` (value: the
 /// skew, counts, of the slave beyond the limit) or the `MC_STOP_REASON_*` reason of the member
 /// whose safety stop stopped the others (value: that axis).
@@ -146,7 +155,7 @@ pub const MC_GROUP_STATE_STANDBY: u32 = 1;
 /// GroupMoving: interpolating.
 pub const MC_GROUP_STATE_MOVING: u32 = 2;
 
-/// GroupHoming.
+/// GroupHoming: `MC_OP_GROUP_HOME` runs (layout 1.11).
 pub const MC_GROUP_STATE_HOMING: u32 = 3;
 
 /// GroupStopping: `MC_GroupStop` in progress or held.
@@ -194,6 +203,9 @@ pub const MC_STOP_REASON_HOMING_FAILED: u32 = 6;
 
 /// A touch probe armed with `MC_PROBE_HALT` captured: halted.
 pub const MC_STOP_REASON_PROBE: u32 = 7;
+
+/// Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
+pub const MC_STOP_REASON_GROUP_HOMING: u32 = 8;
 
 /// Host heartbeat lost.
 pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
@@ -1074,6 +1086,10 @@ pub const MC_OP_HANDWHEEL: u32 = 104;
 /// wheel's last target as a DiscreteMotion, `MC_EVENT_MOTION_DONE` with the seq of its
 /// `MC_OP_HANDWHEEL`, then Standstill.
 pub const MC_OP_HANDWHEEL_OFF: u32 = 105;
+
+/// `MC_GroupHome`. axis: the group. args: the stage count (0: the configured order), then each
+/// stage's mask of group axes.
+pub const MC_OP_GROUP_HOME: u32 = 106;
 
 /// Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n (`1..MC_GANTRY_MAX_SLAVES`),
 /// kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in the position range), then each slave's axis

@@ -30,6 +30,7 @@ mod ffi;
 pub mod gantry;
 pub mod gcode;
 pub mod group;
+pub mod group_home;
 pub mod handwheel;
 pub mod homing;
 pub mod io;

@@ -73,6 +73,8 @@ static const mc_result ALL_CODES[] = {
     /* gantry axes (layout 1.10) */
     MC_ERR_GANTRY_SLAVE,   MC_ERR_GANTRY_IN_USE,   MC_ERR_GANTRY_AXES,
     MC_ERR_GANTRY_GAINS,   MC_ERR_GANTRY_STATE,
+    /* group homing (layout 1.11) */
+    MC_ERR_HOME_AXIS,      MC_ERR_HOME_TWICE,      MC_ERR_HOME_STAGE,
     /* rotary (modulo) axes (layout 1.10) */
     MC_ERR_MODULO_ZERO,    MC_ERR_MODULO_RANGE,    MC_ERR_MODULO_BUSY,
     MC_ERR_MODULO_MOVE,
@@ -645,6 +647,31 @@ static void gantry_refusals(void) {
     CHECK(mc_close(c));
 }
 
+/* Group homing (layout 1.11): each refusal of an order with its own code, then the group homed
+   in two stages (each axis's boot method: the current position). */
+static void group_home_refusals(void) {
+    mc_card c = 0;
+    CHECK(mc_open_sim_stepped(3, 10000, &c));
+    const uint32_t xyz[3] = {0, 1, 2};
+    for (int i = 0; i < 3; i++) CHECK(mc_enable(c, xyz[i]));
+    mc_group_settings gs;
+    CHECK(mc_group_settings_new(xyz, 3, &gs));
+    CHECK(mc_group_configure(c, 0, &gs));
+    const uint32_t z_then_xy[3] = {2, 0, 1}, sizes[2] = {1, 2};
+    EXPECT(mc_group_home(c, 0, z_then_xy, sizes, 2, 5000, NULL), MC_ERR_GROUP_DISABLED);
+    CHECK(mc_group_enable(c, 0));
+    const uint32_t beyond[1] = {3}, one[1] = {1};
+    EXPECT(mc_group_home(c, 0, beyond, one, 1, 5000, NULL), MC_ERR_HOME_AXIS);
+    const uint32_t twice[3] = {0, 1, 0}, two_one[2] = {2, 1};
+    EXPECT(mc_group_home(c, 0, twice, two_one, 2, 5000, NULL), MC_ERR_HOME_TWICE);
+    const uint32_t empty[2] = {1, 0};
+    EXPECT(mc_group_home(c, 0, z_then_xy, empty, 2, 5000, NULL), MC_ERR_HOME_STAGE);
+    uint32_t run = 0;
+    CHECK(mc_group_home(c, 0, z_then_xy, sizes, 2, 5000, &run));
+    ASSERT(run == 2, "stages run %u", (unsigned)run);
+    CHECK(mc_close(c));
+}
+
 static void realtime_card(void) {
     /* Stepping is for stepped cards only. */
     mc_card rt = 0;
@@ -675,6 +702,7 @@ int main(int argc, char **argv) {
     constructors();
     group_refusals();
     gantry_refusals();
+    group_home_refusals();
     realtime_card();
 
     /* Every code was returned by some call, except those no emulated card can provoke. */

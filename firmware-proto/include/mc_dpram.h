@@ -71,7 +71,11 @@
                            * MC_OP_MOVE_ABSOLUTE in its flags: MC_MOVE_DIR_*, MC_NACK_MODULO_*
                            * 125..127); the status's positions wrap into [0, modulo);
                            * 11: a pause at the end of a path segment (MC_OP_PATH_PAUSE 120,
-                           * MC_PATHST_PAUSING, MC_PATHST_PAUSED, MC_EV_PATH_PAUSED 36) */
+                           * MC_PATHST_PAUSING, MC_PATHST_PAUSED, MC_EV_PATH_PAUSED 36); group
+                           * homing (MC_OP_GROUP_HOME 106, mc_group_config.home_stages
+                           * and home_order[] from its reserved words, MC_NACK_HOME_* 131..133,
+                           * MC_EV_GROUP_HOMED 30, MC_EV_GROUP_HOMING_FAILED 31,
+                           * MC_STOP_GROUP_HOMING 8; the group enters MC_GROUP_HOMING) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -919,6 +923,38 @@
 #define MC_GANTRY_HOMING 2u    /* MC_OP_GANTRY_HOME: each side homes on its own */
 #define MC_GANTRY_SQUARING 3u  /* MC_OP_GANTRY_HOME: the slaves move to their square offsets */
 
+/* Group homing (layout 1.11, PLCopen Part 4 MC_GroupHome). A group homes its axes in stages: the
+ * axes of a stage home together, each with its own homing (its axis_homing block, MC_OP_HOME's
+ * position 0, as MC_OP_GANTRY_HOME's sides), and a stage starts once every axis of the stage
+ * before it is homed and at rest. A member that is a gantry's master homes its gantry
+ * (MC_OP_GANTRY_HOME, squaring included). The order is MC_OP_GROUP_HOME's, or the group's
+ * configured one (group_config.home_stages, home_order[]). From GroupStandby (MC_NACK_GROUP_DISABLED
+ * for a disabled group, MC_NACK_INVALID_STATE for one not at rest, MC_NACK_AXIS_BUSY for a member
+ * that moves on its own); then the order, NaN or infinite: MC_NACK_NOT_FINITE, in this order: the
+ * stage count (1..MC_GROUP_HOME_STAGES, else MC_NACK_BAD_CONFIG; 0 without a configured order:
+ * MC_NACK_HOME_STAGE), each stage's mask (an integer 0..255; a bit beyond the group's axes:
+ * MC_NACK_HOME_AXIS; 0: MC_NACK_HOME_STAGE), an axis in two stages (MC_NACK_HOME_TWICE), then
+ * every axis's homing as MC_OP_HOME checks it (a gantry: MC_NACK_GANTRY_STATE). The group is in MC_GROUP_HOMING meanwhile (its members in Homing, or at rest waiting for their stage
+ * or homed); once all are homed and at rest it goes to GroupStandby and MC_EV_GROUP_HOMED posts. A
+ * member whose homing fails ends it as a whole: every other member still homing halts on its stop
+ * ramp (stop reason MC_STOP_GROUP_HOMING), the later stages never start, and once they are at rest
+ * the group goes to GroupStandby and MC_EV_GROUP_HOMING_FAILED posts with the member and its
+ * MC_HOMING_ERR_*. MC_OP_GROUP_HALT and MC_OP_GROUP_STOP end it the same way (the members halt with
+ * stop reason MC_STOP_HALT or MC_STOP_STOP; a stop leaves the group in GroupStopping until
+ * MC_OP_GROUP_STOP_RELEASE), as does MC_OP_GROUP_DISABLE (at once: the group is disabled); a
+ * member's safety stop stops the others (MC_STOP_GROUP) and the group goes to GroupErrorStop; the
+ * event's code is then MC_GROUP_HOME_ABORTED. The members' own MC_EV_MOTION_DONE /
+ * MC_EV_HOMING_FAILED carry the command's seq. */
+#define MC_GROUP_HOME_STAGES 8u    /* the most stages of a home order */
+#define MC_OP_GROUP_HOME 106u      /* MC_GroupHome. axis: the group. args: the stage count (0: the
+                                    * configured order), then each stage's mask of group axes */
+#define MC_GROUP_HOME_ABORTED (-1) /* MC_EV_GROUP_HOMING_FAILED's code when a halt, stop, disable or
+                                    * safety stop ended it (not one of the MC_HOMING_ERR_*) */
+#define MC_NACK_HOME_AXIS 131      /* a home order names an axis the group does not have */
+#define MC_NACK_HOME_TWICE 132     /* a home order names an axis in two stages */
+#define MC_NACK_HOME_STAGE 133     /* a home order with an empty stage (or no stages, and none
+                                    * configured) */
+
 /* Layout 1.10: rotary (modulo) axes. An axis with a modulo period m > 0 (counts) reports its
  * commanded, actual and target positions, MC_EV_MOTION_DONE's position and its probe captures
  * wrapped into [0, m); the raw encoder count is the shaft's, unwrapped. The card keeps the turn
@@ -1001,6 +1037,12 @@
                                   * the axis that failed) */
 #define MC_EV_PATH_PAUSED 36u    /* layout 1.11: the path came to rest on its pause point. axis: the
                                   * group; value: the id of the segment it ends (-1: none ran) */
+#define MC_EV_GROUP_HOMED 30u    /* MC_OP_GROUP_HOME ended with every member homed (layout 1.11). axis:
+                                  * the group; seq: the command; code: 0; value: the stages run */
+#define MC_EV_GROUP_HOMING_FAILED 31u /* MC_OP_GROUP_HOME failed as a whole (layout 1.11). axis: the
+                                       * group; seq: the command; code: the failing member's
+                                       * MC_HOMING_ERR_* or MC_GROUP_HOME_ABORTED; value: that card
+                                       * axis (-1: the group's own halt, stop or disable) */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
@@ -1108,7 +1150,7 @@
 #define MC_GROUP_DISABLED 0u   /* GroupDisabled */
 #define MC_GROUP_STANDBY 1u    /* GroupStandby: enabled, at rest, ready for a move */
 #define MC_GROUP_MOVING 2u     /* GroupMoving: interpolating */
-#define MC_GROUP_HOMING 3u     /* GroupHoming */
+#define MC_GROUP_HOMING 3u     /* GroupHoming: MC_OP_GROUP_HOME runs (layout 1.11) */
 #define MC_GROUP_STOPPING 4u   /* GroupStopping: MC_GroupStop in progress or held */
 #define MC_GROUP_ERROR_STOP 5u /* GroupErrorStop: stopped by a fault; only MC_GroupReset leaves it */
 
@@ -1143,6 +1185,7 @@
 #define MC_STOP_HOST_DETACH 5u    /* the host closed the card (MC_OP_HOST_DETACH): halted */
 #define MC_STOP_HOMING_FAILED 6u  /* homing failed (MC_EV_HOMING_FAILED): stopped, not homed */
 #define MC_STOP_PROBE 7u          /* a touch probe armed with MC_PROBE_HALT captured: halted */
+#define MC_STOP_GROUP_HOMING 8u   /* another member of its group failed homing (MC_OP_GROUP_HOME): halted */
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
@@ -1345,9 +1388,13 @@ struct mc_group_config {
     uint8_t axes[8];     /* card axis of group axis 0 (X), 1 (Y), 2 (Z), ... */
     uint32_t accdec;     /* MC_ACCDEC_* bits, at least one */
     uint32_t interpolator; /* MC_INTERP_* */
-    uint32_t _reserved0;
+    uint32_t home_stages; /* layout 1.11: stages of the group's home order, 0..MC_GROUP_HOME_STAGES
+                           * (0: none configured; MC_OP_GROUP_HOME then needs its own order) */
     double tolerance;    /* geometry tolerance (centre equidistance, radius), counts */
-    double _reserved[4];
+    uint8_t home_order[8]; /* layout 1.11: stage k's group axes, a mask (bit i: group axis i);
+                            * the stages beyond home_stages are ignored. Checked as
+                            * MC_OP_GROUP_HOME's order, on MC_OP_GROUP_CONFIGURE */
+    double _reserved[3];
 };
 
 /** What the card publishes about a group each tick: the payload of the group status seqlock,

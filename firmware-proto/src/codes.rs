@@ -73,6 +73,13 @@ code_enum! {
         /// The scope (layout 1.8). seq: its `MC_OP_SCOPE_ARM`; code: `MC_SCOPE_EV_*`; value: see
         /// there.
         Scope = raw::MC_EV_SCOPE,
+        /// `MC_OP_GROUP_HOME` ended with every member homed (layout 1.11). axis: the group; seq:
+        /// the command; code: 0; value: the stages run.
+        GroupHomed = raw::MC_EV_GROUP_HOMED,
+        /// `MC_OP_GROUP_HOME` failed as a whole (layout 1.11). axis: the group; seq: the command;
+        /// code: the failing member's `MC_HOMING_ERR_*` or `MC_GROUP_HOME_ABORTED`; value: that
+        /// card axis (-1: the group's own halt, stop or disable).
+        GroupHomingFailed = raw::MC_EV_GROUP_HOMING_FAILED,
         /// A gantry stopped (layout 1.10). axis: the gantry; code: `MC_STOP_GANTRY_SKEW` (value:
         /// the skew, counts, of the slave beyond the limit) or the `MC_STOP_*` reason of the member
         /// whose safety stop stopped the others (value: that axis).
@@ -117,7 +124,7 @@ code_enum! {
         Standby = raw::MC_GROUP_STANDBY,
         /// GroupMoving: interpolating.
         Moving = raw::MC_GROUP_MOVING,
-        /// GroupHoming.
+        /// GroupHoming: `MC_OP_GROUP_HOME` runs (layout 1.11).
         Homing = raw::MC_GROUP_HOMING,
         /// GroupStopping: `MC_GroupStop` in progress or held.
         Stopping = raw::MC_GROUP_STOPPING,
@@ -158,6 +165,8 @@ code_enum! {
         HomingFailed = raw::MC_STOP_HOMING_FAILED,
         /// A touch probe armed with `MC_PROBE_HALT` captured: halted.
         Probe = raw::MC_STOP_PROBE,
+        /// Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
+        GroupHoming = raw::MC_STOP_GROUP_HOMING,
         /// Host heartbeat lost.
         Watchdog = raw::MC_STOP_WATCHDOG,
         /// `MC_OP_ESTOP`.
@@ -405,6 +414,12 @@ code_enum! {
         /// A handwheel ratio that is 0, not a whole number or beyond `MC_HANDWHEEL_RATIO_MAX`, or a
         /// detent outside `1..MC_HANDWHEEL_DETENT_MAX`.
         HandwheelRatio = raw::MC_NACK_HANDWHEEL_RATIO,
+        /// A home order names an axis the group does not have.
+        HomeAxis = raw::MC_NACK_HOME_AXIS,
+        /// A home order names an axis in two stages.
+        HomeTwice = raw::MC_NACK_HOME_TWICE,
+        /// A home order with an empty stage (or no stages, and none configured).
+        HomeStage = raw::MC_NACK_HOME_STAGE,
         /// The axis is a slave of a formed gantry: it cannot be used by itself.
         GantrySlave = raw::MC_NACK_GANTRY_SLAVE,
         /// A gantry member already in a gantry, a group, geared or streaming.
@@ -868,6 +883,9 @@ code_enum! {
         /// the wheel's last target as a DiscreteMotion, `MC_EV_MOTION_DONE` with the seq of its
         /// `MC_OP_HANDWHEEL`, then Standstill.
         HandwheelOff = raw::MC_OP_HANDWHEEL_OFF,
+        /// `MC_GroupHome`. axis: the group. args: the stage count (0: the configured order), then
+        /// each stage's mask of group axes.
+        GroupHome = raw::MC_OP_GROUP_HOME,
         /// Axis: the gantry (`0..MC_MAX_GANTRIES-1`). args: master, slaves n
         /// (`1..MC_GANTRY_MAX_SLAVES`), kp (1/s^2), ki (1/s^3), skew limit (counts, > 0, in the
         /// position range), then each slave's axis and square offset (counts, in the position

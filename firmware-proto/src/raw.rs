@@ -315,6 +315,12 @@ pub const MC_GANTRY_NONE: u32 = 0;
 pub const MC_GANTRY_COUPLED: u32 = 1;
 pub const MC_GANTRY_HOMING: u32 = 2;
 pub const MC_GANTRY_SQUARING: u32 = 3;
+pub const MC_GROUP_HOME_STAGES: u32 = 8;
+pub const MC_OP_GROUP_HOME: u32 = 106;
+pub const MC_GROUP_HOME_ABORTED: i32 = -1;
+pub const MC_NACK_HOME_AXIS: u32 = 131;
+pub const MC_NACK_HOME_TWICE: u32 = 132;
+pub const MC_NACK_HOME_STAGE: u32 = 133;
 pub const MC_OP_SET_MODULO: u32 = 101;
 pub const MC_MODULO_MIN: f64 = 1.0;
 pub const MC_MODULO_MAX: f64 = 100000000000.0;
@@ -352,6 +358,8 @@ pub const MC_EV_SCOPE: u32 = 29;
 pub const MC_EV_GANTRY_FAULT: u32 = 32;
 pub const MC_EV_GANTRY_HOMED: u32 = 33;
 pub const MC_EV_PATH_PAUSED: u32 = 36;
+pub const MC_EV_GROUP_HOMED: u32 = 30;
+pub const MC_EV_GROUP_HOMING_FAILED: u32 = 31;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -454,6 +462,7 @@ pub const MC_STOP_POWER_OFF: u32 = 4;
 pub const MC_STOP_HOST_DETACH: u32 = 5;
 pub const MC_STOP_HOMING_FAILED: u32 = 6;
 pub const MC_STOP_PROBE: u32 = 7;
+pub const MC_STOP_GROUP_HOMING: u32 = 8;
 pub const MC_STOP_WATCHDOG: u32 = 16;
 pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
 pub const MC_STOP_ESTOP_INPUT: u32 = 18;
@@ -798,9 +807,10 @@ pub struct mc_group_config {
     pub axes: [u8; 8usize],
     pub accdec: u32,
     pub interpolator: u32,
-    pub _reserved0: u32,
+    pub home_stages: u32,
     pub tolerance: f64,
-    pub _reserved: [f64; 4usize],
+    pub home_order: [u8; 8usize],
+    pub _reserved: [f64; 3usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -814,12 +824,14 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_config, accdec) - 12usize];
     ["Offset of field: mc_group_config::interpolator"]
         [::core::mem::offset_of!(mc_group_config, interpolator) - 16usize];
-    ["Offset of field: mc_group_config::_reserved0"]
-        [::core::mem::offset_of!(mc_group_config, _reserved0) - 20usize];
+    ["Offset of field: mc_group_config::home_stages"]
+        [::core::mem::offset_of!(mc_group_config, home_stages) - 20usize];
     ["Offset of field: mc_group_config::tolerance"]
         [::core::mem::offset_of!(mc_group_config, tolerance) - 24usize];
+    ["Offset of field: mc_group_config::home_order"]
+        [::core::mem::offset_of!(mc_group_config, home_order) - 32usize];
     ["Offset of field: mc_group_config::_reserved"]
-        [::core::mem::offset_of!(mc_group_config, _reserved) - 32usize];
+        [::core::mem::offset_of!(mc_group_config, _reserved) - 40usize];
 };
 #[doc = " What the card publishes about a group each tick: the payload of the group status seqlock,\n MC_STATUS_WORDS words like the axis status."]
 #[repr(C)]

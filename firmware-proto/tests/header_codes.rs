@@ -145,7 +145,7 @@ fn each_generated_enum_is_its_defines() {
         |v| GroupState::from_raw(u32::try_from(v).ok()?),
         "MC_GROUP_",
         "MC_GROUP_",
-        &["MC_GROUP_QUEUE_LEN"],
+        &["MC_GROUP_QUEUE_LEN", "MC_GROUP_HOME_"],
     );
     check(
         StopCategory::ALL,

@@ -82,6 +82,10 @@ pub enum Outcome {
     /// units of the master), else the `MC_HOMING_ERR_*` (or -1: a stop ended it) and the
     /// axis that failed.
     GantryHomed(i32, f64),
+    /// Layout 1.11: a group's homing ended: homed (0 and the stages run), or failed (the
+    /// `MC_HOMING_ERR_*` or `MC_GROUP_HOME_ABORTED`, and the axis, -1 for none): (homed,
+    /// code, value).
+    GroupHomed(bool, i32, f64),
 }
 
 /// An event from the card. One unit rule for every kind: a `value` that is a position or a
@@ -753,6 +757,31 @@ impl Card {
 }
 
 impl Card {
+    /// Layout 1.11: wait for the end of group `g`'s homing `seq` (its members' own motion
+    /// events carry the same seq and are not it): the stages run.
+    pub(crate) fn wait_group_homed(&self, g: usize, seq: u32, timeout: Duration) -> Result<usize> {
+        let (homed, code, value) =
+            self.inner
+                .wait_until(Instant::now() + timeout, USER_WAIT, |rx| {
+                    rx.outcomes.iter().find_map(|(s, o)| match *o {
+                        Outcome::GroupHomed(homed, code, value) if *s == seq => {
+                            Some((homed, code, value))
+                        }
+                        _ => None,
+                    })
+                })?;
+        if homed {
+            return Ok(value as usize);
+        }
+        Err(Error::GroupHomingFailed {
+            group: g,
+            axis: (value >= 0.0).then_some(value as usize),
+            error: firmware_proto::HomingError::from_raw(code),
+        })
+    }
+}
+
+impl Card {
     /// The status of several axes in one call (`GT_GetSts` with a count, `APS_get_*` over
     /// axes): every one of the same servo tick (the card publishes every axis each tick; a
     /// pass that straddles two ticks is read again, for up to 100 ms, then `NotResponding`),
@@ -1189,6 +1218,18 @@ impl Inner {
                         EventKind::GantryHomed => push_capped(
                             &mut rx.outcomes,
                             (e.seq, Outcome::GantryHomed(e.code, value)),
+                            OUTCOME_CAP,
+                        ),
+                        EventKind::GroupHomed | EventKind::GroupHomingFailed => push_capped(
+                            &mut rx.outcomes,
+                            (
+                                e.seq,
+                                Outcome::GroupHomed(
+                                    e.kind == EventKind::GroupHomed as u16,
+                                    e.code,
+                                    value,
+                                ),
+                            ),
                             OUTCOME_CAP,
                         ),
                         EventKind::ProtocolError if e.code == raw::MC_PROTO_CMD_RING as i32 => {

@@ -494,6 +494,7 @@ fn check_group(
             accdec: Some(AccDecName::Pre),
             interpolator: Some(InterpolatorName::Exact),
             tolerance: Some(1.0),
+            home_order: None,
             path: None,
         };
         let n = cx.num_axes;
@@ -503,6 +504,17 @@ fn check_group(
         };
         if let Err(code) = validate_group_config(&block, n) {
             let key = match code {
+                // Layout 1.11: the home order's own refusals, and more stages than it holds.
+                NackCode::HomeAxis | NackCode::HomeTwice | NackCode::HomeStage => {
+                    format!("{p}.home_order")
+                }
+                NackCode::BadConfig
+                    if g.home_order
+                        .as_ref()
+                        .is_some_and(|o| o.len() > firmware_proto::cmd::GROUP_HOME_STAGES) =>
+                {
+                    format!("{p}.home_order")
+                }
                 NackCode::BadAxis | NackCode::BadConfig
                     if block.naxes == 0
                         || block.naxes as usize > MAX_AXES

@@ -336,6 +336,14 @@ error_kinds! {
     GantryGains = -128, MC_ERR_GANTRY_GAINS, nack GantryGains, "gantry kp, ki, skew limit or offset out of range";
     /// The gantry (or its axes) is not in a state that takes the command.
     GantryState = -129, MC_ERR_GANTRY_STATE, nack GantryState, "the gantry or its axes are not in a state that takes this";
+    /// Layout 1.11: a group home order that names an axis the group does not have (a group
+    /// axis index at or beyond its axis count).
+    HomeAxis = -122, MC_ERR_HOME_AXIS, nack HomeAxis, "the home order names an axis the group does not have";
+    /// A group home order that names an axis in two stages (or twice in one).
+    HomeTwice = -123, MC_ERR_HOME_TWICE, nack HomeTwice, "the home order names an axis twice";
+    /// A group home order with an empty stage, or none at all when the group has no
+    /// configured order.
+    HomeStage = -124, MC_ERR_HOME_STAGE, nack HomeStage, "the home order has an empty stage (or no stages, and the group has none configured)";
     /// An arc whose plane of two group axes names one axis twice.
     PlaneAxes = -130, MC_ERR_PLANE_AXES, nack PlaneAxes, "an arc's plane names one group axis twice";
 }
@@ -435,6 +443,16 @@ pub enum Error {
     GantryHomingFailed {
         gantry: usize,
         axis: usize,
+        error: Option<firmware_proto::HomingError>,
+    },
+    /// See [`ErrorKind::HomingFailed`]: layout 1.11, a group homing failed as a whole: `axis`
+    /// the member whose homing failed (`None`: the group's own halt, stop or disable ended
+    /// it), `error` its homing error (`None`: a halt, stop or safety stop ended it). The
+    /// group's other members were halted; the group is at rest.
+    #[error("homing of group {group} failed{}: {}", .axis.map_or(String::new(), |a| format!(" on axis {a}")), gantry_failure(*.error))]
+    GroupHomingFailed {
+        group: usize,
+        axis: Option<usize>,
         error: Option<firmware_proto::HomingError>,
     },
     /// See [`ErrorKind::BadAxis`].
@@ -579,9 +597,9 @@ impl Error {
             Error::RingFull(_) => ErrorKind::RingFull,
             Error::Timeout(_) => ErrorKind::Timeout,
             Error::Aborted { .. } => ErrorKind::Aborted,
-            Error::HomingFailed { .. } | Error::GantryHomingFailed { .. } => {
-                ErrorKind::HomingFailed
-            }
+            Error::HomingFailed { .. }
+            | Error::GantryHomingFailed { .. }
+            | Error::GroupHomingFailed { .. } => ErrorKind::HomingFailed,
             Error::BadAxis { .. } => ErrorKind::BadAxis,
             Error::BadGroup { .. } => ErrorKind::BadGroup,
             Error::NotFinite { .. } => ErrorKind::NotFinite,

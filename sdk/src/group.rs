@@ -4,8 +4,8 @@
 use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result, Target};
 use firmware_proto::cmd::{
-    ArcFlags, ArcGeometry, CardCmd, CircularMove, Cmd, FeedLimits, GroupCmd, GroupOverride,
-    LinearMove, MoveOpts, PtpLimits, PtpMove, StopRamp,
+    ArcFlags, ArcGeometry, CardCmd, CircularMove, Cmd, FeedLimits, GroupCmd, GroupHome,
+    GroupOverride, LinearMove, MoveOpts, PtpLimits, PtpMove, StopRamp, GROUP_HOME_STAGES,
 };
 use firmware_proto::layout;
 use firmware_proto::seqlock;
@@ -171,6 +171,29 @@ pub enum ArcSpec {
 pub struct Group {
     card: Card,
     index: usize,
+}
+
+/// Layout 1.11: a group homing in progress ([`Group::home`]).
+#[derive(Clone)]
+pub struct GroupHoming {
+    card: Card,
+    group: usize,
+    seq: u32,
+}
+
+impl GroupHoming {
+    /// The command's seq (the members' own motion events carry it too).
+    pub fn seq(&self) -> u32 {
+        self.seq
+    }
+
+    /// Wait until every member is homed and the group stands by: the stages run. A member
+    /// that fails (or a halt, stop, disable or safety stop) is
+    /// [`Error::GroupHomingFailed`], naming the axis and its homing error, once the group is
+    /// at rest.
+    pub fn wait(&self, timeout: Duration) -> Result<usize> {
+        self.card.wait_group_homed(self.group, self.seq, timeout)
+    }
 }
 
 /// A group move in progress.
@@ -371,6 +394,60 @@ impl Group {
     pub fn disable(&self) -> Result<()> {
         self.run(self.cmd(GroupCmd::Disable), "group disable")
             .map(|_| ())
+    }
+
+    /// Layout 1.11: MC_GroupHome. The group homes its axes in `order`: stages of group axis
+    /// indices (0: the group's X, its first axis; not card axes), each stage's axes together,
+    /// each with its own homing ([`Axis::set_homing`]; the home point reads the axis's home
+    /// offset), a stage once the one before it is homed and at rest. A member that is a
+    /// gantry's master homes its gantry (squaring it). An empty `order` homes in the group's
+    /// configured order (the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,
+    /// then X and Y together. The group is in [`GroupState::Homing`] until it ends, then
+    /// Standby. From Standby with every member at rest; refused: `GroupDisabled`,
+    /// `InvalidState` (not at rest), `AxisBusy`, `HomeAxis` (an index the group does not have),
+    /// `HomeTwice` (an axis twice), `HomeStage` (an empty stage; or an empty order and none
+    /// configured), `BadConfig` (more than [`GROUP_HOME_STAGES`] stages), and each axis's
+    /// homing refusals (`HomingMethod`, `OutOfRange`, `BadConfig`), `GantryState`.
+    pub fn home(&self, order: &[&[usize]]) -> Result<GroupHoming> {
+        let refuse = |code: firmware_proto::NackCode, reason: &'static str| Error::Refused {
+            command: "group home",
+            target: Target::Group(self.index),
+            code,
+            reason,
+        };
+        if order.len() > GROUP_HOME_STAGES {
+            return Err(refuse(
+                firmware_proto::NackCode::BadConfig,
+                "a home order has at most 8 stages",
+            ));
+        }
+        let mut masks = Vec::with_capacity(order.len());
+        for stage in order {
+            let mut m = 0u8;
+            for &i in *stage {
+                if i >= MAX_AXES {
+                    return Err(refuse(
+                        firmware_proto::NackCode::HomeAxis,
+                        "a home order names group axes 0 to 7 (the group's X, Y, Z, ...), not card axes beyond them",
+                    ));
+                }
+                if m >> i & 1 == 1 {
+                    return Err(refuse(
+                        firmware_proto::NackCode::HomeTwice,
+                        "a home order names an axis twice in one stage",
+                    ));
+                }
+                m |= 1 << i;
+            }
+            masks.push(m);
+        }
+        let cmd = self.cmd(GroupCmd::Home(GroupHome::from_masks(&masks)));
+        let seq = self.run(cmd, "group home")?;
+        Ok(GroupHoming {
+            card: self.card.clone(),
+            group: self.index,
+            seq,
+        })
     }
 
     /// MC_GroupReset: GroupErrorStop → GroupStandby.

@@ -88,8 +88,8 @@ pub use gantry::{
     Gantry, GantryConfig, GantryHoming, GantryPhase, GantrySide, GantryStatus, GANTRIES_MAX,
 };
 pub use group::{
-    AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupMotion, GroupSettings,
-    Interpolator, MoveOptions, PathLimits, Plane,
+    AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupHoming, GroupMotion,
+    GroupSettings, Interpolator, MoveOptions, PathLimits, Plane,
 };
 pub use handwheel::{Handwheel, HANDWHEEL_DETENT_MAX, HANDWHEEL_RATIO_MAX};
 pub use heartbeat::HEARTBEAT_PERIOD_US;

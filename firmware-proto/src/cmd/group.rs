@@ -291,6 +291,49 @@ impl Args for GroupOverride {
     }
 }
 
+/// The most stages of a group's home order (`MC_GROUP_HOME_STAGES`).
+pub const GROUP_HOME_STAGES: usize = crate::raw::MC_GROUP_HOME_STAGES as usize;
+
+/// `MC_OP_GROUP_HOME`, MC_GroupHome (layout 1.11): args: the stage count (0: the group's
+/// configured order), then each stage's mask of group axes. Carried as sent: the card checks
+/// the count and the masks in its order (see the header), after the group's state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroupHome {
+    /// The stage count.
+    pub stages: f64,
+    /// Stage k's group axes (bit i: group axis i).
+    pub masks: [f64; GROUP_HOME_STAGES],
+}
+
+impl GroupHome {
+    /// The command of an order given as masks (at most [`GROUP_HOME_STAGES`]; an empty slice:
+    /// the configured order).
+    pub fn from_masks(masks: &[u8]) -> Self {
+        let mut m = [0.0; GROUP_HOME_STAGES];
+        for (x, &b) in m.iter_mut().zip(masks) {
+            *x = f64::from(b);
+        }
+        Self {
+            stages: masks.len() as f64,
+            masks: m,
+        }
+    }
+}
+
+impl Args for GroupHome {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.stages;
+        put(args, 1, &self.masks);
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            stages: args[0],
+            masks: take(args, 1),
+        })
+    }
+}
+
 /// A NURBS curve's sizes as sent: degree, control points, knots (integers with `n_knots =
 /// n_ctrl + degree + 1`, checked by the card after the group's state and the header's other
 /// values, with the group's axis count in between).
@@ -659,6 +702,8 @@ pub enum GroupCmd {
     PathPause(PathPause),
     /// `MC_OP_APPLY_GROUP_PATH`.
     ApplyPath,
+    /// `MC_OP_GROUP_HOME` (layout 1.11).
+    Home(GroupHome),
 }
 
 impl GroupCmd {
@@ -687,6 +732,7 @@ impl GroupCmd {
             Self::PathNurbs(_) => Opcode::PathNurbs,
             Self::PathPause(_) => Opcode::PathPause,
             Self::ApplyPath => Opcode::ApplyGroupPath,
+            Self::Home(_) => Opcode::GroupHome,
         }
     }
 
@@ -716,6 +762,7 @@ impl GroupCmd {
             Opcode::PathNurbs => Self::PathNurbs(Args::decode(f, args)?),
             Opcode::PathPause => Self::PathPause(Args::decode(f, args)?),
             Opcode::ApplyGroupPath => Self::ApplyPath,
+            Opcode::GroupHome => Self::Home(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -738,6 +785,7 @@ impl GroupCmd {
             Self::PathOutput(a) => super::entry(op, group, a),
             Self::PathNurbs(a) => super::entry(op, group, a),
             Self::PathPause(a) => super::entry(op, group, a),
+            Self::Home(a) => super::entry(op, group, a),
             Self::Configure
             | Self::Enable
             | Self::Disable

@@ -291,7 +291,8 @@ pub fn family(op: Opcode) -> Family {
         | O::PathOutput
         | O::PathNurbs
         | O::PathPause
-        | O::ApplyGroupPath => Family::Group,
+        | O::ApplyGroupPath
+        | O::GroupHome => Family::Group,
         O::GearIn
         | O::GearInPos
         | O::GearOut

@@ -400,6 +400,10 @@ pub struct GroupSection {
     /// Geometry tolerance, counts.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
+    /// Layout 1.11: the group's home order, stages of group axis indices (`[[2], [0, 1]]`: Z
+    /// first, then X and Y together); `Group::home` with an empty order takes it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub home_order: Option<Vec<Vec<u8>>>,
     /// The continuous path (`mc_group_path`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub path: Option<PathSection>,
@@ -626,6 +630,13 @@ impl GroupSection {
                 },
             ),
             tolerance: configured.then_some(c.tolerance),
+            home_order: (configured && c.home_stages > 0).then(|| {
+                let n = (c.home_stages as usize).min(c.home_order.len());
+                c.home_order[..n]
+                    .iter()
+                    .map(|&m| (0..8u8).filter(|i| m >> i & 1 == 1).collect())
+                    .collect()
+            }),
             path: Some(PathSection {
                 lookahead: p.lookahead,
                 low_water: p.low_water,
@@ -662,6 +673,29 @@ impl GroupSection {
         };
         for (d, &a) in b.axes.iter_mut().zip(axes) {
             *d = a;
+        }
+        if let Some(order) = &self.home_order {
+            // What the block cannot hold is made a value the card refuses for the same
+            // fault: more stages than it holds (BadConfig), an index beyond 7 (HomeAxis),
+            // an index twice in a stage (HomeTwice).
+            b.home_stages = order.len() as u32;
+            for (d, stage) in b.home_order.iter_mut().zip(order) {
+                let mut m = 0u16;
+                for &i in stage {
+                    if i >= 8 {
+                        m |= 0x100;
+                    } else if m >> i & 1 == 1 {
+                        m |= 0x200;
+                    } else {
+                        m |= 1 << i;
+                    }
+                }
+                *d = match m {
+                    m if m & 0x100 != 0 => 0xFF,
+                    m if m & 0x200 != 0 => 0,
+                    m => m as u8,
+                };
+            }
         }
         Some(b)
     }

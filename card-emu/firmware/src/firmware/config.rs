@@ -18,7 +18,7 @@
 //! configuration file with the same functions before it applies anything.
 
 use super::axis::AxisConfig;
-use super::group::{FilterConfig, GroupConfig};
+use super::group::{FilterConfig, GroupConfig, HomeOrder};
 use super::Firmware;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
 use firmware_proto::cmd::ReadConfig;
@@ -149,6 +149,8 @@ pub fn group_config_block(cfg: Option<&GroupConfig>) -> raw::mc_group_config {
             raw::MC_INTERP_EXACT
         },
         tolerance: c.tolerance,
+        home_stages: c.home.n as u32,
+        home_order: c.home.masks,
         ..Default::default()
     }
 }
@@ -232,6 +234,9 @@ pub fn validate_group_config(
         // Kim's interpolator steps a constant angle: its acc/dec must come after it.
         return Err(NackCode::IncompatibleMode);
     }
+    // Layout 1.11: the home order, checked as MC_OP_GROUP_HOME's.
+    let masks = block.home_order.map(f64::from);
+    let home = HomeOrder::check(f64::from(block.home_stages), &masks, naxes)?;
     Ok(GroupConfig {
         naxes,
         axes,
@@ -239,6 +244,7 @@ pub fn validate_group_config(
         post,
         reference_word,
         tolerance,
+        home,
     })
 }
 

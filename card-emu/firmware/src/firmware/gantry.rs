@@ -351,14 +351,11 @@ impl<M: Mem + Clone> Firmware<M> {
         Ok(0.0)
     }
 
-    /// `MC_OP_GANTRY_HOME` (command `seq`) of gantry `g`: every member starts its own homing.
-    pub(super) fn gantry_home(&mut self, g: usize, seq: u32) -> Result<f64, NackCode> {
-        let Some(gantry) = &self.gantries[g] else {
-            return Err(NackCode::GantryState);
-        };
-        let members = gantry.members();
-        let ready = gantry.phase == Phase::Coupled
-            && members.iter().enumerate().all(|(k, &a)| {
+    /// Can `gantry` start homing: coupled, the master at rest in Standstill, the slaves
+    /// following?
+    pub(super) fn gantry_ready(&self, gantry: &Gantry) -> bool {
+        gantry.phase == Phase::Coupled
+            && gantry.members().iter().enumerate().all(|(k, &a)| {
                 let st = self.axes[a].state;
                 if k == 0 {
                     st == AxisState::Standstill && !self.axes[a].busy_with_motion()
@@ -366,7 +363,27 @@ impl<M: Mem + Clone> Firmware<M> {
                     st == AxisState::SynchronizedMotion
                 }
             })
-            && self.groups.iter().all(|gr| !gr.owns_enabled(members[0]));
+    }
+
+    /// `MC_OP_GANTRY_HOME` (command `seq`) of gantry `g`: every member starts its own homing.
+    pub(super) fn gantry_home(&mut self, g: usize, seq: u32) -> Result<f64, NackCode> {
+        self.gantry_home_from(g, seq, false)
+    }
+
+    /// Gantry homing, from `MC_OP_GANTRY_HOME` or (`grouped`: layout 1.11) a group homing
+    /// that has the master as a member (a gantry in an enabled group homes only so).
+    pub(super) fn gantry_home_from(
+        &mut self,
+        g: usize,
+        seq: u32,
+        grouped: bool,
+    ) -> Result<f64, NackCode> {
+        let Some(gantry) = &self.gantries[g] else {
+            return Err(NackCode::GantryState);
+        };
+        let members = gantry.members();
+        let ready = self.gantry_ready(gantry)
+            && (grouped || self.groups.iter().all(|gr| !gr.owns_enabled(members[0])));
         if !ready {
             return Err(NackCode::GantryState);
         }
@@ -726,6 +743,10 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     fn post_gantry_event(&mut self, kind: EventKind, seq: u32, g: usize, code: i32, value: f64) {
+        if kind == EventKind::GantryHomed {
+            // Layout 1.11: a group homing waits for it (group_home.rs).
+            self.gantry_homed[g] = Some((code, value));
+        }
         self.outbox.push(Event {
             seq,
             kind: kind as u16,

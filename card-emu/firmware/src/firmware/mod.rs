@@ -17,6 +17,7 @@ mod exec;
 pub mod gantry;
 pub mod gear;
 pub mod group;
+mod group_home;
 pub mod handwheel;
 pub mod homing;
 pub mod io;
@@ -78,6 +79,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.10: the gantries (gantry.rs), and those whose status block must be cleared.
     gantries: [Option<gantry::Gantry>; gantry::MAX_GANTRIES],
     gantry_dirty: u8,
+    /// Layout 1.11: each gantry's last `MC_EV_GANTRY_HOMED` (code, value), for a group homing.
+    gantry_homed: [Option<(i32, f64)>; gantry::MAX_GANTRIES],
     /// Layout 1.7 (sync): each axis's PT/PVT stream, made on its first MC_OP_PVT_BEGIN.
     pvt: pvt::PvtStreams,
     groups: [Group; MAX_GROUPS],
@@ -141,6 +144,7 @@ impl<M: Mem + Clone> Firmware<M> {
             comp: Lazy::new(),
             gantries: Default::default(),
             gantry_dirty: 0,
+            gantry_homed: [None; gantry::MAX_GANTRIES],
             groups: core::array::from_fn(Group::new),
             group_blocks: [quiet::GroupBlock::default(); MAX_GROUPS],
             filters: filter_bank(),
@@ -480,6 +484,10 @@ impl<M: Mem + Clone> Firmware<M> {
         let homed = self.homing_tick(ts);
         // Gantries: the slaves follow their masters' references of this tick (gantry.rs).
         let follow = self.gantry_tick(ts, &mut early, &homed, dac);
+        // Groups home their axes stage by stage (group_home.rs).
+        if self.groups.iter().any(|g| g.homing().is_some()) {
+            self.group_home_tick(&homed);
+        }
         // The reports with something to tell, in axis order (most ticks: none).
         let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
         let mut report = TickReport::default();
@@ -558,6 +566,18 @@ impl<M: Mem + Clone> Firmware<M> {
                     self.tick,
                     &mut self.axes[..self.num_axes],
                     members,
+                    dac,
+                );
+            }
+        }
+        // [safety] layout 1.11: so does a member of a homing group (group_home.rs)
+        for g in &self.groups {
+            if let (Some(_), Some(cfg)) = (g.homing(), g.config.as_ref()) {
+                self.safety.trip_group(
+                    &self.mem,
+                    self.tick,
+                    &mut self.axes[..self.num_axes],
+                    &cfg.axes[..cfg.naxes],
                     dac,
                 );
             }

@@ -714,7 +714,11 @@ impl Safety {
             let Some(axis) = axes.get_mut(a) else {
                 continue;
             };
-            if axis.state == AxisState::SynchronizedMotion {
+            // (Homing and a halt of it: a group homing's members, layout 1.11)
+            if matches!(
+                axis.state,
+                AxisState::SynchronizedMotion | AxisState::Homing | AxisState::DiscreteMotion
+            ) {
                 self.trip_axis(mem, tick, a, axis, trip);
                 if !axis.is_powered() {
                     dac[a] = 0.0;

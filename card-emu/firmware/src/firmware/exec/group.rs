@@ -31,9 +31,25 @@ impl<M: Mem + Clone> Firmware<M> {
         let hard = self.groups[g].config.map_or((f64::MAX, f64::MAX), |cfg| {
             hard_stop_ramp(&self.axes, &cfg.axes[..cfg.naxes])
         });
+        // Layout 1.11: MC_GroupHome, and what ends a group homing (group_home.rs).
+        let homing = self.groups[g].homing().is_some();
+        match &cmd {
+            GroupCmd::Home(h) => return self.group_home(g, seq, h),
+            GroupCmd::Stop(r) | GroupCmd::Halt(r) if homing => {
+                let stop = matches!(cmd, GroupCmd::Stop(_));
+                if !stop && self.groups[g].state == firmware_proto::GroupState::Stopping {
+                    return Err(NackCode::InvalidState);
+                }
+                self.group_home_halt(g, seq, stop, (r.dmax, r.jerk));
+                return Ok(());
+            }
+            GroupCmd::Disable if homing => self.group_home_disable(g),
+            _ => {}
+        }
         let group = &mut self.groups[g];
         let out = &mut self.outbox;
         match &cmd {
+            GroupCmd::Home(_) => unreachable!("served above"),
             GroupCmd::Configure => {
                 let block = layout::GROUP_CONFIG.at(g).read(&self.mem);
                 let cfg = config::validate_group_config(&block, self.num_axes)?;

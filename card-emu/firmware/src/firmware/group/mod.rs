@@ -33,6 +33,7 @@
 mod activate;
 mod feed;
 mod filter;
+mod home;
 mod nurbs_pool;
 mod nurbs_rx;
 mod overrides;
@@ -43,6 +44,7 @@ mod stop;
 #[cfg(test)]
 mod testing;
 
+pub use self::home::{GroupHoming, HomeOrder};
 use self::nurbs_pool::NurbsPool;
 pub use self::nurbs_pool::NURBS_SLOTS;
 pub use self::nurbs_rx::nurbs_nack;
@@ -127,6 +129,8 @@ pub struct GroupConfig {
     pub reference_word: bool,
     /// Geometry tolerance, counts.
     pub tolerance: f64,
+    /// Layout 1.11: the configured home order (0 stages: none).
+    pub home: HomeOrder,
 }
 
 /// The acc/dec filter configuration of one axis: kind and time constant per feed type.
@@ -454,6 +458,8 @@ pub struct Group {
     path: Lazy<path::PathRun>,
     /// Its configuration (`group_path`, validated).
     path_cfg: firmware_proto::GroupPath,
+    /// Layout 1.11: MC_GroupHome in progress.
+    pub(crate) home: Option<GroupHoming>,
 }
 
 impl Group {
@@ -487,6 +493,7 @@ impl Group {
             overrides: (1.0, 1.0),
             path: Lazy::new(),
             path_cfg: firmware_proto::GroupPath::default(),
+            home: None,
         }
     }
 
@@ -526,7 +533,7 @@ impl Group {
         self.config.is_some_and(|c| c.axes[..c.naxes].contains(&a))
     }
 
-    fn set_state(&mut self, s: GroupState, tick: u64, out: &mut Outbox) {
+    pub(crate) fn set_state(&mut self, s: GroupState, tick: u64, out: &mut Outbox) {
         if self.state != s {
             out.push(Event {
                 seq: 0,
@@ -612,10 +619,15 @@ impl Group {
         if let Some(cfg) = self.config {
             for &a in &cfg.axes[..cfg.naxes] {
                 filters[a].live.reset();
+                // (a member halting from a group homing ends its halt on its own)
+                if matches!(axes[a].state, AxisState::Homing | AxisState::DiscreteMotion) {
+                    continue;
+                }
                 let old = axes[a].release_from_group();
                 axis_event(out, a, old, axes[a].state, tick);
             }
         }
+        self.home = None;
         self.final_seq = None;
         self.stop = None;
         self.ptp_stage = [None; MAX_AXES];
@@ -1272,6 +1284,10 @@ impl Group {
         }
         if matches!(self.state, GroupState::Standby | GroupState::ErrorStop) {
             self.stop_elapsed = None;
+            return false;
+        }
+        // Layout 1.11: the members home on their own (group_home.rs).
+        if self.home.is_some() {
             return false;
         }
         if let Some(t) = &mut self.stop_elapsed {

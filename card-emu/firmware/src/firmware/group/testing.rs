@@ -44,6 +44,7 @@ impl Bench {
             post,
             reference_word,
             tolerance: 1.0,
+            home: Default::default(),
         })
         .unwrap();
         let mut out = Outbox::default();
