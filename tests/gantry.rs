@@ -509,3 +509,96 @@ fn a_safety_stop_of_one_side_stops_the_other() {
         StopReason::AmpAlarm
     );
 }
+
+/// `[gantry.N]` in the configuration file: a card's gantry saved, loaded into a fresh card
+/// (formed last, read back equal, saved to the same bytes, a second load changes nothing), and
+/// each bad key or value refused naming its key, nothing applied.
+#[test]
+fn a_gantry_goes_through_the_configuration_file() {
+    let a = card();
+    enable(&a, &[0, 1]);
+    let c = GantryConfig {
+        kp: 2e6,
+        ki: 5e7,
+        skew_limit: 150.5,
+        offsets: vec![25.0],
+    };
+    a.gantry_at(1, 0, &[1], &c).unwrap();
+    let text = a.save_config().unwrap();
+    assert!(
+        text.contains("[gantry.1]\nmaster = 0\nslaves = [1]\nkp = 2000000.0\nki = 50000000.0\nskew_limit = 150.5\noffsets = [25.0]\n"),
+        "{text}"
+    );
+    let b = card();
+    let report = b.load_config(&text, "a.toml").unwrap();
+    assert_eq!(report.applied.last().map(String::as_str), Some("gantry.1"));
+    let st = b.gantry_handle(1).unwrap().status().unwrap();
+    assert_eq!((st.master, st.slaves[0].axis), (0, 1));
+    assert_eq!(st.config(), c);
+    assert_eq!(
+        b.axis(1).unwrap().status().unwrap().state,
+        AxisState::Disabled,
+        "formed disabled, as the axes were"
+    );
+    assert_eq!(b.save_config().unwrap(), text);
+    assert!(b.diff_config(&text, "a.toml").unwrap().is_empty());
+    assert!(b.load_config(&text, "a.toml").unwrap().applied.is_empty());
+
+    let key_of = |card: &Card, t: &str| match card.load_config(t, "bad.toml").unwrap_err() {
+        motioncard_sdk::Error::ConfigFile { key, .. } => key,
+        e => panic!("{e}"),
+    };
+    let fresh = card();
+    let with = |from: &str, to: &str| {
+        let t = text.replace(from, to);
+        assert_ne!(t, text, "{from}");
+        t
+    };
+    for (bad, key) in [
+        (with("slaves = [1]", "slaves = [0]"), "gantry.1.slaves"),
+        (with("slaves = [1]", "slaves = []"), "gantry.1.slaves"),
+        (with("slaves = [1]", "slaves = [7]"), "gantry.1.slaves"),
+        (
+            with("master = 0\nslaves", "master = 9\nslaves"),
+            "gantry.1.master",
+        ),
+        (with("kp = 2000000.0", "kp = -1.0"), "gantry.1.kp"),
+        (with("ki = 50000000.0", "ki = nan"), "gantry.1.ki"),
+        (
+            with("skew_limit = 150.5", "skew_limit = 0.0"),
+            "gantry.1.skew_limit",
+        ),
+        (
+            with("offsets = [25.0]", "offsets = [25.0, 1.0]"),
+            "gantry.1.offsets",
+        ),
+        (with("[gantry.1]", "[gantry.9]"), "gantry.9"),
+        (
+            with("offsets = [25.0]\n", "offsets = [25.0]\nyaw = 1\n"),
+            "gantry.1.yaw",
+        ),
+    ] {
+        assert_eq!(key_of(&fresh, &bad), key, "{bad}");
+    }
+    assert!(fresh.gantries().is_empty(), "nothing applied");
+    // The axes must be at rest, all powered or all disabled.
+    fresh.axis(0).unwrap().enable().unwrap();
+    assert_eq!(key_of(&fresh, &text), "gantry.1.master");
+    // A slave in a group is in use.
+    fresh.axis(1).unwrap().enable().unwrap();
+    fresh
+        .group(0)
+        .unwrap()
+        .configure(&GroupSettings::new(&[1, 2]))
+        .unwrap();
+    assert_eq!(key_of(&fresh, &text), "gantry.1.slaves");
+    assert!(fresh.gantries().is_empty());
+    // A gantry the card holds with other settings is not re-formed by a file.
+    let held = card();
+    held.gantry_at(1, 0, &[1], &cfg(1e6, 0.0)).unwrap();
+    assert_eq!(key_of(&held, &text), "gantry.1");
+    assert_eq!(
+        held.gantry_handle(1).unwrap().status().unwrap().config(),
+        cfg(1e6, 0.0)
+    );
+}
