@@ -17,6 +17,7 @@ pub mod args;
 pub mod cam;
 pub mod compare;
 pub mod config;
+pub mod gantry;
 pub mod gcode;
 pub mod gear;
 pub mod halt;

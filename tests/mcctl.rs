@@ -1567,3 +1567,90 @@ fn a_rotary_axis_from_the_command_line() {
     assert!(err.contains("modulo"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Layout 1.10: `mcctl gantry form|status|home|dissolve` on one `emu:` card that outlives each
+/// mcctl process: formed (the slave coupled), listed with --json, homed (method 37 on each
+/// side: square where they stand), dissolved (none listed); the card's refusals exit 1 with
+/// its reason, a missing argument 2.
+#[test]
+fn gantry_forms_homes_shows_and_dissolves() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    let name = format!("test-mcctl-gantry-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(3, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let json = |args: &[&str]| {
+        let (code, out, err) = on(args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let j = json(&[
+        "gantry",
+        "form",
+        "0",
+        "--slaves",
+        "2",
+        "--skew-limit",
+        "150",
+        "--offsets",
+        "-25",
+        "--ki",
+        "1e7",
+        "--index",
+        "1",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(j["index"], 1, "{j}");
+    assert_eq!(j["master"], 0, "{j}");
+    assert_eq!(j["slaves"][0]["axis"], 2, "{j}");
+    assert_eq!(j["slaves"][0]["offset"], -25.0, "{j}");
+    assert_eq!(j["kp"], 1e6, "{j}");
+    assert_eq!(j["ki"], 1e7, "{j}");
+    assert_eq!(j["skew_limit"], 150.0, "{j}");
+    assert_eq!(j["squared"], false, "{j}");
+    let st = json(&["status", "--json"]);
+    assert_eq!(st["axes"][2]["state"], "SynchronizedMotion", "{st}");
+    // A slave is in use; the slot is taken.
+    for (args, why) in [
+        (
+            vec!["gantry", "form", "1", "--slaves", "2", "--skew-limit", "1"],
+            "in use",
+        ),
+        (
+            vec!["gantry", "form", "1", "--slaves", "1", "--skew-limit", "1"],
+            "bad gantry axes",
+        ),
+        (vec!["gantry", "home", "0"], "not in a state"),
+        (vec!["gantry", "dissolve", "3"], "not in a state"),
+    ] {
+        let (code, _, err) = on(&args);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let j = json(&["gantry", "home", "1", "--json"]);
+    assert_eq!(j["squared"], true, "{j}");
+    assert_eq!(j["status"]["slaves"][0]["hold"], -25.0, "{j}");
+    let (code, out, err) = on(&["gantry", "status", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("gantry 1: coupled, master axis 0") && out.contains("squared"),
+        "{out}"
+    );
+    let j = json(&["gantry", "dissolve", "1", "--json"]);
+    assert_eq!(j["dissolved"], true, "{j}");
+    let j = json(&["gantry", "status", "--json"]);
+    assert_eq!(j["gantries"].as_array().unwrap().len(), 0, "{j}");
+    let st = json(&["status", "--json"]);
+    assert_eq!(st["axes"][2]["state"], "Standstill", "{st}");
+    let (code, _, err) = on(&["gantry", "form", "0", "--skew-limit", "1"]);
+    assert_eq!(code, 2, "{err}");
+    let _ = on(&["disable", "0", "1", "2"]);
+}
