@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 
 pub mod args;
 pub mod cam;
+pub mod comp;
 pub mod compare;
 pub mod config;
 pub mod gantry;

@@ -20,6 +20,8 @@
 //! mcctl --card emu:bench1 gantry form 0 --slaves 1 --skew-limit 200 --offsets 25   # a gantry
 //! mcctl --card emu:bench1 gantry home 0              # each side homed, the bridge squared
 //! mcctl --card emu:bench1 gantry status --json       # phase, skews, gains (dissolve 0 ends it)
+//! mcctl --card emu:bench1 comp 0 load x-laser.csv --bound 0.02 --backlash 0.004   # pitch error
+//! mcctl --card emu:bench1 comp 0 show                # the table read back (clear: off)
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
 //! mcctl --card emu:bench1 io --set-outputs 0x0F 0x05   # digital outputs, then inputs/outputs
 //! mcctl --card emu:bench1 pvt 0 points.csv --vmax 1e5 --amax 1e6 --enable   # a PT/PVT stream
@@ -127,6 +129,10 @@ enum Cmd {
         #[command(subcommand)]
         action: cli::gantry::Action,
     },
+    /// Layout 1.9: an axis's leadscrew pitch-error and backlash compensation: load a table
+    /// file (`position, correction[, correction_negative]` a line, user units; --errors: the
+    /// columns are measured errors), show the table the card holds, clear it.
+    Comp(cli::comp::Args),
     /// MC_Home with the axis's homing settings (CiA 402 methods), waited for.
     Home(cli::home::Args),
     /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
@@ -191,6 +197,7 @@ fn main() -> ExitCode {
         Cmd::Jog(a) => cli::jog::run(uri, a),
         Cmd::Handwheel(a) => cli::handwheel::run(uri, a),
         Cmd::Gantry { action } => cli::gantry::run(uri, action),
+        Cmd::Comp(a) => cli::comp::run(uri, a),
         Cmd::Home(a) => cli::home::run(uri, a),
         Cmd::Override(a) => cli::set_override::run(uri, a),
         Cmd::Run(a) => cli::run::run(uri, a),
