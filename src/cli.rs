@@ -15,8 +15,10 @@ use std::time::{Duration, Instant};
 
 pub mod args;
 pub mod cam;
+pub mod comp;
 pub mod compare;
 pub mod config;
+pub mod gantry;
 pub mod gcode;
 pub mod gear;
 pub mod halt;

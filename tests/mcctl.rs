@@ -1567,3 +1567,188 @@ fn a_rotary_axis_from_the_command_line() {
     assert!(err.contains("modulo"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Layout 1.10: `mcctl gantry form|status|home|dissolve` on one `emu:` card that outlives each
+/// mcctl process: formed (the slave coupled), listed with --json, homed (method 37 on each
+/// side: square where they stand), dissolved (none listed); the card's refusals exit 1 with
+/// its reason, a missing argument 2.
+#[test]
+fn gantry_forms_homes_shows_and_dissolves() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    let name = format!("test-mcctl-gantry-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(3, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let json = |args: &[&str]| {
+        let (code, out, err) = on(args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let j = json(&[
+        "gantry",
+        "form",
+        "0",
+        "--slaves",
+        "2",
+        "--skew-limit",
+        "150",
+        "--offsets",
+        "-25",
+        "--ki",
+        "1e7",
+        "--index",
+        "1",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(j["index"], 1, "{j}");
+    assert_eq!(j["master"], 0, "{j}");
+    assert_eq!(j["slaves"][0]["axis"], 2, "{j}");
+    assert_eq!(j["slaves"][0]["offset"], -25.0, "{j}");
+    assert_eq!(j["kp"], 1e6, "{j}");
+    assert_eq!(j["ki"], 1e7, "{j}");
+    assert_eq!(j["skew_limit"], 150.0, "{j}");
+    assert_eq!(j["squared"], false, "{j}");
+    let st = json(&["status", "--json"]);
+    assert_eq!(st["axes"][2]["state"], "SynchronizedMotion", "{st}");
+    // A slave is in use; the slot is taken.
+    for (args, why) in [
+        (
+            vec!["gantry", "form", "1", "--slaves", "2", "--skew-limit", "1"],
+            "in use",
+        ),
+        (
+            vec!["gantry", "form", "1", "--slaves", "1", "--skew-limit", "1"],
+            "bad gantry axes",
+        ),
+        (vec!["gantry", "home", "0"], "not in a state"),
+        (vec!["gantry", "dissolve", "3"], "not in a state"),
+    ] {
+        let (code, _, err) = on(&args);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let j = json(&["gantry", "home", "1", "--json"]);
+    assert_eq!(j["squared"], true, "{j}");
+    assert_eq!(j["status"]["slaves"][0]["hold"], -25.0, "{j}");
+    let (code, out, err) = on(&["gantry", "status", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("gantry 1: coupled, master axis 0") && out.contains("squared"),
+        "{out}"
+    );
+    let j = json(&["gantry", "dissolve", "1", "--json"]);
+    assert_eq!(j["dissolved"], true, "{j}");
+    let j = json(&["gantry", "status", "--json"]);
+    assert_eq!(j["gantries"].as_array().unwrap().len(), 0, "{j}");
+    let st = json(&["status", "--json"]);
+    assert_eq!(st["axes"][2]["state"], "Standstill", "{st}");
+    let (code, _, err) = on(&["gantry", "form", "0", "--skew-limit", "1"]);
+    assert_eq!(code, 2, "{err}");
+    let _ = on(&["disable", "0", "1", "2"]);
+}
+
+/// Layout 1.9: `mcctl comp AXIS load|show|clear` on one `emu:` card that outlives each mcctl
+/// process: an interferometer's error columns loaded as corrections (negated, a column per
+/// direction), shown in the file's format, a malformed file (exit 2, its line named) and a
+/// table beyond its bound (exit 1, the card's reason) refused with the table kept, then cleared.
+#[test]
+fn comp_loads_shows_and_clears_a_table_file() {
+    use card_emu::emu::server::Server;
+    use card_emu::{EmuOptions, Emulator, Runner};
+    let name = format!("test-mcctl-comp-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let dir = std::env::temp_dir().join(format!("mcctl-comp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |n: &str, text: &str| {
+        let p = dir.join(n);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let laser = file(
+        "x.csv",
+        "# axis X, errors (actual - target)\n# position, forward, reverse\n0, 0, 0\n5000, 6, 5.5\n10000, -10, -9\n",
+    );
+    let (code, out, err) = on(&[
+        "comp",
+        "1",
+        "load",
+        &laser,
+        "--bound",
+        "20",
+        "--backlash",
+        "4",
+        "--errors",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["loaded"], 3, "{out}");
+    assert_eq!(j["table"]["bidirectional"], true, "{out}");
+    assert_eq!(
+        j["table"]["points"][1],
+        serde_json::json!([5000.0, -6.0, -5.5]),
+        "{out}"
+    );
+    let shown = "# axis 1: backlash 4, bound 20, ramp 1000 /s, 1000000 /s²\n\
+                 # position, correction, correction_negative\n\
+                 0, 0, 0\n5000, -6, -5.5\n10000, 10, 9\n";
+    let (code, out, err) = on(&["comp", "1", "show"]);
+    assert_eq!((code, out.as_str()), (0, shown), "{err}");
+    // What `show` prints loads back as the same table.
+    let again = file("again.csv", &out);
+    let (code, _, err) = on(&[
+        "comp",
+        "1",
+        "load",
+        &again,
+        "--bound",
+        "20",
+        "--backlash",
+        "4",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(on(&["comp", "1", "show"]).1, shown);
+    for (text, code, why) in [
+        ("0, 0\n5000, 6, 5\n", 2, "line 2: 3 columns, line 1 2"),
+        ("0, 0\n0, 1\n", 2, "line 2: position 0 after 0"),
+        (
+            "0, 0\n5000, x\n",
+            2,
+            "line 2: expected `position, correction",
+        ),
+        ("# only a header\n", 2, "no points"),
+        ("0, 0\n5000, 30\n", 1, "beyond the table's bound"),
+    ] {
+        let bad = file("bad.csv", text);
+        let (c, _, err) = on(&["comp", "1", "load", &bad, "--bound", "20"]);
+        assert_eq!(c, code, "{text}: {err}");
+        assert!(err.contains(why), "{text}: {err}");
+        assert_eq!(
+            on(&["comp", "1", "show"]).1,
+            shown,
+            "{text}: the table kept"
+        );
+    }
+    let (code, _, err) = on(&["comp", "1", "clear"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, _) = on(&["comp", "1", "show", "--json"]);
+    assert_eq!(code, 0);
+    assert_eq!(out.trim(), r#"{"axis":1,"table":null}"#);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -702,6 +702,23 @@ fn compensation_from_c() {
     );
 }
 
+/// Layout 1.10: `examples/c/gantry.c`: a gantry formed, homed (squared to its offset), the
+/// master moved with the slave following within a count, the slave's own move refused, and
+/// the gantry dissolved.
+#[test]
+fn a_gantry_from_c_program() {
+    let out = run(&compile("gantry", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS gantry\n"), "{out}");
+    assert!(
+        out.contains("gantry: squared, offset in force 10.0 counts"),
+        "{out}"
+    );
+    assert!(
+        out.contains("gantry: master at 20001, slave at 20011, largest skew 1 counts"),
+        "{out}"
+    );
+}
+
 /// Layout 1.10: the handwheel from C (x10, handed over, let go, the refusals).
 #[test]
 fn handwheel_from_c() {

@@ -27,6 +27,8 @@
 //! [group.N]         # axes, accdec, interpolator, tolerance: all four, or none (not configured)
 //! [group.N.path]    # lookahead, low_water, accel, jerk, vmax, amax, jmax (one per group axis),
 //!                   # plan_period (may be left out: 0, the card's default)
+//! [gantry.N]        # master, slaves, kp, ki, skew_limit, offsets (one per slave, the master's
+//!                   # user units; may be left out: 0 each): a formed gantry, layout 1.10
 //! ```
 //!
 //! A file may name any subset of the sections and of the axes and groups: what it does not
@@ -39,6 +41,11 @@
 //!
 //! A group configuration cannot be removed (the card has no command for it): a configured
 //! group the file leaves unconfigured stays configured.
+//!
+//! A `[gantry.N]` is formed last, after the axes and groups, its axes at rest (all powered or
+//! all disabled). A gantry the card holds with the file's settings is left as it is (its
+//! squaring kept); one the card holds with other settings is refused (dissolve it first: a
+//! file never breaks a squared bridge), and a gantry the file does not name stays formed.
 
 mod sections;
 mod text;
@@ -46,9 +53,9 @@ mod text;
 pub(crate) use sections::user_modulo;
 pub use sections::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, CompensationSection, Config,
-    ConfigDifference, FfpivSection, FilterName, FilterSection, GroupSection, HomingSection,
-    InterpolatorName, IoSection, PathSection, PdPlusSection, SafetySection, ServoLaw,
-    CONFIG_HEADER,
+    ConfigDifference, FfpivSection, FilterName, FilterSection, GantrySection, GroupSection,
+    HomingSection, InterpolatorName, IoSection, PathSection, PdPlusSection, SafetySection,
+    ServoLaw, CONFIG_HEADER,
 };
 use text::{file_error, line_of_key, read_file};
 pub use text::{ECHO_CHARS, MAX_CONFIG_BYTES};
@@ -209,7 +216,193 @@ fn check(file: &Config, cx: &Context<'_>) -> std::result::Result<(), Refusal> {
         check_axis(key, ax, &good, cx, rate, max_stop)?;
     }
     check_stop_ramps(file, cx, max_stop)?;
-    check_groups(file, cx, rate)
+    check_groups(file, cx, rate)?;
+    check_gantries(file, cx)
+}
+
+/// `[gantry.N]`: what [`Card::gantry_at`] and the card check, each refusal naming its key;
+/// the card's gantry with other settings refused; the members at rest, in no other gantry,
+/// the slaves in no group (the groups after the file).
+fn check_gantries(file: &Config, cx: &Context<'_>) -> std::result::Result<(), Refusal> {
+    use firmware_proto::cmd::{GANTRY_KI_MAX, GANTRY_KP_MAX, GANTRY_MAX_SLAVES, MAX_GANTRIES};
+    let n = cx.num_axes;
+    // Which gantry each axis is in: the card's gantries the file leaves as they are.
+    let mut member = [None::<usize>; MAX_AXES];
+    for (key, g) in &cx.card.gantry {
+        if !file.gantry.contains_key(key) {
+            for &a in std::iter::once(&g.master).chain(&g.slaves) {
+                member[a as usize % MAX_AXES] = key.parse().ok();
+            }
+        }
+    }
+    // Which group each axis is in after the file.
+    let mut grouped = [None::<usize>; MAX_AXES];
+    for g in 0..MAX_GROUPS {
+        let key = g.to_string();
+        let axes = file
+            .group
+            .get(&key)
+            .and_then(|s| s.axes.as_ref())
+            .or_else(|| cx.card.group.get(&key).and_then(|s| s.axes.as_ref()));
+        for &a in axes.into_iter().flatten() {
+            grouped[a as usize % MAX_AXES] = Some(g);
+        }
+    }
+    let scale_of = |a: usize| {
+        let key = a.to_string();
+        file.axis
+            .get(&key)
+            .or_else(|| cx.card.axis.get(&key))
+            .map_or(1.0, |s| s.scale)
+    };
+    let no_axis = |a: u8| format!("no such axis {a}: the card has {n} (0 to {})", n - 1);
+    for (key, g) in &file.gantry {
+        let gi = index_key("gantry", key, MAX_GANTRIES)?;
+        let p = format!("gantry.{gi}");
+        let err = |k: &str, why: String| Err((format!("{p}.{k}"), why));
+        match cx.card.gantry.get(key) {
+            Some(held) if held == g => {}
+            Some(held) => {
+                return Err((
+                    p.clone(),
+                    format!(
+                        "gantry {gi} is formed with other settings (master {}, slaves {:?}): \
+                         dissolve it first (`mcctl gantry dissolve {gi}`)",
+                        held.master, held.slaves
+                    ),
+                ))
+            }
+            None => {}
+        }
+        let m = g.master;
+        if usize::from(m) >= n {
+            return err("master", no_axis(m));
+        }
+        if g.slaves.is_empty() || g.slaves.len() > GANTRY_MAX_SLAVES {
+            return err(
+                "slaves",
+                format!(
+                    "{} slaves: a gantry has 1 to {GANTRY_MAX_SLAVES}",
+                    g.slaves.len()
+                ),
+            );
+        }
+        for (k, &a) in g.slaves.iter().enumerate() {
+            if usize::from(a) >= n {
+                return err("slaves", no_axis(a));
+            }
+            if a == m || g.slaves[..k].contains(&a) {
+                return err(
+                    "slaves",
+                    format!(
+                        "axis {a} is the master or listed twice: {}",
+                        nack_text(NackCode::GantryAxes)
+                    ),
+                );
+            }
+        }
+        for (name, v, max) in [("kp", g.kp, GANTRY_KP_MAX), ("ki", g.ki, GANTRY_KI_MAX)] {
+            if !v.is_finite() {
+                return err(name, nack_text(NackCode::NotFinite));
+            }
+            if !(0.0..=max).contains(&v) {
+                return err(
+                    name,
+                    format!(
+                        "{v}: must lie in 0..={max:e}: {}",
+                        nack_text(NackCode::GantryGains)
+                    ),
+                );
+            }
+        }
+        let scale = scale_of(usize::from(m));
+        if let Some(&a) = g
+            .slaves
+            .iter()
+            .find(|&&a| scale_of(usize::from(a)) != scale)
+        {
+            return err(
+                "slaves",
+                format!(
+                    "axis {a} has scale {}, the master (axis {m}) {scale}: a gantry's axes \
+                     share the master's scale",
+                    scale_of(usize::from(a))
+                ),
+            );
+        }
+        let in_range = |x: f64| x.is_finite() && (x * scale).abs() <= firmware_proto::MAX_POSITION;
+        if !(in_range(g.skew_limit) && g.skew_limit > 0.0) {
+            return err(
+                "skew_limit",
+                format!(
+                    "{}: a positive length within the position range: {}",
+                    g.skew_limit,
+                    nack_text(NackCode::GantryGains)
+                ),
+            );
+        }
+        if !g.offsets.is_empty() && g.offsets.len() != g.slaves.len() {
+            return err(
+                "offsets",
+                format!(
+                    "{} values: one per slave ({}), or none (0 each)",
+                    g.offsets.len(),
+                    g.slaves.len()
+                ),
+            );
+        }
+        if let Some(o) = g.offsets.iter().find(|&&o| !in_range(o)) {
+            return err(
+                "offsets",
+                format!(
+                    "{o}: beyond the position range: {}",
+                    nack_text(NackCode::GantryGains)
+                ),
+            );
+        }
+        for (k, &a) in std::iter::once(&m).chain(&g.slaves).enumerate() {
+            let which = if k == 0 { "master" } else { "slaves" };
+            if let Some(o) = member[usize::from(a)].filter(|&o| o != gi) {
+                return err(
+                    which,
+                    format!(
+                        "axis {a} is in gantry {o}: {}",
+                        nack_text(NackCode::GantryInUse)
+                    ),
+                );
+            }
+            member[usize::from(a)] = Some(gi);
+            if let (true, Some(o)) = (k > 0, grouped[usize::from(a)]) {
+                return err(
+                    which,
+                    format!(
+                        "axis {a} is in group {o}: {}",
+                        nack_text(NackCode::GantryInUse)
+                    ),
+                );
+            }
+        }
+        if cx.card.gantry.get(key) == Some(g) {
+            continue;
+        }
+        let state = cx.axis_states[usize::from(m)];
+        let at_rest = matches!(state, AxisState::Standstill | AxisState::Disabled);
+        if let Some(&a) = std::iter::once(&m)
+            .chain(&g.slaves)
+            .find(|&&a| !at_rest || cx.axis_states[usize::from(a)] != state)
+        {
+            return err(
+                "master",
+                format!(
+                    "the gantry's axes must be at rest, all powered or all disabled, to form it: \
+                     axis {a} is {:?}, the master {state:?}: {}",
+                    cx.axis_states[usize::from(a)],
+                    nack_text(NackCode::GantryState)
+                ),
+            );
+        }
+    }
+    Ok(())
 }
 
 /// `[card]`: the servo rate, with every axis disabled to change it. The servo rate the other
@@ -636,6 +829,12 @@ impl Card {
             cfg.group
                 .insert(g.to_string(), GroupSection::from_blocks(&c, &p));
         }
+        for g in 0..firmware_proto::cmd::MAX_GANTRIES {
+            let b = layout::GANTRY_STATUS.at(g).read(self.window());
+            if let Some(s) = GantrySection::from_block(&b, self.scale(b.master as usize)) {
+                cfg.gantry.insert(g.to_string(), s);
+            }
+        }
         Ok(cfg)
     }
 
@@ -929,6 +1128,17 @@ impl Card {
                 .map_err(|e| (format!("group.{gi}.path"), e))?;
                 done(format!("group.{gi}.path"));
             }
+        }
+        // Gantries last: their members' scales and settings are the file's by now.
+        for (key, g) in &file.gantry {
+            if held.gantry.get(key) == Some(g) {
+                continue;
+            }
+            let gi: usize = key.parse().expect("checked");
+            let slaves: Vec<usize> = g.slaves.iter().map(|&a| usize::from(a)).collect();
+            self.gantry_at(gi, usize::from(g.master), &slaves, &g.config())
+                .map_err(|e| (format!("gantry.{gi}"), e))?;
+            done(format!("gantry.{gi}"));
         }
         Ok(())
     }

@@ -68,9 +68,9 @@ pub use card_emu::{
 pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
-    FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
-    IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
-    ECHO_CHARS, MAX_CONFIG_BYTES,
+    FfpivSection, FilterName, FilterSection, GantrySection, GroupSection, HomingSection,
+    InterpolatorName, IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw,
+    CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;

@@ -17,6 +17,11 @@
 //! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! mcctl --card emu:bench1 handwheel 0 --input 0 --ratio 10 --for 60   # aux 0 jogs axis 0, x10
+//! mcctl --card emu:bench1 gantry form 0 --slaves 1 --skew-limit 200 --offsets 25   # a gantry
+//! mcctl --card emu:bench1 gantry home 0              # each side homed, the bridge squared
+//! mcctl --card emu:bench1 gantry status --json       # phase, skews, gains (dissolve 0 ends it)
+//! mcctl --card emu:bench1 comp 0 load x-laser.csv --bound 0.02 --backlash 0.004   # pitch error
+//! mcctl --card emu:bench1 comp 0 show                # the table read back (clear: off)
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
 //! mcctl --card emu:bench1 io --set-outputs 0x0F 0x05   # digital outputs, then inputs/outputs
 //! mcctl --card emu:bench1 pvt 0 points.csv --vmax 1e5 --amax 1e6 --enable   # a PT/PVT stream
@@ -117,6 +122,17 @@ enum Cmd {
     /// detent (x1, x10, x100), for --for seconds, then lets go (the axis goes on to where the
     /// wheel put it). --off only lets go.
     Handwheel(cli::handwheel::Args),
+    /// Layout 1.10: gantry axes (a master and its slaves, one logical axis): form, home (each
+    /// side homed, the bridge squared to its offsets), status, dissolve. Lengths in the
+    /// master's user units.
+    Gantry {
+        #[command(subcommand)]
+        action: cli::gantry::Action,
+    },
+    /// Layout 1.9: an axis's leadscrew pitch-error and backlash compensation: load a table
+    /// file (`position, correction[, correction_negative]` a line, user units; --errors: the
+    /// columns are measured errors), show the table the card holds, clear it.
+    Comp(cli::comp::Args),
     /// MC_Home with the axis's homing settings (CiA 402 methods), waited for.
     Home(cli::home::Args),
     /// MC_SetOverride: the axis's velocity factor, 0 to 2 (0 % to 200 %). It stays on the card
@@ -180,6 +196,8 @@ fn main() -> ExitCode {
         Cmd::Move(a) => cli::moves::run(uri, a),
         Cmd::Jog(a) => cli::jog::run(uri, a),
         Cmd::Handwheel(a) => cli::handwheel::run(uri, a),
+        Cmd::Gantry { action } => cli::gantry::run(uri, action),
+        Cmd::Comp(a) => cli::comp::run(uri, a),
         Cmd::Home(a) => cli::home::run(uri, a),
         Cmd::Override(a) => cli::set_override::run(uri, a),
         Cmd::Run(a) => cli::run::run(uri, a),

@@ -27,6 +27,76 @@ pub struct Config {
     /// Groups by number (`"0"`…).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub group: BTreeMap<String, GroupSection>,
+    /// Layout 1.10: formed gantries by number (`"0"`…); formed last when a file is loaded.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub gantry: BTreeMap<String, GantrySection>,
+}
+
+/// `[gantry.N]` (layout 1.10): a formed gantry ([`crate::Card::gantry_at`]), the skew limit
+/// and the offsets in the master's user units (the file's `scale`). Read back from the card's
+/// `gantry_status`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GantrySection {
+    /// The master axis.
+    pub master: u8,
+    /// The slave axes (1 to 4).
+    pub slaves: Vec<u8>,
+    /// Proportional gain of the yaw loop, 1/s².
+    pub kp: f64,
+    /// Integral gain of the yaw loop, 1/s³.
+    pub ki: f64,
+    /// The skew beyond which every member stops (> 0).
+    pub skew_limit: f64,
+    /// Each slave's square offset, in the order of `slaves` (empty: 0 for each).
+    #[serde(default)]
+    pub offsets: Vec<f64>,
+}
+
+impl GantrySection {
+    /// The SDK's settings of the section.
+    pub fn config(&self) -> crate::GantryConfig {
+        crate::GantryConfig {
+            kp: self.kp,
+            ki: self.ki,
+            skew_limit: self.skew_limit,
+            offsets: self.offsets.clone(),
+        }
+    }
+
+    /// The section of a formed gantry's status block (`None`: not formed), in user units of
+    /// `scale` (each length the shortest decimal that the card holds as the same count, as
+    /// `modulo`'s).
+    pub(crate) fn from_block(b: &raw::mc_gantry_status, scale: f64) -> Option<Self> {
+        if b.phase == raw::MC_GANTRY_NONE {
+            return None;
+        }
+        let n = (b.nslaves as usize).min(b.slave.len());
+        Some(Self {
+            master: b.master as u8,
+            slaves: b.slave[..n].iter().map(|&a| a as u8).collect(),
+            kp: b.kp,
+            ki: b.ki,
+            skew_limit: user_length(b.skew_limit, scale.abs()),
+            offsets: b.offset[..n]
+                .iter()
+                .map(|&o| user_length(o, scale))
+                .collect(),
+        })
+    }
+}
+
+/// `counts` in user units of `scale`: the shortest decimal `x` with `x·scale == counts`
+/// (else the quotient).
+pub(crate) fn user_length(counts: f64, scale: f64) -> f64 {
+    let m = counts / scale;
+    if !m.is_finite() || counts == 0.0 {
+        return m;
+    }
+    (0..17)
+        .filter_map(|k| format!("{m:.k$e}").parse::<f64>().ok())
+        .find(|x| x * scale == counts)
+        .unwrap_or(m)
 }
 
 /// `[card]`: `mc_card_config`.
