@@ -1166,6 +1166,23 @@ extern "C" {
 #define MC_SCOPE_SIG_COMP_POS 15
 
 /**
+ * Layout 1.11: the servo law's output, the biquad chain's input, V.
+ */
+#define MC_SCOPE_SIG_FILTER_IN 16
+
+/**
+ * Layout 1.11: the biquad chain's output before the DAC clamp, V (`u_request`; the law's output
+ * when no filter is set).
+ */
+#define MC_SCOPE_SIG_FILTER_OUT 17
+
+/**
+ * Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SCOPE_SIG_SERVO_FF`; 0 under
+ * the other laws).
+ */
+#define MC_SCOPE_SIG_SERVO_FRICTION 18
+
+/**
  * Tangential velocity before the filters, counts/s (feed).
  */
 #define MC_SCOPE_SIG_PATH_SPEED 32
@@ -1786,6 +1803,23 @@ extern "C" {
  * `MC_EVENT_HOMING_FAILED` carry this seq.
  */
 #define MC_OP_GANTRY_HOME 110
+
+/**
+ * Axis: the axis. args: slot (`0..MC_BIQUADS-1`), kind (`MC_BIQUAD_NOTCH.._RAW`), `freq_hz`,
+ * damping, `depth_db`, `freq2_hz`, b0, b1, b2, a1, a2 (the arguments a kind does not use: 0). A
+ * slot or kind out of range or not an integer: `MC_NACK_FILTER_KIND`; a number not finite:
+ * `MC_NACK_NOT_FINITE`; a frequency <= 0 or >= `servo_rate_hz` / 2: `MC_NACK_FILTER_FREQ`; a
+ * damping <= 0 or above 10, a depth out of -120..0, a raw |b| above `MC_BIQUAD_RAW_B_MAX`:
+ * `MC_NACK_FILTER_PARAM`; the poles not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`:
+ * `MC_NACK_FILTER_UNSTABLE`.
+ */
+#define MC_OP_SERVO_FILTER_SET 112
+
+/**
+ * Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an empty
+ * slot is not an error.
+ */
+#define MC_OP_SERVO_FILTER_CLEAR 113
 
 /**
  * Most slaves of a gantry.
@@ -4476,6 +4510,35 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PLANE_AXES -130
 
 /**
+ * Layout 1.11: a servo filter's slot (0..4) or kind out of range.
+ */
+#define MC_ERR_FILTER_KIND -131
+
+/**
+ * A servo filter's frequency not above 0 and below the Nyquist frequency (half the servo
+ * rate); also a servo rate at which a filter set would not be.
+ */
+#define MC_ERR_FILTER_FREQ -132
+
+/**
+ * A servo filter's damping (0 < damping <= 10), depth (-120..0 dB) or raw coefficient
+ * out of range.
+ */
+#define MC_ERR_FILTER_PARAM -133
+
+/**
+ * The servo filter designed has a pole on or outside the unit circle (within the card's
+ * margin of it): it would be unstable.
+ */
+#define MC_ERR_FILTER_UNSTABLE -134
+
+/**
+ * PID+FF gains refused: a gain negative, a derivative cut-off or friction deadband not
+ * above 0.
+ */
+#define MC_ERR_PIDFF_GAINS -135
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4495,6 +4558,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 
 
@@ -6231,6 +6296,26 @@ mc_result mc_send_raw(mc_card card,
  */
 
 /**
+ * Filters per axis.
+ */
+#define MC_BIQUADS 4u
+
+/**
+ * `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2 damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
+ */
+#define MC_BIQUAD_NOTCH 1u
+
+/**
+ * A filter's poles lie within 1 - margin of the origin.
+ */
+#define MC_BIQUAD_POLE_MARGIN 1e-6
+
+/**
+ * A raw filter's |b0|, |b1|, |b2| at most this.
+ */
+#define MC_BIQUAD_RAW_B_MAX 1e6
+
+/**
  * `MC_OP_CAM_IN` flag (beside the master source).
  */
 #define MC_CAM_AT_CYCLE_END (1u << 4)
@@ -6315,7 +6400,7 @@ mc_result mc_send_raw(mc_card card,
 #define MC_COMP_MAX_POINTS 256u
 
 /**
- * `axis_config[i]` and `axis_pdplus[i]`.
+ * `axis_config[i]`, `axis_pdplus[i]` and `axis_pidff[i]`.
  */
 #define MC_CONFIG_AXIS 2u
 
@@ -6562,6 +6647,26 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_FILTER_BUSY 28
 
 /**
+ * A filter frequency not above 0 and below the Nyquist frequency (`servo_rate_hz` / 2).
+ */
+#define MC_NACK_FILTER_FREQ 141
+
+/**
+ * A filter slot or kind out of range or not an integer.
+ */
+#define MC_NACK_FILTER_KIND 140
+
+/**
+ * A filter's damping (0 < damping <= 10), depth (-120 <= `depth_db` <= 0) or raw b (|b| <= `MC_BIQUAD_RAW_B_MAX`) out of range.
+ */
+#define MC_NACK_FILTER_PARAM 142
+
+/**
+ * The filter's poles are not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`.
+ */
+#define MC_NACK_FILTER_UNSTABLE 143
+
+/**
  * Gantry index, master or slaves out of range, master == slave, a slave twice.
  */
 #define MC_NACK_GANTRY_AXES 136
@@ -6782,6 +6887,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PATH_ZERO_LENGTH 81
 
 /**
+ * `MC_OP_APPLY_AXIS_CONFIG` with `MC_SERVO_PIDFF`: a gain negative, a derivative cut-off or a friction deadband not above 0 (not finite: `MC_NACK_NOT_FINITE`).
+ */
+#define MC_NACK_PIDFF_GAINS 144
+
+/**
  * An arc's plane of two group axes names one axis twice.
  */
 #define MC_NACK_PLANE_AXES 139
@@ -6969,6 +7079,11 @@ mc_result mc_send_raw(mc_card card,
  * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
  */
 #define MC_SERVO_PDPLUS 1u
+
+/**
+ * Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
+ */
+#define MC_SERVO_PIDFF 2u
 
 #define MC_SERVO_RATE_MAX_HZ 20000u
 

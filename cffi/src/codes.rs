@@ -670,6 +670,17 @@ pub const MC_SCOPE_SIG_GANTRY_SKEW: u32 = 14;
 /// the pitch-error and backlash correction).
 pub const MC_SCOPE_SIG_COMP_POS: u32 = 15;
 
+/// Layout 1.11: the servo law's output, the biquad chain's input, V.
+pub const MC_SCOPE_SIG_FILTER_IN: u32 = 16;
+
+/// Layout 1.11: the biquad chain's output before the DAC clamp, V (`u_request`; the law's output
+/// when no filter is set).
+pub const MC_SCOPE_SIG_FILTER_OUT: u32 = 17;
+
+/// Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SCOPE_SIG_SERVO_FF`; 0 under
+/// the other laws).
+pub const MC_SCOPE_SIG_SERVO_FRICTION: u32 = 18;
+
 /// Tangential velocity before the filters, counts/s (feed).
 pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
 
@@ -1089,3 +1100,16 @@ pub const MC_OP_GANTRY_DISSOLVE: u32 = 109;
 /// `MC_HOMING_ERROR_*` and the failing axis as value. The members' own `MC_EVENT_MOTION_DONE` /
 /// `MC_EVENT_HOMING_FAILED` carry this seq.
 pub const MC_OP_GANTRY_HOME: u32 = 110;
+
+/// Axis: the axis. args: slot (`0..MC_BIQUADS-1`), kind (`MC_BIQUAD_NOTCH.._RAW`), `freq_hz`,
+/// damping, `depth_db`, `freq2_hz`, b0, b1, b2, a1, a2 (the arguments a kind does not use: 0). A
+/// slot or kind out of range or not an integer: `MC_NACK_FILTER_KIND`; a number not finite:
+/// `MC_NACK_NOT_FINITE`; a frequency <= 0 or >= `servo_rate_hz` / 2: `MC_NACK_FILTER_FREQ`; a
+/// damping <= 0 or above 10, a depth out of -120..0, a raw |b| above `MC_BIQUAD_RAW_B_MAX`:
+/// `MC_NACK_FILTER_PARAM`; the poles not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`:
+/// `MC_NACK_FILTER_UNSTABLE`.
+pub const MC_OP_SERVO_FILTER_SET: u32 = 112;
+
+/// Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an empty
+/// slot is not an error.
+pub const MC_OP_SERVO_FILTER_CLEAR: u32 = 113;

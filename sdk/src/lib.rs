@@ -49,6 +49,7 @@ pub mod report;
 mod safety;
 mod scope;
 mod segment;
+mod servo;
 mod session;
 mod sync;
 pub mod trace;
@@ -69,8 +70,8 @@ pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GroupSection, HomingSection, InterpolatorName,
-    IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw, CONFIG_HEADER,
-    ECHO_CHARS, MAX_CONFIG_BYTES,
+    IoSection, LoadReport, PathSection, PdPlusSection, PidffSection, SafetySection, ServoLaw,
+    CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
@@ -118,6 +119,7 @@ pub use scope::{
     SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,
 };
 pub use segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
+pub use servo::{BiquadKind, BiquadSpec, PidffSettings, ServoFilter, BIQUADS};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;

@@ -1,0 +1,246 @@
+//! Layout 1.11: the PID + feed-forward servo law and the biquad filters on the servo output,
+//! on the stepped card against the emulator's plant. The following errors of PID+FF and FFPIV
+//! on the same S-curve are printed: `cargo test --release --test pidff -- --nocapture`.
+mod common;
+
+use common::stepped_card_with;
+use motioncard_sdk::{
+    AxisState, BiquadKind, BiquadSpec, Card, EmuOptions, ErrorKind, MotorParams, MoveLimits,
+    PidffSettings, BIQUADS,
+};
+use std::time::Duration;
+
+const RATE: u32 = 10_000;
+const LONG: Duration = Duration::from_secs(30);
+
+fn card_with(motor: MotorParams) -> Card {
+    let mut emu = EmuOptions::new(1, RATE);
+    emu.motors[0] = motor;
+    let card = stepped_card_with(emu);
+    card.axis(0).unwrap().enable().unwrap();
+    card
+}
+
+/// PID+FF for the default plant: the default placement with the plant's viscous damping and
+/// Coulomb friction fed forward (volts per count/s, volts).
+fn tuned(m: &MotorParams) -> PidffSettings {
+    let volts_per_torque = 1.0 / (m.kt * m.amp_gain);
+    PidffSettings {
+        kvff: m.damping / m.counts_per_rad() * volts_per_torque,
+        friction: m.coulomb * volts_per_torque,
+        friction_deadband: 50.0,
+        ..PidffSettings::for_drive(m.accel_per_volt(), 2.0 * std::f64::consts::PI * 60.0)
+    }
+}
+
+/// The largest |following error| over a 50,000-count S-curve and the 50 ms after it.
+fn worst_error(card: &Card) -> f64 {
+    let axis = card.axis(0).unwrap();
+    let sim = card.sim().unwrap();
+    let lim = MoveLimits::new(2e5, 2e6, 1e8);
+    let m = axis.move_relative(50_000.0, &lim).unwrap();
+    let mut worst: f64 = 0.0;
+    sim.trace(0, 10_000, |s| {
+        worst = worst.max(s.raw.ferr.abs());
+        s.state == AxisState::DiscreteMotion
+    })
+    .unwrap();
+    m.wait(LONG).unwrap();
+    sim.trace(0, 500, |s| {
+        worst = worst.max(s.raw.ferr.abs());
+        true
+    })
+    .unwrap();
+    worst
+}
+
+/// Under PID+FF with the plant's inertia, damping and friction fed forward the axis follows an
+/// S-curve (2·10⁵ counts/s, 2·10⁶ counts/s², 10⁸ counts/s³) within 2 counts. The bound: the
+/// output of tick k holds over [k, k+1) while the reference's acceleration moves on by j·T in
+/// it, a mismatch of j·T/2 = 5,000 counts/s² on average, whose double integral over a jerk
+/// phase (a/j = 20 ms) is j·T/2·(a/j)²/2 = 1 count with no feedback at all; the encoder's
+/// quantisation adds a count. (The friction feed-forward steps at ±50 counts/s, the plant's
+/// friction at 0: 0.033 V for the 1 ms between, 0.02 count.) FFPIV on the same move is
+/// printed beside it.
+#[test]
+fn pidff_follows_an_s_curve_within_its_bound() {
+    let m = MotorParams::default_servo();
+    let card = card_with(m);
+    card.axis(0).unwrap().configure_pidff(&tuned(&m)).unwrap();
+    let pid = worst_error(&card);
+    let card = card_with(m);
+    let ffpiv = worst_error(&card);
+    println!("S-curve 50,000 counts: worst following error PID+FF {pid:.2} counts, FFPIV {ffpiv:.2} counts");
+    assert!(pid <= 2.0, "PID+FF following error {pid}");
+}
+
+/// The settings read back are those set; refused gains change nothing.
+#[test]
+fn pidff_gains_are_read_back_and_bad_ones_refused() {
+    let card = card_with(MotorParams::default_servo());
+    let axis = card.axis(0).unwrap();
+    assert_eq!(axis.pidff_settings().unwrap(), None);
+    let g = tuned(&MotorParams::default_servo());
+    axis.configure_pidff(&g).unwrap();
+    assert_eq!(axis.pidff_settings().unwrap(), Some(g));
+    for (bad, kind) in [
+        (PidffSettings { ki: -1.0, ..g }, ErrorKind::PidffGains),
+        (
+            PidffSettings {
+                friction: -0.1,
+                ..g
+            },
+            ErrorKind::PidffGains,
+        ),
+        (
+            PidffSettings {
+                friction_deadband: 0.0,
+                ..g
+            },
+            ErrorKind::PidffGains,
+        ),
+        (
+            PidffSettings {
+                d_filter_hz: 0.0,
+                ..g
+            },
+            ErrorKind::PidffGains,
+        ),
+        (PidffSettings { kd: f64::NAN, ..g }, ErrorKind::NotFinite),
+        (
+            PidffSettings {
+                kp: f64::INFINITY,
+                ..g
+            },
+            ErrorKind::NotFinite,
+        ),
+    ] {
+        assert_eq!(
+            axis.configure_pidff(&bad).unwrap_err().kind(),
+            kind,
+            "{bad:?}"
+        );
+        assert_eq!(axis.pidff_settings().unwrap(), Some(g));
+    }
+}
+
+/// At rest against a constant load torque the integrator holds the output; switching the law
+/// (FFPIV → PID+FF → FFPIV) does not step the DAC.
+#[test]
+fn switching_the_law_at_rest_is_bumpless() {
+    let m = MotorParams::default_servo();
+    let card = card_with(m);
+    let sim = card.sim().unwrap();
+    let axis = card.axis(0).unwrap();
+    sim.with_emulator(|e| e.motor_mut(0).unwrap().disturbance = 0.45);
+    sim.step(20_000);
+    let dac = || axis.status().unwrap().raw.dac_v;
+    let held = dac();
+    assert!(held.abs() > 1.0, "the integrator holds {held} V");
+    let settings = axis.settings().unwrap();
+    let mut worst: f64 = 0.0;
+    let mut watch = |card: &Card| {
+        card.sim()
+            .unwrap()
+            .trace(0, 200, |s| {
+                worst = worst.max((s.raw.dac_v - held).abs());
+                true
+            })
+            .unwrap();
+    };
+    axis.configure_pidff(&tuned(&m)).unwrap();
+    watch(&card);
+    axis.configure(&settings).unwrap();
+    watch(&card);
+    println!("law switched at {held:.3} V: the DAC moved at most {worst:.4} V");
+    assert!(worst < 0.05, "the DAC stepped by {worst} V");
+}
+
+/// Filters through the SDK: set and read back, refused with their own codes changing nothing,
+/// cleared.
+#[test]
+fn filters_are_set_read_back_refused_and_cleared() {
+    let card = card_with(MotorParams::default_servo());
+    let axis = card.axis(0).unwrap();
+    assert!(axis.filters().unwrap().iter().all(Option::is_none));
+    let notch = BiquadSpec::notch(24.0, 0.2, -20.0);
+    axis.set_filter(1, &notch).unwrap();
+    axis.set_filter(3, &BiquadSpec::low_pass(800.0, 0.7))
+        .unwrap();
+    let held = axis.filters().unwrap();
+    assert_eq!(held[1].unwrap().spec, notch);
+    assert_eq!(held[3].unwrap().spec.kind, BiquadKind::LowPass);
+    assert!(held[0].is_none() && held[2].is_none());
+    let nyquist = RATE as f64 / 2.0;
+    for (slot, spec, kind) in [
+        (4, notch, ErrorKind::FilterKind),
+        (
+            0,
+            BiquadSpec::notch(nyquist, 0.2, -20.0),
+            ErrorKind::FilterFreq,
+        ),
+        (0, BiquadSpec::lead_lag(10.0, 7000.0), ErrorKind::FilterFreq),
+        (
+            0,
+            BiquadSpec::notch(24.0, -0.2, -20.0),
+            ErrorKind::FilterParam,
+        ),
+        (0, BiquadSpec::notch(24.0, 0.2, 6.0), ErrorKind::FilterParam),
+        (
+            0,
+            BiquadSpec::raw([1.0, 0.0, 0.0, -2.0, 1.0]),
+            ErrorKind::FilterUnstable,
+        ),
+        (0, BiquadSpec::low_pass(f64::NAN, 0.7), ErrorKind::NotFinite),
+        (
+            1,
+            BiquadSpec::notch(24.0, 0.2, f64::INFINITY),
+            ErrorKind::NotFinite,
+        ),
+    ] {
+        let e = axis.set_filter(slot, &spec).unwrap_err();
+        assert_eq!(e.kind(), kind, "slot {slot} {spec:?}");
+        assert_eq!(axis.filters().unwrap(), held, "changed by {spec:?}");
+    }
+    assert_eq!(
+        axis.clear_filter(BIQUADS).unwrap_err().kind(),
+        ErrorKind::FilterKind
+    );
+    axis.clear_filters().unwrap();
+    assert!(axis.filters().unwrap().iter().all(Option::is_none));
+}
+
+/// Four filters on the servo output of an axis at rest: a set filter does not step the DAC;
+/// a move under PID+FF with a notch and a low-pass still ends in position.
+#[test]
+fn filters_set_at_rest_do_not_step_the_dac_and_the_loop_still_settles() {
+    let m = MotorParams::default_servo();
+    let card = card_with(m);
+    let sim = card.sim().unwrap();
+    let axis = card.axis(0).unwrap();
+    axis.configure_pidff(&tuned(&m)).unwrap();
+    sim.with_emulator(|e| e.motor_mut(0).unwrap().disturbance = 0.3);
+    sim.step(20_000);
+    let held = axis.status().unwrap().raw.dac_v;
+    axis.set_filter(0, &BiquadSpec::notch(300.0, 0.3, -20.0))
+        .unwrap();
+    axis.set_filter(1, &BiquadSpec::low_pass(1500.0, 0.7))
+        .unwrap();
+    axis.set_filter(2, &BiquadSpec::lead_lag(400.0, 600.0))
+        .unwrap();
+    axis.set_filter(3, &BiquadSpec::notch(2000.0, 0.2, -10.0))
+        .unwrap();
+    let mut worst: f64 = 0.0;
+    sim.trace(0, 100, |s| {
+        worst = worst.max((s.raw.dac_v - held).abs());
+        true
+    })
+    .unwrap();
+    assert!(worst < 0.02, "the DAC stepped by {worst} V from {held} V");
+    let at = axis
+        .move_relative(20_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    assert!((at - axis.status().unwrap().raw.target).abs() <= 1.0);
+}
