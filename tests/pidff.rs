@@ -244,3 +244,106 @@ fn filters_set_at_rest_do_not_step_the_dac_and_the_loop_still_settles() {
         .unwrap();
     assert!((at - axis.status().unwrap().raw.target).abs() <= 1.0);
 }
+
+/// The scope samples the filter chain's input and output and the friction feed-forward: with
+/// a low-pass set, over a move the output lags the input (they differ), and the friction term
+/// is ±friction while the reference moves beyond the deadband.
+#[test]
+fn the_scope_samples_the_filter_chain_and_the_friction_term() {
+    use motioncard_sdk::{ScopeSettings, Signal, Source};
+    let m = MotorParams::default_servo();
+    let card = card_with(m);
+    let axis = card.axis(0).unwrap();
+    let g = tuned(&m);
+    axis.configure_pidff(&g).unwrap();
+    axis.set_filter(0, &BiquadSpec::low_pass(500.0, 0.7))
+        .unwrap();
+    let settings = ScopeSettings::new(
+        &[
+            Source::axis(Signal::FilterIn, 0),
+            Source::axis(Signal::FilterOut, 0),
+            Source::axis(Signal::URequest, 0),
+            Source::axis(Signal::ServoFriction, 0),
+            Source::axis(Signal::CmdVel, 0),
+        ],
+        2_000,
+    );
+    let cap = card
+        .scope()
+        .capture(&settings, LONG, |_| {
+            axis.move_relative(20_000.0, &MoveLimits::new(2e5, 2e6, 1e8))
+                .map(|_| ())
+        })
+        .unwrap();
+    assert_eq!(cap.samples.len(), 2_000);
+    let mut differ = 0;
+    for s in &cap.samples {
+        let v = s.value;
+        assert_eq!(v[1], v[2], "the chain's output is u_request");
+        if (v[0] - v[1]).abs() > 1e-3 {
+            differ += 1;
+        }
+        let want = if v[4] > g.friction_deadband {
+            g.friction
+        } else {
+            0.0
+        };
+        assert_eq!(v[3], want, "friction term at v_ref {}", v[4]);
+    }
+    assert!(differ > 100, "the low-pass changed {differ} samples");
+}
+
+/// The machine table of the Shin experiment with its coupling resonating at 300 Hz
+/// (`MotorParams::machine_table`: motor 2·10⁻⁴, table 3·10⁻⁴ kg·m², ζ = 0.03), under PID+FF
+/// placed for a 60 Hz crossover, with a notch at the resonance or a second-order low-pass at
+/// 600 Hz on the servo output: the loop stays stable, the move ends in position and the axis
+/// holds within a count (2 counts peak-to-peak of following error) over the last 100 ms of a
+/// second at rest. (The same without a filter is printed beside them. Not shown here: a
+/// resonance that makes this loop ring. With the encoder on the motor the emulator's coupling
+/// did not, at any tuning that was stable on the plain plant.)
+#[test]
+fn a_notch_or_low_pass_on_a_resonant_plant_keeps_the_loop_stable() {
+    const HZ: f64 = 300.0;
+    const LP: f64 = 600.0;
+    let run = |filter: Option<BiquadSpec>| {
+        let m = MotorParams::machine_table(HZ);
+        let card = card_with(m);
+        let axis = card.axis(0).unwrap();
+        let g = PidffSettings::for_drive(m.accel_per_volt(), 2.0 * std::f64::consts::PI * 60.0);
+        axis.configure_pidff(&g).unwrap();
+        if let Some(f) = filter {
+            axis.set_filter(0, &f).unwrap();
+        }
+        let mv = axis
+            .move_relative(5_000.0, &MoveLimits::new(1e5, 1e6, 1e8))
+            .unwrap();
+        let sim = card.sim().unwrap();
+        sim.step(9_000);
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        sim.trace(0, 1_000, |s| {
+            lo = lo.min(s.raw.ferr);
+            hi = hi.max(s.raw.ferr);
+            true
+        })
+        .unwrap();
+        let st = axis.status().unwrap();
+        assert_ne!(
+            st.state,
+            AxisState::ErrorStop,
+            "{filter:?}: stop {:?}",
+            st.raw.stop_reason
+        );
+        (hi - lo, mv.wait(Duration::ZERO).is_ok())
+    };
+    let bare = run(None);
+    let notched = run(Some(BiquadSpec::notch(HZ, 0.3, -30.0)));
+    let low = run(Some(BiquadSpec::low_pass(LP, 0.7)));
+    println!(
+        "resonance {HZ} Hz: p-p following error at rest: none {:.0}, notch {:.0}, low-pass {:.0} counts",
+        bare.0, notched.0, low.0
+    );
+    for (name, (pp, done)) in [("notch", notched), ("low-pass", low)] {
+        assert!(done, "{name}: the move did not end in position");
+        assert!(pp <= 2.0, "{name}: {pp} counts peak-to-peak");
+    }
+}
