@@ -162,12 +162,12 @@ fn switching_the_law_at_rest_is_bumpless() {
 fn filters_are_set_read_back_refused_and_cleared() {
     let card = card_with(MotorParams::default_servo());
     let axis = card.axis(0).unwrap();
-    assert!(axis.filters().unwrap().iter().all(Option::is_none));
+    assert!(axis.servo_filters().unwrap().iter().all(Option::is_none));
     let notch = BiquadSpec::notch(24.0, 0.2, -20.0);
-    axis.set_filter(1, &notch).unwrap();
-    axis.set_filter(3, &BiquadSpec::low_pass(800.0, 0.7))
+    axis.set_servo_filter(1, &notch).unwrap();
+    axis.set_servo_filter(3, &BiquadSpec::low_pass(800.0, 0.7))
         .unwrap();
-    let held = axis.filters().unwrap();
+    let held = axis.servo_filters().unwrap();
     assert_eq!(held[1].unwrap().spec, notch);
     assert_eq!(held[3].unwrap().spec.kind, BiquadKind::LowPass);
     assert!(held[0].is_none() && held[2].is_none());
@@ -198,16 +198,16 @@ fn filters_are_set_read_back_refused_and_cleared() {
             ErrorKind::NotFinite,
         ),
     ] {
-        let e = axis.set_filter(slot, &spec).unwrap_err();
+        let e = axis.set_servo_filter(slot, &spec).unwrap_err();
         assert_eq!(e.kind(), kind, "slot {slot} {spec:?}");
-        assert_eq!(axis.filters().unwrap(), held, "changed by {spec:?}");
+        assert_eq!(axis.servo_filters().unwrap(), held, "changed by {spec:?}");
     }
     assert_eq!(
-        axis.clear_filter(BIQUADS).unwrap_err().kind(),
+        axis.clear_servo_filter(BIQUADS).unwrap_err().kind(),
         ErrorKind::FilterKind
     );
-    axis.clear_filters().unwrap();
-    assert!(axis.filters().unwrap().iter().all(Option::is_none));
+    axis.clear_servo_filters().unwrap();
+    assert!(axis.servo_filters().unwrap().iter().all(Option::is_none));
 }
 
 /// Four filters on the servo output of an axis at rest: a set filter does not step the DAC;
@@ -222,13 +222,13 @@ fn filters_set_at_rest_do_not_step_the_dac_and_the_loop_still_settles() {
     sim.with_emulator(|e| e.motor_mut(0).unwrap().disturbance = 0.3);
     sim.step(20_000);
     let held = axis.status().unwrap().raw.dac_v;
-    axis.set_filter(0, &BiquadSpec::notch(300.0, 0.3, -20.0))
+    axis.set_servo_filter(0, &BiquadSpec::notch(300.0, 0.3, -20.0))
         .unwrap();
-    axis.set_filter(1, &BiquadSpec::low_pass(1500.0, 0.7))
+    axis.set_servo_filter(1, &BiquadSpec::low_pass(1500.0, 0.7))
         .unwrap();
-    axis.set_filter(2, &BiquadSpec::lead_lag(400.0, 600.0))
+    axis.set_servo_filter(2, &BiquadSpec::lead_lag(400.0, 600.0))
         .unwrap();
-    axis.set_filter(3, &BiquadSpec::notch(2000.0, 0.2, -10.0))
+    axis.set_servo_filter(3, &BiquadSpec::notch(2000.0, 0.2, -10.0))
         .unwrap();
     let mut worst: f64 = 0.0;
     sim.trace(0, 100, |s| {
@@ -256,7 +256,7 @@ fn the_scope_samples_the_filter_chain_and_the_friction_term() {
     let axis = card.axis(0).unwrap();
     let g = tuned(&m);
     axis.configure_pidff(&g).unwrap();
-    axis.set_filter(0, &BiquadSpec::low_pass(500.0, 0.7))
+    axis.set_servo_filter(0, &BiquadSpec::low_pass(500.0, 0.7))
         .unwrap();
     let settings = ScopeSettings::new(
         &[
@@ -312,7 +312,7 @@ fn a_notch_or_low_pass_on_a_resonant_plant_keeps_the_loop_stable() {
         let g = PidffSettings::for_drive(m.accel_per_volt(), 2.0 * std::f64::consts::PI * 60.0);
         axis.configure_pidff(&g).unwrap();
         if let Some(f) = filter {
-            axis.set_filter(0, &f).unwrap();
+            axis.set_servo_filter(0, &f).unwrap();
         }
         let mv = axis
             .move_relative(5_000.0, &MoveLimits::new(1e5, 1e6, 1e8))

@@ -1075,6 +1075,58 @@ extern "C" {
 #define MC_CAM_MAX_POINTS 1024
 
 /**
+ * `mc_axis_settings.servo_law`: the servo law an axis runs.
+ */
+#define MC_SERVO_FFPIV 0
+
+/**
+ * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+ */
+#define MC_SERVO_PDPLUS 1
+
+/**
+ * Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction
+ * feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
+ */
+#define MC_SERVO_PIDFF 2
+
+/**
+ * Servo filters per axis (slots 0..`MC_BIQUADS`-1).
+ *
+ * Filters per axis.
+ */
+#define MC_BIQUADS 4
+
+/**
+ * `mc_servo_filter.kind`: what a servo filter is.
+ *
+ * The slot is empty.
+ */
+#define MC_BIQUAD_NONE 0
+
+/**
+ * `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2
+ * damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
+ */
+#define MC_BIQUAD_NOTCH 1
+
+/**
+ * Second order: `freq_hz`: corner; damping: damping ratio (0.707: Butterworth).
+ */
+#define MC_BIQUAD_LOWPASS 2
+
+/**
+ * First order (1 + s/w1) / (1 + s/w2): `freq_hz`: the zero's w1/2pi; `freq2_hz`: the pole's w2/2pi
+ * (above `freq_hz`: a lead, below: a lag); DC gain 1.
+ */
+#define MC_BIQUAD_LEAD_LAG 3
+
+/**
+ * The coefficients as given: y = b0 x + b1 `x[-1]` + b2 `x[-2]` - a1 `y[-1]` - a2 `y[-2]`.
+ */
+#define MC_BIQUAD_RAW 4
+
+/**
  * Channels per sample, at most (`mc_scope_settings.n_channels`).
  */
 #define MC_SCOPE_CHANNELS 16
@@ -1086,7 +1138,7 @@ extern "C" {
 
 /**
  * Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
- * (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+ * (1..18; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
  * the group) the group status's, card signals (48..50; index 0) the card's words.
  *
  * Commanded position, counts (`cmd_pos`).
@@ -3876,6 +3928,96 @@ typedef struct mc_scope_status {
  */
 typedef struct mc_scope_status mc_scope_info;
 
+/**
+ * The PID + feed-forward law (layout 1.11, Kim section 5): on the following error
+ * e = x_ref - x (counts), u = kp e + I + kd de/dt (through a first-order filter at
+ * d_filter_hz) + kvff v_ref + kaff a_ref + friction sign(v_ref) (0 while |v_ref| <= deadband).
+ * I integrates ki e and is clamped (anti-windup) to the DAC limit; it stops integrating while
+ * the output is saturated in the error's direction. Host writes; read with axis_config on
+ * MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PIDFF (a switch to it at rest is
+ * bumpless: the integrator starts from the output of the tick). Volts, counts, seconds.
+ */
+typedef struct mc_axis_pidff {
+  /**
+   * Proportional gain, V/count.
+   */
+  double kp;
+  /**
+   * Integral gain, V/(count s).
+   */
+  double ki;
+  /**
+   * Derivative gain, V per count/s.
+   */
+  double kd;
+  /**
+   * Velocity feed-forward, V per count/s of v_ref.
+   */
+  double kvff;
+  /**
+   * Acceleration feed-forward, V per count/s^2 of a_ref.
+   */
+  double kaff;
+  /**
+   * Coulomb friction feed-forward, V (times the sign of v_ref).
+   */
+  double friction;
+  /**
+   * |v_ref| at or below which the friction feed-forward is 0, counts/s (> 0).
+   */
+  double friction_deadband;
+  /**
+   * The derivative's first-order filter cut-off, Hz (> 0; at or above the Nyquist frequency
+   * it filters next to nothing).
+   */
+  double d_filter_hz;
+  double _reserved[8];
+} mc_axis_pidff;
+
+/**
+ * The PID + feed-forward law of an axis (Kim §5), in counts, seconds and volts: the card's
+ * `mc_axis_pidff` register block. `u = kp·e + ki·∫e + kd·ė + kvff·v_ref + kaff·a_ref +
+ * friction·sgn(v_ref)`: e the following error, ė through a first-order filter at
+ * `d_filter_hz`, the integrator clamped to the DAC limit (and stopped while the output is
+ * saturated in e's direction), the friction term 0 while |v_ref| <= `friction_deadband`.
+ */
+typedef struct mc_axis_pidff mc_pidff_settings;
+
+/**
+ * One servo filter: `kind` (`MC_BIQUAD_NOTCH`, `_LOWPASS`, `_LEAD_LAG`, `_RAW`; read back,
+ * `MC_BIQUAD_NONE` for an empty slot) and its parameters; the ones its kind does not use are
+ * 0.
+ */
+typedef struct mc_servo_filter {
+  /**
+   * `MC_BIQUAD_*`.
+   */
+  uint32_t kind;
+  uint32_t _reserved0;
+  /**
+   * Notch: the centre; low-pass: the corner; lead/lag: the zero's frequency, Hz.
+   */
+  double freq_hz;
+  /**
+   * Notch, low-pass: the damping ratio (a notch's width: its -3 dB band is about
+   * 2·damping·freq_hz wide).
+   */
+  double damping;
+  /**
+   * Notch: the gain at the centre, dB (-120..0).
+   */
+  double depth_db;
+  /**
+   * Lead/lag: the pole's frequency, Hz.
+   */
+  double freq2_hz;
+  /**
+   * `MC_BIQUAD_RAW`: b0, b1, b2, a1, a2 (a0 = 1). Read back (every kind): the coefficients
+   * the card designed at the servo rate.
+   */
+  double coeffs[5];
+} mc_servo_filter;
+
 typedef struct mc_safety_config {
   uint32_t watchdog_timeout_us;
   uint32_t estop_input_category;
@@ -6082,6 +6224,64 @@ mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
 mc_result mc_scope_wait(mc_card card, uint32_t timeout_ms, mc_scope_info *info);
 
 /**
+ * The card's default PID+FF tuning, or (accel_per_volt > 0) gains placed for a drive of that
+ * many counts/s² per volt at a crossover of `bandwidth_hz` (NaN, infinite or not above 0:
+ * `MC_ERR_BAD_CONFIG`). Never blocks.
+ */
+mc_result mc_pidff_settings_for_drive(double accel_per_volt,
+                                      double bandwidth_hz,
+                                      mc_pidff_settings *settings);
+
+/**
+ * Switch an axis to the PID + feed-forward law with these gains (any state; at rest the switch
+ * does not step the output). A gain negative, a derivative cut-off or friction deadband not
+ * above 0: `MC_ERR_PIDFF_GAINS`; NaN or infinity: `MC_ERR_NOT_FINITE`. A refusal changes
+ * nothing. Blocks until the card answers.
+ */
+mc_result mc_axis_configure_pidff(mc_card card, uint32_t axis, const mc_pidff_settings *settings);
+
+/**
+ * The axis's PID+FF gains as the card holds them (read back): `*active` is 1 and `*settings`
+ * the gains when the axis runs PID+FF, else `*active` is 0 and `*settings` all zero. Blocks
+ * until the card answers.
+ */
+mc_result mc_axis_get_pidff(mc_card card,
+                            uint32_t axis,
+                            mc_pidff_settings *settings,
+                            uint32_t *active);
+
+/**
+ * Set servo filter `slot` (0..`MC_BIQUADS`-1) of an axis: on the servo law's output, before
+ * the DAC clamp, designed by the card at the servo rate (bilinear transform with pre-warping)
+ * and checked. Refused, nothing changed: a slot or kind out of range `MC_ERR_FILTER_KIND`, a
+ * frequency not above 0 and below half the servo rate `MC_ERR_FILTER_FREQ`, a damping
+ * (0..10], depth (-120..0 dB) or raw b (|b| <= 1e6) out of range `MC_ERR_FILTER_PARAM`, a pole
+ * not inside the unit circle `MC_ERR_FILTER_UNSTABLE`, NaN or infinity `MC_ERR_NOT_FINITE`.
+ * Any state: the filter starts from the steady state of the output of the tick. Blocks until
+ * the card answers.
+ */
+mc_result mc_axis_set_servo_filter(mc_card card,
+                                   uint32_t axis,
+                                   uint32_t slot,
+                                   const struct mc_servo_filter *filter);
+
+/**
+ * Empty servo filter `slot` of an axis (an empty slot stays empty; out of range:
+ * `MC_ERR_FILTER_KIND`). Blocks until the card answers.
+ */
+mc_result mc_axis_clear_servo_filter(mc_card card, uint32_t axis, uint32_t slot);
+
+/**
+ * Servo filter `slot` of an axis as the card holds it: its kind and parameters, and in
+ * `coeffs` the coefficients the card designed (`kind` `MC_BIQUAD_NONE` and the rest 0: the
+ * slot is empty; out of range: `MC_ERR_FILTER_KIND`).
+ */
+mc_result mc_axis_get_servo_filter(mc_card card,
+                                   uint32_t axis,
+                                   uint32_t slot,
+                                   struct mc_servo_filter *filter);
+
+/**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
  * at `numerator / denominator` encoder counts per master count, computed on the card in
  * integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
@@ -6294,16 +6494,6 @@ mc_result mc_send_raw(mc_card card,
  * MC_NACK_ codes are what the card answers a raw command (positive); the library's calls return
  * MC_ERR_ codes.
  */
-
-/**
- * Filters per axis.
- */
-#define MC_BIQUADS 4u
-
-/**
- * `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2 damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
- */
-#define MC_BIQUAD_NOTCH 1u
 
 /**
  * A filter's poles lie within 1 - margin of the origin.
@@ -7072,22 +7262,6 @@ mc_result mc_send_raw(mc_card card,
 #define MC_SCOPE_PRETRIGGER_MAX 1024u
 
 #define MC_SCOPE_SOURCE(signal, index) ((uint32_t)(signal) | ((uint32_t)(index) << 16))
-
-#define MC_SERVO_FFPIV 0u
-
-/**
- * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
- */
-#define MC_SERVO_PDPLUS 1u
-
-/**
- * Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
- */
-#define MC_SERVO_PIDFF 2u
-
-#define MC_SERVO_RATE_MAX_HZ 20000u
-
-#define MC_SERVO_RATE_MIN_HZ 1000u
 
 #define MC_STATUS_WORDS 25u
 

@@ -613,6 +613,40 @@ pub const MC_CAM_TABLES: u32 = 4;
 /// Points of a cam table, at most.
 pub const MC_CAM_MAX_POINTS: u32 = 1024;
 
+/// `mc_axis_settings.servo_law`: the servo law an axis runs.
+pub const MC_SERVO_FFPIV: u32 = 0;
+
+/// Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+pub const MC_SERVO_PDPLUS: u32 = 1;
+
+/// Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction
+/// feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
+pub const MC_SERVO_PIDFF: u32 = 2;
+
+/// Servo filters per axis (slots 0..`MC_BIQUADS`-1).
+///
+/// Filters per axis.
+pub const MC_BIQUADS: u32 = 4;
+
+/// `mc_servo_filter.kind`: what a servo filter is.
+///
+/// The slot is empty.
+pub const MC_BIQUAD_NONE: u32 = 0;
+
+/// `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2
+/// damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
+pub const MC_BIQUAD_NOTCH: u32 = 1;
+
+/// Second order: `freq_hz`: corner; damping: damping ratio (0.707: Butterworth).
+pub const MC_BIQUAD_LOWPASS: u32 = 2;
+
+/// First order (1 + s/w1) / (1 + s/w2): `freq_hz`: the zero's w1/2pi; `freq2_hz`: the pole's w2/2pi
+/// (above `freq_hz`: a lead, below: a lag); DC gain 1.
+pub const MC_BIQUAD_LEAD_LAG: u32 = 3;
+
+/// The coefficients as given: y = b0 x + b1 `x[-1]` + b2 `x[-2]` - a1 `y[-1]` - a2 `y[-2]`.
+pub const MC_BIQUAD_RAW: u32 = 4;
+
 /// Channels per sample, at most (`mc_scope_settings.n_channels`).
 pub const MC_SCOPE_CHANNELS: u32 = 16;
 
@@ -620,7 +654,7 @@ pub const MC_SCOPE_CHANNELS: u32 = 16;
 pub const MC_SCOPE_RING_LEN: u32 = 4096;
 
 /// Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
-/// (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+/// (1..18; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
 /// the group) the group status's, card signals (48..50; index 0) the card's words.
 ///
 /// Commanded position, counts (`cmd_pos`).

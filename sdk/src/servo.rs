@@ -69,30 +69,31 @@ impl Axis {
     /// (`FilterKind`), a frequency not in (0, servo rate / 2) (`FilterFreq`), a damping, depth
     /// or raw coefficient out of range (`FilterParam`), an unstable design
     /// (`FilterUnstable`), a number not finite (`NotFinite`).
-    pub fn set_filter(&self, slot: usize, spec: &BiquadSpec) -> Result<()> {
+    pub fn set_servo_filter(&self, slot: usize, spec: &BiquadSpec) -> Result<()> {
         let set = ServoFilterSet {
             slot: u8::try_from(slot).unwrap_or(u8::MAX),
             spec: *spec,
         };
-        self.run(self.cmd(set_cmd(set)), "set_filter").map(|_| ())
+        self.run(self.cmd(set_cmd(set)), "set_servo_filter")
+            .map(|_| ())
     }
 
     /// Empty filter `slot` (an empty slot stays empty; out of range: `FilterKind`).
-    pub fn clear_filter(&self, slot: usize) -> Result<()> {
+    pub fn clear_servo_filter(&self, slot: usize) -> Result<()> {
         let clear = ServoFilterClear {
             slot: u8::try_from(slot).unwrap_or(u8::MAX),
         };
-        self.run(self.cmd(clear_cmd(clear)), "clear_filter")
+        self.run(self.cmd(clear_cmd(clear)), "clear_servo_filter")
             .map(|_| ())
     }
 
     /// Empty every filter slot.
-    pub fn clear_filters(&self) -> Result<()> {
-        (0..BIQUADS).try_for_each(|k| self.clear_filter(k))
+    pub fn clear_servo_filters(&self) -> Result<()> {
+        (0..BIQUADS).try_for_each(|k| self.clear_servo_filter(k))
     }
 
     /// The filters the axis holds, slot by slot, as the card wrote them back.
-    pub fn filters(&self) -> Result<[Option<ServoFilter>; BIQUADS]> {
+    pub fn servo_filters(&self) -> Result<[Option<ServoFilter>; BIQUADS]> {
         let b = layout::SERVO_FILTERS
             .at(self.index())
             .read(self.card().window());
