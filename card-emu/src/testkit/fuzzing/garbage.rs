@@ -242,7 +242,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 17] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 111, 256, 0x7FFF, 0x8000, 0xFFFF,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 106, 111, 114, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
