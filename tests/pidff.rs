@@ -347,3 +347,39 @@ fn a_notch_or_low_pass_on_a_resonant_plant_keeps_the_loop_stable() {
         assert!(pp <= 2.0, "{name}: {pp} counts peak-to-peak");
     }
 }
+
+/// `[axis.N.pidff]` in the configuration file: saved from the card, loaded onto another card
+/// (the same gains read back), and refused whole, naming the key, with a negative gain or
+/// without its table.
+#[test]
+fn pidff_goes_through_the_configuration_file() {
+    let m = MotorParams::default_servo();
+    let card = card_with(m);
+    let g = tuned(&m);
+    card.axis(0).unwrap().configure_pidff(&g).unwrap();
+    let text = card.save_config().unwrap();
+    assert!(text.contains("servo_law = \"pidff\""), "{text}");
+    assert!(text.contains("[axis.0.pidff]"), "{text}");
+    let other = card_with(m);
+    other.load_config(&text, "machine.toml").unwrap();
+    assert_eq!(other.axis(0).unwrap().pidff_settings().unwrap(), Some(g));
+    // A negative gain: refused whole, naming the key; nothing changed.
+    let fresh = card_with(m);
+    let bad = text.replace(&format!("ki = {:?}", g.ki), "ki = -1.0");
+    assert_ne!(bad, text, "the ki line");
+    let e = fresh.load_config(&bad, "machine.toml").unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::ConfigFile);
+    assert!(e.to_string().contains("axis.0.pidff"), "{e}");
+    assert_eq!(fresh.axis(0).unwrap().pidff_settings().unwrap(), None);
+    // The law without its table.
+    let start = text.find("[axis.0.pidff]").unwrap();
+    let end = text[start + 1..]
+        .find("\n[")
+        .map_or(text.len(), |k| start + 1 + k);
+    let without = format!("{}{}", &text[..start], &text[end..]);
+    let e = fresh.load_config(&without, "machine.toml").unwrap_err();
+    assert!(
+        e.to_string().contains("needs the table [axis.0.pidff]"),
+        "{e}"
+    );
+}
