@@ -135,8 +135,9 @@ pub fn design(spec: &BiquadSpec, rate_hz: f64) -> Result<[f64; 5], NackCode> {
     if c.iter().any(|x| !x.is_finite()) {
         return Err(NackCode::FilterUnstable);
     }
-    // NaN compares false: refused.
-    if !(pole_radius(c[3], c[4]) <= 1.0 - POLE_MARGIN) {
+    // A NaN radius is no radius within the margin: refused.
+    let within = pole_radius(c[3], c[4]) <= 1.0 - POLE_MARGIN;
+    if !within {
         return Err(NackCode::FilterUnstable);
     }
     Ok(c)
