@@ -8,6 +8,9 @@
 //! A third has axes 0 and 1 a gantry (layout 1.10: axis 1 follows axis 0 with its yaw loop)
 //! and the 7 other axes moving: the gantry's step on top of the 8 servo loops.
 //!
+//! Layout 1.11: the first figure again with every axis under PID+FF and four biquad filters on
+//! its servo output (two notches, a low-pass and a lead/lag): the laws' and the filters' cost.
+//!
 //! A fourth is what a new `emu:` host costs card-emu: `Lessor::renew`, a new memfd (its 1 MiB
 //! allocated), the window copied into it and mapped over the card's mapping in place, a new
 //! eventfd, the old memfd freed. The card's thread waits only for the copy and the remap.
@@ -97,6 +100,77 @@ fn tick(c: &mut Criterion) {
     });
     eprintln!(
         "axis 7 was in DiscreteMotion on {:.1}% of the {n} ticks measured",
+        100.0 * moving_ticks as f64 / n.max(1) as f64
+    );
+}
+
+/// Every axis under PID+FF (the default tuning) with four filters on its servo output.
+fn filtered_card() -> (
+    Emulator,
+    CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+) {
+    use firmware_proto::{layout, raw, AxisConfig, AxisPidff};
+    let (mut emu, mut host) = moving_card();
+    for a in 0..8u16 {
+        let w = emu.window();
+        layout::AXIS_PIDFF
+            .at(a as usize)
+            .write(w, &AxisPidff::default());
+        let cfg = AxisConfig {
+            servo_law: raw::MC_SERVO_PIDFF,
+            ..AxisConfig::default()
+        };
+        layout::AXIS_CONFIG.at(a as usize).write(w, &cfg);
+        host.push(&Command::new(Opcode::ApplyAxisConfig, a))
+            .unwrap();
+        let filters: [[f64; 6]; 4] = [
+            [0.0, raw::MC_BIQUAD_NOTCH as f64, 300.0, 0.2, -20.0, 0.0],
+            [1.0, raw::MC_BIQUAD_LOWPASS as f64, 2000.0, 0.7, 0.0, 0.0],
+            [2.0, raw::MC_BIQUAD_LEAD_LAG as f64, 400.0, 0.0, 0.0, 600.0],
+            [3.0, raw::MC_BIQUAD_NOTCH as f64, 1500.0, 0.3, -10.0, 0.0],
+        ];
+        for f in filters {
+            host.push(&Command::new(Opcode::ServoFilterSet, a).with_args(&f))
+                .unwrap();
+        }
+        emu.serve();
+    }
+    for a in 0..8 {
+        let active = layout::SERVO_FILTERS.at(a).read(emu.window()).active;
+        assert_eq!(active, 0xF, "axis {a}'s filters");
+    }
+    (emu, host)
+}
+
+fn filtered_tick(c: &mut Criterion) {
+    let (mut emu, mut host) = filtered_card();
+    keep_moving(&mut emu, &mut host);
+    let mut n = 0u64;
+    let mut moving_ticks = 0u64;
+    c.bench_function(
+        "firmware tick, 8 moving axes PID+FF + 4 biquads + plant",
+        |b| {
+            b.iter(|| {
+                emu.step();
+                n += 1;
+                if emu.firmware().axis(7).map(|x| x.state) == Some(AxisState::DiscreteMotion) {
+                    moving_ticks += 1;
+                }
+                if n.is_multiple_of(256) {
+                    beat(&emu);
+                }
+                if n.is_multiple_of(1024) {
+                    let w = emu.window();
+                    use firmware_proto::Mem;
+                    let head = w.read32(firmware_proto::layout::EVT_HEAD);
+                    w.write32(firmware_proto::layout::EVT_TAIL, head);
+                    keep_moving(&mut emu, &mut host);
+                }
+            })
+        },
+    );
+    eprintln!(
+        "axis 7 was in DiscreteMotion on {:.1}% of the {n} ticks measured (PID+FF, 4 biquads)",
         100.0 * moving_ticks as f64 / n.max(1) as f64
     );
 }
@@ -226,5 +300,5 @@ fn gantry_tick(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, tick, group_tick, gantry_tick, renew);
+criterion_group!(benches, tick, filtered_tick, group_tick, gantry_tick, renew);
 criterion_main!(benches);

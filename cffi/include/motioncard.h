@@ -1109,6 +1109,58 @@ extern "C" {
 #define MC_CAM_MAX_POINTS 1024
 
 /**
+ * `mc_axis_settings.servo_law`: the servo law an axis runs.
+ */
+#define MC_SERVO_FFPIV 0
+
+/**
+ * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+ */
+#define MC_SERVO_PDPLUS 1
+
+/**
+ * Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction
+ * feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
+ */
+#define MC_SERVO_PIDFF 2
+
+/**
+ * Servo filters per axis (slots 0..`MC_BIQUADS`-1).
+ *
+ * Filters per axis.
+ */
+#define MC_BIQUADS 4
+
+/**
+ * `mc_servo_filter.kind`: what a servo filter is.
+ *
+ * The slot is empty.
+ */
+#define MC_BIQUAD_NONE 0
+
+/**
+ * `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2
+ * damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
+ */
+#define MC_BIQUAD_NOTCH 1
+
+/**
+ * Second order: `freq_hz`: corner; damping: damping ratio (0.707: Butterworth).
+ */
+#define MC_BIQUAD_LOWPASS 2
+
+/**
+ * First order (1 + s/w1) / (1 + s/w2): `freq_hz`: the zero's w1/2pi; `freq2_hz`: the pole's w2/2pi
+ * (above `freq_hz`: a lead, below: a lag); DC gain 1.
+ */
+#define MC_BIQUAD_LEAD_LAG 3
+
+/**
+ * The coefficients as given: y = b0 x + b1 `x[-1]` + b2 `x[-2]` - a1 `y[-1]` - a2 `y[-2]`.
+ */
+#define MC_BIQUAD_RAW 4
+
+/**
  * Channels per sample, at most (`mc_scope_settings.n_channels`).
  */
 #define MC_SCOPE_CHANNELS 16
@@ -1120,7 +1172,7 @@ extern "C" {
 
 /**
  * Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
- * (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+ * (1..18; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
  * the group) the group status's, card signals (48..50; index 0) the card's words.
  *
  * Commanded position, counts (`cmd_pos`).
@@ -1198,6 +1250,23 @@ extern "C" {
  * the pitch-error and backlash correction).
  */
 #define MC_SCOPE_SIG_COMP_POS 15
+
+/**
+ * Layout 1.11: the servo law's output, the biquad chain's input, V.
+ */
+#define MC_SCOPE_SIG_FILTER_IN 16
+
+/**
+ * Layout 1.11: the biquad chain's output before the DAC clamp, V (`u_request`; the law's output
+ * when no filter is set).
+ */
+#define MC_SCOPE_SIG_FILTER_OUT 17
+
+/**
+ * Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SCOPE_SIG_SERVO_FF`; 0 under
+ * the other laws).
+ */
+#define MC_SCOPE_SIG_SERVO_FRICTION 18
 
 /**
  * Tangential velocity before the filters, counts/s (feed).
@@ -1826,6 +1895,23 @@ extern "C" {
  * `MC_EVENT_HOMING_FAILED` carry this seq.
  */
 #define MC_OP_GANTRY_HOME 110
+
+/**
+ * Axis: the axis. args: slot (`0..MC_BIQUADS-1`), kind (`MC_BIQUAD_NOTCH.._RAW`), `freq_hz`,
+ * damping, `depth_db`, `freq2_hz`, b0, b1, b2, a1, a2 (the arguments a kind does not use: 0). A
+ * slot or kind out of range or not an integer: `MC_NACK_FILTER_KIND`; a number not finite:
+ * `MC_NACK_NOT_FINITE`; a frequency <= 0 or >= `servo_rate_hz` / 2: `MC_NACK_FILTER_FREQ`; a
+ * damping <= 0 or above 10, a depth out of -120..0, a raw |b| above `MC_BIQUAD_RAW_B_MAX`:
+ * `MC_NACK_FILTER_PARAM`; the poles not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`:
+ * `MC_NACK_FILTER_UNSTABLE`.
+ */
+#define MC_OP_SERVO_FILTER_SET 112
+
+/**
+ * Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an empty
+ * slot is not an error.
+ */
+#define MC_OP_SERVO_FILTER_CLEAR 113
 
 /**
  * Args: 1 pause at the end of a segment, 0 go on (above).
@@ -3902,6 +3988,96 @@ typedef struct mc_scope_status {
  */
 typedef struct mc_scope_status mc_scope_info;
 
+/**
+ * The PID + feed-forward law (layout 1.11, Kim section 5): on the following error
+ * e = x_ref - x (counts), u = kp e + I + kd de/dt (through a first-order filter at
+ * d_filter_hz) + kvff v_ref + kaff a_ref + friction sign(v_ref) (0 while |v_ref| <= deadband).
+ * I integrates ki e and is clamped (anti-windup) to the DAC limit; it stops integrating while
+ * the output is saturated in the error's direction. Host writes; read with axis_config on
+ * MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PIDFF (a switch to it at rest is
+ * bumpless: the integrator starts from the output of the tick). Volts, counts, seconds.
+ */
+typedef struct mc_axis_pidff {
+  /**
+   * Proportional gain, V/count.
+   */
+  double kp;
+  /**
+   * Integral gain, V/(count s).
+   */
+  double ki;
+  /**
+   * Derivative gain, V per count/s.
+   */
+  double kd;
+  /**
+   * Velocity feed-forward, V per count/s of v_ref.
+   */
+  double kvff;
+  /**
+   * Acceleration feed-forward, V per count/s^2 of a_ref.
+   */
+  double kaff;
+  /**
+   * Coulomb friction feed-forward, V (times the sign of v_ref).
+   */
+  double friction;
+  /**
+   * |v_ref| at or below which the friction feed-forward is 0, counts/s (> 0).
+   */
+  double friction_deadband;
+  /**
+   * The derivative's first-order filter cut-off, Hz (> 0; at or above the Nyquist frequency
+   * it filters next to nothing).
+   */
+  double d_filter_hz;
+  double _reserved[8];
+} mc_axis_pidff;
+
+/**
+ * The PID + feed-forward law of an axis (Kim §5), in counts, seconds and volts: the card's
+ * `mc_axis_pidff` register block. `u = kp·e + ki·∫e + kd·ė + kvff·v_ref + kaff·a_ref +
+ * friction·sgn(v_ref)`: e the following error, ė through a first-order filter at
+ * `d_filter_hz`, the integrator clamped to the DAC limit (and stopped while the output is
+ * saturated in e's direction), the friction term 0 while |v_ref| <= `friction_deadband`.
+ */
+typedef struct mc_axis_pidff mc_pidff_settings;
+
+/**
+ * One servo filter: `kind` (`MC_BIQUAD_NOTCH`, `_LOWPASS`, `_LEAD_LAG`, `_RAW`; read back,
+ * `MC_BIQUAD_NONE` for an empty slot) and its parameters; the ones its kind does not use are
+ * 0.
+ */
+typedef struct mc_servo_filter {
+  /**
+   * `MC_BIQUAD_*`.
+   */
+  uint32_t kind;
+  uint32_t _reserved0;
+  /**
+   * Notch: the centre; low-pass: the corner; lead/lag: the zero's frequency, Hz.
+   */
+  double freq_hz;
+  /**
+   * Notch, low-pass: the damping ratio (a notch's width: its -3 dB band is about
+   * 2·damping·freq_hz wide).
+   */
+  double damping;
+  /**
+   * Notch: the gain at the centre, dB (-120..0).
+   */
+  double depth_db;
+  /**
+   * Lead/lag: the pole's frequency, Hz.
+   */
+  double freq2_hz;
+  /**
+   * `MC_BIQUAD_RAW`: b0, b1, b2, a1, a2 (a0 = 1). Read back (every kind): the coefficients
+   * the card designed at the servo rate.
+   */
+  double coeffs[5];
+} mc_servo_filter;
+
 typedef struct mc_safety_config {
   uint32_t watchdog_timeout_us;
   uint32_t estop_input_category;
@@ -4553,6 +4729,35 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PLANE_AXES -130
 
 /**
+ * Layout 1.11: a servo filter's slot (0..4) or kind out of range.
+ */
+#define MC_ERR_FILTER_KIND -131
+
+/**
+ * A servo filter's frequency not above 0 and below the Nyquist frequency (half the servo
+ * rate); also a servo rate at which a filter set would not be.
+ */
+#define MC_ERR_FILTER_FREQ -132
+
+/**
+ * A servo filter's damping (0 < damping <= 10), depth (-120..0 dB) or raw coefficient
+ * out of range.
+ */
+#define MC_ERR_FILTER_PARAM -133
+
+/**
+ * The servo filter designed has a pole on or outside the unit circle (within the card's
+ * margin of it): it would be unstable.
+ */
+#define MC_ERR_FILTER_UNSTABLE -134
+
+/**
+ * PID+FF gains refused: a gain negative, a derivative cut-off or friction deadband not
+ * above 0.
+ */
+#define MC_ERR_PIDFF_GAINS -135
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4572,6 +4777,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * outputs. The message is in `mc_last_error_message`.
  */
 #define MC_ERR_PANIC -103
+
+
 
 
 
@@ -6145,6 +6352,64 @@ mc_result mc_scope_get_info(mc_card card, mc_scope_info *info);
 mc_result mc_scope_wait(mc_card card, uint32_t timeout_ms, mc_scope_info *info);
 
 /**
+ * The card's default PID+FF tuning, or (accel_per_volt > 0) gains placed for a drive of that
+ * many counts/s² per volt at a crossover of `bandwidth_hz` (NaN, infinite or not above 0:
+ * `MC_ERR_BAD_CONFIG`). Never blocks.
+ */
+mc_result mc_pidff_settings_for_drive(double accel_per_volt,
+                                      double bandwidth_hz,
+                                      mc_pidff_settings *settings);
+
+/**
+ * Switch an axis to the PID + feed-forward law with these gains (any state; at rest the switch
+ * does not step the output). A gain negative, a derivative cut-off or friction deadband not
+ * above 0: `MC_ERR_PIDFF_GAINS`; NaN or infinity: `MC_ERR_NOT_FINITE`. A refusal changes
+ * nothing. Blocks until the card answers.
+ */
+mc_result mc_axis_configure_pidff(mc_card card, uint32_t axis, const mc_pidff_settings *settings);
+
+/**
+ * The axis's PID+FF gains as the card holds them (read back): `*active` is 1 and `*settings`
+ * the gains when the axis runs PID+FF, else `*active` is 0 and `*settings` all zero. Blocks
+ * until the card answers.
+ */
+mc_result mc_axis_get_pidff(mc_card card,
+                            uint32_t axis,
+                            mc_pidff_settings *settings,
+                            uint32_t *active);
+
+/**
+ * Set servo filter `slot` (0..`MC_BIQUADS`-1) of an axis: on the servo law's output, before
+ * the DAC clamp, designed by the card at the servo rate (bilinear transform with pre-warping)
+ * and checked. Refused, nothing changed: a slot or kind out of range `MC_ERR_FILTER_KIND`, a
+ * frequency not above 0 and below half the servo rate `MC_ERR_FILTER_FREQ`, a damping
+ * (0..10], depth (-120..0 dB) or raw b (|b| <= 1e6) out of range `MC_ERR_FILTER_PARAM`, a pole
+ * not inside the unit circle `MC_ERR_FILTER_UNSTABLE`, NaN or infinity `MC_ERR_NOT_FINITE`.
+ * Any state: the filter starts from the steady state of the output of the tick. Blocks until
+ * the card answers.
+ */
+mc_result mc_axis_set_servo_filter(mc_card card,
+                                   uint32_t axis,
+                                   uint32_t slot,
+                                   const struct mc_servo_filter *filter);
+
+/**
+ * Empty servo filter `slot` of an axis (an empty slot stays empty; out of range:
+ * `MC_ERR_FILTER_KIND`). Blocks until the card answers.
+ */
+mc_result mc_axis_clear_servo_filter(mc_card card, uint32_t axis, uint32_t slot);
+
+/**
+ * Servo filter `slot` of an axis as the card holds it: its kind and parameters, and in
+ * `coeffs` the coefficients the card designed (`kind` `MC_BIQUAD_NONE` and the rest 0: the
+ * slot is empty; out of range: `MC_ERR_FILTER_KIND`).
+ */
+mc_result mc_axis_get_servo_filter(mc_card card,
+                                   uint32_t axis,
+                                   uint32_t slot,
+                                   struct mc_servo_filter *filter);
+
+/**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
  * at `numerator / denominator` encoder counts per master count, computed on the card in
  * integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
@@ -6359,6 +6624,16 @@ mc_result mc_send_raw(mc_card card,
  */
 
 /**
+ * A filter's poles lie within 1 - margin of the origin.
+ */
+#define MC_BIQUAD_POLE_MARGIN 1e-6
+
+/**
+ * A raw filter's |b0|, |b1|, |b2| at most this.
+ */
+#define MC_BIQUAD_RAW_B_MAX 1e6
+
+/**
  * `MC_OP_CAM_IN` flag (beside the master source).
  */
 #define MC_CAM_AT_CYCLE_END (1u << 4)
@@ -6443,7 +6718,7 @@ mc_result mc_send_raw(mc_card card,
 #define MC_COMP_MAX_POINTS 256u
 
 /**
- * `axis_config[i]` and `axis_pdplus[i]`.
+ * `axis_config[i]`, `axis_pdplus[i]` and `axis_pidff[i]`.
  */
 #define MC_CONFIG_AXIS 2u
 
@@ -6695,6 +6970,26 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_FILTER_BUSY 28
 
 /**
+ * A filter frequency not above 0 and below the Nyquist frequency (`servo_rate_hz` / 2).
+ */
+#define MC_NACK_FILTER_FREQ 141
+
+/**
+ * A filter slot or kind out of range or not an integer.
+ */
+#define MC_NACK_FILTER_KIND 140
+
+/**
+ * A filter's damping (0 < damping <= 10), depth (-120 <= `depth_db` <= 0) or raw b (|b| <= `MC_BIQUAD_RAW_B_MAX`) out of range.
+ */
+#define MC_NACK_FILTER_PARAM 142
+
+/**
+ * The filter's poles are not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`.
+ */
+#define MC_NACK_FILTER_UNSTABLE 143
+
+/**
  * Gantry index, master or slaves out of range, master == slave, a slave twice.
  */
 #define MC_NACK_GANTRY_AXES 136
@@ -6930,6 +7225,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PATH_ZERO_LENGTH 81
 
 /**
+ * `MC_OP_APPLY_AXIS_CONFIG` with `MC_SERVO_PIDFF`: a gain negative, a derivative cut-off or a friction deadband not above 0 (not finite: `MC_NACK_NOT_FINITE`).
+ */
+#define MC_NACK_PIDFF_GAINS 144
+
+/**
  * An arc's plane of two group axes names one axis twice.
  */
 #define MC_NACK_PLANE_AXES 139
@@ -7110,17 +7410,6 @@ mc_result mc_send_raw(mc_card card,
 #define MC_SCOPE_PRETRIGGER_MAX 1024u
 
 #define MC_SCOPE_SOURCE(signal, index) ((uint32_t)(signal) | ((uint32_t)(index) << 16))
-
-#define MC_SERVO_FFPIV 0u
-
-/**
- * Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
- */
-#define MC_SERVO_PDPLUS 1u
-
-#define MC_SERVO_RATE_MAX_HZ 20000u
-
-#define MC_SERVO_RATE_MIN_HZ 1000u
 
 #define MC_STATUS_WORDS 25u
 

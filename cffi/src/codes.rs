@@ -635,6 +635,40 @@ pub const MC_CAM_TABLES: u32 = 4;
 /// Points of a cam table, at most.
 pub const MC_CAM_MAX_POINTS: u32 = 1024;
 
+/// `mc_axis_settings.servo_law`: the servo law an axis runs.
+pub const MC_SERVO_FFPIV: u32 = 0;
+
+/// Yeh eq 2.12 with the gains and drive model of `axis_pdplus[axis]`.
+pub const MC_SERVO_PDPLUS: u32 = 1;
+
+/// Layout 1.11: PID on the following error with velocity, acceleration and Coulomb friction
+/// feed-forward (Kim section 5), the gains of `axis_pidff[axis]`.
+pub const MC_SERVO_PIDFF: u32 = 2;
+
+/// Servo filters per axis (slots 0..`MC_BIQUADS`-1).
+///
+/// Filters per axis.
+pub const MC_BIQUADS: u32 = 4;
+
+/// `mc_servo_filter.kind`: what a servo filter is.
+///
+/// The slot is empty.
+pub const MC_BIQUAD_NONE: u32 = 0;
+
+/// `freq_hz`: centre; damping: the poles' damping ratio (the width: the -3 dB band is about 2
+/// damping `freq_hz` wide); `depth_db`: the gain at the centre, dB (-120..0).
+pub const MC_BIQUAD_NOTCH: u32 = 1;
+
+/// Second order: `freq_hz`: corner; damping: damping ratio (0.707: Butterworth).
+pub const MC_BIQUAD_LOWPASS: u32 = 2;
+
+/// First order (1 + s/w1) / (1 + s/w2): `freq_hz`: the zero's w1/2pi; `freq2_hz`: the pole's w2/2pi
+/// (above `freq_hz`: a lead, below: a lag); DC gain 1.
+pub const MC_BIQUAD_LEAD_LAG: u32 = 3;
+
+/// The coefficients as given: y = b0 x + b1 `x[-1]` + b2 `x[-2]` - a1 `y[-1]` - a2 `y[-2]`.
+pub const MC_BIQUAD_RAW: u32 = 4;
+
 /// Channels per sample, at most (`mc_scope_settings.n_channels`).
 pub const MC_SCOPE_CHANNELS: u32 = 16;
 
@@ -642,7 +676,7 @@ pub const MC_SCOPE_CHANNELS: u32 = 16;
 pub const MC_SCOPE_RING_LEN: u32 = 4096;
 
 /// Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. Axis signals
-/// (1..13; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
+/// (1..18; index: the axis) are the axis status's values of the tick, group signals (32..34; index:
 /// the group) the group status's, card signals (48..50; index 0) the card's words.
 ///
 /// Commanded position, counts (`cmd_pos`).
@@ -691,6 +725,17 @@ pub const MC_SCOPE_SIG_GANTRY_SKEW: u32 = 14;
 /// Layout 1.10: the compensated position, the motor's reference, counts (`comp_pos`: `cmd_pos` plus
 /// the pitch-error and backlash correction).
 pub const MC_SCOPE_SIG_COMP_POS: u32 = 15;
+
+/// Layout 1.11: the servo law's output, the biquad chain's input, V.
+pub const MC_SCOPE_SIG_FILTER_IN: u32 = 16;
+
+/// Layout 1.11: the biquad chain's output before the DAC clamp, V (`u_request`; the law's output
+/// when no filter is set).
+pub const MC_SCOPE_SIG_FILTER_OUT: u32 = 17;
+
+/// Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SCOPE_SIG_SERVO_FF`; 0 under
+/// the other laws).
+pub const MC_SCOPE_SIG_SERVO_FRICTION: u32 = 18;
 
 /// Tangential velocity before the filters, counts/s (feed).
 pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
@@ -1115,6 +1160,19 @@ pub const MC_OP_GANTRY_DISSOLVE: u32 = 109;
 /// `MC_HOMING_ERROR_*` and the failing axis as value. The members' own `MC_EVENT_MOTION_DONE` /
 /// `MC_EVENT_HOMING_FAILED` carry this seq.
 pub const MC_OP_GANTRY_HOME: u32 = 110;
+
+/// Axis: the axis. args: slot (`0..MC_BIQUADS-1`), kind (`MC_BIQUAD_NOTCH.._RAW`), `freq_hz`,
+/// damping, `depth_db`, `freq2_hz`, b0, b1, b2, a1, a2 (the arguments a kind does not use: 0). A
+/// slot or kind out of range or not an integer: `MC_NACK_FILTER_KIND`; a number not finite:
+/// `MC_NACK_NOT_FINITE`; a frequency <= 0 or >= `servo_rate_hz` / 2: `MC_NACK_FILTER_FREQ`; a
+/// damping <= 0 or above 10, a depth out of -120..0, a raw |b| above `MC_BIQUAD_RAW_B_MAX`:
+/// `MC_NACK_FILTER_PARAM`; the poles not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`:
+/// `MC_NACK_FILTER_UNSTABLE`.
+pub const MC_OP_SERVO_FILTER_SET: u32 = 112;
+
+/// Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an empty
+/// slot is not an error.
+pub const MC_OP_SERVO_FILTER_CLEAR: u32 = 113;
 
 /// Args: 1 pause at the end of a segment, 0 go on (above).
 pub const MC_OP_PATH_PAUSE: u32 = 120;

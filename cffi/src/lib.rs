@@ -42,6 +42,7 @@ pub mod result;
 pub mod rotary;
 pub mod safety;
 pub mod scope;
+pub mod servo;
 pub mod sync;
 pub mod types;
 // Layout 1.8, last: cbindgen writes the header in module order.

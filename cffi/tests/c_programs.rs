@@ -742,6 +742,18 @@ fn rotary_axes_from_c() {
     );
 }
 
+/// Layout 1.11: `examples/c/servo.c`: PID+FF switched to and back at rest, read back and
+/// refused; servo filters set, read back with the card's coefficients, refused and cleared.
+#[test]
+fn servo_law_and_filters_from_c() {
+    let out = run(&compile("servo", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS servo (9 refusals)\n"), "{out}");
+    assert!(
+        out.contains("notch at 300 Hz and low-pass at 1500 Hz; move ended at 20000"),
+        "{out}"
+    );
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");

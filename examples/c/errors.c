@@ -78,6 +78,9 @@ static const mc_result ALL_CODES[] = {
     /* rotary (modulo) axes (layout 1.10) */
     MC_ERR_MODULO_ZERO,    MC_ERR_MODULO_RANGE,    MC_ERR_MODULO_BUSY,
     MC_ERR_MODULO_MOVE,
+    /* servo filters and PID+FF (layout 1.11) */
+    MC_ERR_FILTER_KIND,    MC_ERR_FILTER_FREQ,     MC_ERR_FILTER_PARAM,
+    MC_ERR_FILTER_UNSTABLE, MC_ERR_PIDFF_GAINS,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -149,6 +152,9 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
     /* rotary.c */
     MC_ERR_MODULO_ZERO, MC_ERR_MODULO_RANGE, MC_ERR_MODULO_BUSY, MC_ERR_MODULO_MOVE,
+    /* servo.c */
+    MC_ERR_FILTER_KIND, MC_ERR_FILTER_FREQ, MC_ERR_FILTER_PARAM, MC_ERR_FILTER_UNSTABLE,
+    MC_ERR_PIDFF_GAINS,
 };
 
 static void result_strings(void) {

@@ -75,7 +75,13 @@
                            * homing (MC_OP_GROUP_HOME 106, mc_group_config.home_stages
                            * and home_order[] from its reserved words, MC_NACK_HOME_* 131..133,
                            * MC_EV_GROUP_HOMED 30, MC_EV_GROUP_HOMING_FAILED 31,
-                           * MC_STOP_GROUP_HOMING 8; the group enters MC_GROUP_HOMING) */
+                           * MC_STOP_GROUP_HOMING 8; the group enters MC_GROUP_HOMING);
+                           * the PID + feed-forward servo law (MC_SERVO_PIDFF 2, the
+                           * axis_pidff[] blocks appended), biquad filters on the servo output
+                           * (MC_OP_SERVO_FILTER_SET 112, MC_OP_SERVO_FILTER_CLEAR 113,
+                           * MC_BIQUAD_*, MC_NACK_FILTER_* 140..143, MC_NACK_PIDFF_GAINS 144,
+                           * servo_filters[] appended), MC_SIG_FILTER_IN 16, MC_SIG_FILTER_OUT 17,
+                           * MC_SIG_SERVO_FRICTION 18 */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -694,7 +700,8 @@
 /* The servo law's terms of the tick, V; P + I + D + FF is the output before the clamp (up to
  * rounding). FFPIV (Thinh Fig 5): P = kv kp (x_ref - x), I = kv ki integral,
  * D = -kv v_est, FF = kv kvff v_ref_est + kaff a_ref. PD+ (Yeh eq 2.12): P = kp e,
- * I = 0, D = kd (w_d - w_a), FF = kv w_d + ka alpha_d. */
+ * I = 0, D = kd (w_d - w_a), FF = kv w_d + ka alpha_d. PID+FF (layout 1.11): P = kp e,
+ * I = the integrator's term, D = kd de/dt filtered, FF = kvff v_ref + kaff a_ref + friction. */
 #define MC_SIG_SERVO_P 10u   /* the proportional term, V */
 #define MC_SIG_SERVO_I 11u   /* the integral term, V */
 #define MC_SIG_SERVO_D 12u   /* the velocity feedback (FFPIV) or derivative (PD+) term, V */
@@ -703,6 +710,11 @@
                                 * 0 for an axis that is no gantry's slave */
 #define MC_SIG_COMP_POS 15u  /* layout 1.10: the compensated position, the motor's reference, counts
                               * (comp_pos: cmd_pos plus the pitch-error and backlash correction) */
+#define MC_SIG_FILTER_IN 16u /* layout 1.11: the servo law's output, the biquad chain's input, V */
+#define MC_SIG_FILTER_OUT 17u /* layout 1.11: the biquad chain's output before the DAC clamp, V
+                               * (u_request; the law's output when no filter is set) */
+#define MC_SIG_SERVO_FRICTION 18u /* layout 1.11: PID+FF's Coulomb friction feed-forward, V (part
+                                   * of MC_SIG_SERVO_FF; 0 under the other laws) */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
@@ -751,8 +763,9 @@
  * values) and while it serves a MC_OP_READ_CONFIG of that block. A host does not write a block
  * while its read-back is outstanding (the SDK serialises both on one lock). Reading back changes
  * nothing on the card.
- * MC_CONFIG_AXIS fills axis_config[i] (with the scale) and axis_pdplus[i] (the PD+ block the
- * axis runs, all zero while its servo law is FFPIV); MC_CONFIG_GROUP fills group_config[i]
+ * MC_CONFIG_AXIS fills axis_config[i] (with the scale), axis_pdplus[i] (the PD+ block the
+ * axis runs, all zero while its servo law is not PD+) and, layout 1.11, axis_pidff[i] (the
+ * PID+FF gains, all zero while its law is not PID+FF); MC_CONFIG_GROUP fills group_config[i]
  * (naxes 0 and the rest zero: the group is not configured). */
 #define MC_OP_READ_CONFIG 96u /* args: block kind (MC_CONFIG_*), index (axis or group; 0 for the
                                * card-wide blocks). A kind the card does not know, or an argument
@@ -765,7 +778,7 @@
                                * Kept for hosts, read back in axis_config.scale; the card does not
                                * use it. Any state */
 #define MC_CONFIG_CARD 1u         /* card_config (index 0) */
-#define MC_CONFIG_AXIS 2u         /* axis_config[i] and axis_pdplus[i] */
+#define MC_CONFIG_AXIS 2u         /* axis_config[i], axis_pdplus[i] and axis_pidff[i] */
 #define MC_CONFIG_AXIS_FILTER 3u  /* axis_filter[i] */
 #define MC_CONFIG_GROUP 4u        /* group_config[i] */
 #define MC_CONFIG_SAFETY 5u       /* safety (index 0) */
@@ -987,6 +1000,57 @@
 #define MC_NACK_MODULO_MOVE 127    /* an absolute move that does not fit the axis: on a modulo axis
                                     * a target not in 0 <= target < modulo, on a linear axis a
                                     * direction other than MC_MOVE_DIR_SHORTEST */
+
+/* Layout 1.11: biquad filters on the servo output. Up to MC_BIQUADS filters per axis run in
+ * series on the servo law's output, before the DAC clamp (filter slot 0 first). Each is a
+ * second-order section discretised at the servo rate by the bilinear transform with
+ * pre-warping, designed by the card from its kind and parameters; the card checks it when it
+ * is set (frequencies 0 < f < servo_rate_hz / 2, the poles inside the unit circle by at least
+ * MC_BIQUAD_POLE_MARGIN) and refuses it changing nothing. A filter set or cleared starts from
+ * the steady state of the output of the tick (no step at rest when its DC gain is 1). What each
+ * axis holds is read back in servo_filters[axis], written by the card at boot and before the
+ * ack of each set or clear. A change of servo rate redesigns every filter at the new rate
+ * (MC_OP_APPLY_CARD_CONFIG refuses a rate at which one would not pass these checks:
+ * MC_NACK_FILTER_FREQ or MC_NACK_FILTER_UNSTABLE). Any axis state. */
+#define MC_BIQUADS 4u              /* filters per axis */
+#define MC_BIQUAD_NONE 0u          /* the slot is empty */
+#define MC_BIQUAD_NOTCH 1u         /* freq_hz: centre; damping: the poles' damping ratio (the width:
+                                    * the -3 dB band is about 2 damping freq_hz wide); depth_db: the
+                                    * gain at the centre, dB (-120..0) */
+#define MC_BIQUAD_LOWPASS 2u       /* second order: freq_hz: corner; damping: damping ratio
+                                    * (0.707: Butterworth) */
+#define MC_BIQUAD_LEAD_LAG 3u      /* first order (1 + s/w1) / (1 + s/w2): freq_hz: the zero's
+                                    * w1/2pi; freq2_hz: the pole's w2/2pi (above freq_hz: a lead,
+                                    * below: a lag); DC gain 1 */
+#define MC_BIQUAD_RAW 4u           /* the coefficients as given: y = b0 x + b1 x[-1] + b2 x[-2]
+                                    * - a1 y[-1] - a2 y[-2] */
+#define MC_BIQUAD_POLE_MARGIN 1e-6 /* a filter's poles lie within 1 - margin of the origin */
+#define MC_BIQUAD_RAW_B_MAX 1e6    /* a raw filter's |b0|, |b1|, |b2| at most this */
+#define MC_OP_SERVO_FILTER_SET 112u /* axis: the axis. args: slot (0..MC_BIQUADS-1), kind
+                                     * (MC_BIQUAD_NOTCH.._RAW), freq_hz, damping, depth_db,
+                                     * freq2_hz, b0, b1, b2, a1, a2 (the arguments a kind does not
+                                     * use: 0). A slot or kind out of range or not an integer:
+                                     * MC_NACK_FILTER_KIND; a number not finite:
+                                     * MC_NACK_NOT_FINITE; a frequency <= 0 or >= servo_rate_hz / 2:
+                                     * MC_NACK_FILTER_FREQ; a damping <= 0 or above 10, a depth
+                                     * out of -120..0, a raw |b| above MC_BIQUAD_RAW_B_MAX:
+                                     * MC_NACK_FILTER_PARAM; the poles not inside
+                                     * the unit circle by MC_BIQUAD_POLE_MARGIN:
+                                     * MC_NACK_FILTER_UNSTABLE */
+#define MC_OP_SERVO_FILTER_CLEAR 113u /* axis: the axis. args: slot (0..MC_BIQUADS-1, else
+                                       * MC_NACK_FILTER_KIND); clearing an empty slot is not an
+                                       * error */
+#define MC_NACK_FILTER_KIND 140     /* a filter slot or kind out of range or not an integer */
+#define MC_NACK_FILTER_FREQ 141     /* a filter frequency not above 0 and below the Nyquist
+                                     * frequency (servo_rate_hz / 2) */
+#define MC_NACK_FILTER_PARAM 142    /* a filter's damping (0 < damping <= 10), depth
+                                     * (-120 <= depth_db <= 0) or raw b (|b| <= MC_BIQUAD_RAW_B_MAX)
+                                     * out of range */
+#define MC_NACK_FILTER_UNSTABLE 143 /* the filter's poles are not inside the unit circle by
+                                     * MC_BIQUAD_POLE_MARGIN */
+#define MC_NACK_PIDFF_GAINS 144     /* MC_OP_APPLY_AXIS_CONFIG with MC_SERVO_PIDFF: a gain
+                                     * negative, a derivative cut-off or a friction deadband not
+                                     * above 0 (not finite: MC_NACK_NOT_FINITE) */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
@@ -1241,6 +1305,9 @@
 /* Servo laws (mc_axis_config.servo_law) */
 #define MC_SERVO_FFPIV 0u
 #define MC_SERVO_PDPLUS 1u /* Yeh eq 2.12 with the gains and drive model of axis_pdplus[axis] */
+#define MC_SERVO_PIDFF 2u  /* layout 1.11: PID on the following error with velocity, acceleration
+                            * and Coulomb friction feed-forward (Kim section 5), the gains of
+                            * axis_pidff[axis] */
 
 /* card writes once at boot (and servo_rate_hz on APPLY_CARD_CONFIG) */
 struct mc_identity {
@@ -1869,6 +1936,61 @@ struct mc_comp_readback {
     struct mc_comp_point point[MC_COMP_READ_MAX];
 };
 
+/** The PID + feed-forward law (layout 1.11, Kim section 5): on the following error
+ * e = x_ref - x (counts), u = kp e + I + kd de/dt (through a first-order filter at
+ * d_filter_hz) + kvff v_ref + kaff a_ref + friction sign(v_ref) (0 while |v_ref| <= deadband).
+ * I integrates ki e and is clamped (anti-windup) to the DAC limit; it stops integrating while
+ * the output is saturated in the error's direction. Host writes; read with axis_config on
+ * MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PIDFF (a switch to it at rest is
+ * bumpless: the integrator starts from the output of the tick). Volts, counts, seconds. */
+struct mc_axis_pidff {
+    /** Proportional gain, V/count. */
+    double kp;
+    /** Integral gain, V/(count s). */
+    double ki;
+    /** Derivative gain, V per count/s. */
+    double kd;
+    /** Velocity feed-forward, V per count/s of v_ref. */
+    double kvff;
+    /** Acceleration feed-forward, V per count/s^2 of a_ref. */
+    double kaff;
+    /** Coulomb friction feed-forward, V (times the sign of v_ref). */
+    double friction;
+    /** |v_ref| at or below which the friction feed-forward is 0, counts/s (> 0). */
+    double friction_deadband;
+    /** The derivative's first-order filter cut-off, Hz (> 0; at or above the Nyquist frequency
+     * it filters next to nothing). */
+    double d_filter_hz;
+    double _reserved[8];
+};
+
+/** One biquad filter (layout 1.11): its kind and parameters as set (MC_OP_SERVO_FILTER_SET)
+ * and the coefficients the card designed, normalised (a0 = 1). */
+struct mc_biquad {
+    /** MC_BIQUAD_* (MC_BIQUAD_NONE: the slot is empty, the rest 0). */
+    uint32_t kind;
+    uint32_t _reserved0;
+    double freq_hz;
+    double damping;
+    double depth_db;
+    double freq2_hz;
+    double b0;
+    double b1;
+    double b2;
+    double a1;
+    double a2;
+    double _reserved[2];
+};
+
+/** An axis's biquad filters (layout 1.11). Card writes: at boot, on a servo rate change, and
+ * before the ack of each MC_OP_SERVO_FILTER_SET / _CLEAR of the axis. */
+struct mc_servo_filters {
+    /** Bit k: slot k holds a filter. */
+    uint32_t active;
+    uint32_t _reserved0[3];
+    struct mc_biquad slot[MC_BIQUADS];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -1913,6 +2035,9 @@ struct mc_dpram {
     struct mc_comp_readback comp_readback;                        /* card writes */
     /* layout 1.10 */
     struct mc_gantry_status gantry_status[MC_MAX_GANTRIES];       /* card writes */
+    /* layout 1.11 */
+    struct mc_axis_pidff axis_pidff[MC_MAX_AXES];                 /* host writes */
+    struct mc_servo_filters servo_filters[MC_MAX_AXES];           /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

@@ -66,6 +66,8 @@ blocks!(
     mc_scope_status,
     mc_comp_readback,
     mc_gantry_status,
+    mc_axis_pidff,
+    mc_servo_filters,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -432,6 +432,18 @@ code_enum! {
         GantryState = raw::MC_NACK_GANTRY_STATE,
         /// An arc's plane of two group axes names one axis twice.
         PlaneAxes = raw::MC_NACK_PLANE_AXES,
+        /// A filter slot or kind out of range or not an integer.
+        FilterKind = raw::MC_NACK_FILTER_KIND,
+        /// A filter frequency not above 0 and below the Nyquist frequency (`servo_rate_hz` / 2).
+        FilterFreq = raw::MC_NACK_FILTER_FREQ,
+        /// A filter's damping (0 < damping <= 10), depth (-120 <= `depth_db` <= 0) or raw b (|b| <=
+        /// `MC_BIQUAD_RAW_B_MAX`) out of range.
+        FilterParam = raw::MC_NACK_FILTER_PARAM,
+        /// The filter's poles are not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`.
+        FilterUnstable = raw::MC_NACK_FILTER_UNSTABLE,
+        /// `MC_OP_APPLY_AXIS_CONFIG` with `MC_SERVO_PIDFF`: a gain negative, a derivative cut-off
+        /// or a friction deadband not above 0 (not finite: `MC_NACK_NOT_FINITE`).
+        PidffGains = raw::MC_NACK_PIDFF_GAINS,
     }
 }
 
@@ -440,7 +452,7 @@ code_enum! {
     ConfigKind: u32 {
         /// `card_config` (index 0).
         Card = raw::MC_CONFIG_CARD,
-        /// `axis_config[i]` and `axis_pdplus[i]`.
+        /// `axis_config[i]`, `axis_pdplus[i]` and `axis_pidff[i]`.
         Axis = raw::MC_CONFIG_AXIS,
         /// `axis_filter[i]`.
         AxisFilter = raw::MC_CONFIG_AXIS_FILTER,
@@ -557,6 +569,14 @@ code_enum! {
         /// Layout 1.10: the compensated position, the motor's reference, counts (`comp_pos`:
         /// `cmd_pos` plus the pitch-error and backlash correction).
         CompPos = raw::MC_SIG_COMP_POS,
+        /// Layout 1.11: the servo law's output, the biquad chain's input, V.
+        FilterIn = raw::MC_SIG_FILTER_IN,
+        /// Layout 1.11: the biquad chain's output before the DAC clamp, V (`u_request`; the law's
+        /// output when no filter is set).
+        FilterOut = raw::MC_SIG_FILTER_OUT,
+        /// Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SIG_SERVO_FF`; 0
+        /// under the other laws).
+        ServoFriction = raw::MC_SIG_SERVO_FRICTION,
         /// Tangential velocity before the filters, counts/s (feed).
         PathSpeed = raw::MC_SIG_PATH_SPEED,
         /// Tangential acceleration, counts/s^2 (`feed_acc`).
@@ -910,6 +930,17 @@ code_enum! {
         /// `MC_EV_GANTRY_HOMED` with the failure's `MC_HOMING_ERR_*` and the failing axis as value.
         /// The members' own `MC_EV_MOTION_DONE` / `MC_EV_HOMING_FAILED` carry this seq.
         GantryHome = raw::MC_OP_GANTRY_HOME,
+        /// Axis: the axis. args: slot (`0..MC_BIQUADS-1`), kind (`MC_BIQUAD_NOTCH.._RAW`),
+        /// `freq_hz`, damping, `depth_db`, `freq2_hz`, b0, b1, b2, a1, a2 (the arguments a kind
+        /// does not use: 0). A slot or kind out of range or not an integer: `MC_NACK_FILTER_KIND`;
+        /// a number not finite: `MC_NACK_NOT_FINITE`; a frequency <= 0 or >= `servo_rate_hz` / 2:
+        /// `MC_NACK_FILTER_FREQ`; a damping <= 0 or above 10, a depth out of -120..0, a raw |b|
+        /// above `MC_BIQUAD_RAW_B_MAX`: `MC_NACK_FILTER_PARAM`; the poles not inside the unit
+        /// circle by `MC_BIQUAD_POLE_MARGIN`: `MC_NACK_FILTER_UNSTABLE`.
+        ServoFilterSet = raw::MC_OP_SERVO_FILTER_SET,
+        /// Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an
+        /// empty slot is not an error.
+        ServoFilterClear = raw::MC_OP_SERVO_FILTER_CLEAR,
         /// Args: 1 pause at the end of a segment, 0 go on (above).
         PathPause = raw::MC_OP_PATH_PAUSE,
     }

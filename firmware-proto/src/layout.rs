@@ -235,6 +235,23 @@ const _: () = {
             <= crate::DPRAM_SIZE
     );
 };
+/// Layout 1.11: each axis's PID + feed-forward gains (`mc_axis_pidff`). Host writes.
+pub const AXIS_PIDFF: Blocks<mc_axis_pidff, MAX_AXES> = Blocks::new(off!(axis_pidff));
+/// Layout 1.11: each axis's biquad filters (`mc_servo_filters`). Card writes.
+pub const SERVO_FILTERS: Blocks<mc_servo_filters, MAX_AXES> = Blocks::new(off!(servo_filters));
+const _: () = {
+    // Layout 1.11 appended after the gantries' status.
+    assert!(
+        AXIS_PIDFF.at(0).offset()
+            == GANTRY_STATUS.at(0).offset() + MC_MAX_GANTRIES as usize * GANTRY_STATUS_BYTES
+    );
+    assert!(AXIS_PIDFF.at(0).offset().is_multiple_of(8));
+    assert!(SERVO_FILTERS.at(0).offset().is_multiple_of(8));
+    assert!(
+        SERVO_FILTERS.at(MAX_AXES - 1).offset() + size_of::<mc_servo_filters>()
+            <= crate::DPRAM_SIZE
+    );
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -78,7 +78,7 @@ pub use mem::Dpram;
 pub use mem::Mem;
 pub use motion_sync::*;
 pub use reset::{
-    AxisConfig, AxisHoming, AxisPdPlus, DriveModel, FfpivGains, GroupPath, PdPlusGains,
+    AxisConfig, AxisHoming, AxisPdPlus, AxisPidff, DriveModel, FfpivGains, GroupPath, PdPlusGains,
 };
 pub use ring::{Consumer, Producer, RingError};
 pub use scope::*;

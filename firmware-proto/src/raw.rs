@@ -237,6 +237,9 @@ pub const MC_SIG_SERVO_D: u32 = 12;
 pub const MC_SIG_SERVO_FF: u32 = 13;
 pub const MC_SIG_GANTRY_SKEW: u32 = 14;
 pub const MC_SIG_COMP_POS: u32 = 15;
+pub const MC_SIG_FILTER_IN: u32 = 16;
+pub const MC_SIG_FILTER_OUT: u32 = 17;
+pub const MC_SIG_SERVO_FRICTION: u32 = 18;
 pub const MC_SIG_PATH_SPEED: u32 = 32;
 pub const MC_SIG_PATH_ACC: u32 = 33;
 pub const MC_SIG_PATH_POS: u32 = 34;
@@ -332,6 +335,21 @@ pub const MC_MOVE_DIR_CURRENT: u32 = 3;
 pub const MC_NACK_MODULO_RANGE: u32 = 125;
 pub const MC_NACK_MODULO_BUSY: u32 = 126;
 pub const MC_NACK_MODULO_MOVE: u32 = 127;
+pub const MC_BIQUADS: u32 = 4;
+pub const MC_BIQUAD_NONE: u32 = 0;
+pub const MC_BIQUAD_NOTCH: u32 = 1;
+pub const MC_BIQUAD_LOWPASS: u32 = 2;
+pub const MC_BIQUAD_LEAD_LAG: u32 = 3;
+pub const MC_BIQUAD_RAW: u32 = 4;
+pub const MC_BIQUAD_POLE_MARGIN: f64 = 0.000001;
+pub const MC_BIQUAD_RAW_B_MAX: f64 = 1000000.0;
+pub const MC_OP_SERVO_FILTER_SET: u32 = 112;
+pub const MC_OP_SERVO_FILTER_CLEAR: u32 = 113;
+pub const MC_NACK_FILTER_KIND: u32 = 140;
+pub const MC_NACK_FILTER_FREQ: u32 = 141;
+pub const MC_NACK_FILTER_PARAM: u32 = 142;
+pub const MC_NACK_FILTER_UNSTABLE: u32 = 143;
+pub const MC_NACK_PIDFF_GAINS: u32 = 144;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -506,6 +524,7 @@ pub const MC_PROTO_CMD_RING: u32 = 1;
 pub const MC_PROTO_EVT_RING: u32 = 2;
 pub const MC_SERVO_FFPIV: u32 = 0;
 pub const MC_SERVO_PDPLUS: u32 = 1;
+pub const MC_SERVO_PIDFF: u32 = 2;
 pub const MC_DPRAM_SIZE: u32 = 1048576;
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
@@ -1791,6 +1810,107 @@ const _: () = {
     ["Offset of field: mc_comp_readback::point"]
         [::core::mem::offset_of!(mc_comp_readback, point) - 96usize];
 };
+#[doc = " The PID + feed-forward law (layout 1.11, Kim section 5): on the following error\n e = x_ref - x (counts), u = kp e + I + kd de/dt (through a first-order filter at\n d_filter_hz) + kvff v_ref + kaff a_ref + friction sign(v_ref) (0 while |v_ref| <= deadband).\n I integrates ki e and is clamped (anti-windup) to the DAC limit; it stops integrating while\n the output is saturated in the error's direction. Host writes; read with axis_config on\n MC_OP_APPLY_AXIS_CONFIG when its servo_law is MC_SERVO_PIDFF (a switch to it at rest is\n bumpless: the integrator starts from the output of the tick). Volts, counts, seconds."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct mc_axis_pidff {
+    #[doc = " Proportional gain, V/count."]
+    pub kp: f64,
+    #[doc = " Integral gain, V/(count s)."]
+    pub ki: f64,
+    #[doc = " Derivative gain, V per count/s."]
+    pub kd: f64,
+    #[doc = " Velocity feed-forward, V per count/s of v_ref."]
+    pub kvff: f64,
+    #[doc = " Acceleration feed-forward, V per count/s^2 of a_ref."]
+    pub kaff: f64,
+    #[doc = " Coulomb friction feed-forward, V (times the sign of v_ref)."]
+    pub friction: f64,
+    #[doc = " |v_ref| at or below which the friction feed-forward is 0, counts/s (> 0)."]
+    pub friction_deadband: f64,
+    #[doc = " The derivative's first-order filter cut-off, Hz (> 0; at or above the Nyquist frequency\n it filters next to nothing)."]
+    pub d_filter_hz: f64,
+    pub _reserved: [f64; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_axis_pidff"][::core::mem::size_of::<mc_axis_pidff>() - 128usize];
+    ["Alignment of mc_axis_pidff"][::core::mem::align_of::<mc_axis_pidff>() - 8usize];
+    ["Offset of field: mc_axis_pidff::kp"][::core::mem::offset_of!(mc_axis_pidff, kp) - 0usize];
+    ["Offset of field: mc_axis_pidff::ki"][::core::mem::offset_of!(mc_axis_pidff, ki) - 8usize];
+    ["Offset of field: mc_axis_pidff::kd"][::core::mem::offset_of!(mc_axis_pidff, kd) - 16usize];
+    ["Offset of field: mc_axis_pidff::kvff"]
+        [::core::mem::offset_of!(mc_axis_pidff, kvff) - 24usize];
+    ["Offset of field: mc_axis_pidff::kaff"]
+        [::core::mem::offset_of!(mc_axis_pidff, kaff) - 32usize];
+    ["Offset of field: mc_axis_pidff::friction"]
+        [::core::mem::offset_of!(mc_axis_pidff, friction) - 40usize];
+    ["Offset of field: mc_axis_pidff::friction_deadband"]
+        [::core::mem::offset_of!(mc_axis_pidff, friction_deadband) - 48usize];
+    ["Offset of field: mc_axis_pidff::d_filter_hz"]
+        [::core::mem::offset_of!(mc_axis_pidff, d_filter_hz) - 56usize];
+    ["Offset of field: mc_axis_pidff::_reserved"]
+        [::core::mem::offset_of!(mc_axis_pidff, _reserved) - 64usize];
+};
+#[doc = " One biquad filter (layout 1.11): its kind and parameters as set (MC_OP_SERVO_FILTER_SET)\n and the coefficients the card designed, normalised (a0 = 1)."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_biquad {
+    #[doc = " MC_BIQUAD_* (MC_BIQUAD_NONE: the slot is empty, the rest 0)."]
+    pub kind: u32,
+    pub _reserved0: u32,
+    pub freq_hz: f64,
+    pub damping: f64,
+    pub depth_db: f64,
+    pub freq2_hz: f64,
+    pub b0: f64,
+    pub b1: f64,
+    pub b2: f64,
+    pub a1: f64,
+    pub a2: f64,
+    pub _reserved: [f64; 2usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_biquad"][::core::mem::size_of::<mc_biquad>() - 96usize];
+    ["Alignment of mc_biquad"][::core::mem::align_of::<mc_biquad>() - 8usize];
+    ["Offset of field: mc_biquad::kind"][::core::mem::offset_of!(mc_biquad, kind) - 0usize];
+    ["Offset of field: mc_biquad::_reserved0"]
+        [::core::mem::offset_of!(mc_biquad, _reserved0) - 4usize];
+    ["Offset of field: mc_biquad::freq_hz"][::core::mem::offset_of!(mc_biquad, freq_hz) - 8usize];
+    ["Offset of field: mc_biquad::damping"][::core::mem::offset_of!(mc_biquad, damping) - 16usize];
+    ["Offset of field: mc_biquad::depth_db"]
+        [::core::mem::offset_of!(mc_biquad, depth_db) - 24usize];
+    ["Offset of field: mc_biquad::freq2_hz"]
+        [::core::mem::offset_of!(mc_biquad, freq2_hz) - 32usize];
+    ["Offset of field: mc_biquad::b0"][::core::mem::offset_of!(mc_biquad, b0) - 40usize];
+    ["Offset of field: mc_biquad::b1"][::core::mem::offset_of!(mc_biquad, b1) - 48usize];
+    ["Offset of field: mc_biquad::b2"][::core::mem::offset_of!(mc_biquad, b2) - 56usize];
+    ["Offset of field: mc_biquad::a1"][::core::mem::offset_of!(mc_biquad, a1) - 64usize];
+    ["Offset of field: mc_biquad::a2"][::core::mem::offset_of!(mc_biquad, a2) - 72usize];
+    ["Offset of field: mc_biquad::_reserved"]
+        [::core::mem::offset_of!(mc_biquad, _reserved) - 80usize];
+};
+#[doc = " An axis's biquad filters (layout 1.11). Card writes: at boot, on a servo rate change, and\n before the ack of each MC_OP_SERVO_FILTER_SET / _CLEAR of the axis."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_servo_filters {
+    #[doc = " Bit k: slot k holds a filter."]
+    pub active: u32,
+    pub _reserved0: [u32; 3usize],
+    pub slot: [mc_biquad; 4usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_servo_filters"][::core::mem::size_of::<mc_servo_filters>() - 400usize];
+    ["Alignment of mc_servo_filters"][::core::mem::align_of::<mc_servo_filters>() - 8usize];
+    ["Offset of field: mc_servo_filters::active"]
+        [::core::mem::offset_of!(mc_servo_filters, active) - 0usize];
+    ["Offset of field: mc_servo_filters::_reserved0"]
+        [::core::mem::offset_of!(mc_servo_filters, _reserved0) - 4usize];
+    ["Offset of field: mc_servo_filters::slot"]
+        [::core::mem::offset_of!(mc_servo_filters, slot) - 16usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1828,10 +1948,12 @@ pub struct mc_dpram {
     pub scope_ring: [mc_scope_sample; 4096usize],
     pub comp_readback: mc_comp_readback,
     pub gantry_status: [mc_gantry_status; 4usize],
+    pub axis_pidff: [mc_axis_pidff; 8usize],
+    pub servo_filters: [mc_servo_filters; 8usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 586272usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 590496usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -1892,6 +2014,10 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, comp_readback) - 584512usize];
     ["Offset of field: mc_dpram::gantry_status"]
         [::core::mem::offset_of!(mc_dpram, gantry_status) - 585376usize];
+    ["Offset of field: mc_dpram::axis_pidff"]
+        [::core::mem::offset_of!(mc_dpram, axis_pidff) - 586272usize];
+    ["Offset of field: mc_dpram::servo_filters"]
+        [::core::mem::offset_of!(mc_dpram, servo_filters) - 587296usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -16,6 +16,9 @@ pub type FfpivGains = raw::mc_ffpiv_gains;
 pub type AxisPdPlus = raw::mc_axis_pdplus;
 /// The PD+ gains (`mc_pdplus_gains`, Yeh eq 2.12), counts and seconds.
 pub type PdPlusGains = raw::mc_pdplus_gains;
+/// An axis's PID + feed-forward gains (`mc_axis_pidff`, layout 1.11): read with its
+/// `mc_axis_config` when the servo law is PID+FF.
+pub type AxisPidff = raw::mc_axis_pidff;
 /// The first-order drive model (`mc_drive_model`, Yeh eq 2.1–2.2 as corrected).
 pub type DriveModel = raw::mc_drive_model;
 /// An axis's homing configuration (`mc_axis_homing`, layout 1.5): the CiA 402 method, its
@@ -44,6 +47,36 @@ impl FfpivGains {
             kaff: 1.0 / accel_per_volt,
             vel_filter_hz: 1500.0,
         }
+    }
+}
+
+impl AxisPidff {
+    /// Gains placed from the plant, a pure inertia of `accel_per_volt` (counts/s² per V), at
+    /// crossover `wc` (rad/s), the same placement as [`FfpivGains::for_drive`]: the derivative
+    /// alone crosses at `wc` (kd = wc/A), the proportional's zero at wc/4 (kp = wc²/(4A)), the
+    /// integral's at wc/10 below it (ki = kp·wc/10); the ideal acceleration feed-forward
+    /// (kaff = 1/A), no velocity or friction feed-forward (an inertia has neither); the
+    /// derivative filtered at 1,500 Hz, the friction deadband 100 counts/s.
+    pub fn for_drive(accel_per_volt: f64, wc: f64) -> Self {
+        let kp = wc * wc / (4.0 * accel_per_volt);
+        Self {
+            kp,
+            ki: kp * wc / 10.0,
+            kd: wc / accel_per_volt,
+            kvff: 0.0,
+            kaff: 1.0 / accel_per_volt,
+            friction: 0.0,
+            friction_deadband: 100.0,
+            d_filter_hz: 1500.0,
+            _reserved: [0.0; 8],
+        }
+    }
+}
+
+/// The default PID+FF tuning: for the default drive and motor at [`DEFAULT_BANDWIDTH`].
+impl Default for AxisPidff {
+    fn default() -> Self {
+        Self::for_drive(DEFAULT_ACCEL_PER_VOLT, DEFAULT_BANDWIDTH)
     }
 }
 

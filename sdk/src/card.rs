@@ -434,18 +434,28 @@ impl Card {
         Ok(at.read(self.window()))
     }
 
-    /// Layout 1.8: an axis's configuration block and its PD+ block as the card holds them.
+    /// Layout 1.8: an axis's configuration block and its PD+ block as the card holds them
+    /// (layout 1.11: and its PID+FF block).
     pub(crate) fn read_axis_config(
         &self,
         a: usize,
-    ) -> Result<(AxisSettings, firmware_proto::AxisPdPlus)> {
+    ) -> Result<(
+        AxisSettings,
+        firmware_proto::AxisPdPlus,
+        firmware_proto::AxisPidff,
+    )> {
         let _g = lock(&self.inner.config);
         let cfg = self.read_block_locked(
             layout::AXIS_CONFIG.at(a),
             firmware_proto::ConfigKind::Axis,
             a,
         )?;
-        Ok((cfg, layout::AXIS_PDPLUS.at(a).read(self.window())))
+        let w = self.window();
+        Ok((
+            cfg,
+            layout::AXIS_PDPLUS.at(a).read(w),
+            layout::AXIS_PIDFF.at(a).read(w),
+        ))
     }
 
     /// Hold the configuration blocks (a write and its apply, or a read-back) for one thread.

@@ -15,10 +15,12 @@
 //! [card]            # servo_rate_hz
 //! [safety]          # watchdog_timeout_us, estop_input_category, max_stop_time_us
 //! [io]              # polarity, rise_events, fall_events (bit i: input i), debounce (ticks)
-//! [axis.N]          # scale, servo_law ("ffpiv" | "pdplus"), dac_limit_v, windows, jog limits,
+//! [axis.N]          # scale, servo_law ("ffpiv" | "pdplus" | "pidff"), dac_limit_v, windows, jog limits,
 //!                   # modulo (a rotary axis's period, user units; 0: linear; layout 1.10)
 //! [axis.N.ffpiv]    # kp, ki, kv, kvff, kaff, vel_filter_hz
 //! [axis.N.pdplus]   # kp, kd, kv, ka, kc, tau, ke, umax: only with servo_law = "pdplus"
+//! [axis.N.pidff]    # kp, ki, kd, kvff, kaff, friction, friction_deadband, d_filter_hz: only
+//!                   # with servo_law = "pidff" (layout 1.11)
 //! [axis.N.filter]   # rapid_kind, rapid_tau, cutting_kind, cutting_tau, jog_kind, jog_tau
 //! [axis.N.safety]   # soft/hard limits, alarm and encoder checks, following error, stop ramp
 //! [axis.N.homing]   # method, index, move_to_home, velocities, limits
@@ -54,8 +56,8 @@ pub(crate) use sections::user_modulo;
 pub use sections::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, CompensationSection, Config,
     ConfigDifference, FfpivSection, FilterName, FilterSection, GantrySection, GroupSection,
-    HomingSection, InterpolatorName, IoSection, PathSection, PdPlusSection, SafetySection,
-    ServoLaw, CONFIG_HEADER,
+    HomingSection, InterpolatorName, IoSection, PathSection, PdPlusSection, PidffSection,
+    SafetySection, ServoLaw, CONFIG_HEADER,
 };
 use text::{file_error, line_of_key, read_file};
 pub use text::{ECHO_CHARS, MAX_CONFIG_BYTES};
@@ -199,6 +201,7 @@ fn good_axis() -> AxisSection {
             ..AxisConfig::default()
         },
         &crate::nurbs::die_bonder_pdplus(0),
+        &firmware_proto::AxisPidff::default(),
         &card_firmware::host::FilterConfig::default().to_block(),
         &AxisSafetyConfig::default().to_block(),
         &firmware_proto::AxisHoming::default(),
@@ -497,17 +500,35 @@ fn check_axis(
                 format!("servo_law = \"pdplus\" needs the table [{p}.pdplus]"),
             ))
         }
-        (ServoLaw::Ffpiv, Some(_)) => {
+        (ServoLaw::Ffpiv | ServoLaw::Pidff, Some(_)) => {
             return Err((
                 format!("{p}.pdplus"),
-                "a PD+ table on an axis whose servo_law is \"ffpiv\"".into(),
+                "a PD+ table on an axis whose servo_law is not \"pdplus\"".into(),
+            ))
+        }
+        _ => {}
+    }
+    match (ax.servo_law, &ax.pidff) {
+        (ServoLaw::Pidff, None) => {
+            return Err((
+                format!("{p}.servo_law"),
+                format!("servo_law = \"pidff\" needs the table [{p}.pidff]"),
+            ))
+        }
+        (ServoLaw::Ffpiv | ServoLaw::Pdplus, Some(_)) => {
+            return Err((
+                format!("{p}.pidff"),
+                "a PID+FF table on an axis whose servo_law is not \"pidff\"".into(),
             ))
         }
         _ => {}
     }
     let mut good = good.clone();
-    if ax.servo_law == ServoLaw::Ffpiv {
+    if ax.servo_law != ServoLaw::Pdplus {
         good.pdplus = None;
+    }
+    if ax.servo_law == ServoLaw::Pidff {
+        good.pidff = Some(PidffSection::from(&firmware_proto::AxisPidff::default()));
     }
     good.servo_law = ax.servo_law;
     refuse(&p, ax, &good, |s| {
@@ -517,8 +538,8 @@ fn check_axis(
         if !SCALE_RANGE.contains(&s.scale.abs()) {
             return Err(NackCode::OutOfRange);
         }
-        let (cfg, pd) = s.servo_blocks();
-        validate_axis_config(&cfg, &pd).map(|_| ())
+        let (cfg, pd, pid) = s.servo_blocks();
+        validate_axis_config(&cfg, &pd, &pid).map(|_| ())
     })?;
     check_axis_filter(&p, ax, &good, rate)?;
     check_axis_safety(&p, ax, &good, rate, max_stop)?;
@@ -812,11 +833,11 @@ impl Card {
             debounce: io.debounce.to_vec(),
         });
         for a in 0..self.info().axes {
-            let (c, pd) = self.read_axis_config(a)?;
+            let (c, pd, pid) = self.read_axis_config(a)?;
             let f = self.read_block(layout::AXIS_FILTER.at(a), ConfigKind::AxisFilter, a)?;
             let s = self.read_block(layout::AXIS_SAFETY.at(a), ConfigKind::AxisSafety, a)?;
             let h = self.read_block(layout::AXIS_HOMING.at(a), ConfigKind::AxisHoming, a)?;
-            let mut ax = AxisSection::from_blocks(&c, &pd, &f, &s, &h);
+            let mut ax = AxisSection::from_blocks(&c, &pd, &pid, &f, &s, &h);
             ax.compensation = self
                 .axis(a)?
                 .compensation()?
@@ -977,11 +998,11 @@ impl Card {
             let a: usize = key.parse().expect("checked");
             let was = held.axis.get(key);
             let axis = self.axis(a).map_err(|e| (format!("axis.{a}"), e))?;
-            let (cfg, pd) = ax.servo_blocks();
+            let (cfg, pd, pid) = ax.servo_blocks();
             let was_scale = was.map(|w| w.scale);
             let servo = |s: &AxisSection| {
-                let (c, p) = s.servo_blocks();
-                (AxisConfig { scale: 0.0, ..c }, p)
+                let (c, p, q) = s.servo_blocks();
+                (AxisConfig { scale: 0.0, ..c }, p, q)
             };
             if was.map(servo) != Some(servo(ax)) {
                 let apply = firmware_proto::cmd::CardCmd::ApplyAxisConfig.command(a as u16);
@@ -990,13 +1011,16 @@ impl Card {
                 let saved = (
                     layout::AXIS_CONFIG.at(a).read(w),
                     layout::AXIS_PDPLUS.at(a).read(w),
+                    layout::AXIS_PIDFF.at(a).read(w),
                 );
                 self.write_block(layout::AXIS_PDPLUS.at(a), &pd);
+                self.write_block(layout::AXIS_PIDFF.at(a), &pid);
                 self.write_block(layout::AXIS_CONFIG.at(a), &cfg);
                 let r = self.execute(apply, "load configuration", crate::Target::Axis(a));
                 if r.is_err() {
                     self.write_block(layout::AXIS_CONFIG.at(a), &saved.0);
                     self.write_block(layout::AXIS_PDPLUS.at(a), &saved.1);
+                    self.write_block(layout::AXIS_PIDFF.at(a), &saved.2);
                 }
                 r.map_err(|e| (format!("axis.{a}"), e))?;
                 done(format!("axis.{a}"));

@@ -346,6 +346,20 @@ error_kinds! {
     HomeStage = -124, MC_ERR_HOME_STAGE, nack HomeStage, "the home order has an empty stage (or no stages, and the group has none configured)";
     /// An arc whose plane of two group axes names one axis twice.
     PlaneAxes = -130, MC_ERR_PLANE_AXES, nack PlaneAxes, "an arc's plane names one group axis twice";
+    /// Layout 1.11: a servo filter's slot (0..4) or kind out of range.
+    FilterKind = -131, MC_ERR_FILTER_KIND, nack FilterKind, "bad servo filter slot (0..3) or kind";
+    /// A servo filter's frequency not above 0 and below the Nyquist frequency (half the servo
+    /// rate); also a servo rate at which a filter set would not be.
+    FilterFreq = -132, MC_ERR_FILTER_FREQ, nack FilterFreq, "servo filter frequency must be above 0 and below half the servo rate";
+    /// A servo filter's damping (0 < damping <= 10), depth (-120..0 dB) or raw coefficient
+    /// out of range.
+    FilterParam = -133, MC_ERR_FILTER_PARAM, nack FilterParam, "servo filter damping (0..10], depth (-120..0 dB) or raw coefficient out of range";
+    /// The servo filter designed has a pole on or outside the unit circle (within the card's
+    /// margin of it): it would be unstable.
+    FilterUnstable = -134, MC_ERR_FILTER_UNSTABLE, nack FilterUnstable, "unstable servo filter: a pole is not inside the unit circle";
+    /// PID+FF gains refused: a gain negative, a derivative cut-off or friction deadband not
+    /// above 0.
+    PidffGains = -135, MC_ERR_PIDFF_GAINS, nack PidffGains, "bad PID+FF gains: every gain >= 0, derivative cut-off and friction deadband > 0";
 }
 
 impl From<NurbsError> for ErrorKind {

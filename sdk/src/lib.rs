@@ -49,6 +49,7 @@ pub mod report;
 mod safety;
 mod scope;
 mod segment;
+mod servo;
 mod session;
 mod sync;
 pub mod trace;
@@ -69,7 +70,8 @@ pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GantrySection, GroupSection, HomingSection,
-    InterpolatorName, IoSection, LoadReport, PathSection, PdPlusSection, SafetySection, ServoLaw,
+    InterpolatorName, IoSection, LoadReport, PathSection, PdPlusSection, PidffSection,
+    SafetySection, ServoLaw,
     CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
@@ -118,6 +120,7 @@ pub use scope::{
     SCOPE_DIVIDER_MAX, SCOPE_PRETRIGGER_MAX, SCOPE_RING_LEN,
 };
 pub use segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
+pub use servo::{BiquadKind, BiquadSpec, PidffSettings, ServoFilter, BIQUADS};
 pub use session::{STALE_MIN, STALE_TICKS};
 pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;

@@ -66,7 +66,7 @@ impl Axis {
 
     /// Layout 1.8: the PD+ law the axis runs, read back from the card (`None`: it runs FFPIV).
     pub fn pdplus_settings(&self) -> Result<Option<PdPlusSettings>> {
-        let (cfg, pd) = self.card().read_axis_config(self.index())?;
+        let (cfg, pd, _) = self.card().read_axis_config(self.index())?;
         Ok((cfg.servo_law == raw::MC_SERVO_PDPLUS).then_some(pd))
     }
 }

@@ -559,6 +559,41 @@ pub const SETS: &[Set] = &[
             "Points of a cam table, at most.",
         ),
     ),
+    // Layout 1.11: the servo law and filters.
+    c_only(
+        Select::List(&[
+            "MC_SERVO_FFPIV",
+            "MC_SERVO_PDPLUS",
+            "MC_SERVO_PIDFF",
+        ]),
+        c(
+            "MC_SERVO_",
+            "MC_SERVO_",
+            "`mc_axis_settings.servo_law`: the servo law an axis runs.",
+        ),
+    ),
+    c_only(
+        Select::One("MC_BIQUADS"),
+        c(
+            "MC_BIQUADS",
+            "MC_BIQUADS",
+            "Servo filters per axis (slots 0..`MC_BIQUADS`-1).",
+        ),
+    ),
+    c_only(
+        Select::List(&[
+            "MC_BIQUAD_NONE",
+            "MC_BIQUAD_NOTCH",
+            "MC_BIQUAD_LOWPASS",
+            "MC_BIQUAD_LEAD_LAG",
+            "MC_BIQUAD_RAW",
+        ]),
+        c(
+            "MC_BIQUAD_",
+            "MC_BIQUAD_",
+            "`mc_servo_filter.kind`: what a servo filter is.",
+        ),
+    ),
     // The scope (layout 1.8).
     c_only(
         Select::One("MC_SCOPE_CHANNELS"),
@@ -585,7 +620,7 @@ pub const SETS: &[Set] = &[
             "MC_SIG_",
             "MC_SCOPE_SIG_",
             "Scope signal: `mc_scope_settings.source[k]` is `MC_SCOPE_SIG_*` | index << 16. \
-             Axis signals (1..13; index: the axis) are the axis status's values of the tick, \
+             Axis signals (1..18; index: the axis) are the axis status's values of the tick, \
              group signals (32..34; index: the group) the group status's, card signals (48..50; \
              index 0) the card's words.",
         ),

@@ -50,7 +50,7 @@ fn dpram_bindings(root: &Path) -> Result<String, String> {
         .derive_partialeq(true)
         .explicit_padding(true)
         // Reset values instead of zeros: firmware-proto/src/reset.rs.
-        .no_default("mc_(ffpiv_gains|axis_config|axis_homing|group_path)")
+        .no_default("mc_(ffpiv_gains|axis_config|axis_homing|group_path|axis_pidff)")
         .derive_debug(true)
         .derive_copy(true)
         .layout_tests(true)

@@ -15,7 +15,7 @@
 
 pub use crate::firmware::axis_safety::AxisSafetyConfig;
 pub use crate::firmware::config::{
-    decode_axis_filter, pdplus_block, validate_axis_config, validate_group_config,
+    decode_axis_filter, pdplus_block, pidff_block, validate_axis_config, validate_group_config,
 };
 pub use crate::firmware::group::{nurbs_nack, validate_path_config, FilterConfig};
 pub use crate::firmware::homing::HomingConfig;

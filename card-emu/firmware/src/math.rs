@@ -41,6 +41,18 @@ pub fn cos(x: f64) -> f64 {
     libm::cos(x)
 }
 
+/// tan x.
+#[inline]
+pub fn tan(x: f64) -> f64 {
+    libm::tan(x)
+}
+
+/// log₁₀ x.
+#[inline]
+pub fn log10(x: f64) -> f64 {
+    libm::log10(x)
+}
+
 /// (sin x, cos x), as two calls.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {

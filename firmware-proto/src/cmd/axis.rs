@@ -331,6 +331,10 @@ pub enum AxisCmd {
     HandwheelOff,
     /// `MC_OP_SET_MODULO` (layout 1.10).
     SetModulo(SetModulo),
+    /// `MC_OP_SERVO_FILTER_SET` (layout 1.11).
+    ServoFilterSet(super::ServoFilterSet),
+    /// `MC_OP_SERVO_FILTER_CLEAR`.
+    ServoFilterClear(super::ServoFilterClear),
 }
 
 impl AxisCmd {
@@ -355,6 +359,8 @@ impl AxisCmd {
             Self::Handwheel(_) => Opcode::Handwheel,
             Self::HandwheelOff => Opcode::HandwheelOff,
             Self::SetModulo(_) => Opcode::SetModulo,
+            Self::ServoFilterSet(_) => Opcode::ServoFilterSet,
+            Self::ServoFilterClear(_) => Opcode::ServoFilterClear,
         }
     }
 
@@ -382,6 +388,8 @@ impl AxisCmd {
             Opcode::Handwheel => Self::Handwheel(Args::decode(f, args)?),
             Opcode::HandwheelOff => Self::HandwheelOff,
             Opcode::SetModulo => Self::SetModulo(Args::decode(f, args)?),
+            Opcode::ServoFilterSet => Self::ServoFilterSet(Args::decode(f, args)?),
+            Opcode::ServoFilterClear => Self::ServoFilterClear(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -407,6 +415,8 @@ impl AxisCmd {
             Self::CompRead(r) => super::entry(op, axis, r),
             Self::Handwheel(h) => super::entry(op, axis, h),
             Self::SetModulo(m) => super::entry(op, axis, m),
+            Self::ServoFilterSet(v) => super::entry(op, axis, v),
+            Self::ServoFilterClear(v) => super::entry(op, axis, v),
         }
     }
 }

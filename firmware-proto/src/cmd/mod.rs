@@ -30,6 +30,7 @@
 mod axis;
 mod card;
 mod comp;
+mod filter;
 mod gantry;
 mod group;
 mod io;
@@ -40,6 +41,7 @@ mod tests;
 pub use axis::*;
 pub use card::*;
 pub use comp::*;
+pub use filter::*;
 pub use gantry::*;
 pub use group::*;
 pub use io::*;
@@ -269,7 +271,9 @@ pub fn family(op: Opcode) -> Family {
         | O::CompRead
         | O::Handwheel
         | O::HandwheelOff
-        | O::SetModulo => Family::Axis,
+        | O::SetModulo
+        | O::ServoFilterSet
+        | O::ServoFilterClear => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable

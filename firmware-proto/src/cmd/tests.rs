@@ -246,8 +246,55 @@ fn axis_cmd() -> BoxedStrategy<AxisCmd> {
         num()
             .prop_map(|modulo| AxisCmd::SetModulo(SetModulo { modulo }))
             .boxed(),
+        (
+            0..BIQUADS as u8,
+            0..4usize,
+            [num(), num(), num(), num()],
+            [num(), num(), num(), num(), num()],
+        )
+            .prop_map(|(slot, k, [f, d, depth, f2], coeffs)| {
+                AxisCmd::ServoFilterSet(ServoFilterSet {
+                    slot,
+                    spec: BiquadSpec {
+                        kind: BiquadKind::ALL[k],
+                        freq_hz: f,
+                        damping: d,
+                        depth_db: depth,
+                        freq2_hz: f2,
+                        coeffs,
+                    },
+                })
+            })
+            .boxed(),
+        (0..BIQUADS as u8)
+            .prop_map(|slot| AxisCmd::ServoFilterClear(ServoFilterClear { slot }))
+            .boxed(),
     ])
     .boxed()
+}
+
+/// A filter's slot and kind are integers in range: else `MC_NACK_FILTER_KIND` (NaN:
+/// `MC_NACK_NOT_FINITE`); the numbers after them are the card's to check.
+#[test]
+fn filter_commands_refuse_slots_and_kinds_out_of_range() {
+    let set = |slot: f64, kind: f64| {
+        let mut args = [f64::NAN; CMD_ARGS];
+        args[0] = slot;
+        args[1] = kind;
+        ServoFilterSet::decode(0, &args).map_err(|e| e.nack)
+    };
+    assert!(set(3.0, 4.0).is_ok());
+    assert_eq!(set(4.0, 1.0), Err(NackCode::FilterKind));
+    assert_eq!(set(0.5, 1.0), Err(NackCode::FilterKind));
+    assert_eq!(set(0.0, 0.0), Err(NackCode::FilterKind));
+    assert_eq!(set(0.0, 5.0), Err(NackCode::FilterKind));
+    assert_eq!(set(f64::NAN, 1.0), Err(NackCode::NotFinite));
+    let mut args = [0.0; CMD_ARGS];
+    args[0] = 4.0;
+    assert_eq!(
+        ServoFilterClear::decode(0, &args).map_err(|e| e.nack),
+        Err(NackCode::FilterKind)
+    );
 }
 
 #[test]

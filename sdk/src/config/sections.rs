@@ -1,7 +1,7 @@
 //! The sections of a configuration file (see the config module): their types, as serde reads
 //! and writes them, and the card's blocks each one stands for.
 
-use firmware_proto::{raw, AxisConfig, AxisPdPlus, MAX_AXES};
+use firmware_proto::{raw, AxisConfig, AxisPdPlus, AxisPidff, MAX_AXES};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -141,6 +141,8 @@ pub enum ServoLaw {
     Ffpiv,
     /// PD+ (Yeh eq 2.12) with `[axis.N.pdplus]`.
     Pdplus,
+    /// Layout 1.11: PID + feed-forward (Kim §5) with `[axis.N.pidff]`.
+    Pidff,
 }
 
 /// `[axis.N]`: `mc_axis_config` (with the scale), and the axis's other blocks below it.
@@ -170,6 +172,10 @@ pub struct AxisSection {
     /// The PD+ law (`mc_axis_pdplus`): present exactly when `servo_law` is `pdplus`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pdplus: Option<PdPlusSection>,
+    /// Layout 1.11: the PID+FF gains (`mc_axis_pidff`): present exactly when `servo_law` is
+    /// `pidff`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pidff: Option<PidffSection>,
     /// The acc/dec filters (`mc_axis_filter`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filter: Option<FilterSection>,
@@ -367,6 +373,61 @@ impl PdPlusSection {
     }
 }
 
+/// `[axis.N.pidff]` (layout 1.11): the PID + feed-forward gains (`mc_axis_pidff`), volts,
+/// counts and seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PidffSection {
+    /// Proportional, V/count.
+    pub kp: f64,
+    /// Integral, V/(count·s).
+    pub ki: f64,
+    /// Derivative, V per count/s.
+    pub kd: f64,
+    /// Velocity feed-forward, V per count/s.
+    pub kvff: f64,
+    /// Acceleration feed-forward, V per count/s².
+    pub kaff: f64,
+    /// Coulomb friction feed-forward, V.
+    pub friction: f64,
+    /// |v_ref| up to which the friction feed-forward is 0, counts/s.
+    pub friction_deadband: f64,
+    /// The derivative filter's cut-off, Hz.
+    pub d_filter_hz: f64,
+}
+
+impl From<&AxisPidff> for PidffSection {
+    fn from(p: &AxisPidff) -> Self {
+        Self {
+            kp: p.kp,
+            ki: p.ki,
+            kd: p.kd,
+            kvff: p.kvff,
+            kaff: p.kaff,
+            friction: p.friction,
+            friction_deadband: p.friction_deadband,
+            d_filter_hz: p.d_filter_hz,
+        }
+    }
+}
+
+impl PidffSection {
+    /// The register map's block.
+    pub fn block(&self) -> AxisPidff {
+        AxisPidff {
+            kp: self.kp,
+            ki: self.ki,
+            kd: self.kd,
+            kvff: self.kvff,
+            kaff: self.kaff,
+            friction: self.friction,
+            friction_deadband: self.friction_deadband,
+            d_filter_hz: self.d_filter_hz,
+            _reserved: [0.0; 8],
+        }
+    }
+}
+
 /// A filter kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -532,17 +593,21 @@ impl AxisSection {
     pub(super) fn from_blocks(
         c: &AxisConfig,
         pd: &AxisPdPlus,
+        pid: &AxisPidff,
         f: &raw::mc_axis_filter,
         s: &raw::mc_axis_safety,
         h: &raw::mc_axis_homing,
     ) -> Self {
         let g = &c.ffpiv;
         let pdplus = c.servo_law == raw::MC_SERVO_PDPLUS;
+        let pidff = c.servo_law == raw::MC_SERVO_PIDFF;
         let flag = |bits: u32, b: u32| bits & b != 0;
         Self {
             scale: c.scale,
             servo_law: if pdplus {
                 ServoLaw::Pdplus
+            } else if pidff {
+                ServoLaw::Pidff
             } else {
                 ServoLaw::Ffpiv
             },
@@ -555,6 +620,7 @@ impl AxisSection {
             jog_jerk: c.jog_jerk,
             ffpiv: FfpivSection::from(g),
             pdplus: pdplus.then(|| PdPlusSection::from(pd)),
+            pidff: pidff.then(|| PidffSection::from(pid)),
             filter: Some(FilterSection {
                 rapid_kind: filter_name(f.kind[0]),
                 rapid_tau: f.tau[0],
@@ -598,12 +664,14 @@ impl AxisSection {
         }
     }
 
-    /// The axis configuration block and the PD+ block (zero without PD+).
-    pub(super) fn servo_blocks(&self) -> (AxisConfig, AxisPdPlus) {
+    /// The axis configuration block, the PD+ block (zero without PD+) and the PID+FF block
+    /// (zero without PID+FF).
+    pub(super) fn servo_blocks(&self) -> (AxisConfig, AxisPdPlus, AxisPidff) {
         let cfg = AxisConfig {
             servo_law: match self.servo_law {
                 ServoLaw::Ffpiv => raw::MC_SERVO_FFPIV,
                 ServoLaw::Pdplus => raw::MC_SERVO_PDPLUS,
+                ServoLaw::Pidff => raw::MC_SERVO_PIDFF,
             },
             ffpiv: self.ffpiv.gains(),
             dac_limit_v: self.dac_limit_v,
@@ -617,7 +685,10 @@ impl AxisSection {
             ..AxisConfig::default()
         };
         let pd = card_firmware::host::pdplus_block(None);
-        (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)))
+        let pid = self
+            .pidff
+            .map_or(card_firmware::host::pidff_block(None), |p| p.block());
+        (cfg, self.pdplus.map_or(pd, |p| p.onto(pd)), pid)
     }
 }
 

@@ -21,8 +21,9 @@ use super::axis::AxisConfig;
 use super::group::{FilterConfig, GroupConfig, HomeOrder};
 use super::Firmware;
 use crate::servo::pdplus::{AxisModel, DriveModelExt, PdPlusGainsExt};
+use crate::servo::pidff::{self, PidffGains};
 use firmware_proto::cmd::ReadConfig;
-use firmware_proto::{layout, raw, AxisPdPlus, ConfigKind, Mem, NackCode, MAX_AXES};
+use firmware_proto::{layout, raw, AxisPdPlus, AxisPidff, ConfigKind, Mem, NackCode, MAX_AXES};
 use firmware_proto::{MAX_GROUPS, SCALE_RANGE};
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -57,6 +58,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 layout::AXIS_PDPLUS
                     .at(i)
                     .write(m, &pdplus_block(cfg.pdplus.as_ref()));
+                layout::AXIS_PIDFF
+                    .at(i)
+                    .write(m, &pidff_block(cfg.pidff.as_ref()));
             }
             ConfigKind::AxisFilter => layout::AXIS_FILTER
                 .at(i)
@@ -123,6 +127,27 @@ pub fn pdplus_block(m: Option<&AxisModel>) -> AxisPdPlus {
     }
 }
 
+/// The PID+FF block of an axis's PID+FF law (all zero without one).
+pub fn pidff_block(g: Option<&PidffGains>) -> AxisPidff {
+    match g {
+        Some(g) => AxisPidff {
+            _reserved: [0.0; 8],
+            ..*g
+        },
+        None => AxisPidff {
+            kp: 0.0,
+            ki: 0.0,
+            kd: 0.0,
+            kvff: 0.0,
+            kaff: 0.0,
+            friction: 0.0,
+            friction_deadband: 0.0,
+            d_filter_hz: 0.0,
+            _reserved: [0.0; 8],
+        },
+    }
+}
+
 /// The `group_config` block of a group's configuration (`naxes` 0: not configured).
 pub fn group_config_block(cfg: Option<&GroupConfig>) -> raw::mc_group_config {
     let Some(c) = cfg else {
@@ -156,19 +181,32 @@ pub fn group_config_block(cfg: Option<&GroupConfig>) -> raw::mc_group_config {
 }
 
 /// Check an axis configuration block, with the PD+ block of its axis when its servo law is
-/// PD+ (`NotFinite`, `BadConfig`). The scale is not the card's business (`MC_OP_SET_SCALE`).
+/// PD+ (`NotFinite`, `BadConfig`) or its PID+FF block when it is PID+FF (`NotFinite`,
+/// `PidffGains`). The scale is not the card's business
+/// (`MC_OP_SET_SCALE`).
 pub fn validate_axis_config(
     block: &firmware_proto::AxisConfig,
     pdplus: &AxisPdPlus,
+    pidff: &AxisPidff,
 ) -> Result<AxisConfig, NackCode> {
-    let pdplus = match block.servo_law {
-        raw::MC_SERVO_FFPIV => None,
-        raw::MC_SERVO_PDPLUS => Some(validate_pdplus(pdplus)?),
+    let (pdplus, pidff) = match block.servo_law {
+        raw::MC_SERVO_FFPIV => (None, None),
+        raw::MC_SERVO_PDPLUS => (Some(validate_pdplus(pdplus)?), None),
+        raw::MC_SERVO_PIDFF => {
+            if !pidff::all_finite(pidff) {
+                return Err(NackCode::NotFinite);
+            }
+            if !pidff::gains_valid(pidff) {
+                return Err(NackCode::PidffGains);
+            }
+            (None, Some(*pidff))
+        }
         _ => return Err(NackCode::BadConfig),
     };
     let cfg = AxisConfig {
         block: *block,
         pdplus,
+        pidff,
     };
     cfg.validate()?;
     if cfg.pdplus.is_some_and(|p| p.umax > cfg.dac_limit_v) {

@@ -169,6 +169,14 @@ impl<M: Mem + Clone> Firmware<M> {
         for a in 0..MAX_AXES {
             fw.write_axis_config(a, &AxisConfig::default());
             fw.write_axis_filter(a, &FilterConfig::default());
+            // Layout 1.11: the default PID+FF tuning (the law is FFPIV until selected), no
+            // servo filter.
+            layout::AXIS_PIDFF
+                .at(a)
+                .write(&fw.mem, &firmware_proto::AxisPidff::default());
+            layout::SERVO_FILTERS
+                .at(a)
+                .write(&fw.mem, &fw.axes[a].filters().block());
             layout::AXIS_HOMING
                 .at(a)
                 .write(&fw.mem, &fw.homing[a].config().block);
@@ -788,6 +796,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 Signal::ServoFf => self.axes[i].servo_terms().ff,
                 Signal::GantrySkew => gantry::skew_of(&self.gantries, i),
                 Signal::CompPos => ax().comp_pos,
+                Signal::FilterIn => self.axes[i].law_output(),
+                Signal::FilterOut => ax().u_request,
+                Signal::ServoFriction => self.axes[i].friction_term(),
                 Signal::PathSpeed => gr().feed,
                 Signal::PathAcc => gr().feed_acc,
                 Signal::PathPos => gr().path_pos,

@@ -167,6 +167,15 @@ impl Ffpiv {
         self.terms
     }
 
+    /// Layout 1.11, bumpless transfer from another law whose output was `u_prev` volts: the
+    /// integrator that gives that output at rest (`kv·ki·∫ = u_prev`); none without an
+    /// integral gain.
+    pub fn transfer(&mut self, u_prev: f64, gains: &FfpivGains) {
+        self.vel_ref = 0.0;
+        let k = gains.kv * gains.ki;
+        self.integral = if k > 0.0 { u_prev / k } else { 0.0 };
+    }
+
     /// Forget the integrator and the reference's history (on enable, at rest), keep the
     /// velocity estimate.
     pub fn reset_integral(&mut self) {

@@ -241,8 +241,8 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 }
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
-const OPCODE_GAPS: [u16; 18] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 121, 256, 0x7FFF, 0x8000, 0xFFFF,
+const OPCODE_GAPS: [u16; 19] = [
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 121, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -772,6 +772,30 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 cubic: bits as u32 & CAM_CUBIC != 0,
                 periodic: bits as u32 & CAM_PERIODIC != 0,
             }))
+        }
+        // Layout 1.11: a servo filter of any kind in any slot, its numbers around the plausible
+        // (some refused: a frequency beyond Nyquist, a damping or depth out of range).
+        O::ServoFilterSet => {
+            let kinds = firmware_proto::cmd::BiquadKind::ALL;
+            let spec = firmware_proto::cmd::BiquadSpec {
+                kind: kinds[s.u8() as usize % kinds.len()],
+                freq_hz: magnitude(s, 0.0, 4.0),
+                damping: magnitude(s, -2.0, 1.0),
+                depth_db: -magnitude(s, 0.0, 2.0),
+                freq2_hz: magnitude(s, 0.0, 4.0),
+                coeffs: [
+                    magnitude(s, -1.0, 0.0),
+                    magnitude(s, -1.0, 0.0),
+                    magnitude(s, -1.0, 0.0),
+                    -magnitude(s, -1.0, 0.0),
+                    magnitude(s, -2.0, 0.0),
+                ],
+            };
+            let slot = s.u8() % firmware_proto::cmd::BIQUADS as u8;
+            feed(s);
+            Plausible::typed(AxisCmd::ServoFilterSet(
+                firmware_proto::cmd::ServoFilterSet { slot, spec },
+            ))
         }
         // Layout 1.9: leadscrew compensation, a table's header, its points (rising positions,
         // small corrections), a read-back.

@@ -34,8 +34,10 @@ use crate::math;
 use crate::motion::comp::{CompParams, CompPoint, CompState};
 use crate::motion::otg::{OtgLimits, Trajectory};
 use crate::motion::scurve::{bounded_stop_limits, plan_stop, Limits, Profile};
+use crate::servo::biquad::ServoFilters;
 use crate::servo::ffpiv::{gains_valid, Ffpiv, Reference, ServoTerms};
 use crate::servo::pdplus::{AxisModel, PdPlus};
+use crate::servo::pidff::{Pidff, PidffGains};
 use firmware_proto::cmd::MoveDirection;
 use firmware_proto::{
     AxisState, AxisStatus, Faults, Io, MotionFlags, NackCode, StopReason, AXIS_QUEUE_LEN,
@@ -51,6 +53,8 @@ pub struct AxisConfig {
     pub block: firmware_proto::AxisConfig,
     /// The PD+ law (Yeh eq 2.12) and its drive model, when selected instead of FFPIV.
     pub pdplus: Option<AxisModel>,
+    /// Layout 1.11: the PID+FF gains, when that law is selected.
+    pub pidff: Option<PidffGains>,
 }
 
 impl core::ops::Deref for AxisConfig {
@@ -98,6 +102,19 @@ impl AxisConfig {
         }
         Ok(())
     }
+}
+
+/// The servo law an axis runs besides its FFPIV state (kept whatever the law: it is the
+/// velocity estimator): one match a tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(clippy::large_enum_variant)] // inline on purpose: the firmware never allocates
+enum Law {
+    /// FFPIV (Thinh Fig 5).
+    Ffpiv,
+    /// PD+ (Yeh eq 2.12).
+    PdPlus(PdPlus),
+    /// PID + feed-forward (layout 1.11, Kim §5).
+    Pidff(Pidff),
 }
 
 /// What the axis's profile is doing.
@@ -226,7 +243,11 @@ pub struct Axis {
     u_request: f64,
     /// The servo law's terms of the tick (the scope's `MC_SIG_SERVO_*`); 0 while unpowered.
     servo_terms: ServoTerms,
-    pd: Option<PdPlus>,
+    law: Law,
+    /// Layout 1.11: the biquad filters on the law's output, and that output of the tick (the
+    /// chain's input; 0 while unpowered).
+    filters: ServoFilters,
+    law_out: f64,
     target: f64,
     act_pos: f64,
     encoder: i64,
@@ -307,7 +328,9 @@ impl Axis {
             raw_vel: 0.0,
             u_request: 0.0,
             servo_terms: ServoTerms::default(),
-            pd: None,
+            law: Law::Ffpiv,
+            filters: ServoFilters::default(),
+            law_out: 0.0,
             target: 0.0,
             act_pos: 0.0,
             encoder: 0,
@@ -375,8 +398,10 @@ impl Axis {
                     };
                     self.target = self.act_pos;
                     self.servo.reset_integral();
-                    if let Some(pd) = &mut self.pd {
-                        pd.reset(self.act_pos);
+                    match &mut self.law {
+                        Law::PdPlus(pd) => pd.reset(self.act_pos),
+                        Law::Pidff(pid) => pid.reset(),
+                        Law::Ffpiv => {}
                     }
                     self.motion = Motion::Hold;
                     self.set_state(AxisState::Standstill, &mut changed);
@@ -670,7 +695,7 @@ impl Axis {
                 *target -= d;
             }
         }
-        if let Some(pd) = &mut self.pd {
+        if let Law::PdPlus(pd) = &mut self.law {
             pd.shift(-d);
         }
     }
@@ -1041,11 +1066,61 @@ impl Axis {
 
     /// Select the servo law of the configuration at sample time `ts` (on apply, or when the
     /// servo rate changes).
+    ///
+    /// Layout 1.11: a switch to PID+FF or FFPIV is bumpless (their integrators take over the
+    /// output of the tick: at rest the DAC does not step); PID+FF retuned keeps its
+    /// integrator's term (volts). PD+ has no integrator to take anything over.
     pub fn apply_config(&mut self, cfg: AxisConfig, ts: f64) {
         self.config = cfg;
-        self.pd = cfg.pdplus.and_then(|m| PdPlus::new(m.gains, ts).ok());
-        if let Some(pd) = &mut self.pd {
-            pd.reset(self.act_pos);
+        let was_ffpiv = self.law == Law::Ffpiv;
+        self.law = if let Some(m) = cfg.pdplus {
+            match PdPlus::new(m.gains, ts) {
+                Ok(mut pd) => {
+                    pd.reset(self.act_pos);
+                    Law::PdPlus(pd)
+                }
+                Err(_) => Law::Ffpiv,
+            }
+        } else if let Some(g) = cfg.pidff {
+            match self.law {
+                Law::Pidff(mut pid) => {
+                    pid.retune(g, ts);
+                    Law::Pidff(pid)
+                }
+                _ => {
+                    let mut pid = Pidff::new(g, ts);
+                    pid.transfer(self.law_out);
+                    Law::Pidff(pid)
+                }
+            }
+        } else {
+            if !was_ffpiv {
+                self.servo.transfer(self.law_out, &cfg.ffpiv);
+            }
+            Law::Ffpiv
+        };
+    }
+
+    /// Layout 1.11: the biquad filters on the servo output.
+    pub fn filters(&self) -> &ServoFilters {
+        &self.filters
+    }
+
+    /// Set or clear the filters (`f` on the chain, with the law's output of the tick).
+    pub fn with_filters<R>(&mut self, f: impl FnOnce(&mut ServoFilters, f64) -> R) -> R {
+        f(&mut self.filters, self.law_out)
+    }
+
+    /// The servo law's output of the tick, the filters' input, V.
+    pub fn law_output(&self) -> f64 {
+        self.law_out
+    }
+
+    /// The PID+FF law's Coulomb friction feed-forward of the tick, V (0 under another law).
+    pub fn friction_term(&self) -> f64 {
+        match &self.law {
+            Law::Pidff(pid) => pid.friction(),
+            _ => 0.0,
         }
     }
 
@@ -1101,6 +1176,11 @@ impl Axis {
             self.ferr = 0.0;
             self.dac_v = 0.0;
             self.servo_terms = ServoTerms::default();
+            self.law_out = 0.0;
+            if self.filters.any() {
+                // Unpowered, the chain's input is 0: it starts from rest when powered.
+                self.filters.settle(0.0);
+            }
             self.faults.remove(Faults::DAC_SATURATED);
             if self.modulo_q != 0 {
                 self.wrap_frame();
@@ -1211,16 +1291,24 @@ impl Axis {
         // Servo loop.
         self.ferr = r.pos - motor;
         let limit = self.config.dac_limit_v;
-        let u = match &mut self.pd {
+        let (u, terms) = match &mut self.law {
+            Law::Ffpiv => {
+                let u = self.servo.update(&r, motor, &self.config.ffpiv, ts, limit);
+                (u, self.servo.terms())
+            }
             // Yeh eq 2.12: u = kp e + kd ė + kv v_ref + ka a_ref.
-            Some(pd) => pd.update(r.pos, r.vel, r.acc, motor),
-            None => self.servo.update(&r, motor, &self.config.ffpiv, ts, limit),
+            Law::PdPlus(pd) => (pd.update(r.pos, r.vel, r.acc, motor), pd.terms()),
+            Law::Pidff(pid) => (pid.update(&r, motor, limit), pid.terms()),
+        };
+        self.servo_terms = terms;
+        self.law_out = u;
+        // Layout 1.11: the biquad filters, when any is set (one branch when none is).
+        let u = if self.filters.any() {
+            self.filters.run(u)
+        } else {
+            u
         };
         self.u_request = u;
-        self.servo_terms = match &self.pd {
-            Some(pd) => pd.terms(),
-            None => self.servo.terms(),
-        };
         let u = u.clamp(-limit, limit);
         let (volts, saturated) = super::dac::Dac::output(u);
         self.dac_v = volts;
@@ -1698,8 +1786,10 @@ impl Axis {
         self.in_velocity = false;
         self.stop_elapsed = None;
         self.servo.reset_integral();
-        if let Some(pd) = &mut self.pd {
-            pd.reset(self.act_pos);
+        match &mut self.law {
+            Law::PdPlus(pd) => pd.reset(self.act_pos),
+            Law::Pidff(pid) => pid.reset(),
+            Law::Ffpiv => {}
         }
     }
 
@@ -1714,7 +1804,7 @@ impl Axis {
         self.comp.changed(None);
         self.cmd.pos += delta;
         self.target += delta;
-        if let Some(pd) = &mut self.pd {
+        if let Law::PdPlus(pd) = &mut self.law {
             pd.shift(delta);
         }
     }

@@ -213,6 +213,7 @@ fn the_output_is_clamped_to_the_dac_range_and_saturation_flagged() {
             ..Default::default()
         },
         pdplus: None,
+        pidff: None,
     };
     ax.apply_config(cfg, TS);
     let volts = at(&mut ax, 1e6);
@@ -257,6 +258,7 @@ fn pdplus_configured_gives_yeh_eq_2_12() {
             ..Default::default()
         },
         pdplus: Some(model),
+        pidff: None,
     };
     ax.apply_config(cfg, TS);
     let r = Reference {

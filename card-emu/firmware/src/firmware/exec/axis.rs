@@ -9,7 +9,7 @@ use super::super::axis::{Axis, MoveKind, Started};
 use super::super::{homing, nack, Firmware};
 use crate::motion::scurve::Limits;
 use firmware_proto::cmd::{self, AxisCmd};
-use firmware_proto::{AxisState, Command, Mem, NackCode, Opcode};
+use firmware_proto::{layout, AxisState, Command, Mem, NackCode, Opcode};
 
 /// The axis's move kind of a decoded position move's (the safety layer's check uses it too).
 impl From<cmd::MoveKind> for MoveKind {
@@ -46,6 +46,8 @@ fn finite(c: &AxisCmd) -> bool {
         | AxisCmd::Handwheel(_)
         | AxisCmd::HandwheelOff => true,
         AxisCmd::SetModulo(m) => m.modulo.is_finite(),
+        // Layout 1.11: the filter's design checks its numbers itself (every one, NotFinite).
+        AxisCmd::ServoFilterSet(_) | AxisCmd::ServoFilterClear(_) => true,
     }
 }
 
@@ -60,6 +62,13 @@ impl<M: Mem + Clone> Firmware<M> {
         let ax = self.target_axis(c)?;
         if let AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) = cmd {
             return self.execute_comp(ax, &cmd);
+        }
+        // Layout 1.11: the servo output's filters, in any state (a gantry's slave's included:
+        // they shape its drive, not its motion).
+        match cmd {
+            AxisCmd::ServoFilterSet(f) => return self.execute_filter(ax, f.slot, Some(&f.spec)),
+            AxisCmd::ServoFilterClear(f) => return self.execute_filter(ax, f.slot, None),
+            _ => {}
         }
         // Layout 1.10: a gantry's slave is the gantry's; its master's frame is the gantry's.
         self.gantry_gate(ax, &cmd)?;
@@ -97,7 +106,9 @@ impl<M: Mem + Clone> Firmware<M> {
             | AxisCmd::CompRead(_)
             | AxisCmd::Handwheel(_)
             | AxisCmd::HandwheelOff
-            | AxisCmd::SetModulo(_) => return Err(NackCode::UnknownOpcode),
+            | AxisCmd::SetModulo(_)
+            | AxisCmd::ServoFilterSet(_)
+            | AxisCmd::ServoFilterClear(_) => return Err(NackCode::UnknownOpcode),
             AxisCmd::PowerOn => axis.power(true)?,
             AxisCmd::PowerOff => axis.power(false)?,
             AxisCmd::Move(kind, m) => {
@@ -276,6 +287,30 @@ impl<M: Mem + Clone> Firmware<M> {
         let q = firmware_proto::modulo_subcounts(modulo);
         self.axes[ax].set_modulo(q);
         Ok(self.axes[ax].modulo())
+    }
+
+    /// Layout 1.11: `MC_OP_SERVO_FILTER_SET` (`spec`) or `_CLEAR` (`None`) of slot `slot` of
+    /// axis `ax`: checked and designed at the servo rate (refused: nothing changes), the
+    /// read-back block written before the ack.
+    fn execute_filter(
+        &mut self,
+        ax: usize,
+        slot: u8,
+        spec: Option<&cmd::BiquadSpec>,
+    ) -> Result<f64, NackCode> {
+        let rate = self.servo_rate_hz as f64;
+        let k = slot as usize;
+        self.axes[ax].with_filters(|ch, x| match spec {
+            Some(spec) => ch.set(k, spec, rate, x),
+            None => {
+                ch.clear(k);
+                Ok(())
+            }
+        })?;
+        layout::SERVO_FILTERS
+            .at(ax)
+            .write(&self.mem, &self.axes[ax].filters().block());
+        Ok(0.0)
     }
 
     /// Is axis `ax` driven by a group that moves?

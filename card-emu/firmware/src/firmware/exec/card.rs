@@ -6,6 +6,7 @@ use super::super::axis::AxisConfig;
 use super::super::homing::HomingConfig;
 use super::super::{config, Firmware};
 use super::hard_stop_ramp;
+use crate::servo::biquad::ServoFilters;
 use firmware_proto::cmd::{CardCmd, Session};
 use firmware_proto::{
     layout, AxisState, Command, Event, EventKind, GroupState, Mem, NackCode, Opcode, StopReason,
@@ -56,7 +57,8 @@ impl<M: Mem + Clone> Firmware<M> {
             CardCmd::ApplyAxisConfig => {
                 let block = layout::AXIS_CONFIG.at(ax).read(&self.mem);
                 let pdplus = layout::AXIS_PDPLUS.at(ax).read(&self.mem);
-                let cfg = config::validate_axis_config(&block, &pdplus)?;
+                let pidff = layout::AXIS_PIDFF.at(ax).read(&self.mem);
+                let cfg = config::validate_axis_config(&block, &pdplus, &pidff)?;
                 let ts = self.ts();
                 self.axes[ax].apply_config(cfg, ts);
             }
@@ -91,11 +93,18 @@ impl<M: Mem + Clone> Firmware<M> {
         {
             return Err(NackCode::AxesEnabled);
         }
+        // Layout 1.11: every axis's filters designed at the new rate, or the rate refused.
+        let mut filters = [ServoFilters::default(); MAX_AXES];
+        for (f, axis) in filters.iter_mut().zip(&self.axes) {
+            *f = axis.filters().redesigned(rate as f64)?;
+        }
         self.servo_rate_hz = rate;
         let ts = self.ts();
-        for axis in self.axes.iter_mut() {
+        for (ax, (axis, f)) in self.axes.iter_mut().zip(filters).enumerate() {
             let cfg: AxisConfig = axis.config;
             axis.apply_config(cfg, ts);
+            axis.with_filters(|ch, _| *ch = f);
+            layout::SERVO_FILTERS.at(ax).write(&self.mem, &f.block());
         }
         self.mem.write32(layout::SERVO_RATE_HZ, rate);
         Ok(())
