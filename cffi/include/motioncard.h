@@ -272,6 +272,12 @@ extern "C" {
 #define MC_EVENT_GANTRY_HOMED 33
 
 /**
+ * An analog input crossed its threshold (layout 1.11). axis: the input; code: 1 above (y >=
+ * threshold), 0 below again (y <= threshold - hysteresis); value: the filtered volts y.
+ */
+#define MC_EVENT_ANALOG 34
+
+/**
  * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
  *
  * Power off.
@@ -1196,6 +1202,71 @@ extern "C" {
 #define MC_SCOPE_SIG_INPUTS_RAW 50
 
 /**
+ * Layout 1.11: analog input 0, filtered, V (`analog_status.input[0]`).
+ */
+#define MC_SCOPE_SIG_AIN0 51
+
+/**
+ * Analog input 1, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN1 52
+
+/**
+ * Analog input 2, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN2 53
+
+/**
+ * Analog input 3, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN3 54
+
+/**
+ * Analog input 4, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN4 55
+
+/**
+ * Analog input 5, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN5 56
+
+/**
+ * Analog input 6, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN6 57
+
+/**
+ * Analog input 7, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN7 58
+
+/**
+ * Spare DAC output 0, V (`analog_status.output[0]`).
+ */
+#define MC_SCOPE_SIG_AOUT0 59
+
+/**
+ * Spare DAC output 1, V.
+ */
+#define MC_SCOPE_SIG_AOUT1 60
+
+/**
+ * Spare DAC output 2, V.
+ */
+#define MC_SCOPE_SIG_AOUT2 61
+
+/**
+ * Spare DAC output 3, V.
+ */
+#define MC_SCOPE_SIG_AOUT3 62
+
+/**
+ * The PSO's output, V or duty 0..1 (`analog_status.pso_value`).
+ */
+#define MC_SCOPE_SIG_PSO 63
+
+/**
  * `mc_scope_settings.mode`.
  *
  * `post_trigger` samples from the trigger sample on, then done.
@@ -1786,6 +1857,35 @@ extern "C" {
  * `MC_EVENT_HOMING_FAILED` carry this seq.
  */
 #define MC_OP_GANTRY_HOME 110
+
+/**
+ * Args: input (`0..MC_ANALOG_INPUTS-1`), `cutoff_hz` (0: no filter; else > 0 and at most half the
+ * servo rate), threshold (V, within `+-MC_ANALOG_RANGE`), hysteresis (V, 0..2 `*`
+ * `MC_ANALOG_RANGE`). flags: `MC_ANALOG_EV_RISE`, `MC_ANALOG_EV_FALL`. axis field ignored.
+ */
+#define MC_OP_ANALOG_INPUT 116
+
+/**
+ * Args: output (`0..MC_ANALOG_OUTPUTS-1`), volts (clamped to the DAC's range; NaN:
+ * `MC_NACK_NOT_FINITE`). An output the PSO drives: `MC_NACK_ANALOG_CHANNEL`. axis field ignored.
+ */
+#define MC_OP_ANALOG_OUTPUT 117
+
+/**
+ * Axis: the group (configured, else `MC_NACK_PSO_GROUP`). args: output (a spare DAC
+ * `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_CARD_OUTPUTS-1` no compare
+ * channel pulses), gate (a digital output `0..MC_CARD_OUTPUTS-1`, not the PWM's), min, max (min <= max;
+ * V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0), `pwm_hz` (`MC_PSO_PWM`:
+ * `1..MC_PSO_PWM_HZ_MAX`; else ignored). flags: `MC_PSO_PWM`. Anything else out of range:
+ * `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output goes to 0 first).
+ */
+#define MC_OP_PSO 118
+
+/**
+ * The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis field
+ * ignored.
+ */
+#define MC_OP_PSO_OFF 119
 
 /**
  * Most slaves of a gantry.
@@ -6231,6 +6331,25 @@ mc_result mc_send_raw(mc_card card,
  */
 
 /**
+ * ... and when it goes below again.
+ */
+#define MC_ANALOG_EV_FALL (1u << 1)
+
+/**
+ * `MC_OP_ANALOG_INPUT` flags: `MC_EVENT_ANALOG` when the input goes above.
+ */
+#define MC_ANALOG_EV_RISE (1u << 0)
+
+#define MC_ANALOG_INPUTS 8u
+
+#define MC_ANALOG_OUTPUTS 4u
+
+/**
+ * The ADC's and the DACs' range, +-V.
+ */
+#define MC_ANALOG_RANGE 10.0
+
+/**
  * `MC_OP_CAM_IN` flag (beside the master source).
  */
 #define MC_CAM_AT_CYCLE_END (1u << 4)
@@ -6415,6 +6534,21 @@ mc_result mc_send_raw(mc_card card,
 #define MC_MOVE_DIR_SHORTEST 0u
 
 #define MC_MOVE_RELATIVE (1u << 0)
+
+/**
+ * An analog input or output the card does not have (not a whole number below `MC_ANALOG_INPUTS` / `MC_ANALOG_OUTPUTS`), or a spare DAC the PSO drives.
+ */
+#define MC_NACK_ANALOG_CHANNEL 145
+
+/**
+ * A cut-off below 0 or above half the servo rate (Nyquist).
+ */
+#define MC_NACK_ANALOG_FILTER 146
+
+/**
+ * A threshold beyond `+-MC_ANALOG_RANGE`, a hysteresis below 0 or above 2 `*` `MC_ANALOG_RANGE`, or unknown flags.
+ */
+#define MC_NACK_ANALOG_THRESHOLD 147
 
 /**
  * The card configuration can only change while every axis is disabled.
@@ -6797,6 +6931,16 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PROBE_INPUT 96
 
 /**
+ * A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1), `v_ref` (<= 0) or PWM frequency out of range, the gate equal to the PWM output, a PWM output a compare channel pulses, or unknown flags.
+ */
+#define MC_NACK_PSO_CONFIG 148
+
+/**
+ * A PSO on a group that does not exist (index beyond `MC_GROUP_COUNT`) or is not configured.
+ */
+#define MC_NACK_PSO_GROUP 149
+
+/**
  * A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a velocity.
  */
 #define MC_NACK_PVT_LIMIT 103
@@ -6926,6 +7070,16 @@ mc_result mc_send_raw(mc_card card,
  * `evt_head` - `evt_tail` > `MC_EVT_RING_LEN`.
  */
 #define MC_PROTO_EVT_RING 2
+
+/**
+ * `MC_OP_PSO` flags: a PWM on a digital output (else a spare DAC).
+ */
+#define MC_PSO_PWM (1u << 0)
+
+/**
+ * The highest PWM frequency, Hz.
+ */
+#define MC_PSO_PWM_HZ_MAX 100000.0
 
 /**
  * `MC_OP_GROUP_MOVE_PTP`: every axis's limits were staged (else `MC_NACK_BAD_CONFIG`).

@@ -66,6 +66,7 @@ blocks!(
     mc_scope_status,
     mc_comp_readback,
     mc_gantry_status,
+    mc_analog_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

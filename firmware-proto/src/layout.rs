@@ -235,6 +235,19 @@ const _: () = {
             <= crate::DPRAM_SIZE
     );
 };
+/// Layout 1.11: analog I/O and the PSO (`mc_analog_status`). Card writes.
+pub const ANALOG_STATUS: BlockAt<mc_analog_status> = BlockAt::new(off!(analog_status));
+/// Its size.
+pub const ANALOG_STATUS_BYTES: usize = size_of::<mc_analog_status>();
+const _: () = {
+    // Layout 1.11 appended after the gantries' status blocks.
+    assert!(
+        ANALOG_STATUS.offset()
+            == GANTRY_STATUS.at(MC_MAX_GANTRIES as usize - 1).offset() + GANTRY_STATUS_BYTES
+    );
+    assert!(ANALOG_STATUS.offset().is_multiple_of(8));
+    assert!(ANALOG_STATUS.offset() + ANALOG_STATUS_BYTES <= crate::DPRAM_SIZE);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -626,7 +626,7 @@ mod tests {
         assert_eq!(Opcode::from_raw(0), None);
         // layout 1.10: the plane of two axes' one, the handwheel's two, the gantries' five,
         // the modulo's three
-        assert_eq!(NackCode::ALL.len(), 95);
+        assert_eq!(NackCode::ALL.len(), 100);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));
