@@ -1876,8 +1876,9 @@ extern "C" {
  * `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_CARD_OUTPUTS-1` no compare
  * channel pulses), gate (a digital output `0..MC_CARD_OUTPUTS-1`, not the PWM's), min, max (min <= max;
  * V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0), `pwm_hz` (`MC_PSO_PWM`:
- * `1..MC_PSO_PWM_HZ_MAX`; else ignored). flags: `MC_PSO_PWM`. Anything else out of range:
- * `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output goes to 0 first).
+ * `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none; else > 0 and at most half the servo
+ * rate). flags: `MC_PSO_PWM`. Anything else out of range: `MC_NACK_PSO_CONFIG`. Replaces a PSO
+ * running (its old output goes to 0 first).
  */
 #define MC_OP_PSO 118
 
@@ -4576,6 +4577,34 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PLANE_AXES -130
 
 /**
+ * Layout 1.11: an analog input or output the card does not have (inputs 0..=7, outputs
+ * 0..=3), or a spare DAC output the path-speed output drives.
+ */
+#define MC_ERR_ANALOG_CHANNEL -136
+
+/**
+ * An analog input's cut-off below 0 or above half the servo rate (Nyquist).
+ */
+#define MC_ERR_ANALOG_FILTER -137
+
+/**
+ * An analog threshold beyond ±10 V, or a hysteresis below 0 or above 20 V.
+ */
+#define MC_ERR_ANALOG_THRESHOLD -138
+
+/**
+ * A path-speed output's output, gate, range (min > max, beyond ±10 V or a duty beyond
+ * 0..1), reference speed (<= 0) or PWM frequency out of range, the gate on the PWM's own
+ * output, or a PWM on an output a compare channel pulses.
+ */
+#define MC_ERR_PSO_CONFIG -139
+
+/**
+ * A path-speed output on a group that does not exist or is not configured.
+ */
+#define MC_ERR_PSO_GROUP -140
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -6931,7 +6960,7 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PROBE_INPUT 96
 
 /**
- * A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1), `v_ref` (<= 0) or PWM frequency out of range, the gate equal to the PWM output, a PWM output a compare channel pulses, or unknown flags.
+ * A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1), `v_ref` (<= 0), PWM frequency or filter (below 0, above half the servo rate) out of range, the gate equal to the PWM output, a PWM output a compare channel pulses, or unknown flags.
  */
 #define MC_NACK_PSO_CONFIG 148
 

@@ -1146,8 +1146,9 @@ pub const MC_OP_ANALOG_OUTPUT: u32 = 117;
 /// `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_OUTPUTS-1` no compare
 /// channel pulses), gate (a digital output `0..MC_OUTPUTS-1`, not the PWM's), min, max (min <= max;
 /// V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0), `pwm_hz` (`MC_PSO_PWM`:
-/// `1..MC_PSO_PWM_HZ_MAX`; else ignored). flags: `MC_PSO_PWM`. Anything else out of range:
-/// `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output goes to 0 first).
+/// `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none; else > 0 and at most half the servo
+/// rate). flags: `MC_PSO_PWM`. Anything else out of range: `MC_NACK_PSO_CONFIG`. Replaces a PSO
+/// running (its old output goes to 0 first).
 pub const MC_OP_PSO: u32 = 118;
 
 /// The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis field

@@ -973,8 +973,11 @@
  *
  * The path-speed output (PSO; laser power, a dispenser): one per card, on a group. Every tick,
  * after the group's path step, the card takes the group's ACTUAL tangential speed
- * v = sqrt(sum of act_vel^2 over the group's axes) (counts/s; act_vel is the axis status's
- * filtered velocity estimate of the tick) and, while the gate output's bit is set in
+ * v = sqrt(sum of w_i^2 over the group's axes) (counts/s), w_i axis i's velocity estimate of
+ * the tick (act_vel) through the PSO's own first-order low-pass filter of cut-off filter_hz
+ * (w_i += beta * (act_vel_i - w_i), beta = 1 - exp(-2 pi filter_hz / servo rate); filter_hz 0:
+ * w_i = act_vel_i; the filter smooths the encoder's one-count steps, and lags by about
+ * 1 / (2 pi filter_hz)), and, while the gate output's bit is set in
  * card.outputs (the host's and the path's outputs, MC_OP_PATH_OUTPUT: G-code M62..M65), drives
  *     value = clamp(min + (max - min) * v / v_ref, min, max)
  * on its output: a spare DAC (volts, quantised as MC_OP_ANALOG_OUTPUT's), or with MC_PSO_PWM a
@@ -1000,7 +1003,8 @@
                                     * output 0..MC_OUTPUTS-1 no compare channel pulses), gate (a digital
                                     * output 0..MC_OUTPUTS-1, not the PWM's), min, max (min <= max; V
                                     * within the DAC's range, or a duty 0..1), v_ref (counts/s, > 0),
-                                    * pwm_hz (MC_PSO_PWM: 1..MC_PSO_PWM_HZ_MAX; else ignored). flags:
+                                    * pwm_hz (MC_PSO_PWM: 1..MC_PSO_PWM_HZ_MAX; else ignored), filter_hz
+                                    * (0: none; else > 0 and at most half the servo rate). flags:
                                     * MC_PSO_PWM. Anything else out of range: MC_NACK_PSO_CONFIG. Replaces
                                     * a PSO running (its old output goes to 0 first) */
 #define MC_OP_PSO_OFF 119u         /* the PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when
@@ -1019,9 +1023,10 @@
 #define MC_NACK_ANALOG_THRESHOLD 147 /* a threshold beyond +-MC_ANALOG_RANGE, a hysteresis below 0 or
                                       * above 2 * MC_ANALOG_RANGE, or unknown flags */
 #define MC_NACK_PSO_CONFIG 148     /* a PSO output, gate, range (min > max, beyond the DAC's range or a
-                                    * duty beyond 0..1), v_ref (<= 0) or PWM frequency out of range, the
-                                    * gate equal to the PWM output, a PWM output a compare channel
-                                    * pulses, or unknown flags */
+                                    * duty beyond 0..1), v_ref (<= 0), PWM frequency or filter (below 0,
+                                    * above half the servo rate) out of range, the gate equal to the
+                                    * PWM output, a PWM output a compare channel pulses, or unknown
+                                    * flags */
 #define MC_NACK_PSO_GROUP 149      /* a PSO on a group that does not exist (index beyond MC_MAX_GROUPS)
                                     * or is not configured */
 
@@ -1925,11 +1930,12 @@ struct mc_analog_status {
     double pso_max;
     double pso_v_ref;
     double pso_pwm_hz;
+    double pso_filter_hz;
     /** The group's actual tangential speed of the tick, counts/s (0 while off). */
     double pso_speed;
     /** The PSO's output of the tick: V, or the duty 0..1 (MC_PSO_PWM). */
     double pso_value;
-    double _reserved[4];
+    double _reserved[3];
 };
 
 /* The whole window. */

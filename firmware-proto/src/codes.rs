@@ -426,8 +426,9 @@ code_enum! {
         /// `MC_ANALOG_RANGE`, or unknown flags.
         AnalogThreshold = raw::MC_NACK_ANALOG_THRESHOLD,
         /// A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1),
-        /// `v_ref` (<= 0) or PWM frequency out of range, the gate equal to the PWM output, a PWM
-        /// output a compare channel pulses, or unknown flags.
+        /// `v_ref` (<= 0), PWM frequency or filter (below 0, above half the servo rate) out of
+        /// range, the gate equal to the PWM output, a PWM output a compare channel pulses, or
+        /// unknown flags.
         PsoConfig = raw::MC_NACK_PSO_CONFIG,
         /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
         /// configured.
@@ -945,9 +946,9 @@ code_enum! {
         /// `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_OUTPUTS-1` no
         /// compare channel pulses), gate (a digital output `0..MC_OUTPUTS-1`, not the PWM's), min,
         /// max (min <= max; V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0),
-        /// `pwm_hz` (`MC_PSO_PWM`: `1..MC_PSO_PWM_HZ_MAX`; else ignored). flags: `MC_PSO_PWM`.
-        /// Anything else out of range: `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output
-        /// goes to 0 first).
+        /// `pwm_hz` (`MC_PSO_PWM`: `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none;
+        /// else > 0 and at most half the servo rate). flags: `MC_PSO_PWM`. Anything else out of
+        /// range: `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output goes to 0 first).
         Pso = raw::MC_OP_PSO,
         /// The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis
         /// field ignored.

@@ -1839,11 +1839,12 @@ pub struct mc_analog_status {
     pub pso_max: f64,
     pub pso_v_ref: f64,
     pub pso_pwm_hz: f64,
+    pub pso_filter_hz: f64,
     #[doc = " The group's actual tangential speed of the tick, counts/s (0 while off)."]
     pub pso_speed: f64,
     #[doc = " The PSO's output of the tick: V, or the duty 0..1 (MC_PSO_PWM)."]
     pub pso_value: f64,
-    pub _reserved: [f64; 4usize],
+    pub _reserved: [f64; 3usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
@@ -1885,12 +1886,14 @@ const _: () = {
         [::core::mem::offset_of!(mc_analog_status, pso_v_ref) - 400usize];
     ["Offset of field: mc_analog_status::pso_pwm_hz"]
         [::core::mem::offset_of!(mc_analog_status, pso_pwm_hz) - 408usize];
+    ["Offset of field: mc_analog_status::pso_filter_hz"]
+        [::core::mem::offset_of!(mc_analog_status, pso_filter_hz) - 416usize];
     ["Offset of field: mc_analog_status::pso_speed"]
-        [::core::mem::offset_of!(mc_analog_status, pso_speed) - 416usize];
+        [::core::mem::offset_of!(mc_analog_status, pso_speed) - 424usize];
     ["Offset of field: mc_analog_status::pso_value"]
-        [::core::mem::offset_of!(mc_analog_status, pso_value) - 424usize];
+        [::core::mem::offset_of!(mc_analog_status, pso_value) - 432usize];
     ["Offset of field: mc_analog_status::_reserved"]
-        [::core::mem::offset_of!(mc_analog_status, _reserved) - 432usize];
+        [::core::mem::offset_of!(mc_analog_status, _reserved) - 440usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]

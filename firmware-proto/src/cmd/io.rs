@@ -442,7 +442,7 @@ pub enum PsoOutput {
 }
 
 /// `MC_OP_PSO` (layout 1.11; the command's target is the group; args: output, gate, min, max,
-/// v_ref, pwm_hz; flags: `MC_PSO_PWM`). Decoding checks every argument; the group (configured)
+/// v_ref, pwm_hz, filter_hz; flags: `MC_PSO_PWM`). Decoding checks every argument; the group (configured)
 /// and a PWM output a compare channel pulses are the card's to check.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pso {
@@ -456,6 +456,8 @@ pub struct Pso {
     pub max: f64,
     /// The tangential speed of full output, counts/s (> 0).
     pub v_ref: f64,
+    /// The speed filter's cut-off, Hz (0: none; ≥ 0; the card checks it against Nyquist).
+    pub filter_hz: f64,
 }
 
 impl Args for Pso {
@@ -474,6 +476,7 @@ impl Args for Pso {
                 self.max,
                 self.v_ref,
                 hz,
+                self.filter_hz,
             ],
         );
         flags
@@ -481,14 +484,18 @@ impl Args for Pso {
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         let bad = NackCode::PsoConfig;
         let pwm = bit(flags, raw::MC_PSO_PWM);
-        super::all_finite(args, 0..if pwm { 6 } else { 5 })?;
+        super::all_finite(args, 0..5)?;
+        super::all_finite(args, 6..7)?;
+        if pwm {
+            super::all_finite(args, 5..6)?;
+        }
         if flags & !raw::MC_PSO_PWM != 0 {
             return Err(DecodeError::flags(bad));
         }
         let outputs = if pwm { OUTPUTS } else { ANALOG_OUTPUTS };
         let out = uint(args, 0, outputs as u64 - 1, bad, bad)? as u8;
         let gate = uint(args, 1, OUTPUTS as u64 - 1, bad, bad)? as u8;
-        let [min, max, v_ref, hz] = super::take(args, 2);
+        let [min, max, v_ref, hz, filter_hz] = super::take(args, 2);
         let (lo, hi) = if pwm {
             (0.0, 1.0)
         } else {
@@ -502,6 +509,9 @@ impl Args for Pso {
         }
         if v_ref <= 0.0 {
             return Err(DecodeError::arg(4, Fault::OutOfRange, bad));
+        }
+        if filter_hz < 0.0 {
+            return Err(DecodeError::arg(6, Fault::OutOfRange, bad));
         }
         let output = if pwm {
             if !(1.0..=raw::MC_PSO_PWM_HZ_MAX).contains(&hz) {
@@ -520,6 +530,7 @@ impl Args for Pso {
             min,
             max,
             v_ref,
+            filter_hz,
         })
     }
 }

@@ -66,6 +66,12 @@ pub struct PsoRun {
     pub group: usize,
     /// Its configuration.
     pub cfg: Pso,
+    /// The speed filter's gain per tick (1: none).
+    beta: f64,
+    /// Each card axis's filtered velocity, counts/s (the group's axes).
+    w: [f64; MAX_AXES],
+    /// The filter has its first value.
+    primed: bool,
 }
 
 /// The PSO's output of a tick.
@@ -170,15 +176,32 @@ impl AnalogUnit {
         }
     }
 
-    /// `MC_OP_PSO` on group `group` (checked by the caller): replaces the PSO running, whose
-    /// output goes to 0 first.
-    pub fn start_pso(&mut self, group: usize, cfg: Pso) {
+    /// `MC_OP_PSO` on group `group` (checked by the caller) at servo rate `rate_hz`: a filter
+    /// above half the rate is refused (`MC_NACK_PSO_CONFIG`); else it replaces the PSO
+    /// running, whose output goes to 0 first.
+    pub fn start_pso(&mut self, group: usize, cfg: Pso, rate_hz: u32) -> Result<(), NackCode> {
+        let rate = f64::from(rate_hz);
+        if cfg.filter_hz > rate / 2.0 {
+            return Err(NackCode::PsoConfig);
+        }
+        let beta = if cfg.filter_hz == 0.0 {
+            1.0
+        } else {
+            1.0 - math::exp(-2.0 * core::f64::consts::PI * cfg.filter_hz / rate)
+        };
         self.stop_pso();
-        self.pso = Some(PsoRun { group, cfg });
+        self.pso = Some(PsoRun {
+            group,
+            cfg,
+            beta,
+            w: [0.0; MAX_AXES],
+            primed: false,
+        });
         self.pso_tick = PsoTick {
             state: raw::MC_PSO_CLOSED,
             ..PsoTick::default()
         };
+        Ok(())
     }
 
     /// `MC_OP_PSO_OFF`: the PSO's output goes to 0.
@@ -242,16 +265,26 @@ impl AnalogUnit {
                 }
             }
         }
-        let Some(run) = self.pso else {
+        let Some(run) = self.pso.as_mut() else {
             return;
         };
+        // Each group axis's velocity estimate through the PSO's filter (started from the first
+        // estimate: no ramp up from 0 at the start), then the vector's length.
         let mut v2 = 0.0;
         for &a in members.iter().take(MAX_AXES) {
             if let Some(ax) = axes.get(a) {
                 let v = ax.velocity_estimate();
-                v2 += v * v;
+                let w = &mut run.w[a];
+                *w = if run.primed {
+                    *w + run.beta * (v - *w)
+                } else {
+                    v
+                };
+                v2 += *w * *w;
             }
         }
+        run.primed = true;
+        let run = *run;
         let speed = math::sqrt(v2);
         let open = outputs & (1 << run.cfg.gate) != 0;
         let value = if open {
@@ -324,6 +357,7 @@ impl AnalogUnit {
             b.pso_min = p.cfg.min;
             b.pso_max = p.cfg.max;
             b.pso_v_ref = p.cfg.v_ref;
+            b.pso_filter_hz = p.cfg.filter_hz;
             match p.cfg.output {
                 PsoOutput::Dac(d) => b.pso_output = u32::from(d),
                 PsoOutput::Pwm { output, hz } => {
@@ -429,6 +463,7 @@ mod tests {
             min: 0.2,
             max: 0.9,
             v_ref: 1000.0,
+            filter_hz: 0.0,
         };
         assert_eq!(pso_value(&p, 0.0), 0.2);
         assert_eq!(pso_value(&p, 500.0), 0.2 + 0.7 * 0.5);

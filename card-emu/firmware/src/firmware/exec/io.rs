@@ -46,7 +46,8 @@ impl<M: Mem + Clone> Firmware<M> {
                         return Err(NackCode::PsoConfig);
                     }
                 }
-                self.analog.start_pso(c.axis as usize, p);
+                self.analog
+                    .start_pso(c.axis as usize, p, self.servo_rate_hz)?;
                 Ok(0.0)
             }
             IoCmd::PsoOff => {
