@@ -1889,6 +1889,21 @@ extern "C" {
 #define MC_OP_PSO_OFF 119
 
 /**
+ * `mc_pso_info.state`: not configured.
+ */
+#define MC_PSO_STATE_OFF 0
+
+/**
+ * `mc_pso_info.state`: configured, its gate output off: the output is 0.
+ */
+#define MC_PSO_STATE_CLOSED 1
+
+/**
+ * `mc_pso_info.state`: the gate output on: the output follows the path speed.
+ */
+#define MC_PSO_STATE_ON 2
+
+/**
  * Most slaves of a gantry.
  */
 #define MC_GANTRY_SLAVES_MAX 4
@@ -2122,6 +2137,124 @@ typedef int32_t mc_result;
  * A card handle: an integer, as in vendor libraries' card numbers. 0 is never a valid handle.
  */
 typedef uint32_t mc_card;
+
+/**
+ * An analog input's filter and threshold (`mc_analog_input_configure`). All zero: the boot
+ * state (no filter, threshold 0 V, no hysteresis, no events).
+ */
+typedef struct mc_analog_input_settings {
+  /**
+   * The first-order filter's cut-off, Hz (0: none; at most half the servo rate).
+   */
+  double cutoff_hz;
+  /**
+   * The threshold, V (within +-10 V).
+   */
+  double threshold;
+  /**
+   * The hysteresis, V (0..20): the input is below again at `threshold - hysteresis`.
+   */
+  double hysteresis;
+  /**
+   * Nonzero: an `MC_EVENT_ANALOG` event (axis: the input, code 1) going above.
+   */
+  uint32_t rise_event;
+  /**
+   * Nonzero: an `MC_EVENT_ANALOG` event (code 0) going below again.
+   */
+  uint32_t fall_event;
+} mc_analog_input_settings;
+
+/**
+ * An analog input as the card sampled it at its last tick (`mc_analog_input_read`).
+ */
+typedef struct mc_analog_input_info {
+  /**
+   * The 16-bit ADC's sample, V (a multiple of 20/65536 V).
+   */
+  double sample;
+  /**
+   * The filtered value, V.
+   */
+  double value;
+  /**
+   * 1 while above the threshold.
+   */
+  uint32_t above;
+  /**
+   * Reserved (0).
+   */
+  uint32_t reserved;
+  /**
+   * The settings the card holds.
+   */
+  struct mc_analog_input_settings settings;
+} mc_analog_input_info;
+
+/**
+ * The path-speed output's settings (`mc_pso_configure`).
+ */
+typedef struct mc_pso_settings {
+  /**
+   * 0: a spare DAC output (`output` 0..3, `min`/`max` in volts); nonzero: a PWM on digital
+   * output `output` (0..15) at `pwm_hz`, `min`/`max` duties 0..1.
+   */
+  uint32_t pwm;
+  /**
+   * The output.
+   */
+  uint32_t output;
+  /**
+   * The digital output (0..15) whose level switches the PSO on (the path's M62..M65).
+   */
+  uint32_t gate;
+  /**
+   * Reserved (0).
+   */
+  uint32_t reserved;
+  /**
+   * The output at rest.
+   */
+  double min;
+  /**
+   * The output at `v_ref` and beyond.
+   */
+  double max;
+  /**
+   * The tangential speed of full output, the group's user units per second (> 0).
+   */
+  double v_ref;
+  /**
+   * The PWM's frequency, Hz (1..100000; ignored for a DAC).
+   */
+  double pwm_hz;
+  /**
+   * The speed filter's cut-off, Hz (0: none; at most half the servo rate).
+   */
+  double filter_hz;
+} mc_pso_settings;
+
+/**
+ * The path-speed output's state of the last tick (`mc_pso_get_info`).
+ */
+typedef struct mc_pso_info {
+  /**
+   * `MC_PSO_STATE_*`.
+   */
+  uint32_t state;
+  /**
+   * Its group.
+   */
+  uint32_t group;
+  /**
+   * The group's actual tangential speed, encoder counts per second.
+   */
+  double speed_counts;
+  /**
+   * The output: V, or the PWM's duty.
+   */
+  double value;
+} mc_pso_info;
 
 /**
  * How `mc_open_sim` builds an emulated card. Start from `mc_sim_options_default`.
@@ -4628,6 +4761,62 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 
 
+
+/**
+ * Set analog input `input`'s (0..7) filter and threshold. The filter keeps its value; the
+ * threshold state is taken again from it, without an event. Refused: `MC_ERR_ANALOG_CHANNEL`,
+ * `MC_ERR_ANALOG_FILTER` (a cut-off below 0 or above half the servo rate),
+ * `MC_ERR_ANALOG_THRESHOLD`, `MC_ERR_NOT_FINITE`; nothing changes then. Blocks until the card
+ * answers.
+ */
+mc_result mc_analog_input_configure(mc_card card,
+                                    uint32_t input,
+                                    const struct mc_analog_input_settings *settings);
+
+/**
+ * Analog input `input` (0..7) as the card sampled it at its last tick. Never blocks.
+ */
+mc_result mc_analog_input_read(mc_card card, uint32_t input, struct mc_analog_input_info *info);
+
+/**
+ * Set spare DAC output `output` (0..3) to `volts`, clamped to the 12-bit DAC's range (-10 V ..
+ * 10 V - 20/4096 V) and quantised; `*produced` (may be NULL) receives the volts it puts out.
+ * Refused: `MC_ERR_ANALOG_CHANNEL` (no such output, or the one the PSO drives),
+ * `MC_ERR_NOT_FINITE`. Blocks until the card answers.
+ */
+mc_result mc_analog_output_set(mc_card card, uint32_t output, double volts, double *produced);
+
+/**
+ * Spare DAC output `output` (0..3) now, V. Never blocks.
+ */
+mc_result mc_analog_output_get(mc_card card, uint32_t output, double *volts);
+
+/**
+ * Run the path-speed output on `group`: every tick, while the gate output is on, the output is
+ * `clamp(min + (max - min) * v / v_ref, min, max)`, v the group's actual tangential speed
+ * (its axes' velocity estimates through the speed filter); 0 (0 V, or duty 0) while the gate
+ * is off. Replaces a PSO running. Refused: `MC_ERR_PSO_GROUP` (no such group, or not
+ * configured), `MC_ERR_PSO_CONFIG` (min > max, a range, output, gate, v_ref, frequency or
+ * filter out of range), `MC_ERR_NOT_FINITE`; nothing changes then. Blocks until the card
+ * answers.
+ */
+mc_result mc_pso_configure(mc_card card, uint32_t group, const struct mc_pso_settings *settings);
+
+/**
+ * Stop the path-speed output: its output goes to 0. Blocks until the card answers.
+ */
+mc_result mc_pso_off(mc_card card);
+
+/**
+ * The path-speed output's state, speed and value of the last tick. Never blocks.
+ */
+mc_result mc_pso_get_info(mc_card card, struct mc_pso_info *info);
+
+/**
+ * Stepped sim: drive analog input `input`'s pin at `volts` now. `MC_ERR_UNSUPPORTED` on any
+ * other card. Never blocks.
+ */
+mc_result mc_sim_set_analog_input(mc_card card, uint32_t input, double volts);
 
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).

@@ -76,6 +76,9 @@ static const mc_result ALL_CODES[] = {
     /* rotary (modulo) axes (layout 1.10) */
     MC_ERR_MODULO_ZERO,    MC_ERR_MODULO_RANGE,    MC_ERR_MODULO_BUSY,
     MC_ERR_MODULO_MOVE,
+    /* analog I/O and the path-speed output (layout 1.11) */
+    MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER,   MC_ERR_ANALOG_THRESHOLD,
+    MC_ERR_PSO_CONFIG,     MC_ERR_PSO_GROUP,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -147,6 +150,9 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
     /* rotary.c */
     MC_ERR_MODULO_ZERO, MC_ERR_MODULO_RANGE, MC_ERR_MODULO_BUSY, MC_ERR_MODULO_MOVE,
+    /* analog.c */
+    MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER, MC_ERR_ANALOG_THRESHOLD, MC_ERR_PSO_CONFIG,
+    MC_ERR_PSO_GROUP,
 };
 
 static void result_strings(void) {
