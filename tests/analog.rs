@@ -462,3 +462,67 @@ fn pso_follows_the_actual_speed_through_a_90_degree_corner() {
     );
     assert!(worst_true <= bound, "{worst_true} V > {bound} V");
 }
+
+/// The scope's analog signals (MC_SIG_AIN0..7 51..58, MC_SIG_AOUT0..3 59..62, MC_SIG_PSO 63):
+/// each sample is the status of its tick.
+#[test]
+fn the_scope_samples_the_analog_signals() {
+    use motioncard_sdk::{ScopeSettings, Signal, Source};
+    let card = card(2);
+    let sim = card.sim().unwrap();
+    for i in 0..8 {
+        set_pin(&card, i, AnalogSource::Constant(i as f64 - 3.5));
+    }
+    card.set_analog_output(3, -2.0).unwrap();
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[0, 1])).unwrap();
+    g.pso(&Pso {
+        output: PsoOutput::Dac(0),
+        gate: 3,
+        min: 1.5,
+        max: 5.0,
+        v_ref: 1e4,
+        filter_hz: 0.0,
+    })
+    .unwrap();
+    card.set_outputs(8, 8).unwrap();
+    sim.step(2);
+    let signals = [
+        Signal::Ain0,
+        Signal::Ain1,
+        Signal::Ain2,
+        Signal::Ain3,
+        Signal::Ain4,
+        Signal::Ain5,
+        Signal::Ain6,
+        Signal::Ain7,
+        Signal::Aout0,
+        Signal::Aout1,
+        Signal::Aout2,
+        Signal::Aout3,
+        Signal::Pso,
+    ];
+    assert_eq!(
+        signals.map(|s| s as u32),
+        core::array::from_fn(|k| 51 + k as u32)
+    );
+    let sources: Vec<Source> = signals.iter().map(|&s| Source::axis(s, 0)).collect();
+    let cap = card
+        .scope()
+        .capture(
+            &ScopeSettings::new(&sources, 1),
+            Duration::from_secs(60),
+            |_| Ok(()),
+        )
+        .unwrap();
+    let v = &cap.samples[0].value;
+    for (i, &x) in v.iter().enumerate().take(8) {
+        assert_eq!(x, card.analog_input(i).unwrap().value, "ain{i}");
+        assert_eq!(x, ((i as f64 - 3.5) / ADC_LSB).round() * ADC_LSB);
+    }
+    let pso = 1.5f64;
+    let dac = |x: f64| (x / (20.0 / 4096.0)).round() * (20.0 / 4096.0);
+    assert_eq!(&v[8..12], &[dac(pso), 0.0, 0.0, -2.0]);
+    assert_eq!(v[12], dac(pso));
+    assert_eq!(card.pso_status().unwrap().state, PsoState::On);
+}

@@ -229,7 +229,7 @@ impl Card {
             raw::MC_PSO_ON => PsoState::On,
             v => return Err(Error::Protocol(format!("unknown PSO state {v}"))),
         };
-        let settings = (state != PsoState::Off).then(|| Pso {
+        let settings = (state != PsoState::Off).then_some(Pso {
             output: if b.pso_flags & raw::MC_PSO_PWM != 0 {
                 PsoOutput::Pwm {
                     output: b.pso_output as usize,
