@@ -522,7 +522,7 @@ fn the_scope_samples_the_analog_signals() {
     }
     let pso = 1.5f64;
     let dac = |x: f64| (x / (20.0 / 4096.0)).round() * (20.0 / 4096.0);
-    assert_eq!(&v[8..12], &[dac(pso), 0.0, 0.0, -2.0]);
+    assert_eq!(&v[8..12], &[dac(pso), 0.0, 0.0, dac(-2.0)]);
     assert_eq!(v[12], dac(pso));
     assert_eq!(card.pso_status().unwrap().state, PsoState::On);
 }
