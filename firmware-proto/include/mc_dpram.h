@@ -965,7 +965,7 @@
  * y >= threshold, and below again once y <= threshold - hysteresis (hysteresis >= 0); the state
  * is recomputed from y, with no event, when the input is configured. A change of state posts
  * MC_EV_ANALOG when the input's MC_ANALOG_EV_RISE / _FALL flag asks for it. analog_status holds
- * each input's sample, filtered value, state and configuration, written every tick.
+ * each input's sample, filtered value, state and configuration of the last tick.
  *
  * Spare DAC outputs: MC_ANALOG_OUTPUTS outputs, the axes' 12-bit +-10 V DAC (an LSB of 20/4096 V,
  * codes 0..4095: -10 V .. 10 V - 1 LSB). MC_OP_ANALOG_OUTPUT sets one; the volts are clamped to
@@ -1901,8 +1901,8 @@ struct mc_comp_readback {
     struct mc_comp_point point[MC_COMP_READ_MAX];
 };
 
-/** Analog I/O and the PSO (layout 1.11). Card writes; independent words: the samples, values
- * and states every tick, the configuration when a command changes it. */
+/** Analog I/O and the PSO (layout 1.11). Card writes, at the end of a tick in which any of it
+ * changed (and whole every 64 ticks); independent words, each the value of that tick. */
 struct mc_analog_status {
     /** Each input's ADC sample of the tick, V (a multiple of MC_ADC_LSB). */
     double input_raw[MC_ANALOG_INPUTS];

@@ -1809,7 +1809,7 @@ const _: () = {
     ["Offset of field: mc_comp_readback::point"]
         [::core::mem::offset_of!(mc_comp_readback, point) - 96usize];
 };
-#[doc = " Analog I/O and the PSO (layout 1.11). Card writes; independent words: the samples, values\n and states every tick, the configuration when a command changes it."]
+#[doc = " Analog I/O and the PSO (layout 1.11). Card writes, at the end of a tick in which any of it\n changed (and whole every 64 ticks); independent words, each the value of that tick."]
 #[repr(C)]
 #[derive(Debug, Default, Copy, Clone, PartialEq)]
 pub struct mc_analog_status {

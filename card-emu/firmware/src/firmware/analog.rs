@@ -11,6 +11,7 @@
 use super::axis::Axis;
 use super::dac::Dac;
 use super::outbox::EventQueue;
+use super::quiet::REWRITE_TICKS;
 use crate::math;
 use firmware_proto::cmd::{AnalogInput, AnalogOutput, Pso, PsoOutput};
 use firmware_proto::{
@@ -98,6 +99,8 @@ pub struct AnalogUnit {
     pso: Option<PsoRun>,
     pso_tick: PsoTick,
     events: EventQueue<ANALOG_EVENTS>,
+    /// The status block as last written (`publish` writes only a block that differs).
+    published: Option<raw::mc_analog_status>,
 }
 
 impl Default for AnalogUnit {
@@ -129,6 +132,7 @@ impl AnalogUnit {
             pso: None,
             pso_tick: PsoTick::default(),
             events: EventQueue::new(),
+            published: None,
         }
     }
 
@@ -331,9 +335,11 @@ impl AnalogUnit {
         self.outputs
     }
 
-    /// Write the status block (every tick: the configuration with the samples, values and
-    /// states, 58 words).
-    pub fn publish<M: Mem>(&mut self, mem: &M) {
+    /// Write the status block of tick `tick` when it differs from the one last written (most
+    /// ticks of a card whose inputs stand still: not), and whole every [`REWRITE_TICKS`]
+    /// ticks: the card is its only writer, and the rewrite bounds how long a stray write into
+    /// it could stay (as the I/O unit's blocks, a quarter period from the groups' turns).
+    pub fn publish<M: Mem>(&mut self, mem: &M, tick: u64) {
         let mut b = raw::mc_analog_status::default();
         for (k, i) in self.inputs.iter().enumerate() {
             b.input_raw[k] = i.sample;
@@ -367,6 +373,13 @@ impl AnalogUnit {
                 }
             }
         }
+        let due = tick
+            .wrapping_add(REWRITE_TICKS / 4)
+            .is_multiple_of(REWRITE_TICKS);
+        if self.published == Some(b) && !due {
+            return;
+        }
+        self.published = Some(b);
         layout::ANALOG_STATUS.write(mem, &b);
     }
 }
@@ -453,6 +466,39 @@ mod tests {
         );
         assert_eq!(u.inputs[0].cfg, None);
         assert!(u.configure_input(&input(5000.0, 0.0, 0.0), 10_000).is_ok());
+    }
+
+    /// The block is written when it changes, left alone while it stands still, and rewritten
+    /// whole every 64 ticks (a stray write into it is gone within that).
+    #[test]
+    fn the_status_block_is_written_on_change_and_rewritten_periodically() {
+        use firmware_proto::mem::HeapWindow;
+        let w = HeapWindow::new();
+        let mut u = AnalogUnit::new();
+        u.set_pins([1.0; ANALOG_INPUTS]);
+        u.tick(1, &[], &[], 0);
+        u.publish(&w, 1);
+        let b = layout::ANALOG_STATUS.read(&w);
+        assert_eq!(b.input[7], adc_sample(1.0));
+        // A stray write: the card does not see it until the block changes or is due.
+        let mut stray = b;
+        stray.input[7] = 9.0;
+        layout::ANALOG_STATUS.write(&w, &stray);
+        let mut repaired = None;
+        for t in 2..=70 {
+            u.tick(t, &[], &[], 0);
+            u.publish(&w, t);
+            if repaired.is_none() && layout::ANALOG_STATUS.read(&w) == b {
+                repaired = Some(t);
+            }
+        }
+        let due = (2..=70).find(|t| (t + REWRITE_TICKS / 4) % REWRITE_TICKS == 0);
+        assert_eq!(repaired, due);
+        // A change is written in its tick.
+        u.set_pins([2.0; ANALOG_INPUTS]);
+        u.tick(71, &[], &[], 0);
+        u.publish(&w, 71);
+        assert_eq!(layout::ANALOG_STATUS.read(&w).input[0], adc_sample(2.0));
     }
 
     #[test]

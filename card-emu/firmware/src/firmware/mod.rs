@@ -739,7 +739,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.mem.write32(layout::OUTPUTS, self.outputs());
         self.io.publish(&self.mem, self.tick);
-        self.analog.publish(&self.mem);
+        self.analog.publish(&self.mem, self.tick);
         self.publish_sync();
         self.publish_gantries();
     }
