@@ -492,7 +492,7 @@ mod tests {
                 repaired = Some(t);
             }
         }
-        let due = (2..=70).find(|t| (t + REWRITE_TICKS / 4) % REWRITE_TICKS == 0);
+        let due = (2..=70).find(|t| (t + REWRITE_TICKS / 4).is_multiple_of(REWRITE_TICKS));
         assert_eq!(repaired, due);
         // A change is written in its tick.
         u.set_pins([2.0; ANALOG_INPUTS]);
