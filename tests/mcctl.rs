@@ -689,6 +689,53 @@ fn io_and_pvt_from_the_command_line() {
     assert_eq!(code, 0, "{err}");
     let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(j["outputs"], 5, "{out}");
+    // Layout 1.11: a spare DAC set and read back, an analog input configured, the PSO's
+    // refusals (a group not configured, a cut-off above Nyquist) each with its reason.
+    let (code, out, err) = mcctl(&[
+        "io",
+        "--set-analog",
+        "1",
+        "-3.3",
+        "--analog-input",
+        "2",
+        "50",
+        "1.5",
+        "0.25",
+        "--events",
+        "both",
+        "--analog",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["analog"]["outputs"][1], -676.0 * 20.0 / 4096.0, "{out}");
+    let a2 = &j["analog"]["inputs"][2];
+    assert_eq!(
+        (&a2["cutoff_hz"], &a2["threshold"], &a2["hysteresis"]),
+        (
+            &serde_json::json!(50.0),
+            &serde_json::json!(1.5),
+            &serde_json::json!(0.25)
+        ),
+        "{out}"
+    );
+    assert_eq!(
+        (&a2["rise_event"], &a2["fall_event"]),
+        (&serde_json::json!(true), &serde_json::json!(true))
+    );
+    assert_eq!(j["analog"]["pso"]["state"], "off", "{out}");
+    let (code, _, err) = mcctl(&["io", "--pso", "0", "--pso-dac", "0", "--v-ref", "10"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("not configured"), "{err}");
+    let (code, _, err) = mcctl(&["io", "--analog-input", "0", "1e6", "0", "0"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("half the servo rate"), "{err}");
+    let (code, out, err) = mcctl(&["io", "--analog"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("analog inputs (V):") && out.contains("pso off"),
+        "{out}"
+    );
     let dir = std::env::temp_dir().join(format!("mcctl-pvt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("move.csv");

@@ -32,6 +32,7 @@ pub mod testkit;
 pub use emu::emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;
 #[cfg(feature = "emulator")]
+pub use plant::analog::{AnalogBank, AnalogSource, Noise};
 pub use plant::io::{FireRecord, InputBank, Sensor};
 #[cfg(feature = "emulator")]
 pub use plant::{EndStops, HomeSwitch, IndexPulse, Motor, MotorParams, Switches};

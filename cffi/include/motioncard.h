@@ -285,6 +285,12 @@ extern "C" {
 #define MC_EVENT_GANTRY_HOMED 33
 
 /**
+ * An analog input crossed its threshold (layout 1.11). axis: the input; code: 1 above (y >=
+ * threshold), 0 below again (y <= threshold - hysteresis); value: the filtered volts y.
+ */
+#define MC_EVENT_ANALOG 34
+
+/**
  * Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of the
  * segment it ends (-1: none ran).
  */
@@ -1299,6 +1305,71 @@ extern "C" {
 #define MC_SCOPE_SIG_INPUTS_RAW 50
 
 /**
+ * Layout 1.11: analog input 0, filtered, V (`analog_status.input[0]`).
+ */
+#define MC_SCOPE_SIG_AIN0 51
+
+/**
+ * Analog input 1, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN1 52
+
+/**
+ * Analog input 2, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN2 53
+
+/**
+ * Analog input 3, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN3 54
+
+/**
+ * Analog input 4, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN4 55
+
+/**
+ * Analog input 5, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN5 56
+
+/**
+ * Analog input 6, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN6 57
+
+/**
+ * Analog input 7, filtered, V.
+ */
+#define MC_SCOPE_SIG_AIN7 58
+
+/**
+ * Spare DAC output 0, V (`analog_status.output[0]`).
+ */
+#define MC_SCOPE_SIG_AOUT0 59
+
+/**
+ * Spare DAC output 1, V.
+ */
+#define MC_SCOPE_SIG_AOUT1 60
+
+/**
+ * Spare DAC output 2, V.
+ */
+#define MC_SCOPE_SIG_AOUT2 61
+
+/**
+ * Spare DAC output 3, V.
+ */
+#define MC_SCOPE_SIG_AOUT3 62
+
+/**
+ * The PSO's output, V or duty 0..1 (`analog_status.pso_value`).
+ */
+#define MC_SCOPE_SIG_PSO 63
+
+/**
  * `mc_scope_settings.mode`.
  *
  * `post_trigger` samples from the trigger sample on, then done.
@@ -1914,9 +1985,54 @@ extern "C" {
 #define MC_OP_SERVO_FILTER_CLEAR 113
 
 /**
+ * Args: input (`0..MC_ANALOG_INPUTS-1`), `cutoff_hz` (0: no filter; else > 0 and at most half the
+ * servo rate), threshold (V, within `+-MC_ANALOG_RANGE`), hysteresis (V, 0..2 `*`
+ * `MC_ANALOG_RANGE`). flags: `MC_ANALOG_EV_RISE`, `MC_ANALOG_EV_FALL`. axis field ignored.
+ */
+#define MC_OP_ANALOG_INPUT 116
+
+/**
+ * Args: output (`0..MC_ANALOG_OUTPUTS-1`), volts (clamped to the DAC's range; NaN:
+ * `MC_NACK_NOT_FINITE`). An output the PSO drives: `MC_NACK_ANALOG_CHANNEL`. axis field ignored.
+ */
+#define MC_OP_ANALOG_OUTPUT 117
+
+/**
+ * Axis: the group (configured, else `MC_NACK_PSO_GROUP`). args: output (a spare DAC
+ * `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_CARD_OUTPUTS-1` no compare
+ * channel pulses), gate (a digital output `0..MC_CARD_OUTPUTS-1`, not the PWM's), min, max (min <= max;
+ * V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0), `pwm_hz` (`MC_PSO_PWM`:
+ * `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none; else > 0 and at most half the servo
+ * rate). flags: `MC_PSO_PWM`. Anything else out of range: `MC_NACK_PSO_CONFIG`. Replaces a PSO
+ * running (its old output goes to 0 first).
+ */
+#define MC_OP_PSO 118
+
+/**
+ * The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis field
+ * ignored.
+ */
+#define MC_OP_PSO_OFF 119
+
+/**
  * Args: 1 pause at the end of a segment, 0 go on (above).
  */
 #define MC_OP_PATH_PAUSE 120
+
+/**
+ * `mc_pso_info.state`: not configured.
+ */
+#define MC_PSO_STATE_OFF 0
+
+/**
+ * `mc_pso_info.state`: configured, its gate output off: the output is 0.
+ */
+#define MC_PSO_STATE_CLOSED 1
+
+/**
+ * `mc_pso_info.state`: the gate output on: the output follows the path speed.
+ */
+#define MC_PSO_STATE_ON 2
 
 /**
  * Most slaves of a gantry.
@@ -2167,6 +2283,124 @@ typedef int32_t mc_result;
  * A card handle: an integer, as in vendor libraries' card numbers. 0 is never a valid handle.
  */
 typedef uint32_t mc_card;
+
+/**
+ * An analog input's filter and threshold (`mc_analog_input_configure`). All zero: the boot
+ * state (no filter, threshold 0 V, no hysteresis, no events).
+ */
+typedef struct mc_analog_input_settings {
+  /**
+   * The first-order filter's cut-off, Hz (0: none; at most half the servo rate).
+   */
+  double cutoff_hz;
+  /**
+   * The threshold, V (within +-10 V).
+   */
+  double threshold;
+  /**
+   * The hysteresis, V (0..20): the input is below again at `threshold - hysteresis`.
+   */
+  double hysteresis;
+  /**
+   * Nonzero: an `MC_EVENT_ANALOG` event (axis: the input, code 1) going above.
+   */
+  uint32_t rise_event;
+  /**
+   * Nonzero: an `MC_EVENT_ANALOG` event (code 0) going below again.
+   */
+  uint32_t fall_event;
+} mc_analog_input_settings;
+
+/**
+ * An analog input as the card sampled it at its last tick (`mc_analog_input_read`).
+ */
+typedef struct mc_analog_input_info {
+  /**
+   * The 16-bit ADC's sample, V (a multiple of 20/65536 V).
+   */
+  double sample;
+  /**
+   * The filtered value, V.
+   */
+  double value;
+  /**
+   * 1 while above the threshold.
+   */
+  uint32_t above;
+  /**
+   * Reserved (0).
+   */
+  uint32_t reserved;
+  /**
+   * The settings the card holds.
+   */
+  struct mc_analog_input_settings settings;
+} mc_analog_input_info;
+
+/**
+ * The path-speed output's settings (`mc_pso_configure`).
+ */
+typedef struct mc_pso_settings {
+  /**
+   * 0: a spare DAC output (`output` 0..3, `min`/`max` in volts); nonzero: a PWM on digital
+   * output `output` (0..15) at `pwm_hz`, `min`/`max` duties 0..1.
+   */
+  uint32_t pwm;
+  /**
+   * The output.
+   */
+  uint32_t output;
+  /**
+   * The digital output (0..15) whose level switches the PSO on (the path's M62..M65).
+   */
+  uint32_t gate;
+  /**
+   * Reserved (0).
+   */
+  uint32_t reserved;
+  /**
+   * The output at rest.
+   */
+  double min;
+  /**
+   * The output at `v_ref` and beyond.
+   */
+  double max;
+  /**
+   * The tangential speed of full output, the group's user units per second (> 0).
+   */
+  double v_ref;
+  /**
+   * The PWM's frequency, Hz (1..100000; ignored for a DAC).
+   */
+  double pwm_hz;
+  /**
+   * The speed filter's cut-off, Hz (0: none; at most half the servo rate).
+   */
+  double filter_hz;
+} mc_pso_settings;
+
+/**
+ * The path-speed output's state of the last tick (`mc_pso_get_info`).
+ */
+typedef struct mc_pso_info {
+  /**
+   * `MC_PSO_STATE_*`.
+   */
+  uint32_t state;
+  /**
+   * Its group.
+   */
+  uint32_t group;
+  /**
+   * The group's actual tangential speed, encoder counts per second.
+   */
+  double speed_counts;
+  /**
+   * The output: V, or the PWM's duty.
+   */
+  double value;
+} mc_pso_info;
 
 /**
  * How `mc_open_sim` builds an emulated card. Start from `mc_sim_options_default`.
@@ -4758,6 +4992,34 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PIDFF_GAINS -135
 
 /**
+ * Layout 1.11: an analog input or output the card does not have (inputs 0..=7, outputs
+ * 0..=3), or a spare DAC output the path-speed output drives.
+ */
+#define MC_ERR_ANALOG_CHANNEL -136
+
+/**
+ * An analog input's cut-off below 0 or above half the servo rate (Nyquist).
+ */
+#define MC_ERR_ANALOG_FILTER -137
+
+/**
+ * An analog threshold beyond ±10 V, or a hysteresis below 0 or above 20 V.
+ */
+#define MC_ERR_ANALOG_THRESHOLD -138
+
+/**
+ * A path-speed output's output, gate, range (min > max, beyond ±10 V or a duty beyond
+ * 0..1), reference speed (<= 0) or PWM frequency out of range, the gate on the PWM's own
+ * output, or a PWM on an output a compare channel pulses.
+ */
+#define MC_ERR_PSO_CONFIG -139
+
+/**
+ * A path-speed output on a group that does not exist or is not configured.
+ */
+#define MC_ERR_PSO_GROUP -140
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -4783,6 +5045,62 @@ typedef struct mc_safety_config mc_card_safety_settings;
 
 
 
+
+/**
+ * Set analog input `input`'s (0..7) filter and threshold. The filter keeps its value; the
+ * threshold state is taken again from it, without an event. Refused: `MC_ERR_ANALOG_CHANNEL`,
+ * `MC_ERR_ANALOG_FILTER` (a cut-off below 0 or above half the servo rate),
+ * `MC_ERR_ANALOG_THRESHOLD`, `MC_ERR_NOT_FINITE`; nothing changes then. Blocks until the card
+ * answers.
+ */
+mc_result mc_analog_input_configure(mc_card card,
+                                    uint32_t input,
+                                    const struct mc_analog_input_settings *settings);
+
+/**
+ * Analog input `input` (0..7) as the card sampled it at its last tick. Never blocks.
+ */
+mc_result mc_analog_input_read(mc_card card, uint32_t input, struct mc_analog_input_info *info);
+
+/**
+ * Set spare DAC output `output` (0..3) to `volts`, clamped to the 12-bit DAC's range (-10 V ..
+ * 10 V - 20/4096 V) and quantised; `*produced` (may be NULL) receives the volts it puts out.
+ * Refused: `MC_ERR_ANALOG_CHANNEL` (no such output, or the one the PSO drives),
+ * `MC_ERR_NOT_FINITE`. Blocks until the card answers.
+ */
+mc_result mc_analog_output_set(mc_card card, uint32_t output, double volts, double *produced);
+
+/**
+ * Spare DAC output `output` (0..3) now, V. Never blocks.
+ */
+mc_result mc_analog_output_get(mc_card card, uint32_t output, double *volts);
+
+/**
+ * Run the path-speed output on `group`: every tick, while the gate output is on, the output is
+ * `clamp(min + (max - min) * v / v_ref, min, max)`, v the group's actual tangential speed
+ * (its axes' velocity estimates through the speed filter); 0 (0 V, or duty 0) while the gate
+ * is off. Replaces a PSO running. Refused: `MC_ERR_PSO_GROUP` (no such group, or not
+ * configured), `MC_ERR_PSO_CONFIG` (min > max, a range, output, gate, v_ref, frequency or
+ * filter out of range), `MC_ERR_NOT_FINITE`; nothing changes then. Blocks until the card
+ * answers.
+ */
+mc_result mc_pso_configure(mc_card card, uint32_t group, const struct mc_pso_settings *settings);
+
+/**
+ * Stop the path-speed output: its output goes to 0. Blocks until the card answers.
+ */
+mc_result mc_pso_off(mc_card card);
+
+/**
+ * The path-speed output's state, speed and value of the last tick. Never blocks.
+ */
+mc_result mc_pso_get_info(mc_card card, struct mc_pso_info *info);
+
+/**
+ * Stepped sim: drive analog input `input`'s pin at `volts` now. `MC_ERR_UNSUPPORTED` on any
+ * other card. Never blocks.
+ */
+mc_result mc_sim_set_analog_input(mc_card card, uint32_t input, double volts);
 
 /**
  * A static description of a result code ("unknown result code" for a value that is not one).
@@ -6624,6 +6942,25 @@ mc_result mc_send_raw(mc_card card,
  */
 
 /**
+ * ... and when it goes below again.
+ */
+#define MC_ANALOG_EV_FALL (1u << 1)
+
+/**
+ * `MC_OP_ANALOG_INPUT` flags: `MC_EVENT_ANALOG` when the input goes above.
+ */
+#define MC_ANALOG_EV_RISE (1u << 0)
+
+#define MC_ANALOG_INPUTS 8u
+
+#define MC_ANALOG_OUTPUTS 4u
+
+/**
+ * The ADC's and the DACs' range, +-V.
+ */
+#define MC_ANALOG_RANGE 10.0
+
+/**
  * A filter's poles lie within 1 - margin of the origin.
  */
 #define MC_BIQUAD_POLE_MARGIN 1e-6
@@ -6823,6 +7160,21 @@ mc_result mc_send_raw(mc_card card,
 #define MC_MOVE_DIR_SHORTEST 0u
 
 #define MC_MOVE_RELATIVE (1u << 0)
+
+/**
+ * An analog input or output the card does not have (not a whole number below `MC_ANALOG_INPUTS` / `MC_ANALOG_OUTPUTS`), or a spare DAC the PSO drives.
+ */
+#define MC_NACK_ANALOG_CHANNEL 145
+
+/**
+ * A cut-off below 0 or above half the servo rate (Nyquist).
+ */
+#define MC_NACK_ANALOG_FILTER 146
+
+/**
+ * A threshold beyond `+-MC_ANALOG_RANGE`, a hysteresis below 0 or above 2 `*` `MC_ANALOG_RANGE`, or unknown flags.
+ */
+#define MC_NACK_ANALOG_THRESHOLD 147
 
 /**
  * The card configuration can only change while every axis is disabled.
@@ -7245,6 +7597,16 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PROBE_INPUT 96
 
 /**
+ * A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1), `v_ref` (<= 0), PWM frequency or filter (below 0, above half the servo rate) out of range, the gate equal to the PWM output, a PWM output a compare channel pulses, or unknown flags.
+ */
+#define MC_NACK_PSO_CONFIG 148
+
+/**
+ * A PSO on a group that does not exist (index beyond `MC_GROUP_COUNT`) or is not configured.
+ */
+#define MC_NACK_PSO_GROUP 149
+
+/**
  * A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a velocity.
  */
 #define MC_NACK_PVT_LIMIT 103
@@ -7374,6 +7736,16 @@ mc_result mc_send_raw(mc_card card,
  * `evt_head` - `evt_tail` > `MC_EVT_RING_LEN`.
  */
 #define MC_PROTO_EVT_RING 2
+
+/**
+ * `MC_OP_PSO` flags: a PWM on a digital output (else a spare DAC).
+ */
+#define MC_PSO_PWM (1u << 0)
+
+/**
+ * The highest PWM frequency, Hz.
+ */
+#define MC_PSO_PWM_HZ_MAX 100000.0
 
 /**
  * `MC_OP_GROUP_MOVE_PTP`: every axis's limits were staged (else `MC_NACK_BAD_CONFIG`).

@@ -113,6 +113,10 @@ pub const MC_EVENT_GANTRY_FAULT: u32 = 32;
 /// skew, counts) or `MC_HOMING_ERROR_*` (value: the axis that failed).
 pub const MC_EVENT_GANTRY_HOMED: u32 = 33;
 
+/// An analog input crossed its threshold (layout 1.11). axis: the input; code: 1 above (y >=
+/// threshold), 0 below again (y <= threshold - hysteresis); value: the filtered volts y.
+pub const MC_EVENT_ANALOG: u32 = 34;
+
 /// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of the
 /// segment it ends (-1: none ran).
 pub const MC_EVENT_PATH_PAUSED: u32 = 36;
@@ -755,6 +759,45 @@ pub const MC_SCOPE_SIG_OUTPUTS: u32 = 49;
 /// The inputs as sampled (`card.inputs_raw`).
 pub const MC_SCOPE_SIG_INPUTS_RAW: u32 = 50;
 
+/// Layout 1.11: analog input 0, filtered, V (`analog_status.input[0]`).
+pub const MC_SCOPE_SIG_AIN0: u32 = 51;
+
+/// Analog input 1, filtered, V.
+pub const MC_SCOPE_SIG_AIN1: u32 = 52;
+
+/// Analog input 2, filtered, V.
+pub const MC_SCOPE_SIG_AIN2: u32 = 53;
+
+/// Analog input 3, filtered, V.
+pub const MC_SCOPE_SIG_AIN3: u32 = 54;
+
+/// Analog input 4, filtered, V.
+pub const MC_SCOPE_SIG_AIN4: u32 = 55;
+
+/// Analog input 5, filtered, V.
+pub const MC_SCOPE_SIG_AIN5: u32 = 56;
+
+/// Analog input 6, filtered, V.
+pub const MC_SCOPE_SIG_AIN6: u32 = 57;
+
+/// Analog input 7, filtered, V.
+pub const MC_SCOPE_SIG_AIN7: u32 = 58;
+
+/// Spare DAC output 0, V (`analog_status.output[0]`).
+pub const MC_SCOPE_SIG_AOUT0: u32 = 59;
+
+/// Spare DAC output 1, V.
+pub const MC_SCOPE_SIG_AOUT1: u32 = 60;
+
+/// Spare DAC output 2, V.
+pub const MC_SCOPE_SIG_AOUT2: u32 = 61;
+
+/// Spare DAC output 3, V.
+pub const MC_SCOPE_SIG_AOUT3: u32 = 62;
+
+/// The PSO's output, V or duty 0..1 (`analog_status.pso_value`).
+pub const MC_SCOPE_SIG_PSO: u32 = 63;
+
 /// `mc_scope_settings.mode`.
 ///
 /// `post_trigger` samples from the trigger sample on, then done.
@@ -1173,6 +1216,28 @@ pub const MC_OP_SERVO_FILTER_SET: u32 = 112;
 /// Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an empty
 /// slot is not an error.
 pub const MC_OP_SERVO_FILTER_CLEAR: u32 = 113;
+
+/// Args: input (`0..MC_ANALOG_INPUTS-1`), `cutoff_hz` (0: no filter; else > 0 and at most half the
+/// servo rate), threshold (V, within `+-MC_ANALOG_RANGE`), hysteresis (V, 0..2 `*`
+/// `MC_ANALOG_RANGE`). flags: `MC_ANALOG_EV_RISE`, `MC_ANALOG_EV_FALL`. axis field ignored.
+pub const MC_OP_ANALOG_INPUT: u32 = 116;
+
+/// Args: output (`0..MC_ANALOG_OUTPUTS-1`), volts (clamped to the DAC's range; NaN:
+/// `MC_NACK_NOT_FINITE`). An output the PSO drives: `MC_NACK_ANALOG_CHANNEL`. axis field ignored.
+pub const MC_OP_ANALOG_OUTPUT: u32 = 117;
+
+/// Axis: the group (configured, else `MC_NACK_PSO_GROUP`). args: output (a spare DAC
+/// `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_OUTPUTS-1` no compare
+/// channel pulses), gate (a digital output `0..MC_OUTPUTS-1`, not the PWM's), min, max (min <= max;
+/// V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0), `pwm_hz` (`MC_PSO_PWM`:
+/// `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none; else > 0 and at most half the servo
+/// rate). flags: `MC_PSO_PWM`. Anything else out of range: `MC_NACK_PSO_CONFIG`. Replaces a PSO
+/// running (its old output goes to 0 first).
+pub const MC_OP_PSO: u32 = 118;
+
+/// The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis field
+/// ignored.
+pub const MC_OP_PSO_OFF: u32 = 119;
 
 /// Args: 1 pause at the end of a segment, 0 go on (above).
 pub const MC_OP_PATH_PAUSE: u32 = 120;

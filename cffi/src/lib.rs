@@ -23,6 +23,7 @@
 // card's codes. First: cbindgen writes the header in module order.
 pub mod codes;
 
+pub mod analog;
 pub mod api;
 pub mod cam;
 pub mod comp;

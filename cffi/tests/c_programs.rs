@@ -730,6 +730,18 @@ fn handwheel_from_c() {
     );
 }
 
+/// Layout 1.11: analog I/O and the path-speed output from C (a threshold event, the ADC's
+/// sample, a spare DAC, the PSO gated by an output, the refusals).
+#[test]
+fn analog_io_and_pso_from_c() {
+    let out = run(&compile("analog", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS analog\n"), "{out}");
+    assert!(
+        out.contains("analog: DAC 1 set to 3.3 V puts out 3.30078125 V"),
+        "{out}"
+    );
+}
+
 /// Layout 1.10: `examples/c/rotary.c`: a modulo axis's period set, read back and refused
 /// (zero, out of range, while moving), absolute moves the way they name, the status wrapping.
 #[test]

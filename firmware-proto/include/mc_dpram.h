@@ -81,7 +81,11 @@
                            * (MC_OP_SERVO_FILTER_SET 112, MC_OP_SERVO_FILTER_CLEAR 113,
                            * MC_BIQUAD_*, MC_NACK_FILTER_* 140..143, MC_NACK_PIDFF_GAINS 144,
                            * servo_filters[] appended), MC_SIG_FILTER_IN 16, MC_SIG_FILTER_OUT 17,
-                           * MC_SIG_SERVO_FRICTION 18 */
+                           * MC_SIG_SERVO_FRICTION 18; analog I/O and the path-speed output (MC_OP_ANALOG_INPUT 116,
+                           * MC_OP_ANALOG_OUTPUT 117, MC_OP_PSO 118, MC_OP_PSO_OFF 119,
+                           * MC_NACK_ANALOG_* 145..147, MC_NACK_PSO_* 148..149,
+                           * MC_EV_ANALOG 34, MC_SIG_AIN0..7 51..58, MC_SIG_AOUT0..3 59..62,
+                           * MC_SIG_PSO 63, analog_status appended) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -723,6 +727,19 @@
 #define MC_SIG_INPUTS 48u     /* the debounced digital inputs, bit i = input i (card.inputs) */
 #define MC_SIG_OUTPUTS 49u    /* the digital outputs (card.outputs) */
 #define MC_SIG_INPUTS_RAW 50u /* the inputs as sampled (card.inputs_raw) */
+#define MC_SIG_AIN0 51u       /* layout 1.11: analog input 0, filtered, V (analog_status.input[0]) */
+#define MC_SIG_AIN1 52u       /* analog input 1, filtered, V */
+#define MC_SIG_AIN2 53u       /* analog input 2, filtered, V */
+#define MC_SIG_AIN3 54u       /* analog input 3, filtered, V */
+#define MC_SIG_AIN4 55u       /* analog input 4, filtered, V */
+#define MC_SIG_AIN5 56u       /* analog input 5, filtered, V */
+#define MC_SIG_AIN6 57u       /* analog input 6, filtered, V */
+#define MC_SIG_AIN7 58u       /* analog input 7, filtered, V */
+#define MC_SIG_AOUT0 59u      /* spare DAC output 0, V (analog_status.output[0]) */
+#define MC_SIG_AOUT1 60u      /* spare DAC output 1, V */
+#define MC_SIG_AOUT2 61u      /* spare DAC output 2, V */
+#define MC_SIG_AOUT3 62u      /* spare DAC output 3, V */
+#define MC_SIG_PSO 63u        /* the PSO's output, V or duty 0..1 (analog_status.pso_value) */
 /* scope_config.mode */
 #define MC_SCOPE_ONE_SHOT 0u       /* post_trigger samples from the trigger sample on, then done */
 #define MC_SCOPE_CONTINUOUS 1u     /* until MC_OP_SCOPE_STOP */
@@ -1051,6 +1068,82 @@
 #define MC_NACK_PIDFF_GAINS 144     /* MC_OP_APPLY_AXIS_CONFIG with MC_SERVO_PIDFF: a gain
                                      * negative, a derivative cut-off or a friction deadband not
                                      * above 0 (not finite: MC_NACK_NOT_FINITE) */
+/* Layout 1.11: analog I/O and the path-speed output (PSO).
+ *
+ * Analog inputs: MC_ANALOG_INPUTS inputs, each sampled every servo tick by a 16-bit bipolar ADC
+ * of +-MC_ANALOG_RANGE V: code = round(v / MC_ADC_LSB) saturated to -32768..32767, the sample
+ * code * MC_ADC_LSB (MC_ADC_LSB = 20 V / 65536, about 0.305 mV; the top code is 10 V - 1 LSB).
+ * Each input has a first-order low-pass filter: y += alpha * (sample - y) every tick, alpha =
+ * 1 - exp(-2 pi fc / servo rate) (at the sample instants the step response of the continuous
+ * filter with cut-off fc, exactly); fc 0: no filter (y = the sample). The filter starts from 0 V
+ * at boot and keeps its value when its cut-off changes. The threshold: an input is above once
+ * y >= threshold, and below again once y <= threshold - hysteresis (hysteresis >= 0); the state
+ * is recomputed from y, with no event, when the input is configured. A change of state posts
+ * MC_EV_ANALOG when the input's MC_ANALOG_EV_RISE / _FALL flag asks for it. analog_status holds
+ * each input's sample, filtered value, state and configuration of the last tick.
+ *
+ * Spare DAC outputs: MC_ANALOG_OUTPUTS outputs, the axes' 12-bit +-10 V DAC (an LSB of 20/4096 V,
+ * codes 0..4095: -10 V .. 10 V - 1 LSB). MC_OP_ANALOG_OUTPUT sets one; the volts are clamped to
+ * that range and quantised; analog_status.output reads back what the DAC puts out. 0 V at boot.
+ *
+ * The path-speed output (PSO; laser power, a dispenser): one per card, on a group. Every tick,
+ * after the group's path step, the card takes the group's ACTUAL tangential speed
+ * v = sqrt(sum of w_i^2 over the group's axes) (counts/s), w_i axis i's velocity estimate of
+ * the tick (act_vel) through the PSO's own first-order low-pass filter of cut-off filter_hz
+ * (w_i += beta * (act_vel_i - w_i), beta = 1 - exp(-2 pi filter_hz / servo rate); filter_hz 0:
+ * w_i = act_vel_i; the filter smooths the encoder's one-count steps, and lags by about
+ * 1 / (2 pi filter_hz)), and, while the gate output's bit is set in
+ * card.outputs (the host's and the path's outputs, MC_OP_PATH_OUTPUT: G-code M62..M65), drives
+ *     value = clamp(min + (max - min) * v / v_ref, min, max)
+ * on its output: a spare DAC (volts, quantised as MC_OP_ANALOG_OUTPUT's), or with MC_PSO_PWM a
+ * PWM on a digital output (value: the duty cycle 0..1 at pwm_hz; the output's bit in
+ * card.outputs reads 1 while the duty is above 0). With the gate closed the output is 0 (0 V, or
+ * duty 0). v_ref is the speed of full output, e.g. the program's feed: through a corner the
+ * output follows the feed the axes actually make. analog_status holds the PSO's state, speed
+ * and value of the tick. */
+#define MC_ANALOG_INPUTS 8u
+#define MC_ANALOG_OUTPUTS 4u
+#define MC_ANALOG_RANGE 10.0       /* the ADC's and the DACs' range, +-V */
+#define MC_ADC_LSB 0.00030517578125 /* the ADC's step, V: 20 / 65536 */
+#define MC_PSO_PWM_HZ_MAX 100000.0 /* the highest PWM frequency, Hz */
+#define MC_OP_ANALOG_INPUT 116u    /* args: input (0..MC_ANALOG_INPUTS-1), cutoff_hz (0: no filter;
+                                    * else > 0 and at most half the servo rate), threshold (V, within
+                                    * +-MC_ANALOG_RANGE), hysteresis (V, 0..2 * MC_ANALOG_RANGE).
+                                    * flags: MC_ANALOG_EV_RISE, MC_ANALOG_EV_FALL. axis field ignored */
+#define MC_OP_ANALOG_OUTPUT 117u   /* args: output (0..MC_ANALOG_OUTPUTS-1), volts (clamped to the DAC's
+                                    * range; NaN: MC_NACK_NOT_FINITE). An output the PSO drives:
+                                    * MC_NACK_ANALOG_CHANNEL. axis field ignored */
+#define MC_OP_PSO 118u             /* axis: the group (configured, else MC_NACK_PSO_GROUP). args: output
+                                    * (a spare DAC 0..MC_ANALOG_OUTPUTS-1, or with MC_PSO_PWM a digital
+                                    * output 0..MC_OUTPUTS-1 no compare channel pulses), gate (a digital
+                                    * output 0..MC_OUTPUTS-1, not the PWM's), min, max (min <= max; V
+                                    * within the DAC's range, or a duty 0..1), v_ref (counts/s, > 0),
+                                    * pwm_hz (MC_PSO_PWM: 1..MC_PSO_PWM_HZ_MAX; else ignored), filter_hz
+                                    * (0: none; else > 0 and at most half the servo rate). flags:
+                                    * MC_PSO_PWM. Anything else out of range: MC_NACK_PSO_CONFIG. Replaces
+                                    * a PSO running (its old output goes to 0 first) */
+#define MC_OP_PSO_OFF 119u         /* the PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when
+                                    * it is off. axis field ignored */
+#define MC_ANALOG_EV_RISE (1u << 0) /* MC_OP_ANALOG_INPUT flags: MC_EV_ANALOG when the input goes above */
+#define MC_ANALOG_EV_FALL (1u << 1) /* ... and when it goes below again */
+#define MC_PSO_PWM (1u << 0)        /* MC_OP_PSO flags: a PWM on a digital output (else a spare DAC) */
+/* analog_status.pso_state */
+#define MC_PSO_OFF 0u              /* not configured */
+#define MC_PSO_CLOSED 1u           /* configured, the gate output off: the output is 0 */
+#define MC_PSO_ON 2u               /* the gate output on: the output follows the speed */
+#define MC_NACK_ANALOG_CHANNEL 145 /* an analog input or output the card does not have (not a whole
+                                    * number below MC_ANALOG_INPUTS / MC_ANALOG_OUTPUTS), or a spare
+                                    * DAC the PSO drives */
+#define MC_NACK_ANALOG_FILTER 146  /* a cut-off below 0 or above half the servo rate (Nyquist) */
+#define MC_NACK_ANALOG_THRESHOLD 147 /* a threshold beyond +-MC_ANALOG_RANGE, a hysteresis below 0 or
+                                      * above 2 * MC_ANALOG_RANGE, or unknown flags */
+#define MC_NACK_PSO_CONFIG 148     /* a PSO output, gate, range (min > max, beyond the DAC's range or a
+                                    * duty beyond 0..1), v_ref (<= 0), PWM frequency or filter (below 0,
+                                    * above half the servo rate) out of range, the gate equal to the
+                                    * PWM output, a PWM output a compare channel pulses, or unknown
+                                    * flags */
+#define MC_NACK_PSO_GROUP 149      /* a PSO on a group that does not exist (index beyond MC_MAX_GROUPS)
+                                    * or is not configured */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
@@ -1107,6 +1200,9 @@
                                        * group; seq: the command; code: the failing member's
                                        * MC_HOMING_ERR_* or MC_GROUP_HOME_ABORTED; value: that card
                                        * axis (-1: the group's own halt, stop or disable) */
+#define MC_EV_ANALOG 34u         /* an analog input crossed its threshold (layout 1.11). axis: the input;
+                                  * code: 1 above (y >= threshold), 0 below again (y <= threshold -
+                                  * hysteresis); value: the filtered volts y */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
@@ -1991,6 +2087,43 @@ struct mc_servo_filters {
     struct mc_biquad slot[MC_BIQUADS];
 };
 
+/** Analog I/O and the PSO (layout 1.11). Card writes, at the end of a tick in which any of it
+ * changed (and whole every 64 ticks); independent words, each the value of that tick. */
+struct mc_analog_status {
+    /** Each input's ADC sample of the tick, V (a multiple of MC_ADC_LSB). */
+    double input_raw[MC_ANALOG_INPUTS];
+    /** Each input filtered, V. */
+    double input[MC_ANALOG_INPUTS];
+    /** Each spare DAC's output, V (the PSO's, or MC_OP_ANALOG_OUTPUT's). */
+    double output[MC_ANALOG_OUTPUTS];
+    /** Bit i: input i is above its threshold. */
+    uint32_t above;
+    /** Bit i: input i posts MC_EV_ANALOG going above / below (MC_ANALOG_EV_RISE / _FALL). */
+    uint32_t rise_events;
+    uint32_t fall_events;
+    /** MC_PSO_OFF, MC_PSO_CLOSED or MC_PSO_ON. */
+    uint32_t pso_state;
+    /** Each input's cut-off (Hz, 0: none), threshold and hysteresis (V). */
+    double cutoff_hz[MC_ANALOG_INPUTS];
+    double threshold[MC_ANALOG_INPUTS];
+    double hysteresis[MC_ANALOG_INPUTS];
+    /** The PSO's configuration (as MC_OP_PSO's arguments; all 0 while off). */
+    uint32_t pso_group;
+    uint32_t pso_output;
+    uint32_t pso_gate;
+    uint32_t pso_flags;
+    double pso_min;
+    double pso_max;
+    double pso_v_ref;
+    double pso_pwm_hz;
+    double pso_filter_hz;
+    /** The group's actual tangential speed of the tick, counts/s (0 while off). */
+    double pso_speed;
+    /** The PSO's output of the tick: V, or the duty 0..1 (MC_PSO_PWM). */
+    double pso_value;
+    double _reserved[3];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -2038,6 +2171,7 @@ struct mc_dpram {
     /* layout 1.11 */
     struct mc_axis_pidff axis_pidff[MC_MAX_AXES];                 /* host writes */
     struct mc_servo_filters servo_filters[MC_MAX_AXES];           /* card writes */
+    struct mc_analog_status analog_status;                        /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

@@ -68,6 +68,7 @@ blocks!(
     mc_gantry_status,
     mc_axis_pidff,
     mc_servo_filters,
+    mc_analog_status,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

@@ -87,6 +87,9 @@ code_enum! {
         /// `MC_OP_GANTRY_HOME` ended. axis: the gantry; seq: the command; code: 0 squared (value:
         /// slave 0's skew, counts) or `MC_HOMING_ERR_*` (value: the axis that failed).
         GantryHomed = raw::MC_EV_GANTRY_HOMED,
+        /// An analog input crossed its threshold (layout 1.11). axis: the input; code: 1 above (y
+        /// >= threshold), 0 below again (y <= threshold - hysteresis); value: the filtered volts y.
+        Analog = raw::MC_EV_ANALOG,
         /// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of
         /// the segment it ends (-1: none ran).
         PathPaused = raw::MC_EV_PATH_PAUSED,
@@ -444,6 +447,22 @@ code_enum! {
         /// `MC_OP_APPLY_AXIS_CONFIG` with `MC_SERVO_PIDFF`: a gain negative, a derivative cut-off
         /// or a friction deadband not above 0 (not finite: `MC_NACK_NOT_FINITE`).
         PidffGains = raw::MC_NACK_PIDFF_GAINS,
+        /// An analog input or output the card does not have (not a whole number below
+        /// `MC_ANALOG_INPUTS` / `MC_ANALOG_OUTPUTS`), or a spare DAC the PSO drives.
+        AnalogChannel = raw::MC_NACK_ANALOG_CHANNEL,
+        /// A cut-off below 0 or above half the servo rate (Nyquist).
+        AnalogFilter = raw::MC_NACK_ANALOG_FILTER,
+        /// A threshold beyond `+-MC_ANALOG_RANGE`, a hysteresis below 0 or above 2 `*`
+        /// `MC_ANALOG_RANGE`, or unknown flags.
+        AnalogThreshold = raw::MC_NACK_ANALOG_THRESHOLD,
+        /// A PSO output, gate, range (min > max, beyond the DAC's range or a duty beyond 0..1),
+        /// `v_ref` (<= 0), PWM frequency or filter (below 0, above half the servo rate) out of
+        /// range, the gate equal to the PWM output, a PWM output a compare channel pulses, or
+        /// unknown flags.
+        PsoConfig = raw::MC_NACK_PSO_CONFIG,
+        /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
+        /// configured.
+        PsoGroup = raw::MC_NACK_PSO_GROUP,
     }
 }
 
@@ -589,6 +608,32 @@ code_enum! {
         Outputs = raw::MC_SIG_OUTPUTS,
         /// The inputs as sampled (`card.inputs_raw`).
         InputsRaw = raw::MC_SIG_INPUTS_RAW,
+        /// Layout 1.11: analog input 0, filtered, V (`analog_status.input[0]`).
+        Ain0 = raw::MC_SIG_AIN0,
+        /// Analog input 1, filtered, V.
+        Ain1 = raw::MC_SIG_AIN1,
+        /// Analog input 2, filtered, V.
+        Ain2 = raw::MC_SIG_AIN2,
+        /// Analog input 3, filtered, V.
+        Ain3 = raw::MC_SIG_AIN3,
+        /// Analog input 4, filtered, V.
+        Ain4 = raw::MC_SIG_AIN4,
+        /// Analog input 5, filtered, V.
+        Ain5 = raw::MC_SIG_AIN5,
+        /// Analog input 6, filtered, V.
+        Ain6 = raw::MC_SIG_AIN6,
+        /// Analog input 7, filtered, V.
+        Ain7 = raw::MC_SIG_AIN7,
+        /// Spare DAC output 0, V (`analog_status.output[0]`).
+        Aout0 = raw::MC_SIG_AOUT0,
+        /// Spare DAC output 1, V.
+        Aout1 = raw::MC_SIG_AOUT1,
+        /// Spare DAC output 2, V.
+        Aout2 = raw::MC_SIG_AOUT2,
+        /// Spare DAC output 3, V.
+        Aout3 = raw::MC_SIG_AOUT3,
+        /// The PSO's output, V or duty 0..1 (`analog_status.pso_value`).
+        Pso = raw::MC_SIG_PSO,
     }
 }
 
@@ -941,6 +986,25 @@ code_enum! {
         /// Axis: the axis. args: slot (`0..MC_BIQUADS-1`, else `MC_NACK_FILTER_KIND`); clearing an
         /// empty slot is not an error.
         ServoFilterClear = raw::MC_OP_SERVO_FILTER_CLEAR,
+        /// Args: input (`0..MC_ANALOG_INPUTS-1`), `cutoff_hz` (0: no filter; else > 0 and at most
+        /// half the servo rate), threshold (V, within `+-MC_ANALOG_RANGE`), hysteresis (V, 0..2 `*`
+        /// `MC_ANALOG_RANGE`). flags: `MC_ANALOG_EV_RISE`, `MC_ANALOG_EV_FALL`. axis field ignored.
+        AnalogInput = raw::MC_OP_ANALOG_INPUT,
+        /// Args: output (`0..MC_ANALOG_OUTPUTS-1`), volts (clamped to the DAC's range; NaN:
+        /// `MC_NACK_NOT_FINITE`). An output the PSO drives: `MC_NACK_ANALOG_CHANNEL`. axis field
+        /// ignored.
+        AnalogOutput = raw::MC_OP_ANALOG_OUTPUT,
+        /// Axis: the group (configured, else `MC_NACK_PSO_GROUP`). args: output (a spare DAC
+        /// `0..MC_ANALOG_OUTPUTS-1`, or with `MC_PSO_PWM` a digital output `0..MC_OUTPUTS-1` no
+        /// compare channel pulses), gate (a digital output `0..MC_OUTPUTS-1`, not the PWM's), min,
+        /// max (min <= max; V within the DAC's range, or a duty 0..1), `v_ref` (counts/s, > 0),
+        /// `pwm_hz` (`MC_PSO_PWM`: `1..MC_PSO_PWM_HZ_MAX`; else ignored), `filter_hz` (0: none;
+        /// else > 0 and at most half the servo rate). flags: `MC_PSO_PWM`. Anything else out of
+        /// range: `MC_NACK_PSO_CONFIG`. Replaces a PSO running (its old output goes to 0 first).
+        Pso = raw::MC_OP_PSO,
+        /// The PSO stops; its output goes to 0 (0 V, or duty 0). Accepted when it is off. axis
+        /// field ignored.
+        PsoOff = raw::MC_OP_PSO_OFF,
         /// Args: 1 pause at the end of a segment, 0 go on (above).
         PathPause = raw::MC_OP_PATH_PAUSE,
     }

@@ -252,6 +252,19 @@ const _: () = {
             <= crate::DPRAM_SIZE
     );
 };
+/// Layout 1.11: analog I/O and the PSO (`mc_analog_status`). Card writes.
+pub const ANALOG_STATUS: BlockAt<mc_analog_status> = BlockAt::new(off!(analog_status));
+/// Its size.
+pub const ANALOG_STATUS_BYTES: usize = size_of::<mc_analog_status>();
+const _: () = {
+    // Layout 1.11 appended after the servo filters.
+    assert!(
+        ANALOG_STATUS.offset()
+            == SERVO_FILTERS.at(MAX_AXES - 1).offset() + size_of::<mc_servo_filters>()
+    );
+    assert!(ANALOG_STATUS.offset().is_multiple_of(8));
+    assert!(ANALOG_STATUS.offset() + ANALOG_STATUS_BYTES <= crate::DPRAM_SIZE);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -109,6 +109,10 @@ pub const PATH_LEN: usize = raw::MC_PATH_LEN as usize;
 pub const OUTPUTS: usize = raw::MC_OUTPUTS as usize;
 /// The card's digital inputs (layout 1.7).
 pub const INPUTS: usize = raw::MC_INPUTS as usize;
+/// Analog inputs (layout 1.11).
+pub const ANALOG_INPUTS: usize = raw::MC_ANALOG_INPUTS as usize;
+/// Spare analog (DAC) outputs (layout 1.11).
+pub const ANALOG_OUTPUTS: usize = raw::MC_ANALOG_OUTPUTS as usize;
 /// Position-compare channels (layout 1.7).
 pub const COMPARE_CHANNELS: usize = raw::MC_COMPARE_CHANNELS as usize;
 /// Positions a compare channel's table holds.

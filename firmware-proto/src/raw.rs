@@ -246,6 +246,19 @@ pub const MC_SIG_PATH_POS: u32 = 34;
 pub const MC_SIG_INPUTS: u32 = 48;
 pub const MC_SIG_OUTPUTS: u32 = 49;
 pub const MC_SIG_INPUTS_RAW: u32 = 50;
+pub const MC_SIG_AIN0: u32 = 51;
+pub const MC_SIG_AIN1: u32 = 52;
+pub const MC_SIG_AIN2: u32 = 53;
+pub const MC_SIG_AIN3: u32 = 54;
+pub const MC_SIG_AIN4: u32 = 55;
+pub const MC_SIG_AIN5: u32 = 56;
+pub const MC_SIG_AIN6: u32 = 57;
+pub const MC_SIG_AIN7: u32 = 58;
+pub const MC_SIG_AOUT0: u32 = 59;
+pub const MC_SIG_AOUT1: u32 = 60;
+pub const MC_SIG_AOUT2: u32 = 61;
+pub const MC_SIG_AOUT3: u32 = 62;
+pub const MC_SIG_PSO: u32 = 63;
 pub const MC_SCOPE_ONE_SHOT: u32 = 0;
 pub const MC_SCOPE_CONTINUOUS: u32 = 1;
 pub const MC_SCOPE_TRIG_IMMEDIATE: u32 = 0;
@@ -350,6 +363,26 @@ pub const MC_NACK_FILTER_FREQ: u32 = 141;
 pub const MC_NACK_FILTER_PARAM: u32 = 142;
 pub const MC_NACK_FILTER_UNSTABLE: u32 = 143;
 pub const MC_NACK_PIDFF_GAINS: u32 = 144;
+pub const MC_ANALOG_INPUTS: u32 = 8;
+pub const MC_ANALOG_OUTPUTS: u32 = 4;
+pub const MC_ANALOG_RANGE: f64 = 10.0;
+pub const MC_ADC_LSB: f64 = 0.00030517578125;
+pub const MC_PSO_PWM_HZ_MAX: f64 = 100000.0;
+pub const MC_OP_ANALOG_INPUT: u32 = 116;
+pub const MC_OP_ANALOG_OUTPUT: u32 = 117;
+pub const MC_OP_PSO: u32 = 118;
+pub const MC_OP_PSO_OFF: u32 = 119;
+pub const MC_ANALOG_EV_RISE: u32 = 1;
+pub const MC_ANALOG_EV_FALL: u32 = 2;
+pub const MC_PSO_PWM: u32 = 1;
+pub const MC_PSO_OFF: u32 = 0;
+pub const MC_PSO_CLOSED: u32 = 1;
+pub const MC_PSO_ON: u32 = 2;
+pub const MC_NACK_ANALOG_CHANNEL: u32 = 145;
+pub const MC_NACK_ANALOG_FILTER: u32 = 146;
+pub const MC_NACK_ANALOG_THRESHOLD: u32 = 147;
+pub const MC_NACK_PSO_CONFIG: u32 = 148;
+pub const MC_NACK_PSO_GROUP: u32 = 149;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -378,6 +411,7 @@ pub const MC_EV_GANTRY_HOMED: u32 = 33;
 pub const MC_EV_PATH_PAUSED: u32 = 36;
 pub const MC_EV_GROUP_HOMED: u32 = 30;
 pub const MC_EV_GROUP_HOMING_FAILED: u32 = 31;
+pub const MC_EV_ANALOG: u32 = 34;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -1911,6 +1945,92 @@ const _: () = {
     ["Offset of field: mc_servo_filters::slot"]
         [::core::mem::offset_of!(mc_servo_filters, slot) - 16usize];
 };
+#[doc = " Analog I/O and the PSO (layout 1.11). Card writes, at the end of a tick in which any of it\n changed (and whole every 64 ticks); independent words, each the value of that tick."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_analog_status {
+    #[doc = " Each input's ADC sample of the tick, V (a multiple of MC_ADC_LSB)."]
+    pub input_raw: [f64; 8usize],
+    #[doc = " Each input filtered, V."]
+    pub input: [f64; 8usize],
+    #[doc = " Each spare DAC's output, V (the PSO's, or MC_OP_ANALOG_OUTPUT's)."]
+    pub output: [f64; 4usize],
+    #[doc = " Bit i: input i is above its threshold."]
+    pub above: u32,
+    #[doc = " Bit i: input i posts MC_EV_ANALOG going above / below (MC_ANALOG_EV_RISE / _FALL)."]
+    pub rise_events: u32,
+    pub fall_events: u32,
+    #[doc = " MC_PSO_OFF, MC_PSO_CLOSED or MC_PSO_ON."]
+    pub pso_state: u32,
+    #[doc = " Each input's cut-off (Hz, 0: none), threshold and hysteresis (V)."]
+    pub cutoff_hz: [f64; 8usize],
+    pub threshold: [f64; 8usize],
+    pub hysteresis: [f64; 8usize],
+    #[doc = " The PSO's configuration (as MC_OP_PSO's arguments; all 0 while off)."]
+    pub pso_group: u32,
+    pub pso_output: u32,
+    pub pso_gate: u32,
+    pub pso_flags: u32,
+    pub pso_min: f64,
+    pub pso_max: f64,
+    pub pso_v_ref: f64,
+    pub pso_pwm_hz: f64,
+    pub pso_filter_hz: f64,
+    #[doc = " The group's actual tangential speed of the tick, counts/s (0 while off)."]
+    pub pso_speed: f64,
+    #[doc = " The PSO's output of the tick: V, or the duty 0..1 (MC_PSO_PWM)."]
+    pub pso_value: f64,
+    pub _reserved: [f64; 3usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_analog_status"][::core::mem::size_of::<mc_analog_status>() - 464usize];
+    ["Alignment of mc_analog_status"][::core::mem::align_of::<mc_analog_status>() - 8usize];
+    ["Offset of field: mc_analog_status::input_raw"]
+        [::core::mem::offset_of!(mc_analog_status, input_raw) - 0usize];
+    ["Offset of field: mc_analog_status::input"]
+        [::core::mem::offset_of!(mc_analog_status, input) - 64usize];
+    ["Offset of field: mc_analog_status::output"]
+        [::core::mem::offset_of!(mc_analog_status, output) - 128usize];
+    ["Offset of field: mc_analog_status::above"]
+        [::core::mem::offset_of!(mc_analog_status, above) - 160usize];
+    ["Offset of field: mc_analog_status::rise_events"]
+        [::core::mem::offset_of!(mc_analog_status, rise_events) - 164usize];
+    ["Offset of field: mc_analog_status::fall_events"]
+        [::core::mem::offset_of!(mc_analog_status, fall_events) - 168usize];
+    ["Offset of field: mc_analog_status::pso_state"]
+        [::core::mem::offset_of!(mc_analog_status, pso_state) - 172usize];
+    ["Offset of field: mc_analog_status::cutoff_hz"]
+        [::core::mem::offset_of!(mc_analog_status, cutoff_hz) - 176usize];
+    ["Offset of field: mc_analog_status::threshold"]
+        [::core::mem::offset_of!(mc_analog_status, threshold) - 240usize];
+    ["Offset of field: mc_analog_status::hysteresis"]
+        [::core::mem::offset_of!(mc_analog_status, hysteresis) - 304usize];
+    ["Offset of field: mc_analog_status::pso_group"]
+        [::core::mem::offset_of!(mc_analog_status, pso_group) - 368usize];
+    ["Offset of field: mc_analog_status::pso_output"]
+        [::core::mem::offset_of!(mc_analog_status, pso_output) - 372usize];
+    ["Offset of field: mc_analog_status::pso_gate"]
+        [::core::mem::offset_of!(mc_analog_status, pso_gate) - 376usize];
+    ["Offset of field: mc_analog_status::pso_flags"]
+        [::core::mem::offset_of!(mc_analog_status, pso_flags) - 380usize];
+    ["Offset of field: mc_analog_status::pso_min"]
+        [::core::mem::offset_of!(mc_analog_status, pso_min) - 384usize];
+    ["Offset of field: mc_analog_status::pso_max"]
+        [::core::mem::offset_of!(mc_analog_status, pso_max) - 392usize];
+    ["Offset of field: mc_analog_status::pso_v_ref"]
+        [::core::mem::offset_of!(mc_analog_status, pso_v_ref) - 400usize];
+    ["Offset of field: mc_analog_status::pso_pwm_hz"]
+        [::core::mem::offset_of!(mc_analog_status, pso_pwm_hz) - 408usize];
+    ["Offset of field: mc_analog_status::pso_filter_hz"]
+        [::core::mem::offset_of!(mc_analog_status, pso_filter_hz) - 416usize];
+    ["Offset of field: mc_analog_status::pso_speed"]
+        [::core::mem::offset_of!(mc_analog_status, pso_speed) - 424usize];
+    ["Offset of field: mc_analog_status::pso_value"]
+        [::core::mem::offset_of!(mc_analog_status, pso_value) - 432usize];
+    ["Offset of field: mc_analog_status::_reserved"]
+        [::core::mem::offset_of!(mc_analog_status, _reserved) - 440usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -1950,10 +2070,11 @@ pub struct mc_dpram {
     pub gantry_status: [mc_gantry_status; 4usize],
     pub axis_pidff: [mc_axis_pidff; 8usize],
     pub servo_filters: [mc_servo_filters; 8usize],
+    pub analog_status: mc_analog_status,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 590496usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 590960usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -2018,6 +2139,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, axis_pidff) - 586272usize];
     ["Offset of field: mc_dpram::servo_filters"]
         [::core::mem::offset_of!(mc_dpram, servo_filters) - 587296usize];
+    ["Offset of field: mc_dpram::analog_status"]
+        [::core::mem::offset_of!(mc_dpram, analog_status) - 590496usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -360,6 +360,19 @@ error_kinds! {
     /// PID+FF gains refused: a gain negative, a derivative cut-off or friction deadband not
     /// above 0.
     PidffGains = -135, MC_ERR_PIDFF_GAINS, nack PidffGains, "bad PID+FF gains: every gain >= 0, derivative cut-off and friction deadband > 0";
+    /// Layout 1.11: an analog input or output the card does not have (inputs 0..=7, outputs
+    /// 0..=3), or a spare DAC output the path-speed output drives.
+    AnalogChannel = -136, MC_ERR_ANALOG_CHANNEL, nack AnalogChannel, "no such analog input or output (inputs 0..7, outputs 0..3), or a DAC the PSO drives";
+    /// An analog input's cut-off below 0 or above half the servo rate (Nyquist).
+    AnalogFilter = -137, MC_ERR_ANALOG_FILTER, nack AnalogFilter, "an analog filter cut-off below 0 or above half the servo rate";
+    /// An analog threshold beyond ±10 V, or a hysteresis below 0 or above 20 V.
+    AnalogThreshold = -138, MC_ERR_ANALOG_THRESHOLD, nack AnalogThreshold, "an analog threshold beyond +-10 V or a hysteresis outside 0..20 V";
+    /// A path-speed output's output, gate, range (min > max, beyond ±10 V or a duty beyond
+    /// 0..1), reference speed (<= 0) or PWM frequency out of range, the gate on the PWM's own
+    /// output, or a PWM on an output a compare channel pulses.
+    PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
+    /// A path-speed output on a group that does not exist or is not configured.
+    PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
 }
 
 impl From<NurbsError> for ErrorKind {

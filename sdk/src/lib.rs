@@ -22,6 +22,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![warn(missing_docs)]
 
+mod analog;
 mod axis;
 mod cam;
 mod card;
@@ -54,6 +55,10 @@ mod session;
 mod sync;
 pub mod trace;
 
+pub use analog::{
+    AnalogInput, AnalogInputSettings, Pso, PsoOutput, PsoState, PsoStatus, ADC_LSB, ANALOG_INPUTS,
+    ANALOG_OUTPUTS, ANALOG_RANGE, PSO_PWM_HZ_MAX,
+};
 pub use axis::MoveDirection;
 pub use cam::CamSettings;
 #[cfg(feature = "emulator")]
@@ -64,7 +69,8 @@ pub use card::{
 };
 #[cfg(feature = "emulator")]
 pub use card_emu::{
-    Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams, Sensor, Switches,
+    AnalogSource, Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams,
+    Noise, Sensor, Switches,
 };
 pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{

@@ -64,7 +64,9 @@ enum Cmd {
     /// durations, total time, peak velocity and acceleration. Units are the caller's (counts and
     /// seconds on the card).
     Plan(cli::plan::Args),
-    /// The card's digital inputs (debounced and raw) and outputs.
+    /// The card's digital inputs (debounced and raw) and outputs; with --analog its analog
+    /// inputs, spare DAC outputs and the path-speed output (PSO), set by --set-analog,
+    /// --analog-input, --pso and --pso-off.
     Io(cli::io::Args),
     /// Stream a PT/PVT file through the axis's point buffer and wait for its end: one
     /// `time, position[, velocity]` per line (seconds from the start, the axis's units; `#`

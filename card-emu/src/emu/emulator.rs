@@ -17,6 +17,7 @@
 
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
+use crate::plant::analog::AnalogBank;
 use crate::plant::aux::AuxEncoder;
 use crate::plant::faults::FaultInjector;
 use crate::plant::io::{encoder_span_from, FireRecord, InputBank};
@@ -204,6 +205,8 @@ pub struct Emulator {
     aux: [AuxEncoder; AUX_ENCODERS],
     /// Layout 1.9: each axis's leadscrew between motor and load, if modelled.
     leadscrews: [Option<Leadscrew>; MAX_AXES],
+    /// Layout 1.11: what drives the analog input pins.
+    analog: AnalogBank,
 }
 
 impl Emulator {
@@ -238,6 +241,7 @@ impl Emulator {
             spans: [None; MAX_AXES],
             aux: [AuxEncoder::default(); AUX_ENCODERS],
             leadscrews: Default::default(),
+            analog: AnalogBank::default(),
         })
     }
 
@@ -293,6 +297,7 @@ impl Emulator {
         self.fw.set_digital_inputs(self.inputs.sample(&self.motors));
         self.fw.set_encoder_spans(self.spans);
         self.fw.set_aux_encoders(self.aux.map(|a| a.count));
+        self.fw.set_analog_inputs(self.analog.sample(&self.motors));
         let ts = self.fw.ts();
         self.fw.tick(&enc, &mut self.dac);
         self.record_period_fires(ts);
@@ -391,6 +396,22 @@ impl Emulator {
     /// The digital outputs now (bit i = output i), compare pulses included.
     pub fn outputs(&self) -> u32 {
         self.fw.outputs()
+    }
+
+    /// Layout 1.11: the analog input pins (what each is wired to, its noise).
+    pub fn analog(&mut self) -> &mut AnalogBank {
+        &mut self.analog
+    }
+
+    /// Layout 1.11: the spare DAC outputs now, V (the PSO's or the host's).
+    pub fn analog_outputs(&self) -> [f64; firmware_proto::ANALOG_OUTPUTS] {
+        self.fw.analog().outputs()
+    }
+
+    /// Layout 1.11: the PSO's PWM, if it runs one: (digital output, duty 0..1 of the tick just
+    /// run, frequency Hz).
+    pub fn pwm(&self) -> Option<(usize, f64, f64)> {
+        self.fw.analog().pwm()
     }
 
     /// Record the compare pulses from now on (`false`: stop, and drop what was recorded).

@@ -8,6 +8,7 @@
 //! motor sticks while the drive torque cannot overcome it, and a velocity that would cross zero
 //! inside the period stops at zero first.
 
+pub mod analog;
 pub mod aux;
 pub mod faults;
 pub mod io;

@@ -3,7 +3,10 @@
 
 use super::{bit, not_in_family, put, set, uint, Args, DecodeError, Fault};
 use crate::wire::{Command, NackCode, Opcode, CMD_ARGS};
-use crate::{raw, COMPARE_CHANNELS, COMPARE_TABLE_MAX, OUTPUTS, PROBE_CHANNELS};
+use crate::{
+    raw, ANALOG_INPUTS, ANALOG_OUTPUTS, COMPARE_CHANNELS, COMPARE_TABLE_MAX, OUTPUTS,
+    PROBE_CHANNELS,
+};
 use heapless::Vec;
 
 /// The largest output word (`2^MC_OUTPUTS - 1`).
@@ -320,6 +323,218 @@ impl Args for ProbeAbort {
     }
 }
 
+/// `MC_OP_ANALOG_INPUT` (layout 1.11; args: input, cutoff_hz, threshold, hysteresis; flags:
+/// `MC_ANALOG_EV_RISE` / `_FALL`). Decoding checks all but the cut-off's Nyquist bound (the
+/// servo rate's: the card's check).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalogInput {
+    /// The input, `0..ANALOG_INPUTS`.
+    pub input: u8,
+    /// The filter's cut-off, Hz (0: none; ≥ 0).
+    pub cutoff_hz: f64,
+    /// The threshold, V (within ±`MC_ANALOG_RANGE`).
+    pub threshold: f64,
+    /// The hysteresis, V (0..=2·`MC_ANALOG_RANGE`): below again at `threshold - hysteresis`.
+    pub hysteresis: f64,
+    /// `MC_EV_ANALOG` going above.
+    pub rise_event: bool,
+    /// `MC_EV_ANALOG` going below again.
+    pub fall_event: bool,
+}
+
+impl Args for AnalogInput {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(
+            args,
+            0,
+            &[
+                f64::from(self.input),
+                self.cutoff_hz,
+                self.threshold,
+                self.hysteresis,
+            ],
+        );
+        set(self.rise_event, raw::MC_ANALOG_EV_RISE) | set(self.fall_event, raw::MC_ANALOG_EV_FALL)
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let input = analog_channel(args, ANALOG_INPUTS)?;
+        super::all_finite(args, 1..4)?;
+        let [cutoff_hz, threshold, hysteresis] = super::take(args, 1);
+        if cutoff_hz < 0.0 {
+            return Err(DecodeError::arg(
+                1,
+                Fault::OutOfRange,
+                NackCode::AnalogFilter,
+            ));
+        }
+        let bad = NackCode::AnalogThreshold;
+        let range = raw::MC_ANALOG_RANGE;
+        if threshold.abs() > range {
+            return Err(DecodeError::arg(2, Fault::OutOfRange, bad));
+        }
+        if !(0.0..=2.0 * range).contains(&hysteresis) {
+            return Err(DecodeError::arg(3, Fault::OutOfRange, bad));
+        }
+        if flags & !(raw::MC_ANALOG_EV_RISE | raw::MC_ANALOG_EV_FALL) != 0 {
+            return Err(DecodeError::flags(bad));
+        }
+        Ok(Self {
+            input,
+            cutoff_hz,
+            threshold,
+            hysteresis,
+            rise_event: bit(flags, raw::MC_ANALOG_EV_RISE),
+            fall_event: bit(flags, raw::MC_ANALOG_EV_FALL),
+        })
+    }
+}
+
+/// An analog channel number in `args[0]`: NaN is `NotFinite`, anything but an integer below
+/// `n` `AnalogChannel`.
+fn analog_channel(args: &[f64; CMD_ARGS], n: usize) -> Result<u8, DecodeError> {
+    uint(
+        args,
+        0,
+        n as u64 - 1,
+        NackCode::NotFinite,
+        NackCode::AnalogChannel,
+    )
+    .map(|c| c as u8)
+}
+
+/// `MC_OP_ANALOG_OUTPUT` (layout 1.11; args: output, volts): a spare DAC output. The volts are
+/// the card's to clamp to the DAC's range (NaN and infinities are refused here).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalogOutput {
+    /// The output, `0..ANALOG_OUTPUTS`.
+    pub output: u8,
+    /// The voltage asked for.
+    pub volts: f64,
+}
+
+impl Args for AnalogOutput {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &[f64::from(self.output), self.volts]);
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let output = analog_channel(args, ANALOG_OUTPUTS)?;
+        super::all_finite(args, 1..2)?;
+        Ok(Self {
+            output,
+            volts: args[1],
+        })
+    }
+}
+
+/// Where the PSO's output goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PsoOutput {
+    /// A spare DAC output, `0..ANALOG_OUTPUTS` (min and max in volts).
+    Dac(u8),
+    /// A PWM on a digital output, `0..OUTPUTS`, at `hz` (min and max are duties 0..1).
+    Pwm {
+        /// The digital output.
+        output: u8,
+        /// The PWM frequency, Hz (`1..=MC_PSO_PWM_HZ_MAX`).
+        hz: f64,
+    },
+}
+
+/// `MC_OP_PSO` (layout 1.11; the command's target is the group; args: output, gate, min, max,
+/// v_ref, pwm_hz, filter_hz; flags: `MC_PSO_PWM`). Decoding checks every argument; the group (configured)
+/// and a PWM output a compare channel pulses are the card's to check.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pso {
+    /// The output.
+    pub output: PsoOutput,
+    /// The digital output whose bit in `card.outputs` gates the PSO.
+    pub gate: u8,
+    /// The output at rest (V or duty).
+    pub min: f64,
+    /// The output at `v_ref` and beyond (V or duty).
+    pub max: f64,
+    /// The tangential speed of full output, counts/s (> 0).
+    pub v_ref: f64,
+    /// The speed filter's cut-off, Hz (0: none; ≥ 0; the card checks it against Nyquist).
+    pub filter_hz: f64,
+}
+
+impl Args for Pso {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        let (out, hz, flags) = match self.output {
+            PsoOutput::Dac(o) => (o, 0.0, 0),
+            PsoOutput::Pwm { output, hz } => (output, hz, raw::MC_PSO_PWM),
+        };
+        put(
+            args,
+            0,
+            &[
+                f64::from(out),
+                f64::from(self.gate),
+                self.min,
+                self.max,
+                self.v_ref,
+                hz,
+                self.filter_hz,
+            ],
+        );
+        flags
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let bad = NackCode::PsoConfig;
+        let pwm = bit(flags, raw::MC_PSO_PWM);
+        super::all_finite(args, 0..5)?;
+        super::all_finite(args, 6..7)?;
+        if pwm {
+            super::all_finite(args, 5..6)?;
+        }
+        if flags & !raw::MC_PSO_PWM != 0 {
+            return Err(DecodeError::flags(bad));
+        }
+        let outputs = if pwm { OUTPUTS } else { ANALOG_OUTPUTS };
+        let out = uint(args, 0, outputs as u64 - 1, bad, bad)? as u8;
+        let gate = uint(args, 1, OUTPUTS as u64 - 1, bad, bad)? as u8;
+        let [min, max, v_ref, hz, filter_hz] = super::take(args, 2);
+        let (lo, hi) = if pwm {
+            (0.0, 1.0)
+        } else {
+            (-raw::MC_ANALOG_RANGE, raw::MC_ANALOG_RANGE)
+        };
+        if !(lo..=hi).contains(&min) {
+            return Err(DecodeError::arg(2, Fault::OutOfRange, bad));
+        }
+        if !(lo..=hi).contains(&max) || min > max {
+            return Err(DecodeError::arg(3, Fault::OutOfRange, bad));
+        }
+        if v_ref <= 0.0 {
+            return Err(DecodeError::arg(4, Fault::OutOfRange, bad));
+        }
+        if filter_hz < 0.0 {
+            return Err(DecodeError::arg(6, Fault::OutOfRange, bad));
+        }
+        let output = if pwm {
+            if !(1.0..=raw::MC_PSO_PWM_HZ_MAX).contains(&hz) {
+                return Err(DecodeError::arg(5, Fault::OutOfRange, bad));
+            }
+            if gate == out {
+                return Err(DecodeError::arg(1, Fault::OutOfRange, bad));
+            }
+            PsoOutput::Pwm { output: out, hz }
+        } else {
+            PsoOutput::Dac(out)
+        };
+        Ok(Self {
+            output,
+            gate,
+            min,
+            max,
+            v_ref,
+            filter_hz,
+        })
+    }
+}
+
 /// Outputs, position compare and touch probes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IoCmd {
@@ -337,6 +552,14 @@ pub enum IoCmd {
     ProbeArm(ProbeArm),
     /// `MC_OP_PROBE_ABORT`.
     ProbeAbort(ProbeAbort),
+    /// `MC_OP_ANALOG_INPUT` (layout 1.11, card-wide).
+    AnalogInput(AnalogInput),
+    /// `MC_OP_ANALOG_OUTPUT` (card-wide).
+    AnalogOutput(AnalogOutput),
+    /// `MC_OP_PSO` (target: the group).
+    Pso(Pso),
+    /// `MC_OP_PSO_OFF` (card-wide).
+    PsoOff,
 }
 
 impl IoCmd {
@@ -350,6 +573,10 @@ impl IoCmd {
             Self::CompareDisarm(_) => Opcode::CompareDisarm,
             Self::ProbeArm(_) => Opcode::ProbeArm,
             Self::ProbeAbort(_) => Opcode::ProbeAbort,
+            Self::AnalogInput(_) => Opcode::AnalogInput,
+            Self::AnalogOutput(_) => Opcode::AnalogOutput,
+            Self::Pso(_) => Opcode::Pso,
+            Self::PsoOff => Opcode::PsoOff,
         }
     }
 
@@ -364,12 +591,16 @@ impl IoCmd {
             Opcode::CompareDisarm => Self::CompareDisarm(Args::decode(f, args)?),
             Opcode::ProbeArm => Self::ProbeArm(Args::decode(f, args)?),
             Opcode::ProbeAbort => Self::ProbeAbort(Args::decode(f, args)?),
+            Opcode::AnalogInput => Self::AnalogInput(Args::decode(f, args)?),
+            Opcode::AnalogOutput => Self::AnalogOutput(Args::decode(f, args)?),
+            Opcode::Pso => Self::Pso(Args::decode(f, args)?),
+            Opcode::PsoOff => Self::PsoOff,
             _ => return Err(not_in_family()),
         })
     }
 
-    /// The entry for `target` (the axis of a compare or probe command, else 0; seq 0, no
-    /// deadline).
+    /// The entry for `target` (the axis of a compare or probe command, the group of a PSO,
+    /// else 0; seq 0, no deadline).
     pub fn command(&self, target: u16) -> Command {
         let op = self.opcode();
         match self {
@@ -380,6 +611,10 @@ impl IoCmd {
             Self::CompareDisarm(a) => super::entry(op, target, a),
             Self::ProbeArm(a) => super::entry(op, target, a),
             Self::ProbeAbort(a) => super::entry(op, target, a),
+            Self::AnalogInput(a) => super::entry(op, target, a),
+            Self::AnalogOutput(a) => super::entry(op, target, a),
+            Self::Pso(a) => super::entry(op, target, a),
+            Self::PsoOff => Command::new(op, target),
         }
     }
 }

@@ -316,7 +316,11 @@ pub fn family(op: Opcode) -> Family {
         | O::CompareTable
         | O::CompareDisarm
         | O::ProbeArm
-        | O::ProbeAbort => Family::Io,
+        | O::ProbeAbort
+        | O::AnalogInput
+        | O::AnalogOutput
+        | O::Pso
+        | O::PsoOff => Family::Io,
         O::ScopeConfigure | O::ScopeArm | O::ScopeTrigger | O::ScopeStop => Family::Scope,
         O::Nop
         | O::ApplyCardConfig

@@ -306,7 +306,12 @@ impl IoUnit {
                 self.probes[p.channel as usize].abort();
                 Ok(0.0)
             }
-            IoCmd::SetOutputs(_) => Err(NackCode::UnknownOpcode),
+            // The firmware's (`exec/io.rs`, `analog.rs`).
+            IoCmd::SetOutputs(_)
+            | IoCmd::AnalogInput(_)
+            | IoCmd::AnalogOutput(_)
+            | IoCmd::Pso(_)
+            | IoCmd::PsoOff => Err(NackCode::UnknownOpcode),
         }
     }
 

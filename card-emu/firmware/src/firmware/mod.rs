@@ -6,6 +6,7 @@
 //! count; nothing reads a clock, calls the OS, allocates or panics.
 #![forbid(unsafe_code)]
 
+pub mod analog;
 pub mod axis;
 pub mod axis_safety;
 pub mod cam;
@@ -93,6 +94,8 @@ pub struct Firmware<M: Mem + Clone> {
     outputs: u32,
     /// Digital inputs, position compare and touch probes (layout 1.7).
     io: IoUnit,
+    /// Layout 1.11: analog inputs, spare DACs and the path-speed output.
+    analog: analog::AnalogUnit,
     num_axes: usize,
     /// Layout 1.8: each axis's scale, counts per user unit, kept for hosts (not used here).
     scales: [f64; MAX_AXES],
@@ -151,6 +154,7 @@ impl<M: Mem + Clone> Firmware<M> {
             outbox: Outbox::default(),
             outputs: 0,
             io: IoUnit::new(),
+            analog: analog::AnalogUnit::new(),
             num_axes,
             scales: [1.0; MAX_AXES],
             servo_rate_hz,
@@ -270,6 +274,16 @@ impl<M: Mem + Clone> Firmware<M> {
     /// the tick).
     pub fn set_encoder_spans(&mut self, spans: io::EncoderSpans) {
         self.io.set_spans(spans);
+    }
+
+    /// The analog input pins for the next tick, V (layout 1.11).
+    pub fn set_analog_inputs(&mut self, volts: [f64; firmware_proto::ANALOG_INPUTS]) {
+        self.analog.set_pins(volts);
+    }
+
+    /// Analog inputs, spare DACs and the PSO (layout 1.11).
+    pub fn analog(&self) -> &analog::AnalogUnit {
+        &self.analog
     }
 
     /// Digital inputs, compare channels and probes.
@@ -478,6 +492,20 @@ impl<M: Mem + Clone> Firmware<M> {
             &self.safety.inputs().index,
             &self.axes[..self.num_axes],
         );
+        // Layout 1.11: the analog inputs, and the PSO on its group's speed of this tick, gated
+        // by the outputs the path just set (analog.rs).
+        let members = match self.analog.pso() {
+            Some(p) => self.groups[p.group]
+                .config
+                .map_or(([0; MAX_AXES], 0), |c| (c.axes, c.naxes)),
+            None => ([0; MAX_AXES], 0),
+        };
+        self.analog.tick(
+            self.tick,
+            &self.axes[..self.num_axes],
+            &members.0[..members.1],
+            self.outputs,
+        );
         // Layout 1.9: a capture of a probe armed with MC_PROBE_HALT halts its axis's motion.
         let (halts, seq) = self.io.halts();
         if halts != 0 {
@@ -600,6 +628,11 @@ impl<M: Mem + Clone> Firmware<M> {
         self.post_scope_events(&scoped);
         for i in 0..self.io.events_len() {
             if let Some(e) = self.io.event(i) {
+                self.post(e);
+            }
+        }
+        for i in 0..self.analog.events_len() {
+            if let Some(e) = self.analog.event(i) {
                 self.post(e);
             }
         }
@@ -734,14 +767,15 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.mem.write32(layout::OUTPUTS, self.outputs());
         self.io.publish(&self.mem, self.tick);
+        self.analog.publish(&self.mem, self.tick);
         self.publish_sync();
         self.publish_gantries();
     }
 
-    /// The digital outputs (bit i = output i): the host's and the path's, and the compare
-    /// channels' pulses.
+    /// The digital outputs (bit i = output i): the host's and the path's, the compare
+    /// channels' pulses, and the PSO's PWM while its duty is above 0.
     pub fn outputs(&self) -> u32 {
-        self.outputs | self.io.pulse_outputs()
+        self.outputs | self.io.pulse_outputs() | self.analog.pwm_outputs()
     }
 }
 
@@ -761,7 +795,8 @@ impl<M: Mem + Clone> Firmware<M> {
             ..Default::default()
         };
         let (inputs, inputs_raw) = self.io.inputs();
-        let outputs = self.outputs | self.io.pulse_outputs();
+        let outputs = self.outputs | self.io.pulse_outputs() | self.analog.pwm_outputs();
+        let analog = &self.analog;
         let mut axis_cache: [Option<firmware_proto::AxisStatus>; MAX_AXES] = [None; MAX_AXES];
         let mut group_cache: [Option<firmware_proto::GroupStatus>; MAX_GROUPS] = [None; MAX_GROUPS];
         for (v, src) in s.value.iter_mut().zip(sc.sources()) {
@@ -805,6 +840,19 @@ impl<M: Mem + Clone> Firmware<M> {
                 Signal::Inputs => inputs as f64,
                 Signal::Outputs => outputs as f64,
                 Signal::InputsRaw => inputs_raw as f64,
+                Signal::Ain0 => analog.input(0),
+                Signal::Ain1 => analog.input(1),
+                Signal::Ain2 => analog.input(2),
+                Signal::Ain3 => analog.input(3),
+                Signal::Ain4 => analog.input(4),
+                Signal::Ain5 => analog.input(5),
+                Signal::Ain6 => analog.input(6),
+                Signal::Ain7 => analog.input(7),
+                Signal::Aout0 => analog.output(0),
+                Signal::Aout1 => analog.output(1),
+                Signal::Aout2 => analog.output(2),
+                Signal::Aout3 => analog.output(3),
+                Signal::Pso => analog.pso_tick().value,
             };
         }
         let faults = if sc.wants_faults() {

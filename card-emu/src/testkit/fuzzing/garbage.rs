@@ -3,14 +3,14 @@
 //! arguments broken, NURBS transfers, and [`garbage_unit`].
 
 use firmware_proto::cmd::{
-    ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable, CardCmd, CircularMove, Cmd,
-    CompData, CompHeader, CompPointArgs, CompRead, CompareArm, CompareDisarm, CompareKind,
-    CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn, GearInPos, GroupCmd,
-    GroupOverride, Handwheel, IoCmd, Jog, LinearMove, Master, MoveKind, MoveLimits, MoveOpts,
-    NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine, PathNurbs,
-    PathOutput, PositionMove, ProbeAbort, ProbeArm, PtpLimits, PtpMove, PvtBegin, PvtPoint,
-    PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits,
-    VelocityMove,
+    AnalogInput, AnalogOutput, ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable,
+    CardCmd, CircularMove, Cmd, CompData, CompHeader, CompPointArgs, CompRead, CompareArm,
+    CompareDisarm, CompareKind, CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn,
+    GearInPos, GroupCmd, GroupOverride, Handwheel, IoCmd, Jog, LinearMove, Master, MoveKind,
+    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine,
+    PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, Pso, PsoOutput, PtpLimits, PtpMove,
+    PvtBegin, PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd,
+    SyncLimits, VelocityMove,
 };
 use firmware_proto::ring::Entry;
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS};
@@ -623,6 +623,53 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 p.over = Some(Overwrite::Flags(bits)); // no direction, or both
             }
             p
+        }
+        // Layout 1.11: analog I/O (one channel past the last now and then) and the PSO.
+        O::AnalogInput => {
+            let a = AnalogInput {
+                input: s.u8() % 9,
+                cutoff_hz: [0.0, 50.0, 5000.0, 6000.0][usize::from(s.u8() % 4)],
+                threshold: magnitude(s, -2.0, 1.1),
+                hysteresis: magnitude(s, -3.0, 0.5),
+                rise_event: s.u8() & 1 != 0,
+                fall_event: s.u8() & 1 != 0,
+            };
+            feed(s);
+            Plausible::typed(IoCmd::AnalogInput(a))
+        }
+        O::AnalogOutput => {
+            let o = AnalogOutput {
+                output: s.u8() % 5,
+                volts: magnitude(s, -3.0, 1.3) * if s.u8() & 1 != 0 { -1.0 } else { 1.0 },
+            };
+            feed(s);
+            Plausible::typed(IoCmd::AnalogOutput(o))
+        }
+        O::Pso => {
+            let pwm = s.u8() & 1 != 0;
+            let output = if pwm {
+                PsoOutput::Pwm {
+                    output: s.u8() % 17,
+                    hz: magnitude(s, 0.0, 5.1),
+                }
+            } else {
+                PsoOutput::Dac(s.u8() % 5)
+            };
+            let hi = if pwm { 1.0 } else { 10.0 };
+            let p = Pso {
+                output,
+                gate: s.u8() % 17,
+                min: hi * f64::from(s.u8() % 3) / 4.0,
+                max: hi * f64::from(s.u8() % 5) / 4.0,
+                v_ref: magnitude(s, 2.0, 6.0),
+                filter_hz: [0.0, 200.0, 6000.0][usize::from(s.u8() % 3)],
+            };
+            feed(s);
+            Plausible::typed(IoCmd::Pso(p))
+        }
+        O::PsoOff => {
+            feed(s);
+            Plausible::typed(IoCmd::PsoOff)
         }
         O::CompareDisarm | O::ProbeAbort => {
             let channel = s.u8() % 5;
