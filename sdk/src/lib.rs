@@ -77,8 +77,7 @@ pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
     FfpivSection, FilterName, FilterSection, GantrySection, GroupSection, HomingSection,
     InterpolatorName, IoSection, LoadReport, PathSection, PdPlusSection, PidffSection,
-    SafetySection, ServoLaw,
-    CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
+    SafetySection, ServoLaw, CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;
