@@ -33,6 +33,7 @@ pub use emu::emulator::{Clock, EmuOptions, Emulator, Runner};
 pub use firmware::Firmware;
 #[cfg(feature = "emulator")]
 pub use plant::analog::{AnalogBank, AnalogSource, Noise};
+#[cfg(feature = "emulator")]
 pub use plant::io::{FireRecord, InputBank, Sensor};
 #[cfg(feature = "emulator")]
 pub use plant::{EndStops, HomeSwitch, IndexPulse, Motor, MotorParams, Switches};
