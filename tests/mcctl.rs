@@ -1,6 +1,36 @@
 //! `mcctl plan` from the outside: output, JSON, exit codes.
 mod common;
 
+/// An `emu:` card of `axes` axes served from this process on its real-time clock: it
+/// outlives each mcctl process a test starts (named `<tag>-<pid>`).
+struct EmuCard {
+    uri: String,
+    _server: card_emu::emu::server::Server,
+    _runner: card_emu::Runner,
+}
+
+impl EmuCard {
+    fn new(tag: &str, axes: usize) -> Self {
+        use card_emu::{EmuOptions, Emulator, Runner};
+        let name = format!("{tag}-{}", std::process::id());
+        let emu = Emulator::create(&name, &EmuOptions::new(axes, 10_000)).unwrap();
+        let _server = card_emu::emu::server::Server::start(&name, emu.lessor()).unwrap();
+        let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+        EmuCard {
+            uri: format!("emu:{name}"),
+            _server,
+            _runner,
+        }
+    }
+
+    /// mcctl on this card.
+    fn on(&self, args: &[&str]) -> (i32, String, String) {
+        let mut all = vec!["--card", self.uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    }
+}
+
 use common::{mcctl, mcctl_peak_rss};
 use std::process::Command;
 
@@ -818,18 +848,8 @@ fn a_refused_pvt_point_names_its_line_and_reason() {
 /// powered, and a finished one too. On one `emu:` card that outlives each mcctl process.
 #[test]
 fn enable_powers_the_moved_axes_for_the_command_only() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-mcctl-power-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
-    let on = |args: &[&str]| {
-        let mut all = vec!["--card", uri.as_str()];
-        all.extend_from_slice(args);
-        mcctl(&all)
-    };
+    let card = EmuCard::new("test-mcctl-power", 4);
+    let on = |args: &[&str]| card.on(args);
     let states = || {
         let (code, out, err) = on(&["status", "--json"]);
         assert_eq!(code, 0, "{err}");
@@ -1112,18 +1132,8 @@ fn gear_and_cam_from_the_command_line() {
 /// reset.
 #[test]
 fn one_card_across_mcctl_processes() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-mcctl-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(4, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
-    let on = |args: &[&str]| {
-        let mut all = vec!["--card", uri.as_str()];
-        all.extend_from_slice(args);
-        mcctl(&all)
-    };
+    let card = EmuCard::new("test-mcctl", 4);
+    let on = |args: &[&str]| card.on(args);
     let (code, out, err) = on(&["info", "--json"]);
     assert_eq!(code, 0, "{err}");
     let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
@@ -1294,13 +1304,8 @@ fn scope_from_the_command_line() {
 /// and changes nothing.
 #[test]
 fn config_save_load_and_diff_from_the_command_line() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-config-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
+    let card = EmuCard::new("test-config", 2);
+    let uri = card.uri.clone();
     let dir = std::env::temp_dir().join(format!("mcctl-config-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = |f: &str| dir.join(f).display().to_string();
@@ -1537,13 +1542,8 @@ fn a_signal_halts_what_mcctl_started_and_closes_its_session() {
 /// outside the turn the card's refusal.
 #[test]
 fn a_rotary_axis_from_the_command_line() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-rotary-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(1, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
+    let card = EmuCard::new("test-rotary", 1);
+    let uri = card.uri.clone();
     let dir = std::env::temp_dir().join(format!("mcctl-rotary-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = |f: &str| dir.join(f).display().to_string();
@@ -1621,18 +1621,8 @@ fn a_rotary_axis_from_the_command_line() {
 /// its reason, a missing argument 2.
 #[test]
 fn gantry_forms_homes_shows_and_dissolves() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-mcctl-gantry-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(3, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
-    let on = |args: &[&str]| {
-        let mut all = vec!["--card", uri.as_str()];
-        all.extend_from_slice(args);
-        mcctl(&all)
-    };
+    let card = EmuCard::new("test-mcctl-gantry", 3);
+    let on = |args: &[&str]| card.on(args);
     let json = |args: &[&str]| {
         let (code, out, err) = on(args);
         assert_eq!(code, 0, "{args:?}: {err}");
@@ -1708,18 +1698,8 @@ fn gantry_forms_homes_shows_and_dissolves() {
 /// table beyond its bound (exit 1, the card's reason) refused with the table kept, then cleared.
 #[test]
 fn comp_loads_shows_and_clears_a_table_file() {
-    use card_emu::emu::server::Server;
-    use card_emu::{EmuOptions, Emulator, Runner};
-    let name = format!("test-mcctl-comp-{}", std::process::id());
-    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
-    let _server = Server::start(&name, emu.lessor()).unwrap();
-    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
-    let uri = format!("emu:{name}");
-    let on = |args: &[&str]| {
-        let mut all = vec!["--card", uri.as_str()];
-        all.extend_from_slice(args);
-        mcctl(&all)
-    };
+    let card = EmuCard::new("test-mcctl-comp", 2);
+    let on = |args: &[&str]| card.on(args);
     let dir = std::env::temp_dir().join(format!("mcctl-comp-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = |n: &str, text: &str| {
