@@ -73,13 +73,24 @@ fn beat(emu: &Emulator) {
 }
 
 fn tick(c: &mut Criterion) {
-    let (mut emu, mut host) = moving_card();
+    let (emu, host) = moving_card();
+    bench_moving(c, "firmware tick, 8 moving axes + plant", emu, host, "");
+}
+
+/// Steps the card, keeping axis 7 moving, under `name`; prints how much of it axis 7 moved.
+fn bench_moving(
+    c: &mut Criterion,
+    name: &str,
+    mut emu: Emulator,
+    mut host: CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+    what: &str,
+) {
     keep_moving(&mut emu, &mut host);
     let mut n = 0u64;
     let mut moving_ticks = 0u64;
     // The host drains nothing here, so events pile up; the card keeps going (it counts what it
     // could not post). Drain by resetting the consumer index the way a host would.
-    c.bench_function("firmware tick, 8 moving axes + plant", |b| {
+    c.bench_function(name, |b| {
         b.iter(|| {
             emu.step();
             n += 1;
@@ -99,7 +110,7 @@ fn tick(c: &mut Criterion) {
         })
     });
     eprintln!(
-        "axis 7 was in DiscreteMotion on {:.1}% of the {n} ticks measured",
+        "axis 7 was in DiscreteMotion on {:.1}% of the {n} ticks measured{what}",
         100.0 * moving_ticks as f64 / n.max(1) as f64
     );
 }
@@ -143,35 +154,13 @@ fn filtered_card() -> (
 }
 
 fn filtered_tick(c: &mut Criterion) {
-    let (mut emu, mut host) = filtered_card();
-    keep_moving(&mut emu, &mut host);
-    let mut n = 0u64;
-    let mut moving_ticks = 0u64;
-    c.bench_function(
+    let (emu, host) = filtered_card();
+    bench_moving(
+        c,
         "firmware tick, 8 moving axes PID+FF + 4 biquads + plant",
-        |b| {
-            b.iter(|| {
-                emu.step();
-                n += 1;
-                if emu.firmware().axis(7).map(|x| x.state) == Some(AxisState::DiscreteMotion) {
-                    moving_ticks += 1;
-                }
-                if n.is_multiple_of(256) {
-                    beat(&emu);
-                }
-                if n.is_multiple_of(1024) {
-                    let w = emu.window();
-                    use firmware_proto::Mem;
-                    let head = w.read32(firmware_proto::layout::EVT_HEAD);
-                    w.write32(firmware_proto::layout::EVT_TAIL, head);
-                    keep_moving(&mut emu, &mut host);
-                }
-            })
-        },
-    );
-    eprintln!(
-        "axis 7 was in DiscreteMotion on {:.1}% of the {n} ticks measured (PID+FF, 4 biquads)",
-        100.0 * moving_ticks as f64 / n.max(1) as f64
+        emu,
+        host,
+        " (PID+FF, 4 biquads)",
     );
 }
 
