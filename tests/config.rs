@@ -299,6 +299,36 @@ fn the_getters_read_the_card_not_the_last_write() {
 /// belongs too): the load either applies all of the file, so the card then holds exactly it
 /// (no difference left), or refuses it as `ConfigFile` naming that key and line, and changes
 /// nothing. Never a half-applied file, never a panic.
+/// A modulo period the card cannot hold to the last bit (it holds 1/65536 count) loads and
+/// reads back as the same period: the file's value as the card holds it, no difference left.
+/// (Found by the sweep below: 144770.06379344547 read back as 144770.0638 and the load
+/// called it a protocol violation.)
+#[test]
+fn a_modulo_finer_than_the_card_holds_loads_and_shows_no_difference() {
+    let saved = configured().save_config().unwrap();
+    for v in ["144770.06379344547", "360.0000000001", "12.345678901234567"] {
+        // axis 2's (its scale is positive)
+        let mut section = "";
+        let text: String = saved
+            .lines()
+            .map(|l| {
+                if l.starts_with('[') {
+                    section = l;
+                }
+                if section == "[axis.2]" && l.starts_with("modulo = ") {
+                    format!("modulo = {v}\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
+        assert!(text.contains(&format!("modulo = {v}")), "no modulo key");
+        let b = card();
+        b.load_config(&text, "m.toml").unwrap();
+        assert_eq!(b.diff_config(&text, "m.toml").unwrap(), vec![], "{v}");
+    }
+}
+
 #[test]
 fn any_number_anywhere_loads_whole_or_changes_nothing() {
     use proptest::prelude::*;

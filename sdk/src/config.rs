@@ -1170,7 +1170,18 @@ impl Card {
 
 /// The keys of `file` whose values differ from `card`'s, in key order (an array is one key).
 pub fn differences(file: &Config, card: &Config) -> Vec<ConfigDifference> {
-    let (Ok(f), Ok(c)) = (toml::Value::try_from(file), toml::Value::try_from(card)) else {
+    // A modulo period is held in 1/65536 count: the file's as the card would hold it.
+    let mut file = file.clone();
+    for ax in file.axis.values_mut() {
+        if let Some(m) = ax.modulo.as_mut() {
+            let counts = *m * ax.scale;
+            if counts.is_finite() && counts > 0.0 && ax.scale > 0.0 {
+                let held = firmware_proto::modulo_subcounts(counts) as f64 / 65536.0;
+                *m = user_modulo(held, ax.scale);
+            }
+        }
+    }
+    let (Ok(f), Ok(c)) = (toml::Value::try_from(&file), toml::Value::try_from(card)) else {
         return Vec::new();
     };
     let mut leaves = Vec::new();
