@@ -297,6 +297,18 @@ extern "C" {
 #define MC_EVENT_PATH_PAUSED 36
 
 /**
+ * The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined) or
+ * `MC_BUSST_LOST`; value: the tick.
+ */
+#define MC_EVENT_SYNC_BUS 38
+
+/**
+ * A timed command ran on its tick (layout 1.12). seq: the command; code: its opcode; value: the
+ * tick.
+ */
+#define MC_EVENT_TIMED 39
+
+/**
  * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
  *
  * Power off.
@@ -437,6 +449,11 @@ extern "C" {
  * Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
  */
 #define MC_STOP_REASON_GROUP_HOMING 8
+
+/**
+ * The card lost the sync bus's master (layout 1.12): halted.
+ */
+#define MC_STOP_REASON_SYNC_LOST 9
 
 /**
  * Host heartbeat lost.
@@ -2018,6 +2035,24 @@ extern "C" {
  * Args: 1 pause at the end of a segment, 0 go on (above).
  */
 #define MC_OP_PATH_PAUSE 120
+
+/**
+ * Args: tick (the card tick to run the next entry on: > the card's tick, within
+ * `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once `MC_OP_SYNC_COMMIT` of
+ * it is seen).
+ */
+#define MC_OP_AT_TICK 126
+
+/**
+ * Args: key (1..2^32-1), tick (the commands' tick). On the bus's master or a card alone:
+ * `MC_NACK_COMMIT_LATE` unless tick > the card's tick; a follower: `MC_NACK_NOT_MASTER`.
+ */
+#define MC_OP_SYNC_COMMIT 127
+
+/**
+ * Args: key (0: every held command). Ack value: the commands dropped.
+ */
+#define MC_OP_TIMED_CANCEL 128
 
 /**
  * `mc_pso_info.state`: not configured.
@@ -5020,6 +5055,58 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PSO_GROUP -140
 
 /**
+ * Layout 1.12: a timed command for a tick the card has already run.
+ */
+#define MC_ERR_TICK_PASSED -152
+
+/**
+ * The card holds as many timed commands as it can (16).
+ */
+#define MC_ERR_TIMED_FULL -153
+
+/**
+ * A timing without its command, or of a command that cannot be timed (a session's, a
+ * timing's or a commit's).
+ */
+#define MC_ERR_TIMED_ALONE -154
+
+/**
+ * A tick more than 600,000 ticks ahead, or a tick or key that is not a whole number in
+ * range.
+ */
+#define MC_ERR_TICK_FAR -155
+
+/**
+ * The commit reached the bus's master on or after its tick: nothing of its key runs.
+ */
+#define MC_ERR_COMMIT_LATE -156
+
+/**
+ * A commit sent to a follower: commit on the bus's master.
+ */
+#define MC_ERR_NOT_MASTER -157
+
+/**
+ * A timed command whose commit the card had not seen by its tick: not run.
+ */
+#define MC_ERR_NOT_COMMITTED -158
+
+/**
+ * The card lost the sync bus's master: its timed commands are dropped, its motion halted.
+ */
+#define MC_ERR_SYNC_LOST -159
+
+/**
+ * The command of a refused timing: not run.
+ */
+#define MC_ERR_TIMED_REFUSED -160
+
+/**
+ * A held timed command dropped (a cancel, or the host's detach).
+ */
+#define MC_ERR_TIMED_CANCELLED -161
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -6971,6 +7058,16 @@ mc_result mc_send_raw(mc_card card,
 #define MC_BIQUAD_RAW_B_MAX 1e6
 
 /**
+ * A follower on the master's ticks.
+ */
+#define MC_BUSST_LOCKED 1u
+
+/**
+ * A follower that lost the master: its own clock, halted.
+ */
+#define MC_BUSST_LOST 2u
+
+/**
  * `MC_OP_CAM_IN` flag (beside the master source).
  */
 #define MC_CAM_AT_CYCLE_END (1u << 4)
@@ -7242,6 +7339,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_CAM_TABLE 105
 
 /**
+ * A held timed command dropped (`MC_OP_TIMED_CANCEL`, a detach).
+ */
+#define MC_NACK_CANCELLED 169
+
+/**
  * Reset refused: the cause (alarm, encoder fault, e-stop input, missing heartbeat) is still present.
  */
 #define MC_NACK_CAUSE_ACTIVE 36
@@ -7255,6 +7357,11 @@ mc_result mc_send_raw(mc_card card,
  * The three points of a border-point arc are on one line.
  */
 #define MC_NACK_COLLINEAR_POINTS 24
+
+/**
+ * `MC_OP_SYNC_COMMIT` on or after its tick: nothing of the key runs.
+ */
+#define MC_NACK_COMMIT_LATE 164
 
 /**
  * The channel is armed (or armed in another mode, or its table has the other direction), or its output is another armed channel's.
@@ -7462,9 +7569,19 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_NON_POSITIVE_LIMIT 4
 
 /**
+ * A timed command whose key's commit was not seen by its tick.
+ */
+#define MC_NACK_NOT_COMMITTED 166
+
+/**
  * An argument is NaN or infinite.
  */
 #define MC_NACK_NOT_FINITE 3
+
+/**
+ * `MC_OP_SYNC_COMMIT` on a follower: commit on the bus's master.
+ */
+#define MC_NACK_NOT_MASTER 165
 
 /**
  * A command the session gate refuses (see `MC_OP_HOST_ATTACH`): no session attached with its watchdog armed.
@@ -7677,9 +7794,39 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_STOP_TOO_LONG 39
 
 /**
+ * A timed command dropped: the card lost the bus's master.
+ */
+#define MC_NACK_SYNC_LOST 167
+
+/**
  * A master source the card does not know, a master axis or aux encoder it does not have, the slave itself, or a master axis disabled or in ErrorStop.
  */
 #define MC_NACK_SYNC_MASTER 101
+
+/**
+ * A tick more than `MC_TIMED_MAX_AHEAD` ticks ahead, or a key or tick that is not a whole number in range.
+ */
+#define MC_NACK_TICK_FAR 163
+
+/**
+ * `MC_OP_AT_TICK` for a tick the card has run (layout 1.12).
+ */
+#define MC_NACK_TICK_PASSED 160
+
+/**
+ * `MC_OP_AT_TICK` without a command published with it, or timing a command that cannot be timed (`MC_OP_AT_TICK`, the session and commit opcodes).
+ */
+#define MC_NACK_TIMED_ALONE 162
+
+/**
+ * `MC_TIMED_SLOTS` timed commands are held already.
+ */
+#define MC_NACK_TIMED_FULL 161
+
+/**
+ * The command of a refused `MC_OP_AT_TICK`: not executed.
+ */
+#define MC_NACK_TIMED_REFUSED 168
 
 /**
  * The opcode is not defined by this firmware.
@@ -7785,6 +7932,11 @@ mc_result mc_send_raw(mc_card card,
 
 #define MC_STATUS_WORDS 25u
 
+/**
+ * The farthest a timed command may look ahead, ticks.
+ */
+#define MC_TIMED_MAX_AHEAD 600000u
+
 #define MC_CMD_RING_LEN 64u
 
 #define MC_EVT_RING_LEN 256u
@@ -7793,6 +7945,11 @@ mc_result mc_send_raw(mc_card card,
  * |numerator|, denominator <= 2^31 - 1.
  */
 #define MC_GEAR_RATIO_MAX 2147483647.0
+
+/**
+ * Timed commands a card holds at once.
+ */
+#define MC_TIMED_SLOTS 16u
 #ifdef __cplusplus
 }  /* extern "C" */
 #endif

@@ -121,6 +121,14 @@ pub const MC_EVENT_ANALOG: u32 = 34;
 /// segment it ends (-1: none ran).
 pub const MC_EVENT_PATH_PAUSED: u32 = 36;
 
+/// The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined) or
+/// `MC_BUSST_LOST`; value: the tick.
+pub const MC_EVENT_SYNC_BUS: u32 = 38;
+
+/// A timed command ran on its tick (layout 1.12). seq: the command; code: its opcode; value: the
+/// tick.
+pub const MC_EVENT_TIMED: u32 = 39;
+
 /// Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
 ///
 /// Power off.
@@ -210,6 +218,9 @@ pub const MC_STOP_REASON_PROBE: u32 = 7;
 
 /// Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
 pub const MC_STOP_REASON_GROUP_HOMING: u32 = 8;
+
+/// The card lost the sync bus's master (layout 1.12): halted.
+pub const MC_STOP_REASON_SYNC_LOST: u32 = 9;
 
 /// Host heartbeat lost.
 pub const MC_STOP_REASON_WATCHDOG: u32 = 16;
@@ -1241,3 +1252,15 @@ pub const MC_OP_PSO_OFF: u32 = 119;
 
 /// Args: 1 pause at the end of a segment, 0 go on (above).
 pub const MC_OP_PATH_PAUSE: u32 = 120;
+
+/// Args: tick (the card tick to run the next entry on: > the card's tick, within
+/// `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once `MC_OP_SYNC_COMMIT` of
+/// it is seen).
+pub const MC_OP_AT_TICK: u32 = 126;
+
+/// Args: key (1..2^32-1), tick (the commands' tick). On the bus's master or a card alone:
+/// `MC_NACK_COMMIT_LATE` unless tick > the card's tick; a follower: `MC_NACK_NOT_MASTER`.
+pub const MC_OP_SYNC_COMMIT: u32 = 127;
+
+/// Args: key (0: every held command). Ack value: the commands dropped.
+pub const MC_OP_TIMED_CANCEL: u32 = 128;

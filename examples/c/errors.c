@@ -84,6 +84,11 @@ static const mc_result ALL_CODES[] = {
     /* analog I/O and the path-speed output (layout 1.11) */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER,   MC_ERR_ANALOG_THRESHOLD,
     MC_ERR_PSO_CONFIG,     MC_ERR_PSO_GROUP,
+    /* the sync bus and timed commands (layout 1.12) */
+    MC_ERR_TICK_PASSED,    MC_ERR_TIMED_FULL,      MC_ERR_TIMED_ALONE,
+    MC_ERR_TICK_FAR,       MC_ERR_COMMIT_LATE,     MC_ERR_NOT_MASTER,
+    MC_ERR_NOT_COMMITTED,  MC_ERR_SYNC_LOST,       MC_ERR_TIMED_REFUSED,
+    MC_ERR_TIMED_CANCELLED,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -161,6 +166,10 @@ static const mc_result NOT_PROVOKED[] = {
     /* analog.c */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER, MC_ERR_ANALOG_THRESHOLD, MC_ERR_PSO_CONFIG,
     MC_ERR_PSO_GROUP,
+    /* sync.c */
+    MC_ERR_TICK_PASSED, MC_ERR_TIMED_FULL, MC_ERR_TIMED_ALONE, MC_ERR_TICK_FAR,
+    MC_ERR_COMMIT_LATE, MC_ERR_NOT_MASTER, MC_ERR_NOT_COMMITTED, MC_ERR_SYNC_LOST,
+    MC_ERR_TIMED_REFUSED, MC_ERR_TIMED_CANCELLED,
 };
 
 static void result_strings(void) {

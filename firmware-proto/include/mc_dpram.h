@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 11u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 12u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -85,7 +85,11 @@
                            * MC_OP_ANALOG_OUTPUT 117, MC_OP_PSO 118, MC_OP_PSO_OFF 119,
                            * MC_NACK_ANALOG_* 145..147, MC_NACK_PSO_* 148..149,
                            * MC_EV_ANALOG 34, MC_SIG_AIN0..7 51..58, MC_SIG_AOUT0..3 59..62,
-                           * MC_SIG_PSO 63, analog_status appended) */
+                           * MC_SIG_PSO 63, analog_status appended);
+                           * 12: the sync bus and timed commands (MC_OP_AT_TICK 126,
+                           * MC_OP_SYNC_COMMIT 127, MC_OP_TIMED_CANCEL 128, MC_NACK_* 160..169,
+                           * MC_EV_SYNC_BUS 38, MC_EV_TIMED 39, MC_STOP_SYNC_LOST 9, card_info
+                           * appended: the card's name, serial and sync role) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -492,6 +496,49 @@
  * dropped as by any halt); a pause while halting is MC_NACK_INVALID_STATE; without a path
  * (MC_OP_APPLY_GROUP_PATH not done) MC_NACK_INVALID_STATE too. */
 #define MC_OP_PATH_PAUSE 120u /* args: 1 pause at the end of a segment, 0 go on (above) */
+
+/* Layout 1.12: several cards on one servo clock (the sync bus), and commands timed to a tick.
+ *
+ * The sync bus: one card is the clock master; the others (followers) run their servo tick on
+ * the master's, as a sync cable would drive them, and carry its tick count, so a tick number
+ * means the same instant on every card of the bus. The bus also carries the master's commits
+ * (below). A follower that loses the master (no tick within MC_BUS_LOSS_TICKS periods, or the
+ * bus gone) halts every moving axis and group along its stop ramp (reason MC_STOP_SYNC_LOST),
+ * refuses what it holds timed (MC_NACK_SYNC_LOST), posts MC_EV_SYNC_BUS (MC_BUSST_LOST) and runs on
+ * its own clock. card_info (appended) shows the role and state.
+ *
+ * A timed command is two ring entries published together: MC_OP_AT_TICK, then the command it
+ * times (any opcode but MC_OP_AT_TICK, the session and commit opcodes). MC_OP_AT_TICK is
+ * answered at once: its ack means the pair is held for that tick; its nack (MC_NACK_TICK_PASSED,
+ * MC_NACK_TIMED_FULL, MC_NACK_TIMED_ALONE, MC_NACK_TICK_FAR, or any refusal of the command
+ * when decoded: its code) also nacks the command (MC_NACK_TIMED_REFUSED, or the same code). The
+ * command itself is answered on its tick, the first thing that tick does: executed (its ack or
+ * nack then), or, with a key whose commit the card has not seen, MC_NACK_NOT_COMMITTED,
+ * executing nothing. Key 0 needs no commit. A commit (MC_OP_SYNC_COMMIT) goes to the master
+ * alone, before the tick (master's tick < tick): it reaches every follower with the ticks, so
+ * that either every card of the bus runs the commands of that key on their tick or none does.
+ * MC_OP_TIMED_CANCEL drops the held commands of a key (MC_NACK_CANCELLED each). A host's detach
+ * or a lost session drops them too (MC_NACK_CANCELLED). */
+#define MC_OP_AT_TICK 126u      /* args: tick (the card tick to run the next entry on: > the card's
+                                 * tick, within MC_TIMED_MAX_AHEAD ticks), key (0: none, else
+                                 * 1..2^32-1: run only once MC_OP_SYNC_COMMIT of it is seen) */
+#define MC_OP_SYNC_COMMIT 127u  /* args: key (1..2^32-1), tick (the commands' tick). On the bus's
+                                 * master or a card alone: MC_NACK_COMMIT_LATE unless tick > the
+                                 * card's tick; a follower: MC_NACK_NOT_MASTER */
+#define MC_OP_TIMED_CANCEL 128u /* args: key (0: every held command). Ack value: the commands
+                                 * dropped */
+#define MC_TIMED_SLOTS 16u           /* timed commands a card holds at once */
+#define MC_TIMED_MAX_AHEAD 600000u   /* the farthest a timed command may look ahead, ticks */
+#define MC_BUS_LOSS_TICKS 200u      /* periods a follower waits for the master's tick */
+
+/* card_info.sync_role */
+#define MC_BUS_ALONE 0u    /* on its own clock, no bus */
+#define MC_BUS_MASTER 1u   /* drives the bus */
+#define MC_BUS_FOLLOWER 2u /* runs on the bus's ticks */
+/* card_info.sync_state (and the codes of MC_EV_SYNC_BUS) */
+#define MC_BUSST_FREE 0u   /* alone or master: its own clock */
+#define MC_BUSST_LOCKED 1u /* a follower on the master's ticks */
+#define MC_BUSST_LOST 2u   /* a follower that lost the master: its own clock, halted */
 
 /* mc_axis_homing.flags */
 #define MC_HOMING_INDEX (1u << 0)        /* the encoder has an index channel (index methods need it) */
@@ -1144,6 +1191,19 @@
                                     * flags */
 #define MC_NACK_PSO_GROUP 149      /* a PSO on a group that does not exist (index beyond MC_MAX_GROUPS)
                                     * or is not configured */
+#define MC_NACK_TICK_PASSED 160   /* MC_OP_AT_TICK for a tick the card has run (layout 1.12) */
+#define MC_NACK_TIMED_FULL 161    /* MC_TIMED_SLOTS timed commands are held already */
+#define MC_NACK_TIMED_ALONE 162   /* MC_OP_AT_TICK without a command published with it, or timing a
+                                   * command that cannot be timed (MC_OP_AT_TICK, the session and
+                                   * commit opcodes) */
+#define MC_NACK_TICK_FAR 163      /* a tick more than MC_TIMED_MAX_AHEAD ticks ahead, or a key or
+                                   * tick that is not a whole number in range */
+#define MC_NACK_COMMIT_LATE 164   /* MC_OP_SYNC_COMMIT on or after its tick: nothing of the key runs */
+#define MC_NACK_NOT_MASTER 165    /* MC_OP_SYNC_COMMIT on a follower: commit on the bus's master */
+#define MC_NACK_NOT_COMMITTED 166 /* a timed command whose key's commit was not seen by its tick */
+#define MC_NACK_SYNC_LOST 167     /* a timed command dropped: the card lost the bus's master */
+#define MC_NACK_TIMED_REFUSED 168 /* the command of a refused MC_OP_AT_TICK: not executed */
+#define MC_NACK_CANCELLED 169     /* a held timed command dropped (MC_OP_TIMED_CANCEL, a detach) */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
@@ -1203,6 +1263,10 @@
 #define MC_EV_ANALOG 34u         /* an analog input crossed its threshold (layout 1.11). axis: the input;
                                   * code: 1 above (y >= threshold), 0 below again (y <= threshold -
                                   * hysteresis); value: the filtered volts y */
+#define MC_EV_SYNC_BUS 38u       /* the card's place on the sync bus changed (layout 1.12). code:
+                                  * MC_BUSST_LOCKED (joined) or MC_BUSST_LOST; value: the tick */
+#define MC_EV_TIMED 39u          /* a timed command ran on its tick (layout 1.12). seq: the command;
+                                  * code: its opcode; value: the tick */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
@@ -1346,6 +1410,7 @@
 #define MC_STOP_HOMING_FAILED 6u  /* homing failed (MC_EV_HOMING_FAILED): stopped, not homed */
 #define MC_STOP_PROBE 7u          /* a touch probe armed with MC_PROBE_HALT captured: halted */
 #define MC_STOP_GROUP_HOMING 8u   /* another member of its group failed homing (MC_OP_GROUP_HOME): halted */
+#define MC_STOP_SYNC_LOST 9u      /* the card lost the sync bus's master (layout 1.12): halted */
 #define MC_STOP_WATCHDOG 16u      /* host heartbeat lost */
 #define MC_STOP_ESTOP_COMMAND 17u /* MC_OP_ESTOP */
 #define MC_STOP_ESTOP_INPUT 18u   /* the card's e-stop input */
@@ -2124,6 +2189,31 @@ struct mc_analog_status {
     double _reserved[3];
 };
 
+/** Who the card is and its place on the sync bus (layout 1.12). Card writes, every tick. */
+struct mc_card_info {
+    /** The card's name, NUL-padded: `card-emu --name`, "sim", or the board's EEPROM name. */
+    char name[32];
+    /** The board's serial number (0: none). */
+    uint64_t serial;
+    /** MC_BUS_ALONE, MC_BUS_MASTER or MC_BUS_FOLLOWER. */
+    uint32_t sync_role;
+    /** MC_BUSST_FREE, MC_BUSST_LOCKED or MC_BUSST_LOST. */
+    uint32_t sync_state;
+    /** A follower: the master's name, NUL-padded (empty otherwise). */
+    char sync_master[32];
+    /** A master: its followers on the bus now. */
+    uint32_t sync_followers;
+    /** Timed commands held (MC_OP_AT_TICK). */
+    uint32_t timed_held;
+    /** The tick of the earliest held one (0: none). */
+    uint64_t timed_next;
+    /** Commits seen (MC_OP_SYNC_COMMIT here or on the bus). */
+    uint32_t commits;
+    /** Times the master was lost since boot. */
+    uint32_t sync_losses;
+    uint32_t _reserved[8];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -2172,6 +2262,8 @@ struct mc_dpram {
     struct mc_axis_pidff axis_pidff[MC_MAX_AXES];                 /* host writes */
     struct mc_servo_filters servo_filters[MC_MAX_AXES];           /* card writes */
     struct mc_analog_status analog_status;                        /* card writes */
+    /* layout 1.12 */
+    struct mc_card_info card_info;                                /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

@@ -93,6 +93,12 @@ code_enum! {
         /// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of
         /// the segment it ends (-1: none ran).
         PathPaused = raw::MC_EV_PATH_PAUSED,
+        /// The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined)
+        /// or `MC_BUSST_LOST`; value: the tick.
+        SyncBus = raw::MC_EV_SYNC_BUS,
+        /// A timed command ran on its tick (layout 1.12). seq: the command; code: its opcode;
+        /// value: the tick.
+        Timed = raw::MC_EV_TIMED,
     }
 }
 
@@ -170,6 +176,8 @@ code_enum! {
         Probe = raw::MC_STOP_PROBE,
         /// Another member of its group failed homing (`MC_OP_GROUP_HOME`): halted.
         GroupHoming = raw::MC_STOP_GROUP_HOMING,
+        /// The card lost the sync bus's master (layout 1.12): halted.
+        SyncLost = raw::MC_STOP_SYNC_LOST,
         /// Host heartbeat lost.
         Watchdog = raw::MC_STOP_WATCHDOG,
         /// `MC_OP_ESTOP`.
@@ -463,6 +471,28 @@ code_enum! {
         /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
         /// configured.
         PsoGroup = raw::MC_NACK_PSO_GROUP,
+        /// `MC_OP_AT_TICK` for a tick the card has run (layout 1.12).
+        TickPassed = raw::MC_NACK_TICK_PASSED,
+        /// `MC_TIMED_SLOTS` timed commands are held already.
+        TimedFull = raw::MC_NACK_TIMED_FULL,
+        /// `MC_OP_AT_TICK` without a command published with it, or timing a command that cannot be
+        /// timed (`MC_OP_AT_TICK`, the session and commit opcodes).
+        TimedAlone = raw::MC_NACK_TIMED_ALONE,
+        /// A tick more than `MC_TIMED_MAX_AHEAD` ticks ahead, or a key or tick that is not a whole
+        /// number in range.
+        TickFar = raw::MC_NACK_TICK_FAR,
+        /// `MC_OP_SYNC_COMMIT` on or after its tick: nothing of the key runs.
+        CommitLate = raw::MC_NACK_COMMIT_LATE,
+        /// `MC_OP_SYNC_COMMIT` on a follower: commit on the bus's master.
+        NotMaster = raw::MC_NACK_NOT_MASTER,
+        /// A timed command whose key's commit was not seen by its tick.
+        NotCommitted = raw::MC_NACK_NOT_COMMITTED,
+        /// A timed command dropped: the card lost the bus's master.
+        SyncLost = raw::MC_NACK_SYNC_LOST,
+        /// The command of a refused `MC_OP_AT_TICK`: not executed.
+        TimedRefused = raw::MC_NACK_TIMED_REFUSED,
+        /// A held timed command dropped (`MC_OP_TIMED_CANCEL`, a detach).
+        Cancelled = raw::MC_NACK_CANCELLED,
     }
 }
 
@@ -1007,5 +1037,14 @@ code_enum! {
         PsoOff = raw::MC_OP_PSO_OFF,
         /// Args: 1 pause at the end of a segment, 0 go on (above).
         PathPause = raw::MC_OP_PATH_PAUSE,
+        /// Args: tick (the card tick to run the next entry on: > the card's tick, within
+        /// `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once
+        /// `MC_OP_SYNC_COMMIT` of it is seen).
+        AtTick = raw::MC_OP_AT_TICK,
+        /// Args: key (1..2^32-1), tick (the commands' tick). On the bus's master or a card alone:
+        /// `MC_NACK_COMMIT_LATE` unless tick > the card's tick; a follower: `MC_NACK_NOT_MASTER`.
+        SyncCommit = raw::MC_OP_SYNC_COMMIT,
+        /// Args: key (0: every held command). Ack value: the commands dropped.
+        TimedCancel = raw::MC_OP_TIMED_CANCEL,
     }
 }

@@ -265,6 +265,17 @@ const _: () = {
     assert!(ANALOG_STATUS.offset().is_multiple_of(8));
     assert!(ANALOG_STATUS.offset() + ANALOG_STATUS_BYTES <= crate::DPRAM_SIZE);
 };
+/// Layout 1.12: the card's name, serial and place on the sync bus (`mc_card_info`). Card
+/// writes.
+pub const CARD_INFO: BlockAt<mc_card_info> = BlockAt::new(off!(card_info));
+/// Its size.
+pub const CARD_INFO_BYTES: usize = size_of::<mc_card_info>();
+const _: () = {
+    // Layout 1.12 appended after the analog status.
+    assert!(CARD_INFO.offset() == ANALOG_STATUS.offset() + ANALOG_STATUS_BYTES);
+    assert!(CARD_INFO.offset().is_multiple_of(8));
+    assert!(CARD_INFO.offset() + CARD_INFO_BYTES <= crate::DPRAM_SIZE);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 11;
+pub const MC_LAYOUT_MINOR: u32 = 12;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -162,6 +162,18 @@ pub const MC_PATHST_HALTING: u32 = 4;
 pub const MC_PATHST_PAUSING: u32 = 8;
 pub const MC_PATHST_PAUSED: u32 = 16;
 pub const MC_OP_PATH_PAUSE: u32 = 120;
+pub const MC_OP_AT_TICK: u32 = 126;
+pub const MC_OP_SYNC_COMMIT: u32 = 127;
+pub const MC_OP_TIMED_CANCEL: u32 = 128;
+pub const MC_TIMED_SLOTS: u32 = 16;
+pub const MC_TIMED_MAX_AHEAD: u32 = 600000;
+pub const MC_BUS_LOSS_TICKS: u32 = 200;
+pub const MC_BUS_ALONE: u32 = 0;
+pub const MC_BUS_MASTER: u32 = 1;
+pub const MC_BUS_FOLLOWER: u32 = 2;
+pub const MC_BUSST_FREE: u32 = 0;
+pub const MC_BUSST_LOCKED: u32 = 1;
+pub const MC_BUSST_LOST: u32 = 2;
 pub const MC_HOMING_INDEX: u32 = 1;
 pub const MC_HOMING_MOVE_TO_HOME: u32 = 2;
 pub const MC_HOMING_ERR_LIMIT: u32 = 1;
@@ -383,6 +395,16 @@ pub const MC_NACK_ANALOG_FILTER: u32 = 146;
 pub const MC_NACK_ANALOG_THRESHOLD: u32 = 147;
 pub const MC_NACK_PSO_CONFIG: u32 = 148;
 pub const MC_NACK_PSO_GROUP: u32 = 149;
+pub const MC_NACK_TICK_PASSED: u32 = 160;
+pub const MC_NACK_TIMED_FULL: u32 = 161;
+pub const MC_NACK_TIMED_ALONE: u32 = 162;
+pub const MC_NACK_TICK_FAR: u32 = 163;
+pub const MC_NACK_COMMIT_LATE: u32 = 164;
+pub const MC_NACK_NOT_MASTER: u32 = 165;
+pub const MC_NACK_NOT_COMMITTED: u32 = 166;
+pub const MC_NACK_SYNC_LOST: u32 = 167;
+pub const MC_NACK_TIMED_REFUSED: u32 = 168;
+pub const MC_NACK_CANCELLED: u32 = 169;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -412,6 +434,8 @@ pub const MC_EV_PATH_PAUSED: u32 = 36;
 pub const MC_EV_GROUP_HOMED: u32 = 30;
 pub const MC_EV_GROUP_HOMING_FAILED: u32 = 31;
 pub const MC_EV_ANALOG: u32 = 34;
+pub const MC_EV_SYNC_BUS: u32 = 38;
+pub const MC_EV_TIMED: u32 = 39;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -515,6 +539,7 @@ pub const MC_STOP_HOST_DETACH: u32 = 5;
 pub const MC_STOP_HOMING_FAILED: u32 = 6;
 pub const MC_STOP_PROBE: u32 = 7;
 pub const MC_STOP_GROUP_HOMING: u32 = 8;
+pub const MC_STOP_SYNC_LOST: u32 = 9;
 pub const MC_STOP_WATCHDOG: u32 = 16;
 pub const MC_STOP_ESTOP_COMMAND: u32 = 17;
 pub const MC_STOP_ESTOP_INPUT: u32 = 18;
@@ -2031,6 +2056,58 @@ const _: () = {
     ["Offset of field: mc_analog_status::_reserved"]
         [::core::mem::offset_of!(mc_analog_status, _reserved) - 440usize];
 };
+#[doc = " Who the card is and its place on the sync bus (layout 1.12). Card writes, every tick."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_card_info {
+    #[doc = " The card's name, NUL-padded: `card-emu --name`, \"sim\", or the board's EEPROM name."]
+    pub name: [::core::ffi::c_char; 32usize],
+    #[doc = " The board's serial number (0: none)."]
+    pub serial: u64,
+    #[doc = " MC_BUS_ALONE, MC_BUS_MASTER or MC_BUS_FOLLOWER."]
+    pub sync_role: u32,
+    #[doc = " MC_BUSST_FREE, MC_BUSST_LOCKED or MC_BUSST_LOST."]
+    pub sync_state: u32,
+    #[doc = " A follower: the master's name, NUL-padded (empty otherwise)."]
+    pub sync_master: [::core::ffi::c_char; 32usize],
+    #[doc = " A master: its followers on the bus now."]
+    pub sync_followers: u32,
+    #[doc = " Timed commands held (MC_OP_AT_TICK)."]
+    pub timed_held: u32,
+    #[doc = " The tick of the earliest held one (0: none)."]
+    pub timed_next: u64,
+    #[doc = " Commits seen (MC_OP_SYNC_COMMIT here or on the bus)."]
+    pub commits: u32,
+    #[doc = " Times the master was lost since boot."]
+    pub sync_losses: u32,
+    pub _reserved: [u32; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_card_info"][::core::mem::size_of::<mc_card_info>() - 136usize];
+    ["Alignment of mc_card_info"][::core::mem::align_of::<mc_card_info>() - 8usize];
+    ["Offset of field: mc_card_info::name"][::core::mem::offset_of!(mc_card_info, name) - 0usize];
+    ["Offset of field: mc_card_info::serial"]
+        [::core::mem::offset_of!(mc_card_info, serial) - 32usize];
+    ["Offset of field: mc_card_info::sync_role"]
+        [::core::mem::offset_of!(mc_card_info, sync_role) - 40usize];
+    ["Offset of field: mc_card_info::sync_state"]
+        [::core::mem::offset_of!(mc_card_info, sync_state) - 44usize];
+    ["Offset of field: mc_card_info::sync_master"]
+        [::core::mem::offset_of!(mc_card_info, sync_master) - 48usize];
+    ["Offset of field: mc_card_info::sync_followers"]
+        [::core::mem::offset_of!(mc_card_info, sync_followers) - 80usize];
+    ["Offset of field: mc_card_info::timed_held"]
+        [::core::mem::offset_of!(mc_card_info, timed_held) - 84usize];
+    ["Offset of field: mc_card_info::timed_next"]
+        [::core::mem::offset_of!(mc_card_info, timed_next) - 88usize];
+    ["Offset of field: mc_card_info::commits"]
+        [::core::mem::offset_of!(mc_card_info, commits) - 96usize];
+    ["Offset of field: mc_card_info::sync_losses"]
+        [::core::mem::offset_of!(mc_card_info, sync_losses) - 100usize];
+    ["Offset of field: mc_card_info::_reserved"]
+        [::core::mem::offset_of!(mc_card_info, _reserved) - 104usize];
+};
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -2071,10 +2148,11 @@ pub struct mc_dpram {
     pub axis_pidff: [mc_axis_pidff; 8usize],
     pub servo_filters: [mc_servo_filters; 8usize],
     pub analog_status: mc_analog_status,
+    pub card_info: mc_card_info,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 590960usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 591096usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -2141,6 +2219,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, servo_filters) - 587296usize];
     ["Offset of field: mc_dpram::analog_status"]
         [::core::mem::offset_of!(mc_dpram, analog_status) - 590496usize];
+    ["Offset of field: mc_dpram::card_info"]
+        [::core::mem::offset_of!(mc_dpram, card_info) - 590960usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

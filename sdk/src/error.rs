@@ -373,6 +373,28 @@ error_kinds! {
     PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
     /// A path-speed output on a group that does not exist or is not configured.
     PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
+    /// Layout 1.12: a timed command for a tick the card has already run.
+    TickPassed = -152, MC_ERR_TICK_PASSED, nack TickPassed, "the tick of the timed command has passed on the card";
+    /// The card holds as many timed commands as it can (16).
+    TimedFull = -153, MC_ERR_TIMED_FULL, nack TimedFull, "the card holds 16 timed commands already";
+    /// A timing without its command, or of a command that cannot be timed (a session's, a
+    /// timing's or a commit's).
+    TimedAlone = -154, MC_ERR_TIMED_ALONE, nack TimedAlone, "a timed command without its command, or of one that cannot be timed";
+    /// A tick more than 600,000 ticks ahead, or a tick or key that is not a whole number in
+    /// range.
+    TickFar = -155, MC_ERR_TICK_FAR, nack TickFar, "the tick is too far ahead (600000 ticks at most), or not a whole number";
+    /// The commit reached the bus's master on or after its tick: nothing of its key runs.
+    CommitLate = -156, MC_ERR_COMMIT_LATE, nack CommitLate, "the commit arrived on or after its tick: nothing of it runs on any card";
+    /// A commit sent to a follower: commit on the bus's master.
+    NotMaster = -157, MC_ERR_NOT_MASTER, nack NotMaster, "this card follows the sync bus: commit on its master";
+    /// A timed command whose commit the card had not seen by its tick: not run.
+    NotCommitted = -158, MC_ERR_NOT_COMMITTED, nack NotCommitted, "the timed command's commit did not come before its tick: not run";
+    /// The card lost the sync bus's master: its timed commands are dropped, its motion halted.
+    SyncLost = -159, MC_ERR_SYNC_LOST, nack SyncLost, "the card lost the sync bus's master";
+    /// The command of a refused timing: not run.
+    TimedRefused = -160, MC_ERR_TIMED_REFUSED, nack TimedRefused, "its timing was refused: the command does not run";
+    /// A held timed command dropped (a cancel, or the host's detach).
+    TimedCancelled = -161, MC_ERR_TIMED_CANCELLED, nack Cancelled, "the timed command was cancelled before its tick";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -22,6 +22,9 @@ struct Args {
     /// The card's name (hosts open `emu:NAME`).
     #[arg(long, default_value = "card0")]
     name: String,
+    /// The board's serial number, as hosts read it (`mcctl list`; 0: none).
+    #[arg(long, default_value_t = 0)]
+    serial: u64,
     /// Axes on the card (1..=8).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u8).range(1..=8))]
     axes: u8,
@@ -60,6 +63,7 @@ fn main() -> std::process::ExitCode {
         watchdog_timeout_us: args
             .watchdog_timeout_ms
             .map_or(EmuOptions::default().watchdog_timeout_us, |ms| ms * 1000),
+        serial: args.serial,
         ..EmuOptions::default()
     };
     let run = || -> std::io::Result<(Server, Runner, PeerPolicy)> {

@@ -48,6 +48,8 @@ pub struct EmuOptions {
     /// default (100 ms), or longer on a card set up for debugging a host under gdb or
     /// valgrind (the SDK's `MOTIONCARD_SIM_WATCHDOG_MS`, `card-emu --watchdog-timeout-ms`).
     pub watchdog_timeout_us: u32,
+    /// The board's serial number in `card_info` (layout 1.12; 0: none).
+    pub serial: u64,
 }
 
 impl EmuOptions {
@@ -69,6 +71,7 @@ impl Default for EmuOptions {
             motors: [MotorParams::default_servo(); MAX_AXES],
             index: [IndexPulse::default(); MAX_AXES],
             watchdog_timeout_us: crate::firmware::safety::WATCHDOG_TIMEOUT_DEFAULT_US,
+            serial: 0,
         }
     }
 }
@@ -220,6 +223,7 @@ impl Emulator {
         let mut fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
         fw.set_boot_watchdog_timeout(opts.watchdog_timeout_us)
             .map_err(|_| std::io::Error::other("a watchdog timeout of 0"))?;
+        fw.set_card_name(name, opts.serial);
         Ok(Self {
             name: name.to_string(),
             window,

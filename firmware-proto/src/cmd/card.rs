@@ -89,6 +89,90 @@ impl Args for Session {
     }
 }
 
+/// The largest tick a timed command may name: 2^53 (a tick is carried exactly in an `f64`; at
+/// 20 kHz that is 14,000 years of ticks).
+pub const MAX_TICK: u64 = 1 << 53;
+
+/// `MC_OP_AT_TICK` (layout 1.12; args: tick, key): run the entry published with it on `tick`,
+/// once the commit of `key` is seen (0: no commit needed). Both are whole numbers (else
+/// `MC_NACK_TICK_FAR`, NaN `MC_NACK_NOT_FINITE`); how far ahead the tick may be is the card's
+/// to check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AtTick {
+    /// The card tick to run the command on.
+    pub tick: u64,
+    /// The commit key (0: none).
+    pub key: u32,
+}
+
+fn tick_and_key(
+    args: &[f64; CMD_ARGS],
+    tick: usize,
+    key: usize,
+) -> Result<(u64, u32), DecodeError> {
+    let far = NackCode::TickFar;
+    let t = uint(args, tick, MAX_TICK, NackCode::NotFinite, far)?;
+    let k = uint(args, key, u32::MAX as u64, NackCode::NotFinite, far)?;
+    Ok((t, k as u32))
+}
+
+impl Args for AtTick {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.tick as f64;
+        args[1] = self.key as f64;
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let (tick, key) = tick_and_key(args, 0, 1)?;
+        Ok(Self { tick, key })
+    }
+}
+
+/// `MC_OP_SYNC_COMMIT` (layout 1.12; args: key, tick): let the timed commands of `key` run on
+/// their tick, on this card and on every follower of its sync bus. Key 0 is
+/// `MC_NACK_TICK_FAR` (it needs no commit).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SyncCommit {
+    /// The key committed (nonzero).
+    pub key: u32,
+    /// The tick its commands run on: the commit must be served before it.
+    pub tick: u64,
+}
+
+impl Args for SyncCommit {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.key as f64;
+        args[1] = self.tick as f64;
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let (tick, key) = tick_and_key(args, 1, 0)?;
+        if key == 0 {
+            return Err(DecodeError::arg(0, Fault::OutOfRange, NackCode::TickFar));
+        }
+        Ok(Self { key, tick })
+    }
+}
+
+/// `MC_OP_TIMED_CANCEL` (layout 1.12; args: key, 0 for every held command).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TimedCancel {
+    /// The key whose held commands are dropped (0: all).
+    pub key: u32,
+}
+
+impl Args for TimedCancel {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        args[0] = self.key as f64;
+        0
+    }
+    fn decode(_: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        let far = NackCode::TickFar;
+        let key = uint(args, 0, u32::MAX as u64, NackCode::NotFinite, far)? as u32;
+        Ok(Self { key })
+    }
+}
+
 /// Configuration, sessions and safety.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CardCmd {
@@ -118,6 +202,12 @@ pub enum CardCmd {
     ReadConfig(ReadConfig),
     /// `MC_OP_SET_SCALE` (target: the axis).
     SetScale(SetScale),
+    /// `MC_OP_AT_TICK` (layout 1.12).
+    AtTick(AtTick),
+    /// `MC_OP_SYNC_COMMIT` (layout 1.12).
+    SyncCommit(SyncCommit),
+    /// `MC_OP_TIMED_CANCEL` (layout 1.12).
+    TimedCancel(TimedCancel),
 }
 
 impl CardCmd {
@@ -137,6 +227,9 @@ impl CardCmd {
             Self::HostDetach(_) => Opcode::HostDetach,
             Self::ReadConfig(_) => Opcode::ReadConfig,
             Self::SetScale(_) => Opcode::SetScale,
+            Self::AtTick(_) => Opcode::AtTick,
+            Self::SyncCommit(_) => Opcode::SyncCommit,
+            Self::TimedCancel(_) => Opcode::TimedCancel,
         }
     }
 
@@ -157,6 +250,9 @@ impl CardCmd {
             Opcode::HostDetach => Self::HostDetach(Args::decode(f, args)?),
             Opcode::ReadConfig => Self::ReadConfig(Args::decode(f, args)?),
             Opcode::SetScale => Self::SetScale(Args::decode(f, args)?),
+            Opcode::AtTick => Self::AtTick(Args::decode(f, args)?),
+            Opcode::SyncCommit => Self::SyncCommit(Args::decode(f, args)?),
+            Opcode::TimedCancel => Self::TimedCancel(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -169,6 +265,9 @@ impl CardCmd {
             Self::HostAttach(a) | Self::HostDetach(a) => super::entry(op, target, a),
             Self::ReadConfig(a) => super::entry(op, target, a),
             Self::SetScale(a) => super::entry(op, target, a),
+            Self::AtTick(a) => super::entry(op, target, a),
+            Self::SyncCommit(a) => super::entry(op, target, a),
+            Self::TimedCancel(a) => super::entry(op, target, a),
             _ => Command::new(op, target),
         }
     }

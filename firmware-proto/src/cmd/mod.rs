@@ -334,7 +334,10 @@ pub fn family(op: Opcode) -> Family {
         | O::HostAttach
         | O::HostDetach
         | O::ReadConfig
-        | O::SetScale => Family::Card,
+        | O::SetScale
+        | O::AtTick
+        | O::SyncCommit
+        | O::TimedCancel => Family::Card,
     }
 }
 

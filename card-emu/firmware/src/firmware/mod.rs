@@ -29,6 +29,7 @@ pub mod pvt;
 pub mod quiet;
 pub mod safety;
 pub mod scope;
+pub mod timed;
 
 use self::axis::{Axis, AxisConfig, TickReport};
 use self::gear::{AuxInputs, Gear};
@@ -108,6 +109,8 @@ pub struct Firmware<M: Mem + Clone> {
     /// Layout 1.8: the scope, made on the first MC_OP_SCOPE_CONFIGURE, and its ring.
     scope: Lazy<scope::Scope>,
     scope_ring: ScopeProducer<M>,
+    /// Layout 1.12: the sync bus and the timed commands held (timed.rs).
+    timing: timed::Timing,
 }
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -162,6 +165,7 @@ impl<M: Mem + Clone> Firmware<M> {
             irq_pending: false,
             events_lost: 0,
             cmds_accepted: 0,
+            timing: timed::Timing::new(),
         };
         layout::CARD_CONFIG.write(
             &fw.mem,
@@ -358,6 +362,11 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
             };
             served += 1;
+            if cmd.opcode == firmware_proto::Opcode::AtTick as u16 {
+                // Layout 1.12: a timed command, the entry after this one (timed.rs).
+                self.take_timed(&cmd);
+                continue;
+            }
             self.answer(&cmd);
         }
         served
@@ -371,11 +380,21 @@ impl<M: Mem + Clone> Firmware<M> {
     fn answer(&mut self, cmd: &Command) {
         self.cmds_accepted = self.cmds_accepted.wrapping_add(1);
         self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
-        let outcome = if self.expired(cmd) {
-            Err(NackCode::Expired)
+        if self.expired(cmd) {
+            self.reply(cmd, Err(NackCode::Expired));
         } else {
-            self.execute(cmd)
-        };
+            self.answer_taken(cmd);
+        }
+    }
+
+    /// Execute a command taken off the ring (now, or a timed one on its tick) and answer it.
+    fn answer_taken(&mut self, cmd: &Command) {
+        let outcome = self.execute(cmd);
+        self.reply(cmd, outcome);
+    }
+
+    /// The ack or nack of `cmd`, after the status it left, then the events it raised.
+    fn reply(&mut self, cmd: &Command, outcome: Result<f64, NackCode>) {
         let reply = match outcome {
             Ok(value) => Event {
                 seq: cmd.seq,
@@ -459,6 +478,8 @@ impl<M: Mem + Clone> Firmware<M> {
     /// voltages are written to `dac`.
     pub fn tick(&mut self, encoders: &[i64; MAX_AXES], dac: &mut [f64; MAX_AXES]) {
         self.tick += 1;
+        // Layout 1.12: the commands timed to this tick, first (timed.rs).
+        self.run_timed();
         let ts = self.ts();
         // Sensors first, so a group's interpolator sees this tick's measurements.
         for (axis, enc) in self.axes[..self.num_axes].iter_mut().zip(encoders) {
@@ -770,6 +791,7 @@ impl<M: Mem + Clone> Firmware<M> {
         self.analog.publish(&self.mem, self.tick);
         self.publish_sync();
         self.publish_gantries();
+        self.publish_card_info();
     }
 
     /// The digital outputs (bit i = output i): the host's and the path's, the compare

@@ -1004,6 +1004,7 @@ pub fn allowed_without_session(op: Opcode) -> bool {
             | Opcode::PvtPoints
             | Opcode::CamTable
             | Opcode::CamData
+            | Opcode::TimedCancel
     )
 }
 

@@ -26,6 +26,11 @@ impl<M: Mem + Clone> Firmware<M> {
             CardCmd::ReadConfig(r) => ok(self.read_config(&r)),
             CardCmd::SetScale(s) => ok(self.set_scale(c.axis, s.scale)),
             CardCmd::HostDetach(s) => ok(self.detach(c.seq, s)),
+            // Layout 1.12 (timed.rs): MC_OP_AT_TICK is taken with its entry before execute;
+            // met here it times nothing.
+            CardCmd::AtTick(_) => Err(NackCode::TimedAlone),
+            CardCmd::SyncCommit(sc) => self.sync_commit(sc),
+            CardCmd::TimedCancel(tc) => Ok(self.timed_cancel(tc.key)),
             CardCmd::HostAttach(_)
             | CardCmd::ApplySafetyConfig
             | CardCmd::ApplyAxisSafety
@@ -118,6 +123,8 @@ impl<M: Mem + Clone> Firmware<M> {
     fn detach(&mut self, seq: u32, session: Session) -> Result<(), NackCode> {
         self.safety.detach(&self.mem, session.id)?;
         self.halt_motion(seq, u32::MAX, StopReason::HostDetach, Opcode::HostDetach);
+        // Layout 1.12: nothing timed runs for a host that has gone.
+        self.drop_held(0, NackCode::Cancelled);
         Ok(())
     }
 
