@@ -30,6 +30,8 @@ pub mod quiet;
 pub mod safety;
 pub mod scope;
 pub mod timed;
+#[cfg(test)]
+mod tests_timed;
 
 use self::axis::{Axis, AxisConfig, TickReport};
 use self::gear::{AuxInputs, Gear};

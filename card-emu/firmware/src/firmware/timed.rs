@@ -274,6 +274,8 @@ impl<M: Mem + Clone> Firmware<M> {
             Ok(()) => ack(seq, c.axis, 0.0),
             Err(code) => nack(seq, c.axis, code),
         };
+        // The held count first, then the answer (as any ack follows the status it left).
+        self.publish_card_info();
         let tick = self.tick;
         let mut e = reply(c.seq, outcome);
         e.tick = tick;

@@ -1008,6 +1008,15 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
             p.over = Some(Overwrite::Arg(1, 0.0));
             p
         }
+        // Layout 1.12: a timing a few ticks ahead (of whatever entry follows it), a commit.
+        O::AtTick => Plausible::typed(CardCmd::AtTick(firmware_proto::cmd::AtTick {
+            tick: u64::from(s.u8()),
+            key: u32::from(s.u8() % 3),
+        })),
+        O::SyncCommit => Plausible::typed(CardCmd::SyncCommit(firmware_proto::cmd::SyncCommit {
+            key: 1 + u32::from(s.u8() % 2),
+            tick: u64::from(s.u8()),
+        })),
         _ => {
             feed(s);
             let cmd = Cmd::decode(op as u16, 0, &[0.0; CMD_ARGS])
