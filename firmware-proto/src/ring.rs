@@ -142,15 +142,25 @@ impl<M: Mem, const N: usize> Producer<M, N> {
 
     /// Write one entry and publish it.
     pub fn push<E: Entry<N>>(&mut self, entry: &E) -> Result<(), RingError> {
+        self.push_all(core::slice::from_ref(entry))
+    }
+
+    /// Write `entries` and publish them together (one head update: the consumer sees all of
+    /// them or none; a timed command and its timing, layout 1.12). All or nothing: `Full`
+    /// when they do not all fit.
+    pub fn push_all<E: Entry<N>>(&mut self, entries: &[E]) -> Result<(), RingError> {
+        let n = entries.len() as u32;
         let used = self.head.wrapping_sub(self.cached_tail);
-        if used >= self.layout.len && self.free()? == 0 {
+        if used + n > self.layout.len && self.free()? < n {
             return Err(RingError::Full);
         }
-        let base = slot_offset(&self.layout, self.head);
-        for (i, w) in entry.encode().iter().enumerate() {
-            self.mem.store64(base + 8 * i, *w, Ordering::Relaxed);
+        for (k, entry) in entries.iter().enumerate() {
+            let base = slot_offset(&self.layout, self.head.wrapping_add(k as u32));
+            for (i, w) in entry.encode().iter().enumerate() {
+                self.mem.store64(base + 8 * i, *w, Ordering::Relaxed);
+            }
         }
-        self.head = self.head.wrapping_add(1);
+        self.head = self.head.wrapping_add(n);
         self.mem
             .store32(self.layout.head, self.head, Ordering::Release);
         Ok(())

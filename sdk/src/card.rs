@@ -191,6 +191,29 @@ pub(crate) struct Inner {
     io_arms: Mutex<VecDeque<(u32, u16)>>,
     /// Per axis, the offset of the last gear command this host sent (its ack's value).
     pub(crate) gear_offset: Mutex<[Option<f64>; MAX_AXES]>,
+    /// Layout 1.12: the stepped clock this stepped `sim` card shares with the other cards of
+    /// its sync bus ([`crate::CardSet::sim`]): stepping it steps them all, master first.
+    #[cfg(feature = "emulator")]
+    pub(crate) sim_clock: Mutex<Option<Arc<SimClock>>>,
+}
+
+/// Stepped `sim` cards on one sync bus: one tick of any of them is one tick of all, the
+/// master's first, each host's heartbeat beating before its card's tick.
+#[cfg(feature = "emulator")]
+pub(crate) struct SimClock {
+    pub(crate) members: Vec<(Arc<Mutex<Emulator>>, std::sync::Weak<Inner>)>,
+}
+
+#[cfg(feature = "emulator")]
+impl SimClock {
+    fn step(&self) {
+        for (emu, host) in &self.members {
+            if let Some(h) = host.upgrade() {
+                h.beat();
+            }
+            lock(emu).step();
+        }
+    }
 }
 
 /// How many compare and probe arms [`Inner`] remembers the axis of.
@@ -325,6 +348,8 @@ impl Card {
         let lease = dev.lease_watch();
         let mut inner = Inner {
             heartbeat: Mutex::new(None),
+            #[cfg(feature = "emulator")]
+            sim_clock: Mutex::new(None),
             link,
             inherited_stops: 0,
             info,
@@ -465,6 +490,10 @@ impl Card {
 
     pub(crate) fn window(&self) -> &Window {
         &self.inner.dev.window
+    }
+
+    pub(crate) fn inner_arc(&self) -> &Arc<Inner> {
+        &self.inner
     }
 
     pub(crate) fn inner(&self) -> &Inner {
@@ -626,19 +655,23 @@ impl Card {
         what: &'static str,
         target: Target,
     ) -> Result<u32> {
-        self.inner
-            .execute_value(cmd, what, target)
-            .map(|(seq, _)| seq)
+        self.execute_value(cmd, what, target).map(|(seq, _)| seq)
     }
 
     /// [`Card::execute_seq`] with the ack's value (a compare table's or a PT/PVT buffer's
-    /// room).
+    /// room). Inside [`Card::timed`] or [`crate::CardSet::sync`] (layout 1.12) the command is
+    /// sent timed: the seq once the card holds it, the value 0.
     pub(crate) fn execute_value(
         &self,
         cmd: Command,
         what: &'static str,
         target: Target,
     ) -> Result<(u32, f64)> {
+        if let Some(at) = crate::cardset::timing() {
+            let seq = self.inner.execute_timed(at, cmd, what, target)?;
+            crate::cardset::sent(self, seq, what, target);
+            return Ok((seq, 0.0));
+        }
         self.inner.execute_value(cmd, what, target)
     }
 
@@ -936,13 +969,31 @@ impl Inner {
         lock(&self.scale).get(axis).copied().unwrap_or(1.0)
     }
 
-    /// One servo tick of a stepped card, with the host's heartbeat before it.
+    /// The emulator of a stepped `sim` card.
     #[cfg(feature = "emulator")]
-    fn step_stepped(&self, emu: &mut Emulator) {
+    pub(crate) fn stepped(&self) -> Option<&Arc<Mutex<Emulator>>> {
+        self.dev.backend.stepped()
+    }
+
+    /// One servo tick of a stepped card, with the host's heartbeat before it (of every card
+    /// of its stepped sync bus, layout 1.12).
+    #[cfg(feature = "emulator")]
+    fn step_stepped(&self, emu: &Mutex<Emulator>) {
+        let clock = lock(&self.sim_clock).clone();
+        match clock {
+            Some(c) => c.step(),
+            None => {
+                self.beat();
+                lock(emu).step();
+            }
+        }
+    }
+
+    #[cfg(feature = "emulator")]
+    fn beat(&self) {
         if let Some(h) = lock(&self.heartbeat).as_ref() {
             h.beat();
         }
-        emu.step();
     }
 
     pub(crate) fn send_raw(&self, cmd: Command) -> Result<u32> {
@@ -972,7 +1023,13 @@ impl Inner {
     }
 
     /// Put a command into the ring (whether the session is closed is the caller's business).
-    fn push(&self, mut cmd: Command) -> Result<u32> {
+    fn push(&self, cmd: Command) -> Result<u32> {
+        self.push_all(&mut [cmd])
+    }
+
+    /// Put `cmds` into the ring together (published at once: the card takes all or none of
+    /// them in one go); the first one's seq (the others follow it).
+    pub(crate) fn push_all(&self, cmds: &mut [Command]) -> Result<u32> {
         self.link.check_gone()?;
         let w = &self.dev.window;
         let mut tx = lock(&self.tx);
@@ -988,20 +1045,25 @@ impl Inner {
                  it finds its ring corrupt); nothing was sent"
             )));
         }
-        cmd.seq = tx.ring.head().wrapping_add(1);
-        if cmd.opcode == raw::MC_OP_COMPARE_ARM as u16 || cmd.opcode == raw::MC_OP_PROBE_ARM as u16
-        {
-            // Before the ring: no event of this arm can be drained before it is known.
-            let mut arms = lock(&self.io_arms);
-            if arms.len() >= IO_ARMS {
-                arms.pop_front();
+        for (k, cmd) in cmds.iter_mut().enumerate() {
+            cmd.seq = tx.ring.head().wrapping_add(1 + k as u32);
+            if cmd.deadline_ms == 0 {
+                cmd.deadline_ms = self.link.deadline();
             }
-            arms.push_back((cmd.seq, cmd.axis));
         }
-        if cmd.deadline_ms == 0 {
-            cmd.deadline_ms = self.link.deadline();
+        for cmd in cmds.iter() {
+            if cmd.opcode == raw::MC_OP_COMPARE_ARM as u16
+                || cmd.opcode == raw::MC_OP_PROBE_ARM as u16
+            {
+                // Before the ring: no event of this arm can be drained before it is known.
+                let mut arms = lock(&self.io_arms);
+                if arms.len() >= IO_ARMS {
+                    arms.pop_front();
+                }
+                arms.push_back((cmd.seq, cmd.axis));
+            }
         }
-        match tx.ring.push(&cmd) {
+        match tx.ring.push_all(cmds) {
             Ok(()) => {}
             Err(RingError::Full) => return Err(Error::RingFull(CMD_RING.len)),
             Err(RingError::Corrupt { head, tail }) => {
@@ -1010,9 +1072,11 @@ impl Inner {
                 )))
             }
         }
-        tx.deadlines[(cmd.seq & (CMD_RING.len - 1)) as usize] = cmd.deadline_ms;
-        if let Some(t) = &self.trace {
-            t.command(&cmd);
+        for cmd in cmds.iter() {
+            tx.deadlines[(cmd.seq & (CMD_RING.len - 1)) as usize] = cmd.deadline_ms;
+            if let Some(t) = &self.trace {
+                t.command(cmd);
+            }
         }
         w.write32(layout::DOORBELL, w.read32(layout::DOORBELL).wrapping_add(1));
         drop(tx);
@@ -1021,7 +1085,7 @@ impl Inner {
             // A stepped card serves its channel when the doorbell rings, between ticks.
             lock(emu).serve();
         }
-        Ok(cmd.seq)
+        Ok(cmds[0].seq)
     }
 
     fn execute_value(
@@ -1040,6 +1104,48 @@ impl Inner {
                 reason: nack_reason(code),
             }),
         }
+    }
+
+    /// Layout 1.12: send `cmd` timed to `at` (`MC_OP_AT_TICK` and `cmd` published together)
+    /// and wait for the timing's answer: the command's seq once the card holds it (its own
+    /// answer comes on its tick: [`Inner::wait_timed_answer`]), else the refusal.
+    pub(crate) fn execute_timed(
+        &self,
+        at: crate::cardset::Timing,
+        cmd: Command,
+        what: &'static str,
+        target: Target,
+    ) -> Result<u32> {
+        self.link.check()?;
+        let timing = firmware_proto::cmd::CardCmd::AtTick(firmware_proto::cmd::AtTick {
+            tick: at.tick,
+            key: at.key,
+        })
+        .command(0);
+        let first = self.push_all(&mut [timing, cmd])?;
+        match self.wait_answer(first)? {
+            Ok(_) => Ok(first.wrapping_add(1)),
+            Err(code) => Err(Error::Nack {
+                command: what,
+                target,
+                code,
+                reason: nack_reason(code),
+            }),
+        }
+    }
+
+    /// The answer to timed command `seq`, due on its tick: wait until `until` (stepping a
+    /// stepped card).
+    pub(crate) fn wait_timed_answer(
+        &self,
+        seq: u32,
+        until: Instant,
+    ) -> Result<std::result::Result<f64, NackCode>> {
+        let find = |rx: &mut Rx| {
+            let i = rx.acks.iter().position(|(s, _)| *s == seq)?;
+            rx.acks.remove(i).map(|(_, r)| r)
+        };
+        self.wait_until(until, ACK_WAIT, find)
     }
 
     /// Wait for the answer to command `seq` (the ack's value, or the nack). A failure is
@@ -1397,7 +1503,7 @@ impl Inner {
             if n >= ticks {
                 return Err(Error::Timeout(timeout));
             }
-            self.step_stepped(&mut lock(emu));
+            self.step_stepped(emu);
             n += 1;
         }
     }
@@ -1471,9 +1577,8 @@ pub struct Sim {
 impl Sim {
     /// Advance `n` servo periods (the host's heartbeat beats once per period).
     pub fn step(&self, n: u64) {
-        let mut emu = lock(&self.emu);
         for _ in 0..n {
-            self.card.inner.step_stepped(&mut emu);
+            self.card.inner.step_stepped(&self.emu);
         }
     }
 

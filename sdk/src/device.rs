@@ -277,11 +277,51 @@ pub(crate) fn open_sim(opts: &SimOptions) -> Result<Device> {
     }
     let emu = Emulator::create("sim", &emu_opts)
         .map_err(|e| Error::io("creating the emulated card", e))?;
+    sim_device(emu, opts.clock, floor)
+}
+
+/// Layout 1.12: `n` in-process emulated cards on one sync bus, the first its master (named
+/// `sim0`, `sim1`, …): stepped ones are stepped together by their hosts
+/// ([`crate::CardSet::sim`]), running ones follow the master's thread.
+#[cfg(feature = "emulator")]
+pub(crate) fn open_sim_bus(opts: &SimOptions, n: usize) -> Result<Vec<Device>> {
+    let one = open_sim(opts)?; // the checks of one card's options
+    drop(one);
+    let floor = match opts.clock {
+        Clock::Stepped => None,
+        _ => sim_watchdog_from_env()?,
+    };
+    let mut emu_opts = opts.emu;
+    if let Some(us) = floor {
+        emu_opts.watchdog_timeout_us = emu_opts.watchdog_timeout_us.max(us);
+    }
+    let io = |what: &'static str| move |e| Error::io(what, e);
+    let mut emus = Vec::with_capacity(n);
+    let mut master =
+        Emulator::create("sim0", &emu_opts).map_err(io("creating the emulated card"))?;
+    let bus = master.lead_bus().map_err(io("starting the sync bus"))?;
+    emus.push(master);
+    for k in 1..n {
+        let mut e = Emulator::create(&format!("sim{k}"), &emu_opts)
+            .map_err(io("creating the emulated card"))?;
+        let (link, _id) = bus.join().map_err(io("joining the sync bus"))?;
+        e.follow_bus(link).map_err(io("joining the sync bus"))?;
+        emus.push(e);
+    }
+    drop(bus);
+    emus.into_iter()
+        .map(|e| sim_device(e, opts.clock, floor))
+        .collect()
+}
+
+/// The device of an in-process emulated card, on `clock`.
+#[cfg(feature = "emulator")]
+fn sim_device(emu: Emulator, clock: Clock, floor: Option<u32>) -> Result<Device> {
     let window = emu.window().clone();
     let irq = emu
         .irq_fd()
         .map_err(|e| Error::io("duplicating the interrupt eventfd", e))?;
-    let backend = match opts.clock {
+    let backend = match clock {
         Clock::Stepped => Backend::SimStepped {
             emu: Arc::new(Mutex::new(emu)),
         },

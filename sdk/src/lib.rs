@@ -26,6 +26,7 @@ mod analog;
 mod axis;
 mod cam;
 mod card;
+mod cardset;
 mod comp;
 mod config;
 mod device;
@@ -72,6 +73,7 @@ pub use card_emu::{
     AnalogSource, Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams,
     Noise, Sensor, Switches,
 };
+pub use cardset::{BusRole, BusState, BusStatus, CardSet, TimedCommands, Timing};
 pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,

@@ -1,4 +1,5 @@
 //! `card-emu`: serve an emulated motion card to other processes as `emu:NAME`.
+use card_emu::emu::bus;
 use card_emu::emu::server::{resolve_group, PeerPolicy, ServeOptions, Server};
 use card_emu::{Clock, EmuOptions, Emulator, Runner};
 use clap::Parser;
@@ -38,6 +39,11 @@ struct Args {
     /// realtime (paced to the servo rate) or free-running (as fast as possible).
     #[arg(long, default_value = "realtime")]
     clock: Clock,
+    /// Run on the servo clock of the card-emu serving NAME (a sync cable between boards):
+    /// this card takes its tick count and runs one tick per tick of it. Without it, this card
+    /// serves its own clock to followers on @motioncard-bus/NAME (same access rules as hosts).
+    #[arg(long, value_name = "NAME")]
+    sync_from: Option<String>,
     /// Busy-poll the command ring between ticks instead of sleeping (lowest latency, one core).
     #[arg(long)]
     busy_poll: bool,
@@ -67,12 +73,16 @@ fn main() -> std::process::ExitCode {
         ..EmuOptions::default()
     };
     let run = || -> std::io::Result<(Server, Runner, PeerPolicy)> {
-        let emu = Emulator::create(&args.name, &opts)?;
+        let mut emu = Emulator::create(&args.name, &opts)?;
         let policy = args
             .allow_uid
             .iter()
             .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
         let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
+        match &args.sync_from {
+            Some(master) => emu.follow_bus(bus::connect(master)?)?,
+            None => bus::serve(emu.lead_bus()?, policy.clone())?,
+        }
         let serve = ServeOptions::new(policy.clone());
         let server = Server::start_with(&args.name, emu.lessor(), serve).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AddrInUse {
@@ -90,12 +100,15 @@ fn main() -> std::process::ExitCode {
     match run() {
         Ok((server, _runner, policy)) => {
             println!(
-                "card-emu: serving emu:{} ({} axes, {} Hz, {:?} clock{}) to {policy}",
+                "card-emu: serving emu:{} ({} axes, {} Hz, {:?} clock{}{}) to {policy}",
                 server.name(),
                 opts.axes,
                 opts.servo_rate_hz,
                 args.clock,
-                if args.busy_poll { ", busy-poll" } else { "" }
+                if args.busy_poll { ", busy-poll" } else { "" },
+                args.sync_from
+                    .as_ref()
+                    .map_or(String::new(), |m| format!(", on the sync bus of {m}"))
             );
             loop {
                 std::thread::park();

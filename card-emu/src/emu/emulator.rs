@@ -15,6 +15,7 @@
 //! old descriptors or mappings writes into memory the card no longer reads, and waits on an
 //! eventfd the card no longer raises.
 
+use super::bus::{Bus, BusLink};
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::analog::AnalogBank;
@@ -31,6 +32,7 @@ use std::os::fd::{AsFd, OwnedFd};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
+use std::time::Duration;
 
 /// How the card is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -210,6 +212,16 @@ pub struct Emulator {
     leadscrews: [Option<Leadscrew>; MAX_AXES],
     /// Layout 1.11: what drives the analog input pins.
     analog: AnalogBank,
+    /// Layout 1.12: this card's end of a sync bus, if it is on one.
+    bus: Option<BusEnd>,
+}
+
+/// A card's end of the sync bus.
+enum BusEnd {
+    /// It drives the bus's clock.
+    Master(Arc<Bus>),
+    /// It runs on the master's ticks.
+    Follower(BusLink),
 }
 
 impl Emulator {
@@ -246,6 +258,7 @@ impl Emulator {
             aux: [AuxEncoder::default(); AUX_ENCODERS],
             leadscrews: Default::default(),
             analog: AnalogBank::default(),
+            bus: None,
         })
     }
 
@@ -273,6 +286,13 @@ impl Emulator {
 
     /// One servo period, with the gate held.
     fn period(&mut self) {
+        // Layout 1.12: a follower takes the commits the master published before this tick.
+        if let Some(BusEnd::Follower(link)) = &mut self.bus {
+            let snap = link.read();
+            for c in link.take_commits(&snap) {
+                self.fw.bus_commit(c);
+            }
+        }
         self.fw.serve_commands();
         let mut enc = [0i64; MAX_AXES];
         // The shafts' readings at the period's start (the encoder readings below and the
@@ -341,11 +361,76 @@ impl Emulator {
         }
         self.period_dac = dac;
         self.time += ts;
+        if let Some(BusEnd::Master(bus)) = &self.bus {
+            // Layout 1.12: the tick and its commits to the followers, who then run it.
+            bus.publish(self.fw.tick_count(), &self.fw.take_commits());
+            self.fw.lead_bus(bus.followers());
+        }
         for (ls, m) in self.leadscrews.iter_mut().zip(&self.motors) {
             if let Some(ls) = ls {
                 ls.follow(m.load_position_counts());
             }
         }
+    }
+
+    /// Drive a sync bus (layout 1.12): this card's ticks become its followers' ([`Bus::join`]
+    /// in this process, `bus::serve` for other processes). Refused on a follower.
+    pub fn lead_bus(&mut self) -> std::io::Result<Arc<Bus>> {
+        match &self.bus {
+            Some(BusEnd::Master(b)) => return Ok(b.clone()),
+            Some(BusEnd::Follower(l)) => {
+                return Err(std::io::Error::other(format!(
+                    "this card follows the bus of '{}': it cannot drive one",
+                    l.master()
+                )))
+            }
+            None => {}
+        }
+        let bus = Arc::new(Bus::new(&self.name)?);
+        bus.publish(self.fw.tick_count(), &[]);
+        self.bus = Some(BusEnd::Master(bus.clone()));
+        Ok(bus)
+    }
+
+    /// Follow the bus `link` leads to (layout 1.12): this card takes the master's tick count
+    /// and from now on runs one tick per master tick (its `Runner` waits for them; a stepped
+    /// card is stepped after its master). Only a card at rest that no host commands, and is on
+    /// no bus yet, joins.
+    pub fn follow_bus(&mut self, link: BusLink) -> std::io::Result<()> {
+        if self.bus.is_some() {
+            return Err(std::io::Error::other("this card is on a sync bus already"));
+        }
+        let snap = link.read();
+        if !snap.alive {
+            return Err(std::io::Error::other(format!(
+                "the sync bus of '{}' has ended",
+                link.master()
+            )));
+        }
+        let gate = Arc::clone(&self.gate);
+        let irq = gate.enter();
+        if !self.fw.join_bus(link.master(), snap.tick) {
+            return Err(std::io::Error::other(
+                "a card that moves or that a host commands cannot join a sync bus",
+            ));
+        }
+        self.raise_irq(&irq);
+        self.bus = Some(BusEnd::Follower(link));
+        Ok(())
+    }
+
+    /// The master of this follower is gone: the firmware halts everything and the card goes
+    /// on on its own clock (`Firmware::lose_bus`).
+    pub fn lose_bus(&mut self) {
+        let gate = Arc::clone(&self.gate);
+        let irq = gate.enter();
+        self.fw.lose_bus();
+        self.raise_irq(&irq);
+    }
+
+    /// Does this card follow a bus whose master it has not lost?
+    pub fn follows(&self) -> bool {
+        matches!(self.bus, Some(BusEnd::Follower(_))) && !self.fw.bus_lost()
     }
 
     /// The compare pulses the firmware fired in the period just ended: where the shaft was
@@ -525,6 +610,8 @@ impl Runner {
             .spawn(move || {
                 match clock {
                     Clock::Stepped => {}
+                    // Layout 1.12: a follower's ticks are the master's, whatever its clock.
+                    _ if emu.follows() => run_follower(&mut emu, &flag, busy_poll),
                     Clock::FreeRunning => {
                         while !flag.load(Ordering::Relaxed) {
                             emu.step();
@@ -561,6 +648,34 @@ fn now_ns() -> i128 {
     let t = clock_gettime(ClockId::CLOCK_MONOTONIC)
         .unwrap_or_else(|_| nix::sys::time::TimeSpec::new(0, 0));
     t.tv_sec() as i128 * 1_000_000_000 + t.tv_nsec() as i128
+}
+
+/// A follower's clock (layout 1.12): a tick for each of the master's, woken by the bus; the
+/// master lost (its end, its connection's hang-up, no tick within the loss timeout), the card
+/// halts and goes on on its own real-time clock.
+fn run_follower(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
+    let timeout = super::bus::loss_timeout(emu.fw.servo_rate_hz());
+    let mut last = std::time::Instant::now();
+    while !stop.load(Ordering::Relaxed) {
+        emu.serve();
+        let Some(BusEnd::Follower(link)) = &emu.bus else {
+            break;
+        };
+        // Short waits, so that commands are served between the master's ticks too.
+        let woken = link.wait(Duration::from_millis(1));
+        let snap = link.read();
+        if woken.is_err() || !snap.alive || last.elapsed() > timeout {
+            emu.lose_bus();
+            break;
+        }
+        if emu.fw.tick_count() < snap.tick {
+            last = std::time::Instant::now();
+            while emu.fw.tick_count() < snap.tick && !stop.load(Ordering::Relaxed) {
+                emu.step();
+            }
+        }
+    }
+    run_realtime(emu, stop, busy_poll);
 }
 
 fn run_realtime(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {

@@ -29,9 +29,9 @@ pub mod pvt;
 pub mod quiet;
 pub mod safety;
 pub mod scope;
-pub mod timed;
 #[cfg(test)]
 mod tests_timed;
+pub mod timed;
 
 use self::axis::{Axis, AxisConfig, TickReport};
 use self::gear::{AuxInputs, Gear};

@@ -115,7 +115,11 @@ fn a_timed_command_runs_on_its_tick_and_not_before() {
     let pair = c.timed(t, 0, Opcode::SetOutputs, &[1.0, 1.0]);
     c.send(&pair);
     assert_eq!(c.answer(pair[0].seq), Some(Ok(5)), "held at once");
-    assert_eq!(c.answer(pair[1].seq), None, "the command waits for its tick");
+    assert_eq!(
+        c.answer(pair[1].seq),
+        None,
+        "the command waits for its tick"
+    );
     assert_eq!(c.info().timed_held, 1);
     assert_eq!(c.info().timed_next, t);
     while c.fw.tick_count() < t - 1 {
@@ -147,11 +151,41 @@ fn refused_timings_answer_both_entries_and_hold_nothing() {
     let now = c.fw.tick_count();
     let far = now + firmware_proto::raw::MC_TIMED_MAX_AHEAD as u64 + 1;
     let cases: [(u64, f64, Opcode, NackCode, NackCode); 5] = [
-        (now, 0.0, Opcode::SetOutputs, NackCode::TickPassed, NackCode::TimedRefused),
-        (far, 0.0, Opcode::SetOutputs, NackCode::TickFar, NackCode::TimedRefused),
-        (now + 5, 0.5, Opcode::SetOutputs, NackCode::TickFar, NackCode::TimedRefused),
-        (now + 5, 0.0, Opcode::HostDetach, NackCode::TimedAlone, NackCode::TimedAlone),
-        (now + 5, 0.0, Opcode::AtTick, NackCode::TimedAlone, NackCode::TimedAlone),
+        (
+            now,
+            0.0,
+            Opcode::SetOutputs,
+            NackCode::TickPassed,
+            NackCode::TimedRefused,
+        ),
+        (
+            far,
+            0.0,
+            Opcode::SetOutputs,
+            NackCode::TickFar,
+            NackCode::TimedRefused,
+        ),
+        (
+            now + 5,
+            0.5,
+            Opcode::SetOutputs,
+            NackCode::TickFar,
+            NackCode::TimedRefused,
+        ),
+        (
+            now + 5,
+            0.0,
+            Opcode::HostDetach,
+            NackCode::TimedAlone,
+            NackCode::TimedAlone,
+        ),
+        (
+            now + 5,
+            0.0,
+            Opcode::AtTick,
+            NackCode::TimedAlone,
+            NackCode::TimedAlone,
+        ),
     ];
     for (tick, key, op, at_code, cmd_code) in cases {
         let at = c.entry(Opcode::AtTick, 0, 0, &[tick as f64, key]);

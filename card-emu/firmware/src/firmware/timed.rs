@@ -193,17 +193,20 @@ impl<M: Mem + Clone> Firmware<M> {
         self.timing.lost
     }
 
-    /// Drive the bus's clock, with `followers` on it now.
+    /// Drive the bus's clock, with `followers` on it now: the master while it has any, alone
+    /// otherwise (its commits are its own then).
     pub fn lead_bus(&mut self, followers: u32) {
-        if self.timing.role != BusRole::Follower {
-            self.timing.role = if followers > 0 {
-                BusRole::Master
-            } else {
-                BusRole::Alone
-            };
+        if self.timing.role == BusRole::Follower || self.timing.followers == followers {
+            return;
         }
+        self.timing.role = if followers > 0 {
+            BusRole::Master
+        } else {
+            BusRole::Alone
+        };
         self.timing.followers = followers;
         self.timing.dirty = true;
+        self.publish_card_info();
     }
 
     /// Follow the bus of master `master`, whose last tick was `tick`: this card's tick count
@@ -355,13 +358,17 @@ impl<M: Mem + Clone> Firmware<M> {
             key: c.key,
             tick: c.tick,
         };
-        self.timing.remember(commit);
-        if self.timing.role == BusRole::Master && self.timing.outgoing.push(commit).is_err() {
-            // More commits between two ticks than the bus carries: refuse rather than let
-            // the followers miss it (the master's own commit stays, and the key's commands
-            // run here alone; the host sees this nack and cancels the key).
-            return Err(NackCode::TimedFull);
+        if self.timing.outgoing.is_full() {
+            if self.timing.role == BusRole::Master {
+                // More commits between two ticks than the bus carries: refuse rather than
+                // let the followers miss one.
+                return Err(NackCode::TimedFull);
+            }
+            // A card alone whose commits nobody takes: the oldest goes.
+            self.timing.outgoing.remove(0);
         }
+        self.timing.remember(commit);
+        let _ = self.timing.outgoing.push(commit);
         Ok(0.0)
     }
 
