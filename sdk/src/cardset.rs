@@ -203,6 +203,16 @@ pub struct TimedCommands {
     commands: Vec<Sent>,
 }
 
+impl std::fmt::Debug for TimedCommands {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let seqs: Vec<u32> = self.commands.iter().map(|c| c.1).collect();
+        f.debug_struct("TimedCommands")
+            .field("tick", &self.tick)
+            .field("seqs", &seqs)
+            .finish()
+    }
+}
+
 impl TimedCommands {
     /// The tick they run on.
     pub fn tick(&self) -> u64 {

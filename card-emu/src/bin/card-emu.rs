@@ -57,6 +57,24 @@ struct Args {
     allow_group: Vec<u32>,
 }
 
+/// Join the bus of `master`, waiting up to 5 s for it to serve (started at the same time).
+fn connect_bus(master: &str) -> std::io::Result<bus::BusLink> {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    loop {
+        match bus::connect(master) {
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::ConnectionRefused | std::io::ErrorKind::NotFound
+                ) && std::time::Instant::now() < deadline =>
+            {
+                std::thread::sleep(std::time::Duration::from_millis(5))
+            }
+            r => return r,
+        }
+    }
+}
+
 fn main() -> std::process::ExitCode {
     let args = Args::parse();
     if args.clock == Clock::Stepped {
@@ -80,7 +98,7 @@ fn main() -> std::process::ExitCode {
             .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
         let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
         match &args.sync_from {
-            Some(master) => emu.follow_bus(bus::connect(master)?)?,
+            Some(master) => emu.follow_bus(connect_bus(master)?)?,
             None => bus::serve(emu.lead_bus()?, policy.clone())?,
         }
         let serve = ServeOptions::new(policy.clone());

@@ -255,6 +255,7 @@ impl<M: Mem + Clone> Firmware<M> {
         }
         self.timing.lost = true;
         self.timing.losses = self.timing.losses.wrapping_add(1);
+        self.timing.dirty = true;
         self.halt_motion(0, u32::MAX, StopReason::SyncLost, Opcode::AtTick);
         self.drop_held(0, NackCode::SyncLost);
         let (code, tick) = (MC_BUSST_LOST as i32, self.tick);
