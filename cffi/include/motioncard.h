@@ -2241,6 +2241,11 @@ extern "C" {
 #define MC_PVT_MODE_PVT 1
 
 /**
+ * Cards a set may hold.
+ */
+#define MC_SYNC_CARDS_MAX 16
+
+/**
  * `mc_event.axis` of an event about the whole card.
  */
 #define MC_EVENT_CARD_WIDE 65535
@@ -4346,6 +4351,48 @@ typedef struct mc_servo_filter {
    */
   double coeffs[5];
 } mc_servo_filter;
+
+/**
+ * A card's name, serial and place on the sync bus.
+ */
+typedef struct mc_bus_status {
+  /**
+   * The card's name, NUL-terminated.
+   */
+  char name[32];
+  /**
+   * Its serial number (0: none).
+   */
+  uint64_t serial;
+  /**
+   * `MC_BUS_ALONE`, `MC_BUS_MASTER` or `MC_BUS_FOLLOWER`.
+   */
+  uint32_t role;
+  /**
+   * `MC_BUSST_FREE`, `MC_BUSST_LOCKED` or `MC_BUSST_LOST`.
+   */
+  uint32_t state;
+  /**
+   * A follower's master, NUL-terminated ("" otherwise).
+   */
+  char master[32];
+  /**
+   * A master's followers now.
+   */
+  uint32_t followers;
+  /**
+   * Timed commands held.
+   */
+  uint32_t timed_held;
+  /**
+   * The earliest held one's tick (0: none).
+   */
+  uint64_t timed_next;
+  /**
+   * Times it lost its master since boot.
+   */
+  uint32_t losses;
+} mc_bus_status;
 
 typedef struct mc_safety_config {
   uint32_t watchdog_timeout_us;
@@ -6902,6 +6949,86 @@ mc_result mc_aux_encoder(mc_card card, uint32_t k, int64_t *count);
 mc_result mc_sim_set_aux_velocity(mc_card card, uint32_t k, double velocity);
 
 /**
+ * Open `n` (1..16) stepped emulated cards of `axes` axes on one sync bus, the first its
+ * master (named `sim0`, `sim1`, …): stepping or waiting on any of them steps all of them,
+ * master first. Writes their handles to `cards[0..n]`.
+ */
+mc_result mc_open_sim_bus(size_t n, uint32_t axes, uint32_t servo_rate_hz, mc_card *cards);
+
+/**
+ * The card's name, serial and place on the sync bus.
+ */
+mc_result mc_get_bus_status(mc_card card, struct mc_bus_status *status);
+
+/**
+ * From now until `mc_timed_end`, the commands this thread sends (to any card) are timed to
+ * `tick` with commit key `key` (0: none needed): each call returns once its card holds the
+ * command (or with its refusal: `MC_ERR_TICK_PASSED`, `MC_ERR_TICK_FAR`, `MC_ERR_TIMED_FULL`,
+ * …), and the command runs as the first thing of that tick. `MC_ERR_INVALID_STATE` when
+ * this thread times already.
+ */
+mc_result mc_timed_begin(uint64_t tick, uint32_t key);
+
+/**
+ * End `mc_timed_begin`, and wait up to `timeout_ms` for the held commands' answers (they
+ * come on their tick): the first refusal (`MC_ERR_NOT_COMMITTED` for a key never committed,
+ * `MC_ERR_TIMED_CANCELLED`, or the command's own), `MC_ERR_TIMEOUT`. Without a begin:
+ * `MC_ERR_INVALID_STATE`.
+ */
+mc_result mc_timed_end(uint32_t timeout_ms);
+
+/**
+ * Commit `key` for `tick` on `card` (the bus's master, or a card alone): its timed commands
+ * run on that tick on it and on every follower. `MC_ERR_NOT_MASTER` on a follower,
+ * `MC_ERR_COMMIT_LATE` on or after the tick (nothing of the key runs anywhere).
+ */
+mc_result mc_sync_commit(mc_card card, uint32_t key, uint64_t tick);
+
+/**
+ * Drop the commands `card` holds timed under `key` (0: all); `*dropped` (may be NULL): how
+ * many. Each is refused with `MC_ERR_TIMED_CANCELLED`.
+ */
+mc_result mc_timed_cancel(mc_card card, uint32_t key, uint32_t *dropped);
+
+/**
+ * Begin a synchronised start on the cards `cards[0..n]` of one bus (the master first; else
+ * `MC_ERR_BAD_CONFIG`): the commands this thread sends until `mc_sync_start` are timed to
+ * one tick 20 ms ahead (`*tick`, may be NULL) under a fresh key.
+ */
+mc_result mc_sync_begin(const mc_card *cards, size_t n, uint64_t *tick);
+
+/**
+ * Commit `mc_sync_begin`'s commands on the master and wait until they ran (every card on the
+ * same tick, `*tick`, may be NULL). `MC_ERR_COMMIT_LATE`: nothing ran anywhere.
+ */
+mc_result mc_sync_start(uint64_t *tick);
+
+/**
+ * Abandon `mc_sync_begin` (or `mc_timed_begin`): what it sent is cancelled on every card and
+ * nothing of it runs.
+ */
+mc_result mc_sync_abort(void);
+
+/**
+ * Halt every moving axis of the cards `cards[0..n]` on one tick (`*tick`, may be NULL).
+ */
+mc_result mc_sync_halt(const mc_card *cards,
+                       size_t n,
+                       double deceleration,
+                       double jerk,
+                       uint64_t *tick);
+
+/**
+ * Hold every moving axis of the cards `cards[0..n]` on one tick (override 0).
+ */
+mc_result mc_sync_hold(const mc_card *cards, size_t n, uint64_t *tick);
+
+/**
+ * Set the override of every moving axis of the cards `cards[0..n]` on one tick.
+ */
+mc_result mc_sync_override(const mc_card *cards, size_t n, double factor, uint64_t *tick);
+
+/**
  * Save what the card holds, read back from the card (never this library's memory), to the
  * TOML file `path` (created or replaced). Loading the file on a card of the same axes and
  * saving it again gives the same bytes. Blocks until the card answers its read-backs.
@@ -7058,6 +7185,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_BIQUAD_RAW_B_MAX 1e6
 
 /**
+ * Alone or master: its own clock.
+ */
+#define MC_BUSST_FREE 0u
+
+/**
  * A follower on the master's ticks.
  */
 #define MC_BUSST_LOCKED 1u
@@ -7066,6 +7198,21 @@ mc_result mc_send_raw(mc_card card,
  * A follower that lost the master: its own clock, halted.
  */
 #define MC_BUSST_LOST 2u
+
+/**
+ * On its own clock, no bus.
+ */
+#define MC_BUS_ALONE 0u
+
+/**
+ * Runs on the bus's ticks.
+ */
+#define MC_BUS_FOLLOWER 2u
+
+/**
+ * Drives the bus.
+ */
+#define MC_BUS_MASTER 1u
 
 /**
  * `MC_OP_CAM_IN` flag (beside the master source).

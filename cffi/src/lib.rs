@@ -45,6 +45,7 @@ pub mod safety;
 pub mod scope;
 pub mod servo;
 pub mod sync;
+pub mod sync_bus;
 pub mod types;
 // Layout 1.8, last: cbindgen writes the header in module order.
 pub mod config;

@@ -730,6 +730,18 @@ fn handwheel_from_c() {
     );
 }
 
+/// Layout 1.12: cards on one sync bus from C (a synchronised start, hold, override and halt
+/// on three stepped cards, a command timed to a tick, the refusals of timing).
+#[test]
+fn cards_on_one_sync_bus_from_c() {
+    let out = run(&compile("sync", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS sync\n"), "{out}");
+    assert!(
+        out.contains("sync: 6 axes on 3 cards started on tick"),
+        "{out}"
+    );
+}
+
 /// Layout 1.11: analog I/O and the path-speed output from C (a threshold event, the ADC's
 /// sample, a spare DAC, the PSO gated by an output, the refusals).
 #[test]
@@ -1050,6 +1062,10 @@ const NOT_PROVOKABLE_FROM_C: &[&str] = &[
     "MC_ERR_CAM_SEQUENCE",
     "MC_ERR_COMP_SEQUENCE",
     "MC_ERR_CONFIG_KIND",
+    // Layout 1.12: a lost master needs a killed card-emu process (card-emu/tests/sync_bus.rs);
+    // the command of a refused timing is never waited for (the timing's refusal is the error).
+    "MC_ERR_SYNC_LOST",
+    "MC_ERR_TIMED_REFUSED",
 ];
 
 #[test]

@@ -168,8 +168,10 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_PSO_GROUP,
     /* sync.c */
     MC_ERR_TICK_PASSED, MC_ERR_TIMED_FULL, MC_ERR_TIMED_ALONE, MC_ERR_TICK_FAR,
-    MC_ERR_COMMIT_LATE, MC_ERR_NOT_MASTER, MC_ERR_NOT_COMMITTED, MC_ERR_SYNC_LOST,
-    MC_ERR_TIMED_REFUSED, MC_ERR_TIMED_CANCELLED,
+    MC_ERR_COMMIT_LATE, MC_ERR_NOT_MASTER, MC_ERR_NOT_COMMITTED, MC_ERR_TIMED_CANCELLED,
+    /* not provokable from C: a lost master needs a killed card-emu process; the command of a
+       refused timing is never waited for (the timing's refusal is the error) */
+    MC_ERR_SYNC_LOST, MC_ERR_TIMED_REFUSED,
 };
 
 static void result_strings(void) {

@@ -492,6 +492,7 @@ impl Card {
         &self.inner.dev.window
     }
 
+    #[cfg(feature = "emulator")]
     pub(crate) fn inner_arc(&self) -> &Arc<Inner> {
         &self.inner
     }
@@ -1088,7 +1089,7 @@ impl Inner {
         Ok(cmds[0].seq)
     }
 
-    fn execute_value(
+    pub(crate) fn execute_value(
         &self,
         cmd: Command,
         what: &'static str,

@@ -17,12 +17,10 @@
 
 use crate::card::Card;
 use crate::error::{Error, Result, Target};
-use crate::lock::lock;
 use firmware_proto::cmd::{CardCmd, SyncCommit, TimedCancel};
 use firmware_proto::{layout, raw, AxisState};
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// The tick a timed command runs on, and its commit key (0: none needed).
@@ -58,20 +56,66 @@ pub(crate) fn sent(card: &Card, seq: u32, what: &'static str, target: Target) {
     PENDING.with(|p| p.borrow_mut().sent.push((card.clone(), seq, what, target)));
 }
 
-/// Run `f` with the commands it sends timed to `at`; the commands held.
-fn with_timing<T>(at: Timing, f: impl FnOnce() -> Result<T>) -> (Result<T>, Vec<Sent>) {
-    let outer = PENDING.with(|p| {
+/// What `push_timing` replaced on this thread (restored by `pop_timing`).
+struct Saved(Option<Timing>, Vec<Sent>);
+
+/// Time the commands this thread sends from now to `at`.
+fn push_timing(at: Timing) -> Saved {
+    PENDING.with(|p| {
         let mut p = p.borrow_mut();
         let outer = p.timing.replace(at);
-        (outer, std::mem::take(&mut p.sent))
-    });
-    let r = f();
-    let sent = PENDING.with(|p| {
+        Saved(outer, std::mem::take(&mut p.sent))
+    })
+}
+
+/// Stop timing; the commands held since `push_timing`.
+fn pop_timing(saved: Saved) -> Vec<Sent> {
+    PENDING.with(|p| {
         let mut p = p.borrow_mut();
-        p.timing = outer.0;
-        std::mem::replace(&mut p.sent, outer.1)
-    });
-    (r, sent)
+        p.timing = saved.0;
+        std::mem::replace(&mut p.sent, saved.1)
+    })
+}
+
+/// The commands this thread sends are timed to one tick from [`TimingScope::begin`] to
+/// [`TimingScope::end`] ([`Card::timed`] in two calls, for the C ABI's `mc_timed_begin` /
+/// `mc_timed_end`). Not `Send`: the timing is this thread's.
+pub struct TimingScope {
+    at: Timing,
+    saved: Option<Saved>,
+    _thread: std::marker::PhantomData<*const ()>,
+}
+
+impl TimingScope {
+    /// Time what this thread sends from now to `at`.
+    pub fn begin(at: Timing) -> Self {
+        Self {
+            at,
+            saved: Some(push_timing(at)),
+            _thread: std::marker::PhantomData,
+        }
+    }
+
+    /// The timing.
+    pub fn timing(&self) -> Timing {
+        self.at
+    }
+
+    /// Stop timing: the commands held since [`TimingScope::begin`].
+    pub fn end(mut self) -> TimedCommands {
+        TimedCommands {
+            tick: self.at.tick,
+            commands: self.saved.take().map(pop_timing).unwrap_or_default(),
+        }
+    }
+}
+
+impl Drop for TimingScope {
+    fn drop(&mut self) {
+        if let Some(saved) = self.saved.take() {
+            pop_timing(saved);
+        }
+    }
 }
 
 type Sent = (Card, u32, &'static str, Target);
@@ -172,11 +216,9 @@ impl Card {
         at: Timing,
         f: impl FnOnce() -> Result<T>,
     ) -> Result<(T, TimedCommands)> {
-        let (r, sent) = with_timing(at, f);
-        let held = TimedCommands {
-            tick: at.tick,
-            commands: sent,
-        };
+        let scope = TimingScope::begin(at);
+        let r = f();
+        let held = scope.end();
         r.map(|v| (v, held))
     }
 
@@ -185,14 +227,18 @@ impl Card {
     /// tick (`CommitLate`: then none of them runs, anywhere).
     pub fn sync_commit(&self, key: u32, tick: u64) -> Result<()> {
         let c = CardCmd::SyncCommit(SyncCommit { key, tick }).command(0);
-        self.execute(c, "sync_commit", Target::Card)
+        // Never timed itself (inside a timing too).
+        self.inner()
+            .execute_value(c, "sync_commit", Target::Card)
+            .map(|_| ())
     }
 
     /// Drop the held timed commands of `key` (0: all); how many there were. Each is refused
-    /// with `TimedCancelled`.
+    /// with `TimedCancelled`. Never timed itself.
     pub fn cancel_timed(&self, key: u32) -> Result<u32> {
         let c = CardCmd::TimedCancel(TimedCancel { key }).command(0);
-        self.execute_value(c, "cancel_timed", Target::Card)
+        self.inner()
+            .execute_value(c, "cancel_timed", Target::Card)
             .map(|(_, n)| n as u32)
     }
 }
@@ -328,12 +374,12 @@ impl CardSet {
                 .iter()
                 .map(|c| {
                     let emu = c.inner().stepped().expect("a stepped card").clone();
-                    (emu, Arc::downgrade(c.inner_arc()))
+                    (emu, std::sync::Arc::downgrade(c.inner_arc()))
                 })
                 .collect();
-            let clock = Arc::new(crate::card::SimClock { members });
+            let clock = std::sync::Arc::new(crate::card::SimClock { members });
             for c in &cards {
-                *lock(&c.inner().sim_clock) = Some(clock.clone());
+                *crate::lock::lock(&c.inner().sim_clock) = Some(clock.clone());
             }
         }
         Self::new(cards)
@@ -362,39 +408,29 @@ impl CardSet {
     /// call returns once every command has run, with the tick. Refused commits
     /// (`CommitLate`: the margin was too short for this machine) run nothing anywhere.
     pub fn sync<T>(&self, f: impl FnOnce() -> Result<T>) -> Result<(u64, T)> {
+        let scope = self.begin()?;
+        let value = f()?; // the scope's drop cancels the key
+        Ok((scope.commit()?, value))
+    }
+
+    /// [`CardSet::sync`] in two calls (the C ABI's `mc_sync_begin` / `mc_sync_start`): from
+    /// now until the scope's [`SyncScope::commit`] the commands this thread sends are timed to
+    /// one tick under one key; dropping the scope uncommitted cancels them.
+    pub fn begin(&self) -> Result<SyncScope> {
         let master = &self.cards[0];
         let rate = master.info().servo_rate_hz as f64;
         let ahead = (self.margin.as_secs_f64() * rate).ceil().max(2.0) as u64;
         let key = self.key.fetch_add(2, Ordering::Relaxed).max(1);
-        let tick = master.tick()? + ahead;
-        let at = Timing { tick, key };
-        let (r, sent) = with_timing(at, f);
-        let held = TimedCommands {
-            tick,
-            commands: sent,
+        let at = Timing {
+            tick: master.tick()? + ahead,
+            key,
         };
-        let value = match r {
-            Ok(v) => v,
-            Err(e) => {
-                self.cancel(key);
-                return Err(e);
-            }
-        };
-        if let Err(e) = master.sync_commit(key, tick) {
-            self.cancel(key);
-            return Err(e);
-        }
-        let left = Duration::from_secs_f64((tick.saturating_sub(master.tick()?)) as f64 / rate);
-        held.wait(left + crate::ACK_TIMEOUT)?;
-        Ok((tick, value))
-    }
-
-    /// Cancel `key` on every card (best effort: a card that cannot be reached holds nothing
-    /// that runs, its key uncommitted).
-    fn cancel(&self, key: u32) {
-        for c in &self.cards {
-            let _ = c.cancel_timed(key);
-        }
+        Ok(SyncScope {
+            cards: self.cards.clone(),
+            at,
+            saved: Some(push_timing(at)),
+            _thread: std::marker::PhantomData,
+        })
     }
 
     /// Halt every moving axis of every card on one tick (MC_Halt with `deceleration` and
@@ -447,5 +483,60 @@ impl CardSet {
             }
         }
         Ok(v)
+    }
+}
+
+/// Commands being timed to one tick on the cards of a set ([`CardSet::begin`]).
+pub struct SyncScope {
+    cards: Vec<Card>,
+    at: Timing,
+    saved: Option<Saved>,
+    /// Not `Send`: the timing is this thread's.
+    _thread: std::marker::PhantomData<*const ()>,
+}
+
+impl SyncScope {
+    /// The tick the commands run on.
+    pub fn tick(&self) -> u64 {
+        self.at.tick
+    }
+
+    /// Commit: the master carries the key to the followers, every command sent since
+    /// [`CardSet::begin`] runs on the tick, and this returns once all have answered (the first
+    /// refusal, after all answered). `CommitLate`: the commit came on or after the tick, and
+    /// nothing runs anywhere.
+    pub fn commit(mut self) -> Result<u64> {
+        let sent = pop_timing(self.saved.take().expect("a scope commits once"));
+        let held = TimedCommands {
+            tick: self.at.tick,
+            commands: sent,
+        };
+        let master = &self.cards[0];
+        if let Err(e) = master.sync_commit(self.at.key, self.at.tick) {
+            cancel(&self.cards, self.at.key);
+            return Err(e);
+        }
+        let rate = master.info().servo_rate_hz as f64;
+        let left = self.at.tick.saturating_sub(master.tick()?) as f64 / rate;
+        held.wait(Duration::from_secs_f64(left) + crate::ACK_TIMEOUT)?;
+        Ok(self.at.tick)
+    }
+}
+
+impl Drop for SyncScope {
+    /// Uncommitted: nothing of it runs (the key cancelled on every card).
+    fn drop(&mut self) {
+        if let Some(saved) = self.saved.take() {
+            pop_timing(saved);
+            cancel(&self.cards, self.at.key);
+        }
+    }
+}
+
+/// Cancel `key` on every card (best effort: a card that cannot be reached holds nothing that
+/// runs, its key uncommitted).
+fn cancel(cards: &[Card], key: u32) {
+    for c in cards {
+        let _ = c.cancel_timed(key);
     }
 }

@@ -73,7 +73,9 @@ pub use card_emu::{
     AnalogSource, Clock, EmuOptions, EndStops, FireRecord, HomeSwitch, IndexPulse, MotorParams,
     Noise, Sensor, Switches,
 };
-pub use cardset::{BusRole, BusState, BusStatus, CardSet, TimedCommands, Timing};
+pub use cardset::{
+    BusRole, BusState, BusStatus, CardSet, SyncScope, TimedCommands, Timing, TimingScope,
+};
 pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
     AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,

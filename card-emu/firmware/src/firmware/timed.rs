@@ -269,10 +269,8 @@ impl<M: Mem + Clone> Firmware<M> {
     /// `c` is the `MC_OP_AT_TICK` entry; it is answered here, and so is its command when it is
     /// refused.
     pub(super) fn take_timed(&mut self, c: &Command) {
-        let next = match self.cmds.pop() {
-            Ok(n) => n,
-            Err(_) => None, // a corrupt ring: the next serve finds it and stops the axes
-        };
+        // A corrupt ring reads as nothing here: the next serve finds it and stops the axes.
+        let next = self.cmds.pop().unwrap_or_default();
         let outcome = self.arm(c, next.as_ref());
         let reply = |seq, r: Result<(), NackCode>| match r {
             Ok(()) => ack(seq, c.axis, 0.0),
