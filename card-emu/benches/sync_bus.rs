@@ -1,0 +1,101 @@
+//! Four `card-emu` processes on one sync bus at 10 kHz: how far apart their tick counters are.
+//!
+//! Starts a master and three followers (`--sync-from`), opens each as `emu:NAME`, and samples
+//! their tick counters every millisecond for `SECONDS` (default 10; the figure is 600):
+//! each sample reads the three followers, then the master, so a follower's lag is the master's
+//! tick minus its own (a follower is never ahead: it runs a tick only after the master's). It
+//! prints the lag's distribution and the drift: the lag at the end minus the lag at the
+//! start, with every card stopped being read at the same tick count when the master is
+//! stopped (SIGSTOP) and the followers have caught up.
+//!
+//! `SECONDS=600 cargo bench -p card-emu --bench sync_bus`
+use motioncard_sdk::{Card, ErrorKind};
+use nix::sys::signal::{kill, Signal};
+use nix::unistd::Pid;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn start(name: &str, extra: &[&str]) -> Proc {
+    Proc(
+        Command::new(env!("CARGO_BIN_EXE_card-emu"))
+            .args(["--name", name, "--axes", "8"])
+            .args(extra)
+            .stdout(Stdio::null())
+            .spawn()
+            .expect("start card-emu"),
+    )
+}
+
+fn open(uri: &str) -> Card {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        match Card::open(uri) {
+            Ok(c) => return c,
+            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(10))
+            }
+            Err(e) => panic!("{uri}: {e}"),
+        }
+    }
+}
+
+fn main() {
+    let seconds: u64 = std::env::var("SECONDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10);
+    let master = format!("bench-bus-{}", std::process::id());
+    let mut procs = vec![start(&master, &[])];
+    let names: Vec<String> = (0..3).map(|k| format!("{master}-f{k}")).collect();
+    for n in &names {
+        procs.push(start(n, &["--sync-from", &master]));
+    }
+    let m = open(&format!("emu:{master}"));
+    let followers: Vec<Card> = names.iter().map(|n| open(&format!("emu:{n}"))).collect();
+    let mut hist = [0u64; 6]; // lag 0, 1, 2, 3, 4..9, 10+
+    let mut max = 0u64;
+    let mut samples = 0u64;
+    let t0 = Instant::now();
+    let first = m.tick().unwrap();
+    while t0.elapsed() < Duration::from_secs(seconds) {
+        let f: Vec<u64> = followers.iter().map(|c| c.tick().unwrap()).collect();
+        let mt = m.tick().unwrap();
+        for t in f {
+            assert!(t <= mt, "a follower ahead of the master: {t} > {mt}");
+            let lag = mt - t;
+            max = max.max(lag);
+            hist[match lag {
+                0..=3 => lag as usize,
+                4..=9 => 4,
+                _ => 5,
+            }] += 1;
+            samples += 1;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let ticks = m.tick().unwrap() - first;
+    // Drift: stop the master, let the followers catch up, read everyone.
+    kill(Pid::from_raw(procs[0].0.id() as i32), Signal::SIGSTOP).unwrap();
+    std::thread::sleep(Duration::from_millis(20));
+    let end_m = m.tick().unwrap();
+    let ends: Vec<u64> = followers.iter().map(|c| c.tick().unwrap()).collect();
+    kill(Pid::from_raw(procs[0].0.id() as i32), Signal::SIGCONT).unwrap();
+    println!("4 card-emu processes at 10 kHz on one sync bus, {seconds} s ({ticks} master ticks)");
+    println!("| lag (ticks) | samples | share |");
+    println!("|---|---|---|");
+    for (label, n) in ["0", "1", "2", "3", "4-9", ">=10"].iter().zip(hist) {
+        println!("| {label} | {n} | {:.4} % |", 100.0 * n as f64 / samples as f64);
+    }
+    println!("largest lag: {max} ticks over {samples} samples");
+    let drift: Vec<i64> = ends.iter().map(|&e| end_m as i64 - e as i64).collect();
+    println!("drift (master stopped, followers caught up: master - follower): {drift:?}");
+}
