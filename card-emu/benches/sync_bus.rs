@@ -93,7 +93,10 @@ fn main() {
     println!("| lag (ticks) | samples | share |");
     println!("|---|---|---|");
     for (label, n) in ["0", "1", "2", "3", "4-9", ">=10"].iter().zip(hist) {
-        println!("| {label} | {n} | {:.4} % |", 100.0 * n as f64 / samples as f64);
+        println!(
+            "| {label} | {n} | {:.4} % |",
+            100.0 * n as f64 / samples as f64
+        );
     }
     println!("largest lag: {max} ticks over {samples} samples");
     let drift: Vec<i64> = ends.iter().map(|&e| end_m as i64 - e as i64).collect();

@@ -243,6 +243,17 @@ impl Drop for Bus {
     }
 }
 
+/// What ended a follower's wait.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wake {
+    /// The master woke it (one tick or several).
+    Woken,
+    /// The time passed.
+    Quiet,
+    /// The master's connection hung up: the master is gone.
+    HungUp,
+}
+
 /// A follower's end of the bus.
 pub struct BusLink {
     page: Page,
@@ -283,9 +294,8 @@ impl BusLink {
         v
     }
 
-    /// Wait up to `timeout` for the master's next tick. `Ok(true)`: woken (maybe for several
-    /// ticks); `Ok(false)`: the time passed; `Err`: the master's connection hung up.
-    pub fn wait(&self, timeout: Duration) -> Result<bool, ()> {
+    /// Wait up to `timeout` for the master's next tick.
+    pub fn wait(&self, timeout: Duration) -> Wake {
         use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
         let ms = timeout.as_millis().min(i32::MAX as u128) as i32;
         let mut fds = vec![PollFd::new(self.wake.as_fd(), PollFlags::POLLIN)];
@@ -301,11 +311,15 @@ impl BusLink {
         });
         if hung_up {
             // Only the end of the stream (or an error) comes on it: the master said nothing.
-            return Err(());
+            return Wake::HungUp;
         }
         let mut b = [0u8; 8];
         let _ = nix::unistd::read(&self.wake, &mut b);
-        Ok(matches!(n, Ok(k) if k > 0))
+        if matches!(n, Ok(k) if k > 0) {
+            Wake::Woken
+        } else {
+            Wake::Quiet
+        }
     }
 }
 

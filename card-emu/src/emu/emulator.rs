@@ -15,7 +15,7 @@
 //! old descriptors or mappings writes into memory the card no longer reads, and waits on an
 //! eventfd the card no longer raises.
 
-use super::bus::{Bus, BusLink};
+use super::bus::{Bus, BusLink, Wake};
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::analog::AnalogBank;
@@ -664,7 +664,7 @@ fn run_follower(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
         // Short waits, so that commands are served between the master's ticks too.
         let woken = link.wait(Duration::from_millis(1));
         let snap = link.read();
-        if woken.is_err() || !snap.alive || last.elapsed() > timeout {
+        if woken == Wake::HungUp || !snap.alive || last.elapsed() > timeout {
             emu.lose_bus();
             break;
         }
