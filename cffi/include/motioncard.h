@@ -2020,6 +2020,22 @@ extern "C" {
 #define MC_OP_PATH_PAUSE 120
 
 /**
+ * Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
+ * `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
+ * `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the following
+ * `MC_OP_PATH_ARC_NORMAL` (configured group).
+ */
+#define MC_OP_PATH_ARC_PLANE 124
+
+/**
+ * Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`, `end_a`,
+ * `end_b`, `end_c`, then the targets of the other group axes in order (a helix). flags:
+ * `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_ARC_RISE`,
+ * `MC_PATH_*`. No plane set: `MC_NACK_ARC_NORMAL`.
+ */
+#define MC_OP_PATH_ARC_NORMAL 125
+
+/**
  * `mc_pso_info.state`: not configured.
  */
 #define MC_PSO_STATE_OFF 0
@@ -6961,6 +6977,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_ANALOG_RANGE 10.0
 
 /**
+ * `MC_OP_PATH_ARC_NORMAL`: the end may lie off the plane along the normal (a helix along it).
+ */
+#define MC_ARC_RISE (1u << 2)
+
+/**
  * A filter's poles lie within 1 - margin of the origin.
  */
 #define MC_BIQUAD_POLE_MARGIN 1e-6
@@ -7175,6 +7196,21 @@ mc_result mc_send_raw(mc_card card,
  * A threshold beyond `+-MC_ANALOG_RANGE`, a hysteresis below 0 or above 2 `*` `MC_ANALOG_RANGE`, or unknown flags.
  */
 #define MC_NACK_ANALOG_THRESHOLD 147
+
+/**
+ * A normal-vector arc's plane names a group axis twice (or an axis index that is not a whole number).
+ */
+#define MC_NACK_ARC_AXES 157
+
+/**
+ * A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`) before it.
+ */
+#define MC_NACK_ARC_NORMAL 156
+
+/**
+ * A normal-vector arc's centre, or its end (without `MC_ARC_RISE`), is off the plane through the start by more than the group's tolerance.
+ */
+#define MC_NACK_ARC_OFF_PLANE 158
 
 /**
  * The card configuration can only change while every axis is disabled.

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 11u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 12u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -85,7 +85,10 @@
                            * MC_OP_ANALOG_OUTPUT 117, MC_OP_PSO 118, MC_OP_PSO_OFF 119,
                            * MC_NACK_ANALOG_* 145..147, MC_NACK_PSO_* 148..149,
                            * MC_EV_ANALOG 34, MC_SIG_AIN0..7 51..58, MC_SIG_AOUT0..3 59..62,
-                           * MC_SIG_PSO 63, analog_status appended) */
+                           * MC_SIG_PSO 63, analog_status appended);
+                           * 12: path arcs in a plane given by a normal vector (MC_OP_PATH_ARC_PLANE
+                           * 124, MC_OP_PATH_ARC_NORMAL 125, MC_ARC_RISE, MC_NACK_ARC_NORMAL 156,
+                           * MC_NACK_ARC_AXES 157, MC_NACK_ARC_OFF_PLANE 158) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1144,6 +1147,40 @@
                                     * flags */
 #define MC_NACK_PSO_GROUP 149      /* a PSO on a group that does not exist (index beyond MC_MAX_GROUPS)
                                     * or is not configured */
+
+/* Layout 1.12: path arcs in a plane given by a normal vector (three group axes a, b, c; the
+ * other group axes move linearly with the arc length: a helix). The plane is the group's until
+ * it is set again or the group is configured again: MC_OP_PATH_ARC_PLANE sets it, each
+ * MC_OP_PATH_ARC_NORMAL runs an arc in it. The arc turns counter-clockwise about the normal
+ * (the right-hand rule: the normal reversed, the arc runs the other way) in the plane through
+ * the path's end with that normal, around the centre, from the start to the end (an end at the
+ * start: a full turn), as APT's CIRCLE/ record (centre, axis, then the end). The centre must lie
+ * in that plane and the end on the circle, each within the group's tolerance
+ * (group_config.tolerance: MC_NACK_ARC_OFF_PLANE, MC_NACK_CENTRE_NOT_EQUIDISTANT; the end is then
+ * put exactly on the circle); the end lies in the plane too unless MC_ARC_RISE allows it off
+ * along the normal (the rise of a helix along the normal, as G17's Z). On the path it is treated
+ * as an arc: its blends, look-ahead and every axis's limits, the plane's components of its
+ * tangent and curvature on each of the three axes. A zero radius: MC_NACK_ZERO_LENGTH_ARC. */
+#define MC_OP_PATH_ARC_PLANE 124u    /* args: a, b, c (three distinct group axes, else MC_NACK_ARC_AXES;
+                                      * beyond the group: MC_NACK_AXIS_NOT_IN_GROUP), n_a, n_b, n_c
+                                      * (the normal, any length but not 0: MC_NACK_ARC_NORMAL; NaN:
+                                      * MC_NACK_NOT_FINITE). The group's normal plane for the
+                                      * following MC_OP_PATH_ARC_NORMAL (configured group) */
+#define MC_OP_PATH_ARC_NORMAL 125u   /* args: id, feed, tolerance (as MC_OP_PATH_LINE), centre_a,
+                                      * centre_b, centre_c, end_a, end_b, end_c, then the targets of
+                                      * the other group axes in order (a helix). flags:
+                                      * MC_MOVE_RELATIVE (the centre, end and targets from the
+                                      * path's end), MC_ARC_RISE, MC_PATH_*. No plane set:
+                                      * MC_NACK_ARC_NORMAL */
+#define MC_ARC_RISE (1u << 2)        /* MC_OP_PATH_ARC_NORMAL: the end may lie off the plane along
+                                      * the normal (a helix along it) */
+#define MC_NACK_ARC_NORMAL 156       /* a normal-vector arc's normal is zero, or no plane was set
+                                      * (MC_OP_PATH_ARC_PLANE) before it */
+#define MC_NACK_ARC_AXES 157         /* a normal-vector arc's plane names a group axis twice (or an
+                                      * axis index that is not a whole number) */
+#define MC_NACK_ARC_OFF_PLANE 158    /* a normal-vector arc's centre, or its end (without MC_ARC_RISE),
+                                      * is off the plane through the start by more than the group's
+                                      * tolerance */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
