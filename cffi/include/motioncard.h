@@ -2030,8 +2030,9 @@ extern "C" {
 /**
  * Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`, `end_a`,
  * `end_b`, `end_c`, then the targets of the other group axes in order (a helix). flags:
- * `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_ARC_RISE`,
- * `MC_PATH_*`. No plane set: `MC_NACK_ARC_NORMAL`.
+ * `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_CIRC_HELIX_RELATIVE`
+ * (the other axes' targets are distances), `MC_ARC_RISE`, `MC_PATH_*`. No plane set:
+ * `MC_NACK_ARC_NORMAL`.
  */
 #define MC_OP_PATH_ARC_NORMAL 125
 
@@ -5034,6 +5035,22 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * A path-speed output on a group that does not exist or is not configured.
  */
 #define MC_ERR_PSO_GROUP -140
+
+/**
+ * Layout 1.12: a normal-vector arc's normal is zero, or no plane was set before it.
+ */
+#define MC_ERR_ARC_NORMAL -147
+
+/**
+ * A normal-vector arc's plane names a group axis twice.
+ */
+#define MC_ERR_ARC_AXES -148
+
+/**
+ * A normal-vector arc's centre, or its end (unless it rises along the normal), is off
+ * the plane through the start by more than the group's tolerance.
+ */
+#define MC_ERR_ARC_OFF_PLANE -149
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.

@@ -1250,6 +1250,7 @@ pub const MC_OP_PATH_ARC_PLANE: u32 = 124;
 
 /// Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`, `end_a`,
 /// `end_b`, `end_c`, then the targets of the other group axes in order (a helix). flags:
-/// `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_ARC_RISE`,
-/// `MC_PATH_*`. No plane set: `MC_NACK_ARC_NORMAL`.
+/// `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_CIRC_HELIX_RELATIVE`
+/// (the other axes' targets are distances), `MC_ARC_RISE`, `MC_PATH_*`. No plane set:
+/// `MC_NACK_ARC_NORMAL`.
 pub const MC_OP_PATH_ARC_NORMAL: u32 = 125;

@@ -1170,8 +1170,9 @@
                                       * centre_b, centre_c, end_a, end_b, end_c, then the targets of
                                       * the other group axes in order (a helix). flags:
                                       * MC_MOVE_RELATIVE (the centre, end and targets from the
-                                      * path's end), MC_ARC_RISE, MC_PATH_*. No plane set:
-                                      * MC_NACK_ARC_NORMAL */
+                                      * path's end), MC_CIRC_HELIX_RELATIVE (the other axes'
+                                      * targets are distances), MC_ARC_RISE, MC_PATH_*. No plane
+                                      * set: MC_NACK_ARC_NORMAL */
 #define MC_ARC_RISE (1u << 2)        /* MC_OP_PATH_ARC_NORMAL: the end may lie off the plane along
                                       * the normal (a helix along it) */
 #define MC_NACK_ARC_NORMAL 156       /* a normal-vector arc's normal is zero, or no plane was set

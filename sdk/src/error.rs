@@ -373,6 +373,13 @@ error_kinds! {
     PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
     /// A path-speed output on a group that does not exist or is not configured.
     PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
+    /// Layout 1.12: a normal-vector arc's normal is zero, or no plane was set before it.
+    ArcNormal = -147, MC_ERR_ARC_NORMAL, nack ArcNormal, "an arc's normal vector is zero (or no normal plane was set)";
+    /// A normal-vector arc's plane names a group axis twice.
+    ArcAxes = -148, MC_ERR_ARC_AXES, nack ArcAxes, "an arc's plane of three group axes names one axis twice";
+    /// A normal-vector arc's centre, or its end (unless it rises along the normal), is off
+    /// the plane through the start by more than the group's tolerance.
+    ArcOffPlane = -149, MC_ERR_ARC_OFF_PLANE, nack ArcOffPlane, "the arc's centre or end is off its plane by more than the group's tolerance";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -588,6 +588,9 @@ pub struct PathArcNormal {
     pub helix: [f64; MAX_AXES - 3],
     /// The end may lie off the plane along the normal (`MC_ARC_RISE`).
     pub rise: bool,
+    /// The other axes' targets are distances even in an absolute arc
+    /// (`MC_CIRC_HELIX_RELATIVE`).
+    pub helix_relative: bool,
     /// Relative, buffer and transition modes, last.
     pub flags: PathFlags,
 }
@@ -598,7 +601,9 @@ impl Args for PathArcNormal {
         put(args, 3, &self.centre);
         put(args, 6, &self.end);
         put(args, 9, &self.helix);
-        set(self.rise, crate::raw::MC_ARC_RISE) | self.flags.bits()
+        set(self.rise, crate::raw::MC_ARC_RISE)
+            | set(self.helix_relative, crate::raw::MC_CIRC_HELIX_RELATIVE)
+            | self.flags.bits()
     }
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         Ok(Self {
@@ -609,6 +614,7 @@ impl Args for PathArcNormal {
             end: take(args, 6),
             helix: take(args, 9),
             rise: bit(flags, crate::raw::MC_ARC_RISE),
+            helix_relative: bit(flags, crate::raw::MC_CIRC_HELIX_RELATIVE),
             flags: PathFlags::from_bits(flags),
         })
     }

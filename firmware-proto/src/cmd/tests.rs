@@ -439,6 +439,7 @@ fn group_cmd() -> BoxedStrategy<GroupCmd> {
                     end: [a[6], a[7], a[8]],
                     helix,
                     rise,
+                    helix_relative,
                     flags,
                 })
             })

@@ -953,7 +953,11 @@ fn normal_arc(
     let mut k = 0;
     for (i, x) in end.iter_mut().enumerate().take(n) {
         if !ax.contains(&i) {
-            *x = rel(i, a.helix[k]);
+            *x = if a.helix_relative {
+                start[i] + a.helix[k]
+            } else {
+                rel(i, a.helix[k])
+            };
             k += 1;
         }
     }
