@@ -2197,6 +2197,19 @@ extern "C" {
 #define MC_SEGMENT_NURBS 4
 
 /**
+ * Layout 1.12: an arc in the plane of three group axes given by a normal vector
+ * (`plane_axes`, `normal`): counter-clockwise about the normal (the right-hand rule), in the
+ * plane through the start, around `centre` to `end` (both on the three axes, in order; an end
+ * at the start: a full turn); `rise` non-zero lets the end lie off the plane along the normal
+ * (a helix along it). The targets of the group's other axes in group order (a helix) in
+ * `target`, or none (`naxes` 0). The three axes need one scale. The card refuses a zero
+ * normal (`MC_ERR_ARC_NORMAL`), an axis twice (`MC_ERR_ARC_AXES`), a centre or end off the
+ * plane (`MC_ERR_ARC_OFF_PLANE`) or an end off the circle (`MC_ERR_CENTRE_NOT_EQUIDISTANT`) by
+ * more than the group's tolerance.
+ */
+#define MC_SEGMENT_ARC_NORMAL 5
+
+/**
  * No pause asked for (`mc_group_path_pause_state`).
  */
 #define MC_PATH_PAUSE_NONE 0
@@ -3890,6 +3903,26 @@ typedef struct mc_path_segment {
    * NURBS curves: the largest distance of the path from the curve (> 0).
    */
   double fit_tolerance;
+  /**
+   * Normal-vector arcs (layout 1.12): the plane's three group axes.
+   */
+  uint32_t plane_axes[3];
+  /**
+   * Normal-vector arcs: the normal on them (any length but 0).
+   */
+  double normal[3];
+  /**
+   * Normal-vector arcs: the centre on the three axes.
+   */
+  double centre[3];
+  /**
+   * Normal-vector arcs: the end on the three axes.
+   */
+  double end[3];
+  /**
+   * Normal-vector arcs: non-zero lets the end lie off the plane along the normal.
+   */
+  uint32_t rise;
 } mc_path_segment;
 
 /**
@@ -6321,6 +6354,25 @@ mc_result mc_path_segment_line(uint32_t id,
                                double feed,
                                double tolerance,
                                struct mc_path_segment *segment);
+
+/**
+ * A normal-vector arc segment (`MC_SEGMENT_ARC_NORMAL`, layout 1.12) in the plane of group
+ * axes `axes[3]` with `normal[3]`, around `centre[3]` to `end[3]` (on those axes) at `feed`,
+ * blended as `mc_path_segment_line`; the other axes stay (set `target` and `naxes` for a
+ * helix, `rise` for a rise along the normal). Never blocks.
+ *
+ * # Safety
+ * `axes`, `normal`, `centre` and `end` are NULL or point to 3 readable values each;
+ * `segment` is NULL or valid for writes.
+ */
+mc_result mc_path_segment_arc_normal(uint32_t id,
+                                     const uint32_t *axes,
+                                     const double *normal,
+                                     const double *centre,
+                                     const double *end,
+                                     double feed,
+                                     double tolerance,
+                                     struct mc_path_segment *segment);
 
 /**
  * An arc in `plane` (`MC_ARC_PLANE_`) described by `*arc` (as `mc_group_move_circular`), a
