@@ -2,7 +2,8 @@
 //! refused with its own error kind (and C code) when it is zero, out of range, or changed
 //! while the axis moves; the status wraps into [0, period) in velocity mode with the encoder
 //! running on; absolute moves go the shortest way or the way they name; a slave geared to a
-//! modulo master does not jump when the master wraps; soft limits do not hold on a modulo
+//! modulo master does not jump when the master wraps, and a cam slave stays on its periodic
+//! table across many of the master's turns both ways; soft limits do not hold on a modulo
 //! axis.
 mod common;
 
@@ -362,6 +363,9 @@ fn a_cam_slave_follows_a_modulo_master_exactly_across_many_turns() {
             prev = now;
         }
         assert!(wraps >= 24, "{wraps} wraps");
-        assert!(worst < 1e-6, "dir {dir}: the slave off its table by {worst}");
+        assert!(
+            worst < 1e-6,
+            "dir {dir}: the slave off its table by {worst}"
+        );
     }
 }

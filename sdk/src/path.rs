@@ -327,7 +327,9 @@ impl Group {
 
     /// The command for one item (checked here with the card's rules first). For a NURBS
     /// segment, the `MC_OP_PATH_NURBS` that opens its transfer (its data and end follow: see
-    /// [`Group::path_push`]).
+    /// [`Group::path_push`]); for a normal-vector arc, its `MC_OP_PATH_ARC_NORMAL` (the
+    /// `MC_OP_PATH_ARC_PLANE` that sets its plane goes before it: [`Group::path_push`] sends
+    /// both).
     pub fn path_command(&self, item: &PathItem) -> Result<Command> {
         let ps = self.path_scale()?;
         let seg = match item {

@@ -427,10 +427,10 @@ fn group_cmd() -> BoxedStrategy<GroupCmd> {
         (
             nums::<9>(),
             nums::<{ MAX_AXES - 3 }>(),
-            any::<bool>(),
+            (any::<bool>(), any::<bool>()),
             path_flags(),
         )
-            .prop_map(|(a, helix, rise, flags)| {
+            .prop_map(|(a, helix, (rise, helix_relative), flags)| {
                 GroupCmd::PathArcNormal(PathArcNormal {
                     id: a[0],
                     feed: a[1],
