@@ -1263,3 +1263,102 @@ fn a_pause_rests_at_the_end_of_a_segment_and_a_resume_runs_the_rest() {
     let ends = ids(&r, EventKind::SegmentEnd);
     assert_eq!(ends.last(), Some(&4));
 }
+
+/// Layout 1.12: an arc in a plane given by a normal vector on the card, through the SDK: a
+/// circle about (1, 1, 1) from the origin runs on its circle and in its plane, every axis
+/// within its limits, and ends exactly; a helix rising along the normal with a fourth axis
+/// ends where it was sent; the card's refusals (a zero normal, a plane of one axis twice, a
+/// centre off the plane, an end off the plane or off the circle) each with its own code,
+/// nothing queued.
+#[test]
+fn arcs_in_a_plane_given_by_a_normal_vector_on_the_card() {
+    let mut lim = PathSettings::uniform(4, V, A, J);
+    lim.vmax[1] = V / 2.0;
+    lim.amax[1] = A / 2.0;
+    let (card, g) = path_card(4, &lim);
+    let n = [1.0, 1.0, 1.0];
+    let nh = [1.0 / 3f64.sqrt(); 3];
+    // centre in the plane x + y + z = 0 through the origin, radius 10000·√2
+    let c = [10_000.0, -10_000.0, 0.0];
+    let r = 10_000.0 * 2f64.sqrt();
+    // a half turn: the end is the start mirrored through the centre
+    let end = [20_000.0, -20_000.0, 0.0];
+    let s = Segment::arc_normal(1, [0, 1, 2], n, c, end, 60_000.0, 10.0).last();
+    g.path_push(&s.into()).unwrap();
+    let rr = run(&card, &g, 4, 200_000);
+    assert_limits(&rr, &lim, "oblique circle");
+    assert_eq!(rr.pos.last().unwrap(), &vec![20_000.0, -20_000.0, 0.0, 0.0]);
+    let mut worst = (0.0f64, 0.0f64);
+    for p in &rr.pos {
+        let d = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+        let h = d[0] * nh[0] + d[1] * nh[1] + d[2] * nh[2];
+        worst.0 = worst.0.max(h.abs());
+        worst.1 = worst
+            .1
+            .max(((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() - r).abs());
+    }
+    // (the card's commanded positions are whole counts apart from rounding: within a count)
+    assert!(
+        worst.0 < 1e-6 && worst.1 < 1e-6,
+        "off the plane / circle by {worst:?}"
+    );
+    // a helix: back to the start with a rise of 3000 along the normal, the fourth axis to 5000
+    let rise = 3_000.0;
+    let e2 = [rise * nh[0], rise * nh[1], rise * nh[2]];
+    let h = Segment {
+        geometry: motioncard_sdk::Geometry::ArcNormal {
+            axes: [0, 1, 2],
+            normal: n,
+            centre: [c[0] + e2[0], c[1] + e2[1], c[2] + e2[2]],
+            end: e2,
+            rise: true,
+            helix: vec![5_000.0],
+        },
+        ..Segment::line(2, &[], 60_000.0, 10.0).last()
+    };
+    // the centre given at the end's height is off the plane through the start: refused
+    let e = g.path_push(&h.clone().into()).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::ArcOffPlane, "{e}");
+    let mut h = h;
+    if let motioncard_sdk::Geometry::ArcNormal { centre, .. } = &mut h.geometry {
+        *centre = c;
+    }
+    g.path_push(&h.into()).unwrap();
+    let rr = run(&card, &g, 4, 400_000);
+    assert_limits(&rr, &lim, "oblique helix");
+    let last = rr.pos.last().unwrap();
+    // a half turn from where the circle ended: back over the start, risen along the normal
+    for k in 0..3 {
+        assert!((last[k] - e2[k]).abs() < 1e-9, "{last:?}");
+    }
+    assert_eq!(last[3], 5_000.0);
+    // the refusals, each with its own code, nothing queued
+    let at = cmd(&card, 3);
+    let refused = |axes: [usize; 3], normal: [f64; 3], centre: [f64; 3], end: [f64; 3]| {
+        let s = Segment::arc_normal(3, axes, normal, centre, end, 60_000.0, 10.0);
+        let e = g.path_push(&s.into()).unwrap_err();
+        assert_eq!(g.status().unwrap().1.path_queued, 0);
+        e.kind()
+    };
+    let c0 = [at[0] - 1_000.0, at[1], at[2]];
+    let z = [0.0, 0.0, 1.0];
+    let e_ok = [at[0] - 2_000.0, at[1], at[2]];
+    assert_eq!(refused([0, 1, 2], [0.0; 3], c0, e_ok), ErrorKind::ArcNormal);
+    assert_eq!(refused([0, 1, 1], z, c0, e_ok), ErrorKind::ArcAxes);
+    assert_eq!(
+        refused([0, 1, 2], z, [c0[0], c0[1], c0[2] + 50.0], e_ok),
+        ErrorKind::ArcOffPlane
+    );
+    assert_eq!(
+        refused([0, 1, 2], z, c0, [e_ok[0], e_ok[1], e_ok[2] + 50.0]),
+        ErrorKind::ArcOffPlane
+    );
+    assert_eq!(
+        refused([0, 1, 2], z, c0, [e_ok[0] - 50.0, e_ok[1], e_ok[2]]),
+        ErrorKind::CentreNotEquidistant
+    );
+    assert_eq!(
+        refused([0, 1, 2], z, [at[0], at[1], at[2]], e_ok),
+        ErrorKind::ZeroLengthArc
+    );
+}

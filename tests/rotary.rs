@@ -2,7 +2,8 @@
 //! refused with its own error kind (and C code) when it is zero, out of range, or changed
 //! while the axis moves; the status wraps into [0, period) in velocity mode with the encoder
 //! running on; absolute moves go the shortest way or the way they name; a slave geared to a
-//! modulo master does not jump when the master wraps; soft limits do not hold on a modulo
+//! modulo master does not jump when the master wraps, and a cam slave stays on its periodic
+//! table across many of the master's turns both ways; soft limits do not hold on a modulo
 //! axis.
 mod common;
 
@@ -307,4 +308,64 @@ fn probe_captures_on_a_modulo_axis_are_wrapped() {
         .map(|k| (10_000 * k).rem_euclid(25_000) as f64 + 0.5)
         .collect();
     assert_eq!(st.positions, want);
+}
+
+/// Issue 35 part 4: a cam slave following a modulo master stays exact across the master's
+/// wrap: a periodic cubic table over one turn of the master, the master in velocity mode for
+/// 25 turns forward then 25 back; every tick the slave's command is the table at the
+/// master's position within the turn (to 1e-6 count), never a jump at the wrap.
+#[test]
+fn a_cam_slave_follows_a_modulo_master_exactly_across_many_turns() {
+    use motioncard_sdk::CamSettings;
+    let card = card(2);
+    let (slave, master) = (card.axis(0).unwrap(), card.axis(1).unwrap());
+    master.set_modulo(COUNTS_PER_TURN).unwrap();
+    // a cam over one turn (its ends equal: periodic)
+    let pts = [
+        (0.0, 0.0),
+        (2_500.0, 4_000.0),
+        (5_000.0, 1_000.0),
+        (7_500.0, -3_000.0),
+        (10_000.0, 0.0),
+    ];
+    card.load_cam_table(0, &pts, true, true).unwrap();
+    let table = card_emu::motion::cam::CamTable::new(&pts, true, true).unwrap();
+    let vl = VelocityLimits::new(2e5, 2e7);
+    let sim = card.sim().unwrap();
+    slave
+        .cam_in(
+            Master::Commanded(1),
+            &CamSettings::new(0),
+            &SyncLimits::new(1e6, 1e8, 1e10),
+        )
+        .unwrap()
+        .wait_in_sync(LONG)
+        .unwrap();
+    for dir in [1.0, -1.0] {
+        // 50,000 counts/s: a turn every 2000 ticks
+        master
+            .move_velocity(dir * 50_000.0, &vl)
+            .unwrap()
+            .wait_in_velocity(LONG)
+            .unwrap();
+        let mut prev = card.statuses(&[0, 1]).unwrap();
+        let (mut wraps, mut worst) = (0, 0.0f64);
+        for _ in 0..50_000 {
+            sim.step(1);
+            let now = card.statuses(&[0, 1]).unwrap();
+            let m = now[1].command_position;
+            assert!((0.0..COUNTS_PER_TURN).contains(&m), "master at {m}");
+            if (m - prev[1].command_position).abs() > COUNTS_PER_TURN / 2.0 {
+                wraps += 1;
+            }
+            let want = table.eval(m).s;
+            worst = worst.max((now[0].command_position - want).abs());
+            prev = now;
+        }
+        assert!(wraps >= 24, "{wraps} wraps");
+        assert!(
+            worst < 1e-6,
+            "dir {dir}: the slave off its table by {worst}"
+        );
+    }
 }

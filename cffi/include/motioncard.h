@@ -2037,6 +2037,23 @@ extern "C" {
 #define MC_OP_PATH_PAUSE 120
 
 /**
+ * Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
+ * `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
+ * `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the following
+ * `MC_OP_PATH_ARC_NORMAL` (configured group).
+ */
+#define MC_OP_PATH_ARC_PLANE 124
+
+/**
+ * Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`, `end_a`,
+ * `end_b`, `end_c`, then the targets of the other group axes in order (a helix). flags:
+ * `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_CIRC_HELIX_RELATIVE`
+ * (the other axes' targets are distances), `MC_ARC_RISE`, `MC_PATH_*`. No plane set:
+ * `MC_NACK_ARC_NORMAL`.
+ */
+#define MC_OP_PATH_ARC_NORMAL 125
+
+/**
  * Args: tick (the card tick to run the next entry on: > the card's tick, within
  * `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once `MC_OP_SYNC_COMMIT` of
  * it is seen).
@@ -2213,6 +2230,19 @@ extern "C" {
  * The curve's arrays are read during the call that queues it.
  */
 #define MC_SEGMENT_NURBS 4
+
+/**
+ * Layout 1.12: an arc in the plane of three group axes given by a normal vector
+ * (`plane_axes`, `normal`): counter-clockwise about the normal (the right-hand rule), in the
+ * plane through the start, around `centre` to `end` (both on the three axes, in order; an end
+ * at the start: a full turn); `rise` non-zero lets the end lie off the plane along the normal
+ * (a helix along it). The targets of the group's other axes in group order (a helix) in
+ * `target`, or none (`naxes` 0). The three axes need one scale. The card refuses a zero
+ * normal (`MC_ERR_ARC_NORMAL`), an axis twice (`MC_ERR_ARC_AXES`), a centre or end off the
+ * plane (`MC_ERR_ARC_OFF_PLANE`) or an end off the circle (`MC_ERR_CENTRE_NOT_EQUIDISTANT`) by
+ * more than the group's tolerance.
+ */
+#define MC_SEGMENT_ARC_NORMAL 5
 
 /**
  * No pause asked for (`mc_group_path_pause_state`).
@@ -3913,6 +3943,26 @@ typedef struct mc_path_segment {
    * NURBS curves: the largest distance of the path from the curve (> 0).
    */
   double fit_tolerance;
+  /**
+   * Normal-vector arcs (layout 1.12): the plane's three group axes.
+   */
+  uint32_t plane_axes[3];
+  /**
+   * Normal-vector arcs: the normal on them (any length but 0).
+   */
+  double normal[3];
+  /**
+   * Normal-vector arcs: the centre on the three axes.
+   */
+  double centre[3];
+  /**
+   * Normal-vector arcs: the end on the three axes.
+   */
+  double end[3];
+  /**
+   * Normal-vector arcs: non-zero lets the end lie off the plane along the normal.
+   */
+  uint32_t rise;
 } mc_path_segment;
 
 /**
@@ -5152,6 +5202,22 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * A held timed command dropped (a cancel, or the host's detach).
  */
 #define MC_ERR_TIMED_CANCELLED -161
+
+/**
+ * Layout 1.12: a normal-vector arc's normal is zero, or no plane was set before it.
+ */
+#define MC_ERR_ARC_NORMAL -147
+
+/**
+ * A normal-vector arc's plane names a group axis twice.
+ */
+#define MC_ERR_ARC_AXES -148
+
+/**
+ * A normal-vector arc's centre, or its end (unless it rises along the normal), is off
+ * the plane through the start by more than the group's tolerance.
+ */
+#define MC_ERR_ARC_OFF_PLANE -149
 
 /**
  * The card handle (or motion) is unknown: never opened, or already closed.
@@ -6424,6 +6490,25 @@ mc_result mc_path_segment_line(uint32_t id,
                                struct mc_path_segment *segment);
 
 /**
+ * A normal-vector arc segment (`MC_SEGMENT_ARC_NORMAL`, layout 1.12) in the plane of group
+ * axes `axes[3]` with `normal[3]`, around `centre[3]` to `end[3]` (on those axes) at `feed`,
+ * blended as `mc_path_segment_line`; the other axes stay (set `target` and `naxes` for a
+ * helix, `rise` for a rise along the normal). Never blocks.
+ *
+ * # Safety
+ * `axes`, `normal`, `centre` and `end` are NULL or point to 3 readable values each;
+ * `segment` is NULL or valid for writes.
+ */
+mc_result mc_path_segment_arc_normal(uint32_t id,
+                                     const uint32_t *axes,
+                                     const double *normal,
+                                     const double *centre,
+                                     const double *end,
+                                     double feed,
+                                     double tolerance,
+                                     struct mc_path_segment *segment);
+
+/**
  * An arc in `plane` (`MC_ARC_PLANE_`) described by `*arc` (as `mc_group_move_circular`), a
  * helix when `nhelix` targets of the group's other axes are given (`helix` may be NULL when
  * `nhelix` is 0), blended as `mc_path_segment_line`. Never blocks.
@@ -7175,6 +7260,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_ANALOG_RANGE 10.0
 
 /**
+ * `MC_OP_PATH_ARC_NORMAL`: the end may lie off the plane along the normal (a helix along it).
+ */
+#define MC_ARC_RISE (1u << 2)
+
+/**
  * A filter's poles lie within 1 - margin of the origin.
  */
 #define MC_BIQUAD_POLE_MARGIN 1e-6
@@ -7419,6 +7509,21 @@ mc_result mc_send_raw(mc_card card,
  * A threshold beyond `+-MC_ANALOG_RANGE`, a hysteresis below 0 or above 2 `*` `MC_ANALOG_RANGE`, or unknown flags.
  */
 #define MC_NACK_ANALOG_THRESHOLD 147
+
+/**
+ * A normal-vector arc's plane names a group axis twice (or an axis index that is not a whole number).
+ */
+#define MC_NACK_ARC_AXES 157
+
+/**
+ * A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`) before it.
+ */
+#define MC_NACK_ARC_NORMAL 156
+
+/**
+ * A normal-vector arc's centre, or its end (without `MC_ARC_RISE`), is off the plane through the start by more than the group's tolerance.
+ */
+#define MC_NACK_ARC_OFF_PLANE 158
 
 /**
  * The card configuration can only change while every axis is disabled.

@@ -1253,6 +1253,19 @@ pub const MC_OP_PSO_OFF: u32 = 119;
 /// Args: 1 pause at the end of a segment, 0 go on (above).
 pub const MC_OP_PATH_PAUSE: u32 = 120;
 
+/// Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
+/// `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
+/// `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the following
+/// `MC_OP_PATH_ARC_NORMAL` (configured group).
+pub const MC_OP_PATH_ARC_PLANE: u32 = 124;
+
+/// Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`, `end_a`,
+/// `end_b`, `end_c`, then the targets of the other group axes in order (a helix). flags:
+/// `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end), `MC_CIRC_HELIX_RELATIVE`
+/// (the other axes' targets are distances), `MC_ARC_RISE`, `MC_PATH_*`. No plane set:
+/// `MC_NACK_ARC_NORMAL`.
+pub const MC_OP_PATH_ARC_NORMAL: u32 = 125;
+
 /// Args: tick (the card tick to run the next entry on: > the card's tick, within
 /// `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once `MC_OP_SYNC_COMMIT` of
 /// it is seen).

@@ -50,6 +50,17 @@ pub const MC_SEGMENT_OUTPUT: u32 = 3;
 /// The curve's arrays are read during the call that queues it.
 pub const MC_SEGMENT_NURBS: u32 = 4;
 
+/// Layout 1.12: an arc in the plane of three group axes given by a normal vector
+/// (`plane_axes`, `normal`): counter-clockwise about the normal (the right-hand rule), in the
+/// plane through the start, around `centre` to `end` (both on the three axes, in order; an end
+/// at the start: a full turn); `rise` non-zero lets the end lie off the plane along the normal
+/// (a helix along it). The targets of the group's other axes in group order (a helix) in
+/// `target`, or none (`naxes` 0). The three axes need one scale. The card refuses a zero
+/// normal (`MC_ERR_ARC_NORMAL`), an axis twice (`MC_ERR_ARC_AXES`), a centre or end off the
+/// plane (`MC_ERR_ARC_OFF_PLANE`) or an end off the circle (`MC_ERR_CENTRE_NOT_EQUIDISTANT`) by
+/// more than the group's tolerance.
+pub const MC_SEGMENT_ARC_NORMAL: u32 = 5;
+
 /// A group's path configuration (`mc_group_configure_path`), in user units: `vmax`, `amax`,
 /// `jmax` per group axis (the first `naxes`, in group order, each in its axis's units);
 /// `accel` and `jerk` tangential, in the first axis's units. Start from
@@ -134,6 +145,16 @@ pub struct mc_path_segment {
     pub curve: mc_nurbs_curve,
     /// NURBS curves: the largest distance of the path from the curve (> 0).
     pub fit_tolerance: f64,
+    /// Normal-vector arcs (layout 1.12): the plane's three group axes.
+    pub plane_axes: [u32; 3],
+    /// Normal-vector arcs: the normal on them (any length but 0).
+    pub normal: [f64; 3],
+    /// Normal-vector arcs: the centre on the three axes.
+    pub centre: [f64; 3],
+    /// Normal-vector arcs: the end on the three axes.
+    pub end: [f64; 3],
+    /// Normal-vector arcs: non-zero lets the end lie off the plane along the normal.
+    pub rise: u32,
 }
 
 /// How far `mc_group_path_stream` has come (given to its progress callback).
@@ -199,6 +220,14 @@ impl mc_path_segment {
             MC_SEGMENT_ARC => Geometry::Arc {
                 arc: self.arc.to_sdk()?,
                 plane: plane_of(self.plane)?,
+                helix: self.target[..axis_count(self.naxes, "target")?].to_vec(),
+            },
+            MC_SEGMENT_ARC_NORMAL => Geometry::ArcNormal {
+                axes: self.plane_axes.map(|a| a as usize),
+                normal: self.normal,
+                centre: self.centre,
+                end: self.end,
+                rise: self.rise != 0,
                 helix: self.target[..axis_count(self.naxes, "target")?].to_vec(),
             },
             MC_SEGMENT_NURBS => {
@@ -543,6 +572,59 @@ pub unsafe extern "C" fn mc_path_segment_line(
             ..Default::default()
         };
         s.target[..n].copy_from_slice(&t);
+        // SAFETY: checked non-NULL; valid for writes by the caller's contract.
+        unsafe { out.write(s) };
+        Ok(())
+    })
+}
+
+/// A normal-vector arc segment (`MC_SEGMENT_ARC_NORMAL`, layout 1.12) in the plane of group
+/// axes `axes[3]` with `normal[3]`, around `centre[3]` to `end[3]` (on those axes) at `feed`,
+/// blended as `mc_path_segment_line`; the other axes stay (set `target` and `naxes` for a
+/// helix, `rise` for a rise along the normal). Never blocks.
+///
+/// # Safety
+/// `axes`, `normal`, `centre` and `end` are NULL or point to 3 readable values each;
+/// `segment` is NULL or valid for writes.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn mc_path_segment_arc_normal(
+    id: u32,
+    axes: *const u32,
+    normal: *const f64,
+    centre: *const f64,
+    end: *const f64,
+    feed: f64,
+    tolerance: f64,
+    segment: *mut mc_path_segment,
+) -> mc_result {
+    guard(|| {
+        let out = Out::new(segment, "segment")?;
+        let three = |p: *const f64, what: &'static str| -> Result<[f64; 3], Failure> {
+            if p.is_null() {
+                return Err(Failure::null(what));
+            }
+            // SAFETY: non-NULL, 3 readable doubles by the caller's contract.
+            Ok(unsafe { [*p, *p.add(1), *p.add(2)] })
+        };
+        if axes.is_null() {
+            return Err(Failure::null("axes"));
+        }
+        // SAFETY: non-NULL, 3 readable values by the caller's contract.
+        let ax = unsafe { [*axes, *axes.add(1), *axes.add(2)] };
+        let s = mc_path_segment {
+            kind: MC_SEGMENT_ARC_NORMAL,
+            id,
+            feed,
+            buffer: MC_PATH_BUFFER_BLEND_LOW,
+            transition: MC_PATH_TRANSITION_MAX_DEVIATION,
+            tolerance,
+            plane_axes: ax,
+            normal: three(normal, "normal")?,
+            centre: three(centre, "centre")?,
+            end: three(end, "end")?,
+            ..Default::default()
+        };
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(s) };
         Ok(())

@@ -1138,6 +1138,10 @@ fn path_program_streams_a_blended_square_with_outputs_and_a_curve() {
         "{out}"
     );
     assert!(out.contains("path: a NURBS segment and a line"), "{out}");
+    assert!(
+        out.contains("path: a half turn about (1, 1, 1) on its circle"),
+        "{out}"
+    );
 }
 
 /// As [`path_program_streams_a_blended_square_with_outputs_and_a_curve`], under valgrind.

@@ -7,7 +7,8 @@
  * zero, output 16, unknown modes, a segment while a group move runs and a group move while the
  * path runs, a stream stopped at its refused item with what came before it queued; and the
  * card's outputs set directly. Last, a NURBS curve as one segment between a stop and a blended
- * line, and the curves the card refuses (a cusp, a start away from the path's end).
+ * line, and the curves the card refuses (a cusp, a start away from the path's end). Then an
+ * arc in a plane given by a normal vector (layout 1.12) on a second group, and its refusals.
  *
  * Runs on a stepped emulated card (deterministic: time advances only in waits and
  * mc_sim_step), so positions are checked exactly. Positions are in counts (scale 1), except
@@ -31,6 +32,12 @@ static const mc_path_limits FEED = {50000.0, 5e5, 5e5, 5e7};
 static mc_status axis(mc_card c, uint32_t a) {
     mc_status s;
     CHECK(mc_get_status(c, a, &s));
+    return s;
+}
+
+static mc_group_status group_of(mc_card c, uint32_t g) {
+    mc_group_status s;
+    CHECK(mc_group_get_status(c, g, &s));
     return s;
 }
 
@@ -471,9 +478,65 @@ static void chords(mc_card c) {
     }
 }
 
+/* Layout 1.12: an arc in a plane given by a normal vector, on group 1 of axes 2, 3, 4: a half
+   turn about (1, 1, 1) from the origin around (10000, -10000, 0) ends exactly mirrored through
+   the centre, every point on its circle; then the card's refusals, each with its own code. */
+static void oblique(mc_card c) {
+    const uint32_t g1 = 1, axes[3] = {2, 3, 4}, plane[3] = {0, 1, 2};
+    mc_group_settings gs;
+    CHECK(mc_group_settings_new(axes, 3, &gs));
+    CHECK(mc_group_configure(c, g1, &gs));
+    for (int i = 0; i < 3; i++)
+        CHECK(mc_enable(c, axes[i]));
+    CHECK(mc_group_enable(c, g1));
+    mc_path_settings ps;
+    CHECK(mc_path_settings_uniform(3, 50000.0, 5e5, 5e7, &ps));
+    CHECK(mc_group_configure_path(c, g1, &ps));
+    const double n[3] = {1.0, 1.0, 1.0}, centre[3] = {10000.0, -10000.0, 0.0};
+    const double end[3] = {20000.0, -20000.0, 0.0};
+    mc_path_segment s;
+    CHECK(mc_path_segment_arc_normal(1, plane, n, centre, end, 40000.0, 5.0, &s));
+    s.last = 1;
+    mc_group_motion m = {0, 0};
+    CHECK(mc_group_path_push(c, g1, &s, &m));
+    double worst = 0.0;
+    const double r = 10000.0 * sqrt(2.0);
+    for (int k = 0; k < 200000 && group_of(c, g1).state != MC_GROUP_STATE_STANDBY; k++) {
+        CHECK(mc_sim_step(c, 1));
+        double d2 = 0.0, h = 0.0;
+        for (int i = 0; i < 3; i++) {
+            const double d = axis(c, axes[i]).command_position - centre[i];
+            d2 += d * d;
+            h += d / sqrt(3.0);
+        }
+        worst = fmax(worst, fmax(fabs(sqrt(d2) - r), fabs(h)));
+    }
+    for (int i = 0; i < 3; i++)
+        ASSERT(axis(c, axes[i]).command_position == end[i], "axis %u at %.17g", axes[i],
+               axis(c, axes[i]).command_position);
+    ASSERT(worst < 1e-6, "%g off the circle or the plane", worst);
+    /* the refusals: nothing queued */
+    const uint32_t twice[3] = {0, 1, 1};
+    const double zero[3] = {0.0, 0.0, 0.0}, z[3] = {0.0, 0.0, 1.0};
+    const double c0[3] = {end[0] - 1000.0, end[1], end[2]}, e0[3] = {end[0] - 2000.0, end[1], end[2]};
+    const double c_up[3] = {c0[0], c0[1], 50.0}, e_off[3] = {e0[0] - 50.0, e0[1], e0[2]};
+    CHECK(mc_path_segment_arc_normal(2, plane, zero, c0, e0, 40000.0, 5.0, &s));
+    EXPECT(mc_group_path_push(c, g1, &s, NULL), MC_ERR_ARC_NORMAL);
+    CHECK(mc_path_segment_arc_normal(2, twice, z, c0, e0, 40000.0, 5.0, &s));
+    EXPECT(mc_group_path_push(c, g1, &s, NULL), MC_ERR_ARC_AXES);
+    CHECK(mc_path_segment_arc_normal(2, plane, z, c_up, e0, 40000.0, 5.0, &s));
+    EXPECT(mc_group_path_push(c, g1, &s, NULL), MC_ERR_ARC_OFF_PLANE);
+    CHECK(mc_path_segment_arc_normal(2, plane, z, c0, e_off, 40000.0, 5.0, &s));
+    EXPECT(mc_group_path_push(c, g1, &s, NULL), MC_ERR_CENTRE_NOT_EQUIDISTANT);
+    EXPECT(mc_path_segment_arc_normal(2, plane, NULL, c0, e0, 40000.0, 5.0, &s),
+           MC_ERR_NULL_POINTER);
+    ASSERT(group_of(c, g1).path_queued == 0, "queued %u", group_of(c, g1).path_queued);
+    printf("path: a half turn about (1, 1, 1) on its circle to within %.1e counts\n", worst);
+}
+
 int main(void) {
     mc_card c = 0;
-    CHECK(mc_open_sim_stepped(2, RATE, &c));
+    CHECK(mc_open_sim_stepped(5, RATE, &c));
     CHECK(mc_enable(c, 0));
     CHECK(mc_enable(c, 1));
     mc_group_settings gs;
@@ -495,6 +558,7 @@ int main(void) {
     ASSERT(path_free(c) == 4096, "free %u after the path", path_free(c));
     curve(c);
     chords(c);
+    oblique(c);
 
     CHECK(mc_close(c));
     printf("PASS path (%u checks)\n", checks);

@@ -89,7 +89,10 @@
                            * 12: the sync bus and timed commands (MC_OP_AT_TICK 126,
                            * MC_OP_SYNC_COMMIT 127, MC_OP_TIMED_CANCEL 128, MC_NACK_* 160..169,
                            * MC_EV_SYNC_BUS 38, MC_EV_TIMED 39, MC_STOP_SYNC_LOST 9, card_info
-                           * appended: the card's name, serial and sync role) */
+                           * appended: the card's name, serial and sync role); path arcs in a
+                           * plane given by a normal vector (MC_OP_PATH_ARC_PLANE
+                           * 124, MC_OP_PATH_ARC_NORMAL 125, MC_ARC_RISE, MC_NACK_ARC_NORMAL 156,
+                           * MC_NACK_ARC_AXES 157, MC_NACK_ARC_OFF_PLANE 158) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1204,6 +1207,41 @@
 #define MC_NACK_SYNC_LOST 167     /* a timed command dropped: the card lost the bus's master */
 #define MC_NACK_TIMED_REFUSED 168 /* the command of a refused MC_OP_AT_TICK: not executed */
 #define MC_NACK_CANCELLED 169     /* a held timed command dropped (MC_OP_TIMED_CANCEL, a detach) */
+
+/* Layout 1.12: path arcs in a plane given by a normal vector (three group axes a, b, c; the
+ * other group axes move linearly with the arc length: a helix). The plane is the group's until
+ * it is set again or the group is configured again: MC_OP_PATH_ARC_PLANE sets it, each
+ * MC_OP_PATH_ARC_NORMAL runs an arc in it. The arc turns counter-clockwise about the normal
+ * (the right-hand rule: the normal reversed, the arc runs the other way) in the plane through
+ * the path's end with that normal, around the centre, from the start to the end (an end at the
+ * start: a full turn), as APT's CIRCLE/ record (centre, axis, then the end). The centre must lie
+ * in that plane and the end on the circle, each within the group's tolerance
+ * (group_config.tolerance: MC_NACK_ARC_OFF_PLANE, MC_NACK_CENTRE_NOT_EQUIDISTANT; the end is then
+ * put exactly on the circle); the end lies in the plane too unless MC_ARC_RISE allows it off
+ * along the normal (the rise of a helix along the normal, as G17's Z). On the path it is treated
+ * as an arc: its blends, look-ahead and every axis's limits, the plane's components of its
+ * tangent and curvature on each of the three axes. A zero radius: MC_NACK_ZERO_LENGTH_ARC. */
+#define MC_OP_PATH_ARC_PLANE 124u    /* args: a, b, c (three distinct group axes, else MC_NACK_ARC_AXES;
+                                      * beyond the group: MC_NACK_AXIS_NOT_IN_GROUP), n_a, n_b, n_c
+                                      * (the normal, any length but not 0: MC_NACK_ARC_NORMAL; NaN:
+                                      * MC_NACK_NOT_FINITE). The group's normal plane for the
+                                      * following MC_OP_PATH_ARC_NORMAL (configured group) */
+#define MC_OP_PATH_ARC_NORMAL 125u   /* args: id, feed, tolerance (as MC_OP_PATH_LINE), centre_a,
+                                      * centre_b, centre_c, end_a, end_b, end_c, then the targets of
+                                      * the other group axes in order (a helix). flags:
+                                      * MC_MOVE_RELATIVE (the centre, end and targets from the
+                                      * path's end), MC_CIRC_HELIX_RELATIVE (the other axes'
+                                      * targets are distances), MC_ARC_RISE, MC_PATH_*. No plane
+                                      * set: MC_NACK_ARC_NORMAL */
+#define MC_ARC_RISE (1u << 2)        /* MC_OP_PATH_ARC_NORMAL: the end may lie off the plane along
+                                      * the normal (a helix along it) */
+#define MC_NACK_ARC_NORMAL 156       /* a normal-vector arc's normal is zero, or no plane was set
+                                      * (MC_OP_PATH_ARC_PLANE) before it */
+#define MC_NACK_ARC_AXES 157         /* a normal-vector arc's plane names a group axis twice (or an
+                                      * axis index that is not a whole number) */
+#define MC_NACK_ARC_OFF_PLANE 158    /* a normal-vector arc's centre, or its end (without MC_ARC_RISE),
+                                      * is off the plane through the start by more than the group's
+                                      * tolerance */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

@@ -471,6 +471,15 @@ code_enum! {
         /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
         /// configured.
         PsoGroup = raw::MC_NACK_PSO_GROUP,
+        /// A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`)
+        /// before it.
+        ArcNormal = raw::MC_NACK_ARC_NORMAL,
+        /// A normal-vector arc's plane names a group axis twice (or an axis index that is not a
+        /// whole number).
+        ArcAxes = raw::MC_NACK_ARC_AXES,
+        /// A normal-vector arc's centre, or its end (without `MC_ARC_RISE`), is off the plane
+        /// through the start by more than the group's tolerance.
+        ArcOffPlane = raw::MC_NACK_ARC_OFF_PLANE,
         /// `MC_OP_AT_TICK` for a tick the card has run (layout 1.12).
         TickPassed = raw::MC_NACK_TICK_PASSED,
         /// `MC_TIMED_SLOTS` timed commands are held already.
@@ -1037,6 +1046,17 @@ code_enum! {
         PsoOff = raw::MC_OP_PSO_OFF,
         /// Args: 1 pause at the end of a segment, 0 go on (above).
         PathPause = raw::MC_OP_PATH_PAUSE,
+        /// Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
+        /// `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
+        /// `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the
+        /// following `MC_OP_PATH_ARC_NORMAL` (configured group).
+        PathArcPlane = raw::MC_OP_PATH_ARC_PLANE,
+        /// Args: id, feed, tolerance (as `MC_OP_PATH_LINE`), `centre_a`, `centre_b`, `centre_c`,
+        /// `end_a`, `end_b`, `end_c`, then the targets of the other group axes in order (a helix).
+        /// flags: `MC_MOVE_RELATIVE` (the centre, end and targets from the path's end),
+        /// `MC_CIRC_HELIX_RELATIVE` (the other axes' targets are distances), `MC_ARC_RISE`,
+        /// `MC_PATH_*`. No plane set: `MC_NACK_ARC_NORMAL`.
+        PathArcNormal = raw::MC_OP_PATH_ARC_NORMAL,
         /// Args: tick (the card tick to run the next entry on: > the card's tick, within
         /// `MC_TIMED_MAX_AHEAD` ticks), key (0: none, else 1..2^32-1: run only once
         /// `MC_OP_SYNC_COMMIT` of it is seen).

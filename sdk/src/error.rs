@@ -395,6 +395,13 @@ error_kinds! {
     TimedRefused = -160, MC_ERR_TIMED_REFUSED, nack TimedRefused, "its timing was refused: the command does not run";
     /// A held timed command dropped (a cancel, or the host's detach).
     TimedCancelled = -161, MC_ERR_TIMED_CANCELLED, nack Cancelled, "the timed command was cancelled before its tick";
+    /// Layout 1.12: a normal-vector arc's normal is zero, or no plane was set before it.
+    ArcNormal = -147, MC_ERR_ARC_NORMAL, nack ArcNormal, "an arc's normal vector is zero (or no normal plane was set)";
+    /// A normal-vector arc's plane names a group axis twice.
+    ArcAxes = -148, MC_ERR_ARC_AXES, nack ArcAxes, "an arc's plane of three group axes names one axis twice";
+    /// A normal-vector arc's centre, or its end (unless it rises along the normal), is off
+    /// the plane through the start by more than the group's tolerance.
+    ArcOffPlane = -149, MC_ERR_ARC_OFF_PLANE, nack ArcOffPlane, "the arc's centre or end is off its plane by more than the group's tolerance";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -21,8 +21,8 @@ use crate::group::{Group, GroupMotion};
 use crate::nurbs::Nurbs;
 use crate::segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
 use firmware_proto::cmd::{
-    CurveSize, GroupCmd, IoCmd, PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
-    PathPause, SetOutputs,
+    CurveSize, GroupCmd, IoCmd, PathArc, PathArcNormal, PathArcPlane, PathDwell, PathFlags,
+    PathLine, PathNurbs, PathOutput, PathPause, SetOutputs,
 };
 use firmware_proto::{layout, raw, Command, Mem, NackCode};
 use std::collections::VecDeque;
@@ -327,7 +327,9 @@ impl Group {
 
     /// The command for one item (checked here with the card's rules first). For a NURBS
     /// segment, the `MC_OP_PATH_NURBS` that opens its transfer (its data and end follow: see
-    /// [`Group::path_push`]).
+    /// [`Group::path_push`]); for a normal-vector arc, its `MC_OP_PATH_ARC_NORMAL` (the
+    /// `MC_OP_PATH_ARC_PLANE` that sets its plane goes before it: [`Group::path_push`] sends
+    /// both).
     pub fn path_command(&self, item: &PathItem) -> Result<Command> {
         let ps = self.path_scale()?;
         let seg = match item {
@@ -406,6 +408,39 @@ impl Group {
                 arc: self.arc_geometry(arc, *plane, helix)?,
                 flags,
             }),
+            Geometry::ArcNormal {
+                centre,
+                end,
+                rise,
+                helix,
+                ..
+            } => {
+                let (s3, others) = self.arc_normal_scales(&seg.geometry)?;
+                for x in centre.iter().chain(end).chain(helix) {
+                    finite("arc coordinate", *x)?;
+                }
+                if !helix.is_empty() && helix.len() != others.len() {
+                    return Err(Error::BadAxis {
+                        axis: helix.len(),
+                        count: others.len(),
+                    });
+                }
+                let mut h = [0.0; firmware_proto::MAX_AXES - 3];
+                for ((d, x), s) in h.iter_mut().zip(helix).zip(&others) {
+                    *d = x * s;
+                }
+                GroupCmd::PathArcNormal(PathArcNormal {
+                    id,
+                    feed,
+                    tolerance,
+                    centre: centre.map(|x| x * s3),
+                    end: end.map(|x| x * s3),
+                    helix: h,
+                    rise: *rise,
+                    helix_relative: helix.is_empty(),
+                    flags,
+                })
+            }
             Geometry::Nurbs {
                 curve,
                 fit_tolerance,
@@ -433,6 +468,60 @@ impl Group {
         Ok(self.cmd(c))
     }
 
+    /// A normal-vector arc's one scale on its three axes and the other axes' scales, in
+    /// group order (checked: the card has layout 1.12, the axes are the group's).
+    fn arc_normal_scales(&self, g: &Geometry) -> Result<(f64, Vec<f64>)> {
+        let Geometry::ArcNormal { axes: ax, .. } = g else {
+            return Err(Error::Protocol("not a normal-vector arc".into()));
+        };
+        let layout = self.card_pub().info().layout;
+        if layout.1 < 12 {
+            return Err(Error::Unsupported(format!(
+                "arcs in a plane given by a normal vector need layout 1.12 (the card has 1.{})",
+                layout.1
+            )));
+        }
+        let (n, axes) = self.axes()?;
+        for &a in ax {
+            if a >= n {
+                return Err(Error::BadAxis { axis: a, count: n });
+            }
+        }
+        // (one axis twice is the card's to refuse: MC_NACK_ARC_AXES, ErrorKind::ArcAxes)
+        let card = self.card_pub();
+        let s3 = card.scale(axes[ax[0]]);
+        if ax.iter().any(|&a| card.scale(axes[a]) != s3) {
+            return Err(Error::Unsupported(format!(
+                "an arc in the plane of group axes {ax:?} needs one scale on the three (a circle \
+                 in user units is not one in counts otherwise)"
+            )));
+        }
+        let others = (0..n)
+            .filter(|i| !ax.contains(i))
+            .map(|i| card.scale(axes[i]))
+            .collect();
+        Ok((s3, others))
+    }
+
+    /// The MC_OP_PATH_ARC_PLANE a normal-vector arc's segment is sent after (None for any
+    /// other item).
+    fn arc_plane_command(&self, item: &PathItem) -> Result<Option<Command>> {
+        let PathItem::Segment(Segment {
+            geometry: Geometry::ArcNormal { axes, normal, .. },
+            ..
+        }) = item
+        else {
+            return Ok(None);
+        };
+        for x in normal {
+            finite("arc normal", *x)?;
+        }
+        Ok(Some(self.cmd(GroupCmd::PathArcPlane(PathArcPlane {
+            axes: axes.map(|a| a as f64),
+            normal: *normal,
+        }))))
+    }
+
     fn refused(&self, command: &'static str, code: NackCode) -> Error {
         Error::Refused {
             command,
@@ -457,6 +546,9 @@ impl Group {
         if let Some(curve) = nurbs_of(item) {
             let seq = self.path_curve(c, curve, None)?;
             return Ok(self.motion(seq));
+        }
+        if let Some(plane) = self.arc_plane_command(item)? {
+            self.run(plane, "path arc plane")?;
         }
         let seq = self.run(c, "path segment")?;
         Ok(match item {
@@ -699,6 +791,14 @@ impl Group {
                     }
                     if in_flight.len() >= IN_FLIGHT {
                         settle_one(&mut in_flight, &mut accepted, &mut last_motion)?;
+                    }
+                    // A normal-vector arc's plane goes first (the ring keeps the order; its
+                    // answer is awaited: a plane refused is this item's failure).
+                    if let Some(plane) =
+                        self.arc_plane_command(&item).map_err(|e| fail(first, e))?
+                    {
+                        card.execute_seq(plane, "path arc plane", Target::Group(self.index()))
+                            .map_err(|e| fail(first, e))?;
                     }
                     let seq = loop {
                         match card.send_raw(cmd) {

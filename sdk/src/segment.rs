@@ -58,6 +58,28 @@ pub enum Geometry {
         /// The other axes' targets (a helix), or empty.
         helix: Vec<f64>,
     },
+    /// Layout 1.12: an arc in the plane of three group axes given by a normal vector (as APT's
+    /// `CIRCLE/` record: centre, axis, then the end): counter-clockwise about `normal` (the
+    /// right-hand rule; reversed, the arc runs the other way), in the plane through the start,
+    /// around `centre`, to `end` (an end at the start: a full turn). `centre` and `end` are on
+    /// the three axes, in order; the card refuses a centre off the plane or an end off the
+    /// circle by more than the group's tolerance, and an end off the plane unless `rise`
+    /// (then its offset along the normal is a helix's rise). `helix` holds the other group
+    /// axes' targets, in group order (empty: they stay). The three axes need one scale.
+    ArcNormal {
+        /// The plane's group axes a, b, c.
+        axes: [usize; 3],
+        /// The normal on them (any length but 0).
+        normal: [f64; 3],
+        /// The centre on a, b, c.
+        centre: [f64; 3],
+        /// The end on a, b, c.
+        end: [f64; 3],
+        /// The end may lie off the plane along the normal (a helix along it).
+        rise: bool,
+        /// The other axes' targets (a helix), or empty.
+        helix: Vec<f64>,
+    },
     /// A NURBS curve (control points in group axis order and user units), run within
     /// `fit_tolerance` (first axis's units) of the curve. On the card it takes one buffer entry
     /// per piece (quintics fitted to it; [`Group::path_free`](crate::Group::path_free) counts
@@ -132,6 +154,31 @@ impl Segment {
                 arc,
                 plane,
                 helix: helix.to_vec(),
+            },
+            ..Self::line(id, &[], feed, tolerance)
+        }
+    }
+
+    /// An arc in the plane of group axes `axes` with `normal` (see [`Geometry::ArcNormal`]),
+    /// counter-clockwise about it around `centre` to `end` (a circle: the end in the plane),
+    /// at `feed`, blended as [`Segment::line`]; the other axes stay.
+    pub fn arc_normal(
+        id: u32,
+        axes: [usize; 3],
+        normal: [f64; 3],
+        centre: [f64; 3],
+        end: [f64; 3],
+        feed: f64,
+        tolerance: f64,
+    ) -> Self {
+        Self {
+            geometry: Geometry::ArcNormal {
+                axes,
+                normal,
+                centre,
+                end,
+                rise: false,
+                helix: vec![],
             },
             ..Self::line(id, &[], feed, tolerance)
         }

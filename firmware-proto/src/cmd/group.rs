@@ -544,6 +544,82 @@ impl Args for PathArc {
     }
 }
 
+/// `MC_OP_PATH_ARC_PLANE` (layout 1.12; args: a, b, c, n_a, n_b, n_c): the group's plane for
+/// normal-vector arcs: three group axes and the normal in their coordinates. The card checks
+/// the numbers (whole, distinct group axes; a normal not zero).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathArcPlane {
+    /// The plane's three group axes (whole numbers below the group's axis count).
+    pub axes: [f64; 3],
+    /// The normal, on those axes (any length but 0); the arcs turn counter-clockwise about it.
+    pub normal: [f64; 3],
+}
+
+impl Args for PathArcPlane {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &self.axes);
+        put(args, 3, &self.normal);
+        0
+    }
+    fn decode(_flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            axes: take(args, 0),
+            normal: take(args, 3),
+        })
+    }
+}
+
+/// `MC_OP_PATH_ARC_NORMAL` (layout 1.12; args: id, feed, tolerance, centre (3), end (3) on the
+/// plane's axes, then the other group axes' targets; flags: [`PathFlags`], `MC_ARC_RISE`): an
+/// arc in the group's normal plane (`MC_OP_PATH_ARC_PLANE`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathArcNormal {
+    /// The user's id (an integer; checked by the card).
+    pub id: f64,
+    /// The feed, counts/s.
+    pub feed: f64,
+    /// The blend's tolerance, counts.
+    pub tolerance: f64,
+    /// The centre, on the plane's axes a, b, c.
+    pub centre: [f64; 3],
+    /// The end, on the plane's axes a, b, c.
+    pub end: [f64; 3],
+    /// The targets of the group's other axes, in group order (a helix).
+    pub helix: [f64; MAX_AXES - 3],
+    /// The end may lie off the plane along the normal (`MC_ARC_RISE`).
+    pub rise: bool,
+    /// The other axes' targets are distances even in an absolute arc
+    /// (`MC_CIRC_HELIX_RELATIVE`).
+    pub helix_relative: bool,
+    /// Relative, buffer and transition modes, last.
+    pub flags: PathFlags,
+}
+
+impl Args for PathArcNormal {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &[self.id, self.feed, self.tolerance]);
+        put(args, 3, &self.centre);
+        put(args, 6, &self.end);
+        put(args, 9, &self.helix);
+        set(self.rise, crate::raw::MC_ARC_RISE)
+            | set(self.helix_relative, crate::raw::MC_CIRC_HELIX_RELATIVE)
+            | self.flags.bits()
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            id: args[0],
+            feed: args[1],
+            tolerance: args[2],
+            centre: take(args, 3),
+            end: take(args, 6),
+            helix: take(args, 9),
+            rise: bit(flags, crate::raw::MC_ARC_RISE),
+            helix_relative: bit(flags, crate::raw::MC_CIRC_HELIX_RELATIVE),
+            flags: PathFlags::from_bits(flags),
+        })
+    }
+}
+
 /// `MC_OP_PATH_DWELL` (args: id, seconds; flags: `MC_PATH_LAST`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathDwell {
@@ -704,6 +780,10 @@ pub enum GroupCmd {
     ApplyPath,
     /// `MC_OP_GROUP_HOME` (layout 1.11).
     Home(GroupHome),
+    /// `MC_OP_PATH_ARC_PLANE` (layout 1.12).
+    PathArcPlane(PathArcPlane),
+    /// `MC_OP_PATH_ARC_NORMAL` (layout 1.12).
+    PathArcNormal(PathArcNormal),
 }
 
 impl GroupCmd {
@@ -733,6 +813,8 @@ impl GroupCmd {
             Self::PathPause(_) => Opcode::PathPause,
             Self::ApplyPath => Opcode::ApplyGroupPath,
             Self::Home(_) => Opcode::GroupHome,
+            Self::PathArcPlane(_) => Opcode::PathArcPlane,
+            Self::PathArcNormal(_) => Opcode::PathArcNormal,
         }
     }
 
@@ -763,6 +845,8 @@ impl GroupCmd {
             Opcode::PathPause => Self::PathPause(Args::decode(f, args)?),
             Opcode::ApplyGroupPath => Self::ApplyPath,
             Opcode::GroupHome => Self::Home(Args::decode(f, args)?),
+            Opcode::PathArcPlane => Self::PathArcPlane(Args::decode(f, args)?),
+            Opcode::PathArcNormal => Self::PathArcNormal(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -786,6 +870,8 @@ impl GroupCmd {
             Self::PathNurbs(a) => super::entry(op, group, a),
             Self::PathPause(a) => super::entry(op, group, a),
             Self::Home(a) => super::entry(op, group, a),
+            Self::PathArcPlane(a) => super::entry(op, group, a),
+            Self::PathArcNormal(a) => super::entry(op, group, a),
             Self::Configure
             | Self::Enable
             | Self::Disable

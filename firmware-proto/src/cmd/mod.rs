@@ -296,7 +296,9 @@ pub fn family(op: Opcode) -> Family {
         | O::PathNurbs
         | O::PathPause
         | O::ApplyGroupPath
-        | O::GroupHome => Family::Group,
+        | O::GroupHome
+        | O::PathArcPlane
+        | O::PathArcNormal => Family::Group,
         O::GearIn
         | O::GearInPos
         | O::GearOut

@@ -421,6 +421,29 @@ fn group_cmd() -> BoxedStrategy<GroupCmd> {
         (nums::<2>(), any::<bool>())
             .prop_map(|([id, seconds], last)| GroupCmd::PathDwell(PathDwell { id, seconds, last }))
             .boxed(),
+        (nums::<3>(), nums::<3>())
+            .prop_map(|(axes, normal)| GroupCmd::PathArcPlane(PathArcPlane { axes, normal }))
+            .boxed(),
+        (
+            nums::<9>(),
+            nums::<{ MAX_AXES - 3 }>(),
+            (any::<bool>(), any::<bool>()),
+            path_flags(),
+        )
+            .prop_map(|(a, helix, (rise, helix_relative), flags)| {
+                GroupCmd::PathArcNormal(PathArcNormal {
+                    id: a[0],
+                    feed: a[1],
+                    tolerance: a[2],
+                    centre: [a[3], a[4], a[5]],
+                    end: [a[6], a[7], a[8]],
+                    helix,
+                    rise,
+                    helix_relative,
+                    flags,
+                })
+            })
+            .boxed(),
         (nums::<3>(), 0u8..4)
             .prop_map(|([output, on, distance], when)| {
                 GroupCmd::PathOutput(PathOutput {
@@ -1117,6 +1140,8 @@ fn plain_numbers_are_the_cards_to_check() {
         O::PathDwell,
         O::PathOutput,
         O::PathNurbs,
+        O::PathArcPlane,
+        O::PathArcNormal,
         O::PvtBegin,
     ] {
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.5] {

@@ -7,10 +7,10 @@ use firmware_proto::cmd::{
     CardCmd, CircularMove, Cmd, CompData, CompHeader, CompPointArgs, CompRead, CompareArm,
     CompareDisarm, CompareKind, CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn,
     GearInPos, GroupCmd, GroupOverride, Handwheel, IoCmd, Jog, LinearMove, Master, MoveKind,
-    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathDwell, PathFlags, PathLine,
-    PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, Pso, PsoOutput, PtpLimits, PtpMove,
-    PvtBegin, PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd,
-    SyncLimits, VelocityMove,
+    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathArcNormal, PathArcPlane,
+    PathDwell, PathFlags, PathLine, PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, Pso,
+    PsoOutput, PtpLimits, PtpMove, PvtBegin, PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs,
+    SetScale, StopRamp, SyncCmd, SyncLimits, VelocityMove,
 };
 use firmware_proto::ring::Entry;
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS};
@@ -527,6 +527,32 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                     flags,
                 }))
             }
+        }
+        O::PathArcPlane => {
+            // mostly three distinct axes of a small group, sometimes one twice
+            let axes = core::array::from_fn(|k| ((k as u8 + s.u8() % 2) % 4) as f64);
+            let normal = core::array::from_fn(|_| s.u8() as f64 - 128.0);
+            feed(s);
+            Plausible::typed(GroupCmd::PathArcPlane(PathArcPlane { axes, normal }))
+        }
+        O::PathArcNormal => {
+            let id = s.u16() as f64;
+            let feed_v = magnitude(s, 2.0, 6.5);
+            let tolerance = magnitude(s, -1.0, 3.0);
+            let a: [f64; CMD_ARGS - 3] = positions(s);
+            feed(s);
+            let (flags, _, rise) = path_flags(s, 1 | move_flags::CIRC_CCW as u8);
+            Plausible::typed(GroupCmd::PathArcNormal(PathArcNormal {
+                id,
+                feed: feed_v,
+                tolerance,
+                centre: [a[0], a[1], a[2]],
+                end: [a[3], a[4], a[5]],
+                helix: core::array::from_fn(|k| a[6 + k]),
+                rise,
+                helix_relative: false,
+                flags,
+            }))
         }
         O::PathDwell => {
             let id = s.u16() as f64;

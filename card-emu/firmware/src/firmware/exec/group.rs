@@ -109,6 +109,8 @@ impl<M: Mem + Clone> Firmware<M> {
             GroupCmd::PathDwell(s) => {
                 group.path_segment(seq, &SegmentCmd::Dwell(*s), ts, tick, out)
             }
+            GroupCmd::PathArcPlane(p) => group.set_arc_plane(p),
+            GroupCmd::PathArcNormal(s) => group.path_arc_normal(seq, s, ts, tick, out),
             GroupCmd::PathOutput(o) => group.path_output(o, ts),
             GroupCmd::PathPause(p) => group.path_pause(p.on, ts, tick, out),
             GroupCmd::PathNurbs(p) => group.path_nurbs_begin(p, ts),

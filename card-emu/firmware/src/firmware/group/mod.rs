@@ -460,6 +460,9 @@ pub struct Group {
     path_cfg: firmware_proto::GroupPath,
     /// Layout 1.11: MC_GroupHome in progress.
     pub(crate) home: Option<GroupHoming>,
+    /// Layout 1.12: the plane of normal-vector arcs (MC_OP_PATH_ARC_PLANE): three group axes
+    /// and the unit normal on them.
+    arc_plane: Option<path::ArcPlane>,
 }
 
 impl Group {
@@ -494,6 +497,7 @@ impl Group {
             path: Lazy::new(),
             path_cfg: firmware_proto::GroupPath::default(),
             home: None,
+            arc_plane: None,
         }
     }
 
@@ -565,6 +569,7 @@ impl Group {
         }
         self.config = Some(cfg);
         self.ptp_stage = [None; MAX_AXES];
+        self.arc_plane = None;
         // A transfer in progress was laid out for the old axes.
         self.rx.open = false;
         Ok(())

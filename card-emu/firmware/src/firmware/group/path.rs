@@ -18,7 +18,9 @@ use crate::motion::path::{
     PauseState, Segment, Transition,
 };
 use crate::ram::FixedVec;
-use firmware_proto::cmd::{PathArc, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput};
+use firmware_proto::cmd::{
+    PathArc, PathArcNormal, PathArcPlane, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
+};
 use firmware_proto::{GroupPath, OUTPUTS, PATH_LEN};
 use heapless::Deque;
 
@@ -34,6 +36,18 @@ pub enum SegmentCmd {
     Dwell(PathDwell),
     /// A NURBS curve, staged in the group's transfer.
     Curve,
+    /// Layout 1.12: an arc in a plane given by a normal vector, with the plane it was sent in.
+    ArcNormal(PathArcNormal, ArcPlane),
+}
+
+/// Layout 1.12: the plane of normal-vector arcs (MC_OP_PATH_ARC_PLANE): three distinct group
+/// axes and the unit normal on them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcPlane {
+    /// The group axes a, b, c.
+    pub axes: [usize; 3],
+    /// The unit normal on them.
+    pub normal: [f64; 3],
 }
 
 /// A group's path and what the firmware keeps about its segments.
@@ -261,6 +275,7 @@ impl Group {
         let (head, flags) = match sc {
             SegmentCmd::Line(l) => ([l.id, l.feed, l.tolerance], l.flags),
             SegmentCmd::Arc(a) => ([a.id, a.feed, a.tolerance], a.flags),
+            SegmentCmd::ArcNormal(a, _) => ([a.id, a.feed, a.tolerance], a.flags),
             SegmentCmd::Dwell(d) => ([d.id, d.seconds, 0.0], PathFlags::default()),
             SegmentCmd::Curve => return self.path_curve(seq, ts, tick, out),
         };
@@ -272,6 +287,9 @@ impl Group {
             SegmentCmd::Arc(a) => {
                 let g = &a.arc;
                 all(&head) && all(&g.end) && all(&g.aux) && all(&g.helix[..n.saturating_sub(2)])
+            }
+            SegmentCmd::ArcNormal(a, _) => {
+                all(&head) && all(&a.centre) && all(&a.end) && all(&a.helix[..n.saturating_sub(3)])
             }
             _ => all(&head[..2]),
         };
@@ -329,6 +347,8 @@ impl Group {
                 ccw: arc.sweep() > 0.0,
                 end: g.end(n),
             }
+        } else if let SegmentCmd::ArcNormal(arc, plane) = sc {
+            normal_arc(&cfg, arc, plane, &start, relative)?
         } else {
             return Err(NackCode::UnknownOpcode);
         };
@@ -353,6 +373,44 @@ impl Group {
             return Ok(());
         }
         self.path_push(seg, seq, &cfg, ts, tick, out)
+    }
+
+    /// MC_OP_PATH_ARC_PLANE: the group's plane for normal-vector arcs (configured group).
+    pub fn set_arc_plane(&mut self, p: &PathArcPlane) -> Result<(), NackCode> {
+        let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
+        if !p.axes.iter().chain(p.normal.iter()).all(|x| x.is_finite()) {
+            return Err(NackCode::NotFinite);
+        }
+        let mut axes = [0usize; 3];
+        for (a, &x) in axes.iter_mut().zip(&p.axes) {
+            if !(x >= 0.0 && x == math::floor(x)) {
+                return Err(NackCode::ArcAxes);
+            }
+            if x >= cfg.naxes as f64 {
+                return Err(NackCode::AxisNotInGroup);
+            }
+            *a = x as usize;
+        }
+        if axes[0] == axes[1] || axes[1] == axes[2] || axes[0] == axes[2] {
+            return Err(NackCode::ArcAxes);
+        }
+        let normal = crate::motion::path::unit_normal(p.normal).ok_or(NackCode::ArcNormal)?;
+        self.arc_plane = Some(ArcPlane { axes, normal });
+        Ok(())
+    }
+
+    /// MC_OP_PATH_ARC_NORMAL (command `seq`): an arc in the group's normal plane.
+    pub fn path_arc_normal(
+        &mut self,
+        seq: u32,
+        a: &PathArcNormal,
+        ts: f64,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> Result<(), NackCode> {
+        self.can_path()?;
+        let plane = self.arc_plane.ok_or(NackCode::ArcNormal)?;
+        self.path_segment(seq, &SegmentCmd::ArcNormal(*a, plane), ts, tick, out)
     }
 
     fn path_push(
@@ -836,6 +894,85 @@ fn segment_id(x: f64) -> Result<u32, NackCode> {
         .ok_or(NackCode::PathId)
 }
 
+/// The geometry of a normal-vector arc from `start` (absolute: `relative` targets added),
+/// checked within the group's tolerance and made exact: the centre moved into the plane
+/// through the start, the end onto the circle (and into the plane without a rise).
+fn normal_arc(
+    cfg: &GroupConfig,
+    a: &PathArcNormal,
+    plane: &ArcPlane,
+    start: &[f64; MAX_AXES],
+    relative: bool,
+) -> Result<Geom, NackCode> {
+    let n = cfg.naxes;
+    let tol = cfg.tolerance;
+    let ax = plane.axes;
+    let nh = plane.normal;
+    if ax.iter().any(|&k| k >= n) {
+        // (a plane set for the group's axes: only a configure changes them, and clears it)
+        return Err(NackCode::AxisNotInGroup);
+    }
+    let rel = |k: usize, x: f64| if relative { start[k] + x } else { x };
+    let p0 = [start[ax[0]], start[ax[1]], start[ax[2]]];
+    let mut c = [0.0; 3];
+    let mut e = [0.0; 3];
+    for i in 0..3 {
+        c[i] = rel(ax[i], a.centre[i]);
+        e[i] = rel(ax[i], a.end[i]);
+    }
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    let norm = |p: [f64; 3]| math::sqrt(dot(p, p));
+    // the centre's and the end's heights above the plane through the start
+    let hc = dot(sub(c, p0), nh);
+    let he = dot(sub(e, p0), nh);
+    // in the plane: the start, the end and the centre projected into it
+    let inplane = |p: [f64; 3], h: f64| [p[0] - h * nh[0], p[1] - h * nh[1], p[2] - h * nh[2]];
+    let cp = inplane(c, hc);
+    let ep = inplane(e, he);
+    let r0 = norm(sub(p0, cp));
+    let r1 = norm(sub(ep, cp));
+    if !(r0.is_finite() && r1.is_finite()) {
+        return Err(NackCode::OutOfRange);
+    }
+    if r0 <= tol {
+        return Err(NackCode::ZeroLengthArc);
+    }
+    if hc.abs() > tol || (!a.rise && he.abs() > tol) {
+        return Err(NackCode::ArcOffPlane);
+    }
+    if (r1 - r0).abs() > tol {
+        return Err(NackCode::CentreNotEquidistant);
+    }
+    // the end on the circle, at its height (a rise) or in the plane
+    let h = if a.rise { he } else { 0.0 };
+    let mut end = *start;
+    for i in 0..3 {
+        end[ax[i]] = cp[i] + (ep[i] - cp[i]) * (r0 / r1) + h * nh[i];
+    }
+    let mut k = 0;
+    for (i, x) in end.iter_mut().enumerate().take(n) {
+        if !ax.contains(&i) {
+            *x = if a.helix_relative {
+                start[i] + a.helix[k]
+            } else {
+                rel(i, a.helix[k])
+            };
+            k += 1;
+        }
+    }
+    if !end[..n].iter().all(|x| x.abs() <= crate::MAX_POSITION) {
+        return Err(NackCode::OutOfRange);
+    }
+    Ok(Geom::ArcNormal {
+        axes: ax,
+        normal: nh,
+        centre: cp,
+        rise: a.rise,
+        end,
+    })
+}
+
 /// A segment's PLCopen BufferMode and TransitionMode (its flags) with its tolerance `tol`.
 fn path_mode(flags: &PathFlags, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
     if tol < 0.0 {
@@ -874,6 +1011,8 @@ fn path_nack(e: crate::motion::path::PathError) -> NackCode {
         E::ZeroLength => NackCode::PathZeroLength,
         E::BadArc(_) | E::ArcEndOffCircle => NackCode::CentreNotEquidistant,
         E::BadAxis => NackCode::AxisNotInGroup,
+        E::BadNormal => NackCode::ArcNormal,
+        E::OffPlane => NackCode::ArcOffPlane,
         E::BadLimits => NackCode::LimitRange,
         E::Moving => NackCode::InvalidState,
         E::TimeShift => NackCode::PathMode,

@@ -41,23 +41,87 @@ pub(super) enum Prog {
     },
 }
 
-/// An arc in the plane of axes (u, v) (`ExactCircle`), the other axes moving linearly with
-/// the arc length: a helix. A radial mismatch of the end (within the tolerance `push`
-/// allows) is spread linearly over the sweep, so the end is reached exactly without a jump.
+/// An arc in a plane (`ExactCircle` in the plane's coordinates), the other axes moving
+/// linearly with the arc length: a helix. The plane is spanned by two orthonormal vectors
+/// `e1`, `e2` of the axes' space: the unit vectors of two group axes u and v for an arc in
+/// their plane, or two vectors on three axes for an arc in a plane given by a normal vector
+/// (`e1 × e2` the normal). A radial mismatch of the end (within the tolerance `push` allows) is
+/// spread linearly over the sweep, so the end is reached exactly without a jump.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Helix {
     p0: V,
     p1: V,
-    u: usize,
-    v: usize,
+    e1: V,
+    e2: V,
+    /// `p0` less its components on `e1` and `e2`: where the plane's coordinates are added.
+    off: V,
     circle: ExactCircle,
     r1: f64,
-    /// (p1 − p0)/len on the axes off the plane (0 on u, v).
+    /// The linear motion off the plane (the other axes, and a rise along the normal) / len.
     lin: V,
     len: f64,
     /// plane length / len
     c: f64,
     sgn: f64,
+}
+
+/// The coordinates of `p` on `e`.
+#[inline(always)]
+fn dot(p: &V, e: &V) -> f64 {
+    let mut d = 0.0;
+    for k in 0..MAX_AXES {
+        d += p[k] * e[k];
+    }
+    d
+}
+
+/// An orthonormal basis (e1, e2, n̂) of the space of the three axes `axes` with n̂ the unit
+/// `normal` and e1 × e2 = n̂: e1 is the axis least along the normal (the first of equals) with
+/// its component on the normal taken out, so that a normal along an axis gives the other two
+/// axes exactly, in their order (the normal +Z of X, Y, Z gives e1 = X, e2 = Y). None when the
+/// normal is zero or not finite.
+pub(super) fn normal_basis(axes: [usize; 3], normal: [f64; 3]) -> Option<(V, V, V)> {
+    let nh = unit_normal(normal)?;
+    let mut i = 0;
+    for k in 1..3 {
+        if nh[k].abs() < nh[i].abs() {
+            i = k;
+        }
+    }
+    let mut a = [0.0; 3];
+    a[i] = 1.0;
+    let d = nh[i];
+    for k in 0..3 {
+        a[k] -= d * nh[k];
+    }
+    let am = math::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    for x in a.iter_mut() {
+        *x /= am;
+    }
+    let b = [
+        nh[1] * a[2] - nh[2] * a[1],
+        nh[2] * a[0] - nh[0] * a[2],
+        nh[0] * a[1] - nh[1] * a[0],
+    ];
+    let (mut e1, mut e2, mut en) = (Z, Z, Z);
+    for k in 0..3 {
+        e1[axes[k]] = a[k];
+        e2[axes[k]] = b[k];
+        en[axes[k]] = nh[k];
+    }
+    Some((e1, e2, en))
+}
+
+/// The unit vector along `normal` (scaled by its largest component first, so that no
+/// square under- or overflows); None when it is zero or not finite.
+pub fn unit_normal(normal: [f64; 3]) -> Option<[f64; 3]> {
+    let mx = normal[0].abs().max(normal[1].abs()).max(normal[2].abs());
+    if !(mx.is_finite() && mx > 0.0) || normal.iter().any(|x| x.is_nan()) {
+        return None;
+    }
+    let v = [normal[0] / mx, normal[1] / mx, normal[2] / mx];
+    let m = math::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    Some([v[0] / m, v[1] / m, v[2] / m])
 }
 
 impl Helix {
@@ -71,21 +135,68 @@ impl Helix {
         centre: [f64; 2],
         ccw: bool,
     ) -> Result<Self, CircleError> {
+        let (mut e1, mut e2) = (Z, Z);
+        e1[u] = 1.0;
+        e2[v] = 1.0;
+        Self::in_plane(n, p0, p1, e1, e2, centre, ccw, Z)
+    }
+
+    /// The arc from `p0` counter-clockwise about the normal `en` (unit; `e1`, `e2` its plane's
+    /// basis, `normal_basis`) around `centre` (its coordinates on e1, e2) to `p1`: what `p1`
+    /// has off the plane along `en` is a rise, moving linearly with the arc length as the
+    /// other axes do.
+    pub fn normal(
+        n: usize,
+        p0: V,
+        p1: V,
+        (e1, e2, en): (V, V, V),
+        centre: [f64; 2],
+    ) -> Result<Self, CircleError> {
+        Self::in_plane(n, p0, p1, e1, e2, centre, true, en)
+    }
+
+    /// The arc in the plane (e1, e2) with `centre` in its coordinates; what moves off the
+    /// plane moves linearly: every axis off it, and along `en` (Z: none) the rise.
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn in_plane(
+        n: usize,
+        p0: V,
+        p1: V,
+        e1: V,
+        e2: V,
+        centre: [f64; 2],
+        ccw: bool,
+        en: V,
+    ) -> Result<Self, CircleError> {
         let dir = if ccw {
             ArcDirection::Ccw
         } else {
             ArcDirection::Cw
         };
-        let circle =
-            ExactCircle::from_points((centre[0], centre[1]), (p0[u], p0[v]), (p1[u], p1[v]), dir)?;
+        let (x0, y0) = (dot(&p0, &e1), dot(&p0, &e2));
+        let (x1, y1) = (dot(&p1, &e1), dot(&p1, &e2));
+        let circle = ExactCircle::from_points((centre[0], centre[1]), (x0, y0), (x1, y1), dir)?;
         let r0 = circle.radius();
-        let r1 = math::hypot(p1[u] - centre[0], p1[v] - centre[1]);
+        let r1 = math::hypot(x1 - centre[0], y1 - centre[1]);
         let lp = circle.length();
+        // the motion off the plane: the axes off it, and the rise along the normal
+        let mut d = Z;
+        let mut off = Z;
+        for k in 0..n {
+            off[k] = p0[k] - x0 * e1[k] - y0 * e2[k];
+            d[k] = if e1[k] == 0.0 && e2[k] == 0.0 && en[k] == 0.0 {
+                p1[k] - p0[k]
+            } else {
+                0.0
+            };
+        }
+        let rise = dot(&p1, &en) - dot(&p0, &en);
+        for k in 0..n {
+            d[k] += rise * en[k];
+        }
         let mut h2 = 0.0;
         for k in 0..n {
-            if k != u && k != v {
-                h2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
-            }
+            h2 += d[k] * d[k];
         }
         let len = math::hypot(lp, math::sqrt(h2));
         if !(len.is_finite() && len > 0.0 && r0.is_finite()) {
@@ -93,15 +204,14 @@ impl Helix {
         }
         let mut lin = Z;
         for k in 0..n {
-            if k != u && k != v {
-                lin[k] = (p1[k] - p0[k]) / len;
-            }
+            lin[k] = d[k] / len;
         }
         Ok(Self {
             p0,
             p1,
-            u,
-            v,
+            e1,
+            e2,
+            off,
             circle,
             r1,
             lin,
@@ -126,6 +236,7 @@ impl Helix {
             .angle_at(sigma)
             .unwrap_or(self.circle.start_angle());
         let (sn, cs) = math::sin_cos(th);
+        let (e1, e2) = (&self.e1, &self.e2);
         if s <= 0.0 {
             f.p = self.p0;
         } else if s >= self.len {
@@ -134,22 +245,22 @@ impl Helix {
             let lp = self.circle.length();
             let r = r0 + (self.r1 - r0) * (sigma / lp);
             let (cx, cy) = self.circle.centre();
+            let (x, y) = (cx + r * cs, cy + r * sn);
             for k in 0..MAX_AXES {
-                f.p[k] = self.p0[k] + self.lin[k] * s;
+                f.p[k] = self.off[k] + self.lin[k] * s + e1[k] * x + e2[k] * y;
             }
-            f.p[self.u] = cx + r * cs;
-            f.p[self.v] = cy + r * sn;
         }
         let (c, g) = (self.c, self.sgn);
-        f.t = self.lin;
-        f.t[self.u] = -g * sn * c;
-        f.t[self.v] = g * cs * c;
+        let (tx, ty) = (-g * sn * c, g * cs * c);
         let kk = c * c / r0;
-        f.k[self.u] = -kk * cs;
-        f.k[self.v] = -kk * sn;
+        let (kx, ky) = (-kk * cs, -kk * sn);
         let kd = c * c * c / (r0 * r0);
-        f.dk[self.u] = kd * g * sn;
-        f.dk[self.v] = -kd * g * cs;
+        let (dx, dy) = (kd * g * sn, -kd * g * cs);
+        for k in 0..MAX_AXES {
+            f.t[k] = e1[k] * tx + e2[k] * ty + self.lin[k];
+            f.k[k] = e1[k] * kx + e2[k] * ky;
+            f.dk[k] = e1[k] * dx + e2[k] * dy;
+        }
         f
     }
 }

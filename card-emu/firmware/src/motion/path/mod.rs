@@ -115,6 +115,8 @@ mod tests_curve;
 #[cfg(test)]
 mod tests_lookahead;
 #[cfg(test)]
+mod tests_normal;
+#[cfg(test)]
 mod tests_pause;
 #[cfg(test)]
 mod tests_period;
@@ -126,6 +128,7 @@ mod v3;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
+pub use self::geom::unit_normal;
 pub use self::pause::PauseState;
 use crate::math;
 use crate::ram::FixedVec;
@@ -275,6 +278,18 @@ pub enum Geom {
         ccw: bool,
         end: [f64; MAX_AXES],
     },
+    /// An arc in the plane through the start of the three group axes `axes` with the normal
+    /// `normal` (on those axes; any length but 0), counter-clockwise about it, around `centre`
+    /// (on those axes, in the plane), to `end` (on its circle; off the plane along the normal
+    /// only with `rise`: a helix along it); the other axes move linearly. An end at the start
+    /// is a full turn.
+    ArcNormal {
+        axes: [usize; 3],
+        normal: [f64; 3],
+        centre: [f64; 3],
+        rise: bool,
+        end: [f64; MAX_AXES],
+    },
     Dwell {
         time: f64,
     },
@@ -382,6 +397,11 @@ pub enum PathError {
     ArcEndOffCircle,
     /// An axis index ≥ the group's axes, an arc plane of one axis, or naxes not in 1..=8.
     BadAxis,
+    /// A normal-vector arc's normal is zero.
+    BadNormal,
+    /// A normal-vector arc's centre, or its end (without a rise), more than 1e-6·radius off
+    /// the plane through the start.
+    OffPlane,
     /// A limit or the sample time is not finite, positive and in range.
     BadLimits,
     /// The look-ahead window is not in 1..=capacity.
@@ -1036,6 +1056,46 @@ impl Path {
                 let r0 = math::hypot(p0[u] - centre[0], p0[v] - centre[1]);
                 let r1 = math::hypot(end[u] - centre[0], end[v] - centre[1]);
                 if (r1 - r0).abs() > 1e-6 * r0.max(1.0) {
+                    return Err(PathError::ArcEndOffCircle);
+                }
+                rec.prog = Prog::Helix(h);
+            }
+            Geom::ArcNormal {
+                axes,
+                normal,
+                centre,
+                rise,
+                mut end,
+            } => {
+                let [a, b, c] = axes;
+                if a >= n || b >= n || c >= n || a == b || b == c || a == c {
+                    return Err(PathError::BadAxis);
+                }
+                finite_v(n, &end)?;
+                if !centre.iter().chain(normal.iter()).all(|x| x.is_finite()) {
+                    return Err(PathError::NotFinite);
+                }
+                if centre.iter().any(|x| x.abs() > MAX_POS) {
+                    return Err(PathError::OutOfRange);
+                }
+                fix_axes(&mut end);
+                let basis = geom::normal_basis(axes, normal).ok_or(PathError::BadNormal)?;
+                let (e1, e2, en) = basis;
+                let mut cv = p0;
+                for k in 0..3 {
+                    cv[axes[k]] = centre[k];
+                }
+                let on = |p: &V, e: &V| (0..n).map(|k| p[k] * e[k]).sum::<f64>();
+                let r0 = math::hypot(on(&p0, &e1) - on(&cv, &e1), on(&p0, &e2) - on(&cv, &e2));
+                let r1 = math::hypot(on(&end, &e1) - on(&cv, &e1), on(&end, &e2) - on(&cv, &e2));
+                let eps = 1e-6 * r0.max(1.0);
+                let h0 = on(&p0, &en);
+                if (on(&cv, &en) - h0).abs() > eps || (!rise && (on(&end, &en) - h0).abs() > eps) {
+                    return Err(PathError::OffPlane);
+                }
+                let h = Helix::normal(n, p0, end, basis, [on(&cv, &e1), on(&cv, &e2)])
+                    .map_err(PathError::BadArc)?;
+                if (r1 - r0).abs() > eps {
                     return Err(PathError::ArcEndOffCircle);
                 }
                 rec.prog = Prog::Helix(h);
