@@ -297,6 +297,12 @@ extern "C" {
 #define MC_EVENT_PATH_PAUSED 36
 
 /**
+ * Layout 1.12: a sweep ended. axis: its axis; seq: its `MC_OP_FREQ_START`; code: `MC_FREQ_DONE` or
+ * `MC_FREQ_ABORTED`; value: the points measured.
+ */
+#define MC_EVENT_FREQ_DONE 37
+
+/**
  * Axis state (`mc_status.state`, the `code` of `MC_EVENT_STATE_CHANGED`): PLCopen's states.
  *
  * Power off.
@@ -1275,6 +1281,17 @@ extern "C" {
 #define MC_SCOPE_SIG_SERVO_FRICTION 18
 
 /**
+ * Layout 1.12: the sweep's sine of the tick on this axis, counts (`MC_FREQ_REF`) or V
+ * (`MC_FREQ_OUTPUT`); 0 with no sweep.
+ */
+#define MC_SCOPE_SIG_FREQ_INJECT 19
+
+/**
+ * Layout 1.12: the frequency the sweep runs on this axis, Hz (0: none).
+ */
+#define MC_SCOPE_SIG_FREQ_HZ 20
+
+/**
  * Tangential velocity before the filters, counts/s (feed).
  */
 #define MC_SCOPE_SIG_PATH_SPEED 32
@@ -2018,6 +2035,27 @@ extern "C" {
  * Args: 1 pause at the end of a segment, 0 go on (above).
  */
 #define MC_OP_PATH_PAUSE 120
+
+/**
+ * Axis: the axis. args: mode (`MC_FREQ_REF` or `MC_FREQ_OUTPUT`), `from_hz`, `to_hz`, points
+ * (`1..MC_FREQ_POINTS_MAX`), amplitude (counts, or volts), cycles (periods measured per point,
+ * `1..MC_FREQ_CYCLES_MAX`), `settle_s` (`0..MC_FREQ_SETTLE_MAX`: settle windows before each
+ * measured one, at least one). A number not finite: `MC_NACK_NOT_FINITE`; a mode, count or
+ * frequency out of range (`MC_FREQ_MIN_HZ` <= `from_hz` <= `to_hz` <= `servo_rate_hz` / 4):
+ * `MC_NACK_FREQ_RANGE`; an amplitude <= 0, or above `dac_limit_v` (`MC_FREQ_OUTPUT`):
+ * `MC_NACK_FREQ_AMPLITUDE`; `MC_FREQ_REF` with a sine beyond the axis's limits (amplitude 2 pi
+ * `to_hz` above `axis_safety.max_velocity`, amplitude (2 pi `to_hz)^2` above the card's
+ * acceleration range, 2 amplitude above `min_ferror`, the position held +- amplitude beyond the
+ * soft limits in force): `MC_NACK_FREQ_LIMITS`; a sweep running (any axis): `MC_NACK_FREQ_BUSY`;
+ * the axis disabled: `MC_NACK_AXIS_DISABLED`; not at rest in Standstill: `MC_NACK_INVALID_STATE`.
+ */
+#define MC_OP_FREQ_START 121
+
+/**
+ * Axis ignored: the sweep running ends (`MC_FREQ_ABORTED`, `MC_EVENT_FREQ_DONE`); none running:
+ * accepted, nothing changes.
+ */
+#define MC_OP_FREQ_STOP 122
 
 /**
  * `mc_pso_info.state`: not configured.
@@ -7104,6 +7142,46 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_DEBOUNCE_MAX 10000u
 
+/**
+ * Ended early: done points measured.
+ */
+#define MC_FREQ_ABORTED 3u
+
+/**
+ * Measured periods per window at most.
+ */
+#define MC_FREQ_CYCLES_MAX 1000u
+
+/**
+ * Every point measured.
+ */
+#define MC_FREQ_DONE 2u
+
+/**
+ * The lowest frequency, Hz.
+ */
+#define MC_FREQ_MIN_HZ 0.1
+
+/**
+ * Mode: the sine on the servo output (volts).
+ */
+#define MC_FREQ_OUTPUT 1u
+
+/**
+ * Points per sweep.
+ */
+#define MC_FREQ_POINTS_MAX 256u
+
+/**
+ * Mode: the sine on the position reference (counts).
+ */
+#define MC_FREQ_REF 0u
+
+/**
+ * `settle_s` at most, s.
+ */
+#define MC_FREQ_SETTLE_MAX 60.0
+
 #define MC_GANTRY_MAX_SLAVES 4u
 
 /**
@@ -7340,6 +7418,26 @@ mc_result mc_send_raw(mc_card card,
  * The filter's poles are not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`.
  */
 #define MC_NACK_FILTER_UNSTABLE 143
+
+/**
+ * A sweep's amplitude not above 0, or above the axis's DAC limit for `MC_FREQ_OUTPUT`.
+ */
+#define MC_NACK_FREQ_AMPLITUDE 151
+
+/**
+ * A sweep is running: another, or that axis's motion, refused.
+ */
+#define MC_NACK_FREQ_BUSY 153
+
+/**
+ * The sweep's sine would break the axis's velocity or acceleration limits, its following error limit at rest or its soft limits.
+ */
+#define MC_NACK_FREQ_LIMITS 152
+
+/**
+ * A sweep's mode, points, cycles, settle time or frequencies out of range (`from_hz` below `MC_FREQ_MIN_HZ` or above `to_hz`, `to_hz` above a quarter of the servo rate).
+ */
+#define MC_NACK_FREQ_RANGE 150
 
 /**
  * Gantry index, master or slaves out of range, master == slave, a slave twice.
