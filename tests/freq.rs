@@ -6,7 +6,10 @@ mod common;
 use common::stepped_card_with;
 use firmware_proto::reset::DEFAULT_BANDWIDTH;
 use firmware_proto::FfpivGains;
-use motioncard_sdk::{Card, EmuOptions, FreqMode, FreqSweep, MotorParams, Phasor};
+use motioncard_sdk::{
+    AxisState, BiquadSpec, Card, EmuOptions, ErrorKind, FreqMode, FreqSweep, MotorParams,
+    MoveLimits, Phasor,
+};
 use std::f64::consts::PI;
 use std::time::Duration;
 
@@ -156,4 +159,282 @@ fn measured_response_matches_the_model_below_a_quarter_of_the_servo_rate() {
         p_db <= 0.5 && p_deg <= 5.0,
         "plant off the model by {p_db} dB, {p_deg}°"
     );
+}
+
+/// A card with the default axis (10,000 counts/rev, default FFPIV and safety), enabled.
+fn default_card() -> Card {
+    let card = stepped_card_with(EmuOptions::new(1, RATE));
+    card.axis(0).unwrap().enable().unwrap();
+    card
+}
+
+/// Bad input, each refused with its own error and nothing changed: a frequency above the
+/// Nyquist frequency or above a quarter of the servo rate, a negative or NaN amplitude, a
+/// sine beyond the axis's following-error or velocity limits, volts beyond the DAC limit,
+/// no points, a disabled axis.
+#[test]
+fn bad_sweeps_are_refused_with_their_own_errors_and_change_nothing() {
+    let card = default_card();
+    let axis = card.axis(0).unwrap();
+    let before = axis.status().unwrap();
+    let ok = FreqSweep {
+        from_hz: 10.0,
+        to_hz: 100.0,
+        points: 5,
+        amplitude: 100.0,
+        ..FreqSweep::default()
+    };
+    let refused = |s: FreqSweep| axis.start_frequency_sweep(&s).unwrap_err().kind();
+    let cases = [
+        (
+            FreqSweep {
+                to_hz: 6000.0,
+                ..ok
+            },
+            ErrorKind::FreqRange,
+        ),
+        (
+            FreqSweep {
+                to_hz: 2600.0,
+                ..ok
+            },
+            ErrorKind::FreqRange,
+        ),
+        (
+            FreqSweep {
+                from_hz: 200.0,
+                ..ok
+            },
+            ErrorKind::FreqRange,
+        ),
+        (FreqSweep { points: 0, ..ok }, ErrorKind::FreqRange),
+        (FreqSweep { points: 257, ..ok }, ErrorKind::FreqRange),
+        (
+            FreqSweep {
+                amplitude: -1.0,
+                ..ok
+            },
+            ErrorKind::FreqAmplitude,
+        ),
+        (
+            FreqSweep {
+                amplitude: 0.0,
+                ..ok
+            },
+            ErrorKind::FreqAmplitude,
+        ),
+        (
+            FreqSweep {
+                amplitude: f64::NAN,
+                ..ok
+            },
+            ErrorKind::NotFinite,
+        ),
+        // 2 × 600 counts beyond the 1,000-count following-error limit at rest.
+        (
+            FreqSweep {
+                amplitude: 600.0,
+                ..ok
+            },
+            ErrorKind::FreqLimits,
+        ),
+        // 100 counts at 2.5 kHz: 1.6·10⁶ counts/s, beyond the 10⁶ the axis allows.
+        (
+            FreqSweep {
+                to_hz: 2500.0,
+                ..ok
+            },
+            ErrorKind::FreqLimits,
+        ),
+        (
+            FreqSweep {
+                mode: FreqMode::Output,
+                amplitude: 10.5,
+                ..ok
+            },
+            ErrorKind::FreqAmplitude,
+        ),
+    ];
+    for (s, kind) in cases {
+        assert_eq!(refused(s), kind, "{s:?}");
+        let p = axis.freq_progress();
+        assert_eq!(p.state, 0, "a refused sweep left the card's sweep {p:?}");
+    }
+    let after = axis.status().unwrap();
+    assert_eq!(after.state, AxisState::Standstill);
+    assert_eq!(after.command_position, before.command_position);
+    axis.disable().unwrap();
+    assert_eq!(refused(ok), ErrorKind::AxisDisabled);
+    assert_eq!(axis.freq_progress().state, 0);
+}
+
+/// While a sweep runs its axis takes no move and the card no second sweep (FreqBusy); a halt
+/// ends it (MC_FREQ_ABORTED, MC_EV_FREQ_DONE with the points measured), the sine removed.
+#[test]
+fn a_sweep_refuses_moves_and_ends_on_a_halt() {
+    let card = default_card();
+    let axis = card.axis(0).unwrap();
+    let sim = card.sim().unwrap();
+    let s = FreqSweep {
+        from_hz: 20.0,
+        to_hz: 200.0,
+        points: 10,
+        amplitude: 50.0,
+        settle_s: 0.1,
+        ..FreqSweep::default()
+    };
+    let seq = axis.start_frequency_sweep(&s).unwrap();
+    sim.step(6_000);
+    let p = axis.freq_progress();
+    assert_eq!((p.state, p.seq, p.points), (1, seq, 10));
+    assert!(p.done >= 1, "{p:?}");
+    let lim = MoveLimits::new(1e5, 1e6, 1e8);
+    assert_eq!(
+        axis.move_absolute(1000.0, &lim).unwrap_err().kind(),
+        ErrorKind::FreqBusy
+    );
+    assert_eq!(
+        axis.start_frequency_sweep(&s).unwrap_err().kind(),
+        ErrorKind::FreqBusy
+    );
+    axis.halt(1e6, 1e8).unwrap();
+    let p = axis.freq_progress();
+    assert_eq!(p.state, 3, "{p:?}");
+    let done = p.done;
+    assert!(done < 10);
+    let mut ev = None;
+    while let Some(e) = card.next_event(Duration::from_millis(50)).unwrap() {
+        if e.kind == motioncard_sdk::EventKind::FreqDone {
+            ev = Some(e);
+        }
+    }
+    let e = ev.expect("MC_EV_FREQ_DONE");
+    assert_eq!((e.seq, e.code, e.value), (seq, 3, done as f64));
+    let r = axis.freq_result();
+    assert!(!r.complete);
+    assert_eq!(r.points.len(), done);
+    // The sine is off: the axis holds its position again, and moves.
+    sim.step(2_000);
+    assert!(axis.status().unwrap().actual_position.abs() <= 2.0);
+    axis.move_absolute(1000.0, &lim)
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+}
+
+/// The machine table (a 24 Hz coupling, ζ = 0.03) read on the load, tuned low (the velocity
+/// loop's crossover at 0.7 Hz: the resonance lifts the loop's gain 16.7× there, to about 0.5).
+/// The in-position window is 20 counts (20 µm of the table).
+fn resonant_card(crossover_hz: f64) -> Card {
+    let mut m = MotorParams::machine_table(24.0);
+    m.coulomb = 0.0;
+    m.resonance = m.resonance.map(|r| r.on_load());
+    let mut emu = EmuOptions::new(1, RATE);
+    emu.motors[0] = m;
+    let card = stepped_card_with(emu);
+    let axis = card.axis(0).unwrap();
+    let mut cfg = axis.settings().unwrap();
+    cfg.ffpiv = FfpivGains::for_drive(m.accel_per_volt(), 2.0 * PI * crossover_hz);
+    cfg.in_pos_window = 20.0;
+    cfg.settle_time = 0.05;
+    axis.configure(&cfg).unwrap();
+    axis.enable().unwrap();
+    card
+}
+
+/// Ticks from a move's start to its MotionDone (in position for the settle time).
+fn move_ticks(card: &Card, to: f64) -> u64 {
+    let axis = card.axis(0).unwrap();
+    let t0 = axis.status().unwrap().raw.tick;
+    let lim = MoveLimits::new(4e4, 2e6, 1e9);
+    axis.move_absolute(to, &lim).unwrap().wait(LONG).unwrap();
+    axis.status().unwrap().raw.tick - t0
+}
+
+/// The notch (part 3): the sweep on the servo output finds the load's 24 Hz resonance in the
+/// plant; a notch set there through the biquad API lowers the open loop's peak by at least
+/// 10 dB (a second sweep), and a move then settles sooner.
+#[test]
+fn a_notch_at_the_resonance_the_sweep_found_lowers_its_peak_and_the_move_settles_sooner() {
+    let card = resonant_card(0.7);
+    let axis = card.axis(0).unwrap();
+    let s = FreqSweep {
+        mode: FreqMode::Output,
+        from_hz: 10.0,
+        to_hz: 60.0,
+        points: 60,
+        amplitude: 0.5,
+        cycles: 8,
+        settle_s: 1.2,
+    };
+    let before = match axis.frequency_response(&s, LONG) {
+        Ok(r) => r,
+        Err(e) => panic!("{e}: {:?} {:?}", axis.status().unwrap(), axis.freq_result()),
+    };
+    let found: Vec<_> = before
+        .resonances()
+        .into_iter()
+        .filter(|r| !r.anti)
+        .collect();
+    println!(
+        "found: {:?}",
+        found.iter().map(|r| r.name()).collect::<Vec<_>>()
+    );
+    assert_eq!(found.len(), 1, "{found:?}");
+    let res = found[0];
+    assert!((res.hz - 24.0).abs() < 1.0, "{res:?}");
+    let l0 = before.open_loop();
+    let k = (0..l0.len())
+        .max_by(|&a, &b| l0[a].gain_db.total_cmp(&l0[b].gain_db))
+        .unwrap();
+    let ticks0 = move_ticks(&card, 20_000.0);
+    axis.set_servo_filter(0, &BiquadSpec::notch(res.hz, 0.1, -30.0))
+        .unwrap();
+    let after = axis.frequency_response(&s, LONG).unwrap();
+    let l1 = after.open_loop();
+    let drop = l0[k].gain_db - l1[k].gain_db;
+    let peak1 = l1.iter().map(|b| b.gain_db).fold(f64::MIN, f64::max);
+    let ticks1 = move_ticks(&card, 0.0);
+    println!(
+        "notch at {:.2} Hz: open loop at {:.2} Hz {:.1} dB -> {:.1} dB (drop {drop:.1} dB; peak after {peak1:.1} dB); 20,000-count move done in {:.1} ms -> {:.1} ms",
+        res.hz,
+        l0[k].hz,
+        l0[k].gain_db,
+        l1[k].gain_db,
+        ticks0 as f64 * 1e3 / RATE as f64,
+        ticks1 as f64 * 1e3 / RATE as f64,
+    );
+    assert!(drop >= 10.0, "the notch lowered the peak by {drop} dB");
+    // Without the notch the table rings at 24 Hz through the 20-count window for seconds.
+    assert!(
+        2 * ticks1 < ticks0,
+        "{ticks1} ticks with the notch, {ticks0} without"
+    );
+}
+
+/// `mcctl freq`'s JSON: the points (hz, gain_db, phase_deg), the resonances, the plant and
+/// the open loop.
+#[test]
+fn mcctl_freq_json_has_points_and_resonances() {
+    let card = default_card();
+    let s = FreqSweep {
+        from_hz: 10.0,
+        to_hz: 100.0,
+        points: 4,
+        amplitude: 100.0,
+        ..FreqSweep::default()
+    };
+    let r = mcctl::cli::freq::freq(&card, 0, &s).unwrap();
+    let j = mcctl::cli::freq::to_json(&r);
+    let pts = j["points"].as_array().unwrap();
+    assert_eq!(pts.len(), 4);
+    for p in pts {
+        assert!(p["hz"].as_f64().unwrap() > 9.0);
+        assert!(p["gain_db"].as_f64().unwrap().is_finite());
+        assert!(p["phase_deg"].as_f64().unwrap().abs() <= 180.0);
+    }
+    assert!(j["resonances"].is_array());
+    assert_eq!(j["plant"].as_array().unwrap().len(), 4);
+    assert_eq!(j["open_loop"].as_array().unwrap().len(), 4);
+    assert!(mcctl::cli::freq::table(&r).contains("closed loop"));
 }

@@ -2073,6 +2073,16 @@ extern "C" {
 #define MC_PSO_STATE_ON 2
 
 /**
+ * `mc_freq_sweep.mode`: the sine on the position reference (user units): the closed loop.
+ */
+#define MC_FREQ_MODE_REFERENCE 0
+
+/**
+ * `mc_freq_sweep.mode`: the sine on the servo output (volts): the plant and the open loop.
+ */
+#define MC_FREQ_MODE_OUTPUT 1
+
+/**
  * Most slaves of a gantry.
  */
 #define MC_GANTRY_SLAVES_MAX 4
@@ -2955,6 +2965,61 @@ typedef struct mc_comp_table_point {
    */
   double reverse;
 } mc_comp_table_point;
+
+/**
+ * A sweep: `points` frequencies log-spaced from `from_hz` to `to_hz` (0.1 Hz <= from <= to
+ * <= a quarter of the servo rate, 1..256 points), the sine's `amplitude` (user units, or
+ * volts with `MC_FREQ_MODE_OUTPUT`), `cycles` periods measured at each (1..1000; the card
+ * measures at least 1000 servo ticks) after at least `settle_s` seconds of settling (0..60).
+ */
+typedef struct mc_freq_sweep {
+  /**
+   * `MC_FREQ_MODE_REFERENCE` or `MC_FREQ_MODE_OUTPUT`.
+   */
+  uint32_t mode;
+  uint32_t points;
+  double from_hz;
+  double to_hz;
+  double amplitude;
+  uint32_t cycles;
+  uint32_t _reserved0;
+  double settle_s;
+} mc_freq_sweep;
+
+/**
+ * One point of a measured response: the mode's response (the closed loop X/D, or the plant
+ * X/U with `MC_FREQ_MODE_OUTPUT`), the plant (user units per volt) and the open loop, gain in
+ * dB and phase in degrees.
+ */
+typedef struct mc_freq_point {
+  /**
+   * The frequency the card ran, Hz.
+   */
+  double hz;
+  double gain_db;
+  double phase_deg;
+  double plant_gain_db;
+  double plant_phase_deg;
+  double open_gain_db;
+  double open_phase_deg;
+} mc_freq_point;
+
+/**
+ * A resonance (or anti-resonance: `anti` 1) found in the mode's response.
+ */
+typedef struct mc_freq_resonance {
+  double hz;
+  /**
+   * The response's gain there, dB.
+   */
+  double gain_db;
+  /**
+   * How far it stands out of its neighbours, dB.
+   */
+  double height_db;
+  uint32_t anti;
+  uint32_t _reserved0;
+} mc_freq_resonance;
 
 /**
  * A gantry's yaw loop and skew limit (the limit in the master's user units).
@@ -5058,6 +5123,31 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PSO_GROUP -140
 
 /**
+ * Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
+ * servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
+ * range.
+ */
+#define MC_ERR_FREQ_RANGE -141
+
+/**
+ * A frequency sweep's amplitude not above 0, or (on the servo output) above the axis's
+ * DAC limit.
+ */
+#define MC_ERR_FREQ_AMPLITUDE -142
+
+/**
+ * The sweep's sine would break the axis's limits: its velocity (amplitude 2 pi f above the
+ * safety's max velocity), acceleration, following error at rest (2 amplitude above
+ * min_ferror) or soft limits.
+ */
+#define MC_ERR_FREQ_LIMITS -143
+
+/**
+ * A sweep is running: another sweep, or that axis's own motion, refused.
+ */
+#define MC_ERR_FREQ_BUSY -144
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -5522,6 +5612,51 @@ mc_result mc_axis_get_compensation(mc_card card,
                                    struct mc_comp_table_point *points,
                                    size_t len,
                                    size_t *needed);
+
+/**
+ * Run a sweep on an enabled axis at rest and wait for its end (up to `timeout_ms` of the
+ * card's time): its points into `points` (`len` of them; `*needed` the count; too small:
+ * `MC_ERR_BUFFER_TOO_SMALL`, the sweep's result stays on the card for
+ * `mc_axis_freq_result`). Refused, nothing changed: `MC_ERR_FREQ_RANGE`,
+ * `MC_ERR_FREQ_AMPLITUDE`, `MC_ERR_FREQ_LIMITS`, `MC_ERR_FREQ_BUSY`, `MC_ERR_NOT_FINITE`,
+ * `MC_ERR_AXIS_DISABLED`, `MC_ERR_INVALID_STATE`; ended early (a stop, a safety stop):
+ * `MC_ERR_ABORTED`.
+ */
+mc_result mc_axis_freq_response(mc_card card,
+                                uint32_t axis,
+                                const struct mc_freq_sweep *sweep,
+                                uint32_t timeout_ms,
+                                struct mc_freq_point *points,
+                                size_t len,
+                                size_t *needed);
+
+/**
+ * The last sweep's points of this axis as the card holds them (the same as
+ * `mc_axis_freq_response` gave), and `*complete` 1 when every point was measured. Never
+ * blocks.
+ */
+mc_result mc_axis_freq_result(mc_card card,
+                              uint32_t axis,
+                              struct mc_freq_point *points,
+                              size_t len,
+                              size_t *needed,
+                              uint32_t *complete);
+
+/**
+ * The resonances (peaks) and anti-resonances (dips) of the axis's last sweep's response
+ * standing out by at least 3 dB (the plant's with its rigid-body slope taken out). Never
+ * blocks.
+ */
+mc_result mc_axis_freq_resonances(mc_card card,
+                                  uint32_t axis,
+                                  struct mc_freq_resonance *found,
+                                  size_t len,
+                                  size_t *needed);
+
+/**
+ * Stop the card's sweep (none running: nothing happens). Blocks until the card answers.
+ */
+mc_result mc_axis_freq_stop(mc_card card, uint32_t axis);
 
 /**
  * Form gantry `index` (0..3) of `master` and `nslaves` slaves (1..4, each with the master's

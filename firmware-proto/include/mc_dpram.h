@@ -1163,7 +1163,7 @@
  * M ticks holding exactly `cycles` periods (at least MC_FREQ_WINDOW_MIN ticks: more periods
  * where the frequency is high), so the frequency actually run is cycles servo_rate_hz / M
  * (point[].hz) and a point starts and ends at phase 0 (the sine is continuous from point to
- * point). Over the measured window the card correlates, at the servo rate, the injected sine d,
+ * point; the sweep's first window ramps the amplitude up from 0). Over the measured window the card correlates, at the servo rate, the injected sine d,
  * the encoder position x (counts, less the position held) and the DAC output u (volts): for a
  * signal y, re = (2/M) sum y[k] cos(w k), im = -(2/M) sum y[k] sin(w k), k = 0..M-1 from the
  * window's start (a single-bin DFT over whole periods: a constant and the harmonics fall out

@@ -176,7 +176,16 @@ impl Sweep {
         let phase = ((self.c as u64 * self.n as u64) % self.m as u64) as f64 / self.m as f64;
         let (s, c) = math::sin_cos(2.0 * core::f64::consts::PI * phase);
         self.cs = (c, s);
-        self.value = self.start.amplitude * s;
+        // The first window of the sweep ramps the amplitude up from 0: a sine force started
+        // at full amplitude from rest leaves the shaft a mean velocity of A/ω (its integral,
+        // A(1 − cos)/ω, starts at 0), a drift a slow loop would take long to correct. The
+        // ramp is a settle window, never measured.
+        let envelope = if self.point == 0 && self.window == 0 {
+            self.n as f64 / self.m as f64
+        } else {
+            1.0
+        };
+        self.value = self.start.amplitude * envelope * s;
         match self.start.mode {
             FreqMode::Reference => Injection {
                 reference: self.value,
