@@ -438,3 +438,48 @@ fn mcctl_freq_json_has_points_and_resonances() {
     assert_eq!(j["open_loop"].as_array().unwrap().len(), 4);
     assert!(mcctl::cli::freq::table(&r).contains("closed loop"));
 }
+
+/// The scope samples the sweep's sine (`MC_SIG_FREQ_INJECT`, counts on the reference) and
+/// its frequency (`MC_SIG_FREQ_HZ`): the sine within its amplitude, the frequencies of the
+/// points the card runs, 0 on another axis.
+#[test]
+fn the_scope_samples_the_sweeps_sine_and_frequency() {
+    use motioncard_sdk::{ScopeSettings, Signal, Source};
+    let card = stepped_card_with(EmuOptions::new(2, RATE));
+    let axis = card.axis(0).unwrap();
+    axis.enable().unwrap();
+    let s = FreqSweep {
+        from_hz: 50.0,
+        to_hz: 100.0,
+        points: 2,
+        amplitude: 80.0,
+        settle_s: 0.0,
+        ..FreqSweep::default()
+    };
+    let settings = ScopeSettings::new(
+        &[
+            Source::axis(Signal::FreqInject, 0),
+            Source::axis(Signal::FreqHz, 0),
+            Source::axis(Signal::FreqInject, 1),
+        ],
+        3_000,
+    );
+    let cap = card
+        .scope()
+        .capture(&settings, LONG, |_| {
+            axis.start_frequency_sweep(&s).map(|_| ())
+        })
+        .unwrap();
+    let (mut peak, mut hz) = (0.0f64, Vec::new());
+    for smp in &cap.samples {
+        let v = smp.value;
+        assert!(v[0].abs() <= 80.0 + 1e-9, "{v:?}");
+        assert_eq!(v[2], 0.0);
+        peak = peak.max(v[0].abs());
+        if !hz.contains(&v[1]) {
+            hz.push(v[1]);
+        }
+    }
+    assert!(peak > 70.0, "the sine's peak {peak}");
+    assert!(hz.contains(&50.0), "{hz:?}");
+}

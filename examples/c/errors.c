@@ -84,6 +84,9 @@ static const mc_result ALL_CODES[] = {
     /* analog I/O and the path-speed output (layout 1.11) */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER,   MC_ERR_ANALOG_THRESHOLD,
     MC_ERR_PSO_CONFIG,     MC_ERR_PSO_GROUP,
+    /* the frequency response (layout 1.12) */
+    MC_ERR_FREQ_RANGE,     MC_ERR_FREQ_AMPLITUDE,  MC_ERR_FREQ_LIMITS,
+    MC_ERR_FREQ_BUSY,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -161,6 +164,8 @@ static const mc_result NOT_PROVOKED[] = {
     /* analog.c */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER, MC_ERR_ANALOG_THRESHOLD, MC_ERR_PSO_CONFIG,
     MC_ERR_PSO_GROUP,
+    /* freq.c (FREQ_BUSY: tests/freq.rs, a sweep running) */
+    MC_ERR_FREQ_RANGE, MC_ERR_FREQ_AMPLITUDE, MC_ERR_FREQ_LIMITS, MC_ERR_FREQ_BUSY,
 };
 
 static void result_strings(void) {
