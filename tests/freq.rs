@@ -11,6 +11,7 @@ use motioncard_sdk::{
     MoveLimits, Phasor,
 };
 use std::f64::consts::PI;
+use std::ops::{Add, Div, Mul, Sub};
 use std::time::Duration;
 
 const RATE: u32 = 10_000;

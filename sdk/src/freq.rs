@@ -90,32 +90,44 @@ impl Phasor {
     pub fn db(self) -> f64 {
         20.0 * self.abs().log10()
     }
-    /// `a·b`.
-    pub fn mul(self, b: Self) -> Self {
+    /// `e^{jθ}`.
+    pub fn unit(theta: f64) -> Self {
+        Self::new(theta.cos(), theta.sin())
+    }
+}
+
+impl std::ops::Mul for Phasor {
+    type Output = Self;
+    fn mul(self, b: Self) -> Self {
         Self::new(
             self.re * b.re - self.im * b.im,
             self.re * b.im + self.im * b.re,
         )
     }
-    /// `a/b`.
-    pub fn div(self, b: Self) -> Self {
+}
+
+impl std::ops::Div for Phasor {
+    type Output = Self;
+    fn div(self, b: Self) -> Self {
         let n = b.re * b.re + b.im * b.im;
         Self::new(
             (self.re * b.re + self.im * b.im) / n,
             (self.im * b.re - self.re * b.im) / n,
         )
     }
-    /// `a + b`.
-    pub fn add(self, b: Self) -> Self {
+}
+
+impl std::ops::Add for Phasor {
+    type Output = Self;
+    fn add(self, b: Self) -> Self {
         Self::new(self.re + b.re, self.im + b.im)
     }
-    /// `a − b`.
-    pub fn sub(self, b: Self) -> Self {
+}
+
+impl std::ops::Sub for Phasor {
+    type Output = Self;
+    fn sub(self, b: Self) -> Self {
         Self::new(self.re - b.re, self.im - b.im)
-    }
-    /// `e^{jθ}`.
-    pub fn unit(theta: f64) -> Self {
-        Self::new(theta.cos(), theta.sin())
     }
 }
 
@@ -214,22 +226,22 @@ impl FreqResponse {
     /// `T = X/D` (meaningful under [`FreqMode::Reference`]; under [`FreqMode::Output`] this is
     /// `P/(1 + L)`, position per volt of disturbance).
     pub fn closed_loop(&self) -> Vec<Bode> {
-        self.map(|p| p.x.div(p.d))
+        self.map(|p| p.x / p.d)
     }
 
     /// `P = X/U`, user units per volt.
     pub fn plant(&self) -> Vec<Bode> {
-        self.map(|p| p.x.div(p.u))
+        self.map(|p| p.x / p.u)
     }
 
     /// `L`: `(D − U)/U` under [`FreqMode::Output`], `T/(1 − T)` under
     /// [`FreqMode::Reference`] (see the module's head for when that is the loop gain).
     pub fn open_loop(&self) -> Vec<Bode> {
         match self.mode {
-            FreqMode::Output => self.map(|p| p.d.sub(p.u).div(p.u)),
+            FreqMode::Output => self.map(|p| (p.d - p.u) / p.u),
             FreqMode::Reference => self.map(|p| {
-                let t = p.x.div(p.d);
-                t.div(Phasor::new(1.0, 0.0).sub(t))
+                let t = p.x / p.d;
+                t / (Phasor::new(1.0, 0.0) - t)
             }),
         }
     }

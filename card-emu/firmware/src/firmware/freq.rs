@@ -62,9 +62,11 @@ pub fn check(s: &FreqStart, axis: &Axis, rate_hz: u32) -> Result<(), NackCode> {
         return Err(NackCode::NotFinite);
     }
     let quarter = rate_hz as f64 / 4.0;
-    if !(raw::MC_FREQ_MIN_HZ <= s.from_hz && s.from_hz <= s.to_hz && s.to_hz <= quarter)
-        || !(0.0..=raw::MC_FREQ_SETTLE_MAX).contains(&s.settle_s)
-    {
+    let in_range = raw::MC_FREQ_MIN_HZ <= s.from_hz
+        && s.from_hz <= s.to_hz
+        && s.to_hz <= quarter
+        && (0.0..=raw::MC_FREQ_SETTLE_MAX).contains(&s.settle_s);
+    if !in_range {
         return Err(NackCode::FreqRange);
     }
     if s.amplitude <= 0.0 {
