@@ -18,6 +18,7 @@ pub mod cam;
 pub mod comp;
 pub mod compare;
 pub mod config;
+pub mod freq;
 pub mod gantry;
 pub mod gcode;
 pub mod gear;

@@ -297,6 +297,12 @@ extern "C" {
 #define MC_EVENT_PATH_PAUSED 36
 
 /**
+ * Layout 1.12: a sweep ended. axis: its axis; seq: its `MC_OP_FREQ_START`; code: `MC_FREQ_DONE` or
+ * `MC_FREQ_ABORTED`; value: the points measured.
+ */
+#define MC_EVENT_FREQ_DONE 37
+
+/**
  * The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined) or
  * `MC_BUSST_LOST`; value: the tick.
  */
@@ -1292,6 +1298,17 @@ extern "C" {
 #define MC_SCOPE_SIG_SERVO_FRICTION 18
 
 /**
+ * Layout 1.12: the sweep's sine of the tick on this axis, counts (`MC_FREQ_REF`) or V
+ * (`MC_FREQ_OUTPUT`); 0 with no sweep.
+ */
+#define MC_SCOPE_SIG_FREQ_INJECT 19
+
+/**
+ * Layout 1.12: the frequency the sweep runs on this axis, Hz (0: none).
+ */
+#define MC_SCOPE_SIG_FREQ_HZ 20
+
+/**
  * Tangential velocity before the filters, counts/s (feed).
  */
 #define MC_SCOPE_SIG_PATH_SPEED 32
@@ -2037,6 +2054,27 @@ extern "C" {
 #define MC_OP_PATH_PAUSE 120
 
 /**
+ * Axis: the axis. args: mode (`MC_FREQ_REF` or `MC_FREQ_OUTPUT`), `from_hz`, `to_hz`, points
+ * (`1..MC_FREQ_POINTS_MAX`), amplitude (counts, or volts), cycles (periods measured per point,
+ * `1..MC_FREQ_CYCLES_MAX`), `settle_s` (`0..MC_FREQ_SETTLE_MAX`: settle windows before each
+ * measured one, at least one). A number not finite: `MC_NACK_NOT_FINITE`; a mode, count or
+ * frequency out of range (`MC_FREQ_MIN_HZ` <= `from_hz` <= `to_hz` <= `servo_rate_hz` / 4):
+ * `MC_NACK_FREQ_RANGE`; an amplitude <= 0, or above `dac_limit_v` (`MC_FREQ_OUTPUT`):
+ * `MC_NACK_FREQ_AMPLITUDE`; `MC_FREQ_REF` with a sine beyond the axis's limits (amplitude 2 pi
+ * `to_hz` above `axis_safety.max_velocity`, amplitude (2 pi `to_hz)^2` above the card's
+ * acceleration range, 2 amplitude above `min_ferror`, the position held +- amplitude beyond the
+ * soft limits in force): `MC_NACK_FREQ_LIMITS`; a sweep running (any axis): `MC_NACK_FREQ_BUSY`;
+ * the axis disabled: `MC_NACK_AXIS_DISABLED`; not at rest in Standstill: `MC_NACK_INVALID_STATE`.
+ */
+#define MC_OP_FREQ_START 121
+
+/**
+ * Axis ignored: the sweep running ends (`MC_FREQ_ABORTED`, `MC_EVENT_FREQ_DONE`); none running:
+ * accepted, nothing changes.
+ */
+#define MC_OP_FREQ_STOP 122
+
+/**
  * Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
  * `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
  * `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the following
@@ -2085,6 +2123,16 @@ extern "C" {
  * `mc_pso_info.state`: the gate output on: the output follows the path speed.
  */
 #define MC_PSO_STATE_ON 2
+
+/**
+ * `mc_freq_sweep.mode`: the sine on the position reference (user units): the closed loop.
+ */
+#define MC_FREQ_MODE_REFERENCE 0
+
+/**
+ * `mc_freq_sweep.mode`: the sine on the servo output (volts): the plant and the open loop.
+ */
+#define MC_FREQ_MODE_OUTPUT 1
 
 /**
  * Most slaves of a gantry.
@@ -2987,6 +3035,61 @@ typedef struct mc_comp_table_point {
    */
   double reverse;
 } mc_comp_table_point;
+
+/**
+ * A sweep: `points` frequencies log-spaced from `from_hz` to `to_hz` (0.1 Hz <= from <= to
+ * <= a quarter of the servo rate, 1..256 points), the sine's `amplitude` (user units, or
+ * volts with `MC_FREQ_MODE_OUTPUT`), `cycles` periods measured at each (1..1000; the card
+ * measures at least 1000 servo ticks) after at least `settle_s` seconds of settling (0..60).
+ */
+typedef struct mc_freq_sweep {
+  /**
+   * `MC_FREQ_MODE_REFERENCE` or `MC_FREQ_MODE_OUTPUT`.
+   */
+  uint32_t mode;
+  uint32_t points;
+  double from_hz;
+  double to_hz;
+  double amplitude;
+  uint32_t cycles;
+  uint32_t _reserved0;
+  double settle_s;
+} mc_freq_sweep;
+
+/**
+ * One point of a measured response: the mode's response (the closed loop X/D, or the plant
+ * X/U with `MC_FREQ_MODE_OUTPUT`), the plant (user units per volt) and the open loop, gain in
+ * dB and phase in degrees.
+ */
+typedef struct mc_freq_point {
+  /**
+   * The frequency the card ran, Hz.
+   */
+  double hz;
+  double gain_db;
+  double phase_deg;
+  double plant_gain_db;
+  double plant_phase_deg;
+  double open_gain_db;
+  double open_phase_deg;
+} mc_freq_point;
+
+/**
+ * A resonance (or anti-resonance: `anti` 1) found in the mode's response.
+ */
+typedef struct mc_freq_resonance {
+  double hz;
+  /**
+   * The response's gain there, dB.
+   */
+  double gain_db;
+  /**
+   * How far it stands out of its neighbours, dB.
+   */
+  double height_db;
+  uint32_t anti;
+  uint32_t _reserved0;
+} mc_freq_resonance;
 
 /**
  * A gantry's yaw loop and skew limit (the limit in the master's user units).
@@ -5220,6 +5323,31 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_ARC_OFF_PLANE -149
 
 /**
+ * Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
+ * servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
+ * range.
+ */
+#define MC_ERR_FREQ_RANGE -141
+
+/**
+ * A frequency sweep's amplitude not above 0, or (on the servo output) above the axis's
+ * DAC limit.
+ */
+#define MC_ERR_FREQ_AMPLITUDE -142
+
+/**
+ * The sweep's sine would break the axis's limits: its velocity (amplitude 2 pi f above the
+ * safety's max velocity), acceleration, following error at rest (2 amplitude above
+ * min_ferror) or soft limits.
+ */
+#define MC_ERR_FREQ_LIMITS -143
+
+/**
+ * A sweep is running: another sweep, or that axis's own motion, refused.
+ */
+#define MC_ERR_FREQ_BUSY -144
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -5684,6 +5812,51 @@ mc_result mc_axis_get_compensation(mc_card card,
                                    struct mc_comp_table_point *points,
                                    size_t len,
                                    size_t *needed);
+
+/**
+ * Run a sweep on an enabled axis at rest and wait for its end (up to `timeout_ms` of the
+ * card's time): its points into `points` (`len` of them; `*needed` the count; too small:
+ * `MC_ERR_BUFFER_TOO_SMALL`, the sweep's result stays on the card for
+ * `mc_axis_freq_result`). Refused, nothing changed: `MC_ERR_FREQ_RANGE`,
+ * `MC_ERR_FREQ_AMPLITUDE`, `MC_ERR_FREQ_LIMITS`, `MC_ERR_FREQ_BUSY`, `MC_ERR_NOT_FINITE`,
+ * `MC_ERR_AXIS_DISABLED`, `MC_ERR_INVALID_STATE`; ended early (a stop, a safety stop):
+ * `MC_ERR_ABORTED`.
+ */
+mc_result mc_axis_freq_response(mc_card card,
+                                uint32_t axis,
+                                const struct mc_freq_sweep *sweep,
+                                uint32_t timeout_ms,
+                                struct mc_freq_point *points,
+                                size_t len,
+                                size_t *needed);
+
+/**
+ * The last sweep's points of this axis as the card holds them (the same as
+ * `mc_axis_freq_response` gave), and `*complete` 1 when every point was measured. Never
+ * blocks.
+ */
+mc_result mc_axis_freq_result(mc_card card,
+                              uint32_t axis,
+                              struct mc_freq_point *points,
+                              size_t len,
+                              size_t *needed,
+                              uint32_t *complete);
+
+/**
+ * The resonances (peaks) and anti-resonances (dips) of the axis's last sweep's response
+ * standing out by at least 3 dB (the plant's with its rigid-body slope taken out). Never
+ * blocks.
+ */
+mc_result mc_axis_freq_resonances(mc_card card,
+                                  uint32_t axis,
+                                  struct mc_freq_resonance *found,
+                                  size_t len,
+                                  size_t *needed);
+
+/**
+ * Stop the card's sweep (none running: nothing happens). Blocks until the card answers.
+ */
+mc_result mc_axis_freq_stop(mc_card card, uint32_t axis);
 
 /**
  * Form gantry `index` (0..3) of `master` and `nslaves` slaves (1..4, each with the master's
@@ -7438,6 +7611,46 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_DEBOUNCE_MAX 10000u
 
+/**
+ * Ended early: done points measured.
+ */
+#define MC_FREQ_ABORTED 3u
+
+/**
+ * Measured periods per window at most.
+ */
+#define MC_FREQ_CYCLES_MAX 1000u
+
+/**
+ * Every point measured.
+ */
+#define MC_FREQ_DONE 2u
+
+/**
+ * The lowest frequency, Hz.
+ */
+#define MC_FREQ_MIN_HZ 0.1
+
+/**
+ * Mode: the sine on the servo output (volts).
+ */
+#define MC_FREQ_OUTPUT 1u
+
+/**
+ * Points per sweep.
+ */
+#define MC_FREQ_POINTS_MAX 256u
+
+/**
+ * Mode: the sine on the position reference (counts).
+ */
+#define MC_FREQ_REF 0u
+
+/**
+ * `settle_s` at most, s.
+ */
+#define MC_FREQ_SETTLE_MAX 60.0
+
 #define MC_GANTRY_MAX_SLAVES 4u
 
 /**
@@ -7699,6 +7912,26 @@ mc_result mc_send_raw(mc_card card,
  * The filter's poles are not inside the unit circle by `MC_BIQUAD_POLE_MARGIN`.
  */
 #define MC_NACK_FILTER_UNSTABLE 143
+
+/**
+ * A sweep's amplitude not above 0, or above the axis's DAC limit for `MC_FREQ_OUTPUT`.
+ */
+#define MC_NACK_FREQ_AMPLITUDE 151
+
+/**
+ * A sweep is running: another, or that axis's motion, refused.
+ */
+#define MC_NACK_FREQ_BUSY 153
+
+/**
+ * The sweep's sine would break the axis's velocity or acceleration limits, its following error limit at rest or its soft limits.
+ */
+#define MC_NACK_FREQ_LIMITS 152
+
+/**
+ * A sweep's mode, points, cycles, settle time or frequencies out of range (`from_hz` below `MC_FREQ_MIN_HZ` or above `to_hz`, `to_hz` above a quarter of the servo rate).
+ */
+#define MC_NACK_FREQ_RANGE 150
 
 /**
  * Gantry index, master or slaves out of range, master == slave, a slave twice.

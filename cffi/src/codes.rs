@@ -121,6 +121,10 @@ pub const MC_EVENT_ANALOG: u32 = 34;
 /// segment it ends (-1: none ran).
 pub const MC_EVENT_PATH_PAUSED: u32 = 36;
 
+/// Layout 1.12: a sweep ended. axis: its axis; seq: its `MC_OP_FREQ_START`; code: `MC_FREQ_DONE` or
+/// `MC_FREQ_ABORTED`; value: the points measured.
+pub const MC_EVENT_FREQ_DONE: u32 = 37;
+
 /// The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined) or
 /// `MC_BUSST_LOST`; value: the tick.
 pub const MC_EVENT_SYNC_BUS: u32 = 38;
@@ -752,6 +756,13 @@ pub const MC_SCOPE_SIG_FILTER_OUT: u32 = 17;
 /// the other laws).
 pub const MC_SCOPE_SIG_SERVO_FRICTION: u32 = 18;
 
+/// Layout 1.12: the sweep's sine of the tick on this axis, counts (`MC_FREQ_REF`) or V
+/// (`MC_FREQ_OUTPUT`); 0 with no sweep.
+pub const MC_SCOPE_SIG_FREQ_INJECT: u32 = 19;
+
+/// Layout 1.12: the frequency the sweep runs on this axis, Hz (0: none).
+pub const MC_SCOPE_SIG_FREQ_HZ: u32 = 20;
+
 /// Tangential velocity before the filters, counts/s (feed).
 pub const MC_SCOPE_SIG_PATH_SPEED: u32 = 32;
 
@@ -1252,6 +1263,23 @@ pub const MC_OP_PSO_OFF: u32 = 119;
 
 /// Args: 1 pause at the end of a segment, 0 go on (above).
 pub const MC_OP_PATH_PAUSE: u32 = 120;
+
+/// Axis: the axis. args: mode (`MC_FREQ_REF` or `MC_FREQ_OUTPUT`), `from_hz`, `to_hz`, points
+/// (`1..MC_FREQ_POINTS_MAX`), amplitude (counts, or volts), cycles (periods measured per point,
+/// `1..MC_FREQ_CYCLES_MAX`), `settle_s` (`0..MC_FREQ_SETTLE_MAX`: settle windows before each
+/// measured one, at least one). A number not finite: `MC_NACK_NOT_FINITE`; a mode, count or
+/// frequency out of range (`MC_FREQ_MIN_HZ` <= `from_hz` <= `to_hz` <= `servo_rate_hz` / 4):
+/// `MC_NACK_FREQ_RANGE`; an amplitude <= 0, or above `dac_limit_v` (`MC_FREQ_OUTPUT`):
+/// `MC_NACK_FREQ_AMPLITUDE`; `MC_FREQ_REF` with a sine beyond the axis's limits (amplitude 2 pi
+/// `to_hz` above `axis_safety.max_velocity`, amplitude (2 pi `to_hz)^2` above the card's
+/// acceleration range, 2 amplitude above `min_ferror`, the position held +- amplitude beyond the
+/// soft limits in force): `MC_NACK_FREQ_LIMITS`; a sweep running (any axis): `MC_NACK_FREQ_BUSY`;
+/// the axis disabled: `MC_NACK_AXIS_DISABLED`; not at rest in Standstill: `MC_NACK_INVALID_STATE`.
+pub const MC_OP_FREQ_START: u32 = 121;
+
+/// Axis ignored: the sweep running ends (`MC_FREQ_ABORTED`, `MC_EVENT_FREQ_DONE`); none running:
+/// accepted, nothing changes.
+pub const MC_OP_FREQ_STOP: u32 = 122;
 
 /// Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
 /// `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:

@@ -28,6 +28,7 @@ pub mod api;
 pub mod cam;
 pub mod comp;
 mod ffi;
+pub mod freq;
 pub mod gantry;
 pub mod gcode;
 pub mod group;

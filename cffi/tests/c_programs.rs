@@ -778,6 +778,16 @@ fn servo_law_and_filters_from_c() {
     );
 }
 
+/// Layout 1.12: a sweep of the closed loop from C, its points read again, the resonances, and
+/// the refusals (a frequency above Nyquist, a negative or NaN amplitude, a sine beyond the
+/// following-error limit, an unknown mode).
+#[test]
+fn frequency_response_from_c() {
+    let out = run(&compile("freq", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS freq (6 refusals)\n"), "{out}");
+    assert!(out.contains("freq: closed loop"), "{out}");
+}
+
 #[test]
 fn compare_and_digital_io_from_c_are_clean_under_valgrind() {
     let out = run_under_valgrind("compare");

@@ -90,6 +90,9 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_NOT_COMMITTED,  MC_ERR_SYNC_LOST,       MC_ERR_TIMED_REFUSED,
     MC_ERR_TIMED_CANCELLED,
     MC_ERR_ARC_NORMAL,     MC_ERR_ARC_AXES,        MC_ERR_ARC_OFF_PLANE,
+    /* the frequency response (layout 1.12) */
+    MC_ERR_FREQ_RANGE,     MC_ERR_FREQ_AMPLITUDE,  MC_ERR_FREQ_LIMITS,
+    MC_ERR_FREQ_BUSY,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -173,6 +176,8 @@ static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C: a lost master needs a killed card-emu process; the command of a
        refused timing is never waited for (the timing's refusal is the error) */
     MC_ERR_SYNC_LOST, MC_ERR_TIMED_REFUSED,
+    /* freq.c (FREQ_BUSY: tests/freq.rs, a sweep running) */
+    MC_ERR_FREQ_RANGE, MC_ERR_FREQ_AMPLITUDE, MC_ERR_FREQ_LIMITS, MC_ERR_FREQ_BUSY,
 };
 
 static void result_strings(void) {

@@ -92,7 +92,11 @@
                            * appended: the card's name, serial and sync role); path arcs in a
                            * plane given by a normal vector (MC_OP_PATH_ARC_PLANE
                            * 124, MC_OP_PATH_ARC_NORMAL 125, MC_ARC_RISE, MC_NACK_ARC_NORMAL 156,
-                           * MC_NACK_ARC_AXES 157, MC_NACK_ARC_OFF_PLANE 158) */
+                           * MC_NACK_ARC_AXES 157, MC_NACK_ARC_OFF_PLANE 158); the frequency
+                           * response measured on the card (MC_OP_FREQ_START
+                           * 121, MC_OP_FREQ_STOP 122, MC_FREQ_*, MC_NACK_FREQ_* 150..153,
+                           * MC_EV_FREQ_DONE 37, MC_SIG_FREQ_INJECT 19, MC_SIG_FREQ_HZ 20,
+                           * freq_status appended) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -769,6 +773,9 @@
                                * (u_request; the law's output when no filter is set) */
 #define MC_SIG_SERVO_FRICTION 18u /* layout 1.11: PID+FF's Coulomb friction feed-forward, V (part
                                    * of MC_SIG_SERVO_FF; 0 under the other laws) */
+#define MC_SIG_FREQ_INJECT 19u /* layout 1.12: the sweep's sine of the tick on this axis, counts
+                                * (MC_FREQ_REF) or V (MC_FREQ_OUTPUT); 0 with no sweep */
+#define MC_SIG_FREQ_HZ 20u     /* layout 1.12: the frequency the sweep runs on this axis, Hz (0: none) */
 /* Group signals (index: the group), the group status's values of the tick: */
 #define MC_SIG_PATH_SPEED 32u /* tangential velocity before the filters, counts/s (feed) */
 #define MC_SIG_PATH_ACC 33u   /* tangential acceleration, counts/s^2 (feed_acc) */
@@ -1243,6 +1250,69 @@
                                       * is off the plane through the start by more than the group's
                                       * tolerance */
 
+/* Layout 1.12: the frequency response measured on the card (a stepped sine). One sweep at a
+ * time, on one axis enabled and at rest (Standstill, holding its position). At each of
+ * `points` frequencies spaced logarithmically from from_hz to to_hz the card adds the sine
+ * d[k] = amplitude sin(2 pi f k / servo_rate_hz) either to the servo's position reference
+ * (MC_FREQ_REF: counts; the reference's velocity and acceleration, so the feed-forward, do not
+ * see it; the closed loop) or to the servo output after the filters, before the DAC clamp
+ * (MC_FREQ_OUTPUT: volts; the plant and the open loop, the loop stays closed). Each point runs
+ * a whole number of measurement windows: settle windows first, then one measured; a window is
+ * M ticks holding exactly `cycles` periods (at least MC_FREQ_WINDOW_MIN ticks: more periods
+ * where the frequency is high), so the frequency actually run is cycles servo_rate_hz / M
+ * (point[].hz) and a point starts and ends at phase 0 (the sine is continuous from point to
+ * point; the sweep's first window ramps the amplitude up from 0). Over the measured window the card correlates, at the servo rate, the injected sine d,
+ * the encoder position x (counts, less the position held) and the DAC output u (volts): for a
+ * signal y, re = (2/M) sum y[k] cos(w k), im = -(2/M) sum y[k] sin(w k), k = 0..M-1 from the
+ * window's start (a single-bin DFT over whole periods: a constant and the harmonics fall out
+ * exactly). Ratios of these are the responses: closed loop T = X/D, plant P = X/U (encoder
+ * counts per volt), open loop under MC_FREQ_OUTPUT L = (D - U)/U. freq_status.done counts the
+ * points measured, each written whole before the count. The sweep ends with MC_EV_FREQ_DONE.
+ * While it runs the axis stays in Standstill: a move, velocity, jog, home, set-position,
+ * handwheel, modulo or compensation command on it is refused (MC_NACK_FREQ_BUSY); a halt,
+ * stop, power-off or reset on it, an MC_OP_FREQ_STOP, and the axis leaving Standstill (a safety
+ * stop, a group or coupling taking it) end the sweep at once (MC_FREQ_ABORTED; the sine is
+ * removed in that tick). The following error during a sweep is the injected reference's. */
+#define MC_FREQ_POINTS_MAX 256u    /* points per sweep */
+#define MC_FREQ_WINDOW_MIN 1000u   /* a measurement window's least length, ticks */
+#define MC_FREQ_CYCLES_MAX 1000u   /* measured periods per window at most */
+#define MC_FREQ_SETTLE_MAX 60.0    /* settle_s at most, s */
+#define MC_FREQ_MIN_HZ 0.1         /* the lowest frequency, Hz */
+#define MC_FREQ_REF 0u             /* mode: the sine on the position reference (counts) */
+#define MC_FREQ_OUTPUT 1u          /* mode: the sine on the servo output (volts) */
+/* freq_status.state */
+#define MC_FREQ_IDLE 0u            /* no sweep since boot */
+#define MC_FREQ_RUNNING 1u         /* measuring: done points of points so far */
+#define MC_FREQ_DONE 2u            /* every point measured */
+#define MC_FREQ_ABORTED 3u         /* ended early: done points measured */
+#define MC_OP_FREQ_START 121u      /* axis: the axis. args: mode (MC_FREQ_REF or MC_FREQ_OUTPUT), from_hz,
+                                    * to_hz, points (1..MC_FREQ_POINTS_MAX), amplitude (counts, or
+                                    * volts), cycles (periods measured per point, 1..MC_FREQ_CYCLES_MAX),
+                                    * settle_s (0..MC_FREQ_SETTLE_MAX: settle windows before each
+                                    * measured one, at least one). A number not finite:
+                                    * MC_NACK_NOT_FINITE; a mode, count or frequency out of range
+                                    * (MC_FREQ_MIN_HZ <= from_hz <= to_hz <= servo_rate_hz / 4):
+                                    * MC_NACK_FREQ_RANGE; an amplitude <= 0, or above dac_limit_v
+                                    * (MC_FREQ_OUTPUT): MC_NACK_FREQ_AMPLITUDE; MC_FREQ_REF with a sine
+                                    * beyond the axis's limits (amplitude 2 pi to_hz above
+                                    * axis_safety.max_velocity, amplitude (2 pi to_hz)^2 above the
+                                    * card's acceleration range, 2 amplitude above min_ferror, the
+                                    * position held +- amplitude beyond the soft limits in force):
+                                    * MC_NACK_FREQ_LIMITS; a sweep running (any axis):
+                                    * MC_NACK_FREQ_BUSY; the axis disabled: MC_NACK_AXIS_DISABLED;
+                                    * not at rest in Standstill: MC_NACK_INVALID_STATE */
+#define MC_OP_FREQ_STOP 122u       /* axis ignored: the sweep running ends (MC_FREQ_ABORTED,
+                                    * MC_EV_FREQ_DONE); none running: accepted, nothing changes */
+#define MC_NACK_FREQ_RANGE 150     /* a sweep's mode, points, cycles, settle time or frequencies
+                                    * out of range (from_hz below MC_FREQ_MIN_HZ or above to_hz,
+                                    * to_hz above a quarter of the servo rate) */
+#define MC_NACK_FREQ_AMPLITUDE 151 /* a sweep's amplitude not above 0, or above the axis's DAC
+                                    * limit for MC_FREQ_OUTPUT */
+#define MC_NACK_FREQ_LIMITS 152    /* the sweep's sine would break the axis's velocity or
+                                    * acceleration limits, its following error limit at rest or
+                                    * its soft limits */
+#define MC_NACK_FREQ_BUSY 153      /* a sweep is running: another, or that axis's motion, refused */
+
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */
 #define MC_EV_NACK 2u            /* the command with this seq was refused. code: MC_NACK_* */
@@ -1305,6 +1375,8 @@
                                   * MC_BUSST_LOCKED (joined) or MC_BUSST_LOST; value: the tick */
 #define MC_EV_TIMED 39u          /* a timed command ran on its tick (layout 1.12). seq: the command;
                                   * code: its opcode; value: the tick */
+#define MC_EV_FREQ_DONE 37u      /* layout 1.12: a sweep ended. axis: its axis; seq: its MC_OP_FREQ_START;
+                                  * code: MC_FREQ_DONE or MC_FREQ_ABORTED; value: the points measured */
 
 /* Nack codes (mc_event.code of a NACK). Positive, one per distinct fault. */
 #define MC_NACK_UNKNOWN_OPCODE 1        /* the opcode is not defined by this firmware */
@@ -2252,6 +2324,54 @@ struct mc_card_info {
     uint32_t _reserved[8];
 };
 
+/** One point of a sweep (layout 1.12): the frequency run and the single-bin DFT of each signal
+ * over its measured window (see MC_OP_FREQ_START). */
+struct mc_freq_point {
+    /** The frequency run, Hz (cycles servo_rate_hz / M). */
+    double hz;
+    /** The injected sine d: counts (MC_FREQ_REF) or V. */
+    double d_re;
+    double d_im;
+    /** The encoder position less the position held, counts. */
+    double x_re;
+    double x_im;
+    /** The DAC output, V. */
+    double u_re;
+    double u_im;
+    /** The measured window's length, ticks (M). */
+    uint32_t window;
+    uint32_t _reserved0;
+};
+
+/** The frequency-response sweep (layout 1.12). Card writes: the header when a sweep starts and
+ * ends, each point (then done) as it is measured. */
+struct mc_freq_status {
+    /** MC_FREQ_IDLE, _RUNNING, _DONE, _ABORTED. */
+    uint32_t state;
+    /** The axis swept. */
+    uint32_t axis;
+    /** MC_FREQ_REF or MC_FREQ_OUTPUT. */
+    uint32_t mode;
+    /** The points asked for. */
+    uint32_t points;
+    /** The points measured so far (point[0..done]). */
+    uint32_t done;
+    /** The MC_OP_FREQ_START's seq. */
+    uint32_t seq;
+    /** Periods measured per window (as asked). */
+    uint32_t cycles;
+    uint32_t _reserved0;
+    double from_hz;
+    double to_hz;
+    /** Counts (MC_FREQ_REF) or V (MC_FREQ_OUTPUT). */
+    double amplitude;
+    double settle_s;
+    /** The position held when the sweep started, counts. */
+    double hold_pos;
+    double _reserved[3];
+    struct mc_freq_point point[MC_FREQ_POINTS_MAX];
+};
+
 /* The whole window. */
 struct mc_dpram {
     struct mc_identity identity;
@@ -2302,6 +2422,7 @@ struct mc_dpram {
     struct mc_analog_status analog_status;                        /* card writes */
     /* layout 1.12 */
     struct mc_card_info card_info;                                /* card writes */
+    struct mc_freq_status freq_status;                            /* card writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

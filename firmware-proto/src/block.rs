@@ -70,6 +70,8 @@ blocks!(
     mc_servo_filters,
     mc_analog_status,
     mc_card_info,
+    mc_freq_status,
+    mc_freq_point,
 );
 
 /// A block as `N` words (`N` must be its size in words: checked at compile time).

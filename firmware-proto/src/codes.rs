@@ -93,6 +93,9 @@ code_enum! {
         /// Layout 1.11: the path came to rest on its pause point. axis: the group; value: the id of
         /// the segment it ends (-1: none ran).
         PathPaused = raw::MC_EV_PATH_PAUSED,
+        /// Layout 1.12: a sweep ended. axis: its axis; seq: its `MC_OP_FREQ_START`; code:
+        /// `MC_FREQ_DONE` or `MC_FREQ_ABORTED`; value: the points measured.
+        FreqDone = raw::MC_EV_FREQ_DONE,
         /// The card's place on the sync bus changed (layout 1.12). code: `MC_BUSST_LOCKED` (joined)
         /// or `MC_BUSST_LOST`; value: the tick.
         SyncBus = raw::MC_EV_SYNC_BUS,
@@ -471,6 +474,16 @@ code_enum! {
         /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
         /// configured.
         PsoGroup = raw::MC_NACK_PSO_GROUP,
+        /// A sweep's mode, points, cycles, settle time or frequencies out of range (`from_hz` below
+        /// `MC_FREQ_MIN_HZ` or above `to_hz`, `to_hz` above a quarter of the servo rate).
+        FreqRange = raw::MC_NACK_FREQ_RANGE,
+        /// A sweep's amplitude not above 0, or above the axis's DAC limit for `MC_FREQ_OUTPUT`.
+        FreqAmplitude = raw::MC_NACK_FREQ_AMPLITUDE,
+        /// The sweep's sine would break the axis's velocity or acceleration limits, its following
+        /// error limit at rest or its soft limits.
+        FreqLimits = raw::MC_NACK_FREQ_LIMITS,
+        /// A sweep is running: another, or that axis's motion, refused.
+        FreqBusy = raw::MC_NACK_FREQ_BUSY,
         /// A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`)
         /// before it.
         ArcNormal = raw::MC_NACK_ARC_NORMAL,
@@ -635,6 +648,11 @@ code_enum! {
         /// Layout 1.11: PID+FF's Coulomb friction feed-forward, V (part of `MC_SIG_SERVO_FF`; 0
         /// under the other laws).
         ServoFriction = raw::MC_SIG_SERVO_FRICTION,
+        /// Layout 1.12: the sweep's sine of the tick on this axis, counts (`MC_FREQ_REF`) or V
+        /// (`MC_FREQ_OUTPUT`); 0 with no sweep.
+        FreqInject = raw::MC_SIG_FREQ_INJECT,
+        /// Layout 1.12: the frequency the sweep runs on this axis, Hz (0: none).
+        FreqHz = raw::MC_SIG_FREQ_HZ,
         /// Tangential velocity before the filters, counts/s (feed).
         PathSpeed = raw::MC_SIG_PATH_SPEED,
         /// Tangential acceleration, counts/s^2 (`feed_acc`).
@@ -1046,6 +1064,22 @@ code_enum! {
         PsoOff = raw::MC_OP_PSO_OFF,
         /// Args: 1 pause at the end of a segment, 0 go on (above).
         PathPause = raw::MC_OP_PATH_PAUSE,
+        /// Axis: the axis. args: mode (`MC_FREQ_REF` or `MC_FREQ_OUTPUT`), `from_hz`, `to_hz`,
+        /// points (`1..MC_FREQ_POINTS_MAX`), amplitude (counts, or volts), cycles (periods measured
+        /// per point, `1..MC_FREQ_CYCLES_MAX`), `settle_s` (`0..MC_FREQ_SETTLE_MAX`: settle windows
+        /// before each measured one, at least one). A number not finite: `MC_NACK_NOT_FINITE`; a
+        /// mode, count or frequency out of range (`MC_FREQ_MIN_HZ` <= `from_hz` <= `to_hz` <=
+        /// `servo_rate_hz` / 4): `MC_NACK_FREQ_RANGE`; an amplitude <= 0, or above `dac_limit_v`
+        /// (`MC_FREQ_OUTPUT`): `MC_NACK_FREQ_AMPLITUDE`; `MC_FREQ_REF` with a sine beyond the
+        /// axis's limits (amplitude 2 pi `to_hz` above `axis_safety.max_velocity`, amplitude (2 pi
+        /// `to_hz)^2` above the card's acceleration range, 2 amplitude above `min_ferror`, the
+        /// position held +- amplitude beyond the soft limits in force): `MC_NACK_FREQ_LIMITS`; a
+        /// sweep running (any axis): `MC_NACK_FREQ_BUSY`; the axis disabled:
+        /// `MC_NACK_AXIS_DISABLED`; not at rest in Standstill: `MC_NACK_INVALID_STATE`.
+        FreqStart = raw::MC_OP_FREQ_START,
+        /// Axis ignored: the sweep running ends (`MC_FREQ_ABORTED`, `MC_EV_FREQ_DONE`); none
+        /// running: accepted, nothing changes.
+        FreqStop = raw::MC_OP_FREQ_STOP,
         /// Args: a, b, c (three distinct group axes, else `MC_NACK_ARC_AXES`; beyond the group:
         /// `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`, `n_c` (the normal, any length but not 0:
         /// `MC_NACK_ARC_NORMAL`; NaN: `MC_NACK_NOT_FINITE`). The group's normal plane for the

@@ -276,6 +276,14 @@ const _: () = {
     assert!(CARD_INFO.offset().is_multiple_of(8));
     assert!(CARD_INFO.offset() + CARD_INFO_BYTES <= crate::DPRAM_SIZE);
 };
+/// Layout 1.12: the frequency-response sweep (`mc_freq_status`). Card writes.
+pub const FREQ_STATUS: BlockAt<mc_freq_status> = BlockAt::new(off!(freq_status));
+const _: () = {
+    // Layout 1.12 appended after the card's information.
+    assert!(FREQ_STATUS.offset() == CARD_INFO.offset() + CARD_INFO_BYTES);
+    assert!(FREQ_STATUS.offset().is_multiple_of(8));
+    assert!(FREQ_STATUS.offset() + size_of::<mc_freq_status>() <= crate::DPRAM_SIZE);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -252,6 +252,8 @@ pub const MC_SIG_COMP_POS: u32 = 15;
 pub const MC_SIG_FILTER_IN: u32 = 16;
 pub const MC_SIG_FILTER_OUT: u32 = 17;
 pub const MC_SIG_SERVO_FRICTION: u32 = 18;
+pub const MC_SIG_FREQ_INJECT: u32 = 19;
+pub const MC_SIG_FREQ_HZ: u32 = 20;
 pub const MC_SIG_PATH_SPEED: u32 = 32;
 pub const MC_SIG_PATH_ACC: u32 = 33;
 pub const MC_SIG_PATH_POS: u32 = 34;
@@ -411,6 +413,23 @@ pub const MC_ARC_RISE: u32 = 4;
 pub const MC_NACK_ARC_NORMAL: u32 = 156;
 pub const MC_NACK_ARC_AXES: u32 = 157;
 pub const MC_NACK_ARC_OFF_PLANE: u32 = 158;
+pub const MC_FREQ_POINTS_MAX: u32 = 256;
+pub const MC_FREQ_WINDOW_MIN: u32 = 1000;
+pub const MC_FREQ_CYCLES_MAX: u32 = 1000;
+pub const MC_FREQ_SETTLE_MAX: f64 = 60.0;
+pub const MC_FREQ_MIN_HZ: f64 = 0.1;
+pub const MC_FREQ_REF: u32 = 0;
+pub const MC_FREQ_OUTPUT: u32 = 1;
+pub const MC_FREQ_IDLE: u32 = 0;
+pub const MC_FREQ_RUNNING: u32 = 1;
+pub const MC_FREQ_DONE: u32 = 2;
+pub const MC_FREQ_ABORTED: u32 = 3;
+pub const MC_OP_FREQ_START: u32 = 121;
+pub const MC_OP_FREQ_STOP: u32 = 122;
+pub const MC_NACK_FREQ_RANGE: u32 = 150;
+pub const MC_NACK_FREQ_AMPLITUDE: u32 = 151;
+pub const MC_NACK_FREQ_LIMITS: u32 = 152;
+pub const MC_NACK_FREQ_BUSY: u32 = 153;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;
@@ -442,6 +461,7 @@ pub const MC_EV_GROUP_HOMING_FAILED: u32 = 31;
 pub const MC_EV_ANALOG: u32 = 34;
 pub const MC_EV_SYNC_BUS: u32 = 38;
 pub const MC_EV_TIMED: u32 = 39;
+pub const MC_EV_FREQ_DONE: u32 = 37;
 pub const MC_NACK_UNKNOWN_OPCODE: u32 = 1;
 pub const MC_NACK_BAD_AXIS: u32 = 2;
 pub const MC_NACK_NOT_FINITE: u32 = 3;
@@ -2114,6 +2134,119 @@ const _: () = {
     ["Offset of field: mc_card_info::_reserved"]
         [::core::mem::offset_of!(mc_card_info, _reserved) - 104usize];
 };
+#[doc = " One point of a sweep (layout 1.12): the frequency run and the single-bin DFT of each signal\n over its measured window (see MC_OP_FREQ_START)."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_freq_point {
+    #[doc = " The frequency run, Hz (cycles servo_rate_hz / M)."]
+    pub hz: f64,
+    #[doc = " The injected sine d: counts (MC_FREQ_REF) or V."]
+    pub d_re: f64,
+    pub d_im: f64,
+    #[doc = " The encoder position less the position held, counts."]
+    pub x_re: f64,
+    pub x_im: f64,
+    #[doc = " The DAC output, V."]
+    pub u_re: f64,
+    pub u_im: f64,
+    #[doc = " The measured window's length, ticks (M)."]
+    pub window: u32,
+    pub _reserved0: u32,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_freq_point"][::core::mem::size_of::<mc_freq_point>() - 64usize];
+    ["Alignment of mc_freq_point"][::core::mem::align_of::<mc_freq_point>() - 8usize];
+    ["Offset of field: mc_freq_point::hz"][::core::mem::offset_of!(mc_freq_point, hz) - 0usize];
+    ["Offset of field: mc_freq_point::d_re"][::core::mem::offset_of!(mc_freq_point, d_re) - 8usize];
+    ["Offset of field: mc_freq_point::d_im"]
+        [::core::mem::offset_of!(mc_freq_point, d_im) - 16usize];
+    ["Offset of field: mc_freq_point::x_re"]
+        [::core::mem::offset_of!(mc_freq_point, x_re) - 24usize];
+    ["Offset of field: mc_freq_point::x_im"]
+        [::core::mem::offset_of!(mc_freq_point, x_im) - 32usize];
+    ["Offset of field: mc_freq_point::u_re"]
+        [::core::mem::offset_of!(mc_freq_point, u_re) - 40usize];
+    ["Offset of field: mc_freq_point::u_im"]
+        [::core::mem::offset_of!(mc_freq_point, u_im) - 48usize];
+    ["Offset of field: mc_freq_point::window"]
+        [::core::mem::offset_of!(mc_freq_point, window) - 56usize];
+    ["Offset of field: mc_freq_point::_reserved0"]
+        [::core::mem::offset_of!(mc_freq_point, _reserved0) - 60usize];
+};
+#[doc = " The frequency-response sweep (layout 1.12). Card writes: the header when a sweep starts and\n ends, each point (then done) as it is measured."]
+#[repr(C)]
+#[derive(Debug, Copy, Clone, PartialEq)]
+pub struct mc_freq_status {
+    #[doc = " MC_FREQ_IDLE, _RUNNING, _DONE, _ABORTED."]
+    pub state: u32,
+    #[doc = " The axis swept."]
+    pub axis: u32,
+    #[doc = " MC_FREQ_REF or MC_FREQ_OUTPUT."]
+    pub mode: u32,
+    #[doc = " The points asked for."]
+    pub points: u32,
+    #[doc = " The points measured so far (point[0..done])."]
+    pub done: u32,
+    #[doc = " The MC_OP_FREQ_START's seq."]
+    pub seq: u32,
+    #[doc = " Periods measured per window (as asked)."]
+    pub cycles: u32,
+    pub _reserved0: u32,
+    pub from_hz: f64,
+    pub to_hz: f64,
+    #[doc = " Counts (MC_FREQ_REF) or V (MC_FREQ_OUTPUT)."]
+    pub amplitude: f64,
+    pub settle_s: f64,
+    #[doc = " The position held when the sweep started, counts."]
+    pub hold_pos: f64,
+    pub _reserved: [f64; 3usize],
+    pub point: [mc_freq_point; 256usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_freq_status"][::core::mem::size_of::<mc_freq_status>() - 16480usize];
+    ["Alignment of mc_freq_status"][::core::mem::align_of::<mc_freq_status>() - 8usize];
+    ["Offset of field: mc_freq_status::state"]
+        [::core::mem::offset_of!(mc_freq_status, state) - 0usize];
+    ["Offset of field: mc_freq_status::axis"]
+        [::core::mem::offset_of!(mc_freq_status, axis) - 4usize];
+    ["Offset of field: mc_freq_status::mode"]
+        [::core::mem::offset_of!(mc_freq_status, mode) - 8usize];
+    ["Offset of field: mc_freq_status::points"]
+        [::core::mem::offset_of!(mc_freq_status, points) - 12usize];
+    ["Offset of field: mc_freq_status::done"]
+        [::core::mem::offset_of!(mc_freq_status, done) - 16usize];
+    ["Offset of field: mc_freq_status::seq"]
+        [::core::mem::offset_of!(mc_freq_status, seq) - 20usize];
+    ["Offset of field: mc_freq_status::cycles"]
+        [::core::mem::offset_of!(mc_freq_status, cycles) - 24usize];
+    ["Offset of field: mc_freq_status::_reserved0"]
+        [::core::mem::offset_of!(mc_freq_status, _reserved0) - 28usize];
+    ["Offset of field: mc_freq_status::from_hz"]
+        [::core::mem::offset_of!(mc_freq_status, from_hz) - 32usize];
+    ["Offset of field: mc_freq_status::to_hz"]
+        [::core::mem::offset_of!(mc_freq_status, to_hz) - 40usize];
+    ["Offset of field: mc_freq_status::amplitude"]
+        [::core::mem::offset_of!(mc_freq_status, amplitude) - 48usize];
+    ["Offset of field: mc_freq_status::settle_s"]
+        [::core::mem::offset_of!(mc_freq_status, settle_s) - 56usize];
+    ["Offset of field: mc_freq_status::hold_pos"]
+        [::core::mem::offset_of!(mc_freq_status, hold_pos) - 64usize];
+    ["Offset of field: mc_freq_status::_reserved"]
+        [::core::mem::offset_of!(mc_freq_status, _reserved) - 72usize];
+    ["Offset of field: mc_freq_status::point"]
+        [::core::mem::offset_of!(mc_freq_status, point) - 96usize];
+};
+impl Default for mc_freq_status {
+    fn default() -> Self {
+        let mut s = ::core::mem::MaybeUninit::<Self>::uninit();
+        unsafe {
+            ::core::ptr::write_bytes(s.as_mut_ptr(), 0, 1);
+            s.assume_init()
+        }
+    }
+}
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_dpram {
@@ -2155,10 +2288,11 @@ pub struct mc_dpram {
     pub servo_filters: [mc_servo_filters; 8usize],
     pub analog_status: mc_analog_status,
     pub card_info: mc_card_info,
+    pub freq_status: mc_freq_status,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 591096usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 607576usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -2227,6 +2361,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, analog_status) - 590496usize];
     ["Offset of field: mc_dpram::card_info"]
         [::core::mem::offset_of!(mc_dpram, card_info) - 590960usize];
+    ["Offset of field: mc_dpram::freq_status"]
+        [::core::mem::offset_of!(mc_dpram, freq_status) - 591096usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

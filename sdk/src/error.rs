@@ -402,6 +402,19 @@ error_kinds! {
     /// A normal-vector arc's centre, or its end (unless it rises along the normal), is off
     /// the plane through the start by more than the group's tolerance.
     ArcOffPlane = -149, MC_ERR_ARC_OFF_PLANE, nack ArcOffPlane, "the arc's centre or end is off its plane by more than the group's tolerance";
+    /// Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
+    /// servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
+    /// range.
+    FreqRange = -141, MC_ERR_FREQ_RANGE, nack FreqRange, "sweep frequencies must be 0.1 Hz <= from <= to <= a quarter of the servo rate, with 1..256 points, 1..1000 cycles and 0..60 s settling";
+    /// A frequency sweep's amplitude not above 0, or (on the servo output) above the axis's
+    /// DAC limit.
+    FreqAmplitude = -142, MC_ERR_FREQ_AMPLITUDE, nack FreqAmplitude, "sweep amplitude must be above 0 (and within the DAC limit on the servo output)";
+    /// The sweep's sine would break the axis's limits: its velocity (amplitude 2 pi f above the
+    /// safety's max velocity), acceleration, following error at rest (2 amplitude above
+    /// min_ferror) or soft limits.
+    FreqLimits = -143, MC_ERR_FREQ_LIMITS, nack FreqLimits, "the sweep's sine would exceed the axis's velocity, acceleration, following error or soft limits";
+    /// A sweep is running: another sweep, or that axis's own motion, refused.
+    FreqBusy = -144, MC_ERR_FREQ_BUSY, nack FreqBusy, "a frequency sweep is running (stop it first)";
 }
 
 impl From<NurbsError> for ErrorKind {

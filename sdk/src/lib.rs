@@ -32,6 +32,7 @@ mod config;
 mod device;
 mod error;
 mod fit;
+mod freq;
 mod gantry;
 pub mod gcode;
 mod group;
@@ -94,6 +95,10 @@ pub use firmware_proto::{
 pub use firmware_proto::{Edge, ScopeMode, ScopeSample, ScopeState, Source, SCOPE_CHANNELS};
 pub use firmware_proto::{
     GearRatio, PvtEvent, SyncEvent, AUX_ENCODERS, CAM_MAX_POINTS, CAM_TABLES, PVT_LEN,
+};
+pub use freq::{
+    find_resonances, sweep_duration, sweep_frequencies, Bode, FreqMode, FreqPoint, FreqProgress,
+    FreqResponse, FreqSweep, Phasor, Resonance, FREQ_POINTS_MAX, PEAK_DB,
 };
 pub use gantry::{
     Gantry, GantryConfig, GantryHoming, GantryPhase, GantrySide, GantryStatus, GANTRIES_MAX,

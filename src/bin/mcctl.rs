@@ -17,6 +17,7 @@
 //! mcctl --card emu:bench1 home 0 --method 37 --position 100   # MC_Home (CiA 402 method)
 //! mcctl --card emu:bench1 jog 0 -20000 --for 1.5     # hold the button 1.5 s, then release
 //! mcctl --card emu:bench1 handwheel 0 --input 0 --ratio 10 --for 60   # aux 0 jogs axis 0, x10
+//! mcctl --card emu:bench1 freq 0 --from 5 --to 1000 --points 40 --amplitude 100 --json   # Bode
 //! mcctl --card emu:bench1 gantry form 0 --slaves 1 --skew-limit 200 --offsets 25   # a gantry
 //! mcctl --card emu:bench1 gantry home 0              # each side homed, the bridge squared
 //! mcctl --card emu:bench1 gantry status --json       # phase, skews, gains (dissolve 0 ends it)
@@ -124,6 +125,10 @@ enum Cmd {
     /// detent (x1, x10, x100), for --for seconds, then lets go (the axis goes on to where the
     /// wheel put it). --off only lets go.
     Handwheel(cli::handwheel::Args),
+    /// The frequency response measured on the card: a stepped sine on the axis's reference
+    /// (closed loop) or, --plant, its servo output (plant, open loop); gain dB, phase deg,
+    /// resonances.
+    Freq(cli::freq::Args),
     /// Layout 1.10: gantry axes (a master and its slaves, one logical axis): form, home (each
     /// side homed, the bridge squared to its offsets), status, dissolve. Lengths in the
     /// master's user units.
@@ -198,6 +203,7 @@ fn main() -> ExitCode {
         Cmd::Move(a) => cli::moves::run(uri, a),
         Cmd::Jog(a) => cli::jog::run(uri, a),
         Cmd::Handwheel(a) => cli::handwheel::run(uri, a),
+        Cmd::Freq(a) => cli::freq::run(uri, a),
         Cmd::Gantry { action } => cli::gantry::run(uri, action),
         Cmd::Comp(a) => cli::comp::run(uri, a),
         Cmd::Home(a) => cli::home::run(uri, a),

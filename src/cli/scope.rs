@@ -18,7 +18,7 @@ use std::time::Duration;
 pub struct Args {
     /// A channel SIGNAL[:INDEX] (repeat for more, up to 16): cmd_pos, cmd_vel, cmd_acc,
     /// act_pos, act_vel, ferr, dac, u_request, encoder, servo_p, servo_i, servo_d, servo_ff,
-    /// gantry_skew, comp_pos, filter_in, filter_out, servo_friction
+    /// gantry_skew, comp_pos, filter_in, filter_out, servo_friction, freq_inject, freq_hz
     /// (of an axis), path_speed, path_acc, path_pos (of a group), inputs, outputs,
     /// inputs_raw. Default: cmd_pos, act_pos, ferr and dac of --axis.
     #[arg(long = "channel", value_parser = parse_source)]

@@ -35,7 +35,8 @@ pub struct MotorParams {
     /// Encoder counts per revolution (after quadrature).
     pub counts_per_rev: u32,
     /// Optional resonance: a load coupled to the motor through a spring (two-mass model).
-    /// `inertia` is then the motor side; the encoder stays on the motor (semi-closed loop).
+    /// `inertia` is then the motor side; the encoder is on the motor (semi-closed loop)
+    /// unless the resonance puts it on the load ([`Resonance::encoder_on_load`]).
     pub resonance: Option<Resonance>,
 }
 
@@ -49,6 +50,14 @@ pub struct Resonance {
     pub stiffness: f64,
     /// Coupling damping c, N·m·s/rad.
     pub damping: f64,
+    /// The encoder reads the load (a linear scale on the table: full closed loop), not the
+    /// motor. Seen from the motor the coupling is a pair: an anti-resonance at
+    /// `sqrt(k/J_l)` below the resonance, the drive's torque and the encoder on the same
+    /// shaft (collocated), so the phase never falls below the rigid body's −180° and a loop
+    /// closed on the motor does not ring at the resonance. Seen from the load there is no
+    /// anti-resonance: past the resonance the phase falls by another 180°, and a loop whose
+    /// gain there is near 1 rings at it (the case a notch is for).
+    pub encoder_on_load: bool,
 }
 
 impl Resonance {
@@ -62,6 +71,15 @@ impl Resonance {
             load_inertia: jl,
             stiffness: k,
             damping: 2.0 * zeta * w * j_eq,
+            encoder_on_load: false,
+        }
+    }
+
+    /// The same coupling read on the load ([`Resonance::encoder_on_load`]).
+    pub fn on_load(self) -> Self {
+        Self {
+            encoder_on_load: true,
+            ..self
         }
     }
 }
@@ -244,15 +262,25 @@ impl Motor {
         }
     }
 
+    /// The angle the encoder reads: the motor's, or the load's when the resonance puts the
+    /// encoder there.
+    #[inline]
+    pub fn sensed_theta(&self) -> f64 {
+        match self.params.resonance {
+            Some(r) if r.encoder_on_load => self.load_theta,
+            _ => self.theta,
+        }
+    }
+
     /// The encoder reading: the angle quantised to whole counts.
     #[inline]
     pub fn encoder(&self) -> i64 {
-        floor_i64(self.theta * self.params.counts_per_rad())
+        floor_i64(self.sensed_theta() * self.params.counts_per_rad())
     }
 
-    /// Position in (unquantised) counts.
+    /// Position in (unquantised) counts, where the encoder reads it.
     pub fn position_counts(&self) -> f64 {
-        self.theta * self.params.counts_per_rad()
+        self.sensed_theta() * self.params.counts_per_rad()
     }
 
     /// The shaft's position and encoder reading now, [`Reading::of`].
@@ -434,7 +462,7 @@ impl Reading {
     pub fn of(m: &Motor) -> Self {
         let position = m.position_counts();
         Self {
-            theta: m.theta,
+            theta: m.sensed_theta(),
             counts_per_rev: m.params.counts_per_rev,
             position,
             count: floor_i64(position),
@@ -445,7 +473,7 @@ impl Reading {
     /// resolution), else a new one.
     #[inline]
     pub fn again(self, m: &Motor) -> Self {
-        if self.theta.to_bits() == m.theta.to_bits()
+        if self.theta.to_bits() == m.sensed_theta().to_bits()
             && self.counts_per_rev == m.params.counts_per_rev
         {
             self

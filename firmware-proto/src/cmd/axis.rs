@@ -335,6 +335,10 @@ pub enum AxisCmd {
     ServoFilterSet(super::ServoFilterSet),
     /// `MC_OP_SERVO_FILTER_CLEAR`.
     ServoFilterClear(super::ServoFilterClear),
+    /// `MC_OP_FREQ_START` (layout 1.12).
+    FreqStart(super::FreqStart),
+    /// `MC_OP_FREQ_STOP`.
+    FreqStop,
 }
 
 impl AxisCmd {
@@ -361,6 +365,8 @@ impl AxisCmd {
             Self::SetModulo(_) => Opcode::SetModulo,
             Self::ServoFilterSet(_) => Opcode::ServoFilterSet,
             Self::ServoFilterClear(_) => Opcode::ServoFilterClear,
+            Self::FreqStart(_) => Opcode::FreqStart,
+            Self::FreqStop => Opcode::FreqStop,
         }
     }
 
@@ -390,6 +396,8 @@ impl AxisCmd {
             Opcode::SetModulo => Self::SetModulo(Args::decode(f, args)?),
             Opcode::ServoFilterSet => Self::ServoFilterSet(Args::decode(f, args)?),
             Opcode::ServoFilterClear => Self::ServoFilterClear(Args::decode(f, args)?),
+            Opcode::FreqStart => Self::FreqStart(Args::decode(f, args)?),
+            Opcode::FreqStop => Self::FreqStop,
             _ => return Err(not_in_family()),
         })
     }
@@ -417,6 +425,8 @@ impl AxisCmd {
             Self::SetModulo(m) => super::entry(op, axis, m),
             Self::ServoFilterSet(v) => super::entry(op, axis, v),
             Self::ServoFilterClear(v) => super::entry(op, axis, v),
+            Self::FreqStart(v) => super::entry(op, axis, v),
+            Self::FreqStop => super::entry(op, axis, &super::FreqStop),
         }
     }
 }

@@ -31,6 +31,7 @@ mod axis;
 mod card;
 mod comp;
 mod filter;
+mod freq;
 mod gantry;
 mod group;
 mod io;
@@ -42,6 +43,7 @@ pub use axis::*;
 pub use card::*;
 pub use comp::*;
 pub use filter::*;
+pub use freq::*;
 pub use gantry::*;
 pub use group::*;
 pub use io::*;
@@ -273,7 +275,9 @@ pub fn family(op: Opcode) -> Family {
         | O::HandwheelOff
         | O::SetModulo
         | O::ServoFilterSet
-        | O::ServoFilterClear => Family::Axis,
+        | O::ServoFilterClear
+        | O::FreqStart
+        | O::FreqStop => Family::Axis,
         O::GroupConfigure
         | O::GroupEnable
         | O::GroupDisable

@@ -15,6 +15,7 @@ pub mod compare;
 pub mod config;
 pub mod dac;
 mod exec;
+pub mod freq;
 pub mod gantry;
 pub mod gear;
 pub mod group;
@@ -99,6 +100,9 @@ pub struct Firmware<M: Mem + Clone> {
     io: IoUnit,
     /// Layout 1.11: analog inputs, spare DACs and the path-speed output.
     analog: analog::AnalogUnit,
+    /// Layout 1.12: the frequency sweep in progress, and its end's event to post.
+    sweep: Option<freq::Sweep>,
+    sweep_event: Option<Event>,
     num_axes: usize,
     /// Layout 1.8: each axis's scale, counts per user unit, kept for hosts (not used here).
     scales: [f64; MAX_AXES],
@@ -160,6 +164,8 @@ impl<M: Mem + Clone> Firmware<M> {
             outputs: 0,
             io: IoUnit::new(),
             analog: analog::AnalogUnit::new(),
+            sweep: None,
+            sweep_event: None,
             num_axes,
             scales: [1.0; MAX_AXES],
             servo_rate_hz,
@@ -195,6 +201,7 @@ impl<M: Mem + Clone> Firmware<M> {
             layout::GROUP_PATH.at(g).write(&fw.mem, group.path_config());
         }
         layout::IO_CONFIG.write(&fw.mem, &fw.io.config().to_block());
+        layout::FREQ_STATUS.write(&fw.mem, &raw::mc_freq_status::default());
         fw.publish();
         fw.mem.store32(
             layout::CARD_STATE,
@@ -547,6 +554,11 @@ impl<M: Mem + Clone> Firmware<M> {
         if self.groups.iter().any(|g| g.homing().is_some()) {
             self.group_home_tick(&homed);
         }
+        // Layout 1.12: the sweep's sine of this tick on its axis (freq.rs).
+        if let Some(sw) = &mut self.sweep {
+            let inj = sw.injection();
+            self.axes[sw.axis].set_injection(inj);
+        }
         // The reports with something to tell, in axis order (most ticks: none).
         let mut reports: heapless::Vec<(usize, TickReport), MAX_AXES> = heapless::Vec::new();
         let mut report = TickReport::default();
@@ -641,6 +653,10 @@ impl<M: Mem + Clone> Firmware<M> {
                 );
             }
         }
+        // Layout 1.12: the sweep measures what went out (freq.rs).
+        if self.sweep.is_some() {
+            self.sweep_tick(dac);
+        }
         // The status first, then the events about it: a host that takes motion done (or a
         // state change) and then reads the status sees this tick's, never the one before.
         self.publish();
@@ -649,6 +665,9 @@ impl<M: Mem + Clone> Firmware<M> {
         self.post_safety_events();
         self.post_outbox();
         self.post_scope_events(&scoped);
+        if let Some(e) = self.sweep_event.take() {
+            self.post(e);
+        }
         for i in 0..self.io.events_len() {
             if let Some(e) = self.io.event(i) {
                 self.post(e);
@@ -821,6 +840,11 @@ impl<M: Mem + Clone> Firmware<M> {
         let (inputs, inputs_raw) = self.io.inputs();
         let outputs = self.outputs | self.io.pulse_outputs() | self.analog.pwm_outputs();
         let analog = &self.analog;
+        let sweep = self.sweep.as_ref();
+        let swept = |i: usize, hz: bool| match sweep {
+            Some(s) if s.axis == i => freq::signal(s, hz),
+            _ => 0.0,
+        };
         let mut axis_cache: [Option<firmware_proto::AxisStatus>; MAX_AXES] = [None; MAX_AXES];
         let mut group_cache: [Option<firmware_proto::GroupStatus>; MAX_GROUPS] = [None; MAX_GROUPS];
         for (v, src) in s.value.iter_mut().zip(sc.sources()) {
@@ -858,6 +882,8 @@ impl<M: Mem + Clone> Firmware<M> {
                 Signal::FilterIn => self.axes[i].law_output(),
                 Signal::FilterOut => ax().u_request,
                 Signal::ServoFriction => self.axes[i].friction_term(),
+                Signal::FreqInject => swept(i, false),
+                Signal::FreqHz => swept(i, true),
                 Signal::PathSpeed => gr().feed,
                 Signal::PathAcc => gr().feed_acc,
                 Signal::PathPos => gr().path_pos,

@@ -242,7 +242,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 20] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 121, 129, 256, 0x7FFF, 0x8000, 0xFFFF,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 123, 129, 256, 0x7FFF, 0x8000, 0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -918,6 +918,31 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
         O::HandwheelOff => {
             feed(s);
             Plausible::typed(AxisCmd::HandwheelOff)
+        }
+        // Layout 1.12: a sweep of either mode around the plausible (some refused: beyond a
+        // quarter of the servo rate, an amplitude beyond the axis's limits), and its stop.
+        O::FreqStart => {
+            let mode = if s.u8() & 1 == 0 {
+                firmware_proto::cmd::FreqMode::Reference
+            } else {
+                firmware_proto::cmd::FreqMode::Output
+            };
+            let from_hz = magnitude(s, -1.0, 3.0);
+            let start = firmware_proto::cmd::FreqStart {
+                mode,
+                from_hz,
+                to_hz: from_hz * (1.0 + magnitude(s, -1.0, 1.0)),
+                points: 1 + u16::from(s.u8() % 8),
+                amplitude: magnitude(s, -1.0, 3.0),
+                cycles: 1 + u16::from(s.u8() % 4),
+                settle_s: magnitude(s, -3.0, 0.0),
+            };
+            feed(s);
+            Plausible::typed(AxisCmd::FreqStart(start))
+        }
+        O::FreqStop => {
+            feed(s);
+            Plausible::typed(AxisCmd::FreqStop)
         }
         O::CompRead => {
             feed(s);

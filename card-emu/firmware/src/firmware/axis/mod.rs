@@ -284,6 +284,19 @@ pub struct Axis {
     turns: i64,
     /// The direction of the last motion planned (+1 or −1): `MC_MOVE_DIR_CURRENT` at rest.
     last_dir: f64,
+    /// Layout 1.12: a frequency sweep's sine of the tick (`firmware::freq`), on the position
+    /// reference (counts) or on the servo output (V); 0 and 0 without a sweep.
+    inject: Injection,
+}
+
+/// Layout 1.12: what a frequency sweep adds to an axis's servo loop this tick.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Injection {
+    /// Added to the position reference the servo law sees (not to its velocity or
+    /// acceleration, nor to the published commanded position), counts.
+    pub reference: f64,
+    /// Added to the servo output after the filters, before the DAC clamp, V.
+    pub output: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -359,6 +372,7 @@ impl Axis {
             modulo: 0.0,
             turns: 0,
             last_dir: 1.0,
+            inject: Injection::default(),
         }
     }
 
@@ -1101,6 +1115,25 @@ impl Axis {
         };
     }
 
+    /// Layout 1.12: set this tick's sweep injection (`Injection::default()`: none).
+    pub fn set_injection(&mut self, inject: Injection) {
+        self.inject = inject;
+    }
+
+    /// Layout 1.12: the sweep injection in force.
+    pub fn injection(&self) -> Injection {
+        self.inject
+    }
+
+    /// Layout 1.12: at rest, holding its position, nothing driving it (what a sweep needs
+    /// and keeps).
+    pub fn holding(&self) -> bool {
+        self.state == AxisState::Standstill
+            && self.motion == Motion::Hold
+            && self.goal == Goal::None
+            && self.is_powered()
+    }
+
     /// Layout 1.11: the biquad filters on the servo output.
     pub fn filters(&self) -> &ServoFilters {
         &self.filters
@@ -1288,17 +1321,24 @@ impl Axis {
         };
         self.comp_ref = r;
 
-        // Servo loop.
-        self.ferr = r.pos - motor;
+        // Servo loop. Layout 1.12: a sweep's sine on the reference's position only (FFPIV and
+        // PID+FF see it as the measured position less the sine, which is the same in their
+        // position error and leaves their velocity estimate and the standstill rounding of
+        // the reference alone; PD+ differentiates the measured position, so it takes it on
+        // the reference).
+        let inj = self.inject.reference;
+        self.ferr = r.pos + inj - motor;
         let limit = self.config.dac_limit_v;
         let (u, terms) = match &mut self.law {
             Law::Ffpiv => {
-                let u = self.servo.update(&r, motor, &self.config.ffpiv, ts, limit);
+                let u = self
+                    .servo
+                    .update(&r, motor - inj, &self.config.ffpiv, ts, limit);
                 (u, self.servo.terms())
             }
             // Yeh eq 2.12: u = kp e + kd ė + kv v_ref + ka a_ref.
-            Law::PdPlus(pd) => (pd.update(r.pos, r.vel, r.acc, motor), pd.terms()),
-            Law::Pidff(pid) => (pid.update(&r, motor, limit), pid.terms()),
+            Law::PdPlus(pd) => (pd.update(r.pos + inj, r.vel, r.acc, motor), pd.terms()),
+            Law::Pidff(pid) => (pid.update(&r, motor - inj, limit), pid.terms()),
         };
         self.servo_terms = terms;
         self.law_out = u;
@@ -1307,7 +1347,7 @@ impl Axis {
             self.filters.run(u)
         } else {
             u
-        };
+        } + self.inject.output;
         self.u_request = u;
         let u = u.clamp(-limit, limit);
         let (volts, saturated) = super::dac::Dac::output(u);

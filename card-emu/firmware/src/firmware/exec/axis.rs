@@ -48,6 +48,8 @@ fn finite(c: &AxisCmd) -> bool {
         AxisCmd::SetModulo(m) => m.modulo.is_finite(),
         // Layout 1.11: the filter's design checks its numbers itself (every one, NotFinite).
         AxisCmd::ServoFilterSet(_) | AxisCmd::ServoFilterClear(_) => true,
+        // Layout 1.12: the sweep's check takes its numbers in its order (freq.rs).
+        AxisCmd::FreqStart(_) | AxisCmd::FreqStop => true,
     }
 }
 
@@ -59,7 +61,21 @@ impl<M: Mem + Clone> Firmware<M> {
         if !finite(&cmd) {
             return Err(NackCode::NotFinite);
         }
+        // Layout 1.12: a sweep stops whatever the axis field says.
+        if let AxisCmd::FreqStop = cmd {
+            return self.execute_freq_stop();
+        }
         let ax = self.target_axis(c)?;
+        // Layout 1.12: an axis being swept takes no motion of its own (freq.rs).
+        self.sweep_gate(ax, &cmd)?;
+        if let AxisCmd::FreqStart(s) = &cmd {
+            self.safety.check_command(&cmd, &self.axes[ax])?;
+            if self.grouped(ax) {
+                return Err(NackCode::AxisGrouped);
+            }
+            self.gantry_gate(ax, &cmd)?;
+            return self.execute_freq_start(c.seq, ax, s);
+        }
         if let AxisCmd::CompTable(_) | AxisCmd::CompData(_) | AxisCmd::CompRead(_) = cmd {
             return self.execute_comp(ax, &cmd);
         }
@@ -108,7 +124,9 @@ impl<M: Mem + Clone> Firmware<M> {
             | AxisCmd::HandwheelOff
             | AxisCmd::SetModulo(_)
             | AxisCmd::ServoFilterSet(_)
-            | AxisCmd::ServoFilterClear(_) => return Err(NackCode::UnknownOpcode),
+            | AxisCmd::ServoFilterClear(_)
+            | AxisCmd::FreqStart(_)
+            | AxisCmd::FreqStop => return Err(NackCode::UnknownOpcode),
             AxisCmd::PowerOn => axis.power(true)?,
             AxisCmd::PowerOff => axis.power(false)?,
             AxisCmd::Move(kind, m) => {
