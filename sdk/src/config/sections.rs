@@ -345,7 +345,7 @@ impl BiquadSection {
     }
 
     /// Each key, whether the kind needs it and whether the section has it.
-    pub(crate) fn keys(&self) -> [(&'static str, bool, bool); 9] {
+    pub fn keys(&self) -> [(&'static str, bool, bool); 9] {
         use BiquadName as N;
         let k = self.kind;
         let raw = k == N::Raw;
