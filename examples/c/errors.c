@@ -83,7 +83,7 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_FILTER_UNSTABLE, MC_ERR_PIDFF_GAINS,
     /* analog I/O and the path-speed output (layout 1.11) */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER,   MC_ERR_ANALOG_THRESHOLD,
-    MC_ERR_PSO_CONFIG,     MC_ERR_PSO_GROUP,
+    MC_ERR_PSO_CONFIG,     MC_ERR_PSO_GROUP,       MC_ERR_PSO_OUTPUT,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -160,7 +160,7 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_PIDFF_GAINS,
     /* analog.c */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER, MC_ERR_ANALOG_THRESHOLD, MC_ERR_PSO_CONFIG,
-    MC_ERR_PSO_GROUP,
+    MC_ERR_PSO_GROUP, MC_ERR_PSO_OUTPUT,
 };
 
 static void result_strings(void) {

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 11u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 12u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -85,7 +85,8 @@
                            * MC_OP_ANALOG_OUTPUT 117, MC_OP_PSO 118, MC_OP_PSO_OFF 119,
                            * MC_NACK_ANALOG_* 145..147, MC_NACK_PSO_* 148..149,
                            * MC_EV_ANALOG 34, MC_SIG_AIN0..7 51..58, MC_SIG_AOUT0..3 59..62,
-                           * MC_SIG_PSO 63, analog_status appended) */
+                           * MC_SIG_PSO 63, analog_status appended); 12: MC_NACK_PSO_OUTPUT 154
+                           * (a compare channel armed on the output the PSO's PWM holds) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1144,6 +1145,10 @@
                                     * flags */
 #define MC_NACK_PSO_GROUP 149      /* a PSO on a group that does not exist (index beyond MC_MAX_GROUPS)
                                     * or is not configured */
+#define MC_NACK_PSO_OUTPUT 154     /* MC_OP_COMPARE_ARM on the digital output the PSO's PWM holds
+                                    * (layout 1.12): refused, nothing changed (the other way, a PSO's
+                                    * PWM on an output a compare channel pulses, is
+                                    * MC_NACK_PSO_CONFIG) */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

@@ -463,6 +463,10 @@ code_enum! {
         /// A PSO on a group that does not exist (index beyond `MC_MAX_GROUPS`) or is not
         /// configured.
         PsoGroup = raw::MC_NACK_PSO_GROUP,
+        /// `MC_OP_COMPARE_ARM` on the digital output the PSO's PWM holds (layout 1.12): refused,
+        /// nothing changed (the other way, a PSO's PWM on an output a compare channel pulses, is
+        /// `MC_NACK_PSO_CONFIG`).
+        PsoOutput = raw::MC_NACK_PSO_OUTPUT,
     }
 }
 

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 11;
+pub const MC_LAYOUT_MINOR: u32 = 12;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -383,6 +383,7 @@ pub const MC_NACK_ANALOG_FILTER: u32 = 146;
 pub const MC_NACK_ANALOG_THRESHOLD: u32 = 147;
 pub const MC_NACK_PSO_CONFIG: u32 = 148;
 pub const MC_NACK_PSO_GROUP: u32 = 149;
+pub const MC_NACK_PSO_OUTPUT: u32 = 154;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;

@@ -626,8 +626,8 @@ mod tests {
         assert_eq!(Opcode::from_raw(0), None);
         // layout 1.10: the plane of two axes' one, the handwheel's two, the gantries' five,
         // the modulo's three; layout 1.11: group homing's three, the filters' four, PID+FF's
-        // one, analog I/O's and the PSO's five
-        assert_eq!(NackCode::ALL.len(), 108);
+        // one, analog I/O's and the PSO's five; layout 1.12: the PSO's output
+        assert_eq!(NackCode::ALL.len(), 109);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));

@@ -373,6 +373,9 @@ error_kinds! {
     PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
     /// A path-speed output on a group that does not exist or is not configured.
     PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
+    /// Layout 1.12: a compare channel armed on the digital output the path-speed output's PWM
+    /// holds.
+    PsoOutput = -145, MC_ERR_PSO_OUTPUT, nack PsoOutput, "the output is the path-speed output's PWM: no compare channel on it";
 }
 
 impl From<NurbsError> for ErrorKind {
