@@ -17,7 +17,9 @@
 //! | `GET /api/tests/{id}`, `GET /api/tests/last` | a test's answer again (the last 8 are kept) |
 //! | `POST /api/reset` | MC_Reset of the axis (after a trip); answers `{"state"}` |
 //! | `GET /api/gains` | the gains the axis runs with ([`Gains`]) |
-//! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}` or `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}`: apply, answer the gains then held |
+//! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}`, `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}` or `{"law": "pidff", kp, ki, kd, kvff, kaff, friction, friction_deadband, d_filter_hz}`: apply, answer the gains then held |
+//! | `GET /api/filters` | the servo output's filter slots ([`servo_filters::Filters`]) |
+//! | `POST /api/filters` | `{"slot": k, "filter": {"kind": "notch", freq_hz, damping, depth_db}}` (or `lowpass`, `lead_lag`, `raw`; `none` clears): set, answer the slots then held |
 //!
 //! Errors are `{"error": message, "kind": the SDK's error kind (if any)}` with 400 (a bad
 //! request), 403 (refused by the guard: Host, Origin or token), 404 (no such route, or a test
@@ -36,6 +38,7 @@ pub mod live;
 
 use crate::tuning::gains::{self, Apply, Gains};
 use crate::tuning::run::{run_test, Limits, TestError, TestKind, TestRun, TestSpec};
+use crate::tuning::servo_filters::{self, FilterError, Filters};
 use crate::{Card, Error, Result, Scope};
 use axum::extract::rejection::JsonRejection;
 use axum::extract::State;
@@ -154,6 +157,7 @@ async fn blocking<T: Send + 'static>(
 
 const INDEX_HTML: &str = include_str!("serve/web/index.html");
 const APP_JS: &str = include_str!("serve/web/app.js");
+const SERVO_JS: &str = include_str!("serve/web/servo.js");
 const STYLE_CSS: &str = include_str!("serve/web/style.css");
 const UPLOT_JS: &str = include_str!("serve/web/vendor/uPlot.iife.min.js");
 const UPLOT_CSS: &str = include_str!("serve/web/vendor/uPlot.min.css");
@@ -187,6 +191,8 @@ async fn info(State(app): State<Arc<App>>) -> Json<serde_json::Value> {
             "step": DEFAULT_STEP,
             "distance": DEFAULT_DISTANCE,
             "limits": Limits::default(),
+            // What the PID+FF form starts from on an axis that runs another law.
+            "pidff": gains::Pidff::from(&crate::PidffSettings::default()),
         },
         "live": { "card_hz": live::CARD_HZ, "group": live::GROUP },
     }))
@@ -361,6 +367,27 @@ async fn post_gains(
         .map(Json)
 }
 
+async fn get_filters(State(app): State<Arc<App>>) -> std::result::Result<Json<Filters>, ApiError> {
+    blocking(move || Ok(servo_filters::get(&app.card, app.axis)?))
+        .await
+        .map(Json)
+}
+
+async fn post_filters(
+    State(app): State<Arc<App>>,
+    req: std::result::Result<Json<servo_filters::Change>, JsonRejection>,
+) -> std::result::Result<Json<Filters>, ApiError> {
+    let Json(change) = req.map_err(bad_json)?;
+    blocking(move || {
+        servo_filters::apply(&app.card, app.axis, &change).map_err(|e| match e {
+            FilterError::Request(m) => ApiError(StatusCode::BAD_REQUEST, m, None),
+            FilterError::Card(e) => e.into(),
+        })
+    })
+    .await
+    .map(Json)
+}
+
 /// A route of the server. The router is built from [`ROUTES`] alone and [`guard`] sees every
 /// request before any route does (and the fallback's 404s), so no route escapes the checks.
 pub struct Route {
@@ -386,6 +413,12 @@ pub const ROUTES: &[Route] = &[
         methods: &["GET"],
         file: true,
         handler: || get(|| async { file(APP_JS, "text/javascript; charset=utf-8") }),
+    },
+    Route {
+        path: "/servo.js",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(SERVO_JS, "text/javascript; charset=utf-8") }),
     },
     Route {
         path: "/style.css",
@@ -440,6 +473,12 @@ pub const ROUTES: &[Route] = &[
         methods: &["GET", "POST"],
         file: false,
         handler: || get(get_gains).post(post_gains),
+    },
+    Route {
+        path: "/api/filters",
+        methods: &["GET", "POST"],
+        file: false,
+        handler: || get(get_filters).post(post_filters),
     },
     Route {
         path: "/api/reset",

@@ -19,10 +19,12 @@
 //! only on the samples.
 //!
 //! The card side (arming the scope, running the step or the move, capturing until settled)
-//! is [`run`]; the gains the page shows and applies are [`gains`].
+//! is [`run`]; the gains the page shows and applies are [`gains`], the servo output's filters
+//! [`servo_filters`].
 
 pub mod gains;
 pub mod run;
+pub mod servo_filters;
 
 use serde::Serialize;
 

@@ -332,6 +332,47 @@ fn refusals_change_nothing() {
     card.set_analog_output(0, 1.0).unwrap();
 }
 
+/// Layout 1.12: a compare channel is refused on the digital output the PSO's PWM holds
+/// (`PsoOutput`), the channel left idle and the PSO running as before; another output is
+/// taken, and once the PSO stops its output is free again. (The other way, a PWM on an output a
+/// compare channel pulses, is `PsoConfig`: `refusals_change_nothing`.)
+#[test]
+fn a_compare_channel_is_refused_on_the_psos_pwm_output() {
+    use motioncard_sdk::{Direction, IoState};
+    let card = card(2);
+    let sim = card.sim().unwrap();
+    let g = card.group(0).unwrap();
+    g.configure(&GroupSettings::new(&[0, 1])).unwrap();
+    let pwm = Pso {
+        output: PsoOutput::Pwm { output: 6, hz: 1e3 },
+        gate: 3,
+        min: 0.1,
+        max: 0.9,
+        v_ref: 10_000.0,
+        filter_hz: 0.0,
+    };
+    g.pso(&pwm).unwrap();
+    sim.step(1);
+    let before = card.pso_status().unwrap();
+    let ch = card.axis(0).unwrap().compare(0);
+    assert_eq!(
+        kind(ch.arm_single(6, 100, 10.0, Direction::Positive)),
+        ErrorKind::PsoOutput
+    );
+    let series = ch.arm_series(6, 100, 10.0, 5.0, 3, Direction::Positive);
+    assert_eq!(kind(series), ErrorKind::PsoOutput);
+    sim.step(1);
+    assert_eq!(ch.status().unwrap().state, IoState::Idle, "nothing armed");
+    assert_eq!(card.pso_status().unwrap(), before, "the PSO as it was");
+    // Another output is taken.
+    ch.arm_single(7, 100, 10.0, Direction::Positive).unwrap();
+    ch.disarm().unwrap();
+    // The PSO stopped: its output is free.
+    card.pso_off().unwrap();
+    ch.arm_single(6, 100, 10.0, Direction::Positive).unwrap();
+    assert_eq!(ch.status().unwrap().state, IoState::Armed);
+}
+
 /// The PSO on a DAC through a 90° corner blended within 200 counts: laser power = 1 V + 7 V ·
 /// v/v_ref, gated by output 3 that the path sets at its start and clears at its end, the speed
 /// filtered at 200 Hz. Each tick's output is compared with the ideal output at the plant's

@@ -6,9 +6,9 @@ mod common;
 
 use common::stepped_card_with;
 use motioncard_sdk::{
-    AccDec, Card, Config, EmuOptions, Error, ErrorKind, FilterKind, FilterSettings, GroupSettings,
-    HomingFlags, HomingSettings, Interpolator, IoSettings, PathSettings, SafetySettings,
-    StopCategory,
+    AccDec, AnalogInputSettings, BiquadSpec, Card, Config, EmuOptions, Error, ErrorKind,
+    FilterKind, FilterSettings, GroupSettings, HomingFlags, HomingSettings, Interpolator,
+    IoSettings, PathSettings, Pso, PsoOutput, PsoState, SafetySettings, StopCategory,
 };
 use std::time::Duration;
 
@@ -82,6 +82,41 @@ fn configured() -> Card {
         ..PathSettings::uniform(2, 1e5, 1e6, 1e8)
     })
     .unwrap();
+    // Layout 1.11: servo-output filters, an analog input, the path-speed output on group 0.
+    a0.set_servo_filter(1, &BiquadSpec::notch(24.0, 0.2, -20.0))
+        .unwrap();
+    a0.set_servo_filter(3, &BiquadSpec::low_pass(800.0, 0.7))
+        .unwrap();
+    a2.set_servo_filter(0, &BiquadSpec::lead_lag(30.0, 90.0))
+        .unwrap();
+    a2.set_servo_filter(2, &BiquadSpec::raw([0.2, 0.2, 0.0, -0.6, 0.0]))
+        .unwrap();
+    card.configure_analog_input(
+        3,
+        &AnalogInputSettings {
+            cutoff_hz: 50.0,
+            threshold: 2.5,
+            hysteresis: 0.25,
+            rise_event: true,
+            fall_event: false,
+        },
+    )
+    .unwrap();
+    card.pso_counts(
+        0,
+        &Pso {
+            output: PsoOutput::Pwm {
+                output: 3,
+                hz: 2000.0,
+            },
+            gate: 2,
+            min: 0.1,
+            max: 0.8,
+            v_ref: 5e4,
+            filter_hz: 100.0,
+        },
+    )
+    .unwrap();
     card
 }
 
@@ -101,6 +136,12 @@ fn a_non_default_configuration_round_trips_byte_for_byte() {
         "method = 17",
         "interpolator = \"reference_word\"",
         "lookahead = 64",
+        "[axis.0.biquad.1]\nkind = \"notch\"\nfreq_hz = 24.0\ndamping = 0.2\ndepth_db = -20.0\n",
+        "[axis.0.biquad.2]\nkind = \"none\"\n",
+        "[axis.2.biquad.0]\nkind = \"lead_lag\"\nfreq_hz = 30.0\nfreq2_hz = 90.0\n",
+        "kind = \"raw\"\nb0 = 0.2\nb1 = 0.2\nb2 = 0.0\na1 = -0.6\na2 = 0.0\n",
+        "[analog_input.3]\ncutoff_hz = 50.0\nthreshold = 2.5\nhysteresis = 0.25\nrise_event = true\n",
+        "[pso]\noutput = \"pwm\"\ngroup = 0\nchannel = 3\npwm_hz = 2000.0\ngate = 2\n",
     ] {
         assert!(saved.contains(needle), "{needle}");
     }
@@ -125,9 +166,29 @@ fn a_non_default_configuration_round_trips_byte_for_byte() {
     assert!(keys.contains(&"card.servo_rate_hz"), "{keys:?}");
     assert!(keys.contains(&"axis.0.ffpiv.kp"), "{keys:?}");
     assert!(keys.contains(&"io.debounce"), "{keys:?}");
+    // The filters, the analog input and the PSO as the SDK reads them.
+    let f = b.axis(2).unwrap().servo_filters().unwrap();
+    assert_eq!(f[0].unwrap().spec, BiquadSpec::lead_lag(30.0, 90.0));
+    assert_eq!(f[1], None);
+    assert_eq!(
+        f[2].unwrap().spec,
+        BiquadSpec::raw([0.2, 0.2, 0.0, -0.6, 0.0])
+    );
+    assert_eq!(b.analog_input(3).unwrap().settings.cutoff_hz, 50.0);
+    let pso = b.pso_status().unwrap();
+    assert_eq!((pso.state, pso.group), (PsoState::Closed, 0));
+    assert_eq!(pso.settings.unwrap().v_ref, 5e4);
     // A host opening the card later adopts its scales.
     let settings = b.axis(2).unwrap().safety_settings().unwrap();
     assert_eq!(settings.soft_limits, Some((-1e6, 2e6)));
+    // A fresh card's file empties the slots, resets the input and stops the PSO.
+    b.load_config(&fresh, "fresh.toml").unwrap();
+    assert_eq!(b.axis(0).unwrap().servo_filters().unwrap(), [None; 4]);
+    assert_eq!(b.pso_status().unwrap().state, PsoState::Off);
+    assert_eq!(
+        b.analog_input(3).unwrap().settings,
+        AnalogInputSettings::default()
+    );
 }
 
 /// The line (1-based) of the first line of `text` that starts with `prefix` after the line
@@ -207,6 +268,62 @@ fn a_file_with_one_bad_value_changes_nothing_and_names_key_and_line() {
             "axis.2.homing.method",
             line_after(&saved, "[axis.2.homing]", "method = "),
         ),
+        // Layout 1.11: the filters, checked and designed at the file's rate (8 kHz).
+        (
+            replace_after(&saved, "[axis.0.biquad.1]", "freq_hz", "freq_hz = 4000.0"),
+            "axis.0.biquad.1.freq_hz",
+            line_after(&saved, "[axis.0.biquad.1]", "freq_hz"),
+        ),
+        (
+            replace_after(&saved, "[axis.0.biquad.1]", "depth_db", "depth_db = 3.0"),
+            "axis.0.biquad.1.depth_db",
+            line_after(&saved, "[axis.0.biquad.1]", "depth_db"),
+        ),
+        (
+            replace_after(&saved, "[axis.2.biquad.2]", "a1 = ", "a1 = -2.5"),
+            "axis.2.biquad.2.a1",
+            line_after(&saved, "[axis.2.biquad.2]", "a1 = "),
+        ),
+        (
+            replace_after(&saved, "[axis.0.biquad.3]", "kind", "kind = \"lead_lag\""),
+            "axis.0.biquad.3.damping",
+            line_after(&saved, "[axis.0.biquad.3]", "damping"),
+        ),
+        (
+            saved.replace("[axis.0.biquad.3]", "[axis.0.biquad.4]"),
+            "axis.0.biquad.4",
+            line_after(&saved, "[axis.0]", "[axis.0.biquad.3]"),
+        ),
+        (
+            replace_after(&saved, "[analog_input.3]", "threshold", "threshold = 11.0"),
+            "analog_input.3.threshold",
+            line_after(&saved, "[analog_input.3]", "threshold"),
+        ),
+        (
+            replace_after(
+                &saved,
+                "[analog_input.3]",
+                "cutoff_hz",
+                "cutoff_hz = 4001.0",
+            ),
+            "analog_input.3.cutoff_hz",
+            line_after(&saved, "[analog_input.3]", "cutoff_hz"),
+        ),
+        (
+            replace_after(&saved, "[pso]", "max = ", "max = 1.5"),
+            "pso.max",
+            line_after(&saved, "[pso]", "max = "),
+        ),
+        (
+            replace_after(&saved, "[pso]", "group = ", "group = 3"),
+            "pso.group",
+            line_after(&saved, "[pso]", "group = "),
+        ),
+        (
+            replace_after(&saved, "[pso]", "output = ", "output = \"dac\""),
+            "pso.pwm_hz",
+            line_after(&saved, "[pso]", "pwm_hz = "),
+        ),
     ];
     for (text, key, line) in cases {
         let e = b.load_config(&text, "bad.toml").unwrap_err();
@@ -234,6 +351,47 @@ fn a_file_with_one_bad_value_changes_nothing_and_names_key_and_line() {
         .unwrap_err();
     assert!(matches!(e, Error::ConfigFile { line: 1, .. }), "{e}");
     assert_eq!(b.save_config().unwrap(), before);
+}
+
+/// A servo rate at which a filter the file leaves as the card holds it would not run (800 Hz
+/// above 1 kHz's Nyquist) is refused naming the rate, nothing changed; the same rate with that
+/// slot replaced by a filter that runs there loads (the old one emptied before the rate).
+#[test]
+fn a_servo_rate_the_held_filters_cannot_run_at_is_refused() {
+    let c = configured();
+    let before = c.save_config().unwrap();
+    let text = "[card]\nservo_rate_hz = 1000\n";
+    let e = c.load_config(text, "rate.toml").unwrap_err();
+    println!("{e}");
+    match &e {
+        Error::ConfigFile {
+            key, line, message, ..
+        } => {
+            assert_eq!((key.as_str(), *line), ("card.servo_rate_hz", 2));
+            assert!(message.contains("axis 0's filter in slot 3"), "{message}");
+            assert!(message.contains("FilterFreq"), "{message}");
+        }
+        _ => panic!("{e}"),
+    }
+    assert_eq!(c.save_config().unwrap(), before, "nothing applied");
+    let text = replace_after(
+        &before.replace("servo_rate_hz = 8000", "servo_rate_hz = 1000"),
+        "[axis.0.biquad.3]",
+        "freq_hz",
+        "freq_hz = 200.0",
+    );
+    let text = &text;
+    let report = c.load_config(text, "rate.toml").unwrap();
+    assert_eq!(
+        report.applied,
+        ["axis.0.biquad.3", "card", "axis.0.biquad.3"],
+        "emptied, the rate, set"
+    );
+    assert_eq!(c.servo_rate().unwrap(), 1000);
+    let f = c.axis(0).unwrap().servo_filters().unwrap();
+    assert_eq!(f[3].unwrap().spec, BiquadSpec::low_pass(200.0, 0.7));
+    assert_eq!(f[1].unwrap().spec, BiquadSpec::notch(24.0, 0.2, -20.0));
+    assert!(c.diff_config(text, "rate.toml").unwrap().is_empty());
 }
 
 /// The checked-in example (`examples/config/machine.toml`: the configuration above, on a
@@ -344,6 +502,23 @@ fn any_number_anywhere_loads_whole_or_changes_nothing() {
         .map(|(i, _)| i)
         .collect();
     assert!(numbers.len() > 100, "{} numbers", numbers.len());
+    // Layout 1.11's sections (the filters, the analog inputs, the PSO) get half the cases.
+    let mut section = "";
+    let newer: Vec<usize> = saved
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| {
+            if l.starts_with('[') {
+                section = l;
+            }
+            section.contains(".biquad.")
+                || section.starts_with("[analog_input.")
+                || section == "[pso]"
+        })
+        .map(|(i, _)| i)
+        .filter(|i| numbers.contains(i))
+        .collect();
+    assert!(newer.len() > 20, "{} numbers", newer.len());
     let b = card();
     let value = prop_oneof![
         Just(0.0),
@@ -365,34 +540,43 @@ fn any_number_anywhere_loads_whole_or_changes_nothing() {
         ..PtConfig::default()
     });
     runner
-        .run(&(proptest::sample::select(numbers), value), |(line, v)| {
-            let mut lines: Vec<String> = saved.lines().map(String::from).collect();
-            let (key, _) = lines[line].split_once(" = ").unwrap();
-            // TOML spells the specials its own way.
-            let text_v = match v {
-                v if v.is_nan() => "nan".to_string(),
-                v if v == f64::INFINITY => "inf".to_string(),
-                v if v == f64::NEG_INFINITY => "-inf".to_string(),
-                v => format!("{v:?}"),
-            };
-            lines[line] = format!("{key} = {text_v}");
-            let text = lines.join("\n") + "\n";
-            let before = b.save_config().unwrap();
-            match b.load_config(&text, "p.toml") {
-                Ok(_) => {
-                    applied.set(applied.get() + 1);
-                    let diff = b.diff_config(&text, "p.toml").unwrap();
-                    prop_assert!(diff.is_empty(), "line {}: {diff:?}", line + 1);
+        .run(
+            &(
+                prop_oneof![
+                    proptest::sample::select(numbers),
+                    proptest::sample::select(newer)
+                ],
+                value,
+            ),
+            |(line, v)| {
+                let mut lines: Vec<String> = saved.lines().map(String::from).collect();
+                let (key, _) = lines[line].split_once(" = ").unwrap();
+                // TOML spells the specials its own way.
+                let text_v = match v {
+                    v if v.is_nan() => "nan".to_string(),
+                    v if v == f64::INFINITY => "inf".to_string(),
+                    v if v == f64::NEG_INFINITY => "-inf".to_string(),
+                    v => format!("{v:?}"),
+                };
+                lines[line] = format!("{key} = {text_v}");
+                let text = lines.join("\n") + "\n";
+                let before = b.save_config().unwrap();
+                match b.load_config(&text, "p.toml") {
+                    Ok(_) => {
+                        applied.set(applied.get() + 1);
+                        let diff = b.diff_config(&text, "p.toml").unwrap();
+                        prop_assert!(diff.is_empty(), "line {}: {diff:?}", line + 1);
+                    }
+                    Err(e @ Error::ConfigFile { line: l, .. }) => {
+                        refused.set(refused.get() + 1);
+                        prop_assert_eq!(l, line + 1, "{}", e);
+                        prop_assert_eq!(b.save_config().unwrap(), before, "{}", e);
+                    }
+                    Err(e) => prop_assert!(false, "line {}: {e}", line + 1),
                 }
-                Err(e @ Error::ConfigFile { line: l, .. }) => {
-                    refused.set(refused.get() + 1);
-                    prop_assert_eq!(l, line + 1, "{}", e);
-                    prop_assert_eq!(b.save_config().unwrap(), before, "{}", e);
-                }
-                Err(e) => prop_assert!(false, "line {}: {e}", line + 1),
-            }
-            Ok(())
-        })
+                Ok(())
+            },
+        )
         .unwrap();
     println!("{} files applied, {} refused", applied.get(), refused.get());
     assert!(applied.get() > 20 && refused.get() > 20);

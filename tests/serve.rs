@@ -2,7 +2,8 @@
 //! serve` against it, and the page driven in Debian's headless Chromium by
 //! `tests/browser/drive.mjs` (playwright-core): the live plots, a step test (the figures and the
 //! plotted data against the samples the server answered and against the card), a gain the card
-//! accepts and one it refuses, the page without its token and under a rebinding name. And the
+//! accepts and one it refuses, the page without its token and under a rebinding name; the
+//! PID+FF form and the servo-filter list by `tests/browser/servo.mjs`. And the
 //! guard (`src/serve/guard.rs`) over plain HTTP: every route of `mcctl::serve::ROUTES`
 //! sent bad Hosts, foreign Origins, missing and wrong tokens, each refused (403) with the card
 //! read after (the gains, the axis's state and position as before); `--listen` beyond
@@ -293,8 +294,13 @@ impl Req {
 
 /// Run the page's driver; its JSON report.
 fn drive(dir: &Path, chromium: &Path, url: &str, opts: &Value) -> Value {
+    drive_script("drive.mjs", dir, chromium, url, opts)
+}
+
+/// Run the driver `script` of `tests/browser`; its JSON report.
+fn drive_script(script: &str, dir: &Path, chromium: &Path, url: &str, opts: &Value) -> Value {
     let child = Command::new("node")
-        .arg(dir.join("drive.mjs"))
+        .arg(dir.join(script))
         .arg(url)
         .arg(opts.to_string())
         .env("CHROMIUM", chromium)
@@ -634,6 +640,184 @@ fn the_tuning_page_runs_a_step_test_and_applies_gains_in_chromium() {
     assert_eq!(a.config.ffpiv.ki, g0["ffpiv"]["ki"].as_f64().unwrap());
 }
 
+/// The page's PID+FF form and servo-filter list (`src/serve/web/servo.js`), driven in Chromium
+/// by `tests/browser/servo.mjs`: the axis switched to PID+FF from the card's default tuning
+/// (a negative derivative gain refused, the card's gains shown and kept), a notch added,
+/// edited from its row, one above Nyquist refused, a low-pass added, the notch cleared; each
+/// checked against the server's read-back and, at the end, against the firmware itself.
+#[test]
+fn the_tuning_page_sets_pidff_and_servo_filters_in_chromium() {
+    let Some((chromium, dir)) = browser_tools() else {
+        return;
+    };
+    let name = format!("test-serve-servo-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let axis = 1;
+    let served = serve(&format!("emu:{name}"), axis);
+    let kd = 4e-4;
+    let opts = serde_json::json!({ "kd": kd, "bad_kd": -1.0 });
+    let j = drive_script("servo.mjs", &dir, &chromium, &served.url, &opts);
+    println!("{j}");
+    assert_eq!(j["foreign_requests"], serde_json::json!([]));
+    assert_eq!(
+        j["page_errors"],
+        serde_json::json!([]),
+        "{}",
+        j["page_errors"]
+    );
+
+    // PID+FF from the card's default tuning; the derivative gain the card accepted is held.
+    let d = motioncard_sdk::PidffSettings::default();
+    assert_eq!(j["law_before"], "ffpiv");
+    assert_eq!(j["pidff_visible"], true);
+    assert_eq!(
+        j["prefilled"]["kp"]
+            .as_str()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap(),
+        d.kp
+    );
+    assert_eq!(
+        j["prefilled"]["d_filter_hz"]
+            .as_str()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap(),
+        d.d_filter_hz
+    );
+    let good = &j["good_gain"];
+    assert_eq!(good["status"], "ok", "{good}");
+    assert!(
+        good["message"].as_str().unwrap().contains("PID+FF"),
+        "{good}"
+    );
+    assert_eq!(good["server"]["law"], "pidff");
+    assert_eq!(good["server"]["pidff"]["kd"].as_f64().unwrap(), kd);
+    assert_eq!(good["server"]["pidff"]["ki"].as_f64().unwrap(), d.ki);
+    assert_eq!(
+        good["held_kd"].as_str().unwrap().parse::<f64>().unwrap(),
+        kd
+    );
+    assert!(
+        good["held_law"].as_str().unwrap().contains("PID+FF"),
+        "{good}"
+    );
+    let bad = &j["bad_gain"];
+    assert_eq!(bad["status"], "error", "{bad}");
+    let m = bad["message"].as_str().unwrap();
+    assert!(
+        m.contains("The card refused") && m.contains("PidffGains"),
+        "{m}"
+    );
+    assert_eq!(
+        bad["server"]["pidff"]["kd"].as_f64().unwrap(),
+        kd,
+        "nothing changed"
+    );
+    assert_eq!(bad["held_kd"].as_str().unwrap().parse::<f64>().unwrap(), kd);
+
+    // The filter list.
+    let kinds = |v: &Value| -> Vec<String> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["kind"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let server_kinds = |v: &Value| -> Vec<String> {
+        v["slots"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["filter"]["kind"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(kinds(&j["rows_before"]), ["none"; 4]);
+    let notch = &j["notch"];
+    assert_eq!(notch["status"], "ok", "{notch}");
+    assert_eq!(kinds(&notch["rows"]), ["none", "notch", "none", "none"]);
+    assert_eq!(
+        server_kinds(&notch["server"]),
+        ["none", "notch", "none", "none"]
+    );
+    let held = &notch["server"]["slots"][1];
+    assert_eq!(held["filter"]["freq_hz"].as_f64(), Some(24.0));
+    assert_eq!(held["filter"]["damping"].as_f64(), Some(0.2));
+    assert_eq!(held["filter"]["depth_db"].as_f64(), Some(-20.0));
+    assert_eq!(held["coeffs"].as_array().unwrap().len(), 5);
+    let f = &j["edit_form"];
+    assert_eq!(
+        (f["slot"].as_str(), f["kind"].as_str()),
+        (Some("1"), Some("notch"))
+    );
+    assert_eq!(f["freq_hz"].as_str().unwrap().parse::<f64>().unwrap(), 24.0);
+    assert_eq!(
+        f["depth_db"].as_str().unwrap().parse::<f64>().unwrap(),
+        -20.0
+    );
+    assert_eq!(f["freq2_visible"], false, "a notch has no second frequency");
+    let edited = &j["edited"];
+    assert_eq!(edited["status"], "ok", "{edited}");
+    assert_eq!(
+        edited["server"]["slots"][1]["filter"]["freq_hz"].as_f64(),
+        Some(30.0)
+    );
+    assert_eq!(
+        edited["server"]["slots"][1]["filter"]["damping"].as_f64(),
+        Some(0.2)
+    );
+    assert!(
+        edited["rows"][1]["params"]
+            .as_str()
+            .unwrap()
+            .contains("30 Hz"),
+        "{edited}"
+    );
+    let refused = &j["refused"];
+    assert_eq!(refused["status"], "error", "{refused}");
+    let m = refused["message"].as_str().unwrap();
+    assert!(
+        m.contains("The card refused this filter") && m.contains("FilterFreq"),
+        "{m}"
+    );
+    assert_eq!(refused["server"], edited["server"], "nothing changed");
+    let lowpass = &j["lowpass"];
+    assert_eq!(lowpass["status"], "ok", "{lowpass}");
+    assert_eq!(
+        server_kinds(&lowpass["server"]),
+        ["none", "notch", "none", "lowpass"]
+    );
+    let cleared = &j["cleared"];
+    assert_eq!(cleared["status"], "ok", "{cleared}");
+    assert_eq!(kinds(&cleared["rows"]), ["none", "none", "none", "lowpass"]);
+    assert_eq!(
+        server_kinds(&cleared["server"]),
+        ["none", "none", "none", "lowpass"]
+    );
+    // The refused requests' 422s are the console's only errors.
+    let errors = j["console_errors"].as_array().unwrap();
+    assert!(
+        errors.iter().all(|e| e.as_str().unwrap().contains("422")),
+        "{errors:?}"
+    );
+
+    assert_eq!(served.stop(), "");
+    // The firmware runs PID+FF with the page's gain and holds the low-pass alone.
+    let emu = runner.stop().expect("the emulator back");
+    let a = emu.firmware().axis(axis).unwrap();
+    assert_eq!(
+        a.config.servo_law,
+        motioncard_sdk::proto::raw::MC_SERVO_PIDFF
+    );
+    assert_eq!(a.config.pidff.map(|g| g.kd), Some(kd));
+    let held = a.filters().block();
+    assert_eq!(held.active, 1 << 3, "the low-pass alone");
+    assert_eq!((held.slot[3].freq_hz, held.slot[3].damping), (800.0, 0.7));
+}
+
 /// Bad arguments are exit status 2; an axis the card has not, or a port in use, exit 1 with
 /// the reason.
 #[test]
@@ -712,7 +896,14 @@ impl Bench {
     fn finish(self) -> card_emu::firmware::axis::Axis {
         assert_eq!(self.served.stop(), "", "mcctl serve's stderr");
         let emu = self.runner.stop().expect("the emulator back");
-        emu.firmware().axis(AXIS).unwrap().clone()
+        let axis = emu.firmware().axis(AXIS).unwrap().clone();
+        // No request of these tests sets a servo filter that gets through.
+        assert!(
+            !axis.filters().any(),
+            "a filter was set: {:?}",
+            axis.filters()
+        );
+        axis
     }
 }
 
@@ -738,6 +929,10 @@ fn axis_state(s: &Served) -> String {
     a.body
 }
 
+/// A notch on the servo output, as `POST /api/filters` takes it.
+const NOTCH: &str =
+    r#"{"slot": 0, "filter": {"kind": "notch", "freq_hz": 24, "damping": 0.2, "depth_db": -20}}"#;
+
 /// Every request the server could be asked: each route of `mcctl::serve::ROUTES` with
 /// each method it answers, a method it does not (PUT, DELETE: refused by the guard before
 /// axum's 405), and paths that are no route (the fallback). Each with the body that would do
@@ -755,6 +950,7 @@ fn every_request(g: &Value, files: bool) -> Vec<(&'static str, String, String)> 
                 ("GET", _) => String::new(),
                 ("POST", "/api/gains") => with_kp(g, 9000.0),
                 ("POST", "/api/tests") => FAR_MOVE.to_string(),
+                ("POST", "/api/filters") => NOTCH.to_string(),
                 ("POST", "/api/reset") | ("PUT" | "DELETE", _) => "{}".to_string(),
                 other => panic!("{other:?}: a route this test does not know; give it a body here"),
             };

@@ -5348,6 +5348,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_FREQ_BUSY -144
 
 /**
+ * Layout 1.12: a compare channel armed on the digital output the path-speed output's PWM
+ * holds.
+ */
+#define MC_ERR_PSO_OUTPUT -145
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -8207,6 +8213,11 @@ mc_result mc_send_raw(mc_card card,
  * A PSO on a group that does not exist (index beyond `MC_GROUP_COUNT`) or is not configured.
  */
 #define MC_NACK_PSO_GROUP 149
+
+/**
+ * `MC_OP_COMPARE_ARM` on the digital output the PSO's PWM holds (layout 1.12): refused, nothing changed (the other way, a PSO's PWM on an output a compare channel pulses, is `MC_NACK_PSO_CONFIG`).
+ */
+#define MC_NACK_PSO_OUTPUT 154
 
 /**
  * A point whose segment breaks the stream's vmax or amax, or a last point (PVT) with a velocity.

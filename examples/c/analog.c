@@ -102,6 +102,19 @@ int main(int argc, char **argv) {
     CHECK(mc_analog_output_get(c, 2, &back));
     ASSERT(back == 0.0, "DAC 2 after the PSO: %f", back);
 
+    /* The PSO as a PWM on digital output 3: no compare channel may pulse that output (layout
+       1.12), and the channel stays free for another one. */
+    pso.pwm = 1;
+    pso.output = 3;
+    pso.pwm_hz = 1000.0;
+    pso.min = 0.0;
+    pso.max = 1.0;
+    CHECK(mc_pso_configure(c, 0, &pso));
+    EXPECT(mc_compare_single(c, 0, 0, 3, 100, 10.0, MC_COMPARE_POSITIVE), MC_ERR_PSO_OUTPUT);
+    CHECK(mc_compare_single(c, 0, 0, 4, 100, 10.0, MC_COMPARE_POSITIVE));
+    CHECK(mc_compare_disarm(c, 0, 0));
+    CHECK(mc_pso_off(c));
+
     CHECK(mc_close(c));
     printf("%u checks\n", checks);
     printf("PASS analog\n");

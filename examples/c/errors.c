@@ -93,6 +93,8 @@ static const mc_result ALL_CODES[] = {
     /* the frequency response (layout 1.12) */
     MC_ERR_FREQ_RANGE,     MC_ERR_FREQ_AMPLITUDE,  MC_ERR_FREQ_LIMITS,
     MC_ERR_FREQ_BUSY,
+    /* a compare channel on the PSO's PWM output (layout 1.12) */
+    MC_ERR_PSO_OUTPUT,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -169,7 +171,7 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_PIDFF_GAINS,
     /* analog.c */
     MC_ERR_ANALOG_CHANNEL, MC_ERR_ANALOG_FILTER, MC_ERR_ANALOG_THRESHOLD, MC_ERR_PSO_CONFIG,
-    MC_ERR_PSO_GROUP,
+    MC_ERR_PSO_GROUP, MC_ERR_PSO_OUTPUT,
     /* sync.c */
     MC_ERR_TICK_PASSED, MC_ERR_TIMED_FULL, MC_ERR_TIMED_ALONE, MC_ERR_TICK_FAR,
     MC_ERR_COMMIT_LATE, MC_ERR_NOT_MASTER, MC_ERR_NOT_COMMITTED, MC_ERR_TIMED_CANCELLED,

@@ -96,7 +96,8 @@
                            * response measured on the card (MC_OP_FREQ_START
                            * 121, MC_OP_FREQ_STOP 122, MC_FREQ_*, MC_NACK_FREQ_* 150..153,
                            * MC_EV_FREQ_DONE 37, MC_SIG_FREQ_INJECT 19, MC_SIG_FREQ_HZ 20,
-                           * freq_status appended) */
+                           * freq_status appended); MC_NACK_PSO_OUTPUT 154 (a compare channel
+                           * armed on the output the PSO's PWM holds) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1312,6 +1313,10 @@
                                     * acceleration limits, its following error limit at rest or
                                     * its soft limits */
 #define MC_NACK_FREQ_BUSY 153      /* a sweep is running: another, or that axis's motion, refused */
+#define MC_NACK_PSO_OUTPUT 154     /* MC_OP_COMPARE_ARM on the digital output the PSO's PWM holds
+                                    * (layout 1.12): refused, nothing changed (the other way, a PSO's
+                                    * PWM on an output a compare channel pulses, is
+                                    * MC_NACK_PSO_CONFIG) */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

@@ -484,6 +484,10 @@ code_enum! {
         FreqLimits = raw::MC_NACK_FREQ_LIMITS,
         /// A sweep is running: another, or that axis's motion, refused.
         FreqBusy = raw::MC_NACK_FREQ_BUSY,
+        /// `MC_OP_COMPARE_ARM` on the digital output the PSO's PWM holds (layout 1.12): refused,
+        /// nothing changed (the other way, a PSO's PWM on an output a compare channel pulses, is
+        /// `MC_NACK_PSO_CONFIG`).
+        PsoOutput = raw::MC_NACK_PSO_OUTPUT,
         /// A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`)
         /// before it.
         ArcNormal = raw::MC_NACK_ARC_NORMAL,

@@ -430,6 +430,7 @@ pub const MC_NACK_FREQ_RANGE: u32 = 150;
 pub const MC_NACK_FREQ_AMPLITUDE: u32 = 151;
 pub const MC_NACK_FREQ_LIMITS: u32 = 152;
 pub const MC_NACK_FREQ_BUSY: u32 = 153;
+pub const MC_NACK_PSO_OUTPUT: u32 = 154;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;

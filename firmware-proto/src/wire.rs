@@ -626,9 +626,9 @@ mod tests {
         assert_eq!(Opcode::from_raw(0), None);
         // layout 1.10: the plane of two axes' one, the handwheel's two, the gantries' five,
         // the modulo's three; layout 1.11: group homing's three, the filters' four, PID+FF's
-        // one, analog I/O's and the PSO's five
-        assert_eq!(NackCode::ALL.len(), 125);
-        // one, analog I/O's and the PSO's five; layout 1.12: the sweep's four
+        // one, analog I/O's and the PSO's five; layout 1.12: the sweep's four, the PSO's
+        // output, the normal arcs' three, the timed commands' ten
+        assert_eq!(NackCode::ALL.len(), 126);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));

@@ -31,6 +31,13 @@
 //!                   # plan_period (may be left out: 0, the card's default)
 //! [gantry.N]        # master, slaves, kp, ki, skew_limit, offsets (one per slave, the master's
 //!                   # user units; may be left out: 0 each): a formed gantry, layout 1.10
+//! [axis.N.biquad.K] # kind ("none" | "notch" | "lowpass" | "lead_lag" | "raw") and its keys:
+//!                   # freq_hz, damping, depth_db (notch); freq_hz, damping (lowpass); freq_hz,
+//!                   # freq2_hz (lead_lag); b0, b1, b2, a1, a2 (raw): the servo output's
+//!                   # filter in slot K (0..4), layout 1.11
+//! [analog_input.N]  # cutoff_hz, threshold, hysteresis, rise_event, fall_event (layout 1.11)
+//! [pso]             # output ("off" | "dac" | "pwm"), group, channel, pwm_hz (pwm only), gate,
+//!                   # min, max, v_ref (counts/s), filter_hz: the path-speed output, layout 1.11
 //! ```
 //!
 //! A file may name any subset of the sections and of the axes and groups: what it does not
@@ -44,6 +51,14 @@
 //! A group configuration cannot be removed (the card has no command for it): a configured
 //! group the file leaves unconfigured stays configured.
 //!
+//! The filters of `[axis.N.biquad.K]` are designed at the file's servo rate (else the card's),
+//! as are the axis's filters the file does not name: a servo rate at which one of those would
+//! not design (above the new Nyquist frequency) is refused. A slot the file does not name is
+//! left as it is. The spare DAC outputs have no settings, only a value, and are not in the
+//! file (as the digital outputs are not): a file does not drive an output. `[pso]` is started
+//! after the groups (it runs on one); one the card runs with the same settings is left
+//! running, `output = "off"` stops it.
+//!
 //! A `[gantry.N]` is formed last, after the axes and groups, its axes at rest (all powered or
 //! all disabled). A gantry the card holds with the file's settings is left as it is (its
 //! squaring kept); one the card holds with other settings is refused (dissolve it first: a
@@ -54,10 +69,11 @@ mod text;
 
 pub(crate) use sections::user_modulo;
 pub use sections::{
-    AccDecName, AxisSafetySection, AxisSection, CardSection, CompensationSection, Config,
-    ConfigDifference, FfpivSection, FilterName, FilterSection, GantrySection, GroupSection,
-    HomingSection, InterpolatorName, IoSection, PathSection, PdPlusSection, PidffSection,
-    SafetySection, ServoLaw, CONFIG_HEADER,
+    AccDecName, AnalogInputSection, AxisSafetySection, AxisSection, BiquadName, BiquadSection,
+    CardSection, CompensationSection, Config, ConfigDifference, FfpivSection, FilterName,
+    FilterSection, GantrySection, GroupSection, HomingSection, InterpolatorName, IoSection,
+    PathSection, PdPlusSection, PidffSection, PsoOutputName, PsoSection, SafetySection, ServoLaw,
+    CONFIG_HEADER,
 };
 use text::{file_error, line_of_key, read_file};
 pub use text::{ECHO_CHARS, MAX_CONFIG_BYTES};
@@ -69,6 +85,7 @@ use card_firmware::host::AxisSafetyConfig;
 use card_firmware::host::HomingConfig;
 use card_firmware::host::IoConfig;
 use card_firmware::host::SafetyConfig;
+use card_firmware::host::{analog_input_nack, design_biquad, pso_nack};
 use card_firmware::host::{decode_axis_filter, validate_axis_config, validate_group_config};
 use firmware_proto::Mem as _;
 use firmware_proto::{
@@ -218,9 +235,162 @@ fn check(file: &Config, cx: &Context<'_>) -> std::result::Result<(), Refusal> {
     for (key, ax) in &file.axis {
         check_axis(key, ax, &good, cx, rate, max_stop)?;
     }
+    check_biquads_at_rate(file, cx, rate)?;
     check_stop_ramps(file, cx, max_stop)?;
     check_groups(file, cx, rate)?;
-    check_gantries(file, cx)
+    check_gantries(file, cx)?;
+    check_analog_inputs(file, rate)?;
+    check_pso(file, cx, rate)
+}
+
+/// `[axis.N.biquad.K]` (prefix `p`: `axis.N.biquad.K`): the keys of its kind and no other,
+/// then the card's check and design at servo rate `rate`, the refusal naming its key.
+fn check_biquad(p: &str, b: &BiquadSection, rate: u32) -> std::result::Result<(), Refusal> {
+    for (key, needed, present) in b.keys() {
+        if needed != present {
+            let kind = toml::Value::try_from(b.kind).map_or(String::new(), |v| v.to_string());
+            let why = if needed {
+                format!("a filter of kind {kind} needs `{key}`")
+            } else {
+                format!("`{key}` is not a key of a filter of kind {kind}")
+            };
+            return Err((format!("{p}.{key}"), why));
+        }
+    }
+    let Some(spec) = b.spec() else {
+        return Ok(());
+    };
+    // The reference each value is blamed against: a filter of the kind the card takes.
+    let f = f64::from(rate) / 20.0;
+    let good = BiquadSection::from_spec(Some(&match spec.kind {
+        firmware_proto::cmd::BiquadKind::Notch => crate::BiquadSpec::notch(f, 0.5, -20.0),
+        firmware_proto::cmd::BiquadKind::LowPass => crate::BiquadSpec::low_pass(f, 0.7),
+        firmware_proto::cmd::BiquadKind::LeadLag => crate::BiquadSpec::lead_lag(f, 2.0 * f),
+        firmware_proto::cmd::BiquadKind::Raw => crate::BiquadSpec::raw([1.0, 0.0, 0.0, 0.0, 0.0]),
+    }));
+    refuse(p, b, &good, |s| {
+        s.spec().map_or(Ok(()), |spec| {
+            design_biquad(&spec, f64::from(rate)).map(|_| ())
+        })
+    })
+}
+
+/// The axes' filters the file does not name, as the card holds them, designed at the file's
+/// servo rate: a rate at which one would not design is refused.
+fn check_biquads_at_rate(
+    file: &Config,
+    cx: &Context<'_>,
+    rate: u32,
+) -> std::result::Result<(), Refusal> {
+    if file.card.is_none() || file.card == cx.card.card {
+        return Ok(());
+    }
+    for (key, ax) in &cx.card.axis {
+        for (k, b) in &ax.biquad {
+            if file.axis.get(key).is_some_and(|f| f.biquad.contains_key(k)) {
+                continue;
+            }
+            if let Some(Err(code)) = b
+                .spec()
+                .map(|spec| design_biquad(&spec, f64::from(rate)).map(|_| ()))
+            {
+                return Err((
+                    "card.servo_rate_hz".into(),
+                    format!(
+                        "axis {key}'s filter in slot {k} ({:?} at {} Hz) cannot run at {rate} \
+                         Hz: {} (set or clear [axis.{key}.biquad.{k}] in the file)",
+                        b.kind,
+                        b.freq_hz.unwrap_or(0.0),
+                        nack_text(code)
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `[analog_input.N]`: the card's decoding of the command and its check at the servo rate.
+fn check_analog_inputs(file: &Config, rate: u32) -> std::result::Result<(), Refusal> {
+    use firmware_proto::cmd::IoCmd;
+    let good = AnalogInputSection::from(&crate::AnalogInputSettings::default());
+    for (key, a) in &file.analog_input {
+        let i = index_key("analog_input", key, firmware_proto::ANALOG_INPUTS)?;
+        refuse(&format!("analog_input.{i}"), a, &good, |s| {
+            let c = IoCmd::AnalogInput(s.command(i)).command(0);
+            match IoCmd::decode(firmware_proto::Opcode::AnalogInput, c.flags, &c.args) {
+                Ok(IoCmd::AnalogInput(a)) => analog_input_nack(&a, rate),
+                Ok(_) => Err(NackCode::BadConfig),
+                Err(e) => Err(e.nack),
+            }
+        })?;
+    }
+    Ok(())
+}
+
+/// `[pso]`: the keys of its output and no other, its group configured after the file, the
+/// card's decoding of the command and its check at the servo rate.
+fn check_pso(file: &Config, cx: &Context<'_>, rate: u32) -> std::result::Result<(), Refusal> {
+    use firmware_proto::cmd::IoCmd;
+    let Some(pso) = &file.pso else {
+        return Ok(());
+    };
+    for (key, needed, present) in pso.keys() {
+        if needed != present {
+            let out = toml::Value::try_from(pso.output).map_or(String::new(), |v| v.to_string());
+            let why = if needed {
+                format!("a PSO with output = {out} needs `{key}`")
+            } else {
+                format!("`{key}` is not a key of a PSO with output = {out}")
+            };
+            return Err((format!("pso.{key}"), why));
+        }
+    }
+    let Some((g, _)) = pso.settings() else {
+        return Ok(());
+    };
+    let configured = |key: &str| {
+        file.group
+            .get(key)
+            .and_then(|s| s.axes.as_ref())
+            .or_else(|| cx.card.group.get(key).and_then(|s| s.axes.as_ref()))
+            .is_some()
+    };
+    if g >= MAX_GROUPS || !configured(&g.to_string()) {
+        return Err(("pso.group".into(), nack_text(NackCode::PsoGroup)));
+    }
+    let good = PsoSection {
+        output: pso.output,
+        group: pso.group,
+        channel: Some(0),
+        pwm_hz: pso.pwm_hz.map(|_| 1000.0),
+        gate: Some(if pso.channel == Some(1) { 2 } else { 1 }),
+        min: Some(0.0),
+        max: Some(if pso.output == PsoOutputName::Pwm {
+            1.0
+        } else {
+            10.0
+        }),
+        v_ref: Some(1e4),
+        filter_hz: Some(0.0),
+    };
+    refuse("pso", pso, &good, |s| {
+        let Some((_, p)) = s.settings() else {
+            return Ok(());
+        };
+        let mut c = IoCmd::Pso(PsoSection::command(&p)).command(0);
+        // An index beyond a byte stays one the card does not have.
+        for (arg, v) in [(0, s.channel), (1, s.gate)] {
+            if v.is_some_and(|v| v > u32::from(u8::MAX)) {
+                c.args[arg] = f64::from(v.unwrap_or(0));
+            }
+        }
+        match IoCmd::decode(firmware_proto::Opcode::Pso, c.flags, &c.args) {
+            Ok(IoCmd::Pso(p)) => pso_nack(&p, rate),
+            Ok(_) => Err(NackCode::BadConfig),
+            Err(e) => Err(e.nack),
+        }
+    })
 }
 
 /// `[gantry.N]`: what [`Card::gantry_at`] and the card check, each refusal naming its key;
@@ -544,6 +714,10 @@ fn check_axis(
     check_axis_filter(&p, ax, &good, rate)?;
     check_axis_safety(&p, ax, &good, rate, max_stop)?;
     check_axis_homing(&p, ax, &good, rate)?;
+    for (k, b) in &ax.biquad {
+        let slot = index_key(&format!("{p}.biquad"), k, crate::BIQUADS)?;
+        check_biquad(&format!("{p}.biquad.{slot}"), b, rate)?;
+    }
     // `modulo` (layout 1.10): the card's range in the file's scale, and a positive scale.
     if let Some(m) = ax.modulo {
         let counts = m * ax.scale;
@@ -842,6 +1016,11 @@ impl Card {
                 .axis(a)?
                 .compensation()?
                 .map(|c| CompensationSection::from(&c));
+            for (k, f) in self.axis(a)?.servo_filters()?.iter().enumerate() {
+                let spec = f.as_ref().map(|f| f.spec);
+                ax.biquad
+                    .insert(k.to_string(), BiquadSection::from_spec(spec.as_ref()));
+            }
             cfg.axis.insert(a.to_string(), ax);
         }
         for g in 0..MAX_GROUPS {
@@ -856,6 +1035,12 @@ impl Card {
                 cfg.gantry.insert(g.to_string(), s);
             }
         }
+        for i in 0..firmware_proto::ANALOG_INPUTS {
+            let a = self.analog_input(i)?;
+            cfg.analog_input
+                .insert(i.to_string(), AnalogInputSection::from(&a.settings));
+        }
+        cfg.pso = Some(PsoSection::from_status(&self.pso_status()?));
         Ok(cfg)
     }
 
@@ -961,6 +1146,24 @@ impl Card {
     ) -> std::result::Result<(), (String, Error)> {
         let mut done = |key: String| report.applied.push(key);
         if let Some(c) = file.card.filter(|c| Some(*c) != held.card) {
+            // A filter the file replaces that would not run at the new rate is emptied first
+            // (every axis is disabled); the file's is set after the rate.
+            for (key, ax) in &file.axis {
+                let a: usize = key.parse().expect("checked");
+                for k in ax.biquad.keys() {
+                    let was = held.axis.get(key).and_then(|w| w.biquad.get(k));
+                    let fails = was.and_then(|w| w.spec()).is_some_and(|spec| {
+                        design_biquad(&spec, f64::from(c.servo_rate_hz)).is_err()
+                    });
+                    if fails && was != ax.biquad.get(k) {
+                        let slot: usize = k.parse().expect("checked");
+                        self.axis(a)
+                            .and_then(|x| x.clear_servo_filter(slot))
+                            .map_err(|e| (format!("axis.{a}.biquad.{k}"), e))?;
+                        done(format!("axis.{a}.biquad.{k}"));
+                    }
+                }
+            }
             self.set_servo_rate(c.servo_rate_hz)
                 .map_err(|e| ("card".to_string(), e))?;
             done("card".into());
@@ -1049,6 +1252,18 @@ impl Card {
                         .map_err(|e| (format!("axis.{a}.compensation"), e))?;
                     done(format!("axis.{a}.compensation"));
                 }
+            }
+            for (k, b) in &ax.biquad {
+                if was.and_then(|w| w.biquad.get(k)) == Some(b) {
+                    continue;
+                }
+                let slot: usize = k.parse().expect("checked");
+                match b.spec() {
+                    Some(spec) => axis.set_servo_filter(slot, &spec),
+                    None => axis.clear_servo_filter(slot),
+                }
+                .map_err(|e| (format!("axis.{a}.biquad.{k}"), e))?;
+                done(format!("axis.{a}.biquad.{k}"));
             }
             let subs: [(&str, bool, ConfigKind); 3] = [
                 (
@@ -1152,6 +1367,24 @@ impl Card {
                 .map_err(|e| (format!("group.{gi}.path"), e))?;
                 done(format!("group.{gi}.path"));
             }
+        }
+        for (key, a) in &file.analog_input {
+            if held.analog_input.get(key) == Some(a) {
+                continue;
+            }
+            let i: usize = key.parse().expect("checked");
+            self.configure_analog_input(i, &a.settings())
+                .map_err(|e| (format!("analog_input.{i}"), e))?;
+            done(format!("analog_input.{i}"));
+        }
+        // The PSO after the groups: it runs on one.
+        if let Some(p) = file.pso.as_ref().filter(|p| held.pso.as_ref() != Some(*p)) {
+            match p.settings() {
+                Some((g, s)) => self.pso_counts(g, &s),
+                None => self.pso_off(),
+            }
+            .map_err(|e| ("pso".to_string(), e))?;
+            done("pso".into());
         }
         // Gantries last: their members' scales and settings are the file's by now.
         for (key, g) in &file.gantry {

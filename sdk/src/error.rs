@@ -415,6 +415,9 @@ error_kinds! {
     FreqLimits = -143, MC_ERR_FREQ_LIMITS, nack FreqLimits, "the sweep's sine would exceed the axis's velocity, acceleration, following error or soft limits";
     /// A sweep is running: another sweep, or that axis's own motion, refused.
     FreqBusy = -144, MC_ERR_FREQ_BUSY, nack FreqBusy, "a frequency sweep is running (stop it first)";
+    /// Layout 1.12: a compare channel armed on the digital output the path-speed output's PWM
+    /// holds.
+    PsoOutput = -145, MC_ERR_PSO_OUTPUT, nack PsoOutput, "the output is the path-speed output's PWM: no compare channel on it";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -79,10 +79,11 @@ pub use cardset::{
 };
 pub use comp::{CompPoint, Compensation, COMP_POINTS_MAX};
 pub use config::{
-    AccDecName, AxisSafetySection, AxisSection, CardSection, Config, ConfigDifference,
-    FfpivSection, FilterName, FilterSection, GantrySection, GroupSection, HomingSection,
-    InterpolatorName, IoSection, LoadReport, PathSection, PdPlusSection, PidffSection,
-    SafetySection, ServoLaw, CONFIG_HEADER, ECHO_CHARS, MAX_CONFIG_BYTES,
+    AccDecName, AnalogInputSection, AxisSafetySection, AxisSection, BiquadName, BiquadSection,
+    CardSection, Config, ConfigDifference, FfpivSection, FilterName, FilterSection, GantrySection,
+    GroupSection, HomingSection, InterpolatorName, IoSection, LoadReport, PathSection,
+    PdPlusSection, PidffSection, PsoOutputName, PsoSection, SafetySection, ServoLaw, CONFIG_HEADER,
+    ECHO_CHARS, MAX_CONFIG_BYTES,
 };
 #[cfg(feature = "emulator")]
 pub use device::SimOptions;

@@ -1,11 +1,11 @@
-//! The servo gains the tuning page shows and applies: FFPIV (Thinh Fig 5, `mc_ffpiv_gains`)
-//! or PD+ with its drive model (Yeh eq 2.12 and 2.2, `mc_axis_pdplus`), in counts, seconds
-//! and volts as the card holds them.
+//! The servo gains the tuning page shows and applies: FFPIV (Thinh Fig 5, `mc_ffpiv_gains`),
+//! PD+ with its drive model (Yeh eq 2.12 and 2.2, `mc_axis_pdplus`) or PID + feed-forward
+//! (layout 1.11, `mc_axis_pidff`), in counts, seconds and volts as the card holds them.
 //!
 //! `held` is the one place that finds out which gains the card holds (the card's read-back);
 //! everything else (the page's GET, the base an apply changes, the answer after an apply) goes
 //! through it. Applying goes through the SDK ([`crate::Axis::configure`],
-//! [`crate::Axis::configure_pdplus`]); the card checks the values and a refusal comes back as
+//! [`crate::Axis::configure_pdplus`], [`crate::Axis::configure_pidff`]); the card checks the values and a refusal comes back as
 //! the SDK's error (`BadConfig`, `NotFinite`), which the page shows as it is.
 
 use crate::{AxisSettings, Card, PdPlusSettings, Result};
@@ -15,6 +15,9 @@ use serde::{Deserialize, Serialize};
 pub use motioncard_sdk::FfpivSection as Ffpiv;
 /// PD+ gains, drive model and drive limit, as a configuration file's `[axis.N.pdplus]`.
 pub use motioncard_sdk::PdPlusSection as PdPlus;
+/// PID+FF gains (kp, ki, kd, kvff, kaff, friction, friction_deadband, d_filter_hz), as a
+/// configuration file's `[axis.N.pidff]`.
+pub use motioncard_sdk::PidffSection as Pidff;
 
 /// The servo law an axis runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -24,6 +27,8 @@ pub enum Law {
     Ffpiv,
     /// PD+.
     Pdplus,
+    /// PID + feed-forward (layout 1.11).
+    Pidff,
 }
 
 /// What the page shows: the law the axis runs and its gains.
@@ -37,6 +42,8 @@ pub struct Gains {
     pub ffpiv: Ffpiv,
     /// Its PD+ law, when it runs PD+.
     pub pdplus: Option<PdPlus>,
+    /// Its PID+FF gains, when it runs PID+FF.
+    pub pidff: Option<Pidff>,
     /// Where these values come from.
     pub source: &'static str,
 }
@@ -49,6 +56,8 @@ pub enum Apply {
     Ffpiv(Ffpiv),
     /// Run PD+ with these gains and drive model.
     Pdplus(PdPlus),
+    /// Run PID+FF with these gains.
+    Pidff(Pidff),
 }
 
 /// What the card holds for one axis, in the SDK's types.
@@ -56,6 +65,7 @@ pub enum Apply {
 struct Held {
     cfg: AxisSettings,
     pdplus: Option<PdPlusSettings>,
+    pidff: Option<crate::PidffSettings>,
 }
 
 /// [`Gains::source`]: where the values shown come from.
@@ -69,22 +79,24 @@ fn held(card: &Card, axis: usize) -> Result<Held> {
     Ok(Held {
         cfg: ax.settings()?,
         pdplus: ax.pdplus_settings()?,
+        pidff: ax.pidff_settings()?,
     })
 }
 
 /// The gains `axis` runs with.
 pub fn get(card: &Card, axis: usize) -> Result<Gains> {
     let h = held(card, axis)?;
-    let law = if h.cfg.servo_law == crate::proto::raw::MC_SERVO_PDPLUS {
-        Law::Pdplus
-    } else {
-        Law::Ffpiv
+    let law = match h.cfg.servo_law {
+        crate::proto::raw::MC_SERVO_PDPLUS => Law::Pdplus,
+        crate::proto::raw::MC_SERVO_PIDFF => Law::Pidff,
+        _ => Law::Ffpiv,
     };
     Ok(Gains {
         axis,
         law,
         ffpiv: Ffpiv::from(&h.cfg.ffpiv),
         pdplus: h.pdplus.as_ref().map(PdPlus::from),
+        pidff: h.pidff.as_ref().map(Pidff::from),
         source: SOURCE_CARD,
     })
 }
@@ -103,6 +115,7 @@ pub fn apply(card: &Card, axis: usize, change: &Apply) -> Result<Gains> {
         // A PD+ law on an axis that runs FFPIV starts from an empty block: every value it
         // needs is in the change.
         Apply::Pdplus(p) => ax.configure_pdplus(&p.onto(held.pdplus.unwrap_or_default()))?,
+        Apply::Pidff(p) => ax.configure_pidff(&p.block())?,
     }
     get(card, axis)
 }
@@ -123,8 +136,15 @@ mod tests {
         )
         .unwrap();
         assert!(matches!(a, Apply::Pdplus(p) if p.ka == 4.0 && p.umax == 8.0));
+        let a: Apply = serde_json::from_str(
+            r#"{"law":"pidff","kp":1,"ki":2,"kd":3,"kvff":4,"kaff":5,"friction":6,
+                "friction_deadband":7,"d_filter_hz":8}"#,
+        )
+        .unwrap();
+        assert!(matches!(a, Apply::Pidff(p) if p.kd == 3.0 && p.d_filter_hz == 8.0));
         for bad in [
             r#"{"law":"pid","kp":1}"#,
+            r#"{"law":"pidff","kp":1,"ki":2,"kd":3,"kvff":4,"kaff":5,"friction":6}"#,
             r#"{"law":"ffpiv","kp":1}"#,
             r#"{"law":"ffpiv","kp":"x","ki":2,"kv":3,"kvff":1,"kaff":0.5,"vel_filter_hz":1}"#,
             r#"{"law":"ffpiv","kp":1,"ki":2,"kv":3,"kvff":1,"kaff":0.5,"vel_filter_hz":1,"kd":0}"#,
@@ -169,9 +189,24 @@ mod tests {
         let now = apply(&card, 0, &Apply::Pdplus(good)).unwrap();
         assert_eq!((now.law, now.pdplus), (Law::Pdplus, Some(good)));
         assert_eq!(now.ffpiv, g, "the FFPIV gains stay held");
+        // PID+FF: a negative gain refused (nothing changed), the default tuning held.
+        let mut q = Pidff::from(&crate::PidffSettings::default());
+        let good = q;
+        q.kd = -1.0;
+        let e = apply(&card, 0, &Apply::Pidff(q)).unwrap_err();
+        assert_eq!(e.kind(), crate::ErrorKind::PidffGains, "{e}");
+        assert_eq!(get(&card, 0).unwrap(), now);
+        let pid = apply(&card, 0, &Apply::Pidff(good)).unwrap();
+        assert_eq!(
+            (pid.law, pid.pidff, pid.pdplus),
+            (Law::Pidff, Some(good), None)
+        );
         // Back to FFPIV.
         let back = apply(&card, 0, &Apply::Ffpiv(before.ffpiv)).unwrap();
-        assert_eq!((back.law, back.pdplus), (Law::Ffpiv, None));
+        assert_eq!(
+            (back.law, back.pdplus, back.pidff),
+            (Law::Ffpiv, None, None)
+        );
         assert!(get(&card, 9).is_err());
     }
 }

@@ -4,7 +4,8 @@
 //!
 //! - Configuration checks, the card's own, which the SDK runs on a configuration file before it
 //!   applies anything: the axis, group and path blocks, the filter bank's decoding, the safety,
-//!   axis-safety, homing and I/O configurations, and the defaults they start from.
+//!   axis-safety, homing and I/O configurations (layout 1.11: the analog inputs, the PSO and
+//!   the servo output's filters), and the defaults they start from.
 //! - Refusals: the nack the card gives for a NURBS curve's fault ([`nurbs_nack`]).
 //! - The offline planners: the S-curve planner and the time-optimal planner from any state
 //!   ([`plan`]), NURBS curves (their checks, knot vectors, the split into pieces the card
@@ -13,6 +14,9 @@
 //! - Cam tables as the card builds and evaluates them ([`CamTable`]): a host that makes a table
 //!   checks what the card will follow (the G-code runner's threads).
 
+/// Layout 1.11: the analog inputs' and the PSO's checks at a servo rate (beyond the commands'
+/// decoding), and a servo-output filter's check and design.
+pub use crate::firmware::analog::{input_nack as analog_input_nack, pso_nack};
 pub use crate::firmware::axis_safety::AxisSafetyConfig;
 pub use crate::firmware::config::{
     decode_axis_filter, pdplus_block, pidff_block, validate_axis_config, validate_group_config,
@@ -30,6 +34,7 @@ pub use crate::motion::nurbs::{
 };
 pub use crate::motion::path::SMOOTH_TURN;
 pub use crate::presets::die_bonder_volts;
+pub use crate::servo::biquad::design as design_biquad;
 pub use firmware_proto::MAX_POSITION;
 
 /// The card's S-curve planner ([`Profile`](plan::Profile), [`Limits`](plan::Limits)) and the

@@ -30,6 +30,366 @@ pub struct Config {
     /// Layout 1.10: formed gantries by number (`"0"`…); formed last when a file is loaded.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub gantry: BTreeMap<String, GantrySection>,
+    /// Layout 1.11: the analog inputs by number (`"0"`…).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub analog_input: BTreeMap<String, AnalogInputSection>,
+    /// Layout 1.11: the path-speed output (after the groups: it runs on one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pso: Option<PsoSection>,
+}
+
+/// `[analog_input.N]` (layout 1.11): an analog input's filter and threshold
+/// ([`crate::AnalogInputSettings`]), volts and Hz.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalogInputSection {
+    /// The first-order filter's cut-off, Hz (0: none; at most half the servo rate).
+    pub cutoff_hz: f64,
+    /// The threshold, V (within ±10 V).
+    pub threshold: f64,
+    /// The hysteresis, V (0..=20).
+    pub hysteresis: f64,
+    /// An event going above.
+    pub rise_event: bool,
+    /// An event going below again.
+    pub fall_event: bool,
+}
+
+impl AnalogInputSection {
+    /// The SDK's settings.
+    pub fn settings(&self) -> crate::AnalogInputSettings {
+        crate::AnalogInputSettings {
+            cutoff_hz: self.cutoff_hz,
+            threshold: self.threshold,
+            hysteresis: self.hysteresis,
+            rise_event: self.rise_event,
+            fall_event: self.fall_event,
+        }
+    }
+
+    /// The command that sets input `input` to these settings.
+    pub(crate) fn command(&self, input: usize) -> firmware_proto::cmd::AnalogInput {
+        firmware_proto::cmd::AnalogInput {
+            input: input.min(u8::MAX as usize) as u8,
+            cutoff_hz: self.cutoff_hz,
+            threshold: self.threshold,
+            hysteresis: self.hysteresis,
+            rise_event: self.rise_event,
+            fall_event: self.fall_event,
+        }
+    }
+}
+
+impl From<&crate::AnalogInputSettings> for AnalogInputSection {
+    fn from(s: &crate::AnalogInputSettings) -> Self {
+        Self {
+            cutoff_hz: s.cutoff_hz,
+            threshold: s.threshold,
+            hysteresis: s.hysteresis,
+            rise_event: s.rise_event,
+            fall_event: s.fall_event,
+        }
+    }
+}
+
+/// Where the path-speed output goes, or none.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PsoOutputName {
+    /// Not running (`[pso]` holds no other key): a PSO the card runs is stopped.
+    Off,
+    /// A spare DAC output (`channel` 0..4): `min` and `max` in volts.
+    Dac,
+    /// A PWM on digital output `channel` (0..16) at `pwm_hz`: `min` and `max` are duties.
+    Pwm,
+}
+
+/// `[pso]` (layout 1.11): the path-speed output ([`crate::Pso`]) in counts: `v_ref` is the
+/// group's tangential speed of full output in counts/s. With `output = "off"` no other key;
+/// else all of them, `pwm_hz` with a PWM only.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PsoSection {
+    /// Off, a DAC or a PWM.
+    pub output: PsoOutputName,
+    /// The group whose speed it follows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<u32>,
+    /// The spare DAC or the digital output.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub channel: Option<u32>,
+    /// The PWM's frequency, Hz (`output = "pwm"` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pwm_hz: Option<f64>,
+    /// The digital output that gates it (M62–M65).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate: Option<u32>,
+    /// The output at rest (V, or duty).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<f64>,
+    /// The output at `v_ref` and beyond (V, or duty).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
+    /// The tangential speed of full output, counts/s (> 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_ref: Option<f64>,
+    /// The speed filter's cut-off, Hz (0: none; at most half the servo rate).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter_hz: Option<f64>,
+}
+
+impl PsoSection {
+    /// The section of the PSO the card runs (`None`: off).
+    pub fn from_status(s: &crate::PsoStatus) -> Self {
+        let Some(p) = s.settings.filter(|_| s.state != crate::PsoState::Off) else {
+            return Self::off();
+        };
+        let (output, channel, pwm_hz) = match p.output {
+            crate::PsoOutput::Dac(d) => (PsoOutputName::Dac, d, None),
+            crate::PsoOutput::Pwm { output, hz } => (PsoOutputName::Pwm, output, Some(hz)),
+        };
+        Self {
+            output,
+            group: Some(s.group as u32),
+            channel: Some(channel as u32),
+            pwm_hz,
+            gate: Some(p.gate as u32),
+            min: Some(p.min),
+            max: Some(p.max),
+            v_ref: Some(p.v_ref),
+            filter_hz: Some(p.filter_hz),
+        }
+    }
+
+    /// `output = "off"`.
+    pub fn off() -> Self {
+        Self {
+            output: PsoOutputName::Off,
+            group: None,
+            channel: None,
+            pwm_hz: None,
+            gate: None,
+            min: None,
+            max: None,
+            v_ref: None,
+            filter_hz: None,
+        }
+    }
+
+    /// The keys the output needs (the rest must be absent), each with whether it is present.
+    pub(crate) fn keys(&self) -> [(&'static str, bool, bool); 8] {
+        let on = self.output != PsoOutputName::Off;
+        let pwm = self.output == PsoOutputName::Pwm;
+        [
+            ("group", on, self.group.is_some()),
+            ("channel", on, self.channel.is_some()),
+            ("pwm_hz", pwm, self.pwm_hz.is_some()),
+            ("gate", on, self.gate.is_some()),
+            ("min", on, self.min.is_some()),
+            ("max", on, self.max.is_some()),
+            ("v_ref", on, self.v_ref.is_some()),
+            ("filter_hz", on, self.filter_hz.is_some()),
+        ]
+    }
+
+    /// The group and the PSO's settings in counts (`None`: off; the keys checked before: a
+    /// missing one is 0).
+    pub(crate) fn settings(&self) -> Option<(usize, crate::Pso)> {
+        let idx = |x: Option<u32>| x.map_or(0, |x| x as usize);
+        let output = match self.output {
+            PsoOutputName::Off => return None,
+            PsoOutputName::Dac => crate::PsoOutput::Dac(idx(self.channel)),
+            PsoOutputName::Pwm => crate::PsoOutput::Pwm {
+                output: idx(self.channel),
+                hz: self.pwm_hz.unwrap_or(0.0),
+            },
+        };
+        let num = |x: Option<f64>| x.unwrap_or(0.0);
+        Some((
+            idx(self.group),
+            crate::Pso {
+                output,
+                gate: idx(self.gate),
+                min: num(self.min),
+                max: num(self.max),
+                v_ref: num(self.v_ref),
+                filter_hz: num(self.filter_hz),
+            },
+        ))
+    }
+
+    /// The card's command of the settings (the indices saturated to a byte: the decoding
+    /// refuses what the card does not have).
+    pub(crate) fn command(p: &crate::Pso) -> firmware_proto::cmd::Pso {
+        let arg = |x: usize| x.min(u8::MAX as usize) as u8;
+        firmware_proto::cmd::Pso {
+            output: match p.output {
+                crate::PsoOutput::Dac(d) => firmware_proto::cmd::PsoOutput::Dac(arg(d)),
+                crate::PsoOutput::Pwm { output, hz } => firmware_proto::cmd::PsoOutput::Pwm {
+                    output: arg(output),
+                    hz,
+                },
+            },
+            gate: arg(p.gate),
+            min: p.min,
+            max: p.max,
+            v_ref: p.v_ref,
+            filter_hz: p.filter_hz,
+        }
+    }
+}
+
+/// A servo-output filter's kind in `[axis.N.biquad.K]`, or an empty slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BiquadName {
+    /// The slot is empty (no other key).
+    None,
+    /// A notch: `freq_hz`, `damping`, `depth_db`.
+    Notch,
+    /// A second-order low-pass: `freq_hz`, `damping`.
+    Lowpass,
+    /// A first-order lead/lag: `freq_hz` (the zero), `freq2_hz` (the pole).
+    LeadLag,
+    /// The coefficients as given: `b0`, `b1`, `b2`, `a1`, `a2` (a0 = 1).
+    Raw,
+}
+
+/// `[axis.N.biquad.K]` (layout 1.11): the servo-output filter in slot K (0..4,
+/// [`crate::Axis::set_servo_filter`]); the keys of its kind, no others.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct BiquadSection {
+    /// The kind, or `"none"`: the slot is empty.
+    pub kind: BiquadName,
+    /// Notch: the centre; low-pass: the corner; lead/lag: the zero's frequency, Hz.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub freq_hz: Option<f64>,
+    /// Notch, low-pass: the damping ratio (a notch's width), (0, 10].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+    /// Notch: the gain at the centre, dB (-120..=0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_db: Option<f64>,
+    /// Lead/lag: the pole's frequency, Hz.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub freq2_hz: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b0: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b2: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a2: Option<f64>,
+}
+
+impl BiquadSection {
+    /// An empty slot.
+    pub fn none() -> Self {
+        Self {
+            kind: BiquadName::None,
+            freq_hz: None,
+            damping: None,
+            depth_db: None,
+            freq2_hz: None,
+            b0: None,
+            b1: None,
+            b2: None,
+            a1: None,
+            a2: None,
+        }
+    }
+
+    /// The section of a filter as set (`None`: an empty slot): the keys of its kind.
+    pub fn from_spec(spec: Option<&crate::BiquadSpec>) -> Self {
+        use crate::BiquadKind as K;
+        let Some(s) = spec else {
+            return Self::none();
+        };
+        let c = s.coeffs;
+        let e = Self::none();
+        match s.kind {
+            K::Notch => Self {
+                kind: BiquadName::Notch,
+                freq_hz: Some(s.freq_hz),
+                damping: Some(s.damping),
+                depth_db: Some(s.depth_db),
+                ..e
+            },
+            K::LowPass => Self {
+                kind: BiquadName::Lowpass,
+                freq_hz: Some(s.freq_hz),
+                damping: Some(s.damping),
+                ..e
+            },
+            K::LeadLag => Self {
+                kind: BiquadName::LeadLag,
+                freq_hz: Some(s.freq_hz),
+                freq2_hz: Some(s.freq2_hz),
+                ..e
+            },
+            K::Raw => Self {
+                kind: BiquadName::Raw,
+                b0: Some(c[0]),
+                b1: Some(c[1]),
+                b2: Some(c[2]),
+                a1: Some(c[3]),
+                a2: Some(c[4]),
+                ..e
+            },
+        }
+    }
+
+    /// Each key, whether the kind needs it and whether the section has it.
+    pub fn keys(&self) -> [(&'static str, bool, bool); 9] {
+        use BiquadName as N;
+        let k = self.kind;
+        let raw = k == N::Raw;
+        [
+            (
+                "freq_hz",
+                matches!(k, N::Notch | N::Lowpass | N::LeadLag),
+                self.freq_hz.is_some(),
+            ),
+            (
+                "damping",
+                matches!(k, N::Notch | N::Lowpass),
+                self.damping.is_some(),
+            ),
+            ("depth_db", k == N::Notch, self.depth_db.is_some()),
+            ("freq2_hz", k == N::LeadLag, self.freq2_hz.is_some()),
+            ("b0", raw, self.b0.is_some()),
+            ("b1", raw, self.b1.is_some()),
+            ("b2", raw, self.b2.is_some()),
+            ("a1", raw, self.a1.is_some()),
+            ("a2", raw, self.a2.is_some()),
+        ]
+    }
+
+    /// The filter (`None`: the slot empty); a key missing is 0 (the keys are checked before).
+    pub fn spec(&self) -> Option<crate::BiquadSpec> {
+        use crate::BiquadKind as K;
+        let kind = match self.kind {
+            BiquadName::None => return None,
+            BiquadName::Notch => K::Notch,
+            BiquadName::Lowpass => K::LowPass,
+            BiquadName::LeadLag => K::LeadLag,
+            BiquadName::Raw => K::Raw,
+        };
+        let n = |x: Option<f64>| x.unwrap_or(0.0);
+        Some(crate::BiquadSpec {
+            kind,
+            freq_hz: n(self.freq_hz),
+            damping: n(self.damping),
+            depth_db: n(self.depth_db),
+            freq2_hz: n(self.freq2_hz),
+            coeffs: [self.b0, self.b1, self.b2, self.a1, self.a2].map(n),
+        })
+    }
 }
 
 /// `[gantry.N]` (layout 1.10): a formed gantry ([`crate::Card::gantry_at`]), the skew limit
@@ -189,6 +549,10 @@ pub struct AxisSection {
     /// read back absent when the card holds none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compensation: Option<CompensationSection>,
+    /// Layout 1.11: the servo output's filters by slot (`"0"` to `"3"`); a slot the file does
+    /// not name is left as the card holds it, `kind = "none"` empties one.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub biquad: BTreeMap<String, BiquadSection>,
     /// Layout 1.10: the modulo period of a rotary axis, user units (in the file's `scale`);
     /// `0` makes the axis linear (and is read back for one). Absent, the card's period is left
     /// as it is.
@@ -660,6 +1024,7 @@ impl AxisSection {
                 hard_stop_dwell: h.hard_stop_dwell,
             }),
             compensation: None,
+            biquad: BTreeMap::new(),
             modulo: Some(user_modulo(c.modulo, c.scale)),
         }
     }

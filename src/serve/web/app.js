@@ -9,7 +9,8 @@
 // For tests and tools, `window.tuning` holds the page's state: `charts` (the uPlot
 // instances; `u.data` is exactly what each plots), `lastTest` (the last test's id, figures
 // and, through `series`, the arrays its charts plot), `gains` (as last read from the server)
-// and `live` (the stream's state and how many points it has plotted).
+// `live` (the stream's state and how many points it has plotted) and, from servo.js,
+// `filters` (the servo output's filter slots as last read from the server).
 "use strict";
 
 const LIVE_WINDOW_S = 10;
@@ -40,7 +41,18 @@ const GAIN_FIELDS = {
     ["ke", "K_e", "counts/rad, drive model"],
     ["umax", "U_max", "V, drive limit"],
   ],
+  pidff: [
+    ["kp", "k_p", "V/count"],
+    ["ki", "k_i", "V/(count·s), integral (anti-windup at the DAC limit)"],
+    ["kd", "k_d", "V per count/s, derivative"],
+    ["d_filter_hz", "f_d", "Hz, derivative filter"],
+    ["kvff", "k_vff", "V per count/s, velocity feed-forward"],
+    ["kaff", "k_aff", "V per count/s², acceleration feed-forward"],
+    ["friction", "F_c", "V, Coulomb friction feed-forward"],
+    ["friction_deadband", "v_0", "counts/s, no friction term up to |v_ref|"],
+  ],
 };
+const LAW_NAMES = { ffpiv: "FFPIV", pdplus: "PD+", pidff: "PID+FF" };
 
 const tuning = {
   ready: false,
@@ -415,9 +427,9 @@ function buildGainFields() {
 
 function fillGains(g) {
   tuning.gains = g;
-  $("gain-held-law").textContent = `the axis runs ${g.law === "ffpiv" ? "FFPIV" : "PD+"}`;
+  $("gain-held-law").textContent = `the axis runs ${LAW_NAMES[g.law]}`;
   $("gain-source").textContent = g.source;
-  for (const [law, values] of [["ffpiv", g.ffpiv], ["pdplus", g.pdplus]]) {
+  for (const [law, values] of [["ffpiv", g.ffpiv], ["pdplus", g.pdplus], ["pidff", g.pidff]]) {
     for (const [key] of GAIN_FIELDS[law]) {
       const held = $(`held-${law}-${key}`);
       const input = $(`gain-${law}-${key}`);
@@ -427,6 +439,9 @@ function fillGains(g) {
         held.dataset.value = String(values[key]);
         held.textContent = `card: ${Number(values[key]).toPrecision(6)}`;
       } else {
+        // PID+FF on an axis that runs another law: the card's default tuning to start from.
+        const start = law === "pidff" ? tuning.info.defaults.pidff : null;
+        if (start && input.value === "") input.value = String(start[key]);
         held.dataset.value = "";
         held.textContent = "card: –";
       }
@@ -457,7 +472,7 @@ async function applyGains() {
   try {
     const g = await api("/api/gains", body);
     fillGains(g);
-    setMessage(msg, "ok", `Applied: the card accepted the ${law === "ffpiv" ? "FFPIV" : "PD+"} gains.`);
+    setMessage(msg, "ok", `Applied: the card accepted the ${LAW_NAMES[law]} gains.`);
   } catch (e) {
     const kind = e.kind ? ` (${e.kind})` : "";
     const who = e.status === 422 ? "The card refused these gains" : "Not applied";
@@ -466,7 +481,7 @@ async function applyGains() {
     try {
       const g = await api("/api/gains");
       tuning.gains = g;
-      for (const [l, values] of [["ffpiv", g.ffpiv], ["pdplus", g.pdplus]]) {
+      for (const [l, values] of [["ffpiv", g.ffpiv], ["pdplus", g.pdplus], ["pidff", g.pidff]]) {
         for (const [key] of GAIN_FIELDS[l]) {
           const held = $(`held-${l}-${key}`);
           held.dataset.value = values ? String(values[key]) : "";

@@ -119,6 +119,24 @@ pub fn pso_value(p: &Pso, v: f64) -> f64 {
     }
 }
 
+/// The check of an analog input's settings (decoded) at servo rate `rate_hz` beyond its
+/// decoding: a cut-off above half the rate is `MC_NACK_ANALOG_FILTER`.
+pub fn input_nack(a: &AnalogInput, rate_hz: u32) -> Result<(), NackCode> {
+    if a.cutoff_hz > f64::from(rate_hz) / 2.0 {
+        return Err(NackCode::AnalogFilter);
+    }
+    Ok(())
+}
+
+/// The check of a PSO's settings (decoded) at servo rate `rate_hz` beyond its decoding: a speed
+/// filter above half the rate is `MC_NACK_PSO_CONFIG`.
+pub fn pso_nack(p: &Pso, rate_hz: u32) -> Result<(), NackCode> {
+    if p.filter_hz > f64::from(rate_hz) / 2.0 {
+        return Err(NackCode::PsoConfig);
+    }
+    Ok(())
+}
+
 impl AnalogUnit {
     /// Boot state: no filter, thresholds at 0 V without events, outputs at 0 V, no PSO.
     pub fn new() -> Self {
@@ -145,10 +163,8 @@ impl AnalogUnit {
     /// (`MC_NACK_ANALOG_FILTER`); the filter keeps its value, the state is taken again from it
     /// (no event).
     pub fn configure_input(&mut self, a: &AnalogInput, rate_hz: u32) -> Result<(), NackCode> {
+        input_nack(a, rate_hz)?;
         let rate = f64::from(rate_hz);
-        if a.cutoff_hz > rate / 2.0 {
-            return Err(NackCode::AnalogFilter);
-        }
         let i = &mut self.inputs[a.input as usize];
         i.alpha = if a.cutoff_hz == 0.0 {
             1.0
@@ -184,10 +200,8 @@ impl AnalogUnit {
     /// above half the rate is refused (`MC_NACK_PSO_CONFIG`); else it replaces the PSO
     /// running, whose output goes to 0 first.
     pub fn start_pso(&mut self, group: usize, cfg: Pso, rate_hz: u32) -> Result<(), NackCode> {
+        pso_nack(&cfg, rate_hz)?;
         let rate = f64::from(rate_hz);
-        if cfg.filter_hz > rate / 2.0 {
-            return Err(NackCode::PsoConfig);
-        }
         let beta = if cfg.filter_hz == 0.0 {
             1.0
         } else {

@@ -54,6 +54,16 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.analog.stop_pso();
                 Ok(0.0)
             }
+            // Layout 1.12: no compare channel on the output the PSO's PWM holds (an output
+            // that is not one is the I/O unit's to refuse).
+            IoCmd::CompareArm(a)
+                if self
+                    .analog
+                    .pwm()
+                    .is_some_and(|(o, ..)| a.output == o as f64) =>
+            {
+                Err(NackCode::PsoOutput)
+            }
             _ => {
                 let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
                 self.io.command(mem, c.seq, c.axis, &cmd, n, rate)
