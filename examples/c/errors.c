@@ -89,6 +89,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_TICK_FAR,       MC_ERR_COMMIT_LATE,     MC_ERR_NOT_MASTER,
     MC_ERR_NOT_COMMITTED,  MC_ERR_SYNC_LOST,       MC_ERR_TIMED_REFUSED,
     MC_ERR_TIMED_CANCELLED,
+    /* listing and opening by name or serial */
+    MC_ERR_AMBIGUOUS,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -113,6 +115,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
     /* dead_card.c (a card process killed, then stopped) */
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
+    /* list.c (two card-emu cards of one serial) */
+    MC_ERR_AMBIGUOUS,
     /* lifecycle.c (waits in other threads) */
     MC_ERR_CLOSED, MC_ERR_CANCELLED,
     /* groups.c */
