@@ -156,7 +156,9 @@ fn an_unknown_name_or_serial_is_not_found_and_a_shared_one_ambiguous() {
     assert_eq!(e.kind(), ErrorKind::NotFound, "{e}");
     let m = e.to_string();
     assert!(m.contains(&format!("no card named '{nobody}'")), "{m}");
-    assert!(m.contains(&format!("emu:{a} ({a}, serial {twin})")), "{m}");
+    // The cards listed, a few of them: the message stays short whatever is present.
+    assert!(m.contains(" serial "), "{m}");
+    assert!(m.len() < 512, "{} bytes: {m}", m.len());
     let e = Card::open(&format!("serial:{}", serial(8)))
         .err()
         .expect("opened");

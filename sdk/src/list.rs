@@ -444,29 +444,44 @@ pub(crate) fn resolve(uri: &str) -> Result<String> {
     match found.as_slice() {
         [one] => Ok(one.uri.clone()),
         [] => {
+            // At most a few of each, so that the message stays short whatever is present
+            // (`mcctl list` shows them all).
+            const SHOWN: usize = 4;
+            let more = |n: usize| {
+                if n > SHOWN {
+                    format!(", and {} more", n - SHOWN)
+                } else {
+                    String::new()
+                }
+            };
             let read: Vec<String> = all
                 .iter()
                 .filter(|l| l.error.is_none())
                 .map(|l| format!("{} ({}, serial {})", l.uri, l.name, l.serial))
                 .collect();
             let mut reason = format!(
-                "no card {what} among the emu: processes, UIO devices and PCI functions listed ({})",
+                "no card {what} among the emu: processes, UIO devices and PCI functions listed ({}{})",
                 if read.is_empty() {
                     "none".to_string()
                 } else {
-                    read.join(", ")
-                }
+                    read[..read.len().min(SHOWN)].join(", ")
+                },
+                more(read.len())
             );
             let unread: Vec<String> = all
                 .iter()
                 .filter_map(|l| {
                     l.error
                         .as_ref()
-                        .map(|e| format!("{}: {}", l.uri, e.message))
+                        .map(|e| format!("{} ({})", l.uri, e.kind.description()))
                 })
                 .collect();
             if !unread.is_empty() {
-                reason += &format!("; not read: {}", unread.join("; "));
+                reason += &format!(
+                    "; not read: {}{}",
+                    unread[..unread.len().min(SHOWN)].join(", "),
+                    more(unread.len())
+                );
             }
             Err(Error::NotFound {
                 uri: uri.into(),
