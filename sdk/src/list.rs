@@ -388,7 +388,8 @@ struct ReadOnly(memmap2::Mmap);
 impl ReadOnly {
     fn at<T>(&self, off: usize) -> Option<*const T> {
         let size = std::mem::size_of::<T>();
-        (off % size == 0 && off + size <= self.0.len()).then(|| self.0[off..].as_ptr().cast())
+        (off.is_multiple_of(size) && off + size <= self.0.len())
+            .then(|| self.0[off..].as_ptr().cast())
     }
 }
 
@@ -420,22 +421,22 @@ impl firmware_proto::Mem for ReadOnly {
 /// naming what was searched, `Ambiguous` naming the matches, `BadUri` for a serial that is not
 /// a decimal number 1 to 2^64-1 or an empty name.
 pub(crate) fn resolve(uri: &str) -> Result<String> {
-    let (what, matches): (String, Box<dyn Fn(&CardListing) -> bool>) =
-        if let Some(name) = uri.strip_prefix("name:") {
-            if name.is_empty() {
-                return Err(Error::BadUri(uri.into()));
-            }
-            let n = name.to_string();
-            (format!("named '{name}'"), Box::new(move |l| l.name == n))
-        } else if let Some(serial) = uri.strip_prefix("serial:") {
-            let s = match serial.parse::<u64>() {
-                Ok(s) if s > 0 && serial.bytes().all(|b| b.is_ascii_digit()) => s,
-                _ => return Err(Error::BadUri(uri.into())),
-            };
-            (format!("with serial {s}"), Box::new(move |l| l.serial == s))
-        } else {
+    type Matches = Box<dyn Fn(&CardListing) -> bool>;
+    let (what, matches): (String, Matches) = if let Some(name) = uri.strip_prefix("name:") {
+        if name.is_empty() {
             return Err(Error::BadUri(uri.into()));
+        }
+        let n = name.to_string();
+        (format!("named '{name}'"), Box::new(move |l| l.name == n))
+    } else if let Some(serial) = uri.strip_prefix("serial:") {
+        let s = match serial.parse::<u64>() {
+            Ok(s) if s > 0 && serial.bytes().all(|b| b.is_ascii_digit()) => s,
+            _ => return Err(Error::BadUri(uri.into())),
         };
+        (format!("with serial {s}"), Box::new(move |l| l.serial == s))
+    } else {
+        return Err(Error::BadUri(uri.into()));
+    };
     let all = list()?;
     let found: Vec<&CardListing> = all
         .iter()
