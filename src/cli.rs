@@ -29,6 +29,7 @@ pub mod info;
 pub mod interrupt;
 pub mod io;
 pub mod jog;
+pub mod list;
 pub mod machine;
 pub mod moves;
 pub mod plan;

@@ -1779,3 +1779,96 @@ fn comp_loads_shows_and_clears_a_table_file() {
     assert_eq!(out.trim(), r#"{"axis":1,"table":null}"#);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `mcctl list`: two `emu:` cards served from this process, one held by a host here: both are
+/// listed with their names, serials, axes, rate and sync role, the held one busy (and the host
+/// keeps it: it still answers afterwards); `--card name:NAME` opens a card by its name.
+#[test]
+fn list_shows_every_card_with_its_serial_sync_role_and_availability() {
+    use card_emu::{EmuOptions, Emulator, Runner};
+    let pid = std::process::id();
+    let serve = |name: &str, axes: usize, serial: u64| {
+        let opts = EmuOptions {
+            serial,
+            ..EmuOptions::new(axes, 10_000)
+        };
+        let emu = Emulator::create(name, &opts).unwrap();
+        let server = card_emu::emu::server::Server::start(name, emu.lessor()).unwrap();
+        (
+            server,
+            Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap(),
+        )
+    };
+    let (a, b) = (format!("mcctl-list-a-{pid}"), format!("mcctl-list-b-{pid}"));
+    let (sa, sb) = ((u64::from(pid) << 8) | 1, (u64::from(pid) << 8) | 2);
+    let _a = serve(&a, 3, sa);
+    let _b = serve(&b, 2, sb);
+    let host = motioncard_sdk::Card::open(&format!("emu:{a}")).unwrap();
+    let (code, out, err) = mcctl(&["list", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let card = |name: &str| {
+        j["cards"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["uri"] == format!("emu:{name}"))
+            .unwrap_or_else(|| panic!("emu:{name} not in {out}"))
+            .clone()
+    };
+    let ca = card(&a);
+    assert_eq!(ca["name"], a.as_str());
+    assert_eq!(ca["serial"], sa);
+    assert_eq!(ca["axes"], 3);
+    assert_eq!(ca["servo_rate_hz"], 10_000);
+    assert_eq!(ca["sync_role"], "alone");
+    assert_eq!(ca["master"], "");
+    assert_eq!(ca["available"], false, "held by this test: {ca}");
+    assert_eq!(ca["open_here"], false, "mcctl is another process");
+    assert!(ca["error"].is_null(), "{ca}");
+    let cb = card(&b);
+    assert_eq!((&cb["serial"], &cb["axes"]), (&sb.into(), &2.into()));
+    assert_eq!(cb["available"], true, "{cb}");
+    host.ping().unwrap();
+    assert_eq!(host.inherited_stops(), 0);
+    // The table: a line per card, the held one busy.
+    let (code, out, _) = mcctl(&["list"]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("URI "), "{out}");
+    let line = |name: &str| {
+        out.lines()
+            .find(|l| l.starts_with(&format!("emu:{name} ")))
+            .unwrap_or_else(|| panic!("{out}"))
+            .split_whitespace()
+            .collect::<Vec<_>>()
+    };
+    let sa_text = sa.to_string();
+    let sb_text = sb.to_string();
+    assert_eq!(
+        line(&a)[1..],
+        [a.as_str(), &sa_text, "3", "10000", "Hz", "alone", "busy"]
+    );
+    assert_eq!(
+        line(&b)[1..],
+        [
+            b.as_str(),
+            &sb_text,
+            "2",
+            "10000",
+            "Hz",
+            "alone",
+            "available"
+        ]
+    );
+    // By name: the card of that name (b: a is held).
+    let (code, out, err) = mcctl(&["--card", &format!("name:{b}"), "info", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["axes"], 2);
+    let (code, _, err) = mcctl(&["--card", &format!("name:nobody-{pid}"), "info"]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains(&format!("no card named 'nobody-{pid}'")),
+        "{err}"
+    );
+}

@@ -98,6 +98,21 @@ fn peer_role() {
     let Ok(uri) = std::env::var(ROLE) else {
         return;
     };
+    if let Some(name) = uri.strip_prefix("list:") {
+        let all = Card::list().expect("list");
+        let l = all
+            .iter()
+            .find(|l| l.uri == format!("emu:{name}"))
+            .expect("listed");
+        match &l.error {
+            Some(e) => println!("\nPEER-LISTED {:?}: {}", e.kind, e.message),
+            None => println!(
+                "\nPEER-LISTED ok {} serial {} available {}",
+                l.name, l.serial, l.available
+            ),
+        }
+        return;
+    }
     match try_open(&uri) {
         Ok(card) => {
             card.ping().unwrap();
@@ -606,4 +621,46 @@ fn the_peer_runs_from_a_checkout_other_users_cannot_enter() {
     assert!(got.starts_with("PEER-ERROR NotFound"), "{got}");
     drop(peer);
     assert!(!dir.exists(), "the copy is removed");
+}
+
+/// A lister the card's policy refuses is listed with the card "denied" (and told how to be
+/// admitted) and takes nothing; one it admits reads the card's name and serial.
+#[test]
+fn a_lister_of_another_user_is_told_denied() {
+    let name = format!("acl-list-{}", std::process::id());
+    if !is_root() {
+        skip("the cross-user part");
+        let me = nix::unistd::geteuid().as_raw();
+        let emu = Emulator::create(&name, &EmuOptions::default()).unwrap();
+        let opts = ServeOptions::new(server::PeerPolicy::new(me + 1));
+        let _server = Server::start_with(&name, emu.lessor(), opts).unwrap();
+        let all = Card::list().unwrap();
+        let l = all.iter().find(|l| l.uri == format!("emu:{name}")).unwrap();
+        let e = l.error.as_ref().expect("denied");
+        assert_eq!(e.kind, ErrorKind::PermissionDenied, "{}", e.message);
+        assert!(
+            e.message.contains(&format!("--allow-uid {me}")),
+            "{}",
+            e.message
+        );
+        return;
+    }
+    let Some(peer) = Peer::new("a_lister_of_another_user_is_told_denied") else {
+        return;
+    };
+    let emu = Emu::start(&name, &["--serial", "4711"]);
+    let got = peer.run(&format!("list:{name}"), NOBODY, NOBODY, &[]);
+    assert!(got.starts_with("PEER-LISTED PermissionDenied"), "{got}");
+    assert!(got.contains("refused uid 65534"), "{got}");
+    assert!(got.contains("--allow-uid 65534"), "{got}");
+    // Nothing taken: this process opens the card at once.
+    drop(open_when_ready(&format!("emu:{name}")));
+    drop(emu);
+    let admitted = format!("acl-list-ok-{}", std::process::id());
+    let _emu = Emu::start(&admitted, &["--serial", "4712", "--allow-uid", "65534"]);
+    let got = peer.run(&format!("list:{admitted}"), NOBODY, NOBODY, &[]);
+    assert_eq!(
+        got,
+        format!("PEER-LISTED ok {admitted} serial 4712 available true")
+    );
 }

@@ -3889,6 +3889,76 @@ typedef struct mc_probe_info {
 } mc_probe_info;
 
 /**
+ * One card found by `mc_list_cards`. Strings are NUL-terminated (cut to fit, at a character
+ * boundary).
+ */
+typedef struct mc_card_listing {
+  /**
+   * The URI that opens it: `emu:NAME`, `uio:/dev/uioN` or `pci:DDDD:BB:DD.F`.
+   */
+  char uri[128];
+  /**
+   * Its name (`card-emu --name`, the board's EEPROM name); when the card could not be read,
+   * the `emu:` socket's name or the UIO device's sysfs name.
+   */
+  char name[128];
+  /**
+   * The board's serial number (0: none, or not read).
+   */
+  uint64_t serial;
+  /**
+   * Axes on the card (0: not read).
+   */
+  uint32_t axes;
+  /**
+   * Servo rate, Hz (0: not read).
+   */
+  uint32_t servo_rate_hz;
+  /**
+   * Firmware version, `major << 16 | minor << 8 | patch` (0: not read).
+   */
+  uint32_t firmware_version;
+  /**
+   * DPRAM layout major version (0: not read).
+   */
+  uint16_t layout_major;
+  /**
+   * DPRAM layout minor version.
+   */
+  uint16_t layout_minor;
+  /**
+   * `MC_BUS_ALONE`, `MC_BUS_MASTER` or `MC_BUS_FOLLOWER`.
+   */
+  uint32_t sync_role;
+  /**
+   * `MC_BUSST_FREE`, `MC_BUSST_LOCKED` or `MC_BUSST_LOST`.
+   */
+  uint32_t sync_state;
+  /**
+   * A follower's master's name (empty otherwise).
+   */
+  char master[32];
+  /**
+   * 1: no host holds it, `mc_open` would get it now; 0: held (or not read).
+   */
+  uint32_t available;
+  /**
+   * 1: this process has it open.
+   */
+  uint32_t open_here;
+  /**
+   * `MC_OK`: every field was read from the card; else why it could not be read
+   * (`MC_ERR_PERMISSION_DENIED`: the card's server refused this user; `MC_ERR_PROTOCOL`: a
+   * card-emu of another release; ...), with `error_message`.
+   */
+  mc_result error;
+  /**
+   * What `error` means here, and what to do about it (empty with `MC_OK`).
+   */
+  char error_message[256];
+} mc_card_listing;
+
+/**
  * Limits of velocity mode, in user units (see `mc_set_scale`); each finite and > 0.
  */
 typedef struct mc_velocity_limits {
@@ -4567,7 +4637,8 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_OK 0
 
 /**
- * The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
+ * The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`,
+ * `name:NAME`, `serial:N`.
  */
 #define MC_ERR_BAD_URI -1
 
@@ -5253,6 +5324,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
  * A path-speed output on a group that does not exist or is not configured.
  */
 #define MC_ERR_PSO_GROUP -140
+
+/**
+ * `name:NAME` or `serial:N` matches more than one card listed (`Card::list`):
+ * open it by its URI instead (the message names them).
+ */
+#define MC_ERR_AMBIGUOUS -150
 
 /**
  * Layout 1.12: a timed command for a tick the card has already run.
@@ -6509,6 +6586,18 @@ mc_result mc_sim_set_sensor(mc_card card,
                             uint32_t axis,
                             double at,
                             uint32_t active_above);
+
+/**
+ * Every card reachable from this process: `card-emu` processes (`emu:`), UIO devices and PCI
+ * functions with the card's IDs, in that order, each read without disturbing a host that
+ * holds it (see the SDK's `Card::list`). Writes the cards to `cards` and their count to
+ * `*needed`; when `len` is too small, only `*needed` and `MC_ERR_BUFFER_TOO_SMALL` (`cards`
+ * may be NULL when `len` is 0, to ask for the count; cards can come and go between two calls:
+ * ask again on `MC_ERR_BUFFER_TOO_SMALL`). A card found but not read is listed with its
+ * `error`. `MC_ERR_IO` when /proc cannot be read. Blocks while each `emu:` card answers (a
+ * fraction of a millisecond each, at most 5 s for one that does not).
+ */
+mc_result mc_list_cards(struct mc_card_listing *cards, size_t len, size_t *needed);
 
 /**
  * MC_MoveAbsolute, MC_MoveRelative or MC_MoveAdditive (`kind`: `MC_MOVE_KIND_ABSOLUTE`,

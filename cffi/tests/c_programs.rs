@@ -851,8 +851,17 @@ fn panic_program_is_clean_under_valgrind() {
 
 /// Serve an `emu:` card named `name` from this process on the real-time clock.
 fn serve_emu(name: &str) -> (card_emu::emu::server::Server, card_emu::Runner) {
+    serve_emu_serial(name, 0)
+}
+
+/// [`serve_emu`], the card with serial number `serial`.
+fn serve_emu_serial(name: &str, serial: u64) -> (card_emu::emu::server::Server, card_emu::Runner) {
     use card_emu::{emu::server::Server, Clock, EmuOptions, Emulator, Runner};
-    let emu = Emulator::create(name, &EmuOptions::new(2, 10_000)).unwrap();
+    let opts = EmuOptions {
+        serial,
+        ..EmuOptions::new(2, 10_000)
+    };
+    let emu = Emulator::create(name, &opts).unwrap();
     let server = Server::start(name, emu.lessor()).unwrap();
     (server, Runner::spawn(emu, Clock::RealTime, false).unwrap())
 }
@@ -996,6 +1005,39 @@ fn a_second_open_of_an_emu_card_is_busy() {
         "{out}"
     );
     assert!(out.contains("(2 axes at 10000 Hz)"), "{out}");
+}
+
+/// Three `emu:` cards served by this test process, the first and the third of one serial: the
+/// C program lists them (count first, then the array), opens one by name and one by serial,
+/// sees the one it holds listed busy, and gets `MC_ERR_NOT_FOUND` for a name nobody has and
+/// `MC_ERR_AMBIGUOUS` for the shared serial (list.c).
+#[test]
+fn cards_listed_and_opened_by_name_and_serial_from_c() {
+    let pid = std::process::id();
+    let names = ["a", "b", "c"].map(|k| format!("cffi-list-{k}-{pid}"));
+    let (sa, sb) = ((u64::from(pid) << 20) | 1, (u64::from(pid) << 20) | 2);
+    let _cards: Vec<_> = names
+        .iter()
+        .zip([sa, sb, sa])
+        .map(|(n, s)| serve_emu_serial(n, s))
+        .collect();
+    let args = [
+        &names[0],
+        &names[1],
+        &names[2],
+        &sa.to_string(),
+        &sb.to_string(),
+    ];
+    let args: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+    let out = run(&compile("list", Link::Shared), &args, &[]);
+    assert!(out.contains("PASS list\n"), "{out}");
+    let a = &names[0];
+    assert!(
+        out.contains(&format!(
+            "emu:{a}: {a}, serial {sa}, 2 axes at 10000 Hz, alone, available\n"
+        )),
+        "{out}"
+    );
 }
 
 /// The `MC_ERR_` names the header defines.

@@ -95,6 +95,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_FREQ_BUSY,
     /* a compare channel on the PSO's PWM output (layout 1.12) */
     MC_ERR_PSO_OUTPUT,
+    /* listing and opening by name or serial */
+    MC_ERR_AMBIGUOUS,
     /* the ABI's own */
     MC_ERR_BAD_HANDLE,     MC_ERR_NULL_POINTER,    MC_ERR_BUFFER_TOO_SMALL,
     MC_ERR_PANIC,
@@ -119,6 +121,8 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_PERMISSION_DENIED, MC_ERR_PATH_ID,
     /* dead_card.c (a card process killed, then stopped) */
     MC_ERR_CARD_GONE, MC_ERR_NOT_RESPONDING,
+    /* list.c (two card-emu cards of one serial) */
+    MC_ERR_AMBIGUOUS,
     /* lifecycle.c (waits in other threads) */
     MC_ERR_CLOSED, MC_ERR_CANCELLED,
     /* groups.c */

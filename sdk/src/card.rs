@@ -248,8 +248,18 @@ pub(crate) use crate::limits::{finite, positive};
 pub(crate) use crate::lock::lock;
 
 impl Card {
+    /// Every card reachable from this process: `card-emu` processes, UIO devices and PCI
+    /// functions with the card's IDs, each with its name, serial, axes, rate, sync role and
+    /// whether a host holds it, read without disturbing that host ([`crate::CardListing`]; how
+    /// each is found and read: the `list` module's table in ARCHITECTURE.md).
+    pub fn list() -> Result<Vec<crate::CardListing>> {
+        crate::list::list()
+    }
+
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
-    /// `emu:NAME` (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware).
+    /// `emu:NAME` (a `card-emu` process), `uio:/dev/uioN` or `pci:DDDD:BB:DD.F` (hardware), or
+    /// `name:NAME` / `serial:N`: the card [`Card::list`] shows with that name or serial
+    /// (`NotFound` if none, `Ambiguous` if several).
     ///
     /// Opening begins a session: if the previous host left the card without closing it (it
     /// died or hung), the card stops every axis that host left enabled (category 1, reason

@@ -7,6 +7,12 @@
 //! | `emu:NAME` | memfd received from a `card-emu` process | eventfd received with it |
 //! | `uio:/dev/uioN` | map 0 of the UIO device | the UIO fd (blocking read = count) |
 //! | `pci:DDDD:BB:DD.F` | sysfs `resource0` | none: polling |
+//! | `name:NAME` | the card listed ([`crate::Card::list`]) with that name, opened by its URI | its backend's |
+//! | `serial:N` | the card listed with serial number N (decimal, 1 to 2^64-1), opened by its URI | its backend's |
+//!
+//! `name:` and `serial:` are resolved through the listing ([`crate::list`]): no card matches
+//! is `NotFound` naming what was searched and what was listed; two or more is `Ambiguous`
+//! naming them. The card opened is then the one its URI names, as if opened by that URI.
 
 use crate::error::{Error, Result};
 #[cfg(feature = "emulator")]
@@ -201,10 +207,18 @@ impl Drop for Held {
     }
 }
 
+/// The URIs this process has open (`emu:`, `uio:`, `pci:`).
+pub(crate) fn open_here() -> Vec<String> {
+    crate::lock::lock(&OPEN_HERE).clone()
+}
+
 /// Parse and open a card URI.
 pub(crate) fn open(uri: &str) -> Result<Device> {
     if uri == "sim" {
         return open_uri(uri);
+    }
+    if uri.starts_with("name:") || uri.starts_with("serial:") {
+        return open(&crate::list::resolve(uri)?);
     }
     let held = Held::take(uri).ok_or_else(|| Error::Busy {
         uri: uri.into(),

@@ -69,7 +69,8 @@ macro_rules! error_kinds {
 }
 
 error_kinds! {
-    /// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`.
+    /// The URI is not one of `sim`, `emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`,
+    /// `name:NAME`, `serial:N`.
     BadUri = -1, MC_ERR_BAD_URI, "bad card URI";
     /// No card at that URI.
     NotFound = -2, MC_ERR_NOT_FOUND, "no card at that URI";
@@ -373,6 +374,9 @@ error_kinds! {
     PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
     /// A path-speed output on a group that does not exist or is not configured.
     PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
+    /// `name:NAME` or `serial:N` matches more than one card listed ([`crate::Card::list`]):
+    /// open it by its URI instead (the message names them).
+    Ambiguous = -150, MC_ERR_AMBIGUOUS, "more than one card has that name or serial: open it by its URI";
     /// Layout 1.12: a timed command for a tick the card has already run.
     TickPassed = -152, MC_ERR_TICK_PASSED, nack TickPassed, "the tick of the timed command has passed on the card";
     /// The card holds as many timed commands as it can (16).
@@ -459,11 +463,14 @@ impl std::fmt::Display for Target {
 #[allow(missing_docs)] // fields are named for what they hold; the messages say the rest
 pub enum Error {
     /// See [`ErrorKind::BadUri`].
-    #[error("bad card URI '{0}': expected sim, emu:NAME, uio:/dev/uioN or pci:DDDD:BB:DD.F")]
+    #[error("bad card URI '{0}': expected sim, emu:NAME, uio:/dev/uioN, pci:DDDD:BB:DD.F, name:NAME or serial:N (N a decimal number 1 to 2^64-1)")]
     BadUri(String),
     /// See [`ErrorKind::NotFound`].
     #[error("no card at '{uri}': {reason}")]
     NotFound { uri: String, reason: String },
+    /// See [`ErrorKind::Ambiguous`]: `matches` are the URIs of the cards that match.
+    #[error("'{uri}' matches {} cards: {}; open one by its URI", .matches.len(), .matches.join(", "))]
+    Ambiguous { uri: String, matches: Vec<String> },
     /// See [`ErrorKind::Busy`]: `in_this_process` when this process has the card open
     /// already (a card is opened once per process: use the handle it returned, from any
     /// thread), else another process (or host) has it.
@@ -661,6 +668,7 @@ impl Error {
         match self {
             Error::BadUri(_) => ErrorKind::BadUri,
             Error::NotFound { .. } => ErrorKind::NotFound,
+            Error::Ambiguous { .. } => ErrorKind::Ambiguous,
             Error::Busy { .. } => ErrorKind::Busy,
             Error::PermissionDenied { .. } => ErrorKind::PermissionDenied,
             Error::VersionMismatch { .. } => ErrorKind::VersionMismatch,

@@ -41,6 +41,7 @@ mod heartbeat;
 mod homing;
 mod io;
 mod limits;
+mod list;
 mod lock;
 mod modes;
 mod nurbs;
@@ -116,6 +117,7 @@ pub use io::{
     TouchProbe, COMPARE_CHANNELS, COMPARE_FIRED, COMPARE_LOW_WATER, COMPARE_MISSED,
     COMPARE_TABLE_LEN, INPUTS, PROBE_CHANNELS,
 };
+pub use list::{CardListing, ListingError, SyncRole, SyncState, PCI_IDS, UIO_NAME};
 pub use modes::{BufferMode, MoveKind, VelocityLimits};
 #[cfg(feature = "emulator")]
 pub use nurbs::die_bonder_plant;

@@ -7,6 +7,8 @@
 //! mcctl plan 100000 --vmax 5e19 --amax 2e6 --jmax 1e8 --servo-rate 20000   # limits in the card's range
 //! mcctl plan 100 --vmax 10 --amax 100 --jmax 1e3 --v0 -15 --a0 0     # from any state (time-optimal)
 //! mcctl --card emu:bench1 info                       # firmware, layout, axes, servo rate
+//! mcctl list --json                                  # every card here: name, serial, sync role
+//! mcctl --card name:bench1 info                      # a card by its name (serial:N: by serial)
 //! mcctl scope --move 20000 --enable --pre 100 --trigger level:0:1 --csv m.csv --svg m.svg
 //! MOTIONCARD_TRACE=run.trace ./my_program && mcctl replay run.trace   # API trace, replayed
 //! mcctl --card emu:bench1 status --watch             # axes and groups, live (--json: one object)
@@ -47,7 +49,8 @@ use std::process::ExitCode;
 #[command(name = "mcctl", version, about = "Motion card command-line tool")]
 struct Cli {
     /// The card: `sim` (an emulated card in this process), `emu:NAME` (a card-emu process),
-    /// `uio:/dev/uioN` or `pci:DDDD:BB:DD.F`.
+    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, or `name:NAME` / `serial:N` (a card `mcctl list`
+    /// shows).
     #[arg(long, global = true, default_value = "sim")]
     card: String,
     #[command(subcommand)]
@@ -104,6 +107,9 @@ enum Cmd {
     Replay(cli::replay::Args),
     /// What the card is: firmware and layout versions, axes, groups, servo rate, capabilities.
     Info(cli::info::Args),
+    /// Every card reachable from here (card-emu processes, UIO devices, PCI functions): URI,
+    /// name, serial, axes, servo rate, sync role, available or busy. Opens no card.
+    List(cli::list::Args),
     /// MC_Power on: enable the axes.
     Enable(cli::power::Args),
     /// MC_Power off: disable the axes.
@@ -173,7 +179,7 @@ fn main() -> ExitCode {
     // starts. Not for what opens no card of the user's (`plan`, `replay`, `run` on its own
     // stepped `sim`), nor for `serve`, whose server takes them itself and then closes.
     let own_card = match &cli.command {
-        Cmd::Plan(_) | Cmd::Replay(_) | Cmd::Serve(_) | Cmd::Gcode(_) => false,
+        Cmd::Plan(_) | Cmd::Replay(_) | Cmd::Serve(_) | Cmd::Gcode(_) | Cmd::List(_) => false,
         Cmd::Run(_) => uri != "sim",
         _ => true,
     };
@@ -196,6 +202,7 @@ fn main() -> ExitCode {
         Cmd::Scope(a) => cli::scope::run(uri, a),
         Cmd::Replay(a) => cli::replay::run(uri, a),
         Cmd::Info(a) => cli::info::run(uri, a),
+        Cmd::List(a) => cli::list::run(a),
         Cmd::Enable(a) => cli::power::run(uri, a, true),
         Cmd::Disable(a) => cli::power::run(uri, a, false),
         Cmd::Stop(a) => cli::stop::run(uri, a),

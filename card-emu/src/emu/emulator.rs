@@ -148,6 +148,12 @@ pub struct Lessor {
 }
 
 impl Lessor {
+    /// Who the card is (its identity and `card_info`), read from the window it runs on now
+    /// without writing there or waiting for the card; `leased`: a host holds it.
+    pub fn record(&self, leased: bool) -> firmware_proto::emu_link::CardRecord {
+        firmware_proto::emu_link::CardRecord::read(&*self.window, leased)
+    }
+
     /// Move the card onto a new window and interrupt line and return descriptors of both for
     /// the next host (the window's memfd, sealed, and the eventfd).
     ///

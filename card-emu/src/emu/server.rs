@@ -19,6 +19,15 @@
 //! says nothing holds up nobody; at most [`MAX_HANDSHAKES`] wait at once, and the next ones are
 //! answered "busy".
 //!
+//! # Who the card is, without taking it
+//!
+//! A lister (`Card::list`, `mcctl list`) greets with
+//! [`firmware_proto::emu_link::info_hello`] instead: once its peer is admitted (the same
+//! policy, the same deadline), the server answers with the card's identity and `card_info`
+//! read from its window and whether a host holds the lease
+//! ([`firmware_proto::emu_link::CardRecord`]), and closes. It takes no lease, makes no window,
+//! and the card's thread never waits for it: a host that holds the card sees nothing of it.
+//!
 //! # A window per lease
 //!
 //! Each lease gets a window and an interrupt line of its own ([`LeaseSource`]; the emulator's
@@ -68,8 +77,8 @@
 
 use super::emulator::Lessor;
 use firmware_proto::emu_link::{
-    hello, socket_name, HOST_HELLO, STATUS_BUSY, STATUS_DENIED, STATUS_FAILED, STATUS_OK,
-    STATUS_TIMEOUT, STATUS_VERSION, VERSION,
+    hello, socket_name, CardRecord, HOST_HELLO, INFO_HELLO, RECORD_LEN, STATUS_BUSY, STATUS_DENIED,
+    STATUS_FAILED, STATUS_OK, STATUS_TIMEOUT, STATUS_VERSION, VERSION,
 };
 use nix::sys::socket::{getsockopt, sendmsg, sockopt, ControlMessage, MsgFlags};
 use std::collections::BTreeSet;
@@ -241,6 +250,17 @@ pub trait LeaseSource: Send + Sync + 'static {
     /// The window and the interrupt line of the host that takes the card now. Called once per
     /// lease, after the host's greeting, never for two leases at a time.
     fn next_lease(&self) -> std::io::Result<LeaseFds>;
+
+    /// Who the card is, read from its window without writing to it, for a lister; `leased`:
+    /// a host holds the card now. Called from any server thread, while a host may hold the
+    /// card. By default an empty record (magic 0: listed as "not booted"), for a source
+    /// that has no card to read.
+    fn record(&self, leased: bool) -> CardRecord {
+        CardRecord {
+            leased,
+            ..CardRecord::default()
+        }
+    }
 }
 
 /// The emulator's: a new window and interrupt line for each host ([`Lessor::renew`]).
@@ -248,6 +268,10 @@ impl LeaseSource for Lessor {
     fn next_lease(&self) -> std::io::Result<LeaseFds> {
         let (window, irq) = self.renew()?;
         Ok(LeaseFds { window, irq })
+    }
+
+    fn record(&self, leased: bool) -> CardRecord {
+        self.record(leased)
     }
 }
 
@@ -374,6 +398,8 @@ struct Hosts {
 enum Greeting {
     /// A host of this version.
     Host,
+    /// A lister of this version (it takes no lease).
+    Info,
     /// A host of another version.
     Version,
     /// Nothing whole in time.
@@ -389,6 +415,22 @@ impl Hosts {
         self.greeting.fetch_sub(1, Ordering::AcqRel);
         match greeting {
             Greeting::Host => {}
+            Greeting::Info => {
+                let record = self.source.record(self.leased.load(Ordering::Acquire));
+                let bytes = record.encode();
+                // 128 bytes into an empty socket buffer: never blocks.
+                let _ = sendmsg::<()>(
+                    stream.as_raw_fd(),
+                    &[
+                        IoSlice::new(&hello(STATUS_OK, RECORD_LEN as u32)),
+                        IoSlice::new(&bytes),
+                    ],
+                    &[],
+                    MsgFlags::MSG_DONTWAIT | MsgFlags::MSG_NOSIGNAL,
+                    None,
+                );
+                return;
+            }
             Greeting::Version => return reply(&stream, STATUS_VERSION, VERSION.into()),
             Greeting::Gone => return,
             Greeting::Late => {
@@ -479,10 +521,13 @@ fn read_greeting(mut stream: &UnixStream, deadline: Instant) -> Greeting {
             Err(_) => return Greeting::Gone,
         }
     }
-    if buf[..6] != HOST_HELLO[..6] {
+    let info = buf[..6] == INFO_HELLO[..6];
+    if buf[..6] != HOST_HELLO[..6] && !info {
         Greeting::Gone
     } else if buf[6] != VERSION {
         Greeting::Version
+    } else if info {
+        Greeting::Info
     } else {
         Greeting::Host
     }
@@ -598,6 +643,10 @@ mod tests {
                 window: self.window.dup_fd()?,
                 irq: self.window.dup_fd()?,
             })
+        }
+
+        fn record(&self, leased: bool) -> CardRecord {
+            CardRecord::read(&self.window, leased)
         }
     }
 

@@ -176,11 +176,14 @@ fn untimable(op: Opcode) -> bool {
 
 impl<M: Mem + Clone> Firmware<M> {
     /// The board's name and serial number, as `card_info` shows them (an EEPROM's on a card;
-    /// the emulator's `--name`). The name is cut to 31 bytes.
+    /// the emulator's `--name`). The name is cut to 31 bytes. Published at once, as a board's
+    /// EEPROM name is there from power-on: a lister that reads the card before its first tick
+    /// sees it.
     pub fn set_card_name(&mut self, name: &str, serial: u64) {
         self.timing.name = name_bytes(name);
         self.timing.serial = serial;
         self.timing.dirty = true;
+        self.publish_card_info();
     }
 
     /// The card's place on the sync bus.
