@@ -101,7 +101,7 @@ fn a_synchronised_start_across_processes_starts_on_one_tick() {
 
 /// The master killed: the follower halts its moving axis on its stop ramp, reason
 /// `SyncLost`, and is at rest within the stop bound (its ramp from the speed it ran plus the
-/// loss timeout's worth of detection, 100 ms; the hang-up is seen at once); it reports the
+/// slack for a loaded machine: the connection's hang-up is seen at once, no timeout); it reports the
 /// loss and keeps running on its own clock (its tick goes on, its host can go on).
 #[test]
 fn a_follower_whose_master_dies_halts_within_the_stop_bound() {
