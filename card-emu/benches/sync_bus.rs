@@ -3,7 +3,8 @@
 //! Starts a master and three followers (`--sync-from`), opens each as `emu:NAME`, and samples
 //! their tick counters every millisecond for `SECONDS` (default 10; the issue's figure is 600):
 //! each sample reads the three followers, then the master, so a follower's lag is the master's
-//! tick minus its own (a follower is never ahead: it runs a tick only after the master's). It
+//! tick minus its own (a follower is never ahead: it runs a tick only after the master's, until
+//! it has lost the master and runs on its own clock). It
 //! prints the lag's distribution and the drift: the lag at the end minus the lag at the
 //! start, with every card stopped being read at the same tick count when the master is
 //! stopped (SIGSTOP) and the followers have caught up.
@@ -111,7 +112,8 @@ fn main() {
         );
     }
     println!(
-        "largest lag: {max} ticks over {samples} samples ({stale} samples found a card stale)"
+        "largest lag: {max} ticks over {samples} samples ({stale} samples found a card stale, \
+         {ahead} a follower ahead: after a loss)"
     );
     let losses: Vec<u32> = followers
         .iter()
