@@ -20,12 +20,13 @@
 //! | `POST /api/gains` | `{"law": "ffpiv", kp, ki, kv, kvff, kaff, vel_filter_hz}`, `{"law": "pdplus", kp, kd, kv, ka, kc, tau, ke, umax}` or `{"law": "pidff", kp, ki, kd, kvff, kaff, friction, friction_deadband, d_filter_hz}`: apply, answer the gains then held |
 //! | `GET /api/filters` | the servo output's filter slots ([`servo_filters::Filters`]) |
 //! | `POST /api/filters` | `{"slot": k, "filter": {"kind": "notch", freq_hz, damping, depth_db}}` (or `lowpass`, `lead_lag`, `raw`; `none` clears): set, answer the slots then held |
+//! | `POST /api/freq` | `{"mode": "closed_loop"\|"plant", from_hz, to_hz, points, amplitude, "cycles"?, "settle_s"?, "enable"?: bool, "axis"?}` ([`sweep::SweepRequest`]): run a frequency sweep, answer `mcctl freq --json`'s object (`points`, `resonances`, `plant`, `open_loop`, ...) |
 //!
 //! Errors are `{"error": message, "kind": the SDK's error kind (if any)}` with 400 (a bad
-//! request), 403 (refused by the guard: Host, Origin or token), 404 (no such route, or a test
+//! request, or an axis not the page's), 403 (refused by the guard: Host, Origin or token), 404 (no such route, or a test
 //! no longer kept), 409 (the axis not at rest, the scope or the test slot busy), 415 (not a
 //! GET or HEAD, and not `Content-Type: application/json`), 422 (the card refused, or ended a
-//! test's motion), 500 (a capture that cannot be measured) or 503 (the card failed).
+//! test's motion or a sweep), 500 (a capture that cannot be measured) or 503 (the card failed).
 //!
 //! The card's SDK blocks; the handlers run its calls with `spawn_blocking`. The only lock guard
 //! held across an `.await` is the one-test guard, which is only ever try-locked (a second test
@@ -39,6 +40,7 @@ pub mod live;
 use crate::tuning::gains::{self, Apply, Gains};
 use crate::tuning::run::{run_test, Limits, TestError, TestKind, TestRun, TestSpec};
 use crate::tuning::servo_filters::{self, FilterError, Filters};
+use crate::tuning::sweep;
 use crate::{Card, Error, Result, Scope};
 use axum::extract::rejection::JsonRejection;
 use axum::extract::State;
@@ -158,6 +160,7 @@ async fn blocking<T: Send + 'static>(
 const INDEX_HTML: &str = include_str!("serve/web/index.html");
 const APP_JS: &str = include_str!("serve/web/app.js");
 const SERVO_JS: &str = include_str!("serve/web/servo.js");
+const BODE_JS: &str = include_str!("serve/web/bode.js");
 const STYLE_CSS: &str = include_str!("serve/web/style.css");
 const UPLOT_JS: &str = include_str!("serve/web/vendor/uPlot.iife.min.js");
 const UPLOT_CSS: &str = include_str!("serve/web/vendor/uPlot.min.css");
@@ -388,6 +391,26 @@ async fn post_filters(
     .map(Json)
 }
 
+/// `POST /api/freq`: a frequency sweep of the page's axis, one test at a time (a step or move
+/// test running: 409, and a sweep holds off a test the same way).
+async fn post_freq(
+    State(app): State<Arc<App>>,
+    req: std::result::Result<Json<sweep::SweepRequest>, JsonRejection>,
+) -> std::result::Result<Json<serde_json::Value>, ApiError> {
+    let Json(req) = req.map_err(bad_json)?;
+    let Ok(_running) = app.test.try_lock() else {
+        return Err(ApiError(
+            StatusCode::CONFLICT,
+            "a test or a sweep is running: wait for its end".into(),
+            None,
+        ));
+    };
+    let a = app.clone();
+    blocking(move || Ok(sweep::run(&a.card, a.axis, &req)?))
+        .await
+        .map(Json)
+}
+
 /// A route of the server. The router is built from [`ROUTES`] alone and [`guard`] sees every
 /// request before any route does (and the fallback's 404s), so no route escapes the checks.
 pub struct Route {
@@ -419,6 +442,12 @@ pub const ROUTES: &[Route] = &[
         methods: &["GET"],
         file: true,
         handler: || get(|| async { file(SERVO_JS, "text/javascript; charset=utf-8") }),
+    },
+    Route {
+        path: "/bode.js",
+        methods: &["GET"],
+        file: true,
+        handler: || get(|| async { file(BODE_JS, "text/javascript; charset=utf-8") }),
     },
     Route {
         path: "/style.css",
@@ -479,6 +508,12 @@ pub const ROUTES: &[Route] = &[
         methods: &["GET", "POST"],
         file: false,
         handler: || get(get_filters).post(post_filters),
+    },
+    Route {
+        path: "/api/freq",
+        methods: &["POST"],
+        file: false,
+        handler: || post(post_freq),
     },
     Route {
         path: "/api/reset",

@@ -20,11 +20,12 @@
 //!
 //! The card side (arming the scope, running the step or the move, capturing until settled)
 //! is [`run`]; the gains the page shows and applies are [`gains`], the servo output's filters
-//! [`servo_filters`].
+//! [`servo_filters`], the frequency sweep it runs [`sweep`].
 
 pub mod gains;
 pub mod run;
 pub mod servo_filters;
+pub mod sweep;
 
 use serde::Serialize;
 

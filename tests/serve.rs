@@ -3,7 +3,8 @@
 //! `tests/browser/drive.mjs` (playwright-core): the live plots, a step test (the figures and the
 //! plotted data against the samples the server answered and against the card), a gain the card
 //! accepts and one it refuses, the page without its token and under a rebinding name; the
-//! PID+FF form and the servo-filter list by `tests/browser/servo.mjs`. And the
+//! PID+FF form and the servo-filter list by `tests/browser/servo.mjs`, the frequency sweep and
+//! its Bode plot by `tests/browser/bode.mjs`. And the
 //! guard (`src/serve/guard.rs`) over plain HTTP: every route of `mcctl::serve::ROUTES`
 //! sent bad Hosts, foreign Origins, missing and wrong tokens, each refused (403) with the card
 //! read after (the gains, the axis's state and position as before); `--listen` beyond
@@ -13,7 +14,8 @@
 //! (`.ci/run` installs both and sets `MOTIONCARD_BROWSER_TEST=required`, under which a missing
 //! tool fails the test, saying what to install; without that variable the browser test says
 //! what is missing and does not run, so the suite passes with the Rust toolchain alone). With
-//! `TUNING_SCREENSHOT=path.png` it saves a screenshot of the page after the step test.
+//! `TUNING_SCREENSHOT=path.png` it saves a screenshot of the page after the step test, with
+//! `BODE_SCREENSHOT=path.png` one of the frequency-response panel after its sweep.
 use card_emu::emu::server::Server;
 use card_emu::{EmuOptions, Emulator, Runner};
 use mcctl::tuning::{figures, Band, Response};
@@ -818,6 +820,140 @@ fn the_tuning_page_sets_pidff_and_servo_filters_in_chromium() {
     assert_eq!((held.slot[3].freq_hz, held.slot[3].damping), (800.0, 0.7));
 }
 
+/// The page's frequency response (`src/serve/web/bode.js`), driven in Chromium by
+/// `tests/browser/bode.mjs`: a sweep from above its end refused with the card's `FreqRange`
+/// (nothing plotted), then a small closed-loop sweep through the form, whose Bode charts plot
+/// exactly the points `POST /api/freq` answered (`mcctl freq --json`'s object) over a log
+/// frequency axis, at the frequencies the card was asked for.
+#[test]
+fn the_tuning_page_sweeps_the_frequency_response_and_draws_its_bode_plot_in_chromium() {
+    let Some((chromium, dir)) = browser_tools() else {
+        return;
+    };
+    let name = format!("test-serve-bode-{}", std::process::id());
+    let emu = Emulator::create(&name, &EmuOptions::new(2, 10_000)).unwrap();
+    let _server = Server::start(&name, emu.lessor()).unwrap();
+    let runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let axis = 1;
+    let served = serve(&format!("emu:{name}"), axis);
+    let (from, to, points) = (10.0, 60.0, 4);
+    let mut opts = serde_json::json!({ "from": from, "to": to, "points": points, "amplitude": 100,
+        "cycles": 2, "settle": 0.05 });
+    if let Some(p) = std::env::var_os("BODE_SCREENSHOT") {
+        opts["screenshot"] = p.to_string_lossy().into();
+    }
+    let j = drive_script("bode.mjs", &dir, &chromium, &served.url, &opts);
+    println!("{j}");
+    assert_eq!(j["foreign_requests"], serde_json::json!([]));
+    assert_eq!(
+        j["page_errors"],
+        serde_json::json!([]),
+        "{}",
+        j["page_errors"]
+    );
+    // The form starts from `mcctl freq`'s defaults, on the page's axis.
+    let d = &j["defaults"];
+    assert_eq!(d["axis"], axis.to_string());
+    assert_eq!(d["mode"], "closed_loop");
+    assert_eq!(
+        (d["from"].as_str(), d["to"].as_str()),
+        (Some("5"), Some("1000"))
+    );
+    assert_eq!(
+        (d["points"].as_str(), d["amplitude"].as_str()),
+        (Some("40"), Some("100"))
+    );
+
+    // From above to: the card's refusal, shown; nothing plotted.
+    let refused = &j["refused"];
+    assert_eq!(refused["status"], "error", "{refused}");
+    let m = refused["message"].as_str().unwrap();
+    assert!(
+        m.contains("The card refused this sweep") && m.contains("FreqRange"),
+        "{m}"
+    );
+    assert_eq!(refused["answer"]["status"], 422, "{refused}");
+    assert_eq!(refused["gain"], serde_json::json!([[], []]));
+    assert_eq!(refused["phase"], serde_json::json!([[], []]));
+
+    // The sweep: the charts plot the server's points, exactly.
+    let swept = &j["swept"];
+    assert_eq!(swept["status"], "ok", "{swept}");
+    assert_eq!(swept["answer"]["status"], 200, "{swept}");
+    let answer: Value = serde_json::from_str(swept["answer"]["body"].as_str().unwrap()).unwrap();
+    assert_eq!(answer["mode"], "closed_loop");
+    assert_eq!(answer["complete"], true);
+    let pts = answer["points"].as_array().unwrap();
+    assert_eq!(pts.len(), points);
+    let col = |k: &str| -> Vec<f64> { pts.iter().map(|p| p[k].as_f64().unwrap()).collect() };
+    let hz = col("hz");
+    // The frequencies asked for, each as the card runs it: a whole number of cycles (at
+    // least 2, and a window of MC_FREQ_WINDOW_MIN ticks) in a whole number of ticks.
+    let rate = 10_000.0;
+    let want: Vec<f64> = motioncard_sdk::sweep_frequencies(from, to, points)
+        .into_iter()
+        .map(|f| {
+            let per = rate / f;
+            let min = motioncard_sdk::proto::raw::MC_FREQ_WINDOW_MIN as f64;
+            let c = 2f64.max((min / per).ceil());
+            c * rate / (c * per).round()
+        })
+        .collect();
+    same_json(&serde_json::json!(hz), &serde_json::json!(want), "hz").unwrap();
+    let plotted_gain = &swept["gain"];
+    let plotted_phase = &swept["phase"];
+    same_json(&plotted_gain[0], &serde_json::json!(hz), "gain x").unwrap();
+    same_json(&plotted_gain[1], &serde_json::json!(col("gain_db")), "gain").unwrap();
+    same_json(&plotted_phase[0], &serde_json::json!(hz), "phase x").unwrap();
+    same_json(
+        &plotted_phase[1],
+        &serde_json::json!(col("phase_deg")),
+        "phase",
+    )
+    .unwrap();
+    assert_eq!(swept["x_log"], 3, "a log frequency axis");
+    // Well inside the loop's bandwidth the position follows the reference: near 0 dB, a
+    // small lag.
+    let (g0, p0) = (col("gain_db")[0], col("phase_deg")[0]);
+    assert!(g0.abs() < 3.0 && p0 < 0.0 && p0 > -90.0, "{g0} dB {p0} deg");
+    // Every resonance the server found is listed, by its name.
+    let listed: Vec<&str> = swept["resonances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_str().unwrap())
+        .collect();
+    let found: Vec<&Value> = answer["resonances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .chain(answer["plant_resonances"].as_array().unwrap())
+        .collect();
+    if found.is_empty() {
+        assert_eq!(listed, ["no resonance found (closed loop X/R)"]);
+    } else {
+        for r in found {
+            let n = r["name"].as_str().unwrap();
+            assert!(
+                listed.iter().any(|l| l.ends_with(n)),
+                "{n} not in {listed:?}"
+            );
+        }
+    }
+    assert!(
+        swept["title"].as_str().unwrap().contains("4 points"),
+        "{swept}"
+    );
+    // The refused sweep's 422 is the console's only error.
+    let errors = j["console_errors"].as_array().unwrap();
+    assert!(
+        errors.len() == 1 && errors[0].as_str().unwrap().contains("422"),
+        "{errors:?}"
+    );
+    assert_eq!(served.stop(), "");
+    runner.stop().expect("the emulator back");
+}
+
 /// Bad arguments are exit status 2; an axis the card has not, or a port in use, exit 1 with
 /// the reason.
 #[test]
@@ -929,6 +1065,11 @@ fn axis_state(s: &Served) -> String {
     a.body
 }
 
+/// A frequency sweep powering the axis on, as `POST /api/freq` takes it: a page that got past
+/// the guard would have the axis shaken and left enabled.
+const SWEEP: &str = r#"{"mode": "closed_loop", "from_hz": 5, "to_hz": 50, "points": 3,
+    "amplitude": 1000, "settle_s": 0.05, "enable": true}"#;
+
 /// A notch on the servo output, as `POST /api/filters` takes it.
 const NOTCH: &str =
     r#"{"slot": 0, "filter": {"kind": "notch", "freq_hz": 24, "damping": 0.2, "depth_db": -20}}"#;
@@ -951,6 +1092,7 @@ fn every_request(g: &Value, files: bool) -> Vec<(&'static str, String, String)> 
                 ("POST", "/api/gains") => with_kp(g, 9000.0),
                 ("POST", "/api/tests") => FAR_MOVE.to_string(),
                 ("POST", "/api/filters") => NOTCH.to_string(),
+                ("POST", "/api/freq") => SWEEP.to_string(),
                 ("POST", "/api/reset") | ("PUT" | "DELETE", _) => "{}".to_string(),
                 other => panic!("{other:?}: a route this test does not know; give it a body here"),
             };

@@ -287,8 +287,9 @@ pub fn state_name(axis: &crate::Axis) -> crate::Result<String> {
     })
 }
 
-/// Get the axis to Standstill for a test: power it on when it is disabled and `enable`.
-fn ready(card: &Card, axis: &crate::Axis, enable: bool) -> Result<(), TestError> {
+/// Get the axis to Standstill for a test (or a sweep, [`super::sweep`]): power it on when it is
+/// disabled and `enable`.
+pub(crate) fn ready(card: &Card, axis: &crate::Axis, enable: bool) -> Result<(), TestError> {
     let s = axis.status()?;
     let n = axis.index();
     match s.state {

@@ -9,8 +9,9 @@
 // For tests and tools, `window.tuning` holds the page's state: `charts` (the uPlot
 // instances; `u.data` is exactly what each plots), `lastTest` (the last test's id, figures
 // and, through `series`, the arrays its charts plot), `gains` (as last read from the server)
-// `live` (the stream's state and how many points it has plotted) and, from servo.js,
-// `filters` (the servo output's filter slots as last read from the server).
+// `live` (the stream's state and how many points it has plotted), from servo.js, `filters`
+// (the servo output's filter slots as last read from the server) and, from bode.js, `sweep`
+// (the last frequency sweep's answer).
 "use strict";
 
 const LIVE_WINDOW_S = 10;
@@ -218,7 +219,10 @@ function setupCharts() {
   c.testErr = errorChart($("test-err"), "Following error and DAC", msAxis);
   window.addEventListener("resize", () => {
     for (const [name, u] of Object.entries(c)) {
-      const el = $({ livePos: "live-pos", liveErr: "live-err", testPos: "test-pos", testErr: "test-err" }[name]);
+      const el = $({
+        livePos: "live-pos", liveErr: "live-err", testPos: "test-pos", testErr: "test-err",
+        bodeGain: "bode-gain", bodePhase: "bode-phase",
+      }[name]);
       u.setSize({ width: chartWidth(el), height: 210 });
     }
   });
