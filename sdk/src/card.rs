@@ -216,6 +216,66 @@ impl SimClock {
     }
 }
 
+// Layout 1.12: commands timed to a tick (`crate::cardset`). The timing is this thread's: while
+// it is set, `Card::execute_value` sends each command timed and records it here.
+
+/// The tick a timed command runs on, and its commit key (0: none needed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Timing {
+    /// The card tick (the bus's tick on a follower).
+    pub tick: u64,
+    /// The key whose commit the command waits for (0: runs without one).
+    pub key: u32,
+}
+
+struct Pending {
+    timing: Option<Timing>,
+    sent: Vec<Sent>,
+}
+
+thread_local! {
+    static PENDING: std::cell::RefCell<Pending> = const {
+        std::cell::RefCell::new(Pending {
+            timing: None,
+            sent: Vec::new(),
+        })
+    };
+}
+
+/// The timing of commands sent now on this thread (inside [`Card::timed`] or [`CardSet::sync`]).
+pub(crate) fn timing() -> Option<Timing> {
+    PENDING.with(|p| p.borrow().timing)
+}
+
+/// A timed command was taken (held by `card`).
+pub(crate) fn sent(card: &Card, seq: u32, what: &'static str, target: Target) {
+    PENDING.with(|p| p.borrow_mut().sent.push((card.clone(), seq, what, target)));
+}
+
+/// What `push_timing` replaced on this thread (restored by `pop_timing`).
+pub(crate) struct Saved(Option<Timing>, Vec<Sent>);
+
+/// Time the commands this thread sends from now to `at`.
+pub(crate) fn push_timing(at: Timing) -> Saved {
+    PENDING.with(|p| {
+        let mut p = p.borrow_mut();
+        let outer = p.timing.replace(at);
+        Saved(outer, std::mem::take(&mut p.sent))
+    })
+}
+
+/// Stop timing; the commands held since `push_timing`.
+pub(crate) fn pop_timing(saved: Saved) -> Vec<Sent> {
+    PENDING.with(|p| {
+        let mut p = p.borrow_mut();
+        p.timing = saved.0;
+        std::mem::replace(&mut p.sent, saved.1)
+    })
+}
+
+/// A command sent timed: its card, seq, name and target.
+pub(crate) type Sent = (Card, u32, &'static str, Target);
+
 /// How many compare and probe arms [`Inner`] remembers the axis of.
 const IO_ARMS: usize = 64;
 
@@ -253,7 +313,20 @@ impl Card {
     /// whether a host holds it, read without disturbing that host ([`crate::CardListing`]; how
     /// each is found and read: the `list` module's table in ARCHITECTURE.md).
     pub fn list() -> Result<Vec<crate::CardListing>> {
-        crate::list::list()
+        let mut out = crate::list::list()?;
+        let here = device::open_here();
+        for l in &mut out {
+            l.open_here = here.contains(&l.uri);
+        }
+        Ok(out)
+    }
+
+    /// The device of `uri`, a `name:` or `serial:` URI resolved through the listing first.
+    fn open_device(uri: &str) -> Result<device::Device> {
+        if uri.starts_with("name:") || uri.starts_with("serial:") {
+            return device::open(&crate::list::resolve(uri)?);
+        }
+        device::open(uri)
     }
 
     /// Open a card by URI: `sim` (an emulated card in this process, real-time clock),
@@ -268,13 +341,17 @@ impl Card {
     ///
     /// With [`crate::trace::TRACE_ENV`] set, the card records an API trace ([`crate::trace`]).
     pub fn open(uri: &str) -> Result<Card> {
-        Self::attach(uri, device::open(uri)?, crate::trace::Tracer::from_env()?)
+        Self::attach(
+            uri,
+            Self::open_device(uri)?,
+            crate::trace::Tracer::from_env()?,
+        )
     }
 
     /// [`Card::open`], recording an API trace to `trace` ([`crate::trace`]).
     pub fn open_traced(uri: &str, trace: &std::path::Path) -> Result<Card> {
         let t = crate::trace::Tracer::create(trace)?;
-        Self::attach(uri, device::open(uri)?, Some(t))
+        Self::attach(uri, Self::open_device(uri)?, Some(t))
     }
 
     /// Open an in-process emulated card with explicit options (for example a stepped clock).
@@ -678,9 +755,9 @@ impl Card {
         what: &'static str,
         target: Target,
     ) -> Result<(u32, f64)> {
-        if let Some(at) = crate::cardset::timing() {
+        if let Some(at) = timing() {
             let seq = self.inner.execute_timed(at, cmd, what, target)?;
-            crate::cardset::sent(self, seq, what, target);
+            sent(self, seq, what, target);
             return Ok((seq, 0.0));
         }
         self.inner.execute_value(cmd, what, target)
@@ -1122,7 +1199,7 @@ impl Inner {
     /// answer comes on its tick: [`Inner::wait_timed_answer`]), else the refusal.
     pub(crate) fn execute_timed(
         &self,
-        at: crate::cardset::Timing,
+        at: Timing,
         cmd: Command,
         what: &'static str,
         target: Target,

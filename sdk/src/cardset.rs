@@ -15,67 +15,13 @@
 //! ramps (stop reason [`crate::StopReason::SyncLost`]), refuses its held commands
 //! (`SyncLost`), shows `BusState::Lost` and posts `SyncBus`; it then runs on its own clock.
 
-use crate::card::Card;
+pub use crate::card::Timing;
+use crate::card::{pop_timing, push_timing, Card, Saved, Sent};
 use crate::error::{Error, Result, Target};
 use firmware_proto::cmd::{CardCmd, SyncCommit, TimedCancel};
 use firmware_proto::{layout, raw, AxisState};
-use std::cell::RefCell;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
-
-/// The tick a timed command runs on, and its commit key (0: none needed).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Timing {
-    /// The card tick (the bus's tick on a follower).
-    pub tick: u64,
-    /// The key whose commit the command waits for (0: runs without one).
-    pub key: u32,
-}
-
-struct Pending {
-    timing: Option<Timing>,
-    sent: Vec<Sent>,
-}
-
-thread_local! {
-    static PENDING: RefCell<Pending> = const {
-        RefCell::new(Pending {
-            timing: None,
-            sent: Vec::new(),
-        })
-    };
-}
-
-/// The timing of commands sent now on this thread (inside [`Card::timed`] or [`CardSet::sync`]).
-pub(crate) fn timing() -> Option<Timing> {
-    PENDING.with(|p| p.borrow().timing)
-}
-
-/// A timed command was taken (held by `card`).
-pub(crate) fn sent(card: &Card, seq: u32, what: &'static str, target: Target) {
-    PENDING.with(|p| p.borrow_mut().sent.push((card.clone(), seq, what, target)));
-}
-
-/// What `push_timing` replaced on this thread (restored by `pop_timing`).
-struct Saved(Option<Timing>, Vec<Sent>);
-
-/// Time the commands this thread sends from now to `at`.
-fn push_timing(at: Timing) -> Saved {
-    PENDING.with(|p| {
-        let mut p = p.borrow_mut();
-        let outer = p.timing.replace(at);
-        Saved(outer, std::mem::take(&mut p.sent))
-    })
-}
-
-/// Stop timing; the commands held since `push_timing`.
-fn pop_timing(saved: Saved) -> Vec<Sent> {
-    PENDING.with(|p| {
-        let mut p = p.borrow_mut();
-        p.timing = saved.0;
-        std::mem::replace(&mut p.sent, saved.1)
-    })
-}
 
 /// The commands this thread sends are timed to one tick from [`TimingScope::begin`] to
 /// [`TimingScope::end`] ([`Card::timed`] in two calls, for the C ABI's `mc_timed_begin` /
@@ -117,8 +63,6 @@ impl Drop for TimingScope {
         }
     }
 }
-
-type Sent = (Card, u32, &'static str, Target);
 
 /// A card's place on the sync bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -217,9 +217,6 @@ pub(crate) fn open(uri: &str) -> Result<Device> {
     if uri == "sim" {
         return open_uri(uri);
     }
-    if uri.starts_with("name:") || uri.starts_with("serial:") {
-        return open(&crate::list::resolve(uri)?);
-    }
     let held = Held::take(uri).ok_or_else(|| Error::Busy {
         uri: uri.into(),
         in_this_process: true,

@@ -221,10 +221,6 @@ pub fn list() -> Result<Vec<CardListing>> {
     }
     pci.sort_by(|a, b| a.uri.cmp(&b.uri));
     out.extend(pci);
-    let here = crate::device::open_here();
-    for l in &mut out {
-        l.open_here = here.contains(&l.uri);
-    }
     Ok(out)
 }
 

@@ -16,6 +16,7 @@
 //! eventfd the card no longer raises.
 
 use super::bus::{Bus, BusLink, Wake};
+use super::server::{LeaseFds, LeaseSource};
 use crate::firmware::safety::IndexLatch;
 use crate::firmware::Firmware;
 use crate::plant::analog::AnalogBank;
@@ -186,6 +187,18 @@ impl Lessor {
         // Closed with the card running again: freeing the old window's memory takes a while.
         drop((old_window, old_irq));
         Ok((window, irq_out))
+    }
+}
+
+/// The served card's: a new window and interrupt line for each host ([`Lessor::renew`]).
+impl LeaseSource for Lessor {
+    fn next_lease(&self) -> std::io::Result<LeaseFds> {
+        let (window, irq) = self.renew()?;
+        Ok(LeaseFds { window, irq })
+    }
+
+    fn record(&self, leased: bool) -> firmware_proto::emu_link::CardRecord {
+        self.record(leased)
     }
 }
 

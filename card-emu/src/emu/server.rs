@@ -31,7 +31,7 @@
 //! # A window per lease
 //!
 //! Each lease gets a window and an interrupt line of its own ([`LeaseSource`]; the emulator's
-//! is its [`Lessor`]): between two ticks the card copies its window into a new sealed memfd,
+//! is its `Lessor`): between two ticks the card copies its window into a new sealed memfd,
 //! maps that over its own mapping in place, and raises its interrupt on a new eventfd from then
 //! on; the server hands those two to the host and keeps no descriptor of them. A past host
 //! that kept the memfd, its mapping or the eventfd after its lease ended holds memory the card
@@ -75,7 +75,6 @@
 //! Nobody can resize the window: its seals ([`firmware_proto::window::WINDOW_SEALS`]) make `ftruncate`
 //! fail with `EPERM`, so no process can shrink it under the card's mapping.
 
-use super::emulator::Lessor;
 use firmware_proto::emu_link::{
     hello, socket_name, CardRecord, HOST_HELLO, INFO_HELLO, RECORD_LEN, STATUS_BUSY, STATUS_DENIED,
     STATUS_FAILED, STATUS_OK, STATUS_TIMEOUT, STATUS_VERSION, VERSION,
@@ -263,18 +262,6 @@ pub trait LeaseSource: Send + Sync + 'static {
     }
 }
 
-/// The emulator's: a new window and interrupt line for each host ([`Lessor::renew`]).
-impl LeaseSource for Lessor {
-    fn next_lease(&self) -> std::io::Result<LeaseFds> {
-        let (window, irq) = self.renew()?;
-        Ok(LeaseFds { window, irq })
-    }
-
-    fn record(&self, leased: bool) -> CardRecord {
-        self.record(leased)
-    }
-}
-
 /// How a server admits hosts.
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
@@ -310,7 +297,7 @@ pub struct Server {
 
 impl Server {
     /// Listen for card `name`, handing each host the window and interrupt line `source` makes
-    /// for it (an emulator's [`Lessor`]: a new window per host), to this user and root with the
+    /// for it (an emulator's `Lessor`: a new window per host), to this user and root with the
     /// default deadline ([`ServeOptions::default`]). Fails with `AddrInUse` when a card of that
     /// name is already served.
     pub fn start(name: &str, source: impl LeaseSource) -> std::io::Result<Self> {
