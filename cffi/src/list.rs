@@ -98,7 +98,7 @@ impl From<&CardListing> for mc_card_listing {
 
 /// Every card reachable from this process: `card-emu` processes (`emu:`), UIO devices and PCI
 /// functions with the card's IDs, in that order, each read without disturbing a host that
-/// holds it (see the SDK's `Card::list`). Writes the cards to `cards` and their count to
+/// holds it (as the Rust SDK lists them). Writes the cards to `cards` and their count to
 /// `*needed`; when `len` is too small, only `*needed` and `MC_ERR_BUFFER_TOO_SMALL` (`cards`
 /// may be NULL when `len` is 0, to ask for the count; cards can come and go between two calls:
 /// ask again on `MC_ERR_BUFFER_TOO_SMALL`). A card found but not read is listed with its

@@ -1222,7 +1222,7 @@ mod tests {
         s.at = MC_OUTPUT_AT_END;
         s.output = 300;
         assert_eq!(sdk(s).unwrap_err().code, ErrorKind::PathOutput.code());
-        s.kind = 5;
+        s.kind = MC_SEGMENT_ARC_NORMAL + 1; // the first kind the ABI does not define
         assert_eq!(sdk(s).unwrap_err().code, ErrorKind::BadConfig.code());
         // a NURBS item: its curve is read and checked as mc_group_move_nurbs checks it
         let (ctrl, w, k) = ([0.0, 0.0, 1.0, 1.0], [1.0, 1.0], [0.0, 0.0, 1.0, 1.0]);

@@ -97,9 +97,9 @@ fn main() -> std::process::ExitCode {
             .iter()
             .fold(PeerPolicy::this_user(), |p, &u| p.allow_uid(u));
         let policy = args.allow_group.iter().fold(policy, |p, &g| p.allow_gid(g));
-        match &args.sync_from {
-            Some(master) => emu.follow_bus(connect_bus(master)?)?,
-            None => bus::serve(emu.lead_bus()?, policy.clone())?,
+        // A follower joins before any host can attach (only a card no host commands joins).
+        if let Some(master) = &args.sync_from {
+            emu.follow_bus(connect_bus(master)?)?;
         }
         let serve = ServeOptions::new(policy.clone());
         let server = Server::start_with(&args.name, emu.lessor(), serve).map_err(|e| {
@@ -112,6 +112,10 @@ fn main() -> std::process::ExitCode {
                 e
             }
         })?;
+        // After the host socket, whose bind says whether the name is taken.
+        if args.sync_from.is_none() {
+            bus::serve(emu.lead_bus()?, policy.clone())?;
+        }
         let runner = Runner::spawn(emu, args.clock, args.busy_poll)?;
         Ok((server, runner, policy))
     };
