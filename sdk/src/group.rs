@@ -457,7 +457,7 @@ impl Group {
     /// each with its own homing ([`Axis::set_homing`]; the home point reads the axis's home
     /// offset), a stage once the one before it is homed and at rest. A member that is a
     /// gantry's master homes its gantry (squaring it). An empty `order` homes in the group's
-    /// configured order (the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,
+    /// configured order ([`GroupSettings::home_order`], the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,
     /// then X and Y together. The group is in [`GroupState::Homing`] until it ends, then
     /// Standby. From Standby with every member at rest; refused: `GroupDisabled`,
     /// `InvalidState` (not at rest), `AxisBusy`, `HomeAxis` (an index the group does not have),
