@@ -22,6 +22,7 @@ pub mod freq;
 pub mod gantry;
 pub mod gcode;
 pub mod gear;
+pub mod group;
 pub mod halt;
 pub mod handwheel;
 pub mod home;

@@ -72,6 +72,7 @@ fn configured() -> Card {
         accdec: AccDec::Post,
         interpolator: Interpolator::ReferenceWord,
         tolerance: 1.5,
+        home_order: Vec::new(),
     })
     .unwrap();
     g.configure_path(&PathSettings {

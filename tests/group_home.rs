@@ -292,6 +292,70 @@ fn the_home_order_round_trips_through_the_configuration_file() {
     assert!(err.to_string().contains("home_order"), "{err}");
 }
 
+/// `GroupSettings::home_order` goes through `Group::configure` and reads back from the card
+/// through `Group::settings`; the configured order is what `Group::home(&[])` runs (Z first:
+/// homed before X or Y moved). A bad order is refused with the home order's own codes and the
+/// card keeps the configuration it had (axes, tolerance and order).
+#[test]
+fn the_home_order_round_trips_through_group_settings() {
+    let card = card();
+    let sim = card.sim().unwrap();
+    let g = card.group(0).unwrap();
+    g.disable().unwrap();
+    assert_eq!(
+        g.settings().unwrap().unwrap().home_order,
+        Vec::<Vec<usize>>::new()
+    );
+    let set = GroupSettings {
+        home_order: vec![vec![2], vec![0, 1]],
+        tolerance: 3.0,
+        ..GroupSettings::new(&[0, 1, 2])
+    };
+    g.configure(&set).unwrap();
+    assert_eq!(g.settings().unwrap().unwrap(), set);
+    for (order, code) in [
+        (vec![vec![2], vec![2, 1]], ErrorKind::HomeTwice),
+        (vec![vec![0, 0]], ErrorKind::HomeTwice),
+        (vec![vec![3]], ErrorKind::HomeAxis),
+        (vec![vec![8]], ErrorKind::HomeAxis),
+        (vec![vec![0], vec![]], ErrorKind::HomeStage),
+        (vec![vec![0]; 9], ErrorKind::BadConfig),
+    ] {
+        let bad = GroupSettings {
+            home_order: order.clone(),
+            tolerance: 5.0,
+            ..GroupSettings::new(&[0, 1, 2])
+        };
+        let err = g.configure(&bad).unwrap_err();
+        assert_eq!(err.kind(), code, "{order:?}: {err}");
+        assert_eq!(g.settings().unwrap().unwrap(), set, "{order:?}: kept");
+    }
+    g.enable().unwrap();
+    let homing = g.home(&[]).unwrap();
+    let mut z_done = false;
+    for _ in 0..(60 * RATE) {
+        sim.step(10);
+        let st: Vec<_> = (0..3)
+            .map(|a| card.axis(a).unwrap().status().unwrap())
+            .collect();
+        if !z_done {
+            z_done = st[2].homed() && st[2].state == AxisState::Standstill;
+            for xy in st[..2].iter().filter(|_| !z_done) {
+                assert_eq!(xy.command_position, 0.0, "X and Y wait for Z");
+            }
+        }
+        if g.status().unwrap().0 == GroupState::Standby {
+            break;
+        }
+    }
+    assert!(z_done);
+    assert_eq!(g.status().unwrap().0, GroupState::Standby);
+    assert_eq!(homing.wait(LONG).unwrap(), 2);
+    for a in 0..3 {
+        assert!(card.axis(a).unwrap().status().unwrap().homed(), "axis {a}");
+    }
+}
+
 /// A gantry's master in a stage homes its gantry, squaring included: card axes 0 (master) and
 /// 1 (slave, square offset 40 counts) form gantry 0; group 0 is X = the gantry's master and
 /// Y = axis 2. Y homes first, then the gantry; the group then stands by with the bridge

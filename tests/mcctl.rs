@@ -1872,3 +1872,87 @@ fn list_shows_every_card_with_its_serial_sync_role_and_availability() {
         "{err}"
     );
 }
+
+/// Layout 1.11: `mcctl group home|status` on one `emu:` card whose three axes each have a home
+/// switch (method 19) and whose group 0 (X, Y, Z = card axes 0, 1, 2) has the home order Z,
+/// then X and Y, configured through `GroupSettings`: the status shows the order, `group home`
+/// runs it (two stages, every axis homed), `--order` gives another; a bad order exits 1 with
+/// the card's reason, a malformed one 2, and the group stays at rest in Standby.
+#[test]
+fn group_homes_in_its_configured_order_and_in_one_given() {
+    use card_emu::{EmuOptions, Emulator, HomeSwitch, Runner, Switches};
+    use motioncard_sdk::{GroupSettings, HomingSettings};
+    let name = format!("test-mcctl-group-{}", std::process::id());
+    let mut emu = Emulator::create(&name, &EmuOptions::new(3, 10_000)).unwrap();
+    for (a, edge) in [2_000.0, 3_000.0, 1_500.0].into_iter().enumerate() {
+        emu.faults().set_switches(
+            a,
+            Switches::limits(-1e7, 1e7).with_home(HomeSwitch::Above(edge)),
+        );
+    }
+    let _server = card_emu::emu::server::Server::start(&name, emu.lessor()).unwrap();
+    let _runner = Runner::spawn(emu, card_emu::Clock::RealTime, false).unwrap();
+    let uri = format!("emu:{name}");
+    {
+        let host = motioncard_sdk::Card::open(&uri).unwrap();
+        for a in 0..3 {
+            let ax = host.axis(a).unwrap();
+            ax.configure_homing(&HomingSettings {
+                method: 19,
+                search_vel: 40_000.0,
+                creep_vel: 4_000.0,
+                ..HomingSettings::default()
+            })
+            .unwrap();
+            ax.enable().unwrap();
+        }
+        let g = host.group(0).unwrap();
+        g.configure(&GroupSettings {
+            home_order: vec![vec![2], vec![0, 1]],
+            ..GroupSettings::new(&[0, 1, 2])
+        })
+        .unwrap();
+        g.enable().unwrap();
+    }
+    let on = |args: &[&str]| {
+        let mut all = vec!["--card", uri.as_str()];
+        all.extend_from_slice(args);
+        mcctl(&all)
+    };
+    let json = |args: &[&str]| {
+        let (code, out, err) = on(args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let j = json(&["group", "status", "0", "--json"]);
+    assert_eq!(j["state"], "Standby", "{j}");
+    assert_eq!(j["axes"], serde_json::json!([0, 1, 2]), "{j}");
+    assert_eq!(j["home_order"], serde_json::json!([[2], [0, 1]]), "{j}");
+    let j = json(&["group", "home", "0", "--json"]);
+    assert_eq!(j["stages"], 2, "{j}");
+    for a in 0..3 {
+        assert_eq!(j["axes"][a]["axis"], a, "{j}");
+        assert_eq!(j["axes"][a]["homed"], true, "{j}");
+    }
+    let (code, out, err) = on(&["group", "home", "0", "--order", "1;2;0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("group 0: homed in 3 stages"), "{out}");
+    for (order, why) in [
+        ("0;0", "twice"),
+        ("3", "does not have"),
+        ("2;", "empty stage"),
+    ] {
+        let (code, _, err) = on(&["group", "home", "0", "--order", order]);
+        assert_eq!(code, 1, "{order}: {err}");
+        assert!(err.contains(why), "{order}: {err}");
+    }
+    let (code, _, err) = on(&["group", "home", "0", "--order", "2;x"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("`x`"), "{err}");
+    let (code, out, err) = on(&["group", "status", "0"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        out, "group 0: Standby, card axes [0, 1, 2], home order 2;0,1\n",
+        "{err}"
+    );
+}

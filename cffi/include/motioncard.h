@@ -3345,6 +3345,16 @@ typedef struct mc_group_settings {
    * group's first axis.
    */
   double tolerance;
+  /**
+   * Layout 1.11: stages in the group's home order (0: none configured), 0..8; what
+   * `mc_group_home` with no stages runs.
+   */
+  uint32_t home_stages;
+  /**
+   * Stage k's group axes (the first `home_stages` are used), a mask: bit i is group axis i
+   * (0: the group's X). `{1 << 2, 1 << 0 | 1 << 1}`: Z first, then X and Y together.
+   */
+  uint32_t home_order[8];
 } mc_group_settings;
 
 /**
@@ -6087,10 +6097,12 @@ mc_result mc_group_settings_new(const uint32_t *axes,
                                 struct mc_group_settings *settings);
 
 /**
- * Configure a group: its axes, acc/dec mode, arc interpolator and tolerance. The group must be
- * disabled; the card checks every value (`MC_ERR_BAD_AXIS`, `MC_ERR_AXIS_IN_OTHER_GROUP`,
- * `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` / `MC_GROUP_INTERP_` values are
- * `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+ * Configure a group: its axes, acc/dec mode, arc interpolator, tolerance and home order. The
+ * group must be disabled; the card checks every value (`MC_ERR_BAD_AXIS`,
+ * `MC_ERR_AXIS_IN_OTHER_GROUP`, `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` /
+ * `MC_GROUP_INTERP_` values and `home_stages` above 8 are `MC_ERR_BAD_CONFIG`; a bad home
+ * order is refused as `mc_group_home` refuses one (`MC_ERR_HOME_AXIS`, `MC_ERR_HOME_TWICE`,
+ * `MC_ERR_HOME_STAGE`), the card's configuration unchanged. Blocks until the card answers.
  */
 mc_result mc_group_configure(mc_card card,
                              uint32_t group,

@@ -115,10 +115,12 @@ pub unsafe extern "C" fn mc_group_settings_new(
     })
 }
 
-/// Configure a group: its axes, acc/dec mode, arc interpolator and tolerance. The group must be
-/// disabled; the card checks every value (`MC_ERR_BAD_AXIS`, `MC_ERR_AXIS_IN_OTHER_GROUP`,
-/// `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` / `MC_GROUP_INTERP_` values are
-/// `MC_ERR_BAD_CONFIG`. Blocks until the card answers.
+/// Configure a group: its axes, acc/dec mode, arc interpolator, tolerance and home order. The
+/// group must be disabled; the card checks every value (`MC_ERR_BAD_AXIS`,
+/// `MC_ERR_AXIS_IN_OTHER_GROUP`, `MC_ERR_INCOMPATIBLE_MODE`, …). Unknown `MC_GROUP_ACCDEC_` /
+/// `MC_GROUP_INTERP_` values and `home_stages` above 8 are `MC_ERR_BAD_CONFIG`; a bad home
+/// order is refused as `mc_group_home` refuses one (`MC_ERR_HOME_AXIS`, `MC_ERR_HOME_TWICE`,
+/// `MC_ERR_HOME_STAGE`), the card's configuration unchanged. Blocks until the card answers.
 #[no_mangle]
 pub unsafe extern "C" fn mc_group_configure(
     card: mc_card,

@@ -64,11 +64,17 @@ pub unsafe extern "C" fn mc_group_home(
 mod tests {
     use super::*;
     use crate::api::{mc_close, mc_enable, mc_open_sim_stepped};
+    use crate::group::{
+        mc_group_configure, mc_group_disable, mc_group_enable, mc_group_settings_new,
+    };
     use crate::registry;
-    use motioncard_sdk::{ErrorKind, GroupSettings, GroupState};
+    use crate::types::mc_group_settings;
+    use motioncard_sdk::{ErrorKind, GroupState};
 
     /// A group of three axes homed from C in two stages (each axis's boot method: the current
-    /// position), and each refusal its own code.
+    /// position), and each refusal its own code; the order configured through
+    /// `mc_group_settings` (read back by `mc_group_get_settings`, a bad one refused with the
+    /// configuration kept) is the one run with no stages given.
     #[test]
     fn group_homing_from_c() {
         let mut card = 0;
@@ -77,12 +83,11 @@ mod tests {
             for a in 0..3 {
                 assert_eq!(mc_enable(card, a), 0);
             }
-            {
-                let e = registry::get(card).unwrap();
-                let g = e.card.group(0).unwrap();
-                g.configure(&GroupSettings::new(&[0, 1, 2])).unwrap();
-                g.enable().unwrap();
-            }
+            let mut set = mc_group_settings::default();
+            assert_eq!(mc_group_settings_new([0, 1, 2].as_ptr(), 3, &mut set), 0);
+            assert_eq!(set.home_stages, 0, "none by default");
+            assert_eq!(mc_group_configure(card, 0, &set), 0);
+            assert_eq!(mc_group_enable(card, 0), 0);
             let home = |axes: &[u32], sizes: &[u32]| {
                 let mut run = 0u32;
                 let code = mc_group_home(
@@ -109,7 +114,54 @@ mod tests {
                 std::ptr::null_mut(),
             );
             assert_eq!(none, ErrorKind::HomeStage.code());
-            assert_eq!(home(&[2, 0, 1], &[1, 2]), (0, 2));
+            // Z, then X and Y together, configured as masks and read back.
+            assert_eq!(mc_group_disable(card, 0), 0);
+            let ordered = mc_group_settings {
+                home_stages: 2,
+                home_order: [1 << 2, 1 << 0 | 1 << 1, 0, 0, 0, 0, 0, 0],
+                ..set
+            };
+            assert_eq!(mc_group_configure(card, 0, &ordered), 0);
+            let (mut back, mut configured) = (mc_group_settings::default(), 0u32);
+            assert_eq!(
+                crate::config::mc_group_get_settings(card, 0, &mut back, &mut configured),
+                0
+            );
+            assert_eq!((configured, back), (1, ordered));
+            for (stages, masks, code) in [
+                (2, [1 << 2, 1 << 2 | 1 << 1], ErrorKind::HomeTwice),
+                (1, [1 << 3, 0], ErrorKind::HomeAxis),
+                (1, [1 << 9, 0], ErrorKind::HomeAxis),
+                (2, [1, 0], ErrorKind::HomeStage),
+                (9, [1, 2], ErrorKind::BadConfig),
+            ] {
+                let mut bad = ordered;
+                bad.home_stages = stages;
+                bad.home_order[..2].copy_from_slice(&masks);
+                assert_eq!(mc_group_configure(card, 0, &bad), code.code(), "{masks:?}");
+                assert_eq!(
+                    crate::config::mc_group_get_settings(card, 0, &mut back, &mut configured),
+                    0
+                );
+                assert_eq!(back, ordered, "{masks:?}: kept");
+            }
+            assert_eq!(mc_group_enable(card, 0), 0);
+            let run = {
+                let mut run = 0u32;
+                let code = mc_group_home(
+                    card,
+                    0,
+                    std::ptr::null(),
+                    std::ptr::null(),
+                    0,
+                    10_000,
+                    &mut run,
+                );
+                (code, run)
+            };
+            assert_eq!(run, (0, 2));
+            // An order given in the call still runs in place of the configured one.
+            assert_eq!(home(&[1, 0, 2], &[2, 1]), (0, 2));
             let e = registry::get(card).unwrap();
             let g = e.card.group(0).unwrap();
             assert_eq!(g.status().unwrap().0, GroupState::Standby);

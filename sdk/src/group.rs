@@ -45,6 +45,10 @@ pub struct GroupSettings {
     pub interpolator: Interpolator,
     /// Geometry tolerance (centre equidistance, radius vs chord), in the first axis's units.
     pub tolerance: f64,
+    /// Layout 1.11: the group's home order, stages of group axis indices (0: the group's X),
+    /// `[[2], [0, 1]]`: Z first, then X and Y together; what [`Group::home`] with an empty
+    /// order runs (the configuration file's `home_order`). Empty: none configured.
+    pub home_order: Vec<Vec<usize>>,
 }
 
 impl GroupSettings {
@@ -56,6 +60,7 @@ impl GroupSettings {
             accdec: AccDec::Pre,
             interpolator: Interpolator::Exact,
             tolerance: 2.0,
+            home_order: Vec::new(),
         }
     }
 }
@@ -307,7 +312,50 @@ impl Group {
         self.motion(seq)
     }
 
-    /// Write the configuration and have the card check and apply it (group disabled).
+    /// A home order's stages as the card's masks (bit i: group axis i), or what the host can
+    /// refuse before the card sees it: `BadConfig` (more than [`GROUP_HOME_STAGES`] stages),
+    /// `HomeAxis` (an index beyond 7), `HomeTwice` (an index twice in a stage). The card checks
+    /// the rest (an index the group does not have, an axis in two stages, an empty stage).
+    fn home_masks(&self, order: &[&[usize]], command: &'static str) -> Result<Vec<u8>> {
+        let refuse = |code: firmware_proto::NackCode, reason: &'static str| Error::Refused {
+            command,
+            target: Target::Group(self.index),
+            code,
+            reason,
+        };
+        if order.len() > GROUP_HOME_STAGES {
+            return Err(refuse(
+                firmware_proto::NackCode::BadConfig,
+                "a home order has at most 8 stages",
+            ));
+        }
+        let mut masks = Vec::with_capacity(order.len());
+        for stage in order {
+            let mut m = 0u8;
+            for &i in *stage {
+                if i >= MAX_AXES {
+                    return Err(refuse(
+                        firmware_proto::NackCode::HomeAxis,
+                        "a home order names group axes 0 to 7 (the group's X, Y, Z, ...), not card axes beyond them",
+                    ));
+                }
+                if m >> i & 1 == 1 {
+                    return Err(refuse(
+                        firmware_proto::NackCode::HomeTwice,
+                        "a home order names an axis twice in one stage",
+                    ));
+                }
+                m |= 1 << i;
+            }
+            masks.push(m);
+        }
+        Ok(masks)
+    }
+
+    /// Write the configuration and have the card check and apply it (group disabled). A bad
+    /// home order is refused as [`Group::home`] refuses one (`HomeAxis`, `HomeTwice`,
+    /// `HomeStage`, `BadConfig` for more than [`GROUP_HOME_STAGES`] stages), the card's
+    /// configuration unchanged.
     pub fn configure(&self, s: &GroupSettings) -> Result<()> {
         let n = s.axes.len();
         if n == 0 || n > MAX_AXES {
@@ -317,6 +365,8 @@ impl Group {
             });
         }
         finite("tolerance", s.tolerance)?;
+        let order: Vec<&[usize]> = s.home_order.iter().map(Vec::as_slice).collect();
+        let masks = self.home_masks(&order, "group configure")?;
         let count = self.card.info().axes;
         let mut bytes = [0u8; 8];
         for (b, &a) in bytes.iter_mut().zip(&s.axes) {
@@ -325,7 +375,7 @@ impl Group {
             }
             *b = a as u8;
         }
-        let block = raw::mc_group_config {
+        let mut block = raw::mc_group_config {
             naxes: n as u32,
             axes: bytes,
             accdec: match s.accdec {
@@ -339,8 +389,10 @@ impl Group {
                 raw::MC_INTERP_EXACT
             },
             tolerance: s.tolerance * self.card.scale(s.axes[0]).abs(),
+            home_stages: masks.len() as u32,
             ..Default::default()
         };
+        block.home_order[..masks.len()].copy_from_slice(&masks);
         let guard = self.card.config_lock();
         self.card
             .write_block(layout::GROUP_CONFIG.at(self.index), &block);
@@ -380,6 +432,10 @@ impl Group {
                 Interpolator::Exact
             },
             tolerance: b.tolerance / self.card.scale(axes[0]).abs(),
+            home_order: b.home_order[..(b.home_stages as usize).min(GROUP_HOME_STAGES)]
+                .iter()
+                .map(|&m| (0..MAX_AXES).filter(|&i| m >> i & 1 == 1).collect())
+                .collect(),
             axes,
         }))
     }
@@ -401,7 +457,7 @@ impl Group {
     /// each with its own homing ([`Axis::set_homing`]; the home point reads the axis's home
     /// offset), a stage once the one before it is homed and at rest. A member that is a
     /// gantry's master homes its gantry (squaring it). An empty `order` homes in the group's
-    /// configured order (the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,
+    /// configured order ([`GroupSettings::home_order`], the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,
     /// then X and Y together. The group is in [`GroupState::Homing`] until it ends, then
     /// Standby. From Standby with every member at rest; refused: `GroupDisabled`,
     /// `InvalidState` (not at rest), `AxisBusy`, `HomeAxis` (an index the group does not have),
@@ -409,38 +465,7 @@ impl Group {
     /// configured), `BadConfig` (more than [`GROUP_HOME_STAGES`] stages), and each axis's
     /// homing refusals (`HomingMethod`, `OutOfRange`, `BadConfig`), `GantryState`.
     pub fn home(&self, order: &[&[usize]]) -> Result<GroupHoming> {
-        let refuse = |code: firmware_proto::NackCode, reason: &'static str| Error::Refused {
-            command: "group home",
-            target: Target::Group(self.index),
-            code,
-            reason,
-        };
-        if order.len() > GROUP_HOME_STAGES {
-            return Err(refuse(
-                firmware_proto::NackCode::BadConfig,
-                "a home order has at most 8 stages",
-            ));
-        }
-        let mut masks = Vec::with_capacity(order.len());
-        for stage in order {
-            let mut m = 0u8;
-            for &i in *stage {
-                if i >= MAX_AXES {
-                    return Err(refuse(
-                        firmware_proto::NackCode::HomeAxis,
-                        "a home order names group axes 0 to 7 (the group's X, Y, Z, ...), not card axes beyond them",
-                    ));
-                }
-                if m >> i & 1 == 1 {
-                    return Err(refuse(
-                        firmware_proto::NackCode::HomeTwice,
-                        "a home order names an axis twice in one stage",
-                    ));
-                }
-                m |= 1 << i;
-            }
-            masks.push(m);
-        }
+        let masks = self.home_masks(order, "group home")?;
         let cmd = self.cmd(GroupCmd::Home(GroupHome::from_masks(&masks)));
         let seq = self.run(cmd, "group home")?;
         Ok(GroupHoming {

@@ -23,6 +23,8 @@
 //! mcctl --card emu:bench1 gantry form 0 --slaves 1 --skew-limit 200 --offsets 25   # a gantry
 //! mcctl --card emu:bench1 gantry home 0              # each side homed, the bridge squared
 //! mcctl --card emu:bench1 gantry status --json       # phase, skews, gains (dissolve 0 ends it)
+//! mcctl --card emu:bench1 group home 0 --order "2;0,1"   # Z first, then X and Y together
+//! mcctl --card emu:bench1 group status 0 --json      # state, axes, configured home order
 //! mcctl --card emu:bench1 comp 0 load x-laser.csv --bound 0.02 --backlash 0.004   # pitch error
 //! mcctl --card emu:bench1 comp 0 show                # the table read back (clear: off)
 //! mcctl run examples/gcode/part.ngc --tolerance 0.01 --json   # a G-code program, measured
@@ -142,6 +144,12 @@ enum Cmd {
         #[command(subcommand)]
         action: cli::gantry::Action,
     },
+    /// Layout 1.11: axes groups: home (MC_GroupHome, in stages: --order "2;0,1" homes the
+    /// group's Z, then X and Y together; else the group's configured order), status.
+    Group {
+        #[command(subcommand)]
+        action: cli::group::Action,
+    },
     /// Layout 1.9: an axis's leadscrew pitch-error and backlash compensation: load a table
     /// file (`position, correction[, correction_negative]` a line, user units; --errors: the
     /// columns are measured errors), show the table the card holds, clear it.
@@ -212,6 +220,7 @@ fn main() -> ExitCode {
         Cmd::Handwheel(a) => cli::handwheel::run(uri, a),
         Cmd::Freq(a) => cli::freq::run(uri, a),
         Cmd::Gantry { action } => cli::gantry::run(uri, action),
+        Cmd::Group { action } => cli::group::run(uri, action),
         Cmd::Comp(a) => cli::comp::run(uri, a),
         Cmd::Home(a) => cli::home::run(uri, a),
         Cmd::Override(a) => cli::set_override::run(uri, a),

@@ -44,6 +44,12 @@ pub struct mc_group_settings {
     /// Geometry tolerance (centre equidistance, radius against chord), in user units of the
     /// group's first axis.
     pub tolerance: f64,
+    /// Layout 1.11: stages in the group's home order (0: none configured), 0..8; what
+    /// `mc_group_home` with no stages runs.
+    pub home_stages: u32,
+    /// Stage k's group axes (the first `home_stages` are used), a mask: bit i is group axis i
+    /// (0: the group's X). `{1 << 2, 1 << 0 | 1 << 1}`: Z first, then X and Y together.
+    pub home_order: [u32; 8],
 }
 
 impl mc_group_settings {
@@ -67,11 +73,24 @@ impl mc_group_settings {
             MC_GROUP_INTERP_REFERENCE_WORD => Interpolator::ReferenceWord,
             v => return Err(unknown("interpolator", v)),
         };
+        let stages = self.home_stages as usize;
+        if stages > self.home_order.len() {
+            return Err(Failure::new(
+                ErrorKind::BadConfig.code(),
+                format!("home_stages = {stages}: a home order has at most 8 stages"),
+            ));
+        }
+        // Every set bit is an index, those beyond 7 too: the SDK refuses them (HomeAxis).
+        let home_order = self.home_order[..stages]
+            .iter()
+            .map(|&m| (0..32).filter(|&i| m >> i & 1 == 1).collect())
+            .collect();
         Ok(GroupSettings {
             axes,
             accdec,
             interpolator,
             tolerance: self.tolerance,
+            home_order,
         })
     }
 }
@@ -96,6 +115,17 @@ impl From<&GroupSettings> for mc_group_settings {
                 Interpolator::ReferenceWord => MC_GROUP_INTERP_REFERENCE_WORD,
             },
             tolerance: s.tolerance,
+            home_stages: s.home_order.len().min(8) as u32,
+            home_order: {
+                let mut m = [0u32; 8];
+                for (d, stage) in m.iter_mut().zip(&s.home_order) {
+                    *d = stage
+                        .iter()
+                        .filter(|&&i| i < 32)
+                        .fold(0, |m, &i| m | 1 << i);
+                }
+                m
+            },
         }
     }
 }
@@ -485,11 +515,18 @@ mod tests {
         let s = GroupSettings {
             accdec: AccDec::Both,
             interpolator: Interpolator::ReferenceWord,
+            home_order: vec![vec![2], vec![0, 1]],
             ..GroupSettings::new(&[3, 1, 2])
         };
         let c = mc_group_settings::from(&s);
         assert_eq!(c.naxes, 3);
+        assert_eq!((c.home_stages, &c.home_order[..3]), (2, &[4, 3, 0][..]));
         assert_eq!(c.to_sdk().unwrap(), s);
+        let bad = mc_group_settings {
+            home_stages: 9,
+            ..c
+        };
+        assert_eq!(bad.to_sdk().unwrap_err().code, ErrorKind::BadConfig.code());
         for (field, v) in [(0, 0), (0, 4), (1, 2)] {
             let mut bad = c;
             match field {
