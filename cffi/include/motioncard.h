@@ -5336,7 +5336,7 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PSO_GROUP -140
 
 /**
- * `name:NAME` or `serial:N` matches more than one card listed (`Card::list`):
+ * `name:NAME` or `serial:N` matches more than one card listed (`mcctl list`, `mc_list_cards`):
  * open it by its URI instead (the message names them).
  */
 #define MC_ERR_AMBIGUOUS -150
@@ -6602,7 +6602,7 @@ mc_result mc_sim_set_sensor(mc_card card,
 /**
  * Every card reachable from this process: `card-emu` processes (`emu:`), UIO devices and PCI
  * functions with the card's IDs, in that order, each read without disturbing a host that
- * holds it (see the SDK's `Card::list`). Writes the cards to `cards` and their count to
+ * holds it (as the Rust SDK lists them). Writes the cards to `cards` and their count to
  * `*needed`; when `len` is too small, only `*needed` and `MC_ERR_BUFFER_TOO_SMALL` (`cards`
  * may be NULL when `len` is 0, to ask for the count; cards can come and go between two calls:
  * ask again on `MC_ERR_BUFFER_TOO_SMALL`). A card found but not read is listed with its

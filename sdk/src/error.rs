@@ -374,7 +374,7 @@ error_kinds! {
     PsoConfig = -139, MC_ERR_PSO_CONFIG, nack PsoConfig, "bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency";
     /// A path-speed output on a group that does not exist or is not configured.
     PsoGroup = -140, MC_ERR_PSO_GROUP, nack PsoGroup, "the path-speed output's group does not exist or is not configured";
-    /// `name:NAME` or `serial:N` matches more than one card listed ([`crate::Card::list`]):
+    /// `name:NAME` or `serial:N` matches more than one card listed (`mcctl list`, `mc_list_cards`):
     /// open it by its URI instead (the message names them).
     Ambiguous = -150, MC_ERR_AMBIGUOUS, "more than one card has that name or serial: open it by its URI";
     /// Layout 1.12: a timed command for a tick the card has already run.
