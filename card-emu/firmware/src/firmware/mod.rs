@@ -1166,6 +1166,8 @@ mod tests {
             O::CamData,
             // Layout 1.9: the compensation table read back (a read, nothing moves).
             O::CompRead,
+            // Layout 1.12: dropping held timed commands (it only stops what would run).
+            O::TimedCancel,
         ]
         .into_iter()
         .collect();
