@@ -2,9 +2,12 @@
 //!
 //! Starts a master and three followers (`--sync-from`), opens each as `emu:NAME`, and samples
 //! their tick counters every millisecond for `SECONDS` (default 10; the issue's figure is 600):
-//! each sample reads the three followers, then the master, so a follower's lag is the master's
-//! tick minus its own (a follower is never ahead: it runs a tick only after the master's, until
-//! it has lost the master and runs on its own clock). It
+//! each sample reads the master, a follower, and the master again; when the master did not
+//! tick in between, the follower's lag at the instant it was read is the master's tick minus
+//! its own (a follower is never ahead: it runs a tick only after the master's, until it has
+//! lost the master and runs on its own clock; and the master runs a tick only once every
+//! follower has run the one before, so the lag is 0 or 1 unless a follower fell
+//! `FOLLOWER_WAIT` behind). It
 //! prints the lag's distribution and the drift: the lag at the end minus the lag at the
 //! start, with every card stopped being read at the same tick count when the master is
 //! stopped (SIGSTOP) and the followers have caught up.
@@ -69,22 +72,30 @@ fn main() {
     let first = m.tick().unwrap();
     let mut stale = 0u64;
     let mut ahead = 0u64;
+    let mut moved = 0u64;
+    let mut moved_max = 0u64;
     while t0.elapsed() < Duration::from_secs(seconds) {
-        // A card whose tick stood for the SDK's staleness limit (an OS stall of its process
-        // on a loaded machine) is counted, not sampled.
-        let f: Result<Vec<u64>, _> = followers.iter().map(|c| c.tick()).collect();
-        let (Ok(f), Ok(mt)) = (f, m.tick()) else {
-            stale += 1;
-            std::thread::sleep(Duration::from_millis(1));
-            continue;
-        };
-        for t in f {
-            if t > mt {
+        for c in &followers {
+            // The master read before and after the follower: when it did not tick in between,
+            // the difference is the one at the instant the follower was read (else the lag
+            // then lies between the two differences, and the sample is counted apart).
+            // A card whose tick stood for the SDK's staleness limit (an OS stall of its process
+            // on a loaded machine) is counted, not sampled.
+            let (Ok(m1), Ok(t), Ok(m2)) = (m.tick(), c.tick(), m.tick()) else {
+                stale += 1;
+                continue;
+            };
+            if t > m2 {
                 // Only after a loss: the follower runs on its own clock.
                 ahead += 1;
                 continue;
             }
-            let lag = mt - t;
+            if m1 != m2 {
+                moved += 1;
+                moved_max = moved_max.max(m2 - t);
+                continue;
+            }
+            let lag = m1 - t;
             max = max.max(lag);
             hist[match lag {
                 0..=3 => lag as usize,
@@ -114,6 +125,10 @@ fn main() {
     println!(
         "largest lag: {max} ticks over {samples} samples ({stale} samples found a card stale, \
          {ahead} a follower ahead: after a loss)"
+    );
+    println!(
+        "{moved} more samples saw the master tick while the follower was read (lag at most \
+         {moved_max} there)"
     );
     let losses: Vec<u32> = followers
         .iter()

@@ -10,6 +10,13 @@
 //! the abstract socket `@motioncard-bus/NAME` ([`serve`], [`connect`]), under the same
 //! credential policy as hosts, and keeps that connection: its hang-up is the master's death.
 //!
+//! Each follower acknowledges the ticks it has run in a slot of the page of its own, and the
+//! master runs its next tick only once every follower has acknowledged its last
+//! ([`Bus::await_followers`]): the cards tick in lock step, as one servo clock drives boards
+//! wired to a sync line, so at any instant a follower's tick count is the master's or one
+//! less. A follower the OS holds back longer than [`FOLLOWER_WAIT`] is not waited for again
+//! until it has caught up (the master's clock does not stall behind a stopped process).
+//!
 //! A follower loses the master when the page says the master ended, the connection hangs up,
 //! or no tick comes within [`loss_timeout`]; then the firmware halts everything
 //! (`Firmware::lose_bus`) and the card goes on on its own clock.
@@ -37,9 +44,20 @@ const TICK: usize = 1;
 const TOTAL: usize = 2;
 const ALIVE: usize = 3;
 const COMMITS: usize = 4;
-const WORDS: usize = COMMITS + 2 * RING;
+/// The followers' acknowledgements: slot k holds the last tick follower k has run.
+const ACKS: usize = 128;
+/// An acknowledgement slot whose follower has run no tick yet.
+const NOT_RUN: u64 = u64::MAX;
+/// Followers one bus takes.
+pub const MAX_FOLLOWERS: usize = 256;
+const WORDS: usize = ACKS + MAX_FOLLOWERS;
 const PAGE: usize = 4096;
-const _: () = assert!(WORDS * 8 <= PAGE);
+const _: () = assert!(COMMITS + 2 * RING <= ACKS && WORDS * 8 <= PAGE);
+
+/// The longest the master waits for a follower to run its last tick before it goes on
+/// without it (and stops waiting for it until it has caught up): an OS's scheduling stall of
+/// the follower, far longer than its tick takes.
+pub const FOLLOWER_WAIT: Duration = Duration::from_millis(20);
 
 /// The greeting of a follower (8 bytes), and the master's answer's first 6 of 16
 /// (then the status and a word, little-endian u32s, and with `STATUS_OK` the page and the
@@ -161,12 +179,22 @@ impl Snapshot {
     }
 }
 
+/// A follower as the master sees it.
+struct Follower {
+    id: u64,
+    /// Its acknowledgement slot in the page.
+    slot: usize,
+    wake: EventFd,
+    /// It was not waited for (it fell [`FOLLOWER_WAIT`] behind) and has not caught up yet.
+    late: bool,
+}
+
 /// The master's end of the bus: the page and the followers' wake-up lines.
 pub struct Bus {
     page: Page,
     file: File,
     name: String,
-    followers: Mutex<Vec<(u64, EventFd)>>,
+    followers: Mutex<Vec<Follower>>,
     next: AtomicU64,
 }
 
@@ -191,27 +219,44 @@ impl Bus {
 
     /// A new follower's link (its page and its wake-up line), and the id [`Bus::leave`] takes.
     pub fn join(&self) -> std::io::Result<(BusLink, u64)> {
-        let efd = EventFd::from_value_and_flags(0, EfdFlags::EFD_CLOEXEC | EfdFlags::EFD_NONBLOCK)?;
-        let dup = efd.as_fd().try_clone_to_owned()?;
-        let id = self.next.fetch_add(1, Ordering::Relaxed);
-        let page = Page::map(self.file.try_clone()?)?;
-        self.lock().push((id, efd));
-        Ok((BusLink::new(page, dup, None, &self.name), id))
+        let (file, wake, slot, id) = self.join_remote()?;
+        let page = Page::map(file)?;
+        Ok((BusLink::new(page, wake, slot, None, &self.name), id))
     }
 
-    /// The fds a follower in another process maps and waits on (the page, a new eventfd).
-    fn join_remote(&self) -> std::io::Result<(File, OwnedFd, u64)> {
+    /// A new follower's descriptors (the page, a new eventfd), its acknowledgement slot and
+    /// its id.
+    fn join_remote(&self) -> std::io::Result<(File, OwnedFd, usize, u64)> {
         let efd = EventFd::from_value_and_flags(0, EfdFlags::EFD_CLOEXEC | EfdFlags::EFD_NONBLOCK)?;
         let dup = efd.as_fd().try_clone_to_owned()?;
-        let id = self.next.fetch_add(1, Ordering::Relaxed);
         let file = self.file.try_clone()?;
-        self.lock().push((id, efd));
-        Ok((file, dup, id))
+        let mut followers = self.lock();
+        let slot = (0..MAX_FOLLOWERS)
+            .find(|k| followers.iter().all(|f| f.slot != *k))
+            .ok_or_else(|| {
+                std::io::Error::other(format!(
+                    "the sync bus of '{}' has {MAX_FOLLOWERS} followers",
+                    self.name
+                ))
+            })?;
+        // Not waited for until it has run a tick: joining does not hold the master up while
+        // the follower's clock starts.
+        self.page
+            .word(ACKS + slot)
+            .store(NOT_RUN, Ordering::Release);
+        let id = self.next.fetch_add(1, Ordering::Relaxed);
+        followers.push(Follower {
+            id,
+            slot,
+            wake: efd,
+            late: true,
+        });
+        Ok((file, dup, slot, id))
     }
 
     /// The follower `id` left.
     pub fn leave(&self, id: u64) {
-        self.lock().retain(|(i, _)| *i != id);
+        self.lock().retain(|f| f.id != id);
     }
 
     /// Followers on the bus now.
@@ -219,7 +264,7 @@ impl Bus {
         self.lock().len() as u32
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<(u64, EventFd)>> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Follower>> {
         self.followers
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
@@ -232,8 +277,45 @@ impl Bus {
     }
 
     fn wake(&self) {
-        for (_, efd) in self.lock().iter() {
-            let _ = efd.write(1);
+        for f in self.lock().iter() {
+            let _ = f.wake.write(1);
+        }
+    }
+
+    /// Before the master's tick after `tick`: wait until every follower has run `tick`, up to
+    /// [`FOLLOWER_WAIT`] (or until `stop`). A follower that is not there by then is late: it is
+    /// not waited for again until it has caught up to within a tick. Returns the followers
+    /// that made the master go on without them (0 when the bus ticks in lock step).
+    pub fn await_followers(&self, tick: u64, stop: &std::sync::atomic::AtomicBool) -> usize {
+        let mut deadline = None;
+        loop {
+            let mut followers = self.lock();
+            let mut waiting = false;
+            for f in followers.iter_mut() {
+                let ack = self.page.word(ACKS + f.slot).load(Ordering::Acquire);
+                if f.late {
+                    f.late = ack == NOT_RUN || ack + 1 < tick;
+                }
+                waiting |= !f.late && ack < tick;
+            }
+            if !waiting || stop.load(Ordering::Relaxed) {
+                return 0;
+            }
+            let now = std::time::Instant::now();
+            if now >= *deadline.get_or_insert(now + FOLLOWER_WAIT) {
+                let mut left = 0;
+                for f in followers.iter_mut() {
+                    let ack = self.page.word(ACKS + f.slot).load(Ordering::Acquire);
+                    if !f.late && ack < tick {
+                        f.late = true;
+                        left += 1;
+                    }
+                }
+                return left;
+            }
+            drop(followers);
+            // The followers need the CPU this thread would spin on.
+            std::thread::yield_now();
         }
     }
 }
@@ -262,6 +344,8 @@ pub enum Wake {
 pub struct BusLink {
     page: Page,
     wake: OwnedFd,
+    /// Its acknowledgement slot in the page.
+    slot: usize,
     /// The connection to a master in another process: its hang-up is the master's end.
     conn: Option<UnixStream>,
     master: String,
@@ -270,11 +354,12 @@ pub struct BusLink {
 }
 
 impl BusLink {
-    fn new(page: Page, wake: OwnedFd, conn: Option<UnixStream>, master: &str) -> Self {
+    fn new(page: Page, wake: OwnedFd, slot: usize, conn: Option<UnixStream>, master: &str) -> Self {
         let seen = page.read().total;
         Self {
             page,
             wake,
+            slot,
             conn,
             master: master.to_string(),
             seen,
@@ -289,6 +374,13 @@ impl BusLink {
     /// The page now.
     pub fn read(&self) -> Snapshot {
         self.page.read()
+    }
+
+    /// This follower has run every tick up to `tick`: the master may run its next.
+    pub fn ack(&self, tick: u64) {
+        self.page
+            .word(ACKS + self.slot)
+            .store(tick, Ordering::Release);
     }
 
     /// The commits the page shows that this follower has not taken; marks them taken.
@@ -368,7 +460,7 @@ fn follower(bus: Arc<Bus>, stream: UnixStream) {
     if (&stream).read_exact(&mut hello).is_err() || hello != BUS_HELLO {
         return;
     }
-    let (file, efd, id) = match bus.join_remote() {
+    let (file, efd, slot, id) = match bus.join_remote() {
         Ok(x) => x,
         Err(e) => {
             let errno = e.raw_os_error().unwrap_or(nix::libc::EIO);
@@ -379,7 +471,7 @@ fn follower(bus: Arc<Bus>, stream: UnixStream) {
     let raw = [file.as_raw_fd(), efd.as_raw_fd()];
     let sent = sendmsg::<()>(
         stream.as_raw_fd(),
-        &[IoSlice::new(&answer(STATUS_OK, 0))],
+        &[IoSlice::new(&answer(STATUS_OK, slot as u32))],
         &[ControlMessage::ScmRights(&raw)],
         MsgFlags::MSG_NOSIGNAL,
         None,
@@ -446,10 +538,78 @@ pub fn connect(master: &str) -> std::io::Result<BusLink> {
         .try_into()
         .map_err(|v: Vec<OwnedFd>| bad(format!("{} descriptors instead of 2", v.len())))?;
     stream.set_read_timeout(None)?;
+    let slot = word as usize;
+    if slot >= MAX_FOLLOWERS {
+        return Err(bad(format!("'{master}' gave the follower slot {slot}")));
+    }
     Ok(BusLink::new(
         Page::map(File::from(page))?,
         wake,
+        slot,
         Some(stream),
         master,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicBool;
+
+    /// The master waits for each follower to run its last tick: not for one that has, for one
+    /// that does meanwhile, and up to `FOLLOWER_WAIT` for one that does not (then it goes on
+    /// without it and does not wait for it again until it has caught up).
+    #[test]
+    fn the_master_runs_its_next_tick_once_every_follower_has_run_its_last() {
+        let stop = AtomicBool::new(false);
+        let bus = Bus::new("acks-unit").unwrap();
+        let (a, _) = bus.join().unwrap();
+        let (b, id_b) = bus.join().unwrap();
+        assert_ne!(a.slot, b.slot);
+        // Neither has run a tick yet: the master does not wait for them.
+        assert_eq!(bus.await_followers(0, &stop), 0);
+        // Once they have run the master's tick, it waits for them.
+        a.ack(0);
+        b.ack(0);
+        bus.publish(1, &[]);
+        a.ack(1);
+        // b acks tick 1 from another thread while the master waits.
+        let t = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(2));
+            b.ack(1);
+            b
+        });
+        assert_eq!(bus.await_followers(1, &stop), 0);
+        let b = t.join().unwrap();
+        // b stalls: the master goes on without it after FOLLOWER_WAIT, once.
+        bus.publish(2, &[]);
+        a.ack(2);
+        let t0 = std::time::Instant::now();
+        assert_eq!(bus.await_followers(2, &stop), 1);
+        assert!(t0.elapsed() >= FOLLOWER_WAIT);
+        bus.publish(3, &[]);
+        a.ack(3);
+        assert_eq!(
+            bus.await_followers(3, &stop),
+            0,
+            "a late follower is not waited for"
+        );
+        // b catches up to within a tick: it is waited for again.
+        b.ack(3);
+        bus.publish(4, &[]);
+        a.ack(4);
+        assert_eq!(bus.await_followers(4, &stop), 1);
+        // A follower that left is not waited for; its slot is taken by the next.
+        bus.leave(id_b);
+        assert_eq!(bus.await_followers(4, &stop), 0);
+        let (c, _) = bus.join().unwrap();
+        assert_eq!(c.slot, b.slot);
+        bus.publish(5, &[]);
+        a.ack(5);
+        assert_eq!(bus.await_followers(5, &stop), 0, "c has run no tick yet");
+        c.ack(5);
+        bus.publish(6, &[]);
+        a.ack(6);
+        assert_eq!(bus.await_followers(6, &stop), 1, "c is waited for now");
+    }
 }

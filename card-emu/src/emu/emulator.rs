@@ -692,6 +692,9 @@ fn run_follower(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
             while emu.fw.tick_count() < snap.tick && !stop.load(Ordering::Relaxed) {
                 emu.step();
             }
+            if let Some(BusEnd::Follower(link)) = &emu.bus {
+                link.ack(emu.fw.tick_count());
+            }
         }
     }
     run_realtime(emu, stop, busy_poll);
@@ -704,6 +707,10 @@ fn run_realtime(emu: &mut Emulator, stop: &AtomicBool, busy_poll: bool) {
         emu.serve();
         let now = now_ns();
         if now >= next {
+            if let Some(BusEnd::Master(bus)) = &emu.bus {
+                // Layout 1.12: the followers run each tick before the master runs the next.
+                bus.await_followers(emu.fw.tick_count(), stop);
+            }
             emu.step();
             let p = 1_000_000_000i128 / emu.fw.servo_rate_hz() as i128;
             if p != period || now - next > 2 * period {
