@@ -11,10 +11,8 @@
 //! starts fast moves, prints `ready` once every axis cruises, and waits to be killed.
 mod common;
 
-use common::{card_emu, open_when_ready, Proc};
+use common::{card_emu, host_ready, open_when_ready, start_host_role, Proc};
 use motioncard_sdk::{AxisState, ErrorKind, MoveLimits, StopReason};
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const ROLE: &str = "MC_HOST_KILL_CARD";
@@ -30,22 +28,8 @@ fn fast() -> MoveLimits {
 /// Start a host process on `uri` with watchdog timeout `timeout_ms`, and wait until its axes
 /// cruise.
 fn start_host(uri: &str, timeout_ms: u64, run: usize) -> Proc {
-    let mut host = Proc(
-        Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", "host_role", "--nocapture", "--test-threads=1"])
-            .env(ROLE, uri)
-            .env(TIMEOUT, timeout_ms.to_string())
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("start the host"),
-    );
-    let out = host.0.stdout.take().unwrap();
-    let ready = BufReader::new(out)
-        .lines()
-        .map_while(Result::ok)
-        .any(|l| l.contains("HOST-READY"));
-    assert!(ready, "run {run}: the host died before it was ready");
-    host
+    let env = [(ROLE, uri.to_string()), (TIMEOUT, timeout_ms.to_string())];
+    start_host_role("host_role", &env, &format!("run {run}"))
 }
 
 /// The host process (only when run by the test below).
@@ -75,10 +59,7 @@ fn host_role() {
         assert!(Instant::now() < deadline, "never reached full speed");
         std::thread::sleep(Duration::from_millis(1));
     }
-    println!("\nHOST-READY");
-    loop {
-        std::thread::sleep(Duration::from_secs(1));
-    }
+    host_ready();
 }
 
 #[test]

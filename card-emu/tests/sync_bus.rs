@@ -7,13 +7,11 @@
 //! axes within the watchdog timeout plus the stop ramp.
 mod common;
 
-use common::{card_emu, open_when_ready, Proc};
+use common::{card_emu, host_ready, open_when_ready, start_host_role, Proc};
 use motioncard_sdk::{
     AxisState, BusRole, BusState, CardSet, ErrorKind, EventKind, GroupSettings, GroupState,
     MoveLimits, PathSettings, Segment, StopReason, VelocityLimits,
 };
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 fn bus(tag: &str, followers: usize) -> (Vec<Proc>, Vec<String>) {
@@ -263,10 +261,7 @@ fn bus_host_role() {
         assert!(Instant::now() < deadline, "the path never got to {phase}");
         std::thread::sleep(Duration::from_micros(200));
     }
-    println!("\nHOST-READY");
-    loop {
-        std::thread::sleep(Duration::from_secs(1));
-    }
+    host_ready();
 }
 
 /// A host running a path on both cards of a bus, killed in each phase of the path: on each
@@ -284,26 +279,11 @@ fn a_host_killed_mid_path_stops_every_cards_axes() {
     let observer = open_when_ready(&format!("emu:{}", names.pop().unwrap()));
     let uris: Vec<String> = names.iter().map(|n| format!("emu:{n}")).collect();
     for phase in ["accelerating", "at-feed", "blending", "decelerating"] {
-        let mut host = Proc(
-            Command::new(std::env::current_exe().unwrap())
-                .args([
-                    "--exact",
-                    "bus_host_role",
-                    "--nocapture",
-                    "--test-threads=1",
-                ])
-                .env(HOST_CARDS, uris.join(","))
-                .env(HOST_PHASE, phase)
-                .stdout(Stdio::piped())
-                .spawn()
-                .expect("start the host"),
-        );
-        let out = host.0.stdout.take().unwrap();
-        let ready = BufReader::new(out)
-            .lines()
-            .map_while(Result::ok)
-            .any(|l| l.contains("HOST-READY"));
-        assert!(ready, "{phase}: the host died before it was ready");
+        let env = [
+            (HOST_CARDS, uris.join(",")),
+            (HOST_PHASE, phase.to_string()),
+        ];
+        let mut host = start_host_role("bus_host_role", &env, phase);
         host.0.kill().unwrap(); // SIGKILL
         host.0.wait().unwrap();
         // The timeout and the slowest stop ramp (at most 0.1 s from the feed), in card time.

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use motioncard_sdk::{Card, ErrorKind};
+use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -50,4 +51,32 @@ pub fn try_open(uri: &str) -> motioncard_sdk::Result<Card> {
 /// [`try_open`], which must succeed.
 pub fn open_when_ready(uri: &str) -> Card {
     try_open(uri).unwrap_or_else(|e| panic!("opening {uri}: {e}"))
+}
+
+/// Run this test binary again as a host: only the test `role` (which returns at once unless
+/// one of `env` is set), with `env`; returns once it has printed `HOST-READY` ([`host_ready`]).
+pub fn start_host_role(role: &str, env: &[(&str, String)], what: &str) -> Proc {
+    let mut host = Proc(
+        Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", role, "--nocapture", "--test-threads=1"])
+            .envs(env.iter().map(|(k, v)| (*k, v.as_str())))
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("start the host"),
+    );
+    let out = host.0.stdout.take().unwrap();
+    let ready = BufReader::new(out)
+        .lines()
+        .map_while(Result::ok)
+        .any(|l| l.contains("HOST-READY"));
+    assert!(ready, "{what}: the host died before it was ready");
+    host
+}
+
+/// A host role's end: it says it is ready and waits to be killed.
+pub fn host_ready() -> ! {
+    println!("\nHOST-READY");
+    loop {
+        std::thread::sleep(Duration::from_secs(1));
+    }
 }
