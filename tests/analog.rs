@@ -123,6 +123,43 @@ fn filter_step_response_and_threshold_event_are_exact() {
     assert_eq!((fell[0].code, fell[0].tick), (0, t1 + down));
 }
 
+/// A new servo rate keeps an input filter's cut-off in Hz: the step response at 2 kHz is the
+/// continuous one at the 2 kHz instants; a rate below twice the cut-off is refused
+/// (`AnalogFilter`) and leaves the rate as it was.
+#[test]
+fn a_new_servo_rate_keeps_the_filters_cut_off() {
+    let card = card(1);
+    let sim = card.sim().unwrap();
+    let s = AnalogInputSettings {
+        cutoff_hz: 800.0,
+        threshold: 0.0,
+        hysteresis: 0.0,
+        rise_event: false,
+        fall_event: false,
+    };
+    card.configure_analog_input(1, &s).unwrap();
+    assert_eq!(kind(card.set_servo_rate(1_500)), ErrorKind::AnalogFilter);
+    assert_eq!(card.info().servo_rate_hz, RATE);
+    card.configure_analog_input(
+        1,
+        &AnalogInputSettings {
+            cutoff_hz: 20.0,
+            ..s
+        },
+    )
+    .unwrap();
+    card.set_servo_rate(2_000).unwrap();
+    sim.step(10);
+    set_pin(&card, 1, AnalogSource::Constant(5.0));
+    let y = 16384.0 * ADC_LSB;
+    let w = std::f64::consts::TAU * 20.0 / 2_000.0;
+    for n in 1..=400 {
+        sim.step(1);
+        let v = card.analog_input(1).unwrap().value;
+        assert!((v - y * (1.0 - (-w * n as f64).exp())).abs() < 1e-12, "tick {n}");
+    }
+}
+
 /// A height sensor: an input wired to an axis's position follows it.
 #[test]
 fn a_position_sensor_follows_its_axis() {

@@ -666,7 +666,11 @@ impl Card {
         })
     }
 
-    /// Change the servo rate (all axes must be disabled).
+    /// Change the servo rate (all axes must be disabled: `AxesEnabled`; outside
+    /// 1,000..=20,000 Hz: `BadConfig`). Every filter the card runs keeps its frequencies and
+    /// is designed again at the new rate; a rate one of them cannot run at (a frequency at or
+    /// above half of it) is refused with that filter's refusal (`FilterFreq`,
+    /// `AnalogFilter`, `PsoConfig`), and nothing changes.
     pub fn set_servo_rate(&self, hz: u32) -> Result<()> {
         let block = firmware_proto::raw::mc_card_config {
             servo_rate_hz: hz,

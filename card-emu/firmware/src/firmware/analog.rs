@@ -119,6 +119,16 @@ pub fn pso_value(p: &Pso, v: f64) -> f64 {
     }
 }
 
+/// A first-order low-pass's gain per tick for the cut-off `hz` at the servo rate `rate_hz`
+/// (0: no filter, gain 1).
+fn smoothing(hz: f64, rate_hz: u32) -> f64 {
+    if hz == 0.0 {
+        1.0
+    } else {
+        1.0 - math::exp(-2.0 * core::f64::consts::PI * hz / f64::from(rate_hz))
+    }
+}
+
 /// The check of an analog input's settings (decoded) at servo rate `rate_hz` beyond its
 /// decoding: a cut-off above half the rate is `MC_NACK_ANALOG_FILTER`.
 pub fn input_nack(a: &AnalogInput, rate_hz: u32) -> Result<(), NackCode> {
@@ -164,13 +174,8 @@ impl AnalogUnit {
     /// (no event).
     pub fn configure_input(&mut self, a: &AnalogInput, rate_hz: u32) -> Result<(), NackCode> {
         input_nack(a, rate_hz)?;
-        let rate = f64::from(rate_hz);
         let i = &mut self.inputs[a.input as usize];
-        i.alpha = if a.cutoff_hz == 0.0 {
-            1.0
-        } else {
-            1.0 - math::exp(-2.0 * core::f64::consts::PI * a.cutoff_hz / rate)
-        };
+        i.alpha = smoothing(a.cutoff_hz, rate_hz);
         i.cfg = Some(*a);
         i.above = false;
         i.above = i.above_at(i.value);
@@ -201,12 +206,7 @@ impl AnalogUnit {
     /// running, whose output goes to 0 first.
     pub fn start_pso(&mut self, group: usize, cfg: Pso, rate_hz: u32) -> Result<(), NackCode> {
         pso_nack(&cfg, rate_hz)?;
-        let rate = f64::from(rate_hz);
-        let beta = if cfg.filter_hz == 0.0 {
-            1.0
-        } else {
-            1.0 - math::exp(-2.0 * core::f64::consts::PI * cfg.filter_hz / rate)
-        };
+        let beta = smoothing(cfg.filter_hz, rate_hz);
         self.stop_pso();
         self.pso = Some(PsoRun {
             group,
@@ -220,6 +220,31 @@ impl AnalogUnit {
             ..PsoTick::default()
         };
         Ok(())
+    }
+
+    /// Can the input filters and the PSO's speed filter as configured run at the servo rate
+    /// `rate_hz`? (A cut-off above half of it: `MC_NACK_ANALOG_FILTER`, `MC_NACK_PSO_CONFIG`.)
+    pub fn check_rate(&self, rate_hz: u32) -> Result<(), NackCode> {
+        for a in self.inputs.iter().filter_map(|i| i.cfg.as_ref()) {
+            input_nack(a, rate_hz)?;
+        }
+        match &self.pso {
+            Some(p) => pso_nack(&p.cfg, rate_hz),
+            None => Ok(()),
+        }
+    }
+
+    /// The servo rate is now `rate_hz` (checked with [`AnalogUnit::check_rate`]): each filter's
+    /// gain per tick designed again for the same cut-off, its value kept.
+    pub fn set_rate(&mut self, rate_hz: u32) {
+        for i in &mut self.inputs {
+            if let Some(a) = &i.cfg {
+                i.alpha = smoothing(a.cutoff_hz, rate_hz);
+            }
+        }
+        if let Some(p) = &mut self.pso {
+            p.beta = smoothing(p.cfg.filter_hz, rate_hz);
+        }
     }
 
     /// `MC_OP_PSO_OFF`: the PSO's output goes to 0.
@@ -480,6 +505,42 @@ mod tests {
         );
         assert_eq!(u.inputs[0].cfg, None);
         assert!(u.configure_input(&input(5000.0, 0.0, 0.0), 10_000).is_ok());
+    }
+
+    /// A new servo rate: each filter keeps its cut-off in Hz (its gain per tick designed again:
+    /// the step response at the new rate is the continuous one at the new sample instants),
+    /// and a rate under twice a cut-off is refused by the check.
+    #[test]
+    fn a_new_servo_rate_keeps_each_filters_cut_off() {
+        let mut u = AnalogUnit::new();
+        u.configure_input(&input(50.0, 0.0, 0.0), 10_000).unwrap();
+        assert_eq!(u.check_rate(2_000), Ok(()));
+        u.set_rate(2_000);
+        let w = 2.0 * core::f64::consts::PI * 50.0 / 2_000.0;
+        u.set_pins([5.0; ANALOG_INPUTS]);
+        for n in 1..=50u64 {
+            u.tick(n, &[], &[], 0);
+            let exact = adc_sample(5.0) * (1.0 - (-w * n as f64).exp());
+            assert!((u.input(0) - exact).abs() < 1e-12, "tick {n}");
+        }
+        u.configure_input(&input(900.0, 0.0, 0.0), 2_000).unwrap();
+        assert_eq!(u.check_rate(1_000), Err(NackCode::AnalogFilter));
+        let pso = Pso {
+            output: PsoOutput::Dac(0),
+            gate: 0,
+            min: 0.0,
+            max: 1.0,
+            v_ref: 1000.0,
+            filter_hz: 600.0,
+        };
+        let mut p = AnalogUnit::new();
+        p.start_pso(0, pso, 10_000).unwrap();
+        assert_eq!(p.check_rate(1_000), Err(NackCode::PsoConfig));
+        p.set_rate(2_000);
+        let beta = p.pso.unwrap().beta;
+        assert!(
+            (beta - (1.0 - (-2.0 * core::f64::consts::PI * 600.0 / 2_000.0).exp())).abs() < 1e-15
+        );
     }
 
     /// The block is written when it changes, left alone while it stands still, and rewritten

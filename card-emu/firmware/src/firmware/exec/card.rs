@@ -85,7 +85,10 @@ impl<M: Mem + Clone> Firmware<M> {
         Ok(0.0)
     }
 
-    /// `MC_OP_APPLY_CARD_CONFIG`: the servo rate, while every axis is disabled.
+    /// `MC_OP_APPLY_CARD_CONFIG`: the servo rate, while every axis is disabled. Every filter
+    /// the card runs (the servo outputs', the analog inputs', the PSO's) is designed again
+    /// for the same frequencies at the new rate, or the rate is refused with that filter's
+    /// refusal.
     fn apply_card_config(&mut self) -> Result<(), NackCode> {
         let rate = layout::CARD_CONFIG.read(&self.mem).servo_rate_hz;
         if !(firmware_proto::SERVO_RATE_MIN_HZ..=firmware_proto::SERVO_RATE_MAX_HZ).contains(&rate)
@@ -103,6 +106,9 @@ impl<M: Mem + Clone> Firmware<M> {
         for (f, axis) in filters.iter_mut().zip(&self.axes) {
             *f = axis.filters().redesigned(rate as f64)?;
         }
+        // Layout 1.11: the analog inputs' and the PSO's filters too.
+        self.analog.check_rate(rate)?;
+        self.analog.set_rate(rate);
         self.servo_rate_hz = rate;
         let ts = self.ts();
         for (ax, (axis, f)) in self.axes.iter_mut().zip(filters).enumerate() {
