@@ -156,7 +156,10 @@ fn a_new_servo_rate_keeps_the_filters_cut_off() {
     for n in 1..=400 {
         sim.step(1);
         let v = card.analog_input(1).unwrap().value;
-        assert!((v - y * (1.0 - (-w * n as f64).exp())).abs() < 1e-12, "tick {n}");
+        assert!(
+            (v - y * (1.0 - (-w * n as f64).exp())).abs() < 1e-12,
+            "tick {n}"
+        );
     }
 }
 

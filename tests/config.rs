@@ -653,3 +653,95 @@ fn an_oversized_file_is_refused_unread_and_echoes_are_cut() {
     assert_eq!(card.save_config().unwrap(), before, "nothing was applied");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The largest file `save_config` writes (8 axes, every section: scales, PID+FF gains, four
+/// raw biquads, a bidirectional compensation table of the most points, soft limits, homing;
+/// four groups with their path settings; every analog input and the PSO; numbers of 17
+/// significant digits throughout) fits in `MAX_CONFIG_BYTES`, loads on a fresh card and saves
+/// to the same bytes.
+#[test]
+fn the_largest_file_save_writes_loads_back() {
+    use motioncard_sdk::{CompPoint, Compensation, PidffSettings, COMP_POINTS_MAX};
+    let card = stepped_card_with(EmuOptions::new(8, 10_000));
+    // Long numbers: 17 significant digits and an exponent.
+    let long = |x: f64| x * (1.0 + std::f64::consts::PI * 1e-9);
+    for a in 0..8 {
+        let ax = card.axis(a).unwrap();
+        ax.set_scale(long(-1000.0)).unwrap();
+        ax.configure_pidff(&PidffSettings::for_drive(long(123_456.0), long(300.0)))
+            .unwrap();
+        for k in 0..4 {
+            let c = long(0.1 + 0.01 * k as f64);
+            ax.set_servo_filter(k, &BiquadSpec::raw([c, c, 0.0, -0.6, 0.0]))
+                .unwrap();
+        }
+        let points = (0..COMP_POINTS_MAX)
+            .map(|k| CompPoint {
+                position: long(k as f64 * 97.0 - 12_000.0),
+                forward: long(0.001 * (k % 17) as f64 - 0.007),
+                reverse: long(0.001 * (k % 13) as f64 - 0.005),
+            })
+            .collect();
+        ax.set_compensation(&Compensation {
+            points,
+            bidirectional: true,
+            backlash: long(0.002),
+            bound: long(0.05),
+            ramp_velocity: long(2.0),
+            ramp_acceleration: long(2e3),
+        })
+        .unwrap();
+        ax.configure_safety(&SafetySettings {
+            soft_limits: Some((long(-1e3), long(2e3))),
+            ferror: long(5.0),
+            ..ax.safety_settings().unwrap()
+        })
+        .unwrap();
+        ax.configure_homing(&HomingSettings {
+            method: 17,
+            search_vel: long(10_000.0),
+            home_offset: long(-12.5),
+            ..ax.homing_settings().unwrap()
+        })
+        .unwrap();
+    }
+    for g in 0..4 {
+        let grp = card.group(g).unwrap();
+        grp.configure(&GroupSettings::new(&[2 * g, 2 * g + 1]))
+            .unwrap();
+        grp.configure_path(&PathSettings {
+            lookahead: 64,
+            plan_period: 0.002,
+            ..PathSettings::uniform(2, long(100.0), long(1e3), long(1e5))
+        })
+        .unwrap();
+    }
+    for i in 0..8 {
+        card.configure_analog_input(
+            i,
+            &AnalogInputSettings {
+                cutoff_hz: long(50.0),
+                threshold: long(2.5),
+                hysteresis: long(0.25),
+                rise_event: true,
+                fall_event: true,
+            },
+        )
+        .unwrap();
+    }
+    let text = card.save_config().unwrap();
+    println!(
+        "the largest configuration file: {} bytes (limit {})",
+        text.len(),
+        motioncard_sdk::MAX_CONFIG_BYTES
+    );
+    // Room left for comments: at least a third of the limit.
+    assert!(
+        text.len() <= motioncard_sdk::MAX_CONFIG_BYTES * 2 / 3,
+        "{} bytes",
+        text.len()
+    );
+    let fresh = stepped_card_with(EmuOptions::new(8, 10_000));
+    fresh.load_config(&text, "largest.toml").unwrap();
+    assert_eq!(fresh.save_config().unwrap(), text);
+}

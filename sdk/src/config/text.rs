@@ -33,10 +33,12 @@ impl Config {
 }
 
 /// The largest configuration file read or parsed, in bytes. The largest file
-/// [`Card::save_config`](crate::Card::save_config) can write (8 axes with every section, PD+
-/// included, 8 groups with their path settings, every number at its longest) is under 32 KiB;
-/// a quarter of a MiB leaves room for comments. Parsing takes about 100 times a file's size in memory: a larger
-/// file is refused before it is read.
+/// [`Card::save_config`](crate::Card::save_config) can write (8 axes with every section: four
+/// biquads and a bidirectional compensation table of the most points each; the 4 groups with
+/// their path settings; every number at its longest) is 153,121 bytes (the test
+/// `the_largest_file_save_writes_loads_back`); a quarter of a MiB leaves room for comments.
+/// Parsing takes about 100 times a file's size in memory: a larger file is refused before it
+/// is read.
 pub const MAX_CONFIG_BYTES: usize = 256 * 1024;
 
 /// Text from a file (a value, a key) is echoed in an error up to this many characters, then
@@ -50,7 +52,7 @@ fn too_big(origin: &str, size: &str) -> Error {
         0,
         format!(
             "{size} is more than a configuration file may hold ({MAX_CONFIG_BYTES} bytes: the \
-             largest `config save` writes is under 32 KiB); nothing was parsed"
+             largest `config save` writes is about 150 KiB); nothing was parsed"
         ),
     )
 }
