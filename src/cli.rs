@@ -109,6 +109,31 @@ pub fn wait_showing(card: &Card, axis: usize, motion: &Motion, what: &str) -> Re
     r
 }
 
+/// Wait up to `limit` for what `wait` waits on (called with the time it may block). A stepped
+/// card is stepped a hundredth of a second at a time while it is not done (Ctrl-C stops it);
+/// a running one is waited on directly.
+pub(crate) fn wait_stepping<T>(
+    card: &Card,
+    limit: Duration,
+    mut wait: impl FnMut(Duration) -> Result<T>,
+) -> Result<T> {
+    let Some(sim) = card.sim() else {
+        return wait(limit);
+    };
+    let rate = u64::from(card.info().servo_rate_hz);
+    let mut waited = 0;
+    loop {
+        match wait(Duration::ZERO) {
+            Err(Error::Timeout(_)) if waited < limit.as_secs() * rate => {
+                sim.step(rate / 100);
+                waited += rate / 100;
+                interrupt::check()?;
+            }
+            r => return r,
+        }
+    }
+}
+
 pub(crate) fn state_name(s: AxisState) -> String {
     format!("{s:?}")
 }

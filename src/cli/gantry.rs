@@ -135,24 +135,7 @@ pub fn form(
 pub fn home(card: &Card, index: usize, json: bool) -> Result<String> {
     let g = card.gantry_handle(index)?;
     let homing = g.home()?;
-    let skew = match card.sim() {
-        // A stepped card: step it until the homing ends.
-        Some(sim) => {
-            let rate = card.info().servo_rate_hz as u64;
-            let mut waited = 0;
-            loop {
-                match homing.wait(Duration::ZERO) {
-                    Err(crate::Error::Timeout(_)) if waited < HOME_WAIT.as_secs() * rate => {
-                        sim.step(rate / 100);
-                        waited += rate / 100;
-                        super::interrupt::check()?;
-                    }
-                    r => break r?,
-                }
-            }
-        }
-        None => homing.wait(HOME_WAIT)?,
-    };
+    let skew = super::wait_stepping(card, HOME_WAIT, |t| homing.wait(t))?;
     let st = g.status()?;
     Ok(if json {
         json!({ "gantry": index, "squared": st.squared, "skew": skew, "status": status_json(&st) })

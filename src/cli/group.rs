@@ -83,24 +83,7 @@ pub fn home(card: &Card, group: usize, order: Vec<Vec<usize>>, json: bool) -> Re
     let g = card.group(group)?;
     let stages: Vec<&[usize]> = order.iter().map(Vec::as_slice).collect();
     let homing = g.home(&stages)?;
-    let run = match card.sim() {
-        // A stepped card: step it until the homing ends.
-        Some(sim) => {
-            let rate = card.info().servo_rate_hz as u64;
-            let mut waited = 0;
-            loop {
-                match homing.wait(Duration::ZERO) {
-                    Err(crate::Error::Timeout(_)) if waited < HOME_WAIT.as_secs() * rate => {
-                        sim.step(rate / 100);
-                        waited += rate / 100;
-                        super::interrupt::check()?;
-                    }
-                    r => break r?,
-                }
-            }
-        }
-        None => homing.wait(HOME_WAIT)?,
-    };
+    let run = super::wait_stepping(card, HOME_WAIT, |t| homing.wait(t))?;
     let axes = g.settings()?.map(|s| s.axes).unwrap_or_default();
     let st = card.statuses(&axes)?;
     Ok(if json {
