@@ -67,7 +67,7 @@ pub mod blocks;
 
 pub use blocks::{blocks_of, parse, parse_from, ArcGeom, Block, Blocks};
 use std::collections::VecDeque;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 use std::fmt;
 
 /// Default rest speed (mm/s): a tick whose speed is below it does not move.
@@ -715,7 +715,7 @@ impl Seg {
                 let len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 Some(Seg::Line { a: start, d, len2 })
             }
-            Block::Arc { .. } => b.arc_geom().map(Seg::Arc),
+            Block::Arc { .. } | Block::ArcNormal { .. } => b.arc_geom().map(Seg::Arc),
             _ => None,
         }
     }
@@ -731,22 +731,26 @@ impl Seg {
             Seg::Arc(g) => {
                 b.add(g.point(0.0));
                 b.add(g.point(1.0));
-                let (a, bb, n) = g.axes;
-                // The circle's extreme points in a and b that the arc passes.
-                for k in 0..4 {
-                    let alpha = k as f64 * TAU / 4.0;
-                    let along = if g.sweep > 0.0 {
-                        (alpha - g.theta0).rem_euclid(TAU)
-                    } else {
-                        (g.theta0 - alpha).rem_euclid(TAU)
-                    };
-                    if along <= g.sweep.abs() {
-                        let mut q = [0.0; 3];
-                        q[a] = g.centre[0] + g.radius * alpha.cos();
-                        q[bb] = g.centre[1] + g.radius * alpha.sin();
-                        q[n] = g.n0;
-                        b.add(q);
+                // Each axis's coordinate is the circle's, r·(cos θ·u + sin θ·v), plus the
+                // rise's share: the box holds the circle's extremes on each axis that the arc
+                // passes and its ends' angles, each at the start's height and risen by the whole
+                // rise.
+                let mut angles = vec![0.0, g.sweep];
+                for i in 0..3 {
+                    let phi = g.v[i].atan2(g.u[i]);
+                    for alpha in [phi, phi + PI] {
+                        if alpha.rem_euclid(TAU) <= g.sweep {
+                            angles.push(alpha);
+                        }
                     }
+                }
+                for th in angles {
+                    let (sn, cs) = th.sin_cos();
+                    let q: [f64; 3] = std::array::from_fn(|i| {
+                        g.centre[i] + g.radius * (cs * g.u[i] + sn * g.v[i])
+                    });
+                    b.add(q);
+                    b.add(std::array::from_fn(|i| q[i] + g.rise * g.axis[i]));
                 }
                 // Rounding of the angle tests: a hair of margin.
                 let m = 1e-9 * (1.0 + g.radius);
@@ -777,38 +781,35 @@ impl Seg {
 }
 
 fn arc_distance(g: &ArcGeom, p: [f64; 3], best: f64) -> f64 {
-    let (a, b, n) = g.axes;
-    let q = [p[a] - g.centre[0], p[b] - g.centre[1]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let w = [p[0] - g.centre[0], p[1] - g.centre[1], p[2] - g.centre[2]];
+    // In the arc's frame: (x, y) in its plane from the start's direction, z its height.
+    let q = [dot(w, g.u), dot(w, g.v)];
     let rho = q[0].hypot(q[1]);
-    let z = p[n];
-    let (nlo, nhi) = (g.n0.min(g.n1), g.n0.max(g.n1));
+    let z = dot(w, g.axis);
+    let (n0, n1) = (0.0f64, g.rise);
+    let (nlo, nhi) = (n0.min(n1), n0.max(n1));
     let dz_range = (nlo - z).max(z - nhi).max(0.0);
     // No point of the arc is nearer than this.
     let lower = (rho - g.radius).hypot(dz_range);
     if lower >= best {
         return f64::INFINITY;
     }
-    if g.n1 == g.n0 {
+    if g.rise == 0.0 {
         // A plane circle: the nearest point of the whole circle is at the point's angle.
-        let dz = z - g.n0;
         if rho == 0.0 {
-            return g.radius.hypot(dz);
+            return g.radius.hypot(z);
         }
-        let phi = q[1].atan2(q[0]);
-        let along = if g.sweep > 0.0 {
-            (phi - g.theta0).rem_euclid(TAU)
-        } else {
-            (g.theta0 - phi).rem_euclid(TAU)
-        };
-        if along <= g.sweep.abs() {
-            return (rho - g.radius).hypot(dz);
+        let along = q[1].atan2(q[0]).rem_euclid(TAU);
+        if along <= g.sweep {
+            return (rho - g.radius).hypot(z);
         }
         return dist(p, g.point(0.0)).min(dist(p, g.point(1.0)));
     }
     // A helix: only where its height is within `best` of the point's can it beat `best`.
-    let dn = g.n1 - g.n0;
+    let dn = n1 - n0;
     let (mut t0, mut t1) = if best.is_finite() {
-        let (u, v) = ((z - best - g.n0) / dn, (z + best - g.n0) / dn);
+        let (u, v) = ((z - best - n0) / dn, (z + best - n0) / dn);
         (u.min(v).max(0.0), u.max(v).min(1.0))
     } else {
         (0.0, 1.0)
@@ -817,15 +818,15 @@ fn arc_distance(g: &ArcGeom, p: [f64; 3], best: f64) -> f64 {
         return f64::INFINITY;
     }
     let d2 = |t: f64| {
-        let th = g.theta0 + t * g.sweep;
+        let th = t * g.sweep;
         let e = [
             q[0] - g.radius * th.cos(),
             q[1] - g.radius * th.sin(),
-            z - (g.n0 + t * dn),
+            z - (n0 + t * dn),
         ];
         e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
     };
-    let samples = ((t1 - t0) * g.sweep.abs() / TAU * HELIX_SAMPLES_PER_TURN)
+    let samples = ((t1 - t0) * g.sweep / TAU * HELIX_SAMPLES_PER_TURN)
         .ceil()
         .clamp(4.0, 1e5) as usize;
     let h = (t1 - t0) / samples as f64;

@@ -64,6 +64,8 @@ mod tests;
 mod tests_comp;
 #[cfg(test)]
 mod tests_more;
+#[cfg(test)]
+mod tests_rotated;
 
 use super::comp::{Compensator, Side};
 use super::{Blend, Block, Flow, GCode, GcodeError, Op, OpKind, Params, Plane, Pos, SpindleDir};
