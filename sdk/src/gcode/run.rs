@@ -24,7 +24,8 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSettings {
     /// The program's axis letter of each group axis, in group order (`"XYZ"`, `"XYZA"`, …).
-    /// Arcs need X, Y and Z as the group's first three axes.
+    /// Arcs in a plane of two axes need X, Y and Z as the group's first three axes; arcs
+    /// about a normal ([`OpKind::ArcNormal`]) need X, Y and Z in the group, with one scale.
     pub axes: String,
     /// The speed of rapids (G0), mm/s.
     pub rapid_feed: f64,

@@ -1098,6 +1098,52 @@ mod tests {
         );
     }
 
+    /// A G18 helix in a coordinate system rotated 30° about Z is an arc about the rotated Y
+    /// (a [`Block::ArcNormal`]): every point's distance to it is the distance of the point
+    /// turned back to the same helix unrotated (a plane arc), and its bounding box holds
+    /// every point of it and is no more than the rise wider on any side.
+    #[test]
+    fn an_oblique_helix_measures_as_the_plane_helix_turned() {
+        // from Z30 X0 about Z25 X0: a full clockwise turn in (Z, X), Y falling 6 mm
+        let body = "G0 Z30\nG18 G2 Z30 X0 Y-6 K-5 F600\n";
+        let plain = program(body)[1];
+        let turned = program(&format!("G10 L2 P1 R30\n{body}"))[1];
+        assert!(matches!(plain, Block::Arc { .. }), "{plain:?}");
+        assert!(matches!(turned, Block::ArcNormal { .. }), "{turned:?}");
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let turn = |p: [f64; 3]| [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]];
+        assert!((plain.length() - turned.length()).abs() < 1e-12);
+        assert!((turned.length() - (10.0 * PI).hypot(6.0)).abs() < 1e-12);
+        let mut worst = 0.0f64;
+        for k in 0..40 {
+            let t = k as f64 / 39.0;
+            let q = plain.point_at(t).unwrap();
+            for (dx, dy, dz) in [(0.3, 0.0, 0.0), (0.0, -0.7, 0.2), (-2.0, 1.5, 3.0)] {
+                let p = [q[0] + dx, q[1] + dy, q[2] + dz];
+                let a = distance_to_block(&plain, p).unwrap();
+                let b = distance_to_block(&turned, turn(p)).unwrap();
+                worst = worst.max((a - b).abs());
+            }
+            let d = dist(turned.point_at(t).unwrap(), turn(q));
+            assert!(d < 1e-12, "t {t}: {d}");
+        }
+        assert!(worst < 1e-9, "{worst}");
+        let bx = Seg::new(&turned).unwrap().bounds();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for k in 0..=4000 {
+            let p = turned.point_at(k as f64 / 4000.0).unwrap();
+            for i in 0..3 {
+                assert!(bx.lo[i] <= p[i] && p[i] <= bx.hi[i], "{p:?} outside {bx:?}");
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        for i in 0..3 {
+            // (conservative by at most the rise on each axis)
+            assert!(lo[i] - bx.lo[i] <= 6.0 + 1e-6 && bx.hi[i] - hi[i] <= 6.0 + 1e-6);
+        }
+    }
+
     /// Every point's distance to the path of `blocks` (all held, nothing dropped); returns
     /// the segment distances computed.
     fn deviations(blocks: &[Block], pts: &[[f64; 3]], mut f: impl FnMut(usize, f64)) -> usize {
