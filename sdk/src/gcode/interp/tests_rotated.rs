@@ -325,9 +325,10 @@ fn what_stays_refused_names_its_line() {
     assert_eq!(e.line, 3, "{e}");
 }
 
+/// A G19 half turn in a system rotated 45°: the circle's frame has the half turn's sweep and
+/// no rise, and its middle is work Y5 Z−5 (G3 in (Y, Z) from the −Y side goes down) turned.
 #[test]
-fn a_half_turn_frame_is_its_own_reverse() {
-    // (a check of the frame itself: the midpoint of a half turn is a radius off the chord)
+fn a_rotated_g19_half_turn_passes_below_its_centre() {
     let o = ops("G10 L2 P1 R45\nG0 X0 Y0 Z0\nG19 G3 Y10 Z0 J5 K0 F60\nM2\n");
     let f = arcs(&o)[0].kind.normal_arc_frame().unwrap();
     assert!((f.sweep - PI).abs() < 1e-12 && f.rise.abs() < 1e-12);
