@@ -5,7 +5,7 @@
 mod common;
 
 use common::{mcctl, mcctl_peak_rss, xyz_card};
-use motioncard_sdk::gcode::run::{group_position, Hooks, RunSettings, RunState, Runner};
+use motioncard_sdk::gcode::run::{group_position, Hooks, NoHooks, RunSettings, RunState, Runner};
 use motioncard_sdk::gcode::{Op, Options, Pos, Program};
 use motioncard_sdk::Card;
 use std::f64::consts::PI;
@@ -722,4 +722,155 @@ fn subroutines_in_files_on_the_subroutine_path() {
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A card with X, Y, Z and A (axes 0..3, 1000 counts a unit; Z's scale `z_scale`) in group 0,
+/// and the group.
+fn xyza_card(z_scale: f64) -> (Card, motioncard_sdk::Group) {
+    let card = common::stepped_card();
+    for a in 0..4 {
+        let axis = card.axis(a).unwrap();
+        axis.set_scale(if a == 2 { z_scale } else { 1000.0 })
+            .unwrap();
+        axis.enable().unwrap();
+    }
+    let g = card.group(0).unwrap();
+    g.configure(&motioncard_sdk::GroupSettings::new(&[0, 1, 2, 3]))
+        .unwrap();
+    g.enable().unwrap();
+    g.configure_path(&motioncard_sdk::PathSettings::uniform(
+        4, 100.0, 1000.0, 1e5,
+    ))
+    .unwrap();
+    (card, g)
+}
+
+/// A G18 helix in a coordinate system rotated 30° about Z (and moved to X3 Y−4): from work
+/// X0 Z0 about X5 Z0, radius 5, clockwise in (Z, X) three quarters of a turn plus a whole one
+/// (P2), rising 6 mm along the work Y axis while A turns 90°. On the card (one arc about
+/// the rotated Y a turn, `MC_OP_PATH_ARC_NORMAL`) every tick's commanded point, taken back to
+/// work coordinates, is on the cylinder of radius 5 about the work centre within 10⁻⁶ of the
+/// radius, at the height and A the angle turned gives (within 10⁻⁶ relative), and the end is
+/// the program's exactly; the report finds the commanded path on the programmed one; the dry
+/// run gives it as `arc_normal` with its length √((r·θ)² + 6²). On a card whose Z has another
+/// scale, the arc is refused with its line.
+#[test]
+fn a_helix_in_a_rotated_g18_plane_runs_on_its_helix() {
+    let text = "G21 G90 G61\nG10 L2 P1 X3 Y-4 R30\nG0 X0 Y0 Z0 A0\n\
+                G18 G2 X5 Z5 Y6 A90 I5 K0 P2 F1200\nG0 Y10\nM2\n";
+    let (card, g) = xyza_card(1000.0);
+    let opts = Options {
+        start: group_position(&g, "XYZA").unwrap(),
+        ..Options::default()
+    };
+    let settings = RunSettings {
+        axes: "XYZA".into(),
+        ..RunSettings::default()
+    };
+    let mut r = Runner::new(
+        &g,
+        Program::from_text(text, &opts),
+        settings,
+        Ends::default(),
+    )
+    .unwrap();
+    let (s30, c30) = 30f64.to_radians().sin_cos();
+    let work = |m: [f64; 4]| {
+        let (x, y) = (m[0] - 3.0, m[1] + 4.0);
+        [c30 * x + s30 * y, -s30 * x + c30 * y, m[2], m[3]]
+    };
+    let total = 1.75 * 2.0 * PI;
+    let (mut turned, mut last_phi, mut ticks) = (0.0f64, None::<f64>, 0);
+    let (mut worst_r, mut worst_h, mut worst_a) = (0.0f64, 0.0f64, 0.0f64);
+    let mut state = RunState::Running;
+    for _ in 0..2_000_000 {
+        state = r.poll().unwrap();
+        if state == RunState::Done {
+            break;
+        }
+        let on_helix = r.running_line().unwrap() == 4;
+        card.sim().unwrap().step(1);
+        if !on_helix {
+            continue;
+        }
+        let s = card.statuses(&[0, 1, 2, 3]).unwrap();
+        let w = work([0, 1, 2, 3].map(|i| s[i].command_position));
+        // in (Z, X) about (0, 5): the angle from the start's −π/2, clockwise
+        let phi = (w[0] - 5.0).atan2(w[2]);
+        if let Some(p) = last_phi {
+            let mut d = p - phi;
+            if d > PI {
+                d -= 2.0 * PI;
+            } else if d < -PI {
+                d += 2.0 * PI;
+            }
+            turned += d;
+        } else {
+            turned = -PI / 2.0 - phi;
+        }
+        last_phi = Some(phi);
+        let share = turned / total;
+        worst_r = worst_r.max(((w[0] - 5.0).hypot(w[2]) - 5.0).abs() / 5.0);
+        worst_h = worst_h.max((w[1] - 6.0 * share).abs() / 6.0);
+        worst_a = worst_a.max((w[3] - 90.0 * share).abs() / 90.0);
+        ticks += 1;
+    }
+    assert_eq!(state, RunState::Done);
+    println!(
+        "rotated helix: {ticks} ticks, worst radius {worst_r:.2e}, height {worst_h:.2e}, \
+         A {worst_a:.2e} (relative)"
+    );
+    assert!(ticks > 1000, "{ticks}");
+    assert!(
+        (turned - total).abs() < 1e-6,
+        "turned {turned}, want {total}"
+    );
+    assert!(worst_r <= 1e-6 && worst_h <= 1e-6 && worst_a <= 1e-6);
+    // the helix's end, exactly (then the rapid along the work Y to Y10)
+    let ends = std::mem::take(&mut r.hooks_mut().0);
+    let (_, e) = ends.iter().find(|(l, _)| *l == 4).unwrap();
+    let want = [
+        3.0 + 5.0 * c30 - 6.0 * s30,
+        -4.0 + 5.0 * s30 + 6.0 * c30,
+        5.0,
+        90.0,
+    ];
+    assert!(near(&e[..4], &want, 1e-12), "{e:?} vs {want:?}");
+    let s = card.statuses(&[0, 1, 2, 3]).unwrap();
+    let at = [0, 1, 2, 3].map(|i| s[i].command_position);
+    let want = [
+        3.0 + 5.0 * c30 - 10.0 * s30,
+        -4.0 + 5.0 * s30 + 10.0 * c30,
+        5.0,
+        90.0,
+    ];
+    assert!(near(&at, &want, 1e-9), "{at:?} vs {want:?}");
+    let rep = r.report().unwrap().unwrap();
+    println!("rotated helix: report {rep:?}");
+    assert!(rep.max_deviation <= 1e-6, "{rep:?}");
+
+    let dir = tempdir("ghelix");
+    let file = dir.join("helix.ngc");
+    std::fs::write(&file, text).unwrap();
+    let ops = dry_run(&[file.to_str().unwrap()]);
+    let arc = ops.iter().find(|o| o["line"] == 4).unwrap();
+    assert_eq!(arc["kind"], "arc_normal");
+    let length = arc["length"].as_f64().unwrap();
+    let want = (5.0 * total).hypot(6.0);
+    assert!((length - want).abs() <= 1e-12 * want, "{length} vs {want}");
+    let n = ["x", "y", "z"].map(|k| arc["normal"][k].as_f64().unwrap());
+    assert!(near(&n, &[-s30, c30, 0.0], 1e-15), "{n:?}");
+    std::fs::remove_dir_all(&dir).ok();
+
+    // Z with another scale: refused with its line, the motion before it run
+    let (_, g) = xyza_card(500.0);
+    let settings = RunSettings {
+        axes: "XYZA".into(),
+        ..RunSettings::default()
+    };
+    let mut r = Runner::new(&g, Program::from_text(text, &opts), settings, NoHooks).unwrap();
+    match r.run(Duration::from_secs(600)) {
+        Err(motioncard_sdk::Error::Gcode(e)) => assert_eq!(e.line, 4, "{e}"),
+        other => panic!("{other:?}"),
+    }
 }

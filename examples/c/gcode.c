@@ -8,6 +8,7 @@
  * time, deviation, contour and following errors. Last, the spindle on the card's axis 3
  * and flood coolant on output 5: a rigid tap (G33.1) that goes down and comes back to its
  * start with the spindle turning forward again; G33 without a spindle refused with its line.
+ * Last, a helix in the G18 plane of a coordinate system rotated about Z.
  *
  * Positions in mm (scale 1000 counts per mm).
  *
@@ -347,6 +348,35 @@ static void spindle_on_the_card(mc_card c) {
            sp.command_velocity);
 }
 
+/* A helix in a G18 plane of a coordinate system rotated 30 degrees about Z (G10 L2 R30): it
+   runs on the card as an arc about the rotated Y axis (MC_OP_PATH_ARC_NORMAL), 1.75 turns of
+   radius 5 rising 6 mm along that axis, and ends exactly where the rotated system puts the
+   program's end; the run's report finds the commanded path on the programmed helix. */
+static void rotated_helix(mc_card c) {
+    mc_gcode p = 0;
+    CHECK(mc_gcode_load_string(c, G,
+                               "G21 G90 G61\n"
+                               "G10 L2 P1 X3 Y-4 R30\n"
+                               "G54 G0 X0 Y0 Z0\n"
+                               "G18 G2 X5 Z5 Y6 I5 K0 P2 F1200\n"
+                               "M2\n",
+                               NULL, NULL, &p));
+    uint32_t state = 99;
+    CHECK(mc_gcode_run(p, 600000, &state));
+    ASSERT(state == MC_GCODE_DONE, "state %u", state);
+    const double s30 = 0.5, c30 = sqrt(3.0) / 2.0;
+    /* work X5 Y6 Z5 turned 30 degrees, then moved to X3 Y-4 */
+    expect_machine_at(c, 3.0 + 5.0 * c30 - 6.0 * s30, -4.0 + 5.0 * s30 + 6.0 * c30, 5.0,
+                      "at the helix's end");
+    mc_path_report r;
+    CHECK(mc_gcode_report(p, &r));
+    ASSERT(r.max_deviation <= 1e-6, "deviation %g mm", r.max_deviation);
+    ASSERT(r.path_time > 2.5, "path time %f s (55 mm of helix at 20 mm/s)", r.path_time);
+    CHECK(mc_gcode_close(p));
+    printf("G-code rotated helix: ended on the rotated plane's helix, deviation %.2g mm\n",
+           r.max_deviation);
+}
+
 int main(void) {
     mc_card c = 0;
     CHECK(mc_open_sim_stepped(4, RATE, &c));
@@ -367,6 +397,7 @@ int main(void) {
     pause_at_the_end_of_a_block(c);
     refusals(c);
     spindle_on_the_card(c);
+    rotated_helix(c);
 
     CHECK(mc_close(c));
     printf("PASS gcode (%u checks)\n", checks);

@@ -59,6 +59,19 @@ pub fn op_json(op: &Op) -> serde_json::Value {
         | OpKind::Arc { feed, .. }
         | OpKind::Spline { feed, .. }
         | OpKind::Probe { feed, .. } => j["feed"] = (*feed).into(),
+        OpKind::ArcNormal {
+            feed,
+            centre,
+            normal,
+            ccw,
+            ..
+        } => {
+            j["feed"] = (*feed).into();
+            let xyz = |v: &[f64; 3]| serde_json::json!({"x": v[0], "y": v[1], "z": v[2]});
+            j["centre"] = xyz(centre);
+            j["normal"] = xyz(normal);
+            j["ccw"] = (*ccw).into();
+        }
         OpKind::Dwell { seconds } => j["seconds"] = (*seconds).into(),
         OpKind::Spindle { speed, dir } => {
             j["speed"] = (*speed).into();

@@ -30,7 +30,8 @@ mod tools;
 pub use block::{Block, GCode};
 pub use interp::{CompMode, FeedMode, Interp, Options, Units};
 pub use ops::{
-    Blend, Op, OpKind, PauseKind, Plane, Pos, SpindleDir, Spline, AXIS_LETTERS, ZERO_LENGTH,
+    ArcFrame, Blend, Op, OpKind, PauseKind, Plane, Pos, SpindleDir, Spline, AXIS_LETTERS,
+    ZERO_LENGTH,
 };
 pub use params::{Params, Predefined, CALL_PARAMS, MAX_PARAM, PREDEFINED};
 pub use reader::{FileSource, Reader, Source, TextSource, MAX_LINE_BYTES};

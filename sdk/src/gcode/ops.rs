@@ -89,6 +89,27 @@ pub struct Spline {
     pub knots: Vec<f64>,
 }
 
+/// A normal-vector arc's circle ([`OpKind::ArcNormal`]): the point at angle θ and height h
+/// is `centre + radius·(cos θ·u + sin θ·v) + h·axis`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcFrame {
+    /// The centre, in the plane through the start (X, Y, Z).
+    pub centre: [f64; 3],
+    /// Unit, from the centre toward the start.
+    pub u: [f64; 3],
+    /// Unit, in the plane a quarter turn from `u` the way the arc runs.
+    pub v: [f64; 3],
+    /// Unit, `u × v`: the axis the arc turns counter-clockwise about (the op's normal, or
+    /// its reverse for a clockwise arc).
+    pub axis: [f64; 3],
+    /// The radius at the start.
+    pub radius: f64,
+    /// The angle of the partial turn, in (0, 2π] (2π: the end at the start in the plane).
+    pub sweep: f64,
+    /// The end's height above the plane through the start, along `axis`.
+    pub rise: f64,
+}
+
 /// One canonical operation and the 1-based source line it came from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Op {
@@ -122,6 +143,24 @@ pub enum OpKind {
         end: Pos,
         centre: [f64; 3],
         plane: Plane,
+        ccw: bool,
+        turns: u32,
+        feed: f64,
+        blend: Blend,
+    },
+    /// G2/G3 in a plane that is not the plane of two machine axes (G18/G19 in a coordinate
+    /// system rotated about Z, G10 L2 R): a circular arc about `centre` (absolute, in the plane
+    /// through `start`) in the plane through `start` whose unit normal is `normal` (the
+    /// program plane's normal axis in machine coordinates, so that `ccw` turns
+    /// counter-clockwise about it by the right-hand rule, as [`OpKind::Arc`] in its plane).
+    /// What the end has off that plane along `normal` is a helix's rise; A, B, C move
+    /// linearly. `turns` as [`OpKind::Arc`]'s; start and end coinciding in the plane is a
+    /// full turn.
+    ArcNormal {
+        start: Pos,
+        end: Pos,
+        centre: [f64; 3],
+        normal: [f64; 3],
         ccw: bool,
         turns: u32,
         feed: f64,
@@ -204,6 +243,7 @@ impl OpKind {
             OpKind::Rapid { .. } => "rapid",
             OpKind::Feed { .. } => "feed",
             OpKind::Arc { .. } => "arc",
+            OpKind::ArcNormal { .. } => "arc_normal",
             OpKind::Spline { .. } => "spline",
             OpKind::Probe { .. } => "probe",
             OpKind::SpindleSync { .. } => "spindle_sync",
@@ -244,6 +284,7 @@ impl OpKind {
             OpKind::Rapid { start, end, .. }
             | OpKind::Feed { start, end, .. }
             | OpKind::Arc { start, end, .. }
+            | OpKind::ArcNormal { start, end, .. }
             | OpKind::Spline { start, end, .. }
             | OpKind::Probe { start, end, .. }
             | OpKind::SpindleSync { start, end, .. } => Some((start, end)),

@@ -15,8 +15,8 @@ use super::spindle::SpindleUnit;
 use super::{Blend, GcodeError, Op, OpKind, PauseKind, Plane, Pos, Program, Source, SpindleDir};
 use crate::report::{blocks_of, AxisLimits, Block, PathReport, Report, ReportError};
 use crate::{
-    ArcSpec, Error, Group, GroupState, Nurbs, PathBuffer, PathItem, PauseState, Result, Segment,
-    Transition,
+    ArcSpec, Error, Geometry, Group, GroupState, Nurbs, PathBuffer, PathItem, PauseState, Result,
+    Segment, Transition,
 };
 use std::time::{Duration, Instant};
 
@@ -24,7 +24,8 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSettings {
     /// The program's axis letter of each group axis, in group order (`"XYZ"`, `"XYZA"`, …).
-    /// Arcs need X, Y and Z as the group's first three axes.
+    /// Arcs in a plane of two axes need X, Y and Z as the group's first three axes; arcs
+    /// about a normal ([`OpKind::ArcNormal`]) need X, Y and Z in the group, with one scale.
     pub axes: String,
     /// The speed of rapids (G0), mm/s.
     pub rapid_feed: f64,
@@ -742,6 +743,47 @@ impl<S: Source, H: Hooks> Runner<S, H> {
                 out.push(self.arc_segment(id, end, centre, *plane, *ccw, feed(*f), op.line)?);
                 out.into_iter().map(|s| with(s, *blend)).collect()
             }
+            OpKind::ArcNormal {
+                start,
+                end,
+                centre,
+                normal,
+                ccw,
+                turns,
+                feed: f,
+                blend,
+            } => {
+                let axes = self.normal_arc_axes(op.line)?;
+                let total = op.kind.arc_sweep().unwrap_or(std::f64::consts::TAU);
+                let m = normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let n = normal.map(|x| x / m);
+                let rise: f64 = (0..3).map(|i| (end[i] - start[i]) * n[i]).sum();
+                // counter-clockwise about the normal sent (the right-hand rule)
+                let sent = if *ccw { n } else { n.map(|x| -x) };
+                // Full turns first, each ending above where the arc started by its share of
+                // the rise (its centre too: in the plane through the turn's start), A, B, C by
+                // their share; then the arc to its end.
+                let at = |share: f64| -> (Pos, [f64; 3]) {
+                    let p = std::array::from_fn(|i| {
+                        if i < 3 {
+                            start[i] + share * rise * n[i]
+                        } else {
+                            start[i] + share * (end[i] - start[i])
+                        }
+                    });
+                    let c = std::array::from_fn(|i| centre[i] + share * rise * n[i]);
+                    (p, c)
+                };
+                let mut out = Vec::new();
+                for k in 1..=*turns {
+                    let (_, c) = at(f64::from(k - 1) * std::f64::consts::TAU / total);
+                    let (p, _) = at(f64::from(k) * std::f64::consts::TAU / total);
+                    out.push(self.normal_arc_segment(id, axes, &p, c, sent, feed(*f), op.line)?);
+                }
+                let (_, c) = at(f64::from(*turns) * std::f64::consts::TAU / total);
+                out.push(self.normal_arc_segment(id, axes, end, c, sent, feed(*f), op.line)?);
+                out.into_iter().map(|s| with(s, *blend)).collect()
+            }
             OpKind::Spline {
                 spline,
                 feed: f,
@@ -801,6 +843,72 @@ impl<S: Source, H: Hooks> Runner<S, H> {
             ccw,
         };
         Ok(Segment::arc(id, arc, plane, &helix, feed, 0.0))
+    }
+
+    /// The group axes of X, Y and Z for an arc in a plane given by its normal, checked: the
+    /// group has the three, one scale on them (a circle in mm is one in counts), and the card
+    /// runs such arcs (layout 1.12).
+    fn normal_arc_axes(&self, line: usize) -> Result<[usize; 3]> {
+        let refuse = |m: String| Err(Error::Gcode(GcodeError::new(line, m)));
+        let [Some(x), Some(y), Some(z)] = [self.axis_of[0], self.axis_of[1], self.axis_of[2]]
+        else {
+            return refuse(
+                "an arc outside the planes of two machine axes needs X, Y and Z in the group"
+                    .into(),
+            );
+        };
+        let card = self.group.card_pub();
+        let layout = card.info().layout;
+        if layout.1 < 12 {
+            return refuse(format!(
+                "an arc outside the planes of two machine axes (G18/G19 in a rotated coordinate \
+                 system) needs a card of layout 1.12 (this one has 1.{})",
+                layout.1
+            ));
+        }
+        let (_, ids) = self.group.axes()?;
+        let s = [x, y, z].map(|g| card.scale(ids[g]));
+        if s[1] != s[0] || s[2] != s[0] {
+            return refuse(format!(
+                "an arc outside the planes of two machine axes needs one scale on X, Y and Z \
+                 (they have {}, {}, {})",
+                s[0], s[1], s[2]
+            ));
+        }
+        Ok([x, y, z])
+    }
+
+    /// A normal-vector arc's segment to `end` about `centre` (X, Y, Z, in the plane through
+    /// where the segment starts), counter-clockwise about `normal`; the end's height above
+    /// that plane is a rise, the other group axes move to their targets.
+    #[allow(clippy::too_many_arguments)]
+    fn normal_arc_segment(
+        &self,
+        id: u32,
+        axes: [usize; 3],
+        end: &Pos,
+        centre: [f64; 3],
+        normal: [f64; 3],
+        feed: f64,
+        line: usize,
+    ) -> Result<Segment> {
+        let target = self.target(end, line)?;
+        let helix: Vec<f64> = (0..target.len())
+            .filter(|g| !axes.contains(g))
+            .map(|g| target[g])
+            .collect();
+        let end = [end[0], end[1], end[2]];
+        let mut s = Segment::arc_normal(id, axes, normal, centre, end, feed, 0.0);
+        // (the end's height is the interpreter's: a helix's rise, or a rounding)
+        s.geometry = Geometry::ArcNormal {
+            axes,
+            normal,
+            centre,
+            end,
+            rise: true,
+            helix,
+        };
+        Ok(s)
     }
 
     /// Pauses at the end of a block: the card brings the path to rest at the end of the first

@@ -3,7 +3,7 @@
 //! program is read by the SDK's interpreter ([`crate::gcode`]): its canonical
 //! operations become blocks here ([`blocks_of`]), for [`super`] (the path report) and `mcctl run`.
 
-use crate::gcode::{GcodeError, Op, OpKind, Options, Plane, Pos, ZERO_LENGTH};
+use crate::gcode::{Blend, GcodeError, Op, OpKind, Options, Plane, Pos};
 
 /// One block in machine terms. `line` is the 1-based source line; positions are absolute
 /// mm, feeds mm/s.
@@ -41,6 +41,27 @@ pub enum Block {
         /// mm/s.
         feed: f64,
     },
+    /// An arc in a plane that is not the plane of two machine axes (G18/G19 in a coordinate
+    /// system rotated about Z: [`OpKind::ArcNormal`]): about `centre`, in the plane through
+    /// `start` with normal `normal`, counter-clockwise about it when `ccw`; the end's height
+    /// above that plane along the normal is a helix's rise. Start and end coinciding in the
+    /// plane make a full turn.
+    ArcNormal {
+        /// The source line.
+        line: usize,
+        /// Where it starts and ends.
+        start: [f64; 3],
+        /// See `start`.
+        end: [f64; 3],
+        /// The centre (taken into the plane through the start).
+        centre: [f64; 3],
+        /// The plane's normal (any length but 0).
+        normal: [f64; 3],
+        /// Counter-clockwise about `normal`.
+        ccw: bool,
+        /// mm/s.
+        feed: f64,
+    },
     /// G4: wait `seconds`.
     Dwell {
         /// The source line.
@@ -62,44 +83,33 @@ pub enum Block {
     },
 }
 
-/// An arc's geometry in its plane: point(t) for t in [0, 1] is
-/// `centre + radius·(cos θ, sin θ)` in (a, b) with `θ = theta0 + t·sweep`, and
-/// `n0 + t·(n1 − n0)` on the normal axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ArcGeom {
-    /// (first, second, normal) axis indices, as [`Plane::axes`].
-    pub axes: (usize, usize, usize),
-    /// The centre in (a, b).
-    pub centre: [f64; 2],
-    /// mm.
-    pub radius: f64,
-    /// Angle of the start, radians, from the a axis towards b.
-    pub theta0: f64,
-    /// Signed angle travelled: positive counter-clockwise, in (0, 2π] or [−2π, 0).
-    pub sweep: f64,
-    /// Normal-axis coordinate at the start.
-    pub n0: f64,
-    /// Normal-axis coordinate at the end.
-    pub n1: f64,
-}
+/// An arc's geometry ([`Block::arc_geom`]): the point at parameter t in [0, 1] is
+/// `centre + radius·(cos(t·sweep)·u + sin(t·sweep)·v) + t·rise·axis`, `axis` the direction the
+/// arc turns counter-clockwise about (a G2 arc's is its plane's normal reversed), `u` from the
+/// centre toward the start.
+pub type ArcGeom = crate::gcode::ArcFrame;
 
-impl ArcGeom {
-    /// The point at parameter `t` in [0, 1] (clamped): angle and height both linear in `t`.
-    pub fn point(&self, t: f64) -> [f64; 3] {
-        let t = t.clamp(0.0, 1.0);
-        let (a, b, n) = self.axes;
-        let th = self.theta0 + t * self.sweep;
-        let mut p = [0.0; 3];
-        p[a] = self.centre[0] + self.radius * th.cos();
-        p[b] = self.centre[1] + self.radius * th.sin();
-        p[n] = self.n0 + t * (self.n1 - self.n0);
-        p
+/// The circle from `start` about `centre` counter-clockwise about `normal` (`ccw`; else
+/// clockwise) to `end`, whose height above the start's plane is a rise.
+fn arc_frame(
+    start: [f64; 3],
+    end: [f64; 3],
+    centre: [f64; 3],
+    normal: [f64; 3],
+    ccw: bool,
+) -> Option<ArcGeom> {
+    let pos = |p: [f64; 3]| [p[0], p[1], p[2], 0.0, 0.0, 0.0];
+    OpKind::ArcNormal {
+        start: pos(start),
+        end: pos(end),
+        centre,
+        normal,
+        ccw,
+        turns: 0,
+        feed: 0.0,
+        blend: Blend::ExactStop,
     }
-
-    /// Length along the arc or helix.
-    pub fn length(&self) -> f64 {
-        (self.radius * self.sweep).hypot(self.n1 - self.n0)
-    }
+    .normal_arc_frame()
 }
 
 impl Block {
@@ -108,6 +118,7 @@ impl Block {
         match *self {
             Block::Line { line, .. }
             | Block::Arc { line, .. }
+            | Block::ArcNormal { line, .. }
             | Block::Dwell { line, .. }
             | Block::Output { line, .. } => line,
         }
@@ -115,13 +126,18 @@ impl Block {
 
     /// Whether the block moves (a line or an arc).
     pub fn is_motion(&self) -> bool {
-        matches!(self, Block::Line { .. } | Block::Arc { .. })
+        matches!(
+            self,
+            Block::Line { .. } | Block::Arc { .. } | Block::ArcNormal { .. }
+        )
     }
 
     /// Start of a motion block.
     pub fn start(&self) -> Option<[f64; 3]> {
         match *self {
-            Block::Line { start, .. } | Block::Arc { start, .. } => Some(start),
+            Block::Line { start, .. }
+            | Block::Arc { start, .. }
+            | Block::ArcNormal { start, .. } => Some(start),
             _ => None,
         }
     }
@@ -129,52 +145,47 @@ impl Block {
     /// End of a motion block.
     pub fn end(&self) -> Option<[f64; 3]> {
         match *self {
-            Block::Line { end, .. } | Block::Arc { end, .. } => Some(end),
+            Block::Line { end, .. } | Block::Arc { end, .. } | Block::ArcNormal { end, .. } => {
+                Some(end)
+            }
             _ => None,
         }
     }
 
-    /// The geometry of an arc block.
+    /// The geometry of an arc block (`None` for the others, or an arc of no radius).
     pub fn arc_geom(&self) -> Option<ArcGeom> {
-        let Block::Arc {
-            start,
-            end,
-            centre,
-            plane,
-            ccw,
-            ..
-        } = *self
-        else {
-            return None;
-        };
-        let (a, b, n) = plane.axes();
-        let c = [centre[a], centre[b]];
-        let theta0 = (start[b] - c[1]).atan2(start[a] - c[0]);
-        let theta1 = (end[b] - c[1]).atan2(end[a] - c[0]);
-        let full = (end[a] - start[a]).hypot(end[b] - start[b]) <= ZERO_LENGTH;
-        let tau = std::f64::consts::TAU;
-        let sweep = match (full, ccw) {
-            (true, true) => tau,
-            (true, false) => -tau,
-            (false, true) => (theta1 - theta0).rem_euclid(tau),
-            (false, false) => -(theta0 - theta1).rem_euclid(tau),
-        };
-        Some(ArcGeom {
-            axes: (a, b, n),
-            centre: c,
-            radius: (start[a] - c[0]).hypot(start[b] - c[1]),
-            theta0,
-            sweep,
-            n0: start[n],
-            n1: end[n],
-        })
+        match *self {
+            Block::Arc {
+                start,
+                end,
+                centre,
+                plane,
+                ccw,
+                ..
+            } => {
+                let mut normal = [0.0; 3];
+                normal[plane.axes().2] = 1.0;
+                arc_frame(start, end, centre, normal, ccw)
+            }
+            Block::ArcNormal {
+                start,
+                end,
+                centre,
+                normal,
+                ccw,
+                ..
+            } => arc_frame(start, end, centre, normal, ccw),
+            _ => None,
+        }
     }
 
     /// Path length (mm) of a motion block; 0 for the others.
     pub fn length(&self) -> f64 {
         match *self {
             Block::Line { start, end, .. } => dist(start, end),
-            Block::Arc { .. } => self.arc_geom().map_or(0.0, |g| g.length()),
+            Block::Arc { .. } | Block::ArcNormal { .. } => {
+                self.arc_geom().map_or(0.0, |g| g.length())
+            }
             _ => 0.0,
         }
     }
@@ -187,7 +198,7 @@ impl Block {
             Block::Line { start, end, .. } => {
                 Some(std::array::from_fn(|i| start[i] + f * (end[i] - start[i])))
             }
-            Block::Arc { .. } => self.arc_geom().map(|g| g.point(f)),
+            Block::Arc { .. } | Block::ArcNormal { .. } => self.arc_geom().map(|g| g.point(f)),
             _ => None,
         }
     }
@@ -195,7 +206,9 @@ impl Block {
     /// The programmed feed (mm/s) of a motion block (`INFINITY` for a rapid).
     pub fn feed(&self) -> Option<f64> {
         match *self {
-            Block::Line { feed, .. } | Block::Arc { feed, .. } => Some(feed),
+            Block::Line { feed, .. } | Block::Arc { feed, .. } | Block::ArcNormal { feed, .. } => {
+                Some(feed)
+            }
             _ => None,
         }
     }
@@ -206,7 +219,7 @@ impl Block {
 pub struct Blocks {
     /// In program order.
     pub blocks: Vec<Block>,
-    /// Moves no longer than [`ZERO_LENGTH`], dropped.
+    /// Moves no longer than [`ZERO_LENGTH`](crate::gcode::ZERO_LENGTH), dropped.
     pub dropped_zero_length: usize,
 }
 
@@ -324,6 +337,41 @@ pub fn blocks_of(op: &Op, out: &mut Vec<Block>) {
             }
             out.push(arc(from, xyz(end)));
         }
+        OpKind::ArcNormal {
+            start,
+            end,
+            centre,
+            normal,
+            ccw,
+            turns,
+            feed,
+            ..
+        } => {
+            let total = op.kind.arc_sweep().unwrap_or(std::f64::consts::TAU);
+            let rise = op
+                .kind
+                .normal_arc_frame()
+                .map_or([0.0; 3], |f| f.axis.map(|x| x * f.rise));
+            let arc = |start: [f64; 3], end: [f64; 3]| Block::ArcNormal {
+                line,
+                start,
+                end,
+                centre: *centre,
+                normal: *normal,
+                ccw: *ccw,
+                feed: *feed,
+            };
+            // The full turns first, each back above where the arc started, by its share of the
+            // rise (as the runner sends them).
+            let mut from = xyz(start);
+            for k in 1..=*turns {
+                let share = f64::from(k) * std::f64::consts::TAU / total;
+                let to = std::array::from_fn(|i| start[i] + share * rise[i]);
+                out.push(arc(from, to));
+                from = to;
+            }
+            out.push(arc(from, xyz(end)));
+        }
         OpKind::Spline {
             start,
             end,
@@ -384,7 +432,8 @@ mod tests {
         let b = blocks("G0 X10\nG2 X10 Y0 I-10 F60\n");
         assert_eq!(b.len(), 2);
         let g = b[1].arc_geom().unwrap();
-        assert!((g.sweep + 2.0 * PI).abs() < 1e-12);
+        // clockwise: a whole turn about −Z
+        assert!((g.sweep - 2.0 * PI).abs() < 1e-12 && g.axis == [0.0, 0.0, -1.0]);
         assert!((b[1].length() - 20.0 * PI).abs() < 1e-9);
         assert!((dist(b[1].point_at(0.25).unwrap(), [0.0, -10.0, 0.0])) < 1e-9);
     }

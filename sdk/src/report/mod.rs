@@ -67,7 +67,7 @@ pub mod blocks;
 
 pub use blocks::{blocks_of, parse, parse_from, ArcGeom, Block, Blocks};
 use std::collections::VecDeque;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 use std::fmt;
 
 /// Default rest speed (mm/s): a tick whose speed is below it does not move.
@@ -715,7 +715,7 @@ impl Seg {
                 let len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 Some(Seg::Line { a: start, d, len2 })
             }
-            Block::Arc { .. } => b.arc_geom().map(Seg::Arc),
+            Block::Arc { .. } | Block::ArcNormal { .. } => b.arc_geom().map(Seg::Arc),
             _ => None,
         }
     }
@@ -731,22 +731,26 @@ impl Seg {
             Seg::Arc(g) => {
                 b.add(g.point(0.0));
                 b.add(g.point(1.0));
-                let (a, bb, n) = g.axes;
-                // The circle's extreme points in a and b that the arc passes.
-                for k in 0..4 {
-                    let alpha = k as f64 * TAU / 4.0;
-                    let along = if g.sweep > 0.0 {
-                        (alpha - g.theta0).rem_euclid(TAU)
-                    } else {
-                        (g.theta0 - alpha).rem_euclid(TAU)
-                    };
-                    if along <= g.sweep.abs() {
-                        let mut q = [0.0; 3];
-                        q[a] = g.centre[0] + g.radius * alpha.cos();
-                        q[bb] = g.centre[1] + g.radius * alpha.sin();
-                        q[n] = g.n0;
-                        b.add(q);
+                // Each axis's coordinate is the circle's, r·(cos θ·u + sin θ·v), plus the
+                // rise's share: the box holds the circle's extremes on each axis that the arc
+                // passes and its ends' angles, each at the start's height and risen by the whole
+                // rise.
+                let mut angles = vec![0.0, g.sweep];
+                for i in 0..3 {
+                    let phi = g.v[i].atan2(g.u[i]);
+                    for alpha in [phi, phi + PI] {
+                        if alpha.rem_euclid(TAU) <= g.sweep {
+                            angles.push(alpha);
+                        }
                     }
+                }
+                for th in angles {
+                    let (sn, cs) = th.sin_cos();
+                    let q: [f64; 3] = std::array::from_fn(|i| {
+                        g.centre[i] + g.radius * (cs * g.u[i] + sn * g.v[i])
+                    });
+                    b.add(q);
+                    b.add(std::array::from_fn(|i| q[i] + g.rise * g.axis[i]));
                 }
                 // Rounding of the angle tests: a hair of margin.
                 let m = 1e-9 * (1.0 + g.radius);
@@ -777,38 +781,35 @@ impl Seg {
 }
 
 fn arc_distance(g: &ArcGeom, p: [f64; 3], best: f64) -> f64 {
-    let (a, b, n) = g.axes;
-    let q = [p[a] - g.centre[0], p[b] - g.centre[1]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let w = [p[0] - g.centre[0], p[1] - g.centre[1], p[2] - g.centre[2]];
+    // In the arc's frame: (x, y) in its plane from the start's direction, z its height.
+    let q = [dot(w, g.u), dot(w, g.v)];
     let rho = q[0].hypot(q[1]);
-    let z = p[n];
-    let (nlo, nhi) = (g.n0.min(g.n1), g.n0.max(g.n1));
+    let z = dot(w, g.axis);
+    let (n0, n1) = (0.0f64, g.rise);
+    let (nlo, nhi) = (n0.min(n1), n0.max(n1));
     let dz_range = (nlo - z).max(z - nhi).max(0.0);
     // No point of the arc is nearer than this.
     let lower = (rho - g.radius).hypot(dz_range);
     if lower >= best {
         return f64::INFINITY;
     }
-    if g.n1 == g.n0 {
+    if g.rise == 0.0 {
         // A plane circle: the nearest point of the whole circle is at the point's angle.
-        let dz = z - g.n0;
         if rho == 0.0 {
-            return g.radius.hypot(dz);
+            return g.radius.hypot(z);
         }
-        let phi = q[1].atan2(q[0]);
-        let along = if g.sweep > 0.0 {
-            (phi - g.theta0).rem_euclid(TAU)
-        } else {
-            (g.theta0 - phi).rem_euclid(TAU)
-        };
-        if along <= g.sweep.abs() {
-            return (rho - g.radius).hypot(dz);
+        let along = q[1].atan2(q[0]).rem_euclid(TAU);
+        if along <= g.sweep {
+            return (rho - g.radius).hypot(z);
         }
         return dist(p, g.point(0.0)).min(dist(p, g.point(1.0)));
     }
     // A helix: only where its height is within `best` of the point's can it beat `best`.
-    let dn = g.n1 - g.n0;
+    let dn = n1 - n0;
     let (mut t0, mut t1) = if best.is_finite() {
-        let (u, v) = ((z - best - g.n0) / dn, (z + best - g.n0) / dn);
+        let (u, v) = ((z - best - n0) / dn, (z + best - n0) / dn);
         (u.min(v).max(0.0), u.max(v).min(1.0))
     } else {
         (0.0, 1.0)
@@ -817,15 +818,15 @@ fn arc_distance(g: &ArcGeom, p: [f64; 3], best: f64) -> f64 {
         return f64::INFINITY;
     }
     let d2 = |t: f64| {
-        let th = g.theta0 + t * g.sweep;
+        let th = t * g.sweep;
         let e = [
             q[0] - g.radius * th.cos(),
             q[1] - g.radius * th.sin(),
-            z - (g.n0 + t * dn),
+            z - (n0 + t * dn),
         ];
         e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
     };
-    let samples = ((t1 - t0) * g.sweep.abs() / TAU * HELIX_SAMPLES_PER_TURN)
+    let samples = ((t1 - t0) * g.sweep / TAU * HELIX_SAMPLES_PER_TURN)
         .ceil()
         .clamp(4.0, 1e5) as usize;
     let h = (t1 - t0) / samples as f64;
@@ -1095,6 +1096,52 @@ mod tests {
             ),
             None
         );
+    }
+
+    /// A G18 helix in a coordinate system rotated 30° about Z is an arc about the rotated Y
+    /// (a [`Block::ArcNormal`]): every point's distance to it is the distance of the point
+    /// turned back to the same helix unrotated (a plane arc), and its bounding box holds
+    /// every point of it and is no more than the rise wider on any side.
+    #[test]
+    fn an_oblique_helix_measures_as_the_plane_helix_turned() {
+        // from Z30 X0 about Z25 X0: a full clockwise turn in (Z, X), Y falling 6 mm
+        let body = "G0 Z30\nG18 G2 Z30 X0 Y-6 K-5 F600\n";
+        let plain = program(body)[1];
+        let turned = program(&format!("G10 L2 P1 R30\n{body}"))[1];
+        assert!(matches!(plain, Block::Arc { .. }), "{plain:?}");
+        assert!(matches!(turned, Block::ArcNormal { .. }), "{turned:?}");
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let turn = |p: [f64; 3]| [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]];
+        assert!((plain.length() - turned.length()).abs() < 1e-12);
+        assert!((turned.length() - (10.0 * PI).hypot(6.0)).abs() < 1e-12);
+        let mut worst = 0.0f64;
+        for k in 0..40 {
+            let t = k as f64 / 39.0;
+            let q = plain.point_at(t).unwrap();
+            for (dx, dy, dz) in [(0.3, 0.0, 0.0), (0.0, -0.7, 0.2), (-2.0, 1.5, 3.0)] {
+                let p = [q[0] + dx, q[1] + dy, q[2] + dz];
+                let a = distance_to_block(&plain, p).unwrap();
+                let b = distance_to_block(&turned, turn(p)).unwrap();
+                worst = worst.max((a - b).abs());
+            }
+            let d = dist(turned.point_at(t).unwrap(), turn(q));
+            assert!(d < 1e-12, "t {t}: {d}");
+        }
+        assert!(worst < 1e-9, "{worst}");
+        let bx = Seg::new(&turned).unwrap().bounds();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for k in 0..=4000 {
+            let p = turned.point_at(k as f64 / 4000.0).unwrap();
+            for i in 0..3 {
+                assert!(bx.lo[i] <= p[i] && p[i] <= bx.hi[i], "{p:?} outside {bx:?}");
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        for i in 0..3 {
+            // (conservative by at most the rise on each axis)
+            assert!(lo[i] - bx.lo[i] <= 6.0 + 1e-6 && bx.hi[i] - hi[i] <= 6.0 + 1e-6);
+        }
     }
 
     /// Every point's distance to the path of `blocks` (all held, nothing dropped); returns

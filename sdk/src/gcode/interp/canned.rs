@@ -19,10 +19,13 @@
 //! from the bottom in G91); in G18/G19 the plane's axes take the letters of their axes (K and
 //! I in G18, J and K in G19) and the normal's letter gives the top. The clearance level is
 //! the initial level (G98) or R (G99); the initial level is kept while cycles follow each
-//! other. Every move of a cycle runs in exact path mode (G61.1), as in LinuxCNC.
+//! other. Every move of a cycle runs in exact path mode (G61.1), as in LinuxCNC. The cycle's
+//! points are work coordinates, each taken to the machine through the frame in effect, so in a
+//! coordinate system rotated about Z (G10 L2 R) a G18 or G19 cycle turns with it: it drills
+//! along the rotated Y or X axis.
 
 use super::{err, gname, CompMode, FeedMode, Interp};
-use crate::gcode::{Blend, Block, GCode, GcodeError, Op, OpKind, Plane, Pos, SpindleDir};
+use crate::gcode::{Blend, Block, GCode, GcodeError, Op, OpKind, Pos, SpindleDir};
 
 /// LinuxCNC's default peck clearance of G73 and G83 on a metric machine (mm).
 const PECK_CLEARANCE_MM: f64 = 1.0;
@@ -136,12 +139,6 @@ impl Interp {
             return err(
                 line,
                 "canned cycles cannot run with cutter radius compensation on",
-            );
-        }
-        if self.rotation != 0.0 && self.plane != Plane::Xy {
-            return err(
-                line,
-                "a canned cycle outside the XY plane in a coordinate system rotated about Z",
             );
         }
         let same = self.motion == Some(g);

@@ -142,7 +142,7 @@ impl Interp {
         pieces: Vec<(Offset, bool, Payload)>,
         out: &mut Vec<Op>,
     ) -> Result<(), GcodeError> {
-        let (a, bb, n) = self.plane.axes();
+        let (a, bb, _) = self.plane.axes();
         for (piece, corner, pay) in pieces {
             let frame = pay.frame;
             let start = self.position;
@@ -176,22 +176,15 @@ impl Interp {
                             "a corner arc of cutter compensation on a rapid needs a feed rate (F)",
                         );
                     }
-                    let mut c = end_w;
-                    c[a] = centre[0];
-                    c[bb] = centre[1];
-                    let cm = frame.to_machine(c);
-                    let mut centre3 = [cm[0], cm[1], cm[2]];
-                    centre3[n] = start[n];
-                    OpKind::Arc {
-                        start,
-                        end,
-                        centre: centre3,
-                        plane: self.plane,
-                        ccw,
-                        turns: 0,
-                        feed: pay.feed,
-                        blend: pay.blend,
-                    }
+                    let (kind, _) = super::motion::arc_op(
+                        frame,
+                        self.plane,
+                        (start, end_w),
+                        centre,
+                        (ccw, 0),
+                        (pay.feed, pay.blend),
+                    );
+                    kind
                 }
             };
             out.push(Op {

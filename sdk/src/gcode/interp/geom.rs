@@ -1,13 +1,17 @@
 //! Lengths of motions: lines, arcs (with their extra turns and helix), splines (integrated
 //! numerically), and NURBS evaluation.
 
-use super::motion::{distances, sweep};
-use crate::gcode::{OpKind, Spline};
+use super::motion::{distances, sweep, SAME_POINT_MM};
+use crate::gcode::{ArcFrame, OpKind, Spline};
 
 impl OpKind {
     /// The angle an arc turns through (radians, > 0), its extra turns included; `None` for
     /// what is not an arc.
     pub fn arc_sweep(&self) -> Option<f64> {
+        if let OpKind::ArcNormal { turns, .. } = self {
+            let f = self.normal_arc_frame()?;
+            return Some(f.sweep + std::f64::consts::TAU * f64::from(*turns));
+        }
         let OpKind::Arc {
             start,
             end,
@@ -67,9 +71,98 @@ impl OpKind {
                 let (_, ang) = distances(*start, *end);
                 pick(lin, ang)
             }
+            OpKind::ArcNormal { start, end, .. } => {
+                let f = self.normal_arc_frame()?;
+                let lin = (f.radius * self.arc_sweep()?).hypot(f.rise);
+                let (_, ang) = distances(*start, *end);
+                pick(lin, ang)
+            }
             OpKind::Spline { spline, .. } => spline_length(spline),
             _ => return None,
         })
+    }
+}
+
+impl OpKind {
+    /// The circle of an [`OpKind::ArcNormal`] (`None` for anything else, or a normal or
+    /// radius of zero).
+    pub fn normal_arc_frame(&self) -> Option<ArcFrame> {
+        let OpKind::ArcNormal {
+            start,
+            end,
+            centre,
+            normal,
+            ccw,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let m = dot(*normal, *normal).sqrt();
+        if !(m > 0.0 && m.is_finite()) {
+            return None;
+        }
+        let sign = if *ccw { 1.0 / m } else { -1.0 / m };
+        let axis = normal.map(|x| x * sign);
+        let s = [start[0], start[1], start[2]];
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        // the centre into the plane through the start
+        let hc = dot(sub(*centre, s), axis);
+        let c = [
+            centre[0] - hc * axis[0],
+            centre[1] - hc * axis[1],
+            centre[2] - hc * axis[2],
+        ];
+        let r0 = sub(s, c);
+        let radius = dot(r0, r0).sqrt();
+        if !(radius > 0.0 && radius.is_finite()) {
+            return None;
+        }
+        let u = r0.map(|x| x / radius);
+        let v = [
+            axis[1] * u[2] - axis[2] * u[1],
+            axis[2] * u[0] - axis[0] * u[2],
+            axis[0] * u[1] - axis[1] * u[0],
+        ];
+        let e = sub([end[0], end[1], end[2]], c);
+        let (x, y) = (dot(e, u), dot(e, v));
+        let sweep = if (x - radius).hypot(y) < SAME_POINT_MM {
+            std::f64::consts::TAU
+        } else {
+            match y.atan2(x).rem_euclid(std::f64::consts::TAU) {
+                d if d > 0.0 => d,
+                _ => std::f64::consts::TAU,
+            }
+        };
+        Some(ArcFrame {
+            centre: c,
+            u,
+            v,
+            axis,
+            radius,
+            sweep,
+            rise: dot(e, axis),
+        })
+    }
+}
+
+impl ArcFrame {
+    /// The point a fraction `t` (clamped to [0, 1]) of the way: angle and height both linear
+    /// in `t`.
+    pub fn point(&self, t: f64) -> [f64; 3] {
+        let t = t.clamp(0.0, 1.0);
+        let (s, c) = (t * self.sweep).sin_cos();
+        std::array::from_fn(|i| {
+            self.centre[i]
+                + self.radius * (c * self.u[i] + s * self.v[i])
+                + t * self.rise * self.axis[i]
+        })
+    }
+
+    /// Length along the arc or helix (of its partial turn).
+    pub fn length(&self) -> f64 {
+        (self.radius * self.sweep).hypot(self.rise)
     }
 }
 

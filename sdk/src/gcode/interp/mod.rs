@@ -39,7 +39,10 @@
 //! A program (work) position `p` is at machine position `R(p + g92) + origin + tool`: the G92
 //! offset, then the coordinate system's rotation about Z (its R word) and its origin, then the
 //! tool offset ([`coords::Frame`]). The interpreter's truth is the machine position; the
-//! program position is derived from it, so changing an offset never moves the machine.
+//! program position is derived from it, so changing an offset never moves the machine. A
+//! rotation keeps G17 arcs in the machine's XY plane; a G18 or G19 arc in a rotated system
+//! is in an oblique plane and becomes an [`OpKind::ArcNormal`] about the plane's normal
+//! turned into the machine (`motion::arc_op`).
 //!
 //! # Order of execution within a line
 //!
@@ -64,6 +67,8 @@ mod tests;
 mod tests_comp;
 #[cfg(test)]
 mod tests_more;
+#[cfg(test)]
+mod tests_rotated;
 
 use super::comp::{Compensator, Side};
 use super::{Blend, Block, Flow, GCode, GcodeError, Op, OpKind, Params, Plane, Pos, SpindleDir};

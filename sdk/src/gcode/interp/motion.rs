@@ -1,9 +1,10 @@
 //! Motion: G0, G1, G2/G3, G33/G33.1, G38.x, with G53, feed modes and cutter compensation.
 
+use super::coords::{rotate, Frame};
 use super::modal::Line;
 use super::{err, gname, FeedMode, Interp, Payload, PendingProbe, Units};
 use crate::gcode::comp::Piece;
-use crate::gcode::{Block, GCode, GcodeError, Op, OpKind, Plane, Pos};
+use crate::gcode::{Blend, Block, GCode, GcodeError, Op, OpKind, Plane, Pos};
 use std::f64::consts::PI;
 
 /// Two points closer than this in the plane (mm) are the same point (LinuxCNC's
@@ -203,9 +204,6 @@ impl Interp {
     fn arc(&mut self, b: &Block, ccw: bool, out: &mut Vec<Op>) -> Result<(), GcodeError> {
         let line = b.line;
         let (a, bb, n) = self.plane.axes();
-        // In a coordinate system rotated about Z, an arc outside the XY plane is in an
-        // oblique plane of the machine: it runs as its exact rational NURBS.
-        let oblique = self.rotation != 0.0 && self.plane != Plane::Xy;
         let offs = ['I', 'J', 'K'];
         if let Some(v) = b.word(offs[n]) {
             return err(
@@ -325,47 +323,6 @@ impl Interp {
         let normal = end[n] - start[n];
         let lin = if n < 3 { along.hypot(normal) } else { along };
         let (_, ang) = distances(start, end);
-        if oblique {
-            if self.comp.is_some() {
-                return err(
-                    line,
-                    "cutter radius compensation on an arc outside the XY plane",
-                );
-            }
-            if (0..6).any(|i| i != a && i != bb && end[i] != start[i]) {
-                return err(
-                    line,
-                    "a helix (or an arc moving A, B, C) outside the XY plane in a coordinate \
-                     system rotated about Z",
-                );
-            }
-            let theta = if ccw { theta } else { -theta };
-            let spline = arc_nurbs(start, [a, bb], centre, radius, theta, e);
-            let feed = self.feed_rate(b, lin, ang)?;
-            let frame = self.frame();
-            let spline = crate::gcode::Spline {
-                points: spline
-                    .points
-                    .into_iter()
-                    .map(|p| frame.to_machine(p))
-                    .collect(),
-                ..spline
-            };
-            let start_m = self.position;
-            let end_m = frame.to_machine(end);
-            out.push(Op {
-                line,
-                kind: OpKind::Spline {
-                    start: start_m,
-                    end: end_m,
-                    spline,
-                    feed,
-                    blend: self.blend,
-                },
-            });
-            self.position = end_m;
-            return Ok(());
-        }
         if self.comp.is_some() {
             if turns > 0 {
                 return err(
@@ -393,28 +350,16 @@ impl Interp {
             );
         }
         let feed = self.feed_rate(b, lin, ang)?;
-        let frame = self.frame();
-        let mut cw = start;
-        cw[a] = centre[0];
-        cw[bb] = centre[1];
-        let cm = frame.to_machine(cw);
         let start_m = self.position;
-        let end_m = frame.to_machine(end);
-        let mut c3 = [cm[0], cm[1], cm[2]];
-        c3[n] = start_m[n];
-        out.push(Op {
-            line,
-            kind: OpKind::Arc {
-                start: start_m,
-                end: end_m,
-                centre: c3,
-                plane: self.plane,
-                ccw,
-                turns,
-                feed,
-                blend: self.blend,
-            },
-        });
+        let (kind, end_m) = arc_op(
+            self.frame(),
+            self.plane,
+            (start_m, end),
+            centre,
+            (ccw, turns),
+            (feed, self.blend),
+        );
+        out.push(Op { line, kind });
         self.position = end_m;
         Ok(())
     }
@@ -493,54 +438,59 @@ impl Interp {
     }
 }
 
-/// The arc from `start` (work coordinates) about `centre` (in the plane of axes `uv`) of
-/// signed sweep `theta` (positive counter-clockwise in (u, v)), ending at `end` (u, v), as a
-/// rational quadratic NURBS: pieces of at most 90°, each with its middle control point at the
-/// crossing of the piece's end tangents and weight cos(half its sweep), which is exactly the
-/// circle (Piegl & Tiller, The NURBS Book, §7.5). The other axes stay at `start`'s.
-pub(super) fn arc_nurbs(
-    start: Pos,
-    uv: [usize; 2],
+/// The operation of an arc through `frame` (work → machine) from `ends.0` (machine) to
+/// `ends.1` (work) about `centre` (the plane's two coordinates, work), and its end in machine
+/// coordinates. In a plane of two machine axes (no rotation, or G17: a rotation about Z keeps
+/// the XY plane) an [`OpKind::Arc`] (its centre's normal coordinate the start's); otherwise
+/// (G18, G19 in a coordinate system rotated about Z) an [`OpKind::ArcNormal`]: the centre in
+/// the plane through the start, the normal the plane's normal axis turned by the rotation.
+pub(super) fn arc_op(
+    frame: Frame,
+    plane: Plane,
+    ends: (Pos, Pos),
     centre: [f64; 2],
-    radius: f64,
-    theta: f64,
-    end: [f64; 2],
-) -> crate::gcode::Spline {
-    let pieces = ((theta.abs() / (0.5 * PI)) - 1e-9).ceil().max(1.0) as usize;
-    let d = theta / pieces as f64;
-    let a0 = (start[uv[1]] - centre[1]).atan2(start[uv[0]] - centre[0]);
-    let at = |ang: f64, r: f64| {
-        let mut p = start;
-        p[uv[0]] = centre[0] + r * ang.cos();
-        p[uv[1]] = centre[1] + r * ang.sin();
-        p
+    (ccw, turns): (bool, u32),
+    (feed, blend): (f64, Blend),
+) -> (OpKind, Pos) {
+    let (start, end_w) = ends;
+    let (a, b, n) = plane.axes();
+    let mut cw = frame.to_work(start);
+    cw[a] = centre[0];
+    cw[b] = centre[1];
+    let cm = frame.to_machine(cw);
+    let end = frame.to_machine(end_w);
+    let mut c3 = [cm[0], cm[1], cm[2]];
+    if frame.rotation == 0.0 || plane == Plane::Xy {
+        c3[n] = start[n];
+        let kind = OpKind::Arc {
+            start,
+            end,
+            centre: c3,
+            plane,
+            ccw,
+            turns,
+            feed,
+            blend,
+        };
+        return (kind, end);
+    }
+    let mut axis = [0.0; 6];
+    axis[n] = 1.0;
+    let nm = rotate(axis, frame.rotation);
+    let normal = [nm[0], nm[1], nm[2]];
+    // (the work centre has the start's normal coordinate: the machine one is in the plane
+    // through the start, to the rounding of the transform, which the card takes up)
+    let kind = OpKind::ArcNormal {
+        start,
+        end,
+        centre: c3,
+        normal,
+        ccw,
+        turns,
+        feed,
+        blend,
     };
-    let w = (0.5 * d).cos();
-    let mut points = vec![start];
-    let mut weights = vec![1.0];
-    let mut knots = vec![0.0; 3];
-    for i in 0..pieces {
-        let phi = a0 + d * i as f64;
-        points.push(at(phi + 0.5 * d, radius / w));
-        weights.push(w);
-        let mut p = at(phi + d, radius);
-        if i + 1 == pieces {
-            p[uv[0]] = end[0];
-            p[uv[1]] = end[1];
-        } else {
-            let k = (i + 1) as f64 / pieces as f64;
-            knots.extend([k, k]);
-        }
-        points.push(p);
-        weights.push(1.0);
-    }
-    knots.extend([1.0; 3]);
-    crate::gcode::Spline {
-        degree: 2,
-        points,
-        weights,
-        knots,
-    }
+    (kind, end)
 }
 
 /// "XY" (G17), "XZ" (G18), "YZ" (G19).

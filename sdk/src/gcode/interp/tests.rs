@@ -398,11 +398,12 @@ fn g10_l2_r_rotates_the_system_about_z() {
 /// A G19 arc in a system rotated 90° about Z (R90: work Y is machine −X): the arc in work
 /// YZ from Y0 Z0 about Y5 Z0 through a half turn to Y10 Z0, G3 (counter-clockwise seen from
 /// +X, Y toward Z: from the circle's −Y side it goes down, through Z−5). In machine
-/// coordinates that is the vertical XZ plane at Y0: every point of the curve is 5 mm from
-/// machine (5, 0, 0) (the centre, work (0, 5, 0)), and its length is 5π. A 270° G18 arc
-/// (three pieces of 90°) ends where the program says. A helix there is refused with its line.
+/// coordinates that is the vertical XZ plane at Y0: an arc about machine (5, 0, 0) (the
+/// centre, work (0, 5, 0)) whose normal is work X turned, machine +Y; every point of it is
+/// 5 mm from the centre, and its length is 5π. A 270° G18 arc rotated 30° ends where the
+/// program says, and a helix there runs too.
 #[test]
-fn an_arc_outside_xy_in_a_rotated_system_runs_as_its_exact_nurbs() {
+fn an_arc_outside_xy_in_a_rotated_system_runs_about_its_turned_normal() {
     let r = run(&[
         "G10 L2 P1 X10 R90",
         "G0 X0 Y0 Z0",
@@ -411,19 +412,28 @@ fn an_arc_outside_xy_in_a_rotated_system_runs_as_its_exact_nurbs() {
     .unwrap();
     let k = r.motion(3);
     match k {
-        OpKind::Spline { spline, end, .. } => {
-            assert_eq!(spline.degree, 2);
+        OpKind::ArcNormal {
+            start,
+            end,
+            centre,
+            normal,
+            ccw,
+            ..
+        } => {
             // work (x, y, z) -> machine (10 - y, x, z)
+            assert_pos(*start, [10.0, 0.0, 0.0]);
             assert_pos(*end, [0.0, 0.0, 0.0]);
-            assert_pos(spline.points[0], [10.0, 0.0, 0.0]);
+            assert_pos(*centre, [5.0, 0.0, 0.0]);
+            assert_pos(*normal, [0.0, 1.0, 0.0]);
+            assert!(*ccw);
+            let f = k.normal_arc_frame().unwrap();
             for i in 0..=50 {
-                let p = super::geom::spline_point(spline, i as f64 / 50.0);
-                // the centre: work (0, 5, 0) -> machine (5, 0, 0)
+                let p = f.point(i as f64 / 50.0);
                 let r = (p[0] - 5.0).hypot(p[2]);
                 assert!(close(r, 5.0) && p[1].abs() < 1e-12, "{p:?}");
                 // through work Z−5 at the middle
                 if i == 25 {
-                    assert_pos([p[0], p[1], p[2]], [5.0, 0.0, -5.0]);
+                    assert_pos(p, [5.0, 0.0, -5.0]);
                 }
             }
         }
@@ -431,14 +441,14 @@ fn an_arc_outside_xy_in_a_rotated_system_runs_as_its_exact_nurbs() {
     }
     let len = k.length().unwrap();
     assert!((len - 5.0 * PI).abs() <= 1e-9 * len, "{len}");
-    // G18 (Z, X), rotated 30°: a 270° G2 in three pieces of 90°, ending on the program's end
+    // G18 (Z, X), rotated 30°: a 270° G2, ending on the program's end
     let r = run(&["G10 L2 P1 R30", "G0 X0 Y0 Z0", "G18 G2 X5 Z5 I5 K0 F60"]).unwrap();
-    match r.motion(3) {
-        OpKind::Spline { spline, end, .. } => {
-            assert_eq!(spline.points.len(), 7, "three 90° pieces");
-            let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let k = r.motion(3);
+    match k {
+        OpKind::ArcNormal { end, .. } => {
             assert_pos(*end, [5.0 * c, 5.0 * s, 5.0]);
-            let mid = super::geom::spline_point(spline, 0.5);
+            let mid = k.normal_arc_frame().unwrap().point(0.5);
             // on the circle about work (5, 0, 0) in the rotated XZ plane
             let w = [mid[0] * c + mid[1] * s, -mid[0] * s + mid[1] * c, mid[2]];
             assert!(
@@ -448,8 +458,9 @@ fn an_arc_outside_xy_in_a_rotated_system_runs_as_its_exact_nurbs() {
         }
         k => panic!("{k:?}"),
     }
-    let e = run_err(&["G10 L2 P1 R30", "G0 X0 Y0 Z0", "G18 G2 X5 Z5 Y3 I5 K0 F60"]);
-    assert_eq!(e.line, 3);
+    assert!(close(k.length().unwrap(), 7.5 * PI));
+    let r = run(&["G10 L2 P1 R30", "G0 X0 Y0 Z0", "G18 G2 X5 Z5 Y3 I5 K0 F60"]).unwrap();
+    assert!(close(r.motion(3).length().unwrap(), (7.5 * PI).hypot(3.0)));
 }
 
 #[test]
