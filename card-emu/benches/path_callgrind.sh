@@ -5,6 +5,7 @@
 # machine's load, unlike the wall clock: compare changes with them. Each is counted in a run of
 # its own (callgrind collecting only inside that call), since the engine's calls are inlined
 # into them and a profile's per-function figures split inlined code by source file.
+# (The engine is generic over its dimension, `Path<D>`: its methods' symbols read `Path<_>`.)
 #
 #   card-emu/benches/path_callgrind.sh [bench arguments]
 #
@@ -23,9 +24,9 @@ count() {
         "$exe" --once "${@:2}" >/dev/null 2>&1
     sed -n 's/^summary: *//p' "$out"
 }
-push=$(count '*Path>::push' "$@")
-plan=$(count '*Path>::tick_plan' "$@" 2>/dev/null)
-move=$(count '*Path>::tick_move' "$@" 2>/dev/null)
+push=$(count '*Path<_>>::push' "$@")
+plan=$(count '*Path<_>>::tick_plan' "$@" 2>/dev/null)
+move=$(count '*Path<_>>::tick_move' "$@" 2>/dev/null)
 ticks=$("$exe" --once "$@" | sed -n 's/.* \([0-9]*\) ticks.*/\1/p')
 awk -v p="$push" -v l="$plan" -v m="$move" -v ticks="$ticks" -v segs=10000 'BEGIN {
     printf "ticks %d (%.2f per segment)\n", ticks, ticks / segs

@@ -41,7 +41,7 @@ pub(super) fn cubic_cap(p: f64, q: f64, r: f64) -> f64 {
     v
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// `min(cap, the cap of axis k)` at a point of tangent `t`, curvature `kk` and its
     /// derivative `dk` on that axis.
     #[inline(always)]
@@ -83,7 +83,7 @@ impl Path {
     /// `min(cap, the cap of blend b at parameter u)`.
     #[cfg(test)]
     #[inline(always)]
-    pub(super) fn blend_cap_at(&self, b: &Blend, u: f64, cap: f64) -> f64 {
+    pub(super) fn blend_cap_at(&self, b: &Blend<D>, u: f64, cap: f64) -> f64 {
         let mut cap = cap;
         b.each_term(u, |k, t, kk, dk| cap = self.axis_cap(k, t, kk, dk, cap));
         cap
@@ -106,7 +106,7 @@ impl Path {
 
     /// Cap of a body on [s0, s1].
     #[inline(always)]
-    pub(super) fn body_cap(&self, p: &Prog, s0: f64, s1: f64) -> f64 {
+    pub(super) fn body_cap(&self, p: &Prog<D>, s0: f64, s1: f64) -> f64 {
         match p {
             // its direction, no curvature: each axis's velocity limit, exactly (a line needs
             // no sampling margin, and its tangential limits are its own: `piece_lim`)
@@ -131,7 +131,7 @@ impl Path {
     #[inline(always)]
     pub(super) fn body_terms(
         &self,
-        p: &Prog,
+        p: &Prog<D>,
         s0: f64,
         s1: f64,
         mut f: impl FnMut(usize, f64, f64, f64),
@@ -162,7 +162,7 @@ impl Path {
     /// that its velocity terms are within 4e-5 of their largest: its velocity limits take
     /// [`ARC_VEL_MARGIN`]; the others' all take [`CAP_MARGIN`].
     #[inline(always)]
-    pub(super) fn curved_cap(&self, p: &Prog, s0: f64, s1: f64, (at, jt): (f64, f64)) -> f64 {
+    pub(super) fn curved_cap(&self, p: &Prog<D>, s0: f64, s1: f64, (at, jt): (f64, f64)) -> f64 {
         let vm = match p {
             Prog::Helix(_) => ARC_VEL_MARGIN,
             _ => CAP_MARGIN,
@@ -182,7 +182,7 @@ impl Path {
     /// whole limit), and the cap is what those leave. (Out of line: the lines' push, the common
     /// one, is built without it.)
     #[inline(never)]
-    pub(super) fn curved_lim(&self, p: &Prog, s0: f64, s1: f64, feed: f64) -> (Lim, f64) {
+    pub(super) fn curved_lim(&self, p: &Prog<D>, s0: f64, s1: f64, feed: f64) -> (Lim, f64) {
         let shares = Lim {
             a: self.at,
             j: self.jt,
@@ -234,7 +234,7 @@ impl Path {
     /// jerk limits projected onto its direction (within the group's tangential limits if
     /// set); a curved one's, the shares its cap was computed with.
     #[inline(always)]
-    pub(super) fn piece_lim(&self, p: &Prog) -> Lim {
+    pub(super) fn piece_lim(&self, p: &Prog<D>) -> Lim {
         let curved = Lim {
             a: self.at,
             j: self.jt,
@@ -265,7 +265,7 @@ impl Path {
 
     /// The cap of blend `b`: the smallest of `samples` + 1 evenly spaced parameters'.
     #[inline(always)]
-    pub(super) fn blend_cap(&self, b: &Blend, samples: usize) -> f64 {
+    pub(super) fn blend_cap(&self, b: &Blend<D>, samples: usize) -> f64 {
         // (both widths are in both builds; each build runs its own: `v3.rs`)
         if self.v3 {
             self.blend_cap_l::<LANES_V3>(b, samples)
@@ -275,12 +275,12 @@ impl Path {
     }
 
     #[inline(always)]
-    pub(super) fn blend_cap_l<const L: usize>(&self, b: &Blend, samples: usize) -> f64 {
+    pub(super) fn blend_cap_l<const L: usize>(&self, b: &Blend<D>, samples: usize) -> f64 {
         match b.axes() {
             1 => self.blend_cap_n::<1, L>(b, samples),
             2 => self.blend_cap_n::<2, L>(b, samples),
             3 => self.blend_cap_n::<3, L>(b, samples),
-            _ => self.blend_cap_n::<MAX_AXES, L>(b, samples),
+            _ => self.blend_cap_n::<D, L>(b, samples),
         }
     }
 
@@ -295,7 +295,7 @@ impl Path {
     #[inline(always)]
     pub(super) fn blend_cap_n<const N: usize, const L: usize>(
         &self,
-        b: &Blend,
+        b: &Blend<D>,
         samples: usize,
     ) -> f64 {
         let l = &self.lim;
@@ -382,7 +382,7 @@ impl Path {
     }
 
     /// Most a blend may trim off `p` at one end (share, angle).
-    pub(super) fn room(p: &Prog) -> f64 {
+    pub(super) fn room(p: &Prog<D>) -> f64 {
         let l = p.len();
         match p {
             Prog::Helix(h) => (MAX_TRIM_SHARE * l).min(MAX_TRIM_ANGLE * l / h.sweep().abs()),
@@ -393,10 +393,10 @@ impl Path {
     /// Upper bound of the distance between `b` and the programmed geometry it replaces (the
     /// last `d` of `pa`, the first `d` of `pb`): the blend sampled against chords of the
     /// geometry, plus their sagitta.
-    pub(super) fn deviation(n: usize, b: &Blend, pa: &Prog, pb: &Prog, d: f64) -> f64 {
+    pub(super) fn deviation(n: usize, b: &Blend<D>, pa: &Prog<D>, pb: &Prog<D>, d: f64) -> f64 {
         const M: usize = 32;
         let la = pa.len();
-        let mut pts = [[0.0; MAX_AXES]; 2 * M + 1];
+        let mut pts = [[0.0; D]; 2 * M + 1];
         for (i, q) in pts.iter_mut().enumerate() {
             *q = if i <= M {
                 pa.pos(la - d + d * i as f64 / M as f64)

@@ -16,7 +16,7 @@
 //! `SegmentEnd` for the curve, its outputs carried from piece to piece, its `Distance` outputs
 //! measured from the curve's start.
 
-use super::{BlendSpeed, Path, PathError, Prog, Seg, Transition, MAX_AXES, V};
+use super::{BlendSpeed, Path, PathError, Prog, Seg, Transition, V};
 use crate::math;
 use crate::motion::nurbs::Nurbs;
 use crate::motion::path::geom::Blend;
@@ -44,17 +44,17 @@ pub struct CurveSegment<'a> {
 /// One piece: the quintic on [ua, ub] of knot span `span`, starting at `start` (else at the
 /// curve's point), its end point (the curve's) and its largest sampled distance from the
 /// curve. None where the curve stops (a zero tangent) or the quintic is not finite.
-fn piece(
+fn piece<const D: usize>(
     n: usize,
     c: &Nurbs,
     span: usize,
     (ua, ub): (f64, f64),
-    start: Option<&V>,
-) -> Option<(Blend, V, f64)> {
+    start: Option<&V<D>>,
+) -> Option<(Blend<D>, V<D>, f64)> {
     let h = ub - ua;
     let ends = |u: f64| {
         let (p, d, dd) = c.eval_in_span(span, u);
-        let (mut a, mut b, mut e) = ([0.0; MAX_AXES], [0.0; MAX_AXES], [0.0; MAX_AXES]);
+        let (mut a, mut b, mut e) = ([0.0; D], [0.0; D], [0.0; D]);
         for k in 0..n {
             a[k] = p[k];
             b[k] = h * d[k];
@@ -64,7 +64,7 @@ fn piece(
     };
     let (mut pa, da, dda) = ends(ua);
     let (pb, db, ddb) = ends(ub);
-    let norm = |v: &V| math::sqrt(v[..n].iter().map(|x| x * x).sum::<f64>());
+    let norm = |v: &V<D>| math::sqrt(v[..n].iter().map(|x| x * x).sum::<f64>());
     let chord = math::sqrt((0..n).map(|k| math::powi(pb[k] - pa[k], 2)).sum::<f64>());
     if !(norm(&da) > 1e-6 * chord && norm(&db) > 1e-6 * chord) {
         return None;
@@ -92,7 +92,7 @@ fn piece(
     Some((b, pb, err))
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// Appends a NURBS curve as one segment (see the module doc): the pieces it needs, all or
     /// none. Returns how many ring entries it took. Its start must be within its tolerance
     /// of where the path ends (`CurveStart`); `Curve` when it has a point of zero tangent, or

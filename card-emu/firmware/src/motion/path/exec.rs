@@ -432,7 +432,7 @@ impl Visit for Consider<'_> {
     }
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// Where the executor is along the whole path (the `start` of segments ahead minus this
     /// is the distance to them).
     #[inline(always)]
@@ -1192,7 +1192,7 @@ impl Path {
     }
 
     #[inline(always)]
-    pub(super) fn eval_here(&self) -> V {
+    pub(super) fn eval_here(&self) -> V<D> {
         if self.exec >= self.tail {
             return self.pos;
         }
@@ -1206,7 +1206,7 @@ impl Path {
 
     /// One servo tick: returns the commanded position of every group axis. `feed_override`
     /// (0..2) scales every feed; 0 holds the path still (ramping down, resuming when > 0).
-    pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+    pub fn tick(&mut self, feed_override: f64, ev: &mut impl FnMut(PathEvent)) -> [f64; D] {
         let plan = self.tick_plan(feed_override, ev);
         self.tick_move(plan, ev)
     }
@@ -1393,7 +1393,7 @@ impl Path {
         &mut self,
         plan: TickPlan,
         ev: &mut impl FnMut(PathEvent),
-    ) -> [f64; MAX_AXES] {
+    ) -> [f64; D] {
         match plan.0 {
             Plan::Hold => return self.pos,
             // a time-shifted chain runs its own profiles

@@ -7,37 +7,51 @@ use crate::math;
 use crate::motion::arc::{ArcDirection, CircleError, ExactCircle};
 use crate::motion::nurbs_interp::{GL_W, GL_X};
 
-pub(super) type V = [f64; MAX_AXES];
+/// A point or vector of the axes' space: `D` coordinates (see `Path`).
+pub(super) type V<const D: usize = MAX_AXES> = [f64; D];
+#[cfg(test)]
 const Z: V = [0.0; MAX_AXES];
 
 /// Point, unit tangent T, curvature vector K = κN and its derivative dK/ds.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(super) struct Frame {
-    pub p: V,
-    pub t: V,
-    pub k: V,
-    pub dk: V,
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Frame<const D: usize = MAX_AXES> {
+    pub p: V<D>,
+    pub t: V<D>,
+    pub k: V<D>,
+    pub dk: V<D>,
+}
+
+impl<const D: usize> Default for Frame<D> {
+    fn default() -> Self {
+        let z = [0.0; D];
+        Self {
+            p: z,
+            t: z,
+            k: z,
+            dk: z,
+        }
+    }
 }
 
 /// One programmed motion: a line, an arc/helix, a piece of a NURBS curve (a quintic fitted
 /// to it, see `curve.rs`), or a dwell, which does not move.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[allow(clippy::large_enum_variant)] // stored inline in the ring on purpose: nothing allocates
-pub(super) enum Prog {
+pub(super) enum Prog<const D: usize = MAX_AXES> {
     Line {
-        p0: V,
-        p1: V,
-        dir: V,
+        p0: V<D>,
+        p1: V<D>,
+        dir: V<D>,
         len: f64,
     },
-    Helix(Helix),
+    Helix(Helix<D>),
     /// A quintic piece ending exactly at `p1` (the curve's point, not the polynomial's sum).
     Curve {
-        b: Blend,
-        p1: V,
+        b: Blend<D>,
+        p1: V<D>,
     },
     Dwell {
-        p: V,
+        p: V<D>,
     },
 }
 
@@ -48,17 +62,17 @@ pub(super) enum Prog {
 /// (`e1 × e2` the normal). A radial mismatch of the end (within the tolerance `push` allows) is
 /// spread linearly over the sweep, so the end is reached exactly without a jump.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Helix {
-    p0: V,
-    p1: V,
-    e1: V,
-    e2: V,
+pub(super) struct Helix<const D: usize = MAX_AXES> {
+    p0: V<D>,
+    p1: V<D>,
+    e1: V<D>,
+    e2: V<D>,
     /// `p0` less its components on `e1` and `e2`: where the plane's coordinates are added.
-    off: V,
+    off: V<D>,
     circle: ExactCircle,
     r1: f64,
     /// The linear motion off the plane (the other axes, and a rise along the normal) / len.
-    lin: V,
+    lin: V<D>,
     len: f64,
     /// plane length / len
     c: f64,
@@ -67,9 +81,9 @@ pub(super) struct Helix {
 
 /// The coordinates of `p` on `e`.
 #[inline(always)]
-fn dot(p: &V, e: &V) -> f64 {
+fn dot<const D: usize>(p: &V<D>, e: &V<D>) -> f64 {
     let mut d = 0.0;
-    for k in 0..MAX_AXES {
+    for k in 0..D {
         d += p[k] * e[k];
     }
     d
@@ -80,7 +94,10 @@ fn dot(p: &V, e: &V) -> f64 {
 /// its component on the normal taken out, so that a normal along an axis gives the other two
 /// axes exactly, in their order (the normal +Z of X, Y, Z gives e1 = X, e2 = Y). None when the
 /// normal is zero or not finite.
-pub(super) fn normal_basis(axes: [usize; 3], normal: [f64; 3]) -> Option<(V, V, V)> {
+pub(super) fn normal_basis<const D: usize>(
+    axes: [usize; 3],
+    normal: [f64; 3],
+) -> Option<(V<D>, V<D>, V<D>)> {
     let nh = unit_normal(normal)?;
     let mut i = 0;
     for k in 1..3 {
@@ -103,7 +120,7 @@ pub(super) fn normal_basis(axes: [usize; 3], normal: [f64; 3]) -> Option<(V, V, 
         nh[2] * a[0] - nh[0] * a[2],
         nh[0] * a[1] - nh[1] * a[0],
     ];
-    let (mut e1, mut e2, mut en) = (Z, Z, Z);
+    let (mut e1, mut e2, mut en) = ([0.0; D], [0.0; D], [0.0; D]);
     for k in 0..3 {
         e1[axes[k]] = a[k];
         e2[axes[k]] = b[k];
@@ -124,21 +141,21 @@ pub fn unit_normal(normal: [f64; 3]) -> Option<[f64; 3]> {
     Some([v[0] / m, v[1] / m, v[2] / m])
 }
 
-impl Helix {
+impl<const D: usize> Helix<D> {
     /// The helix from `p0` to `p1` around `centre` in the plane (u, v), of `n` axes.
     pub fn new(
         n: usize,
-        p0: V,
-        p1: V,
+        p0: V<D>,
+        p1: V<D>,
         u: usize,
         v: usize,
         centre: [f64; 2],
         ccw: bool,
     ) -> Result<Self, CircleError> {
-        let (mut e1, mut e2) = (Z, Z);
+        let (mut e1, mut e2) = ([0.0; D], [0.0; D]);
         e1[u] = 1.0;
         e2[v] = 1.0;
-        Self::in_plane(n, p0, p1, e1, e2, centre, ccw, Z)
+        Self::in_plane(n, p0, p1, e1, e2, centre, ccw, [0.0; D])
     }
 
     /// The arc from `p0` counter-clockwise about the normal `en` (unit; `e1`, `e2` its plane's
@@ -147,9 +164,9 @@ impl Helix {
     /// other axes do.
     pub fn normal(
         n: usize,
-        p0: V,
-        p1: V,
-        (e1, e2, en): (V, V, V),
+        p0: V<D>,
+        p1: V<D>,
+        (e1, e2, en): (V<D>, V<D>, V<D>),
         centre: [f64; 2],
     ) -> Result<Self, CircleError> {
         Self::in_plane(n, p0, p1, e1, e2, centre, true, en)
@@ -160,13 +177,13 @@ impl Helix {
     #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
     fn in_plane(
         n: usize,
-        p0: V,
-        p1: V,
-        e1: V,
-        e2: V,
+        p0: V<D>,
+        p1: V<D>,
+        e1: V<D>,
+        e2: V<D>,
         centre: [f64; 2],
         ccw: bool,
-        en: V,
+        en: V<D>,
     ) -> Result<Self, CircleError> {
         let dir = if ccw {
             ArcDirection::Ccw
@@ -180,8 +197,8 @@ impl Helix {
         let r1 = math::hypot(x1 - centre[0], y1 - centre[1]);
         let lp = circle.length();
         // the motion off the plane: the axes off it, and the rise along the normal
-        let mut d = Z;
-        let mut off = Z;
+        let mut d = [0.0; D];
+        let mut off = [0.0; D];
         for k in 0..n {
             off[k] = p0[k] - x0 * e1[k] - y0 * e2[k];
             d[k] = if e1[k] == 0.0 && e2[k] == 0.0 && en[k] == 0.0 {
@@ -202,7 +219,7 @@ impl Helix {
         if !(len.is_finite() && len > 0.0 && r0.is_finite()) {
             return Err(CircleError::InvalidRadius);
         }
-        let mut lin = Z;
+        let mut lin = [0.0; D];
         for k in 0..n {
             lin[k] = d[k] / len;
         }
@@ -226,7 +243,7 @@ impl Helix {
     }
 
     #[inline(always)]
-    fn frame(&self, s: f64) -> Frame {
+    fn frame(&self, s: f64) -> Frame<D> {
         let mut f = Frame::default();
         let s = s.clamp(0.0, self.len);
         let sigma = s * self.c;
@@ -246,7 +263,7 @@ impl Helix {
             let r = r0 + (self.r1 - r0) * (sigma / lp);
             let (cx, cy) = self.circle.centre();
             let (x, y) = (cx + r * cs, cy + r * sn);
-            for k in 0..MAX_AXES {
+            for k in 0..D {
                 f.p[k] = self.off[k] + self.lin[k] * s + e1[k] * x + e2[k] * y;
             }
         }
@@ -256,7 +273,7 @@ impl Helix {
         let (kx, ky) = (-kk * cs, -kk * sn);
         let kd = c * c * c / (r0 * r0);
         let (dx, dy) = (kd * g * sn, -kd * g * cs);
-        for k in 0..MAX_AXES {
+        for k in 0..D {
             f.t[k] = e1[k] * tx + e2[k] * ty + self.lin[k];
             f.k[k] = e1[k] * kx + e2[k] * ky;
             f.dk[k] = e1[k] * dx + e2[k] * dy;
@@ -265,22 +282,22 @@ impl Helix {
     }
 }
 
-impl Default for Prog {
+impl<const D: usize> Default for Prog<D> {
     fn default() -> Self {
-        Prog::Dwell { p: Z }
+        Prog::Dwell { p: [0.0; D] }
     }
 }
 
-impl Prog {
+impl<const D: usize> Prog<D> {
     /// A line from `p0` to `p1` (`len` > 0 checked by the caller).
     #[inline(always)]
-    pub fn line(n: usize, p0: V, p1: V) -> (Self, f64) {
+    pub fn line(n: usize, p0: V<D>, p1: V<D>) -> (Self, f64) {
         let mut d2 = 0.0;
         for k in 0..n {
             d2 += (p1[k] - p0[k]) * (p1[k] - p0[k]);
         }
         let len = math::sqrt(d2);
-        let mut dir = Z;
+        let mut dir = [0.0; D];
         if len > 0.0 {
             for k in 0..n {
                 dir[k] = (p1[k] - p0[k]) / len;
@@ -300,7 +317,7 @@ impl Prog {
     }
 
     #[inline(always)]
-    pub fn end(&self) -> V {
+    pub fn end(&self) -> V<D> {
         match self {
             Prog::Line { p1, .. } => *p1,
             Prog::Helix(h) => h.p1,
@@ -316,7 +333,7 @@ impl Prog {
 
     /// Point at arc length `s` (clamped; the ends are the programmed points exactly).
     #[inline(always)]
-    pub fn pos(&self, s: f64) -> V {
+    pub fn pos(&self, s: f64) -> V<D> {
         match self {
             Prog::Line { p0, p1, dir, len } => {
                 if s <= 0.0 {
@@ -325,7 +342,7 @@ impl Prog {
                     *p1
                 } else {
                     let mut p = *p0;
-                    for k in 0..MAX_AXES {
+                    for k in 0..D {
                         p[k] += dir[k] * s;
                     }
                     p
@@ -346,9 +363,9 @@ impl Prog {
     /// The unit tangent and the curvature vector at arc length `s` (a line's without building
     /// its frame).
     #[inline(always)]
-    pub fn tangent_curvature(&self, s: f64) -> (V, V) {
+    pub fn tangent_curvature(&self, s: f64) -> (V<D>, V<D>) {
         match self {
-            Prog::Line { dir, .. } => (*dir, Z),
+            Prog::Line { dir, .. } => (*dir, [0.0; D]),
             _ => {
                 let f = self.frame(s);
                 (f.t, f.k)
@@ -357,7 +374,7 @@ impl Prog {
     }
 
     #[inline(always)]
-    pub fn frame(&self, s: f64) -> Frame {
+    pub fn frame(&self, s: f64) -> Frame<D> {
         match self {
             Prog::Line { dir, .. } => Frame {
                 p: self.pos(s),
@@ -390,10 +407,10 @@ const LAMBDA: f64 = 2.0;
 
 /// A quintic Bézier corner blend, in power form around its first point, with its arc-length
 /// table.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(super) struct Blend {
-    q0: V,
-    c: [V; 6],
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Blend<const D: usize = MAX_AXES> {
+    q0: V<D>,
+    c: [V<D>; 6],
     n: usize,
     /// |B'(u)|² in power form (degree 8): the arc-length integrand then costs one polynomial
     /// and one square root per point, whatever the number of axes, which is what the
@@ -403,20 +420,33 @@ pub(super) struct Blend {
     pub len: f64,
 }
 
-impl Blend {
+impl<const D: usize> Default for Blend<D> {
+    fn default() -> Self {
+        Self {
+            q0: [0.0; D],
+            c: [[0.0; D]; 6],
+            n: 0,
+            sp2: [0.0; 9],
+            table: [0.0; NSUB + 1],
+            len: 0.0,
+        }
+    }
+}
+
+impl<const D: usize> Blend<D> {
     /// The blend from frame `a` (on the incoming segment, trimmed by `da`) to frame `b` (on
     /// the outgoing one, trimmed by `db`). None when it is not finite.
-    pub fn new(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> Option<Self> {
+    pub fn new(n: usize, a: &Frame<D>, b: &Frame<D>, da: f64, db: f64) -> Option<Self> {
         Self::from_bezier(n, a.p, &Self::controls(n, a, b, da, db))
     }
 
     /// The Bézier control points of [`new`](Self::new)'s blend, less the first (`a.p`).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     #[inline(always)]
-    pub fn controls(n: usize, a: &Frame, b: &Frame, da: f64, db: f64) -> [V; 6] {
+    pub fn controls(n: usize, a: &Frame<D>, b: &Frame<D>, da: f64, db: f64) -> [V<D>; 6] {
         let la = LAMBDA * da;
         let lb = LAMBDA * db;
-        let mut q = [Z; 6];
+        let mut q = [[0.0; D]; 6];
         for k in 0..n {
             let e = b.p[k] - a.p[k];
             q[1][k] = la / 5.0 * a.t[k];
@@ -430,8 +460,8 @@ impl Blend {
 
     /// The quintic Hermite interpolant on u ∈ [0, 1] of the point, first and second
     /// derivative (with respect to u) at each end: `a` = (p, d, dd) at 0, `b` at 1.
-    pub fn hermite(n: usize, a: [&V; 3], b: [&V; 3]) -> Option<Self> {
-        let mut q = [Z; 6];
+    pub fn hermite(n: usize, a: [&V<D>; 3], b: [&V<D>; 3]) -> Option<Self> {
+        let mut q = [[0.0; D]; 6];
         for k in 0..n {
             let e = b[0][k] - a[0][k];
             q[1][k] = a[1][k] / 5.0;
@@ -445,7 +475,7 @@ impl Blend {
 
     /// The quintic with Bézier control points `q0 + q[i]` (q[0] = 0).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
-    pub fn from_bezier(n: usize, q0: V, q: &[V; 6]) -> Option<Self> {
+    pub fn from_bezier(n: usize, q0: V<D>, q: &[V<D>; 6]) -> Option<Self> {
         let mut bl = Self::default();
         bl.fill(n, q0, q).then_some(bl)
     }
@@ -454,7 +484,7 @@ impl Blend {
     /// hundreds of bytes: built where it is kept, not moved there); false (and this blend
     /// unusable) when it is not finite.
     #[inline(always)]
-    pub fn fill(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
+    pub fn fill(&mut self, n: usize, q0: V<D>, q: &[V<D>; 6]) -> bool {
         self.shape(n, q0, q) && self.measure()
     }
 
@@ -464,11 +494,11 @@ impl Blend {
     /// bound of the length. False when it is not finite.
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     #[inline(always)]
-    pub fn shape(&mut self, n: usize, q0: V, q: &[V; 6]) -> bool {
+    pub fn shape(&mut self, n: usize, q0: V<D>, q: &[V<D>; 6]) -> bool {
         // Bernstein → power basis: c_j = C(5,j) Σ_i (−1)^(j−i) C(j,i) Q_i; the axes after the
         // blend's are 0 (`each_term_n` may run over them)
         let c = &mut self.c;
-        *c = [Z; 6];
+        *c = [[0.0; D]; 6];
         for k in 0..n {
             let [q0, q1, q2, q3, q4, q5] = [q[0][k], q[1][k], q[2][k], q[3][k], q[4][k], q[5][k]];
             c[0][k] = q0;
@@ -499,7 +529,7 @@ impl Blend {
     /// blend checked but not built yet (its shape and table left as they were; the caller
     /// checks that its shape would be finite).
     #[inline(always)]
-    pub fn chord_only(&mut self, n: usize, q0: V, chord: f64) {
+    pub fn chord_only(&mut self, n: usize, q0: V<D>, chord: f64) {
         self.q0 = q0;
         self.n = n;
         self.len = chord;
@@ -621,7 +651,7 @@ impl Blend {
     }
 
     #[inline(always)]
-    pub fn pos_u(&self, u: f64) -> V {
+    pub fn pos_u(&self, u: f64) -> V<D> {
         let mut p = self.q0;
         if u <= 0.0 {
             return p;
@@ -637,8 +667,8 @@ impl Blend {
     /// [`pos_u`](Self::pos_u) less the first point (what the quintic adds to it), over the
     /// first `N` axes (N ≥ the blend's axes; the others are 0).
     #[inline(always)]
-    pub fn offset_u_n<const N: usize>(&self, u: f64) -> V {
-        let mut p = Z;
+    pub fn offset_u_n<const N: usize>(&self, u: f64) -> V<D> {
+        let mut p = [0.0; D];
         let c = &self.c;
         for k in 0..N {
             p[k] = u * (c[1][k] + u * (c[2][k] + u * (c[3][k] + u * (c[4][k] + u * c[5][k]))));
@@ -647,13 +677,13 @@ impl Blend {
     }
 
     #[inline(always)]
-    pub fn pos(&self, s: f64) -> V {
+    pub fn pos(&self, s: f64) -> V<D> {
         self.pos_u(self.u_at(s))
     }
 
     /// Frame at parameter u (T, K = κN and dK/ds from B', B'', B''').
     #[cfg(test)]
-    pub fn frame_u(&self, u: f64) -> Frame {
+    pub fn frame_u(&self, u: f64) -> Frame<D> {
         let mut f = self.terms(u);
         f.p = self.pos_u(u);
         f
@@ -666,7 +696,7 @@ impl Blend {
     }
 
     /// The frame at u without its point: T, K and dK/ds.
-    pub fn terms(&self, u: f64) -> Frame {
+    pub fn terms(&self, u: f64) -> Frame<D> {
         let mut f = Frame::default();
         self.each_term(u, |k, t, kk, dk| {
             f.t[k] = t;
@@ -685,7 +715,7 @@ impl Blend {
             1 => self.each_term_n::<1>(u, f),
             2 => self.each_term_n::<2>(u, f),
             3 => self.each_term_n::<3>(u, f),
-            _ => self.each_term_n::<MAX_AXES>(u, f),
+            _ => self.each_term_n::<D>(u, f),
         }
     }
 
@@ -720,7 +750,7 @@ impl Blend {
         let (i2, sp, r3t) = (i1 * i1, s12 * i1, s13 * i1);
         let (i3, r2dt) = (i2 * i1, (s22 - sp * sp) * i1);
         for k in 0..N {
-            if N == MAX_AXES && k >= self.n {
+            if N == D && k >= self.n {
                 break;
             }
             let t = r1[k] * i1;
@@ -749,7 +779,7 @@ pub(super) struct Lanes<const N: usize, const L: usize> {
     pub dk: [[f64; L]; N],
 }
 
-impl Blend {
+impl<const D: usize> Blend<D> {
     /// [`each_term_n`](Self::each_term_n) at `L` parameters at once, as absolute values,
     /// computed lane by lane in the same way (the same figures) so that the compiler can
     /// evaluate several lanes per instruction. A lane where B'(u) = 0 gets 0 everywhere (no
@@ -795,7 +825,7 @@ impl Blend {
             r2dt[i] = (s22[i] - sp[i] * sp[i]) * i1[i];
         }
         for k in 0..N {
-            if N == MAX_AXES && k >= self.n {
+            if N == D && k >= self.n {
                 break;
             }
             for i in 0..L {
@@ -816,7 +846,7 @@ impl Blend {
 }
 
 /// Distance from `p` to the segment [a, b] (first `n` axes).
-pub(super) fn dist_to_chord(n: usize, p: &V, a: &V, b: &V) -> f64 {
+pub(super) fn dist_to_chord<const D: usize>(n: usize, p: &V<D>, a: &V<D>, b: &V<D>) -> f64 {
     let (mut ab2, mut apab) = (0.0, 0.0);
     for k in 0..n {
         ab2 += (b[k] - a[k]) * (b[k] - a[k]);

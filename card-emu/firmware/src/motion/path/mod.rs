@@ -94,6 +94,24 @@
 //! would reach the slow piece's speed a step's distance before it and crawl there). One tick
 //! per step is the engine planned at the servo rate, to the bit.
 //!
+//! **Dimension.** [`Path<D>`](Path) plans paths of up to `D` axes (with its [`PathLimits<D>`],
+//! [`Segment<D>`] and [`Geom<D>`]): every point, tangent, curvature vector and axis limit is
+//! a `[f64; D]`, of which a group of `naxes` ≤ D uses the first `naxes` (the others are 0 and
+//! move nothing; `reset` refuses more with `BadAxis`). `D` defaults to [`MAX_AXES`], a group
+//! of the card's: `Path` is `Path<8>` (made by [`Path::with_capacity`]; another dimension's by
+//! `Path::<D>::with_segments`), the same engine as before it took `D`, to the last bit: its
+//! loops over the axes and its lane code run to the constant 8 as they did, and its memory is
+//! the same. (Being generic, it is compiled in the crate that uses it: the dense benchmark's
+//! push is now compiled in the benchmark's crate, 1 % fewer instructions there; its plan and
+//! move are the same to within 0.05 %.) A wider engine, `Path<16>`, is for a path whose axes
+//! live on several cards (issue 37): each card plans every axis of the path, those it does not
+//! drive too, so that all plan the same profile. An axis a segment does not move adds exact
+//! zeros to every sum over the axes, so a 12-axis path whose last four axes stay still moves
+//! the first eight as the 8-axis engine does, to the last bit (`tests_dims`). An entry of a
+//! `Path<16>`'s ring is 2,832 bytes, an 8-axis one's 1,680 (each holds its points, blend and
+//! program inline). NURBS curves have at most 8 dimensions (`nurbs::MAX_DIM`); a curve of
+//! another dimension than the group's is refused (`BadAxis`).
+//!
 //! **Two builds.** `push`, `tick_plan`, `tick_move` and the look-ahead's walk run a build of
 //! their bodies for x86-64-v3 (AVX2, FMA) where the CPU has it, and the baseline x86-64 build
 //! elsewhere (`v3.rs`): the same motion to the last bit, about a fifth fewer instructions.
@@ -112,6 +130,8 @@ mod smooth;
 mod tests;
 #[cfg(test)]
 mod tests_curve;
+#[cfg(test)]
+mod tests_dims;
 #[cfg(test)]
 mod tests_lookahead;
 #[cfg(test)]
@@ -141,7 +161,8 @@ use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
 use crate::motion::pos_finite;
 
-/// Axes of a group.
+/// Axes of a group of the card's: the engine's default dimension (`Path` is `Path<8>`; see
+/// the module doc).
 pub const MAX_AXES: usize = 8;
 /// Largest |position|, counts.
 pub const MAX_POS: f64 = 4.5e15;
@@ -248,12 +269,12 @@ const CURVE_CAP_SAMPLES: usize = 32;
 
 /// Limits of the group, per axis (counts/s, /s², /s³), and optional tangential limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathLimits {
+pub struct PathLimits<const D: usize = MAX_AXES> {
     pub naxes: usize,
     pub ts: f64,
-    pub vmax: [f64; MAX_AXES],
-    pub amax: [f64; MAX_AXES],
-    pub jmax: [f64; MAX_AXES],
+    pub vmax: [f64; D],
+    pub amax: [f64; D],
+    pub jmax: [f64; D],
     /// Tangential acceleration limit, 0 = derive from the axes.
     pub accel: f64,
     /// Tangential jerk limit, 0 = derive from the axes.
@@ -267,16 +288,16 @@ pub struct PathLimits {
 /// The geometry of a segment. Arc: the plane is axes (u, v) of the group, `centre` in that
 /// plane; the other axes move linearly with the arc length (a helix).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Geom {
+pub enum Geom<const D: usize = MAX_AXES> {
     Line {
-        end: [f64; MAX_AXES],
+        end: [f64; D],
     },
     Arc {
         u: usize,
         v: usize,
         centre: [f64; 2],
         ccw: bool,
-        end: [f64; MAX_AXES],
+        end: [f64; D],
     },
     /// An arc in the plane through the start of the three group axes `axes` with the normal
     /// `normal` (on those axes; any length but 0), counter-clockwise about it, around `centre`
@@ -288,7 +309,7 @@ pub enum Geom {
         normal: [f64; 3],
         centre: [f64; 3],
         rise: bool,
-        end: [f64; MAX_AXES],
+        end: [f64; D],
     },
     Dwell {
         time: f64,
@@ -321,9 +342,9 @@ pub enum BlendSpeed {
 
 /// One programmed segment.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Segment {
+pub struct Segment<const D: usize = MAX_AXES> {
     pub id: u32,
-    pub geom: Geom,
+    pub geom: Geom<D>,
     /// Programmed feed, counts/s (ignored by a dwell).
     pub feed: f64,
     pub transition: Transition,
@@ -395,7 +416,8 @@ pub enum PathError {
     BadArc(CircleError),
     /// An arc's end more than 1e-6·radius off its circle (a jump).
     ArcEndOffCircle,
-    /// An axis index ≥ the group's axes, an arc plane of one axis, or naxes not in 1..=8.
+    /// An axis index ≥ the group's axes, an arc plane of one axis, naxes not in 1..=D (the
+    /// engine's dimension), or a NURBS curve of another dimension than the group's.
     BadAxis,
     /// A normal-vector arc's normal is zero.
     BadNormal,
@@ -480,15 +502,15 @@ impl Lim {
 }
 
 #[derive(Debug, Clone, Copy)]
-struct Seg {
+struct Seg<const D: usize = MAX_AXES> {
     id: u32,
-    prog: Prog,
+    prog: Prog<D>,
     feed: f64,
     last: bool,
     /// Exact stop at its start (the junction with the previous segment).
     stop_before: bool,
     has_blend: bool,
-    blend: Blend,
+    blend: Blend<D>,
     /// Caps of the blend piece (or of the junction point of a tangent join): geometric and
     /// feed (before the override).
     jgeo: f64,
@@ -513,11 +535,11 @@ struct Seg {
     /// The blend is a smoothing blend (from the middle of the previous line to the middle of
     /// this one), with these curvature vectors at its ends.
     smooth: bool,
-    kstart: V,
-    kend: V,
+    kstart: V<D>,
+    kend: V<D>,
     /// The curvature of the vertex where this line ends and the next one starts, when a
     /// smoothing blend was built there (`vertex_k`; the next push's rebuild needs it again).
-    kvertex: Option<V>,
+    kvertex: Option<V<D>>,
     outs: [OutputAction; MAX_OUTPUTS],
     nouts: usize,
     fired: u8,
@@ -532,7 +554,7 @@ struct Seg {
     cont: bool,
 }
 
-impl Default for Seg {
+impl<const D: usize> Default for Seg<D> {
     fn default() -> Self {
         Self {
             id: 0,
@@ -554,8 +576,8 @@ impl Default for Seg {
             trim: 0.0,
             dev: 0.0,
             smooth: false,
-            kstart: [0.0; MAX_AXES],
-            kend: [0.0; MAX_AXES],
+            kstart: [0.0; D],
+            kend: [0.0; D],
             kvertex: None,
             outs: [OutputAction {
                 bit: 0,
@@ -573,7 +595,7 @@ impl Default for Seg {
     }
 }
 
-impl Seg {
+impl<const D: usize> Seg<D> {
     fn len(&self) -> f64 {
         (if self.has_blend { self.blend.len } else { 0.0 }) + (self.body1 - self.body0)
     }
@@ -624,12 +646,12 @@ struct Look {
 
 /// The continuous-path engine of one axes group.
 #[derive(Debug, Clone)]
-pub struct Path {
-    segs: FixedVec<Seg, MAX_RING>,
+pub struct Path<const D: usize = MAX_AXES> {
+    segs: FixedVec<Seg<D>, MAX_RING>,
     blocks: FixedVec<Block, { MAX_RING / BLOCK }>,
     capacity: usize,
     ready: bool,
-    lim: PathLimits,
+    lim: PathLimits<D>,
     at: f64,
     jt: f64,
     /// The limits the look-ahead decides with and stops are planned with: the lowest of the
@@ -660,8 +682,8 @@ pub struct Path {
     dwell_left: u64,
     /// Ticks still held at rest on the exact stop just landed on (`STOP_SETTLE_TICKS`).
     settle: u8,
-    pos: V,
-    last_end: V,
+    pos: V<D>,
+    last_end: V<D>,
     halted: bool,
     slow: Option<(f64, f64)>,
     distance: f64,
@@ -692,7 +714,7 @@ pub struct Path {
 }
 
 #[inline(always)]
-fn finite_v(n: usize, p: &V) -> Result<(), PathError> {
+fn finite_v<const D: usize>(n: usize, p: &V<D>) -> Result<(), PathError> {
     let (mut zero, mut most) = (0.0, 0.0f64);
     for x in &p[..n] {
         zero += x * 0.0;
@@ -738,9 +760,18 @@ fn check_tol(x: f64) -> Result<f64, PathError> {
 }
 
 impl Path {
-    /// A path with room for `segments` queued segments (at least 1, at most [`MAX_RING`]);
-    /// everything is made here. Call [`reset`](Self::reset) before use.
+    /// An engine of [`MAX_AXES`] dimensions (a group of the card's) with room for `segments`
+    /// queued segments: [`with_segments`](Self::with_segments) of `Path<MAX_AXES>`, which
+    /// `Path::with_capacity` names without saying its dimension.
     pub fn with_capacity(segments: usize) -> Self {
+        Self::with_segments(segments)
+    }
+}
+
+impl<const D: usize> Path<D> {
+    /// A path of `D` dimensions with room for `segments` queued segments (at least 1, at
+    /// most [`MAX_RING`]); everything is made here. Call [`reset`](Self::reset) before use.
+    pub fn with_segments(segments: usize) -> Self {
         let capacity = segments.clamp(1, MAX_RING);
         // a power of two (of blocks): a slot is an index masked, not divided (a division
         // costs tens of cycles, and the executor looks its segments up several times a tick)
@@ -748,9 +779,9 @@ impl Path {
         let lim = PathLimits {
             naxes: 1,
             ts: 1e-3,
-            vmax: [1.0; MAX_AXES],
-            amax: [1.0; MAX_AXES],
-            jmax: [1.0; MAX_AXES],
+            vmax: [1.0; D],
+            amax: [1.0; D],
+            jmax: [1.0; D],
             accel: 0.0,
             jerk: 0.0,
             plan_ticks: 1,
@@ -780,12 +811,12 @@ impl Path {
             seg_travel: 0.0,
             dwell_left: 0,
             settle: 0,
-            pos: [0.0; MAX_AXES],
-            last_end: [0.0; MAX_AXES],
+            pos: [0.0; D],
+            last_end: [0.0; D],
             halted: false,
             slow: None,
             distance: 0.0,
-            pending: [Seg::default().outs[0]; MAX_OUTPUTS],
+            pending: [Seg::<D>::default().outs[0]; MAX_OUTPUTS],
             npending: 0,
             starving_sent: false,
             idle_sent: true,
@@ -804,8 +835,8 @@ impl Path {
     }
 
     /// Checks the limits: (A_t, J_t).
-    fn check_limits(lim: &PathLimits) -> Result<(f64, f64), PathError> {
-        if !(1..=MAX_AXES).contains(&lim.naxes) {
+    fn check_limits(lim: &PathLimits<D>) -> Result<(f64, f64), PathError> {
+        if !(1..=D).contains(&lim.naxes) {
             return Err(PathError::BadAxis);
         }
         let ok = |x: f64| x.is_finite() && (LIMIT_RANGE.0..=LIMIT_RANGE.1).contains(&x);
@@ -842,8 +873,8 @@ impl Path {
     /// considers (1..=capacity).
     pub fn reset(
         &mut self,
-        start: [f64; MAX_AXES],
-        lim: PathLimits,
+        start: [f64; D],
+        lim: PathLimits<D>,
         lookahead: usize,
     ) -> Result<(), PathError> {
         let (at, jt) = Self::check_limits(&lim)?;
@@ -900,7 +931,7 @@ impl Path {
         i & (self.segs.len() - 1)
     }
     #[inline(always)]
-    fn seg(&self, i: usize) -> &Seg {
+    fn seg(&self, i: usize) -> &Seg<D> {
         &self.segs[self.slot(i)]
     }
 
@@ -939,11 +970,11 @@ impl Path {
         self.lim.plan_ticks
     }
     /// Commanded position of the last tick.
-    pub fn position(&self) -> [f64; MAX_AXES] {
+    pub fn position(&self) -> [f64; D] {
         self.pos
     }
     /// Where the last segment queued ends (where the next one starts).
-    pub fn end(&self) -> [f64; MAX_AXES] {
+    pub fn end(&self) -> [f64; D] {
         self.last_end
     }
     /// The segment the path is in (until a blend's middle, the one before it).
@@ -995,7 +1026,7 @@ impl Path {
 
     /// [`push`](Self::push)'s body (which `v3.rs` builds twice).
     #[inline(always)]
-    pub(super) fn push_impl(&mut self, seg: Segment) -> Result<(), PathError> {
+    pub(super) fn push_impl(&mut self, seg: Segment<D>) -> Result<(), PathError> {
         if !self.ready {
             return Err(PathError::NotReady);
         }
@@ -1015,7 +1046,7 @@ impl Path {
             | Transition::CornerDistance(x)
             | Transition::TimeShift(x) => check_tol(x)?,
         };
-        let fix_axes = |e: &mut V| {
+        let fix_axes = |e: &mut V<D>| {
             for x in e[n..].iter_mut() {
                 *x = 0.0;
             }
@@ -1085,7 +1116,7 @@ impl Path {
                 for k in 0..3 {
                     cv[axes[k]] = centre[k];
                 }
-                let on = |p: &V, e: &V| (0..n).map(|k| p[k] * e[k]).sum::<f64>();
+                let on = |p: &V<D>, e: &V<D>| (0..n).map(|k| p[k] * e[k]).sum::<f64>();
                 let r0 = math::hypot(on(&p0, &e1) - on(&cv, &e1), on(&p0, &e2) - on(&cv, &e2));
                 let r1 = math::hypot(on(&end, &e1) - on(&cv, &e1), on(&end, &e2) - on(&cv, &e2));
                 let eps = 1e-6 * r0.max(1.0);
@@ -1124,7 +1155,7 @@ impl Path {
     #[inline(always)]
     fn append(
         &mut self,
-        mut rec: Seg,
+        mut rec: Seg<D>,
         transition: Transition,
         blend: BlendSpeed,
         tol: f64,

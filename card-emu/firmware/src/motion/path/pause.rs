@@ -41,7 +41,7 @@ pub enum PauseState {
     },
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// Pauses at the end of the first segment the path can stop at within its limits (see the
     /// module doc). Nothing queued changes. At rest with nothing queued it is paused at once:
     /// `true` (no tick posts [`PathEvent::Paused`] then).

@@ -22,7 +22,7 @@
 //! each segment as a rest-to-rest profile, one after the other. Other override values do not
 //! change a chain: its profiles are planned at the programmed feed.
 
-use super::{Path, PathEvent, Transition, DEV_SAFETY, MAX_AXES};
+use super::{Path, PathEvent, Transition, DEV_SAFETY};
 use crate::math;
 use crate::motion::path::geom::{dist_to_chord, Prog, V};
 use crate::motion::scurve::{plan_stop, Limits, PlanError, Profile};
@@ -90,11 +90,11 @@ impl Chain {
     }
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// The S-curve limits of a time-shifted line at `feed`: the feed and every axis's velocity
     /// limit in full, half of every axis's acceleration and jerk limits (and the group's
     /// tangential limits, if set).
-    fn shift_limits(&self, prog: &Prog, feed: f64) -> Limits {
+    fn shift_limits(&self, prog: &Prog<D>, feed: f64) -> Limits {
         let l = &self.lim;
         let t = prog.frame(0.0).t;
         let mut v = feed;
@@ -113,7 +113,7 @@ impl Path {
     /// The rest-to-rest profile of line `prog` from arc length `base` to its end.
     pub(super) fn shift_profile(
         &self,
-        prog: &Prog,
+        prog: &Prog<D>,
         feed: f64,
         base: f64,
     ) -> Result<(Profile, Limits), PlanError> {
@@ -159,7 +159,7 @@ impl Path {
             let xa = a.prof.sample(ta - delta + tau);
             let xb = b.prof.sample(tau);
             let left = la - a.base - xa.pos;
-            let mut p: V = [0.0; MAX_AXES];
+            let mut p: V<D> = [0.0; D];
             for k in 0..n {
                 p[k] = corner[k] - da[k] * left + db[k] * (xb.pos + b.base);
                 if (da[k] * xa.vel + db[k] * xb.vel).abs() > vmax[k] {
@@ -263,7 +263,7 @@ impl Path {
     }
 
     /// One tick with the executor in a time-shifted chain (its segment is one of the lines).
-    pub(super) fn shift_tick(&mut self, ovr: f64, ev: &mut impl FnMut(PathEvent)) -> V {
+    pub(super) fn shift_tick(&mut self, ovr: f64, ev: &mut impl FnMut(PathEvent)) -> V<D> {
         let ts = self.lim.ts;
         let (held, moving) = (self.chain.held, self.chain.is_moving());
         if ovr <= 0.0 && !held && moving {
@@ -317,7 +317,7 @@ impl Path {
         // the sum of the displacements, the distance and the outputs along the way
         let n = self.lim.naxes;
         let mut p = self.pos;
-        let mut vel = [0.0; MAX_AXES];
+        let mut vel = [0.0; D];
         for k in 0..2 {
             let Some(mut r) = self.chain.runs[k] else {
                 continue;
@@ -387,7 +387,7 @@ impl Path {
 }
 
 #[cfg(test)]
-impl Path {
+impl<const D: usize> Path<D> {
     /// How long the newer of two running profiles has run.
     pub(super) fn chain_overlap(&self) -> Option<f64> {
         let r = self.chain.runs[1]?;

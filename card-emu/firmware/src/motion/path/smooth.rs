@@ -13,15 +13,15 @@ use crate::math;
 /// A smoothing blend as `Path::smooth` built it: the previous one rebuilt (blend, cap,
 /// deviation; its end curvature), the new one, its start curvature and its trims.
 /// The blends themselves are built in the caller's buffers (see `Path::smooth`).
-pub(super) struct Smooth {
+pub(super) struct Smooth<const D: usize = MAX_AXES> {
     /// The previous blend rebuilt: its cap, deviation and end curvature.
-    pub(super) again: Option<(f64, f64, V)>,
+    pub(super) again: Option<(f64, f64, V<D>)>,
     /// The curvature of the vertex between the two lines (`vertex_k`), which the next push
     /// needs again.
-    pub(super) kvertex: V,
+    pub(super) kvertex: V<D>,
     /// The new blend's deviation.
     pub(super) dev: f64,
-    pub(super) kstart: V,
+    pub(super) kstart: V<D>,
     pub(super) da: f64,
     pub(super) db: f64,
 }
@@ -29,7 +29,7 @@ pub(super) struct Smooth {
 /// The curvature vector at `b` of the circle through `a`, `b`, `c`:
 /// (T_bc − T_ab)·|T_ab + T_bc| / |c − a| (κ = 2 sin θ / |c − a|, toward the centre).
 #[inline(always)]
-pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
+pub(super) fn vertex_k<const D: usize>(n: usize, a: &V<D>, b: &V<D>, c: &V<D>) -> V<D> {
     let (mut lab, mut lbc, mut lac) = (0.0, 0.0, 0.0);
     for k in 0..n {
         lab += (b[k] - a[k]) * (b[k] - a[k]);
@@ -37,7 +37,7 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
         lac += (c[k] - a[k]) * (c[k] - a[k]);
     }
     let (lab, lbc, lac) = (math::sqrt(lab), math::sqrt(lbc), math::sqrt(lac));
-    let mut d = [0.0; MAX_AXES];
+    let mut d = [0.0; D];
     let mut sum2 = 0.0;
     for k in 0..n {
         let (ta, tc) = ((b[k] - a[k]) / lab, (c[k] - b[k]) / lbc);
@@ -56,7 +56,7 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
     if zero == 0.0 {
         d
     } else {
-        [0.0; MAX_AXES]
+        [0.0; D]
     }
 }
 
@@ -69,9 +69,9 @@ pub(super) fn vertex_k(n: usize, a: &V, b: &V, c: &V) -> V {
 /// distance to the nearer chord peaks where the two distances cross, a kink the samples
 /// straddle: on its own, 33 samples saw 9.70 counts of a blend 10.16 from its lines.)
 #[allow(clippy::needless_range_loop)] // one index over several axis arrays
-pub(super) fn sampled_dev2<const N: usize>(
-    b: &Blend,
-    chords: &[(V, V, f64); 2],
+pub(super) fn sampled_dev2<const N: usize, const D: usize>(
+    b: &Blend<D>,
+    chords: &[(V<D>, V<D>, f64); 2],
     limit: f64,
 ) -> Option<f64> {
     let at = |u: f64| {
@@ -160,7 +160,15 @@ pub(super) fn sampled_dev2<const N: usize>(
 /// Q3 by (2d)²/20·K, which moves the curve by at most 0.3456 times that (the largest of B₂
 /// and B₃).
 #[inline(always)]
-pub(super) fn smooth_dev_bound(n: usize, ua: &V, ub: &V, da: f64, db: f64, ka: &V, kb: &V) -> f64 {
+pub(super) fn smooth_dev_bound<const D: usize>(
+    n: usize,
+    ua: &V<D>,
+    ub: &V<D>,
+    da: f64,
+    db: f64,
+    ka: &V<D>,
+    kb: &V<D>,
+) -> f64 {
     let (mut dt2, mut ka2, mut kb2) = (0.0, 0.0, 0.0);
     for k in 0..n {
         dt2 += (ua[k] - ub[k]) * (ua[k] - ub[k]);
@@ -182,8 +190,11 @@ pub(super) fn smooth_dev_bound(n: usize, ua: &V, ub: &V, da: f64, db: f64, ka: &
 /// [`sampled_dev2`] finds on the same curve.
 #[allow(clippy::needless_range_loop)] // one index over several axis arrays
 #[inline(always)]
-pub(super) fn hull_dev2<const N: usize>(q: &[V; 6], chords: &[(V, V, f64); 2]) -> f64 {
-    let d2 = |p: &V, (a, u, l): &(V, V, f64)| {
+pub(super) fn hull_dev2<const N: usize, const D: usize>(
+    q: &[V<D>; 6],
+    chords: &[(V<D>, V<D>, f64); 2],
+) -> f64 {
+    let d2 = |p: &V<D>, (a, u, l): &(V<D>, V<D>, f64)| {
         let mut t = 0.0;
         for k in 0..N {
             t += (p[k] - a[k]) * u[k];
@@ -213,7 +224,7 @@ pub(super) fn hull_dev2<const N: usize>(q: &[V; 6], chords: &[(V, V, f64); 2]) -
     worst
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// A smoothing blend from `pa` (trimmed by `da` at its end) to `pb` (trimmed by `db` at
     /// its start), two lines, with curvature vectors `ka`, `kb` at its ends, built in `out`:
     /// its cap and its deviation from the two lines, or None when the deviation is over
@@ -227,15 +238,15 @@ impl Path {
     #[inline(always)]
     pub(super) fn smooth_piece(
         &self,
-        pa: &Prog,
-        pb: &Prog,
+        pa: &Prog<D>,
+        pb: &Prog<D>,
         da: f64,
         db: f64,
-        ka: &V,
-        kb: &V,
+        ka: &V<D>,
+        kb: &V<D>,
         limit: f64,
         with_cap: bool,
-        out: &mut Blend,
+        out: &mut Blend<D>,
     ) -> Option<(f64, f64)> {
         let n = self.lim.naxes;
         // (bound by reference: the points are not copied)
@@ -279,16 +290,16 @@ impl Path {
             closed
         } else {
             // the two chords as (start, unit direction, length), from the blend's first point
-            let mut c2 = [0.0; MAX_AXES];
+            let mut c2 = [0.0; D];
             for k in 0..n {
                 c2[k] = corner[k] - fa.p[k];
             }
-            let chords = [([0.0; MAX_AXES], *ua, da), (c2, *ub, db)];
+            let chords = [([0.0; D], *ua, da), (c2, *ub, db)];
             let hull2 = match n {
-                1 => hull_dev2::<1>(&q, &chords),
-                2 => hull_dev2::<2>(&q, &chords),
-                3 => hull_dev2::<3>(&q, &chords),
-                _ => hull_dev2::<MAX_AXES>(&q, &chords),
+                1 => hull_dev2::<1, D>(&q, &chords),
+                2 => hull_dev2::<2, D>(&q, &chords),
+                3 => hull_dev2::<3, D>(&q, &chords),
+                _ => hull_dev2::<D, D>(&q, &chords),
             };
             let worst2 = if math::sqrt(hull2) <= limit {
                 hull2
@@ -297,10 +308,10 @@ impl Path {
                     return None;
                 }
                 match n {
-                    1 => sampled_dev2::<1>(out, &chords, limit)?,
-                    2 => sampled_dev2::<2>(out, &chords, limit)?,
-                    3 => sampled_dev2::<3>(out, &chords, limit)?,
-                    _ => sampled_dev2::<MAX_AXES>(out, &chords, limit)?,
+                    1 => sampled_dev2::<1, D>(out, &chords, limit)?,
+                    2 => sampled_dev2::<2, D>(out, &chords, limit)?,
+                    3 => sampled_dev2::<3, D>(out, &chords, limit)?,
+                    _ => sampled_dev2::<D, D>(out, &chords, limit)?,
                 }
             };
             math::sqrt(worst2)
@@ -325,12 +336,12 @@ impl Path {
     #[inline(always)]
     pub(super) fn smooth(
         &self,
-        prog: &Prog,
+        prog: &Prog<D>,
         tol: f64,
         need: f64,
-        again: &mut Blend,
-        new: &mut Blend,
-    ) -> Option<Smooth> {
+        again: &mut Blend<D>,
+        new: &mut Blend<D>,
+    ) -> Option<Smooth<D>> {
         let n = self.lim.naxes;
         let pi = self.tail - 1;
         let prev = self.seg(pi);
@@ -365,7 +376,7 @@ impl Path {
             if let Prog::Line { p0: pm, .. } = &pp.prog {
                 // the vertex at p0, as the push of `prev` found it (the same points)
                 let k0 = pp.kvertex.unwrap_or_else(|| vertex_k(n, pm, p0, p1));
-                let mut kmid = [0.0; MAX_AXES];
+                let mut kmid = [0.0; D];
                 for k in 0..n {
                     kmid[k] = 0.5 * (k0[k] + k1[k]);
                 }
@@ -388,7 +399,7 @@ impl Path {
                     again,
                 );
                 if let Some((cap, dev)) = rebuilt {
-                    let z = [0.0; MAX_AXES];
+                    let z = [0.0; D];
                     if let Some((_, new_dev)) =
                         self.smooth_piece(&prev.prog, prog, da, db, &kmid, &z, limit, false, new)
                     {
@@ -404,7 +415,7 @@ impl Path {
                 }
             }
         }
-        let z = [0.0; MAX_AXES];
+        let z = [0.0; D];
         let (_, dev) = self.smooth_piece(&prev.prog, prog, da, db, &z, &z, limit, false, new)?;
         Some(Smooth {
             again: None,
@@ -454,7 +465,7 @@ impl Path {
     /// newest one, see `settle_cap`): from the line before, trimmed by its `trim`, to its
     /// line, trimmed by its `body0`, with the curvature vectors `kstart` and `kend` at its
     /// ends (`smooth_piece` checked that its shape is finite).
-    pub(super) fn due_blend(&self, i: usize) -> Blend {
+    pub(super) fn due_blend(&self, i: usize) -> Blend<D> {
         let (prev, sg) = (self.seg(i - 1), self.seg(i));
         let n = self.lim.naxes;
         let mut fa = prev.prog.frame(prev.prog.len() - sg.trim);

@@ -408,8 +408,8 @@ fn the_control_point_bound_of_a_smoothing_blend_is_never_below_its_curve() {
             continue;
         };
         let chords = case_chords(&c);
-        let bound = hull_dev2::<2>(&c.q, &chords).sqrt();
-        let sampled = sampled_dev2::<2>(&c.b, &chords, f64::INFINITY)
+        let bound = hull_dev2::<2, MAX_AXES>(&c.q, &chords).sqrt();
+        let sampled = sampled_dev2::<2, MAX_AXES>(&c.b, &chords, f64::INFINITY)
             .unwrap()
             .sqrt();
         let dense = dense_dev(&c, &chords);

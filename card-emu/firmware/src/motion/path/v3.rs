@@ -34,11 +34,11 @@ pub(super) fn detected() -> bool {
     }
 }
 
-impl Path {
+impl<const D: usize> Path<D> {
     /// Appends a segment: validates it, builds the blend with the previous one and computes
     /// the caps. Allocates nothing.
     #[inline(never)] // a function of its own in profiles: the cost benchmark counts it
-    pub fn push(&mut self, seg: Segment) -> Result<(), PathError> {
+    pub fn push(&mut self, seg: Segment<D>) -> Result<(), PathError> {
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `v3` is true only where the CPU has the features (`detected`)
@@ -66,7 +66,7 @@ impl Path {
     /// (segment events and outputs on the way) and interpolates the position there.
     #[doc(hidden)]
     #[inline(never)]
-    pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+    pub fn tick_move(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; D] {
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: as in `push`
@@ -112,10 +112,10 @@ impl Path {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Path {
+impl<const D: usize> Path<D> {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt")] // what `detected` checks
     #[inline(never)]
-    fn push_v3(&mut self, seg: Segment) -> Result<(), PathError> {
+    fn push_v3(&mut self, seg: Segment<D>) -> Result<(), PathError> {
         self.push_impl(seg)
     }
 
@@ -127,7 +127,7 @@ impl Path {
 
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt")] // what `detected` checks
     #[inline(never)]
-    fn tick_move_v3(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; MAX_AXES] {
+    fn tick_move_v3(&mut self, plan: TickPlan, ev: &mut impl FnMut(PathEvent)) -> [f64; D] {
         self.tick_move_impl(plan, ev)
     }
 
