@@ -411,9 +411,10 @@
  *   within one turn ((count - 1) * pitch < m, else MC_NACK_COMPARE_TURN); each fires at the
  *   axis's next crossing of it after the one before, in order, so a series may run over the
  *   wrap (start 350, pitch 10, count 3: 350, 0, 10). Without MC_CMP_EACH_TURN it is done
- *   after its last; with it the series starts over on every turn, endless (count * pitch <= m,
- *   else MC_NACK_COMPARE_TURN; count 0: floor(m / pitch) positions, a whole turn of pitches,
- *   every pitch around the turn when pitch divides m).
+ *   after its last; with it the series is a set of places on the turn, each fired at every
+ *   crossing, endless, whichever the axis comes to (back and forth as well) (count * pitch <=
+ *   m, else MC_NACK_COMPARE_TURN; count 0: floor(m / pitch) positions, a whole turn of
+ *   pitches, every pitch around the turn when pitch divides m).
  * - A table: positions in [0, m) (MC_NACK_COMPARE_TURN), each fired once at the axis's next
  *   crossing of it after the one before; while the channel is armed on a modulo axis they may
  *   come in any order (the next equal to the last: a turn later), before the arm the linear

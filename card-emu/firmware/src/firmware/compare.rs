@@ -161,9 +161,6 @@ pub struct Compare {
     /// Ticks the output stays on in `card.outputs`.
     pulse_left: u32,
     low_water_sent: bool,
-    /// Layout 1.13: an endless series not yet ticked: its first position is the one the axis
-    /// comes to first (found at the first tick).
-    seek: bool,
 }
 
 impl Default for Compare {
@@ -190,7 +187,6 @@ impl Compare {
             pulse_end: f64::NEG_INFINITY,
             pulse_left: 0,
             low_water_sent: false,
-            seek: false,
         }
     }
 
@@ -233,7 +229,6 @@ impl Compare {
                 return Err(NackCode::CompareTurn);
             }
         }
-        self.seek = arm.each_turn && matches!(arm.source, Source::Series { .. });
         self.arm = Some(arm);
         self.done = false;
         self.fires = 0;
@@ -495,7 +490,9 @@ impl Compare {
             0
         };
         let fires_this_way = s != 0 && (arm.dir == 0 || arm.dir == s);
-        if core::mem::take(&mut self.seek) {
+        // An endless series is a set of places: its next is the one the axis comes to first
+        // from where the tick starts (the axis may have turned back since the last).
+        if arm.each_turn && matches!(arm.source, Source::Series { .. }) {
             self.seek_series(arm, x0);
         }
         let mut cursor = x0;
@@ -544,8 +541,8 @@ impl Compare {
         }
     }
 
-    /// An endless series starts at the position the axis, at `x`, comes to first moving the
-    /// channel's way: every position of the turn then fires from the first crossing on.
+    /// An endless series goes on from the position the axis, at `x`, comes to first moving the
+    /// channel's way (every tick: each place fires at every crossing, back and forth).
     fn seek_series(&mut self, arm: &Arm, x: f64) {
         let Source::Series {
             start,
