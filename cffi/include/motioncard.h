@@ -5442,6 +5442,13 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PSO_OUTPUT -145
 
 /**
+ * Layout 1.13: compare on a modulo (rotary) axis: a position off the turn (not in
+ * `[0, modulo)`), a series longer than a turn, each turn on a linear axis, or the period
+ * changed while a compare channel watches the axis.
+ */
+#define MC_ERR_COMPARE_TURN -146
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -6527,9 +6534,9 @@ mc_result mc_compare_series(mc_card card,
  * Layout 1.13, a rotary axis: the series of `mc_compare_series` on every turn, endless until
  * `mc_compare_disarm`: `count` positions from `start` (0 <= start < modulo), `pitch` apart in
  * `direction`, wrapped into the turn, with count * pitch <= modulo; `count` 0: a whole turn of
- * pitches (floor(modulo / pitch)). The first to fire is the one the axis comes to first. A
- * linear axis or a series that does not fit the turn: `MC_ERR_COMPARE_TURN`. Blocks until the
- * card answers.
+ * pitches (floor(modulo / pitch)). Each place fires at every crossing, whichever the axis
+ * comes to (back and forth as well). A linear axis or a series that does not fit the turn:
+ * `MC_ERR_COMPARE_TURN`. Blocks until the card answers.
  */
 mc_result mc_compare_series_each_turn(mc_card card,
                                       uint32_t axis,

@@ -255,8 +255,8 @@ pub extern "C" fn mc_compare_series(
 /// `mc_compare_disarm`: `count` positions from `start` (0 <= start < modulo), `pitch` apart in
 /// `direction`, wrapped into the turn, with count * pitch <= modulo; `count` 0: a whole turn of
 /// pitches (floor(modulo / pitch)). Each place fires at every crossing, whichever the axis
-/// comes to (back and forth as well). A linear axis or a series that does not fit the turn: `MC_ERR_COMPARE_TURN`. Blocks until the
-/// card answers.
+/// comes to (back and forth as well). A linear axis or a series that does not fit the turn:
+/// `MC_ERR_COMPARE_TURN`. Blocks until the card answers.
 #[no_mangle]
 pub extern "C" fn mc_compare_series_each_turn(
     card: mc_card,
