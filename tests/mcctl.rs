@@ -1628,13 +1628,30 @@ fn a_rotary_axis_from_the_command_line() {
     assert_eq!(j["missed"], 0, "{j}");
     // Off the turn: the card's refusal, exit 1 naming it; each turn with a table: usage.
     let (code, _, err) = mcctl(&[
-        "--card", &uri, "compare", "0", "--output", "3", "--at", "10000", "--each-turn", "--for",
+        "--card",
+        &uri,
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--at",
+        "10000",
+        "--each-turn",
+        "--for",
         "0.01",
     ]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("rotary axis"), "{err}");
     let (code, _, err) = mcctl(&[
-        "--card", &uri, "compare", "0", "--output", "3", "--table", "t.txt", "--each-turn",
+        "--card",
+        &uri,
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--table",
+        "t.txt",
+        "--each-turn",
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("not --table"), "{err}");

@@ -451,14 +451,28 @@ fn compare_on_the_turn_fires_every_crossing_in_velocity_mode() {
     let (gs, zs) = (grid.status().unwrap(), zero.status().unwrap());
     assert_eq!((gs.fires as usize, gs.missed), (g.len(), 0));
     assert_eq!((zs.fires as usize, zs.missed), (z.len(), 0));
-    assert_eq!((gs.state, gs.pending, zs.state, zs.pending), (IoState::Armed, 36, IoState::Armed, 1));
+    assert_eq!(
+        (gs.state, gs.pending, zs.state, zs.pending),
+        (IoState::Armed, 36, IoState::Armed, 1)
+    );
     assert!(g.len() > 600, "{} grid pulses", g.len());
     assert!(worst(&fires) <= 0.5 + 1e-6, "{}", worst(&fires));
     assert!(g.iter().all(|f| f.3 > 0.0), "the grid fires moving up only");
-    assert!(g[0].2 - e0 < pitch + 1.0 && g[0].2 > e0, "the first place after the arm");
-    assert!(peak - g[g.len() - 1].2 < pitch + 1.0, "the last before the axis turned back");
+    assert!(
+        g[0].2 - e0 < pitch + 1.0 && g[0].2 > e0,
+        "the first place after the arm"
+    );
+    assert!(
+        peak - g[g.len() - 1].2 < pitch + 1.0,
+        "the last before the axis turned back"
+    );
     for w in g.windows(2) {
-        assert!((w[1].2 - w[0].2 - pitch).abs() <= 1.0, "{:?} then {:?}", w[0], w[1]);
+        assert!(
+            (w[1].2 - w[0].2 - pitch).abs() <= 1.0,
+            "{:?} then {:?}",
+            w[0],
+            w[1]
+        );
         let step = (w[1].1 - w[0].1).rem_euclid(360.0);
         assert!((step - 10.0).abs() < 1e-9, "{:?} then {:?}", w[0], w[1]);
     }
@@ -527,7 +541,11 @@ fn compare_on_the_turn_counts_every_crossing_of_back_and_forth_moves() {
     let want_down: usize = moves
         .iter()
         .filter(|(a, b)| b < a)
-        .map(|&(a, b)| (0..12).map(|k| places_between(a, b, 15.0 + 30.0 * k as f64)).sum::<usize>())
+        .map(|&(a, b)| {
+            (0..12)
+                .map(|k| places_between(a, b, 15.0 + 30.0 * k as f64))
+                .sum::<usize>()
+        })
         .sum();
     let want_zero: usize = moves.iter().map(|&(a, b)| places_between(a, b, 0.0)).sum();
     println!(
@@ -541,9 +559,19 @@ fn compare_on_the_turn_counts_every_crossing_of_back_and_forth_moves() {
     assert!(want_down > 40 && want_zero >= 6, "{want_down} {want_zero}");
     assert!(worst(&fires) <= 0.5 + 1e-6, "{}", worst(&fires));
     assert!(fires.iter().filter(|f| f.0 == 0).all(|f| f.3 < 0.0));
-    assert!(fires.iter().filter(|f| f.0 == 2).all(|f| f.3 > 0.0 && f.1 == 90.0));
-    let (d, z, o) = (down.status().unwrap(), zero.status().unwrap(), once.status().unwrap());
-    assert_eq!((d.fires as usize, d.missed, z.fires as usize, z.missed), (want_down, 0, want_zero, 0));
+    assert!(fires
+        .iter()
+        .filter(|f| f.0 == 2)
+        .all(|f| f.3 > 0.0 && f.1 == 90.0));
+    let (d, z, o) = (
+        down.status().unwrap(),
+        zero.status().unwrap(),
+        once.status().unwrap(),
+    );
+    assert_eq!(
+        (d.fires as usize, d.missed, z.fires as usize, z.missed),
+        (want_down, 0, want_zero, 0)
+    );
     assert_eq!((o.fires, o.missed, o.state), (1, 0, IoState::Done));
 }
 
@@ -561,7 +589,11 @@ fn compare_on_the_turn_refuses_what_does_not_fit_the_turn() {
     let ch = axis.compare(0);
     let turn = |r: motioncard_sdk::Result<()>| {
         let e = r.unwrap_err();
-        assert_eq!((e.kind(), e.kind().code()), (ErrorKind::CompareTurn, -146), "{e}");
+        assert_eq!(
+            (e.kind(), e.kind().code()),
+            (ErrorKind::CompareTurn, -146),
+            "{e}"
+        );
     };
     turn(ch.arm_single_each_turn(0, 2, 10.0, Direction::Positive));
     axis.set_modulo(360.0).unwrap();
@@ -572,7 +604,8 @@ fn compare_on_the_turn_refuses_what_does_not_fit_the_turn() {
     turn(ch.arm_series_each_turn(0, 2, 0.0, 400.0, 0, Direction::Positive));
     turn(ch.arm_series_each_turn(0, 2, 360.0, 10.0, 0, Direction::Negative));
     assert_eq!(ch.status().unwrap().state, IoState::Idle, "nothing armed");
-    ch.arm_series(0, 2, 350.0, 10.0, 36, Direction::Negative).unwrap();
+    ch.arm_series(0, 2, 350.0, 10.0, 36, Direction::Negative)
+        .unwrap();
     turn(axis.set_modulo(720.0));
     assert_eq!(axis.modulo().unwrap(), 360.0);
     ch.disarm().unwrap();
@@ -590,10 +623,16 @@ fn compare_on_the_turn_refuses_what_does_not_fit_the_turn() {
         .wait(LONG)
         .unwrap();
     let f = turn_fires(&card);
-    let turns: Vec<(f64, f64)> = f.iter().map(|f| (f.1, f.2 / COUNTS_PER_TURN * 360.0)).collect();
+    let turns: Vec<(f64, f64)> = f
+        .iter()
+        .map(|f| (f.1, f.2 / COUNTS_PER_TURN * 360.0))
+        .collect();
     assert_eq!(turns.len(), 3, "{turns:?}");
     for ((place, deg), want) in turns.iter().zip([350.0, 370.0, 730.0]) {
-        assert!((deg - want).abs() < 0.1 && (place - want.rem_euclid(360.0)).abs() < 1e-9, "{turns:?}");
+        assert!(
+            (deg - want).abs() < 0.1 && (place - want.rem_euclid(360.0)).abs() < 1e-9,
+            "{turns:?}"
+        );
     }
     assert!(worst(&f) <= 0.5 + 1e-6);
     assert_eq!(ch.status().unwrap().pending, 0);

@@ -786,7 +786,12 @@ pub fn validate_arm(
         return Err(NackCode::CompareMode);
     }
     if modulo > 0.0 {
-        return validate_turn(axis, a, modulo, (pulse_us * 1e-6 * f64::from(rate_hz), dir, seq));
+        return validate_turn(
+            axis,
+            a,
+            modulo,
+            (pulse_us * 1e-6 * f64::from(rate_hz), dir, seq),
+        );
     }
     if a.each_turn {
         return Err(NackCode::CompareTurn);
@@ -1139,7 +1144,13 @@ mod tests {
         let (lo, hi) = (a.min(b), a.max(b));
         let mut v: Vec<f64> = (-5..=5)
             .map(|j| p + f64::from(j) * m)
-            .filter(|q| if b > a { *q > lo && *q <= hi } else { *q >= lo && *q < hi })
+            .filter(|q| {
+                if b > a {
+                    *q > lo && *q <= hi
+                } else {
+                    *q >= lo && *q < hi
+                }
+            })
             .collect();
         if b < a {
             v.reverse();
@@ -1177,7 +1188,8 @@ mod tests {
         let m = 360.0;
         for p in [0.0, 0.3, 90.0, 359.8] {
             let mut c = Compare::new();
-            c.start(turn_arm(0, Source::Single { at: p }, m, true)).unwrap();
+            c.start(turn_arm(0, Source::Single { at: p }, m, true))
+                .unwrap();
             // 7 counts a tick from 100 up for 400 ticks, the frame wrapped into [0, 360) at
             // each tick's start, then back down for 400 ticks.
             let mut x = 100.0;
@@ -1187,7 +1199,11 @@ mod tests {
                 let v = if k <= 400 { 7.0 } else { -7.0 };
                 let x0 = x - math::floor(x / m) * m;
                 let x1 = x0 + v;
-                expect.extend(crossings(x0, x1, p, m).iter().map(|q| k as f64 - 1.0 + (q - x0) / v));
+                expect.extend(
+                    crossings(x0, x1, p, m)
+                        .iter()
+                        .map(|q| k as f64 - 1.0 + (q - x0) / v),
+                );
                 let mut f = Fires::new();
                 c.tick(0, (x0, x1), (x0.min(x1), x0.max(x1)), k, &mut f);
                 got.extend(f.iter().map(|f| k as f64 - 1.0 + f.frac));
@@ -1200,11 +1216,15 @@ mod tests {
                 assert!((g - e).abs() < 1e-9, "{p}: {g} vs {e}");
             }
             let s = c.status();
-            assert_eq!((s.state, s.fires, s.missed, s.pending), (raw::MC_IO_ARMED, got.len() as u32, 0, 1));
+            assert_eq!(
+                (s.state, s.fires, s.missed, s.pending),
+                (raw::MC_IO_ARMED, got.len() as u32, 0, 1)
+            );
         }
         // Once: the first crossing, armed "behind" the axis (no miss: it comes round).
         let mut c = Compare::new();
-        c.start(turn_arm(1, Source::Single { at: 50.0 }, m, false)).unwrap();
+        c.start(turn_arm(1, Source::Single { at: 50.0 }, m, false))
+            .unwrap();
         let mut f = Fires::new();
         c.tick(0, (100.5, 300.5), (100.5, 300.5), 1, &mut f);
         assert_eq!((c.status().fires, c.status().missed), (0, 0));
@@ -1226,9 +1246,21 @@ mod tests {
             m,
         )
         .unwrap();
-        assert_eq!(a.source, Source::Series { start: 5.0, pitch: 10.0, count: 36, next: 0 });
+        assert_eq!(
+            a.source,
+            Source::Series {
+                start: 5.0,
+                pitch: 10.0,
+                count: 36,
+                next: 0
+            }
+        );
         let mut c = Compare::new();
-        c.start(Arm { pulse_ticks: 0.01, ..a }).unwrap();
+        c.start(Arm {
+            pulse_ticks: 0.01,
+            ..a
+        })
+        .unwrap();
         let ticks = 1000 * 360 / 13;
         let (mut x, mut n) = (0.25f64, 0usize);
         for k in 1..=ticks {
@@ -1249,14 +1281,25 @@ mod tests {
             x = x1;
         }
         let s = c.status();
-        assert_eq!((s.fires as usize, s.missed, s.pending, s.state), (n, 0, 36, raw::MC_IO_ARMED));
+        assert_eq!(
+            (s.fires as usize, s.missed, s.pending, s.state),
+            (n, 0, 36, raw::MC_IO_ARMED)
+        );
         assert!(n >= 36 * 999, "{n}");
         // Down from 20: 355, 345, 335 are 25, 35, 45 counts on, across the wrap.
-        let source = Source::Series { start: 355.0, pitch: -10.0, count: 3, next: 0 };
+        let source = Source::Series {
+            start: 355.0,
+            pitch: -10.0,
+            count: 3,
+            next: 0,
+        };
         let mut c = Compare::new();
         c.start(turn_arm(-1, source, m, false)).unwrap();
         let (fires, _) = run(&mut c, |k| 20.0 - 10.0 * k as f64, 6);
-        assert_eq!(fires.iter().map(|f| f.0).collect::<Vec<_>>(), [355.0, 345.0, 335.0]);
+        assert_eq!(
+            fires.iter().map(|f| f.0).collect::<Vec<_>>(),
+            [355.0, 345.0, 335.0]
+        );
         for ((_, t), d) in fires.iter().zip([25.0, 35.0, 45.0]) {
             assert!((t - d / 10.0).abs() < 1e-12, "{t}");
         }
@@ -1270,16 +1313,30 @@ mod tests {
     fn turn_misses_are_counted() {
         let m = 100.0;
         let mut c = Compare::new();
-        c.start(turn_arm(1, Source::Single { at: 0.0 }, m, true)).unwrap();
+        c.start(turn_arm(1, Source::Single { at: 0.0 }, m, true))
+            .unwrap();
         let mut f = Fires::new();
         c.tick(0, (99.5, 99.5), (99.5, 100.5), 1, &mut f);
         assert_eq!((c.status().missed, f.len()), (1, 0));
         c.tick(0, (99.5, 90.5), (90.5, 99.5), 2, &mut f);
         c.tick(0, (-9.5, -20.5), (-20.5, -9.5), 3, &mut f);
-        assert_eq!((c.status().missed, c.status().fires), (1, 0), "down: not this channel's way");
-        let source = Source::Series { start: 0.0, pitch: 1.0, count: 100, next: 0 };
+        assert_eq!(
+            (c.status().missed, c.status().fires),
+            (1, 0),
+            "down: not this channel's way"
+        );
+        let source = Source::Series {
+            start: 0.0,
+            pitch: 1.0,
+            count: 100,
+            next: 0,
+        };
         let mut c = Compare::new();
-        c.start(Arm { pulse_ticks: 1e-9, ..turn_arm(1, source, m, true) }).unwrap();
+        c.start(Arm {
+            pulse_ticks: 1e-9,
+            ..turn_arm(1, source, m, true)
+        })
+        .unwrap();
         let mut f = Fires::new();
         c.tick(0, (0.5, 4000.5), (0.5, 4000.5), 1, &mut f);
         let s = c.status();
@@ -1288,9 +1345,18 @@ mod tests {
         assert_eq!(s.last_missed, 0.0);
         assert_eq!(s.next, 1.0, "the series goes on from the next one");
         // Once, 30 of 40 ahead: the same, then done.
-        let source = Source::Series { start: 50.0, pitch: 2.0, count: 30, next: 0 };
+        let source = Source::Series {
+            start: 50.0,
+            pitch: 2.0,
+            count: 30,
+            next: 0,
+        };
         let mut c = Compare::new();
-        c.start(Arm { pulse_ticks: 1e-9, ..turn_arm(1, source, m, false) }).unwrap();
+        c.start(Arm {
+            pulse_ticks: 1e-9,
+            ..turn_arm(1, source, m, false)
+        })
+        .unwrap();
         c.tick(0, (40.5, 140.5), (40.5, 140.5), 1, &mut Fires::new());
         assert_eq!((c.status().fires, c.status().state), (30, raw::MC_IO_DONE));
     }
@@ -1309,11 +1375,20 @@ mod tests {
         assert!(ok(single, &[0.0, 1.0, 0.0, 0.0]).is_ok());
         assert_eq!(ok(single, &[0.0, 1.0, 0.0, 360.0]).map(|_| ()), turn);
         assert_eq!(ok(single, &[0.0, 1.0, 0.0, -1e-9]).map(|_| ()), turn);
-        assert_eq!(ok(series, &[0.0, 1.0, 0.0, 350.0, 10.0, 37.0]).map(|_| ()), turn);
+        assert_eq!(
+            ok(series, &[0.0, 1.0, 0.0, 350.0, 10.0, 37.0]).map(|_| ()),
+            turn
+        );
         assert!(ok(series, &[0.0, 1.0, 0.0, 350.0, 10.0, 36.0]).is_ok());
         assert!(ok(series | each, &[0.0, 1.0, 0.0, 350.0, 10.0, 36.0]).is_ok());
-        assert_eq!(ok(series | each, &[0.0, 1.0, 0.0, 0.0, 10.0, 37.0]).map(|_| ()), turn);
-        assert_eq!(ok(series | each, &[0.0, 1.0, 0.0, 0.0, 361.0, 0.0]).map(|_| ()), turn);
+        assert_eq!(
+            ok(series | each, &[0.0, 1.0, 0.0, 0.0, 10.0, 37.0]).map(|_| ()),
+            turn
+        );
+        assert_eq!(
+            ok(series | each, &[0.0, 1.0, 0.0, 0.0, 361.0, 0.0]).map(|_| ()),
+            turn
+        );
         assert_eq!(
             ok(series, &[0.0, 1.0, 0.0, 0.0, 10.0, 0.0]).map(|_| ()),
             Err(NackCode::CompareMode)
@@ -1328,7 +1403,11 @@ mod tests {
             NackCode::CompareTurn
         );
         assert_eq!(
-            ok(raw::MC_CMP_MODE_TABLE | raw::MC_CMP_DIR_POS | each, &[0.0, 1.0, 0.0]).map(|_| ()),
+            ok(
+                raw::MC_CMP_MODE_TABLE | raw::MC_CMP_DIR_POS | each,
+                &[0.0, 1.0, 0.0]
+            )
+            .map(|_| ()),
             Err(NackCode::CompareMode)
         );
         // A table queued before the arm keeps the linear order; the arm on a turn checks it.
@@ -1341,12 +1420,18 @@ mod tests {
         c.queue(1, &[10.0, 300.0]).unwrap();
         c.start(t).unwrap();
         assert_eq!(c.queue(1, &[360.0]), Err(NackCode::CompareTurn));
-        assert_eq!(c.queue(1, &[20.0, 20.0, 5.0]), Ok(COMPARE_TABLE_LEN as u32 - 5));
+        assert_eq!(
+            c.queue(1, &[20.0, 20.0, 5.0]),
+            Ok(COMPARE_TABLE_LEN as u32 - 5)
+        );
         // 10, 300, then 20, 20 (a turn later), 5: from 0.5 up 100 counts a tick.
         let (fires, _) = run(&mut c, |k| 0.5 + 100.0 * k as f64, 12);
         let at: Vec<f64> = fires.iter().map(|f| f.1 * 100.0 + 0.5).collect();
         let want = [10.0, 300.0, 380.0, 740.0, 1085.0];
-        assert_eq!(fires.iter().map(|f| f.0).collect::<Vec<_>>(), [10.0, 300.0, 20.0, 20.0, 5.0]);
+        assert_eq!(
+            fires.iter().map(|f| f.0).collect::<Vec<_>>(),
+            [10.0, 300.0, 20.0, 20.0, 5.0]
+        );
         for (a, w) in at.iter().zip(want) {
             assert!((a - w).abs() < 1e-9, "{a} vs {w}");
         }

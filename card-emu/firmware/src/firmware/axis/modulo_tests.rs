@@ -269,26 +269,27 @@ fn compare_on_the_turn_is_exact_after_a_billion_turns() {
     let turns0 = ax.turns();
     let mut enc = shaft(&ax);
     let mut tick = 0u64;
-    let mut step = |ax: &mut Axis, ch: &mut Compare, enc: &mut i64| -> (i128, std::vec::Vec<Fire>) {
-        let before = *enc;
-        *enc = shaft(ax);
-        ax.sense(*enc, TS);
-        ax.control(TS);
-        tick += 1;
-        let at = |n: i64| ax.load_position_of_count(n) + 0.5;
-        let (x0, x1) = (at(before), at(*enc));
-        let mut f = heapless::Vec::<Fire, 512>::new();
-        let span = (x0.min(x1), x0.max(x1));
-        let (n0, m0) = (ch.status().fires, ch.status().missed);
-        ch.tick(0, (x0, x1), span, tick, &mut f);
-        let seen = (ch.status().fires - n0) + (ch.status().missed - m0);
-        assert_eq!(
-            i128::from(seen),
-            upto(*enc) - upto(before),
-            "tick {tick}: counts {before}..{enc}"
-        );
-        (upto(*enc) - upto(before), f.to_vec())
-    };
+    let mut step =
+        |ax: &mut Axis, ch: &mut Compare, enc: &mut i64| -> (i128, std::vec::Vec<Fire>) {
+            let before = *enc;
+            *enc = shaft(ax);
+            ax.sense(*enc, TS);
+            ax.control(TS);
+            tick += 1;
+            let at = |n: i64| ax.load_position_of_count(n) + 0.5;
+            let (x0, x1) = (at(before), at(*enc));
+            let mut f = heapless::Vec::<Fire, 512>::new();
+            let span = (x0.min(x1), x0.max(x1));
+            let (n0, m0) = (ch.status().fires, ch.status().missed);
+            ch.tick(0, (x0, x1), span, tick, &mut f);
+            let seen = (ch.status().fires - n0) + (ch.status().missed - m0);
+            assert_eq!(
+                i128::from(seen),
+                upto(*enc) - upto(before),
+                "tick {tick}: counts {before}..{enc}"
+            );
+            (upto(*enc) - upto(before), f.to_vec())
+        };
     let mut crossed = 0i128;
     for _ in 0..100_600 {
         crossed += step(&mut ax, &mut ch, &mut enc).0;
