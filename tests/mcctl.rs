@@ -1598,6 +1598,64 @@ fn a_rotary_axis_from_the_command_line() {
         "{at} {e1} {e2}"
     );
 
+    // Layout 1.13: compare on the turn. Every 250 counts from 125, on every turn, crossed
+    // downwards on the shortest way from 500 to 9000 (back over the wrap): each place once, in
+    // the order the axis comes to them, the first the one it comes to first.
+    let (code, out, err) = mcctl(&[
+        "--card",
+        &uri,
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--series",
+        "125,250,0",
+        "--each-turn",
+        "--direction",
+        "negative",
+        "--move",
+        "9000",
+        "--enable",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(
+        floats(&j["fired_at"]),
+        [375.0, 125.0, 9875.0, 9625.0, 9375.0, 9125.0],
+        "{j}"
+    );
+    assert_eq!(j["missed"], 0, "{j}");
+    // Off the turn: the card's refusal, exit 1 naming it; each turn with a table: usage.
+    let (code, _, err) = mcctl(&[
+        "--card",
+        &uri,
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--at",
+        "10000",
+        "--each-turn",
+        "--for",
+        "0.01",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("rotary axis"), "{err}");
+    let (code, _, err) = mcctl(&[
+        "--card",
+        &uri,
+        "compare",
+        "0",
+        "--output",
+        "3",
+        "--table",
+        "t.txt",
+        "--each-turn",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not --table"), "{err}");
+
     let (code, _, err) = mcctl(&[
         "--card",
         &uri,

@@ -4,13 +4,15 @@
 //! running on; absolute moves go the shortest way or the way they name; a slave geared to a
 //! modulo master does not jump when the master wraps, and a cam slave stays on its periodic
 //! table across many of the master's turns both ways; soft limits do not hold on a modulo
-//! axis.
+//! axis; position compare is turn-aware (layout 1.13): every crossing of a place on the turn
+//! fires once, within half a count, across the wrap, both ways, and what does not fit the turn
+//! is refused.
 mod common;
 
 use common::stepped_card_with;
 use motioncard_sdk::{
-    AxisState, Card, EmuOptions, ErrorKind, Master, MoveDirection, MoveLimits, Status, SyncLimits,
-    VelocityLimits,
+    AxisState, Card, Direction, EmuOptions, ErrorKind, IoState, Master, MoveDirection, MoveLimits,
+    Status, SyncLimits, VelocityLimits,
 };
 use std::time::Duration;
 
@@ -368,4 +370,270 @@ fn a_cam_slave_follows_a_modulo_master_exactly_across_many_turns() {
             "dir {dir}: the slave off its table by {worst}"
         );
     }
+}
+
+/// Layout 1.13: the compare pulses recorded by the plant: (channel, place on the turn in
+/// degrees, shaft at the pulse in counts, unwrapped, the shaft's velocity, and the error: the
+/// shaft's place on the turn less the position programmed, counts, in [−half, half) a turn).
+fn turn_fires(card: &Card) -> Vec<(usize, f64, f64, f64, f64)> {
+    let rec = card.sim().unwrap().with_emulator(|e| e.take_fires());
+    rec.iter()
+        .map(|f| {
+            let e = (f.shaft - f.position).rem_euclid(COUNTS_PER_TURN);
+            let e = if e >= COUNTS_PER_TURN / 2.0 {
+                e - COUNTS_PER_TURN
+            } else {
+                e
+            };
+            (f.channel, f.position / SCALE, f.shaft, f.velocity, e)
+        })
+        .collect()
+}
+
+/// The largest error of the pulses (counts): the bound is half a count, the comparator's.
+fn worst(f: &[(usize, f64, f64, f64, f64)]) -> f64 {
+    f.iter().fold(0.0f64, |m, r| m.max(r.4.abs()))
+}
+
+/// The places `q + j·360` strictly between `a` and `b` (degrees, unwrapped).
+fn places_between(a: f64, b: f64, q: f64) -> usize {
+    let (lo, hi) = (a.min(b), a.max(b));
+    let first = ((lo - q) / 360.0).floor() as i64 + 1;
+    let last = ((hi - q) / 360.0).ceil() as i64 - 1;
+    (last - first + 1).max(0) as usize
+}
+
+/// Layout 1.13: compare on the turn in velocity mode, up to 100 turns a second (10⁶ counts/s)
+/// for 0.3 s, then down for 0.6 s (5·10⁶ counts/s² each way): a camera trigger every 10° from 5° (count 0: the whole turn) crossing
+/// upwards only, and a pulse at 0° (the wrap itself) either way. Every pulse is within half a
+/// count of its place (the shaft's true position at the pulse's instant, from the plant); the
+/// grid fires each place once, in order, one pitch after the other with none skipped (the
+/// first within a pitch of the arm, the last within a pitch of where the axis turned back),
+/// only while moving up; the pulse at 0° fires at every crossing, one turn apart, the turn it
+/// went back through twice.
+#[test]
+fn compare_on_the_turn_fires_every_crossing_in_velocity_mode() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    let sim = card.sim().unwrap();
+    sim.with_emulator(|e| e.record_fires(true));
+    let grid = axis.compare(0);
+    grid.arm_series_each_turn(0, 2, 5.0, 10.0, 0, Direction::Positive)
+        .unwrap();
+    let zero = axis.compare(1);
+    zero.arm_single_each_turn(1, 2, 0.0, Direction::Either)
+        .unwrap();
+    let e0 = status(&card, 0).raw.encoder as f64;
+    let lim = VelocityLimits::new(180_000.0, 1.8e7);
+    axis.move_velocity(36_000.0, &lim).unwrap();
+    sim.step(3000);
+    axis.move_velocity(-36_000.0, &lim).unwrap();
+    let mut peak = f64::MIN;
+    for _ in 0..6000 {
+        sim.step(1);
+        peak = peak.max(status(&card, 0).raw.encoder as f64);
+    }
+    axis.halt(180_000.0, 1.8e7).unwrap().wait(LONG).unwrap();
+    let fires = turn_fires(&card);
+    let pitch = 10.0 * SCALE;
+    let g: Vec<_> = fires.iter().filter(|f| f.0 == 0).collect();
+    let z: Vec<_> = fires.iter().filter(|f| f.0 == 1).collect();
+    println!(
+        "compare on the turn at 1e6 counts/s: {} grid pulses (every 10 deg, up), {} at 0 deg \
+         (either way), max |error| {:.3} and {:.3} counts",
+        g.len(),
+        z.len(),
+        worst(&g.iter().map(|f| **f).collect::<Vec<_>>()),
+        worst(&z.iter().map(|f| **f).collect::<Vec<_>>())
+    );
+    let (gs, zs) = (grid.status().unwrap(), zero.status().unwrap());
+    assert_eq!((gs.fires as usize, gs.missed), (g.len(), 0));
+    assert_eq!((zs.fires as usize, zs.missed), (z.len(), 0));
+    assert_eq!(
+        (gs.state, gs.pending, zs.state, zs.pending),
+        (IoState::Armed, 36, IoState::Armed, 1)
+    );
+    assert!(g.len() > 600, "{} grid pulses", g.len());
+    assert!(worst(&fires) <= 0.5 + 1e-6, "{}", worst(&fires));
+    assert!(g.iter().all(|f| f.3 > 0.0), "the grid fires moving up only");
+    assert!(
+        g[0].2 - e0 < pitch + 1.0 && g[0].2 > e0,
+        "the first place after the arm"
+    );
+    assert!(
+        peak - g[g.len() - 1].2 < pitch + 1.0,
+        "the last before the axis turned back"
+    );
+    for w in g.windows(2) {
+        assert!(
+            (w[1].2 - w[0].2 - pitch).abs() <= 1.0,
+            "{:?} then {:?}",
+            w[0],
+            w[1]
+        );
+        let step = (w[1].1 - w[0].1).rem_euclid(360.0);
+        assert!((step - 10.0).abs() < 1e-9, "{:?} then {:?}", w[0], w[1]);
+    }
+    // The crossings of 0°: turn numbers up by one, then the same once (the turn back), then
+    // down by one.
+    let turns: Vec<i64> = z
+        .iter()
+        .map(|f| (f.2 / COUNTS_PER_TURN).round() as i64)
+        .collect();
+    let steps: Vec<i64> = turns.windows(2).map(|w| w[1] - w[0]).collect();
+    let back = steps.iter().position(|&d| d == 0).expect("the turn back");
+    assert!(steps[..back].iter().all(|&d| d == 1), "{steps:?}");
+    assert!(steps[back + 1..].iter().all(|&d| d == -1), "{steps:?}");
+    assert!(back > 20 && steps.len() - back > 10, "{steps:?}");
+    assert!(z.iter().all(|f| f.1 == 0.0));
+}
+
+/// Layout 1.13: compare on the turn through back-and-forth moves (absolute moves the way they
+/// name, a relative move of −1000°, several turns): a series every 30° from 15° on every turn
+/// crossing downwards, a pulse at 0° either way, and a single at 90° crossing upwards once.
+/// Each fires exactly as often as the moves cross its places (counted from the moves' ends,
+/// none near a place), within half a count, in its direction only; the single fires once
+/// (the first upward crossing, after the arm) and is done.
+#[test]
+fn compare_on_the_turn_counts_every_crossing_of_back_and_forth_moves() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    axis.move_absolute(50.0, &limits())
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    card.sim().unwrap().with_emulator(|e| e.record_fires(true));
+    let down = axis.compare(0);
+    down.arm_series_each_turn(0, 2, 15.0, 30.0, 0, Direction::Negative)
+        .unwrap();
+    let zero = axis.compare(1);
+    zero.arm_single_each_turn(1, 2, 0.0, Direction::Either)
+        .unwrap();
+    let once = axis.compare(2);
+    once.arm_single(2, 2, 90.0, Direction::Positive).unwrap();
+    // (unwrapped start, end) of each move, degrees.
+    let mut at = 50.0;
+    let mut moves = Vec::new();
+    let plan = [
+        (Some(300.0), MoveDirection::Negative, -110.0),
+        (Some(200.0), MoveDirection::Positive, 260.0),
+        (None, MoveDirection::Current, -1000.0),
+        (Some(100.0), MoveDirection::Positive, 180.0),
+        (Some(250.0), MoveDirection::Negative, -210.0),
+    ];
+    for (target, dir, travel) in plan {
+        let m = match target {
+            Some(t) => axis.move_absolute_dir(t, dir, &limits()).unwrap(),
+            None => axis.move_relative(travel, &limits()).unwrap(),
+        };
+        m.wait(LONG).unwrap();
+        moves.push((at, at + travel));
+        at += travel;
+        let p = status(&card, 0).actual_position;
+        assert!((p - at.rem_euclid(360.0)).abs() < 0.1, "at {p}, not {at}");
+    }
+    let fires = turn_fires(&card);
+    let count = |ch: usize| fires.iter().filter(|f| f.0 == ch).count();
+    let want_down: usize = moves
+        .iter()
+        .filter(|(a, b)| b < a)
+        .map(|&(a, b)| {
+            (0..12)
+                .map(|k| places_between(a, b, 15.0 + 30.0 * k as f64))
+                .sum::<usize>()
+        })
+        .sum();
+    let want_zero: usize = moves.iter().map(|&(a, b)| places_between(a, b, 0.0)).sum();
+    println!(
+        "compare on the turn, back and forth: {} pulses every 30 deg down ({want_down} \
+         crossed), {} at 0 deg ({want_zero}), max |error| {:.3} counts",
+        count(0),
+        count(1),
+        worst(&fires)
+    );
+    assert_eq!((count(0), count(1), count(2)), (want_down, want_zero, 1));
+    assert!(want_down > 40 && want_zero >= 6, "{want_down} {want_zero}");
+    assert!(worst(&fires) <= 0.5 + 1e-6, "{}", worst(&fires));
+    assert!(fires.iter().filter(|f| f.0 == 0).all(|f| f.3 < 0.0));
+    assert!(fires
+        .iter()
+        .filter(|f| f.0 == 2)
+        .all(|f| f.3 > 0.0 && f.1 == 90.0));
+    let (d, z, o) = (
+        down.status().unwrap(),
+        zero.status().unwrap(),
+        once.status().unwrap(),
+    );
+    assert_eq!(
+        (d.fires as usize, d.missed, z.fires as usize, z.missed),
+        (want_down, 0, want_zero, 0)
+    );
+    assert_eq!((o.fires, o.missed, o.state), (1, 0, IoState::Done));
+}
+
+/// Layout 1.13: what compare on the turn refuses, each with `CompareTurn` (−146) and nothing
+/// changed: each turn on a linear axis; on a rotary axis a position off the turn, a series
+/// longer than a turn, one that does not fit a turn each turn, a pitch over the turn; a period
+/// change while a channel watches the axis (after the disarm it changes); a table position off
+/// the turn. A table on the turn takes its places in any order, each fired once at the next
+/// crossing after the one before (the same place again: a turn later).
+#[test]
+fn compare_on_the_turn_refuses_what_does_not_fit_the_turn() {
+    let card = card(1);
+    let axis = card.axis(0).unwrap();
+    axis.set_scale(SCALE).unwrap();
+    let ch = axis.compare(0);
+    let turn = |r: motioncard_sdk::Result<()>| {
+        let e = r.unwrap_err();
+        assert_eq!(
+            (e.kind(), e.kind().code()),
+            (ErrorKind::CompareTurn, -146),
+            "{e}"
+        );
+    };
+    turn(ch.arm_single_each_turn(0, 2, 10.0, Direction::Positive));
+    axis.set_modulo(360.0).unwrap();
+    turn(ch.arm_single(0, 2, 360.0, Direction::Positive));
+    turn(ch.arm_single(0, 2, -0.001, Direction::Either));
+    turn(ch.arm_series(0, 2, 0.0, 10.0, 37, Direction::Positive));
+    turn(ch.arm_series_each_turn(0, 2, 0.0, 10.0, 37, Direction::Positive));
+    turn(ch.arm_series_each_turn(0, 2, 0.0, 400.0, 0, Direction::Positive));
+    turn(ch.arm_series_each_turn(0, 2, 360.0, 10.0, 0, Direction::Negative));
+    assert_eq!(ch.status().unwrap().state, IoState::Idle, "nothing armed");
+    ch.arm_series(0, 2, 350.0, 10.0, 36, Direction::Negative)
+        .unwrap();
+    turn(axis.set_modulo(720.0));
+    assert_eq!(axis.modulo().unwrap(), 360.0);
+    ch.disarm().unwrap();
+    axis.set_modulo(720.0).unwrap();
+    axis.set_modulo(360.0).unwrap();
+    // A table: 350, 10, 10 (a turn later), pushed after the arm in that order.
+    card.sim().unwrap().with_emulator(|e| e.record_fires(true));
+    ch.arm_table(0, 2, 0, Direction::Positive).unwrap();
+    ch.push(Direction::Positive, &[350.0, 10.0, 10.0]).unwrap();
+    let e = ch.push(Direction::Positive, &[360.0]).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::CompareTurn);
+    assert_eq!(ch.status().unwrap().pending, 3);
+    axis.move_relative(800.0, &limits())
+        .unwrap()
+        .wait(LONG)
+        .unwrap();
+    let f = turn_fires(&card);
+    let turns: Vec<(f64, f64)> = f
+        .iter()
+        .map(|f| (f.1, f.2 / COUNTS_PER_TURN * 360.0))
+        .collect();
+    assert_eq!(turns.len(), 3, "{turns:?}");
+    for ((place, deg), want) in turns.iter().zip([350.0, 370.0, 730.0]) {
+        assert!(
+            (deg - want).abs() < 0.1 && (place - want.rem_euclid(360.0)).abs() < 1e-9,
+            "{turns:?}"
+        );
+    }
+    assert!(worst(&f) <= 0.5 + 1e-6);
+    assert_eq!(ch.status().unwrap().pending, 0);
 }

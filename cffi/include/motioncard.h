@@ -1941,7 +1941,8 @@ extern "C" {
  * Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
  * rounded to 1/65536 count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of range:
  * `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop with no
- * motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+ * motion; else `MC_NACK_MODULO_BUSY`). An armed compare channel watching the axis:
+ * `MC_NACK_COMPARE_TURN` (layout 1.13). The positions are wrapped at once. Read back in
  * `axis_config.modulo`.
  */
 #define MC_OP_SET_MODULO 101
@@ -5441,6 +5442,13 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_PSO_OUTPUT -145
 
 /**
+ * Layout 1.13: compare on a modulo (rotary) axis: a position off the turn (not in
+ * `[0, modulo)`), a series longer than a turn, each turn on a linear axis, or the period
+ * changed while a compare channel watches the axis.
+ */
+#define MC_ERR_COMPARE_TURN -146
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -6493,8 +6501,24 @@ mc_result mc_compare_single(mc_card card,
                             uint32_t direction_);
 
 /**
+ * Layout 1.13, a rotary axis: pulse `output` at every crossing of `position` (a place on the
+ * turn, 0 <= position < modulo, user units) in `direction`, on every turn, until
+ * `mc_compare_disarm`. A linear axis or a position off the turn: `MC_ERR_COMPARE_TURN`.
+ * Blocks until the card answers.
+ */
+mc_result mc_compare_single_each_turn(mc_card card,
+                                      uint32_t axis,
+                                      uint32_t channel,
+                                      uint32_t output,
+                                      uint32_t pulse_us,
+                                      double position,
+                                      uint32_t direction_);
+
+/**
  * Arm a linear series: `count` positions from `start`, `pitch` (> 0, user units) apart in
- * `direction` (`MC_COMPARE_POSITIVE` or `_NEGATIVE`). Blocks until the card answers.
+ * `direction` (`MC_COMPARE_POSITIVE` or `_NEGATIVE`). On a rotary axis (layout 1.13) the
+ * positions wrap into the turn and must fit one (`MC_ERR_COMPARE_TURN`), each fired at the
+ * next crossing after the one before. Blocks until the card answers.
  */
 mc_result mc_compare_series(mc_card card,
                             uint32_t axis,
@@ -6505,6 +6529,24 @@ mc_result mc_compare_series(mc_card card,
                             double pitch,
                             uint32_t count,
                             uint32_t direction_);
+
+/**
+ * Layout 1.13, a rotary axis: the series of `mc_compare_series` on every turn, endless until
+ * `mc_compare_disarm`: `count` positions from `start` (0 <= start < modulo), `pitch` apart in
+ * `direction`, wrapped into the turn, with count * pitch <= modulo; `count` 0: a whole turn of
+ * pitches (floor(modulo / pitch)). Each place fires at every crossing, whichever the axis
+ * comes to (back and forth as well). A linear axis or a series that does not fit the turn:
+ * `MC_ERR_COMPARE_TURN`. Blocks until the card answers.
+ */
+mc_result mc_compare_series_each_turn(mc_card card,
+                                      uint32_t axis,
+                                      uint32_t channel,
+                                      uint32_t output,
+                                      uint32_t pulse_us,
+                                      double start,
+                                      double pitch,
+                                      uint32_t count,
+                                      uint32_t direction_);
 
 /**
  * Arm the channel's table (positions queued before with `mc_compare_push`, or after), in
@@ -7000,7 +7042,10 @@ mc_result mc_pvt_room(mc_card card, uint32_t axis, size_t *queued, size_t *free)
 /**
  * Make `axis` a rotary (modulo) axis of `period` user units (for example 360 with a scale in
  * counts per degree): its status's positions, motion done's and probe captures wrap into
- * [0, period) without drift; soft limits do not apply. At rest only (`MC_ERR_MODULO_BUSY`). A
+ * [0, period) without drift; position compare is turn-aware (layout 1.13: positions in
+ * [0, period), `mc_compare_single_each_turn`, `mc_compare_series_each_turn`); soft limits do
+ * not apply. At rest only (`MC_ERR_MODULO_BUSY`), and not while an armed compare channel
+ * watches the axis (`MC_ERR_COMPARE_TURN`). A
  * period of 0 is `MC_ERR_MODULO_ZERO` (`mc_axis_clear_modulo` makes an axis linear), a
  * negative, non-finite or out-of-range one (1 to 1e11 counts) `MC_ERR_MODULO_RANGE`; the axis
  * needs a positive scale (`MC_ERR_BAD_CONFIG`). A refusal changes nothing.
@@ -7956,6 +8001,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_COMPARE_ORDER 94
 
 /**
+ * Layout 1.13, compare on a modulo axis: a position, series start or table position outside 0 <= p < modulo, a series longer than a turn ((count - 1) `*` pitch >= modulo; with `MC_CMP_EACH_TURN` count `*` pitch > modulo, or count 0 with a pitch over the turn), `MC_CMP_EACH_TURN` on a linear axis, or `MC_OP_SET_MODULO` on an axis an armed compare channel watches. Refused, nothing changed.
+ */
+#define MC_NACK_COMPARE_TURN 159
+
+/**
  * A correction beyond the table's bound.
  */
 #define MC_NACK_COMP_BOUND 123
@@ -8535,6 +8585,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_TIMED_MAX_AHEAD 600000u
 
 #define MC_CMD_RING_LEN 64u
+
+/**
+ * Layout 1.13, a modulo axis only (else `MC_NACK_COMPARE_TURN`): a single position or a series fires on every turn, endless (see above).
+ */
+#define MC_CMP_EACH_TURN (1u << 4)
 
 #define MC_EVT_RING_LEN 256u
 

@@ -1179,7 +1179,8 @@ pub const MC_OP_COMP_READ: u32 = 100;
 /// Axis: the axis. args: the period, counts (0: linear; else `MC_MODULO_MIN..MC_MODULO_MAX`,
 /// rounded to 1/65536 count; NaN or infinite: `MC_NACK_NOT_FINITE`; out of range:
 /// `MC_NACK_MODULO_RANGE`). Only at rest (Standstill with no motion, Disabled, or ErrorStop with no
-/// motion; else `MC_NACK_MODULO_BUSY`). The positions are wrapped at once. Read back in
+/// motion; else `MC_NACK_MODULO_BUSY`). An armed compare channel watching the axis:
+/// `MC_NACK_COMPARE_TURN` (layout 1.13). The positions are wrapped at once. Read back in
 /// `axis_config.modulo`.
 pub const MC_OP_SET_MODULO: u32 = 101;
 

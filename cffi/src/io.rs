@@ -205,8 +205,32 @@ pub extern "C" fn mc_compare_single(
     })
 }
 
+/// Layout 1.13, a rotary axis: pulse `output` at every crossing of `position` (a place on the
+/// turn, 0 <= position < modulo, user units) in `direction`, on every turn, until
+/// `mc_compare_disarm`. A linear axis or a position off the turn: `MC_ERR_COMPARE_TURN`.
+/// Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_compare_single_each_turn(
+    card: mc_card,
+    axis: u32,
+    channel: u32,
+    output: u32,
+    pulse_us: u32,
+    position: f64,
+    direction_: u32,
+) -> mc_result {
+    guard(|| {
+        let d = direction(direction_, true)?;
+        let (_, a) = axis_of(card, axis)?;
+        Ok(a.compare(channel as usize)
+            .arm_single_each_turn(output, pulse_us, position, d)?)
+    })
+}
+
 /// Arm a linear series: `count` positions from `start`, `pitch` (> 0, user units) apart in
-/// `direction` (`MC_COMPARE_POSITIVE` or `_NEGATIVE`). Blocks until the card answers.
+/// `direction` (`MC_COMPARE_POSITIVE` or `_NEGATIVE`). On a rotary axis (layout 1.13) the
+/// positions wrap into the turn and must fit one (`MC_ERR_COMPARE_TURN`), each fired at the
+/// next crossing after the one before. Blocks until the card answers.
 #[no_mangle]
 pub extern "C" fn mc_compare_series(
     card: mc_card,
@@ -224,6 +248,32 @@ pub extern "C" fn mc_compare_series(
         let (_, a) = axis_of(card, axis)?;
         Ok(a.compare(channel as usize)
             .arm_series(output, pulse_us, start, pitch, count, d)?)
+    })
+}
+
+/// Layout 1.13, a rotary axis: the series of `mc_compare_series` on every turn, endless until
+/// `mc_compare_disarm`: `count` positions from `start` (0 <= start < modulo), `pitch` apart in
+/// `direction`, wrapped into the turn, with count * pitch <= modulo; `count` 0: a whole turn of
+/// pitches (floor(modulo / pitch)). Each place fires at every crossing, whichever the axis
+/// comes to (back and forth as well). A linear axis or a series that does not fit the turn:
+/// `MC_ERR_COMPARE_TURN`. Blocks until the card answers.
+#[no_mangle]
+pub extern "C" fn mc_compare_series_each_turn(
+    card: mc_card,
+    axis: u32,
+    channel: u32,
+    output: u32,
+    pulse_us: u32,
+    start: f64,
+    pitch: f64,
+    count: u32,
+    direction_: u32,
+) -> mc_result {
+    guard(|| {
+        let d = direction(direction_, false)?;
+        let (_, a) = axis_of(card, axis)?;
+        Ok(a.compare(channel as usize)
+            .arm_series_each_turn(output, pulse_us, start, pitch, count, d)?)
     })
 }
 

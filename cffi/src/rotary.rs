@@ -10,7 +10,10 @@ use motioncard_sdk::{MoveDirection, MoveLimits};
 
 /// Make `axis` a rotary (modulo) axis of `period` user units (for example 360 with a scale in
 /// counts per degree): its status's positions, motion done's and probe captures wrap into
-/// [0, period) without drift; soft limits do not apply. At rest only (`MC_ERR_MODULO_BUSY`). A
+/// [0, period) without drift; position compare is turn-aware (layout 1.13: positions in
+/// [0, period), `mc_compare_single_each_turn`, `mc_compare_series_each_turn`); soft limits do
+/// not apply. At rest only (`MC_ERR_MODULO_BUSY`), and not while an armed compare channel
+/// watches the axis (`MC_ERR_COMPARE_TURN`). A
 /// period of 0 is `MC_ERR_MODULO_ZERO` (`mc_axis_clear_modulo` makes an axis linear), a
 /// negative, non-finite or out-of-range one (1 to 1e11 counts) `MC_ERR_MODULO_RANGE`; the axis
 /// needs a positive scale (`MC_ERR_BAD_CONFIG`). A refusal changes nothing.

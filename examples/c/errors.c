@@ -95,6 +95,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_FREQ_BUSY,
     /* a compare channel on the PSO's PWM output (layout 1.12) */
     MC_ERR_PSO_OUTPUT,
+    /* compare on a rotary axis (layout 1.13) */
+    MC_ERR_COMPARE_TURN,
     /* listing and opening by name or serial */
     MC_ERR_AMBIGUOUS,
     /* the ABI's own */
@@ -170,6 +172,7 @@ static const mc_result NOT_PROVOKED[] = {
     MC_ERR_HANDWHEEL_INPUT, MC_ERR_HANDWHEEL_RATIO,
     /* rotary.c */
     MC_ERR_MODULO_ZERO, MC_ERR_MODULO_RANGE, MC_ERR_MODULO_BUSY, MC_ERR_MODULO_MOVE,
+    MC_ERR_COMPARE_TURN,
     /* servo.c */
     MC_ERR_FILTER_KIND, MC_ERR_FILTER_FREQ, MC_ERR_FILTER_PARAM, MC_ERR_FILTER_UNSTABLE,
     MC_ERR_PIDFF_GAINS,

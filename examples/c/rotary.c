@@ -1,8 +1,9 @@
 /*
  * Rotary (modulo) axes from C (layout 1.10): the period set and read back, its refusals (zero,
  * out of range, a change while moving: nothing changes), absolute moves the shortest way and
- * the way they name, a target outside the turn refused, and the status wrapping in velocity
- * mode while the encoder runs on.
+ * the way they name, a target outside the turn refused, the status wrapping in velocity
+ * mode while the encoder runs on, and position compare on the turn (layout 1.13): a trigger
+ * every 10 degrees and one at 90 on every turn, each crossing fired once, and its refusals.
  *
  * Runs on a stepped card (deterministic). Positions in degrees (10,000 counts a turn). The
  * argument is ignored.
@@ -94,6 +95,45 @@ int main(int argc, char **argv) {
         fprintf(stderr, "changed while moving: %g\n", period);
         return 1;
     }
+
+    /* Compare on the turn (layout 1.13): a camera trigger every 10 degrees from 5 (count 0:
+     * a whole turn) and a pulse at 90 either way, on every turn, over 2 s (10 turns at
+     * 1800 degrees/s). Off the turn, a series longer than the turn, each turn on a linear
+     * axis, a period change while a channel watches: refused. */
+    EXPECT(mc_compare_single_each_turn(c, 0, 0, 1, 5, 360.0, MC_COMPARE_POSITIVE),
+           MC_ERR_COMPARE_TURN);
+    EXPECT(mc_compare_series(c, 0, 0, 1, 5, 0.0, 10.0, 37, MC_COMPARE_POSITIVE),
+           MC_ERR_COMPARE_TURN);
+    CHECK(mc_compare_series_each_turn(c, 0, 0, 1, 5, 5.0, 10.0, 0, MC_COMPARE_POSITIVE));
+    CHECK(mc_compare_single_each_turn(c, 0, 1, 2, 5, 90.0, MC_COMPARE_EITHER));
+    /* Where the comparator sees the axis: the middle of the count's cell. */
+    const double half = 0.5 * 360.0 / 10000.0;
+    double p0 = axis(c).actual_position + half;
+    int64_t n0 = axis(c).raw.encoder;
+    CHECK(mc_sim_step(c, 20000));
+    double p1 = p0 + (double)(axis(c).raw.encoder - n0) * 360.0 / 10000.0;
+    mc_compare_info grid, ninety;
+    CHECK(mc_compare_get_status(c, 0, 0, &grid));
+    CHECK(mc_compare_get_status(c, 0, 1, &ninety));
+    double want_grid = floor((p1 - 5.0) / 10.0) - floor((p0 - 5.0) / 10.0);
+    double want_ninety = floor((p1 - 90.0) / 360.0) - floor((p0 - 90.0) / 360.0);
+    printf("compare on the turn: %u fires every 10 degrees (%g crossed), %u at 90 (%g), "
+           "pending %u and %u\n",
+           grid.fires, want_grid, ninety.fires, want_ninety, grid.pending, ninety.pending);
+    if (grid.fires != (unsigned)want_grid || grid.missed != 0 ||
+        ninety.fires != (unsigned)want_ninety || ninety.missed != 0 || grid.pending != 36 ||
+        ninety.pending != 1 || grid.state != MC_IO_STATE_ARMED || want_grid < 350) {
+        fprintf(stderr, "compare on the turn missed a crossing\n");
+        return 1;
+    }
+    CHECK(mc_halt(c, 0, 36000.0, 3.6e6, &m));
+    CHECK(mc_motion_wait(c, m, 10000, &done));
+    EXPECT(mc_axis_set_modulo(c, 0, 720.0), MC_ERR_COMPARE_TURN);
+    CHECK(mc_compare_disarm(c, 0, 0));
+    CHECK(mc_compare_disarm(c, 0, 1));
+    CHECK(mc_axis_clear_modulo(c, 0));
+    EXPECT(mc_compare_single_each_turn(c, 0, 0, 1, 5, 90.0, MC_COMPARE_POSITIVE),
+           MC_ERR_COMPARE_TURN);
     CHECK(mc_close(c));
     printf("%u checks\n", checks);
     printf("PASS rotary\n");

@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 12u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 13u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -97,7 +97,12 @@
                            * 121, MC_OP_FREQ_STOP 122, MC_FREQ_*, MC_NACK_FREQ_* 150..153,
                            * MC_EV_FREQ_DONE 37, MC_SIG_FREQ_INJECT 19, MC_SIG_FREQ_HZ 20,
                            * freq_status appended); MC_NACK_PSO_OUTPUT 154 (a compare channel
-                           * armed on the output the PSO's PWM holds) */
+                           * armed on the output the PSO's PWM holds);
+                           * 13: position compare on modulo (rotary) axes is turn-aware: its
+                           * positions are in [0, modulo) and fire at every crossing, on any
+                           * turn and across the wrap; MC_CMP_EACH_TURN (1u << 4, a single
+                           * position or a series repeated on every turn; a series' count 0:
+                           * a whole turn of pitches), MC_NACK_COMPARE_TURN 159 */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -391,6 +396,35 @@
  * The output is on in card.outputs from the tick that detects a fire for
  * ceil(pulse_us * rate) ticks (at least one); a channel's pulse ORs with the host's outputs.
  *
+ * Layout 1.13, compare on a modulo (rotary) axis of period m (the axis's when the channel is
+ * armed): every compare position is a place on the turn, 0 <= p < m (else
+ * MC_NACK_COMPARE_TURN), and fires whenever the axis crosses p + j * m for any whole j, in
+ * the channel's direction, with the instant found as above (across the wrap as anywhere:
+ * the counts at the tick's ends are taken in one frame, the axis's whole turns kept apart
+ * exactly, so nothing drifts however many turns the axis has made). Nothing on a modulo
+ * axis is ever behind: a position comes round again, and the channel waits for it. Misses
+ * are those of a pulse still on and of a crossing undone within the tick.
+ * - A single position fires at the next crossing and is done; with MC_CMP_EACH_TURN it fires
+ *   at every crossing, on every turn, until MC_OP_COMPARE_DISARM (a single either way: each
+ *   crossing either way).
+ * - A series: its positions are start + k * pitch wrapped into [0, m), k = 0..count-1, all
+ *   within one turn ((count - 1) * pitch < m, else MC_NACK_COMPARE_TURN); each fires at the
+ *   axis's next crossing of it after the one before, in order, so a series may run over the
+ *   wrap (start 350, pitch 10, count 3: 350, 0, 10). Without MC_CMP_EACH_TURN it is done
+ *   after its last; with it the series is a set of places on the turn, each fired at every
+ *   crossing, endless, whichever the axis comes to (back and forth as well) (count * pitch <=
+ *   m, else MC_NACK_COMPARE_TURN; count 0: floor(m / pitch) positions, a whole turn of
+ *   pitches, every pitch around the turn when pitch divides m).
+ * - A table: positions in [0, m) (MC_NACK_COMPARE_TURN), each fired once at the axis's next
+ *   crossing of it after the one before; while the channel is armed on a modulo axis they may
+ *   come in any order (the next equal to the last: a turn later), before the arm the linear
+ *   rule (strictly monotonic) holds and the arm checks the queue is in [0, m).
+ *   MC_CMP_EACH_TURN on a table: MC_NACK_COMPARE_MODE (a table is consumed).
+ * compare_status on an endless channel (MC_CMP_EACH_TURN): pending is the positions in a
+ * turn, state stays MC_IO_ARMED; next, last_fired and last_missed are places on the turn.
+ * MC_OP_SET_MODULO on an axis an armed compare channel watches (not done) is refused,
+ * MC_NACK_COMPARE_TURN: disarm first.
+ *
  * Touch probe (PLCopen MC_TouchProbe / MC_AbortTrigger): MC_PROBE_CHANNELS channels, each
  * capturing one axis's position at an edge of an input (raw, polarity applied, not debounced:
  * the encoder interface timestamps the edge within the tick) or at the axis's encoder index
@@ -443,6 +477,9 @@
 #define MC_CMP_MODE_MASK 3u
 #define MC_CMP_DIR_POS (1u << 2)     /* fire crossing upwards */
 #define MC_CMP_DIR_NEG (1u << 3)     /* fire crossing downwards (single: both bits, either way) */
+#define MC_CMP_EACH_TURN (1u << 4)   /* layout 1.13, a modulo axis only (else MC_NACK_COMPARE_TURN):
+                                      * a single position or a series fires on every turn,
+                                      * endless (see above) */
 /* mc_compare_status.state, mc_probe_status.state */
 #define MC_IO_IDLE 0u                /* not armed */
 #define MC_IO_ARMED 1u               /* armed: watching or capturing */
@@ -1058,7 +1095,8 @@
                                 * count; NaN or infinite: MC_NACK_NOT_FINITE; out of range:
                                 * MC_NACK_MODULO_RANGE). Only at rest (Standstill with no motion,
                                 * Disabled, or ErrorStop with no motion; else MC_NACK_MODULO_BUSY).
-                                * The positions are wrapped at once. Read back in
+                                * An armed compare channel watching the axis: MC_NACK_COMPARE_TURN
+                                * (layout 1.13). The positions are wrapped at once. Read back in
                                 * axis_config.modulo */
 #define MC_MODULO_MIN 1.0          /* the smallest period, counts */
 #define MC_MODULO_MAX 1e11         /* the largest period, counts (a position within the turn
@@ -1317,6 +1355,13 @@
                                     * (layout 1.12): refused, nothing changed (the other way, a PSO's
                                     * PWM on an output a compare channel pulses, is
                                     * MC_NACK_PSO_CONFIG) */
+#define MC_NACK_COMPARE_TURN 159   /* layout 1.13, compare on a modulo axis: a position, series
+                                    * start or table position outside 0 <= p < modulo, a series
+                                    * longer than a turn ((count - 1) * pitch >= modulo; with
+                                    * MC_CMP_EACH_TURN count * pitch > modulo, or count 0 with a
+                                    * pitch over the turn), MC_CMP_EACH_TURN on a linear axis,
+                                    * or MC_OP_SET_MODULO on an axis an armed compare channel
+                                    * watches. Refused, nothing changed */
 
 /* Event kinds (mc_event.kind) */
 #define MC_EV_ACK 1u             /* the command with this seq was accepted */

@@ -497,6 +497,12 @@ code_enum! {
         /// A normal-vector arc's centre, or its end (without `MC_ARC_RISE`), is off the plane
         /// through the start by more than the group's tolerance.
         ArcOffPlane = raw::MC_NACK_ARC_OFF_PLANE,
+        /// Layout 1.13, compare on a modulo axis: a position, series start or table position
+        /// outside 0 <= p < modulo, a series longer than a turn ((count - 1) `*` pitch >= modulo;
+        /// with `MC_CMP_EACH_TURN` count `*` pitch > modulo, or count 0 with a pitch over the
+        /// turn), `MC_CMP_EACH_TURN` on a linear axis, or `MC_OP_SET_MODULO` on an axis an armed
+        /// compare channel watches. Refused, nothing changed.
+        CompareTurn = raw::MC_NACK_COMPARE_TURN,
         /// `MC_OP_AT_TICK` for a tick the card has run (layout 1.12).
         TickPassed = raw::MC_NACK_TICK_PASSED,
         /// `MC_TIMED_SLOTS` timed commands are held already.
@@ -994,7 +1000,8 @@ code_enum! {
         /// Axis: the axis. args: the period, counts (0: linear; else
         /// `MC_MODULO_MIN..MC_MODULO_MAX`, rounded to 1/65536 count; NaN or infinite:
         /// `MC_NACK_NOT_FINITE`; out of range: `MC_NACK_MODULO_RANGE`). Only at rest (Standstill
-        /// with no motion, Disabled, or ErrorStop with no motion; else `MC_NACK_MODULO_BUSY`). The
+        /// with no motion, Disabled, or ErrorStop with no motion; else `MC_NACK_MODULO_BUSY`). An
+        /// armed compare channel watching the axis: `MC_NACK_COMPARE_TURN` (layout 1.13). The
         /// positions are wrapped at once. Read back in `axis_config.modulo`.
         SetModulo = raw::MC_OP_SET_MODULO,
         /// Axis: the axis (not in an enabled group). args: input (`0..MC_AUX_ENCODERS-1`, else

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 12;
+pub const MC_LAYOUT_MINOR: u32 = 13;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -129,6 +129,7 @@ pub const MC_CMP_MODE_TABLE: u32 = 2;
 pub const MC_CMP_MODE_MASK: u32 = 3;
 pub const MC_CMP_DIR_POS: u32 = 4;
 pub const MC_CMP_DIR_NEG: u32 = 8;
+pub const MC_CMP_EACH_TURN: u32 = 16;
 pub const MC_IO_IDLE: u32 = 0;
 pub const MC_IO_ARMED: u32 = 1;
 pub const MC_IO_DONE: u32 = 2;
@@ -431,6 +432,7 @@ pub const MC_NACK_FREQ_AMPLITUDE: u32 = 151;
 pub const MC_NACK_FREQ_LIMITS: u32 = 152;
 pub const MC_NACK_FREQ_BUSY: u32 = 153;
 pub const MC_NACK_PSO_OUTPUT: u32 = 154;
+pub const MC_NACK_COMPARE_TURN: u32 = 159;
 pub const MC_EV_ACK: u32 = 1;
 pub const MC_EV_NACK: u32 = 2;
 pub const MC_EV_MOTION_DONE: u32 = 3;

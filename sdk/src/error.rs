@@ -422,6 +422,10 @@ error_kinds! {
     /// Layout 1.12: a compare channel armed on the digital output the path-speed output's PWM
     /// holds.
     PsoOutput = -145, MC_ERR_PSO_OUTPUT, nack PsoOutput, "the output is the path-speed output's PWM: no compare channel on it";
+    /// Layout 1.13: compare on a modulo (rotary) axis: a position off the turn (not in
+    /// `[0, modulo)`), a series longer than a turn, each turn on a linear axis, or the period
+    /// changed while a compare channel watches the axis.
+    CompareTurn = -146, MC_ERR_COMPARE_TURN, nack CompareTurn, "compare on a rotary axis: positions must lie in [0, modulo) and a series within one turn (each turn: rotary axes only; no period change while a channel watches the axis)";
 }
 
 impl From<NurbsError> for ErrorKind {

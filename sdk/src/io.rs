@@ -12,6 +12,10 @@
 //!   counted ([`CompareStatus`]) and reported ([`EventKind::Compare`]: code
 //!   [`COMPARE_FIRED`], [`COMPARE_MISSED`] or [`COMPARE_LOW_WATER`], value the position in
 //!   user units, or the positions queued).
+//!   On a rotary axis (layout 1.13) compare is turn-aware: positions are places on the turn,
+//!   in `[0, modulo)`, and fire at the axis's crossings on any turn, across the wrap;
+//!   [`CompareChannel::arm_single_each_turn`] and [`CompareChannel::arm_series_each_turn`]
+//!   fire on every turn, endless (a refusal that does not fit the turn: `CompareTurn`).
 //! - **Touch probe** ([`Axis::touch_probe`], PLCopen MC_TouchProbe / MC_AbortTrigger): capture
 //!   the axis's position at an input edge or at the encoder's index pulse, interpolated within
 //!   the tick; optionally only inside a window; single shot or continuous
@@ -19,7 +23,7 @@
 //!
 //! Positions are in the axis's user units (see [`Axis::set_scale`]); a negative scale turns the
 //! direction over. The card checks every argument again and answers with its own error kinds
-//! (`IoChannel`, `CompareMode`, `CompareFull`, `CompareOrder`, `CompareBusy`, `ProbeInput`,
+//! (`IoChannel`, `CompareMode`, `CompareFull`, `CompareOrder`, `CompareBusy`, `CompareTurn`, `ProbeInput`,
 //! `IoConfig`).
 //!
 //! [`EventKind::Input`]: crate::EventKind::Input
@@ -131,7 +135,8 @@ pub struct CompareStatus {
     pub fires: u32,
     /// Positions missed since the arm.
     pub missed: u32,
-    /// Positions still to come (a table's queue: its room is [`COMPARE_TABLE_LEN`] minus this).
+    /// Positions still to come (a table's queue: its room is [`COMPARE_TABLE_LEN`] minus this;
+    /// on every turn, endless: the positions of a turn).
     pub pending: u32,
     /// The output pulsed.
     pub output: u32,
@@ -206,13 +211,15 @@ impl CompareChannel {
     }
 
     /// `MC_OP_COMPARE_ARM`: `kind` in `dir`; output, pulse width, low water; position (or
-    /// start), pitch, count in counts.
+    /// start), pitch, count in counts; on every turn (`MC_CMP_EACH_TURN`) or not.
+    #[allow(clippy::too_many_arguments)]
     fn arm(
         &self,
         kind: CompareKind,
         dir: Direction,
         [output, pulse_us, low_water]: [u32; 3],
         [position, pitch, count]: [f64; 3],
+        each_turn: bool,
         what: &'static str,
     ) -> Result<()> {
         let arm = cmd::CompareArm {
@@ -225,6 +232,7 @@ impl CompareChannel {
             position,
             pitch,
             count,
+            each_turn,
         };
         self.axis
             .run(self.axis.cmd(IoCmd::CompareArm(arm)), what)
@@ -232,7 +240,9 @@ impl CompareChannel {
     }
 
     /// Pulse `output` for `pulse_us` µs when the axis crosses `position` in `dir`. A position
-    /// already behind the axis is reported missed.
+    /// already behind the axis is reported missed. On a rotary axis (layout 1.13) the position
+    /// is a place on the turn, in `[0, modulo)` (else `CompareTurn`), and fires at the axis's
+    /// next crossing of it on any turn (nothing is behind on a turn).
     pub fn arm_single(
         &self,
         output: u32,
@@ -247,12 +257,39 @@ impl CompareChannel {
             dir,
             [output, pulse_us, 0],
             [p, 0.0, 0.0],
+            false,
             "compare_single",
         )
     }
 
+    /// Layout 1.13, a rotary axis: pulse at every crossing of `position` (a place on the turn,
+    /// in `[0, modulo)`) in `dir` (Either: both ways), on every turn, until [`Self::disarm`].
+    /// The instant is as exact as on a linear axis, across the wrap and after any number of
+    /// turns. A linear axis, or a position off the turn: `CompareTurn`.
+    pub fn arm_single_each_turn(
+        &self,
+        output: u32,
+        pulse_us: u32,
+        position: f64,
+        dir: Direction,
+    ) -> Result<()> {
+        finite("compare position", position)?;
+        let p = position * self.axis.scale();
+        self.arm(
+            CompareKind::Single,
+            dir,
+            [output, pulse_us, 0],
+            [p, 0.0, 0.0],
+            true,
+            "compare_single_each_turn",
+        )
+    }
+
     /// Pulse at `start`, `start ± pitch`, … (`count` positions, `pitch` > 0 in user units,
-    /// stepping in `dir`, which is Positive or Negative).
+    /// stepping in `dir`, which is Positive or Negative). On a rotary axis (layout 1.13) the
+    /// positions are wrapped into the turn and must fit in one (`start` in `[0, modulo)`,
+    /// `(count − 1)·pitch < modulo`, else `CompareTurn`); each fires at the axis's next
+    /// crossing of it after the one before, so a series may run over the wrap.
     pub fn arm_series(
         &self,
         output: u32,
@@ -270,14 +307,47 @@ impl CompareChannel {
             dir,
             [output, pulse_us, 0],
             [start * s, pitch * s.abs(), count as f64],
+            false,
             "compare_series",
+        )
+    }
+
+    /// Layout 1.13, a rotary axis: the series of [`Self::arm_series`] on every turn, endless
+    /// until [`Self::disarm`]: `count` positions from `start` (in `[0, modulo)`), `pitch`
+    /// apart in `dir` and wrapped into the turn, with `count·pitch <= modulo`; `count` 0 is a
+    /// whole turn of pitches (`floor(modulo / pitch)`: a camera trigger every 10° is
+    /// `arm_series_each_turn(out, 10, 0.0, 10.0, 0, Positive)`). The series is then a set of
+    /// places: each fires at every crossing in `dir`, whichever the axis comes to (back and
+    /// forth as well). A linear axis, or a series that does not fit the turn: `CompareTurn`.
+    pub fn arm_series_each_turn(
+        &self,
+        output: u32,
+        pulse_us: u32,
+        start: f64,
+        pitch: f64,
+        count: u32,
+        dir: Direction,
+    ) -> Result<()> {
+        finite("compare start", start)?;
+        finite("compare pitch", pitch)?;
+        let s = self.axis.scale();
+        self.arm(
+            CompareKind::Series,
+            dir,
+            [output, pulse_us, 0],
+            [start * s, pitch * s.abs(), count as f64],
+            true,
+            "compare_series_each_turn",
         )
     }
 
     /// Fire at the positions of the table in order (queued before with [`Self::push`], or
     /// after), moving in `dir` (Positive or Negative); a compare event with code
     /// [`COMPARE_LOW_WATER`] when the queue falls to `low_water` (0: none). The table stays
-    /// queued from one arm to the next until [`Self::disarm`].
+    /// queued from one arm to the next until [`Self::disarm`]. On a rotary axis (layout 1.13)
+    /// the positions are places on the turn (`[0, modulo)`, else `CompareTurn`), each fired
+    /// once at the axis's next crossing of it after the one before; pushed while armed there
+    /// they may come in any order (the same place twice: a turn later).
     pub fn arm_table(
         &self,
         output: u32,
@@ -290,6 +360,7 @@ impl CompareChannel {
             dir,
             [output, pulse_us, low_water],
             [0.0; 3],
+            false,
             "compare_table",
         )
     }

@@ -1,5 +1,6 @@
 //! `mcctl compare`: position compare (EQU output), an output pulsed as the axis crosses
-//! positions. Arms the channel, runs --move (or watches --for seconds), reports the fires and
+//! positions (on a rotary axis places on the turn, with `--each-turn` on every turn). Arms the
+//! channel, runs --move (or watches --for seconds), reports the fires and
 //! misses the card counted with the positions of its events (misses of one tick share one
 //! event: the last position), and disarms.
 
@@ -47,6 +48,10 @@ pub struct Args {
     /// direction), streamed into the channel's table as it empties.
     #[arg(long, value_name = "FILE")]
     pub table: Option<std::path::PathBuf>,
+    /// On a rotary axis: fire --at or --series on every turn, until the run ends (a series'
+    /// COUNT 0: a whole turn of PITCH).
+    #[arg(long)]
+    pub each_turn: bool,
     /// The direction of crossing that fires.
     #[arg(long, value_enum, default_value = "positive")]
     pub direction: DirArg,
@@ -83,11 +88,16 @@ impl From<DirArg> for Direction {
 /// Check where it fires (a table file whole, exit status 2 naming its line), then arm, run
 /// and report.
 pub fn run(uri: &str, a: Args) -> ExitCode {
+    if a.each_turn && a.table.is_some() {
+        return bad("--each-turn takes --at or --series, not --table".into());
+    }
     let positions = match (a.at, a.series, a.table) {
         (Some(p), None, None) => ComparePositions::At(p),
         (None, Some(v), None) => match v[..] {
             [start, pitch, count]
-                if count >= 1.0 && count.fract() == 0.0 && count <= u32::MAX as f64 =>
+                if count >= if a.each_turn { 0.0 } else { 1.0 }
+                    && count.fract() == 0.0
+                    && count <= u32::MAX as f64 =>
             {
                 ComparePositions::Series {
                     start,
@@ -97,7 +107,8 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
             }
             _ => {
                 return bad(format!(
-                    "--series takes START,PITCH,COUNT (COUNT a whole number >= 1), got {v:?}"
+                    "--series takes START,PITCH,COUNT (COUNT a whole number >= 1, or 0 with \
+                     --each-turn), got {v:?}"
                 ))
             }
         },
@@ -107,12 +118,14 @@ pub fn run(uri: &str, a: Args) -> ExitCode {
         },
         _ => return bad("give exactly one of --at, --series and --table".into()),
     };
+
     let job = CompareJob {
         axis: a.axis,
         channel: a.channel,
         output: a.output,
         pulse_us: a.pulse_us,
         direction: a.direction.into(),
+        each_turn: a.each_turn,
         positions,
         travel: a.travel.travel(a.axis),
         hold: a.travel.hold,
@@ -175,6 +188,8 @@ pub struct CompareJob {
     pub output: u32,
     pub pulse_us: u32,
     pub direction: Direction,
+    /// On a rotary axis, --at or --series on every turn (layout 1.13).
+    pub each_turn: bool,
     pub positions: ComparePositions,
     pub travel: Option<Travel>,
     /// Without a move: how long to watch.
@@ -192,7 +207,17 @@ pub fn compare(card: &Card, job: &CompareJob, json: bool) -> Result<String> {
     let (out, dir) = (job.output, job.direction);
     let mut table = None;
     match &job.positions {
+        ComparePositions::At(p) if job.each_turn => {
+            ch.arm_single_each_turn(out, job.pulse_us, *p, dir)?
+        }
         ComparePositions::At(p) => ch.arm_single(out, job.pulse_us, *p, dir)?,
+        ComparePositions::Series {
+            start,
+            pitch,
+            count,
+        } if job.each_turn => {
+            ch.arm_series_each_turn(out, job.pulse_us, *start, *pitch, *count, dir)?
+        }
         ComparePositions::Series {
             start,
             pitch,

@@ -107,8 +107,11 @@ pub struct CompareArm {
     pub position: f64,
     /// The series' pitch (counts, ≥ 1).
     pub pitch: f64,
-    /// The series' count (an integer, 1..2^31-1).
+    /// The series' count (an integer, 1..2^31-1; 0 with `each_turn`: a whole turn).
     pub count: f64,
+    /// Layout 1.13, `MC_CMP_EACH_TURN`: on a modulo axis a single position or a series fires on
+    /// every turn, endless (the card refuses it on a linear axis or with a table).
+    pub each_turn: bool,
 }
 
 impl Args for CompareArm {
@@ -134,12 +137,21 @@ impl Args for CompareArm {
         let dir = self
             .direction
             .map_or(raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG, |d| d.bits());
-        kind | dir
+        let each = if self.each_turn {
+            raw::MC_CMP_EACH_TURN
+        } else {
+            0
+        };
+        kind | dir | each
     }
     fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
         let channel = channel(args, COMPARE_CHANNELS)?;
         let bad = DecodeError::flags(NackCode::CompareMode);
-        if flags & !(raw::MC_CMP_MODE_MASK | raw::MC_CMP_DIR_POS | raw::MC_CMP_DIR_NEG) != 0 {
+        let known = raw::MC_CMP_MODE_MASK
+            | raw::MC_CMP_DIR_POS
+            | raw::MC_CMP_DIR_NEG
+            | raw::MC_CMP_EACH_TURN;
+        if flags & !known != 0 {
             return Err(bad);
         }
         let kind = match flags & raw::MC_CMP_MODE_MASK {
@@ -157,6 +169,10 @@ impl Args for CompareArm {
             (true, true) if kind == CompareKind::Single => None,
             _ => return Err(bad),
         };
+        let each_turn = bit(flags, raw::MC_CMP_EACH_TURN);
+        if each_turn && kind == CompareKind::Table {
+            return Err(bad);
+        }
         let [output, pulse_us, low_water, position, pitch, count] = super::take(args, 1);
         Ok(Self {
             channel,
@@ -168,6 +184,7 @@ impl Args for CompareArm {
             position,
             pitch,
             count,
+            each_turn,
         })
     }
 }

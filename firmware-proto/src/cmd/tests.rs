@@ -585,8 +585,9 @@ fn io_cmd() -> BoxedStrategy<IoCmd> {
                 dir.clone().prop_map(|d| (CompareKind::Table, Some(d))),
             ],
             nums::<6>(),
+            any::<bool>(),
         )
-            .prop_map(|(channel, (kind, direction), v)| {
+            .prop_map(|(channel, (kind, direction), v, each)| {
                 IoCmd::CompareArm(CompareArm {
                     channel,
                     kind,
@@ -597,6 +598,7 @@ fn io_cmd() -> BoxedStrategy<IoCmd> {
                     position: v[3],
                     pitch: v[4],
                     count: v[5],
+                    each_turn: each && kind != CompareKind::Table,
                 })
             })
             .boxed(),

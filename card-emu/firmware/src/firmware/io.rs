@@ -255,7 +255,10 @@ impl IoUnit {
     }
 
     /// Execute an I/O command of this unit (all but `MC_OP_SET_OUTPUTS`, the firmware's) of
-    /// command `seq` naming axis `axis`; `num_axes` bounds the axis of an arm.
+    /// command `seq` naming axis `axis`; `num_axes` bounds the axis of an arm; `modulo` gives
+    /// an axis's period (counts, 0: linear; layout 1.13: a compare arm on a modulo axis is
+    /// turn-aware).
+    #[allow(clippy::too_many_arguments)]
     pub fn command<M: Mem>(
         &mut self,
         mem: &M,
@@ -264,6 +267,7 @@ impl IoUnit {
         cmd: &IoCmd,
         num_axes: usize,
         rate_hz: u32,
+        modulo: impl Fn(usize) -> f64,
     ) -> Result<f64, NackCode> {
         self.statuses_written = false;
         let axis = || arm_axis(axis, num_axes);
@@ -275,7 +279,8 @@ impl IoUnit {
             }
             IoCmd::CompareArm(a) => {
                 let ch = a.channel as usize;
-                let arm = compare::validate_arm(axis()?, a, rate_hz, seq)?;
+                let ax = axis()?;
+                let arm = compare::validate_arm(ax, a, rate_hz, seq, modulo(ax))?;
                 let others = self
                     .compare
                     .iter()
@@ -538,6 +543,12 @@ impl IoUnit {
     /// The configuration in force (what boot writes into `io_config`).
     pub fn config(&self) -> &IoConfig {
         self.debounce.config()
+    }
+
+    /// Layout 1.13: does an armed compare channel (not done) watch axis `axis`? Its period
+    /// cannot change then (`MC_NACK_COMPARE_TURN`).
+    pub fn compare_watches(&self, axis: usize) -> bool {
+        self.compare.iter().any(|c| c.watching() == Some(axis))
     }
 
     /// A compare channel.

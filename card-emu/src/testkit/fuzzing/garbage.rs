@@ -615,6 +615,7 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 position,
                 pitch,
                 count,
+                each_turn: bits & raw::MC_CMP_EACH_TURN != 0 && kind != CompareKind::Table,
             };
             let mut p = Plausible::typed(IoCmd::CompareArm(arm));
             if CompareArm::decode(bits, &[0.0; CMD_ARGS]).is_err() {

@@ -229,3 +229,100 @@ fn setting_the_period_wraps_where_the_axis_is() {
     assert_eq!(status(&ax).act_pos, 4110.0);
     assert_eq!(ax.turns(), 0);
 }
+
+/// Layout 1.13: position compare on the turn after 10⁹ turns. The axis of
+/// [`a_billion_turns_in_velocity_mode_wrap_exactly`] (period 100.5 counts, 10¹⁰ counts/s, an
+/// ideal drive) with a compare channel at 40.25 on every turn, fed each tick as the I/O unit
+/// feeds it (the counts at the tick's two ends as cell middles in the axis's frame of now).
+/// Every crossing is counted against an exact integer model (1/65536 count, unwrapped): at
+/// 9,950 crossings a tick the channel examines 512 and counts the rest missed, and fires plus
+/// misses equal the crossings, tick for tick, over 10⁹ turns. Then the axis slows to 2·10⁵
+/// counts/s and every crossing fires, at the exact model's instant (to 1e-9 of a tick).
+#[test]
+fn compare_on_the_turn_is_exact_after_a_billion_turns() {
+    use crate::firmware::compare::{self, Compare, Fire};
+    use firmware_proto::cmd::{CompareArm, CompareKind, Direction};
+    let m = 100.5;
+    let mq = modulo_subcounts(m) as i128;
+    let p = 40.25;
+    let pq = (p * 65536.0) as i128;
+    let mut ax = rotary(0, m);
+    let arm = CompareArm {
+        channel: 0,
+        kind: CompareKind::Single,
+        direction: Some(Direction::Up),
+        output: 0.0,
+        pulse_us: 1.0,
+        low_water: 0.0,
+        position: p,
+        pitch: 0.0,
+        count: 0.0,
+        each_turn: true,
+    };
+    let mut ch = Compare::new();
+    ch.start(compare::validate_arm(0, &arm, 10_000, 1, ax.modulo()).unwrap())
+        .unwrap();
+    // Crossings of p + j·m up to the cell middle of count `n`, exactly.
+    let upto = |n: i64| (n as i128 * 65536 + 32768 - pq).div_euclid(mq);
+    let lim = Limits::symmetric(1e10, 1e15, 1e19);
+    ax.start_velocity(1, 1e10, &lim, rate_hz(TS)).unwrap();
+    let turns0 = ax.turns();
+    let mut enc = shaft(&ax);
+    let mut tick = 0u64;
+    let mut step =
+        |ax: &mut Axis, ch: &mut Compare, enc: &mut i64| -> (i128, std::vec::Vec<Fire>) {
+            let before = *enc;
+            *enc = shaft(ax);
+            ax.sense(*enc, TS);
+            ax.control(TS);
+            tick += 1;
+            let at = |n: i64| ax.load_position_of_count(n) + 0.5;
+            let (x0, x1) = (at(before), at(*enc));
+            let mut f = heapless::Vec::<Fire, 512>::new();
+            let span = (x0.min(x1), x0.max(x1));
+            let (n0, m0) = (ch.status().fires, ch.status().missed);
+            ch.tick(0, (x0, x1), span, tick, &mut f);
+            let seen = (ch.status().fires - n0) + (ch.status().missed - m0);
+            assert_eq!(
+                i128::from(seen),
+                upto(*enc) - upto(before),
+                "tick {tick}: counts {before}..{enc}"
+            );
+            (upto(*enc) - upto(before), f.to_vec())
+        };
+    let mut crossed = 0i128;
+    for _ in 0..100_600 {
+        crossed += step(&mut ax, &mut ch, &mut enc).0;
+    }
+    let turns = ax.turns() - turns0;
+    assert!(turns >= 1_000_000_000, "{turns} turns");
+    let s = ch.status();
+    assert_eq!(i128::from(s.fires) + i128::from(s.missed), crossed);
+    println!(
+        "{turns} turns: {crossed} crossings of {p}, {} fired (one a 1 µs pulse), {} missed",
+        s.fires, s.missed
+    );
+    // Slow: every crossing fires at its exact instant.
+    ax.start_velocity(2, 2e5, &lim, rate_hz(TS)).unwrap();
+    for _ in 0..20 {
+        step(&mut ax, &mut ch, &mut enc);
+    }
+    let missed = ch.status().missed;
+    let mut fired = 0;
+    for _ in 0..5_000 {
+        let before = enc;
+        let (n, f) = step(&mut ax, &mut ch, &mut enc);
+        assert_eq!(n, f.len() as i128);
+        let (x0, x1) = (before as i128 * 65536 + 32768, enc as i128 * 65536 + 32768);
+        for (k, f) in f.iter().enumerate() {
+            let q = pq + (upto(before) + 1 + k as i128) * mq;
+            let want = (q - x0) as f64 / (x1 - x0) as f64;
+            assert!((f.frac - want).abs() < 1e-9, "{} vs {want}", f.frac);
+            assert_eq!(f.position, p);
+        }
+        fired += f.len();
+    }
+    assert_eq!(ch.status().missed, missed, "none missed at 2e5 counts/s");
+    assert!(fired >= 900, "{fired} fires");
+    println!("then at 2e5 counts/s: {fired} fires, each at the exact crossing's instant");
+}

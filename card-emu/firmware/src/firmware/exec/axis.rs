@@ -302,6 +302,10 @@ impl<M: Mem + Clone> Firmware<M> {
         if !at_rest {
             return Err(NackCode::ModuloBusy);
         }
+        // Layout 1.13: an armed compare channel's positions are in the period it was armed in.
+        if self.io.compare_watches(ax) {
+            return Err(NackCode::CompareTurn);
+        }
         let q = firmware_proto::modulo_subcounts(modulo);
         self.axes[ax].set_modulo(q);
         Ok(self.axes[ax].modulo())

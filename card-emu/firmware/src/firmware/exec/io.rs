@@ -66,7 +66,9 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             _ => {
                 let (mem, n, rate) = (&self.mem, self.num_axes, self.servo_rate_hz);
-                self.io.command(mem, c.seq, c.axis, &cmd, n, rate)
+                let axes = &self.axes;
+                let modulo = |a: usize| axes.get(a).map_or(0.0, |x| x.modulo());
+                self.io.command(mem, c.seq, c.axis, &cmd, n, rate, modulo)
             }
         }
     }
