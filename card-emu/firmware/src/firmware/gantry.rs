@@ -319,6 +319,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
             }
         }
+        for &a in &members {
+            self.axes[a].set_mid_count(true);
+        }
         self.gantries[g] = Some(gantry);
         Ok(0.0)
     }
@@ -339,7 +342,9 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::GantryState);
         }
         let tick = self.tick;
+        self.axes[gantry.master].set_mid_count(false);
         for s in gantry.slaves.clone() {
+            self.axes[s.axis].set_mid_count(false);
             let axis = &mut self.axes[s.axis];
             if let Some(old) = axis.release_from_gantry() {
                 self.outbox
