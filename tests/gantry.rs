@@ -60,7 +60,11 @@ fn measured_accel_per_volt(card: &Card, a: usize) -> f64 {
         points: 5,
         ..FreqSweep::default()
     };
-    let r = card.axis(a).unwrap().frequency_response(&sweep, LONG).unwrap();
+    let r = card
+        .axis(a)
+        .unwrap()
+        .frequency_response(&sweep, LONG)
+        .unwrap();
     assert!(r.complete);
     let mut k: Vec<f64> = r
         .plant()
@@ -183,7 +187,12 @@ fn skews_over_s_curve(
     assert!(samples.len() > 40_000, "{}", samples.len());
     // The scope's skew is the card's actual positions' difference less the offset.
     for s in &samples {
-        assert_eq!(s.value[0], s.value[2] - s.value[1] - hold, "tick {}", s.tick);
+        assert_eq!(
+            s.value[0],
+            s.value[2] - s.value[1] - hold,
+            "tick {}",
+            s.tick
+        );
     }
     let scope_max = samples.iter().map(|s| s.value[0].abs()).fold(0.0, f64::max);
     let st = g.status().unwrap();
@@ -255,7 +264,10 @@ fn skew_is_held_within_one_count_on_a_full_speed_s_curve_with_each_side_tuned_fo
         untuned.encoders >= 2,
         "tuning each side is what holds it: {untuned:?}"
     );
-    assert!(without.encoders > 10, "the yaw loop is what holds it: {without:?}");
+    assert!(
+        without.encoders > 10,
+        "the yaw loop is what holds it: {without:?}"
+    );
 }
 
 #[test]

@@ -106,7 +106,9 @@ fn reading_the_count_at_its_middle_holds_a_cruising_shaft_on_its_reference() {
                 sum += off;
             }
             s.measure(enc, &gains, ts);
-            let u = s.update(&r, enc as f64, &gains, ts, 10.0).clamp(-10.0, 10.0);
+            let u = s
+                .update(&r, enc as f64, &gains, ts, 10.0)
+                .clamp(-10.0, 10.0);
             m.step(Dac::output(u).0, ts);
         }
         (hi, lo, sum / 10_000.0)
@@ -114,7 +116,10 @@ fn reading_the_count_at_its_middle_holds_a_cruising_shaft_on_its_reference() {
     let (a, b) = (cruise(0.1, false), cruise(0.9, false));
     println!("the count as read: shafts {a:?} and {b:?} past the reference (most, least, mean)");
     for (hi, lo, _) in [a, b] {
-        assert!(hi - lo > 0.9, "the shaft wanders within its count: {a:?} {b:?}");
+        assert!(
+            hi - lo > 0.9,
+            "the shaft wanders within its count: {a:?} {b:?}"
+        );
     }
     let (a, b) = (cruise(0.1, true), cruise(0.9, true));
     println!("the count read at its middle: shafts {a:?} and {b:?} past the reference (most, least, mean)");
