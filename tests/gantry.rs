@@ -184,7 +184,7 @@ fn skews_over_s_curve(
                     ticks = 0;
                 }
             }
-            if ticks % 1000 == 0 {
+            if ticks.is_multiple_of(1000) {
                 scope.read(&mut samples).unwrap();
             }
         }
