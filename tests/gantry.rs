@@ -1,16 +1,26 @@
 //! Layout 1.10: gantry axes on the stepped card. A bridge of two axes (master 0, slave 1),
-//! each its own default servo motor, the slave's load 30 % heavier (`MotorParams::inertia`):
-//! the skew held to two counts on a full-speed S-curve (23 without the yaw loop),
-//! a jammed side stopping both within the stop bound, homing squaring the bridge to its
-//! offset from any start, a group driving the slave through its master, and every refusal.
+//! each its own default servo motor, the slave's load 30 % heavier (`MotorParams::inertia`).
+//! Issue 35 part 1: with each side tuned for its load (both plants measured by a frequency
+//! sweep, which finds the load ratio 1.297 for the plant's 1.3; the slave's FFPIV placed at the
+//! master's bandwidth for its own acceleration per volt) the skew on a full-speed S-curve out
+//! and back is within a count on every tick: the encoders' difference at most 1 (the card's
+//! `max_skew`, the scope's `Signal::GantrySkew` and the plant's encoders agree), the shafts'
+//! true difference at most 0.563 count (0.969 and 0.986 with and without the yaw loop from
+//! shafts racked 0.95 count apart within their counts). On the default tuning the yaw loop
+//! holds it to 2 counts (shafts 2.03), without it 23. A jammed side stops both within the
+//! stop bound, homing squares the bridge to its offset from any start (the encoders' difference
+//! the same from six starts), a group drives the slave through its master, and every refusal.
 //! The figures are printed: `cargo test --release --test gantry -- --nocapture`.
 mod common;
 
 use common::stepped_card_with;
+use firmware_proto::FfpivGains;
 use motioncard_sdk::{
-    AxisState, Card, EmuOptions, ErrorKind, EventKind, GantryConfig, GantryPhase, GroupSettings,
-    HomeSwitch, HomingSettings, Master, MoveLimits, PathSettings, StopReason, Switches, SyncLimits,
+    AxisState, Card, EmuOptions, ErrorKind, EventKind, FreqSweep, GantryConfig, GantryPhase,
+    GroupSettings, HomeSwitch, HomingSettings, Master, MoveLimits, PathSettings, ScopeMode,
+    ScopeSettings, Signal, Source, StopReason, Switches, SyncLimits,
 };
+use std::f64::consts::TAU;
 use std::time::Duration;
 
 const RATE: u32 = 10_000;
@@ -46,23 +56,152 @@ fn full_speed() -> MoveLimits {
     MoveLimits::new(1e6, 5e6, 5e8)
 }
 
-/// The largest |skew| over an S-curve out and back at full speed (counts), every tick.
-fn skew_over_s_curve(kp: f64, ki: f64) -> f64 {
+/// The drive's acceleration per volt (counts/s² per V) of axis `a` as the tuning tools
+/// measure it: the plant `P = X/U` of a frequency sweep from 20 to 200 Hz, where a rigid
+/// inertia's `|P|·ω²` is its acceleration per volt (the viscous corner is at 0.03 Hz), the
+/// median over the points.
+fn measured_accel_per_volt(card: &Card, a: usize) -> f64 {
+    let sweep = FreqSweep {
+        from_hz: 20.0,
+        to_hz: 200.0,
+        points: 5,
+        ..FreqSweep::default()
+    };
+    let r = card
+        .axis(a)
+        .unwrap()
+        .frequency_response(&sweep, LONG)
+        .unwrap();
+    assert!(r.complete);
+    let mut k: Vec<f64> = r
+        .plant()
+        .iter()
+        .map(|b| b.value.abs() * (TAU * b.hz).powi(2))
+        .collect();
+    k.sort_by(f64::total_cmp);
+    k[k.len() / 2]
+}
+
+/// Commission each side for its own load, as a machine builder tunes each drive of a gantry:
+/// both axes' plants measured, the slave's FFPIV placed at the master's bandwidth for its own
+/// acceleration per volt (its `kv` and `kaff` times the load ratio). Returns the ratio found.
+fn tune_each_side_for_its_load(card: &Card) -> f64 {
+    let ratio = measured_accel_per_volt(card, 0) / measured_accel_per_volt(card, 1);
+    let master = card.axis(0).unwrap().settings().unwrap();
+    let slave = card.axis(1).unwrap();
+    let mut cfg = slave.settings().unwrap();
+    cfg.ffpiv = FfpivGains {
+        kv: master.ffpiv.kv * ratio,
+        kaff: master.ffpiv.kaff * ratio,
+        ..master.ffpiv
+    };
+    slave.configure(&cfg).unwrap();
+    // The sweep's end leaves both axes settling: at rest before the gantry forms.
+    card.sim().unwrap().step(5000);
+    ratio
+}
+
+/// The skew over the S-curve, every tick, three ways (counts, less the slave's offset).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Skews {
+    /// The largest the card saw (`GantrySide::max_skew`: its encoders' difference).
+    card: f64,
+    /// The largest of the encoders' difference, read from the plant after every tick.
+    encoders: i64,
+    /// The largest difference of the two shafts (the bridge's true yaw), from the plant.
+    shafts: f64,
+    /// The largest sample of the scope's `Signal::GantrySkew`.
+    scope: f64,
+}
+
+/// The skews over an S-curve out and back at full speed; `tuned`: each side tuned for its
+/// load first (the load ratio found is returned with them); `racked`: each shaft put this far
+/// into its count (master, slave) before the first move, the encoders unchanged.
+fn skews_over_s_curve(
+    tuned: bool,
+    kp: f64,
+    ki: f64,
+    racked: Option<(f64, f64)>,
+) -> (Skews, Option<f64>) {
     let card = card();
     enable(&card, &[0, 1]);
+    let ratio = tuned.then(|| tune_each_side_for_its_load(&card));
     let g = card.gantry(0, &[1], &cfg(kp, ki)).unwrap();
     assert_eq!(
         card.axis(1).unwrap().status().unwrap().state,
         AxisState::SynchronizedMotion
     );
-    let m = g.master().unwrap();
-    for target in [2e6, 0.0] {
-        m.move_absolute(target, &full_speed())
-            .unwrap()
-            .wait(LONG)
-            .unwrap();
+    let hold = g.status().unwrap().slaves[0].hold;
+    if let Some((a, b)) = racked {
+        // Each shaft placed within its count (the encoders read what they read before).
+        card.sim().unwrap().with_emulator(|e| {
+            for (k, within) in [(0, a), (1, b)] {
+                let m = e.motor_mut(k).unwrap();
+                let c = m.params.counts_per_rad();
+                m.theta = (m.encoder() as f64 + within) / c;
+            }
+        });
     }
-    card.sim().unwrap().step(2000);
+    let m = g.master().unwrap();
+    let sim = card.sim().unwrap();
+    let scope = card.scope();
+    scope
+        .configure(&ScopeSettings {
+            mode: ScopeMode::Continuous,
+            ..ScopeSettings::new(
+                &[
+                    Source::axis(Signal::GantrySkew, 1),
+                    Source::axis(Signal::ActPos, 0),
+                    Source::axis(Signal::ActPos, 1),
+                ],
+                1,
+            )
+        })
+        .unwrap();
+    scope.arm().unwrap();
+    let mut samples = Vec::new();
+    let (mut encoders, mut shafts) = (0i64, 0.0f64);
+    for target in [2e6, 0.0] {
+        let motion = m.move_absolute(target, &full_speed()).unwrap();
+        let mut done = false;
+        let mut ticks = 0u64;
+        // To MotionDone (in position for the settle time), then 2,000 ticks at rest.
+        while !done || ticks < 2000 {
+            sim.step(1);
+            ticks += 1;
+            let (enc, shaft) = sim.with_emulator(|e| {
+                let (a, b) = (e.motor(0).unwrap(), e.motor(1).unwrap());
+                (
+                    b.encoder() - a.encoder(),
+                    b.position_counts() - a.position_counts(),
+                )
+            });
+            encoders = encoders.max((enc as f64 - hold).abs() as i64);
+            shafts = shafts.max((shaft - hold).abs());
+            while let Some(e) = card.next_event(Duration::ZERO).unwrap() {
+                if e.kind == EventKind::MotionDone && e.seq == motion.seq() && !done {
+                    done = true;
+                    ticks = 0;
+                }
+            }
+            if ticks.is_multiple_of(1000) {
+                scope.read(&mut samples).unwrap();
+            }
+        }
+    }
+    scope.read(&mut samples).unwrap();
+    assert_eq!(scope.status().unwrap().lost, 0);
+    assert!(samples.len() > 40_000, "{}", samples.len());
+    // The scope's skew is the card's actual positions' difference less the offset.
+    for s in &samples {
+        assert_eq!(
+            s.value[0],
+            s.value[2] - s.value[1] - hold,
+            "tick {}",
+            s.tick
+        );
+    }
+    let scope_max = samples.iter().map(|s| s.value[0].abs()).fold(0.0, f64::max);
     let st = g.status().unwrap();
     assert_eq!(st.phase, GantryPhase::Coupled);
     // The slave followed: it stands where the master does.
@@ -71,17 +210,71 @@ fn skew_over_s_curve(kp: f64, ki: f64) -> f64 {
         card.axis(1).unwrap().status().unwrap().actual_position,
     );
     assert!((a1 - a0 - st.slaves[0].hold).abs() <= 1.0, "{a0} {a1}");
-    st.slaves[0].max_skew
+    let skews = Skews {
+        card: st.slaves[0].max_skew,
+        encoders,
+        shafts,
+        scope: scope_max,
+    };
+    (skews, ratio)
 }
 
+/// Issue 35 part 1: the skew within ±1 count on the S-curve at full speed, the slave's load
+/// 30 % heavier, with each side tuned for its load (its plant measured, its FFPIV placed for
+/// it) and the yaw loop on: the encoders' difference never beyond a count on any tick, and the
+/// shafts themselves (the bridge's true yaw) within half a count. The members read their
+/// encoders' counts at the middle while moving (`ffpiv.rs`): without it the shafts drift
+/// apart within their counts and the encoders' difference reads 2 (see ARCHITECTURE.md).
+/// Untuned, the slave's missing 30 % of acceleration feed-forward is carried by the yaw loop
+/// on a skew it can only see whole counts of: 2 counts; without the yaw loop, more than 10.
 #[test]
-fn skew_is_held_to_two_counts_on_a_full_speed_s_curve_with_one_side_heavier() {
-    let with = skew_over_s_curve(1e6, 0.0);
-    let without = skew_over_s_curve(0.0, 0.0);
-    println!("gantry skew, 2·10⁶ counts out and back at 10⁶ counts/s, 5·10⁶ counts/s², slave load +30 %: {with} counts with the yaw loop (kp 10⁶/s²), {without} without");
-    // The skew is two encoders' difference: 2 counts is a true skew between 1 and 3.
-    assert!(with <= 2.0, "skew {with} counts");
-    assert!(without > 10.0, "the yaw loop is what holds it: {without}");
+fn skew_is_held_within_one_count_on_a_full_speed_s_curve_with_each_side_tuned_for_its_load() {
+    let (tuned, ratio) = skews_over_s_curve(true, 1e6, 0.0, None);
+    let ratio = ratio.unwrap();
+    let (racked, _) = skews_over_s_curve(true, 1e6, 0.0, Some((0.97, 0.02)));
+    let (racked_no_yaw, _) = skews_over_s_curve(true, 0.0, 0.0, Some((0.97, 0.02)));
+    let (untuned, _) = skews_over_s_curve(false, 1e6, 0.0, None);
+    let (without, _) = skews_over_s_curve(false, 0.0, 0.0, None);
+    println!("gantry load ratio from the sides' plants (frequency response): {ratio:.4} (the plant's: {HEAVIER})");
+    for (what, s) in [
+        ("each side tuned for its load, yaw loop kp 10⁶/s²", tuned),
+        (
+            "each side tuned, kp 10⁶/s², the shafts racked 0.95 count within their counts at the start",
+            racked,
+        ),
+        ("each side tuned, no yaw loop, racked alike", racked_no_yaw),
+        ("both sides on the default tuning, yaw loop kp 10⁶/s²", untuned),
+        ("both on the default tuning, no yaw loop", without),
+    ] {
+        println!(
+            "gantry skew, 2·10⁶ counts out and back at 10⁶ counts/s, 5·10⁶ counts/s², slave load +30 %, {what}: encoders' difference at most {} counts (card {}, scope {}), shafts' difference at most {:.3} counts",
+            s.encoders, s.card, s.scope, s.shafts
+        );
+        // The card's figure, the scope's and the plant's encoders agree.
+        assert_eq!(
+            (s.card, s.scope),
+            (s.encoders as f64, s.encoders as f64),
+            "{s:?}"
+        );
+        // Two encoders differ by at most the whole counts between their shafts, plus one.
+        assert!((s.encoders as f64) < s.shafts + 1.0, "{s:?}");
+    }
+    assert!((ratio / HEAVIER - 1.0).abs() < 0.01, "load ratio {ratio}");
+    assert!(tuned.encoders <= 1, "{tuned:?}");
+    assert!(tuned.shafts < 0.6, "{tuned:?}");
+    // Racked within the count (which no encoder sees), the first move starts with the skew
+    // the rack is, until the counts' middles bring the shafts to the same edge.
+    for r in [racked, racked_no_yaw] {
+        assert!(r.shafts < 1.0 && r.encoders <= 1, "{r:?}");
+    }
+    assert!(
+        untuned.encoders >= 2,
+        "tuning each side is what holds it: {untuned:?}"
+    );
+    assert!(
+        without.encoders > 10,
+        "the yaw loop is what holds it: {without:?}"
+    );
 }
 
 #[test]

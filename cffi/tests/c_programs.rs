@@ -714,7 +714,7 @@ fn a_gantry_from_c_program() {
         "{out}"
     );
     assert!(
-        out.contains("gantry: master at 20001, slave at 20011, largest skew 1 counts"),
+        out.contains("gantry: master at 20000, slave at 20010, largest skew 1 counts"),
         "{out}"
     );
 }

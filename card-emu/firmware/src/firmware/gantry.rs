@@ -29,6 +29,17 @@
 //! slave's own servo integrator), and at rest nothing within a count is corrected. `kp` in
 //! 1/s² (`[0, 10⁹]`), `ki` in 1/s³ (`[0, 10¹²]`).
 //!
+//! **Within a count** (issue 35 part 1). The encoders see the skew in whole counts; what they
+//! cannot see is where each shaft runs within its count. Every member's FFPIV loop reads its
+//! count at its middle while its reference moves (from the formation to the dissolution, not in
+//! a stop: `Ffpiv::set_mid_count`), which holds each shaft on the count edge nearest its
+//! reference, so two sides on the same reference run on the same edge (without it, at 10⁶
+//! counts/s, 100 counts a tick, each shaft wanders within its count and the encoders'
+//! difference reads 2 whenever the shafts part by just over one). The rest is the drives'
+//! own tuning: a slave whose load differs is tuned for it (its FFPIV's `kv` and `kaff` times
+//! the load ratio, which a frequency sweep of each side measures), and the yaw loop corrects
+//! what the tuning leaves (`tests/gantry.rs`: within a count tuned, 2 counts untuned).
+//!
 //! `hold` is the skew the slave had when it was coupled (forming, or re-coupling after a power
 //! cycle or a reset: no slave ever jumps), and the square offset once `MC_OP_GANTRY_HOME`
 //! squared the bridge. A re-coupling that moves `hold` by more than a count clears `squared`.
@@ -319,6 +330,9 @@ impl<M: Mem + Clone> Firmware<M> {
                 }
             }
         }
+        for &a in &members {
+            self.axes[a].set_mid_count(true);
+        }
         self.gantries[g] = Some(gantry);
         Ok(0.0)
     }
@@ -339,7 +353,9 @@ impl<M: Mem + Clone> Firmware<M> {
             return Err(NackCode::GantryState);
         }
         let tick = self.tick;
+        self.axes[gantry.master].set_mid_count(false);
         for s in gantry.slaves.clone() {
+            self.axes[s.axis].set_mid_count(false);
             let axis = &mut self.axes[s.axis];
             if let Some(old) = axis.release_from_gantry() {
                 self.outbox

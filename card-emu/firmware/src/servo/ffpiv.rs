@@ -20,6 +20,18 @@
 //! axis follows its reference, and the following error during acceleration falls to the
 //! encoder's quantisation (`motioncard::papers::ff_speed_sweep`).
 //!
+//! **Reading the count at its middle** (a gantry's members, issue 35 part 1: [`Ffpiv::set_mid_count`]).
+//! The encoder reads `n` for a shaft anywhere in `[n, n + 1)`. While the reference moves the
+//! loop may take the count's middle, `x = n + ½`, for the shaft's position. Without it, a
+//! reference on a whole count `r` is met by any shaft in `[r, r + 1)` with no error at all
+//! (at 10⁶ counts/s on a 10 kHz loop, exactly 100 counts a tick, a reference that starts on a
+//! count stays on one for the whole cruise), so the shaft drifts within that count, and a
+//! reference between counts is met by the shaft on the count's edge above it. With it, the
+//! position error is never 0: the integrator holds the shaft on the edge between the two counts
+//! nearest the reference (the encoder toggling between them), within half a count of it, and
+//! two axes given the same reference hold their shafts on the same edge. At rest the reference
+//! is rounded and the count is read as it is (no hunting between two counts).
+//!
 //! Units: counts, seconds, volts. Thinh's published gains (K_P=2.5, K_I=0.02, K_V=50,
 //! K_VFF=30) have no units and belong to their drive; [`FfpivGains::for_drive`] derives ours
 //! from the plant instead.
@@ -64,6 +76,8 @@ pub struct Ffpiv {
     filter_for: (f64, f64),
     /// The terms of the last output: [`ServoTerms`].
     terms: ServoTerms,
+    /// Read the count at its middle while the reference moves (the module's head).
+    mid_count: bool,
 }
 
 /// The terms of a servo law's output, V (the scope's `MC_SIG_SERVO_*`): their sum is the
@@ -136,10 +150,13 @@ impl Ffpiv {
         // At standstill the reference is the nearest whole count: the encoder resolves no less,
         // and integrating a half-count error would make the axis hunt between the two counts
         // around a target that lies between them.
-        let pos = if r.vel == 0.0 && r.acc == 0.0 {
-            math::round(r.pos)
+        // Moving, a gantry's member reads the count at its middle (the module's head).
+        let (pos, x) = if r.vel == 0.0 && r.acc == 0.0 {
+            (math::round(r.pos), x)
+        } else if self.mid_count {
+            (r.pos, x + 0.5)
         } else {
-            r.pos
+            (r.pos, x)
         };
         // The estimator's view of the reference: the backward difference over the tick ending
         // at the reference's time (v − a·T/2, exact for constant acceleration), low-passed as
@@ -160,6 +177,17 @@ impl Ffpiv {
             self.integral = integral;
         }
         u
+    }
+
+    /// Issue 35 part 1: read the encoder's count at its middle while the reference moves (a
+    /// gantry's members, from its formation to its dissolution: the module's head).
+    pub fn set_mid_count(&mut self, on: bool) {
+        self.mid_count = on;
+    }
+
+    /// Does it read the count at its middle while the reference moves?
+    pub fn mid_count(&self) -> bool {
+        self.mid_count
     }
 
     /// The terms of the last output.

@@ -236,6 +236,9 @@ pub struct Axis {
     in_velocity: bool,
     buffered_active: bool,
     servo: Ffpiv,
+    /// A gantry's member: the servo reads the count at its middle while moving
+    /// ([`Axis::set_mid_count`]).
+    mid_count: bool,
     cmd: Reference,
     cmd_jerk: f64,
     prev_cmd_acc: f64,
@@ -331,6 +334,7 @@ impl Axis {
             in_velocity: false,
             buffered_active: false,
             servo: Ffpiv::default(),
+            mid_count: false,
             cmd: Reference {
                 pos: 0.0,
                 vel: 0.0,
@@ -1331,6 +1335,10 @@ impl Axis {
         let limit = self.config.dac_limit_v;
         let (u, terms) = match &mut self.law {
             Law::Ffpiv => {
+                // A stop wants the axis at rest soonest, not on a count's edge: the edge's
+                // toggling count reads as motion to the at-rest test for a few ticks.
+                let stopping = matches!(self.state, AxisState::ErrorStop | AxisState::Stopping);
+                self.servo.set_mid_count(self.mid_count && !stopping);
                 let u = self
                     .servo
                     .update(&r, motor - inj, &self.config.ffpiv, ts, limit);
@@ -1490,6 +1498,14 @@ impl Axis {
             self.set_state(AxisState::Standstill, &mut changed);
         }
         changed
+    }
+
+    /// Issue 35 part 1: a gantry's member (from the formation to the dissolution) reads its
+    /// encoder's count at its middle while its reference moves, under FFPIV
+    /// (`Ffpiv::set_mid_count`): the sides' shafts are held on the same count edge. Not in a
+    /// stop (`servo_into`).
+    pub fn set_mid_count(&mut self, on: bool) {
+        self.mid_count = on;
     }
 
     /// Within the in-position windows of `target` (position and velocity)?
