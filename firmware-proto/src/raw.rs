@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 12;
+pub const MC_LAYOUT_MINOR: u32 = 13;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -413,6 +413,9 @@ pub const MC_ARC_RISE: u32 = 4;
 pub const MC_NACK_ARC_NORMAL: u32 = 156;
 pub const MC_NACK_ARC_AXES: u32 = 157;
 pub const MC_NACK_ARC_OFF_PLANE: u32 = 158;
+pub const MC_OP_GROUP_MOVE_CIRCULAR_NORMAL: u32 = 129;
+pub const MC_OP_GROUP_CIRCULAR_PLANE: u32 = 131;
+pub const MC_NACK_ARC_PIECE: u32 = 155;
 pub const MC_FREQ_POINTS_MAX: u32 = 256;
 pub const MC_FREQ_WINDOW_MIN: u32 = 1000;
 pub const MC_FREQ_CYCLES_MAX: u32 = 1000;

@@ -128,14 +128,14 @@ mod v3;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
-pub use self::geom::unit_normal;
+pub use self::geom::{normal_basis, unit_normal, Helix};
 pub use self::pause::PauseState;
 use crate::math;
 use crate::ram::FixedVec;
 
 #[cfg(test)]
 use self::geom::Frame;
-use self::geom::{dist_to_chord, Blend, Helix, Prog, LANES, LANES_V3, V};
+use self::geom::{dist_to_chord, Blend, Prog, LANES, LANES_V3, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
@@ -905,6 +905,14 @@ impl Path {
     }
 
     /// Segments queued (not ended yet).
+    /// Tests of the move queue's normal-vector arcs (layout 1.13, which share this geometry):
+    /// the length of queued segment `i` and its point at arc length `s`.
+    #[cfg(test)]
+    pub(crate) fn seg_point(&self, i: usize, s: f64) -> (f64, [f64; MAX_AXES]) {
+        let p = &self.seg(i).prog;
+        (p.len(), p.pos(s))
+    }
+
     pub fn queued(&self) -> usize {
         self.tail - self.exec + usize::from(self.prev_open)
     }
