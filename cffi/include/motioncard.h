@@ -5459,6 +5459,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_ARC_OFF_PLANE -149
 
 /**
+ * Layout 1.13: a piece of a move-queue arc in a plane given by a normal vector alone or
+ * out of order (its two command entries go together, the move first).
+ */
+#define MC_ERR_ARC_PIECE -151
+
+/**
  * Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
  * servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
  * range.
