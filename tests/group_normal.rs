@@ -193,13 +193,11 @@ fn oblique_circles_and_helices_stay_on_their_circle_within_the_limits() {
         );
         // the end exactly (the programmed end: on the circle; the snap corrected nothing)
         let last_p = pts.last().unwrap();
-        for i in 0..3 {
+        for (&a, e) in c.axes.iter().zip(&end) {
+            let p = last_p[a].0;
             assert!(
-                (last_p[c.axes[i]].0 - end[i]).abs() <= 1e-9,
-                "case {k}: axis {} ended at {}, not {}",
-                c.axes[i],
-                last_p[c.axes[i]].0,
-                end[i]
+                (p - e).abs() <= 1e-9,
+                "case {k}: axis {a} ended at {p}, not {e}"
             );
         }
         assert_eq!(last_p[lin].0, c.w1, "case {k}");

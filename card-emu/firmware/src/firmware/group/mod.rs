@@ -251,6 +251,7 @@ impl AxisFilter {
 
 /// The path of one move. Points are in group axis order.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(clippy::large_enum_variant)] // inline on purpose: the firmware never allocates
 enum Geometry {
     /// `p(s) = start + delta·s/len`; `len` is Euclidean (linear) or the largest axis distance
     /// (synchronised point-to-point).

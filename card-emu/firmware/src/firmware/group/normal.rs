@@ -181,15 +181,11 @@ mod tests {
         assert!(worst_z < 1e-6, "the fourth axis left its line by {worst_z}");
         // the end: the programmed one exactly, the one given within rounding (the card put
         // it exactly on the circle)
-        for k in 0..4 {
-            assert_eq!(b.pos(k), programmed[k], "axis {k}");
+        for (k, p) in programmed.iter().enumerate().take(4) {
+            assert_eq!(b.pos(k), *p, "axis {k}");
         }
-        for k in 0..3 {
-            assert!(
-                (programmed[k] - e[k]).abs() <= 1e-9,
-                "axis {k}: {}",
-                programmed[k]
-            );
+        for (k, (p, g)) in programmed.iter().zip(&e).enumerate() {
+            assert!((p - g).abs() <= 1e-9, "axis {k}: {p}");
         }
         assert_eq!(b.pos(3), 3_000.0);
     }
@@ -250,13 +246,8 @@ mod tests {
         for k in 0..=64 {
             let s = plen * k as f64 / 64.0;
             let (m, q) = (geom.point(s, 4), path.seg_point(0, s).1);
-            for a in 0..4 {
-                assert!(
-                    (m[a] - q[a]).abs() <= 1e-9,
-                    "s {s}: axis {a}: {} vs {}",
-                    m[a],
-                    q[a]
-                );
+            for (a, (x, y)) in m.iter().zip(&q).enumerate().take(4) {
+                assert!((x - y).abs() <= 1e-9, "s {s}: axis {a}: {x} vs {y}");
             }
         }
         assert_eq!(end[3], -1_500.0);
