@@ -2014,3 +2014,49 @@ fn group_homes_in_its_configured_order_and_in_one_given() {
         "{err}"
     );
 }
+
+/// Layout 1.13: `mcctl group arc` queues a move-queue arc in a plane given by a normal vector
+/// and waits for it: a full turn about (1, 1, 1) from the origin with a turn added, the fourth
+/// axis climbing 1,000, ends where it started (within 1e-6 counts) with the fourth axis at
+/// 1,000; a refusal of the card (a zero normal) exits 1 with its reason, a malformed point 2.
+#[test]
+fn group_arc_runs_a_normal_vector_arc_and_reports_where_it_ended() {
+    let card = EmuCard::new("test-mcctl-arc", 4);
+    {
+        let host = motioncard_sdk::Card::open(&card.uri).unwrap();
+        for a in 0..4 {
+            host.axis(a).unwrap().enable().unwrap();
+        }
+        let g = host.group(0).unwrap();
+        g.configure(&motioncard_sdk::GroupSettings::new(&[0, 1, 2, 3]))
+            .unwrap();
+        g.enable().unwrap();
+    }
+    // the centre 2,000 from the origin in the plane normal to (1, 1, 1)
+    let c = 2_000.0 / 2f64.sqrt();
+    let centre = format!("{},{},0", -c, c);
+    let args = [
+        "group", "arc", "0", "--axes", "0,1,2", "--normal", "1,1,1", "--centre", &centre, "--end",
+        "0,0,0", "--turns", "1", "--helix", "1000", "--feed", "40000", "--accel", "1e6", "--jerk",
+        "1e8", "--json",
+    ];
+    let (code, out, err) = card.on(&args);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(j["axes"], serde_json::json!([0, 1, 2, 3]), "{j}");
+    for a in 0..3 {
+        let p = j["position"][a].as_f64().unwrap();
+        assert!(p.abs() < 1e-6, "axis {a} at {p}: {j}");
+    }
+    assert_eq!(j["position"][3], 1000.0, "{j}");
+    let mut zero = args.to_vec();
+    zero[6] = "0,0,0";
+    let (code, _, err) = card.on(&zero);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("normal"), "{err}");
+    let mut bad = args.to_vec();
+    bad[10] = "0,0";
+    let (code, _, err) = card.on(&bad);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("three values"), "{err}");
+}

@@ -2111,6 +2111,21 @@ extern "C" {
 #define MC_OP_TIMED_CANCEL 128
 
 /**
+ * Args: v, a, d, j, `centre_a`, `centre_b`, `centre_c`, `end_a`, `end_b`, `end_c` (on the plane's
+ * axes), turns (whole, >= 0: `MC_NACK_OUT_OF_RANGE`). flags: `MC_MOVE_RELATIVE`,
+ * `MC_MOVE_BUFFERED`, the feed type, `MC_ARC_RISE`, `MC_CIRC_HELIX_RELATIVE`.
+ */
+#define MC_OP_GROUP_MOVE_CIRCULAR_NORMAL 129
+
+/**
+ * The second entry of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`: args: a, b, c (three distinct group
+ * axes, else `MC_NACK_ARC_AXES`; beyond the group: `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`,
+ * `n_c` (the normal, not 0: `MC_NACK_ARC_NORMAL`), then the targets of the other group axes in
+ * group order (a helix).
+ */
+#define MC_OP_GROUP_CIRCULAR_PLANE 131
+
+/**
  * `mc_pso_info.state`: not configured.
  */
 #define MC_PSO_STATE_OFF 0
@@ -3439,6 +3454,40 @@ typedef struct mc_arc {
    */
   double aux[2];
 } mc_arc;
+
+/**
+ * Layout 1.13: an arc in the plane of three group axes given by a normal vector, for
+ * `mc_group_move_circular_normal`: counter-clockwise about `normal` (any length but 0; the
+ * right-hand rule) in the plane through the start, around `centre` to `end` (on `axes`, in
+ * their user units; an end at the start: a full turn), then `turns` more full turns. `rise`
+ * non-zero: the end may lie off the plane along the normal (a helix along it).
+ */
+typedef struct mc_normal_arc {
+  /**
+   * The plane's group axes a, b, c.
+   */
+  uint32_t axes[3];
+  /**
+   * The normal on them.
+   */
+  double normal[3];
+  /**
+   * The centre on a, b, c.
+   */
+  double centre[3];
+  /**
+   * The end on a, b, c.
+   */
+  double end[3];
+  /**
+   * Non-zero: the end may rise off the plane along the normal.
+   */
+  uint32_t rise;
+  /**
+   * Full turns added to the arc.
+   */
+  uint32_t turns;
+} mc_normal_arc;
 
 /**
  * How a NURBS curve is followed, in user units of the group's first axis.
@@ -5411,6 +5460,12 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_ARC_OFF_PLANE -149
 
 /**
+ * Layout 1.13: a piece of a move-queue arc in a plane given by a normal vector alone or
+ * out of order (its two command entries go together, the move first).
+ */
+#define MC_ERR_ARC_PIECE -151
+
+/**
  * Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
  * servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
  * range.
@@ -6233,6 +6288,26 @@ mc_result mc_group_move_circular(mc_card card,
                                  const struct mc_path_limits *limits,
                                  const struct mc_move_options *options,
                                  struct mc_group_motion *motion);
+
+/**
+ * Layout 1.13: MC_MoveCircular in a plane given by a normal vector (`*arc`, see
+ * `mc_normal_arc`): a rest-to-rest S-curve along the arc within `*limits` (along the path, as
+ * `mc_group_move_circular`). `helix` holds `nhelix` targets of the group's other axes (in
+ * group order; `nhelix` 0 keeps them where they are, `helix` may then be NULL). The three
+ * axes need one scale. The card checks the geometry: `MC_ERR_ARC_NORMAL` (a zero normal),
+ * `MC_ERR_ARC_AXES` (an axis twice), `MC_ERR_ARC_OFF_PLANE` (the centre, or the end without
+ * `rise`, off the plane), `MC_ERR_CENTRE_NOT_EQUIDISTANT` (the end off the circle),
+ * `MC_ERR_ZERO_LENGTH_ARC`. The move takes two command entries, sent together
+ * (`MC_ERR_ARC_PIECE` if the card saw one alone). Otherwise as `mc_group_move_linear`.
+ */
+mc_result mc_group_move_circular_normal(mc_card card,
+                                        uint32_t group,
+                                        const struct mc_normal_arc *arc,
+                                        const double *helix,
+                                        size_t nhelix,
+                                        const struct mc_path_limits *limits,
+                                        const struct mc_move_options *options,
+                                        struct mc_group_motion *motion);
 
 /**
  * Path limits with the deceleration equal to the acceleration (`PathLimits::new`): feed
@@ -7585,7 +7660,7 @@ mc_result mc_send_raw(mc_card card,
 #define MC_ANALOG_RANGE 10.0
 
 /**
- * `MC_OP_PATH_ARC_NORMAL`: the end may lie off the plane along the normal (a helix along it).
+ * `MC_OP_PATH_ARC_NORMAL` (layout 1.13: and `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`): the end may lie off the plane along the normal (a helix along it).
  */
 #define MC_ARC_RISE (1u << 2)
 
@@ -7889,6 +7964,11 @@ mc_result mc_send_raw(mc_card card,
  * A normal-vector arc's centre, or its end (without `MC_ARC_RISE`), is off the plane through the start by more than the group's tolerance.
  */
 #define MC_NACK_ARC_OFF_PLANE 158
+
+/**
+ * A piece of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` alone or out of order: its two entries go together, the move first.
+ */
+#define MC_NACK_ARC_PIECE 155
 
 /**
  * The card configuration can only change while every axis is disabled.
@@ -8461,7 +8541,7 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_TICK_PASSED 160
 
 /**
- * `MC_OP_AT_TICK` without a command published with it, or timing a command that cannot be timed (`MC_OP_AT_TICK`, the session and commit opcodes).
+ * `MC_OP_AT_TICK` without a command published with it, or timing a command that cannot be timed (`MC_OP_AT_TICK`, the session and commit opcodes, the pieces of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`).
  */
 #define MC_NACK_TIMED_ALONE 162
 

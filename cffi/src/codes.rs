@@ -1306,3 +1306,14 @@ pub const MC_OP_SYNC_COMMIT: u32 = 127;
 
 /// Args: key (0: every held command). Ack value: the commands dropped.
 pub const MC_OP_TIMED_CANCEL: u32 = 128;
+
+/// Args: v, a, d, j, `centre_a`, `centre_b`, `centre_c`, `end_a`, `end_b`, `end_c` (on the plane's
+/// axes), turns (whole, >= 0: `MC_NACK_OUT_OF_RANGE`). flags: `MC_MOVE_RELATIVE`,
+/// `MC_MOVE_BUFFERED`, the feed type, `MC_ARC_RISE`, `MC_CIRC_HELIX_RELATIVE`.
+pub const MC_OP_GROUP_MOVE_CIRCULAR_NORMAL: u32 = 129;
+
+/// The second entry of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`: args: a, b, c (three distinct group
+/// axes, else `MC_NACK_ARC_AXES`; beyond the group: `MC_NACK_AXIS_NOT_IN_GROUP`), `n_a`, `n_b`,
+/// `n_c` (the normal, not 0: `MC_NACK_ARC_NORMAL`), then the targets of the other group axes in
+/// group order (a helix).
+pub const MC_OP_GROUP_CIRCULAR_PLANE: u32 = 131;

@@ -8,7 +8,8 @@ use crate::registry::{self, mc_card, Entry};
 use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_HANDLE};
 use crate::types::{
     filter_kind, mc_arc, mc_filter_settings, mc_group_motion, mc_group_settings, mc_group_status,
-    mc_move_options, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits, mc_pdplus_settings, plane_of,
+    mc_move_options, mc_normal_arc, mc_nurbs_curve, mc_nurbs_feed, mc_path_limits,
+    mc_pdplus_settings, plane_of,
 };
 use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{
@@ -349,6 +350,39 @@ pub unsafe extern "C" fn mc_group_move_circular(
         let (spec, plane) = (a.to_sdk()?, plane_of(plane)?);
         let (e, g) = group_of(card, group)?;
         started(&e, g.move_circular(&spec, plane, &h, &l, o)?, group, motion)
+    })
+}
+
+/// Layout 1.13: MC_MoveCircular in a plane given by a normal vector (`*arc`, see
+/// `mc_normal_arc`): a rest-to-rest S-curve along the arc within `*limits` (along the path, as
+/// `mc_group_move_circular`). `helix` holds `nhelix` targets of the group's other axes (in
+/// group order; `nhelix` 0 keeps them where they are, `helix` may then be NULL). The three
+/// axes need one scale. The card checks the geometry: `MC_ERR_ARC_NORMAL` (a zero normal),
+/// `MC_ERR_ARC_AXES` (an axis twice), `MC_ERR_ARC_OFF_PLANE` (the centre, or the end without
+/// `rise`, off the plane), `MC_ERR_CENTRE_NOT_EQUIDISTANT` (the end off the circle),
+/// `MC_ERR_ZERO_LENGTH_ARC`. The move takes two command entries, sent together
+/// (`MC_ERR_ARC_PIECE` if the card saw one alone). Otherwise as `mc_group_move_linear`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn mc_group_move_circular_normal(
+    card: mc_card,
+    group: u32,
+    arc: *const mc_normal_arc,
+    helix: *const f64,
+    nhelix: usize,
+    limits: *const mc_path_limits,
+    options: *const mc_move_options,
+    motion: *mut mc_group_motion,
+) -> mc_result {
+    guard(|| {
+        // SAFETY: the caller gives NULL or a readable mc_normal_arc.
+        let a = unsafe { read_in(arc, "arc") }?.to_sdk();
+        // SAFETY: as above, for the limits and options.
+        let (l, o) = unsafe { path_and_options(limits, options) }?;
+        // SAFETY: the caller gives `nhelix` readable doubles.
+        let h = unsafe { axis_values(helix, nhelix, "helix") }?;
+        let (e, g) = group_of(card, group)?;
+        started(&e, g.move_circular_normal(&a, &h, &l, o)?, group, motion)
     })
 }
 

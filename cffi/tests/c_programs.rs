@@ -766,6 +766,24 @@ fn rotary_axes_from_c() {
     );
 }
 
+/// Layout 1.13: `examples/c/normal_arc.c`: a tilted circle of 1¼ turns with a fourth axis
+/// climbing, then a helix rising along the normal, every tick on the circle within 1e-6
+/// relative; the refusals (zero normal, an axis twice, the centre or the end off the plane, the
+/// end off the circle, a NULL arc, a lone piece sent raw).
+#[test]
+fn normal_vector_arcs_in_the_move_queue_from_c() {
+    let out = run(&compile("normal_arc", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS normal_arc (7 refusals)\n"), "{out}");
+    assert!(
+        out.contains("normal_arc: tilted circle, 1.25 turns"),
+        "{out}"
+    );
+    assert!(
+        out.contains("normal_arc: helix rising 800 along the normal"),
+        "{out}"
+    );
+}
+
 /// Layout 1.11: `examples/c/servo.c`: PID+FF switched to and back at rest, read back and
 /// refused; servo filters set, read back with the card's coefficients, refused and cleared.
 #[test]

@@ -90,6 +90,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_NOT_COMMITTED,  MC_ERR_SYNC_LOST,       MC_ERR_TIMED_REFUSED,
     MC_ERR_TIMED_CANCELLED,
     MC_ERR_ARC_NORMAL,     MC_ERR_ARC_AXES,        MC_ERR_ARC_OFF_PLANE,
+    /* normal-vector arcs in the move queue (layout 1.13) */
+    MC_ERR_ARC_PIECE,
     /* the frequency response (layout 1.12) */
     MC_ERR_FREQ_RANGE,     MC_ERR_FREQ_AMPLITUDE,  MC_ERR_FREQ_LIMITS,
     MC_ERR_FREQ_BUSY,
@@ -147,6 +149,8 @@ static const mc_result NOT_PROVOKED[] = {
     /* path.c */
     MC_ERR_PATH_MODE, MC_ERR_PATH_ZERO_LENGTH, MC_ERR_PATH_OUTPUT, MC_ERR_PATH_BUSY,
     MC_ERR_PATH_CURVE, MC_ERR_ARC_NORMAL, MC_ERR_ARC_AXES, MC_ERR_ARC_OFF_PLANE,
+    /* normal_arc.c (a piece of the move sent raw) */
+    MC_ERR_ARC_PIECE,
     /* compare.c, probe.c */
     MC_ERR_IO_CONFIG, MC_ERR_IO_CHANNEL, MC_ERR_COMPARE_MODE, MC_ERR_COMPARE_FULL,
     MC_ERR_COMPARE_ORDER, MC_ERR_COMPARE_BUSY, MC_ERR_PROBE_INPUT,

@@ -102,7 +102,11 @@
                            * positions are in [0, modulo) and fire at every crossing, on any
                            * turn and across the wrap; MC_CMP_EACH_TURN (1u << 4, a single
                            * position or a series repeated on every turn; a series' count 0:
-                           * a whole turn of pitches), MC_NACK_COMPARE_TURN 159 */
+                           * a whole turn of pitches), MC_NACK_COMPARE_TURN 159;
+                           * MC_MoveCircular in a plane given by a normal vector in the
+                           * group's move queue (MC_OP_GROUP_MOVE_CIRCULAR_NORMAL 129 and its
+                           * second entry MC_OP_GROUP_CIRCULAR_PLANE 131, published together;
+                           * MC_NACK_ARC_PIECE 155; no block) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1244,7 +1248,8 @@
 #define MC_NACK_TIMED_FULL 161    /* MC_TIMED_SLOTS timed commands are held already */
 #define MC_NACK_TIMED_ALONE 162   /* MC_OP_AT_TICK without a command published with it, or timing a
                                    * command that cannot be timed (MC_OP_AT_TICK, the session and
-                                   * commit opcodes) */
+                                   * commit opcodes, the pieces of
+                                   * MC_OP_GROUP_MOVE_CIRCULAR_NORMAL) */
 #define MC_NACK_TICK_FAR 163      /* a tick more than MC_TIMED_MAX_AHEAD ticks ahead, or a key or
                                    * tick that is not a whole number in range */
 #define MC_NACK_COMMIT_LATE 164   /* MC_OP_SYNC_COMMIT on or after its tick: nothing of the key runs */
@@ -1279,8 +1284,9 @@
                                       * path's end), MC_CIRC_HELIX_RELATIVE (the other axes'
                                       * targets are distances), MC_ARC_RISE, MC_PATH_*. No plane
                                       * set: MC_NACK_ARC_NORMAL */
-#define MC_ARC_RISE (1u << 2)        /* MC_OP_PATH_ARC_NORMAL: the end may lie off the plane along
-                                      * the normal (a helix along it) */
+#define MC_ARC_RISE (1u << 2)        /* MC_OP_PATH_ARC_NORMAL (layout 1.13: and
+                                      * MC_OP_GROUP_MOVE_CIRCULAR_NORMAL): the end may lie off the
+                                      * plane along the normal (a helix along it) */
 #define MC_NACK_ARC_NORMAL 156       /* a normal-vector arc's normal is zero, or no plane was set
                                       * (MC_OP_PATH_ARC_PLANE) before it */
 #define MC_NACK_ARC_AXES 157         /* a normal-vector arc's plane names a group axis twice (or an
@@ -1288,6 +1294,36 @@
 #define MC_NACK_ARC_OFF_PLANE 158    /* a normal-vector arc's centre, or its end (without MC_ARC_RISE),
                                       * is off the plane through the start by more than the group's
                                       * tolerance */
+
+/* Layout 1.13: MC_MoveCircular in a plane given by a normal vector, in the group's move queue:
+ * a rest-to-rest S-curve of the path length along the arc within v, a, d, j (the limits along
+ * the path, as MC_OP_GROUP_MOVE_CIRCULAR's; the other group axes move linearly with the arc
+ * length: a helix). Its arguments take two command entries, published together (one head
+ * update): MC_OP_GROUP_MOVE_CIRCULAR_NORMAL, then MC_OP_GROUP_CIRCULAR_PLANE to the same group
+ * right after it. The card takes the pair as one move, answers each entry (the same outcome;
+ * the move's seq is the first entry's) and refuses a piece alone or out of order with
+ * MC_NACK_ARC_PIECE: the first entry with no MC_OP_GROUP_CIRCULAR_PLANE of its group after it
+ * (that entry then stays in the ring, served on its own), the second without the first just
+ * before it. Neither can be timed (MC_OP_AT_TICK: MC_NACK_TIMED_ALONE). The plane travels
+ * with the move, not from MC_OP_PATH_ARC_PLANE: a queued move is fixed when it is taken. The
+ * geometry is MC_OP_PATH_ARC_NORMAL's (above: counter-clockwise about the normal in the plane
+ * through the start, the centre in it and the end on the circle within the group's tolerance,
+ * then made exact; MC_ARC_RISE; an end at the start: a full turn) and each of `turns` adds a
+ * full turn. A group with MC_INTERP_REFERENCE_WORD runs it exactly at its constant feed. */
+#define MC_OP_GROUP_MOVE_CIRCULAR_NORMAL 129u /* args: v, a, d, j, centre_a, centre_b, centre_c,
+                                               * end_a, end_b, end_c (on the plane's axes),
+                                               * turns (whole, >= 0: MC_NACK_OUT_OF_RANGE).
+                                               * flags: MC_MOVE_RELATIVE, MC_MOVE_BUFFERED,
+                                               * the feed type, MC_ARC_RISE,
+                                               * MC_CIRC_HELIX_RELATIVE */
+#define MC_OP_GROUP_CIRCULAR_PLANE 131u /* the second entry of MC_OP_GROUP_MOVE_CIRCULAR_NORMAL:
+                                         * args: a, b, c (three distinct group axes, else
+                                         * MC_NACK_ARC_AXES; beyond the group:
+                                         * MC_NACK_AXIS_NOT_IN_GROUP), n_a, n_b, n_c (the normal,
+                                         * not 0: MC_NACK_ARC_NORMAL), then the targets of the
+                                         * other group axes in group order (a helix) */
+#define MC_NACK_ARC_PIECE 155 /* a piece of MC_OP_GROUP_MOVE_CIRCULAR_NORMAL alone or out of
+                               * order: its two entries go together, the move first */
 
 /* Layout 1.12: the frequency response measured on the card (a stepped sine). One sweep at a
  * time, on one axis enabled and at rest (Standstill, holding its position). At each of

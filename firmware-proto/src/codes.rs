@@ -488,6 +488,9 @@ code_enum! {
         /// nothing changed (the other way, a PSO's PWM on an output a compare channel pulses, is
         /// `MC_NACK_PSO_CONFIG`).
         PsoOutput = raw::MC_NACK_PSO_OUTPUT,
+        /// A piece of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` alone or out of order: its two entries go
+        /// together, the move first.
+        ArcPiece = raw::MC_NACK_ARC_PIECE,
         /// A normal-vector arc's normal is zero, or no plane was set (`MC_OP_PATH_ARC_PLANE`)
         /// before it.
         ArcNormal = raw::MC_NACK_ARC_NORMAL,
@@ -508,7 +511,8 @@ code_enum! {
         /// `MC_TIMED_SLOTS` timed commands are held already.
         TimedFull = raw::MC_NACK_TIMED_FULL,
         /// `MC_OP_AT_TICK` without a command published with it, or timing a command that cannot be
-        /// timed (`MC_OP_AT_TICK`, the session and commit opcodes).
+        /// timed (`MC_OP_AT_TICK`, the session and commit opcodes, the pieces of
+        /// `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`).
         TimedAlone = raw::MC_NACK_TIMED_ALONE,
         /// A tick more than `MC_TIMED_MAX_AHEAD` ticks ahead, or a key or tick that is not a whole
         /// number in range.
@@ -1111,5 +1115,14 @@ code_enum! {
         SyncCommit = raw::MC_OP_SYNC_COMMIT,
         /// Args: key (0: every held command). Ack value: the commands dropped.
         TimedCancel = raw::MC_OP_TIMED_CANCEL,
+        /// Args: v, a, d, j, `centre_a`, `centre_b`, `centre_c`, `end_a`, `end_b`, `end_c` (on the
+        /// plane's axes), turns (whole, >= 0: `MC_NACK_OUT_OF_RANGE`). flags: `MC_MOVE_RELATIVE`,
+        /// `MC_MOVE_BUFFERED`, the feed type, `MC_ARC_RISE`, `MC_CIRC_HELIX_RELATIVE`.
+        GroupMoveCircularNormal = raw::MC_OP_GROUP_MOVE_CIRCULAR_NORMAL,
+        /// The second entry of `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL`: args: a, b, c (three distinct
+        /// group axes, else `MC_NACK_ARC_AXES`; beyond the group: `MC_NACK_AXIS_NOT_IN_GROUP`),
+        /// `n_a`, `n_b`, `n_c` (the normal, not 0: `MC_NACK_ARC_NORMAL`), then the targets of the
+        /// other group axes in group order (a helix).
+        GroupCircularPlane = raw::MC_OP_GROUP_CIRCULAR_PLANE,
     }
 }

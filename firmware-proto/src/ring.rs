@@ -205,8 +205,9 @@ impl<M: Mem, const N: usize> Consumer<M, N> {
         Ok(avail)
     }
 
-    /// Take the next entry, if any, and hand its slot back.
-    pub fn pop<E: Entry<N>>(&mut self) -> Result<Option<E>, RingError> {
+    /// The next entry, if any, left in the ring (layout 1.13: the card looks whether the
+    /// entry after a command is its second piece before taking it).
+    pub fn peek<E: Entry<N>>(&self) -> Result<Option<E>, RingError> {
         if self.pending()? == 0 {
             return Ok(None);
         }
@@ -215,10 +216,18 @@ impl<M: Mem, const N: usize> Consumer<M, N> {
         for (i, w) in words.iter_mut().enumerate() {
             *w = self.mem.load64(base + 8 * i, Ordering::Relaxed);
         }
-        self.tail = self.tail.wrapping_add(1);
-        self.mem
-            .store32(self.layout.tail, self.tail, Ordering::Release);
         Ok(Some(E::decode(&words)))
+    }
+
+    /// Take the next entry, if any, and hand its slot back.
+    pub fn pop<E: Entry<N>>(&mut self) -> Result<Option<E>, RingError> {
+        let e = self.peek()?;
+        if e.is_some() {
+            self.tail = self.tail.wrapping_add(1);
+            self.mem
+                .store32(self.layout.tail, self.tail, Ordering::Release);
+        }
+        Ok(e)
     }
 
     /// Skip everything pending (used after the consumer finds the ring corrupt and the producer
@@ -267,6 +276,26 @@ mod tests {
         let mut c = EvtConsumer::attach(w.dpram(), EVT_RING);
         assert_eq!(c.pending(), Ok(0));
         assert_eq!(c.pop::<Event>(), Ok(None));
+    }
+
+    /// A peek reads the next entry and leaves it (and the tail the producer sees) in place.
+    #[test]
+    fn peek_leaves_the_entry_for_the_pop() {
+        let w = HeapWindow::new();
+        let mut p = CmdProducer::attach(w.dpram(), CMD_RING);
+        let mut c = CmdConsumer::attach(w.dpram(), CMD_RING);
+        assert_eq!(c.peek::<Command>(), Ok(None));
+        let mut cmds = [Command::new(Opcode::Nop, 0), Command::new(Opcode::Nop, 1)];
+        cmds[1].seq = 7;
+        p.push_all(&cmds).unwrap();
+        let seen: Command = c.peek().unwrap().unwrap();
+        assert_eq!((seen.axis, c.pending()), (0, Ok(2)));
+        assert_eq!(p.free(), Ok(CMD_RING.len - 2));
+        assert_eq!(c.pop::<Command>().unwrap().map(|c| c.axis), Some(0));
+        let next: Command = c.peek().unwrap().unwrap();
+        assert_eq!((next.axis, next.seq), (1, 7));
+        assert_eq!(c.pop::<Command>().unwrap(), Some(next));
+        assert_eq!(c.peek::<Command>(), Ok(None));
     }
 
     #[test]

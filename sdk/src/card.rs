@@ -750,6 +750,24 @@ impl Card {
         self.execute_value(cmd, what, target).map(|(seq, _)| seq)
     }
 
+    /// Layout 1.13: `cmds` published together (a move whose arguments take several entries),
+    /// and the first one's seq once the card accepted them (it answers each; a refusal is the
+    /// first one's). Not inside [`Card::timed`]: the card times one entry.
+    pub(crate) fn execute_together(
+        &self,
+        cmds: &mut [Command],
+        what: &'static str,
+        target: Target,
+    ) -> Result<u32> {
+        if timing().is_some() {
+            return Err(Error::Unsupported(format!(
+                "{what} takes {} command entries: it cannot be timed",
+                cmds.len()
+            )));
+        }
+        self.inner.execute_together(cmds, what, target)
+    }
+
     /// [`Card::execute_seq`] with the ack's value (a compare table's or a PT/PVT buffer's
     /// room). Inside [`Card::timed`] or [`crate::CardSet::sync`] (layout 1.12) the command is
     /// sent timed: the seq once the card holds it, the value 0.
@@ -1189,6 +1207,32 @@ impl Inner {
         let seq = self.send_raw(cmd)?;
         match self.wait_answer(seq)? {
             Ok(v) => Ok((seq, v)),
+            Err(code) => Err(Error::Nack {
+                command: what,
+                target,
+                code,
+                reason: nack_reason(code),
+            }),
+        }
+    }
+
+    /// Layout 1.13: [`Card::execute_together`]: `cmds` published at once, then each one's
+    /// answer (the card gives them together), the first one's outcome returned.
+    pub(crate) fn execute_together(
+        &self,
+        cmds: &mut [Command],
+        what: &'static str,
+        target: Target,
+    ) -> Result<u32> {
+        self.link.check()?;
+        let first = self.push_all(cmds)?;
+        let answer = self.wait_answer(first)?;
+        for k in 1..cmds.len() as u32 {
+            // (the same outcome: taken off the answers so that none is left behind)
+            let _ = self.wait_answer(first.wrapping_add(k))?;
+        }
+        match answer {
+            Ok(_) => Ok(first),
             Err(code) => Err(Error::Nack {
                 command: what,
                 target,

@@ -406,6 +406,9 @@ error_kinds! {
     /// A normal-vector arc's centre, or its end (unless it rises along the normal), is off
     /// the plane through the start by more than the group's tolerance.
     ArcOffPlane = -149, MC_ERR_ARC_OFF_PLANE, nack ArcOffPlane, "the arc's centre or end is off its plane by more than the group's tolerance";
+    /// Layout 1.13: a piece of a move-queue arc in a plane given by a normal vector alone or
+    /// out of order (its two command entries go together, the move first).
+    ArcPiece = -151, MC_ERR_ARC_PIECE, nack ArcPiece, "a piece of a normal-vector arc move came alone or out of order (its two entries go together)";
     /// Layout 1.12: a frequency sweep's frequencies (0.1 Hz <= from <= to <= a quarter of the
     /// servo rate), points (1..=256), cycles (1..=1000), settle time (0..=60 s) or mode out of
     /// range.

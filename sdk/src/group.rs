@@ -4,8 +4,9 @@
 use crate::card::{finite, lock, positive, Axis, Card};
 use crate::error::{Error, Result, Target};
 use firmware_proto::cmd::{
-    ArcFlags, ArcGeometry, CardCmd, CircularMove, Cmd, FeedLimits, GroupCmd, GroupHome,
-    GroupOverride, LinearMove, MoveOpts, PtpLimits, PtpMove, StopRamp, GROUP_HOME_STAGES,
+    ArcFlags, ArcGeometry, CardCmd, CircularMove, CircularNormalMove, CircularPlane, Cmd,
+    FeedLimits, GroupCmd, GroupHome, GroupOverride, LinearMove, MoveOpts, PathArcPlane, PtpLimits,
+    PtpMove, StopRamp, GROUP_HOME_STAGES,
 };
 use firmware_proto::layout;
 use firmware_proto::seqlock;
@@ -169,6 +170,46 @@ pub enum ArcSpec {
     },
     /// Through a point on the arc (three-point circle); the direction follows the points.
     Border { end: [f64; 2], via: [f64; 2] },
+}
+
+/// Layout 1.13: an arc in the plane of three group axes given by a normal vector, for the
+/// move queue ([`Group::move_circular_normal`]); the same geometry as a path's
+/// [`Geometry::ArcNormal`](crate::Geometry::ArcNormal): counter-clockwise about `normal` (the
+/// right-hand rule; reversed, the arc runs the other way) in the plane through the start,
+/// around `centre`, to `end` (an end at the start: a full turn), then `turns` more full turns.
+/// `centre` and `end` are on the three axes, in order, in their user units (the three need one
+/// scale). The card refuses a centre off the plane or an end off the circle by more than the
+/// group's tolerance, and an end off the plane unless `rise` (then its offset along the
+/// normal is a helix's rise, spread over the whole length).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalArc {
+    /// The plane's group axes a, b, c.
+    pub axes: [usize; 3],
+    /// The normal on them (any length but 0).
+    pub normal: [f64; 3],
+    /// The centre on a, b, c.
+    pub centre: [f64; 3],
+    /// The end on a, b, c.
+    pub end: [f64; 3],
+    /// The end may lie off the plane along the normal (a helix along it).
+    pub rise: bool,
+    /// Full turns added to the arc.
+    pub turns: u32,
+}
+
+impl NormalArc {
+    /// The arc in the plane of `axes` with `normal` around `centre` to `end` (no rise, no turn
+    /// added).
+    pub fn new(axes: [usize; 3], normal: [f64; 3], centre: [f64; 3], end: [f64; 3]) -> Self {
+        Self {
+            axes,
+            normal,
+            centre,
+            end,
+            rise: false,
+            turns: 0,
+        }
+    }
 }
 
 /// An axes group on a card.
@@ -751,6 +792,74 @@ impl Group {
             opts: Self::opts(&opts),
         };
         let seq = self.run(self.cmd(GroupCmd::MoveCircular(m)), "move circular")?;
+        Ok(self.motion(seq))
+    }
+
+    /// Layout 1.13: MC_MoveCircular in a plane given by a normal vector (see [`NormalArc`]):
+    /// a rest-to-rest S-curve along the arc within `lim` (the limits along the path, as
+    /// [`move_circular`](Self::move_circular)'s); `helix` holds the targets of the group's
+    /// other axes (in group order), which move linearly with the arc, or is empty (they stay).
+    /// With `opts.relative` the centre, the end and the targets are from the end of what is
+    /// queued. The move takes two command entries, sent together; it cannot be timed.
+    pub fn move_circular_normal(
+        &self,
+        arc: &NormalArc,
+        helix: &[f64],
+        lim: &PathLimits,
+        opts: MoveOptions,
+    ) -> Result<GroupMotion> {
+        let layout = self.card.info().layout;
+        if layout.1 < 13 {
+            return Err(Error::Unsupported(format!(
+                "moves in a plane given by a normal vector need layout 1.13 (the card has 1.{})",
+                layout.1
+            )));
+        }
+        let (s3, others) = self.arc_normal_scales(&arc.axes)?;
+        for x in arc
+            .normal
+            .iter()
+            .chain(&arc.centre)
+            .chain(&arc.end)
+            .chain(helix)
+        {
+            finite("arc coordinate", *x)?;
+        }
+        if !helix.is_empty() && helix.len() != others.len() {
+            return Err(Error::BadAxis {
+                axis: helix.len(),
+                count: others.len(),
+            });
+        }
+        let mut h = [0.0; MAX_AXES - 3];
+        for ((d, x), s) in h.iter_mut().zip(helix).zip(&others) {
+            *d = x * s;
+        }
+        let m = CircularNormalMove {
+            limits: self.path_limits(lim)?,
+            centre: arc.centre.map(|x| x * s3),
+            end: arc.end.map(|x| x * s3),
+            turns: f64::from(arc.turns),
+            rise: arc.rise,
+            helix_relative: helix.is_empty(),
+            opts: Self::opts(&opts),
+        };
+        let plane = CircularPlane {
+            plane: PathArcPlane {
+                axes: arc.axes.map(|a| a as f64),
+                normal: arc.normal,
+            },
+            helix: h,
+        };
+        let mut cmds = [
+            self.cmd(GroupCmd::MoveCircularNormal(m)),
+            self.cmd(GroupCmd::CircularPlane(plane)),
+        ];
+        let seq = self.card.execute_together(
+            &mut cmds,
+            "move circular normal",
+            Target::Group(self.index),
+        )?;
         Ok(self.motion(seq))
     }
 

@@ -107,7 +107,7 @@ pub use gantry::{
 };
 pub use group::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, Group, GroupHoming, GroupMotion,
-    GroupSettings, Interpolator, MoveOptions, PathLimits, Plane,
+    GroupSettings, Interpolator, MoveOptions, NormalArc, PathLimits, Plane,
 };
 pub use handwheel::{Handwheel, HANDWHEEL_DETENT_MAX, HANDWHEEL_RATIO_MAX};
 pub use heartbeat::HEARTBEAT_PERIOD_US;

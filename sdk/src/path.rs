@@ -409,13 +409,14 @@ impl Group {
                 flags,
             }),
             Geometry::ArcNormal {
+                axes: ax,
                 centre,
                 end,
                 rise,
                 helix,
                 ..
             } => {
-                let (s3, others) = self.arc_normal_scales(&seg.geometry)?;
+                let (s3, others) = self.arc_normal_scales(ax)?;
                 for x in centre.iter().chain(end).chain(helix) {
                     finite("arc coordinate", *x)?;
                 }
@@ -470,10 +471,7 @@ impl Group {
 
     /// A normal-vector arc's one scale on its three axes and the other axes' scales, in
     /// group order (checked: the card has layout 1.12, the axes are the group's).
-    fn arc_normal_scales(&self, g: &Geometry) -> Result<(f64, Vec<f64>)> {
-        let Geometry::ArcNormal { axes: ax, .. } = g else {
-            return Err(Error::Protocol("not a normal-vector arc".into()));
-        };
+    pub(crate) fn arc_normal_scales(&self, ax: &[usize; 3]) -> Result<(f64, Vec<f64>)> {
         let layout = self.card_pub().info().layout;
         if layout.1 < 12 {
             return Err(Error::Unsupported(format!(

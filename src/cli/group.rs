@@ -1,12 +1,15 @@
-//! `mcctl group home|status`: axes groups (layout 1.11) over the SDK's [`Group::home`] and
-//! [`Group::settings`]. A group's axes are its group axis indices (0: its X, its first axis),
-//! not card axes.
+//! `mcctl group home|status|arc`: axes groups (layout 1.11) over the SDK's [`Group::home`]
+//! and [`Group::settings`], and (layout 1.13) a move-queue arc in a plane given by a normal
+//! vector ([`Group::move_circular_normal`]). A group's axes are its group axis indices (0: its
+//! X, its first axis), not card axes.
 //!
 //! [`Group::home`]: crate::Group::home
 //! [`Group::settings`]: crate::Group::settings
+//! [`Group::move_circular_normal`]: crate::Group::move_circular_normal
 
+use super::args::positive;
 use super::on_card;
-use crate::{Card, GroupState, Result};
+use crate::{Card, GroupState, MoveOptions, NormalArc, PathLimits, Result};
 use clap::Subcommand;
 use serde_json::json;
 use std::process::ExitCode;
@@ -36,6 +39,95 @@ pub enum Action {
         #[arg(long)]
         json: bool,
     },
+    /// MC_MoveCircular in a plane given by a normal vector (layout 1.13): counter-clockwise
+    /// about --normal in the plane of group axes --axes through where the group stands, around
+    /// --centre to --end (on those axes, their user units; an end at the start: a full turn),
+    /// --turns more full turns; --helix gives the other group axes' targets (a helix). A
+    /// rest-to-rest S-curve along the path within --feed, --accel, --jerk; waited for. Prints
+    /// where the group's axes ended.
+    Arc {
+        group: usize,
+        /// The plane's three group axes: "a,b,c".
+        #[arg(long, value_parser = parse_axes)]
+        axes: Triple<usize>,
+        /// The normal on them: "x,y,z" (any length but 0).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_point)]
+        normal: Triple<f64>,
+        /// The centre on the three axes: "x,y,z".
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_point)]
+        centre: Triple<f64>,
+        /// The end on the three axes: "x,y,z".
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_point)]
+        end: Triple<f64>,
+        /// The end may lie off the plane along the normal (a helix along it).
+        #[arg(long)]
+        rise: bool,
+        /// Full turns added to the arc.
+        #[arg(long, default_value_t = 0)]
+        turns: u32,
+        /// The other group axes' targets, in group order: "x,y" (default: they stay).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list)]
+        helix: Option<List>,
+        /// The centre, the end and the targets from where the group stands.
+        #[arg(long)]
+        relative: bool,
+        /// Feed along the path (the first group axis's units per second).
+        #[arg(long, allow_negative_numbers = true, value_parser = positive("--feed"))]
+        feed: f64,
+        /// Acceleration (and deceleration) along the path.
+        #[arg(long, allow_negative_numbers = true, value_parser = positive("--accel"))]
+        accel: f64,
+        /// Jerk along the path.
+        #[arg(long, allow_negative_numbers = true, value_parser = positive("--jerk"))]
+        jerk: f64,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Three values from the command line ("a,b,c").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triple<T>(pub [T; 3]);
+
+/// Values from the command line ("x,y,...").
+#[derive(Clone, Debug, PartialEq)]
+pub struct List(pub Vec<f64>);
+
+/// `"x,y,..."` → the finite numbers.
+pub fn parse_list(s: &str) -> std::result::Result<List, String> {
+    s.split(',')
+        .map(|x| {
+            let x = x.trim();
+            x.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("`{x}` is not a finite number (values: \"x,y,...\")"))
+        })
+        .collect::<std::result::Result<_, _>>()
+        .map(List)
+}
+
+/// `"x,y,z"` → three finite numbers.
+pub fn parse_point(s: &str) -> std::result::Result<Triple<f64>, String> {
+    let v = parse_list(s)?.0;
+    <[f64; 3]>::try_from(v)
+        .map(Triple)
+        .map_err(|v| format!("three values \"x,y,z\" needed, got {}", v.len()))
+}
+
+/// `"a,b,c"` → three group axis indices.
+pub fn parse_axes(s: &str) -> std::result::Result<Triple<usize>, String> {
+    let v = s
+        .split(',')
+        .map(|i| {
+            let i = i.trim();
+            i.parse::<usize>()
+                .map_err(|_| format!("`{i}` is not a group axis index (axes: \"a,b,c\")"))
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    <[usize; 3]>::try_from(v)
+        .map(Triple)
+        .map_err(|v| format!("three group axes \"a,b,c\" needed, got {}", v.len()))
 }
 
 /// A home order from the command line: stages of group axis indices.
@@ -75,6 +167,84 @@ pub fn run(uri: &str, action: Action) -> ExitCode {
             home(c, group, order.map(|o| o.0).unwrap_or_default(), json)
         }
         Action::Status { group, json } => status(c, group, json),
+        Action::Arc {
+            group,
+            axes,
+            normal,
+            centre,
+            end,
+            rise,
+            turns,
+            helix,
+            relative,
+            feed,
+            accel,
+            jerk,
+            json,
+        } => {
+            let arc = NormalArc {
+                axes: axes.0,
+                normal: normal.0,
+                centre: centre.0,
+                end: end.0,
+                rise,
+                turns,
+            };
+            let helix = helix.map(|h| h.0).unwrap_or_default();
+            let opts = MoveOptions {
+                relative,
+                ..MoveOptions::default()
+            };
+            let lim = PathLimits::new(feed, accel, jerk);
+            arc_move(c, group, &arc, &helix, &lim, opts, json)
+        }
+    })
+}
+
+/// How long `mcctl group arc` waits for its move.
+const MOVE_WAIT: Duration = Duration::from_secs(600);
+
+/// `mcctl group arc`: the move queued and waited for; where the group's axes ended.
+pub fn arc_move(
+    card: &Card,
+    group: usize,
+    arc: &NormalArc,
+    helix: &[f64],
+    lim: &PathLimits,
+    opts: MoveOptions,
+    json: bool,
+) -> Result<String> {
+    let g = card.group(group)?;
+    let m = g.move_circular_normal(arc, helix, lim, opts)?;
+    match card.sim() {
+        // A stepped card: step it until the move ends.
+        Some(sim) => {
+            let rate = u64::from(card.info().servo_rate_hz);
+            let mut waited = 0;
+            loop {
+                match m.wait(Duration::ZERO) {
+                    Err(crate::Error::Timeout(_)) if waited < MOVE_WAIT.as_secs() * rate => {
+                        sim.step(rate / 100);
+                        waited += rate / 100;
+                        super::interrupt::check()?;
+                    }
+                    r => break r?,
+                }
+            }
+        }
+        None => m.wait(MOVE_WAIT)?,
+    }
+    let axes = g.settings()?.map(|s| s.axes).unwrap_or_default();
+    let st = card.statuses(&axes)?;
+    let at: Vec<f64> = st.iter().map(|s| s.command_position).collect();
+    Ok(if json {
+        json!({ "group": group, "axes": axes, "position": at }).to_string()
+    } else {
+        let mut out = format!("group {group}: arc done\n");
+        for (a, p) in axes.iter().zip(&at) {
+            out += &format!("  axis {a}: at {p}\n");
+        }
+        out
     })
 }
 
@@ -160,5 +330,20 @@ mod tests {
         let err = parse_order("2;x").unwrap_err();
         assert!(err.contains("`x`"), "{err}");
         assert!(parse_order("-1").is_err());
+    }
+
+    #[test]
+    fn points_and_axes_parse_in_threes() {
+        assert_eq!(
+            parse_point("-5000, 0,1e3").unwrap(),
+            Triple([-5000.0, 0.0, 1000.0])
+        );
+        assert!(parse_point("1,2").unwrap_err().contains("got 2"));
+        assert!(parse_point("1,x,2").unwrap_err().contains("`x`"));
+        assert!(parse_point("1,inf,2").is_err());
+        assert_eq!(parse_axes("0,1,3").unwrap(), Triple([0, 1, 3]));
+        assert!(parse_axes("0,-1,2").is_err());
+        assert!(parse_axes("0,1,2,3").unwrap_err().contains("got 4"));
+        assert_eq!(parse_list("3000").unwrap(), List(vec![3000.0]));
     }
 }

@@ -10,7 +10,7 @@ use crate::result::{unknown, Failure};
 use motioncard_sdk::ErrorKind;
 use motioncard_sdk::{
     AccDec, ArcSpec, FeedType, FilterKind, FilterSettings, GroupSettings, GroupState, GroupStatus,
-    Interpolator, MoveOptions, NurbsFeed, PathLimits, Plane,
+    Interpolator, MoveOptions, NormalArc, NurbsFeed, PathLimits, Plane,
 };
 
 /// Most axes in a group, as a length.
@@ -235,6 +235,42 @@ impl mc_arc {
             },
             v => return Err(unknown("arc mode", v)),
         })
+    }
+}
+
+/// Layout 1.13: an arc in the plane of three group axes given by a normal vector, for
+/// `mc_group_move_circular_normal`: counter-clockwise about `normal` (any length but 0; the
+/// right-hand rule) in the plane through the start, around `centre` to `end` (on `axes`, in
+/// their user units; an end at the start: a full turn), then `turns` more full turns. `rise`
+/// non-zero: the end may lie off the plane along the normal (a helix along it).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[allow(non_camel_case_types)]
+pub struct mc_normal_arc {
+    /// The plane's group axes a, b, c.
+    pub axes: [u32; 3],
+    /// The normal on them.
+    pub normal: [f64; 3],
+    /// The centre on a, b, c.
+    pub centre: [f64; 3],
+    /// The end on a, b, c.
+    pub end: [f64; 3],
+    /// Non-zero: the end may rise off the plane along the normal.
+    pub rise: u32,
+    /// Full turns added to the arc.
+    pub turns: u32,
+}
+
+impl mc_normal_arc {
+    pub(crate) fn to_sdk(self) -> NormalArc {
+        NormalArc {
+            axes: self.axes.map(|a| a as usize),
+            normal: self.normal,
+            centre: self.centre,
+            end: self.end,
+            rise: self.rise != 0,
+            turns: self.turns,
+        }
     }
 }
 

@@ -620,6 +620,78 @@ impl Args for PathArcNormal {
     }
 }
 
+/// `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` (layout 1.13; args: v, a, d, j, centre (3), end (3) on
+/// the plane's axes, turns; flags: [`MoveOpts`], `MC_ARC_RISE`, `MC_CIRC_HELIX_RELATIVE`):
+/// MC_MoveCircular in a plane given by a normal vector. Its plane and the other axes' targets
+/// are the [`CircularPlane`] entry published right after it; the card takes the two as one move.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CircularNormalMove {
+    /// The limits along the path.
+    pub limits: FeedLimits,
+    /// The centre, on the plane's axes a, b, c.
+    pub centre: [f64; 3],
+    /// The end, on the plane's axes a, b, c.
+    pub end: [f64; 3],
+    /// Full turns added to the arc (a whole number; checked by the card).
+    pub turns: f64,
+    /// The end may lie off the plane along the normal (`MC_ARC_RISE`).
+    pub rise: bool,
+    /// The other axes' targets are distances even in an absolute move
+    /// (`MC_CIRC_HELIX_RELATIVE`).
+    pub helix_relative: bool,
+    /// Relative, buffered, feed type.
+    pub opts: MoveOpts,
+}
+
+impl Args for CircularNormalMove {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &self.limits.to_array());
+        put(args, 4, &self.centre);
+        put(args, 7, &self.end);
+        args[10] = self.turns;
+        set(self.rise, crate::raw::MC_ARC_RISE)
+            | set(self.helix_relative, crate::raw::MC_CIRC_HELIX_RELATIVE)
+            | self.opts.bits()
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            limits: FeedLimits::from_array(take(args, 0)),
+            centre: take(args, 4),
+            end: take(args, 7),
+            turns: args[10],
+            rise: bit(flags, crate::raw::MC_ARC_RISE),
+            helix_relative: bit(flags, crate::raw::MC_CIRC_HELIX_RELATIVE),
+            opts: MoveOpts::from_bits(flags),
+        })
+    }
+}
+
+/// `MC_OP_GROUP_CIRCULAR_PLANE` (layout 1.13; args: a, b, c, n_a, n_b, n_c, then the other
+/// group axes' targets in group order): the second entry of a
+/// [`CircularNormalMove`], published with it. The card checks the numbers (whole, distinct
+/// group axes; a normal not zero; finite targets).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CircularPlane {
+    /// The plane's three group axes and its normal on them.
+    pub plane: PathArcPlane,
+    /// The targets of the group's other axes, in group order (a helix).
+    pub helix: [f64; MAX_AXES - 3],
+}
+
+impl Args for CircularPlane {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        self.plane.encode(args);
+        put(args, 6, &self.helix);
+        0
+    }
+    fn decode(flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self {
+            plane: PathArcPlane::decode(flags, args)?,
+            helix: take(args, 6),
+        })
+    }
+}
+
 /// `MC_OP_PATH_DWELL` (args: id, seconds; flags: `MC_PATH_LAST`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathDwell {
@@ -784,6 +856,10 @@ pub enum GroupCmd {
     PathArcPlane(PathArcPlane),
     /// `MC_OP_PATH_ARC_NORMAL` (layout 1.12).
     PathArcNormal(PathArcNormal),
+    /// `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` (layout 1.13).
+    MoveCircularNormal(CircularNormalMove),
+    /// `MC_OP_GROUP_CIRCULAR_PLANE` (layout 1.13), its second entry.
+    CircularPlane(CircularPlane),
 }
 
 impl GroupCmd {
@@ -815,6 +891,8 @@ impl GroupCmd {
             Self::Home(_) => Opcode::GroupHome,
             Self::PathArcPlane(_) => Opcode::PathArcPlane,
             Self::PathArcNormal(_) => Opcode::PathArcNormal,
+            Self::MoveCircularNormal(_) => Opcode::GroupMoveCircularNormal,
+            Self::CircularPlane(_) => Opcode::GroupCircularPlane,
         }
     }
 
@@ -847,6 +925,8 @@ impl GroupCmd {
             Opcode::GroupHome => Self::Home(Args::decode(f, args)?),
             Opcode::PathArcPlane => Self::PathArcPlane(Args::decode(f, args)?),
             Opcode::PathArcNormal => Self::PathArcNormal(Args::decode(f, args)?),
+            Opcode::GroupMoveCircularNormal => Self::MoveCircularNormal(Args::decode(f, args)?),
+            Opcode::GroupCircularPlane => Self::CircularPlane(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -872,6 +952,8 @@ impl GroupCmd {
             Self::Home(a) => super::entry(op, group, a),
             Self::PathArcPlane(a) => super::entry(op, group, a),
             Self::PathArcNormal(a) => super::entry(op, group, a),
+            Self::MoveCircularNormal(a) => super::entry(op, group, a),
+            Self::CircularPlane(a) => super::entry(op, group, a),
             Self::Configure
             | Self::Enable
             | Self::Disable

@@ -302,7 +302,9 @@ pub fn family(op: Opcode) -> Family {
         | O::ApplyGroupPath
         | O::GroupHome
         | O::PathArcPlane
-        | O::PathArcNormal => Family::Group,
+        | O::PathArcNormal
+        | O::GroupMoveCircularNormal
+        | O::GroupCircularPlane => Family::Group,
         O::GearIn
         | O::GearInPos
         | O::GearOut

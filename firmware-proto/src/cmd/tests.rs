@@ -444,6 +444,32 @@ fn group_cmd() -> BoxedStrategy<GroupCmd> {
                 })
             })
             .boxed(),
+        (
+            feed_limits(),
+            nums::<7>(),
+            (any::<bool>(), any::<bool>()),
+            move_opts(),
+        )
+            .prop_map(|(limits, a, (rise, helix_relative), opts)| {
+                GroupCmd::MoveCircularNormal(CircularNormalMove {
+                    limits,
+                    centre: [a[0], a[1], a[2]],
+                    end: [a[3], a[4], a[5]],
+                    turns: a[6],
+                    rise,
+                    helix_relative,
+                    opts,
+                })
+            })
+            .boxed(),
+        (nums::<3>(), nums::<3>(), nums::<{ MAX_AXES - 3 }>())
+            .prop_map(|(axes, normal, helix)| {
+                GroupCmd::CircularPlane(CircularPlane {
+                    plane: PathArcPlane { axes, normal },
+                    helix,
+                })
+            })
+            .boxed(),
         (nums::<3>(), 0u8..4)
             .prop_map(|([output, on, distance], when)| {
                 GroupCmd::PathOutput(PathOutput {
@@ -1144,6 +1170,8 @@ fn plain_numbers_are_the_cards_to_check() {
         O::PathNurbs,
         O::PathArcPlane,
         O::PathArcNormal,
+        O::GroupMoveCircularNormal,
+        O::GroupCircularPlane,
         O::PvtBegin,
     ] {
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.5] {

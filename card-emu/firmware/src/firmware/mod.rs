@@ -31,6 +31,8 @@ pub mod quiet;
 pub mod safety;
 pub mod scope;
 #[cfg(test)]
+mod tests_arc_pair;
+#[cfg(test)]
 mod tests_timed;
 pub mod timed;
 
@@ -117,6 +119,9 @@ pub struct Firmware<M: Mem + Clone> {
     scope_ring: ScopeProducer<M>,
     /// Layout 1.12: the sync bus and the timed commands held (timed.rs).
     timing: timed::Timing,
+    /// Layout 1.13: the second entry of the `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` being executed
+    /// (taken with it, see `answer_arc_pair`; None: it came alone).
+    arc_piece: Option<Command>,
 }
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -174,6 +179,7 @@ impl<M: Mem + Clone> Firmware<M> {
             events_lost: 0,
             cmds_accepted: 0,
             timing: timed::Timing::new(),
+            arc_piece: None,
         };
         layout::CARD_CONFIG.write(
             &fw.mem,
@@ -376,6 +382,11 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.take_timed(&cmd);
                 continue;
             }
+            if cmd.opcode == firmware_proto::Opcode::GroupMoveCircularNormal as u16 {
+                // Layout 1.13: a move and its second entry, published together.
+                served += usize::from(self.answer_arc_pair(&cmd));
+                continue;
+            }
             self.answer(&cmd);
         }
         served
@@ -394,6 +405,40 @@ impl<M: Mem + Clone> Firmware<M> {
         } else {
             self.answer_taken(cmd);
         }
+    }
+
+    /// Layout 1.13: `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` (`c`, taken) and its second entry: taken
+    /// too when it is the next entry, an `MC_OP_GROUP_CIRCULAR_PLANE` of the same group, and
+    /// then answered with the move's outcome (the group checks the pair as one move,
+    /// `group/normal.rs`). Without it the move is refused (`MC_NACK_ARC_PIECE`) and the next
+    /// entry stays in the ring, served on its own. Whether the second entry was taken.
+    #[inline(never)]
+    fn answer_arc_pair(&mut self, c: &Command) -> bool {
+        let plane = firmware_proto::Opcode::GroupCircularPlane as u16;
+        // (a corrupt ring reads as nothing here: the next pop finds it and stops the axes)
+        let second = match self.cmds.peek::<Command>() {
+            Ok(Some(n)) if n.opcode == plane && n.axis == c.axis => {
+                let _ = self.cmds.pop::<Command>();
+                Some(n)
+            }
+            _ => None,
+        };
+        let taken = 1 + u32::from(second.is_some());
+        self.cmds_accepted = self.cmds_accepted.wrapping_add(taken);
+        self.mem.write32(layout::CMDS_ACCEPTED, self.cmds_accepted);
+        let outcome = if self.expired(c) {
+            Err(NackCode::Expired)
+        } else {
+            self.arc_piece = second;
+            let r = self.execute(c);
+            self.arc_piece = None;
+            r
+        };
+        self.reply(c, outcome);
+        if let Some(n) = second {
+            self.reply(&n, outcome);
+        }
+        second.is_some()
     }
 
     /// Execute a command taken off the ring (now, or a timed one on its tick) and answer it.

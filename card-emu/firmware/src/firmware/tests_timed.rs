@@ -10,19 +10,26 @@ use std::sync::Arc;
 
 type Fw = Firmware<Arc<HeapWindow>>;
 
-struct Card {
-    w: Arc<HeapWindow>,
-    fw: Fw,
+/// A card of the tests (layout 1.13's `tests_arc_pair.rs` too): the firmware over a window,
+/// the host's rings, the events taken.
+pub(super) struct Card {
+    pub(super) w: Arc<HeapWindow>,
+    pub(super) fw: Fw,
     tx: CmdProducer<Arc<HeapWindow>>,
     rx: EvtConsumer<Arc<HeapWindow>>,
     seq: u32,
-    events: Vec<Event>,
+    pub(super) events: Vec<Event>,
 }
 
 impl Card {
     fn new() -> Self {
+        Self::with_axes(2)
+    }
+
+    /// A card of `n` axes with a host attached.
+    pub(super) fn with_axes(n: usize) -> Self {
         let w = Arc::new(HeapWindow::new());
-        let fw = Firmware::boot(w.clone(), 2, 10_000);
+        let fw = Firmware::boot(w.clone(), n, 10_000);
         let tx = CmdProducer::attach(w.clone(), CMD_RING);
         let rx = EvtConsumer::attach(w.clone(), EVT_RING);
         let mut c = Self {
@@ -38,7 +45,7 @@ impl Card {
         c
     }
 
-    fn entry(&mut self, op: Opcode, axis: u16, flags: u32, args: &[f64]) -> Command {
+    pub(super) fn entry(&mut self, op: Opcode, axis: u16, flags: u32, args: &[f64]) -> Command {
         self.seq += 1;
         let mut c = Command::new(op, axis).with_args(args);
         c.flags = flags;
@@ -47,22 +54,20 @@ impl Card {
     }
 
     /// A timed command: the `MC_OP_AT_TICK` entry and `cmd`, seqs in order.
-    fn timed(&mut self, tick: u64, key: u32, op: Opcode, args: &[f64]) -> [Command; 2] {
+    pub(super) fn timed(&mut self, tick: u64, key: u32, op: Opcode, args: &[f64]) -> [Command; 2] {
         let at = self.entry(Opcode::AtTick, 0, 0, &[tick as f64, key as f64]);
         let c = self.entry(op, 0, 0, args);
         [at, c]
     }
 
     /// Publish `cmds` at once (one head update, as the SDK's push of a pair) and serve.
-    fn send(&mut self, cmds: &[Command]) {
-        for c in cmds {
-            self.tx.push(c).unwrap();
-        }
+    pub(super) fn send(&mut self, cmds: &[Command]) {
+        self.tx.push_all(cmds).unwrap();
         self.fw.serve_commands();
         self.drain();
     }
 
-    fn tick(&mut self) {
+    pub(super) fn tick(&mut self) {
         self.fw.tick(&[0; MAX_AXES], &mut [0.0; MAX_AXES]);
         self.drain();
     }
@@ -74,7 +79,7 @@ impl Card {
     }
 
     /// The answer to `seq`: `Ok(tick)` for an ack, `Err(code)` for a nack, `None` yet.
-    fn answer(&self, seq: u32) -> Option<Result<u64, NackCode>> {
+    pub(super) fn answer(&self, seq: u32) -> Option<Result<u64, NackCode>> {
         self.events.iter().find_map(|e| {
             (e.seq == seq && (e.kind == EventKind::Ack as u16 || e.kind == EventKind::Nack as u16))
                 .then(|| {
@@ -87,7 +92,7 @@ impl Card {
         })
     }
 
-    fn answers(&self, seq: u32) -> usize {
+    pub(super) fn answers(&self, seq: u32) -> usize {
         self.events
             .iter()
             .filter(|e| {

@@ -161,8 +161,8 @@ fn name_bytes(s: &str) -> [u8; 32] {
     b
 }
 
-/// Opcodes that cannot be timed: the timing's own, and the session's (a session is the host's
-/// here and now).
+/// Opcodes that cannot be timed: the timing's own, the session's (a session is the host's
+/// here and now), and the pieces of a two-entry move (layout 1.13: a timing holds one entry).
 fn untimable(op: Opcode) -> bool {
     matches!(
         op,
@@ -171,6 +171,8 @@ fn untimable(op: Opcode) -> bool {
             | Opcode::TimedCancel
             | Opcode::HostAttach
             | Opcode::HostDetach
+            | Opcode::GroupMoveCircularNormal
+            | Opcode::GroupCircularPlane
     )
 }
 

@@ -4,13 +4,14 @@
 
 use firmware_proto::cmd::{
     AnalogInput, AnalogOutput, ArcFlags, ArcGeometry, Args, AxisCmd, CamData, CamIn, CamTable,
-    CardCmd, CircularMove, Cmd, CompData, CompHeader, CompPointArgs, CompRead, CompareArm,
-    CompareDisarm, CompareKind, CompareTable, CurveSize, Direction, EStop, FeedLimits, GearIn,
-    GearInPos, GroupCmd, GroupOverride, Handwheel, IoCmd, Jog, LinearMove, Master, MoveKind,
-    MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override, PathArc, PathArcNormal, PathArcPlane,
-    PathDwell, PathFlags, PathLine, PathNurbs, PathOutput, PositionMove, ProbeAbort, ProbeArm, Pso,
-    PsoOutput, PtpLimits, PtpMove, PvtBegin, PvtPoint, PvtPoints, PvtStart, ReadConfig, SetOutputs,
-    SetScale, StopRamp, SyncCmd, SyncLimits, VelocityMove,
+    CardCmd, CircularMove, CircularNormalMove, CircularPlane, Cmd, CompData, CompHeader,
+    CompPointArgs, CompRead, CompareArm, CompareDisarm, CompareKind, CompareTable, CurveSize,
+    Direction, EStop, FeedLimits, GearIn, GearInPos, GroupCmd, GroupOverride, Handwheel, IoCmd,
+    Jog, LinearMove, Master, MoveKind, MoveLimits, MoveOpts, NurbsBegin, NurbsData, Override,
+    PathArc, PathArcNormal, PathArcPlane, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
+    PositionMove, ProbeAbort, ProbeArm, Pso, PsoOutput, PtpLimits, PtpMove, PvtBegin, PvtPoint,
+    PvtPoints, PvtStart, ReadConfig, SetOutputs, SetScale, StopRamp, SyncCmd, SyncLimits,
+    VelocityMove,
 };
 use firmware_proto::ring::Entry;
 use firmware_proto::wire::{move_flags, CMD_ARGS, CMD_WORDS};
@@ -241,8 +242,9 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 }
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
-const OPCODE_GAPS: [u16; 20] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 123, 129, 256, 0x7FFF, 0x8000, 0xFFFF,
+const OPCODE_GAPS: [u16; 21] = [
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 123, 130, 132, 256, 0x7FFF, 0x8000,
+    0xFFFF,
 ];
 
 fn pick_opcode<S: Source>(s: &mut S) -> u16 {
@@ -552,6 +554,38 @@ pub fn plausible<S: Source>(s: &mut S, op: Opcode) -> Plausible {
                 rise,
                 helix_relative: false,
                 flags,
+            }))
+        }
+        // Layout 1.13: a normal-vector arc move's two entries (each refused alone; a pair when
+        // drawn one after the other for one group).
+        O::GroupMoveCircularNormal => {
+            let limits = feed_limits(s);
+            let a: [f64; 6] = positions(s);
+            let turns = f64::from(s.u8() % 3);
+            let feed_type = feed(s);
+            let bits = s.u8() & 7;
+            Plausible::typed(GroupCmd::MoveCircularNormal(CircularNormalMove {
+                limits,
+                centre: [a[0], a[1], a[2]],
+                end: [a[3], a[4], a[5]],
+                turns,
+                rise: bits & 4 != 0,
+                helix_relative: false,
+                opts: MoveOpts {
+                    relative: bits & 1 != 0,
+                    buffered: bits & 2 != 0,
+                    feed_type,
+                },
+            }))
+        }
+        O::GroupCircularPlane => {
+            let axes = core::array::from_fn(|k| ((k as u8 + s.u8() % 2) % 4) as f64);
+            let normal = core::array::from_fn(|_| s.u8() as f64 - 128.0);
+            let helix = positions(s);
+            feed(s);
+            Plausible::typed(GroupCmd::CircularPlane(CircularPlane {
+                plane: PathArcPlane { axes, normal },
+                helix,
             }))
         }
         O::PathDwell => {

@@ -46,6 +46,17 @@ impl<M: Mem + Clone> Firmware<M> {
             GroupCmd::Disable if homing => self.group_home_disable(g),
             _ => {}
         }
+        // Layout 1.13: a normal-vector arc move's second entry, taken with it (mod.rs).
+        let piece = match (&cmd, self.arc_piece) {
+            (GroupCmd::MoveCircularNormal(_), Some(n)) => {
+                match GroupCmd::decode(Opcode::GroupCircularPlane, n.flags, &n.args) {
+                    Ok(GroupCmd::CircularPlane(p)) => Some(p),
+                    Ok(_) => return Err(NackCode::ArcPiece),
+                    Err(e) => return Err(e.nack),
+                }
+            }
+            _ => None,
+        };
         let group = &mut self.groups[g];
         let out = &mut self.outbox;
         match &cmd {
@@ -111,6 +122,12 @@ impl<M: Mem + Clone> Firmware<M> {
             }
             GroupCmd::PathArcPlane(p) => group.set_arc_plane(p),
             GroupCmd::PathArcNormal(s) => group.path_arc_normal(seq, s, ts, tick, out),
+            GroupCmd::MoveCircularNormal(m) => match &piece {
+                Some(p) => group.queue_move(seq, GroupMove::CircularNormal(m, p), ts, tick, out),
+                None => Err(NackCode::ArcPiece),
+            },
+            // (taken alone: the pair is served together)
+            GroupCmd::CircularPlane(_) => Err(NackCode::ArcPiece),
             GroupCmd::PathOutput(o) => group.path_output(o, ts),
             GroupCmd::PathPause(p) => group.path_pause(p.on, ts, tick, out),
             GroupCmd::PathNurbs(p) => group.path_nurbs_begin(p, ts),

@@ -220,6 +220,7 @@ fn reference_word_feed(
         Geometry::Line { start, .. } | Geometry::Curve { start, .. } => {
             (0, 0, [0.0; MAX_AXES], start)
         }
+        Geometry::ArcNormal(h) => (0, 0, [0.0; MAX_AXES], h.ends().0),
     };
     let (du, dv) = rw.next_increment().filter(|_| u != v)?;
     let k = rw.total_steps() - rw.remaining_steps();

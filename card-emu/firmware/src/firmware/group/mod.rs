@@ -34,6 +34,7 @@ mod activate;
 mod feed;
 mod filter;
 mod home;
+mod normal;
 mod nurbs_pool;
 mod nurbs_rx;
 mod overrides;
@@ -64,7 +65,8 @@ use crate::ram::{FixedVec, Lazy};
 use crate::servo::ffpiv::Reference;
 use crate::servo::pdplus::{AxisModel, DriveModel, PdPlusGains};
 use firmware_proto::cmd::{
-    ArcGeometry, CircularMove, FeedLimits, LinearMove, MoveOpts, PtpLimits, PtpMove,
+    ArcGeometry, CircularMove, CircularNormalMove, CircularPlane, FeedLimits, LinearMove, MoveOpts,
+    PtpLimits, PtpMove,
 };
 use firmware_proto::{
     raw, AxisState, Event, EventKind, GroupState, GroupStatus, NackCode, Opcode, GROUP_QUEUE_LEN,
@@ -85,6 +87,9 @@ pub enum GroupMove<'a> {
     Ptp(&'a PtpMove),
     /// `MC_OP_GROUP_MOVE_CIRCULAR`.
     Circular(&'a CircularMove),
+    /// Layout 1.13: `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` and its second entry,
+    /// `MC_OP_GROUP_CIRCULAR_PLANE` (`normal.rs`).
+    CircularNormal(&'a CircularNormalMove, &'a CircularPlane),
 }
 
 impl GroupMove<'_> {
@@ -94,6 +99,7 @@ impl GroupMove<'_> {
             Self::Linear(m) => (m.limits, m.opts),
             Self::Ptp(m) => (m.line.limits, m.line.opts),
             Self::Circular(m) => (m.limits, m.opts),
+            Self::CircularNormal(m, _) => (m.limits, m.opts),
         }
     }
 
@@ -109,6 +115,14 @@ impl GroupMove<'_> {
                 Self::Circular(m) => {
                     let a = &m.arc;
                     all(&a.end) && all(&a.aux) && all(&a.helix[..n.saturating_sub(2)])
+                }
+                Self::CircularNormal(m, p) => {
+                    all(&m.centre)
+                        && all(&m.end)
+                        && m.turns.is_finite()
+                        && all(&p.plane.axes)
+                        && all(&p.plane.normal)
+                        && all(&p.helix[..n.saturating_sub(3)])
                 }
             }
     }
@@ -237,6 +251,7 @@ impl AxisFilter {
 
 /// The path of one move. Points are in group axis order.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(clippy::large_enum_variant)] // inline on purpose: the firmware never allocates
 enum Geometry {
     /// `p(s) = start + delta·s/len`; `len` is Euclidean (linear) or the largest axis distance
     /// (synchronised point-to-point).
@@ -254,6 +269,9 @@ enum Geometry {
         helix: [f64; MAX_AXES],
         len: f64,
     },
+    /// Layout 1.13: an arc in a plane given by a normal vector, the other axes (and a rise
+    /// along the normal) moving linearly with it: the path's geometry (`normal.rs`).
+    ArcNormal(crate::motion::path::Helix),
     /// A NURBS curve: its points come from its interpolator ([`Feed::Nurbs`]); the geometry
     /// keeps its ends and length.
     Curve {
@@ -269,6 +287,7 @@ impl Geometry {
             Geometry::Line { len, .. }
             | Geometry::Arc { len, .. }
             | Geometry::Curve { len, .. } => *len,
+            Geometry::ArcNormal(h) => h.length(),
         }
     }
 
@@ -277,6 +296,7 @@ impl Geometry {
             Geometry::Line { start, .. }
             | Geometry::Arc { start, .. }
             | Geometry::Curve { start, .. } => *start,
+            Geometry::ArcNormal(h) => h.ends().0,
         }
     }
 
@@ -308,6 +328,7 @@ impl Geometry {
                 p[*u] = pu;
                 p[*v] = pv;
             }
+            Geometry::ArcNormal(h) => return h.point(s),
             // Points of a curve come from its interpolator; this is only ever asked for its
             // ends.
             Geometry::Curve { end, .. } => {
@@ -345,6 +366,7 @@ impl Geometry {
                 p[*v] = pv;
                 p
             }
+            Geometry::ArcNormal(h) => h.ends().1,
             Geometry::Curve { end, .. } => *end,
         }
     }
@@ -932,6 +954,7 @@ impl Group {
                 Geometry::Line { start, delta, len }
             }
             GroupMove::Circular(c) => self.arc(&cfg, &c.arc, &start, relative)?,
+            GroupMove::CircularNormal(m, p) => normal::geometry(&cfg, m, p, &start, relative)?,
         };
         let limits = match (&geom, mv) {
             (Geometry::Line { delta, len, .. }, GroupMove::Ptp(p)) => {

@@ -378,24 +378,7 @@ impl Group {
     /// MC_OP_PATH_ARC_PLANE: the group's plane for normal-vector arcs (configured group).
     pub fn set_arc_plane(&mut self, p: &PathArcPlane) -> Result<(), NackCode> {
         let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
-        if !p.axes.iter().chain(p.normal.iter()).all(|x| x.is_finite()) {
-            return Err(NackCode::NotFinite);
-        }
-        let mut axes = [0usize; 3];
-        for (a, &x) in axes.iter_mut().zip(&p.axes) {
-            if !(x >= 0.0 && x == math::floor(x)) {
-                return Err(NackCode::ArcAxes);
-            }
-            if x >= cfg.naxes as f64 {
-                return Err(NackCode::AxisNotInGroup);
-            }
-            *a = x as usize;
-        }
-        if axes[0] == axes[1] || axes[1] == axes[2] || axes[0] == axes[2] {
-            return Err(NackCode::ArcAxes);
-        }
-        let normal = crate::motion::path::unit_normal(p.normal).ok_or(NackCode::ArcNormal)?;
-        self.arc_plane = Some(ArcPlane { axes, normal });
+        self.arc_plane = Some(arc_plane(&cfg, p)?);
         Ok(())
     }
 
@@ -887,6 +870,30 @@ impl Group {
 }
 
 /// A segment's user id: an integer in 0..2³²−1.
+/// The plane of normal-vector arcs `p` names for a group of `cfg` (the path's
+/// `MC_OP_PATH_ARC_PLANE`, the move queue's `MC_OP_GROUP_CIRCULAR_PLANE`), checked: finite,
+/// three distinct whole group axes, a normal not zero (made a unit vector).
+pub(super) fn arc_plane(cfg: &GroupConfig, p: &PathArcPlane) -> Result<ArcPlane, NackCode> {
+    if !p.axes.iter().chain(p.normal.iter()).all(|x| x.is_finite()) {
+        return Err(NackCode::NotFinite);
+    }
+    let mut axes = [0usize; 3];
+    for (a, &x) in axes.iter_mut().zip(&p.axes) {
+        if !(x >= 0.0 && x == math::floor(x)) {
+            return Err(NackCode::ArcAxes);
+        }
+        if x >= cfg.naxes as f64 {
+            return Err(NackCode::AxisNotInGroup);
+        }
+        *a = x as usize;
+    }
+    if axes[0] == axes[1] || axes[1] == axes[2] || axes[0] == axes[2] {
+        return Err(NackCode::ArcAxes);
+    }
+    let normal = crate::motion::path::unit_normal(p.normal).ok_or(NackCode::ArcNormal)?;
+    Ok(ArcPlane { axes, normal })
+}
+
 fn segment_id(x: f64) -> Result<u32, NackCode> {
     whole(x)
         .filter(|&x| x <= u32::MAX as usize)
@@ -897,7 +904,7 @@ fn segment_id(x: f64) -> Result<u32, NackCode> {
 /// The geometry of a normal-vector arc from `start` (absolute: `relative` targets added),
 /// checked within the group's tolerance and made exact: the centre moved into the plane
 /// through the start, the end onto the circle (and into the plane without a rise).
-fn normal_arc(
+pub(super) fn normal_arc(
     cfg: &GroupConfig,
     a: &PathArcNormal,
     plane: &ArcPlane,

@@ -61,8 +61,11 @@ pub(super) enum Prog<const D: usize = MAX_AXES> {
 /// their plane, or two vectors on three axes for an arc in a plane given by a normal vector
 /// (`e1 × e2` the normal). A radial mismatch of the end (within the tolerance `push` allows) is
 /// spread linearly over the sweep, so the end is reached exactly without a jump.
+///
+/// Layout 1.13: the group's move queue runs its arcs in a plane given by a normal vector on
+/// this geometry too ([`Helix::normal_turns`], [`Helix::point`]), the same points as the path's.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Helix<const D: usize = MAX_AXES> {
+pub struct Helix<const D: usize = MAX_AXES> {
     p0: V<D>,
     p1: V<D>,
     e1: V<D>,
@@ -94,7 +97,7 @@ fn dot<const D: usize>(p: &V<D>, e: &V<D>) -> f64 {
 /// its component on the normal taken out, so that a normal along an axis gives the other two
 /// axes exactly, in their order (the normal +Z of X, Y, Z gives e1 = X, e2 = Y). None when the
 /// normal is zero or not finite.
-pub(super) fn normal_basis<const D: usize>(
+pub fn normal_basis<const D: usize>(
     axes: [usize; 3],
     normal: [f64; 3],
 ) -> Option<(V<D>, V<D>, V<D>)> {
@@ -155,7 +158,7 @@ impl<const D: usize> Helix<D> {
         let (mut e1, mut e2) = ([0.0; D], [0.0; D]);
         e1[u] = 1.0;
         e2[v] = 1.0;
-        Self::in_plane(n, p0, p1, e1, e2, centre, ccw, [0.0; D])
+        Self::in_plane(n, p0, p1, e1, e2, centre, ccw, [0.0; D], 0)
     }
 
     /// The arc from `p0` counter-clockwise about the normal `en` (unit; `e1`, `e2` its plane's
@@ -166,10 +169,38 @@ impl<const D: usize> Helix<D> {
         n: usize,
         p0: V<D>,
         p1: V<D>,
-        (e1, e2, en): (V<D>, V<D>, V<D>),
+        basis: (V<D>, V<D>, V<D>),
         centre: [f64; 2],
     ) -> Result<Self, CircleError> {
-        Self::in_plane(n, p0, p1, e1, e2, centre, true, en)
+        Self::normal_turns(n, p0, p1, basis, centre, 0)
+    }
+
+    /// [`Helix::normal`] with `turns` full turns added to the sweep (layout 1.13: the move
+    /// queue's; the rise and the other axes spread over the whole length).
+    pub fn normal_turns(
+        n: usize,
+        p0: V<D>,
+        p1: V<D>,
+        (e1, e2, en): (V<D>, V<D>, V<D>),
+        centre: [f64; 2],
+        turns: u32,
+    ) -> Result<Self, CircleError> {
+        Self::in_plane(n, p0, p1, e1, e2, centre, true, en, turns)
+    }
+
+    /// The length of the path (the arc and the motion off its plane together).
+    pub fn length(&self) -> f64 {
+        self.len
+    }
+
+    /// The start and the end (the programmed points).
+    pub fn ends(&self) -> (V<D>, V<D>) {
+        (self.p0, self.p1)
+    }
+
+    /// The point at arc length `s` (clamped; the ends are the programmed points exactly).
+    pub fn point(&self, s: f64) -> V<D> {
+        self.frame(s).p
     }
 
     /// The arc in the plane (e1, e2) with `centre` in its coordinates; what moves off the
@@ -184,6 +215,7 @@ impl<const D: usize> Helix<D> {
         centre: [f64; 2],
         ccw: bool,
         en: V<D>,
+        turns: u32,
     ) -> Result<Self, CircleError> {
         let dir = if ccw {
             ArcDirection::Ccw
@@ -192,7 +224,19 @@ impl<const D: usize> Helix<D> {
         };
         let (x0, y0) = (dot(&p0, &e1), dot(&p0, &e2));
         let (x1, y1) = (dot(&p1, &e1), dot(&p1, &e2));
-        let circle = ExactCircle::from_points((centre[0], centre[1]), (x0, y0), (x1, y1), dir)?;
+        let mut circle = ExactCircle::from_points((centre[0], centre[1]), (x0, y0), (x1, y1), dir)?;
+        if turns > 0 {
+            // (the frame takes its angles from the start angle and the sweep, its ends from
+            // p0 and p1: the end stays exact)
+            let sweep = circle.sweep();
+            let more = sweep.signum() * core::f64::consts::TAU * f64::from(turns);
+            circle = ExactCircle::new(
+                circle.centre(),
+                circle.radius(),
+                circle.start_angle(),
+                sweep + more,
+            )?;
+        }
         let r0 = circle.radius();
         let r1 = math::hypot(x1 - centre[0], y1 - centre[1]);
         let lp = circle.length();

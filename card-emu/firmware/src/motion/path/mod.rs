@@ -148,14 +148,14 @@ mod v3;
 pub use self::curve::{CurveSegment, FIT_SAMPLES};
 #[doc(hidden)]
 pub use self::exec::TickPlan;
-pub use self::geom::unit_normal;
+pub use self::geom::{normal_basis, unit_normal, Helix};
 pub use self::pause::PauseState;
 use crate::math;
 use crate::ram::FixedVec;
 
 #[cfg(test)]
 use self::geom::Frame;
-use self::geom::{dist_to_chord, Blend, Helix, Prog, LANES, LANES_V3, V};
+use self::geom::{dist_to_chord, Blend, Prog, LANES, LANES_V3, V};
 use self::shift::Chain;
 use crate::motion::arc::CircleError;
 use crate::motion::path_speed::{PathSpeedPlanner, Track};
@@ -933,6 +933,14 @@ impl<const D: usize> Path<D> {
     #[inline(always)]
     fn seg(&self, i: usize) -> &Seg<D> {
         &self.segs[self.slot(i)]
+    }
+
+    /// Tests of the move queue's normal-vector arcs (layout 1.13, which share this geometry):
+    /// the length of queued segment `i` and its point at arc length `s`.
+    #[cfg(test)]
+    pub(crate) fn seg_point(&self, i: usize, s: f64) -> (f64, [f64; D]) {
+        let p = &self.seg(i).prog;
+        (p.len(), p.pos(s))
     }
 
     /// Segments queued (not ended yet).
