@@ -250,7 +250,7 @@ mod tests {
                     for _ in 0..(n % 256) {
                         std::hint::spin_loop();
                     }
-                    if n % 64 == 0 {
+                    if n.is_multiple_of(64) {
                         std::thread::yield_now();
                     }
                 }
