@@ -206,7 +206,7 @@ impl LeaseSource for Lessor {
 pub struct Emulator {
     name: String,
     window: Arc<MappedWindow>,
-    fw: Firmware<Arc<MappedWindow>>,
+    fw: Box<Firmware<Arc<MappedWindow>>>,
     motors: [Motor; MAX_AXES],
     index: [IndexChannel; MAX_AXES],
     latch: [IndexLatch; MAX_AXES],
@@ -243,6 +243,9 @@ enum BusEnd {
     Follower(BusLink),
 }
 
+/// The stack the firmware is booted on (see `Emulator::named`).
+const BOOT_STACK: usize = 64 << 20;
+
 impl Emulator {
     /// Boot a card in `window`.
     pub fn new(window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
@@ -251,7 +254,23 @@ impl Emulator {
 
     fn named(name: &str, window: Arc<MappedWindow>, opts: &EmuOptions) -> std::io::Result<Self> {
         let gate = Arc::new(Gate::new()?);
-        let mut fw = Firmware::boot(window.clone(), opts.axes, opts.servo_rate_hz);
+        // The firmware's state is large (its queues and stores inline, as on a card): it is
+        // built on a thread of its own stack and kept boxed, so that opening cards from a
+        // thread of the default 2 MiB stack never overflows it.
+        let mut fw = std::thread::scope(|s| {
+            std::thread::Builder::new()
+                .name("card-emu-boot".into())
+                .stack_size(BOOT_STACK)
+                .spawn_scoped(s, || {
+                    Box::new(Firmware::boot(
+                        window.clone(),
+                        opts.axes,
+                        opts.servo_rate_hz,
+                    ))
+                })
+                .map(|t| t.join())
+        })?
+        .map_err(|_| std::io::Error::other("the firmware's boot panicked"))?;
         fw.set_boot_watchdog_timeout(opts.watchdog_timeout_us)
             .map_err(|_| std::io::Error::other("a watchdog timeout of 0"))?;
         fw.set_card_name(name, opts.serial);
