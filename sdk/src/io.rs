@@ -250,16 +250,7 @@ impl CompareChannel {
         position: f64,
         dir: Direction,
     ) -> Result<()> {
-        finite("compare position", position)?;
-        let p = position * self.axis.scale();
-        self.arm(
-            CompareKind::Single,
-            dir,
-            [output, pulse_us, 0],
-            [p, 0.0, 0.0],
-            false,
-            "compare_single",
-        )
+        self.single(output, pulse_us, position, dir, false, "compare_single")
     }
 
     /// Layout 1.13, a rotary axis: pulse at every crossing of `position` (a place on the turn,
@@ -273,13 +264,11 @@ impl CompareChannel {
         position: f64,
         dir: Direction,
     ) -> Result<()> {
-        finite("compare position", position)?;
-        let p = position * self.axis.scale();
-        self.arm(
-            CompareKind::Single,
+        self.single(
+            output,
+            pulse_us,
+            position,
             dir,
-            [output, pulse_us, 0],
-            [p, 0.0, 0.0],
             true,
             "compare_single_each_turn",
         )
@@ -299,15 +288,13 @@ impl CompareChannel {
         count: u32,
         dir: Direction,
     ) -> Result<()> {
-        finite("compare start", start)?;
-        finite("compare pitch", pitch)?;
-        let s = self.axis.scale();
-        self.arm(
-            CompareKind::Series,
+        let each_turn = false;
+        self.series(
+            output,
+            pulse_us,
+            (start, pitch, count),
             dir,
-            [output, pulse_us, 0],
-            [start * s, pitch * s.abs(), count as f64],
-            false,
+            each_turn,
             "compare_series",
         )
     }
@@ -328,16 +315,62 @@ impl CompareChannel {
         count: u32,
         dir: Direction,
     ) -> Result<()> {
+        let each_turn = true;
+        let what = "compare_series_each_turn";
+        self.series(
+            output,
+            pulse_us,
+            (start, pitch, count),
+            dir,
+            each_turn,
+            what,
+        )
+    }
+
+    /// A single position, once or on every turn, in user units.
+    fn single(
+        &self,
+        output: u32,
+        pulse_us: u32,
+        position: f64,
+        dir: Direction,
+        each_turn: bool,
+        what: &'static str,
+    ) -> Result<()> {
+        finite("compare position", position)?;
+        let p = position * self.axis.scale();
+        let args = [p, 0.0, 0.0];
+        self.arm(
+            CompareKind::Single,
+            dir,
+            [output, pulse_us, 0],
+            args,
+            each_turn,
+            what,
+        )
+    }
+
+    /// A series `(start, pitch, count)`, once or on every turn, in user units.
+    fn series(
+        &self,
+        output: u32,
+        pulse_us: u32,
+        (start, pitch, count): (f64, f64, u32),
+        dir: Direction,
+        each_turn: bool,
+        what: &'static str,
+    ) -> Result<()> {
         finite("compare start", start)?;
         finite("compare pitch", pitch)?;
         let s = self.axis.scale();
+        let args = [start * s, pitch * s.abs(), count as f64];
         self.arm(
             CompareKind::Series,
             dir,
             [output, pulse_us, 0],
-            [start * s, pitch * s.abs(), count as f64],
-            true,
-            "compare_series_each_turn",
+            args,
+            each_turn,
+            what,
         )
     }
 

@@ -425,25 +425,7 @@ impl Compare {
                 }
                 break;
             };
-            let at = t0 + frac;
-            if at < self.pulse_end {
-                self.miss(p, &mut out);
-                continue;
-            }
-            self.fires = self.fires.wrapping_add(1);
-            self.last_fired = p;
-            self.last_fire_tick = at;
-            self.pulse_end = at + arm.pulse_ticks;
-            self.pulse_left = (math::ceil(arm.pulse_ticks) as u32).max(1);
-            out.fired = Some(p);
-            let _ = fires.push(Fire {
-                channel,
-                output: arm.output as u8,
-                axis: arm.axis as u8,
-                position: p,
-                frac,
-            });
-            self.advance();
+            self.fire_at(channel, &arm, p, t0 + frac, frac, fires, &mut out);
         }
         self.low_water(&arm, &mut out);
         out
