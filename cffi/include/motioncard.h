@@ -2126,6 +2126,24 @@ extern "C" {
 #define MC_OP_GROUP_CIRCULAR_PLANE 131
 
 /**
+ * Copy and validate `group_dims[group]` (above).
+ */
+#define MC_OP_APPLY_GROUP_DIMS 132
+
+/**
+ * Args: the targets of the segment's dimensions past those its own entry holds, in order (a line:
+ * dimensions 8..; an arc: the helix's dimensions after its first 6). Only right after the
+ * segment's entry of the same group (above).
+ */
+#define MC_OP_PATH_MORE 133
+
+/**
+ * Args: count (a whole number `1..path_staged`, else `MC_NACK_PATH_RELEASE`; more than the path
+ * has room for: `MC_NACK_QUEUE_FULL`). Nothing released on a refusal.
+ */
+#define MC_OP_PATH_RELEASE 134
+
+/**
  * `mc_pso_info.state`: not configured.
  */
 #define MC_PSO_STATE_OFF 0
@@ -5504,6 +5522,23 @@ typedef struct mc_safety_config mc_card_safety_settings;
 #define MC_ERR_COMPARE_TURN -146
 
 /**
+ * Layout 1.14, paths across cards: path dimensions that do not name each group axis once
+ * (or more than 16), or a staging command on a group without dimensions.
+ */
+#define MC_ERR_PATH_DIMS -162
+
+/**
+ * A segment across cards whose two command entries did not come together.
+ */
+#define MC_ERR_PATH_MORE -163
+
+/**
+ * A release of more segments than are staged, or of segments staged from where the
+ * group no longer is.
+ */
+#define MC_ERR_PATH_RELEASE -164
+
+/**
  * The card handle (or motion) is unknown: never opened, or already closed.
  */
 #define MC_ERR_BAD_HANDLE -100
@@ -8396,6 +8431,11 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PATH_CURVE 85
 
 /**
+ * `group_dims`: ndims over `MC_PATH_MAX_DIMS`, an `axis[]` that is not a group axis or `MC_DIM_REMOTE`, a group axis named twice or not at all, a group not configured; or a staging command on a group without dimensions (`MC_OP_PATH_MORE`, `MC_OP_PATH_RELEASE`).
+ */
+#define MC_NACK_PATH_DIMS 170
+
+/**
  * A segment id that is not an integer in 0..2^32-1.
  */
 #define MC_NACK_PATH_ID 84
@@ -8406,9 +8446,19 @@ mc_result mc_send_raw(mc_card card,
 #define MC_NACK_PATH_MODE 80
 
 /**
+ * A segment of more dimensions than its entry holds without its `MC_OP_PATH_MORE` right after it, or an `MC_OP_PATH_MORE` alone.
+ */
+#define MC_NACK_PATH_MORE 171
+
+/**
  * An output number >= `MC_CARD_OUTPUTS`, a value other than 0/1, or more than `MC_PATH_OUTPUTS_PENDING` actions pending.
  */
 #define MC_NACK_PATH_OUTPUT 82
+
+/**
+ * `MC_OP_PATH_RELEASE` of more segments than are staged (or 0), or with the group moved off where the staged segments start.
+ */
+#define MC_NACK_PATH_RELEASE 172
 
 /**
  * A line of length zero.
@@ -8671,12 +8721,22 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_CMP_EACH_TURN (1u << 4)
 
+/**
+ * `group_dims.axis[]`: a dimension another card drives.
+ */
+#define MC_DIM_REMOTE (-1)
+
 #define MC_EVT_RING_LEN 256u
 
 /**
  * |numerator|, denominator <= 2^31 - 1.
  */
 #define MC_GEAR_RATIO_MAX 2147483647.0
+
+/**
+ * Dimensions of a path across cards.
+ */
+#define MC_PATH_MAX_DIMS 16u
 
 /**
  * Timed commands a card holds at once.

@@ -1317,3 +1317,15 @@ pub const MC_OP_GROUP_MOVE_CIRCULAR_NORMAL: u32 = 129;
 /// `n_c` (the normal, not 0: `MC_NACK_ARC_NORMAL`), then the targets of the other group axes in
 /// group order (a helix).
 pub const MC_OP_GROUP_CIRCULAR_PLANE: u32 = 131;
+
+/// Copy and validate `group_dims[group]` (above).
+pub const MC_OP_APPLY_GROUP_DIMS: u32 = 132;
+
+/// Args: the targets of the segment's dimensions past those its own entry holds, in order (a line:
+/// dimensions 8..; an arc: the helix's dimensions after its first 6). Only right after the
+/// segment's entry of the same group (above).
+pub const MC_OP_PATH_MORE: u32 = 133;
+
+/// Args: count (a whole number `1..path_staged`, else `MC_NACK_PATH_RELEASE`; more than the path
+/// has room for: `MC_NACK_QUEUE_FULL`). Nothing released on a refusal.
+pub const MC_OP_PATH_RELEASE: u32 = 134;

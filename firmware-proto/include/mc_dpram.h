@@ -21,7 +21,7 @@
 
 #define MC_MAGIC 0x5044434Du /* "MCDP" read as little-endian bytes */
 #define MC_LAYOUT_MAJOR 1u
-#define MC_LAYOUT_MINOR 13u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
+#define MC_LAYOUT_MINOR 14u /* 1: groups, filters, NURBS, PD+ and the safety blocks appended; 2: group status
                            * snap_last/snap_max, MC_OP_GROUP_PTP_LIMITS, MC_NACK_NURBS_KNOT; 3: host sessions
                            * (MC_OP_HOST_ATTACH/DETACH), command deadlines (host_time_ms, deadline_ms), the
                            * maximum stop time, kinematic limit ranges, heartbeat lateness; 4: loss counters
@@ -106,7 +106,14 @@
                            * MC_MoveCircular in a plane given by a normal vector in the
                            * group's move queue (MC_OP_GROUP_MOVE_CIRCULAR_NORMAL 129 and its
                            * second entry MC_OP_GROUP_CIRCULAR_PLANE 131, published together;
-                           * MC_NACK_ARC_PIECE 155; no block) */
+                           * MC_NACK_ARC_PIECE 155; no block);
+                           * 14: paths across cards: a group's path dimensions (group_dims[]
+                           * appended, MC_OP_APPLY_GROUP_DIMS 132: up to MC_PATH_MAX_DIMS path
+                           * axes, each a group axis or one another card drives), segments
+                           * staged and released on a tick (MC_OP_PATH_MORE 133,
+                           * MC_OP_PATH_RELEASE 134), path_staged in the group status,
+                           * MC_NACK_PATH_DIMS 170, MC_NACK_PATH_MORE 171,
+                           * MC_NACK_PATH_RELEASE 172) */
 
 #define MC_MAX_AXES 8u
 #define MC_MAX_GROUPS 4u
@@ -1325,6 +1332,54 @@
 #define MC_NACK_ARC_PIECE 155 /* a piece of MC_OP_GROUP_MOVE_CIRCULAR_NORMAL alone or out of
                                * order: its two entries go together, the move first */
 
+/* Layout 1.14: paths across cards. A path whose axes live on several cards of one sync bus runs
+ * as one: every card holds the same segments of all the path's axes (its dimensions), plans the
+ * same speed profile from them (identical firmware, identical inputs, the same ticks) and drives
+ * only the dimensions that are its own group's axes. group_dims[g] names the dimensions: ndims
+ * (0: the group's path is its members', as before; else 1..MC_PATH_MAX_DIMS), and for each
+ * dimension the group axis it drives here or MC_DIM_REMOTE (an axis another card drives), its
+ * limits (they replace group_path's per-axis limits; group_path's lookahead, low_water, accel,
+ * jerk and plan_period still apply) and, for a remote one, where it starts. Every group axis
+ * is exactly one dimension (else MC_NACK_PATH_DIMS). MC_OP_APPLY_GROUP_DIMS takes the block with
+ * the group configured, its path idle and nothing staged (else MC_NACK_PATH_BUSY); the path then
+ * starts afresh: at the group's position on its own dimensions and at `start` on the others.
+ *
+ * With dimensions, path segments are staged, not run: a line (MC_OP_PATH_LINE), an arc or helix
+ * (MC_OP_PATH_ARC: its plane two of dimensions 0..7, its helix the other dimensions in order)
+ * or a dwell is checked as it is taken (relative targets from the end of what is staged) and
+ * waits, in order, up to MC_PATH_STAGE_LEN of them. A segment of more dimensions than its entry
+ * holds (a line past 8, an arc past 8) continues in MC_OP_PATH_MORE, the next entry of the
+ * same group, published with it (one head update): the two are taken as one segment and each is
+ * answered with its outcome; either one alone or out of order is MC_NACK_PATH_MORE. A NURBS
+ * segment, a normal-vector arc, an output action and MC_PATH_ABORTING are refused with
+ * dimensions (MC_NACK_INCOMPATIBLE_MODE, MC_PATH_ABORTING: MC_NACK_PATH_MODE).
+ * MC_OP_PATH_RELEASE moves the oldest `count` staged segments into the path, where they run as
+ * any segment does (their events carry the seqs of their MC_OP_PATH_LINE/_ARC/_DWELL). Timed to
+ * one tick on every card (MC_OP_AT_TICK under one committed key), the release leaves every card
+ * with the same segments queued on every tick: the look-ahead plans from what is queued, so the
+ * cards' profiles are the same to the last bit, and so is the motion of each dimension. A hold
+ * (MC_OP_SET_OVERRIDE), pause or halt is timed the same way. A halt, stop, fault or disable
+ * aborts what is staged as it aborts the path (one MC_EV_GROUP_MOTION_ABORTED per segment). */
+#define MC_PATH_MAX_DIMS 16u   /* dimensions of a path across cards */
+#define MC_PATH_STAGE_LEN 256u /* segments a group stages before they are released */
+#define MC_DIM_REMOTE (-1)     /* group_dims.axis[]: a dimension another card drives */
+#define MC_OP_APPLY_GROUP_DIMS 132u /* copy and validate group_dims[group] (above) */
+#define MC_OP_PATH_MORE 133u   /* args: the targets of the segment's dimensions past those its own
+                                * entry holds, in order (a line: dimensions 8..; an arc: the
+                                * helix's dimensions after its first 6). Only right after the
+                                * segment's entry of the same group (above) */
+#define MC_OP_PATH_RELEASE 134u /* args: count (a whole number 1..path_staged, else
+                                 * MC_NACK_PATH_RELEASE; more than the path has room for:
+                                 * MC_NACK_QUEUE_FULL). Nothing released on a refusal */
+#define MC_NACK_PATH_DIMS 170  /* group_dims: ndims over MC_PATH_MAX_DIMS, an axis[] that is not a
+                                * group axis or MC_DIM_REMOTE, a group axis named twice or not at
+                                * all, a group not configured; or a staging command on a group
+                                * without dimensions (MC_OP_PATH_MORE, MC_OP_PATH_RELEASE) */
+#define MC_NACK_PATH_MORE 171  /* a segment of more dimensions than its entry holds without its
+                                * MC_OP_PATH_MORE right after it, or an MC_OP_PATH_MORE alone */
+#define MC_NACK_PATH_RELEASE 172 /* MC_OP_PATH_RELEASE of more segments than are staged (or 0),
+                                  * or with the group moved off where the staged segments start */
+
 /* Layout 1.12: the frequency response measured on the card (a stepped sine). One sweep at a
  * time, on one axis enabled and at rest (Standstill, holding its position). At each of
  * `points` frequencies spaced logarithmically from from_hz to to_hz the card adds the sine
@@ -1862,7 +1917,8 @@ struct mc_group_status_payload {
     uint32_t path_flags;
     /** Path segments ended since MC_GroupEnable (wrapping). */
     uint32_t path_done;
-    uint32_t _reserved0;
+    /** Layout 1.14: segments staged, waiting for MC_OP_PATH_RELEASE (a group with dimensions). */
+    uint32_t path_staged;
     uint64_t _reserved[10];
     /** A mix of the words before it: the checksum the seqlock reader checks. */
     uint64_t checksum;
@@ -2075,6 +2131,24 @@ struct mc_group_path {
      * tick in between follows the jerk-limited profile they chose. */
     double plan_period;
     double _reserved[5];
+};
+
+/** A group's path dimensions (layout 1.14, paths across cards; see MC_OP_APPLY_GROUP_DIMS). Host
+ * writes; the card validates and copies it on MC_OP_APPLY_GROUP_DIMS. Counts and seconds. */
+struct mc_group_dims {
+    /** Dimensions of the path, 0 (the group's members: no staging) or 1..MC_PATH_MAX_DIMS. */
+    uint32_t ndims;
+    uint32_t _reserved0;
+    /** Per dimension: the group axis (0..naxes-1) it drives on this card, or MC_DIM_REMOTE. */
+    int32_t axis[MC_PATH_MAX_DIMS];
+    /** Per dimension: velocity, acceleration and jerk limits (> 0), counts/s, /s^2, /s^3. */
+    double vmax[MC_PATH_MAX_DIMS];
+    double amax[MC_PATH_MAX_DIMS];
+    double jmax[MC_PATH_MAX_DIMS];
+    /** Per remote dimension: where it starts, counts (|start| <= MC_MAX_POSITION; ignored for
+     * the group's own axes, which start where they are). */
+    double start[MC_PATH_MAX_DIMS];
+    double _reserved[8];
 };
 
 /** The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies
@@ -2509,6 +2583,8 @@ struct mc_dpram {
     /* layout 1.12 */
     struct mc_card_info card_info;                                /* card writes */
     struct mc_freq_status freq_status;                            /* card writes */
+    /* layout 1.14 */
+    struct mc_group_dims group_dims[MC_MAX_GROUPS];               /* host writes */
 };
 
 #define MC_DPRAM_SIZE 1048576u /* the mapped window (1 MiB; 32 KiB before layout 1.8);

@@ -71,6 +71,7 @@ blocks!(
     mc_analog_status,
     mc_card_info,
     mc_freq_status,
+    mc_group_dims,
     mc_freq_point,
 );
 

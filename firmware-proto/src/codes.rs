@@ -529,6 +529,16 @@ code_enum! {
         TimedRefused = raw::MC_NACK_TIMED_REFUSED,
         /// A held timed command dropped (`MC_OP_TIMED_CANCEL`, a detach).
         Cancelled = raw::MC_NACK_CANCELLED,
+        /// `group_dims`: ndims over `MC_PATH_MAX_DIMS`, an `axis[]` that is not a group axis or
+        /// `MC_DIM_REMOTE`, a group axis named twice or not at all, a group not configured; or a
+        /// staging command on a group without dimensions (`MC_OP_PATH_MORE`, `MC_OP_PATH_RELEASE`).
+        PathDims = raw::MC_NACK_PATH_DIMS,
+        /// A segment of more dimensions than its entry holds without its `MC_OP_PATH_MORE` right
+        /// after it, or an `MC_OP_PATH_MORE` alone.
+        PathMore = raw::MC_NACK_PATH_MORE,
+        /// `MC_OP_PATH_RELEASE` of more segments than are staged (or 0), or with the group moved
+        /// off where the staged segments start.
+        PathRelease = raw::MC_NACK_PATH_RELEASE,
     }
 }
 
@@ -1124,5 +1134,14 @@ code_enum! {
         /// `n_a`, `n_b`, `n_c` (the normal, not 0: `MC_NACK_ARC_NORMAL`), then the targets of the
         /// other group axes in group order (a helix).
         GroupCircularPlane = raw::MC_OP_GROUP_CIRCULAR_PLANE,
+        /// Copy and validate `group_dims[group]` (above).
+        ApplyGroupDims = raw::MC_OP_APPLY_GROUP_DIMS,
+        /// Args: the targets of the segment's dimensions past those its own entry holds, in order
+        /// (a line: dimensions 8..; an arc: the helix's dimensions after its first 6). Only right
+        /// after the segment's entry of the same group (above).
+        PathMore = raw::MC_OP_PATH_MORE,
+        /// Args: count (a whole number `1..path_staged`, else `MC_NACK_PATH_RELEASE`; more than the
+        /// path has room for: `MC_NACK_QUEUE_FULL`). Nothing released on a refusal.
+        PathRelease = raw::MC_OP_PATH_RELEASE,
     }
 }

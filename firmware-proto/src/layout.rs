@@ -284,6 +284,21 @@ const _: () = {
     assert!(FREQ_STATUS.offset().is_multiple_of(8));
     assert!(FREQ_STATUS.offset() + size_of::<mc_freq_status>() <= crate::DPRAM_SIZE);
 };
+/// Layout 1.14: `group_dims[group]`, the groups' path dimensions (paths across cards). Host
+/// writes.
+pub const GROUP_DIMS: Blocks<mc_group_dims, MAX_GROUPS> = Blocks::new(off!(group_dims));
+/// Its size.
+pub const GROUP_DIMS_BYTES: usize = size_of::<mc_group_dims>();
+/// Dimensions of a path across cards.
+pub const PATH_MAX_DIMS: usize = MC_PATH_MAX_DIMS as usize;
+/// Segments a group stages before they are released.
+pub const PATH_STAGE_LEN: usize = MC_PATH_STAGE_LEN as usize;
+const _: () = {
+    // Layout 1.14 appended after the frequency sweep.
+    assert!(GROUP_DIMS.at(0).offset() == FREQ_STATUS.offset() + size_of::<mc_freq_status>());
+    assert!(GROUP_DIMS.at(0).offset().is_multiple_of(8));
+    assert!(GROUP_DIMS.at(MAX_GROUPS - 1).offset() + GROUP_DIMS_BYTES <= crate::DPRAM_SIZE);
+};
 // Layout 1.8: the configuration read-back grows nothing. The scale took a reserved word of
 // `mc_axis_config` (its size and every other field's offset as in 1.7), and the read-back
 // writes into the configuration blocks.

@@ -78,7 +78,8 @@ pub use mem::Dpram;
 pub use mem::Mem;
 pub use motion_sync::*;
 pub use reset::{
-    AxisConfig, AxisHoming, AxisPdPlus, AxisPidff, DriveModel, FfpivGains, GroupPath, PdPlusGains,
+    AxisConfig, AxisHoming, AxisPdPlus, AxisPidff, DriveModel, FfpivGains, GroupDims, GroupPath,
+    PdPlusGains,
 };
 pub use ring::{Consumer, Producer, RingError};
 pub use scope::*;

@@ -5,7 +5,7 @@
 
 pub const MC_MAGIC: u32 = 1346650957;
 pub const MC_LAYOUT_MAJOR: u32 = 1;
-pub const MC_LAYOUT_MINOR: u32 = 13;
+pub const MC_LAYOUT_MINOR: u32 = 14;
 pub const MC_MAX_AXES: u32 = 8;
 pub const MC_MAX_GROUPS: u32 = 4;
 pub const MC_GROUP_QUEUE_LEN: u32 = 32;
@@ -417,6 +417,15 @@ pub const MC_NACK_ARC_OFF_PLANE: u32 = 158;
 pub const MC_OP_GROUP_MOVE_CIRCULAR_NORMAL: u32 = 129;
 pub const MC_OP_GROUP_CIRCULAR_PLANE: u32 = 131;
 pub const MC_NACK_ARC_PIECE: u32 = 155;
+pub const MC_PATH_MAX_DIMS: u32 = 16;
+pub const MC_PATH_STAGE_LEN: u32 = 256;
+pub const MC_DIM_REMOTE: i32 = -1;
+pub const MC_OP_APPLY_GROUP_DIMS: u32 = 132;
+pub const MC_OP_PATH_MORE: u32 = 133;
+pub const MC_OP_PATH_RELEASE: u32 = 134;
+pub const MC_NACK_PATH_DIMS: u32 = 170;
+pub const MC_NACK_PATH_MORE: u32 = 171;
+pub const MC_NACK_PATH_RELEASE: u32 = 172;
 pub const MC_FREQ_POINTS_MAX: u32 = 256;
 pub const MC_FREQ_WINDOW_MIN: u32 = 1000;
 pub const MC_FREQ_CYCLES_MAX: u32 = 1000;
@@ -983,7 +992,8 @@ pub struct mc_group_status_payload {
     pub path_flags: u32,
     #[doc = " Path segments ended since MC_GroupEnable (wrapping)."]
     pub path_done: u32,
-    pub _reserved0: u32,
+    #[doc = " Layout 1.14: segments staged, waiting for MC_OP_PATH_RELEASE (a group with dimensions)."]
+    pub path_staged: u32,
     pub _reserved: [u64; 10usize],
     #[doc = " A mix of the words before it: the checksum the seqlock reader checks."]
     pub checksum: u64,
@@ -1030,8 +1040,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_status_payload, path_flags) - 100usize];
     ["Offset of field: mc_group_status_payload::path_done"]
         [::core::mem::offset_of!(mc_group_status_payload, path_done) - 104usize];
-    ["Offset of field: mc_group_status_payload::_reserved0"]
-        [::core::mem::offset_of!(mc_group_status_payload, _reserved0) - 108usize];
+    ["Offset of field: mc_group_status_payload::path_staged"]
+        [::core::mem::offset_of!(mc_group_status_payload, path_staged) - 108usize];
     ["Offset of field: mc_group_status_payload::_reserved"]
         [::core::mem::offset_of!(mc_group_status_payload, _reserved) - 112usize];
     ["Offset of field: mc_group_status_payload::checksum"]
@@ -1439,6 +1449,43 @@ const _: () = {
         [::core::mem::offset_of!(mc_group_path, plan_period) - 216usize];
     ["Offset of field: mc_group_path::_reserved"]
         [::core::mem::offset_of!(mc_group_path, _reserved) - 224usize];
+};
+#[doc = " A group's path dimensions (layout 1.14, paths across cards; see MC_OP_APPLY_GROUP_DIMS). Host\n writes; the card validates and copies it on MC_OP_APPLY_GROUP_DIMS. Counts and seconds."]
+#[repr(C)]
+#[derive(Debug, Default, Copy, Clone, PartialEq)]
+pub struct mc_group_dims {
+    #[doc = " Dimensions of the path, 0 (the group's members: no staging) or 1..MC_PATH_MAX_DIMS."]
+    pub ndims: u32,
+    pub _reserved0: u32,
+    #[doc = " Per dimension: the group axis (0..naxes-1) it drives on this card, or MC_DIM_REMOTE."]
+    pub axis: [i32; 16usize],
+    #[doc = " Per dimension: velocity, acceleration and jerk limits (> 0), counts/s, /s^2, /s^3."]
+    pub vmax: [f64; 16usize],
+    pub amax: [f64; 16usize],
+    pub jmax: [f64; 16usize],
+    #[doc = " Per remote dimension: where it starts, counts (|start| <= MC_MAX_POSITION; ignored for\n the group's own axes, which start where they are)."]
+    pub start: [f64; 16usize],
+    pub _reserved: [f64; 8usize],
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of mc_group_dims"][::core::mem::size_of::<mc_group_dims>() - 648usize];
+    ["Alignment of mc_group_dims"][::core::mem::align_of::<mc_group_dims>() - 8usize];
+    ["Offset of field: mc_group_dims::ndims"]
+        [::core::mem::offset_of!(mc_group_dims, ndims) - 0usize];
+    ["Offset of field: mc_group_dims::_reserved0"]
+        [::core::mem::offset_of!(mc_group_dims, _reserved0) - 4usize];
+    ["Offset of field: mc_group_dims::axis"][::core::mem::offset_of!(mc_group_dims, axis) - 8usize];
+    ["Offset of field: mc_group_dims::vmax"]
+        [::core::mem::offset_of!(mc_group_dims, vmax) - 72usize];
+    ["Offset of field: mc_group_dims::amax"]
+        [::core::mem::offset_of!(mc_group_dims, amax) - 200usize];
+    ["Offset of field: mc_group_dims::jmax"]
+        [::core::mem::offset_of!(mc_group_dims, jmax) - 328usize];
+    ["Offset of field: mc_group_dims::start"]
+        [::core::mem::offset_of!(mc_group_dims, start) - 456usize];
+    ["Offset of field: mc_group_dims::_reserved"]
+        [::core::mem::offset_of!(mc_group_dims, _reserved) - 584usize];
 };
 #[doc = " The digital inputs' configuration (layout 1.7). Host writes; the card validates and copies\n it on MC_OP_APPLY_IO_CONFIG. All zero at boot: active high, no debounce, no events."]
 #[repr(C)]
@@ -2295,10 +2342,11 @@ pub struct mc_dpram {
     pub analog_status: mc_analog_status,
     pub card_info: mc_card_info,
     pub freq_status: mc_freq_status,
+    pub group_dims: [mc_group_dims; 4usize],
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 607576usize];
+    ["Size of mc_dpram"][::core::mem::size_of::<mc_dpram>() - 610168usize];
     ["Alignment of mc_dpram"][::core::mem::align_of::<mc_dpram>() - 8usize];
     ["Offset of field: mc_dpram::identity"][::core::mem::offset_of!(mc_dpram, identity) - 0usize];
     ["Offset of field: mc_dpram::host"][::core::mem::offset_of!(mc_dpram, host) - 64usize];
@@ -2369,6 +2417,8 @@ const _: () = {
         [::core::mem::offset_of!(mc_dpram, card_info) - 590960usize];
     ["Offset of field: mc_dpram::freq_status"]
         [::core::mem::offset_of!(mc_dpram, freq_status) - 591096usize];
+    ["Offset of field: mc_dpram::group_dims"]
+        [::core::mem::offset_of!(mc_dpram, group_dims) - 607576usize];
 };
 impl Default for mc_dpram {
     fn default() -> Self {

@@ -27,6 +27,9 @@ pub type AxisHoming = raw::mc_axis_homing;
 /// A group's continuous-path configuration (`mc_group_path`): look-ahead, low-water mark,
 /// tangential limits and every group axis's limits.
 pub type GroupPath = raw::mc_group_path;
+/// A group's path dimensions (`mc_group_dims`, layout 1.14): a path across cards, its axes
+/// each this group's or another card's, with their limits and the others' starts.
+pub type GroupDims = raw::mc_group_dims;
 
 /// The acceleration per volt of the card's default drive and motor (the emulator's
 /// `MotorParams::default_servo`: 3 Nm/10 V on 5e-4 kg·m², 10,000 counts/rev), counts/s² per V.

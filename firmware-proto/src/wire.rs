@@ -628,7 +628,7 @@ mod tests {
         // the modulo's three; layout 1.11: group homing's three, the filters' four, PID+FF's
         // one, analog I/O's and the PSO's five; layout 1.12: the sweep's four, the PSO's
         // output, the normal arcs' three, the timed commands' ten
-        assert_eq!(NackCode::ALL.len(), 128);
+        assert_eq!(NackCode::ALL.len(), 131);
         assert_eq!(ConfigKind::ALL.len(), 9);
         assert_eq!(Opcode::from_raw(49), Some(Opcode::Home));
         assert_eq!(HomingError::from_raw(4), Some(HomingError::NoIndex));

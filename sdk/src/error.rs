@@ -429,6 +429,14 @@ error_kinds! {
     /// `[0, modulo)`), a series longer than a turn, each turn on a linear axis, or the period
     /// changed while a compare channel watches the axis.
     CompareTurn = -146, MC_ERR_COMPARE_TURN, nack CompareTurn, "compare on a rotary axis: positions must lie in [0, modulo) and a series within one turn (each turn: rotary axes only; no period change while a channel watches the axis)";
+    /// Layout 1.14, paths across cards: path dimensions that do not name each group axis once
+    /// (or more than 16), or a staging command on a group without dimensions.
+    PathDims = -162, MC_ERR_PATH_DIMS, nack PathDims, "the path's dimensions must name each axis of the group exactly once (at most 16 dimensions)";
+    /// A segment across cards whose two command entries did not come together.
+    PathMore = -163, MC_ERR_PATH_MORE, nack PathMore, "a segment of more than 8 dimensions came without its second entry (its two entries go together)";
+    /// A release of more segments than are staged, or of segments staged from where the
+    /// group no longer is.
+    PathRelease = -164, MC_ERR_PATH_RELEASE, nack PathRelease, "the release names more segments than are staged (or the group moved since they were staged)";
 }
 
 impl From<NurbsError> for ErrorKind {

@@ -55,6 +55,7 @@ mod scope;
 mod segment;
 mod servo;
 mod session;
+mod setpath;
 mod sync;
 pub mod trace;
 
@@ -139,6 +140,7 @@ pub use scope::{
 pub use segment::{Geometry, OutputAt, PathBuffer, PathItem, Segment, Transition};
 pub use servo::{BiquadKind, BiquadSpec, PidffSettings, ServoFilter, BIQUADS};
 pub use session::{STALE_MIN, STALE_TICKS};
+pub use setpath::{PathPart, SetPath, SetPathProgress};
 pub use sync::{gear_ratio, Master, SyncLimits};
 pub use trace::TRACE_ENV;
 

@@ -803,6 +803,42 @@ impl Args for PathNurbs {
     }
 }
 
+/// `MC_OP_PATH_MORE` (layout 1.14; args: the targets of a segment's dimensions past those its
+/// own entry holds, in order): the second entry of a segment of a path across cards.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathMore {
+    /// The targets (those past the segment's dimensions are ignored).
+    pub targets: [f64; CMD_ARGS],
+}
+
+impl Args for PathMore {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        *args = self.targets;
+        0
+    }
+    fn decode(_flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self { targets: *args })
+    }
+}
+
+/// `MC_OP_PATH_RELEASE` (layout 1.14; args: count): the oldest `count` staged segments go into
+/// the path. The card checks the number (a whole number, 1..=staged).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathRelease {
+    /// How many.
+    pub count: f64,
+}
+
+impl Args for PathRelease {
+    fn encode(&self, args: &mut [f64; CMD_ARGS]) -> u32 {
+        put(args, 0, &[self.count]);
+        0
+    }
+    fn decode(_flags: u32, args: &[f64; CMD_ARGS]) -> Result<Self, DecodeError> {
+        Ok(Self { count: args[0] })
+    }
+}
+
 /// A group command (the command's target is the group).
 #[derive(Debug, Clone, PartialEq)]
 pub enum GroupCmd {
@@ -860,6 +896,12 @@ pub enum GroupCmd {
     MoveCircularNormal(CircularNormalMove),
     /// `MC_OP_GROUP_CIRCULAR_PLANE` (layout 1.13), its second entry.
     CircularPlane(CircularPlane),
+    /// `MC_OP_APPLY_GROUP_DIMS` (layout 1.14).
+    ApplyDims,
+    /// `MC_OP_PATH_MORE` (layout 1.14), a segment's second entry.
+    PathMore(PathMore),
+    /// `MC_OP_PATH_RELEASE` (layout 1.14).
+    PathRelease(PathRelease),
 }
 
 impl GroupCmd {
@@ -893,6 +935,9 @@ impl GroupCmd {
             Self::PathArcNormal(_) => Opcode::PathArcNormal,
             Self::MoveCircularNormal(_) => Opcode::GroupMoveCircularNormal,
             Self::CircularPlane(_) => Opcode::GroupCircularPlane,
+            Self::ApplyDims => Opcode::ApplyGroupDims,
+            Self::PathMore(_) => Opcode::PathMore,
+            Self::PathRelease(_) => Opcode::PathRelease,
         }
     }
 
@@ -927,6 +972,9 @@ impl GroupCmd {
             Opcode::PathArcNormal => Self::PathArcNormal(Args::decode(f, args)?),
             Opcode::GroupMoveCircularNormal => Self::MoveCircularNormal(Args::decode(f, args)?),
             Opcode::GroupCircularPlane => Self::CircularPlane(Args::decode(f, args)?),
+            Opcode::ApplyGroupDims => Self::ApplyDims,
+            Opcode::PathMore => Self::PathMore(Args::decode(f, args)?),
+            Opcode::PathRelease => Self::PathRelease(Args::decode(f, args)?),
             _ => return Err(not_in_family()),
         })
     }
@@ -954,13 +1002,16 @@ impl GroupCmd {
             Self::PathArcNormal(a) => super::entry(op, group, a),
             Self::MoveCircularNormal(a) => super::entry(op, group, a),
             Self::CircularPlane(a) => super::entry(op, group, a),
+            Self::PathMore(a) => super::entry(op, group, a),
+            Self::PathRelease(a) => super::entry(op, group, a),
             Self::Configure
             | Self::Enable
             | Self::Disable
             | Self::StopRelease
             | Self::Reset
             | Self::NurbsEnd
-            | Self::ApplyPath => Command::new(op, group),
+            | Self::ApplyPath
+            | Self::ApplyDims => Command::new(op, group),
         }
     }
 }

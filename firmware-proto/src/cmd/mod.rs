@@ -304,7 +304,10 @@ pub fn family(op: Opcode) -> Family {
         | O::PathArcPlane
         | O::PathArcNormal
         | O::GroupMoveCircularNormal
-        | O::GroupCircularPlane => Family::Group,
+        | O::GroupCircularPlane
+        | O::ApplyGroupDims
+        | O::PathMore
+        | O::PathRelease => Family::Group,
         O::GearIn
         | O::GearInPos
         | O::GearOut

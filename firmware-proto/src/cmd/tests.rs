@@ -493,6 +493,13 @@ fn group_cmd() -> BoxedStrategy<GroupCmd> {
             })
             .boxed(),
         Just(GroupCmd::ApplyPath).boxed(),
+        Just(GroupCmd::ApplyDims).boxed(),
+        nums::<CMD_ARGS>()
+            .prop_map(|targets| GroupCmd::PathMore(PathMore { targets }))
+            .boxed(),
+        num()
+            .prop_map(|count| GroupCmd::PathRelease(PathRelease { count }))
+            .boxed(),
     ])
     .boxed()
 }
@@ -1172,6 +1179,8 @@ fn plain_numbers_are_the_cards_to_check() {
         O::PathArcNormal,
         O::GroupMoveCircularNormal,
         O::GroupCircularPlane,
+        O::PathMore,
+        O::PathRelease,
         O::PvtBegin,
     ] {
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.5] {

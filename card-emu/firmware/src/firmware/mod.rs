@@ -34,6 +34,8 @@ pub mod scope;
 mod tests_arc_pair;
 #[cfg(test)]
 mod tests_timed;
+#[cfg(test)]
+mod tests_wide;
 pub mod timed;
 
 use self::axis::{Axis, AxisConfig, TickReport};
@@ -121,7 +123,7 @@ pub struct Firmware<M: Mem + Clone> {
     timing: timed::Timing,
     /// Layout 1.13: the second entry of the `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` being executed
     /// (taken with it, see `answer_arc_pair`; None: it came alone).
-    arc_piece: Option<Command>,
+    second: Option<Command>,
 }
 
 impl<M: Mem + Clone> Firmware<M> {
@@ -179,7 +181,7 @@ impl<M: Mem + Clone> Firmware<M> {
             events_lost: 0,
             cmds_accepted: 0,
             timing: timed::Timing::new(),
-            arc_piece: None,
+            second: None,
         };
         layout::CARD_CONFIG.write(
             &fw.mem,
@@ -382,9 +384,10 @@ impl<M: Mem + Clone> Firmware<M> {
                 self.take_timed(&cmd);
                 continue;
             }
-            if cmd.opcode == firmware_proto::Opcode::GroupMoveCircularNormal as u16 {
-                // Layout 1.13: a move and its second entry, published together.
-                served += usize::from(self.answer_arc_pair(&cmd));
+            if let Some(second) = second_entry(cmd.opcode) {
+                // Layout 1.13: a move and its second entry, published together; layout 1.14:
+                // a path segment and its MC_OP_PATH_MORE.
+                served += usize::from(self.answer_pair(&cmd, second as u16));
                 continue;
             }
             self.answer(&cmd);
@@ -407,17 +410,19 @@ impl<M: Mem + Clone> Firmware<M> {
         }
     }
 
-    /// Layout 1.13: `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` (`c`, taken) and its second entry: taken
-    /// too when it is the next entry, an `MC_OP_GROUP_CIRCULAR_PLANE` of the same group, and
-    /// then answered with the move's outcome (the group checks the pair as one move,
-    /// `group/normal.rs`). Without it the move is refused (`MC_NACK_ARC_PIECE`) and the next
-    /// entry stays in the ring, served on its own. Whether the second entry was taken.
+    /// A command of two entries (`c`, taken) and its second entry (opcode `second`): taken too
+    /// when it is the next entry, of the same group, and then answered with the command's
+    /// outcome (the group checks the two as one). Layout 1.13:
+    /// `MC_OP_GROUP_MOVE_CIRCULAR_NORMAL` and its `MC_OP_GROUP_CIRCULAR_PLANE`
+    /// (`group/normal.rs`: without it the move is refused, `MC_NACK_ARC_PIECE`); layout 1.14:
+    /// a path segment and its `MC_OP_PATH_MORE` (`group/wide.rs`: whether the segment needs one
+    /// is the group's to say). A next entry that is not the second stays in the ring, served on
+    /// its own. Whether the second entry was taken.
     #[inline(never)]
-    fn answer_arc_pair(&mut self, c: &Command) -> bool {
-        let plane = firmware_proto::Opcode::GroupCircularPlane as u16;
+    fn answer_pair(&mut self, c: &Command, second: u16) -> bool {
         // (a corrupt ring reads as nothing here: the next pop finds it and stops the axes)
         let second = match self.cmds.peek::<Command>() {
-            Ok(Some(n)) if n.opcode == plane && n.axis == c.axis => {
+            Ok(Some(n)) if n.opcode == second && n.axis == c.axis => {
                 let _ = self.cmds.pop::<Command>();
                 Some(n)
             }
@@ -429,9 +434,9 @@ impl<M: Mem + Clone> Firmware<M> {
         let outcome = if self.expired(c) {
             Err(NackCode::Expired)
         } else {
-            self.arc_piece = second;
+            self.second = second;
             let r = self.execute(c);
-            self.arc_piece = None;
+            self.second = None;
             r
         };
         self.reply(c, outcome);
@@ -989,6 +994,16 @@ fn state_event(axis: u16, old: AxisState, new: AxisState, tick: u64) -> Event {
         code: new as i32,
         tick,
         value: old as u32 as f64,
+    }
+}
+
+/// The second entry a command of two entries takes with it, if `op` is the first.
+fn second_entry(op: u16) -> Option<firmware_proto::Opcode> {
+    use firmware_proto::Opcode as O;
+    match op {
+        x if x == O::GroupMoveCircularNormal as u16 => Some(O::GroupCircularPlane),
+        x if x == O::PathLine as u16 || x == O::PathArc as u16 => Some(O::PathMore),
+        _ => None,
     }
 }
 

@@ -72,7 +72,7 @@ impl Card {
         self.drain();
     }
 
-    fn drain(&mut self) {
+    pub(super) fn drain(&mut self) {
         while let Ok(Some(e)) = self.rx.pop::<Event>() {
             self.events.push(e);
         }

@@ -173,6 +173,7 @@ fn untimable(op: Opcode) -> bool {
             | Opcode::HostDetach
             | Opcode::GroupMoveCircularNormal
             | Opcode::GroupCircularPlane
+            | Opcode::PathMore
     )
 }
 

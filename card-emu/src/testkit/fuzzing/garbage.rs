@@ -243,7 +243,7 @@ fn garbage_flags<S: Source>(s: &mut S) -> u32 {
 
 /// The gaps and edges of the opcode space (none of them an opcode: tested below).
 const OPCODE_GAPS: [u16; 21] = [
-    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 123, 130, 132, 256, 0x7FFF, 0x8000,
+    0, 38, 39, 46, 47, 51, 55, 63, 70, 79, 94, 107, 111, 114, 123, 130, 135, 256, 0x7FFF, 0x8000,
     0xFFFF,
 ];
 

@@ -47,11 +47,22 @@ impl<M: Mem + Clone> Firmware<M> {
             _ => {}
         }
         // Layout 1.13: a normal-vector arc move's second entry, taken with it (mod.rs).
-        let piece = match (&cmd, self.arc_piece) {
+        let piece = match (&cmd, self.second) {
             (GroupCmd::MoveCircularNormal(_), Some(n)) => {
                 match GroupCmd::decode(Opcode::GroupCircularPlane, n.flags, &n.args) {
                     Ok(GroupCmd::CircularPlane(p)) => Some(p),
                     Ok(_) => return Err(NackCode::ArcPiece),
+                    Err(e) => return Err(e.nack),
+                }
+            }
+            _ => None,
+        };
+        // Layout 1.14: a path segment's MC_OP_PATH_MORE, taken with it (group/wide.rs).
+        let more = match (&cmd, self.second) {
+            (GroupCmd::PathLine(_) | GroupCmd::PathArc(_), Some(n)) => {
+                match GroupCmd::decode(Opcode::PathMore, n.flags, &n.args) {
+                    Ok(GroupCmd::PathMore(m)) => Some(m),
+                    Ok(_) => return Err(NackCode::PathMore),
                     Err(e) => return Err(e.nack),
                 }
             }
@@ -115,10 +126,14 @@ impl<M: Mem + Clone> Firmware<M> {
             GroupCmd::NurbsEnd => group.nurbs_end(seq, &self.axes, ts, tick, out),
             GroupCmd::PtpLimits(l) => group.stage_ptp_limits(Ok(l), ts),
             GroupCmd::SetOverride(o) => group.set_override(o.feed, o.rapid, self.servo_rate_hz),
-            GroupCmd::PathLine(s) => group.path_segment(seq, &SegmentCmd::Line(*s), ts, tick, out),
-            GroupCmd::PathArc(s) => group.path_segment(seq, &SegmentCmd::Arc(*s), ts, tick, out),
+            GroupCmd::PathLine(s) => {
+                group.path_segment(seq, &SegmentCmd::Line(*s), more.as_ref(), ts, tick, out)
+            }
+            GroupCmd::PathArc(s) => {
+                group.path_segment(seq, &SegmentCmd::Arc(*s), more.as_ref(), ts, tick, out)
+            }
             GroupCmd::PathDwell(s) => {
-                group.path_segment(seq, &SegmentCmd::Dwell(*s), ts, tick, out)
+                group.path_segment(seq, &SegmentCmd::Dwell(*s), None, ts, tick, out)
             }
             GroupCmd::PathArcPlane(p) => group.set_arc_plane(p),
             GroupCmd::PathArcNormal(s) => group.path_arc_normal(seq, s, ts, tick, out),
@@ -135,6 +150,13 @@ impl<M: Mem + Clone> Firmware<M> {
                 let block = layout::GROUP_PATH.at(g).read(&self.mem);
                 group.apply_path(block, self.servo_rate_hz)
             }
+            GroupCmd::ApplyDims => {
+                let block = layout::GROUP_DIMS.at(g).read(&self.mem);
+                group.apply_dims(&block, self.servo_rate_hz)
+            }
+            // (taken alone: a segment takes its own)
+            GroupCmd::PathMore(_) => Err(NackCode::PathMore),
+            GroupCmd::PathRelease(r) => group.path_release(r.count, ts, tick, out),
         }
     }
 }

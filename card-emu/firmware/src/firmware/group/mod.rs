@@ -44,6 +44,7 @@ mod snap;
 mod stop;
 #[cfg(test)]
 mod testing;
+mod wide;
 
 pub use self::home::{GroupHoming, HomeOrder};
 use self::nurbs_pool::NurbsPool;
@@ -591,6 +592,12 @@ impl Group {
         }
         self.config = Some(cfg);
         self.ptp_stage = [None; MAX_AXES];
+        // Layout 1.14: the path's dimensions named the old axes.
+        if self.path_dims() > 0 {
+            if let Some(run) = self.path.as_mut() {
+                run.set_engine(Some(wide::Engine::narrow()));
+            }
+        }
         self.arc_plane = None;
         // A transfer in progress was laid out for the old axes.
         self.rx.open = false;
@@ -838,7 +845,7 @@ impl Group {
             None => (dmax, jerk),
         };
         // A running path stops along its geometry (within its own limits as well).
-        self.path_halt(dmax, jerk);
+        self.path_halt((dmax, jerk), by, tick, out);
         let keep = self.nurbs_runout(dmax, jerk);
         self.flush_queue_keeping(keep, by, tick, out);
         if let Some(act) = &mut self.active {
@@ -1094,102 +1101,9 @@ impl Group {
         relative: bool,
     ) -> Result<Geometry, NackCode> {
         let n = cfg.naxes;
-        let (u, v) = match a.flags.plane as u32 {
-            raw::MC_PLANE_XY => (0, 1),
-            raw::MC_PLANE_YZ => (1, 2),
-            raw::MC_PLANE_ZX => (2, 0),
-            raw::MC_PLANE_AXES => {
-                let (u, v) = (a.flags.axes.0 as usize, a.flags.axes.1 as usize);
-                if u == v {
-                    return Err(NackCode::PlaneAxes);
-                }
-                (u, v)
-            }
-            _ => return Err(NackCode::BadConfig),
-        };
-        if u >= n || v >= n {
-            return Err(NackCode::AxisNotInGroup);
-        }
-        let tol = cfg.tolerance;
+        let (u, v) = arc_axes(a, n)?;
         let rel = |i: usize, x: f64| if relative { start[i] + x } else { x };
-        let p0 = (start[u], start[v]);
-        let p1 = (rel(u, a.end[0]), rel(v, a.end[1]));
-        let ccw = a.flags.ccw;
-        let dir = if ccw {
-            ArcDirection::Ccw
-        } else {
-            ArcDirection::Cw
-        };
-        let dist = |p: (f64, f64), q: (f64, f64)| math::hypot(p.0 - q.0, p.1 - q.1);
-        let (centre, dir) = match a.flags.mode as u32 {
-            raw::MC_CIRC_BY_CENTRE => {
-                let centre = (rel(u, a.aux[0]), rel(v, a.aux[1]));
-                let (r0, r1) = (dist(p0, centre), dist(p1, centre));
-                if r0 <= tol {
-                    return Err(NackCode::ZeroLengthArc);
-                }
-                if (r0 - r1).abs() > tol {
-                    return Err(NackCode::CentreNotEquidistant);
-                }
-                (centre, dir)
-            }
-            raw::MC_CIRC_BY_RADIUS => {
-                let r = a.aux[0];
-                let chord = dist(p0, p1);
-                if chord <= tol || r.abs() <= tol {
-                    return Err(NackCode::ZeroLengthArc);
-                }
-                if r.abs() < chord / 2.0 - tol {
-                    return Err(NackCode::RadiusTooSmall);
-                }
-                let h = math::sqrt((r * r - chord * chord / 4.0).max(0.0));
-                let mid = ((p0.0 + p1.0) / 2.0, (p0.1 + p1.1) / 2.0);
-                let (dx, dy) = ((p1.0 - p0.0) / chord, (p1.1 - p0.1) / chord);
-                // The centre on the left of start→end gives the short arc when going CCW.
-                let left = (ccw && r > 0.0) || (!ccw && r < 0.0);
-                let s = if left { 1.0 } else { -1.0 };
-                ((mid.0 - s * dy * h, mid.1 + s * dx * h), dir)
-            }
-            raw::MC_CIRC_BY_BORDER => {
-                let b = (rel(u, a.aux[0]), rel(v, a.aux[1]));
-                if dist(p0, p1) <= tol || dist(p0, b) <= tol || dist(b, p1) <= tol {
-                    return Err(NackCode::ZeroLengthArc);
-                }
-                // Circumcentre of start, border point, end.
-                let d = 2.0 * (p0.0 * (b.1 - p1.1) + b.0 * (p1.1 - p0.1) + p1.0 * (p0.1 - b.1));
-                let cross = (b.0 - p0.0) * (p1.1 - p0.1) - (b.1 - p0.1) * (p1.0 - p0.0);
-                // Collinear within the tolerance: the border point is within tol of the chord.
-                if cross.abs() <= tol * dist(p0, p1) || d == 0.0 {
-                    return Err(NackCode::CollinearPoints);
-                }
-                let s0 = p0.0 * p0.0 + p0.1 * p0.1;
-                let sb = b.0 * b.0 + b.1 * b.1;
-                let s1 = p1.0 * p1.0 + p1.1 * p1.1;
-                let centre = (
-                    (s0 * (b.1 - p1.1) + sb * (p1.1 - p0.1) + s1 * (p0.1 - b.1)) / d,
-                    (s0 * (p1.0 - b.0) + sb * (p0.0 - p1.0) + s1 * (b.0 - p0.0)) / d,
-                );
-                // start → border → end turns counter-clockwise when the border point lies to
-                // the right of the chord start → end (cross > 0).
-                (
-                    centre,
-                    if cross > 0.0 {
-                        ArcDirection::Ccw
-                    } else {
-                        ArcDirection::Cw
-                    },
-                )
-            }
-            _ => return Err(NackCode::BadConfig),
-        };
-        let mut arc =
-            ExactCircle::from_points(centre, p0, p1, dir).map_err(|_| NackCode::ZeroLengthArc)?;
-        if (dist(p1, centre) - arc.radius()).abs() > tol {
-            return Err(NackCode::CentreNotEquidistant);
-        }
-        // End exactly on the circle through the start: re-anchor the end angle.
-        arc = ExactCircle::new(centre, arc.radius(), arc.start_angle(), arc.sweep())
-            .map_err(|_| NackCode::ZeroLengthArc)?;
+        let arc = arc_circle(a, (u, v), (start[u], start[v]), rel, cfg.tolerance)?;
         // Helical part: the other group axes, in group order.
         let mut helix = [0.0; MAX_AXES];
         let mut k = 0;
@@ -1424,6 +1338,117 @@ pub fn filter_bank() -> FilterBank {
         let _ = bank.push(AxisFilter::new()); // room for MAX_AXES
     }
     bank
+}
+
+/// The plane of an arc (`MC_PLANE_*`): its two axes (of `n`), checked.
+pub(super) fn arc_axes(a: &ArcGeometry, n: usize) -> Result<(usize, usize), NackCode> {
+    let (u, v) = match a.flags.plane as u32 {
+        raw::MC_PLANE_XY => (0, 1),
+        raw::MC_PLANE_YZ => (1, 2),
+        raw::MC_PLANE_ZX => (2, 0),
+        raw::MC_PLANE_AXES => {
+            let (u, v) = (a.flags.axes.0 as usize, a.flags.axes.1 as usize);
+            if u == v {
+                return Err(NackCode::PlaneAxes);
+            }
+            (u, v)
+        }
+        _ => return Err(NackCode::BadConfig),
+    };
+    if u >= n || v >= n {
+        return Err(NackCode::AxisNotInGroup);
+    }
+    Ok((u, v))
+}
+
+/// The exact circle of an arc from `p0` (its plane axes `(u, v)`'s start) whose end and aux
+/// point are `rel(axis, x)` (the start added for a relative move), checked within `tol`: the
+/// end on the circle through the start.
+pub(super) fn arc_circle(
+    a: &ArcGeometry,
+    (u, v): (usize, usize),
+    p0: (f64, f64),
+    rel: impl Fn(usize, f64) -> f64,
+    tol: f64,
+) -> Result<ExactCircle, NackCode> {
+    let p1 = (rel(u, a.end[0]), rel(v, a.end[1]));
+    let ccw = a.flags.ccw;
+    let dir = if ccw {
+        ArcDirection::Ccw
+    } else {
+        ArcDirection::Cw
+    };
+    let dist = |p: (f64, f64), q: (f64, f64)| math::hypot(p.0 - q.0, p.1 - q.1);
+    let (centre, dir) = match a.flags.mode as u32 {
+        raw::MC_CIRC_BY_CENTRE => {
+            let centre = (rel(u, a.aux[0]), rel(v, a.aux[1]));
+            let (r0, r1) = (dist(p0, centre), dist(p1, centre));
+            if r0 <= tol {
+                return Err(NackCode::ZeroLengthArc);
+            }
+            if (r0 - r1).abs() > tol {
+                return Err(NackCode::CentreNotEquidistant);
+            }
+            (centre, dir)
+        }
+        raw::MC_CIRC_BY_RADIUS => {
+            let r = a.aux[0];
+            let chord = dist(p0, p1);
+            if chord <= tol || r.abs() <= tol {
+                return Err(NackCode::ZeroLengthArc);
+            }
+            if r.abs() < chord / 2.0 - tol {
+                return Err(NackCode::RadiusTooSmall);
+            }
+            let h = math::sqrt((r * r - chord * chord / 4.0).max(0.0));
+            let mid = ((p0.0 + p1.0) / 2.0, (p0.1 + p1.1) / 2.0);
+            let (dx, dy) = ((p1.0 - p0.0) / chord, (p1.1 - p0.1) / chord);
+            // The centre on the left of start→end gives the short arc when going CCW.
+            let left = (ccw && r > 0.0) || (!ccw && r < 0.0);
+            let s = if left { 1.0 } else { -1.0 };
+            ((mid.0 - s * dy * h, mid.1 + s * dx * h), dir)
+        }
+        raw::MC_CIRC_BY_BORDER => {
+            let b = (rel(u, a.aux[0]), rel(v, a.aux[1]));
+            if dist(p0, p1) <= tol || dist(p0, b) <= tol || dist(b, p1) <= tol {
+                return Err(NackCode::ZeroLengthArc);
+            }
+            // Circumcentre of start, border point, end.
+            let d = 2.0 * (p0.0 * (b.1 - p1.1) + b.0 * (p1.1 - p0.1) + p1.0 * (p0.1 - b.1));
+            let cross = (b.0 - p0.0) * (p1.1 - p0.1) - (b.1 - p0.1) * (p1.0 - p0.0);
+            // Collinear within the tolerance: the border point is within tol of the chord.
+            if cross.abs() <= tol * dist(p0, p1) || d == 0.0 {
+                return Err(NackCode::CollinearPoints);
+            }
+            let s0 = p0.0 * p0.0 + p0.1 * p0.1;
+            let sb = b.0 * b.0 + b.1 * b.1;
+            let s1 = p1.0 * p1.0 + p1.1 * p1.1;
+            let centre = (
+                (s0 * (b.1 - p1.1) + sb * (p1.1 - p0.1) + s1 * (p0.1 - b.1)) / d,
+                (s0 * (p1.0 - b.0) + sb * (p0.0 - p1.0) + s1 * (b.0 - p0.0)) / d,
+            );
+            // start → border → end turns counter-clockwise when the border point lies to
+            // the right of the chord start → end (cross > 0).
+            (
+                centre,
+                if cross > 0.0 {
+                    ArcDirection::Ccw
+                } else {
+                    ArcDirection::Cw
+                },
+            )
+        }
+        _ => return Err(NackCode::BadConfig),
+    };
+    let mut arc =
+        ExactCircle::from_points(centre, p0, p1, dir).map_err(|_| NackCode::ZeroLengthArc)?;
+    if (dist(p1, centre) - arc.radius()).abs() > tol {
+        return Err(NackCode::CentreNotEquidistant);
+    }
+    // End exactly on the circle through the start: re-anchor the end angle.
+    arc = ExactCircle::new(centre, arc.radius(), arc.start_angle(), arc.sweep())
+        .map_err(|_| NackCode::ZeroLengthArc)?;
+    Ok(arc)
 }
 
 #[cfg(test)]

@@ -11,15 +11,17 @@
 //! seqs of its segments) is allocated the first time a group needs it and kept, so a tick never
 //! allocates.
 
+use super::wide::Engine;
 use super::*;
 use crate::motion::nurbs::Nurbs;
 use crate::motion::path::{
-    BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, Path, PathEvent, PathLimits,
-    PauseState, Segment, Transition,
+    BlendSpeed, CurveSegment, Geom, OutputAction, OutputAt, PathEvent, PathLimits, PauseState,
+    Segment, Transition,
 };
 use crate::ram::FixedVec;
 use firmware_proto::cmd::{
-    PathArc, PathArcNormal, PathArcPlane, PathDwell, PathFlags, PathLine, PathNurbs, PathOutput,
+    PathArc, PathArcNormal, PathArcPlane, PathDwell, PathFlags, PathLine, PathMore, PathNurbs,
+    PathOutput,
 };
 use firmware_proto::{GroupPath, OUTPUTS, PATH_LEN};
 use heapless::Deque;
@@ -53,7 +55,8 @@ pub struct ArcPlane {
 /// A group's path and what the firmware keeps about its segments.
 #[derive(Clone)]
 pub(super) struct PathRun {
-    path: Path,
+    /// The members' path, or a path across cards (layout 1.14, `wide.rs`).
+    pub(super) path: Engine,
     /// The command seq of every segment not finished yet, in order (front: the oldest).
     seqs: Deque<u32, PATH_LEN>,
     /// How many of `seqs` have started.
@@ -75,7 +78,7 @@ pub(super) struct PathRun {
     pub(super) engaged: bool,
     /// The path's state is stale (new, a fault, a disable or a halt dropped it, or its
     /// configuration changed): reset before the next segment.
-    stale: bool,
+    pub(super) stale: bool,
     /// The seq of the last segment that ended.
     last_seq: u32,
     /// An Aborting segment waiting for the path to come to rest: its command's seq and the
@@ -116,11 +119,13 @@ impl PathRun {
                 value: 0.0,
             });
         }
+        // then what was staged, after them (layout 1.14)
+        self.path.abort_staged(group, by as i32, tick, out);
     }
 
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         Self {
-            path: Path::with_capacity(PATH_LEN),
+            path: Engine::narrow(),
             seqs: Deque::new(),
             started: 0,
             last_id: 0,
@@ -139,8 +144,28 @@ impl PathRun {
         }
     }
 
-    fn is_idle(&self) -> bool {
+    /// Nothing queued and at rest (segments may be staged).
+    pub(super) fn path_at_rest(&self) -> bool {
         self.seqs.is_empty() && (self.stale || !self.path.is_moving())
+    }
+
+    /// Nothing queued or staged, at rest.
+    fn is_idle(&self) -> bool {
+        self.path_at_rest() && self.path.staged() == 0
+    }
+
+    /// Room for more segments' seqs.
+    pub(super) fn seqs_free(&self) -> usize {
+        PATH_LEN - self.seqs.len()
+    }
+
+    /// Layout 1.14: run `engine` from now on (None: the one it has); either way the path
+    /// starts afresh.
+    pub(super) fn set_engine(&mut self, engine: Option<Engine>) {
+        if let Some(e) = engine {
+            self.path = e;
+        }
+        self.stale = true;
     }
 }
 
@@ -209,7 +234,7 @@ impl Group {
     }
 
     /// Can a segment be queued now? The group's configuration.
-    fn can_path(&self) -> Result<GroupConfig, NackCode> {
+    pub(super) fn can_path(&self) -> Result<GroupConfig, NackCode> {
         let cfg = self.config.ok_or(NackCode::GroupDisabled)?;
         match self.state {
             GroupState::Disabled => return Err(NackCode::GroupDisabled),
@@ -233,12 +258,33 @@ impl Group {
     /// position when its state is stale or something else moved the group since it ended (a
     /// path that simply ran to its end goes on from there, keeping the output actions queued
     /// for its next segment).
-    fn path_ready(&mut self, cfg: &GroupConfig, ts: f64) -> Result<&mut PathRun, NackCode> {
+    pub(super) fn path_ready(
+        &mut self,
+        cfg: &GroupConfig,
+        ts: f64,
+    ) -> Result<&mut PathRun, NackCode> {
         let n = cfg.naxes;
+        let wide = self
+            .path
+            .as_ref()
+            .and_then(|r| r.path.as_wide())
+            .map(|w| self.wide_limits(w.dims(), ts));
         let run = self.path.get_or_insert_with(PathRun::new);
-        if run.is_idle() && (run.stale || run.path.position()[..n] != self.queue_end[..n]) {
-            run.stale = false;
+        if run.path_at_rest() && (run.stale || run.path.position()[..n] != self.queue_end[..n]) {
             let b = &self.path_cfg;
+            if let (Engine::Wide(w), Some(lim)) = (&mut run.path, wide) {
+                // Layout 1.14: at the staging's origin (wide.rs)
+                w.reset_at_origin(&self.queue_end, lim, b.lookahead as usize)?;
+                run.stale = false;
+                run.started = 0;
+                run.starving = false;
+                run.halting = false;
+                return Ok(run);
+            }
+            let Engine::Narrow(path) = &mut run.path else {
+                return Err(NackCode::BadConfig);
+            };
+            run.stale = false;
             let mut lim = PathLimits {
                 naxes: cfg.naxes,
                 ts,
@@ -252,8 +298,7 @@ impl Group {
             lim.vmax[..cfg.naxes].copy_from_slice(&b.vmax[..cfg.naxes]);
             lim.amax[..cfg.naxes].copy_from_slice(&b.amax[..cfg.naxes]);
             lim.jmax[..cfg.naxes].copy_from_slice(&b.jmax[..cfg.naxes]);
-            run.path
-                .reset(self.queue_end, lim, b.lookahead as usize)
+            path.reset(self.queue_end, lim, b.lookahead as usize)
                 .map_err(|_| NackCode::BadConfig)?;
             run.started = 0;
             run.starving = false;
@@ -268,10 +313,18 @@ impl Group {
         &mut self,
         seq: u32,
         sc: &SegmentCmd,
+        more: Option<&PathMore>,
         ts: f64,
         tick: u64,
         out: &mut Outbox,
     ) -> Result<(), NackCode> {
+        if self.path_dims() > 0 {
+            // Layout 1.14: a path across cards stages its segments (wide.rs).
+            return self.stage_segment(seq, sc, more, ts);
+        }
+        if more.is_some() {
+            return Err(NackCode::PathDims);
+        }
         let (head, flags) = match sc {
             SegmentCmd::Line(l) => ([l.id, l.feed, l.tolerance], l.flags),
             SegmentCmd::Arc(a) => ([a.id, a.feed, a.tolerance], a.flags),
@@ -393,7 +446,7 @@ impl Group {
     ) -> Result<(), NackCode> {
         self.can_path()?;
         let plane = self.arc_plane.ok_or(NackCode::ArcNormal)?;
-        self.path_segment(seq, &SegmentCmd::ArcNormal(*a, plane), ts, tick, out)
+        self.path_segment(seq, &SegmentCmd::ArcNormal(*a, plane), None, ts, tick, out)
     }
 
     fn path_push(
@@ -413,7 +466,7 @@ impl Group {
 
     /// Queues what `push` puts in the path as segment `id` of command `seq`.
     #[allow(clippy::too_many_arguments)]
-    fn path_push_with(
+    pub(super) fn path_push_with(
         &mut self,
         id: u32,
         seq: u32,
@@ -453,6 +506,9 @@ impl Group {
     pub fn path_nurbs_begin(&mut self, p: &PathNurbs, ts: f64) -> Result<(), NackCode> {
         self.rx.open = false;
         let cfg = self.can_path()?;
+        if self.path_dims() > 0 {
+            return Err(NackCode::IncompatibleMode);
+        }
         let [degree, n_ctrl, n_knots] = p.size.to_array();
         let a = [
             p.id,
@@ -564,7 +620,8 @@ impl Group {
                 last,
                 tolerance: fit,
             };
-            run.path.push_curve(&seg).map(|_| ()).map_err(path_nack)
+            let path = run.path.as_narrow().ok_or(NackCode::IncompatibleMode)?;
+            path.push_curve(&seg).map(|_| ()).map_err(path_nack)
         })
     }
 
@@ -590,9 +647,13 @@ impl Group {
             raw::MC_PATH_OUT_AT_DISTANCE => return Err(NackCode::OutOfRange),
             _ => return Err(NackCode::PathMode),
         };
+        if self.path_dims() > 0 {
+            // (an output fires on this card only: a path across cards has none)
+            return Err(NackCode::IncompatibleMode);
+        }
         let run = self.path_ready(&cfg, ts)?;
-        run.path
-            .push_output(OutputAction { bit, on, at })
+        let path = run.path.as_narrow().ok_or(NackCode::IncompatibleMode)?;
+        path.push_output(OutputAction { bit, on, at })
             .map_err(|_| NackCode::PathOutput)
     }
 
@@ -720,7 +781,7 @@ impl Group {
             if let Some((seq, sc)) = run.pending.take() {
                 // The Aborting segment starts from here; one that cannot is aborted with the
                 // nack it would have had as its code.
-                let r = self.path_segment(seq, &sc, ts, tick, out);
+                let r = self.path_segment(seq, &sc, None, ts, tick, out);
                 if let Err(e) = r {
                     out.push(self.event(EventKind::GroupMotionAborted, seq, e as i32, 0.0, tick));
                 } else {
@@ -783,9 +844,21 @@ impl Group {
         Ok(())
     }
 
-    /// A halt or stop on a running path: along its geometry within its limits.
-    pub(super) fn path_halt(&mut self, dmax: f64, jerk: f64) -> bool {
+    /// A halt or stop on a running path: along its geometry within its limits. What is staged
+    /// and not running yet is aborted at once (`by`).
+    pub(super) fn path_halt(
+        &mut self,
+        (dmax, jerk): (f64, f64),
+        by: Opcode,
+        tick: u64,
+        out: &mut Outbox,
+    ) -> bool {
+        let index = self.index;
         match self.path.as_mut() {
+            Some(run) if run.path_at_rest() && run.path.staged() > 0 => {
+                run.path.abort_staged(index, by as i32, tick, out);
+                false
+            }
             Some(run) if !run.is_idle() => {
                 run.path.halt(dmax, jerk);
                 run.halting = true;
@@ -832,6 +905,7 @@ impl Group {
             return;
         };
         s.path_queued = run.seqs.len() as u32;
+        s.path_staged = run.path.staged() as u32;
         // buffer entries: a NURBS curve takes one per piece
         s.path_free = if run.seqs.is_empty() {
             PATH_LEN
@@ -869,7 +943,6 @@ impl Group {
     }
 }
 
-/// A segment's user id: an integer in 0..2³²−1.
 /// The plane of normal-vector arcs `p` names for a group of `cfg` (the path's
 /// `MC_OP_PATH_ARC_PLANE`, the move queue's `MC_OP_GROUP_CIRCULAR_PLANE`), checked: finite,
 /// three distinct whole group axes, a normal not zero (made a unit vector).
@@ -894,7 +967,8 @@ pub(super) fn arc_plane(cfg: &GroupConfig, p: &PathArcPlane) -> Result<ArcPlane,
     Ok(ArcPlane { axes, normal })
 }
 
-fn segment_id(x: f64) -> Result<u32, NackCode> {
+/// A segment's user id: an integer in 0..2³²−1.
+pub(super) fn segment_id(x: f64) -> Result<u32, NackCode> {
     whole(x)
         .filter(|&x| x <= u32::MAX as usize)
         .map(|x| x as u32)
@@ -981,7 +1055,7 @@ pub(super) fn normal_arc(
 }
 
 /// A segment's PLCopen BufferMode and TransitionMode (its flags) with its tolerance `tol`.
-fn path_mode(flags: &PathFlags, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
+pub(super) fn path_mode(flags: &PathFlags, tol: f64) -> Result<(Transition, BlendSpeed), NackCode> {
     if tol < 0.0 {
         return Err(NackCode::OutOfRange);
     }
@@ -1008,7 +1082,7 @@ fn path_mode(flags: &PathFlags, tol: f64) -> Result<(Transition, BlendSpeed), Na
 }
 
 /// The nack for a segment the path refuses.
-fn path_nack(e: crate::motion::path::PathError) -> NackCode {
+pub(super) fn path_nack(e: crate::motion::path::PathError) -> NackCode {
     use crate::motion::path::PathError as E;
     match e {
         E::Full => NackCode::QueueFull,

@@ -1,0 +1,584 @@
+//! Layout 1.14: a path whose axes live on several cards of one sync bus ([`CardSet::path`]).
+//!
+//! Each card's part is one of its groups; the path's dimensions are those groups' axes, in the
+//! order the parts are given (up to 16). Every card gets every segment of every dimension,
+//! plans the same speed profile from them (identical firmware, identical inputs on identical
+//! ticks) and drives only its own group's axes: the motion of each axis is, to the last bit,
+//! what one planner of all the dimensions would give it.
+//!
+//! Segments are staged on every card as they are pushed ([`SetPath::push`]: checked there,
+//! refused on every card or none, since the cards check the same numbers) and go into the
+//! cards' paths on [`SetPath::release`], which is timed to one tick on every card with
+//! [`CardSet::sync`]: so every card holds the same segments on every tick, and the look-ahead,
+//! which plans from what is queued, plans the same on all of them. The first release is the
+//! synchronised start; releases while the path runs stream the rest ([`SetPath::run`] pushes
+//! and releases a whole program in batches of up to [`PATH_STAGE_LEN`]). A hold, resume,
+//! pause or halt ([`SetPath::hold`], [`SetPath::halt`]) is timed the same way.
+//!
+//! Units: each dimension's targets in its axis's user units; feeds, tolerances and the halt's
+//! ramp in the first dimension's. The numbers go to every card as the same counts.
+//!
+//! A fault on one card stops that card's axes; [`SetPath::wait`] then halts the others at once
+//! and returns the fault (their axes can no longer keep to the path together).
+
+use crate::card::finite;
+use crate::cardset::CardSet;
+use crate::error::{Error, Result, Target};
+use crate::group::{ArcSpec, Group, Plane};
+use crate::path::PathSettings;
+use crate::segment::{Geometry, PathBuffer, Segment, Transition};
+use firmware_proto::cmd::{
+    ArcFlags, ArcGeometry, GroupCmd, GroupOverride, PathArc, PathDwell, PathFlags, PathLine,
+    PathMore, PathPause, PathRelease, StopRamp,
+};
+use firmware_proto::layout::{self, PATH_MAX_DIMS, PATH_STAGE_LEN};
+use firmware_proto::{raw, Command, GroupDims, GroupPath, GroupState, NackCode, CMD_ARGS};
+use std::time::{Duration, Instant};
+
+/// One card's part of a path across cards: a group of the set's card `card`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PathPart {
+    /// The card, its index in the set.
+    pub card: usize,
+    /// Its group.
+    pub group: usize,
+}
+
+/// Where a path across cards is ([`SetPath::progress`]): the same on every card, but for
+/// the instant each is read at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetPathProgress {
+    /// Segments staged on the host's side of the release (pushed, not released).
+    pub staged: usize,
+    /// Segments released and not finished, on the card that has the most.
+    pub queued: usize,
+    /// Segments finished, on the card that has the fewest.
+    pub done: u32,
+}
+
+/// A path across the cards of a [`CardSet`] ([`CardSet::path`]).
+pub struct SetPath<'a> {
+    set: &'a CardSet,
+    /// Per part: its group and the dimensions of its members, in member order.
+    parts: Vec<(Group, Vec<usize>)>,
+    /// Counts per user unit, per dimension.
+    scales: Vec<f64>,
+    /// Counts per user unit of feeds and tolerances (the first dimension's).
+    path_scale: f64,
+    /// Segments pushed and not released yet (the same number on every card).
+    staged: usize,
+    /// `path_done` of every part's group when the path began (it counts since enable).
+    done0: Vec<u32>,
+}
+
+impl std::fmt::Debug for SetPath<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SetPath")
+            .field("dims", &self.scales.len())
+            .field("parts", &self.parts.len())
+            .field("staged", &self.staged)
+            .finish()
+    }
+}
+
+impl CardSet {
+    /// A path across the cards of this set: its dimensions are the axes of `parts`' groups, in
+    /// order (each group configured and enabled, at rest, its path idle), at most 16;
+    /// `settings` gives every dimension's limits (in its axis's units) and the path's
+    /// look-ahead and tangential limits (the first dimension's units), written to every card
+    /// alike. Every card's group starts the path where the axes are now (each card is told
+    /// where the others' are). `BadConfig` for a card or group named twice or not in the set.
+    pub fn path(&self, parts: &[PathPart], settings: &PathSettings) -> Result<SetPath<'_>> {
+        let mut groups: Vec<(Group, Vec<usize>)> = Vec::with_capacity(parts.len());
+        // per dimension: (part, card axis)
+        let mut owners = Vec::new();
+        for (k, p) in parts.iter().enumerate() {
+            let card = self.cards().get(p.card).ok_or_else(|| {
+                Error::BadConfig(format!(
+                    "card {} of a set of {}",
+                    p.card,
+                    self.cards().len()
+                ))
+            })?;
+            if parts[..k].contains(p) {
+                return Err(Error::BadConfig(format!(
+                    "group {} of card {} is named twice",
+                    p.group, p.card
+                )));
+            }
+            let g = card.group(p.group)?;
+            let (n, axes) = g.axes()?;
+            let dims = (owners.len()..owners.len() + n).collect();
+            owners.extend(axes[..n].iter().map(|&a| (k, a)));
+            groups.push((g, dims));
+        }
+        let n = owners.len();
+        if n == 0 || n > PATH_MAX_DIMS {
+            return Err(Error::BadConfig(format!(
+                "a path across cards has 1 to {PATH_MAX_DIMS} axes, not {n}"
+            )));
+        }
+        for v in [&settings.vmax, &settings.amax, &settings.jmax] {
+            if v.len() != n {
+                return Err(Error::BadAxis {
+                    axis: v.len(),
+                    count: n,
+                });
+            }
+        }
+        let scales: Vec<f64> = owners
+            .iter()
+            .map(|&(k, a)| groups[k].0.card_pub().scale(a))
+            .collect();
+        let path_scale = scales[0].abs();
+        // where every dimension starts: its axis's commanded position, in counts exactly
+        let mut start = [0.0; PATH_MAX_DIMS];
+        for (d, &(k, a)) in owners.iter().enumerate() {
+            start[d] = groups[k].0.card_pub().read_axis_status(a)?.cmd_pos;
+        }
+        let mut path = GroupPath {
+            lookahead: settings.lookahead.min(u32::MAX as usize) as u32,
+            low_water: settings.low_water.min(u32::MAX as usize) as u32,
+            accel: settings.accel * path_scale,
+            jerk: settings.jerk * path_scale,
+            plan_period: settings.plan_period,
+            ..GroupPath::default()
+        };
+        let mut dims = GroupDims {
+            ndims: n as u32,
+            ..GroupDims::default()
+        };
+        for d in 0..n {
+            let s = scales[d].abs();
+            crate::card::positive("velocity limit", settings.vmax[d])?;
+            crate::card::positive("acceleration limit", settings.amax[d])?;
+            crate::card::positive("jerk limit", settings.jmax[d])?;
+            dims.vmax[d] = settings.vmax[d] * s;
+            dims.amax[d] = settings.amax[d] * s;
+            dims.jmax[d] = settings.jmax[d] * s;
+            dims.start[d] = start[d];
+        }
+        let mut done0 = Vec::with_capacity(groups.len());
+        for (g, own) in &groups {
+            let mut d = dims;
+            d.axis = [raw::MC_DIM_REMOTE; PATH_MAX_DIMS];
+            for (m, &dim) in own.iter().enumerate() {
+                d.axis[dim] = m as i32;
+                // (the members' limits in group_path too: checked there, not used with
+                // dimensions)
+                path.vmax[m] = dims.vmax[dim];
+                path.amax[m] = dims.amax[dim];
+                path.jmax[m] = dims.jmax[dim];
+            }
+            let card = g.card_pub();
+            let target = Target::Group(g.index());
+            card.apply_block(
+                layout::GROUP_PATH.at(g.index()),
+                |b| *b = path,
+                g.cmd(GroupCmd::ApplyPath),
+                "path across cards",
+                target,
+            )?;
+            card.apply_block(
+                layout::GROUP_DIMS.at(g.index()),
+                |b| *b = d,
+                g.cmd(GroupCmd::ApplyDims),
+                "path across cards",
+                target,
+            )?;
+            done0.push(g.status()?.1.path_done);
+        }
+        Ok(SetPath {
+            set: self,
+            parts: groups,
+            scales,
+            path_scale,
+            staged: 0,
+            done0,
+        })
+    }
+}
+
+impl SetPath<'_> {
+    /// Dimensions of the path.
+    pub fn dims(&self) -> usize {
+        self.scales.len()
+    }
+
+    /// Stage `seg` on every card: a line (a target per dimension), an arc in a plane of two
+    /// of the first 8 dimensions (its helix the other dimensions, in order) or a dwell; not
+    /// `Aborting` (`Unsupported`). Refused by the cards (they check alike: the same refusal
+    /// from each, nothing staged on any), or `QueueFull` once [`PATH_STAGE_LEN`] are staged:
+    /// [`SetPath::release`] first.
+    pub fn push(&mut self, seg: &Segment) -> Result<()> {
+        if self.staged >= PATH_STAGE_LEN {
+            return Err(Error::Refused {
+                command: "path across cards",
+                target: Target::Group(self.parts[0].0.index()),
+                code: NackCode::QueueFull,
+                reason: "the staging holds 256 segments: release them first",
+            });
+        }
+        let entries = self.entries(seg)?;
+        for (i, (g, _)) in self.parts.iter().enumerate() {
+            let mut cmds: Vec<Command> = entries.iter().map(|c| g.cmd(c.clone())).collect();
+            let r = g.card_pub().execute_together(
+                &mut cmds,
+                "path segment across cards",
+                Target::Group(g.index()),
+            );
+            if let Err(e) = r {
+                if i > 0 {
+                    // (the cards check alike: a refusal on one after another accepted is a
+                    // card that is not in the state the others are; what was staged must go)
+                    let _ = self.halt_now();
+                    self.staged = 0;
+                }
+                return Err(e);
+            }
+        }
+        self.staged += 1;
+        Ok(())
+    }
+
+    /// Release everything staged into every card's path on one tick (a margin ahead: the
+    /// set's), once every card's path has room for it (the path runs meanwhile; `QueueFull`
+    /// after 5 s of card time without room). The first release starts the path. The tick.
+    pub fn release(&mut self) -> Result<u64> {
+        let k = self.staged;
+        if k == 0 {
+            return self.set.tick();
+        }
+        let patience = 5 * u64::from(self.set.cards()[0].info().servo_rate_hz);
+        let t0 = self.set.tick()?;
+        loop {
+            let mut room = usize::MAX;
+            for (g, _) in &self.parts {
+                let st = g.status()?.1;
+                room = room.min(
+                    (st.path_free as usize).min(firmware_proto::PATH_LEN - st.path_queued as usize),
+                );
+            }
+            if room >= k {
+                break;
+            }
+            if self.set.tick()?.saturating_sub(t0) > patience {
+                return Err(Error::Refused {
+                    command: "path release",
+                    target: Target::Group(self.parts[0].0.index()),
+                    code: NackCode::QueueFull,
+                    reason: "the cards' paths had no room for the staged segments",
+                });
+            }
+            self.set.cards()[0].wait_next_tick(Duration::from_secs(1))?;
+        }
+        let cmd = GroupCmd::PathRelease(PathRelease { count: k as f64 });
+        let (tick, ()) = self.set.sync(|| {
+            for (g, _) in &self.parts {
+                g.run(g.cmd(cmd.clone()), "path release")?;
+            }
+            Ok(())
+        })?;
+        self.staged = 0;
+        Ok(tick)
+    }
+
+    /// Push and release a whole program: released in batches as the staging fills, the last
+    /// batch at the end. The tick of the first release (the start).
+    pub fn run<'s>(&mut self, segments: impl IntoIterator<Item = &'s Segment>) -> Result<u64> {
+        let mut start = None;
+        for s in segments {
+            if self.staged == PATH_STAGE_LEN {
+                let t = self.release()?;
+                start.get_or_insert(t);
+            }
+            self.push(s)?;
+        }
+        let t = self.release()?;
+        Ok(*start.get_or_insert(t))
+    }
+
+    /// How far the path has come.
+    pub fn progress(&self) -> Result<SetPathProgress> {
+        let mut queued = 0;
+        let mut done = u32::MAX;
+        for ((g, _), d0) in self.parts.iter().zip(&self.done0) {
+            let st = g.status()?.1;
+            queued = queued.max(st.path_queued as usize);
+            done = done.min(st.path_done.wrapping_sub(*d0));
+        }
+        Ok(SetPathProgress {
+            staged: self.staged,
+            queued,
+            done,
+        })
+    }
+
+    /// Wait until every card's path has run everything released and its group is at rest in
+    /// position (`Timeout` after `timeout`, card time on a stepped set). A group that faults
+    /// or is stopped on one card: the others are halted at once and that is the error.
+    pub fn wait(&self, timeout: Duration) -> Result<()> {
+        let rate = f64::from(self.set.cards()[0].info().servo_rate_hz);
+        let t0 = self.set.tick()?;
+        let deadline = Instant::now() + timeout.max(Duration::from_secs(1)) * 4;
+        loop {
+            let mut all = true;
+            for (g, _) in &self.parts {
+                let (state, st) = g.status()?;
+                match state {
+                    GroupState::ErrorStop | GroupState::Disabled | GroupState::Stopping => {
+                        let _ = self.halt_now();
+                        return Err(Error::Refused {
+                            command: "path across cards",
+                            target: Target::Group(g.index()),
+                            code: NackCode::InvalidState,
+                            reason: "a card's group stopped or faulted: the others were halted",
+                        });
+                    }
+                    GroupState::Standby => {}
+                    _ => all = false,
+                }
+                all &= st.path_queued == 0 && st.path_staged == 0;
+            }
+            if all {
+                return Ok(());
+            }
+            let waited = (self.set.tick()?.saturating_sub(t0)) as f64 / rate;
+            if waited > timeout.as_secs_f64() || Instant::now() > deadline {
+                return Err(Error::Timeout(timeout));
+            }
+            self.set.cards()[0].wait_next_tick(Duration::from_secs(1))?;
+        }
+    }
+
+    /// Halt the path on every card on one tick, along its geometry within `deceleration` and
+    /// `jerk` (the first dimension's units; each card stops within its limits too, the same
+    /// on all). What is staged is dropped. The tick.
+    pub fn halt(&mut self, deceleration: f64, jerk: f64) -> Result<u64> {
+        let r = self.ramp(deceleration, jerk)?;
+        let t = self.on_every_card(GroupCmd::Halt(r))?;
+        self.staged = 0;
+        Ok(t)
+    }
+
+    /// Hold the path on every card on one tick (feed override 0: it comes to rest along its
+    /// geometry and stays in its motion); [`SetPath::set_override`] with a factor above 0
+    /// resumes it on every card together.
+    pub fn hold(&self) -> Result<u64> {
+        self.set_override(0.0)
+    }
+
+    /// The feed override of every card's group, on one tick.
+    pub fn set_override(&self, factor: f64) -> Result<u64> {
+        finite("override", factor)?;
+        let o = GroupOverride {
+            feed: factor,
+            rapid: factor,
+        };
+        self.on_every_card(GroupCmd::SetOverride(o))
+    }
+
+    /// Pause the path at the end of a segment on every card on one tick (`false`: go on).
+    pub fn pause(&self, on: bool) -> Result<u64> {
+        let p = PathPause {
+            on: if on { 1.0 } else { 0.0 },
+        };
+        self.on_every_card(GroupCmd::PathPause(p))
+    }
+
+    fn on_every_card(&self, cmd: GroupCmd) -> Result<u64> {
+        self.set
+            .sync(|| {
+                for (g, _) in &self.parts {
+                    g.run(g.cmd(cmd.clone()), "path across cards")?;
+                }
+                Ok(())
+            })
+            .map(|(t, ())| t)
+    }
+
+    /// A halt sent to every card now, untimed (the path has already parted).
+    fn halt_now(&self) -> Result<()> {
+        let r = StopRamp {
+            dmax: f64::MAX,
+            jerk: f64::MAX,
+        };
+        let mut first = None;
+        for (g, _) in &self.parts {
+            let r = g.run(g.cmd(GroupCmd::Halt(r)), "halt");
+            if let Err(e) = r {
+                first.get_or_insert(e);
+            }
+        }
+        first.map_or(Ok(()), Err)
+    }
+
+    fn ramp(&self, deceleration: f64, jerk: f64) -> Result<StopRamp> {
+        crate::card::positive("deceleration", deceleration)?;
+        crate::card::positive("jerk", jerk)?;
+        Ok(StopRamp {
+            dmax: deceleration * self.path_scale,
+            jerk: jerk * self.path_scale,
+        })
+    }
+
+    /// The command entries of `seg` (the same counts for every card): the segment's, then its
+    /// `MC_OP_PATH_MORE` when it has more dimensions than its entry holds.
+    fn entries(&self, seg: &Segment) -> Result<Vec<GroupCmd>> {
+        let n = self.dims();
+        let ps = self.path_scale;
+        if let Geometry::Dwell { seconds } = seg.geometry {
+            crate::card::positive("dwell", seconds)?;
+            return Ok(vec![GroupCmd::PathDwell(PathDwell {
+                id: seg.id as f64,
+                seconds,
+                last: seg.last,
+            })]);
+        }
+        crate::card::positive("feed", seg.feed)?;
+        let (tm, tol) = match seg.transition {
+            Transition::None => (raw::MC_TM_NONE, 0.0),
+            Transition::MaxDeviation(t) => (raw::MC_TM_MAX_DEVIATION, t),
+            Transition::CornerDistance(t) => (raw::MC_TM_CORNER_DISTANCE, t),
+            Transition::TimeShift(t) => (raw::MC_TM_TIME_SHIFT, t),
+        };
+        finite("tolerance", tol)?;
+        let buffer = match seg.buffer {
+            PathBuffer::Aborting => {
+                return Err(Error::Unsupported(
+                    "an Aborting segment on a path across cards (halt it, then push)".into(),
+                ))
+            }
+            PathBuffer::Buffered => raw::MC_PATH_BUFFERED,
+            PathBuffer::BlendingLow => raw::MC_PATH_BLEND_LOW,
+            PathBuffer::BlendingPrevious => raw::MC_PATH_BLEND_PREVIOUS,
+            PathBuffer::BlendingNext => raw::MC_PATH_BLEND_NEXT,
+            PathBuffer::BlendingHigh => raw::MC_PATH_BLEND_HIGH,
+        };
+        let flags = PathFlags {
+            relative: seg.relative,
+            buffer: buffer as u8,
+            transition: tm as u8,
+            last: seg.last,
+        };
+        let (id, feed, tolerance) = (seg.id as f64, seg.feed * ps, tol * ps);
+        let more = |rest: &[f64]| {
+            let mut targets = [0.0; CMD_ARGS];
+            targets[..rest.len()].copy_from_slice(rest);
+            GroupCmd::PathMore(PathMore { targets })
+        };
+        let own = n.min(firmware_proto::MAX_AXES);
+        match &seg.geometry {
+            Geometry::Line { target } => {
+                if target.len() != n {
+                    return Err(Error::BadAxis {
+                        axis: target.len(),
+                        count: n,
+                    });
+                }
+                let mut t = Vec::with_capacity(n);
+                for (x, s) in target.iter().zip(&self.scales) {
+                    finite("target", *x)?;
+                    t.push(x * s);
+                }
+                let mut targets = [0.0; firmware_proto::MAX_AXES];
+                targets[..own].copy_from_slice(&t[..own]);
+                let mut v = vec![GroupCmd::PathLine(PathLine {
+                    id,
+                    feed,
+                    tolerance,
+                    targets,
+                    flags,
+                })];
+                if n > own {
+                    v.push(more(&t[own..]));
+                }
+                Ok(v)
+            }
+            Geometry::Arc { arc, plane, helix } => {
+                let (arc, h) = self.arc(arc, *plane, helix)?;
+                let mut v = vec![GroupCmd::PathArc(PathArc {
+                    id,
+                    feed,
+                    tolerance,
+                    arc,
+                    flags,
+                })];
+                if n > own {
+                    v.push(more(&h[own - 2..]));
+                }
+                Ok(v)
+            }
+            _ => Err(Error::Unsupported(
+                "a path across cards takes lines, arcs and helices, and dwells".into(),
+            )),
+        }
+    }
+
+    /// An arc over the path's dimensions: its entry's geometry and all its helix targets
+    /// (counts), as `Group::arc_geometry` makes a group's.
+    fn arc(&self, arc: &ArcSpec, plane: Plane, helix: &[f64]) -> Result<(ArcGeometry, Vec<f64>)> {
+        let n = self.dims();
+        let (u, v) = plane.axes();
+        if u >= n.min(firmware_proto::MAX_AXES) || v >= n.min(firmware_proto::MAX_AXES) {
+            return Err(Error::BadAxis {
+                axis: u.max(v),
+                count: n.min(firmware_proto::MAX_AXES),
+            });
+        }
+        let (su, sv) = (self.scales[u], self.scales[v]);
+        let (mode, end, aux, ccw) = match *arc {
+            ArcSpec::Centre { end, centre, ccw } => (
+                raw::MC_CIRC_BY_CENTRE,
+                end,
+                [centre[0] * su, centre[1] * sv],
+                ccw,
+            ),
+            ArcSpec::Radius { end, radius, ccw } => {
+                (raw::MC_CIRC_BY_RADIUS, end, [radius * su.abs(), 0.0], ccw)
+            }
+            ArcSpec::Border { end, via } => (
+                raw::MC_CIRC_BY_BORDER,
+                end,
+                [via[0] * su, via[1] * sv],
+                false,
+            ),
+        };
+        for x in end.iter().chain(aux.iter()).chain(helix) {
+            finite("arc coordinate", *x)?;
+        }
+        let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
+        if !helix.is_empty() && helix.len() != others.len() {
+            return Err(Error::BadAxis {
+                axis: helix.len(),
+                count: others.len(),
+            });
+        }
+        let mut h = vec![0.0; others.len()];
+        for ((d, x), i) in h.iter_mut().zip(helix).zip(&others) {
+            *d = x * self.scales[*i];
+        }
+        let own = n.min(firmware_proto::MAX_AXES) - 2;
+        let mut first = [0.0; firmware_proto::MAX_AXES - 2];
+        first[..own].copy_from_slice(&h[..own]);
+        let (plane_bits, plane_axes) = match plane {
+            Plane::XY => (raw::MC_PLANE_XY, (0, 0)),
+            Plane::YZ => (raw::MC_PLANE_YZ, (0, 0)),
+            Plane::ZX => (raw::MC_PLANE_ZX, (0, 0)),
+            Plane::Axes(u, v) => (raw::MC_PLANE_AXES, (u as u8, v as u8)),
+        };
+        let g = ArcGeometry {
+            end: [end[0] * su, end[1] * sv],
+            aux,
+            helix: first,
+            flags: ArcFlags {
+                mode: mode as u8,
+                plane: plane_bits as u8,
+                axes: plane_axes,
+                ccw,
+                helix_relative: helix.is_empty(),
+            },
+        };
+        Ok((g, h))
+    }
+}
