@@ -243,10 +243,21 @@ impl TimedCommands {
 
 /// Cards on one sync bus, the first its master, driven as one: commands on several cards
 /// timed to one tick ([`CardSet::sync`]), a synchronised start, halt, hold and override.
+/// A clone drives the same cards (its keys are this process's, as every set's).
+#[derive(Clone)]
 pub struct CardSet {
     cards: Vec<Card>,
-    key: AtomicU32,
     margin: Duration,
+}
+
+/// The next key of a synchronised command (odd, never 0): one counter for every set of this
+/// process, so that two sets on one bus never time under one key; seeded by the process id so
+/// that another host's keys differ.
+fn next_key() -> u32 {
+    static KEY: std::sync::OnceLock<AtomicU32> = std::sync::OnceLock::new();
+    KEY.get_or_init(|| AtomicU32::new(std::process::id().wrapping_mul(2_654_435_761) | 1))
+        .fetch_add(2, Ordering::Relaxed)
+        .max(1)
 }
 
 impl std::fmt::Debug for CardSet {
@@ -283,7 +294,6 @@ impl CardSet {
             }
         }
         Ok(Self {
-            key: AtomicU32::new(std::process::id().wrapping_mul(2_654_435_761) | 1),
             margin: Duration::from_millis(20),
             cards,
         })
@@ -364,7 +374,7 @@ impl CardSet {
         let master = &self.cards[0];
         let rate = master.info().servo_rate_hz as f64;
         let ahead = (self.margin.as_secs_f64() * rate).ceil().max(2.0) as u64;
-        let key = self.key.fetch_add(2, Ordering::Relaxed).max(1);
+        let key = next_key();
         let at = Timing {
             tick: master.tick()? + ahead,
             key,

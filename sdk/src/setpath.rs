@@ -56,9 +56,10 @@ pub struct SetPathProgress {
     pub done: u32,
 }
 
-/// A path across the cards of a [`CardSet`] ([`CardSet::path`]).
-pub struct SetPath<'a> {
-    set: &'a CardSet,
+/// A path across the cards of a [`CardSet`] ([`CardSet::path`]). It holds its own handle of
+/// the set's cards.
+pub struct SetPath {
+    set: CardSet,
     /// Per part: its group and the dimensions of its members, in member order.
     parts: Vec<(Group, Vec<usize>)>,
     /// Counts per user unit, per dimension.
@@ -71,7 +72,7 @@ pub struct SetPath<'a> {
     done0: Vec<u32>,
 }
 
-impl std::fmt::Debug for SetPath<'_> {
+impl std::fmt::Debug for SetPath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SetPath")
             .field("dims", &self.scales.len())
@@ -88,7 +89,7 @@ impl CardSet {
     /// look-ahead and tangential limits (the first dimension's units), written to every card
     /// alike. Every card's group starts the path where the axes are now (each card is told
     /// where the others' are). `BadConfig` for a card or group named twice or not in the set.
-    pub fn path(&self, parts: &[PathPart], settings: &PathSettings) -> Result<SetPath<'_>> {
+    pub fn path(&self, parts: &[PathPart], settings: &PathSettings) -> Result<SetPath> {
         let mut groups: Vec<(Group, Vec<usize>)> = Vec::with_capacity(parts.len());
         // per dimension: (part, card axis)
         let mut owners = Vec::new();
@@ -189,7 +190,7 @@ impl CardSet {
             done0.push(g.status()?.1.path_done);
         }
         Ok(SetPath {
-            set: self,
+            set: self.clone(),
             parts: groups,
             scales,
             path_scale,
@@ -199,7 +200,7 @@ impl CardSet {
     }
 }
 
-impl SetPath<'_> {
+impl SetPath {
     /// Dimensions of the path.
     pub fn dims(&self) -> usize {
         self.scales.len()
