@@ -476,3 +476,55 @@ fn what_a_path_across_cards_refuses() {
         }
     }
 }
+
+/// A drive alarm on one card mid-path: that card's group stops (ErrorStop); `SetPath::wait`
+/// halts the other card's path at once and returns the fault; the other card's axes come to
+/// rest along the path, short of its end, within their stop.
+#[test]
+fn a_fault_on_one_card_halts_the_path_on_the_others() {
+    let split = [6, 6];
+    let set = cards(&split);
+    let parts = [
+        PathPart { card: 0, group: 0 },
+        PathPart { card: 1, group: 0 },
+    ];
+    let mut path = set.path(&parts, &settings()).unwrap();
+    path.run(&program()).unwrap();
+    set.cards()[0].sim().unwrap().step(2_000);
+    set.cards()[1]
+        .sim()
+        .unwrap()
+        .with_emulator(|e| e.faults().set_alarm(3, true));
+    let e = path.wait(LONG).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::InvalidState, "{e}");
+    let (state, _) = set.cards()[1].group(0).unwrap().status().unwrap();
+    assert_eq!(state, GroupState::ErrorStop);
+    // the other card halts along the path: at rest within its stop, not at the end
+    let g0 = set.cards()[0].group(0).unwrap();
+    let mut ticks = 0;
+    while g0.status().unwrap().0 != GroupState::Standby {
+        set.cards()[0].sim().unwrap().step(10);
+        ticks += 10;
+        assert!(ticks < 5_000, "card 0 comes to rest within its stop");
+    }
+    let p: Vec<f64> = (0..6)
+        .map(|a| {
+            set.cards()[0]
+                .axis(a)
+                .unwrap()
+                .status()
+                .unwrap()
+                .command_position
+        })
+        .collect();
+    assert!(
+        p.iter().any(|&x| x != 0.0),
+        "halted short of the end: {p:?}"
+    );
+    assert_eq!(
+        g0.status().unwrap().1.path_queued,
+        0,
+        "what it held was aborted"
+    );
+    println!("card 0 at rest {ticks} ticks after the fault was seen");
+}

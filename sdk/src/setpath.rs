@@ -398,11 +398,13 @@ impl SetPath {
             .map(|(t, ())| t)
     }
 
-    /// A halt sent to every card now, untimed (the path has already parted).
+    /// A halt sent to every card now, untimed (the path has already parted), as hard as the
+    /// card takes: each path stops within its own limits.
     fn halt_now(&self) -> Result<()> {
+        let rate = self.set.cards()[0].info().servo_rate_hz;
         let r = StopRamp {
-            dmax: f64::MAX,
-            jerk: f64::MAX,
+            dmax: *firmware_proto::limit_range(2, rate).end(),
+            jerk: *firmware_proto::limit_range(3, rate).end(),
         };
         let mut first = None;
         for (g, _) in &self.parts {
