@@ -4,8 +4,11 @@
 //! on its stop ramp (reason `SyncLost`) within the stop bound and says it lost the master.
 //! A host killed (SIGKILL) while it runs a path on every card of a bus, in each phase of the
 //! path (accelerating, at its feed, in a corner blend, decelerating), stops every card's
-//! axes within the watchdog timeout plus the stop ramp.
+//! axes within the watchdog timeout plus the stop ramp. A 12-axis path across two processes
+//! moves every axis on every tick as one planner of all twelve does, to the last bit.
 mod common;
+#[path = "common/wide_path.rs"]
+mod wide_path;
 
 use common::{card_emu, host_ready, open_when_ready, start_host_role, Proc};
 use motioncard_sdk::{
@@ -357,4 +360,73 @@ fn a_host_killed_mid_path_stops_every_cards_axes() {
             assert_eq!(ax.enable().unwrap_err().kind(), ErrorKind::WatchdogTripped);
         }
     }
+}
+
+/// Layout 1.14: a 12-axis path across two `card-emu` processes of six axes on one bus (1 kHz,
+/// so that each card's scope holds 4 s of samples between reads), streamed in two releases,
+/// the second while it runs: on every tick, every axis of both processes is where one planner
+/// of all twelve axes puts it, to the last bit.
+#[test]
+fn a_path_across_processes_is_bit_identical_to_one_planner() {
+    let master = format!("busw-{}", std::process::id());
+    let follower = format!("{master}-f");
+    let rate = ["--axes", "6", "--servo-rate", "1000"];
+    let _m = card_emu(&master, &rate);
+    let mut f_args = rate.to_vec();
+    f_args.extend(["--sync-from", &master]);
+    let _f = card_emu(&follower, &f_args);
+    let cards = vec![
+        open_when_ready(&format!("emu:{master}")),
+        open_when_ready(&format!("emu:{follower}")),
+    ];
+    let mut set = CardSet::new(cards).unwrap();
+    // a margin for a loaded machine: the release's commit must reach the master before its tick
+    set.set_margin(Duration::from_millis(300));
+    let axes: Vec<usize> = (0..6).collect();
+    for c in set.cards() {
+        for &a in &axes {
+            c.axis(a).unwrap().enable().unwrap();
+        }
+        let g = c.group(0).unwrap();
+        g.configure(&GroupSettings::new(&axes)).unwrap();
+        g.enable().unwrap();
+        wide_path::record(c, 6);
+    }
+    let parts = [
+        motioncard_sdk::PathPart { card: 0, group: 0 },
+        motioncard_sdk::PathPart { card: 1, group: 0 },
+    ];
+    let mut path = set.path(&parts, &wide_path::settings()).unwrap();
+    let prog = wide_path::program();
+    let split = [6, 6];
+    let mut got = std::collections::BTreeMap::new();
+    let mut batches = Vec::new();
+    for chunk in [&prog[..3], &prog[3..]] {
+        for s in chunk {
+            path.push(s).unwrap();
+        }
+        batches.push((path.release().unwrap(), chunk.to_vec()));
+        wide_path::read_all(&set, &split, &mut got);
+    }
+    let t0 = Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(20));
+        wide_path::read_all(&set, &split, &mut got);
+        let rest = set.cards().iter().all(|c| {
+            let (state, st) = c.group(0).unwrap().status().unwrap();
+            state == GroupState::Standby && st.path_queued == 0
+        });
+        if rest {
+            break;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(60), "the path ends");
+    }
+    path.wait(Duration::from_secs(5)).unwrap();
+    let (first, want) = wide_path::engine(1000, &batches, &[]);
+    let ticks = wide_path::compare(&got, first, &want);
+    eprintln!(
+        "{ticks} ticks of two processes, releases at {:?}: every axis bit-identical to one \
+         12-axis planner",
+        batches.iter().map(|b| b.0).collect::<Vec<_>>()
+    );
 }
