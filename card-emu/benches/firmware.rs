@@ -11,6 +11,11 @@
 //! Layout 1.11: the first figure again with every axis under PID+FF and four biquad filters on
 //! its servo output (two notches, a low-pass and a lead/lag): the laws' and the filters' cost.
 //!
+//! Layout 1.14: group 0 over axes 0–5 running a continuous path of blended lines (the members'
+//! `Path<8>`), and the same group as its card's part of a 12-axis path across cards (a
+//! `Path<16>` planning all twelve, driving its six): what planning the other card's axes
+//! costs a card. Axes 6 and 7 move on their own in both.
+//!
 //! A fourth is what a new `emu:` host costs card-emu: `Lessor::renew`, a new memfd (its 1 MiB
 //! allocated), the window copied into it and mapped over the card's mapping in place, a new
 //! eventfd, the old memfd freed. The card's thread waits only for the copy and the remap.
@@ -289,5 +294,139 @@ fn gantry_tick(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, tick, filtered_tick, group_tick, gantry_tick, renew);
+/// Group 0 over axes 0–5 (no filters: a path), its path of `dims` dimensions (0: its
+/// members'; 12: the first six its axes, the other six another card's), enabled.
+fn path_card(
+    dims: usize,
+) -> (
+    Emulator,
+    CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+) {
+    use firmware_proto::{layout, raw};
+    let (mut emu, mut host) = moving_card();
+    let block = raw::mc_group_config {
+        naxes: 6,
+        axes: [0, 1, 2, 3, 4, 5, 0, 0],
+        accdec: raw::MC_ACCDEC_PRE,
+        interpolator: raw::MC_INTERP_EXACT,
+        tolerance: 1.0,
+        ..Default::default()
+    };
+    layout::GROUP_CONFIG.at(0).write(emu.window(), &block);
+    let mut d = raw::mc_group_dims {
+        ndims: dims as u32,
+        ..Default::default()
+    };
+    for k in 0..16 {
+        d.axis[k] = if k < 6 { k as i32 } else { raw::MC_DIM_REMOTE };
+        (d.vmax[k], d.amax[k], d.jmax[k]) = (1e5, 1e6, 1e8);
+    }
+    layout::GROUP_DIMS.at(0).write(emu.window(), &d);
+    for op in [
+        Opcode::GroupConfigure,
+        Opcode::GroupEnable,
+        Opcode::ApplyGroupDims,
+    ] {
+        host.push(&Command::new(op, 0)).unwrap();
+    }
+    emu.serve();
+    assert_eq!(emu.firmware().group(0).map(|g| g.path_dims()), Some(dims));
+    (emu, host)
+}
+
+/// Keep the path going: blended lines back and forth between two points 20,000 counts apart
+/// on every dimension (four more whenever fewer than four are queued; with dimensions, each
+/// with its `MC_OP_PATH_MORE`, then released), and axes 6 and 7 moving.
+fn keep_path_moving(
+    emu: &mut Emulator,
+    host: &mut CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+    dims: usize,
+    k: &mut u64,
+) {
+    use firmware_proto::path_flags;
+    let st = emu.firmware().group(0).map(|g| g.status(0)).unwrap();
+    if st.path_queued < 4 {
+        let flags = (firmware_proto::raw::MC_PATH_BLEND_LOW << path_flags::BUFFER_SHIFT)
+            | (firmware_proto::raw::MC_TM_MAX_DEVIATION << path_flags::TRANSITION_SHIFT);
+        for _ in 0..4 {
+            *k += 1;
+            let x = if *k % 2 == 1 { 2e4 } else { 0.0 };
+            let mut args = vec![*k as f64, 5e4, 5.0];
+            args.extend((0..6).map(|d| x * (1.0 + 0.1 * d as f64)));
+            let mut line = Command::new(Opcode::PathLine, 0).with_args(&args);
+            line.flags = flags;
+            if dims > 8 {
+                let more: Vec<f64> = (8..dims).map(|d| x * (1.0 + 0.1 * d as f64)).collect();
+                let mut l = line;
+                l.args[9] = x * 1.6;
+                l.args[10] = x * 1.7;
+                host.push_all(&[l, Command::new(Opcode::PathMore, 0).with_args(&more)])
+                    .unwrap();
+            } else {
+                host.push(&line).unwrap();
+            }
+        }
+        if dims > 0 {
+            host.push(&Command::new(Opcode::PathRelease, 0).with_args(&[4.0]))
+                .unwrap();
+        }
+    }
+    for a in 6..8u16 {
+        if emu.firmware().axis(a as usize).map(|x| x.state) == Some(AxisState::Standstill) {
+            let x = emu
+                .firmware()
+                .axis(a as usize)
+                .map_or(0.0, |x| x.reference().pos);
+            let target = if x > 0.0 { -1e6 } else { 1e6 };
+            let args = [target, 2e5, 2e6, 2e6, 1e8, 1e8, 1e8, 1e8];
+            let _ = host.push(&Command::new(Opcode::MoveAbsolute, a).with_args(&args));
+        }
+    }
+    emu.serve();
+}
+
+fn path_tick(c: &mut Criterion) {
+    for (dims, name) in [
+        (0, "firmware tick, 6-axis path + 2 moving axes + plant"),
+        (
+            12,
+            "firmware tick, 6 axes of a 12-axis path across cards + 2 moving axes + plant",
+        ),
+    ] {
+        let (mut emu, mut host) = path_card(dims);
+        let (mut n, mut k, mut moving) = (0u64, 0u64, 0u64);
+        keep_path_moving(&mut emu, &mut host, dims, &mut k);
+        c.bench_function(name, |b| {
+            b.iter(|| {
+                emu.step();
+                n += 1;
+                if emu.firmware().axis(0).map(|x| x.state) == Some(AxisState::SynchronizedMotion) {
+                    moving += 1;
+                }
+                if n.is_multiple_of(256) {
+                    beat(&emu);
+                    let w = emu.window();
+                    use firmware_proto::Mem;
+                    let head = w.read32(firmware_proto::layout::EVT_HEAD);
+                    w.write32(firmware_proto::layout::EVT_TAIL, head);
+                    keep_path_moving(&mut emu, &mut host, dims, &mut k);
+                }
+            })
+        });
+        eprintln!(
+            "the path ran on {:.1}% of the {n} ticks measured, {k} segments",
+            100.0 * moving as f64 / n.max(1) as f64
+        );
+    }
+}
+
+criterion_group!(
+    benches,
+    tick,
+    filtered_tick,
+    group_tick,
+    path_tick,
+    gantry_tick,
+    renew
+);
 criterion_main!(benches);
