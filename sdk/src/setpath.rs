@@ -244,7 +244,9 @@ impl SetPath {
 
     /// Release everything staged into every card's path on one tick (a margin ahead: the
     /// set's), once every card's path has room for it (the path runs meanwhile; `QueueFull`
-    /// after 5 s of card time without room). The first release starts the path. The tick.
+    /// after 5 s of card time without room). The first release starts the path. The tick. A
+    /// release refused (by a card whose group faulted, or a commit too late) halts the path on
+    /// every card and drops what was staged.
     pub fn release(&mut self) -> Result<u64> {
         let k = self.staged;
         if k == 0 {
@@ -274,14 +276,23 @@ impl SetPath {
             self.set.cards()[0].wait_next_tick(Duration::from_secs(1))?;
         }
         let cmd = GroupCmd::PathRelease(PathRelease { count: k as f64 });
-        let (tick, ()) = self.set.sync(|| {
+        let r = self.set.sync(|| {
             for (g, _) in &self.parts {
                 g.run(g.cmd(cmd.clone()), "path release")?;
             }
             Ok(())
-        })?;
+        });
         self.staged = 0;
-        Ok(tick)
+        match r {
+            Ok((tick, ())) => Ok(tick),
+            Err(e) => {
+                // A release refused on its tick by one card (its group faulted meanwhile) ran
+                // on the others: halt them all (a release that ran nowhere leaves nothing to
+                // halt but what is staged, which goes too).
+                let _ = self.halt_now();
+                Err(e)
+            }
+        }
     }
 
     /// Push and release a whole program: released in batches as the staging fills, the last
