@@ -204,7 +204,16 @@ fn keep_group_moving(
         let args = [2e5, 2e6, 2e6, 1e8, t, -t, 0.5 * t];
         let _ = host.push(&Command::new(Opcode::GroupMoveLinear, 0).with_args(&args));
     }
-    for a in 3..8u16 {
+    keep_axes_moving(emu, host, 3..8);
+}
+
+/// Long moves (to the other end of ±1e6 counts) on the axes of `axes` standing still, served.
+fn keep_axes_moving(
+    emu: &mut Emulator,
+    host: &mut CmdProducer<std::sync::Arc<firmware_proto::window::MappedWindow>>,
+    axes: std::ops::Range<u16>,
+) {
+    for a in axes {
         if emu.firmware().axis(a as usize).map(|x| x.state) == Some(AxisState::Standstill) {
             let x = emu
                 .firmware()
@@ -371,18 +380,7 @@ fn keep_path_moving(
                 .unwrap();
         }
     }
-    for a in 6..8u16 {
-        if emu.firmware().axis(a as usize).map(|x| x.state) == Some(AxisState::Standstill) {
-            let x = emu
-                .firmware()
-                .axis(a as usize)
-                .map_or(0.0, |x| x.reference().pos);
-            let target = if x > 0.0 { -1e6 } else { 1e6 };
-            let args = [target, 2e5, 2e6, 2e6, 1e8, 1e8, 1e8, 1e8];
-            let _ = host.push(&Command::new(Opcode::MoveAbsolute, a).with_args(&args));
-        }
-    }
-    emu.serve();
+    keep_axes_moving(emu, host, 6..8);
 }
 
 fn path_tick(c: &mut Criterion) {

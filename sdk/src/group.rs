@@ -891,56 +891,12 @@ impl Group {
         }
         let su = self.card.scale(axes[u.min(n.saturating_sub(1))]);
         let sv = self.card.scale(axes[v.min(n.saturating_sub(1))]);
-        let (mode, end, aux, ccw) = match *arc {
-            ArcSpec::Centre { end, centre, ccw } => (
-                raw::MC_CIRC_BY_CENTRE,
-                end,
-                [centre[0] * su, centre[1] * sv],
-                ccw,
-            ),
-            ArcSpec::Radius { end, radius, ccw } => {
-                (raw::MC_CIRC_BY_RADIUS, end, [radius * su.abs(), 0.0], ccw)
-            }
-            ArcSpec::Border { end, via } => (
-                raw::MC_CIRC_BY_BORDER,
-                end,
-                [via[0] * su, via[1] * sv],
-                false,
-            ),
-        };
-        for x in end.iter().chain(aux.iter()).chain(helix) {
-            finite("arc coordinate", *x)?;
-        }
         let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
-        // No helical targets: the other axes stay where they are (distance 0).
-        if !helix.is_empty() && helix.len() != others.len() {
-            return Err(Error::BadAxis {
-                axis: helix.len(),
-                count: others.len(),
-            });
-        }
-        let mut h = [0.0; MAX_AXES - 2];
-        for ((d, x), i) in h.iter_mut().zip(helix).zip(&others) {
-            *d = x * self.card.scale(axes[*i]);
-        }
-        let (plane_bits, plane_axes) = match plane {
-            Plane::XY => (raw::MC_PLANE_XY, (0, 0)),
-            Plane::YZ => (raw::MC_PLANE_YZ, (0, 0)),
-            Plane::ZX => (raw::MC_PLANE_ZX, (0, 0)),
-            Plane::Axes(u, v) => (raw::MC_PLANE_AXES, (u as u8, v as u8)),
-        };
-        Ok(ArcGeometry {
-            end: [end[0] * su, end[1] * sv],
-            aux,
-            helix: h,
-            flags: ArcFlags {
-                mode: mode as u8,
-                plane: plane_bits as u8,
-                axes: plane_axes,
-                ccw,
-                helix_relative: helix.is_empty(),
-            },
-        })
+        let scales: Vec<f64> = others.iter().map(|&i| self.card.scale(axes[i])).collect();
+        let (g, h) = arc_counts(arc, plane, helix, (su, sv), &scales)?;
+        let mut first = [0.0; MAX_AXES - 2];
+        first[..h.len()].copy_from_slice(&h);
+        Ok(ArcGeometry { helix: first, ..g })
     }
 
     /// Wait for the last move queued through this library on this group. `NoMotion` when none
@@ -1048,4 +1004,67 @@ impl Axis {
             )
             .map(|_| ())
     }
+}
+
+/// An arc in counts, as MC_OP_GROUP_MOVE_CIRCULAR and MC_OP_PATH_ARC take it: its end, aux
+/// point and flags (mode, direction, plane, helix relative) with the plane's axes at scales
+/// `(su, sv)`, and the other axes' targets (a helix) at `others`' scales, in order, all of
+/// them (the entry's `helix` is left 0: the caller places them).
+pub(crate) fn arc_counts(
+    arc: &ArcSpec,
+    plane: Plane,
+    helix: &[f64],
+    (su, sv): (f64, f64),
+    others: &[f64],
+) -> Result<(ArcGeometry, Vec<f64>)> {
+    let (mode, end, aux, ccw) = match *arc {
+        ArcSpec::Centre { end, centre, ccw } => (
+            raw::MC_CIRC_BY_CENTRE,
+            end,
+            [centre[0] * su, centre[1] * sv],
+            ccw,
+        ),
+        ArcSpec::Radius { end, radius, ccw } => {
+            (raw::MC_CIRC_BY_RADIUS, end, [radius * su.abs(), 0.0], ccw)
+        }
+        ArcSpec::Border { end, via } => (
+            raw::MC_CIRC_BY_BORDER,
+            end,
+            [via[0] * su, via[1] * sv],
+            false,
+        ),
+    };
+    for x in end.iter().chain(aux.iter()).chain(helix) {
+        finite("arc coordinate", *x)?;
+    }
+    // No helical targets: the other axes stay where they are (distance 0).
+    if !helix.is_empty() && helix.len() != others.len() {
+        return Err(Error::BadAxis {
+            axis: helix.len(),
+            count: others.len(),
+        });
+    }
+    let mut h = vec![0.0; others.len()];
+    for ((d, x), s) in h.iter_mut().zip(helix).zip(others) {
+        *d = x * s;
+    }
+    let (plane_bits, plane_axes) = match plane {
+        Plane::XY => (raw::MC_PLANE_XY, (0, 0)),
+        Plane::YZ => (raw::MC_PLANE_YZ, (0, 0)),
+        Plane::ZX => (raw::MC_PLANE_ZX, (0, 0)),
+        Plane::Axes(u, v) => (raw::MC_PLANE_AXES, (u as u8, v as u8)),
+    };
+    let g = ArcGeometry {
+        end: [end[0] * su, end[1] * sv],
+        aux,
+        helix: [0.0; MAX_AXES - 2],
+        flags: ArcFlags {
+            mode: mode as u8,
+            plane: plane_bits as u8,
+            axes: plane_axes,
+            ccw,
+            helix_relative: helix.is_empty(),
+        },
+    };
+    Ok((g, h))
 }

@@ -76,6 +76,43 @@ pub struct PathSettings {
 }
 
 impl PathSettings {
+    /// `BadAxis` unless the settings have limits for `n` axes.
+    pub(crate) fn check_axes(&self, n: usize) -> Result<()> {
+        for v in [&self.vmax, &self.amax, &self.jmax] {
+            if v.len() != n {
+                return Err(Error::BadAxis {
+                    axis: v.len(),
+                    count: n,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The `group_path` block of these settings, its tangential limits in counts (`ps`: counts
+    /// per user unit of path quantities); the axes' limits are the caller's
+    /// ([`PathSettings::axis_limits`]).
+    pub(crate) fn block(&self, ps: f64) -> GroupPath {
+        GroupPath {
+            lookahead: self.lookahead.min(u32::MAX as usize) as u32,
+            low_water: self.low_water.min(u32::MAX as usize) as u32,
+            accel: self.accel * ps,
+            jerk: self.jerk * ps,
+            plan_period: self.plan_period,
+            ..GroupPath::default()
+        }
+    }
+
+    /// Axis `i`'s velocity, acceleration and jerk limits in counts (`scale`: its counts per
+    /// user unit), each checked above 0.
+    pub(crate) fn axis_limits(&self, i: usize, scale: f64) -> Result<[f64; 3]> {
+        positive("velocity limit", self.vmax[i])?;
+        positive("acceleration limit", self.amax[i])?;
+        positive("jerk limit", self.jmax[i])?;
+        let s = scale.abs();
+        Ok([self.vmax[i] * s, self.amax[i] * s, self.jmax[i] * s])
+    }
+
     /// `n` axes with the same limits, look-ahead 256, no low-water event, the card's default
     /// planner period, chords fitted into curves.
     pub fn uniform(n: usize, vmax: f64, amax: f64, jmax: f64) -> Self {
@@ -202,31 +239,10 @@ impl Group {
     /// Write the path configuration and have the card check and apply it (path idle).
     pub fn configure_path(&self, s: &PathSettings) -> Result<()> {
         let (n, axes) = self.axes()?;
-        for v in [&s.vmax, &s.amax, &s.jmax] {
-            if v.len() != n {
-                return Err(Error::BadAxis {
-                    axis: v.len(),
-                    count: n,
-                });
-            }
-        }
-        let ps = self.path_scale()?;
-        let mut b = GroupPath {
-            lookahead: s.lookahead.min(u32::MAX as usize) as u32,
-            low_water: s.low_water.min(u32::MAX as usize) as u32,
-            accel: s.accel * ps,
-            jerk: s.jerk * ps,
-            plan_period: s.plan_period,
-            ..GroupPath::default()
-        };
+        s.check_axes(n)?;
+        let mut b = s.block(self.path_scale()?);
         for (i, &axis) in axes[..n].iter().enumerate() {
-            let sc = self.card_pub().scale(axis).abs();
-            positive("velocity limit", s.vmax[i])?;
-            positive("acceleration limit", s.amax[i])?;
-            positive("jerk limit", s.jmax[i])?;
-            b.vmax[i] = s.vmax[i] * sc;
-            b.amax[i] = s.amax[i] * sc;
-            b.jmax[i] = s.jmax[i] * sc;
+            [b.vmax[i], b.amax[i], b.jmax[i]] = s.axis_limits(i, self.card_pub().scale(axis))?;
         }
         self.card_pub().apply_block(
             layout::GROUP_PATH.at(self.index()),

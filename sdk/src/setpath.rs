@@ -24,15 +24,15 @@
 use crate::card::finite;
 use crate::cardset::CardSet;
 use crate::error::{Error, Result, Target};
-use crate::group::{ArcSpec, Group, Plane};
+use crate::group::{arc_counts, ArcSpec, Group, Plane};
 use crate::path::PathSettings;
 use crate::segment::{Geometry, PathBuffer, Segment, Transition};
 use firmware_proto::cmd::{
-    ArcFlags, ArcGeometry, GroupCmd, GroupOverride, PathArc, PathDwell, PathFlags, PathLine,
-    PathMore, PathPause, PathRelease, StopRamp,
+    ArcGeometry, GroupCmd, GroupOverride, PathArc, PathDwell, PathFlags, PathLine, PathMore,
+    PathPause, PathRelease, StopRamp,
 };
 use firmware_proto::layout::{self, PATH_MAX_DIMS, PATH_STAGE_LEN};
-use firmware_proto::{raw, Command, GroupDims, GroupPath, GroupState, NackCode, CMD_ARGS};
+use firmware_proto::{raw, Command, GroupDims, GroupState, NackCode, CMD_ARGS};
 use std::time::{Duration, Instant};
 
 /// One card's part of a path across cards: a group of the set's card `card`.
@@ -119,14 +119,7 @@ impl CardSet {
                 "a path across cards has 1 to {PATH_MAX_DIMS} axes, not {n}"
             )));
         }
-        for v in [&settings.vmax, &settings.amax, &settings.jmax] {
-            if v.len() != n {
-                return Err(Error::BadAxis {
-                    axis: v.len(),
-                    count: n,
-                });
-            }
-        }
+        settings.check_axes(n)?;
         let scales: Vec<f64> = owners
             .iter()
             .map(|&(k, a)| groups[k].0.card_pub().scale(a))
@@ -137,26 +130,13 @@ impl CardSet {
         for (d, &(k, a)) in owners.iter().enumerate() {
             start[d] = groups[k].0.card_pub().read_axis_status(a)?.cmd_pos;
         }
-        let mut path = GroupPath {
-            lookahead: settings.lookahead.min(u32::MAX as usize) as u32,
-            low_water: settings.low_water.min(u32::MAX as usize) as u32,
-            accel: settings.accel * path_scale,
-            jerk: settings.jerk * path_scale,
-            plan_period: settings.plan_period,
-            ..GroupPath::default()
-        };
+        let mut path = settings.block(path_scale);
         let mut dims = GroupDims {
             ndims: n as u32,
             ..GroupDims::default()
         };
         for d in 0..n {
-            let s = scales[d].abs();
-            crate::card::positive("velocity limit", settings.vmax[d])?;
-            crate::card::positive("acceleration limit", settings.amax[d])?;
-            crate::card::positive("jerk limit", settings.jmax[d])?;
-            dims.vmax[d] = settings.vmax[d] * s;
-            dims.amax[d] = settings.amax[d] * s;
-            dims.jmax[d] = settings.jmax[d] * s;
+            [dims.vmax[d], dims.amax[d], dims.jmax[d]] = settings.axis_limits(d, scales[d])?;
             dims.start[d] = start[d];
         }
         let mut done0 = Vec::with_capacity(groups.len());
@@ -540,59 +520,13 @@ impl SetPath {
                 count: n.min(firmware_proto::MAX_AXES),
             });
         }
-        let (su, sv) = (self.scales[u], self.scales[v]);
-        let (mode, end, aux, ccw) = match *arc {
-            ArcSpec::Centre { end, centre, ccw } => (
-                raw::MC_CIRC_BY_CENTRE,
-                end,
-                [centre[0] * su, centre[1] * sv],
-                ccw,
-            ),
-            ArcSpec::Radius { end, radius, ccw } => {
-                (raw::MC_CIRC_BY_RADIUS, end, [radius * su.abs(), 0.0], ccw)
-            }
-            ArcSpec::Border { end, via } => (
-                raw::MC_CIRC_BY_BORDER,
-                end,
-                [via[0] * su, via[1] * sv],
-                false,
-            ),
-        };
-        for x in end.iter().chain(aux.iter()).chain(helix) {
-            finite("arc coordinate", *x)?;
-        }
-        let others: Vec<usize> = (0..n).filter(|i| *i != u && *i != v).collect();
-        if !helix.is_empty() && helix.len() != others.len() {
-            return Err(Error::BadAxis {
-                axis: helix.len(),
-                count: others.len(),
-            });
-        }
-        let mut h = vec![0.0; others.len()];
-        for ((d, x), i) in h.iter_mut().zip(helix).zip(&others) {
-            *d = x * self.scales[*i];
-        }
+        let others: Vec<f64> = (0..n)
+            .filter(|i| *i != u && *i != v)
+            .map(|i| self.scales[i])
+            .collect();
+        let (mut g, h) = arc_counts(arc, plane, helix, (self.scales[u], self.scales[v]), &others)?;
         let own = n.min(firmware_proto::MAX_AXES) - 2;
-        let mut first = [0.0; firmware_proto::MAX_AXES - 2];
-        first[..own].copy_from_slice(&h[..own]);
-        let (plane_bits, plane_axes) = match plane {
-            Plane::XY => (raw::MC_PLANE_XY, (0, 0)),
-            Plane::YZ => (raw::MC_PLANE_YZ, (0, 0)),
-            Plane::ZX => (raw::MC_PLANE_ZX, (0, 0)),
-            Plane::Axes(u, v) => (raw::MC_PLANE_AXES, (u as u8, v as u8)),
-        };
-        let g = ArcGeometry {
-            end: [end[0] * su, end[1] * sv],
-            aux,
-            helix: first,
-            flags: ArcFlags {
-                mode: mode as u8,
-                plane: plane_bits as u8,
-                axes: plane_axes,
-                ccw,
-                helix_relative: helix.is_empty(),
-            },
-        };
+        g.helix[..own].copy_from_slice(&h[..own]);
         Ok((g, h))
     }
 }

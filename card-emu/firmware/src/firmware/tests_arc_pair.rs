@@ -11,29 +11,7 @@ const R: f64 = 5_000.0;
 
 /// A card of three axes with group 0 over them, powered and enabled.
 fn card() -> Card {
-    let mut c = Card::with_axes(3);
-    for a in 0..3 {
-        let p = c.entry(Opcode::PowerOn, a, 0, &[]);
-        c.send(&[p]);
-        assert_eq!(c.answer(p.seq), Some(Ok(0)), "power {a}");
-    }
-    let mut block = raw::mc_group_config {
-        naxes: 3,
-        accdec: raw::MC_ACCDEC_PRE,
-        interpolator: raw::MC_INTERP_EXACT,
-        tolerance: 1.0,
-        ..Default::default()
-    };
-    block.axes[..3].copy_from_slice(&[0, 1, 2]);
-    layout::GROUP_CONFIG.at(0).write(&c.w, &block);
-    let cfg = c.entry(Opcode::GroupConfigure, 0, 0, &[]);
-    let en = c.entry(Opcode::GroupEnable, 0, 0, &[]);
-    c.send(&[cfg, en]);
-    assert_eq!(
-        (c.answer(cfg.seq), c.answer(en.seq)),
-        (Some(Ok(0)), Some(Ok(0)))
-    );
-    c
+    Card::with_group(3)
 }
 
 /// The two entries of a half turn in the XY plane (normal +Z) around (−R, 0, 0) from the

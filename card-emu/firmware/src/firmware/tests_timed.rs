@@ -45,6 +45,36 @@ impl Card {
         c
     }
 
+    /// A card of `n` axes, all powered, with group 0 over them (exact interpolation,
+    /// pre-interpolation acc/dec, tolerance 1 count) configured and enabled.
+    pub(super) fn with_group(n: usize) -> Self {
+        let mut c = Self::with_axes(n);
+        for a in 0..n as u16 {
+            let p = c.entry(Opcode::PowerOn, a, 0, &[]);
+            c.send(&[p]);
+            assert_eq!(c.answer(p.seq), Some(Ok(0)), "power {a}");
+        }
+        let mut block = firmware_proto::raw::mc_group_config {
+            naxes: n as u32,
+            accdec: firmware_proto::raw::MC_ACCDEC_PRE,
+            interpolator: firmware_proto::raw::MC_INTERP_EXACT,
+            tolerance: 1.0,
+            ..Default::default()
+        };
+        for (k, a) in block.axes[..n].iter_mut().enumerate() {
+            *a = k as u8;
+        }
+        layout::GROUP_CONFIG.at(0).write(&c.w, &block);
+        let cfg = c.entry(Opcode::GroupConfigure, 0, 0, &[]);
+        let en = c.entry(Opcode::GroupEnable, 0, 0, &[]);
+        c.send(&[cfg, en]);
+        assert_eq!(
+            (c.answer(cfg.seq), c.answer(en.seq)),
+            (Some(Ok(0)), Some(Ok(0)))
+        );
+        c
+    }
+
     pub(super) fn entry(&mut self, op: Opcode, axis: u16, flags: u32, args: &[f64]) -> Command {
         self.seq += 1;
         let mut c = Command::new(op, axis).with_args(args);

@@ -28,28 +28,7 @@ fn jmax(d: usize) -> f64 {
 /// A card of six axes, powered, group 0 over them configured and enabled, its dimensions
 /// `mine` (the dimensions its axes 0..6 are) of 12, the others starting at `start`.
 fn card(mine: std::ops::Range<usize>, start: &[f64; D]) -> Card {
-    let mut c = Card::with_axes(6);
-    for a in 0..6 {
-        let p = c.entry(Opcode::PowerOn, a, 0, &[]);
-        c.send(&[p]);
-        assert_eq!(c.answer(p.seq), Some(Ok(0)), "power {a}");
-    }
-    let mut block = raw::mc_group_config {
-        naxes: 6,
-        accdec: raw::MC_ACCDEC_PRE,
-        interpolator: raw::MC_INTERP_EXACT,
-        tolerance: 1.0,
-        ..Default::default()
-    };
-    block.axes[..6].copy_from_slice(&[0, 1, 2, 3, 4, 5]);
-    layout::GROUP_CONFIG.at(0).write(&c.w, &block);
-    let cfg = c.entry(Opcode::GroupConfigure, 0, 0, &[]);
-    let en = c.entry(Opcode::GroupEnable, 0, 0, &[]);
-    c.send(&[cfg, en]);
-    assert_eq!(
-        (c.answer(cfg.seq), c.answer(en.seq)),
-        (Some(Ok(0)), Some(Ok(0)))
-    );
+    let mut c = Card::with_group(6);
     let r = apply(&mut c, &dims(mine, start));
     assert_eq!(r, Some(Ok(0)));
     c
