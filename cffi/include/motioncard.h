@@ -7463,7 +7463,7 @@ mc_result mc_set_path_settings_uniform(uint32_t ndims,
  * card's index in `cards` and a group of it, configured and enabled, at rest, its path idle),
  * in order, 1 to `MC_PATH_MAX_DIMS` in all. `settings->ndims` must be that count
  * (`MC_ERR_BAD_AXIS`); each limit finite and > 0. A card index outside `cards`, a part named
- * twice or more parts than dimensions: `MC_ERR_BAD_CONFIG`. Every card's group starts the path
+ * twice, no parts or more than 16: `MC_ERR_BAD_CONFIG`. Every card's group starts the path
  * where the axes are now. Writes the handle to `*path`; close it with `mc_set_path_close`.
  * Blocks until every card has answered.
  */
@@ -7566,9 +7566,8 @@ mc_result mc_set_path_progress(mc_set_path path,
                                uint32_t *done);
 
 /**
- * Free the path's handle. What runs goes on (halt it first to stop it); the cards stay open,
- * each group keeps its dimensions until it is configured again. Closing twice:
- * `MC_ERR_BAD_HANDLE`.
+ * Free the path's handle. What runs goes on (halt it first to stop it); the cards stay open.
+ * Closing twice: `MC_ERR_BAD_HANDLE`.
  */
 mc_result mc_set_path_close(mc_set_path path);
 

@@ -171,7 +171,7 @@ pub unsafe extern "C" fn mc_set_path_settings_uniform(
 /// card's index in `cards` and a group of it, configured and enabled, at rest, its path idle),
 /// in order, 1 to `MC_PATH_MAX_DIMS` in all. `settings->ndims` must be that count
 /// (`MC_ERR_BAD_AXIS`); each limit finite and > 0. A card index outside `cards`, a part named
-/// twice or more parts than dimensions: `MC_ERR_BAD_CONFIG`. Every card's group starts the path
+/// twice, no parts or more than 16: `MC_ERR_BAD_CONFIG`. Every card's group starts the path
 /// where the axes are now. Writes the handle to `*path`; close it with `mc_set_path_close`.
 /// Blocks until every card has answered.
 #[no_mangle]
@@ -426,9 +426,8 @@ pub unsafe extern "C" fn mc_set_path_progress(
     })
 }
 
-/// Free the path's handle. What runs goes on (halt it first to stop it); the cards stay open,
-/// each group keeps its dimensions until it is configured again. Closing twice:
-/// `MC_ERR_BAD_HANDLE`.
+/// Free the path's handle. What runs goes on (halt it first to stop it); the cards stay open.
+/// Closing twice: `MC_ERR_BAD_HANDLE`.
 #[no_mangle]
 pub extern "C" fn mc_set_path_close(path: mc_set_path) -> mc_result {
     guard(|| {
