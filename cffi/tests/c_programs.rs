@@ -744,7 +744,8 @@ fn cards_on_one_sync_bus_from_c() {
 
 /// Layout 1.14: a path across cards from C: a 12-axis path over two stepped cards, split
 /// 6 + 6 and 8 + 4, bit-identical on every tick sampled and at its targets exactly; a halt
-/// timed on both cards; the card's refusals of staging entries sent raw.
+/// timed on both cards (after a hold and a resume); the card's refusals of staging entries
+/// sent raw.
 #[test]
 fn a_path_across_cards_from_c() {
     let out = run(&compile("set_path", Link::Shared), &[], &[]);

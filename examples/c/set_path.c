@@ -4,8 +4,8 @@
  * groups, streamed in two releases (the second while the path runs). The same path is run
  * split 6 + 6 and 8 + 4: every dimension's commanded position is the same, to the bit, on
  * every tick sampled, whichever card and split computed it, and every axis ends at its final
- * target exactly. Then a halt timed to one tick on both cards (every axis stops at the same
- * fraction of a 12-axis line), and the refusals: a line of the wrong count, a NULL target, a
+ * target exactly. Then a hold, a resume and a halt, each timed to one tick on both cards (every
+ * axis stops at the same fraction of a 12-axis line), and the refusals: a line of the wrong count, a NULL target, a
  * card not in the set, the card's refusals of staging entries sent raw (MC_ERR_PATH_MORE, an
  * MC_OP_PATH_MORE alone; MC_ERR_PATH_RELEASE, a release of nothing staged; MC_ERR_PATH_DIMS, a
  * release to a group without dimensions), a closed handle.
@@ -214,10 +214,27 @@ int main(int argc, char **argv) {
     CHECK(mc_set_path_line(p, 10, to, N, 3e4, 0.0));
     uint64_t tr = 0, th = 0;
     CHECK(mc_set_path_release(p, &tr));
-    CHECK(mc_sim_step(cs[0], 2000));
+    CHECK(mc_sim_step(cs[0], 1000));
+    /* a hold on one tick: every axis comes to rest on the line, at one fraction of it */
+    uint64_t tho = 0, tre = 0;
+    CHECK(mc_set_path_hold(p, &tho));
+    CHECK(mc_sim_step(cs[0], 3000));
+    double held = -1.0;
+    for (int d = 0; d < N; d++) {
+        mc_status s = axis(cs[d / 6], (uint32_t)(d % 6));
+        double frac = (s.command_position - from[d]) / (to[d] - from[d]);
+        if (d == 0) held = frac;
+        ASSERT(s.command_velocity == 0.0 && fabs(frac - held) < 1e-9 && frac > 0.0,
+               "held: dimension %d at %.12f of the line (velocity %g), dimension 0 at %.12f", d,
+               frac, s.command_velocity, held);
+    }
+    CHECK(mc_set_path_override(p, 1.0, &tre));
+    ASSERT(tr < tho && tho < tre, "release %llu, hold %llu, resume %llu",
+           (unsigned long long)tr, (unsigned long long)tho, (unsigned long long)tre);
+    CHECK(mc_sim_step(cs[0], 1000));
     CHECK(mc_set_path_halt(p, 2e5, 5e7, &th));
-    ASSERT(th > tr, "halt on %llu, release on %llu", (unsigned long long)th,
-           (unsigned long long)tr);
+    ASSERT(th > tre, "halt on %llu, resume on %llu", (unsigned long long)th,
+           (unsigned long long)tre);
     for (int k = 0; k < 100 && !at_rest(cs); k++) CHECK(mc_sim_step(cs[0], 100));
     CHECK(mc_set_path_wait(p, 1000));
     double frac0 = -1.0;
@@ -229,9 +246,11 @@ int main(int argc, char **argv) {
                "dimension %d stopped at %.12f of the line, dimension 0 at %.12f", d, frac,
                frac0);
     }
-    ASSERT(frac0 > 0.05 && frac0 < 0.95, "halted at %.6f of the line", frac0);
-    printf("set_path: halt on tick %llu, every axis stopped at %.6f of the line\n",
-           (unsigned long long)th, frac0);
+    ASSERT(frac0 > held + 0.01 && frac0 < 0.95, "held at %.6f, halted at %.6f of the line", held,
+           frac0);
+    printf("set_path: held on tick %llu at %.6f of a 12-axis line, resumed on %llu; halt on "
+           "tick %llu, every axis stopped at %.6f of the line\n",
+           (unsigned long long)tho, held, (unsigned long long)tre, (unsigned long long)th, frac0);
 
     /* The refusals. */
     double t11[N];
