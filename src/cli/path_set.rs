@@ -1,5 +1,6 @@
 //! `mcctl path-set`: a path across the cards of one sync bus (layout 1.14, `CardSet::path`).
-//! Each card's group 0 is configured over its first `--split` axes; the path's dimensions are
+//! Each card's group 0 is configured over its first `--split` axes (disabled first when it is
+//! enabled, and the axes enabled); the path's dimensions are
 //! those axes, card after card (up to 16). The file gives the path: a line of N numbers (N the
 //! dimensions) is a line to that point, `dwell SECONDS` an exact stop and a wait. It is read and
 //! checked whole before any card is opened (exit status 2 naming the line), then pushed to
@@ -202,6 +203,11 @@ fn go(set: &CardSet, a: &Args, items: &[Item]) -> Result<String> {
             }
         }
         let g = c.group(0)?;
+        // (a card that ran a path before keeps its group enabled: configured anew, disabled
+        // first)
+        if g.status()?.0 != crate::GroupState::Disabled {
+            g.disable()?;
+        }
         g.configure(&GroupSettings::new(&axes))?;
         g.enable()?;
     }
