@@ -7527,7 +7527,8 @@ mc_result mc_set_path_release(mc_set_path path, uint64_t *tick);
  * Wait until every card's path has run everything released and its group is at rest
  * (`MC_ERR_TIMEOUT` after `timeout_ms`, card time on stepped cards: they are stepped). A group
  * stopped or faulted on one card: the others are halted at once and that is the error
- * (`MC_ERR_INVALID_STATE`).
+ * (`MC_ERR_INVALID_STATE`). It waits 10 ms at a time: another thread may halt, hold or
+ * release the path meanwhile.
  */
 mc_result mc_set_path_wait(mc_set_path path, uint32_t timeout_ms);
 

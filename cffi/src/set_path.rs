@@ -337,10 +337,32 @@ pub unsafe extern "C" fn mc_set_path_release(path: mc_set_path, tick: *mut u64) 
 /// Wait until every card's path has run everything released and its group is at rest
 /// (`MC_ERR_TIMEOUT` after `timeout_ms`, card time on stepped cards: they are stepped). A group
 /// stopped or faulted on one card: the others are halted at once and that is the error
-/// (`MC_ERR_INVALID_STATE`).
+/// (`MC_ERR_INVALID_STATE`). It waits 10 ms at a time: another thread may halt, hold or
+/// release the path meanwhile.
 #[no_mangle]
 pub extern "C" fn mc_set_path_wait(path: mc_set_path, timeout_ms: u32) -> mc_result {
-    guard(|| with_path(path, |p| p.wait(Duration::from_millis(timeout_ms.into()))))
+    guard(|| {
+        let total = Duration::from_millis(timeout_ms.into());
+        let chunk = Duration::from_millis(10);
+        let mut waited = Duration::ZERO;
+        loop {
+            let step = chunk
+                .min(total.saturating_sub(waited))
+                .max(Duration::from_millis(1));
+            match with_path(path, |p| p.wait(step)) {
+                Err(f) if f.code == ErrorKind::Timeout.code() => {
+                    waited += step;
+                    if waited >= total {
+                        return Err(Failure::new(
+                            f.code,
+                            format!("the path across cards was not done within {timeout_ms} ms"),
+                        ));
+                    }
+                }
+                r => return r,
+            }
+        }
+    })
 }
 
 /// Halt the path on every card on one tick (`*tick`, may be NULL), along its geometry within

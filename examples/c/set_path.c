@@ -214,7 +214,12 @@ int main(int argc, char **argv) {
     CHECK(mc_set_path_line(p, 10, to, N, 3e4, 0.0));
     uint64_t tr = 0, th = 0;
     CHECK(mc_set_path_release(p, &tr));
-    CHECK(mc_sim_step(cs[0], 1000));
+    /* a wait shorter than the path: MC_ERR_TIMEOUT after 50 ms of card time (500 ticks) */
+    uint64_t tw = tick_of(cs[0]);
+    EXPECT(mc_set_path_wait(p, 50), MC_ERR_TIMEOUT);
+    tw = tick_of(cs[0]) - tw;
+    ASSERT(tw >= 500 && tw < 600, "a wait of 50 ms took %llu ticks", (unsigned long long)tw);
+    CHECK(mc_sim_step(cs[0], 500));
     /* a hold on one tick: every axis comes to rest on the line, at one fraction of it */
     uint64_t tho = 0, tre = 0;
     CHECK(mc_set_path_hold(p, &tho));
