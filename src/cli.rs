@@ -33,6 +33,7 @@ pub mod jog;
 pub mod list;
 pub mod machine;
 pub mod moves;
+pub mod path_set;
 pub mod plan;
 pub mod power;
 pub mod probe;

@@ -2060,3 +2060,99 @@ fn group_arc_runs_a_normal_vector_arc_and_reports_where_it_ended() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("three values"), "{err}");
 }
+
+/// Layout 1.14: `mcctl path-set` runs a 12-column file as one path across two stepped cards
+/// of one bus: split 6 + 6 and 8 + 4, every card's axes end exactly on the last point (each
+/// card holding its own dimensions), and the path takes the same card time whichever split
+/// ran it (every card plans all twelve dimensions alike). A bad line, a split of more than 16
+/// axes and a group of 9 are refused before any card is opened (status 2, naming what); a
+/// line of zero length is the cards' refusal (status 1, their reason).
+#[test]
+fn path_set_runs_a_12_axis_file_over_two_cards() {
+    let dir = std::env::temp_dir().join(format!("mcctl-path-set-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("p12.txt");
+    let last: Vec<f64> = (0..12)
+        .map(|d| 125.5 * (d as f64 + 1.0) * if d % 3 == 1 { -1.0 } else { 1.0 })
+        .collect();
+    let row = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let a: Vec<f64> = (0..12).map(|d| 1000.0 + 150.0 * d as f64).collect();
+    let b: Vec<f64> = (0..12)
+        .map(|d| if d % 2 == 0 { -800.0 } else { 2400.0 })
+        .collect();
+    std::fs::write(
+        &file,
+        format!(
+            "# twelve dimensions\n{}\n{}, \ndwell 0.01  # a stop\n{}\n",
+            row(&a),
+            row(&b).replace(' ', ", "),
+            row(&last)
+        ),
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let mut seconds = Vec::new();
+    for split in ["6,6", "8,4"] {
+        let (code, out, err) = mcctl(&[
+            "path-set",
+            f,
+            "--split",
+            split,
+            "--tolerance",
+            "5",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{split}: {err}");
+        let j: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        assert_eq!(
+            (j["dimensions"].as_u64(), j["done"].as_u64()),
+            (Some(12), Some(4))
+        );
+        let mut at = Vec::new();
+        for c in j["cards"].as_array().unwrap() {
+            assert_eq!(c["state"], "Standby", "{j}");
+            at.extend(
+                c["positions"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap()),
+            );
+        }
+        assert_eq!(at, last, "{split}: {j}");
+        seconds.push(j["seconds"].as_f64().unwrap());
+    }
+    assert_eq!(seconds[0], seconds[1], "the same path, the same time");
+    assert!(seconds[0] > 0.1, "{seconds:?}");
+    // the table names each card's dimensions
+    let (code, out, _) = mcctl(&["path-set", f, "--split", "6,6"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("card sim1: group 0 Standby, dimensions 6..11"),
+        "{out}"
+    );
+
+    let bad = dir.join("bad.txt");
+    std::fs::write(&bad, format!("{}\n\n{}\n", row(&a), row(&a[..11]))).unwrap();
+    let (code, _, err) = mcctl(&["path-set", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("line 3: expected 12 finite numbers"), "{err}");
+    let (code, _, err) = mcctl(&["path-set", f, "--split", "8,8,1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("at most 16 dimensions, got 17"), "{err}");
+    let (code, _, err) = mcctl(&["path-set", f, "--split", "9,3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("1 to 8 axes"), "{err}");
+    // the same point twice: a line of zero length, refused by the cards
+    let zero = dir.join("zero.txt");
+    std::fs::write(&zero, format!("{}\n{}\n", row(&a), row(&a))).unwrap();
+    let (code, out, err) = mcctl(&["path-set", zero.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(err.contains("zero length"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

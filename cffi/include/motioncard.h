@@ -4654,6 +4654,71 @@ typedef struct mc_servo_filter {
 } mc_servo_filter;
 
 /**
+ * A path across cards' settings (`mc_set_path_open`), in user units: `vmax`, `amax`, `jmax`
+ * per dimension (the first `ndims`, each in its axis's units); `accel` and `jerk` tangential,
+ * in the first dimension's units. Start from `mc_set_path_settings_uniform`.
+ */
+typedef struct mc_set_path_settings {
+  /**
+   * Dimensions of the path (1..`MC_PATH_MAX_DIMS`): the axes of the parts' groups together.
+   */
+  uint32_t ndims;
+  /**
+   * Checked (1..`MC_PATH_SEGMENTS`) and kept by every card, as `mc_path_settings.lookahead`.
+   */
+  uint32_t lookahead;
+  /**
+   * `MC_EVENT_PATH_LOW_WATER` when the segments queued fall to this (0: never).
+   */
+  uint32_t low_water;
+  /**
+   * Tangential acceleration limit (0: from the dimensions' limits).
+   */
+  double accel;
+  /**
+   * Tangential jerk limit (0: from the dimensions' limits).
+   */
+  double jerk;
+  /**
+   * Each dimension's velocity limit (> 0).
+   */
+  double vmax[16];
+  /**
+   * Each dimension's acceleration limit (> 0).
+   */
+  double amax[16];
+  /**
+   * Each dimension's jerk limit (> 0).
+   */
+  double jmax[16];
+  /**
+   * The cards' path planner period, s (0: their default), as `mc_path_settings.plan_period`.
+   */
+  double plan_period;
+} mc_set_path_settings;
+
+/**
+ * One card's part of a path across cards: group `group` of the card `cards[card]` of
+ * `mc_set_path_open`.
+ */
+typedef struct mc_path_part {
+  /**
+   * The card: its index in the `cards` array.
+   */
+  uint32_t card;
+  /**
+   * Its group (configured and enabled, at rest, its path idle).
+   */
+  uint32_t group;
+} mc_path_part;
+
+/**
+ * A path across the cards of one sync bus (`mc_set_path_open`): an integer handle, never 0,
+ * valid until `mc_set_path_close`.
+ */
+typedef uint32_t mc_set_path;
+
+/**
  * A card's name, serial and place on the sync bus.
  */
 typedef struct mc_bus_status {
@@ -7382,6 +7447,132 @@ mc_result mc_axis_get_servo_filter(mc_card card,
                                    struct mc_servo_filter *filter);
 
 /**
+ * Settings for a path of `ndims` dimensions (1..`MC_PATH_MAX_DIMS`, else `MC_ERR_BAD_AXIS`)
+ * with the same limits: look-ahead 256 segments, no low-water event, tangential limits from
+ * the dimensions' (0). Nothing is checked until `mc_set_path_open`. Never blocks.
+ */
+mc_result mc_set_path_settings_uniform(uint32_t ndims,
+                                       double vmax,
+                                       double amax,
+                                       double jmax,
+                                       struct mc_set_path_settings *settings);
+
+/**
+ * Open a path across the cards `cards[0..ncards]` of one bus (the master first; else
+ * `MC_ERR_BAD_CONFIG`): its dimensions are the axes of the groups `parts[0..nparts]` (each a
+ * card's index in `cards` and a group of it, configured and enabled, at rest, its path idle),
+ * in order, 1 to `MC_PATH_MAX_DIMS` in all. `settings->ndims` must be that count
+ * (`MC_ERR_BAD_AXIS`); each limit finite and > 0. A card index outside `cards`, a part named
+ * twice, no parts or more than 16: `MC_ERR_BAD_CONFIG`. Every card's group starts the path
+ * where the axes are now. Writes the handle to `*path`; close it with `mc_set_path_close`.
+ * Blocks until every card has answered.
+ */
+mc_result mc_set_path_open(const mc_card *cards,
+                           size_t ncards,
+                           const struct mc_path_part *parts,
+                           size_t nparts,
+                           const struct mc_set_path_settings *settings,
+                           mc_set_path *path);
+
+/**
+ * The path's dimensions. Never blocks.
+ */
+mc_result mc_set_path_dims(mc_set_path path, uint32_t *ndims);
+
+/**
+ * Stage a line to `target` (`n` values, one per dimension, user units: `n` must be the
+ * path's dimensions, else `MC_ERR_BAD_AXIS`) at `feed`, blended into the segment before
+ * within `tolerance` of the corner (0: an exact stop), on every card. A segment the cards
+ * refuse is refused by each alike (their code) and staged on none; `MC_ERR_QUEUE_FULL` once
+ * 256 are staged: release them first. Blocks until every card has answered.
+ */
+mc_result mc_set_path_line(mc_set_path path,
+                           uint32_t id,
+                           const double *target,
+                           size_t n,
+                           double feed,
+                           double tolerance);
+
+/**
+ * Stage an arc in `plane` (`MC_ARC_PLANE_`: of two of the first 8 dimensions) described by
+ * `*arc` (as `mc_group_move_circular`), a helix when `nhelix` targets of the other dimensions
+ * (in order) are given (`helix` may be NULL when `nhelix` is 0: they stay), at `feed`,
+ * blended as `mc_set_path_line`. `MC_ERR_BAD_AXIS` for a plane beyond the first 8 dimensions
+ * or a helix of another count. Blocks until every card has answered.
+ */
+mc_result mc_set_path_arc(mc_set_path path,
+                          uint32_t id,
+                          const struct mc_arc *arc,
+                          uint32_t plane,
+                          const double *helix,
+                          size_t nhelix,
+                          double feed,
+                          double tolerance);
+
+/**
+ * Stage a dwell: an exact stop, then a wait of `seconds`. Blocks until every card has
+ * answered.
+ */
+mc_result mc_set_path_dwell(mc_set_path path, uint32_t id, double seconds);
+
+/**
+ * Release everything staged into every card's path on one tick (`*tick`, may be NULL), once
+ * every card's path has room for it (`MC_ERR_QUEUE_FULL` after 5 s of card time without
+ * room). The first release starts the path; later ones stream the rest while it runs. With
+ * nothing staged: the set's tick now. Blocks until the release ran.
+ */
+mc_result mc_set_path_release(mc_set_path path, uint64_t *tick);
+
+/**
+ * Wait until every card's path has run everything released and its group is at rest
+ * (`MC_ERR_TIMEOUT` after `timeout_ms`, card time on stepped cards: they are stepped). A group
+ * stopped or faulted on one card: the others are halted at once and that is the error
+ * (`MC_ERR_INVALID_STATE`). It waits 10 ms at a time: another thread may halt, hold or
+ * release the path meanwhile.
+ */
+mc_result mc_set_path_wait(mc_set_path path, uint32_t timeout_ms);
+
+/**
+ * Halt the path on every card on one tick (`*tick`, may be NULL), along its geometry within
+ * `deceleration` and `jerk` (> 0, the first dimension's units). What is staged is dropped.
+ */
+mc_result mc_set_path_halt(mc_set_path path, double deceleration, double jerk, uint64_t *tick);
+
+/**
+ * Hold the path on every card on one tick (`*tick`, may be NULL): feed override 0, it comes
+ * to rest along its geometry; `mc_set_path_override` above 0 resumes it on every card
+ * together.
+ */
+mc_result mc_set_path_hold(mc_set_path path, uint64_t *tick);
+
+/**
+ * Set the feed override of every card's group on one tick (`*tick`, may be NULL).
+ */
+mc_result mc_set_path_override(mc_set_path path, double factor, uint64_t *tick);
+
+/**
+ * Pause the path at the end of a segment on every card on one tick (`on` non-zero), or let it
+ * go on (`on` 0); `*tick` (may be NULL): the tick.
+ */
+mc_result mc_set_path_pause(mc_set_path path, uint32_t on, uint64_t *tick);
+
+/**
+ * How far the path has come (each may be NULL): `*staged` segments given and not released,
+ * `*queued` released and not finished (on the card that has the most), `*done` finished (on
+ * the card that has the fewest). Never blocks (it reads the cards' windows).
+ */
+mc_result mc_set_path_progress(mc_set_path path,
+                               uint32_t *staged,
+                               uint32_t *queued,
+                               uint32_t *done);
+
+/**
+ * Free the path's handle. What runs goes on (halt it first to stop it); the cards stay open.
+ * Closing twice: `MC_ERR_BAD_HANDLE`.
+ */
+mc_result mc_set_path_close(mc_set_path path);
+
+/**
  * MC_GearIn (Aborting): `axis` follows master `master` of kind `master_kind` (`MC_MASTER_`)
  * at `numerator / denominator` encoder counts per master count, computed on the card in
  * integer arithmetic (no drift). The coupling is relative to the engagement point: the slave
@@ -8640,6 +8831,11 @@ mc_result mc_send_raw(mc_card card,
  */
 #define MC_PATH_LAST (1u << 21)
 
+/**
+ * Dimensions of a path across cards.
+ */
+#define MC_PATH_MAX_DIMS 16u
+
 #define MC_PATH_OUTPUTS_PENDING 8u
 
 #define MC_PROBE_CONTINUOUS (1u << 2)
@@ -8732,11 +8928,6 @@ mc_result mc_send_raw(mc_card card,
  * |numerator|, denominator <= 2^31 - 1.
  */
 #define MC_GEAR_RATIO_MAX 2147483647.0
-
-/**
- * Dimensions of a path across cards.
- */
-#define MC_PATH_MAX_DIMS 16u
 
 /**
  * Timed commands a card holds at once.

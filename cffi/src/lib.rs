@@ -46,6 +46,7 @@ pub mod rotary;
 pub mod safety;
 pub mod scope;
 pub mod servo;
+pub mod set_path;
 pub mod sync;
 pub mod sync_bus;
 pub mod types;

@@ -206,7 +206,7 @@ pub unsafe extern "C" fn mc_timed_cancel(card: mc_card, key: u32, dropped: *mut 
 }
 
 /// The cards of `cards[0..n]` as a set (the master first).
-unsafe fn set_of(cards: *const mc_card, n: usize) -> Result<CardSet, Failure> {
+pub(crate) unsafe fn set_of(cards: *const mc_card, n: usize) -> Result<CardSet, Failure> {
     let n = n.min(MC_SYNC_CARDS_MAX as usize + 1);
     // SAFETY: the caller gives n readable handles.
     let handles = unsafe { read_slice(cards, n, "cards") }?;

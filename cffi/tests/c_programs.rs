@@ -742,6 +742,24 @@ fn cards_on_one_sync_bus_from_c() {
     );
 }
 
+/// Layout 1.14: a path across cards from C: a 12-axis path over two stepped cards, split
+/// 6 + 6 and 8 + 4, bit-identical on every tick sampled and at its targets exactly; a halt
+/// timed on both cards (after a hold and a resume); the card's refusals of staging entries
+/// sent raw.
+#[test]
+fn a_path_across_cards_from_c() {
+    let out = run(&compile("set_path", Link::Shared), &[], &[]);
+    assert!(out.contains("PASS set_path"), "{out}");
+    assert!(
+        out.contains("set_path: 12 axes split 6+6 and 8+4 bit-identical on"),
+        "{out}"
+    );
+    assert!(out.contains("every axis stopped at"), "{out}");
+    for l in out.lines().filter(|l| l.starts_with("set_path:")) {
+        println!("{l}");
+    }
+}
+
 /// Layout 1.11: analog I/O and the path-speed output from C (a threshold event, the ADC's
 /// sample, a spare DAC, the PSO gated by an output, the refusals).
 #[test]

@@ -99,6 +99,8 @@ static const mc_result ALL_CODES[] = {
     MC_ERR_PSO_OUTPUT,
     /* compare on a rotary axis (layout 1.13) */
     MC_ERR_COMPARE_TURN,
+    /* paths across cards (layout 1.14) */
+    MC_ERR_PATH_DIMS,      MC_ERR_PATH_MORE,       MC_ERR_PATH_RELEASE,
     /* listing and opening by name or serial */
     MC_ERR_AMBIGUOUS,
     /* the ABI's own */
@@ -194,6 +196,8 @@ static const mc_result NOT_PROVOKED[] = {
     /* not provokable from C: mc_axis_freq_response returns once its sweep has ended (a move
        during a sweep: tests/freq.rs) */
     MC_ERR_FREQ_BUSY,
+    /* set_path.c (staging entries sent raw) */
+    MC_ERR_PATH_DIMS, MC_ERR_PATH_MORE, MC_ERR_PATH_RELEASE,
 };
 
 static void result_strings(void) {

@@ -37,6 +37,7 @@
 //! mcctl --card emu:bench1 config save bench1.toml   # what the card holds (read back), as TOML
 //! mcctl --card emu:bench1 config load bench1.toml   # checked whole first; exit 2: bad file
 //! mcctl --card emu:bench1 config diff bench1.toml --json   # exit 0: equal, 1: different
+//! mcctl path-set points.txt --cards sim --split 6,6     # a 12-axis path over two cards
 //! mcctl --card emu:bench1 serve --listen 127.0.0.1:8080 --axis 0   # the tuning page (open the
 //!                                                    # http://…/#token=… address it prints)
 //! ```
@@ -178,6 +179,12 @@ enum Cmd {
     Serve(cli::serve::Args),
     /// MC_Halt: decelerate to rest.
     Halt(cli::halt::Args),
+    /// Layout 1.14: a path across the cards of one sync bus (--cards, the master first; `sim`:
+    /// stepped emulated cards here), each card's group 0 over its first --split axes, the
+    /// path's dimensions those axes in order (up to 16). The file: a line of N numbers a point
+    /// (a line to it), or `dwell SECONDS`. Released on one tick on every card; prints where
+    /// every card's axes ended.
+    PathSet(cli::path_set::Args),
 }
 
 fn main() -> ExitCode {
@@ -228,5 +235,6 @@ fn main() -> ExitCode {
         Cmd::Gcode(a) => cli::gcode::run(a),
         Cmd::Serve(a) => cli::serve::run(uri, a),
         Cmd::Halt(a) => cli::halt::run(uri, a),
+        Cmd::PathSet(a) => cli::path_set::run(a),
     }
 }
