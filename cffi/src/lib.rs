@@ -33,6 +33,7 @@ pub mod gantry;
 pub mod gcode;
 pub mod group;
 pub mod group_home;
+mod handles;
 pub mod handwheel;
 pub mod homing;
 pub mod io;

@@ -941,39 +941,8 @@ struct Streamer {
     n: usize,
 }
 
-/// The streamers, by slot (handle: slot + 1 in the low 16 bits, the slot's generation above).
-static STREAMERS: std::sync::Mutex<Vec<(u16, Option<Streamer>)>> =
-    std::sync::Mutex::new(Vec::new());
-
-fn no_streamer(h: mc_path_streamer) -> Failure {
-    Failure::new(
-        crate::result::MC_ERR_BAD_HANDLE,
-        format!("no path streamer with handle {h}"),
-    )
-}
-
-/// Run `f` on the streamer of handle `h`; `take` removes it (its handle is then invalid).
-fn with_streamer<T>(
-    h: mc_path_streamer,
-    take: bool,
-    f: impl FnOnce(&mut Option<Streamer>) -> T,
-) -> Result<T, Failure> {
-    let mut all = STREAMERS.lock().unwrap_or_else(|p| p.into_inner());
-    let slot = ((h & 0xffff) as usize)
-        .checked_sub(1)
-        .filter(|&s| s < all.len())
-        .ok_or_else(|| no_streamer(h))?;
-    let (generation, st) = &mut all[slot];
-    if *generation != (h >> 16) as u16 || st.is_none() {
-        return Err(no_streamer(h));
-    }
-    let out = f(st);
-    if take {
-        *st = None;
-        *generation = generation.wrapping_add(1).max(1);
-    }
-    Ok(out)
-}
+/// The streamers.
+static STREAMERS: crate::handles::Handles<Streamer> = crate::handles::Handles::new("path streamer");
 
 /// Start streaming `n` items (`segments`, may be NULL when `n` is 0) into a group's path from
 /// a thread of the library, as `mc_group_path_stream` streams them, and return at once with
@@ -1019,23 +988,10 @@ pub unsafe extern "C" fn mc_group_path_stream_start(
             group,
             n,
         };
-        let mut all = STREAMERS.lock().unwrap_or_else(|p| p.into_inner());
-        let slot = match all.iter().position(|(_, s)| s.is_none()) {
-            Some(i) => i,
-            None if all.len() < 0xffff => {
-                all.push((1, None));
-                all.len() - 1
-            }
-            None => {
-                st.streamer.cancel();
-                return Err(Failure::new(
-                    crate::result::MC_ERR_BAD_HANDLE,
-                    "65535 path streamers are open: join some",
-                ));
-            }
-        };
-        let h = (all[slot].0 as u32) << 16 | (slot as u32 + 1);
-        all[slot].1 = Some(st);
+        let h = STREAMERS.insert(st).map_err(|(f, st)| {
+            st.streamer.cancel();
+            f
+        })?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(h) };
         Ok(())
@@ -1055,7 +1011,7 @@ pub unsafe extern "C" fn mc_path_streamer_progress(
     guard(|| {
         let out = Out::new(progress, "progress")?;
         let fin = Out::optional(finished);
-        let (p, f) = with_streamer(streamer, false, |s| {
+        let (p, f) = STREAMERS.with(streamer, false, |s| {
             let s = s.as_ref().expect("checked");
             (s.streamer.progress(), s.streamer.is_finished())
         })?;
@@ -1076,7 +1032,7 @@ pub unsafe extern "C" fn mc_path_streamer_progress(
 #[no_mangle]
 pub extern "C" fn mc_path_streamer_cancel(streamer: mc_path_streamer) -> mc_result {
     guard(|| {
-        with_streamer(streamer, false, |s| {
+        STREAMERS.with(streamer, false, |s| {
             s.as_ref().expect("checked").streamer.cancel()
         })
     })
@@ -1098,7 +1054,7 @@ pub unsafe extern "C" fn mc_path_streamer_join(
     let accepted_out = Out::optional(accepted);
     let mut count = 0usize;
     let r = guard(|| {
-        let st = with_streamer(streamer, true, |s| s.take().expect("checked"))?;
+        let st = STREAMERS.with(streamer, true, |s| s.take().expect("checked"))?;
         while !st.streamer.is_finished() {
             std::thread::sleep(std::time::Duration::from_millis(1));
         }

@@ -13,8 +13,9 @@
 //! limits and the halt's ramp in the first dimension's.
 
 use crate::ffi::{read_in, read_slice, Out};
+use crate::handles::Handles;
 use crate::registry::mc_card;
-use crate::result::{guard, mc_result, Failure, MC_ERR_BAD_HANDLE};
+use crate::result::{guard, mc_result, Failure};
 use crate::sync_bus::set_of;
 use crate::types::{mc_arc, plane_of};
 use motioncard_sdk::{ErrorKind, Geometry, PathPart, PathSettings, Segment, SetPath};
@@ -68,34 +69,12 @@ pub struct mc_set_path_settings {
     pub plan_period: f64,
 }
 
-/// The paths, by slot (handle: slot + 1 in the low 16 bits, the slot's generation above).
-#[allow(clippy::type_complexity)]
-static PATHS: Mutex<Vec<(u16, Option<Arc<Mutex<SetPath>>>)>> = Mutex::new(Vec::new());
+/// The paths.
+static PATHS: Handles<Arc<Mutex<SetPath>>> = Handles::new("path across cards");
 
-fn no_path(h: mc_set_path) -> Failure {
-    Failure::new(
-        MC_ERR_BAD_HANDLE,
-        format!("no path across cards with handle {h}"),
-    )
-}
-
-/// The path of handle `h`; `take` removes it (its handle is then invalid).
+/// The path of handle `h`; `take` frees its handle.
 fn path_of(h: mc_set_path, take: bool) -> Result<Arc<Mutex<SetPath>>, Failure> {
-    let mut all = PATHS.lock().unwrap_or_else(|p| p.into_inner());
-    let slot = ((h & 0xffff) as usize)
-        .checked_sub(1)
-        .filter(|&s| s < all.len())
-        .ok_or_else(|| no_path(h))?;
-    let (generation, p) = &mut all[slot];
-    if *generation != (h >> 16) as u16 {
-        return Err(no_path(h));
-    }
-    let out = p.clone().ok_or_else(|| no_path(h))?;
-    if take {
-        *p = None;
-        *generation = generation.wrapping_add(1).max(1);
-    }
-    Ok(out)
+    PATHS.with(h, take, |p| p.clone().expect("checked"))
 }
 
 /// Run `f` on the path of handle `h` (one call at a time per path).
@@ -218,22 +197,7 @@ pub unsafe extern "C" fn mc_set_path_open(
             })
             .collect();
         let sp = set.path(&parts, &p)?;
-        let mut all = PATHS.lock().unwrap_or_else(|p| p.into_inner());
-        let slot = match all.iter().position(|(_, s)| s.is_none()) {
-            Some(i) => i,
-            None if all.len() < 0xffff => {
-                all.push((1, None));
-                all.len() - 1
-            }
-            None => {
-                return Err(Failure::new(
-                    MC_ERR_BAD_HANDLE,
-                    "65535 paths across cards are open: close some",
-                ))
-            }
-        };
-        let h = (all[slot].0 as u32) << 16 | (slot as u32 + 1);
-        all[slot].1 = Some(Arc::new(Mutex::new(sp)));
+        let h = PATHS.insert(Arc::new(Mutex::new(sp))).map_err(|(f, _)| f)?;
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(h) };
         Ok(())
@@ -461,6 +425,7 @@ pub extern "C" fn mc_set_path_close(path: mc_set_path) -> mc_result {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::result::MC_ERR_BAD_HANDLE;
 
     #[test]
     fn handles_are_checked_and_settings_bounded() {
