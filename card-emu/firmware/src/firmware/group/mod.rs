@@ -31,6 +31,7 @@
 //! (`snap_last`, `snap_max`), so a filter that lost distance would show.
 
 mod activate;
+mod engine;
 mod feed;
 mod filter;
 mod home;
@@ -595,7 +596,7 @@ impl Group {
         // Layout 1.14: the path's dimensions named the old axes.
         if self.path_dims() > 0 {
             if let Some(run) = self.path.as_mut() {
-                run.set_engine(Some(wide::Engine::narrow()));
+                run.set_engine(Some(engine::Engine::narrow()));
             }
         }
         self.arc_plane = None;

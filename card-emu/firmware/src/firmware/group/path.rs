@@ -11,7 +11,7 @@
 //! seqs of its segments) is allocated the first time a group needs it and kept, so a tick never
 //! allocates.
 
-use super::wide::Engine;
+use super::engine::Engine;
 use super::*;
 use crate::motion::nurbs::Nurbs;
 use crate::motion::path::{
