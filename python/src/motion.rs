@@ -1,0 +1,324 @@
+//! `Axis`, `MoveLimits`, `Motion` and `Status`.
+use crate::errors::py;
+use crate::{py_enum, wait_sliced};
+use motioncard_sdk as sdk;
+use pyo3::prelude::*;
+
+/// Limits of a point-to-point move, in user units: velocity, acceleration and jerk, with a
+/// different deceleration, deceleration jerk, or four phase jerks by keyword.
+#[pyclass(module = "motioncard", frozen)]
+#[derive(Clone, Copy)]
+pub struct MoveLimits {
+    pub(crate) limits: sdk::MoveLimits,
+}
+
+#[pymethods]
+impl MoveLimits {
+    #[new]
+    #[pyo3(signature = (velocity, acceleration, jerk, *, deceleration = None, decel_jerk = None, jerks = None))]
+    fn new(
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        deceleration: Option<f64>,
+        decel_jerk: Option<f64>,
+        jerks: Option<[f64; 4]>,
+    ) -> Self {
+        let mut l = sdk::MoveLimits::new(velocity, acceleration, jerk);
+        if let Some(d) = deceleration {
+            l = l.deceleration(d);
+        }
+        if let Some(j) = decel_jerk {
+            l = l.decel_jerk(j);
+        }
+        if let Some(j) = jerks {
+            l.jerk = j;
+        }
+        MoveLimits { limits: l }
+    }
+
+    /// Maximum velocity.
+    #[getter]
+    fn velocity(&self) -> f64 {
+        self.limits.velocity
+    }
+
+    /// Maximum acceleration.
+    #[getter]
+    fn acceleration(&self) -> f64 {
+        self.limits.acceleration
+    }
+
+    /// Maximum deceleration.
+    #[getter]
+    fn deceleration(&self) -> f64 {
+        self.limits.deceleration
+    }
+
+    /// Jerks of the seven-segment phases 1, 3 (acceleration), 5 and 7 (deceleration).
+    #[getter]
+    fn jerks(&self) -> (f64, f64, f64, f64) {
+        let j = self.limits.jerk;
+        (j[0], j[1], j[2], j[3])
+    }
+
+    fn __repr__(&self) -> String {
+        let l = &self.limits;
+        format!(
+            "MoveLimits({}, {}, {}, deceleration={}, jerks={:?})",
+            l.velocity, l.acceleration, l.jerk[0], l.deceleration, l.jerk
+        )
+    }
+}
+
+/// One axis of a card.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Axis {
+    pub(crate) axis: sdk::Axis,
+}
+
+fn started(m: sdk::Result<sdk::Motion>, axis: usize) -> PyResult<Motion> {
+    Ok(Motion {
+        motion: py(m)?,
+        axis,
+    })
+}
+
+#[pymethods]
+impl Axis {
+    /// The axis's number on the card.
+    #[getter]
+    fn index(&self) -> usize {
+        self.axis.index()
+    }
+
+    /// Power on: Disabled → Standstill.
+    fn enable(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.enable()))
+    }
+
+    /// Power off.
+    fn disable(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.disable()))
+    }
+
+    /// Encoder counts per user unit (positions, velocities and limits are in user units).
+    fn set_scale(&self, p: Python<'_>, counts_per_unit: f64) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.set_scale(counts_per_unit)))
+    }
+
+    /// The counts per user unit.
+    #[getter]
+    fn scale(&self) -> f64 {
+        self.axis.scale_factor()
+    }
+
+    /// Move to `target` within `limits`.
+    fn move_absolute(&self, p: Python<'_>, target: f64, limits: MoveLimits) -> PyResult<Motion> {
+        started(
+            p.allow_threads(|| self.axis.move_absolute(target, &limits.limits)),
+            self.axis.index(),
+        )
+    }
+
+    /// Move by `distance` within `limits`.
+    fn move_relative(&self, p: Python<'_>, distance: f64, limits: MoveLimits) -> PyResult<Motion> {
+        started(
+            p.allow_threads(|| self.axis.move_relative(distance, &limits.limits)),
+            self.axis.index(),
+        )
+    }
+
+    /// Run at the signed `velocity`, reached within `acceleration` (and `deceleration`,
+    /// default the acceleration) and `jerk`; end it with `halt` or `stop`. The motion is
+    /// never done, only aborted; `Motion.wait_in_velocity` waits for the velocity.
+    #[pyo3(signature = (velocity, acceleration, jerk, *, deceleration = None))]
+    fn move_velocity(
+        &self,
+        p: Python<'_>,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        deceleration: Option<f64>,
+    ) -> PyResult<Motion> {
+        let mut l = sdk::VelocityLimits::new(acceleration, jerk);
+        if let Some(d) = deceleration {
+            l.deceleration = d;
+        }
+        started(
+            p.allow_threads(|| self.axis.move_velocity(velocity, &l)),
+            self.axis.index(),
+        )
+    }
+
+    /// Jog at the signed `velocity` with the axis's jog limits; `jog_release` ends it.
+    fn jog(&self, p: Python<'_>, velocity: f64) -> PyResult<Motion> {
+        started(p.allow_threads(|| self.axis.jog(velocity)), self.axis.index())
+    }
+
+    /// Release the jog button: halt at the jog deceleration.
+    fn jog_release(&self, p: Python<'_>) -> PyResult<Motion> {
+        started(p.allow_threads(|| self.axis.jog_release()), self.axis.index())
+    }
+
+    /// MC_Halt: decelerate within the limits to Standstill.
+    fn halt(&self, p: Python<'_>, deceleration: f64, jerk: f64) -> PyResult<Motion> {
+        started(
+            p.allow_threads(|| self.axis.halt(deceleration, jerk)),
+            self.axis.index(),
+        )
+    }
+
+    /// MC_Stop: decelerate and stay in Stopping until `release_stop`.
+    fn stop(&self, p: Python<'_>, deceleration: f64, jerk: f64) -> PyResult<Motion> {
+        started(
+            p.allow_threads(|| self.axis.stop(deceleration, jerk)),
+            self.axis.index(),
+        )
+    }
+
+    /// Leave Stopping.
+    fn release_stop(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.release_stop()))
+    }
+
+    /// MC_Reset: ErrorStop → Standstill.
+    fn reset(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.reset()))
+    }
+
+    /// The velocity override (1.0 = 100 %, 0 to 2).
+    fn set_override(&self, p: Python<'_>, factor: f64) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.set_override(factor)))
+    }
+
+    /// Wait for the last motion started on this axis; the actual position at its end.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_done(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.axis.wait_done(s))
+    }
+
+    /// A consistent snapshot of the axis's status.
+    fn status(&self) -> PyResult<Status> {
+        Ok(Status::from(py(self.axis.status())?))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<motioncard.Axis {}>", self.axis.index())
+    }
+}
+
+/// A motion in progress. Wait for it with `wait(timeout)`, or `await` it.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Motion {
+    motion: sdk::Motion,
+    axis: usize,
+}
+
+#[pymethods]
+impl Motion {
+    /// The seq of the command that started it.
+    #[getter]
+    fn seq(&self) -> u32 {
+        self.motion.seq()
+    }
+
+    /// The axis it moves.
+    #[getter]
+    fn axis(&self) -> usize {
+        self.axis
+    }
+
+    /// Wait until the axis is in position and return the actual position; `AbortedError`
+    /// when something ended it first, `TimeoutError` after `timeout` seconds (None: no
+    /// end; emulated time on a stepped card). Ctrl-C ends the wait.
+    #[pyo3(signature = (timeout = None))]
+    fn wait(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait(s))
+    }
+
+    /// Wait until a velocity move runs at its velocity; returns it.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_in_velocity(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait_in_velocity(s))
+    }
+
+    /// `await motion`: `motioncard.wait_async(motion)`.
+    fn __await__<'py>(slf: Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let p = slf.py();
+        p.import("motioncard")?
+            .getattr("wait_async")?
+            .call1((slf,))?
+            .call_method0("__await__")
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<motioncard.Motion axis {} seq {}>", self.axis, self.motion.seq())
+    }
+}
+
+/// An axis's status, in user units.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct Status {
+    state_raw: u32,
+    /// Actual position.
+    position: f64,
+    /// Actual velocity.
+    velocity: f64,
+    /// Following error (commanded − actual).
+    following_error: f64,
+    /// Commanded position.
+    command_position: f64,
+    /// Commanded velocity.
+    command_velocity: f64,
+    /// Commanded acceleration.
+    command_acceleration: f64,
+    /// DAC output, volts.
+    dac_volts: f64,
+    /// Fault bits (`MC_FAULT_*`).
+    faults: u32,
+    /// Buffered moves waiting in the axis's queue.
+    queued: u32,
+    /// The velocity override in force.
+    override_factor: f64,
+    /// The servo tick of the snapshot.
+    tick: u64,
+}
+
+impl From<sdk::Status> for Status {
+    fn from(s: sdk::Status) -> Self {
+        Status {
+            state_raw: s.state as u32,
+            position: s.actual_position,
+            velocity: s.actual_velocity,
+            following_error: s.following_error,
+            command_position: s.command_position,
+            command_velocity: s.command_velocity,
+            command_acceleration: s.command_acceleration,
+            dac_volts: s.dac_volts,
+            faults: s.faults.bits(),
+            queued: s.queued,
+            override_factor: s.override_factor,
+            tick: s.raw.tick,
+        }
+    }
+}
+
+#[pymethods]
+impl Status {
+    /// The PLCopen state (`motioncard.AxisState`).
+    #[getter]
+    fn state<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "AxisState", self.state_raw as i64)
+    }
+
+    fn __repr__(&self, p: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "Status({}, position={}, velocity={}, following_error={})",
+            self.state(p)?.getattr("name")?,
+            self.position,
+            self.velocity,
+            self.following_error
+        ))
+    }
+}
