@@ -29,6 +29,7 @@ STOP_CATEGORIES: list[tuple[str, int]]
 ERROR_KINDS: list[tuple[str, str, int, str]]
 ERROR_CLASSES: dict[str, type[Error]]
 SCOPE_CHANNELS: int
+__all__: list[str]
 INPUTS: int
 
 Clock = Literal["stepped", "realtime", "free"]
@@ -169,6 +170,15 @@ class Status:
     queued: int
     override_factor: float
     tick: int
+    peak_velocity: float
+    peak_acceleration: float
+    peak_deceleration: float
+    peak_jerk: float
+    max_following_error: float
+    planned_time: float
+    move_time: float
+    move_count: int
+    encoder: int
 
 class Motion:
     @property

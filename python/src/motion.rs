@@ -258,31 +258,70 @@ impl Motion {
 }
 
 /// An axis's status, in user units.
-#[pyclass(module = "motioncard", frozen, get_all)]
+#[pyclass(module = "motioncard", frozen)]
 pub struct Status {
     state_raw: u32,
     /// Actual position.
+    #[pyo3(get)]
     position: f64,
     /// Actual velocity.
+    #[pyo3(get)]
     velocity: f64,
     /// Following error (commanded − actual).
+    #[pyo3(get)]
     following_error: f64,
     /// Commanded position.
+    #[pyo3(get)]
     command_position: f64,
     /// Commanded velocity.
+    #[pyo3(get)]
     command_velocity: f64,
     /// Commanded acceleration.
+    #[pyo3(get)]
     command_acceleration: f64,
     /// DAC output, volts.
+    #[pyo3(get)]
     dac_volts: f64,
     /// Fault bits (`MC_FAULT_*`).
+    #[pyo3(get)]
     faults: u32,
     /// Buffered moves waiting in the axis's queue.
+    #[pyo3(get)]
     queued: u32,
     /// The velocity override in force.
+    #[pyo3(get)]
     override_factor: f64,
     /// The servo tick of the snapshot.
+    #[pyo3(get)]
     tick: u64,
+    /// The current or last move's statistics, in counts as the card keeps them: its
+    /// largest |commanded velocity|, counts/s.
+    #[pyo3(get)]
+    peak_velocity: f64,
+    /// Largest commanded acceleration in the direction of motion, counts/s².
+    #[pyo3(get)]
+    peak_acceleration: f64,
+    /// Largest commanded deceleration, counts/s².
+    #[pyo3(get)]
+    peak_deceleration: f64,
+    /// Largest |commanded jerk|, counts/s³.
+    #[pyo3(get)]
+    peak_jerk: f64,
+    /// Largest |following error|, counts.
+    #[pyo3(get)]
+    max_following_error: f64,
+    /// The planned profile's duration, s.
+    #[pyo3(get)]
+    planned_time: f64,
+    /// From start to motion done (in position), s; 0 while moving.
+    #[pyo3(get)]
+    move_time: f64,
+    /// Moves started since boot.
+    #[pyo3(get)]
+    move_count: u32,
+    /// The raw encoder count.
+    #[pyo3(get)]
+    encoder: i64,
 }
 
 impl From<sdk::Status> for Status {
@@ -300,6 +339,15 @@ impl From<sdk::Status> for Status {
             queued: s.queued,
             override_factor: s.override_factor,
             tick: s.raw.tick,
+            peak_velocity: s.raw.peak_vel,
+            peak_acceleration: s.raw.peak_acc,
+            peak_deceleration: s.raw.peak_dec,
+            peak_jerk: s.raw.peak_jerk,
+            max_following_error: s.raw.max_ferr,
+            planned_time: s.raw.planned_time,
+            move_time: s.raw.move_time,
+            move_count: s.raw.move_count,
+            encoder: s.raw.encoder,
         }
     }
 }
