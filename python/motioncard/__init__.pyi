@@ -35,6 +35,8 @@ INPUTS: int
 Clock = Literal["stepped", "realtime", "free"]
 Trigger = Literal["immediate", "command", "fault", "level", "input"]
 Edge = Literal["rising", "falling", "either"]
+Direction = Literal["positive", "negative", "either"]
+MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
 
 class Error(Exception):
     """An error of the card or the SDK; each ErrorKind has its own subclass."""
@@ -130,6 +132,14 @@ class Card:
     def reset_faults(self) -> None: ...
     def safety_status(self) -> SafetyStatus: ...
     def set_watchdog_timeout(self, timeout: float) -> None: ...
+    def load_cam_table(
+        self,
+        table: int,
+        points: Sequence[Tuple[float, float]],
+        *,
+        cubic: bool = False,
+        periodic: bool = False,
+    ) -> None: ...
     def set_servo_rate(self, hz: int) -> None: ...
     def save_config(self) -> str: ...
     def load_config(self, text: str, origin: str = "<string>") -> list[str]: ...
@@ -179,6 +189,8 @@ class Status:
     move_time: float
     move_count: int
     encoder: int
+    homed: bool
+    in_sync: bool
 
 class Motion:
     @property
@@ -187,6 +199,7 @@ class Motion:
     def axis(self) -> int: ...
     def wait(self, timeout: Optional[float] = None) -> float: ...
     def wait_in_velocity(self, timeout: Optional[float] = None) -> float: ...
+    def wait_in_sync(self, timeout: Optional[float] = None) -> float: ...
     def __await__(self) -> Generator[Any, None, float]: ...
 
 class Axis:
@@ -216,6 +229,91 @@ class Axis:
     def set_override(self, factor: float) -> None: ...
     def wait_done(self, timeout: Optional[float] = None) -> float: ...
     def status(self) -> Status: ...
+    def configure_homing(
+        self,
+        method: int,
+        *,
+        search_velocity: Optional[float] = None,
+        creep_velocity: Optional[float] = None,
+        acceleration: Optional[float] = None,
+        jerk: Optional[float] = None,
+        offset: Optional[float] = None,
+        timeout: Optional[float] = None,
+        max_distance: Optional[float] = None,
+        index: Optional[bool] = None,
+    ) -> None: ...
+    def home(self, position: float = 0.0) -> Motion: ...
+    def set_position(self, position: float, relative: bool = False) -> None: ...
+    def gear_in(
+        self,
+        master: int,
+        numerator: int,
+        denominator: int,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        source: MasterSource = "commanded",
+    ) -> Motion: ...
+    def gear_out(self) -> Motion: ...
+    def cam_in(
+        self,
+        master: int,
+        table: int,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        source: MasterSource = "commanded",
+        relative: bool = False,
+    ) -> Motion: ...
+    def cam_out(self) -> Motion: ...
+    def pvt(
+        self,
+        points: Sequence[Tuple[float, float, float]],
+        velocity: float,
+        acceleration: float,
+        *,
+        mode: Literal["pvt", "pt"] = "pvt",
+    ) -> Motion: ...
+    def compare(self, channel: int) -> Compare: ...
+    def touch_probe(self, channel: int) -> Probe: ...
+
+class Compare:
+    """A position-compare channel of an axis."""
+
+    @property
+    def channel(self) -> int: ...
+    def arm_single(
+        self, output: int, pulse_us: int, position: float, direction: Direction = "either"
+    ) -> None: ...
+    def arm_series(
+        self,
+        output: int,
+        pulse_us: int,
+        start: float,
+        pitch: float,
+        count: int,
+        direction: Direction = "positive",
+    ) -> None: ...
+    def disarm(self) -> None: ...
+    def status(self) -> Tuple[int, int, int, float]: ...
+
+class Probe:
+    """A touch probe of an axis."""
+
+    def arm(
+        self,
+        input: Optional[int],
+        *,
+        rising: bool = True,
+        falling: bool = False,
+        continuous: bool = False,
+        window: Optional[Tuple[float, float]] = None,
+    ) -> None: ...
+    def abort(self) -> None: ...
+    def positions(self) -> list[float]: ...
+    def wait_capture(self, n: int = 1, timeout: Optional[float] = None) -> float: ...
 
 class PathLimits:
     def __init__(

@@ -97,7 +97,11 @@ impl Card {
 
     /// Every axis of the card.
     fn axes(&self) -> Vec<Axis> {
-        self.card.axes().into_iter().map(|axis| Axis { axis }).collect()
+        self.card
+            .axes()
+            .into_iter()
+            .map(|axis| Axis { axis })
+            .collect()
     }
 
     /// Axes group `index` (`BadGroupError` beyond the card's groups).
@@ -201,6 +205,20 @@ impl Card {
         py(py_.allow_threads(|| self.card.set_analog_output(output, volts)))
     }
 
+    /// Load cam table `table` with `points` (master, slave; counts; the master strictly
+    /// increasing), `cubic` (else linear), `periodic`.
+    #[pyo3(signature = (table, points, *, cubic = false, periodic = false))]
+    fn load_cam_table(
+        &self,
+        py_: Python<'_>,
+        table: usize,
+        points: Vec<(f64, f64)>,
+        cubic: bool,
+        periodic: bool,
+    ) -> PyResult<()> {
+        py(py_.allow_threads(|| self.card.load_cam_table(table, &points, cubic, periodic)))
+    }
+
     /// Stop every axis and group: an e-stop of `category` (0, 1 or 2), latched until
     /// `reset_faults()`.
     #[pyo3(signature = (category = 1))]
@@ -289,7 +307,9 @@ pub(crate) fn next_event(
     });
     match r {
         Ok(e) => Ok(Some(Event::from(e))),
-        Err(e) if e.is_instance_of::<crate::errors::MotioncardError>(py_) && is_timeout(py_, &e) => {
+        Err(e)
+            if e.is_instance_of::<crate::errors::MotioncardError>(py_) && is_timeout(py_, &e) =>
+        {
             Ok(None)
         }
         Err(e) => Err(e),

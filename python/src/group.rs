@@ -101,7 +101,9 @@ impl Group {
 
     /// The card axes of the group, in order (empty: not configured).
     fn axes(&self) -> PyResult<Vec<usize>> {
-        Ok(py(self.group.settings())?.map(|s| s.axes).unwrap_or_default())
+        Ok(py(self.group.settings())?
+            .map(|s| s.axes)
+            .unwrap_or_default())
     }
 
     /// Enable the group (its axes enabled).
@@ -234,8 +236,10 @@ impl Group {
         if let Some(f) = max_feed {
             run.max_feed = f;
         }
-        let mut opts = Options::default();
-        opts.start = py(group_position(&self.group, &run.axes))?;
+        let opts = Options {
+            start: py(group_position(&self.group, &run.axes))?,
+            ..Options::default()
+        };
         for op in Program::from_text(text, &opts) {
             py(op.map_err(sdk::Error::from))?;
         }

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 mod card;
 mod errors;
 mod group;
+mod io;
 mod motion;
 mod scope;
 
@@ -120,6 +121,8 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::GroupMotion>()?;
     m.add_class::<group::GroupStatus>()?;
     m.add_class::<group::PathLimits>()?;
+    m.add_class::<io::Compare>()?;
+    m.add_class::<io::Probe>()?;
     m.add_class::<scope::Scope>()?;
     m.add_class::<scope::Capture>()?;
     let _ = py;

@@ -153,12 +153,18 @@ impl Axis {
 
     /// Jog at the signed `velocity` with the axis's jog limits; `jog_release` ends it.
     fn jog(&self, p: Python<'_>, velocity: f64) -> PyResult<Motion> {
-        started(p.allow_threads(|| self.axis.jog(velocity)), self.axis.index())
+        started(
+            p.allow_threads(|| self.axis.jog(velocity)),
+            self.axis.index(),
+        )
     }
 
     /// Release the jog button: halt at the jog deceleration.
     fn jog_release(&self, p: Python<'_>) -> PyResult<Motion> {
-        started(p.allow_threads(|| self.axis.jog_release()), self.axis.index())
+        started(
+            p.allow_threads(|| self.axis.jog_release()),
+            self.axis.index(),
+        )
     }
 
     /// MC_Halt: decelerate within the limits to Standstill.
@@ -203,6 +209,174 @@ impl Axis {
         Ok(Status::from(py(self.axis.status())?))
     }
 
+    /// Configure MC_Home: `method` a CiA 402 number (1–14, 17–30, 33, 34, 35/37 the current
+    /// position, -1/-2 hard stops); the other settings by keyword, in counts and seconds as
+    /// the card keeps them; those not given stay.
+    #[pyo3(signature = (method, *, search_velocity = None, creep_velocity = None, acceleration = None, jerk = None, offset = None, timeout = None, max_distance = None, index = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn configure_homing(
+        &self,
+        p: Python<'_>,
+        method: i32,
+        search_velocity: Option<f64>,
+        creep_velocity: Option<f64>,
+        acceleration: Option<f64>,
+        jerk: Option<f64>,
+        offset: Option<f64>,
+        timeout: Option<f64>,
+        max_distance: Option<f64>,
+        index: Option<bool>,
+    ) -> PyResult<()> {
+        let mut h = py(self.axis.homing_settings())?;
+        h.method = method;
+        let set = |f: &mut f64, v: Option<f64>| {
+            if let Some(v) = v {
+                *f = v;
+            }
+        };
+        set(&mut h.search_vel, search_velocity);
+        set(&mut h.creep_vel, creep_velocity);
+        set(&mut h.accel, acceleration);
+        set(&mut h.jerk, jerk);
+        set(&mut h.home_offset, offset);
+        set(&mut h.timeout, timeout);
+        set(&mut h.max_distance, max_distance);
+        if let Some(i) = index {
+            let bit = sdk::HomingFlags::INDEX.bits();
+            h.flags = if i { h.flags | bit } else { h.flags & !bit };
+        }
+        py(p.allow_threads(|| self.axis.configure_homing(&h)))
+    }
+
+    /// MC_Home with the configured method: the home point will read `position`. The motion
+    /// ends homed; `HomingFailedError` from its wait when no home point was found.
+    #[pyo3(signature = (position = 0.0))]
+    fn home(&self, p: Python<'_>, position: f64) -> PyResult<Motion> {
+        started(
+            p.allow_threads(|| self.axis.home(position)),
+            self.axis.index(),
+        )
+    }
+
+    /// MC_SetPosition: the actual position reads `position` (added to it if `relative`).
+    #[pyo3(signature = (position, relative = false))]
+    fn set_position(&self, p: Python<'_>, position: f64, relative: bool) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.set_position(position, relative)))
+    }
+
+    /// MC_GearIn: follow `master` (an axis; `source` "commanded", "actual", "actual_lead",
+    /// or "aux": auxiliary encoder `master`) at `numerator/denominator`, caught up within
+    /// `velocity`, `acceleration` and `jerk`; `Motion.wait_in_sync` waits until in gear.
+    #[pyo3(signature = (master, numerator, denominator, velocity, acceleration, jerk, *, source = "commanded"))]
+    #[allow(clippy::too_many_arguments)]
+    fn gear_in(
+        &self,
+        p: Python<'_>,
+        master: usize,
+        numerator: i64,
+        denominator: i64,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        source: &str,
+    ) -> PyResult<Motion> {
+        let m = master_of(source, master)?;
+        let l = sdk::SyncLimits::new(velocity, acceleration, jerk);
+        started(
+            p.allow_threads(|| self.axis.gear_in(m, numerator, denominator, &l)),
+            self.axis.index(),
+        )
+    }
+
+    /// MC_GearOut: leave the gear at the velocity reached (then halt or move on).
+    fn gear_out(&self, p: Python<'_>) -> PyResult<Motion> {
+        started(p.allow_threads(|| self.axis.gear_out()), self.axis.index())
+    }
+
+    /// MC_CamIn: follow `master` through cam table `table` (loaded with
+    /// `Card.load_cam_table`), caught up within the limits.
+    #[pyo3(signature = (master, table, velocity, acceleration, jerk, *, source = "commanded", relative = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn cam_in(
+        &self,
+        p: Python<'_>,
+        master: usize,
+        table: usize,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        source: &str,
+        relative: bool,
+    ) -> PyResult<Motion> {
+        let m = master_of(source, master)?;
+        let l = sdk::SyncLimits::new(velocity, acceleration, jerk);
+        let mut cam = sdk::CamSettings::new(table);
+        cam.relative = relative;
+        started(
+            p.allow_threads(|| self.axis.cam_in(m, &cam, &l)),
+            self.axis.index(),
+        )
+    }
+
+    /// MC_CamOut.
+    fn cam_out(&self, p: Python<'_>) -> PyResult<Motion> {
+        started(p.allow_threads(|| self.axis.cam_out()), self.axis.index())
+    }
+
+    /// Run a PT/PVT stream: `points` are (time from the start of the stream s, position,
+    /// velocity) (PT: the velocity ignored), the whole stream sent before it starts (at most
+    /// the card's buffer, `PVT_LEN`), within `velocity` and `acceleration`. The motion is done
+    /// at the last point.
+    #[pyo3(signature = (points, velocity, acceleration, *, mode = "pvt"))]
+    fn pvt(
+        &self,
+        p: Python<'_>,
+        points: Vec<(f64, f64, f64)>,
+        velocity: f64,
+        acceleration: f64,
+        mode: &str,
+    ) -> PyResult<Motion> {
+        let mode = match mode {
+            "pvt" => sdk::PvtMode::Pvt,
+            "pt" => sdk::PvtMode::Pt,
+            other => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "mode {other:?}: \"pvt\" or \"pt\""
+                )))
+            }
+        };
+        let pts: Vec<sdk::PvtPoint> = points
+            .iter()
+            .map(|&(t, x, v)| sdk::PvtPoint::new(t, x, v))
+            .collect();
+        let lim = sdk::PvtLimits {
+            velocity,
+            acceleration,
+        };
+        started(
+            p.allow_threads(|| {
+                self.axis.pvt_begin(mode, &lim, 0)?;
+                self.axis.pvt_push(&pts, true)?;
+                self.axis.pvt_start()
+            }),
+            self.axis.index(),
+        )
+    }
+
+    /// Compare channel `channel` watching this axis.
+    fn compare(&self, channel: usize) -> crate::io::Compare {
+        crate::io::Compare {
+            compare: self.axis.compare(channel),
+        }
+    }
+
+    /// Touch-probe channel `channel` capturing this axis.
+    fn touch_probe(&self, channel: usize) -> crate::io::Probe {
+        crate::io::Probe {
+            probe: self.axis.touch_probe(channel),
+        }
+    }
+
     fn __repr__(&self) -> String {
         format!("<motioncard.Axis {}>", self.axis.index())
     }
@@ -237,6 +411,13 @@ impl Motion {
         wait_sliced(p, timeout, |s| self.motion.wait(s))
     }
 
+    /// Wait until a gear or cam motion is in gear (in sync); the slave's commanded position
+    /// then.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_in_sync(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait_in_sync(s))
+    }
+
     /// Wait until a velocity move runs at its velocity; returns it.
     #[pyo3(signature = (timeout = None))]
     fn wait_in_velocity(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
@@ -253,7 +434,11 @@ impl Motion {
     }
 
     fn __repr__(&self) -> String {
-        format!("<motioncard.Motion axis {} seq {}>", self.axis, self.motion.seq())
+        format!(
+            "<motioncard.Motion axis {} seq {}>",
+            self.axis,
+            self.motion.seq()
+        )
     }
 }
 
@@ -322,6 +507,12 @@ pub struct Status {
     /// The raw encoder count.
     #[pyo3(get)]
     encoder: i64,
+    /// Has the position been set by homing or `set_position`?
+    #[pyo3(get)]
+    homed: bool,
+    /// A gear or cam motion is in gear (in sync).
+    #[pyo3(get)]
+    in_sync: bool,
 }
 
 impl From<sdk::Status> for Status {
@@ -348,6 +539,8 @@ impl From<sdk::Status> for Status {
             move_time: s.raw.move_time,
             move_count: s.raw.move_count,
             encoder: s.raw.encoder,
+            homed: s.homed(),
+            in_sync: s.in_sync(),
         }
     }
 }
@@ -369,4 +562,19 @@ impl Status {
             self.following_error
         ))
     }
+}
+
+/// The master of a gear or cam.
+fn master_of(source: &str, index: usize) -> PyResult<sdk::Master> {
+    Ok(match source {
+        "commanded" => sdk::Master::Commanded(index),
+        "actual" => sdk::Master::Actual(index),
+        "actual_lead" => sdk::Master::ActualLead(index),
+        "aux" => sdk::Master::Aux(index),
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "source {other:?}: \"commanded\", \"actual\", \"actual_lead\" or \"aux\""
+            )))
+        }
+    })
 }

@@ -99,8 +99,8 @@ impl Scope {
             },
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "trigger {other:?}: \"immediate\", \"command\", \"fault\", \"level\" or \"input\""
-                )))
+                "trigger {other:?}: \"immediate\", \"command\", \"fault\", \"level\" or \"input\""
+            )))
             }
         };
         let timeout = Duration::try_from_secs_f64(timeout)
@@ -138,7 +138,12 @@ impl Scope {
         Ok(Capture {
             names: sources
                 .iter()
-                .map(|s| (upper_snake(&format!("{:?}", s.signal)).to_lowercase(), s.index))
+                .map(|s| {
+                    (
+                        upper_snake(&format!("{:?}", s.signal)).to_lowercase(),
+                        s.index,
+                    )
+                })
                 .collect(),
             ticks,
             time,
@@ -224,10 +229,6 @@ impl Capture {
     }
 
     fn __repr__(&self) -> String {
-        format!(
-            "Capture({} samples of {:?})",
-            self.time.len(),
-            self.names
-        )
+        format!("Capture({} samples of {:?})", self.time.len(), self.names)
     }
 }
