@@ -333,6 +333,37 @@ class PathLimits:
     @property
     def jerk(self) -> float: ...
 
+class Segment:
+    """One segment of a group's path."""
+
+    @staticmethod
+    def line(
+        id: int,
+        target: Sequence[float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        centre: Tuple[float, float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        ccw: bool = True,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
+    @property
+    def id(self) -> int: ...
+
 class GroupMotion:
     @property
     def seq(self) -> int: ...
@@ -386,6 +417,7 @@ class Group:
     def set_override(self, feed: float, rapid: float) -> None: ...
     def wait_done(self, timeout: Optional[float] = None) -> None: ...
     def status(self) -> GroupStatus: ...
+    def stream_path(self, segments: Sequence[Segment]) -> Optional[GroupMotion]: ...
     def run_gcode(
         self,
         text: str,

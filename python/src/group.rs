@@ -48,6 +48,77 @@ impl PathLimits {
     }
 }
 
+/// One segment of a group's path: build it with `Segment.line`, `Segment.arc` or
+/// `Segment.dwell`, then `Group.stream_path([...])`.
+#[pyclass(module = "motioncard", frozen)]
+#[derive(Clone)]
+pub struct Segment {
+    segment: sdk::Segment,
+}
+
+#[pymethods]
+impl Segment {
+    /// A line to `target` (one value per group axis) at `feed`, blended into the segment
+    /// before within `tolerance` of the corner (0: an exact stop). `relative`: from where
+    /// the segment before ends; `last`: the end of the program.
+    #[staticmethod]
+    #[pyo3(signature = (id, target, feed, tolerance = 0.0, *, relative = false, last = false))]
+    fn line(
+        id: u32,
+        target: Vec<f64>,
+        feed: f64,
+        tolerance: f64,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        finish(
+            sdk::Segment::line(id, &target, feed, tolerance),
+            relative,
+            last,
+        )
+    }
+
+    /// An arc in the plane of group axes 0 and 1 around `centre` to `end` (counter-clockwise
+    /// unless `ccw=False`), the group's other axes to `helix`, at `feed`, blended as a line.
+    #[staticmethod]
+    #[pyo3(signature = (id, end, centre, feed, tolerance = 0.0, *, ccw = true, helix = Vec::new(), relative = false, last = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn arc(
+        id: u32,
+        end: [f64; 2],
+        centre: [f64; 2],
+        feed: f64,
+        tolerance: f64,
+        ccw: bool,
+        helix: Vec<f64>,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        let arc = sdk::ArcSpec::Centre { end, centre, ccw };
+        let s = sdk::Segment::arc(id, arc, sdk::Plane::default(), &helix, feed, tolerance);
+        finish(s, relative, last)
+    }
+
+    /// A dwell of `seconds` (an exact stop, then a wait).
+    #[staticmethod]
+    #[pyo3(signature = (id, seconds, *, last = false))]
+    fn dwell(id: u32, seconds: f64, last: bool) -> Segment {
+        finish(sdk::Segment::dwell(id, seconds), false, last)
+    }
+
+    /// The id reported as it starts and ends (`EventKind.SEGMENT_START`, `SEGMENT_END`).
+    #[getter]
+    fn id(&self) -> u32 {
+        self.segment.id
+    }
+}
+
+fn finish(mut s: sdk::Segment, relative: bool, last: bool) -> Segment {
+    s.relative = relative;
+    s.last = last;
+    Segment { segment: s }
+}
+
 /// An axes group of a card.
 #[pyclass(module = "motioncard", frozen)]
 pub struct Group {
@@ -198,6 +269,34 @@ impl Group {
     #[pyo3(signature = (timeout = None))]
     fn wait_done(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<()> {
         wait_sliced(p, timeout, |s| self.group.wait_done(s))
+    }
+
+    /// Send `segments` to the group's path (configured with `configure_path`): queued as the
+    /// path has room while it runs (runs of lines that sample a curve are sent as that curve).
+    /// Returns the last segment's motion (wait on it for the end of the path), None when
+    /// nothing was queued. A refusal raises its error with `index` (the segment that failed)
+    /// and `accepted` (how many the card took) set on it; Ctrl-C cancels the stream.
+    fn stream_path(&self, p: Python<'_>, segments: Vec<Segment>) -> PyResult<Option<GroupMotion>> {
+        let items: Vec<sdk::Segment> = segments.into_iter().map(|s| s.segment).collect();
+        let streamer = self.group.spawn_path_stream(items);
+        while !streamer.is_finished() {
+            if let Err(e) = p.check_signals() {
+                streamer.cancel();
+                let _ = p.allow_threads(|| streamer.join());
+                return Err(e);
+            }
+            p.allow_threads(|| std::thread::sleep(std::time::Duration::from_millis(2)));
+        }
+        match p.allow_threads(|| streamer.join()) {
+            Ok(m) => Ok(m.map(|motion| GroupMotion { motion })),
+            Err(e) => {
+                let err = PyErr::from(crate::errors::Error(e.error));
+                let v = err.value(p);
+                v.setattr("index", e.index)?;
+                v.setattr("accepted", e.accepted)?;
+                Err(err)
+            }
+        }
     }
 
     /// A snapshot of the group's status.

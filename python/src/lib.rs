@@ -121,6 +121,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::GroupMotion>()?;
     m.add_class::<group::GroupStatus>()?;
     m.add_class::<group::PathLimits>()?;
+    m.add_class::<group::Segment>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
     m.add_class::<scope::Scope>()?;

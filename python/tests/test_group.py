@@ -68,3 +68,34 @@ def test_gcode_program_runs_to_its_end(card: mc.Card) -> None:
     # the arc's centre (10, 5): the radius is 5 at its end
     x, y, _ = positions(card)
     assert math.hypot(x - 10.0, y - 5.0) == pytest.approx(5.0, abs=TOL)
+
+
+def test_stream_a_path(card: mc.Card) -> None:
+    g = xyz(card)
+    square = [
+        mc.Segment.line(1, [10.0, 0.0, 0.0], 50.0, 0.01),
+        mc.Segment.line(2, [10.0, 10.0, 0.0], 50.0, 0.01),
+        mc.Segment.arc(3, (0.0, 10.0), (5.0, 10.0), 50.0, 0.01),
+        mc.Segment.dwell(4, 0.05),
+        mc.Segment.line(5, [-1.0, -10.0, 2.0], 50.0, 0.0, relative=True, last=True),
+    ]
+    assert [s.id for s in square] == [1, 2, 3, 4, 5]
+    m = g.stream_path(square)
+    assert m is not None
+    m.wait(30.0)
+    assert positions(card) == pytest.approx([-1.0, 0.0, 2.0], abs=TOL)
+    started = [
+        e.value for e in card.events(0.0) if e.kind == mc.EventKind.SEGMENT_START and e.axis == 0
+    ]
+    assert started == [1.0, 2.0, 3.0, 4.0, 5.0]
+
+
+def test_a_refused_segment_names_its_index(card: mc.Card) -> None:
+    g = xyz(card)
+    bad = [
+        mc.Segment.line(1, [1.0, 0.0, 0.0], 50.0),
+        mc.Segment.line(2, [1.0, float("nan"), 0.0], 50.0),
+    ]
+    with pytest.raises(mc.NotFiniteError) as e:
+        g.stream_path(bad)
+    assert getattr(e.value, "index") == 1
