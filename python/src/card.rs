@@ -195,6 +195,42 @@ impl Card {
         self.set_outputs(py_, bit, if high { bit } else { 0 })
     }
 
+    /// Configure the digital inputs (those not given stay): `polarity` (bit i: input i is
+    /// active low), `rise_events` / `fall_events` (bit i: an `EventKind.INPUT` event on that
+    /// debounced edge of input i), `debounce` (ticks each input must hold a new level, one
+    /// per input).
+    #[pyo3(signature = (*, polarity = None, rise_events = None, fall_events = None, debounce = None))]
+    fn configure_io(
+        &self,
+        py_: Python<'_>,
+        polarity: Option<u32>,
+        rise_events: Option<u32>,
+        fall_events: Option<u32>,
+        debounce: Option<Vec<u16>>,
+    ) -> PyResult<()> {
+        let mut s = py(self.card.io_settings())?;
+        if let Some(v) = polarity {
+            s.polarity = v;
+        }
+        if let Some(v) = rise_events {
+            s.rise_events = v;
+        }
+        if let Some(v) = fall_events {
+            s.fall_events = v;
+        }
+        if let Some(d) = debounce {
+            if d.len() != s.debounce.len() {
+                return Err(PyValueError::new_err(format!(
+                    "debounce: {} values, one per input ({})",
+                    d.len(),
+                    s.debounce.len()
+                )));
+            }
+            s.debounce.copy_from_slice(&d);
+        }
+        py(py_.allow_threads(|| self.card.configure_io(&s)))
+    }
+
     /// Analog input `input`: its filtered value, volts.
     fn analog_input(&self, input: usize) -> PyResult<f64> {
         py(self.card.analog_input(input)).map(|a| a.value)

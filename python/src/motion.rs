@@ -113,6 +113,21 @@ impl Axis {
         self.axis.scale_factor()
     }
 
+    /// Make it a rotary axis whose position wraps every `period` user units.
+    fn set_modulo(&self, p: Python<'_>, period: f64) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.set_modulo(period)))
+    }
+
+    /// A linear axis again.
+    fn clear_modulo(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.clear_modulo()))
+    }
+
+    /// The modulo period (0: a linear axis).
+    fn modulo(&self) -> PyResult<f64> {
+        py(self.axis.modulo())
+    }
+
     /// Move to `target` within `limits`.
     fn move_absolute(&self, p: Python<'_>, target: f64, limits: MoveLimits) -> PyResult<Motion> {
         started(

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import asyncio
 
+import pytest
+
 import motioncard as mc
 
 LIMITS = mc.MoveLimits(50_000.0, 1e6, 5e7)
@@ -32,10 +34,18 @@ def test_events_iterate_until_none_comes(card: mc.Card) -> None:
 
 
 def test_inputs_and_outputs(card: mc.Card, sim: mc.Sim) -> None:
+    card.configure_io(rise_events=1 << 5, debounce=[10] * mc.INPUTS)
+    drain(card)
     assert card.inputs() & (1 << 5) == 0
     sim.set_input(5, True)
+    sim.step(5)
+    assert card.inputs() & (1 << 5) == 0  # not yet: debounced over 10 ticks
     sim.step(100)
     assert card.inputs() & (1 << 5)
+    edges = [e for e in card.events(0.0) if e.kind == mc.EventKind.INPUT]
+    assert [(e.axis, e.code) for e in edges] == [(5, 1)]
+    with pytest.raises(ValueError):
+        card.configure_io(debounce=[1, 2])
     card.set_output(3, True)
     card.set_outputs(0b110000, 0b100000)
     assert card.outputs() & 0b111000 == 0b101000

@@ -149,3 +149,15 @@ def test_await_a_motion(card: mc.Card) -> None:
 
     reached = asyncio.run(go())
     assert abs(reached + 5_000.0) <= IN_POSITION
+
+
+def test_rotary_axis_wraps(card: mc.Card) -> None:
+    x = card.axis(0)
+    x.set_scale(100.0)  # counts per degree
+    x.set_modulo(360.0)
+    assert x.modulo() == 360.0
+    x.enable()
+    x.move_relative(400.0, mc.MoveLimits(3_600.0, 36_000.0, 3.6e6)).wait(5.0)
+    assert x.status().position == pytest.approx(40.0, abs=0.05)
+    with pytest.raises(mc.ModuloZeroError):
+        x.set_modulo(0.0)
