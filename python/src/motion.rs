@@ -84,6 +84,45 @@ fn started(m: sdk::Result<sdk::Motion>, axis: usize) -> PyResult<Motion> {
     })
 }
 
+/// The settings `Axis.settings` and `Axis.configure` name.
+type Field = fn(&mut sdk::AxisSettings) -> &mut f64;
+const SETTINGS: [(&str, Field); 13] = [
+    ("kp", |c| &mut c.ffpiv.kp),
+    ("ki", |c| &mut c.ffpiv.ki),
+    ("kv", |c| &mut c.ffpiv.kv),
+    ("kvff", |c| &mut c.ffpiv.kvff),
+    ("kaff", |c| &mut c.ffpiv.kaff),
+    ("vel_filter_hz", |c| &mut c.ffpiv.vel_filter_hz),
+    ("dac_limit_v", |c| &mut c.dac_limit_v),
+    ("in_pos_window", |c| &mut c.in_pos_window),
+    ("in_vel_window", |c| &mut c.in_vel_window),
+    ("settle_time", |c| &mut c.settle_time),
+    ("jog_max_vel", |c| &mut c.jog_max_vel),
+    ("jog_accel", |c| &mut c.jog_accel),
+    ("jog_jerk", |c| &mut c.jog_jerk),
+];
+
+impl Axis {
+    fn move_with(
+        &self,
+        p: Python<'_>,
+        kind: sdk::MoveKind,
+        value: f64,
+        limits: MoveLimits,
+        buffered: bool,
+    ) -> PyResult<Motion> {
+        let mode = if buffered {
+            sdk::BufferMode::Buffered
+        } else {
+            sdk::BufferMode::Aborting
+        };
+        started(
+            p.allow_threads(|| self.axis.move_with(kind, value, &limits.limits, mode)),
+            self.axis.index(),
+        )
+    }
+}
+
 #[pymethods]
 impl Axis {
     /// The axis's number on the card.
@@ -128,20 +167,67 @@ impl Axis {
         py(self.axis.modulo())
     }
 
-    /// Move to `target` within `limits`.
-    fn move_absolute(&self, p: Python<'_>, target: f64, limits: MoveLimits) -> PyResult<Motion> {
-        started(
-            p.allow_threads(|| self.axis.move_absolute(target, &limits.limits)),
-            self.axis.index(),
-        )
+    /// Move to `target` within `limits`; `buffered`: after the motion in progress ends
+    /// (PLCopen Buffered), else at once from the current state (Aborting).
+    #[pyo3(signature = (target, limits, *, buffered = false))]
+    fn move_absolute(
+        &self,
+        p: Python<'_>,
+        target: f64,
+        limits: MoveLimits,
+        buffered: bool,
+    ) -> PyResult<Motion> {
+        self.move_with(p, sdk::MoveKind::Absolute, target, limits, buffered)
     }
 
-    /// Move by `distance` within `limits`.
-    fn move_relative(&self, p: Python<'_>, distance: f64, limits: MoveLimits) -> PyResult<Motion> {
-        started(
-            p.allow_threads(|| self.axis.move_relative(distance, &limits.limits)),
-            self.axis.index(),
-        )
+    /// Move by `distance` within `limits`; `buffered` as `move_absolute`.
+    #[pyo3(signature = (distance, limits, *, buffered = false))]
+    fn move_relative(
+        &self,
+        p: Python<'_>,
+        distance: f64,
+        limits: MoveLimits,
+        buffered: bool,
+    ) -> PyResult<Motion> {
+        self.move_with(p, sdk::MoveKind::Relative, distance, limits, buffered)
+    }
+
+    /// MC_MoveAdditive: `distance` more than the target of the motion in progress.
+    #[pyo3(signature = (distance, limits, *, buffered = false))]
+    fn move_additive(
+        &self,
+        p: Python<'_>,
+        distance: f64,
+        limits: MoveLimits,
+        buffered: bool,
+    ) -> PyResult<Motion> {
+        self.move_with(p, sdk::MoveKind::Additive, distance, limits, buffered)
+    }
+
+    /// The servo gains, windows and jog limits (FFPIV; counts, seconds, volts) by name:
+    /// `kp`, `ki`, `kv`, `kvff`, `kaff`, `vel_filter_hz`, `dac_limit_v`, `in_pos_window`,
+    /// `in_vel_window`, `settle_time`, `jog_max_vel`, `jog_accel`, `jog_jerk`.
+    fn settings(&self) -> PyResult<std::collections::BTreeMap<&'static str, f64>> {
+        let mut c = py(self.axis.settings())?;
+        Ok(SETTINGS.iter().map(|(k, f)| (*k, *f(&mut c))).collect())
+    }
+
+    /// Change some of `settings()` (the others stay) and have the card check and apply
+    /// them: `axis.configure(kp=120.0, in_pos_window=2.0)`.
+    #[pyo3(signature = (**changes))]
+    fn configure(
+        &self,
+        p: Python<'_>,
+        changes: Option<std::collections::HashMap<String, f64>>,
+    ) -> PyResult<()> {
+        let mut c = py(self.axis.settings())?;
+        for (k, v) in changes.unwrap_or_default() {
+            let (_, field) = SETTINGS.iter().find(|(n, _)| *n == k).ok_or_else(|| {
+                pyo3::exceptions::PyTypeError::new_err(format!("no axis setting named {k:?}"))
+            })?;
+            *field(&mut c) = v;
+        }
+        py(p.allow_threads(|| self.axis.configure(&c)))
     }
 
     /// Run at the signed `velocity`, reached within `acceleration` (and `deceleration`,
@@ -424,6 +510,12 @@ impl Motion {
     #[pyo3(signature = (timeout = None))]
     fn wait(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
         wait_sliced(p, timeout, |s| self.motion.wait(s))
+    }
+
+    /// Wait until a buffered move starts (PLCopen Active); its target.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_active(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait_active(s))
     }
 
     /// Wait until a gear or cam motion is in gear (in sync); the slave's commanded position

@@ -161,3 +161,35 @@ def test_rotary_axis_wraps(card: mc.Card) -> None:
     assert x.status().position == pytest.approx(40.0, abs=0.05)
     with pytest.raises(mc.ModuloZeroError):
         x.set_modulo(0.0)
+
+
+def test_buffered_and_additive_moves(card: mc.Card) -> None:
+    x = card.axis(0)
+    x.enable()
+    lim = mc.MoveLimits(50_000.0, 1e6, 5e7)
+    first = x.move_absolute(5_000.0, lim)
+    second = x.move_relative(1_000.0, lim, buffered=True)
+    assert second.wait_active(2.0) == pytest.approx(6_000.0)
+    # the first ended in position before the buffered one began
+    assert abs(first.wait(0.0) - 5_000.0) <= IN_POSITION
+    assert abs(second.wait(2.0) - 6_000.0) <= IN_POSITION
+    x.move_absolute(7_000.0, lim)
+    reached = x.move_additive(500.0, lim).wait(2.0)
+    assert abs(reached - 7_500.0) <= IN_POSITION
+
+
+def test_servo_settings(card: mc.Card) -> None:
+    x = card.axis(0)
+    s = x.settings()
+    assert set(s) >= {"kp", "ki", "kv", "in_pos_window", "jog_max_vel"}
+    x.configure(in_pos_window=3.5, kp=s["kp"] * 1.5)
+    t = x.settings()
+    assert t["in_pos_window"] == 3.5 and t["kp"] == s["kp"] * 1.5
+    assert {k: v for k, v in t.items() if k not in ("kp", "in_pos_window")} == {
+        k: v for k, v in s.items() if k not in ("kp", "in_pos_window")
+    }
+    with pytest.raises(mc.BadConfigError):
+        x.configure(in_pos_window=-1.0)
+    with pytest.raises(TypeError):
+        x.configure(gain=1.0)
+    assert x.settings() == t
