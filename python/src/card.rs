@@ -2,8 +2,9 @@
 use crate::errors::py;
 use crate::group::Group;
 use crate::motion::Axis;
+use crate::names::py_enum;
 use crate::scope::Scope;
-use crate::{py_enum, wait_sliced};
+use crate::wait::wait_sliced;
 use motioncard_sdk as sdk;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

@@ -1,6 +1,7 @@
 //! `Group` (coordinated moves, the path, G-code), `GroupMotion`, `GroupStatus`, `PathLimits`.
 use crate::errors::py;
-use crate::{py_enum, wait_sliced};
+use crate::names::py_enum;
+use crate::wait::wait_sliced;
 use motioncard_sdk as sdk;
 use pyo3::prelude::*;
 

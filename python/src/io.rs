@@ -1,6 +1,6 @@
 //! Position compare and touch probes of an axis.
 use crate::errors::py;
-use crate::wait_sliced;
+use crate::wait::wait_sliced;
 use motioncard_sdk as sdk;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

@@ -1,6 +1,7 @@
 //! `Axis`, `MoveLimits`, `Motion` and `Status`.
 use crate::errors::py;
-use crate::{py_enum, wait_sliced};
+use crate::names::py_enum;
+use crate::wait::wait_sliced;
 use motioncard_sdk as sdk;
 use pyo3::prelude::*;
 

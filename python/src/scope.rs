@@ -1,6 +1,6 @@
 //! The scope: a one-shot capture as numpy arrays, one per channel, and the time.
 use crate::errors::py;
-use crate::upper_snake;
+use crate::names::upper_snake;
 use motioncard_sdk as sdk;
 use numpy::PyArray1;
 use pyo3::exceptions::{PyIndexError, PyValueError};
