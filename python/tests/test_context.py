@@ -55,3 +55,22 @@ def test_a_realtime_sim_reopens_after_close() -> None:
         with mc.Card.open("sim") as card:
             assert card.info.axes == 8
             card.ping()
+
+
+def test_open_sim_options() -> None:
+    with mc.Card.open_sim("stepped", axes=3, servo_rate_hz=5_000) as card:
+        assert card.info.axes == 3 and card.info.servo_rate_hz == 5_000
+        assert card.uri == "sim"
+        sim = card.sim
+        assert sim is not None
+        t0 = sim.time
+        sim.step(500)
+        assert sim.time - t0 == pytest.approx(0.1)
+        with pytest.raises(mc.BadAxisError):
+            card.axis(3)
+    with mc.Card.open_sim("realtime") as card:
+        assert card.sim is None
+    with pytest.raises(ValueError):
+        mc.Card.open_sim("sundial")  # type: ignore[arg-type]
+    with pytest.raises(mc.BadConfigError):
+        mc.Card.open_sim(axes=0)
