@@ -125,14 +125,14 @@ impl Card {
     }
 
     /// A command that does nothing but come back: the round trip through the card.
-    fn ping(&self, py_: Python<'_>) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.ping()))
+    fn ping(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.ping()))
     }
 
     /// Close the card: moving axes halt, waits in progress end with `ClosedError`, and so
     /// does every later call. Closing twice is harmless.
-    fn close(&self, py_: Python<'_>) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.close()))
+    fn close(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.close()))
     }
 
     fn __enter__(slf: Py<Self>) -> Py<Self> {
@@ -140,8 +140,8 @@ impl Card {
     }
 
     #[pyo3(signature = (*_args))]
-    fn __exit__(&self, py_: Python<'_>, _args: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
-        self.close(py_)?;
+    fn __exit__(&self, p: Python<'_>, _args: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
+        self.close(p)?;
         Ok(false)
     }
 
@@ -153,8 +153,8 @@ impl Card {
     /// The next event from the card, waiting up to `timeout` seconds (0: don't wait; None:
     /// until one comes); None when none came in time.
     #[pyo3(signature = (timeout = 0.0))]
-    fn next_event(&self, py_: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
-        next_event(py_, &self.card, timeout)
+    fn next_event(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, timeout)
     }
 
     /// The card's events as an iterator: each waits up to `timeout` seconds for the next
@@ -183,17 +183,17 @@ impl Card {
     }
 
     /// Set the outputs whose bits are set in `mask` to those of `value`.
-    fn set_outputs(&self, py_: Python<'_>, mask: u32, value: u32) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.set_outputs(mask, value)))
+    fn set_outputs(&self, p: Python<'_>, mask: u32, value: u32) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.set_outputs(mask, value)))
     }
 
     /// Set output `output` high or low.
-    fn set_output(&self, py_: Python<'_>, output: u32, high: bool) -> PyResult<()> {
+    fn set_output(&self, p: Python<'_>, output: u32, high: bool) -> PyResult<()> {
         if output >= 32 {
             return Err(PyValueError::new_err(format!("output {output}: 0 to 31")));
         }
         let bit = 1u32 << output;
-        self.set_outputs(py_, bit, if high { bit } else { 0 })
+        self.set_outputs(p, bit, if high { bit } else { 0 })
     }
 
     /// Configure the digital inputs (those not given stay): `polarity` (bit i: input i is
@@ -203,7 +203,7 @@ impl Card {
     #[pyo3(signature = (*, polarity = None, rise_events = None, fall_events = None, debounce = None))]
     fn configure_io(
         &self,
-        py_: Python<'_>,
+        p: Python<'_>,
         polarity: Option<u32>,
         rise_events: Option<u32>,
         fall_events: Option<u32>,
@@ -229,7 +229,7 @@ impl Card {
             }
             s.debounce.copy_from_slice(&d);
         }
-        py(py_.allow_threads(|| self.card.configure_io(&s)))
+        py(p.allow_threads(|| self.card.configure_io(&s)))
     }
 
     /// Analog input `input`: its filtered value, volts.
@@ -238,8 +238,8 @@ impl Card {
     }
 
     /// Set analog output `output` to `volts`; the volts it outputs (clamped to its range).
-    fn set_analog_output(&self, py_: Python<'_>, output: usize, volts: f64) -> PyResult<f64> {
-        py(py_.allow_threads(|| self.card.set_analog_output(output, volts)))
+    fn set_analog_output(&self, p: Python<'_>, output: usize, volts: f64) -> PyResult<f64> {
+        py(p.allow_threads(|| self.card.set_analog_output(output, volts)))
     }
 
     /// Load cam table `table` with `points` (master, slave; counts; the master strictly
@@ -247,26 +247,26 @@ impl Card {
     #[pyo3(signature = (table, points, *, cubic = false, periodic = false))]
     fn load_cam_table(
         &self,
-        py_: Python<'_>,
+        p: Python<'_>,
         table: usize,
         points: Vec<(f64, f64)>,
         cubic: bool,
         periodic: bool,
     ) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.load_cam_table(table, &points, cubic, periodic)))
+        py(p.allow_threads(|| self.card.load_cam_table(table, &points, cubic, periodic)))
     }
 
     /// Stop every axis and group: an e-stop of `category` (0, 1 or 2), latched until
     /// `reset_faults()`.
     #[pyo3(signature = (category = 1))]
-    fn estop(&self, py_: Python<'_>, category: u32) -> PyResult<()> {
+    fn estop(&self, p: Python<'_>, category: u32) -> PyResult<()> {
         let c = stop_category(category)?;
-        py(py_.allow_threads(|| self.card.estop(c)))
+        py(p.allow_threads(|| self.card.estop(c)))
     }
 
     /// Clear the card's latched faults (watchdog, e-stop) and the axes' ErrorStop.
-    fn reset_faults(&self, py_: Python<'_>) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.reset_faults()))
+    fn reset_faults(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.reset_faults()))
     }
 
     /// The card's safety state.
@@ -283,38 +283,38 @@ impl Card {
     }
 
     /// Arm the host watchdog with `timeout` seconds.
-    fn set_watchdog_timeout(&self, py_: Python<'_>, timeout: f64) -> PyResult<()> {
+    fn set_watchdog_timeout(&self, p: Python<'_>, timeout: f64) -> PyResult<()> {
         let t = Duration::try_from_secs_f64(timeout)
             .map_err(|e| PyValueError::new_err(format!("timeout {timeout}: {e}")))?;
-        py(py_.allow_threads(|| self.card.set_watchdog_timeout(t)))
+        py(p.allow_threads(|| self.card.set_watchdog_timeout(t)))
     }
 
     /// Change the servo rate (all axes disabled).
-    fn set_servo_rate(&self, py_: Python<'_>, hz: u32) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.set_servo_rate(hz)))
+    fn set_servo_rate(&self, p: Python<'_>, hz: u32) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.set_servo_rate(hz)))
     }
 
     /// The card's whole configuration as the text of a configuration file (TOML).
-    fn save_config(&self, py_: Python<'_>) -> PyResult<String> {
-        py(py_.allow_threads(|| self.card.save_config()))
+    fn save_config(&self, p: Python<'_>) -> PyResult<String> {
+        py(p.allow_threads(|| self.card.save_config()))
     }
 
     /// Apply a configuration file's text; `origin` names it in errors. Returns the sections
     /// applied (those that differed from the card).
     #[pyo3(signature = (text, origin = "<string>"))]
-    fn load_config(&self, py_: Python<'_>, text: &str, origin: &str) -> PyResult<Vec<String>> {
-        let r = py(py_.allow_threads(|| self.card.load_config(text, origin)))?;
+    fn load_config(&self, p: Python<'_>, text: &str, origin: &str) -> PyResult<Vec<String>> {
+        let r = py(p.allow_threads(|| self.card.load_config(text, origin)))?;
         Ok(report_lines(&r))
     }
 
     /// Write the configuration file `path`.
-    fn save_config_file(&self, py_: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
-        py(py_.allow_threads(|| self.card.save_config_file(&path)))
+    fn save_config_file(&self, p: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.save_config_file(&path)))
     }
 
     /// Apply the configuration file `path`.
-    fn load_config_file(&self, py_: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<String>> {
-        let r = py(py_.allow_threads(|| self.card.load_config_file(&path)))?;
+    fn load_config_file(&self, p: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<String>> {
+        let r = py(p.allow_threads(|| self.card.load_config_file(&path)))?;
         Ok(report_lines(&r))
     }
 
@@ -329,7 +329,7 @@ fn report_lines(r: &sdk::LoadReport) -> Vec<String> {
 }
 
 pub(crate) fn next_event(
-    py_: Python<'_>,
+    p: Python<'_>,
     card: &sdk::Card,
     timeout: Option<f64>,
 ) -> PyResult<Option<Event>> {
@@ -337,24 +337,22 @@ pub(crate) fn next_event(
         let e = py(card.next_event(Duration::ZERO))?;
         return Ok(e.map(Event::from));
     }
-    let r = wait_sliced(py_, timeout, |slice| match card.next_event(slice) {
+    let r = wait_sliced(p, timeout, |slice| match card.next_event(slice) {
         Ok(Some(e)) => Ok(e),
         Ok(None) => Err(sdk::Error::Timeout(slice)),
         Err(e) => Err(e),
     });
     match r {
         Ok(e) => Ok(Some(Event::from(e))),
-        Err(e)
-            if e.is_instance_of::<crate::errors::MotioncardError>(py_) && is_timeout(py_, &e) =>
-        {
+        Err(e) if e.is_instance_of::<crate::errors::MotioncardError>(p) && is_timeout(p, &e) => {
             Ok(None)
         }
         Err(e) => Err(e),
     }
 }
 
-fn is_timeout(py_: Python<'_>, e: &PyErr) -> bool {
-    e.value(py_)
+fn is_timeout(p: Python<'_>, e: &PyErr) -> bool {
+    e.value(p)
         .getattr("kind")
         .and_then(|k| k.extract::<String>())
         .is_ok_and(|k| k == "Timeout")
@@ -403,13 +401,13 @@ pub struct Sim {
 #[pymethods]
 impl Sim {
     /// Advance `n` servo periods.
-    fn step(&self, py_: Python<'_>, n: u64) -> PyResult<()> {
+    fn step(&self, p: Python<'_>, n: u64) -> PyResult<()> {
         // in chunks, so Ctrl-C ends a long run
         let mut left = n;
         while left > 0 {
-            py_.check_signals()?;
+            p.check_signals()?;
             let k = left.min(10_000);
-            py_.allow_threads(|| self.sim.step(k));
+            p.allow_threads(|| self.sim.step(k));
             left -= k;
         }
         Ok(())
@@ -472,12 +470,12 @@ impl From<sdk::CardEvent> for Event {
 impl Event {
     /// The kind (`motioncard.EventKind`).
     #[getter]
-    fn kind<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        py_enum(py_, "EventKind", self.kind as i64)
+    fn kind<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "EventKind", self.kind as i64)
     }
 
-    fn __repr__(&self, py_: Python<'_>) -> PyResult<String> {
-        let k = self.kind(py_)?.getattr("name")?.to_string();
+    fn __repr__(&self, p: Python<'_>) -> PyResult<String> {
+        let k = self.kind(p)?.getattr("name")?.to_string();
         Ok(format!(
             "Event({k}, axis={}, seq={}, code={}, tick={}, value={})",
             self.axis, self.seq, self.code, self.tick, self.value
@@ -499,8 +497,8 @@ impl Events {
         slf
     }
 
-    fn __next__(&self, py_: Python<'_>) -> PyResult<Option<Event>> {
-        next_event(py_, &self.card, self.timeout)
+    fn __next__(&self, p: Python<'_>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, self.timeout)
     }
 
     /// `async for ev in card.events(timeout)`: `motioncard.events_async(events)`.
@@ -514,8 +512,8 @@ impl Events {
 
     /// The next event, waiting up to `timeout` seconds (as `Card.next_event`).
     #[pyo3(signature = (timeout = 0.0))]
-    fn next_event(&self, py_: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
-        next_event(py_, &self.card, timeout)
+    fn next_event(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, timeout)
     }
 
     /// The wait for each event, s.
