@@ -71,7 +71,7 @@ ERROR_CLASSES: dict[str, type[Error]] = {
     kind: getattr(_motioncard, cls) for kind, cls, _code, _desc in ERROR_KINDS
 }
 
-# How long one executor call of the asyncio helpers waits: a cancelled task leaves a thread
+# How long one executor call of the asyncio functions waits: a cancelled task leaves a thread
 # waiting at most this long.
 _ASYNC_SLICE = 0.05
 

@@ -1,6 +1,6 @@
 //! `motioncard._motioncard`: the SDK (`motioncard_sdk`) for Python. The package `motioncard`
 //! (python/motioncard/__init__.py) re-exports it and adds what is plain Python: the enums
-//! built from the lists exported here, the asyncio helpers.
+//! built from the lists exported here, the asyncio functions.
 //!
 //! Every call that waits releases the GIL and waits in slices of at most [`wait::SLICE`], checking
 //! for signals between them, so Ctrl-C ends a wait with `KeyboardInterrupt`.
