@@ -1,0 +1,178 @@
+"""The motion card's SDK for Python.
+
+Open a card by URI (or an emulated one in this process), take its axes, move them, read
+their status, wait for the card's events, capture its scope as numpy arrays::
+
+    import motioncard as mc
+
+    with mc.Card.open_sim() as card:          # stepped emulated card; or mc.Card.open("sim")
+        x = card.axis(0)
+        x.enable()
+        reached = x.move_absolute(10_000, mc.MoveLimits(50_000, 1e6, 5e7)).wait(5.0)
+        print(reached, x.status().state)
+
+Every error is a ``motioncard.Error`` whose ``kind`` names the SDK's ``ErrorKind``; each kind
+has its own subclass (``BadAxisError``, ``TimeoutError``, ...). Waits release the GIL and
+Ctrl-C ends them with ``KeyboardInterrupt``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import enum
+from typing import AsyncIterator, Optional, Union
+
+from . import _motioncard
+from ._motioncard import *  # noqa: F401,F403 (the classes and the error subclasses)
+from ._motioncard import (
+    AXIS_STATES,
+    ERROR_KINDS,
+    EVENT_KINDS,
+    GROUP_STATES,
+    INPUTS,
+    SCOPE_CHANNELS,
+    SIGNALS,
+    STOP_CATEGORIES,
+    Card,
+    CardInfo,
+    Capture,
+    Compare,
+    Error,
+    Event,
+    Events,
+    Group,
+    GroupMotion,
+    GroupStatus,
+    Motion,
+    MoveLimits,
+    PathLimits,
+    Probe,
+    SafetyStatus,
+    Scope,
+    Segment,
+    Sim,
+    Status,
+    Axis,
+)
+
+#: PLCopen axis states (``Status.state``).
+AxisState = enum.IntEnum("AxisState", AXIS_STATES, module=__name__)  # type: ignore[misc]
+#: PLCopen group states (``GroupStatus.state``).
+GroupState = enum.IntEnum("GroupState", GROUP_STATES, module=__name__)  # type: ignore[misc]
+#: Event kinds (``Event.kind``).
+EventKind = enum.IntEnum("EventKind", EVENT_KINDS, module=__name__)  # type: ignore[misc]
+#: Scope signals (``Scope.capture``'s channels).
+Signal = enum.IntEnum("Signal", SIGNALS, module=__name__)  # type: ignore[misc]
+#: Stop categories of an e-stop (IEC 60204-1).
+StopCategory = enum.IntEnum("StopCategory", STOP_CATEGORIES, module=__name__)  # type: ignore[misc]
+
+#: The error class of each kind, by the kind's name (``"BadAxis"`` → ``BadAxisError``).
+ERROR_CLASSES: dict[str, type[Error]] = {
+    kind: getattr(_motioncard, cls) for kind, cls, _code, _desc in ERROR_KINDS
+}
+
+# How long one executor call of the asyncio functions waits: a cancelled task leaves a thread
+# waiting at most this long.
+_ASYNC_SLICE = 0.05
+
+
+async def wait_async(motion: Motion, timeout: Optional[float] = None) -> float:
+    """``motion.wait(timeout)`` from asyncio (``await motion`` is this without a timeout):
+    the final position. The wait runs in the loop's default executor in short slices, so
+    cancelling the task ends it promptly."""
+    loop = asyncio.get_running_loop()
+    left = timeout
+    while True:
+        s = _ASYNC_SLICE if left is None else min(_ASYNC_SLICE, left)
+        try:
+            return await loop.run_in_executor(None, motion.wait, s)
+        except _motioncard.TimeoutError:
+            if left is not None:
+                left -= s
+                if left <= 0:
+                    raise
+
+
+async def next_event_async(
+    card: Union[Card, Events], timeout: Optional[float] = None
+) -> Optional[Event]:
+    """``card.next_event(timeout)`` from asyncio: the next event, or None when none came
+    within ``timeout`` seconds (None: wait until one comes)."""
+    loop = asyncio.get_running_loop()
+    left = timeout
+    while True:
+        s = _ASYNC_SLICE if left is None else min(_ASYNC_SLICE, left)
+        ev = await loop.run_in_executor(None, card.next_event, s)
+        if ev is not None:
+            return ev
+        if left is not None:
+            left -= s
+            if left <= 0:
+                return None
+
+
+async def events_async(card: Union[Card, Events], timeout: Optional[float] = 1.0) -> AsyncIterator[Event]:
+    """The card's events as an async iterator (``async for ev in events_async(card)``, or
+    ``async for ev in card.events(timeout)``); it ends when none comes within ``timeout``
+    seconds."""
+    while True:
+        ev = await next_event_async(card, timeout)
+        if ev is None:
+            return
+        yield ev
+
+
+async def group_wait_async(motion: GroupMotion, timeout: Optional[float] = None) -> None:
+    """``motion.wait(timeout)`` of a group's move from asyncio (``await motion``)."""
+    loop = asyncio.get_running_loop()
+    left = timeout
+    while True:
+        s = _ASYNC_SLICE if left is None else min(_ASYNC_SLICE, left)
+        try:
+            return await loop.run_in_executor(None, motion.wait, s)
+        except _motioncard.TimeoutError:
+            if left is not None:
+                left -= s
+                if left <= 0:
+                    raise
+
+__all__ = [
+    "AXIS_STATES",
+    "ERROR_CLASSES",
+    "ERROR_KINDS",
+    "EVENT_KINDS",
+    "GROUP_STATES",
+    "INPUTS",
+    "SCOPE_CHANNELS",
+    "SIGNALS",
+    "STOP_CATEGORIES",
+    "Axis",
+    "AxisState",
+    "Capture",
+    "Card",
+    "CardInfo",
+    "Compare",
+    "Error",
+    "Event",
+    "EventKind",
+    "Events",
+    "Group",
+    "GroupMotion",
+    "GroupState",
+    "GroupStatus",
+    "Motion",
+    "MoveLimits",
+    "PathLimits",
+    "Probe",
+    "SafetyStatus",
+    "Scope",
+    "Segment",
+    "Signal",
+    "Sim",
+    "Status",
+    "StopCategory",
+    "events_async",
+    "group_wait_async",
+    "next_event_async",
+    "wait_async",
+] + [cls for _kind, cls, _code, _desc in ERROR_KINDS]

@@ -1,0 +1,1063 @@
+# Type stubs of the package motioncard (the compiled motioncard._motioncard and the Python
+# around it). The sections between the GENERATED markers are written by
+# `python tools/stubs.py` from the built module; tests/test_stubs.py checks they match it.
+import enum
+from os import PathLike
+from types import TracebackType
+from typing import (
+    Any,
+    AsyncIterator,
+    Callable,
+    Generator,
+    Iterator,
+    Literal,
+    Optional,
+    Sequence,
+    Tuple,
+    Union,
+)
+
+import numpy as np
+import numpy.typing as npt
+
+AXIS_STATES: list[tuple[str, int]]
+GROUP_STATES: list[tuple[str, int]]
+EVENT_KINDS: list[tuple[str, int]]
+SIGNALS: list[tuple[str, int]]
+STOP_CATEGORIES: list[tuple[str, int]]
+#: (kind, class name, C code, description) of every ErrorKind.
+ERROR_KINDS: list[tuple[str, str, int, str]]
+ERROR_CLASSES: dict[str, type[Error]]
+SCOPE_CHANNELS: int
+__all__: list[str]
+INPUTS: int
+
+Clock = Literal["stepped", "realtime", "free"]
+Trigger = Literal["immediate", "command", "fault", "level", "input"]
+Edge = Literal["rising", "falling", "either"]
+Direction = Literal["positive", "negative", "either"]
+MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
+
+class Error(Exception):
+    """An error of the card or the SDK; each ErrorKind has its own subclass."""
+
+    #: The SDK's ErrorKind name ("BadAxis"); None on the base class.
+    kind: Optional[str]
+    #: The C ABI's MC_ERR_* code.
+    code: Optional[int]
+    description: Optional[str]
+
+class CardInfo:
+    firmware_version: int
+    layout: Tuple[int, int]
+    axes: int
+    servo_rate_hz: int
+
+class SafetyStatus:
+    watchdog_tripped: bool
+    estop_command: bool
+    estop_input: bool
+    watchdog_armed: bool
+    protocol_errors: int
+    session: int
+
+class Sim:
+    """Stepping control of a stepped emulated card."""
+
+    def step(self, n: int) -> None: ...
+    @property
+    def time(self) -> float: ...
+    def set_input(self, input: int, high: bool) -> None: ...
+
+class Event:
+    @property
+    def kind(self) -> EventKind: ...
+    axis: int
+    seq: int
+    code: int
+    tick: int
+    value: float
+
+class Events:
+    """The card's events: `for ev in card.events(timeout)` or `async for ...`."""
+
+    def __iter__(self) -> Iterator[Event]: ...
+    def __next__(self) -> Event: ...
+    def __aiter__(self) -> AsyncIterator[Event]: ...
+    def next_event(self, timeout: Optional[float] = 0.0) -> Optional[Event]: ...
+    @property
+    def timeout(self) -> Optional[float]: ...
+
+class Card:
+    """A motion card opened by URI; a context manager that closes it."""
+
+    @staticmethod
+    def open(uri: str) -> Card: ...
+    @staticmethod
+    def open_sim(
+        clock: Clock = "stepped", axes: int = 8, servo_rate_hz: int = 10000
+    ) -> Card: ...
+    @property
+    def uri(self) -> str: ...
+    @property
+    def info(self) -> CardInfo: ...
+    def tick(self) -> int: ...
+    def axis(self, index: int) -> Axis: ...
+    def axes(self) -> list[Axis]: ...
+    def group(self, index: int) -> Group: ...
+    @property
+    def sim(self) -> Optional[Sim]: ...
+    @property
+    def scope(self) -> Scope: ...
+    def ping(self) -> None: ...
+    def close(self) -> None: ...
+    def __enter__(self) -> Card: ...
+    def __exit__(
+        self,
+        exc_type: Optional[type[BaseException]],
+        exc: Optional[BaseException],
+        tb: Optional[TracebackType],
+    ) -> bool: ...
+    def cancel_waits(self) -> None: ...
+    def next_event(self, timeout: Optional[float] = 0.0) -> Optional[Event]: ...
+    def events(self, timeout: Optional[float] = 1.0) -> Events: ...
+    def events_lost(self) -> Tuple[int, int]: ...
+    def inputs(self) -> int: ...
+    def outputs(self) -> int: ...
+    def set_outputs(self, mask: int, value: int) -> None: ...
+    def set_output(self, output: int, high: bool) -> None: ...
+    def configure_io(
+        self,
+        *,
+        polarity: Optional[int] = None,
+        rise_events: Optional[int] = None,
+        fall_events: Optional[int] = None,
+        debounce: Optional[Sequence[int]] = None,
+    ) -> None: ...
+    def analog_input(self, input: int) -> float: ...
+    def set_analog_output(self, output: int, volts: float) -> float: ...
+    def estop(self, category: int = 1) -> None: ...
+    def reset_faults(self) -> None: ...
+    def safety_status(self) -> SafetyStatus: ...
+    def set_watchdog_timeout(self, timeout: float) -> None: ...
+    def load_cam_table(
+        self,
+        table: int,
+        points: Sequence[Tuple[float, float]],
+        *,
+        cubic: bool = False,
+        periodic: bool = False,
+    ) -> None: ...
+    def set_servo_rate(self, hz: int) -> None: ...
+    def save_config(self) -> str: ...
+    def load_config(self, text: str, origin: str = "<string>") -> list[str]: ...
+    def save_config_file(self, path: Union[str, PathLike[str]]) -> None: ...
+    def load_config_file(self, path: Union[str, PathLike[str]]) -> list[str]: ...
+
+class MoveLimits:
+    def __init__(
+        self,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        deceleration: Optional[float] = None,
+        decel_jerk: Optional[float] = None,
+        jerks: Optional[Tuple[float, float, float, float]] = None,
+    ) -> None: ...
+    @property
+    def velocity(self) -> float: ...
+    @property
+    def acceleration(self) -> float: ...
+    @property
+    def deceleration(self) -> float: ...
+    @property
+    def jerks(self) -> Tuple[float, float, float, float]: ...
+
+class Status:
+    @property
+    def state(self) -> AxisState: ...
+    position: float
+    velocity: float
+    following_error: float
+    command_position: float
+    command_velocity: float
+    command_acceleration: float
+    dac_volts: float
+    faults: int
+    queued: int
+    override_factor: float
+    tick: int
+    peak_velocity: float
+    peak_acceleration: float
+    peak_deceleration: float
+    peak_jerk: float
+    max_following_error: float
+    planned_time: float
+    move_time: float
+    move_count: int
+    encoder: int
+    homed: bool
+    in_sync: bool
+
+class Motion:
+    @property
+    def seq(self) -> int: ...
+    @property
+    def axis(self) -> int: ...
+    def wait(self, timeout: Optional[float] = None) -> float: ...
+    def wait_in_velocity(self, timeout: Optional[float] = None) -> float: ...
+    def wait_in_sync(self, timeout: Optional[float] = None) -> float: ...
+    def wait_active(self, timeout: Optional[float] = None) -> float: ...
+    def __await__(self) -> Generator[Any, None, float]: ...
+
+class Axis:
+    @property
+    def index(self) -> int: ...
+    def enable(self) -> None: ...
+    def disable(self) -> None: ...
+    def set_scale(self, counts_per_unit: float) -> None: ...
+    @property
+    def scale(self) -> float: ...
+    def set_modulo(self, period: float) -> None: ...
+    def clear_modulo(self) -> None: ...
+    def modulo(self) -> float: ...
+    def move_absolute(
+        self, target: float, limits: MoveLimits, *, buffered: bool = False
+    ) -> Motion: ...
+    def move_relative(
+        self, distance: float, limits: MoveLimits, *, buffered: bool = False
+    ) -> Motion: ...
+    def move_additive(
+        self, distance: float, limits: MoveLimits, *, buffered: bool = False
+    ) -> Motion: ...
+    def settings(self) -> dict[str, float]: ...
+    def configure(self, **changes: float) -> None: ...
+    def move_velocity(
+        self,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        deceleration: Optional[float] = None,
+    ) -> Motion: ...
+    def jog(self, velocity: float) -> Motion: ...
+    def jog_release(self) -> Motion: ...
+    def halt(self, deceleration: float, jerk: float) -> Motion: ...
+    def stop(self, deceleration: float, jerk: float) -> Motion: ...
+    def release_stop(self) -> None: ...
+    def reset(self) -> None: ...
+    def set_override(self, factor: float) -> None: ...
+    def wait_done(self, timeout: Optional[float] = None) -> float: ...
+    def status(self) -> Status: ...
+    def configure_homing(
+        self,
+        method: int,
+        *,
+        search_velocity: Optional[float] = None,
+        creep_velocity: Optional[float] = None,
+        acceleration: Optional[float] = None,
+        jerk: Optional[float] = None,
+        offset: Optional[float] = None,
+        timeout: Optional[float] = None,
+        max_distance: Optional[float] = None,
+        index: Optional[bool] = None,
+    ) -> None: ...
+    def home(self, position: float = 0.0) -> Motion: ...
+    def set_position(self, position: float, relative: bool = False) -> None: ...
+    def gear_in(
+        self,
+        master: int,
+        numerator: int,
+        denominator: int,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        source: MasterSource = "commanded",
+    ) -> Motion: ...
+    def gear_out(self) -> Motion: ...
+    def cam_in(
+        self,
+        master: int,
+        table: int,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        source: MasterSource = "commanded",
+        relative: bool = False,
+    ) -> Motion: ...
+    def cam_out(self) -> Motion: ...
+    def pvt(
+        self,
+        points: Sequence[Tuple[float, float, float]],
+        velocity: float,
+        acceleration: float,
+        *,
+        mode: Literal["pvt", "pt"] = "pvt",
+    ) -> Motion: ...
+    def compare(self, channel: int) -> Compare: ...
+    def touch_probe(self, channel: int) -> Probe: ...
+
+class Compare:
+    """A position-compare channel of an axis."""
+
+    @property
+    def channel(self) -> int: ...
+    def arm_single(
+        self, output: int, pulse_us: int, position: float, direction: Direction = "either"
+    ) -> None: ...
+    def arm_series(
+        self,
+        output: int,
+        pulse_us: int,
+        start: float,
+        pitch: float,
+        count: int,
+        direction: Direction = "positive",
+    ) -> None: ...
+    def disarm(self) -> None: ...
+    def status(self) -> Tuple[int, int, int, float]: ...
+
+class Probe:
+    """A touch probe of an axis."""
+
+    def arm(
+        self,
+        input: Optional[int],
+        *,
+        rising: bool = True,
+        falling: bool = False,
+        continuous: bool = False,
+        window: Optional[Tuple[float, float]] = None,
+    ) -> None: ...
+    def abort(self) -> None: ...
+    def positions(self) -> list[float]: ...
+    def wait_capture(self, n: int = 1, timeout: Optional[float] = None) -> float: ...
+
+class PathLimits:
+    def __init__(
+        self,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        deceleration: Optional[float] = None,
+    ) -> None: ...
+    @property
+    def velocity(self) -> float: ...
+    @property
+    def acceleration(self) -> float: ...
+    @property
+    def deceleration(self) -> float: ...
+    @property
+    def jerk(self) -> float: ...
+
+class Segment:
+    """One segment of a group's path."""
+
+    @staticmethod
+    def line(
+        id: int,
+        target: Sequence[float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        centre: Tuple[float, float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        ccw: bool = True,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
+    @property
+    def id(self) -> int: ...
+
+class GroupMotion:
+    @property
+    def seq(self) -> int: ...
+    def wait(self, timeout: Optional[float] = None) -> None: ...
+    def __await__(self) -> Generator[Any, None, None]: ...
+
+class GroupStatus:
+    @property
+    def state(self) -> GroupState: ...
+    queued: int
+
+class Group:
+    @property
+    def index(self) -> int: ...
+    def configure(self, axes: Sequence[int], *, tolerance: Optional[float] = None) -> None: ...
+    def configure_path(self, velocity: float, acceleration: float, jerk: float) -> None: ...
+    def axes(self) -> list[int]: ...
+    def enable(self) -> None: ...
+    def disable(self) -> None: ...
+    def move_linear(
+        self,
+        target: Sequence[float],
+        limits: PathLimits,
+        *,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_ptp(
+        self,
+        target: Sequence[float],
+        limits: PathLimits,
+        *,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_circular(
+        self,
+        end: Tuple[float, float],
+        centre: Tuple[float, float],
+        limits: PathLimits,
+        *,
+        ccw: bool = True,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    def halt(self, deceleration: float, jerk: float) -> GroupMotion: ...
+    def stop(self, deceleration: float, jerk: float) -> GroupMotion: ...
+    def release_stop(self) -> None: ...
+    def reset(self) -> None: ...
+    def set_override(self, feed: float, rapid: float) -> None: ...
+    def wait_done(self, timeout: Optional[float] = None) -> None: ...
+    def status(self) -> GroupStatus: ...
+    def stream_path(self, segments: Sequence[Segment]) -> Optional[GroupMotion]: ...
+    def run_gcode(
+        self,
+        text: str,
+        *,
+        axes: str = "XYZ",
+        rapid_feed: Optional[float] = None,
+        max_feed: Optional[float] = None,
+        timeout: Optional[float] = None,
+    ) -> Literal["done", "paused", "aborted", "running"]: ...
+
+class Capture:
+    """A finished capture: `time` (s from the trigger) and one array per channel."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def ticks(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def channels(self) -> list[npt.NDArray[np.float64]]: ...
+    @property
+    def sources(self) -> list[Tuple[str, int]]: ...
+    trigger_tick: int
+    lost: int
+    def __getitem__(self, k: int) -> npt.NDArray[np.float64]: ...
+    def __len__(self) -> int: ...
+    def __iter__(self) -> Iterator[npt.NDArray[np.float64]]: ...
+
+class Scope:
+    def capture(
+        self,
+        channels: Sequence[Tuple[Union[Signal, int, str], int]],
+        samples: int,
+        *,
+        divider: int = 1,
+        pre_trigger: int = 0,
+        trigger: Trigger = "immediate",
+        trigger_channel: int = 0,
+        level: float = 0.0,
+        trigger_input: int = 0,
+        edge: Edge = "rising",
+        timeout: float = 10.0,
+        while_armed: Optional[Callable[[], object]] = None,
+    ) -> Capture: ...
+    def trigger(self) -> None: ...
+
+async def wait_async(motion: Motion, timeout: Optional[float] = None) -> float: ...
+async def group_wait_async(motion: GroupMotion, timeout: Optional[float] = None) -> None: ...
+async def next_event_async(
+    card: Union[Card, Events], timeout: Optional[float] = None
+) -> Optional[Event]: ...
+def events_async(
+    card: Union[Card, Events], timeout: Optional[float] = 1.0
+) -> AsyncIterator[Event]: ...
+
+# BEGIN GENERATED
+class AxisState(enum.IntEnum):
+    """PLCopen axis states."""
+
+    DISABLED = 0
+    STANDSTILL = 1
+    HOMING = 2
+    DISCRETE_MOTION = 3
+    CONTINUOUS_MOTION = 4
+    SYNCHRONIZED_MOTION = 5
+    STOPPING = 6
+    ERROR_STOP = 7
+
+class GroupState(enum.IntEnum):
+    """PLCopen group states."""
+
+    DISABLED = 0
+    STANDBY = 1
+    MOVING = 2
+    HOMING = 3
+    STOPPING = 4
+    ERROR_STOP = 5
+
+class EventKind(enum.IntEnum):
+    """Event kinds."""
+
+    ACK = 1
+    NACK = 2
+    MOTION_DONE = 3
+    STATE_CHANGED = 4
+    FAULT = 5
+    MOTION_ABORTED = 6
+    GROUP_MOTION_DONE = 8
+    GROUP_STATE_CHANGED = 9
+    GROUP_MOTION_ABORTED = 10
+    MOTION_ACTIVE = 11
+    IN_VELOCITY = 12
+    HOMING_FAILED = 13
+    SAFETY_STOP = 16
+    AT_REST = 17
+    PROTOCOL_ERROR = 18
+    SEGMENT_START = 20
+    SEGMENT_END = 21
+    PATH_LOW_WATER = 22
+    PATH_STARVED = 23
+    INPUT = 24
+    COMPARE = 25
+    PROBE = 26
+    SYNC = 27
+    PVT = 28
+    SCOPE = 29
+    GROUP_HOMED = 30
+    GROUP_HOMING_FAILED = 31
+    GANTRY_FAULT = 32
+    GANTRY_HOMED = 33
+    ANALOG = 34
+    PATH_PAUSED = 36
+    FREQ_DONE = 37
+    SYNC_BUS = 38
+    TIMED = 39
+
+class Signal(enum.IntEnum):
+    """Scope signals."""
+
+    CMD_POS = 1
+    CMD_VEL = 2
+    CMD_ACC = 3
+    ACT_POS = 4
+    ACT_VEL = 5
+    FERR = 6
+    DAC = 7
+    U_REQUEST = 8
+    ENCODER = 9
+    SERVO_P = 10
+    SERVO_I = 11
+    SERVO_D = 12
+    SERVO_FF = 13
+    GANTRY_SKEW = 14
+    COMP_POS = 15
+    FILTER_IN = 16
+    FILTER_OUT = 17
+    SERVO_FRICTION = 18
+    FREQ_INJECT = 19
+    FREQ_HZ = 20
+    PATH_SPEED = 32
+    PATH_ACC = 33
+    PATH_POS = 34
+    INPUTS = 48
+    OUTPUTS = 49
+    INPUTS_RAW = 50
+    AIN0 = 51
+    AIN1 = 52
+    AIN2 = 53
+    AIN3 = 54
+    AIN4 = 55
+    AIN5 = 56
+    AIN6 = 57
+    AIN7 = 58
+    AOUT0 = 59
+    AOUT1 = 60
+    AOUT2 = 61
+    AOUT3 = 62
+    PSO = 63
+
+class StopCategory(enum.IntEnum):
+    """Stop categories."""
+
+    CAT0 = 0
+    CAT1 = 1
+    CAT2 = 2
+
+class BadUriError(Error):
+    """BadUri (-1): bad card URI"""
+
+class NotFoundError(Error):
+    """NotFound (-2): no card at that URI"""
+
+class BusyError(Error):
+    """Busy (-3): the card is already open (by another process, or by this one)"""
+
+class VersionMismatchError(Error):
+    """VersionMismatch (-4): the card's DPRAM layout version differs from the library's"""
+
+class NotRespondingError(Error):
+    """NotResponding (-5): the card does not respond"""
+
+class ProtocolError(Error):
+    """Protocol (-6): the card broke the protocol"""
+
+class RingFullError(Error):
+    """RingFull (-7): the command ring is full"""
+
+class TimeoutError(Error):
+    """Timeout (-8): timed out"""
+
+class AbortedError(Error):
+    """Aborted (-9): the motion was aborted"""
+
+class BadAxisError(Error):
+    """BadAxis (-10): no such axis"""
+
+class NotFiniteError(Error):
+    """NotFinite (-11): an argument is NaN or infinite"""
+
+class NonPositiveLimitError(Error):
+    """NonPositiveLimit (-12): a limit is zero or negative"""
+
+class AxisDisabledError(Error):
+    """AxisDisabled (-13): the axis is disabled"""
+
+class InvalidStateError(Error):
+    """InvalidState (-14): not allowed in the axis's current state"""
+
+class BadConfigError(Error):
+    """BadConfig (-15): a configuration value is out of range"""
+
+class InfeasibleError(Error):
+    """Infeasible (-16): no profile satisfies the request"""
+
+class OutOfRangeError(Error):
+    """OutOfRange (-17): a position or velocity out of range"""
+
+class AxesEnabledError(Error):
+    """AxesEnabled (-18): all axes must be disabled first"""
+
+class UnknownCommandError(Error):
+    """UnknownCommand (-19): unknown command"""
+
+class BadGroupError(Error):
+    """BadGroup (-22): no such group"""
+
+class AxisInOtherGroupError(Error):
+    """AxisInOtherGroup (-23): an axis already belongs to another group"""
+
+class AxisNotInGroupError(Error):
+    """AxisNotInGroup (-24): the move needs an axis the group does not have"""
+
+class AxisBusyError(Error):
+    """AxisBusy (-25): an axis of the group is moving on its own"""
+
+class AxisGroupedError(Error):
+    """AxisGrouped (-26): the axis belongs to an enabled group"""
+
+class ZeroLengthArcError(Error):
+    """ZeroLengthArc (-27): the arc has zero length or zero radius"""
+
+class CentreNotEquidistantError(Error):
+    """CentreNotEquidistant (-28): the centre is not equidistant from start and end"""
+
+class RadiusTooSmallError(Error):
+    """RadiusTooSmall (-29): the radius is shorter than half the chord"""
+
+class CollinearPointsError(Error):
+    """CollinearPoints (-30): the three points are on one line"""
+
+class QueueFullError(Error):
+    """QueueFull (-31): the move queue (the group's or the axis's) is full"""
+
+class IncompatibleModeError(Error):
+    """IncompatibleMode (-32): the interpolator cannot run with this acc/dec mode"""
+
+class GroupDisabledError(Error):
+    """GroupDisabled (-33): the group is disabled"""
+
+class FilterBusyError(Error):
+    """FilterBusy (-34): the filter still holds distance"""
+
+class NurbsSequenceError(Error):
+    """NurbsSequence (-35): NURBS data out of sequence (no begin, a gap, or missing data)"""
+
+class NurbsDegreeError(Error):
+    """NurbsDegree (-36): NURBS degree outside 1..5"""
+
+class NurbsDimensionError(Error):
+    """NurbsDimension (-37): NURBS curves need a group of at least 2 axes"""
+
+class NurbsCtrlCountError(Error):
+    """NurbsCtrlCount (-38): too few or too many NURBS control points"""
+
+class NurbsKnotCountError(Error):
+    """NurbsKnotCount (-39): the knot count must be control points + degree + 1"""
+
+class NurbsKnotsDecreasingError(Error):
+    """NurbsKnotsDecreasing (-40): the knots decrease"""
+
+class NurbsKnotMultiplicityError(Error):
+    """NurbsKnotMultiplicity (-41): an interior knot is repeated more than degree times"""
+
+class NurbsNotClampedError(Error):
+    """NurbsNotClamped (-42): the knot vector is not clamped"""
+
+class NurbsWeightError(Error):
+    """NurbsWeight (-43): a weight is not finite and positive"""
+
+class NurbsPointError(Error):
+    """NurbsPoint (-44): a control point is not finite"""
+
+class NurbsStartError(Error):
+    """NurbsStart (-45): the curve does not start where the group is"""
+
+class NurbsZeroLengthError(Error):
+    """NurbsZeroLength (-46): the curve has zero length"""
+
+class NurbsKnotError(Error):
+    """NurbsKnot (-54): a knot is not finite"""
+
+class IoError(Error):
+    """Io (-20): an operating-system call failed"""
+
+class UnsupportedError(Error):
+    """Unsupported (-21): not supported by this card"""
+
+class WatchdogTrippedError(Error):
+    """WatchdogTripped (-47): the host watchdog tripped: reset the card's faults first"""
+
+class EStopActiveError(Error):
+    """EStopActive (-48): an e-stop is latched: reset the card's faults first"""
+
+class HardLimitError(Error):
+    """HardLimit (-49): the move goes further into an active limit switch"""
+
+class SoftLimitError(Error):
+    """SoftLimit (-50): the move goes further beyond a soft limit"""
+
+class CauseActiveError(Error):
+    """CauseActive (-51): the cause of the fault is still present"""
+
+class WatchdogTimeoutError(Error):
+    """WatchdogTimeout (-52): watchdog timeout is zero or under 1.5 x the host's heartbeat period"""
+
+class BadCategoryError(Error):
+    """BadCategory (-53): stop category must be 0, 1 or 2"""
+
+class LimitRangeError(Error):
+    """LimitRange (-55): a limit is outside the range the card accepts (one count in 1e6 s to the whole position range in one servo tick)"""
+
+class PlanCheckError(Error):
+    """PlanCheck (-56): the planned profile failed the card's check; nothing moved"""
+
+class ExpiredError(Error):
+    """Expired (-57): the card served the command after its deadline; it was not executed"""
+
+class StopTooLongError(Error):
+    """StopTooLong (-58): the stop ramp from max velocity is longer than the card's maximum stop time"""
+
+class SessionError(Error):
+    """Session (-59): another host's session is attached"""
+
+class NoSessionError(Error):
+    """NoSession (-108): no host session is attached: the card refuses motion, power, outputs and configuration until a host attaches"""
+
+class CardGoneError(Error):
+    """CardGone (-60): the card went away"""
+
+class ClosedError(Error):
+    """Closed (-61): the card was closed"""
+
+class CancelledError(Error):
+    """Cancelled (-62): the wait was cancelled"""
+
+class PermissionDeniedError(Error):
+    """PermissionDenied (-63): the card's server refused this user"""
+
+class OverrideRangeError(Error):
+    """OverrideRange (-64): the override factor is outside 0 to 2 (0 % to 200 %)"""
+
+class HomingMethodError(Error):
+    """HomingMethod (-65): the axis cannot do this homing method"""
+
+class AxisHomingError(Error):
+    """AxisHoming (-66): the axis is homing"""
+
+class HomingFailedError(Error):
+    """HomingFailed (-67): homing failed: the axis stopped, not homed"""
+
+class PathModeError(Error):
+    """PathMode (-68): unknown path buffer or transition mode"""
+
+class PathZeroLengthError(Error):
+    """PathZeroLength (-69): the path line has zero length"""
+
+class PathOutputError(Error):
+    """PathOutput (-70): bad output number, or too many output actions before a segment"""
+
+class PathBusyError(Error):
+    """PathBusy (-71): the group's path and its move queue do not mix: wait for the other to finish"""
+
+class PathIdError(Error):
+    """PathId (-72): a segment id must be an integer in 0..2^32-1"""
+
+class PathCurveError(Error):
+    """PathCurve (-73): the NURBS path segment has a cusp or needs more pieces than the path buffer holds"""
+
+class IoConfigError(Error):
+    """IoConfig (-90): bad digital input configuration (input number or debounce)"""
+
+class IoChannelError(Error):
+    """IoChannel (-91): no such compare or probe channel"""
+
+class CompareModeError(Error):
+    """CompareMode (-92): bad compare mode, direction, output, pulse width, pitch or count"""
+
+class CompareFullError(Error):
+    """CompareFull (-93): the compare table is full"""
+
+class CompareOrderError(Error):
+    """CompareOrder (-94): compare positions must be strictly monotonic in the direction"""
+
+class CompareBusyError(Error):
+    """CompareBusy (-95): the compare channel or its output is in use"""
+
+class ProbeInputError(Error):
+    """ProbeInput (-96): bad probe input, edge or window"""
+
+class GearRatioError(Error):
+    """GearRatio (-74): a gear ratio must be integer numerator / positive integer denominator, each of magnitude 1..2^31-1"""
+
+class SyncMasterError(Error):
+    """SyncMaster (-75): no such master, the slave itself, or a master axis disabled or in ErrorStop"""
+
+class PvtTimeError(Error):
+    """PvtTime (-76): a PT/PVT point must come at least one servo period, and at most 1e6 s (the longest move), after the one before"""
+
+class PvtLimitError(Error):
+    """PvtLimit (-77): the PT/PVT segment into this point breaks the velocity or acceleration limit"""
+
+class PvtSequenceError(Error):
+    """PvtSequence (-78): PT/PVT commands out of sequence"""
+
+class CamTableError(Error):
+    """CamTable (-79): bad cam table: number, points (master strictly increasing, finite), not loaded, or in use"""
+
+class CamSequenceError(Error):
+    """CamSequence (-80): cam table data out of sequence"""
+
+class ScopeSignalError(Error):
+    """ScopeSignal (-81): unknown scope signal, or no such axis or group"""
+
+class ScopeChannelsError(Error):
+    """ScopeChannels (-82): a scope samples 1 to 16 channels"""
+
+class ScopeDividerError(Error):
+    """ScopeDivider (-83): the scope divider must be 1..65536"""
+
+class ScopeTriggerError(Error):
+    """ScopeTrigger (-84): bad scope mode or trigger (kind, edge, channel, input, level, or no samples after it)"""
+
+class ScopePretriggerError(Error):
+    """ScopePretrigger (-85): more pre-trigger samples than the card keeps (1024)"""
+
+class ScopeStateError(Error):
+    """ScopeState (-86): the scope's state does not allow this (configure or arm while armed, trigger while not waiting, stop while idle, arm before configure)"""
+
+class ConfigKindError(Error):
+    """ConfigKind (-106): the card does not know that configuration block"""
+
+class CompTableError(Error):
+    """CompTable (-110): bad compensation table: point count, bound, backlash or ramp limits out of range"""
+
+class CompSequenceError(Error):
+    """CompSequence (-111): compensation table data out of sequence"""
+
+class CompOrderError(Error):
+    """CompOrder (-112): compensation positions must be strictly increasing"""
+
+class CompBoundError(Error):
+    """CompBound (-113): a compensation correction is beyond the table's bound"""
+
+class CompBusyError(Error):
+    """CompBusy (-114): the axis is not at rest: its compensation cannot change"""
+
+class ModuloZeroError(Error):
+    """ModuloZero (-116): a modulo period of zero: use clear_modulo to make the axis linear"""
+
+class ModuloRangeError(Error):
+    """ModuloRange (-117): modulo period out of range (negative, not finite, under 1 count or over 1e11 counts)"""
+
+class ModuloBusyError(Error):
+    """ModuloBusy (-118): the axis is not at rest: its modulo period cannot change"""
+
+class ModuloMoveError(Error):
+    """ModuloMove (-119): the move does not fit the axis: a modulo axis takes targets in [0, modulo), a linear axis no direction"""
+
+class HandwheelInputError(Error):
+    """HandwheelInput (-120): the card has no such handwheel (auxiliary encoder) input"""
+
+class HandwheelRatioError(Error):
+    """HandwheelRatio (-121): bad handwheel ratio (0 or beyond 10000 counts per detent) or detent (1 to 1024 counts)"""
+
+class ConfigFileError(Error):
+    """ConfigFile (-107): the configuration file does not parse or validate"""
+
+class GcodeError(Error):
+    """Gcode (-109): the G-code program has an error (see the error's line)"""
+
+class NoMotionError(Error):
+    """NoMotion (-115): no motion to wait for: none was started there by this process since the card was opened"""
+
+class GantrySlaveError(Error):
+    """GantrySlave (-125): the axis is a gantry's slave: command its master"""
+
+class GantryInUseError(Error):
+    """GantryInUse (-126): a gantry axis is already in use (another gantry, a group, gearing or a stream)"""
+
+class GantryAxesError(Error):
+    """GantryAxes (-127): bad gantry axes: out of range, master among the slaves, a slave twice, or a bad count"""
+
+class GantryGainsError(Error):
+    """GantryGains (-128): gantry kp, ki, skew limit or offset out of range"""
+
+class GantryStateError(Error):
+    """GantryState (-129): the gantry or its axes are not in a state that takes this"""
+
+class HomeAxisError(Error):
+    """HomeAxis (-122): the home order names an axis the group does not have"""
+
+class HomeTwiceError(Error):
+    """HomeTwice (-123): the home order names an axis twice"""
+
+class HomeStageError(Error):
+    """HomeStage (-124): the home order has an empty stage (or no stages, and the group has none configured)"""
+
+class PlaneAxesError(Error):
+    """PlaneAxes (-130): an arc's plane names one group axis twice"""
+
+class FilterKindError(Error):
+    """FilterKind (-131): bad servo filter slot (0..3) or kind"""
+
+class FilterFreqError(Error):
+    """FilterFreq (-132): servo filter frequency must be above 0 and below half the servo rate"""
+
+class FilterParamError(Error):
+    """FilterParam (-133): servo filter damping (0..10], depth (-120..0 dB) or raw coefficient out of range"""
+
+class FilterUnstableError(Error):
+    """FilterUnstable (-134): unstable servo filter: a pole is not inside the unit circle"""
+
+class PidffGainsError(Error):
+    """PidffGains (-135): bad PID+FF gains: every gain >= 0, derivative cut-off and friction deadband > 0"""
+
+class AnalogChannelError(Error):
+    """AnalogChannel (-136): no such analog input or output (inputs 0..7, outputs 0..3), or a DAC the PSO drives"""
+
+class AnalogFilterError(Error):
+    """AnalogFilter (-137): an analog filter cut-off below 0 or above half the servo rate"""
+
+class AnalogThresholdError(Error):
+    """AnalogThreshold (-138): an analog threshold beyond +-10 V or a hysteresis outside 0..20 V"""
+
+class PsoConfigError(Error):
+    """PsoConfig (-139): bad path-speed output: output, gate, min > max, range, reference speed or PWM frequency"""
+
+class PsoGroupError(Error):
+    """PsoGroup (-140): the path-speed output's group does not exist or is not configured"""
+
+class AmbiguousError(Error):
+    """Ambiguous (-150): more than one card has that name or serial: open it by its URI"""
+
+class TickPassedError(Error):
+    """TickPassed (-152): the tick of the timed command has passed on the card"""
+
+class TimedFullError(Error):
+    """TimedFull (-153): the card holds 16 timed commands already"""
+
+class TimedAloneError(Error):
+    """TimedAlone (-154): a timed command without its command, or of one that cannot be timed"""
+
+class TickFarError(Error):
+    """TickFar (-155): the tick is too far ahead (600000 ticks at most), or not a whole number"""
+
+class CommitLateError(Error):
+    """CommitLate (-156): the commit arrived on or after its tick: nothing of it runs on any card"""
+
+class NotMasterError(Error):
+    """NotMaster (-157): this card follows the sync bus: commit on its master"""
+
+class NotCommittedError(Error):
+    """NotCommitted (-158): the timed command's commit did not come before its tick: not run"""
+
+class SyncLostError(Error):
+    """SyncLost (-159): the card lost the sync bus's master"""
+
+class TimedRefusedError(Error):
+    """TimedRefused (-160): its timing was refused: the command does not run"""
+
+class TimedCancelledError(Error):
+    """TimedCancelled (-161): the timed command was cancelled before its tick"""
+
+class ArcNormalError(Error):
+    """ArcNormal (-147): an arc's normal vector is zero (or no normal plane was set)"""
+
+class ArcAxesError(Error):
+    """ArcAxes (-148): an arc's plane of three group axes names one axis twice"""
+
+class ArcOffPlaneError(Error):
+    """ArcOffPlane (-149): the arc's centre or end is off its plane by more than the group's tolerance"""
+
+class ArcPieceError(Error):
+    """ArcPiece (-151): a piece of a normal-vector arc move came alone or out of order (its two entries go together)"""
+
+class FreqRangeError(Error):
+    """FreqRange (-141): sweep frequencies must be 0.1 Hz <= from <= to <= a quarter of the servo rate, with 1..256 points, 1..1000 cycles and 0..60 s settling"""
+
+class FreqAmplitudeError(Error):
+    """FreqAmplitude (-142): sweep amplitude must be above 0 (and within the DAC limit on the servo output)"""
+
+class FreqLimitsError(Error):
+    """FreqLimits (-143): the sweep's sine would exceed the axis's velocity, acceleration, following error or soft limits"""
+
+class FreqBusyError(Error):
+    """FreqBusy (-144): a frequency sweep is running (stop it first)"""
+
+class PsoOutputError(Error):
+    """PsoOutput (-145): the output is the path-speed output's PWM: no compare channel on it"""
+
+class CompareTurnError(Error):
+    """CompareTurn (-146): compare on a rotary axis: positions must lie in [0, modulo) and a series within one turn (each turn: rotary axes only; no period change while a channel watches the axis)"""
+
+class PathDimsError(Error):
+    """PathDims (-162): the path's dimensions must name each axis of the group exactly once (at most 16 dimensions)"""
+
+class PathMoreError(Error):
+    """PathMore (-163): a segment of more than 8 dimensions came without its second entry (its two entries go together)"""
+
+class PathReleaseError(Error):
+    """PathRelease (-164): the release names more segments than are staged (or the group moved since they were staged)"""
+
+# END GENERATED

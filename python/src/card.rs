@@ -1,0 +1,524 @@
+//! `Card`, its identity, the stepped emulator's control, events and safety.
+use crate::errors::py;
+use crate::group::Group;
+use crate::motion::Axis;
+use crate::names::py_enum;
+use crate::scope::Scope;
+use crate::wait::wait_sliced;
+use motioncard_sdk as sdk;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::time::Duration;
+
+/// A motion card, opened by URI. A context manager: leaving the `with` block closes it.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Card {
+    pub(crate) card: sdk::Card,
+    uri: String,
+}
+
+fn stop_category(c: u32) -> PyResult<sdk::StopCategory> {
+    sdk::StopCategory::from_raw(c).ok_or_else(|| {
+        crate::errors::of_kind(
+            sdk::ErrorKind::BadCategory,
+            format!("stop category {c}: 0, 1 or 2"),
+        )
+    })
+}
+
+#[pymethods]
+impl Card {
+    /// Open a card: `sim` (an emulated card in this process, real-time clock), `emu:NAME`,
+    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`.
+    #[staticmethod]
+    fn open(p: Python<'_>, uri: &str) -> PyResult<Card> {
+        let card = p.allow_threads(|| sdk::Card::open(uri));
+        Ok(Card {
+            card: py(card)?,
+            uri: uri.to_string(),
+        })
+    }
+
+    /// Open an emulated card in this process. `clock`: `"stepped"` (time advances only when
+    /// `card.sim.step(n)` is called or a call waits: deterministic), `"realtime"` or `"free"`
+    /// (as fast as it can run).
+    #[staticmethod]
+    #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000))]
+    fn open_sim(p: Python<'_>, clock: &str, axes: usize, servo_rate_hz: u32) -> PyResult<Card> {
+        let clock = match clock {
+            "stepped" => sdk::Clock::Stepped,
+            "realtime" => sdk::Clock::RealTime,
+            "free" => sdk::Clock::FreeRunning,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "clock {other:?}: expected \"stepped\", \"realtime\" or \"free\""
+                )))
+            }
+        };
+        let opts = sdk::SimOptions {
+            clock,
+            emu: sdk::EmuOptions::new(axes, servo_rate_hz),
+        };
+        let card = p.allow_threads(|| sdk::Card::open_sim(opts));
+        Ok(Card {
+            card: py(card)?,
+            uri: "sim".into(),
+        })
+    }
+
+    /// The URI it was opened with.
+    #[getter]
+    fn uri(&self) -> &str {
+        &self.uri
+    }
+
+    /// What the card says about itself.
+    #[getter]
+    fn info(&self) -> CardInfo {
+        let i = self.card.info();
+        CardInfo {
+            firmware_version: i.firmware_version,
+            layout: i.layout,
+            axes: i.axes,
+            servo_rate_hz: i.servo_rate_hz,
+        }
+    }
+
+    /// The servo tick counter.
+    fn tick(&self) -> PyResult<u64> {
+        py(self.card.tick())
+    }
+
+    /// Axis `index` (`BadAxisError` beyond the card's axes).
+    fn axis(&self, index: usize) -> PyResult<Axis> {
+        Ok(Axis {
+            axis: py(self.card.axis(index))?,
+        })
+    }
+
+    /// Every axis of the card.
+    fn axes(&self) -> Vec<Axis> {
+        self.card
+            .axes()
+            .into_iter()
+            .map(|axis| Axis { axis })
+            .collect()
+    }
+
+    /// Axes group `index` (`BadGroupError` beyond the card's groups).
+    fn group(&self, index: usize) -> PyResult<Group> {
+        Ok(Group {
+            group: py(self.card.group(index))?,
+        })
+    }
+
+    /// The stepping control of a stepped emulated card (`Card.open_sim()`), else None.
+    #[getter]
+    fn sim(&self) -> Option<Sim> {
+        self.card.sim().map(|sim| Sim { sim })
+    }
+
+    /// The card's scope.
+    #[getter]
+    fn scope(&self) -> Scope {
+        Scope::new(&self.card)
+    }
+
+    /// A command that does nothing but come back: the round trip through the card.
+    fn ping(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.ping()))
+    }
+
+    /// Close the card: moving axes halt, waits in progress end with `ClosedError`, and so
+    /// does every later call. Closing twice is harmless.
+    fn close(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.close()))
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    #[pyo3(signature = (*_args))]
+    fn __exit__(&self, p: Python<'_>, _args: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
+        self.close(p)?;
+        Ok(false)
+    }
+
+    /// End every wait in progress on this card, in any thread, with `CancelledError`.
+    fn cancel_waits(&self) {
+        self.card.cancel_waits()
+    }
+
+    /// The next event from the card, waiting up to `timeout` seconds (0: don't wait; None:
+    /// until one comes); None when none came in time.
+    #[pyo3(signature = (timeout = 0.0))]
+    fn next_event(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, timeout)
+    }
+
+    /// The card's events as an iterator: each waits up to `timeout` seconds for the next
+    /// one (None: forever); the iteration ends when none comes in time.
+    #[pyo3(signature = (timeout = 1.0))]
+    fn events(&self, timeout: Option<f64>) -> Events {
+        Events {
+            card: self.card.clone(),
+            timeout,
+        }
+    }
+
+    /// Events dropped because nobody took them, and events the card could not post.
+    fn events_lost(&self) -> (u64, u32) {
+        self.card.events_lost()
+    }
+
+    /// The debounced digital inputs, one bit each.
+    fn inputs(&self) -> PyResult<u32> {
+        py(self.card.inputs())
+    }
+
+    /// The digital outputs, one bit each.
+    fn outputs(&self) -> PyResult<u32> {
+        py(self.card.outputs())
+    }
+
+    /// Set the outputs whose bits are set in `mask` to those of `value`.
+    fn set_outputs(&self, p: Python<'_>, mask: u32, value: u32) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.set_outputs(mask, value)))
+    }
+
+    /// Set output `output` high or low.
+    fn set_output(&self, p: Python<'_>, output: u32, high: bool) -> PyResult<()> {
+        if output >= 32 {
+            return Err(PyValueError::new_err(format!("output {output}: 0 to 31")));
+        }
+        let bit = 1u32 << output;
+        self.set_outputs(p, bit, if high { bit } else { 0 })
+    }
+
+    /// Configure the digital inputs (those not given stay): `polarity` (bit i: input i is
+    /// active low), `rise_events` / `fall_events` (bit i: an `EventKind.INPUT` event on that
+    /// debounced edge of input i), `debounce` (ticks each input must hold a new level, one
+    /// per input).
+    #[pyo3(signature = (*, polarity = None, rise_events = None, fall_events = None, debounce = None))]
+    fn configure_io(
+        &self,
+        p: Python<'_>,
+        polarity: Option<u32>,
+        rise_events: Option<u32>,
+        fall_events: Option<u32>,
+        debounce: Option<Vec<u16>>,
+    ) -> PyResult<()> {
+        let mut s = py(self.card.io_settings())?;
+        if let Some(v) = polarity {
+            s.polarity = v;
+        }
+        if let Some(v) = rise_events {
+            s.rise_events = v;
+        }
+        if let Some(v) = fall_events {
+            s.fall_events = v;
+        }
+        if let Some(d) = debounce {
+            if d.len() != s.debounce.len() {
+                return Err(PyValueError::new_err(format!(
+                    "debounce: {} values, one per input ({})",
+                    d.len(),
+                    s.debounce.len()
+                )));
+            }
+            s.debounce.copy_from_slice(&d);
+        }
+        py(p.allow_threads(|| self.card.configure_io(&s)))
+    }
+
+    /// Analog input `input`: its filtered value, volts.
+    fn analog_input(&self, input: usize) -> PyResult<f64> {
+        py(self.card.analog_input(input)).map(|a| a.value)
+    }
+
+    /// Set analog output `output` to `volts`; the volts it outputs (clamped to its range).
+    fn set_analog_output(&self, p: Python<'_>, output: usize, volts: f64) -> PyResult<f64> {
+        py(p.allow_threads(|| self.card.set_analog_output(output, volts)))
+    }
+
+    /// Load cam table `table` with `points` (master, slave; counts; the master strictly
+    /// increasing), `cubic` (else linear), `periodic`.
+    #[pyo3(signature = (table, points, *, cubic = false, periodic = false))]
+    fn load_cam_table(
+        &self,
+        p: Python<'_>,
+        table: usize,
+        points: Vec<(f64, f64)>,
+        cubic: bool,
+        periodic: bool,
+    ) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.load_cam_table(table, &points, cubic, periodic)))
+    }
+
+    /// Stop every axis and group: an e-stop of `category` (0, 1 or 2), latched until
+    /// `reset_faults()`.
+    #[pyo3(signature = (category = 1))]
+    fn estop(&self, p: Python<'_>, category: u32) -> PyResult<()> {
+        let c = stop_category(category)?;
+        py(p.allow_threads(|| self.card.estop(c)))
+    }
+
+    /// Clear the card's latched faults (watchdog, e-stop) and the axes' ErrorStop.
+    fn reset_faults(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.reset_faults()))
+    }
+
+    /// The card's safety state.
+    fn safety_status(&self) -> PyResult<SafetyStatus> {
+        let s = py(self.card.safety_status())?;
+        Ok(SafetyStatus {
+            watchdog_tripped: s.watchdog_tripped,
+            estop_command: s.estop_command,
+            estop_input: s.estop_input,
+            watchdog_armed: s.watchdog_armed,
+            protocol_errors: s.protocol_errors,
+            session: s.session,
+        })
+    }
+
+    /// Arm the host watchdog with `timeout` seconds.
+    fn set_watchdog_timeout(&self, p: Python<'_>, timeout: f64) -> PyResult<()> {
+        let t = Duration::try_from_secs_f64(timeout)
+            .map_err(|e| PyValueError::new_err(format!("timeout {timeout}: {e}")))?;
+        py(p.allow_threads(|| self.card.set_watchdog_timeout(t)))
+    }
+
+    /// Change the servo rate (all axes disabled).
+    fn set_servo_rate(&self, p: Python<'_>, hz: u32) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.set_servo_rate(hz)))
+    }
+
+    /// The card's whole configuration as the text of a configuration file (TOML).
+    fn save_config(&self, p: Python<'_>) -> PyResult<String> {
+        py(p.allow_threads(|| self.card.save_config()))
+    }
+
+    /// Apply a configuration file's text; `origin` names it in errors. Returns the sections
+    /// applied (those that differed from the card).
+    #[pyo3(signature = (text, origin = "<string>"))]
+    fn load_config(&self, p: Python<'_>, text: &str, origin: &str) -> PyResult<Vec<String>> {
+        let r = py(p.allow_threads(|| self.card.load_config(text, origin)))?;
+        Ok(report_lines(&r))
+    }
+
+    /// Write the configuration file `path`.
+    fn save_config_file(&self, p: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.save_config_file(&path)))
+    }
+
+    /// Apply the configuration file `path`.
+    fn load_config_file(&self, p: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<String>> {
+        let r = py(p.allow_threads(|| self.card.load_config_file(&path)))?;
+        Ok(report_lines(&r))
+    }
+
+    fn __repr__(&self) -> String {
+        let i = self.card.info();
+        format!("<motioncard.Card {} ({} axes)>", self.uri, i.axes)
+    }
+}
+
+fn report_lines(r: &sdk::LoadReport) -> Vec<String> {
+    r.applied.clone()
+}
+
+pub(crate) fn next_event(
+    p: Python<'_>,
+    card: &sdk::Card,
+    timeout: Option<f64>,
+) -> PyResult<Option<Event>> {
+    if timeout == Some(0.0) {
+        let e = py(card.next_event(Duration::ZERO))?;
+        return Ok(e.map(Event::from));
+    }
+    let r = wait_sliced(p, timeout, |slice| match card.next_event(slice) {
+        Ok(Some(e)) => Ok(e),
+        Ok(None) => Err(sdk::Error::Timeout(slice)),
+        Err(e) => Err(e),
+    });
+    match r {
+        Ok(e) => Ok(Some(Event::from(e))),
+        Err(e) if e.is_instance_of::<crate::errors::MotioncardError>(p) && is_timeout(p, &e) => {
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+fn is_timeout(p: Python<'_>, e: &PyErr) -> bool {
+    e.value(p)
+        .getattr("kind")
+        .and_then(|k| k.extract::<String>())
+        .is_ok_and(|k| k == "Timeout")
+}
+
+/// What the card says about itself.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct CardInfo {
+    /// Firmware version, `major << 16 | minor << 8 | patch`.
+    firmware_version: u32,
+    /// DPRAM layout (major, minor).
+    layout: (u16, u16),
+    /// Axes on the card.
+    axes: usize,
+    /// Servo rate, Hz.
+    servo_rate_hz: u32,
+}
+
+#[pymethods]
+impl CardInfo {
+    fn __repr__(&self) -> String {
+        format!(
+            "CardInfo(firmware_version={:#x}, layout={:?}, axes={}, servo_rate_hz={})",
+            self.firmware_version, self.layout, self.axes, self.servo_rate_hz
+        )
+    }
+}
+
+/// The card's safety state.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct SafetyStatus {
+    watchdog_tripped: bool,
+    estop_command: bool,
+    estop_input: bool,
+    watchdog_armed: bool,
+    protocol_errors: u32,
+    session: u32,
+}
+
+/// Stepping control of a stepped emulated card: time advances only when asked.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Sim {
+    sim: sdk::Sim,
+}
+
+#[pymethods]
+impl Sim {
+    /// Advance `n` servo periods.
+    fn step(&self, p: Python<'_>, n: u64) -> PyResult<()> {
+        // in chunks, so Ctrl-C ends a long run
+        let mut left = n;
+        while left > 0 {
+            p.check_signals()?;
+            let k = left.min(10_000);
+            p.allow_threads(|| self.sim.step(k));
+            left -= k;
+        }
+        Ok(())
+    }
+
+    /// Emulated time since boot, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Drive digital input `input`'s pin high or low.
+    fn set_input(&self, input: usize, high: bool) -> PyResult<()> {
+        if input >= sdk::INPUTS {
+            return Err(PyValueError::new_err(format!(
+                "input {input}: the card has {}",
+                sdk::INPUTS
+            )));
+        }
+        self.sim.set_input(input, high);
+        Ok(())
+    }
+}
+
+/// An event from the card.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Event {
+    kind: u16,
+    /// Axis (or group, channel, input: see the kind; 0xFFFF for card-wide events).
+    #[pyo3(get)]
+    axis: u16,
+    /// Seq of the command it concerns.
+    #[pyo3(get)]
+    seq: u32,
+    /// Kind-specific code.
+    #[pyo3(get)]
+    code: i32,
+    /// Servo tick.
+    #[pyo3(get)]
+    tick: u64,
+    /// Kind-specific value (positions in user units).
+    #[pyo3(get)]
+    value: f64,
+}
+
+impl From<sdk::CardEvent> for Event {
+    fn from(e: sdk::CardEvent) -> Self {
+        Event {
+            kind: e.kind as u16,
+            axis: e.axis,
+            seq: e.seq,
+            code: e.code,
+            tick: e.tick,
+            value: e.value,
+        }
+    }
+}
+
+#[pymethods]
+impl Event {
+    /// The kind (`motioncard.EventKind`).
+    #[getter]
+    fn kind<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "EventKind", self.kind as i64)
+    }
+
+    fn __repr__(&self, p: Python<'_>) -> PyResult<String> {
+        let k = self.kind(p)?.getattr("name")?.to_string();
+        Ok(format!(
+            "Event({k}, axis={}, seq={}, code={}, tick={}, value={})",
+            self.axis, self.seq, self.code, self.tick, self.value
+        ))
+    }
+}
+
+/// The card's events: iterate; each waits up to the timeout for the next one, and the
+/// iteration ends when none comes in time.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Events {
+    card: sdk::Card,
+    timeout: Option<f64>,
+}
+
+#[pymethods]
+impl Events {
+    fn __iter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    fn __next__(&self, p: Python<'_>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, self.timeout)
+    }
+
+    /// `async for ev in card.events(timeout)`: `motioncard.events_async(events)`.
+    fn __aiter__<'py>(slf: Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let p = slf.py();
+        let timeout = slf.get().timeout;
+        p.import("motioncard")?
+            .getattr("events_async")?
+            .call1((slf, timeout))
+    }
+
+    /// The next event, waiting up to `timeout` seconds (as `Card.next_event`).
+    #[pyo3(signature = (timeout = 0.0))]
+    fn next_event(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<Option<Event>> {
+        next_event(p, &self.card, timeout)
+    }
+
+    /// The wait for each event, s.
+    #[getter]
+    fn timeout(&self) -> Option<f64> {
+        self.timeout
+    }
+}

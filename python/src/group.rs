@@ -1,0 +1,412 @@
+//! `Group` (coordinated moves, the path, G-code), `GroupMotion`, `GroupStatus`, `PathLimits`.
+use crate::errors::py;
+use crate::names::py_enum;
+use crate::wait::wait_sliced;
+use motioncard_sdk as sdk;
+use pyo3::prelude::*;
+
+/// Limits along a path: feed (velocity), acceleration, jerk; deceleration by keyword.
+#[pyclass(module = "motioncard", frozen)]
+#[derive(Clone, Copy)]
+pub struct PathLimits {
+    limits: sdk::PathLimits,
+}
+
+#[pymethods]
+impl PathLimits {
+    #[new]
+    #[pyo3(signature = (velocity, acceleration, jerk, *, deceleration = None))]
+    fn new(velocity: f64, acceleration: f64, jerk: f64, deceleration: Option<f64>) -> Self {
+        let mut limits = sdk::PathLimits::new(velocity, acceleration, jerk);
+        if let Some(d) = deceleration {
+            limits.deceleration = d;
+        }
+        PathLimits { limits }
+    }
+
+    /// Feed.
+    #[getter]
+    fn velocity(&self) -> f64 {
+        self.limits.velocity
+    }
+
+    /// Tangential acceleration.
+    #[getter]
+    fn acceleration(&self) -> f64 {
+        self.limits.acceleration
+    }
+
+    /// Tangential deceleration.
+    #[getter]
+    fn deceleration(&self) -> f64 {
+        self.limits.deceleration
+    }
+
+    /// Tangential jerk.
+    #[getter]
+    fn jerk(&self) -> f64 {
+        self.limits.jerk
+    }
+}
+
+/// One segment of a group's path: build it with `Segment.line`, `Segment.arc` or
+/// `Segment.dwell`, then `Group.stream_path([...])`.
+#[pyclass(module = "motioncard", frozen)]
+#[derive(Clone)]
+pub struct Segment {
+    segment: sdk::Segment,
+}
+
+#[pymethods]
+impl Segment {
+    /// A line to `target` (one value per group axis) at `feed`, blended into the segment
+    /// before within `tolerance` of the corner (0: an exact stop). `relative`: from where
+    /// the segment before ends; `last`: the end of the program.
+    #[staticmethod]
+    #[pyo3(signature = (id, target, feed, tolerance = 0.0, *, relative = false, last = false))]
+    fn line(
+        id: u32,
+        target: Vec<f64>,
+        feed: f64,
+        tolerance: f64,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        finish(
+            sdk::Segment::line(id, &target, feed, tolerance),
+            relative,
+            last,
+        )
+    }
+
+    /// An arc in the plane of group axes 0 and 1 around `centre` to `end` (counter-clockwise
+    /// unless `ccw=False`), the group's other axes to `helix`, at `feed`, blended as a line.
+    #[staticmethod]
+    #[pyo3(signature = (id, end, centre, feed, tolerance = 0.0, *, ccw = true, helix = Vec::new(), relative = false, last = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn arc(
+        id: u32,
+        end: [f64; 2],
+        centre: [f64; 2],
+        feed: f64,
+        tolerance: f64,
+        ccw: bool,
+        helix: Vec<f64>,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        let arc = sdk::ArcSpec::Centre { end, centre, ccw };
+        let s = sdk::Segment::arc(id, arc, sdk::Plane::default(), &helix, feed, tolerance);
+        finish(s, relative, last)
+    }
+
+    /// A dwell of `seconds` (an exact stop, then a wait).
+    #[staticmethod]
+    #[pyo3(signature = (id, seconds, *, last = false))]
+    fn dwell(id: u32, seconds: f64, last: bool) -> Segment {
+        finish(sdk::Segment::dwell(id, seconds), false, last)
+    }
+
+    /// The id reported as it starts and ends (`EventKind.SEGMENT_START`, `SEGMENT_END`).
+    #[getter]
+    fn id(&self) -> u32 {
+        self.segment.id
+    }
+}
+
+fn finish(mut s: sdk::Segment, relative: bool, last: bool) -> Segment {
+    s.relative = relative;
+    s.last = last;
+    Segment { segment: s }
+}
+
+/// An axes group of a card.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Group {
+    pub(crate) group: sdk::Group,
+}
+
+fn options(relative: bool, buffered: bool) -> sdk::MoveOptions {
+    sdk::MoveOptions {
+        relative,
+        buffered,
+        ..Default::default()
+    }
+}
+
+fn motion(m: sdk::Result<sdk::GroupMotion>) -> PyResult<GroupMotion> {
+    Ok(GroupMotion { motion: py(m)? })
+}
+
+#[pymethods]
+impl Group {
+    /// The group's number.
+    #[getter]
+    fn index(&self) -> usize {
+        self.group.index()
+    }
+
+    /// Make the group of these card axes (its X, Y, Z, ...; 1 to 8), S-curve feed, exact
+    /// arcs; `tolerance`: the geometry tolerance in the first axis's units.
+    #[pyo3(signature = (axes, *, tolerance = None))]
+    fn configure(&self, p: Python<'_>, axes: Vec<usize>, tolerance: Option<f64>) -> PyResult<()> {
+        let mut s = sdk::GroupSettings::new(&axes);
+        if let Some(t) = tolerance {
+            s.tolerance = t;
+        }
+        py(p.allow_threads(|| self.group.configure(&s)))
+    }
+
+    /// The group's path (the look-ahead buffer that G-code and `move_path` use), every axis
+    /// limited to `velocity`, `acceleration` and `jerk`.
+    fn configure_path(
+        &self,
+        p: Python<'_>,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+    ) -> PyResult<()> {
+        let n = self.axes()?.len();
+        let s = sdk::PathSettings::uniform(n, velocity, acceleration, jerk);
+        py(p.allow_threads(|| self.group.configure_path(&s)))
+    }
+
+    /// The card axes of the group, in order (empty: not configured).
+    fn axes(&self) -> PyResult<Vec<usize>> {
+        Ok(py(self.group.settings())?
+            .map(|s| s.axes)
+            .unwrap_or_default())
+    }
+
+    /// Enable the group (its axes enabled).
+    fn enable(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.enable()))
+    }
+
+    /// Disable the group.
+    fn disable(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.disable()))
+    }
+
+    /// A straight line to `target` (one value per group axis) within `limits`; `relative`:
+    /// from where the previous move ends; `buffered`: behind the moves queued.
+    #[pyo3(signature = (target, limits, *, relative = false, buffered = false))]
+    fn move_linear(
+        &self,
+        p: Python<'_>,
+        target: Vec<f64>,
+        limits: PathLimits,
+        relative: bool,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let o = options(relative, buffered);
+        motion(p.allow_threads(|| self.group.move_linear(&target, &limits.limits, o)))
+    }
+
+    /// Synchronised point-to-point: every axis starts and ends together.
+    #[pyo3(signature = (target, limits, *, relative = false, buffered = false))]
+    fn move_ptp(
+        &self,
+        p: Python<'_>,
+        target: Vec<f64>,
+        limits: PathLimits,
+        relative: bool,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let o = options(relative, buffered);
+        motion(p.allow_threads(|| self.group.move_ptp(&target, &limits.limits, o)))
+    }
+
+    /// An arc in the plane of group axes 0 and 1 around `centre` to `end`
+    /// (counter-clockwise unless `ccw=False`; `end` at the start: a full circle); `helix`:
+    /// targets of the group's other axes, which move linearly with it.
+    #[pyo3(signature = (end, centre, limits, *, ccw = true, helix = Vec::new(), relative = false, buffered = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn move_circular(
+        &self,
+        p: Python<'_>,
+        end: [f64; 2],
+        centre: [f64; 2],
+        limits: PathLimits,
+        ccw: bool,
+        helix: Vec<f64>,
+        relative: bool,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let arc = sdk::ArcSpec::Centre { end, centre, ccw };
+        let o = options(relative, buffered);
+        motion(p.allow_threads(|| {
+            self.group
+                .move_circular(&arc, sdk::Plane::default(), &helix, &limits.limits, o)
+        }))
+    }
+
+    /// MC_GroupHalt: decelerate along the path to rest.
+    fn halt(&self, p: Python<'_>, deceleration: f64, jerk: f64) -> PyResult<GroupMotion> {
+        motion(p.allow_threads(|| self.group.halt(deceleration, jerk)))
+    }
+
+    /// MC_GroupStop: decelerate and stay stopped until `release_stop`.
+    fn stop(&self, p: Python<'_>, deceleration: f64, jerk: f64) -> PyResult<GroupMotion> {
+        motion(p.allow_threads(|| self.group.stop(deceleration, jerk)))
+    }
+
+    /// Leave the stopped state.
+    fn release_stop(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.release_stop()))
+    }
+
+    /// MC_GroupReset: out of ErrorStop.
+    fn reset(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.reset()))
+    }
+
+    /// Feed and rapid overrides (1.0 = 100 %).
+    fn set_override(&self, p: Python<'_>, feed: f64, rapid: f64) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.set_override(feed, rapid)))
+    }
+
+    /// Wait for the last move queued on the group.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_done(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<()> {
+        wait_sliced(p, timeout, |s| self.group.wait_done(s))
+    }
+
+    /// Send `segments` to the group's path (configured with `configure_path`): queued as the
+    /// path has room while it runs (runs of lines that sample a curve are sent as that curve).
+    /// Returns the last segment's motion (wait on it for the end of the path), None when
+    /// nothing was queued. A refusal raises its error with `index` (the segment that failed)
+    /// and `accepted` (how many the card took) set on it; Ctrl-C cancels the stream.
+    fn stream_path(&self, p: Python<'_>, segments: Vec<Segment>) -> PyResult<Option<GroupMotion>> {
+        let items: Vec<sdk::Segment> = segments.into_iter().map(|s| s.segment).collect();
+        let streamer = self.group.spawn_path_stream(items);
+        while !streamer.is_finished() {
+            if let Err(e) = p.check_signals() {
+                streamer.cancel();
+                let _ = p.allow_threads(|| streamer.join());
+                return Err(e);
+            }
+            p.allow_threads(|| std::thread::sleep(std::time::Duration::from_millis(2)));
+        }
+        match p.allow_threads(|| streamer.join()) {
+            Ok(m) => Ok(m.map(|motion| GroupMotion { motion })),
+            Err(e) => {
+                let err = PyErr::from(crate::errors::Error(e.error));
+                let v = err.value(p);
+                v.setattr("index", e.index)?;
+                v.setattr("accepted", e.accepted)?;
+                Err(err)
+            }
+        }
+    }
+
+    /// A snapshot of the group's status.
+    fn status(&self) -> PyResult<GroupStatus> {
+        let (state, st) = py(self.group.status())?;
+        Ok(GroupStatus {
+            state_raw: state as u32,
+            queued: st.queued,
+        })
+    }
+
+    /// Run the RS274/NGC program `text` on the group (enabled, its path configured) to its
+    /// end: checked whole first (a wrong line is `GcodeError` and nothing moves), then
+    /// queued and run. `axes`: the program's letter of each group axis. Returns how it
+    /// ended: "done", "paused" (M0/M1/M60) or "aborted".
+    #[pyo3(signature = (text, *, axes = "XYZ", rapid_feed = None, max_feed = None, timeout = None))]
+    fn run_gcode(
+        &self,
+        p: Python<'_>,
+        text: &str,
+        axes: &str,
+        rapid_feed: Option<f64>,
+        max_feed: Option<f64>,
+        timeout: Option<f64>,
+    ) -> PyResult<&'static str> {
+        use sdk::gcode::run::{group_position, NoHooks, RunSettings, RunState, Runner};
+        use sdk::gcode::{Options, Program};
+        let mut run = RunSettings {
+            axes: axes.to_string(),
+            report: false,
+            ..RunSettings::default()
+        };
+        if let Some(f) = rapid_feed {
+            run.rapid_feed = f;
+        }
+        if let Some(f) = max_feed {
+            run.max_feed = f;
+        }
+        let opts = Options {
+            start: py(group_position(&self.group, &run.axes))?,
+            ..Options::default()
+        };
+        for op in Program::from_text(text, &opts) {
+            py(op.map_err(sdk::Error::from))?;
+        }
+        let mut runner = py(Runner::new(
+            &self.group,
+            Program::from_text(text, &opts),
+            run,
+            NoHooks,
+        ))?;
+        let state = wait_sliced(p, timeout, |s| runner.run(s))?;
+        Ok(match state {
+            RunState::Done => "done",
+            RunState::Paused => "paused",
+            RunState::Aborted => "aborted",
+            RunState::Running | RunState::Draining => "running",
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<motioncard.Group {}>", self.group.index())
+    }
+}
+
+/// A group's move in progress.
+#[pyclass(module = "motioncard", frozen)]
+pub struct GroupMotion {
+    motion: sdk::GroupMotion,
+}
+
+#[pymethods]
+impl GroupMotion {
+    /// The seq of the command that queued it.
+    #[getter]
+    fn seq(&self) -> u32 {
+        self.motion.seq()
+    }
+
+    /// Wait until the move is done (the group in position); `AbortedError`, `TimeoutError`.
+    #[pyo3(signature = (timeout = None))]
+    fn wait(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<()> {
+        wait_sliced(p, timeout, |s| self.motion.wait(s))
+    }
+
+    /// `await motion`: `motioncard.group_wait_async(motion)`.
+    fn __await__<'py>(slf: Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let p = slf.py();
+        p.import("motioncard")?
+            .getattr("group_wait_async")?
+            .call1((slf,))?
+            .call_method0("__await__")
+    }
+}
+
+/// A group's status.
+#[pyclass(module = "motioncard", frozen)]
+pub struct GroupStatus {
+    state_raw: u32,
+    /// Moves queued.
+    #[pyo3(get)]
+    queued: u32,
+}
+
+#[pymethods]
+impl GroupStatus {
+    /// The PLCopen group state (`motioncard.GroupState`).
+    #[getter]
+    fn state<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "GroupState", self.state_raw as i64)
+    }
+}

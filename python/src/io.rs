@@ -1,0 +1,127 @@
+//! Position compare and touch probes of an axis.
+use crate::errors::py;
+use crate::wait::wait_sliced;
+use motioncard_sdk as sdk;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+fn direction(name: &str) -> PyResult<sdk::Direction> {
+    match name {
+        "positive" => Ok(sdk::Direction::Positive),
+        "negative" => Ok(sdk::Direction::Negative),
+        "either" => Ok(sdk::Direction::Either),
+        _ => Err(PyValueError::new_err(format!(
+            "direction {name:?}: \"positive\", \"negative\" or \"either\""
+        ))),
+    }
+}
+
+/// A position-compare channel: pulses an output when its axis passes positions.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Compare {
+    pub(crate) compare: sdk::CompareChannel,
+}
+
+#[pymethods]
+impl Compare {
+    /// The channel number.
+    #[getter]
+    fn channel(&self) -> usize {
+        self.compare.channel()
+    }
+
+    /// Pulse `output` for `pulse_us` µs when the axis passes `position` going `direction`
+    /// ("positive", "negative", "either").
+    #[pyo3(signature = (output, pulse_us, position, direction = "either"))]
+    fn arm_single(
+        &self,
+        p: Python<'_>,
+        output: u32,
+        pulse_us: u32,
+        position: f64,
+        direction: &str,
+    ) -> PyResult<()> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| self.compare.arm_single(output, pulse_us, position, d)))
+    }
+
+    /// Pulse at `count` positions from `start`, `pitch` apart, going `direction`.
+    #[pyo3(signature = (output, pulse_us, start, pitch, count, direction = "positive"))]
+    #[allow(clippy::too_many_arguments)]
+    fn arm_series(
+        &self,
+        p: Python<'_>,
+        output: u32,
+        pulse_us: u32,
+        start: f64,
+        pitch: f64,
+        count: u32,
+        direction: &str,
+    ) -> PyResult<()> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| {
+            self.compare
+                .arm_series(output, pulse_us, start, pitch, count, d)
+        }))
+    }
+
+    /// Disarm the channel.
+    fn disarm(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.compare.disarm()))
+    }
+
+    /// (pulses fired, positions missed, positions pending, last position fired).
+    fn status(&self) -> PyResult<(u32, u32, u32, f64)> {
+        let s = py(self.compare.status())?;
+        Ok((s.fires, s.missed, s.pending, s.last_fired))
+    }
+}
+
+/// A touch probe: latches its axis's position on an input's edge (or the encoder index).
+#[pyclass(module = "motioncard", frozen)]
+pub struct Probe {
+    pub(crate) probe: sdk::TouchProbe,
+}
+
+#[pymethods]
+impl Probe {
+    /// Arm on digital input `input` (None: the encoder's index), on its rising and/or
+    /// falling edge; `continuous`: every edge, else the first; `window`: only captures
+    /// between these positions.
+    #[pyo3(signature = (input, *, rising = true, falling = false, continuous = false, window = None))]
+    fn arm(
+        &self,
+        p: Python<'_>,
+        input: Option<u32>,
+        rising: bool,
+        falling: bool,
+        continuous: bool,
+        window: Option<(f64, f64)>,
+    ) -> PyResult<()> {
+        let mut t = match input {
+            Some(i) => sdk::ProbeTrigger::rising(i),
+            None => sdk::ProbeTrigger::index(),
+        };
+        t.rising = rising;
+        t.falling = falling;
+        t.continuous = continuous;
+        t.window = window;
+        py(p.allow_threads(|| self.probe.arm(&t)))
+    }
+
+    /// Disarm.
+    fn abort(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.probe.abort()))
+    }
+
+    /// The positions captured since the arm (the last 8 at most).
+    fn positions(&self) -> PyResult<Vec<f64>> {
+        Ok(py(self.probe.status())?.positions)
+    }
+
+    /// Wait for capture `n` (1, 2, ... since the arm) and give its position.
+    #[pyo3(signature = (n = 1, timeout = None))]
+    fn wait_capture(&self, p: Python<'_>, n: u32, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.probe.wait_capture(n, s))
+    }
+}

@@ -1,0 +1,63 @@
+//! `motioncard._motioncard`: the SDK (`motioncard_sdk`) for Python. The package `motioncard`
+//! (python/motioncard/__init__.py) re-exports it and adds what is plain Python: the enums
+//! built from the lists exported here, the asyncio functions.
+//!
+//! Every call that waits releases the GIL and waits in slices of at most [`wait::SLICE`], checking
+//! for signals between them, so Ctrl-C ends a wait with `KeyboardInterrupt`.
+use pyo3::prelude::*;
+
+mod card;
+mod errors;
+mod group;
+mod io;
+mod motion;
+mod names;
+mod scope;
+mod wait;
+
+use names::members;
+
+#[pymodule]
+fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    use motioncard_sdk as sdk;
+    errors::register(m)?;
+    m.add(
+        "AXIS_STATES",
+        members(sdk::AxisState::ALL, |e| e as u32 as i64),
+    )?;
+    m.add(
+        "GROUP_STATES",
+        members(sdk::GroupState::ALL, |e| e as u32 as i64),
+    )?;
+    m.add(
+        "EVENT_KINDS",
+        members(sdk::EventKind::ALL, |e| e as u16 as i64),
+    )?;
+    m.add("SIGNALS", members(sdk::Signal::ALL, |e| e as u32 as i64))?;
+    m.add(
+        "STOP_CATEGORIES",
+        members(sdk::StopCategory::ALL, |e| e as u32 as i64),
+    )?;
+    m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
+    m.add("INPUTS", sdk::INPUTS)?;
+    m.add_class::<card::Card>()?;
+    m.add_class::<card::CardInfo>()?;
+    m.add_class::<card::Sim>()?;
+    m.add_class::<card::Event>()?;
+    m.add_class::<card::Events>()?;
+    m.add_class::<card::SafetyStatus>()?;
+    m.add_class::<motion::Axis>()?;
+    m.add_class::<motion::MoveLimits>()?;
+    m.add_class::<motion::Motion>()?;
+    m.add_class::<motion::Status>()?;
+    m.add_class::<group::Group>()?;
+    m.add_class::<group::GroupMotion>()?;
+    m.add_class::<group::GroupStatus>()?;
+    m.add_class::<group::PathLimits>()?;
+    m.add_class::<group::Segment>()?;
+    m.add_class::<io::Compare>()?;
+    m.add_class::<io::Probe>()?;
+    m.add_class::<scope::Scope>()?;
+    m.add_class::<scope::Capture>()?;
+    Ok(())
+}
