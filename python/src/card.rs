@@ -14,7 +14,7 @@ use std::time::Duration;
 #[pyclass(module = "motioncard", frozen)]
 pub struct Card {
     pub(crate) card: sdk::Card,
-    uri: String,
+    pub(crate) uri: String,
 }
 
 fn stop_category(c: u32) -> PyResult<sdk::StopCategory> {
@@ -23,6 +23,28 @@ fn stop_category(c: u32) -> PyResult<sdk::StopCategory> {
             sdk::ErrorKind::BadCategory,
             format!("stop category {c}: 0, 1 or 2"),
         )
+    })
+}
+
+/// The options of an emulated card (or set of them) in this process.
+pub(crate) fn sim_options(
+    clock: &str,
+    axes: usize,
+    servo_rate_hz: u32,
+) -> PyResult<sdk::SimOptions> {
+    let clock = match clock {
+        "stepped" => sdk::Clock::Stepped,
+        "realtime" => sdk::Clock::RealTime,
+        "free" => sdk::Clock::FreeRunning,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "clock {other:?}: expected \"stepped\", \"realtime\" or \"free\""
+            )))
+        }
+    };
+    Ok(sdk::SimOptions {
+        clock,
+        emu: sdk::EmuOptions::new(axes, servo_rate_hz),
     })
 }
 
@@ -45,20 +67,7 @@ impl Card {
     #[staticmethod]
     #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000))]
     fn open_sim(p: Python<'_>, clock: &str, axes: usize, servo_rate_hz: u32) -> PyResult<Card> {
-        let clock = match clock {
-            "stepped" => sdk::Clock::Stepped,
-            "realtime" => sdk::Clock::RealTime,
-            "free" => sdk::Clock::FreeRunning,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "clock {other:?}: expected \"stepped\", \"realtime\" or \"free\""
-                )))
-            }
-        };
-        let opts = sdk::SimOptions {
-            clock,
-            emu: sdk::EmuOptions::new(axes, servo_rate_hz),
-        };
+        let opts = sim_options(clock, axes, servo_rate_hz)?;
         let card = p.allow_threads(|| sdk::Card::open_sim(opts));
         Ok(Card {
             card: py(card)?,

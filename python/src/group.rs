@@ -54,7 +54,7 @@ impl PathLimits {
 #[pyclass(module = "motioncard", frozen)]
 #[derive(Clone)]
 pub struct Segment {
-    segment: sdk::Segment,
+    pub(crate) segment: sdk::Segment,
 }
 
 #[pymethods]

@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod card;
+mod cardset;
 mod errors;
 mod group;
 mod io;
@@ -57,6 +58,11 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::Segment>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
+    m.add_class::<cardset::CardSet>()?;
+    m.add_class::<cardset::SyncScope>()?;
+    m.add_class::<cardset::PathSettings>()?;
+    m.add_class::<cardset::SetPath>()?;
+    m.add_class::<cardset::SetPathProgress>()?;
     m.add_class::<scope::Scope>()?;
     m.add_class::<scope::Capture>()?;
     Ok(())
