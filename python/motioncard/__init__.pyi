@@ -1,6 +1,7 @@
 # Type stubs of the package motioncard (the compiled motioncard._motioncard and the Python
 # around it). The sections between the GENERATED markers are written by
 # `python tools/stubs.py` from the built module; tests/test_stubs.py checks they match it.
+import builtins
 import enum
 from os import PathLike
 from types import TracebackType
@@ -53,6 +54,25 @@ class CardInfo:
     axes: int
     servo_rate_hz: int
 
+class CardListing:
+    """One card found by Card.list()."""
+
+    uri: str
+    name: str
+    serial: int
+    axes: int
+    servo_rate_hz: int
+    layout: Tuple[int, int]
+    firmware_version: int
+    sync_role: Literal["alone", "master", "follower"]
+    sync_state: Literal["free", "locked", "lost"]
+    master: str
+    available: bool
+    open_here: bool
+    #: The ErrorKind's name when the card could not be read.
+    error_kind: Optional[str]
+    error: Optional[str]
+
 class SafetyStatus:
     watchdog_tripped: bool
     estop_command: bool
@@ -97,13 +117,15 @@ class Card:
     def open_sim(
         clock: Clock = "stepped", axes: int = 8, servo_rate_hz: int = 10000
     ) -> Card: ...
+    @staticmethod
+    def list() -> builtins.list[CardListing]: ...
     @property
     def uri(self) -> str: ...
     @property
     def info(self) -> CardInfo: ...
     def tick(self) -> int: ...
     def axis(self, index: int) -> Axis: ...
-    def axes(self) -> list[Axis]: ...
+    def axes(self) -> builtins.list[Axis]: ...
     def group(self, index: int) -> Group: ...
     @property
     def sim(self) -> Optional[Sim]: ...
@@ -150,9 +172,9 @@ class Card:
     ) -> None: ...
     def set_servo_rate(self, hz: int) -> None: ...
     def save_config(self) -> str: ...
-    def load_config(self, text: str, origin: str = "<string>") -> list[str]: ...
+    def load_config(self, text: str, origin: str = "<string>") -> builtins.list[str]: ...
     def save_config_file(self, path: Union[str, PathLike[str]]) -> None: ...
-    def load_config_file(self, path: Union[str, PathLike[str]]) -> list[str]: ...
+    def load_config_file(self, path: Union[str, PathLike[str]]) -> builtins.list[str]: ...
 
 class MoveLimits:
     def __init__(

@@ -75,6 +75,15 @@ impl Card {
         })
     }
 
+    /// Every card reachable from this process (`emu:` cards first, then UIO, then PCI),
+    /// those held by a host too: a `CardListing` each. A card that could not be read is
+    /// listed with its `error`.
+    #[staticmethod]
+    fn list(p: Python<'_>) -> PyResult<Vec<CardListing>> {
+        let cards = py(p.allow_threads(sdk::Card::list))?;
+        Ok(cards.into_iter().map(CardListing::from).collect())
+    }
+
     /// The URI it was opened with.
     #[getter]
     fn uri(&self) -> &str {
@@ -386,6 +395,70 @@ impl CardInfo {
         format!(
             "CardInfo(firmware_version={:#x}, layout={:?}, axes={}, servo_rate_hz={})",
             self.firmware_version, self.layout, self.axes, self.servo_rate_hz
+        )
+    }
+}
+
+/// One card found by `Card.list()`.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct CardListing {
+    /// The URI that opens it (`emu:NAME`, `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`).
+    uri: String,
+    /// Its name (`card-emu --name`, the board's EEPROM name).
+    name: String,
+    /// The board's serial number (0: none, or not read).
+    serial: u64,
+    /// Axes on the card (0: not read).
+    axes: usize,
+    /// Servo rate, Hz (0: not read).
+    servo_rate_hz: u32,
+    /// DPRAM layout (major, minor); (0, 0): not read.
+    layout: (u16, u16),
+    /// Firmware version, `major << 16 | minor << 8 | patch` (0: not read).
+    firmware_version: u32,
+    /// Its place on the sync bus: `"alone"`, `"master"` or `"follower"`.
+    sync_role: &'static str,
+    /// Its sync state: `"free"`, `"locked"` or `"lost"`.
+    sync_state: &'static str,
+    /// A follower's master's name (empty otherwise).
+    master: String,
+    /// No host holds it: `Card.open` would get it now.
+    available: bool,
+    /// This process has it open.
+    open_here: bool,
+    /// Why it could not be read (the ErrorKind's name), None when every field was read.
+    error_kind: Option<String>,
+    /// What happened, and what to do about it (None when every field was read).
+    error: Option<String>,
+}
+
+impl From<sdk::CardListing> for CardListing {
+    fn from(l: sdk::CardListing) -> Self {
+        CardListing {
+            uri: l.uri,
+            name: l.name,
+            serial: l.serial,
+            axes: l.axes,
+            servo_rate_hz: l.servo_rate_hz,
+            layout: l.layout,
+            firmware_version: l.firmware_version,
+            sync_role: l.sync_role.as_str(),
+            sync_state: l.sync_state.as_str(),
+            master: l.master,
+            available: l.available,
+            open_here: l.open_here,
+            error_kind: l.error.as_ref().map(|e| format!("{:?}", e.kind)),
+            error: l.error.map(|e| e.message),
+        }
+    }
+}
+
+#[pymethods]
+impl CardListing {
+    fn __repr__(&self) -> String {
+        format!(
+            "CardListing(uri={:?}, name={:?}, serial={}, axes={}, sync_role={:?}, available={})",
+            self.uri, self.name, self.serial, self.axes, self.sync_role, self.available
         )
     }
 }

@@ -43,6 +43,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("INPUTS", sdk::INPUTS)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
+    m.add_class::<card::CardListing>()?;
     m.add_class::<card::Sim>()?;
     m.add_class::<card::Event>()?;
     m.add_class::<card::Events>()?;
