@@ -111,6 +111,7 @@ impl Card {
     fn axis(&self, index: usize) -> PyResult<Axis> {
         Ok(Axis {
             axis: py(self.card.axis(index))?,
+            card: self.card.clone(),
         })
     }
 
@@ -119,7 +120,10 @@ impl Card {
         self.card
             .axes()
             .into_iter()
-            .map(|axis| Axis { axis })
+            .map(|axis| Axis {
+                axis,
+                card: self.card.clone(),
+            })
             .collect()
     }
 

@@ -14,6 +14,7 @@ mod io;
 mod motion;
 mod names;
 mod scope;
+mod servo;
 mod wait;
 
 use names::members;
@@ -64,6 +65,10 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cardset::PathSettings>()?;
     m.add_class::<cardset::SetPath>()?;
     m.add_class::<cardset::SetPathProgress>()?;
+    m.add_class::<servo::ServoFilter>()?;
+    m.add_class::<servo::FreqResponse>()?;
+    m.add_function(wrap_pyfunction!(servo::pidff_for_drive, m)?)?;
+    m.add_function(wrap_pyfunction!(servo::die_bonder_pdplus, m)?)?;
     m.add_class::<scope::Scope>()?;
     m.add_class::<scope::Capture>()?;
     Ok(())

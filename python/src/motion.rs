@@ -76,6 +76,8 @@ impl MoveLimits {
 #[pyclass(module = "motioncard", frozen)]
 pub struct Axis {
     pub(crate) axis: sdk::Axis,
+    /// Its card (the stepping of a stepped card, its servo rate).
+    pub(crate) card: sdk::Card,
 }
 
 fn started(m: sdk::Result<sdk::Motion>, axis: usize) -> PyResult<Motion> {
@@ -477,6 +479,95 @@ impl Axis {
         crate::io::Probe {
             probe: self.axis.touch_probe(channel),
         }
+    }
+
+    /// The servo law the axis runs: `"ffpiv"` (`configure`), `"pdplus"` or `"pidff"`.
+    fn servo_law(&self) -> PyResult<&'static str> {
+        self.do_servo_law()
+    }
+
+    /// Switch to the PID + feed-forward law (any state; at rest the switch does not step the
+    /// output): `kp`, `ki`, `kd`, `kvff`, `kaff`, `friction`, `friction_deadband`,
+    /// `d_filter_hz` (volts, counts, seconds); those not given stay as the axis has them
+    /// (the card's default tuning when it runs another law). `PidffGainsError`: a gain
+    /// negative, a cut-off or deadband not above 0.
+    #[pyo3(signature = (**gains))]
+    fn configure_pidff(
+        &self,
+        p: Python<'_>,
+        gains: Option<std::collections::HashMap<String, f64>>,
+    ) -> PyResult<()> {
+        self.do_configure_pidff(p, gains)
+    }
+
+    /// The PID+FF gains the axis runs, by name (None: it runs another law).
+    fn pidff_settings(&self) -> PyResult<Option<std::collections::BTreeMap<&'static str, f64>>> {
+        self.do_pidff_settings()
+    }
+
+    /// Switch to the PD+ law with its drive model: `kp`, `kd`, `kv`, `ka` (gains), `kc`,
+    /// `tau`, `ke` (the drive), `umax` (the drive limit, V); from another law every one must
+    /// be given, on PD+ those not given stay.
+    #[pyo3(signature = (**settings))]
+    fn configure_pdplus(
+        &self,
+        p: Python<'_>,
+        settings: Option<std::collections::HashMap<String, f64>>,
+    ) -> PyResult<()> {
+        self.do_configure_pdplus(p, settings)
+    }
+
+    /// The PD+ law the axis runs, by name (None: it runs another law).
+    fn pdplus_settings(&self) -> PyResult<Option<std::collections::BTreeMap<&'static str, f64>>> {
+        self.do_pdplus_settings()
+    }
+
+    /// Put `filter` in slot `slot` (0 to 3) of the servo output's biquads. Refused, nothing
+    /// changed: `FilterKindError` (the slot), `FilterFreqError`, `FilterParamError`,
+    /// `FilterUnstableError`, `NotFiniteError`.
+    fn set_servo_filter(
+        &self,
+        p: Python<'_>,
+        slot: usize,
+        filter: crate::servo::ServoFilter,
+    ) -> PyResult<()> {
+        self.do_set_servo_filter(p, slot, &filter)
+    }
+
+    /// Empty filter slot `slot` (None: every slot).
+    #[pyo3(signature = (slot = None))]
+    fn clear_servo_filter(&self, p: Python<'_>, slot: Option<usize>) -> PyResult<()> {
+        self.do_clear_servo_filter(p, slot)
+    }
+
+    /// The filters the axis holds, slot by slot (None: empty), with the card's coefficients.
+    fn servo_filters(&self) -> PyResult<Vec<Option<crate::servo::ServoFilter>>> {
+        self.do_servo_filters()
+    }
+
+    /// Measure the frequency response (the axis enabled, at rest): a stepped sine on the
+    /// position reference (`mode="reference"`: the closed loop; `amplitude` in user units) or
+    /// on the servo output (`"output"`: the plant and the open loop; volts), `points`
+    /// log-spaced from `from_hz` to `to_hz`, `cycles` periods each after `settle_s`. Waits
+    /// for its end (`timeout` s; emulated time on a stepped card); `AbortedError` when it
+    /// ended early.
+    #[pyo3(signature = (*, mode = "reference", from_hz = 5.0, to_hz = 1000.0, points = 40, amplitude = 100.0, cycles = 4, settle_s = 0.2, timeout = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn frequency_response(
+        &self,
+        p: Python<'_>,
+        mode: &str,
+        from_hz: f64,
+        to_hz: f64,
+        points: usize,
+        amplitude: f64,
+        cycles: u32,
+        settle_s: f64,
+        timeout: Option<f64>,
+    ) -> PyResult<crate::servo::FreqResponse> {
+        self.do_frequency_response(
+            p, mode, from_hz, to_hz, points, amplitude, cycles, settle_s, timeout,
+        )
     }
 
     fn __repr__(&self) -> String {
