@@ -39,6 +39,7 @@ Edge = Literal["rising", "falling", "either"]
 Direction = Literal["positive", "negative", "either"]
 MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
 ServoLaw = Literal["ffpiv", "pdplus", "pidff"]
+MoveDirection = Literal["shortest", "positive", "negative", "current"]
 
 class Error(Exception):
     """An error of the card or the SDK; each ErrorKind has its own subclass."""
@@ -89,6 +90,8 @@ class Sim:
     @property
     def time(self) -> float: ...
     def set_input(self, input: int, high: bool) -> None: ...
+    def jump_aux(self, input: int, counts: int) -> None: ...
+    def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
 
 class Event:
     @property
@@ -204,6 +207,7 @@ class Status:
     velocity: float
     following_error: float
     command_position: float
+    compensated_position: float
     command_velocity: float
     command_acceleration: float
     dac_volts: float
@@ -246,7 +250,12 @@ class Axis:
     def clear_modulo(self) -> None: ...
     def modulo(self) -> float: ...
     def move_absolute(
-        self, target: float, limits: MoveLimits, *, buffered: bool = False
+        self,
+        target: float,
+        limits: MoveLimits,
+        *,
+        buffered: bool = False,
+        direction: MoveDirection = "shortest",
     ) -> Motion: ...
     def move_relative(
         self, distance: float, limits: MoveLimits, *, buffered: bool = False
@@ -364,6 +373,36 @@ class Axis:
         settle_s: float = 0.2,
         timeout: Optional[float] = None,
     ) -> FreqResponse: ...
+    def set_compensation(self, table: Compensation) -> None: ...
+    def clear_compensation(self) -> None: ...
+    def compensation(self) -> Optional[Compensation]: ...
+    def handwheel(self, input: int, *, ratio: int = 1, detent: int = 4) -> Motion: ...
+    def handwheel_off(self) -> None: ...
+
+class Compensation:
+    """An axis's pitch-error and backlash compensation table, user units."""
+
+    def __init__(
+        self,
+        points: Sequence[Union[Tuple[float, float], Tuple[float, float, float]]],
+        *,
+        backlash: float = 0.0,
+        bound: float,
+        ramp_velocity: float = 1000.0,
+        ramp_acceleration: float = 1e6,
+    ) -> None: ...
+    @property
+    def points(self) -> list[Tuple[float, float, float]]: ...
+    @property
+    def bidirectional(self) -> bool: ...
+    @property
+    def backlash(self) -> float: ...
+    @property
+    def bound(self) -> float: ...
+    @property
+    def ramp_velocity(self) -> float: ...
+    @property
+    def ramp_acceleration(self) -> float: ...
 
 class ServoFilter:
     """A biquad filter on an axis's servo output."""

@@ -505,6 +505,16 @@ impl Sim {
         self.sim.time()
     }
 
+    /// Turn auxiliary encoder `input` (a handwheel, a master encoder) by `counts` at once.
+    fn jump_aux(&self, input: usize, counts: i64) -> PyResult<()> {
+        py(self.sim.jump_aux(input, counts))
+    }
+
+    /// Turn auxiliary encoder `input` at `counts_per_s` from now on (0: stop it).
+    fn set_aux_velocity(&self, input: usize, counts_per_s: f64) -> PyResult<()> {
+        py(self.sim.set_aux_velocity(input, counts_per_s))
+    }
+
     /// Drive digital input `input`'s pin high or low.
     fn set_input(&self, input: usize, high: bool) -> PyResult<()> {
         if input >= sdk::INPUTS {

@@ -11,6 +11,7 @@ mod cardset;
 mod errors;
 mod group;
 mod io;
+mod machine;
 mod motion;
 mod names;
 mod scope;
@@ -65,6 +66,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cardset::PathSettings>()?;
     m.add_class::<cardset::SetPath>()?;
     m.add_class::<cardset::SetPathProgress>()?;
+    m.add_class::<machine::Compensation>()?;
     m.add_class::<servo::ServoFilter>()?;
     m.add_class::<servo::FreqResponse>()?;
     m.add_function(wrap_pyfunction!(servo::pidff_for_drive, m)?)?;

@@ -113,6 +113,7 @@ impl Axis {
         value: f64,
         limits: MoveLimits,
         buffered: bool,
+        direction: sdk::MoveDirection,
     ) -> PyResult<Motion> {
         let mode = if buffered {
             sdk::BufferMode::Buffered
@@ -120,10 +121,28 @@ impl Axis {
             sdk::BufferMode::Aborting
         };
         started(
-            p.allow_threads(|| self.axis.move_with(kind, value, &limits.limits, mode)),
+            p.allow_threads(|| {
+                self.axis
+                    .move_with_dir(kind, value, &limits.limits, mode, direction)
+            }),
             self.axis.index(),
         )
     }
+}
+
+/// A move's direction on a modulo axis by its Python name.
+fn direction(name: &str) -> PyResult<sdk::MoveDirection> {
+    Ok(match name {
+        "shortest" => sdk::MoveDirection::Shortest,
+        "positive" => sdk::MoveDirection::Positive,
+        "negative" => sdk::MoveDirection::Negative,
+        "current" => sdk::MoveDirection::Current,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "direction {other:?}: \"shortest\", \"positive\", \"negative\" or \"current\""
+            )))
+        }
+    })
 }
 
 #[pymethods]
@@ -171,16 +190,21 @@ impl Axis {
     }
 
     /// Move to `target` within `limits`; `buffered`: after the motion in progress ends
-    /// (PLCopen Buffered), else at once from the current state (Aborting).
-    #[pyo3(signature = (target, limits, *, buffered = false))]
+    /// (PLCopen Buffered), else at once from the current state (Aborting). On a modulo axis
+    /// (`set_modulo`) `target` is in [0, period) and `direction` (PLCopen `MC_Direction`)
+    /// names the way round: `"shortest"`, `"positive"`, `"negative"` or `"current"` (the way
+    /// it moves, or last moved); a linear axis takes `"shortest"` only (`ModuloMoveError`).
+    #[pyo3(signature = (target, limits, *, buffered = false, direction = "shortest"))]
     fn move_absolute(
         &self,
         p: Python<'_>,
         target: f64,
         limits: MoveLimits,
         buffered: bool,
+        direction: &str,
     ) -> PyResult<Motion> {
-        self.move_with(p, sdk::MoveKind::Absolute, target, limits, buffered)
+        let d = self::direction(direction)?;
+        self.move_with(p, sdk::MoveKind::Absolute, target, limits, buffered, d)
     }
 
     /// Move by `distance` within `limits`; `buffered` as `move_absolute`.
@@ -192,7 +216,14 @@ impl Axis {
         limits: MoveLimits,
         buffered: bool,
     ) -> PyResult<Motion> {
-        self.move_with(p, sdk::MoveKind::Relative, distance, limits, buffered)
+        self.move_with(
+            p,
+            sdk::MoveKind::Relative,
+            distance,
+            limits,
+            buffered,
+            Default::default(),
+        )
     }
 
     /// MC_MoveAdditive: `distance` more than the target of the motion in progress.
@@ -204,7 +235,14 @@ impl Axis {
         limits: MoveLimits,
         buffered: bool,
     ) -> PyResult<Motion> {
-        self.move_with(p, sdk::MoveKind::Additive, distance, limits, buffered)
+        self.move_with(
+            p,
+            sdk::MoveKind::Additive,
+            distance,
+            limits,
+            buffered,
+            Default::default(),
+        )
     }
 
     /// The servo gains, windows and jog limits (FFPIV; counts, seconds, volts) by name:
@@ -570,6 +608,39 @@ impl Axis {
         )
     }
 
+    /// Load `table` (a `Compensation`) as the axis's pitch-error and backlash compensation,
+    /// used while the axis is homed (or its position set). Checked as the card checks it:
+    /// `CompTableError`, `CompOrderError`, `CompBoundError`, `NotFiniteError`; `CompBusyError`
+    /// when the axis is not at rest. A refused table changes nothing.
+    fn set_compensation(&self, p: Python<'_>, table: crate::machine::Compensation) -> PyResult<()> {
+        self.do_set_compensation(p, &table)
+    }
+
+    /// Switch the compensation off (its correction ramps out); `CompBusyError` unless at rest.
+    fn clear_compensation(&self, p: Python<'_>) -> PyResult<()> {
+        self.do_clear_compensation(p)
+    }
+
+    /// The compensation the card holds, read back (None: none).
+    fn compensation(&self, p: Python<'_>) -> PyResult<Option<crate::machine::Compensation>> {
+        self.do_compensation(p)
+    }
+
+    /// Jog the axis with auxiliary encoder `input` (a handwheel): each detent (`detent`
+    /// auxiliary counts) moves it `ratio` encoder counts, within its jog limits. The motion
+    /// is done once the wheel is let go (`handwheel_off`, or the input selected for another
+    /// axis) and the axis is in position. `HandwheelInputError`, `HandwheelRatioError`.
+    #[pyo3(signature = (input, *, ratio = 1, detent = 4))]
+    fn handwheel(&self, p: Python<'_>, input: usize, ratio: i32, detent: u32) -> PyResult<Motion> {
+        self.do_handwheel(p, input, ratio, detent)
+    }
+
+    /// Let go of the axis's handwheel: it goes on to where the wheel put it
+    /// (`InvalidStateError` when no handwheel drives it).
+    fn handwheel_off(&self, p: Python<'_>) -> PyResult<()> {
+        self.do_handwheel_off(p)
+    }
+
     fn __repr__(&self) -> String {
         format!("<motioncard.Axis {}>", self.axis.index())
     }
@@ -578,8 +649,8 @@ impl Axis {
 /// A motion in progress. Wait for it with `wait(timeout)`, or `await` it.
 #[pyclass(module = "motioncard", frozen)]
 pub struct Motion {
-    motion: sdk::Motion,
-    axis: usize,
+    pub(crate) motion: sdk::Motion,
+    pub(crate) axis: usize,
 }
 
 #[pymethods]
@@ -657,6 +728,10 @@ pub struct Status {
     /// Commanded position.
     #[pyo3(get)]
     command_position: f64,
+    /// The motor's reference, the commanded position plus the compensation's correction
+    /// (`Axis.set_compensation`); the commanded position without one.
+    #[pyo3(get)]
+    compensated_position: f64,
     /// Commanded velocity.
     #[pyo3(get)]
     command_velocity: f64,
@@ -719,6 +794,7 @@ impl From<sdk::Status> for Status {
         Status {
             state_raw: s.state as u32,
             position: s.actual_position,
+            compensated_position: s.compensated_position,
             velocity: s.actual_velocity,
             following_error: s.following_error,
             command_position: s.command_position,
