@@ -131,6 +131,19 @@ class Card:
     def axis(self, index: int) -> Axis: ...
     def axes(self) -> builtins.list[Axis]: ...
     def group(self, index: int) -> Group: ...
+    def gantry(
+        self,
+        master: int,
+        slaves: Sequence[int],
+        *,
+        skew_limit: float,
+        kp: float = 1e6,
+        ki: float = 0.0,
+        offsets: Optional[Sequence[float]] = None,
+        index: Optional[int] = None,
+    ) -> Gantry: ...
+    def gantry_handle(self, index: int) -> Gantry: ...
+    def gantries(self) -> builtins.list[GantryStatus]: ...
     @property
     def sim(self) -> Optional[Sim]: ...
     @property
@@ -403,6 +416,41 @@ class Compensation:
     def ramp_velocity(self) -> float: ...
     @property
     def ramp_acceleration(self) -> float: ...
+
+class GantrySide:
+    """One slave of a gantry (the master's user units)."""
+
+    axis: int
+    offset: float
+    hold: float
+    skew: float
+    correction: float
+    max_skew: float
+
+class GantryStatus:
+    index: int
+    phase: Literal["coupled", "homing", "squaring"]
+    master: int
+    slaves: list[GantrySide]
+    kp: float
+    ki: float
+    skew_limit: float
+    squared: bool
+
+class GantryHoming:
+    @property
+    def seq(self) -> int: ...
+    def wait(self, timeout: Optional[float] = None) -> float: ...
+
+class Gantry:
+    """A gantry of the card: commanded through its master."""
+
+    @property
+    def index(self) -> int: ...
+    def status(self) -> GantryStatus: ...
+    def master(self) -> Axis: ...
+    def home(self) -> GantryHoming: ...
+    def dissolve(self) -> None: ...
 
 class ServoFilter:
     """A biquad filter on an axis's servo output."""

@@ -134,6 +134,59 @@ impl Card {
         })
     }
 
+    /// Form a gantry: `slaves` (1 to 4 axes, each with the master's scale) follow `master`,
+    /// coupled where they stand; a yaw loop (`kp` 1/s², `ki` 1/s³) corrects each slave's
+    /// skew, and a skew beyond `skew_limit` (user units) stops them all. `offsets`: each
+    /// slave's square offset for `Gantry.home()`. `index`: the gantry slot (None: the first
+    /// free one). `GantryAxesError`, `GantryGainsError`, `GantryInUseError`,
+    /// `GantryStateError`.
+    #[pyo3(signature = (master, slaves, *, skew_limit, kp = 1e6, ki = 0.0, offsets = None, index = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn gantry(
+        &self,
+        p: Python<'_>,
+        master: usize,
+        slaves: Vec<usize>,
+        skew_limit: f64,
+        kp: f64,
+        ki: f64,
+        offsets: Option<Vec<f64>>,
+        index: Option<usize>,
+    ) -> PyResult<crate::machine::Gantry> {
+        let cfg = sdk::GantryConfig {
+            kp,
+            ki,
+            skew_limit,
+            offsets: offsets.unwrap_or_default(),
+        };
+        let g = p.allow_threads(|| match index {
+            Some(i) => self.card.gantry_at(i, master, &slaves, &cfg),
+            None => self.card.gantry(master, &slaves, &cfg),
+        });
+        Ok(crate::machine::Gantry {
+            gantry: py(g)?,
+            card: self.card.clone(),
+        })
+    }
+
+    /// Gantry `index` as it is on the card (formed here, by another host or a configuration
+    /// file); `GantryStateError` if it is not formed.
+    fn gantry_handle(&self, index: usize) -> PyResult<crate::machine::Gantry> {
+        Ok(crate::machine::Gantry {
+            gantry: py(self.card.gantry_handle(index))?,
+            card: self.card.clone(),
+        })
+    }
+
+    /// Every formed gantry's status, in gantry order.
+    fn gantries(&self, p: Python<'_>) -> PyResult<Vec<crate::machine::GantryStatus>> {
+        self.card
+            .gantries()
+            .into_iter()
+            .map(|s| crate::machine::gantry_status(p, s))
+            .collect()
+    }
+
     /// The stepping control of a stepped emulated card (`Card.open_sim()`), else None.
     #[getter]
     fn sim(&self) -> Option<Sim> {

@@ -67,6 +67,10 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cardset::SetPath>()?;
     m.add_class::<cardset::SetPathProgress>()?;
     m.add_class::<machine::Compensation>()?;
+    m.add_class::<machine::Gantry>()?;
+    m.add_class::<machine::GantryHoming>()?;
+    m.add_class::<machine::GantrySide>()?;
+    m.add_class::<machine::GantryStatus>()?;
     m.add_class::<servo::ServoFilter>()?;
     m.add_class::<servo::FreqResponse>()?;
     m.add_function(wrap_pyfunction!(servo::pidff_for_drive, m)?)?;

@@ -144,3 +144,146 @@ impl Axis {
         py(p.allow_threads(|| self.axis.handwheel_off()))
     }
 }
+
+/// Gantry `index`'s handle.
+#[pyclass(module = "motioncard", frozen)]
+pub struct Gantry {
+    pub(crate) gantry: sdk::Gantry,
+    pub(crate) card: sdk::Card,
+}
+
+/// One slave of a gantry (master's user units).
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct GantrySide {
+    /// The slave axis.
+    axis: usize,
+    /// Its square offset (configured).
+    offset: f64,
+    /// The offset in force: the skew it was coupled with, the square offset once homed.
+    hold: f64,
+    /// The skew of the last tick: slave actual − master actual − `hold`.
+    skew: f64,
+    /// The yaw loop's correction of the last tick (user units/s²).
+    correction: f64,
+    /// The largest |skew| while coupled since the gantry was formed.
+    max_skew: f64,
+}
+
+/// A gantry as the card reports it.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct GantryStatus {
+    /// The gantry's number.
+    index: usize,
+    /// `"coupled"`, `"homing"` or `"squaring"`.
+    phase: &'static str,
+    /// The master axis.
+    master: usize,
+    /// The slaves.
+    slaves: Vec<Py<GantrySide>>,
+    /// The yaw loop's proportional gain, 1/s².
+    kp: f64,
+    /// The yaw loop's integral gain, 1/s³.
+    ki: f64,
+    /// The skew beyond which every axis of the gantry stops.
+    skew_limit: f64,
+    /// `Gantry.home()` squared it.
+    squared: bool,
+}
+
+pub(crate) fn gantry_status(p: Python<'_>, s: sdk::GantryStatus) -> PyResult<GantryStatus> {
+    let slaves = s
+        .slaves
+        .iter()
+        .map(|g| {
+            Py::new(
+                p,
+                GantrySide {
+                    axis: g.axis,
+                    offset: g.offset,
+                    hold: g.hold,
+                    skew: g.skew,
+                    correction: g.correction,
+                    max_skew: g.max_skew,
+                },
+            )
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(GantryStatus {
+        index: s.index,
+        phase: match s.phase {
+            sdk::GantryPhase::Coupled => "coupled",
+            sdk::GantryPhase::Homing => "homing",
+            sdk::GantryPhase::Squaring => "squaring",
+        },
+        master: s.master,
+        slaves,
+        kp: s.kp,
+        ki: s.ki,
+        skew_limit: s.skew_limit,
+        squared: s.squared,
+    })
+}
+
+#[pymethods]
+impl Gantry {
+    /// The gantry's number.
+    #[getter]
+    fn index(&self) -> usize {
+        self.gantry.index()
+    }
+
+    /// Its status (`GantryStateError` once dissolved).
+    fn status(&self, p: Python<'_>) -> PyResult<GantryStatus> {
+        gantry_status(p, py(self.gantry.status())?)
+    }
+
+    /// The master axis: the handle the gantry is commanded through (moves, jog, halt, power
+    /// act on every member; a slave refuses commands of its own: `GantrySlaveError`).
+    fn master(&self) -> PyResult<Axis> {
+        Ok(Axis {
+            axis: py(self.gantry.master())?,
+            card: self.card.clone(),
+        })
+    }
+
+    /// Home the gantry: each side runs its own homing method (home position 0), then each
+    /// slave moves to its square offset. Wait on the result (`GantryHoming.wait`).
+    fn home(&self, p: Python<'_>) -> PyResult<GantryHoming> {
+        Ok(GantryHoming {
+            homing: py(p.allow_threads(|| self.gantry.home()))?,
+        })
+    }
+
+    /// Dissolve the gantry (the master at rest): the slaves hold where they are, in
+    /// Standstill, each its own axis again.
+    fn dissolve(&self, p: Python<'_>) -> PyResult<()> {
+        let g = self.gantry.clone();
+        py(p.allow_threads(|| g.dissolve()))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<motioncard.Gantry {}>", self.gantry.index())
+    }
+}
+
+/// A gantry's homing in progress.
+#[pyclass(module = "motioncard", frozen)]
+pub struct GantryHoming {
+    homing: sdk::GantryHoming,
+}
+
+#[pymethods]
+impl GantryHoming {
+    /// The command's seq.
+    #[getter]
+    fn seq(&self) -> u32 {
+        self.homing.seq()
+    }
+
+    /// Wait until the bridge is squared: slave 0's skew then (`HomingFailedError` naming
+    /// the gantry and the side that failed).
+    #[pyo3(signature = (timeout = None))]
+    fn wait(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        crate::wait::wait_sliced(p, timeout, |s| self.homing.wait(s))
+    }
+}
