@@ -131,6 +131,8 @@ class Card:
     def axis(self, index: int) -> Axis: ...
     def axes(self) -> builtins.list[Axis]: ...
     def group(self, index: int) -> Group: ...
+    def pso_off(self) -> None: ...
+    def pso_status(self) -> PsoStatus: ...
     def gantry(
         self,
         master: int,
@@ -417,6 +419,21 @@ class Compensation:
     @property
     def ramp_acceleration(self) -> float: ...
 
+class PsoStatus:
+    """The path-speed output as the card ran it at its last tick."""
+
+    state: Literal["off", "closed", "on"]
+    group: int
+    output: Optional[int]
+    pwm_hz: Optional[float]
+    gate: Optional[int]
+    min: float
+    max: float
+    v_ref_counts: float
+    filter_hz: float
+    speed_counts: float
+    value: float
+
 class GantrySide:
     """One slave of a gantry (the master's user units)."""
 
@@ -638,6 +655,17 @@ class Group:
     def set_override(self, feed: float, rapid: float) -> None: ...
     def wait_done(self, timeout: Optional[float] = None) -> None: ...
     def status(self) -> GroupStatus: ...
+    def pso(
+        self,
+        output: int,
+        *,
+        gate: int,
+        min: float,
+        max: float,
+        v_ref: float,
+        pwm_hz: Optional[float] = None,
+        filter_hz: float = 0.0,
+    ) -> None: ...
     def stream_path(self, segments: Sequence[Segment]) -> Optional[GroupMotion]: ...
     def run_gcode(
         self,

@@ -317,6 +317,16 @@ impl Card {
         py(p.allow_threads(|| self.card.set_analog_output(output, volts)))
     }
 
+    /// Stop the path-speed output (`Group.pso`): its output goes to 0.
+    fn pso_off(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.pso_off()))
+    }
+
+    /// The path-speed output's state, speed and value of the last tick.
+    fn pso_status(&self) -> PyResult<crate::machine::PsoStatus> {
+        Ok(crate::machine::pso_status(py(self.card.pso_status())?))
+    }
+
     /// Load cam table `table` with `points` (master, slave; counts; the master strictly
     /// increasing), `cubic` (else linear), `periodic`.
     #[pyo3(signature = (table, points, *, cubic = false, periodic = false))]

@@ -300,6 +300,29 @@ impl Group {
         }
     }
 
+    /// Run the card's path-speed output (PSO) on this group (configured): the output is
+    /// `clamp(min + (max - min)·v/v_ref, min, max)` from the group's actual tangential speed
+    /// `v` (user units/s), while digital output `gate` is on (the path's M62-M65 outputs).
+    /// `output`: a spare DAC output (`min`, `max` in volts), or with `pwm_hz` a PWM on that
+    /// digital output (duties 0 to 1). `filter_hz`: the speed filter (0: none).
+    /// `PsoConfigError`, `PsoGroupError`, `PsoOutputError`, `NotFiniteError`.
+    #[pyo3(signature = (output, *, gate, min, max, v_ref, pwm_hz = None, filter_hz = 0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn pso(
+        &self,
+        p: Python<'_>,
+        output: usize,
+        gate: usize,
+        min: f64,
+        max: f64,
+        v_ref: f64,
+        pwm_hz: Option<f64>,
+        filter_hz: f64,
+    ) -> PyResult<()> {
+        let s = crate::machine::pso(output, pwm_hz, gate, min, max, v_ref, filter_hz);
+        py(p.allow_threads(|| self.group.pso(&s)))
+    }
+
     /// A snapshot of the group's status.
     fn status(&self) -> PyResult<GroupStatus> {
         let (state, st) = py(self.group.status())?;

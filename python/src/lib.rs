@@ -67,6 +67,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<cardset::SetPath>()?;
     m.add_class::<cardset::SetPathProgress>()?;
     m.add_class::<machine::Compensation>()?;
+    m.add_class::<machine::PsoStatus>()?;
     m.add_class::<machine::Gantry>()?;
     m.add_class::<machine::GantryHoming>()?;
     m.add_class::<machine::GantrySide>()?;

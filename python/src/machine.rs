@@ -287,3 +287,79 @@ impl GantryHoming {
         crate::wait::wait_sliced(p, timeout, |s| self.homing.wait(s))
     }
 }
+
+/// The path-speed output (PSO) as the card ran it at its last tick.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct PsoStatus {
+    /// `"off"` (not configured), `"closed"` (its gate off: the output is 0) or `"on"`.
+    state: &'static str,
+    /// The group (0 while off).
+    group: usize,
+    /// The DAC output it drives, or the digital output of its PWM (None while off).
+    output: Option<usize>,
+    /// The PWM's frequency, Hz (None: a DAC output, or off).
+    pwm_hz: Option<f64>,
+    /// The digital output whose level gates it (None while off).
+    gate: Option<usize>,
+    /// The output at rest, V or duty.
+    min: f64,
+    /// The output at `v_ref` and beyond, V or duty.
+    max: f64,
+    /// The speed of full output, counts/s (the group's scale is the host's).
+    v_ref_counts: f64,
+    /// The speed filter's cut-off, Hz.
+    filter_hz: f64,
+    /// The group's actual tangential speed of the tick, counts/s.
+    speed_counts: f64,
+    /// The output of the tick: V, or the PWM's duty.
+    value: f64,
+}
+
+pub(crate) fn pso_status(s: sdk::PsoStatus) -> PsoStatus {
+    let (output, pwm_hz) = match s.settings.map(|p| p.output) {
+        Some(sdk::PsoOutput::Dac(d)) => (Some(d), None),
+        Some(sdk::PsoOutput::Pwm { output, hz }) => (Some(output), Some(hz)),
+        None => (None, None),
+    };
+    let p = s.settings;
+    PsoStatus {
+        state: match s.state {
+            sdk::PsoState::Off => "off",
+            sdk::PsoState::Closed => "closed",
+            sdk::PsoState::On => "on",
+        },
+        group: s.group,
+        output,
+        pwm_hz,
+        gate: p.map(|p| p.gate),
+        min: p.map_or(0.0, |p| p.min),
+        max: p.map_or(0.0, |p| p.max),
+        v_ref_counts: p.map_or(0.0, |p| p.v_ref),
+        filter_hz: p.map_or(0.0, |p| p.filter_hz),
+        speed_counts: s.speed_counts,
+        value: s.value,
+    }
+}
+
+/// The settings of `Group.pso`.
+pub(crate) fn pso(
+    output: usize,
+    pwm_hz: Option<f64>,
+    gate: usize,
+    min: f64,
+    max: f64,
+    v_ref: f64,
+    filter_hz: f64,
+) -> sdk::Pso {
+    sdk::Pso {
+        output: match pwm_hz {
+            Some(hz) => sdk::PsoOutput::Pwm { output, hz },
+            None => sdk::PsoOutput::Dac(output),
+        },
+        gate,
+        min,
+        max,
+        v_ref,
+        filter_hz,
+    }
+}

@@ -129,3 +129,41 @@ def test_compensation_moves_the_motor_by_the_table(card: mc.Card, sim: mc.Sim) -
     sim.step(200)
     st = x.status()
     assert x.compensation() is None and st.compensated_position == st.command_position
+
+
+def test_the_path_speed_output_follows_the_groups_speed(card: mc.Card, sim: mc.Sim) -> None:
+    for a in (0, 1):
+        card.axis(a).enable()
+    g = card.group(0)
+    with pytest.raises(mc.PsoGroupError):
+        g.pso(0, gate=3, min=0.0, max=10.0, v_ref=10_000.0)  # not configured
+    g.configure([0, 1])
+    g.enable()
+    assert card.pso_status().state == "off"
+    with pytest.raises(mc.PsoConfigError):
+        g.pso(0, gate=3, min=0.0, max=10.0, v_ref=-1.0)
+    g.pso(0, gate=3, min=0.0, max=10.0, v_ref=10_000.0, filter_hz=200.0)
+    s = card.pso_status()
+    assert (s.state, s.group, s.output, s.pwm_hz, s.gate) == ("closed", 0, 0, None, 3)
+    assert (s.min, s.max, s.v_ref_counts, s.filter_hz, s.value) == (0.0, 10.0, 10_000.0, 200.0, 0.0)
+    # the gate closed: nothing while it moves
+    m = g.move_linear([20_000.0, 0.0], mc.PathLimits(5_000.0, 1e5, 1e7))
+    sim.step(5_000)
+    s = card.pso_status()
+    assert s.state == "closed" and s.value == 0.0 and s.speed_counts == pytest.approx(5_000.0, rel=0.05)
+    m.wait(30.0)
+    card.set_output(3, True)
+    sim.step(2)
+    assert card.pso_status().state == "on"
+    # at the feed: min + (max - min)·v/v_ref, v the speed it measured (a 12-bit DAC: 20 V/4096)
+    m = g.move_linear([20_000.0 + 30_000.0, 40_000.0], mc.PathLimits(5_000.0, 1e5, 1e7))
+    sim.step(5_000)
+    s = card.pso_status()
+    assert s.speed_counts == pytest.approx(5_000.0, rel=0.05)
+    assert s.value == pytest.approx(10.0 * s.speed_counts / 10_000.0, abs=20.0 / 4096)
+    m.wait(30.0)
+    sim.step(5_000)
+    s = card.pso_status()
+    assert (s.state, s.speed_counts, s.value) == ("on", 0.0, 0.0)
+    card.pso_off()
+    assert card.pso_status().state == "off"
