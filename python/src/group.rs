@@ -323,6 +323,21 @@ impl Group {
         py(p.allow_threads(|| self.group.pso(&s)))
     }
 
+    /// MC_GroupHome: home the group's axes in `order`, stages of group axis indices (0: the
+    /// group's first axis), each stage's axes together with their own homing settings
+    /// (`Axis.configure_homing`), a stage once the one before is homed and at rest:
+    /// `[[2], [0, 1]]` is Z first, then X and Y. Empty: the group's configured order.
+    /// Refused: `GroupDisabledError`, `InvalidStateError`, `AxisBusyError`, `HomeAxisError`
+    /// (an index the group does not have), `HomeTwiceError`, `HomeStageError` (an empty
+    /// stage, or no order at all), each axis's homing refusals.
+    #[pyo3(signature = (order = Vec::new()))]
+    fn home(&self, p: Python<'_>, order: Vec<Vec<usize>>) -> PyResult<GroupHoming> {
+        let stages: Vec<&[usize]> = order.iter().map(Vec::as_slice).collect();
+        Ok(GroupHoming {
+            homing: py(p.allow_threads(|| self.group.home(&stages)))?,
+        })
+    }
+
     /// A snapshot of the group's status.
     fn status(&self) -> PyResult<GroupStatus> {
         let (state, st) = py(self.group.status())?;
@@ -413,6 +428,28 @@ impl GroupMotion {
             .getattr("group_wait_async")?
             .call1((slf,))?
             .call_method0("__await__")
+    }
+}
+
+/// A group's homing in progress (`Group.home`).
+#[pyclass(module = "motioncard", frozen)]
+pub struct GroupHoming {
+    homing: sdk::GroupHoming,
+}
+
+#[pymethods]
+impl GroupHoming {
+    /// The command's seq.
+    #[getter]
+    fn seq(&self) -> u32 {
+        self.homing.seq()
+    }
+
+    /// Wait until every member is homed and the group stands by: the stages run. A member
+    /// that failed (or a halt, stop, disable, safety stop): `HomingFailedError` naming it.
+    #[pyo3(signature = (timeout = None))]
+    fn wait(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<usize> {
+        wait_sliced(p, timeout, |s| self.homing.wait(s))
     }
 }
 

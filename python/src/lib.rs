@@ -56,6 +56,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<motion::Status>()?;
     m.add_class::<group::Group>()?;
     m.add_class::<group::GroupMotion>()?;
+    m.add_class::<group::GroupHoming>()?;
     m.add_class::<group::GroupStatus>()?;
     m.add_class::<group::PathLimits>()?;
     m.add_class::<group::Segment>()?;

@@ -99,3 +99,32 @@ def test_a_refused_segment_names_its_index(card: mc.Card) -> None:
     with pytest.raises(mc.NotFiniteError) as e:
         g.stream_path(bad)
     assert getattr(e.value, "index") == 1
+
+
+def test_group_homing_runs_its_stages_in_order() -> None:
+    with mc.Card.open_sim(axes=3) as card:
+        for a in range(3):
+            card.axis(a).enable()
+            card.axis(a).configure_homing(37)  # on the current position: one stage's time
+        g = card.group(0)
+        g.configure([0, 1, 2])
+        g.enable()
+        for bad, error in [
+            ([[3]], mc.HomeAxisError),
+            ([[0], [0, 1]], mc.HomeTwiceError),
+            ([[2], []], mc.HomeStageError),
+        ]:
+            with pytest.raises(error):
+                g.home(bad)
+        while card.next_event(0.0) is not None:
+            pass
+        h = g.home([[2], [0, 1]])  # Z first, then X and Y together
+        assert h.wait(5.0) == 2
+        done = {
+            e.axis: e.tick
+            for e in card.events(timeout=0.0)
+            if e.kind == mc.EventKind.MOTION_DONE and e.seq == h.seq
+        }
+        assert done[2] < done[0] == done[1]
+        assert all(card.axis(a).status().homed for a in range(3))
+        assert g.status().state == mc.GroupState.STANDBY
