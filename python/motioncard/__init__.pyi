@@ -661,6 +661,20 @@ class Group:
     def wait_done(self, timeout: Optional[float] = None) -> None: ...
     def status(self) -> GroupStatus: ...
     def home(self, order: Sequence[Sequence[int]] = ...) -> GroupHoming: ...
+    def move_nurbs(
+        self,
+        control_points: Sequence[Sequence[float]],
+        *,
+        degree: int,
+        feed: float,
+        acceleration: float,
+        jerk: float,
+        weights: Optional[Sequence[float]] = None,
+        knots: Optional[Sequence[float]] = None,
+        chord_tolerance: Optional[float] = None,
+        saturation: Optional[float] = None,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
     def pso(
         self,
         output: int,

@@ -323,6 +323,53 @@ impl Group {
         py(p.allow_threads(|| self.group.pso(&s)))
     }
 
+    /// Move along a NURBS curve of `degree` through `control_points` (one value per group
+    /// axis each, absolute, the first where the group's path is), with `weights` (default 1)
+    /// and `knots` (clamped; default uniform), at `feed` within `acceleration` and `jerk`
+    /// along it; the feed is lowered where the curvature needs it to keep the chord error
+    /// within `chord_tolerance` (default one count), and with `saturation` (a fraction of
+    /// the drives' limit, PD+ on every axis) where the drives would saturate. A curve the
+    /// card does not take: its `Nurbs*Error`.
+    #[pyo3(signature = (control_points, *, degree, feed, acceleration, jerk, weights = None, knots = None, chord_tolerance = None, saturation = None, buffered = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn move_nurbs(
+        &self,
+        p: Python<'_>,
+        control_points: Vec<Vec<f64>>,
+        degree: usize,
+        feed: f64,
+        acceleration: f64,
+        jerk: f64,
+        weights: Option<Vec<f64>>,
+        knots: Option<Vec<f64>>,
+        chord_tolerance: Option<f64>,
+        saturation: Option<f64>,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let n = control_points.len();
+        let dim = control_points.first().map_or(0, Vec::len);
+        if control_points.iter().any(|c| c.len() != dim) {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "control points: the same number of values each",
+            ));
+        }
+        let flat: Vec<f64> = control_points.concat();
+        let weights = weights.unwrap_or_else(|| vec![1.0; n]);
+        let knots = match knots {
+            Some(k) => k,
+            None => py(sdk::clamped_uniform_knots(n, degree).map_err(sdk::Error::from))?,
+        };
+        let curve =
+            py(sdk::Nurbs::new(degree, dim, &flat, &weights, &knots).map_err(sdk::Error::from))?;
+        let f = sdk::NurbsFeed {
+            chord_tolerance,
+            saturation,
+            ..sdk::NurbsFeed::new(feed, acceleration, jerk)
+        };
+        let o = options(false, buffered);
+        motion(p.allow_threads(|| self.group.move_nurbs(&curve, &f, o)))
+    }
+
     /// MC_GroupHome: home the group's axes in `order`, stages of group axis indices (0: the
     /// group's first axis), each stage's axes together with their own homing settings
     /// (`Axis.configure_homing`), a stage once the one before is homed and at rest:

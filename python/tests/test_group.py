@@ -128,3 +128,43 @@ def test_group_homing_runs_its_stages_in_order() -> None:
         assert done[2] < done[0] == done[1]
         assert all(card.axis(a).status().homed for a in range(3))
         assert g.status().state == mc.GroupState.STANDBY
+
+
+def test_a_nurbs_quarter_circle_is_followed_on_the_circle(card: mc.Card, sim: mc.Sim) -> None:
+    for a in (0, 1):
+        card.axis(a).enable()
+    g = card.group(0)
+    g.configure([0, 1])
+    g.enable()
+    r = 10_000.0
+    g.move_linear([r, 0.0], mc.PathLimits(50_000.0, 1e6, 5e7)).wait(5.0)
+    # the exact rational quadratic quarter circle: weights 1, √2/2, 1
+    m = g.move_nurbs(
+        [[r, 0.0], [r, r], [0.0, r]],
+        degree=2,
+        weights=[1.0, math.sqrt(0.5), 1.0],
+        feed=20_000.0,
+        acceleration=1e6,
+        jerk=5e7,
+    )
+    samples = 0
+    while True:
+        sim.step(20)
+        x, y = (card.axis(a).status().command_position for a in (0, 1))
+        assert math.hypot(x, y) == pytest.approx(r, abs=1e-6), (x, y)
+        samples += 1
+        if (x, y) == (0.0, r):
+            break
+        assert samples < 5_000
+    # a quarter turn of 10,000 at 20,000/s: about 0.79 s, 400 samples of 20 ticks
+    assert samples > 300
+    m.wait(5.0)
+    with pytest.raises(mc.NurbsCtrlCountError):
+        g.move_nurbs([[0.0, r], [1.0, 2.0]], degree=3, feed=1e4, acceleration=1e6, jerk=1e8)
+    with pytest.raises(mc.NurbsWeightError):
+        g.move_nurbs([[0.0, r], [1.0, 2.0], [3.0, 4.0]], degree=2, weights=[1.0, -1.0, 1.0], feed=1e4, acceleration=1e6, jerk=1e8)
+    with pytest.raises(mc.NurbsStartError):
+        g.move_nurbs([[5.0, r], [1.0, 2.0], [3.0, 4.0]], degree=2, feed=1e4, acceleration=1e6, jerk=1e8)
+    with pytest.raises(ValueError):
+        g.move_nurbs([[0.0, r], [1.0]], degree=1, feed=1e4, acceleration=1e6, jerk=1e8)
+    assert (card.axis(0).status().command_position, card.axis(1).status().command_position) == (0.0, r)
