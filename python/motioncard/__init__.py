@@ -24,6 +24,7 @@ from typing import AsyncIterator, Optional, Union
 
 from . import _motioncard
 from ._motioncard import *  # noqa: F401,F403 (the classes and the error subclasses)
+from ._motioncard import _raise_kind  # noqa: F401 (for the tests)
 from ._motioncard import (
     AXIS_STATES,
     ERROR_KINDS,

@@ -12,6 +12,7 @@ from typing import (
     Generator,
     Iterator,
     Literal,
+    NoReturn,
     Optional,
     Sequence,
     Tuple,
@@ -513,6 +514,9 @@ class FreqResponse:
     def open_loop(self) -> Curve: ...
     def resonances(self) -> list[Tuple[float, float, float, bool]]: ...
     def __len__(self) -> int: ...
+
+def _raise_kind(kind: str) -> NoReturn:
+    """Raise the error of `kind` as every SDK error is raised (for the tests)."""
 
 def pidff_for_drive(accel_per_volt: float, wc: float) -> dict[str, float]: ...
 def die_bonder_pdplus(axis: int) -> dict[str, float]: ...

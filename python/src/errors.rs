@@ -82,3 +82,16 @@ pub(crate) fn of_kind(kind: ErrorKind, msg: String) -> PyErr {
         }
     })
 }
+
+/// Raise the error of kind `kind` (its name, as `ErrorKind`'s) as every SDK error is raised:
+/// through [`of_kind`], which picks its class. For the tests (`test_errors.py`: every kind
+/// raises its own class); an unknown name is a `ValueError`.
+#[pyfunction]
+pub(crate) fn _raise_kind(kind: &str) -> PyResult<()> {
+    let k = ErrorKind::ALL
+        .iter()
+        .copied()
+        .find(|k| format!("{k:?}") == kind)
+        .ok_or_else(|| pyo3::exceptions::PyValueError::new_err(format!("no kind {kind}")))?;
+    Err(of_kind(k, format!("{kind}: {}", k.description())))
+}

@@ -24,6 +24,7 @@ use names::members;
 fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use motioncard_sdk as sdk;
     errors::register(m)?;
+    m.add_function(wrap_pyfunction!(errors::_raise_kind, m)?)?;
     m.add(
         "AXIS_STATES",
         members(sdk::AxisState::ALL, |e| e as u32 as i64),

@@ -39,6 +39,21 @@ def test_every_kind_has_its_class() -> None:
     assert issubclass(mc.Error, Exception)
 
 
+def test_every_kind_raises_its_own_class() -> None:
+    """Every kind, raised as an SDK error is (through the one conversion all of them take),
+    is its own class, a `motioncard.Error`, with its kind, code and description."""
+    for kind, cls_name, code, desc in mc.ERROR_KINDS:
+        cls = getattr(mc, cls_name)
+        with pytest.raises(cls) as e:
+            mc._raise_kind(kind)
+        assert type(e.value) is cls
+        assert isinstance(e.value, mc.Error)
+        assert (e.value.kind, e.value.code) == (kind, code)
+        assert desc in str(e.value)
+    with pytest.raises(ValueError):
+        mc._raise_kind("NoSuchKind")
+
+
 def test_nan_target_is_not_finite(card: mc.Card) -> None:
     x = card.axis(0)
     x.enable()
