@@ -540,3 +540,84 @@ fn a_halt_aborts_what_is_staged() {
     assert_eq!(c.answer(r.seq), Some(Ok(c.fw.tick_count())));
     assert_eq!(staged(&c), (0, 1), "released");
 }
+
+/// A number from the whole f64 range: the edges (NaN, ±∞, 0, −0, subnormals, 1e−300, 1e300,
+/// the card's position limit and just past it) or a plausible one.
+fn any_f64() -> impl proptest::strategy::Strategy<Value = f64> {
+    use proptest::prelude::*;
+    prop_oneof![
+        prop::sample::select(vec![
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE / 4.0,
+            1e-300,
+            -1e300,
+            1e300,
+            crate::MAX_POSITION,
+            -crate::MAX_POSITION * 1.0000001,
+        ]),
+        -1e6..1e6f64,
+        1e3..1e9f64,
+    ]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+    /// Any dimensions block and any 12-dimension line (with its MC_OP_PATH_MORE) over the
+    /// whole f64 range: never a panic; each refused with a nack, or accepted, and what was
+    /// accepted then runs with finite references on every axis (released, 3,000 ticks).
+    #[test]
+    fn any_dims_and_any_line_are_refused_or_run_finite(
+        mapped in proptest::prelude::any::<bool>(),
+        ndims in 0u32..20,
+        axis in proptest::collection::vec(-3i32..9, 16),
+        edges in proptest::prelude::any::<bool>(),
+        lim in proptest::collection::vec(any_f64(), 48),
+        start in proptest::collection::vec(any_f64(), 16),
+        target in proptest::collection::vec(any_f64(), 12),
+        feed in any_f64(),
+        tol in any_f64(),
+    ) {
+        let mut c = Card::with_group(6);
+        // half the cases a block that names each group axis once (else it is refused before
+        // anything else is looked at), half of those with limits the card can run
+        let mut b = if mapped {
+            dims(0..6, &[0.0; D])
+        } else {
+            raw::mc_group_dims { ndims, ..Default::default() }
+        };
+        if !mapped {
+            b.axis.copy_from_slice(&axis);
+        }
+        if edges || !mapped {
+            b.vmax.copy_from_slice(&lim[..16]);
+            b.amax.copy_from_slice(&lim[16..32]);
+            b.jmax.copy_from_slice(&lim[32..]);
+        }
+        b.start.copy_from_slice(&start);
+        // and half the cases with numbers a path can run, the others from the whole range
+        let tame = |x: f64| if x.is_finite() && x.abs() < 1e6 { x } else { 1e3 };
+        let (feed, tol) = if edges { (feed, tol) } else { (tame(feed).abs() + 1.0, 1.0) };
+        let target: Vec<f64> = target.iter().map(|&x| if edges { x } else { tame(x) }).collect();
+        if !edges {
+            b.start = [0.0; D];
+        }
+        let applied = apply(&mut c, &b).expect("answered");
+        let line = Seg::Line { end: target.clone().try_into().unwrap(), feed, tol };
+        let e = entries(&mut c, 1, &line);
+        c.send(&e);
+        let staged = c.answer(e[0].seq).expect("answered").is_ok();
+        proptest::prop_assert!(staged <= (applied.is_ok() && b.ndims == 12));
+        if staged {
+            let r = c.entry(Opcode::PathRelease, 0, 0, &[1.0]);
+            c.send(&[r]);
+            for _ in 0..3_000 {
+                let p = tick(&mut c);
+                proptest::prop_assert!(p.iter().all(|x| x.is_finite()), "{p:?}");
+            }
+        }
+    }
+}
