@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import asyncio
 import enum
-from typing import AsyncIterator, Optional, Union
+from typing import AsyncIterator, Callable, Optional, TypeVar, Union
 
 from . import _motioncard
 from ._motioncard import *  # noqa: F401,F403 (the classes and the error subclasses)
@@ -94,21 +94,31 @@ ERROR_CLASSES: dict[str, type[Error]] = {
 _ASYNC_SLICE = 0.05
 
 
-async def wait_async(motion: Motion, timeout: Optional[float] = None) -> float:
-    """``motion.wait(timeout)`` from asyncio (``await motion`` is this without a timeout):
-    the final position. The wait runs in the loop's default executor in short slices, so
-    cancelling the task ends it promptly."""
+_T = TypeVar("_T")
+
+
+async def _wait_sliced(wait: Callable[[float], _T], timeout: Optional[float]) -> _T:
+    """``wait(timeout)`` from asyncio: in the loop's default executor, in short slices (a
+    slice that times out is waited again until ``timeout`` is spent), so that cancelling the
+    task ends it promptly."""
     loop = asyncio.get_running_loop()
     left = timeout
     while True:
         s = _ASYNC_SLICE if left is None else min(_ASYNC_SLICE, left)
         try:
-            return await loop.run_in_executor(None, motion.wait, s)
+            return await loop.run_in_executor(None, wait, s)
         except _motioncard.TimeoutError:
             if left is not None:
                 left -= s
                 if left <= 0:
                     raise
+
+
+async def wait_async(motion: Motion, timeout: Optional[float] = None) -> float:
+    """``motion.wait(timeout)`` from asyncio (``await motion`` is this without a timeout):
+    the final position. The wait runs in the loop's default executor in short slices, so
+    cancelling the task ends it promptly."""
+    return await _wait_sliced(motion.wait, timeout)
 
 
 async def next_event_async(
@@ -142,17 +152,7 @@ async def events_async(card: Union[Card, Events], timeout: Optional[float] = 1.0
 
 async def group_wait_async(motion: GroupMotion, timeout: Optional[float] = None) -> None:
     """``motion.wait(timeout)`` of a group's move from asyncio (``await motion``)."""
-    loop = asyncio.get_running_loop()
-    left = timeout
-    while True:
-        s = _ASYNC_SLICE if left is None else min(_ASYNC_SLICE, left)
-        try:
-            return await loop.run_in_executor(None, motion.wait, s)
-        except _motioncard.TimeoutError:
-            if left is not None:
-                left -= s
-                if left <= 0:
-                    raise
+    await _wait_sliced(motion.wait, timeout)
 
 __all__ = [
     "AXIS_STATES",
