@@ -112,6 +112,23 @@ fn direction(d: u32, either: bool) -> Result<Direction, crate::result::Failure> 
     }
 }
 
+/// Arm compare channel `channel` of `axis` with `f`, given the direction `direction_`
+/// (`either`: `MC_COMPARE_EITHER` allowed). Blocks until the card answers.
+fn arm(
+    card: mc_card,
+    axis: u32,
+    channel: u32,
+    direction_: u32,
+    either: bool,
+    f: impl FnOnce(&motioncard_sdk::CompareChannel, Direction) -> motioncard_sdk::Result<()>,
+) -> mc_result {
+    guard(|| {
+        let d = direction(direction_, either)?;
+        let (_, a) = axis_of(card, axis)?;
+        Ok(f(&a.compare(channel as usize), d)?)
+    })
+}
+
 impl From<&CompareStatus> for mc_compare_info {
     fn from(s: &CompareStatus) -> Self {
         Self {
@@ -197,11 +214,8 @@ pub extern "C" fn mc_compare_single(
     position: f64,
     direction_: u32,
 ) -> mc_result {
-    guard(|| {
-        let d = direction(direction_, true)?;
-        let (_, a) = axis_of(card, axis)?;
-        Ok(a.compare(channel as usize)
-            .arm_single(output, pulse_us, position, d)?)
+    arm(card, axis, channel, direction_, true, |c, d| {
+        c.arm_single(output, pulse_us, position, d)
     })
 }
 
@@ -219,11 +233,8 @@ pub extern "C" fn mc_compare_single_each_turn(
     position: f64,
     direction_: u32,
 ) -> mc_result {
-    guard(|| {
-        let d = direction(direction_, true)?;
-        let (_, a) = axis_of(card, axis)?;
-        Ok(a.compare(channel as usize)
-            .arm_single_each_turn(output, pulse_us, position, d)?)
+    arm(card, axis, channel, direction_, true, |c, d| {
+        c.arm_single_each_turn(output, pulse_us, position, d)
     })
 }
 
@@ -243,11 +254,8 @@ pub extern "C" fn mc_compare_series(
     count: u32,
     direction_: u32,
 ) -> mc_result {
-    guard(|| {
-        let d = direction(direction_, false)?;
-        let (_, a) = axis_of(card, axis)?;
-        Ok(a.compare(channel as usize)
-            .arm_series(output, pulse_us, start, pitch, count, d)?)
+    arm(card, axis, channel, direction_, false, |c, d| {
+        c.arm_series(output, pulse_us, start, pitch, count, d)
     })
 }
 
@@ -269,11 +277,8 @@ pub extern "C" fn mc_compare_series_each_turn(
     count: u32,
     direction_: u32,
 ) -> mc_result {
-    guard(|| {
-        let d = direction(direction_, false)?;
-        let (_, a) = axis_of(card, axis)?;
-        Ok(a.compare(channel as usize)
-            .arm_series_each_turn(output, pulse_us, start, pitch, count, d)?)
+    arm(card, axis, channel, direction_, false, |c, d| {
+        c.arm_series_each_turn(output, pulse_us, start, pitch, count, d)
     })
 }
 
@@ -290,11 +295,8 @@ pub extern "C" fn mc_compare_table(
     low_water: u32,
     direction_: u32,
 ) -> mc_result {
-    guard(|| {
-        let d = direction(direction_, false)?;
-        let (_, a) = axis_of(card, axis)?;
-        Ok(a.compare(channel as usize)
-            .arm_table(output, pulse_us, low_water, d)?)
+    arm(card, axis, channel, direction_, false, |c, d| {
+        c.arm_table(output, pulse_us, low_water, d)
     })
 }
 

@@ -382,10 +382,12 @@ fn a_dims_block_that_does_not_name_each_group_axis_once_is_refused() {
         f(&mut b);
         assert_eq!(apply(&mut c, &b), Some(Err(code)), "{what}");
     }
-    // a limit of 0 is the range check's
+    // a limit of 0, and one the card cannot run at its servo rate: the range check's
     let mut b = good;
     b.vmax[3] = 0.0;
-    assert!(matches!(apply(&mut c, &b), Some(Err(_))));
+    assert_eq!(apply(&mut c, &b), Some(Err(NackCode::NonPositiveLimit)));
+    b.vmax[3] = 1e300;
+    assert_eq!(apply(&mut c, &b), Some(Err(NackCode::LimitRange)));
     // (the card kept its dimensions: a 12-dimension line still needs its second entry)
     let mut e = entries(
         &mut c,

@@ -182,13 +182,7 @@ fn wide() -> Wide {
     let p0: [f64; W] = at(&[
         0.0, 0.0, 0.0, 100.0, -200.0, 300.0, 0.0, 50.0, 1_000.0, -1_000.0, 0.0, 7.0,
     ]);
-    let step = |p: [f64; W], f: &dyn Fn(usize) -> f64| {
-        let mut q = p;
-        for (k, x) in q[..N12].iter_mut().enumerate() {
-            *x += f(k);
-        }
-        q
-    };
+    let step = |p: [f64; W], f: &dyn Fn(usize) -> f64| step(p, N12, f);
     // lines of every axis, a corner of ~40° and a run of small turns
     let a = step(p0, &|k| 3_000.0 + 250.0 * k as f64);
     prog.push(line(1, a, 6e4, Transition::Exact));
@@ -450,13 +444,7 @@ fn twelve_axes_keep_their_limits_circles_and_ends() {
 fn eight() -> (Vec<Segment>, [f64; MAX_AXES]) {
     let mut prog = vec![];
     let p0: [f64; MAX_AXES] = at(&[10.0, -20.0, 30.0, 0.0, 5.0, 0.0, -7.0, 1.0]);
-    let step = |p: [f64; MAX_AXES], f: &dyn Fn(usize) -> f64| {
-        let mut q = p;
-        for (k, x) in q.iter_mut().enumerate() {
-            *x += f(k);
-        }
-        q
-    };
+    let step = |p: [f64; MAX_AXES], f: &dyn Fn(usize) -> f64| step(p, MAX_AXES, f);
     let a = step(p0, &|k| 2_000.0 + 300.0 * k as f64);
     prog.push(line(1, a, 7e4, Transition::Exact));
     let b = step(a, &|k| {
@@ -778,4 +766,13 @@ fn axes_past_the_dimension_are_refused() {
     );
     assert_eq!(p.push(ok), Ok(()));
     assert_eq!(p.queued(), 1);
+}
+
+/// `p` moved by `f(k)` on each of its first `n` axes `k`.
+fn step<const D: usize>(p: [f64; D], n: usize, f: &dyn Fn(usize) -> f64) -> [f64; D] {
+    let mut q = p;
+    for (k, x) in q[..n].iter_mut().enumerate() {
+        *x += f(k);
+    }
+    q
 }
