@@ -58,7 +58,20 @@ int main(int argc, char **argv) {
     /* Still armed: a heartbeat stopped for longer than the timeout trips it. */
     if (expected_ms <= 5000) {
         CHECK(mc_set_heartbeat(c, 0));
-        sleep_ms((long)(kept / 1000) + 500);
+        /* Silence counted in the card's own ticks: an emulated card on a loaded machine runs
+         * behind the wall clock, and its watchdog counts ticks. */
+        mc_card_info info;
+        CHECK(mc_get_info(c, &info));
+        const uint64_t silence = ((uint64_t)kept / 1000 + 500) * info.servo_rate_hz / 1000;
+        uint64_t t0 = 0, t = 0;
+        CHECK(mc_get_tick(c, &t0));
+        for (int waited = 0; waited < 60000; waited += 10) {
+            CHECK(mc_get_tick(c, &t));
+            if (t - t0 >= silence) {
+                break;
+            }
+            sleep_ms(10);
+        }
         CHECK(mc_set_heartbeat(c, 1));
         CHECK(mc_get_safety_status(c, &st));
         ASSERT(st.watchdog_tripped, "the watchdog did not trip after %u ms of silence",

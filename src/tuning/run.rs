@@ -202,6 +202,20 @@ fn pass(card: &Card, d: Duration) {
     }
 }
 
+/// Let `n` servo ticks pass on the card: stepped on a stepped card, waited for (by its tick
+/// counter, up to 10 s of wall clock) on a running one.
+fn pass_ticks(card: &Card, n: u64) -> crate::Result<()> {
+    if let Some(sim) = card.sim() {
+        sim.step(n);
+        return Ok(());
+    }
+    let (t0, wall) = (card.tick()?, Instant::now());
+    while card.tick()?.wrapping_sub(t0) < n && wall.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    Ok(())
+}
+
 /// Stops an armed capture when the test leaves early (an error), so the scope is free again.
 struct Armed<'a>(Option<&'a Scope>);
 
@@ -368,12 +382,9 @@ pub fn run_test(card: &Card, scope: &Scope, spec: &TestSpec) -> Result<TestRun, 
     })?;
     scope.arm()?;
     let armed = Armed(Some(scope));
-    // Let the history fill before the motion starts (twice its length: an emulated card on a
-    // loaded machine may run behind the clock).
-    pass(
-        card,
-        Duration::from_secs_f64(f64::from(2 * PRE_TRIGGER) / rate),
-    );
+    // Let the history fill before the motion starts: counted in the card's own ticks (an
+    // emulated card on a loaded machine runs behind the wall clock), plus a margin.
+    pass_ticks(card, u64::from(PRE_TRIGGER) + u64::from(PRE_TRIGGER) / 2)?;
     let s = counts_per_unit(&ax);
     let lim = MoveLimits::new(
         limits.vmax / s.abs(),
