@@ -275,3 +275,57 @@ fn a_fault_on_one_card_halts_the_path_on_the_others() {
     );
     println!("card 0 at rest {ticks} ticks after the fault was seen");
 }
+
+/// `SetPath::run` streams segments to every card before their answers come back: a segment
+/// the cards refuse (here a chord of zero length, the 301st, after a first batch of 256 was
+/// released and started) ends the stream with that refusal, halts the path on every card on
+/// its geometry, and drops what was staged after it on every card: nothing more runs.
+#[test]
+fn a_segment_refused_in_a_run_halts_the_path_on_every_card() {
+    let split = [6, 6];
+    let set = cards(&split);
+    let parts = [
+        PathPart { card: 0, group: 0 },
+        PathPart { card: 1, group: 0 },
+    ];
+    let mut path = set.path(&parts, &settings()).unwrap();
+    let chord = |i: u32| {
+        let p: Vec<f64> = (0..N)
+            .map(|d| 40.0 * f64::from(i) * (1.0 + d as f64 / 10.0))
+            .collect();
+        Segment::line(i, &p, 3e4, 1.0)
+    };
+    let mut prog: Vec<Segment> = (1..=400).map(chord).collect();
+    prog[300] = chord(300); // the 301st ends where the 300th did
+    let e = path.run(&prog).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::PathZeroLength, "{e}");
+    assert_eq!(path.progress().unwrap().staged, 0);
+    for c in set.cards() {
+        let st = c.group(0).unwrap().status().unwrap().1;
+        assert!(st.path_queued <= 256, "only the first batch was released");
+    }
+    set.cards()[0].sim().unwrap().step(20_000);
+    let far = 40.0 * 256.0;
+    for c in set.cards() {
+        let (state, st) = c.group(0).unwrap().status().unwrap();
+        assert_eq!(state, GroupState::Standby);
+        assert_eq!(
+            (st.path_queued, st.path_staged),
+            (0, 0),
+            "what was queued and staged was aborted at rest"
+        );
+        let x = c.axis(0).unwrap().status().unwrap().command_position;
+        assert!(
+            x > 0.0 && x < far,
+            "halted short of the first batch's end: {x}"
+        );
+    }
+    // both cards halted on one tick, at one place on the path: dimension 6 (card 1's first
+    // axis) moves 1.6 times as far as dimension 0 on every chord
+    let x: Vec<f64> = set
+        .cards()
+        .iter()
+        .map(|c| c.axis(0).unwrap().status().unwrap().command_position)
+        .collect();
+    assert!((x[1] / x[0] - 1.6).abs() < 1e-9, "{x:?}");
+}

@@ -19,7 +19,8 @@
 //! `cargo bench -p card-emu --bench path_run [-- corners|dense|streaming] [--runs N]` (`--runs`:
 //! the dense part's runs, default 3; its cost figures are the median)
 use motioncard_sdk::{
-    Card, EventKind, Group, GroupSettings, GroupState, PathSettings, Segment, Sim, SimOptions,
+    Card, CardSet, EventKind, Group, GroupSettings, GroupState, PathPart, PathSettings, Segment,
+    Sim, SimOptions,
 };
 #[path = "common/dense.rs"]
 mod dense;
@@ -331,6 +332,112 @@ fn streaming(fit: bool) {
     let _ = child.wait();
 }
 
+/// A 12-axis path over two `card-emu` processes of six axes on one sync bus at 10 kHz,
+/// streamed from this process with `SetPath::run` (releases timed `margin` ms ahead): 20,000
+/// chords of 10 counts (a circle of radius 50,000 counts in axes 0 and 1, the other ten axes
+/// a scaled copy of it) at 150,000 counts/s: segments per second pushed, the path's own
+/// rate, starvation events on each card.
+fn set_streaming(margin: u64) {
+    /// Killed when dropped (a panic too).
+    struct Proc(std::process::Child);
+    impl Drop for Proc {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let master = format!("bench-setpath-{}", std::process::id());
+    let follower = format!("{master}-f");
+    let spawn = |name: &str, extra: &[&str]| {
+        Proc(
+            Process::new(env!("CARGO_BIN_EXE_card-emu"))
+                .args(["--name", name, "--axes", "6", "--servo-rate", "10000"])
+                .args(extra)
+                .stdout(Stdio::null())
+                .spawn()
+                .expect("card-emu"),
+        )
+    };
+    let _m = spawn(&master, &[]);
+    let cards = vec![open(&format!("emu:{master}"))];
+    let _f = spawn(&follower, &["--sync-from", &master]);
+    let cards = [cards, vec![open(&format!("emu:{follower}"))]].concat();
+    let axes: Vec<usize> = (0..6).collect();
+    for c in &cards {
+        for &a in &axes {
+            c.axis(a).unwrap().enable().unwrap();
+        }
+        let g = c.group(0).unwrap();
+        g.configure(&GroupSettings::new(&axes)).unwrap();
+        g.enable().unwrap();
+    }
+    let mut set = CardSet::new(cards).unwrap();
+    set.set_margin(Duration::from_millis(margin));
+    let mut lim = PathSettings::uniform(12, 2e5, 2e6, 2e8);
+    lim.lookahead = 2048;
+    let parts = [
+        PathPart { card: 0, group: 0 },
+        PathPart { card: 1, group: 0 },
+    ];
+    let mut path = set.path(&parts, &lim).unwrap();
+    const R: f64 = 50_000.0;
+    let n = 20_000u32;
+    let mut length = 0.0;
+    let mut prev = vec![0.0; 12];
+    let segs: Vec<Segment> = (1..=n)
+        .map(|i| {
+            let th = i as f64 * 10.0 / R;
+            let (x, y) = (R * th.sin(), R - R * th.cos());
+            let p: Vec<f64> = (0..12)
+                .map(|d| match d {
+                    0 => x,
+                    1 => y,
+                    _ => [x, y][d % 2] * (d as f64 / 24.0),
+                })
+                .collect();
+            length += p
+                .iter()
+                .zip(&prev)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            prev.clone_from(&p);
+            Segment::line(i, &p, 150_000.0, 1.0)
+        })
+        .collect();
+    let t = Instant::now();
+    path.run(&segs).unwrap();
+    let sent = t.elapsed().as_secs_f64();
+    path.wait(Duration::from_secs(120)).unwrap();
+    let total = t.elapsed().as_secs_f64();
+    let mut starved = [0usize; 2];
+    for (k, c) in set.cards().iter().enumerate() {
+        while let Some(e) = c.next_event(Duration::ZERO).unwrap() {
+            starved[k] += (e.kind == EventKind::PathStarved) as usize;
+        }
+    }
+    println!(
+        "\n| a 12-axis path across two card-emu processes (10 kHz), margin {margin} ms | value |"
+    );
+    println!("|--------------------------------------------------|-------|");
+    println!("| segments streamed                                | {n} |");
+    println!(
+        "| pushed and released, average rate                | {:.0} segments/s over {:.2} s |",
+        n as f64 / sent,
+        sent
+    );
+    println!(
+        "| path consumption (the path's own rate)           | {:.0} segments/s ({:.2} s to the end; {:.2} s at the feed) |",
+        n as f64 / total,
+        total,
+        length / 150_000.0
+    );
+    println!(
+        "| starvation events (master, follower)             | {}, {} |",
+        starved[0], starved[1]
+    );
+}
+
 fn main() {
     if !std::env::args().any(|a| a == "--bench") {
         println!("path_run: skipped (run with `cargo bench`)");
@@ -358,5 +465,9 @@ fn main() {
     if part("streaming") {
         streaming(false);
         streaming(true);
+    }
+    if part("set-streaming") {
+        set_streaming(20);
+        set_streaming(5);
     }
 }

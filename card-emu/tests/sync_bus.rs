@@ -364,8 +364,9 @@ fn a_host_killed_mid_path_stops_every_cards_axes() {
 
 /// Layout 1.14: a 12-axis path across two `card-emu` processes of six axes on one bus (1 kHz,
 /// so that each card's scope holds 4 s of samples between reads), streamed in two releases,
-/// the second while it runs: on every tick, every axis of both processes is where one planner
-/// of all twelve axes puts it, to the last bit.
+/// the second while it runs (the first pushed one by one, the second streamed by
+/// `SetPath::run`): on every tick, every axis of both processes is where one planner of all
+/// twelve axes puts it, to the last bit.
 #[test]
 fn a_path_across_processes_is_bit_identical_to_one_planner() {
     let master = format!("busw-{}", std::process::id());
@@ -401,11 +402,17 @@ fn a_path_across_processes_is_bit_identical_to_one_planner() {
     let split = [6, 6];
     let mut got = std::collections::BTreeMap::new();
     let mut batches = Vec::new();
-    for chunk in [&prog[..3], &prog[3..]] {
-        for s in chunk {
-            path.push(s).unwrap();
-        }
-        batches.push((path.release().unwrap(), chunk.to_vec()));
+    for (k, chunk) in [&prog[..3], &prog[3..]].into_iter().enumerate() {
+        let tick = if k == 0 {
+            for s in chunk {
+                path.push(s).unwrap();
+            }
+            path.release().unwrap()
+        } else {
+            // streamed: every segment published to both processes ahead of their answers
+            path.run(chunk).unwrap()
+        };
+        batches.push((tick, chunk.to_vec()));
         wide_path::read_all(&set, &split, &mut got);
     }
     let t0 = Instant::now();

@@ -208,7 +208,9 @@ extern "C" {
 #define MC_EVENT_SEGMENT_START 20
 
 /**
- * A path segment ended (the path left it). As `MC_EVENT_SEGMENT_START`.
+ * A path segment ended (the path left it). As `MC_EVENT_SEGMENT_START`. Both are posted only while
+ * more than 4 `*` `MC_GROUP_MAX_AXES` slots of the event ring are free (the room kept for answers
+ * and other events), else counted in `events_lost`.
  */
 #define MC_EVENT_SEGMENT_END 21
 

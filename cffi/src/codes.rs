@@ -62,7 +62,9 @@ pub const MC_EVENT_PROTOCOL_ERROR: u32 = 18;
 /// A path segment started (layout 1.6). axis: group; seq: its command; value: its id.
 pub const MC_EVENT_SEGMENT_START: u32 = 20;
 
-/// A path segment ended (the path left it). As `MC_EVENT_SEGMENT_START`.
+/// A path segment ended (the path left it). As `MC_EVENT_SEGMENT_START`. Both are posted only while
+/// more than 4 `*` `MC_GROUP_MAX_AXES` slots of the event ring are free (the room kept for answers
+/// and other events), else counted in `events_lost`.
 pub const MC_EVENT_SEGMENT_END: u32 = 21;
 
 /// The segments queued fell to `group_path.low_water`. axis: group; value: segments queued.

@@ -1480,7 +1480,10 @@
 #define MC_EV_PROTOCOL_ERROR 18u /* the host broke the protocol. code: MC_PROTO_*, value: index */
 #define MC_EV_SEGMENT_START 20u  /* a path segment started (layout 1.6). axis: group; seq: its command;
                                   * value: its id */
-#define MC_EV_SEGMENT_END 21u    /* a path segment ended (the path left it). As MC_EV_SEGMENT_START */
+#define MC_EV_SEGMENT_END 21u    /* a path segment ended (the path left it). As MC_EV_SEGMENT_START.
+                                  * Both are posted only while more than 4 * MC_MAX_AXES slots of
+                                  * the event ring are free (the room kept for answers and other
+                                  * events), else counted in events_lost */
 #define MC_EV_PATH_LOW_WATER 22u /* the segments queued fell to group_path.low_water. axis: group;
                                   * value: segments queued */
 #define MC_EV_PATH_STARVED 23u   /* the path brakes for the end of what is queued, which is not

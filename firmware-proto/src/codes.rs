@@ -47,7 +47,9 @@ code_enum! {
         ProtocolError = raw::MC_EV_PROTOCOL_ERROR,
         /// A path segment started (layout 1.6). axis: group; seq: its command; value: its id.
         SegmentStart = raw::MC_EV_SEGMENT_START,
-        /// A path segment ended (the path left it). As `MC_EV_SEGMENT_START`.
+        /// A path segment ended (the path left it). As `MC_EV_SEGMENT_START`. Both are posted only
+        /// while more than 4 `*` `MC_MAX_AXES` slots of the event ring are free (the room kept for
+        /// answers and other events), else counted in `events_lost`.
         SegmentEnd = raw::MC_EV_SEGMENT_END,
         /// The segments queued fell to `group_path.low_water`. axis: group; value: segments queued.
         PathLowWater = raw::MC_EV_PATH_LOW_WATER,

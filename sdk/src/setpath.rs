@@ -11,8 +11,11 @@
 //! cards' paths on [`SetPath::release`], which is timed to one tick on every card with
 //! [`CardSet::sync`]: so every card holds the same segments on every tick, and the look-ahead,
 //! which plans from what is queued, plans the same on all of them. The first release is the
-//! synchronised start; releases while the path runs stream the rest ([`SetPath::run`] pushes
-//! and releases a whole program in batches of up to [`PATH_STAGE_LEN`]). A hold, resume,
+//! synchronised start; releases while the path runs stream the rest ([`SetPath::run`] streams
+//! a whole program, each segment published to every card ahead of their answers, and
+//! releases it in batches of up to [`PATH_STAGE_LEN`]: a card stages at most that many, so a
+//! path across cards runs at most [`PATH_STAGE_LEN`] segments per release's margin, see
+//! [`CardSet::set_margin`]). A hold, resume,
 //! pause or halt ([`SetPath::hold`], [`SetPath::halt`]) is timed the same way.
 //!
 //! Units: each dimension's targets in its axis's user units; feeds, tolerances and the halt's
@@ -33,6 +36,7 @@ use firmware_proto::cmd::{
 };
 use firmware_proto::layout::{self, PATH_MAX_DIMS, PATH_STAGE_LEN};
 use firmware_proto::{raw, Command, GroupDims, GroupState, NackCode, CMD_ARGS};
+use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 /// One card's part of a path across cards: a group of the set's card `card`.
@@ -70,7 +74,14 @@ pub struct SetPath {
     staged: usize,
     /// `path_done` of every part's group when the path began (it counts since enable).
     done0: Vec<u32>,
+    /// Per part: the segments published to its card and not answered yet, oldest first:
+    /// (the first entry's seq, entries). The same segments on every card.
+    in_flight: Vec<VecDeque<(u32, u32)>>,
 }
+
+/// Segments in flight on a card at most while [`SetPath::run`] streams (a margin under the
+/// command ring's 64 entries: a segment of more than 8 dimensions takes two).
+const IN_FLIGHT: usize = 24;
 
 impl std::fmt::Debug for SetPath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -171,10 +182,11 @@ impl CardSet {
         }
         Ok(SetPath {
             set: self.clone(),
-            parts: groups,
             scales,
             path_scale,
             staged: 0,
+            in_flight: vec![VecDeque::new(); groups.len()],
+            parts: groups,
             done0,
         })
     }
@@ -188,38 +200,29 @@ impl SetPath {
 
     /// Stage `seg` on every card: a line (a target per dimension), an arc in a plane of two
     /// of the first 8 dimensions (its helix the other dimensions, in order) or a dwell; not
-    /// `Aborting` (`Unsupported`). Refused by the cards (they check alike: the same refusal
-    /// from each, nothing staged on any), or `QueueFull` once [`PATH_STAGE_LEN`] are staged:
-    /// [`SetPath::release`] first.
+    /// `Aborting` (`Unsupported`). Published to every card at once, then their answers read:
+    /// refused by the cards (they check alike: the same refusal from each, nothing staged on
+    /// any), or `QueueFull` once [`PATH_STAGE_LEN`] are staged: [`SetPath::release`] first.
     pub fn push(&mut self, seg: &Segment) -> Result<()> {
-        if self.staged >= PATH_STAGE_LEN {
-            return Err(Error::Refused {
-                command: "path across cards",
-                target: Target::Group(self.parts[0].0.index()),
-                code: NackCode::QueueFull,
-                reason: "the staging holds 256 segments: release them first",
-            });
-        }
-        let entries = self.entries(seg)?;
-        for (i, (g, _)) in self.parts.iter().enumerate() {
-            let mut cmds: Vec<Command> = entries.iter().map(|c| g.cmd(c.clone())).collect();
-            let r = g.card_pub().execute_together(
-                &mut cmds,
-                "path segment across cards",
-                Target::Group(g.index()),
-            );
-            if let Err(e) = r {
-                if i > 0 {
-                    // (the cards check alike: a refusal on one after another accepted is a
+        self.settle_segments()?;
+        self.publish(seg)?;
+        match self.answer_oldest() {
+            Ok(None) => Ok(()),
+            Err(e) => {
+                // (a card that does not answer: the path cannot go on as one)
+                self.abandon();
+                Err(e)
+            }
+            Ok(Some((e, partly))) => {
+                self.staged -= 1;
+                if partly {
+                    // (the cards check alike: a refusal on one where another accepted is a
                     // card that is not in the state the others are; what was staged must go)
-                    let _ = self.halt_now();
-                    self.staged = 0;
+                    self.abandon();
                 }
-                return Err(e);
+                Err(e)
             }
         }
-        self.staged += 1;
-        Ok(())
     }
 
     /// Release everything staged into every card's path on one tick (a margin ahead: the
@@ -228,6 +231,7 @@ impl SetPath {
     /// release refused (by a card whose group faulted, or a commit too late) halts the path on
     /// every card and drops what was staged.
     pub fn release(&mut self) -> Result<u64> {
+        self.settle_segments()?;
         let k = self.staged;
         if k == 0 {
             return self.set.tick();
@@ -237,6 +241,8 @@ impl SetPath {
         loop {
             let mut room = usize::MAX;
             for (g, _) in &self.parts {
+                // (the segment events of a card not waited on would fill its event ring)
+                g.card_pub().poll_events()?;
                 let st = g.status()?.1;
                 room = room.min(
                     (st.path_free as usize).min(firmware_proto::PATH_LEN - st.path_queued as usize),
@@ -275,8 +281,12 @@ impl SetPath {
         }
     }
 
-    /// Push and release a whole program: released in batches as the staging fills, the last
-    /// batch at the end. The tick of the first release (the start).
+    /// Push and release a whole program: the segments streamed to every card (up to 24 in
+    /// flight on each, their answers read as the ring needs room), released in batches as the
+    /// staging fills, the last batch at the end. The tick of the first release (the start).
+    /// A segment refused halts the path on every card and drops what was staged (the
+    /// segments before it that were released have run or are halted: see
+    /// [`SetPath::progress`]).
     pub fn run<'s>(&mut self, segments: impl IntoIterator<Item = &'s Segment>) -> Result<u64> {
         let mut start = None;
         for s in segments {
@@ -284,10 +294,111 @@ impl SetPath {
                 let t = self.release()?;
                 start.get_or_insert(t);
             }
-            self.push(s)?;
+            if self.in_flight[0].len() >= IN_FLIGHT {
+                self.settle_oldest()?;
+            }
+            if let Err(e) = self.publish(s) {
+                self.abandon();
+                return Err(e);
+            }
         }
         let t = self.release()?;
         Ok(*start.get_or_insert(t))
+    }
+
+    /// Publish `seg`'s entries to every card without waiting for their answers (counted as
+    /// staged). A ring without room: the oldest segment in flight is answered first.
+    fn publish(&mut self, seg: &Segment) -> Result<()> {
+        if self.staged >= PATH_STAGE_LEN {
+            return Err(Error::Refused {
+                command: "path across cards",
+                target: Target::Group(self.parts[0].0.index()),
+                code: NackCode::QueueFull,
+                reason: "the staging holds 256 segments: release them first",
+            });
+        }
+        let entries = self.entries(seg)?;
+        for i in 0..self.parts.len() {
+            let g = &self.parts[i].0;
+            let mut cmds: Vec<Command> = entries.iter().map(|c| g.cmd(c.clone())).collect();
+            let seq = loop {
+                match self.parts[i].0.card_pub().inner().push_all(&mut cmds) {
+                    Ok(seq) => break seq,
+                    Err(Error::RingFull(_)) if !self.in_flight[i].is_empty() => {
+                        self.settle_oldest()?
+                    }
+                    Err(e) => {
+                        if i > 0 {
+                            // published on some cards only: what was staged must go
+                            self.abandon();
+                        }
+                        return Err(e);
+                    }
+                }
+            };
+            self.in_flight[i].push_back((seq, cmds.len() as u32));
+        }
+        self.staged += 1;
+        Ok(())
+    }
+
+    /// Read every card's answers to the oldest segment in flight: `None` when every card
+    /// accepted it, else the refusal and whether a card accepted it.
+    fn answer_oldest(&mut self) -> Result<Option<(Error, bool)>> {
+        let (mut refused, mut accepted) = (None, false);
+        for i in 0..self.parts.len() {
+            let Some((first, n)) = self.in_flight[i].pop_front() else {
+                continue;
+            };
+            let g = &self.parts[i].0;
+            let card = g.card_pub();
+            let answer = card.wait_ack(first)?;
+            for k in 1..n {
+                // (the same outcome: taken off the answers so that none is left behind)
+                let _ = card.wait_ack(first.wrapping_add(k))?;
+            }
+            match answer {
+                Ok(()) => accepted = true,
+                Err(code) => {
+                    refused.get_or_insert(Error::Nack {
+                        command: "path segment across cards",
+                        target: Target::Group(g.index()),
+                        code,
+                        reason: crate::nack_reason(code),
+                    });
+                }
+            }
+        }
+        Ok(refused.map(|e| (e, accepted)))
+    }
+
+    /// [`SetPath::answer_oldest`] where any refusal ends the stream: halted, staging dropped.
+    fn settle_oldest(&mut self) -> Result<()> {
+        match self.answer_oldest() {
+            Ok(None) => Ok(()),
+            Ok(Some((e, _))) | Err(e) => {
+                self.abandon();
+                Err(e)
+            }
+        }
+    }
+
+    /// Every segment in flight answered.
+    fn settle_segments(&mut self) -> Result<()> {
+        while !self.in_flight[0].is_empty() {
+            self.settle_oldest()?;
+        }
+        Ok(())
+    }
+
+    /// The path can no longer run as one: every card halted now and what is staged dropped
+    /// (the answers still owed are left unread).
+    fn abandon(&mut self) {
+        for q in &mut self.in_flight {
+            q.clear();
+        }
+        self.staged = 0;
+        let _ = self.halt_now();
     }
 
     /// How far the path has come.

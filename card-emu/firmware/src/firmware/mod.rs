@@ -60,7 +60,8 @@ pub const FW_VERSION: u32 = 1 << 16;
 pub const MAX_CMDS_PER_SERVE: usize = 16;
 
 /// Event slots kept free for asynchronous events: a command is only taken from the ring when
-/// its ack and this many events still fit, so acks are never lost.
+/// its ack and this many events still fit, so acks are never lost; a path's segment events
+/// are not posted into them either, so the answers of commands timed to a tick always fit.
 pub const EVENT_RESERVE: u32 = 4 * MAX_AXES as u32;
 
 /// The servo rate of a sample time, Hz (the steps that get only `ts` plan with the card's
@@ -522,7 +523,17 @@ impl<M: Mem + Clone> Firmware<M> {
     }
 
     fn post(&mut self, e: Event) {
-        if self.events.push(&e).is_err() {
+        // A path's segment starts and ends (thousands a second; the group status counts them
+        // too) leave the reserve to the answers and the other events: a host that drains late
+        // loses some of them (counted), never an answer to a command timed to a tick.
+        let chatty =
+            e.kind == EventKind::SegmentStart as u16 || e.kind == EventKind::SegmentEnd as u16;
+        let full = if chatty {
+            !matches!(self.events.free(), Ok(free) if free > EVENT_RESERVE)
+        } else {
+            false
+        };
+        if full || self.events.push(&e).is_err() {
             self.events_lost = self.events_lost.wrapping_add(1);
             self.mem.write32(layout::EVENTS_LOST, self.events_lost);
             return;

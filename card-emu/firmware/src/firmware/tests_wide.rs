@@ -326,6 +326,80 @@ fn a_path_over_two_cards_moves_every_axis_as_one_planner_does() {
     println!("{ticks} ticks, every axis of both cards bit-identical to the 12-axis engine");
 }
 
+/// A host that drains late while a dense path runs (thousands of segment events a second):
+/// the segment events stop short of the room the ring keeps for answers (the rest counted in
+/// `events_lost`), so a release timed to a tick in the middle of the flood is still answered,
+/// on its tick, and what it released runs.
+#[test]
+fn segment_events_leave_room_for_the_answer_of_a_timed_release() {
+    let zero = [0.0; D];
+    let mut c = card(0..6, &zero);
+    // 250 blended chords of 20 counts in dimension 0 (5 ticks each at full feed)
+    for i in 1..=250 {
+        let mut end = [0.0; N];
+        end[0] = 20.0 * i as f64;
+        let e = entries(
+            &mut c,
+            i,
+            &Seg::Line {
+                end,
+                feed: 4e4,
+                tol: 1.0,
+            },
+        );
+        c.send(&e);
+        assert_eq!(c.answer(e[0].seq), Some(Ok(c.fw.tick_count())), "chord {i}");
+    }
+    let r = c.entry(Opcode::PathRelease, 0, 0, &[200.0]);
+    c.send(&[r]);
+    assert_eq!(c.answer(r.seq), Some(Ok(c.fw.tick_count())));
+    let t = c.fw.tick_count() + 1500;
+    let pair = c.timed(t, 0, Opcode::PathRelease, &[50.0]);
+    c.send(&pair);
+    assert_eq!(c.answer(pair[0].seq), Some(Ok(c.fw.tick_count())), "held");
+    let lost = || c.w.read32(layout::EVENTS_LOST);
+    assert_eq!(lost(), 0);
+    // the host takes no event for 2,000 ticks
+    for _ in 0..2000 {
+        let mut enc = [0i64; MAX_AXES];
+        for (a, e) in enc.iter_mut().enumerate().take(6) {
+            *e = c.fw.axes[a].reference().pos.round() as i64;
+        }
+        let hb = c.w.read32(layout::HEARTBEAT);
+        c.w.write32(layout::HEARTBEAT, hb.wrapping_add(1));
+        c.fw.tick(&enc, &mut [0.0; MAX_AXES]);
+    }
+    let lost = c.w.read32(layout::EVENTS_LOST);
+    c.drain();
+    assert!(lost > 0, "the flood was larger than the ring");
+    assert_eq!(c.answer(pair[1].seq), Some(Ok(t)), "answered on its tick");
+    assert!(
+        c.events
+            .iter()
+            .any(|e| e.kind == EventKind::Timed as u16 && e.seq == pair[1].seq && e.tick == t),
+        "MC_EV_TIMED"
+    );
+    let done = c.fw.group(0).unwrap().status(0).path_done;
+    assert!(
+        done > 200,
+        "the path ran into what the timed release gave it ({done})"
+    );
+    let ends = c
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::SegmentEnd as u16)
+        .count();
+    println!("{done} chords ended, {ends} of their ends posted, {lost} events lost");
+    while c.fw.group(0).unwrap().status(0).path_queued > 0 {
+        tick(&mut c);
+    }
+    assert_eq!(
+        c.fw.axes[0].reference().pos,
+        5000.0,
+        "at the last chord's end"
+    );
+}
+
 fn staged(c: &Card) -> (u32, u32) {
     let st = c.fw.group(0).unwrap().status(0);
     (st.path_staged, st.path_queued)
