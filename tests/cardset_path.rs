@@ -224,18 +224,23 @@ fn what_a_path_across_cards_refuses() {
     }
 }
 
+/// Two stepped cards of six axes each, and a 12-axis path over them.
+fn six_and_six() -> (CardSet, motioncard_sdk::SetPath) {
+    let set = cards(&[6, 6]);
+    let parts = [
+        PathPart { card: 0, group: 0 },
+        PathPart { card: 1, group: 0 },
+    ];
+    let path = set.path(&parts, &settings()).unwrap();
+    (set, path)
+}
+
 /// A drive alarm on one card mid-path: that card's group stops (ErrorStop); `SetPath::wait`
 /// halts the other card's path at once and returns the fault; the other card's axes come to
 /// rest along the path, short of its end, within their stop.
 #[test]
 fn a_fault_on_one_card_halts_the_path_on_the_others() {
-    let split = [6, 6];
-    let set = cards(&split);
-    let parts = [
-        PathPart { card: 0, group: 0 },
-        PathPart { card: 1, group: 0 },
-    ];
-    let mut path = set.path(&parts, &settings()).unwrap();
+    let (set, mut path) = six_and_six();
     path.run(&program()).unwrap();
     set.cards()[0].sim().unwrap().step(2_000);
     set.cards()[1]
@@ -282,13 +287,7 @@ fn a_fault_on_one_card_halts_the_path_on_the_others() {
 /// its geometry, and drops what was staged after it on every card: nothing more runs.
 #[test]
 fn a_segment_refused_in_a_run_halts_the_path_on_every_card() {
-    let split = [6, 6];
-    let set = cards(&split);
-    let parts = [
-        PathPart { card: 0, group: 0 },
-        PathPart { card: 1, group: 0 },
-    ];
-    let mut path = set.path(&parts, &settings()).unwrap();
+    let (set, mut path) = six_and_six();
     let chord = |i: u32| {
         let p: Vec<f64> = (0..N)
             .map(|d| 40.0 * f64::from(i) * (1.0 + d as f64 / 10.0))
