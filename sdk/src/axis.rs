@@ -277,7 +277,7 @@ impl Axis {
     }
 
     /// A consistent snapshot of the axis's status. Never stale: when the card's tick counter
-    /// has stood still longer than [`Card::stale_limit`] this is `NotResponding`, not the old
+    /// has stood still longer than [`crate::Card::stale_limit`] this is `NotResponding`, not the old
     /// snapshot.
     pub fn status(&self) -> Result<Status> {
         let raw = self.card().read_axis_status(self.index())?;

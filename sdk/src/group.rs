@@ -495,7 +495,7 @@ impl Group {
 
     /// Layout 1.11: MC_GroupHome. The group homes its axes in `order`: stages of group axis
     /// indices (0: the group's X, its first axis; not card axes), each stage's axes together,
-    /// each with its own homing ([`Axis::set_homing`]; the home point reads the axis's home
+    /// each with its own homing ([`crate::Axis::configure_homing`]; the home point reads the axis's home
     /// offset), a stage once the one before it is homed and at rest. A member that is a
     /// gantry's master homes its gantry (squaring it). An empty `order` homes in the group's
     /// configured order ([`GroupSettings::home_order`], the configuration file's `home_order`). `[[2], [0, 1]]`: Z first,

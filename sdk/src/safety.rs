@@ -138,9 +138,9 @@ impl Card {
 
     /// Set the card's watchdog timeout (default [`WATCHDOG_TIMEOUT_DEFAULT`], 100 ms: above the
     /// heartbeat gaps of a loaded host without real-time scheduling; a real-time host can run
-    /// a much shorter one, down to 1.5 × [`HEARTBEAT_PERIOD_US`]; see
-    /// [`SafetyStatus::late_heartbeats`] for how close a host runs). The card refuses zero and anything under
-    /// 1.5 × the heartbeat period ([`HEARTBEAT_PERIOD_US`]) with
+    /// a much shorter one, down to 1.5 × [`crate::HEARTBEAT_PERIOD_US`]; see
+    /// [`SafetyStatus::late_heartbeats`] for how close a host runs). The card refuses zero
+    /// and anything under 1.5 × the heartbeat period with
     /// [`crate::ErrorKind::WatchdogTimeout`]. On a `sim` card opened with
     /// [`crate::SIM_WATCHDOG_ENV`] set (debugging), a shorter timeout gets that one.
     pub fn set_watchdog_timeout(&self, timeout: Duration) -> Result<()> {

@@ -163,7 +163,8 @@ pub struct Capture {
     pub pre_trigger: u32,
 }
 
-/// The card's scope. See the [module](self).
+/// The card's scope ([`crate::Card::scope`]): channels, a trigger and pre-trigger samples,
+/// captured on the card at the servo rate.
 pub struct Scope {
     card: Card,
     ring: Mutex<ScopeConsumer<crate::card::Window>>,

@@ -1,7 +1,7 @@
 //! API trace and replay: what a customer attaches to a bug report.
 //!
 //! With the environment variable [`TRACE_ENV`] set to a file name (any program, C programs
-//! included), or opened with [`Card::open_traced`], a card records to that file every command
+//! included), or opened with [`crate::Card::open_traced`], a card records to that file every command
 //! the SDK sends, every configuration block it writes into the window, and every event the
 //! card posts (acks and nacks included), each with the host time since the open. One record a
 //! line, flushed as written, so the trace survives a crash of the program:

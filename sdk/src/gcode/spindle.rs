@@ -258,7 +258,7 @@ impl ThreadPlan {
         }
     }
 
-    /// The cam table's points (u, s): each ramp in [`RAMP_INTERVALS`] equal steps, the linear
+    /// The cam table's points (u, s): each ramp in `RAMP_INTERVALS` equal steps, the linear
     /// part in steps growing from a ramp's step near the ramps (where the cubic spline settles
     /// onto the line) to at most its length / 800. Fewer than [`CAM_MAX_POINTS`].
     pub fn table(&self) -> Vec<(f64, f64)> {
