@@ -5,7 +5,8 @@
 //! A host killed (SIGKILL) while it runs a path on every card of a bus, in each phase of the
 //! path (accelerating, at its feed, in a corner blend, decelerating), stops every card's
 //! axes within the watchdog timeout plus the stop ramp. A 12-axis path across two processes
-//! moves every axis on every tick as one planner of all twelve does, to the last bit.
+//! moves every axis on every tick as one planner of all twelve does, to the last bit; a card
+//! killed while such a path streams ends the stream with `CardGone` and the other is halted.
 mod common;
 #[path = "common/wide_path.rs"]
 mod wide_path;
@@ -435,5 +436,83 @@ fn a_path_across_processes_is_bit_identical_to_one_planner() {
         "{ticks} ticks of two processes, releases at {:?}: every axis bit-identical to one \
          12-axis planner",
         batches.iter().map(|b| b.0).collect::<Vec<_>>()
+    );
+}
+
+/// A follower process killed (SIGKILL) while `SetPath::run` streams a 12-axis path over it and
+/// its master: the run ends with the follower's `CardGone` (the path can no longer run as one),
+/// and the master, halted at once by the SDK, comes to rest on the path short of its end,
+/// with nothing queued or staged.
+#[test]
+fn a_card_killed_while_a_path_across_cards_streams_ends_the_run_and_halts_the_others() {
+    let master = format!("busk-{}", std::process::id());
+    let follower = format!("{master}-f");
+    let _m = card_emu(&master, &["--axes", "6"]);
+    let f = card_emu(&follower, &["--axes", "6", "--sync-from", &master]);
+    let cards = vec![
+        open_when_ready(&format!("emu:{master}")),
+        open_when_ready(&format!("emu:{follower}")),
+    ];
+    let mut set = CardSet::new(cards).unwrap();
+    set.set_margin(Duration::from_millis(300));
+    let axes: Vec<usize> = (0..6).collect();
+    for c in set.cards() {
+        for &a in &axes {
+            c.axis(a).unwrap().enable().unwrap();
+        }
+        let g = c.group(0).unwrap();
+        g.configure(&GroupSettings::new(&axes)).unwrap();
+        g.enable().unwrap();
+    }
+    let parts = [
+        motioncard_sdk::PathPart { card: 0, group: 0 },
+        motioncard_sdk::PathPart { card: 1, group: 0 },
+    ];
+    let mut path = set
+        .path(&parts, &PathSettings::uniform(12, 5e4, 1e6, 1e8))
+        .unwrap();
+    // 4,000 chords of 20 counts along a line through all twelve axes at 20,000 counts/s: 4 s
+    let chord = |i: u32| Segment::line(i, &[20.0 * f64::from(i); 12], 2e4, 1.0);
+    let prog: Vec<Segment> = (1..=4000).map(chord).collect();
+    let end = 20.0 * 4000.0;
+    // the follower is killed once the master's path is under way
+    let watcher = set.cards()[0].clone();
+    let killer = std::thread::spawn(move || {
+        let g = watcher.group(0).unwrap();
+        let t0 = Instant::now();
+        while g.status().unwrap().1.path_done < 300 {
+            assert!(
+                t0.elapsed() < Duration::from_secs(60),
+                "the path never got going"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        drop(f); // SIGKILL
+    });
+    let e = path.run(&prog).unwrap_err();
+    killer.join().unwrap();
+    assert_eq!(e.kind(), ErrorKind::CardGone, "{e}");
+    let g = set.cards()[0].group(0).unwrap();
+    let t0 = Instant::now();
+    loop {
+        let (state, st) = g.status().unwrap();
+        if state == GroupState::Standby && st.path_queued == 0 && st.path_staged == 0 {
+            break;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "the master came to rest: {state:?} {st:?}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let x = set.cards()[0]
+        .axis(0)
+        .unwrap()
+        .status()
+        .unwrap()
+        .command_position;
+    assert!(
+        x > 0.0 && x < end,
+        "halted on the path, short of its end: {x}"
     );
 }
