@@ -91,7 +91,7 @@ pub(crate) fn show_axis(card: &Card, axis: usize, bar: &indicatif::ProgressBar) 
     Ok(())
 }
 
-/// Wait up to [`WAIT`] for `motion` of `axis` to be done, with a spinner showing where the
+/// Wait up to `WAIT` for `motion` of `axis` to be done, with a spinner showing where the
 /// axis is (see [`progress`]). Returns where it ended.
 pub fn wait_showing(card: &Card, axis: usize, motion: &Motion, what: &str) -> Result<f64> {
     let bar = progress(None, what);

@@ -205,8 +205,8 @@ fn report_json(r: &PathReport) -> serde_json::Value {
 ///
 /// The file is read twice, a line at a time: once to check all of it (nothing moves when a
 /// line is wrong), then by the SDK's runner as the card's path buffer frees room. The report
-/// is computed as the run goes ([`Report`]): memory does not grow with the program's length
-/// or duration.
+/// is computed as the run goes ([`Report`](motioncard_sdk::report::Report)): memory does not
+/// grow with the program's length or duration.
 pub fn run(card: &Card, file: &Path, opts: &RunOptions, json: bool) -> Result<String> {
     let t0 = std::time::Instant::now();
     // (wall-clock time from here to the first tick that moves: the program checked whole,

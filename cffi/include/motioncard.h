@@ -2644,7 +2644,7 @@ typedef struct mc_ffpiv_gains {
  */
 typedef struct mc_axis_config {
   /**
-   * MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis].
+   * MC_SERVO_*: FFPIV, or PD+ with the gains of `axis_pdplus[axis]`.
    */
   uint32_t servo_law;
   uint32_t _reserved0;

@@ -1,6 +1,6 @@
 //! Analog I/O and the path-speed output (layout 1.11): `mc_analog_*`, `mc_pso_*`. The same thin
 //! skin as [`crate::api`]: check the pointers, look the handle up, call the SDK, write the
-//! outputs, all inside [`guard`].
+//! outputs, all inside `guard`.
 
 use crate::ffi::{read_in, Out};
 use crate::group::group_of;

@@ -1,5 +1,5 @@
 //! The exported functions. Each one is a thin skin over the SDK: check the pointers, look the
-//! handle up, call the SDK, write the outputs, all inside [`guard`] (the panic boundary).
+//! handle up, call the SDK, write the outputs, all inside `guard` (the panic boundary).
 
 use crate::ffi::{read_in, Out, StrBuf};
 use crate::registry::{self, lock, mc_card, mc_event_callback, Callback, Entry};

@@ -1,6 +1,6 @@
 //! Camming (layout 1.7): cam tables in the card's RAM, MC_CamIn, a table switch at the end of
 //! a cycle, MC_CamOut. The same thin skin as [`crate::api`]: check the pointers, look the
-//! handle up, call the SDK, write the outputs, all inside [`guard`].
+//! handle up, call the SDK, write the outputs, all inside `guard`.
 
 use crate::api::{axis_of, motion_of, ms, started};
 use crate::codes::{MC_CAM_CUBIC, MC_CAM_MAX_POINTS, MC_CAM_PERIODIC};

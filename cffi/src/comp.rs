@@ -1,7 +1,7 @@
 //! Leadscrew pitch-error and backlash compensation (layout 1.9): an axis's table loaded,
 //! read back and cleared. The same thin skin as [`crate::api`]: check the pointers, look the
 //! handle up, call the SDK (`Axis::set_compensation`, `compensation`, `clear_compensation`),
-//! write the outputs only on success, all inside [`guard`].
+//! write the outputs only on success, all inside `guard`.
 
 use crate::api::axis_of;
 use crate::ffi::{read_in, read_slice, ArrayBuf, Out};

@@ -1,7 +1,7 @@
 //! Gantry axes (layout 1.10): a master and its slaves formed into one logical axis, homed and
 //! squared, read and dissolved. The same thin skin as [`crate::api`]: check the pointers, look
 //! the handle up, call the SDK (`Card::gantry_at`, `Gantry::home`, `status`, `dissolve`),
-//! write the outputs only on success, all inside [`guard`]. The gantry is commanded through
+//! write the outputs only on success, all inside `guard`. The gantry is commanded through
 //! its master axis (every `mc_` motion call on the master moves the bridge).
 
 use crate::api::ms;

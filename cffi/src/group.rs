@@ -1,6 +1,6 @@
 //! The exported functions of axes groups, acc/dec filters, PD+ and NURBS moves: the same thin
 //! skin as [`crate::api`] (check the pointers, look the handle up, call the SDK, write the
-//! outputs, all inside [`guard`]).
+//! outputs, all inside `guard`).
 
 use crate::codes::MC_GROUP_MAX_AXES;
 use crate::ffi::{read_at, read_in, read_slice, ArrayBuf, Out};

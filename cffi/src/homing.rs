@@ -1,6 +1,6 @@
 //! Homing (PLCopen MC_Home with the CiA 402 homing methods) and MC_SetPosition. The same thin
 //! skin as [`crate::api`]: check the pointers, look the handle up, call the SDK, write the
-//! outputs, all inside [`guard`].
+//! outputs, all inside `guard`.
 
 use crate::api::{axis_of, started};
 use crate::codes::MC_SET_POSITION_RELATIVE;

@@ -1,6 +1,6 @@
 //! Digital inputs, position compare ("EQU" outputs) and touch probes (PLCopen MC_TouchProbe,
 //! MC_AbortTrigger), layout 1.7. The same thin skin as [`crate::api`]: check the pointers, look
-//! the handle up, call the SDK, write the outputs, all inside [`guard`].
+//! the handle up, call the SDK, write the outputs, all inside `guard`.
 
 use crate::api::{axis_of, ms};
 use crate::codes::{

@@ -9,7 +9,7 @@
 //! - outputs are written only on success; every pointer is checked for NULL first;
 //! - cards are integer handles (`mc_card`) in a process-wide table with generation counters:
 //!   an unknown or closed handle is `MC_ERR_BAD_HANDLE`, never undefined behaviour;
-//! - each function body runs inside a panic boundary ([`result::guard`]): a panic becomes
+//! - each function body runs inside a panic boundary (`result::guard`): a panic becomes
 //!   `MC_ERR_PANIC`, and cbindgen sees plain signatures;
 //! - no thread calls into the application: callbacks run inside `mc_dispatch_events`.
 //!

@@ -1,6 +1,6 @@
 //! PT/PVT streaming (layout 1.7): points of (time, position[, velocity]) run by the card as
 //! cubic Hermite segments. The same thin skin as [`crate::api`]: check the pointers, look the
-//! handle up, call the SDK, write the outputs, all inside [`guard`].
+//! handle up, call the SDK, write the outputs, all inside `guard`.
 
 use crate::api::{axis_of, started};
 use crate::codes::MC_PVT_LEN;

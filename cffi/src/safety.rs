@@ -1,7 +1,7 @@
 //! The exported functions of the safety layer: the host heartbeat and the card's watchdog,
 //! e-stop, fault reset, per-axis limits and following error, stop reasons. The same thin skin
 //! as [`crate::api`] (check the pointers, look the handle up, call the SDK, write the outputs,
-//! all inside [`guard`]).
+//! all inside `guard`).
 
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};

@@ -1,7 +1,7 @@
 //! The card's scope (layout 1.8): up to 16 channels sampled on the card every n-th servo tick,
 //! a trigger with pre-trigger samples, one-shot or continuous, drained from the card's ring.
 //! The same thin skin as [`crate::api`]: check the pointers, look the handle up, call the SDK,
-//! write the outputs, all inside [`guard`].
+//! write the outputs, all inside `guard`.
 
 use crate::ffi::{read_in, Out};
 use crate::registry::{self, mc_card};

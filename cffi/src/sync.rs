@@ -1,6 +1,6 @@
 //! Synchronised motion (layout 1.7): electronic gearing, PLCopen MC_GearIn, MC_GearInPos and
 //! MC_GearOut. The same thin skin as [`crate::api`]: check the pointers, look the handle up,
-//! call the SDK, write the outputs, all inside [`guard`].
+//! call the SDK, write the outputs, all inside `guard`.
 
 use crate::api::{axis_of, motion_of, ms, started};
 use crate::codes::{MC_MASTER_ACTUAL, MC_MASTER_ACTUAL_LEAD, MC_MASTER_AUX, MC_MASTER_COMMANDED};

@@ -1821,7 +1821,7 @@ struct mc_ffpiv_gains {
 /** An axis's servo configuration. Host writes; the card validates and copies it on
  * MC_OP_APPLY_AXIS_CONFIG. */
 struct mc_axis_config {
-    /** MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis]. */
+    /** MC_SERVO_*: FFPIV, or PD+ with the gains of `axis_pdplus[axis]`. */
     uint32_t servo_law;
     uint32_t _reserved0;
     /** The FFPIV gains. */
@@ -2354,7 +2354,7 @@ struct mc_comp_readback {
     uint32_t axis;
     /** The table's points (0: no table). */
     uint32_t points;
-    /** The index of point[0]. */
+    /** The index of `point[0]`. */
     uint32_t first;
     /** Points written here (at most MC_COMP_READ_MAX). */
     uint32_t count;

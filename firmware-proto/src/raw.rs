@@ -830,7 +830,7 @@ const _: () = {
 #[repr(C)]
 #[derive(Debug, Copy, Clone, PartialEq)]
 pub struct mc_axis_config {
-    #[doc = " MC_SERVO_*: FFPIV, or PD+ with the gains of axis_pdplus[axis]."]
+    #[doc = " MC_SERVO_*: FFPIV, or PD+ with the gains of `axis_pdplus[axis]`."]
     pub servo_law: u32,
     pub _reserved0: u32,
     #[doc = " The FFPIV gains."]
@@ -1904,7 +1904,7 @@ pub struct mc_comp_readback {
     pub axis: u32,
     #[doc = " The table's points (0: no table)."]
     pub points: u32,
-    #[doc = " The index of point[0]."]
+    #[doc = " The index of `point[0]`."]
     pub first: u32,
     #[doc = " Points written here (at most MC_COMP_READ_MAX)."]
     pub count: u32,

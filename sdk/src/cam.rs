@@ -4,9 +4,9 @@
 //! card's RAM with commands ([`Card::load_cam_table`]), interpolated linearly or by a cubic
 //! spline (velocity and acceleration continuous), periodic or not (a periodic table repeats
 //! every span of the master, the slave rising by its last minus first point per cycle).
-//! [`Axis::cam_in`] couples a slave to a [`Master`](crate::Master) through a table:
+//! [`Axis::cam_in`] couples a slave to a [`Master`] through a table:
 //! `slave = slave_offset + slave_scale · table((master − master_offset) / master_scale)`,
-//! caught up within [`SyncLimits`](crate::SyncLimits) as gearing does;
+//! caught up within [`SyncLimits`] as gearing does;
 //! [`Axis::cam_switch`] takes another table at the end of the current cycle, the slave's position
 //! continuous; [`Axis::cam_out`] leaves it in velocity mode. `card_firmware::motion::cam` and the
 //! register map's header (`MC_OP_CAM_TABLE`) have the rules.

@@ -156,7 +156,7 @@ const USER_WAIT: WaitRules = WaitRules {
 };
 
 /// The wait for a command's answer: it ends only when the command can no longer run (see
-/// [`Inner::wait_ack`]).
+/// [`Inner::wait_answer`]).
 const ACK_WAIT: WaitRules = WaitRules {
     stale_fails: false,
     cancellable: false,
@@ -242,7 +242,8 @@ thread_local! {
     };
 }
 
-/// The timing of commands sent now on this thread (inside [`Card::timed`] or [`CardSet::sync`]).
+/// The timing of commands sent now on this thread (inside [`Card::timed`] or
+/// [`CardSet::sync`](crate::CardSet::sync)).
 pub(crate) fn timing() -> Option<Timing> {
     PENDING.with(|p| p.borrow().timing)
 }

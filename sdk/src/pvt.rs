@@ -8,8 +8,9 @@
 //! once the last point is reached and the axis is in position. The card holds
 //! [`PVT_LEN`](firmware_proto::PVT_LEN) points per axis; [`Axis::pvt_free`] reads the room
 //! left without a command, and a low-water event (`EventKind::Pvt`, code
-//! [`PvtEvent::LowWater`]) says when to send more. PT velocities and the rules are in
-//! `card_firmware::motion::pvt` and the register map's header (`MC_OP_PVT_BEGIN`).
+//! [`PvtEvent::LowWater`](crate::PvtEvent::LowWater)) says when to send more. PT velocities
+//! and the rules are in `card_firmware::motion::pvt` and the register map's header
+//! (`MC_OP_PVT_BEGIN`).
 
 use crate::card::{finite, positive, Axis, Card, Motion};
 use crate::error::{nack_reason, Error, Result, Target};

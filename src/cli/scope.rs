@@ -16,7 +16,7 @@ use std::time::Duration;
 /// `mcctl scope`.
 #[derive(ClapArgs)]
 pub struct Args {
-    /// A channel SIGNAL[:INDEX] (repeat for more, up to 16): cmd_pos, cmd_vel, cmd_acc,
+    /// A channel `SIGNAL[:INDEX]` (repeat for more, up to 16): cmd_pos, cmd_vel, cmd_acc,
     /// act_pos, act_vel, ferr, dac, u_request, encoder, servo_p, servo_i, servo_d, servo_ff,
     /// gantry_skew, comp_pos, filter_in, filter_out, servo_friction, freq_inject, freq_hz
     /// (of an axis), path_speed, path_acc, path_pos (of a group), inputs, outputs,
@@ -40,8 +40,8 @@ pub struct Args {
         value_parser = clap::value_parser!(u32).range(1..=SCOPE_DIVIDER_MAX as i64)
     )]
     pub divider: u32,
-    /// immediate, command, fault, level:CHANNEL:LEVEL[:rising|falling|either] (CHANNEL:
-    /// its place in the --channel list, from 0) or input:N[:EDGE].
+    /// immediate, command, fault, `level:CHANNEL:LEVEL[:rising|falling|either]` (CHANNEL:
+    /// its place in the --channel list, from 0) or `input:N[:EDGE]`.
     #[arg(
         long,
         default_value = "immediate",

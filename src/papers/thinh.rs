@@ -501,13 +501,15 @@ pub struct Blending {
 }
 
 /// Thinh Fig 10 (blending motion mode) on [`thinh_plant`] with [`THINH_GAINS`] and the full
-/// feed-forward (so that the actual velocity shows the command's shape, as in the paper): the [`FIG10_SEGMENTS`] on a one-axis group's path, joined by
-/// `transition`: [`Transition::TimeShift`] is the paper's (each segment a rest-to-rest S-curve,
-/// the next one started while the one before decelerates); [`Transition::None`] stops at each
-/// junction; [`Transition::MaxDeviation`] is the card's own planner (one axis: the segments
-/// are collinear, so the speed goes from one feed to the next without a blend). The card's
-/// path planner runs at every servo tick here, as the time-shifted profiles and the paper's
-/// interpolator do (its default, every 1 ms, plans the rest-to-rest stops a little softer).
+/// feed-forward (so that the actual velocity shows the command's shape, as in the paper): the
+/// [`FIG10_SEGMENTS`] on a one-axis group's path, joined by `transition`:
+/// [`Transition::TimeShift`](crate::Transition::TimeShift) is the paper's (each segment a
+/// rest-to-rest S-curve, the next one started while the one before decelerates);
+/// [`Transition::None`](crate::Transition::None) stops at each junction;
+/// [`Transition::MaxDeviation`](crate::Transition::MaxDeviation) is the card's own planner (one
+/// axis: the segments are collinear, so the speed goes from one feed to the next without a blend).
+/// The card's path planner runs at every servo tick here, as the time-shifted profiles and the
+/// paper's interpolator do (its default, every 1 ms, plans the rest-to-rest stops a little softer).
 pub fn thinh_fig10(transition: crate::Transition) -> Result<Blending> {
     use crate::{GroupSettings, GroupState, PathSettings, Segment};
     let plant = thinh_plant();

@@ -1,4 +1,4 @@
-//! Who may use the tuning page: one middleware ([`check`]) in front of the whole router, its
+//! Who may use the tuning page: one middleware (`check`) in front of the whole router, its
 //! fallback included, so that no route can be missed. A request is answered only when all of
 //! these hold, in this order:
 //!

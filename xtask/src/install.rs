@@ -271,7 +271,7 @@ fn hide_symbols_in(
 }
 
 /// The signatures of the COMDAT groups `readelf -g -W` lists:
-/// "COMDAT group section [    1] `.group' [DW.ref.rust_eh_personality] contains 2 sections:".
+/// ``COMDAT group section [    1] `.group' [DW.ref.rust_eh_personality] contains 2 sections:``.
 fn comdat_signatures(readelf: &str) -> Vec<&str> {
     readelf
         .lines()

@@ -97,14 +97,14 @@ struct Run {
     feed: f64,
     tol: f64,
     buffer: PathBuffer,
-    /// pts[0] is where the run starts; chord i goes from pts[i] to pts[i + 1].
+    /// `pts[0]` is where the run starts; chord `i` goes from `pts[i]` to `pts[i + 1]`.
     pts: Vec<P>,
     /// The start in user units, exactly as the item before gave it (when it was a line).
     start_user: Option<Vec<f64>>,
     chords: Vec<Chord>,
     start: Start,
     /// The programmed point before a continued run's start (which lies on the spline before,
-    /// not on the polyline): its first chord is checked against [ghost, pts[1]].
+    /// not on the polyline): its first chord is checked against `[ghost, pts[1]]`.
     ghost: Option<P>,
     /// Vertices 1..tested passed the corner test.
     tested: usize,

@@ -240,7 +240,7 @@ fn ders(knots: &[f64], s: usize, u: f64) -> [[f64; DEGREE + 1]; 3] {
 struct Band {
     n: usize,
     w: usize,
-    /// a[i][d] = A[i][i + d], d in 0..=w
+    /// `a[i][d] = A[i][i + d]`, `d` in `0..=w`
     a: Vec<f64>,
 }
 
@@ -319,7 +319,7 @@ pub(crate) struct FitSpec<'a> {
 }
 
 /// Least-squares cubic spline of `spec.k` uniform spans through `pts` (flat, `dim` per point)
-/// at parameters `t` (increasing, t[0] = 0): it starts at the first point (and with the
+/// at parameters `t` (increasing, `t[0] = 0`): it starts at the first point (and with the
 /// start's tangent and curvature), ends at the last point when asked, and minimises
 /// Σ|C(tᵢ) − Qᵢ|² plus `smooth` times the sum of the squared second differences of its
 /// control points. None when the system is singular.

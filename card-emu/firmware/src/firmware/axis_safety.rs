@@ -179,7 +179,7 @@ pub struct ActiveStop {
     pub at_rest: bool,
 }
 
-/// One axis's safety configuration and state (a field of [`Axis`]).
+/// One axis's safety configuration and state (a field of [`Axis`](crate::firmware::axis::Axis)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisSafety {
     /// Active configuration.
@@ -238,8 +238,9 @@ impl AxisSafety {
         }
     }
 
-    /// MC_Reset (the checks were made by [`Safety::check_command`]): clear the latches and the
-    /// stop. Returns whether the drive is still powered.
+    /// MC_Reset (the checks were made by
+    /// [`Safety::check_command`](crate::firmware::safety::Safety::check_command)): clear the
+    /// latches and the stop. Returns whether the drive is still powered.
     pub(crate) fn reset(&mut self) -> bool {
         self.faults &= LIVE_FAULTS;
         self.stop = None;

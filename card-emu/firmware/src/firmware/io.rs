@@ -322,7 +322,8 @@ impl IoUnit {
 
     /// One tick (ending at `tick`): sample the inputs, run the compare channels and the
     /// probes on each axis's motion since the last tick (`counts`, the encoder counts now;
-    /// `index`, the index latches). Events go to [`IoUnit::events`].
+    /// `index`, the index latches). Events go to `IoUnit::events`
+    /// (read with [`IoUnit::event`]).
     pub fn tick(
         &mut self,
         tick: u64,

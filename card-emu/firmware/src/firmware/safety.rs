@@ -45,7 +45,7 @@
 //! ([`Safety::check_command`], from `Firmware::execute`), the safety opcodes
 //! ([`Safety::command`]), the ring-corruption report ([`Safety::protocol_error`]), and in
 //! `axis/` the ErrorStop power flag, MC_Reset and the starvation stop at the end of a profile
-//! that ends moving ([`starvation_stop`]).
+//! that ends moving ([`starvation_stop`](super::axis_safety::starvation_stop)).
 //!
 //! Like the rest of the firmware: no allocation, no panic, no clock; time is the tick count.
 

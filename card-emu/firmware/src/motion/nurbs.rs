@@ -719,7 +719,7 @@ pub fn split_curve(
     Ok(out)
 }
 
-/// NURBS Book A5.1 `CurveKnotIns`: inserts `u` (in span `k`, U[k] ≤ u < U[k+1], already of
+/// NURBS Book A5.1 `CurveKnotIns`: inserts `u` (in span `k`, `U[k] ≤ u < U[k+1]`, already of
 /// multiplicity `s`) `r` times into the homogeneous control polygon `pw` with knots `up`.
 #[cfg(feature = "host")]
 fn insert_knot(

@@ -1077,7 +1077,7 @@ impl Axis {
     }
 
     /// Actual position (counts) and velocity over the last tick (counts/s, unfiltered: the
-    /// w_a[k] of Yeh eq 3.3).
+    /// `w_a[k]` of Yeh eq 3.3).
     pub fn actual(&self) -> (f64, f64) {
         (self.act_pos, self.raw_vel)
     }

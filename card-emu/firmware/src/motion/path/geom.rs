@@ -517,7 +517,7 @@ impl<const D: usize> Blend<D> {
         Self::from_bezier(n, *a[0], &q)
     }
 
-    /// The quintic with Bézier control points `q0 + q[i]` (q[0] = 0).
+    /// The quintic with Bézier control points `q0 + q[i]` (`q[0] = 0`).
     #[allow(clippy::needless_range_loop)] // one index over several axis arrays
     pub fn from_bezier(n: usize, q0: V<D>, q: &[V<D>; 6]) -> Option<Self> {
         let mut bl = Self::default();

@@ -12,7 +12,7 @@
 //! through the corner); its arc length is a 4-interval Gauss–Legendre table and Newton on u.
 //!
 //! **Limits.** The path speed s(t) follows a [`PathSpeedPlanner`]. Every piece has tangential
-//! limits (A_t, J_t) of its own ([`Lim`]) and a speed cap V such that at each sampled point, on
+//! limits (A_t, J_t) of its own (`Lim`) and a speed cap V such that at each sampled point, on
 //! every axis k, |V T_k| ≤ vmax_k, A_t|T_k| + V²|K_k| ≤ amax_k and
 //! J_t|T_k| + 3 V A_t |K_k| + V³|K'_k| ≤ jmax_k (each limit times [`CAP_MARGIN`]); since
 //! |s̈| ≤ A_t and |s⃛| ≤ J_t on the piece, the axis velocity s̊T_k, acceleration s̈T_k + v²K_k and
