@@ -17,6 +17,7 @@ from typing import (
     Sequence,
     Tuple,
     Union,
+    overload,
 )
 
 import numpy as np
@@ -33,11 +34,16 @@ ERROR_CLASSES: dict[str, type[Error]]
 SCOPE_CHANNELS: int
 __all__: list[str]
 INPUTS: int
+#: The most control points the card takes in one curve (`Nurbs.split` cuts longer ones).
+NURBS_MAX_CTRL: int
 
 Clock = Literal["stepped", "realtime", "free"]
 Trigger = Literal["immediate", "command", "fault", "level", "input"]
 Edge = Literal["rising", "falling", "either"]
 Direction = Literal["positive", "negative", "either"]
+#: An arc's plane: "XY" (G17), "ZX" (G18), "YZ" (G19), any other two of X, Y, Z ("XZ": from X
+#: towards Z), or a pair (u, v) of group axes.
+Plane = Union[str, Tuple[int, int]]
 MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
 ServoLaw = Literal["ffpiv", "pdplus", "pidff"]
 MoveDirection = Literal["shortest", "positive", "negative", "current"]
@@ -588,6 +594,7 @@ class Segment:
         relative: bool = False,
         last: bool = False,
     ) -> Segment: ...
+    @overload
     @staticmethod
     def arc(
         id: int,
@@ -596,7 +603,37 @@ class Segment:
         feed: float,
         tolerance: float = 0.0,
         *,
-        ccw: bool = True,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @overload
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        *,
+        feed: float,
+        radius: float,
+        tolerance: float = 0.0,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @overload
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        *,
+        feed: float,
+        via: Tuple[float, float],
+        tolerance: float = 0.0,
+        plane: Optional[Plane] = None,
         helix: Sequence[float] = ...,
         relative: bool = False,
         last: bool = False,
@@ -605,6 +642,36 @@ class Segment:
     def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
     @property
     def id(self) -> int: ...
+
+class Nurbs:
+    """A NURBS curve, checked when made."""
+
+    def __init__(
+        self,
+        control_points: Sequence[Sequence[float]],
+        *,
+        degree: int = 3,
+        weights: Optional[Sequence[float]] = None,
+        knots: Optional[Sequence[float]] = None,
+    ) -> None: ...
+    @staticmethod
+    def split(
+        control_points: Sequence[Sequence[float]],
+        *,
+        degree: int = 3,
+        weights: Optional[Sequence[float]] = None,
+        knots: Optional[Sequence[float]] = None,
+        max_ctrl: int = ...,
+    ) -> list[Nurbs]: ...
+    @property
+    def degree(self) -> int: ...
+    @property
+    def control_points(self) -> list[list[float]]: ...
+    @property
+    def weights(self) -> list[float]: ...
+    @property
+    def knots(self) -> list[float]: ...
+    def point(self, u: float) -> list[float]: ...
 
 class GroupMotion:
     @property
@@ -646,13 +713,40 @@ class Group:
         relative: bool = False,
         buffered: bool = False,
     ) -> GroupMotion: ...
+    @overload
     def move_circular(
         self,
         end: Tuple[float, float],
         centre: Tuple[float, float],
         limits: PathLimits,
         *,
-        ccw: bool = True,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    @overload
+    def move_circular(
+        self,
+        end: Tuple[float, float],
+        *,
+        limits: PathLimits,
+        radius: float,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    @overload
+    def move_circular(
+        self,
+        end: Tuple[float, float],
+        *,
+        limits: PathLimits,
+        via: Tuple[float, float],
+        plane: Optional[Plane] = None,
         helix: Sequence[float] = ...,
         relative: bool = False,
         buffered: bool = False,
@@ -678,6 +772,17 @@ class Group:
         chord_tolerance: Optional[float] = None,
         saturation: Optional[float] = None,
         buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_nurbs_path(
+        self,
+        pieces: Sequence[Nurbs],
+        *,
+        feed: float,
+        acceleration: float,
+        jerk: float,
+        chord_tolerance: Optional[float] = None,
+        saturation: Optional[float] = None,
+        timeout: Optional[float] = None,
     ) -> GroupMotion: ...
     def pso(
         self,

@@ -44,6 +44,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
     m.add("INPUTS", sdk::INPUTS)?;
+    m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
     m.add_class::<card::CardListing>()?;
@@ -61,6 +62,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::GroupStatus>()?;
     m.add_class::<group::PathLimits>()?;
     m.add_class::<group::Segment>()?;
+    m.add_class::<group::Nurbs>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
     m.add_class::<cardset::CardSet>()?;

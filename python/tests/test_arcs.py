@@ -1,0 +1,249 @@
+"""Arcs in every form: by centre, by radius, through a point on them, in any plane, as group
+moves and as path segments; each traced tick by tick on the stepped card against the circle
+the test computes from the arguments."""
+
+from __future__ import annotations
+
+import math
+import pytest
+
+import motioncard as mc
+
+COUNT = 0.001  # mm: the axes run at 1000 counts/mm
+LIM = mc.PathLimits(50.0, 500.0, 1e4)
+
+
+def xyz(card: mc.Card) -> mc.Group:
+    for a in range(3):
+        ax = card.axis(a)
+        ax.set_scale(1000.0)
+        ax.enable()
+    g = card.group(0)
+    # the card's geometry tolerance (radius against chord, centre equidistance): 2 counts
+    g.configure([0, 1, 2], tolerance=2 * COUNT)
+    g.enable()
+    g.configure_path(100.0, 1000.0, 1e5)
+    return g
+
+
+def commanded(card: mc.Card) -> tuple[float, float, float]:
+    x, y, z = (card.axis(a).status().command_position for a in range(3))
+    return (x, y, z)
+
+
+def trace(card: mc.Card, sim: mc.Sim, g: mc.Group) -> list[tuple[float, float, float]]:
+    """The commanded X, Y, Z of every tick until the group stops moving."""
+    pts = []
+    for _ in range(200_000):
+        sim.step(1)
+        pts.append(commanded(card))
+        if g.status().state != mc.GroupState.MOVING:
+            return pts
+    raise AssertionError("the group did not stop")
+
+
+def distance_to_polyline(p: tuple[float, float], pts: list[tuple[float, float]]) -> float:
+    """The distance from `p` to the polyline through `pts`."""
+    best = math.inf
+    for (ax, ay), (bx, by) in zip(pts, pts[1:]):
+        dx, dy = bx - ax, by - ay
+        L = dx * dx + dy * dy
+        t = 0.0 if L == 0.0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / L))
+        best = min(best, math.hypot(ax + t * dx - p[0], ay + t * dy - p[1]))
+    return best
+
+
+def radius_centre(
+    start: tuple[float, float], end: tuple[float, float], r: float, ccw: bool
+) -> tuple[float, float]:
+    """The centre of the arc of radius `r` from `start` to `end` (G-code's rule: the centre on
+    the left of the chord for a clockwise arc shorter than half a turn, a negative radius
+    the long way round)."""
+    mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
+    dx, dy = end[0] - start[0], end[1] - start[1]
+    c = math.hypot(dx, dy)
+    h = math.sqrt(max(0.0, r * r - c * c / 4))
+    # unit normal to the left of the chord
+    nx, ny = -dy / c, dx / c
+    side = 1.0 if ccw else -1.0
+    if r < 0:
+        side = -side
+    return (mx + side * h * nx, my + side * h * ny)
+
+
+# A half circle from (0, 0) to (20, 0): its centre is (10, 0) whichever way it is given;
+# counter-clockwise it passes the bottom (10, -10), clockwise the top (10, 10).
+HALF = [
+    pytest.param(dict(radius=10.0), (10.0, -10.0), id="radius-ccw"),
+    pytest.param(dict(radius=10.0, ccw=False), (10.0, 10.0), id="radius-cw"),
+    pytest.param(dict(via=(10.0, -10.0)), (10.0, -10.0), id="via-bottom"),
+    pytest.param(dict(via=(10.0 + 6.0, 8.0)), (10.0, 10.0), id="via-top"),
+    pytest.param(dict(centre=(10.0, 0.0), ccw=False), (10.0, 10.0), id="centre-cw"),
+]
+
+
+@pytest.mark.parametrize("form, apex", HALF)
+def test_a_half_circle_in_every_form_stays_on_its_circle(
+    card: mc.Card, sim: mc.Sim, form: dict[str, object], apex: tuple[float, float]
+) -> None:
+    g = xyz(card)
+    end = (20.0, 0.0)
+    m = g.move_circular(end, limits=LIM, **form)  # type: ignore[call-overload]
+    pts = trace(card, sim, g)
+    m.wait(5.0)
+    centre = (10.0, 0.0)
+    worst = max(abs(math.hypot(x - centre[0], y - centre[1]) - 10.0) for x, y, _ in pts)
+    assert worst < COUNT / 100, f"off the circle by {worst} mm"
+    assert pts[-1][:2] == pytest.approx(end, abs=COUNT / 100)
+    xy = [(x, y) for x, y, _ in pts]
+    assert distance_to_polyline(apex, xy) < COUNT
+    assert all(z == 0.0 for _, _, z in pts)
+    via = form.get("via")
+    if isinstance(via, tuple):
+        assert distance_to_polyline(via, xy) < COUNT
+
+
+@pytest.mark.parametrize("r, ccw", [(13.0, True), (13.0, False), (-13.0, True), (-13.0, False)])
+def test_an_arc_by_radius_turns_around_the_centre_the_geometry_gives(
+    card: mc.Card, sim: mc.Sim, r: float, ccw: bool
+) -> None:
+    g = xyz(card)
+    g.move_linear([2.0, 3.0, 0.0], LIM).wait(5.0)
+    start, end = (2.0, 3.0), (12.0, -7.0)
+    c = radius_centre(start, end, r, ccw)
+    m = g.move_circular(end, limits=LIM, radius=r, ccw=ccw)
+    pts = trace(card, sim, g)
+    m.wait(5.0)
+    worst = max(abs(math.hypot(x - c[0], y - c[1]) - abs(r)) for x, y, _ in pts)
+    assert worst < COUNT / 100, f"centre {c}: off the circle by {worst} mm"
+    assert pts[-1][:2] == pytest.approx(end, abs=COUNT / 100)
+    # the swept angle, summed tick by tick: under half a turn for r > 0, over for r < 0,
+    # positive counter-clockwise
+    swept = 0.0
+    for (ax, ay, _), (bx, by, _) in zip(pts, pts[1:]):
+        a0 = math.atan2(ay - c[1], ax - c[0])
+        a1 = math.atan2(by - c[1], bx - c[0])
+        swept += (a1 - a0 + math.pi) % (2 * math.pi) - math.pi
+    chord_angle = 2 * math.asin(math.hypot(10.0, 10.0) / 2 / abs(r))
+    expected = chord_angle if r > 0 else 2 * math.pi - chord_angle
+    assert swept == pytest.approx(expected if ccw else -expected, abs=1e-6)
+
+
+@pytest.mark.parametrize(
+    "plane, end, centre, z_sign",
+    [
+        # "XZ": (u, v) = (X, Z), counter-clockwise from X towards Z: from X = 0 round through
+        # Z = -10 to X = 20
+        pytest.param("XZ", (20.0, 0.0), (10.0, 0.0), -1.0, id="XZ"),
+        pytest.param((0, 2), (20.0, 0.0), (10.0, 0.0), -1.0, id="axes-0-2"),
+        # "ZX" (G18): (u, v) = (Z, X), counter-clockwise from Z towards X: the other way round
+        pytest.param("ZX", (0.0, 20.0), (0.0, 10.0), 1.0, id="ZX"),
+    ],
+)
+def test_an_arc_in_the_xz_plane_moves_x_and_z_and_not_y(
+    card: mc.Card,
+    sim: mc.Sim,
+    plane: mc.Plane,
+    end: tuple[float, float],
+    centre: tuple[float, float],
+    z_sign: float,
+) -> None:
+    g = xyz(card)
+    m = g.move_circular(end, centre, LIM, plane=plane)
+    pts = trace(card, sim, g)
+    m.wait(5.0)
+    assert all(y == 0.0 for _, y, _ in pts)
+    worst = max(abs(math.hypot(x - 10.0, z) - 10.0) for x, _, z in pts)
+    assert worst < COUNT / 100
+    assert pts[-1] == pytest.approx((20.0, 0.0, 0.0), abs=COUNT / 100)
+    apex = max(pts, key=lambda p: abs(p[2]))
+    assert apex[2] == pytest.approx(10.0 * z_sign, abs=COUNT)
+
+
+def test_an_arc_in_the_yz_plane_and_a_helix(card: mc.Card, sim: mc.Sim) -> None:
+    g = xyz(card)
+    # YZ (G19): (u, v) = (Y, Z); a quarter turn around (0, 5) from (0, 0) to (5, 5)... with
+    # X climbing to 4 along it
+    m = g.move_circular((5.0, 5.0), radius=5.0, limits=LIM, plane="YZ", helix=[4.0])
+    pts = trace(card, sim, g)
+    m.wait(5.0)
+    worst = max(abs(math.hypot(y - 0.0, z - 5.0) - 5.0) for _, y, z in pts)
+    assert worst < COUNT / 100
+    # X climbs linearly with the angle: at each tick X / 4 = angle / (π/2)
+    for x, y, z in pts:
+        angle = math.atan2(z - 5.0, y) + math.pi / 2
+        assert x == pytest.approx(4.0 * angle / (math.pi / 2), abs=COUNT)
+    assert pts[-1] == pytest.approx((4.0, 5.0, 5.0), abs=COUNT / 100)
+
+
+def test_arcs_the_card_refuses_raise_their_kind(card: mc.Card) -> None:
+    g = xyz(card)
+    with pytest.raises(mc.RadiusTooSmallError):
+        g.move_circular((10.0, 0.0), radius=4.0, limits=LIM)
+    with pytest.raises(mc.RadiusTooSmallError):
+        g.move_circular((0.0, 10.0), radius=-4.99, limits=LIM, plane="ZX")
+    with pytest.raises(mc.CollinearPointsError):
+        g.move_circular((10.0, 0.0), via=(5.0, 0.0), limits=LIM)
+    with pytest.raises(mc.CentreNotEquidistantError):
+        g.move_circular((10.0, 0.0), (3.0, 0.0), LIM, plane="XZ")
+    with pytest.raises(mc.PlaneAxesError):
+        g.move_circular((10.0, 0.0), (5.0, 0.0), LIM, plane=(1, 1))
+    with pytest.raises(mc.BadAxisError):
+        g.move_circular((10.0, 0.0), (5.0, 0.0), LIM, plane=(0, 3))
+    # the binding's own checks: one way to give the arc, a plane it can name
+    for bad in [
+        dict(centre=(5.0, 0.0), radius=5.0),
+        dict(),
+        dict(via=(5.0, 5.0), ccw=True),
+    ]:
+        with pytest.raises(ValueError):
+            g.move_circular((10.0, 0.0), limits=LIM, **bad)  # type: ignore[call-overload]
+    for plane in ["XX", "XA", "XYZ", ""]:
+        with pytest.raises(ValueError):
+            g.move_circular((10.0, 0.0), (5.0, 0.0), LIM, plane=plane)
+    with pytest.raises(TypeError):
+        g.move_circular((10.0, 0.0), radius=5.0)  # type: ignore[call-overload]
+    # nothing was queued: the group is where it was, at rest
+    assert g.status().state == mc.GroupState.STANDBY
+    assert commanded(card) == (0.0, 0.0, 0.0)
+
+
+def test_a_path_of_arcs_in_every_form(card: mc.Card, sim: mc.Sim) -> None:
+    g = xyz(card)
+    path = [
+        # XY by radius: (0, 0) to (10, 10) a quarter turn around (10, 0)
+        mc.Segment.arc(1, (10.0, 10.0), feed=40.0, radius=10.0, ccw=False),
+        # ZX through a point: (z, x) from (0, 10) to (0, 30) through (10, 20) (+Z side)
+        mc.Segment.arc(2, (0.0, 30.0), feed=40.0, via=(10.0, 20.0), plane="ZX"),
+        # XZ around a centre, relative: half a turn clockwise back to X = 10 by the -Z side
+        mc.Segment.arc(3, (-20.0, 0.0), (-10.0, 0.0), 40.0, ccw=False, plane="XZ", relative=True),
+        # YZ: (y, z) from (10, 0) half a turn by radius to (0, 0), X climbing to 12
+        mc.Segment.arc(4, (0.0, 0.0), feed=40.0, radius=5.0, plane="YZ", helix=[12.0], last=True),
+    ]
+    m = g.stream_path(path)
+    assert m is not None
+    pts = trace(card, sim, g)
+    m.wait(10.0)
+    assert pts[-1] == pytest.approx((12.0, 0.0, 0.0), abs=COUNT / 100)
+    xz = [(x, z) for x, _, z in pts]
+    assert distance_to_polyline((20.0, 10.0), xz) < COUNT  # segment 2's via point
+    assert distance_to_polyline((20.0, -10.0), xz) < COUNT  # segment 3's far side
+    started = [
+        e.value for e in card.events(0.0) if e.kind == mc.EventKind.SEGMENT_START and e.axis == 0
+    ]
+    assert started == [1.0, 2.0, 3.0, 4.0]
+
+
+def test_a_path_arc_the_card_refuses_names_its_index(card: mc.Card) -> None:
+    g = xyz(card)
+    path = [
+        mc.Segment.arc(1, (10.0, 10.0), feed=40.0, radius=10.0),
+        mc.Segment.arc(2, (30.0, 10.0), feed=40.0, radius=2.0, plane="XY", last=True),
+    ]
+    with pytest.raises(mc.RadiusTooSmallError) as e:
+        g.stream_path(path)
+    assert getattr(e.value, "index") == 1
+    with pytest.raises(ValueError):
+        mc.Segment.arc(3, (1.0, 1.0), (0.0, 1.0), 40.0, radius=1.0)  # type: ignore[call-overload]
+    with pytest.raises(TypeError):
+        mc.Segment.arc(3, (1.0, 1.0), radius=1.0)  # type: ignore[call-overload]
