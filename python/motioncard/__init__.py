@@ -26,6 +26,8 @@ from . import _motioncard
 from ._motioncard import *  # noqa: F401,F403 (the classes and the error subclasses)
 from ._motioncard import _raise_kind  # noqa: F401 (for the tests)
 from ._motioncard import (
+    ADC_LSB,
+    ANALOG_INPUTS,
     AXIS_STATES,
     ERROR_KINDS,
     EVENT_KINDS,
@@ -71,6 +73,7 @@ from ._motioncard import (
     Status,
     SyncScope,
     Axis,
+    AnalogInput,
     die_bonder_pdplus,
     pidff_for_drive,
 )
@@ -157,6 +160,8 @@ async def group_wait_async(motion: GroupMotion, timeout: Optional[float] = None)
     await _wait_sliced(motion.wait, timeout)
 
 __all__ = [
+    "ADC_LSB",
+    "ANALOG_INPUTS",
     "AXIS_STATES",
     "ERROR_CLASSES",
     "ERROR_KINDS",
@@ -167,6 +172,7 @@ __all__ = [
     "SCOPE_CHANNELS",
     "SIGNALS",
     "STOP_CATEGORIES",
+    "AnalogInput",
     "Axis",
     "AxisState",
     "Capture",

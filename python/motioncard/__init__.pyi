@@ -34,6 +34,10 @@ ERROR_CLASSES: dict[str, type[Error]]
 SCOPE_CHANNELS: int
 __all__: list[str]
 INPUTS: int
+#: The card's analog inputs.
+ANALOG_INPUTS: int
+#: The ADC's step, V (20 V / 65536).
+ADC_LSB: float
 #: The most control points the card takes in one curve (`Nurbs.split` cuts longer ones).
 NURBS_MAX_CTRL: int
 
@@ -90,6 +94,18 @@ class SafetyStatus:
     protocol_errors: int
     session: int
 
+class AnalogInput:
+    """An analog input as the card sampled it at its last tick."""
+
+    sample: float
+    value: float
+    above: bool
+    cutoff_hz: float
+    threshold: float
+    hysteresis: float
+    rise_event: bool
+    fall_event: bool
+
 class Sim:
     """Stepping control of a stepped emulated card."""
 
@@ -99,6 +115,7 @@ class Sim:
     def set_input(self, input: int, high: bool) -> None: ...
     def jump_aux(self, input: int, counts: int) -> None: ...
     def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
+    def set_analog_input(self, input: int, volts: float) -> None: ...
 
 class Event:
     @property
@@ -183,6 +200,17 @@ class Card:
         debounce: Optional[Sequence[int]] = None,
     ) -> None: ...
     def analog_input(self, input: int) -> float: ...
+    def analog_input_status(self, input: int) -> AnalogInput: ...
+    def configure_analog_input(
+        self,
+        input: int,
+        *,
+        cutoff_hz: float = 0.0,
+        threshold: float = 0.0,
+        hysteresis: float = 0.0,
+        rise_event: bool = False,
+        fall_event: bool = False,
+    ) -> None: ...
     def set_analog_output(self, output: int, volts: float) -> float: ...
     def estop(self, category: int = 1) -> None: ...
     def reset_faults(self) -> None: ...

@@ -45,6 +45,8 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
     m.add("INPUTS", sdk::INPUTS)?;
     m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
+    m.add("ANALOG_INPUTS", sdk::ANALOG_INPUTS)?;
+    m.add("ADC_LSB", sdk::ADC_LSB)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
     m.add_class::<card::CardListing>()?;
@@ -65,6 +67,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::Nurbs>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
+    m.add_class::<io::AnalogInput>()?;
     m.add_class::<cardset::CardSet>()?;
     m.add_class::<cardset::SyncScope>()?;
     m.add_class::<cardset::PathSettings>()?;
