@@ -37,6 +37,7 @@ from ._motioncard import (
     SCOPE_CHANNELS,
     SIGNALS,
     STOP_CATEGORIES,
+    TRACE_ENV,
     Card,
     CardInfo,
     CardListing,
@@ -63,6 +64,7 @@ from ._motioncard import (
     PathSettings,
     Probe,
     PsoStatus,
+    ReplayReport,
     SafetyStatus,
     Scope,
     Segment,
@@ -76,6 +78,7 @@ from ._motioncard import (
     AnalogInput,
     die_bonder_pdplus,
     pidff_for_drive,
+    replay,
 )
 
 #: PLCopen axis states (``Status.state``).
@@ -172,6 +175,7 @@ __all__ = [
     "SCOPE_CHANNELS",
     "SIGNALS",
     "STOP_CATEGORIES",
+    "TRACE_ENV",
     "AnalogInput",
     "Axis",
     "AxisState",
@@ -203,6 +207,7 @@ __all__ = [
     "PathSettings",
     "Probe",
     "PsoStatus",
+    "ReplayReport",
     "SafetyStatus",
     "Scope",
     "Segment",
@@ -219,5 +224,6 @@ __all__ = [
     "group_wait_async",
     "next_event_async",
     "pidff_for_drive",
+    "replay",
     "wait_async",
 ] + [cls for _kind, cls, _code, _desc in ERROR_KINDS]

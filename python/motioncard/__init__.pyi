@@ -34,6 +34,8 @@ ERROR_CLASSES: dict[str, type[Error]]
 SCOPE_CHANNELS: int
 __all__: list[str]
 INPUTS: int
+#: The environment variable that records every card a program opens to a trace file.
+TRACE_ENV: str
 #: The card's analog inputs.
 ANALOG_INPUTS: int
 #: The ADC's step, V (20 V / 65536).
@@ -140,10 +142,14 @@ class Card:
     """A motion card opened by URI; a context manager that closes it."""
 
     @staticmethod
-    def open(uri: str) -> Card: ...
+    def open(uri: str, *, trace: Optional[Union[str, PathLike[str]]] = None) -> Card: ...
     @staticmethod
     def open_sim(
-        clock: Clock = "stepped", axes: int = 8, servo_rate_hz: int = 10000
+        clock: Clock = "stepped",
+        axes: int = 8,
+        servo_rate_hz: int = 10000,
+        *,
+        trace: Optional[Union[str, PathLike[str]]] = None,
     ) -> Card: ...
     @staticmethod
     def list() -> builtins.list[CardListing]: ...
@@ -553,6 +559,20 @@ def _raise_kind(kind: str) -> NoReturn:
     """Raise the error of `kind` as every SDK error is raised (for the tests)."""
 
 def pidff_for_drive(accel_per_volt: float, wc: float) -> dict[str, float]: ...
+
+class ReplayReport:
+    """What `replay` found."""
+
+    layout: tuple[int, int]
+    axes: int
+    servo_rate_hz: int
+    uri: str
+    commands: int
+    events: int
+    #: (the trace's line, what differs); None: the card answered as recorded.
+    difference: Optional[tuple[int, str]]
+
+def replay(path: Union[str, PathLike[str]]) -> ReplayReport: ...
 def die_bonder_pdplus(axis: int) -> dict[str, float]: ...
 
 class Compare:

@@ -51,10 +51,17 @@ pub(crate) fn sim_options(
 #[pymethods]
 impl Card {
     /// Open a card: `sim` (an emulated card in this process, real-time clock), `emu:NAME`,
-    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`.
+    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`. `trace`: a file to
+    /// record the session's API trace to (every command sent, configuration block written and
+    /// event taken, flushed line by line; `motioncard.replay` runs it again), as the
+    /// environment variable `MOTIONCARD_TRACE` does for every card a program opens.
     #[staticmethod]
-    fn open(p: Python<'_>, uri: &str) -> PyResult<Card> {
-        let card = p.allow_threads(|| sdk::Card::open(uri));
+    #[pyo3(signature = (uri, *, trace = None))]
+    fn open(p: Python<'_>, uri: &str, trace: Option<std::path::PathBuf>) -> PyResult<Card> {
+        let card = p.allow_threads(|| match &trace {
+            Some(t) => sdk::Card::open_traced(uri, t),
+            None => sdk::Card::open(uri),
+        });
         Ok(Card {
             card: py(card)?,
             uri: uri.to_string(),
@@ -63,12 +70,21 @@ impl Card {
 
     /// Open an emulated card in this process. `clock`: `"stepped"` (time advances only when
     /// `card.sim.step(n)` is called or a call waits: deterministic), `"realtime"` or `"free"`
-    /// (as fast as it can run).
+    /// (as fast as it can run). `trace`: a file for its API trace, as `Card.open`'s.
     #[staticmethod]
-    #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000))]
-    fn open_sim(p: Python<'_>, clock: &str, axes: usize, servo_rate_hz: u32) -> PyResult<Card> {
+    #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000, *, trace = None))]
+    fn open_sim(
+        p: Python<'_>,
+        clock: &str,
+        axes: usize,
+        servo_rate_hz: u32,
+        trace: Option<std::path::PathBuf>,
+    ) -> PyResult<Card> {
         let opts = sim_options(clock, axes, servo_rate_hz)?;
-        let card = p.allow_threads(|| sdk::Card::open_sim(opts));
+        let card = p.allow_threads(|| match &trace {
+            Some(t) => sdk::Card::open_sim_traced(opts, t),
+            None => sdk::Card::open_sim(opts),
+        });
         Ok(Card {
             card: py(card)?,
             uri: "sim".into(),

@@ -16,6 +16,7 @@ mod motion;
 mod names;
 mod scope;
 mod servo;
+mod trace;
 mod wait;
 
 use names::members;
@@ -85,5 +86,8 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(servo::die_bonder_pdplus, m)?)?;
     m.add_class::<scope::Scope>()?;
     m.add_class::<scope::Capture>()?;
+    m.add_class::<trace::ReplayReport>()?;
+    m.add_function(wrap_pyfunction!(trace::replay, m)?)?;
+    m.add("TRACE_ENV", sdk::TRACE_ENV)?;
     Ok(())
 }
