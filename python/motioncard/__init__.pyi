@@ -687,6 +687,32 @@ class Segment:
         last: bool = False,
     ) -> Segment: ...
     @staticmethod
+    def arc_normal(
+        id: int,
+        end: Tuple[float, float, float],
+        centre: Tuple[float, float, float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        normal: Tuple[float, float, float],
+        axes: Tuple[int, int, int] = (0, 1, 2),
+        rise: bool = False,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def nurbs(
+        id: int,
+        curve: Nurbs,
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        fit_tolerance: float,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
     def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
     @property
     def id(self) -> int: ...
@@ -795,6 +821,20 @@ class Group:
         limits: PathLimits,
         via: Tuple[float, float],
         plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_circular_normal(
+        self,
+        end: Tuple[float, float, float],
+        centre: Tuple[float, float, float],
+        limits: PathLimits,
+        *,
+        normal: Tuple[float, float, float],
+        axes: Tuple[int, int, int] = (0, 1, 2),
+        rise: bool = False,
+        turns: int = 0,
         helix: Sequence[float] = ...,
         relative: bool = False,
         buffered: bool = False,

@@ -109,6 +109,62 @@ impl Segment {
         Ok(finish(s, relative, last))
     }
 
+    /// An arc in the plane of three group axes `axes` (default X, Y, Z) given by its
+    /// `normal`: counter-clockwise about it (the right-hand rule) in the plane through the
+    /// start, around `centre`, to `end` (at the start: a full turn), at `feed`, blended as a
+    /// line; `centre` and `end` on the three axes, in order (they need one scale). With
+    /// `rise` the end may lie off the plane along the normal (a helix along it); `helix`: the
+    /// group's other axes' targets (empty: they stay). The card refuses a centre off the plane
+    /// or an end off the circle by more than the group's tolerance (`ArcOffPlaneError`,
+    /// `CentreNotEquidistantError`), a zero normal (`ArcNormalError`), an axis twice
+    /// (`ArcAxesError`).
+    #[staticmethod]
+    #[pyo3(signature = (id, end, centre, feed, tolerance = 0.0, *, normal, axes = [0, 1, 2], rise = false, helix = Vec::new(), relative = false, last = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn arc_normal(
+        id: u32,
+        end: [f64; 3],
+        centre: [f64; 3],
+        feed: f64,
+        tolerance: f64,
+        normal: [f64; 3],
+        axes: [usize; 3],
+        rise: bool,
+        helix: Vec<f64>,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        let mut s = sdk::Segment::arc_normal(id, axes, normal, centre, end, feed, tolerance);
+        s.geometry = sdk::Geometry::ArcNormal {
+            axes,
+            normal,
+            centre,
+            end,
+            rise,
+            helix,
+        };
+        finish(s, relative, last)
+    }
+
+    /// A NURBS `curve` (`Nurbs`, control points in group axis order, absolute, starting
+    /// where the segment before ends; relative: from there) at `feed`, blended into the
+    /// segment before as a line, run within `fit_tolerance` (first axis's units) of the
+    /// curve; it takes a buffer entry per piece the card fits to it.
+    #[staticmethod]
+    #[pyo3(signature = (id, curve, feed, tolerance = 0.0, *, fit_tolerance, relative = false, last = false))]
+    fn nurbs(
+        id: u32,
+        curve: Nurbs,
+        feed: f64,
+        tolerance: f64,
+        fit_tolerance: f64,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        let s = sdk::Segment::nurbs(id, curve.curve, feed, tolerance, fit_tolerance);
+        finish(s, relative, last)
+    }
+
     /// A dwell of `seconds` (an exact stop, then a wait).
     #[staticmethod]
     #[pyo3(signature = (id, seconds, *, last = false))]
@@ -467,6 +523,47 @@ impl Group {
         motion(p.allow_threads(|| {
             self.group
                 .move_circular(&arc, plane, &helix, &limits.limits, o)
+        }))
+    }
+
+    /// MC_MoveCircular in the plane of three group axes `axes` (default X, Y, Z) given by its
+    /// `normal`: counter-clockwise about it (the right-hand rule; reverse the normal for the
+    /// other way) in the plane through the start, around `centre`, to `end` (at the start: a
+    /// full turn), then `turns` more full turns, a rest-to-rest S-curve within `limits` along
+    /// it. `centre` and `end` are on the three axes, in order (they need one scale); with
+    /// `rise` the end may lie off the plane along the normal (a helix along it); `helix`: the
+    /// group's other axes' targets (empty: they stay). Refused: `ArcNormalError` (a zero
+    /// normal), `ArcAxesError` (an axis twice), `ArcOffPlaneError` (the centre, or without
+    /// `rise` the end, off the plane), `CentreNotEquidistantError`, `ZeroLengthArcError`,
+    /// `BadAxisError`, `NotFiniteError`; nothing is queued.
+    #[pyo3(signature = (end, centre, limits, *, normal, axes = [0, 1, 2], rise = false, turns = 0, helix = Vec::new(), relative = false, buffered = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn move_circular_normal(
+        &self,
+        p: Python<'_>,
+        end: [f64; 3],
+        centre: [f64; 3],
+        limits: PathLimits,
+        normal: [f64; 3],
+        axes: [usize; 3],
+        rise: bool,
+        turns: u32,
+        helix: Vec<f64>,
+        relative: bool,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let arc = sdk::NormalArc {
+            axes,
+            normal,
+            centre,
+            end,
+            rise,
+            turns,
+        };
+        let o = options(relative, buffered);
+        motion(p.allow_threads(|| {
+            self.group
+                .move_circular_normal(&arc, &helix, &limits.limits, o)
         }))
     }
 

@@ -5,6 +5,7 @@ the test computes from the arguments."""
 from __future__ import annotations
 
 import math
+from typing import Sequence
 import pytest
 
 import motioncard as mc
@@ -42,14 +43,16 @@ def trace(card: mc.Card, sim: mc.Sim, g: mc.Group) -> list[tuple[float, float, f
     raise AssertionError("the group did not stop")
 
 
-def distance_to_polyline(p: tuple[float, float], pts: list[tuple[float, float]]) -> float:
-    """The distance from `p` to the polyline through `pts`."""
+def distance_to_polyline(p: Sequence[float], pts: Sequence[Sequence[float]]) -> float:
+    """The distance from `p` to the polyline through `pts` (points of any dimension)."""
     best = math.inf
-    for (ax, ay), (bx, by) in zip(pts, pts[1:]):
-        dx, dy = bx - ax, by - ay
-        L = dx * dx + dy * dy
-        t = 0.0 if L == 0.0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / L))
-        best = min(best, math.hypot(ax + t * dx - p[0], ay + t * dy - p[1]))
+    for a, b in zip(pts, pts[1:]):
+        d = [bi - ai for ai, bi in zip(a, b)]
+        L = sum(x * x for x in d)
+        t = 0.0
+        if L > 0.0:
+            t = max(0.0, min(1.0, sum((pi - ai) * di for pi, ai, di in zip(p, a, d)) / L))
+        best = min(best, math.dist(p, [ai + t * di for ai, di in zip(a, d)]))
     return best
 
 
@@ -247,3 +250,79 @@ def test_a_path_arc_the_card_refuses_names_its_index(card: mc.Card) -> None:
         mc.Segment.arc(3, (1.0, 1.0), (0.0, 1.0), 40.0, radius=1.0)  # type: ignore[call-overload]
     with pytest.raises(TypeError):
         mc.Segment.arc(3, (1.0, 1.0), radius=1.0)  # type: ignore[call-overload]
+
+
+def cross(a: tuple[float, float, float], b: tuple[float, float, float]) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_an_arc_about_a_normal_vector_turns_in_its_tilted_plane(
+    card: mc.Card, sim: mc.Sim, sign: float
+) -> None:
+    g = xyz(card)
+    # half a turn in the plane through the origin normal to (1, 1, 1), around (5, -5, 0)
+    k = 1 / math.sqrt(3)
+    n = (sign * k, sign * k, sign * k)
+    c = (5.0, -5.0, 0.0)
+    r = math.hypot(5.0, 5.0)
+    m = g.move_circular_normal((10.0, -10.0, 0.0), c, LIM, normal=(sign, sign, sign))
+    pts = trace(card, sim, g)
+    m.wait(5.0)
+    worst_r = max(abs(math.dist(p, c) - r) for p in pts)
+    worst_plane = max(abs(p[0] + p[1] + p[2]) * k for p in pts)
+    assert worst_r < COUNT / 100 and worst_plane < COUNT / 100, (worst_r, worst_plane)
+    assert pts[-1] == pytest.approx((10.0, -10.0, 0.0), abs=COUNT / 100)
+    # a quarter turn counter-clockwise about the normal: the start's radius turned by n ×
+    r0 = (-c[0], -c[1], -c[2])
+    q = cross(n, r0)
+    quarter = (c[0] + q[0], c[1] + q[1], c[2] + q[2])
+    assert distance_to_polyline(quarter, pts) < COUNT
+    # a full turn more: the same end, the length of three half turns
+    ticks = len(pts)
+    g.move_linear([0.0, 0.0, 0.0], LIM).wait(5.0)
+    m = g.move_circular_normal((10.0, -10.0, 0.0), c, LIM, normal=(sign, sign, sign), turns=1)
+    longer = trace(card, sim, g)
+    m.wait(5.0)
+    assert longer[-1] == pytest.approx((10.0, -10.0, 0.0), abs=COUNT / 100)
+    assert len(longer) > 2 * ticks
+
+
+def test_normal_vector_arcs_the_card_refuses(card: mc.Card) -> None:
+    g = xyz(card)
+    end, c = (10.0, -10.0, 0.0), (5.0, -5.0, 0.0)
+    cases: list[tuple[dict[str, object], type[mc.Error]]] = [
+        (dict(normal=(0.0, 0.0, 0.0)), mc.ArcNormalError),
+        (dict(normal=(1.0, 1.0, 1.0), axes=(0, 1, 1)), mc.ArcAxesError),
+        (dict(normal=(1.0, 1.0, 1.0), axes=(0, 1, 3)), mc.BadAxisError),
+    ]
+    for kwargs, error in cases:
+        with pytest.raises(error):
+            g.move_circular_normal(end, c, LIM, **kwargs)  # type: ignore[arg-type]
+    with pytest.raises(mc.ArcOffPlaneError):
+        g.move_circular_normal(end, (5.0, -5.0, 1.0), LIM, normal=(1.0, 1.0, 1.0))
+    with pytest.raises(mc.CentreNotEquidistantError):
+        g.move_circular_normal((10.0, -9.0, -1.0), c, LIM, normal=(1.0, 1.0, 1.0))
+    assert g.status().state == mc.GroupState.STANDBY
+    assert commanded(card) == (0.0, 0.0, 0.0)
+
+
+def test_a_path_arc_about_a_normal_vector(card: mc.Card, sim: mc.Sim) -> None:
+    g = xyz(card)
+    path = [
+        mc.Segment.arc_normal(2, (10.0, -10.0, 0.0), (5.0, -5.0, 0.0), 40.0, normal=(1.0, 1.0, 1.0)),
+        mc.Segment.arc_normal(
+            3, (-10.0, 10.0, 0.0), (-5.0, 5.0, 0.0), 40.0, normal=(0.0, 0.0, 1.0),
+            relative=True, last=True,
+        ),
+    ]
+    m = g.stream_path(path)
+    assert m is not None
+    pts = trace(card, sim, g)
+    m.wait(10.0)
+    assert pts[-1] == pytest.approx((0.0, 0.0, 0.0), abs=COUNT / 100)
+    k = 1 / math.sqrt(3)
+    quarter = (5.0 - 5.0 * k, -5.0 - 5.0 * k, 10.0 * k)
+    assert distance_to_polyline(quarter, pts) < COUNT
+    # the second, in XY counter-clockwise from (10, -10) around (5, -5): by (10, 0)
+    assert distance_to_polyline((10.0, 0.0, 0.0), pts) < COUNT

@@ -141,3 +141,37 @@ def test_a_path_that_does_not_join_is_refused_at_the_piece(card: mc.Card, sim: m
     three = mc.Nurbs([[2000.0, 0.0, 0.0], [3000.0, 1.0, 0.0]], degree=1)
     with pytest.raises(mc.NurbsDimensionError):
         g.move_nurbs_path([three], **FEED)
+
+
+def test_a_nurbs_segment_between_lines_of_a_path(card: mc.Card, sim: mc.Sim) -> None:
+    g = xy(card)
+    g.configure_path(60_000.0, 1e6, 5e7)
+    # a rational cubic from (20000, 0) with a double knot, ending at (70000, 20000)
+    pts = [(0, 0), (10e3, 0), (15e3, 10e3), (25e3, 15e3), (30e3, 5e3), (40e3, 0), (45e3, 10e3), (50e3, 20e3)]
+    curve = mc.Nurbs(
+        [[20_000.0 + x, y] for x, y in pts],
+        weights=[1.0, 1.0, 2.0, 1.0, 0.5, 1.0, 1.0, 1.0],
+        knots=[0.0, 0.0, 0.0, 0.0, 0.2, 0.4, 0.4, 0.7, 1.0, 1.0, 1.0, 1.0],
+    )
+    fit = 1.0
+    path = [
+        mc.Segment.line(1, [20_000.0, 0.0], 60_000.0),
+        mc.Segment.nurbs(2, curve, 60_000.0, fit_tolerance=fit),
+        mc.Segment.line(3, [80_000.0, 40_000.0], 60_000.0, last=True),
+    ]
+    m = g.stream_path(path)
+    assert m is not None
+    trace = []
+    for _ in range(100_000):
+        sim.step(10)
+        trace.append(commanded(card))
+        if g.status().state != mc.GroupState.MOVING:
+            break
+    m.wait(5.0)
+    assert commanded(card) == (80_000.0, 40_000.0)
+    # the curve's points are on the way, within its fit tolerance (and the chord between
+    # samples ten ticks apart)
+    for k in range(1, 10):
+        assert distance_to_polyline(curve.point(k / 10), trace) < fit + 1.0
+    ends = [e.value for e in card.events(0.0) if e.kind == mc.EventKind.SEGMENT_END and e.axis == 0]
+    assert ends == [1.0, 2.0, 3.0]
