@@ -52,7 +52,7 @@ pub(crate) fn sim_options(
 impl Card {
     /// Open a card: `sim` (an emulated card in this process, real-time clock), `emu:NAME`,
     /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`. `trace`: a file to
-    /// record the session's API trace to (every command sent, configuration block written and
+    /// record the card's API trace to (every command sent, configuration block written and
     /// event taken, flushed line by line; `motioncard.replay` runs it again), as the
     /// environment variable `MOTIONCARD_TRACE` does for every card a program opens.
     #[staticmethod]
