@@ -135,14 +135,13 @@ impl Segment {
         last: bool,
     ) -> Segment {
         let mut s = sdk::Segment::arc_normal(id, axes, normal, centre, end, feed, tolerance);
-        s.geometry = sdk::Geometry::ArcNormal {
-            axes,
-            normal,
-            centre,
-            end,
-            rise,
-            helix,
-        };
+        if let sdk::Geometry::ArcNormal {
+            rise: r, helix: h, ..
+        } = &mut s.geometry
+        {
+            *r = rise;
+            *h = helix;
+        }
         finish(s, relative, last)
     }
 

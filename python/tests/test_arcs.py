@@ -326,3 +326,26 @@ def test_a_path_arc_about_a_normal_vector(card: mc.Card, sim: mc.Sim) -> None:
     assert distance_to_polyline(quarter, pts) < COUNT
     # the second, in XY counter-clockwise from (10, -10) around (5, -5): by (10, 0)
     assert distance_to_polyline((10.0, 0.0, 0.0), pts) < COUNT
+
+
+@pytest.mark.parametrize("as_segment", [False, True], ids=["move", "segment"])
+def test_a_rise_along_the_normal_is_a_helix(card: mc.Card, sim: mc.Sim, as_segment: bool) -> None:
+    g = xyz(card)
+    # a full turn about +Z around (5, 0, 0), rising 4 along the normal
+    end, c = (0.0, 0.0, 4.0), (5.0, 0.0, 0.0)
+    if as_segment:
+        seg = mc.Segment.arc_normal(1, end, c, 40.0, normal=(0.0, 0.0, 1.0), rise=True, last=True)
+        m = g.stream_path([seg])
+        assert m is not None
+    else:
+        m = g.move_circular_normal(end, c, LIM, normal=(0.0, 0.0, 1.0), rise=True)
+    pts = trace(card, sim, g)
+    m.wait(10.0)
+    assert pts[-1] == pytest.approx(end, abs=COUNT / 100)
+    assert max(abs(math.hypot(x - 5.0, y) - 5.0) for x, y, _ in pts) < COUNT / 100
+    # Z climbs with the angle swept about +Z (counter-clockwise: from π on through 3π/2)
+    for x, y, z in pts:
+        swept = (math.atan2(y, x - 5.0) - math.pi) % (2 * math.pi)
+        if z > 0.1 and z < 3.9:
+            assert z == pytest.approx(4.0 * swept / (2 * math.pi), abs=COUNT)
+    assert distance_to_polyline((5.0, -5.0, 1.0), pts) < COUNT
