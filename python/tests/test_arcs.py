@@ -349,3 +349,42 @@ def test_a_rise_along_the_normal_is_a_helix(card: mc.Card, sim: mc.Sim, as_segme
         if z > 0.1 and z < 3.9:
             assert z == pytest.approx(4.0 * swept / (2 * math.pi), abs=COUNT)
     assert distance_to_polyline((5.0, -5.0, 1.0), pts) < COUNT
+
+
+def test_arcs_by_radius_and_through_a_point_on_a_path_across_two_cards() -> None:
+    # two cards of 4 axes, their groups the path's 8 dimensions (counts): card 1's axis a is
+    # dimension 4 + a
+    s = mc.CardSet.sim(2, axes=4, servo_rate_hz=10_000)
+    for c in s.cards:
+        for a in range(4):
+            c.axis(a).enable()
+        c.group(0).configure([0, 1, 2, 3], tolerance=2.0)
+        c.group(0).enable()
+    path = s.path([(0, 0), (1, 0)], mc.PathSettings.uniform(8, 5e4, 1e6, 1e8))
+    program = [
+        # dimensions 1 and 5, one on each card: half a turn by radius, below the chord
+        mc.Segment.arc(1, (20_000.0, 0.0), feed=2e4, radius=10_000.0, plane=(1, 5)),
+        # "ZX": (z, x) = dimensions (2, 0), through (10000, 10000) to (0, 20000)
+        mc.Segment.arc(2, (0.0, 20_000.0), feed=2e4, via=(10_000.0, 10_000.0), plane="ZX", last=True),
+    ]
+    sim = s.cards[0].sim
+    assert sim is not None
+
+    def dims() -> list[float]:
+        return [c.axis(a).status().command_position for c in s.cards for a in range(4)]
+
+    path.run(program)
+    pts = [dims()]
+    for _ in range(100_000):
+        sim.step(5)
+        pts.append(dims())
+        if path.progress().done == len(program):
+            break
+    path.wait(5.0)
+    assert dims() == pytest.approx([20_000.0, 20_000.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], abs=1e-6)
+    d15 = [(p[1], p[5]) for p in pts]
+    assert max(abs(math.hypot(u - 10_000.0, v) - 10_000.0) for u, v in d15[: len(d15) // 2]) < 1e-3
+    assert distance_to_polyline((10_000.0, -10_000.0), d15) < 1.0
+    d20 = [(p[2], p[0]) for p in pts]
+    assert distance_to_polyline((10_000.0, 10_000.0), d20) < 1.0
+    assert all(p[3] == 0.0 and p[4] == 0.0 and p[6] == 0.0 and p[7] == 0.0 for p in pts)
