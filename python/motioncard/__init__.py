@@ -26,14 +26,18 @@ from . import _motioncard
 from ._motioncard import *  # noqa: F401,F403 (the classes and the error subclasses)
 from ._motioncard import _raise_kind  # noqa: F401 (for the tests)
 from ._motioncard import (
+    ADC_LSB,
+    ANALOG_INPUTS,
     AXIS_STATES,
     ERROR_KINDS,
     EVENT_KINDS,
     GROUP_STATES,
     INPUTS,
+    NURBS_MAX_CTRL,
     SCOPE_CHANNELS,
     SIGNALS,
     STOP_CATEGORIES,
+    TRACE_ENV,
     Card,
     CardInfo,
     CardListing,
@@ -55,10 +59,12 @@ from ._motioncard import (
     GroupStatus,
     Motion,
     MoveLimits,
+    Nurbs,
     PathLimits,
     PathSettings,
     Probe,
     PsoStatus,
+    ReplayReport,
     SafetyStatus,
     Scope,
     Segment,
@@ -69,8 +75,10 @@ from ._motioncard import (
     Status,
     SyncScope,
     Axis,
+    AnalogInput,
     die_bonder_pdplus,
     pidff_for_drive,
+    replay,
 )
 
 #: PLCopen axis states (``Status.state``).
@@ -155,15 +163,20 @@ async def group_wait_async(motion: GroupMotion, timeout: Optional[float] = None)
     await _wait_sliced(motion.wait, timeout)
 
 __all__ = [
+    "ADC_LSB",
+    "ANALOG_INPUTS",
     "AXIS_STATES",
     "ERROR_CLASSES",
     "ERROR_KINDS",
     "EVENT_KINDS",
     "GROUP_STATES",
     "INPUTS",
+    "NURBS_MAX_CTRL",
     "SCOPE_CHANNELS",
     "SIGNALS",
     "STOP_CATEGORIES",
+    "TRACE_ENV",
+    "AnalogInput",
     "Axis",
     "AxisState",
     "Capture",
@@ -189,10 +202,12 @@ __all__ = [
     "GroupStatus",
     "Motion",
     "MoveLimits",
+    "Nurbs",
     "PathLimits",
     "PathSettings",
     "Probe",
     "PsoStatus",
+    "ReplayReport",
     "SafetyStatus",
     "Scope",
     "Segment",
@@ -209,5 +224,6 @@ __all__ = [
     "group_wait_async",
     "next_event_async",
     "pidff_for_drive",
+    "replay",
     "wait_async",
 ] + [cls for _kind, cls, _code, _desc in ERROR_KINDS]

@@ -17,6 +17,7 @@ from typing import (
     Sequence,
     Tuple,
     Union,
+    overload,
 )
 
 import numpy as np
@@ -33,11 +34,22 @@ ERROR_CLASSES: dict[str, type[Error]]
 SCOPE_CHANNELS: int
 __all__: list[str]
 INPUTS: int
+#: The environment variable that records every card a program opens to a trace file.
+TRACE_ENV: str
+#: The card's analog inputs.
+ANALOG_INPUTS: int
+#: The ADC's step, V (20 V / 65536).
+ADC_LSB: float
+#: The most control points the card takes in one curve (`Nurbs.split` cuts longer ones).
+NURBS_MAX_CTRL: int
 
 Clock = Literal["stepped", "realtime", "free"]
 Trigger = Literal["immediate", "command", "fault", "level", "input"]
 Edge = Literal["rising", "falling", "either"]
 Direction = Literal["positive", "negative", "either"]
+#: An arc's plane: "XY" (G17), "ZX" (G18), "YZ" (G19), any other two of X, Y, Z ("XZ": from X
+#: towards Z), or a pair (u, v) of group axes.
+Plane = Union[str, Tuple[int, int]]
 MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
 ServoLaw = Literal["ffpiv", "pdplus", "pidff"]
 MoveDirection = Literal["shortest", "positive", "negative", "current"]
@@ -84,6 +96,18 @@ class SafetyStatus:
     protocol_errors: int
     session: int
 
+class AnalogInput:
+    """An analog input as the card sampled it at its last tick."""
+
+    sample: float
+    value: float
+    above: bool
+    cutoff_hz: float
+    threshold: float
+    hysteresis: float
+    rise_event: bool
+    fall_event: bool
+
 class Sim:
     """Stepping control of a stepped emulated card."""
 
@@ -93,6 +117,7 @@ class Sim:
     def set_input(self, input: int, high: bool) -> None: ...
     def jump_aux(self, input: int, counts: int) -> None: ...
     def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
+    def set_analog_input(self, input: int, volts: float) -> None: ...
 
 class Event:
     @property
@@ -117,10 +142,14 @@ class Card:
     """A motion card opened by URI; a context manager that closes it."""
 
     @staticmethod
-    def open(uri: str) -> Card: ...
+    def open(uri: str, *, trace: Optional[Union[str, PathLike[str]]] = None) -> Card: ...
     @staticmethod
     def open_sim(
-        clock: Clock = "stepped", axes: int = 8, servo_rate_hz: int = 10000
+        clock: Clock = "stepped",
+        axes: int = 8,
+        servo_rate_hz: int = 10000,
+        *,
+        trace: Optional[Union[str, PathLike[str]]] = None,
     ) -> Card: ...
     @staticmethod
     def list() -> builtins.list[CardListing]: ...
@@ -177,6 +206,17 @@ class Card:
         debounce: Optional[Sequence[int]] = None,
     ) -> None: ...
     def analog_input(self, input: int) -> float: ...
+    def analog_input_status(self, input: int) -> AnalogInput: ...
+    def configure_analog_input(
+        self,
+        input: int,
+        *,
+        cutoff_hz: float = 0.0,
+        threshold: float = 0.0,
+        hysteresis: float = 0.0,
+        rise_event: bool = False,
+        fall_event: bool = False,
+    ) -> None: ...
     def set_analog_output(self, output: int, volts: float) -> float: ...
     def estop(self, category: int = 1) -> None: ...
     def reset_faults(self) -> None: ...
@@ -519,6 +559,20 @@ def _raise_kind(kind: str) -> NoReturn:
     """Raise the error of `kind` as every SDK error is raised (for the tests)."""
 
 def pidff_for_drive(accel_per_volt: float, wc: float) -> dict[str, float]: ...
+
+class ReplayReport:
+    """What `replay` found."""
+
+    layout: tuple[int, int]
+    axes: int
+    servo_rate_hz: int
+    uri: str
+    commands: int
+    events: int
+    #: (the trace's line, what differs); None: the card answered as recorded.
+    difference: Optional[tuple[int, str]]
+
+def replay(path: Union[str, PathLike[str]]) -> ReplayReport: ...
 def die_bonder_pdplus(axis: int) -> dict[str, float]: ...
 
 class Compare:
@@ -588,6 +642,7 @@ class Segment:
         relative: bool = False,
         last: bool = False,
     ) -> Segment: ...
+    @overload
     @staticmethod
     def arc(
         id: int,
@@ -596,8 +651,64 @@ class Segment:
         feed: float,
         tolerance: float = 0.0,
         *,
-        ccw: bool = True,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
         helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @overload
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        *,
+        feed: float,
+        radius: float,
+        tolerance: float = 0.0,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @overload
+    @staticmethod
+    def arc(
+        id: int,
+        end: Tuple[float, float],
+        *,
+        feed: float,
+        via: Tuple[float, float],
+        tolerance: float = 0.0,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def arc_normal(
+        id: int,
+        end: Tuple[float, float, float],
+        centre: Tuple[float, float, float],
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        normal: Tuple[float, float, float],
+        axes: Tuple[int, int, int] = (0, 1, 2),
+        rise: bool = False,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        last: bool = False,
+    ) -> Segment: ...
+    @staticmethod
+    def nurbs(
+        id: int,
+        curve: Nurbs,
+        feed: float,
+        tolerance: float = 0.0,
+        *,
+        fit_tolerance: float,
         relative: bool = False,
         last: bool = False,
     ) -> Segment: ...
@@ -605,6 +716,36 @@ class Segment:
     def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
     @property
     def id(self) -> int: ...
+
+class Nurbs:
+    """A NURBS curve, checked when made."""
+
+    def __init__(
+        self,
+        control_points: Sequence[Sequence[float]],
+        *,
+        degree: int = 3,
+        weights: Optional[Sequence[float]] = None,
+        knots: Optional[Sequence[float]] = None,
+    ) -> None: ...
+    @staticmethod
+    def split(
+        control_points: Sequence[Sequence[float]],
+        *,
+        degree: int = 3,
+        weights: Optional[Sequence[float]] = None,
+        knots: Optional[Sequence[float]] = None,
+        max_ctrl: int = ...,
+    ) -> list[Nurbs]: ...
+    @property
+    def degree(self) -> int: ...
+    @property
+    def control_points(self) -> list[list[float]]: ...
+    @property
+    def weights(self) -> list[float]: ...
+    @property
+    def knots(self) -> list[float]: ...
+    def point(self, u: float) -> list[float]: ...
 
 class GroupMotion:
     @property
@@ -646,13 +787,54 @@ class Group:
         relative: bool = False,
         buffered: bool = False,
     ) -> GroupMotion: ...
+    @overload
     def move_circular(
         self,
         end: Tuple[float, float],
         centre: Tuple[float, float],
         limits: PathLimits,
         *,
-        ccw: bool = True,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    @overload
+    def move_circular(
+        self,
+        end: Tuple[float, float],
+        *,
+        limits: PathLimits,
+        radius: float,
+        ccw: Optional[bool] = None,
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    @overload
+    def move_circular(
+        self,
+        end: Tuple[float, float],
+        *,
+        limits: PathLimits,
+        via: Tuple[float, float],
+        plane: Optional[Plane] = None,
+        helix: Sequence[float] = ...,
+        relative: bool = False,
+        buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_circular_normal(
+        self,
+        end: Tuple[float, float, float],
+        centre: Tuple[float, float, float],
+        limits: PathLimits,
+        *,
+        normal: Tuple[float, float, float],
+        axes: Tuple[int, int, int] = (0, 1, 2),
+        rise: bool = False,
+        turns: int = 0,
         helix: Sequence[float] = ...,
         relative: bool = False,
         buffered: bool = False,
@@ -678,6 +860,17 @@ class Group:
         chord_tolerance: Optional[float] = None,
         saturation: Optional[float] = None,
         buffered: bool = False,
+    ) -> GroupMotion: ...
+    def move_nurbs_path(
+        self,
+        pieces: Sequence[Nurbs],
+        *,
+        feed: float,
+        acceleration: float,
+        jerk: float,
+        chord_tolerance: Optional[float] = None,
+        saturation: Optional[float] = None,
+        timeout: Optional[float] = None,
     ) -> GroupMotion: ...
     def pso(
         self,

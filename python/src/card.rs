@@ -51,10 +51,17 @@ pub(crate) fn sim_options(
 #[pymethods]
 impl Card {
     /// Open a card: `sim` (an emulated card in this process, real-time clock), `emu:NAME`,
-    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`.
+    /// `uio:/dev/uioN`, `pci:DDDD:BB:DD.F`, `name:NAME` or `serial:N`. `trace`: a file to
+    /// record the card's API trace to (every command sent, configuration block written and
+    /// event taken, flushed line by line; `motioncard.replay` runs it again), as the
+    /// environment variable `MOTIONCARD_TRACE` does for every card a program opens.
     #[staticmethod]
-    fn open(p: Python<'_>, uri: &str) -> PyResult<Card> {
-        let card = p.allow_threads(|| sdk::Card::open(uri));
+    #[pyo3(signature = (uri, *, trace = None))]
+    fn open(p: Python<'_>, uri: &str, trace: Option<std::path::PathBuf>) -> PyResult<Card> {
+        let card = p.allow_threads(|| match &trace {
+            Some(t) => sdk::Card::open_traced(uri, t),
+            None => sdk::Card::open(uri),
+        });
         Ok(Card {
             card: py(card)?,
             uri: uri.to_string(),
@@ -63,12 +70,21 @@ impl Card {
 
     /// Open an emulated card in this process. `clock`: `"stepped"` (time advances only when
     /// `card.sim.step(n)` is called or a call waits: deterministic), `"realtime"` or `"free"`
-    /// (as fast as it can run).
+    /// (as fast as it can run). `trace`: a file for its API trace, as `Card.open`'s.
     #[staticmethod]
-    #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000))]
-    fn open_sim(p: Python<'_>, clock: &str, axes: usize, servo_rate_hz: u32) -> PyResult<Card> {
+    #[pyo3(signature = (clock = "stepped", axes = 8, servo_rate_hz = 10_000, *, trace = None))]
+    fn open_sim(
+        p: Python<'_>,
+        clock: &str,
+        axes: usize,
+        servo_rate_hz: u32,
+        trace: Option<std::path::PathBuf>,
+    ) -> PyResult<Card> {
         let opts = sim_options(clock, axes, servo_rate_hz)?;
-        let card = p.allow_threads(|| sdk::Card::open_sim(opts));
+        let card = p.allow_threads(|| match &trace {
+            Some(t) => sdk::Card::open_sim_traced(opts, t),
+            None => sdk::Card::open_sim(opts),
+        });
         Ok(Card {
             card: py(card)?,
             uri: "sim".into(),
@@ -310,6 +326,43 @@ impl Card {
     /// Analog input `input`: its filtered value, volts.
     fn analog_input(&self, input: usize) -> PyResult<f64> {
         py(self.card.analog_input(input)).map(|a| a.value)
+    }
+
+    /// Analog input `input` as the card sampled it at its last tick: the ADC's sample, the
+    /// filtered value, above the threshold or not, and the settings the card holds.
+    fn analog_input_status(&self, input: usize) -> PyResult<crate::io::AnalogInput> {
+        Ok(crate::io::AnalogInput::from(py(self
+            .card
+            .analog_input(input))?))
+    }
+
+    /// Set analog input `input`'s first-order filter (`cutoff_hz`, 0: none; at most half the
+    /// servo rate) and its threshold with hysteresis (volts): the input goes above at
+    /// `value >= threshold` and below again at `value <= threshold - hysteresis`, posting
+    /// `EventKind.ANALOG` (axis: the input; code 1 above, 0 below; value: the filtered volts)
+    /// when `rise_event` / `fall_event` ask for it. The filter keeps its value; the state is
+    /// taken again from it, without an event. Refused: `AnalogChannelError`,
+    /// `AnalogFilterError`, `AnalogThresholdError`, `NotFiniteError` (nothing changes).
+    #[pyo3(signature = (input, *, cutoff_hz = 0.0, threshold = 0.0, hysteresis = 0.0, rise_event = false, fall_event = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn configure_analog_input(
+        &self,
+        p: Python<'_>,
+        input: usize,
+        cutoff_hz: f64,
+        threshold: f64,
+        hysteresis: f64,
+        rise_event: bool,
+        fall_event: bool,
+    ) -> PyResult<()> {
+        let s = sdk::AnalogInputSettings {
+            cutoff_hz,
+            threshold,
+            hysteresis,
+            rise_event,
+            fall_event,
+        };
+        py(p.allow_threads(|| self.card.configure_analog_input(input, &s)))
     }
 
     /// Set analog output `output` to `volts`; the volts it outputs (clamped to its range).
@@ -576,6 +629,20 @@ impl Sim {
     /// Turn auxiliary encoder `input` at `counts_per_s` from now on (0: stop it).
     fn set_aux_velocity(&self, input: usize, counts_per_s: f64) -> PyResult<()> {
         py(self.sim.set_aux_velocity(input, counts_per_s))
+    }
+
+    /// Drive analog input `input`'s pin at `volts` (the ADC quantises it to 16 bits and
+    /// saturates it at ±10 V) from now on.
+    fn set_analog_input(&self, input: usize, volts: f64) -> PyResult<()> {
+        if input >= sdk::ANALOG_INPUTS {
+            return Err(PyValueError::new_err(format!(
+                "analog input {input}: the card has {}",
+                sdk::ANALOG_INPUTS
+            )));
+        }
+        self.sim
+            .with_emulator(|e| e.analog().set(input, sdk::AnalogSource::Constant(volts)));
+        Ok(())
     }
 
     /// Drive digital input `input`'s pin high or low.

@@ -3,6 +3,7 @@ use crate::errors::py;
 use crate::names::py_enum;
 use crate::wait::wait_sliced;
 use motioncard_sdk as sdk;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 /// Limits along a path: feed (velocity), acceleration, jerk; deceleration by keyword.
@@ -79,24 +80,87 @@ impl Segment {
         )
     }
 
-    /// An arc in the plane of group axes 0 and 1 around `centre` to `end` (counter-clockwise
-    /// unless `ccw=False`), the group's other axes to `helix`, at `feed`, blended as a line.
+    /// An arc to `end` at `feed`, blended as a line: around `centre`, or of `radius`
+    /// (negative: the arc longer than half a turn), counter-clockwise unless `ccw=False`; or
+    /// through the point `via` on it (the direction follows the points). One of the three.
+    /// `end`, `centre` and `via` are in the coordinates of `plane` (see `Group.move_circular`;
+    /// default "XY"); `helix`: the group's other axes' targets (empty: they stay).
     #[staticmethod]
-    #[pyo3(signature = (id, end, centre, feed, tolerance = 0.0, *, ccw = true, helix = Vec::new(), relative = false, last = false))]
+    #[pyo3(signature = (id, end, centre = None, feed = None, tolerance = 0.0, *, radius = None, via = None, ccw = None, plane = None, helix = Vec::new(), relative = false, last = false))]
     #[allow(clippy::too_many_arguments)]
     fn arc(
         id: u32,
         end: [f64; 2],
-        centre: [f64; 2],
+        centre: Option<[f64; 2]>,
+        feed: Option<f64>,
+        tolerance: f64,
+        radius: Option<f64>,
+        via: Option<[f64; 2]>,
+        ccw: Option<bool>,
+        plane: Option<PlaneArg>,
+        helix: Vec<f64>,
+        relative: bool,
+        last: bool,
+    ) -> PyResult<Segment> {
+        let arc = arc_spec(end, centre, radius, via, ccw)?;
+        let plane = self::plane(plane)?;
+        let feed = feed.ok_or_else(|| PyTypeError::new_err("Segment.arc: feed is missing"))?;
+        let s = sdk::Segment::arc(id, arc, plane, &helix, feed, tolerance);
+        Ok(finish(s, relative, last))
+    }
+
+    /// An arc in the plane of three group axes `axes` (default X, Y, Z) given by its
+    /// `normal`: counter-clockwise about it (the right-hand rule) in the plane through the
+    /// start, around `centre`, to `end` (at the start: a full turn), at `feed`, blended as a
+    /// line; `centre` and `end` on the three axes, in order (they need one scale). With
+    /// `rise` the end may lie off the plane along the normal (a helix along it); `helix`: the
+    /// group's other axes' targets (empty: they stay). The card refuses a centre off the plane
+    /// or an end off the circle by more than the group's tolerance (`ArcOffPlaneError`,
+    /// `CentreNotEquidistantError`), a zero normal (`ArcNormalError`), an axis twice
+    /// (`ArcAxesError`).
+    #[staticmethod]
+    #[pyo3(signature = (id, end, centre, feed, tolerance = 0.0, *, normal, axes = [0, 1, 2], rise = false, helix = Vec::new(), relative = false, last = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn arc_normal(
+        id: u32,
+        end: [f64; 3],
+        centre: [f64; 3],
         feed: f64,
         tolerance: f64,
-        ccw: bool,
+        normal: [f64; 3],
+        axes: [usize; 3],
+        rise: bool,
         helix: Vec<f64>,
         relative: bool,
         last: bool,
     ) -> Segment {
-        let arc = sdk::ArcSpec::Centre { end, centre, ccw };
-        let s = sdk::Segment::arc(id, arc, sdk::Plane::default(), &helix, feed, tolerance);
+        let mut s = sdk::Segment::arc_normal(id, axes, normal, centre, end, feed, tolerance);
+        if let sdk::Geometry::ArcNormal {
+            rise: r, helix: h, ..
+        } = &mut s.geometry
+        {
+            *r = rise;
+            *h = helix;
+        }
+        finish(s, relative, last)
+    }
+
+    /// A NURBS `curve` (`Nurbs`, control points in group axis order, absolute, starting
+    /// where the segment before ends; relative: from there) at `feed`, blended into the
+    /// segment before as a line, run within `fit_tolerance` (first axis's units) of the
+    /// curve; it takes a buffer entry per piece the card fits to it.
+    #[staticmethod]
+    #[pyo3(signature = (id, curve, feed, tolerance = 0.0, *, fit_tolerance, relative = false, last = false))]
+    fn nurbs(
+        id: u32,
+        curve: Nurbs,
+        feed: f64,
+        tolerance: f64,
+        fit_tolerance: f64,
+        relative: bool,
+        last: bool,
+    ) -> Segment {
+        let s = sdk::Segment::nurbs(id, curve.curve, feed, tolerance, fit_tolerance);
         finish(s, relative, last)
     }
 
@@ -114,10 +178,217 @@ impl Segment {
     }
 }
 
+/// A plane as Python names it: "XY", a pair of group axes.
+#[derive(FromPyObject)]
+pub(crate) enum PlaneArg {
+    Name(String),
+    Axes((usize, usize)),
+}
+
+/// The plane of `arg` (None: XY). Two different letters of X, Y, Z (group axes 0, 1, 2):
+/// XY, YZ and ZX are the G17 to G19 planes, any other pair is that pair of axes in order.
+fn plane(arg: Option<PlaneArg>) -> PyResult<sdk::Plane> {
+    let name = match arg {
+        None => return Ok(sdk::Plane::XY),
+        Some(PlaneArg::Axes((u, v))) => return Ok(sdk::Plane::Axes(u, v)),
+        Some(PlaneArg::Name(n)) => n,
+    };
+    let axis = |c: char| "XYZ".find(c.to_ascii_uppercase());
+    let mut it = name.chars();
+    match (it.next().and_then(axis), it.next().and_then(axis), it.next()) {
+        (Some(u), Some(v), None) if u != v => Ok(match (u, v) {
+            (0, 1) => sdk::Plane::XY,
+            (1, 2) => sdk::Plane::YZ,
+            (2, 0) => sdk::Plane::ZX,
+            _ => sdk::Plane::Axes(u, v),
+        }),
+        _ => Err(PyValueError::new_err(format!(
+            "plane {name:?}: two different letters of X, Y, Z (\"XY\", \"ZX\", \"YZ\", \"XZ\", ...) \
+             or a pair of group axes"
+        ))),
+    }
+}
+
+/// The arc of `move_circular`'s and `Segment.arc`'s keywords: exactly one of `centre`,
+/// `radius`, `via`; `ccw` (default counter-clockwise) only with the first two.
+fn arc_spec(
+    end: [f64; 2],
+    centre: Option<[f64; 2]>,
+    radius: Option<f64>,
+    via: Option<[f64; 2]>,
+    ccw: Option<bool>,
+) -> PyResult<sdk::ArcSpec> {
+    let dir = ccw.unwrap_or(true);
+    match (centre, radius, via) {
+        (Some(centre), None, None) => Ok(sdk::ArcSpec::Centre {
+            end,
+            centre,
+            ccw: dir,
+        }),
+        (None, Some(radius), None) => Ok(sdk::ArcSpec::Radius {
+            end,
+            radius,
+            ccw: dir,
+        }),
+        (None, None, Some(via)) if ccw.is_none() => Ok(sdk::ArcSpec::Border { end, via }),
+        (None, None, Some(_)) => Err(PyValueError::new_err(
+            "an arc through `via` follows the points: no `ccw`",
+        )),
+        _ => Err(PyValueError::new_err(
+            "an arc: exactly one of `centre`, `radius`, `via`",
+        )),
+    }
+}
+
 fn finish(mut s: sdk::Segment, relative: bool, last: bool) -> Segment {
     s.relative = relative;
     s.last = last;
     Segment { segment: s }
+}
+
+/// A NURBS curve: `Nurbs(control_points, degree=3)`, checked when made.
+#[pyclass(module = "motioncard", frozen)]
+#[derive(Clone)]
+pub struct Nurbs {
+    curve: sdk::Nurbs,
+}
+
+impl Nurbs {
+    /// The curve of these arguments, as `Nurbs(...)` takes them.
+    fn build(
+        control_points: Vec<Vec<f64>>,
+        degree: usize,
+        weights: Option<Vec<f64>>,
+        knots: Option<Vec<f64>>,
+    ) -> PyResult<Nurbs> {
+        let a = curve_args(control_points, degree, weights, knots)?;
+        let curve = py(
+            sdk::Nurbs::new(degree, a.dim, &a.ctrl, &a.weights, &a.knots).map_err(sdk::Error::from),
+        )?;
+        Ok(Nurbs { curve })
+    }
+}
+
+/// A curve's arguments as `sdk::Nurbs::new` takes them.
+struct CurveArgs {
+    dim: usize,
+    ctrl: Vec<f64>,
+    weights: Vec<f64>,
+    knots: Vec<f64>,
+}
+
+/// The dimension, the flat control points, the weights (default 1) and the knots (default
+/// clamped uniform) of a curve given as Python gives it.
+fn curve_args(
+    control_points: Vec<Vec<f64>>,
+    degree: usize,
+    weights: Option<Vec<f64>>,
+    knots: Option<Vec<f64>>,
+) -> PyResult<CurveArgs> {
+    let n = control_points.len();
+    let dim = control_points.first().map_or(0, Vec::len);
+    if control_points.iter().any(|c| c.len() != dim) {
+        return Err(PyValueError::new_err(
+            "control points: the same number of values each",
+        ));
+    }
+    let weights = weights.unwrap_or_else(|| vec![1.0; n]);
+    let knots = match knots {
+        Some(k) => k,
+        None => py(sdk::clamped_uniform_knots(n, degree).map_err(sdk::Error::from))?,
+    };
+    Ok(CurveArgs {
+        dim,
+        ctrl: control_points.concat(),
+        weights,
+        knots,
+    })
+}
+
+#[pymethods]
+impl Nurbs {
+    /// A curve of `degree` (1 to 5) through `control_points` (one value per group axis each,
+    /// the group's user units), with `weights` (default 1) and `knots` (clamped: the first and
+    /// last repeated degree + 1 times; default uniform). A curve that is not one raises its
+    /// error: `NurbsDegreeError`, `NurbsCtrlCountError`, `NurbsKnotCountError`,
+    /// `NurbsKnotsDecreasingError`, `NurbsKnotMultiplicityError`, `NurbsNotClampedError`,
+    /// `NurbsWeightError`, ...; control points of different lengths: `ValueError`.
+    #[new]
+    #[pyo3(signature = (control_points, *, degree = 3, weights = None, knots = None))]
+    fn new(
+        control_points: Vec<Vec<f64>>,
+        degree: usize,
+        weights: Option<Vec<f64>>,
+        knots: Option<Vec<f64>>,
+    ) -> PyResult<Nurbs> {
+        Nurbs::build(control_points, degree, weights, knots)
+    }
+
+    /// A curve of any number of control points cut into pieces of at most `max_ctrl` (default
+    /// and at most the card's `NURBS_MAX_CTRL`) for `Group.move_nurbs_path`: exactly the curve,
+    /// each piece starting where the one before ends. Arguments as `Nurbs(...)`.
+    #[staticmethod]
+    #[pyo3(signature = (control_points, *, degree = 3, weights = None, knots = None, max_ctrl = sdk::NURBS_MAX_CTRL))]
+    fn split(
+        control_points: Vec<Vec<f64>>,
+        degree: usize,
+        weights: Option<Vec<f64>>,
+        knots: Option<Vec<f64>>,
+        max_ctrl: usize,
+    ) -> PyResult<Vec<Nurbs>> {
+        let a = curve_args(control_points, degree, weights, knots)?;
+        let pieces = py(
+            sdk::split_nurbs(degree, a.dim, &a.ctrl, &a.weights, &a.knots, max_ctrl)
+                .map_err(sdk::Error::from),
+        )?;
+        Ok(pieces.into_iter().map(|curve| Nurbs { curve }).collect())
+    }
+
+    /// The degree.
+    #[getter]
+    fn degree(&self) -> usize {
+        self.curve.degree()
+    }
+
+    /// The control points, one list per point.
+    #[getter]
+    fn control_points(&self) -> Vec<Vec<f64>> {
+        let d = self.curve.dim();
+        (0..self.curve.n_ctrl())
+            .filter_map(|i| self.curve.control_point(i))
+            .map(|pt| pt.as_slice()[..d].to_vec())
+            .collect()
+    }
+
+    /// The weights.
+    #[getter]
+    fn weights(&self) -> Vec<f64> {
+        (0..self.curve.n_ctrl())
+            .filter_map(|i| self.curve.weight(i))
+            .collect()
+    }
+
+    /// The knot vector.
+    #[getter]
+    fn knots(&self) -> Vec<f64> {
+        self.curve.knots().to_vec()
+    }
+
+    /// The point of the curve at parameter `u`, from the first knot to the last (outside, or
+    /// not finite: an error).
+    fn point(&self, u: f64) -> PyResult<Vec<f64>> {
+        let pt = py(self.curve.point(u).map_err(sdk::Error::from))?;
+        Ok(pt.as_slice()[..self.curve.dim()].to_vec())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<motioncard.Nurbs degree {}, {} control points of {} axes>",
+            self.curve.degree(),
+            self.curve.n_ctrl(),
+            self.curve.dim()
+        )
+    }
 }
 
 /// An axes group of a card.
@@ -217,27 +488,81 @@ impl Group {
         motion(p.allow_threads(|| self.group.move_ptp(&target, &limits.limits, o)))
     }
 
-    /// An arc in the plane of group axes 0 and 1 around `centre` to `end`
-    /// (counter-clockwise unless `ccw=False`; `end` at the start: a full circle); `helix`:
-    /// targets of the group's other axes, which move linearly with it.
-    #[pyo3(signature = (end, centre, limits, *, ccw = true, helix = Vec::new(), relative = false, buffered = false))]
+    /// MC_MoveCircular: an arc to `end` within `limits` (along the path), given one of three
+    /// ways: around `centre` (`end` at the start: a full circle), of `radius` (negative: the
+    /// arc longer than half a turn), both counter-clockwise unless `ccw=False`; or through the
+    /// point `via` on it (a three-point circle; the direction follows the points).
+    /// `plane`: "XY" (G17, default), "ZX" (G18), "YZ" (G19), any other two of X, Y, Z (group
+    /// axes 0, 1, 2; "XZ" is counter-clockwise from X towards Z, G18's reverse), or a pair
+    /// `(u, v)` of group axes; `end`, `centre` and `via` are (u, v) coordinates in it.
+    /// `helix`: targets of the group's other axes, which move linearly with it (empty: they
+    /// stay). Refused: `RadiusTooSmallError`, `CentreNotEquidistantError`,
+    /// `CollinearPointsError`, `ZeroLengthArcError`, `PlaneAxesError`, ...
+    #[pyo3(signature = (end, centre = None, limits = None, *, radius = None, via = None, ccw = None, plane = None, helix = Vec::new(), relative = false, buffered = false))]
     #[allow(clippy::too_many_arguments)]
     fn move_circular(
         &self,
         p: Python<'_>,
         end: [f64; 2],
-        centre: [f64; 2],
-        limits: PathLimits,
-        ccw: bool,
+        centre: Option<[f64; 2]>,
+        limits: Option<PathLimits>,
+        radius: Option<f64>,
+        via: Option<[f64; 2]>,
+        ccw: Option<bool>,
+        plane: Option<PlaneArg>,
         helix: Vec<f64>,
         relative: bool,
         buffered: bool,
     ) -> PyResult<GroupMotion> {
-        let arc = sdk::ArcSpec::Centre { end, centre, ccw };
+        let arc = arc_spec(end, centre, radius, via, ccw)?;
+        let plane = self::plane(plane)?;
+        let limits =
+            limits.ok_or_else(|| PyTypeError::new_err("Group.move_circular: limits is missing"))?;
         let o = options(relative, buffered);
         motion(p.allow_threads(|| {
             self.group
-                .move_circular(&arc, sdk::Plane::default(), &helix, &limits.limits, o)
+                .move_circular(&arc, plane, &helix, &limits.limits, o)
+        }))
+    }
+
+    /// MC_MoveCircular in the plane of three group axes `axes` (default X, Y, Z) given by its
+    /// `normal`: counter-clockwise about it (the right-hand rule; reverse the normal for the
+    /// other way) in the plane through the start, around `centre`, to `end` (at the start: a
+    /// full turn), then `turns` more full turns, a rest-to-rest S-curve within `limits` along
+    /// it. `centre` and `end` are on the three axes, in order (they need one scale); with
+    /// `rise` the end may lie off the plane along the normal (a helix along it); `helix`: the
+    /// group's other axes' targets (empty: they stay). Refused: `ArcNormalError` (a zero
+    /// normal), `ArcAxesError` (an axis twice), `ArcOffPlaneError` (the centre, or without
+    /// `rise` the end, off the plane), `CentreNotEquidistantError`, `ZeroLengthArcError`,
+    /// `BadAxisError`, `NotFiniteError`; nothing is queued.
+    #[pyo3(signature = (end, centre, limits, *, normal, axes = [0, 1, 2], rise = false, turns = 0, helix = Vec::new(), relative = false, buffered = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn move_circular_normal(
+        &self,
+        p: Python<'_>,
+        end: [f64; 3],
+        centre: [f64; 3],
+        limits: PathLimits,
+        normal: [f64; 3],
+        axes: [usize; 3],
+        rise: bool,
+        turns: u32,
+        helix: Vec<f64>,
+        relative: bool,
+        buffered: bool,
+    ) -> PyResult<GroupMotion> {
+        let arc = sdk::NormalArc {
+            axes,
+            normal,
+            centre,
+            end,
+            rise,
+            turns,
+        };
+        let o = options(relative, buffered);
+        motion(p.allow_threads(|| {
+            self.group
+                .move_circular_normal(&arc, &helix, &limits.limits, o)
         }))
     }
 
@@ -346,21 +671,7 @@ impl Group {
         saturation: Option<f64>,
         buffered: bool,
     ) -> PyResult<GroupMotion> {
-        let n = control_points.len();
-        let dim = control_points.first().map_or(0, Vec::len);
-        if control_points.iter().any(|c| c.len() != dim) {
-            return Err(pyo3::exceptions::PyValueError::new_err(
-                "control points: the same number of values each",
-            ));
-        }
-        let flat: Vec<f64> = control_points.concat();
-        let weights = weights.unwrap_or_else(|| vec![1.0; n]);
-        let knots = match knots {
-            Some(k) => k,
-            None => py(sdk::clamped_uniform_knots(n, degree).map_err(sdk::Error::from))?,
-        };
-        let curve =
-            py(sdk::Nurbs::new(degree, dim, &flat, &weights, &knots).map_err(sdk::Error::from))?;
+        let curve = Nurbs::build(control_points, degree, weights, knots)?.curve;
         let f = sdk::NurbsFeed {
             chord_tolerance,
             saturation,
@@ -368,6 +679,59 @@ impl Group {
         };
         let o = options(false, buffered);
         motion(p.allow_threads(|| self.group.move_nurbs(&curve, &f, o)))
+    }
+
+    /// Move along a NURBS path of several `pieces` (`Nurbs`, each starting where the one
+    /// before ends, the first where the group's path is), at `feed` within `acceleration`
+    /// and `jerk`, the feed lowered as `move_nurbs` lowers it: the pieces are queued one after
+    /// another, waiting for earlier ones to finish whenever the group's queue is full (up to
+    /// `timeout` seconds each; None: no end); pieces that join with the same tangent (as
+    /// `Nurbs.split`'s do) run through the joint without stopping while the queue keeps up.
+    /// Returns the last piece's motion. A piece the card refuses raises its error (the pieces
+    /// before it stay queued); an empty path is `UnsupportedError`.
+    #[pyo3(signature = (pieces, *, feed, acceleration, jerk, chord_tolerance = None, saturation = None, timeout = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn move_nurbs_path(
+        &self,
+        p: Python<'_>,
+        pieces: Vec<Nurbs>,
+        feed: f64,
+        acceleration: f64,
+        jerk: f64,
+        chord_tolerance: Option<f64>,
+        saturation: Option<f64>,
+        timeout: Option<f64>,
+    ) -> PyResult<GroupMotion> {
+        let f = sdk::NurbsFeed {
+            chord_tolerance,
+            saturation,
+            ..sdk::NurbsFeed::new(feed, acceleration, jerk)
+        };
+        // `sdk::Group::move_nurbs_path`'s loop, its waits sliced so that Ctrl-C ends them.
+        let mut queued = std::collections::VecDeque::new();
+        let mut last = None;
+        for piece in &pieces {
+            loop {
+                let r = p.allow_threads(|| {
+                    self.group
+                        .move_nurbs(&piece.curve, &f, sdk::MoveOptions::buffered())
+                });
+                match r {
+                    Ok(m) => {
+                        queued.push_back(m.clone());
+                        last = Some(m);
+                        break;
+                    }
+                    Err(e) if e.kind() == sdk::ErrorKind::QueueFull => match queued.pop_front() {
+                        Some(m) => wait_sliced(p, timeout, |s| m.wait(s))?,
+                        None => return Err(crate::errors::Error(e).into()),
+                    },
+                    Err(e) => return Err(crate::errors::Error(e).into()),
+                }
+            }
+        }
+        let last = last.ok_or_else(|| sdk::Error::Unsupported("an empty NURBS path".into()));
+        motion(last)
     }
 
     /// MC_GroupHome: home the group's axes in `order`, stages of group axis indices (0: the

@@ -125,3 +125,57 @@ impl Probe {
         wait_sliced(p, timeout, |s| self.probe.wait_capture(n, s))
     }
 }
+
+/// An analog input as the card sampled it at its last tick (`Card.analog_input_status`).
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct AnalogInput {
+    /// The ADC's sample, V (a multiple of the ADC's step, 20 V / 65536).
+    sample: f64,
+    /// The filtered value, V.
+    value: f64,
+    /// Above the threshold.
+    above: bool,
+    /// The filter's cut-off, Hz (0: none).
+    cutoff_hz: f64,
+    /// The threshold, V.
+    threshold: f64,
+    /// The hysteresis, V.
+    hysteresis: f64,
+    /// An event going above.
+    rise_event: bool,
+    /// An event going below again.
+    fall_event: bool,
+}
+
+impl From<sdk::AnalogInput> for AnalogInput {
+    fn from(a: sdk::AnalogInput) -> Self {
+        AnalogInput {
+            sample: a.sample,
+            value: a.value,
+            above: a.above,
+            cutoff_hz: a.settings.cutoff_hz,
+            threshold: a.settings.threshold,
+            hysteresis: a.settings.hysteresis,
+            rise_event: a.settings.rise_event,
+            fall_event: a.settings.fall_event,
+        }
+    }
+}
+
+#[pymethods]
+impl AnalogInput {
+    fn __repr__(&self) -> String {
+        format!(
+            "AnalogInput(sample={}, value={}, above={}, cutoff_hz={}, threshold={}, \
+             hysteresis={}, rise_event={}, fall_event={})",
+            self.sample,
+            self.value,
+            self.above,
+            self.cutoff_hz,
+            self.threshold,
+            self.hysteresis,
+            self.rise_event,
+            self.fall_event
+        )
+    }
+}

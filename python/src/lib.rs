@@ -16,6 +16,7 @@ mod motion;
 mod names;
 mod scope;
 mod servo;
+mod trace;
 mod wait;
 
 use names::members;
@@ -44,6 +45,9 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
     m.add("INPUTS", sdk::INPUTS)?;
+    m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
+    m.add("ANALOG_INPUTS", sdk::ANALOG_INPUTS)?;
+    m.add("ADC_LSB", sdk::ADC_LSB)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
     m.add_class::<card::CardListing>()?;
@@ -61,8 +65,10 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::GroupStatus>()?;
     m.add_class::<group::PathLimits>()?;
     m.add_class::<group::Segment>()?;
+    m.add_class::<group::Nurbs>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
+    m.add_class::<io::AnalogInput>()?;
     m.add_class::<cardset::CardSet>()?;
     m.add_class::<cardset::SyncScope>()?;
     m.add_class::<cardset::PathSettings>()?;
@@ -80,5 +86,8 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(servo::die_bonder_pdplus, m)?)?;
     m.add_class::<scope::Scope>()?;
     m.add_class::<scope::Capture>()?;
+    m.add_class::<trace::ReplayReport>()?;
+    m.add_function(wrap_pyfunction!(trace::replay, m)?)?;
+    m.add("TRACE_ENV", sdk::TRACE_ENV)?;
     Ok(())
 }

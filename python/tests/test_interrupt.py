@@ -70,3 +70,28 @@ def test_other_threads_run_while_a_wait_blocks(card: mc.Card) -> None:
     stop.set()
     t.join()
     assert counted[0] > 0
+
+
+def test_ctrl_c_ends_a_nurbs_path_waiting_for_room(card: mc.Card) -> None:
+    """`move_nurbs_path` waits for the queue's room in slices too; what it had queued runs on."""
+    import math
+
+    for a in (0, 1):
+        card.axis(a).enable()
+    g = card.group(0)
+    g.configure([0, 1])
+    g.enable()
+    pts = [[i * 500.0, 2000.0 * math.sin(i * 0.3)] for i in range(200)]
+    pieces = mc.Nurbs.split(pts, degree=3, max_ctrl=4)
+    t = interrupt_later(_thread.interrupt_main)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        # slow: 100,000 counts at 500 counts/s, minutes of the card's time
+        g.move_nurbs_path(pieces, feed=500.0, acceleration=1e5, jerk=1e7)
+    took = time.monotonic() - start
+    t.join()
+    assert took < 10.0
+    st = g.status()
+    assert st.state == mc.GroupState.MOVING and st.queued > 0
+    g.halt(1e5, 1e7).wait(5.0)
+    assert g.status().state == mc.GroupState.STANDBY
