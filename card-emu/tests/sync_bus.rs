@@ -363,26 +363,21 @@ fn a_host_killed_mid_path_stops_every_cards_axes() {
     }
 }
 
-/// Layout 1.14: a 12-axis path across two `card-emu` processes of six axes on one bus (1 kHz,
-/// so that each card's scope holds 4 s of samples between reads), streamed in two releases,
-/// the second while it runs (the first pushed one by one, the second streamed by
-/// `SetPath::run`): on every tick, every axis of both processes is where one planner of all
-/// twelve axes puts it, to the last bit.
-#[test]
-fn a_path_across_processes_is_bit_identical_to_one_planner() {
-    let master = format!("busw-{}", std::process::id());
+/// A master and a follower `card-emu` process of six axes at `rate` Hz, a set of both (a
+/// release margin for a loaded machine: its commit must reach the master before its tick) with
+/// group 0 of each over its six axes, configured and enabled.
+fn two_of_six(tag: &str, rate: u32) -> ([Proc; 2], CardSet) {
+    let master = format!("{tag}-{}", std::process::id());
     let follower = format!("{master}-f");
-    let rate = ["--axes", "6", "--servo-rate", "1000"];
-    let _m = card_emu(&master, &rate);
-    let mut f_args = rate.to_vec();
-    f_args.extend(["--sync-from", &master]);
-    let _f = card_emu(&follower, &f_args);
+    let rate = rate.to_string();
+    let args = ["--axes", "6", "--servo-rate", &rate];
+    let m = card_emu(&master, &args);
+    let f = card_emu(&follower, &[&args[..], &["--sync-from", &master]].concat());
     let cards = vec![
         open_when_ready(&format!("emu:{master}")),
         open_when_ready(&format!("emu:{follower}")),
     ];
     let mut set = CardSet::new(cards).unwrap();
-    // a margin for a loaded machine: the release's commit must reach the master before its tick
     set.set_margin(Duration::from_millis(300));
     let axes: Vec<usize> = (0..6).collect();
     for c in set.cards() {
@@ -392,13 +387,28 @@ fn a_path_across_processes_is_bit_identical_to_one_planner() {
         let g = c.group(0).unwrap();
         g.configure(&GroupSettings::new(&axes)).unwrap();
         g.enable().unwrap();
+    }
+    ([m, f], set)
+}
+
+/// The path's parts over [`two_of_six`]: group 0 of each card.
+const PARTS: [motioncard_sdk::PathPart; 2] = [
+    motioncard_sdk::PathPart { card: 0, group: 0 },
+    motioncard_sdk::PathPart { card: 1, group: 0 },
+];
+
+/// Layout 1.14: a 12-axis path across two `card-emu` processes of six axes on one bus (1 kHz,
+/// so that each card's scope holds 4 s of samples between reads), streamed in two releases,
+/// the second while it runs (the first pushed one by one, the second streamed by
+/// `SetPath::run`): on every tick, every axis of both processes is where one planner of all
+/// twelve axes puts it, to the last bit.
+#[test]
+fn a_path_across_processes_is_bit_identical_to_one_planner() {
+    let (_procs, set) = two_of_six("widew", 1000);
+    for c in set.cards() {
         wide_path::record(c, 6);
     }
-    let parts = [
-        motioncard_sdk::PathPart { card: 0, group: 0 },
-        motioncard_sdk::PathPart { card: 1, group: 0 },
-    ];
-    let mut path = set.path(&parts, &wide_path::settings()).unwrap();
+    let mut path = set.path(&PARTS, &wide_path::settings()).unwrap();
     let prog = wide_path::program();
     let split = [6, 6];
     let mut got = std::collections::BTreeMap::new();
@@ -445,31 +455,9 @@ fn a_path_across_processes_is_bit_identical_to_one_planner() {
 /// with nothing queued or staged.
 #[test]
 fn a_card_killed_while_a_path_across_cards_streams_ends_the_run_and_halts_the_others() {
-    let master = format!("busk-{}", std::process::id());
-    let follower = format!("{master}-f");
-    let _m = card_emu(&master, &["--axes", "6"]);
-    let f = card_emu(&follower, &["--axes", "6", "--sync-from", &master]);
-    let cards = vec![
-        open_when_ready(&format!("emu:{master}")),
-        open_when_ready(&format!("emu:{follower}")),
-    ];
-    let mut set = CardSet::new(cards).unwrap();
-    set.set_margin(Duration::from_millis(300));
-    let axes: Vec<usize> = (0..6).collect();
-    for c in set.cards() {
-        for &a in &axes {
-            c.axis(a).unwrap().enable().unwrap();
-        }
-        let g = c.group(0).unwrap();
-        g.configure(&GroupSettings::new(&axes)).unwrap();
-        g.enable().unwrap();
-    }
-    let parts = [
-        motioncard_sdk::PathPart { card: 0, group: 0 },
-        motioncard_sdk::PathPart { card: 1, group: 0 },
-    ];
+    let ([_m, f], set) = two_of_six("widek", 10_000);
     let mut path = set
-        .path(&parts, &PathSettings::uniform(12, 5e4, 1e6, 1e8))
+        .path(&PARTS, &PathSettings::uniform(12, 5e4, 1e6, 1e8))
         .unwrap();
     // 4,000 chords of 20 counts along a line through all twelve axes at 20,000 counts/s: 4 s
     let chord = |i: u32| Segment::line(i, &[20.0 * f64::from(i); 12], 2e4, 1.0);
