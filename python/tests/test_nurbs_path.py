@@ -25,6 +25,17 @@ def commanded(card: mc.Card) -> tuple[float, float]:
     return (card.axis(0).status().command_position, card.axis(1).status().command_position)
 
 
+def run_to_rest(card: mc.Card, sim: mc.Sim, g: mc.Group) -> list[tuple[float, float]]:
+    """Step the card until the group stops moving: where X and Y were every 10 ticks."""
+    trace = []
+    for _ in range(100_000):
+        sim.step(10)
+        trace.append(commanded(card))
+        if g.status().state != mc.GroupState.MOVING:
+            break
+    return trace
+
+
 def distance_to_polyline(p: list[float], pts: list[tuple[float, float]]) -> float:
     best = math.inf
     for (ax, ay), (bx, by) in zip(pts, pts[1:]):
@@ -99,12 +110,7 @@ def test_a_path_of_two_pieces_ends_on_the_last_control_point(card: mc.Card, sim:
         knots=[0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0],
     )
     m = g.move_nurbs_path([first, second], **FEED)
-    trace = []
-    for _ in range(100_000):
-        sim.step(10)
-        trace.append(commanded(card))
-        if g.status().state != mc.GroupState.MOVING:
-            break
+    trace = run_to_rest(card, sim, g)
     m.wait(5.0)
     assert commanded(card) == (30_000.0, 5_000.0)
     # it passed both curves' middles (within a count: the feed keeps the chord error there)
@@ -161,12 +167,7 @@ def test_a_nurbs_segment_between_lines_of_a_path(card: mc.Card, sim: mc.Sim) -> 
     ]
     m = g.stream_path(path)
     assert m is not None
-    trace = []
-    for _ in range(100_000):
-        sim.step(10)
-        trace.append(commanded(card))
-        if g.status().state != mc.GroupState.MOVING:
-            break
+    trace = run_to_rest(card, sim, g)
     m.wait(5.0)
     assert commanded(card) == (80_000.0, 40_000.0)
     # the curve's points are on the way, within its fit tolerance (and the chord between
