@@ -745,11 +745,15 @@ fn cards_on_one_sync_bus_from_c() {
 /// Layout 1.14: a path across cards from C: a 12-axis path over two stepped cards, split
 /// 6 + 6 and 8 + 4, bit-identical on every tick sampled and at its targets exactly; a halt
 /// timed on both cards (after a hold and a resume); the card's refusals of staging entries
-/// sent raw.
+/// sent raw; a pause timed on both cards, every axis on its segment's end.
 #[test]
 fn a_path_across_cards_from_c() {
     let out = run(&compile("set_path", Link::Shared), &[], &[]);
     assert!(out.contains("PASS set_path"), "{out}");
+    assert!(
+        out.contains("at the end of segment 21 on both cards, every axis on its end"),
+        "{out}"
+    );
     assert!(
         out.contains("set_path: 12 axes split 6+6 and 8+4 bit-identical on"),
         "{out}"

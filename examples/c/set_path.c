@@ -5,10 +5,12 @@
  * split 6 + 6 and 8 + 4: every dimension's commanded position is the same, to the bit, on
  * every tick sampled, whichever card and split computed it, and every axis ends at its final
  * target exactly. Then a hold, a resume and a halt, each timed to one tick on both cards (every
- * axis stops at the same fraction of a 12-axis line), and the refusals: a line of the wrong count, a NULL target, a
- * card not in the set, the card's refusals of staging entries sent raw (MC_ERR_PATH_MORE, an
- * MC_OP_PATH_MORE alone; MC_ERR_PATH_RELEASE, a release of nothing staged; MC_ERR_PATH_DIMS, a
- * release to a group without dimensions), a closed handle.
+ * axis stops at the same fraction of a 12-axis line); the refusals: a line of the wrong count,
+ * a NULL target, a card not in the set, the card's refusals of staging entries sent raw
+ * (MC_ERR_PATH_MORE, an MC_OP_PATH_MORE alone; MC_ERR_PATH_RELEASE, a release of nothing
+ * staged; MC_ERR_PATH_DIMS, a release to a group without dimensions); a pause timed on both
+ * cards (every axis stops on the end of the segment it is in) and the path going on; a closed
+ * handle.
  *
  * Runs on stepped cards (deterministic). Positions in counts (scale 1). The argument is
  * ignored.
@@ -289,11 +291,34 @@ int main(int argc, char **argv) {
     CHECK(mc_set_path_progress(p, &staged, &queued, NULL));
     ASSERT(staged == 0 && queued == 0, "after the refusals: %u staged, %u queued", staged,
            queued);
-    /* nothing moved: the path still goes on from where it stopped */
-    double back[N];
-    for (int d = 0; d < N; d++) back[d] = from[d];
-    CHECK(mc_set_path_line(p, 21, back, N, 3e4, 0.0));
-    CHECK(mc_set_path_release(p, NULL));
+    /* nothing moved: the path still goes on from where it stopped; back to the start through
+       a midpoint blended (tolerance 50 counts), paused on one tick on both cards: every axis
+       stops at the end of the segment it is in, the midpoint, exactly; then on to the end */
+    double back[N], mid[N];
+    for (int d = 0; d < N; d++) {
+        back[d] = from[d];
+        mid[d] = 0.5 * (from[d] + axis(cs[d / 6], (uint32_t)(d % 6)).command_position);
+    }
+    CHECK(mc_set_path_line(p, 21, mid, N, 3e4, 50.0));
+    CHECK(mc_set_path_line(p, 22, back, N, 3e4, 0.0));
+    uint64_t tb = 0, tp = 0, tu = 0;
+    CHECK(mc_set_path_release(p, &tb));
+    CHECK(mc_set_path_pause(p, 1, &tp));
+    CHECK(mc_sim_step(cs[0], 20000));
+    for (int d = 0; d < N; d++) {
+        mc_status s = axis(cs[d / 6], (uint32_t)(d % 6));
+        ASSERT(s.command_velocity == 0.0 && fabs(s.command_position - mid[d]) < 1e-6,
+               "paused: dimension %d at %.9f (velocity %g), the segment ends at %.9f", d,
+               s.command_position, s.command_velocity, mid[d]);
+    }
+    CHECK(mc_set_path_progress(p, NULL, &queued, NULL));
+    ASSERT(queued == 1, "paused with %u segments queued, not 1", queued);
+    CHECK(mc_set_path_pause(p, 0, &tu));
+    ASSERT(tb < tp && tp < tu, "release %llu, pause %llu, go on %llu", (unsigned long long)tb,
+           (unsigned long long)tp, (unsigned long long)tu);
+    printf("set_path: paused on tick %llu at the end of segment 21 on both cards, every axis on "
+           "its end; went on on tick %llu\n",
+           (unsigned long long)tp, (unsigned long long)tu);
     for (int k = 0; k < 200 && !at_rest(cs); k++) CHECK(mc_sim_step(cs[0], 100));
     CHECK(mc_set_path_wait(p, 1000));
     for (int d = 0; d < N; d++)
