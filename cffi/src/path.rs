@@ -355,6 +355,34 @@ fn stream_failure(e: StreamError) -> Failure {
 // Configuration
 // ---------------------------------------------------------------------------------------------
 
+/// The SDK's settings of a C struct's fields (`mc_path_settings`, `mc_set_path_settings`):
+/// `[lookahead, low_water]`, `[accel, jerk, plan_period]`, and the limits `[vmax, amax, jmax]`.
+pub(crate) fn settings_of(
+    [lookahead, low_water]: [u32; 2],
+    [accel, jerk, plan_period]: [f64; 3],
+    [vmax, amax, jmax]: [&[f64]; 3],
+) -> PathSettings {
+    PathSettings {
+        lookahead: lookahead as usize,
+        low_water: low_water as usize,
+        accel,
+        jerk,
+        vmax: vmax.to_vec(),
+        amax: amax.to_vec(),
+        jmax: jmax.to_vec(),
+        plan_period,
+        ..PathSettings::uniform(vmax.len().max(1), 1.0, 1.0, 1.0)
+    }
+}
+
+/// `p`'s limits into a C struct's `[vmax, amax, jmax]` (the first `p`'s count of each).
+pub(crate) fn copy_limits(p: &PathSettings, [vmax, amax, jmax]: [&mut [f64]; 3]) {
+    let n = p.vmax.len();
+    vmax[..n].copy_from_slice(&p.vmax);
+    amax[..n].copy_from_slice(&p.amax);
+    jmax[..n].copy_from_slice(&p.jmax);
+}
+
 /// Path settings for `naxes` axes (1..8, else `MC_ERR_BAD_AXIS`) with the same limits:
 /// look-ahead 256 segments, no low-water event, tangential limits from the axes' (0), chords
 /// fitted into curves. Nothing is checked until `mc_group_configure_path`. Never blocks.
@@ -386,9 +414,7 @@ pub unsafe extern "C" fn mc_path_settings_uniform(
             chord_fit: p.chord_fit.into(),
             ..Default::default()
         };
-        s.vmax[..n].copy_from_slice(&p.vmax);
-        s.amax[..n].copy_from_slice(&p.amax);
-        s.jmax[..n].copy_from_slice(&p.jmax);
+        copy_limits(&p, [&mut s.vmax, &mut s.amax, &mut s.jmax]);
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(s) };
         Ok(())
@@ -414,15 +440,12 @@ pub unsafe extern "C" fn mc_group_configure_path(
         let s = unsafe { read_in(settings, "settings") }?;
         let n = axis_count(s.naxes, "the settings")?;
         let p = PathSettings {
-            lookahead: s.lookahead as usize,
-            low_water: s.low_water as usize,
-            accel: s.accel,
-            jerk: s.jerk,
-            vmax: s.vmax[..n].to_vec(),
-            amax: s.amax[..n].to_vec(),
-            jmax: s.jmax[..n].to_vec(),
-            plan_period: s.plan_period,
             chord_fit: s.chord_fit != 0,
+            ..settings_of(
+                [s.lookahead, s.low_water],
+                [s.accel, s.jerk, s.plan_period],
+                [&s.vmax[..n], &s.amax[..n], &s.jmax[..n]],
+            )
         };
         let (_, g) = group_of(card, group)?;
         Ok(g.configure_path(&p)?)

@@ -14,6 +14,7 @@
 
 use crate::ffi::{read_in, read_slice, Out};
 use crate::handles::Handles;
+use crate::path::{copy_limits, settings_of};
 use crate::registry::mc_card;
 use crate::result::{guard, mc_result, Failure};
 use crate::sync_bus::set_of;
@@ -136,9 +137,7 @@ pub unsafe extern "C" fn mc_set_path_settings_uniform(
             plan_period: p.plan_period,
             ..Default::default()
         };
-        s.vmax[..n].copy_from_slice(&p.vmax);
-        s.amax[..n].copy_from_slice(&p.amax);
-        s.jmax[..n].copy_from_slice(&p.jmax);
+        copy_limits(&p, [&mut s.vmax, &mut s.amax, &mut s.jmax]);
         // SAFETY: checked non-NULL; valid for writes by the caller's contract.
         unsafe { out.write(s) };
         Ok(())
@@ -178,17 +177,11 @@ pub unsafe extern "C" fn mc_set_path_open(
         dims_count(n, "the settings")?;
         // SAFETY: forwarded from this function's contract.
         let set = unsafe { set_of(cards, ncards) }?;
-        let p = PathSettings {
-            lookahead: s.lookahead as usize,
-            low_water: s.low_water as usize,
-            accel: s.accel,
-            jerk: s.jerk,
-            vmax: s.vmax[..n].to_vec(),
-            amax: s.amax[..n].to_vec(),
-            jmax: s.jmax[..n].to_vec(),
-            plan_period: s.plan_period,
-            ..PathSettings::uniform(n.max(1), 1.0, 1.0, 1.0)
-        };
+        let p = settings_of(
+            [s.lookahead, s.low_water],
+            [s.accel, s.jerk, s.plan_period],
+            [&s.vmax[..n], &s.amax[..n], &s.jmax[..n]],
+        );
         let parts: Vec<PathPart> = parts
             .iter()
             .map(|p| PathPart {
