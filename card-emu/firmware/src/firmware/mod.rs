@@ -528,11 +528,7 @@ impl<M: Mem + Clone> Firmware<M> {
         // loses some of them (counted), never an answer to a command timed to a tick.
         let chatty =
             e.kind == EventKind::SegmentStart as u16 || e.kind == EventKind::SegmentEnd as u16;
-        let full = if chatty {
-            !matches!(self.events.free(), Ok(free) if free > EVENT_RESERVE)
-        } else {
-            false
-        };
+        let full = chatty && !matches!(self.events.free(), Ok(free) if free > EVENT_RESERVE);
         if full || self.events.push(&e).is_err() {
             self.events_lost = self.events_lost.wrapping_add(1);
             self.mem.write32(layout::EVENTS_LOST, self.events_lost);
