@@ -110,6 +110,75 @@ fn a_12_axis_path_over_cards_is_bit_identical_to_one_planner() {
     }
 }
 
+/// `SetPath::run` streams a long program (the 12-axis program with 300 short blended chords
+/// through all twelve axes spliced in) in batches of 256, the second released while the path
+/// runs: the release ticks, read from each card's `Timed` events, are the same on both cards,
+/// and every axis moves on every tick as one planner fed those batches on those ticks, to the
+/// last bit.
+#[test]
+fn a_program_streamed_by_run_is_bit_identical_to_one_planner() {
+    let mut prog = program();
+    let tail = prog.split_off(5);
+    let from = wide_path::pt(0.5);
+    for k in 1..=300u32 {
+        let th = f64::from(k) * std::f64::consts::PI / 150.0;
+        let p: Vec<f64> = (0..N)
+            .map(|d| from[d] + 400.0 * (th + d as f64).sin() - 400.0 * (d as f64).sin())
+            .collect();
+        prog.push(Segment::line(100 + k, &p, 3e4, 2.0));
+    }
+    prog.extend(tail);
+    let split = [6, 6];
+    let (set, mut path) = six_and_six();
+    let mut got = std::collections::BTreeMap::new();
+    let t0 = path.run(&prog).unwrap();
+    read_all(&set, &split, &mut got);
+    run_to_rest(&set, &split, &mut got);
+    path.wait(LONG).unwrap();
+    let releases: Vec<Vec<u64>> = set
+        .cards()
+        .iter()
+        .map(|c| {
+            let mut ticks = Vec::new();
+            while let Some(e) = c.next_event(Duration::ZERO).unwrap() {
+                if e.kind == motioncard_sdk::EventKind::Timed
+                    && e.code == motioncard_sdk::proto::Opcode::PathRelease as i32
+                {
+                    ticks.push(e.tick);
+                }
+            }
+            ticks
+        })
+        .collect();
+    assert_eq!(
+        releases[0], releases[1],
+        "the same release ticks on both cards"
+    );
+    assert_eq!(
+        releases[0].len(),
+        prog.len().div_ceil(256),
+        "batches of 256"
+    );
+    assert_eq!(releases[0][0], t0);
+    let batches: Vec<(u64, Vec<Segment>)> = releases[0]
+        .iter()
+        .zip(prog.chunks(256))
+        .map(|(&t, c)| (t, c.to_vec()))
+        .collect();
+    let (first, want) = engine(RATE, &batches, &[]);
+    let ticks = compare(&got, first, &want);
+    assert!(got.values().next_back().unwrap()[..N]
+        .iter()
+        .all(|&x| x == 0.0));
+    println!(
+        "{} segments in {} releases (ticks {:?}): {ticks} ticks, every axis bit-identical to \
+         one 12-axis planner",
+        prog.len(),
+        batches.len(),
+        releases[0]
+    );
+}
+
 /// A halt, and a hold then a resume, each timed to one tick on both cards: every axis stops
 /// (and goes on) where one planner told the same on that tick stops it, to the last bit.
 #[test]
