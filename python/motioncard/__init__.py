@@ -37,10 +37,12 @@ from ._motioncard import (
     SCOPE_CHANNELS,
     SIGNALS,
     STOP_CATEGORIES,
+    STOP_REASONS,
     TRACE_ENV,
     Card,
     CardInfo,
     CardListing,
+    CardSafetySettings,
     CardSet,
     Capture,
     Compare,
@@ -65,6 +67,7 @@ from ._motioncard import (
     Probe,
     PsoStatus,
     ReplayReport,
+    SafetySettings,
     SafetyStatus,
     Scope,
     Segment,
@@ -73,6 +76,7 @@ from ._motioncard import (
     SetPathProgress,
     Sim,
     Status,
+    StopInfo,
     SyncScope,
     Axis,
     AnalogInput,
@@ -91,6 +95,8 @@ EventKind = enum.IntEnum("EventKind", EVENT_KINDS, module=__name__)  # type: ign
 Signal = enum.IntEnum("Signal", SIGNALS, module=__name__)  # type: ignore[misc]
 #: Stop categories of an e-stop (IEC 60204-1).
 StopCategory = enum.IntEnum("StopCategory", STOP_CATEGORIES, module=__name__)  # type: ignore[misc]
+#: Why an axis's last motion ended (``Axis.stop_reason()``, ``Status.stop_reason``).
+StopReason = enum.IntEnum("StopReason", STOP_REASONS, module=__name__)  # type: ignore[misc]
 
 #: The error class of each kind, by the kind's name (``"BadAxis"`` → ``BadAxisError``).
 ERROR_CLASSES: dict[str, type[Error]] = {
@@ -175,6 +181,7 @@ __all__ = [
     "SCOPE_CHANNELS",
     "SIGNALS",
     "STOP_CATEGORIES",
+    "STOP_REASONS",
     "TRACE_ENV",
     "AnalogInput",
     "Axis",
@@ -183,6 +190,7 @@ __all__ = [
     "Card",
     "CardInfo",
     "CardListing",
+    "CardSafetySettings",
     "CardSet",
     "Compare",
     "Compensation",
@@ -208,6 +216,7 @@ __all__ = [
     "Probe",
     "PsoStatus",
     "ReplayReport",
+    "SafetySettings",
     "SafetyStatus",
     "Scope",
     "Segment",
@@ -218,6 +227,8 @@ __all__ = [
     "Sim",
     "Status",
     "StopCategory",
+    "StopInfo",
+    "StopReason",
     "SyncScope",
     "die_bonder_pdplus",
     "events_async",

@@ -28,6 +28,7 @@ GROUP_STATES: list[tuple[str, int]]
 EVENT_KINDS: list[tuple[str, int]]
 SIGNALS: list[tuple[str, int]]
 STOP_CATEGORIES: list[tuple[str, int]]
+STOP_REASONS: list[tuple[str, int]]
 #: (kind, class name, C code, description) of every ErrorKind.
 ERROR_KINDS: list[tuple[str, str, int, str]]
 ERROR_CLASSES: dict[str, type[Error]]
@@ -96,6 +97,82 @@ class SafetyStatus:
     protocol_errors: int
     session: int
 
+class SafetySettings:
+    """An axis's safety configuration, in user units; keywords not given: the card's
+    defaults."""
+
+    def __init__(
+        self,
+        *,
+        soft_limits: Optional[Tuple[float, float]] = ...,
+        hard_limits: bool = ...,
+        amp_alarm: bool = ...,
+        encoder_checks: bool = ...,
+        limit_stop: int = ...,
+        ferror: float = ...,
+        min_ferror: float = ...,
+        max_velocity: float = ...,
+        stop_deceleration: float = ...,
+        stop_jerk: float = ...,
+        encoder_max_velocity: float = ...,
+    ) -> None: ...
+    def replace(
+        self,
+        *,
+        soft_limits: Optional[Tuple[float, float]] = ...,
+        hard_limits: bool = ...,
+        amp_alarm: bool = ...,
+        encoder_checks: bool = ...,
+        limit_stop: int = ...,
+        ferror: float = ...,
+        min_ferror: float = ...,
+        max_velocity: float = ...,
+        stop_deceleration: float = ...,
+        stop_jerk: float = ...,
+        encoder_max_velocity: float = ...,
+    ) -> SafetySettings: ...
+    @property
+    def soft_limits(self) -> Optional[Tuple[float, float]]: ...
+    @property
+    def hard_limits(self) -> bool: ...
+    @property
+    def amp_alarm(self) -> bool: ...
+    @property
+    def encoder_checks(self) -> bool: ...
+    @property
+    def limit_stop(self) -> StopCategory: ...
+    @property
+    def ferror(self) -> float: ...
+    @property
+    def min_ferror(self) -> float: ...
+    @property
+    def max_velocity(self) -> float: ...
+    @property
+    def stop_deceleration(self) -> float: ...
+    @property
+    def stop_jerk(self) -> float: ...
+    @property
+    def encoder_max_velocity(self) -> float: ...
+
+class CardSafetySettings:
+    """The card-wide safety settings as the card holds them."""
+
+    @property
+    def watchdog_timeout(self) -> float: ...
+    @property
+    def estop_input_category(self) -> StopCategory: ...
+    @property
+    def max_stop_time(self) -> float: ...
+
+class StopInfo:
+    """How an axis's last safety stop went, measured by the card."""
+
+    @property
+    def reason(self) -> StopReason: ...
+    stop_tick: int
+    rest_tick: Optional[int]
+    ramp_time: float
+
 class AnalogInput:
     """An analog input as the card sampled it at its last tick."""
 
@@ -115,6 +192,7 @@ class Sim:
     @property
     def time(self) -> float: ...
     def set_input(self, input: int, high: bool) -> None: ...
+    def set_estop(self, pressed: bool) -> None: ...
     def jump_aux(self, input: int, counts: int) -> None: ...
     def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
     def set_analog_input(self, input: int, volts: float) -> None: ...
@@ -222,6 +300,9 @@ class Card:
     def reset_faults(self) -> None: ...
     def safety_status(self) -> SafetyStatus: ...
     def set_watchdog_timeout(self, timeout: float) -> None: ...
+    def set_estop_input_category(self, category: int) -> None: ...
+    def set_max_stop_time(self, seconds: float) -> None: ...
+    def safety_settings(self) -> CardSafetySettings: ...
     def load_cam_table(
         self,
         table: int,
@@ -282,6 +363,8 @@ class Status:
     encoder: int
     homed: bool
     in_sync: bool
+    @property
+    def stop_reason(self) -> StopReason: ...
 
 class Motion:
     @property
@@ -334,6 +417,10 @@ class Axis:
     def halt(self, deceleration: float, jerk: float) -> Motion: ...
     def stop(self, deceleration: float, jerk: float) -> Motion: ...
     def release_stop(self) -> None: ...
+    def safety_settings(self) -> SafetySettings: ...
+    def configure_safety(self, settings: SafetySettings) -> None: ...
+    def stop_reason(self) -> StopReason: ...
+    def stop_info(self) -> StopInfo: ...
     def reset(self) -> None: ...
     def set_override(self, factor: float) -> None: ...
     def wait_done(self, timeout: Optional[float] = None) -> float: ...
@@ -1136,6 +1223,40 @@ class StopCategory(enum.IntEnum):
     CAT0 = 0
     CAT1 = 1
     CAT2 = 2
+
+class StopReason(enum.IntEnum):
+    """Why an axis's last motion ended."""
+
+    NONE = 0
+    DONE = 1
+    HALT = 2
+    STOP = 3
+    POWER_OFF = 4
+    HOST_DETACH = 5
+    HOMING_FAILED = 6
+    PROBE = 7
+    GROUP_HOMING = 8
+    SYNC_LOST = 9
+    WATCHDOG = 16
+    E_STOP_COMMAND = 17
+    E_STOP_INPUT = 18
+    HARD_LIMIT_POS = 19
+    HARD_LIMIT_NEG = 20
+    SOFT_LIMIT_POS = 21
+    SOFT_LIMIT_NEG = 22
+    FOLLOWING_ERROR = 23
+    AMP_ALARM = 24
+    ENCODER_LOSS = 25
+    ENCODER_JUMP = 26
+    STARVATION = 27
+    CMD_RING = 28
+    EVT_RING = 29
+    GROUP = 30
+    STOP_TIMEOUT = 31
+    HOST_CHANGED = 32
+    NO_SESSION = 33
+    GANTRY_SKEW = 34
+    GANTRY = 35
 
 class BadUriError(Error):
     """BadUri (-1): bad card URI"""

@@ -17,14 +17,7 @@ pub struct Card {
     pub(crate) uri: String,
 }
 
-fn stop_category(c: u32) -> PyResult<sdk::StopCategory> {
-    sdk::StopCategory::from_raw(c).ok_or_else(|| {
-        crate::errors::of_kind(
-            sdk::ErrorKind::BadCategory,
-            format!("stop category {c}: 0, 1 or 2"),
-        )
-    })
-}
+use crate::safety::{seconds, stop_category};
 
 /// The options of an emulated card (or set of them) in this process.
 pub(crate) fn sim_options(
@@ -422,9 +415,31 @@ impl Card {
 
     /// Arm the host watchdog with `timeout` seconds.
     fn set_watchdog_timeout(&self, p: Python<'_>, timeout: f64) -> PyResult<()> {
-        let t = Duration::try_from_secs_f64(timeout)
-            .map_err(|e| PyValueError::new_err(format!("timeout {timeout}: {e}")))?;
+        let t = seconds("timeout", timeout)?;
         py(p.allow_threads(|| self.card.set_watchdog_timeout(t)))
+    }
+
+    /// The stop the card's e-stop input makes: `category` 0, 1 or 2 (default 1);
+    /// `BadCategoryError` otherwise.
+    fn set_estop_input_category(&self, p: Python<'_>, category: u32) -> PyResult<()> {
+        let c = stop_category(category)?;
+        py(p.allow_threads(|| self.card.set_estop_input_category(c)))
+    }
+
+    /// The card's longest stop, `seconds` (default 2 s): every stop (halt, stop, the safety
+    /// stops, starvation) ends within it; a halt whose own ramp would take longer runs on
+    /// the axis's stop ramp, and a stop still running at the bound loses power (reason
+    /// `StopReason.STOP_TIMEOUT`). 10 ms to 600 s, and every axis's stop ramp from its
+    /// `max_velocity` must fit: `StopTooLongError`.
+    fn set_max_stop_time(&self, p: Python<'_>, seconds: f64) -> PyResult<()> {
+        let t = crate::safety::seconds("max stop time", seconds)?;
+        py(p.allow_threads(|| self.card.set_max_stop_time(t)))
+    }
+
+    /// The card-wide safety settings the card holds (watchdog timeout, the e-stop input's
+    /// category, the longest stop time).
+    fn safety_settings(&self, p: Python<'_>) -> PyResult<crate::safety::CardSafetySettings> {
+        Ok(py(p.allow_threads(|| self.card.safety_settings()))?.into())
     }
 
     /// Change the servo rate (all axes disabled).
@@ -643,6 +658,13 @@ impl Sim {
         self.sim
             .with_emulator(|e| e.analog().set(input, sdk::AnalogSource::Constant(volts)));
         Ok(())
+    }
+
+    /// Press (True) or release the card's e-stop input: it stops every axis with the
+    /// category `Card.set_estop_input_category` set, latched until released and
+    /// `Card.reset_faults()`.
+    fn set_estop(&self, pressed: bool) {
+        self.sim.with_emulator(|e| e.faults().set_estop(pressed));
     }
 
     /// Drive digital input `input`'s pin high or low.

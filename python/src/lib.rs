@@ -14,6 +14,7 @@ mod io;
 mod machine;
 mod motion;
 mod names;
+mod safety;
 mod scope;
 mod servo;
 mod trace;
@@ -43,6 +44,10 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "STOP_CATEGORIES",
         members(sdk::StopCategory::ALL, |e| e as u32 as i64),
     )?;
+    m.add(
+        "STOP_REASONS",
+        members(sdk::StopReason::ALL, |e| e as u32 as i64),
+    )?;
     m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
     m.add("INPUTS", sdk::INPUTS)?;
     m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
@@ -55,6 +60,9 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<card::Event>()?;
     m.add_class::<card::Events>()?;
     m.add_class::<card::SafetyStatus>()?;
+    m.add_class::<safety::SafetySettings>()?;
+    m.add_class::<safety::CardSafetySettings>()?;
+    m.add_class::<safety::StopInfo>()?;
     m.add_class::<motion::Axis>()?;
     m.add_class::<motion::MoveLimits>()?;
     m.add_class::<motion::Motion>()?;

@@ -641,6 +641,35 @@ impl Axis {
         self.do_handwheel_off(p)
     }
 
+    /// The axis's safety configuration as the card holds it, in user units.
+    fn safety_settings(&self, p: Python<'_>) -> PyResult<crate::safety::SafetySettings> {
+        let s = py(p.allow_threads(|| self.axis.safety_settings()))?;
+        Ok(crate::safety::SafetySettings { s })
+    }
+
+    /// Write the axis's safety configuration (limits, following error, stop ramp; user
+    /// units through the axis's scale) and have the card apply it. Refused:
+    /// `NotFiniteError`, `BadConfigError` (soft limits not in order), and what the card
+    /// refuses (`StopTooLongError`: the stop ramp from `max_velocity` does not fit the
+    /// card's longest stop); nothing changes then.
+    fn configure_safety(
+        &self,
+        p: Python<'_>,
+        settings: crate::safety::SafetySettings,
+    ) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.configure_safety(&settings.s)))
+    }
+
+    /// Why the axis's last motion ended (`motioncard.StopReason`).
+    fn stop_reason<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::safety::stop_reason(p, &self.axis)
+    }
+
+    /// The stop reason and the card's timing of the axis's last safety stop.
+    fn stop_info(&self) -> PyResult<crate::safety::StopInfo> {
+        Ok(py(self.axis.stop_info())?.into())
+    }
+
     fn __repr__(&self) -> String {
         format!("<motioncard.Axis {}>", self.axis.index())
     }
@@ -787,6 +816,7 @@ pub struct Status {
     /// A gear or cam motion is in gear (in sync).
     #[pyo3(get)]
     in_sync: bool,
+    stop_reason_raw: u32,
 }
 
 impl From<sdk::Status> for Status {
@@ -816,6 +846,7 @@ impl From<sdk::Status> for Status {
             encoder: s.raw.encoder,
             homed: s.homed(),
             in_sync: s.in_sync(),
+            stop_reason_raw: s.raw.stop_reason,
         }
     }
 }
@@ -826,6 +857,13 @@ impl Status {
     #[getter]
     fn state<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         py_enum(p, "AxisState", self.state_raw as i64)
+    }
+
+    /// Why the axis's last motion ended (`motioncard.StopReason`; `StopReason.NONE` while
+    /// one runs).
+    #[getter]
+    fn stop_reason<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "StopReason", self.stop_reason_raw as i64)
     }
 
     fn __repr__(&self, p: Python<'_>) -> PyResult<String> {
