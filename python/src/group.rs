@@ -176,6 +176,58 @@ impl Segment {
     fn id(&self) -> u32 {
         self.segment.id
     }
+
+    /// This segment joining the one before it by `mode` (PLCopen BufferMode): "aborting"
+    /// (the running path stops along its geometry within its limits, everything queued is
+    /// dropped, and this segment starts from where it came to rest), "buffered" (an exact
+    /// stop at the corner), or a blend whose corner speed is at most the lower of the two
+    /// feeds ("blending_low", the default), the previous segment's ("blending_previous"),
+    /// this one's ("blending_next") or the higher ("blending_high").
+    fn with_buffer(&self, mode: &str) -> PyResult<Segment> {
+        let b = crate::path::buffer(mode)?;
+        Ok(Segment {
+            segment: self.segment.clone().buffer(b),
+        })
+    }
+
+    /// This segment with its blend sized by `kind` (PLCopen TransitionMode; in the first
+    /// group axis's units): "none" (an exact stop), "max_deviation" (within `distance` of
+    /// the corner: what `tolerance` sets), "corner_distance" (the blend begins `distance`
+    /// before the corner) or "time_shift" (between two lines: each its own S-curve, this one
+    /// starting while the one before decelerates, the path within `distance` of the corner).
+    #[pyo3(signature = (kind, distance = 0.0))]
+    fn with_transition(&self, kind: &str, distance: f64) -> PyResult<Segment> {
+        let t = crate::path::transition(kind, distance)?;
+        Ok(Segment {
+            segment: self.segment.clone().transition(t),
+        })
+    }
+
+    /// This segment fitted by the chord fitter within `tolerance` of its points (G64 Q)
+    /// rather than the transition's tolerance; 0 sends it as it is.
+    fn fit_within(&self, tolerance: f64) -> Segment {
+        Segment {
+            segment: self.segment.clone().fit_within(tolerance),
+        }
+    }
+
+    /// Its buffer mode's name (see `with_buffer`).
+    #[getter]
+    fn buffer(&self) -> &'static str {
+        crate::path::buffer_name(self.segment.buffer)
+    }
+
+    /// Its transition: (kind, distance) (see `with_transition`).
+    #[getter]
+    fn transition(&self) -> (&'static str, f64) {
+        crate::path::transition_pair(self.segment.transition)
+    }
+
+    /// The chord fitter's tolerance for it (None: the transition's; see `fit_within`).
+    #[getter]
+    fn fit_tolerance(&self) -> Option<f64> {
+        self.segment.fit_tolerance
+    }
 }
 
 /// A plane as Python names it: "XY", a pair of group axes.
@@ -602,8 +654,12 @@ impl Group {
     /// Returns the last segment's motion (wait on it for the end of the path), None when
     /// nothing was queued. A refusal raises its error with `index` (the segment that failed)
     /// and `accepted` (how many the card took) set on it; Ctrl-C cancels the stream.
-    fn stream_path(&self, p: Python<'_>, segments: Vec<Segment>) -> PyResult<Option<GroupMotion>> {
-        let items: Vec<sdk::Segment> = segments.into_iter().map(|s| s.segment).collect();
+    fn stream_path(
+        &self,
+        p: Python<'_>,
+        segments: Vec<crate::path::ItemArg>,
+    ) -> PyResult<Option<GroupMotion>> {
+        let items: Vec<sdk::PathItem> = segments.into_iter().map(Into::into).collect();
         let streamer = self.group.spawn_path_stream(items);
         while !streamer.is_finished() {
             if let Err(e) = p.check_signals() {
@@ -623,6 +679,51 @@ impl Group {
                 Err(err)
             }
         }
+    }
+
+    /// Queue one item (a `Segment` or a `PathOutput`) on the group's path and wait for the
+    /// card's answer: a segment's motion (its `wait` is the path's end when it is the last
+    /// one queued), None for an output action. A segment `with_buffer("aborting")` replaces
+    /// what is queued. Refused with the segment's own error, nothing queued changing.
+    fn path_push(
+        &self,
+        p: Python<'_>,
+        item: crate::path::ItemArg,
+    ) -> PyResult<Option<GroupMotion>> {
+        let output = matches!(item, crate::path::ItemArg::Output(_));
+        let item: sdk::PathItem = item.into();
+        let m = py(p.allow_threads(|| self.group.path_push(&item)))?;
+        Ok((!output).then_some(GroupMotion { motion: m }))
+    }
+
+    /// Pause the path at the end of a segment: it comes to rest at the end of the first
+    /// segment it can stop at within its limits (an exact stop or a dwell's end ahead, or the
+    /// first segment end beyond its braking distance), holds there with the rest queued
+    /// (more may be queued meanwhile), and goes on along the same path at `path_resume()`.
+    /// `path_pause_state()` says when it is there; the card posts `EventKind.PATH_PAUSED`.
+    fn path_pause(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.path_pause()))
+    }
+
+    /// End a pause: the path goes on from the pause point (asked before it got there, it
+    /// does not stop).
+    fn path_resume(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.path_resume()))
+    }
+
+    /// Where a pause is: ("none", None), ("pausing", None) while braking for the pause
+    /// point, or ("paused", id) at rest on the end of segment `id` (0: none ran).
+    fn path_pause_state(&self) -> PyResult<(&'static str, Option<u32>)> {
+        Ok(match py(self.group.path_pause_state())? {
+            sdk::PauseState::None => ("none", None),
+            sdk::PauseState::Pausing => ("pausing", None),
+            sdk::PauseState::Paused { id } => ("paused", Some(id)),
+        })
+    }
+
+    /// Free entries in the card's path buffer.
+    fn path_free(&self) -> PyResult<usize> {
+        py(self.group.path_free())
     }
 
     /// Run the card's path-speed output (PSO) on this group (configured): the output is

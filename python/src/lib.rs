@@ -14,6 +14,7 @@ mod io;
 mod machine;
 mod motion;
 mod names;
+mod path;
 mod safety;
 mod scope;
 mod servo;
@@ -74,6 +75,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::PathLimits>()?;
     m.add_class::<group::Segment>()?;
     m.add_class::<group::Nurbs>()?;
+    m.add_class::<path::PathOutput>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
     m.add_class::<io::AnalogInput>()?;
