@@ -116,6 +116,30 @@ impl Card {
         py(self.card.tick())
     }
 
+    /// `with card.timed(tick) as t:` every command this thread sends in the block (to this
+    /// card or another) is timed to `tick`: held by its card and run as the first thing of
+    /// that tick (see `TimedScope`). `key` (1 to 2^32 - 1): they run only once it is
+    /// committed, which leaving the block does (`sync_commit`); 0: each runs on the tick as
+    /// it was held.
+    #[pyo3(signature = (tick, *, key = 0))]
+    fn timed(&self, tick: u64, key: u32) -> crate::timed::TimedScope {
+        crate::timed::TimedScope::begin(&self.card, tick, key)
+    }
+
+    /// Commit `key` for `tick`: its timed commands run on that tick, on this card and on
+    /// every follower of its bus. Only on a master or a card alone (`NotMasterError`), and
+    /// before the tick (`CommitLateError`: then none of them runs, anywhere).
+    fn sync_commit(&self, p: Python<'_>, key: u32, tick: u64) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.sync_commit(key, tick)))
+    }
+
+    /// Drop the held timed commands of `key` (0: all): how many there were. Each is refused
+    /// with `TimedCancelledError`.
+    #[pyo3(signature = (key = 0))]
+    fn cancel_timed(&self, p: Python<'_>, key: u32) -> PyResult<u32> {
+        py(p.allow_threads(|| self.card.cancel_timed(key)))
+    }
+
     /// Axis `index` (`BadAxisError` beyond the card's axes).
     fn axis(&self, index: usize) -> PyResult<Axis> {
         Ok(Axis {

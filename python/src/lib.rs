@@ -18,6 +18,7 @@ mod path;
 mod safety;
 mod scope;
 mod servo;
+mod timed;
 mod trace;
 mod wait;
 
@@ -79,6 +80,7 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
     m.add_class::<io::AnalogInput>()?;
+    m.add_class::<timed::TimedScope>()?;
     m.add_class::<cardset::CardSet>()?;
     m.add_class::<cardset::SyncScope>()?;
     m.add_class::<cardset::PathSettings>()?;
