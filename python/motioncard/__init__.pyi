@@ -41,6 +41,12 @@ TRACE_ENV: str
 ANALOG_INPUTS: int
 #: The ADC's step, V (20 V / 65536).
 ADC_LSB: float
+#: `EventKind.COMPARE` codes: a position fired, a position missed, a table's low water.
+COMPARE_FIRED: int
+COMPARE_MISSED: int
+COMPARE_LOW_WATER: int
+#: The positions a compare channel's table holds.
+COMPARE_TABLE_LEN: int
 #: The most control points the card takes in one curve (`Nurbs.split` cuts longer ones).
 NURBS_MAX_CTRL: int
 
@@ -192,6 +198,17 @@ class AnalogInput:
     rise_event: bool
     fall_event: bool
 
+class FireRecord:
+    """A compare pulse the emulator recorded (``Sim.record_fires``), in counts."""
+
+    channel: int
+    output: int
+    axis: int
+    position: float
+    time: float
+    shaft: float
+    velocity: float
+
 class Sim:
     """Stepping control of a stepped emulated card."""
 
@@ -200,6 +217,8 @@ class Sim:
     def time(self) -> float: ...
     def set_input(self, input: int, high: bool) -> None: ...
     def set_estop(self, pressed: bool) -> None: ...
+    def record_fires(self, on: bool) -> None: ...
+    def take_fires(self) -> list[FireRecord]: ...
     def jump_aux(self, input: int, counts: int) -> None: ...
     def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
     def set_analog_input(self, input: int, volts: float) -> None: ...
@@ -689,6 +708,24 @@ class Compare:
         count: int,
         direction: Direction = "positive",
     ) -> None: ...
+    def arm_single_each_turn(
+        self, output: int, pulse_us: int, position: float, direction: Direction = "either"
+    ) -> None: ...
+    def arm_series_each_turn(
+        self,
+        output: int,
+        pulse_us: int,
+        start: float,
+        pitch: float,
+        count: int = 0,
+        direction: Direction = "positive",
+    ) -> None: ...
+    def arm_table(
+        self, output: int, pulse_us: int, *, low_water: int = 0, direction: Direction = "positive"
+    ) -> None: ...
+    def push(self, positions: Sequence[float], direction: Direction = "positive") -> int: ...
+    def room(self) -> int: ...
+    def state(self) -> Literal["idle", "armed", "done"]: ...
     def disarm(self) -> None: ...
     def status(self) -> Tuple[int, int, int, float]: ...
 

@@ -633,6 +633,35 @@ pub struct SafetyStatus {
     session: u32,
 }
 
+/// A compare pulse the emulator recorded (`Sim.record_fires`), in counts.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct FireRecord {
+    /// The compare channel.
+    channel: usize,
+    /// The output pulsed.
+    output: usize,
+    /// The axis watched.
+    axis: usize,
+    /// The position programmed, counts (a place on the turn on a rotary axis).
+    position: f64,
+    /// The pulse's instant, emulated seconds since boot.
+    time: f64,
+    /// Where the shaft was at that instant, counts (unquantised, unwrapped).
+    shaft: f64,
+    /// The shaft's velocity then, counts/s.
+    velocity: f64,
+}
+
+#[pymethods]
+impl FireRecord {
+    fn __repr__(&self) -> String {
+        format!(
+            "FireRecord(channel={}, output={}, position={}, time={}, shaft={})",
+            self.channel, self.output, self.position, self.time, self.shaft
+        )
+    }
+}
+
 /// Stepping control of a stepped emulated card: time advances only when asked.
 #[pyclass(module = "motioncard", frozen)]
 pub struct Sim {
@@ -689,6 +718,29 @@ impl Sim {
     /// `Card.reset_faults()`.
     fn set_estop(&self, pressed: bool) {
         self.sim.with_emulator(|e| e.faults().set_estop(pressed));
+    }
+
+    /// Record the compare pulses from now on (`False`: stop), with where the shaft was at
+    /// each one; `take_fires()` takes them.
+    fn record_fires(&self, on: bool) {
+        self.sim.record_fires(on);
+    }
+
+    /// The compare pulses recorded since the last call.
+    fn take_fires(&self) -> Vec<FireRecord> {
+        self.sim
+            .take_fires()
+            .into_iter()
+            .map(|f| FireRecord {
+                channel: f.channel,
+                output: f.output,
+                axis: f.axis,
+                position: f.position,
+                time: f.time,
+                shaft: f.shaft,
+                velocity: f.velocity,
+            })
+            .collect()
     }
 
     /// Drive digital input `input`'s pin high or low.

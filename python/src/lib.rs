@@ -55,10 +55,15 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
     m.add("ANALOG_INPUTS", sdk::ANALOG_INPUTS)?;
     m.add("ADC_LSB", sdk::ADC_LSB)?;
+    m.add("COMPARE_FIRED", sdk::COMPARE_FIRED)?;
+    m.add("COMPARE_MISSED", sdk::COMPARE_MISSED)?;
+    m.add("COMPARE_LOW_WATER", sdk::COMPARE_LOW_WATER)?;
+    m.add("COMPARE_TABLE_LEN", sdk::COMPARE_TABLE_LEN)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
     m.add_class::<card::CardListing>()?;
     m.add_class::<card::Sim>()?;
+    m.add_class::<card::FireRecord>()?;
     m.add_class::<card::Event>()?;
     m.add_class::<card::Events>()?;
     m.add_class::<card::SafetyStatus>()?;
