@@ -460,6 +460,31 @@ impl Axis {
         )
     }
 
+    /// MC_CamTableSelect + MC_CamIn at the end of the cycle: on an axis that cams, table
+    /// `table` takes over when the current cycle ends, its offsets continuing the slave's
+    /// position from there (`Motion.wait_cam_switch` waits for it). `InvalidStateError` if
+    /// the axis does not cam, `CamTableError` for a table not loaded.
+    #[pyo3(signature = (master, table, velocity, acceleration, jerk, *, source = "commanded"))]
+    #[allow(clippy::too_many_arguments)]
+    fn cam_switch(
+        &self,
+        p: Python<'_>,
+        master: usize,
+        table: usize,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        source: &str,
+    ) -> PyResult<Motion> {
+        let m = master_of(source, master)?;
+        let l = sdk::SyncLimits::new(velocity, acceleration, jerk);
+        let cam = sdk::CamSettings::new(table);
+        started(
+            p.allow_threads(|| self.axis.cam_switch(m, &cam, &l)),
+            self.axis.index(),
+        )
+    }
+
     /// MC_CamOut.
     fn cam_out(&self, p: Python<'_>) -> PyResult<Motion> {
         started(p.allow_threads(|| self.axis.cam_out()), self.axis.index())
@@ -715,6 +740,13 @@ impl Motion {
     #[pyo3(signature = (timeout = None))]
     fn wait_in_sync(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
         wait_sliced(p, timeout, |s| self.motion.wait_in_sync(s))
+    }
+
+    /// Wait until the table switch of `Axis.cam_switch` took place; the slave's commanded
+    /// position then.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_cam_switch(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait_cam_switch(s))
     }
 
     /// Wait until a velocity move runs at its velocity; returns it.
