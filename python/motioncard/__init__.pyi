@@ -67,6 +67,10 @@ BufferMode = Literal[
 #: How a blend is sized (PLCopen TransitionMode).
 TransitionKind = Literal["none", "max_deviation", "corner_distance", "time_shift"]
 PauseState = Literal["none", "pausing", "paused"]
+#: An axis's post-interpolation acc/dec filter (`Axis.set_filters`).
+FilterKind = Literal["none", "linear", "exponential", "bell"]
+#: A group move's feed type: which of each axis's filters shapes it.
+FeedType = Literal["rapid", "cutting", "jog"]
 
 class Error(Exception):
     """An error of the card or the SDK; each ErrorKind has its own subclass."""
@@ -493,6 +497,14 @@ class Axis:
         source: MasterSource = "commanded",
         relative: bool = False,
     ) -> Motion: ...
+    def set_filters(
+        self,
+        *,
+        rapid: Optional[Tuple[FilterKind, float]] = None,
+        cutting: Optional[Tuple[FilterKind, float]] = None,
+        jog: Optional[Tuple[FilterKind, float]] = None,
+    ) -> None: ...
+    def filter_settings(self) -> dict[str, Tuple[FilterKind, float]]: ...
     def cam_switch(
         self,
         master: int,
@@ -933,7 +945,13 @@ class GroupStatus:
 class Group:
     @property
     def index(self) -> int: ...
-    def configure(self, axes: Sequence[int], *, tolerance: Optional[float] = None) -> None: ...
+    def configure(
+        self,
+        axes: Sequence[int],
+        *,
+        tolerance: Optional[float] = None,
+        accdec: Literal["pre", "post", "both"] = "pre",
+    ) -> None: ...
     def configure_path(self, velocity: float, acceleration: float, jerk: float) -> None: ...
     def axes(self) -> list[int]: ...
     def enable(self) -> None: ...
@@ -945,6 +963,7 @@ class Group:
         *,
         relative: bool = False,
         buffered: bool = False,
+        feed_type: FeedType = "cutting",
     ) -> GroupMotion: ...
     def move_ptp(
         self,

@@ -469,14 +469,32 @@ impl Group {
         self.group.index()
     }
 
-    /// Make the group of these card axes (its X, Y, Z, ...; 1 to 8), S-curve feed, exact
-    /// arcs; `tolerance`: the geometry tolerance in the first axis's units.
-    #[pyo3(signature = (axes, *, tolerance = None))]
-    fn configure(&self, p: Python<'_>, axes: Vec<usize>, tolerance: Option<f64>) -> PyResult<()> {
+    /// Make the group of these card axes (its X, Y, Z, ...; 1 to 8), exact arcs;
+    /// `tolerance`: the geometry tolerance in the first axis's units. `accdec`: "pre" (an
+    /// S-curve of the feed along the path, the default), "post" (constant feed along the
+    /// path, each axis's acc/dec filter after interpolation: `Axis.set_filters`) or "both".
+    #[pyo3(signature = (axes, *, tolerance = None, accdec = "pre"))]
+    fn configure(
+        &self,
+        p: Python<'_>,
+        axes: Vec<usize>,
+        tolerance: Option<f64>,
+        accdec: &str,
+    ) -> PyResult<()> {
         let mut s = sdk::GroupSettings::new(&axes);
         if let Some(t) = tolerance {
             s.tolerance = t;
         }
+        s.accdec = match accdec {
+            "pre" => sdk::AccDec::Pre,
+            "post" => sdk::AccDec::Post,
+            "both" => sdk::AccDec::Both,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "accdec {other:?}: \"pre\", \"post\" or \"both\""
+                )))
+            }
+        };
         py(p.allow_threads(|| self.group.configure(&s)))
     }
 
@@ -512,8 +530,10 @@ impl Group {
     }
 
     /// A straight line to `target` (one value per group axis) within `limits`; `relative`:
-    /// from where the previous move ends; `buffered`: behind the moves queued.
-    #[pyo3(signature = (target, limits, *, relative = false, buffered = false))]
+    /// from where the previous move ends; `buffered`: behind the moves queued. `feed_type`
+    /// ("rapid", "cutting" or "jog") picks each axis's acc/dec filter (`Axis.set_filters`)
+    /// in a group configured with `accdec="post"` or "both".
+    #[pyo3(signature = (target, limits, *, relative = false, buffered = false, feed_type = "cutting"))]
     fn move_linear(
         &self,
         p: Python<'_>,
@@ -521,8 +541,19 @@ impl Group {
         limits: PathLimits,
         relative: bool,
         buffered: bool,
+        feed_type: &str,
     ) -> PyResult<GroupMotion> {
-        let o = options(relative, buffered);
+        let mut o = options(relative, buffered);
+        o.feed_type = match feed_type {
+            "rapid" => sdk::FeedType::Rapid,
+            "cutting" => sdk::FeedType::Cutting,
+            "jog" => sdk::FeedType::Jog,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "feed_type {other:?}: \"rapid\", \"cutting\" or \"jog\""
+                )))
+            }
+        };
         motion(p.allow_threads(|| self.group.move_linear(&target, &limits.limits, o)))
     }
 

@@ -485,6 +485,45 @@ impl Axis {
         )
     }
 
+    /// Set the axis's post-interpolation acc/dec filters, one per feed type (those not
+    /// given keep the card's): each `(kind, time_constant_s)`, kind "none", "linear"
+    /// (moving average), "exponential" (first order) or "bell" (linear then exponential).
+    /// They act in groups configured with `accdec="post"` or "both", and are applied when the
+    /// axis holds no distance. Refused: `NotFiniteError`, and the card's refusal of a time
+    /// constant out of its range (nothing changes).
+    #[pyo3(signature = (*, rapid = None, cutting = None, jog = None))]
+    fn set_filters(
+        &self,
+        p: Python<'_>,
+        rapid: Option<(String, f64)>,
+        cutting: Option<(String, f64)>,
+        jog: Option<(String, f64)>,
+    ) -> PyResult<()> {
+        let mut f = py(self.axis.filter_settings())?;
+        for (slot, arg) in [
+            (&mut f.rapid, rapid),
+            (&mut f.cutting, cutting),
+            (&mut f.jog, jog),
+        ] {
+            if let Some((kind, tau)) = arg {
+                *slot = (filter_kind(&kind)?, tau);
+            }
+        }
+        py(p.allow_threads(|| self.axis.set_filters(&f)))
+    }
+
+    /// The axis's acc/dec filters as the card holds them: `{"rapid": (kind, time_constant_s),
+    /// "cutting": ..., "jog": ...}`.
+    fn filter_settings(
+        &self,
+    ) -> PyResult<std::collections::BTreeMap<&'static str, (&'static str, f64)>> {
+        let f = py(self.axis.filter_settings())?;
+        Ok([("rapid", f.rapid), ("cutting", f.cutting), ("jog", f.jog)]
+            .into_iter()
+            .map(|(k, (kind, tau))| (k, (filter_name(kind), tau)))
+            .collect())
+    }
+
     /// MC_CamOut.
     fn cam_out(&self, p: Python<'_>) -> PyResult<Motion> {
         started(p.allow_threads(|| self.axis.cam_out()), self.axis.index())
@@ -910,6 +949,32 @@ impl Status {
 }
 
 /// The master of a gear or cam.
+const FILTER_KINDS: [(&str, sdk::FilterKind); 4] = [
+    ("none", sdk::FilterKind::None),
+    ("linear", sdk::FilterKind::Linear),
+    ("exponential", sdk::FilterKind::Exponential),
+    ("bell", sdk::FilterKind::Bell),
+];
+
+fn filter_kind(name: &str) -> PyResult<sdk::FilterKind> {
+    FILTER_KINDS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, k)| *k)
+        .ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "filter {name:?}: \"none\", \"linear\", \"exponential\" or \"bell\""
+            ))
+        })
+}
+
+fn filter_name(kind: sdk::FilterKind) -> &'static str {
+    FILTER_KINDS
+        .iter()
+        .find(|(_, k)| *k == kind)
+        .map_or("?", |(n, _)| *n)
+}
+
 fn master_of(source: &str, index: usize) -> PyResult<sdk::Master> {
     Ok(match source {
         "commanded" => sdk::Master::Commanded(index),
