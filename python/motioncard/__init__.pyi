@@ -28,6 +28,7 @@ GROUP_STATES: list[tuple[str, int]]
 EVENT_KINDS: list[tuple[str, int]]
 SIGNALS: list[tuple[str, int]]
 STOP_CATEGORIES: list[tuple[str, int]]
+STOP_REASONS: list[tuple[str, int]]
 #: (kind, class name, C code, description) of every ErrorKind.
 ERROR_KINDS: list[tuple[str, str, int, str]]
 ERROR_CLASSES: dict[str, type[Error]]
@@ -40,6 +41,12 @@ TRACE_ENV: str
 ANALOG_INPUTS: int
 #: The ADC's step, V (20 V / 65536).
 ADC_LSB: float
+#: `EventKind.COMPARE` codes: a position fired, a position missed, a table's low water.
+COMPARE_FIRED: int
+COMPARE_MISSED: int
+COMPARE_LOW_WATER: int
+#: The positions a compare channel's table holds.
+COMPARE_TABLE_LEN: int
 #: The most control points the card takes in one curve (`Nurbs.split` cuts longer ones).
 NURBS_MAX_CTRL: int
 
@@ -53,6 +60,17 @@ Plane = Union[str, Tuple[int, int]]
 MasterSource = Literal["commanded", "actual", "actual_lead", "aux"]
 ServoLaw = Literal["ffpiv", "pdplus", "pidff"]
 MoveDirection = Literal["shortest", "positive", "negative", "current"]
+#: How a path segment joins the one before it (PLCopen BufferMode).
+BufferMode = Literal[
+    "aborting", "buffered", "blending_low", "blending_previous", "blending_next", "blending_high"
+]
+#: How a blend is sized (PLCopen TransitionMode).
+TransitionKind = Literal["none", "max_deviation", "corner_distance", "time_shift"]
+PauseState = Literal["none", "pausing", "paused"]
+#: An axis's post-interpolation acc/dec filter (`Axis.set_filters`).
+FilterKind = Literal["none", "linear", "exponential", "bell"]
+#: A group move's feed type: which of each axis's filters shapes it.
+FeedType = Literal["rapid", "cutting", "jog"]
 
 class Error(Exception):
     """An error of the card or the SDK; each ErrorKind has its own subclass."""
@@ -96,6 +114,82 @@ class SafetyStatus:
     protocol_errors: int
     session: int
 
+class SafetySettings:
+    """An axis's safety configuration, in user units; keywords not given: the card's
+    defaults."""
+
+    def __init__(
+        self,
+        *,
+        soft_limits: Optional[Tuple[float, float]] = ...,
+        hard_limits: bool = ...,
+        amp_alarm: bool = ...,
+        encoder_checks: bool = ...,
+        limit_stop: int = ...,
+        ferror: float = ...,
+        min_ferror: float = ...,
+        max_velocity: float = ...,
+        stop_deceleration: float = ...,
+        stop_jerk: float = ...,
+        encoder_max_velocity: float = ...,
+    ) -> None: ...
+    def replace(
+        self,
+        *,
+        soft_limits: Optional[Tuple[float, float]] = ...,
+        hard_limits: bool = ...,
+        amp_alarm: bool = ...,
+        encoder_checks: bool = ...,
+        limit_stop: int = ...,
+        ferror: float = ...,
+        min_ferror: float = ...,
+        max_velocity: float = ...,
+        stop_deceleration: float = ...,
+        stop_jerk: float = ...,
+        encoder_max_velocity: float = ...,
+    ) -> SafetySettings: ...
+    @property
+    def soft_limits(self) -> Optional[Tuple[float, float]]: ...
+    @property
+    def hard_limits(self) -> bool: ...
+    @property
+    def amp_alarm(self) -> bool: ...
+    @property
+    def encoder_checks(self) -> bool: ...
+    @property
+    def limit_stop(self) -> StopCategory: ...
+    @property
+    def ferror(self) -> float: ...
+    @property
+    def min_ferror(self) -> float: ...
+    @property
+    def max_velocity(self) -> float: ...
+    @property
+    def stop_deceleration(self) -> float: ...
+    @property
+    def stop_jerk(self) -> float: ...
+    @property
+    def encoder_max_velocity(self) -> float: ...
+
+class CardSafetySettings:
+    """The card-wide safety settings as the card holds them."""
+
+    @property
+    def watchdog_timeout(self) -> float: ...
+    @property
+    def estop_input_category(self) -> StopCategory: ...
+    @property
+    def max_stop_time(self) -> float: ...
+
+class StopInfo:
+    """How an axis's last safety stop went, measured by the card."""
+
+    @property
+    def reason(self) -> StopReason: ...
+    stop_tick: int
+    rest_tick: Optional[int]
+    ramp_time: float
+
 class AnalogInput:
     """An analog input as the card sampled it at its last tick."""
 
@@ -108,6 +202,17 @@ class AnalogInput:
     rise_event: bool
     fall_event: bool
 
+class FireRecord:
+    """A compare pulse the emulator recorded (``Sim.record_fires``), in counts."""
+
+    channel: int
+    output: int
+    axis: int
+    position: float
+    time: float
+    shaft: float
+    velocity: float
+
 class Sim:
     """Stepping control of a stepped emulated card."""
 
@@ -115,6 +220,9 @@ class Sim:
     @property
     def time(self) -> float: ...
     def set_input(self, input: int, high: bool) -> None: ...
+    def set_estop(self, pressed: bool) -> None: ...
+    def record_fires(self, on: bool) -> None: ...
+    def take_fires(self) -> list[FireRecord]: ...
     def jump_aux(self, input: int, counts: int) -> None: ...
     def set_aux_velocity(self, input: int, counts_per_s: float) -> None: ...
     def set_analog_input(self, input: int, volts: float) -> None: ...
@@ -158,6 +266,9 @@ class Card:
     @property
     def info(self) -> CardInfo: ...
     def tick(self) -> int: ...
+    def timed(self, tick: int, *, key: int = 0) -> TimedScope: ...
+    def sync_commit(self, key: int, tick: int) -> None: ...
+    def cancel_timed(self, key: int = 0) -> int: ...
     def axis(self, index: int) -> Axis: ...
     def axes(self) -> builtins.list[Axis]: ...
     def group(self, index: int) -> Group: ...
@@ -222,6 +333,9 @@ class Card:
     def reset_faults(self) -> None: ...
     def safety_status(self) -> SafetyStatus: ...
     def set_watchdog_timeout(self, timeout: float) -> None: ...
+    def set_estop_input_category(self, category: int) -> None: ...
+    def set_max_stop_time(self, seconds: float) -> None: ...
+    def safety_settings(self) -> CardSafetySettings: ...
     def load_cam_table(
         self,
         table: int,
@@ -282,6 +396,8 @@ class Status:
     encoder: int
     homed: bool
     in_sync: bool
+    @property
+    def stop_reason(self) -> StopReason: ...
 
 class Motion:
     @property
@@ -291,6 +407,7 @@ class Motion:
     def wait(self, timeout: Optional[float] = None) -> float: ...
     def wait_in_velocity(self, timeout: Optional[float] = None) -> float: ...
     def wait_in_sync(self, timeout: Optional[float] = None) -> float: ...
+    def wait_cam_switch(self, timeout: Optional[float] = None) -> float: ...
     def wait_active(self, timeout: Optional[float] = None) -> float: ...
     def __await__(self) -> Generator[Any, None, float]: ...
 
@@ -334,6 +451,10 @@ class Axis:
     def halt(self, deceleration: float, jerk: float) -> Motion: ...
     def stop(self, deceleration: float, jerk: float) -> Motion: ...
     def release_stop(self) -> None: ...
+    def safety_settings(self) -> SafetySettings: ...
+    def configure_safety(self, settings: SafetySettings) -> None: ...
+    def stop_reason(self) -> StopReason: ...
+    def stop_info(self) -> StopInfo: ...
     def reset(self) -> None: ...
     def set_override(self, factor: float) -> None: ...
     def wait_done(self, timeout: Optional[float] = None) -> float: ...
@@ -375,6 +496,24 @@ class Axis:
         *,
         source: MasterSource = "commanded",
         relative: bool = False,
+    ) -> Motion: ...
+    def set_filters(
+        self,
+        *,
+        rapid: Optional[Tuple[FilterKind, float]] = None,
+        cutting: Optional[Tuple[FilterKind, float]] = None,
+        jog: Optional[Tuple[FilterKind, float]] = None,
+    ) -> None: ...
+    def filter_settings(self) -> dict[str, Tuple[FilterKind, float]]: ...
+    def cam_switch(
+        self,
+        master: int,
+        table: int,
+        velocity: float,
+        acceleration: float,
+        jerk: float,
+        *,
+        source: MasterSource = "commanded",
     ) -> Motion: ...
     def cam_out(self) -> Motion: ...
     def pvt(
@@ -592,6 +731,24 @@ class Compare:
         count: int,
         direction: Direction = "positive",
     ) -> None: ...
+    def arm_single_each_turn(
+        self, output: int, pulse_us: int, position: float, direction: Direction = "either"
+    ) -> None: ...
+    def arm_series_each_turn(
+        self,
+        output: int,
+        pulse_us: int,
+        start: float,
+        pitch: float,
+        count: int = 0,
+        direction: Direction = "positive",
+    ) -> None: ...
+    def arm_table(
+        self, output: int, pulse_us: int, *, low_water: int = 0, direction: Direction = "positive"
+    ) -> None: ...
+    def push(self, positions: Sequence[float], direction: Direction = "positive") -> int: ...
+    def room(self) -> int: ...
+    def state(self) -> Literal["idle", "armed", "done"]: ...
     def disarm(self) -> None: ...
     def status(self) -> Tuple[int, int, int, float]: ...
 
@@ -716,6 +873,28 @@ class Segment:
     def dwell(id: int, seconds: float, *, last: bool = False) -> Segment: ...
     @property
     def id(self) -> int: ...
+    def with_buffer(self, mode: BufferMode) -> Segment: ...
+    def with_transition(self, kind: TransitionKind, distance: float = 0.0) -> Segment: ...
+    def fit_within(self, tolerance: float) -> Segment: ...
+    @property
+    def buffer(self) -> BufferMode: ...
+    @property
+    def transition(self) -> Tuple[TransitionKind, float]: ...
+    @property
+    def fit_tolerance(self) -> Optional[float]: ...
+
+class PathOutput:
+    """Set or clear a digital output at a point of the next motion segment of a path."""
+
+    def __init__(
+        self, output: int, on: bool, at: Union[Literal["start", "end"], float] = "start"
+    ) -> None: ...
+    @property
+    def output(self) -> int: ...
+    @property
+    def on(self) -> bool: ...
+    @property
+    def at(self) -> Union[Literal["start", "end"], float]: ...
 
 class Nurbs:
     """A NURBS curve, checked when made."""
@@ -766,7 +945,13 @@ class GroupStatus:
 class Group:
     @property
     def index(self) -> int: ...
-    def configure(self, axes: Sequence[int], *, tolerance: Optional[float] = None) -> None: ...
+    def configure(
+        self,
+        axes: Sequence[int],
+        *,
+        tolerance: Optional[float] = None,
+        accdec: Literal["pre", "post", "both"] = "pre",
+    ) -> None: ...
     def configure_path(self, velocity: float, acceleration: float, jerk: float) -> None: ...
     def axes(self) -> list[int]: ...
     def enable(self) -> None: ...
@@ -778,6 +963,7 @@ class Group:
         *,
         relative: bool = False,
         buffered: bool = False,
+        feed_type: FeedType = "cutting",
     ) -> GroupMotion: ...
     def move_ptp(
         self,
@@ -883,7 +1069,17 @@ class Group:
         pwm_hz: Optional[float] = None,
         filter_hz: float = 0.0,
     ) -> None: ...
-    def stream_path(self, segments: Sequence[Segment]) -> Optional[GroupMotion]: ...
+    def stream_path(
+        self, segments: Sequence[Union[Segment, PathOutput]]
+    ) -> Optional[GroupMotion]: ...
+    @overload
+    def path_push(self, item: Segment) -> GroupMotion: ...
+    @overload
+    def path_push(self, item: PathOutput) -> None: ...
+    def path_pause(self) -> None: ...
+    def path_resume(self) -> None: ...
+    def path_pause_state(self) -> Tuple[PauseState, Optional[int]]: ...
+    def path_free(self) -> int: ...
     def run_gcode(
         self,
         text: str,
@@ -940,6 +1136,27 @@ class SetPath:
     def hold(self) -> int: ...
     def set_override(self, factor: float) -> int: ...
     def pause(self, on: bool = True) -> int: ...
+
+class TimedScope:
+    """Commands timed to one tick (``with card.timed(tick, key=...) as t``)."""
+
+    @property
+    def tick(self) -> int: ...
+    @property
+    def key(self) -> int: ...
+    @property
+    def held(self) -> int: ...
+    @property
+    def ended(self) -> bool: ...
+    def end(self) -> int: ...
+    def wait(self, timeout: float = 5.0) -> None: ...
+    def __enter__(self) -> TimedScope: ...
+    def __exit__(
+        self,
+        exc_type: Optional[type[BaseException]],
+        exc: Optional[BaseException] = None,
+        tb: Optional[TracebackType] = None,
+    ) -> bool: ...
 
 class SyncScope:
     """Commands timed to one tick on the cards of a set (``with cards.sync() as s``)."""
@@ -1136,6 +1353,40 @@ class StopCategory(enum.IntEnum):
     CAT0 = 0
     CAT1 = 1
     CAT2 = 2
+
+class StopReason(enum.IntEnum):
+    """Why an axis's last motion ended."""
+
+    NONE = 0
+    DONE = 1
+    HALT = 2
+    STOP = 3
+    POWER_OFF = 4
+    HOST_DETACH = 5
+    HOMING_FAILED = 6
+    PROBE = 7
+    GROUP_HOMING = 8
+    SYNC_LOST = 9
+    WATCHDOG = 16
+    E_STOP_COMMAND = 17
+    E_STOP_INPUT = 18
+    HARD_LIMIT_POS = 19
+    HARD_LIMIT_NEG = 20
+    SOFT_LIMIT_POS = 21
+    SOFT_LIMIT_NEG = 22
+    FOLLOWING_ERROR = 23
+    AMP_ALARM = 24
+    ENCODER_LOSS = 25
+    ENCODER_JUMP = 26
+    STARVATION = 27
+    CMD_RING = 28
+    EVT_RING = 29
+    GROUP = 30
+    STOP_TIMEOUT = 31
+    HOST_CHANGED = 32
+    NO_SESSION = 33
+    GANTRY_SKEW = 34
+    GANTRY = 35
 
 class BadUriError(Error):
     """BadUri (-1): bad card URI"""

@@ -17,14 +17,7 @@ pub struct Card {
     pub(crate) uri: String,
 }
 
-fn stop_category(c: u32) -> PyResult<sdk::StopCategory> {
-    sdk::StopCategory::from_raw(c).ok_or_else(|| {
-        crate::errors::of_kind(
-            sdk::ErrorKind::BadCategory,
-            format!("stop category {c}: 0, 1 or 2"),
-        )
-    })
-}
+use crate::safety::{seconds, stop_category};
 
 /// The options of an emulated card (or set of them) in this process.
 pub(crate) fn sim_options(
@@ -121,6 +114,30 @@ impl Card {
     /// The servo tick counter.
     fn tick(&self) -> PyResult<u64> {
         py(self.card.tick())
+    }
+
+    /// `with card.timed(tick) as t:` every command this thread sends in the block (to this
+    /// card or another) is timed to `tick`: held by its card and run as the first thing of
+    /// that tick (see `TimedScope`). `key` (1 to 2^32 - 1): they run only once it is
+    /// committed, which leaving the block does (`sync_commit`); 0: each runs on the tick as
+    /// it was held.
+    #[pyo3(signature = (tick, *, key = 0))]
+    fn timed(&self, tick: u64, key: u32) -> crate::timed::TimedScope {
+        crate::timed::TimedScope::begin(&self.card, tick, key)
+    }
+
+    /// Commit `key` for `tick`: its timed commands run on that tick, on this card and on
+    /// every follower of its bus. Only on a master or a card alone (`NotMasterError`), and
+    /// before the tick (`CommitLateError`: then none of them runs, anywhere).
+    fn sync_commit(&self, p: Python<'_>, key: u32, tick: u64) -> PyResult<()> {
+        py(p.allow_threads(|| self.card.sync_commit(key, tick)))
+    }
+
+    /// Drop the held timed commands of `key` (0: all): how many there were. Each is refused
+    /// with `TimedCancelledError`.
+    #[pyo3(signature = (key = 0))]
+    fn cancel_timed(&self, p: Python<'_>, key: u32) -> PyResult<u32> {
+        py(p.allow_threads(|| self.card.cancel_timed(key)))
     }
 
     /// Axis `index` (`BadAxisError` beyond the card's axes).
@@ -422,9 +439,31 @@ impl Card {
 
     /// Arm the host watchdog with `timeout` seconds.
     fn set_watchdog_timeout(&self, p: Python<'_>, timeout: f64) -> PyResult<()> {
-        let t = Duration::try_from_secs_f64(timeout)
-            .map_err(|e| PyValueError::new_err(format!("timeout {timeout}: {e}")))?;
+        let t = seconds("timeout", timeout)?;
         py(p.allow_threads(|| self.card.set_watchdog_timeout(t)))
+    }
+
+    /// The stop the card's e-stop input makes: `category` 0, 1 or 2 (default 1);
+    /// `BadCategoryError` otherwise.
+    fn set_estop_input_category(&self, p: Python<'_>, category: u32) -> PyResult<()> {
+        let c = stop_category(category)?;
+        py(p.allow_threads(|| self.card.set_estop_input_category(c)))
+    }
+
+    /// The card's longest stop, `seconds` (default 2 s): every stop (halt, stop, the safety
+    /// stops, starvation) ends within it; a halt whose own ramp would take longer runs on
+    /// the axis's stop ramp, and a stop still running at the bound loses power (reason
+    /// `StopReason.STOP_TIMEOUT`). 10 ms to 600 s, and every axis's stop ramp from its
+    /// `max_velocity` must fit: `StopTooLongError`.
+    fn set_max_stop_time(&self, p: Python<'_>, seconds: f64) -> PyResult<()> {
+        let t = crate::safety::seconds("max stop time", seconds)?;
+        py(p.allow_threads(|| self.card.set_max_stop_time(t)))
+    }
+
+    /// The card-wide safety settings the card holds (watchdog timeout, the e-stop input's
+    /// category, the longest stop time).
+    fn safety_settings(&self, p: Python<'_>) -> PyResult<crate::safety::CardSafetySettings> {
+        Ok(py(p.allow_threads(|| self.card.safety_settings()))?.into())
     }
 
     /// Change the servo rate (all axes disabled).
@@ -594,6 +633,35 @@ pub struct SafetyStatus {
     session: u32,
 }
 
+/// A compare pulse the emulator recorded (`Sim.record_fires`), in counts.
+#[pyclass(module = "motioncard", frozen, get_all)]
+pub struct FireRecord {
+    /// The compare channel.
+    channel: usize,
+    /// The output pulsed.
+    output: usize,
+    /// The axis watched.
+    axis: usize,
+    /// The position programmed, counts (a place on the turn on a rotary axis).
+    position: f64,
+    /// The pulse's instant, emulated seconds since boot.
+    time: f64,
+    /// Where the shaft was at that instant, counts (unquantised, unwrapped).
+    shaft: f64,
+    /// The shaft's velocity then, counts/s.
+    velocity: f64,
+}
+
+#[pymethods]
+impl FireRecord {
+    fn __repr__(&self) -> String {
+        format!(
+            "FireRecord(channel={}, output={}, position={}, time={}, shaft={})",
+            self.channel, self.output, self.position, self.time, self.shaft
+        )
+    }
+}
+
 /// Stepping control of a stepped emulated card: time advances only when asked.
 #[pyclass(module = "motioncard", frozen)]
 pub struct Sim {
@@ -643,6 +711,36 @@ impl Sim {
         self.sim
             .with_emulator(|e| e.analog().set(input, sdk::AnalogSource::Constant(volts)));
         Ok(())
+    }
+
+    /// Press (True) or release the card's e-stop input: it stops every axis with the
+    /// category `Card.set_estop_input_category` set, latched until released and
+    /// `Card.reset_faults()`.
+    fn set_estop(&self, pressed: bool) {
+        self.sim.with_emulator(|e| e.faults().set_estop(pressed));
+    }
+
+    /// Record the compare pulses from now on (`False`: stop), with where the shaft was at
+    /// each one; `take_fires()` takes them.
+    fn record_fires(&self, on: bool) {
+        self.sim.record_fires(on);
+    }
+
+    /// The compare pulses recorded since the last call.
+    fn take_fires(&self) -> Vec<FireRecord> {
+        self.sim
+            .take_fires()
+            .into_iter()
+            .map(|f| FireRecord {
+                channel: f.channel,
+                output: f.output,
+                axis: f.axis,
+                position: f.position,
+                time: f.time,
+                shaft: f.shaft,
+                velocity: f.velocity,
+            })
+            .collect()
     }
 
     /// Drive digital input `input`'s pin high or low.

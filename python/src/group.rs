@@ -176,6 +176,58 @@ impl Segment {
     fn id(&self) -> u32 {
         self.segment.id
     }
+
+    /// This segment joining the one before it by `mode` (PLCopen BufferMode): "aborting"
+    /// (the running path stops along its geometry within its limits, everything queued is
+    /// dropped, and this segment starts from where it came to rest), "buffered" (an exact
+    /// stop at the corner), or a blend whose corner speed is at most the lower of the two
+    /// feeds ("blending_low", the default), the previous segment's ("blending_previous"),
+    /// this one's ("blending_next") or the higher ("blending_high").
+    fn with_buffer(&self, mode: &str) -> PyResult<Segment> {
+        let b = crate::path::buffer(mode)?;
+        Ok(Segment {
+            segment: self.segment.clone().buffer(b),
+        })
+    }
+
+    /// This segment with its blend sized by `kind` (PLCopen TransitionMode; in the first
+    /// group axis's units): "none" (an exact stop), "max_deviation" (within `distance` of
+    /// the corner: what `tolerance` sets), "corner_distance" (the blend begins `distance`
+    /// before the corner) or "time_shift" (between two lines: each its own S-curve, this one
+    /// starting while the one before decelerates, the path within `distance` of the corner).
+    #[pyo3(signature = (kind, distance = 0.0))]
+    fn with_transition(&self, kind: &str, distance: f64) -> PyResult<Segment> {
+        let t = crate::path::transition(kind, distance)?;
+        Ok(Segment {
+            segment: self.segment.clone().transition(t),
+        })
+    }
+
+    /// This segment fitted by the chord fitter within `tolerance` of its points (G64 Q)
+    /// rather than the transition's tolerance; 0 sends it as it is.
+    fn fit_within(&self, tolerance: f64) -> Segment {
+        Segment {
+            segment: self.segment.clone().fit_within(tolerance),
+        }
+    }
+
+    /// Its buffer mode's name (see `with_buffer`).
+    #[getter]
+    fn buffer(&self) -> &'static str {
+        crate::path::buffer_name(self.segment.buffer)
+    }
+
+    /// Its transition: (kind, distance) (see `with_transition`).
+    #[getter]
+    fn transition(&self) -> (&'static str, f64) {
+        crate::path::transition_pair(self.segment.transition)
+    }
+
+    /// The chord fitter's tolerance for it (None: the transition's; see `fit_within`).
+    #[getter]
+    fn fit_tolerance(&self) -> Option<f64> {
+        self.segment.fit_tolerance
+    }
 }
 
 /// A plane as Python names it: "XY", a pair of group axes.
@@ -417,14 +469,32 @@ impl Group {
         self.group.index()
     }
 
-    /// Make the group of these card axes (its X, Y, Z, ...; 1 to 8), S-curve feed, exact
-    /// arcs; `tolerance`: the geometry tolerance in the first axis's units.
-    #[pyo3(signature = (axes, *, tolerance = None))]
-    fn configure(&self, p: Python<'_>, axes: Vec<usize>, tolerance: Option<f64>) -> PyResult<()> {
+    /// Make the group of these card axes (its X, Y, Z, ...; 1 to 8), exact arcs;
+    /// `tolerance`: the geometry tolerance in the first axis's units. `accdec`: "pre" (an
+    /// S-curve of the feed along the path, the default), "post" (constant feed along the
+    /// path, each axis's acc/dec filter after interpolation: `Axis.set_filters`) or "both".
+    #[pyo3(signature = (axes, *, tolerance = None, accdec = "pre"))]
+    fn configure(
+        &self,
+        p: Python<'_>,
+        axes: Vec<usize>,
+        tolerance: Option<f64>,
+        accdec: &str,
+    ) -> PyResult<()> {
         let mut s = sdk::GroupSettings::new(&axes);
         if let Some(t) = tolerance {
             s.tolerance = t;
         }
+        s.accdec = match accdec {
+            "pre" => sdk::AccDec::Pre,
+            "post" => sdk::AccDec::Post,
+            "both" => sdk::AccDec::Both,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "accdec {other:?}: \"pre\", \"post\" or \"both\""
+                )))
+            }
+        };
         py(p.allow_threads(|| self.group.configure(&s)))
     }
 
@@ -460,8 +530,10 @@ impl Group {
     }
 
     /// A straight line to `target` (one value per group axis) within `limits`; `relative`:
-    /// from where the previous move ends; `buffered`: behind the moves queued.
-    #[pyo3(signature = (target, limits, *, relative = false, buffered = false))]
+    /// from where the previous move ends; `buffered`: behind the moves queued. `feed_type`
+    /// ("rapid", "cutting" or "jog") picks each axis's acc/dec filter (`Axis.set_filters`)
+    /// in a group configured with `accdec="post"` or "both".
+    #[pyo3(signature = (target, limits, *, relative = false, buffered = false, feed_type = "cutting"))]
     fn move_linear(
         &self,
         p: Python<'_>,
@@ -469,8 +541,19 @@ impl Group {
         limits: PathLimits,
         relative: bool,
         buffered: bool,
+        feed_type: &str,
     ) -> PyResult<GroupMotion> {
-        let o = options(relative, buffered);
+        let mut o = options(relative, buffered);
+        o.feed_type = match feed_type {
+            "rapid" => sdk::FeedType::Rapid,
+            "cutting" => sdk::FeedType::Cutting,
+            "jog" => sdk::FeedType::Jog,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "feed_type {other:?}: \"rapid\", \"cutting\" or \"jog\""
+                )))
+            }
+        };
         motion(p.allow_threads(|| self.group.move_linear(&target, &limits.limits, o)))
     }
 
@@ -602,8 +685,12 @@ impl Group {
     /// Returns the last segment's motion (wait on it for the end of the path), None when
     /// nothing was queued. A refusal raises its error with `index` (the segment that failed)
     /// and `accepted` (how many the card took) set on it; Ctrl-C cancels the stream.
-    fn stream_path(&self, p: Python<'_>, segments: Vec<Segment>) -> PyResult<Option<GroupMotion>> {
-        let items: Vec<sdk::Segment> = segments.into_iter().map(|s| s.segment).collect();
+    fn stream_path(
+        &self,
+        p: Python<'_>,
+        segments: Vec<crate::path::ItemArg>,
+    ) -> PyResult<Option<GroupMotion>> {
+        let items: Vec<sdk::PathItem> = segments.into_iter().map(Into::into).collect();
         let streamer = self.group.spawn_path_stream(items);
         while !streamer.is_finished() {
             if let Err(e) = p.check_signals() {
@@ -623,6 +710,51 @@ impl Group {
                 Err(err)
             }
         }
+    }
+
+    /// Queue one item (a `Segment` or a `PathOutput`) on the group's path and wait for the
+    /// card's answer: a segment's motion (its `wait` is the path's end when it is the last
+    /// one queued), None for an output action. A segment `with_buffer("aborting")` replaces
+    /// what is queued. Refused with the segment's own error, nothing queued changing.
+    fn path_push(
+        &self,
+        p: Python<'_>,
+        item: crate::path::ItemArg,
+    ) -> PyResult<Option<GroupMotion>> {
+        let output = matches!(item, crate::path::ItemArg::Output(_));
+        let item: sdk::PathItem = item.into();
+        let m = py(p.allow_threads(|| self.group.path_push(&item)))?;
+        Ok((!output).then_some(GroupMotion { motion: m }))
+    }
+
+    /// Pause the path at the end of a segment: it comes to rest at the end of the first
+    /// segment it can stop at within its limits (an exact stop or a dwell's end ahead, or the
+    /// first segment end beyond its braking distance), holds there with the rest queued
+    /// (more may be queued meanwhile), and goes on along the same path at `path_resume()`.
+    /// `path_pause_state()` says when it is there; the card posts `EventKind.PATH_PAUSED`.
+    fn path_pause(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.path_pause()))
+    }
+
+    /// End a pause: the path goes on from the pause point (asked before it got there, it
+    /// does not stop).
+    fn path_resume(&self, p: Python<'_>) -> PyResult<()> {
+        py(p.allow_threads(|| self.group.path_resume()))
+    }
+
+    /// Where a pause is: ("none", None), ("pausing", None) while braking for the pause
+    /// point, or ("paused", id) at rest on the end of segment `id` (0: none ran).
+    fn path_pause_state(&self) -> PyResult<(&'static str, Option<u32>)> {
+        Ok(match py(self.group.path_pause_state())? {
+            sdk::PauseState::None => ("none", None),
+            sdk::PauseState::Pausing => ("pausing", None),
+            sdk::PauseState::Paused { id } => ("paused", Some(id)),
+        })
+    }
+
+    /// Free entries in the card's path buffer.
+    fn path_free(&self) -> PyResult<usize> {
+        py(self.group.path_free())
     }
 
     /// Run the card's path-speed output (PSO) on this group (configured): the output is

@@ -65,6 +65,89 @@ impl Compare {
         }))
     }
 
+    /// A rotary axis: pulse at every crossing of `position` (a place on the turn, in
+    /// `[0, modulo)`) going `direction` ("either": both ways), on every turn, until
+    /// `disarm()`. A linear axis, or a place off the turn: `CompareTurnError`.
+    #[pyo3(signature = (output, pulse_us, position, direction = "either"))]
+    fn arm_single_each_turn(
+        &self,
+        p: Python<'_>,
+        output: u32,
+        pulse_us: u32,
+        position: f64,
+        direction: &str,
+    ) -> PyResult<()> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| {
+            self.compare
+                .arm_single_each_turn(output, pulse_us, position, d)
+        }))
+    }
+
+    /// A rotary axis: the series of `arm_series` on every turn, endless until `disarm()`:
+    /// `count` places from `start` (in `[0, modulo)`), `pitch` apart going `direction`,
+    /// wrapped into the turn, with `count * pitch <= modulo`; `count` 0 is a whole turn of
+    /// pitches. Each place fires at every crossing going `direction`. A linear axis, or a
+    /// series that does not fit the turn: `CompareTurnError`.
+    #[pyo3(signature = (output, pulse_us, start, pitch, count = 0, direction = "positive"))]
+    #[allow(clippy::too_many_arguments)]
+    fn arm_series_each_turn(
+        &self,
+        p: Python<'_>,
+        output: u32,
+        pulse_us: u32,
+        start: f64,
+        pitch: f64,
+        count: u32,
+        direction: &str,
+    ) -> PyResult<()> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| {
+            self.compare
+                .arm_series_each_turn(output, pulse_us, start, pitch, count, d)
+        }))
+    }
+
+    /// Fire at the positions of the channel's table in order (queued with `push`, before or
+    /// after), the axis moving `direction` ("positive" or "negative"); an
+    /// `EventKind.COMPARE` event (code: low water) when the queue falls to `low_water` (0:
+    /// none). The table stays queued from one arm to the next until `disarm()`.
+    #[pyo3(signature = (output, pulse_us, *, low_water = 0, direction = "positive"))]
+    fn arm_table(
+        &self,
+        p: Python<'_>,
+        output: u32,
+        pulse_us: u32,
+        low_water: u32,
+        direction: &str,
+    ) -> PyResult<()> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| self.compare.arm_table(output, pulse_us, low_water, d)))
+    }
+
+    /// Queue `positions` (strictly monotonic going `direction`) in the channel's table, in
+    /// entries of up to 12, all or nothing per entry (a full table: `CompareFullError`, the
+    /// entries before it staying queued). The room left.
+    #[pyo3(signature = (positions, direction = "positive"))]
+    fn push(&self, p: Python<'_>, positions: Vec<f64>, direction: &str) -> PyResult<usize> {
+        let d = self::direction(direction)?;
+        py(p.allow_threads(|| self.compare.push(d, &positions)))
+    }
+
+    /// Free room in the channel's table.
+    fn room(&self) -> PyResult<usize> {
+        py(self.compare.room())
+    }
+
+    /// The channel's state: "idle", "armed" or "done".
+    fn state(&self) -> PyResult<&'static str> {
+        Ok(match py(self.compare.status())?.state {
+            sdk::IoState::Idle => "idle",
+            sdk::IoState::Armed => "armed",
+            sdk::IoState::Done => "done",
+        })
+    }
+
     /// Disarm the channel.
     fn disarm(&self, p: Python<'_>) -> PyResult<()> {
         py(p.allow_threads(|| self.compare.disarm()))

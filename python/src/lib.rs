@@ -14,8 +14,11 @@ mod io;
 mod machine;
 mod motion;
 mod names;
+mod path;
+mod safety;
 mod scope;
 mod servo;
+mod timed;
 mod trace;
 mod wait;
 
@@ -43,18 +46,30 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "STOP_CATEGORIES",
         members(sdk::StopCategory::ALL, |e| e as u32 as i64),
     )?;
+    m.add(
+        "STOP_REASONS",
+        members(sdk::StopReason::ALL, |e| e as u32 as i64),
+    )?;
     m.add("SCOPE_CHANNELS", sdk::SCOPE_CHANNELS)?;
     m.add("INPUTS", sdk::INPUTS)?;
     m.add("NURBS_MAX_CTRL", sdk::NURBS_MAX_CTRL)?;
     m.add("ANALOG_INPUTS", sdk::ANALOG_INPUTS)?;
     m.add("ADC_LSB", sdk::ADC_LSB)?;
+    m.add("COMPARE_FIRED", sdk::COMPARE_FIRED)?;
+    m.add("COMPARE_MISSED", sdk::COMPARE_MISSED)?;
+    m.add("COMPARE_LOW_WATER", sdk::COMPARE_LOW_WATER)?;
+    m.add("COMPARE_TABLE_LEN", sdk::COMPARE_TABLE_LEN)?;
     m.add_class::<card::Card>()?;
     m.add_class::<card::CardInfo>()?;
     m.add_class::<card::CardListing>()?;
     m.add_class::<card::Sim>()?;
+    m.add_class::<card::FireRecord>()?;
     m.add_class::<card::Event>()?;
     m.add_class::<card::Events>()?;
     m.add_class::<card::SafetyStatus>()?;
+    m.add_class::<safety::SafetySettings>()?;
+    m.add_class::<safety::CardSafetySettings>()?;
+    m.add_class::<safety::StopInfo>()?;
     m.add_class::<motion::Axis>()?;
     m.add_class::<motion::MoveLimits>()?;
     m.add_class::<motion::Motion>()?;
@@ -66,9 +81,11 @@ fn _motioncard(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<group::PathLimits>()?;
     m.add_class::<group::Segment>()?;
     m.add_class::<group::Nurbs>()?;
+    m.add_class::<path::PathOutput>()?;
     m.add_class::<io::Compare>()?;
     m.add_class::<io::Probe>()?;
     m.add_class::<io::AnalogInput>()?;
+    m.add_class::<timed::TimedScope>()?;
     m.add_class::<cardset::CardSet>()?;
     m.add_class::<cardset::SyncScope>()?;
     m.add_class::<cardset::PathSettings>()?;

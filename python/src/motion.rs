@@ -460,6 +460,70 @@ impl Axis {
         )
     }
 
+    /// MC_CamTableSelect + MC_CamIn at the end of the cycle: on an axis that cams, table
+    /// `table` takes over when the current cycle ends, its offsets continuing the slave's
+    /// position from there (`Motion.wait_cam_switch` waits for it). `InvalidStateError` if
+    /// the axis does not cam, `CamTableError` for a table not loaded.
+    #[pyo3(signature = (master, table, velocity, acceleration, jerk, *, source = "commanded"))]
+    #[allow(clippy::too_many_arguments)]
+    fn cam_switch(
+        &self,
+        p: Python<'_>,
+        master: usize,
+        table: usize,
+        velocity: f64,
+        acceleration: f64,
+        jerk: f64,
+        source: &str,
+    ) -> PyResult<Motion> {
+        let m = master_of(source, master)?;
+        let l = sdk::SyncLimits::new(velocity, acceleration, jerk);
+        let cam = sdk::CamSettings::new(table);
+        started(
+            p.allow_threads(|| self.axis.cam_switch(m, &cam, &l)),
+            self.axis.index(),
+        )
+    }
+
+    /// Set the axis's post-interpolation acc/dec filters, one per feed type (those not
+    /// given keep the card's): each `(kind, time_constant_s)`, kind "none", "linear"
+    /// (moving average), "exponential" (first order) or "bell" (linear then exponential).
+    /// They act in groups configured with `accdec="post"` or "both", and are applied when the
+    /// axis holds no distance. Refused: `NotFiniteError`, and the card's refusal of a time
+    /// constant out of its range (nothing changes).
+    #[pyo3(signature = (*, rapid = None, cutting = None, jog = None))]
+    fn set_filters(
+        &self,
+        p: Python<'_>,
+        rapid: Option<(String, f64)>,
+        cutting: Option<(String, f64)>,
+        jog: Option<(String, f64)>,
+    ) -> PyResult<()> {
+        let mut f = py(self.axis.filter_settings())?;
+        for (slot, arg) in [
+            (&mut f.rapid, rapid),
+            (&mut f.cutting, cutting),
+            (&mut f.jog, jog),
+        ] {
+            if let Some((kind, tau)) = arg {
+                *slot = (filter_kind(&kind)?, tau);
+            }
+        }
+        py(p.allow_threads(|| self.axis.set_filters(&f)))
+    }
+
+    /// The axis's acc/dec filters as the card holds them: `{"rapid": (kind, time_constant_s),
+    /// "cutting": ..., "jog": ...}`.
+    fn filter_settings(
+        &self,
+    ) -> PyResult<std::collections::BTreeMap<&'static str, (&'static str, f64)>> {
+        let f = py(self.axis.filter_settings())?;
+        Ok([("rapid", f.rapid), ("cutting", f.cutting), ("jog", f.jog)]
+            .into_iter()
+            .map(|(k, (kind, tau))| (k, (filter_name(kind), tau)))
+            .collect())
+    }
+
     /// MC_CamOut.
     fn cam_out(&self, p: Python<'_>) -> PyResult<Motion> {
         started(p.allow_threads(|| self.axis.cam_out()), self.axis.index())
@@ -641,6 +705,35 @@ impl Axis {
         self.do_handwheel_off(p)
     }
 
+    /// The axis's safety configuration as the card holds it, in user units.
+    fn safety_settings(&self, p: Python<'_>) -> PyResult<crate::safety::SafetySettings> {
+        let s = py(p.allow_threads(|| self.axis.safety_settings()))?;
+        Ok(crate::safety::SafetySettings { s })
+    }
+
+    /// Write the axis's safety configuration (limits, following error, stop ramp; user
+    /// units through the axis's scale) and have the card apply it. Refused:
+    /// `NotFiniteError`, `BadConfigError` (soft limits not in order), and what the card
+    /// refuses (`StopTooLongError`: the stop ramp from `max_velocity` does not fit the
+    /// card's longest stop); nothing changes then.
+    fn configure_safety(
+        &self,
+        p: Python<'_>,
+        settings: crate::safety::SafetySettings,
+    ) -> PyResult<()> {
+        py(p.allow_threads(|| self.axis.configure_safety(&settings.s)))
+    }
+
+    /// Why the axis's last motion ended (`motioncard.StopReason`).
+    fn stop_reason<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::safety::stop_reason(p, &self.axis)
+    }
+
+    /// The stop reason and the card's timing of the axis's last safety stop.
+    fn stop_info(&self) -> PyResult<crate::safety::StopInfo> {
+        Ok(py(self.axis.stop_info())?.into())
+    }
+
     fn __repr__(&self) -> String {
         format!("<motioncard.Axis {}>", self.axis.index())
     }
@@ -686,6 +779,13 @@ impl Motion {
     #[pyo3(signature = (timeout = None))]
     fn wait_in_sync(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
         wait_sliced(p, timeout, |s| self.motion.wait_in_sync(s))
+    }
+
+    /// Wait until the table switch of `Axis.cam_switch` took place; the slave's commanded
+    /// position then.
+    #[pyo3(signature = (timeout = None))]
+    fn wait_cam_switch(&self, p: Python<'_>, timeout: Option<f64>) -> PyResult<f64> {
+        wait_sliced(p, timeout, |s| self.motion.wait_cam_switch(s))
     }
 
     /// Wait until a velocity move runs at its velocity; returns it.
@@ -787,6 +887,7 @@ pub struct Status {
     /// A gear or cam motion is in gear (in sync).
     #[pyo3(get)]
     in_sync: bool,
+    stop_reason_raw: u32,
 }
 
 impl From<sdk::Status> for Status {
@@ -816,6 +917,7 @@ impl From<sdk::Status> for Status {
             encoder: s.raw.encoder,
             homed: s.homed(),
             in_sync: s.in_sync(),
+            stop_reason_raw: s.raw.stop_reason,
         }
     }
 }
@@ -826,6 +928,13 @@ impl Status {
     #[getter]
     fn state<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         py_enum(p, "AxisState", self.state_raw as i64)
+    }
+
+    /// Why the axis's last motion ended (`motioncard.StopReason`; `StopReason.NONE` while
+    /// one runs).
+    #[getter]
+    fn stop_reason<'py>(&self, p: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py_enum(p, "StopReason", self.stop_reason_raw as i64)
     }
 
     fn __repr__(&self, p: Python<'_>) -> PyResult<String> {
@@ -840,6 +949,32 @@ impl Status {
 }
 
 /// The master of a gear or cam.
+const FILTER_KINDS: [(&str, sdk::FilterKind); 4] = [
+    ("none", sdk::FilterKind::None),
+    ("linear", sdk::FilterKind::Linear),
+    ("exponential", sdk::FilterKind::Exponential),
+    ("bell", sdk::FilterKind::Bell),
+];
+
+fn filter_kind(name: &str) -> PyResult<sdk::FilterKind> {
+    FILTER_KINDS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, k)| *k)
+        .ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "filter {name:?}: \"none\", \"linear\", \"exponential\" or \"bell\""
+            ))
+        })
+}
+
+fn filter_name(kind: sdk::FilterKind) -> &'static str {
+    FILTER_KINDS
+        .iter()
+        .find(|(_, k)| *k == kind)
+        .map_or("?", |(n, _)| *n)
+}
+
 fn master_of(source: &str, index: usize) -> PyResult<sdk::Master> {
     Ok(match source {
         "commanded" => sdk::Master::Commanded(index),

@@ -23,6 +23,7 @@ def generated() -> str:
         ("EventKind", "Event kinds."),
         ("Signal", "Scope signals."),
         ("StopCategory", "Stop categories."),
+        ("StopReason", "Why an axis's last motion ended."),
     ]:
         out.append(f"class {name}(enum.IntEnum):\n")
         out.append(f'    """{doc}"""\n\n')
