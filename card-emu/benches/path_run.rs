@@ -24,9 +24,11 @@ use motioncard_sdk::{
 };
 #[path = "common/dense.rs"]
 mod dense;
+#[path = "common/procs.rs"]
+mod procs;
 
 use dense::{A, J, V};
-use std::process::{Command as Process, Stdio};
+use procs::{card_emu, open};
 use std::time::{Duration, Instant};
 
 /// The card's group 0 over axes 0 and 1 with `lim`. Chord fitting is the SDK's, and these
@@ -251,30 +253,11 @@ fn dense(runs: usize) {
     });
 }
 
-fn open(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e)
-                if e.kind() == motioncard_sdk::ErrorKind::NotFound && Instant::now() < deadline =>
-            {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(e) => panic!("{e}"),
-        }
-    }
-}
-
 /// 100,000 chords from a separate process: with `fit` off each chord is a segment of the card's
 /// (its segment rate), with it on the SDK sends the circle as the curve the chords sample.
 fn streaming(fit: bool) {
     let name = format!("bench-path-{}", std::process::id());
-    let mut child = Process::new(env!("CARGO_BIN_EXE_card-emu"))
-        .args(["--name", &name, "--servo-rate", "10000"])
-        .stdout(Stdio::null())
-        .spawn()
-        .expect("card-emu");
+    let _child = card_emu(&name, &["--servo-rate", "10000"]);
     let card = open(&format!("emu:{name}"));
     // the braking distance from 150,000 counts/s (≈ 12,000 counts) is 1,200 segments: the
     // look-ahead must see that far
@@ -327,9 +310,6 @@ fn streaming(fit: bool) {
     );
     println!("| path consumption (the path's own rate)           | {:.0} segments/s ({:.2} s to the end) |", n as f64 / total, total);
     println!("| starvation events                                | {starved} |");
-    drop(card);
-    let _ = child.kill();
-    let _ = child.wait();
 }
 
 /// A 12-axis path over two `card-emu` processes of six axes on one sync bus at 10 kHz,
@@ -338,29 +318,12 @@ fn streaming(fit: bool) {
 /// a scaled copy of it) at 150,000 counts/s: segments per second pushed, the path's own
 /// rate, starvation events on each card.
 fn set_streaming(margin: u64) {
-    /// Killed when dropped (a panic too).
-    struct Proc(std::process::Child);
-    impl Drop for Proc {
-        fn drop(&mut self) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
     let master = format!("bench-setpath-{}", std::process::id());
     let follower = format!("{master}-f");
-    let spawn = |name: &str, extra: &[&str]| {
-        Proc(
-            Process::new(env!("CARGO_BIN_EXE_card-emu"))
-                .args(["--name", name, "--axes", "6", "--servo-rate", "10000"])
-                .args(extra)
-                .stdout(Stdio::null())
-                .spawn()
-                .expect("card-emu"),
-        )
-    };
-    let _m = spawn(&master, &[]);
+    let args = ["--axes", "6", "--servo-rate", "10000"];
+    let _m = card_emu(&master, &args);
     let cards = vec![open(&format!("emu:{master}"))];
-    let _f = spawn(&follower, &["--sync-from", &master]);
+    let _f = card_emu(&follower, &[&args[..], &["--sync-from", &master]].concat());
     let cards = [cards, vec![open(&format!("emu:{follower}"))]].concat();
     let axes: Vec<usize> = (0..6).collect();
     for c in &cards {

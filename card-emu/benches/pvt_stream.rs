@@ -9,11 +9,14 @@
 //!   command ring (`--busy-poll`).
 //!
 //! `cargo bench -p card-emu --bench pvt_stream [-- local|remote]`
+#[path = "common/procs.rs"]
+mod procs;
+
 use motioncard_sdk::{
     Card, EmuOptions, EventKind, PvtEvent, PvtLimits, PvtMode, PvtPoint, SimOptions, PVT_LEN,
 };
+use procs::{card_emu, open};
 use std::f64::consts::PI;
-use std::process::{Command as Process, Stdio};
 use std::time::{Duration, Instant};
 
 const RATE: f64 = 10_000.0;
@@ -60,32 +63,13 @@ fn local() {
     );
 }
 
-fn open(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e)
-                if e.kind() == motioncard_sdk::ErrorKind::NotFound && Instant::now() < deadline =>
-            {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(e) => panic!("{e}"),
-        }
-    }
-}
-
 fn remote(busy_poll: bool) {
     let name = format!("bench-pvt-{}-{busy_poll}", std::process::id());
-    let mut args = vec!["--name", &name, "--servo-rate", "10000"];
+    let mut args = vec!["--servo-rate", "10000"];
     if busy_poll {
         args.push("--busy-poll");
     }
-    let mut child = Process::new(env!("CARGO_BIN_EXE_card-emu"))
-        .args(&args)
-        .stdout(Stdio::null())
-        .spawn()
-        .expect("card-emu");
+    let _child = card_emu(&name, &args);
     let card = open(&format!("emu:{name}"));
     let x = card.axis(0).unwrap();
     x.enable().unwrap();
@@ -130,8 +114,6 @@ fn remote(busy_poll: bool) {
         done.map(|_| "done")
     );
     drop(card);
-    let _ = child.kill();
-    let _ = child.wait();
 }
 
 fn main() {

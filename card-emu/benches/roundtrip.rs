@@ -7,38 +7,20 @@
 //!
 //! `cargo bench -p card-emu --bench roundtrip`
 use motioncard_sdk::proto::{Command, Opcode};
-use motioncard_sdk::{Card, ErrorKind};
-use std::process::{Command as Process, Stdio};
+#[path = "common/procs.rs"]
+mod procs;
+
+use motioncard_sdk::ErrorKind;
+use procs::{card_emu, open};
 use std::time::{Duration, Instant};
 
 fn percentile(sorted: &[Duration], p: f64) -> Duration {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
 
-fn open(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(e) => panic!("{e}"),
-        }
-    }
-}
-
 fn run(busy_poll: bool) {
     let name = format!("bench-rt-{}-{busy_poll}", std::process::id());
-    let mut args = vec!["--name", &name];
-    if busy_poll {
-        args.push("--busy-poll");
-    }
-    let mut child = Process::new(env!("CARGO_BIN_EXE_card-emu"))
-        .args(&args)
-        .stdout(Stdio::null())
-        .spawn()
-        .expect("card-emu");
+    let _child = card_emu(&name, if busy_poll { &["--busy-poll"] } else { &[] });
     let card = open(&format!("emu:{name}"));
     for _ in 0..2000 {
         card.ping().unwrap();
@@ -93,8 +75,6 @@ fn run(busy_poll: bool) {
         ""
     );
     drop(card);
-    let _ = child.kill();
-    let _ = child.wait();
 }
 
 fn main() {

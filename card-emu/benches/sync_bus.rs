@@ -13,44 +13,14 @@
 //! stopped (SIGSTOP) and the followers have caught up.
 //!
 //! `SECONDS=600 cargo bench -p card-emu --bench sync_bus`
-use motioncard_sdk::{Card, ErrorKind};
+#[path = "common/procs.rs"]
+mod procs;
+
+use motioncard_sdk::Card;
 use nix::sys::signal::{kill, Signal};
 use nix::unistd::Pid;
-use std::process::{Child, Command, Stdio};
+use procs::{card_emu, open};
 use std::time::{Duration, Instant};
-
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start(name: &str, extra: &[&str]) -> Proc {
-    Proc(
-        Command::new(env!("CARGO_BIN_EXE_card-emu"))
-            .args(["--name", name, "--axes", "8"])
-            .args(extra)
-            .stdout(Stdio::null())
-            .spawn()
-            .expect("start card-emu"),
-    )
-}
-
-fn open(uri: &str) -> Card {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        match Card::open(uri) {
-            Ok(c) => return c,
-            Err(e) if e.kind() == ErrorKind::NotFound && Instant::now() < deadline => {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(e) => panic!("{uri}: {e}"),
-        }
-    }
-}
 
 fn main() {
     let seconds: u64 = std::env::var("SECONDS")
@@ -58,10 +28,10 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(10);
     let master = format!("bench-bus-{}", std::process::id());
-    let mut procs = vec![start(&master, &[])];
+    let mut procs = vec![card_emu(&master, &["--axes", "8"])];
     let names: Vec<String> = (0..3).map(|k| format!("{master}-f{k}")).collect();
     for n in &names {
-        procs.push(start(n, &["--sync-from", &master]));
+        procs.push(card_emu(n, &["--axes", "8", "--sync-from", &master]));
     }
     let m = open(&format!("emu:{master}"));
     let followers: Vec<Card> = names.iter().map(|n| open(&format!("emu:{n}"))).collect();
