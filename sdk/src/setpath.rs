@@ -204,7 +204,7 @@ impl SetPath {
     /// refused by the cards (they check alike: the same refusal from each, nothing staged on
     /// any), or `QueueFull` once [`PATH_STAGE_LEN`] are staged: [`SetPath::release`] first.
     pub fn push(&mut self, seg: &Segment) -> Result<()> {
-        self.settle_segments()?;
+        // (nothing is in flight between calls: `run` leaves every answer read)
         self.publish(seg)?;
         match self.answer_oldest() {
             Ok(None) => Ok(()),
